@@ -1,0 +1,1832 @@
+/* pvs.h - v0.1.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end of file)
+
+   QUICK START
+   ===========
+   Do this:
+       #define PVS_IMPLEMENTATION
+   before you include this file in *one* C or C++ file to create the implementation.
+
+       #define PVS_IMPLEMENTATION
+       #include "pvs.h"
+
+       // positions: 3 floats per vertex; indices: 3 per triangle; one range of triangles per object
+       pvs_object_desc objects[2] = {{0, 12, 0}, {12, 12, 0}};
+       pvs_scene_desc sd = {0};
+       sd.positions = positions; sd.vertex_count = vertex_count;
+       sd.indices = indices;     sd.triangle_count = triangle_count;
+       sd.objects = objects;     sd.object_count = 2;
+       pvs_scene *scene; pvs_error err;
+       if (pvs_scene_create(&sd, &scene, &err) != PVS_OK) { puts(err.message); return 1; }
+
+       pvs_box cells[1] = {{{-1, 0, -1}, {1, 2, 1}}};
+       pvs_bake_desc bd = {0};
+       bd.scene = scene; bd.cells = cells; bd.cell_count = 1;
+       pvs_bake *bake;
+       pvs_bake_begin(&bd, &bake, &err);
+       for (uint32_t t = 0; t < pvs_bake_task_count(bake); ++t)   // any order, any thread
+           pvs_bake_run_task(bake, t, &err);
+       size_t size = pvs_bake_file_bound(bake);
+       void *file_bytes = malloc(size);
+       pvs_bake_write_file(bake, file_bytes, size, &size, &err);  // the .pvs file, ready to save
+       pvs_bake_destroy(bake);
+
+       // runtime: no allocation, safe on untrusted bytes
+       pvs_file file;
+       pvs_file_open(file_bytes, size, &file, &err);
+       uint32_t cell = pvs_file_find_cell(&file, eye);           // PVS_NO_CELL outside every cell
+       pvs_word visible[PVS_BITSET_WORDS(2)];
+       pvs_file_decode(&file, cell, visible, PVS_BITSET_WORDS(2), &err);
+       if (pvs_bitset_test(visible, 1)) draw(1);
+
+   WHAT IT DOES NOT DO
+   ===================
+   - No rendering API: it hands you object ids; you draw.
+   - No mesh-file loading: the scene comes from your arrays (the tools/ folder has an OBJ loader).
+   - No threads of its own: a bake is split into tasks you run on your job system (see THREADS).
+   - No file I/O: it writes into and reads from memory you own.
+
+   TABLE OF CONTENTS (search for the banner, e.g. ">>kdtree")
+   =================
+   >>docs       this manual
+   >>api        the declarations, one block per module
+   >>core       result codes, allocator hooks, vec3/box/plane math, bitsets
+   >>scene      scene description, object bounds, triangle storage, explicit occluders
+   >>kdtree     kD-tree over boxes: build, front-to-back sweep, ray cast, point location
+   >>raster     conservative rasterizer, depth pyramid, cull map            (planned)
+   >>otree      occlusion trees                                           (planned)
+   >>occluders  occluder synthesis                                        (planned)
+   >>methods    region methods; today the ray-sampling estimator `sample`
+   >>bake       bake driver: tasks, determinism
+   >>format     the .pvs file: writer and validating zero-copy reader
+   >>runtime    cell look-up and decoding
+
+   CONFIGURATION (define before including the implementation)
+   =============
+   | macro                 | default            | what it changes                                          |
+   |-----------------------|--------------------|----------------------------------------------------------|
+   | PVS_IMPLEMENTATION    | undefined          | emit the implementation in this translation unit         |
+   | PVS_STATIC            | undefined          | make every function static (private copy per unit)       |
+   | PVS_API               | extern / static    | decoration of every public function                     |
+   | PVS_MALLOC(sz)        | malloc(sz)         | fallback allocator when a desc's allocator is zero;     |
+   | PVS_FREE(p)           | free(p)            |   define both or neither                                 |
+   | PVS_ASSERT(x)         | assert(x)          | checks of programmer misuse only, never of input data    |
+   | PVS_NO_STDIO          | undefined          | error messages without snprintf (reason strings only)    |
+   | PVS_NO_SIMD           | undefined          | scalar code paths only (identical results)               |
+
+   CONCEPTS
+   ========
+   Coordinates. Any right- or left-handed frame; `up_axis` in the scene (1 = Y, the OBJ default, or
+   2 = Z) tells the 2.5D methods which axis is height. Cells are axis-aligned boxes in scene units.
+
+   Conservative. A PVS lists every object visible from any point of its cell (a superset of the exact
+   set). Methods with a sampling or shrinking distance `eps` are conservative for every eps; smaller eps
+   is tighter and slower. The `sample` method (ray sampling) is the exception: it is an estimate from
+   below, the yardstick the tests measure the conservative methods against, and files baked with it
+   carry PVS_FILE_APPROXIMATE.
+
+   Memory. Every desc struct has a `pvs_allocator`; left at zero, PVS_MALLOC/PVS_FREE are used. An object
+   remembers its allocator. Size arithmetic is overflow-checked. The runtime (pvs_file_*) and the
+   kD-tree queries allocate nothing: they use the caller's memory.
+
+   Threads. pvs.h starts no thread and keeps no global mutable state. Read-only objects (a created
+   pvs_scene, pvs_kdtree, an opened pvs_file) may be used from any number of threads at once. A bake
+   is split into tasks: pvs_bake_run_task may run concurrently for distinct task indices (the allocator
+   must then be thread-safe; malloc is). Output is byte-identical whatever the order or thread count.
+
+   Errors. Functions return pvs_result (0 = PVS_OK, negative = error); pvs_result_string() names it.
+   Most take an optional `pvs_error *` that receives the code, the index of the offending element
+   (object, triangle, vertex, cell, occluder, record) or byte offset, and a message. NULL is allowed.
+   PVS_ASSERT guards programmer misuse only; bad data is always a result code.
+
+   Trust. pvs_scene_create validates every index, count and coordinate. pvs_file_open is safe on
+   untrusted bytes: it checks every offset, size, count and checksum before use, never reads outside
+   the buffer, and later calls on an opened file cannot fail on the file's content.
+
+   FILE FORMAT (version 1; all integers little-endian; offsets from the start of the file)
+   ===========
+   header, 32 bytes:
+     0  u8[4]  magic "PVS\x1a"
+     4  u32    format version (PVS_FORMAT_VERSION); a reader rejects any other version
+     8  u32    file size in bytes (must equal the buffer size)
+     12 u32    section count S (1..64)
+     16 u32    flags (PVS_FILE_APPROXIMATE = 1); unknown bits are ignored
+     20 u32    CRC-32 (IEEE) of bytes 0..19 and of the section table
+     24 u32[2] reserved, zero
+   section table at 32: S entries of 16 bytes: u32 tag, u32 offset, u32 size, u32 CRC-32 of the bytes.
+     Sections are 8-byte aligned, lie inside the file and do not overlap. Tags are four ASCII
+     characters. A reader skips tags it does not know; every required tag appears exactly once.
+   "META" (required, 32 bytes): u32 cell_count, u32 object_count, u32 method (pvs_method),
+     f32 eps, u32 up_axis (1 or 2), u32 record_coding (1 = gap varints), u32[2] reserved zero.
+   "CELL" (required): cell_count boxes of 6 f32 (min xyz, max xyz), finite, min <= max.
+   "RECS" (required): u32 offsets[cell_count + 1], ascending, then the records. A record (coding 1)
+     is varint n followed by n varints: the first object id, then gaps minus one between ascending ids.
+     Varints are LEB128, at most 5 bytes, the value must fit 32 bits. Every id < object_count.
+
+   RECENT HISTORY
+   ==============
+   0.1.0 (2026-11-22) scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container v1.
+*/
+// >>api
+#ifndef PVS_H
+#define PVS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define PVS_VERSION_MAJOR 0
+#define PVS_VERSION_MINOR 1
+#define PVS_VERSION_PATCH 0
+/* (major << 16) | (minor << 8) | patch */
+#define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
+/* The .pvs file format version this header writes and reads. */
+#define PVS_FORMAT_VERSION 1
+
+#ifndef PVS_API
+#ifdef PVS_STATIC
+#define PVS_API static
+#else
+#define PVS_API extern
+#endif
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- core ------------------------------------------------------------------------------------ */
+
+/* Result of every fallible call. 0 is success, errors are negative. */
+typedef enum pvs_result {
+    PVS_OK = 0,
+    PVS_ERROR_INVALID_ARGUMENT = -1,   /* NULL where not allowed, impossible parameter */
+    PVS_ERROR_OUT_OF_MEMORY = -2,      /* the allocator returned NULL */
+    PVS_ERROR_COUNT_OVERFLOW = -3,     /* a count or size does not fit the index or size type */
+    PVS_ERROR_INDEX_OUT_OF_RANGE = -4, /* a vertex, triangle or object index past its array */
+    PVS_ERROR_NOT_FINITE = -5,         /* NaN or infinity in a coordinate or parameter */
+    PVS_ERROR_EMPTY_OBJECT = -6,       /* an object with no triangles */
+    PVS_ERROR_DEGENERATE_OBJECT = -7,  /* an object whose triangles all have zero area */
+    PVS_ERROR_OVERLAPPING_OBJECTS = -8,/* two objects claim the same triangle */
+    PVS_ERROR_BAD_OCCLUDER = -9,       /* an explicit occluder volume that is empty, unbounded or malformed */
+    PVS_ERROR_BAD_CELL = -10,          /* a cell box with NaN or min > max */
+    PVS_ERROR_BUFFER_TOO_SMALL = -11,  /* the caller's output buffer is smaller than needed */
+    PVS_ERROR_BAD_MAGIC = -12,         /* not a .pvs file */
+    PVS_ERROR_BAD_VERSION = -13,       /* a .pvs file of another format version */
+    PVS_ERROR_TRUNCATED = -14,         /* the buffer ends before the data it declares */
+    PVS_ERROR_BAD_SECTION = -15,       /* a section missing, repeated, misaligned, overlapping or outside the file */
+    PVS_ERROR_CHECKSUM = -16,          /* stored and computed checksums differ */
+    PVS_ERROR_BAD_RECORD = -17,        /* a malformed PVS record (varint, order, length) */
+    PVS_ERROR_OBJECT_OUT_OF_RANGE = -18,/* a record names an object id >= object count */
+    PVS_ERROR_BAD_HEADER = -19,        /* a header or META field with an impossible value */
+    PVS_ERROR_NOT_DONE = -20,          /* a bake result asked for before every task ran */
+    PVS_ERROR_UNSUPPORTED = -21,       /* the method cannot handle this input (the message says why) */
+    PVS_RESULT_MIN = -22               /* sentinel: every result is > PVS_RESULT_MIN */
+} pvs_result;
+
+/* Where and why a call failed. Every fallible call takes an optional pvs_error* (NULL allowed). */
+typedef struct pvs_error {
+    pvs_result result;   /* same as the return value */
+    int64_t index;       /* offending object/triangle/vertex/cell/occluder/record index, or -1 */
+    uint64_t offset;     /* byte offset into a file for format errors, else 0 */
+    char message[200];   /* NUL-terminated, human-readable: what and where */
+} pvs_error;
+
+/* A short constant English description of a result code ("out of memory"). Never NULL. */
+PVS_API const char *pvs_result_string(pvs_result result);
+
+/* The library version at run time: PVS_VERSION of the implementation. */
+PVS_API uint32_t pvs_version(void);
+
+/* Allocation hooks. alloc returns memory aligned to `align` (a power of two <= 64) or NULL; free gets
+   the size given to alloc. Zero-initialised (both NULL) means PVS_MALLOC/PVS_FREE. Objects created with
+   an allocator keep a copy and free through it. Must be thread-safe when bake tasks run in parallel. */
+typedef struct pvs_allocator {
+    void *(*alloc)(size_t size, size_t align, void *user);
+    void (*free)(void *ptr, size_t size, void *user);
+    void *user;
+} pvs_allocator;
+
+/* An axis-aligned box. A box with min == max on some axis is flat, still valid. */
+typedef struct pvs_box {
+    float min[3];
+    float max[3];
+} pvs_box;
+
+/* Bitsets: bit i of word i/64 stands for object id i. Size with PVS_BITSET_WORDS(object_count). */
+typedef uint64_t pvs_word;
+#define PVS_BITSET_WORDS(bits) (((size_t)(bits) + 63u) / 64u)
+/* 1 if bit i is set. No bounds check: i < the bitset's bit count. */
+PVS_API int pvs_bitset_test(const pvs_word *bits, uint32_t i);
+/* Set / clear bit i. */
+PVS_API void pvs_bitset_set(pvs_word *bits, uint32_t i);
+PVS_API void pvs_bitset_clear(pvs_word *bits, uint32_t i);
+/* Number of set bits among the first `bit_count` bits. */
+PVS_API uint32_t pvs_bitset_count(const pvs_word *bits, uint32_t bit_count);
+/* The first set bit >= `from`, or `bit_count` when none: for (i = next(b,n,0); i < n; i = next(b,n,i+1)). */
+PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint32_t from);
+
+/* ---- scene ----------------------------------------------------------------------------------- */
+
+/* Object flags. */
+#define PVS_OBJECT_OCCLUDER_ONLY 1u /* blocks sight but is never drawn: never appears in a PVS */
+
+/* One object (a unit of visibility): a range of triangles. Ranges of distinct objects must not overlap;
+   triangles in no range block sight but belong to no object. */
+typedef struct pvs_object_desc {
+    uint32_t first_triangle;
+    uint32_t triangle_count;
+    uint32_t flags;          /* PVS_OBJECT_* */
+} pvs_object_desc;
+
+/* Kinds of explicit occluder volume (geometry known to be solid). */
+typedef enum pvs_occluder_kind {
+    PVS_OCCLUDER_INVALID = 0,
+    PVS_OCCLUDER_BOX,        /* `box` */
+    PVS_OCCLUDER_CONVEX,     /* intersection of half-spaces: `planes` */
+    PVS_OCCLUDER_EXTRUSION,  /* a simple polygon in the ground plane extruded along the up axis */
+    PVS_OCCLUDER_KIND_COUNT
+} pvs_occluder_kind;
+
+/* An explicit occluder volume. The arrays are copied by pvs_scene_create. */
+typedef struct pvs_occluder_desc {
+    pvs_occluder_kind kind;
+    pvs_box box;                /* BOX: the volume */
+    const float *planes;        /* CONVEX: plane_count x (nx, ny, nz, d); inside is n.p + d <= 0 */
+    uint32_t plane_count;       /* CONVEX: 4..PVS_MAX_OCCLUDER_PLANES, bounded, non-empty */
+    const float *footprint;     /* EXTRUSION: footprint_count 2D points (u, v) in the ground plane, */
+    uint32_t footprint_count;   /*   either winding, simple (may be concave), 3..PVS_MAX_FOOTPRINT_POINTS */
+    float base, top;            /* EXTRUSION: heights along the up axis, base < top */
+} pvs_occluder_desc;
+#define PVS_MAX_OCCLUDER_PLANES 64
+#define PVS_MAX_FOOTPRINT_POINTS 4096
+
+/* Scene flags. */
+#define PVS_SCENE_ALLOW_EMPTY_OBJECTS 1u /* keep objects with no (or only zero-area) triangles: never visible */
+
+/* Everything pvs_scene_create needs. Left at zero, optional fields get defaults. The ground-plane
+   coordinates (u, v) of an extrusion are (x, z) for up_axis 1 and (x, y) for up_axis 2. */
+typedef struct pvs_scene_desc {
+    const float *positions;      /* vertex_count x (x, y, z) */
+    uint32_t vertex_count;
+    const uint32_t *indices;     /* triangle_count x 3 vertex indices */
+    uint32_t triangle_count;
+    const pvs_object_desc *objects;
+    uint32_t object_count;       /* >= 1 */
+    const pvs_occluder_desc *occluders; /* may be NULL when occluder_count is 0 */
+    uint32_t occluder_count;
+    uint32_t up_axis;            /* 0 or 1: Y up (default); 2: Z up */
+    uint32_t flags;              /* PVS_SCENE_* */
+    uint32_t leaf_size;          /* kD-tree leaf size for triangles, 0 = default (4) */
+    pvs_allocator allocator;
+} pvs_scene_desc;
+
+/* A validated, immutable scene with its kD-trees. Read-only after creation: thread-safe. */
+typedef struct pvs_scene pvs_scene;
+
+/* Copies and validates the arrays, computes object bounds, builds the triangle and object kD-trees.
+   Errors: INVALID_ARGUMENT, INDEX_OUT_OF_RANGE, NOT_FINITE, EMPTY_OBJECT, DEGENERATE_OBJECT,
+   OVERLAPPING_OBJECTS, BAD_OCCLUDER, COUNT_OVERFLOW, OUT_OF_MEMORY; err->index names the element. */
+PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out_scene, pvs_error *err);
+/* Frees the scene through its allocator. NULL is allowed. */
+PVS_API void pvs_scene_destroy(pvs_scene *scene);
+
+/* Counts and bounds. */
+PVS_API uint32_t pvs_scene_object_count(const pvs_scene *scene);
+PVS_API uint32_t pvs_scene_triangle_count(const pvs_scene *scene);
+PVS_API uint32_t pvs_scene_occluder_count(const pvs_scene *scene);
+PVS_API uint32_t pvs_scene_up_axis(const pvs_scene *scene);         /* 1 or 2 */
+PVS_API pvs_box pvs_scene_bounds(const pvs_scene *scene);           /* of all triangles and occluders */
+PVS_API pvs_box pvs_scene_object_box(const pvs_scene *scene, uint32_t object); /* object < count */
+PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *scene, uint32_t object);
+/* The object a triangle belongs to, or PVS_NO_OBJECT. */
+PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *scene, uint32_t triangle);
+#define PVS_NO_OBJECT 0xffffffffu
+/* The stored copy of explicit occluder i (its arrays point into the scene). */
+PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *scene, uint32_t i);
+
+/* A ray hit. */
+typedef struct pvs_hit {
+    float t;             /* distance along dir (in units of |dir|) */
+    uint32_t triangle;
+    uint32_t object;     /* PVS_NO_OBJECT for triangles in no object */
+} pvs_hit;
+
+/* Closest hit of the ray origin + t dir, 0 <= t <= tmax, with the scene's triangles (two-sided).
+   Returns 1 and fills *hit, or 0. dir need not be normalised but must be non-zero. Thread-safe,
+   allocates nothing. */
+PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax, pvs_hit *hit);
+/* 1 if any triangle crosses the segment a-b (endpoints included), else 0. Thread-safe, no allocation. */
+PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], const float b[3]);
+
+/* ---- kdtree ---------------------------------------------------------------------------------- */
+
+/* A kD-tree over a set of boxes (objects, triangles or cells): binned SAH build, items referenced
+   from every leaf they overlap. Immutable after creation: thread-safe. */
+typedef struct pvs_kdtree pvs_kdtree;
+
+typedef struct pvs_kdtree_desc {
+    const pvs_box *boxes;    /* count item boxes; item i is box i */
+    uint32_t count;
+    uint32_t leaf_size;      /* stop splitting at this many items, 0 = default (4) */
+    uint32_t max_depth;      /* 0 = automatic (about 1.3 log2 count + 8), capped at PVS_KDTREE_MAX_DEPTH */
+    pvs_allocator allocator;
+} pvs_kdtree_desc;
+#define PVS_KDTREE_MAX_DEPTH 48
+
+PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **out_tree, pvs_error *err);
+PVS_API void pvs_kdtree_destroy(pvs_kdtree *tree);
+PVS_API pvs_box pvs_kdtree_bounds(const pvs_kdtree *tree);
+PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *tree);
+
+/* What a sweep visitor tells the traversal. */
+typedef enum pvs_visit {
+    PVS_VISIT_DESCEND = 0,   /* go on into this node's children */
+    PVS_VISIT_SKIP,          /* cull this node's subtree */
+    PVS_VISIT_STOP           /* end the sweep */
+} pvs_visit;
+
+/* Called once per node reached, in order of increasing `distance` (minimum distance from the
+   sweep's source box to the node box; 0 where they meet). Leaves pass their items, inner nodes
+   items == NULL and item_count == 0. An item overlapping several leaves is passed once per leaf. */
+typedef pvs_visit (*pvs_kdtree_visit_fn)(void *user, const pvs_box *node_box, float distance,
+                                         const uint32_t *items, uint32_t item_count);
+
+/* Bytes of scratch pvs_kdtree_sweep needs for this tree. */
+PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *tree);
+/* The approximate occlusion sweep (Bittner 2002, §3.2): nodes front to back from `source` (a box; a
+   point is a box with min == max) by a priority queue on minimum distance. `scratch` is caller memory
+   of at least pvs_kdtree_sweep_scratch_size bytes, aligned to 8. Ties are broken by node index, so
+   the order is deterministic. Returns PVS_OK, or BUFFER_TOO_SMALL. Allocates nothing. */
+PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *tree, const pvs_box *source, void *scratch, size_t scratch_size,
+                                    pvs_kdtree_visit_fn visit, void *user);
+
+/* Called for the leaves a ray passes, nearest first; [t_enter, t_exit] is the ray's interval in the
+   leaf. Return a new tmax (<= the current one) to shorten the ray, or a negative value to stop. */
+typedef float (*pvs_kdtree_ray_fn)(void *user, const uint32_t *items, uint32_t item_count, float t_enter, float t_exit);
+/* Walks the leaves the ray origin + t dir, 0 <= t <= tmax, passes, front to back. Allocates nothing. */
+PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const float dir[3], float tmax,
+                            pvs_kdtree_ray_fn fn, void *user);
+
+/* The items of the leaf containing point p (their boxes may or may not contain p: test them), or
+   NULL with *count = 0 outside the tree's bounds. Allocates nothing. */
+PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const float p[3], uint32_t *count);
+
+/* ---- methods --------------------------------------------------------------------------------- */
+
+/* Region methods. 0 is the default (today: SAMPLE, until a conservative method lands). */
+typedef enum pvs_method {
+    PVS_METHOD_DEFAULT = 0,
+    PVS_METHOD_SAMPLE,       /* ray sampling: an estimate from below, NOT conservative */
+    PVS_METHOD_COUNT
+} pvs_method;
+
+/* Name of a method ("sample"), or "unknown". */
+PVS_API const char *pvs_method_name(pvs_method method);
+
+/* The ray-sampling estimator: `points` stratified points in `cell` (its 8 corners and 6 face centres
+   first, then a jittered grid), `rays_per_point` uniformly distributed directions from each, and the
+   first object each ray hits is set in `visible` (PVS_BITSET_WORDS(object_count) words, not cleared
+   first; occluder-only objects are never set). A lower bound of the exact visible set: the yardstick
+   of the tests and pvscheck, never a conservative PVS. Deterministic in `seed`. Thread-safe, no
+   allocation. Returns the number of rays cast. */
+PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
+                                       uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
+
+/* ---- bake ------------------------------------------------------------------------------------ */
+
+/* What to bake. Left at zero, optional fields get defaults. */
+typedef struct pvs_bake_desc {
+    const pvs_scene *scene;   /* must outlive the bake */
+    const pvs_box *cells;     /* cell_count view cells, copied */
+    uint32_t cell_count;
+    pvs_method method;        /* PVS_METHOD_DEFAULT picks */
+    float eps;                /* sampling / shrinking distance; 0 = derived from the cells */
+    uint32_t sample_points;   /* SAMPLE: points per cell, 0 = 64 */
+    uint32_t sample_rays;     /* SAMPLE: rays per point, 0 = 4096 */
+    uint64_t seed;            /* SAMPLE: random seed */
+    pvs_allocator allocator;
+} pvs_bake_desc;
+
+typedef struct pvs_bake pvs_bake;
+
+/* Validates the desc and prepares the tasks. Errors: INVALID_ARGUMENT, BAD_CELL (err->index = cell),
+   NOT_FINITE, OUT_OF_MEMORY. */
+PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out_bake, pvs_error *err);
+/* Number of tasks (today one per cell). */
+PVS_API uint32_t pvs_bake_task_count(const pvs_bake *bake);
+/* The cell a task bakes. */
+PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *bake, uint32_t task);
+/* Runs one task. Thread-safe for distinct task indices; each task uses its own scratch. */
+PVS_API pvs_result pvs_bake_run_task(pvs_bake *bake, uint32_t task, pvs_error *err);
+/* The resolved parameters (method, eps). */
+PVS_API pvs_method pvs_bake_method(const pvs_bake *bake);
+PVS_API float pvs_bake_eps(const pvs_bake *bake);
+/* The PVS of a cell whose task has run, or NULL. PVS_BITSET_WORDS(object_count) words. */
+PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
+/* A byte count the file will not exceed (0 if not every task has run). */
+PVS_API size_t pvs_bake_file_bound(const pvs_bake *bake);
+/* Writes the .pvs file into out[0..capacity). Errors: NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW. */
+PVS_API pvs_result pvs_bake_write_file(const pvs_bake *bake, void *out, size_t capacity, size_t *out_size, pvs_error *err);
+PVS_API void pvs_bake_destroy(pvs_bake *bake);
+
+/* ---- format ---------------------------------------------------------------------------------- */
+
+/* File flags. */
+#define PVS_FILE_APPROXIMATE 1u /* baked by an estimator (SAMPLE): not conservative */
+
+/* A PVS table to encode: cell_count bitsets of PVS_BITSET_WORDS(object_count) words each. */
+typedef struct pvs_file_desc {
+    const pvs_box *cells;
+    uint32_t cell_count;
+    uint32_t object_count;
+    const pvs_word *pvs;     /* cell-major */
+    pvs_method method;
+    float eps;
+    uint32_t up_axis;        /* 1 or 2 */
+    uint32_t flags;          /* PVS_FILE_* */
+} pvs_file_desc;
+
+/* Upper bound of the encoded size, 0 on overflow. */
+PVS_API size_t pvs_file_bound(const pvs_file_desc *desc);
+/* Encodes the table. Deterministic. Errors: INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW. */
+PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size, pvs_error *err);
+
+/* An opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data,
+   no allocation; copy freely. Fields are read-only to the caller. */
+typedef struct pvs_file {
+    const uint8_t *data;
+    size_t size;
+    uint32_t version, flags;
+    uint32_t cell_count, object_count;
+    pvs_method method;
+    float eps;
+    uint32_t up_axis;
+    const uint8_t *cells;    /* CELL section */
+    const uint8_t *records;  /* RECS section */
+    uint32_t records_size;
+} pvs_file;
+
+/* Validates everything (time linear in size) and fills *file. Safe on untrusted input. */
+PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, pvs_error *err);
+
+/* ---- runtime --------------------------------------------------------------------------------- */
+
+#define PVS_NO_CELL 0xffffffffu
+/* The cell containing point p (boundaries included); of overlapping cells the lowest id; PVS_NO_CELL
+   when none. No allocation. */
+PVS_API uint32_t pvs_file_find_cell(const pvs_file *file, const float p[3]);
+/* The box of a cell (< cell_count). */
+PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
+/* Decodes a cell's PVS into bits[0..word_count), clearing it first. word_count must be at least
+   PVS_BITSET_WORDS(object_count). Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
+PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word *bits, size_t word_count, pvs_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* PVS_H */
+
+/* ============================================================================================== */
+/* Stop reading here if you only use the API.                                                     */
+/* ============================================================================================== */
+
+#ifdef PVS_IMPLEMENTATION
+#ifndef PVS_IMPLEMENTATION_ONCE
+#define PVS_IMPLEMENTATION_ONCE
+
+#include <float.h>
+#include <math.h>
+#include <string.h>
+#ifndef PVS_NO_STDIO
+#include <stdarg.h>
+#include <stdio.h>
+#endif
+
+#if defined(PVS_MALLOC) != defined(PVS_FREE)
+#error "pvs.h: define both PVS_MALLOC and PVS_FREE, or neither"
+#endif
+#ifndef PVS_MALLOC
+#include <stdlib.h>
+#define PVS_MALLOC(sz) malloc(sz)
+#define PVS_FREE(p) free(p)
+#endif
+#ifndef PVS_ASSERT
+#include <assert.h>
+#define PVS_ASSERT(x) assert(x)
+#endif
+
+#if defined(__GNUC__) || defined(__clang__)
+#define PVS__UNUSED __attribute__((unused))
+#else
+#define PVS__UNUSED
+#endif
+#define PVS__STATIC static PVS__UNUSED
+
+// >>core
+/* ---------------------------------------------------------------------------------------------- */
+/* core: result strings, allocator, errors, math, bitsets                                         */
+/* ---------------------------------------------------------------------------------------------- */
+
+PVS_API const char *pvs_result_string(pvs_result r) {
+    switch (r) {
+    case PVS_OK: return "success";
+    case PVS_ERROR_INVALID_ARGUMENT: return "invalid argument";
+    case PVS_ERROR_OUT_OF_MEMORY: return "out of memory";
+    case PVS_ERROR_COUNT_OVERFLOW: return "count overflow";
+    case PVS_ERROR_INDEX_OUT_OF_RANGE: return "index out of range";
+    case PVS_ERROR_NOT_FINITE: return "value is not finite";
+    case PVS_ERROR_EMPTY_OBJECT: return "empty object";
+    case PVS_ERROR_DEGENERATE_OBJECT: return "degenerate object";
+    case PVS_ERROR_OVERLAPPING_OBJECTS: return "overlapping objects";
+    case PVS_ERROR_BAD_OCCLUDER: return "bad occluder";
+    case PVS_ERROR_BAD_CELL: return "bad cell";
+    case PVS_ERROR_BUFFER_TOO_SMALL: return "buffer too small";
+    case PVS_ERROR_BAD_MAGIC: return "bad magic";
+    case PVS_ERROR_BAD_VERSION: return "unknown format version";
+    case PVS_ERROR_TRUNCATED: return "truncated";
+    case PVS_ERROR_BAD_SECTION: return "bad section";
+    case PVS_ERROR_CHECKSUM: return "checksum mismatch";
+    case PVS_ERROR_BAD_RECORD: return "bad record";
+    case PVS_ERROR_OBJECT_OUT_OF_RANGE: return "object id out of range";
+    case PVS_ERROR_BAD_HEADER: return "bad header";
+    case PVS_ERROR_NOT_DONE: return "not done";
+    case PVS_ERROR_UNSUPPORTED: return "unsupported";
+    default: return "unknown result";
+    }
+}
+
+PVS_API uint32_t pvs_version(void) { return PVS_VERSION; }
+
+/* Fills *err (if any) and returns `code`. The message is "<reason>: <formatted detail>". */
+static pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index, uint64_t offset, const char *fmt, ...) {
+    if (err) {
+        err->result = code;
+        err->index = index;
+        err->offset = offset;
+#ifndef PVS_NO_STDIO
+        {
+            va_list ap;
+            int n = snprintf(err->message, sizeof(err->message), "%s: ", pvs_result_string(code));
+            va_start(ap, fmt);
+            if (n > 0 && (size_t)n < sizeof(err->message))
+                vsnprintf(err->message + n, sizeof(err->message) - (size_t)n, fmt, ap);
+            va_end(ap);
+        }
+#else
+        {
+            const char *s = pvs_result_string(code);
+            size_t n = strlen(s);
+            (void)fmt;
+            if (n >= sizeof(err->message)) n = sizeof(err->message) - 1;
+            memcpy(err->message, s, n);
+            err->message[n] = 0;
+        }
+#endif
+    }
+    return code;
+}
+
+static void pvs__ok(pvs_error *err) {
+    if (err) {
+        err->result = PVS_OK;
+        err->index = -1;
+        err->offset = 0;
+        err->message[0] = 0;
+    }
+}
+
+/* Overflow-checked size arithmetic: return 0 on overflow. */
+static int pvs__mul(size_t a, size_t b, size_t *out) {
+    if (b && a > (size_t)-1 / b) return 0;
+    *out = a * b;
+    return 1;
+}
+static int pvs__add(size_t a, size_t b, size_t *out) {
+    if (a > (size_t)-1 - b) return 0;
+    *out = a + b;
+    return 1;
+}
+
+/* Allocation through a desc's hooks; align is a power of two <= 64. The default path over-allocates
+   for alignments above what malloc guarantees and keeps the offset in the byte before the block. */
+static void *pvs__alloc(const pvs_allocator *a, size_t size, size_t align) {
+    if (size == 0) size = 1;
+    if (a->alloc) return a->alloc(size, align, a->user);
+    if (align <= 16) return PVS_MALLOC(size);
+    {
+        size_t total;
+        unsigned char *raw, *p;
+        if (!pvs__add(size, align, &total)) return NULL;
+        raw = (unsigned char *)PVS_MALLOC(total);
+        if (!raw) return NULL;
+        p = (unsigned char *)(((uintptr_t)raw + align) & ~(uintptr_t)(align - 1));
+        p[-1] = (unsigned char)(p - raw);
+        return p;
+    }
+}
+static void pvs__free(const pvs_allocator *a, void *p, size_t size, size_t align) {
+    if (!p) return;
+    if (size == 0) size = 1;
+    if (a->free) {
+        a->free(p, size, a->user);
+        return;
+    }
+    if (align <= 16) {
+        PVS_FREE(p);
+        return;
+    }
+    PVS_FREE((unsigned char *)p - ((unsigned char *)p)[-1]);
+}
+/* Array allocation with overflow check: n elements of `elem` bytes, 16-byte aligned. */
+static void *pvs__alloc_array(const pvs_allocator *a, size_t n, size_t elem) {
+    size_t bytes;
+    if (!pvs__mul(n, elem, &bytes)) return NULL;
+    return pvs__alloc(a, bytes, 16);
+}
+static void pvs__free_array(const pvs_allocator *a, void *p, size_t n, size_t elem) {
+    pvs__free(a, p, n * elem, 16);
+}
+
+/* ---- math (private: generic names must not leak into an engine) ---- */
+
+typedef struct pvs__v3 {
+    float x, y, z;
+} pvs__v3;
+
+PVS__STATIC pvs__v3 pvs__v3_make(float x, float y, float z) {
+    pvs__v3 r;
+    r.x = x; r.y = y; r.z = z;
+    return r;
+}
+PVS__STATIC pvs__v3 pvs__v3_load(const float *p) { return pvs__v3_make(p[0], p[1], p[2]); }
+PVS__STATIC pvs__v3 pvs__v3_add(pvs__v3 a, pvs__v3 b) { return pvs__v3_make(a.x + b.x, a.y + b.y, a.z + b.z); }
+PVS__STATIC pvs__v3 pvs__v3_sub(pvs__v3 a, pvs__v3 b) { return pvs__v3_make(a.x - b.x, a.y - b.y, a.z - b.z); }
+PVS__STATIC pvs__v3 pvs__v3_scale(pvs__v3 a, float s) { return pvs__v3_make(a.x * s, a.y * s, a.z * s); }
+PVS__STATIC float pvs__v3_dot(pvs__v3 a, pvs__v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+PVS__STATIC pvs__v3 pvs__v3_cross(pvs__v3 a, pvs__v3 b) {
+    return pvs__v3_make(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+PVS__STATIC float pvs__v3_length(pvs__v3 a) { return sqrtf(pvs__v3_dot(a, a)); }
+PVS__STATIC float pvs__v3_get(pvs__v3 a, int axis) { return axis == 0 ? a.x : axis == 1 ? a.y : a.z; }
+
+PVS__STATIC int pvs__finite(float f) { return f == f && f - f == 0.0f; }
+
+PVS__STATIC pvs_box pvs__box_empty(void) {
+    pvs_box b;
+    b.min[0] = b.min[1] = b.min[2] = FLT_MAX;
+    b.max[0] = b.max[1] = b.max[2] = -FLT_MAX;
+    return b;
+}
+PVS__STATIC void pvs__box_add_point(pvs_box *b, const float *p) {
+    int i;
+    for (i = 0; i < 3; ++i) {
+        if (p[i] < b->min[i]) b->min[i] = p[i];
+        if (p[i] > b->max[i]) b->max[i] = p[i];
+    }
+}
+PVS__STATIC void pvs__box_add_box(pvs_box *b, const pvs_box *o) {
+    int i;
+    for (i = 0; i < 3; ++i) {
+        if (o->min[i] < b->min[i]) b->min[i] = o->min[i];
+        if (o->max[i] > b->max[i]) b->max[i] = o->max[i];
+    }
+}
+PVS__STATIC int pvs__box_valid(const pvs_box *b) {
+    int i;
+    for (i = 0; i < 3; ++i)
+        if (!pvs__finite(b->min[i]) || !pvs__finite(b->max[i]) || b->min[i] > b->max[i]) return 0;
+    return 1;
+}
+PVS__STATIC int pvs__box_contains_point(const pvs_box *b, const float *p) {
+    return p[0] >= b->min[0] && p[0] <= b->max[0] && p[1] >= b->min[1] && p[1] <= b->max[1] && p[2] >= b->min[2] &&
+           p[2] <= b->max[2];
+}
+PVS__STATIC int pvs__box_overlap(const pvs_box *a, const pvs_box *b) {
+    return a->min[0] <= b->max[0] && b->min[0] <= a->max[0] && a->min[1] <= b->max[1] && b->min[1] <= a->max[1] &&
+           a->min[2] <= b->max[2] && b->min[2] <= a->max[2];
+}
+/* Squared minimum distance between two boxes (0 where they meet). */
+PVS__STATIC float pvs__box_distance2(const pvs_box *a, const pvs_box *b) {
+    float d2 = 0.0f;
+    int i;
+    for (i = 0; i < 3; ++i) {
+        float g = 0.0f;
+        if (b->min[i] > a->max[i]) g = b->min[i] - a->max[i];
+        else if (a->min[i] > b->max[i]) g = a->min[i] - b->max[i];
+        d2 += g * g;
+    }
+    return d2;
+}
+
+/* A plane n.p + d = 0; the positive side is n.p + d > 0. */
+typedef struct pvs__plane {
+    pvs__v3 n;
+    float d;
+} pvs__plane;
+PVS__STATIC float pvs__plane_eval(pvs__plane pl, pvs__v3 p) { return pvs__v3_dot(pl.n, p) + pl.d; }
+
+/* ---- bitsets ---- */
+
+PVS_API int pvs_bitset_test(const pvs_word *bits, uint32_t i) { return (int)((bits[i >> 6] >> (i & 63)) & 1u); }
+PVS_API void pvs_bitset_set(pvs_word *bits, uint32_t i) { bits[i >> 6] |= (pvs_word)1 << (i & 63); }
+PVS_API void pvs_bitset_clear(pvs_word *bits, uint32_t i) { bits[i >> 6] &= ~((pvs_word)1 << (i & 63)); }
+
+static uint32_t pvs__popcount64(uint64_t x) {
+#if defined(__GNUC__) || defined(__clang__)
+    return (uint32_t)__builtin_popcountll(x);
+#else
+    x = x - ((x >> 1) & 0x5555555555555555ull);
+    x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+    return (uint32_t)((x * 0x0101010101010101ull) >> 56);
+#endif
+}
+static uint32_t pvs__ctz64(uint64_t x) { /* x != 0 */
+#if defined(__GNUC__) || defined(__clang__)
+    return (uint32_t)__builtin_ctzll(x);
+#else
+    uint32_t n = 0;
+    while (!(x & 1u)) { x >>= 1; ++n; }
+    return n;
+#endif
+}
+
+PVS_API uint32_t pvs_bitset_count(const pvs_word *bits, uint32_t bit_count) {
+    uint32_t n = 0, full = bit_count >> 6, i;
+    for (i = 0; i < full; ++i) n += pvs__popcount64(bits[i]);
+    if (bit_count & 63) n += pvs__popcount64(bits[full] & (((pvs_word)1 << (bit_count & 63)) - 1));
+    return n;
+}
+
+PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint32_t from) {
+    uint32_t w, words;
+    pvs_word cur;
+    if (from >= bit_count) return bit_count;
+    w = from >> 6;
+    words = (uint32_t)PVS_BITSET_WORDS(bit_count);
+    cur = bits[w] & (~(pvs_word)0 << (from & 63));
+    for (;;) {
+        if (cur) {
+            uint32_t i = (w << 6) + pvs__ctz64(cur);
+            return i < bit_count ? i : bit_count;
+        }
+        if (++w >= words) return bit_count;
+        cur = bits[w];
+    }
+}
+
+/* Deterministic random numbers: splitmix64 (Steele et al. 2014). Used by the samplers. */
+static uint64_t pvs__splitmix64(uint64_t *state) {
+    uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+/* Uniform float in [0, 1). */
+PVS__STATIC float pvs__random01(uint64_t *state) { return (float)(pvs__splitmix64(state) >> 40) * (1.0f / 16777216.0f); }
+
+/* CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), two nibble-table steps per byte: a 64-byte
+   constant table keeps the code small; validation stays linear in the file size. */
+static uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
+    static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu, 0x76dc4190u, 0x6b6b51f4u,
+                                   0x4db26158u, 0x5005713cu, 0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
+                                   0x9b64c2b0u, 0x86d3d2d4u, 0xa00ae278u, 0xbdbdf21cu};
+    size_t i;
+    crc = ~crc;
+    for (i = 0; i < n; ++i) {
+        crc ^= p[i];
+        crc = (crc >> 4) ^ t[crc & 15];
+        crc = (crc >> 4) ^ t[crc & 15];
+    }
+    return ~crc;
+}
+
+// >>scene
+/* ---------------------------------------------------------------------------------------------- */
+/* scene: validated copies of the caller's arrays, object bounds, explicit occluders              */
+/* ---------------------------------------------------------------------------------------------- */
+
+struct pvs_scene {
+    pvs_allocator allocator;
+    uint32_t vertex_count, triangle_count, object_count, occluder_count;
+    uint32_t up_axis;            /* 1 or 2 */
+    uint32_t flags;
+    float *positions;            /* vertex_count * 3 */
+    uint32_t *indices;           /* triangle_count * 3 */
+    uint32_t *triangle_object;   /* triangle_count: object id or PVS_NO_OBJECT */
+    pvs_box *object_boxes;       /* object_count; empty box (min > max) for empty objects */
+    uint32_t *object_flags;      /* object_count */
+    pvs_box bounds;
+    pvs_occluder_desc *occluders;/* occluder_count, arrays pointing into occluder_data */
+    pvs_box *occluder_boxes;     /* occluder_count */
+    float *occluder_data;        /* planes and footprints of all occluders */
+    size_t occluder_data_count;  /* floats in occluder_data */
+    pvs_kdtree *triangle_tree;   /* over triangle boxes */
+    pvs_kdtree *object_tree;     /* over object boxes (empty objects left out) */
+};
+
+/* Double-precision 3x3 solve of three planes n_i.p + d_i = 0; returns 0 when (nearly) parallel. */
+static int pvs__three_planes(const float *a, const float *b, const float *c, double out[3]) {
+    double n1[3], n2[3], n3[3], x[3], det;
+    int i;
+    for (i = 0; i < 3; ++i) { n1[i] = a[i]; n2[i] = b[i]; n3[i] = c[i]; }
+    /* x = n2 x n3 */
+    x[0] = n2[1] * n3[2] - n2[2] * n3[1];
+    x[1] = n2[2] * n3[0] - n2[0] * n3[2];
+    x[2] = n2[0] * n3[1] - n2[1] * n3[0];
+    det = n1[0] * x[0] + n1[1] * x[1] + n1[2] * x[2];
+    {
+        double l1 = sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]);
+        double l2 = sqrt(n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]);
+        double l3 = sqrt(n3[0] * n3[0] + n3[1] * n3[1] + n3[2] * n3[2]);
+        if (fabs(det) <= 1e-9 * l1 * l2 * l3) return 0;
+    }
+    {
+        double d1 = -a[3], d2 = -b[3], d3 = -c[3];
+        double c31[3], c12[3];
+        c31[0] = n3[1] * n1[2] - n3[2] * n1[1];
+        c31[1] = n3[2] * n1[0] - n3[0] * n1[2];
+        c31[2] = n3[0] * n1[1] - n3[1] * n1[0];
+        c12[0] = n1[1] * n2[2] - n1[2] * n2[1];
+        c12[1] = n1[2] * n2[0] - n1[0] * n2[2];
+        c12[2] = n1[0] * n2[1] - n1[1] * n2[0];
+        for (i = 0; i < 3; ++i) out[i] = (d1 * x[i] + d2 * c31[i] + d3 * c12[i]) / det;
+    }
+    return 1;
+}
+
+/* Bounds of a convex occluder by vertex enumeration, clipped to a box far larger than any vertex:
+   a vertex on that box means the half-spaces are unbounded; no vertex means empty. */
+static pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_box *out, int64_t index, pvs_error *err) {
+    float all[(PVS_MAX_OCCLUDER_PLANES + 6) * 4];
+    double reach = 1.0, tol;
+    uint32_t i, j, k, m, total, found = 0, on_guard = 0;
+    pvs_box b = pvs__box_empty();
+    for (i = 0; i < n; ++i) {
+        const float *p = planes + 4 * i;
+        double len = sqrt((double)p[0] * p[0] + (double)p[1] * p[1] + (double)p[2] * p[2]);
+        if (!pvs__finite(p[0]) || !pvs__finite(p[1]) || !pvs__finite(p[2]) || !pvs__finite(p[3]))
+            return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: plane %u is not finite", (long long)index, i);
+        if (len == 0.0 || !(len < 1e30))
+            return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: plane %u has a zero normal", (long long)index, i);
+        for (k = 0; k < 4; ++k) all[4 * i + k] = (float)(p[k] / len);
+        if (fabs(p[3] / len) + 1.0 > reach) reach = fabs(p[3] / len) + 1.0;
+    }
+    /* Every vertex of a bounded polyhedron lies within sum of |d| ... bound it generously. */
+    for (i = 0; i + 2 < n; ++i)
+        for (j = i + 1; j + 1 < n; ++j)
+            for (k = j + 1; k < n; ++k) {
+                double v[3];
+                if (pvs__three_planes(all + 4 * i, all + 4 * j, all + 4 * k, v)) {
+                    double r = fabs(v[0]) + fabs(v[1]) + fabs(v[2]);
+                    if (r < 1e30 && r + 1.0 > reach) reach = r + 1.0;
+                }
+            }
+    reach *= 4.0;
+    for (k = 0; k < 6; ++k) {
+        float *g = all + 4 * (n + k);
+        g[0] = g[1] = g[2] = 0.0f;
+        g[k % 3] = k < 3 ? 1.0f : -1.0f;
+        g[3] = (float)-reach;
+    }
+    total = n + 6;
+    tol = 1e-5 * reach;
+    for (i = 0; i + 2 < total; ++i)
+        for (j = i + 1; j + 1 < total; ++j)
+            for (k = j + 1; k < total; ++k) {
+                double v[3];
+                int inside = 1;
+                if (!pvs__three_planes(all + 4 * i, all + 4 * j, all + 4 * k, v)) continue;
+                for (m = 0; m < total && inside; ++m) {
+                    const float *q = all + 4 * m;
+                    if (q[0] * v[0] + q[1] * v[1] + q[2] * v[2] + q[3] > tol) inside = 0;
+                }
+                if (!inside) continue;
+                ++found;
+                if (k >= n) {
+                    on_guard = 1;
+                } else {
+                    float f[3];
+                    f[0] = (float)v[0]; f[1] = (float)v[1]; f[2] = (float)v[2];
+                    pvs__box_add_point(&b, f);
+                }
+            }
+    if (!found) return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the half-spaces are empty", (long long)index);
+    if (on_guard) return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the half-spaces are unbounded", (long long)index);
+    for (k = 0; k < 3; ++k)
+        if (!(b.min[k] < b.max[k]))
+            return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the volume is flat", (long long)index);
+    *out = b;
+    return PVS_OK;
+}
+
+/* 1 if segments p1-p2 and p3-p4 (2D) intersect or touch, in double precision. */
+static int pvs__segments_meet_2d(const float *p1, const float *p2, const float *p3, const float *p4) {
+    double d1x = (double)p2[0] - p1[0], d1y = (double)p2[1] - p1[1];
+    double d2x = (double)p4[0] - p3[0], d2y = (double)p4[1] - p3[1];
+    double o1 = d1x * ((double)p3[1] - p1[1]) - d1y * ((double)p3[0] - p1[0]);
+    double o2 = d1x * ((double)p4[1] - p1[1]) - d1y * ((double)p4[0] - p1[0]);
+    double o3 = d2x * ((double)p1[1] - p3[1]) - d2y * ((double)p1[0] - p3[0]);
+    double o4 = d2x * ((double)p2[1] - p3[1]) - d2y * ((double)p2[0] - p3[0]);
+    if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) return 1;
+    if (o1 == 0 || o2 == 0 || o3 == 0 || o4 == 0) {
+        /* collinear touching: compare bounding intervals */
+        double ax0 = p1[0] < p2[0] ? p1[0] : p2[0], ax1 = p1[0] < p2[0] ? p2[0] : p1[0];
+        double ay0 = p1[1] < p2[1] ? p1[1] : p2[1], ay1 = p1[1] < p2[1] ? p2[1] : p1[1];
+        double bx0 = p3[0] < p4[0] ? p3[0] : p4[0], bx1 = p3[0] < p4[0] ? p4[0] : p3[0];
+        double by0 = p3[1] < p4[1] ? p3[1] : p4[1], by1 = p3[1] < p4[1] ? p4[1] : p3[1];
+        if ((o1 == 0 && p3[0] >= ax0 && p3[0] <= ax1 && p3[1] >= ay0 && p3[1] <= ay1) ||
+            (o2 == 0 && p4[0] >= ax0 && p4[0] <= ax1 && p4[1] >= ay0 && p4[1] <= ay1) ||
+            (o3 == 0 && p1[0] >= bx0 && p1[0] <= bx1 && p1[1] >= by0 && p1[1] <= by1) ||
+            (o4 == 0 && p2[0] >= bx0 && p2[0] <= bx1 && p2[1] >= by0 && p2[1] <= by1))
+            return 1;
+    }
+    return 0;
+}
+
+/* The two ground-plane axes for an up axis. */
+PVS__STATIC void pvs__ground_axes(uint32_t up, int *u, int *v) {
+    *u = 0;
+    *v = up == 2 ? 1 : 2;
+}
+
+static pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32_t up, int64_t index, pvs_box *box, pvs_error *err) {
+    uint32_t i, j, n;
+    switch (o->kind) {
+    case PVS_OCCLUDER_BOX:
+        for (i = 0; i < 3; ++i)
+            if (!pvs__finite(o->box.min[i]) || !pvs__finite(o->box.max[i]))
+                return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: box is not finite", (long long)index);
+        for (i = 0; i < 3; ++i)
+            if (!(o->box.min[i] < o->box.max[i]))
+                return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: box min >= max on axis %u", (long long)index, i);
+        *box = o->box;
+        return PVS_OK;
+    case PVS_OCCLUDER_CONVEX:
+        if (!o->planes || o->plane_count < 4 || o->plane_count > PVS_MAX_OCCLUDER_PLANES)
+            return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: convex needs 4..%d planes, has %u",
+                             (long long)index, PVS_MAX_OCCLUDER_PLANES, o->plane_count);
+        return pvs__convex_bounds(o->planes, o->plane_count, box, index, err);
+    case PVS_OCCLUDER_EXTRUSION: {
+        double area2 = 0.0;
+        int u, v;
+        n = o->footprint_count;
+        if (!o->footprint || n < 3 || n > PVS_MAX_FOOTPRINT_POINTS)
+            return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: footprint needs 3..%d points, has %u",
+                             (long long)index, PVS_MAX_FOOTPRINT_POINTS, n);
+        if (!pvs__finite(o->base) || !pvs__finite(o->top))
+            return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: base or top is not finite", (long long)index);
+        if (!(o->base < o->top))
+            return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: base >= top", (long long)index);
+        for (i = 0; i < 2 * n; ++i)
+            if (!pvs__finite(o->footprint[i]))
+                return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: footprint point %u is not finite",
+                                 (long long)index, i / 2);
+        for (i = 0; i < n; ++i) {
+            const float *a = o->footprint + 2 * i, *b = o->footprint + 2 * ((i + 1) % n);
+            area2 += (double)a[0] * b[1] - (double)b[0] * a[1];
+            if (a[0] == b[0] && a[1] == b[1])
+                return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: footprint points %u and %u coincide",
+                                 (long long)index, i, (i + 1) % n);
+        }
+        if (area2 == 0.0) return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: footprint has zero area", (long long)index);
+        for (i = 0; i < n; ++i)
+            for (j = i + 2; j < n; ++j) {
+                if (i == 0 && j == n - 1) continue; /* adjacent through the wrap */
+                if (pvs__segments_meet_2d(o->footprint + 2 * i, o->footprint + 2 * ((i + 1) % n), o->footprint + 2 * j,
+                                          o->footprint + 2 * ((j + 1) % n)))
+                    return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: footprint edges %u and %u cross",
+                                     (long long)index, i, j);
+            }
+        pvs__ground_axes(up, &u, &v);
+        *box = pvs__box_empty();
+        for (i = 0; i < n; ++i) {
+            float p[3];
+            p[u] = o->footprint[2 * i];
+            p[v] = o->footprint[2 * i + 1];
+            p[up] = o->base;
+            pvs__box_add_point(box, p);
+            p[up] = o->top;
+            pvs__box_add_point(box, p);
+        }
+        return PVS_OK;
+    }
+    default:
+        return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: unknown kind %d", (long long)index, (int)o->kind);
+    }
+}
+
+PVS_API void pvs_scene_destroy(pvs_scene *s) {
+    pvs_allocator a;
+    if (!s) return;
+    a = s->allocator;
+    pvs_kdtree_destroy(s->triangle_tree);
+    pvs_kdtree_destroy(s->object_tree);
+    pvs__free_array(&a, s->positions, (size_t)s->vertex_count * 3, sizeof(float));
+    pvs__free_array(&a, s->indices, (size_t)s->triangle_count * 3, sizeof(uint32_t));
+    pvs__free_array(&a, s->triangle_object, s->triangle_count, sizeof(uint32_t));
+    pvs__free_array(&a, s->object_boxes, s->object_count, sizeof(pvs_box));
+    pvs__free_array(&a, s->object_flags, s->object_count, sizeof(uint32_t));
+    pvs__free_array(&a, s->occluders, s->occluder_count, sizeof(pvs_occluder_desc));
+    pvs__free_array(&a, s->occluder_boxes, s->occluder_count, sizeof(pvs_box));
+    pvs__free_array(&a, s->occluder_data, s->occluder_data_count, sizeof(float));
+    pvs__free(&a, s, sizeof(*s), 16);
+}
+
+PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out, pvs_error *err) {
+    pvs_scene *s;
+    pvs_allocator a;
+    pvs_result r;
+    size_t n3, i, floats = 0;
+    uint32_t t, o;
+    pvs_box *tri_boxes = NULL;
+    if (out) *out = NULL;
+    if (!desc || !out) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc and out_scene must not be NULL");
+    if (desc->object_count == 0 || !desc->objects)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the scene has no objects");
+    if (desc->triangle_count && (!desc->indices || !desc->positions))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "indices and positions must not be NULL");
+    if (desc->occluder_count && !desc->occluders)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "occluders must not be NULL when occluder_count > 0");
+    if (desc->up_axis > 2) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "up_axis %u is not 0, 1 or 2", desc->up_axis);
+    if (desc->triangle_count > 0xfffffffeu / 3 || desc->vertex_count == 0xffffffffu || desc->object_count == 0xffffffffu)
+        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "more than 2^32 - 2 triangle indices, vertices or objects");
+    if (!pvs__mul(desc->vertex_count, 3 * sizeof(float), &n3) || !pvs__mul(desc->triangle_count, 3 * sizeof(uint32_t), &n3) ||
+        !pvs__mul(desc->triangle_count, sizeof(pvs_box), &n3))
+        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the arrays do not fit in memory");
+
+    /* validate before allocating: vertices, indices, object ranges */
+    for (i = 0; i < (size_t)desc->vertex_count * 3; ++i)
+        if (!pvs__finite(desc->positions[i]))
+            return pvs__fail(err, PVS_ERROR_NOT_FINITE, (int64_t)(i / 3), 0, "vertex %llu has a coordinate that is not finite",
+                             (unsigned long long)(i / 3));
+    for (i = 0; i < (size_t)desc->triangle_count * 3; ++i)
+        if (desc->indices[i] >= desc->vertex_count)
+            return pvs__fail(err, PVS_ERROR_INDEX_OUT_OF_RANGE, (int64_t)(i / 3), 0,
+                             "triangle %llu uses vertex %u but there are %u vertices", (unsigned long long)(i / 3),
+                             desc->indices[i], desc->vertex_count);
+    for (o = 0; o < desc->object_count; ++o) {
+        const pvs_object_desc *ob = desc->objects + o;
+        if (ob->first_triangle > desc->triangle_count || ob->triangle_count > desc->triangle_count - ob->first_triangle)
+            return pvs__fail(err, PVS_ERROR_INDEX_OUT_OF_RANGE, o, 0, "object %u: triangles %u..%u are past the %u triangles", o,
+                             ob->first_triangle, ob->first_triangle + ob->triangle_count, desc->triangle_count);
+        if (ob->triangle_count == 0 && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS))
+            return pvs__fail(err, PVS_ERROR_EMPTY_OBJECT, o, 0, "object %u has no triangles", o);
+    }
+    for (o = 0; o < desc->occluder_count; ++o) {
+        const pvs_occluder_desc *oc = desc->occluders + o;
+        if (oc->kind == PVS_OCCLUDER_CONVEX && oc->plane_count <= PVS_MAX_OCCLUDER_PLANES) floats += 4 * (size_t)oc->plane_count;
+        if (oc->kind == PVS_OCCLUDER_EXTRUSION && oc->footprint_count <= PVS_MAX_FOOTPRINT_POINTS)
+            floats += 2 * (size_t)oc->footprint_count;
+    }
+
+    a = desc->allocator;
+    s = (pvs_scene *)pvs__alloc(&a, sizeof(pvs_scene), 16);
+    if (!s) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "scene");
+    memset(s, 0, sizeof(*s));
+    s->allocator = a;
+    s->up_axis = desc->up_axis == 2 ? 2 : 1;
+    s->flags = desc->flags;
+    s->vertex_count = desc->vertex_count;
+    s->triangle_count = desc->triangle_count;
+    s->object_count = desc->object_count;
+    s->occluder_count = desc->occluder_count;
+    s->occluder_data_count = floats;
+    s->positions = (float *)pvs__alloc_array(&a, (size_t)desc->vertex_count * 3, sizeof(float));
+    s->indices = (uint32_t *)pvs__alloc_array(&a, (size_t)desc->triangle_count * 3, sizeof(uint32_t));
+    s->triangle_object = (uint32_t *)pvs__alloc_array(&a, desc->triangle_count, sizeof(uint32_t));
+    s->object_boxes = (pvs_box *)pvs__alloc_array(&a, desc->object_count, sizeof(pvs_box));
+    s->object_flags = (uint32_t *)pvs__alloc_array(&a, desc->object_count, sizeof(uint32_t));
+    s->occluders = (pvs_occluder_desc *)pvs__alloc_array(&a, desc->occluder_count, sizeof(pvs_occluder_desc));
+    s->occluder_boxes = (pvs_box *)pvs__alloc_array(&a, desc->occluder_count, sizeof(pvs_box));
+    s->occluder_data = (float *)pvs__alloc_array(&a, floats, sizeof(float));
+    tri_boxes = (pvs_box *)pvs__alloc_array(&a, desc->triangle_count, sizeof(pvs_box));
+    if (!s->positions || !s->indices || !s->triangle_object || !s->object_boxes || !s->object_flags || !s->occluders ||
+        !s->occluder_boxes || !s->occluder_data || !tri_boxes) {
+        r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "scene arrays");
+        goto fail;
+    }
+    if (desc->vertex_count) memcpy(s->positions, desc->positions, (size_t)desc->vertex_count * 3 * sizeof(float));
+    if (desc->triangle_count) memcpy(s->indices, desc->indices, (size_t)desc->triangle_count * 3 * sizeof(uint32_t));
+    for (t = 0; t < desc->triangle_count; ++t) s->triangle_object[t] = PVS_NO_OBJECT;
+    s->bounds = pvs__box_empty();
+
+    for (o = 0; o < desc->object_count; ++o) {
+        const pvs_object_desc *ob = desc->objects + o;
+        int any_area = 0;
+        s->object_flags[o] = ob->flags;
+        s->object_boxes[o] = pvs__box_empty();
+        for (t = ob->first_triangle; t < ob->first_triangle + ob->triangle_count; ++t) {
+            const uint32_t *tri = s->indices + 3 * (size_t)t;
+            pvs__v3 p0 = pvs__v3_load(s->positions + 3 * (size_t)tri[0]);
+            pvs__v3 p1 = pvs__v3_load(s->positions + 3 * (size_t)tri[1]);
+            pvs__v3 p2 = pvs__v3_load(s->positions + 3 * (size_t)tri[2]);
+            double e1[3], e2[3], c[3];
+            if (s->triangle_object[t] != PVS_NO_OBJECT) {
+                r = pvs__fail(err, PVS_ERROR_OVERLAPPING_OBJECTS, o, 0, "objects %u and %u both claim triangle %u",
+                              s->triangle_object[t], o, t);
+                goto fail;
+            }
+            s->triangle_object[t] = o;
+            e1[0] = (double)p1.x - p0.x; e1[1] = (double)p1.y - p0.y; e1[2] = (double)p1.z - p0.z;
+            e2[0] = (double)p2.x - p0.x; e2[1] = (double)p2.y - p0.y; e2[2] = (double)p2.z - p0.z;
+            c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+            c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+            c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+            if (c[0] != 0.0 || c[1] != 0.0 || c[2] != 0.0) any_area = 1;
+            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[0]);
+            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[1]);
+            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[2]);
+        }
+        if (!any_area && ob->triangle_count && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS)) {
+            r = pvs__fail(err, PVS_ERROR_DEGENERATE_OBJECT, o, 0, "object %u: all %u triangles have zero area", o, ob->triangle_count);
+            goto fail;
+        }
+        if (!any_area) s->object_boxes[o] = pvs__box_empty(); /* never visible: nothing to see */
+    }
+    for (t = 0; t < desc->triangle_count; ++t) {
+        const uint32_t *tri = s->indices + 3 * (size_t)t;
+        tri_boxes[t] = pvs__box_empty();
+        pvs__box_add_point(&tri_boxes[t], s->positions + 3 * (size_t)tri[0]);
+        pvs__box_add_point(&tri_boxes[t], s->positions + 3 * (size_t)tri[1]);
+        pvs__box_add_point(&tri_boxes[t], s->positions + 3 * (size_t)tri[2]);
+        pvs__box_add_box(&s->bounds, &tri_boxes[t]);
+    }
+
+    floats = 0;
+    for (o = 0; o < desc->occluder_count; ++o) {
+        pvs_occluder_desc *dst = s->occluders + o;
+        r = pvs__validate_occluder(desc->occluders + o, s->up_axis, o, &s->occluder_boxes[o], err);
+        if (r != PVS_OK) goto fail;
+        *dst = desc->occluders[o];
+        if (dst->kind == PVS_OCCLUDER_CONVEX) {
+            memcpy(s->occluder_data + floats, dst->planes, 4 * (size_t)dst->plane_count * sizeof(float));
+            dst->planes = s->occluder_data + floats;
+            floats += 4 * (size_t)dst->plane_count;
+        } else {
+            dst->planes = NULL;
+            dst->plane_count = 0;
+        }
+        if (dst->kind == PVS_OCCLUDER_EXTRUSION) {
+            memcpy(s->occluder_data + floats, dst->footprint, 2 * (size_t)dst->footprint_count * sizeof(float));
+            dst->footprint = s->occluder_data + floats;
+            floats += 2 * (size_t)dst->footprint_count;
+        } else {
+            dst->footprint = NULL;
+            dst->footprint_count = 0;
+        }
+        pvs__box_add_box(&s->bounds, &s->occluder_boxes[o]);
+    }
+    if (s->bounds.min[0] > s->bounds.max[0]) {
+        r = pvs__fail(err, PVS_ERROR_EMPTY_OBJECT, -1, 0, "the scene has no geometry");
+        goto fail;
+    }
+
+    {
+        pvs_kdtree_desc kd;
+        memset(&kd, 0, sizeof(kd));
+        kd.allocator = a;
+        kd.boxes = tri_boxes;
+        kd.count = desc->triangle_count;
+        kd.leaf_size = desc->leaf_size;
+        r = pvs_kdtree_create(&kd, &s->triangle_tree, err);
+        if (r != PVS_OK) goto fail;
+        kd.boxes = s->object_boxes;
+        kd.count = desc->object_count;
+        kd.leaf_size = 0;
+        r = pvs_kdtree_create(&kd, &s->object_tree, err);
+        if (r != PVS_OK) goto fail;
+    }
+    pvs__free_array(&a, tri_boxes, desc->triangle_count, sizeof(pvs_box));
+    *out = s;
+    pvs__ok(err);
+    return PVS_OK;
+fail:
+    pvs__free_array(&a, tri_boxes, desc->triangle_count, sizeof(pvs_box));
+    pvs_scene_destroy(s);
+    return r;
+}
+
+PVS_API uint32_t pvs_scene_object_count(const pvs_scene *s) { return s->object_count; }
+PVS_API uint32_t pvs_scene_triangle_count(const pvs_scene *s) { return s->triangle_count; }
+PVS_API uint32_t pvs_scene_occluder_count(const pvs_scene *s) { return s->occluder_count; }
+PVS_API uint32_t pvs_scene_up_axis(const pvs_scene *s) { return s->up_axis; }
+PVS_API pvs_box pvs_scene_bounds(const pvs_scene *s) { return s->bounds; }
+PVS_API pvs_box pvs_scene_object_box(const pvs_scene *s, uint32_t object) {
+    PVS_ASSERT(object < s->object_count);
+    return s->object_boxes[object];
+}
+PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *s, uint32_t object) {
+    PVS_ASSERT(object < s->object_count);
+    return s->object_flags[object];
+}
+PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *s, uint32_t triangle) {
+    PVS_ASSERT(triangle < s->triangle_count);
+    return s->triangle_object[triangle];
+}
+PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t i) {
+    PVS_ASSERT(i < s->occluder_count);
+    return s->occluders + i;
+}
+
+// >>kdtree
+/* ---------------------------------------------------------------------------------------------- */
+/* kdtree: binned-SAH build over boxes; sweep (Bittner 2002 §3.2); ray walk; point location;     */
+/* scene ray casts                                                                                */
+/* ---------------------------------------------------------------------------------------------- */
+
+/* KDTREE-IMPLEMENTATION */
+
+// >>raster
+/* (planned: conservative rasterizer, depth pyramid, cull map) */
+
+// >>otree
+/* (planned: occlusion trees) */
+
+// >>occluders
+/* (planned: occluder synthesis) */
+
+// >>methods
+/* ---------------------------------------------------------------------------------------------- */
+/* methods: region visibility. Today: the ray-sampling estimator.                                 */
+/* ---------------------------------------------------------------------------------------------- */
+
+PVS_API const char *pvs_method_name(pvs_method m) {
+    switch (m) {
+    case PVS_METHOD_DEFAULT: return "default";
+    case PVS_METHOD_SAMPLE: return "sample";
+    default: return "unknown";
+    }
+}
+
+/* SAMPLE-IMPLEMENTATION */
+
+// >>bake
+/* ---------------------------------------------------------------------------------------------- */
+/* bake: validated cells, one task per cell, results in cell order whatever the run order         */
+/* ---------------------------------------------------------------------------------------------- */
+
+struct pvs_bake {
+    pvs_allocator allocator;
+    const pvs_scene *scene;
+    pvs_box *cells;
+    uint32_t cell_count, object_count;
+    size_t words;              /* per cell */
+    pvs_word *pvs;             /* cell_count * words */
+    unsigned char *done;       /* cell_count flags, each written by its own task only */
+    pvs_method method;
+    float eps;
+    uint32_t sample_points, sample_rays;
+    uint64_t seed;
+};
+
+PVS_API void pvs_bake_destroy(pvs_bake *b) {
+    pvs_allocator a;
+    if (!b) return;
+    a = b->allocator;
+    pvs__free_array(&a, b->cells, b->cell_count, sizeof(pvs_box));
+    pvs__free_array(&a, b->pvs, (size_t)b->cell_count * b->words, sizeof(pvs_word));
+    pvs__free_array(&a, b->done, b->cell_count, 1);
+    pvs__free(&a, b, sizeof(*b), 16);
+}
+
+/* Checks a cell box: finite, min <= max. */
+static pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *err) {
+    int k;
+    for (k = 0; k < 3; ++k) {
+        if (!pvs__finite(c->min[k]) || !pvs__finite(c->max[k]))
+            return pvs__fail(err, PVS_ERROR_BAD_CELL, i, 0, "cell %u has a coordinate that is not finite", i);
+        if (c->min[k] > c->max[k])
+            return pvs__fail(err, PVS_ERROR_BAD_CELL, i, 0, "cell %u has min > max on axis %d", i, k);
+    }
+    return PVS_OK;
+}
+
+PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs_error *err) {
+    pvs_bake *b;
+    pvs_allocator a;
+    size_t total, i;
+    pvs_result r;
+    if (out) *out = NULL;
+    if (!desc || !out || !desc->scene) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene and out_bake must not be NULL");
+    if (!desc->cells || desc->cell_count == 0) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "no cells");
+    if (desc->cell_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells");
+    if ((int)desc->method < 0 || desc->method >= PVS_METHOD_COUNT)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown method %d", (int)desc->method);
+    if (!pvs__finite(desc->eps) || desc->eps < 0.0f)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and >= 0");
+    for (i = 0; i < desc->cell_count; ++i) {
+        r = pvs__check_cell(desc->cells + i, (uint32_t)i, err);
+        if (r != PVS_OK) return r;
+    }
+    a = desc->allocator;
+    b = (pvs_bake *)pvs__alloc(&a, sizeof(pvs_bake), 16);
+    if (!b) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake");
+    memset(b, 0, sizeof(*b));
+    b->allocator = a;
+    b->scene = desc->scene;
+    b->cell_count = desc->cell_count;
+    b->object_count = pvs_scene_object_count(desc->scene);
+    b->words = PVS_BITSET_WORDS(b->object_count);
+    b->method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_SAMPLE : desc->method;
+    b->eps = desc->eps;
+    b->sample_points = desc->sample_points ? desc->sample_points : 32;
+    b->sample_rays = desc->sample_rays ? desc->sample_rays : 2048;
+    b->seed = desc->seed;
+    if (!pvs__mul(b->words, desc->cell_count, &total) || !pvs__mul(total, sizeof(pvs_word), &i)) {
+        pvs_bake_destroy(b);
+        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "%u cells x %u objects do not fit in memory", desc->cell_count,
+                         b->object_count);
+    }
+    b->cells = (pvs_box *)pvs__alloc_array(&a, desc->cell_count, sizeof(pvs_box));
+    b->pvs = (pvs_word *)pvs__alloc_array(&a, total, sizeof(pvs_word));
+    b->done = (unsigned char *)pvs__alloc_array(&a, desc->cell_count, 1);
+    if (!b->cells || !b->pvs || !b->done) {
+        pvs_bake_destroy(b);
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake arrays for %u cells", desc->cell_count);
+    }
+    memcpy(b->cells, desc->cells, desc->cell_count * sizeof(pvs_box));
+    memset(b->pvs, 0, total * sizeof(pvs_word));
+    memset(b->done, 0, desc->cell_count);
+    *out = b;
+    pvs__ok(err);
+    return PVS_OK;
+}
+
+PVS_API uint32_t pvs_bake_task_count(const pvs_bake *b) { return b->cell_count; }
+PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *b, uint32_t task) {
+    PVS_ASSERT(task < b->cell_count);
+    return task;
+}
+PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
+PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->eps; }
+
+PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err) {
+    uint32_t cell;
+    pvs_word *bits;
+    if (!b || task >= b->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "task %u out of range", task);
+    cell = pvs_bake_task_cell(b, task);
+    bits = b->pvs + (size_t)cell * b->words;
+    memset(bits, 0, b->words * sizeof(pvs_word));
+    switch (b->method) {
+    case PVS_METHOD_SAMPLE: {
+        /* per-cell seed: independent of the order and thread the tasks run in */
+        uint64_t state = b->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull);
+        pvs_sample_visibility(b->scene, b->cells + cell, b->sample_points, b->sample_rays, pvs__splitmix64(&state), bits);
+        break;
+    }
+    default: return pvs__fail(err, PVS_ERROR_UNSUPPORTED, cell, 0, "method %d", (int)b->method);
+    }
+    b->done[cell] = 1;
+    pvs__ok(err);
+    return PVS_OK;
+}
+
+PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *b, uint32_t cell) {
+    if (cell >= b->cell_count || !b->done[cell]) return NULL;
+    return b->pvs + (size_t)cell * b->words;
+}
+
+static void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
+    memset(fd, 0, sizeof(*fd));
+    fd->cells = b->cells;
+    fd->cell_count = b->cell_count;
+    fd->object_count = b->object_count;
+    fd->pvs = b->pvs;
+    fd->method = b->method;
+    fd->eps = b->eps;
+    fd->up_axis = pvs_scene_up_axis(b->scene);
+    fd->flags = b->method == PVS_METHOD_SAMPLE ? PVS_FILE_APPROXIMATE : 0u;
+}
+
+static int pvs__bake_all_done(const pvs_bake *b) {
+    uint32_t i;
+    for (i = 0; i < b->cell_count; ++i)
+        if (!b->done[i]) return 0;
+    return 1;
+}
+
+PVS_API size_t pvs_bake_file_bound(const pvs_bake *b) {
+    pvs_file_desc fd;
+    if (!pvs__bake_all_done(b)) return 0;
+    pvs__bake_file_desc(b, &fd);
+    return pvs_file_bound(&fd);
+}
+
+PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
+    pvs_file_desc fd;
+    uint32_t i;
+    if (!b) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bake is NULL");
+    for (i = 0; i < b->cell_count; ++i)
+        if (!b->done[i]) return pvs__fail(err, PVS_ERROR_NOT_DONE, i, 0, "cell %u has not been baked", i);
+    pvs__bake_file_desc(b, &fd);
+    return pvs_file_encode(&fd, out, capacity, out_size, err);
+}
+
+// >>format
+/* ---------------------------------------------------------------------------------------------- */
+/* format: the .pvs file (layout in the manual at the top)                                        */
+/* ---------------------------------------------------------------------------------------------- */
+
+#define PVS__HEADER_SIZE 32u
+#define PVS__SECTION_ENTRY 16u
+#define PVS__MAX_SECTIONS 64u
+#define PVS__META_SIZE 32u
+#define PVS__CELL_BYTES 24u
+#define PVS__TAG(a, b, c, d) ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))
+#define PVS__TAG_META PVS__TAG('M', 'E', 'T', 'A')
+#define PVS__TAG_CELL PVS__TAG('C', 'E', 'L', 'L')
+#define PVS__TAG_RECS PVS__TAG('R', 'E', 'C', 'S')
+#define PVS__CODING_GAP_VARINT 1u
+
+static void pvs__put32(uint8_t *p, uint32_t v) {
+    p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24);
+}
+static uint32_t pvs__get32(const uint8_t *p) {
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+}
+static void pvs__putf32(uint8_t *p, float f) {
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    pvs__put32(p, u);
+}
+static float pvs__getf32(const uint8_t *p) {
+    uint32_t u = pvs__get32(p);
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+static size_t pvs__align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
+
+/* LEB128 varint, at most 5 bytes. */
+static size_t pvs__put_varint(uint8_t *p, uint32_t v) {
+    size_t n = 0;
+    while (v >= 0x80u) {
+        p[n++] = (uint8_t)(v | 0x80u);
+        v >>= 7;
+    }
+    p[n++] = (uint8_t)v;
+    return n;
+}
+/* Reads a varint from p[0..end); returns bytes used, 0 if malformed (overlong, > 32 bits, cut off). */
+static size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_t *v) {
+    uint32_t r = 0;
+    size_t n;
+    for (n = 0; n < 5; ++n) {
+        uint8_t c;
+        if (p + n >= end) return 0;
+        c = p[n];
+        if (n == 4 && c > 0x0fu) return 0;
+        r |= (uint32_t)(c & 0x7fu) << (7 * n);
+        if (!(c & 0x80u)) {
+            if (n > 0 && c == 0) return 0; /* overlong: one canonical encoding per value */
+            *v = r;
+            return n + 1;
+        }
+    }
+    return 0;
+}
+
+/* The record coding, behind one pair of functions: gap varints (coding 1). A worst-case record is
+   5 + 5 * object_count bytes. */
+static size_t pvs__record_bound(uint32_t object_count) { return 5u + 5u * (size_t)object_count; }
+static size_t pvs__encode_record(const pvs_word *bits, uint32_t object_count, uint8_t *out) {
+    uint32_t n = pvs_bitset_count(bits, object_count), i, prev = 0;
+    size_t len = pvs__put_varint(out, n);
+    int first = 1;
+    for (i = pvs_bitset_next(bits, object_count, 0); i < object_count; i = pvs_bitset_next(bits, object_count, i + 1)) {
+        len += pvs__put_varint(out + len, first ? i : i - prev - 1);
+        prev = i;
+        first = 0;
+    }
+    return len;
+}
+/* Decodes (bits != NULL) or only validates (bits == NULL) one record of exactly `size` bytes.
+   Returns PVS_OK or BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at = the offending byte. */
+static pvs_result pvs__decode_record(const uint8_t *p, size_t size, uint32_t object_count, pvs_word *bits, size_t *bad_at) {
+    const uint8_t *q = p, *end = p + size;
+    uint32_t n, k, id = 0;
+    size_t used = pvs__get_varint(q, end, &n);
+    if (!used) { *bad_at = 0; return PVS_ERROR_BAD_RECORD; }
+    q += used;
+    if (n > object_count) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+    for (k = 0; k < n; ++k) {
+        uint32_t g;
+        uint64_t next;
+        used = pvs__get_varint(q, end, &g);
+        if (!used) { *bad_at = (size_t)(q - p); return PVS_ERROR_BAD_RECORD; }
+        next = k == 0 ? (uint64_t)g : (uint64_t)id + 1u + g;
+        if (next >= object_count) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+        id = (uint32_t)next;
+        if (bits) bits[id >> 6] |= (pvs_word)1 << (id & 63);
+        q += used;
+    }
+    if (q != end) { *bad_at = (size_t)(q - p); return PVS_ERROR_BAD_RECORD; }
+    return PVS_OK;
+}
+
+PVS_API size_t pvs_file_bound(const pvs_file_desc *d) {
+    size_t total = PVS__HEADER_SIZE + 3 * PVS__SECTION_ENTRY, t;
+    if (!d || !d->cell_count) return 0;
+    total = pvs__align8(total) + PVS__META_SIZE;
+    if (!pvs__mul(d->cell_count, PVS__CELL_BYTES, &t) || !pvs__add(total, t, &total)) return 0;
+    total = pvs__align8(total);
+    if (!pvs__mul((size_t)d->cell_count + 1, 4, &t) || !pvs__add(total, t, &total)) return 0;
+    if (!pvs__mul(d->cell_count, pvs__record_bound(d->object_count), &t) || !pvs__add(total, t, &total)) return 0;
+    return pvs__align8(total);
+}
+
+PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
+    uint8_t *o = (uint8_t *)out, *rec;
+    size_t bound, meta_at, cell_at, recs_at, pos, words;
+    uint32_t i;
+    if (out_size) *out_size = 0;
+    if (!d || !out || !d->cells || !d->pvs || !d->cell_count || !d->object_count)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, out, cells and pvs must not be NULL or empty");
+    if (d->up_axis != 1 && d->up_axis != 2) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "up_axis must be 1 or 2");
+    if ((int)d->method < 0 || d->method >= PVS_METHOD_COUNT || !pvs__finite(d->eps))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bad method or eps");
+    for (i = 0; i < d->cell_count; ++i) {
+        pvs_result r = pvs__check_cell(d->cells + i, i, err);
+        if (r != PVS_OK) return r;
+    }
+    bound = pvs_file_bound(d);
+    if (!bound || bound > 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the file would exceed 4 GiB");
+    words = PVS_BITSET_WORDS(d->object_count);
+    meta_at = pvs__align8(PVS__HEADER_SIZE + 3 * PVS__SECTION_ENTRY);
+    cell_at = meta_at + PVS__META_SIZE;
+    recs_at = pvs__align8(cell_at + (size_t)d->cell_count * PVS__CELL_BYTES);
+    /* records are written straight into the output when it is large enough for the bound, else
+       the exact size is measured first */
+    {
+        size_t need = recs_at + 4 * ((size_t)d->cell_count + 1), recs = 0;
+        uint8_t tmp[5];
+        for (i = 0; i < d->cell_count; ++i) {
+            const pvs_word *bits = d->pvs + (size_t)i * words;
+            uint32_t k, prev = 0;
+            int first = 1;
+            recs += pvs__put_varint(tmp, pvs_bitset_count(bits, d->object_count));
+            for (k = pvs_bitset_next(bits, d->object_count, 0); k < d->object_count; k = pvs_bitset_next(bits, d->object_count, k + 1)) {
+                recs += pvs__put_varint(tmp, first ? k : k - prev - 1);
+                prev = k;
+                first = 0;
+            }
+        }
+        need = pvs__align8(need + recs);
+        if (capacity < need)
+            return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "need %llu bytes, have %llu", (unsigned long long)need,
+                             (unsigned long long)capacity);
+        memset(o, 0, need);
+        bound = need;
+    }
+    /* META */
+    pvs__put32(o + meta_at + 0, d->cell_count);
+    pvs__put32(o + meta_at + 4, d->object_count);
+    pvs__put32(o + meta_at + 8, (uint32_t)d->method);
+    pvs__putf32(o + meta_at + 12, d->eps);
+    pvs__put32(o + meta_at + 16, d->up_axis);
+    pvs__put32(o + meta_at + 20, PVS__CODING_GAP_VARINT);
+    /* CELL */
+    for (i = 0; i < d->cell_count; ++i) {
+        uint8_t *c = o + cell_at + (size_t)i * PVS__CELL_BYTES;
+        int k;
+        for (k = 0; k < 3; ++k) {
+            pvs__putf32(c + 4 * k, d->cells[i].min[k]);
+            pvs__putf32(c + 12 + 4 * k, d->cells[i].max[k]);
+        }
+    }
+    /* RECS */
+    rec = o + recs_at;
+    pos = 4 * ((size_t)d->cell_count + 1);
+    for (i = 0; i < d->cell_count; ++i) {
+        pvs__put32(rec + 4 * (size_t)i, (uint32_t)pos);
+        pos += pvs__encode_record(d->pvs + (size_t)i * words, d->object_count, rec + pos);
+    }
+    pvs__put32(rec + 4 * (size_t)d->cell_count, (uint32_t)pos);
+    /* header and section table */
+    memcpy(o, "PVS\x1a", 4);
+    pvs__put32(o + 4, PVS_FORMAT_VERSION);
+    pvs__put32(o + 8, (uint32_t)bound);
+    pvs__put32(o + 12, 3);
+    pvs__put32(o + 16, d->flags);
+    {
+        const uint32_t tags[3] = {PVS__TAG_META, PVS__TAG_CELL, PVS__TAG_RECS};
+        const size_t at[3] = {meta_at, cell_at, recs_at};
+        const size_t sz[3] = {PVS__META_SIZE, (size_t)d->cell_count * PVS__CELL_BYTES, pos};
+        uint32_t crc;
+        for (i = 0; i < 3; ++i) {
+            uint8_t *e = o + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * i;
+            pvs__put32(e + 0, tags[i]);
+            pvs__put32(e + 4, (uint32_t)at[i]);
+            pvs__put32(e + 8, (uint32_t)sz[i]);
+            pvs__put32(e + 12, pvs__crc32(0, o + at[i], sz[i]));
+        }
+        crc = pvs__crc32(0, o, 20);
+        crc = pvs__crc32(crc, o + PVS__HEADER_SIZE, 3 * PVS__SECTION_ENTRY);
+        pvs__put32(o + 20, crc);
+    }
+    if (out_size) *out_size = bound;
+    pvs__ok(err);
+    return PVS_OK;
+}
+
+PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs_error *err) {
+    const uint8_t *p = (const uint8_t *)data;
+    uint32_t count, i, j, crc;
+    const uint8_t *meta = NULL, *cells = NULL, *recs = NULL;
+    uint32_t meta_size = 0, cells_size = 0, recs_size = 0, coding;
+    if (!f) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file must not be NULL");
+    memset(f, 0, sizeof(*f));
+    if (!p && size) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "data is NULL");
+    if (size < 4 || memcmp(p, "PVS\x1a", 4) != 0)
+        return pvs__fail(err, size < 4 ? PVS_ERROR_TRUNCATED : PVS_ERROR_BAD_MAGIC, -1, 0, "not a .pvs file (magic)");
+    if (size < PVS__HEADER_SIZE) return pvs__fail(err, PVS_ERROR_TRUNCATED, -1, size, "the header needs 32 bytes, have %llu", (unsigned long long)size);
+    if (pvs__get32(p + 4) != PVS_FORMAT_VERSION)
+        return pvs__fail(err, PVS_ERROR_BAD_VERSION, -1, 4, "format version %u, this reader knows %d", pvs__get32(p + 4), PVS_FORMAT_VERSION);
+    if (pvs__get32(p + 8) != size) {
+        pvs_result code = pvs__get32(p + 8) > size ? PVS_ERROR_TRUNCATED : PVS_ERROR_BAD_HEADER;
+        return pvs__fail(err, code, -1, 8, "the header says %u bytes, the buffer has %llu", pvs__get32(p + 8), (unsigned long long)size);
+    }
+    count = pvs__get32(p + 12);
+    if (count == 0 || count > PVS__MAX_SECTIONS)
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 12, "section count %u is not in 1..%u", count, PVS__MAX_SECTIONS);
+    if (PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY > size)
+        return pvs__fail(err, PVS_ERROR_TRUNCATED, -1, PVS__HEADER_SIZE, "the section table runs past the end");
+    crc = pvs__crc32(0, p, 20);
+    crc = pvs__crc32(crc, p + PVS__HEADER_SIZE, (size_t)count * PVS__SECTION_ENTRY);
+    if (crc != pvs__get32(p + 20)) return pvs__fail(err, PVS_ERROR_CHECKSUM, -1, 20, "header checksum");
+    if (pvs__get32(p + 24) || pvs__get32(p + 28)) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 24, "reserved header bytes are not zero");
+    for (i = 0; i < count; ++i) {
+        const uint8_t *e = p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)i;
+        uint32_t tag = pvs__get32(e), off = pvs__get32(e + 4), sz = pvs__get32(e + 8);
+        uint64_t at = PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (uint64_t)i;
+        if ((off & 7u) || off < PVS__HEADER_SIZE + count * PVS__SECTION_ENTRY)
+            return pvs__fail(err, PVS_ERROR_BAD_SECTION, i, at, "section %u: offset %u is misaligned or inside the header", i, off);
+        if ((uint64_t)off + sz > size)
+            return pvs__fail(err, PVS_ERROR_TRUNCATED, i, at, "section %u: bytes %u..%llu run past the end", i, off, (unsigned long long)off + sz);
+        for (j = 0; j < i; ++j) {
+            const uint8_t *e2 = p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)j;
+            uint32_t off2 = pvs__get32(e2 + 4), sz2 = pvs__get32(e2 + 8);
+            if (pvs__get32(e2) == tag)
+                return pvs__fail(err, PVS_ERROR_BAD_SECTION, i, at, "section %u repeats the tag of section %u", i, j);
+            if (off < off2 + sz2 && off2 < off + sz)
+                return pvs__fail(err, PVS_ERROR_BAD_SECTION, i, at, "sections %u and %u overlap", j, i);
+        }
+        if (pvs__crc32(0, p + off, sz) != pvs__get32(e + 12))
+            return pvs__fail(err, PVS_ERROR_CHECKSUM, i, off, "section %u checksum", i);
+        if (tag == PVS__TAG_META) { meta = p + off; meta_size = sz; }
+        else if (tag == PVS__TAG_CELL) { cells = p + off; cells_size = sz; }
+        else if (tag == PVS__TAG_RECS) { recs = p + off; recs_size = sz; }
+    }
+    if (!meta || !cells || !recs)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, 0, "missing required section %s", !meta ? "META" : !cells ? "CELL" : "RECS");
+    if (meta_size != PVS__META_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(meta - p), "META has %u bytes, not 32", meta_size);
+    f->cell_count = pvs__get32(meta);
+    f->object_count = pvs__get32(meta + 4);
+    f->method = (pvs_method)pvs__get32(meta + 8);
+    f->eps = pvs__getf32(meta + 12);
+    f->up_axis = pvs__get32(meta + 16);
+    coding = pvs__get32(meta + 20);
+    {
+        uint64_t mo = (uint64_t)(meta - p);
+        if (f->cell_count == 0 || f->cell_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo, "cell count %u", f->cell_count);
+        if (f->object_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 4, "object count 0");
+        if (pvs__get32(meta + 8) >= (uint32_t)PVS_METHOD_COUNT) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 8, "unknown method %u", pvs__get32(meta + 8));
+        if (!pvs__finite(f->eps) || f->eps < 0.0f) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 12, "eps is not a finite number >= 0");
+        if (f->up_axis != 1 && f->up_axis != 2) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 16, "up axis %u", f->up_axis);
+        if (coding != PVS__CODING_GAP_VARINT) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 20, "unknown record coding %u", coding);
+        if (pvs__get32(meta + 24) || pvs__get32(meta + 28)) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 24, "reserved META bytes are not zero");
+    }
+    if ((uint64_t)f->cell_count * PVS__CELL_BYTES != cells_size)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(cells - p), "CELL has %u bytes, %u cells need %llu", cells_size,
+                         f->cell_count, (unsigned long long)f->cell_count * PVS__CELL_BYTES);
+    for (i = 0; i < f->cell_count; ++i) {
+        const uint8_t *c = cells + (size_t)i * PVS__CELL_BYTES;
+        int k;
+        for (k = 0; k < 3; ++k) {
+            float lo = pvs__getf32(c + 4 * k), hi = pvs__getf32(c + 12 + 4 * k);
+            if (!pvs__finite(lo) || !pvs__finite(hi) || lo > hi)
+                return pvs__fail(err, PVS_ERROR_BAD_CELL, i, (uint64_t)(c - p), "cell %u box is not finite or has min > max", i);
+        }
+    }
+    if ((uint64_t)4 * ((uint64_t)f->cell_count + 1) > recs_size)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(recs - p), "RECS is too small for %u record offsets", f->cell_count);
+    {
+        uint32_t prev = 4 * (f->cell_count + 1);
+        if (pvs__get32(recs) != prev)
+            return pvs__fail(err, PVS_ERROR_BAD_RECORD, 0, (uint64_t)(recs - p), "record 0 does not start after the offset table");
+        if (pvs__get32(recs + 4 * (size_t)f->cell_count) != recs_size)
+            return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, (uint64_t)(recs - p) + 4 * (uint64_t)f->cell_count,
+                             "the last record offset is not the section size");
+        for (i = 0; i < f->cell_count; ++i) {
+            uint32_t a = pvs__get32(recs + 4 * (size_t)i), b = pvs__get32(recs + 4 * (size_t)i + 4);
+            size_t bad = 0;
+            pvs_result r;
+            if (b < a || b > recs_size)
+                return pvs__fail(err, PVS_ERROR_BAD_RECORD, i, (uint64_t)(recs - p) + 4 * (uint64_t)i, "record %u offsets are not ascending", i);
+            r = pvs__decode_record(recs + a, b - a, f->object_count, NULL, &bad);
+            if (r != PVS_OK)
+                return pvs__fail(err, r, i, (uint64_t)(recs - p) + a + bad, "record %u (cell %u)", i, i);
+        }
+    }
+    f->data = p;
+    f->size = size;
+    f->version = PVS_FORMAT_VERSION;
+    f->flags = pvs__get32(p + 16);
+    f->cells = cells;
+    f->records = recs;
+    f->records_size = recs_size;
+    pvs__ok(err);
+    return PVS_OK;
+}
+
+// >>runtime
+/* ---------------------------------------------------------------------------------------------- */
+/* runtime: cell look-up and decoding; no allocation                                              */
+/* ---------------------------------------------------------------------------------------------- */
+
+PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
+    pvs_box b;
+    const uint8_t *c;
+    int k;
+    PVS_ASSERT(cell < f->cell_count);
+    c = f->cells + (size_t)cell * PVS__CELL_BYTES;
+    for (k = 0; k < 3; ++k) {
+        b.min[k] = pvs__getf32(c + 4 * k);
+        b.max[k] = pvs__getf32(c + 12 + 4 * k);
+    }
+    return b;
+}
+
+PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
+    uint32_t i;
+    for (i = 0; i < f->cell_count; ++i) {
+        pvs_box b = pvs_file_cell_box(f, i);
+        if (pvs__box_contains_point(&b, p)) return i;
+    }
+    return PVS_NO_CELL;
+}
+
+PVS_API pvs_result pvs_file_decode(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t word_count, pvs_error *err) {
+    uint32_t a, b;
+    size_t bad;
+    if (!f || !bits || !f->data) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file and bits must not be NULL");
+    if (cell >= f->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, cell, 0, "cell %u of %u", cell, f->cell_count);
+    if (word_count < PVS_BITSET_WORDS(f->object_count))
+        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "%llu words, %u objects need %llu", (unsigned long long)word_count,
+                         f->object_count, (unsigned long long)PVS_BITSET_WORDS(f->object_count));
+    memset(bits, 0, word_count * sizeof(pvs_word));
+    a = pvs__get32(f->records + 4 * (size_t)cell);
+    b = pvs__get32(f->records + 4 * (size_t)cell + 4);
+    (void)pvs__decode_record(f->records + a, b - a, f->object_count, bits, &bad); /* validated by open */
+    pvs__ok(err);
+    return PVS_OK;
+}
+
+#endif /* PVS_IMPLEMENTATION_ONCE */
+#endif /* PVS_IMPLEMENTATION */
+
+/*
+   FULL HISTORY
+   ============
+   0.1.0 (2026-11-22) first version: scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container v1.
+
+------------------------------------------------------------------------------
+This software is available under 2 licenses -- choose whichever you prefer.
+------------------------------------------------------------------------------
+ALTERNATIVE A - MIT License
+Copyright (c) 2026 the pvs.h authors
+Permission is hereby granted, free of charge, to any person obtaining a copy of
+this software and associated documentation files (the "Software"), to deal in
+the Software without restriction, including without limitation the rights to
+use, copy, modify, merge, publish, distribute, sublicense, and/or sell copies
+of the Software, and to permit persons to whom the Software is furnished to do
+so, subject to the following conditions:
+The above copyright notice and this permission notice shall be included in all
+copies or substantial portions of the Software.
+THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+SOFTWARE.
+------------------------------------------------------------------------------
+ALTERNATIVE B - Public Domain (www.unlicense.org)
+This is free and unencumbered software released into the public domain.
+Anyone is free to copy, modify, publish, use, compile, sell, or distribute this
+software, either in source code form or as a compiled binary, for any purpose,
+commercial or non-commercial, and by any means.
+In jurisdictions that recognize copyright laws, the author or authors of this
+software dedicate any and all copyright interest in the software to the public
+domain. We make this dedication for the benefit of the public at large and to
+the detriment of our heirs and successors. We intend this dedication to be an
+overt act of relinquishment in perpetuity of all present and future rights to
+this software under copyright law.
+THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+AUTHORS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER LIABILITY, WHETHER IN AN
+ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM, OUT OF OR IN CONNECTION
+WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE SOFTWARE.
+------------------------------------------------------------------------------
+*/
