@@ -113,7 +113,8 @@
      20 u32    CRC-32 (IEEE) of bytes 0..19 and of the section table
      24 u32[2] reserved, zero
    section table at 32: S entries of 16 bytes: u32 tag, u32 offset, u32 size, u32 CRC-32 of the bytes.
-     Sections are 8-byte aligned, lie inside the file and do not overlap. Tags are four ASCII
+     Sections are 8-byte aligned, lie inside the file and do not overlap; every byte outside the
+     header, the table and the sections is zero padding. Tags are four ASCII
      characters. A reader skips tags it does not know; every required tag appears exactly once.
    "META" (required, 32 bytes): u32 cell_count, u32 object_count, u32 method (pvs_method),
      f32 eps, u32 up_axis (1 or 2), u32 record_coding (1 = gap varints), u32[2] reserved zero.
@@ -143,7 +144,11 @@
 
 #ifndef PVS_API
 #ifdef PVS_STATIC
+#if defined(__GNUC__) || defined(__clang__)
+#define PVS_API static __attribute__((unused))
+#else
 #define PVS_API static
+#endif
 #else
 #define PVS_API extern
 #endif
@@ -1676,6 +1681,25 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
         if (tag == PVS__TAG_META) { meta = p + off; meta_size = sz; }
         else if (tag == PVS__TAG_CELL) { cells = p + off; cells_size = sz; }
         else if (tag == PVS__TAG_RECS) { recs = p + off; recs_size = sz; }
+    }
+    {
+        /* bytes outside the header, the table and the sections (alignment padding) must be zero,
+           so that every byte of a valid file is either checksummed or fixed */
+        uint32_t order[PVS__MAX_SECTIONS], k;
+        size_t pos = PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY;
+        for (i = 0; i < count; ++i) { /* insertion sort by offset; count <= 64 */
+            uint32_t off = pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)i + 4);
+            for (j = i; j > 0 && pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[j - 1] + 4) > off; --j)
+                order[j] = order[j - 1];
+            order[j] = i;
+        }
+        for (k = 0; k <= count; ++k) {
+            const uint8_t *e = k < count ? p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[k] : NULL;
+            size_t next = e ? pvs__get32(e + 4) : size;
+            for (; pos < next; ++pos)
+                if (p[pos]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, pos, "padding byte %llu is not zero", (unsigned long long)pos);
+            if (e) pos = (size_t)pvs__get32(e + 4) + pvs__get32(e + 8);
+        }
     }
     if (!meta || !cells || !recs)
         return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, 0, "missing required section %s", !meta ? "META" : !cells ? "CELL" : "RECS");

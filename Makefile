@@ -1,0 +1,75 @@
+# pvs.h - build, test, demo, bench, verify. Everything lands in build/.
+# Configurations in one place: CONFIG=release (default) | debug | sanitize | scalar
+CC      ?= cc
+CXX     ?= c++
+CONFIG  ?= release
+B       := build
+WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wmissing-prototypes
+CFLAGS_release  := -O2 -g
+CFLAGS_debug    := -O0 -g
+CFLAGS_sanitize := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+CFLAGS_scalar   := -O2 -g -DPVS_NO_SIMD
+CFLAGS  := -std=c99 $(WARN) $(CFLAGS_$(CONFIG))
+LDLIBS  := -lm -lpthread
+TEST_CFLAGS := -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+
+TOOL_LIB := tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/pvs_impl.c
+TOOL_HDR := pvs.h tools/mesh.h tools/obj.h tools/toolutil.h tools/gen.h tools/cli.h
+TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen
+TEST_SRC := tests/main.c tests/impl.c tests/test_core.c tests/test_format.c tests/test_noalloc.c tests/test_kdtree.c \
+            tests/test_gen.c tests/test_tools.c tests/test_cli.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c
+
+.PHONY: all tools test demo bench verify clean compile-checks readme-check
+all: tools
+tools: $(TOOLS)
+
+$(B)/%: tools/%.c $(TOOL_LIB) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -o $@ $< $(TOOL_LIB) $(LDLIBS)
+
+# The header compiles as C99, C11 and C++ (include, define, include again) and as a PVS_STATIC unit.
+compile-checks: tests/compile_check.c pvs.h
+	@mkdir -p $(B)
+	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror -c tests/compile_check.c -o $(B)/cc_c99.o
+	$(CC) -std=c11 -pedantic -Wall -Wextra -Werror -c tests/compile_check.c -o $(B)/cc_c11.o
+	$(CXX) -x c++ -std=c++11 -Wall -Wextra -Werror -c tests/compile_check.c -o $(B)/cc_cpp.o
+	$(CC) -std=c99 -Wall -Wextra -Werror -DCHECK_STATIC -c tests/compile_check.c -o $(B)/cc_static.o
+
+$(B)/pvstest: $(TEST_SRC) tests/test.h $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(TEST_CFLAGS) -o $@ $(TEST_SRC) $(LDLIBS)
+
+# The README's quick start must compile and print what it claims.
+readme-check: README.md pvs.h
+	@mkdir -p $(B)
+	sed -n '/^```c$$/,/^```$$/p' README.md | sed '1d;$$d' > $(B)/readme_example.c
+	$(CC) -std=c99 -Wall -Wextra -Werror -I. -o $(B)/readme_example $(B)/readme_example.c -lm
+	./$(B)/readme_example | grep -x 'object 0 visible, object 1 hidden'
+
+test: compile-checks readme-check tools $(B)/pvstest
+	cd $(B) && ./pvstest
+
+$(B)/pvsdemo: examples/demo.c $(TOOL_LIB) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -Itools -o $@ examples/demo.c $(TOOL_LIB) $(LDLIBS)
+
+demo: $(B)/pvsdemo
+	@mkdir -p $(B)/demo
+	./$(B)/pvsdemo -j 2 -o $(B)/demo/city.pvs
+
+$(B)/bench_kdtree: tests/bench_kdtree.c $(TOOL_LIB) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_kdtree.c $(TOOL_LIB) $(LDLIBS)
+$(B)/bench_bake: tests/bench_bake.c $(TOOL_LIB) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_bake.c $(TOOL_LIB) $(LDLIBS)
+
+bench: $(B)/bench_kdtree $(B)/bench_bake
+	./$(B)/bench_kdtree
+	./$(B)/bench_bake
+
+verify: tools
+	sh tests/verify.sh
+
+clean:
+	rm -rf $(B)

@@ -1,0 +1,36 @@
+/* main.c - the test runner: runs every group (or those named on the command line) and ends with
+   the line "N passed, N failed" (checks), exit status 1 on any failure. */
+#include "test.h"
+#include <string.h>
+
+int test_failures, test_checks;
+
+void test_core(void);
+void test_format(void);
+void test_noalloc(void);
+void test_kdtree(void);
+void test_gen(void);
+void test_tools(void);
+void test_cli(void);
+
+static const struct {
+    const char *name;
+    void (*run)(void);
+} groups[] = {
+    {"core", test_core}, {"format", test_format}, {"noalloc", test_noalloc}, {"kdtree", test_kdtree},
+    {"gen", test_gen},   {"tools", test_tools},   {"cli", test_cli},
+};
+
+int main(int argc, char **argv) {
+    size_t g;
+    int i;
+    for (g = 0; g < sizeof(groups) / sizeof(groups[0]); ++g) {
+        int before_f = test_failures, before_c = test_checks, wanted = argc < 2;
+        for (i = 1; i < argc; ++i) wanted |= strcmp(argv[i], groups[g].name) == 0;
+        if (!wanted) continue;
+        groups[g].run();
+        fprintf(stderr, "%-8s %6d checks, %d failed\n", groups[g].name, test_checks - before_c, test_failures - before_f);
+    }
+    printf("%d passed, %d failed\n", test_checks - test_failures, test_failures);
+    return test_failures ? 1 : 0;
+}

@@ -1,0 +1,200 @@
+/* test_cli.c - the command-line tools end to end: exit codes, file:line messages on malformed
+   input, no partial output, the --dump listing format, determinism across thread counts.
+   Runs from build/ (make test does `cd build && ./pvstest`), where the tools are. */
+#define _POSIX_C_SOURCE 200809L
+#include "test.h"
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#define DIR "cli-test"
+
+static void write_text(const char *path, const char *text, size_t len) {
+    FILE *f = fopen(path, "wb");
+    if (!f) return;
+    fwrite(text, 1, len, f);
+    fclose(f);
+}
+
+static void write_str(const char *path, const char *text) { write_text(path, text, strlen(text)); }
+
+static char *slurp(const char *path) {
+    FILE *f = fopen(path, "rb");
+    char *buf;
+    long n;
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    buf = (char *)malloc((size_t)n + 1);
+    if (buf) {
+        n = (long)fread(buf, 1, (size_t)n, f);
+        buf[n] = 0;
+    }
+    fclose(f);
+    return buf;
+}
+
+/* Runs a shell command with stdout and stderr captured; returns the exit status, *out the text. */
+static int run(const char *cmd, char **out) {
+    char full[2048];
+    int status;
+    snprintf(full, sizeof(full), "%s >" DIR "/out.txt 2>&1", cmd);
+    status = system(full);
+    *out = slurp(DIR "/out.txt");
+    if (!*out) *out = (char *)calloc(1, 1);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+static int exists(const char *path) {
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* A box of 12 triangles, as OBJ lines, with vertex offset base (1-based). */
+static void box_obj(char *dst, size_t cap, const char *name, float x0, float y0, float z0, float x1, float y1, float z1, int base) {
+    snprintf(dst, cap,
+             "o %s\nv %g %g %g\nv %g %g %g\nv %g %g %g\nv %g %g %g\nv %g %g %g\nv %g %g %g\nv %g %g %g\nv %g %g %g\n"
+             "f %d %d %d %d\nf %d %d %d %d\nf %d %d %d %d\nf %d %d %d %d\nf %d %d %d %d\nf %d %d %d %d\n",
+             name, x0, y0, z0, x1, y0, z0, x1, y1, z0, x0, y1, z0, x0, y0, z1, x1, y0, z1, x1, y1, z1, x0, y1, z1, base, base + 1,
+             base + 2, base + 3, base + 4, base + 5, base + 6, base + 7, base, base + 1, base + 5, base + 4, base + 2, base + 3,
+             base + 7, base + 6, base + 1, base + 2, base + 6, base + 5, base, base + 4, base + 7, base + 3);
+}
+
+/* Expect exit 1, a message naming file:line with a phrase, and no output file. */
+static void expect_bad(const char *cmd, const char *where, const char *phrase, const char *out_path) {
+    char *out;
+    int rc = run(cmd, &out);
+    CHECK(rc == 1);
+    CHECK(strstr(out, where) != NULL);
+    CHECK(strstr(out, phrase) != NULL);
+    if (rc != 1 || !strstr(out, where) || !strstr(out, phrase)) fprintf(stderr, "  command: %s\n  output: %s\n", cmd, out);
+    CHECK(!exists(out_path));
+    free(out);
+}
+
+void test_cli(void) {
+    char scene[4096], a[1024], b[1024], *out;
+    int rc;
+    system("rm -rf " DIR " && mkdir -p " DIR);
+
+    /* a wall between two small boxes, three view cells */
+    box_obj(a, sizeof(a), "left", -6, 0, -1, -4, 2, 1, 1);
+    box_obj(b, sizeof(b), "wall", -1, 0, -10, 1, 5, 10, 9);
+    snprintf(scene, sizeof(scene), "%s%s", a, b);
+    box_obj(a, sizeof(a), "right", 4, 0, -1, 6, 2, 1, 17);
+    strcat(scene, a);
+    box_obj(a, sizeof(a), "occluder_hidden", 10, 0, -1, 11, 2, 1, 25);
+    strcat(scene, a);
+    write_text(DIR "/scene.obj", scene, strlen(scene));
+    write_str(DIR "/cells.txt", "# left, right, both sides\n-3 0.5 -0.5 -2 1.5 0.5\n2 0.5 -0.5 3 1.5 0.5\n\n-3 3 -0.5 3 4 0.5  # straddles\n");
+
+    /* usage */
+    CHECK(run("./pvsbake", &out) == 2); free(out);
+    CHECK(run("./pvsbake --help", &out) == 0 && strstr(out, "usage")); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --bogus", &out) == 2 && strstr(out, "--bogus")); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs", &out) == 2); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method nope", &out) == 2); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt -j -3", &out) == 2); free(out);
+    CHECK(run("./pvsinfo", &out) == 2); free(out);
+    CHECK(run("./pvscheck " DIR "/scene.obj", &out) == 2); free(out);
+    CHECK(!exists(DIR "/x.pvs"));
+
+    /* a good bake; options in any order; identical bytes for 1 and 2 threads */
+    rc = run("./pvsbake -q --cells " DIR "/cells.txt -o " DIR "/a.pvs -j 1 " DIR "/scene.obj --rays 256 --points 16", &out);
+    CHECK(rc == 0); free(out);
+    rc = run("./pvsbake " DIR "/scene.obj -o " DIR "/b.pvs --cells " DIR "/cells.txt -j 2 --rays 256 --points 16", &out);
+    CHECK(rc == 0 && strstr(out, "approximate")); free(out);
+    {
+        char *fa = slurp(DIR "/a.pvs"), *fb = slurp(DIR "/b.pvs");
+        struct stat sa, sb;
+        CHECK(fa && fb && stat(DIR "/a.pvs", &sa) == 0 && stat(DIR "/b.pvs", &sb) == 0 && sa.st_size == sb.st_size &&
+              memcmp(fa, fb, (size_t)sa.st_size) == 0);
+        free(fa); free(fb);
+    }
+    /* --dump: exactly "CELL: OBJ OBJ ..." per cell; the wall hides the far box; occluders never listed */
+    CHECK(run("./pvsinfo --dump " DIR "/a.pvs", &out) == 0);
+    CHECK(strcmp(out, "0: 0 1\n1: 1 2\n2: 0 1 2\n") == 0);
+    if (strcmp(out, "0: 0 1\n1: 1 2\n2: 0 1 2\n")) fprintf(stderr, "  dump: %s\n", out);
+    free(out);
+    CHECK(run("./pvsinfo --at 2.5 1 0 " DIR "/a.pvs", &out) == 0 && strcmp(out, "1: 1 2\n") == 0); free(out);
+    CHECK(run("./pvsinfo --at 100 1 0 " DIR "/a.pvs", &out) == 1 && strstr(out, "no cell")); free(out);
+    CHECK(run("./pvsinfo --verify " DIR "/a.pvs", &out) == 0); free(out);
+    CHECK(run("./pvsinfo " DIR "/a.pvs", &out) == 0 && strstr(out, "cells       3") && strstr(out, "approximate")); free(out);
+    CHECK(run("./pvscheck -q " DIR "/scene.obj " DIR "/a.pvs", &out) == 0 && strstr(out, "misses 0")); free(out);
+    /* a damaged file: --verify fails with the reason; a file of another scene is refused */
+    {
+        char *fa = slurp(DIR "/a.pvs");
+        struct stat sa;
+        if (fa && stat(DIR "/a.pvs", &sa) == 0) {
+            fa[sa.st_size - 20] ^= 0x40;
+            write_text(DIR "/bad.pvs", fa, (size_t)sa.st_size);
+            CHECK(run("./pvsinfo --verify " DIR "/bad.pvs", &out) == 1 && strstr(out, "checksum")); free(out);
+            write_text(DIR "/short.pvs", fa, 40);
+            CHECK(run("./pvsinfo " DIR "/short.pvs", &out) == 1 && strstr(out, "truncated")); free(out);
+        }
+        free(fa);
+        write_str(DIR "/other.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        CHECK(run("./pvscheck " DIR "/other.obj " DIR "/a.pvs", &out) == 1 && strstr(out, "not the same scene")); free(out);
+    }
+    /* --grid */
+    CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/g.pvs --grid 4 --rays 64 --points 4", &out) == 0); free(out);
+    CHECK(run("./pvsinfo --verify " DIR "/g.pvs", &out) == 0); free(out);
+    CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/g2.pvs --grid 0.0001", &out) == 1 && strstr(out, "exceed")); free(out);
+    CHECK(!exists(DIR "/g2.pvs"));
+
+    /* malformed OBJ files: exit 1, file:line, no output file */
+    write_str(DIR "/m1.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n");
+    expect_bad("./pvsbake " DIR "/m1.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m1.obj:3:", "fewer than 3", DIR "/o.pvs");
+    write_str(DIR "/m2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
+    expect_bad("./pvsbake " DIR "/m2.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m2.obj:4:", "out of range", DIR "/o.pvs");
+    write_str(DIR "/m3.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n");
+    expect_bad("./pvsbake " DIR "/m3.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m3.obj:2:", "bad number", DIR "/o.pvs");
+    write_str(DIR "/m4.obj", "");
+    expect_bad("./pvsbake " DIR "/m4.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m4.obj", "empty", DIR "/o.pvs");
+    write_text(DIR "/m5.obj", "v 0 0 0\n\x01\x02\x00\xff binary", 17);
+    expect_bad("./pvsbake " DIR "/m5.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m5.obj:2:", "binary", DIR "/o.pvs");
+    write_str(DIR "/m6.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+    expect_bad("./pvsbake " DIR "/m6.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m6.obj:2:", "not finite", DIR "/o.pvs");
+    write_str(DIR "/m7.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 0 3\n");
+    expect_bad("./pvsbake " DIR "/m7.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m7.obj:4:", "index 0", DIR "/o.pvs");
+    write_str(DIR "/m8.obj", "# nothing\nv 0 0 0\n");
+    expect_bad("./pvsbake " DIR "/m8.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m8.obj", "no faces", DIR "/o.pvs");
+    write_str(DIR "/m9.obj", "o flat\nv 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+    /* an object of zero-area triangles only is kept (ids follow the file) with a warning naming it */
+    CHECK(run("./pvsbake " DIR "/m9.obj -o " DIR "/o9.pvs --cells " DIR "/cells.txt --rays 16 --points 2", &out) == 0 &&
+          strstr(out, DIR "/m9.obj:1:") && strstr(out, "zero-area"));
+    free(out);
+    expect_bad("./pvsbake " DIR "/missing.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/missing.obj", "cannot open", DIR "/o.pvs");
+    /* malformed cells files */
+    write_str(DIR "/c1.txt", "0 0 0 1 1 1\n0 0 0 1 1\n");
+    expect_bad("./pvsbake " DIR "/scene.obj -o " DIR "/o.pvs --cells " DIR "/c1.txt", DIR "/c1.txt:2:", "6 numbers", DIR "/o.pvs");
+    write_str(DIR "/c2.txt", "0 0 0 1 1 1\n# c\n0 0 0 1 x 1\n");
+    expect_bad("./pvsbake " DIR "/scene.obj -o " DIR "/o.pvs --cells " DIR "/c2.txt", DIR "/c2.txt:3:", "bad number", DIR "/o.pvs");
+    write_str(DIR "/c3.txt", "0 0 0 1 inf 1\n");
+    expect_bad("./pvsbake " DIR "/scene.obj -o " DIR "/o.pvs --cells " DIR "/c3.txt", DIR "/c3.txt:1:", "not finite", DIR "/o.pvs");
+    write_str(DIR "/c4.txt", "0 2 0 1 1 1\n");
+    expect_bad("./pvsbake " DIR "/scene.obj -o " DIR "/o.pvs --cells " DIR "/c4.txt", DIR "/c4.txt:1:", "min greater than max", DIR "/o.pvs");
+    write_str(DIR "/c5.txt", "# only a comment\n");
+    expect_bad("./pvsbake " DIR "/scene.obj -o " DIR "/o.pvs --cells " DIR "/c5.txt", DIR "/c5.txt", "no cells", DIR "/o.pvs");
+    write_text(DIR "/c6.txt", "0 0 0 1 1 1\n\x7f\x01\x00", 15);
+    expect_bad("./pvsbake " DIR "/scene.obj -o " DIR "/o.pvs --cells " DIR "/c6.txt", DIR "/c6.txt:2:", "binary", DIR "/o.pvs");
+    /* an output into a missing directory leaves nothing behind */
+    rc = run("./pvsbake -q " DIR "/scene.obj -o " DIR "/nodir/o.pvs --cells " DIR "/cells.txt --rays 16 --points 2", &out);
+    CHECK(rc == 1 && strstr(out, DIR "/nodir/o.pvs")); free(out);
+    {
+        char *ls;
+        run("ls " DIR " | grep -c tmp", &ls);
+        CHECK(atoi(ls) == 0);
+        free(ls);
+    }
+    /* the tools link only libc, libm, libpthread and the loader */
+    if (system("command -v ldd >/dev/null 2>&1") == 0) {
+        rc = run("ldd ./pvsbake | grep -v -E 'linux-vdso|libc\\.so|libm\\.so|libpthread\\.so|ld-linux|ld-musl' | grep -c .", &out);
+        CHECK(atoi(out) == 0);
+        free(out);
+    }
+    system("rm -rf " DIR);
+}

@@ -1,0 +1,47 @@
+/* test_noalloc.c - a private (PVS_STATIC) copy of the implementation whose PVS_MALLOC counts calls:
+   proves that opening, looking up and decoding a file allocate nothing. */
+#include "test.h"
+#include <stdlib.h>
+#include <string.h>
+
+static long noalloc_mallocs;
+static void *noalloc_malloc(size_t n) { ++noalloc_mallocs; return malloc(n); }
+#define PVS_MALLOC(n) noalloc_malloc(n)
+#define PVS_FREE(p) free(p)
+#define PVS_STATIC
+#define PVS_IMPLEMENTATION
+#include "../pvs.h"
+
+void test_noalloc(void) {
+    enum { CELLS = 40, OBJECTS = 500 };
+    static pvs_box boxes[CELLS];
+    static pvs_word pvs[CELLS * PVS_BITSET_WORDS(OBJECTS)], bits[PVS_BITSET_WORDS(OBJECTS)];
+    pvs_file_desc d;
+    pvs_file f;
+    pvs_error e;
+    uint8_t *buf;
+    size_t bound, size;
+    uint32_t c, i, sum = 0;
+    for (c = 0; c < CELLS; ++c) {
+        int k;
+        for (k = 0; k < 3; ++k) { boxes[c].min[k] = (float)c; boxes[c].max[k] = (float)c + 1.0f; }
+        for (i = c; i < OBJECTS; i += 1 + c % 7) pvs_bitset_set(pvs + c * PVS_BITSET_WORDS(OBJECTS), i);
+    }
+    memset(&d, 0, sizeof(d));
+    d.cells = boxes; d.cell_count = CELLS; d.object_count = OBJECTS; d.pvs = pvs; d.up_axis = 1;
+    bound = pvs_file_bound(&d);
+    buf = (uint8_t *)malloc(bound);
+    noalloc_mallocs = 0;
+    CHECK(pvs_file_encode(&d, buf, bound, &size, &e) == PVS_OK);
+    CHECK(pvs_file_open(buf, size, &f, &e) == PVS_OK);
+    for (c = 0; c < CELLS; ++c) {
+        float p[3];
+        p[0] = p[1] = p[2] = (float)c + 0.5f;
+        CHECK(pvs_file_find_cell(&f, p) == c);
+        CHECK(pvs_file_decode(&f, c, bits, PVS_BITSET_WORDS(OBJECTS), &e) == PVS_OK);
+        for (i = pvs_bitset_next(bits, OBJECTS, 0); i < OBJECTS; i = pvs_bitset_next(bits, OBJECTS, i + 1)) sum += i;
+    }
+    CHECK(sum > 0);
+    CHECK(noalloc_mallocs == 0);
+    free(buf);
+}

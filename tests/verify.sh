@@ -1,0 +1,38 @@
+#!/bin/sh
+# make verify: the long acceptance runs. For every generator, seed and size, bake with every method
+# and check the result against ray sampling with pvscheck. One line per scene and method:
+#   SCENE SEED SIZE METHOD cells=N misses=N tightness=T
+# Exits non-zero on any miss of a conservative method. The `sample` method is an estimate from below
+# (not conservative): its misses are printed for information and never fail the run.
+set -u
+B=${B:-build}
+T=$B/verify
+mkdir -p "$T"
+CONSERVATIVE_METHODS=${CONSERVATIVE_METHODS:-}   # filled in as conservative methods land
+CELLS=${CELLS:-500}
+J=${J:-0}
+fail=0
+for kind in city forest indoor walls soup; do
+  for seed in 1 2 3; do
+    for size in 0.3 0.6; do
+      base="$T/$kind-$seed-$size"
+      "$B/pvsgen" "$kind" --seed "$seed" --size "$size" --max-cells "$CELLS" -o "$base.obj" --cells "$base.cells" 2>/dev/null || { echo "$kind $seed $size: pvsgen failed"; fail=1; continue; }
+      for method in sample $CONSERVATIVE_METHODS; do
+        if ! "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method "$method" -j "$J" -o "$base.$method.pvs"; then
+          echo "$kind $seed $size $method: bake failed"; fail=1; continue
+        fi
+        line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.$method.pvs")
+        rc=$?
+        misses=$(echo "$line" | sed -n 's/.*misses \([0-9]*\).*/\1/p' | head -1)
+        cells=$(echo "$line" | sed -n 's/^cells \([0-9]*\).*/\1/p' | head -1)
+        tight=$(echo "$line" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p' | head -1)
+        note=""
+        if [ "$method" = sample ]; then note=" (approximate: not counted)";
+        elif [ "$rc" -ne 0 ]; then fail=1; note=" FAIL"; fi
+        echo "$kind $seed $size $method cells=$cells misses=$misses tightness=$tight$note"
+      done
+    done
+  done
+done
+[ $fail -eq 0 ] && echo "verify: ok" || echo "verify: FAILED"
+exit $fail

@@ -1,0 +1,273 @@
+/* cli.c - see cli.h */
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+#include <time.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int cli_make_scene(const char *name, const mesh *m, uint32_t up_axis, pvs_scene **scene, tool_error *err) {
+    pvs_scene_desc d;
+    pvs_object_desc *obs;
+    pvs_error pe;
+    uint32_t i;
+    *scene = NULL;
+    if (m->object_count == 0 || m->triangle_count == 0) {
+        tool_error_set(err, name, 0, "no faces");
+        return -1;
+    }
+    obs = (pvs_object_desc *)malloc(m->object_count * sizeof(pvs_object_desc));
+    if (!obs) {
+        tool_error_set(err, name, 0, "out of memory");
+        return -1;
+    }
+    for (i = 0; i < m->object_count; ++i) {
+        obs[i].first_triangle = m->objects[i].first_triangle;
+        obs[i].triangle_count = m->objects[i].triangle_count;
+        obs[i].flags = (m->objects[i].flags & MESH_OBJECT_OCCLUDER) ? PVS_OBJECT_OCCLUDER_ONLY : 0u;
+    }
+    memset(&d, 0, sizeof(d));
+    d.positions = m->positions;
+    d.vertex_count = m->vertex_count;
+    d.indices = m->indices;
+    d.triangle_count = m->triangle_count;
+    d.objects = obs;
+    d.object_count = m->object_count;
+    d.up_axis = up_axis;
+    d.flags = PVS_SCENE_ALLOW_EMPTY_OBJECTS;
+    if (pvs_scene_create(&d, scene, &pe) != PVS_OK) {
+        /* name the source line of the offending object where the message is about an object */
+        if (pe.index >= 0 && (uint64_t)pe.index < m->object_count &&
+            (pe.result == PVS_ERROR_EMPTY_OBJECT || pe.result == PVS_ERROR_DEGENERATE_OBJECT || pe.result == PVS_ERROR_OVERLAPPING_OBJECTS))
+            tool_error_set(err, name, (int)m->objects[pe.index].line, "object '%s': %s", m->objects[pe.index].name, pe.message);
+        else
+            tool_error_set(err, name, 0, "%s", pe.message);
+        free(obs);
+        return -1;
+    }
+    free(obs);
+    {
+        uint32_t flat = 0, first = 0;
+        for (i = 0; i < m->object_count; ++i) {
+            pvs_box b = pvs_scene_object_box(*scene, i);
+            if (m->objects[i].triangle_count && b.min[0] > b.max[0] && !flat++) first = i;
+        }
+        if (flat)
+            fprintf(stderr, "warning: %s:%u: object %u '%s' has only zero-area triangles (%u such object%s, never visible)\n", name,
+                    m->objects[first].line, first, m->objects[first].name, flat, flat == 1 ? "" : "s");
+    }
+    return 0;
+}
+
+int cli_load_scene(const char *path, uint32_t up_axis, mesh *m, pvs_scene **scene, tool_error *err) {
+    tool_error warn;
+    uint32_t empty;
+    mesh_init(m);
+    if (obj_load(path, m, err)) return -1;
+    empty = obj_check_empty_objects(path, m, &warn);
+    if (empty) fprintf(stderr, "warning: %s (%u object%s without faces, never visible)\n", warn.message, empty, empty == 1 ? "" : "s");
+    if (cli_make_scene(path, m, up_axis, scene, err)) {
+        mesh_free(m);
+        return -1;
+    }
+    return 0;
+}
+
+int cli_grid_cells(const pvs_scene *scene, float size, uint32_t max_cells, mesh_cells *cells, tool_error *err) {
+    pvs_box b = pvs_scene_bounds(scene);
+    double n[3], total = 1.0;
+    uint32_t c[3], x, y, z;
+    int k;
+    if (!(size > 0.0f) || !isfinite(size)) {
+        tool_error_set(err, "--grid", 0, "cell size must be a positive number");
+        return -1;
+    }
+    for (k = 0; k < 3; ++k) {
+        n[k] = ceil(((double)b.max[k] - b.min[k]) / size);
+        if (n[k] < 1.0) n[k] = 1.0;
+        total *= n[k];
+    }
+    if (total > max_cells) {
+        tool_error_set(err, "--grid", 0, "%.0f cells of size %g exceed the limit of %u", total, size, max_cells);
+        return -1;
+    }
+    for (k = 0; k < 3; ++k) c[k] = (uint32_t)n[k];
+    for (z = 0; z < c[2]; ++z)
+        for (y = 0; y < c[1]; ++y)
+            for (x = 0; x < c[0]; ++x) {
+                float box[6];
+                uint32_t ix[3];
+                ix[0] = x; ix[1] = y; ix[2] = z;
+                for (k = 0; k < 3; ++k) {
+                    box[k] = b.min[k] + size * (float)ix[k];
+                    box[3 + k] = ix[k] + 1 == c[k] ? (b.max[k] > box[k] ? b.max[k] : box[k]) : b.min[k] + size * (float)(ix[k] + 1);
+                }
+                if (mesh_cells_add(cells, box)) {
+                    tool_error_set(err, "--grid", 0, "out of memory");
+                    return -1;
+                }
+            }
+    return 0;
+}
+
+typedef struct cli__bake_job {
+    pvs_bake *bake;
+    progress *bar;
+    pthread_mutex_t mutex;
+    int failed;
+    uint32_t failed_task;
+    pvs_error error;
+} cli__bake_job;
+
+static void cli__bake_one(void *user, uint32_t task, uint32_t thread) {
+    cli__bake_job *job = (cli__bake_job *)user;
+    pvs_error e;
+    (void)thread;
+    if (pvs_bake_run_task(job->bake, task, &e) != PVS_OK) {
+        pthread_mutex_lock(&job->mutex);
+        if (!job->failed || task < job->failed_task) { /* report the lowest failing task: deterministic */
+            job->failed = 1;
+            job->failed_task = task;
+            job->error = e;
+        }
+        pthread_mutex_unlock(&job->mutex);
+    }
+    if (job->bar) progress_add(job->bar, 1);
+}
+
+int cli_run_bake(pvs_bake *bake, uint32_t threads, int quiet, const char *label, tool_error *err) {
+    cli__bake_job job;
+    progress bar;
+    memset(&job, 0, sizeof(job));
+    job.bake = bake;
+    pthread_mutex_init(&job.mutex, NULL);
+    if (!quiet) {
+        progress_begin(&bar, label, pvs_bake_task_count(bake));
+        job.bar = &bar;
+    }
+    parallel_for(threads, pvs_bake_task_count(bake), cli__bake_one, &job);
+    if (!quiet) progress_end(&bar);
+    pthread_mutex_destroy(&job.mutex);
+    if (job.failed) {
+        tool_error_set(err, NULL, 0, "cell %u: %s", pvs_bake_task_cell(bake, job.failed_task), job.error.message);
+        return -1;
+    }
+    return 0;
+}
+
+typedef struct cli__check_job {
+    const pvs_scene *scene;
+    const pvs_file *file;
+    uint32_t points, rays;
+    uint64_t seed;
+    uint32_t words;
+    pvs_word *seen, *pvs; /* per thread scratch: threads x words each */
+    uint32_t *miss_count, *first_miss, *pvs_size, *seen_size;
+    uint64_t *rays_cast;
+    progress *bar;
+} cli__check_job;
+
+static void cli__check_one(void *user, uint32_t cell, uint32_t thread) {
+    cli__check_job *job = (cli__check_job *)user;
+    pvs_word *seen = job->seen + (size_t)thread * job->words, *pvs = job->pvs + (size_t)thread * job->words;
+    pvs_box box = pvs_file_cell_box(job->file, cell);
+    uint64_t state = job->seed ^ ((uint64_t)cell * 0xd1b54a32d192ed03ull);
+    uint32_t i, n = job->file->object_count, misses = 0, first = 0xffffffffu;
+    uint64_t z;
+    /* a per-cell seed (splitmix64 finaliser) independent of the thread */
+    z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    memset(seen, 0, job->words * sizeof(pvs_word));
+    job->rays_cast[cell] = pvs_sample_visibility(job->scene, &box, job->points, job->rays, z ^ (z >> 31), seen);
+    pvs_file_decode(job->file, cell, pvs, job->words, NULL);
+    for (i = pvs_bitset_next(seen, n, 0); i < n; i = pvs_bitset_next(seen, n, i + 1))
+        if (!pvs_bitset_test(pvs, i)) {
+            if (first == 0xffffffffu) first = i;
+            ++misses;
+        }
+    job->miss_count[cell] = misses;
+    job->first_miss[cell] = first;
+    job->pvs_size[cell] = pvs_bitset_count(pvs, n);
+    job->seen_size[cell] = pvs_bitset_count(seen, n);
+    if (job->bar) progress_add(job->bar, 1);
+}
+
+int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint64_t seed,
+                   uint32_t threads, int quiet, cli_check *out, tool_error *err) {
+    cli__check_job job;
+    progress bar;
+    uint32_t c, nt = threads ? threads : cpu_count();
+    memset(out, 0, sizeof(*out));
+    if (file->object_count != pvs_scene_object_count(scene)) {
+        tool_error_set(err, NULL, 0, "the file has %u objects but the scene has %u: not the same scene", file->object_count,
+                       pvs_scene_object_count(scene));
+        return -1;
+    }
+    memset(&job, 0, sizeof(job));
+    job.scene = scene;
+    job.file = file;
+    job.points = points;
+    job.rays = rays;
+    job.seed = seed;
+    job.words = (uint32_t)PVS_BITSET_WORDS(file->object_count);
+    job.seen = (pvs_word *)malloc((size_t)nt * job.words * sizeof(pvs_word));
+    job.pvs = (pvs_word *)malloc((size_t)nt * job.words * sizeof(pvs_word));
+    job.miss_count = (uint32_t *)malloc(file->cell_count * sizeof(uint32_t));
+    job.first_miss = (uint32_t *)malloc(file->cell_count * sizeof(uint32_t));
+    job.pvs_size = (uint32_t *)malloc(file->cell_count * sizeof(uint32_t));
+    job.seen_size = (uint32_t *)malloc(file->cell_count * sizeof(uint32_t));
+    job.rays_cast = (uint64_t *)malloc(file->cell_count * sizeof(uint64_t));
+    if (!job.seen || !job.pvs || !job.miss_count || !job.first_miss || !job.pvs_size || !job.seen_size || !job.rays_cast) {
+        tool_error_set(err, NULL, 0, "out of memory");
+    } else {
+        if (!quiet) {
+            progress_begin(&bar, "check", file->cell_count);
+            job.bar = &bar;
+        }
+        parallel_for(nt, file->cell_count, cli__check_one, &job);
+        if (!quiet) progress_end(&bar);
+        out->cells = file->cell_count;
+        out->first_miss_cell = out->first_miss_object = 0xffffffffu;
+        for (c = 0; c < file->cell_count; ++c) {
+            out->misses += job.miss_count[c];
+            if (job.miss_count[c]) {
+                if (!out->cells_with_misses) {
+                    out->first_miss_cell = c;
+                    out->first_miss_object = job.first_miss[c];
+                }
+                out->cells_with_misses++;
+            }
+            out->pvs_sum += job.pvs_size[c];
+            out->seen_sum += job.seen_size[c];
+            out->rays += job.rays_cast[c];
+        }
+    }
+    free(job.seen); free(job.pvs); free(job.miss_count); free(job.first_miss); free(job.pvs_size); free(job.seen_size);
+    free(job.rays_cast);
+    return out->cells ? 0 : -1;
+}
+
+int cli_parse_up(const char *s, uint32_t *up) {
+    if (!strcmp(s, "y") || !strcmp(s, "Y")) { *up = 1; return 0; }
+    if (!strcmp(s, "z") || !strcmp(s, "Z")) { *up = 2; return 0; }
+    return -1;
+}
+
+int cli_parse_u32(const char *s, uint32_t lo, uint32_t hi, uint32_t *out) {
+    char *end;
+    unsigned long long v;
+    if (!s || *s < '0' || *s > '9') return -1;
+    errno = 0;
+    v = strtoull(s, &end, 10);
+    if (errno || *end || v < lo || v > hi) return -1;
+    *out = (uint32_t)v;
+    return 0;
+}
+
+double cli_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}

@@ -1,0 +1,48 @@
+/* cli.h - what pvsbake, pvsinfo, pvscheck and the examples share on top of pvs.h: loading a scene
+   (OBJ or generator) into a pvs_scene, cells from a file or a grid, baking on a thread pool with a
+   progress bar, and per-cell ray-sampling checks. Not part of the library. */
+#ifndef TOOL_CLI_H
+#define TOOL_CLI_H
+#include "../pvs.h"
+#include "gen.h"
+#include "mesh.h"
+#include "obj.h"
+#include "toolutil.h"
+
+/* Builds a pvs_scene from a mesh. up_axis 1 = Y, 2 = Z. Objects without faces are kept (ids follow
+   the file) and never visible; `name` is used in messages. Returns 0 or -1 with err set. */
+int cli_make_scene(const char *name, const mesh *m, uint32_t up_axis, pvs_scene **scene, tool_error *err);
+
+/* Loads an OBJ file and builds its scene; warns on stderr about objects without faces. */
+int cli_load_scene(const char *path, uint32_t up_axis, mesh *m, pvs_scene **scene, tool_error *err);
+
+/* A 3D grid of cubes of edge `size` covering the scene bounds (at most max_cells cells). */
+int cli_grid_cells(const pvs_scene *scene, float size, uint32_t max_cells, mesh_cells *cells, tool_error *err);
+
+/* Bakes every task on `threads` threads (0 = all CPUs) with a progress bar labelled `label` unless
+   quiet. Returns 0 or -1 with err set (the first failing task's message). */
+int cli_run_bake(pvs_bake *bake, uint32_t threads, int quiet, const char *label, tool_error *err);
+
+/* The ray-sampling check of a PVS table: per cell, objects the sampler sees that the PVS lacks. */
+typedef struct cli_check {
+    uint32_t cells;
+    uint64_t misses;            /* (cell, object) pairs seen by rays but missing from the PVS */
+    uint32_t cells_with_misses;
+    uint32_t first_miss_cell, first_miss_object;
+    double pvs_sum, seen_sum;   /* sums of PVS sizes and ray-sampled visible set sizes */
+    uint64_t rays;
+} cli_check;
+/* Checks cells [0, cell_count) of `file` against ray sampling in `scene` (points x rays per cell,
+   seeded per cell from `seed`), on `threads` threads. Deterministic for any thread count. */
+int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint64_t seed,
+                   uint32_t threads, int quiet, cli_check *out, tool_error *err);
+
+/* Seconds on a monotonic clock. */
+double cli_seconds(void);
+
+/* Parses "y"/"z" into 1/2. */
+int cli_parse_up(const char *s, uint32_t *up);
+/* Strict unsigned decimal in [lo, hi]. */
+int cli_parse_u32(const char *s, uint32_t lo, uint32_t hi, uint32_t *out);
+
+#endif

@@ -1,0 +1,147 @@
+/* pvsbake - bake a .pvs file from an OBJ scene and view cells. See --help and DESIGN.md. */
+#include "cli.h"
+#include <stdlib.h>
+#include <string.h>
+
+static const char *usage =
+    "usage: pvsbake SCENE.obj -o OUT.pvs [--cells CELLS.txt | --grid SIZE] [options]\n"
+    "  -o OUT.pvs        output file (written to a temporary file, then renamed)\n"
+    "  --cells FILE      view cells: one 'minx miny minz maxx maxy maxz' per line ('#' comments)\n"
+    "  --grid SIZE       view cells: a 3D grid of SIZE cubes over the scene bounds\n"
+    "  --up y|z          up axis of the scene (default y, the OBJ convention)\n"
+    "  --method NAME     sample (ray sampling: an approximate PVS, NOT conservative)\n"
+    "  --eps E           sampling / shrinking distance (stored in the file)\n"
+    "  --points N        sample method: points per cell (default 32)\n"
+    "  --rays N          sample method: rays per point (default 2048)\n"
+    "  --seed N          sample method: random seed (default 1)\n"
+    "  -j THREADS        worker threads (default: all CPUs); the file is identical for any count\n"
+    "  -q, --quiet       no progress bar and no summary\n"
+    "  --help            this text\n"
+    "exit status: 0 success, 1 bad input (message names file and line), 2 usage\n";
+
+static int usage_error(const char *fmt, const char *arg) {
+    fprintf(stderr, "pvsbake: ");
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\n(see pvsbake --help)\n");
+    return 2;
+}
+
+int main(int argc, char **argv) {
+    const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL;
+    float grid = 0.0f, eps = 0.0f;
+    uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1;
+    int quiet = 0, i;
+    pvs_method method = PVS_METHOD_SAMPLE;
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *scene = NULL;
+    pvs_bake *bake = NULL;
+    pvs_bake_desc bd;
+    pvs_error pe;
+    tool_error te;
+    void *bytes = NULL;
+    size_t size = 0, bound;
+    double t0, t_bake;
+    int rc = 1;
+
+    for (i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(usage, stdout);
+            return 0;
+        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
+            quiet = 1;
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--cells") || !strcmp(a, "--grid") || !strcmp(a, "--up") ||
+                   !strcmp(a, "--method") || !strcmp(a, "--eps") || !strcmp(a, "-j") || !strcmp(a, "--points") ||
+                   !strcmp(a, "--rays") || !strcmp(a, "--seed")) {
+            if (!v) return usage_error("%s needs a value", a);
+            ++i;
+            if (!strcmp(a, "-o")) out_path = v;
+            else if (!strcmp(a, "--cells")) cells_path = v;
+            else if (!strcmp(a, "--grid")) {
+                if (parse_float(v, &grid) || !(grid > 0.0f)) return usage_error("--grid needs a positive size, not '%s'", v);
+            } else if (!strcmp(a, "--up")) {
+                if (cli_parse_up(v, &up)) return usage_error("--up takes y or z, not '%s'", v);
+            } else if (!strcmp(a, "--method")) {
+                if (!strcmp(v, "sample")) method = PVS_METHOD_SAMPLE;
+                else return usage_error("unknown method '%s' (available: sample)", v);
+            } else if (!strcmp(a, "--eps")) {
+                if (parse_float(v, &eps) || !(eps > 0.0f)) return usage_error("--eps needs a positive number, not '%s'", v);
+            } else if (!strcmp(a, "-j")) {
+                if (parse_threads(v, &threads)) return usage_error("-j takes a thread count 0..1024, not '%s'", v);
+            } else if (!strcmp(a, "--points")) {
+                if (cli_parse_u32(v, 1, 1u << 20, &points)) return usage_error("--points takes 1..1048576, not '%s'", v);
+            } else if (!strcmp(a, "--rays")) {
+                if (cli_parse_u32(v, 1, 1u << 24, &rays)) return usage_error("--rays takes 1..16777216, not '%s'", v);
+            } else if (!strcmp(a, "--seed")) {
+                if (cli_parse_u32(v, 0, 0xffffffffu, &seed)) return usage_error("--seed takes an unsigned integer, not '%s'", v);
+            }
+        } else if (a[0] == '-' && a[1]) {
+            return usage_error("unknown option '%s'", a);
+        } else if (!scene_path) {
+            scene_path = a;
+        } else {
+            return usage_error("unexpected argument '%s'", a);
+        }
+    }
+    if (!scene_path) return usage_error("%s", "no scene given");
+    if (!out_path) return usage_error("%s", "no output given (-o OUT.pvs)");
+    if (!cells_path == !(grid > 0.0f)) return usage_error("%s", "give exactly one of --cells FILE or --grid SIZE");
+
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    t0 = cli_seconds();
+    if (cli_load_scene(scene_path, up, &m, &scene, &te)) goto fail;
+    if (cells_path ? cells_load(cells_path, &cells, &te) : cli_grid_cells(scene, grid, 10000000u, &cells, &te)) goto fail;
+
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = scene;
+    bd.cells = (const pvs_box *)cells.boxes;
+    bd.cell_count = cells.count;
+    bd.method = method;
+    bd.eps = eps;
+    bd.sample_points = points;
+    bd.sample_rays = rays;
+    bd.seed = seed;
+    if (pvs_bake_begin(&bd, &bake, &pe) != PVS_OK) {
+        tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "%s", pe.message);
+        goto fail;
+    }
+    t_bake = cli_seconds();
+    if (cli_run_bake(bake, threads, quiet, "bake", &te)) goto fail;
+    t_bake = cli_seconds() - t_bake;
+    bound = pvs_bake_file_bound(bake);
+    bytes = malloc(bound);
+    if (!bytes) {
+        tool_error_set(&te, out_path, 0, "out of memory (%zu bytes)", bound);
+        goto fail;
+    }
+    if (pvs_bake_write_file(bake, bytes, bound, &size, &pe) != PVS_OK) {
+        tool_error_set(&te, out_path, 0, "%s", pe.message);
+        goto fail;
+    }
+    if (write_file_atomic(out_path, bytes, size, &te)) goto fail;
+    if (!quiet) {
+        uint32_t c, objects = pvs_scene_object_count(scene);
+        double sum = 0.0;
+        for (c = 0; c < cells.count; ++c) sum += pvs_bitset_count(pvs_bake_cell_pvs(bake, c), objects);
+        fprintf(stderr,
+                "%s: %u objects, %u triangles, %u cells, method %s (approximate: ray sampling, not conservative)\n"
+                "  mean PVS %.1f objects (%.1f%%), bake %.2f ms per cell, %.2f s total, file %zu bytes (%.1f per cell)\n",
+                out_path, objects, pvs_scene_triangle_count(scene), cells.count, pvs_method_name(pvs_bake_method(bake)),
+                sum / cells.count, 100.0 * sum / cells.count / objects, 1000.0 * t_bake / cells.count, cli_seconds() - t0, size,
+                (double)size / cells.count);
+    }
+    rc = 0;
+    goto done;
+fail:
+    fprintf(stderr, "pvsbake: %s\n", te.message);
+done:
+    free(bytes);
+    pvs_bake_destroy(bake);
+    pvs_scene_destroy(scene);
+    mesh_cells_free(&cells);
+    mesh_free(&m);
+    return rc;
+}

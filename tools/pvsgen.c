@@ -1,0 +1,221 @@
+/* pvsgen - write a procedural test scene (OBJ) and its view cells.
+   usage: pvsgen city|forest|indoor|walls|soup [--seed N] [--size S] [--max-cells N] -o OUT.obj [--cells OUT_CELLS.txt]
+   Exit codes: 0 ok, 1 I/O error or out of memory, 2 usage. */
+#if !defined(_WIN32) && !defined(_POSIX_C_SOURCE)
+#define _POSIX_C_SOURCE 200809L
+#endif
+#include "gen.h"
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef _WIN32
+#include <process.h>
+#define pvsgen_getpid() ((long)_getpid())
+#else
+#include <sys/stat.h>
+#include <unistd.h>
+#define pvsgen_getpid() ((long)getpid())
+#endif
+
+static void usage(FILE *f) {
+    fprintf(f,
+            "usage: pvsgen city|forest|indoor|walls|soup [--seed N] [--size S] [--max-cells N]\n"
+            "              -o OUT.obj [--cells OUT_CELLS.txt]\n"
+            "\n"
+            "Writes a deterministic procedural test scene as OBJ (Y up, metres, ground at y = 0) and its\n"
+            "view cells (one 'minx miny minz maxx maxy maxz' box per line, '#' comments).\n"
+            "  --seed N        PRNG seed (default 1)\n"
+            "  --size S        scale factor in (0, 8], 1 = default (city ~1 km^2, forest ~300 m square)\n"
+            "  --max-cells N   keep at most N cells, evenly spread (0 = all, the default)\n"
+            "  -o OUT.obj      the scene (written to a temporary file, then renamed)\n"
+            "  --cells FILE    the view cells (same)\n"
+            "Exit codes: 0 ok, 1 I/O error, 2 usage.\n");
+}
+
+static int bad_usage(const char *msg, const char *arg) {
+    fprintf(stderr, "pvsgen: %s%s%s\n", msg, arg ? ": " : "", arg ? arg : "");
+    usage(stderr);
+    return 2;
+}
+
+typedef int (*writer_fn)(FILE *f, const void *ctx);
+
+typedef struct cells_ctx {
+    const mesh_cells *cells;
+    const gen_info *info;
+    const char *kind;
+    unsigned long long seed;
+    double size;
+} cells_ctx;
+
+static int write_obj(FILE *f, const void *ctx) { return mesh_write_obj((const mesh *)ctx, f); }
+
+static int write_cells(FILE *f, const void *ctx) {
+    const cells_ctx *c = (const cells_ctx *)ctx;
+    fprintf(f, "# pvsgen %s --seed %llu --size %g: %u cells, minx miny minz maxx maxy maxz, Y up\n", c->kind, c->seed, c->size,
+            c->cells->count);
+    if (c->info->touching_count)
+        fprintf(f, "# cells %u..%u touch geometry (a face within 1 mm of a wall)\n", c->info->touching_first,
+                c->info->touching_first + c->info->touching_count - 1);
+    if (c->info->inside_count)
+        fprintf(f, "# cells %u..%u are deliberately partly inside buildings\n", c->info->inside_first,
+                c->info->inside_first + c->info->inside_count - 1);
+    return mesh_cells_write(c->cells, f);
+}
+
+/* Write straight into an existing non-regular file (/dev/null, a pipe): no temp file, no rename. */
+static int write_direct(const char *path, writer_fn fn, const void *ctx) {
+    FILE *f = fopen(path, "wb");
+    if (!f) {
+        fprintf(stderr, "pvsgen: %s: cannot open: %s\n", path, strerror(errno));
+        return -1;
+    }
+    int bad = fn(f, ctx) != 0;
+    if (fflush(f) != 0 || ferror(f)) bad = 1;
+    int err = errno;
+    if (fclose(f) != 0 && !bad) { bad = 1; err = errno; }
+    if (bad) fprintf(stderr, "pvsgen: %s: write error: %s\n", path, strerror(err));
+    return bad ? -1 : 0;
+}
+
+/* Write to PATH.tmp.PID, then rename over PATH; the temp file is removed on failure. */
+static int write_atomic(const char *path, writer_fn fn, const void *ctx) {
+#ifndef _WIN32
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        if (S_ISDIR(st.st_mode)) {
+            fprintf(stderr, "pvsgen: %s: is a directory\n", path);
+            return -1;
+        }
+        return write_direct(path, fn, ctx);
+    }
+#endif
+    size_t n = strlen(path) + 32;
+    char *tmp = (char *)malloc(n);
+    if (!tmp) {
+        fprintf(stderr, "pvsgen: %s: out of memory\n", path);
+        return -1;
+    }
+    snprintf(tmp, n, "%s.tmp.%ld", path, pvsgen_getpid());
+    FILE *f = fopen(tmp, "wb");
+    if (!f) {
+        fprintf(stderr, "pvsgen: %s: cannot create: %s\n", tmp, strerror(errno));
+        free(tmp);
+        return -1;
+    }
+    static char buf[1 << 16];
+    setvbuf(f, buf, _IOFBF, sizeof buf);
+    int bad = fn(f, ctx) != 0;
+    if (fflush(f) != 0 || ferror(f)) bad = 1;
+    int err = errno;
+    if (fclose(f) != 0 && !bad) { bad = 1; err = errno; }
+    if (bad) {
+        fprintf(stderr, "pvsgen: %s: write error: %s\n", tmp, strerror(err));
+        remove(tmp);
+        free(tmp);
+        return -1;
+    }
+#ifdef _WIN32
+    remove(path);
+#endif
+    if (rename(tmp, path) != 0) {
+        fprintf(stderr, "pvsgen: %s: cannot rename %s over it: %s\n", path, tmp, strerror(errno));
+        remove(tmp);
+        free(tmp);
+        return -1;
+    }
+    free(tmp);
+    return 0;
+}
+
+static int parse_u64(const char *s, unsigned long long *out) {
+    char *end;
+    if (!s || !*s || *s == '-') return -1;
+    errno = 0;
+    unsigned long long v = strtoull(s, &end, 0);
+    if (errno || *end) return -1;
+    *out = v;
+    return 0;
+}
+
+int main(int argc, char **argv) {
+    const char *kind_s = NULL, *out = NULL, *cells_out = NULL;
+    unsigned long long seed = 1, max_cells = 0;
+    double size = 1.0;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            return 0;
+        } else if (!strcmp(a, "--seed")) {
+            if (parse_u64(v, &seed)) return bad_usage("--seed needs a non-negative integer", v);
+            ++i;
+        } else if (!strcmp(a, "--size")) {
+            char *end;
+            if (!v) return bad_usage("--size needs a number", NULL);
+            size = strtod(v, &end);
+            if (*end || !(size > 0 && size <= 8)) return bad_usage("--size must be in (0, 8]", v);
+            ++i;
+        } else if (!strcmp(a, "--max-cells")) {
+            if (parse_u64(v, &max_cells) || max_cells > 0xffffffffull) return bad_usage("--max-cells needs a non-negative integer", v);
+            ++i;
+        } else if (!strcmp(a, "-o")) {
+            if (!v) return bad_usage("-o needs a file name", NULL);
+            out = v;
+            ++i;
+        } else if (!strcmp(a, "--cells")) {
+            if (!v) return bad_usage("--cells needs a file name", NULL);
+            cells_out = v;
+            ++i;
+        } else if (a[0] == '-' && a[1]) {
+            return bad_usage("unknown option", a);
+        } else if (!kind_s) {
+            kind_s = a;
+        } else {
+            return bad_usage("more than one scene kind", a);
+        }
+    }
+    gen_params p;
+    memset(&p, 0, sizeof p);
+    if (!kind_s) return bad_usage("missing scene kind", NULL);
+    if (gen_kind_parse(kind_s, &p.kind)) return bad_usage("unknown scene kind", kind_s);
+    if (!out) return bad_usage("missing -o OUT.obj", NULL);
+    p.seed = seed;
+    p.size = (float)size;
+    p.max_cells = (uint32_t)max_cells;
+
+    mesh m;
+    mesh_cells cells;
+    gen_info info;
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    if (gen_scene_ex(&p, &m, &cells, &info)) {
+        fprintf(stderr, "pvsgen: %s: out of memory generating the scene\n", out);
+        return 1;
+    }
+    int rc = 0;
+    if (write_atomic(out, write_obj, &m)) rc = 1;
+    if (!rc && cells_out) {
+        cells_ctx cc;
+        cc.cells = &cells;
+        cc.info = &info;
+        cc.kind = kind_s;
+        cc.seed = seed;
+        cc.size = size;
+        if (write_atomic(cells_out, write_cells, &cc)) rc = 1;
+    }
+    if (!rc) {
+        fprintf(stderr, "pvsgen: %s seed %llu size %g: %u objects, %u triangles, %u vertices, %u cells", kind_s, seed, size,
+                m.object_count, m.triangle_count, m.vertex_count, cells.count);
+        if (info.touching_count || info.inside_count)
+            fprintf(stderr, " (%u touching a wall at %u, %u partly inside buildings at %u)", info.touching_count,
+                    info.touching_first, info.inside_count, info.inside_first);
+        fprintf(stderr, "\n");
+    }
+    mesh_free(&m);
+    mesh_cells_free(&cells);
+    return rc;
+}
