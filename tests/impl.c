@@ -1,0 +1,2 @@
+#define PVS_IMPLEMENTATION
+#include "../pvs.h"
