@@ -311,10 +311,13 @@ typedef struct pvs_hit {
 } pvs_hit;
 
 /* Closest hit of the ray origin + t dir, 0 <= t <= tmax, with the scene's triangles (two-sided).
-   Returns 1 and fills *hit, or 0. dir need not be normalised but must be non-zero. Thread-safe,
-   allocates nothing. */
+   Returns 1 and fills *hit (NULL allowed), or 0. dir need not be normalised but must be non-zero.
+   Watertight (Woop, Benthin, Wald 2013, in double): a ray cannot pass between triangles sharing an
+   edge or a corner. Zero-area triangles are never hit. Ties in t go to the lowest triangle index.
+   Thread-safe, allocates nothing. */
 PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax, pvs_hit *hit);
-/* 1 if any triangle crosses the segment a-b (endpoints included), else 0. Thread-safe, no allocation. */
+/* 1 if any triangle crosses the segment a-b (endpoints included), else 0; 0 when a == b. The test is
+   watertight like pvs_scene_raycast. Thread-safe, no allocation. */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], const float b[3]);
 
 /* ---- kdtree ---------------------------------------------------------------------------------- */
@@ -332,9 +335,15 @@ typedef struct pvs_kdtree_desc {
 } pvs_kdtree_desc;
 #define PVS_KDTREE_MAX_DEPTH 48
 
+/* Builds the tree; deterministic (the same boxes give the same tree). Boxes with min > max on some
+   axis are left out; flat boxes (min == max) are fine; count 0 gives an empty tree. Errors:
+   INVALID_ARGUMENT, NOT_FINITE (err->index = the box), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **out_tree, pvs_error *err);
+/* Frees the tree through its allocator. NULL is allowed. */
 PVS_API void pvs_kdtree_destroy(pvs_kdtree *tree);
+/* The union of the non-empty item boxes; an empty box (min > max) when there are none. */
 PVS_API pvs_box pvs_kdtree_bounds(const pvs_kdtree *tree);
+/* Nodes, inner and leaves (every inner node has two children); at least 1. */
 PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *tree);
 
 /* What a sweep visitor tells the traversal. */
@@ -345,29 +354,36 @@ typedef enum pvs_visit {
 } pvs_visit;
 
 /* Called once per node reached, in order of increasing `distance` (minimum distance from the
-   sweep's source box to the node box; 0 where they meet). Leaves pass their items, inner nodes
-   items == NULL and item_count == 0. An item overlapping several leaves is passed once per leaf. */
+   sweep's source box to the node box; 0 where they meet). `node_box` is the node's cell: the
+   tree's bounds cut by the split planes above it. Leaves pass their items, inner nodes (and empty
+   leaves) items == NULL and item_count == 0. An item overlapping several leaves is passed once per
+   leaf. */
 typedef pvs_visit (*pvs_kdtree_visit_fn)(void *user, const pvs_box *node_box, float distance,
                                          const uint32_t *items, uint32_t item_count);
 
-/* Bytes of scratch pvs_kdtree_sweep needs for this tree. */
+/* Bytes of scratch pvs_kdtree_sweep needs for this tree: 32 bytes per leaf ((node_count + 1) / 2). */
 PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *tree);
 /* The approximate occlusion sweep (Bittner 2002, §3.2): nodes front to back from `source` (a box; a
    point is a box with min == max) by a priority queue on minimum distance. `scratch` is caller memory
    of at least pvs_kdtree_sweep_scratch_size bytes, aligned to 8. Ties are broken by node index, so
-   the order is deterministic. Returns PVS_OK, or BUFFER_TOO_SMALL. Allocates nothing. */
+   the order is deterministic. An empty tree visits nothing. Returns PVS_OK, BUFFER_TOO_SMALL,
+   INVALID_ARGUMENT (NULL tree, source or visit) or NOT_FINITE (source). Allocates nothing. */
 PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *tree, const pvs_box *source, void *scratch, size_t scratch_size,
                                     pvs_kdtree_visit_fn visit, void *user);
 
-/* Called for the leaves a ray passes, nearest first; [t_enter, t_exit] is the ray's interval in the
-   leaf. Return a new tmax (<= the current one) to shorten the ray, or a negative value to stop. */
+/* Called for the non-empty leaves a ray passes, nearest first; [t_enter, t_exit] is the ray's interval
+   in the leaf, widened by a relative 1e-7 so that no leaf the ray touches is skipped. Return a new
+   tmax (larger values are ignored) to shorten the ray, or a negative value to stop. */
 typedef float (*pvs_kdtree_ray_fn)(void *user, const uint32_t *items, uint32_t item_count, float t_enter, float t_exit);
-/* Walks the leaves the ray origin + t dir, 0 <= t <= tmax, passes, front to back. Allocates nothing. */
+/* Walks the leaves the ray origin + t dir, 0 <= t <= tmax, passes, front to back. Any dir component
+   may be 0 or -0 (not all three); the origin may lie inside or outside the bounds. Non-finite input
+   walks nothing. Allocates nothing; thread-safe. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const float dir[3], float tmax,
                             pvs_kdtree_ray_fn fn, void *user);
 
 /* The items of the leaf containing point p (their boxes may or may not contain p: test them), or
-   NULL with *count = 0 outside the tree's bounds. Allocates nothing. */
+   NULL with *count = 0 outside the tree's bounds or in an empty leaf. Every item whose box contains p
+   is listed, also for p on a split plane. Allocates nothing. */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const float p[3], uint32_t *count);
 
 /* ---- methods --------------------------------------------------------------------------------- */
@@ -1248,7 +1264,7 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
    Items are referenced from every leaf whose closed cell box overlaps their closed box: a point on a
    split plane finds every box touching it on either side. */
 #define PVS__KD_BINS 32                 /* SAH candidate planes per axis: PVS__KD_BINS - 1 */
-#define PVS__KD_SAMPLE 1024           /* most refs binned per node (an even stride through bigger ones) */
+#define PVS__KD_SAMPLE 256            /* most refs binned per node (an even stride through bigger ones) */
 #define PVS__KD_LEAF 3u                 /* axis value of a leaf */
 #define PVS__KD_MAX_INDEX 0x3fffffffu   /* largest child index or item offset in 30 bits */
 #define PVS__KD_COST_TRAVERSE 1.0f      /* SAH cost of one inner node ... */
