@@ -316,10 +316,13 @@ typedef struct pvs_hit {
 } pvs_hit;
 
 /* Closest hit of the ray origin + t dir, 0 <= t <= tmax, with the scene's triangles (two-sided).
-   Returns 1 and fills *hit, or 0. dir need not be normalised but must be non-zero. Thread-safe,
-   allocates nothing. */
+   Returns 1 and fills *hit (NULL allowed), or 0. dir need not be normalised but must be non-zero.
+   Watertight (Woop, Benthin, Wald 2013, in double): a ray cannot pass between triangles sharing an
+   edge or a corner. Zero-area triangles are never hit. Ties in t go to the lowest triangle index.
+   Thread-safe, allocates nothing. */
 PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax, pvs_hit *hit);
-/* 1 if any triangle crosses the segment a-b (endpoints included), else 0. Thread-safe, no allocation. */
+/* 1 if any triangle crosses the segment a-b (endpoints included), else 0; 0 when a == b. The test is
+   watertight like pvs_scene_raycast. Thread-safe, no allocation. */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], const float b[3]);
 
 /* ---- kdtree ---------------------------------------------------------------------------------- */
@@ -337,9 +340,15 @@ typedef struct pvs_kdtree_desc {
 } pvs_kdtree_desc;
 #define PVS_KDTREE_MAX_DEPTH 48
 
+/* Builds the tree; deterministic (the same boxes give the same tree). Boxes with min > max on some
+   axis are left out; flat boxes (min == max) are fine; count 0 gives an empty tree. Errors:
+   INVALID_ARGUMENT, NOT_FINITE (err->index = the box), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **out_tree, pvs_error *err);
+/* Frees the tree through its allocator. NULL is allowed. */
 PVS_API void pvs_kdtree_destroy(pvs_kdtree *tree);
+/* The union of the non-empty item boxes; an empty box (min > max) when there are none. */
 PVS_API pvs_box pvs_kdtree_bounds(const pvs_kdtree *tree);
+/* Nodes, inner and leaves (every inner node has two children); at least 1. */
 PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *tree);
 
 /* What a sweep visitor tells the traversal. */
@@ -350,29 +359,36 @@ typedef enum pvs_visit {
 } pvs_visit;
 
 /* Called once per node reached, in order of increasing `distance` (minimum distance from the
-   sweep's source box to the node box; 0 where they meet). Leaves pass their items, inner nodes
-   items == NULL and item_count == 0. An item overlapping several leaves is passed once per leaf. */
+   sweep's source box to the node box; 0 where they meet). `node_box` is the node's cell: the
+   tree's bounds cut by the split planes above it. Leaves pass their items, inner nodes (and empty
+   leaves) items == NULL and item_count == 0. An item overlapping several leaves is passed once per
+   leaf. */
 typedef pvs_visit (*pvs_kdtree_visit_fn)(void *user, const pvs_box *node_box, float distance,
                                          const uint32_t *items, uint32_t item_count);
 
-/* Bytes of scratch pvs_kdtree_sweep needs for this tree. */
+/* Bytes of scratch pvs_kdtree_sweep needs for this tree: 32 bytes per leaf ((node_count + 1) / 2). */
 PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *tree);
 /* The approximate occlusion sweep (Bittner 2002, §3.2): nodes front to back from `source` (a box; a
    point is a box with min == max) by a priority queue on minimum distance. `scratch` is caller memory
    of at least pvs_kdtree_sweep_scratch_size bytes, aligned to 8. Ties are broken by node index, so
-   the order is deterministic. Returns PVS_OK, or BUFFER_TOO_SMALL. Allocates nothing. */
+   the order is deterministic. An empty tree visits nothing. Returns PVS_OK, BUFFER_TOO_SMALL,
+   INVALID_ARGUMENT (NULL tree, source or visit) or NOT_FINITE (source). Allocates nothing. */
 PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *tree, const pvs_box *source, void *scratch, size_t scratch_size,
                                     pvs_kdtree_visit_fn visit, void *user);
 
-/* Called for the leaves a ray passes, nearest first; [t_enter, t_exit] is the ray's interval in the
-   leaf. Return a new tmax (<= the current one) to shorten the ray, or a negative value to stop. */
+/* Called for the non-empty leaves a ray passes, nearest first; [t_enter, t_exit] is the ray's interval
+   in the leaf, widened by a relative 1e-7 so that no leaf the ray touches is skipped. Return a new
+   tmax (larger values are ignored) to shorten the ray, or a negative value to stop. */
 typedef float (*pvs_kdtree_ray_fn)(void *user, const uint32_t *items, uint32_t item_count, float t_enter, float t_exit);
-/* Walks the leaves the ray origin + t dir, 0 <= t <= tmax, passes, front to back. Allocates nothing. */
+/* Walks the leaves the ray origin + t dir, 0 <= t <= tmax, passes, front to back. Any dir component
+   may be 0 or -0 (not all three); the origin may lie inside or outside the bounds. Non-finite input
+   walks nothing. Allocates nothing; thread-safe. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const float dir[3], float tmax,
                             pvs_kdtree_ray_fn fn, void *user);
 
 /* The items of the leaf containing point p (their boxes may or may not contain p: test them), or
-   NULL with *count = 0 outside the tree's bounds. Allocates nothing. */
+   NULL with *count = 0 outside the tree's bounds or in an empty leaf. Every item whose box contains p
+   is listed, also for p on a split plane. Allocates nothing. */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const float p[3], uint32_t *count);
 
 /* ---- methods --------------------------------------------------------------------------------- */
@@ -825,9 +841,13 @@ struct pvs_scene {
     pvs_box *occluder_boxes;     /* occluder_count */
     float *occluder_data;        /* planes and footprints of all occluders */
     size_t occluder_data_count;  /* floats in occluder_data */
-    pvs_kdtree *triangle_tree;   /* over triangle boxes */
+    pvs_kdtree *triangle_tree;   /* over triangle boxes (zero-area triangles left out) */
     pvs_kdtree *object_tree;     /* over object boxes (empty objects left out) */
+    float *triangle_corners;     /* triangle_count * 9: corners sorted lexicographically, for ray casts */
 };
+
+/* Fills s->triangle_corners and empties the boxes of zero-area triangles (>>kdtree). */
+static pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err);
 
 /* Double-precision 3x3 solve of three planes n_i.p + d_i = 0; returns 0 when (nearly) parallel. */
 static int pvs__three_planes(const float *a, const float *b, const float *c, double out[3]) {
@@ -1026,6 +1046,7 @@ PVS_API void pvs_scene_destroy(pvs_scene *s) {
     a = s->allocator;
     pvs_kdtree_destroy(s->triangle_tree);
     pvs_kdtree_destroy(s->object_tree);
+    pvs__free_array(&a, s->triangle_corners, (size_t)s->triangle_count * 9, sizeof(float));
     pvs__free_array(&a, s->positions, (size_t)s->vertex_count * 3, sizeof(float));
     pvs__free_array(&a, s->indices, (size_t)s->triangle_count * 3, sizeof(uint32_t));
     pvs__free_array(&a, s->triangle_object, s->triangle_count, sizeof(uint32_t));
@@ -1186,6 +1207,8 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
         goto fail;
     }
 
+    r = pvs__scene_prepare_rays(s, tri_boxes, err);
+    if (r != PVS_OK) goto fail;
     {
         pvs_kdtree_desc kd;
         memset(&kd, 0, sizeof(kd));
@@ -1239,7 +1262,660 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
 /* scene ray casts                                                                                */
 /* ---------------------------------------------------------------------------------------------- */
 
-/* KDTREE-IMPLEMENTATION */
+/* Layout. A node is 8 bytes: `bits` holds the axis in its low 2 bits (3 = leaf) and an index above
+   them; an inner node's index is its left child (the right child follows it), a leaf's index is the
+   offset of its item list in `items`, and the union holds the split plane or the leaf's item count.
+   Node 0 is the root. Every inner node has two children, so a tree of N nodes has (N + 1) / 2 leaves.
+   Items are referenced from every leaf whose closed cell box overlaps their closed box: a point on a
+   split plane finds every box touching it on either side. */
+#define PVS__KD_BINS 32                 /* SAH candidate planes per axis: PVS__KD_BINS - 1 */
+#define PVS__KD_SAMPLE 256            /* most refs binned per node (an even stride through bigger ones) */
+#define PVS__KD_LEAF 3u                 /* axis value of a leaf */
+#define PVS__KD_MAX_INDEX 0x3fffffffu   /* largest child index or item offset in 30 bits */
+#define PVS__KD_COST_TRAVERSE 1.0f      /* SAH cost of one inner node ... */
+#define PVS__KD_COST_ITEM 1.5f          /* ... and of one item test */
+#define PVS__KD_EMPTY_BONUS 0.8f        /* factor for splits that cut off empty space */
+#define PVS__KD_RAY_TOL 1e-7            /* leaf t-intervals widen by this fraction of coordinate size */
+
+typedef struct pvs__kdnode {
+    union {
+        float split;     /* inner node */
+        uint32_t count;  /* leaf: number of items */
+    } u;
+    uint32_t bits;       /* (index << 2) | axis */
+} pvs__kdnode;
+
+struct pvs_kdtree {
+    pvs_allocator allocator;
+    pvs_box bounds;          /* of the non-empty item boxes; the empty box when there are none */
+    pvs__kdnode *nodes;
+    uint32_t *items;         /* leaf item lists, one after another */
+    uint32_t node_count, item_count;
+    size_t node_capacity, item_capacity;
+};
+
+/* An item reference during the build: the item's box clipped to the node's cell. */
+typedef struct pvs__kdref {
+    float min[3], max[3];
+    uint32_t item;
+} pvs__kdref;
+
+typedef struct pvs__kdbuild {
+    pvs_kdtree *tree;
+    pvs__kdref *refs;        /* a stack: the node being split is on top, pending left children below */
+    size_t ref_capacity;
+    uint32_t leaf_size, max_depth;
+    pvs_error *err;
+    float planes[3][PVS__KD_BINS + 1];    /* candidate planes of the node being split */
+    uint32_t starts[3][PVS__KD_BINS + 1]; /* [s]: refs whose min is <= planes[s] first */
+    uint32_t ends[3][PVS__KD_BINS + 1];   /* [e]: refs whose max is >= planes[e] last */
+} pvs__kdbuild;
+
+/* Grows an array of `elem`-byte elements to hold at least `need`, keeping the first `used`. Returns
+   the (possibly new) array, or NULL with *r set (the old array is then still owned by the caller). */
+static void *pvs__kd_grow(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need, size_t elem,
+                          pvs_result *r) {
+    size_t cap = *capacity ? *capacity : 64, bytes;
+    void *q;
+    if (need <= *capacity) return p;
+    while (cap < need) {
+        if (cap > (size_t)-1 / 2) { *r = PVS_ERROR_COUNT_OVERFLOW; return NULL; }
+        cap *= 2;
+    }
+    if (!pvs__mul(cap, elem, &bytes)) { *r = PVS_ERROR_COUNT_OVERFLOW; return NULL; }
+    q = pvs__alloc_array(a, cap, elem);
+    if (!q) { *r = PVS_ERROR_OUT_OF_MEMORY; return NULL; }
+    if (used) memcpy(q, p, used * elem);
+    pvs__free_array(a, p, *capacity, elem);
+    *capacity = cap;
+    return q;
+}
+
+static pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t base, size_t n) {
+    pvs_kdtree *t = b->tree;
+    pvs_result r = PVS_OK;
+    size_t i;
+    uint32_t *items;
+    if (t->item_count > PVS__KD_MAX_INDEX || n > (size_t)0xffffffffu - t->item_count)
+        return pvs__fail(b->err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "kD-tree: more than 2^30 item references");
+    items = (uint32_t *)pvs__kd_grow(&t->allocator, t->items, &t->item_capacity, t->item_count, t->item_count + n,
+                                     sizeof(uint32_t), &r);
+    if (!items) return pvs__fail(b->err, r, -1, 0, "kD-tree leaf items (%llu)", (unsigned long long)(t->item_count + n));
+    t->items = items;
+    for (i = 0; i < n; ++i) items[t->item_count + i] = b->refs[base + i].item;
+    t->nodes[node].u.count = (uint32_t)n;
+    t->nodes[node].bits = (n ? t->item_count << 2 : 0u) | PVS__KD_LEAF;
+    t->item_count += (uint32_t)n;
+    return PVS_OK;
+}
+
+/* Splits node `node` (its refs are refs[base .. base + n), on top of the stack, its cell is `box`) or
+   makes it a leaf. Binned SAH over all three axes (Bittner 2002 §4.4 uses SAH or fewest cut objects;
+   binning after Wald 2007): up to 31 planes per axis, fewer in small nodes. The counts are exact for
+   the closed-interval distribution below (up to sampling in big nodes), so straddlers and boxes
+   lying in a plane are costed as they will be stored. */
+static pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box, uint32_t depth) {
+    pvs_kdtree *t = b->tree;
+    float ext[3], k0[3], k1[3], scale[3], inv_measure, inv_nb, best_cost, count_scale, split;
+    int axis, best_axis = -1, best_k = 0, area, nb, valid[3];
+    size_t i, j, w, top, sampled;
+    uint32_t child;
+    pvs_result r = PVS_OK;
+    pvs_box lbox, rbox;
+    if (n <= b->leaf_size || depth >= b->max_depth) return pvs__kd_make_leaf(b, node, base, n);
+
+    /* the SAH measure of a box is linear in its extent along one axis: k1[axis] * extent + k0[axis];
+       half the surface area, or the edge sum for boxes with no area */
+    for (axis = 0; axis < 3; ++axis) ext[axis] = box->max[axis] - box->min[axis];
+    area = ext[0] * ext[1] + ext[1] * ext[2] + ext[2] * ext[0] > 0.0f;
+    for (axis = 0; axis < 3; ++axis) {
+        float eb = ext[(axis + 1) % 3], ec = ext[(axis + 2) % 3];
+        k1[axis] = area ? eb + ec : 1.0f;
+        k0[axis] = area ? eb * ec : eb + ec;
+    }
+    inv_measure = 1.0f / (k1[0] * ext[0] + k0[0]);
+    if (!(inv_measure > 0.0f && inv_measure < FLT_MAX)) return pvs__kd_make_leaf(b, node, base, n);
+
+    /* planes[a][1 .. nb-1] are the candidates; [0] = -inf and [nb] = +inf bound the searches below */
+    nb = n <= 16 ? 8 : n <= 64 ? 16 : PVS__KD_BINS;
+    inv_nb = 1.0f / (float)nb;
+    for (axis = 0; axis < 3; ++axis) {
+        float lo = box->min[axis], width = ext[axis];
+        int k;
+        scale[axis] = (float)nb / width; /* +inf when width is 0 or tiny: not a split axis */
+        valid[axis] = scale[axis] < FLT_MAX;
+        if (!valid[axis]) scale[axis] = 0.0f;
+        for (k = 0; k <= nb; ++k) b->starts[axis][k] = b->ends[axis][k] = 0;
+        for (k = 1; k < nb; ++k) b->planes[axis][k] = lo + width * ((float)k * inv_nb); /* k / nb exactly */
+        b->planes[axis][0] = -INFINITY;
+        b->planes[axis][nb] = INFINITY;
+    }
+    /* big nodes bin an evenly strided sample of PVS__KD_SAMPLE refs: the plane barely changes */
+    sampled = n > PVS__KD_SAMPLE ? PVS__KD_SAMPLE : n;
+    for (j = 0; j < sampled; ++j) {
+        const pvs__kdref *ref = b->refs + base + (sampled == n ? j : (size_t)((uint64_t)j * n / sampled));
+        for (axis = 0; axis < 3; ++axis) {
+            const float *pl = b->planes[axis];
+            float lo = box->min[axis], mn = ref->min[axis], mx = ref->max[axis];
+            int s, e;
+            /* s = the first k in 1..nb with mn <= planes[k]; e = the last k in 0..nb-1 with mx >= planes[k].
+               The refs lie in the cell, so the bin estimates are in [0, nb] and off by at most one
+               near a plane: one exact comparison each way fixes them. */
+            s = (int)((mn - lo) * scale[axis]);
+            e = (int)((mx - lo) * scale[axis]);
+            s = s < nb - 1 ? s : nb - 1;
+            e = e < nb - 1 ? e : nb - 1;
+            s = s + 1 - (mn <= pl[s]) + (mn > pl[s + 1]);
+            e = e + (mx >= pl[e + 1]) - (mx < pl[e]);
+            ++b->starts[axis][s];
+            ++b->ends[axis][e];
+        }
+    }
+
+    /* cost of each inner plane; ties keep the first (lowest axis, then lowest plane): deterministic */
+    best_cost = PVS__KD_COST_ITEM * (float)n;
+    count_scale = (float)n / (float)sampled;
+    for (axis = 0; axis < 3; ++axis) {
+        uint32_t left = 0, right = (uint32_t)sampled - b->ends[axis][0];
+        int k;
+        if (!valid[axis]) continue;
+        for (k = 1; k < nb; ++k) {
+            float p = b->planes[axis][k], cost;
+            left += b->starts[axis][k];
+            if (k > 1) right -= b->ends[axis][k - 1];
+            if (!(p > box->min[axis] && p < box->max[axis])) continue;
+            cost = PVS__KD_COST_TRAVERSE +
+                   PVS__KD_COST_ITEM * inv_measure * count_scale *
+                       ((k1[axis] * (p - box->min[axis]) + k0[axis]) * (float)left +
+                        (k1[axis] * (box->max[axis] - p) + k0[axis]) * (float)right);
+            if (left == 0 || right == 0) cost *= PVS__KD_EMPTY_BONUS;
+            if (cost < best_cost) {
+                best_cost = cost;
+                best_axis = axis;
+                best_k = k;
+            }
+        }
+    }
+    if (best_axis < 0) return pvs__kd_make_leaf(b, node, base, n);
+    axis = best_axis;
+    split = b->planes[axis][best_k];
+
+    /* distribute with closed intervals: a ref touching the plane goes to both sides, clipped. The
+       left refs are compacted in place, the right ones written above the node's: right of base + n. */
+    {
+        pvs__kdref *refs = (pvs__kdref *)pvs__kd_grow(&t->allocator, b->refs, &b->ref_capacity, base + n, base + 2 * n,
+                                                      sizeof(pvs__kdref), &r);
+        if (!refs) return pvs__fail(b->err, r, -1, 0, "kD-tree build references");
+        b->refs = refs;
+    }
+    for (i = 0, w = base, top = base + n; i < n; ++i) {
+        const pvs__kdref *src = b->refs + base + i;
+        float mn = src->min[axis], mx = src->max[axis];
+        int to_left = mn <= split, to_right = mx >= split;
+        /* both slots are free whether or not they are kept: write, then advance (no branches; the
+           clipped coordinate is stored last, so no wide load waits on a narrow store) */
+        b->refs[top] = *src;
+        b->refs[top].min[axis] = mn < split ? split : mn;
+        top += (size_t)to_right;
+        if (w != base + i) b->refs[w] = *src;
+        b->refs[w].max[axis] = mx > split ? split : mx;
+        w += (size_t)to_left;
+    }
+
+    if (t->node_count > PVS__KD_MAX_INDEX - 1)
+        return pvs__fail(b->err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "kD-tree: more than 2^30 nodes");
+    {
+        pvs__kdnode *nodes = (pvs__kdnode *)pvs__kd_grow(&t->allocator, t->nodes, &t->node_capacity, t->node_count,
+                                                         (size_t)t->node_count + 2, sizeof(pvs__kdnode), &r);
+        if (!nodes) return pvs__fail(b->err, r, -1, 0, "kD-tree nodes (%u)", t->node_count + 2);
+        t->nodes = nodes;
+    }
+    child = t->node_count;
+    t->node_count += 2;
+    t->nodes[node].u.split = split;
+    t->nodes[node].bits = (child << 2) | (uint32_t)axis;
+    lbox = *box;
+    rbox = *box;
+    lbox.max[axis] = split;
+    rbox.min[axis] = split;
+    /* the right refs are on top of the stack: build them first, then the left ones below */
+    r = pvs__kd_build(b, child + 1, base + n, top - (base + n), &rbox, depth + 1);
+    if (r != PVS_OK) return r;
+    return pvs__kd_build(b, child, base, w - base, &lbox, depth + 1);
+}
+
+PVS_API void pvs_kdtree_destroy(pvs_kdtree *t) {
+    pvs_allocator a;
+    if (!t) return;
+    a = t->allocator;
+    pvs__free_array(&a, t->nodes, t->node_capacity, sizeof(pvs__kdnode));
+    pvs__free_array(&a, t->items, t->item_capacity, sizeof(uint32_t));
+    pvs__free(&a, t, sizeof(*t), 16);
+}
+
+PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **out, pvs_error *err) {
+    pvs_kdtree *t;
+    pvs__kdbuild *b = NULL;
+    pvs_allocator a;
+    pvs_result r = PVS_OK;
+    uint32_t i, m = 0, lg = 0;
+    if (out) *out = NULL;
+    if (!desc || !out) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc and out_tree must not be NULL");
+    if (desc->count && !desc->boxes) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "boxes must not be NULL");
+    for (i = 0; i < desc->count; ++i) {
+        const pvs_box *bx = desc->boxes + i;
+        int k, empty = 0;
+        for (k = 0; k < 3; ++k) {
+            if (!pvs__finite(bx->min[k]) || !pvs__finite(bx->max[k]))
+                return pvs__fail(err, PVS_ERROR_NOT_FINITE, i, 0, "kD-tree box %u has a coordinate that is not finite", i);
+            if (bx->min[k] > bx->max[k]) empty = 1;
+        }
+        m += !empty;
+    }
+    a = desc->allocator;
+    t = (pvs_kdtree *)pvs__alloc(&a, sizeof(pvs_kdtree), 16);
+    if (!t) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "kD-tree");
+    memset(t, 0, sizeof(*t));
+    t->allocator = a;
+    t->bounds = pvs__box_empty();
+    b = (pvs__kdbuild *)pvs__alloc(&a, sizeof(pvs__kdbuild), 16);
+    if (!b) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "kD-tree builder"); goto done; }
+    memset(b, 0, sizeof(*b));
+    b->tree = t;
+    b->err = err;
+    b->leaf_size = desc->leaf_size ? desc->leaf_size : 4;
+    while (lg < 31 && ((uint32_t)2 << lg) <= m) ++lg; /* floor(log2 m) */
+    b->max_depth = desc->max_depth ? desc->max_depth : 8 + (13 * lg + 9) / 10;
+    if (b->max_depth > PVS_KDTREE_MAX_DEPTH) b->max_depth = PVS_KDTREE_MAX_DEPTH;
+
+    /* first guesses; everything grows on demand */
+    t->nodes = (pvs__kdnode *)pvs__kd_grow(&a, NULL, &t->node_capacity, 0, 1 + (size_t)m / 2, sizeof(pvs__kdnode), &r);
+    if (t->nodes) t->items = (uint32_t *)pvs__kd_grow(&a, NULL, &t->item_capacity, 0, 1 + (size_t)m + m / 2, sizeof(uint32_t), &r);
+    if (t->items) b->refs = (pvs__kdref *)pvs__kd_grow(&a, NULL, &b->ref_capacity, 0, 1 + (size_t)m + m / 2, sizeof(pvs__kdref), &r);
+    if (!b->refs) { r = pvs__fail(err, r, -1, 0, "kD-tree arrays for %u boxes", m); goto done; }
+    m = 0;
+    for (i = 0; i < desc->count; ++i) {
+        const pvs_box *bx = desc->boxes + i;
+        if (bx->min[0] > bx->max[0] || bx->min[1] > bx->max[1] || bx->min[2] > bx->max[2]) continue;
+        memcpy(b->refs[m].min, bx->min, sizeof(bx->min));
+        memcpy(b->refs[m].max, bx->max, sizeof(bx->max));
+        b->refs[m].item = i;
+        pvs__box_add_box(&t->bounds, bx);
+        ++m;
+    }
+    t->node_count = 1;
+    r = pvs__kd_build(b, 0, 0, m, &t->bounds, 0);
+done:
+    if (b) {
+        pvs__free_array(&a, b->refs, b->ref_capacity, sizeof(pvs__kdref));
+        pvs__free(&a, b, sizeof(*b), 16);
+    }
+    if (r != PVS_OK) {
+        pvs_kdtree_destroy(t);
+        return r;
+    }
+    *out = t;
+    pvs__ok(err);
+    return PVS_OK;
+}
+
+PVS_API pvs_box pvs_kdtree_bounds(const pvs_kdtree *t) { return t->bounds; }
+PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *t) { return t->node_count; }
+
+/* ---- sweep ---- */
+
+typedef struct pvs__kdsweep {
+    float d2;         /* squared minimum distance from the source */
+    uint32_t node;
+    pvs_box box;      /* the node's cell */
+} pvs__kdsweep;
+
+static int pvs__kdsweep_before(const pvs__kdsweep *a, const pvs__kdsweep *b) {
+    return a->d2 < b->d2 || (a->d2 == b->d2 && a->node < b->node);
+}
+
+/* The heap only ever holds nodes none of which is an ancestor of another (popping a node pushes its
+   children), and such a set has at most as many nodes as the tree has leaves. */
+PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *t) {
+    return ((size_t)t->node_count + 1) / 2 * sizeof(pvs__kdsweep);
+}
+
+/* Bittner 2002 §3.2 (approximate occlusion sweep): a priority queue on the nodes' minimum distance
+   to the source. A child's cell lies inside its parent's, so its distance is never smaller and the
+   visit order is non-decreasing in distance. */
+PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, void *scratch, size_t scratch_size,
+                                    pvs_kdtree_visit_fn visit, void *user) {
+    pvs__kdsweep *heap = (pvs__kdsweep *)scratch;
+    size_t n = 0, cap;
+    int k;
+    if (!t || !source || !visit) return PVS_ERROR_INVALID_ARGUMENT;
+    for (k = 0; k < 3; ++k)
+        if (!pvs__finite(source->min[k]) || !pvs__finite(source->max[k])) return PVS_ERROR_NOT_FINITE;
+    if (t->bounds.min[0] > t->bounds.max[0]) return PVS_OK; /* no items: nothing to visit */
+    cap = scratch ? scratch_size / sizeof(pvs__kdsweep) : 0;
+    if (cap < ((size_t)t->node_count + 1) / 2) return PVS_ERROR_BUFFER_TOO_SMALL;
+    heap[0].d2 = pvs__box_distance2(source, &t->bounds);
+    heap[0].node = 0;
+    heap[0].box = t->bounds;
+    n = 1;
+    while (n) {
+        pvs__kdsweep top = heap[0];
+        const pvs__kdnode *nd = t->nodes + top.node;
+        uint32_t axis = nd->bits & 3u;
+        pvs_visit v;
+        size_t i, c;
+        /* pop: move the last entry down from the root */
+        --n;
+        if (n) {
+            pvs__kdsweep last = heap[n];
+            i = 0;
+            while ((c = 2 * i + 1) < n) {
+                if (c + 1 < n && pvs__kdsweep_before(heap + c + 1, heap + c)) ++c;
+                if (!pvs__kdsweep_before(heap + c, &last)) break;
+                heap[i] = heap[c];
+                i = c;
+            }
+            heap[i] = last;
+        }
+        if (axis == PVS__KD_LEAF) {
+            uint32_t count = nd->u.count;
+            v = visit(user, &top.box, sqrtf(top.d2), count ? t->items + (nd->bits >> 2) : NULL, count);
+        } else {
+            v = visit(user, &top.box, sqrtf(top.d2), NULL, 0);
+        }
+        if (v == PVS_VISIT_STOP) break;
+        if (v != PVS_VISIT_DESCEND || axis == PVS__KD_LEAF) continue;
+        for (k = 0; k < 2; ++k) {
+            pvs__kdsweep e;
+            e.node = (nd->bits >> 2) + (uint32_t)k;
+            e.box = top.box;
+            if (k == 0) e.box.max[axis] = nd->u.split;
+            else e.box.min[axis] = nd->u.split;
+            e.d2 = pvs__box_distance2(source, &e.box);
+            /* push: sift up */
+            i = n++;
+            while (i > 0 && pvs__kdsweep_before(&e, heap + (i - 1) / 2)) {
+                heap[i] = heap[(i - 1) / 2];
+                i = (i - 1) / 2;
+            }
+            heap[i] = e;
+        }
+    }
+    return PVS_OK;
+}
+
+/* ---- ray walk ---- */
+
+/* Front-to-back stack traversal (the classic recursive ray traversal, Havran's TA_rec_B family) in
+   double. Leaf intervals are widened by PVS__KD_RAY_TOL of the coordinates' size, so a leaf the ray
+   touches is never skipped: only visiting an extra neighbour can happen. */
+PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const float dir[3], float tmax_f,
+                            pvs_kdtree_ray_fn fn, void *user) {
+    struct {
+        uint32_t node;
+        double tn, tf;
+    } stack[PVS_KDTREE_MAX_DEPTH + 2];
+    double o[3], d[3], inv[3], tn = 0.0, tf, tmax;
+    uint32_t node = 0;
+    int sp = 0, k;
+    if (!t || !origin || !dir || !fn || t->bounds.min[0] > t->bounds.max[0]) return;
+    if (!(tmax_f >= 0.0f)) return; /* negative or NaN */
+    for (k = 0; k < 3; ++k)
+        if (!pvs__finite(origin[k]) || !pvs__finite(dir[k])) return;
+    if (dir[0] == 0.0f && dir[1] == 0.0f && dir[2] == 0.0f) return;
+    tmax = tf = (double)tmax_f;
+    for (k = 0; k < 3; ++k) {
+        double lo = t->bounds.min[k], hi = t->bounds.max[k];
+        o[k] = origin[k];
+        d[k] = dir[k];
+        if (d[k] == 0.0) {
+            inv[k] = 0.0;
+            if (o[k] < lo || o[k] > hi) return;
+        } else {
+            double t0, t1, tol;
+            inv[k] = 1.0 / d[k];
+            t0 = (lo - o[k]) * inv[k];
+            t1 = (hi - o[k]) * inv[k];
+            if (t0 > t1) { double s = t0; t0 = t1; t1 = s; }
+            tol = PVS__KD_RAY_TOL * (fabs(lo) + fabs(hi) + 2.0 * fabs(o[k])) * fabs(inv[k]);
+            if (t0 - tol > tn) tn = t0 - tol;
+            if (t1 + tol < tf) tf = t1 + tol;
+        }
+    }
+    if (tn > tf) return;
+    for (;;) {
+        if (tn <= tmax) {
+            const pvs__kdnode *nd = t->nodes + node;
+            uint32_t axis;
+            while ((axis = nd->bits & 3u) != PVS__KD_LEAF) {
+                double s = nd->u.split, ts, tol;
+                uint32_t left = nd->bits >> 2, near_child, far_child;
+                if (d[axis] == 0.0) {
+                    /* parallel to the plane: the side of the origin, both when it lies in the plane */
+                    if (o[axis] < s) node = left;
+                    else if (o[axis] > s) node = left + 1;
+                    else {
+                        stack[sp].node = left + 1;
+                        stack[sp].tn = tn;
+                        stack[sp].tf = tf;
+                        ++sp;
+                        node = left;
+                    }
+                    nd = t->nodes + node;
+                    continue;
+                }
+                /* near = the side holding the origin; on the plane, the side the ray moves into */
+                near_child = (o[axis] < s || (o[axis] == s && d[axis] < 0.0)) ? left : left + 1;
+                far_child = near_child == left ? left + 1 : left;
+                ts = (s - o[axis]) * inv[axis];
+                tol = PVS__KD_RAY_TOL * (fabs(s) + fabs(o[axis])) * fabs(inv[axis]);
+                if (ts <= 0.0 || ts > tf + tol) {
+                    node = near_child;
+                } else if (ts < tn - tol) {
+                    node = far_child;
+                } else {
+                    stack[sp].node = far_child;
+                    stack[sp].tn = ts - tol > tn ? ts - tol : tn;
+                    stack[sp].tf = tf;
+                    ++sp;
+                    node = near_child;
+                    if (ts + tol < tf) tf = ts + tol;
+                }
+                nd = t->nodes + node;
+            }
+            if (nd->u.count) {
+                float r = fn(user, t->items + (nd->bits >> 2), nd->u.count, (float)tn, (float)tf);
+                if (!(r >= 0.0f)) return; /* negative (or NaN): stop */
+                if ((double)r < tmax) tmax = r;
+            }
+        }
+        if (sp == 0) return;
+        --sp;
+        node = stack[sp].node;
+        tn = stack[sp].tn;
+        tf = stack[sp].tf;
+    }
+}
+
+/* ---- point location ---- */
+
+/* A point on a split plane goes left. That leaf holds every item whose box contains the point: the
+   build stored each box touching the plane on both sides. */
+PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *t, const float p[3], uint32_t *count) {
+    const pvs__kdnode *nd;
+    uint32_t axis;
+    if (count) *count = 0;
+    if (!t || !p || !count || !pvs__box_contains_point(&t->bounds, p)) return NULL;
+    nd = t->nodes;
+    while ((axis = nd->bits & 3u) != PVS__KD_LEAF) nd = t->nodes + (nd->bits >> 2) + (p[axis] <= nd->u.split ? 0u : 1u);
+    if (!nd->u.count) return NULL;
+    *count = nd->u.count;
+    return t->items + (nd->bits >> 2);
+}
+
+/* ---- scene ray casts ---- */
+
+/* Lexicographic order of points. */
+static int pvs__point_less(const float *a, const float *b) {
+    if (a[0] != b[0]) return a[0] < b[0];
+    if (a[1] != b[1]) return a[1] < b[1];
+    return a[2] < b[2];
+}
+
+static pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err) {
+    uint32_t t;
+    s->triangle_corners = (float *)pvs__alloc_array(&s->allocator, (size_t)s->triangle_count * 9, sizeof(float));
+    if (!s->triangle_corners) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "triangle corners");
+    for (t = 0; t < s->triangle_count; ++t) {
+        const float *c[3], *x;
+        const uint32_t *tri = s->indices + 3 * (size_t)t;
+        double e1[3], e2[3];
+        int k;
+        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)tri[k];
+        if (pvs__point_less(c[1], c[0])) { x = c[0]; c[0] = c[1]; c[1] = x; }
+        if (pvs__point_less(c[2], c[1])) { x = c[1]; c[1] = c[2]; c[2] = x; }
+        if (pvs__point_less(c[1], c[0])) { x = c[0]; c[0] = c[1]; c[1] = x; }
+        for (k = 0; k < 3; ++k) {
+            memcpy(s->triangle_corners + 9 * (size_t)t + 3 * k, c[k], 3 * sizeof(float));
+            e1[k] = (double)c[1][k] - c[0][k];
+            e2[k] = (double)c[2][k] - c[0][k];
+        }
+        if (e1[1] * e2[2] - e1[2] * e2[1] == 0.0 && e1[2] * e2[0] - e1[0] * e2[2] == 0.0 && e1[0] * e2[1] - e1[1] * e2[0] == 0.0)
+            tri_boxes[t] = pvs__box_empty(); /* zero area: never hit, left out of the tree */
+    }
+    return PVS_OK;
+}
+
+/* A ray prepared for the watertight test of Woop, Benthin and Wald (JCGT 2013): the axis kz of the
+   largest direction component, the shear taking dir to +-z, in double. */
+typedef struct pvs__ray {
+    double o[3];
+    double sx, sy, sz;
+    int kx, ky, kz;
+} pvs__ray;
+
+static int pvs__ray_setup(pvs__ray *r, const double o[3], const double d[3]) {
+    double ax = fabs(d[0]), ay = fabs(d[1]), az = fabs(d[2]);
+    r->kz = ax >= ay ? (ax >= az ? 0 : 2) : (ay >= az ? 1 : 2);
+    if (d[r->kz] == 0.0 || !(d[r->kz] == d[r->kz])) return 0;
+    r->kx = (r->kz + 1) % 3;
+    r->ky = (r->kz + 2) % 3;
+    r->sx = d[r->kx] / d[r->kz];
+    r->sy = d[r->ky] / d[r->kz];
+    r->sz = 1.0 / d[r->kz];
+    r->o[0] = o[0]; r->o[1] = o[1]; r->o[2] = o[2];
+    return 1;
+}
+
+/* 2D edge function of the sheared corners p, q: its sign says on which side of p-q the ray passes.
+   Triangles store their corners sorted, so a shared edge is always evaluated as (p, q) in the same
+   order, bit for bit the same in both triangles: a ray cannot slip between them. */
+static double pvs__edge(const double *p, const double *q) { return p[0] * q[1] - p[1] * q[0]; }
+
+/* Two-sided watertight ray-triangle test: 1 and *t when the ray meets the triangle at 0 <= t <= tmax. */
+static int pvs__ray_triangle(const pvs__ray *r, const float *c, double tmax, double *t_out) {
+    double p[3][2], z[3], u, v, w, det, t;
+    int k;
+    for (k = 0; k < 3; ++k) {
+        double ax = (double)c[3 * k + r->kx] - r->o[r->kx];
+        double ay = (double)c[3 * k + r->ky] - r->o[r->ky];
+        double az = (double)c[3 * k + r->kz] - r->o[r->kz];
+        p[k][0] = ax - r->sx * az;
+        p[k][1] = ay - r->sy * az;
+        z[k] = r->sz * az;
+    }
+    u = pvs__edge(p[1], p[2]);
+    v = -pvs__edge(p[0], p[2]);
+    w = pvs__edge(p[0], p[1]);
+    if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return 0;
+    det = u + v + w;
+    if (det == 0.0) return 0; /* the ray lies in the triangle's plane */
+    t = (u * z[0] + v * z[1] + w * z[2]) / det;
+    if (!(t >= 0.0 && t <= tmax)) return 0;
+    *t_out = t;
+    return 1;
+}
+
+typedef struct pvs__raycast {
+    const pvs_scene *scene;
+    pvs__ray ray;
+    double tmax;        /* closest hit so far, or the ray's end */
+    uint32_t triangle;  /* of the closest hit, or 0xffffffff */
+    int any;            /* stop at the first hit */
+} pvs__raycast;
+
+static float pvs__raycast_leaf(void *user, const uint32_t *items, uint32_t count, float t_enter, float t_exit) {
+    pvs__raycast *rc = (pvs__raycast *)user;
+    uint32_t i;
+    float f;
+    (void)t_enter;
+    (void)t_exit;
+    for (i = 0; i < count; ++i) {
+        uint32_t tri = items[i];
+        double t;
+        if (!pvs__ray_triangle(&rc->ray, rc->scene->triangle_corners + 9 * (size_t)tri, rc->tmax, &t)) continue;
+        /* equal distances: the lowest triangle index wins, whatever the leaf order */
+        if (t < rc->tmax || rc->triangle == 0xffffffffu || tri < rc->triangle) {
+            rc->tmax = t;
+            rc->triangle = tri;
+            if (rc->any) return -1.0f;
+        }
+    }
+    if (rc->any) return FLT_MAX;
+    /* shorten the walk to the closest hit, rounding up so no leaf at that distance is skipped */
+    f = (float)rc->tmax;
+    if ((double)f < rc->tmax) f = nextafterf(f, FLT_MAX);
+    return f;
+}
+
+PVS_API int pvs_scene_raycast(const pvs_scene *s, const float origin[3], const float dir[3], float tmax, pvs_hit *hit) {
+    pvs__raycast rc;
+    double o[3], d[3];
+    int k;
+    if (!s || !origin || !dir || !(tmax >= 0.0f)) return 0;
+    for (k = 0; k < 3; ++k) {
+        o[k] = origin[k];
+        d[k] = dir[k];
+    }
+    if (!pvs__ray_setup(&rc.ray, o, d)) return 0;
+    rc.scene = s;
+    rc.tmax = tmax;
+    rc.triangle = 0xffffffffu;
+    rc.any = 0;
+    pvs_kdtree_ray(s->triangle_tree, origin, dir, tmax, pvs__raycast_leaf, &rc);
+    if (rc.triangle == 0xffffffffu) return 0;
+    if (hit) {
+        hit->t = (float)rc.tmax;
+        hit->triangle = rc.triangle;
+        hit->object = s->triangle_object[rc.triangle];
+    }
+    return 1;
+}
+
+/* The segment is the ray a + t (b - a), 0 <= t <= 1, with b - a in double. A zero-length segment
+   is never blocked. */
+PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], const float b[3]) {
+    pvs__raycast rc;
+    double o[3], d[3];
+    float df[3];
+    int k;
+    if (!s || !a || !b) return 0;
+    for (k = 0; k < 3; ++k) {
+        o[k] = a[k];
+        d[k] = (double)b[k] - (double)a[k];
+        df[k] = b[k] - a[k];
+        /* the walk's direction in float must not lose a component the exact one has */
+        if (df[k] == 0.0f && d[k] != 0.0) df[k] = d[k] > 0.0 ? FLT_MIN : -FLT_MIN;
+    }
+    if (!pvs__ray_setup(&rc.ray, o, d)) return 0;
+    rc.scene = s;
+    rc.tmax = 1.0;
+    rc.triangle = 0xffffffffu;
+    rc.any = 1;
+    /* the walk goes a little past b: its float direction may fall short; the test itself stops at 1 */
+    pvs_kdtree_ray(s->triangle_tree, a, df, 1.0f + 1e-6f, pvs__raycast_leaf, &rc);
+    return rc.triangle != 0xffffffffu;
+}
 
 // >>raster
 /* (planned: conservative rasterizer, depth pyramid, cull map) */
@@ -1263,7 +1939,93 @@ PVS_API const char *pvs_method_name(pvs_method m) {
     }
 }
 
-/* SAMPLE-IMPLEMENTATION */
+/* Sample point i of `points` in the cell: the 8 corners, the 6 face centres, then one jittered point
+   in each of `points - 14` strata spread evenly over a g^k grid on the cell's k non-flat axes. */
+static void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t points, uint64_t *state, float p[3]) {
+    int k;
+    if (i < 8) {
+        for (k = 0; k < 3; ++k) p[k] = (i >> k) & 1u ? cell->max[k] : cell->min[k];
+    } else if (i < 14) {
+        int axis = (int)(i - 8) / 2;
+        for (k = 0; k < 3; ++k) p[k] = 0.5f * (cell->min[k] + cell->max[k]);
+        p[axis] = (i - 8) & 1u ? cell->max[axis] : cell->min[axis];
+    } else {
+        uint64_t m = points - 14u, j = i - 14u, g = 1, strata = 1, stratum;
+        int axes = 0;
+        for (k = 0; k < 3; ++k) axes += cell->max[k] > cell->min[k];
+        if (axes) {
+            /* the smallest g with g^axes >= m */
+            for (;;) {
+                uint64_t total = 1;
+                for (k = 0; k < axes; ++k) total *= g;
+                if (total >= m) { strata = total; break; }
+                ++g;
+            }
+        }
+        stratum = j * strata / m;
+        for (k = 0; k < 3; ++k) {
+            float lo = cell->min[k], hi = cell->max[k], f;
+            if (!(hi > lo)) { p[k] = lo; continue; }
+            f = ((float)(stratum % g) + pvs__random01(state)) / (float)g;
+            stratum /= g;
+            p[k] = lo + f * (hi - lo);
+            if (p[k] > hi) p[k] = hi;
+        }
+    }
+}
+
+PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points, uint32_t rays_per_point,
+                                       uint64_t seed, pvs_word *visible) {
+    uint64_t state = seed, rays = 0;
+    pvs_box bounds;
+    float diagonal;
+    uint32_t i, j;
+    int k;
+    if (!scene || !cell || !visible || !pvs__box_valid(cell)) return 0;
+    bounds = scene->bounds;
+    diagonal = pvs__v3_length(pvs__v3_sub(pvs__v3_load(bounds.max), pvs__v3_load(bounds.min)));
+    for (i = 0; i < points; ++i) {
+        float p[3], rot[3][3], tmax, q0, q1, q2, q3, u1, u2, u3;
+        pvs_box pb;
+        pvs__sample_point(cell, i, points, &state, p);
+        /* a uniformly random rotation per point (Shoemake 1992, a random unit quaternion) ... */
+        u1 = pvs__random01(&state);
+        u2 = 6.2831853f * pvs__random01(&state);
+        u3 = 6.2831853f * pvs__random01(&state);
+        q0 = sqrtf(1.0f - u1) * sinf(u2);
+        q1 = sqrtf(1.0f - u1) * cosf(u2);
+        q2 = sqrtf(u1) * sinf(u3);
+        q3 = sqrtf(u1) * cosf(u3);
+        rot[0][0] = 1.0f - 2.0f * (q1 * q1 + q2 * q2);
+        rot[0][1] = 2.0f * (q0 * q1 - q2 * q3);
+        rot[0][2] = 2.0f * (q0 * q2 + q1 * q3);
+        rot[1][0] = 2.0f * (q0 * q1 + q2 * q3);
+        rot[1][1] = 1.0f - 2.0f * (q0 * q0 + q2 * q2);
+        rot[1][2] = 2.0f * (q1 * q2 - q0 * q3);
+        rot[2][0] = 2.0f * (q0 * q2 - q1 * q3);
+        rot[2][1] = 2.0f * (q1 * q2 + q0 * q3);
+        rot[2][2] = 1.0f - 2.0f * (q0 * q0 + q1 * q1);
+        for (k = 0; k < 3; ++k) pb.min[k] = pb.max[k] = p[k];
+        tmax = 2.0f * diagonal + sqrtf(pvs__box_distance2(&pb, &bounds));
+        /* ... of a spherical Fibonacci set: rays_per_point directions of equal solid angle */
+        for (j = 0; j < rays_per_point; ++j) {
+            float z = 1.0f - (2.0f * (float)j + 1.0f) / (float)rays_per_point, r, phi, f[3], dir[3];
+            double turns = (double)j * 0.6180339887498949;
+            pvs_hit hit;
+            r = sqrtf(1.0f - z * z > 0.0f ? 1.0f - z * z : 0.0f);
+            phi = 6.2831853f * (float)(turns - floor(turns));
+            f[0] = r * cosf(phi);
+            f[1] = r * sinf(phi);
+            f[2] = z;
+            for (k = 0; k < 3; ++k) dir[k] = rot[k][0] * f[0] + rot[k][1] * f[1] + rot[k][2] * f[2];
+            ++rays;
+            if (pvs_scene_raycast(scene, p, dir, tmax, &hit) && hit.object != PVS_NO_OBJECT &&
+                !(scene->object_flags[hit.object] & PVS_OBJECT_OCCLUDER_ONLY))
+                pvs_bitset_set(visible, hit.object);
+        }
+    }
+    return rays;
+}
 
 // >>bake
 /* ---------------------------------------------------------------------------------------------- */
