@@ -26,7 +26,7 @@
        for (uint32_t t = 0; t < pvs_bake_task_count(bake); ++t)   // any order, any thread
            pvs_bake_run_task(bake, t, &err);
        size_t size = pvs_bake_file_bound(bake);
-       void *file_bytes = malloc(size);
+       void *file_bytes = my_alloc(size);                        // your memory
        pvs_bake_write_file(bake, file_bytes, size, &size, &err);  // the .pvs file, ready to save
        pvs_bake_destroy(bake);
 
