@@ -33,7 +33,7 @@ compile-checks: tests/compile_check.c pvs.h
 	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror -c tests/compile_check.c -o $(B)/cc_c99.o
 	$(CC) -std=c11 -pedantic -Wall -Wextra -Werror -c tests/compile_check.c -o $(B)/cc_c11.o
 	$(CXX) -x c++ -std=c++11 -Wall -Wextra -Werror -c tests/compile_check.c -o $(B)/cc_cpp.o
-	$(CC) -std=c99 -Wall -Wextra -Werror -Wno-unused-function -DCHECK_STATIC -c tests/compile_check.c -o $(B)/cc_static.o
+	$(CC) -std=c99 -Wall -Wextra -Werror -DCHECK_STATIC -c tests/compile_check.c -o $(B)/cc_static.o
 
 $(B)/pvstest: $(TEST_SRC) tests/test.h $(TOOL_HDR)
 	@mkdir -p $(B)
@@ -57,9 +57,9 @@ demo: $(B)/pvsdemo
 	@mkdir -p $(B)/demo
 	./$(B)/pvsdemo -j 2 -o $(B)/demo/city.pvs
 
-$(B)/bench_kdtree: tests/bench_kdtree.c $(TOOL_LIB) $(TOOL_HDR)
+$(B)/bench_kdtree: tests/bench_kdtree.c pvs.h
 	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_kdtree.c $(TOOL_LIB) $(LDLIBS)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_kdtree.c $(LDLIBS)
 $(B)/bench_bake: tests/bench_bake.c $(TOOL_LIB) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_bake.c $(TOOL_LIB) $(LDLIBS)

@@ -578,7 +578,7 @@ PVS_API const char *pvs_result_string(pvs_result r) {
 PVS_API uint32_t pvs_version(void) { return PVS_VERSION; }
 
 /* Fills *err (if any) and returns `code`. The message is "<reason>: <formatted detail>". */
-static pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index, uint64_t offset, const char *fmt, ...) {
+PVS__STATIC pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index, uint64_t offset, const char *fmt, ...) {
     if (err) {
         err->result = code;
         err->index = index;
@@ -606,7 +606,7 @@ static pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index, uint
     return code;
 }
 
-static void pvs__ok(pvs_error *err) {
+PVS__STATIC void pvs__ok(pvs_error *err) {
     if (err) {
         err->result = PVS_OK;
         err->index = -1;
@@ -616,12 +616,12 @@ static void pvs__ok(pvs_error *err) {
 }
 
 /* Overflow-checked size arithmetic: return 0 on overflow. */
-static int pvs__mul(size_t a, size_t b, size_t *out) {
+PVS__STATIC int pvs__mul(size_t a, size_t b, size_t *out) {
     if (b && a > (size_t)-1 / b) return 0;
     *out = a * b;
     return 1;
 }
-static int pvs__add(size_t a, size_t b, size_t *out) {
+PVS__STATIC int pvs__add(size_t a, size_t b, size_t *out) {
     if (a > (size_t)-1 - b) return 0;
     *out = a + b;
     return 1;
@@ -629,7 +629,7 @@ static int pvs__add(size_t a, size_t b, size_t *out) {
 
 /* Allocation through a desc's hooks; align is a power of two <= 64. The default path over-allocates
    for alignments above what malloc guarantees and keeps the offset in the byte before the block. */
-static void *pvs__alloc(const pvs_allocator *a, size_t size, size_t align) {
+PVS__STATIC void *pvs__alloc(const pvs_allocator *a, size_t size, size_t align) {
     if (size == 0) size = 1;
     if (a->alloc) return a->alloc(size, align, a->user);
     if (align <= 16) return PVS_MALLOC(size);
@@ -644,7 +644,7 @@ static void *pvs__alloc(const pvs_allocator *a, size_t size, size_t align) {
         return p;
     }
 }
-static void pvs__free(const pvs_allocator *a, void *p, size_t size, size_t align) {
+PVS__STATIC void pvs__free(const pvs_allocator *a, void *p, size_t size, size_t align) {
     if (!p) return;
     if (size == 0) size = 1;
     if (a->free) {
@@ -658,12 +658,12 @@ static void pvs__free(const pvs_allocator *a, void *p, size_t size, size_t align
     PVS_FREE((unsigned char *)p - ((unsigned char *)p)[-1]);
 }
 /* Array allocation with overflow check: n elements of `elem` bytes, 16-byte aligned. */
-static void *pvs__alloc_array(const pvs_allocator *a, size_t n, size_t elem) {
+PVS__STATIC void *pvs__alloc_array(const pvs_allocator *a, size_t n, size_t elem) {
     size_t bytes;
     if (!pvs__mul(n, elem, &bytes)) return NULL;
     return pvs__alloc(a, bytes, 16);
 }
-static void pvs__free_array(const pvs_allocator *a, void *p, size_t n, size_t elem) {
+PVS__STATIC void pvs__free_array(const pvs_allocator *a, void *p, size_t n, size_t elem) {
     pvs__free(a, p, n * elem, 16);
 }
 
@@ -751,7 +751,7 @@ PVS_API int pvs_bitset_test(const pvs_word *bits, uint32_t i) { return (int)((bi
 PVS_API void pvs_bitset_set(pvs_word *bits, uint32_t i) { bits[i >> 6] |= (pvs_word)1 << (i & 63); }
 PVS_API void pvs_bitset_clear(pvs_word *bits, uint32_t i) { bits[i >> 6] &= ~((pvs_word)1 << (i & 63)); }
 
-static uint32_t pvs__popcount64(uint64_t x) {
+PVS__STATIC uint32_t pvs__popcount64(uint64_t x) {
 #if defined(__GNUC__) || defined(__clang__)
     return (uint32_t)__builtin_popcountll(x);
 #else
@@ -761,7 +761,7 @@ static uint32_t pvs__popcount64(uint64_t x) {
     return (uint32_t)((x * 0x0101010101010101ull) >> 56);
 #endif
 }
-static uint32_t pvs__ctz64(uint64_t x) { /* x != 0 */
+PVS__STATIC uint32_t pvs__ctz64(uint64_t x) { /* x != 0 */
 #if defined(__GNUC__) || defined(__clang__)
     return (uint32_t)__builtin_ctzll(x);
 #else
@@ -796,7 +796,7 @@ PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint3
 }
 
 /* Deterministic random numbers: splitmix64 (Steele et al. 2014). Used by the samplers. */
-static uint64_t pvs__splitmix64(uint64_t *state) {
+PVS__STATIC uint64_t pvs__splitmix64(uint64_t *state) {
     uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
@@ -807,7 +807,7 @@ PVS__STATIC float pvs__random01(uint64_t *state) { return (float)(pvs__splitmix6
 
 /* CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), two nibble-table steps per byte: a 64-byte
    constant table keeps the code small; validation stays linear in the file size. */
-static uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
+PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
     static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu, 0x76dc4190u, 0x6b6b51f4u,
                                    0x4db26158u, 0x5005713cu, 0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
                                    0x9b64c2b0u, 0x86d3d2d4u, 0xa00ae278u, 0xbdbdf21cu};
@@ -847,10 +847,10 @@ struct pvs_scene {
 };
 
 /* Fills s->triangle_corners and empties the boxes of zero-area triangles (>>kdtree). */
-static pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err);
+PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err);
 
 /* Double-precision 3x3 solve of three planes n_i.p + d_i = 0; returns 0 when (nearly) parallel. */
-static int pvs__three_planes(const float *a, const float *b, const float *c, double out[3]) {
+PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c, double out[3]) {
     double n1[3], n2[3], n3[3], x[3], det;
     int i;
     for (i = 0; i < 3; ++i) { n1[i] = a[i]; n2[i] = b[i]; n3[i] = c[i]; }
@@ -881,7 +881,7 @@ static int pvs__three_planes(const float *a, const float *b, const float *c, dou
 
 /* Bounds of a convex occluder by vertex enumeration, clipped to a box far larger than any vertex:
    a vertex on that box means the half-spaces are unbounded; no vertex means empty. */
-static pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_box *out, int64_t index, pvs_error *err) {
+PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_box *out, int64_t index, pvs_error *err) {
     float all[(PVS_MAX_OCCLUDER_PLANES + 6) * 4];
     double reach = 1.0, tol;
     uint32_t i, j, k, m, total, found = 0, on_guard = 0;
@@ -945,7 +945,7 @@ static pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_box *o
 }
 
 /* 1 if segments p1-p2 and p3-p4 (2D) intersect or touch, in double precision. */
-static int pvs__segments_meet_2d(const float *p1, const float *p2, const float *p3, const float *p4) {
+PVS__STATIC int pvs__segments_meet_2d(const float *p1, const float *p2, const float *p3, const float *p4) {
     double d1x = (double)p2[0] - p1[0], d1y = (double)p2[1] - p1[1];
     double d2x = (double)p4[0] - p3[0], d2y = (double)p4[1] - p3[1];
     double o1 = d1x * ((double)p3[1] - p1[1]) - d1y * ((double)p3[0] - p1[0]);
@@ -974,7 +974,7 @@ PVS__STATIC void pvs__ground_axes(uint32_t up, int *u, int *v) {
     *v = up == 2 ? 1 : 2;
 }
 
-static pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32_t up, int64_t index, pvs_box *box, pvs_error *err) {
+PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32_t up, int64_t index, pvs_box *box, pvs_error *err) {
     uint32_t i, j, n;
     switch (o->kind) {
     case PVS_OCCLUDER_BOX:
@@ -1313,7 +1313,7 @@ typedef struct pvs__kdbuild {
 
 /* Grows an array of `elem`-byte elements to hold at least `need`, keeping the first `used`. Returns
    the (possibly new) array, or NULL with *r set (the old array is then still owned by the caller). */
-static void *pvs__kd_grow(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need, size_t elem,
+PVS__STATIC void *pvs__kd_grow(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need, size_t elem,
                           pvs_result *r) {
     size_t cap = *capacity ? *capacity : 64, bytes;
     void *q;
@@ -1331,7 +1331,7 @@ static void *pvs__kd_grow(const pvs_allocator *a, void *p, size_t *capacity, siz
     return q;
 }
 
-static pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t base, size_t n) {
+PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t base, size_t n) {
     pvs_kdtree *t = b->tree;
     pvs_result r = PVS_OK;
     size_t i;
@@ -1354,7 +1354,7 @@ static pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t base,
    binning after Wald 2007): up to 31 planes per axis, fewer in small nodes. The counts are exact for
    the closed-interval distribution below (up to sampling in big nodes), so straddlers and boxes
    lying in a plane are costed as they will be stored. */
-static pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box, uint32_t depth) {
+PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box, uint32_t depth) {
     pvs_kdtree *t = b->tree;
     float ext[3], k0[3], k1[3], scale[3], inv_measure, inv_nb, best_cost, count_scale, split;
     int axis, best_axis = -1, best_k = 0, area, nb, valid[3];
@@ -1570,7 +1570,7 @@ typedef struct pvs__kdsweep {
     pvs_box box;      /* the node's cell */
 } pvs__kdsweep;
 
-static int pvs__kdsweep_before(const pvs__kdsweep *a, const pvs__kdsweep *b) {
+PVS__STATIC int pvs__kdsweep_before(const pvs__kdsweep *a, const pvs__kdsweep *b) {
     return a->d2 < b->d2 || (a->d2 == b->d2 && a->node < b->node);
 }
 
@@ -1756,13 +1756,13 @@ PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *t, const float p
 /* ---- scene ray casts ---- */
 
 /* Lexicographic order of points. */
-static int pvs__point_less(const float *a, const float *b) {
+PVS__STATIC int pvs__point_less(const float *a, const float *b) {
     if (a[0] != b[0]) return a[0] < b[0];
     if (a[1] != b[1]) return a[1] < b[1];
     return a[2] < b[2];
 }
 
-static pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err) {
+PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err) {
     uint32_t t;
     s->triangle_corners = (float *)pvs__alloc_array(&s->allocator, (size_t)s->triangle_count * 9, sizeof(float));
     if (!s->triangle_corners) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "triangle corners");
@@ -1794,7 +1794,7 @@ typedef struct pvs__ray {
     int kx, ky, kz;
 } pvs__ray;
 
-static int pvs__ray_setup(pvs__ray *r, const double o[3], const double d[3]) {
+PVS__STATIC int pvs__ray_setup(pvs__ray *r, const double o[3], const double d[3]) {
     double ax = fabs(d[0]), ay = fabs(d[1]), az = fabs(d[2]);
     r->kz = ax >= ay ? (ax >= az ? 0 : 2) : (ay >= az ? 1 : 2);
     if (d[r->kz] == 0.0 || !(d[r->kz] == d[r->kz])) return 0;
@@ -1810,10 +1810,10 @@ static int pvs__ray_setup(pvs__ray *r, const double o[3], const double d[3]) {
 /* 2D edge function of the sheared corners p, q: its sign says on which side of p-q the ray passes.
    Triangles store their corners sorted, so a shared edge is always evaluated as (p, q) in the same
    order, bit for bit the same in both triangles: a ray cannot slip between them. */
-static double pvs__edge(const double *p, const double *q) { return p[0] * q[1] - p[1] * q[0]; }
+PVS__STATIC double pvs__edge(const double *p, const double *q) { return p[0] * q[1] - p[1] * q[0]; }
 
 /* Two-sided watertight ray-triangle test: 1 and *t when the ray meets the triangle at 0 <= t <= tmax. */
-static int pvs__ray_triangle(const pvs__ray *r, const float *c, double tmax, double *t_out) {
+PVS__STATIC int pvs__ray_triangle(const pvs__ray *r, const float *c, double tmax, double *t_out) {
     double p[3][2], z[3], u, v, w, det, t;
     int k;
     for (k = 0; k < 3; ++k) {
@@ -1844,7 +1844,7 @@ typedef struct pvs__raycast {
     int any;            /* stop at the first hit */
 } pvs__raycast;
 
-static float pvs__raycast_leaf(void *user, const uint32_t *items, uint32_t count, float t_enter, float t_exit) {
+PVS__STATIC float pvs__raycast_leaf(void *user, const uint32_t *items, uint32_t count, float t_enter, float t_exit) {
     pvs__raycast *rc = (pvs__raycast *)user;
     uint32_t i;
     float f;
@@ -1941,7 +1941,7 @@ PVS_API const char *pvs_method_name(pvs_method m) {
 
 /* Sample point i of `points` in the cell: the 8 corners, the 6 face centres, then one jittered point
    in each of `points - 14` strata spread evenly over a g^k grid on the cell's k non-flat axes. */
-static void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t points, uint64_t *state, float p[3]) {
+PVS__STATIC void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t points, uint64_t *state, float p[3]) {
     int k;
     if (i < 8) {
         for (k = 0; k < 3; ++k) p[k] = (i >> k) & 1u ? cell->max[k] : cell->min[k];
@@ -2057,7 +2057,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
 }
 
 /* Checks a cell box: finite, min <= max. */
-static pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *err) {
+PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *err) {
     int k;
     for (k = 0; k < 3; ++k) {
         if (!pvs__finite(c->min[k]) || !pvs__finite(c->max[k]))
@@ -2153,7 +2153,7 @@ PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *b, uint32_t cell) {
     return b->pvs + (size_t)cell * b->words;
 }
 
-static void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
+PVS__STATIC void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
     memset(fd, 0, sizeof(*fd));
     fd->cells = b->cells;
     fd->cell_count = b->cell_count;
@@ -2165,7 +2165,7 @@ static void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
     fd->flags = b->method == PVS_METHOD_SAMPLE ? PVS_FILE_APPROXIMATE : 0u;
 }
 
-static int pvs__bake_all_done(const pvs_bake *b) {
+PVS__STATIC int pvs__bake_all_done(const pvs_bake *b) {
     uint32_t i;
     for (i = 0; i < b->cell_count; ++i)
         if (!b->done[i]) return 0;
@@ -2205,27 +2205,27 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__TAG_RECS PVS__TAG('R', 'E', 'C', 'S')
 #define PVS__CODING_GAP_VARINT 1u
 
-static void pvs__put32(uint8_t *p, uint32_t v) {
+PVS__STATIC void pvs__put32(uint8_t *p, uint32_t v) {
     p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24);
 }
-static uint32_t pvs__get32(const uint8_t *p) {
+PVS__STATIC uint32_t pvs__get32(const uint8_t *p) {
     return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
 }
-static void pvs__putf32(uint8_t *p, float f) {
+PVS__STATIC void pvs__putf32(uint8_t *p, float f) {
     uint32_t u;
     memcpy(&u, &f, 4);
     pvs__put32(p, u);
 }
-static float pvs__getf32(const uint8_t *p) {
+PVS__STATIC float pvs__getf32(const uint8_t *p) {
     uint32_t u = pvs__get32(p);
     float f;
     memcpy(&f, &u, 4);
     return f;
 }
-static size_t pvs__align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
+PVS__STATIC size_t pvs__align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
 
 /* LEB128 varint, at most 5 bytes. */
-static size_t pvs__put_varint(uint8_t *p, uint32_t v) {
+PVS__STATIC size_t pvs__put_varint(uint8_t *p, uint32_t v) {
     size_t n = 0;
     while (v >= 0x80u) {
         p[n++] = (uint8_t)(v | 0x80u);
@@ -2235,7 +2235,7 @@ static size_t pvs__put_varint(uint8_t *p, uint32_t v) {
     return n;
 }
 /* Reads a varint from p[0..end); returns bytes used, 0 if malformed (overlong, > 32 bits, cut off). */
-static size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_t *v) {
+PVS__STATIC size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_t *v) {
     uint32_t r = 0;
     size_t n;
     for (n = 0; n < 5; ++n) {
@@ -2255,8 +2255,8 @@ static size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_t *v)
 
 /* The record coding, behind one pair of functions: gap varints (coding 1). A worst-case record is
    5 + 5 * object_count bytes. */
-static size_t pvs__record_bound(uint32_t object_count) { return 5u + 5u * (size_t)object_count; }
-static size_t pvs__encode_record(const pvs_word *bits, uint32_t object_count, uint8_t *out) {
+PVS__STATIC size_t pvs__record_bound(uint32_t object_count) { return 5u + 5u * (size_t)object_count; }
+PVS__STATIC size_t pvs__encode_record(const pvs_word *bits, uint32_t object_count, uint8_t *out) {
     uint32_t n = pvs_bitset_count(bits, object_count), i, prev = 0;
     size_t len = pvs__put_varint(out, n);
     int first = 1;
@@ -2269,7 +2269,7 @@ static size_t pvs__encode_record(const pvs_word *bits, uint32_t object_count, ui
 }
 /* Decodes (bits != NULL) or only validates (bits == NULL) one record of exactly `size` bytes.
    Returns PVS_OK or BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at = the offending byte. */
-static pvs_result pvs__decode_record(const uint8_t *p, size_t size, uint32_t object_count, pvs_word *bits, size_t *bad_at) {
+PVS__STATIC pvs_result pvs__decode_record(const uint8_t *p, size_t size, uint32_t object_count, pvs_word *bits, size_t *bad_at) {
     const uint8_t *q = p, *end = p + size;
     uint32_t n, k, id = 0;
     size_t used = pvs__get_varint(q, end, &n);

@@ -145,42 +145,47 @@ void test_cli(void) {
     CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/g2.pvs --grid 0.0001", &out) == 1 && strstr(out, "exceed")); free(out);
     CHECK(!exists(DIR "/g2.pvs"));
 
-    /* malformed OBJ files: exit 1, file:line, no output file */
-    write_str(DIR "/m1.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n");
-    expect_bad("./pvsbake " DIR "/m1.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m1.obj:3:", "fewer than 3", DIR "/o.pvs");
-    write_str(DIR "/m2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
-    expect_bad("./pvsbake " DIR "/m2.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m2.obj:4:", "out of range", DIR "/o.pvs");
-    write_str(DIR "/m3.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n");
-    expect_bad("./pvsbake " DIR "/m3.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m3.obj:2:", "bad number", DIR "/o.pvs");
-    write_str(DIR "/m4.obj", "");
-    expect_bad("./pvsbake " DIR "/m4.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m4.obj", "empty", DIR "/o.pvs");
-    write_text(DIR "/m5.obj", "v 0 0 0\n\x01\x02\x00\xff binary", 17);
-    expect_bad("./pvsbake " DIR "/m5.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m5.obj:2:", "binary", DIR "/o.pvs");
-    write_str(DIR "/m6.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
-    expect_bad("./pvsbake " DIR "/m6.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m6.obj:2:", "not finite", DIR "/o.pvs");
-    write_str(DIR "/m7.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 0 3\n");
-    expect_bad("./pvsbake " DIR "/m7.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m7.obj:4:", "index 0", DIR "/o.pvs");
-    write_str(DIR "/m8.obj", "# nothing\nv 0 0 0\n");
-    expect_bad("./pvsbake " DIR "/m8.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/m8.obj", "no faces", DIR "/o.pvs");
+    /* malformed OBJ and cells files: exit 1, file:line, a specific phrase, no output file */
+    {
+        static const struct {
+            const char *name; /* written under DIR; ".obj" files are scenes, ".txt" files cells */
+            const char *text;
+            size_t len; /* 0: strlen(text) */
+            const char *where, *phrase;
+        } bad[] = {
+            {"m1.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", 0, "m1.obj:3:", "fewer than 3"},
+            {"m2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", 0, "m2.obj:4:", "out of range"},
+            {"m3.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n", 0, "m3.obj:2:", "bad number"},
+            {"m4.obj", "", 0, "m4.obj", "empty"},
+            {"m5.obj", "v 0 0 0\n\x01\x02\x00\xff binary", 17, "m5.obj:2:", "binary"},
+            {"m6.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 0, "m6.obj:2:", "not finite"},
+            {"m7.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 0 3\n", 0, "m7.obj:4:", "index 0"},
+            {"m8.obj", "# nothing\nv 0 0 0\n", 0, "m8.obj", "no faces"},
+            {"missing.obj", NULL, 0, "missing.obj", "cannot open"},
+            {"c1.txt", "0 0 0 1 1 1\n0 0 0 1 1\n", 0, "c1.txt:2:", "6 numbers"},
+            {"c2.txt", "0 0 0 1 1 1\n# c\n0 0 0 1 x 1\n", 0, "c2.txt:3:", "bad number"},
+            {"c3.txt", "0 0 0 1 inf 1\n", 0, "c3.txt:1:", "not finite"},
+            {"c4.txt", "0 2 0 1 1 1\n", 0, "c4.txt:1:", "min greater than max"},
+            {"c5.txt", "# only a comment\n", 0, "c5.txt", "no cells"},
+            {"c6.txt", "0 0 0 1 1 1\n\x7f\x01\x00", 15, "c6.txt:2:", "binary"},
+        };
+        size_t k;
+        for (k = 0; k < sizeof(bad) / sizeof(bad[0]); ++k) {
+            char path[256], cmd[1024], where[256];
+            int is_obj = strstr(bad[k].name, ".obj") != NULL;
+            snprintf(path, sizeof(path), DIR "/%s", bad[k].name);
+            snprintf(where, sizeof(where), DIR "/%s", bad[k].where);
+            if (bad[k].text) write_text(path, bad[k].text, bad[k].len ? bad[k].len : strlen(bad[k].text));
+            snprintf(cmd, sizeof(cmd), "./pvsbake %s -o " DIR "/o.pvs --cells %s", is_obj ? path : DIR "/scene.obj",
+                     is_obj ? DIR "/cells.txt" : path);
+            expect_bad(cmd, where, bad[k].phrase, DIR "/o.pvs");
+        }
+    }
     write_str(DIR "/m9.obj", "o flat\nv 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
     /* an object of zero-area triangles only is kept (ids follow the file) with a warning naming it */
     CHECK(run("./pvsbake " DIR "/m9.obj -o " DIR "/o9.pvs --cells " DIR "/cells.txt --rays 16 --points 2", &out) == 0 &&
           strstr(out, DIR "/m9.obj:1:") && strstr(out, "zero-area"));
     free(out);
-    expect_bad("./pvsbake " DIR "/missing.obj -o " DIR "/o.pvs --cells " DIR "/cells.txt", DIR "/missing.obj", "cannot open", DIR "/o.pvs");
-    /* malformed cells files */
-    write_str(DIR "/c1.txt", "0 0 0 1 1 1\n0 0 0 1 1\n");
-    expect_bad("./pvsbake " DIR "/scene.obj -o " DIR "/o.pvs --cells " DIR "/c1.txt", DIR "/c1.txt:2:", "6 numbers", DIR "/o.pvs");
-    write_str(DIR "/c2.txt", "0 0 0 1 1 1\n# c\n0 0 0 1 x 1\n");
-    expect_bad("./pvsbake " DIR "/scene.obj -o " DIR "/o.pvs --cells " DIR "/c2.txt", DIR "/c2.txt:3:", "bad number", DIR "/o.pvs");
-    write_str(DIR "/c3.txt", "0 0 0 1 inf 1\n");
-    expect_bad("./pvsbake " DIR "/scene.obj -o " DIR "/o.pvs --cells " DIR "/c3.txt", DIR "/c3.txt:1:", "not finite", DIR "/o.pvs");
-    write_str(DIR "/c4.txt", "0 2 0 1 1 1\n");
-    expect_bad("./pvsbake " DIR "/scene.obj -o " DIR "/o.pvs --cells " DIR "/c4.txt", DIR "/c4.txt:1:", "min greater than max", DIR "/o.pvs");
-    write_str(DIR "/c5.txt", "# only a comment\n");
-    expect_bad("./pvsbake " DIR "/scene.obj -o " DIR "/o.pvs --cells " DIR "/c5.txt", DIR "/c5.txt", "no cells", DIR "/o.pvs");
-    write_text(DIR "/c6.txt", "0 0 0 1 1 1\n\x7f\x01\x00", 15);
-    expect_bad("./pvsbake " DIR "/scene.obj -o " DIR "/o.pvs --cells " DIR "/c6.txt", DIR "/c6.txt:2:", "binary", DIR "/o.pvs");
     /* an output into a missing directory leaves nothing behind */
     rc = run("./pvsbake -q " DIR "/scene.obj -o " DIR "/nodir/o.pvs --cells " DIR "/cells.txt --rays 16 --points 2", &out);
     CHECK(rc == 1 && strstr(out, DIR "/nodir/o.pvs")); free(out);

@@ -9,7 +9,6 @@ static void *noalloc_malloc(size_t n) { ++noalloc_mallocs; return malloc(n); }
 #define PVS_MALLOC(n) noalloc_malloc(n)
 #define PVS_FREE(p) free(p)
 #if defined(__GNUC__)
-#pragma GCC diagnostic ignored "-Wunused-function"
 #endif
 #define PVS_STATIC
 #define PVS_IMPLEMENTATION
