@@ -17,9 +17,10 @@ TOOL_LIB := tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c to
 TOOL_HDR := pvs.h tools/mesh.h tools/obj.h tools/toolutil.h tools/gen.h tools/cli.h
 TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen
 TEST_SRC := tests/main.c tests/impl.c tests/test_core.c tests/test_format.c tests/test_noalloc.c tests/test_kdtree.c \
-            tests/test_gen.c tests/test_tools.c tests/test_cli.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c
+            tests/test_gen.c tests/test_tools.c tests/test_cli.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c \
+            tests/fuzz_target.c
 
-.PHONY: all tools test demo bench verify clean compile-checks readme-check
+.PHONY: all tools test demo bench verify fuzz clean compile-checks readme-check
 all: tools
 tools: $(TOOLS)
 
@@ -64,9 +65,27 @@ $(B)/bench_bake: tests/bench_bake.c $(TOOL_LIB) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_bake.c $(TOOL_LIB) $(LDLIBS)
 
-bench: $(B)/bench_kdtree $(B)/bench_bake
+$(B)/bench_file: tests/bench_file.c $(TOOL_LIB) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_file.c $(TOOL_LIB) $(LDLIBS)
+
+bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file
 	./$(B)/bench_kdtree
 	./$(B)/bench_bake
+	./$(B)/bench_file
+
+# Fuzzing the file reader: a libFuzzer build (clang) seeded with tests/corpus, FUZZ_SECONDS long, and
+# a plain replay binary (any compiler) that runs files through the same target.
+FUZZ_SECONDS ?= 60
+FUZZ_SRC := tests/fuzz_main.c tests/fuzz_target.c tests/impl.c
+$(B)/fuzz_replay: $(FUZZ_SRC) pvs.h
+	@mkdir -p $(B)
+	$(CC) -std=c99 -O1 -g -fsanitize=address,undefined -o $@ $(FUZZ_SRC) -lm
+fuzz: $(B)/fuzz_replay
+	@mkdir -p $(B)/fuzz-corpus
+	clang -std=c99 -O1 -g -DPVS_LIBFUZZER -fsanitize=fuzzer,address,undefined -o $(B)/fuzz_file $(FUZZ_SRC) -lm
+	./$(B)/fuzz_file -max_total_time=$(FUZZ_SECONDS) -max_len=65536 $(B)/fuzz-corpus tests/corpus
+	./$(B)/fuzz_replay tests/corpus/*
 
 verify: tools
 	sh tests/verify.sh

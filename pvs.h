@@ -1,4 +1,4 @@
-/* pvs.h - v0.1.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end of file)
+/* pvs.h - v0.2.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end of file)
 
    QUICK START
    ===========
@@ -25,7 +25,7 @@
        pvs_bake_begin(&bd, &bake, &err);
        for (uint32_t t = 0; t < pvs_bake_task_count(bake); ++t)   // any order, any thread
            pvs_bake_run_task(bake, t, &err);
-       size_t size = pvs_bake_file_bound(bake);
+       size_t size = pvs_bake_file_size(bake);
        void *file_bytes = my_alloc(size);                        // your memory
        pvs_bake_write_file(bake, file_bytes, size, &size, &err);  // the .pvs file, ready to save
        pvs_bake_destroy(bake);
@@ -104,28 +104,79 @@
 
    FILE FORMAT (version 1; all integers little-endian; offsets from the start of the file)
    ===========
+   A .pvs file is the delta-PVS of Durand et al. 2000 (§6.2): a few key cells store their PVS whole,
+   every other cell stores the objects that differ from a base cell, with a bound K on chain length.
+   pvs_file_open checks every rule below and rejects a file that breaks any (the code in brackets);
+   it is safe on untrusted bytes.
    header, 32 bytes:
-     0  u8[4]  magic "PVS\x1a"
-     4  u32    format version (PVS_FORMAT_VERSION); a reader rejects any other version
-     8  u32    file size in bytes (must equal the buffer size)
-     12 u32    section count S (1..64)
+     0  u8[4]  magic "PVS\x1a"                                             [BAD_MAGIC]
+     4  u32    format version (PVS_FORMAT_VERSION); a reader rejects any other [BAD_VERSION]. A
+               version changes only when a version-1 reader would misread a file; new optional
+               sections do not change it.
+     8  u32    file size in bytes (must equal the buffer size)                [TRUNCATED, BAD_HEADER]
+     12 u32    section count S (1..64)                                        [BAD_HEADER]
      16 u32    flags (PVS_FILE_APPROXIMATE = 1); unknown bits are ignored
-     20 u32    CRC-32 (IEEE) of bytes 0..19 and of the section table
-     24 u32[2] reserved, zero
-   section table at 32: S entries of 16 bytes: u32 tag, u32 offset, u32 size, u32 CRC-32 of the bytes.
-     Sections are 8-byte aligned, lie inside the file and do not overlap; every byte outside the
-     header, the table and the sections is zero padding. Tags are four ASCII
-     characters. A reader skips tags it does not know; every required tag appears exactly once.
-   "META" (required, 32 bytes): u32 cell_count, u32 object_count, u32 method (pvs_method),
-     f32 eps, u32 up_axis (1 or 2), u32 record_coding (1 = gap varints), u32[2] reserved zero.
-   "CELL" (required): cell_count boxes of 6 f32 (min xyz, max xyz), finite, min <= max.
-   "RECS" (required): u32 offsets[cell_count + 1], ascending, then the records. A record (coding 1)
-     is varint n followed by n varints: the first object id, then gaps minus one between ascending ids.
-     Varints are LEB128, at most 5 bytes, the value must fit 32 bits. Every id < object_count.
+     20 u32    CRC-32 (IEEE) of bytes 0..19 and of the section table          [CHECKSUM]
+     24 u32[2] reserved, zero                                                 [BAD_HEADER]
+   section table at 32: S entries of 16 bytes: u32 tag, u32 offset, u32 size, u32 CRC-32 of the
+     section's bytes [CHECKSUM]. Sections start 8-byte aligned, lie inside the file, do not overlap
+     and no tag repeats [BAD_SECTION, TRUNCATED]; every byte outside the header, the table and the
+     sections is zero padding [BAD_SECTION]. Tags are four ASCII characters; a reader skips tags it
+     does not know (room for later optional sections: virtual occluders, object names, ...). The
+     writer emits META, CELL, TREE, RECS, then SHRD for part files, in that order.
+   "META" (required, 32 bytes) [BAD_HEADER]:
+     0 u32 cell_count (1..2^30-1)   4 u32 object_count (1..2^32-2)   8 u32 method (pvs_method)
+     12 f32 eps (finite, >= 0)      16 u32 up_axis (1 = Y, 2 = Z)    20 u32 K, the chain bound (1..64)
+     24 u32 key cell count (1..cell_count, equal to the records' count)   28 u32 reserved zero
+   "CELL" (required): the cell boxes, as indices into per-axis coordinate tables [BAD_SECTION, BAD_CELL]:
+     0 u32 n[3]: distinct coordinates per axis (1..2 * cell_count)
+     12 u8 w[3]: index widths in bits, w = the bits needed for n - 1 (0 when n = 1); 15 u8 zero
+     16 f32 tables: n[0] values of axis 0, then axis 1, then axis 2; each finite, strictly
+        ascending, never -0 (the writer stores -0 as +0)
+     then the packed indices: per cell, in cell order, min0 min1 min2 max0 max1 max2 of widths
+        w0 w1 w2 w0 w1 w2 bits, least significant bit first, back to back; each index < n, min
+        index <= max index; the unused high bits of the last byte are zero. The section ends there.
+   "TREE" (required): the cell look-up kD-tree [BAD_TREE]:
+     0 u32 node count, 4 u32 zero, then the nodes in pre-order (node, left subtree, right subtree),
+     filling the section exactly. A node starts with varint h:
+       h & 3 = 3: a leaf of h >> 2 cells, then that many varints: the first cell id, then the gaps
+         minus one between ascending ids (every id < cell_count);
+       h & 3 = axis 0..2: an inner node splitting at value index h >> 2 (< n[axis]) of that axis's
+         table, then varint L, the byte size of its left subtree, which follows; the right subtree
+         starts L bytes later, exactly where the left one ends. At most 64 levels.
+     Look-up of a point p: p[axis] < split goes left, > split right, == split both; in a leaf the
+     lowest id whose closed box contains p. The writer puts a cell on the left when min < split or
+     max <= split and on the right when max > split, so every cell containing p is found.
+   "RECS" (required): the PVS records [BAD_SECTION, BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN]:
+     0 u32 block offsets[B + 1], B = ceil(cell_count / 16), from the section start: offsets[0] =
+       4 (B + 1), ascending, offsets[B] = the section size. Block b holds the records of cells
+       16b .. 16b + 15 back to back and nothing else.
+     A record: varint R, the byte count of the rest; varint head: coding = head & 3, depth = head >> 2
+       (0 = a key cell, else a delta, depth <= K); for a delta varint z, the base cell =
+       cell - (z even ? z / 2 : -(z + 1) / 2) (zigzag), which must be another cell with depth one
+       less (so chains end at a key within K steps and cannot cycle); then the body, a set of ids
+       < object_count in one of four codings, which must fill the record exactly:
+         0 gap varints: varint count, then count varints: the first id, then gaps minus one.
+         1 run lengths: varint pairs, then per pair varint zeros, varint ones - 1: alternating runs
+           from id 0 (zero runs after the first are >= 1); the set ends after the last ones run.
+         2 Rice codes: u8 k (0..24), varint count, then count codes, least significant bit first:
+           gap >> k as that many 1 bits and a 0 bit, then the k low bits of gap (gaps as in coding
+           0); the codes fill whole bytes, the unused high bits are zero.
+         3 raw bitset: ceil(object_count / 8) bytes, bit i of byte j = id 8j + i; bits past
+           object_count are zero.
+       A key's set is its PVS; a delta's set is its PVS XOR its base's PVS (the objects that enter
+       or leave: the same record leads from base to cell and back). The writer picks the smallest
+       coding, ties to the lower number.
+     Varints everywhere are LEB128, at most 5 bytes, the value fits 32 bits, no needless 0x80 bytes.
+   "SHRD" (optional, 16 bytes; part files of a sharded bake) [BAD_HEADER]: u32 shard index (0-based),
+     u32 shard count (>= 2), u32 total cell count, u32 zero. Cell j of the part is cell
+     index + j * count of the whole; cell_count must be the number of such cells.
 
    RECENT HISTORY
    ==============
-   0.1.0 (2026-11-22) scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container v1.
+   0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
+                      codings, compact cell tables and look-up tree, cursor, sharded bakes.
+   0.1.0 (2026-11-22) scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container.
 */
 // >>api
 #ifndef PVS_H
@@ -135,7 +186,7 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 1
+#define PVS_VERSION_MINOR 2
 #define PVS_VERSION_PATCH 0
 /* (major << 16) | (minor << 8) | patch */
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
@@ -184,7 +235,10 @@ typedef enum pvs_result {
     PVS_ERROR_BAD_HEADER = -19,        /* a header or META field with an impossible value */
     PVS_ERROR_NOT_DONE = -20,          /* a bake result asked for before every task ran */
     PVS_ERROR_UNSUPPORTED = -21,       /* the method cannot handle this input (the message says why) */
-    PVS_RESULT_MIN = -22               /* sentinel: every result is > PVS_RESULT_MIN */
+    PVS_ERROR_BAD_CHAIN = -22,         /* a delta record whose base chain is cyclic, too long or inconsistent */
+    PVS_ERROR_BAD_TREE = -23,          /* a malformed cell look-up tree in a .pvs file */
+    PVS_ERROR_SHARD_MISMATCH = -24,    /* part files that do not make up one bake (missing, repeated, different) */
+    PVS_RESULT_MIN = -25               /* sentinel: every result is > PVS_RESULT_MIN */
 } pvs_result;
 
 /* Where and why a call failed. Every fallible call takes an optional pvs_error* (NULL allowed). */
@@ -421,9 +475,14 @@ typedef struct pvs_bake_desc {
     uint32_t cell_count;
     pvs_method method;        /* PVS_METHOD_DEFAULT picks */
     float eps;                /* sampling / shrinking distance; 0 = derived from the cells */
-    uint32_t sample_points;   /* SAMPLE: points per cell, 0 = 64 */
-    uint32_t sample_rays;     /* SAMPLE: rays per point, 0 = 4096 */
+    uint32_t sample_points;   /* SAMPLE: points per cell, 0 = 32 */
+    uint32_t sample_rays;     /* SAMPLE: rays per point, 0 = 2048 */
     uint64_t seed;            /* SAMPLE: random seed */
+    uint32_t max_chain;       /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
+    /* Sharded bakes (build farms): with shard_count >= 2 this bake runs only cells shard_index,
+       shard_index + shard_count, ... and writes a part file; the parts of shard_index 0..shard_count-1
+       merge (decode them, pvs_file_encode the whole table) into the file an unsharded bake writes. */
+    uint32_t shard_index, shard_count;
     pvs_allocator allocator;
 } pvs_bake_desc;
 
@@ -432,7 +491,7 @@ typedef struct pvs_bake pvs_bake;
 /* Validates the desc and prepares the tasks. Errors: INVALID_ARGUMENT, BAD_CELL (err->index = cell),
    NOT_FINITE, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out_bake, pvs_error *err);
-/* Number of tasks (today one per cell). */
+/* Number of tasks (today one per cell of the shard). */
 PVS_API uint32_t pvs_bake_task_count(const pvs_bake *bake);
 /* The cell a task bakes. */
 PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *bake, uint32_t task);
@@ -441,11 +500,14 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *bake, uint32_t task, pvs_error *e
 /* The resolved parameters (method, eps). */
 PVS_API pvs_method pvs_bake_method(const pvs_bake *bake);
 PVS_API float pvs_bake_eps(const pvs_bake *bake);
-/* The PVS of a cell whose task has run, or NULL. PVS_BITSET_WORDS(object_count) words. */
+/* The PVS of a cell whose task has run, or NULL (also for cells of other shards).
+   PVS_BITSET_WORDS(object_count) words. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
-/* A byte count the file will not exceed (0 if not every task has run). */
-PVS_API size_t pvs_bake_file_bound(const pvs_bake *bake);
-/* Writes the .pvs file into out[0..capacity). Errors: NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW. */
+/* The exact size of the file (0 if not every task has run or on error). Encodes to measure: keep
+   the number rather than calling it twice. */
+PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
+/* Writes the .pvs file (a part file for a shard) into out[0..capacity); *out_size receives the size,
+   also with BUFFER_TOO_SMALL. Errors: NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *bake, void *out, size_t capacity, size_t *out_size, pvs_error *err);
 PVS_API void pvs_bake_destroy(pvs_bake *bake);
 
@@ -454,25 +516,39 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 /* File flags. */
 #define PVS_FILE_APPROXIMATE 1u /* baked by an estimator (SAMPLE): not conservative */
 
-/* A PVS table to encode: cell_count bitsets of PVS_BITSET_WORDS(object_count) words each. */
+#define PVS_DEFAULT_CHAIN 8u    /* default bound K on a cell's delta chain */
+#define PVS_MAX_CHAIN 64u       /* largest K a file may declare */
+
+/* A PVS table to encode: cell_count bitsets of PVS_BITSET_WORDS(object_count) words each.
+   The encoder (Durand et al. 2000, §6.2, delta-PVS) stores a few key cells whole and every other cell
+   as the ids that differ from a base cell; bases come from a depth-bounded minimum spanning tree over
+   the cells' nearest neighbours weighted by the coded delta size, each record in the smallest of four
+   codings. */
 typedef struct pvs_file_desc {
     const pvs_box *cells;
     uint32_t cell_count;
     uint32_t object_count;
-    const pvs_word *pvs;     /* cell-major */
+    const pvs_word *pvs;       /* cell-major */
     pvs_method method;
     float eps;
-    uint32_t up_axis;        /* 1 or 2 */
-    uint32_t flags;          /* PVS_FILE_* */
+    uint32_t up_axis;          /* 1 or 2 */
+    uint32_t flags;            /* PVS_FILE_* */
+    uint32_t max_chain;        /* K, the most deltas a decode applies: 0 = PVS_DEFAULT_CHAIN, else 1..PVS_MAX_CHAIN */
+    /* A part file of a sharded bake (shard_count >= 2): the table holds cells shard_index,
+       shard_index + shard_count, ... of total_cell_count, in that order. Zero for a whole file. */
+    uint32_t shard_index, shard_count, total_cell_count;
+    pvs_allocator allocator;   /* the encoder's scratch */
 } pvs_file_desc;
 
-/* Upper bound of the encoded size, 0 on overflow. */
-PVS_API size_t pvs_file_bound(const pvs_file_desc *desc);
-/* Encodes the table. Deterministic. Errors: INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW. */
+/* Encodes the table into out[0..capacity). *out_size receives the exact size, also when the buffer
+   is too small (BUFFER_TOO_SMALL; out may then be NULL): call once with NULL to learn it. The output
+   is a deterministic function of the desc. Errors: INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL,
+   COUNT_OVERFLOW (a file over 4 GiB), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size, pvs_error *err);
 
 /* An opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data,
-   no allocation; copy freely. Fields are read-only to the caller. */
+   no allocation; copy freely. Fields are read-only to the caller; those after `private_` are the
+   reader's own. */
 typedef struct pvs_file {
     const uint8_t *data;
     size_t size;
@@ -481,25 +557,76 @@ typedef struct pvs_file {
     pvs_method method;
     float eps;
     uint32_t up_axis;
-    const uint8_t *cells;    /* CELL section */
-    const uint8_t *records;  /* RECS section */
-    uint32_t records_size;
+    uint32_t max_chain;        /* K: no decode applies more deltas */
+    uint32_t key_count;        /* cells stored whole */
+    uint32_t shard_index, shard_count, total_cell_count; /* a part file when shard_count >= 2 */
+    struct {
+        const uint8_t *values[3];   /* CELL: per-axis coordinate tables */
+        const uint8_t *indices;     /* CELL: packed per-cell indices */
+        uint32_t value_count[3], index_bits[3], cell_bits;
+        const uint8_t *tree;        /* TREE: the node stream */
+        uint32_t node_count;
+        const uint8_t *records;     /* RECS */
+        uint32_t records_size, block_count;
+    } private_;
 } pvs_file;
 
-/* Validates everything (time linear in size) and fills *file. Safe on untrusted input. */
+/* Validates everything (time linear in the size, no allocation, never reads outside data[0..size))
+   and fills *file. Safe on untrusted input: every offset, size, count, checksum, coordinate, tree
+   link, record and base chain is checked, and later calls on an opened file cannot fail on the
+   file's content. Errors: INVALID_ARGUMENT, BAD_MAGIC, BAD_VERSION, TRUNCATED, BAD_HEADER,
+   BAD_SECTION, CHECKSUM, BAD_CELL, BAD_TREE, BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN; err->offset
+   is the offending byte and err->index the cell or section where one applies. */
 PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, pvs_error *err);
+
+/* How a cell's record is stored (pvsinfo prints these). */
+typedef struct pvs_record_info {
+    uint32_t base;             /* the cell the delta applies to, PVS_NO_CELL for a key cell */
+    uint32_t depth;            /* deltas applied to decode this cell (0 for a key cell) */
+    uint32_t coding;           /* 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
+    uint32_t bytes;            /* size of the record */
+} pvs_record_info;
+#define PVS_CODING_COUNT 4
+/* Fills *info for cell < cell_count. No allocation. */
+PVS_API void pvs_file_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
 
 /* ---- runtime --------------------------------------------------------------------------------- */
 
 #define PVS_NO_CELL 0xffffffffu
-/* The cell containing point p (boundaries included); of overlapping cells the lowest id; PVS_NO_CELL
-   when none. No allocation. */
+/* The cell containing point p (boundaries included), found through the file's look-up kD-tree. Of
+   overlapping cells the lowest id; PVS_NO_CELL when p is in no cell or not finite. No allocation. */
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *file, const float p[3]);
 /* The box of a cell (< cell_count). */
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
-/* Decodes a cell's PVS into bits[0..word_count), clearing it first. word_count must be at least
-   PVS_BITSET_WORDS(object_count). Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
+/* Decodes a cell's PVS into bits[0..word_count), clearing it first: the key at the end of the cell's
+   chain, then at most max_chain deltas. word_count must be at least PVS_BITSET_WORDS(object_count).
+   Iterate the set ids with pvs_bitset_next. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
 PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word *bits, size_t word_count, pvs_error *err);
+
+/* Called by the cursor for each object whose visibility changes: visible = 1 added, 0 removed. */
+typedef void (*pvs_change_fn)(void *user, uint32_t object, int visible);
+
+/* Follows a viewer from cell to cell and reports only the objects that change (Durand et al. 2000,
+   §6.2). Moving to a cell whose base is the current cell, or back to the current cell's base, applies
+   that one delta; any other move decodes the new cell into the scratch bitset and compares. Plain
+   data over caller memory; no allocation. */
+typedef struct pvs_cursor {
+    const pvs_file *file;
+    uint32_t cell;             /* current cell, PVS_NO_CELL before the first move */
+    pvs_word *bits;            /* the current PVS (read it, do not write it) */
+    pvs_word *scratch;
+    size_t word_count;
+    uint64_t delta_moves, full_moves; /* statistics: moves by one delta, by a full decode */
+} pvs_cursor;
+
+/* Starts a cursor with an empty set. bits and scratch: word_count >= PVS_BITSET_WORDS(object_count)
+   words each, distinct. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. */
+PVS_API pvs_result pvs_cursor_init(pvs_cursor *cursor, const pvs_file *file, pvs_word *bits, pvs_word *scratch,
+                                   size_t word_count, pvs_error *err);
+/* Moves to `cell` (PVS_NO_CELL empties the set), calling on_change (may be NULL) once per object that
+   enters or leaves the set, in ascending id order when the move decodes fully. Errors: INVALID_ARGUMENT
+   (cell out of range). */
+PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change_fn on_change, void *user);
 
 #ifdef __cplusplus
 }
@@ -571,6 +698,9 @@ PVS_API const char *pvs_result_string(pvs_result r) {
     case PVS_ERROR_BAD_HEADER: return "bad header";
     case PVS_ERROR_NOT_DONE: return "not done";
     case PVS_ERROR_UNSUPPORTED: return "unsupported";
+    case PVS_ERROR_BAD_CHAIN: return "bad delta chain";
+    case PVS_ERROR_BAD_TREE: return "bad cell look-up tree";
+    case PVS_ERROR_SHARD_MISMATCH: return "shard mismatch";
     default: return "unknown result";
     }
 }
@@ -2035,14 +2165,16 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
 struct pvs_bake {
     pvs_allocator allocator;
     const pvs_scene *scene;
-    pvs_box *cells;
-    uint32_t cell_count, object_count;
+    pvs_box *cells;            /* per task: the shard's cells in id order */
+    uint32_t cell_count;       /* the shard's (task_count) */
+    uint32_t total_cell_count, shard_index, shard_count;
+    uint32_t object_count;
     size_t words;              /* per cell */
     pvs_word *pvs;             /* cell_count * words */
     unsigned char *done;       /* cell_count flags, each written by its own task only */
     pvs_method method;
     float eps;
-    uint32_t sample_points, sample_rays;
+    uint32_t sample_points, sample_rays, max_chain;
     uint64_t seed;
 };
 
@@ -2077,6 +2209,10 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     if (!desc || !out || !desc->scene) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene and out_bake must not be NULL");
     if (!desc->cells || desc->cell_count == 0) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "no cells");
     if (desc->cell_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells");
+    if (desc->shard_count == 1 || (desc->shard_count && desc->shard_index >= desc->shard_count) || desc->shard_count > desc->cell_count)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u for %u cells", desc->shard_index, desc->shard_count,
+                         desc->cell_count);
+    if (desc->max_chain > PVS_MAX_CHAIN) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", desc->max_chain, PVS_MAX_CHAIN);
     if ((int)desc->method < 0 || desc->method >= PVS_METHOD_COUNT)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown method %d", (int)desc->method);
     if (!pvs__finite(desc->eps) || desc->eps < 0.0f)
@@ -2091,7 +2227,11 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     memset(b, 0, sizeof(*b));
     b->allocator = a;
     b->scene = desc->scene;
-    b->cell_count = desc->cell_count;
+    b->total_cell_count = desc->cell_count;
+    b->shard_count = desc->shard_count;
+    b->shard_index = desc->shard_count ? desc->shard_index : 0;
+    b->cell_count = desc->shard_count ? (desc->cell_count - desc->shard_index + desc->shard_count - 1) / desc->shard_count : desc->cell_count;
+    b->max_chain = desc->max_chain;
     b->object_count = pvs_scene_object_count(desc->scene);
     b->words = PVS_BITSET_WORDS(b->object_count);
     b->method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_SAMPLE : desc->method;
@@ -2099,21 +2239,21 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     b->sample_points = desc->sample_points ? desc->sample_points : 32;
     b->sample_rays = desc->sample_rays ? desc->sample_rays : 2048;
     b->seed = desc->seed;
-    if (!pvs__mul(b->words, desc->cell_count, &total) || !pvs__mul(total, sizeof(pvs_word), &i)) {
+    if (!pvs__mul(b->words, b->cell_count, &total) || !pvs__mul(total, sizeof(pvs_word), &i)) {
         pvs_bake_destroy(b);
         return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "%u cells x %u objects do not fit in memory", desc->cell_count,
                          b->object_count);
     }
-    b->cells = (pvs_box *)pvs__alloc_array(&a, desc->cell_count, sizeof(pvs_box));
+    b->cells = (pvs_box *)pvs__alloc_array(&a, b->cell_count, sizeof(pvs_box));
     b->pvs = (pvs_word *)pvs__alloc_array(&a, total, sizeof(pvs_word));
-    b->done = (unsigned char *)pvs__alloc_array(&a, desc->cell_count, 1);
+    b->done = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
     if (!b->cells || !b->pvs || !b->done) {
         pvs_bake_destroy(b);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake arrays for %u cells", desc->cell_count);
     }
-    memcpy(b->cells, desc->cells, desc->cell_count * sizeof(pvs_box));
+    for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
     memset(b->pvs, 0, total * sizeof(pvs_word));
-    memset(b->done, 0, desc->cell_count);
+    memset(b->done, 0, b->cell_count);
     *out = b;
     pvs__ok(err);
     return PVS_OK;
@@ -2122,7 +2262,7 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
 PVS_API uint32_t pvs_bake_task_count(const pvs_bake *b) { return b->cell_count; }
 PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *b, uint32_t task) {
     PVS_ASSERT(task < b->cell_count);
-    return task;
+    return b->shard_count ? b->shard_index + task * b->shard_count : task;
 }
 PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
 PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->eps; }
@@ -2132,25 +2272,30 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
     pvs_word *bits;
     if (!b || task >= b->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "task %u out of range", task);
     cell = pvs_bake_task_cell(b, task);
-    bits = b->pvs + (size_t)cell * b->words;
+    bits = b->pvs + (size_t)task * b->words;
     memset(bits, 0, b->words * sizeof(pvs_word));
     switch (b->method) {
     case PVS_METHOD_SAMPLE: {
         /* per-cell seed: independent of the order and thread the tasks run in */
         uint64_t state = b->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull);
-        pvs_sample_visibility(b->scene, b->cells + cell, b->sample_points, b->sample_rays, pvs__splitmix64(&state), bits);
+        pvs_sample_visibility(b->scene, b->cells + task, b->sample_points, b->sample_rays, pvs__splitmix64(&state), bits);
         break;
     }
     default: return pvs__fail(err, PVS_ERROR_UNSUPPORTED, cell, 0, "method %d", (int)b->method);
     }
-    b->done[cell] = 1;
+    b->done[task] = 1;
     pvs__ok(err);
     return PVS_OK;
 }
 
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *b, uint32_t cell) {
-    if (cell >= b->cell_count || !b->done[cell]) return NULL;
-    return b->pvs + (size_t)cell * b->words;
+    uint32_t task = cell;
+    if (b->shard_count) {
+        if (cell < b->shard_index || (cell - b->shard_index) % b->shard_count) return NULL;
+        task = (cell - b->shard_index) / b->shard_count;
+    }
+    if (task >= b->cell_count || !b->done[task]) return NULL;
+    return b->pvs + (size_t)task * b->words;
 }
 
 PVS__STATIC void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
@@ -2163,6 +2308,11 @@ PVS__STATIC void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
     fd->eps = b->eps;
     fd->up_axis = pvs_scene_up_axis(b->scene);
     fd->flags = b->method == PVS_METHOD_SAMPLE ? PVS_FILE_APPROXIMATE : 0u;
+    fd->max_chain = b->max_chain;
+    fd->shard_index = b->shard_index;
+    fd->shard_count = b->shard_count;
+    fd->total_cell_count = b->shard_count ? b->total_cell_count : 0;
+    fd->allocator = b->allocator;
 }
 
 PVS__STATIC int pvs__bake_all_done(const pvs_bake *b) {
@@ -2172,38 +2322,50 @@ PVS__STATIC int pvs__bake_all_done(const pvs_bake *b) {
     return 1;
 }
 
-PVS_API size_t pvs_bake_file_bound(const pvs_bake *b) {
+PVS_API size_t pvs_bake_file_size(const pvs_bake *b) {
     pvs_file_desc fd;
-    if (!pvs__bake_all_done(b)) return 0;
+    size_t size = 0;
+    if (!b || !pvs__bake_all_done(b)) return 0;
     pvs__bake_file_desc(b, &fd);
-    return pvs_file_bound(&fd);
+    return pvs_file_encode(&fd, NULL, 0, &size, NULL) == PVS_ERROR_BUFFER_TOO_SMALL ? size : 0;
 }
 
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
     pvs_file_desc fd;
     uint32_t i;
     if (!b) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bake is NULL");
+    if (out_size) *out_size = 0;
     for (i = 0; i < b->cell_count; ++i)
-        if (!b->done[i]) return pvs__fail(err, PVS_ERROR_NOT_DONE, i, 0, "cell %u has not been baked", i);
+        if (!b->done[i]) return pvs__fail(err, PVS_ERROR_NOT_DONE, pvs_bake_task_cell(b, i), 0, "cell %u has not been baked", pvs_bake_task_cell(b, i));
     pvs__bake_file_desc(b, &fd);
     return pvs_file_encode(&fd, out, capacity, out_size, err);
 }
 
 // >>format
 /* ---------------------------------------------------------------------------------------------- */
-/* format: the .pvs file (layout in the manual at the top)                                        */
+/* format: the .pvs file (layout in the manual at the top): delta-PVS encoder (Durand et al. 2000,  */
+/* §6.2), set codings, validating zero-copy reader                                                */
 /* ---------------------------------------------------------------------------------------------- */
 
 #define PVS__HEADER_SIZE 32u
 #define PVS__SECTION_ENTRY 16u
 #define PVS__MAX_SECTIONS 64u
 #define PVS__META_SIZE 32u
-#define PVS__CELL_BYTES 24u
+#define PVS__CELL_HEAD 16u
+#define PVS__TREE_HEAD 8u
+#define PVS__TREE_MAX_DEPTH 64u        /* deepest look-up tree a reader accepts */
+#define PVS__SHRD_SIZE 16u
+#define PVS__BLOCK 16u                  /* records per block of the RECS offset table */
+#define PVS__CANDIDATES 8u              /* base candidates per cell: nearest cells by the sweep */
+#define PVS__TREE_LEAF 4u               /* most cells per look-up leaf */
+#define PVS__RICE_MAX_K 24u
 #define PVS__TAG(a, b, c, d) ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))
 #define PVS__TAG_META PVS__TAG('M', 'E', 'T', 'A')
 #define PVS__TAG_CELL PVS__TAG('C', 'E', 'L', 'L')
+#define PVS__TAG_TREE PVS__TAG('T', 'R', 'E', 'E')
 #define PVS__TAG_RECS PVS__TAG('R', 'E', 'C', 'S')
-#define PVS__CODING_GAP_VARINT 1u
+#define PVS__TAG_SHRD PVS__TAG('S', 'H', 'R', 'D')
+enum { PVS__CODING_GAPS = 0, PVS__CODING_RUNS = 1, PVS__CODING_RICE = 2, PVS__CODING_BITMAP = 3 };
 
 PVS__STATIC void pvs__put32(uint8_t *p, uint32_t v) {
     p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24);
@@ -2234,6 +2396,7 @@ PVS__STATIC size_t pvs__put_varint(uint8_t *p, uint32_t v) {
     p[n++] = (uint8_t)v;
     return n;
 }
+PVS__STATIC size_t pvs__varint_size(uint32_t v) { return v < (1u << 7) ? 1 : v < (1u << 14) ? 2 : v < (1u << 21) ? 3 : v < (1u << 28) ? 4 : 5; }
 /* Reads a varint from p[0..end); returns bytes used, 0 if malformed (overlong, > 32 bits, cut off). */
 PVS__STATIC size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_t *v) {
     uint32_t r = 0;
@@ -2252,155 +2415,1100 @@ PVS__STATIC size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_
     }
     return 0;
 }
-
-/* The record coding, behind one pair of functions: gap varints (coding 1). A worst-case record is
-   5 + 5 * object_count bytes. */
-PVS__STATIC size_t pvs__record_bound(uint32_t object_count) { return 5u + 5u * (size_t)object_count; }
-PVS__STATIC size_t pvs__encode_record(const pvs_word *bits, uint32_t object_count, uint8_t *out) {
-    uint32_t n = pvs_bitset_count(bits, object_count), i, prev = 0;
-    size_t len = pvs__put_varint(out, n);
-    int first = 1;
-    for (i = pvs_bitset_next(bits, object_count, 0); i < object_count; i = pvs_bitset_next(bits, object_count, i + 1)) {
-        len += pvs__put_varint(out + len, first ? i : i - prev - 1);
-        prev = i;
-        first = 0;
+/* A varint known to be well formed (validated by pvs_file_open). */
+PVS__STATIC const uint8_t *pvs__skip_varint(const uint8_t *p, uint32_t *v) {
+    uint32_t r = 0;
+    int s = 0;
+    while (*p & 0x80u) {
+        r |= (uint32_t)(*p++ & 0x7fu) << s;
+        s += 7;
     }
-    return len;
+    *v = r | ((uint32_t)*p++ << s);
+    return p;
 }
-/* Decodes (bits != NULL) or only validates (bits == NULL) one record of exactly `size` bytes.
-   Returns PVS_OK or BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at = the offending byte. */
-PVS__STATIC pvs_result pvs__decode_record(const uint8_t *p, size_t size, uint32_t object_count, pvs_word *bits, size_t *bad_at) {
-    const uint8_t *q = p, *end = p + size;
-    uint32_t n, k, id = 0;
-    size_t used = pvs__get_varint(q, end, &n);
-    if (!used) { *bad_at = 0; return PVS_ERROR_BAD_RECORD; }
-    q += used;
-    if (n > object_count) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-    for (k = 0; k < n; ++k) {
-        uint32_t g;
-        uint64_t next;
-        used = pvs__get_varint(q, end, &g);
-        if (!used) { *bad_at = (size_t)(q - p); return PVS_ERROR_BAD_RECORD; }
-        next = k == 0 ? (uint64_t)g : (uint64_t)id + 1u + g;
-        if (next >= object_count) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-        id = (uint32_t)next;
-        if (bits) bits[id >> 6] |= (pvs_word)1 << (id & 63);
-        q += used;
+
+/* Bit fields, least significant bit first. w <= 32; the reader touches only the bytes that hold
+   bits [pos, pos + w). */
+PVS__STATIC void pvs__put_bits(uint8_t *s, uint64_t pos, uint32_t v, uint32_t w) {
+    uint32_t i;
+    for (i = 0; i < w; ++i)
+        if ((v >> i) & 1u) s[(pos + i) >> 3] |= (uint8_t)(1u << ((pos + i) & 7u));
+}
+PVS__STATIC uint32_t pvs__get_bits(const uint8_t *s, uint64_t pos, uint32_t w) {
+    uint64_t v = 0;
+    size_t at = (size_t)(pos >> 3), i, n;
+    uint32_t shift = (uint32_t)(pos & 7u);
+    if (!w) return 0;
+    n = (shift + w + 7u) >> 3;
+    for (i = 0; i < n; ++i) v |= (uint64_t)s[at + i] << (8 * i);
+    return (uint32_t)((v >> shift) & (((uint64_t)1 << w) - 1u));
+}
+PVS__STATIC uint32_t pvs__bits_for(uint32_t max_value) { /* bits to hold 0..max_value */
+    uint32_t w = 0;
+    while (w < 32 && (max_value >> w)) ++w;
+    return w;
+}
+
+/* Bits [bit, bit + 56) of a stream of nbits bits (zeros past its end), least significant first. */
+PVS__STATIC uint64_t pvs__peek56(const uint8_t *s, uint64_t nbits, uint64_t bit) {
+    size_t at = (size_t)(bit >> 3), n = (size_t)((nbits + 7) >> 3), i;
+    uint64_t v = 0;
+    if (at + 8 <= n) {
+        for (i = 0; i < 8; ++i) v |= (uint64_t)s[at + i] << (8 * i);
+    } else {
+        for (i = 0; at + i < n; ++i) v |= (uint64_t)s[at + i] << (8 * i);
     }
-    if (q != end) { *bad_at = (size_t)(q - p); return PVS_ERROR_BAD_RECORD; }
+    return (v >> (bit & 7u)) & (((uint64_t)1 << 56) - 1u);
+}
+
+/* The first clear bit at or after `from`, or bit_count. */
+PVS__STATIC uint32_t pvs__bitset_next_clear(const pvs_word *bits, uint32_t bit_count, uint32_t from) {
+    uint32_t w;
+    pvs_word x;
+    if (from >= bit_count) return bit_count;
+    w = from >> 6;
+    x = ~bits[w] & (~(pvs_word)0 << (from & 63));
+    while (!x) {
+        if ((++w << 6) >= bit_count) return bit_count;
+        x = ~bits[w];
+    }
+    w = (w << 6) + pvs__ctz64(x);
+    return w < bit_count ? w : bit_count;
+}
+
+/* ---- set codings ---- */
+
+/* A set of ids in [0, n) is coded four ways (the manual gives the bytes); the encoder keeps the
+   smallest, ties to the lowest coding. Rice codes (Golomb codes with a power-of-two divisor) suit the
+   geometric gaps of sparse random sets; run lengths suit the contiguous id ranges that spatially
+   ordered objects give; the raw bitset caps the worst case at n / 8 bytes. */
+typedef struct pvs__coded {
+    uint32_t coding, rice_k;
+    size_t bytes;              /* body size */
+} pvs__coded;
+
+PVS__STATIC pvs__coded pvs__set_measure(const pvs_word *bits, uint32_t n) {
+    uint64_t rice_bits[PVS__RICE_MAX_K + 1];
+    size_t gaps = 0, runs = 0;
+    uint32_t count = 0, pairs = 0, i, prev = 0, k, pos = 0;
+    pvs__coded best;
+    memset(rice_bits, 0, sizeof(rice_bits));
+    for (i = pvs_bitset_next(bits, n, 0); i < n; i = pvs_bitset_next(bits, n, i + 1)) {
+        uint32_t g = count ? i - prev - 1 : i;
+        gaps += pvs__varint_size(g);
+        for (k = 0; k <= PVS__RICE_MAX_K; ++k) rice_bits[k] += 1u + k + (g >> k);
+        prev = i;
+        ++count;
+    }
+    while (pos < n) { /* (zeros, ones) pairs */
+        uint32_t one = pvs_bitset_next(bits, n, pos), zero;
+        if (one >= n) break;
+        zero = pvs__bitset_next_clear(bits, n, one);
+        runs += pvs__varint_size(one - pos) + pvs__varint_size(zero - one - 1);
+        ++pairs;
+        pos = zero;
+    }
+    best.coding = PVS__CODING_GAPS;
+    best.rice_k = 0;
+    best.bytes = pvs__varint_size(count) + gaps;
+    if (pvs__varint_size(pairs) + runs < best.bytes) {
+        best.coding = PVS__CODING_RUNS;
+        best.bytes = pvs__varint_size(pairs) + runs;
+    }
+    for (k = 0; k <= PVS__RICE_MAX_K; ++k) {
+        size_t b = 1 + pvs__varint_size(count) + (size_t)((rice_bits[k] + 7) / 8);
+        if (b < best.bytes) {
+            best.coding = PVS__CODING_RICE;
+            best.rice_k = k;
+            best.bytes = b;
+        }
+    }
+    if (((size_t)n + 7) / 8 < best.bytes) {
+        best.coding = PVS__CODING_BITMAP;
+        best.bytes = ((size_t)n + 7) / 8;
+    }
+    return best;
+}
+
+/* Writes the body (best.bytes bytes, zeroed first). */
+PVS__STATIC void pvs__set_write(const pvs_word *bits, uint32_t n, const pvs__coded *c, uint8_t *out) {
+    uint8_t *o = out;
+    uint32_t i, prev = 0, count = 0, pos = 0;
+    memset(out, 0, c->bytes);
+    switch (c->coding) {
+    case PVS__CODING_GAPS:
+        o += pvs__put_varint(o, pvs_bitset_count(bits, n));
+        for (i = pvs_bitset_next(bits, n, 0); i < n; i = pvs_bitset_next(bits, n, i + 1)) {
+            o += pvs__put_varint(o, count ? i - prev - 1 : i);
+            prev = i;
+            ++count;
+        }
+        break;
+    case PVS__CODING_RUNS: {
+        uint32_t pairs = 0;
+        while (pos < n) {
+            uint32_t one = pvs_bitset_next(bits, n, pos);
+            if (one >= n) break;
+            pos = pvs__bitset_next_clear(bits, n, one);
+            ++pairs;
+        }
+        o += pvs__put_varint(o, pairs);
+        pos = 0;
+        while (pairs--) {
+            uint32_t one = pvs_bitset_next(bits, n, pos), zero = pvs__bitset_next_clear(bits, n, one);
+            o += pvs__put_varint(o, one - pos);
+            o += pvs__put_varint(o, zero - one - 1);
+            pos = zero;
+        }
+        break;
+    }
+    case PVS__CODING_RICE: {
+        uint64_t bit = 0;
+        uint32_t k = c->rice_k;
+        *o++ = (uint8_t)k;
+        o += pvs__put_varint(o, pvs_bitset_count(bits, n));
+        for (i = pvs_bitset_next(bits, n, 0); i < n; i = pvs_bitset_next(bits, n, i + 1)) {
+            uint32_t g = count ? i - prev - 1 : i, q = g >> k, j;
+            for (j = 0; j < q; ++j, ++bit) o[bit >> 3] |= (uint8_t)(1u << (bit & 7u));
+            ++bit; /* the terminating zero */
+            pvs__put_bits(o, bit, g & (k ? (uint32_t)((((uint64_t)1) << k) - 1u) : 0u), k);
+            bit += k;
+            prev = i;
+            ++count;
+        }
+        break;
+    }
+    default: /* bitmap */
+        for (i = 0; i < (n + 7) / 8; ++i) out[i] = (uint8_t)(bits[i >> 3] >> (8 * (i & 7)));
+        break;
+    }
+}
+
+/* Toggles the ids of a coded set into bits (XOR), reporting each change through fn when given, or
+   only validates the body when bits is NULL. The body is p[0..end). Returns PVS_OK, or BAD_RECORD /
+   OBJECT_OUT_OF_RANGE with *bad_at = the offending byte's offset in the body. Ids come in ascending
+   order in every coding. */
+PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint32_t coding, uint32_t n, pvs_word *bits,
+                                      pvs_change_fn fn, void *user, size_t *bad_at) {
+    const uint8_t *q = p;
+    uint32_t count, k;
+#define PVS__TOGGLE(id)                                                                                  \
+    do {                                                                                                 \
+        if (bits) {                                                                                      \
+            bits[(id) >> 6] ^= (pvs_word)1 << ((id) & 63);                                               \
+            if (fn) fn(user, (id), (int)((bits[(id) >> 6] >> ((id) & 63)) & 1u));                          \
+        }                                                                                                \
+    } while (0)
+    switch (coding) {
+    case PVS__CODING_GAPS: {
+        uint64_t id = 0;
+        size_t used = pvs__get_varint(q, end, &count);
+        if (!used) goto bad;
+        q += used;
+        if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+        for (k = 0; k < count; ++k) {
+            uint32_t g;
+            used = pvs__get_varint(q, end, &g);
+            if (!used) goto bad;
+            id = k ? id + 1u + g : g;
+            if (id >= n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+            PVS__TOGGLE((uint32_t)id);
+            q += used;
+        }
+        break;
+    }
+    case PVS__CODING_RUNS: {
+        uint64_t pos = 0;
+        size_t used = pvs__get_varint(q, end, &count);
+        if (!used) goto bad;
+        q += used;
+        for (k = 0; k < count; ++k) {
+            uint32_t z, o;
+            uint64_t i;
+            used = pvs__get_varint(q, end, &z);
+            if (!used) goto bad;
+            if (k && !z) goto bad; /* runs of ones are maximal */
+            q += used;
+            used = pvs__get_varint(q, end, &o);
+            if (!used) goto bad;
+            if (pos + z + o + 1u > n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+            q += used;
+            pos += z;
+            if (bits && !fn && o >= 64) { /* whole words at a time */
+                uint64_t e = pos + o + 1u;
+                while (pos < e && (pos & 63)) { bits[pos >> 6] ^= (pvs_word)1 << (pos & 63); ++pos; }
+                while (pos + 64 <= e) { bits[pos >> 6] = ~bits[pos >> 6]; pos += 64; }
+                while (pos < e) { bits[pos >> 6] ^= (pvs_word)1 << (pos & 63); ++pos; }
+            } else {
+                for (i = 0; i <= o; ++i) PVS__TOGGLE((uint32_t)(pos + i));
+                pos += (uint64_t)o + 1u;
+            }
+        }
+        break;
+    }
+    case PVS__CODING_RICE: {
+        uint64_t bit = 0, nbits, id = 0;
+        size_t used;
+        if (q >= end) goto bad;
+        k = *q++;
+        if (k > PVS__RICE_MAX_K) goto bad;
+        used = pvs__get_varint(q, end, &count);
+        if (!used) goto bad;
+        q += used;
+        if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+        nbits = (uint64_t)(end - q) * 8u;
+        {
+            uint32_t c;
+            for (c = 0; c < count; ++c) {
+                uint64_t quot = 0, g, w = pvs__peek56(q, nbits, bit);
+                uint32_t ones;
+                if (~w & (((uint64_t)1 << 56) - 1u)) { /* the quotient's terminating zero is in the window */
+                    ones = pvs__ctz64(~w);
+                    quot = ones;
+                    if (bit + ones + 1u + k > nbits) goto bad;
+                    if (quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+                    g = ones + 1u + k <= 56u ? (w >> (ones + 1u)) & (((uint64_t)1 << k) - 1u) : pvs__get_bits(q, bit + ones + 1u, k);
+                    bit += ones + 1u + k;
+                } else {
+                    for (;;) { /* a long unary run: bit by bit */
+                        uint32_t b1;
+                        if (bit >= nbits) goto bad;
+                        b1 = (q[bit >> 3] >> (bit & 7u)) & 1u;
+                        ++bit;
+                        if (!b1) break;
+                        if (++quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+                    }
+                    if (bit + k > nbits) goto bad;
+                    g = pvs__get_bits(q, bit, k);
+                    bit += k;
+                }
+                g |= quot << k;
+                id = c ? id + 1u + g : g;
+                if (id >= n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+                PVS__TOGGLE((uint32_t)id);
+            }
+        }
+        /* the stream fills whole bytes exactly; the unused high bits are zero */
+        if ((bit + 7) / 8 != (uint64_t)(end - q)) { q += (size_t)((bit + 7) / 8); goto bad; }
+        if ((bit & 7u) && (q[bit >> 3] >> (bit & 7u))) { q += (size_t)(bit >> 3); goto bad; }
+        q = end;
+        break;
+    }
+    case PVS__CODING_BITMAP: {
+        size_t nb = ((size_t)n + 7) / 8, i;
+        if ((size_t)(end - q) != nb) goto bad;
+        if ((n & 7u) && (q[nb - 1] >> (n & 7u))) { *bad_at = nb - 1; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+        if (bits && !fn) {
+            for (i = 0; i < nb; ++i) bits[i >> 3] ^= (pvs_word)q[i] << (8 * (i & 7));
+        } else if (bits) {
+            for (i = 0; i < nb; ++i) {
+                uint32_t b = q[i];
+                while (b) {
+                    uint32_t id = (uint32_t)(8 * i) + pvs__ctz64(b);
+                    b &= b - 1u;
+                    PVS__TOGGLE(id);
+                }
+            }
+        }
+        q = end;
+        break;
+    }
+    default: goto bad;
+    }
+#undef PVS__TOGGLE
+    if (q != end) goto bad;
+    return PVS_OK;
+bad:
+    *bad_at = (size_t)(q - p);
+    return PVS_ERROR_BAD_RECORD;
+}
+
+/* ---- encoder ---- */
+
+typedef struct pvs__heapent {
+    uint32_t weight, node, from; /* from: the base cell + 1, 0 for the virtual root (a key cell) */
+} pvs__heapent;
+
+PVS__STATIC int pvs__heap_less(const pvs__heapent *a, const pvs__heapent *b) {
+    if (a->weight != b->weight) return a->weight < b->weight;
+    if (a->node != b->node) return a->node < b->node;
+    return a->from < b->from;
+}
+PVS__STATIC void pvs__heap_push(pvs__heapent *h, size_t *n, pvs__heapent e) {
+    size_t i = (*n)++;
+    while (i > 0) {
+        size_t parent = (i - 1) / 2;
+        if (!pvs__heap_less(&e, h + parent)) break;
+        h[i] = h[parent];
+        i = parent;
+    }
+    h[i] = e;
+}
+PVS__STATIC pvs__heapent pvs__heap_pop(pvs__heapent *h, size_t *n) {
+    pvs__heapent top = h[0], last = h[--*n];
+    size_t i = 0;
+    for (;;) {
+        size_t c = 2 * i + 1;
+        if (c >= *n) break;
+        if (c + 1 < *n && pvs__heap_less(h + c + 1, h + c)) ++c;
+        if (!pvs__heap_less(h + c, &last)) break;
+        h[i] = h[c];
+        i = c;
+    }
+    if (*n) h[i] = last;
+    return top;
+}
+
+PVS__STATIC int pvs__float_cmp(const void *a, const void *b) {
+    float x = *(const float *)a, y = *(const float *)b;
+    return x < y ? -1 : x > y;
+}
+/* Index of v in the sorted unique table t[0..n). */
+PVS__STATIC uint32_t pvs__value_index(const float *t, uint32_t n, float v) {
+    uint32_t lo = 0, hi = n - 1;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (t[mid] < v) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+/* ---- the stored cell look-up tree ---- */
+
+/* The file's look-up tree is a kD-tree over the cells whose splits are cell coordinates (indices into
+   the CELL tables) and whose split rule never copies touching neighbours: p < split goes left, p > split
+   right, p == split both ways; left holds the cells with min < split or max <= split, right those
+   with max > split. Each node splits at the median cell edge of the axis that halves the cells best;
+   leaves hold at most PVS__TREE_LEAF cells (fewer than that if no split separates them). */
+typedef struct pvs__tnode {
+    uint32_t axis;             /* 0..2, or PVS__KD_LEAF */
+    uint32_t split;            /* value index (inner) or item count (leaf) */
+    uint32_t left, right;      /* node indices (inner) */
+    uint32_t first;            /* leaf: offset of its ids in items */
+    size_t bytes;              /* serialized size of the subtree */
+} pvs__tnode;
+
+typedef struct pvs__tbuild {
+    const pvs_allocator *a;
+    const pvs_box *boxes;
+    pvs__tnode *nodes;
+    size_t node_count, node_capacity;
+    uint32_t *items;
+    size_t item_count, item_capacity;
+    float *keys;               /* scratch: n floats */
+    const float *values[3];
+    const uint32_t *value_count;
+} pvs__tbuild;
+
+PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint32_t n, uint32_t depth, uint32_t *out) {
+    pvs_result r = PVS_OK;
+    uint32_t node, i, best_axis = 3, best_score = n, k;
+    float best_v = 0.0f;
+    b->nodes = (pvs__tnode *)pvs__kd_grow(b->a, b->nodes, &b->node_capacity, b->node_count, b->node_count + 1, sizeof(pvs__tnode), &r);
+    if (!b->nodes) return r;
+    node = (uint32_t)b->node_count++;
+    *out = node;
+    memset(b->nodes + node, 0, sizeof(pvs__tnode));
+    if (n > PVS__TREE_LEAF && depth < PVS__TREE_MAX_DEPTH - 1) {
+        for (k = 0; k < 3; ++k) {
+            int side;
+            for (side = 0; side < 2; ++side) {
+                uint32_t left = 0, right = 0, score;
+                float v;
+                for (i = 0; i < n; ++i) b->keys[i] = side ? b->boxes[ids[i]].max[k] : b->boxes[ids[i]].min[k];
+                qsort(b->keys, n, sizeof(float), pvs__float_cmp);
+                v = b->keys[n / 2];
+                for (i = 0; i < n; ++i) {
+                    const pvs_box *c = b->boxes + ids[i];
+                    left += c->min[k] < v || c->max[k] <= v;
+                    right += c->max[k] > v;
+                }
+                score = left > right ? left : right;
+                if (left < n && right < n && score < best_score) {
+                    best_score = score;
+                    best_axis = k;
+                    best_v = v;
+                }
+            }
+        }
+    }
+    if (best_axis == 3) { /* leaf: ids ascending */
+        b->items = (uint32_t *)pvs__kd_grow(b->a, b->items, &b->item_capacity, b->item_count, b->item_count + n, sizeof(uint32_t), &r);
+        if (!b->items) return r;
+        b->nodes[node].axis = PVS__KD_LEAF;
+        b->nodes[node].split = n;
+        b->nodes[node].first = (uint32_t)b->item_count;
+        memcpy(b->items + b->item_count, ids, n * sizeof(uint32_t));
+        b->item_count += n;
+        return PVS_OK;
+    }
+    {
+        uint32_t *sub = (uint32_t *)pvs__alloc_array(b->a, n, sizeof(uint32_t)), m = 0, child;
+        if (!sub) return PVS_ERROR_OUT_OF_MEMORY;
+        b->nodes[node].axis = best_axis;
+        b->nodes[node].split = pvs__value_index(b->values[best_axis], b->value_count[best_axis], best_v);
+        for (i = 0; i < n; ++i) {
+            const pvs_box *c = b->boxes + ids[i];
+            if (c->min[best_axis] < best_v || c->max[best_axis] <= best_v) sub[m++] = ids[i];
+        }
+        r = pvs__tree_node(b, sub, m, depth + 1, &child);
+        if (r == PVS_OK) {
+            b->nodes[node].left = child;
+            for (i = 0, m = 0; i < n; ++i)
+                if (b->boxes[ids[i]].max[best_axis] > best_v) sub[m++] = ids[i];
+            r = pvs__tree_node(b, sub, m, depth + 1, &child);
+            b->nodes[node].right = child;
+        }
+        pvs__free_array(b->a, sub, n, sizeof(uint32_t));
+        return r;
+    }
+}
+
+/* Serialized sizes, bottom up (children have larger indices than their parent). */
+PVS__STATIC void pvs__tree_sizes(pvs__tbuild *b) {
+    size_t i = b->node_count;
+    while (i--) {
+        pvs__tnode *t = b->nodes + i;
+        if (t->axis == PVS__KD_LEAF) {
+            uint32_t j;
+            t->bytes = pvs__varint_size((t->split << 2) | PVS__KD_LEAF);
+            for (j = 0; j < t->split; ++j)
+                t->bytes += pvs__varint_size(j ? b->items[t->first + j] - b->items[t->first + j - 1] - 1 : b->items[t->first]);
+        } else {
+            size_t ls = b->nodes[t->left].bytes;
+            t->bytes = pvs__varint_size((t->split << 2) | t->axis) + pvs__varint_size((uint32_t)ls) + ls + b->nodes[t->right].bytes;
+        }
+    }
+}
+
+/* Pre-order: node, left subtree, right subtree. */
+PVS__STATIC uint8_t *pvs__tree_write(const pvs__tbuild *b, uint32_t node, uint8_t *o) {
+    const pvs__tnode *t = b->nodes + node;
+    if (t->axis == PVS__KD_LEAF) {
+        uint32_t j;
+        o += pvs__put_varint(o, (t->split << 2) | PVS__KD_LEAF);
+        for (j = 0; j < t->split; ++j) o += pvs__put_varint(o, j ? b->items[t->first + j] - b->items[t->first + j - 1] - 1 : b->items[t->first]);
+        return o;
+    }
+    o += pvs__put_varint(o, (t->split << 2) | t->axis);
+    o += pvs__put_varint(o, (uint32_t)b->nodes[t->left].bytes);
+    o = pvs__tree_write(b, t->left, o);
+    return pvs__tree_write(b, t->right, o);
+}
+
+typedef struct pvs__candidates {
+    uint32_t self, count, list[PVS__CANDIDATES];
+} pvs__candidates;
+
+PVS__STATIC pvs_visit pvs__collect_candidates(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
+                                              uint32_t item_count) {
+    pvs__candidates *c = (pvs__candidates *)user;
+    uint32_t i, j;
+    (void)node_box;
+    (void)distance;
+    for (i = 0; i < item_count; ++i) {
+        uint32_t it = items[i];
+        if (it == c->self) continue;
+        for (j = 0; j < c->count && c->list[j] != it; ++j) {}
+        if (j < c->count) continue;
+        c->list[c->count++] = it;
+        if (c->count == PVS__CANDIDATES) return PVS_VISIT_STOP;
+    }
+    return PVS_VISIT_DESCEND;
+}
+
+typedef struct pvs__link {
+    uint32_t a, b, weight;
+} pvs__link;
+PVS__STATIC int pvs__edge_cmp(const void *x, const void *y) {
+    const pvs__link *e = (const pvs__link *)x, *f = (const pvs__link *)y;
+    if (e->a != f->a) return e->a < f->a ? -1 : 1;
+    if (e->b != f->b) return e->b < f->b ? -1 : 1;
+    return 0;
+}
+
+PVS__STATIC uint32_t pvs__zigzag(int64_t d) { return (uint32_t)(d >= 0 ? 2 * (uint64_t)d : 2 * (uint64_t)(-d) - 1u); }
+PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z >> 1) + 1u) : (int64_t)(z >> 1); }
+
+/* Everything the encoder allocates, freed in one place. */
+typedef struct pvs__encoder {
+    pvs_allocator a;
+    const pvs_file_desc *d;
+    uint32_t n, cells;
+    size_t words;
+    pvs_box *boxes;            /* the cells with -0 replaced by +0 (what the file stores) */
+    float *values[3];
+    uint32_t value_count[3], index_bits[3];
+    pvs_kdtree *tree;          /* over the cells: base candidates */
+    uint8_t *tree_stream;      /* the TREE section's nodes */
+    size_t tree_bytes;
+    uint32_t tree_nodes;
+    void *sweep;
+    size_t sweep_size;
+    pvs__link *edges;
+    size_t edge_count, edge_capacity;
+    uint32_t *adj_start;       /* CSR over the symmetric candidate graph */
+    uint32_t *adj;             /* (neighbour, weight) pairs */
+    pvs__heapent *heap;
+    size_t heap_capacity;
+    uint32_t *base, *depth;    /* base = PVS_NO_CELL for keys */
+    unsigned char *placed;
+    pvs_word *tmp;
+    uint8_t *recs;
+    size_t recs_capacity;
+} pvs__encoder;
+
+PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
+    const pvs_allocator *a = &e->a;
+    int k;
+    for (k = 0; k < 3; ++k) pvs__free_array(a, e->values[k], 2 * (size_t)e->cells, sizeof(float));
+    pvs__free_array(a, e->boxes, e->cells, sizeof(pvs_box));
+    pvs_kdtree_destroy(e->tree);
+    pvs__free_array(a, e->tree_stream, e->tree_bytes, 1);
+    pvs__free(a, e->sweep, e->sweep_size, 16);
+    pvs__free_array(a, e->edges, e->edge_capacity, sizeof(pvs__link));
+    pvs__free_array(a, e->adj_start, (size_t)e->cells + 1, sizeof(uint32_t));
+    pvs__free_array(a, e->adj, 4 * e->edge_capacity, sizeof(uint32_t));
+    pvs__free_array(a, e->heap, e->heap_capacity, sizeof(pvs__heapent));
+    pvs__free_array(a, e->base, e->cells, sizeof(uint32_t));
+    pvs__free_array(a, e->depth, e->cells, sizeof(uint32_t));
+    pvs__free_array(a, e->placed, e->cells, 1);
+    pvs__free_array(a, e->tmp, e->words, sizeof(pvs_word));
+    pvs__free_array(a, e->recs, e->recs_capacity, 1);
+}
+
+/* tmp = cell i's set (masked to n bits), XOR base j's when j != PVS_NO_CELL. */
+PVS__STATIC void pvs__encoder_set(pvs__encoder *e, uint32_t i, uint32_t j) {
+    const pvs_word *x = e->d->pvs + (size_t)i * e->words;
+    size_t w;
+    if (j == PVS_NO_CELL) {
+        memcpy(e->tmp, x, e->words * sizeof(pvs_word));
+    } else {
+        const pvs_word *y = e->d->pvs + (size_t)j * e->words;
+        for (w = 0; w < e->words; ++w) e->tmp[w] = x[w] ^ y[w];
+    }
+    if (e->n & 63) e->tmp[e->words - 1] &= ((pvs_word)1 << (e->n & 63)) - 1u;
+}
+PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) {
+    size_t b;
+    pvs__encoder_set(e, i, j);
+    b = pvs__set_measure(e->tmp, e->n).bytes + 2u + (j == PVS_NO_CELL ? 0u : 1u);
+    return b > 0xffffffffu ? 0xffffffffu : (uint32_t)b;
+}
+
+/* Bases: candidate edges from each cell to its nearest cells (the kD-tree sweep), weighted by the
+   coded size of the symmetric difference; a virtual root joined to every cell by its key size; then
+   Prim's minimum spanning tree from the root in which an edge is taken only while the chain stays
+   within K deltas (a greedy depth-bounded MST). A cell whose cheapest admissible link is the root
+   becomes a key: "key cells where a delta does not pay". Ties break by (weight, cell, base), so the
+   result is a function of the table alone. */
+PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
+    const pvs_allocator *a = &e->a;
+    uint32_t i, c;
+    size_t k, m, heap_n = 0;
+    pvs_result r = PVS_OK;
+    e->edge_capacity = (size_t)e->cells * PVS__CANDIDATES;
+    e->edges = (pvs__link *)pvs__alloc_array(a, e->edge_capacity, sizeof(pvs__link));
+    e->adj_start = (uint32_t *)pvs__alloc_array(a, (size_t)e->cells + 1, sizeof(uint32_t));
+    e->adj = (uint32_t *)pvs__alloc_array(a, 4 * e->edge_capacity, sizeof(uint32_t));
+    e->base = (uint32_t *)pvs__alloc_array(a, e->cells, sizeof(uint32_t));
+    e->depth = (uint32_t *)pvs__alloc_array(a, e->cells, sizeof(uint32_t));
+    e->placed = (unsigned char *)pvs__alloc_array(a, e->cells, 1);
+    e->sweep_size = pvs_kdtree_sweep_scratch_size(e->tree);
+    e->sweep = pvs__alloc(a, e->sweep_size ? e->sweep_size : 1, 16);
+    if (!e->edges || !e->adj_start || !e->adj || !e->base || !e->depth || !e->placed || !e->sweep)
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "encoder graph for %u cells", e->cells);
+    for (i = 0; i < e->cells; ++i) {
+        pvs__candidates cand;
+        cand.self = i;
+        cand.count = 0;
+        r = pvs_kdtree_sweep(e->tree, e->boxes + i, e->sweep, e->sweep_size, pvs__collect_candidates, &cand);
+        if (r != PVS_OK) return pvs__fail(err, r, i, 0, "base candidates of cell %u", i);
+        for (c = 0; c < cand.count; ++c) {
+            pvs__link *ed = e->edges + e->edge_count++;
+            ed->a = i < cand.list[c] ? i : cand.list[c];
+            ed->b = i < cand.list[c] ? cand.list[c] : i;
+            ed->weight = 0;
+        }
+    }
+    /* unique undirected edges, weighted */
+    qsort(e->edges, e->edge_count, sizeof(pvs__link), pvs__edge_cmp);
+    for (k = 0, m = 0; k < e->edge_count; ++k)
+        if (!m || e->edges[k].a != e->edges[m - 1].a || e->edges[k].b != e->edges[m - 1].b) e->edges[m++] = e->edges[k];
+    e->edge_count = m;
+    memset(e->adj_start, 0, ((size_t)e->cells + 1) * sizeof(uint32_t));
+    for (k = 0; k < m; ++k) {
+        e->edges[k].weight = pvs__encoder_cost(e, e->edges[k].a, e->edges[k].b);
+        ++e->adj_start[e->edges[k].a + 1];
+        ++e->adj_start[e->edges[k].b + 1];
+    }
+    for (i = 0; i < e->cells; ++i) e->adj_start[i + 1] += e->adj_start[i];
+    {
+        /* fill: a second cursor per cell in depth[] (reused as scratch before Prim) */
+        for (i = 0; i < e->cells; ++i) e->depth[i] = e->adj_start[i];
+        for (k = 0; k < m; ++k) {
+            uint32_t x = e->edges[k].a, y = e->edges[k].b, w = e->edges[k].weight;
+            e->adj[2 * (size_t)e->depth[x]] = y;
+            e->adj[2 * (size_t)e->depth[x] + 1] = w;
+            ++e->depth[x];
+            e->adj[2 * (size_t)e->depth[y]] = x;
+            e->adj[2 * (size_t)e->depth[y] + 1] = w;
+            ++e->depth[y];
+        }
+    }
+    e->heap_capacity = (size_t)e->cells + 2 * m + 1;
+    e->heap = (pvs__heapent *)pvs__alloc_array(a, e->heap_capacity, sizeof(pvs__heapent));
+    if (!e->heap) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "encoder heap");
+    memset(e->placed, 0, e->cells);
+    for (i = 0; i < e->cells; ++i) {
+        pvs__heapent h;
+        h.weight = pvs__encoder_cost(e, i, PVS_NO_CELL);
+        h.node = i;
+        h.from = 0;
+        pvs__heap_push(e->heap, &heap_n, h);
+    }
+    while (heap_n) {
+        pvs__heapent h = pvs__heap_pop(e->heap, &heap_n);
+        uint32_t v = h.node, j;
+        if (e->placed[v]) continue;
+        if (h.from && e->depth[h.from - 1] >= max_chain) continue; /* the chain would grow past K */
+        e->placed[v] = 1;
+        e->base[v] = h.from ? h.from - 1 : PVS_NO_CELL;
+        e->depth[v] = h.from ? e->depth[h.from - 1] + 1 : 0;
+        for (j = e->adj_start[v]; j < e->adj_start[v + 1]; ++j) {
+            uint32_t u = e->adj[2 * (size_t)j];
+            if (!e->placed[u]) {
+                pvs__heapent g;
+                g.weight = e->adj[2 * (size_t)j + 1];
+                g.node = u;
+                g.from = v + 1;
+                pvs__heap_push(e->heap, &heap_n, g);
+            }
+        }
+    }
     return PVS_OK;
 }
 
-PVS_API size_t pvs_file_bound(const pvs_file_desc *d) {
-    size_t total = PVS__HEADER_SIZE + 3 * PVS__SECTION_ENTRY, t;
-    if (!d || !d->cell_count) return 0;
-    total = pvs__align8(total) + PVS__META_SIZE;
-    if (!pvs__mul(d->cell_count, PVS__CELL_BYTES, &t) || !pvs__add(total, t, &total)) return 0;
-    total = pvs__align8(total);
-    if (!pvs__mul((size_t)d->cell_count + 1, 4, &t) || !pvs__add(total, t, &total)) return 0;
-    if (!pvs__mul(d->cell_count, pvs__record_bound(d->object_count), &t) || !pvs__add(total, t, &total)) return 0;
-    return pvs__align8(total);
+/* Writes the RECS section body into e->recs (or measures it when e->recs is NULL). */
+PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
+    uint32_t blocks = (e->cells + PVS__BLOCK - 1) / PVS__BLOCK, i;
+    size_t pos = 4 * ((size_t)blocks + 1);
+    for (i = 0; i < e->cells; ++i) {
+        pvs__coded c;
+        uint32_t head, zz = 0;
+        size_t inner;
+        if (out && i % PVS__BLOCK == 0) pvs__put32(out + 4 * (size_t)(i / PVS__BLOCK), (uint32_t)pos);
+        pvs__encoder_set(e, i, e->base[i]);
+        c = pvs__set_measure(e->tmp, e->n);
+        head = c.coding | (e->depth[i] << 2);
+        if (e->base[i] != PVS_NO_CELL) zz = pvs__zigzag((int64_t)i - (int64_t)e->base[i]);
+        inner = pvs__varint_size(head) + (e->base[i] != PVS_NO_CELL ? pvs__varint_size(zz) : 0) + c.bytes;
+        if (out) {
+            uint8_t *o = out + pos;
+            o += pvs__put_varint(o, (uint32_t)inner);
+            o += pvs__put_varint(o, head);
+            if (e->base[i] != PVS_NO_CELL) o += pvs__put_varint(o, zz);
+            pvs__set_write(e->tmp, e->n, &c, o);
+        }
+        pos += pvs__varint_size((uint32_t)inner) + inner;
+    }
+    if (out) pvs__put32(out + 4 * (size_t)blocks, (uint32_t)pos);
+    return pos;
 }
 
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
-    uint8_t *o = (uint8_t *)out, *rec;
-    size_t bound, meta_at, cell_at, recs_at, pos, words;
-    uint32_t i;
+    pvs__encoder e;
+    pvs_result r = PVS_OK;
+    uint32_t i, k, max_chain, sections, keys = 0;
+    size_t at[5], sz[5], total, cell_bytes, recs_size, index_bits_total;
+    uint32_t tags[5];
+    uint8_t *o = (uint8_t *)out;
     if (out_size) *out_size = 0;
-    if (!d || !out || !d->cells || !d->pvs || !d->cell_count || !d->object_count)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, out, cells and pvs must not be NULL or empty");
+    if (!d || !d->cells || !d->pvs || !d->cell_count || !d->object_count)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, cells and pvs must not be NULL or empty");
     if (d->up_axis != 1 && d->up_axis != 2) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "up_axis must be 1 or 2");
-    if ((int)d->method < 0 || d->method >= PVS_METHOD_COUNT || !pvs__finite(d->eps))
+    if ((int)d->method < 0 || d->method >= PVS_METHOD_COUNT || !pvs__finite(d->eps) || d->eps < 0.0f)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bad method or eps");
+    if (d->cell_count == PVS_NO_CELL || d->object_count == 0xffffffffu || d->cell_count > 0x3fffffffu)
+        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells or objects");
+    max_chain = d->max_chain ? d->max_chain : PVS_DEFAULT_CHAIN;
+    if (max_chain > PVS_MAX_CHAIN) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", max_chain, PVS_MAX_CHAIN);
+    if (d->shard_count == 1 || (d->shard_count && (d->shard_index >= d->shard_count || d->total_cell_count == PVS_NO_CELL ||
+                                                   d->cell_count != (d->total_cell_count - d->shard_index + d->shard_count - 1) / d->shard_count)))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u does not hold %u of %u cells", d->shard_index,
+                         d->shard_count, d->cell_count, d->total_cell_count);
     for (i = 0; i < d->cell_count; ++i) {
-        pvs_result r = pvs__check_cell(d->cells + i, i, err);
+        r = pvs__check_cell(d->cells + i, i, err);
         if (r != PVS_OK) return r;
     }
-    bound = pvs_file_bound(d);
-    if (!bound || bound > 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the file would exceed 4 GiB");
-    words = PVS_BITSET_WORDS(d->object_count);
-    meta_at = pvs__align8(PVS__HEADER_SIZE + 3 * PVS__SECTION_ENTRY);
-    cell_at = meta_at + PVS__META_SIZE;
-    recs_at = pvs__align8(cell_at + (size_t)d->cell_count * PVS__CELL_BYTES);
-    /* records are written straight into the output when it is large enough for the bound, else
-       the exact size is measured first */
-    {
-        size_t need = recs_at + 4 * ((size_t)d->cell_count + 1), recs = 0;
-        uint8_t tmp[5];
-        for (i = 0; i < d->cell_count; ++i) {
-            const pvs_word *bits = d->pvs + (size_t)i * words;
-            uint32_t k, prev = 0;
-            int first = 1;
-            recs += pvs__put_varint(tmp, pvs_bitset_count(bits, d->object_count));
-            for (k = pvs_bitset_next(bits, d->object_count, 0); k < d->object_count; k = pvs_bitset_next(bits, d->object_count, k + 1)) {
-                recs += pvs__put_varint(tmp, first ? k : k - prev - 1);
-                prev = k;
-                first = 0;
-            }
-        }
-        need = pvs__align8(need + recs);
-        if (capacity < need)
-            return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "need %llu bytes, have %llu", (unsigned long long)need,
-                             (unsigned long long)capacity);
-        memset(o, 0, need);
-        bound = need;
-    }
-    /* META */
-    pvs__put32(o + meta_at + 0, d->cell_count);
-    pvs__put32(o + meta_at + 4, d->object_count);
-    pvs__put32(o + meta_at + 8, (uint32_t)d->method);
-    pvs__putf32(o + meta_at + 12, d->eps);
-    pvs__put32(o + meta_at + 16, d->up_axis);
-    pvs__put32(o + meta_at + 20, PVS__CODING_GAP_VARINT);
-    /* CELL */
-    for (i = 0; i < d->cell_count; ++i) {
-        uint8_t *c = o + cell_at + (size_t)i * PVS__CELL_BYTES;
-        int k;
+    memset(&e, 0, sizeof(e));
+    e.a = d->allocator;
+    e.d = d;
+    e.n = d->object_count;
+    e.cells = d->cell_count;
+    e.words = PVS_BITSET_WORDS(d->object_count);
+
+    /* CELL: per-axis tables of the distinct coordinates (-0 stored as +0), bit-packed indices */
+    e.boxes = (pvs_box *)pvs__alloc_array(&e.a, e.cells, sizeof(pvs_box));
+    if (!e.boxes) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell boxes"); goto done; }
+    for (i = 0; i < e.cells; ++i)
         for (k = 0; k < 3; ++k) {
-            pvs__putf32(c + 4 * k, d->cells[i].min[k]);
-            pvs__putf32(c + 12 + 4 * k, d->cells[i].max[k]);
+            e.boxes[i].min[k] = d->cells[i].min[k] + 0.0f;
+            e.boxes[i].max[k] = d->cells[i].max[k] + 0.0f;
+        }
+    for (k = 0; k < 3; ++k) {
+        float *v = (float *)pvs__alloc_array(&e.a, 2 * (size_t)e.cells, sizeof(float));
+        uint32_t n = 0;
+        if (!v) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell coordinate tables"); goto done; }
+        e.values[k] = v;
+        for (i = 0; i < e.cells; ++i) {
+            v[2 * i] = e.boxes[i].min[k];
+            v[2 * i + 1] = e.boxes[i].max[k];
+        }
+        qsort(v, 2 * (size_t)e.cells, sizeof(float), pvs__float_cmp);
+        for (i = 0; i < 2 * e.cells; ++i)
+            if (!n || v[i] != v[n - 1]) v[n++] = v[i];
+        e.value_count[k] = n;
+        e.index_bits[k] = pvs__bits_for(n - 1);
+    }
+    index_bits_total = 2 * (size_t)(e.index_bits[0] + e.index_bits[1] + e.index_bits[2]) * e.cells;
+    cell_bytes = PVS__CELL_HEAD + 4 * ((size_t)e.value_count[0] + e.value_count[1] + e.value_count[2]) + (index_bits_total + 7) / 8;
+
+    /* the library's kD-tree over the cells finds base candidates; TREE is the compact look-up tree */
+    {
+        pvs_kdtree_desc td;
+        memset(&td, 0, sizeof(td));
+        td.boxes = e.boxes;
+        td.count = e.cells;
+        td.allocator = e.a;
+        r = pvs_kdtree_create(&td, &e.tree, err);
+        if (r != PVS_OK) goto done;
+    }
+    {
+        pvs__tbuild tb;
+        uint32_t *ids = (uint32_t *)pvs__alloc_array(&e.a, e.cells, sizeof(uint32_t)), root = 0;
+        memset(&tb, 0, sizeof(tb));
+        tb.a = &e.a;
+        tb.boxes = e.boxes;
+        tb.keys = (float *)pvs__alloc_array(&e.a, e.cells, sizeof(float));
+        for (k = 0; k < 3; ++k) tb.values[k] = e.values[k];
+        tb.value_count = e.value_count;
+        if (ids && tb.keys) {
+            for (i = 0; i < e.cells; ++i) ids[i] = i;
+            r = pvs__tree_node(&tb, ids, e.cells, 0, &root);
+        } else {
+            r = PVS_ERROR_OUT_OF_MEMORY;
+        }
+        pvs__free_array(&e.a, ids, e.cells, sizeof(uint32_t));
+        pvs__free_array(&e.a, tb.keys, e.cells, sizeof(float));
+        if (r == PVS_OK) {
+            pvs__tree_sizes(&tb);
+            e.tree_bytes = tb.nodes[0].bytes;
+            e.tree_nodes = (uint32_t)tb.node_count;
+            e.tree_stream = (uint8_t *)pvs__alloc_array(&e.a, e.tree_bytes, 1);
+            if (!e.tree_stream) r = PVS_ERROR_OUT_OF_MEMORY;
+            else pvs__tree_write(&tb, 0, e.tree_stream);
+        }
+        pvs__free_array(&e.a, tb.nodes, tb.node_capacity, sizeof(pvs__tnode));
+        pvs__free_array(&e.a, tb.items, tb.item_capacity, sizeof(uint32_t));
+        if (r != PVS_OK) { r = pvs__fail(err, r, -1, 0, "cell look-up tree"); goto done; }
+    }
+
+    /* RECS */
+    e.tmp = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
+    if (!e.tmp) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "encoder bitset"); goto done; }
+    r = pvs__encoder_bases(&e, max_chain, err);
+    if (r != PVS_OK) goto done;
+    for (i = 0; i < e.cells; ++i) keys += e.base[i] == PVS_NO_CELL;
+    recs_size = pvs__encoder_records(&e, NULL);
+
+    /* layout: header, table, META, CELL, TREE, RECS, [SHRD], each 8-aligned */
+    sections = d->shard_count ? 5u : 4u;
+    tags[0] = PVS__TAG_META; sz[0] = PVS__META_SIZE;
+    tags[1] = PVS__TAG_CELL; sz[1] = cell_bytes;
+    tags[2] = PVS__TAG_TREE; sz[2] = PVS__TREE_HEAD + e.tree_bytes;
+    tags[3] = PVS__TAG_RECS; sz[3] = recs_size;
+    tags[4] = PVS__TAG_SHRD; sz[4] = PVS__SHRD_SIZE;
+    total = pvs__align8(PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)sections);
+    for (k = 0; k < sections; ++k) {
+        at[k] = total;
+        total = pvs__align8(total + sz[k]);
+    }
+    if (total > 0xffffffffu) { r = pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the file would exceed 4 GiB"); goto done; }
+    if (out_size) *out_size = total;
+    if (!o || capacity < total) {
+        r = pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "need %llu bytes, have %llu", (unsigned long long)total,
+                      (unsigned long long)(o ? capacity : 0));
+        goto done;
+    }
+    memset(o, 0, total);
+    { /* META */
+        uint8_t *m = o + at[0];
+        pvs__put32(m + 0, e.cells);
+        pvs__put32(m + 4, e.n);
+        pvs__put32(m + 8, (uint32_t)d->method);
+        pvs__putf32(m + 12, d->eps);
+        pvs__put32(m + 16, d->up_axis);
+        pvs__put32(m + 20, max_chain);
+        pvs__put32(m + 24, keys);
+    }
+    { /* CELL */
+        uint8_t *c = o + at[1], *v, *bits;
+        uint64_t pos = 0;
+        for (k = 0; k < 3; ++k) {
+            pvs__put32(c + 4 * k, e.value_count[k]);
+            c[12 + k] = (uint8_t)e.index_bits[k];
+        }
+        v = c + PVS__CELL_HEAD;
+        for (k = 0; k < 3; ++k)
+            for (i = 0; i < e.value_count[k]; ++i, v += 4) pvs__putf32(v, e.values[k][i]);
+        bits = v;
+        for (i = 0; i < e.cells; ++i) {
+            int side;
+            for (side = 0; side < 2; ++side)
+                for (k = 0; k < 3; ++k) {
+                    float x = side ? e.boxes[i].max[k] : e.boxes[i].min[k];
+                    pvs__put_bits(bits, pos, pvs__value_index(e.values[k], e.value_count[k], x), e.index_bits[k]);
+                    pos += e.index_bits[k];
+                }
         }
     }
-    /* RECS */
-    rec = o + recs_at;
-    pos = 4 * ((size_t)d->cell_count + 1);
-    for (i = 0; i < d->cell_count; ++i) {
-        pvs__put32(rec + 4 * (size_t)i, (uint32_t)pos);
-        pos += pvs__encode_record(d->pvs + (size_t)i * words, d->object_count, rec + pos);
+    { /* TREE */
+        pvs__put32(o + at[2], e.tree_nodes);
+        memcpy(o + at[2] + PVS__TREE_HEAD, e.tree_stream, e.tree_bytes);
     }
-    pvs__put32(rec + 4 * (size_t)d->cell_count, (uint32_t)pos);
+    (void)pvs__encoder_records(&e, o + at[3]);
+    if (d->shard_count) {
+        uint8_t *s = o + at[4];
+        pvs__put32(s + 0, d->shard_index);
+        pvs__put32(s + 4, d->shard_count);
+        pvs__put32(s + 8, d->total_cell_count);
+    }
     /* header and section table */
     memcpy(o, "PVS\x1a", 4);
     pvs__put32(o + 4, PVS_FORMAT_VERSION);
-    pvs__put32(o + 8, (uint32_t)bound);
-    pvs__put32(o + 12, 3);
+    pvs__put32(o + 8, (uint32_t)total);
+    pvs__put32(o + 12, sections);
     pvs__put32(o + 16, d->flags);
+    for (k = 0; k < sections; ++k) {
+        uint8_t *en = o + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * k;
+        pvs__put32(en + 0, tags[k]);
+        pvs__put32(en + 4, (uint32_t)at[k]);
+        pvs__put32(en + 8, (uint32_t)sz[k]);
+        pvs__put32(en + 12, pvs__crc32(0, o + at[k], sz[k]));
+    }
     {
-        const uint32_t tags[3] = {PVS__TAG_META, PVS__TAG_CELL, PVS__TAG_RECS};
-        const size_t at[3] = {meta_at, cell_at, recs_at};
-        const size_t sz[3] = {PVS__META_SIZE, (size_t)d->cell_count * PVS__CELL_BYTES, pos};
-        uint32_t crc;
-        for (i = 0; i < 3; ++i) {
-            uint8_t *e = o + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * i;
-            pvs__put32(e + 0, tags[i]);
-            pvs__put32(e + 4, (uint32_t)at[i]);
-            pvs__put32(e + 8, (uint32_t)sz[i]);
-            pvs__put32(e + 12, pvs__crc32(0, o + at[i], sz[i]));
-        }
-        crc = pvs__crc32(0, o, 20);
-        crc = pvs__crc32(crc, o + PVS__HEADER_SIZE, 3 * PVS__SECTION_ENTRY);
+        uint32_t crc = pvs__crc32(0, o, 20);
+        crc = pvs__crc32(crc, o + PVS__HEADER_SIZE, (size_t)sections * PVS__SECTION_ENTRY);
         pvs__put32(o + 20, crc);
     }
-    if (out_size) *out_size = bound;
     pvs__ok(err);
+done:
+    pvs__encoder_free(&e);
+    return r;
+}
+
+/* ---- reader ---- */
+
+/* A record located by the reader. Only for files that passed pvs_file_open. */
+typedef struct pvs__rec {
+    const uint8_t *start, *body, *end;
+    uint32_t coding, depth, base;
+} pvs__rec;
+
+PVS__STATIC void pvs__record_at(const pvs_file *f, uint32_t cell, pvs__rec *r) {
+    const uint8_t *recs = f->private_.records, *p;
+    uint32_t j, len, head, zz;
+    p = recs + pvs__get32(recs + 4 * (size_t)(cell / PVS__BLOCK));
+    for (j = cell - cell % PVS__BLOCK; j < cell; ++j) {
+        p = pvs__skip_varint(p, &len);
+        p += len;
+    }
+    r->start = p;
+    p = pvs__skip_varint(p, &len);
+    r->end = p + len;
+    p = pvs__skip_varint(p, &head);
+    r->coding = head & 3u;
+    r->depth = head >> 2;
+    r->base = PVS_NO_CELL;
+    if (r->depth) {
+        p = pvs__skip_varint(p, &zz);
+        r->base = (uint32_t)((int64_t)cell - pvs__unzigzag(zz));
+    }
+    r->body = p;
+}
+
+PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const uint8_t *c, uint32_t size, pvs_error *err) {
+    uint64_t off = (uint64_t)(c - base), need, nbits, pos = 0;
+    uint32_t k, i, total = 0;
+    const uint8_t *v;
+    if (size < PVS__CELL_HEAD) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, fewer than its 16-byte head", size);
+    for (k = 0; k < 3; ++k) {
+        uint32_t n = pvs__get32(c + 4 * k);
+        if (n == 0 || n > 2 * (uint64_t)f->cell_count)
+            return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 4 * k, "CELL: %u coordinates on axis %u for %u cells", n, k, f->cell_count);
+        if (c[12 + k] != pvs__bits_for(n - 1))
+            return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 12 + k, "CELL: index width %u on axis %u, %u values need %u", c[12 + k], k, n,
+                             pvs__bits_for(n - 1));
+        f->private_.value_count[k] = n;
+        f->private_.index_bits[k] = c[12 + k];
+        total += n;
+    }
+    if (c[15]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 15, "CELL: reserved byte is not zero");
+    f->private_.cell_bits = 2 * (f->private_.index_bits[0] + f->private_.index_bits[1] + f->private_.index_bits[2]);
+    nbits = (uint64_t)f->private_.cell_bits * f->cell_count;
+    need = PVS__CELL_HEAD + 4 * (uint64_t)total + (nbits + 7) / 8;
+    if (need != size)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, its tables and indices need %llu", size, (unsigned long long)need);
+    v = c + PVS__CELL_HEAD;
+    for (k = 0; k < 3; ++k) {
+        f->private_.values[k] = v;
+        for (i = 0; i < f->private_.value_count[k]; ++i, v += 4) {
+            float x = pvs__getf32(v);
+            if (!pvs__finite(x) || pvs__get32(v) == 0x80000000u || (i && !(pvs__getf32(v - 4) < x)))
+                return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, (uint64_t)(v - base),
+                                 "CELL: coordinate %u on axis %u is not finite, is -0 or does not ascend", i, k);
+        }
+    }
+    f->private_.indices = v;
+    for (i = 0; i < f->cell_count; ++i) {
+        uint32_t idx[6];
+        for (k = 0; k < 6; ++k) {
+            uint32_t w = f->private_.index_bits[k % 3];
+            idx[k] = pvs__get_bits(v, pos, w);
+            pos += w;
+            if (idx[k] >= f->private_.value_count[k % 3])
+                return pvs__fail(err, PVS_ERROR_BAD_CELL, i, (uint64_t)(v - base) + (pos - w) / 8, "cell %u: coordinate index %u out of range", i, idx[k]);
+        }
+        for (k = 0; k < 3; ++k)
+            if (idx[k] > idx[k + 3]) return pvs__fail(err, PVS_ERROR_BAD_CELL, i, (uint64_t)(v - base) + pos / 8, "cell %u: min > max on axis %u", i, k);
+    }
+    if ((nbits & 7u) && (v[nbits / 8] >> (nbits & 7u)))
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(v - base) + nbits / 8, "CELL: unused index bits are not zero");
+    return PVS_OK;
+}
+
+/* The TREE section: u32 node count, u32 zero, then the nodes in pre-order. Walking it with an
+   explicit stack of pending right subtrees, each subtree must start exactly where the previous one
+   ended: that proves it is a tree (every node reached once), bounds its depth and covers every byte. */
+PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const uint8_t *t, uint32_t size, pvs_error *err) {
+    uint64_t off = (uint64_t)(t - base);
+    const uint8_t *stack[PVS__TREE_MAX_DEPTH], *pos, *end = t + size;
+    uint32_t depth = 0, nodes = 0, declared;
+    if (size < PVS__TREE_HEAD) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE has %u bytes, fewer than its 8-byte head", size);
+    declared = pvs__get32(t);
+    if (pvs__get32(t + 4)) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off + 4, "TREE reserved field is not zero");
+    pos = t + PVS__TREE_HEAD;
+    for (;;) {
+        uint32_t h;
+        size_t used = pvs__get_varint(pos, end, &h);
+        if (!used) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: bad node");
+        if (++nodes > declared) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE has more than its %u nodes", declared);
+        pos += used;
+        if ((h & 3u) == PVS__KD_LEAF) {
+            uint32_t count = h >> 2, j;
+            uint64_t id = 0;
+            for (j = 0; j < count; ++j) {
+                uint32_t g;
+                used = pvs__get_varint(pos, end, &g);
+                if (!used) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: bad leaf item");
+                id = j ? id + 1u + g : g;
+                if (id >= f->cell_count)
+                    return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: leaf item names cell %llu of %u",
+                                     (unsigned long long)id, f->cell_count);
+                pos += used;
+            }
+            if (!depth) break;
+            if (pos != stack[--depth])
+                return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: a left subtree does not end where its sibling starts");
+        } else {
+            uint32_t left;
+            if ((h >> 2) >= f->private_.value_count[h & 3u])
+                return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: split index %u of %u", h >> 2,
+                                 f->private_.value_count[h & 3u]);
+            used = pvs__get_varint(pos, end, &left);
+            if (!used) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: bad subtree size");
+            pos += used;
+            if (left > (size_t)(end - pos) || depth == PVS__TREE_MAX_DEPTH)
+                return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: subtree past the end or deeper than %u",
+                                 PVS__TREE_MAX_DEPTH);
+            stack[depth++] = pos + left;
+        }
+    }
+    if (pos != end) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE has bytes after its last node");
+    if (nodes != declared) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE declares %u nodes and has %u", declared, nodes);
+    f->private_.tree = t + PVS__TREE_HEAD;
+    f->private_.node_count = nodes;
+    return PVS_OK;
+}
+
+/* Records: first every record's own structure, then, with every record known to be well formed, the
+   chains: a delta's base must have depth one less, so depths fall strictly along a chain, which
+   therefore ends at a key within max_chain steps and cannot cycle. Linear in the section size. */
+PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const uint8_t *rs, uint32_t size, pvs_error *err) {
+    uint64_t off = (uint64_t)(rs - base);
+    uint32_t blocks = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK, b, keys = 0, i;
+    if ((uint64_t)4 * (blocks + 1) > size) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "RECS is too small for %u block offsets", blocks + 1);
+    if (pvs__get32(rs) != 4 * (blocks + 1)) return pvs__fail(err, PVS_ERROR_BAD_RECORD, 0, off, "block 0 does not start after the offset table");
+    if (pvs__get32(rs + 4 * (size_t)blocks) != size)
+        return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, off + 4 * (uint64_t)blocks, "the last block offset is not the section size");
+    for (b = 0; b < blocks; ++b) {
+        uint32_t lo = pvs__get32(rs + 4 * (size_t)b), hi = pvs__get32(rs + 4 * (size_t)b + 4), cell;
+        const uint8_t *p = rs + lo, *end = rs + hi;
+        if (hi < lo || hi > size) return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, off + 4 * (uint64_t)b, "block %u offsets do not ascend", b);
+        for (cell = b * PVS__BLOCK; cell < f->cell_count && cell < (b + 1) * PVS__BLOCK; ++cell) {
+            uint32_t len, head, zz, depth;
+            const uint8_t *rend;
+            size_t used = pvs__get_varint(p, end, &len), bad = 0;
+            pvs_result r;
+            if (!used || len > (size_t)(end - p) - used)
+                return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad length", cell);
+            p += used;
+            rend = p + len;
+            used = pvs__get_varint(p, rend, &head);
+            if (!used) return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad head", cell);
+            p += used;
+            depth = head >> 2;
+            if (depth > f->max_chain)
+                return pvs__fail(err, PVS_ERROR_BAD_CHAIN, cell, (uint64_t)(p - base), "cell %u: chain depth %u > %u", cell, depth, f->max_chain);
+            if (depth) {
+                int64_t bc;
+                used = pvs__get_varint(p, rend, &zz);
+                if (!used) return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad base", cell);
+                bc = (int64_t)cell - pvs__unzigzag(zz);
+                if (bc < 0 || bc >= (int64_t)f->cell_count || bc == (int64_t)cell)
+                    return pvs__fail(err, PVS_ERROR_BAD_CHAIN, cell, (uint64_t)(p - base), "cell %u: base %lld is itself or no cell", cell, (long long)bc);
+                p += used;
+            } else {
+                ++keys;
+            }
+            r = pvs__set_apply(p, rend, head & 3u, f->object_count, NULL, NULL, NULL, &bad);
+            if (r != PVS_OK) return pvs__fail(err, r, cell, (uint64_t)(p - base) + bad, "record of cell %u", cell);
+            p = rend;
+        }
+        if (p != end) return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, (uint64_t)(p - base), "block %u has bytes after its last record", b);
+    }
+    if (keys != f->key_count)
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 0, "META says %u key cells, the records have %u", f->key_count, keys);
+    for (i = 0; i < f->cell_count; ++i) {
+        pvs__rec r, rb;
+        pvs__record_at(f, i, &r);
+        if (!r.depth) continue;
+        pvs__record_at(f, r.base, &rb);
+        if (rb.depth + 1 != r.depth)
+            return pvs__fail(err, PVS_ERROR_BAD_CHAIN, i, (uint64_t)(r.start - base), "cell %u: depth %u, its base %u has depth %u", i, r.depth,
+                             r.base, rb.depth);
+    }
     return PVS_OK;
 }
 
 PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs_error *err) {
     const uint8_t *p = (const uint8_t *)data;
     uint32_t count, i, j, crc;
-    const uint8_t *meta = NULL, *cells = NULL, *recs = NULL;
-    uint32_t meta_size = 0, cells_size = 0, recs_size = 0, coding;
+    const uint8_t *meta = NULL, *cells = NULL, *tree = NULL, *recs = NULL, *shrd = NULL;
+    uint32_t meta_size = 0, cells_size = 0, tree_size = 0, recs_size = 0, shrd_size = 0;
+    pvs_result r;
     if (!f) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file must not be NULL");
     memset(f, 0, sizeof(*f));
     if (!p && size) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "data is NULL");
@@ -2442,7 +3550,9 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
             return pvs__fail(err, PVS_ERROR_CHECKSUM, i, off, "section %u checksum", i);
         if (tag == PVS__TAG_META) { meta = p + off; meta_size = sz; }
         else if (tag == PVS__TAG_CELL) { cells = p + off; cells_size = sz; }
+        else if (tag == PVS__TAG_TREE) { tree = p + off; tree_size = sz; }
         else if (tag == PVS__TAG_RECS) { recs = p + off; recs_size = sz; }
+        else if (tag == PVS__TAG_SHRD) { shrd = p + off; shrd_size = sz; }
     }
     {
         /* bytes outside the header, the table and the sections (alignment padding) must be zero,
@@ -2463,108 +3573,215 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
             if (e) pos = (size_t)pvs__get32(e + 4) + pvs__get32(e + 8);
         }
     }
-    if (!meta || !cells || !recs)
-        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, 0, "missing required section %s", !meta ? "META" : !cells ? "CELL" : "RECS");
+    if (!meta || !cells || !tree || !recs)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, 0, "missing required section %s",
+                         !meta ? "META" : !cells ? "CELL" : !tree ? "TREE" : "RECS");
     if (meta_size != PVS__META_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(meta - p), "META has %u bytes, not 32", meta_size);
     f->cell_count = pvs__get32(meta);
     f->object_count = pvs__get32(meta + 4);
     f->method = (pvs_method)pvs__get32(meta + 8);
     f->eps = pvs__getf32(meta + 12);
     f->up_axis = pvs__get32(meta + 16);
-    coding = pvs__get32(meta + 20);
+    f->max_chain = pvs__get32(meta + 20);
+    f->key_count = pvs__get32(meta + 24);
     {
         uint64_t mo = (uint64_t)(meta - p);
-        if (f->cell_count == 0 || f->cell_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo, "cell count %u", f->cell_count);
-        if (f->object_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 4, "object count 0");
+        if (f->cell_count == 0 || f->cell_count > 0x3fffffffu) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo, "cell count %u", f->cell_count);
+        if (f->object_count == 0 || f->object_count == 0xffffffffu)
+            return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 4, "object count %u", f->object_count);
         if (pvs__get32(meta + 8) >= (uint32_t)PVS_METHOD_COUNT) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 8, "unknown method %u", pvs__get32(meta + 8));
         if (!pvs__finite(f->eps) || f->eps < 0.0f) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 12, "eps is not a finite number >= 0");
         if (f->up_axis != 1 && f->up_axis != 2) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 16, "up axis %u", f->up_axis);
-        if (coding != PVS__CODING_GAP_VARINT) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 20, "unknown record coding %u", coding);
-        if (pvs__get32(meta + 24) || pvs__get32(meta + 28)) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 24, "reserved META bytes are not zero");
+        if (f->max_chain == 0 || f->max_chain > PVS_MAX_CHAIN)
+            return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 20, "chain bound %u is not in 1..%u", f->max_chain, PVS_MAX_CHAIN);
+        if (f->key_count == 0 || f->key_count > f->cell_count)
+            return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 24, "%u key cells of %u", f->key_count, f->cell_count);
+        if (pvs__get32(meta + 28)) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 28, "reserved META bytes are not zero");
     }
-    if ((uint64_t)f->cell_count * PVS__CELL_BYTES != cells_size)
-        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(cells - p), "CELL has %u bytes, %u cells need %llu", cells_size,
-                         f->cell_count, (unsigned long long)f->cell_count * PVS__CELL_BYTES);
-    for (i = 0; i < f->cell_count; ++i) {
-        const uint8_t *c = cells + (size_t)i * PVS__CELL_BYTES;
-        int k;
-        for (k = 0; k < 3; ++k) {
-            float lo = pvs__getf32(c + 4 * k), hi = pvs__getf32(c + 12 + 4 * k);
-            if (!pvs__finite(lo) || !pvs__finite(hi) || lo > hi)
-                return pvs__fail(err, PVS_ERROR_BAD_CELL, i, (uint64_t)(c - p), "cell %u box is not finite or has min > max", i);
-        }
+    if (shrd) {
+        uint64_t so = (uint64_t)(shrd - p);
+        if (shrd_size != PVS__SHRD_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "SHRD has %u bytes, not 16", shrd_size);
+        f->shard_index = pvs__get32(shrd);
+        f->shard_count = pvs__get32(shrd + 4);
+        f->total_cell_count = pvs__get32(shrd + 8);
+        if (f->shard_count < 2 || f->shard_index >= f->shard_count || f->total_cell_count > 0x3fffffffu || pvs__get32(shrd + 12) ||
+            f->cell_count != (f->total_cell_count - f->shard_index + f->shard_count - 1) / f->shard_count)
+            return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, so, "SHRD: shard %u of %u cannot hold %u of %u cells", f->shard_index, f->shard_count,
+                             f->cell_count, f->total_cell_count);
     }
-    if ((uint64_t)4 * ((uint64_t)f->cell_count + 1) > recs_size)
-        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(recs - p), "RECS is too small for %u record offsets", f->cell_count);
-    {
-        uint32_t prev = 4 * (f->cell_count + 1);
-        if (pvs__get32(recs) != prev)
-            return pvs__fail(err, PVS_ERROR_BAD_RECORD, 0, (uint64_t)(recs - p), "record 0 does not start after the offset table");
-        if (pvs__get32(recs + 4 * (size_t)f->cell_count) != recs_size)
-            return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, (uint64_t)(recs - p) + 4 * (uint64_t)f->cell_count,
-                             "the last record offset is not the section size");
-        for (i = 0; i < f->cell_count; ++i) {
-            uint32_t a = pvs__get32(recs + 4 * (size_t)i), b = pvs__get32(recs + 4 * (size_t)i + 4);
-            size_t bad = 0;
-            pvs_result r;
-            if (b < a || b > recs_size)
-                return pvs__fail(err, PVS_ERROR_BAD_RECORD, i, (uint64_t)(recs - p) + 4 * (uint64_t)i, "record %u offsets are not ascending", i);
-            r = pvs__decode_record(recs + a, b - a, f->object_count, NULL, &bad);
-            if (r != PVS_OK)
-                return pvs__fail(err, r, i, (uint64_t)(recs - p) + a + bad, "record %u (cell %u)", i, i);
-        }
+    r = pvs__open_cells(f, p, cells, cells_size, err);
+    if (r == PVS_OK) r = pvs__open_tree(f, p, tree, tree_size, err);
+    if (r == PVS_OK) {
+        f->private_.records = recs;
+        f->private_.records_size = recs_size;
+        f->private_.block_count = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK;
+        r = pvs__open_records(f, p, recs, recs_size, err);
+    }
+    if (r != PVS_OK) {
+        memset(f, 0, sizeof(*f));
+        return r;
     }
     f->data = p;
     f->size = size;
     f->version = PVS_FORMAT_VERSION;
     f->flags = pvs__get32(p + 16);
-    f->cells = cells;
-    f->records = recs;
-    f->records_size = recs_size;
     pvs__ok(err);
     return PVS_OK;
 }
 
+PVS_API void pvs_file_record_info(const pvs_file *f, uint32_t cell, pvs_record_info *info) {
+    pvs__rec r;
+    PVS_ASSERT(f && info && cell < f->cell_count);
+    pvs__record_at(f, cell, &r);
+    info->base = r.base;
+    info->depth = r.depth;
+    info->coding = r.coding;
+    info->bytes = (uint32_t)(r.end - r.start);
+}
+
 // >>runtime
 /* ---------------------------------------------------------------------------------------------- */
-/* runtime: cell look-up and decoding; no allocation                                              */
+/* runtime: cell look-up through the stored kD-tree, decoding, the cursor; no allocation          */
 /* ---------------------------------------------------------------------------------------------- */
 
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
     pvs_box b;
-    const uint8_t *c;
+    uint64_t pos;
     int k;
     PVS_ASSERT(cell < f->cell_count);
-    c = f->cells + (size_t)cell * PVS__CELL_BYTES;
-    for (k = 0; k < 3; ++k) {
-        b.min[k] = pvs__getf32(c + 4 * k);
-        b.max[k] = pvs__getf32(c + 12 + 4 * k);
+    pos = (uint64_t)cell * f->private_.cell_bits;
+    for (k = 0; k < 6; ++k) {
+        uint32_t w = f->private_.index_bits[k % 3];
+        float v = pvs__getf32(f->private_.values[k % 3] + 4 * (size_t)pvs__get_bits(f->private_.indices, pos, w));
+        if (k < 3) b.min[k] = v;
+        else b.max[k - 3] = v;
+        pos += w;
     }
     return b;
 }
 
-PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
-    uint32_t i;
-    for (i = 0; i < f->cell_count; ++i) {
-        pvs_box b = pvs_file_cell_box(f, i);
-        if (pvs__box_contains_point(&b, p)) return i;
+/* Does cell `c` contain p? Axis by axis, stopping at the first miss. */
+PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[3]) {
+    uint64_t pos = (uint64_t)c * f->private_.cell_bits, hi = pos + (f->private_.cell_bits >> 1);
+    int k;
+    for (k = 0; k < 3; ++k) {
+        uint32_t w = f->private_.index_bits[k];
+        if (p[k] < pvs__getf32(f->private_.values[k] + 4 * (size_t)pvs__get_bits(f->private_.indices, pos, w)) ||
+            p[k] > pvs__getf32(f->private_.values[k] + 4 * (size_t)pvs__get_bits(f->private_.indices, hi, w)))
+            return 0;
+        pos += w;
+        hi += w;
     }
-    return PVS_NO_CELL;
+    return 1;
+}
+
+/* Point location in the stored tree: p < split left, p > split right, p == split both (pending right
+   subtrees on a stack no deeper than the tree); in a leaf the first cell containing p is its lowest. */
+PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
+    const uint8_t *stack[PVS__TREE_MAX_DEPTH], *pos;
+    uint32_t depth = 0, best = PVS_NO_CELL;
+    if (!f || !p || !f->data || !pvs__finite(p[0]) || !pvs__finite(p[1]) || !pvs__finite(p[2])) return PVS_NO_CELL;
+    pos = f->private_.tree;
+    for (;;) {
+        uint32_t h;
+        pos = pvs__skip_varint(pos, &h);
+        if ((h & 3u) == PVS__KD_LEAF) {
+            uint32_t count = h >> 2, j, id = 0, g;
+            for (j = 0; j < count; ++j) {
+                pos = pvs__skip_varint(pos, &g);
+                id = j ? id + 1u + g : g;
+                if (id >= best) break;
+                if (pvs__cell_contains(f, id, p)) {
+                    best = id;
+                    break;
+                }
+            }
+            if (!depth) break;
+            pos = stack[--depth];
+        } else {
+            uint32_t axis = h & 3u, left;
+            float v = pvs__getf32(f->private_.values[axis] + 4 * (size_t)(h >> 2));
+            pos = pvs__skip_varint(pos, &left);
+            if (p[axis] > v) pos += left;
+            else if (p[axis] == v) stack[depth++] = pos + left;
+        }
+    }
+    return best;
+}
+
+PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t word_count) {
+    size_t bad;
+    memset(bits, 0, word_count * sizeof(pvs_word));
+    for (;;) { /* XOR is order-free: walk from the cell to its key, toggling each record's ids */
+        pvs__rec r;
+        pvs__record_at(f, cell, &r);
+        (void)pvs__set_apply(r.body, r.end, r.coding, f->object_count, bits, NULL, NULL, &bad); /* validated by open */
+        if (!r.depth) break;
+        cell = r.base;
+    }
 }
 
 PVS_API pvs_result pvs_file_decode(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t word_count, pvs_error *err) {
-    uint32_t a, b;
-    size_t bad;
     if (!f || !bits || !f->data) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file and bits must not be NULL");
     if (cell >= f->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, cell, 0, "cell %u of %u", cell, f->cell_count);
     if (word_count < PVS_BITSET_WORDS(f->object_count))
         return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "%llu words, %u objects need %llu", (unsigned long long)word_count,
                          f->object_count, (unsigned long long)PVS_BITSET_WORDS(f->object_count));
-    memset(bits, 0, word_count * sizeof(pvs_word));
-    a = pvs__get32(f->records + 4 * (size_t)cell);
-    b = pvs__get32(f->records + 4 * (size_t)cell + 4);
-    (void)pvs__decode_record(f->records + a, b - a, f->object_count, bits, &bad); /* validated by open */
+    pvs__file_decode(f, cell, bits, word_count);
     pvs__ok(err);
+    return PVS_OK;
+}
+
+PVS_API pvs_result pvs_cursor_init(pvs_cursor *c, const pvs_file *f, pvs_word *bits, pvs_word *scratch, size_t word_count, pvs_error *err) {
+    if (!c || !f || !f->data || !bits || !scratch || bits == scratch)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "cursor, file, bits and scratch must be given, bits != scratch");
+    if (word_count < PVS_BITSET_WORDS(f->object_count))
+        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "%llu words, %u objects need %llu", (unsigned long long)word_count,
+                         f->object_count, (unsigned long long)PVS_BITSET_WORDS(f->object_count));
+    memset(c, 0, sizeof(*c));
+    c->file = f;
+    c->cell = PVS_NO_CELL;
+    c->bits = bits;
+    c->scratch = scratch;
+    c->word_count = word_count;
+    memset(bits, 0, word_count * sizeof(pvs_word));
+    pvs__ok(err);
+    return PVS_OK;
+}
+
+PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn fn, void *user) {
+    const pvs_file *f;
+    size_t w, bad;
+    if (!c || !c->file) return PVS_ERROR_INVALID_ARGUMENT;
+    f = c->file;
+    if (cell != PVS_NO_CELL && cell >= f->cell_count) return PVS_ERROR_INVALID_ARGUMENT;
+    if (cell == c->cell) return PVS_OK;
+    if (cell != PVS_NO_CELL && c->cell != PVS_NO_CELL) {
+        /* one delta when the cells are base and child (a delta is a symmetric difference: it leads both ways) */
+        pvs__rec r;
+        pvs__record_at(f, cell, &r);
+        if (r.base != c->cell) pvs__record_at(f, c->cell, &r);
+        if (r.base == cell || r.base == c->cell) {
+            (void)pvs__set_apply(r.body, r.end, r.coding, f->object_count, c->bits, fn, user, &bad);
+            c->cell = cell;
+            ++c->delta_moves;
+            return PVS_OK;
+        }
+    }
+    if (cell == PVS_NO_CELL) memset(c->scratch, 0, c->word_count * sizeof(pvs_word));
+    else pvs__file_decode(f, cell, c->scratch, c->word_count);
+    for (w = 0; w < c->word_count; ++w) {
+        pvs_word x = c->bits[w] ^ c->scratch[w];
+        if (fn)
+            while (x) {
+                uint32_t id = (uint32_t)(w * 64) + pvs__ctz64(x);
+                x &= x - 1u;
+                fn(user, id, pvs_bitset_test(c->scratch, id));
+            }
+        c->bits[w] = c->scratch[w];
+    }
+    c->cell = cell;
+    ++c->full_moves;
     return PVS_OK;
 }
 
@@ -2574,6 +3791,8 @@ PVS_API pvs_result pvs_file_decode(const pvs_file *f, uint32_t cell, pvs_word *b
 /*
    FULL HISTORY
    ============
+   0.2.0 (2026-11-22) delta-PVS file format 1 (keys + bounded delta chains, four set codings, compact
+                      cells and look-up tree), cursor, record info, sharded bakes and merge.
    0.1.0 (2026-11-22) first version: scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container v1.
 
 ------------------------------------------------------------------------------

@@ -17,8 +17,7 @@ int main(int argc, char **argv) {
     pvs_error pe;
     tool_error te;
     double t0, t_gen, t_bake, sum = 0.0;
-    size_t bound, size = 0;
-    void *bytes = NULL;
+    size_t size = 0;
     uint32_t c, objects;
 
     for (i = 1; i < argc; ++i) {
@@ -54,10 +53,7 @@ int main(int argc, char **argv) {
     t_bake = cli_seconds();
     if (cli_run_bake(bake, threads, 0, "bake", &te)) { fprintf(stderr, "demo: %s\n", te.message); return 1; }
     t_bake = cli_seconds() - t_bake;
-    bound = pvs_bake_file_bound(bake);
-    bytes = malloc(bound);
-    if (!bytes || pvs_bake_write_file(bake, bytes, bound, &size, &pe) != PVS_OK) { fprintf(stderr, "demo: cannot encode\n"); return 1; }
-    if (write_file_atomic(out_path, bytes, size, &te)) { fprintf(stderr, "demo: %s\n", te.message); return 1; }
+    if (cli_write_bake(bake, out_path, &size, &te)) { fprintf(stderr, "demo: %s\n", te.message); return 1; }
 
     objects = pvs_scene_object_count(scene);
     for (c = 0; c < cells.count; ++c) sum += pvs_bitset_count(pvs_bake_cell_pvs(bake, c), objects);
@@ -70,7 +66,6 @@ int main(int argc, char **argv) {
     printf("  bake               %.2f ms per cell on one core (%.2f s wall, scene set-up %.2f s)\n", 1000.0 * t_bake * threads / cells.count, t_bake, t_gen);
     printf("  file               %s, %zu bytes, %.1f bytes per cell\n", out_path, size, (double)size / cells.count);
 
-    free(bytes);
     pvs_bake_destroy(bake);
     pvs_scene_destroy(scene);
     mesh_cells_free(&cells);

@@ -114,6 +114,45 @@ void test_cli(void) {
               memcmp(fa, fb, (size_t)sa.st_size) == 0);
         free(fa); free(fb);
     }
+    /* sharded bakes: parts merge into the bytes of the whole bake for N = 1, 2, 3, 7 */
+    CHECK(run("./pvsgen indoor --seed 3 --size 0.3 --max-cells 30 -o " DIR "/in.obj --cells " DIR "/in.txt", &out) == 0); free(out);
+    CHECK(run("./pvsbake -q " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/whole.pvs --rays 64 --points 4 -j 2", &out) == 0); free(out);
+    {
+        static const int ns[4] = {1, 2, 3, 7};
+        char *whole = slurp(DIR "/whole.pvs");
+        struct stat sw;
+        int j, k;
+        CHECK(whole && stat(DIR "/whole.pvs", &sw) == 0);
+        for (j = 0; j < 4; ++j) {
+            char cmd[4096], *merged;
+            struct stat sm;
+            int len = snprintf(cmd, sizeof(cmd), "./pvsbake merge -o " DIR "/merged.pvs");
+            for (k = ns[j]; k >= 1; --k) { /* parts in any order */
+                char bake[512];
+                snprintf(bake, sizeof(bake), "./pvsbake -q " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/part%d.pvs --rays 64 --points 4 -j 1 --shard %d/%d",
+                         k, k, ns[j]);
+                CHECK(run(bake, &out) == 0); free(out);
+                len += snprintf(cmd + len, sizeof(cmd) - (size_t)len, " " DIR "/part%d.pvs", k);
+            }
+            CHECK(run(cmd, &out) == 0); free(out);
+            merged = slurp(DIR "/merged.pvs");
+            CHECK(merged && whole && stat(DIR "/merged.pvs", &sm) == 0 && sm.st_size == sw.st_size && memcmp(merged, whole, (size_t)sw.st_size) == 0);
+            free(merged);
+            if (ns[j] == 3) {
+                CHECK(run("./pvsinfo " DIR "/part2.pvs", &out) == 0 && strstr(out, "shard 2 of 3")); free(out);
+                /* a missing shard, a repeated one, a part of another bake */
+                CHECK(run("./pvsbake merge -o " DIR "/m2.pvs " DIR "/part1.pvs " DIR "/part2.pvs", &out) == 1 && strstr(out, "shard 3/3 is missing")); free(out);
+                CHECK(run("./pvsbake merge -o " DIR "/m2.pvs " DIR "/part1.pvs " DIR "/part1.pvs " DIR "/part3.pvs", &out) == 1 && strstr(out, "also in")); free(out);
+                CHECK(run("./pvsbake merge -o " DIR "/m2.pvs " DIR "/part1.pvs " DIR "/whole.pvs", &out) == 1 && strstr(out, "not a part file")); free(out);
+                CHECK(!exists(DIR "/m2.pvs"));
+            }
+        }
+        free(whole);
+        CHECK(run("./pvsbake " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/x.pvs --shard 4/3", &out) == 2); free(out);
+        CHECK(run("./pvsbake " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/x.pvs --shard 31/31", &out) == 1 && strstr(out, "only 30 cells")); free(out);
+        CHECK(run("./pvsbake merge " DIR "/part1.pvs", &out) == 2); free(out);
+        CHECK(run("./pvsinfo " DIR "/whole.pvs", &out) == 0 && strstr(out, "key cells") && strstr(out, "chain mean")); free(out);
+    }
     /* --dump: exactly "CELL: OBJ OBJ ..." per cell; the wall hides the far box; occluders never listed */
     CHECK(run("./pvsinfo --dump " DIR "/a.pvs", &out) == 0);
     CHECK(strcmp(out, "0: 0 1\n1: 1 2\n2: 0 1 2\n") == 0);

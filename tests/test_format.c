@@ -1,7 +1,9 @@
 /* test_format.c - the .pvs container: round trips, every truncation, corruptions with valid
    checksums (reference CRC below), decode safety */
+#define _POSIX_C_SOURCE 200809L
 #include "test.h"
 #include "../pvs.h"
+#include <dirent.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,21 +48,32 @@ static uint32_t rnd(void) {
     return (uint32_t)(rng_state >> 33);
 }
 
-/* A random table: cells on a line with spatially coherent PVSs of the given density. */
-static void make_table(uint32_t cells, uint32_t objects, uint32_t density_pct, pvs_box *boxes, pvs_word *pvs) {
+/* A random table. Cells lie on a 3D grid (nx x ny x nz, unit size, optional overlap and gaps); each
+   cell's PVS is its grid predecessor's with `change_pct` of the objects flipped (coherence), or a
+   fresh random set of `density_pct` when change_pct is 100. */
+static void make_table(uint32_t cells, uint32_t objects, uint32_t density_pct, uint32_t change_pct, int overlap, pvs_box *boxes,
+                       pvs_word *pvs) {
     size_t words = PVS_BITSET_WORDS(objects);
-    uint32_t c, o;
+    uint32_t c, o, nx = 1 + (uint32_t)(rnd() % 12), ny = 1 + (uint32_t)(rnd() % 3);
     memset(pvs, 0, cells * words * sizeof(pvs_word));
     for (c = 0; c < cells; ++c) {
+        uint32_t g[3];
         int k;
+        g[0] = c % nx;
+        g[1] = (c / nx) % ny;
+        g[2] = c / (nx * ny);
         for (k = 0; k < 3; ++k) {
-            boxes[c].min[k] = (float)c * 2.0f + (float)k;
-            boxes[c].max[k] = boxes[c].min[k] + 1.0f + (float)(rnd() % 4);
+            boxes[c].min[k] = (float)g[k] * 2.0f - (k == 1 ? 0.0f : 7.5f);
+            boxes[c].max[k] = boxes[c].min[k] + (overlap ? 2.5f : (rnd() % 3 ? 2.0f : 1.0f));
         }
         for (o = 0; o < objects; ++o) {
-            int on = c > 0 && rnd() % 100 < 80 ? pvs_bitset_test(pvs + (c - 1) * words, o) : rnd() % 100 < density_pct;
+            int on;
+            if (c > 0 && change_pct < 100) on = pvs_bitset_test(pvs + (c - 1) * words, o) ^ (rnd() % 1000 < change_pct * 10u);
+            else on = rnd() % 100 < density_pct;
             if (on) pvs_bitset_set(pvs + c * words, o);
         }
+        if (change_pct < 100 && rnd() % 50 == 0) /* a contiguous run now and then */
+            for (o = rnd() % objects; o < objects && rnd() % 40; ++o) pvs_bitset_set(pvs + c * words, o);
     }
 }
 
@@ -72,108 +85,251 @@ static int expect_open(const uint8_t *data, size_t size, pvs_result want) {
     return r == want && e.result == r;
 }
 
-static void test_round_trip(void) {
-    static const uint32_t shapes[][3] = {{1, 1, 50}, {1, 64, 0}, {3, 64, 100}, {17, 65, 10}, {100, 1000, 5}, {50, 3000, 60}, {7, 130, 100}};
-    size_t s;
-    for (s = 0; s < sizeof(shapes) / sizeof(shapes[0]); ++s) {
-        uint32_t cells = shapes[s][0], objects = shapes[s][1], c;
-        size_t words = PVS_BITSET_WORDS(objects), bound, size;
-        pvs_box *boxes = (pvs_box *)malloc(cells * sizeof(pvs_box));
-        pvs_word *pvs = (pvs_word *)malloc(cells * words * sizeof(pvs_word));
-        pvs_word *got = (pvs_word *)malloc((words + 1) * sizeof(pvs_word));
-        pvs_file_desc d;
-        pvs_file f;
-        pvs_error e;
-        uint8_t *buf;
-        make_table(cells, objects, shapes[s][2], boxes, pvs);
-        memset(&d, 0, sizeof(d));
-        d.cells = boxes;
-        d.cell_count = cells;
-        d.object_count = objects;
-        d.pvs = pvs;
-        d.method = PVS_METHOD_SAMPLE;
-        d.eps = 0.5f;
-        d.up_axis = 1;
-        d.flags = PVS_FILE_APPROXIMATE;
-        bound = pvs_file_bound(&d);
-        CHECK(bound > 0);
-        buf = (uint8_t *)malloc(bound);
-        CHECK(pvs_file_encode(&d, buf, 10, &size, &e) == PVS_ERROR_BUFFER_TOO_SMALL);
-        CHECK(pvs_file_encode(&d, buf, bound, &size, &e) == PVS_OK);
-        CHECK(size <= bound && size % 8 == 0);
-        CHECK(pvs_file_open(buf, size, &f, &e) == PVS_OK);
-        CHECK(f.cell_count == cells && f.object_count == objects && f.method == PVS_METHOD_SAMPLE && f.eps == 0.5f);
-        CHECK(f.flags == PVS_FILE_APPROXIMATE && f.up_axis == 1);
-        for (c = 0; c < cells; ++c) {
-            pvs_box b = pvs_file_cell_box(&f, c);
-            float mid[3];
-            int k;
-            CHECK(memcmp(&b, &boxes[c], sizeof(b)) == 0);
-            CHECK(pvs_file_decode(&f, c, got, words + 1, &e) == PVS_OK);
-            CHECK(memcmp(got, pvs + c * words, words * sizeof(pvs_word)) == 0 && got[words] == 0);
-            for (k = 0; k < 3; ++k) mid[k] = 0.5f * (b.min[k] + b.max[k]);
-            CHECK(pvs_file_find_cell(&f, mid) <= c); /* overlapping cells: lowest id */
-        }
-        {
-            float far_away[3] = {-1000, -1000, -1000};
-            CHECK(pvs_file_find_cell(&f, far_away) == PVS_NO_CELL);
-        }
-        CHECK(pvs_file_decode(&f, cells, got, words, &e) == PVS_ERROR_INVALID_ARGUMENT);
-        if (words > 1) CHECK(pvs_file_decode(&f, 0, got, words - 1, &e) == PVS_ERROR_BUFFER_TOO_SMALL);
-        /* deterministic */
-        {
-            uint8_t *again = (uint8_t *)malloc(bound);
-            size_t size2;
-            CHECK(pvs_file_encode(&d, again, bound, &size2, &e) == PVS_OK && size2 == size && memcmp(buf, again, size) == 0);
-            free(again);
-        }
-        /* every truncated prefix is rejected, from a buffer placed flush against its allocation's end */
-        {
-            size_t n;
-            for (n = 0; n < size; n += (size > 4000 ? 7 : 1)) {
-                uint8_t *cut = (uint8_t *)malloc(n ? n : 1);
-                pvs_result r;
-                memcpy(cut, buf, n);
-                r = pvs_file_open(cut, n, &f, &e);
-                CHECK(r == PVS_ERROR_TRUNCATED || r == PVS_ERROR_BAD_HEADER);
-                free(cut);
-            }
-        }
-        free(buf);
-        free(boxes);
-        free(pvs);
-        free(got);
-    }
+static uint8_t *encode(const pvs_file_desc *d, size_t *size) {
+    pvs_error e;
+    uint8_t *buf;
+    *size = 0;
+    if (pvs_file_encode(d, NULL, 0, size, &e) != PVS_ERROR_BUFFER_TOO_SMALL || !*size) { fprintf(stderr, "encode: %s\n", e.message); return NULL; }
+    buf = (uint8_t *)malloc(*size);
+    if (pvs_file_encode(d, buf, *size, size, &e) != PVS_OK) { fprintf(stderr, "encode: %s\n", e.message); free(buf); return NULL; }
+    return buf;
 }
 
-/* Encode a small valid file into a fresh buffer of exactly its size. */
-static uint8_t *small_file(size_t *size) {
-    pvs_box boxes[5];
-    pvs_word pvs[5 * 2];
+static void desc_init(pvs_file_desc *d, const pvs_box *boxes, uint32_t cells, uint32_t objects, const pvs_word *pvs) {
+    memset(d, 0, sizeof(*d));
+    d->cells = boxes;
+    d->cell_count = cells;
+    d->object_count = objects;
+    d->pvs = pvs;
+    d->method = PVS_METHOD_SAMPLE;
+    d->eps = 0.5f;
+    d->up_axis = 1;
+    d->flags = PVS_FILE_APPROXIMATE;
+}
+
+typedef struct change_log {
+    pvs_word *expect;   /* the set the cursor should reach, applied by the callback */
+    uint32_t last, count;
+    int ordered;
+} change_log;
+static void on_change(void *user, uint32_t object, int visible) {
+    change_log *l = (change_log *)user;
+    if (l->count && object <= l->last) l->ordered = 0;
+    l->last = object;
+    ++l->count;
+    if (visible) pvs_bitset_set(l->expect, object);
+    else pvs_bitset_clear(l->expect, object);
+}
+
+static uint32_t linear_find(const pvs_file *f, const float p[3]) {
+    uint32_t c;
+    for (c = 0; c < f->cell_count; ++c) {
+        pvs_box b = pvs_file_cell_box(f, c);
+        if (p[0] >= b.min[0] && p[0] <= b.max[0] && p[1] >= b.min[1] && p[1] <= b.max[1] && p[2] >= b.min[2] && p[2] <= b.max[2]) return c;
+    }
+    return PVS_NO_CELL;
+}
+
+static int codings_seen[PVS_CODING_COUNT];
+
+/* Round trip, look-up against a linear scan, chains within K, cursor against decode. */
+static void check_table(uint32_t cells, uint32_t objects, uint32_t density, uint32_t change, int overlap, uint32_t max_chain, int truncations) {
+    size_t words = PVS_BITSET_WORDS(objects), size, size2;
+    pvs_box *boxes = (pvs_box *)malloc(cells * sizeof(pvs_box));
+    pvs_word *pvs = (pvs_word *)malloc(cells * words * sizeof(pvs_word));
+    pvs_word *got = (pvs_word *)malloc((words + 1) * sizeof(pvs_word)), *cur = (pvs_word *)malloc(words * sizeof(pvs_word));
+    pvs_word *scratch = (pvs_word *)malloc(words * sizeof(pvs_word)), *expect = (pvs_word *)calloc(words, sizeof(pvs_word));
     pvs_file_desc d;
-    uint8_t *buf;
-    size_t bound;
-    make_table(5, 100, 30, boxes, pvs);
-    memset(&d, 0, sizeof(d));
-    d.cells = boxes;
-    d.cell_count = 5;
-    d.object_count = 100;
-    d.pvs = pvs;
-    d.method = PVS_METHOD_SAMPLE;
+    pvs_file f;
+    pvs_error e;
+    pvs_cursor cursor;
+    uint8_t *buf, *again;
+    uint32_t c, keys = 0, i;
+    make_table(cells, objects, density, change, overlap, boxes, pvs);
+    desc_init(&d, boxes, cells, objects, pvs);
+    d.max_chain = max_chain;
+    buf = encode(&d, &size);
+    CHECK(buf != NULL);
+    if (!buf) return;
+    CHECK(size % 8 == 0);
+    CHECK(pvs_file_encode(&d, buf, size - 1, &size2, &e) == PVS_ERROR_BUFFER_TOO_SMALL && size2 == size);
+    again = encode(&d, &size2); /* deterministic */
+    CHECK(again && size2 == size && memcmp(buf, again, size) == 0);
+    free(again);
+    CHECK(pvs_file_open(buf, size, &f, &e) == PVS_OK);
+    CHECK(f.cell_count == cells && f.object_count == objects && f.method == PVS_METHOD_SAMPLE && f.eps == 0.5f);
+    CHECK(f.flags == PVS_FILE_APPROXIMATE && f.up_axis == 1 && f.max_chain == (max_chain ? max_chain : PVS_DEFAULT_CHAIN));
+    for (c = 0; c < cells; ++c) {
+        pvs_box b = pvs_file_cell_box(&f, c);
+        pvs_record_info info;
+        CHECK(memcmp(&b, &boxes[c], sizeof(b)) == 0);
+        got[words] = 12345;
+        CHECK(pvs_file_decode(&f, c, got, words + 1, &e) == PVS_OK);
+        CHECK(memcmp(got, pvs + c * words, words * sizeof(pvs_word)) == 0 && got[words] == 0);
+        pvs_file_record_info(&f, c, &info);
+        CHECK(info.depth <= f.max_chain && info.coding < PVS_CODING_COUNT && info.bytes > 0);
+        CHECK((info.depth == 0) == (info.base == PVS_NO_CELL));
+        if (info.base != PVS_NO_CELL) {
+            pvs_record_info bi;
+            pvs_file_record_info(&f, info.base, &bi);
+            CHECK(bi.depth + 1 == info.depth);
+        }
+        keys += info.depth == 0;
+        codings_seen[info.coding] = 1;
+    }
+    CHECK(keys == f.key_count);
+    /* look-up: random points, cell corners (shared faces), points outside */
+    for (i = 0; i < 2000; ++i) {
+        float p[3];
+        int k;
+        if (i % 2) {
+            pvs_box b = pvs_file_cell_box(&f, rnd() % cells);
+            for (k = 0; k < 3; ++k) p[k] = rnd() % 2 ? b.min[k] : b.max[k];
+        } else {
+            for (k = 0; k < 3; ++k) p[k] = (float)((int)(rnd() % 6000) - 1000) * 0.01f;
+        }
+        CHECK(pvs_file_find_cell(&f, p) == linear_find(&f, p));
+    }
+    {
+        float nan3[3] = {NAN, 0, 0};
+        CHECK(pvs_file_find_cell(&f, nan3) == PVS_NO_CELL);
+    }
+    /* cursor: a walk of neighbours and jumps; callbacks give exactly the differences, ascending */
+    CHECK(pvs_cursor_init(&cursor, &f, cur, scratch, words, &e) == PVS_OK);
+    c = 0;
+    for (i = 0; i < 200; ++i) {
+        change_log log;
+        uint32_t next = rnd() % 4 ? (c + 1) % cells : rnd() % cells;
+        if (i == 100) next = PVS_NO_CELL;
+        log.expect = expect;
+        log.count = 0;
+        log.last = 0;
+        log.ordered = 1;
+        CHECK(pvs_cursor_move(&cursor, next, on_change, &log) == PVS_OK);
+        CHECK(cursor.cell == next && log.ordered);
+        if (next != PVS_NO_CELL) CHECK(memcmp(cur, pvs + next * words, words * sizeof(pvs_word)) == 0);
+        else CHECK(pvs_bitset_count(cur, objects) == 0);
+        CHECK(memcmp(cur, expect, words * sizeof(pvs_word)) == 0);
+        c = next == PVS_NO_CELL ? 0 : next;
+    }
+    CHECK(cursor.delta_moves + cursor.full_moves > 0);
+    CHECK(pvs_cursor_move(&cursor, cells, NULL, NULL) == PVS_ERROR_INVALID_ARGUMENT);
+    CHECK(pvs_file_decode(&f, cells, got, words, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    if (words > 1) CHECK(pvs_file_decode(&f, 0, got, words - 1, &e) == PVS_ERROR_BUFFER_TOO_SMALL);
+    if (truncations) { /* every truncated prefix is rejected, from a buffer flush against its allocation's end */
+        size_t n;
+        for (n = 0; n < size; n += (size > 4000 ? 7 : 1)) {
+            uint8_t *cut = (uint8_t *)malloc(n ? n : 1);
+            pvs_result r;
+            memcpy(cut, buf, n);
+            r = pvs_file_open(cut, n, &f, &e);
+            CHECK(r == PVS_ERROR_TRUNCATED || r == PVS_ERROR_BAD_HEADER);
+            free(cut);
+        }
+    }
+    free(buf);
+    free(boxes);
+    free(pvs);
+    free(got);
+    free(cur);
+    free(scratch);
+    free(expect);
+}
+
+static void test_round_trip(void) {
+    static const uint32_t shapes[][7] = {
+        /* cells, objects, density %, change %, overlap, K, truncations */
+        {1, 1, 50, 100, 0, 0, 1},   {1, 64, 0, 100, 0, 0, 1},   {3, 64, 100, 100, 0, 1, 1},  {17, 65, 10, 5, 0, 0, 1},
+        {100, 1000, 5, 2, 0, 0, 1}, {50, 3000, 60, 100, 0, 2, 0}, {7, 130, 100, 0, 1, 0, 1},  {300, 700, 20, 1, 0, 0, 0},
+        {300, 700, 3, 1, 1, 1, 0},  {257, 2000, 1, 100, 0, 64, 0}, {120, 5000, 40, 3, 0, 3, 0}, {1000, 100, 30, 10, 0, 0, 0},
+    };
+    size_t s;
+    int k;
+    for (s = 0; s < sizeof(shapes) / sizeof(shapes[0]); ++s)
+        check_table(shapes[s][0], shapes[s][1], shapes[s][2], shapes[s][3], (int)shapes[s][4], shapes[s][5], (int)shapes[s][6]);
+    for (k = 0; k < PVS_CODING_COUNT; ++k) CHECK(codings_seen[k]); /* every coding wins somewhere */
+}
+
+/* Chain bound: K = 1 gives depth <= 1 everywhere; a long corridor of similar cells needs keys. */
+static void test_chain_bound(void) {
+    enum { CELLS = 200, OBJECTS = 300 };
+    size_t words = PVS_BITSET_WORDS(OBJECTS), size, sizes[3];
+    pvs_box *boxes = (pvs_box *)malloc(CELLS * sizeof(pvs_box));
+    pvs_word *pvs = (pvs_word *)malloc(CELLS * words * sizeof(pvs_word));
+    uint32_t ks[3] = {1, 4, 32}, j, c;
+    make_table(CELLS, OBJECTS, 30, 2, 0, boxes, pvs);
+    for (j = 0; j < 3; ++j) {
+        pvs_file_desc d;
+        pvs_file f;
+        uint8_t *buf;
+        uint32_t deepest = 0;
+        desc_init(&d, boxes, CELLS, OBJECTS, pvs);
+        d.max_chain = ks[j];
+        buf = encode(&d, &size);
+        sizes[j] = size;
+        CHECK(buf && pvs_file_open(buf, size, &f, NULL) == PVS_OK);
+        if (!buf) continue;
+        for (c = 0; c < CELLS; ++c) {
+            pvs_record_info info;
+            pvs_file_record_info(&f, c, &info);
+            if (info.depth > deepest) deepest = info.depth;
+        }
+        CHECK(deepest <= ks[j] && deepest >= 1);
+        free(buf);
+    }
+    CHECK(sizes[0] >= sizes[1] && sizes[1] >= sizes[2]); /* a looser bound never costs bytes here */
+    {
+        pvs_file_desc d;
+        desc_init(&d, boxes, CELLS, OBJECTS, pvs);
+        d.max_chain = PVS_MAX_CHAIN + 1;
+        CHECK(pvs_file_encode(&d, NULL, 0, &size, NULL) == PVS_ERROR_INVALID_ARGUMENT);
+        d.max_chain = 0;
+        d.shard_count = 1;
+        CHECK(pvs_file_encode(&d, NULL, 0, &size, NULL) == PVS_ERROR_INVALID_ARGUMENT);
+        d.shard_count = 3;
+        d.shard_index = 0;
+        d.total_cell_count = CELLS; /* 200 cells in 3 shards: shard 0 holds 67, not 200 */
+        CHECK(pvs_file_encode(&d, NULL, 0, &size, NULL) == PVS_ERROR_INVALID_ARGUMENT);
+        d.shard_count = 0;
+        boxes[5].min[1] = NAN;
+        CHECK(pvs_file_encode(&d, NULL, 0, &size, NULL) == PVS_ERROR_BAD_CELL);
+    }
+    free(boxes);
+    free(pvs);
+}
+
+/* A small valid file into a fresh buffer of exactly its size: 40 cells, so there are deltas, a tree
+   with inner nodes and several record blocks. */
+static uint8_t *small_file(size_t *size) {
+    enum { CELLS = 40, OBJECTS = 100 };
+    static pvs_box boxes[CELLS];
+    static pvs_word pvs[CELLS * 2];
+    pvs_file_desc d;
+    rng_state = 777;
+    make_table(CELLS, OBJECTS, 30, 5, 0, boxes, pvs);
+    desc_init(&d, boxes, CELLS, OBJECTS, pvs);
     d.up_axis = 2;
-    bound = pvs_file_bound(&d);
-    buf = (uint8_t *)malloc(bound);
-    pvs_file_encode(&d, buf, bound, size, NULL);
-    return buf;
+    d.flags = 0;
+    return encode(&d, size);
+}
+
+/* Offset of the section with this tag (0 if none). */
+static uint32_t section(const uint8_t *b, const char *tag) {
+    uint32_t n = rd32(b + 12), i;
+    for (i = 0; i < n; ++i)
+        if (memcmp(b + 32 + 16 * i, tag, 4) == 0) return rd32(b + 32 + 16 * i + 4);
+    return 0;
 }
 
 static void test_corruptions(void) {
     size_t size, i;
     uint8_t *good = small_file(&size), *b = (uint8_t *)malloc(size);
-    pvs_word bits[2];
+    pvs_word bits[2], scratch[2];
     pvs_file f0;
     int round;
+    uint32_t m = section(good, "META"), cl = section(good, "CELL"), tr = section(good, "TREE"), rc = section(good, "RECS");
     CHECK(expect_open(good, size, PVS_OK));
+    CHECK(m && cl && tr && rc);
 #define RESET() memcpy(b, good, size)
     RESET(); b[0] = 'X';                       CHECK(expect_open(b, size, PVS_ERROR_BAD_MAGIC));
     RESET(); wr32(b + 4, 2);                   CHECK(expect_open(b, size, PVS_ERROR_BAD_VERSION));
@@ -188,56 +344,114 @@ static void test_corruptions(void) {
     RESET(); wr32(b + 48 + 4, rd32(b + 32 + 4)); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
     RESET(); wr32(b + 48, rd32(b + 32)); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
     RESET(); b[48] = 'Z'; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
-    RESET(); b[rd32(b + 32 + 4) + 2] ^= 1;    CHECK(expect_open(b, size, PVS_ERROR_CHECKSUM));
+    RESET(); b[m + 2] ^= 1;                    CHECK(expect_open(b, size, PVS_ERROR_CHECKSUM));
     /* META fields */
+    RESET(); wr32(b + m, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); wr32(b + m, rd32(b + m) + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); wr32(b + m + 4, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); wr32(b + m + 4, 50); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_OBJECT_OUT_OF_RANGE));
+    RESET(); wr32(b + m + 8, 99); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); wr32(b + m + 12, 0x7fc00000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); wr32(b + m + 16, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); wr32(b + m + 20, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); wr32(b + m + 20, 65); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); wr32(b + m + 20, 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CHAIN)); /* K smaller than the chains */
+    RESET(); wr32(b + m + 24, rd32(b + m + 24) + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); wr32(b + m + 28, 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    /* CELL: counts, widths, values (NaN, -0, not ascending), an index out of range */
+    RESET(); wr32(b + cl, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); b[cl + 12] += 1; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); wr32(b + cl + 16, 0x7fc00000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
+    RESET(); wr32(b + cl + 16, 0x80000000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
+    RESET(); memcpy(b + cl + 20, b + cl + 16, 4); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
     {
-        uint32_t m = rd32(b + 32 + 4);
-        RESET(); wr32(b + m, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-        RESET(); wr32(b + m, 6); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
-        RESET(); wr32(b + m + 4, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-        RESET(); wr32(b + m + 4, 50); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_OBJECT_OUT_OF_RANGE));
-        RESET(); wr32(b + m + 8, 99); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-        RESET(); wr32(b + m + 12, 0x7fc00000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-        RESET(); wr32(b + m + 16, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-        RESET(); wr32(b + m + 20, 7); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-    }
-    /* a NaN cell box, min > max */
-    {
-        uint32_t c = rd32(b + 48 + 4);
-        RESET(); wr32(b + c + 4, 0x7fc00000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
-        RESET(); wr32(b + c + 0, 0x7f000000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
-    }
-    /* records: offsets, varints, ids */
-    {
-        uint32_t r = rd32(b + 64 + 4), first = rd32(b + r), second;
-        RESET(); wr32(b + r, first + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_RECORD));
-        RESET(); second = rd32(b + r + 4); wr32(b + r + 8, second - 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_RECORD));
-        RESET(); b[r + first] = 0xff; fix_checksums(b, size); CHECK(pvs_file_open(b, size, &f0, NULL) < 0);
-        RESET(); b[r + first + 1] = 120; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_OBJECT_OUT_OF_RANGE));
-    }
-    /* a non-zero padding byte: the CELL section (5 * 24 = 120 bytes) ends 8-aligned, so look for a gap */
-    {
-        uint32_t r = rd32(b + 64 + 4), rs = rd32(b + 64 + 8);
-        if ((size_t)r + rs < size) {
-            RESET(); b[size - 1] = 1; CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+        /* set every index bit of cell 0 on axis 0: index 2^w - 1 is out of range unless the table
+           is a power of two long; then min > max or in range; only a defined code is required */
+        uint32_t n0 = rd32(b + cl), n1 = rd32(b + cl + 4), n2 = rd32(b + cl + 8);
+        uint32_t at = cl + 16 + 4 * (n0 + n1 + n2);
+        RESET(); b[at] = 0xff; fix_checksums(b, size);
+        {
+            pvs_result r = pvs_file_open(b, size, &f0, NULL);
+            CHECK(r == PVS_ERROR_BAD_CELL || r == PVS_OK);
         }
     }
+    /* TREE: node count, reserved, a root leaf where an inner node was, a wrong subtree size, a
+       split index past its table */
+    RESET(); wr32(b + tr, rd32(b + tr) + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+    RESET(); wr32(b + tr, rd32(b + tr) - 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+    RESET(); wr32(b + tr + 4, 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+    CHECK((b[tr + 8] & 3u) != 3u && b[tr + 8] < 0x80); /* 40 cells: the root is an inner node with a one-byte head */
+    RESET(); b[tr + 8] = 0x7f; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+    RESET(); b[tr + 9] ^= 1; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+    RESET(); b[tr + 8] = (uint8_t)((b[tr + 8] & 3u) | (0x1fu << 2)); fix_checksums(b, size);
+    {
+        pvs_result r = pvs_file_open(b, size, &f0, NULL); /* index 31 may exist on a long axis: then the tree stays valid */
+        CHECK(r == PVS_ERROR_BAD_TREE || r == PVS_OK);
+    }
+    /* RECS: block offsets, lengths, chains, ids */
+    {
+        uint32_t first = rd32(b + rc);
+        RESET(); wr32(b + rc, first + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_RECORD));
+        RESET(); wr32(b + rc + 4, rd32(b + rc + 4) - 1); fix_checksums(b, size); CHECK(pvs_file_open(b, size, &f0, NULL) < 0);
+        RESET(); b[rc + first] = 0xff; fix_checksums(b, size); CHECK(pvs_file_open(b, size, &f0, NULL) < 0);
+        /* record 0: L, head, [base], body. Make it a delta of depth 9 > K = 8 */
+        RESET(); b[rc + first + 1] = (uint8_t)((b[rc + first + 1] & 3u) | (9u << 2)); fix_checksums(b, size);
+        CHECK(expect_open(b, size, PVS_ERROR_BAD_CHAIN));
+    }
+    {
+        /* find a delta record and point its base at a cell of the wrong depth, or at itself */
+        pvs_file f;
+        uint32_t c;
+        CHECK(pvs_file_open(good, size, &f, NULL) == PVS_OK);
+        for (c = 0; c < f.cell_count; ++c) {
+            pvs_record_info info;
+            pvs_file_record_info(&f, c, &info);
+            if (info.depth == 1 && info.bytes > 3) {
+                /* locate the record: block start, then skip records by their length varints */
+                const uint8_t *p = good + rc + rd32(good + rc + 4 * (c / 16));
+                uint32_t j, at;
+                for (j = c - c % 16; j < c; ++j) p += 1 + p[0]; /* small records: one-byte lengths */
+                at = (uint32_t)(p - good);
+                if (good[at] < 0x80 && good[at + 1] < 0x80 && good[at + 2] < 0x80) {
+                    RESET(); b[at + 2] = 0; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CHAIN)); /* base = itself */
+                    RESET(); b[at + 1] = (uint8_t)((b[at + 1] & 3u) | (2u << 2)); fix_checksums(b, size);
+                    CHECK(expect_open(b, size, PVS_ERROR_BAD_CHAIN)); /* depth 2 on a key base */
+                    break;
+                }
+            }
+        }
+        CHECK(c < f.cell_count);
+    }
+    /* a non-zero padding byte */
+    if (rd32(b + 32 + 16 * 3 + 4) + rd32(b + 32 + 16 * 3 + 8) < size) {
+        RESET(); b[size - 1] = 1; CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    }
     /* random corruptions with repaired checksums: never a crash, always a defined code, and an
-       accepted file always decodes */
-    for (round = 0; round < 20000; ++round) {
+       accepted file always decodes and walks */
+    for (round = 0; round < 100000; ++round) {
         pvs_file f;
         pvs_error e;
         pvs_result res;
         int flips = 1 + (int)(rnd() % 4), k;
         RESET();
-        for (k = 0; k < flips; ++k) b[rnd() % size] ^= (uint8_t)(1u << (rnd() % 8));
-        if (rnd() % 4) fix_checksums(b, size);
+        for (k = 0; k < flips; ++k) {
+            size_t at = rnd() % size;
+            if (rnd() % 4) b[at] ^= (uint8_t)(1u << (rnd() % 8));
+            else b[at] = (uint8_t)rnd();
+        }
+        if (rnd() % 8) fix_checksums(b, size);
         res = pvs_file_open(b, size, &f, &e);
         CHECK(res <= 0 && res > PVS_RESULT_MIN && e.result == res);
-        if (res == PVS_OK)
-            for (i = 0; i < f.cell_count; ++i)
-                CHECK(pvs_file_decode(&f, (uint32_t)i, bits, 2, NULL) ==
-                      (PVS_BITSET_WORDS(f.object_count) <= 2 ? PVS_OK : PVS_ERROR_BUFFER_TOO_SMALL));
+        if (res == PVS_OK && PVS_BITSET_WORDS(f.object_count) <= 2) {
+            pvs_cursor cur;
+            float p[3] = {0.5f, 0.5f, 0.5f};
+            CHECK(pvs_cursor_init(&cur, &f, bits, scratch, 2, NULL) == PVS_OK);
+            for (i = 0; i < f.cell_count; ++i) {
+                CHECK(pvs_file_decode(&f, (uint32_t)i, bits, 2, NULL) == PVS_OK);
+                CHECK(pvs_cursor_move(&cur, (uint32_t)i, NULL, NULL) == PVS_OK);
+            }
+            (void)pvs_file_find_cell(&f, p);
+        }
     }
     CHECK(expect_open(NULL, 0, PVS_ERROR_TRUNCATED));
     CHECK(pvs_file_open(good, size, NULL, NULL) == PVS_ERROR_INVALID_ARGUMENT);
@@ -246,7 +460,144 @@ static void test_corruptions(void) {
     free(b);
 }
 
+/* Part files: every shard split of a table, decoded and re-encoded whole, gives the bytes of the
+   direct encoding (what `pvsbake merge` does). */
+static void test_shards(void) {
+    enum { CELLS = 23, OBJECTS = 400 };
+    size_t words = PVS_BITSET_WORDS(OBJECTS), size_whole;
+    pvs_box boxes[CELLS], part_boxes[CELLS], merged_boxes[CELLS];
+    static pvs_word pvs[CELLS * PVS_BITSET_WORDS(OBJECTS)], part_pvs[CELLS * PVS_BITSET_WORDS(OBJECTS)],
+        merged[CELLS * PVS_BITSET_WORDS(OBJECTS)];
+    pvs_file_desc d;
+    uint8_t *whole;
+    uint32_t ns[4] = {2, 3, 7, 23}, j, k, c;
+    make_table(CELLS, OBJECTS, 20, 3, 0, boxes, pvs);
+    boxes[3].min[0] = -0.0f; /* stored as +0 in every file */
+    if (boxes[3].max[0] < 1.0f) boxes[3].max[0] = 1.0f;
+    desc_init(&d, boxes, CELLS, OBJECTS, pvs);
+    whole = encode(&d, &size_whole);
+    for (j = 0; j < 4; ++j) {
+        uint32_t n = ns[j];
+        uint8_t *again;
+        size_t size_again;
+        for (k = 0; k < n; ++k) {
+            pvs_file_desc pd = d;
+            pvs_file pf;
+            uint8_t *part;
+            size_t part_size;
+            uint32_t m = 0;
+            for (c = k; c < CELLS; c += n, ++m) {
+                part_boxes[m] = boxes[c];
+                memcpy(part_pvs + m * words, pvs + c * words, words * sizeof(pvs_word));
+            }
+            pd.cells = part_boxes;
+            pd.pvs = part_pvs;
+            pd.cell_count = m;
+            pd.shard_index = k;
+            pd.shard_count = n;
+            pd.total_cell_count = CELLS;
+            part = encode(&pd, &part_size);
+            CHECK(part && expect_open(part, part_size, PVS_OK) && pvs_file_open(part, part_size, &pf, NULL) == PVS_OK);
+            if (!part) continue;
+            CHECK(pf.shard_index == k && pf.shard_count == n && pf.total_cell_count == CELLS && pf.cell_count == m);
+            for (c = 0; c < m; ++c) {
+                merged_boxes[k + c * n] = pvs_file_cell_box(&pf, c);
+                pvs_file_decode(&pf, c, merged + (k + c * n) * words, words, NULL);
+            }
+            free(part);
+        }
+        desc_init(&d, merged_boxes, CELLS, OBJECTS, merged);
+        again = encode(&d, &size_again);
+        CHECK(again && size_again == size_whole && memcmp(again, whole, size_whole) == 0);
+        free(again);
+        desc_init(&d, boxes, CELLS, OBJECTS, pvs);
+    }
+    free(whole);
+}
+
+/* The golden file of format version 1 (tests/golden/v1.pvs) must stay readable and decode to its
+   table; tests/golden/v1.txt holds the expected `pvsinfo --dump` listing. */
+static void test_golden(void) {
+    FILE *fp = fopen("../tests/golden/v1.pvs", "rb"), *tp = fopen("../tests/golden/v1.txt", "rb");
+    static uint8_t data[1 << 16];
+    static char text[1 << 16], line[4096];
+    size_t size = 0, tsize = 0;
+    pvs_file f;
+    pvs_error e;
+    uint32_t c;
+    CHECK(fp != NULL && tp != NULL);
+    if (!fp || !tp) {
+        if (fp) fclose(fp);
+        if (tp) fclose(tp);
+        return;
+    }
+    size = fread(data, 1, sizeof(data), fp);
+    tsize = fread(text, 1, sizeof(text) - 1, tp);
+    text[tsize] = 0;
+    fclose(fp);
+    fclose(tp);
+    CHECK(pvs_file_open(data, size, &f, &e) == PVS_OK);
+    if (e.result != PVS_OK) { fprintf(stderr, "golden: %s\n", e.message); return; }
+    {
+        char *out = (char *)malloc(1 << 16);
+        size_t pos = 0;
+        pvs_word bits[64];
+        CHECK(f.object_count <= 64 * 64);
+        for (c = 0; c < f.cell_count && f.object_count <= 64 * 64; ++c) {
+            uint32_t i;
+            size_t n;
+            pvs_file_decode(&f, c, bits, 64, NULL);
+            n = (size_t)snprintf(line, sizeof(line), "%u:", c);
+            for (i = pvs_bitset_next(bits, f.object_count, 0); i < f.object_count && n < sizeof(line) - 16; i = pvs_bitset_next(bits, f.object_count, i + 1))
+                n += (size_t)snprintf(line + n, sizeof(line) - n, " %u", i);
+            if (pos + n + 2 < (1 << 16)) {
+                memcpy(out + pos, line, n);
+                pos += n;
+                out[pos++] = '\n';
+            }
+        }
+        out[pos] = 0;
+        CHECK(strcmp(out, text) == 0);
+        free(out);
+    }
+}
+
+/* The fuzzing corpus (tests/corpus): files named ok-* open, bad-* are rejected, all run through
+   the fuzz target (every runtime path on each file that opens). */
+int pvs_fuzz_one(const uint8_t *data, size_t size);
+static void test_corpus(void) {
+    DIR *dir = opendir("../tests/corpus");
+    struct dirent *ent;
+    int files = 0;
+    CHECK(dir != NULL);
+    if (!dir) return;
+    while ((ent = readdir(dir)) != NULL) {
+        char path[512];
+        FILE *fp;
+        static uint8_t data[1 << 20];
+        size_t size;
+        int r;
+        if (ent->d_name[0] == '.') continue;
+        snprintf(path, sizeof(path), "../tests/corpus/%s", ent->d_name);
+        fp = fopen(path, "rb");
+        CHECK(fp != NULL);
+        if (!fp) continue;
+        size = fread(data, 1, sizeof(data), fp);
+        fclose(fp);
+        r = pvs_fuzz_one(data, size);
+        if (!strncmp(ent->d_name, "ok-", 3)) CHECK(r == PVS_OK);
+        else CHECK(r < 0);
+        ++files;
+    }
+    closedir(dir);
+    CHECK(files >= 10);
+}
+
 void test_format(void) {
     test_round_trip();
+    test_chain_bound();
     test_corruptions();
+    test_shards();
+    test_golden();
+    test_corpus();
 }

@@ -1,5 +1,5 @@
 /* test_noalloc.c - a private (PVS_STATIC) copy of the implementation whose PVS_MALLOC counts calls:
-   proves that opening, looking up and decoding a file allocate nothing. */
+   proves that opening, looking up, decoding and walking a file with the cursor allocate nothing. */
 #include "test.h"
 #include <stdlib.h>
 #include <string.h>
@@ -8,8 +8,6 @@ static long noalloc_mallocs;
 static void *noalloc_malloc(size_t n) { ++noalloc_mallocs; return malloc(n); }
 #define PVS_MALLOC(n) noalloc_malloc(n)
 #define PVS_FREE(p) free(p)
-#if defined(__GNUC__)
-#endif
 #define PVS_STATIC
 #define PVS_IMPLEMENTATION
 #include "../pvs.h"
@@ -31,10 +29,10 @@ void test_noalloc(void) {
     }
     memset(&d, 0, sizeof(d));
     d.cells = boxes; d.cell_count = CELLS; d.object_count = OBJECTS; d.pvs = pvs; d.up_axis = 1;
-    bound = pvs_file_bound(&d);
+    CHECK(pvs_file_encode(&d, NULL, 0, &bound, &e) == PVS_ERROR_BUFFER_TOO_SMALL);
     buf = (uint8_t *)malloc(bound);
-    noalloc_mallocs = 0;
     CHECK(pvs_file_encode(&d, buf, bound, &size, &e) == PVS_OK);
+    noalloc_mallocs = 0;
     CHECK(pvs_file_open(buf, size, &f, &e) == PVS_OK);
     for (c = 0; c < CELLS; ++c) {
         float p[3];
@@ -42,6 +40,14 @@ void test_noalloc(void) {
         CHECK(pvs_file_find_cell(&f, p) == c);
         CHECK(pvs_file_decode(&f, c, bits, PVS_BITSET_WORDS(OBJECTS), &e) == PVS_OK);
         for (i = pvs_bitset_next(bits, OBJECTS, 0); i < OBJECTS; i = pvs_bitset_next(bits, OBJECTS, i + 1)) sum += i;
+    }
+    {
+        static pvs_word cur[PVS_BITSET_WORDS(OBJECTS)], scratch[PVS_BITSET_WORDS(OBJECTS)];
+        pvs_cursor cursor;
+        CHECK(pvs_cursor_init(&cursor, &f, cur, scratch, PVS_BITSET_WORDS(OBJECTS), &e) == PVS_OK);
+        for (c = 0; c < 3 * CELLS; ++c) CHECK(pvs_cursor_move(&cursor, (c * 7) % CELLS, NULL, NULL) == PVS_OK);
+        for (c = 0; c < CELLS; ++c) CHECK(pvs_cursor_move(&cursor, c, NULL, NULL) == PVS_OK);
+        CHECK(cursor.delta_moves > 0);
     }
     CHECK(sum > 0);
     CHECK(noalloc_mallocs == 0);

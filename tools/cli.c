@@ -271,3 +271,117 @@ double cli_seconds(void) {
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
+
+int cli_write_bake(const pvs_bake *bake, const char *path, size_t *size, tool_error *err) {
+    pvs_error pe;
+    size_t need = pvs_bake_file_size(bake);
+    void *bytes;
+    int rc;
+    *size = 0;
+    if (!need) {
+        tool_error_set(err, path, 0, "cannot encode the bake (unfinished, or out of memory)");
+        return -1;
+    }
+    bytes = malloc(need);
+    if (!bytes) {
+        tool_error_set(err, path, 0, "out of memory (%zu bytes)", need);
+        return -1;
+    }
+    if (pvs_bake_write_file(bake, bytes, need, size, &pe) != PVS_OK) {
+        tool_error_set(err, path, 0, "%s", pe.message);
+        free(bytes);
+        return -1;
+    }
+    rc = write_file_atomic(path, bytes, *size, err);
+    free(bytes);
+    return rc;
+}
+
+int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out_size, tool_error *err) {
+    void **data = (void **)calloc((size_t)count, sizeof(void *));
+    pvs_file *files = (pvs_file *)calloc((size_t)count, sizeof(pvs_file));
+    int *by_shard = NULL, i, rc = -1;
+    uint32_t n = 0, total = 0, words = 0, c;
+    pvs_box *boxes = NULL;
+    pvs_word *table = NULL;
+    pvs_file_desc d;
+    pvs_error pe;
+    size_t need = 0;
+    *out = NULL;
+    *out_size = 0;
+    if (!data || !files) { tool_error_set(err, NULL, 0, "out of memory"); goto done; }
+    for (i = 0; i < count; ++i) {
+        size_t size;
+        const pvs_file *f = files + i, *f0 = files;
+        if (read_file(paths[i], &data[i], &size, err)) goto done;
+        if (pvs_file_open(data[i], size, files + i, &pe) != PVS_OK) {
+            tool_error_set(err, paths[i], 0, "%s (byte %llu)", pe.message, (unsigned long long)pe.offset);
+            goto done;
+        }
+        if (f->shard_count < 2 && count > 1) {
+            tool_error_set(err, paths[i], 0, "not a part file (bake it with --shard K/N)");
+            goto done;
+        }
+        if (i && (f->shard_count != f0->shard_count || f->total_cell_count != f0->total_cell_count ||
+                  f->object_count != f0->object_count || f->method != f0->method || f->eps != f0->eps ||
+                  f->up_axis != f0->up_axis || f->flags != f0->flags || f->max_chain != f0->max_chain)) {
+            tool_error_set(err, paths[i], 0, "does not belong to the bake of %s (shard count, cells, objects, method, eps, "
+                                             "up axis, flags or chain bound differ)", paths[0]);
+            goto done;
+        }
+    }
+    n = files[0].shard_count ? files[0].shard_count : 1; /* one whole file merges into itself */
+    total = files[0].shard_count ? files[0].total_cell_count : files[0].cell_count;
+    by_shard = (int *)malloc(n * sizeof(int));
+    if (!by_shard) { tool_error_set(err, NULL, 0, "out of memory"); goto done; }
+    for (c = 0; c < n; ++c) by_shard[c] = -1;
+    for (i = 0; i < count; ++i) {
+        uint32_t k = files[i].shard_index;
+        if (by_shard[k] >= 0) {
+            tool_error_set(err, paths[i], 0, "shard %u/%u is also in %s", k + 1, n, paths[by_shard[k]]);
+            goto done;
+        }
+        by_shard[k] = i;
+    }
+    for (c = 0; c < n; ++c)
+        if (by_shard[c] < 0) {
+            tool_error_set(err, paths[0], 0, "shard %u/%u is missing", c + 1, n);
+            goto done;
+        }
+    words = (uint32_t)PVS_BITSET_WORDS(files[0].object_count);
+    boxes = (pvs_box *)malloc((size_t)total * sizeof(pvs_box));
+    table = (pvs_word *)malloc((size_t)total * words * sizeof(pvs_word));
+    if (!boxes || !table) { tool_error_set(err, NULL, 0, "out of memory for %u cells", total); goto done; }
+    for (c = 0; c < total; ++c) {
+        const pvs_file *f = files + by_shard[c % n];
+        uint32_t local = c / n;
+        boxes[c] = pvs_file_cell_box(f, local);
+        pvs_file_decode(f, local, table + (size_t)c * words, words, NULL);
+    }
+    memset(&d, 0, sizeof(d));
+    d.cells = boxes;
+    d.cell_count = total;
+    d.object_count = files[0].object_count;
+    d.pvs = table;
+    d.method = files[0].method;
+    d.eps = files[0].eps;
+    d.up_axis = files[0].up_axis;
+    d.flags = files[0].flags;
+    d.max_chain = files[0].max_chain;
+    if (pvs_file_encode(&d, NULL, 0, &need, &pe) != PVS_ERROR_BUFFER_TOO_SMALL || !(*out = malloc(need)) ||
+        pvs_file_encode(&d, *out, need, out_size, &pe) != PVS_OK) {
+        tool_error_set(err, NULL, 0, "encoding the merged file: %s", *out ? pe.message : "out of memory");
+        free(*out);
+        *out = NULL;
+        goto done;
+    }
+    rc = 0;
+done:
+    for (i = 0; data && i < count; ++i) free(data[i]);
+    free(data);
+    free(files);
+    free(by_shard);
+    free(boxes);
+    free(table);
+    return rc;
+}

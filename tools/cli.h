@@ -37,6 +37,14 @@ typedef struct cli_check {
 int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint64_t seed,
                    uint32_t threads, int quiet, cli_check *out, tool_error *err);
 
+/* Encodes a finished bake and writes it to `path` (temp file + rename). *size gets the file size. */
+int cli_write_bake(const pvs_bake *bake, const char *path, size_t *size, tool_error *err);
+
+/* `pvsbake merge`: reads the part files of one sharded bake (any order), checks that they make up
+   the whole (same shard count, every shard once, same table shape and parameters) and encodes the
+   whole table into *out (malloc'd, *out_size bytes): the bytes an unsharded bake writes. */
+int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out_size, tool_error *err);
+
 /* Seconds on a monotonic clock. */
 double cli_seconds(void);
 

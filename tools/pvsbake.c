@@ -5,6 +5,7 @@
 
 static const char *usage =
     "usage: pvsbake SCENE.obj -o OUT.pvs [--cells CELLS.txt | --grid SIZE] [options]\n"
+    "       pvsbake merge -o OUT.pvs PART.pvs...   combine the parts of a sharded bake\n"
     "  -o OUT.pvs        output file (written to a temporary file, then renamed)\n"
     "  --cells FILE      view cells: one 'minx miny minz maxx maxy maxz' per line ('#' comments)\n"
     "  --grid SIZE       view cells: a 3D grid of SIZE cubes over the scene bounds\n"
@@ -14,6 +15,8 @@ static const char *usage =
     "  --points N        sample method: points per cell (default 32)\n"
     "  --rays N          sample method: rays per point (default 2048)\n"
     "  --seed N          sample method: random seed (default 1)\n"
+    "  --chain K         file: decode any cell in at most K deltas (1..64, default 8)\n"
+    "  --shard K/N       bake only shard K of N (cells K-1, K-1+N, ...) into a part file for merge\n"
     "  -j THREADS        worker threads (default: all CPUs); the file is identical for any count\n"
     "  -q, --quiet       no progress bar and no summary\n"
     "  --help            this text\n"
@@ -26,10 +29,61 @@ static int usage_error(const char *fmt, const char *arg) {
     return 2;
 }
 
+/* pvsbake merge -o OUT PART... */
+static int merge_main(int argc, char **argv) {
+    const char *out_path = NULL;
+    const char **parts = (const char **)calloc((size_t)argc + 1, sizeof(char *));
+    int n = 0, i, rc = 1;
+    void *bytes = NULL;
+    size_t size = 0;
+    tool_error te;
+    if (!parts) return 1;
+    for (i = 2; i < argc; ++i) {
+        if (!strcmp(argv[i], "-o")) {
+            if (i + 1 >= argc) { free(parts); return usage_error("%s needs a value", "-o"); }
+            out_path = argv[++i];
+        } else if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            fputs(usage, stdout);
+            free(parts);
+            return 0;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            free(parts);
+            return usage_error("unknown merge option '%s'", argv[i]);
+        } else {
+            parts[n++] = argv[i];
+        }
+    }
+    if (!out_path || !n) {
+        free(parts);
+        return usage_error("%s", "merge needs -o OUT.pvs and at least one part file");
+    }
+    if (cli_merge_parts(parts, n, &bytes, &size, &te) == 0 && write_file_atomic(out_path, bytes, size, &te) == 0) {
+        fprintf(stderr, "%s: merged %d parts, %zu bytes\n", out_path, n, size);
+        rc = 0;
+    } else {
+        fprintf(stderr, "pvsbake: %s\n", te.message);
+    }
+    free(bytes);
+    free(parts);
+    return rc;
+}
+
+/* "K/N" with 1 <= K <= N (N = 1: the whole bake). */
+static int parse_shard(const char *v, uint32_t *k, uint32_t *n) {
+    char a[32];
+    const char *slash = strchr(v, '/');
+    size_t len = slash ? (size_t)(slash - v) : 0;
+    if (!slash || len == 0 || len >= sizeof(a)) return -1;
+    memcpy(a, v, len);
+    a[len] = 0;
+    if (cli_parse_u32(a, 1, 1u << 20, k) || cli_parse_u32(slash + 1, 1, 1u << 20, n) || *k > *n) return -1;
+    return 0;
+}
+
 int main(int argc, char **argv) {
     const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL;
     float grid = 0.0f, eps = 0.0f;
-    uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1;
+    uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0;
     int quiet = 0, i;
     pvs_method method = PVS_METHOD_SAMPLE;
     mesh m;
@@ -39,10 +93,11 @@ int main(int argc, char **argv) {
     pvs_bake_desc bd;
     pvs_error pe;
     tool_error te;
-    void *bytes = NULL;
-    size_t size = 0, bound;
+    size_t size = 0;
     double t0, t_bake;
     int rc = 1;
+
+    if (argc > 1 && !strcmp(argv[1], "merge")) return merge_main(argc, argv);
 
     for (i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -54,7 +109,7 @@ int main(int argc, char **argv) {
             quiet = 1;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--cells") || !strcmp(a, "--grid") || !strcmp(a, "--up") ||
                    !strcmp(a, "--method") || !strcmp(a, "--eps") || !strcmp(a, "-j") || !strcmp(a, "--points") ||
-                   !strcmp(a, "--rays") || !strcmp(a, "--seed")) {
+                   !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard")) {
             if (!v) return usage_error("%s needs a value", a);
             ++i;
             if (!strcmp(a, "-o")) out_path = v;
@@ -74,6 +129,10 @@ int main(int argc, char **argv) {
                 if (cli_parse_u32(v, 1, 1u << 20, &points)) return usage_error("--points takes 1..1048576, not '%s'", v);
             } else if (!strcmp(a, "--rays")) {
                 if (cli_parse_u32(v, 1, 1u << 24, &rays)) return usage_error("--rays takes 1..16777216, not '%s'", v);
+            } else if (!strcmp(a, "--chain")) {
+                if (cli_parse_u32(v, 1, PVS_MAX_CHAIN, &chain)) return usage_error("--chain takes 1..64, not '%s'", v);
+            } else if (!strcmp(a, "--shard")) {
+                if (parse_shard(v, &shard_k, &shard_n)) return usage_error("--shard takes K/N with 1 <= K <= N, not '%s'", v);
             } else if (!strcmp(a, "--seed")) {
                 if (cli_parse_u32(v, 0, 0xffffffffu, &seed)) return usage_error("--seed takes an unsigned integer, not '%s'", v);
             }
@@ -104,6 +163,15 @@ int main(int argc, char **argv) {
     bd.sample_points = points;
     bd.sample_rays = rays;
     bd.seed = seed;
+    bd.max_chain = chain;
+    if (shard_n > 1) {
+        if (shard_n > cells.count) {
+            tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "--shard %u/%u: only %u cells", shard_k, shard_n, cells.count);
+            goto fail;
+        }
+        bd.shard_index = shard_k - 1;
+        bd.shard_count = shard_n;
+    }
     if (pvs_bake_begin(&bd, &bake, &pe) != PVS_OK) {
         tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "%s", pe.message);
         goto fail;
@@ -111,34 +179,23 @@ int main(int argc, char **argv) {
     t_bake = cli_seconds();
     if (cli_run_bake(bake, threads, quiet, "bake", &te)) goto fail;
     t_bake = cli_seconds() - t_bake;
-    bound = pvs_bake_file_bound(bake);
-    bytes = malloc(bound);
-    if (!bytes) {
-        tool_error_set(&te, out_path, 0, "out of memory (%zu bytes)", bound);
-        goto fail;
-    }
-    if (pvs_bake_write_file(bake, bytes, bound, &size, &pe) != PVS_OK) {
-        tool_error_set(&te, out_path, 0, "%s", pe.message);
-        goto fail;
-    }
-    if (write_file_atomic(out_path, bytes, size, &te)) goto fail;
+    if (cli_write_bake(bake, out_path, &size, &te)) goto fail;
     if (!quiet) {
-        uint32_t c, objects = pvs_scene_object_count(scene);
+        uint32_t t, objects = pvs_scene_object_count(scene), tasks = pvs_bake_task_count(bake);
         double sum = 0.0;
-        for (c = 0; c < cells.count; ++c) sum += pvs_bitset_count(pvs_bake_cell_pvs(bake, c), objects);
+        for (t = 0; t < tasks; ++t) sum += pvs_bitset_count(pvs_bake_cell_pvs(bake, pvs_bake_task_cell(bake, t)), objects);
         fprintf(stderr,
-                "%s: %u objects, %u triangles, %u cells, method %s (approximate: ray sampling, not conservative)\n"
+                "%s: %u objects, %u triangles, %u cells%s, method %s (approximate: ray sampling, not conservative)\n"
                 "  mean PVS %.1f objects (%.1f%%), bake %.2f ms per cell, %.2f s total, file %zu bytes (%.1f per cell)\n",
-                out_path, objects, pvs_scene_triangle_count(scene), cells.count, pvs_method_name(pvs_bake_method(bake)),
-                sum / cells.count, 100.0 * sum / cells.count / objects, 1000.0 * t_bake / cells.count, cli_seconds() - t0, size,
-                (double)size / cells.count);
+                out_path, objects, pvs_scene_triangle_count(scene), tasks, shard_n > 1 ? " (this shard)" : "",
+                pvs_method_name(pvs_bake_method(bake)), sum / tasks, 100.0 * sum / tasks / objects, 1000.0 * t_bake / tasks,
+                cli_seconds() - t0, size, (double)size / tasks);
     }
     rc = 0;
     goto done;
 fail:
     fprintf(stderr, "pvsbake: %s\n", te.message);
 done:
-    free(bytes);
     pvs_bake_destroy(bake);
     pvs_scene_destroy(scene);
     mesh_cells_free(&cells);

@@ -81,13 +81,27 @@ int main(int argc, char **argv) {
         return 1;
     }
     if (verify) {
-        /* pvs_file_open already validated every byte; decoding each cell exercises the runtime path */
-        uint32_t c;
-        for (c = 0; c < f.cell_count; ++c)
+        /* pvs_file_open already validated every byte and chain; here decoding each cell exercises the
+           runtime path, and the look-up tree must find every cell at its centre and corners (a file
+           can be well formed and still have a tree that disagrees with its cells) */
+        uint32_t c, k, j;
+        for (c = 0; c < f.cell_count; ++c) {
+            pvs_box b = pvs_file_cell_box(&f, c);
             if (pvs_file_decode(&f, c, bits, words, &pe) != PVS_OK) {
                 fprintf(stderr, "pvsinfo: %s: cell %u: %s\n", path, c, pe.message);
                 goto done;
             }
+            for (j = 0; j < 9; ++j) {
+                float q[3];
+                uint32_t found;
+                for (k = 0; k < 3; ++k) q[k] = j == 8 ? b.min[k] + 0.5f * (b.max[k] - b.min[k]) : ((j >> k) & 1) ? b.max[k] : b.min[k];
+                found = pvs_file_find_cell(&f, q);
+                if (found > c) {
+                    fprintf(stderr, "pvsinfo: %s: cell %u: the look-up tree misses the point %g %g %g of its box\n", path, c, q[0], q[1], q[2]);
+                    goto done;
+                }
+            }
+        }
         printf("%s: ok (%u cells, %u objects, %zu bytes)\n", path, f.cell_count, f.object_count, size);
         rc = 0;
     } else if (dump) {
@@ -123,7 +137,28 @@ int main(int argc, char **argv) {
         printf("pvs size    mean %.1f (%.1f%%), min %u, max %u\n", sum / f.cell_count, 100.0 * sum / f.cell_count / f.object_count, minp, maxp);
         printf("bytes       %zu (%.1f per cell; raw bitsets would be %zu)\n", size, (double)size / f.cell_count,
                (size_t)f.cell_count * ((f.object_count + 7) / 8));
-        printf("records     %u bytes, gap-varint coding\n", f.records_size);
+        {
+            static const char *names[PVS_CODING_COUNT] = {"gap varints", "run lengths", "Rice codes", "raw bitsets"};
+            uint32_t coding_count[PVS_CODING_COUNT] = {0}, k, deepest = 0;
+            uint64_t record_bytes = 0;
+            double depth_sum = 0.0;
+            for (c = 0; c < f.cell_count; ++c) {
+                pvs_record_info info;
+                pvs_file_record_info(&f, c, &info);
+                ++coding_count[info.coding];
+                record_bytes += info.bytes;
+                depth_sum += info.depth;
+                if (info.depth > deepest) deepest = info.depth;
+            }
+            printf("records     %llu bytes (%.1f per cell): %u key cells, %u deltas; chain mean %.2f, max %u (bound %u)\n",
+                   (unsigned long long)record_bytes, (double)record_bytes / f.cell_count, f.key_count, f.cell_count - f.key_count,
+                   depth_sum / f.cell_count, deepest, f.max_chain);
+            printf("codings    ");
+            for (k = 0; k < PVS_CODING_COUNT; ++k) printf(" %s %u%s", names[k], coding_count[k], k + 1 < PVS_CODING_COUNT ? "," : "\n");
+            if (f.shard_count)
+                printf("part        shard %u of %u (%u cells in the whole bake): combine with pvsbake merge\n", f.shard_index + 1,
+                       f.shard_count, f.total_cell_count);
+        }
         rc = 0;
     }
 done:

@@ -1,0 +1,87 @@
+/* fuzz_target.c - what the fuzzer and the corpus replay do with one input: open it as a .pvs file
+   and, when it opens, exercise every runtime path on it (decode each cell, walk the cursor, look up
+   points). Returns the open result; crashes and sanitizer reports are the failures. */
+#include "../pvs.h"
+#include <stdlib.h>
+#include <string.h>
+
+int pvs_fuzz_one(const uint8_t *data, size_t size);
+
+static uint32_t fuzz_crc32(const uint8_t *p, size_t n, uint32_t c) {
+    size_t i;
+    int k;
+    c = ~c;
+    for (i = 0; i < n; ++i) {
+        c ^= p[i];
+        for (k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+    }
+    return ~c;
+}
+static uint32_t rd(const uint8_t *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
+static void wr(uint8_t *p, uint32_t v) { p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24); }
+
+/* Rewrites every checksum so that mutations reach the checks behind them. */
+static void fix_checksums(uint8_t *f, size_t size) {
+    uint32_t n, i, c;
+    if (size < 32) return;
+    n = rd(f + 12);
+    if (n > 64 || 32 + 16 * (size_t)n > size) return;
+    for (i = 0; i < n; ++i) {
+        uint8_t *e = f + 32 + 16 * i;
+        uint32_t off = rd(e + 4), sz = rd(e + 8);
+        if ((uint64_t)off + sz <= size) wr(e + 12, fuzz_crc32(f + off, sz, 0));
+    }
+    c = fuzz_crc32(f, 20, 0);
+    wr(f + 20, fuzz_crc32(f + 32, 16 * (size_t)n, c));
+}
+
+static int fuzz_open(const uint8_t *data, size_t size);
+
+/* The input as it is, then with repaired checksums. Returns the first result. */
+int pvs_fuzz_one(const uint8_t *data, size_t size) {
+    int r = fuzz_open(data, size);
+    if (size >= 32) {
+        uint8_t *copy = (uint8_t *)malloc(size);
+        if (copy) {
+            memcpy(copy, data, size);
+            fix_checksums(copy, size);
+            fuzz_open(copy, size);
+            free(copy);
+        }
+    }
+    return r;
+}
+
+static int fuzz_open(const uint8_t *data, size_t size) {
+    pvs_file f;
+    pvs_error e;
+    pvs_result r = pvs_file_open(data, size, &f, &e);
+    if (r != e.result || r > 0 || r <= PVS_RESULT_MIN) abort(); /* every result is a defined code */
+    if (r == PVS_OK && f.object_count <= (1u << 20)) { /* huge (valid) object counts: opening is the test */
+        size_t words = PVS_BITSET_WORDS(f.object_count);
+        pvs_word *bits = (pvs_word *)malloc(words * sizeof(pvs_word)), *cur = (pvs_word *)malloc(words * sizeof(pvs_word)),
+                 *scratch = (pvs_word *)malloc(words * sizeof(pvs_word));
+        pvs_cursor cursor;
+        uint32_t c, n = f.cell_count < 4096 ? f.cell_count : 4096;
+        if (bits && cur && scratch && pvs_cursor_init(&cursor, &f, cur, scratch, words, NULL) == PVS_OK) {
+            for (c = 0; c < n; ++c) {
+                pvs_box b = pvs_file_cell_box(&f, c);
+                float mid[3];
+                pvs_record_info info;
+                int k;
+                for (k = 0; k < 3; ++k) mid[k] = b.min[k] + 0.5f * (b.max[k] - b.min[k]);
+                (void)pvs_file_find_cell(&f, mid); /* a mutated tree may answer wrongly, never unsafely */
+                if (pvs_file_decode(&f, c, bits, words, NULL) != PVS_OK) abort();
+                pvs_file_record_info(&f, c, &info);
+                if (info.depth > f.max_chain) abort();
+                if (pvs_cursor_move(&cursor, (c * 7919u) % f.cell_count, NULL, NULL) != PVS_OK) abort();
+                if (pvs_cursor_move(&cursor, c, NULL, NULL) != PVS_OK) abort();
+                if (memcmp(cur, bits, words * sizeof(pvs_word))) abort(); /* the cursor agrees with decode */
+            }
+        }
+        free(bits);
+        free(cur);
+        free(scratch);
+    }
+    return (int)r;
+}
