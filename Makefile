@@ -84,7 +84,7 @@ $(B)/fuzz_replay: $(FUZZ_SRC) pvs.h
 fuzz: $(B)/fuzz_replay
 	@mkdir -p $(B)/fuzz-corpus
 	clang -std=c99 -O1 -g -DPVS_LIBFUZZER -fsanitize=fuzzer,address,undefined -o $(B)/fuzz_file $(FUZZ_SRC) -lm
-	./$(B)/fuzz_file -max_total_time=$(FUZZ_SECONDS) -max_len=65536 $(B)/fuzz-corpus tests/corpus
+	./$(B)/fuzz_file -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -artifact_prefix=$(B)/ $(B)/fuzz-corpus tests/corpus
 	./$(B)/fuzz_replay tests/corpus/*
 
 verify: tools
