@@ -40,10 +40,10 @@ $(B)/pvstest: $(TEST_SRC) tests/test.h $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(TEST_CFLAGS) -o $@ $(TEST_SRC) $(LDLIBS)
 
-# The README's quick start must compile and print what it claims.
+# The README's quick start (its first ```c block) must compile and print what it claims.
 readme-check: README.md pvs.h
 	@mkdir -p $(B)
-	sed -n '/^```c$$/,/^```$$/p' README.md | sed '1d;$$d' > $(B)/readme_example.c
+	awk '/^```c$$/ { f = 1; next } /^```$$/ { if (f) exit } f' README.md > $(B)/readme_example.c
 	$(CC) -std=c99 -Wall -Wextra -Werror -I. -o $(B)/readme_example $(B)/readme_example.c -lm
 	./$(B)/readme_example | grep -x 'object 0 visible, object 1 hidden'
 

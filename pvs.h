@@ -130,43 +130,50 @@
      24 u32 key cell count (1..cell_count, equal to the records' count)   28 u32 reserved zero
    "CELL" (required): the cell boxes, as indices into per-axis coordinate tables [BAD_SECTION, BAD_CELL]:
      0 u32 n[3]: distinct coordinates per axis (1..2 * cell_count)
-     12 u8 w[3]: index widths in bits, w = the bits needed for n - 1 (0 when n = 1); 15 u8 zero
-     16 f32 tables: n[0] values of axis 0, then axis 1, then axis 2; each finite, strictly
+     12 u8 w[3]: min index widths in bits, w = the bits needed for n - 1 (0 when n = 1)
+     15 u8 x[3]: extent widths in bits (<= w)      18 u8[2] zero
+     20 f32 tables: n[0] values of axis 0, then axis 1, then axis 2; each finite, strictly
         ascending, never -0 (the writer stores -0 as +0)
-     then the packed indices: per cell, in cell order, min0 min1 min2 max0 max1 max2 of widths
-        w0 w1 w2 w0 w1 w2 bits, least significant bit first, back to back; each index < n, min
-        index <= max index; the unused high bits of the last byte are zero. The section ends there.
-   "TREE" (required): the cell look-up kD-tree [BAD_TREE]:
-     0 u32 node count, 4 u32 zero, then the nodes in pre-order (node, left subtree, right subtree),
-     filling the section exactly. A node starts with varint h:
-       h & 3 = 3: a leaf of h >> 2 cells, then that many varints: the first cell id, then the gaps
-         minus one between ascending ids (every id < cell_count);
-       h & 3 = axis 0..2: an inner node splitting at value index h >> 2 (< n[axis]) of that axis's
-         table, then varint L, the byte size of its left subtree, which follows; the right subtree
-         starts L bytes later, exactly where the left one ends. At most 64 levels.
-     Look-up of a point p: p[axis] < split goes left, > split right, == split both; in a leaf the
-     lowest id whose closed box contains p. The writer puts a cell on the left when min < split or
-     max <= split and on the right when max > split, so every cell containing p is found.
+     then the packed fields: per cell, in cell order, min0 min1 min2 of widths w0 w1 w2 and the
+        extents e0 e1 e2 of widths x0 x1 x2 (max index = min index + extent < n), least
+        significant bit first, back to back; the unused high bits of the last byte are zero. The
+        section ends there.
+   "TREE" (required): the cell look-up kD-tree, a complete binary tree of depth D stored implicitly
+     (the children of node k are 2k + 1 and 2k + 2; leaf j is node 2^D - 1 + j) [BAD_TREE]:
+     0 u32 D (0..24)   4 u32 zero   8 f32 splits[2^D - 1] (finite)   then u32 leaf offsets[2^D + 1]
+     (offsets[0] = 0, ascending, the last = the item bytes' size)   then u8 axes[2^D - 1] (0..2, or
+     3: every cell is in the left child)   then the item bytes: leaf j's cell ids in offsets[j] ..
+     offsets[j + 1], varints, the first id then the gaps minus one between ascending ids, each id
+     < cell_count. The section ends there.
+     Look-up of a point p: at an inner node p[axis] < split goes left, > split right, == split
+     both; in a leaf the lowest id whose closed box contains p. The writer puts a cell on the left
+     when min < split or max <= split and on the right when max > split, so every cell containing
+     p is found (pvsinfo --verify checks a file's tree against its cells).
    "RECS" (required): the PVS records [BAD_SECTION, BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN]:
      0 u32 block offsets[B + 1], B = ceil(cell_count / 16), from the section start: offsets[0] =
        4 (B + 1), ascending, offsets[B] = the section size. Block b holds the records of cells
        16b .. 16b + 15 back to back and nothing else.
-     A record: varint R, the byte count of the rest; varint head: coding = head & 3, depth = head >> 2
-       (0 = a key cell, else a delta, depth <= K); for a delta varint z, the base cell =
-       cell - (z even ? z / 2 : -(z + 1) / 2) (zigzag), which must be another cell with depth one
-       less (so chains end at a key within K steps and cannot cycle); then the body, a set of ids
-       < object_count in one of four codings, which must fill the record exactly:
+     A record: varint R, the byte count of the rest; varint head: coding = head & 3 (of the added
+       ids), depth = head >> 2 (0 = a key cell, else a delta, depth <= K). A key: the set of its
+       PVS's ids (universe object_count) in that coding. A delta: varint z, the base cell =
+       cell - (z even ? z / 2 : -(z + 1) / 2) (zigzag), another cell whose depth is one less (so
+       chains end at a key within K steps and cannot cycle); u8 coding of the removed objects (0..3);
+       varint m, the size of the base's PVS (<= object_count); the removed objects as a set of
+       ranks in the base's PVS (universe m: rank r = the base's (r+1)-th smallest id); then the
+       added ids (universe object_count, never in the base's PVS) in the head's coding. The sets
+       must fill the record exactly. A set is coded one of four ways, each self-delimiting:
          0 gap varints: varint count, then count varints: the first id, then gaps minus one.
          1 run lengths: varint pairs, then per pair varint zeros, varint ones - 1: alternating runs
            from id 0 (zero runs after the first are >= 1); the set ends after the last ones run.
          2 Rice codes: u8 k (0..24), varint count, then count codes, least significant bit first:
            gap >> k as that many 1 bits and a 0 bit, then the k low bits of gap (gaps as in coding
-           0); the codes fill whole bytes, the unused high bits are zero.
-         3 raw bitset: ceil(object_count / 8) bytes, bit i of byte j = id 8j + i; bits past
-           object_count are zero.
-       A key's set is its PVS; a delta's set is its PVS XOR its base's PVS (the objects that enter
-       or leave: the same record leads from base to cell and back). The writer picks the smallest
-       coding, ties to the lower number.
+           0); the codes end at a byte boundary, the unused high bits are zero.
+         3 raw bitset: ceil(universe / 8) bytes, bit i of byte j = id 8j + i; bits past the
+           universe are zero.
+       The writer picks the smallest coding of each set, ties to the lower number. A decoder takes
+       the key at the end of the chain and applies the deltas from there (removals, then additions).
+       A reader cannot check that m matches the base's PVS without decoding; pvsinfo --verify does.
+       Ranks past the base's PVS in a damaged file are ignored, never read out of bounds.
      Varints everywhere are LEB128, at most 5 bytes, the value fits 32 bits, no needless 0x80 bytes.
    "SHRD" (optional, 16 bytes; part files of a sharded bake) [BAD_HEADER]: u32 shard index (0-based),
      u32 shard count (>= 2), u32 total cell count, u32 zero. Cell j of the part is cell
@@ -563,9 +570,10 @@ typedef struct pvs_file {
     struct {
         const uint8_t *values[3];   /* CELL: per-axis coordinate tables */
         const uint8_t *indices;     /* CELL: packed per-cell indices */
-        uint32_t value_count[3], index_bits[3], cell_bits;
-        const uint8_t *tree;        /* TREE: the node stream */
-        uint32_t node_count;
+        uint32_t value_count[3], index_bits[6], cell_bits; /* widths: min indices, then extents */
+        size_t index_bytes;
+        const uint8_t *tree;        /* TREE: nodes, leaf offsets, items */
+        uint32_t tree_depth;
         const uint8_t *records;     /* RECS */
         uint32_t records_size, block_count;
     } private_;
@@ -583,8 +591,9 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, 
 typedef struct pvs_record_info {
     uint32_t base;             /* the cell the delta applies to, PVS_NO_CELL for a key cell */
     uint32_t depth;            /* deltas applied to decode this cell (0 for a key cell) */
-    uint32_t coding;           /* 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
+    uint32_t coding;           /* of the (added) ids: 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
     uint32_t bytes;            /* size of the record */
+    uint32_t base_size;        /* a delta: the size of the base's PVS its removal ranks count in */
 } pvs_record_info;
 #define PVS_CODING_COUNT 4
 /* Fills *info for cell < cell_count. No allocation. */
@@ -607,9 +616,9 @@ PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word
 typedef void (*pvs_change_fn)(void *user, uint32_t object, int visible);
 
 /* Follows a viewer from cell to cell and reports only the objects that change (Durand et al. 2000,
-   §6.2). Moving to a cell whose base is the current cell, or back to the current cell's base, applies
-   that one delta; any other move decodes the new cell into the scratch bitset and compares. Plain
-   data over caller memory; no allocation. */
+   §6.2). Moving to a cell whose base is the current cell applies that one delta; any other move
+   decodes the new cell into the scratch bitset and compares. Plain data over caller memory; no
+   allocation. */
 typedef struct pvs_cursor {
     const pvs_file *file;
     uint32_t cell;             /* current cell, PVS_NO_CELL before the first move */
@@ -624,8 +633,8 @@ typedef struct pvs_cursor {
 PVS_API pvs_result pvs_cursor_init(pvs_cursor *cursor, const pvs_file *file, pvs_word *bits, pvs_word *scratch,
                                    size_t word_count, pvs_error *err);
 /* Moves to `cell` (PVS_NO_CELL empties the set), calling on_change (may be NULL) once per object that
-   enters or leaves the set, in ascending id order when the move decodes fully. Errors: INVALID_ARGUMENT
-   (cell out of range). */
+   enters or leaves the set: in ascending id order after a full decode, removals (ascending) then
+   additions (ascending) after one delta. Errors: INVALID_ARGUMENT (cell out of range). */
 PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change_fn on_change, void *user);
 
 #ifdef __cplusplus
@@ -2351,9 +2360,9 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__SECTION_ENTRY 16u
 #define PVS__MAX_SECTIONS 64u
 #define PVS__META_SIZE 32u
-#define PVS__CELL_HEAD 16u
+#define PVS__CELL_HEAD 20u
 #define PVS__TREE_HEAD 8u
-#define PVS__TREE_MAX_DEPTH 64u        /* deepest look-up tree a reader accepts */
+#define PVS__TREE_MAX_DEPTH 24u        /* deepest look-up tree a reader accepts */
 #define PVS__SHRD_SIZE 16u
 #define PVS__BLOCK 16u                  /* records per block of the RECS offset table */
 #define PVS__CANDIDATES 8u              /* base candidates per cell: nearest cells by the sweep */
@@ -2419,6 +2428,14 @@ PVS__STATIC size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_
 PVS__STATIC const uint8_t *pvs__skip_varint(const uint8_t *p, uint32_t *v) {
     uint32_t r = 0;
     int s = 0;
+    if (p[0] < 0x80u) { /* the common short forms first */
+        *v = p[0];
+        return p + 1;
+    }
+    if (p[1] < 0x80u) {
+        *v = (p[0] & 0x7fu) | ((uint32_t)p[1] << 7);
+        return p + 2;
+    }
     while (*p & 0x80u) {
         r |= (uint32_t)(*p++ & 0x7fu) << s;
         s += 7;
@@ -2584,21 +2601,47 @@ PVS__STATIC void pvs__set_write(const pvs_word *bits, uint32_t n, const pvs__cod
     }
 }
 
-/* Toggles the ids of a coded set into bits (XOR), reporting each change through fn when given, or
-   only validates the body when bits is NULL. The body is p[0..end). Returns PVS_OK, or BAD_RECORD /
-   OBJECT_OUT_OF_RANGE with *bad_at = the offending byte's offset in the body. Ids come in ascending
-   order in every coding. */
-PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint32_t coding, uint32_t n, pvs_word *bits,
-                                      pvs_change_fn fn, void *user, size_t *bad_at) {
+/* What a decoded set does to a bitset. */
+enum { PVS__SET_CHECK = 0, PVS__SET_ADD = 1, PVS__SET_REMOVE_RANKS = 2 };
+typedef struct pvs__sink {
+    int action;
+    pvs_word *bits;            /* the PVS being built (not for CHECK) */
+    uint32_t words;
+    pvs_change_fn fn;          /* optional change reports */
+    void *user;
+    uint32_t w, before, removed; /* REMOVE_RANKS: scan position, set bits before word w, ranks removed */
+} pvs__sink;
+
+/* Adds id, or removes the set bit of rank id in the PVS as it was before this set (ranks ascend). */
+PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
+    if (s->action == PVS__SET_ADD) {
+        pvs_word m = (pvs_word)1 << (id & 63);
+        if (!(s->bits[id >> 6] & m)) {
+            s->bits[id >> 6] |= m;
+            if (s->fn) s->fn(s->user, id, 1);
+        }
+    } else if (s->action == PVS__SET_REMOVE_RANKS) {
+        uint32_t target = id - s->removed, k;
+        pvs_word x;
+        while (s->w < s->words && s->before + pvs__popcount64(s->bits[s->w]) <= target) s->before += pvs__popcount64(s->bits[s->w++]);
+        if (s->w == s->words) return; /* only in a damaged file: no such rank */
+        x = s->bits[s->w];
+        for (k = target - s->before; k; --k) x &= x - 1u;
+        k = pvs__ctz64(x);
+        s->bits[s->w] &= ~((pvs_word)1 << k);
+        ++s->removed;
+        if (s->fn) s->fn(s->user, s->w * 64 + k, 0);
+    }
+}
+
+/* Decodes one coded set of ids in [0, n) that starts at p (bytes up to end are available) and feeds
+   its ids, ascending, to the sink. *used receives the body's size: every coding is self-delimiting.
+   Returns PVS_OK, or BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at = the offending byte's offset. */
+PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint32_t coding, uint32_t n, pvs__sink *s, size_t *used_out,
+                                      size_t *bad_at) {
     const uint8_t *q = p;
     uint32_t count, k;
-#define PVS__TOGGLE(id)                                                                                  \
-    do {                                                                                                 \
-        if (bits) {                                                                                      \
-            bits[(id) >> 6] ^= (pvs_word)1 << ((id) & 63);                                               \
-            if (fn) fn(user, (id), (int)((bits[(id) >> 6] >> ((id) & 63)) & 1u));                          \
-        }                                                                                                \
-    } while (0)
+    int act = s->action;
     switch (coding) {
     case PVS__CODING_GAPS: {
         uint64_t id = 0;
@@ -2612,7 +2655,7 @@ PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint
             if (!used) goto bad;
             id = k ? id + 1u + g : g;
             if (id >= n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-            PVS__TOGGLE((uint32_t)id);
+            if (act) pvs__sink_id(s, (uint32_t)id);
             q += used;
         }
         break;
@@ -2634,21 +2677,23 @@ PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint
             if (pos + z + o + 1u > n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
             q += used;
             pos += z;
-            if (bits && !fn && o >= 64) { /* whole words at a time */
+            if (act == PVS__SET_ADD && !s->fn) { /* whole words at a time */
                 uint64_t e = pos + o + 1u;
-                while (pos < e && (pos & 63)) { bits[pos >> 6] ^= (pvs_word)1 << (pos & 63); ++pos; }
-                while (pos + 64 <= e) { bits[pos >> 6] = ~bits[pos >> 6]; pos += 64; }
-                while (pos < e) { bits[pos >> 6] ^= (pvs_word)1 << (pos & 63); ++pos; }
+                while (pos < e && (pos & 63)) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
+                while (pos + 64 <= e) { s->bits[pos >> 6] = ~(pvs_word)0; pos += 64; }
+                while (pos < e) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
             } else {
-                for (i = 0; i <= o; ++i) PVS__TOGGLE((uint32_t)(pos + i));
+                if (act) /* validation must stay linear in the record's bytes */
+                    for (i = 0; i <= o; ++i) pvs__sink_id(s, (uint32_t)(pos + i));
                 pos += (uint64_t)o + 1u;
             }
         }
         break;
     }
     case PVS__CODING_RICE: {
-        uint64_t bit = 0, nbits, id = 0;
+        uint64_t bit = 0, nbits, id = 0, bytes;
         size_t used;
+        uint32_t c;
         if (q >= end) goto bad;
         k = *q++;
         if (k > PVS__RICE_MAX_K) goto bad;
@@ -2657,66 +2702,62 @@ PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint
         q += used;
         if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
         nbits = (uint64_t)(end - q) * 8u;
-        {
-            uint32_t c;
-            for (c = 0; c < count; ++c) {
-                uint64_t quot = 0, g, w = pvs__peek56(q, nbits, bit);
-                uint32_t ones;
-                if (~w & (((uint64_t)1 << 56) - 1u)) { /* the quotient's terminating zero is in the window */
-                    ones = pvs__ctz64(~w);
-                    quot = ones;
-                    if (bit + ones + 1u + k > nbits) goto bad;
-                    if (quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-                    g = ones + 1u + k <= 56u ? (w >> (ones + 1u)) & (((uint64_t)1 << k) - 1u) : pvs__get_bits(q, bit + ones + 1u, k);
-                    bit += ones + 1u + k;
-                } else {
-                    for (;;) { /* a long unary run: bit by bit */
-                        uint32_t b1;
-                        if (bit >= nbits) goto bad;
-                        b1 = (q[bit >> 3] >> (bit & 7u)) & 1u;
-                        ++bit;
-                        if (!b1) break;
-                        if (++quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-                    }
-                    if (bit + k > nbits) goto bad;
-                    g = pvs__get_bits(q, bit, k);
-                    bit += k;
+        for (c = 0; c < count; ++c) {
+            uint64_t quot = 0, g, w = pvs__peek56(q, nbits, bit);
+            uint32_t ones;
+            if (~w & (((uint64_t)1 << 56) - 1u)) { /* the quotient's terminating zero is in the window */
+                ones = pvs__ctz64(~w);
+                quot = ones;
+                if (bit + ones + 1u + k > nbits) goto bad;
+                if (quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+                g = ones + 1u + k <= 56u ? (w >> (ones + 1u)) & (((uint64_t)1 << k) - 1u) : pvs__get_bits(q, bit + ones + 1u, k);
+                bit += ones + 1u + k;
+            } else {
+                for (;;) { /* a long unary run: bit by bit */
+                    uint32_t b1;
+                    if (bit >= nbits) goto bad;
+                    b1 = (q[bit >> 3] >> (bit & 7u)) & 1u;
+                    ++bit;
+                    if (!b1) break;
+                    if (++quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
                 }
-                g |= quot << k;
-                id = c ? id + 1u + g : g;
-                if (id >= n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-                PVS__TOGGLE((uint32_t)id);
+                if (bit + k > nbits) goto bad;
+                g = pvs__get_bits(q, bit, k);
+                bit += k;
             }
+            g |= quot << k;
+            id = c ? id + 1u + g : g;
+            if (id >= n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+            if (act) pvs__sink_id(s, (uint32_t)id);
         }
-        /* the stream fills whole bytes exactly; the unused high bits are zero */
-        if ((bit + 7) / 8 != (uint64_t)(end - q)) { q += (size_t)((bit + 7) / 8); goto bad; }
+        /* the codes fill whole bytes; the unused high bits of the last one are zero */
+        bytes = (bit + 7) / 8;
         if ((bit & 7u) && (q[bit >> 3] >> (bit & 7u))) { q += (size_t)(bit >> 3); goto bad; }
-        q = end;
+        q += (size_t)bytes;
         break;
     }
     case PVS__CODING_BITMAP: {
         size_t nb = ((size_t)n + 7) / 8, i;
-        if ((size_t)(end - q) != nb) goto bad;
+        if ((size_t)(end - q) < nb) goto bad;
         if ((n & 7u) && (q[nb - 1] >> (n & 7u))) { *bad_at = nb - 1; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-        if (bits && !fn) {
-            for (i = 0; i < nb; ++i) bits[i >> 3] ^= (pvs_word)q[i] << (8 * (i & 7));
-        } else if (bits) {
+        if (act == PVS__SET_ADD && !s->fn) {
+            for (i = 0; i < nb; ++i) s->bits[i >> 3] |= (pvs_word)q[i] << (8 * (i & 7));
+        } else if (act) {
             for (i = 0; i < nb; ++i) {
                 uint32_t b = q[i];
                 while (b) {
                     uint32_t id = (uint32_t)(8 * i) + pvs__ctz64(b);
                     b &= b - 1u;
-                    PVS__TOGGLE(id);
+                    pvs__sink_id(s, id);
                 }
             }
         }
-        q = end;
+        q += nb;
         break;
     }
     default: goto bad;
     }
-#undef PVS__TOGGLE
-    if (q != end) goto bad;
+    *used_out = (size_t)(q - p);
     return PVS_OK;
 bad:
     *bad_at = (size_t)(q - p);
@@ -2776,125 +2817,84 @@ PVS__STATIC uint32_t pvs__value_index(const float *t, uint32_t n, float v) {
 
 /* ---- the stored cell look-up tree ---- */
 
-/* The file's look-up tree is a kD-tree over the cells whose splits are cell coordinates (indices into
-   the CELL tables) and whose split rule never copies touching neighbours: p < split goes left, p > split
-   right, p == split both ways; left holds the cells with min < split or max <= split, right those
-   with max > split. Each node splits at the median cell edge of the axis that halves the cells best;
-   leaves hold at most PVS__TREE_LEAF cells (fewer than that if no split separates them). */
-typedef struct pvs__tnode {
-    uint32_t axis;             /* 0..2, or PVS__KD_LEAF */
-    uint32_t split;            /* value index (inner) or item count (leaf) */
-    uint32_t left, right;      /* node indices (inner) */
-    uint32_t first;            /* leaf: offset of its ids in items */
-    size_t bytes;              /* serialized size of the subtree */
-} pvs__tnode;
-
+/* The file's look-up tree is a complete binary kD-tree of depth D over the cells, stored implicitly
+   (children of node k are 2k + 1 and 2k + 2, as in a binary heap) so that a look-up reads no
+   pointers: one split per level, then one leaf's cell list. Splits are cell coordinates (indices
+   into the CELL tables) and the split rule never copies touching neighbours: p < split goes left,
+   p > split right, p == split both ways; left holds the cells with min < split or max <= split, right
+   those with max > split. Each node splits at the median cell edge of the axis that halves its cells
+   best; a node no split can divide passes all its cells to the left. D is the smallest depth giving
+   leaves of about PVS__TREE_LEAF cells. */
 typedef struct pvs__tbuild {
     const pvs_allocator *a;
     const pvs_box *boxes;
-    pvs__tnode *nodes;
-    size_t node_count, node_capacity;
-    uint32_t *items;
-    size_t item_count, item_capacity;
+    uint32_t depth;
+    uint32_t *nodes;           /* 2^D - 1 */
+    uint32_t *leaf_start;      /* 2^D + 1 offsets into items */
+    uint8_t *items;            /* per leaf: gap-coded ascending cell ids */
+    size_t item_bytes, item_capacity;
+    uint32_t leaves_done;
     float *keys;               /* scratch: n floats */
     const float *values[3];
     const uint32_t *value_count;
 } pvs__tbuild;
 
-PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint32_t n, uint32_t depth, uint32_t *out) {
+PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint32_t n, uint32_t level, uint32_t k) {
     pvs_result r = PVS_OK;
-    uint32_t node, i, best_axis = 3, best_score = n, k;
+    uint32_t i, best_axis = 3, best_score = n, axis;
     float best_v = 0.0f;
-    b->nodes = (pvs__tnode *)pvs__kd_grow(b->a, b->nodes, &b->node_capacity, b->node_count, b->node_count + 1, sizeof(pvs__tnode), &r);
-    if (!b->nodes) return r;
-    node = (uint32_t)b->node_count++;
-    *out = node;
-    memset(b->nodes + node, 0, sizeof(pvs__tnode));
-    if (n > PVS__TREE_LEAF && depth < PVS__TREE_MAX_DEPTH - 1) {
-        for (k = 0; k < 3; ++k) {
+    if (level == b->depth) { /* leaf */
+        b->items = (uint8_t *)pvs__kd_grow(b->a, b->items, &b->item_capacity, b->item_bytes, b->item_bytes + 5 * (size_t)n, 1, &r);
+        if (!b->items) return r;
+        b->leaf_start[b->leaves_done++] = (uint32_t)b->item_bytes;
+        for (i = 0; i < n; ++i) b->item_bytes += pvs__put_varint(b->items + b->item_bytes, i ? ids[i] - ids[i - 1] - 1 : ids[0]);
+        return PVS_OK;
+    }
+    if (n > 1) {
+        for (axis = 0; axis < 3; ++axis) {
             int side;
             for (side = 0; side < 2; ++side) {
                 uint32_t left = 0, right = 0, score;
                 float v;
-                for (i = 0; i < n; ++i) b->keys[i] = side ? b->boxes[ids[i]].max[k] : b->boxes[ids[i]].min[k];
+                for (i = 0; i < n; ++i) b->keys[i] = side ? b->boxes[ids[i]].max[axis] : b->boxes[ids[i]].min[axis];
                 qsort(b->keys, n, sizeof(float), pvs__float_cmp);
                 v = b->keys[n / 2];
                 for (i = 0; i < n; ++i) {
                     const pvs_box *c = b->boxes + ids[i];
-                    left += c->min[k] < v || c->max[k] <= v;
-                    right += c->max[k] > v;
+                    left += c->min[axis] < v || c->max[axis] <= v;
+                    right += c->max[axis] > v;
                 }
                 score = left > right ? left : right;
                 if (left < n && right < n && score < best_score) {
                     best_score = score;
-                    best_axis = k;
+                    best_axis = axis;
                     best_v = v;
                 }
             }
         }
     }
-    if (best_axis == 3) { /* leaf: ids ascending */
-        b->items = (uint32_t *)pvs__kd_grow(b->a, b->items, &b->item_capacity, b->item_count, b->item_count + n, sizeof(uint32_t), &r);
-        if (!b->items) return r;
-        b->nodes[node].axis = PVS__KD_LEAF;
-        b->nodes[node].split = n;
-        b->nodes[node].first = (uint32_t)b->item_count;
-        memcpy(b->items + b->item_count, ids, n * sizeof(uint32_t));
-        b->item_count += n;
-        return PVS_OK;
+    if (best_axis == 3) { /* no split divides these cells: all go left */
+        b->nodes[k] = 3u;
+        r = pvs__tree_node(b, ids, n, level + 1, 2 * k + 1);
+        return r == PVS_OK ? pvs__tree_node(b, ids, 0, level + 1, 2 * k + 2) : r;
     }
     {
-        uint32_t *sub = (uint32_t *)pvs__alloc_array(b->a, n, sizeof(uint32_t)), m = 0, child;
+        uint32_t *sub = (uint32_t *)pvs__alloc_array(b->a, n, sizeof(uint32_t)), m = 0;
         if (!sub) return PVS_ERROR_OUT_OF_MEMORY;
-        b->nodes[node].axis = best_axis;
-        b->nodes[node].split = pvs__value_index(b->values[best_axis], b->value_count[best_axis], best_v);
+        b->nodes[k] = best_axis | (pvs__value_index(b->values[best_axis], b->value_count[best_axis], best_v) << 2);
         for (i = 0; i < n; ++i) {
             const pvs_box *c = b->boxes + ids[i];
             if (c->min[best_axis] < best_v || c->max[best_axis] <= best_v) sub[m++] = ids[i];
         }
-        r = pvs__tree_node(b, sub, m, depth + 1, &child);
+        r = pvs__tree_node(b, sub, m, level + 1, 2 * k + 1);
         if (r == PVS_OK) {
-            b->nodes[node].left = child;
             for (i = 0, m = 0; i < n; ++i)
                 if (b->boxes[ids[i]].max[best_axis] > best_v) sub[m++] = ids[i];
-            r = pvs__tree_node(b, sub, m, depth + 1, &child);
-            b->nodes[node].right = child;
+            r = pvs__tree_node(b, sub, m, level + 1, 2 * k + 2);
         }
         pvs__free_array(b->a, sub, n, sizeof(uint32_t));
         return r;
     }
-}
-
-/* Serialized sizes, bottom up (children have larger indices than their parent). */
-PVS__STATIC void pvs__tree_sizes(pvs__tbuild *b) {
-    size_t i = b->node_count;
-    while (i--) {
-        pvs__tnode *t = b->nodes + i;
-        if (t->axis == PVS__KD_LEAF) {
-            uint32_t j;
-            t->bytes = pvs__varint_size((t->split << 2) | PVS__KD_LEAF);
-            for (j = 0; j < t->split; ++j)
-                t->bytes += pvs__varint_size(j ? b->items[t->first + j] - b->items[t->first + j - 1] - 1 : b->items[t->first]);
-        } else {
-            size_t ls = b->nodes[t->left].bytes;
-            t->bytes = pvs__varint_size((t->split << 2) | t->axis) + pvs__varint_size((uint32_t)ls) + ls + b->nodes[t->right].bytes;
-        }
-    }
-}
-
-/* Pre-order: node, left subtree, right subtree. */
-PVS__STATIC uint8_t *pvs__tree_write(const pvs__tbuild *b, uint32_t node, uint8_t *o) {
-    const pvs__tnode *t = b->nodes + node;
-    if (t->axis == PVS__KD_LEAF) {
-        uint32_t j;
-        o += pvs__put_varint(o, (t->split << 2) | PVS__KD_LEAF);
-        for (j = 0; j < t->split; ++j) o += pvs__put_varint(o, j ? b->items[t->first + j] - b->items[t->first + j - 1] - 1 : b->items[t->first]);
-        return o;
-    }
-    o += pvs__put_varint(o, (t->split << 2) | t->axis);
-    o += pvs__put_varint(o, (uint32_t)b->nodes[t->left].bytes);
-    o = pvs__tree_write(b, t->left, o);
-    return pvs__tree_write(b, t->right, o);
 }
 
 typedef struct pvs__candidates {
@@ -2939,11 +2939,11 @@ typedef struct pvs__encoder {
     size_t words;
     pvs_box *boxes;            /* the cells with -0 replaced by +0 (what the file stores) */
     float *values[3];
-    uint32_t value_count[3], index_bits[3];
+    uint32_t value_count[3], index_bits[6]; /* widths: min indices, then extents */
     pvs_kdtree *tree;          /* over the cells: base candidates */
     uint8_t *tree_stream;      /* the TREE section's nodes */
     size_t tree_bytes;
-    uint32_t tree_nodes;
+    uint32_t tree_depth;
     void *sweep;
     size_t sweep_size;
     pvs__link *edges;
@@ -2954,7 +2954,7 @@ typedef struct pvs__encoder {
     size_t heap_capacity;
     uint32_t *base, *depth;    /* base = PVS_NO_CELL for keys */
     unsigned char *placed;
-    pvs_word *tmp;
+    pvs_word *tmp, *ranks;
     uint8_t *recs;
     size_t recs_capacity;
 } pvs__encoder;
@@ -2975,32 +2975,52 @@ PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
     pvs__free_array(a, e->depth, e->cells, sizeof(uint32_t));
     pvs__free_array(a, e->placed, e->cells, 1);
     pvs__free_array(a, e->tmp, e->words, sizeof(pvs_word));
+    pvs__free_array(a, e->ranks, e->words, sizeof(pvs_word));
     pvs__free_array(a, e->recs, e->recs_capacity, 1);
 }
 
 /* tmp = cell i's set (masked to n bits), XOR base j's when j != PVS_NO_CELL. */
-PVS__STATIC void pvs__encoder_set(pvs__encoder *e, uint32_t i, uint32_t j) {
+/* The sets of cell i's record against base j (PVS_NO_CELL: a key): e->tmp = the ids to add (all of
+   the PVS for a key); for a delta e->ranks = the ids to remove, as ranks in the base's PVS (Durand et
+   al. 2000, §6.2: a delta is the objects added and removed; removed ones are cheaper to name by
+   their position among the base's few visible objects). Returns the base's PVS size. */
+PVS__STATIC uint32_t pvs__encoder_sets(pvs__encoder *e, uint32_t i, uint32_t j) {
     const pvs_word *x = e->d->pvs + (size_t)i * e->words;
+    pvs_word last = (e->n & 63) ? ((pvs_word)1 << (e->n & 63)) - 1u : ~(pvs_word)0;
+    uint32_t m = 0;
     size_t w;
     if (j == PVS_NO_CELL) {
         memcpy(e->tmp, x, e->words * sizeof(pvs_word));
     } else {
         const pvs_word *y = e->d->pvs + (size_t)j * e->words;
-        for (w = 0; w < e->words; ++w) e->tmp[w] = x[w] ^ y[w];
+        memset(e->ranks, 0, e->words * sizeof(pvs_word));
+        for (w = 0; w < e->words; ++w) {
+            pvs_word base = y[w] & (w + 1 == e->words ? last : ~(pvs_word)0), gone = base & ~x[w];
+            e->tmp[w] = x[w] & ~y[w];
+            while (base) { /* rank m of the base's set bits */
+                pvs_word low = base & (0u - base);
+                if (gone & low) e->ranks[m >> 6] |= (pvs_word)1 << (m & 63);
+                base ^= low;
+                ++m;
+            }
+        }
     }
-    if (e->n & 63) e->tmp[e->words - 1] &= ((pvs_word)1 << (e->n & 63)) - 1u;
+    e->tmp[e->words - 1] &= last;
+    return m;
 }
+/* The record's size of cell i against base j. */
 PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) {
     size_t b;
-    pvs__encoder_set(e, i, j);
-    b = pvs__set_measure(e->tmp, e->n).bytes + 2u + (j == PVS_NO_CELL ? 0u : 1u);
+    uint32_t m = pvs__encoder_sets(e, i, j);
+    b = pvs__set_measure(e->tmp, e->n).bytes + 2u;
+    if (j != PVS_NO_CELL) b += 2u + pvs__varint_size(m) + pvs__set_measure(e->ranks, m).bytes;
     return b > 0xffffffffu ? 0xffffffffu : (uint32_t)b;
 }
 
-/* Bases: candidate edges from each cell to its nearest cells (the kD-tree sweep), weighted by the
-   coded size of the symmetric difference; a virtual root joined to every cell by its key size; then
-   Prim's minimum spanning tree from the root in which an edge is taken only while the chain stays
-   within K deltas (a greedy depth-bounded MST). A cell whose cheapest admissible link is the root
+/* Bases: candidate edges from each cell to its nearest cells (the kD-tree sweep); a virtual root
+   joined to every cell by its key size; then Prim's minimum spanning tree from the root, each edge
+   weighed when it is reached by the coded size of the delta in that direction, and taken only while
+   the chain stays within K deltas (a greedy depth-bounded minimum arborescence). A cell whose cheapest admissible link is the root
    becomes a key: "key cells where a delta does not pay". Ties break by (weight, cell, base), so the
    result is a function of the table alone. */
 PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
@@ -3039,7 +3059,6 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
     e->edge_count = m;
     memset(e->adj_start, 0, ((size_t)e->cells + 1) * sizeof(uint32_t));
     for (k = 0; k < m; ++k) {
-        e->edges[k].weight = pvs__encoder_cost(e, e->edges[k].a, e->edges[k].b);
         ++e->adj_start[e->edges[k].a + 1];
         ++e->adj_start[e->edges[k].b + 1];
     }
@@ -3080,7 +3099,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
             uint32_t u = e->adj[2 * (size_t)j];
             if (!e->placed[u]) {
                 pvs__heapent g;
-                g.weight = e->adj[2 * (size_t)j + 1];
+                g.weight = pvs__encoder_cost(e, u, v);
                 g.node = u;
                 g.from = v + 1;
                 pvs__heap_push(e->heap, &heap_n, g);
@@ -3095,20 +3114,30 @@ PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
     uint32_t blocks = (e->cells + PVS__BLOCK - 1) / PVS__BLOCK, i;
     size_t pos = 4 * ((size_t)blocks + 1);
     for (i = 0; i < e->cells; ++i) {
-        pvs__coded c;
-        uint32_t head, zz = 0;
+        pvs__coded c, cr;
+        uint32_t head, zz = 0, m = pvs__encoder_sets(e, i, e->base[i]);
+        int delta = e->base[i] != PVS_NO_CELL;
         size_t inner;
         if (out && i % PVS__BLOCK == 0) pvs__put32(out + 4 * (size_t)(i / PVS__BLOCK), (uint32_t)pos);
-        pvs__encoder_set(e, i, e->base[i]);
         c = pvs__set_measure(e->tmp, e->n);
         head = c.coding | (e->depth[i] << 2);
-        if (e->base[i] != PVS_NO_CELL) zz = pvs__zigzag((int64_t)i - (int64_t)e->base[i]);
-        inner = pvs__varint_size(head) + (e->base[i] != PVS_NO_CELL ? pvs__varint_size(zz) : 0) + c.bytes;
+        inner = pvs__varint_size(head) + c.bytes;
+        if (delta) {
+            zz = pvs__zigzag((int64_t)i - (int64_t)e->base[i]);
+            cr = pvs__set_measure(e->ranks, m);
+            inner += pvs__varint_size(zz) + 1u + pvs__varint_size(m) + cr.bytes;
+        }
         if (out) {
             uint8_t *o = out + pos;
             o += pvs__put_varint(o, (uint32_t)inner);
             o += pvs__put_varint(o, head);
-            if (e->base[i] != PVS_NO_CELL) o += pvs__put_varint(o, zz);
+            if (delta) {
+                o += pvs__put_varint(o, zz);
+                *o++ = (uint8_t)cr.coding;
+                o += pvs__put_varint(o, m);
+                pvs__set_write(e->ranks, m, &cr, o);
+                o += cr.bytes;
+            }
             pvs__set_write(e->tmp, e->n, &c, o);
         }
         pos += pvs__varint_size((uint32_t)inner) + inner;
@@ -3171,8 +3200,16 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
             if (!n || v[i] != v[n - 1]) v[n++] = v[i];
         e.value_count[k] = n;
         e.index_bits[k] = pvs__bits_for(n - 1);
+        {
+            uint32_t widest = 0;
+            for (i = 0; i < e.cells; ++i) {
+                uint32_t ext = pvs__value_index(v, n, e.boxes[i].max[k]) - pvs__value_index(v, n, e.boxes[i].min[k]);
+                if (ext > widest) widest = ext;
+            }
+            e.index_bits[3 + k] = pvs__bits_for(widest);
+        }
     }
-    index_bits_total = 2 * (size_t)(e.index_bits[0] + e.index_bits[1] + e.index_bits[2]) * e.cells;
+    index_bits_total = (size_t)(e.index_bits[0] + e.index_bits[1] + e.index_bits[2] + e.index_bits[3] + e.index_bits[4] + e.index_bits[5]) * e.cells;
     cell_bytes = PVS__CELL_HEAD + 4 * ((size_t)e.value_count[0] + e.value_count[1] + e.value_count[2]) + (index_bits_total + 7) / 8;
 
     /* the library's kD-tree over the cells finds base candidates; TREE is the compact look-up tree */
@@ -3187,37 +3224,51 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
     }
     {
         pvs__tbuild tb;
-        uint32_t *ids = (uint32_t *)pvs__alloc_array(&e.a, e.cells, sizeof(uint32_t)), root = 0;
+        uint32_t *ids = (uint32_t *)pvs__alloc_array(&e.a, e.cells, sizeof(uint32_t)), leaves;
         memset(&tb, 0, sizeof(tb));
         tb.a = &e.a;
         tb.boxes = e.boxes;
+        while (tb.depth < 20 && (e.cells >> tb.depth) > PVS__TREE_LEAF) ++tb.depth;
+        leaves = 1u << tb.depth;
         tb.keys = (float *)pvs__alloc_array(&e.a, e.cells, sizeof(float));
+        tb.nodes = (uint32_t *)pvs__alloc_array(&e.a, leaves, sizeof(uint32_t));
+        tb.leaf_start = (uint32_t *)pvs__alloc_array(&e.a, (size_t)leaves + 1, sizeof(uint32_t));
         for (k = 0; k < 3; ++k) tb.values[k] = e.values[k];
         tb.value_count = e.value_count;
-        if (ids && tb.keys) {
+        if (ids && tb.keys && tb.nodes && tb.leaf_start) {
             for (i = 0; i < e.cells; ++i) ids[i] = i;
-            r = pvs__tree_node(&tb, ids, e.cells, 0, &root);
+            r = pvs__tree_node(&tb, ids, e.cells, 0, 0);
         } else {
             r = PVS_ERROR_OUT_OF_MEMORY;
         }
+        if (r == PVS_OK) {
+            uint8_t *t;
+            tb.leaf_start[leaves] = (uint32_t)tb.item_bytes;
+            e.tree_bytes = 5 * (size_t)(leaves - 1) + 4 * ((size_t)leaves + 1) + tb.item_bytes;
+            e.tree_depth = tb.depth;
+            e.tree_stream = t = (uint8_t *)pvs__alloc_array(&e.a, e.tree_bytes, 1);
+            if (!t) {
+                r = PVS_ERROR_OUT_OF_MEMORY;
+            } else {
+                for (i = 0; i + 1 < leaves; ++i, t += 4) /* split values, then leaf offsets, then axes */
+                    pvs__putf32(t, (tb.nodes[i] & 3u) == 3u ? 0.0f : tb.values[tb.nodes[i] & 3u][tb.nodes[i] >> 2]);
+                for (i = 0; i <= leaves; ++i, t += 4) pvs__put32(t, tb.leaf_start[i]);
+                for (i = 0; i + 1 < leaves; ++i) *t++ = (uint8_t)(tb.nodes[i] & 3u);
+                if (tb.item_bytes) memcpy(t, tb.items, tb.item_bytes);
+            }
+        }
         pvs__free_array(&e.a, ids, e.cells, sizeof(uint32_t));
         pvs__free_array(&e.a, tb.keys, e.cells, sizeof(float));
-        if (r == PVS_OK) {
-            pvs__tree_sizes(&tb);
-            e.tree_bytes = tb.nodes[0].bytes;
-            e.tree_nodes = (uint32_t)tb.node_count;
-            e.tree_stream = (uint8_t *)pvs__alloc_array(&e.a, e.tree_bytes, 1);
-            if (!e.tree_stream) r = PVS_ERROR_OUT_OF_MEMORY;
-            else pvs__tree_write(&tb, 0, e.tree_stream);
-        }
-        pvs__free_array(&e.a, tb.nodes, tb.node_capacity, sizeof(pvs__tnode));
-        pvs__free_array(&e.a, tb.items, tb.item_capacity, sizeof(uint32_t));
+        pvs__free_array(&e.a, tb.nodes, leaves, sizeof(uint32_t));
+        pvs__free_array(&e.a, tb.leaf_start, (size_t)leaves + 1, sizeof(uint32_t));
+        pvs__free_array(&e.a, tb.items, tb.item_capacity, 1);
         if (r != PVS_OK) { r = pvs__fail(err, r, -1, 0, "cell look-up tree"); goto done; }
     }
 
     /* RECS */
     e.tmp = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
-    if (!e.tmp) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "encoder bitset"); goto done; }
+    e.ranks = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
+    if (!e.tmp || !e.ranks) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "encoder bitset"); goto done; }
     r = pvs__encoder_bases(&e, max_chain, err);
     if (r != PVS_OK) goto done;
     for (i = 0; i < e.cells; ++i) keys += e.base[i] == PVS_NO_CELL;
@@ -3256,26 +3307,27 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
     { /* CELL */
         uint8_t *c = o + at[1], *v, *bits;
         uint64_t pos = 0;
-        for (k = 0; k < 3; ++k) {
-            pvs__put32(c + 4 * k, e.value_count[k]);
-            c[12 + k] = (uint8_t)e.index_bits[k];
-        }
+        for (k = 0; k < 3; ++k) pvs__put32(c + 4 * k, e.value_count[k]);
+        for (k = 0; k < 6; ++k) c[12 + k] = (uint8_t)e.index_bits[k];
         v = c + PVS__CELL_HEAD;
         for (k = 0; k < 3; ++k)
             for (i = 0; i < e.value_count[k]; ++i, v += 4) pvs__putf32(v, e.values[k][i]);
         bits = v;
         for (i = 0; i < e.cells; ++i) {
-            int side;
-            for (side = 0; side < 2; ++side)
-                for (k = 0; k < 3; ++k) {
-                    float x = side ? e.boxes[i].max[k] : e.boxes[i].min[k];
-                    pvs__put_bits(bits, pos, pvs__value_index(e.values[k], e.value_count[k], x), e.index_bits[k]);
-                    pos += e.index_bits[k];
-                }
+            uint32_t lo[3];
+            for (k = 0; k < 3; ++k) {
+                lo[k] = pvs__value_index(e.values[k], e.value_count[k], e.boxes[i].min[k]);
+                pvs__put_bits(bits, pos, lo[k], e.index_bits[k]);
+                pos += e.index_bits[k];
+            }
+            for (k = 0; k < 3; ++k) {
+                pvs__put_bits(bits, pos, pvs__value_index(e.values[k], e.value_count[k], e.boxes[i].max[k]) - lo[k], e.index_bits[3 + k]);
+                pos += e.index_bits[3 + k];
+            }
         }
     }
     { /* TREE */
-        pvs__put32(o + at[2], e.tree_nodes);
+        pvs__put32(o + at[2], e.tree_depth);
         memcpy(o + at[2] + PVS__TREE_HEAD, e.tree_stream, e.tree_bytes);
     }
     (void)pvs__encoder_records(&e, o + at[3]);
@@ -3313,8 +3365,9 @@ done:
 
 /* A record located by the reader. Only for files that passed pvs_file_open. */
 typedef struct pvs__rec {
-    const uint8_t *start, *body, *end;
-    uint32_t coding, depth, base;
+    const uint8_t *start, *body, *end; /* body: the removed ranks of a delta, else the added ids */
+    uint32_t coding, depth, base;      /* coding of the added ids */
+    uint32_t removed_coding, base_size;
 } pvs__rec;
 
 PVS__STATIC void pvs__record_at(const pvs_file *f, uint32_t cell, pvs__rec *r) {
@@ -3335,15 +3388,38 @@ PVS__STATIC void pvs__record_at(const pvs_file *f, uint32_t cell, pvs__rec *r) {
     if (r->depth) {
         p = pvs__skip_varint(p, &zz);
         r->base = (uint32_t)((int64_t)cell - pvs__unzigzag(zz));
+        r->removed_coding = *p++;
+        p = pvs__skip_varint(p, &r->base_size);
     }
     r->body = p;
+}
+
+/* Applies a record to bits: a key's ids are added (bits start empty); a delta first removes its
+   ranks (counted in the base's PVS, which bits holds), then adds its ids. Changes go to fn. Only for
+   records of an opened file. */
+PVS__STATIC void pvs__record_apply(const pvs_file *f, const pvs__rec *r, pvs_word *bits, pvs_change_fn fn, void *user) {
+    pvs__sink s;
+    size_t used = 0, bad;
+    const uint8_t *p = r->body;
+    memset(&s, 0, sizeof(s));
+    s.bits = bits;
+    s.words = (uint32_t)PVS_BITSET_WORDS(f->object_count);
+    s.fn = fn;
+    s.user = user;
+    if (r->depth) {
+        s.action = PVS__SET_REMOVE_RANKS;
+        (void)pvs__set_apply(p, r->end, r->removed_coding, r->base_size, &s, &used, &bad);
+        p += used;
+    }
+    s.action = PVS__SET_ADD;
+    (void)pvs__set_apply(p, r->end, r->coding, f->object_count, &s, &used, &bad);
 }
 
 PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const uint8_t *c, uint32_t size, pvs_error *err) {
     uint64_t off = (uint64_t)(c - base), need, nbits, pos = 0;
     uint32_t k, i, total = 0;
     const uint8_t *v;
-    if (size < PVS__CELL_HEAD) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, fewer than its 16-byte head", size);
+    if (size < PVS__CELL_HEAD) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, fewer than its 20-byte head", size);
     for (k = 0; k < 3; ++k) {
         uint32_t n = pvs__get32(c + 4 * k);
         if (n == 0 || n > 2 * (uint64_t)f->cell_count)
@@ -3351,12 +3427,17 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
         if (c[12 + k] != pvs__bits_for(n - 1))
             return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 12 + k, "CELL: index width %u on axis %u, %u values need %u", c[12 + k], k, n,
                              pvs__bits_for(n - 1));
+        if (c[15 + k] > pvs__bits_for(n - 1))
+            return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 15 + k, "CELL: extent width %u on axis %u exceeds %u", c[15 + k], k,
+                             pvs__bits_for(n - 1));
         f->private_.value_count[k] = n;
         f->private_.index_bits[k] = c[12 + k];
+        f->private_.index_bits[3 + k] = c[15 + k];
         total += n;
     }
-    if (c[15]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 15, "CELL: reserved byte is not zero");
-    f->private_.cell_bits = 2 * (f->private_.index_bits[0] + f->private_.index_bits[1] + f->private_.index_bits[2]);
+    if (c[18] || c[19]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 18, "CELL: reserved bytes are not zero");
+    f->private_.cell_bits = f->private_.index_bits[0] + f->private_.index_bits[1] + f->private_.index_bits[2] + f->private_.index_bits[3] +
+                            f->private_.index_bits[4] + f->private_.index_bits[5];
     nbits = (uint64_t)f->private_.cell_bits * f->cell_count;
     need = PVS__CELL_HEAD + 4 * (uint64_t)total + (nbits + 7) / 8;
     if (need != size)
@@ -3372,74 +3453,71 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
         }
     }
     f->private_.indices = v;
+    f->private_.index_bytes = (size_t)((nbits + 7) / 8);
     for (i = 0; i < f->cell_count; ++i) {
         uint32_t idx[6];
         for (k = 0; k < 6; ++k) {
-            uint32_t w = f->private_.index_bits[k % 3];
-            idx[k] = pvs__get_bits(v, pos, w);
-            pos += w;
-            if (idx[k] >= f->private_.value_count[k % 3])
-                return pvs__fail(err, PVS_ERROR_BAD_CELL, i, (uint64_t)(v - base) + (pos - w) / 8, "cell %u: coordinate index %u out of range", i, idx[k]);
+            idx[k] = pvs__get_bits(v, pos, f->private_.index_bits[k]);
+            pos += f->private_.index_bits[k];
         }
         for (k = 0; k < 3; ++k)
-            if (idx[k] > idx[k + 3]) return pvs__fail(err, PVS_ERROR_BAD_CELL, i, (uint64_t)(v - base) + pos / 8, "cell %u: min > max on axis %u", i, k);
+            if ((uint64_t)idx[k] + idx[k + 3] >= f->private_.value_count[k])
+                return pvs__fail(err, PVS_ERROR_BAD_CELL, i, (uint64_t)(v - base) + pos / 8, "cell %u: coordinate index %u + %u out of range on axis %u",
+                                 i, idx[k], idx[k + 3], k);
     }
     if ((nbits & 7u) && (v[nbits / 8] >> (nbits & 7u)))
         return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(v - base) + nbits / 8, "CELL: unused index bits are not zero");
     return PVS_OK;
 }
 
-/* The TREE section: u32 node count, u32 zero, then the nodes in pre-order. Walking it with an
-   explicit stack of pending right subtrees, each subtree must start exactly where the previous one
-   ended: that proves it is a tree (every node reached once), bounds its depth and covers every byte. */
+/* The TREE section: u32 depth D (0..24), u32 zero, f32 splits[2^D - 1], u32 leaf offsets[2^D + 1]
+   into the items, u8 axes[2^D - 1] (0..2, 3 = all to the left), then the items: per leaf its
+   ascending cell ids, gap-coded varints, filling its offset range exactly. Splits and axes sit in
+   separate arrays so a look-up level costs one dependent load. */
 PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const uint8_t *t, uint32_t size, pvs_error *err) {
-    uint64_t off = (uint64_t)(t - base);
-    const uint8_t *stack[PVS__TREE_MAX_DEPTH], *pos, *end = t + size;
-    uint32_t depth = 0, nodes = 0, declared;
+    uint64_t off = (uint64_t)(t - base), need;
+    uint32_t depth, inner, leaves, i;
+    const uint8_t *nodes, *starts, *items;
     if (size < PVS__TREE_HEAD) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE has %u bytes, fewer than its 8-byte head", size);
-    declared = pvs__get32(t);
+    depth = pvs__get32(t);
+    if (depth > PVS__TREE_MAX_DEPTH) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE depth %u > %u", depth, PVS__TREE_MAX_DEPTH);
     if (pvs__get32(t + 4)) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off + 4, "TREE reserved field is not zero");
-    pos = t + PVS__TREE_HEAD;
-    for (;;) {
-        uint32_t h;
-        size_t used = pvs__get_varint(pos, end, &h);
-        if (!used) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: bad node");
-        if (++nodes > declared) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE has more than its %u nodes", declared);
-        pos += used;
-        if ((h & 3u) == PVS__KD_LEAF) {
-            uint32_t count = h >> 2, j;
-            uint64_t id = 0;
-            for (j = 0; j < count; ++j) {
-                uint32_t g;
-                used = pvs__get_varint(pos, end, &g);
-                if (!used) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: bad leaf item");
-                id = j ? id + 1u + g : g;
-                if (id >= f->cell_count)
-                    return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: leaf item names cell %llu of %u",
-                                     (unsigned long long)id, f->cell_count);
-                pos += used;
-            }
-            if (!depth) break;
-            if (pos != stack[--depth])
-                return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: a left subtree does not end where its sibling starts");
-        } else {
-            uint32_t left;
-            if ((h >> 2) >= f->private_.value_count[h & 3u])
-                return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: split index %u of %u", h >> 2,
-                                 f->private_.value_count[h & 3u]);
-            used = pvs__get_varint(pos, end, &left);
-            if (!used) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: bad subtree size");
-            pos += used;
-            if (left > (size_t)(end - pos) || depth == PVS__TREE_MAX_DEPTH)
-                return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE: subtree past the end or deeper than %u",
-                                 PVS__TREE_MAX_DEPTH);
-            stack[depth++] = pos + left;
+    leaves = 1u << depth;
+    inner = leaves - 1u;
+    need = PVS__TREE_HEAD + 5 * (uint64_t)inner + 4 * ((uint64_t)leaves + 1);
+    if (need > size) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE has %u bytes, depth %u needs %llu before its items", size, depth,
+                                      (unsigned long long)need);
+    nodes = t + PVS__TREE_HEAD;
+    starts = nodes + 4 * (size_t)inner;
+    items = starts + 4 * ((size_t)leaves + 1) + inner;
+    for (i = 0; i < inner; ++i) {
+        uint8_t axis = starts[4 * ((size_t)leaves + 1) + i];
+        if (axis > 3u || !pvs__finite(pvs__getf32(nodes + 4 * (size_t)i)))
+            return pvs__fail(err, PVS_ERROR_BAD_TREE, i, off + PVS__TREE_HEAD + 4 * (uint64_t)i, "TREE node %u: axis %u or split not finite", i, axis);
+    }
+    if (pvs__get32(starts) != 0 || pvs__get32(starts + 4 * (size_t)leaves) != size - need)
+        return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(starts - base), "TREE leaf offsets do not span its items");
+    for (i = 0; i < leaves; ++i) {
+        uint32_t lo = pvs__get32(starts + 4 * (size_t)i), hi = pvs__get32(starts + 4 * (size_t)i + 4);
+        const uint8_t *p = items + lo, *end = items + hi;
+        uint64_t id = 0;
+        int first = 1;
+        if (hi < lo || hi > size - need)
+            return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(starts - base) + 4 * (uint64_t)i, "TREE leaf %u offsets do not ascend", i);
+        while (p < end) {
+            uint32_t g;
+            size_t used = pvs__get_varint(p, end, &g);
+            if (!used) return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(p - base), "TREE leaf %u: bad cell id", i);
+            id = first ? g : id + 1u + g;
+            first = 0;
+            if (id >= f->cell_count)
+                return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(p - base), "TREE leaf %u names cell %llu of %u", i, (unsigned long long)id,
+                                 f->cell_count);
+            p += used;
         }
     }
-    if (pos != end) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(pos - base), "TREE has bytes after its last node");
-    if (nodes != declared) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE declares %u nodes and has %u", declared, nodes);
-    f->private_.tree = t + PVS__TREE_HEAD;
-    f->private_.node_count = nodes;
+    f->private_.tree = nodes;
+    f->private_.tree_depth = depth;
     return PVS_OK;
 }
 
@@ -3483,8 +3561,25 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
             } else {
                 ++keys;
             }
-            r = pvs__set_apply(p, rend, head & 3u, f->object_count, NULL, NULL, NULL, &bad);
-            if (r != PVS_OK) return pvs__fail(err, r, cell, (uint64_t)(p - base) + bad, "record of cell %u", cell);
+            {
+                pvs__sink check;
+                size_t body = 0;
+                memset(&check, 0, sizeof(check));
+                if (depth) { /* the removed ranks: coding byte, base PVS size, ranks below it */
+                    uint32_t m;
+                    if (p >= rend || *p > 3u) return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad coding", cell);
+                    used = pvs__get_varint(p + 1, rend, &m);
+                    if (!used || m > f->object_count)
+                        return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad base size", cell);
+                    r = pvs__set_apply(p + 1 + used, rend, *p, m, &check, &body, &bad);
+                    if (r != PVS_OK) return pvs__fail(err, r, cell, (uint64_t)(p + 1 + used - base) + bad, "record of cell %u (removed)", cell);
+                    p += 1 + used + body;
+                }
+                r = pvs__set_apply(p, rend, head & 3u, f->object_count, &check, &body, &bad);
+                if (r != PVS_OK) return pvs__fail(err, r, cell, (uint64_t)(p - base) + bad, "record of cell %u", cell);
+                if (p + body != rend)
+                    return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p + body - base), "record of cell %u: bytes after its sets", cell);
+            }
             p = rend;
         }
         if (p != end) return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, (uint64_t)(p - base), "block %u has bytes after its last record", b);
@@ -3637,6 +3732,7 @@ PVS_API void pvs_file_record_info(const pvs_file *f, uint32_t cell, pvs_record_i
     info->depth = r.depth;
     info->coding = r.coding;
     info->bytes = (uint32_t)(r.end - r.start);
+    info->base_size = r.depth ? r.base_size : 0;
 }
 
 // >>runtime
@@ -3644,80 +3740,114 @@ PVS_API void pvs_file_record_info(const pvs_file *f, uint32_t cell, pvs_record_i
 /* runtime: cell look-up through the stored kD-tree, decoding, the cursor; no allocation          */
 /* ---------------------------------------------------------------------------------------------- */
 
+PVS__STATIC uint64_t pvs__load64(const uint8_t *s) { /* little-endian; compilers make it one load */
+    return (uint64_t)s[0] | (uint64_t)s[1] << 8 | (uint64_t)s[2] << 16 | (uint64_t)s[3] << 24 | (uint64_t)s[4] << 32 |
+           (uint64_t)s[5] << 40 | (uint64_t)s[6] << 48 | (uint64_t)s[7] << 56;
+}
+
+/* A cell's coordinate indices: min then max per axis. One 64-bit read holds all six fields when
+   they fit (the usual case). */
+PVS__STATIC void pvs__cell_indices(const pvs_file *f, uint32_t c, uint32_t idx[6]) {
+    uint64_t pos = (uint64_t)c * f->private_.cell_bits;
+    int k;
+    if (f->private_.cell_bits <= 56 && (size_t)(pos >> 3) + 8 <= f->private_.index_bytes) {
+        uint64_t w = pvs__load64(f->private_.indices + (size_t)(pos >> 3)) >> (pos & 7u);
+        for (k = 0; k < 6; ++k) {
+            uint32_t bits = f->private_.index_bits[k];
+            idx[k] = (uint32_t)(w & (((uint64_t)1 << bits) - 1u));
+            w >>= bits;
+        }
+    } else {
+        for (k = 0; k < 6; ++k) {
+            idx[k] = pvs__get_bits(f->private_.indices, pos, f->private_.index_bits[k]);
+            pos += f->private_.index_bits[k];
+        }
+    }
+    for (k = 0; k < 3; ++k) idx[k + 3] += idx[k];
+}
+
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
     pvs_box b;
-    uint64_t pos;
+    uint32_t idx[6];
     int k;
     PVS_ASSERT(cell < f->cell_count);
-    pos = (uint64_t)cell * f->private_.cell_bits;
-    for (k = 0; k < 6; ++k) {
-        uint32_t w = f->private_.index_bits[k % 3];
-        float v = pvs__getf32(f->private_.values[k % 3] + 4 * (size_t)pvs__get_bits(f->private_.indices, pos, w));
-        if (k < 3) b.min[k] = v;
-        else b.max[k - 3] = v;
-        pos += w;
+    pvs__cell_indices(f, cell, idx);
+    for (k = 0; k < 3; ++k) {
+        b.min[k] = pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k]);
+        b.max[k] = pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k + 3]);
     }
     return b;
 }
 
-/* Does cell `c` contain p? Axis by axis, stopping at the first miss. */
+/* Does cell `c` contain p? */
 PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[3]) {
-    uint64_t pos = (uint64_t)c * f->private_.cell_bits, hi = pos + (f->private_.cell_bits >> 1);
+    uint32_t idx[6];
     int k;
-    for (k = 0; k < 3; ++k) {
-        uint32_t w = f->private_.index_bits[k];
-        if (p[k] < pvs__getf32(f->private_.values[k] + 4 * (size_t)pvs__get_bits(f->private_.indices, pos, w)) ||
-            p[k] > pvs__getf32(f->private_.values[k] + 4 * (size_t)pvs__get_bits(f->private_.indices, hi, w)))
+    pvs__cell_indices(f, c, idx);
+    for (k = 0; k < 3; ++k)
+        if (p[k] < pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k]) || p[k] > pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k + 3]))
             return 0;
-        pos += w;
-        hi += w;
-    }
     return 1;
 }
 
-/* Point location in the stored tree: p < split left, p > split right, p == split both (pending right
+/* Point location in the stored tree: p < split left, p > split right, p == split both (pending
    subtrees on a stack no deeper than the tree); in a leaf the first cell containing p is its lowest. */
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
-    const uint8_t *stack[PVS__TREE_MAX_DEPTH], *pos;
-    uint32_t depth = 0, best = PVS_NO_CELL;
+    uint32_t stack[PVS__TREE_MAX_DEPTH + 1], depth = 0, best = PVS_NO_CELL, k = 0, d, inner;
+    const uint8_t *nodes, *starts, *axes, *items;
     if (!f || !p || !f->data || !pvs__finite(p[0]) || !pvs__finite(p[1]) || !pvs__finite(p[2])) return PVS_NO_CELL;
-    pos = f->private_.tree;
+    d = f->private_.tree_depth;
+    inner = (1u << d) - 1u;
+    nodes = f->private_.tree;
+    starts = nodes + 4 * (size_t)inner;
+    axes = starts + 4 * ((size_t)inner + 2);
+    items = axes + inner;
     for (;;) {
-        uint32_t h;
-        pos = pvs__skip_varint(pos, &h);
-        if ((h & 3u) == PVS__KD_LEAF) {
-            uint32_t count = h >> 2, j, id = 0, g;
-            for (j = 0; j < count; ++j) {
-                pos = pvs__skip_varint(pos, &g);
-                id = j ? id + 1u + g : g;
+        while (k < inner) {
+            uint32_t axis = axes[k];
+            float v = pvs__getf32(nodes + 4 * (size_t)k);
+            if (axis == 3u) {
+                k = 2 * k + 1;
+                continue;
+            }
+            if (p[axis] == v) stack[depth++] = 2 * k + 2; /* rare: both sides */
+            k = 2 * k + 1 + (uint32_t)(p[axis] > v);
+        }
+        {
+            const uint8_t *q = items + pvs__get32(starts + 4 * (size_t)(k - inner)), *end = items + pvs__get32(starts + 4 * (size_t)(k - inner) + 4);
+            uint32_t id = 0, g;
+            int first = 1;
+            while (q < end) {
+                q = pvs__skip_varint(q, &g);
+                id = first ? g : id + 1u + g;
+                first = 0;
                 if (id >= best) break;
                 if (pvs__cell_contains(f, id, p)) {
                     best = id;
                     break;
                 }
             }
-            if (!depth) break;
-            pos = stack[--depth];
-        } else {
-            uint32_t axis = h & 3u, left;
-            float v = pvs__getf32(f->private_.values[axis] + 4 * (size_t)(h >> 2));
-            pos = pvs__skip_varint(pos, &left);
-            if (p[axis] > v) pos += left;
-            else if (p[axis] == v) stack[depth++] = pos + left;
         }
+        if (!depth) break;
+        k = stack[--depth];
     }
     return best;
 }
 
 PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t word_count) {
-    size_t bad;
+    uint32_t chain[PVS_MAX_CHAIN + 1], n = 0;
+    pvs__rec r;
     memset(bits, 0, word_count * sizeof(pvs_word));
-    for (;;) { /* XOR is order-free: walk from the cell to its key, toggling each record's ids */
-        pvs__rec r;
+    for (;;) { /* the chain from the cell to its key: at most max_chain + 1 records (checked by open) */
         pvs__record_at(f, cell, &r);
-        (void)pvs__set_apply(r.body, r.end, r.coding, f->object_count, bits, NULL, NULL, &bad); /* validated by open */
+        chain[n++] = cell;
         if (!r.depth) break;
         cell = r.base;
+    }
+    pvs__record_apply(f, &r, bits, NULL, NULL); /* the key */
+    while (--n) {                                /* then each delta on top of its base */
+        pvs__record_at(f, chain[n - 1], &r);
+        pvs__record_apply(f, &r, bits, NULL, NULL);
     }
 }
 
@@ -3751,18 +3881,17 @@ PVS_API pvs_result pvs_cursor_init(pvs_cursor *c, const pvs_file *f, pvs_word *b
 
 PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn fn, void *user) {
     const pvs_file *f;
-    size_t w, bad;
+    size_t w;
     if (!c || !c->file) return PVS_ERROR_INVALID_ARGUMENT;
     f = c->file;
     if (cell != PVS_NO_CELL && cell >= f->cell_count) return PVS_ERROR_INVALID_ARGUMENT;
     if (cell == c->cell) return PVS_OK;
     if (cell != PVS_NO_CELL && c->cell != PVS_NO_CELL) {
-        /* one delta when the cells are base and child (a delta is a symmetric difference: it leads both ways) */
+        /* one delta when the new cell's base is the current cell */
         pvs__rec r;
         pvs__record_at(f, cell, &r);
-        if (r.base != c->cell) pvs__record_at(f, c->cell, &r);
-        if (r.base == cell || r.base == c->cell) {
-            (void)pvs__set_apply(r.body, r.end, r.coding, f->object_count, c->bits, fn, user, &bad);
+        if (r.base == c->cell) {
+            pvs__record_apply(f, &r, c->bits, fn, user);
             c->cell = cell;
             ++c->delta_moves;
             return PVS_OK;

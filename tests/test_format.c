@@ -109,14 +109,14 @@ static void desc_init(pvs_file_desc *d, const pvs_box *boxes, uint32_t cells, ui
 
 typedef struct change_log {
     pvs_word *expect;   /* the set the cursor should reach, applied by the callback */
-    uint32_t last, count;
-    int ordered;
+    uint32_t last[2], count[2];
+    int ordered;        /* removals ascending, additions ascending */
 } change_log;
 static void on_change(void *user, uint32_t object, int visible) {
     change_log *l = (change_log *)user;
-    if (l->count && object <= l->last) l->ordered = 0;
-    l->last = object;
-    ++l->count;
+    if (l->count[visible] && object <= l->last[visible]) l->ordered = 0;
+    l->last[visible] = object;
+    ++l->count[visible];
     if (visible) pvs_bitset_set(l->expect, object);
     else pvs_bitset_clear(l->expect, object);
 }
@@ -201,9 +201,8 @@ static void check_table(uint32_t cells, uint32_t objects, uint32_t density, uint
         change_log log;
         uint32_t next = rnd() % 4 ? (c + 1) % cells : rnd() % cells;
         if (i == 100) next = PVS_NO_CELL;
+        memset(&log, 0, sizeof(log));
         log.expect = expect;
-        log.count = 0;
-        log.last = 0;
         log.ordered = 1;
         CHECK(pvs_cursor_move(&cursor, next, on_change, &log) == PVS_OK);
         CHECK(cursor.cell == next && log.ordered);
@@ -361,32 +360,43 @@ static void test_corruptions(void) {
     /* CELL: counts, widths, values (NaN, -0, not ascending), an index out of range */
     RESET(); wr32(b + cl, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
     RESET(); b[cl + 12] += 1; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
-    RESET(); wr32(b + cl + 16, 0x7fc00000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
-    RESET(); wr32(b + cl + 16, 0x80000000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
-    RESET(); memcpy(b + cl + 20, b + cl + 16, 4); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
+    RESET(); wr32(b + cl + 20, 0x7fc00000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
+    RESET(); wr32(b + cl + 20, 0x80000000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
+    RESET(); b[cl + 15] = 30; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); b[cl + 18] = 1; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); memcpy(b + cl + 24, b + cl + 20, 4); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
     {
         /* set every index bit of cell 0 on axis 0: index 2^w - 1 is out of range unless the table
            is a power of two long; then min > max or in range; only a defined code is required */
         uint32_t n0 = rd32(b + cl), n1 = rd32(b + cl + 4), n2 = rd32(b + cl + 8);
-        uint32_t at = cl + 16 + 4 * (n0 + n1 + n2);
+        uint32_t at = cl + 20 + 4 * (n0 + n1 + n2);
         RESET(); b[at] = 0xff; fix_checksums(b, size);
         {
             pvs_result r = pvs_file_open(b, size, &f0, NULL);
             CHECK(r == PVS_ERROR_BAD_CELL || r == PVS_OK);
         }
     }
-    /* TREE: node count, reserved, a root leaf where an inner node was, a wrong subtree size, a
-       split index past its table */
-    RESET(); wr32(b + tr, rd32(b + tr) + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
-    RESET(); wr32(b + tr, rd32(b + tr) - 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
-    RESET(); wr32(b + tr + 4, 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
-    CHECK((b[tr + 8] & 3u) != 3u && b[tr + 8] < 0x80); /* 40 cells: the root is an inner node with a one-byte head */
-    RESET(); b[tr + 8] = 0x7f; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
-    RESET(); b[tr + 9] ^= 1; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
-    RESET(); b[tr + 8] = (uint8_t)((b[tr + 8] & 3u) | (0x1fu << 2)); fix_checksums(b, size);
+    /* TREE: depth, reserved, a NaN split, a bad axis, leaf offsets, an item past the cells */
     {
-        pvs_result r = pvs_file_open(b, size, &f0, NULL); /* index 31 may exist on a long axis: then the tree stays valid */
-        CHECK(r == PVS_ERROR_BAD_TREE || r == PVS_OK);
+        uint32_t depth = rd32(b + tr), inner = (1u << depth) - 1, leaves = 1u << depth;
+        uint32_t starts = tr + 8 + 4 * inner, axes = starts + 4 * (leaves + 1), items = axes + inner;
+        CHECK(depth >= 2); /* 40 cells */
+        RESET(); wr32(b + tr, depth + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); wr32(b + tr, 25); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); wr32(b + tr + 4, 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); wr32(b + tr + 8, 0x7fc00000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); b[axes] = 4; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); wr32(b + starts, 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); wr32(b + starts + 4, rd32(b + starts + 8) + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); b[items] = 100; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        /* a changed split is still a well-formed tree: look-ups may then miss, never read out of bounds */
+        RESET(); wr32(b + tr + 8, 0x4f000000u); fix_checksums(b, size);
+        {
+            pvs_file ft;
+            float q[3] = {1, 1, 1};
+            CHECK(pvs_file_open(b, size, &ft, NULL) == PVS_OK);
+            (void)pvs_file_find_cell(&ft, q);
+        }
     }
     /* RECS: block offsets, lengths, chains, ids */
     {

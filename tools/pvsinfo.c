@@ -87,9 +87,21 @@ int main(int argc, char **argv) {
         uint32_t c, k, j;
         for (c = 0; c < f.cell_count; ++c) {
             pvs_box b = pvs_file_cell_box(&f, c);
+            pvs_record_info info;
             if (pvs_file_decode(&f, c, bits, words, &pe) != PVS_OK) {
                 fprintf(stderr, "pvsinfo: %s: cell %u: %s\n", path, c, pe.message);
                 goto done;
+            }
+            pvs_file_record_info(&f, c, &info);
+            if (info.base != PVS_NO_CELL) { /* the removal ranks must count in the base's PVS as it is */
+                uint32_t m;
+                pvs_file_decode(&f, info.base, bits, words, NULL);
+                m = pvs_bitset_count(bits, f.object_count);
+                if (m != info.base_size) {
+                    fprintf(stderr, "pvsinfo: %s: cell %u: its delta counts ranks in %u objects, its base %u has %u\n", path, c,
+                            info.base_size, info.base, m);
+                    goto done;
+                }
             }
             for (j = 0; j < 9; ++j) {
                 float q[3];

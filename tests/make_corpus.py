@@ -1,0 +1,45 @@
+# make_corpus.py - maintenance only (never run by make): rebuilds the hand-made and broken files of
+# tests/corpus from tests/corpus/ok-golden.pvs after a format change. python3 tests/make_corpus.py
+import zlib, struct
+d='tests/corpus'
+def al(n): return (n+7)&~7
+def build(secs):
+    pos=al(32+16*len(secs)); offs=[]
+    for t,dd in secs: offs.append(pos); pos=al(pos+len(dd))
+    f=bytearray(pos); f[0:4]=b'PVS\x1a'; struct.pack_into('<IIII',f,4,1,pos,len(secs),0)
+    for i,(t,dd) in enumerate(secs):
+        f[offs[i]:offs[i]+len(dd)]=dd
+        struct.pack_into('<4sIII',f,32+16*i,t,offs[i],len(dd),zlib.crc32(dd)&0xffffffff)
+    struct.pack_into('<I',f,20,zlib.crc32(bytes(f[0:20])+bytes(f[32:32+16*len(secs)]))&0xffffffff)
+    return bytes(f)
+meta=struct.pack('<IIIfIIII',1,0xfffffffe,1,0.0,1,8,1,0)
+cell=struct.pack('<III',2,2,2)+bytes([1,1,1,1,1,1,0,0])+struct.pack('<6f',0,1,0,1,0,1)+bytes([0x38])
+tree=struct.pack('<II',0,0)+struct.pack('<II',0,1)+bytes([0])
+rec=bytes([8,1,1,0,0x80,0x80,0x80,0x80,0x08])
+recs=struct.pack('<II',8,8+len(rec))+rec
+open(d+'/ok-huge-run.pvs','wb').write(build([(b'META',meta),(b'CELL',cell),(b'TREE',tree),(b'RECS',recs)]))
+good=open(d+'/ok-golden.pvs','rb').read()
+def fix(b):
+    b=bytearray(b); n=struct.unpack_from('<I',b,12)[0]
+    for i in range(n):
+        t,o,s,c=struct.unpack_from('<IIII',b,32+16*i)
+        if o+s<=len(b): struct.pack_into('<I',b,32+16*i+12,zlib.crc32(bytes(b[o:o+s]))&0xffffffff)
+    struct.pack_into('<I',b,20,zlib.crc32(bytes(b[0:20])+bytes(b[32:32+16*n]))&0xffffffff)
+    return bytes(b)
+def sec(b,tag):
+    n=struct.unpack_from('<I',b,12)[0]
+    for i in range(n):
+        t,o,s,c=struct.unpack_from('<4sIII',b,32+16*i)
+        if t==tag: return o,s
+out={}
+out['bad-truncated']=good[:len(good)//2]
+out['bad-empty']=b''
+out['bad-magic']=b'PVX'+good[3:]
+b=bytearray(good); b[100]^=1; out['bad-checksum']=bytes(b)
+m,_=sec(good,b'META'); b=bytearray(good); struct.pack_into('<I',b,m+20,1); out['bad-chain-bound']=fix(b)
+t,_=sec(good,b'TREE'); b=bytearray(good); struct.pack_into('<I',b,t+8,0x7fc00000); out['bad-tree']=fix(b)
+r,_=sec(good,b'RECS'); b=bytearray(good); first=struct.unpack_from('<I',b,r)[0]; b[r+first+1]=(b[r+first+1]&3)|(9<<2); out['bad-depth']=fix(b)
+c,_=sec(good,b'CELL'); b=bytearray(good); struct.pack_into('<I',b,c+20,0x7fc00000); out['bad-cell-nan']=fix(b)
+b=bytearray(good); struct.pack_into('<I',b,m+4,3); out['bad-object-range']=fix(b)
+b=bytearray(good); struct.pack_into('<I',b,4,2); out['bad-version']=bytes(b)
+for k,v in out.items(): open(d+'/'+k+'.pvs','wb').write(v)
