@@ -141,8 +141,8 @@
    "TREE" (required): the cell look-up kD-tree, a complete binary tree of depth D stored implicitly
      (the children of node k are 2k + 1 and 2k + 2; leaf j is node 2^D - 1 + j) [BAD_TREE]:
      0 u32 D (0..24)   4 u32 zero   8 f32 splits[2^D - 1] (finite)   then u32 leaf offsets[2^D + 1]
-     (offsets[0] = 0, ascending, the last = the item bytes' size)   then u8 axes[2^D - 1] (0..2, or
-     3: every cell is in the left child)   then the item bytes: leaf j's cell ids in offsets[j] ..
+     (offsets[0] = 0, ascending, the last = the item bytes' size)   then u8 axes[2^D - 1] (0..2; a
+     node whose cells all go left has split FLT_MAX)   then the item bytes: leaf j's cell ids in offsets[j] ..
      offsets[j + 1], varints, the first id then the gaps minus one between ascending ids, each id
      < cell_count. The section ends there.
      Look-up of a point p: at an inner node p[axis] < split goes left, > split right, == split
@@ -3250,10 +3250,12 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
             if (!t) {
                 r = PVS_ERROR_OUT_OF_MEMORY;
             } else {
-                for (i = 0; i + 1 < leaves; ++i, t += 4) /* split values, then leaf offsets, then axes */
-                    pvs__putf32(t, (tb.nodes[i] & 3u) == 3u ? 0.0f : tb.values[tb.nodes[i] & 3u][tb.nodes[i] >> 2]);
+                /* split values, then leaf offsets, then axes; a node that passes everything left is
+                   axis 0 at FLT_MAX (no finite point lies beyond it) */
+                for (i = 0; i + 1 < leaves; ++i, t += 4)
+                    pvs__putf32(t, (tb.nodes[i] & 3u) == 3u ? FLT_MAX : tb.values[tb.nodes[i] & 3u][tb.nodes[i] >> 2]);
                 for (i = 0; i <= leaves; ++i, t += 4) pvs__put32(t, tb.leaf_start[i]);
-                for (i = 0; i + 1 < leaves; ++i) *t++ = (uint8_t)(tb.nodes[i] & 3u);
+                for (i = 0; i + 1 < leaves; ++i) *t++ = (uint8_t)((tb.nodes[i] & 3u) == 3u ? 0u : tb.nodes[i] & 3u);
                 if (tb.item_bytes) memcpy(t, tb.items, tb.item_bytes);
             }
         }
@@ -3471,7 +3473,7 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 }
 
 /* The TREE section: u32 depth D (0..24), u32 zero, f32 splits[2^D - 1], u32 leaf offsets[2^D + 1]
-   into the items, u8 axes[2^D - 1] (0..2, 3 = all to the left), then the items: per leaf its
+   into the items, u8 axes[2^D - 1] (0..2), then the items: per leaf its
    ascending cell ids, gap-coded varints, filling its offset range exactly. Splits and axes sit in
    separate arrays so a look-up level costs one dependent load. */
 PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const uint8_t *t, uint32_t size, pvs_error *err) {
@@ -3492,7 +3494,7 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
     items = starts + 4 * ((size_t)leaves + 1) + inner;
     for (i = 0; i < inner; ++i) {
         uint8_t axis = starts[4 * ((size_t)leaves + 1) + i];
-        if (axis > 3u || !pvs__finite(pvs__getf32(nodes + 4 * (size_t)i)))
+        if (axis > 2u || !pvs__finite(pvs__getf32(nodes + 4 * (size_t)i)))
             return pvs__fail(err, PVS_ERROR_BAD_TREE, i, off + PVS__TREE_HEAD + 4 * (uint64_t)i, "TREE node %u: axis %u or split not finite", i, axis);
     }
     if (pvs__get32(starts) != 0 || pvs__get32(starts + 4 * (size_t)leaves) != size - need)
@@ -3804,14 +3806,9 @@ PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
     items = axes + inner;
     for (;;) {
         while (k < inner) {
-            uint32_t axis = axes[k];
-            float v = pvs__getf32(nodes + 4 * (size_t)k);
-            if (axis == 3u) {
-                k = 2 * k + 1;
-                continue;
-            }
-            if (p[axis] == v) stack[depth++] = 2 * k + 2; /* rare: both sides */
-            k = 2 * k + 1 + (uint32_t)(p[axis] > v);
+            float x = p[axes[k]], v = pvs__getf32(nodes + 4 * (size_t)k);
+            if (x == v) stack[depth++] = 2 * k + 2; /* rare: both sides */
+            k = 2 * k + 1 + (uint32_t)(x > v);
         }
         {
             const uint8_t *q = items + pvs__get32(starts + 4 * (size_t)(k - inner)), *end = items + pvs__get32(starts + 4 * (size_t)(k - inner) + 4);
