@@ -6,7 +6,9 @@
 #include <string.h>
 
 int pvs_fuzz_one(const uint8_t *data, size_t size);
+void pvs_fuzz_fix_checksums(uint8_t *f, size_t size);
 
+/* Reference CRC-32 (IEEE), bit by bit: independent of the header's table version. */
 static uint32_t fuzz_crc32(const uint8_t *p, size_t n, uint32_t c) {
     size_t i;
     int k;
@@ -21,7 +23,7 @@ static uint32_t rd(const uint8_t *p) { return (uint32_t)p[0] | (uint32_t)p[1] <<
 static void wr(uint8_t *p, uint32_t v) { p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24); }
 
 /* Rewrites every checksum so that mutations reach the checks behind them. */
-static void fix_checksums(uint8_t *f, size_t size) {
+void pvs_fuzz_fix_checksums(uint8_t *f, size_t size) {
     uint32_t n, i, c;
     if (size < 32) return;
     n = rd(f + 12);
@@ -44,7 +46,7 @@ int pvs_fuzz_one(const uint8_t *data, size_t size) {
         uint8_t *copy = (uint8_t *)malloc(size);
         if (copy) {
             memcpy(copy, data, size);
-            fix_checksums(copy, size);
+            pvs_fuzz_fix_checksums(copy, size);
             fuzz_open(copy, size);
             free(copy);
         }

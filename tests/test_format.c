@@ -1,5 +1,5 @@
-/* test_format.c - the .pvs container: round trips, every truncation, corruptions with valid
-   checksums (reference CRC below), decode safety */
+/* test_format.c - the .pvs file: round trips, look-up, chains, the cursor, every truncation,
+   corruptions with valid checksums, shards, the golden file and the fuzzing corpus */
 #define _POSIX_C_SOURCE 200809L
 #include "test.h"
 #include "../pvs.h"
@@ -8,39 +8,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Reference CRC-32 (IEEE), bit by bit: independent of the header's table version. */
-static uint32_t ref_crc32(const uint8_t *p, size_t n) {
-    uint32_t c = 0xffffffffu;
-    size_t i;
-    int k;
-    for (i = 0; i < n; ++i) {
-        c ^= p[i];
-        for (k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
-    }
-    return ~c;
-}
 static uint32_t rd32(const uint8_t *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
 static void wr32(uint8_t *p, uint32_t v) { p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24); }
 
-/* Recompute every checksum so that a corruption reaches the deeper checks. */
-static void fix_checksums(uint8_t *f, size_t size) {
-    uint32_t n, i;
-    if (size < 32) return;
-    n = rd32(f + 12);
-    if (n > 64 || 32 + 16 * (size_t)n > size) return;
-    for (i = 0; i < n; ++i) {
-        uint8_t *e = f + 32 + 16 * i;
-        uint32_t off = rd32(e + 4), sz = rd32(e + 8);
-        if ((uint64_t)off + sz <= size) wr32(e + 12, ref_crc32(f + off, sz));
-    }
-    {
-        uint8_t *tmp = (uint8_t *)malloc(20 + 16 * (size_t)n);
-        memcpy(tmp, f, 20);
-        memcpy(tmp + 20, f + 32, 16 * (size_t)n);
-        wr32(f + 20, ref_crc32(tmp, 20 + 16 * (size_t)n));
-        free(tmp);
-    }
-}
+/* Recomputes every checksum (with a reference CRC independent of the header's) so that a
+   corruption reaches the deeper checks; shared with the fuzz target. */
+void pvs_fuzz_fix_checksums(uint8_t *f, size_t size);
+#define fix_checksums pvs_fuzz_fix_checksums
 
 static uint64_t rng_state = 12345;
 static uint32_t rnd(void) {
