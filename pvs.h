@@ -548,8 +548,9 @@ typedef struct pvs_file_desc {
 } pvs_file_desc;
 
 /* Encodes the table into out[0..capacity). *out_size receives the exact size, also when the buffer
-   is too small (BUFFER_TOO_SMALL; out may then be NULL): call once with NULL to learn it. The output
-   is a deterministic function of the desc. Errors: INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL,
+   is too small (BUFFER_TOO_SMALL). With out == NULL it only measures (returns PVS_OK): call once
+   with NULL to learn the size. The output is a deterministic function of the desc; the encoder's
+   scratch comes from desc->allocator. Thread-safe for distinct outputs. Errors: INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL,
    COUNT_OVERFLOW (a file over 4 GiB), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size, pvs_error *err);
 
@@ -2336,7 +2337,7 @@ PVS_API size_t pvs_bake_file_size(const pvs_bake *b) {
     size_t size = 0;
     if (!b || !pvs__bake_all_done(b)) return 0;
     pvs__bake_file_desc(b, &fd);
-    return pvs_file_encode(&fd, NULL, 0, &size, NULL) == PVS_ERROR_BUFFER_TOO_SMALL ? size : 0;
+    return pvs_file_encode(&fd, NULL, 0, &size, NULL) == PVS_OK ? size : 0;
 }
 
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
@@ -3290,9 +3291,12 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
     }
     if (total > 0xffffffffu) { r = pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the file would exceed 4 GiB"); goto done; }
     if (out_size) *out_size = total;
-    if (!o || capacity < total) {
-        r = pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "need %llu bytes, have %llu", (unsigned long long)total,
-                      (unsigned long long)(o ? capacity : 0));
+    if (!o) { /* a size query */
+        pvs__ok(err);
+        goto done;
+    }
+    if (capacity < total) {
+        r = pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "need %llu bytes, have %llu", (unsigned long long)total, (unsigned long long)capacity);
         goto done;
     }
     memset(o, 0, total);

@@ -31,7 +31,7 @@ static size_t encode(const pvs_file_desc *d, void **out) {
     size_t size = 0;
     pvs_error e;
     *out = NULL;
-    if (pvs_file_encode(d, NULL, 0, &size, &e) != PVS_ERROR_BUFFER_TOO_SMALL) { fprintf(stderr, "%s\n", e.message); return 0; }
+    if (pvs_file_encode(d, NULL, 0, &size, &e) != PVS_OK) { fprintf(stderr, "%s\n", e.message); return 0; }
     *out = malloc(size);
     if (pvs_file_encode(d, *out, size, &size, &e) != PVS_OK) { fprintf(stderr, "%s\n", e.message); return 0; }
     return size;

@@ -63,7 +63,7 @@ static uint8_t *encode(const pvs_file_desc *d, size_t *size) {
     pvs_error e;
     uint8_t *buf;
     *size = 0;
-    if (pvs_file_encode(d, NULL, 0, size, &e) != PVS_ERROR_BUFFER_TOO_SMALL || !*size) { fprintf(stderr, "encode: %s\n", e.message); return NULL; }
+    if (pvs_file_encode(d, NULL, 0, size, &e) != PVS_OK || !*size) { fprintf(stderr, "encode: %s\n", e.message); return NULL; }
     buf = (uint8_t *)malloc(*size);
     if (pvs_file_encode(d, buf, *size, size, &e) != PVS_OK) { fprintf(stderr, "encode: %s\n", e.message); free(buf); return NULL; }
     return buf;

@@ -368,7 +368,7 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     d.up_axis = files[0].up_axis;
     d.flags = files[0].flags;
     d.max_chain = files[0].max_chain;
-    if (pvs_file_encode(&d, NULL, 0, &need, &pe) != PVS_ERROR_BUFFER_TOO_SMALL || !(*out = malloc(need)) ||
+    if (pvs_file_encode(&d, NULL, 0, &need, &pe) != PVS_OK || !(*out = malloc(need)) ||
         pvs_file_encode(&d, *out, need, out_size, &pe) != PVS_OK) {
         tool_error_set(err, NULL, 0, "encoding the merged file: %s", *out ? pe.message : "out of memory");
         free(*out);
