@@ -64,11 +64,22 @@ $(B)/bench_bake: tests/bench_bake.c $(TOOL_LIB) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_bake.c $(TOOL_LIB) $(LDLIBS)
 
-bench: $(B)/bench_kdtree $(B)/bench_bake
+$(B)/bench_raster: tests/bench_raster.c $(TOOL_LIB) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_raster.c $(TOOL_LIB) $(LDLIBS)
+
+bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_raster
 	./$(B)/bench_kdtree
 	./$(B)/bench_bake
+	./$(B)/bench_raster
 
-verify: tools
+# The raster module's long run: >= 10,000 cameras against ray casting, optimised build.
+$(B)/verify_raster: tests/verify_raster.c tests/test_raster.c tests/test.h tools/mesh.c tools/gen.c $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) -std=c99 $(WARN) -Werror -O2 -g -o $@ tests/verify_raster.c tests/test_raster.c tests/impl.c tools/mesh.c tools/gen.c $(LDLIBS)
+
+verify: tools $(B)/verify_raster
+	./$(B)/verify_raster
 	sh tests/verify.sh
 
 clean:

@@ -2136,6 +2136,8 @@ struct pvs_raster {
     pvs_allocator allocator;
     uint32_t width, height, flags;
     float *depth;                               /* width * height */
+    float *tile_min;                            /* farthest depth per 8 x 8 tile */
+    size_t tiles;
     uint32_t levels;                            /* pyramid levels above the depth map */
     uint32_t lw[PVS__RASTER_MAX_LEVELS + 1], lh[PVS__RASTER_MAX_LEVELS + 1];
     float *lmin[PVS__RASTER_MAX_LEVELS + 1], *lmax[PVS__RASTER_MAX_LEVELS + 1];
@@ -2155,6 +2157,8 @@ struct pvs_raster {
     /* cull map */
     uint32_t cm_w, cm_h;
     float *cm;                                  /* cm_w * cm_h heights */
+    float *cm_tile_min;                         /* lowest height per 8 x 8 tile */
+    size_t cm_tiles;
     float region[4];                            /* u0, v0, u1, v1 */
     uint32_t *cm_start;                         /* cm_w * cm_h + 1 */
     uint32_t *cm_items;
@@ -2193,7 +2197,8 @@ PVS__STATIC int32_t pvs__clampi(double v, int32_t lo, int32_t hi) {
 /* One prepared polygon: float edge and depth coefficients over the pixel range [i0, i1] x [j0, j1],
    relative to its corner (i0, j0). */
 typedef struct pvs__rsetup {
-    int32_t i0, i1, j0, j1;
+    int32_t i0, i1, j0, j1;   /* the polygon's pixel range; (i0, j0) is the coefficients' origin */
+    int32_t li0, li1, lj0, lj1; /* the part a loop covers (a tile of the range) */
     int edges;
     float a[PVS__RASTER_MAXV], b[PVS__RASTER_MAXV], k[PVS__RASTER_MAXV];
     float za, zb, zk;     /* depth plane bound */
@@ -2201,14 +2206,14 @@ typedef struct pvs__rsetup {
 } pvs__rsetup;
 
 /* Scalar reference loop. */
-PVS__STATIC void pvs__raster_rows_scalar(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
+PVS__STATIC int pvs__raster_rows_scalar(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
     int32_t i, j;
-    int e;
-    for (j = s->j0; j <= s->j1; ++j) {
+    int e, wrote = 0;
+    for (j = s->lj0; j <= s->lj1; ++j) {
         float fj = (float)(j - s->j0), rk[PVS__RASTER_MAXV], rz = s->zk + s->zb * fj;
         float *row = buf + (size_t)j * stride;
         for (e = 0; e < s->edges; ++e) rk[e] = s->k[e] + s->b[e] * fj;
-        for (i = s->i0; i <= s->i1; ++i) {
+        for (i = s->li0; i <= s->li1; ++i) {
             float fi = (float)(i - s->i0), d;
             for (e = 0; e < s->edges; ++e)
                 if (!(rk[e] + s->a[e] * fi >= 0.0f)) break;
@@ -2216,26 +2221,27 @@ PVS__STATIC void pvs__raster_rows_scalar(const pvs__rsetup *s, float *buf, uint3
             d = rz + s->za * fi;
             if (occluder) d = d < s->zclamp ? s->zclamp : d;
             else d = d > s->zclamp ? s->zclamp : d;
-            if (d > row[i]) row[i] = d;
+            if (d > row[i]) { row[i] = d; wrote = 1; }
         }
     }
+    return wrote;
 }
 
 #if defined(PVS__SSE2)
 /* Four pixels at a time; the same operations as the scalar loop, lane by lane. */
-PVS__STATIC void pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
+PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
     int32_t i, j;
-    int e;
+    int e, wrote = 0;
     const __m128 step = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), zero = _mm_setzero_ps();
     __m128 va[PVS__RASTER_MAXV];
     const __m128 vza = _mm_set1_ps(s->za), vclamp = _mm_set1_ps(s->zclamp);
     for (e = 0; e < s->edges; ++e) va[e] = _mm_set1_ps(s->a[e]);
-    for (j = s->j0; j <= s->j1; ++j) {
+    for (j = s->lj0; j <= s->lj1; ++j) {
         float fj = (float)(j - s->j0), rz = s->zk + s->zb * fj;
         __m128 rk[PVS__RASTER_MAXV], vrz = _mm_set1_ps(rz);
         float *row = buf + (size_t)j * stride;
         for (e = 0; e < s->edges; ++e) rk[e] = _mm_set1_ps(s->k[e] + s->b[e] * fj);
-        for (i = s->i0; i + 3 <= s->i1; i += 4) {
+        for (i = s->li0; i + 3 <= s->li1; i += 4) {
             __m128 fi = _mm_add_ps(_mm_set1_ps((float)(i - s->i0)), step);
             __m128 mask = _mm_castsi128_ps(_mm_set1_epi32(-1)), d, old, gt;
             for (e = 0; e < s->edges; ++e) mask = _mm_and_ps(mask, _mm_cmpge_ps(_mm_add_ps(rk[e], _mm_mul_ps(va[e], fi)), zero));
@@ -2245,9 +2251,10 @@ PVS__STATIC void pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_
             else d = _mm_or_ps(_mm_and_ps(_mm_cmpgt_ps(d, vclamp), vclamp), _mm_andnot_ps(_mm_cmpgt_ps(d, vclamp), d));
             old = _mm_loadu_ps(row + i);
             gt = _mm_and_ps(mask, _mm_cmpgt_ps(d, old));
+            wrote |= _mm_movemask_ps(gt);
             _mm_storeu_ps(row + i, _mm_or_ps(_mm_and_ps(gt, d), _mm_andnot_ps(gt, old)));
         }
-        for (; i <= s->i1; ++i) { /* the tail, as in the scalar loop */
+        for (; i <= s->li1; ++i) { /* the tail, as in the scalar loop */
             float fi = (float)(i - s->i0), d, rke;
             for (e = 0; e < s->edges; ++e) {
                 _mm_store_ss(&rke, rk[e]);
@@ -2257,26 +2264,27 @@ PVS__STATIC void pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_
             d = rz + s->za * fi;
             if (occluder) d = d < s->zclamp ? s->zclamp : d;
             else d = d > s->zclamp ? s->zclamp : d;
-            if (d > row[i]) row[i] = d;
+            if (d > row[i]) { row[i] = d; wrote = 1; }
         }
     }
+    return wrote;
 }
 #define PVS__HAVE_SIMD 1
 #elif defined(PVS__NEON)
-PVS__STATIC void pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
+PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
     int32_t i, j;
-    int e;
+    int e, wrote = 0;
     static const float stepf[4] = {0.0f, 1.0f, 2.0f, 3.0f};
     const float32x4_t step = vld1q_f32(stepf), zero = vdupq_n_f32(0.0f);
     float32x4_t va[PVS__RASTER_MAXV];
     const float32x4_t vza = vdupq_n_f32(s->za), vclamp = vdupq_n_f32(s->zclamp);
     for (e = 0; e < s->edges; ++e) va[e] = vdupq_n_f32(s->a[e]);
-    for (j = s->j0; j <= s->j1; ++j) {
+    for (j = s->lj0; j <= s->lj1; ++j) {
         float fj = (float)(j - s->j0), rz = s->zk + s->zb * fj, rkf[PVS__RASTER_MAXV];
         float32x4_t rk[PVS__RASTER_MAXV], vrz = vdupq_n_f32(rz);
         float *row = buf + (size_t)j * stride;
         for (e = 0; e < s->edges; ++e) { rkf[e] = s->k[e] + s->b[e] * fj; rk[e] = vdupq_n_f32(rkf[e]); }
-        for (i = s->i0; i + 3 <= s->i1; i += 4) {
+        for (i = s->li0; i + 3 <= s->li1; i += 4) {
             float32x4_t fi = vaddq_f32(vdupq_n_f32((float)(i - s->i0)), step), d, old;
             uint32x4_t mask = vdupq_n_u32(0xffffffffu), gt;
             for (e = 0; e < s->edges; ++e) mask = vandq_u32(mask, vcgeq_f32(vaddq_f32(rk[e], vmulq_f32(va[e], fi)), zero));
@@ -2286,9 +2294,10 @@ PVS__STATIC void pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_
             else d = vbslq_f32(vcgtq_f32(d, vclamp), vclamp, d);
             old = vld1q_f32(row + i);
             gt = vandq_u32(mask, vcgtq_f32(d, old));
+            wrote |= (vgetq_lane_u32(gt, 0) | vgetq_lane_u32(gt, 1) | vgetq_lane_u32(gt, 2) | vgetq_lane_u32(gt, 3)) != 0;
             vst1q_f32(row + i, vbslq_f32(gt, d, old));
         }
-        for (; i <= s->i1; ++i) {
+        for (; i <= s->li1; ++i) {
             float fi = (float)(i - s->i0), d;
             for (e = 0; e < s->edges; ++e)
                 if (!(rkf[e] + s->a[e] * fi >= 0.0f)) break;
@@ -2296,27 +2305,90 @@ PVS__STATIC void pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_
             d = rz + s->za * fi;
             if (occluder) d = d < s->zclamp ? s->zclamp : d;
             else d = d > s->zclamp ? s->zclamp : d;
-            if (d > row[i]) row[i] = d;
+            if (d > row[i]) { row[i] = d; wrote = 1; }
         }
     }
+    return wrote;
 }
 #define PVS__HAVE_SIMD 1
 #endif
 
+/* Tiles of 8 x 8 pixels remember their farthest depth, so a polygon that cannot be nearer than
+   everything in a tile skips it (the occluders of a culling frame come roughly front to back), and
+   tiles outside one of the polygon's edges are skipped. Only the pixels visited change, never a
+   result. */
+#define PVS__TILE_SHIFT 3
+#define PVS__TILE (1 << PVS__TILE_SHIFT)
+
+PVS__STATIC void pvs__tile_update(float *buf, uint32_t W, uint32_t H, float *tile_min, uint32_t tx, uint32_t ty) {
+    uint32_t x0 = tx << PVS__TILE_SHIFT, y0 = ty << PVS__TILE_SHIFT, x1 = x0 + PVS__TILE, y1 = y0 + PVS__TILE, x, y;
+    float lo = FLT_MAX;
+    if (x1 > W) x1 = W;
+    if (y1 > H) y1 = H;
+    for (y = y0; y < y1; ++y) {
+        const float *row = buf + (size_t)y * W;
+        for (x = x0; x < x1; ++x) lo = row[x] < lo ? row[x] : lo;
+    }
+    tile_min[ty * ((W + PVS__TILE - 1) >> PVS__TILE_SHIFT) + tx] = lo;
+}
+
+/* Runs the pixel loops over the prepared polygon, tile by tile when tile_min is given. `zbound` is
+   no smaller than any depth the polygon writes. */
+PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder, int simd, float zbound) {
+    uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty;
+    int e, wrote;
+    (void)simd;
+    if (!tile_min) {
+        s->li0 = s->i0; s->li1 = s->i1; s->lj0 = s->j0; s->lj1 = s->j1;
+#if defined(PVS__HAVE_SIMD)
+        if (simd) { pvs__raster_rows_simd(s, buf, W, occluder); return; }
+#endif
+        (void)pvs__raster_rows_scalar(s, buf, W, occluder);
+        return;
+    }
+    for (ty = (uint32_t)s->j0 >> PVS__TILE_SHIFT; ty <= (uint32_t)s->j1 >> PVS__TILE_SHIFT; ++ty)
+        for (tx = (uint32_t)s->i0 >> PVS__TILE_SHIFT; tx <= (uint32_t)s->i1 >> PVS__TILE_SHIFT; ++tx) {
+            int32_t a0, a1, b0, b1;
+            if (tile_min[ty * tw + tx] >= zbound) continue; /* nothing here can get nearer */
+            s->li0 = (int32_t)(tx << PVS__TILE_SHIFT); if (s->li0 < s->i0) s->li0 = s->i0;
+            s->li1 = (int32_t)(tx << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->li1 > s->i1) s->li1 = s->i1;
+            s->lj0 = (int32_t)(ty << PVS__TILE_SHIFT); if (s->lj0 < s->j0) s->lj0 = s->j0;
+            s->lj1 = (int32_t)(ty << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->lj1 > s->j1) s->lj1 = s->j1;
+            a0 = s->li0 - s->i0; a1 = s->li1 - s->i0; b0 = s->lj0 - s->j0; b1 = s->lj1 - s->j0;
+            for (e = 0; e < s->edges; ++e) { /* an upper bound of the float edge value over the tile */
+                double k = s->k[e], a = s->a[e], b = s->b[e];
+                double hi = k + pvs__dmax(a * a0, a * a1) + pvs__dmax(b * b0, b * b1);
+                double slack = 3.814697265625e-06 * (pvs__dabs(k) + pvs__dabs(a) * a1 + pvs__dabs(b) * b1) + 1e-30;
+                if (hi + slack < 0.0) break;
+            }
+            if (e < s->edges) continue;
+#if defined(PVS__HAVE_SIMD)
+            if (simd) wrote = pvs__raster_rows_simd(s, buf, W, occluder);
+            else
+#endif
+                wrote = pvs__raster_rows_scalar(s, buf, W, occluder);
+            if (wrote) pvs__tile_update(buf, W, H, tile_min, tx, ty);
+        }
+}
+
 /* Fills the pixel rectangle with `d` where it is nearer (the degenerate occludee case). */
-PVS__STATIC void pvs__raster_fill(float *buf, uint32_t stride, int32_t i0, int32_t i1, int32_t j0, int32_t j1, float d) {
+PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *tile_min, int32_t i0, int32_t i1, int32_t j0, int32_t j1, float d) {
     int32_t i, j;
+    uint32_t tx, ty;
     for (j = j0; j <= j1; ++j) {
-        float *row = buf + (size_t)j * stride;
+        float *row = buf + (size_t)j * W;
         for (i = i0; i <= i1; ++i)
             if (d > row[i]) row[i] = d;
     }
+    if (tile_min)
+        for (ty = (uint32_t)j0 >> PVS__TILE_SHIFT; ty <= (uint32_t)j1 >> PVS__TILE_SHIFT; ++ty)
+            for (tx = (uint32_t)i0 >> PVS__TILE_SHIFT; tx <= (uint32_t)i1 >> PVS__TILE_SHIFT; ++tx) pvs__tile_update(buf, W, H, tile_min, tx, ty);
 }
 
 /* Rasterizes a convex polygon given in pixel coordinates (x, y) with depth z (affine over it) into a
    W x H float buffer, keeping the larger (nearer) depth per pixel. See the comment at the top. */
-PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, const double *x, const double *y, const double *z,
-                                  int n, int occluder, int simd) {
+PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *tile_min, const double *x, const double *y,
+                                  const double *z, int n, int occluder, int simd) {
     pvs__rsetup s;
     double xmin = x[0], xmax = x[0], ymin = y[0], ymax = y[0], zmin = z[0], zmax = z[0], area2 = 0.0, mag = 0.0, zmag = 0.0;
     double span, dx, dy, ox, oy, iw, jh, zlo, zhi;
@@ -2348,14 +2420,22 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, const doub
         s.j1 = pvs__clampi(floor(ymax + dx), -1, (int32_t)H - 1);
     }
     if (s.i0 > s.i1 || s.j0 > s.j1) return;
+    if (tile_min) { /* hidden behind everything already drawn in every tile it overlaps: done */
+        uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, open = 0;
+        float zb = pvs__f_up(zhi);
+        for (ty = (uint32_t)s.j0 >> PVS__TILE_SHIFT; ty <= (uint32_t)s.j1 >> PVS__TILE_SHIFT && !open; ++ty)
+            for (tx = (uint32_t)s.i0 >> PVS__TILE_SHIFT; tx <= (uint32_t)s.i1 >> PVS__TILE_SHIFT; ++tx)
+                if (tile_min[ty * tw + tx] < zb) { open = 1; break; }
+        if (!open) return;
+    }
     if (!(mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) { /* beyond any useful precision */
-        if (!occluder) pvs__raster_fill(buf, W, s.i0, s.i1, s.j0, s.j1, pvs__f_up(zhi));
+        if (!occluder) pvs__raster_fill(buf, W, H, tile_min, s.i0, s.i1, s.j0, s.j1, pvs__f_up(zhi));
         return;
     }
     span = (xmax - xmin) + (ymax - ymin);
     if (!(pvs__dabs(area2) > 1e-9 * span * span) || !(pvs__dabs(area2) > 1e-300)) {
         /* degenerate: nothing inside as an occluder, the whole box as an occludee */
-        if (!occluder) pvs__raster_fill(buf, W, s.i0, s.i1, s.j0, s.j1, pvs__f_up(zhi));
+        if (!occluder) pvs__raster_fill(buf, W, H, tile_min, s.i0, s.i1, s.j0, s.j1, pvs__f_up(zhi));
         return;
     }
     ox = (double)s.i0;
@@ -2421,15 +2501,7 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, const doub
             s.zk = (float)zk;
         }
     }
-#if defined(PVS__HAVE_SIMD)
-    if (simd) {
-        pvs__raster_rows_simd(&s, buf, W, occluder);
-        return;
-    }
-#else
-    (void)simd;
-#endif
-    pvs__raster_rows_scalar(&s, buf, W, occluder);
+    pvs__raster_run(&s, buf, W, H, tile_min, occluder, simd, pvs__f_up(zhi));
 }
 
 /* Clip-space vertex (double). */
@@ -2481,7 +2553,7 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
         y[i] = (t2[i].c[1] * iw + 1.0) * hh;
         z[i] = t2[i].c[2] * iw;
     }
-    pvs__raster_poly(r->depth, r->width, r->height, x, y, z, n, occluder, !(r->flags & PVS_RASTER_SCALAR));
+    pvs__raster_poly(r->depth, r->width, r->height, r->tile_min, x, y, z, n, occluder, !(r->flags & PVS_RASTER_SCALAR));
 }
 
 PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1, const float *p2, int occluder) {
@@ -2570,6 +2642,7 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *r, const float m[16]) {
 PVS_API void pvs_raster_clear(pvs_raster *r) {
     size_t i, n = (size_t)r->width * r->height;
     for (i = 0; i < n; ++i) r->depth[i] = PVS_DEPTH_EMPTY;
+    for (i = 0; i < r->tiles; ++i) r->tile_min[i] = PVS_DEPTH_EMPTY;
     r->pyramid_valid = 0;
 }
 
@@ -2713,11 +2786,13 @@ PVS_API void pvs_raster_destroy(pvs_raster *r) {
     cells = (size_t)r->cm_w * r->cm_h;
     pvs__free_array(&a, r->depth, (size_t)r->width * r->height, sizeof(float));
     pvs__free_array(&a, r->pyramid, r->pyramid_floats, sizeof(float));
+    pvs__free_array(&a, r->tile_min, r->tiles, sizeof(float));
     pvs__free(&a, r->sweep, r->sweep_size, 16);
     pvs__free_array(&a, r->occ, r->max_occluders, sizeof(pvs__occsel));
     pvs__free_array(&a, r->tri_seen, PVS_BITSET_WORDS(r->max_triangles), sizeof(pvs_word));
     pvs__free_array(&a, r->obj_done, PVS_BITSET_WORDS(r->max_objects), sizeof(pvs_word));
     pvs__free_array(&a, r->cm, cells, sizeof(float));
+    pvs__free_array(&a, r->cm_tile_min, r->cm_tiles, sizeof(float));
     pvs__free_array(&a, r->cm_bound, cells, sizeof(float));
     pvs__free_array(&a, r->cm_start, cells + (r->cm_start ? 1 : 0), sizeof(uint32_t));
     pvs__free_array(&a, r->cm_items, r->cm_item_count, sizeof(uint32_t));
@@ -2781,7 +2856,9 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
     r->depth = (float *)pvs__alloc_array(&a, (size_t)r->width * r->height, sizeof(float));
     r->pyramid_floats = floats;
     r->pyramid = (float *)pvs__alloc_array(&a, floats, sizeof(float));
-    if (!r->depth || !r->pyramid) goto oom;
+    r->tiles = (size_t)((r->width + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->height + PVS__TILE - 1) >> PVS__TILE_SHIFT);
+    r->tile_min = (float *)pvs__alloc_array(&a, r->tiles, sizeof(float));
+    if (!r->depth || !r->pyramid || !r->tile_min) goto oom;
     floats = 0;
     for (l = 1; l <= r->levels; ++l) {
         r->lmin[l] = r->pyramid + floats;
@@ -2827,6 +2904,9 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
             }
         if (!(r->ground <= r->ground + 0.0f)) r->ground = 0.0f; /* empty scene bounds */
         r->cm = (float *)pvs__alloc_array(&a, cells, sizeof(float));
+        r->cm_tiles = (size_t)((r->cm_w + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->cm_h + PVS__TILE - 1) >> PVS__TILE_SHIFT);
+        r->cm_tile_min = (float *)pvs__alloc_array(&a, r->cm_tiles, sizeof(float));
+        if (!r->cm_tile_min) goto oom;
         r->cm_bound = (float *)pvs__alloc_array(&a, cells, sizeof(float));
         r->cm_start = (uint32_t *)pvs__alloc_array(&a, cells + 1, sizeof(uint32_t));
         if (!r->cm || !r->cm_bound || !r->cm_start) goto oom;
@@ -3069,7 +3149,7 @@ PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, 
             y[k] = (y[k] - r->region[1]) / sv;
         }
     }
-    pvs__raster_poly(r->cm, r->cm_w, r->cm_h, x, y, z, 4, 1, simd);
+    pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 4, 1, simd);
 }
 
 /* One chain: every facade, back faces culled for closed chains (§4.2). */
@@ -3127,6 +3207,7 @@ PVS__STATIC pvs_result pvs__cull_map_build(pvs_raster *r, const float eye[3], co
     simd = !(r->flags & PVS_RASTER_SCALAR);
     cells = (size_t)r->cm_w * r->cm_h;
     for (i = 0; i < cells; ++i) r->cm[i] = PVS_DEPTH_EMPTY;
+    for (i = 0; i < r->cm_tiles; ++i) r->cm_tile_min[i] = PVS_DEPTH_EMPTY;
     for (c = 0; c < chain_count; ++c)
         pvs__cm_chain(r, e, chains[c].points, chains[c].point_count, chains[c].closed != 0, chains[c].base, chains[c].top, simd, min_dist);
     if (flags & PVS_CULL_MAP_SCENE_OCCLUDERS) {

@@ -364,6 +364,8 @@ static void random_camera(const tscene *t, pvs_camera *cam, uint32_t up) {
 }
 
 static pvs_raster *dbg_r;
+extern unsigned long raster_cameras, raster_misses;
+unsigned long raster_cameras, raster_misses; /* totals for tests/verify_raster.c */
 /* Rays through random screen points from the near plane; every object hit must be visible.
    Returns misses. */
 static uint32_t check_rays(const tscene *t, const pvs_camera *cam, float aspect, const pvs_word *visible, const pvs_word *cand,
@@ -468,6 +470,8 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
             ++outside;
         }
     }
+    raster_cameras += cameras;
+    raster_misses += misses + cm_misses;
     if (misses || cm_misses) fprintf(stderr, "%s: %u pyramid misses, %u cull map misses over %u hits\n", label, misses, cm_misses, hits);
     CHECK(misses == 0);
     CHECK(cm_misses == 0);
@@ -651,6 +655,7 @@ void raster_verify(int scale) {
     test_culling(scale);
 }
 
+void test_raster(void);
 void test_raster(void) {
     raster_verify(1);
     test_noalloc_and_errors();
