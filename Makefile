@@ -19,7 +19,7 @@ TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen
 TEST_SRC := tests/main.c tests/impl.c tests/test_core.c tests/test_format.c tests/test_noalloc.c tests/test_kdtree.c \
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c
 
-.PHONY: all tools test demo bench verify clean compile-checks readme-check
+.PHONY: all tools test demo bench verify clean compile-checks readme-check examples cullmap-images
 all: tools
 tools: $(TOOLS)
 
@@ -52,6 +52,17 @@ test: compile-checks readme-check tools $(B)/pvstest
 $(B)/pvsdemo: examples/demo.c $(TOOL_LIB) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -Itools -o $@ examples/demo.c $(TOOL_LIB) $(LDLIBS)
+
+# examples/cullmap.c: per-frame culling of the city, images in build/cullmap/
+$(B)/pvscullmap: examples/cullmap.c $(TOOL_LIB) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -Itools -o $@ examples/cullmap.c $(TOOL_LIB) $(LDLIBS)
+
+examples: $(B)/pvsdemo $(B)/pvscullmap
+
+cullmap-images: $(B)/pvscullmap
+	@mkdir -p $(B)/cullmap
+	./$(B)/pvscullmap -o $(B)/cullmap
 
 demo: $(B)/pvsdemo
 	@mkdir -p $(B)/demo

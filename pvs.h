@@ -2749,6 +2749,21 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
         if (v[k].c[3] <= 0.0) ++behind_w;
     }
     if (behind_near == 8 || behind_w == 8) return 0;
+    {
+        /* the screen's side planes in clip space (-w <= x <= w, -w <= y <= w): a box wholly outside one
+           is off the screen whatever its w (points with w <= 0 are invisible anyway) */
+        int side;
+        for (side = 0; side < 4; ++side) {
+            int out = 0, ax = side >> 1;
+            double sg = side & 1 ? -1.0 : 1.0;
+            for (k = 0; k < 8; ++k) {
+                double q = sg * v[k].c[ax] - v[k].c[3];
+                double tol = PVS__RASTER_ERR_D * (pvs__dabs(v[k].c[ax]) + pvs__dabs(v[k].c[3]));
+                out += q > tol;
+            }
+            if (out == 8) return 0;
+        }
+    }
     if (behind_near || behind_w) return 1;
     for (k = 0; k < 8; ++k) {
         double iw = 1.0 / v[k].c[3], x = (v[k].c[0] * iw + 1.0) * hw, y = (v[k].c[1] * iw + 1.0) * hh, z = v[k].c[2] * iw;
