@@ -102,6 +102,13 @@
    untrusted bytes: it checks every offset, size, count and checksum before use, never reads outside
    the buffer, and later calls on an opened file cannot fail on the file's content.
 
+   Culling. pvs_raster_create allocates a context once (depth map, pyramid, cull map, scratch); then
+   each frame pvs_raster_cull (3D: occluder triangles -> depth pyramid -> front-to-back kD-tree walk)
+   or pvs_raster_cull_map (2.5D: facade shadows -> cull map -> grid scan) sets the visible objects and
+   allocates nothing. Both are conservative: every object seen through the screen from the near
+   plane on is reported, whatever the rounding (>>raster explains the margins). Depth is reversed
+   (larger is nearer). Pass a cell's decoded PVS as `candidates` to cull inside it.
+
    FILE FORMAT (version 1; all integers little-endian; offsets from the start of the file)
    ===========
    header, 32 bytes:
