@@ -2343,7 +2343,7 @@ PVS__STATIC void pvs__tile_update(float *buf, uint32_t W, uint32_t H, float *til
    no smaller than any depth the polygon writes. */
 PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder, int simd, float zbound) {
     uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty;
-    int e, wrote;
+    int e, wrote, inside, edges;
     (void)simd;
     if (!tile_min) {
         s->li0 = s->i0; s->li1 = s->i1; s->lj0 = s->j0; s->lj1 = s->j1;
@@ -2362,18 +2362,24 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
             s->lj0 = (int32_t)(ty << PVS__TILE_SHIFT); if (s->lj0 < s->j0) s->lj0 = s->j0;
             s->lj1 = (int32_t)(ty << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->lj1 > s->j1) s->lj1 = s->j1;
             a0 = s->li0 - s->i0; a1 = s->li1 - s->i0; b0 = s->lj0 - s->j0; b1 = s->lj1 - s->j0;
-            for (e = 0; e < s->edges; ++e) { /* an upper bound of the float edge value over the tile */
+            inside = 1;
+            for (e = 0; e < s->edges; ++e) { /* bounds of the float edge value over the tile */
                 double k = s->k[e], a = s->a[e], b = s->b[e];
                 double hi = k + pvs__dmax(a * a0, a * a1) + pvs__dmax(b * b0, b * b1);
+                double lo = k + pvs__dmin(a * a0, a * a1) + pvs__dmin(b * b0, b * b1);
                 double slack = 3.814697265625e-06 * (pvs__dabs(k) + pvs__dabs(a) * a1 + pvs__dabs(b) * b1) + 1e-30;
-                if (hi + slack < 0.0) break;
+                if (hi + slack < 0.0) break;  /* every pixel fails this edge */
+                if (lo - slack < 0.0) inside = 0; /* some pixel may fail it */
             }
             if (e < s->edges) continue;
+            edges = s->edges;
+            if (inside) s->edges = 0; /* every pixel passes every edge: the same result without the tests */
 #if defined(PVS__HAVE_SIMD)
             if (simd) wrote = pvs__raster_rows_simd(s, buf, W, occluder);
             else
 #endif
                 wrote = pvs__raster_rows_scalar(s, buf, W, occluder);
+            s->edges = edges;
             if (wrote) pvs__tile_update(buf, W, H, tile_min, tx, ty);
         }
 }
@@ -2676,6 +2682,19 @@ PVS_API const float *pvs_raster_depth(const pvs_raster *r, uint32_t *w, uint32_t
 
 /* ---- depth pyramid (Durand 2000 §5.2, "hierarchical depth map"; Greene 1993's z-pyramid) ---- */
 
+/* One texel: the farthest and nearest of the (up to) 2 x 2 texels at (x0, y0) of the level below. */
+PVS__STATIC void pvs__pyramid_texel(const float *pmin, const float *pmax, uint32_t pw, uint32_t ph, uint32_t x0, uint32_t y0,
+                                    float *out_min, float *out_max) {
+    uint32_t x1 = x0 + 1 < pw ? x0 + 1 : x0, y1 = y0 + 1 < ph ? y0 + 1 : y0;
+    float a = pmin[y0 * pw + x0], b = pmin[y0 * pw + x1], c = pmin[y1 * pw + x0], d = pmin[y1 * pw + x1];
+    float lo = a < b ? a : b, lo2 = c < d ? c : d;
+    *out_min = lo < lo2 ? lo : lo2;
+    a = pmax[y0 * pw + x0]; b = pmax[y0 * pw + x1]; c = pmax[y1 * pw + x0]; d = pmax[y1 * pw + x1];
+    a = a > b ? a : b;
+    c = c > d ? c : d;
+    *out_max = a > c ? a : c;
+}
+
 PVS_API void pvs_raster_build_pyramid(pvs_raster *r) {
     uint32_t l, x, y;
     r->lmin[0] = r->lmax[0] = r->depth;
@@ -2685,14 +2704,19 @@ PVS_API void pvs_raster_build_pyramid(pvs_raster *r) {
         float *dmin = r->lmin[l], *dmax = r->lmax[l];
         for (y = 0; y < h; ++y)
             for (x = 0; x < w; ++x) {
-                uint32_t x0 = 2 * x, y0 = 2 * y, x1 = x0 + 1 < pw ? x0 + 1 : x0, y1 = y0 + 1 < ph ? y0 + 1 : y0;
-                float a = pmin[y0 * pw + x0], b = pmin[y0 * pw + x1], c = pmin[y1 * pw + x0], d = pmin[y1 * pw + x1];
-                float lo = a < b ? a : b, lo2 = c < d ? c : d;
-                a = pmax[y0 * pw + x0]; b = pmax[y0 * pw + x1]; c = pmax[y1 * pw + x0]; d = pmax[y1 * pw + x1];
-                dmin[y * w + x] = lo < lo2 ? lo : lo2;
-                a = a > b ? a : b;
-                c = c > d ? c : d;
-                dmax[y * w + x] = a > c ? a : c;
+#if defined(PVS__SSE2)
+                if (!(r->flags & PVS_RASTER_SCALAR) && 2 * x + 8 <= pw) { /* four texels from a 2 x 8 block */
+                    const float *a0 = pmin + (size_t)(2 * y) * pw + 2 * x, *b0 = pmax + (size_t)(2 * y) * pw + 2 * x;
+                    const float *a1 = 2 * y + 1 < ph ? a0 + pw : a0, *b1 = 2 * y + 1 < ph ? b0 + pw : b0;
+                    __m128 v0 = _mm_min_ps(_mm_loadu_ps(a0), _mm_loadu_ps(a1)), v1 = _mm_min_ps(_mm_loadu_ps(a0 + 4), _mm_loadu_ps(a1 + 4));
+                    __m128 u0 = _mm_max_ps(_mm_loadu_ps(b0), _mm_loadu_ps(b1)), u1 = _mm_max_ps(_mm_loadu_ps(b0 + 4), _mm_loadu_ps(b1 + 4));
+                    _mm_storeu_ps(dmin + y * w + x, _mm_min_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0)), _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1))));
+                    _mm_storeu_ps(dmax + y * w + x, _mm_max_ps(_mm_shuffle_ps(u0, u1, _MM_SHUFFLE(2, 0, 2, 0)), _mm_shuffle_ps(u0, u1, _MM_SHUFFLE(3, 1, 3, 1))));
+                    x += 3;
+                    continue;
+                }
+#endif
+                pvs__pyramid_texel(pmin, pmax, pw, ph, 2 * x, 2 * y, dmin + y * w + x, dmax + y * w + x);
             }
     }
     r->pyramid_valid = 1;

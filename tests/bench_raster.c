@@ -4,7 +4,7 @@
      raster_tris_per_ms     the rasterization part alone
      box_tests_per_ms       the box tests alone (pyramid built)
      cullmap_frame_ms       pvs_raster_cull_map with 1,000 facades at 256x256 (build + grid scan)
-   Best of several repetitions. Prints figures, asserts nothing. */
+   Best of several repetitions. Prints figures, asserts nothing. Any argument: the SIMD pass only. */
 #define _POSIX_C_SOURCE 199309L
 #include "../pvs.h"
 #include "../tools/gen.h"
@@ -29,7 +29,7 @@ static int by_d(const void *a, const void *b) {
     return x < y ? -1 : x > y;
 }
 
-int main(void) {
+int main(int argc, char **argv) {
     mesh m;
     mesh_cells cells;
     gen_params gp;
@@ -44,6 +44,7 @@ int main(void) {
     pvs_facade_chain *fac;
     uint32_t i, n_occ = 50000, n_box = 10000, nf = 0, pass, nobj;
     double best_c = 1.0e30;
+    (void)argv;
     mesh_init(&m);
     mesh_cells_init(&cells);
     memset(&gp, 0, sizeof(gp));
@@ -106,7 +107,7 @@ int main(void) {
     }
     printf("# city: %u objects, %u triangles; eye (%.1f %.1f %.1f) looking +x; %u occluder triangles, %u boxes, %u facades\n", nobj,
            m.triangle_count, cam.eye[0], cam.eye[1], cam.eye[2], n_occ, n_box, nf);
-    for (pass = 0; pass < 2; ++pass) {
+    for (pass = 0; pass < (argc > 1 ? 1u : 2u); ++pass) {
         pvs_raster_desc rd;
         pvs_raster *r, *rc;
         pvs_word *vis = (pvs_word *)calloc(PVS_BITSET_WORDS(nobj), sizeof(pvs_word));

@@ -445,10 +445,10 @@ static uint32_t check_rays(const tscene *t, const pvs_camera *cam, float aspect,
 /* Culling (depth pyramid and cull map) against ray casting. */
 static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, const char *label) {
     pvs_raster_desc rd;
-    pvs_raster *r;
+    pvs_raster *r, *rs;
     pvs_error e;
-    pvs_word *vis, *cand;
-    uint32_t n = pvs_scene_object_count(t->scene), c, misses = 0, cm_misses = 0, hits = 0, culled = 0, cm_culled = 0, outside = 0;
+    pvs_word *vis, *vis_s, *cand;
+    uint32_t n = pvs_scene_object_count(t->scene), c, same = 1, misses = 0, cm_misses = 0, hits = 0, culled = 0, cm_culled = 0, outside = 0;
     size_t words = PVS_BITSET_WORDS(n);
     memset(&rd, 0, sizeof(rd));
     rd.width = 96; rd.height = 64;
@@ -456,7 +456,10 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
     rd.max_occluders = 400;
     rd.cull_map_width = 128; rd.cull_map_height = 96;
     CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
+    rd.flags = PVS_RASTER_SCALAR;
+    CHECK(pvs_raster_create(&rd, &rs, &e) == PVS_OK);
     vis = (pvs_word *)calloc(words, sizeof(pvs_word));
+    vis_s = (pvs_word *)calloc(words, sizeof(pvs_word));
     cand = (pvs_word *)calloc(words, sizeof(pvs_word));
     for (c = 0; c < cameras; ++c) {
         pvs_camera cam;
@@ -472,6 +475,8 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
             cp.candidates = cand;
         }
         CHECK(pvs_raster_cull(r, t->scene, &cam, &cp, vis, &st, &e) == PVS_OK);
+        CHECK(pvs_raster_cull(rs, t->scene, &cam, &cp, vis_s, NULL, &e) == PVS_OK); /* the scalar reference */
+        same &= memcmp(vis, vis_s, words * sizeof(pvs_word)) == 0;
         culled += n - st.visible;
         if (use_cand)
             for (i = 0; i < words; ++i) CHECK((vis[i] & ~cand[i]) == 0);
@@ -481,6 +486,13 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
             cp.facades = t->chains;
             cp.facade_count = t->chain_count;
             CHECK(pvs_raster_cull_map(r, t->scene, &cam, &cp, vis, &st, &e) == PVS_OK);
+            CHECK(pvs_raster_cull_map(rs, t->scene, &cam, &cp, vis_s, NULL, &e) == PVS_OK);
+            same &= memcmp(vis, vis_s, words * sizeof(pvs_word)) == 0;
+            {
+                uint32_t cw, chh;
+                const float *m1 = pvs_cull_map(r, &cw, &chh, NULL), *m2 = pvs_cull_map(rs, NULL, NULL, NULL);
+                same &= memcmp(m1, m2, (size_t)cw * chh * sizeof(float)) == 0;
+            }
             dbg_r = up == 1 ? r : NULL;
             cm_culled += n - st.visible;
             cm_misses += check_rays(t, &cam, 96.0f / 64.0f, vis, use_cand ? cand : NULL, rays, &hits);
@@ -492,6 +504,7 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
     raster_cameras += cameras;
     raster_misses += misses + cm_misses;
     if (misses || cm_misses) fprintf(stderr, "%s: %u pyramid misses, %u cull map misses over %u hits\n", label, misses, cm_misses, hits);
+    CHECK(same);
     CHECK(misses == 0);
     CHECK(cm_misses == 0);
     CHECK(hits > cameras);
@@ -501,8 +514,10 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
         fprintf(stderr, "%s: %u cameras, %u rays each, %u hits, culled per frame: pyramid %.1f, cull map %.1f of %u\n", label, cameras,
                 rays, hits, (double)culled / cameras, (double)cm_culled / cameras, n);
     free(vis);
+    free(vis_s);
     free(cand);
     pvs_raster_destroy(r);
+    pvs_raster_destroy(rs);
 }
 
 static void test_culling(int scale) {
