@@ -3198,11 +3198,101 @@ PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, 
     pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 4, 1, simd);
 }
 
-/* One chain: every facade, back faces culled for closed chains (§4.2). */
+/* Height over ground point (x, y) of the plane through the eye (ou, ov, eh) and the horizontal edge
+   a-b at height `top`; 0 when the plane is vertical (the eye on the edge's line). */
+PVS__STATIC int pvs__cm_plane(double ou, double ov, double eh, const double *a, const double *b, double top, double pl[3]) {
+    double a0 = a[0] - ou, a1 = a[1] - ov, b0 = b[0] - ou, b1 = b[1] - ov, dh = top - eh;
+    /* n = (a - o) x (b - o) with both at height dh above the eye */
+    double nx = a1 * dh - dh * b1, ny = dh * b0 - a0 * dh, nz = a0 * b1 - a1 * b0;
+    if (!(pvs__dabs(nz) > 1e-12 * (pvs__dabs(a0) + pvs__dabs(a1)) * (pvs__dabs(b0) + pvs__dabs(b1)))) return 0;
+    pl[0] = -nx / nz; /* h(x, y) = eh + pl[0] (x - ou) + pl[1] (y - ov) */
+    pl[1] = -ny / nz;
+    pl[2] = eh;
+    return 1;
+}
+PVS__STATIC double pvs__cm_height(const double pl[3], double ou, double ov, double x, double y) {
+    return pl[2] + pl[0] * (x - ou) + pl[1] * (y - ov);
+}
+
+/* The seam at a vertex v shared by two casting facades p-v and v-q. Each facade's shadow shrinks by
+   the sampling correction, so cells straddling the shadow ray through v would be covered by neither:
+   Wonka 1999 §5 extends the correction to connected occluders. The wedge between the rays through a'
+   on p-v and b' on v-q (about two cells from v) beyond the chain a'-v-b' lies in the union of both
+   shadows; its true height is plane A on A's side of the ray through v and plane B on B's side. Both
+   planes contain that ray, so their difference changes sign across it: when A >= B on A's side (a
+   ridge), plane A is at most the true height on both sides; otherwise min(A, B) is concave and its
+   least value at the wedge's corners bounds it from below. Rasterized like a shadow. */
+PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, const float *pf, const float *vf, const float *qf,
+                              double top, int simd) {
+    double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
+    double delta = 2.0 * sqrt(su * su + sv * sv), reach, x[5], y[5], z[5], pa[3], pb[3], pt[2], vt[2], qt[2], lp, lq, cross0 = 0.0;
+    int k;
+    pt[0] = pf[0]; pt[1] = pf[1]; vt[0] = vf[0]; vt[1] = vf[1]; qt[0] = qf[0]; qt[1] = qf[1];
+    lp = sqrt((pt[0] - vt[0]) * (pt[0] - vt[0]) + (pt[1] - vt[1]) * (pt[1] - vt[1]));
+    lq = sqrt((qt[0] - vt[0]) * (qt[0] - vt[0]) + (qt[1] - vt[1]) * (qt[1] - vt[1]));
+    if (!(lp > 0.0) || !(lq > 0.0)) return;
+    if (!pvs__cm_plane(ou, ov, eh, pt, vt, top, pa) || !pvs__cm_plane(ou, ov, eh, vt, qt, top, pb)) return;
+    reach = 2.0 * ((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] + pvs__dabs(ou - r->region[0]) +
+                   pvs__dabs(ov - r->region[1]));
+    x[0] = vt[0] + (pt[0] - vt[0]) * pvs__dmin(1.0, delta / lp);
+    y[0] = vt[1] + (pt[1] - vt[1]) * pvs__dmin(1.0, delta / lp);
+    x[1] = vt[0]; y[1] = vt[1];
+    x[2] = vt[0] + (qt[0] - vt[0]) * pvs__dmin(1.0, delta / lq);
+    y[2] = vt[1] + (qt[1] - vt[1]) * pvs__dmin(1.0, delta / lq);
+    for (k = 0; k < 2; ++k) { /* the far ends of the rays through b' and a' */
+        int from = k == 0 ? 2 : 0;
+        double dx = x[from] - ou, dy = y[from] - ov, l = sqrt(dx * dx + dy * dy), sc;
+        if (!(l > 0.0)) return;
+        sc = 1.0 + reach / l;
+        x[3 + k] = ou + dx * sc;
+        y[3 + k] = ov + dy * sc;
+    }
+    for (k = 0; k < 5; ++k) { /* convex, one orientation, or nothing */
+        int j = (k + 1) % 5, l = (k + 2) % 5;
+        double c = (x[j] - x[k]) * (y[l] - y[j]) - (y[j] - y[k]) * (x[l] - x[j]);
+        if (c == 0.0) continue;
+        if (cross0 == 0.0) cross0 = c;
+        else if ((c > 0.0) != (cross0 > 0.0)) return;
+    }
+    if (pvs__cm_height(pa, ou, ov, x[4], y[4]) >= pvs__cm_height(pb, ou, ov, x[4], y[4])) {
+        for (k = 0; k < 5; ++k) z[k] = pvs__cm_height(pa, ou, ov, x[k], y[k]);
+    } else {
+        double c = DBL_MAX;
+        for (k = 0; k < 5; ++k) c = pvs__dmin(c, pvs__dmin(pvs__cm_height(pa, ou, ov, x[k], y[k]), pvs__cm_height(pb, ou, ov, x[k], y[k])));
+        for (k = 0; k < 5; ++k) z[k] = c;
+    }
+    for (k = 0; k < 5; ++k) {
+        x[k] = (x[k] - r->region[0]) / su;
+        y[k] = (y[k] - r->region[1]) / sv;
+    }
+    pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 5, 1, simd);
+}
+
+/* 1 if facade a-b casts a shadow: front-facing for closed chains (§4.2), not nearer than min_dist. */
+PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *b, int closed, double area2, double min_dist) {
+    if (closed) {
+        /* outward normal: right of a->b for a counter-clockwise footprint */
+        double nx = (double)b[1] - a[1], ny = -((double)b[0] - a[0]);
+        if (area2 < 0) { nx = -nx; ny = -ny; }
+        if (!((eye[0] - a[0]) * nx + (eye[1] - a[1]) * ny > 0.0)) return 0; /* back-facing */
+    }
+    if (min_dist > 0.0) { /* a facade nearer than the near plane is clipped away by the renderer */
+        double ex = eye[0] - a[0], ey = eye[1] - a[1], sx = (double)b[0] - a[0], sy = (double)b[1] - a[1];
+        double ss = sx * sx + sy * sy, t = ss > 0.0 ? (ex * sx + ey * sy) / ss : 0.0, qx, qy;
+        t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+        qx = ex - t * sx;
+        qy = ey - t * sy;
+        if (qx * qx + qy * qy < min_dist * min_dist) return 0;
+    }
+    return 1;
+}
+
+/* One chain: every casting facade's shadow, and the seams between consecutive casting facades. */
 PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *pts, uint32_t n, int closed, float base, float top,
                                 int simd, double min_dist) {
     double area2 = 0.0, limit = pvs__dmin(eye[2], r->ground);
     uint32_t i, segs;
+    int first_casts = 0, prev_casts = 0;
     if (!pts || n < 2 || !pvs__finite(base) || !pvs__finite(top) || !(base < top)) return;
     if ((double)base > limit) return; /* the facade does not reach down to everything it would hide */
     for (i = 0; i < 2 * n; ++i)
@@ -3212,27 +3302,19 @@ PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *
             const float *a = pts + 2 * i, *b = pts + 2 * ((i + 1) % n);
             area2 += (double)a[0] * b[1] - (double)b[0] * a[1];
         }
-        if (area2 == 0.0) closed = 0;
+        if (area2 == 0.0 || n < 3) closed = 0;
     }
     segs = closed ? n : n - 1;
     for (i = 0; i < segs; ++i) {
         const float *a = pts + 2 * i, *b = pts + 2 * ((i + 1) % n);
-        if (closed) {
-            /* outward normal: right of a->b for a counter-clockwise footprint */
-            double nx = (double)b[1] - a[1], ny = -((double)b[0] - a[0]);
-            if (area2 < 0) { nx = -nx; ny = -ny; }
-            if (!((eye[0] - a[0]) * nx + (eye[1] - a[1]) * ny > 0.0)) continue; /* back-facing */
-        }
-        if (min_dist > 0.0) { /* a facade nearer than the near plane is clipped away by the renderer */
-            double ex = eye[0] - a[0], ey = eye[1] - a[1], sx = (double)b[0] - a[0], sy = (double)b[1] - a[1];
-            double ss = sx * sx + sy * sy, t = ss > 0.0 ? (ex * sx + ey * sy) / ss : 0.0, qx, qy;
-            t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
-            qx = ex - t * sx;
-            qy = ey - t * sy;
-            if (qx * qx + qy * qy < min_dist * min_dist) continue;
-        }
-        pvs__cm_shadow(r, eye[0], eye[1], eye[2], a, b, top, simd);
+        int casts = pvs__cm_casts(eye, a, b, closed, area2, min_dist);
+        if (casts) pvs__cm_shadow(r, eye[0], eye[1], eye[2], a, b, top, simd);
+        if (casts && prev_casts && i > 0) pvs__cm_seam(r, eye[0], eye[1], eye[2], pts + 2 * (i - 1), a, b, top, simd);
+        if (i == 0) first_casts = casts;
+        prev_casts = casts;
     }
+    if (closed && prev_casts && first_casts) /* the seam where the loop closes */
+        pvs__cm_seam(r, eye[0], eye[1], eye[2], pts + 2 * (n - 1), pts, pts + 2, top, simd);
 }
 
 /* The cull map build; facades nearer than min_dist to the eye (in the ground plane) are left out. */

@@ -538,69 +538,86 @@ static void test_culling(int scale) {
 }
 
 /* Every cull map cell's height lies below the shadows: a point just under it is hidden from the eye
-   by a facade (segment test against the facades as triangles). */
+   by a facade (segment test against the facades as quads). Random closed footprints (star-shaped,
+   either winding: back faces culled, seams between neighbours) and open polylines (two-sided). */
 static void test_cull_map_cells(int scale) {
-    tscene t;
+    enum { CLOSED = 25, OPEN = 15, MAXP = 8 };
+    pvs_facade_chain ch[CLOSED + OPEN];
+    float pts[CLOSED + OPEN][2 * MAXP];
+    mesh fm;
+    pvs_scene_desc d;
+    pvs_object_desc ob;
+    pvs_scene *fs;
     pvs_raster_desc rd;
     pvs_raster *r;
     pvs_error e;
-    uint32_t f, k, cells = 0, blocked = 0, samples = 0;
-    if (!tscene_boxes(&t, 60, 1)) { CHECK(0); return; }
-    memset(&rd, 0, sizeof(rd));
-    rd.width = 8; rd.height = 8; rd.scene = t.scene; rd.cull_map_width = 64; rd.cull_map_height = 48;
-    CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
-    {
-        /* the facades as a scene of quads */
-        mesh fm;
-        pvs_scene_desc d;
-        pvs_object_desc ob;
-        pvs_scene *fs;
-        mesh_init(&fm);
-        mesh_begin_object(&fm, "f", 0, 0);
-        for (f = 0; f < t.chain_count; ++f) {
-            const pvs_facade_chain *c = t.chains + f;
-            uint32_t b = fm.vertex_count;
-            mesh_add_vertex(&fm, c->points[0], c->base, c->points[1]);
-            mesh_add_vertex(&fm, c->points[2], c->base, c->points[3]);
-            mesh_add_vertex(&fm, c->points[2], c->top, c->points[3]);
-            mesh_add_vertex(&fm, c->points[0], c->top, c->points[1]);
-            mesh_add_quad(&fm, b, b + 1, b + 2, b + 3);
-        }
-        memset(&d, 0, sizeof(d));
-        ob.first_triangle = 0; ob.triangle_count = fm.triangle_count; ob.flags = 0;
-        d.positions = fm.positions; d.vertex_count = fm.vertex_count; d.indices = fm.indices; d.triangle_count = fm.triangle_count;
-        d.objects = &ob; d.object_count = 1;
-        CHECK(pvs_scene_create(&d, &fs, &e) == PVS_OK);
-        for (k = 0; k < 30 * (uint32_t)scale; ++k) {
-            float eye[3], reg[4];
-            uint32_t w, h, i;
-            const float *cm;
-            eye[0] = rndf(-55, 55); eye[2] = rndf(-55, 55); eye[1] = rnd() < 0.7 ? rndf(0.2f, 3) : rndf(3, 20);
-            CHECK(pvs_cull_map_build(r, eye, t.chains, t.chain_count, 0) == PVS_OK);
-            cm = pvs_cull_map(r, &w, &h, reg);
-            for (i = 0; i < w * h; ++i) {
-                uint32_t s;
-                if (cm[i] == PVS_DEPTH_EMPTY) continue;
-                ++cells;
-                for (s = 0; s < 3; ++s) {
-                    float p[3];
-                    p[0] = reg[0] + (reg[2] - reg[0]) * ((float)(i % w) + (float)rnd()) / (float)w;
-                    p[2] = reg[1] + (reg[3] - reg[1]) * ((float)(i / w) + (float)rnd()) / (float)h;
-                    p[1] = cm[i] - 1e-3f - 1e-5f * fabsf(cm[i]);
-                    if (p[1] < 0) continue;
-                    ++samples;
-                    blocked += pvs_scene_segment_blocked(fs, eye, p);
-                }
+    uint32_t c, k, cells = 0, blocked = 0, samples = 0;
+    mesh_init(&fm);
+    mesh_begin_object(&fm, "f", 0, 0);
+    for (c = 0; c < CLOSED + OPEN; ++c) {
+        uint32_t n = c < CLOSED ? 3 + (uint32_t)(rnd() * 6) : 2 + (uint32_t)(rnd() * 5), i;
+        float cx = rndf(-45, 45), cz = rndf(-45, 45), top = rndf(2, 12);
+        for (i = 0; i < n; ++i) {
+            if (c < CLOSED) {
+                double ang = 6.283185307179586 * (i + 0.8 * rnd()) / n, rad = rndf(1, 7);
+                uint32_t j = (c & 1) ? n - 1 - i : i; /* odd chains wind the other way */
+                pts[c][2 * j] = cx + (float)(rad * cos(ang));
+                pts[c][2 * j + 1] = cz + (float)(rad * sin(ang));
+            } else {
+                pts[c][2 * i] = i ? pts[c][2 * i - 2] + rndf(-8, 8) : cx;
+                pts[c][2 * i + 1] = i ? pts[c][2 * i - 1] + rndf(-8, 8) : cz;
             }
         }
-        pvs_scene_destroy(fs);
-        mesh_free(&fm);
+        ch[c].points = pts[c]; ch[c].point_count = n; ch[c].closed = c < CLOSED; ch[c].base = 0; ch[c].top = top;
+        for (i = 0; i + (c < CLOSED ? 0u : 1u) < n; ++i) {
+            const float *p0 = pts[c] + 2 * i, *p1 = pts[c] + 2 * ((i + 1) % n);
+            uint32_t b = fm.vertex_count;
+            mesh_add_vertex(&fm, p0[0], 0, p0[1]);
+            mesh_add_vertex(&fm, p1[0], 0, p1[1]);
+            mesh_add_vertex(&fm, p1[0], top, p1[1]);
+            mesh_add_vertex(&fm, p0[0], top, p0[1]);
+            mesh_add_quad(&fm, b, b + 1, b + 2, b + 3);
+        }
+    }
+    memset(&d, 0, sizeof(d));
+    ob.first_triangle = 0; ob.triangle_count = fm.triangle_count; ob.flags = 0;
+    d.positions = fm.positions; d.vertex_count = fm.vertex_count; d.indices = fm.indices; d.triangle_count = fm.triangle_count;
+    d.objects = &ob; d.object_count = 1;
+    CHECK(pvs_scene_create(&d, &fs, &e) == PVS_OK);
+    memset(&rd, 0, sizeof(rd));
+    rd.width = 8; rd.height = 8; rd.scene = fs; rd.cull_map_width = 80; rd.cull_map_height = 64;
+    CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
+    for (k = 0; k < 30 * (uint32_t)scale; ++k) {
+        float eye[3], reg[4];
+        uint32_t w, h, i;
+        const float *cm;
+        eye[0] = rndf(-55, 55); eye[2] = rndf(-55, 55); eye[1] = rnd() < 0.7 ? rndf(0.2f, 3) : rndf(3, 20);
+        CHECK(pvs_cull_map_build(r, eye, ch, CLOSED + OPEN, 0) == PVS_OK);
+        cm = pvs_cull_map(r, &w, &h, reg);
+        for (i = 0; i < w * h; ++i) {
+            uint32_t sm;
+            if (cm[i] == PVS_DEPTH_EMPTY) continue;
+            ++cells;
+            for (sm = 0; sm < 3; ++sm) {
+                float p[3];
+                p[0] = reg[0] + (reg[2] - reg[0]) * ((float)(i % w) + (float)rnd()) / (float)w;
+                p[2] = reg[1] + (reg[3] - reg[1]) * ((float)(i / w) + (float)rnd()) / (float)h;
+                p[1] = cm[i] - 1e-3f - 1e-5f * fabsf(cm[i]);
+                if (p[1] < 0) continue;
+                ++samples;
+                if (pvs_scene_segment_blocked(fs, eye, p)) ++blocked;
+                else if (samples - blocked < 4)
+                    fprintf(stderr, "cull map: (%g %g %g) under height %g is visible from (%g %g %g)\n", p[0], p[1], p[2], cm[i], eye[0],
+                            eye[1], eye[2]);
+            }
+        }
     }
     CHECK(cells > 0);
     CHECK(blocked == samples);
     if (blocked != samples) fprintf(stderr, "cull map: %u of %u points under the map are visible\n", samples - blocked, samples);
     pvs_raster_destroy(r);
-    tscene_free(&t);
+    pvs_scene_destroy(fs);
+    mesh_free(&fm);
 }
 
 /* Closed chains built from the boxes' own footprints, and the same as scene occluders. */
