@@ -2380,7 +2380,25 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 #endif
                 wrote = pvs__raster_rows_scalar(s, buf, W, occluder);
             s->edges = edges;
-            if (wrote) pvs__tile_update(buf, W, H, tile_min, tx, ty);
+            if (!wrote) continue;
+            if (inside && s->li1 - s->li0 == PVS__TILE - 1 && s->lj1 - s->lj0 == PVS__TILE - 1) {
+                /* the whole tile got at least the polygon's depth: its least value over the tile's
+                   corners (depth is affine), less a rounding slack, bounds the tile from below; a
+                   lower bound is all the skipping needs */
+                double lo = DBL_MAX, za = s->za, zb = s->zb, zk = s->zk, slack;
+                int ci;
+                for (ci = 0; ci < 4; ++ci) {
+                    double fi = (double)((ci & 1 ? s->li1 : s->li0) - s->i0), fj = (double)((ci & 2 ? s->lj1 : s->lj0) - s->j0);
+                    lo = pvs__dmin(lo, zk + za * fi + zb * fj);
+                }
+                slack = 3.814697265625e-06 * (pvs__dabs(zk) + pvs__dabs(za) * (s->li1 - s->i0) + pvs__dabs(zb) * (s->lj1 - s->j0)) + 1e-30;
+                lo -= slack;
+                if (occluder) lo = pvs__dmax(lo, s->zclamp);
+                else lo = pvs__dmin(lo, s->zclamp);
+                if (lo > tile_min[ty * tw + tx]) tile_min[ty * tw + tx] = pvs__f_down(lo);
+            } else {
+                pvs__tile_update(buf, W, H, tile_min, tx, ty);
+            }
         }
 }
 
