@@ -2419,7 +2419,7 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
 /* Rasterizes a convex polygon given in pixel coordinates (x, y) with depth z (affine over it) into a
    W x H float buffer, keeping the larger (nearer) depth per pixel. See the comment at the top. */
 PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *tile_min, const double *x, const double *y,
-                                  const double *z, int n, int occluder, int simd) {
+                                  const double *z, int n, int occluder, int simd, double perr, double zerr) {
     pvs__rsetup s;
     double xmin = x[0], xmax = x[0], ymin = y[0], ymax = y[0], zmin = z[0], zmax = z[0], area2 = 0.0, mag = 0.0, zmag = 0.0;
     double span, dx, dy, ox, oy, iw, jh, zlo, zhi;
@@ -2435,9 +2435,9 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
         mag = pvs__dmax(mag, pvs__dabs(x[i]) + pvs__dabs(y[i]));
         zmag = pvs__dmax(zmag, pvs__dabs(z[i]));
     }
-    dx = PVS__RASTER_ERR_D * (mag + 1.0);
-    zlo = zmin - PVS__RASTER_ERR_D * zmag;
-    zhi = zmax + PVS__RASTER_ERR_D * zmag;
+    dx = PVS__RASTER_ERR_D * (mag + 1.0) + perr; /* perr, zerr: the vertices' own error (projection) */
+    zlo = zmin - PVS__RASTER_ERR_D * zmag - zerr;
+    zhi = zmax + PVS__RASTER_ERR_D * zmag + zerr;
     /* pixel range: inner (pixels inside the bounding box) or outer (pixels touching it) */
     if (occluder) {
         s.i0 = pvs__clampi(ceil(xmin + dx), 0, (int32_t)W);
@@ -2484,7 +2484,7 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
         b /= len;
         k = a * (ox - x[i]) + b * (oy - y[i]);
         k += occluder ? pvs__dmin(0.0, a) + pvs__dmin(0.0, b) : pvs__dmax(0.0, a) + pvs__dmax(0.0, b);
-        err = PVS__RASTER_ERR_D * (1.0 + mag) * (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len) +
+        err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) * (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len) +
               PVS__RASTER_ERR_F * (pvs__dabs(k) + pvs__dabs(a) * iw + pvs__dabs(b) * jh + 1e-30);
         lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh); /* the extremes over the range */
         hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
@@ -2521,7 +2521,8 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
         double za = (z1 * y2 - z2 * y1) / det, zb = (x1 * z2 - x2 * z1) / det;
         double zk = z[0] + za * (ox - x[0]) + zb * (oy - y[0]), err;
         zk += occluder ? pvs__dmin(0.0, za) + pvs__dmin(0.0, zb) : pvs__dmax(0.0, za) + pvs__dmax(0.0, zb);
-        err = PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
+        err = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
+              PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
                   (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det)) +
               PVS__RASTER_ERR_F * (pvs__dabs(zk) + pvs__dabs(za) * iw + pvs__dabs(zb) * jh + 1e-30);
         zk += occluder ? -err : err;
@@ -2538,13 +2539,19 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 /* Clip-space vertex (double). */
 typedef struct pvs__cv {
     double c[4];
+    double e;  /* a bound on the rounding error of each coordinate */
 } pvs__cv;
 
 PVS__STATIC pvs__cv pvs__raster_transform(const double *m, const float *p) {
     pvs__cv v;
     int r;
-    for (r = 0; r < 4; ++r)
+    double big = 0.0;
+    for (r = 0; r < 4; ++r) {
         v.c[r] = m[4 * r] * (double)p[0] + m[4 * r + 1] * (double)p[1] + m[4 * r + 2] * (double)p[2] + m[4 * r + 3];
+        big = pvs__dmax(big, pvs__dabs(m[4 * r] * (double)p[0]) + pvs__dabs(m[4 * r + 1] * (double)p[1]) +
+                                 pvs__dabs(m[4 * r + 2] * (double)p[2]) + pvs__dabs(m[4 * r + 3]));
+    }
+    v.e = 8.881784197001252e-16 * big; /* 2^-50: four products summed in double, with room */
     return v;
 }
 
@@ -2560,6 +2567,7 @@ PVS__STATIC int pvs__raster_clip(const pvs__cv *in, int n, pvs__cv *out, int pla
             double t = fa / (fa - fb);
             int k;
             for (k = 0; k < 4; ++k) out[m].c[k] = a->c[k] + (b->c[k] - a->c[k]) * t;
+            out[m].e = 2.0 * pvs__dmax(a->e, b->e);
             if (plane == 0) out[m].c[2] = out[m].c[3]; /* exactly on the near plane */
             else if (out[m].c[3] < 1e-30) out[m].c[3] = 1e-30;
             ++m;
@@ -2572,19 +2580,22 @@ PVS__STATIC int pvs__raster_clip(const pvs__cv *in, int n, pvs__cv *out, int pla
 PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int occluder) {
     pvs__cv t1[PVS__RASTER_MAXV], t2[PVS__RASTER_MAXV];
     double x[PVS__RASTER_MAXV], y[PVS__RASTER_MAXV], z[PVS__RASTER_MAXV];
-    double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
+    double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height, perr = 0.0, zerr = 0.0;
     int i;
     n = pvs__raster_clip(v, n, t1, 0);
     if (n < 3) return;
     n = pvs__raster_clip(t1, n, t2, 1);
     if (n < 3) return;
     for (i = 0; i < n; ++i) {
-        double iw = 1.0 / t2[i].c[3];
+        double iw = 1.0 / t2[i].c[3], e = t2[i].e * iw;
         x[i] = (t2[i].c[0] * iw + 1.0) * hw;
         y[i] = (t2[i].c[1] * iw + 1.0) * hh;
         z[i] = t2[i].c[2] * iw;
+        /* the coordinates' error after the division, in pixels and in depth */
+        perr = pvs__dmax(perr, 2.0 * e * (1.0 + pvs__dabs(t2[i].c[0] * iw) + pvs__dabs(t2[i].c[1] * iw)) * pvs__dmax(hw, hh));
+        zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z[i])));
     }
-    pvs__raster_poly(r->depth, r->width, r->height, r->tile_min, x, y, z, n, occluder, !(r->flags & PVS_RASTER_SCALAR));
+    pvs__raster_poly(r->depth, r->width, r->height, r->tile_min, x, y, z, n, occluder, !(r->flags & PVS_RASTER_SCALAR), perr, zerr);
 }
 
 PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1, const float *p2, int occluder) {
@@ -2784,18 +2795,30 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
    a depth test (reaches behind the near plane), 2 = *rect and *dnear hold its pixel rectangle
    (clamped to the map) and nearest depth. */
 PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t rect[4], float *dnear) {
-    double xmin = DBL_MAX, xmax = -DBL_MAX, ymin = DBL_MAX, ymax = -DBL_MAX, dmax = -DBL_MAX, mag = 0.0, dx;
+    double xmin = DBL_MAX, xmax = -DBL_MAX, ymin = DBL_MAX, ymax = -DBL_MAX, dmax = -DBL_MAX, mag = 0.0, dx, perr = 0.0, zerr = 0.0;
     double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
-    int k, behind_near = 0, behind_w = 0;
+    int k, behind_near = 0, behind_w = 0, maybe_behind = 0;
     pvs__cv v[8];
-    for (k = 0; k < 8; ++k) {
-        float p[3];
-        p[0] = k & 1 ? b->max[0] : b->min[0];
-        p[1] = k & 2 ? b->max[1] : b->min[1];
-        p[2] = k & 4 ? b->max[2] : b->min[2];
-        v[k] = pvs__raster_transform(r->m, p);
-        if (v[k].c[3] - v[k].c[2] < 0.0) ++behind_near;
-        if (v[k].c[3] <= 0.0) ++behind_w;
+    {
+        /* the corners as the min corner plus the transformed edges (the margins cover the rounding) */
+        pvs__cv base = pvs__raster_transform(r->m, b->min);
+        double e[3][4];
+        int ax, c;
+        for (ax = 0; ax < 3; ++ax) {
+            double len = (double)b->max[ax] - b->min[ax];
+            for (c = 0; c < 4; ++c) e[ax][c] = r->m[4 * c + ax] * len;
+        }
+        double ebig = 0.0;
+        for (c = 0; c < 4; ++c) ebig = pvs__dmax(ebig, pvs__dabs(e[0][c]) + pvs__dabs(e[1][c]) + pvs__dabs(e[2][c]));
+        for (k = 0; k < 8; ++k) {
+            for (c = 0; c < 4; ++c)
+                v[k].c[c] = base.c[c] + (k & 1 ? e[0][c] : 0.0) + (k & 2 ? e[1][c] : 0.0) + (k & 4 ? e[2][c] : 0.0);
+            v[k].e = 2.0 * base.e + 8.881784197001252e-16 * ebig;
+            /* surely behind (beyond the rounding) / maybe behind */
+            if (v[k].c[3] - v[k].c[2] < -2.0 * v[k].e) ++behind_near;
+            if (v[k].c[3] < -v[k].e) ++behind_w;
+            if (v[k].c[3] - v[k].c[2] < 2.0 * v[k].e || v[k].c[3] <= v[k].e) ++maybe_behind;
+        }
     }
     if (behind_near == 8 || behind_w == 8) return 0;
     {
@@ -2807,28 +2830,31 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
             double sg = side & 1 ? -1.0 : 1.0;
             for (k = 0; k < 8; ++k) {
                 double q = sg * v[k].c[ax] - v[k].c[3];
-                double tol = PVS__RASTER_ERR_D * (pvs__dabs(v[k].c[ax]) + pvs__dabs(v[k].c[3]));
+                double tol = PVS__RASTER_ERR_D * (pvs__dabs(v[k].c[ax]) + pvs__dabs(v[k].c[3])) + 2.0 * v[k].e;
                 out += q > tol;
             }
             if (out == 8) return 0;
         }
     }
-    if (behind_near || behind_w) return 1;
+    if (maybe_behind) return 1;
     for (k = 0; k < 8; ++k) {
         double iw = 1.0 / v[k].c[3], x = (v[k].c[0] * iw + 1.0) * hw, y = (v[k].c[1] * iw + 1.0) * hh, z = v[k].c[2] * iw;
+        double e = v[k].e * iw;
+        perr = pvs__dmax(perr, 2.0 * e * (1.0 + pvs__dabs(v[k].c[0] * iw) + pvs__dabs(v[k].c[1] * iw)) * pvs__dmax(hw, hh));
+        zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z)));
         xmin = pvs__dmin(xmin, x); xmax = pvs__dmax(xmax, x);
         ymin = pvs__dmin(ymin, y); ymax = pvs__dmax(ymax, y);
         dmax = pvs__dmax(dmax, z);
         mag = pvs__dmax(mag, pvs__dabs(x) + pvs__dabs(y) + pvs__dabs(z));
     }
-    dx = PVS__RASTER_ERR_D * (mag + 1.0);
+    dx = PVS__RASTER_ERR_D * (mag + 1.0) + perr;
     if (!(xmax + dx >= 0.0) || !(ymax + dx >= 0.0) || !(xmin - dx <= (double)r->width) || !(ymin - dx <= (double)r->height))
         return 0;
     rect[0] = pvs__clampi(floor(xmin - dx), 0, (int32_t)r->width - 1);
     rect[1] = pvs__clampi(floor(ymin - dx), 0, (int32_t)r->height - 1);
     rect[2] = pvs__clampi(floor(xmax + dx), 0, (int32_t)r->width - 1);
     rect[3] = pvs__clampi(floor(ymax + dx), 0, (int32_t)r->height - 1);
-    *dnear = pvs__f_up(dmax + PVS__RASTER_ERR_D * (mag + 1e-30));
+    *dnear = pvs__f_up(dmax + PVS__RASTER_ERR_D * (mag + 1e-30) + zerr);
     return 2;
 }
 
@@ -3213,7 +3239,7 @@ PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, 
             y[k] = (y[k] - r->region[1]) / sv;
         }
     }
-    pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 4, 1, simd);
+    pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 4, 1, simd, 0.0, 0.0);
 }
 
 /* Height over ground point (x, y) of the plane through the eye (ou, ov, eh) and the horizontal edge
@@ -3283,7 +3309,7 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
         x[k] = (x[k] - r->region[0]) / su;
         y[k] = (y[k] - r->region[1]) / sv;
     }
-    pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 5, 1, simd);
+    pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 5, 1, simd, 0.0, 0.0);
 }
 
 /* 1 if facade a-b casts a shadow: front-facing for closed chains (§4.2), not nearer than min_dist. */
