@@ -530,6 +530,9 @@ typedef struct pvs_cull_params {
                                          context's max_occluders) ... */
     float occluder_distance;          /*   ... within this distance of the eye (0 = 100 units), ranked
                                          by Bittner's area-angle measure (2002 §4.5) */
+    uint32_t scene_volumes;           /* pvs_raster_cull: 1 = also the scene's explicit BOX occluders and
+                                         EXTRUSION occluders' walls within occluder_distance (CONVEX
+                                         occluders are not used) */
     const pvs_facade_chain *facades;  /* pvs_raster_cull_map only: facade chains ... */
     uint32_t facade_count;
     uint32_t cull_map_flags;          /*   ... and PVS_CULL_MAP_* flags for pvs_cull_map_build */
@@ -3196,6 +3199,37 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
             pvs__raster_tri(r, s->positions + 3 * (size_t)t[0], s->positions + 3 * (size_t)t[1], s->positions + 3 * (size_t)t[2], 1);
         }
         cc.st.occluder_triangles += sc.n;
+    }
+    if (p && p->scene_volumes) { /* explicit occluder volumes as triangles: a box's faces, an extrusion's walls */
+        float dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
+        int u, v, up = (int)s->up_axis;
+        pvs__ground_axes(s->up_axis, &u, &v);
+        for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
+        for (i = 0; i < s->occluder_count; ++i) {
+            const pvs_occluder_desc *o = s->occluders + i;
+            float q[8][3];
+            uint32_t j;
+            if (pvs__box_distance2(&src, s->occluder_boxes + i) > dist * dist) continue;
+            if (o->kind == PVS_OCCLUDER_BOX) {
+                static const uint8_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+                for (j = 0; j < 8; ++j)
+                    for (k = 0; k < 3; ++k) q[j][k] = (j >> k) & 1u ? o->box.max[k] : o->box.min[k];
+                for (j = 0; j < 12; ++j) pvs__raster_tri(r, q[f[j][0]], q[f[j][1]], q[f[j][2]], 1);
+                cc.st.occluder_triangles += 12;
+            } else if (o->kind == PVS_OCCLUDER_EXTRUSION) {
+                for (j = 0; j < o->footprint_count; ++j) {
+                    const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
+                    q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
+                    q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
+                    q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
+                    q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
+                    pvs__raster_tri(r, q[0], q[1], q[2], 1);
+                    pvs__raster_tri(r, q[0], q[2], q[3], 1);
+                    cc.st.occluder_triangles += 2;
+                }
+            }
+        }
     }
     pvs_raster_build_pyramid(r);
     cc.r = r;

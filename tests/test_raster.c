@@ -626,7 +626,7 @@ static void test_cull_map_footprints(int scale) {
     uint32_t up;
     for (up = 1; up <= 2; ++up) {
         int v = up == 2 ? 1 : 2;
-        uint32_t o, n, nch = 0, c, misses = 0, hits = 0, culled[2] = {0, 0}, mode;
+        uint32_t o, n, nch = 0, c, misses = 0, hits = 0, culled[2] = {0, 0}, culled_py = 0, mode;
         pvs_occluder_desc *occ;
         pvs_facade_chain *ch;
         float *fp;
@@ -680,6 +680,17 @@ static void test_cull_map_footprints(int scale) {
                     culled[mode] += n - st.visible;
                     misses += check_rays(&t2, &cam, 64.0f / 48.0f, vis, NULL, 200, &hits);
                 }
+                {   /* the depth pyramid with the same occluders as volumes (and no scene triangles) */
+                    pvs_cull_params cp;
+                    pvs_cull_stats st;
+                    memset(&cp, 0, sizeof(cp));
+                    cp.scene_volumes = 1;
+                    cp.occluder_distance = 1000.0f;
+                    CHECK(pvs_raster_cull(r, t2.scene, &cam, &cp, vis, &st, &e) == PVS_OK);
+                    CHECK(st.occluder_triangles > 0);
+                    culled_py += n - st.visible;
+                    misses += check_rays(&t2, &cam, 64.0f / 48.0f, vis, NULL, 200, &hits);
+                }
             }
             pvs_raster_destroy(r);
             pvs_scene_destroy(t2.scene);
@@ -688,7 +699,10 @@ static void test_cull_map_footprints(int scale) {
             free(vis);
         }
         CHECK(misses == 0);
-        CHECK(culled[0] > 0 && culled[0] == culled[1]); /* the same footprints either way */
+        /* the same footprints either way (a seam may pick the other facade's plane: not bit-identical) */
+        CHECK(culled[0] > 0 && culled[1] > 0);
+        CHECK(culled[0] <= culled[1] + culled[1] / 10 + 5 && culled[1] <= culled[0] + culled[0] / 10 + 5);
+        CHECK(culled_py > 0);
         free(occ); free(ch); free(fp);
         tscene_free(&t);
     }
