@@ -2155,6 +2155,7 @@ struct pvs_raster {
     size_t pyramid_floats;
     int pyramid_valid;
     double m[16];                               /* current projection */
+    double mabs[2];                             /* max row sum of |m| over x, y, z; max |translation| */
     /* culling */
     const pvs_scene *scene;
     uint32_t max_objects, max_triangles;
@@ -2545,16 +2546,15 @@ typedef struct pvs__cv {
     double e;  /* a bound on the rounding error of each coordinate */
 } pvs__cv;
 
-PVS__STATIC pvs__cv pvs__raster_transform(const double *m, const float *p) {
+PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) {
+    const double *m = rs->m;
     pvs__cv v;
     int r;
-    double big = 0.0;
-    for (r = 0; r < 4; ++r) {
+    double pm = pvs__dmax(pvs__dabs(p[0]), pvs__dmax(pvs__dabs(p[1]), pvs__dabs(p[2])));
+    for (r = 0; r < 4; ++r)
         v.c[r] = m[4 * r] * (double)p[0] + m[4 * r + 1] * (double)p[1] + m[4 * r + 2] * (double)p[2] + m[4 * r + 3];
-        big = pvs__dmax(big, pvs__dabs(m[4 * r] * (double)p[0]) + pvs__dabs(m[4 * r + 1] * (double)p[1]) +
-                                 pvs__dabs(m[4 * r + 2] * (double)p[2]) + pvs__dabs(m[4 * r + 3]));
-    }
-    v.e = 8.881784197001252e-16 * big; /* 2^-50: four products summed in double, with room */
+    /* 2^-50 of the terms' size (four products summed in double need 2^-51): see pvs_raster_set_matrix */
+    v.e = 8.881784197001252e-16 * (rs->mabs[0] * pm + rs->mabs[1]);
     return v;
 }
 
@@ -2585,17 +2585,23 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
     double x[PVS__RASTER_MAXV], y[PVS__RASTER_MAXV], z[PVS__RASTER_MAXV];
     double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height, perr = 0.0, zerr = 0.0;
     int i;
-    n = pvs__raster_clip(v, n, t1, 0);
-    if (n < 3) return;
-    n = pvs__raster_clip(t1, n, t2, 1);
-    if (n < 3) return;
+    const pvs__cv *t = v;
+    for (i = 0; i < n; ++i)
+        if (!(v[i].c[3] - v[i].c[2] >= 0.0) || !(v[i].c[3] >= 1e-30)) break;
+    if (i < n) { /* something to clip */
+        n = pvs__raster_clip(v, n, t1, 0);
+        if (n < 3) return;
+        n = pvs__raster_clip(t1, n, t2, 1);
+        if (n < 3) return;
+        t = t2;
+    }
     for (i = 0; i < n; ++i) {
-        double iw = 1.0 / t2[i].c[3], e = t2[i].e * iw;
-        x[i] = (t2[i].c[0] * iw + 1.0) * hw;
-        y[i] = (t2[i].c[1] * iw + 1.0) * hh;
-        z[i] = t2[i].c[2] * iw;
+        double iw = 1.0 / t[i].c[3], e = t[i].e * iw;
+        x[i] = (t[i].c[0] * iw + 1.0) * hw;
+        y[i] = (t[i].c[1] * iw + 1.0) * hh;
+        z[i] = t[i].c[2] * iw;
         /* the coordinates' error after the division, in pixels and in depth */
-        perr = pvs__dmax(perr, 2.0 * e * (1.0 + pvs__dabs(t2[i].c[0] * iw) + pvs__dabs(t2[i].c[1] * iw)) * pvs__dmax(hw, hh));
+        perr = pvs__dmax(perr, 2.0 * e * (1.0 + pvs__dabs(t[i].c[0] * iw) + pvs__dabs(t[i].c[1] * iw)) * pvs__dmax(hw, hh));
         zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z[i])));
     }
     pvs__raster_poly(r->depth, r->width, r->height, r->tile_min, x, y, z, n, occluder, !(r->flags & PVS_RASTER_SCALAR), perr, zerr);
@@ -2606,9 +2612,9 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
     int k;
     for (k = 0; k < 3; ++k)
         if (!pvs__finite(p0[k]) || !pvs__finite(p1[k]) || !pvs__finite(p2[k])) return;
-    v[0] = pvs__raster_transform(r->m, p0);
-    v[1] = pvs__raster_transform(r->m, p1);
-    v[2] = pvs__raster_transform(r->m, p2);
+    v[0] = pvs__raster_transform(r, p0);
+    v[1] = pvs__raster_transform(r, p1);
+    v[2] = pvs__raster_transform(r, p2);
     /* all three behind the near plane or w <= 0: nothing to draw */
     if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) return;
     if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
@@ -2681,6 +2687,11 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *r, const float m[16]) {
     for (k = 0; k < 16; ++k)
         if (!pvs__finite(m[k])) return PVS_ERROR_NOT_FINITE;
     for (k = 0; k < 16; ++k) r->m[k] = m[k];
+    r->mabs[0] = r->mabs[1] = 0.0;
+    for (k = 0; k < 4; ++k) { /* the largest row sums of |m|: bounds of the transform's terms */
+        r->mabs[0] = pvs__dmax(r->mabs[0], pvs__dabs(r->m[4 * k]) + pvs__dabs(r->m[4 * k + 1]) + pvs__dabs(r->m[4 * k + 2]));
+        r->mabs[1] = pvs__dmax(r->mabs[1], pvs__dabs(r->m[4 * k + 3]));
+    }
     return PVS_OK;
 }
 
@@ -2804,7 +2815,7 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
     pvs__cv v[8];
     {
         /* the corners as the min corner plus the transformed edges (the margins cover the rounding) */
-        pvs__cv base = pvs__raster_transform(r->m, b->min);
+        pvs__cv base = pvs__raster_transform(r, b->min);
         double e[3][4];
         int ax, c;
         for (ax = 0; ax < 3; ++ax) {
@@ -2936,6 +2947,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
     r->height = desc->height;
     r->flags = desc->flags;
     for (l = 0; l < 16; ++l) r->m[l] = (l % 5 == 0) ? 1.0 : 0.0;
+    r->mabs[0] = 1.0;
     r->lw[0] = w = r->width;
     r->lh[0] = h = r->height;
     while ((w > 1 || h > 1) && r->levels < PVS__RASTER_MAX_LEVELS) {
