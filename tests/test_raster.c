@@ -129,6 +129,38 @@ static int check_triangle(pvs_raster *r, const float m[16], const float p[9], pv
     return bad;
 }
 
+/* Adversarial cases on a pixel grid: an orthographic identity projection (pixel (i, j) spans x_ndc
+   2 i / W - 1 .. 2 (i + 1) / W - 1), vertices on pixel corners, edges along pixel boundaries and
+   through corners, depth planes with exact values; and perspective vertices on the eye plane (w = 0)
+   or exactly on the near plane. Returns violations. */
+static int adversarial(pvs_raster *r, uint32_t W, uint32_t H) {
+    float m[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, p[9];
+    int bad = 0, t, k;
+    for (t = 0; t < 60; ++t) {
+        for (k = 0; k < 3; ++k) {
+            int gi = (int)(rnd() * (W + 3)) - 1, gj = (int)(rnd() * (H + 3)) - 1;
+            float fx = t % 3 == 0 ? 0.5f * (float)(int)(rnd() * 3) : 0.0f; /* corners or half pixels */
+            p[3 * k] = 2.0f * ((float)gi + fx) / (float)W - 1.0f;
+            p[3 * k + 1] = 2.0f * ((float)gj + fx) / (float)H - 1.0f;
+            p[3 * k + 2] = t % 2 ? 0.5f : rndf(-1, 1);
+        }
+        if (t % 5 == 4) { p[3] = p[0]; p[6] = p[0]; } /* a vertical edge pair */
+        bad += check_triangle(r, m, p, PVS_RASTER_OCCLUDER) + check_triangle(r, m, p, PVS_RASTER_OCCLUDEE);
+    }
+    for (t = 0; t < 60; ++t) {
+        /* a camera at the origin looking along +z: w = z; vertices on w = 0 or on the near plane */
+        pvs_camera cam;
+        memset(&cam, 0, sizeof(cam));
+        cam.forward[2] = 1; cam.up[1] = 1; cam.fov_y = 1.2f; cam.near_plane = 0.25f;
+        CHECK(pvs_camera_matrix(&cam, (float)W / (float)H, m) == PVS_OK);
+        for (k = 0; k < 9; ++k) p[k] = rndf(-3, 3);
+        p[2] = t % 3 == 0 ? 0.0f : t % 3 == 1 ? 0.25f : -p[5]; /* on the eye plane, on the near plane, mirrored */
+        if (t % 4 == 0) p[5] = 0.25f;
+        bad += check_triangle(r, m, p, PVS_RASTER_OCCLUDER) + check_triangle(r, m, p, PVS_RASTER_OCCLUDEE);
+    }
+    return bad;
+}
+
 static void test_coverage(int scale) {
     pvs_raster_desc rd;
     pvs_raster *r;
@@ -158,6 +190,7 @@ static void test_coverage(int scale) {
             bad += b1 + b2;
         }
     }
+    for (t = 0; t < scale; ++t) bad += adversarial(r, 13, 9);
     CHECK(bad == 0);
     CHECK(claimed > n / 10); /* the occluder mode does claim pixels */
     pvs_raster_destroy(r);
