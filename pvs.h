@@ -2343,11 +2343,28 @@ PVS__STATIC void pvs__tile_update(float *buf, uint32_t W, uint32_t H, float *til
     tile_min[ty * ((W + PVS__TILE - 1) >> PVS__TILE_SHIFT) + tx] = lo;
 }
 
-/* Runs the pixel loops over the prepared polygon, tile by tile when tile_min is given. `zbound` is
-   no smaller than any depth the polygon writes. */
+/* Where the pixels [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] stand against the polygon's edges as the
+   float loops will evaluate them: -1 all fail some edge, 1 all pass every edge, 0 undecided. The
+   bounds are exact in double with a slack above the loops' float rounding (2^-18 of the terms). */
+PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1) {
+    int e, inside = 1;
+    for (e = 0; e < s->edges; ++e) {
+        double k = s->k[e], a = s->a[e], b = s->b[e];
+        double hi = k + pvs__dmax(a * a0, a * a1) + pvs__dmax(b * b0, b * b1);
+        double lo = k + pvs__dmin(a * a0, a * a1) + pvs__dmin(b * b0, b * b1);
+        double slack = 3.814697265625e-06 * (pvs__dabs(k) + pvs__dabs(a) * a1 + pvs__dabs(b) * b1) + 1e-30;
+        if (hi + slack < 0.0) return -1;
+        if (lo - slack < 0.0) inside = 0;
+    }
+    return inside;
+}
+
+/* Runs the pixel loops over the prepared polygon: blocks of 4 x 4 tiles classified against the
+   edges first, then tiles (skipped when hidden or outside, without edge tests when inside). */
 PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder, int simd, float zbound) {
-    uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty;
-    int e, wrote, inside, edges;
+    uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, bx, by;
+    int wrote, inside, edges, block;
+    const int bs = PVS__TILE_SHIFT + 2; /* block = 4 x 4 tiles */
     (void)simd;
     if (!tile_min) {
         s->li0 = s->i0; s->li1 = s->i1; s->lj0 = s->j0; s->lj1 = s->j1;
@@ -2357,52 +2374,55 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
         (void)pvs__raster_rows_scalar(s, buf, W, occluder);
         return;
     }
-    for (ty = (uint32_t)s->j0 >> PVS__TILE_SHIFT; ty <= (uint32_t)s->j1 >> PVS__TILE_SHIFT; ++ty)
-        for (tx = (uint32_t)s->i0 >> PVS__TILE_SHIFT; tx <= (uint32_t)s->i1 >> PVS__TILE_SHIFT; ++tx) {
-            int32_t a0, a1, b0, b1;
-            if (tile_min[ty * tw + tx] >= zbound) continue; /* nothing here can get nearer */
-            s->li0 = (int32_t)(tx << PVS__TILE_SHIFT); if (s->li0 < s->i0) s->li0 = s->i0;
-            s->li1 = (int32_t)(tx << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->li1 > s->i1) s->li1 = s->i1;
-            s->lj0 = (int32_t)(ty << PVS__TILE_SHIFT); if (s->lj0 < s->j0) s->lj0 = s->j0;
-            s->lj1 = (int32_t)(ty << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->lj1 > s->j1) s->lj1 = s->j1;
-            a0 = s->li0 - s->i0; a1 = s->li1 - s->i0; b0 = s->lj0 - s->j0; b1 = s->lj1 - s->j0;
-            inside = 1;
-            for (e = 0; e < s->edges; ++e) { /* bounds of the float edge value over the tile */
-                double k = s->k[e], a = s->a[e], b = s->b[e];
-                double hi = k + pvs__dmax(a * a0, a * a1) + pvs__dmax(b * b0, b * b1);
-                double lo = k + pvs__dmin(a * a0, a * a1) + pvs__dmin(b * b0, b * b1);
-                double slack = 3.814697265625e-06 * (pvs__dabs(k) + pvs__dabs(a) * a1 + pvs__dabs(b) * b1) + 1e-30;
-                if (hi + slack < 0.0) break;  /* every pixel fails this edge */
-                if (lo - slack < 0.0) inside = 0; /* some pixel may fail it */
-            }
-            if (e < s->edges) continue;
-            edges = s->edges;
-            if (inside) s->edges = 0; /* every pixel passes every edge: the same result without the tests */
+    for (by = (uint32_t)s->j0 >> bs; by <= (uint32_t)s->j1 >> bs; ++by)
+        for (bx = (uint32_t)s->i0 >> bs; bx <= (uint32_t)s->i1 >> bs; ++bx) {
+            int32_t c0 = (int32_t)(bx << bs), c1 = c0 + (1 << bs) - 1, d0 = (int32_t)(by << bs), d1 = d0 + (1 << bs) - 1;
+            uint32_t tx0, tx1, ty0, ty1;
+            if (c0 < s->i0) c0 = s->i0;
+            if (c1 > s->i1) c1 = s->i1;
+            if (d0 < s->j0) d0 = s->j0;
+            if (d1 > s->j1) d1 = s->j1;
+            block = pvs__raster_classify(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0);
+            if (block < 0) continue;
+            tx0 = (uint32_t)c0 >> PVS__TILE_SHIFT; tx1 = (uint32_t)c1 >> PVS__TILE_SHIFT;
+            ty0 = (uint32_t)d0 >> PVS__TILE_SHIFT; ty1 = (uint32_t)d1 >> PVS__TILE_SHIFT;
+            for (ty = ty0; ty <= ty1; ++ty)
+                for (tx = tx0; tx <= tx1; ++tx) {
+                    if (tile_min[ty * tw + tx] >= zbound) continue; /* nothing here can get nearer */
+                    s->li0 = (int32_t)(tx << PVS__TILE_SHIFT); if (s->li0 < s->i0) s->li0 = s->i0;
+                    s->li1 = (int32_t)(tx << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->li1 > s->i1) s->li1 = s->i1;
+                    s->lj0 = (int32_t)(ty << PVS__TILE_SHIFT); if (s->lj0 < s->j0) s->lj0 = s->j0;
+                    s->lj1 = (int32_t)(ty << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->lj1 > s->j1) s->lj1 = s->j1;
+                    inside = block ? 1 : pvs__raster_classify(s, s->li0 - s->i0, s->li1 - s->i0, s->lj0 - s->j0, s->lj1 - s->j0);
+                    if (inside < 0) continue;
+                    edges = s->edges;
+                    if (inside) s->edges = 0; /* every pixel passes every edge: the same result without the tests */
 #if defined(PVS__HAVE_SIMD)
-            if (simd) wrote = pvs__raster_rows_simd(s, buf, W, occluder);
-            else
+                    if (simd) wrote = pvs__raster_rows_simd(s, buf, W, occluder);
+                    else
 #endif
-                wrote = pvs__raster_rows_scalar(s, buf, W, occluder);
-            s->edges = edges;
-            if (!wrote) continue;
-            if (inside && s->li1 - s->li0 == PVS__TILE - 1 && s->lj1 - s->lj0 == PVS__TILE - 1) {
-                /* the whole tile got at least the polygon's depth: its least value over the tile's
-                   corners (depth is affine), less a rounding slack, bounds the tile from below; a
-                   lower bound is all the skipping needs */
-                double lo = DBL_MAX, za = s->za, zb = s->zb, zk = s->zk, slack;
-                int ci;
-                for (ci = 0; ci < 4; ++ci) {
-                    double fi = (double)((ci & 1 ? s->li1 : s->li0) - s->i0), fj = (double)((ci & 2 ? s->lj1 : s->lj0) - s->j0);
-                    lo = pvs__dmin(lo, zk + za * fi + zb * fj);
+                        wrote = pvs__raster_rows_scalar(s, buf, W, occluder);
+                    s->edges = edges;
+                    if (!wrote) continue;
+                    if (inside && s->li1 - s->li0 == PVS__TILE - 1 && s->lj1 - s->lj0 == PVS__TILE - 1) {
+                        /* the whole tile got at least the polygon's depth: its least value over the
+                           tile's corners (depth is affine), less a rounding slack, bounds the tile
+                           from below; a lower bound is all the skipping needs */
+                        double lo = DBL_MAX, za = s->za, zb = s->zb, zk = s->zk, slack;
+                        int ci;
+                        for (ci = 0; ci < 4; ++ci) {
+                            double fi = (double)((ci & 1 ? s->li1 : s->li0) - s->i0), fj = (double)((ci & 2 ? s->lj1 : s->lj0) - s->j0);
+                            lo = pvs__dmin(lo, zk + za * fi + zb * fj);
+                        }
+                        slack = 3.814697265625e-06 * (pvs__dabs(zk) + pvs__dabs(za) * (s->li1 - s->i0) + pvs__dabs(zb) * (s->lj1 - s->j0)) + 1e-30;
+                        lo -= slack;
+                        if (occluder) lo = pvs__dmax(lo, s->zclamp);
+                        else lo = pvs__dmin(lo, s->zclamp);
+                        if (lo > tile_min[ty * tw + tx]) tile_min[ty * tw + tx] = pvs__f_down(lo);
+                    } else {
+                        pvs__tile_update(buf, W, H, tile_min, tx, ty);
+                    }
                 }
-                slack = 3.814697265625e-06 * (pvs__dabs(zk) + pvs__dabs(za) * (s->li1 - s->i0) + pvs__dabs(zb) * (s->lj1 - s->j0)) + 1e-30;
-                lo -= slack;
-                if (occluder) lo = pvs__dmax(lo, s->zclamp);
-                else lo = pvs__dmin(lo, s->zclamp);
-                if (lo > tile_min[ty * tw + tx]) tile_min[ty * tw + tx] = pvs__f_down(lo);
-            } else {
-                pvs__tile_update(buf, W, H, tile_min, tx, ty);
-            }
         }
 }
 
