@@ -2118,7 +2118,15 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
    clamped by the vertices' extreme depth, bounds it from the safe side even when the plane is ill
    conditioned. Degenerate polygons cover nothing as occluders and their whole bounding rectangle
    (at their nearest vertex depth) as occludees. The scalar and the SIMD loops perform the same float
-   operations in the same order (no contraction into fused multiply-adds), so they agree bit for bit. */
+   operations in the same order (no contraction into fused multiply-adds), so they agree bit for bit.
+
+   Limits. Near-plane clipping cuts in double without a margin: an occludee may lose a sliver some
+   1e-12 pixels wide where it crosses the near plane (its depth there is the near plane's). The
+   occluder selection uses the direction to the occluder as V in Bittner's measure (the solid angle),
+   not the view direction. The cull map needs facades standing on the ground and a perspective
+   camera (shadows are cast from a point). Speed (bench_raster, 2 shared cores, 2026-11-22): about
+   15 ms per 1080p frame of 50,000 city triangles with SSE2 and 25 ms scalar; per-polygon setup runs
+   in double, the pixel loops 4 wide over 8 x 8 tiles. Far from Masked Occlusion Culling's 1 ms. */
 
 #if !defined(PVS_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
 #define PVS__SSE2 1
