@@ -251,40 +251,47 @@ static void test_simd_identical(int scale) {
     pvs_raster_destroy(b);
 }
 
-/* Rectangle queries against a scan of the depth map. */
+/* Rectangle queries against a scan of the depth map, on odd and degenerate map sizes. */
 static void test_pyramid(int scale) {
-    pvs_raster_desc rd;
-    pvs_raster *r;
-    pvs_error e;
-    float m[16], p[9];
-    int t, q, wrong = 0, hidden = 0;
-    memset(&rd, 0, sizeof(rd));
-    rd.width = 37; rd.height = 21;
-    CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
-    for (t = 0; t < 20 * scale; ++t) {
-        const float *d;
-        uint32_t k;
-        random_matrix(m, 37.0f / 21.0f, 0);
-        pvs_raster_clear(r);
-        pvs_raster_set_matrix(r, m);
-        for (k = 0; k < 30; ++k) {
-            random_triangle(p, 0);
-            pvs_raster_triangles(r, p, 3, NULL, 1, PVS_RASTER_OCCLUDER);
+    static const uint32_t sizes[][2] = {{37, 21}, {1, 1}, {1, 7}, {7, 1}, {64, 64}, {33, 17}};
+    uint32_t z;
+    int wrong = 0, hidden = 0;
+    for (z = 0; z < sizeof(sizes) / sizeof(sizes[0]); ++z) {
+        uint32_t W = sizes[z][0], H = sizes[z][1];
+        pvs_raster_desc rd;
+        pvs_raster *r;
+        pvs_error e;
+        float m[16], p[9];
+        int t, q;
+        memset(&rd, 0, sizeof(rd));
+        rd.width = W; rd.height = H;
+        CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
+        for (t = 0; t < 10 * scale; ++t) {
+            const float *d;
+            uint32_t k;
+            random_matrix(m, (float)W / (float)H, t % 3);
+            pvs_raster_clear(r);
+            pvs_raster_set_matrix(r, m);
+            for (k = 0; k < 30; ++k) {
+                random_triangle(p, 0);
+                pvs_raster_triangles(r, p, 3, NULL, 1, k % 4 ? PVS_RASTER_OCCLUDER : PVS_RASTER_OCCLUDEE);
+            }
+            d = pvs_raster_depth(r, NULL, NULL);
+            for (q = 0; q < 200; ++q) {
+                int32_t x0 = (int32_t)(rnd() * (W + 8)) - 4, y0 = (int32_t)(rnd() * (H + 8)) - 4;
+                int32_t x1 = x0 + (int32_t)(rnd() * W), y1 = y0 + (int32_t)(rnd() * H);
+                float depth = rnd() < 0.3 ? PVS_DEPTH_EMPTY : d[(uint32_t)(rnd() * W * H)] + rndf(-1e-3f, 1e-3f);
+                int expect = 0, x, y;
+                for (y = y0 < 0 ? 0 : y0; y <= y1 && y < (int32_t)H; ++y)
+                    for (x = x0 < 0 ? 0 : x0; x <= x1 && x < (int32_t)W; ++x) expect |= d[y * (int32_t)W + x] <= depth;
+                wrong += pvs_raster_test_rect(r, x0, y0, x1, y1, depth) != expect;
+                hidden += !expect;
+            }
         }
-        d = pvs_raster_depth(r, NULL, NULL);
-        for (q = 0; q < 200; ++q) {
-            int32_t x0 = (int32_t)(rnd() * 45) - 4, y0 = (int32_t)(rnd() * 28) - 4, x1 = x0 + (int32_t)(rnd() * 30), y1 = y0 + (int32_t)(rnd() * 20);
-            float depth = rnd() < 0.3 ? PVS_DEPTH_EMPTY : d[(uint32_t)(rnd() * 37 * 21)] + rndf(-1e-3f, 1e-3f);
-            int expect = 0, x, y;
-            for (y = y0 < 0 ? 0 : y0; y <= y1 && y < 21; ++y)
-                for (x = x0 < 0 ? 0 : x0; x <= x1 && x < 37; ++x) expect |= d[y * 37 + x] <= depth;
-            wrong += pvs_raster_test_rect(r, x0, y0, x1, y1, depth) != expect;
-            hidden += !expect;
-        }
+        pvs_raster_destroy(r);
     }
     CHECK(wrong == 0);
     CHECK(hidden > 0);
-    pvs_raster_destroy(r);
 }
 
 /* ---- scenes ---- */
