@@ -477,9 +477,9 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positio
 /* The depth map: width * height floats, row-major, row 0 first. Valid until the next raster call. */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
 
-/* Builds the hierarchical depth map (Durand 2000 §5.2 / Greene's pyramid): per level each texel holds
-   the farthest (smallest) and nearest (largest) depth of its 2 x 2 children. The tests below build it
-   when the depth map changed since the last build. */
+/* Builds the hierarchical depth map (Durand 2000 §2.4, after Greene, Kass and Miller 1993): per
+   level each texel holds the farthest (smallest) and nearest (largest) depth of its 2 x 2 children.
+   The tests below build it when the depth map changed since the last build. */
 PVS_API void pvs_raster_build_pyramid(pvs_raster *raster);
 /* 1 if an occludee whose nearest depth is `depth` may be visible somewhere in the pixel rectangle
    [x0, x1] x [y0, y1] (inclusive, clamped to the map): some pixel stores a depth <= `depth`. 0 when
@@ -2097,7 +2097,7 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 
 // >>raster
 /* ---------------------------------------------------------------------------------------------- */
-/* raster: conservative rasterizer (Durand 2000 §2.4, §3.2), depth pyramid (Durand 2000 §5.2),   */
+/* raster: conservative rasterizer (Durand 2000 §2.4, §3.2), depth pyramid (Durand 2000 §2.4),   */
 /* cull map (Wonka & Schmalstieg 1999 §3-4), per-frame culling (Bittner 2002 §3.2, §4.5)          */
 /* ---------------------------------------------------------------------------------------------- */
 
@@ -2751,7 +2751,8 @@ PVS_API const float *pvs_raster_depth(const pvs_raster *r, uint32_t *w, uint32_t
     return r->depth;
 }
 
-/* ---- depth pyramid (Durand 2000 §5.2, "hierarchical depth map"; Greene 1993's z-pyramid) ---- */
+/* ---- depth pyramid: Durand 2000 §2.4 "Hierarchical Depth Map" (after Greene, Kass, Miller 1993),
+   queried top-down, stopping where a level decides hidden or visible (§6.1) ---- */
 
 /* One texel: the farthest and nearest of the (up to) 2 x 2 texels at (x0, y0) of the level below. */
 PVS__STATIC void pvs__pyramid_texel(const float *pmin, const float *pmax, uint32_t pw, uint32_t ph, uint32_t x0, uint32_t y0,
