@@ -409,7 +409,7 @@ PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const floa
    drawn into it, PVS_DEPTH_EMPTY when nothing was. */
 #define PVS_DEPTH_EMPTY (-3.402823466e+38f)
 
-/* How a triangle is rasterized (Durand 2000 §2.4: occluders by intersection, occludees by union). */
+/* How a triangle is rasterized (Durand 2000 §2.2, §3.1-3.2: occluders by intersection, occludees by union). */
 typedef enum pvs_raster_mode {
     PVS_RASTER_OCCLUDER = 0,  /* inner coverage: only pixels the triangle covers entirely; each gets a
                                  depth no nearer than the triangle's farthest point over the pixel */
@@ -2097,7 +2097,7 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 
 // >>raster
 /* ---------------------------------------------------------------------------------------------- */
-/* raster: conservative rasterizer (Durand 2000 §2.4, §3.2), depth pyramid (Durand 2000 §2.4),   */
+/* raster: conservative rasterizer (Durand 2000 §3.1-3.2), depth pyramid (Durand 2000 §2.4),     */
 /* cull map (Wonka & Schmalstieg 1999 §3-4), per-frame culling (Bittner 2002 §3.2, §4.5)          */
 /* ---------------------------------------------------------------------------------------------- */
 
