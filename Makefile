@@ -17,10 +17,10 @@ TOOL_LIB := tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c to
 TOOL_HDR := pvs.h tools/mesh.h tools/obj.h tools/toolutil.h tools/gen.h tools/cli.h
 TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen
 TEST_SRC := tests/main.c tests/impl.c tests/test_core.c tests/test_format.c tests/test_noalloc.c tests/test_kdtree.c \
-            tests/test_gen.c tests/test_tools.c tests/test_cli.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c \
-            tests/fuzz_target.c
+            tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tools/mesh.c tools/obj.c tools/toolutil.c \
+            tools/gen.c tools/cli.c tests/fuzz_target.c
 
-.PHONY: all tools test demo bench verify fuzz clean compile-checks readme-check
+.PHONY: all tools test demo bench verify fuzz clean compile-checks readme-check examples cullmap-images
 all: tools
 tools: $(TOOLS)
 
@@ -54,6 +54,17 @@ $(B)/pvsdemo: examples/demo.c $(TOOL_LIB) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -Itools -o $@ examples/demo.c $(TOOL_LIB) $(LDLIBS)
 
+# examples/cullmap.c: per-frame culling of the city, images in build/cullmap/
+$(B)/pvscullmap: examples/cullmap.c $(TOOL_LIB) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -Itools -o $@ examples/cullmap.c $(TOOL_LIB) $(LDLIBS)
+
+examples: $(B)/pvsdemo $(B)/pvscullmap
+
+cullmap-images: $(B)/pvscullmap
+	@mkdir -p $(B)/cullmap
+	./$(B)/pvscullmap -o $(B)/cullmap
+
 demo: $(B)/pvsdemo
 	@mkdir -p $(B)/demo
 	./$(B)/pvsdemo -j 2 -o $(B)/demo/city.pvs
@@ -69,10 +80,15 @@ $(B)/bench_file: tests/bench_file.c $(TOOL_LIB) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_file.c $(TOOL_LIB) $(LDLIBS)
 
-bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file
+$(B)/bench_raster: tests/bench_raster.c $(TOOL_LIB) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_raster.c $(TOOL_LIB) $(LDLIBS)
+
+bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster
 	./$(B)/bench_kdtree
 	./$(B)/bench_bake
 	./$(B)/bench_file
+	./$(B)/bench_raster
 
 # Fuzzing the file reader: a libFuzzer build (clang) seeded with tests/corpus, FUZZ_SECONDS long, and
 # a plain replay binary (any compiler) that runs files through the same target.
@@ -87,7 +103,13 @@ fuzz: $(B)/fuzz_replay
 	./$(B)/fuzz_file -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -artifact_prefix=$(B)/ $(B)/fuzz-corpus tests/corpus
 	./$(B)/fuzz_replay tests/corpus/*
 
-verify: tools
+# The raster module's long run: >= 10,000 cameras against ray casting, optimised build.
+$(B)/verify_raster: tests/verify_raster.c tests/test_raster.c tests/test.h tools/mesh.c tools/gen.c $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) -std=c99 $(WARN) -Werror -O2 -g -o $@ tests/verify_raster.c tests/test_raster.c tests/impl.c tools/mesh.c tools/gen.c $(LDLIBS)
+
+verify: tools $(B)/verify_raster
+	./$(B)/verify_raster
 	sh tests/verify.sh
 
 clean:

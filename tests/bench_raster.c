@@ -1,0 +1,168 @@
+/* bench_raster.c - the raster module's figures on the generated city (gen_scene city, size 1, seed 1)
+   from a fixed street camera, SIMD and scalar (PVS_RASTER_SCALAR) in the same binary:
+     raster_frame_ms_1080p  clear + 50,000 occluder triangles at 1920x1080 + pyramid + 10,000 box tests
+     raster_tris_per_ms     the rasterization part alone
+     box_tests_per_ms       the box tests alone (pyramid built)
+     cullmap_frame_ms       pvs_raster_cull_map with 1,000 facades at 256x256 (build + grid scan)
+   Best of several repetitions. Prints figures, asserts nothing. Any argument: the SIMD pass only. */
+#define _POSIX_C_SOURCE 199309L
+#include "../pvs.h"
+#include "../tools/gen.h"
+#include "../tools/mesh.h"
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double now_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+typedef struct keyed {
+    float d;
+    uint32_t i;
+} keyed;
+static int by_d(const void *a, const void *b) {
+    float x = ((const keyed *)a)->d, y = ((const keyed *)b)->d;
+    return x < y ? -1 : x > y;
+}
+
+int main(int argc, char **argv) {
+    mesh m;
+    mesh_cells cells;
+    gen_params gp;
+    pvs_scene_desc sd;
+    pvs_object_desc *obs;
+    pvs_scene *scene;
+    pvs_error err;
+    pvs_camera cam;
+    float matrix[16], *occ, *fpts;
+    pvs_box *boxes;
+    keyed *key;
+    pvs_facade_chain *fac;
+    uint32_t i, n_occ = 50000, n_box = 10000, nf = 0, pass, nobj;
+    double best_c = 1.0e30;
+    (void)argv;
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = GEN_CITY; gp.seed = 1; gp.size = 1.0f;
+    if (gen_scene(&gp, &m, &cells) != 0) { printf("gen failed\n"); return 1; }
+    obs = (pvs_object_desc *)malloc(m.object_count * sizeof(pvs_object_desc));
+    for (i = 0; i < m.object_count; ++i) {
+        obs[i].first_triangle = m.objects[i].first_triangle;
+        obs[i].triangle_count = m.objects[i].triangle_count;
+        obs[i].flags = 0;
+    }
+    memset(&sd, 0, sizeof(sd));
+    sd.positions = m.positions; sd.vertex_count = m.vertex_count; sd.indices = m.indices; sd.triangle_count = m.triangle_count;
+    sd.objects = obs; sd.object_count = m.object_count; sd.up_axis = 1;
+    if (pvs_scene_create(&sd, &scene, &err) != PVS_OK) { printf("scene: %s\n", err.message); return 1; }
+    nobj = m.object_count;
+    /* the fixed camera: the cell nearest the city's centre, looking along +x (the avenue's direction) */
+    {
+        pvs_box b = pvs_scene_bounds(scene);
+        float cx = 0.5f * (b.min[0] + b.max[0]), cz = 0.5f * (b.min[2] + b.max[2]), bd = 1e30f;
+        memset(&cam, 0, sizeof(cam));
+        for (i = 0; i < cells.count; ++i) {
+            const float *c = cells.boxes + 6 * i;
+            float x = 0.5f * (c[0] + c[3]), z = 0.5f * (c[2] + c[5]), d = (x - cx) * (x - cx) + (z - cz) * (z - cz);
+            if (d < bd) { bd = d; cam.eye[0] = x; cam.eye[1] = 1.7f; cam.eye[2] = z; }
+        }
+        cam.forward[0] = 1; cam.up[1] = 1; cam.fov_y = 1.0f; cam.near_plane = 0.1f;
+        pvs_camera_matrix(&cam, 1920.0f / 1080.0f, matrix);
+    }
+    /* the occluder set: the 50,000 triangles nearest the eye */
+    key = (keyed *)malloc(m.triangle_count * sizeof(keyed));
+    for (i = 0; i < m.triangle_count; ++i) {
+        const float *a = m.positions + 3 * m.indices[3 * i], *b = m.positions + 3 * m.indices[3 * i + 1], *c = m.positions + 3 * m.indices[3 * i + 2];
+        float x = (a[0] + b[0] + c[0]) / 3 - cam.eye[0], y = (a[1] + b[1] + c[1]) / 3 - cam.eye[1], z = (a[2] + b[2] + c[2]) / 3 - cam.eye[2];
+        key[i].d = x * x + y * y + z * z;
+        key[i].i = i;
+    }
+    qsort(key, m.triangle_count, sizeof(keyed), by_d);
+    occ = (float *)malloc((size_t)n_occ * 9 * sizeof(float));
+    for (i = 0; i < n_occ; ++i) {
+        int k;
+        for (k = 0; k < 3; ++k) memcpy(occ + 9 * i + 3 * k, m.positions + 3 * m.indices[3 * key[i].i + k], 3 * sizeof(float));
+    }
+    boxes = (pvs_box *)malloc(n_box * sizeof(pvs_box));
+    for (i = 0; i < n_box; ++i) boxes[i] = pvs_scene_object_box(scene, i % nobj);
+    /* 1,000 facades: upright wall triangles on the ground nearest the eye (the halves of wall quads) */
+    fac = (pvs_facade_chain *)malloc(1000 * sizeof(pvs_facade_chain));
+    fpts = (float *)malloc(1000 * 4 * sizeof(float));
+    for (i = 0; i < m.triangle_count && nf < 1000; ++i) {
+        const float *p[3];
+        int k, low = 0, lo1 = -1, lo2 = -1, hi = -1;
+        for (k = 0; k < 3; ++k) {
+            p[k] = m.positions + 3 * m.indices[3 * key[i].i + k];
+            if (p[k][1] == 0.0f) { ++low; if (lo1 < 0) lo1 = k; else lo2 = k; } else hi = k;
+        }
+        if (low != 2 || !((p[hi][0] == p[lo1][0] && p[hi][2] == p[lo1][2]) || (p[hi][0] == p[lo2][0] && p[hi][2] == p[lo2][2]))) continue;
+        fpts[4 * nf] = p[lo1][0]; fpts[4 * nf + 1] = p[lo1][2]; fpts[4 * nf + 2] = p[lo2][0]; fpts[4 * nf + 3] = p[lo2][2];
+        fac[nf].points = fpts + 4 * nf; fac[nf].point_count = 2; fac[nf].closed = 0; fac[nf].base = 0; fac[nf].top = p[hi][1];
+        ++nf;
+    }
+    printf("# city: %u objects, %u triangles; eye (%.1f %.1f %.1f) looking +x; %u occluder triangles, %u boxes, %u facades\n", nobj,
+           m.triangle_count, cam.eye[0], cam.eye[1], cam.eye[2], n_occ, n_box, nf);
+    for (pass = 0; pass < (argc > 1 ? 1u : 2u); ++pass) {
+        pvs_raster_desc rd;
+        pvs_raster *r, *rc;
+        pvs_word *vis = (pvs_word *)calloc(PVS_BITSET_WORDS(nobj), sizeof(pvs_word));
+        double best_f = 1e30, best_r = 1e30, best_b = 1e30;
+        const char *sfx = pass ? "_scalar" : "";
+        uint32_t rep, vis_boxes = 0, covered = 0;
+        memset(&rd, 0, sizeof(rd));
+        rd.width = 1920; rd.height = 1080; rd.flags = pass ? PVS_RASTER_SCALAR : 0;
+        if (pvs_raster_create(&rd, &r, &err) != PVS_OK) { printf("raster: %s\n", err.message); return 1; }
+        pvs_raster_set_matrix(r, matrix);
+        for (rep = 0; rep < 7; ++rep) {
+            double t0 = now_ms(), t1, t2, t3;
+            pvs_raster_clear(r);
+            pvs_raster_triangles(r, occ, 3 * n_occ, NULL, n_occ, PVS_RASTER_OCCLUDER);
+            t1 = now_ms();
+            pvs_raster_build_pyramid(r);
+            t2 = now_ms();
+            vis_boxes = 0;
+            for (i = 0; i < n_box; ++i) vis_boxes += (uint32_t)pvs_raster_test_box(r, boxes + i);
+            t3 = now_ms();
+            if (t3 - t0 < best_f) best_f = t3 - t0;
+            if (t1 - t0 < best_r) best_r = t1 - t0;
+            if (t3 - t2 < best_b) best_b = t3 - t2;
+        }
+        {
+            const float *d = pvs_raster_depth(r, NULL, NULL);
+            for (i = 0; i < 1920u * 1080u; ++i) covered += d[i] != PVS_DEPTH_EMPTY;
+        }
+        if (!pass) printf("# %.1f%% of the pixels covered, %u of %u boxes visible\n", 100.0 * covered / (1920.0 * 1080.0), vis_boxes, n_box);
+        printf("BENCH raster_frame_ms_1080p%s %.3f ms\n", sfx, best_f);
+        printf("BENCH raster_tris_per_ms%s %.0f tris/ms\n", sfx, n_occ / best_r);
+        printf("BENCH box_tests_per_ms%s %.0f boxes/ms\n", sfx, n_box / best_b);
+        pvs_raster_destroy(r);
+        /* cull map: 1,000 facades at 256 x 256, build and grid scan (small depth map for the frustum) */
+        rd.width = 64; rd.height = 36; rd.scene = scene; rd.cull_map_width = 256; rd.cull_map_height = 256;
+        if (pvs_raster_create(&rd, &rc, &err) != PVS_OK) { printf("raster: %s\n", err.message); return 1; }
+        best_c = 1e30;
+        for (rep = 0; rep < 7; ++rep) {
+            pvs_cull_params cp;
+            pvs_cull_stats st;
+            double t0 = now_ms();
+            memset(&cp, 0, sizeof(cp));
+            cp.facades = fac; cp.facade_count = nf;
+            pvs_raster_cull_map(rc, scene, &cam, &cp, vis, &st, &err);
+            t0 = now_ms() - t0;
+            if (t0 < best_c) best_c = t0;
+            if (rep == 0 && !pass) printf("# cull map: %u of %u objects visible\n", st.visible, nobj);
+        }
+        printf("BENCH cullmap_frame_ms%s %.3f ms\n", sfx, best_c);
+        pvs_raster_destroy(rc);
+        free(vis);
+    }
+    pvs_scene_destroy(scene);
+    mesh_free(&m);
+    mesh_cells_free(&cells);
+    free(obs); free(key); free(occ); free(boxes); free(fac); free(fpts);
+    return 0;
+}
