@@ -5418,10 +5418,26 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
     return b;
 }
 
-/* Does cell `c` contain p? */
+/* Does cell `c` contain p? The fast path reads the six fields from one 64-bit word and compares
+   axis by axis (the look-up's inner loop). */
 PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[3]) {
     uint32_t idx[6];
     int k;
+    uint64_t pos = (uint64_t)c * f->private_.cell_bits;
+    if (f->private_.cell_bits <= 56 && (size_t)(pos >> 3) + 8 <= f->private_.index_bytes) {
+        const uint32_t *wb = f->private_.index_bits;
+        uint64_t w = pvs__load64(f->private_.indices + (size_t)(pos >> 3)) >> (pos & 7u);
+        uint32_t lo0, lo1, lo2, e0, e1;
+        lo0 = (uint32_t)(w & (((uint64_t)1 << wb[0]) - 1u)); w >>= wb[0];
+        lo1 = (uint32_t)(w & (((uint64_t)1 << wb[1]) - 1u)); w >>= wb[1];
+        lo2 = (uint32_t)(w & (((uint64_t)1 << wb[2]) - 1u)); w >>= wb[2];
+        e0 = (uint32_t)(w & (((uint64_t)1 << wb[3]) - 1u)); w >>= wb[3];
+        if (p[0] < pvs__getf32(f->private_.values[0] + 4 * (size_t)lo0) || p[0] > pvs__getf32(f->private_.values[0] + 4 * (size_t)(lo0 + e0))) return 0;
+        e1 = (uint32_t)(w & (((uint64_t)1 << wb[4]) - 1u)); w >>= wb[4];
+        if (p[1] < pvs__getf32(f->private_.values[1] + 4 * (size_t)lo1) || p[1] > pvs__getf32(f->private_.values[1] + 4 * (size_t)(lo1 + e1))) return 0;
+        e0 = (uint32_t)(w & (((uint64_t)1 << wb[5]) - 1u));
+        return !(p[2] < pvs__getf32(f->private_.values[2] + 4 * (size_t)lo2) || p[2] > pvs__getf32(f->private_.values[2] + 4 * (size_t)(lo2 + e0)));
+    }
     pvs__cell_indices(f, c, idx);
     for (k = 0; k < 3; ++k)
         if (p[k] < pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k]) || p[k] > pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k + 3]))

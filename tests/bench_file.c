@@ -185,7 +185,22 @@ int main(int argc, char **argv) {
         for (c = 0; c < 10; ++c)
             for (i = 0; i < 100000; ++i) hits += pvs_file_find_cell(&f, pts[i]) != PVS_NO_CELL;
         t = cli_seconds() - t;
-        printf("BENCH find_cell_ns %.1f ns\n", 1e9 * t / 1e6);
+        printf("BENCH find_cell_ns %.1f ns\n", 1e9 * t / 1e6); /* random points: the worst case for caches */
+        /* a viewer's path: steps of about a metre, as a camera moves between frames */
+        for (i = 1; i < 100000; ++i) {
+            int k;
+            for (k = 0; k < 3; k += 2) {
+                float step = ((float)(rnd() % 2001) - 1000.0f) * 0.001f, lo = k ? sb.min[2] : sb.min[0], hi = k ? sb.max[2] : sb.max[0];
+                pts[i][k] = pts[i - 1][k] + step;
+                if (pts[i][k] < lo || pts[i][k] > hi) pts[i][k] = pts[i - 1][k] - step;
+            }
+            pts[i][1] = pts[i - 1][1];
+        }
+        t = cli_seconds();
+        for (c = 0; c < 10; ++c)
+            for (i = 0; i < 100000; ++i) hits += pvs_file_find_cell(&f, pts[i]) != PVS_NO_CELL;
+        t = cli_seconds() - t;
+        printf("BENCH find_cell_walk_ns %.1f ns\n", 1e9 * t / 1e6);
         printf("BENCH grid10k_file_bytes_per_cell %.1f bytes\n", (double)size / (G * G));
         sink += hits;
         free(bytes);
