@@ -109,6 +109,32 @@
    plane on is reported, whatever the rounding (>>raster explains the margins). Depth is reversed
    (larger is nearer). Pass a cell's decoded PVS as `candidates` to cull inside it.
 
+   MEMORY
+   ======
+   Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle
+   kD-trees: about 100 bytes per triangle), pvs_bake_begin (the cells and one bitset per cell:
+   cell_count * object_count / 8 bytes), pvs_file_encode (scratch about 40 bytes per cell plus one
+   bitset), pvs_raster_create (the depth map and pyramid, the cull map). Allocates nothing: every
+   pvs_file_* and pvs_cursor_* call, kD-tree queries (caller scratch), pvs_raster_cull and
+   pvs_raster_cull_map per frame. A .pvs file is used in place; it needs no copy.
+
+   PERFORMANCE (`make bench`, 2026-11-22, one core of a shared 2-core AMD EPYC VM, release build)
+   ===========
+   kD-tree build 0.8 s per million triangles; 0.55 M closest-hit rays/s (200k-triangle boxes);
+   demo city (3,575 objects, 457k triangles, 1,211 cells): file 0.099 of raw bitsets, 44 bytes per
+   cell, encode 0.1 s; decode of a cell 3-6 us; a cursor move 0.2-1.3 us (one delta or a full
+   decode); pvs_file_find_cell about 160-200 ns with 10,000 cells; per-frame culling of 50,000
+   occluder triangles at 1920x1080 with 10,000 box tests about 11 ms (SSE2), 15 ms (scalar).
+
+   ALGORITHMS (each cited again where it is implemented)
+   ==========
+   kD-tree, front-to-back sweep by priority queue, occlusion trees: Bittner 2002 (§3.2, §4.4,
+   ch. 4, 6, 7). Delta-PVS storage, extended projections, hierarchical depth map: Durand et al.
+   2000 (§2.4, §3, §5, §6). Cull maps and occluder shadows: Wonka and Schmalstieg 1999 (§3-4).
+   Occluder shrinking and point sampling: Wonka, Wimmer and Schmalstieg 2000. Virtual occluders:
+   Koltun, Chrysanthou and Cohen-Or 2000. Watertight ray-triangle test: Woop, Benthin and Wald
+   2013. Rice codes: Golomb 1966, Rice 1979.
+
    FILE FORMAT (version 1; all integers little-endian; offsets from the start of the file)
    ===========
    A .pvs file is the delta-PVS of Durand et al. 2000 (§6.2): a few key cells store their PVS whole,
