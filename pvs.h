@@ -1096,8 +1096,8 @@ PVS_API void pvs_bitset_set(pvs_word *bits, uint32_t i) { bits[i >> 6] |= (pvs_w
 PVS_API void pvs_bitset_clear(pvs_word *bits, uint32_t i) { bits[i >> 6] &= ~((pvs_word)1 << (i & 63)); }
 
 PVS__STATIC uint32_t pvs__popcount64(uint64_t x) {
-#if defined(__GNUC__) || defined(__clang__)
-    return (uint32_t)__builtin_popcountll(x);
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__POPCNT__) || defined(__ARM_NEON))
+    return (uint32_t)__builtin_popcountll(x); /* one instruction; elsewhere the builtin is a library call */
 #else
     x = x - ((x >> 1) & 0x5555555555555555ull);
     x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
@@ -4315,7 +4315,8 @@ PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint
             if (!used) goto bad;
             id = k ? id + 1u + g : g;
             if (id >= n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-            if (act) pvs__sink_id(s, (uint32_t)id);
+            if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63); /* the decode's hot path */
+            else if (act) pvs__sink_id(s, (uint32_t)id);
             q += used;
         }
         break;
@@ -4388,7 +4389,8 @@ PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint
             g |= quot << k;
             id = c ? id + 1u + g : g;
             if (id >= n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-            if (act) pvs__sink_id(s, (uint32_t)id);
+            if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63); /* the decode's hot path */
+            else if (act) pvs__sink_id(s, (uint32_t)id);
         }
         /* the codes fill whole bytes; the unused high bits of the last one are zero */
         bytes = (bit + 7) / 8;
