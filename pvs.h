@@ -4126,12 +4126,17 @@ PVS__STATIC uint32_t pvs__bits_for(uint32_t max_value) { /* bits to hold 0..max_
     return w;
 }
 
+PVS__STATIC uint64_t pvs__load64(const uint8_t *s) { /* little-endian; compilers make it one load */
+    return (uint64_t)s[0] | (uint64_t)s[1] << 8 | (uint64_t)s[2] << 16 | (uint64_t)s[3] << 24 | (uint64_t)s[4] << 32 |
+           (uint64_t)s[5] << 40 | (uint64_t)s[6] << 48 | (uint64_t)s[7] << 56;
+}
+
 /* Bits [bit, bit + 56) of a stream of nbits bits (zeros past its end), least significant first. */
 PVS__STATIC uint64_t pvs__peek56(const uint8_t *s, uint64_t nbits, uint64_t bit) {
     size_t at = (size_t)(bit >> 3), n = (size_t)((nbits + 7) >> 3), i;
     uint64_t v = 0;
     if (at + 8 <= n) {
-        for (i = 0; i < 8; ++i) v |= (uint64_t)s[at + i] << (8 * i);
+        v = pvs__load64(s + at);
     } else {
         for (i = 0; at + i < n; ++i) v |= (uint64_t)s[at + i] << (8 * i);
     }
@@ -5406,11 +5411,6 @@ PVS_API void pvs_file_record_info(const pvs_file *f, uint32_t cell, pvs_record_i
 /* ---------------------------------------------------------------------------------------------- */
 /* runtime: cell look-up through the stored kD-tree, decoding, the cursor; no allocation          */
 /* ---------------------------------------------------------------------------------------------- */
-
-PVS__STATIC uint64_t pvs__load64(const uint8_t *s) { /* little-endian; compilers make it one load */
-    return (uint64_t)s[0] | (uint64_t)s[1] << 8 | (uint64_t)s[2] << 16 | (uint64_t)s[3] << 24 | (uint64_t)s[4] << 32 |
-           (uint64_t)s[5] << 40 | (uint64_t)s[6] << 48 | (uint64_t)s[7] << 56;
-}
 
 /* A cell's coordinate indices: min then max per axis. One 64-bit read holds all six fields when
    they fit (the usual case). */
