@@ -157,7 +157,7 @@
      sections is zero padding [BAD_SECTION]. Tags are four ASCII characters; a reader skips tags it
      does not know (room for later optional sections: virtual occluders, object names, ...). The
      writer emits META, CELL, TREE, RECS, then SHRD for part files, in that order.
-   "META" (required, 32 bytes) [BAD_HEADER]:
+   "META" (required, 32 bytes) [BAD_HEADER; COUNT_OVERFLOW for counts past the limits]:
      0 u32 cell_count (1..2^30-1)   4 u32 object_count (1..2^32-2)   8 u32 method (pvs_method)
      12 f32 eps (finite, >= 0)      16 u32 up_axis (1 = Y, 2 = Z)    20 u32 K, the chain bound (1..64)
      24 u32 key cell count (1..cell_count, equal to the records' count)   28 u32 reserved zero
@@ -5353,9 +5353,10 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
     f->key_count = pvs__get32(meta + 24);
     {
         uint64_t mo = (uint64_t)(meta - p);
-        if (f->cell_count == 0 || f->cell_count > 0x3fffffffu) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo, "cell count %u", f->cell_count);
-        if (f->object_count == 0 || f->object_count == 0xffffffffu)
-            return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 4, "object count %u", f->object_count);
+        if (f->cell_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo, "cell count 0");
+        if (f->cell_count > 0x3fffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo, "cell count %u > 2^30 - 1", f->cell_count);
+        if (f->object_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 4, "object count 0");
+        if (f->object_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo + 4, "object count 2^32 - 1");
         if (pvs__get32(meta + 8) >= (uint32_t)PVS_METHOD_COUNT) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 8, "unknown method %u", pvs__get32(meta + 8));
         if (!pvs__finite(f->eps) || f->eps < 0.0f) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 12, "eps is not a finite number >= 0");
         if (f->up_axis != 1 && f->up_axis != 2) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 16, "up axis %u", f->up_axis);

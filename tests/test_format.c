@@ -322,6 +322,8 @@ static void test_corruptions(void) {
     RESET(); wr32(b + m, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
     RESET(); wr32(b + m, rd32(b + m) + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
     RESET(); wr32(b + m + 4, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); wr32(b + m, 0x40000000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_COUNT_OVERFLOW));
+    RESET(); wr32(b + m + 4, 0xffffffffu); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_COUNT_OVERFLOW));
     RESET(); wr32(b + m + 4, 50); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_OBJECT_OUT_OF_RANGE));
     RESET(); wr32(b + m + 8, 99); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
     RESET(); wr32(b + m + 12, 0x7fc00000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
