@@ -5479,7 +5479,11 @@ PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
     uint32_t stack[PVS__TREE_MAX_DEPTH + 1], depth = 0, best = PVS_NO_CELL, k = 0, d, inner;
     const uint8_t *nodes, *starts, *axes, *items;
+    float p0, p1, p2;
     if (!f || !p || !f->data || !pvs__finite(p[0]) || !pvs__finite(p[1]) || !pvs__finite(p[2])) return PVS_NO_CELL;
+    p0 = p[0];
+    p1 = p[1];
+    p2 = p[2];
     d = f->private_.tree_depth;
     inner = (1u << d) - 1u;
     nodes = f->private_.tree;
@@ -5487,10 +5491,28 @@ PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
     axes = starts + 4 * ((size_t)inner + 2);
     items = axes + inner;
     for (;;) {
-        while (k < inner) {
-            float x = p[axes[k]], v = pvs__getf32(nodes + 4 * (size_t)k);
-            if (x == v) stack[depth++] = 2 * k + 2; /* rare: both sides */
-            k = 2 * k + 1 + (uint32_t)(x > v);
+        if (k < inner) {
+            /* the children of k sit side by side: both are loaded while k's comparison runs, so a
+               level costs one load latency, not a load plus a compare (a branch-free descent) */
+            float v = pvs__getf32(nodes + 4 * (size_t)k);
+            uint32_t axis = axes[k];
+            for (;;) {
+                uint32_t l = 2 * k + 1, right;
+                float x = axis == 0 ? p0 : axis == 1 ? p1 : p2, vl = 0.0f, vr = 0.0f;
+                uint32_t al = 0, ar = 0;
+                if (l < inner) {
+                    vl = pvs__getf32(nodes + 4 * (size_t)l);
+                    vr = pvs__getf32(nodes + 4 * (size_t)l + 4);
+                    al = axes[l];
+                    ar = axes[l + 1];
+                }
+                if (x == v) stack[depth++] = l + 1; /* rare: both sides */
+                right = (uint32_t)(x > v);
+                k = l + right;
+                if (k >= inner) break;
+                v = right ? vr : vl;
+                axis = right ? ar : al;
+            }
         }
         {
             const uint8_t *q = items + pvs__get32(starts + 4 * (size_t)(k - inner)), *end = items + pvs__get32(starts + 4 * (size_t)(k - inner) + 4);
