@@ -157,7 +157,8 @@
      sections is zero padding [BAD_SECTION]. Tags are four ASCII characters; a reader skips tags it
      does not know (room for later optional sections: virtual occluders, object names, ...). The
      writer emits META, CELL, TREE, RECS, then SHRD for part files, in that order.
-   "META" (required, 32 bytes) [BAD_HEADER; COUNT_OVERFLOW for counts past the limits]:
+   "META" (required, 32 bytes; another size is BAD_SECTION) [BAD_HEADER; COUNT_OVERFLOW for counts
+     past the limits]:
      0 u32 cell_count (1..2^30-1)   4 u32 object_count (1..2^32-2)   8 u32 method (pvs_method)
      12 f32 eps (finite, >= 0)      16 u32 up_axis (1 = Y, 2 = Z)    20 u32 K, the chain bound (1..64)
      24 u32 key cell count (1..cell_count, equal to the records' count)   28 u32 reserved zero
@@ -208,7 +209,7 @@
        A reader cannot check that m matches the base's PVS without decoding; pvsinfo --verify does.
        Ranks past the base's PVS in a damaged file are ignored, never read out of bounds.
      Varints everywhere are LEB128, at most 5 bytes, the value fits 32 bits, no needless 0x80 bytes.
-   "SHRD" (optional, 16 bytes; part files of a sharded bake) [BAD_HEADER]: u32 shard index (0-based),
+   "SHRD" (optional, 16 bytes, else BAD_SECTION; part files of a sharded bake) [BAD_HEADER]: u32 shard index (0-based),
      u32 shard count (>= 2), u32 total cell count, u32 zero. Cell j of the part is cell
      index + j * count of the whole; cell_count must be the number of such cells.
 
@@ -4278,6 +4279,41 @@ typedef struct pvs__sink {
 } pvs__sink;
 
 /* Adds id, or removes the set bit of rank id in the PVS as it was before this set (ranks ascend). */
+/* Removes `count` consecutive ranks starting at rank `first` (of the PVS before this set), word by
+   word: work in words plus bits actually removed, whatever the run's length. */
+PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t count) {
+    uint32_t target = first - s->removed;
+    while (s->w < s->words && s->before + pvs__popcount64(s->bits[s->w]) <= target) s->before += pvs__popcount64(s->bits[s->w++]);
+    while (count && s->w < s->words) {
+        pvs_word x = s->bits[s->w], take;
+        uint32_t skip = target - s->before, k;
+        for (k = 0; k < skip; ++k) x &= x - 1u; /* the set bits from the target on */
+        take = x;
+        if (pvs__popcount64(take) > count) { /* only the lowest `count` of them */
+            pvs_word keep = take;
+            uint64_t c;
+            for (c = 0; c < count; ++c) keep &= keep - 1u;
+            take ^= keep;
+        }
+        if (s->fn) {
+            pvs_word y = take;
+            while (y) {
+                s->fn(s->user, s->w * 64 + pvs__ctz64(y), 0);
+                y &= y - 1u;
+            }
+        }
+        k = pvs__popcount64(take);
+        s->bits[s->w] &= ~take;
+        s->removed += k;
+        count -= k;
+        if (count) { /* the run goes on in the next words: nothing before them is left to skip */
+            s->before += pvs__popcount64(s->bits[s->w]);
+            ++s->w;
+            target = s->before;
+        }
+    }
+}
+
 PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
     if (s->action == PVS__SET_ADD) {
         pvs_word m = (pvs_word)1 << (id & 63);
@@ -4348,6 +4384,9 @@ PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint
                 while (pos < e && (pos & 63)) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
                 while (pos + 64 <= e) { s->bits[pos >> 6] = ~(pvs_word)0; pos += 64; }
                 while (pos < e) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
+            } else if (act == PVS__SET_REMOVE_RANKS) {
+                pvs__sink_remove_run(s, (uint32_t)pos, (uint64_t)o + 1u);
+                pos += (uint64_t)o + 1u;
             } else {
                 if (act) /* validation must stay linear in the record's bytes */
                     for (i = 0; i <= o; ++i) pvs__sink_id(s, (uint32_t)(pos + i));
@@ -4501,7 +4540,7 @@ typedef struct pvs__tbuild {
     uint8_t *items;            /* per leaf: gap-coded ascending cell ids */
     size_t item_bytes, item_capacity;
     uint32_t leaves_done;
-    float *keys;               /* scratch: n floats */
+    float *keys;               /* scratch: 2n floats */
     const float *values[3];
     const uint32_t *value_count;
 } pvs__tbuild;
@@ -4518,26 +4557,54 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
         return PVS_OK;
     }
     if (n > 1) {
+        /* every cell edge is a candidate: with the sorted mins and maxes, the cells going left (min <
+           v; flat cells at v aside) and right (max > v) are counted by binary search; the candidate
+           with the smaller larger side wins, ties to the first. Crossing cells (long rows over long
+           columns) thus still split, where a median alone would not. */
+        float *mins = b->keys, *maxs = b->keys + n;
         for (axis = 0; axis < 3; ++axis) {
             int side;
-            for (side = 0; side < 2; ++side) {
-                uint32_t left = 0, right = 0, score;
-                float v;
-                for (i = 0; i < n; ++i) b->keys[i] = side ? b->boxes[ids[i]].max[axis] : b->boxes[ids[i]].min[axis];
-                qsort(b->keys, n, sizeof(float), pvs__float_cmp);
-                v = b->keys[n / 2];
-                for (i = 0; i < n; ++i) {
-                    const pvs_box *c = b->boxes + ids[i];
-                    left += c->min[axis] < v || c->max[axis] <= v;
-                    right += c->max[axis] > v;
-                }
-                score = left > right ? left : right;
-                if (left < n && right < n && score < best_score) {
-                    best_score = score;
-                    best_axis = axis;
-                    best_v = v;
-                }
+            for (i = 0; i < n; ++i) {
+                mins[i] = b->boxes[ids[i]].min[axis];
+                maxs[i] = b->boxes[ids[i]].max[axis];
             }
+            qsort(mins, n, sizeof(float), pvs__float_cmp);
+            qsort(maxs, n, sizeof(float), pvs__float_cmp);
+            for (side = 0; side < 2; ++side)
+                for (i = 0; i < n; ++i) {
+                    float v = side ? maxs[i] : mins[i];
+                    uint32_t lo = 0, hi = n, left, right, score;
+                    if (i && v == (side ? maxs[i - 1] : mins[i - 1])) continue;
+                    while (lo < hi) { /* mins < v */
+                        uint32_t mid = lo + (hi - lo) / 2;
+                        if (mins[mid] < v) lo = mid + 1;
+                        else hi = mid;
+                    }
+                    left = lo;
+                    lo = 0;
+                    hi = n;
+                    while (lo < hi) { /* maxs <= v */
+                        uint32_t mid = lo + (hi - lo) / 2;
+                        if (maxs[mid] <= v) lo = mid + 1;
+                        else hi = mid;
+                    }
+                    right = n - lo;
+                    score = left > right ? left : right;
+                    if (left > 0 && right > 0 && left < n && right < n && score < best_score) {
+                        best_score = score;
+                        best_axis = axis;
+                        best_v = v;
+                    }
+                }
+        }
+        if (best_axis != 3) { /* the exact counts (flat cells at the split go left) must still make progress */
+            uint32_t left = 0, right = 0;
+            for (i = 0; i < n; ++i) {
+                const pvs_box *c = b->boxes + ids[i];
+                left += c->min[best_axis] < best_v || c->max[best_axis] <= best_v;
+                right += c->max[best_axis] > best_v;
+            }
+            if (left == n || right == n) best_axis = 3;
         }
     }
     if (best_axis == 3) { /* no split divides these cells: all go left */
@@ -4830,7 +4897,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells or objects");
     max_chain = d->max_chain ? d->max_chain : PVS_DEFAULT_CHAIN;
     if (max_chain > PVS_MAX_CHAIN) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", max_chain, PVS_MAX_CHAIN);
-    if (d->shard_count == 1 || (d->shard_count && (d->shard_index >= d->shard_count || d->total_cell_count == PVS_NO_CELL ||
+    if (d->shard_count == 1 || (d->shard_count && (d->shard_index >= d->shard_count || d->total_cell_count > 0x3fffffffu ||
                                                    d->cell_count != (d->total_cell_count - d->shard_index + d->shard_count - 1) / d->shard_count)))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u does not hold %u of %u cells", d->shard_index,
                          d->shard_count, d->cell_count, d->total_cell_count);
@@ -4879,14 +4946,20 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
     index_bits_total = (size_t)(e.index_bits[0] + e.index_bits[1] + e.index_bits[2] + e.index_bits[3] + e.index_bits[4] + e.index_bits[5]) * e.cells;
     cell_bytes = PVS__CELL_HEAD + 4 * ((size_t)e.value_count[0] + e.value_count[1] + e.value_count[2]) + (index_bits_total + 7) / 8;
 
-    /* the library's kD-tree over the cells finds base candidates; TREE is the compact look-up tree */
+    /* the library's kD-tree over the cells' centres finds base candidates (centres, not boxes: big
+       overlapping cells would be copied into many leaves); TREE is the compact look-up tree */
     {
         pvs_kdtree_desc td;
+        pvs_box *centres = (pvs_box *)pvs__alloc_array(&e.a, e.cells, sizeof(pvs_box));
+        if (!centres) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell centres"); goto done; }
+        for (i = 0; i < e.cells; ++i)
+            for (k = 0; k < 3; ++k) centres[i].min[k] = centres[i].max[k] = 0.5f * e.boxes[i].min[k] + 0.5f * e.boxes[i].max[k]; /* no overflow */
         memset(&td, 0, sizeof(td));
-        td.boxes = e.boxes;
+        td.boxes = centres;
         td.count = e.cells;
         td.allocator = e.a;
         r = pvs_kdtree_create(&td, &e.tree, err);
+        pvs__free_array(&e.a, centres, e.cells, sizeof(pvs_box));
         if (r != PVS_OK) goto done;
     }
     {
@@ -4897,7 +4970,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         tb.boxes = e.boxes;
         while (tb.depth < 20 && (e.cells >> tb.depth) > PVS__TREE_LEAF) ++tb.depth;
         leaves = 1u << tb.depth;
-        tb.keys = (float *)pvs__alloc_array(&e.a, e.cells, sizeof(float));
+        tb.keys = (float *)pvs__alloc_array(&e.a, 2 * (size_t)e.cells, sizeof(float));
         tb.nodes = (uint32_t *)pvs__alloc_array(&e.a, leaves, sizeof(uint32_t));
         tb.leaf_start = (uint32_t *)pvs__alloc_array(&e.a, (size_t)leaves + 1, sizeof(uint32_t));
         for (k = 0; k < 3; ++k) tb.values[k] = e.values[k];
@@ -4927,7 +5000,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
             }
         }
         pvs__free_array(&e.a, ids, e.cells, sizeof(uint32_t));
-        pvs__free_array(&e.a, tb.keys, e.cells, sizeof(float));
+        pvs__free_array(&e.a, tb.keys, 2 * (size_t)e.cells, sizeof(float));
         pvs__free_array(&e.a, tb.nodes, leaves, sizeof(uint32_t));
         pvs__free_array(&e.a, tb.leaf_start, (size_t)leaves + 1, sizeof(uint32_t));
         pvs__free_array(&e.a, tb.items, tb.item_capacity, 1);
@@ -5337,7 +5410,7 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
             size_t next = e ? pvs__get32(e + 4) : size;
             for (; pos < next; ++pos)
                 if (p[pos]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, pos, "padding byte %llu is not zero", (unsigned long long)pos);
-            if (e) pos = (size_t)pvs__get32(e + 4) + pvs__get32(e + 8);
+            if (e && (size_t)pvs__get32(e + 4) + pvs__get32(e + 8) > pos) pos = (size_t)pvs__get32(e + 4) + pvs__get32(e + 8);
         }
     }
     if (!meta || !cells || !tree || !recs)
@@ -5377,14 +5450,14 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
             return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, so, "SHRD: shard %u of %u cannot hold %u of %u cells", f->shard_index, f->shard_count,
                              f->cell_count, f->total_cell_count);
     }
-    r = pvs__open_cells(f, p, cells, cells_size, err);
+    /* records first: each takes at least 3 bytes, so a valid RECS bounds the cell count by the file
+       size, and the cell checks after it stay linear in the file (a cell index can be 0 bits wide) */
+    f->private_.records = recs;
+    f->private_.records_size = recs_size;
+    f->private_.block_count = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK;
+    r = pvs__open_records(f, p, recs, recs_size, err);
+    if (r == PVS_OK) r = pvs__open_cells(f, p, cells, cells_size, err);
     if (r == PVS_OK) r = pvs__open_tree(f, p, tree, tree_size, err);
-    if (r == PVS_OK) {
-        f->private_.records = recs;
-        f->private_.records_size = recs_size;
-        f->private_.block_count = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK;
-        r = pvs__open_records(f, p, recs, recs_size, err);
-    }
     if (r != PVS_OK) {
         memset(f, 0, sizeof(*f));
         return r;

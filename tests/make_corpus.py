@@ -43,3 +43,17 @@ c,_=sec(good,b'CELL'); b=bytearray(good); struct.pack_into('<I',b,c+20,0x7fc0000
 b=bytearray(good); struct.pack_into('<I',b,m+4,3); out['bad-object-range']=fix(b)
 b=bytearray(good); struct.pack_into('<I',b,4,2); out['bad-version']=bytes(b)
 for k,v in out.items(): open(d+'/'+k+'.pvs','wb').write(v)
+
+# a billion cells whose indices are all 0 bits wide: must be rejected in time linear in its 184 bytes
+meta=struct.pack('<IIIfIIII',0x3fffffff,10,1,0.0,1,8,1,0)
+cell=struct.pack('<III',1,1,1)+bytes([0,0,0,0,0,0,0,0])+struct.pack('<3f',0,0,0)
+tree=struct.pack('<II',0,0)+struct.pack('<II',0,1)+bytes([0])
+recs=struct.pack('<II',8,11)+bytes([2,0,0])
+open(d+'/bad-huge-cell-count.pvs','wb').write(build([(b'META',meta),(b'CELL',cell),(b'TREE',tree),(b'RECS',recs)]))
+# an empty unknown section at the offset of TREE, listed after it: opens (sections of size 0 are fine)
+g=bytearray(good); n=struct.unpack_from('<I',g,12)[0]
+secs=[]
+for i in range(n):
+    t,o,s,c=struct.unpack_from('<4sIII',g,32+16*i); secs.append((t,bytes(g[o:o+s])))
+secs.append((b'ZERO',b''))
+open(d+'/ok-empty-section.pvs','wb').write(build(secs))

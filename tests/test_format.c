@@ -223,6 +223,71 @@ static void test_round_trip(void) {
     for (k = 0; k < PVS_CODING_COUNT; ++k) CHECK(codings_seen[k]); /* every coding wins somewhere */
 }
 
+/* Tables that force particular codings and layouts: whole ranges of objects leaving and entering
+   (runs of removal ranks), all or nothing, and crossing cells (long rows over long columns, where a
+   median split alone cannot divide them). */
+static void test_special_tables(void) {
+    enum { CELLS = 64, OBJECTS = 700 };
+    size_t words = PVS_BITSET_WORDS(OBJECTS), size;
+    static pvs_box boxes[CELLS];
+    static pvs_word pvs[CELLS * PVS_BITSET_WORDS(OBJECTS)], cur[PVS_BITSET_WORDS(OBJECTS)], scratch[PVS_BITSET_WORDS(OBJECTS)],
+        got[PVS_BITSET_WORDS(OBJECTS)];
+    uint32_t c, o, i, deltas;
+    int layout;
+    for (layout = 0; layout < 2; ++layout) {
+        pvs_file_desc d;
+        pvs_file f;
+        pvs_cursor cursor;
+        uint8_t *buf;
+        memset(pvs, 0, sizeof(pvs));
+        for (c = 0; c < CELLS; ++c) {
+            int k;
+            uint32_t lo = (c * 37u) % OBJECTS, hi = lo + (c % 5 == 0 ? 0u : c % 5 == 1 ? OBJECTS : 1u + (c * 53u) % 300u);
+            if (layout == 0) { /* a line of cells */
+                for (k = 0; k < 3; ++k) {
+                    boxes[c].min[k] = k == 0 ? (float)c : 0.0f;
+                    boxes[c].max[k] = k == 0 ? (float)c + 1.0f : 1.0f;
+                }
+            } else { /* crossing: rows over the whole x range, columns over the whole z range */
+                uint32_t h = CELLS / 2, j = c % h;
+                boxes[c].min[1] = 0.0f;
+                boxes[c].max[1] = 1.0f;
+                boxes[c].min[0] = c < h ? 0.0f : (float)j;
+                boxes[c].max[0] = c < h ? (float)h : (float)j + 1.0f;
+                boxes[c].min[2] = c < h ? (float)j : 0.0f;
+                boxes[c].max[2] = c < h ? (float)j + 1.0f : (float)h;
+            }
+            for (o = lo; o < hi && o < OBJECTS; ++o) pvs_bitset_set(pvs + c * words, o);
+        }
+        desc_init(&d, boxes, CELLS, OBJECTS, pvs);
+        buf = encode(&d, &size);
+        CHECK(buf && pvs_file_open(buf, size, &f, NULL) == PVS_OK);
+        if (!buf) continue;
+        CHECK(pvs_cursor_init(&cursor, &f, cur, scratch, words, NULL) == PVS_OK);
+        deltas = 0;
+        for (c = 0; c < CELLS; ++c) {
+            pvs_record_info info;
+            CHECK(pvs_file_decode(&f, c, got, words, NULL) == PVS_OK && memcmp(got, pvs + c * words, sizeof(got)) == 0);
+            pvs_file_record_info(&f, c, &info);
+            if (info.base != PVS_NO_CELL) { /* base -> cell: one delta, with its runs of ranks */
+                ++deltas;
+                CHECK(pvs_cursor_move(&cursor, info.base, NULL, NULL) == PVS_OK);
+                CHECK(pvs_cursor_move(&cursor, c, NULL, NULL) == PVS_OK && memcmp(cur, pvs + c * words, sizeof(cur)) == 0);
+            }
+        }
+        CHECK(cursor.delta_moves == deltas);
+        for (i = 0; i < 3000; ++i) {
+            float p[3];
+            p[0] = (float)(rnd() % 3400) * 0.01f - 0.5f;
+            p[1] = (float)(rnd() % 100) * 0.01f;
+            p[2] = (float)(rnd() % 3400) * 0.01f - 0.5f;
+            if (i % 3 == 0) p[0] = (float)(rnd() % 34); /* on cell faces */
+            CHECK(pvs_file_find_cell(&f, p) == linear_find(&f, p));
+        }
+        free(buf);
+    }
+}
+
 /* Chain bound: K = 1 gives depth <= 1 everywhere; a long corridor of similar cells needs keys. */
 static void test_chain_bound(void) {
     enum { CELLS = 200, OBJECTS = 300 };
@@ -320,7 +385,7 @@ static void test_corruptions(void) {
     RESET(); b[m + 2] ^= 1;                    CHECK(expect_open(b, size, PVS_ERROR_CHECKSUM));
     /* META fields */
     RESET(); wr32(b + m, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-    RESET(); wr32(b + m, rd32(b + m) + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); wr32(b + m, rd32(b + m) + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_RECORD)); /* records are read first */
     RESET(); wr32(b + m + 4, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
     RESET(); wr32(b + m, 0x40000000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_COUNT_OVERFLOW));
     RESET(); wr32(b + m + 4, 0xffffffffu); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_COUNT_OVERFLOW));
@@ -581,6 +646,7 @@ static void test_corpus(void) {
 
 void test_format(void) {
     test_round_trip();
+    test_special_tables();
     test_chain_bound();
     test_corruptions();
     test_shards();
