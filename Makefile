@@ -16,7 +16,7 @@ TEST_CFLAGS := -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -fsanitize=address
 TOOL_LIB := tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/pvs_impl.c
 TOOL_HDR := pvs.h tools/mesh.h tools/obj.h tools/toolutil.h tools/gen.h tools/cli.h
 TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen
-TEST_SRC := tests/main.c tests/impl.c tests/test_core.c tests/test_format.c tests/test_noalloc.c tests/test_kdtree.c \
+TEST_SRC := tests/main.c tests/impl.c tests/test_core.c tests/test_format.c tests/test_noalloc.c tests/test_kdtree.c tests/test_otree.c \
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c
 
 .PHONY: all tools test demo bench verify clean compile-checks readme-check

@@ -391,6 +391,67 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const
    is listed, also for p on a split plane. Allocates nothing. */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const float p[3], uint32_t *count);
 
+/* ---- otree ---------------------------------------------------------------------------------- */
+
+/* Occlusion trees (Bittner 2002): a BSP over oriented 2D line space whose leaves are "out" (lines
+   that reach nothing yet) or "in" (lines blocked by a stored occluder). Built front to back by an
+   occlusion sweep; conservative everywhere floating point has to decide. */
+
+/* What an occlusion-tree computation reports. */
+typedef struct pvs_otree_stats {
+    uint32_t nodes;              /* tree nodes at the end (the largest tree for several trees) */
+    uint32_t occluders_inserted; /* occluders merged into the tree(s) */
+    uint32_t visible_segments;   /* 2D: segments found visible */
+    uint32_t budget_exceeded;    /* 1 when node_budget stopped insertion: the rest counted as not blocking (still conservative) */
+} pvs_otree_stats;
+
+/* Segment flags for pvs_visibility_2d. */
+#define PVS_SEGMENT_NO_OCCLUSION 1u /* tested for visibility but never blocks sight */
+
+/* Exact 2D from-region visibility (Bittner 2002, ch. 6). Left at zero, optional fields get defaults. */
+typedef struct pvs_visibility_2d_desc {
+    const float *cell;               /* cell_vertex_count x (x, y): a convex polygon, either winding */
+    uint32_t cell_vertex_count;      /* >= 3 */
+    const float *segments;           /* segment_count x (x0, y0, x1, y1): occluders, opaque from both sides */
+    uint32_t segment_count;
+    const uint8_t *segment_flags;    /* NULL or segment_count PVS_SEGMENT_* flags */
+    const uint32_t *segment_objects; /* NULL (segment i is object i) or the object of each segment, or PVS_NO_OBJECT */
+    uint32_t object_count;           /* bits in visible_objects */
+    uint32_t node_budget;            /* stop inserting past this many tree nodes (0 = 2^20); see pvs_otree_stats */
+    pvs_allocator allocator;
+} pvs_visibility_2d_desc;
+
+/* Which segments (and objects) are visible from some point of the cell: a segment is visible when a
+   line segment from a cell point reaches it without crossing another segment (touching an end point
+   does not block; segments crossing the cell are visible). Exact up to floating point, rounded
+   toward visible. visible_segments (PVS_BITSET_WORDS(segment_count) words) and visible_objects
+   (PVS_BITSET_WORDS(object_count) words) may each be NULL; both are cleared first. stats may be
+   NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex),
+   OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
+PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments, pvs_word *visible_objects,
+                                     pvs_otree_stats *stats, pvs_error *err);
+
+/* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7). Coordinates (u, v) are the
+   ground plane, h the height. Left at zero, optional fields get defaults. */
+typedef struct pvs_visibility_25d_desc {
+    float cell_min[2], cell_max[2]; /* the cell's ground rectangle */
+    float cell_top;                 /* the highest eye height in the cell */
+    const float *facades;           /* facade_count x (u0, v0, u1, v1, top): opaque vertical walls that */
+    uint32_t facade_count;          /*   stand on the ground: they block every height below `top` */
+    const float *objects;           /* object_count x (umin, vmin, umax, vmax, top): object bounds; umin > umax = empty */
+    uint32_t object_count;
+    uint32_t node_budget;           /* per tree (0 = 2^18); see pvs_otree_stats */
+    pvs_allocator allocator;
+} pvs_visibility_25d_desc;
+
+/* The objects that may be visible from the cell box (ground rectangle x heights up to cell_top), given
+   that facades reach down below every cell and object. Conservative: never misses a visible object.
+   Facades crossing the cell's rectangle are ignored. visible_objects: PVS_BITSET_WORDS(object_count)
+   words, cleared first. stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY.
+   Thread-safe; allocates through desc->allocator. */
+PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
+                                      pvs_error *err);
+
 /* ---- methods --------------------------------------------------------------------------------- */
 
 /* Region methods. 0 is the default (today: SAMPLE, until a conservative method lands). */
@@ -1921,7 +1982,690 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 /* (planned: conservative rasterizer, depth pyramid, cull map) */
 
 // >>otree
-/* (planned: occlusion trees) */
+/* ---------------------------------------------------------------------------------------------- */
+/* otree: occlusion trees over oriented 2D line space (Bittner 2002, ch. 3, 6, 7)                 */
+/* ---------------------------------------------------------------------------------------------- */
+/* One BSP kernel (§3.3, §6.8): a tree whose interior nodes are planes through the origin of R^3,
+   each the image p* of a primal point p (§6.4: the oriented line l* = (u,1) x (v,1) has
+   l*.(p,1) = orient(u, v, p), > 0 when p lies left of the line), and whose leaves are out (rays not
+   blocked) or in (blocked; the payload names the nearest occluder in 2D, or the set of occluders
+   that may be seen over in 2.5D). Sets of lines are convex polygons of unit vectors (vertices =
+   extremal lines); every polygon edge remembers the primal point whose plane carries it and whether
+   that plane is already on the path (edge marking, §4.10.1), so an out-leaf becomes the elementary
+   tree e-OT of only the unmarked edges (§3.3.3).
+
+   Conservative rounding. Regions of the tree are defined by exact planes through stored points, so
+   an in-leaf never claims lines outside the blocker that created it; insertion classifies with a
+   tolerance that can only drop blocked slivers; read-only tests split with slack so both sides see
+   a little more than their share; ambiguous depth orders count as "in front" (visible). All
+   geometry is in double, relative to the cell's centre. */
+
+#define PVS__OT_MAXV 24
+#define PVS__OT_OUT 1u
+#define PVS__OT_IN 2u
+#define PVS__OT_NONE 0xffffffffu
+
+typedef struct pvs__otpoly {
+    int n;
+    int xsplit;                     /* already split at a crossing point X (§6.5.1 case 3) */
+    double v[PVS__OT_MAXV][3];      /* extremal lines, unit length */
+    double e[PVS__OT_MAXV][2];      /* edge i (v[i] -> v[i+1]) lies in the plane of point e[i] */
+    unsigned char mark[PVS__OT_MAXV];
+} pvs__otpoly;
+
+typedef struct pvs__otnode {
+    double p[2];        /* interior: the plane is sign * (p.x, p.y, 1) */
+    int32_t sign;
+    uint32_t kind;      /* 0 interior, PVS__OT_OUT, PVS__OT_IN */
+    uint32_t child[2];  /* [0] negative side, [1] positive side */
+    uint32_t first, count; /* in-leaf payload: occluders seq[first .. first + count) */
+} pvs__otnode;
+
+typedef struct pvs__otree {
+    const pvs_allocator *a;
+    pvs__otnode *nodes;
+    size_t node_count, node_cap;
+    uint32_t *seq;
+    size_t seq_count, seq_cap;
+    pvs__otpoly *stack;             /* work stack of polygons */
+    uint32_t *stack_node;
+    size_t stack_count, stack_cap;
+    int oom;
+    const double *seg;              /* occluder segments, 4 doubles each (local coordinates) */
+    const double *top;              /* 2.5D: occluder top heights; NULL in 2D */
+    double sa[2], sb[2];            /* the source edge (cell edge or top edge) */
+    double eye;                     /* 2.5D: height of the source edge */
+    double len_eps;                 /* distances below this are ties */
+} pvs__otree;
+
+PVS__STATIC int pvs__ot_grow(const pvs_allocator *a, void **p, size_t *cap, size_t need, size_t elem) {
+    size_t ncap, bytes;
+    void *q;
+    if (need <= *cap) return 1;
+    ncap = *cap ? *cap * 2 : 64;
+    while (ncap < need) ncap *= 2;
+    if (!pvs__mul(ncap, elem, &bytes)) return 0;
+    q = pvs__alloc(a, bytes, 16);
+    if (!q) return 0;
+    if (*p) {
+        memcpy(q, *p, *cap * elem);
+        pvs__free(a, *p, *cap * elem, 16);
+    }
+    *p = q;
+    *cap = ncap;
+    return 1;
+}
+
+PVS__STATIC void pvs__ot_free(pvs__otree *t) {
+    pvs__free(t->a, t->nodes, t->node_cap * sizeof(pvs__otnode), 16);
+    pvs__free(t->a, t->seq, t->seq_cap * sizeof(uint32_t), 16);
+    pvs__free(t->a, t->stack, t->stack_cap * sizeof(pvs__otpoly), 16);
+    pvs__free(t->a, t->stack_node, t->stack_cap * sizeof(uint32_t), 16);
+    t->nodes = NULL; t->seq = NULL; t->stack = NULL; t->stack_node = NULL;
+    t->node_cap = t->seq_cap = t->stack_cap = 0;
+}
+
+/* Resets to the whole line set: a single out-leaf (§3.3.2). */
+PVS__STATIC int pvs__ot_reset(pvs__otree *t) {
+    t->node_count = t->seq_count = t->stack_count = 0;
+    if (!pvs__ot_grow(t->a, (void **)&t->nodes, &t->node_cap, 1, sizeof(pvs__otnode))) { t->oom = 1; return 0; }
+    memset(t->nodes, 0, sizeof(pvs__otnode));
+    t->nodes[0].kind = PVS__OT_OUT;
+    t->node_count = 1;
+    return 1;
+}
+
+PVS__STATIC uint32_t pvs__ot_new_node(pvs__otree *t) {
+    if (!pvs__ot_grow(t->a, (void **)&t->nodes, &t->node_cap, t->node_count + 1, sizeof(pvs__otnode))) {
+        t->oom = 1;
+        return PVS__OT_NONE;
+    }
+    memset(t->nodes + t->node_count, 0, sizeof(pvs__otnode));
+    return (uint32_t)t->node_count++;
+}
+
+PVS__STATIC int pvs__ot_push(pvs__otree *t, uint32_t node, const pvs__otpoly *poly) {
+    size_t c1 = t->stack_cap, c2 = t->stack_cap;
+    if (t->stack_count + 1 > t->stack_cap) {
+        if (!pvs__ot_grow(t->a, (void **)&t->stack, &c1, t->stack_count + 1, sizeof(pvs__otpoly)) ||
+            !pvs__ot_grow(t->a, (void **)&t->stack_node, &c2, t->stack_count + 1, sizeof(uint32_t))) {
+            /* keep the arrays consistent with the smaller capacity */
+            t->oom = 1;
+            return 0;
+        }
+        t->stack_cap = c1 < c2 ? c1 : c2;
+    }
+    t->stack[t->stack_count] = *poly;
+    t->stack_node[t->stack_count++] = node;
+    return 1;
+}
+
+/* ---- line-space kernel (§6.4, §6.8) ---- */
+
+/* The oriented line u -> v, (u,1) x (v,1), normalised; 0 when u == v. */
+PVS__STATIC double pvs__ot_line(const double u[2], const double v[2], double l[3]) {
+    double len;
+    l[0] = u[1] - v[1];
+    l[1] = v[0] - u[0];
+    l[2] = u[0] * v[1] - u[1] * v[0];
+    len = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    if (len > 0.0) { l[0] /= len; l[1] /= len; l[2] /= len; }
+    return len;
+}
+/* Signed "side" of primal point p for line l, scaled so that unit lines give comparable values. */
+PVS__STATIC double pvs__ot_side(const double l[3], const double p[2]) {
+    return (l[0] * p[0] + l[1] * p[1] + l[2]) / sqrt(p[0] * p[0] + p[1] * p[1] + 1.0);
+}
+PVS__STATIC void pvs__ot_normalize(double v[3]) {
+    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (len > 0.0) { v[0] /= len; v[1] /= len; v[2] /= len; }
+}
+
+#define PVS__OT_EPS 1e-12
+
+/* Keeps the part of `in` where sign * side(p) >= -slack (slack 0: the exact half). New edges lie in
+   the plane of p and get mark `mark`. Returns the vertex count of the result (0 = empty). */
+PVS__STATIC int pvs__ot_clip(const pvs__otpoly *in, const double p[2], double sign, double slack, int mark, pvs__otpoly *out) {
+    double d[PVS__OT_MAXV];
+    int i, n = in->n, m = 0, any_in = 0;
+    for (i = 0; i < n; ++i) {
+        d[i] = sign * pvs__ot_side(in->v[i], p) + slack;
+        if (d[i] > PVS__OT_EPS) any_in = 1;
+    }
+    out->xsplit = in->xsplit;
+    if (!any_in) { out->n = 0; return 0; }
+    for (i = 0; i < n; ++i) {
+        int j = (i + 1) % n;
+        int in_i = d[i] >= 0.0, in_j = d[j] >= 0.0;
+        if (in_i) {
+            if (m >= PVS__OT_MAXV) { out->n = 0; return -1; }
+            memcpy(out->v[m], in->v[i], sizeof(out->v[m]));
+            memcpy(out->e[m], in->e[i], sizeof(out->e[m]));
+            out->mark[m] = in->mark[i];
+            ++m;
+        }
+        if (in_i != in_j) {
+            double tt = d[i] / (d[i] - d[j]);
+            int k;
+            if (m >= PVS__OT_MAXV) { out->n = 0; return -1; }
+            for (k = 0; k < 3; ++k) out->v[m][k] = in->v[i][k] + tt * (in->v[j][k] - in->v[i][k]);
+            pvs__ot_normalize(out->v[m]);
+            if (in_i) { /* leaving: the new edge runs along p's plane */
+                out->e[m][0] = p[0]; out->e[m][1] = p[1];
+                out->mark[m] = (unsigned char)mark;
+            } else {    /* entering: the rest of edge i */
+                memcpy(out->e[m], in->e[i], sizeof(out->e[m]));
+                out->mark[m] = in->mark[i];
+            }
+            ++m;
+        }
+    }
+    out->n = m;
+    return m;
+}
+
+/* Min and max of side(p) over the polygon's vertices. */
+PVS__STATIC void pvs__ot_range(const pvs__otpoly *q, const double p[2], double *lo, double *hi) {
+    int i;
+    *lo = DBL_MAX; *hi = -DBL_MAX;
+    for (i = 0; i < q->n; ++i) {
+        double s = pvs__ot_side(q->v[i], p);
+        if (s < *lo) *lo = s;
+        if (s > *hi) *hi = s;
+    }
+}
+
+/* The blocker polygon B(S, O) (§6.4.3): oriented lines through S = a b and then O = c d, vertices in
+   the cyclic order a->c, a->d, b->d, b->c; each edge lies in the plane of the two lines' shared
+   point. Coincident vertices (O's supporting line through an end of S, O touching S) merge into
+   the triangle of Fig. 6.5. Returns 0 when the polygon is degenerate (no line set of positive
+   measure). */
+PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const double c[2], const double d[2], pvs__otpoly *q) {
+    const double *from[4], *to[4], *pt[4];
+    double v[4][3], len[4];
+    int i, n = 0, k;
+    from[0] = a; to[0] = c; pt[0] = a;
+    from[1] = a; to[1] = d; pt[1] = d;
+    from[2] = b; to[2] = d; pt[2] = b;
+    from[3] = b; to[3] = c; pt[3] = c;
+    for (i = 0; i < 4; ++i) len[i] = pvs__ot_line(from[i], to[i], v[i]);
+    q->xsplit = 0;
+    for (i = 0; i < 4; ++i) {
+        double dx = to[i][0] - from[i][0], dy = to[i][1] - from[i][1];
+        double scale = fabs(from[i][0]) + fabs(from[i][1]) + fabs(to[i][0]) + fabs(to[i][1]) + 1.0;
+        if (sqrt(dx * dx + dy * dy) <= 1e-12 * scale || len[i] == 0.0) continue; /* u == v: no line */
+        if (n > 0) {
+            double *w = q->v[n - 1];
+            double dd = fabs(w[0] - v[i][0]) + fabs(w[1] - v[i][1]) + fabs(w[2] - v[i][2]);
+            if (dd <= 1e-12) {
+                /* same line as the previous vertex: keep the edge plane through a point on both neighbours */
+                continue;
+            }
+        }
+        memcpy(q->v[n], v[i], sizeof(q->v[n]));
+        q->e[n][0] = pt[i][0]; q->e[n][1] = pt[i][1];
+        q->mark[n] = 0;
+        ++n;
+    }
+    if (n >= 2) {
+        double *w = q->v[n - 1], *f = q->v[0];
+        double dd = fabs(w[0] - f[0]) + fabs(w[1] - f[1]) + fabs(w[2] - f[2]);
+        if (dd <= 1e-12) --n;
+    }
+    q->n = n;
+    if (n < 3) return 0;
+    /* fix each edge's plane: the point of the candidates that lies on both end lines */
+    for (i = 0; i < n; ++i) {
+        const double *v0 = q->v[i], *v1 = q->v[(i + 1) % n];
+        const double *cand[4];
+        int best = -1;
+        double best_err = DBL_MAX;
+        cand[0] = a; cand[1] = b; cand[2] = c; cand[3] = d;
+        for (k = 0; k < 4; ++k) {
+            double e0 = fabs(pvs__ot_side(v0, cand[k])), e1 = fabs(pvs__ot_side(v1, cand[k]));
+            double err = e0 > e1 ? e0 : e1;
+            if (err < best_err) { best_err = err; best = k; }
+        }
+        if (best < 0 || best_err > 1e-9) return 0;
+        q->e[i][0] = cand[best][0]; q->e[i][1] = cand[best][1];
+    }
+    /* convexity: every vertex on the inner side of every edge plane */
+    {
+        double cen[3] = {0, 0, 0};
+        for (i = 0; i < n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
+        for (i = 0; i < n; ++i) {
+            double s = pvs__ot_side(cen, q->e[i]);
+            if (fabs(s) <= 1e-12) return 0;
+            for (k = 0; k < n; ++k)
+                if ((s > 0 ? 1.0 : -1.0) * pvs__ot_side(q->v[k], q->e[i]) < -1e-9) return 0;
+        }
+    }
+    return 1;
+}
+
+/* Parameter along line l (unit direction (l1, -l0)) of its crossing with the line through segment
+   `s` (4 doubles); 0 when (nearly) parallel or the same line. */
+PVS__STATIC int pvs__ot_hit(const double l[3], const double *s, double *t) {
+    double m[3], x, y, w, dx = l[1], dy = -l[0], dn;
+    m[0] = s[1] - s[3];
+    m[1] = s[2] - s[0];
+    m[2] = s[0] * s[3] - s[1] * s[2];
+    x = l[1] * m[2] - l[2] * m[1];
+    y = l[2] * m[0] - l[0] * m[2];
+    w = l[0] * m[1] - l[1] * m[0];
+    dn = sqrt(m[0] * m[0] + m[1] * m[1]);
+    if (!(fabs(w) > 1e-12 * dn)) return 0;
+    *t = (x * dx + y * dy) / (w * sqrt(dx * dx + dy * dy));
+    return 1;
+}
+
+/* Depth order of occluders j and k along the lines of q (§6.5.1): counts vertices where k is
+   clearly in front of j, clearly behind, and ties (the line through X or a shared end point). */
+PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk, int *front, int *behind) {
+    int i;
+    *front = *behind = 0;
+    for (i = 0; i < q->n; ++i) {
+        double tj, tk;
+        if (!pvs__ot_hit(q->v[i], sj, &tj) || !pvs__ot_hit(q->v[i], sk, &tk)) continue;
+        if (tk < tj - t->len_eps) ++*front;
+        else if (tk > tj + t->len_eps) ++*behind;
+    }
+}
+
+/* Turns leaf `node` into the chain of the polygon's unmarked edges (the e-OT, §3.3.3): the sides
+   away from the polygon keep the leaf's old kind and payload; returns the node whose region is the
+   polygon (the old leaf payload is still on it), or PVS__OT_NONE when out of memory. */
+PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
+    double cen[3] = {0, 0, 0};
+    int i, k;
+    for (i = 0; i < q->n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
+    for (i = 0; i < q->n; ++i) {
+        pvs__otnode old;
+        uint32_t outside, inside;
+        double s;
+        if (q->mark[i]) continue;
+        s = pvs__ot_side(cen, q->e[i]);
+        outside = pvs__ot_new_node(t);
+        inside = pvs__ot_new_node(t);
+        if (outside == PVS__OT_NONE || inside == PVS__OT_NONE) return PVS__OT_NONE;
+        old = t->nodes[node];
+        t->nodes[outside] = old;
+        t->nodes[inside] = old;
+        t->nodes[node].kind = 0;
+        t->nodes[node].p[0] = q->e[i][0];
+        t->nodes[node].p[1] = q->e[i][1];
+        t->nodes[node].sign = s > 0 ? 1 : -1;
+        t->nodes[node].child[0] = outside;
+        t->nodes[node].child[1] = inside;
+        node = inside;
+    }
+    return node;
+}
+
+/* Splits leaf `node` by the plane of p; the side `sign * side(p) > 0` continues. Returns that child. */
+PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const double p[2], double sign) {
+    uint32_t neg = pvs__ot_new_node(t), pos = pvs__ot_new_node(t);
+    pvs__otnode old;
+    if (neg == PVS__OT_NONE || pos == PVS__OT_NONE) return PVS__OT_NONE;
+    old = t->nodes[node];
+    t->nodes[neg] = old;
+    t->nodes[pos] = old;
+    t->nodes[node].kind = 0;
+    t->nodes[node].p[0] = p[0];
+    t->nodes[node].p[1] = p[1];
+    t->nodes[node].sign = sign > 0 ? 1 : -1;
+    t->nodes[node].child[0] = neg;
+    t->nodes[node].child[1] = pos;
+    return pos;
+}
+
+/* Gives leaf `node` the payload seq[old_first .. + old_count) followed by `add`. */
+PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_first, uint32_t old_count, uint32_t add) {
+    size_t first = t->seq_count;
+    if (!pvs__ot_grow(t->a, (void **)&t->seq, &t->seq_cap, t->seq_count + old_count + 1, sizeof(uint32_t))) return t->oom = 1, 0;
+    if (old_count) memmove(t->seq + first, t->seq + old_first, old_count * sizeof(uint32_t));
+    t->seq[first + old_count] = add;
+    t->seq_count = first + old_count + 1;
+    t->nodes[node].kind = PVS__OT_IN;
+    t->nodes[node].first = (uint32_t)first;
+    t->nodes[node].count = old_count + 1;
+    return 1;
+}
+
+/* The crossing X of the supporting lines of two segments; 0 when parallel. */
+PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
+    double d1x = s[2] - s[0], d1y = s[3] - s[1], d2x = r[2] - r[0], d2y = r[3] - r[1];
+    double den = d1x * d2y - d1y * d2x, u;
+    if (!(fabs(den) > 1e-14 * (fabs(d1x) + fabs(d1y)) * (fabs(d2x) + fabs(d2y)))) return 0;
+    u = ((r[0] - s[0]) * d2y - (r[1] - s[1]) * d2x) / den;
+    x[0] = s[0] + u * d1x;
+    x[1] = s[1] + u * d1y;
+    return 1;
+}
+
+/* ---- 2D from-region (ch. 6): insertion with the four depth cases of §6.5.1 ---- */
+
+/* Inserts blocker polygon q of occluder k (§3.3.3 with the 2D in-leaf cases). */
+PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
+    size_t base = t->stack_count;
+    const double *sk = t->seg + 4 * (size_t)k;
+    if (!pvs__ot_push(t, 0, blocker)) return;
+    while (t->stack_count > base && !t->oom) {
+        pvs__otpoly q, part;
+        uint32_t node = t->stack_node[--t->stack_count];
+        pvs__otnode *nd;
+        q = t->stack[t->stack_count];
+        nd = t->nodes + node;
+        if (nd->kind == 0) {
+            double lo, hi, p[2];
+            int i;
+            p[0] = nd->p[0]; p[1] = nd->p[1];
+            pvs__ot_range(&q, p, &lo, &hi);
+            lo *= nd->sign; hi *= nd->sign;
+            if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
+            for (i = 0; i < q.n; ++i)
+                if (q.e[i][0] == p[0] && q.e[i][1] == p[1]) q.mark[i] = 1;
+            if (lo >= -1e-12) { pvs__ot_push(t, nd->child[1], &q); continue; }
+            if (hi <= 1e-12) { pvs__ot_push(t, nd->child[0], &q); continue; }
+            if (pvs__ot_clip(&q, p, (double)nd->sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[1], &part);
+            if (pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[0], &part);
+        } else if (nd->kind == PVS__OT_OUT) {
+            uint32_t leaf = pvs__ot_refine(t, node, &q);
+            if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
+        } else {
+            uint32_t j = t->seq[nd->first];
+            const double *sj = t->seg + 4 * (size_t)j;
+            int front, behind;
+            if (j == k) continue;
+            pvs__ot_depth(t, &q, sj, sk, &front, &behind);
+            if (!front) continue;                        /* case 1 (behind) and case 4 (collinear) */
+            if (behind && !q.xsplit) {                   /* case 3: split at the crossing X */
+                double x[2];
+                if (pvs__ot_cross(sj, sk, x)) {
+                    q.xsplit = 1;
+                    if (pvs__ot_clip(&q, x, 1.0, 0.0, 0, &part) >= 3) pvs__ot_push(t, node, &part);
+                    if (pvs__ot_clip(&q, x, -1.0, 0.0, 0, &part) >= 3) pvs__ot_push(t, node, &part);
+                    continue;
+                }
+            }
+            /* case 2 (or an unresolved crossing, counted as in front: conservative) */
+            {
+                uint32_t leaf = pvs__ot_refine(t, node, &q);
+                if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
+            }
+        }
+    }
+    t->stack_count = base;
+}
+
+/* Read-only test (§3.3.4, §6.5.3): 1 when some line of q reaches occluder k before any stored
+   occluder. Splits with slack (both sides see a little more), stops at the first visible leaf. */
+PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
+    size_t base = t->stack_count;
+    const double *sk = t->seg + 4 * (size_t)k;
+    int vis = 0;
+    if (!pvs__ot_push(t, 0, blocker)) return 1;
+    while (t->stack_count > base && !vis) {
+        pvs__otpoly q, part;
+        uint32_t node = t->stack_node[--t->stack_count];
+        const pvs__otnode *nd = t->nodes + node;
+        q = t->stack[t->stack_count];
+        if (nd->kind == 0) {
+            double lo, hi, p[2];
+            p[0] = nd->p[0]; p[1] = nd->p[1];
+            pvs__ot_range(&q, p, &lo, &hi);
+            lo *= nd->sign; hi *= nd->sign;
+            if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
+            /* a polygon whose vertices sit on the plane within 1e-12 (an edge on the plane) goes to one
+               side; otherwise both sides get their part widened by the same 1e-12 */
+            if (lo >= -1e-12) vis |= !pvs__ot_push(t, nd->child[1], &q);
+            else if (hi <= 1e-12) vis |= !pvs__ot_push(t, nd->child[0], &q);
+            else {
+                int c0 = pvs__ot_clip(&q, p, (double)nd->sign, 1e-12, 0, &part);
+                if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[1], c0 > 0 ? &part : &q);
+                c0 = pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 1e-12, 0, &part);
+                if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[0], c0 > 0 ? &part : &q);
+            }
+        } else if (nd->kind == PVS__OT_OUT) {
+            vis = 1;
+        } else {
+            uint32_t j = t->seq[nd->first];
+            int front, behind;
+            if (j == k) { vis = 1; break; }
+            pvs__ot_depth(t, &q, t->seg + 4 * (size_t)j, sk, &front, &behind);
+            if (front || !behind) vis = 1; /* in front somewhere, or all ties (collinear): visible */
+        }
+    }
+    t->stack_count = base;
+    return vis || t->oom;
+}
+
+/* ---- shared driver pieces ---- */
+
+/* Clips segment s (4 doubles) to the open half-plane right of a -> b (the outer side of a CCW
+   edge). Returns 0 when nothing is left; *on_line tells which clipped end (1 = first, 2 = second)
+   was moved onto the line. */
+PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const double *s, double out[4], int *on_line) {
+    double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
+    double f0 = (ex * (s[1] - a[1]) - ey * (s[0] - a[0])) / len;
+    double f1 = (ex * (s[3] - a[1]) - ey * (s[2] - a[0])) / len;
+    *on_line = 0;
+    memcpy(out, s, 4 * sizeof(double));
+    if (f0 >= 0.0 && f1 >= 0.0) return 0;
+    if (f0 >= 0.0) {
+        double u = f0 / (f0 - f1);
+        out[0] = s[0] + u * (s[2] - s[0]);
+        out[1] = s[1] + u * (s[3] - s[1]);
+        *on_line = 1;
+    } else if (f1 >= 0.0) {
+        double u = f1 / (f1 - f0);
+        out[2] = s[2] + u * (s[0] - s[2]);
+        out[3] = s[3] + u * (s[1] - s[3]);
+        *on_line = 2;
+    }
+    return !(out[0] == out[2] && out[1] == out[3]);
+}
+
+/* The blockers of source edge a -> b (lines leaving to its right) and the clipped segment o: one,
+   or two when o's supporting line crosses the edge at x (Fig. 6.5). Returns how many were built
+   (0..2); *degenerate is set when a non-empty line set could not be represented. */
+PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line, pvs__otpoly out[2], int *degenerate) {
+    double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
+    int n = 0, have_x = 0;
+    *degenerate = 0;
+    if (on_line) {
+        x[0] = on_line == 1 ? o[0] : o[2];
+        x[1] = on_line == 1 ? o[1] : o[3];
+        u = ((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / (ex * ex + ey * ey);
+        have_x = 1;
+    } else {
+        double seg[4];
+        seg[0] = a[0]; seg[1] = a[1]; seg[2] = b[0]; seg[3] = b[1];
+        if (pvs__ot_cross(seg, o, x)) {
+            u = ((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / (ex * ex + ey * ey);
+            have_x = 1;
+        }
+    }
+    if (have_x && u > 1e-12 && u < 1.0 - 1e-12) {
+        if (pvs__ot_blocker(a, x, o, o + 2, &out[n])) ++n; else *degenerate = 1;
+        if (pvs__ot_blocker(x, b, o, o + 2, &out[n])) ++n; else *degenerate = 1;
+    } else {
+        if (pvs__ot_blocker(a, b, o, o + 2, &out[n])) ++n; else *degenerate = 1;
+    }
+    return n;
+}
+
+typedef struct pvs__ot_order {
+    double key;
+    uint32_t index;
+} pvs__ot_order;
+PVS__STATIC int pvs__ot_order_cmp(const void *x, const void *y) {
+    const pvs__ot_order *a = (const pvs__ot_order *)x, *b = (const pvs__ot_order *)y;
+    if (a->key != b->key) return a->key < b->key ? -1 : 1;
+    return a->index < b->index ? -1 : a->index > b->index;
+}
+/* Squared distance from point p to segment s. */
+PVS__STATIC double pvs__ot_dist2(const double p[2], const double *s) {
+    double dx = s[2] - s[0], dy = s[3] - s[1], l2 = dx * dx + dy * dy, u = 0.0, qx, qy;
+    if (l2 > 0.0) {
+        u = ((p[0] - s[0]) * dx + (p[1] - s[1]) * dy) / l2;
+        if (u < 0.0) u = 0.0;
+        if (u > 1.0) u = 1.0;
+    }
+    qx = s[0] + u * dx - p[0];
+    qy = s[1] + u * dy - p[1];
+    return qx * qx + qy * qy;
+}
+/* 1 when segment s meets the closed convex CCW polygon poly (n vertices). */
+PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *poly, uint32_t n) {
+    double t0 = 0.0, t1 = 1.0, dx = s[2] - s[0], dy = s[3] - s[1];
+    uint32_t i;
+    for (i = 0; i < n; ++i) {
+        const double *a = poly + 2 * i, *b = poly + 2 * ((i + 1) % n);
+        double ex = b[0] - a[0], ey = b[1] - a[1];
+        double f = ex * (s[1] - a[1]) - ey * (s[0] - a[0]); /* >= 0 inside */
+        double g = ex * dy - ey * dx;                        /* change of f along s */
+        if (g == 0.0) {
+            if (f < 0.0) return 0;
+        } else {
+            double u = -f / g;
+            if (g > 0.0) { if (u > t0) t0 = u; }
+            else if (u < t1) t1 = u;
+            if (t0 > t1) return 0;
+        }
+    }
+    return 1;
+}
+
+/* ---- 2D from-region API (ch. 6) ---- */
+
+PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments, pvs_word *visible_objects,
+                                     pvs_otree_stats *stats, pvs_error *err) {
+    pvs__otree t;
+    pvs_allocator al;
+    double *cell = NULL, *seg = NULL, cx = 0.0, cy = 0.0, area = 0.0;
+    pvs__ot_order *order = NULL;
+    uint32_t n, i, k, budget, count;
+    pvs_result r = PVS_OK;
+    pvs_otree_stats st;
+    memset(&st, 0, sizeof(st));
+    memset(&t, 0, sizeof(t));
+    if (stats) *stats = st;
+    if (!desc || !desc->cell || desc->cell_vertex_count < 3 || (desc->segment_count && !desc->segments))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, a cell of >= 3 vertices and the segments are required");
+    n = desc->cell_vertex_count;
+    count = desc->segment_count;
+    for (i = 0; i < 2 * n; ++i)
+        if (!pvs__finite(desc->cell[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 2, 0, "cell vertex %u is not finite", i / 2);
+    for (i = 0; i < 4 * count; ++i)
+        if (!pvs__finite(desc->segments[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 4, 0, "segment %u is not finite", i / 4);
+    if (desc->segment_objects)
+        for (i = 0; i < count; ++i)
+            if (desc->segment_objects[i] != PVS_NO_OBJECT && desc->segment_objects[i] >= desc->object_count)
+                return pvs__fail(err, PVS_ERROR_INDEX_OUT_OF_RANGE, i, 0, "segment %u names object %u of %u", i, desc->segment_objects[i], desc->object_count);
+    al = desc->allocator;
+    t.a = &al;
+    cell = (double *)pvs__alloc_array(&al, 2 * (size_t)n, sizeof(double));
+    seg = (double *)pvs__alloc_array(&al, 4 * (size_t)count + 4, sizeof(double));
+    order = (pvs__ot_order *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(pvs__ot_order));
+    if (!cell || !seg || !order) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2D visibility arrays"); goto done; }
+    for (i = 0; i < n; ++i) { cx += desc->cell[2 * i]; cy += desc->cell[2 * i + 1]; }
+    cx /= n; cy /= n;
+    for (i = 0; i < n; ++i) {
+        cell[2 * i] = (double)desc->cell[2 * i] - cx;
+        cell[2 * i + 1] = (double)desc->cell[2 * i + 1] - cy;
+    }
+    for (i = 0; i < n; ++i) {
+        const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n);
+        area += a[0] * b[1] - a[1] * b[0];
+    }
+    if (!(fabs(area) > 0.0)) { r = pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon has no area"); goto done; }
+    if (area < 0.0) /* make it counter-clockwise */
+        for (i = 0; i < n / 2; ++i) {
+            double tx = cell[2 * i], ty = cell[2 * i + 1];
+            cell[2 * i] = cell[2 * (n - 1 - i)]; cell[2 * i + 1] = cell[2 * (n - 1 - i) + 1];
+            cell[2 * (n - 1 - i)] = tx; cell[2 * (n - 1 - i) + 1] = ty;
+        }
+    for (i = 0; i < n; ++i) { /* convex: no right turn */
+        const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n), *c = cell + 2 * ((i + 2) % n);
+        if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) < 0.0) {
+            r = pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon is not convex");
+            goto done;
+        }
+    }
+    {
+        double ext = 1.0, o[2] = {0.0, 0.0};
+        for (i = 0; i < 4 * count; ++i) {
+            seg[i] = (double)desc->segments[i] - (i & 1 ? cy : cx);
+            if (fabs(seg[i]) > ext) ext = fabs(seg[i]);
+        }
+        t.len_eps = 1e-9 * ext;
+        for (i = 0; i < count; ++i) {
+            order[i].key = pvs__ot_dist2(o, seg + 4 * i);
+            order[i].index = i;
+        }
+    }
+    qsort(order, count, sizeof(*order), pvs__ot_order_cmp);
+    t.seg = seg;
+    budget = desc->node_budget ? desc->node_budget : 1u << 20;
+    if (!pvs__ot_reset(&t)) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree"); goto done; }
+    /* the sweep (§6.6): occluders by distance to the cell's centre, one tree for all edges (§6.5.2) */
+    for (i = 0; i < count && !t.oom; ++i) {
+        uint32_t j = order[i].index;
+        const double *s = seg + 4 * j;
+        if (desc->segment_flags && (desc->segment_flags[j] & PVS_SEGMENT_NO_OCCLUSION)) continue;
+        if (s[0] == s[2] && s[1] == s[3]) continue;
+        if (t.node_count >= budget) { st.budget_exceeded = 1; break; }
+        ++st.occluders_inserted;
+        for (k = 0; k < n; ++k) {
+            double o[4];
+            pvs__otpoly bl[2];
+            int on, nb, deg, m;
+            if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
+            /* an occluder crossing the cell is visible anyway; its outside parts still block */
+            nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
+            for (m = 0; m < nb; ++m) pvs__ot2_insert(&t, &bl[m], j);
+        }
+    }
+    if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree nodes"); goto done; }
+    /* exact re-test of every segment against the final tree (§6.6) */
+    if (visible_segments) memset(visible_segments, 0, PVS_BITSET_WORDS(count) * sizeof(pvs_word));
+    if (visible_objects) memset(visible_objects, 0, PVS_BITSET_WORDS(desc->object_count) * sizeof(pvs_word));
+    for (i = 0; i < count; ++i) {
+        const double *s = seg + 4 * i;
+        int vis = 0;
+        if (pvs__ot_segment_meets_polygon(s, cell, n)) vis = 1;
+        else if (s[0] == s[2] && s[1] == s[3]) vis = 1; /* a point: no line set to test, count it visible */
+        for (k = 0; k < n && !vis; ++k) {
+            double o[4];
+            pvs__otpoly bl[2];
+            int on, nb, deg, m;
+            if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
+            nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
+            if (deg) vis = 1;
+            for (m = 0; m < nb && !vis; ++m) vis = pvs__ot2_visible(&t, &bl[m], i);
+        }
+        if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree test"); goto done; }
+        if (!vis) continue;
+        ++st.visible_segments;
+        if (visible_segments) pvs_bitset_set(visible_segments, i);
+        if (visible_objects) {
+            uint32_t obj = desc->segment_objects ? desc->segment_objects[i] : i;
+            if (obj != PVS_NO_OBJECT && obj < desc->object_count) pvs_bitset_set(visible_objects, obj);
+        }
+    }
+    st.nodes = (uint32_t)t.node_count;
+    if (stats) *stats = st;
+    pvs__ok(err);
+done:
+    pvs__ot_free(&t);
+    pvs__free_array(&al, cell, 2 * (size_t)n, sizeof(double));
+    pvs__free_array(&al, seg, 4 * (size_t)count + 4, sizeof(double));
+    pvs__free_array(&al, order, (size_t)count + 1, sizeof(pvs__ot_order));
+    return r;
+}
+
+PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err) { (void)desc; (void)visible_objects; (void)stats; return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "todo"); }
 
 // >>occluders
 /* (planned: occluder synthesis) */

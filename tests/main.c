@@ -12,13 +12,14 @@ void test_kdtree(void);
 void test_gen(void);
 void test_tools(void);
 void test_cli(void);
+void test_otree(void);
 
 static const struct {
     const char *name;
     void (*run)(void);
 } groups[] = {
     {"core", test_core}, {"format", test_format}, {"noalloc", test_noalloc}, {"kdtree", test_kdtree},
-    {"gen", test_gen},   {"tools", test_tools},   {"cli", test_cli},
+    {"gen", test_gen},   {"tools", test_tools},   {"cli", test_cli}, {"otree", test_otree},
 };
 
 int main(int argc, char **argv) {

@@ -1,0 +1,311 @@
+/* test_otree.c - occlusion trees: exact 2D from-region visibility against brute-force 2D ray
+   sampling, order independence, closed rings, degenerate inputs; 2.5D c-LSS against 3D ray sampling
+   and the bake method. */
+#include "../pvs.h"
+#include "test.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static uint64_t ot_rng = 0x5eed0ull;
+static double rnd(void) {
+    uint64_t z = (ot_rng += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
+}
+static float rndf(float lo, float hi) { return lo + (hi - lo) * (float)rnd(); }
+
+/* ---- brute-force 2D reference: rays from sample points of the cell, first segment hit ---- */
+
+/* Ray o + t d (t > 0) against segment s: returns t of the hit or -1. Touching an end counts. */
+static double ray_seg(const double o[2], const double d[2], const float *s) {
+    double ex = (double)s[2] - s[0], ey = (double)s[3] - s[1];
+    double den = d[0] * ey - d[1] * ex;
+    double wx = (double)s[0] - o[0], wy = (double)s[1] - o[1];
+    double t, u;
+    if (den == 0.0) return -1.0;
+    t = (wx * ey - wy * ex) / den;
+    u = (wx * d[1] - wy * d[0]) / den;
+    if (t <= 0.0 || u < 0.0 || u > 1.0) return -1.0;
+    return t;
+}
+
+/* Marks in `vis` the first segment hit by rays from `points` points of the convex cell (its
+   vertices, edge points and interior points) in `dirs` directions each. */
+static void ref2d(const float *cell, uint32_t nv, const float *seg, uint32_t ns, const uint8_t *flags, int points, int dirs,
+                  unsigned char *vis) {
+    int p, k;
+    uint32_t i;
+    memset(vis, 0, ns);
+    for (p = 0; p < points; ++p) {
+        double o[2];
+        if ((uint32_t)p < nv) {
+            o[0] = cell[2 * p]; o[1] = cell[2 * p + 1];
+        } else if (p % 2) { /* a point on an edge */
+            uint32_t e = (uint32_t)(rnd() * nv) % nv;
+            double u = rnd();
+            o[0] = cell[2 * e] + u * (cell[2 * ((e + 1) % nv)] - cell[2 * e]);
+            o[1] = cell[2 * e + 1] + u * (cell[2 * ((e + 1) % nv) + 1] - cell[2 * e + 1]);
+        } else { /* a random convex combination */
+            double w = 0, acc[2] = {0, 0};
+            for (i = 0; i < nv; ++i) {
+                double r = rnd();
+                r = r * r * r;
+                acc[0] += r * cell[2 * i]; acc[1] += r * cell[2 * i + 1]; w += r;
+            }
+            o[0] = acc[0] / w; o[1] = acc[1] / w;
+        }
+        for (k = 0; k < dirs; ++k) {
+            double a = 6.283185307179586 * (k + rnd()) / dirs, d[2], best = 1e300;
+            uint32_t hit = 0xffffffffu;
+            d[0] = cos(a); d[1] = sin(a);
+            for (i = 0; i < ns; ++i) {
+                double t = ray_seg(o, d, seg + 4 * i);
+                if (t > 0.0 && t < best && !(flags && (flags[i] & PVS_SEGMENT_NO_OCCLUSION))) {
+                    best = t; hit = i;
+                }
+            }
+            if (hit != 0xffffffffu) vis[hit] = 1;
+        }
+    }
+}
+
+/* Runs pvs_visibility_2d and returns the visible flags. */
+static int run2d(const float *cell, uint32_t nv, const float *seg, uint32_t ns, unsigned char *vis, pvs_otree_stats *st) {
+    pvs_visibility_2d_desc d;
+    pvs_word *bits = (pvs_word *)calloc(PVS_BITSET_WORDS(ns) + 1, sizeof(pvs_word));
+    pvs_error e;
+    pvs_result r;
+    uint32_t i;
+    memset(&d, 0, sizeof(d));
+    d.cell = cell; d.cell_vertex_count = nv;
+    d.segments = seg; d.segment_count = ns;
+    d.object_count = ns;
+    r = pvs_visibility_2d(&d, bits, NULL, st, &e);
+    if (r != PVS_OK) fprintf(stderr, "pvs_visibility_2d: %s\n", e.message);
+    for (i = 0; i < ns; ++i) vis[i] = (unsigned char)pvs_bitset_test(bits, i);
+    free(bits);
+    return r;
+}
+
+/* Compares with the reference: never fewer; `extra` = found but not sampled. */
+static void compare2d(const char *name, const float *cell, uint32_t nv, const float *seg, uint32_t ns, int points, int dirs,
+                      double max_extra_fraction) {
+    unsigned char *ref = (unsigned char *)malloc(ns + 1), *got = (unsigned char *)malloc(ns + 1);
+    uint32_t i, miss = 0, extra = 0, nref = 0;
+    pvs_otree_stats st;
+    CHECK(run2d(cell, nv, seg, ns, got, &st) == PVS_OK);
+    ref2d(cell, nv, seg, ns, NULL, points, dirs, ref);
+    for (i = 0; i < ns; ++i) {
+        nref += ref[i];
+        if (ref[i] && !got[i]) {
+            ++miss;
+            if (miss < 5) fprintf(stderr, "%s: segment %u (%g %g %g %g) sampled visible, otree says hidden\n", name, i, seg[4 * i],
+                                  seg[4 * i + 1], seg[4 * i + 2], seg[4 * i + 3]);
+        }
+        if (got[i] && !ref[i]) ++extra;
+    }
+    CHECK(miss == 0);
+    CHECK(extra <= (uint32_t)(max_extra_fraction * nref) + 2);
+    if (extra > (uint32_t)(max_extra_fraction * nref) + 2) fprintf(stderr, "%s: %u sampled visible, %u extra\n", name, nref, extra);
+    CHECK(!st.budget_exceeded);
+    free(ref);
+    free(got);
+}
+
+/* Order independence: a permuted copy must give the same visible set. */
+static void shuffled2d(const float *cell, uint32_t nv, const float *seg, uint32_t ns) {
+    uint32_t *perm = (uint32_t *)malloc(ns * sizeof(uint32_t)), i;
+    float *s2 = (float *)malloc(4 * ns * sizeof(float) + 16);
+    unsigned char *a = (unsigned char *)malloc(ns + 1), *b = (unsigned char *)malloc(ns + 1);
+    uint32_t diff = 0;
+    for (i = 0; i < ns; ++i) perm[i] = i;
+    for (i = ns; i > 1; --i) {
+        uint32_t j = (uint32_t)(rnd() * i) % i, tmp = perm[i - 1];
+        perm[i - 1] = perm[j]; perm[j] = tmp;
+    }
+    for (i = 0; i < ns; ++i) {
+        int flip = rnd() < 0.5;
+        const float *s = seg + 4 * perm[i];
+        s2[4 * i] = flip ? s[2] : s[0]; s2[4 * i + 1] = flip ? s[3] : s[1];
+        s2[4 * i + 2] = flip ? s[0] : s[2]; s2[4 * i + 3] = flip ? s[1] : s[3];
+    }
+    run2d(cell, nv, seg, ns, a, NULL);
+    run2d(cell, nv, s2, ns, b, NULL);
+    for (i = 0; i < ns; ++i) diff += a[perm[i]] != b[i];
+    CHECK(diff == 0);
+    if (diff) fprintf(stderr, "shuffled: %u segments differ\n", diff);
+    free(perm); free(s2); free(a); free(b);
+}
+
+static uint32_t random_segments(float *seg, uint32_t n, float extent, float maxlen) {
+    uint32_t i;
+    for (i = 0; i < n; ++i) {
+        float x = rndf(-extent, extent), y = rndf(-extent, extent), a = rndf(0, 6.2831853f), l = rndf(0.2f, maxlen);
+        if (fabsf(x) < 2.5f && fabsf(y) < 2.5f) x += 5.0f; /* keep the cell free */
+        seg[4 * i] = x; seg[4 * i + 1] = y;
+        seg[4 * i + 2] = x + l * cosf(a); seg[4 * i + 3] = y + l * sinf(a);
+    }
+    return n;
+}
+
+/* Grid ground plan: square blocks (closed rings of 4 segments) with streets between. */
+static uint32_t grid_plan(float *seg, int blocks, float block, float street, int jitter) {
+    uint32_t n = 0;
+    int i, j, k;
+    float pitch = block + street, off = -0.5f * blocks * pitch;
+    for (i = 0; i < blocks; ++i)
+        for (j = 0; j < blocks; ++j) {
+            float x0 = off + i * pitch + street * 0.5f, y0 = off + j * pitch + street * 0.5f, x1 = x0 + block, y1 = y0 + block;
+            float c[8];
+            if (jitter) { x1 -= rndf(0, block * 0.4f); y1 -= rndf(0, block * 0.4f); }
+            c[0] = x0; c[1] = y0; c[2] = x1; c[3] = y0; c[4] = x1; c[5] = y1; c[6] = x0; c[7] = y1;
+            for (k = 0; k < 4; ++k) {
+                seg[4 * n] = c[2 * k]; seg[4 * n + 1] = c[2 * k + 1];
+                seg[4 * n + 2] = c[(2 * k + 2) % 8]; seg[4 * n + 3] = c[(2 * k + 3) % 8];
+                ++n;
+            }
+        }
+    return n;
+}
+
+static void test_2d_random(void) {
+    float cell[8] = {-1, -1, 1, -1, 1, 1, -1, 1};
+    float seg[4 * 200];
+    int rep;
+    for (rep = 0; rep < 4; ++rep) {
+        uint32_t n = random_segments(seg, 60 + 40 * rep, 12.0f, 4.0f);
+        compare2d("random", cell, 4, seg, n, 160, 1500, 0.2);
+        shuffled2d(cell, 4, seg, n);
+    }
+    {   /* a triangle cell, clockwise, off-centre */
+        float tri[6] = {3, 3, 4, 5, 5, 3.2f};
+        uint32_t n = random_segments(seg, 80, 15.0f, 3.0f);
+        uint32_t i, keep = 0;
+        for (i = 0; i < n; ++i) { /* drop segments crossing the cell's box */
+            float *s = seg + 4 * i;
+            if (fminf(s[0], s[2]) < 5.5f && fmaxf(s[0], s[2]) > 2.5f && fminf(s[1], s[3]) < 5.5f && fmaxf(s[1], s[3]) > 2.5f) continue;
+            memmove(seg + 4 * keep++, s, 4 * sizeof(float));
+        }
+        compare2d("triangle", tri, 3, seg, keep, 160, 1500, 0.2);
+        shuffled2d(tri, 3, seg, keep);
+    }
+}
+
+static void test_2d_grid(void) {
+    float cell[8] = {-3, -3, 3, -3, 3, 3, -3, 3};
+    float seg[4 * 4 * 100];
+    uint32_t n = grid_plan(seg, 8, 20.0f, 10.0f, 0);
+    compare2d("grid", cell, 4, seg, n, 160, 3000, 0.25);
+    shuffled2d(cell, 4, seg, n);
+    n = grid_plan(seg, 8, 20.0f, 10.0f, 1);
+    compare2d("city plan", cell, 4, seg, n, 160, 3000, 0.25);
+    shuffled2d(cell, 4, seg, n);
+}
+
+static void test_2d_rings(void) {
+    float cell[8] = {-1, -1, 1, -1, 1, 1, -1, 1};
+    float seg[4 * 200];
+    unsigned char vis[200];
+    uint32_t n = 0, i, ring;
+    int k, m = 17;
+    /* a closed ring of 17 segments around the cell, then objects outside it */
+    for (k = 0; k < m; ++k) {
+        double a0 = 6.283185307179586 * k / m, a1 = 6.283185307179586 * (k + 1) / m;
+        seg[4 * n] = (float)(5 * cos(a0)); seg[4 * n + 1] = (float)(5 * sin(a0));
+        seg[4 * n + 2] = (float)(5 * cos(a1)); seg[4 * n + 3] = (float)(5 * sin(a1));
+        ++n;
+    }
+    /* the end points must be shared exactly */
+    seg[4 * (m - 1) + 2] = seg[0]; seg[4 * (m - 1) + 3] = seg[1];
+    ring = n;
+    n += random_segments(seg + 4 * n, 60, 20.0f, 3.0f);
+    for (i = ring; i < n; ++i) { /* push everything outside the ring */
+        float *s = seg + 4 * i;
+        float cx = 0.5f * (s[0] + s[2]), cy = 0.5f * (s[1] + s[3]), r = sqrtf(cx * cx + cy * cy) + 1e-3f;
+        float f = r < 9.0f ? (9.0f + r) / r : 1.0f;
+        s[0] *= f; s[1] *= f; s[2] *= f; s[3] *= f;
+    }
+    CHECK(run2d(cell, 4, seg, n, vis, NULL) == PVS_OK);
+    for (i = 0; i < ring; ++i) CHECK(vis[i]);
+    for (i = ring; i < n; ++i) CHECK(!vis[i]);
+    /* the same ring as a square whose corners sit on the lines of the cell's edges */
+    {
+        float sq[16] = {-4, -1, 4, -1, 4, -1, 4, 4, 4, 4, -4, 4, -4, 4, -4, -1};
+        float all[4 * 8];
+        memcpy(all, sq, sizeof(sq));
+        all[16] = -10; all[17] = 0; all[18] = 10; all[19] = 0;   /* behind? no: crosses the ring - visible */
+        all[20] = -10; all[21] = 6; all[22] = 10; all[23] = 6;   /* outside */
+        all[24] = 6; all[25] = -0.5f; all[26] = 6; all[27] = 0.5f; /* outside */
+        CHECK(run2d(cell, 4, all, 7, vis, NULL) == PVS_OK);
+        CHECK(vis[0] && vis[1] && vis[2] && vis[3]);
+        CHECK(vis[4]);
+        CHECK(!vis[5]);
+        CHECK(!vis[6]); /* only visible below y = -1 if the ring were open there: it is (the bottom side is on y = -1) */
+    }
+}
+
+static void test_2d_degenerate(void) {
+    float cell[8] = {-1, -1, 1, -1, 1, 1, -1, 1};
+    unsigned char vis[16];
+    /* collinear overlapping segments, a zero-length segment, a segment touching the cell, a segment on
+       the line of a cell edge, a segment whose line passes through a cell corner */
+    float seg[4 * 8] = {
+        3, -1.5f, 3, 1.5f, /* 0: wall */
+        3, -1, 3, 1,       /* 1: collinear inside 0: ties count visible */
+        5, 0, 5, 0,        /* 2: a point */
+        1, 0.2f, 2, 0.2f,  /* 3: touches the cell */
+        2, -1, 4, -1,      /* 4: on the line of the bottom edge */
+        2, 2, 4, 4,        /* 5: its line passes through the corner (1, 1) */
+        7, -3, 7, 3,       /* 6: behind the wall partly: visible around it */
+        3.5f, -0.5f, 3.5f, 0.5f, /* 7: right behind the wall: hidden */
+    };
+    pvs_otree_stats st;
+    CHECK(run2d(cell, 4, seg, 8, vis, &st) == PVS_OK);
+    CHECK(vis[0]); CHECK(vis[1]); CHECK(vis[3]); CHECK(vis[4]); CHECK(vis[5]); CHECK(vis[6]);
+    CHECK(!vis[7]);
+    compare2d("degenerate", cell, 4, seg, 8, 100, 2000, 1.0);
+    shuffled2d(cell, 4, seg, 8);
+    /* bad input */
+    {
+        pvs_visibility_2d_desc d;
+        pvs_error e;
+        float flat[6] = {0, 0, 1, 1, 2, 2};
+        memset(&d, 0, sizeof(d));
+        CHECK(pvs_visibility_2d(NULL, NULL, NULL, NULL, &e) == PVS_ERROR_INVALID_ARGUMENT);
+        d.cell = flat; d.cell_vertex_count = 3;
+        CHECK(pvs_visibility_2d(&d, NULL, NULL, NULL, &e) == PVS_ERROR_BAD_CELL);
+    }
+}
+
+static void test_2d_budget(void) {
+    float cell[8] = {-1, -1, 1, -1, 1, 1, -1, 1};
+    float seg[4 * 120];
+    uint32_t n = random_segments(seg, 120, 12.0f, 4.0f), i, extra = 0;
+    unsigned char full[120], cut[120];
+    pvs_visibility_2d_desc d;
+    pvs_word bits[2];
+    pvs_otree_stats st;
+    run2d(cell, 4, seg, n, full, NULL);
+    memset(&d, 0, sizeof(d));
+    d.cell = cell; d.cell_vertex_count = 4; d.segments = seg; d.segment_count = n;
+    d.node_budget = 40;
+    CHECK(pvs_visibility_2d(&d, bits, NULL, &st, NULL) == PVS_OK);
+    CHECK(st.budget_exceeded == 1);
+    for (i = 0; i < n; ++i) {
+        cut[i] = (unsigned char)pvs_bitset_test(bits, i);
+        CHECK(cut[i] >= full[i]); /* a smaller tree never hides more */
+        extra += cut[i] > full[i];
+    }
+    CHECK(extra > 0);
+}
+
+void test_otree(void) {
+    test_2d_degenerate();
+    test_2d_rings();
+    test_2d_random();
+    test_2d_grid();
+    test_2d_budget();
+}
