@@ -2665,7 +2665,385 @@ done:
     return r;
 }
 
-PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err) { (void)desc; (void)visible_objects; (void)stats; return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "todo"); }
+/* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
+
+/* Parameter on segment s (4 doubles, 0 at the first end, 1 at the second) where line l crosses its
+   supporting line; 0 when parallel. */
+PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
+    double dx = s[2] - s[0], dy = s[3] - s[1];
+    double a = l[0] * s[0] + l[1] * s[1] + l[2], b = l[0] * dx + l[1] * dy;
+    if (!(fabs(b) > 1e-14 * (fabs(a) + 1e-300))) return 0;
+    *u = -a / b;
+    return 1;
+}
+
+#define PVS__OT25_MAX_UMBRAE 96
+
+/* Extended umbra (§7.5.1) of occluder j on the top edge of a far segment e (4 doubles, height h)
+   for 3D rays leaving the source edge between the eye points e0 and e1 (height t->eye) over j's top
+   edge: the parameters u on e where every such ray is below j's top, as an open interval (u0, u1).
+   For one eye point p the rays over j's top line form a plane; a point q of e is below it when
+   (h - H) * D(p) < (h_j - H) * (D(p) - D(q)) with D the signed distance to j's supporting line
+   (> 0 on the source side). D(p) is linear along the source edge, so the bound is monotone in p and
+   the two extreme eyes bound every eye in between; this is the plane pair pi_o / pi_s of the
+   thesis evaluated at the funnel's own ends. Returns 0 when the umbra is empty or ill-posed. */
+PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, uint32_t j, const double e0[2], const double e1[2], const double *e, double h,
+                                double *u0, double *u1) {
+    const double *s = t->seg + 4 * (size_t)j;
+    double dx = s[2] - s[0], dy = s[3] - s[1], len = sqrt(dx * dx + dy * dy), hj = t->top[j] - t->eye, hn = h - t->eye;
+    double de[2], q0, q1, sigma, lo = -DBL_MAX, hi = DBL_MAX;
+    const double *eye[2];
+    int i;
+    if (!(len > 0.0)) return 0;
+    eye[0] = e0; eye[1] = e1;
+    for (i = 0; i < 2; ++i) de[i] = (dx * (eye[i][1] - s[1]) - dy * (eye[i][0] - s[0])) / len;
+    q0 = (dx * (e[1] - s[1]) - dy * (e[0] - s[0])) / len;
+    q1 = (dx * (e[3] - s[1]) - dy * (e[2] - s[0])) / len;
+    sigma = fabs(de[0]) >= fabs(de[1]) ? (de[0] > 0 ? 1.0 : -1.0) : (de[1] > 0 ? 1.0 : -1.0);
+    de[0] *= sigma; de[1] *= sigma; q0 *= sigma; q1 *= sigma;
+    if (de[0] < -t->len_eps || de[1] < -t->len_eps) return 0; /* the source range straddles j's line */
+    /* constraints alpha + beta u > margin */
+    for (i = 0; i < 3; ++i) {
+        double alpha, beta, margin, lim;
+        if (i < 2) {
+            double d = de[i] > 0.0 ? de[i] : 0.0;
+            alpha = hj * (d - q0) - hn * d;
+            beta = -hj * (q1 - q0);
+            margin = 1e-9 * (fabs(hj) + fabs(hn) + 1.0) * (d + fabs(q0) + fabs(q1) + 1.0);
+        } else { /* q strictly beyond j's line */
+            alpha = -q0;
+            beta = -(q1 - q0);
+            margin = t->len_eps;
+        }
+        if (beta == 0.0) {
+            if (!(alpha > margin)) return 0;
+            continue;
+        }
+        lim = (margin - alpha) / beta;
+        if (beta > 0.0) { if (lim > lo) lo = lim; }
+        else if (lim < hi) hi = lim;
+    }
+    if (!(lo < hi)) return 0;
+    *u0 = lo; *u1 = hi;
+    return 1;
+}
+
+/* The part of far segment e (height h) seen over the front members of leaf payload
+   seq[first..+count) within the funnel of polygon q: its parameter hull [*v0, *v1] inside the
+   funnel range [*f0, *f1]. Members that cross `skip_box` (a 2D box, or NULL) or that are not
+   clearly in front are ignored (conservative). Returns 0 when nothing is left. */
+PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
+                               const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0, double *v1) {
+    double slo = DBL_MAX, shi = -DBL_MAX, flo = DBL_MAX, fhi = -DBL_MAX, p0[2], p1[2], src[4];
+    double um[PVS__OT25_MAX_UMBRAE][2];
+    int i, nu = 0, changed;
+    uint32_t m;
+    src[0] = t->sa[0]; src[1] = t->sa[1]; src[2] = t->sb[0]; src[3] = t->sb[1];
+    for (i = 0; i < q->n; ++i) {
+        double u;
+        if (pvs__ot_param(q->v[i], src, &u)) { if (u < slo) slo = u; if (u > shi) shi = u; }
+        else { slo = -DBL_MAX; shi = DBL_MAX; }
+        if (pvs__ot_param(q->v[i], e, &u)) { if (u < flo) flo = u; if (u > fhi) fhi = u; }
+        else { flo = -DBL_MAX; fhi = DBL_MAX; }
+    }
+    if (flo < 0.0) flo = 0.0;
+    if (fhi > 1.0) fhi = 1.0;
+    *f0 = flo; *f1 = fhi;
+    *v0 = flo; *v1 = fhi;
+    if (!(slo <= shi) || slo < -1e6 || shi > 1e6) return 1; /* no usable source range: visible */
+    p0[0] = src[0] + slo * (src[2] - src[0]); p0[1] = src[1] + slo * (src[3] - src[1]);
+    p1[0] = src[0] + shi * (src[2] - src[0]); p1[1] = src[1] + shi * (src[3] - src[1]);
+    for (m = 0; m < count && nu < PVS__OT25_MAX_UMBRAE; ++m) {
+        uint32_t j = t->seq[first + m];
+        const double *sj = t->seg + 4 * (size_t)j;
+        int front, behind;
+        if (j == self) continue;
+        if (skip_box) {
+            double sb4[4];
+            sb4[0] = skip_box[0]; sb4[1] = skip_box[1]; sb4[2] = skip_box[2]; sb4[3] = skip_box[3];
+            if (fmin(sj[0], sj[2]) <= sb4[2] + t->len_eps && fmax(sj[0], sj[2]) >= sb4[0] - t->len_eps &&
+                fmin(sj[1], sj[3]) <= sb4[3] + t->len_eps && fmax(sj[1], sj[3]) >= sb4[1] - t->len_eps) {
+                double poly[8];
+                poly[0] = sb4[0] - t->len_eps; poly[1] = sb4[1] - t->len_eps;
+                poly[2] = sb4[2] + t->len_eps; poly[3] = sb4[1] - t->len_eps;
+                poly[4] = sb4[2] + t->len_eps; poly[5] = sb4[3] + t->len_eps;
+                poly[6] = sb4[0] - t->len_eps; poly[7] = sb4[3] + t->len_eps;
+                if (pvs__ot_segment_meets_polygon(sj, poly, 4)) continue;
+            }
+        }
+        pvs__ot_depth(t, q, e, sj, &front, &behind);
+        if (!front || behind) continue;
+        if (pvs__ot25_umbra(t, j, p0, p1, e, h, &um[nu][0], &um[nu][1])) ++nu;
+    }
+    /* the first and the last parameter of [flo, fhi] outside every umbra (touching umbrae join) */
+    do {
+        changed = 0;
+        for (i = 0; i < nu; ++i)
+            if (um[i][0] <= *v0 && um[i][1] > *v0) { *v0 = um[i][1]; changed = 1; }
+    } while (changed && *v0 < fhi);
+    if (*v0 >= fhi) return 0;
+    do {
+        changed = 0;
+        for (i = 0; i < nu; ++i)
+            if (um[i][1] >= *v1 && um[i][0] < *v1) { *v1 = um[i][0]; changed = 1; }
+    } while (changed && *v1 > *v0);
+    return *v1 > *v0;
+}
+
+#define PVS__OT25_MAX_SEQ 64
+
+/* Inserts the blocker of occluder k (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an
+   in-leaf the funnel test clips k's top edge by the extended umbrae of the members in front and,
+   when a part stays visible, splits the leaf into at most three: the primary funnel (rays through
+   the visible part) gets the members and k, the secondary funnels keep the members. */
+PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
+    size_t base = t->stack_count;
+    const double *sk = t->seg + 4 * (size_t)k;
+    if (!pvs__ot_push(t, 0, blocker)) return;
+    while (t->stack_count > base && !t->oom) {
+        pvs__otpoly q, part;
+        uint32_t node = t->stack_node[--t->stack_count];
+        pvs__otnode *nd;
+        q = t->stack[t->stack_count];
+        nd = t->nodes + node;
+        if (nd->kind == 0) {
+            double lo, hi, p[2];
+            int i;
+            p[0] = nd->p[0]; p[1] = nd->p[1];
+            pvs__ot_range(&q, p, &lo, &hi);
+            lo *= nd->sign; hi *= nd->sign;
+            if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
+            for (i = 0; i < q.n; ++i)
+                if (q.e[i][0] == p[0] && q.e[i][1] == p[1]) q.mark[i] = 1;
+            if (lo >= -1e-12) { pvs__ot_push(t, nd->child[1], &q); continue; }
+            if (hi <= 1e-12) { pvs__ot_push(t, nd->child[0], &q); continue; }
+            if (pvs__ot_clip(&q, p, (double)nd->sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[1], &part);
+            if (pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[0], &part);
+        } else if (nd->kind == PVS__OT_OUT) {
+            uint32_t leaf = pvs__ot_refine(t, node, &q);
+            if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
+        } else {
+            uint32_t first = nd->first, count = nd->count, leaf;
+            double f0, f1, v0, v1, cen[3] = {0, 0, 0};
+            int i, c;
+            if (count >= PVS__OT25_MAX_SEQ) continue; /* a full leaf keeps its members: conservative */
+            if (!pvs__ot25_open(t, &q, first, count, k, sk, t->top[k], NULL, &f0, &f1, &v0, &v1)) continue; /* hidden here */
+            leaf = pvs__ot_refine(t, node, &q);
+            if (leaf == PVS__OT_NONE) break;
+            for (i = 0; i < q.n; ++i) for (c = 0; c < 3; ++c) cen[c] += q.v[i][c];
+            if (v0 > f0 + 1e-9) { /* lines through k before v0 see only the old members */
+                double x[2];
+                x[0] = sk[0] + v0 * (sk[2] - sk[0]); x[1] = sk[1] + v0 * (sk[3] - sk[1]);
+                /* the primary side (lines crossing k beyond x) has x on the side of k's first end */
+                double sgn = pvs__ot_side(cen, sk);
+                if (sgn != 0.0) {
+                    uint32_t nx = pvs__ot_split_leaf(t, leaf, x, sgn > 0 ? 1.0 : -1.0);
+                    if (nx == PVS__OT_NONE) break;
+                    leaf = nx;
+                }
+            }
+            if (v1 < f1 - 1e-9) {
+                double x[2], sgn;
+                x[0] = sk[0] + v1 * (sk[2] - sk[0]); x[1] = sk[1] + v1 * (sk[3] - sk[1]);
+                sgn = pvs__ot_side(cen, sk + 2);
+                if (sgn != 0.0) {
+                    uint32_t nx = pvs__ot_split_leaf(t, leaf, x, sgn > 0 ? 1.0 : -1.0);
+                    if (nx == PVS__OT_NONE) break;
+                    leaf = nx;
+                }
+            }
+            pvs__ot_set_payload(t, leaf, first, count, k);
+        }
+    }
+    t->stack_count = base;
+}
+
+/* Read-only c-LSS test of a far edge e (height h) of an object box `box` (umin, vmin, umax, vmax):
+   1 when some part of it may be seen through the lines of the blocker. */
+PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, const double *e, double h, const double *box) {
+    size_t base = t->stack_count;
+    int vis = 0;
+    if (!pvs__ot_push(t, 0, blocker)) return 1;
+    while (t->stack_count > base && !vis) {
+        pvs__otpoly q, part;
+        uint32_t node = t->stack_node[--t->stack_count];
+        const pvs__otnode *nd = t->nodes + node;
+        q = t->stack[t->stack_count];
+        if (nd->kind == 0) {
+            double lo, hi, p[2];
+            p[0] = nd->p[0]; p[1] = nd->p[1];
+            pvs__ot_range(&q, p, &lo, &hi);
+            lo *= nd->sign; hi *= nd->sign;
+            if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
+            if (lo >= -1e-12) vis |= !pvs__ot_push(t, nd->child[1], &q);
+            else if (hi <= 1e-12) vis |= !pvs__ot_push(t, nd->child[0], &q);
+            else {
+                int c0 = pvs__ot_clip(&q, p, (double)nd->sign, 1e-12, 0, &part);
+                if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[1], c0 > 0 ? &part : &q);
+                c0 = pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 1e-12, 0, &part);
+                if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[0], c0 > 0 ? &part : &q);
+            }
+        } else if (nd->kind == PVS__OT_OUT) {
+            vis = 1;
+        } else {
+            double f0, f1, v0, v1;
+            if (pvs__ot25_open(t, &q, nd->first, nd->count, PVS__OT_NONE, e, h, box, &f0, &f1, &v0, &v1)) vis = 1;
+        }
+    }
+    t->stack_count = base;
+    return vis || t->oom;
+}
+
+PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
+                                      pvs_error *err) {
+    pvs__otree t;
+    pvs_allocator al;
+    double cell[8], cx, cy, ext = 1.0, margin;
+    double *all = NULL, *top = NULL, *seg = NULL, *box = NULL;
+    pvs__ot_order *order = NULL;
+    unsigned char *done = NULL, *onl = NULL;
+    uint32_t nf, no, i, k, budget, side;
+    pvs_result r = PVS_OK;
+    pvs_otree_stats st;
+    memset(&st, 0, sizeof(st));
+    memset(&t, 0, sizeof(t));
+    if (stats) *stats = st;
+    if (!desc || !visible_objects || (desc->facade_count && !desc->facades) || (desc->object_count && !desc->objects))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, facades, objects and visible_objects are required");
+    nf = desc->facade_count;
+    no = desc->object_count;
+    for (i = 0; i < 2; ++i)
+        if (!pvs__finite(desc->cell_min[i]) || !pvs__finite(desc->cell_max[i]) || desc->cell_min[i] > desc->cell_max[i])
+            return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell rectangle is not finite or has min > max");
+    if (!pvs__finite(desc->cell_top)) return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "cell_top is not finite");
+    for (i = 0; i < 5 * nf; ++i)
+        if (!pvs__finite(desc->facades[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "facade %u is not finite", i / 5);
+    for (i = 0; i < 5 * no; ++i)
+        if (!pvs__finite(desc->objects[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "object %u is not finite", i / 5);
+    memset(visible_objects, 0, PVS_BITSET_WORDS(no) * sizeof(pvs_word));
+    al = desc->allocator;
+    t.a = &al;
+    all = (double *)pvs__alloc_array(&al, 4 * (size_t)nf + 4, sizeof(double));
+    seg = (double *)pvs__alloc_array(&al, 4 * (size_t)nf + 4, sizeof(double));
+    top = (double *)pvs__alloc_array(&al, (size_t)nf + 1, sizeof(double));
+    box = (double *)pvs__alloc_array(&al, 5 * (size_t)no + 5, sizeof(double));
+    order = (pvs__ot_order *)pvs__alloc_array(&al, (size_t)nf + 1, sizeof(pvs__ot_order));
+    done = (unsigned char *)pvs__alloc_array(&al, (size_t)no + 1, 1);
+    onl = (unsigned char *)pvs__alloc_array(&al, (size_t)nf + 1, 1);
+    if (!onl || !all || !seg || !top || !box || !order || !done) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays"); goto done; }
+    cx = 0.5 * ((double)desc->cell_min[0] + desc->cell_max[0]);
+    cy = 0.5 * ((double)desc->cell_min[1] + desc->cell_max[1]);
+    for (i = 0; i < 4 * nf; ++i) {
+        all[i] = (double)desc->facades[5 * (i / 4) + (i % 4)] - (i & 1 ? cy : cx);
+        if (fabs(all[i]) > ext) ext = fabs(all[i]);
+    }
+    for (i = 0; i < no; ++i) {
+        for (k = 0; k < 4; ++k) box[5 * i + k] = (double)desc->objects[5 * i + k] - (k & 1 ? cy : cx);
+        box[5 * i + 4] = desc->objects[5 * i + 4];
+    }
+    /* grow the cell a little: a larger cell sees more (conservative) and is never degenerate */
+    margin = 1e-6 * ext + 1e-4;
+    {
+        double hx = 0.5 * ((double)desc->cell_max[0] - desc->cell_min[0]) + margin;
+        double hy = 0.5 * ((double)desc->cell_max[1] - desc->cell_min[1]) + margin;
+        cell[0] = -hx; cell[1] = -hy; cell[2] = hx; cell[3] = -hy; cell[4] = hx; cell[5] = hy; cell[6] = -hx; cell[7] = hy;
+    }
+    t.len_eps = 1e-9 * ext;
+    t.eye = (double)desc->cell_top + margin;
+    t.top = top;
+    t.seg = seg;
+    /* objects meeting the cell's rectangle are visible; empty ones never */
+    for (i = 0; i < no; ++i) {
+        const double *b = box + 5 * i;
+        done[i] = 0;
+        if (b[0] > b[2] || b[1] > b[3]) { done[i] = 2; continue; }
+        if (b[0] <= cell[2] && b[2] >= cell[0] && b[1] <= cell[5] && b[3] >= cell[1]) {
+            done[i] = 1;
+            pvs_bitset_set(visible_objects, i);
+        }
+    }
+    budget = desc->node_budget ? desc->node_budget : 1u << 18;
+    /* one tree per top edge and direction (§7.1): lines leaving the edge outward see along a
+       descending ray best from the exit edge, ascending rays from the entry edge */
+    for (side = 0; side < 8 && !t.oom; ++side) {
+        const double *a = cell + 2 * (side & 3), *b = cell + 2 * ((side + 1) & 3);
+        uint32_t live = 0;
+        if (side >= 4) { const double *tmp = a; a = b; b = tmp; }
+        for (i = 0; i < no; ++i) live += done[i] == 0;
+        if (!live) break;
+        /* occluders: the facades on the edge's far side, clipped to its open half-plane */
+        for (i = 0, k = 0; i < nf; ++i) {
+            double o[4];
+            int on;
+            const double *s = all + 4 * i;
+            if (s[0] == s[2] && s[1] == s[3]) continue;
+            if (pvs__ot_segment_meets_polygon(s, cell, 4)) continue; /* facades in the cell are ignored */
+            if (!pvs__ot_clip_segment(b, a, s, o, &on)) continue;
+            memcpy(seg + 4 * k, o, sizeof(o));
+            onl[k] = (unsigned char)on;
+            top[k] = desc->facades[5 * i + 4];
+            order[k].index = k;
+            {
+                double mid[2];
+                mid[0] = 0.5 * (a[0] + b[0]); mid[1] = 0.5 * (a[1] + b[1]);
+                order[k].key = pvs__ot_dist2(mid, o);
+            }
+            ++k;
+        }
+        qsort(order, k, sizeof(*order), pvs__ot_order_cmp);
+        t.sa[0] = a[0]; t.sa[1] = a[1]; t.sb[0] = b[0]; t.sb[1] = b[1];
+        if (!pvs__ot_reset(&t)) break;
+        for (i = 0; i < k && !t.oom; ++i) {
+            uint32_t j = order[i].index;
+            pvs__otpoly bl[2];
+            int nb, deg, m;
+            if (t.node_count >= budget) { st.budget_exceeded = 1; break; }
+            nb = pvs__ot_blockers(a, b, seg + 4 * j, onl[j], bl, &deg);
+            for (m = 0; m < nb; ++m) pvs__ot25_insert(&t, &bl[m], j);
+            ++st.occluders_inserted;
+        }
+        if (t.node_count > st.nodes) st.nodes = (uint32_t)t.node_count;
+        if (t.oom) break;
+        /* objects after the sweep (§7.7): each top edge of the box, clipped to the far side */
+        for (i = 0; i < no; ++i) {
+            const double *bx = box + 5 * i;
+            double c4[8];
+            int edge, vis = 0;
+            if (done[i]) continue;
+            c4[0] = bx[0]; c4[1] = bx[1]; c4[2] = bx[2]; c4[3] = bx[1]; c4[4] = bx[2]; c4[5] = bx[3]; c4[6] = bx[0]; c4[7] = bx[3];
+            for (edge = 0; edge < 4 && !vis; ++edge) {
+                double s[4], o[4];
+                pvs__otpoly bl[2];
+                int on, nb, deg, m;
+                s[0] = c4[2 * edge]; s[1] = c4[2 * edge + 1]; s[2] = c4[(2 * edge + 2) & 7]; s[3] = c4[(2 * edge + 3) & 7];
+                if (s[0] == s[2] && s[1] == s[3]) { /* a box flat on both axes: its corner */
+                    s[2] += t.len_eps;
+                }
+                if (!pvs__ot_clip_segment(b, a, s, o, &on)) continue;
+                nb = pvs__ot_blockers(a, b, o, on, bl, &deg);
+                if (deg) vis = 1;
+                for (m = 0; m < nb && !vis; ++m) vis = pvs__ot25_visible(&t, &bl[m], o, bx[4], bx);
+            }
+            if (vis) {
+                done[i] = 1;
+                pvs_bitset_set(visible_objects, i);
+            }
+        }
+    }
+    if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree nodes"); goto done; }
+    if (stats) *stats = st;
+    pvs__ok(err);
+done:
+    pvs__ot_free(&t);
+    pvs__free_array(&al, all, 4 * (size_t)nf + 4, sizeof(double));
+    pvs__free_array(&al, seg, 4 * (size_t)nf + 4, sizeof(double));
+    pvs__free_array(&al, top, (size_t)nf + 1, sizeof(double));
+    pvs__free_array(&al, box, 5 * (size_t)no + 5, sizeof(double));
+    pvs__free_array(&al, order, (size_t)nf + 1, sizeof(pvs__ot_order));
+    pvs__free_array(&al, done, (size_t)no + 1, 1);
+    pvs__free_array(&al, onl, (size_t)nf + 1, 1);
+    return r;
+}
 
 // >>occluders
 /* (planned: occluder synthesis) */

@@ -134,7 +134,11 @@ static void shuffled2d(const float *cell, uint32_t nv, const float *seg, uint32_
     }
     run2d(cell, nv, seg, ns, a, NULL);
     run2d(cell, nv, s2, ns, b, NULL);
-    for (i = 0; i < ns; ++i) diff += a[perm[i]] != b[i];
+    for (i = 0; i < ns; ++i) {
+        diff += a[perm[i]] != b[i];
+        if (a[perm[i]] != b[i]) fprintf(stderr, "shuffled: segment %u (%g %g %g %g) %d vs %d\n", perm[i], seg[4 * perm[i]], seg[4 * perm[i] + 1],
+                                        seg[4 * perm[i] + 2], seg[4 * perm[i] + 3], a[perm[i]], b[i]);
+    }
     CHECK(diff == 0);
     if (diff) fprintf(stderr, "shuffled: %u segments differ\n", diff);
     free(perm); free(s2); free(a); free(b);
@@ -302,7 +306,137 @@ static void test_2d_budget(void) {
     CHECK(extra > 0);
 }
 
+
+/* ---- 2.5D: c-LSS against 3D ray sampling ---- */
+
+/* Ray o + t d against a vertical wall over segment (x0,y0,x1,y1) from height 0 to top. */
+static double ray_wall(const double o[3], const double d[3], const float *w) {
+    double o2[2], d2[2], t, hgt, len = sqrt(d[0] * d[0] + d[1] * d[1]);
+    if (len == 0.0) return -1.0;
+    o2[0] = o[0]; o2[1] = o[1]; d2[0] = d[0] / len; d2[1] = d[1] / len;
+    t = ray_seg(o2, d2, w);
+    if (t < 0.0) return -1.0;
+    t /= len;
+    hgt = o[2] + t * d[2];
+    return hgt >= 0.0 && hgt <= w[4] ? t : -1.0;
+}
+static double ray_box(const double o[3], const double d[3], const float *b) {
+    double lo[3], hi[3], t0 = 0.0, t1 = 1e300;
+    int k;
+    lo[0] = b[0]; lo[1] = b[1]; lo[2] = 0.0; hi[0] = b[2]; hi[1] = b[3]; hi[2] = b[4];
+    for (k = 0; k < 3; ++k) {
+        if (d[k] == 0.0) { if (o[k] < lo[k] || o[k] > hi[k]) return -1.0; continue; }
+        {
+            double a = (lo[k] - o[k]) / d[k], c = (hi[k] - o[k]) / d[k];
+            if (a > c) { double tmp = a; a = c; c = tmp; }
+            if (a > t0) t0 = a;
+            if (c < t1) t1 = c;
+        }
+    }
+    return t0 <= t1 ? t0 : -1.0;
+}
+
+static void ref25(const float cmin[2], const float cmax[2], float ctop, const float *walls, uint32_t nw, const float *objs, uint32_t no,
+                  int points, int dirs, unsigned char *vis) {
+    int p, k;
+    uint32_t i;
+    memset(vis, 0, no);
+    for (p = 0; p < points; ++p) {
+        double o[3];
+        o[0] = cmin[0] + (cmax[0] - cmin[0]) * (p < 8 ? (p & 1) : rnd());
+        o[1] = cmin[1] + (cmax[1] - cmin[1]) * (p < 8 ? ((p >> 1) & 1) : rnd());
+        o[2] = 0.5 + (ctop - 0.5) * (p < 8 ? ((p >> 2) & 1) : rnd());
+        for (k = 0; k < dirs; ++k) {
+            double z = 1.0 - 2.0 * (k + 0.5) / dirs, r = sqrt(1.0 - z * z), phi = 2.399963229728653 * k + rnd() * 0.01, d[3], wall = 1e300;
+            d[0] = r * cos(phi); d[1] = r * sin(phi); d[2] = z;
+            for (i = 0; i < nw; ++i) {
+                double t = ray_wall(o, d, walls + 5 * i);
+                if (t > 0.0 && t < wall) wall = t;
+            }
+            for (i = 0; i < no; ++i) {
+                double t = ray_box(o, d, objs + 5 * i);
+                if (t >= 0.0 && t < wall) vis[i] = 1;
+            }
+        }
+    }
+}
+
+static void test_25d_random(void) {
+    float cmin[2] = {-1, -1}, cmax[2] = {1, 1}, ctop = 2.0f;
+    float walls[5 * 80], objs[5 * 120];
+    unsigned char ref[120], got[120];
+    int rep;
+    for (rep = 0; rep < 3; ++rep) {
+        uint32_t nw = 0, no = 0, i, miss = 0, extra = 0, nref = 0, in2d = 0;
+        pvs_visibility_25d_desc d;
+        pvs_word bits[2], bits2d[2];
+        pvs_otree_stats st;
+        pvs_error e;
+        while (nw < 60) {
+            float x = rndf(-20, 20), y = rndf(-20, 20), a = rndf(0, 6.2831853f), l = rndf(1, 8);
+            float *w = walls + 5 * nw;
+            if (fabsf(x) < 10 && fabsf(y) < 10 && rep < 2) x += x < 0 ? -10 : 10;
+            w[0] = x; w[1] = y; w[2] = x + l * cosf(a); w[3] = y + l * sinf(a);
+            if (fabsf(w[2]) < 2.5f && fabsf(w[3]) < 2.5f) continue;
+            if (fabsf(w[0]) < 2.5f && fabsf(w[1]) < 2.5f) continue;
+            w[4] = rep == 1 ? rndf(0.5f, 3.0f) : rndf(1.0f, 12.0f);
+            ++nw;
+        }
+        while (no < 120) {
+            float x = rndf(-25, 25), y = rndf(-25, 25), sx = rndf(0.1f, 2), sy = rndf(0.1f, 2);
+            float *b = objs + 5 * no;
+            if (fabsf(x) < 3 && fabsf(y) < 3) continue;
+            b[0] = x; b[1] = y; b[2] = x + sx; b[3] = y + sy; b[4] = rndf(0.2f, 16.0f);
+            ++no;
+        }
+        memset(&d, 0, sizeof(d));
+        d.cell_min[0] = cmin[0]; d.cell_min[1] = cmin[1]; d.cell_max[0] = cmax[0]; d.cell_max[1] = cmax[1]; d.cell_top = ctop;
+        d.facades = walls; d.facade_count = nw; d.objects = objs; d.object_count = no;
+        CHECK(pvs_visibility_25d(&d, bits, &st, &e) == PVS_OK);
+        ref25(cmin, cmax, ctop, walls, nw, objs, no, 100, 2500, ref);
+        for (i = 0; i < no; ++i) {
+            got[i] = (unsigned char)pvs_bitset_test(bits, i);
+            nref += ref[i];
+            if (ref[i] && !got[i]) {
+                ++miss;
+                fprintf(stderr, "25d rep %d: object %u (%g %g %g %g top %g) sampled visible, c-LSS says hidden\n", rep, i, objs[5 * i],
+                        objs[5 * i + 1], objs[5 * i + 2], objs[5 * i + 3], objs[5 * i + 4]);
+            }
+            extra += got[i] && !ref[i];
+        }
+        CHECK(miss == 0);
+        /* contains the exact 2D PVS of infinitely tall facades */
+        {
+            float seg[4 * (80 + 4 * 120)], cell[8] = {-1, -1, 1, -1, 1, 1, -1, 1};
+            uint8_t fl[80 + 4 * 120];
+            uint32_t ob[80 + 4 * 120], n = 0, k;
+            pvs_visibility_2d_desc d2;
+            for (i = 0; i < nw; ++i) { memcpy(seg + 4 * n, walls + 5 * i, 4 * sizeof(float)); fl[n] = 0; ob[n] = PVS_NO_OBJECT; ++n; }
+            for (i = 0; i < no; ++i) {
+                const float *b = objs + 5 * i;
+                float c[8];
+                c[0] = b[0]; c[1] = b[1]; c[2] = b[2]; c[3] = b[1]; c[4] = b[2]; c[5] = b[3]; c[6] = b[0]; c[7] = b[3];
+                for (k = 0; k < 4; ++k) {
+                    seg[4 * n] = c[2 * k]; seg[4 * n + 1] = c[2 * k + 1]; seg[4 * n + 2] = c[(2 * k + 2) % 8]; seg[4 * n + 3] = c[(2 * k + 3) % 8];
+                    fl[n] = PVS_SEGMENT_NO_OCCLUSION; ob[n] = i; ++n;
+                }
+            }
+            memset(&d2, 0, sizeof(d2));
+            d2.cell = cell; d2.cell_vertex_count = 4; d2.segments = seg; d2.segment_count = n; d2.segment_flags = fl;
+            d2.segment_objects = ob; d2.object_count = no;
+            CHECK(pvs_visibility_2d(&d2, NULL, bits2d, NULL, &e) == PVS_OK);
+            for (i = 0; i < no; ++i) {
+                in2d += pvs_bitset_test(bits2d, i);
+                CHECK(!pvs_bitset_test(bits2d, i) || got[i]);
+            }
+        }
+        fprintf(stderr, "25d rep %d: %u objects, sampled %u, c-LSS %u (+%u), exact 2D %u, nodes %u\n", rep, no, nref, nref + extra, extra,
+                in2d, st.nodes);
+    }
+}
+
 void test_otree(void) {
+    test_25d_random();
     test_2d_degenerate();
     test_2d_rings();
     test_2d_random();
