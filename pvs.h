@@ -418,8 +418,10 @@ typedef struct pvs_visibility_2d_desc {
     const uint32_t *segment_objects; /* NULL (segment i is object i) or the object of each segment, or PVS_NO_OBJECT */
     uint32_t object_count;           /* bits in visible_objects */
     uint32_t node_budget;            /* stop inserting past this many tree nodes (0 = 2^20); see pvs_otree_stats */
+    uint32_t flags;                  /* PVS_VISIBILITY_* */
     pvs_allocator allocator;
 } pvs_visibility_2d_desc;
+#define PVS_VISIBILITY_INPUT_ORDER 1u /* insert occluders in input order, not front to back (tests order independence) */
 
 /* Which segments (and objects) are visible from some point of the cell: a segment is visible when a
    line segment from a cell point reaches it without crossing another segment (touching an end point
@@ -2259,14 +2261,43 @@ PVS__STATIC int pvs__ot_hit(const double l[3], const double *s, double *t) {
     return 1;
 }
 
+/* Parameter on segment s (4 doubles, 0 at the first end, 1 at the second) where line l crosses its
+   supporting line; 0 when parallel. */
+PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
+    double dx = s[2] - s[0], dy = s[3] - s[1];
+    double a = l[0] * s[0] + l[1] * s[1] + l[2], b = l[0] * dx + l[1] * dy;
+    if (!(fabs(b) > 1e-14 * (fabs(a) + 1e-300))) return 0;
+    *u = -a / b;
+    return 1;
+}
+
+/* The crossing X of the supporting lines of two segments; 0 when parallel. */
+PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
+    double d1x = s[2] - s[0], d1y = s[3] - s[1], d2x = r[2] - r[0], d2y = r[3] - r[1];
+    double den = d1x * d2y - d1y * d2x, u;
+    if (!(fabs(den) > 1e-14 * (fabs(d1x) + fabs(d1y)) * (fabs(d2x) + fabs(d2y)))) return 0;
+    u = ((r[0] - s[0]) * d2y - (r[1] - s[1]) * d2x) / den;
+    x[0] = s[0] + u * d1x;
+    x[1] = s[1] + u * d1y;
+    return 1;
+}
+
 /* Depth order of occluders j and k along the lines of q (§6.5.1): counts vertices where k is
-   clearly in front of j, clearly behind, and ties (the line through X or a shared end point). */
+   clearly in front of j, clearly behind; ties (the line through X or a shared end point) count as
+   neither, and so do vertex lines that miss either segment: they lie outside the leaf's region by
+   a rounding sliver (a polygon clipped with slack), where the order means nothing. */
 PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk, int *front, int *behind) {
-    int i;
+    int i, have_x;
+    double x[2];
     *front = *behind = 0;
+    /* after a split at the crossing X the lines through X are ties, whatever rounding says */
+    have_x = q->xsplit && pvs__ot_cross(sj, sk, x);
     for (i = 0; i < q->n; ++i) {
-        double tj, tk;
+        double tj, tk, uj, uk;
+        if (have_x && fabs(pvs__ot_side(q->v[i], x)) <= 1e-9) continue;
         if (!pvs__ot_hit(q->v[i], sj, &tj) || !pvs__ot_hit(q->v[i], sk, &tk)) continue;
+        if (!pvs__ot_param(q->v[i], sj, &uj) || !pvs__ot_param(q->v[i], sk, &uk)) continue;
+        if (uj < -1e-7 || uj > 1.0 + 1e-7 || uk < -1e-7 || uk > 1.0 + 1e-7) continue;
         if (tk < tj - t->len_eps) ++*front;
         else if (tk > tj + t->len_eps) ++*behind;
     }
@@ -2332,17 +2363,6 @@ PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_f
     return 1;
 }
 
-/* The crossing X of the supporting lines of two segments; 0 when parallel. */
-PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
-    double d1x = s[2] - s[0], d1y = s[3] - s[1], d2x = r[2] - r[0], d2y = r[3] - r[1];
-    double den = d1x * d2y - d1y * d2x, u;
-    if (!(fabs(den) > 1e-14 * (fabs(d1x) + fabs(d1y)) * (fabs(d2x) + fabs(d2y)))) return 0;
-    u = ((r[0] - s[0]) * d2y - (r[1] - s[1]) * d2x) / den;
-    x[0] = s[0] + u * d1x;
-    x[1] = s[1] + u * d1y;
-    return 1;
-}
-
 /* ---- 2D from-region (ch. 6): insertion with the four depth cases of §6.5.1 ---- */
 
 /* Inserts blocker polygon q of occluder k (§3.3.3 with the 2D in-leaf cases). */
@@ -2398,8 +2418,29 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
     t->stack_count = base;
 }
 
+/* Thickness of a line-space polygon: the smallest over its edges of the largest vertex distance
+   from the edge's plane. Insertion leaves slivers about 1e-12 thick where it rounded; line sets
+   thinner than PVS__OT_SLIVER (radians, at unit distance) are below the resolution of the method. */
+#define PVS__OT_SLIVER 1e-10
+PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
+    double th = DBL_MAX;
+    int i, k;
+    if (q->n < 3) return 0.0;
+    for (i = 0; i < q->n; ++i) {
+        double mx = 0.0;
+        for (k = 0; k < q->n; ++k) {
+            double d = fabs(pvs__ot_side(q->v[k], q->e[i]));
+            if (d > mx) mx = d;
+        }
+        if (mx < th) th = mx;
+    }
+    return th;
+}
+
 /* Read-only test (§3.3.4, §6.5.3): 1 when some line of q reaches occluder k before any stored
-   occluder. Splits with slack (both sides see a little more), stops at the first visible leaf. */
+   occluder. Splits with slack (both sides see a little more), stops at the first visible leaf;
+   slivers (see pvs__ot_thickness) do not count, so the answer does not depend on where insertion
+   rounded, i.e. on the insertion order. */
 PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
     size_t base = t->stack_count;
     const double *sk = t->seg + 4 * (size_t)k;
@@ -2426,6 +2467,8 @@ PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint
                 c0 = pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 1e-12, 0, &part);
                 if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[0], c0 > 0 ? &part : &q);
             }
+        } else if (pvs__ot_thickness(&q) < PVS__OT_SLIVER) {
+            continue;
         } else if (nd->kind == PVS__OT_OUT) {
             vis = 1;
         } else {
@@ -2433,6 +2476,15 @@ PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint
             int front, behind;
             if (j == k) { vis = 1; break; }
             pvs__ot_depth(t, &q, t->seg + 4 * (size_t)j, sk, &front, &behind);
+            if (front && behind && !q.xsplit) { /* the exact test splits at the crossing X (§6.5.1 case 3) */
+                double x[2];
+                if (pvs__ot_cross(t->seg + 4 * (size_t)j, sk, x)) {
+                    q.xsplit = 1;
+                    if (pvs__ot_clip(&q, x, 1.0, 0.0, 0, &part) >= 3) vis |= !pvs__ot_push(t, node, &part);
+                    if (pvs__ot_clip(&q, x, -1.0, 0.0, 0, &part) >= 3) vis |= !pvs__ot_push(t, node, &part);
+                    continue;
+                }
+            }
             if (front || !behind) vis = 1; /* in front somewhere, or all ties (collinear): visible */
         }
     }
@@ -2601,7 +2653,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
         }
         t.len_eps = 1e-9 * ext;
         for (i = 0; i < count; ++i) {
-            order[i].key = pvs__ot_dist2(o, seg + 4 * i);
+            order[i].key = desc->flags & PVS_VISIBILITY_INPUT_ORDER ? 0.0 : pvs__ot_dist2(o, seg + 4 * i);
             order[i].index = i;
         }
     }
@@ -2666,16 +2718,6 @@ done:
 }
 
 /* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
-
-/* Parameter on segment s (4 doubles, 0 at the first end, 1 at the second) where line l crosses its
-   supporting line; 0 when parallel. */
-PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
-    double dx = s[2] - s[0], dy = s[3] - s[1];
-    double a = l[0] * s[0] + l[1] * s[1] + l[2], b = l[0] * dx + l[1] * dy;
-    if (!(fabs(b) > 1e-14 * (fabs(a) + 1e-300))) return 0;
-    *u = -a / b;
-    return 1;
-}
 
 #define PVS__OT25_MAX_UMBRAE 96
 

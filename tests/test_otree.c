@@ -72,6 +72,8 @@ static void ref2d(const float *cell, uint32_t nv, const float *seg, uint32_t ns,
     }
 }
 
+static uint32_t run2d_flags;
+
 /* Runs pvs_visibility_2d and returns the visible flags. */
 static int run2d(const float *cell, uint32_t nv, const float *seg, uint32_t ns, unsigned char *vis, pvs_otree_stats *st) {
     pvs_visibility_2d_desc d;
@@ -83,6 +85,7 @@ static int run2d(const float *cell, uint32_t nv, const float *seg, uint32_t ns, 
     d.cell = cell; d.cell_vertex_count = nv;
     d.segments = seg; d.segment_count = ns;
     d.object_count = ns;
+    d.flags = run2d_flags;
     r = pvs_visibility_2d(&d, bits, NULL, st, &e);
     if (r != PVS_OK) fprintf(stderr, "pvs_visibility_2d: %s\n", e.message);
     for (i = 0; i < ns; ++i) vis[i] = (unsigned char)pvs_bitset_test(bits, i);
@@ -132,8 +135,10 @@ static void shuffled2d(const float *cell, uint32_t nv, const float *seg, uint32_
         s2[4 * i] = flip ? s[2] : s[0]; s2[4 * i + 1] = flip ? s[3] : s[1];
         s2[4 * i + 2] = flip ? s[0] : s[2]; s2[4 * i + 3] = flip ? s[1] : s[3];
     }
+    run2d_flags = PVS_VISIBILITY_INPUT_ORDER; /* insert in the given order: exercises the late-nearer re-merge */
     run2d(cell, nv, seg, ns, a, NULL);
     run2d(cell, nv, s2, ns, b, NULL);
+    run2d_flags = 0;
     for (i = 0; i < ns; ++i) {
         diff += a[perm[i]] != b[i];
         if (a[perm[i]] != b[i]) fprintf(stderr, "shuffled: segment %u (%g %g %g %g) %d vs %d\n", perm[i], seg[4 * perm[i]], seg[4 * perm[i] + 1],
@@ -195,6 +200,17 @@ static void test_2d_random(void) {
         }
         compare2d("triangle", tri, 3, seg, keep, 160, 1500, 0.2);
         shuffled2d(tri, 3, seg, keep);
+    }
+}
+
+/* Many small scenes inserted in input order, shuffled and with flipped ends: identical sets. */
+static void test_2d_order(void) {
+    float cell[8] = {-1, -1, 1, -1, 1, 1, -1, 1};
+    float seg[4 * 80];
+    int rep;
+    for (rep = 0; rep < 60; ++rep) {
+        uint32_t n = random_segments(seg, 20 + (uint32_t)rep, 12.0f, 4.0f);
+        shuffled2d(cell, 4, seg, n);
     }
 }
 
@@ -442,4 +458,5 @@ void test_otree(void) {
     test_2d_random();
     test_2d_grid();
     test_2d_budget();
+    test_2d_order();
 }
