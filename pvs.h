@@ -460,6 +460,8 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 typedef enum pvs_method {
     PVS_METHOD_DEFAULT = 0,
     PVS_METHOD_SAMPLE,       /* ray sampling: an estimate from below, NOT conservative */
+    PVS_METHOD_OTREE,        /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7): conservative; occluders are the
+                                scene's vertical rectangles standing on the ground (see pvs_visibility_25d) */
     PVS_METHOD_COUNT
 } pvs_method;
 
@@ -3099,6 +3101,7 @@ PVS_API const char *pvs_method_name(pvs_method m) {
     switch (m) {
     case PVS_METHOD_DEFAULT: return "default";
     case PVS_METHOD_SAMPLE: return "sample";
+    case PVS_METHOD_OTREE: return "otree";
     default: return "unknown";
     }
 }
@@ -3208,6 +3211,9 @@ struct pvs_bake {
     float eps;
     uint32_t sample_points, sample_rays;
     uint64_t seed;
+    float *ot_facades;         /* OTREE: facade_count x (u0 v0 u1 v1 top), then facade_count bases */
+    uint32_t ot_facade_count;
+    float *ot_objects;         /* OTREE: object_count x (umin vmin umax vmax top) */
 };
 
 PVS_API void pvs_bake_destroy(pvs_bake *b) {
@@ -3217,6 +3223,8 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs__free_array(&a, b->cells, b->cell_count, sizeof(pvs_box));
     pvs__free_array(&a, b->pvs, (size_t)b->cell_count * b->words, sizeof(pvs_word));
     pvs__free_array(&a, b->done, b->cell_count, 1);
+    pvs__free_array(&a, b->ot_facades, (size_t)b->ot_facade_count * 6 + 6, sizeof(float));
+    pvs__free_array(&a, b->ot_objects, (size_t)b->object_count * 5 + 5, sizeof(float));
     pvs__free(&a, b, sizeof(*b), 16);
 }
 
@@ -3229,6 +3237,114 @@ PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *
         if (c->min[k] > c->max[k])
             return pvs__fail(err, PVS_ERROR_BAD_CELL, i, 0, "cell %u has min > max on axis %d", i, k);
     }
+    return PVS_OK;
+}
+
+/* ---- the OTREE bake method ---- */
+
+/* Facades for c-LSS (§7.1): pairs of consecutive triangles that form a vertical rectangle (two
+   ground positions x two heights, split along a diagonal) whose bottom is at or below the lowest
+   point of the scene, so it certainly blocks every height from the ground to its top. Anything
+   else is ignored (never blocks: conservative). */
+PVS__STATIC pvs_result pvs__otree_prepare(pvs_bake *b) {
+    const pvs_scene *s = b->scene;
+    int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
+    float ground = s->bounds.min[up];
+    uint32_t t, n = 0, pass, i = 0;
+    for (pass = 0; pass < 2; ++pass) {
+        n = 0;
+        for (t = 0; t + 1 < s->triangle_count; ++t) {
+            const float *c[6];
+            float pu[2], pv[2], h[2];
+            int np = 0, nh = 0, k, m, shared = 0, diag = 1;
+            for (k = 0; k < 6; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t + (uint32_t)(k / 3)) + (uint32_t)(k % 3)];
+            for (k = 0; k < 6 && np <= 2 && nh <= 2; ++k) {
+                for (m = 0; m < np; ++m) if (pu[m] == c[k][u] && pv[m] == c[k][v]) break;
+                if (m == np) { if (np < 2) { pu[np] = c[k][u]; pv[np] = c[k][v]; } ++np; }
+                for (m = 0; m < nh; ++m) if (h[m] == c[k][up]) break;
+                if (m == nh) { if (nh < 2) h[nh] = c[k][up]; ++nh; }
+            }
+            if (np != 2 || nh != 2) continue;
+            /* each triangle has three distinct corners; they share exactly two, on a diagonal */
+            for (k = 0; k < 3; ++k)
+                if (c[k] == c[(k + 1) % 3] || c[3 + k] == c[3 + (k + 1) % 3] ||
+                    !memcmp(c[k], c[(k + 1) % 3], 12) || !memcmp(c[3 + k], c[3 + (k + 1) % 3], 12)) break;
+            if (k < 3) continue;
+            for (k = 0; k < 3; ++k)
+                for (m = 3; m < 6; ++m)
+                    if (!memcmp(c[k], c[m], 12)) {
+                        ++shared;
+                        if (shared == 1) i = (uint32_t)k; else {
+                            const float *p0 = c[i], *p1 = c[k];
+                            diag = (p0[u] != p1[u] || p0[v] != p1[v]) && p0[up] != p1[up];
+                        }
+                    }
+            if (shared != 2 || !diag) continue;
+            {
+                float lo = h[0] < h[1] ? h[0] : h[1], hi = h[0] < h[1] ? h[1] : h[0];
+                if (!(lo <= ground)) continue;
+                if (pass) {
+                    float *f = b->ot_facades + 5 * (size_t)n;
+                    f[0] = pu[0]; f[1] = pv[0]; f[2] = pu[1]; f[3] = pv[1]; f[4] = hi;
+                    b->ot_facades[5 * (size_t)b->ot_facade_count + n] = lo;
+                }
+            }
+            ++n;
+            ++t; /* the pair is used up */
+        }
+        if (!pass) {
+            b->ot_facade_count = n;
+            b->ot_facades = (float *)pvs__alloc_array(&b->allocator, (size_t)n * 6 + 6, sizeof(float));
+            b->ot_objects = (float *)pvs__alloc_array(&b->allocator, (size_t)b->object_count * 5 + 5, sizeof(float));
+            if (!b->ot_facades || !b->ot_objects) return PVS_ERROR_OUT_OF_MEMORY;
+        }
+    }
+    for (i = 0; i < b->object_count; ++i) {
+        const pvs_box *bx = s->object_boxes + i;
+        float *o = b->ot_objects + 5 * (size_t)i;
+        o[0] = bx->min[u]; o[1] = bx->min[v]; o[2] = bx->max[u]; o[3] = bx->max[v]; o[4] = bx->max[up];
+        if (bx->min[0] > bx->max[0] || (s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)) { o[0] = 1.0f; o[2] = 0.0f; } /* never visible */
+    }
+    return PVS_OK;
+}
+
+/* One cell with pvs_visibility_25d; facades whose base is above the cell's bottom are left out. */
+PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, uint32_t cell, pvs_word *bits, pvs_error *err) {
+    const pvs_scene *s = b->scene;
+    const pvs_box *c = b->cells + cell;
+    int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
+    pvs_visibility_25d_desc d;
+    float *own = NULL;
+    uint32_t i, n = b->ot_facade_count;
+    pvs_result r;
+    memset(&d, 0, sizeof(d));
+    d.cell_min[0] = c->min[u]; d.cell_min[1] = c->min[v];
+    d.cell_max[0] = c->max[u]; d.cell_max[1] = c->max[v];
+    d.cell_top = c->max[up];
+    d.facades = b->ot_facades;
+    d.facade_count = n;
+    d.objects = b->ot_objects;
+    d.object_count = b->object_count;
+    d.allocator = b->allocator;
+    for (i = 0; i < n; ++i)
+        if (b->ot_facades[5 * (size_t)n + i] > c->min[up]) break;
+    if (i < n) { /* a cell reaching below some facade's base: keep only the facades under it */
+        uint32_t m = 0;
+        own = (float *)pvs__alloc_array(&b->allocator, (size_t)n * 5 + 5, sizeof(float));
+        if (!own) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u facades", cell);
+        for (i = 0; i < n; ++i)
+            if (b->ot_facades[5 * (size_t)n + i] <= c->min[up]) memcpy(own + 5 * (size_t)m++, b->ot_facades + 5 * (size_t)i, 5 * sizeof(float));
+        d.facades = own;
+        d.facade_count = m;
+    }
+    r = pvs_visibility_25d(&d, bits, NULL, err);
+    if (own) pvs__free_array(&b->allocator, own, (size_t)n * 5 + 5, sizeof(float));
+    if (r != PVS_OK) {
+        if (err) err->index = cell;
+        return r;
+    }
+    for (i = 0; i < b->object_count; ++i) /* occluder-only and empty objects never appear */
+        if (b->ot_objects[5 * (size_t)i] > b->ot_objects[5 * (size_t)i + 2]) pvs_bitset_clear(bits, i);
     return PVS_OK;
 }
 
@@ -3278,6 +3394,10 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     memcpy(b->cells, desc->cells, desc->cell_count * sizeof(pvs_box));
     memset(b->pvs, 0, total * sizeof(pvs_word));
     memset(b->done, 0, desc->cell_count);
+    if (b->method == PVS_METHOD_OTREE && pvs__otree_prepare(b) != PVS_OK) {
+        pvs_bake_destroy(b);
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
+    }
     *out = b;
     pvs__ok(err);
     return PVS_OK;
@@ -3291,6 +3411,7 @@ PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *b, uint32_t task) {
 PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
 PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->eps; }
 
+
 PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err) {
     uint32_t cell;
     pvs_word *bits;
@@ -3303,6 +3424,11 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         /* per-cell seed: independent of the order and thread the tasks run in */
         uint64_t state = b->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull);
         pvs_sample_visibility(b->scene, b->cells + cell, b->sample_points, b->sample_rays, pvs__splitmix64(&state), bits);
+        break;
+    }
+    case PVS_METHOD_OTREE: {
+        pvs_result r = pvs__otree_cell(b, cell, bits, err);
+        if (r != PVS_OK) return r;
         break;
     }
     default: return pvs__fail(err, PVS_ERROR_UNSUPPORTED, cell, 0, "method %d", (int)b->method);
