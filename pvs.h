@@ -443,8 +443,15 @@ typedef struct pvs_visibility_25d_desc {
     const float *objects;           /* object_count x (umin, vmin, umax, vmax, top): object bounds; umin > umax = empty */
     uint32_t object_count;
     uint32_t node_budget;           /* per tree (0 = 2^18); see pvs_otree_stats */
+    const pvs_kdtree *tree;         /* NULL, or a kD-tree over pvs_visibility_25d_boxes (reused across cells) */
     pvs_allocator allocator;
 } pvs_visibility_25d_desc;
+
+/* Fills boxes[facade_count + object_count] for the kD-tree of pvs_visibility_25d_desc.tree: facade i
+   is item i, object j is item facade_count + j; axes (u, v, height), the height range ending at the
+   top. Build it once with pvs_kdtree_create and share it between cells (read-only, thread-safe). */
+PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
+                                      pvs_box *boxes);
 
 /* The objects that may be visible from the cell box (ground rectangle x heights up to cell_top), given
    that facades reach down below every cell and object. Conservative: never misses a visible object.
@@ -2938,17 +2945,103 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
     return vis || t->oom;
 }
 
+/* 1 when some part of box bx (umin, vmin, umax, vmax in local coordinates, top) beyond the source
+   edge a -> b may be seen through the tree: its top edges as far segments (§7.7). */
+PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2], int *any_far) {
+    double c4[8];
+    int edge, vis = 0;
+    c4[0] = bx[0]; c4[1] = bx[1]; c4[2] = bx[2]; c4[3] = bx[1]; c4[4] = bx[2]; c4[5] = bx[3]; c4[6] = bx[0]; c4[7] = bx[3];
+    if (any_far) *any_far = 0;
+    for (edge = 0; edge < 4 && !vis; ++edge) {
+        double sg[4], o[4];
+        pvs__otpoly bl[2];
+        int on, nb, deg, m;
+        sg[0] = c4[2 * edge]; sg[1] = c4[2 * edge + 1]; sg[2] = c4[(2 * edge + 2) & 7]; sg[3] = c4[(2 * edge + 3) & 7];
+        if (sg[0] == sg[2] && sg[1] == sg[3]) sg[2] += t->len_eps; /* a box flat on both axes: its corner */
+        if (!pvs__ot_clip_segment(b, a, sg, o, &on)) continue;
+        if (any_far) *any_far = 1;
+        nb = pvs__ot_blockers(a, b, o, on, bl, &deg);
+        if (deg) vis = 1;
+        for (m = 0; m < nb && !vis; ++m) vis = pvs__ot25_visible(t, &bl[m], o, top, bx);
+    }
+    return vis;
+}
+
+typedef struct pvs__ot25_sweep {
+    pvs__otree *t;
+    const pvs_visibility_25d_desc *desc;
+    const double *all;       /* facades, local, 4 doubles each */
+    const double *box;       /* objects, local, 5 doubles each */
+    const double *cell;      /* the grown cell, CCW */
+    unsigned char *state;    /* facades: 1 + side when handled in this tree; objects: see done */
+    unsigned char *done;     /* objects: 0 unknown, 1 visible, 2 never, 3 + side: candidate in this tree */
+    const double *a, *b;
+    double cx, cy;
+    uint32_t side, budget;
+    pvs_otree_stats *st;
+} pvs__ot25_sweep;
+
+/* The sweep visitor (§7.7): nodes front to back; a node whose box meets the cell is visible; else
+   its box is tested as a virtual occluder (its footprint's edges at its top height) and culled when
+   hidden; leaves insert their facades and mark their objects for the test after the sweep. */
+PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t item_count) {
+    pvs__ot25_sweep *w = (pvs__ot25_sweep *)user;
+    pvs__otree *t = w->t;
+    const pvs_visibility_25d_desc *d = w->desc;
+    double bx[4];
+    uint32_t i;
+    (void)distance;
+    if (t->oom) return PVS_VISIT_STOP;
+    bx[0] = (double)node_box->min[0] - w->cx; bx[1] = (double)node_box->min[1] - w->cy;
+    bx[2] = (double)node_box->max[0] - w->cx; bx[3] = (double)node_box->max[1] - w->cy;
+    if (!(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
+        int far;
+        if (!pvs__ot25_box_visible(t, bx, (double)node_box->max[2], w->a, w->b, &far)) return PVS_VISIT_SKIP;
+        (void)far;
+    }
+    for (i = 0; i < item_count; ++i) {
+        uint32_t it = items[i];
+        if (it < d->facade_count) {
+            double o[4];
+            int on, nb, deg, m;
+            pvs__otpoly bl[2];
+            const double *sg = w->all + 4 * (size_t)it;
+            if (w->state[it] == 1 + w->side) continue; /* already inserted from another leaf */
+            w->state[it] = (unsigned char)(1 + w->side);
+            if (sg[0] == sg[2] && sg[1] == sg[3]) continue;
+            if (pvs__ot_segment_meets_polygon(sg, w->cell, 4)) continue; /* facades in the cell are ignored */
+            if (!pvs__ot_clip_segment(w->b, w->a, sg, o, &on)) continue;
+            if (t->node_count >= w->budget) { w->st->budget_exceeded = 1; continue; }
+            memcpy((double *)t->seg + 4 * (size_t)it, o, sizeof(o));
+            ((double *)t->top)[it] = d->facades[5 * (size_t)it + 4];
+            nb = pvs__ot_blockers(w->a, w->b, o, on, bl, &deg);
+            for (m = 0; m < nb; ++m) pvs__ot25_insert(t, &bl[m], it);
+            ++w->st->occluders_inserted;
+        } else if (it - d->facade_count < d->object_count) {
+            uint32_t ob = it - d->facade_count;
+            if (w->done[ob] == 0 || (w->done[ob] >= 3 && w->done[ob] != 3 + w->side)) w->done[ob] = (unsigned char)(3 + w->side);
+        }
+    }
+    return PVS_VISIT_DESCEND;
+}
+
+PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
+                                      pvs_box *boxes);
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
                                       pvs_error *err) {
     pvs__otree t;
     pvs_allocator al;
     double cell[8], cx, cy, ext = 1.0, margin;
     double *all = NULL, *top = NULL, *seg = NULL, *box = NULL;
-    pvs__ot_order *order = NULL;
-    unsigned char *done = NULL, *onl = NULL;
-    uint32_t nf, no, i, k, budget, side;
+    unsigned char *done = NULL, *state = NULL;
+    void *scratch = NULL;
+    size_t scratch_size = 0;
+    pvs_kdtree *own_tree = NULL;
+    const pvs_kdtree *tree;
+    uint32_t nf, no, i, k, side;
     pvs_result r = PVS_OK;
     pvs_otree_stats st;
+    pvs__ot25_sweep w;
     memset(&st, 0, sizeof(st));
     memset(&t, 0, sizeof(t));
     if (stats) *stats = st;
@@ -2956,6 +3049,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, facades, objects and visible_objects are required");
     nf = desc->facade_count;
     no = desc->object_count;
+    if ((uint64_t)nf + no >= 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many facades and objects");
     for (i = 0; i < 2; ++i)
         if (!pvs__finite(desc->cell_min[i]) || !pvs__finite(desc->cell_max[i]) || desc->cell_min[i] > desc->cell_max[i])
             return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell rectangle is not finite or has min > max");
@@ -2967,14 +3061,31 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     memset(visible_objects, 0, PVS_BITSET_WORDS(no) * sizeof(pvs_word));
     al = desc->allocator;
     t.a = &al;
+    tree = desc->tree;
+    if (!tree) { /* a kD-tree over the facades and objects for the sweep */
+        pvs_kdtree_desc kd;
+        pvs_box *boxes = (pvs_box *)pvs__alloc_array(&al, (size_t)nf + no + 1, sizeof(pvs_box));
+        if (!boxes) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D boxes"); goto done; }
+        pvs_visibility_25d_boxes(desc->facades, nf, desc->objects, no, boxes);
+        memset(&kd, 0, sizeof(kd));
+        kd.boxes = boxes;
+        kd.count = nf + no;
+        kd.allocator = al;
+        r = pvs_kdtree_create(&kd, &own_tree, err);
+        pvs__free_array(&al, boxes, (size_t)nf + no + 1, sizeof(pvs_box));
+        if (r != PVS_OK) goto done;
+        tree = own_tree;
+    }
     all = (double *)pvs__alloc_array(&al, 4 * (size_t)nf + 4, sizeof(double));
     seg = (double *)pvs__alloc_array(&al, 4 * (size_t)nf + 4, sizeof(double));
     top = (double *)pvs__alloc_array(&al, (size_t)nf + 1, sizeof(double));
     box = (double *)pvs__alloc_array(&al, 5 * (size_t)no + 5, sizeof(double));
-    order = (pvs__ot_order *)pvs__alloc_array(&al, (size_t)nf + 1, sizeof(pvs__ot_order));
     done = (unsigned char *)pvs__alloc_array(&al, (size_t)no + 1, 1);
-    onl = (unsigned char *)pvs__alloc_array(&al, (size_t)nf + 1, 1);
-    if (!onl || !all || !seg || !top || !box || !order || !done) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays"); goto done; }
+    state = (unsigned char *)pvs__alloc_array(&al, (size_t)nf + 1, 1);
+    scratch_size = pvs_kdtree_sweep_scratch_size(tree);
+    scratch = pvs__alloc(&al, scratch_size, 16);
+    if (!all || !seg || !top || !box || !done || !state || !scratch) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays"); goto done; }
+    memset(state, 0, (size_t)nf + 1);
     cx = 0.5 * ((double)desc->cell_min[0] + desc->cell_max[0]);
     cy = 0.5 * ((double)desc->cell_min[1] + desc->cell_max[1]);
     for (i = 0; i < 4 * nf; ++i) {
@@ -2998,79 +3109,54 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     t.seg = seg;
     /* objects meeting the cell's rectangle are visible; empty ones never */
     for (i = 0; i < no; ++i) {
-        const double *b = box + 5 * i;
+        const double *bb = box + 5 * i;
         done[i] = 0;
-        if (b[0] > b[2] || b[1] > b[3]) { done[i] = 2; continue; }
-        if (b[0] <= cell[2] && b[2] >= cell[0] && b[1] <= cell[5] && b[3] >= cell[1]) {
+        if (bb[0] > bb[2] || bb[1] > bb[3]) { done[i] = 2; continue; }
+        if (bb[0] <= cell[2] && bb[2] >= cell[0] && bb[1] <= cell[5] && bb[3] >= cell[1]) {
             done[i] = 1;
             pvs_bitset_set(visible_objects, i);
         }
     }
-    budget = desc->node_budget ? desc->node_budget : 1u << 18;
-    /* one tree per top edge and direction (§7.1): lines leaving the edge outward see along a
-       descending ray best from the exit edge, ascending rays from the entry edge */
+    memset(&w, 0, sizeof(w));
+    w.t = &t;
+    w.desc = desc;
+    w.all = all;
+    w.box = box;
+    w.cell = cell;
+    w.state = state;
+    w.done = done;
+    w.cx = cx;
+    w.cy = cy;
+    w.budget = desc->node_budget ? desc->node_budget : 1u << 18;
+    w.st = &st;
+    /* one tree per top edge and direction (§7.1): descending rays see best from the edge where
+       they leave the cell, ascending ones from the edge where they enter it */
     for (side = 0; side < 8 && !t.oom; ++side) {
         const double *a = cell + 2 * (side & 3), *b = cell + 2 * ((side + 1) & 3);
+        pvs_box src;
         uint32_t live = 0;
         if (side >= 4) { const double *tmp = a; a = b; b = tmp; }
-        for (i = 0; i < no; ++i) live += done[i] == 0;
+        for (i = 0; i < no; ++i) live += done[i] == 0 || done[i] >= 3;
         if (!live) break;
-        /* occluders: the facades on the edge's far side, clipped to its open half-plane */
-        for (i = 0, k = 0; i < nf; ++i) {
-            double o[4];
-            int on;
-            const double *s = all + 4 * i;
-            if (s[0] == s[2] && s[1] == s[3]) continue;
-            if (pvs__ot_segment_meets_polygon(s, cell, 4)) continue; /* facades in the cell are ignored */
-            if (!pvs__ot_clip_segment(b, a, s, o, &on)) continue;
-            memcpy(seg + 4 * k, o, sizeof(o));
-            onl[k] = (unsigned char)on;
-            top[k] = desc->facades[5 * i + 4];
-            order[k].index = k;
-            {
-                double mid[2];
-                mid[0] = 0.5 * (a[0] + b[0]); mid[1] = 0.5 * (a[1] + b[1]);
-                order[k].key = pvs__ot_dist2(mid, o);
-            }
-            ++k;
-        }
-        qsort(order, k, sizeof(*order), pvs__ot_order_cmp);
         t.sa[0] = a[0]; t.sa[1] = a[1]; t.sb[0] = b[0]; t.sb[1] = b[1];
         if (!pvs__ot_reset(&t)) break;
-        for (i = 0; i < k && !t.oom; ++i) {
-            uint32_t j = order[i].index;
-            pvs__otpoly bl[2];
-            int nb, deg, m;
-            if (t.node_count >= budget) { st.budget_exceeded = 1; break; }
-            nb = pvs__ot_blockers(a, b, seg + 4 * j, onl[j], bl, &deg);
-            for (m = 0; m < nb; ++m) pvs__ot25_insert(&t, &bl[m], j);
-            ++st.occluders_inserted;
-        }
+        w.a = a;
+        w.b = b;
+        w.side = side;
+        src.min[0] = (float)(cx + cell[0]); src.min[1] = (float)(cy + cell[1]); src.min[2] = desc->cell_top;
+        src.max[0] = (float)(cx + cell[4]); src.max[1] = (float)(cy + cell[5]); src.max[2] = desc->cell_top;
+        r = pvs_kdtree_sweep(tree, &src, scratch, scratch_size, pvs__ot25_visit, &w);
+        if (r != PVS_OK) { pvs__fail(err, r, -1, 0, "2.5D sweep"); goto done; }
         if (t.node_count > st.nodes) st.nodes = (uint32_t)t.node_count;
         if (t.oom) break;
-        /* objects after the sweep (§7.7): each top edge of the box, clipped to the far side */
+        /* objects of the visible leaves, after the sweep (§7.7) */
         for (i = 0; i < no; ++i) {
-            const double *bx = box + 5 * i;
-            double c4[8];
-            int edge, vis = 0;
-            if (done[i]) continue;
-            c4[0] = bx[0]; c4[1] = bx[1]; c4[2] = bx[2]; c4[3] = bx[1]; c4[4] = bx[2]; c4[5] = bx[3]; c4[6] = bx[0]; c4[7] = bx[3];
-            for (edge = 0; edge < 4 && !vis; ++edge) {
-                double s[4], o[4];
-                pvs__otpoly bl[2];
-                int on, nb, deg, m;
-                s[0] = c4[2 * edge]; s[1] = c4[2 * edge + 1]; s[2] = c4[(2 * edge + 2) & 7]; s[3] = c4[(2 * edge + 3) & 7];
-                if (s[0] == s[2] && s[1] == s[3]) { /* a box flat on both axes: its corner */
-                    s[2] += t.len_eps;
-                }
-                if (!pvs__ot_clip_segment(b, a, s, o, &on)) continue;
-                nb = pvs__ot_blockers(a, b, o, on, bl, &deg);
-                if (deg) vis = 1;
-                for (m = 0; m < nb && !vis; ++m) vis = pvs__ot25_visible(&t, &bl[m], o, bx[4], bx);
-            }
-            if (vis) {
+            if (done[i] != 3 + side) continue;
+            if (pvs__ot25_box_visible(&t, box + 5 * i, box[5 * i + 4], a, b, NULL)) {
                 done[i] = 1;
                 pvs_bitset_set(visible_objects, i);
+            } else {
+                done[i] = 0;
             }
         }
     }
@@ -3079,14 +3165,35 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     pvs__ok(err);
 done:
     pvs__ot_free(&t);
+    pvs_kdtree_destroy(own_tree);
+    pvs__free(&al, scratch, scratch_size, 16);
     pvs__free_array(&al, all, 4 * (size_t)nf + 4, sizeof(double));
     pvs__free_array(&al, seg, 4 * (size_t)nf + 4, sizeof(double));
     pvs__free_array(&al, top, (size_t)nf + 1, sizeof(double));
     pvs__free_array(&al, box, 5 * (size_t)no + 5, sizeof(double));
-    pvs__free_array(&al, order, (size_t)nf + 1, sizeof(pvs__ot_order));
     pvs__free_array(&al, done, (size_t)no + 1, 1);
-    pvs__free_array(&al, onl, (size_t)nf + 1, 1);
+    pvs__free_array(&al, state, (size_t)nf + 1, 1);
     return r;
+}
+
+PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
+                                      pvs_box *boxes) {
+    uint32_t i;
+    float low = FLT_MAX;
+    for (i = 0; i < facade_count; ++i) if (facades[5 * i + 4] < low) low = facades[5 * i + 4];
+    for (i = 0; i < object_count; ++i) if (objects[5 * i + 4] < low) low = objects[5 * i + 4];
+    for (i = 0; i < facade_count + object_count; ++i) {
+        const float *f = i < facade_count ? facades + 5 * (size_t)i : objects + 5 * (size_t)(i - facade_count);
+        pvs_box *b = boxes + i;
+        if (i < facade_count) {
+            b->min[0] = f[0] < f[2] ? f[0] : f[2]; b->max[0] = f[0] < f[2] ? f[2] : f[0];
+            b->min[1] = f[1] < f[3] ? f[1] : f[3]; b->max[1] = f[1] < f[3] ? f[3] : f[1];
+        } else {
+            b->min[0] = f[0]; b->max[0] = f[2]; b->min[1] = f[1]; b->max[1] = f[3]; /* empty stays empty */
+        }
+        b->min[2] = low < f[4] ? low : f[4];
+        b->max[2] = f[4];
+    }
 }
 
 // >>occluders
@@ -3214,6 +3321,7 @@ struct pvs_bake {
     float *ot_facades;         /* OTREE: facade_count x (u0 v0 u1 v1 top), then facade_count bases */
     uint32_t ot_facade_count;
     float *ot_objects;         /* OTREE: object_count x (umin vmin umax vmax top) */
+    pvs_kdtree *ot_tree;       /* OTREE: over pvs_visibility_25d_boxes */
 };
 
 PVS_API void pvs_bake_destroy(pvs_bake *b) {
@@ -3225,6 +3333,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs__free_array(&a, b->done, b->cell_count, 1);
     pvs__free_array(&a, b->ot_facades, (size_t)b->ot_facade_count * 6 + 6, sizeof(float));
     pvs__free_array(&a, b->ot_objects, (size_t)b->object_count * 5 + 5, sizeof(float));
+    pvs_kdtree_destroy(b->ot_tree);
     pvs__free(&a, b, sizeof(*b), 16);
 }
 
@@ -3305,6 +3414,20 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs_bake *b) {
         o[0] = bx->min[u]; o[1] = bx->min[v]; o[2] = bx->max[u]; o[3] = bx->max[v]; o[4] = bx->max[up];
         if (bx->min[0] > bx->max[0] || (s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)) { o[0] = 1.0f; o[2] = 0.0f; } /* never visible */
     }
+    {
+        pvs_kdtree_desc kd;
+        pvs_result r;
+        pvs_box *boxes = (pvs_box *)pvs__alloc_array(&b->allocator, (size_t)n + b->object_count + 1, sizeof(pvs_box));
+        if (!boxes) return PVS_ERROR_OUT_OF_MEMORY;
+        pvs_visibility_25d_boxes(b->ot_facades, n, b->ot_objects, b->object_count, boxes);
+        memset(&kd, 0, sizeof(kd));
+        kd.boxes = boxes;
+        kd.count = n + b->object_count;
+        kd.allocator = b->allocator;
+        r = pvs_kdtree_create(&kd, &b->ot_tree, NULL);
+        pvs__free_array(&b->allocator, boxes, (size_t)n + b->object_count + 1, sizeof(pvs_box));
+        if (r != PVS_OK) return r;
+    }
     return PVS_OK;
 }
 
@@ -3326,12 +3449,14 @@ PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, uint32_t cell, pvs_word *bit
     d.objects = b->ot_objects;
     d.object_count = b->object_count;
     d.allocator = b->allocator;
+    d.tree = b->ot_tree;
     for (i = 0; i < n; ++i)
         if (b->ot_facades[5 * (size_t)n + i] > c->min[up]) break;
     if (i < n) { /* a cell reaching below some facade's base: keep only the facades under it */
         uint32_t m = 0;
         own = (float *)pvs__alloc_array(&b->allocator, (size_t)n * 5 + 5, sizeof(float));
         if (!own) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u facades", cell);
+        d.tree = NULL; /* the shared tree indexes every facade */
         for (i = 0; i < n; ++i)
             if (b->ot_facades[5 * (size_t)n + i] <= c->min[up]) memcpy(own + 5 * (size_t)m++, b->ot_facades + 5 * (size_t)i, 5 * sizeof(float));
         d.facades = own;
