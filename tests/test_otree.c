@@ -3,6 +3,7 @@
    and the bake method. */
 #include "../pvs.h"
 #include "test.h"
+#include "../tools/gen.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -451,7 +452,98 @@ static void test_25d_random(void) {
     }
 }
 
+/* ---- the OTREE bake method on a small generated city ---- */
+
+static pvs_scene *scene_from_mesh(const mesh *m) {
+    pvs_object_desc *od = (pvs_object_desc *)calloc(m->object_count, sizeof(pvs_object_desc));
+    pvs_scene_desc sd;
+    pvs_scene *sc = NULL;
+    pvs_error e;
+    uint32_t i;
+    for (i = 0; i < m->object_count; ++i) {
+        od[i].first_triangle = m->objects[i].first_triangle;
+        od[i].triangle_count = m->objects[i].triangle_count;
+        od[i].flags = (m->objects[i].flags & MESH_OBJECT_OCCLUDER) ? PVS_OBJECT_OCCLUDER_ONLY : 0u;
+    }
+    memset(&sd, 0, sizeof(sd));
+    sd.positions = m->positions; sd.vertex_count = m->vertex_count;
+    sd.indices = m->indices; sd.triangle_count = m->triangle_count;
+    sd.objects = od; sd.object_count = m->object_count;
+    sd.up_axis = 1;
+    if (pvs_scene_create(&sd, &sc, &e) != PVS_OK) fprintf(stderr, "scene: %s\n", e.message);
+    free(od);
+    return sc;
+}
+
+static void test_bake_city(void) {
+    gen_params gp;
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *sc;
+    pvs_bake_desc bd;
+    pvs_bake *b1 = NULL, *b2 = NULL;
+    pvs_error e;
+    uint32_t c, t, objects, miss = 0;
+    size_t n1 = 0, n2 = 0;
+    void *f1, *f2;
+    pvs_word *bits;
+    double sum_pvs = 0, sum_ref = 0;
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = GEN_CITY; gp.seed = 3; gp.size = 0.3f; gp.max_cells = 24;
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    CHECK(gen_scene(&gp, &m, &cells) == 0);
+    sc = scene_from_mesh(&m);
+    CHECK(sc != NULL);
+    if (!sc) return;
+    objects = pvs_scene_object_count(sc);
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = sc; bd.cells = (const pvs_box *)cells.boxes; bd.cell_count = cells.count; bd.method = PVS_METHOD_OTREE;
+    CHECK(pvs_bake_begin(&bd, &b1, &e) == PVS_OK);
+    CHECK(pvs_bake_begin(&bd, &b2, &e) == PVS_OK);
+    CHECK(pvs_bake_method(b1) == PVS_METHOD_OTREE);
+    for (t = 0; t < pvs_bake_task_count(b1); ++t) CHECK(pvs_bake_run_task(b1, t, &e) == PVS_OK);
+    for (t = pvs_bake_task_count(b2); t-- > 0;) CHECK(pvs_bake_run_task(b2, t, &e) == PVS_OK); /* another order */
+    f1 = malloc(pvs_bake_file_bound(b1));
+    f2 = malloc(pvs_bake_file_bound(b2));
+    CHECK(pvs_bake_write_file(b1, f1, pvs_bake_file_bound(b1), &n1, &e) == PVS_OK);
+    CHECK(pvs_bake_write_file(b2, f2, pvs_bake_file_bound(b2), &n2, &e) == PVS_OK);
+    CHECK(n1 == n2 && memcmp(f1, f2, n1) == 0);
+    {   /* conservative: nothing the ray sampler sees is missing; the file is not marked approximate */
+        pvs_file f;
+        CHECK(pvs_file_open(f1, n1, &f, &e) == PVS_OK);
+        CHECK(!(f.flags & PVS_FILE_APPROXIMATE) && f.method == PVS_METHOD_OTREE);
+    }
+    bits = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
+    for (c = 0; c < cells.count; ++c) {
+        const pvs_word *pvs = pvs_bake_cell_pvs(b1, c);
+        uint32_t i;
+        memset(bits, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
+        pvs_sample_visibility(sc, (const pvs_box *)(cells.boxes + 6 * (size_t)c), 24, 1024, 7 + c, bits);
+        for (i = 0; i < objects; ++i)
+            if (pvs_bitset_test(bits, i) && !pvs_bitset_test(pvs, i)) {
+                ++miss;
+                fprintf(stderr, "otree bake: cell %u misses object %u (%s)\n", c, i, m.objects[i].name);
+            }
+        sum_pvs += pvs_bitset_count(pvs, objects);
+        sum_ref += pvs_bitset_count(bits, objects);
+    }
+    CHECK(miss == 0);
+    CHECK(sum_pvs < 0.5 * cells.count * objects); /* it does cull */
+    fprintf(stderr, "otree bake: %u cells, %u objects, mean PVS %.1f, mean sampled %.1f\n", cells.count, objects, sum_pvs / cells.count,
+            sum_ref / cells.count);
+    free(bits);
+    free(f1);
+    free(f2);
+    pvs_bake_destroy(b1);
+    pvs_bake_destroy(b2);
+    pvs_scene_destroy(sc);
+    mesh_cells_free(&cells);
+    mesh_free(&m);
+}
+
 void test_otree(void) {
+    test_bake_city();
     test_25d_random();
     test_2d_degenerate();
     test_2d_rings();
