@@ -64,9 +64,14 @@ $(B)/bench_bake: tests/bench_bake.c $(TOOL_LIB) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_bake.c $(TOOL_LIB) $(LDLIBS)
 
-bench: $(B)/bench_kdtree $(B)/bench_bake
+$(B)/bench_otree: tests/bench_otree.c $(TOOL_LIB) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_otree.c $(TOOL_LIB) $(LDLIBS)
+
+bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_otree
 	./$(B)/bench_kdtree
 	./$(B)/bench_bake
+	./$(B)/bench_otree
 
 verify: tools
 	sh tests/verify.sh

@@ -2011,7 +2011,7 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
    a little more than their share; ambiguous depth orders count as "in front" (visible). All
    geometry is in double, relative to the cell's centre. */
 
-#define PVS__OT_MAXV 24
+#define PVS__OT_MAXV 16
 #define PVS__OT_OUT 1u
 #define PVS__OT_IN 2u
 #define PVS__OT_NONE 0xffffffffu
@@ -2046,6 +2046,7 @@ typedef struct pvs__otree {
     const double *top;              /* 2.5D: occluder top heights; NULL in 2D */
     double sa[2], sb[2];            /* the source edge (cell edge or top edge) */
     double eye;                     /* 2.5D: height of the source edge */
+    const double *corners;          /* 2.5D: the cell's 4 ground corners (every possible eye position) */
     double len_eps;                 /* distances below this are ties */
 } pvs__otree;
 
@@ -2730,34 +2731,40 @@ done:
 
 #define PVS__OT25_MAX_UMBRAE 96
 
-/* Extended umbra (§7.5.1) of occluder j on the top edge of a far segment e (4 doubles, height h)
-   for 3D rays leaving the source edge between the eye points e0 and e1 (height t->eye) over j's top
-   edge: the parameters u on e where every such ray is below j's top, as an open interval (u0, u1).
-   For one eye point p the rays over j's top line form a plane; a point q of e is below it when
-   (h - H) * D(p) < (h_j - H) * (D(p) - D(q)) with D the signed distance to j's supporting line
-   (> 0 on the source side). D(p) is linear along the source edge, so the bound is monotone in p and
-   the two extreme eyes bound every eye in between; this is the plane pair pi_o / pi_s of the
-   thesis evaluated at the funnel's own ends. Returns 0 when the umbra is empty or ill-posed. */
-PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, uint32_t j, const double e0[2], const double e1[2], const double *e, double h,
-                                double *u0, double *u1) {
+/* Extended umbra (§7.5.1) of occluder j on the top edge of a far segment e (height h) for 3D rays
+   from eyes at height H = t->eye anywhere over the cell (§7.1: a descending ray is seen at least as
+   well from where its 2D line leaves the cell, an ascending one from where it enters; both lie on
+   the cell's top edges) over j's top edge: the parameters u on e where every such ray passes below
+   j's top, as an open interval (u0, u1). For one eye p the rays over j's top line form a plane; a
+   point q of e lies below it when (h - H) D(p) < (h_j - H) (D(p) - D(q)), D the signed distance to
+   j's supporting line (> 0 on the side the lines come from). The bound is monotone in D(p), so the
+   extreme distances of the cell's corners (clamped at 0: eyes behind j's line do not look over j)
+   cover every eye; this is the plane pair pi_o / pi_s of the thesis, taken over the whole cell so
+   that one tree per edge serves both kinds of rays. Returns 0 when the umbra is empty. */
+PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, uint32_t j, const double *e, double h, double *u0, double *u1) {
     const double *s = t->seg + 4 * (size_t)j;
     double dx = s[2] - s[0], dy = s[3] - s[1], len = sqrt(dx * dx + dy * dy), hj = t->top[j] - t->eye, hn = h - t->eye;
-    double de[2], q0, q1, sigma, lo = -DBL_MAX, hi = DBL_MAX;
-    const double *eye[2];
+    double de[2], q0, q1, lo = -DBL_MAX, hi = DBL_MAX, sa;
     int i;
     if (!(len > 0.0)) return 0;
-    eye[0] = e0; eye[1] = e1;
-    for (i = 0; i < 2; ++i) de[i] = (dx * (eye[i][1] - s[1]) - dy * (eye[i][0] - s[0])) / len;
-    q0 = (dx * (e[1] - s[1]) - dy * (e[0] - s[0])) / len;
-    q1 = (dx * (e[3] - s[1]) - dy * (e[2] - s[0])) / len;
-    sigma = fabs(de[0]) >= fabs(de[1]) ? (de[0] > 0 ? 1.0 : -1.0) : (de[1] > 0 ? 1.0 : -1.0);
-    de[0] *= sigma; de[1] *= sigma; q0 *= sigma; q1 *= sigma;
-    if (de[0] < -t->len_eps || de[1] < -t->len_eps) return 0; /* the source range straddles j's line */
+    /* the side the lines come from: the source edge's midpoint side */
+    sa = dx * (0.5 * (t->sa[1] + t->sb[1]) - s[1]) - dy * (0.5 * (t->sa[0] + t->sb[0]) - s[0]);
+    if (sa == 0.0) return 0;
+    sa = sa > 0.0 ? 1.0 : -1.0;
+    de[0] = DBL_MAX; de[1] = -DBL_MAX;
+    for (i = 0; i < 4; ++i) {
+        double d = sa * (dx * (t->corners[2 * i + 1] - s[1]) - dy * (t->corners[2 * i] - s[0])) / len;
+        if (d < 0.0) d = 0.0;
+        if (d < de[0]) de[0] = d;
+        if (d > de[1]) de[1] = d;
+    }
+    q0 = sa * (dx * (e[1] - s[1]) - dy * (e[0] - s[0])) / len;
+    q1 = sa * (dx * (e[3] - s[1]) - dy * (e[2] - s[0])) / len;
     /* constraints alpha + beta u > margin */
     for (i = 0; i < 3; ++i) {
         double alpha, beta, margin, lim;
         if (i < 2) {
-            double d = de[i] > 0.0 ? de[i] : 0.0;
+            double d = de[i];
             alpha = hj * (d - q0) - hn * d;
             beta = -hj * (q1 - q0);
             margin = 1e-9 * (fabs(hj) + fabs(hn) + 1.0) * (d + fabs(q0) + fabs(q1) + 1.0);
@@ -2785,15 +2792,12 @@ PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, uint32_t j, const double e0
    clearly in front are ignored (conservative). Returns 0 when nothing is left. */
 PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
                                const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0, double *v1) {
-    double slo = DBL_MAX, shi = -DBL_MAX, flo = DBL_MAX, fhi = -DBL_MAX, p0[2], p1[2], src[4];
+    double flo = DBL_MAX, fhi = -DBL_MAX;
     double um[PVS__OT25_MAX_UMBRAE][2];
     int i, nu = 0, changed;
     uint32_t m;
-    src[0] = t->sa[0]; src[1] = t->sa[1]; src[2] = t->sb[0]; src[3] = t->sb[1];
     for (i = 0; i < q->n; ++i) {
         double u;
-        if (pvs__ot_param(q->v[i], src, &u)) { if (u < slo) slo = u; if (u > shi) shi = u; }
-        else { slo = -DBL_MAX; shi = DBL_MAX; }
         if (pvs__ot_param(q->v[i], e, &u)) { if (u < flo) flo = u; if (u > fhi) fhi = u; }
         else { flo = -DBL_MAX; fhi = DBL_MAX; }
     }
@@ -2801,9 +2805,6 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
     if (fhi > 1.0) fhi = 1.0;
     *f0 = flo; *f1 = fhi;
     *v0 = flo; *v1 = fhi;
-    if (!(slo <= shi) || slo < -1e6 || shi > 1e6) return 1; /* no usable source range: visible */
-    p0[0] = src[0] + slo * (src[2] - src[0]); p0[1] = src[1] + slo * (src[3] - src[1]);
-    p1[0] = src[0] + shi * (src[2] - src[0]); p1[1] = src[1] + shi * (src[3] - src[1]);
     for (m = 0; m < count && nu < PVS__OT25_MAX_UMBRAE; ++m) {
         uint32_t j = t->seq[first + m];
         const double *sj = t->seg + 4 * (size_t)j;
@@ -2824,7 +2825,7 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
         }
         pvs__ot_depth(t, q, e, sj, &front, &behind);
         if (!front || behind) continue;
-        if (pvs__ot25_umbra(t, j, p0, p1, e, h, &um[nu][0], &um[nu][1])) ++nu;
+        if (pvs__ot25_umbra(t, j, e, h, &um[nu][0], &um[nu][1])) ++nu;
     }
     /* the first and the last parameter of [flo, fhi] outside every umbra (touching umbrae join) */
     do {
@@ -2841,7 +2842,7 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
     return *v1 > *v0;
 }
 
-#define PVS__OT25_MAX_SEQ 64
+#define PVS__OT25_MAX_SEQ 32
 
 /* Inserts the blocker of occluder k (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an
    in-leaf the funnel test clips k's top edge by the extended umbrae of the members in front and,
@@ -2994,7 +2995,9 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
     if (t->oom) return PVS_VISIT_STOP;
     bx[0] = (double)node_box->min[0] - w->cx; bx[1] = (double)node_box->min[1] - w->cy;
     bx[2] = (double)node_box->max[0] - w->cx; bx[3] = (double)node_box->max[1] - w->cy;
-    if (!(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
+    /* leaves are not tested: inserting their facades and testing their objects after the sweep
+       costs less than the box test (the thesis likewise skips tests of small nodes, §4.12.1) */
+    if (!items && !(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
         int far;
         if (!pvs__ot25_box_visible(t, bx, (double)node_box->max[2], w->a, w->b, &far)) return PVS_VISIT_SKIP;
         (void)far;
@@ -3129,13 +3132,12 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     w.cy = cy;
     w.budget = desc->node_budget ? desc->node_budget : 1u << 18;
     w.st = &st;
-    /* one tree per top edge and direction (§7.1): descending rays see best from the edge where
-       they leave the cell, ascending ones from the edge where they enter it */
-    for (side = 0; side < 8 && !t.oom; ++side) {
-        const double *a = cell + 2 * (side & 3), *b = cell + 2 * ((side + 1) & 3);
+    /* one tree per top edge (§7.1), holding the lines that leave the cell through it */
+    t.corners = cell;
+    for (side = 0; side < 4 && !t.oom; ++side) {
+        const double *a = cell + 2 * ((side + 1) & 3), *b = cell + 2 * side;
         pvs_box src;
         uint32_t live = 0;
-        if (side >= 4) { const double *tmp = a; a = b; b = tmp; }
         for (i = 0; i < no; ++i) live += done[i] == 0 || done[i] >= 3;
         if (!live) break;
         t.sa[0] = a[0]; t.sa[1] = a[1]; t.sb[0] = b[0]; t.sb[1] = b[1];
