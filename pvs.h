@@ -53,7 +53,7 @@
    >>scene      scene description, object bounds, triangle storage, explicit occluders
    >>kdtree     kD-tree over boxes: build, front-to-back sweep, ray cast, point location
    >>raster     conservative rasterizer, depth pyramid, cull map            (planned)
-   >>otree      occlusion trees                                           (planned)
+   >>otree      occlusion trees: line-space BSP; exact 2D and conservative 2.5D (c-LSS) region visibility
    >>occluders  occluder synthesis                                        (planned)
    >>methods    region methods; today the ray-sampling estimator `sample`
    >>bake       bake driver: tasks, determinism

@@ -542,7 +542,92 @@ static void test_bake_city(void) {
     mesh_free(&m);
 }
 
+/* A wall (two triangles standing on the ground), a box behind it, a box beside it, in Y-up and in
+   Z-up coordinates: the same PVS. Also a wall that floats (not on the ground) blocks nothing. */
+static void add_box(float *pos, uint32_t *vc, uint32_t *idx, uint32_t *tc, const float lo[3], const float hi[3], int zup) {
+    static const int f[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
+                                 {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
+    uint32_t base = *vc, i;
+    for (i = 0; i < 8; ++i) {
+        float p[3];
+        p[0] = i & 1 ? hi[0] : lo[0]; p[1] = i & 2 ? hi[1] : lo[1]; p[2] = i & 4 ? hi[2] : lo[2]; /* (u, v, height) */
+        pos[3 * *vc] = p[0];
+        pos[3 * *vc + 1] = zup ? p[1] : p[2];
+        pos[3 * *vc + 2] = zup ? p[2] : p[1];
+        ++*vc;
+    }
+    for (i = 0; i < 12; ++i) {
+        idx[3 * *tc] = base + (uint32_t)f[i][0]; idx[3 * *tc + 1] = base + (uint32_t)f[i][1]; idx[3 * *tc + 2] = base + (uint32_t)f[i][2];
+        ++*tc;
+    }
+}
+static void add_wall(float *pos, uint32_t *vc, uint32_t *idx, uint32_t *tc, float u0, float v0, float u1, float v1, float base, float top, int zup) {
+    float q[4][3] = {{0}};
+    uint32_t b = *vc, i;
+    q[0][0] = u0; q[0][1] = v0; q[0][2] = base;
+    q[1][0] = u1; q[1][1] = v1; q[1][2] = base;
+    q[2][0] = u1; q[2][1] = v1; q[2][2] = top;
+    q[3][0] = u0; q[3][1] = v0; q[3][2] = top;
+    for (i = 0; i < 4; ++i) {
+        pos[3 * *vc] = q[i][0];
+        pos[3 * *vc + 1] = zup ? q[i][1] : q[i][2];
+        pos[3 * *vc + 2] = zup ? q[i][2] : q[i][1];
+        ++*vc;
+    }
+    idx[3 * *tc] = b; idx[3 * *tc + 1] = b + 1; idx[3 * *tc + 2] = b + 2; ++*tc;
+    idx[3 * *tc] = b; idx[3 * *tc + 1] = b + 2; idx[3 * *tc + 2] = b + 3; ++*tc;
+}
+static void test_bake_axes(void) {
+    int zup;
+    for (zup = 0; zup < 2; ++zup) {
+        float pos[3 * 64];
+        uint32_t idx[3 * 64], vc = 0, tc = 0, t;
+        pvs_object_desc od[5];
+        pvs_scene_desc sd;
+        pvs_scene *sc = NULL;
+        pvs_bake_desc bd;
+        pvs_bake *b = NULL;
+        pvs_box cell;
+        const pvs_word *pvs;
+        float lo[3], hi[3];
+        /* object 0: the ground, object 1: a wall at u = 5 (v -10..10, 20 high) */
+        lo[0] = -20; lo[1] = -20; lo[2] = 0; hi[0] = 30; hi[1] = 20; hi[2] = 0.01f;
+        add_box(pos, &vc, idx, &tc, lo, hi, zup);
+        od[0].first_triangle = 0; od[0].triangle_count = tc; od[0].flags = 0;
+        add_wall(pos, &vc, idx, &tc, 5, -10, 5, 10, 0, 20, zup);
+        od[1].first_triangle = 12; od[1].triangle_count = 2; od[1].flags = 0;
+        /* object 2: a box right behind the wall (hidden), object 3: a box beside it (visible) */
+        lo[0] = 8; lo[1] = -1; lo[2] = 0; hi[0] = 9; hi[1] = 1; hi[2] = 3;
+        add_box(pos, &vc, idx, &tc, lo, hi, zup);
+        od[2].first_triangle = 14; od[2].triangle_count = 12; od[2].flags = 0;
+        lo[0] = 8; lo[1] = 14; hi[1] = 15;
+        add_box(pos, &vc, idx, &tc, lo, hi, zup);
+        od[3].first_triangle = 26; od[3].triangle_count = 12; od[3].flags = 0;
+        /* object 4: a wall raised off the ground between the cell and a box: blocks nothing here */
+        add_wall(pos, &vc, idx, &tc, -5, -10, -5, 10, 1, 20, zup);
+        od[4].first_triangle = 38; od[4].triangle_count = 2; od[4].flags = 0;
+        memset(&sd, 0, sizeof(sd));
+        sd.positions = pos; sd.vertex_count = vc; sd.indices = idx; sd.triangle_count = tc;
+        sd.objects = od; sd.object_count = 5; sd.up_axis = zup ? 2 : 1;
+        CHECK(pvs_scene_create(&sd, &sc, NULL) == PVS_OK);
+        if (!sc) continue;
+        cell.min[0] = -1; cell.max[0] = 1;
+        cell.min[zup ? 1 : 2] = -1; cell.max[zup ? 1 : 2] = 1;
+        cell.min[zup ? 2 : 1] = 0.5f; cell.max[zup ? 2 : 1] = 2;
+        memset(&bd, 0, sizeof(bd));
+        bd.scene = sc; bd.cells = &cell; bd.cell_count = 1; bd.method = PVS_METHOD_OTREE;
+        CHECK(pvs_bake_begin(&bd, &b, NULL) == PVS_OK);
+        for (t = 0; t < pvs_bake_task_count(b); ++t) CHECK(pvs_bake_run_task(b, t, NULL) == PVS_OK);
+        pvs = pvs_bake_cell_pvs(b, 0);
+        CHECK(pvs && pvs_bitset_test(pvs, 0) && pvs_bitset_test(pvs, 1) && pvs_bitset_test(pvs, 3) && pvs_bitset_test(pvs, 4));
+        CHECK(pvs && !pvs_bitset_test(pvs, 2));
+        pvs_bake_destroy(b);
+        pvs_scene_destroy(sc);
+    }
+}
+
 void test_otree(void) {
+    test_bake_axes();
     test_bake_city();
     test_25d_random();
     test_2d_degenerate();
