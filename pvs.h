@@ -2823,8 +2823,25 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
                 if (pvs__ot_segment_meets_polygon(sj, poly, 4)) continue;
             }
         }
-        pvs__ot_depth(t, q, e, sj, &front, &behind);
-        if (!front || behind) continue;
+        {   /* quick order: e wholly beyond j's line (seen from the source) puts j in front on every
+               line that crosses both; e wholly on the source side puts j behind */
+            double dx = sj[2] - sj[0], dy = sj[3] - sj[1];
+            double sa = dx * (t->sa[1] - sj[1]) - dy * (t->sa[0] - sj[0]), sb = dx * (t->sb[1] - sj[1]) - dy * (t->sb[0] - sj[0]);
+            double ss = sa + sb;
+            double s0 = dx * (e[1] - sj[1]) - dy * (e[0] - sj[0]), s1 = dx * (e[3] - sj[1]) - dy * (e[2] - sj[0]);
+            double tol = t->len_eps * sqrt(dx * dx + dy * dy);
+            if ((sa > tol && sb > tol) || (sa < -tol && sb < -tol)) { /* the whole source edge on one side */
+                if (ss < 0.0) { s0 = -s0; s1 = -s1; }
+                if (s0 >= -tol && s1 >= -tol) continue;       /* e on the source side: j is behind */
+                if (!(s0 < -tol && s1 < -tol)) {               /* e crosses j's line: vertex test */
+                    pvs__ot_depth(t, q, e, sj, &front, &behind);
+                    if (!front || behind) continue;
+                }
+            } else {
+                pvs__ot_depth(t, q, e, sj, &front, &behind);
+                if (!front || behind) continue;
+            }
+        }
         if (pvs__ot25_umbra(t, j, e, h, &um[nu][0], &um[nu][1])) ++nu;
     }
     /* the first and the last parameter of [flo, fhi] outside every umbra (touching umbrae join) */
