@@ -626,7 +626,68 @@ static void test_bake_axes(void) {
     }
 }
 
+/* 2.5D degenerate input: facades touching the cell, on the line of a cell edge, through a corner,
+   crossing the cell, zero-length, collinear overlaps; closed rings (buildings) with objects inside.
+   Never a miss against 3D ray sampling; a tall closed ring hides what it encloses. */
+static void test_25d_degenerate(void) {
+    float cmin[2] = {-1, -1}, cmax[2] = {1, 1};
+    float walls[5 * 40], objs[5 * 16];
+    unsigned char ref[16];
+    uint32_t nw = 0, no = 0, i, k;
+    pvs_visibility_25d_desc d;
+    pvs_word bits[1];
+    pvs_error e;
+    static const float w0[][5] = {
+        {1, 0.5f, 3, 0.5f, 4},     /* touches the cell's right edge */
+        {2, -1, 5, -1, 6},         /* on the line of the bottom edge */
+        {2, 2, 4, 4, 3},           /* its line passes through the corner (1, 1) */
+        {-3, 0, 0, 0, 5},          /* crosses into the cell: ignored */
+        {6, 3, 6, 3, 9},           /* zero length */
+        {8, -4, 8, 4, 5},          /* two collinear overlapping walls */
+        {8, -2, 8, 6, 7},
+    };
+    for (i = 0; i < sizeof(w0) / sizeof(w0[0]); ++i) memcpy(walls + 5 * nw++, w0[i], sizeof(w0[i]));
+    /* a closed ring (building) at x -12..-6, y -3..3, 12 high, with a small object inside */
+    {
+        float c[8] = {-12, -3, -6, -3, -6, 3, -12, 3};
+        for (k = 0; k < 4; ++k) {
+            float *w = walls + 5 * nw++;
+            w[0] = c[2 * k]; w[1] = c[2 * k + 1]; w[2] = c[(2 * k + 2) % 8]; w[3] = c[(2 * k + 3) % 8]; w[4] = 12;
+        }
+    }
+    {
+        static const float o0[][5] = {
+            {-10, -1, -8, 1, 6},      /* inside the ring: hidden */
+            {10, -1, 11, 1, 4},       /* behind the collinear walls */
+            {1.2f, 0.2f, 1.5f, 0.4f, 1}, /* near the touching wall */
+            {3, -3, 4, -2, 2},        /* below the bottom-edge wall's line */
+            {0.5f, 0.5f, 2, 2, 1},    /* overlaps the cell */
+            {12, 12, 13, 13, 30},     /* a tower */
+            {-20, -1, -19, 1, 11},    /* behind the ring, lower than it */
+            {-20, -1, -19, 1, 40},    /* behind the ring, much taller */
+        };
+        for (i = 0; i < sizeof(o0) / sizeof(o0[0]); ++i) memcpy(objs + 5 * no++, o0[i], sizeof(o0[i]));
+    }
+    memset(&d, 0, sizeof(d));
+    d.cell_min[0] = cmin[0]; d.cell_min[1] = cmin[1]; d.cell_max[0] = cmax[0]; d.cell_max[1] = cmax[1]; d.cell_top = 2.0f;
+    d.facades = walls; d.facade_count = nw; d.objects = objs; d.object_count = no;
+    CHECK(pvs_visibility_25d(&d, bits, NULL, &e) == PVS_OK);
+    ref25(cmin, cmax, 2.0f, walls, nw, objs, no, 120, 3000, ref);
+    for (i = 0; i < no; ++i) {
+        if (ref[i] && !pvs_bitset_test(bits, i)) fprintf(stderr, "25d degenerate: object %u sampled visible, c-LSS says hidden\n", i);
+        CHECK(!ref[i] || pvs_bitset_test(bits, i));
+    }
+    CHECK(!pvs_bitset_test(bits, 0)); /* enclosed by a closed ring taller than it */
+    CHECK(pvs_bitset_test(bits, 4));  /* overlaps the cell */
+    CHECK(pvs_bitset_test(bits, 7));  /* towers over the ring */
+    /* bad input */
+    CHECK(pvs_visibility_25d(NULL, bits, NULL, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    d.cell_min[0] = 2;
+    CHECK(pvs_visibility_25d(&d, bits, NULL, &e) == PVS_ERROR_BAD_CELL);
+}
+
 void test_otree(void) {
+    test_25d_degenerate();
     test_bake_axes();
     test_bake_city();
     test_25d_random();
