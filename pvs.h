@@ -2561,10 +2561,40 @@ typedef struct pvs__ot_order {
     double key;
     uint32_t index;
 } pvs__ot_order;
-PVS__STATIC int pvs__ot_order_cmp(const void *x, const void *y) {
-    const pvs__ot_order *a = (const pvs__ot_order *)x, *b = (const pvs__ot_order *)y;
-    if (a->key != b->key) return a->key < b->key ? -1 : 1;
-    return a->index < b->index ? -1 : a->index > b->index;
+PVS__STATIC int pvs__ot_order_less(const pvs__ot_order *a, const pvs__ot_order *b) {
+    return a->key < b->key || (a->key == b->key && a->index < b->index);
+}
+/* Heap sort by (key, index): no libc qsort (stdlib.h is optional when PVS_MALLOC is defined). */
+PVS__STATIC void pvs__ot_sort(pvs__ot_order *o, uint32_t n) {
+    uint32_t i, end;
+    for (end = n; end > 1; --end) {
+        if (end == n)
+            for (i = n / 2; i-- > 0;) { /* heapify */
+                uint32_t r = i;
+                for (;;) {
+                    uint32_t c = 2 * r + 1;
+                    pvs__ot_order tmp;
+                    if (c >= n) break;
+                    if (c + 1 < n && pvs__ot_order_less(o + c, o + c + 1)) ++c;
+                    if (!pvs__ot_order_less(o + r, o + c)) break;
+                    tmp = o[r]; o[r] = o[c]; o[c] = tmp;
+                    r = c;
+                }
+            }
+        {
+            pvs__ot_order tmp = o[0];
+            uint32_t r = 0, m = end - 1;
+            o[0] = o[m]; o[m] = tmp;
+            for (;;) {
+                uint32_t c = 2 * r + 1;
+                if (c >= m) break;
+                if (c + 1 < m && pvs__ot_order_less(o + c, o + c + 1)) ++c;
+                if (!pvs__ot_order_less(o + r, o + c)) break;
+                tmp = o[r]; o[r] = o[c]; o[c] = tmp;
+                r = c;
+            }
+        }
+    }
 }
 /* Squared distance from point p to segment s. */
 PVS__STATIC double pvs__ot_dist2(const double p[2], const double *s) {
@@ -2667,7 +2697,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
             order[i].index = i;
         }
     }
-    qsort(order, count, sizeof(*order), pvs__ot_order_cmp);
+    pvs__ot_sort(order, count);
     t.seg = seg;
     budget = desc->node_budget ? desc->node_budget : 1u << 20;
     if (!pvs__ot_reset(&t)) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree"); goto done; }
