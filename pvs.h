@@ -2997,10 +2997,19 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
    edge a -> b may be seen through the tree: its top edges as far segments (§7.7). */
 PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2], int *any_far) {
     double c4[8];
-    int edge, vis = 0;
+    int edge, vis = 0, skip = -1;
     c4[0] = bx[0]; c4[1] = bx[1]; c4[2] = bx[2]; c4[3] = bx[1]; c4[4] = bx[2]; c4[5] = bx[3]; c4[6] = bx[0]; c4[7] = bx[3];
     if (any_far) *any_far = 0;
+    /* A box taller than the eyes is seen (if at all) along a rising ray, at least as well at the
+       point where the ray's 2D line enters the box; no line of this tree enters through the box
+       edge that faces the same way as the source edge (edges 0..3: -v, +u, +v, -u). */
+    if (top > t->eye) {
+        double nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* the source edge's outward direction */
+        if (fabs(nx) > fabs(ny)) skip = nx > 0 ? 1 : 3;
+        else skip = ny > 0 ? 2 : 0;
+    }
     for (edge = 0; edge < 4 && !vis; ++edge) {
+        if (edge == skip) continue;
         double sg[4], o[4];
         pvs__otpoly bl[2];
         int on, nb, deg, m;
