@@ -34,11 +34,11 @@ for kind in city forest indoor walls soup; do
     done
   done
 done
-# otree on the full-size city: three seeds, 500 cells each, files identical for -j1 and -j2
+# otree on the full-size city: three seeds, 500 cells each (CITY_CELLS), files identical for -j1 and -j2
 case " $CONSERVATIVE_METHODS " in *" otree "*)
   for seed in 1 2 3; do
     base="$T/city-full-$seed"
-    "$B/pvsgen" city --seed "$seed" --max-cells 500 -o "$base.obj" --cells "$base.cells" 2>/dev/null || { echo "city full $seed: pvsgen failed"; fail=1; continue; }
+    "$B/pvsgen" city --seed "$seed" --max-cells "${CITY_CELLS:-500}" -o "$base.obj" --cells "$base.cells" 2>/dev/null || { echo "city full $seed: pvsgen failed"; fail=1; continue; }
     "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method otree -j 1 -o "$base.otree.pvs" || { echo "city full $seed otree: bake failed"; fail=1; continue; }
     if [ "$seed" = 1 ]; then
       "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method otree -j 2 -o "$base.otree-j2.pvs" &&
