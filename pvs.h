@@ -2030,6 +2030,7 @@ typedef struct pvs__otnode {
     uint32_t kind;      /* 0 interior, PVS__OT_OUT, PVS__OT_IN */
     uint32_t child[2];  /* [0] negative side, [1] positive side */
     uint32_t first, count; /* in-leaf payload: occluders seq[first .. first + count) */
+    double mvd;         /* 2D: maximum visibility distance of the subtree (§6.5.5); DBL_MAX above out-leaves */
 } pvs__otnode;
 
 typedef struct pvs__otree {
@@ -2044,6 +2045,7 @@ typedef struct pvs__otree {
     int oom;
     const double *seg;              /* occluder segments, 4 doubles each (local coordinates) */
     const double *top;              /* 2.5D: occluder top heights; NULL in 2D */
+    const double *reach;            /* 2D: per occluder, the largest distance between it and a cell point */
     double sa[2], sb[2];            /* the source edge (cell edge or top edge) */
     double eye;                     /* 2.5D: height of the source edge */
     const double *corners;          /* 2.5D: the cell's 4 ground corners (every possible eye position) */
@@ -2083,6 +2085,7 @@ PVS__STATIC int pvs__ot_reset(pvs__otree *t) {
     if (!pvs__ot_grow(t->a, (void **)&t->nodes, &t->node_cap, 1, sizeof(pvs__otnode))) { t->oom = 1; return 0; }
     memset(t->nodes, 0, sizeof(pvs__otnode));
     t->nodes[0].kind = PVS__OT_OUT;
+    t->nodes[0].mvd = DBL_MAX;
     t->node_count = 1;
     return 1;
 }
@@ -2376,7 +2379,7 @@ PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_f
 /* ---- 2D from-region (ch. 6): insertion with the four depth cases of §6.5.1 ---- */
 
 /* Inserts blocker polygon q of occluder k (§3.3.3 with the 2D in-leaf cases). */
-PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
+PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
     size_t base = t->stack_count;
     const double *sk = t->seg + 4 * (size_t)k;
     if (!pvs__ot_push(t, 0, blocker)) return;
@@ -2386,6 +2389,9 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
         pvs__otnode *nd;
         q = t->stack[t->stack_count];
         nd = t->nodes + node;
+        /* the maximum visibility distance shortcut (§6.5.5): every line of this subtree meets a
+           stored occluder closer to any cell point than k is to the cell: k is hidden here */
+        if (near > nd->mvd) continue;
         if (nd->kind == 0) {
             double lo, hi, p[2];
             int i;
@@ -2451,7 +2457,7 @@ PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
    occluder. Splits with slack (both sides see a little more), stops at the first visible leaf;
    slivers (see pvs__ot_thickness) do not count, so the answer does not depend on where insertion
    rounded, i.e. on the insertion order. */
-PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
+PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
     size_t base = t->stack_count;
     const double *sk = t->seg + 4 * (size_t)k;
     int vis = 0;
@@ -2461,6 +2467,7 @@ PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint
         uint32_t node = t->stack_node[--t->stack_count];
         const pvs__otnode *nd = t->nodes + node;
         q = t->stack[t->stack_count];
+        if (near > nd->mvd) continue; /* §6.5.5 */
         if (nd->kind == 0) {
             double lo, hi, p[2];
             p[0] = nd->p[0]; p[1] = nd->p[1];
@@ -2629,13 +2636,50 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
     return 1;
 }
 
+/* Recomputes the maximum visibility distances bottom-up (§6.5.5): children always have larger
+   indices than their parent, so one backward pass suffices. Out-leaves: unbounded; in-leaves: the
+   largest distance between the stored occluder and a cell point (so along any line the stored
+   occluder is at most that far from where the line leaves the cell). */
+PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
+    size_t i;
+    for (i = t->node_count; i-- > 0;) {
+        pvs__otnode *nd = t->nodes + i;
+        if (nd->kind == PVS__OT_OUT) nd->mvd = DBL_MAX;
+        else if (nd->kind == PVS__OT_IN) nd->mvd = t->reach[t->seq[nd->first]];
+        else {
+            double a = t->nodes[nd->child[0]].mvd, b = t->nodes[nd->child[1]].mvd;
+            nd->mvd = a > b ? a : b;
+        }
+    }
+}
+
+/* Distance between segments s and r (0 when they meet). */
+PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
+    double x[2], d, best;
+    int i;
+    if (pvs__ot_cross(s, r, x)) {
+        double us, ur, dx = s[2] - s[0], dy = s[3] - s[1], ex = r[2] - r[0], ey = r[3] - r[1];
+        us = dx * dx + dy * dy > 0 ? ((x[0] - s[0]) * dx + (x[1] - s[1]) * dy) / (dx * dx + dy * dy) : -1.0;
+        ur = ex * ex + ey * ey > 0 ? ((x[0] - r[0]) * ex + (x[1] - r[1]) * ey) / (ex * ex + ey * ey) : -1.0;
+        if (us >= 0.0 && us <= 1.0 && ur >= 0.0 && ur <= 1.0) return 0.0;
+    }
+    best = DBL_MAX;
+    for (i = 0; i < 2; ++i) {
+        d = pvs__ot_dist2(s + 2 * i, r);
+        if (d < best) best = d;
+        d = pvs__ot_dist2(r + 2 * i, s);
+        if (d < best) best = d;
+    }
+    return sqrt(best);
+}
+
 /* ---- 2D from-region API (ch. 6) ---- */
 
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments, pvs_word *visible_objects,
                                      pvs_otree_stats *stats, pvs_error *err) {
     pvs__otree t;
     pvs_allocator al;
-    double *cell = NULL, *seg = NULL, cx = 0.0, cy = 0.0, area = 0.0;
+    double *cell = NULL, *seg = NULL, *reach = NULL, *near = NULL, cx = 0.0, cy = 0.0, area = 0.0;
     pvs__ot_order *order = NULL;
     uint32_t n, i, k, budget, count;
     pvs_result r = PVS_OK;
@@ -2660,7 +2704,9 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
     cell = (double *)pvs__alloc_array(&al, 2 * (size_t)n, sizeof(double));
     seg = (double *)pvs__alloc_array(&al, 4 * (size_t)count + 4, sizeof(double));
     order = (pvs__ot_order *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(pvs__ot_order));
-    if (!cell || !seg || !order) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2D visibility arrays"); goto done; }
+    reach = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
+    near = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
+    if (!cell || !seg || !order || !reach || !near) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2D visibility arrays"); goto done; }
     for (i = 0; i < n; ++i) { cx += desc->cell[2 * i]; cy += desc->cell[2 * i + 1]; }
     cx /= n; cy /= n;
     for (i = 0; i < n; ++i) {
@@ -2698,6 +2744,24 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
         }
     }
     pvs__ot_sort(order, count);
+    for (i = 0; i < count; ++i) { /* distances for the MVD shortcut, rounded outward */
+        const double *sg = seg + 4 * i;
+        double far2 = 0.0, nr = DBL_MAX;
+        for (k = 0; k < n; ++k) {
+            double e[4], d0, d1;
+            int m;
+            e[0] = cell[2 * k]; e[1] = cell[2 * k + 1]; e[2] = cell[2 * ((k + 1) % n)]; e[3] = cell[2 * ((k + 1) % n) + 1];
+            for (m = 0; m < 2; ++m) {
+                d0 = (sg[2 * m] - e[0]) * (sg[2 * m] - e[0]) + (sg[2 * m + 1] - e[1]) * (sg[2 * m + 1] - e[1]);
+                if (d0 > far2) far2 = d0;
+            }
+            d1 = pvs__ot_seg_dist(sg, e);
+            if (d1 < nr) nr = d1;
+        }
+        reach[i] = sqrt(far2) * (1.0 + 1e-9) + t.len_eps;
+        near[i] = pvs__ot_segment_meets_polygon(sg, cell, n) ? 0.0 : nr * (1.0 - 1e-9) - t.len_eps;
+    }
+    t.reach = reach;
     t.seg = seg;
     budget = desc->node_budget ? desc->node_budget : 1u << 20;
     if (!pvs__ot_reset(&t)) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree"); goto done; }
@@ -2716,8 +2780,9 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
             if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
             /* an occluder crossing the cell is visible anyway; its outside parts still block */
             nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
-            for (m = 0; m < nb; ++m) pvs__ot2_insert(&t, &bl[m], j);
+            for (m = 0; m < nb; ++m) pvs__ot2_insert(&t, &bl[m], j, near[j]);
         }
+        pvs__ot2_update_mvd(&t);
     }
     if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree nodes"); goto done; }
     /* exact re-test of every segment against the final tree (§6.6) */
@@ -2735,7 +2800,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
             if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
             nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
             if (deg) vis = 1;
-            for (m = 0; m < nb && !vis; ++m) vis = pvs__ot2_visible(&t, &bl[m], i);
+            for (m = 0; m < nb && !vis; ++m) vis = pvs__ot2_visible(&t, &bl[m], i, near[i]);
         }
         if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree test"); goto done; }
         if (!vis) continue;
@@ -2754,6 +2819,8 @@ done:
     pvs__free_array(&al, cell, 2 * (size_t)n, sizeof(double));
     pvs__free_array(&al, seg, 4 * (size_t)count + 4, sizeof(double));
     pvs__free_array(&al, order, (size_t)count + 1, sizeof(pvs__ot_order));
+    pvs__free_array(&al, reach, (size_t)count + 1, sizeof(double));
+    pvs__free_array(&al, near, (size_t)count + 1, sizeof(double));
     return r;
 }
 
