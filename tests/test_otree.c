@@ -422,6 +422,15 @@ static void test_25d_random(void) {
             extra += got[i] && !ref[i];
         }
         CHECK(miss == 0);
+        {   /* a node budget stops insertion: reported, and the set only grows */
+            pvs_word cut[2];
+            pvs_otree_stats st2;
+            d.node_budget = 20;
+            CHECK(pvs_visibility_25d(&d, cut, &st2, &e) == PVS_OK);
+            CHECK(st2.budget_exceeded == 1);
+            for (i = 0; i < no; ++i) CHECK(!pvs_bitset_test(bits, i) || pvs_bitset_test(cut, i));
+            d.node_budget = 0;
+        }
         /* contains the exact 2D PVS of infinitely tall facades */
         {
             float seg[4 * (80 + 4 * 120)], cell[8] = {-1, -1, 1, -1, 1, 1, -1, 1};
