@@ -2009,7 +2009,10 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
    an in-leaf never claims lines outside the blocker that created it; insertion classifies with a
    tolerance that can only drop blocked slivers; read-only tests split with slack so both sides see
    a little more than their share; ambiguous depth orders count as "in front" (visible). All
-   geometry is in double, relative to the cell's centre. */
+   geometry is in double, relative to the cell's centre.
+
+   Users: pvs_visibility_2d (exact 2D from-region, ch. 6), pvs_visibility_25d (conservative 2.5D,
+   c-LSS, ch. 7) and the OTREE bake method. Not yet here: the from-point shadow-volume tree (ch. 4). */
 
 #define PVS__OT_MAXV 16
 #define PVS__OT_OUT 1u

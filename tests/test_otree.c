@@ -539,6 +539,55 @@ static void test_bake_city(void) {
     }
     CHECK(miss == 0);
     CHECK(sum_pvs < 0.5 * cells.count * objects); /* it does cull */
+    {   /* contains the exact 2D ground-plan PVS with the walls made infinitely tall: walls = pairs of
+           consecutive triangles standing on y = 0 over one ground segment (the bake's rule, or looser) */
+        float *seg = (float *)malloc(((size_t)m.triangle_count + 4 * objects) * 4 * sizeof(float));
+        uint8_t *fl = (uint8_t *)malloc((size_t)m.triangle_count + 4 * objects);
+        uint32_t *ob = (uint32_t *)malloc(((size_t)m.triangle_count + 4 * objects) * sizeof(uint32_t));
+        uint32_t ns = 0, tt, i, k, not_contained = 0;
+        pvs_word *vis2d = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
+        for (tt = 0; tt + 1 < m.triangle_count; ++tt) {
+            float px[2], pz[2], lo = 1e30f;
+            int np = 0, ok = 1;
+            for (k = 0; k < 6 && ok; ++k) {
+                const float *v = m.positions + 3 * (size_t)m.indices[3 * (size_t)tt + k];
+                int q;
+                if (v[1] < lo) lo = v[1];
+                for (q = 0; q < np; ++q) if (px[q] == v[0] && pz[q] == v[2]) break;
+                if (q == np) { if (np == 2) ok = 0; else { px[np] = v[0]; pz[np] = v[2]; ++np; } }
+            }
+            if (!ok || np != 2 || lo > 0.0f) continue;
+            seg[4 * ns] = px[0]; seg[4 * ns + 1] = pz[0]; seg[4 * ns + 2] = px[1]; seg[4 * ns + 3] = pz[1];
+            fl[ns] = 0; ob[ns] = PVS_NO_OBJECT; ++ns;
+            ++tt;
+        }
+        for (i = 0; i < objects; ++i) {
+            pvs_box bx = pvs_scene_object_box(sc, i);
+            float cc[8];
+            cc[0] = bx.min[0]; cc[1] = bx.min[2]; cc[2] = bx.max[0]; cc[3] = bx.min[2];
+            cc[4] = bx.max[0]; cc[5] = bx.max[2]; cc[6] = bx.min[0]; cc[7] = bx.max[2];
+            for (k = 0; k < 4; ++k) {
+                seg[4 * ns] = cc[2 * k]; seg[4 * ns + 1] = cc[2 * k + 1]; seg[4 * ns + 2] = cc[(2 * k + 2) % 8]; seg[4 * ns + 3] = cc[(2 * k + 3) % 8];
+                fl[ns] = PVS_SEGMENT_NO_OCCLUSION; ob[ns] = i; ++ns;
+            }
+        }
+        for (c = 0; c < cells.count; c += 3) {
+            const float *cb = cells.boxes + 6 * (size_t)c;
+            float poly[8];
+            pvs_visibility_2d_desc d2;
+            const pvs_word *pvs = pvs_bake_cell_pvs(b1, c);
+            poly[0] = cb[0]; poly[1] = cb[2]; poly[2] = cb[3]; poly[3] = cb[2]; poly[4] = cb[3]; poly[5] = cb[5]; poly[6] = cb[0]; poly[7] = cb[5];
+            memset(&d2, 0, sizeof(d2));
+            d2.cell = poly; d2.cell_vertex_count = 4; d2.segments = seg; d2.segment_count = ns; d2.segment_flags = fl;
+            d2.segment_objects = ob; d2.object_count = objects;
+            CHECK(pvs_visibility_2d(&d2, NULL, vis2d, NULL, &e) == PVS_OK);
+            for (i = 0; i < objects; ++i)
+                if (pvs_bitset_test(vis2d, i) && !pvs_bitset_test(pvs, i)) ++not_contained;
+        }
+        CHECK(not_contained == 0);
+        if (not_contained) fprintf(stderr, "otree bake: %u objects of the exact 2D PVS missing\n", not_contained);
+        free(seg); free(fl); free(ob); free(vis2d);
+    }
     fprintf(stderr, "otree bake: %u cells, %u objects, mean PVS %.1f, mean sampled %.1f\n", cells.count, objects, sum_pvs / cells.count,
             sum_ref / cells.count);
     free(bits);
