@@ -53,7 +53,7 @@
    >>scene      scene description, object bounds, triangle storage, explicit occluders
    >>kdtree     kD-tree over boxes: build, front-to-back sweep, ray cast, point location
    >>raster     conservative rasterizer, depth pyramid, cull map, per-frame culling
-   >>otree      occlusion trees                                           (planned)
+   >>otree      occlusion trees: line-space BSP; exact 2D and conservative 2.5D (c-LSS) region visibility
    >>occluders  occluder synthesis                                        (planned)
    >>methods    region methods; today the ray-sampling estimator `sample`
    >>bake       bake driver: tasks, determinism
@@ -656,6 +656,75 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *raster, const pvs_scene *scene, c
 PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
                                        const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
                                        pvs_error *err);
+/* ---- otree ---------------------------------------------------------------------------------- */
+
+/* Occlusion trees (Bittner 2002): a BSP over oriented 2D line space whose leaves are "out" (lines
+   that reach nothing yet) or "in" (lines blocked by a stored occluder). Built front to back by an
+   occlusion sweep; conservative everywhere floating point has to decide. */
+
+/* What an occlusion-tree computation reports. */
+typedef struct pvs_otree_stats {
+    uint32_t nodes;              /* tree nodes at the end (the largest tree for several trees) */
+    uint32_t occluders_inserted; /* occluders merged into the tree(s) */
+    uint32_t visible_segments;   /* 2D: segments found visible */
+    uint32_t budget_exceeded;    /* 1 when node_budget stopped insertion: the rest counted as not blocking (still conservative) */
+} pvs_otree_stats;
+
+/* Segment flags for pvs_visibility_2d. */
+#define PVS_SEGMENT_NO_OCCLUSION 1u /* tested for visibility but never blocks sight */
+
+/* Exact 2D from-region visibility (Bittner 2002, ch. 6). Left at zero, optional fields get defaults. */
+typedef struct pvs_visibility_2d_desc {
+    const float *cell;               /* cell_vertex_count x (x, y): a convex polygon, either winding */
+    uint32_t cell_vertex_count;      /* >= 3 */
+    const float *segments;           /* segment_count x (x0, y0, x1, y1): occluders, opaque from both sides */
+    uint32_t segment_count;
+    const uint8_t *segment_flags;    /* NULL or segment_count PVS_SEGMENT_* flags */
+    const uint32_t *segment_objects; /* NULL (segment i is object i) or the object of each segment, or PVS_NO_OBJECT */
+    uint32_t object_count;           /* bits in visible_objects */
+    uint32_t node_budget;            /* stop inserting past this many tree nodes (0 = 2^20); see pvs_otree_stats */
+    uint32_t flags;                  /* PVS_VISIBILITY_* */
+    pvs_allocator allocator;
+} pvs_visibility_2d_desc;
+#define PVS_VISIBILITY_INPUT_ORDER 1u /* insert occluders in input order, not front to back (tests order independence) */
+
+/* Which segments (and objects) are visible from some point of the cell: a segment is visible when a
+   line segment from a cell point reaches it without crossing another segment (touching an end point
+   does not block; segments crossing the cell are visible). Exact up to floating point, rounded
+   toward visible. visible_segments (PVS_BITSET_WORDS(segment_count) words) and visible_objects
+   (PVS_BITSET_WORDS(object_count) words) may each be NULL; both are cleared first. stats may be
+   NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex),
+   OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
+PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments, pvs_word *visible_objects,
+                                     pvs_otree_stats *stats, pvs_error *err);
+
+/* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7). Coordinates (u, v) are the
+   ground plane, h the height. Left at zero, optional fields get defaults. */
+typedef struct pvs_visibility_25d_desc {
+    float cell_min[2], cell_max[2]; /* the cell's ground rectangle */
+    float cell_top;                 /* the highest eye height in the cell */
+    const float *facades;           /* facade_count x (u0, v0, u1, v1, top): opaque vertical walls that */
+    uint32_t facade_count;          /*   stand on the ground: they block every height below `top` */
+    const float *objects;           /* object_count x (umin, vmin, umax, vmax, top): object bounds; umin > umax = empty */
+    uint32_t object_count;
+    uint32_t node_budget;           /* per tree (0 = 2^18); see pvs_otree_stats */
+    const pvs_kdtree *tree;         /* NULL, or a kD-tree over pvs_visibility_25d_boxes (reused across cells) */
+    pvs_allocator allocator;
+} pvs_visibility_25d_desc;
+
+/* Fills boxes[facade_count + object_count] for the kD-tree of pvs_visibility_25d_desc.tree: facade i
+   is item i, object j is item facade_count + j; axes (u, v, height), the height range ending at the
+   top. Build it once with pvs_kdtree_create and share it between cells (read-only, thread-safe). */
+PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
+                                      pvs_box *boxes);
+
+/* The objects that may be visible from the cell box (ground rectangle x heights up to cell_top), given
+   that facades reach down below every cell and object. Conservative: never misses a visible object.
+   Facades crossing the cell's rectangle are ignored. visible_objects: PVS_BITSET_WORDS(object_count)
+   words, cleared first. stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY.
+   Thread-safe; allocates through desc->allocator. */
+PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
+                                      pvs_error *err);
 
 /* ---- methods --------------------------------------------------------------------------------- */
 
@@ -663,6 +732,8 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scen
 typedef enum pvs_method {
     PVS_METHOD_DEFAULT = 0,
     PVS_METHOD_SAMPLE,       /* ray sampling: an estimate from below, NOT conservative */
+    PVS_METHOD_OTREE,        /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7): conservative; occluders are the
+                                scene's vertical rectangles standing on the ground (see pvs_visibility_25d) */
     PVS_METHOD_COUNT
 } pvs_method;
 
@@ -3721,7 +3792,1336 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 
 
 // >>otree
-/* (planned: occlusion trees) */
+/* ---------------------------------------------------------------------------------------------- */
+/* otree: occlusion trees over oriented 2D line space (Bittner 2002, ch. 3, 6, 7)                 */
+/* ---------------------------------------------------------------------------------------------- */
+/* One BSP kernel (§3.3, §6.8): a tree whose interior nodes are planes through the origin of R^3,
+   each the image p* of a primal point p (§6.4: the oriented line l* = (u,1) x (v,1) has
+   l*.(p,1) = orient(u, v, p), > 0 when p lies left of the line), and whose leaves are out (rays not
+   blocked) or in (blocked; the payload names the nearest occluder in 2D, or the set of occluders
+   that may be seen over in 2.5D). Sets of lines are convex polygons of unit vectors (vertices =
+   extremal lines); every polygon edge remembers the primal point whose plane carries it and whether
+   that plane is already on the path (edge marking, §4.10.1), so an out-leaf becomes the elementary
+   tree e-OT of only the unmarked edges (§3.3.3).
+
+   Conservative rounding. Regions of the tree are defined by exact planes through stored points, so
+   an in-leaf never claims lines outside the blocker that created it; insertion classifies with a
+   tolerance that can only drop blocked slivers; read-only tests split with slack so both sides see
+   a little more than their share; ambiguous depth orders count as "in front" (visible). All
+   geometry is in double, relative to the cell's centre.
+
+   Users: pvs_visibility_2d (exact 2D from-region, ch. 6), pvs_visibility_25d (conservative 2.5D,
+   c-LSS, ch. 7) and the OTREE bake method. Not yet here: the from-point shadow-volume tree (ch. 4). */
+
+#define PVS__OT_MAXV 16
+#define PVS__OT_OUT 1u
+#define PVS__OT_IN 2u
+#define PVS__OT_NONE 0xffffffffu
+
+typedef struct pvs__otpoly {
+    int n;
+    int xsplit;                     /* already split at a crossing point X (§6.5.1 case 3) */
+    double v[PVS__OT_MAXV][3];      /* extremal lines, unit length */
+    double e[PVS__OT_MAXV][2];      /* edge i (v[i] -> v[i+1]) lies in the plane of point e[i] */
+    unsigned char mark[PVS__OT_MAXV];
+} pvs__otpoly;
+
+typedef struct pvs__otnode {
+    double p[2];        /* interior: the plane is sign * (p.x, p.y, 1) */
+    int32_t sign;
+    uint32_t kind;      /* 0 interior, PVS__OT_OUT, PVS__OT_IN */
+    uint32_t child[2];  /* [0] negative side, [1] positive side */
+    uint32_t first, count; /* in-leaf payload: occluders seq[first .. first + count) */
+    double mvd;         /* 2D: maximum visibility distance of the subtree (§6.5.5); DBL_MAX above out-leaves */
+} pvs__otnode;
+
+typedef struct pvs__otree {
+    const pvs_allocator *a;
+    pvs__otnode *nodes;
+    size_t node_count, node_cap;
+    uint32_t *seq;
+    size_t seq_count, seq_cap;
+    pvs__otpoly *stack;             /* work stack of polygons */
+    uint32_t *stack_node;
+    size_t stack_count, stack_cap;
+    int oom;
+    const double *seg;              /* occluder segments, 4 doubles each (local coordinates) */
+    const double *top;              /* 2.5D: occluder top heights; NULL in 2D */
+    const double *reach;            /* 2D: per occluder, the largest distance between it and a cell point */
+    double sa[2], sb[2];            /* the source edge (cell edge or top edge) */
+    double eye;                     /* 2.5D: height of the source edge */
+    const double *corners;          /* 2.5D: the cell's 4 ground corners (every possible eye position) */
+    double len_eps;                 /* distances below this are ties */
+} pvs__otree;
+
+PVS__STATIC int pvs__ot_grow(const pvs_allocator *a, void **p, size_t *cap, size_t need, size_t elem) {
+    size_t ncap, bytes;
+    void *q;
+    if (need <= *cap) return 1;
+    ncap = *cap ? *cap * 2 : 64;
+    while (ncap < need) ncap *= 2;
+    if (!pvs__mul(ncap, elem, &bytes)) return 0;
+    q = pvs__alloc(a, bytes, 16);
+    if (!q) return 0;
+    if (*p) {
+        memcpy(q, *p, *cap * elem);
+        pvs__free(a, *p, *cap * elem, 16);
+    }
+    *p = q;
+    *cap = ncap;
+    return 1;
+}
+
+PVS__STATIC void pvs__ot_free(pvs__otree *t) {
+    pvs__free(t->a, t->nodes, t->node_cap * sizeof(pvs__otnode), 16);
+    pvs__free(t->a, t->seq, t->seq_cap * sizeof(uint32_t), 16);
+    pvs__free(t->a, t->stack, t->stack_cap * sizeof(pvs__otpoly), 16);
+    pvs__free(t->a, t->stack_node, t->stack_cap * sizeof(uint32_t), 16);
+    t->nodes = NULL; t->seq = NULL; t->stack = NULL; t->stack_node = NULL;
+    t->node_cap = t->seq_cap = t->stack_cap = 0;
+}
+
+/* Resets to the whole line set: a single out-leaf (§3.3.2). */
+PVS__STATIC int pvs__ot_reset(pvs__otree *t) {
+    t->node_count = t->seq_count = t->stack_count = 0;
+    if (!pvs__ot_grow(t->a, (void **)&t->nodes, &t->node_cap, 1, sizeof(pvs__otnode))) { t->oom = 1; return 0; }
+    memset(t->nodes, 0, sizeof(pvs__otnode));
+    t->nodes[0].kind = PVS__OT_OUT;
+    t->nodes[0].mvd = DBL_MAX;
+    t->node_count = 1;
+    return 1;
+}
+
+PVS__STATIC uint32_t pvs__ot_new_node(pvs__otree *t) {
+    if (!pvs__ot_grow(t->a, (void **)&t->nodes, &t->node_cap, t->node_count + 1, sizeof(pvs__otnode))) {
+        t->oom = 1;
+        return PVS__OT_NONE;
+    }
+    memset(t->nodes + t->node_count, 0, sizeof(pvs__otnode));
+    return (uint32_t)t->node_count++;
+}
+
+PVS__STATIC int pvs__ot_push(pvs__otree *t, uint32_t node, const pvs__otpoly *poly) {
+    size_t c1 = t->stack_cap, c2 = t->stack_cap;
+    if (t->stack_count + 1 > t->stack_cap) {
+        if (!pvs__ot_grow(t->a, (void **)&t->stack, &c1, t->stack_count + 1, sizeof(pvs__otpoly)) ||
+            !pvs__ot_grow(t->a, (void **)&t->stack_node, &c2, t->stack_count + 1, sizeof(uint32_t))) {
+            /* keep the arrays consistent with the smaller capacity */
+            t->oom = 1;
+            return 0;
+        }
+        t->stack_cap = c1 < c2 ? c1 : c2;
+    }
+    t->stack[t->stack_count] = *poly;
+    t->stack_node[t->stack_count++] = node;
+    return 1;
+}
+
+/* ---- line-space kernel (§6.4, §6.8) ---- */
+
+/* The oriented line u -> v, (u,1) x (v,1), normalised; 0 when u == v. */
+PVS__STATIC double pvs__ot_line(const double u[2], const double v[2], double l[3]) {
+    double len;
+    l[0] = u[1] - v[1];
+    l[1] = v[0] - u[0];
+    l[2] = u[0] * v[1] - u[1] * v[0];
+    len = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    if (len > 0.0) { l[0] /= len; l[1] /= len; l[2] /= len; }
+    return len;
+}
+/* Signed "side" of primal point p for line l, scaled so that unit lines give comparable values. */
+PVS__STATIC double pvs__ot_side(const double l[3], const double p[2]) {
+    return (l[0] * p[0] + l[1] * p[1] + l[2]) / sqrt(p[0] * p[0] + p[1] * p[1] + 1.0);
+}
+PVS__STATIC void pvs__ot_normalize(double v[3]) {
+    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (len > 0.0) { v[0] /= len; v[1] /= len; v[2] /= len; }
+}
+
+#define PVS__OT_EPS 1e-12
+
+/* Keeps the part of `in` where sign * side(p) >= -slack (slack 0: the exact half). New edges lie in
+   the plane of p and get mark `mark`. Returns the vertex count of the result (0 = empty). */
+PVS__STATIC int pvs__ot_clip(const pvs__otpoly *in, const double p[2], double sign, double slack, int mark, pvs__otpoly *out) {
+    double d[PVS__OT_MAXV];
+    int i, n = in->n, m = 0, any_in = 0;
+    for (i = 0; i < n; ++i) {
+        d[i] = sign * pvs__ot_side(in->v[i], p) + slack;
+        if (d[i] > PVS__OT_EPS) any_in = 1;
+    }
+    out->xsplit = in->xsplit;
+    if (!any_in) { out->n = 0; return 0; }
+    for (i = 0; i < n; ++i) {
+        int j = (i + 1) % n;
+        int in_i = d[i] >= 0.0, in_j = d[j] >= 0.0;
+        if (in_i) {
+            if (m >= PVS__OT_MAXV) { out->n = 0; return -1; }
+            memcpy(out->v[m], in->v[i], sizeof(out->v[m]));
+            memcpy(out->e[m], in->e[i], sizeof(out->e[m]));
+            out->mark[m] = in->mark[i];
+            ++m;
+        }
+        if (in_i != in_j) {
+            double tt = d[i] / (d[i] - d[j]);
+            int k;
+            if (m >= PVS__OT_MAXV) { out->n = 0; return -1; }
+            for (k = 0; k < 3; ++k) out->v[m][k] = in->v[i][k] + tt * (in->v[j][k] - in->v[i][k]);
+            pvs__ot_normalize(out->v[m]);
+            if (in_i) { /* leaving: the new edge runs along p's plane */
+                out->e[m][0] = p[0]; out->e[m][1] = p[1];
+                out->mark[m] = (unsigned char)mark;
+            } else {    /* entering: the rest of edge i */
+                memcpy(out->e[m], in->e[i], sizeof(out->e[m]));
+                out->mark[m] = in->mark[i];
+            }
+            ++m;
+        }
+    }
+    out->n = m;
+    return m;
+}
+
+/* Min and max of side(p) over the polygon's vertices. */
+PVS__STATIC void pvs__ot_range(const pvs__otpoly *q, const double p[2], double *lo, double *hi) {
+    int i;
+    *lo = DBL_MAX; *hi = -DBL_MAX;
+    for (i = 0; i < q->n; ++i) {
+        double s = pvs__ot_side(q->v[i], p);
+        if (s < *lo) *lo = s;
+        if (s > *hi) *hi = s;
+    }
+}
+
+/* The blocker polygon B(S, O) (§6.4.3): oriented lines through S = a b and then O = c d, vertices in
+   the cyclic order a->c, a->d, b->d, b->c; each edge lies in the plane of the two lines' shared
+   point. Coincident vertices (O's supporting line through an end of S, O touching S) merge into
+   the triangle of Fig. 6.5. Returns 0 when the polygon is degenerate (no line set of positive
+   measure). */
+PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const double c[2], const double d[2], pvs__otpoly *q) {
+    const double *from[4], *to[4], *pt[4];
+    double v[4][3], len[4];
+    int i, n = 0, k;
+    from[0] = a; to[0] = c; pt[0] = a;
+    from[1] = a; to[1] = d; pt[1] = d;
+    from[2] = b; to[2] = d; pt[2] = b;
+    from[3] = b; to[3] = c; pt[3] = c;
+    for (i = 0; i < 4; ++i) len[i] = pvs__ot_line(from[i], to[i], v[i]);
+    q->xsplit = 0;
+    for (i = 0; i < 4; ++i) {
+        double dx = to[i][0] - from[i][0], dy = to[i][1] - from[i][1];
+        double scale = fabs(from[i][0]) + fabs(from[i][1]) + fabs(to[i][0]) + fabs(to[i][1]) + 1.0;
+        if (sqrt(dx * dx + dy * dy) <= 1e-12 * scale || len[i] == 0.0) continue; /* u == v: no line */
+        if (n > 0) {
+            double *w = q->v[n - 1];
+            double dd = fabs(w[0] - v[i][0]) + fabs(w[1] - v[i][1]) + fabs(w[2] - v[i][2]);
+            if (dd <= 1e-12) {
+                /* same line as the previous vertex: keep the edge plane through a point on both neighbours */
+                continue;
+            }
+        }
+        memcpy(q->v[n], v[i], sizeof(q->v[n]));
+        q->e[n][0] = pt[i][0]; q->e[n][1] = pt[i][1];
+        q->mark[n] = 0;
+        ++n;
+    }
+    if (n >= 2) {
+        double *w = q->v[n - 1], *f = q->v[0];
+        double dd = fabs(w[0] - f[0]) + fabs(w[1] - f[1]) + fabs(w[2] - f[2]);
+        if (dd <= 1e-12) --n;
+    }
+    q->n = n;
+    if (n < 3) return 0;
+    /* fix each edge's plane: the point of the candidates that lies on both end lines */
+    for (i = 0; i < n; ++i) {
+        const double *v0 = q->v[i], *v1 = q->v[(i + 1) % n];
+        const double *cand[4];
+        int best = -1;
+        double best_err = DBL_MAX;
+        cand[0] = a; cand[1] = b; cand[2] = c; cand[3] = d;
+        for (k = 0; k < 4; ++k) {
+            double e0 = fabs(pvs__ot_side(v0, cand[k])), e1 = fabs(pvs__ot_side(v1, cand[k]));
+            double err = e0 > e1 ? e0 : e1;
+            if (err < best_err) { best_err = err; best = k; }
+        }
+        if (best < 0 || best_err > 1e-9) return 0;
+        q->e[i][0] = cand[best][0]; q->e[i][1] = cand[best][1];
+    }
+    /* convexity: every vertex on the inner side of every edge plane */
+    {
+        double cen[3] = {0, 0, 0};
+        for (i = 0; i < n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
+        for (i = 0; i < n; ++i) {
+            double s = pvs__ot_side(cen, q->e[i]);
+            if (fabs(s) <= 1e-12) return 0;
+            for (k = 0; k < n; ++k)
+                if ((s > 0 ? 1.0 : -1.0) * pvs__ot_side(q->v[k], q->e[i]) < -1e-9) return 0;
+        }
+    }
+    return 1;
+}
+
+/* Parameter along line l (unit direction (l1, -l0)) of its crossing with the line through segment
+   `s` (4 doubles); 0 when (nearly) parallel or the same line. */
+PVS__STATIC int pvs__ot_hit(const double l[3], const double *s, double *t) {
+    double m[3], x, y, w, dx = l[1], dy = -l[0], dn;
+    m[0] = s[1] - s[3];
+    m[1] = s[2] - s[0];
+    m[2] = s[0] * s[3] - s[1] * s[2];
+    x = l[1] * m[2] - l[2] * m[1];
+    y = l[2] * m[0] - l[0] * m[2];
+    w = l[0] * m[1] - l[1] * m[0];
+    dn = sqrt(m[0] * m[0] + m[1] * m[1]);
+    if (!(fabs(w) > 1e-12 * dn)) return 0;
+    *t = (x * dx + y * dy) / (w * sqrt(dx * dx + dy * dy));
+    return 1;
+}
+
+/* Parameter on segment s (4 doubles, 0 at the first end, 1 at the second) where line l crosses its
+   supporting line; 0 when parallel. */
+PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
+    double dx = s[2] - s[0], dy = s[3] - s[1];
+    double a = l[0] * s[0] + l[1] * s[1] + l[2], b = l[0] * dx + l[1] * dy;
+    if (!(fabs(b) > 1e-14 * (fabs(a) + 1e-300))) return 0;
+    *u = -a / b;
+    return 1;
+}
+
+/* The crossing X of the supporting lines of two segments; 0 when parallel. */
+PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
+    double d1x = s[2] - s[0], d1y = s[3] - s[1], d2x = r[2] - r[0], d2y = r[3] - r[1];
+    double den = d1x * d2y - d1y * d2x, u;
+    if (!(fabs(den) > 1e-14 * (fabs(d1x) + fabs(d1y)) * (fabs(d2x) + fabs(d2y)))) return 0;
+    u = ((r[0] - s[0]) * d2y - (r[1] - s[1]) * d2x) / den;
+    x[0] = s[0] + u * d1x;
+    x[1] = s[1] + u * d1y;
+    return 1;
+}
+
+/* Depth order of occluders j and k along the lines of q (§6.5.1): counts vertices where k is
+   clearly in front of j, clearly behind; ties (the line through X or a shared end point) count as
+   neither, and so do vertex lines that miss either segment: they lie outside the leaf's region by
+   a rounding sliver (a polygon clipped with slack), where the order means nothing. */
+PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk, int *front, int *behind) {
+    int i, have_x;
+    double x[2];
+    *front = *behind = 0;
+    /* after a split at the crossing X the lines through X are ties, whatever rounding says */
+    have_x = q->xsplit && pvs__ot_cross(sj, sk, x);
+    for (i = 0; i < q->n; ++i) {
+        double tj, tk, uj, uk;
+        if (have_x && fabs(pvs__ot_side(q->v[i], x)) <= 1e-9) continue;
+        if (!pvs__ot_hit(q->v[i], sj, &tj) || !pvs__ot_hit(q->v[i], sk, &tk)) continue;
+        if (!pvs__ot_param(q->v[i], sj, &uj) || !pvs__ot_param(q->v[i], sk, &uk)) continue;
+        if (uj < -1e-7 || uj > 1.0 + 1e-7 || uk < -1e-7 || uk > 1.0 + 1e-7) continue;
+        if (tk < tj - t->len_eps) ++*front;
+        else if (tk > tj + t->len_eps) ++*behind;
+    }
+}
+
+/* Turns leaf `node` into the chain of the polygon's unmarked edges (the e-OT, §3.3.3): the sides
+   away from the polygon keep the leaf's old kind and payload; returns the node whose region is the
+   polygon (the old leaf payload is still on it), or PVS__OT_NONE when out of memory. */
+PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
+    double cen[3] = {0, 0, 0};
+    int i, k;
+    for (i = 0; i < q->n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
+    for (i = 0; i < q->n; ++i) {
+        pvs__otnode old;
+        uint32_t outside, inside;
+        double s;
+        if (q->mark[i]) continue;
+        s = pvs__ot_side(cen, q->e[i]);
+        outside = pvs__ot_new_node(t);
+        inside = pvs__ot_new_node(t);
+        if (outside == PVS__OT_NONE || inside == PVS__OT_NONE) return PVS__OT_NONE;
+        old = t->nodes[node];
+        t->nodes[outside] = old;
+        t->nodes[inside] = old;
+        t->nodes[node].kind = 0;
+        t->nodes[node].p[0] = q->e[i][0];
+        t->nodes[node].p[1] = q->e[i][1];
+        t->nodes[node].sign = s > 0 ? 1 : -1;
+        t->nodes[node].child[0] = outside;
+        t->nodes[node].child[1] = inside;
+        node = inside;
+    }
+    return node;
+}
+
+/* Splits leaf `node` by the plane of p; the side `sign * side(p) > 0` continues. Returns that child. */
+PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const double p[2], double sign) {
+    uint32_t neg = pvs__ot_new_node(t), pos = pvs__ot_new_node(t);
+    pvs__otnode old;
+    if (neg == PVS__OT_NONE || pos == PVS__OT_NONE) return PVS__OT_NONE;
+    old = t->nodes[node];
+    t->nodes[neg] = old;
+    t->nodes[pos] = old;
+    t->nodes[node].kind = 0;
+    t->nodes[node].p[0] = p[0];
+    t->nodes[node].p[1] = p[1];
+    t->nodes[node].sign = sign > 0 ? 1 : -1;
+    t->nodes[node].child[0] = neg;
+    t->nodes[node].child[1] = pos;
+    return pos;
+}
+
+/* Gives leaf `node` the payload seq[old_first .. + old_count) followed by `add`. */
+PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_first, uint32_t old_count, uint32_t add) {
+    size_t first = t->seq_count;
+    if (!pvs__ot_grow(t->a, (void **)&t->seq, &t->seq_cap, t->seq_count + old_count + 1, sizeof(uint32_t))) return t->oom = 1, 0;
+    if (old_count) memmove(t->seq + first, t->seq + old_first, old_count * sizeof(uint32_t));
+    t->seq[first + old_count] = add;
+    t->seq_count = first + old_count + 1;
+    t->nodes[node].kind = PVS__OT_IN;
+    t->nodes[node].first = (uint32_t)first;
+    t->nodes[node].count = old_count + 1;
+    return 1;
+}
+
+/* ---- 2D from-region (ch. 6): insertion with the four depth cases of §6.5.1 ---- */
+
+/* Inserts blocker polygon q of occluder k (§3.3.3 with the 2D in-leaf cases). */
+PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
+    size_t base = t->stack_count;
+    const double *sk = t->seg + 4 * (size_t)k;
+    if (!pvs__ot_push(t, 0, blocker)) return;
+    while (t->stack_count > base && !t->oom) {
+        pvs__otpoly q, part;
+        uint32_t node = t->stack_node[--t->stack_count];
+        pvs__otnode *nd;
+        q = t->stack[t->stack_count];
+        nd = t->nodes + node;
+        /* the maximum visibility distance shortcut (§6.5.5): every line of this subtree meets a
+           stored occluder closer to any cell point than k is to the cell: k is hidden here */
+        if (near > nd->mvd) continue;
+        if (nd->kind == 0) {
+            double lo, hi, p[2];
+            int i;
+            p[0] = nd->p[0]; p[1] = nd->p[1];
+            pvs__ot_range(&q, p, &lo, &hi);
+            lo *= nd->sign; hi *= nd->sign;
+            if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
+            for (i = 0; i < q.n; ++i)
+                if (q.e[i][0] == p[0] && q.e[i][1] == p[1]) q.mark[i] = 1;
+            if (lo >= -1e-12) { pvs__ot_push(t, nd->child[1], &q); continue; }
+            if (hi <= 1e-12) { pvs__ot_push(t, nd->child[0], &q); continue; }
+            if (pvs__ot_clip(&q, p, (double)nd->sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[1], &part);
+            if (pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[0], &part);
+        } else if (nd->kind == PVS__OT_OUT) {
+            uint32_t leaf = pvs__ot_refine(t, node, &q);
+            if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
+        } else {
+            uint32_t j = t->seq[nd->first];
+            const double *sj = t->seg + 4 * (size_t)j;
+            int front, behind;
+            if (j == k) continue;
+            pvs__ot_depth(t, &q, sj, sk, &front, &behind);
+            if (!front) continue;                        /* case 1 (behind) and case 4 (collinear) */
+            if (behind && !q.xsplit) {                   /* case 3: split at the crossing X */
+                double x[2];
+                if (pvs__ot_cross(sj, sk, x)) {
+                    q.xsplit = 1;
+                    if (pvs__ot_clip(&q, x, 1.0, 0.0, 0, &part) >= 3) pvs__ot_push(t, node, &part);
+                    if (pvs__ot_clip(&q, x, -1.0, 0.0, 0, &part) >= 3) pvs__ot_push(t, node, &part);
+                    continue;
+                }
+            }
+            /* case 2 (or an unresolved crossing, counted as in front: conservative) */
+            {
+                uint32_t leaf = pvs__ot_refine(t, node, &q);
+                if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
+            }
+        }
+    }
+    t->stack_count = base;
+}
+
+/* Thickness of a line-space polygon: the smallest over its edges of the largest vertex distance
+   from the edge's plane. Insertion leaves slivers about 1e-12 thick where it rounded; line sets
+   thinner than PVS__OT_SLIVER (radians, at unit distance) are below the resolution of the method. */
+#define PVS__OT_SLIVER 1e-10
+PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
+    double th = DBL_MAX;
+    int i, k;
+    if (q->n < 3) return 0.0;
+    for (i = 0; i < q->n; ++i) {
+        double mx = 0.0;
+        for (k = 0; k < q->n; ++k) {
+            double d = fabs(pvs__ot_side(q->v[k], q->e[i]));
+            if (d > mx) mx = d;
+        }
+        if (mx < th) th = mx;
+    }
+    return th;
+}
+
+/* Read-only test (§3.3.4, §6.5.3): 1 when some line of q reaches occluder k before any stored
+   occluder. Splits with slack (both sides see a little more), stops at the first visible leaf;
+   slivers (see pvs__ot_thickness) do not count, so the answer does not depend on where insertion
+   rounded, i.e. on the insertion order. */
+PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
+    size_t base = t->stack_count;
+    const double *sk = t->seg + 4 * (size_t)k;
+    int vis = 0;
+    if (!pvs__ot_push(t, 0, blocker)) return 1;
+    while (t->stack_count > base && !vis) {
+        pvs__otpoly q, part;
+        uint32_t node = t->stack_node[--t->stack_count];
+        const pvs__otnode *nd = t->nodes + node;
+        q = t->stack[t->stack_count];
+        if (near > nd->mvd) continue; /* §6.5.5 */
+        if (nd->kind == 0) {
+            double lo, hi, p[2];
+            p[0] = nd->p[0]; p[1] = nd->p[1];
+            pvs__ot_range(&q, p, &lo, &hi);
+            lo *= nd->sign; hi *= nd->sign;
+            if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
+            /* a polygon whose vertices sit on the plane within 1e-12 (an edge on the plane) goes to one
+               side; otherwise both sides get their part widened by the same 1e-12 */
+            if (lo >= -1e-12) vis |= !pvs__ot_push(t, nd->child[1], &q);
+            else if (hi <= 1e-12) vis |= !pvs__ot_push(t, nd->child[0], &q);
+            else {
+                int c0 = pvs__ot_clip(&q, p, (double)nd->sign, 1e-12, 0, &part);
+                if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[1], c0 > 0 ? &part : &q);
+                c0 = pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 1e-12, 0, &part);
+                if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[0], c0 > 0 ? &part : &q);
+            }
+        } else if (pvs__ot_thickness(&q) < PVS__OT_SLIVER) {
+            continue;
+        } else if (nd->kind == PVS__OT_OUT) {
+            vis = 1;
+        } else {
+            uint32_t j = t->seq[nd->first];
+            int front, behind;
+            if (j == k) { vis = 1; break; }
+            pvs__ot_depth(t, &q, t->seg + 4 * (size_t)j, sk, &front, &behind);
+            if (front && behind && !q.xsplit) { /* the exact test splits at the crossing X (§6.5.1 case 3) */
+                double x[2];
+                if (pvs__ot_cross(t->seg + 4 * (size_t)j, sk, x)) {
+                    q.xsplit = 1;
+                    if (pvs__ot_clip(&q, x, 1.0, 0.0, 0, &part) >= 3) vis |= !pvs__ot_push(t, node, &part);
+                    if (pvs__ot_clip(&q, x, -1.0, 0.0, 0, &part) >= 3) vis |= !pvs__ot_push(t, node, &part);
+                    continue;
+                }
+            }
+            if (front || !behind) vis = 1; /* in front somewhere, or all ties (collinear): visible */
+        }
+    }
+    t->stack_count = base;
+    return vis || t->oom;
+}
+
+/* ---- shared driver pieces ---- */
+
+/* Clips segment s (4 doubles) to the open half-plane right of a -> b (the outer side of a CCW
+   edge). Returns 0 when nothing is left; *on_line tells which clipped end (1 = first, 2 = second)
+   was moved onto the line. */
+PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const double *s, double out[4], int *on_line) {
+    double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
+    double f0 = (ex * (s[1] - a[1]) - ey * (s[0] - a[0])) / len;
+    double f1 = (ex * (s[3] - a[1]) - ey * (s[2] - a[0])) / len;
+    *on_line = 0;
+    memcpy(out, s, 4 * sizeof(double));
+    if (f0 >= 0.0 && f1 >= 0.0) return 0;
+    if (f0 >= 0.0) {
+        double u = f0 / (f0 - f1);
+        out[0] = s[0] + u * (s[2] - s[0]);
+        out[1] = s[1] + u * (s[3] - s[1]);
+        *on_line = 1;
+    } else if (f1 >= 0.0) {
+        double u = f1 / (f1 - f0);
+        out[2] = s[2] + u * (s[0] - s[2]);
+        out[3] = s[3] + u * (s[1] - s[3]);
+        *on_line = 2;
+    }
+    return !(out[0] == out[2] && out[1] == out[3]);
+}
+
+/* The blockers of source edge a -> b (lines leaving to its right) and the clipped segment o: one,
+   or two when o's supporting line crosses the edge at x (Fig. 6.5). Returns how many were built
+   (0..2); *degenerate is set when a non-empty line set could not be represented. */
+PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line, pvs__otpoly out[2], int *degenerate) {
+    double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
+    int n = 0, have_x = 0;
+    *degenerate = 0;
+    if (on_line) {
+        x[0] = on_line == 1 ? o[0] : o[2];
+        x[1] = on_line == 1 ? o[1] : o[3];
+        u = ((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / (ex * ex + ey * ey);
+        have_x = 1;
+    } else {
+        double seg[4];
+        seg[0] = a[0]; seg[1] = a[1]; seg[2] = b[0]; seg[3] = b[1];
+        if (pvs__ot_cross(seg, o, x)) {
+            u = ((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / (ex * ex + ey * ey);
+            have_x = 1;
+        }
+    }
+    if (have_x && u > 1e-12 && u < 1.0 - 1e-12) {
+        if (pvs__ot_blocker(a, x, o, o + 2, &out[n])) ++n; else *degenerate = 1;
+        if (pvs__ot_blocker(x, b, o, o + 2, &out[n])) ++n; else *degenerate = 1;
+    } else {
+        if (pvs__ot_blocker(a, b, o, o + 2, &out[n])) ++n; else *degenerate = 1;
+    }
+    return n;
+}
+
+typedef struct pvs__ot_order {
+    double key;
+    uint32_t index;
+} pvs__ot_order;
+PVS__STATIC int pvs__ot_order_less(const pvs__ot_order *a, const pvs__ot_order *b) {
+    return a->key < b->key || (a->key == b->key && a->index < b->index);
+}
+/* Heap sort by (key, index): no libc qsort (stdlib.h is optional when PVS_MALLOC is defined). */
+PVS__STATIC void pvs__ot_sort(pvs__ot_order *o, uint32_t n) {
+    uint32_t i, end;
+    for (end = n; end > 1; --end) {
+        if (end == n)
+            for (i = n / 2; i-- > 0;) { /* heapify */
+                uint32_t r = i;
+                for (;;) {
+                    uint32_t c = 2 * r + 1;
+                    pvs__ot_order tmp;
+                    if (c >= n) break;
+                    if (c + 1 < n && pvs__ot_order_less(o + c, o + c + 1)) ++c;
+                    if (!pvs__ot_order_less(o + r, o + c)) break;
+                    tmp = o[r]; o[r] = o[c]; o[c] = tmp;
+                    r = c;
+                }
+            }
+        {
+            pvs__ot_order tmp = o[0];
+            uint32_t r = 0, m = end - 1;
+            o[0] = o[m]; o[m] = tmp;
+            for (;;) {
+                uint32_t c = 2 * r + 1;
+                if (c >= m) break;
+                if (c + 1 < m && pvs__ot_order_less(o + c, o + c + 1)) ++c;
+                if (!pvs__ot_order_less(o + r, o + c)) break;
+                tmp = o[r]; o[r] = o[c]; o[c] = tmp;
+                r = c;
+            }
+        }
+    }
+}
+/* Squared distance from point p to segment s. */
+PVS__STATIC double pvs__ot_dist2(const double p[2], const double *s) {
+    double dx = s[2] - s[0], dy = s[3] - s[1], l2 = dx * dx + dy * dy, u = 0.0, qx, qy;
+    if (l2 > 0.0) {
+        u = ((p[0] - s[0]) * dx + (p[1] - s[1]) * dy) / l2;
+        if (u < 0.0) u = 0.0;
+        if (u > 1.0) u = 1.0;
+    }
+    qx = s[0] + u * dx - p[0];
+    qy = s[1] + u * dy - p[1];
+    return qx * qx + qy * qy;
+}
+/* 1 when segment s meets the closed convex CCW polygon poly (n vertices). */
+PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *poly, uint32_t n) {
+    double t0 = 0.0, t1 = 1.0, dx = s[2] - s[0], dy = s[3] - s[1];
+    uint32_t i;
+    for (i = 0; i < n; ++i) {
+        const double *a = poly + 2 * i, *b = poly + 2 * ((i + 1) % n);
+        double ex = b[0] - a[0], ey = b[1] - a[1];
+        double f = ex * (s[1] - a[1]) - ey * (s[0] - a[0]); /* >= 0 inside */
+        double g = ex * dy - ey * dx;                        /* change of f along s */
+        if (g == 0.0) {
+            if (f < 0.0) return 0;
+        } else {
+            double u = -f / g;
+            if (g > 0.0) { if (u > t0) t0 = u; }
+            else if (u < t1) t1 = u;
+            if (t0 > t1) return 0;
+        }
+    }
+    return 1;
+}
+
+/* Recomputes the maximum visibility distances bottom-up (§6.5.5): children always have larger
+   indices than their parent, so one backward pass suffices. Out-leaves: unbounded; in-leaves: the
+   largest distance between the stored occluder and a cell point (so along any line the stored
+   occluder is at most that far from where the line leaves the cell). */
+PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
+    size_t i;
+    for (i = t->node_count; i-- > 0;) {
+        pvs__otnode *nd = t->nodes + i;
+        if (nd->kind == PVS__OT_OUT) nd->mvd = DBL_MAX;
+        else if (nd->kind == PVS__OT_IN) nd->mvd = t->reach[t->seq[nd->first]];
+        else {
+            double a = t->nodes[nd->child[0]].mvd, b = t->nodes[nd->child[1]].mvd;
+            nd->mvd = a > b ? a : b;
+        }
+    }
+}
+
+/* Distance between segments s and r (0 when they meet). */
+PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
+    double x[2], d, best;
+    int i;
+    if (pvs__ot_cross(s, r, x)) {
+        double us, ur, dx = s[2] - s[0], dy = s[3] - s[1], ex = r[2] - r[0], ey = r[3] - r[1];
+        us = dx * dx + dy * dy > 0 ? ((x[0] - s[0]) * dx + (x[1] - s[1]) * dy) / (dx * dx + dy * dy) : -1.0;
+        ur = ex * ex + ey * ey > 0 ? ((x[0] - r[0]) * ex + (x[1] - r[1]) * ey) / (ex * ex + ey * ey) : -1.0;
+        if (us >= 0.0 && us <= 1.0 && ur >= 0.0 && ur <= 1.0) return 0.0;
+    }
+    best = DBL_MAX;
+    for (i = 0; i < 2; ++i) {
+        d = pvs__ot_dist2(s + 2 * i, r);
+        if (d < best) best = d;
+        d = pvs__ot_dist2(r + 2 * i, s);
+        if (d < best) best = d;
+    }
+    return sqrt(best);
+}
+
+/* ---- 2D from-region API (ch. 6) ---- */
+
+PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments, pvs_word *visible_objects,
+                                     pvs_otree_stats *stats, pvs_error *err) {
+    pvs__otree t;
+    pvs_allocator al;
+    double *cell = NULL, *seg = NULL, *reach = NULL, *near = NULL, cx = 0.0, cy = 0.0, area = 0.0;
+    pvs__ot_order *order = NULL;
+    uint32_t n, i, k, budget, count;
+    pvs_result r = PVS_OK;
+    pvs_otree_stats st;
+    memset(&st, 0, sizeof(st));
+    memset(&t, 0, sizeof(t));
+    if (stats) *stats = st;
+    if (!desc || !desc->cell || desc->cell_vertex_count < 3 || (desc->segment_count && !desc->segments))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, a cell of >= 3 vertices and the segments are required");
+    n = desc->cell_vertex_count;
+    count = desc->segment_count;
+    for (i = 0; i < 2 * n; ++i)
+        if (!pvs__finite(desc->cell[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 2, 0, "cell vertex %u is not finite", i / 2);
+    for (i = 0; i < 4 * count; ++i)
+        if (!pvs__finite(desc->segments[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 4, 0, "segment %u is not finite", i / 4);
+    if (desc->segment_objects)
+        for (i = 0; i < count; ++i)
+            if (desc->segment_objects[i] != PVS_NO_OBJECT && desc->segment_objects[i] >= desc->object_count)
+                return pvs__fail(err, PVS_ERROR_INDEX_OUT_OF_RANGE, i, 0, "segment %u names object %u of %u", i, desc->segment_objects[i], desc->object_count);
+    al = desc->allocator;
+    t.a = &al;
+    cell = (double *)pvs__alloc_array(&al, 2 * (size_t)n, sizeof(double));
+    seg = (double *)pvs__alloc_array(&al, 4 * (size_t)count + 4, sizeof(double));
+    order = (pvs__ot_order *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(pvs__ot_order));
+    reach = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
+    near = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
+    if (!cell || !seg || !order || !reach || !near) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2D visibility arrays"); goto done; }
+    for (i = 0; i < n; ++i) { cx += desc->cell[2 * i]; cy += desc->cell[2 * i + 1]; }
+    cx /= n; cy /= n;
+    for (i = 0; i < n; ++i) {
+        cell[2 * i] = (double)desc->cell[2 * i] - cx;
+        cell[2 * i + 1] = (double)desc->cell[2 * i + 1] - cy;
+    }
+    for (i = 0; i < n; ++i) {
+        const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n);
+        area += a[0] * b[1] - a[1] * b[0];
+    }
+    if (!(fabs(area) > 0.0)) { r = pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon has no area"); goto done; }
+    if (area < 0.0) /* make it counter-clockwise */
+        for (i = 0; i < n / 2; ++i) {
+            double tx = cell[2 * i], ty = cell[2 * i + 1];
+            cell[2 * i] = cell[2 * (n - 1 - i)]; cell[2 * i + 1] = cell[2 * (n - 1 - i) + 1];
+            cell[2 * (n - 1 - i)] = tx; cell[2 * (n - 1 - i) + 1] = ty;
+        }
+    for (i = 0; i < n; ++i) { /* convex: no right turn */
+        const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n), *c = cell + 2 * ((i + 2) % n);
+        if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) < 0.0) {
+            r = pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon is not convex");
+            goto done;
+        }
+    }
+    {
+        double ext = 1.0, o[2] = {0.0, 0.0};
+        for (i = 0; i < 4 * count; ++i) {
+            seg[i] = (double)desc->segments[i] - (i & 1 ? cy : cx);
+            if (fabs(seg[i]) > ext) ext = fabs(seg[i]);
+        }
+        t.len_eps = 1e-9 * ext;
+        for (i = 0; i < count; ++i) {
+            order[i].key = desc->flags & PVS_VISIBILITY_INPUT_ORDER ? 0.0 : pvs__ot_dist2(o, seg + 4 * i);
+            order[i].index = i;
+        }
+    }
+    pvs__ot_sort(order, count);
+    for (i = 0; i < count; ++i) { /* distances for the MVD shortcut, rounded outward */
+        const double *sg = seg + 4 * i;
+        double far2 = 0.0, nr = DBL_MAX;
+        for (k = 0; k < n; ++k) {
+            double e[4], d0, d1;
+            int m;
+            e[0] = cell[2 * k]; e[1] = cell[2 * k + 1]; e[2] = cell[2 * ((k + 1) % n)]; e[3] = cell[2 * ((k + 1) % n) + 1];
+            for (m = 0; m < 2; ++m) {
+                d0 = (sg[2 * m] - e[0]) * (sg[2 * m] - e[0]) + (sg[2 * m + 1] - e[1]) * (sg[2 * m + 1] - e[1]);
+                if (d0 > far2) far2 = d0;
+            }
+            d1 = pvs__ot_seg_dist(sg, e);
+            if (d1 < nr) nr = d1;
+        }
+        reach[i] = sqrt(far2) * (1.0 + 1e-9) + t.len_eps;
+        near[i] = pvs__ot_segment_meets_polygon(sg, cell, n) ? 0.0 : nr * (1.0 - 1e-9) - t.len_eps;
+    }
+    t.reach = reach;
+    t.seg = seg;
+    budget = desc->node_budget ? desc->node_budget : 1u << 20;
+    if (!pvs__ot_reset(&t)) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree"); goto done; }
+    /* the sweep (§6.6): occluders by distance to the cell's centre, one tree for all edges (§6.5.2) */
+    for (i = 0; i < count && !t.oom; ++i) {
+        uint32_t j = order[i].index;
+        const double *s = seg + 4 * j;
+        if (desc->segment_flags && (desc->segment_flags[j] & PVS_SEGMENT_NO_OCCLUSION)) continue;
+        if (s[0] == s[2] && s[1] == s[3]) continue;
+        if (t.node_count >= budget) { st.budget_exceeded = 1; break; }
+        ++st.occluders_inserted;
+        for (k = 0; k < n; ++k) {
+            double o[4];
+            pvs__otpoly bl[2];
+            int on, nb, deg, m;
+            if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
+            /* an occluder crossing the cell is visible anyway; its outside parts still block */
+            nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
+            for (m = 0; m < nb; ++m) pvs__ot2_insert(&t, &bl[m], j, near[j]);
+        }
+        pvs__ot2_update_mvd(&t);
+    }
+    if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree nodes"); goto done; }
+    /* exact re-test of every segment against the final tree (§6.6) */
+    if (visible_segments) memset(visible_segments, 0, PVS_BITSET_WORDS(count) * sizeof(pvs_word));
+    if (visible_objects) memset(visible_objects, 0, PVS_BITSET_WORDS(desc->object_count) * sizeof(pvs_word));
+    for (i = 0; i < count; ++i) {
+        const double *s = seg + 4 * i;
+        int vis = 0;
+        if (pvs__ot_segment_meets_polygon(s, cell, n)) vis = 1;
+        else if (s[0] == s[2] && s[1] == s[3]) vis = 1; /* a point: no line set to test, count it visible */
+        for (k = 0; k < n && !vis; ++k) {
+            double o[4];
+            pvs__otpoly bl[2];
+            int on, nb, deg, m;
+            if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
+            nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
+            if (deg) vis = 1;
+            for (m = 0; m < nb && !vis; ++m) vis = pvs__ot2_visible(&t, &bl[m], i, near[i]);
+        }
+        if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree test"); goto done; }
+        if (!vis) continue;
+        ++st.visible_segments;
+        if (visible_segments) pvs_bitset_set(visible_segments, i);
+        if (visible_objects) {
+            uint32_t obj = desc->segment_objects ? desc->segment_objects[i] : i;
+            if (obj != PVS_NO_OBJECT && obj < desc->object_count) pvs_bitset_set(visible_objects, obj);
+        }
+    }
+    st.nodes = (uint32_t)t.node_count;
+    if (stats) *stats = st;
+    pvs__ok(err);
+done:
+    pvs__ot_free(&t);
+    pvs__free_array(&al, cell, 2 * (size_t)n, sizeof(double));
+    pvs__free_array(&al, seg, 4 * (size_t)count + 4, sizeof(double));
+    pvs__free_array(&al, order, (size_t)count + 1, sizeof(pvs__ot_order));
+    pvs__free_array(&al, reach, (size_t)count + 1, sizeof(double));
+    pvs__free_array(&al, near, (size_t)count + 1, sizeof(double));
+    return r;
+}
+
+/* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
+
+#define PVS__OT25_MAX_UMBRAE 96
+
+/* Extended umbra (§7.5.1) of occluder j on the top edge of a far segment e (height h) for 3D rays
+   from eyes at height H = t->eye anywhere over the cell (§7.1: a descending ray is seen at least as
+   well from where its 2D line leaves the cell, an ascending one from where it enters; both lie on
+   the cell's top edges) over j's top edge: the parameters u on e where every such ray passes below
+   j's top, as an open interval (u0, u1). For one eye p the rays over j's top line form a plane; a
+   point q of e lies below it when (h - H) D(p) < (h_j - H) (D(p) - D(q)), D the signed distance to
+   j's supporting line (> 0 on the side the lines come from). The bound is monotone in D(p), so the
+   extreme distances of the cell's corners (clamped at 0: eyes behind j's line do not look over j)
+   cover every eye; this is the plane pair pi_o / pi_s of the thesis, taken over the whole cell so
+   that one tree per edge serves both kinds of rays. Returns 0 when the umbra is empty. */
+PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, uint32_t j, const double *e, double h, double *u0, double *u1) {
+    const double *s = t->seg + 4 * (size_t)j;
+    double dx = s[2] - s[0], dy = s[3] - s[1], len = sqrt(dx * dx + dy * dy), hj = t->top[j] - t->eye, hn = h - t->eye;
+    double de[2], q0, q1, lo = -DBL_MAX, hi = DBL_MAX, sa;
+    int i;
+    if (!(len > 0.0)) return 0;
+    /* the side the lines come from: the source edge's midpoint side */
+    sa = dx * (0.5 * (t->sa[1] + t->sb[1]) - s[1]) - dy * (0.5 * (t->sa[0] + t->sb[0]) - s[0]);
+    if (sa == 0.0) return 0;
+    sa = sa > 0.0 ? 1.0 : -1.0;
+    de[0] = DBL_MAX; de[1] = -DBL_MAX;
+    for (i = 0; i < 4; ++i) {
+        double d = sa * (dx * (t->corners[2 * i + 1] - s[1]) - dy * (t->corners[2 * i] - s[0])) / len;
+        if (d < 0.0) d = 0.0;
+        if (d < de[0]) de[0] = d;
+        if (d > de[1]) de[1] = d;
+    }
+    q0 = sa * (dx * (e[1] - s[1]) - dy * (e[0] - s[0])) / len;
+    q1 = sa * (dx * (e[3] - s[1]) - dy * (e[2] - s[0])) / len;
+    /* constraints alpha + beta u > margin */
+    for (i = 0; i < 3; ++i) {
+        double alpha, beta, margin, lim;
+        if (i < 2) {
+            double d = de[i];
+            alpha = hj * (d - q0) - hn * d;
+            beta = -hj * (q1 - q0);
+            margin = 1e-9 * (fabs(hj) + fabs(hn) + 1.0) * (d + fabs(q0) + fabs(q1) + 1.0);
+        } else { /* q strictly beyond j's line */
+            alpha = -q0;
+            beta = -(q1 - q0);
+            margin = t->len_eps;
+        }
+        if (beta == 0.0) {
+            if (!(alpha > margin)) return 0;
+            continue;
+        }
+        lim = (margin - alpha) / beta;
+        if (beta > 0.0) { if (lim > lo) lo = lim; }
+        else if (lim < hi) hi = lim;
+    }
+    if (!(lo < hi)) return 0;
+    *u0 = lo; *u1 = hi;
+    return 1;
+}
+
+/* The part of far segment e (height h) seen over the front members of leaf payload
+   seq[first..+count) within the funnel of polygon q: its parameter hull [*v0, *v1] inside the
+   funnel range [*f0, *f1]. Members that cross `skip_box` (a 2D box, or NULL) or that are not
+   clearly in front are ignored (conservative). Returns 0 when nothing is left. */
+PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
+                               const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0, double *v1) {
+    double flo = DBL_MAX, fhi = -DBL_MAX;
+    double um[PVS__OT25_MAX_UMBRAE][2];
+    int i, nu = 0, changed;
+    uint32_t m;
+    for (i = 0; i < q->n; ++i) {
+        double u;
+        if (pvs__ot_param(q->v[i], e, &u)) { if (u < flo) flo = u; if (u > fhi) fhi = u; }
+        else { flo = -DBL_MAX; fhi = DBL_MAX; }
+    }
+    if (flo < 0.0) flo = 0.0;
+    if (fhi > 1.0) fhi = 1.0;
+    *f0 = flo; *f1 = fhi;
+    *v0 = flo; *v1 = fhi;
+    for (m = 0; m < count && nu < PVS__OT25_MAX_UMBRAE; ++m) {
+        uint32_t j = t->seq[first + m];
+        const double *sj = t->seg + 4 * (size_t)j;
+        int front, behind;
+        if (j == self) continue;
+        if (skip_box) {
+            double sb4[4];
+            sb4[0] = skip_box[0]; sb4[1] = skip_box[1]; sb4[2] = skip_box[2]; sb4[3] = skip_box[3];
+            if (fmin(sj[0], sj[2]) <= sb4[2] + t->len_eps && fmax(sj[0], sj[2]) >= sb4[0] - t->len_eps &&
+                fmin(sj[1], sj[3]) <= sb4[3] + t->len_eps && fmax(sj[1], sj[3]) >= sb4[1] - t->len_eps) {
+                double poly[8];
+                poly[0] = sb4[0] - t->len_eps; poly[1] = sb4[1] - t->len_eps;
+                poly[2] = sb4[2] + t->len_eps; poly[3] = sb4[1] - t->len_eps;
+                poly[4] = sb4[2] + t->len_eps; poly[5] = sb4[3] + t->len_eps;
+                poly[6] = sb4[0] - t->len_eps; poly[7] = sb4[3] + t->len_eps;
+                if (pvs__ot_segment_meets_polygon(sj, poly, 4)) continue;
+            }
+        }
+        {   /* quick order: e wholly beyond j's line (seen from the source) puts j in front on every
+               line that crosses both; e wholly on the source side puts j behind */
+            double dx = sj[2] - sj[0], dy = sj[3] - sj[1];
+            double sa = dx * (t->sa[1] - sj[1]) - dy * (t->sa[0] - sj[0]), sb = dx * (t->sb[1] - sj[1]) - dy * (t->sb[0] - sj[0]);
+            double ss = sa + sb;
+            double s0 = dx * (e[1] - sj[1]) - dy * (e[0] - sj[0]), s1 = dx * (e[3] - sj[1]) - dy * (e[2] - sj[0]);
+            double tol = t->len_eps * sqrt(dx * dx + dy * dy);
+            if ((sa > tol && sb > tol) || (sa < -tol && sb < -tol)) { /* the whole source edge on one side */
+                if (ss < 0.0) { s0 = -s0; s1 = -s1; }
+                if (s0 >= -tol && s1 >= -tol) continue;       /* e on the source side: j is behind */
+                if (!(s0 < -tol && s1 < -tol)) {               /* e crosses j's line: vertex test */
+                    pvs__ot_depth(t, q, e, sj, &front, &behind);
+                    if (!front || behind) continue;
+                }
+            } else {
+                pvs__ot_depth(t, q, e, sj, &front, &behind);
+                if (!front || behind) continue;
+            }
+        }
+        if (pvs__ot25_umbra(t, j, e, h, &um[nu][0], &um[nu][1])) ++nu;
+    }
+    /* the first and the last parameter of [flo, fhi] outside every umbra (touching umbrae join) */
+    do {
+        changed = 0;
+        for (i = 0; i < nu; ++i)
+            if (um[i][0] <= *v0 && um[i][1] > *v0) { *v0 = um[i][1]; changed = 1; }
+    } while (changed && *v0 < fhi);
+    if (*v0 >= fhi) return 0;
+    do {
+        changed = 0;
+        for (i = 0; i < nu; ++i)
+            if (um[i][1] >= *v1 && um[i][0] < *v1) { *v1 = um[i][0]; changed = 1; }
+    } while (changed && *v1 > *v0);
+    return *v1 > *v0;
+}
+
+#define PVS__OT25_MAX_SEQ 32
+
+/* Inserts the blocker of occluder k (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an
+   in-leaf the funnel test clips k's top edge by the extended umbrae of the members in front and,
+   when a part stays visible, splits the leaf into at most three: the primary funnel (rays through
+   the visible part) gets the members and k, the secondary funnels keep the members. */
+PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
+    size_t base = t->stack_count;
+    const double *sk = t->seg + 4 * (size_t)k;
+    if (!pvs__ot_push(t, 0, blocker)) return;
+    while (t->stack_count > base && !t->oom) {
+        pvs__otpoly q, part;
+        uint32_t node = t->stack_node[--t->stack_count];
+        pvs__otnode *nd;
+        q = t->stack[t->stack_count];
+        nd = t->nodes + node;
+        if (nd->kind == 0) {
+            double lo, hi, p[2];
+            int i;
+            p[0] = nd->p[0]; p[1] = nd->p[1];
+            pvs__ot_range(&q, p, &lo, &hi);
+            lo *= nd->sign; hi *= nd->sign;
+            if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
+            for (i = 0; i < q.n; ++i)
+                if (q.e[i][0] == p[0] && q.e[i][1] == p[1]) q.mark[i] = 1;
+            if (lo >= -1e-12) { pvs__ot_push(t, nd->child[1], &q); continue; }
+            if (hi <= 1e-12) { pvs__ot_push(t, nd->child[0], &q); continue; }
+            if (pvs__ot_clip(&q, p, (double)nd->sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[1], &part);
+            if (pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[0], &part);
+        } else if (nd->kind == PVS__OT_OUT) {
+            uint32_t leaf = pvs__ot_refine(t, node, &q);
+            if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
+        } else {
+            uint32_t first = nd->first, count = nd->count, leaf;
+            double f0, f1, v0, v1, cen[3] = {0, 0, 0};
+            int i, c;
+            if (count >= PVS__OT25_MAX_SEQ) continue; /* a full leaf keeps its members: conservative */
+            if (!pvs__ot25_open(t, &q, first, count, k, sk, t->top[k], NULL, &f0, &f1, &v0, &v1)) continue; /* hidden here */
+            leaf = pvs__ot_refine(t, node, &q);
+            if (leaf == PVS__OT_NONE) break;
+            for (i = 0; i < q.n; ++i) for (c = 0; c < 3; ++c) cen[c] += q.v[i][c];
+            if (v0 > f0 + 1e-9) { /* lines through k before v0 see only the old members */
+                double x[2];
+                x[0] = sk[0] + v0 * (sk[2] - sk[0]); x[1] = sk[1] + v0 * (sk[3] - sk[1]);
+                /* the primary side (lines crossing k beyond x) has x on the side of k's first end */
+                double sgn = pvs__ot_side(cen, sk);
+                if (sgn != 0.0) {
+                    uint32_t nx = pvs__ot_split_leaf(t, leaf, x, sgn > 0 ? 1.0 : -1.0);
+                    if (nx == PVS__OT_NONE) break;
+                    leaf = nx;
+                }
+            }
+            if (v1 < f1 - 1e-9) {
+                double x[2], sgn;
+                x[0] = sk[0] + v1 * (sk[2] - sk[0]); x[1] = sk[1] + v1 * (sk[3] - sk[1]);
+                sgn = pvs__ot_side(cen, sk + 2);
+                if (sgn != 0.0) {
+                    uint32_t nx = pvs__ot_split_leaf(t, leaf, x, sgn > 0 ? 1.0 : -1.0);
+                    if (nx == PVS__OT_NONE) break;
+                    leaf = nx;
+                }
+            }
+            pvs__ot_set_payload(t, leaf, first, count, k);
+        }
+    }
+    t->stack_count = base;
+}
+
+/* Read-only c-LSS test of a far edge e (height h) of an object box `box` (umin, vmin, umax, vmax):
+   1 when some part of it may be seen through the lines of the blocker. */
+PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, const double *e, double h, const double *box) {
+    size_t base = t->stack_count;
+    int vis = 0;
+    if (!pvs__ot_push(t, 0, blocker)) return 1;
+    while (t->stack_count > base && !vis) {
+        pvs__otpoly q, part;
+        uint32_t node = t->stack_node[--t->stack_count];
+        const pvs__otnode *nd = t->nodes + node;
+        q = t->stack[t->stack_count];
+        if (nd->kind == 0) {
+            double lo, hi, p[2];
+            p[0] = nd->p[0]; p[1] = nd->p[1];
+            pvs__ot_range(&q, p, &lo, &hi);
+            lo *= nd->sign; hi *= nd->sign;
+            if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
+            if (lo >= -1e-12) vis |= !pvs__ot_push(t, nd->child[1], &q);
+            else if (hi <= 1e-12) vis |= !pvs__ot_push(t, nd->child[0], &q);
+            else {
+                int c0 = pvs__ot_clip(&q, p, (double)nd->sign, 1e-12, 0, &part);
+                if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[1], c0 > 0 ? &part : &q);
+                c0 = pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 1e-12, 0, &part);
+                if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[0], c0 > 0 ? &part : &q);
+            }
+        } else if (nd->kind == PVS__OT_OUT) {
+            vis = 1;
+        } else {
+            double f0, f1, v0, v1;
+            if (pvs__ot25_open(t, &q, nd->first, nd->count, PVS__OT_NONE, e, h, box, &f0, &f1, &v0, &v1)) vis = 1;
+        }
+    }
+    t->stack_count = base;
+    return vis || t->oom;
+}
+
+/* 1 when some part of box bx (umin, vmin, umax, vmax in local coordinates, top) beyond the source
+   edge a -> b may be seen through the tree: its top edges as far segments (§7.7). */
+PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2], int *any_far) {
+    double c4[8];
+    int edge, vis = 0, skip = -1;
+    c4[0] = bx[0]; c4[1] = bx[1]; c4[2] = bx[2]; c4[3] = bx[1]; c4[4] = bx[2]; c4[5] = bx[3]; c4[6] = bx[0]; c4[7] = bx[3];
+    if (any_far) *any_far = 0;
+    /* A box taller than the eyes is seen (if at all) along a rising ray, at least as well at the
+       point where the ray's 2D line enters the box; no line of this tree enters through the box
+       edge that faces the same way as the source edge (edges 0..3: -v, +u, +v, -u). */
+    if (top > t->eye) {
+        double nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* the source edge's outward direction */
+        if (fabs(nx) > fabs(ny)) skip = nx > 0 ? 1 : 3;
+        else skip = ny > 0 ? 2 : 0;
+    }
+    for (edge = 0; edge < 4 && !vis; ++edge) {
+        if (edge == skip) continue;
+        double sg[4], o[4];
+        pvs__otpoly bl[2];
+        int on, nb, deg, m;
+        sg[0] = c4[2 * edge]; sg[1] = c4[2 * edge + 1]; sg[2] = c4[(2 * edge + 2) & 7]; sg[3] = c4[(2 * edge + 3) & 7];
+        if (sg[0] == sg[2] && sg[1] == sg[3]) sg[2] += t->len_eps; /* a box flat on both axes: its corner */
+        if (!pvs__ot_clip_segment(b, a, sg, o, &on)) continue;
+        if (any_far) *any_far = 1;
+        nb = pvs__ot_blockers(a, b, o, on, bl, &deg);
+        if (deg) vis = 1;
+        for (m = 0; m < nb && !vis; ++m) vis = pvs__ot25_visible(t, &bl[m], o, top, bx);
+    }
+    return vis;
+}
+
+typedef struct pvs__ot25_sweep {
+    pvs__otree *t;
+    const pvs_visibility_25d_desc *desc;
+    const double *all;       /* facades, local, 4 doubles each */
+    const double *box;       /* objects, local, 5 doubles each */
+    const double *cell;      /* the grown cell, CCW */
+    unsigned char *state;    /* facades: 1 + side when handled in this tree; objects: see done */
+    unsigned char *done;     /* objects: 0 unknown, 1 visible, 2 never, 3 + side: candidate in this tree */
+    const double *a, *b;
+    double cx, cy;
+    uint32_t side, budget;
+    pvs_otree_stats *st;
+} pvs__ot25_sweep;
+
+/* The sweep visitor (§7.7): nodes front to back; a node whose box meets the cell is visible; else
+   its box is tested as a virtual occluder (its footprint's edges at its top height) and culled when
+   hidden; leaves insert their facades and mark their objects for the test after the sweep. */
+PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t item_count) {
+    pvs__ot25_sweep *w = (pvs__ot25_sweep *)user;
+    pvs__otree *t = w->t;
+    const pvs_visibility_25d_desc *d = w->desc;
+    double bx[4];
+    uint32_t i;
+    (void)distance;
+    if (t->oom) return PVS_VISIT_STOP;
+    bx[0] = (double)node_box->min[0] - w->cx; bx[1] = (double)node_box->min[1] - w->cy;
+    bx[2] = (double)node_box->max[0] - w->cx; bx[3] = (double)node_box->max[1] - w->cy;
+    /* leaves are not tested: inserting their facades and testing their objects after the sweep
+       costs less than the box test (the thesis likewise skips tests of small nodes, §4.12.1) */
+    if (!items && !(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
+        int far;
+        if (!pvs__ot25_box_visible(t, bx, (double)node_box->max[2], w->a, w->b, &far)) return PVS_VISIT_SKIP;
+        (void)far;
+    }
+    for (i = 0; i < item_count; ++i) {
+        uint32_t it = items[i];
+        if (it < d->facade_count) {
+            double o[4];
+            int on, nb, deg, m;
+            pvs__otpoly bl[2];
+            const double *sg = w->all + 4 * (size_t)it;
+            if (w->state[it] == 1 + w->side) continue; /* already inserted from another leaf */
+            w->state[it] = (unsigned char)(1 + w->side);
+            if (sg[0] == sg[2] && sg[1] == sg[3]) continue;
+            if (pvs__ot_segment_meets_polygon(sg, w->cell, 4)) continue; /* facades in the cell are ignored */
+            if (!pvs__ot_clip_segment(w->b, w->a, sg, o, &on)) continue;
+            if (t->node_count >= w->budget) { w->st->budget_exceeded = 1; continue; }
+            memcpy((double *)t->seg + 4 * (size_t)it, o, sizeof(o));
+            ((double *)t->top)[it] = d->facades[5 * (size_t)it + 4];
+            nb = pvs__ot_blockers(w->a, w->b, o, on, bl, &deg);
+            for (m = 0; m < nb; ++m) pvs__ot25_insert(t, &bl[m], it);
+            ++w->st->occluders_inserted;
+        } else if (it - d->facade_count < d->object_count) {
+            uint32_t ob = it - d->facade_count;
+            if (w->done[ob] == 0 || (w->done[ob] >= 3 && w->done[ob] != 3 + w->side)) w->done[ob] = (unsigned char)(3 + w->side);
+        }
+    }
+    return PVS_VISIT_DESCEND;
+}
+
+PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
+                                      pvs_box *boxes);
+PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
+                                      pvs_error *err) {
+    pvs__otree t;
+    pvs_allocator al;
+    double cell[8], cx, cy, ext = 1.0, margin;
+    double *all = NULL, *top = NULL, *seg = NULL, *box = NULL;
+    unsigned char *done = NULL, *state = NULL;
+    void *scratch = NULL;
+    size_t scratch_size = 0;
+    pvs_kdtree *own_tree = NULL;
+    const pvs_kdtree *tree;
+    uint32_t nf, no, i, k, side;
+    pvs_result r = PVS_OK;
+    pvs_otree_stats st;
+    pvs__ot25_sweep w;
+    memset(&st, 0, sizeof(st));
+    memset(&t, 0, sizeof(t));
+    if (stats) *stats = st;
+    if (!desc || !visible_objects || (desc->facade_count && !desc->facades) || (desc->object_count && !desc->objects))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, facades, objects and visible_objects are required");
+    nf = desc->facade_count;
+    no = desc->object_count;
+    if ((uint64_t)nf + no >= 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many facades and objects");
+    for (i = 0; i < 2; ++i)
+        if (!pvs__finite(desc->cell_min[i]) || !pvs__finite(desc->cell_max[i]) || desc->cell_min[i] > desc->cell_max[i])
+            return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell rectangle is not finite or has min > max");
+    if (!pvs__finite(desc->cell_top)) return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "cell_top is not finite");
+    for (i = 0; i < 5 * nf; ++i)
+        if (!pvs__finite(desc->facades[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "facade %u is not finite", i / 5);
+    for (i = 0; i < 5 * no; ++i)
+        if (!pvs__finite(desc->objects[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "object %u is not finite", i / 5);
+    memset(visible_objects, 0, PVS_BITSET_WORDS(no) * sizeof(pvs_word));
+    al = desc->allocator;
+    t.a = &al;
+    tree = desc->tree;
+    if (!tree) { /* a kD-tree over the facades and objects for the sweep */
+        pvs_kdtree_desc kd;
+        pvs_box *boxes = (pvs_box *)pvs__alloc_array(&al, (size_t)nf + no + 1, sizeof(pvs_box));
+        if (!boxes) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D boxes"); goto done; }
+        pvs_visibility_25d_boxes(desc->facades, nf, desc->objects, no, boxes);
+        memset(&kd, 0, sizeof(kd));
+        kd.boxes = boxes;
+        kd.count = nf + no;
+        kd.allocator = al;
+        r = pvs_kdtree_create(&kd, &own_tree, err);
+        pvs__free_array(&al, boxes, (size_t)nf + no + 1, sizeof(pvs_box));
+        if (r != PVS_OK) goto done;
+        tree = own_tree;
+    }
+    all = (double *)pvs__alloc_array(&al, 4 * (size_t)nf + 4, sizeof(double));
+    seg = (double *)pvs__alloc_array(&al, 4 * (size_t)nf + 4, sizeof(double));
+    top = (double *)pvs__alloc_array(&al, (size_t)nf + 1, sizeof(double));
+    box = (double *)pvs__alloc_array(&al, 5 * (size_t)no + 5, sizeof(double));
+    done = (unsigned char *)pvs__alloc_array(&al, (size_t)no + 1, 1);
+    state = (unsigned char *)pvs__alloc_array(&al, (size_t)nf + 1, 1);
+    scratch_size = pvs_kdtree_sweep_scratch_size(tree);
+    scratch = pvs__alloc(&al, scratch_size, 16);
+    if (!all || !seg || !top || !box || !done || !state || !scratch) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays"); goto done; }
+    memset(state, 0, (size_t)nf + 1);
+    cx = 0.5 * ((double)desc->cell_min[0] + desc->cell_max[0]);
+    cy = 0.5 * ((double)desc->cell_min[1] + desc->cell_max[1]);
+    for (i = 0; i < 4 * nf; ++i) {
+        all[i] = (double)desc->facades[5 * (i / 4) + (i % 4)] - (i & 1 ? cy : cx);
+        if (fabs(all[i]) > ext) ext = fabs(all[i]);
+    }
+    for (i = 0; i < no; ++i) {
+        for (k = 0; k < 4; ++k) box[5 * i + k] = (double)desc->objects[5 * i + k] - (k & 1 ? cy : cx);
+        box[5 * i + 4] = desc->objects[5 * i + 4];
+    }
+    /* grow the cell a little: a larger cell sees more (conservative) and is never degenerate */
+    margin = 1e-6 * ext + 1e-4;
+    {
+        double hx = 0.5 * ((double)desc->cell_max[0] - desc->cell_min[0]) + margin;
+        double hy = 0.5 * ((double)desc->cell_max[1] - desc->cell_min[1]) + margin;
+        cell[0] = -hx; cell[1] = -hy; cell[2] = hx; cell[3] = -hy; cell[4] = hx; cell[5] = hy; cell[6] = -hx; cell[7] = hy;
+    }
+    t.len_eps = 1e-9 * ext;
+    t.eye = (double)desc->cell_top + margin;
+    t.top = top;
+    t.seg = seg;
+    /* objects meeting the cell's rectangle are visible; empty ones never */
+    for (i = 0; i < no; ++i) {
+        const double *bb = box + 5 * i;
+        done[i] = 0;
+        if (bb[0] > bb[2] || bb[1] > bb[3]) { done[i] = 2; continue; }
+        if (bb[0] <= cell[2] && bb[2] >= cell[0] && bb[1] <= cell[5] && bb[3] >= cell[1]) {
+            done[i] = 1;
+            pvs_bitset_set(visible_objects, i);
+        }
+    }
+    memset(&w, 0, sizeof(w));
+    w.t = &t;
+    w.desc = desc;
+    w.all = all;
+    w.box = box;
+    w.cell = cell;
+    w.state = state;
+    w.done = done;
+    w.cx = cx;
+    w.cy = cy;
+    w.budget = desc->node_budget ? desc->node_budget : 1u << 18;
+    w.st = &st;
+    /* one tree per top edge (§7.1), holding the lines that leave the cell through it */
+    t.corners = cell;
+    for (side = 0; side < 4 && !t.oom; ++side) {
+        const double *a = cell + 2 * ((side + 1) & 3), *b = cell + 2 * side;
+        pvs_box src;
+        uint32_t live = 0;
+        for (i = 0; i < no; ++i) live += done[i] == 0 || done[i] >= 3;
+        if (!live) break;
+        t.sa[0] = a[0]; t.sa[1] = a[1]; t.sb[0] = b[0]; t.sb[1] = b[1];
+        if (!pvs__ot_reset(&t)) break;
+        w.a = a;
+        w.b = b;
+        w.side = side;
+        src.min[0] = (float)(cx + cell[0]); src.min[1] = (float)(cy + cell[1]); src.min[2] = desc->cell_top;
+        src.max[0] = (float)(cx + cell[4]); src.max[1] = (float)(cy + cell[5]); src.max[2] = desc->cell_top;
+        r = pvs_kdtree_sweep(tree, &src, scratch, scratch_size, pvs__ot25_visit, &w);
+        if (r != PVS_OK) { pvs__fail(err, r, -1, 0, "2.5D sweep"); goto done; }
+        if (t.node_count > st.nodes) st.nodes = (uint32_t)t.node_count;
+        if (t.oom) break;
+        /* objects of the visible leaves, after the sweep (§7.7) */
+        for (i = 0; i < no; ++i) {
+            if (done[i] != 3 + side) continue;
+            if (pvs__ot25_box_visible(&t, box + 5 * i, box[5 * i + 4], a, b, NULL)) {
+                done[i] = 1;
+                pvs_bitset_set(visible_objects, i);
+            } else {
+                done[i] = 0;
+            }
+        }
+    }
+    if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree nodes"); goto done; }
+    if (stats) *stats = st;
+    pvs__ok(err);
+done:
+    pvs__ot_free(&t);
+    pvs_kdtree_destroy(own_tree);
+    pvs__free(&al, scratch, scratch_size, 16);
+    pvs__free_array(&al, all, 4 * (size_t)nf + 4, sizeof(double));
+    pvs__free_array(&al, seg, 4 * (size_t)nf + 4, sizeof(double));
+    pvs__free_array(&al, top, (size_t)nf + 1, sizeof(double));
+    pvs__free_array(&al, box, 5 * (size_t)no + 5, sizeof(double));
+    pvs__free_array(&al, done, (size_t)no + 1, 1);
+    pvs__free_array(&al, state, (size_t)nf + 1, 1);
+    return r;
+}
+
+PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
+                                      pvs_box *boxes) {
+    uint32_t i;
+    float low = FLT_MAX;
+    for (i = 0; i < facade_count; ++i) if (facades[5 * i + 4] < low) low = facades[5 * i + 4];
+    for (i = 0; i < object_count; ++i) if (objects[5 * i + 4] < low) low = objects[5 * i + 4];
+    for (i = 0; i < facade_count + object_count; ++i) {
+        const float *f = i < facade_count ? facades + 5 * (size_t)i : objects + 5 * (size_t)(i - facade_count);
+        pvs_box *b = boxes + i;
+        if (i < facade_count) {
+            b->min[0] = f[0] < f[2] ? f[0] : f[2]; b->max[0] = f[0] < f[2] ? f[2] : f[0];
+            b->min[1] = f[1] < f[3] ? f[1] : f[3]; b->max[1] = f[1] < f[3] ? f[3] : f[1];
+        } else {
+            b->min[0] = f[0]; b->max[0] = f[2]; b->min[1] = f[1]; b->max[1] = f[3]; /* empty stays empty */
+        }
+        b->min[2] = low < f[4] ? low : f[4];
+        b->max[2] = f[4];
+    }
+}
 
 // >>occluders
 /* (planned: occluder synthesis) */
@@ -3735,6 +5135,7 @@ PVS_API const char *pvs_method_name(pvs_method m) {
     switch (m) {
     case PVS_METHOD_DEFAULT: return "default";
     case PVS_METHOD_SAMPLE: return "sample";
+    case PVS_METHOD_OTREE: return "otree";
     default: return "unknown";
     }
 }
@@ -3846,6 +5247,10 @@ struct pvs_bake {
     float eps;
     uint32_t sample_points, sample_rays, max_chain;
     uint64_t seed;
+    float *ot_facades;         /* OTREE: facade_count x (u0 v0 u1 v1 top), then facade_count bases */
+    uint32_t ot_facade_count;
+    float *ot_objects;         /* OTREE: object_count x (umin vmin umax vmax top) */
+    pvs_kdtree *ot_tree;       /* OTREE: over pvs_visibility_25d_boxes */
 };
 
 PVS_API void pvs_bake_destroy(pvs_bake *b) {
@@ -3855,6 +5260,9 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs__free_array(&a, b->cells, b->cell_count, sizeof(pvs_box));
     pvs__free_array(&a, b->pvs, (size_t)b->cell_count * b->words, sizeof(pvs_word));
     pvs__free_array(&a, b->done, b->cell_count, 1);
+    pvs__free_array(&a, b->ot_facades, (size_t)b->ot_facade_count * 6 + 6, sizeof(float));
+    pvs__free_array(&a, b->ot_objects, (size_t)b->object_count * 5 + 5, sizeof(float));
+    pvs_kdtree_destroy(b->ot_tree);
     pvs__free(&a, b, sizeof(*b), 16);
 }
 
@@ -3867,6 +5275,130 @@ PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *
         if (c->min[k] > c->max[k])
             return pvs__fail(err, PVS_ERROR_BAD_CELL, i, 0, "cell %u has min > max on axis %d", i, k);
     }
+    return PVS_OK;
+}
+
+/* ---- the OTREE bake method ---- */
+
+/* Facades for c-LSS (§7.1): pairs of consecutive triangles that form a vertical rectangle (two
+   ground positions x two heights, split along a diagonal) whose bottom is at or below the lowest
+   point of the scene, so it certainly blocks every height from the ground to its top. Anything
+   else is ignored (never blocks: conservative). */
+PVS__STATIC pvs_result pvs__otree_prepare(pvs_bake *b) {
+    const pvs_scene *s = b->scene;
+    int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
+    float ground = s->bounds.min[up];
+    uint32_t t, n = 0, pass, i = 0;
+    for (pass = 0; pass < 2; ++pass) {
+        n = 0;
+        for (t = 0; t + 1 < s->triangle_count; ++t) {
+            const float *c[6];
+            float pu[2], pv[2], h[2];
+            int np = 0, nh = 0, k, m, shared = 0, diag = 1;
+            for (k = 0; k < 6; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t + (uint32_t)(k / 3)) + (uint32_t)(k % 3)];
+            for (k = 0; k < 6 && np <= 2 && nh <= 2; ++k) {
+                for (m = 0; m < np; ++m) if (pu[m] == c[k][u] && pv[m] == c[k][v]) break;
+                if (m == np) { if (np < 2) { pu[np] = c[k][u]; pv[np] = c[k][v]; } ++np; }
+                for (m = 0; m < nh; ++m) if (h[m] == c[k][up]) break;
+                if (m == nh) { if (nh < 2) h[nh] = c[k][up]; ++nh; }
+            }
+            if (np != 2 || nh != 2) continue;
+            /* each triangle has three distinct corners; they share exactly two, on a diagonal */
+            for (k = 0; k < 3; ++k)
+                if (c[k] == c[(k + 1) % 3] || c[3 + k] == c[3 + (k + 1) % 3] ||
+                    !memcmp(c[k], c[(k + 1) % 3], 12) || !memcmp(c[3 + k], c[3 + (k + 1) % 3], 12)) break;
+            if (k < 3) continue;
+            for (k = 0; k < 3; ++k)
+                for (m = 3; m < 6; ++m)
+                    if (!memcmp(c[k], c[m], 12)) {
+                        ++shared;
+                        if (shared == 1) i = (uint32_t)k; else {
+                            const float *p0 = c[i], *p1 = c[k];
+                            diag = (p0[u] != p1[u] || p0[v] != p1[v]) && p0[up] != p1[up];
+                        }
+                    }
+            if (shared != 2 || !diag) continue;
+            {
+                float lo = h[0] < h[1] ? h[0] : h[1], hi = h[0] < h[1] ? h[1] : h[0];
+                if (!(lo <= ground)) continue;
+                if (pass) {
+                    float *f = b->ot_facades + 5 * (size_t)n;
+                    f[0] = pu[0]; f[1] = pv[0]; f[2] = pu[1]; f[3] = pv[1]; f[4] = hi;
+                    b->ot_facades[5 * (size_t)b->ot_facade_count + n] = lo;
+                }
+            }
+            ++n;
+            ++t; /* the pair is used up */
+        }
+        if (!pass) {
+            b->ot_facade_count = n;
+            b->ot_facades = (float *)pvs__alloc_array(&b->allocator, (size_t)n * 6 + 6, sizeof(float));
+            b->ot_objects = (float *)pvs__alloc_array(&b->allocator, (size_t)b->object_count * 5 + 5, sizeof(float));
+            if (!b->ot_facades || !b->ot_objects) return PVS_ERROR_OUT_OF_MEMORY;
+        }
+    }
+    for (i = 0; i < b->object_count; ++i) {
+        const pvs_box *bx = s->object_boxes + i;
+        float *o = b->ot_objects + 5 * (size_t)i;
+        o[0] = bx->min[u]; o[1] = bx->min[v]; o[2] = bx->max[u]; o[3] = bx->max[v]; o[4] = bx->max[up];
+        if (bx->min[0] > bx->max[0] || (s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)) { o[0] = 1.0f; o[2] = 0.0f; } /* never visible */
+    }
+    {
+        pvs_kdtree_desc kd;
+        pvs_result r;
+        pvs_box *boxes = (pvs_box *)pvs__alloc_array(&b->allocator, (size_t)n + b->object_count + 1, sizeof(pvs_box));
+        if (!boxes) return PVS_ERROR_OUT_OF_MEMORY;
+        pvs_visibility_25d_boxes(b->ot_facades, n, b->ot_objects, b->object_count, boxes);
+        memset(&kd, 0, sizeof(kd));
+        kd.boxes = boxes;
+        kd.count = n + b->object_count;
+        kd.allocator = b->allocator;
+        r = pvs_kdtree_create(&kd, &b->ot_tree, NULL);
+        pvs__free_array(&b->allocator, boxes, (size_t)n + b->object_count + 1, sizeof(pvs_box));
+        if (r != PVS_OK) return r;
+    }
+    return PVS_OK;
+}
+
+/* One cell with pvs_visibility_25d; facades whose base is above the cell's bottom are left out. */
+PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, uint32_t task, uint32_t cell, pvs_word *bits, pvs_error *err) {
+    const pvs_scene *s = b->scene;
+    const pvs_box *c = b->cells + task; /* the bake keeps its (shard's) cells by task */
+    int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
+    pvs_visibility_25d_desc d;
+    float *own = NULL;
+    uint32_t i, n = b->ot_facade_count;
+    pvs_result r;
+    memset(&d, 0, sizeof(d));
+    d.cell_min[0] = c->min[u]; d.cell_min[1] = c->min[v];
+    d.cell_max[0] = c->max[u]; d.cell_max[1] = c->max[v];
+    d.cell_top = c->max[up];
+    d.facades = b->ot_facades;
+    d.facade_count = n;
+    d.objects = b->ot_objects;
+    d.object_count = b->object_count;
+    d.allocator = b->allocator;
+    d.tree = b->ot_tree;
+    for (i = 0; i < n; ++i)
+        if (b->ot_facades[5 * (size_t)n + i] > c->min[up]) break;
+    if (i < n) { /* a cell reaching below some facade's base: keep only the facades under it */
+        uint32_t m = 0;
+        own = (float *)pvs__alloc_array(&b->allocator, (size_t)n * 5 + 5, sizeof(float));
+        if (!own) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u facades", cell);
+        d.tree = NULL; /* the shared tree indexes every facade */
+        for (i = 0; i < n; ++i)
+            if (b->ot_facades[5 * (size_t)n + i] <= c->min[up]) memcpy(own + 5 * (size_t)m++, b->ot_facades + 5 * (size_t)i, 5 * sizeof(float));
+        d.facades = own;
+        d.facade_count = m;
+    }
+    r = pvs_visibility_25d(&d, bits, NULL, err);
+    if (own) pvs__free_array(&b->allocator, own, (size_t)n * 5 + 5, sizeof(float));
+    if (r != PVS_OK) {
+        if (err) err->index = cell;
+        return r;
+    }
+    for (i = 0; i < b->object_count; ++i) /* occluder-only and empty objects never appear */
+        if (b->ot_objects[5 * (size_t)i] > b->ot_objects[5 * (size_t)i + 2]) pvs_bitset_clear(bits, i);
     return PVS_OK;
 }
 
@@ -3924,6 +5456,10 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
     memset(b->pvs, 0, total * sizeof(pvs_word));
     memset(b->done, 0, b->cell_count);
+    if (b->method == PVS_METHOD_OTREE && pvs__otree_prepare(b) != PVS_OK) {
+        pvs_bake_destroy(b);
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
+    }
     *out = b;
     pvs__ok(err);
     return PVS_OK;
@@ -3937,6 +5473,7 @@ PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *b, uint32_t task) {
 PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
 PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->eps; }
 
+
 PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err) {
     uint32_t cell;
     pvs_word *bits;
@@ -3949,6 +5486,11 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         /* per-cell seed: independent of the order and thread the tasks run in */
         uint64_t state = b->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull);
         pvs_sample_visibility(b->scene, b->cells + task, b->sample_points, b->sample_rays, pvs__splitmix64(&state), bits);
+        break;
+    }
+    case PVS_METHOD_OTREE: {
+        pvs_result r = pvs__otree_cell(b, task, cell, bits, err);
+        if (r != PVS_OK) return r;
         break;
     }
     default: return pvs__fail(err, PVS_ERROR_UNSUPPORTED, cell, 0, "method %d", (int)b->method);

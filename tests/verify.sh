@@ -8,7 +8,7 @@ set -u
 B=${B:-build}
 T=$B/verify
 mkdir -p "$T"
-CONSERVATIVE_METHODS=${CONSERVATIVE_METHODS:-}   # filled in as conservative methods land
+CONSERVATIVE_METHODS=${CONSERVATIVE_METHODS:-otree}   # filled in as conservative methods land
 CELLS=${CELLS:-500}
 J=${J:-0}
 fail=0
@@ -34,5 +34,21 @@ for kind in city forest indoor walls soup; do
     done
   done
 done
+# otree on the full-size city: three seeds, 500 cells each (CITY_CELLS), files identical for -j1 and -j2
+case " $CONSERVATIVE_METHODS " in *" otree "*)
+  for seed in 1 2 3; do
+    base="$T/city-full-$seed"
+    "$B/pvsgen" city --seed "$seed" --max-cells "${CITY_CELLS:-500}" -o "$base.obj" --cells "$base.cells" 2>/dev/null || { echo "city full $seed: pvsgen failed"; fail=1; continue; }
+    "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method otree -j 1 -o "$base.otree.pvs" || { echo "city full $seed otree: bake failed"; fail=1; continue; }
+    if [ "$seed" = 1 ]; then
+      "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method otree -j 2 -o "$base.otree-j2.pvs" &&
+        cmp -s "$base.otree.pvs" "$base.otree-j2.pvs" || { echo "city full $seed otree: -j1 and -j2 files differ"; fail=1; }
+    fi
+    line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.otree.pvs")
+    rc=$?
+    note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
+    echo "city $seed 1 otree $line$note"
+  done;;
+esac
 [ $fail -eq 0 ] && echo "verify: ok" || echo "verify: FAILED"
 exit $fail
