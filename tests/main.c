@@ -13,6 +13,7 @@ void test_gen(void);
 void test_tools(void);
 void test_cli(void);
 void test_raster(void);
+void test_extproj(void);
 
 static const struct {
     const char *name;
@@ -20,6 +21,7 @@ static const struct {
 } groups[] = {
     {"core", test_core}, {"format", test_format}, {"noalloc", test_noalloc}, {"kdtree", test_kdtree},
     {"gen", test_gen},   {"tools", test_tools},   {"cli", test_cli},     {"raster", test_raster},
+    {"extproj", test_extproj},
 };
 
 int main(int argc, char **argv) {

@@ -11,6 +11,7 @@ static const char *usage =
     "  --grid SIZE       view cells: a 3D grid of SIZE cubes over the scene bounds\n"
     "  --up y|z          up axis of the scene (default y, the OBJ convention)\n"
     "  --method NAME     sample (ray sampling: an approximate PVS, NOT conservative)\n"
+    "                    extproj (extended projections, Durand et al. 2000: conservative)\n"
     "  --eps E           sampling / shrinking distance (stored in the file)\n"
     "  --points N        sample method: points per cell (default 32)\n"
     "  --rays N          sample method: rays per point (default 2048)\n"
@@ -120,7 +121,8 @@ int main(int argc, char **argv) {
                 if (cli_parse_up(v, &up)) return usage_error("--up takes y or z, not '%s'", v);
             } else if (!strcmp(a, "--method")) {
                 if (!strcmp(v, "sample")) method = PVS_METHOD_SAMPLE;
-                else return usage_error("unknown method '%s' (available: sample)", v);
+                else if (!strcmp(v, "extproj")) method = PVS_METHOD_EXTPROJ;
+                else return usage_error("unknown method '%s' (available: sample, extproj)", v);
             } else if (!strcmp(a, "--eps")) {
                 if (parse_float(v, &eps) || !(eps > 0.0f)) return usage_error("--eps needs a positive number, not '%s'", v);
             } else if (!strcmp(a, "-j")) {
@@ -185,10 +187,12 @@ int main(int argc, char **argv) {
         double sum = 0.0;
         for (t = 0; t < tasks; ++t) sum += pvs_bitset_count(pvs_bake_cell_pvs(bake, pvs_bake_task_cell(bake, t)), objects);
         fprintf(stderr,
-                "%s: %u objects, %u triangles, %u cells%s, method %s (approximate: ray sampling, not conservative)\n"
+                "%s: %u objects, %u triangles, %u cells%s, method %s%s\n"
                 "  mean PVS %.1f objects (%.1f%%), bake %.2f ms per cell, %.2f s total, file %zu bytes (%.1f per cell)\n",
                 out_path, objects, pvs_scene_triangle_count(scene), tasks, shard_n > 1 ? " (this shard)" : "",
-                pvs_method_name(pvs_bake_method(bake)), sum / tasks, 100.0 * sum / tasks / objects, 1000.0 * t_bake / tasks,
+                pvs_method_name(pvs_bake_method(bake)),
+                pvs_bake_method(bake) == PVS_METHOD_SAMPLE ? " (approximate: ray sampling, not conservative)" : " (conservative)",
+                sum / tasks, 100.0 * sum / tasks / objects, 1000.0 * t_bake / tasks,
                 cli_seconds() - t0, size, (double)size / tasks);
     }
     rc = 0;
