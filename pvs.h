@@ -55,7 +55,7 @@
    >>raster     conservative rasterizer, depth pyramid, cull map, per-frame culling
    >>otree      occlusion trees                                           (planned)
    >>occluders  occluder synthesis                                        (planned)
-   >>methods    region methods; today the ray-sampling estimator `sample`
+   >>methods    region methods: the ray-sampling estimator `sample`, extended projections `extproj`
    >>bake       bake driver: tasks, determinism
    >>format     the .pvs file: writer and validating zero-copy reader
    >>runtime    cell look-up and decoding
@@ -188,6 +188,7 @@
 
    RECENT HISTORY
    ==============
+   (unreleased)       PVS_METHOD_EXTPROJ: extended projections (Durand et al. 2000), conservative.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
                       codings, compact cell tables and look-up tree, cursor, sharded bakes.
    0.1.0 (2026-11-22) scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container.
@@ -3747,7 +3748,7 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 
 // >>methods
 /* ---------------------------------------------------------------------------------------------- */
-/* methods: region visibility. Today: the ray-sampling estimator.                                 */
+/* methods: region visibility: the ray-sampling estimator; extended projections (at the end)      */
 /* ---------------------------------------------------------------------------------------------- */
 
 PVS_API const char *pvs_method_name(pvs_method m) {
@@ -3872,6 +3873,7 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
 #define PVS__EP_DEFAULT_RES 256
 #define PVS__EP_DEFAULT_OCC 128
 #define PVS__EP_PLANE_CANDIDATES 16
+#define PVS__EP_PLANES 2                              /* planes per direction */
 
 typedef struct pvs__epframe {
     int a, u, v;
@@ -4148,7 +4150,7 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
    closed convex solid (an object whose triangles bound their convex hull). */
 typedef struct pvs__epocc {
     pvs_box box;
-    float area;            /* of the polygon; half the surface of a solid */
+    float area[3];         /* area seen along each axis: of the polygon projected, of a solid's box face */
     uint32_t first, count; /* points */
 } pvs__epocc;
 
@@ -4169,17 +4171,33 @@ PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
     pvs__free(&a, p, sizeof(*p), 16);
 }
 
-PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, float area) {
+/* Adds a convex occluder. A polygon's area along axis k is its area times |n_k| (n, its unit
+   normal: the area of its shadow on a plane of that axis); a solid's is its box's face. */
+PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, int solid) {
     pvs__epocc *o = p->occ + p->occ_count++;
     uint32_t i;
+    int k;
     o->box = pvs__box_empty();
-    o->area = area;
     o->first = (uint32_t)p->pt_count;
     o->count = n;
     for (i = 0; i < n; ++i) {
         memcpy(p->pts + 3 * p->pt_count, pts[i], 3 * sizeof(float));
         pvs__box_add_point(&o->box, pts[i]);
         ++p->pt_count;
+    }
+    if (solid) {
+        for (k = 0; k < 3; ++k)
+            o->area[k] = (o->box.max[(k + 1) % 3] - o->box.min[(k + 1) % 3]) * (o->box.max[(k + 2) % 3] - o->box.min[(k + 2) % 3]);
+    } else {
+        double a[3] = {0.0, 0.0, 0.0};
+        for (i = 1; i + 1 < n; ++i) { /* fan: twice the vector area */
+            double e1[3], e2[3];
+            for (k = 0; k < 3; ++k) { e1[k] = (double)pts[i][k] - pts[0][k]; e2[k] = (double)pts[i + 1][k] - pts[0][k]; }
+            a[0] += e1[1] * e2[2] - e1[2] * e2[1];
+            a[1] += e1[2] * e2[0] - e1[0] * e2[2];
+            a[2] += e1[0] * e2[1] - e1[1] * e2[0];
+        }
+        for (k = 0; k < 3; ++k) o->area[k] = (float)(0.5 * pvs__dabs(a[k]));
     }
 }
 
@@ -4217,10 +4235,9 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
    unique vertices (<= PVS__EP_MAXP) go to pts. Returns the count, or 0. Every edge must be shared by
    exactly two of the object's triangles (by position) and every vertex must lie on one side of
    every triangle's plane. */
-PVS__STATIC uint32_t pvs__ep_convex_object(const pvs_scene *s, uint32_t t0, uint32_t tn, const float **pts, float *area) {
+PVS__STATIC uint32_t pvs__ep_convex_object(const pvs_scene *s, uint32_t t0, uint32_t tn, const float **pts) {
     uint32_t t, n = 0, i, k;
     double scale = 0.0;
-    *area = 0.0f;
     if (tn < 4 || tn > 2 * PVS__EP_MAXP) return 0;
     for (t = t0; t < t0 + tn; ++t)
         for (k = 0; k < 3; ++k) {
@@ -4240,7 +4257,6 @@ PVS__STATIC uint32_t pvs__ep_convex_object(const pvs_scene *s, uint32_t t0, uint
         for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
         len = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
         if (!(len > 0.0)) return 0;
-        *area += (float)(0.25 * len);
         for (i = 0; i < n; ++i) {
             double d = nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) + nrm[2] * ((double)pts[i][2] - c[0][2]);
             lo = pvs__dmin(lo, d);
@@ -4302,11 +4318,10 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
         if (obj != PVS_NO_OBJECT) {
             /* the object's range starts here when t is its first triangle */
             uint32_t n;
-            float area;
             while (end < s->triangle_count && s->triangle_object[end] == obj) ++end;
-            n = pvs__ep_convex_object(s, t, end - t, q, &area);
+            n = pvs__ep_convex_object(s, t, end - t, q);
             if (n >= 4) {
-                pvs__ep_add(p, q, n, area);
+                pvs__ep_add(p, q, n, 1);
                 t = end;
                 continue;
             }
@@ -4318,13 +4333,12 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
             if (t + 1 < end) {
                 for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t + 1) + k];
                 if (pvs__ep_quad(tri, nxt, q)) {
-                    double n2[3];
-                    pvs__ep_add(p, q, 4, (float)(0.5 * (len + pvs__ep_tri_normal(nxt[0], nxt[1], nxt[2], n2))));
+                    pvs__ep_add(p, q, 4, 0);
                     ++t;
                     continue;
                 }
             }
-            pvs__ep_add(p, tri, 3, (float)(0.5 * len));
+            pvs__ep_add(p, tri, 3, 0);
         }
     }
     for (o = 0; o < s->occluder_count; ++o) {
@@ -4338,9 +4352,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
                 c[i][2] = i & 4 ? d->box.max[2] : d->box.min[2];
                 q[i] = c[i];
             }
-            pvs__ep_add(p, q, 8, (d->box.max[0] - d->box.min[0]) * (d->box.max[1] - d->box.min[1]) +
-                                     (d->box.max[1] - d->box.min[1]) * (d->box.max[2] - d->box.min[2]) +
-                                     (d->box.max[2] - d->box.min[2]) * (d->box.max[0] - d->box.min[0]));
+            pvs__ep_add(p, q, 8, 1);
         } else if (d->kind == PVS_OCCLUDER_EXTRUSION) { /* its walls, each a planar quad */
             int u, v, up = (int)s->up_axis;
             pvs__ground_axes(s->up_axis, &u, &v);
@@ -4354,8 +4366,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
                     c[k][up] = k < 2 ? d->base : d->top;
                     q[k] = c[k];
                 }
-                pvs__ep_add(p, q, 4, (float)(sqrt(((double)f1[0] - f0[0]) * ((double)f1[0] - f0[0]) + ((double)f1[1] - f0[1]) * ((double)f1[1] - f0[1])) *
-                                             ((double)d->top - d->base)));
+                pvs__ep_add(p, q, 4, 0);
             }
         }
         /* CONVEX occluders are not used (leaving an occluder out is conservative) */
@@ -4424,7 +4435,7 @@ typedef struct pvs__epcell {
     const pvs_scene *scene;
     const pvs__extproj_prep *prep;
     pvs_box cell;
-    pvs__epmap maps[6];
+    pvs__epmap maps[6 * PVS__EP_PLANES];
     pvs_word *bits;
     uint32_t tested;
 } pvs__epcell;
@@ -4434,7 +4445,7 @@ PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
     int d;
     if (pvs__box_overlap(b, &c->cell)) return 0;
     ++c->tested;
-    for (d = 0; d < 6; ++d) {
+    for (d = 0; d < 6 * PVS__EP_PLANES; ++d) {
         int32_t r[4];
         float depth;
         if (!c->maps[d].active) continue;
@@ -4535,7 +4546,7 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     map_floats = level_floats;
     sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
     sel = (pvs__epsel *)pvs__alloc_array(al, 6 * (size_t)max_occ, sizeof(pvs__epsel));
-    mem = (float *)pvs__alloc_array(al, 6 * map_floats, sizeof(float));
+    mem = (float *)pvs__alloc_array(al, 6 * PVS__EP_PLANES * map_floats, sizeof(float));
     sweep = pvs__alloc(al, sweep_size, 16);
     if (!sel || !mem || !sweep) {
         r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell_id, 0, "extproj scratch for cell %u", cell_id);
@@ -4548,13 +4559,13 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     for (i = 0; i < p->occ_count; ++i) {
         const pvs__epocc *o = p->occ + i;
         double dist2 = pvs__box_distance2(cell, &o->box) + r2;
-        float score = (float)(o->area / dist2);
         for (d = 0; d < 6; ++d) {
             double w0, w1;
             pvs__epsel *h = sel + (size_t)d * max_occ;
             uint32_t k, ch;
+            float score = (float)(o->area[d >> 1] / dist2);
             pvs__ep_box_w(cell, &o->box, (int)d, &w0, &w1);
-            if (!(w1 > 0.0)) continue;
+            if (!(w1 > 0.0) || !(score > 0.0f)) continue;
             if (nsel[d] == max_occ) {
                 if (!(score > h[0].score)) continue;
                 k = 0; /* replace the root, sift down */
@@ -4578,12 +4589,10 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
         }
     }
     for (d = 0; d < 6; ++d) {
-        pvs__epmap *m = c.maps + d;
         pvs__epsel *h = sel + (size_t)d * max_occ;
-        int a = (int)(d >> 1), u = (a + 1) % 3, v = (a + 2) % 3;
-        double bestW = 0.0, bestFill = 0.0, ext = (double)cell->max[a] - cell->min[a];
+        int a = (int)(d >> 1), u = (a + 1) % 3, v = (a + 2) % 3, q;
+        double bestW = 0.0, bestFill = 0.0, firstW = 0.0, ext = (double)cell->max[a] - cell->min[a];
         uint32_t k, j, w, hh;
-        float *base = mem + (size_t)d * map_floats;
         if (!nsel[d]) continue;
         /* §6.1 plane placement: a candidate just behind each of the best occluders, keep the one
            that fills the most pixels (sorted by score, best first, for the candidates) */
@@ -4598,6 +4607,7 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
             double w0, w1, W, fill = 0.0;
             pvs__ep_box_w(cell, &p->occ[h[k].occ].box, (int)d, &w0, &w1);
             W = w1 + 1e-3 * (w1 + ext);
+            if (k == 0) firstW = W;
             for (j = 0; j < nsel[d]; ++j) fill += pvs__ep_fill_estimate(cell, &p->occ[h[j].occ].box, (int)d, W);
             if (fill > bestFill || (fill == bestFill && bestW > 0.0 && W < bestW)) {
                 bestFill = fill;
@@ -4605,6 +4615,15 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
             }
         }
         if (!(bestFill > 0.0)) continue;
+        /* a second plane just behind the occluder of largest solid angle: the plane holding the
+           most pixels loses the near occluders' edges to their penumbrae (§7.3, Fig. 16) */
+        for (q = 0; q < PVS__EP_PLANES; ++q) {
+        pvs__epmap *m = c.maps + PVS__EP_PLANES * d + (uint32_t)q;
+        float *base = mem + (size_t)(PVS__EP_PLANES * d + (uint32_t)q) * map_floats;
+        if (q == 1) {
+            if (!(firstW > 0.0) || !(pvs__dabs(firstW - bestW) > 0.05 * (bestW + ext))) continue;
+            bestW = firstW;
+        }
         m->plane.cell = *cell;
         m->plane.axis = (uint32_t)a;
         m->plane.side = d & 1 ? -1 : 1;
@@ -4633,12 +4652,13 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
         }
         pvs__ep_build_pyramid(m);
         m->active = 1;
+        }
     }
     r = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__ep_visit, &c);
     if (r != PVS_OK) r = pvs__fail(err, r, cell_id, 0, "extproj: object sweep of cell %u", cell_id);
 done:
     pvs__free_array(al, sel, 6 * (size_t)max_occ, sizeof(pvs__epsel));
-    pvs__free_array(al, mem, 6 * map_floats, sizeof(float));
+    pvs__free_array(al, mem, 6 * PVS__EP_PLANES * map_floats, sizeof(float));
     pvs__free(al, sweep, sweep_size, 16);
     return r;
 }
