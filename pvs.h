@@ -4100,38 +4100,45 @@ PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *
     return written;
 }
 
-/* Pixel bounds of the views of the box's (k, w) extent from the cell's (k, w) corners. */
-PVS__STATIC void pvs__ep_occludee_axis(const pvs__epframe *f, const double *cell_k, double bk0, double bk1, double bw0, double bw1,
-                                       double k0, double sk, uint32_t size, int32_t *lo, int32_t *hi) {
+/* Pixel bounds of the views of the box's (k, w) extent from the cell's (k, w) corners; t[c][b] =
+   (W - cw[c]) / (bw[b] - cw[c]), shared by both axes. */
+PVS__STATIC void pvs__ep_occludee_axis(const double *cell_k, double bk0, double bk1, const double t[2][2], double k0, double sk,
+                                       uint32_t size, int32_t *lo, int32_t *hi) {
     double mn = DBL_MAX, mx = -DBL_MAX, mag = 0.0, err;
     int a, b, c;
     for (a = 0; a < 2; ++a)
-        for (c = 0; c < 2; ++c) {
-            double Vk = cell_k[a], Vw = f->cw[c];
+        for (c = 0; c < 2; ++c)
             for (b = 0; b < 4; ++b) {
-                double Pk = b & 1 ? bk1 : bk0, Pw = b & 2 ? bw1 : bw0, t = (f->W - Vw) / (Pw - Vw);
-                double x = (Vk + (Pk - Vk) * t - k0) * sk;
+                double Vk = cell_k[a], Pk = b & 1 ? bk1 : bk0, tt = t[c][b >> 1];
+                double x = (Vk + (Pk - Vk) * tt - k0) * sk;
                 mn = pvs__dmin(mn, x);
                 mx = pvs__dmax(mx, x);
-                mag = pvs__dmax(mag, (pvs__dabs(Vk) + (pvs__dabs(Pk) + pvs__dabs(Vk)) * t + pvs__dabs(k0)) * sk);
+                mag = pvs__dmax(mag, (pvs__dabs(Vk) + (pvs__dabs(Pk) + pvs__dabs(Vk)) * tt + pvs__dabs(k0)) * sk);
             }
-        }
     err = 1e-6 + 1e-12 * mag;
     *lo = pvs__clampi(floor(mn - err), -1, (int32_t)size);
     *hi = pvs__clampi(floor(mx + err), -1, (int32_t)size);
 }
 
+/* pvs_extproj_occludee with a prepared frame and a valid box. */
+PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int32_t rect[4], float *depth) {
+    double bw[2], t[2][2];
+    int c, b;
+    bw[0] = f->s > 0 ? (double)box->min[f->a] - f->face : f->face - (double)box->max[f->a];
+    bw[1] = f->s > 0 ? (double)box->max[f->a] - f->face : f->face - (double)box->min[f->a];
+    if (!(bw[0] > 0.0)) return 0;
+    for (c = 0; c < 2; ++c)
+        for (b = 0; b < 2; ++b) t[c][b] = (f->W - f->cw[c]) / (bw[b] - f->cw[c]);
+    pvs__ep_occludee_axis(f->cu, box->min[f->u], box->max[f->u], (const double(*)[2])t, f->u0, f->su, f->width, &rect[0], &rect[2]);
+    pvs__ep_occludee_axis(f->cv, box->min[f->v], box->max[f->v], (const double(*)[2])t, f->v0, f->sv, f->height, &rect[1], &rect[3]);
+    *depth = pvs__f_down(bw[0] - 1e-12 * bw[0]);
+    return 1;
+}
+
 PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *pl, const pvs_box *box, int32_t rect[4], float *depth) {
     pvs__epframe f;
-    double bw0, bw1;
     if (!pvs__ep_frame(pl, &f) || !box || !rect || !depth || !pvs__box_valid(box)) return 0;
-    bw0 = f.s > 0 ? (double)box->min[f.a] - f.face : f.face - (double)box->max[f.a];
-    bw1 = f.s > 0 ? (double)box->max[f.a] - f.face : f.face - (double)box->min[f.a];
-    if (!(bw0 > 0.0)) return 0;
-    pvs__ep_occludee_axis(&f, f.cu, box->min[f.u], box->max[f.u], bw0, bw1, f.u0, f.su, f.width, &rect[0], &rect[2]);
-    pvs__ep_occludee_axis(&f, f.cv, box->min[f.v], box->max[f.v], bw0, bw1, f.v0, f.sv, f.height, &rect[1], &rect[3]);
-    *depth = pvs__f_down(bw0 - 1e-12 * bw0);
-    return 1;
+    return pvs__ep_occludee(&f, box, rect, depth);
 }
 
 PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, const int32_t rect[4], float depth) {
@@ -4378,6 +4385,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 /* A depth map with its max pyramid (§2.4): level l texel = the greatest Depth of its 2 x 2 children. */
 typedef struct pvs__epmap {
     pvs_extproj_plane plane;
+    pvs__epframe frame;
     int active;
     uint32_t levels;
     uint32_t lw[14], lh[14];
@@ -4449,7 +4457,7 @@ PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
         int32_t r[4];
         float depth;
         if (!c->maps[d].active) continue;
-        if (!pvs_extproj_occludee(&c->maps[d].plane, b, r, &depth)) continue;
+        if (!pvs__ep_occludee(&c->maps[d].frame, b, r, &depth)) continue;
         if (!pvs__ep_visible(&c->maps[d], r, depth)) return 1;
     }
     return 0;
@@ -4651,7 +4659,7 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
             pvs_extproj_occluder(&m->plane, p->pts + 3 * (size_t)o->first, o->count, m->lv[0]);
         }
         pvs__ep_build_pyramid(m);
-        m->active = 1;
+        m->active = pvs__ep_frame(&m->plane, &m->frame);
         }
     }
     r = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__ep_visit, &c);
