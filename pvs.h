@@ -3865,7 +3865,20 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
    rectangle of its views (§3.1); per axis its extremes are at a corner of the cell and a corner of
    the box (the projection is linear-fractional in each, so extremes sit at vertices), widened by the
    same kind of margin; its Depth is its least w, rounded down. A box is hidden when every pixel of
-   its rectangle holds an occluder strictly nearer (§2.2); pixels outside the plane count as visible. */
+   its rectangle holds an occluder strictly nearer (§2.2); pixels outside the plane count as visible.
+
+   The bake method (§6.1). Occluders are prepared once per bake: an object whose triangles close a
+   convex surface becomes one convex solid, two consecutive coplanar triangles forming a convex quad
+   one polygon, any other triangle itself; explicit BOX occluders are solids, EXTRUSION walls quads.
+   Per cell and direction: the PVS__EP_DEFAULT_OCC occluders of largest solid angle (area seen along
+   the axis over squared distance), a plane just behind the candidate filling the most pixels and a
+   second one just behind the largest occluder, 256 x 256 depth maps with a max pyramid; then the
+   object kD-tree front to back, skipping hidden nodes, an object visible when a part of its box cut
+   by a leaf is. Objects meeting the cell are always visible.
+   Limits: not done yet are the improved occludee Projection (§4), the slicing of concave closed
+   meshes (§3.3), the occlusion sweep (§5) and adaptive cells; occluders are never fused across
+   polygons except through the depth map, so gaps open at building corners and T-junctions, and in
+   big street cells of a city or a forest of small leaves the PVS stays loose (see make bench). */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
