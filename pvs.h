@@ -55,7 +55,7 @@
    >>raster     conservative rasterizer, depth pyramid, cull map, per-frame culling
    >>otree      occlusion trees: line-space BSP; exact 2D and conservative 2.5D (c-LSS) region visibility
    >>occluders  occluder synthesis                                        (planned)
-   >>methods    region methods; today the ray-sampling estimator `sample`
+   >>methods    region methods: the ray-sampling estimator `sample`, extended projections `extproj`
    >>bake       bake driver: tasks, determinism
    >>format     the .pvs file: writer and validating zero-copy reader
    >>runtime    cell look-up and decoding
@@ -215,6 +215,7 @@
 
    RECENT HISTORY
    ==============
+   (unreleased)       PVS_METHOD_EXTPROJ: extended projections (Durand et al. 2000), conservative.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
                       codings, compact cell tables and look-up tree, cursor, sharded bakes.
    0.1.0 (2026-11-22) scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container.
@@ -734,6 +735,7 @@ typedef enum pvs_method {
     PVS_METHOD_SAMPLE,       /* ray sampling: an estimate from below, NOT conservative */
     PVS_METHOD_OTREE,        /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7): conservative; occluders are the
                                 scene's vertical rectangles standing on the ground (see pvs_visibility_25d) */
+    PVS_METHOD_EXTPROJ,      /* extended projections (Durand et al. 2000): conservative, 3D, planar occluders */
     PVS_METHOD_COUNT
 } pvs_method;
 
@@ -749,6 +751,49 @@ PVS_API const char *pvs_method_name(pvs_method method);
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
                                        uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
 
+/* ---- extended projections (Durand, Drettakis, Thollot, Puech 2000) ---- */
+
+/* A projection plane of a cell (Durand 2000 §2.4, §6.1): perpendicular to `axis` (0..2), on the
+   cell's side `side` (+1 beyond cell.max[axis], -1 below cell.min[axis]), at `distance` > 0 from that
+   face of the cell. Depth (§2.3) is the distance beyond the face, along the axis away from the cell.
+   The plane is the rectangle rect = (u0, v0, u1, v1) over the other two axes u = (axis + 1) % 3 and
+   v = (axis + 2) % 3, split into width x height pixels: pixel (i, j) covers u in u0 + [i, i + 1] *
+   (u1 - u0) / width and v likewise. A depth map is width * height floats, row j first, holding per
+   pixel the Depth of the nearest occluder Projection, PVS_EXTPROJ_EMPTY where there is none. */
+typedef struct pvs_extproj_plane {
+    pvs_box cell;
+    uint32_t axis;
+    int32_t side;
+    float distance;
+    float rect[4];
+    uint32_t width, height;   /* 1..4096 each */
+} pvs_extproj_plane;
+#define PVS_EXTPROJ_EMPTY 3.402823466e+38f
+
+/* Adds the extended Projection of one convex occluder (§3.2): `points` (count x (x, y, z), 1..16) are
+   the vertices of a planar convex polygon or of a closed convex solid (a solid whose bounding box
+   meets the cell is left out: it could hold the viewer). The occluder is clipped to the depths > 0
+   (beyond the cell's face) and split at the plane; the Projection of each part is the intersection
+   of its views from the cell's 8 corners, rasterized conservatively: a pixel is written only when
+   the part covers it entirely from every point of the cell. Such pixels get min(stored, Depth),
+   Depth being the part's greatest depth (no nearer than any of its points, §2.3). Returns the
+   number of pixel writes (a pixel covered by both parts counts twice), 0 when nothing is covered or
+   the arguments are bad. Thread-safe on distinct maps; no allocation. */
+PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *plane, const float *points, uint32_t count, float *depth_map);
+
+/* The extended Projection of an occludee box (§3.1): the bounding rectangle of its views from every
+   point of the cell (from the supporting and separating lines, i.e. the extremes over the cell's and
+   the box's corners) as inclusive pixel bounds rect = (i0, j0, i1, j1), which may reach outside the
+   map, and its least Depth in *depth. Returns 1, or 0 when the box is not entirely beyond the cell's
+   face (depth <= 0 somewhere: this plane cannot decide it). Conservative: the rectangle holds every
+   pixel the box touches from any point of the cell. No allocation. */
+PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *plane, const pvs_box *box, int32_t rect[4], float *depth);
+
+/* 1 if an occludee with Projection rect (pvs_extproj_occludee) and least Depth `depth` may be visible
+   in the depth map: some pixel of the rectangle lies outside the map or stores a Depth >= depth.
+   0 when every pixel holds an occluder strictly nearer: hidden from the whole cell (§2.2). */
+PVS_API int pvs_extproj_test(const pvs_extproj_plane *plane, const float *depth_map, const int32_t rect[4], float depth);
+
 /* ---- bake ------------------------------------------------------------------------------------ */
 
 /* What to bake. Left at zero, optional fields get defaults. */
@@ -762,6 +807,8 @@ typedef struct pvs_bake_desc {
     uint32_t sample_rays;     /* SAMPLE: rays per point, 0 = 2048 */
     uint64_t seed;            /* SAMPLE: random seed */
     uint32_t max_chain;       /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
+    uint32_t extproj_resolution; /* EXTPROJ: depth map pixels per side, 0 = 256; 16..4096 */
+    uint32_t extproj_occluders;  /* EXTPROJ: occluders projected per plane, 0 = 128; <= 65536 */
     /* Sharded bakes (build farms): with shard_count >= 2 this bake runs only cells shard_index,
        shard_index + shard_count, ... and writes a part file; the parts of shard_index 0..shard_count-1
        merge (decode them, pvs_file_encode the whole table) into the file an unsharded bake writes. */
@@ -5128,7 +5175,7 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 
 // >>methods
 /* ---------------------------------------------------------------------------------------------- */
-/* methods: region visibility. Today: the ray-sampling estimator.                                 */
+/* methods: region visibility: the ray-sampling estimator; extended projections (at the end)      */
 /* ---------------------------------------------------------------------------------------------- */
 
 PVS_API const char *pvs_method_name(pvs_method m) {
@@ -5136,6 +5183,7 @@ PVS_API const char *pvs_method_name(pvs_method m) {
     case PVS_METHOD_DEFAULT: return "default";
     case PVS_METHOD_SAMPLE: return "sample";
     case PVS_METHOD_OTREE: return "otree";
+    case PVS_METHOD_EXTPROJ: return "extproj";
     default: return "unknown";
     }
 }
@@ -5228,6 +5276,842 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
     return rays;
 }
 
+/* ---- extended projections (Durand et al. 2000) ---- */
+
+/* How the guarantee survives rounding. Everything runs in double from float inputs. A plane's frame
+   maps a point to (u, v, w): w is the Depth beyond the cell's face (§2.3, positive leaving the cell);
+   the cell spans w in [-extent, 0]. The view of a point P from a cell corner V on the plane w = W is
+   V + (P - V) (W - Vw) / (Pw - Vw), defined for Pw > Vw, which is why occluders are clipped to w >= a
+   small positive margin and occludees must lie entirely at w > 0. The Projection of a convex
+   occluder is the intersection of its views from the 8 corners (§3.2: by convexity of the cell and
+   the occluder the intersection over the corners is the one over the cell); each view is the convex
+   hull of the projected vertices, so the Projection is an intersection of half-planes. It is
+   scan-converted row by row: a pixel square is kept only when its worst corner passes every edge
+   function by a margin above every rounding error (the conservative rasterization of §3.2, exact
+   instead of shifted edges). The Depth written is the greatest w of the clipped occluder, rounded up:
+   flat, no nearer than any point of the occluder (§2.3). An occludee box's Projection is the bounding
+   rectangle of its views (§3.1); per axis its extremes are at a corner of the cell and a corner of
+   the box (the projection is linear-fractional in each, so extremes sit at vertices), widened by the
+   same kind of margin; its Depth is its least w, rounded down. A box is hidden when every pixel of
+   its rectangle holds an occluder strictly nearer (§2.2); pixels outside the plane count as visible.
+
+   The bake method (§6.1). Occluders are prepared once per bake: an object whose triangles close a
+   convex surface becomes one convex solid, two consecutive coplanar triangles forming a convex quad
+   one polygon, any other triangle itself; explicit BOX occluders are solids, EXTRUSION walls quads.
+   Per cell and direction: the PVS__EP_DEFAULT_OCC occluders of largest solid angle (area seen along
+   the axis over squared distance), a plane just behind the candidate filling the most pixels and a
+   second one just behind the largest occluder, 256 x 256 depth maps with a max pyramid; then the
+   object kD-tree front to back, skipping hidden nodes, an object visible when a part of its box cut
+   by a leaf is. Objects meeting the cell are always visible.
+   Limits: not done yet are the improved occludee Projection (§4), the slicing of concave closed
+   meshes (§3.3), the occlusion sweep (§5) and adaptive cells; occluders are never fused across
+   polygons except through the depth map, so gaps open at building corners and T-junctions, and in
+   big street cells of a city or a forest of small leaves the PVS stays loose (see make bench). */
+
+#define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
+#define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
+#define PVS__EP_EXTEND 1.5                            /* planes extended beyond the cell (§6.1) */
+#define PVS__EP_DEFAULT_RES 256
+#define PVS__EP_DEFAULT_OCC 128
+#define PVS__EP_PLANE_CANDIDATES 16
+#define PVS__EP_PLANES 2                              /* planes per direction */
+
+typedef struct pvs__epframe {
+    int a, u, v;
+    double s, face, W, u0, v0, su, sv;
+    double cu[2], cv[2], cw[2];
+    uint32_t width, height;
+} pvs__epframe;
+
+PVS__STATIC int pvs__ep_frame(const pvs_extproj_plane *pl, pvs__epframe *f) {
+    int k;
+    if (!pl || pl->axis > 2 || (pl->side != 1 && pl->side != -1) || !pvs__box_valid(&pl->cell)) return 0;
+    if (!pvs__finite(pl->distance) || !(pl->distance > 0.0f)) return 0;
+    for (k = 0; k < 4; ++k)
+        if (!pvs__finite(pl->rect[k])) return 0;
+    if (!(pl->rect[2] > pl->rect[0]) || !(pl->rect[3] > pl->rect[1])) return 0;
+    if (pl->width < 1 || pl->width > 4096 || pl->height < 1 || pl->height > 4096) return 0;
+    f->a = (int)pl->axis;
+    f->u = (f->a + 1) % 3;
+    f->v = (f->a + 2) % 3;
+    f->s = pl->side > 0 ? 1.0 : -1.0;
+    f->face = pl->side > 0 ? pl->cell.max[f->a] : pl->cell.min[f->a];
+    f->W = pl->distance;
+    f->u0 = pl->rect[0];
+    f->v0 = pl->rect[1];
+    f->su = (double)pl->width / ((double)pl->rect[2] - pl->rect[0]);
+    f->sv = (double)pl->height / ((double)pl->rect[3] - pl->rect[1]);
+    f->cu[0] = pl->cell.min[f->u]; f->cu[1] = pl->cell.max[f->u];
+    f->cv[0] = pl->cell.min[f->v]; f->cv[1] = pl->cell.max[f->v];
+    f->cw[0] = -((double)pl->cell.max[f->a] - pl->cell.min[f->a]);
+    f->cw[1] = 0.0;
+    f->width = pl->width;
+    f->height = pl->height;
+    return 1;
+}
+
+PVS__STATIC double pvs__ep_tri_normal(const float *a, const float *b, const float *c, double n[3]) {
+    double e1[3], e2[3];
+    int k;
+    for (k = 0; k < 3; ++k) { e1[k] = (double)b[k] - a[k]; e2[k] = (double)c[k] - a[k]; }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+/* 2D cross product of (b - a) and (c - a). */
+PVS__STATIC double pvs__ep_orient(const double *a, const double *b, const double *c) {
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+/* Convex hull (Andrew's monotone chain), counter-clockwise, collinear points dropped. pts: n x 2,
+   sorted in place; hull receives up to n + 1 points. Returns the hull's size. */
+PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
+    int i, j, k = 0, lower;
+    for (i = 1; i < n; ++i) { /* insertion sort: n is small */
+        double x = pts[i][0], y = pts[i][1];
+        for (j = i - 1; j >= 0 && (pts[j][0] > x || (pts[j][0] == x && pts[j][1] > y)); --j) {
+            pts[j + 1][0] = pts[j][0];
+            pts[j + 1][1] = pts[j][1];
+        }
+        pts[j + 1][0] = x;
+        pts[j + 1][1] = y;
+    }
+    if (n < 3) return 0;
+    for (i = 0; i < n; ++i) {
+        while (k >= 2 && pvs__ep_orient(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+        hull[k][0] = pts[i][0]; hull[k][1] = pts[i][1]; ++k;
+    }
+    lower = k + 1;
+    for (i = n - 2; i >= 0; --i) {
+        while (k >= lower && pvs__ep_orient(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+        hull[k][0] = pts[i][0]; hull[k][1] = pts[i][1]; ++k;
+    }
+    return k - 1; /* the last point repeats the first */
+}
+
+/* The Projection of the part of a convex occluder inside the depth slab [lo, hi]: the views are
+   convex hulls of the projected vertices of the clipped part. The clipped part's vertices are among
+   the points inside the slab and the ends of the clipped segments between any two points. */
+PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo, double whi, float *map) {
+    pvs__epframe f = *fp;
+    double P[PVS__EP_CLIPN][3], pts[PVS__EP_CLIPN][2], hull[PVS__EP_CLIPN + 1][2];
+    double ea[8 * PVS__EP_CLIPN], eb[8 * PVS__EP_CLIPN], ec[8 * PVS__EP_CLIPN];
+    double dmax = 0.0, xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, perr, mag = 0.0, base;
+    int n = 0, i, j, c, edges = 0;
+    int32_t i0, i1, j0, j1, row;
+    uint32_t written = 0;
+    float depth;
+    for (i = 0; i < count; ++i)
+        if (src[i][2] >= wlo && src[i][2] <= whi) {
+            P[n][0] = src[i][0]; P[n][1] = src[i][1]; P[n][2] = src[i][2];
+            ++n;
+        }
+    for (i = 0; i < count; ++i)
+        for (j = i + 1; j < count; ++j) {
+            double wi = src[i][2], wj = src[j][2], cut[2];
+            int m;
+            cut[0] = wlo;
+            cut[1] = whi;
+            for (m = 0; m < 2; ++m) {
+                double t, w = cut[m];
+                int k;
+                if (!((wi < w && wj > w) || (wi > w && wj < w))) continue;
+                t = (w - wi) / (wj - wi);
+                for (k = 0; k < 2; ++k) P[n][k] = src[i][k] + (src[j][k] - src[i][k]) * t;
+                P[n][2] = w;
+                ++n;
+            }
+        }
+    if (n < 3) return 0;
+    for (i = 0; i < n; ++i) dmax = pvs__dmax(dmax, P[i][2]);
+    base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv;
+    /* the intersection of the views from the 8 corners of the cell (§3.2) */
+    for (c = 0; c < 8; ++c) {
+        double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], h;
+        double bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX, area2 = 0.0;
+        int k;
+        for (i = 0; i < n; ++i) {
+            double t = (f.W - Vw) / (P[i][2] - Vw);
+            pts[i][0] = (Vu + (P[i][0] - Vu) * t - f.u0) * f.su;
+            pts[i][1] = (Vv + (P[i][1] - Vv) * t - f.v0) * f.sv;
+            bx0 = pvs__dmin(bx0, pts[i][0]); bx1 = pvs__dmax(bx1, pts[i][0]);
+            by0 = pvs__dmin(by0, pts[i][1]); by1 = pvs__dmax(by1, pts[i][1]);
+            mag = pvs__dmax(mag, pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) + (pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
+                                     (pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
+        }
+        if (!(bx1 - bx0 < 1e15) || !(by1 - by0 < 1e15)) return 0; /* beyond any useful precision */
+        xlo = pvs__dmax(xlo, bx0); xhi = pvs__dmin(xhi, bx1);
+        ylo = pvs__dmax(ylo, by0); yhi = pvs__dmin(yhi, by1);
+        if (xhi - xlo < 1.0 || yhi - ylo < 1.0) return 0; /* no whole pixel fits */
+        k = pvs__ep_hull(pts, n, hull);
+        if (k < 3) return 0;
+        for (i = 0; i < k; ++i) area2 += hull[i][0] * hull[i + 1 < k ? i + 1 : 0][1] - hull[i + 1 < k ? i + 1 : 0][0] * hull[i][1];
+        h = (bx1 - bx0) + (by1 - by0);
+        if (!(area2 > 1e-9 * h * h)) return 0; /* a sliver: covers no pixel */
+        for (i = 0; i < k; ++i) {
+            const double *p = hull[i], *q = hull[i + 1 < k ? i + 1 : 0];
+            double a = -(q[1] - p[1]), b = q[0] - p[0], len = pvs__dabs(a) + pvs__dabs(b);
+            if (!(len > 0.0)) continue;
+            ea[edges] = a / len;
+            eb[edges] = b / len;
+            ec[edges] = -(ea[edges] * p[0] + eb[edges] * p[1]);
+            ++edges;
+        }
+    }
+    /* a bound on the vertices' rounding errors, in pixels (projection and frame change: a few ulps
+       of the terms' size), widened for the edges' rotation over the raster's span */
+    perr = 1e-12 * (mag + base + 1.0);
+    i0 = pvs__clampi(ceil(xlo), 0, (int32_t)f.width);
+    i1 = pvs__clampi(floor(xhi) - 1.0, -1, (int32_t)f.width - 1);
+    j0 = pvs__clampi(ceil(ylo), 0, (int32_t)f.height);
+    j1 = pvs__clampi(floor(yhi) - 1.0, -1, (int32_t)f.height - 1);
+    if (i0 > i1 || j0 > j1) return 0;
+    depth = pvs__f_up(dmax + 1e-12 * dmax);
+    for (row = j0; row <= j1; ++row) {
+        double lo = i0, hi = i1, y = row;
+        int e;
+        for (e = 0; e < edges && lo <= hi; ++e) {
+            double a = ea[e], b = eb[e];
+            /* the pixel's worst corner: a (i + [a < 0]) + b (y + [b < 0]) + c >= err */
+            double r = ec[e] + b * y + (b < 0.0 ? b : 0.0) + (a < 0.0 ? a : 0.0);
+            double err = 1e-6 + perr * (4.0 + 4.0 * (mag + (double)f.width + (double)f.height)) + 1e-12 * (pvs__dabs(ec[e]) + pvs__dabs(b * y));
+            r -= err;
+            if (a > 1e-12) {
+                double x = -r / a;
+                lo = pvs__dmax(lo, ceil(x + 1e-9 * (1.0 + pvs__dabs(x))));
+            } else if (a < -1e-12) {
+                double x = r / -a;
+                hi = pvs__dmin(hi, floor(x - 1e-9 * (1.0 + pvs__dabs(x))));
+            } else {
+                /* nearly horizontal: test the worst of the row's two ends */
+                double worst = r + pvs__dmin(a * lo, a * hi) - pvs__dabs(a);
+                if (worst < 0.0) hi = lo - 1.0;
+            }
+        }
+        if (lo > hi) continue;
+        {
+            float *px = map + (size_t)row * f.width;
+            int32_t x0 = (int32_t)lo, x1 = (int32_t)hi, x;
+            for (x = x0; x <= x1; ++x)
+                if (px[x] > depth) px[x] = depth;
+            written += (uint32_t)(x1 - x0 + 1);
+        }
+    }
+    return written;
+}
+
+PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *points, uint32_t count, float *map) {
+    pvs__epframe f;
+    double P[PVS__EP_MAXP][3], margin, wmax = -DBL_MAX;
+    uint32_t i, written;
+    if (!pvs__ep_frame(pl, &f) || !points || !map || count < 1 || count > PVS__EP_MAXP) return 0;
+    for (i = 0; i < count * 3; ++i)
+        if (!pvs__finite(points[i])) return 0;
+    for (i = 0; i < count; ++i) {
+        P[i][0] = points[3 * i + f.u];
+        P[i][1] = points[3 * i + f.v];
+        P[i][2] = f.s * ((double)points[3 * i + f.a] - f.face);
+        wmax = pvs__dmax(wmax, P[i][2]);
+    }
+    if (count > 3) {
+        /* a solid that meets the cell could hold the viewer: its Depth would not bound the first
+           hit. Such occluders are left out (conservative); planar ones never hold a viewer. */
+        double n[3], len = 0.0, scale = 0.0;
+        int planar = 1;
+        pvs_box b = pvs__box_empty();
+        for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
+        for (i = 2; i < count && !(len > 0.0); ++i) len = pvs__ep_tri_normal(points, points + 3, points + 3 * i, n);
+        for (i = 0; i < 3; ++i) scale = pvs__dmax(scale, (double)b.max[i] - b.min[i]);
+        for (i = 0; i < count && planar; ++i) {
+            double d = n[0] * ((double)points[3 * i] - points[0]) + n[1] * ((double)points[3 * i + 1] - points[1]) +
+                       n[2] * ((double)points[3 * i + 2] - points[2]);
+            planar = pvs__dabs(d) <= 1e-7 * len * scale;
+        }
+        if (!(len > 0.0) || (!planar && pvs__box_overlap(&b, &pl->cell))) return 0;
+    }
+    /* clipped to depths >= a small margin (views are defined beyond the cell), and split at the
+       plane: the set of cell points that see a pixel through the part in front of the plane (or
+       through the part behind it) is convex, so the corners decide for the whole cell; for a part
+       straddling the plane it would not be */
+    margin = 1e-4 * (f.W - f.cw[0]);
+    written = pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, margin, f.W, map);
+    if (wmax > f.W) written += pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX, map);
+    return written;
+}
+
+/* Pixel bounds of the views of the box's (k, w) extent from the cell's (k, w) corners; t[c][b] =
+   (W - cw[c]) / (bw[b] - cw[c]), shared by both axes. */
+PVS__STATIC void pvs__ep_occludee_axis(const double *cell_k, double bk0, double bk1, const double t[2][2], double k0, double sk,
+                                       uint32_t size, int32_t *lo, int32_t *hi) {
+    double mn = DBL_MAX, mx = -DBL_MAX, mag = 0.0, err;
+    int a, b, c;
+    for (a = 0; a < 2; ++a)
+        for (c = 0; c < 2; ++c)
+            for (b = 0; b < 4; ++b) {
+                double Vk = cell_k[a], Pk = b & 1 ? bk1 : bk0, tt = t[c][b >> 1];
+                double x = (Vk + (Pk - Vk) * tt - k0) * sk;
+                mn = pvs__dmin(mn, x);
+                mx = pvs__dmax(mx, x);
+                mag = pvs__dmax(mag, (pvs__dabs(Vk) + (pvs__dabs(Pk) + pvs__dabs(Vk)) * tt + pvs__dabs(k0)) * sk);
+            }
+    err = 1e-6 + 1e-12 * mag;
+    *lo = pvs__clampi(floor(mn - err), -1, (int32_t)size);
+    *hi = pvs__clampi(floor(mx + err), -1, (int32_t)size);
+}
+
+/* pvs_extproj_occludee with a prepared frame and a valid box. */
+PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int32_t rect[4], float *depth) {
+    double bw[2], t[2][2];
+    int c, b;
+    bw[0] = f->s > 0 ? (double)box->min[f->a] - f->face : f->face - (double)box->max[f->a];
+    bw[1] = f->s > 0 ? (double)box->max[f->a] - f->face : f->face - (double)box->min[f->a];
+    if (!(bw[0] > 0.0)) return 0;
+    for (c = 0; c < 2; ++c)
+        for (b = 0; b < 2; ++b) t[c][b] = (f->W - f->cw[c]) / (bw[b] - f->cw[c]);
+    pvs__ep_occludee_axis(f->cu, box->min[f->u], box->max[f->u], (const double(*)[2])t, f->u0, f->su, f->width, &rect[0], &rect[2]);
+    pvs__ep_occludee_axis(f->cv, box->min[f->v], box->max[f->v], (const double(*)[2])t, f->v0, f->sv, f->height, &rect[1], &rect[3]);
+    *depth = pvs__f_down(bw[0] - 1e-12 * bw[0]);
+    return 1;
+}
+
+PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *pl, const pvs_box *box, int32_t rect[4], float *depth) {
+    pvs__epframe f;
+    if (!pvs__ep_frame(pl, &f) || !box || !rect || !depth || !pvs__box_valid(box)) return 0;
+    return pvs__ep_occludee(&f, box, rect, depth);
+}
+
+PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, const int32_t rect[4], float depth) {
+    int32_t i, j;
+    if (!pl || !map || !rect) return 1;
+    if (rect[0] < 0 || rect[1] < 0 || rect[2] >= (int32_t)pl->width || rect[3] >= (int32_t)pl->height) return 1;
+    for (j = rect[1]; j <= rect[3]; ++j)
+        for (i = rect[0]; i <= rect[2]; ++i)
+            if (!(map[(size_t)j * pl->width + i] < depth)) return 1;
+    return 0;
+}
+
+/* ---- the bake method: occluders prepared once per bake, then per cell six planes ---- */
+
+/* One convex occluder: a planar convex polygon (a triangle, or coplanar triangles merged) or a
+   closed convex solid (an object whose triangles bound their convex hull). */
+typedef struct pvs__epocc {
+    pvs_box box;
+    float area[3];         /* area seen along each axis: of the polygon projected, of a solid's box face */
+    uint32_t first, count; /* points */
+} pvs__epocc;
+
+typedef struct pvs__extproj_prep {
+    pvs_allocator allocator;
+    pvs__epocc *occ;
+    uint32_t occ_count, occ_capacity;
+    float *pts;            /* 3 floats per point */
+    size_t pt_count, pt_capacity;
+} pvs__extproj_prep;
+
+PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
+    pvs_allocator a;
+    if (!p) return;
+    a = p->allocator;
+    pvs__free_array(&a, p->occ, p->occ_capacity, sizeof(pvs__epocc));
+    pvs__free_array(&a, p->pts, p->pt_capacity * 3, sizeof(float));
+    pvs__free(&a, p, sizeof(*p), 16);
+}
+
+/* Adds a convex occluder. A polygon's area along axis k is its area times |n_k| (n, its unit
+   normal: the area of its shadow on a plane of that axis); a solid's is its box's face. */
+PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, int solid) {
+    pvs__epocc *o = p->occ + p->occ_count++;
+    uint32_t i;
+    int k;
+    o->box = pvs__box_empty();
+    o->first = (uint32_t)p->pt_count;
+    o->count = n;
+    for (i = 0; i < n; ++i) {
+        memcpy(p->pts + 3 * p->pt_count, pts[i], 3 * sizeof(float));
+        pvs__box_add_point(&o->box, pts[i]);
+        ++p->pt_count;
+    }
+    if (solid) {
+        for (k = 0; k < 3; ++k)
+            o->area[k] = (o->box.max[(k + 1) % 3] - o->box.min[(k + 1) % 3]) * (o->box.max[(k + 2) % 3] - o->box.min[(k + 2) % 3]);
+    } else {
+        double a[3] = {0.0, 0.0, 0.0};
+        for (i = 1; i + 1 < n; ++i) { /* fan: twice the vector area */
+            double e1[3], e2[3];
+            for (k = 0; k < 3; ++k) { e1[k] = (double)pts[i][k] - pts[0][k]; e2[k] = (double)pts[i + 1][k] - pts[0][k]; }
+            a[0] += e1[1] * e2[2] - e1[2] * e2[1];
+            a[1] += e1[2] * e2[0] - e1[0] * e2[2];
+            a[2] += e1[0] * e2[1] - e1[1] * e2[0];
+        }
+        for (k = 0; k < 3; ++k) o->area[k] = (float)(0.5 * pvs__dabs(a[k]));
+    }
+}
+
+PVS__STATIC int pvs__ep_same(const float *a, const float *b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
+
+
+/* Two triangles sharing an edge, coplanar, whose union is a convex quad: fills q[4] and returns 1. */
+PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q) {
+    int i, j, k;
+    double n[3], len = pvs__ep_tri_normal(A[0], A[1], A[2], n), scale = 0.0;
+    if (!(len > 0.0)) return 0;
+    for (i = 0; i < 3; ++i)
+        for (j = 0; j < 3; ++j) {
+            const float *a0 = A[i], *a1 = A[(i + 1) % 3], *x;
+            if (!(pvs__ep_same(a0, B[j]) && pvs__ep_same(a1, B[(j + 2) % 3])) && !(pvs__ep_same(a0, B[(j + 2) % 3]) && pvs__ep_same(a1, B[j])))
+                continue;
+            x = B[(j + 1) % 3];
+            q[0] = a0; q[1] = x; q[2] = a1; q[3] = A[(i + 2) % 3];
+            for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)x[k] - a0[k]));
+            /* coplanar up to float precision of the input */
+            if (pvs__dabs(n[0] * ((double)x[0] - a0[0]) + n[1] * ((double)x[1] - a0[1]) + n[2] * ((double)x[2] - a0[2])) > 1e-7 * len * scale)
+                return 0;
+            for (k = 0; k < 4; ++k) { /* strictly convex at every corner, turning like the triangle */
+                const float *p0 = q[k], *p1 = q[(k + 1) % 4], *p2 = q[(k + 2) % 4];
+                double m[3];
+                pvs__ep_tri_normal(p0, p1, p2, m);
+                if (!(m[0] * n[0] + m[1] * n[1] + m[2] * n[2] > 0.0)) return 0;
+            }
+            return 1;
+        }
+    return 0;
+}
+
+/* An object whose triangles form a closed surface in convex position bounds a convex solid: its
+   unique vertices (<= PVS__EP_MAXP) go to pts. Returns the count, or 0. Every edge must be shared by
+   exactly two of the object's triangles (by position) and every vertex must lie on one side of
+   every triangle's plane. */
+PVS__STATIC uint32_t pvs__ep_convex_object(const pvs_scene *s, uint32_t t0, uint32_t tn, const float **pts) {
+    uint32_t t, n = 0, i, k;
+    double scale = 0.0;
+    if (tn < 4 || tn > 2 * PVS__EP_MAXP) return 0;
+    for (t = t0; t < t0 + tn; ++t)
+        for (k = 0; k < 3; ++k) {
+            const float *p = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
+            for (i = 0; i < n && !pvs__ep_same(pts[i], p); ++i) {}
+            if (i == n) {
+                if (n == PVS__EP_MAXP) return 0;
+                pts[n++] = p;
+            }
+        }
+    for (i = 0; i < n; ++i)
+        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]));
+    for (t = t0; t < t0 + tn; ++t) {
+        const float *c[3];
+        double nrm[3], len, lo = 0.0, hi = 0.0;
+        uint32_t e, u;
+        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
+        len = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
+        if (!(len > 0.0)) return 0;
+        for (i = 0; i < n; ++i) {
+            double d = nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) + nrm[2] * ((double)pts[i][2] - c[0][2]);
+            lo = pvs__dmin(lo, d);
+            hi = pvs__dmax(hi, d);
+        }
+        if (lo < -1e-9 * len * scale && hi > 1e-9 * len * scale) return 0;
+        for (e = 0; e < 3; ++e) { /* each edge shared by exactly one other triangle */
+            const float *a = c[e], *b = c[(e + 1) % 3];
+            uint32_t shared = 0;
+            for (u = t0; u < t0 + tn; ++u) {
+                const float *d[3];
+                int m, has_a = 0, has_b = 0;
+                if (u == t) continue;
+                for (m = 0; m < 3; ++m) {
+                    d[m] = s->positions + 3 * (size_t)s->indices[3 * (size_t)u + m];
+                    has_a |= pvs__ep_same(d[m], a);
+                    has_b |= pvs__ep_same(d[m], b);
+                }
+                shared += (uint32_t)(has_a && has_b);
+            }
+            if (shared != 1) return 0;
+        }
+    }
+    return n;
+}
+
+/* Builds the occluder list of a scene (§6.1 picks among it per cell). */
+PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out, pvs_error *err) {
+    pvs__extproj_prep *p;
+    size_t occ_cap = (size_t)s->triangle_count + 1, pt_cap = 3 * (size_t)s->triangle_count + 1;
+    uint32_t o, t, i;
+    *out = NULL;
+    for (i = 0; i < s->occluder_count; ++i) {
+        const pvs_occluder_desc *d = s->occluders + i;
+        if (d->kind == PVS_OCCLUDER_BOX) { occ_cap += 1; pt_cap += 8; }
+        if (d->kind == PVS_OCCLUDER_EXTRUSION) { occ_cap += d->footprint_count; pt_cap += 4 * (size_t)d->footprint_count; }
+    }
+    if (occ_cap > 0xffffffffu || pt_cap > 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "extproj: too many occluders");
+    p = (pvs__extproj_prep *)pvs__alloc(a, sizeof(*p), 16);
+    if (!p) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj occluders");
+    memset(p, 0, sizeof(*p));
+    p->allocator = *a;
+    p->occ_capacity = (uint32_t)occ_cap;
+    p->pt_capacity = pt_cap;
+    p->occ = (pvs__epocc *)pvs__alloc_array(a, occ_cap, sizeof(pvs__epocc));
+    p->pts = (float *)pvs__alloc_array(a, pt_cap * 3, sizeof(float));
+    if (!p->occ || !p->pts) {
+        pvs__extproj_prep_destroy(p);
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj occluders (%llu)", (unsigned long long)occ_cap);
+    }
+    /* triangles in object order; an object that is a closed convex surface becomes one solid,
+       consecutive coplanar triangles forming a convex quad become one polygon (fewer cracks between
+       Projections, §3.2-3.3) */
+    for (t = 0; t < s->triangle_count;) {
+        uint32_t obj = s->triangle_object[t], end = t + 1;
+        const float *tri[3], *nxt[3], *q[PVS__EP_MAXP];
+        double nrm[3], len;
+        int k;
+        if (obj != PVS_NO_OBJECT) {
+            /* the object's range starts here when t is its first triangle */
+            uint32_t n;
+            while (end < s->triangle_count && s->triangle_object[end] == obj) ++end;
+            n = pvs__ep_convex_object(s, t, end - t, q);
+            if (n >= 4) {
+                pvs__ep_add(p, q, n, 1);
+                t = end;
+                continue;
+            }
+        }
+        for (; t < end; ++t) {
+            for (k = 0; k < 3; ++k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
+            len = pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm);
+            if (!(len > 0.0)) continue;
+            if (t + 1 < end) {
+                for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t + 1) + k];
+                if (pvs__ep_quad(tri, nxt, q)) {
+                    pvs__ep_add(p, q, 4, 0);
+                    ++t;
+                    continue;
+                }
+            }
+            pvs__ep_add(p, tri, 3, 0);
+        }
+    }
+    for (o = 0; o < s->occluder_count; ++o) {
+        const pvs_occluder_desc *d = s->occluders + o;
+        float c[8][3];
+        const float *q[8];
+        if (d->kind == PVS_OCCLUDER_BOX) {
+            for (i = 0; i < 8; ++i) {
+                c[i][0] = i & 1 ? d->box.max[0] : d->box.min[0];
+                c[i][1] = i & 2 ? d->box.max[1] : d->box.min[1];
+                c[i][2] = i & 4 ? d->box.max[2] : d->box.min[2];
+                q[i] = c[i];
+            }
+            pvs__ep_add(p, q, 8, 1);
+        } else if (d->kind == PVS_OCCLUDER_EXTRUSION) { /* its walls, each a planar quad */
+            int u, v, up = (int)s->up_axis;
+            pvs__ground_axes(s->up_axis, &u, &v);
+            for (i = 0; i < d->footprint_count; ++i) {
+                const float *f0 = d->footprint + 2 * i, *f1 = d->footprint + 2 * ((i + 1) % d->footprint_count);
+                int k;
+                for (k = 0; k < 4; ++k) {
+                    const float *f = k == 0 || k == 3 ? f0 : f1;
+                    c[k][u] = f[0];
+                    c[k][v] = f[1];
+                    c[k][up] = k < 2 ? d->base : d->top;
+                    q[k] = c[k];
+                }
+                pvs__ep_add(p, q, 4, 0);
+            }
+        }
+        /* CONVEX occluders are not used (leaving an occluder out is conservative) */
+    }
+    *out = p;
+    return PVS_OK;
+}
+
+/* A depth map with its max pyramid (§2.4): level l texel = the greatest Depth of its 2 x 2 children. */
+typedef struct pvs__epmap {
+    pvs_extproj_plane plane;
+    pvs__epframe frame;
+    int active;
+    uint32_t levels;
+    uint32_t lw[14], lh[14];
+    float *lv[14];
+} pvs__epmap;
+
+PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
+    uint32_t l, x, y;
+    for (l = 1; l <= m->levels; ++l) {
+        uint32_t pw = m->lw[l - 1], ph = m->lh[l - 1];
+        const float *src = m->lv[l - 1];
+        float *dst = m->lv[l];
+        for (y = 0; y < m->lh[l]; ++y)
+            for (x = 0; x < m->lw[l]; ++x) {
+                uint32_t x0 = 2 * x, y0 = 2 * y, x1 = x0 + 1 < pw ? x0 + 1 : x0, y1 = y0 + 1 < ph ? y0 + 1 : y0;
+                float a = src[y0 * pw + x0], b = src[y0 * pw + x1], c = src[y1 * pw + x0], d = src[y1 * pw + x1];
+                a = a > b ? a : b;
+                c = c > d ? c : d;
+                dst[y * m->lw[l] + x] = a > c ? a : c;
+            }
+    }
+}
+
+/* 1 if some level-0 pixel of rect under texel (tx, ty) of level l holds a Depth >= d. */
+PVS__STATIC int pvs__ep_visible_at(const pvs__epmap *m, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *r, float d) {
+    uint32_t cx, cy;
+    if (m->lv[l][ty * m->lw[l] + tx] < d) return 0;
+    if (l == 0) return 1;
+    for (cy = 2 * ty; cy <= 2 * ty + 1 && cy < m->lh[l - 1]; ++cy)
+        for (cx = 2 * tx; cx <= 2 * tx + 1 && cx < m->lw[l - 1]; ++cx) {
+            int32_t px0 = (int32_t)(cx << (l - 1)), py0 = (int32_t)(cy << (l - 1));
+            int32_t px1 = px0 + (int32_t)(1u << (l - 1)) - 1, py1 = py0 + (int32_t)(1u << (l - 1)) - 1;
+            if (px1 < r[0] || px0 > r[2] || py1 < r[1] || py0 > r[3]) continue;
+            if (pvs__ep_visible_at(m, l - 1, cx, cy, r, d)) return 1;
+        }
+    return 0;
+}
+
+PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) {
+    uint32_t l = 0, tx, ty;
+    if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)m->plane.width || r[3] >= (int32_t)m->plane.height) return 1;
+    while (l < m->levels && (((uint32_t)r[2] >> l) - ((uint32_t)r[0] >> l) > 1 || ((uint32_t)r[3] >> l) - ((uint32_t)r[1] >> l) > 1)) ++l;
+    for (ty = (uint32_t)r[1] >> l; ty <= (uint32_t)r[3] >> l; ++ty)
+        for (tx = (uint32_t)r[0] >> l; tx <= (uint32_t)r[2] >> l; ++tx)
+            if (pvs__ep_visible_at(m, l, tx, ty, r, d)) return 1;
+    return 0;
+}
+
+typedef struct pvs__epsel {
+    float score;
+    uint32_t occ;
+} pvs__epsel;
+
+typedef struct pvs__epcell {
+    const pvs_scene *scene;
+    const pvs__extproj_prep *prep;
+    pvs_box cell;
+    pvs__epmap maps[6 * PVS__EP_PLANES];
+    pvs_word *bits;
+    uint32_t tested;
+} pvs__epcell;
+
+/* 1 if the box is hidden from the whole cell on one of the planes. Boxes meeting the cell are visible. */
+PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
+    int d;
+    if (pvs__box_overlap(b, &c->cell)) return 0;
+    ++c->tested;
+    for (d = 0; d < 6 * PVS__EP_PLANES; ++d) {
+        int32_t r[4];
+        float depth;
+        if (!c->maps[d].active) continue;
+        if (!pvs__ep_occludee(&c->maps[d].frame, b, r, &depth)) continue;
+        if (!pvs__ep_visible(&c->maps[d], r, depth)) return 1;
+    }
+    return 0;
+}
+
+/* §6.1: the occludees tested top-down through the object kD-tree, stopping at hidden nodes. An
+   object is visible when a part of its box (its box cut by a leaf's cell) is. */
+PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+    pvs__epcell *c = (pvs__epcell *)user;
+    uint32_t i;
+    (void)distance;
+    if (pvs__ep_box_hidden(c, node_box)) return PVS_VISIT_SKIP;
+    for (i = 0; i < count; ++i) {
+        uint32_t o = items[i];
+        pvs_box b = c->scene->object_boxes[o];
+        int k;
+        if (pvs_bitset_test(c->bits, o) || (c->scene->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY)) continue;
+        for (k = 0; k < 3; ++k) {
+            if (node_box->min[k] > b.min[k]) b.min[k] = node_box->min[k];
+            if (node_box->max[k] < b.max[k]) b.max[k] = node_box->max[k];
+        }
+        if (b.min[0] > b.max[0] || b.min[1] > b.max[1] || b.min[2] > b.max[2]) continue; /* not in this leaf */
+        if (!pvs__ep_box_hidden(c, &b)) pvs_bitset_set(c->bits, o);
+    }
+    return PVS_VISIT_DESCEND;
+}
+
+/* Local depth range of a box on plane direction d of the cell: w0, w1 (beyond the face). */
+PVS__STATIC void pvs__ep_box_w(const pvs_box *cell, const pvs_box *b, int d, double *w0, double *w1) {
+    int a = d >> 1;
+    if (d & 1) { *w0 = (double)cell->min[a] - b->max[a]; *w1 = (double)cell->min[a] - b->min[a]; }
+    else { *w0 = (double)b->min[a] - cell->max[a]; *w1 = (double)b->max[a] - cell->max[a]; }
+}
+
+/* §6.1 plane placement: an estimate of the pixels an occluder's box fills on the plane at distance
+   W (the Projection of the box, axis by axis). */
+PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, int d, double W) {
+    int a = d >> 1, ax[2], k, i, j;
+    double w0, w1, ext = (double)cell->max[a] - cell->min[a], len[2];
+    pvs__ep_box_w(cell, b, d, &w0, &w1);
+    if (w0 < 1e-4 * (W + ext)) w0 = 1e-4 * (W + ext);
+    if (!(w1 > w0)) w1 = w0;
+    ax[0] = (a + 1) % 3;
+    ax[1] = (a + 2) % 3;
+    for (k = 0; k < 2; ++k) {
+        double lo = -DBL_MAX, hi = DBL_MAX, c0 = cell->min[ax[k]], c1 = cell->max[ax[k]];
+        for (i = 0; i < 4; ++i) {
+            double Vk = i & 1 ? c1 : c0, Vw = i & 2 ? -ext : 0.0, mn = DBL_MAX, mx = -DBL_MAX;
+            for (j = 0; j < 4; ++j) {
+                double Pk = j & 1 ? b->max[ax[k]] : b->min[ax[k]], Pw = j & 2 ? w1 : w0;
+                double x = Vk + (Pk - Vk) * (W - Vw) / (Pw - Vw);
+                mn = pvs__dmin(mn, x);
+                mx = pvs__dmax(mx, x);
+            }
+            lo = pvs__dmax(lo, mn);
+            hi = pvs__dmin(hi, mx);
+        }
+        len[k] = hi - lo;
+        if (!(len[k] > 0.0)) return 0.0;
+    }
+    /* in pixels of that plane: its extent grows with W */
+    return len[0] * len[1] /
+           (((double)cell->max[ax[0]] - cell->min[ax[0]] + 2.0 * PVS__EP_EXTEND * (W + ext)) *
+            ((double)cell->max[ax[1]] - cell->min[ax[1]] + 2.0 * PVS__EP_EXTEND * (W + ext)));
+}
+
+/* The PVS of one cell (Durand 2000 §6.1): per direction, the occluders with the largest solid angle,
+   a plane just behind the one that fills the most pixels, their Projections, then the occludees. */
+PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, uint32_t res,
+                                         uint32_t max_occ, const pvs_allocator *al, pvs_word *bits, uint32_t cell_id, pvs_error *err) {
+    pvs__epcell c;
+    pvs__epsel *sel = NULL;
+    uint32_t nsel[6], d, i, levels = 0;
+    size_t level_floats = 0, map_floats, sweep_size;
+    float *mem = NULL;
+    void *sweep = NULL;
+    double r2 = 0.0;
+    pvs_result r = PVS_OK;
+    memset(&c, 0, sizeof(c));
+    c.scene = s;
+    c.prep = p;
+    c.cell = *cell;
+    c.bits = bits;
+    {
+        uint32_t w = res, h = res;
+        level_floats = (size_t)w * h;
+        while ((w > 1 || h > 1) && levels < 13) {
+            w = (w + 1) / 2;
+            h = (h + 1) / 2;
+            level_floats += (size_t)w * h;
+            ++levels;
+        }
+    }
+    map_floats = level_floats;
+    sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
+    sel = (pvs__epsel *)pvs__alloc_array(al, 6 * (size_t)max_occ, sizeof(pvs__epsel));
+    mem = (float *)pvs__alloc_array(al, 6 * PVS__EP_PLANES * map_floats, sizeof(float));
+    sweep = pvs__alloc(al, sweep_size, 16);
+    if (!sel || !mem || !sweep) {
+        r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell_id, 0, "extproj scratch for cell %u", cell_id);
+        goto done;
+    }
+    for (i = 0; i < 3; ++i) r2 += 0.25 * ((double)cell->max[i] - cell->min[i]) * ((double)cell->max[i] - cell->min[i]);
+    /* occluder selection by solid angle (§6.1): area over squared distance, per direction the
+       max_occ best among those reaching beyond the face (a min-heap on the score) */
+    for (d = 0; d < 6; ++d) nsel[d] = 0;
+    for (i = 0; i < p->occ_count; ++i) {
+        const pvs__epocc *o = p->occ + i;
+        double dist2 = pvs__box_distance2(cell, &o->box) + r2;
+        for (d = 0; d < 6; ++d) {
+            double w0, w1;
+            pvs__epsel *h = sel + (size_t)d * max_occ;
+            uint32_t k, ch;
+            float score = (float)(o->area[d >> 1] / dist2);
+            pvs__ep_box_w(cell, &o->box, (int)d, &w0, &w1);
+            if (!(w1 > 0.0) || !(score > 0.0f)) continue;
+            if (nsel[d] == max_occ) {
+                if (!(score > h[0].score)) continue;
+                k = 0; /* replace the root, sift down */
+                for (;;) {
+                    ch = 2 * k + 1;
+                    if (ch >= max_occ) break;
+                    if (ch + 1 < max_occ && h[ch + 1].score < h[ch].score) ++ch;
+                    if (!(h[ch].score < score)) break;
+                    h[k] = h[ch];
+                    k = ch;
+                }
+            } else {
+                k = nsel[d]++;
+                while (k > 0 && h[(k - 1) / 2].score > score) {
+                    h[k] = h[(k - 1) / 2];
+                    k = (k - 1) / 2;
+                }
+            }
+            h[k].score = score;
+            h[k].occ = i;
+        }
+    }
+    for (d = 0; d < 6; ++d) {
+        pvs__epsel *h = sel + (size_t)d * max_occ;
+        int a = (int)(d >> 1), u = (a + 1) % 3, v = (a + 2) % 3, q;
+        double bestW = 0.0, bestFill = 0.0, firstW = 0.0, ext = (double)cell->max[a] - cell->min[a];
+        uint32_t k, j, w, hh;
+        if (!nsel[d]) continue;
+        /* §6.1 plane placement: a candidate just behind each of the best occluders, keep the one
+           that fills the most pixels (sorted by score, best first, for the candidates) */
+        for (k = 0; k < nsel[d]; ++k) /* sort descending by score, then by index: deterministic */
+            for (j = k + 1; j < nsel[d]; ++j)
+                if (h[j].score > h[k].score || (h[j].score == h[k].score && h[j].occ < h[k].occ)) {
+                    pvs__epsel t = h[k];
+                    h[k] = h[j];
+                    h[j] = t;
+                }
+        for (k = 0; k < nsel[d] && k < PVS__EP_PLANE_CANDIDATES; ++k) {
+            double w0, w1, W, fill = 0.0;
+            pvs__ep_box_w(cell, &p->occ[h[k].occ].box, (int)d, &w0, &w1);
+            W = w1 + 1e-3 * (w1 + ext);
+            if (k == 0) firstW = W;
+            for (j = 0; j < nsel[d]; ++j) fill += pvs__ep_fill_estimate(cell, &p->occ[h[j].occ].box, (int)d, W);
+            if (fill > bestFill || (fill == bestFill && bestW > 0.0 && W < bestW)) {
+                bestFill = fill;
+                bestW = W;
+            }
+        }
+        if (!(bestFill > 0.0)) continue;
+        /* a second plane just behind the occluder of largest solid angle: the plane holding the
+           most pixels loses the near occluders' edges to their penumbrae (§7.3, Fig. 16) */
+        for (q = 0; q < PVS__EP_PLANES; ++q) {
+        pvs__epmap *m = c.maps + PVS__EP_PLANES * d + (uint32_t)q;
+        float *base = mem + (size_t)(PVS__EP_PLANES * d + (uint32_t)q) * map_floats;
+        if (q == 1) {
+            if (!(firstW > 0.0) || !(pvs__dabs(firstW - bestW) > 0.05 * (bestW + ext))) continue;
+            bestW = firstW;
+        }
+        m->plane.cell = *cell;
+        m->plane.axis = (uint32_t)a;
+        m->plane.side = d & 1 ? -1 : 1;
+        m->plane.distance = pvs__f_up(bestW);
+        /* the plane reaches PVS__EP_EXTEND times as far sideways as it lies from the cell's far side
+           (§6.1: extended planes catch the corner directions) */
+        m->plane.rect[0] = pvs__f_down(cell->min[u] - PVS__EP_EXTEND * (bestW + ext));
+        m->plane.rect[1] = pvs__f_down(cell->min[v] - PVS__EP_EXTEND * (bestW + ext));
+        m->plane.rect[2] = pvs__f_up(cell->max[u] + PVS__EP_EXTEND * (bestW + ext));
+        m->plane.rect[3] = pvs__f_up(cell->max[v] + PVS__EP_EXTEND * (bestW + ext));
+        m->plane.width = m->plane.height = res;
+        m->levels = levels;
+        w = hh = res;
+        for (k = 0; k <= levels; ++k) {
+            m->lw[k] = w;
+            m->lh[k] = hh;
+            m->lv[k] = base;
+            base += (size_t)w * hh;
+            w = (w + 1) / 2;
+            hh = (hh + 1) / 2;
+        }
+        for (k = 0; k < res * res; ++k) m->lv[0][k] = PVS_EXTPROJ_EMPTY;
+        for (k = 0; k < nsel[d]; ++k) {
+            const pvs__epocc *o = p->occ + h[k].occ;
+            pvs_extproj_occluder(&m->plane, p->pts + 3 * (size_t)o->first, o->count, m->lv[0]);
+        }
+        pvs__ep_build_pyramid(m);
+        m->active = pvs__ep_frame(&m->plane, &m->frame);
+        }
+    }
+    r = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__ep_visit, &c);
+    if (r != PVS_OK) r = pvs__fail(err, r, cell_id, 0, "extproj: object sweep of cell %u", cell_id);
+done:
+    pvs__free_array(al, sel, 6 * (size_t)max_occ, sizeof(pvs__epsel));
+    pvs__free_array(al, mem, 6 * PVS__EP_PLANES * map_floats, sizeof(float));
+    pvs__free(al, sweep, sweep_size, 16);
+    return r;
+}
+
 // >>bake
 /* ---------------------------------------------------------------------------------------------- */
 /* bake: validated cells, one task per cell, results in cell order whatever the run order         */
@@ -5251,6 +6135,8 @@ struct pvs_bake {
     uint32_t ot_facade_count;
     float *ot_objects;         /* OTREE: object_count x (umin vmin umax vmax top) */
     pvs_kdtree *ot_tree;       /* OTREE: over pvs_visibility_25d_boxes */
+    struct pvs__extproj_prep *extproj;        /* EXTPROJ: the scene's occluders, read-only in tasks */
+    uint32_t extproj_resolution, extproj_occluders;
 };
 
 PVS_API void pvs_bake_destroy(pvs_bake *b) {
@@ -5263,6 +6149,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs__free_array(&a, b->ot_facades, (size_t)b->ot_facade_count * 6 + 6, sizeof(float));
     pvs__free_array(&a, b->ot_objects, (size_t)b->object_count * 5 + 5, sizeof(float));
     pvs_kdtree_destroy(b->ot_tree);
+    pvs__extproj_prep_destroy(b->extproj);
     pvs__free(&a, b, sizeof(*b), 16);
 }
 
@@ -5419,6 +6306,10 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown method %d", (int)desc->method);
     if (!pvs__finite(desc->eps) || desc->eps < 0.0f)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and >= 0");
+    if (desc->extproj_resolution && (desc->extproj_resolution < 16 || desc->extproj_resolution > 4096))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_resolution %u is not in 16..4096", desc->extproj_resolution);
+    if (desc->extproj_occluders > 65536)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_occluders %u > 65536", desc->extproj_occluders);
     for (i = 0; i < desc->cell_count; ++i) {
         r = pvs__check_cell(desc->cells + i, (uint32_t)i, err);
         if (r != PVS_OK) return r;
@@ -5454,6 +6345,15 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake arrays for %u cells", desc->cell_count);
     }
     for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
+    b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution : PVS__EP_DEFAULT_RES;
+    b->extproj_occluders = desc->extproj_occluders ? desc->extproj_occluders : PVS__EP_DEFAULT_OCC;
+    if (b->method == PVS_METHOD_EXTPROJ) {
+        r = pvs__extproj_prepare(b->scene, &a, &b->extproj, err);
+        if (r != PVS_OK) {
+            pvs_bake_destroy(b);
+            return r;
+        }
+    }
     memset(b->pvs, 0, total * sizeof(pvs_word));
     memset(b->done, 0, b->cell_count);
     if (b->method == PVS_METHOD_OTREE && pvs__otree_prepare(b) != PVS_OK) {
@@ -5490,6 +6390,12 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
     }
     case PVS_METHOD_OTREE: {
         pvs_result r = pvs__otree_cell(b, task, cell, bits, err);
+        if (r != PVS_OK) return r;
+        break;
+    }
+    case PVS_METHOD_EXTPROJ: {
+        pvs_result r = pvs__extproj_cell(b->scene, b->extproj, b->cells + task, b->extproj_resolution, b->extproj_occluders,
+                                         &b->allocator, bits, cell, err);
         if (r != PVS_OK) return r;
         break;
     }

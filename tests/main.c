@@ -14,6 +14,7 @@ void test_tools(void);
 void test_cli(void);
 void test_raster(void);
 void test_otree(void);
+void test_extproj(void);
 
 static const struct {
     const char *name;
@@ -22,6 +23,7 @@ static const struct {
     {"core", test_core}, {"format", test_format}, {"noalloc", test_noalloc}, {"kdtree", test_kdtree},
     {"gen", test_gen},   {"tools", test_tools},   {"cli", test_cli},     {"raster", test_raster},
     {"otree", test_otree},
+    {"extproj", test_extproj},
 };
 
 int main(int argc, char **argv) {

@@ -12,6 +12,7 @@ static const char *usage =
     "  --up y|z          up axis of the scene (default y, the OBJ convention)\n"
     "  --method NAME     sample (ray sampling: an approximate PVS, NOT conservative)\n"
     "                    otree (2.5D occlusion trees: conservative; occluders = vertical walls on the ground)\n"
+    "                    extproj (extended projections, Durand et al. 2000: conservative)\n"
     "  --eps E           sampling / shrinking distance (stored in the file)\n"
     "  --points N        sample method: points per cell (default 32)\n"
     "  --rays N          sample method: rays per point (default 2048)\n"
@@ -122,7 +123,8 @@ int main(int argc, char **argv) {
             } else if (!strcmp(a, "--method")) {
                 if (!strcmp(v, "sample")) method = PVS_METHOD_SAMPLE;
                 else if (!strcmp(v, "otree")) method = PVS_METHOD_OTREE;
-                else return usage_error("unknown method '%s' (available: sample, otree)", v);
+                else if (!strcmp(v, "extproj")) method = PVS_METHOD_EXTPROJ;
+                else return usage_error("unknown method '%s' (available: sample, otree, extproj)", v);
             } else if (!strcmp(a, "--eps")) {
                 if (parse_float(v, &eps) || !(eps > 0.0f)) return usage_error("--eps needs a positive number, not '%s'", v);
             } else if (!strcmp(a, "-j")) {
