@@ -10,8 +10,13 @@ static const char *usage =
     "  --cells FILE      view cells: one 'minx miny minz maxx maxy maxz' per line ('#' comments)\n"
     "  --grid SIZE       view cells: a 3D grid of SIZE cubes over the scene bounds\n"
     "  --up y|z          up axis of the scene (default y, the OBJ convention)\n"
-    "  --method NAME     sample (ray sampling: an approximate PVS, NOT conservative)\n"
-    "  --eps E           sampling / shrinking distance (stored in the file)\n"
+    "  --method NAME     shrink (occluder shrinking, Wonka 2000: conservative) or\n"
+    "                    sample (ray sampling: an approximate PVS, NOT conservative)\n"
+    "  --eps E           sampling / shrinking distance (stored in the file); shrink's default is a\n"
+    "                    quarter of the median cell width, printed in the summary\n"
+    "  --2d5, --3d       shrink: force the 2.5D (cull map) or 3D (depth cube) path; default: 2.5D\n"
+    "                    when the synthesized occluders stand on the ground\n"
+    "  --voxel V         shrink: voxel size of the occluder synthesis (default eps / 2, capped)\n"
     "  --points N        sample method: points per cell (default 32)\n"
     "  --rays N          sample method: rays per point (default 2048)\n"
     "  --seed N          sample method: random seed (default 1)\n"
@@ -82,7 +87,8 @@ static int parse_shard(const char *v, uint32_t *k, uint32_t *n) {
 
 int main(int argc, char **argv) {
     const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL;
-    float grid = 0.0f, eps = 0.0f;
+    float grid = 0.0f, eps = 0.0f, voxel = 0.0f;
+    pvs_shrink_mode shrink_mode = PVS_SHRINK_AUTO;
     uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0;
     int quiet = 0, i;
     pvs_method method = PVS_METHOD_SAMPLE;
@@ -107,9 +113,13 @@ int main(int argc, char **argv) {
             return 0;
         } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
             quiet = 1;
+        } else if (!strcmp(a, "--2d5")) {
+            shrink_mode = PVS_SHRINK_2D5;
+        } else if (!strcmp(a, "--3d")) {
+            shrink_mode = PVS_SHRINK_3D;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--cells") || !strcmp(a, "--grid") || !strcmp(a, "--up") ||
                    !strcmp(a, "--method") || !strcmp(a, "--eps") || !strcmp(a, "-j") || !strcmp(a, "--points") ||
-                   !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard")) {
+                   !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard") || !strcmp(a, "--voxel")) {
             if (!v) return usage_error("%s needs a value", a);
             ++i;
             if (!strcmp(a, "-o")) out_path = v;
@@ -120,7 +130,10 @@ int main(int argc, char **argv) {
                 if (cli_parse_up(v, &up)) return usage_error("--up takes y or z, not '%s'", v);
             } else if (!strcmp(a, "--method")) {
                 if (!strcmp(v, "sample")) method = PVS_METHOD_SAMPLE;
-                else return usage_error("unknown method '%s' (available: sample)", v);
+                else if (!strcmp(v, "shrink")) method = PVS_METHOD_SHRINK;
+                else return usage_error("unknown method '%s' (available: shrink, sample)", v);
+            } else if (!strcmp(a, "--voxel")) {
+                if (parse_float(v, &voxel) || !(voxel > 0.0f)) return usage_error("--voxel needs a positive size, not '%s'", v);
             } else if (!strcmp(a, "--eps")) {
                 if (parse_float(v, &eps) || !(eps > 0.0f)) return usage_error("--eps needs a positive number, not '%s'", v);
             } else if (!strcmp(a, "-j")) {
@@ -164,6 +177,8 @@ int main(int argc, char **argv) {
     bd.sample_rays = rays;
     bd.seed = seed;
     bd.max_chain = chain;
+    bd.shrink_mode = shrink_mode;
+    bd.voxel_size = voxel;
     if (shard_n > 1) {
         if (shard_n > cells.count) {
             tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "--shard %u/%u: only %u cells", shard_k, shard_n, cells.count);
@@ -176,6 +191,18 @@ int main(int argc, char **argv) {
         tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "%s", pe.message);
         goto fail;
     }
+    if (!quiet && pvs_bake_occluders(bake)) {
+        pvs_occluders_info oi;
+        pvs_occluders_get_info(pvs_bake_occluders(bake), &oi);
+        fprintf(stderr, "shrink: eps %g%s, %s path; voxels %u x %u x %u of %g: %llu solid, %llu after erosion, %u boxes, %u columns\n",
+                (double)pvs_bake_eps(bake), eps > 0.0f ? "" : " (default: a quarter of the median cell width)",
+                pvs_bake_shrink_mode(bake) == PVS_SHRINK_2D5 ? "2.5D" : "3D", oi.dims[0], oi.dims[1], oi.dims[2],
+                (double)oi.voxel_size, (unsigned long long)oi.solid, (unsigned long long)oi.eroded, oi.box_count, oi.rect_count);
+        if (oi.leak_cell != PVS_NO_CELL)
+            fprintf(stderr, "  cell %u reaches the outside (open to the sky, or a leak) near %g %g %g\n", oi.leak_cell,
+                    (double)oi.leak_point[0], (double)oi.leak_point[1], (double)oi.leak_point[2]);
+        fprintf(stderr, "  %u objects give no occluder volume (thin walls with open space on both sides, props)\n", oi.thin_objects);
+    }
     t_bake = cli_seconds();
     if (cli_run_bake(bake, threads, quiet, "bake", &te)) goto fail;
     t_bake = cli_seconds() - t_bake;
@@ -185,10 +212,12 @@ int main(int argc, char **argv) {
         double sum = 0.0;
         for (t = 0; t < tasks; ++t) sum += pvs_bitset_count(pvs_bake_cell_pvs(bake, pvs_bake_task_cell(bake, t)), objects);
         fprintf(stderr,
-                "%s: %u objects, %u triangles, %u cells%s, method %s (approximate: ray sampling, not conservative)\n"
+                "%s: %u objects, %u triangles, %u cells%s, method %s%s\n"
                 "  mean PVS %.1f objects (%.1f%%), bake %.2f ms per cell, %.2f s total, file %zu bytes (%.1f per cell)\n",
                 out_path, objects, pvs_scene_triangle_count(scene), tasks, shard_n > 1 ? " (this shard)" : "",
-                pvs_method_name(pvs_bake_method(bake)), sum / tasks, 100.0 * sum / tasks / objects, 1000.0 * t_bake / tasks,
+                pvs_method_name(pvs_bake_method(bake)),
+                pvs_bake_method(bake) == PVS_METHOD_SAMPLE ? " (approximate: ray sampling, not conservative)" : " (conservative)",
+                sum / tasks, 100.0 * sum / tasks / objects, 1000.0 * t_bake / tasks,
                 cli_seconds() - t0, size, (double)size / tasks);
     }
     rc = 0;
