@@ -647,7 +647,7 @@ typedef struct pvs_occluders_desc {
     const pvs_box *cells;     /* cell_count view cells: the flood starts from them (required, >= 1) */
     uint32_t cell_count;
     float eps;                /* erosion distance, > 0 */
-    float voxel_size;         /* 0 = derived: eps / 2, grown until the grid fits max_voxels */
+    float voxel_size;         /* 0 = derived: eps / 1.5, grown until the grid fits max_voxels */
     uint32_t max_voxels;      /* 0 = 1 << 24 */
     pvs_allocator allocator;
 } pvs_occluders_desc;
@@ -3813,6 +3813,8 @@ struct pvs_occluders {
     float *chain_points;        /* 8 per chain */
     uint32_t chain_count;
     float ground;
+    float *column_top;          /* n[u] * n[v]: top of each column's solid run before erosion (ground: none) */
+    size_t column_count;
 };
 
 PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j, uint32_t k) {
@@ -3925,6 +3927,7 @@ PVS_API void pvs_occluders_destroy(pvs_occluders *o) {
     pvs__free_array(&a, o->boxes, o->box_count, sizeof(pvs_box));
     pvs__free_array(&a, o->chains, o->chain_count, sizeof(pvs_facade_chain));
     pvs__free_array(&a, o->chain_points, (size_t)o->chain_count * 8, sizeof(float));
+    pvs__free_array(&a, o->column_top, o->column_count, sizeof(float));
     pvs__free(&a, o, sizeof(*o), 16);
 }
 
@@ -4021,7 +4024,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
             if (d->cells[c].max[kk] > ext.max[kk]) ext.max[kk] = d->cells[c].max[kk];
         }
     g = ext.min[up];
-    h = d->voxel_size > 0.0f ? d->voxel_size : 0.5 * d->eps;
+    h = d->voxel_size > 0.0f ? d->voxel_size : d->eps / 1.5; /* erosion by 2 voxels = 1.33 eps */
     for (;;) { /* grow the voxel until the grid fits */
         double cnt = 1.0, lim = d->max_voxels ? (double)d->max_voxels : (double)(1u << 24);
         for (kk = 0; kk < 3; ++kk) cnt *= floor(((double)ext.max[kk] - ext.min[kk]) / h) + 3.0;
@@ -4175,6 +4178,11 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         o->info.column_voxels += run;
         colh[vi] = run ? (float)run : 0.0f; /* in voxel layers for now */
     }
+    o->column_top = (float *)pvs__alloc_array(&a, cols, sizeof(float));
+    if (o->column_top) {
+        o->column_count = cols;
+        for (vi = 0; vi < cols; ++vi) o->column_top[vi] = colh[vi] > 0.0f ? pvs__f_up(g + (double)colh[vi] * h) : (float)g;
+    }
     o->info.is_2d5 = o->info.solid > 0 && (double)o->info.column_voxels >= 0.9 * (double)o->info.solid;
     /* 2.5D erosion: column height = min over the (2r+1)^2 neighbourhood (outside: 0), minus eps */
     {
@@ -4278,7 +4286,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     pvs__free_array(&a, queue, total, sizeof(uint32_t));
     pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
     pvs__free_array(&a, colh, cols, sizeof(float));
-    if (!o->chains || !o->chain_points || !o->boxes) {
+    if (!o->chains || !o->chain_points || !o->boxes || !o->column_top) {
         pvs_occluders_destroy(o);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder boxes");
     }
@@ -4448,6 +4456,58 @@ PVS__STATIC pvs_visit pvs__shrink_visit(void *user, const pvs_box *node_box, flo
     return PVS_VISIT_DESCEND;
 }
 
+typedef struct pvs__shrink_key {
+    double d;
+    uint32_t i;
+} pvs__shrink_key;
+PVS__STATIC int pvs__shrink_key_cmp(const void *x, const void *y) {
+    const pvs__shrink_key *a = (const pvs__shrink_key *)x, *b = (const pvs__shrink_key *)y;
+    return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
+}
+
+/* One sample's cull map (Wonka 1999 §3-4, via the raster module's shadow rasterizer), occluders front
+   to back; an occluder whose prism is already under the shadows is skipped (§3.4: an occluded occluder
+   hides nothing more from this point). */
+PVS__STATIC void pvs__shrink_sample_map(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
+                                        const pvs__shrink_key *order, uint32_t n, int u, int v, uint32_t up) {
+    double e[3];
+    size_t i, cells = (size_t)r->cm_w * r->cm_h;
+    uint32_t c;
+    int simd = !(r->flags & PVS_RASTER_SCALAR);
+    e[0] = eye[u];
+    e[1] = eye[v];
+    e[2] = eye[up];
+    for (i = 0; i < cells; ++i) r->cm[i] = PVS_DEPTH_EMPTY;
+    for (i = 0; i < r->cm_tiles; ++i) r->cm_tile_min[i] = PVS_DEPTH_EMPTY;
+    for (c = 0; c < n; ++c) {
+        const pvs_facade_chain *ch = chains + order[c].i;
+        pvs_box bx;
+        bx.min[u] = ch->points[0]; bx.min[v] = ch->points[1]; bx.min[up] = ch->base;
+        bx.max[u] = ch->points[4]; bx.max[v] = ch->points[5]; bx.max[up] = ch->top;
+        if (c > 0 && !pvs_cull_map_test_box(r, &bx)) continue;
+        pvs__cm_chain(r, e, ch->points, ch->point_count, 1, ch->base, ch->top, simd, 0.0);
+    }
+}
+
+/* §3: "sample points need only be placed on the edges of the top of the view cells". Why, for a
+   heightfield occluder O (the columns before erosion) and a point P whose ground position lies
+   outside the cell's footprint R (the others are set anyway): say V on the top face (height H) sees
+   P. In the vertical plane through P and V, the segment from P's ground position to V's crosses the
+   boundary of R at W'. If P is not above H, the segment P-W' lies above P-V at every ground distance
+   from P, so W' sees P. If P is above H, move V away from P to the boundary point W: P-W lies above
+   P-V up to V and above H after it, where no column of O inside R reaches (the condition tested here).
+   Either way a boundary point sees P; with the theorem (appendix) the edge samples decide. */
+PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
+    uint32_t i0, i1, j0, j1, i, j;
+    float top = cell->max[up];
+    pvs__vx_range(o, u, cell->min[u], cell->max[u], o->h, &i0, &i1);
+    pvs__vx_range(o, v, cell->min[v], cell->max[v], o->h, &j0, &j1);
+    for (j = j0; j <= j1; ++j)
+        for (i = i0; i <= i1; ++i)
+            if (o->column_top[(size_t)j * o->n[u] + i] > top) return 0;
+    return 1;
+}
+
 /* The 2.5D path (§3): the eroded column prisms (tops lowered by eps, footprints shrunk by eps) cast
    occluder shadows from samples on the cell's top face (a 2.5D occluder hides from a point only what
    it hides from every point above it, so the top face stands for the cell), spaced so that every
@@ -4467,7 +4527,9 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
     void *sweep = NULL;
     uint32_t nu, nv, a, b, chain_count, up = s->up_axis;
     const pvs_facade_chain *chains = pvs_occluders_columns(o, &chain_count);
-    double eu, ev, cm_res;
+    double eu, ev, cm_res, cu, cv;
+    int edges;
+    pvs__shrink_key *order = NULL;
     int u, v, any = 1;
     pvs__ground_axes(up, &u, &v);
     memset(&rd, 0, sizeof(rd));
@@ -4475,7 +4537,7 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
     rd.scene = s;
     eu = (double)s->bounds.max[u] - s->bounds.min[u];
     ev = (double)s->bounds.max[v] - s->bounds.min[v];
-    cm_res = o->h;
+    cm_res = pvs__dmax(pvs__dmax(o->h, 0.75 * eps), pvs__dmax(eu, ev) / 1024.0);
     rd.cull_map_width = (uint32_t)pvs__dmin(2048.0, pvs__dmax(16.0, ceil(eu / cm_res)));
     rd.cull_map_height = (uint32_t)pvs__dmin(2048.0, pvs__dmax(16.0, ceil(ev / cm_res)));
     rd.allocator = o->allocator;
@@ -4485,17 +4547,33 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
     joint = (float *)pvs__alloc_array(&o->allocator, cells, sizeof(float));
     sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
     sweep = pvs__alloc(&o->allocator, sweep_size, 16);
-    if (!joint || !sweep) {
+    order = (pvs__shrink_key *)pvs__alloc_array(&o->allocator, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
+    if (!joint || !sweep || !order) {
+        pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
         pvs__free_array(&o->allocator, joint, cells, sizeof(float));
         pvs__free(&o->allocator, sweep, sweep_size, 16);
         pvs_raster_destroy(r);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
     }
-    /* samples: a grid on the top face with spacing <= eps * sqrt(2) (1.4 leaves a margin) */
-    spacing = 1.4f * eps;
+    /* samples: the top face's edges every 1.9 eps when no solid column inside the cell's footprint
+       rises above the top face (see pvs__shrink_edges_suffice), else a grid on the whole top face
+       with spacing <= eps * sqrt(2) (1.4 leaves a margin) */
+    edges = pvs__shrink_edges_suffice(o, cell, u, v, up);
+    spacing = edges ? 1.9f * eps : 1.4f * eps;
     nu = (uint32_t)ceil(((double)cell->max[u] - cell->min[u]) / spacing) + 1u;
     nv = (uint32_t)ceil(((double)cell->max[v] - cell->min[v]) / spacing) + 1u;
+    /* front to back from the cell's centre: only speed depends on the order */
+    cu = 0.5 * ((double)cell->min[u] + cell->max[u]);
+    cv = 0.5 * ((double)cell->min[v] + cell->max[v]);
+    for (a = 0; a < chain_count; ++a) {
+        const float *pt = chains[a].points;
+        double du = pvs__dmax(0.0, pvs__dmax(pt[0] - cu, cu - pt[4])), dv = pvs__dmax(0.0, pvs__dmax(pt[1] - cv, cv - pt[5]));
+        order[a].d = du * du + dv * dv;
+        order[a].i = a;
+    }
+    qsort(order, chain_count, sizeof(pvs__shrink_key), pvs__shrink_key_cmp);
     if (nu > 4096u || nv > 4096u) {
+        pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
         pvs__free_array(&o->allocator, joint, cells, sizeof(float));
         pvs__free(&o->allocator, sweep, sweep_size, 16);
         pvs_raster_destroy(r);
@@ -4505,11 +4583,12 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
     for (b = 0; b < nv && any; ++b)
         for (a = 0; a < nu && any; ++a) {
             const float *cm;
+            if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue; /* interior: not sampled */
             eye[u] = nu > 1 ? cell->min[u] + (float)((double)a * ((double)cell->max[u] - cell->min[u]) / (nu - 1)) : cell->min[u];
             eye[v] = nv > 1 ? cell->min[v] + (float)((double)b * ((double)cell->max[v] - cell->min[v]) / (nv - 1)) : cell->min[v];
             if (a + 1 == nu) eye[u] = cell->max[u];
             if (b + 1 == nv) eye[v] = cell->max[v];
-            pvs_cull_map_build(r, eye, chains, chain_count, 0);
+            pvs__shrink_sample_map(r, eye, chains, order, chain_count, u, v, up);
             cm = r->cm;
             any = 0;
             if (a == 0 && b == 0) {
@@ -4531,6 +4610,7 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
     w.u = u;
     w.v = v;
     res = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__shrink_visit, &w);
+    pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
     pvs__free_array(&o->allocator, joint, cells, sizeof(float));
     pvs__free(&o->allocator, sweep, sweep_size, 16);
     pvs_raster_destroy(r);
@@ -4695,7 +4775,7 @@ PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *
     return PVS_OK;
 }
 
-/* The default eps of the shrink method: a quarter of the median of the cells' smallest ground-plane
+/* The default eps of the shrink method: an eighth of the median of the cells' smallest ground-plane
    extent (Wonka 2000 §4.1 used 1 m for cells of several metres: 6-8 samples per edge). */
 PVS__STATIC float pvs__cell_ground_extent(const pvs_box *c, int u, int v) {
     float e = c->max[u] - c->min[u], f = c->max[v] - c->min[v];
@@ -4717,7 +4797,7 @@ PVS__STATIC float pvs__shrink_default_eps(const pvs_box *cells, uint32_t n, uint
         if (2 * below <= m && 2 * (below + equal) > m) { med = e; break; }
     }
     if (!(med > 0.0f)) med = 4.0f;
-    return 0.25f * med;
+    return 0.125f * med;
 }
 
 PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs_error *err) {

@@ -13,13 +13,14 @@ void test_gen(void);
 void test_tools(void);
 void test_cli(void);
 void test_raster(void);
+void test_shrink(void);
 
 static const struct {
     const char *name;
     void (*run)(void);
 } groups[] = {
     {"core", test_core}, {"format", test_format}, {"noalloc", test_noalloc}, {"kdtree", test_kdtree},
-    {"gen", test_gen},   {"tools", test_tools},   {"cli", test_cli},     {"raster", test_raster},
+    {"gen", test_gen},   {"tools", test_tools},   {"cli", test_cli},     {"raster", test_raster}, {"shrink", test_shrink},
 };
 
 int main(int argc, char **argv) {

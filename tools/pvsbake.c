@@ -12,11 +12,11 @@ static const char *usage =
     "  --up y|z          up axis of the scene (default y, the OBJ convention)\n"
     "  --method NAME     shrink (occluder shrinking, Wonka 2000: conservative) or\n"
     "                    sample (ray sampling: an approximate PVS, NOT conservative)\n"
-    "  --eps E           sampling / shrinking distance (stored in the file); shrink's default is a\n"
-    "                    quarter of the median cell width, printed in the summary\n"
+    "  --eps E           sampling / shrinking distance (stored in the file); shrink's default is an\n"
+    "                    eighth of the median cell width, printed in the summary\n"
     "  --2d5, --3d       shrink: force the 2.5D (cull map) or 3D (depth cube) path; default: 2.5D\n"
     "                    when the synthesized occluders stand on the ground\n"
-    "  --voxel V         shrink: voxel size of the occluder synthesis (default eps / 2, capped)\n"
+    "  --voxel V         shrink: voxel size of the occluder synthesis (default eps / 1.5, capped)\n"
     "  --points N        sample method: points per cell (default 32)\n"
     "  --rays N          sample method: rays per point (default 2048)\n"
     "  --seed N          sample method: random seed (default 1)\n"
@@ -195,7 +195,7 @@ int main(int argc, char **argv) {
         pvs_occluders_info oi;
         pvs_occluders_get_info(pvs_bake_occluders(bake), &oi);
         fprintf(stderr, "shrink: eps %g%s, %s path; voxels %u x %u x %u of %g: %llu solid, %llu after erosion, %u boxes, %u columns\n",
-                (double)pvs_bake_eps(bake), eps > 0.0f ? "" : " (default: a quarter of the median cell width)",
+                (double)pvs_bake_eps(bake), eps > 0.0f ? "" : " (default: an eighth of the median cell width)",
                 pvs_bake_shrink_mode(bake) == PVS_SHRINK_2D5 ? "2.5D" : "3D", oi.dims[0], oi.dims[1], oi.dims[2],
                 (double)oi.voxel_size, (unsigned long long)oi.solid, (unsigned long long)oi.eroded, oi.box_count, oi.rect_count);
         if (oi.leak_cell != PVS_NO_CELL)
