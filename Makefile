@@ -84,11 +84,16 @@ $(B)/bench_raster: tests/bench_raster.c $(TOOL_LIB) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_raster.c $(TOOL_LIB) $(LDLIBS)
 
-bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster
+$(B)/bench_shrink: tests/bench_shrink.c $(TOOL_LIB) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_shrink.c $(TOOL_LIB) $(LDLIBS)
+
+bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster $(B)/bench_shrink
 	./$(B)/bench_kdtree
 	./$(B)/bench_bake
 	./$(B)/bench_file
 	./$(B)/bench_raster
+	./$(B)/bench_shrink
 
 # Fuzzing the file reader: a libFuzzer build (clang) seeded with tests/corpus, FUZZ_SECONDS long, and
 # a plain replay binary (any compiler) that runs files through the same target.

@@ -4723,6 +4723,14 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
     if (!pvs__box_valid(cell)) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "cell is not a valid box");
     if ((int)mode < 0 || mode >= PVS_SHRINK_MODE_COUNT) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown mode %d", (int)mode);
     if (mode == PVS_SHRINK_AUTO) mode = o->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
+    if (mode == PVS_SHRINK_2D5 ? o->chain_count == 0 : o->box_count == 0) {
+        /* nothing survived the erosion: nothing can hide anything, every drawable object is set */
+        uint32_t i;
+        for (i = 0; i < s->object_count; ++i)
+            if (!(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i)) pvs_bitset_set(visible, i);
+        pvs__ok(err);
+        return PVS_OK;
+    }
     if (mode == PVS_SHRINK_2D5) res = pvs__shrink_2d5(s, o, cell, visible, err);
     else res = pvs__shrink_3d(s, o, cell, visible, err);
     if (res == PVS_OK) pvs__ok(err);
