@@ -54,8 +54,8 @@
    >>kdtree     kD-tree over boxes: build, front-to-back sweep, ray cast, point location
    >>raster     conservative rasterizer, depth pyramid, cull map, per-frame culling
    >>otree      occlusion trees                                           (planned)
-   >>occluders  occluder synthesis                                        (planned)
-   >>methods    region methods; today the ray-sampling estimator `sample`
+   >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps, boxes / columns
+   >>methods    region methods: `shrink` (Wonka 2000, conservative), the ray-sampling estimator `sample`
    >>bake       bake driver: tasks, determinism
    >>format     the .pvs file: writer and validating zero-copy reader
    >>runtime    cell look-up and decoding
@@ -188,6 +188,7 @@
 
    RECENT HISTORY
    ==============
+   next               the shrink method (Wonka 2000) with occluder synthesis: 2.5D and 3D paths.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
                       codings, compact cell tables and look-up tree, cursor, sharded bakes.
    0.1.0 (2026-11-22) scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container.
@@ -701,7 +702,8 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occlu
 
 /* ---- methods --------------------------------------------------------------------------------- */
 
-/* Region methods. 0 is the default (today: SAMPLE, until a conservative method lands). */
+/* Region methods. 0 is the default (today: SAMPLE; SHRINK is conservative but not yet fast enough on
+   large cities to be the default). */
 typedef enum pvs_method {
     PVS_METHOD_DEFAULT = 0,
     PVS_METHOD_SAMPLE,       /* ray sampling: an estimate from below, NOT conservative */
@@ -4514,8 +4516,9 @@ PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box 
    point of the face is within eps of a sample. Each sample's shadows go into the raster module's
    cull map (Wonka 1999); the joint umbra is the per-cell minimum over the samples (§3.4, the
    stencil intersection); objects are tested by box footprint and top through the kD-tree. The paper
-   samples only the top face's edges; sampling the whole face is conservative without needing the
-   argument for the interior. */
+   samples only the top face's edges; where a column inside the cell rises above its top the whole
+   face is sampled instead, which is conservative without needing the
+   argument for the interior; the edges suffice when pvs__shrink_edges_suffice says so. */
 PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
                                        pvs_error *err) {
     pvs_raster_desc rd;
