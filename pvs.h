@@ -54,8 +54,8 @@
    >>kdtree     kD-tree over boxes: build, front-to-back sweep, ray cast, point location
    >>raster     conservative rasterizer, depth pyramid, cull map, per-frame culling
    >>otree      occlusion trees: line-space BSP; exact 2D and conservative 2.5D (c-LSS) region visibility
-   >>occluders  occluder synthesis                                        (planned)
-   >>methods    region methods: the ray-sampling estimator `sample`, extended projections `extproj`
+   >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps, boxes / columns
+   >>methods    region methods: `shrink` (Wonka 2000), extended projections `extproj`, the estimator `sample`
    >>bake       bake driver: tasks, determinism
    >>format     the .pvs file: writer and validating zero-copy reader
    >>runtime    cell look-up and decoding
@@ -216,6 +216,7 @@
    RECENT HISTORY
    ==============
    (unreleased)       PVS_METHOD_EXTPROJ: extended projections (Durand et al. 2000), conservative.
+   next               the shrink method (Wonka 2000) with occluder synthesis: 2.5D and 3D paths.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
                       codings, compact cell tables and look-up tree, cursor, sharded bakes.
    0.1.0 (2026-11-22) scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container.
@@ -727,20 +728,110 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
                                       pvs_error *err);
 
+/* ---- occluders ------------------------------------------------------------------------------- */
+
+/* Occluder synthesis: volumes that are certainly solid, for the shrink method (Wonka 2000 §2: the
+   theorem of its appendix needs volumetric occluders). The scene is voxelized; a voxel is solid only
+   if no triangle touches it (a conservative triangle/box test rounding toward "touched") and it
+   cannot be reached from any view cell through untouched voxels (a 26-connected flood fill from the
+   cells; a scene open to the sky is flooded from outside its bounds through the cells that reach
+   it), or if it lies inside an explicit occluder volume. Below the lowest point of the scene and of
+   the cells lies the ground. The solid set is eroded by eps (rounding toward less solid), then merged
+   into boxes (3D) and into per-column solid heights standing on the ground (2.5D), returned as
+   rectangles. Limitation: free space is followed voxel to voxel, so an opening narrower than about
+   two voxels may be taken as sealed; choose voxel_size well below the narrowest door or gap. */
+typedef struct pvs_occluders_desc {
+    const pvs_scene *scene;   /* required; must outlive the occluders */
+    const pvs_box *cells;     /* cell_count view cells: the flood starts from them (required, >= 1) */
+    uint32_t cell_count;
+    float eps;                /* erosion distance, > 0 */
+    float voxel_size;         /* 0 = derived: eps / 1.5, grown until the grid fits max_voxels */
+    uint32_t max_voxels;      /* 0 = 1 << 24 */
+    pvs_allocator allocator;
+} pvs_occluders_desc;
+
+/* The synthesized occluders: immutable after creation, thread-safe to read. */
+typedef struct pvs_occluders pvs_occluders;
+
+/* What the synthesis found. */
+typedef struct pvs_occluders_info {
+    uint32_t dims[3];         /* voxels per axis (one voxel of padding around the scene and cells) */
+    float origin[3];          /* the grid's min corner */
+    float voxel_size;
+    float eps;
+    uint64_t touched;         /* voxels a triangle touches */
+    uint64_t solid;           /* solid voxels before erosion (explicit volumes included) */
+    uint64_t eroded;          /* solid voxels after erosion */
+    uint64_t column_voxels;   /* solid voxels in runs standing on the ground (the 2.5D part) */
+    uint32_t box_count;       /* eroded 3D boxes */
+    uint32_t rect_count;      /* eroded 2.5D column rectangles */
+    int is_2d5;               /* 1 when the column runs hold the solid voxels (>= 90%): use the 2.5D path */
+    uint32_t leak_cell;       /* the first cell whose flood reaches the outside, PVS_NO_CELL if sealed */
+    float leak_point[3];      /* a voxel centre on its way out (valid when leak_cell != PVS_NO_CELL) */
+    uint32_t thin_objects;    /* drawable objects with no solid voxel in their box: thin walls with open
+                                 space on both sides and small props give no volume */
+} pvs_occluders_info;
+
+/* Voxel classes pvs_occluders_voxel returns. */
+#define PVS_VOXEL_EMPTY 0u    /* untouched and reached from a cell */
+#define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it */
+#define PVS_VOXEL_SOLID 2u    /* solid (before erosion) */
+#define PVS_VOXEL_GROUND 3u   /* the padding layer below the ground */
+
+/* Runs the synthesis. Errors: INVALID_ARGUMENT (NULL, no cells, eps <= 0 or not finite), BAD_CELL,
+   COUNT_OVERFLOW, OUT_OF_MEMORY. Deterministic; not thread-safe on one desc only in the sense that it
+   allocates: concurrent calls on distinct outputs are fine. */
+PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *desc, pvs_occluders **out_occluders, pvs_error *err);
+/* Frees through the allocator. NULL is allowed. */
+PVS_API void pvs_occluders_destroy(pvs_occluders *occluders);
+/* Fills *info. */
+PVS_API void pvs_occluders_get_info(const pvs_occluders *occluders, pvs_occluders_info *info);
+/* The class of voxel (i, j, k) (i along x, j along y, k along z; each < dims), PVS_VOXEL_*. */
+PVS_API uint32_t pvs_occluders_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
+/* 1 if voxel (i, j, k) survived the erosion. */
+PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
+/* The eroded 3D boxes (*count of them); every point within eps of a box is solid. Owned by occluders. */
+PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *occluders, uint32_t *count);
+/* The eroded 2.5D occluders as closed facade chains (4 points each, base = the ground, top already
+   lowered by eps): every point within eps of such a prism is solid or below the ground. Owned by
+   occluders. */
+PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occluders, uint32_t *count);
+
 /* ---- methods --------------------------------------------------------------------------------- */
 
-/* Region methods. 0 is the default (today: SAMPLE, until a conservative method lands). */
+/* Region methods. 0 is the default (today: SAMPLE; SHRINK is conservative but not yet fast enough on
+   large cities to be the default). */
 typedef enum pvs_method {
     PVS_METHOD_DEFAULT = 0,
     PVS_METHOD_SAMPLE,       /* ray sampling: an estimate from below, NOT conservative */
     PVS_METHOD_OTREE,        /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7): conservative; occluders are the
                                 scene's vertical rectangles standing on the ground (see pvs_visibility_25d) */
     PVS_METHOD_EXTPROJ,      /* extended projections (Durand et al. 2000): conservative, 3D, planar occluders */
+    PVS_METHOD_SHRINK,       /* occluder shrinking + point sampling (Wonka 2000): conservative */
     PVS_METHOD_COUNT
 } pvs_method;
 
 /* Name of a method ("sample"), or "unknown". */
 PVS_API const char *pvs_method_name(pvs_method method);
+
+/* The shrink method's paths. */
+typedef enum pvs_shrink_mode {
+    PVS_SHRINK_AUTO = 0,     /* 2.5D when the occluders are 2.5D (pvs_occluders_info.is_2d5), else 3D */
+    PVS_SHRINK_2D5,          /* Wonka 2000 §3: column occluders, samples on the cell's top face, cull maps */
+    PVS_SHRINK_3D,           /* samples on the six faces, from-point depth maps of the eroded boxes */
+    PVS_SHRINK_MODE_COUNT
+} pvs_shrink_mode;
+
+/* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): the occluders, eroded by their
+   eps, are point-sampled from the cell every eps; an object is left out only when every sample sees
+   it hidden (appendix theorem: then every point of the cell does). Objects meeting the cell, or
+   standing under its top face, are always set. Sets bits in `visible` (PVS_BITSET_WORDS(object_count)
+   words, not cleared first); occluder-only objects are never set. `occluders` must have been made
+   for this scene. Scratch is allocated through the occluders' allocator and freed before returning:
+   thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (a path this build cannot run, with
+   the reason), OUT_OF_MEMORY. */
+PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
+                                   pvs_shrink_mode mode, pvs_word *visible, pvs_error *err);
 
 /* The ray-sampling estimator: `points` stratified points in `cell` (its 8 corners and 6 face centres
    first, then a jittered grid), `rays_per_point` uniformly distributed directions from each, and the
@@ -809,6 +900,8 @@ typedef struct pvs_bake_desc {
     uint32_t max_chain;       /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
     uint32_t extproj_resolution; /* EXTPROJ: depth map pixels per side, 0 = 256; 16..4096 */
     uint32_t extproj_occluders;  /* EXTPROJ: occluders projected per plane, 0 = 128; <= 65536 */
+    pvs_shrink_mode shrink_mode; /* SHRINK: path, AUTO picks */
+    float voxel_size;         /* SHRINK: occluder synthesis voxel size, 0 = derived */
     /* Sharded bakes (build farms): with shard_count >= 2 this bake runs only cells shard_index,
        shard_index + shard_count, ... and writes a part file; the parts of shard_index 0..shard_count-1
        merge (decode them, pvs_file_encode the whole table) into the file an unsharded bake writes. */
@@ -830,6 +923,10 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *bake, uint32_t task, pvs_error *e
 /* The resolved parameters (method, eps). */
 PVS_API pvs_method pvs_bake_method(const pvs_bake *bake);
 PVS_API float pvs_bake_eps(const pvs_bake *bake);
+/* SHRINK: the occluders pvs_bake_begin synthesized (owned by the bake; for the summary: leaks, thin
+   objects, 2.5D or 3D) and the path the tasks run; NULL / PVS_SHRINK_AUTO for other methods. */
+PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
+PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
 /* The PVS of a cell whose task has run, or NULL (also for cells of other shards).
    PVS_BITSET_WORDS(object_count) words. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
@@ -5171,7 +5268,536 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 }
 
 // >>occluders
-/* (planned: occluder synthesis) */
+/* ---------------------------------------------------------------------------------------------- */
+/* occluders: synthesis of certainly-solid volumes (for Wonka 2000's shrinking, §2 and appendix)  */
+/* ---------------------------------------------------------------------------------------------- */
+
+enum { PVS__VX_FREE = 0, PVS__VX_TOUCHED = 1, PVS__VX_REACHED = 2, PVS__VX_EXPLICIT = 3, PVS__VX_GROUND = 4 };
+
+struct pvs_occluders {
+    pvs_allocator allocator;
+    const pvs_scene *scene;
+    pvs_occluders_info info;
+    double origin[3], h;        /* grid */
+    uint32_t n[3];
+    size_t total;
+    uint8_t *state;             /* total: PVS__VX_* ; solid = FREE (never reached) or EXPLICIT */
+    uint8_t *eroded;            /* total: 1 where solid survives the erosion */
+    pvs_box *boxes;
+    uint32_t box_count;
+    pvs_facade_chain *chains;
+    float *chain_points;        /* 8 per chain */
+    uint32_t chain_count;
+    float ground;
+    float *column_top;          /* n[u] * n[v]: top of each column's solid run before erosion (ground: none) */
+    size_t column_count;
+};
+
+PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j, uint32_t k) {
+    return (size_t)i + (size_t)o->n[0] * ((size_t)j + (size_t)o->n[1] * (size_t)k);
+}
+PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return s == PVS__VX_FREE || s == PVS__VX_EXPLICIT; }
+
+/* Triangle / box overlap by the separating axis theorem (Akenine-Moller 2001), in double, with the
+   box half size `hs` already grown by a margin: rounding errs toward "touched". */
+PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, const double *b, const double *d) {
+    double v[3][3], e[3][3], n[3], p, q, r, lo, hi, rad;
+    int i, j;
+    for (i = 0; i < 3; ++i) { v[0][i] = a[i] - c[i]; v[1][i] = b[i] - c[i]; v[2][i] = d[i] - c[i]; }
+    for (i = 0; i < 3; ++i) {
+        lo = hi = v[0][i];
+        for (j = 1; j < 3; ++j) { if (v[j][i] < lo) lo = v[j][i]; if (v[j][i] > hi) hi = v[j][i]; }
+        if (lo > hs || hi < -hs) return 0;
+    }
+    for (i = 0; i < 3; ++i) { e[0][i] = v[1][i] - v[0][i]; e[1][i] = v[2][i] - v[1][i]; e[2][i] = v[0][i] - v[2][i]; }
+    n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
+    n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
+    n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+    p = n[0] * v[0][0] + n[1] * v[0][1] + n[2] * v[0][2];
+    rad = hs * (pvs__dabs(n[0]) + pvs__dabs(n[1]) + pvs__dabs(n[2]));
+    if (p > rad * (1.0 + 1e-9) + 1e-300 || p < -rad * (1.0 + 1e-9) - 1e-300) return 0;
+    for (i = 0; i < 3; ++i)       /* edge i x box axis j */
+        for (j = 0; j < 3; ++j) {
+            double ax[3] = {0, 0, 0};
+            int k;
+            ax[(j + 1) % 3] = -e[i][(j + 2) % 3];
+            ax[(j + 2) % 3] = e[i][(j + 1) % 3];
+            /* axis = unit_j x e_i */
+            lo = hi = ax[0] * v[0][0] + ax[1] * v[0][1] + ax[2] * v[0][2];
+            for (k = 1; k < 3; ++k) {
+                q = ax[0] * v[k][0] + ax[1] * v[k][1] + ax[2] * v[k][2];
+                if (q < lo) lo = q;
+                if (q > hi) hi = q;
+            }
+            r = hs * (pvs__dabs(ax[0]) + pvs__dabs(ax[1]) + pvs__dabs(ax[2]));
+            r = r * (1.0 + 1e-9) + 1e-300;
+            if (lo > r || hi < -r) return 0;
+        }
+    return 1;
+}
+
+/* 1 if point (x, y) is inside the polygon (even-odd rule). */
+PVS__STATIC int pvs__point_in_poly(const float *pts, uint32_t n, double x, double y) {
+    uint32_t i, j;
+    int in = 0;
+    for (i = 0, j = n - 1; i < n; j = i++) {
+        double xi = pts[2 * i], yi = pts[2 * i + 1], xj = pts[2 * j], yj = pts[2 * j + 1];
+        if ((yi > y) != (yj > y) && x < (xj - xi) * (y - yi) / (yj - yi) + xi) in = !in;
+    }
+    return in;
+}
+/* 1 if segments p0-p1 and q0-q1 meet (touching counts). */
+PVS__STATIC int pvs__seg_meet(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
+    double d1 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax), d2 = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax);
+    double d3 = (dx - cx) * (ay - cy) - (dy - cy) * (ax - cx), d4 = (dx - cx) * (by - cy) - (dy - cy) * (bx - cx);
+    if (((d1 > 0 && d2 > 0) || (d1 < 0 && d2 < 0))) return 0;
+    if (((d3 > 0 && d4 > 0) || (d3 < 0 && d4 < 0))) return 0;
+    if (d1 == 0 && d2 == 0 && d3 == 0 && d4 == 0) /* collinear: overlap of the projections */
+        return pvs__dmax(pvs__dmin(ax, bx), pvs__dmin(cx, dx)) <= pvs__dmin(pvs__dmax(ax, bx), pvs__dmax(cx, dx)) &&
+               pvs__dmax(pvs__dmin(ay, by), pvs__dmin(cy, dy)) <= pvs__dmin(pvs__dmax(ay, by), pvs__dmax(cy, dy));
+    return 1;
+}
+
+/* 1 if the closed voxel box lies inside the explicit occluder volume (rounding toward "not inside"). */
+PVS__STATIC int pvs__vx_in_occluder(const pvs_occluder_desc *oc, uint32_t up, const double lo[3], const double hi[3]) {
+    int k, u, v;
+    uint32_t i, j;
+    switch (oc->kind) {
+    case PVS_OCCLUDER_BOX:
+        for (k = 0; k < 3; ++k)
+            if (lo[k] < oc->box.min[k] || hi[k] > oc->box.max[k]) return 0;
+        return 1;
+    case PVS_OCCLUDER_CONVEX:
+        for (i = 0; i < oc->plane_count; ++i) {
+            const float *pl = oc->planes + 4 * i;
+            for (j = 0; j < 8; ++j) {
+                double x = j & 1 ? hi[0] : lo[0], y = j & 2 ? hi[1] : lo[1], z = j & 4 ? hi[2] : lo[2];
+                if (pl[0] * x + pl[1] * y + pl[2] * z + pl[3] > -1e-6 * (pvs__dabs(pl[3]) + 1.0)) return 0;
+            }
+        }
+        return 1;
+    case PVS_OCCLUDER_EXTRUSION:
+        pvs__ground_axes(up, &u, &v);
+        if (lo[up] < oc->base || hi[up] > oc->top) return 0;
+        for (j = 0; j < 4; ++j)
+            if (!pvs__point_in_poly(oc->footprint, oc->footprint_count, j & 1 ? hi[u] : lo[u], j & 2 ? hi[v] : lo[v])) return 0;
+        for (i = 0; i < oc->footprint_count; ++i) {
+            const float *a = oc->footprint + 2 * i, *b = oc->footprint + 2 * ((i + 1) % oc->footprint_count);
+            if (pvs__seg_meet(a[0], a[1], b[0], b[1], lo[u], lo[v], hi[u], lo[v]) ||
+                pvs__seg_meet(a[0], a[1], b[0], b[1], hi[u], lo[v], hi[u], hi[v]) ||
+                pvs__seg_meet(a[0], a[1], b[0], b[1], hi[u], hi[v], lo[u], hi[v]) ||
+                pvs__seg_meet(a[0], a[1], b[0], b[1], lo[u], hi[v], lo[u], lo[v]))
+                return 0;
+        }
+        return 1;
+    default: return 0;
+    }
+}
+
+PVS_API void pvs_occluders_destroy(pvs_occluders *o) {
+    pvs_allocator a;
+    if (!o) return;
+    a = o->allocator;
+    pvs__free_array(&a, o->state, o->total, 1);
+    pvs__free_array(&a, o->eroded, o->total, 1);
+    pvs__free_array(&a, o->boxes, o->box_count, sizeof(pvs_box));
+    pvs__free_array(&a, o->chains, o->chain_count, sizeof(pvs_facade_chain));
+    pvs__free_array(&a, o->chain_points, (size_t)o->chain_count * 8, sizeof(float));
+    pvs__free_array(&a, o->column_top, o->column_count, sizeof(float));
+    pvs__free(&a, o, sizeof(*o), 16);
+}
+
+/* Voxel index range [*i0, *i1] on axis k of the closed interval [lo, hi] grown by `m`. */
+PVS__STATIC void pvs__vx_range(const pvs_occluders *o, int k, double lo, double hi, double m, uint32_t *i0, uint32_t *i1) {
+    double a = floor((lo - m - o->origin[k]) / o->h), b = floor((hi + m - o->origin[k]) / o->h);
+    if (a < 0) a = 0;
+    if (b > (double)o->n[k] - 1) b = (double)o->n[k] - 1;
+    if (b < a) { *i0 = 1; *i1 = 0; return; }
+    *i0 = (uint32_t)a;
+    *i1 = (uint32_t)b;
+}
+
+/* One-dimensional min filter of radius r along axis k over a byte grid (outside counts as 0):
+   Chebyshev erosion is separable. */
+PVS__STATIC void pvs__vx_erode_axis(const pvs_occluders *o, uint8_t *g, uint8_t *line, int k, uint32_t r) {
+    uint32_t n = o->n[k], a, b, c, i;
+    size_t stride = k == 0 ? 1 : k == 1 ? o->n[0] : (size_t)o->n[0] * o->n[1];
+    int ka = k == 0 ? 1 : 0, kb = k == 2 ? 1 : 2;
+    for (a = 0; a < o->n[ka]; ++a)
+        for (b = 0; b < o->n[kb]; ++b) {
+            size_t base;
+            uint32_t idx[3];
+            idx[k] = 0; idx[ka] = a; idx[kb] = b;
+            base = pvs__vx_index(o, idx[0], idx[1], idx[2]);
+            for (i = 0; i < n; ++i) line[i] = g[base + i * stride];
+            for (i = 0; i < n; ++i) {
+                uint32_t lo = i >= r ? i - r : 0, hi = i + r < n ? i + r : n - 1, ok = i >= r && i + r < n;
+                for (c = lo; ok && c <= hi; ++c) ok = line[c] != 0;
+                g[base + i * stride] = (uint8_t)ok;
+            }
+        }
+}
+
+/* Greedy merge of the set cells of a 3D byte grid into boxes (consumes the grid copy). */
+PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *out) {
+    uint32_t i, j, k, i1, j1, k1, a, b, count = 0;
+    for (k = 0; k < o->n[2]; ++k)
+        for (j = 0; j < o->n[1]; ++j)
+            for (i = 0; i < o->n[0]; ++i) {
+                int full;
+                if (!g[pvs__vx_index(o, i, j, k)]) continue;
+                for (i1 = i; i1 + 1 < o->n[0] && g[pvs__vx_index(o, i1 + 1, j, k)]; ++i1) {}
+                for (j1 = j, full = 1; full && j1 + 1 < o->n[1];) {
+                    for (a = i; a <= i1 && full; ++a) full = g[pvs__vx_index(o, a, j1 + 1, k)] != 0;
+                    if (full) ++j1;
+                }
+                for (k1 = k, full = 1; full && k1 + 1 < o->n[2];) {
+                    for (b = j; b <= j1 && full; ++b)
+                        for (a = i; a <= i1 && full; ++a) full = g[pvs__vx_index(o, a, b, k1 + 1)] != 0;
+                    if (full) ++k1;
+                }
+                for (b = k; b <= k1; ++b)
+                    for (a = j; a <= j1; ++a) memset(g + pvs__vx_index(o, i, a, b), 0, i1 - i + 1);
+                if (out) {
+                    pvs_box *bx = out + count;
+                    bx->min[0] = pvs__f_up(o->origin[0] + i * o->h);
+                    bx->min[1] = pvs__f_up(o->origin[1] + j * o->h);
+                    bx->min[2] = pvs__f_up(o->origin[2] + k * o->h);
+                    bx->max[0] = pvs__f_down(o->origin[0] + (i1 + 1) * o->h);
+                    bx->max[1] = pvs__f_down(o->origin[1] + (j1 + 1) * o->h);
+                    bx->max[2] = pvs__f_down(o->origin[2] + (k1 + 1) * o->h);
+                }
+                ++count;
+            }
+    return count;
+}
+
+PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occluders **out, pvs_error *err) {
+    pvs_occluders *o;
+    pvs_allocator a;
+    const pvs_scene *s;
+    pvs_box ext;
+    double g, h, m;
+    uint32_t up, i, j, k, c, r, *queue = NULL, qh, qt;
+    size_t total, vi, cols;
+    uint8_t *tmp = NULL, *line = NULL;
+    float *colh = NULL;
+    int u, v, kk;
+    if (out) *out = NULL;
+    if (!d || !out || !d->scene || !d->cells || !d->cell_count)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene, cells and out must be given");
+    if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and > 0, voxel_size finite and >= 0");
+    for (c = 0; c < d->cell_count; ++c)
+        if (!pvs__box_valid(d->cells + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "cell %u is not a valid box", c);
+    s = d->scene;
+    up = s->up_axis;
+    pvs__ground_axes(up, &u, &v);
+    ext = s->bounds;
+    for (c = 0; c < d->cell_count; ++c)
+        for (kk = 0; kk < 3; ++kk) {
+            if (d->cells[c].min[kk] < ext.min[kk]) ext.min[kk] = d->cells[c].min[kk];
+            if (d->cells[c].max[kk] > ext.max[kk]) ext.max[kk] = d->cells[c].max[kk];
+        }
+    g = ext.min[up];
+    h = d->voxel_size > 0.0f ? d->voxel_size : d->eps / 1.5; /* erosion by 2 voxels = 1.33 eps */
+    for (;;) { /* grow the voxel until the grid fits */
+        double cnt = 1.0, lim = d->max_voxels ? (double)d->max_voxels : (double)(1u << 24);
+        for (kk = 0; kk < 3; ++kk) cnt *= floor(((double)ext.max[kk] - ext.min[kk]) / h) + 3.0;
+        if (cnt <= lim) break;
+        h *= 1.08;
+    }
+    a = d->allocator;
+    o = (pvs_occluders *)pvs__alloc(&a, sizeof(*o), 16);
+    if (!o) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluders");
+    memset(o, 0, sizeof(*o));
+    o->allocator = a;
+    o->scene = s;
+    o->h = h;
+    o->ground = (float)g;
+    total = 1;
+    for (kk = 0; kk < 3; ++kk) {
+        o->n[kk] = (uint32_t)(floor(((double)ext.max[kk] - ext.min[kk]) / h) + 3.0);
+        o->origin[kk] = (double)ext.min[kk] - h;
+        total *= o->n[kk];
+    }
+    o->origin[up] = g - h; /* layer 0 lies below the ground, layer 1 starts at it */
+    o->total = total;
+    o->state = (uint8_t *)pvs__alloc_array(&a, total, 1);
+    o->eroded = (uint8_t *)pvs__alloc_array(&a, total, 1);
+    tmp = (uint8_t *)pvs__alloc_array(&a, total, 1);
+    queue = (uint32_t *)pvs__alloc_array(&a, total, sizeof(uint32_t));
+    line = (uint8_t *)pvs__alloc_array(&a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+    cols = (size_t)o->n[u] * o->n[v];
+    colh = (float *)pvs__alloc_array(&a, cols, sizeof(float));
+    if (!o->state || !o->eroded || !tmp || !queue || !line || !colh || total > 0xffffffffu) {
+        pvs__free_array(&a, tmp, total, 1);
+        pvs__free_array(&a, queue, total, sizeof(uint32_t));
+        pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+        pvs__free_array(&a, colh, cols, sizeof(float));
+        pvs_occluders_destroy(o);
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "voxel grid %u x %u x %u", o->n[0], o->n[1], o->n[2]);
+    }
+    memset(o->state, PVS__VX_FREE, total);
+    for (k = 0; k < o->n[2]; ++k)
+        for (j = 0; j < o->n[1]; ++j)
+            for (i = 0; i < o->n[0]; ++i) {
+                uint32_t idx[3];
+                idx[0] = i; idx[1] = j; idx[2] = k;
+                if (idx[up] == 0) o->state[pvs__vx_index(o, i, j, k)] = PVS__VX_GROUND;
+            }
+    /* 1. touched voxels: every triangle against the voxels of its box (SAT, margin toward touched).
+       Triangles lying flat on the ground (the lowest height) touch nothing above it. */
+    m = h * 1e-4 + 1e-6 * (pvs__dabs(g) + 1.0);
+    for (c = 0; c < s->triangle_count; ++c) {
+        double p[3][3], lo[3], hi[3];
+        uint32_t r0[3], r1[3];
+        for (kk = 0; kk < 3; ++kk) {
+            p[0][kk] = s->positions[3 * s->indices[3 * c] + kk];
+            p[1][kk] = s->positions[3 * s->indices[3 * c + 1] + kk];
+            p[2][kk] = s->positions[3 * s->indices[3 * c + 2] + kk];
+            lo[kk] = pvs__dmin(p[0][kk], pvs__dmin(p[1][kk], p[2][kk]));
+            hi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
+        }
+        if (hi[up] <= g) continue;
+        for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, lo[kk], hi[kk], m, r0 + kk, r1 + kk);
+        for (k = r0[2]; k <= r1[2]; ++k)
+            for (j = r0[1]; j <= r1[1]; ++j)
+                for (i = r0[0]; i <= r1[0]; ++i) {
+                    double cc[3];
+                    size_t x = pvs__vx_index(o, i, j, k);
+                    if (o->state[x] != PVS__VX_FREE) continue;
+                    cc[0] = o->origin[0] + (i + 0.5) * h;
+                    cc[1] = o->origin[1] + (j + 0.5) * h;
+                    cc[2] = o->origin[2] + (k + 0.5) * h;
+                    if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) o->state[x] = PVS__VX_TOUCHED;
+                }
+    }
+    for (vi = 0; vi < total; ++vi) o->info.touched += o->state[vi] == PVS__VX_TOUCHED;
+    /* 2. explicit occluder volumes are solid: voxels wholly inside one */
+    for (c = 0; c < s->occluder_count; ++c) {
+        const pvs_box *ob = s->occluder_boxes + c;
+        uint32_t r0[3], r1[3];
+        for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, ob->min[kk], ob->max[kk], 0.0, r0 + kk, r1 + kk);
+        for (k = r0[2]; k <= r1[2]; ++k)
+            for (j = r0[1]; j <= r1[1]; ++j)
+                for (i = r0[0]; i <= r1[0]; ++i) {
+                    double lo[3], hi[3];
+                    size_t x = pvs__vx_index(o, i, j, k);
+                    if (o->state[x] == PVS__VX_GROUND) continue;
+                    lo[0] = o->origin[0] + i * h; hi[0] = lo[0] + h;
+                    lo[1] = o->origin[1] + j * h; hi[1] = lo[1] + h;
+                    lo[2] = o->origin[2] + k * h; hi[2] = lo[2] + h;
+                    if (pvs__vx_in_occluder(s->occluders + c, up, lo, hi)) o->state[x] = PVS__VX_EXPLICIT;
+                }
+    }
+    /* 3. flood fill, 26-connected, from every cell through untouched voxels; a cell reaching the
+       grid's border (outside the scene) floods the outside too and is reported as the leak */
+    o->info.leak_cell = PVS_NO_CELL;
+    for (c = 0; c < d->cell_count; ++c) {
+        uint32_t r0[3], r1[3];
+        const pvs_box *cb = d->cells + c;
+        qh = qt = 0;
+        for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
+        for (k = r0[2]; k <= r1[2]; ++k)
+            for (j = r0[1]; j <= r1[1]; ++j)
+                for (i = r0[0]; i <= r1[0]; ++i) {
+                    size_t x = pvs__vx_index(o, i, j, k);
+                    if (o->state[x] == PVS__VX_FREE) { o->state[x] = PVS__VX_REACHED; queue[qt++] = (uint32_t)x; }
+                }
+        while (qh < qt) {
+            uint32_t x = queue[qh++], ci = x % o->n[0], cj = (x / o->n[0]) % o->n[1], ck = x / o->n[0] / o->n[1];
+            int di, dj, dk;
+            if (o->info.leak_cell == PVS_NO_CELL &&
+                (ci == 0 || cj == 0 || ck == 0 || ci + 1 == o->n[0] || cj + 1 == o->n[1] || ck + 1 == o->n[2])) {
+                o->info.leak_cell = c;
+                o->info.leak_point[0] = (float)(o->origin[0] + (ci + 0.5) * h);
+                o->info.leak_point[1] = (float)(o->origin[1] + (cj + 0.5) * h);
+                o->info.leak_point[2] = (float)(o->origin[2] + (ck + 0.5) * h);
+            }
+            for (dk = -1; dk <= 1; ++dk)
+                for (dj = -1; dj <= 1; ++dj)
+                    for (di = -1; di <= 1; ++di) {
+                        int64_t ni = (int64_t)ci + di, nj = (int64_t)cj + dj, nk = (int64_t)ck + dk;
+                        size_t y;
+                        if (ni < 0 || nj < 0 || nk < 0 || ni >= o->n[0] || nj >= o->n[1] || nk >= o->n[2]) continue;
+                        y = pvs__vx_index(o, (uint32_t)ni, (uint32_t)nj, (uint32_t)nk);
+                        if (o->state[y] == PVS__VX_FREE) { o->state[y] = PVS__VX_REACHED; queue[qt++] = (uint32_t)y; }
+                    }
+        }
+    }
+    for (vi = 0; vi < total; ++vi) {
+        o->eroded[vi] = (uint8_t)pvs__vx_solid_state(o->state[vi]);
+        o->info.solid += o->eroded[vi];
+    }
+    /* thin objects: no solid voxel inside their box */
+    for (c = 0; c < s->object_count; ++c) {
+        const pvs_box *ob = s->object_boxes + c;
+        uint32_t r0[3], r1[3];
+        int found = 0;
+        if ((s->object_flags[c] & PVS_OBJECT_OCCLUDER_ONLY) || !pvs__box_valid(ob)) continue;
+        for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, ob->min[kk], ob->max[kk], 0.0, r0 + kk, r1 + kk);
+        for (k = r0[2]; k <= r1[2] && !found; ++k)
+            for (j = r0[1]; j <= r1[1] && !found; ++j)
+                for (i = r0[0]; i <= r1[0] && !found; ++i) found = o->eroded[pvs__vx_index(o, i, j, k)];
+        o->info.thin_objects += !found;
+    }
+    /* 4. 2.5D: per column the run of solid voxels standing on the ground (layer 1 up) */
+    r = (uint32_t)floor(d->eps / h) + 1u; /* strictly more than eps: rounding toward less solid */
+    for (vi = 0; vi < cols; ++vi) {
+        uint32_t cu = (uint32_t)(vi % o->n[u]), cv = (uint32_t)(vi / o->n[u]), run = 0, idx[3];
+        idx[u] = cu; idx[v] = cv;
+        for (idx[up] = 1; idx[up] < o->n[up]; ++idx[up]) {
+            if (!o->eroded[pvs__vx_index(o, idx[0], idx[1], idx[2])]) break;
+            ++run;
+        }
+        o->info.column_voxels += run;
+        colh[vi] = run ? (float)run : 0.0f; /* in voxel layers for now */
+    }
+    o->column_top = (float *)pvs__alloc_array(&a, cols, sizeof(float));
+    if (o->column_top) {
+        o->column_count = cols;
+        for (vi = 0; vi < cols; ++vi) o->column_top[vi] = colh[vi] > 0.0f ? pvs__f_up(g + (double)colh[vi] * h) : (float)g;
+    }
+    o->info.is_2d5 = o->info.solid > 0 && (double)o->info.column_voxels >= 0.9 * (double)o->info.solid;
+    /* 2.5D erosion: column height = min over the (2r+1)^2 neighbourhood (outside: 0), minus eps */
+    {
+        float *t2 = (float *)tmp; /* reuse only if large enough */
+        float *buf = NULL;
+        size_t ii;
+        uint32_t a0, b0, q;
+        if (total >= cols * sizeof(float)) buf = t2;
+        else buf = (float *)pvs__alloc_array(&a, cols, sizeof(float));
+        if (!buf) {
+            pvs__free_array(&a, tmp, total, 1);
+            pvs__free_array(&a, queue, total, sizeof(uint32_t));
+            pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+            pvs__free_array(&a, colh, cols, sizeof(float));
+            pvs_occluders_destroy(o);
+            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "columns");
+        }
+        for (b0 = 0; b0 < o->n[v]; ++b0)
+            for (a0 = 0; a0 < o->n[u]; ++a0) {
+                float mn = colh[(size_t)b0 * o->n[u] + a0];
+                if (a0 < r || a0 + r >= o->n[u]) mn = 0.0f;
+                for (q = a0 >= r ? a0 - r : 0; mn > 0.0f && q <= a0 + r && q < o->n[u]; ++q)
+                    if (colh[(size_t)b0 * o->n[u] + q] < mn) mn = colh[(size_t)b0 * o->n[u] + q];
+                buf[(size_t)b0 * o->n[u] + a0] = mn;
+            }
+        for (b0 = 0; b0 < o->n[v]; ++b0)
+            for (a0 = 0; a0 < o->n[u]; ++a0) {
+                float mn = buf[(size_t)b0 * o->n[u] + a0];
+                if (b0 < r || b0 + r >= o->n[v]) mn = 0.0f;
+                for (q = b0 >= r ? b0 - r : 0; mn > 0.0f && q <= b0 + r && q < o->n[v]; ++q)
+                    if (buf[(size_t)q * o->n[u] + a0] < mn) mn = buf[(size_t)q * o->n[u] + a0];
+                colh[(size_t)b0 * o->n[u] + a0] = mn;
+            }
+        if (buf != t2) pvs__free_array(&a, buf, cols, sizeof(float));
+        /* heights in scene units: top of the run lowered by eps, rounded down; <= ground: none */
+        for (ii = 0; ii < cols; ++ii) {
+            double top = colh[ii] > 0.0f ? g + (double)colh[ii] * h - d->eps : g;
+            float f = pvs__f_down(top);
+            colh[ii] = top > g && f > (float)g ? f : -FLT_MAX;
+        }
+        /* merge equal columns into rectangles (greedy: along u, then v) */
+        {
+            uint32_t pass, count = 0;
+            uint8_t *used = tmp;
+            for (pass = 0; pass < 2; ++pass) {
+                memset(used, 0, cols);
+                count = 0;
+                for (b0 = 0; b0 < o->n[v]; ++b0)
+                    for (a0 = 0; a0 < o->n[u]; ++a0) {
+                        size_t x0 = (size_t)b0 * o->n[u] + a0;
+                        float hv = colh[x0];
+                        uint32_t a1, b1, t;
+                        int full = 1;
+                        if (used[x0] || hv == -FLT_MAX) continue;
+                        for (a1 = a0; a1 + 1 < o->n[u] && !used[x0 + (a1 + 1 - a0)] && colh[x0 + (a1 + 1 - a0)] == hv; ++a1) {}
+                        for (b1 = b0; full && b1 + 1 < o->n[v];) {
+                            for (t = a0; t <= a1 && full; ++t) {
+                                size_t y = (size_t)(b1 + 1) * o->n[u] + t;
+                                full = !used[y] && colh[y] == hv;
+                            }
+                            if (full) ++b1;
+                        }
+                        for (t = b0; t <= b1; ++t) memset(used + (size_t)t * o->n[u] + a0, 1, a1 - a0 + 1);
+                        if (pass == 1) {
+                            float *pt = o->chain_points + 8 * (size_t)count;
+                            float u0 = pvs__f_up(o->origin[u] + a0 * h), u1 = pvs__f_down(o->origin[u] + (a1 + 1) * h);
+                            float v0 = pvs__f_up(o->origin[v] + b0 * h), v1 = pvs__f_down(o->origin[v] + (b1 + 1) * h);
+                            pt[0] = u0; pt[1] = v0; pt[2] = u1; pt[3] = v0; pt[4] = u1; pt[5] = v1; pt[6] = u0; pt[7] = v1;
+                            o->chains[count].points = pt;
+                            o->chains[count].point_count = 4;
+                            o->chains[count].closed = 1;
+                            o->chains[count].base = (float)g;
+                            o->chains[count].top = hv;
+                        }
+                        ++count;
+                    }
+                if (pass == 0) {
+                    o->chain_count = count;
+                    o->chains = (pvs_facade_chain *)pvs__alloc_array(&a, count ? count : 1, sizeof(pvs_facade_chain));
+                    o->chain_points = (float *)pvs__alloc_array(&a, (size_t)(count ? count : 1) * 8, sizeof(float));
+                    if (!o->chains || !o->chain_points) break;
+                }
+            }
+            o->info.rect_count = o->chain_count;
+        }
+    }
+    /* 5. 3D erosion by r voxels (Chebyshev; outside the grid and the ground count as empty), then boxes */
+    if (o->chains && o->chain_points) {
+        for (kk = 0; kk < 3; ++kk) pvs__vx_erode_axis(o, o->eroded, line, kk, r);
+        for (vi = 0; vi < total; ++vi) o->info.eroded += o->eroded[vi];
+        memcpy(tmp, o->eroded, total);
+        o->box_count = pvs__vx_merge(o, tmp, NULL);
+        o->boxes = (pvs_box *)pvs__alloc_array(&a, o->box_count ? o->box_count : 1, sizeof(pvs_box));
+        if (o->boxes) {
+            memcpy(tmp, o->eroded, total);
+            pvs__vx_merge(o, tmp, o->boxes);
+        }
+        o->info.box_count = o->box_count;
+    }
+    pvs__free_array(&a, tmp, total, 1);
+    pvs__free_array(&a, queue, total, sizeof(uint32_t));
+    pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+    pvs__free_array(&a, colh, cols, sizeof(float));
+    if (!o->chains || !o->chain_points || !o->boxes || !o->column_top) {
+        pvs_occluders_destroy(o);
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder boxes");
+    }
+    for (kk = 0; kk < 3; ++kk) {
+        o->info.dims[kk] = o->n[kk];
+        o->info.origin[kk] = (float)o->origin[kk];
+    }
+    o->info.voxel_size = (float)h;
+    o->info.eps = d->eps;
+    *out = o;
+    pvs__ok(err);
+    return PVS_OK;
+}
+
+PVS_API void pvs_occluders_get_info(const pvs_occluders *o, pvs_occluders_info *info) { *info = o->info; }
+PVS_API uint32_t pvs_occluders_voxel(const pvs_occluders *o, uint32_t i, uint32_t j, uint32_t k) {
+    uint8_t st;
+    if (i >= o->n[0] || j >= o->n[1] || k >= o->n[2]) return PVS_VOXEL_EMPTY;
+    st = o->state[pvs__vx_index(o, i, j, k)];
+    return st == PVS__VX_GROUND ? PVS_VOXEL_GROUND : st == PVS__VX_TOUCHED ? PVS_VOXEL_TOUCHED
+           : pvs__vx_solid_state(st)                  ? PVS_VOXEL_SOLID
+                                                      : PVS_VOXEL_EMPTY;
+}
+PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *o, uint32_t i, uint32_t j, uint32_t k) {
+    if (i >= o->n[0] || j >= o->n[1] || k >= o->n[2]) return 0;
+    return o->eroded[pvs__vx_index(o, i, j, k)] != 0;
+}
+PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *o, uint32_t *count) {
+    if (count) *count = o->box_count;
+    return o->boxes;
+}
+PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, uint32_t *count) {
+    if (count) *count = o->chain_count;
+    return o->chains;
+}
 
 // >>methods
 /* ---------------------------------------------------------------------------------------------- */
@@ -5184,6 +5810,7 @@ PVS_API const char *pvs_method_name(pvs_method m) {
     case PVS_METHOD_SAMPLE: return "sample";
     case PVS_METHOD_OTREE: return "otree";
     case PVS_METHOD_EXTPROJ: return "extproj";
+    case PVS_METHOD_SHRINK: return "shrink";
     default: return "unknown";
     }
 }
@@ -6112,6 +6739,320 @@ done:
     return r;
 }
 
+/* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
+
+typedef struct pvs__shrink_walk {
+    const pvs_scene *scene;
+    const pvs_raster *raster;
+    const pvs_box *cell;
+    pvs_word *visible;
+    int u, v;
+} pvs__shrink_walk;
+
+/* 1 if the box meets the cell or stands (partly) under its top face: always visible. */
+PVS__STATIC int pvs__shrink_near(const pvs__shrink_walk *w, const pvs_box *b) {
+    return b->min[w->u] <= w->cell->max[w->u] && b->max[w->u] >= w->cell->min[w->u] && b->min[w->v] <= w->cell->max[w->v] &&
+           b->max[w->v] >= w->cell->min[w->v];
+}
+
+/* §3.4 hierarchical rejection: a kD-tree node under the joint umbra is skipped with all it holds. */
+PVS__STATIC pvs_visit pvs__shrink_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+    pvs__shrink_walk *w = (pvs__shrink_walk *)user;
+    uint32_t i;
+    (void)distance;
+    if (!pvs__shrink_near(w, node_box) && !pvs_cull_map_test_box(w->raster, node_box)) return PVS_VISIT_SKIP;
+    for (i = 0; i < count; ++i) {
+        uint32_t ob = items[i];
+        const pvs_box *b = w->scene->object_boxes + ob;
+        if (w->scene->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) continue;
+        if (pvs__shrink_near(w, b) || pvs_cull_map_test_box(w->raster, b)) pvs_bitset_set(w->visible, ob);
+    }
+    return PVS_VISIT_DESCEND;
+}
+
+typedef struct pvs__shrink_key {
+    double d;
+    uint32_t i;
+} pvs__shrink_key;
+PVS__STATIC int pvs__shrink_key_cmp(const void *x, const void *y) {
+    const pvs__shrink_key *a = (const pvs__shrink_key *)x, *b = (const pvs__shrink_key *)y;
+    return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
+}
+
+/* One sample's cull map (Wonka 1999 §3-4, via the raster module's shadow rasterizer), occluders front
+   to back; an occluder whose prism is already under the shadows is skipped (§3.4: an occluded occluder
+   hides nothing more from this point). */
+PVS__STATIC void pvs__shrink_sample_map(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
+                                        const pvs__shrink_key *order, uint32_t n, int u, int v, uint32_t up) {
+    double e[3];
+    size_t i, cells = (size_t)r->cm_w * r->cm_h;
+    uint32_t c;
+    int simd = !(r->flags & PVS_RASTER_SCALAR);
+    e[0] = eye[u];
+    e[1] = eye[v];
+    e[2] = eye[up];
+    for (i = 0; i < cells; ++i) r->cm[i] = PVS_DEPTH_EMPTY;
+    for (i = 0; i < r->cm_tiles; ++i) r->cm_tile_min[i] = PVS_DEPTH_EMPTY;
+    for (c = 0; c < n; ++c) {
+        const pvs_facade_chain *ch = chains + order[c].i;
+        pvs_box bx;
+        bx.min[u] = ch->points[0]; bx.min[v] = ch->points[1]; bx.min[up] = ch->base;
+        bx.max[u] = ch->points[4]; bx.max[v] = ch->points[5]; bx.max[up] = ch->top;
+        if (c > 0 && !pvs_cull_map_test_box(r, &bx)) continue;
+        pvs__cm_chain(r, e, ch->points, ch->point_count, 1, ch->base, ch->top, simd, 0.0);
+    }
+}
+
+/* §3: "sample points need only be placed on the edges of the top of the view cells". Why, for a
+   heightfield occluder O (the columns before erosion) and a point P whose ground position lies
+   outside the cell's footprint R (the others are set anyway): say V on the top face (height H) sees
+   P. In the vertical plane through P and V, the segment from P's ground position to V's crosses the
+   boundary of R at W'. If P is not above H, the segment P-W' lies above P-V at every ground distance
+   from P, so W' sees P. If P is above H, move V away from P to the boundary point W: P-W lies above
+   P-V up to V and above H after it, where no column of O inside R reaches (the condition tested here).
+   Either way a boundary point sees P; with the theorem (appendix) the edge samples decide. */
+PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
+    uint32_t i0, i1, j0, j1, i, j;
+    float top = cell->max[up];
+    pvs__vx_range(o, u, cell->min[u], cell->max[u], o->h, &i0, &i1);
+    pvs__vx_range(o, v, cell->min[v], cell->max[v], o->h, &j0, &j1);
+    for (j = j0; j <= j1; ++j)
+        for (i = i0; i <= i1; ++i)
+            if (o->column_top[(size_t)j * o->n[u] + i] > top) return 0;
+    return 1;
+}
+
+/* The 2.5D path (§3): the eroded column prisms (tops lowered by eps, footprints shrunk by eps) cast
+   occluder shadows from samples on the cell's top face (a 2.5D occluder hides from a point only what
+   it hides from every point above it, so the top face stands for the cell), spaced so that every
+   point of the face is within eps of a sample. Each sample's shadows go into the raster module's
+   cull map (Wonka 1999); the joint umbra is the per-cell minimum over the samples (§3.4, the
+   stencil intersection); objects are tested by box footprint and top through the kD-tree. The paper
+   samples only the top face's edges; where a column inside the cell rises above its top the whole
+   face is sampled instead, which is conservative without needing the
+   argument for the interior; the edges suffice when pvs__shrink_edges_suffice says so. */
+PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
+                                       pvs_error *err) {
+    pvs_raster_desc rd;
+    pvs_raster *r = NULL;
+    pvs_result res;
+    pvs__shrink_walk w;
+    float *joint = NULL, eps = o->info.eps, spacing, eye[3];
+    size_t cells = 0, x, sweep_size;
+    void *sweep = NULL;
+    uint32_t nu, nv, a, b, chain_count, up = s->up_axis;
+    const pvs_facade_chain *chains = pvs_occluders_columns(o, &chain_count);
+    double eu, ev, cm_res, cu, cv;
+    int edges;
+    pvs__shrink_key *order = NULL;
+    int u, v, any = 1;
+    pvs__ground_axes(up, &u, &v);
+    memset(&rd, 0, sizeof(rd));
+    rd.width = rd.height = 1;
+    rd.scene = s;
+    eu = (double)s->bounds.max[u] - s->bounds.min[u];
+    ev = (double)s->bounds.max[v] - s->bounds.min[v];
+    cm_res = pvs__dmax(pvs__dmax(o->h, 0.75 * eps), pvs__dmax(eu, ev) / 1024.0);
+    rd.cull_map_width = (uint32_t)pvs__dmin(2048.0, pvs__dmax(16.0, ceil(eu / cm_res)));
+    rd.cull_map_height = (uint32_t)pvs__dmin(2048.0, pvs__dmax(16.0, ceil(ev / cm_res)));
+    rd.allocator = o->allocator;
+    res = pvs_raster_create(&rd, &r, err);
+    if (res != PVS_OK) return res;
+    cells = (size_t)r->cm_w * r->cm_h;
+    joint = (float *)pvs__alloc_array(&o->allocator, cells, sizeof(float));
+    sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
+    sweep = pvs__alloc(&o->allocator, sweep_size, 16);
+    order = (pvs__shrink_key *)pvs__alloc_array(&o->allocator, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
+    if (!joint || !sweep || !order) {
+        pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
+        pvs__free_array(&o->allocator, joint, cells, sizeof(float));
+        pvs__free(&o->allocator, sweep, sweep_size, 16);
+        pvs_raster_destroy(r);
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
+    }
+    /* samples: the top face's edges every 1.9 eps when no solid column inside the cell's footprint
+       rises above the top face (see pvs__shrink_edges_suffice), else a grid on the whole top face
+       with spacing <= eps * sqrt(2) (1.4 leaves a margin) */
+    edges = pvs__shrink_edges_suffice(o, cell, u, v, up);
+    spacing = edges ? 1.9f * eps : 1.4f * eps;
+    nu = (uint32_t)ceil(((double)cell->max[u] - cell->min[u]) / spacing) + 1u;
+    nv = (uint32_t)ceil(((double)cell->max[v] - cell->min[v]) / spacing) + 1u;
+    /* front to back from the cell's centre: only speed depends on the order */
+    cu = 0.5 * ((double)cell->min[u] + cell->max[u]);
+    cv = 0.5 * ((double)cell->min[v] + cell->max[v]);
+    for (a = 0; a < chain_count; ++a) {
+        const float *pt = chains[a].points;
+        double du = pvs__dmax(0.0, pvs__dmax(pt[0] - cu, cu - pt[4])), dv = pvs__dmax(0.0, pvs__dmax(pt[1] - cv, cv - pt[5]));
+        order[a].d = du * du + dv * dv;
+        order[a].i = a;
+    }
+    qsort(order, chain_count, sizeof(pvs__shrink_key), pvs__shrink_key_cmp);
+    if (nu > 4096u || nv > 4096u) {
+        pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
+        pvs__free_array(&o->allocator, joint, cells, sizeof(float));
+        pvs__free(&o->allocator, sweep, sweep_size, 16);
+        pvs_raster_destroy(r);
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu, nv);
+    }
+    eye[up] = cell->max[up];
+    for (b = 0; b < nv && any; ++b)
+        for (a = 0; a < nu && any; ++a) {
+            const float *cm;
+            if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue; /* interior: not sampled */
+            eye[u] = nu > 1 ? cell->min[u] + (float)((double)a * ((double)cell->max[u] - cell->min[u]) / (nu - 1)) : cell->min[u];
+            eye[v] = nv > 1 ? cell->min[v] + (float)((double)b * ((double)cell->max[v] - cell->min[v]) / (nv - 1)) : cell->min[v];
+            if (a + 1 == nu) eye[u] = cell->max[u];
+            if (b + 1 == nv) eye[v] = cell->max[v];
+            pvs__shrink_sample_map(r, eye, chains, order, chain_count, u, v, up);
+            cm = r->cm;
+            any = 0;
+            if (a == 0 && b == 0) {
+                memcpy(joint, cm, cells * sizeof(float));
+                for (x = 0; x < cells; ++x) any |= joint[x] != PVS_DEPTH_EMPTY;
+            } else {
+                for (x = 0; x < cells; ++x) {
+                    if (cm[x] < joint[x]) joint[x] = cm[x];
+                    any |= joint[x] != PVS_DEPTH_EMPTY;
+                }
+            }
+        }
+    if (!any) for (x = 0; x < cells; ++x) joint[x] = PVS_DEPTH_EMPTY;
+    memcpy(r->cm, joint, cells * sizeof(float));
+    w.scene = s;
+    w.raster = r;
+    w.cell = cell;
+    w.visible = visible;
+    w.u = u;
+    w.v = v;
+    res = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__shrink_visit, &w);
+    pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
+    pvs__free_array(&o->allocator, joint, cells, sizeof(float));
+    pvs__free(&o->allocator, sweep, sweep_size, 16);
+    pvs_raster_destroy(r);
+    if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "object sweep");
+    return PVS_OK;
+}
+
+#define PVS__SHRINK_RES 64u
+
+/* The 3D path (§2.1, 2.3): samples on each of the cell's six faces, on a grid with spacing <= eps *
+   sqrt(2), so every boundary point is within eps of one (a sight line from inside the cell leaves
+   it through the boundary, so the boundary stands for the cell). Per sample a cube of six depth maps
+   of the eroded boxes (occluder mode: inner coverage, farthest depth), objects tested in occludee
+   mode against the depth pyramid; the PVS is the union over the samples. Objects within twice the
+   near distance of the cell are set outright (the cube does not see nearer than its near plane). */
+PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
+                                      pvs_error *err) {
+    pvs_raster_desc rd;
+    pvs_raster *r = NULL;
+    pvs_result res;
+    float *pos = NULL, eps = o->info.eps, spacing = 1.4f * eps, nearp = 0.05f * eps;
+    uint32_t *idx = NULL, nb = o->box_count, i, face, a, b, dir, ob;
+    pvs_word *seen = NULL;
+    size_t words = PVS_BITSET_WORDS(s->object_count);
+    static const uint32_t quad[36] = {0, 1, 3, 0, 3, 2, 4, 6, 7, 4, 7, 5, 0, 4, 5, 0, 5, 1,
+                                      2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
+    pvs_box grown;
+    int k;
+    memset(&rd, 0, sizeof(rd));
+    rd.width = rd.height = PVS__SHRINK_RES;
+    rd.allocator = o->allocator;
+    res = pvs_raster_create(&rd, &r, err);
+    if (res != PVS_OK) return res;
+    pos = (float *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 24, sizeof(float));
+    idx = (uint32_t *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
+    seen = (pvs_word *)pvs__alloc_array(&o->allocator, words ? words : 1, sizeof(pvs_word));
+    if (!pos || !idx || !seen) {
+        res = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink 3D scratch");
+        goto done;
+    }
+    memset(seen, 0, (words ? words : 1) * sizeof(pvs_word));
+    for (i = 0; i < nb; ++i) {
+        const pvs_box *bx = o->boxes + i;
+        uint32_t c;
+        for (c = 0; c < 8; ++c) {
+            pos[24 * i + 3 * c + 0] = c & 1 ? bx->max[0] : bx->min[0];
+            pos[24 * i + 3 * c + 1] = c & 2 ? bx->max[1] : bx->min[1];
+            pos[24 * i + 3 * c + 2] = c & 4 ? bx->max[2] : bx->min[2];
+        }
+        for (c = 0; c < 36; ++c) idx[36 * i + c] = 8 * i + quad[c];
+    }
+    /* objects near or in the cell */
+    grown = *cell;
+    for (k = 0; k < 3; ++k) { grown.min[k] -= 2.0f * nearp + 1e-4f * eps; grown.max[k] += 2.0f * nearp + 1e-4f * eps; }
+    for (ob = 0; ob < s->object_count; ++ob)
+        if (pvs__box_valid(s->object_boxes + ob) && pvs__box_overlap(s->object_boxes + ob, &grown)) pvs_bitset_set(seen, ob);
+    for (face = 0; face < 6; ++face) {
+        int ax = (int)face / 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
+        uint32_t n1 = (uint32_t)ceil(((double)cell->max[a1] - cell->min[a1]) / spacing) + 1u;
+        uint32_t n2 = (uint32_t)ceil(((double)cell->max[a2] - cell->min[a2]) / spacing) + 1u;
+        if (n1 > 1024u || n2 > 1024u) {
+            res = pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell face of %u x %u samples: eps too small for the cell", n1, n2);
+            goto done;
+        }
+        for (a = 0; a < n1; ++a)
+            for (b = 0; b < n2; ++b) {
+                float p[3];
+                p[ax] = face & 1 ? cell->max[ax] : cell->min[ax];
+                p[a1] = n1 > 1 ? cell->min[a1] + (float)((double)a * ((double)cell->max[a1] - cell->min[a1]) / (n1 - 1)) : cell->min[a1];
+                p[a2] = n2 > 1 ? cell->min[a2] + (float)((double)b * ((double)cell->max[a2] - cell->min[a2]) / (n2 - 1)) : cell->min[a2];
+                if (a + 1 == n1) p[a1] = cell->max[a1];
+                if (b + 1 == n2) p[a2] = cell->max[a2];
+                for (dir = 0; dir < 6; ++dir) {
+                    pvs_camera cam;
+                    float m[16];
+                    int dax = (int)dir / 2;
+                    memset(&cam, 0, sizeof(cam));
+                    for (k = 0; k < 3; ++k) cam.eye[k] = p[k];
+                    cam.forward[dax] = dir & 1 ? 1.0f : -1.0f;
+                    cam.up[(dax + 1) % 3] = 1.0f;
+                    cam.fov_y = 1.6f; /* a little over 90 degrees: the six frusta overlap */
+                    cam.near_plane = nearp;
+                    if (pvs_camera_matrix(&cam, 1.0f, m) != PVS_OK) continue;
+                    pvs_raster_clear(r);
+                    pvs_raster_set_matrix(r, m);
+                    if (nb) pvs_raster_triangles(r, pos, 8 * nb, idx, 12 * nb, PVS_RASTER_OCCLUDER);
+                    pvs_raster_build_pyramid(r);
+                    for (ob = 0; ob < s->object_count; ++ob) {
+                        if (pvs_bitset_test(seen, ob) || !pvs__box_valid(s->object_boxes + ob)) continue;
+                        if (pvs_raster_test_box(r, s->object_boxes + ob)) pvs_bitset_set(seen, ob);
+                    }
+                }
+            }
+    }
+    for (ob = 0; ob < s->object_count; ++ob)
+        if (pvs_bitset_test(seen, ob) && !(s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY)) pvs_bitset_set(visible, ob);
+    res = PVS_OK;
+done:
+    pvs__free_array(&o->allocator, pos, (size_t)(nb ? nb : 1) * 24, sizeof(float));
+    pvs__free_array(&o->allocator, idx, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
+    pvs__free_array(&o->allocator, seen, words ? words : 1, sizeof(pvs_word));
+    pvs_raster_destroy(r);
+    return res;
+}
+
+PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_shrink_mode mode,
+                                   pvs_word *visible, pvs_error *err) {
+    pvs_result res;
+    if (!s || !o || !cell || !visible || o->scene != s) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "NULL argument or occluders of another scene");
+    if (!pvs__box_valid(cell)) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "cell is not a valid box");
+    if ((int)mode < 0 || mode >= PVS_SHRINK_MODE_COUNT) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown mode %d", (int)mode);
+    if (mode == PVS_SHRINK_AUTO) mode = o->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
+    if (mode == PVS_SHRINK_2D5 ? o->chain_count == 0 : o->box_count == 0) {
+        /* nothing survived the erosion: nothing can hide anything, every drawable object is set */
+        uint32_t i;
+        for (i = 0; i < s->object_count; ++i)
+            if (!(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i)) pvs_bitset_set(visible, i);
+        pvs__ok(err);
+        return PVS_OK;
+    }
+    if (mode == PVS_SHRINK_2D5) res = pvs__shrink_2d5(s, o, cell, visible, err);
+    else res = pvs__shrink_3d(s, o, cell, visible, err);
+    if (res == PVS_OK) pvs__ok(err);
+    return res;
+}
+
+
 // >>bake
 /* ---------------------------------------------------------------------------------------------- */
 /* bake: validated cells, one task per cell, results in cell order whatever the run order         */
@@ -6137,6 +7078,8 @@ struct pvs_bake {
     pvs_kdtree *ot_tree;       /* OTREE: over pvs_visibility_25d_boxes */
     struct pvs__extproj_prep *extproj;        /* EXTPROJ: the scene's occluders, read-only in tasks */
     uint32_t extproj_resolution, extproj_occluders;
+    pvs_occluders *occluders;  /* SHRINK */
+    pvs_shrink_mode shrink_mode;
 };
 
 PVS_API void pvs_bake_destroy(pvs_bake *b) {
@@ -6150,6 +7093,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs__free_array(&a, b->ot_objects, (size_t)b->object_count * 5 + 5, sizeof(float));
     pvs_kdtree_destroy(b->ot_tree);
     pvs__extproj_prep_destroy(b->extproj);
+    pvs_occluders_destroy(b->occluders);
     pvs__free(&a, b, sizeof(*b), 16);
 }
 
@@ -6289,6 +7233,31 @@ PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, uint32_t task, uint32_t cell
     return PVS_OK;
 }
 
+/* The default eps of the shrink method: an eighth of the median of the cells' smallest ground-plane
+   extent (Wonka 2000 §4.1 used 1 m for cells of several metres: 6-8 samples per edge). */
+PVS__STATIC float pvs__cell_ground_extent(const pvs_box *c, int u, int v) {
+    float e = c->max[u] - c->min[u], f = c->max[v] - c->min[v];
+    return f < e ? f : e;
+}
+PVS__STATIC float pvs__shrink_default_eps(const pvs_box *cells, uint32_t n, uint32_t up) {
+    uint32_t i, j, below, equal, m = n < 2048u ? n : 2048u; /* the median of the first 2048 cells, by counting */
+    int u, v;
+    float med = 0.0f;
+    pvs__ground_axes(up, &u, &v);
+    for (i = 0; i < m; ++i) {
+        float e = pvs__cell_ground_extent(cells + i, u, v);
+        below = equal = 0;
+        for (j = 0; j < m; ++j) {
+            float f = pvs__cell_ground_extent(cells + j, u, v);
+            below += f < e;
+            equal += f == e;
+        }
+        if (2 * below <= m && 2 * (below + equal) > m) { med = e; break; }
+    }
+    if (!(med > 0.0f)) med = 4.0f;
+    return 0.125f * med;
+}
+
 PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs_error *err) {
     pvs_bake *b;
     pvs_allocator a;
@@ -6360,6 +7329,29 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
         pvs_bake_destroy(b);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
     }
+    if (b->method == PVS_METHOD_SHRINK) {
+        /* occluder synthesis over every cell of the bake (not only the shard's): shards agree */
+        pvs_occluders_desc od;
+        if ((int)desc->shrink_mode < 0 || desc->shrink_mode >= PVS_SHRINK_MODE_COUNT) {
+            pvs_bake_destroy(b);
+            return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown shrink mode %d", (int)desc->shrink_mode);
+        }
+        if (!(b->eps > 0.0f)) b->eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene));
+        memset(&od, 0, sizeof(od));
+        od.scene = desc->scene;
+        od.cells = desc->cells;
+        od.cell_count = desc->cell_count;
+        od.eps = b->eps;
+        od.voxel_size = desc->voxel_size;
+        od.allocator = a;
+        r = pvs_occluders_create(&od, &b->occluders, err);
+        if (r != PVS_OK) {
+            pvs_bake_destroy(b);
+            return r;
+        }
+        b->shrink_mode = desc->shrink_mode;
+        if (b->shrink_mode == PVS_SHRINK_AUTO) b->shrink_mode = b->occluders->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
+    }
     *out = b;
     pvs__ok(err);
     return PVS_OK;
@@ -6372,6 +7364,8 @@ PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *b, uint32_t task) {
 }
 PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
 PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->eps; }
+PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *b) { return b->occluders; }
+PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) { return b->occluders ? b->shrink_mode : PVS_SHRINK_AUTO; }
 
 
 PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err) {
@@ -6397,6 +7391,14 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         pvs_result r = pvs__extproj_cell(b->scene, b->extproj, b->cells + task, b->extproj_resolution, b->extproj_occluders,
                                          &b->allocator, bits, cell, err);
         if (r != PVS_OK) return r;
+        break;
+    }
+    case PVS_METHOD_SHRINK: {
+        pvs_result r = pvs_shrink_cell(b->scene, b->occluders, b->cells + task, b->shrink_mode, bits, err);
+        if (r != PVS_OK) {
+            if (err) err->index = cell;
+            return r;
+        }
         break;
     }
     default: return pvs__fail(err, PVS_ERROR_UNSUPPORTED, cell, 0, "method %d", (int)b->method);

@@ -15,6 +15,7 @@ void test_cli(void);
 void test_raster(void);
 void test_otree(void);
 void test_extproj(void);
+void test_shrink(void);
 
 static const struct {
     const char *name;
@@ -24,6 +25,7 @@ static const struct {
     {"gen", test_gen},   {"tools", test_tools},   {"cli", test_cli},     {"raster", test_raster},
     {"otree", test_otree},
     {"extproj", test_extproj},
+    {"shrink", test_shrink},
 };
 
 int main(int argc, char **argv) {

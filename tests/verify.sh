@@ -8,7 +8,7 @@ set -u
 B=${B:-build}
 T=$B/verify
 mkdir -p "$T"
-CONSERVATIVE_METHODS=${CONSERVATIVE_METHODS:-"otree extproj"}   # filled in as conservative methods land
+CONSERVATIVE_METHODS=${CONSERVATIVE_METHODS:-"shrink otree extproj"}   # filled in as conservative methods land
 CELLS=${CELLS:-500}
 J=${J:-0}
 fail=0

@@ -11,9 +11,14 @@ static const char *usage =
     "  --grid SIZE       view cells: a 3D grid of SIZE cubes over the scene bounds\n"
     "  --up y|z          up axis of the scene (default y, the OBJ convention)\n"
     "  --method NAME     sample (ray sampling: an approximate PVS, NOT conservative)\n"
+    "                    shrink (occluder shrinking, Wonka 2000: conservative)\n"
     "                    otree (2.5D occlusion trees: conservative; occluders = vertical walls on the ground)\n"
     "                    extproj (extended projections, Durand et al. 2000: conservative)\n"
-    "  --eps E           sampling / shrinking distance (stored in the file)\n"
+    "  --eps E           sampling / shrinking distance (stored in the file); shrink's default is an\n"
+    "                    eighth of the median cell width, printed in the summary\n"
+    "  --2d5, --3d       shrink: force the 2.5D (cull map) or 3D (depth cube) path; default: 2.5D\n"
+    "                    when the synthesized occluders stand on the ground\n"
+    "  --voxel V         shrink: voxel size of the occluder synthesis (default eps / 1.5, capped)\n"
     "  --points N        sample method: points per cell (default 32)\n"
     "  --rays N          sample method: rays per point (default 2048)\n"
     "  --seed N          sample method: random seed (default 1)\n"
@@ -84,7 +89,8 @@ static int parse_shard(const char *v, uint32_t *k, uint32_t *n) {
 
 int main(int argc, char **argv) {
     const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL;
-    float grid = 0.0f, eps = 0.0f;
+    float grid = 0.0f, eps = 0.0f, voxel = 0.0f;
+    pvs_shrink_mode shrink_mode = PVS_SHRINK_AUTO;
     uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0;
     int quiet = 0, i;
     pvs_method method = PVS_METHOD_SAMPLE;
@@ -109,9 +115,13 @@ int main(int argc, char **argv) {
             return 0;
         } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
             quiet = 1;
+        } else if (!strcmp(a, "--2d5")) {
+            shrink_mode = PVS_SHRINK_2D5;
+        } else if (!strcmp(a, "--3d")) {
+            shrink_mode = PVS_SHRINK_3D;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--cells") || !strcmp(a, "--grid") || !strcmp(a, "--up") ||
                    !strcmp(a, "--method") || !strcmp(a, "--eps") || !strcmp(a, "-j") || !strcmp(a, "--points") ||
-                   !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard")) {
+                   !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard") || !strcmp(a, "--voxel")) {
             if (!v) return usage_error("%s needs a value", a);
             ++i;
             if (!strcmp(a, "-o")) out_path = v;
@@ -122,9 +132,12 @@ int main(int argc, char **argv) {
                 if (cli_parse_up(v, &up)) return usage_error("--up takes y or z, not '%s'", v);
             } else if (!strcmp(a, "--method")) {
                 if (!strcmp(v, "sample")) method = PVS_METHOD_SAMPLE;
+                else if (!strcmp(v, "shrink")) method = PVS_METHOD_SHRINK;
                 else if (!strcmp(v, "otree")) method = PVS_METHOD_OTREE;
                 else if (!strcmp(v, "extproj")) method = PVS_METHOD_EXTPROJ;
-                else return usage_error("unknown method '%s' (available: sample, otree, extproj)", v);
+                else return usage_error("unknown method '%s' (available: sample, shrink, otree, extproj)", v);
+            } else if (!strcmp(a, "--voxel")) {
+                if (parse_float(v, &voxel) || !(voxel > 0.0f)) return usage_error("--voxel needs a positive size, not '%s'", v);
             } else if (!strcmp(a, "--eps")) {
                 if (parse_float(v, &eps) || !(eps > 0.0f)) return usage_error("--eps needs a positive number, not '%s'", v);
             } else if (!strcmp(a, "-j")) {
@@ -168,6 +181,8 @@ int main(int argc, char **argv) {
     bd.sample_rays = rays;
     bd.seed = seed;
     bd.max_chain = chain;
+    bd.shrink_mode = shrink_mode;
+    bd.voxel_size = voxel;
     if (shard_n > 1) {
         if (shard_n > cells.count) {
             tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "--shard %u/%u: only %u cells", shard_k, shard_n, cells.count);
@@ -179,6 +194,18 @@ int main(int argc, char **argv) {
     if (pvs_bake_begin(&bd, &bake, &pe) != PVS_OK) {
         tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "%s", pe.message);
         goto fail;
+    }
+    if (!quiet && pvs_bake_occluders(bake)) {
+        pvs_occluders_info oi;
+        pvs_occluders_get_info(pvs_bake_occluders(bake), &oi);
+        fprintf(stderr, "shrink: eps %g%s, %s path; voxels %u x %u x %u of %g: %llu solid, %llu after erosion, %u boxes, %u columns\n",
+                (double)pvs_bake_eps(bake), eps > 0.0f ? "" : " (default: an eighth of the median cell width)",
+                pvs_bake_shrink_mode(bake) == PVS_SHRINK_2D5 ? "2.5D" : "3D", oi.dims[0], oi.dims[1], oi.dims[2],
+                (double)oi.voxel_size, (unsigned long long)oi.solid, (unsigned long long)oi.eroded, oi.box_count, oi.rect_count);
+        if (oi.leak_cell != PVS_NO_CELL)
+            fprintf(stderr, "  cell %u reaches the outside (open to the sky, or a leak) near %g %g %g\n", oi.leak_cell,
+                    (double)oi.leak_point[0], (double)oi.leak_point[1], (double)oi.leak_point[2]);
+        fprintf(stderr, "  %u objects give no occluder volume (thin walls with open space on both sides, props)\n", oi.thin_objects);
     }
     t_bake = cli_seconds();
     if (cli_run_bake(bake, threads, quiet, "bake", &te)) goto fail;
