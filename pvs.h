@@ -1,4 +1,4 @@
-/* pvs.h - v0.2.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end of file)
+/* pvs.h - v0.3.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end of file)
 
    QUICK START
    ===========
@@ -215,8 +215,8 @@
 
    RECENT HISTORY
    ==============
-   (unreleased)       PVS_METHOD_EXTPROJ: extended projections (Durand et al. 2000), conservative.
-   next               the shrink method (Wonka 2000) with occluder synthesis: 2.5D and 3D paths.
+   0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps and per-frame culling;
+                      bake methods shrink (with occluder synthesis), otree (c-LSS) and extproj.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
                       codings, compact cell tables and look-up tree, cursor, sharded bakes.
    0.1.0 (2026-11-22) scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container.
@@ -229,7 +229,7 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 2
+#define PVS_VERSION_MINOR 3
 #define PVS_VERSION_PATCH 0
 /* (major << 16) | (minor << 8) | patch */
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
@@ -9144,6 +9144,9 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
+   0.3.0 (2026-11-22) the raster module (conservative occluder/occludee rasterization, hierarchical
+                      depth map, cull maps, pvs_raster_cull); occlusion trees (exact 2D, c-LSS 2.5D);
+                      occluder synthesis; bake methods shrink, otree and extproj (all conservative).
    0.2.0 (2026-11-22) delta-PVS file format 1 (keys + bounded delta chains, four set codings, compact
                       cells and look-up tree), cursor, record info, sharded bakes and merge.
    0.1.0 (2026-11-22) first version: scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container v1.
