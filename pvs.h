@@ -8396,20 +8396,44 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
     index_bits_total = (size_t)(e.index_bits[0] + e.index_bits[1] + e.index_bits[2] + e.index_bits[3] + e.index_bits[4] + e.index_bits[5]) * e.cells;
     cell_bytes = PVS__CELL_HEAD + 4 * ((size_t)e.value_count[0] + e.value_count[1] + e.value_count[2]) + (index_bits_total + 7) / 8;
 
-    /* the library's kD-tree over the cells' centres finds base candidates (centres, not boxes: big
-       overlapping cells would be copied into many leaves); TREE is the compact look-up tree */
+    /* the library's kD-tree over the cells finds base candidates (touching cells first); when big
+       overlapping cells would be copied into too many leaves, a tree over the cells' centres instead.
+       TREE is the compact look-up tree built further down. */
     {
         pvs_kdtree_desc td;
-        pvs_box *centres = (pvs_box *)pvs__alloc_array(&e.a, e.cells, sizeof(pvs_box));
-        if (!centres) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell centres"); goto done; }
-        for (i = 0; i < e.cells; ++i)
-            for (k = 0; k < 3; ++k) centres[i].min[k] = centres[i].max[k] = 0.5f * e.boxes[i].min[k] + 0.5f * e.boxes[i].max[k]; /* no overflow */
+        uint32_t long_cells = 0;
         memset(&td, 0, sizeof(td));
-        td.boxes = centres;
+        td.boxes = e.boxes;
         td.count = e.cells;
         td.allocator = e.a;
-        r = pvs_kdtree_create(&td, &e.tree, err);
-        pvs__free_array(&e.a, centres, e.cells, sizeof(pvs_box));
+        { /* cells more than 16 times the lower-quartile extent on some axis cross many split planes */
+            float *ext = (float *)pvs__alloc_array(&e.a, e.cells, sizeof(float)), med[3];
+            if (!ext) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell extents"); goto done; }
+            for (k = 0; k < 3; ++k) {
+                for (i = 0; i < e.cells; ++i) ext[i] = e.boxes[i].max[k] - e.boxes[i].min[k];
+                qsort(ext, e.cells, sizeof(float), pvs__float_cmp);
+                med[k] = ext[e.cells / 4]; /* the lower quartile: half the cells may be long */
+            }
+            for (i = 0; i < e.cells; ++i)
+                for (k = 0; k < 3; ++k)
+                    if (e.boxes[i].max[k] - e.boxes[i].min[k] > 16.0f * med[k]) {
+                        ++long_cells;
+                        break;
+                    }
+            pvs__free_array(&e.a, ext, e.cells, sizeof(float));
+        }
+        if (long_cells <= e.cells / 16) r = pvs_kdtree_create(&td, &e.tree, err);
+        if (r == PVS_OK && (!e.tree || e.tree->item_count > 16u * e.cells)) {
+            pvs_box *centres = (pvs_box *)pvs__alloc_array(&e.a, e.cells, sizeof(pvs_box));
+            pvs_kdtree_destroy(e.tree);
+            e.tree = NULL;
+            if (!centres) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell centres"); goto done; }
+            for (i = 0; i < e.cells; ++i)
+                for (k = 0; k < 3; ++k) centres[i].min[k] = centres[i].max[k] = 0.5f * e.boxes[i].min[k] + 0.5f * e.boxes[i].max[k]; /* no overflow */
+            td.boxes = centres;
+            r = pvs_kdtree_create(&td, &e.tree, err);
+            pvs__free_array(&e.a, centres, e.cells, sizeof(pvs_box));
+        }
         if (r != PVS_OK) goto done;
     }
     {
