@@ -1210,7 +1210,7 @@ PVS__STATIC void pvs__free(const pvs_allocator *a, void *p, size_t size, size_t 
     if (!p) return;
     if (size == 0) size = 1;
     if (a->free) {
-        a->free(p, size, a->user);
+        (*a->free)(p, size, a->user);
         return;
     }
     if (align <= 16) {
@@ -4138,6 +4138,48 @@ PVS__STATIC void pvs__ot_range(const pvs__otpoly *q, const double p[2], double *
     }
 }
 
+/* Insertion at an inner node (§3.3.3): q's edges lying on the node's line are marked (§4.10.1),
+   then q goes to the child it lies in, or is split between both. */
+PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, uint32_t node, pvs__otpoly *q) {
+    const pvs__otnode *nd = t->nodes + node;
+    pvs__otpoly part;
+    double lo, hi, p[2];
+    int i;
+    p[0] = nd->p[0]; p[1] = nd->p[1];
+    pvs__ot_range(q, p, &lo, &hi);
+    lo *= nd->sign; hi *= nd->sign;
+    if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
+    for (i = 0; i < q->n; ++i)
+        if (q->e[i][0] == p[0] && q->e[i][1] == p[1]) q->mark[i] = 1;
+    if (lo >= -1e-12) { pvs__ot_push(t, nd->child[1], q); return; }
+    if (hi <= 1e-12) { pvs__ot_push(t, nd->child[0], q); return; }
+    if (pvs__ot_clip(q, p, (double)nd->sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[1], &part);
+    if (pvs__ot_clip(q, p, -(double)t->nodes[node].sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[0], &part);
+}
+
+/* A read-only test at an inner node (§3.3.4): q, or its parts, go on to the children. A polygon
+   whose vertices sit on the plane within 1e-12 (an edge on the plane) goes to one side; otherwise
+   both sides get their part widened by the same 1e-12. Returns 1 when a push failed (the budget):
+   the caller then counts q as visible. */
+PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
+    const pvs__otnode *nd = t->nodes + node;
+    pvs__otpoly part;
+    double lo, hi, p[2];
+    int vis = 0, c0;
+    p[0] = nd->p[0]; p[1] = nd->p[1];
+    pvs__ot_range(q, p, &lo, &hi);
+    lo *= nd->sign; hi *= nd->sign;
+    if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
+    if (lo >= -1e-12) return !pvs__ot_push(t, nd->child[1], q);
+    if (hi <= 1e-12) return !pvs__ot_push(t, nd->child[0], q);
+    c0 = pvs__ot_clip(q, p, (double)nd->sign, 1e-12, 0, &part);
+    if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[1], c0 > 0 ? &part : q);
+    c0 = pvs__ot_clip(q, p, -(double)t->nodes[node].sign, 1e-12, 0, &part);
+    if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[0], c0 > 0 ? &part : q);
+    return vis;
+}
+
+
 /* The blocker polygon B(S, O) (§6.4.3): oriented lines through S = a b and then O = c d, vertices in
    the cyclic order a->c, a->d, b->d, b->c; each edge lies in the plane of the two lines' shared
    point. Coincident vertices (O's supporting line through an end of S, O touching S) merge into
@@ -4341,18 +4383,7 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
            stored occluder closer to any cell point than k is to the cell: k is hidden here */
         if (near > nd->mvd) continue;
         if (nd->kind == 0) {
-            double lo, hi, p[2];
-            int i;
-            p[0] = nd->p[0]; p[1] = nd->p[1];
-            pvs__ot_range(&q, p, &lo, &hi);
-            lo *= nd->sign; hi *= nd->sign;
-            if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
-            for (i = 0; i < q.n; ++i)
-                if (q.e[i][0] == p[0] && q.e[i][1] == p[1]) q.mark[i] = 1;
-            if (lo >= -1e-12) { pvs__ot_push(t, nd->child[1], &q); continue; }
-            if (hi <= 1e-12) { pvs__ot_push(t, nd->child[0], &q); continue; }
-            if (pvs__ot_clip(&q, p, (double)nd->sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[1], &part);
-            if (pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[0], &part);
+            pvs__ot_insert_inner(t, node, &q);
         } else if (nd->kind == PVS__OT_OUT) {
             uint32_t leaf = pvs__ot_refine(t, node, &q);
             if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
@@ -4417,21 +4448,7 @@ PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint
         q = t->stack[t->stack_count];
         if (near > nd->mvd) continue; /* §6.5.5 */
         if (nd->kind == 0) {
-            double lo, hi, p[2];
-            p[0] = nd->p[0]; p[1] = nd->p[1];
-            pvs__ot_range(&q, p, &lo, &hi);
-            lo *= nd->sign; hi *= nd->sign;
-            if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
-            /* a polygon whose vertices sit on the plane within 1e-12 (an edge on the plane) goes to one
-               side; otherwise both sides get their part widened by the same 1e-12 */
-            if (lo >= -1e-12) vis |= !pvs__ot_push(t, nd->child[1], &q);
-            else if (hi <= 1e-12) vis |= !pvs__ot_push(t, nd->child[0], &q);
-            else {
-                int c0 = pvs__ot_clip(&q, p, (double)nd->sign, 1e-12, 0, &part);
-                if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[1], c0 > 0 ? &part : &q);
-                c0 = pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 1e-12, 0, &part);
-                if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[0], c0 > 0 ? &part : &q);
-            }
+            vis |= pvs__ot_test_inner(t, node, &q);
         } else if (pvs__ot_thickness(&q) < PVS__OT_SLIVER) {
             continue;
         } else if (nd->kind == PVS__OT_OUT) {
@@ -4915,24 +4932,13 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
     const double *sk = t->seg + 4 * (size_t)k;
     if (!pvs__ot_push(t, 0, blocker)) return;
     while (t->stack_count > base && !t->oom) {
-        pvs__otpoly q, part;
+        pvs__otpoly q;
         uint32_t node = t->stack_node[--t->stack_count];
         pvs__otnode *nd;
         q = t->stack[t->stack_count];
         nd = t->nodes + node;
         if (nd->kind == 0) {
-            double lo, hi, p[2];
-            int i;
-            p[0] = nd->p[0]; p[1] = nd->p[1];
-            pvs__ot_range(&q, p, &lo, &hi);
-            lo *= nd->sign; hi *= nd->sign;
-            if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
-            for (i = 0; i < q.n; ++i)
-                if (q.e[i][0] == p[0] && q.e[i][1] == p[1]) q.mark[i] = 1;
-            if (lo >= -1e-12) { pvs__ot_push(t, nd->child[1], &q); continue; }
-            if (hi <= 1e-12) { pvs__ot_push(t, nd->child[0], &q); continue; }
-            if (pvs__ot_clip(&q, p, (double)nd->sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[1], &part);
-            if (pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[0], &part);
+            pvs__ot_insert_inner(t, node, &q);
         } else if (nd->kind == PVS__OT_OUT) {
             uint32_t leaf = pvs__ot_refine(t, node, &q);
             if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
@@ -4979,24 +4985,12 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
     int vis = 0;
     if (!pvs__ot_push(t, 0, blocker)) return 1;
     while (t->stack_count > base && !vis) {
-        pvs__otpoly q, part;
+        pvs__otpoly q;
         uint32_t node = t->stack_node[--t->stack_count];
         const pvs__otnode *nd = t->nodes + node;
         q = t->stack[t->stack_count];
         if (nd->kind == 0) {
-            double lo, hi, p[2];
-            p[0] = nd->p[0]; p[1] = nd->p[1];
-            pvs__ot_range(&q, p, &lo, &hi);
-            lo *= nd->sign; hi *= nd->sign;
-            if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
-            if (lo >= -1e-12) vis |= !pvs__ot_push(t, nd->child[1], &q);
-            else if (hi <= 1e-12) vis |= !pvs__ot_push(t, nd->child[0], &q);
-            else {
-                int c0 = pvs__ot_clip(&q, p, (double)nd->sign, 1e-12, 0, &part);
-                if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[1], c0 > 0 ? &part : &q);
-                c0 = pvs__ot_clip(&q, p, -(double)t->nodes[node].sign, 1e-12, 0, &part);
-                if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[0], c0 > 0 ? &part : &q);
-            }
+            vis |= pvs__ot_test_inner(t, node, &q);
         } else if (nd->kind == PVS__OT_OUT) {
             vis = 1;
         } else {
