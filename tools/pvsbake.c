@@ -206,6 +206,9 @@ int main(int argc, char **argv) {
             fprintf(stderr, "  cell %u reaches the outside (open to the sky, or a leak) near %g %g %g\n", oi.leak_cell,
                     (double)oi.leak_point[0], (double)oi.leak_point[1], (double)oi.leak_point[2]);
         fprintf(stderr, "  %u objects give no occluder volume (thin walls with open space on both sides, props)\n", oi.thin_objects);
+        if (oi.eroded == 0)
+            fprintf(stderr, "  warning: no occluder volume survives erosion by eps: every object will be visible from every cell;\n"
+                            "  try a smaller --voxel or --eps, or --method extproj for thin walls\n");
     }
     t_bake = cli_seconds();
     if (cli_run_bake(bake, threads, quiet, "bake", &te)) goto fail;
