@@ -2608,6 +2608,22 @@ typedef struct pvs__rsetup {
     float zclamp;         /* occluder: max(plane, zclamp); occludee: min(plane, zclamp) */
 } pvs__rsetup;
 
+/* One pixel by the reference rule, shared by the scalar loop and the SIMD tails: inside every edge
+   (rk: the edge values at the row's column i0), then the clamped plane depth, kept if nearer.
+   Returns 1 when it wrote. */
+PVS__STATIC int pvs__raster_pixel(const pvs__rsetup *s, const float *rk, float rz, float *row, int32_t i, int occluder) {
+    float fi = (float)(i - s->i0), d;
+    int e;
+    for (e = 0; e < s->edges; ++e)
+        if (!(rk[e] + s->a[e] * fi >= 0.0f)) return 0;
+    d = rz + s->za * fi;
+    if (occluder) d = d < s->zclamp ? s->zclamp : d;
+    else d = d > s->zclamp ? s->zclamp : d;
+    if (!(d > row[i])) return 0;
+    row[i] = d;
+    return 1;
+}
+
 /* Scalar reference loop. */
 PVS__STATIC int pvs__raster_rows_scalar(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
     int32_t i, j;
@@ -2616,16 +2632,7 @@ PVS__STATIC int pvs__raster_rows_scalar(const pvs__rsetup *s, float *buf, uint32
         float fj = (float)(j - s->j0), rk[PVS__RASTER_MAXV], rz = s->zk + s->zb * fj;
         float *row = buf + (size_t)j * stride;
         for (e = 0; e < s->edges; ++e) rk[e] = s->k[e] + s->b[e] * fj;
-        for (i = s->li0; i <= s->li1; ++i) {
-            float fi = (float)(i - s->i0), d;
-            for (e = 0; e < s->edges; ++e)
-                if (!(rk[e] + s->a[e] * fi >= 0.0f)) break;
-            if (e < s->edges) continue;
-            d = rz + s->za * fi;
-            if (occluder) d = d < s->zclamp ? s->zclamp : d;
-            else d = d > s->zclamp ? s->zclamp : d;
-            if (d > row[i]) { row[i] = d; wrote = 1; }
-        }
+        for (i = s->li0; i <= s->li1; ++i) wrote |= pvs__raster_pixel(s, rk, rz, row, i, occluder);
     }
     return wrote;
 }
@@ -2657,17 +2664,10 @@ PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t
             wrote |= _mm_movemask_ps(gt);
             _mm_storeu_ps(row + i, _mm_or_ps(_mm_and_ps(gt, d), _mm_andnot_ps(gt, old)));
         }
-        for (; i <= s->li1; ++i) { /* the tail, as in the scalar loop */
-            float fi = (float)(i - s->i0), d, rke;
-            for (e = 0; e < s->edges; ++e) {
-                _mm_store_ss(&rke, rk[e]);
-                if (!(rke + s->a[e] * fi >= 0.0f)) break;
-            }
-            if (e < s->edges) continue;
-            d = rz + s->za * fi;
-            if (occluder) d = d < s->zclamp ? s->zclamp : d;
-            else d = d > s->zclamp ? s->zclamp : d;
-            if (d > row[i]) { row[i] = d; wrote = 1; }
+        if (i <= s->li1) { /* the tail, by the scalar rule */
+            float rkf[PVS__RASTER_MAXV];
+            for (e = 0; e < s->edges; ++e) rkf[e] = s->k[e] + s->b[e] * fj;
+            for (; i <= s->li1; ++i) wrote |= pvs__raster_pixel(s, rkf, rz, row, i, occluder);
         }
     }
     return wrote;
@@ -2700,16 +2700,7 @@ PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t
             wrote |= (vgetq_lane_u32(gt, 0) | vgetq_lane_u32(gt, 1) | vgetq_lane_u32(gt, 2) | vgetq_lane_u32(gt, 3)) != 0;
             vst1q_f32(row + i, vbslq_f32(gt, d, old));
         }
-        for (; i <= s->li1; ++i) {
-            float fi = (float)(i - s->i0), d;
-            for (e = 0; e < s->edges; ++e)
-                if (!(rkf[e] + s->a[e] * fi >= 0.0f)) break;
-            if (e < s->edges) continue;
-            d = rz + s->za * fi;
-            if (occluder) d = d < s->zclamp ? s->zclamp : d;
-            else d = d > s->zclamp ? s->zclamp : d;
-            if (d > row[i]) { row[i] = d; wrote = 1; }
-        }
+        for (; i <= s->li1; ++i) wrote |= pvs__raster_pixel(s, rkf, rz, row, i, occluder);
     }
     return wrote;
 }
