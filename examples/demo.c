@@ -8,7 +8,6 @@ int main(int argc, char **argv) {
     const char *out_path = "build/demo/city.pvs";
     uint32_t threads = 2;
     int i;
-    gen_params gp;
     mesh m;
     mesh_cells cells;
     pvs_scene *scene = NULL;
@@ -30,15 +29,8 @@ int main(int argc, char **argv) {
             return 2;
         }
     }
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_CITY;
-    gp.seed = 1;
-    gp.size = 1.0f;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
     t0 = cli_seconds();
-    if (gen_scene(&gp, &m, &cells)) { fprintf(stderr, "demo: out of memory generating the city\n"); return 1; }
-    if (cli_make_scene("city", &m, 1, &scene, &te)) { fprintf(stderr, "demo: %s\n", te.message); return 1; }
+    if (cli_demo_city(&m, &cells, &scene, &te)) { fprintf(stderr, "demo: %s\n", te.message); return 1; }
     t_gen = cli_seconds() - t0;
 
     memset(&bd, 0, sizeof(bd));

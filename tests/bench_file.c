@@ -42,7 +42,6 @@ static void count_change(void *user, uint32_t object, int visible) { (void)user;
 
 int main(int argc, char **argv) {
     int explore = argc > 1 && !strcmp(argv[1], "--explore");
-    gen_params gp;
     mesh m;
     mesh_cells cells;
     pvs_scene *scene;
@@ -57,13 +56,7 @@ int main(int argc, char **argv) {
     size_t size, raw, rle = 0;
     void *bytes;
     double t;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_CITY;
-    gp.seed = 1;
-    gp.size = 1.0f;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    if (gen_scene(&gp, &m, &cells) || cli_make_scene("city", &m, 1, &scene, &te)) return 1;
+    if (cli_demo_city(&m, &cells, &scene, &te)) return 1;
     memset(&bd, 0, sizeof(bd));
     bd.scene = scene;
     bd.cells = (const pvs_box *)cells.boxes;

@@ -79,7 +79,6 @@ static void expect_bad(const char *cmd, const char *where, const char *phrase, c
 /* The demo city's table (a quick, coarse bake) survives encode + decode exactly, and a walk with the
    cursor through every cell agrees with decoding. */
 static void test_city_round_trip(void) {
-    gen_params gp;
     mesh m;
     mesh_cells cells;
     pvs_scene *scene = NULL;
@@ -89,13 +88,7 @@ static void test_city_round_trip(void) {
     tool_error te;
     uint8_t *bytes = NULL;
     size_t size = 0;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_CITY;
-    gp.seed = 1;
-    gp.size = 1.0f;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    CHECK(gen_scene(&gp, &m, &cells) == 0 && cli_make_scene("city", &m, 1, &scene, &te) == 0);
+    CHECK(cli_demo_city(&m, &cells, &scene, &te) == 0);
     memset(&bd, 0, sizeof(bd));
     bd.scene = scene;
     bd.cells = (const pvs_box *)cells.boxes;

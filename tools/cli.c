@@ -385,3 +385,19 @@ done:
     free(table);
     return rc;
 }
+
+int cli_demo_city(mesh *m, mesh_cells *cells, pvs_scene **scene, tool_error *err) {
+    gen_params gp;
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = GEN_CITY;
+    gp.seed = 1;
+    gp.size = 1.0f;
+    mesh_init(m);
+    mesh_cells_init(cells);
+    *scene = NULL;
+    if (gen_scene(&gp, m, cells)) {
+        tool_error_set(err, "city", 0, "out of memory generating the city");
+        return -1;
+    }
+    return cli_make_scene("city", m, 1, scene, err);
+}

@@ -13,6 +13,10 @@
    the file) and never visible; `name` is used in messages. Returns 0 or -1 with err set. */
 int cli_make_scene(const char *name, const mesh *m, uint32_t up_axis, pvs_scene **scene, tool_error *err);
 
+/* The demo city (generator city, seed 1, size 1, Y up): its mesh, view cells and scene. m and cells
+   are initialised here; free them (and the scene) as usual, also after a failure. */
+int cli_demo_city(mesh *m, mesh_cells *cells, pvs_scene **scene, tool_error *err);
+
 /* Loads an OBJ file and builds its scene; warns on stderr about objects without faces. */
 int cli_load_scene(const char *path, uint32_t up_axis, mesh *m, pvs_scene **scene, tool_error *err);
 
