@@ -733,15 +733,30 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 /* ---- occluders ------------------------------------------------------------------------------- */
 
 /* Occluder synthesis: volumes that are certainly solid, for the shrink method (Wonka 2000 §2: the
-   theorem of its appendix needs volumetric occluders). The scene is voxelized; a voxel is solid only
-   if no triangle touches it (a conservative triangle/box test rounding toward "touched") and it
-   cannot be reached from any view cell through untouched voxels (a 26-connected flood fill from the
-   cells; a scene open to the sky is flooded from outside its bounds through the cells that reach
-   it), or if it lies inside an explicit occluder volume. Below the lowest point of the scene and of
-   the cells lies the ground. The solid set is eroded by eps (rounding toward less solid), then merged
+   theorem of its appendix needs volumetric occluders). A voxel is solid only when no viewer in any
+   cell can reach it along a path that touches no triangle, so a sight line through it always meets a
+   triangle first; solid is proved, never guessed from voxel connectivity (a triangle-touched voxel
+   may hide a slit narrower than itself, so touched voxels are never taken as walls):
+   - the triangles (minus those lying flat on the lowest ground level) are split into edge-connected
+     components, vertices matched by exact position; an edge used by an odd number of triangles and
+     not lying on the ground level is open;
+   - per component K, a ray straight up from a point has a crossing parity with K that stays constant
+     along any path avoiding K and the vertical sheets below K's open edges (a closed surface's inside
+     is odd, the ground closes meshes standing on it). Per voxel: untouched by K and clear of those
+     sheets = one free region of known parity (computed with error-bounded predicates; a column no
+     ray can decide counts as open), touched by K = up to two regions (odd and even), near an open
+     edge or its sheet = one region joined to everything. A 6-connected flood over these regions from
+     the cells (and from the outside of K's box) over-approximates where a viewer can go; untouched
+     voxels it does not reach are solid. Thin slits, windows and doors narrower than a voxel keep
+     their regions joined, so the space behind them is reached; a mesh with a crack or a T-junction
+     gives no volume where the crack's sheet runs (conservative). An enclosure formed only by several
+     separate meshes together is not recognised.
+   - voxels inside an explicit occluder volume are solid.
+   Below the lowest point of the scene and of the cells lies the ground (no sight line between points
+   above it passes below it). The solid set is eroded by eps (rounding toward less solid), then merged
    into boxes (3D) and into per-column solid heights standing on the ground (2.5D), returned as
-   rectangles. Limitation: free space is followed voxel to voxel, so an opening narrower than about
-   two voxels may be taken as sealed; choose voxel_size well below the narrowest door or gap. */
+   rectangles. A separate voxel flood through untouched voxels reports which cell reaches the grid's
+   border (the leak diagnostic; it never decides solidity). */
 typedef struct pvs_occluders_desc {
     const pvs_scene *scene;   /* required; must outlive the occluders */
     const pvs_box *cells;     /* cell_count view cells: the flood starts from them (required, >= 1) */
@@ -772,12 +787,16 @@ typedef struct pvs_occluders_info {
     float leak_point[3];      /* a voxel centre on its way out (valid when leak_cell != PVS_NO_CELL) */
     uint32_t thin_objects;    /* drawable objects with no solid voxel in their box: thin walls with open
                                  space on both sides and small props give no volume */
+    uint32_t components;      /* edge-connected triangle sets flooded (3 triangles or more) */
+    uint32_t closed_components; /* of them, those without an open edge */
+    uint64_t open_edges;      /* edges used by an odd number of triangles, off the ground level */
+    uint64_t undecided_columns; /* voxel columns of a component where no test ray gave a certain parity */
 } pvs_occluders_info;
 
 /* Voxel classes pvs_occluders_voxel returns. */
-#define PVS_VOXEL_EMPTY 0u    /* untouched and reached from a cell */
-#define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it */
-#define PVS_VOXEL_SOLID 2u    /* solid (before erosion) */
+#define PVS_VOXEL_EMPTY 0u    /* untouched and not solid */
+#define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it (and it is not solid) */
+#define PVS_VOXEL_SOLID 2u    /* solid (before erosion); may hold triangles of another component */
 #define PVS_VOXEL_GROUND 3u   /* the padding layer below the ground */
 
 /* Runs the synthesis. Errors: INVALID_ARGUMENT (NULL, no cells, eps <= 0 or not finite), BAD_CELL,
@@ -5259,7 +5278,16 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 /* occluders: synthesis of certainly-solid volumes (for Wonka 2000's shrinking, §2 and appendix)  */
 /* ---------------------------------------------------------------------------------------------- */
 
-enum { PVS__VX_FREE = 0, PVS__VX_TOUCHED = 1, PVS__VX_REACHED = 2, PVS__VX_EXPLICIT = 3, PVS__VX_GROUND = 4 };
+/* Voxel state flags (pvs_occluders.state). */
+enum {
+    PVS__VX_TOUCHED = 1,   /* a triangle comes within the margin of the voxel */
+    PVS__VX_REACHED = 2,   /* the leak diagnostic's flood got here */
+    PVS__VX_GROUND = 4,    /* layer 0: below the lowest point of the scene and the cells */
+    PVS__VX_SOLID = 8,     /* certainly solid: proved by a component's parity flood, or explicit */
+    PVS__VX_EXPLICIT = 16  /* inside an explicit occluder volume */
+};
+/* What stops the leak diagnostic's flood. */
+#define PVS__VX_LEAK_STOP (PVS__VX_TOUCHED | PVS__VX_REACHED | PVS__VX_GROUND | PVS__VX_SOLID)
 
 struct pvs_occluders {
     pvs_allocator allocator;
@@ -5268,7 +5296,7 @@ struct pvs_occluders {
     double origin[3], h;        /* grid */
     uint32_t n[3];
     size_t total;
-    uint8_t *state;             /* total: PVS__VX_* ; solid = FREE (never reached) or EXPLICIT */
+    uint8_t *state;             /* total: PVS__VX_* flags */
     uint8_t *eroded;            /* total: 1 where solid survives the erosion */
     pvs_box *boxes;
     uint32_t box_count;
@@ -5283,25 +5311,25 @@ struct pvs_occluders {
 PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j, uint32_t k) {
     return (size_t)i + (size_t)o->n[0] * ((size_t)j + (size_t)o->n[1] * (size_t)k);
 }
-PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return s == PVS__VX_FREE || s == PVS__VX_EXPLICIT; }
+PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return (s & PVS__VX_SOLID) != 0; }
 
 /* Triangle / box overlap by the separating axis theorem (Akenine-Moller 2001), in double, with the
-   box half size `hs` already grown by a margin: rounding errs toward "touched". */
-PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, const double *b, const double *d) {
+   box half sizes `hs` already grown by a margin: rounding errs toward "touched". */
+PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const double *a, const double *b, const double *d) {
     double v[3][3], e[3][3], n[3], p, q, r, lo, hi, rad;
     int i, j;
     for (i = 0; i < 3; ++i) { v[0][i] = a[i] - c[i]; v[1][i] = b[i] - c[i]; v[2][i] = d[i] - c[i]; }
     for (i = 0; i < 3; ++i) {
         lo = hi = v[0][i];
         for (j = 1; j < 3; ++j) { if (v[j][i] < lo) lo = v[j][i]; if (v[j][i] > hi) hi = v[j][i]; }
-        if (lo > hs || hi < -hs) return 0;
+        if (lo > hs[i] || hi < -hs[i]) return 0;
     }
     for (i = 0; i < 3; ++i) { e[0][i] = v[1][i] - v[0][i]; e[1][i] = v[2][i] - v[1][i]; e[2][i] = v[0][i] - v[2][i]; }
     n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
     n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
     n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
     p = n[0] * v[0][0] + n[1] * v[0][1] + n[2] * v[0][2];
-    rad = hs * (pvs__dabs(n[0]) + pvs__dabs(n[1]) + pvs__dabs(n[2]));
+    rad = hs[0] * pvs__dabs(n[0]) + hs[1] * pvs__dabs(n[1]) + hs[2] * pvs__dabs(n[2]);
     if (p > rad * (1.0 + 1e-9) + 1e-300 || p < -rad * (1.0 + 1e-9) - 1e-300) return 0;
     for (i = 0; i < 3; ++i)       /* edge i x box axis j */
         for (j = 0; j < 3; ++j) {
@@ -5316,11 +5344,17 @@ PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, cons
                 if (q < lo) lo = q;
                 if (q > hi) hi = q;
             }
-            r = hs * (pvs__dabs(ax[0]) + pvs__dabs(ax[1]) + pvs__dabs(ax[2]));
+            r = hs[0] * pvs__dabs(ax[0]) + hs[1] * pvs__dabs(ax[1]) + hs[2] * pvs__dabs(ax[2]);
             r = r * (1.0 + 1e-9) + 1e-300;
             if (lo > r || hi < -r) return 0;
         }
     return 1;
+}
+/* The same for a cube of half size hs. */
+PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, const double *b, const double *d) {
+    double h3[3];
+    h3[0] = h3[1] = h3[2] = hs;
+    return pvs__tri_aabb(c, h3, a, b, d);
 }
 
 /* 1 if point (x, y) is inside the polygon (even-odd rule). */
@@ -5459,18 +5493,627 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
     return count;
 }
 
+/* ---- certified solid: crossing parity floods per edge-connected component ----
+
+   Why it is conservative (the argument the code relies on). Let K be a set of triangles, and for a
+   point x above the ground level g let w(x) be the parity of the number of triangles of K the ray
+   from x straight up crosses (for a ray that meets no edge or vertex of K). If every edge of K is
+   used by an even number of triangles of K (edges lying in the plane up = g excepted: only points
+   above g matter, and no sight line between such points goes below g), K is a closed surface modulo
+   2 above g and w is constant on every connected piece of space minus K: moving x changes the
+   crossing count only when x crosses a triangle or the ray sweeps over an edge, and an edge shared by
+   an even number of triangles changes it by an even number. An open edge (odd count) changes it along
+   the vertical sheet below that edge, so w is constant off K and off those sheets.
+   Now take voxels (closed boxes): "pure" when no triangle of K and no sheet comes within the margin
+   m of it (w is then one number on the whole voxel), "mixed" when a triangle of K does but no sheet
+   (its free space splits into parts, each with w = 0 or 1: merging the parts of equal w over-
+   approximates connectivity), "bad" when a sheet does (all of its free space is merged into one
+   region). A path avoiding K can be moved off voxel edges and corners (free space is open), so it
+   passes from voxel to voxel through faces; where it crosses a face it carries the w of the face
+   point, which is the w of the part it leaves and of the part it enters. So the graph whose nodes are
+   (pure voxel), (mixed voxel, 0), (mixed voxel, 1), (bad voxel) and whose links join two nodes of
+   face neighbours with equal w (any node of a bad voxel) contains every such path. Outside K's voxel
+   box there is no triangle and, below it, no sheet (sheets reach down to g, inside the box), so the
+   outside is one connected region with w = 0 on its faces. A flood over the graph from the voxels
+   meeting a cell, and from the outside when some cell lies outside the box, reaches every region a
+   viewer can walk to without touching K; a pure voxel it does not reach cannot be seen from any cell
+   (a sight line to it would be such a path), so a sight line through it has met a triangle first.
+   Solidity from any subset of the scene's triangles holds for all of them, so each component is
+   flooded on its own (two closed meshes that overlap, or an open mesh above a closed one, do not
+   spoil each other's parity). w is computed per voxel column along one vertical line, its position
+   in the column chosen so that the signs of every 2D orientation test are certain under a rigorous
+   rounding-error bound (pvs__vx_cross), and the crossing heights so accurate that no pure voxel can
+   be misplaced relative to them; a column where eight positions fail is treated as bad.
+   Slits, windows and doors narrower than a voxel: the voxels they pass through are mixed or bad and
+   keep both sides' regions of equal w joined, so the space behind them is reached. */
+
+/* orient2d (b - a) x (p - a) in double, with *bound a bound on its rounding error (each difference,
+   product and the final difference rounded once: <= 4.5e-16 (|t1| + |t2|)); its sign is certain when
+   |value| > *bound. Inputs are at most doubles; no underflow for float scene coordinates. */
+PVS__STATIC double pvs__vx_orient(double ax, double ay, double bx, double by, double px, double py, double *bound) {
+    double t1 = (bx - ax) * (py - ay), t2 = (by - ay) * (px - ax);
+    *bound = 1e-15 * (pvs__dabs(t1) + pvs__dabs(t2));
+    return t1 - t2;
+}
+
+/* The vertical line through (pu, pv) against triangle (a, b, c), up axis `up`, ground axes u, v:
+   0 when it certainly misses, 1 when it certainly crosses the interior at height *z (the true height
+   within *dz), -1 when undecidable (the line passes within rounding of an edge or a vertex, or the
+   height is too uncertain): the caller picks another line. */
+PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, int u, int v, int up, double pu, double pv,
+                              double *z, double *dz) {
+    const float *p[3];
+    double o[3], bd[3], r = 0.0, zlo, zhi, w0, w1, w2;
+    int i, pos = 0, neg = 0, unsure = 0;
+    p[0] = a; p[1] = b; p[2] = c;
+    for (i = 0; i < 3; ++i) { /* a zero-length projected edge: no projected area, a segment or a point */
+        const float *q = p[i], *s = p[(i + 1) % 3], *t = p[(i + 2) % 3];
+        if (q[u] == s[u] && q[v] == s[v]) {
+            if (t[u] == q[u] && t[v] == q[v]) return pu == (double)q[u] && pv == (double)q[v] ? -1 : 0;
+            o[0] = pvs__vx_orient(q[u], q[v], t[u], t[v], pu, pv, bd);
+            return pvs__dabs(o[0]) <= bd[0] ? -1 : 0;
+        }
+    }
+    for (i = 0; i < 3; ++i) {
+        const float *q = p[i], *s = p[(i + 1) % 3];
+        o[i] = pvs__vx_orient(q[u], q[v], s[u], s[v], pu, pv, bd + i);
+        if (pvs__dabs(o[i]) <= bd[i]) unsure = 1;
+        else if (o[i] > 0.0) pos = 1;
+        else neg = 1;
+    }
+    if (pos && neg) return 0;
+    if (unsure) return -1;
+    /* inside: barycentric weights |o| (o[1] belongs to a, o[2] to b, o[0] to c), each known to a
+       relative error r; a weighted mean of the corner heights then errs by <= range * 2r / (1 - r) */
+    for (i = 0; i < 3; ++i) r = pvs__dmax(r, bd[i] / pvs__dabs(o[i]));
+    if (r >= 0.25) return -1;
+    w0 = pvs__dabs(o[1]); w1 = pvs__dabs(o[2]); w2 = pvs__dabs(o[0]);
+    *z = (w0 * a[up] + w1 * b[up] + w2 * c[up]) / (w0 + w1 + w2);
+    zlo = pvs__dmin(a[up], pvs__dmin(b[up], c[up]));
+    zhi = pvs__dmax(a[up], pvs__dmax(b[up], c[up]));
+    *dz = (zhi - zlo) * 2.0 * r / (1.0 - r) + 1e-15 * (pvs__dabs(zlo) + pvs__dabs(zhi));
+    return 1;
+}
+
+/* Per-voxel bits of a component's flood. */
+enum { PVS__G_T = 1, PVS__G_B = 2, PVS__G_F = 4, PVS__G_W = 8, PVS__G_R0 = 16, PVS__G_R1 = 32 };
+
+typedef struct pvs__vx_vkey {
+    float p[3];
+    uint32_t i;
+} pvs__vx_vkey;
+PVS__STATIC int pvs__vx_vkey_cmp(const void *x, const void *y) {
+    const pvs__vx_vkey *a = (const pvs__vx_vkey *)x, *b = (const pvs__vx_vkey *)y;
+    int k;
+    for (k = 0; k < 3; ++k) {
+        if (a->p[k] < b->p[k]) return -1;
+        if (a->p[k] > b->p[k]) return 1;
+    }
+    return a->i < b->i ? -1 : a->i > b->i;
+}
+PVS__STATIC int pvs__vx_vkey_cmp_pos(const pvs__vx_vkey *a, const pvs__vx_vkey *b) {
+    return a->p[0] != b->p[0] || a->p[1] != b->p[1] || a->p[2] != b->p[2];
+}
+typedef struct pvs__vx_edge {
+    uint64_t key;  /* canonical vertex ids, smaller first */
+    uint32_t tri;
+} pvs__vx_edge;
+PVS__STATIC int pvs__vx_edge_cmp(const void *x, const void *y) {
+    const pvs__vx_edge *a = (const pvs__vx_edge *)x, *b = (const pvs__vx_edge *)y;
+    if (a->key != b->key) return a->key < b->key ? -1 : 1;
+    return a->tri < b->tri ? -1 : a->tri > b->tri;
+}
+PVS__STATIC uint32_t pvs__vx_find(uint32_t *parent, uint32_t x) {
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+/* What the synthesis knows about the triangles' topology. */
+typedef struct pvs__vx_topo {
+    uint32_t *tris;          /* included triangles grouped by component: comp_first[c] .. comp_first[c + 1] */
+    uint32_t *comp_first;    /* comp_count + 1 */
+    uint32_t comp_count;
+    uint32_t tri_count;      /* included triangles */
+    uint32_t *open_first;    /* comp_count + 1: ranges of open_edges per component */
+    float *open_edges;       /* 6 floats per open edge (two corners), grouped by component */
+    uint32_t open_count;
+    uint32_t *vcanon;        /* (freed early) */
+} pvs__vx_topo;
+
+PVS__STATIC void pvs__vx_topo_free(const pvs_allocator *a, pvs__vx_topo *t, uint32_t triangle_count) {
+    pvs__free_array(a, t->tris, triangle_count ? triangle_count : 1, sizeof(uint32_t));
+    pvs__free_array(a, t->comp_first, (size_t)triangle_count + 2, sizeof(uint32_t));
+    pvs__free_array(a, t->open_first, (size_t)triangle_count + 2, sizeof(uint32_t));
+    pvs__free_array(a, t->open_edges, (size_t)(t->open_count ? t->open_count : 1) * 6, sizeof(float));
+    memset(t, 0, sizeof(*t));
+}
+
+/* 1 if the triangle lies flat on the ground level g (then it is left out: it bounds nothing above g). */
+PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) {
+    uint32_t up = s->up_axis, k;
+    for (k = 0; k < 3; ++k)
+        if (s->positions[3 * (size_t)s->indices[3 * (size_t)t + k] + up] != g) return 0;
+    return 1;
+}
+
+/* Components of the triangles (edge-connected, vertices matched by exact position) and their open
+   edges (odd use count, not both corners on the ground level g). */
+PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_allocator *a, pvs__vx_topo *t) {
+    uint32_t nv = s->vertex_count, nt = s->triangle_count, i, k, up = s->up_axis, ne = 0, c;
+    pvs__vx_vkey *vk = NULL;
+    pvs__vx_edge *ed = NULL;
+    uint32_t *canon = NULL, *parent = NULL, *cid = NULL;
+    size_t e0, e1;
+    pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
+    memset(t, 0, sizeof(*t));
+    vk = (pvs__vx_vkey *)pvs__alloc_array(a, nv ? nv : 1, sizeof(pvs__vx_vkey));
+    canon = (uint32_t *)pvs__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    ed = (pvs__vx_edge *)pvs__alloc_array(a, (size_t)(nt ? nt : 1) * 3, sizeof(pvs__vx_edge));
+    parent = (uint32_t *)pvs__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
+    cid = (uint32_t *)pvs__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
+    t->tris = (uint32_t *)pvs__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
+    t->comp_first = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 2, sizeof(uint32_t));
+    t->open_first = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 2, sizeof(uint32_t));
+    if (!vk || !canon || !ed || !parent || !cid || !t->tris || !t->comp_first || !t->open_first) goto done;
+    for (i = 0; i < nv; ++i) {
+        for (k = 0; k < 3; ++k) vk[i].p[k] = s->positions[3 * (size_t)i + k];
+        vk[i].i = i;
+    }
+    qsort(vk, nv, sizeof(pvs__vx_vkey), pvs__vx_vkey_cmp);
+    for (i = 0; i < nv; ++i) canon[vk[i].i] = i > 0 && !pvs__vx_vkey_cmp_pos(vk + i - 1, vk + i) ? canon[vk[i - 1].i] : i;
+    for (i = 0; i < nt; ++i) {
+        parent[i] = i;
+        if (pvs__vx_flat_on_ground(s, i, g)) { parent[i] = 0xffffffffu; continue; }
+        for (k = 0; k < 3; ++k) {
+            uint32_t x = canon[s->indices[3 * (size_t)i + k]], y = canon[s->indices[3 * (size_t)i + (k + 1) % 3]];
+            if (x == y) continue;
+            ed[ne].key = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
+            ed[ne].tri = i;
+            ++ne;
+        }
+    }
+    qsort(ed, ne, sizeof(pvs__vx_edge), pvs__vx_edge_cmp);
+    for (e0 = 0; e0 < ne; e0 = e1) {
+        for (e1 = e0 + 1; e1 < ne && ed[e1].key == ed[e0].key; ++e1) {
+            uint32_t ra = pvs__vx_find(parent, ed[e0].tri), rb = pvs__vx_find(parent, ed[e1].tri);
+            if (ra != rb) parent[ra > rb ? ra : rb] = ra < rb ? ra : rb; /* the smaller root wins: deterministic */
+        }
+    }
+    /* components numbered by their first triangle */
+    t->comp_count = 0;
+    for (i = 0; i < nt; ++i) {
+        if (parent[i] == 0xffffffffu) { cid[i] = 0xffffffffu; continue; }
+        k = pvs__vx_find(parent, i);
+        cid[i] = k == i ? t->comp_count++ : cid[k];
+    }
+    memset(t->comp_first, 0, ((size_t)t->comp_count + 2) * sizeof(uint32_t));
+    for (i = 0; i < nt; ++i)
+        if (cid[i] != 0xffffffffu) ++t->comp_first[cid[i] + 1];
+    for (c = 0; c < t->comp_count; ++c) t->comp_first[c + 1] += t->comp_first[c];
+    t->tri_count = t->comp_first[t->comp_count];
+    {
+        uint32_t *fill = parent; /* reuse as cursors */
+        for (c = 0; c < t->comp_count; ++c) fill[c] = t->comp_first[c];
+        for (i = 0; i < nt; ++i)
+            if (cid[i] != 0xffffffffu) t->tris[fill[cid[i]]++] = i;
+    }
+    /* open edges: odd runs; corners from the vertex keys (canon id = index into the sorted keys) */
+    t->open_count = 0;
+    for (e0 = 0; e0 < ne; e0 = e1) {
+        const float *p0, *p1;
+        for (e1 = e0 + 1; e1 < ne && ed[e1].key == ed[e0].key; ++e1) {}
+        if (!((e1 - e0) & 1)) continue;
+        p0 = vk[(uint32_t)(ed[e0].key >> 32)].p;
+        p1 = vk[(uint32_t)ed[e0].key].p;
+        if (p0[up] == g && p1[up] == g) continue;
+        ed[t->open_count++] = ed[e0]; /* compacted in place (t->open_count <= e0) */
+    }
+    t->open_edges = (float *)pvs__alloc_array(a, (size_t)(t->open_count ? t->open_count : 1) * 6, sizeof(float));
+    if (!t->open_edges) goto done;
+    memset(t->open_first, 0, ((size_t)t->comp_count + 2) * sizeof(uint32_t));
+    for (i = 0; i < t->open_count; ++i) ++t->open_first[cid[ed[i].tri] + 1];
+    for (c = 0; c < t->comp_count; ++c) t->open_first[c + 1] += t->open_first[c];
+    {
+        uint32_t *fill = parent;
+        for (c = 0; c < t->comp_count; ++c) fill[c] = t->open_first[c];
+        for (i = 0; i < t->open_count; ++i) {
+            float *dst = t->open_edges + 6 * (size_t)fill[cid[ed[i].tri]]++;
+            memcpy(dst, vk[(uint32_t)(ed[i].key >> 32)].p, 3 * sizeof(float));
+            memcpy(dst + 3, vk[(uint32_t)ed[i].key].p, 3 * sizeof(float));
+        }
+    }
+    res = PVS_OK;
+done:
+    pvs__free_array(a, vk, nv ? nv : 1, sizeof(pvs__vx_vkey));
+    pvs__free_array(a, canon, nv ? nv : 1, sizeof(uint32_t));
+    pvs__free_array(a, ed, (size_t)(nt ? nt : 1) * 3, sizeof(pvs__vx_edge));
+    pvs__free_array(a, parent, nt ? nt : 1, sizeof(uint32_t));
+    pvs__free_array(a, cid, nt ? nt : 1, sizeof(uint32_t));
+    if (res != PVS_OK) pvs__vx_topo_free(a, t, nt);
+    return res;
+}
+
+/* Scratch of the component floods, sized for the largest component box. */
+typedef struct pvs__vx_flood {
+    uint8_t *bits;           /* box voxels: PVS__G_* */
+    uint8_t *col;            /* box columns: candidate line index, 0x80 = undecided in this pass, 0xff = failed */
+    uint32_t *queue;         /* 2 nodes per box voxel */
+    size_t cap_vox, cap_col;
+    const pvs_box *cells;    /* the view cells, and a bucket grid over them in the ground plane */
+    uint32_t cell_count;
+    uint32_t *bucket_first;  /* bnu * bnv + 1 */
+    uint32_t *bucket_cells;
+    uint32_t *stamp;         /* per cell: 1 + the last component that looked at it */
+    uint32_t bnu, bnv;
+} pvs__vx_flood;
+#define PVS__VX_BUCKET 8u    /* voxel columns per bucket side */
+
+/* Positions of the test line inside a column, as fractions of the voxel (no structure on purpose). */
+static const double pvs__vx_line_u[8] = {0.4142, 0.7071, 0.2360, 0.8660, 0.5773, 0.1547, 0.6458, 0.3183};
+static const double pvs__vx_line_v[8] = {0.6180, 0.2679, 0.7937, 0.4472, 0.1213, 0.8944, 0.3660, 0.5403};
+
+PVS__STATIC void pvs__vx_push(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi, int x) {
+    uint8_t f = (uint8_t)(x ? PVS__G_R1 : PVS__G_R0);
+    if (bits[vi] & f) return;
+    bits[vi] |= f;
+    queue[(*qt)++] = (uint32_t)(2 * vi + (size_t)x);
+}
+/* Every node of voxel vi. */
+PVS__STATIC void pvs__vx_push_all(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi) {
+    uint8_t f = bits[vi];
+    if (f & PVS__G_B) pvs__vx_push(bits, queue, qt, vi, 0);
+    else if (f & PVS__G_T) { pvs__vx_push(bits, queue, qt, vi, 0); pvs__vx_push(bits, queue, qt, vi, 1); }
+    else pvs__vx_push(bits, queue, qt, vi, (f & PVS__G_W) != 0);
+}
+/* The node of voxel vi that the outside (w = 0) enters. */
+PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi) {
+    uint8_t f = bits[vi];
+    pvs__vx_push(bits, queue, qt, vi, (f & (PVS__G_B | PVS__G_T)) ? 0 : (f & PVS__G_W) != 0);
+}
+
+/* The parity w of the points of cell `cb` (which is clear of component K by the margin m, so they
+   all share it): the crossings with K of a vertical line through a point of the cell, above that
+   point (pvs__vx_cross; a crossing cannot lie within m of the point). -1 when eight lines fail. */
+PVS__STATIC int pvs__vx_point_parity(const pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
+    const pvs_scene *s = o->scene;
+    uint32_t up = s->up_axis, t, line;
+    int u, v;
+    pvs__ground_axes(up, &u, &v);
+    for (line = 0; line < 8; ++line) {
+        double pu = cb->min[u] + pvs__vx_line_u[line] * ((double)cb->max[u] - cb->min[u]);
+        double pv = cb->min[v] + pvs__vx_line_v[line] * ((double)cb->max[v] - cb->min[v]);
+        double z0 = 0.5 * ((double)cb->min[up] + cb->max[up]);
+        int w = 0, ok = 1;
+        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1] && ok; ++t) {
+            uint32_t tri = tp->tris[t];
+            double z, dz;
+            int r = pvs__vx_cross(s->positions + 3 * (size_t)s->indices[3 * (size_t)tri], s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 1],
+                                  s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2], u, v, (int)up, pu, pv, &z, &dz);
+            if (r < 0 || (r == 1 && pvs__dabs(z - z0) <= dz)) ok = 0;
+            else if (r == 1 && z > z0) w ^= 1;
+        }
+        if (ok) return w;
+    }
+    return -1;
+}
+
+/* One component K: voxel box lo..hi (inclusive, lo[up] >= 1), its triangles and open edges. Sets
+   PVS__VX_TOUCHED on the grid for its triangles and PVS__VX_SOLID on the voxels it proves solid
+   (see the argument above). */
+PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
+                                 const uint32_t hi[3], double m, pvs__vx_flood *fl) {
+    const pvs_scene *s = o->scene;
+    uint32_t up = s->up_axis, d[3], i, j, k, t, pass;
+    int u, v, ext, any;
+    size_t stride[3], nvox, vi, qh = 0, qt = 0, ncol;
+    double h = o->h;
+    uint8_t *bits = fl->bits, *col = fl->col;
+    uint32_t *queue = fl->queue;
+    pvs__ground_axes(up, &u, &v);
+    for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
+    stride[0] = 1;
+    stride[1] = d[0];
+    stride[2] = (size_t)d[0] * d[1];
+    nvox = stride[2] * d[2];
+    ncol = (size_t)d[u] * d[v];
+    memset(bits, 0, nvox);
+    /* 1. touched by K (separating axes, margin toward touched) */
+    for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+        uint32_t tri = tp->tris[t], r0[3], r1[3], a, b, c;
+        double p[3][3], tlo[3], thi[3];
+        int kk;
+        for (kk = 0; kk < 3; ++kk) {
+            p[0][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri] + kk];
+            p[1][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 1] + kk];
+            p[2][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 2] + kk];
+            tlo[kk] = pvs__dmin(p[0][kk], pvs__dmin(p[1][kk], p[2][kk]));
+            thi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
+        }
+        for (kk = 0; kk < 3; ++kk) {
+            pvs__vx_range(o, kk, tlo[kk], thi[kk], m, r0 + kk, r1 + kk);
+            if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
+            if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
+        }
+        for (c = r0[2]; c <= r1[2]; ++c)
+            for (b = r0[1]; b <= r1[1]; ++b)
+                for (a = r0[0]; a <= r1[0]; ++a) {
+                    double cc[3];
+                    size_t x = (a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2]);
+                    if (bits[x] & PVS__G_T) continue;
+                    cc[0] = o->origin[0] + (a + 0.5) * h;
+                    cc[1] = o->origin[1] + (b + 0.5) * h;
+                    cc[2] = o->origin[2] + (c + 0.5) * h;
+                    if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) {
+                        bits[x] |= PVS__G_T;
+                        o->state[pvs__vx_index(o, a, b, c)] |= PVS__VX_TOUCHED;
+                    }
+                }
+    }
+    /* 2. bad: the vertical sheet below each open edge, from the edge (plus margin) down to the
+       ground; per column whose square (grown by m) the projected edge meets, over the part of the
+       edge inside it (Liang-Barsky clip) */
+    for (t = tp->open_first[comp]; t < tp->open_first[comp + 1]; ++t) {
+        const float *e = tp->open_edges + 6 * (size_t)t;
+        double a0 = e[u], b0 = e[v], da = (double)e[3 + u] - e[u], db = (double)e[3 + v] - e[v];
+        uint32_t r0[3], r1[3], a, b, c;
+        pvs__vx_range(o, u, pvs__dmin(e[u], e[3 + u]), pvs__dmax(e[u], e[3 + u]), m, r0 + u, r1 + u);
+        pvs__vx_range(o, v, pvs__dmin(e[v], e[3 + v]), pvs__dmax(e[v], e[3 + v]), m, r0 + v, r1 + v);
+        if (r0[u] < lo[u]) r0[u] = lo[u];
+        if (r1[u] > hi[u]) r1[u] = hi[u];
+        if (r0[v] < lo[v]) r0[v] = lo[v];
+        if (r1[v] > hi[v]) r1[v] = hi[v];
+        for (b = r0[v]; b <= r1[v]; ++b)
+            for (a = r0[u]; a <= r1[u]; ++a) {
+                double t0 = 0.0, t1 = 1.0, q[4], pp[4], zt;
+                int side, ok = 1;
+                uint32_t top, idx[3];
+                pp[0] = -da; q[0] = a0 - (o->origin[u] + a * h - m);
+                pp[1] = da;  q[1] = o->origin[u] + (a + 1) * h + m - a0;
+                pp[2] = -db; q[2] = b0 - (o->origin[v] + b * h - m);
+                pp[3] = db;  q[3] = o->origin[v] + (b + 1) * h + m - b0;
+                for (side = 0; side < 4 && ok; ++side) {
+                    if (pp[side] == 0.0) { ok = q[side] >= 0.0; continue; }
+                    zt = q[side] / pp[side];
+                    if (pp[side] < 0.0) { if (zt > t0) t0 = zt; } else if (zt < t1) t1 = zt;
+                    ok = t0 <= t1;
+                }
+                if (!ok) continue;
+                zt = pvs__dmax((double)e[up] + t0 * ((double)e[3 + up] - e[up]), (double)e[up] + t1 * ((double)e[3 + up] - e[up]));
+                zt = pvs__dmin(zt + m + 1e-6 * pvs__dabs(zt), (double)pvs__dmax(e[up], e[3 + up]) + m);
+                top = (uint32_t)pvs__clampi(floor((zt - o->origin[up]) / h), (int32_t)lo[up], (int32_t)hi[up]);
+                idx[u] = a; idx[v] = b;
+                for (c = lo[up]; c <= top; ++c) {
+                    idx[up] = c;
+                    bits[(idx[0] - lo[0]) + stride[1] * (idx[1] - lo[1]) + stride[2] * (idx[2] - lo[2])] |= PVS__G_B;
+                }
+            }
+    }
+    /* 3. parity of the pure voxels: per column, the crossings of one vertical line (pvs__vx_cross)
+       toggle PVS__G_F at their layer; up to 8 positions of the line per column */
+    memset(col, 0, ncol);
+    for (pass = 0, any = 1; any && pass < 8; ++pass) {
+        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+            uint32_t tri = tp->tris[t], a, b, a0, a1, b0, b1;
+            const float *pa = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri];
+            const float *pb = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 1];
+            const float *pc = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2];
+            pvs__vx_range(o, u, pvs__dmin(pa[u], pvs__dmin(pb[u], pc[u])), pvs__dmax(pa[u], pvs__dmax(pb[u], pc[u])), m, &a0, &a1);
+            pvs__vx_range(o, v, pvs__dmin(pa[v], pvs__dmin(pb[v], pc[v])), pvs__dmax(pa[v], pvs__dmax(pb[v], pc[v])), m, &b0, &b1);
+            if (a0 < lo[u]) a0 = lo[u];
+            if (a1 > hi[u]) a1 = hi[u];
+            if (b0 < lo[v]) b0 = lo[v];
+            if (b1 > hi[v]) b1 = hi[v];
+            for (b = b0; b <= b1; ++b)
+                for (a = a0; a <= a1; ++a) {
+                    size_t ci = (a - lo[u]) + (size_t)d[u] * (b - lo[v]);
+                    double z, dz;
+                    int r;
+                    if (col[ci] != pass) continue;
+                    r = pvs__vx_cross(pa, pb, pc, u, v, (int)up, o->origin[u] + (a + pvs__vx_line_u[pass]) * h,
+                                      o->origin[v] + (b + pvs__vx_line_v[pass]) * h, &z, &dz);
+                    if (r == 1 && dz >= 0.5 * m) r = -1;
+                    if (r < 0) col[ci] |= 0x80;
+                    if (r == 1) {
+                        uint32_t idx[3];
+                        idx[u] = a - lo[u]; idx[v] = b - lo[v];
+                        idx[up] = (uint32_t)pvs__clampi(floor((z - o->origin[up]) / h) - (double)lo[up], 0, (int32_t)d[up] - 1);
+                        bits[idx[0] + stride[1] * idx[1] + stride[2] * idx[2]] ^= PVS__G_F;
+                    }
+                }
+        }
+        any = 0;
+        for (vi = 0; vi < ncol; ++vi) {
+            uint32_t idx[3];
+            if (!(col[vi] & 0x80)) continue;
+            idx[u] = (uint32_t)(vi % d[u]); idx[v] = (uint32_t)(vi / d[u]);
+            for (idx[up] = 0; idx[up] < d[up]; ++idx[up]) {
+                size_t x = idx[0] + stride[1] * idx[1] + stride[2] * idx[2];
+                bits[x] &= (uint8_t)~PVS__G_F;
+                if (pass + 1 == 8) bits[x] |= PVS__G_B;
+            }
+            if (pass + 1 == 8) { col[vi] = 0xff; ++o->info.undecided_columns; }
+            else { col[vi] = (uint8_t)(pass + 1); any = 1; }
+        }
+    }
+    for (vi = 0; vi < ncol; ++vi) { /* w of a pure voxel = parity of the crossings above it */
+        uint32_t idx[3], acc = 0;
+        idx[u] = (uint32_t)(vi % d[u]); idx[v] = (uint32_t)(vi / d[u]);
+        for (idx[up] = d[up]; idx[up]-- > 0;) {
+            size_t x = idx[0] + stride[1] * idx[1] + stride[2] * idx[2];
+            if (acc && !(bits[x] & (PVS__G_T | PVS__G_B))) bits[x] |= PVS__G_W;
+            acc ^= (bits[x] & PVS__G_F) != 0;
+        }
+    }
+    /* 4. the flood's sources: each cell meeting the box, and the outside of the box when a cell lies
+       (partly) outside it. A cell clear of K (by the margin) is convex and free, so all its points
+       share one w, read off a pure voxel it genuinely overlaps; its voxels get the node of that w. A
+       cell meeting K (partly inside a closed mesh, or touching it) gets every node of its voxels. */
+    ext = 0;
+    {
+        uint32_t bu, bv, near = 0, q;
+        for (bv = lo[v] / PVS__VX_BUCKET; bv <= hi[v] / PVS__VX_BUCKET; ++bv)
+            for (bu = lo[u] / PVS__VX_BUCKET; bu <= hi[u] / PVS__VX_BUCKET; ++bu) {
+                size_t bk = (size_t)bv * fl->bnu + bu;
+                for (q = fl->bucket_first[bk]; q < fl->bucket_first[bk + 1]; ++q) {
+                    uint32_t cid = fl->bucket_cells[q], r0[3], r1[3], s0[3], s1[3], a, b, c;
+                    const pvs_box *cb = fl->cells + cid;
+                    int touches = 0, maybe = 0, wc = -1, kk, out_w0 = 0;
+                    if (fl->stamp[cid] == comp + 1) continue;
+                    fl->stamp[cid] = comp + 1;
+                    for (kk = 0; kk < 3; ++kk) {
+                        pvs__vx_range(o, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
+                        if (r0[kk] > r1[kk] || r1[kk] < lo[kk] || r0[kk] > hi[kk]) break;
+                    }
+                    if (kk < 3) continue;
+                    ++near;
+                    for (kk = 0; kk < 3; ++kk) {
+                        if (r0[kk] < lo[kk] || r1[kk] > hi[kk]) ext = 1; /* sticks out of the box */
+                        if (r1[kk] > hi[kk] || (r0[kk] < lo[kk] && ((uint32_t)kk != up || lo[up] > 1))) out_w0 = 1;
+                        if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
+                        if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
+                    }
+                    for (c = r0[2]; c <= r1[2] && !maybe; ++c)
+                        for (b = r0[1]; b <= r1[1] && !maybe; ++b)
+                            for (a = r0[0]; a <= r1[0] && !maybe; ++a)
+                                maybe = (bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])] & (PVS__G_T | PVS__G_B)) != 0;
+                    if (maybe) { /* does the cell, grown by m, meet a triangle of K? */
+                        double cc[3], hs[3];
+                        for (kk = 0; kk < 3; ++kk) {
+                            cc[kk] = 0.5 * ((double)cb->min[kk] + cb->max[kk]);
+                            hs[kk] = 0.5 * ((double)cb->max[kk] - cb->min[kk]) + m;
+                        }
+                        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1] && !touches; ++t) {
+                            uint32_t tri = tp->tris[t], e;
+                            double pt[3][3];
+                            int out = 0;
+                            for (e = 0; e < 3; ++e)
+                                for (kk = 0; kk < 3; ++kk) pt[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + e] + kk];
+                            for (kk = 0; kk < 3 && !out; ++kk)
+                                out = pvs__dmin(pt[0][kk], pvs__dmin(pt[1][kk], pt[2][kk])) > cc[kk] + hs[kk] ||
+                                      pvs__dmax(pt[0][kk], pvs__dmax(pt[1][kk], pt[2][kk])) < cc[kk] - hs[kk];
+                            if (!out) touches = pvs__tri_aabb(cc, hs, pt[0], pt[1], pt[2]);
+                        }
+                    }
+                    /* w of a cell clear of K: 0 when (grown by m) it reaches out of the box above the ground
+                       (w = 0 there), else that of a pure voxel it overlaps by more than m, else a ray of its own */
+                    if (!touches && out_w0) wc = 0;
+                    if (!touches && !out_w0) {
+                        for (kk = 0; kk < 3; ++kk) {
+                            pvs__vx_range(o, kk, cb->min[kk], cb->max[kk], -m, s0 + kk, s1 + kk);
+                            if (s0[kk] < lo[kk]) s0[kk] = lo[kk];
+                            if (s1[kk] > hi[kk]) s1[kk] = hi[kk];
+                        }
+                        for (c = s0[2]; c <= s1[2] && wc < 0; ++c)
+                            for (b = s0[1]; b <= s1[1] && wc < 0; ++b)
+                                for (a = s0[0]; a <= s1[0] && wc < 0; ++a) {
+                                    uint8_t f = bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])];
+                                    if (!(f & (PVS__G_T | PVS__G_B))) wc = (f & PVS__G_W) != 0;
+                                }
+                        if (wc < 0) wc = pvs__vx_point_parity(o, tp, comp, cb);
+                    }
+                    for (c = r0[2]; c <= r1[2]; ++c)
+                        for (b = r0[1]; b <= r1[1]; ++b)
+                            for (a = r0[0]; a <= r1[0]; ++a) {
+                                size_t x = (a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2]);
+                                if (wc < 0) pvs__vx_push_all(bits, queue, &qt, x);
+                                else if (bits[x] & PVS__G_B) pvs__vx_push(bits, queue, &qt, x, 0);
+                                else if (bits[x] & PVS__G_T) pvs__vx_push(bits, queue, &qt, x, wc);
+                                else pvs__vx_push(bits, queue, &qt, x, (bits[x] & PVS__G_W) != 0);
+                            }
+                }
+            }
+        if (near < fl->cell_count) ext = 1;
+    }
+    for (;;) {
+        uint32_t node, idx[3], kk;
+        size_t a;
+        int x, dir;
+        uint8_t fa;
+        if (ext == 1) { /* enter through every face of the box but the ground */
+            for (k = 0; k < d[2]; ++k)
+                for (j = 0; j < d[1]; ++j)
+                    for (i = 0; i < d[0]; ++i) {
+                        int face = 0;
+                        idx[0] = i; idx[1] = j; idx[2] = k;
+                        for (kk = 0; kk < 3; ++kk)
+                            face |= idx[kk] + 1 == d[kk] || (idx[kk] == 0 && (kk != up || lo[up] > 1));
+                        if (face) pvs__vx_push_entry(bits, queue, &qt, i + stride[1] * j + stride[2] * k);
+                    }
+            ext = 2;
+        }
+        if (qh == qt) break;
+        node = queue[qh++];
+        a = node >> 1;
+        x = (int)(node & 1u);
+        fa = bits[a];
+        idx[0] = (uint32_t)(a % d[0]);
+        idx[1] = (uint32_t)((a / d[0]) % d[1]);
+        idx[2] = (uint32_t)(a / stride[2]);
+        for (dir = 0; dir < 6; ++dir) {
+            size_t b;
+            uint8_t fb;
+            kk = (uint32_t)dir >> 1;
+            if (dir & 1 ? idx[kk] + 1 == d[kk] : idx[kk] == 0) { /* a face of the box */
+                if (kk == up && !(dir & 1) && lo[up] == 1) continue; /* the ground */
+                if (!ext && ((fa & PVS__G_B) || !(fa & PVS__G_T) || x == 0)) ext = 1;
+                continue;
+            }
+            b = dir & 1 ? a + stride[kk] : a - stride[kk];
+            fb = bits[b];
+            if (fa & PVS__G_B) pvs__vx_push_all(bits, queue, &qt, b);
+            else if (fb & PVS__G_B) pvs__vx_push(bits, queue, &qt, b, 0);
+            else if (!(fa & PVS__G_T)) pvs__vx_push(bits, queue, &qt, b, (fb & PVS__G_T) ? x : (fb & PVS__G_W) != 0);
+            else if ((fb & PVS__G_T) || ((fb & PVS__G_W) != 0) == x) pvs__vx_push(bits, queue, &qt, b, x);
+        }
+    }
+#ifdef PVS_DEBUG_CERTIFY
+    {
+        size_t np = 0, nm = 0, nb = 0, nw = 0, nr1 = 0;
+        for (vi = 0; vi < nvox; ++vi) {
+            uint8_t f = bits[vi];
+            if (f & PVS__G_B) ++nb; else if (f & PVS__G_T) ++nm; else { ++np; if (f & PVS__G_W) { ++nw; if (f & PVS__G_R1) ++nr1; } }
+        }
+        if (nvox > 1000) fprintf(stderr, "comp %u box %u %u %u: pure %zu (w1 %zu, reached %zu) mixed %zu bad %zu ext %d\n", comp, d[0], d[1], d[2], np, nw, nr1, nm, nb, ext);
+    }
+#endif
+    /* 5. pure voxels no node of which was reached: solid; the whole outside too when never entered */
+    for (k = 0; k < d[2]; ++k)
+        for (j = 0; j < d[1]; ++j)
+            for (i = 0; i < d[0]; ++i) {
+                uint8_t f = bits[i + stride[1] * j + stride[2] * k];
+                if (f & (PVS__G_T | PVS__G_B)) continue;
+                if (f & ((f & PVS__G_W) ? PVS__G_R1 : PVS__G_R0)) continue;
+                o->state[pvs__vx_index(o, lo[0] + i, lo[1] + j, lo[2] + k)] |= PVS__VX_SOLID;
+            }
+    if (!ext)
+        for (k = 0; k < o->n[2]; ++k)
+            for (j = 0; j < o->n[1]; ++j)
+                for (i = 0; i < o->n[0]; ++i) {
+                    size_t x = pvs__vx_index(o, i, j, k);
+                    if (i >= lo[0] && i <= hi[0] && j >= lo[1] && j <= hi[1] && k >= lo[2] && k <= hi[2]) continue;
+                    if (!(o->state[x] & PVS__VX_GROUND)) o->state[x] |= PVS__VX_SOLID;
+                }
+}
+
 PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occluders **out, pvs_error *err) {
     pvs_occluders *o;
     pvs_allocator a;
     const pvs_scene *s;
     pvs_box ext;
     double g, h, m;
-    uint32_t up, i, j, k, c, r, *queue = NULL, qh, qt;
-    size_t total, vi, cols;
+    uint32_t up, i, j, k, c, r, *queue = NULL, qh, qt, *cbox = NULL, bpass, bucket_entries = 0;
+    size_t total, vi, cols, qcap = 0, nbuckets = 0;
+    pvs__vx_topo tp;
+    pvs__vx_flood fl;
     uint8_t *tmp = NULL, *line = NULL;
     float *colh = NULL;
     int u, v, kk;
     if (out) *out = NULL;
+    memset(&tp, 0, sizeof(tp));
+    memset(&fl, 0, sizeof(fl));
     if (!d || !out || !d->scene || !d->cells || !d->cell_count)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene, cells and out must be given");
     if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
@@ -5513,19 +6156,17 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     o->state = (uint8_t *)pvs__alloc_array(&a, total, 1);
     o->eroded = (uint8_t *)pvs__alloc_array(&a, total, 1);
     tmp = (uint8_t *)pvs__alloc_array(&a, total, 1);
-    queue = (uint32_t *)pvs__alloc_array(&a, total, sizeof(uint32_t));
     line = (uint8_t *)pvs__alloc_array(&a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
     cols = (size_t)o->n[u] * o->n[v];
     colh = (float *)pvs__alloc_array(&a, cols, sizeof(float));
-    if (!o->state || !o->eroded || !tmp || !queue || !line || !colh || total > 0xffffffffu) {
+    if (!o->state || !o->eroded || !tmp || !line || !colh || total > 0x7fffffffu) {
         pvs__free_array(&a, tmp, total, 1);
-        pvs__free_array(&a, queue, total, sizeof(uint32_t));
         pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
         pvs__free_array(&a, colh, cols, sizeof(float));
         pvs_occluders_destroy(o);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "voxel grid %u x %u x %u", o->n[0], o->n[1], o->n[2]);
     }
-    memset(o->state, PVS__VX_FREE, total);
+    memset(o->state, 0, total);
     for (k = 0; k < o->n[2]; ++k)
         for (j = 0; j < o->n[1]; ++j)
             for (i = 0; i < o->n[0]; ++i) {
@@ -5533,34 +6174,119 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 idx[0] = i; idx[1] = j; idx[2] = k;
                 if (idx[up] == 0) o->state[pvs__vx_index(o, i, j, k)] = PVS__VX_GROUND;
             }
-    /* 1. touched voxels: every triangle against the voxels of its box (SAT, margin toward touched).
-       Triangles lying flat on the ground (the lowest height) touch nothing above it. */
-    m = h * 1e-4 + 1e-6 * (pvs__dabs(g) + 1.0);
-    for (c = 0; c < s->triangle_count; ++c) {
-        double p[3][3], lo[3], hi[3];
-        uint32_t r0[3], r1[3];
-        for (kk = 0; kk < 3; ++kk) {
-            p[0][kk] = s->positions[3 * s->indices[3 * c] + kk];
-            p[1][kk] = s->positions[3 * s->indices[3 * c + 1] + kk];
-            p[2][kk] = s->positions[3 * s->indices[3 * c + 2] + kk];
-            lo[kk] = pvs__dmin(p[0][kk], pvs__dmin(p[1][kk], p[2][kk]));
-            hi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
+    m = h * 1e-4 + 1e-6 * (pvs__dabs(g) + 1.0); /* the margin every voxel test rounds toward "touched" by */
+    /* a bucket grid over the cells in the ground plane, for the floods' sources */
+    fl.cells = d->cells;
+    fl.cell_count = d->cell_count;
+    fl.bnu = (o->n[u] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
+    fl.bnv = (o->n[v] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
+    nbuckets = (size_t)fl.bnu * fl.bnv;
+    fl.bucket_first = (uint32_t *)pvs__alloc_array(&a, nbuckets + 1, sizeof(uint32_t));
+    fl.stamp = (uint32_t *)pvs__alloc_array(&a, d->cell_count, sizeof(uint32_t));
+    if (!fl.bucket_first || !fl.stamp) goto oom;
+    memset(fl.bucket_first, 0, (nbuckets + 1) * sizeof(uint32_t));
+    memset(fl.stamp, 0, d->cell_count * sizeof(uint32_t));
+    for (bpass = 0; bpass < 2; ++bpass) {
+        if (bpass) {
+            for (vi = 0; vi < nbuckets; ++vi) fl.bucket_first[vi + 1] += fl.bucket_first[vi];
+            bucket_entries = fl.bucket_first[nbuckets];
+            fl.bucket_cells = (uint32_t *)pvs__alloc_array(&a, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
+            if (!fl.bucket_cells) goto oom;
         }
-        if (hi[up] <= g) continue;
-        for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, lo[kk], hi[kk], m, r0 + kk, r1 + kk);
-        for (k = r0[2]; k <= r1[2]; ++k)
-            for (j = r0[1]; j <= r1[1]; ++j)
-                for (i = r0[0]; i <= r1[0]; ++i) {
-                    double cc[3];
-                    size_t x = pvs__vx_index(o, i, j, k);
-                    if (o->state[x] != PVS__VX_FREE) continue;
-                    cc[0] = o->origin[0] + (i + 0.5) * h;
-                    cc[1] = o->origin[1] + (j + 0.5) * h;
-                    cc[2] = o->origin[2] + (k + 0.5) * h;
-                    if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) o->state[x] = PVS__VX_TOUCHED;
+        for (c = 0; c < d->cell_count; ++c) {
+            uint32_t r0[3], r1[3], bu, bv;
+            pvs__vx_range(o, u, d->cells[c].min[u], d->cells[c].max[u], m, r0 + u, r1 + u);
+            pvs__vx_range(o, v, d->cells[c].min[v], d->cells[c].max[v], m, r0 + v, r1 + v);
+            if (r0[u] > r1[u] || r0[v] > r1[v]) continue;
+            for (bv = r0[v] / PVS__VX_BUCKET; bv <= r1[v] / PVS__VX_BUCKET; ++bv)
+                for (bu = r0[u] / PVS__VX_BUCKET; bu <= r1[u] / PVS__VX_BUCKET; ++bu) {
+                    size_t bk = (size_t)bv * fl.bnu + bu;
+                    if (!bpass) ++fl.bucket_first[bk + 1];
+                    else fl.bucket_cells[--fl.bucket_first[bk + 1]] = c;
                 }
+        }
     }
-    for (vi = 0; vi < total; ++vi) o->info.touched += o->state[vi] == PVS__VX_TOUCHED;
+    for (vi = 0; vi < nbuckets; ++vi) fl.bucket_first[vi] = fl.bucket_first[vi + 1]; /* the fill moved each end to its start */
+    fl.bucket_first[nbuckets] = bucket_entries;
+    /* 1. solid proved per component (see the argument before pvs__vx_orient) */
+    if (pvs__vx_topology(s, (float)g, &a, &tp) != PVS_OK) goto oom;
+    cbox = (uint32_t *)pvs__alloc_array(&a, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
+    if (!cbox) goto oom;
+    for (c = 0; c < tp.comp_count; ++c) {
+        uint32_t *bx = cbox + 6 * (size_t)c, t;
+        size_t vol = 1, ncol;
+        for (kk = 0; kk < 3; ++kk) { bx[kk] = 0xffffffffu; bx[3 + kk] = 0; }
+        for (t = tp.comp_first[c]; t < tp.comp_first[c + 1]; ++t) {
+            uint32_t tri = tp.tris[t], r0, r1, q;
+            for (kk = 0; kk < 3; ++kk) {
+                double lo = DBL_MAX, hi = -DBL_MAX;
+                for (q = 0; q < 3; ++q) {
+                    double x = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + q] + kk];
+                    lo = pvs__dmin(lo, x);
+                    hi = pvs__dmax(hi, x);
+                }
+                pvs__vx_range(o, kk, lo, hi, m, &r0, &r1);
+                if (r0 < bx[kk]) bx[kk] = r0;
+                if (r1 > bx[3 + kk]) bx[3 + kk] = r1;
+            }
+        }
+        if (bx[up] < 1 || tp.open_first[c + 1] > tp.open_first[c]) bx[up] = 1; /* open edges: sheets to the ground */
+        if (bx[3 + up] < bx[up]) bx[3 + up] = bx[up];
+        for (kk = 0; kk < 3; ++kk) vol *= (size_t)(bx[3 + kk] - bx[kk] + 1);
+        ncol = (size_t)(bx[3 + u] - bx[u] + 1) * (bx[3 + v] - bx[v] + 1);
+        if (tp.comp_first[c + 1] - tp.comp_first[c] < 3) continue; /* encloses nothing: touched only */
+        if (vol > fl.cap_vox) fl.cap_vox = vol;
+        if (ncol > fl.cap_col) fl.cap_col = ncol;
+    }
+    qcap = total > 2 * fl.cap_vox ? total : 2 * fl.cap_vox;
+    fl.bits = (uint8_t *)pvs__alloc_array(&a, fl.cap_vox ? fl.cap_vox : 1, 1);
+    fl.col = (uint8_t *)pvs__alloc_array(&a, fl.cap_col ? fl.cap_col : 1, 1);
+    queue = (uint32_t *)pvs__alloc_array(&a, qcap, sizeof(uint32_t));
+    fl.queue = queue;
+    if (!fl.bits || !fl.col || !queue) goto oom;
+    for (c = 0; c < tp.comp_count; ++c) {
+        uint32_t t;
+        if (tp.comp_first[c + 1] - tp.comp_first[c] >= 3) {
+            pvs__vx_certify(o, &tp, c, cbox + 6 * (size_t)c, cbox + 6 * (size_t)c + 3, m, &fl);
+            ++o->info.components;
+            o->info.closed_components += tp.open_first[c + 1] == tp.open_first[c];
+            continue;
+        }
+        for (t = tp.comp_first[c]; t < tp.comp_first[c + 1]; ++t) { /* touched, for the summary and the leak flood */
+            uint32_t tri = tp.tris[t], r0[3], r1[3];
+            double p[3][3], tlo[3], thi[3];
+            for (kk = 0; kk < 3; ++kk) {
+                p[0][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri] + kk];
+                p[1][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 1] + kk];
+                p[2][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 2] + kk];
+                tlo[kk] = pvs__dmin(p[0][kk], pvs__dmin(p[1][kk], p[2][kk]));
+                thi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
+            }
+            for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, tlo[kk], thi[kk], m, r0 + kk, r1 + kk);
+            for (k = r0[2]; k <= r1[2]; ++k)
+                for (j = r0[1]; j <= r1[1]; ++j)
+                    for (i = r0[0]; i <= r1[0]; ++i) {
+                        double cc[3];
+                        size_t x = pvs__vx_index(o, i, j, k);
+                        if (o->state[x] & (PVS__VX_TOUCHED | PVS__VX_GROUND)) continue;
+                        cc[0] = o->origin[0] + (i + 0.5) * h;
+                        cc[1] = o->origin[1] + (j + 0.5) * h;
+                        cc[2] = o->origin[2] + (k + 0.5) * h;
+                        if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) o->state[x] |= PVS__VX_TOUCHED;
+                    }
+        }
+    }
+    o->info.open_edges = tp.open_count;
+    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
+    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
+    pvs__free_array(&a, cbox, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
+    pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
+    memset(&fl, 0, sizeof(fl));
+    cbox = NULL;
+    pvs__vx_topo_free(&a, &tp, s->triangle_count);
+    for (vi = 0; vi < total; ++vi) o->info.touched += (o->state[vi] & PVS__VX_TOUCHED) != 0;
     /* 2. explicit occluder volumes are solid: voxels wholly inside one */
     for (c = 0; c < s->occluder_count; ++c) {
         const pvs_box *ob = s->occluder_boxes + c;
@@ -5571,15 +6297,15 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 for (i = r0[0]; i <= r1[0]; ++i) {
                     double lo[3], hi[3];
                     size_t x = pvs__vx_index(o, i, j, k);
-                    if (o->state[x] == PVS__VX_GROUND) continue;
+                    if (o->state[x] & PVS__VX_GROUND) continue;
                     lo[0] = o->origin[0] + i * h; hi[0] = lo[0] + h;
                     lo[1] = o->origin[1] + j * h; hi[1] = lo[1] + h;
                     lo[2] = o->origin[2] + k * h; hi[2] = lo[2] + h;
-                    if (pvs__vx_in_occluder(s->occluders + c, up, lo, hi)) o->state[x] = PVS__VX_EXPLICIT;
+                    if (pvs__vx_in_occluder(s->occluders + c, up, lo, hi)) o->state[x] |= PVS__VX_EXPLICIT | PVS__VX_SOLID;
                 }
     }
-    /* 3. flood fill, 26-connected, from every cell through untouched voxels; a cell reaching the
-       grid's border (outside the scene) floods the outside too and is reported as the leak */
+    /* 3. the leak diagnostic: a 26-connected flood through untouched, unsolid voxels from each cell
+       in turn; the first cell whose flood reaches the grid's border (outside the scene) is reported */
     o->info.leak_cell = PVS_NO_CELL;
     for (c = 0; c < d->cell_count; ++c) {
         uint32_t r0[3], r1[3];
@@ -5590,7 +6316,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
             for (j = r0[1]; j <= r1[1]; ++j)
                 for (i = r0[0]; i <= r1[0]; ++i) {
                     size_t x = pvs__vx_index(o, i, j, k);
-                    if (o->state[x] == PVS__VX_FREE) { o->state[x] = PVS__VX_REACHED; queue[qt++] = (uint32_t)x; }
+                    if (!(o->state[x] & PVS__VX_LEAK_STOP)) { o->state[x] |= PVS__VX_REACHED; queue[qt++] = (uint32_t)x; }
                 }
         while (qh < qt) {
             uint32_t x = queue[qh++], ci = x % o->n[0], cj = (x / o->n[0]) % o->n[1], ck = x / o->n[0] / o->n[1];
@@ -5609,7 +6335,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                         size_t y;
                         if (ni < 0 || nj < 0 || nk < 0 || ni >= o->n[0] || nj >= o->n[1] || nk >= o->n[2]) continue;
                         y = pvs__vx_index(o, (uint32_t)ni, (uint32_t)nj, (uint32_t)nk);
-                        if (o->state[y] == PVS__VX_FREE) { o->state[y] = PVS__VX_REACHED; queue[qt++] = (uint32_t)y; }
+                        if (!(o->state[y] & PVS__VX_LEAK_STOP)) { o->state[y] |= PVS__VX_REACHED; queue[qt++] = (uint32_t)y; }
                     }
         }
     }
@@ -5657,7 +6383,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         else buf = (float *)pvs__alloc_array(&a, cols, sizeof(float));
         if (!buf) {
             pvs__free_array(&a, tmp, total, 1);
-            pvs__free_array(&a, queue, total, sizeof(uint32_t));
+            pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
             pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
             pvs__free_array(&a, colh, cols, sizeof(float));
             pvs_occluders_destroy(o);
@@ -5746,7 +6472,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         o->info.box_count = o->box_count;
     }
     pvs__free_array(&a, tmp, total, 1);
-    pvs__free_array(&a, queue, total, sizeof(uint32_t));
+    pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
     pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
     pvs__free_array(&a, colh, cols, sizeof(float));
     if (!o->chains || !o->chain_points || !o->boxes || !o->column_top) {
@@ -5762,6 +6488,20 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     *out = o;
     pvs__ok(err);
     return PVS_OK;
+oom:
+    pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
+    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
+    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
+    pvs__free_array(&a, cbox, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
+    pvs__vx_topo_free(&a, &tp, s->triangle_count);
+    pvs__free_array(&a, tmp, total, 1);
+    pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
+    pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+    pvs__free_array(&a, colh, cols, sizeof(float));
+    pvs_occluders_destroy(o);
+    return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder synthesis scratch");
 }
 
 PVS_API void pvs_occluders_get_info(const pvs_occluders *o, pvs_occluders_info *info) { *info = o->info; }

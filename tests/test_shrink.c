@@ -208,6 +208,338 @@ static void test_synthesis(void) {
     }
 }
 
+/* ---- adversarial synthesis: openings narrower than a voxel ----
+
+   A room (3 m x 2 m x 3 m, walls and ceiling 0.3 m thick) built as the boundary of a union of
+   0.1 m lattice cubes: one closed mesh, vertices shared, any topology. A slit one lattice cube wide
+   (0.1 m, a fifth of the 0.5 m voxel) runs through a wall into the cavity, where an object stands.
+   Voxel flooding through untouched voxels would seal the slit and call the cavity solid; here rays
+   aimed from the cell through the slit must never pass through a solid voxel, eroded box or column
+   prism before their first triangle, and the object those rays reach must be in the cell's PVS. The
+   room is placed with the slit inside a voxel, on a voxel boundary, and rotated by 30 degrees
+   (a diagonal slit); an L-shaped channel (reachable, no straight sight line needed) must keep the
+   cavity non-solid; without the slit the cavity must be solid (the method still finds volume). */
+
+#define RM_N 30 /* lattice cubes along x and z */
+#define RM_H 20 /* along y */
+#define RM_F 0.1
+
+typedef struct room_xf { double c, s, ox, oz; } room_xf;
+
+/* local (x, y, z) in metres -> world */
+static void room_apply(const room_xf *t, const double l[3], double w[3]) {
+    double x = l[0] - 1.5, z = l[2] - 1.5;
+    w[0] = t->c * x - t->s * z + 1.5 + t->ox;
+    w[1] = l[1];
+    w[2] = t->s * x + t->c * z + 1.5 + t->oz;
+}
+
+/* kind: 0 sealed, 1 straight slit, 2 L-shaped channel, 3 sealed but one quad missing from the outer
+   skin and one from the inner skin, far apart (the wall's inside joins them) */
+static int room_solid(int i, int j, int k, int kind) {
+    int wall = i < 3 || i >= RM_N - 3 || k < 3 || k >= RM_N - 3 || j >= RM_H - 3;
+    if (!wall) return 0;
+    if (kind == 1 && i < 3 && k == 14 && j >= 5 && j < 15) return 0;
+    if (kind == 2 && j >= 5 && j < 15 && ((i == 0 && k == 14) || (i == 1 && k >= 14 && k <= 16) || (i == 2 && k == 16))) return 0;
+    return 1;
+}
+
+/* The room's boundary quads (faces between a solid cube and a non-solid one or the outside). */
+static void room_mesh(mesh *m, const room_xf *t, int kind) {
+    uint32_t base = m->vertex_count, i, j, k, a;
+    mesh_begin_object(m, "room", 0, 0);
+    for (k = 0; k <= RM_N; ++k)
+        for (j = 0; j <= RM_H; ++j)
+            for (i = 0; i <= RM_N; ++i) {
+                double l[3], w[3];
+                l[0] = i * RM_F; l[1] = j * RM_F; l[2] = k * RM_F;
+                room_apply(t, l, w);
+                mesh_add_vertex(m, (float)w[0], (float)w[1], (float)w[2]);
+            }
+#define RV(x, y, z) (base + (uint32_t)(x) + (RM_N + 1) * ((uint32_t)(y) + (RM_H + 1) * (uint32_t)(z)))
+    for (k = 0; k < RM_N; ++k)
+        for (j = 0; j < RM_H; ++j)
+            for (i = 0; i < RM_N; ++i) {
+                if (!room_solid((int)i, (int)j, (int)k, kind)) continue;
+                for (a = 0; a < 6; ++a) {
+                    int ni = (int)i + (a == 1) - (a == 0), nj = (int)j + (a == 3) - (a == 2), nk = (int)k + (a == 5) - (a == 4);
+                    int out = ni < 0 || nj < 0 || nk < 0 || ni >= RM_N || nj >= RM_H || nk >= RM_N;
+                    if (!out && room_solid(ni, nj, nk, kind)) continue;
+                    if (kind == 3 && j == 10 && ((a == 0 && i == 0 && k == 5) || (a == 1 && i == 2 && k == 25))) continue;
+                    if (a < 2) { uint32_t x = i + (a == 1); mesh_add_quad(m, RV(x, j, k), RV(x, j + 1, k), RV(x, j + 1, k + 1), RV(x, j, k + 1)); }
+                    else if (a < 4) { uint32_t y = j + (a == 3); mesh_add_quad(m, RV(i, y, k), RV(i + 1, y, k), RV(i + 1, y, k + 1), RV(i, y, k + 1)); }
+                    else { uint32_t z = k + (a == 5); mesh_add_quad(m, RV(i, j, z), RV(i + 1, j, z), RV(i + 1, j + 1, z), RV(i, j + 1, z)); }
+                }
+            }
+#undef RV
+}
+
+/* A closed box given by its local corners, transformed. */
+static void room_box(mesh *m, const char *name, const room_xf *t, const double lo[3], const double hi[3]) {
+    static const uint32_t f[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    uint32_t base = m->vertex_count, k;
+    mesh_begin_object(m, name, 0, 0);
+    for (k = 0; k < 8; ++k) {
+        double l[3], w[3];
+        l[0] = k & 1 ? hi[0] : lo[0]; l[1] = k & 2 ? hi[1] : lo[1]; l[2] = k & 4 ? hi[2] : lo[2];
+        room_apply(t, l, w);
+        mesh_add_vertex(m, (float)w[0], (float)w[1], (float)w[2]);
+    }
+    for (k = 0; k < 6; ++k) mesh_add_quad(m, base + f[k][0], base + f[k][1], base + f[k][2], base + f[k][3]);
+}
+
+/* First hit parameter in [0, 1] of segment a-b with the mesh's triangles (Moller-Trumbore in double),
+   2 if none; *obj receives the object hit. */
+static double seg_first_hit(const mesh *m, const double a[3], const double b[3], uint32_t *obj) {
+    double best = 2.0, d[3];
+    uint32_t t, o;
+    int k;
+    for (k = 0; k < 3; ++k) d[k] = b[k] - a[k];
+    for (o = 0; o < m->object_count; ++o)
+        for (t = m->objects[o].first_triangle; t < m->objects[o].first_triangle + m->objects[o].triangle_count; ++t) {
+            const float *p0 = m->positions + 3 * m->indices[3 * t], *p1 = m->positions + 3 * m->indices[3 * t + 1];
+            const float *p2 = m->positions + 3 * m->indices[3 * t + 2];
+            double e1[3], e2[3], pv[3], tv[3], qv[3], det, u, v, s;
+            for (k = 0; k < 3; ++k) { e1[k] = (double)p1[k] - p0[k]; e2[k] = (double)p2[k] - p0[k]; tv[k] = a[k] - p0[k]; }
+            pv[0] = d[1] * e2[2] - d[2] * e2[1]; pv[1] = d[2] * e2[0] - d[0] * e2[2]; pv[2] = d[0] * e2[1] - d[1] * e2[0];
+            det = e1[0] * pv[0] + e1[1] * pv[1] + e1[2] * pv[2];
+            if (fabs(det) < 1e-300) continue;
+            u = (tv[0] * pv[0] + tv[1] * pv[1] + tv[2] * pv[2]) / det;
+            if (u < -1e-9 || u > 1 + 1e-9) continue;
+            qv[0] = tv[1] * e1[2] - tv[2] * e1[1]; qv[1] = tv[2] * e1[0] - tv[0] * e1[2]; qv[2] = tv[0] * e1[1] - tv[1] * e1[0];
+            v = (d[0] * qv[0] + d[1] * qv[1] + d[2] * qv[2]) / det;
+            if (v < -1e-9 || u + v > 1 + 1e-9) continue;
+            s = (e2[0] * qv[0] + e2[1] * qv[1] + e2[2] * qv[2]) / det;
+            if (s >= 0.0 && s < best) { best = s; *obj = o; }
+        }
+    return best;
+}
+
+/* 1 if point p lies in a solid voxel, an eroded box or an eroded column prism. */
+static int in_occluder(const pvs_occluders *o, const double p[3]) {
+    pvs_occluders_info info;
+    uint32_t idx[3], n, c;
+    const pvs_box *bx;
+    const pvs_facade_chain *ch;
+    int k;
+    pvs_occluders_get_info(o, &info);
+    for (k = 0; k < 3; ++k) {
+        double f = floor((p[k] - info.origin[k]) / info.voxel_size);
+        if (f < 0 || f >= info.dims[k]) return 0;
+        idx[k] = (uint32_t)f;
+    }
+    if (pvs_occluders_voxel(o, idx[0], idx[1], idx[2]) == PVS_VOXEL_SOLID) return 1;
+    bx = pvs_occluders_boxes(o, &n);
+    for (c = 0; c < n; ++c)
+        if (p[0] >= bx[c].min[0] && p[0] <= bx[c].max[0] && p[1] >= bx[c].min[1] && p[1] <= bx[c].max[1] && p[2] >= bx[c].min[2] &&
+            p[2] <= bx[c].max[2])
+            return 1;
+    ch = pvs_occluders_columns(o, &n); /* y up: ground axes x, z */
+    for (c = 0; c < n; ++c)
+        if (p[0] >= ch[c].points[0] && p[0] <= ch[c].points[4] && p[2] >= ch[c].points[1] && p[2] <= ch[c].points[5] && p[1] >= ch[c].base &&
+            p[1] <= ch[c].top)
+            return 1;
+    return 0;
+}
+
+static void slit_room(int kind, double angle, double ox, double oz, int cell_inside) {
+    mesh m;
+    pvs_scene *s;
+    pvs_occluders *o = NULL;
+    pvs_occluders_desc od;
+    pvs_occluders_info info;
+    pvs_error e;
+    pvs_bake_desc bd;
+    pvs_bake *b = NULL;
+    room_xf t;
+    pvs_box cell;
+    double l[3], w[3], olo[3] = {2.2, 0.5, 1.1}, ohi[3] = {2.6, 1.5, 1.8};
+    uint32_t gb, ya, za, yb, zb, violations = 0, reach = 0, cavity_solid = 0, i, j, k;
+    int mode;
+    t.c = cos(angle); t.s = sin(angle); t.ox = ox; t.oz = oz;
+    mesh_init(&m);
+    mesh_begin_object(&m, "ground", 0, 0); /* fixes the voxel grid's origin at (-3.5, -0.5, -3.5) */
+    gb = m.vertex_count;
+    mesh_add_vertex(&m, -3, 0, -3); mesh_add_vertex(&m, 7, 0, -3); mesh_add_vertex(&m, 7, 0, 7); mesh_add_vertex(&m, -3, 0, 7);
+    mesh_add_quad(&m, gb, gb + 1, gb + 2, gb + 3);
+    room_mesh(&m, &t, kind);
+    room_box(&m, "object", &t, olo, ohi);
+    s = make_scene(&m, 1);
+    CHECK(s != NULL);
+    if (!s) { mesh_free(&m); return; }
+    l[0] = cell_inside ? 0.2 : -1.5; l[1] = 1.0; l[2] = 1.45; /* inside: through the wall into the cavity */
+    room_apply(&t, l, w);
+    for (k = 0; k < 3; ++k) { cell.min[k] = (float)(w[k] - 0.5); cell.max[k] = (float)(w[k] + 0.5); }
+    memset(&od, 0, sizeof(od));
+    od.scene = s; od.cells = &cell; od.cell_count = 1; od.eps = 0.3f; od.voxel_size = 0.5f;
+    CHECK(pvs_occluders_create(&od, &o, &e) == PVS_OK);
+    if (!o) { pvs_scene_destroy(s); mesh_free(&m); return; }
+    pvs_occluders_get_info(o, &info);
+    CHECK(info.voxel_size == 0.5f && info.origin[2] == -3.5f);
+    /* rays aimed from the cell through the slit, up to their first triangle */
+    for (ya = 0; ya < 5; ++ya)
+        for (za = 0; za < 5; ++za)
+            for (yb = 0; yb < 5; ++yb)
+                for (zb = 0; zb < 5; ++zb) {
+                    double pl[3], ql[3], el[3], pa[3], pe[3], hit, step;
+                    uint32_t obj = 0;
+                    pl[0] = -1.5; pl[1] = 0.7 + 0.15 * ya; pl[2] = 1.405 + 0.0225 * za;
+                    ql[0] = 0.15; ql[1] = 0.6 + 0.2 * yb; ql[2] = 1.405 + 0.0225 * zb;
+                    for (k = 0; k < 3; ++k) el[k] = pl[k] + (ql[k] - pl[k]) * (5.0 / 1.65);
+                    room_apply(&t, pl, pa);
+                    room_apply(&t, el, pe);
+                    hit = seg_first_hit(&m, pa, pe, &obj);
+                    if (hit <= 1.0 && obj == 2) ++reach;
+                    for (step = 0.0; step < (hit < 1.0 ? hit : 1.0) - 1e-4; step += 0.002) {
+                        double p[3];
+                        for (k = 0; k < 3; ++k) p[k] = pa[k] + step * (pe[k] - pa[k]);
+                        if (in_occluder(o, p)) { ++violations; break; }
+                    }
+                }
+    /* solid voxels whose centre lies inside the cavity */
+    for (k = 0; k < info.dims[2]; ++k)
+        for (j = 0; j < info.dims[1]; ++j)
+            for (i = 0; i < info.dims[0]; ++i) {
+                double c[3], lc[3];
+                c[0] = info.origin[0] + (i + 0.5) * info.voxel_size;
+                c[1] = info.origin[1] + (j + 0.5) * info.voxel_size;
+                c[2] = info.origin[2] + (k + 0.5) * info.voxel_size;
+                lc[0] = t.c * (c[0] - 1.5 - ox) + t.s * (c[2] - 1.5 - oz) + 1.5; /* world -> local */
+                lc[2] = -t.s * (c[0] - 1.5 - ox) + t.c * (c[2] - 1.5 - oz) + 1.5;
+                lc[1] = c[1];
+                if (lc[0] > 0.3 && lc[0] < 2.7 && lc[2] > 0.3 && lc[2] < 2.7 && lc[1] > 0 && lc[1] < 1.7)
+                    cavity_solid += pvs_occluders_voxel(o, i, j, k) == PVS_VOXEL_SOLID;
+            }
+    if (violations) fprintf(stderr, "slit room kind %d angle %g: %u rays pass through occluders\n", kind, angle, violations);
+    if (!cell_inside) CHECK(violations == 0);
+    if (kind == 1 && !cell_inside) CHECK(reach > 0); /* the scene is adversarial: the object is seen through the slit */
+    if (kind == 0 && !cell_inside) CHECK(cavity_solid > 0); /* sealed: the cavity is proved solid */
+    else CHECK(cavity_solid == 0);
+    if (!cell_inside) CHECK(info.leak_cell == 0); /* the outside cell reaches the border: the diagnostic says so */
+    pvs_occluders_destroy(o);
+    for (mode = 0; kind == 1 && !cell_inside && mode < 3; ++mode) { /* the object is in the PVS on every path */
+        memset(&bd, 0, sizeof(bd));
+        bd.scene = s; bd.cells = &cell; bd.cell_count = 1; bd.method = PVS_METHOD_SHRINK; bd.eps = 0.3f; bd.voxel_size = 0.5f;
+        bd.shrink_mode = (pvs_shrink_mode)mode;
+        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
+        if (!b) continue;
+        CHECK(pvs_bake_run_task(b, 0, &e) == PVS_OK);
+        CHECK(pvs_bake_cell_pvs(b, 0) && pvs_bitset_test(pvs_bake_cell_pvs(b, 0), 2));
+        pvs_bake_destroy(b);
+        b = NULL;
+    }
+    pvs_scene_destroy(s);
+    mesh_free(&m);
+}
+
+/* Random lattice solids (blobs with channels one lattice cube wide, 0.13 m against 0.5 m voxels),
+   rotated, some boundary quads dropped (cracks), random cells anywhere (inside blobs too): no segment
+   from a cell point may pass through an occluder before its first triangle. */
+static void test_random_lattices(void) {
+    int trial;
+    for (trial = 0; trial < 6; ++trial) {
+        enum { N = 20 };
+        static unsigned char solid[N][N][N];
+        mesh m;
+        pvs_scene *s;
+        pvs_occluders *o = NULL;
+        pvs_occluders_desc od;
+        pvs_error e;
+        pvs_box cells[3];
+        double ang = rnd() * 3.14159, c = cos(ang), sn = sin(ang), f = 0.13, off[3];
+        uint32_t base, i, j, k, a, seg, violations = 0, solid_count = 0, gb;
+        pvs_occluders_info info;
+        for (k = 0; k < 3; ++k) off[k] = rnd() * 0.5;
+        off[1] = 0.0;
+        for (i = 0; i < N; ++i)
+            for (j = 0; j < N; ++j)
+                for (k = 0; k < N; ++k) solid[i][j][k] = rnd() < 0.999;
+        for (a = 0; a < 3; ++a) { /* carve straight channels one cube wide */
+            uint32_t p = 1 + (uint32_t)(rnd() * (N - 2)), q = 1 + (uint32_t)(rnd() * (N - 2));
+            for (i = 0; i < N; ++i) {
+                if (a == 0) solid[i][p][q] = 0;
+                else if (a == 1) solid[p][i][q] = 0;
+                else solid[p][q][i] = 0;
+            }
+        }
+        mesh_init(&m);
+        mesh_begin_object(&m, "ground", 0, 0);
+        gb = m.vertex_count;
+        mesh_add_vertex(&m, -4, 0, -4); mesh_add_vertex(&m, 6, 0, -4); mesh_add_vertex(&m, 6, 0, 6); mesh_add_vertex(&m, -4, 0, 6);
+        mesh_add_quad(&m, gb, gb + 1, gb + 2, gb + 3);
+        mesh_begin_object(&m, "blob", 0, 0);
+        base = m.vertex_count;
+        for (k = 0; k <= N; ++k)
+            for (j = 0; j <= N; ++j)
+                for (i = 0; i <= N; ++i) {
+                    double x = i * f - 1.3, z = k * f - 1.3;
+                    mesh_add_vertex(&m, (float)(c * x - sn * z + 1.3 + off[0]), (float)(j * f), (float)(sn * x + c * z + 1.3 + off[2]));
+                }
+#define LV(x, y, z) (base + (uint32_t)(x) + (N + 1) * ((uint32_t)(y) + (N + 1) * (uint32_t)(z)))
+        for (k = 0; k < N; ++k)
+            for (j = 0; j < N; ++j)
+                for (i = 0; i < N; ++i) {
+                    if (!solid[i][j][k]) continue;
+                    for (a = 0; a < 6; ++a) {
+                        int ni = (int)i + (a == 1) - (a == 0), nj = (int)j + (a == 3) - (a == 2), nk = (int)k + (a == 5) - (a == 4);
+                        int out = ni < 0 || nj < 0 || nk < 0 || ni >= N || nj >= N || nk >= N;
+                        if (!out && solid[ni][nj][nk]) continue;
+                        if ((trial & 1) && rnd() < 0.0005) continue; /* odd trials: a crack or two */
+                        if (a < 2) { uint32_t x = i + (a == 1); mesh_add_quad(&m, LV(x, j, k), LV(x, j + 1, k), LV(x, j + 1, k + 1), LV(x, j, k + 1)); }
+                        else if (a < 4) { uint32_t y = j + (a == 3); mesh_add_quad(&m, LV(i, y, k), LV(i + 1, y, k), LV(i + 1, y, k + 1), LV(i, y, k + 1)); }
+                        else { uint32_t z = k + (a == 5); mesh_add_quad(&m, LV(i, j, z), LV(i + 1, j, z), LV(i + 1, j + 1, z), LV(i, j + 1, z)); }
+                    }
+                }
+#undef LV
+        s = make_scene(&m, 1);
+        CHECK(s != NULL);
+        if (!s) { mesh_free(&m); continue; }
+        for (a = 0; a < 3; ++a) { /* cells around the blob (the last one close to it) */
+            double cc[3], r = 0.4, ca = rnd() * 6.2832, dist = a < 2 ? 2.7 + rnd() : 2.5;
+            cc[0] = 1.3 + off[0] + dist * cos(ca); cc[1] = 0.4 + rnd() * 2.0; cc[2] = 1.3 + off[2] + dist * sin(ca);
+            for (k = 0; k < 3; ++k) { cells[a].min[k] = (float)(cc[k] - r); cells[a].max[k] = (float)(cc[k] + r); }
+            if (cells[a].min[1] < 0.0f) cells[a].min[1] = 0.0f;
+        }
+        memset(&od, 0, sizeof(od));
+        od.scene = s; od.cells = cells; od.cell_count = 3; od.eps = 0.3f; od.voxel_size = 0.5f;
+        CHECK(pvs_occluders_create(&od, &o, &e) == PVS_OK);
+        if (!o) { pvs_scene_destroy(s); mesh_free(&m); continue; }
+        pvs_occluders_get_info(o, &info);
+        solid_count = (uint32_t)info.solid;
+        for (seg = 0; seg < 1500; ++seg) {
+            const pvs_box *cb = cells + seg % 3;
+            double pa[3], pe[3], hit, step;
+            uint32_t obj = 0;
+            for (k = 0; k < 3; ++k) pa[k] = cb->min[k] + rnd() * ((double)cb->max[k] - cb->min[k]);
+            pe[0] = 1.3 + off[0] + (rnd() - 0.5) * 3.0; pe[1] = rnd() * 2.8; pe[2] = 1.3 + off[2] + (rnd() - 0.5) * 3.0;
+            hit = seg_first_hit(&m, pa, pe, &obj);
+            for (step = 0.0; step < (hit < 1.0 ? hit : 1.0) - 1e-4; step += 0.004) {
+                double p[3];
+                for (k = 0; k < 3; ++k) p[k] = pa[k] + step * (pe[k] - pa[k]);
+                if (in_occluder(o, p)) { ++violations; break; }
+            }
+        }
+        if (violations) fprintf(stderr, "random lattice %d: %u segments pass through occluders\n", trial, violations);
+        CHECK(violations == 0);
+        if (!(trial & 1)) CHECK(solid_count > 0); /* without cracks the blob is proved solid (not vacuous) */
+        pvs_occluders_destroy(o);
+        pvs_scene_destroy(s);
+        mesh_free(&m);
+    }
+}
+
+static void test_slits(void) {
+    slit_room(0, 0.0, 0.0, 0.3, 0);   /* sealed */
+    slit_room(0, 0.0, 0.0, 0.3, 1);   /* sealed, the cell partly inside */
+    slit_room(1, 0.0, 0.0, 0.3, 0);   /* slit centre z = 1.75: mid-voxel */
+    slit_room(1, 0.0, 0.0, 0.05, 0);  /* slit centre z = 1.5: on a voxel boundary */
+    slit_room(1, 0.0, 0.3, 0.05, 0);  /* and the wall's faces on voxel boundaries too (x = 0.3, 0.5) */
+    slit_room(1, 0.5235987755982988, 0.0, 0.3, 0); /* rotated 30 degrees: a diagonal slit */
+    slit_room(2, 0.0, 0.0, 0.3, 0);   /* L-shaped channel */
+    slit_room(2, 0.7853981633974483, 0.1, 0.2, 0); /* rotated 45 degrees */
+    slit_room(3, 0.0, 0.0, 0.3, 0);   /* holes in both skins of the wall */
+}
+
 /* ---- conservativeness against ray sampling ---- */
 
 static void check_scene(gen_kind kind, float size, uint64_t seed, uint32_t max_cells, pvs_shrink_mode mode, float eps, int must_cull) {
@@ -294,6 +626,8 @@ void test_shrink(void) {
     test_args();
     test_theorem();
     test_synthesis();
+    test_slits();
+    test_random_lattices();
     check_scene(GEN_CITY, 0.15f, 1, 12, PVS_SHRINK_AUTO, 0.0f, 1);
     check_scene(GEN_CITY, 0.15f, 2, 8, PVS_SHRINK_2D5, 1.5f, 1);
     check_scene(GEN_CITY, 0.15f, 3, 4, PVS_SHRINK_3D, 2.0f, 0);

@@ -202,6 +202,8 @@ int main(int argc, char **argv) {
                 (double)pvs_bake_eps(bake), eps > 0.0f ? "" : " (default: an eighth of the median cell width)",
                 pvs_bake_shrink_mode(bake) == PVS_SHRINK_2D5 ? "2.5D" : "3D", oi.dims[0], oi.dims[1], oi.dims[2],
                 (double)oi.voxel_size, (unsigned long long)oi.solid, (unsigned long long)oi.eroded, oi.box_count, oi.rect_count);
+        fprintf(stderr, "  %u closed of %u meshes (edge-connected triangle sets), %llu open edges, %llu undecided columns\n",
+                oi.closed_components, oi.components, (unsigned long long)oi.open_edges, (unsigned long long)oi.undecided_columns);
         if (oi.leak_cell != PVS_NO_CELL)
             fprintf(stderr, "  cell %u reaches the outside (open to the sky, or a leak) near %g %g %g\n", oi.leak_cell,
                     (double)oi.leak_point[0], (double)oi.leak_point[1], (double)oi.leak_point[2]);
