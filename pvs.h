@@ -843,16 +843,28 @@ typedef enum pvs_shrink_mode {
     PVS_SHRINK_MODE_COUNT
 } pvs_shrink_mode;
 
+/* What one pvs_shrink_cell call did. */
+typedef struct pvs_shrink_stats {
+    pvs_shrink_mode mode;     /* the path that ran */
+    uint32_t occluders;       /* occluders of that path: column prisms (2.5D) or boxes (3D) */
+    int no_occluders;         /* 1 when there are none (nothing survived erosion): every drawable object
+                                 was set without sampling, the PVS culls nothing */
+    uint32_t samples;         /* sample points */
+    uint64_t occluders_drawn; /* occluders rasterized, summed over the samples (after §3.4's rejection) */
+    uint32_t hidden;          /* drawable objects left out of the PVS */
+} pvs_shrink_stats;
+
 /* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): the occluders, eroded by their
    eps, are point-sampled from the cell every eps; an object is left out only when every sample sees
    it hidden (appendix theorem: then every point of the cell does). Objects meeting the cell, or
    standing under its top face, are always set. Sets bits in `visible` (PVS_BITSET_WORDS(object_count)
    words, not cleared first); occluder-only objects are never set. `occluders` must have been made
-   for this scene. Scratch is allocated through the occluders' allocator and freed before returning:
-   thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (a path this build cannot run, with
-   the reason), OUT_OF_MEMORY. */
+   for this scene. `stats` may be NULL; when the occluders are empty, stats->no_occluders says so (the
+   call still succeeds: the PVS is every object, which is conservative). Scratch is allocated through
+   the occluders' allocator and freed before returning: thread-safe. Errors: INVALID_ARGUMENT,
+   BAD_CELL, UNSUPPORTED (a path this build cannot run, with the reason), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
-                                   pvs_shrink_mode mode, pvs_word *visible, pvs_error *err);
+                                   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
 /* The ray-sampling estimator: `points` stratified points in `cell` (its 8 corners and 6 face centres
    first, then a jittered grid), `rays_per_point` uniformly distributed directions from each, and the
@@ -948,6 +960,16 @@ PVS_API float pvs_bake_eps(const pvs_bake *bake);
    objects, 2.5D or 3D) and the path the tasks run; NULL / PVS_SHRINK_AUTO for other methods. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
+/* Counts over the tasks that have run, for the caller's summary: a bake that culls nothing is not an
+   error (every object visible is conservative) but the caller should hear of it. */
+typedef struct pvs_bake_report {
+    uint32_t cells;              /* tasks run so far */
+    uint32_t cells_all_visible;  /* cells whose PVS holds every drawable object: nothing culled */
+    uint32_t cells_no_occluders; /* SHRINK: cells baked with no occluder at all (nothing survived the
+                                    erosion by eps: thin walls only, or eps too large for the volumes) */
+} pvs_bake_report;
+/* Fills *report. Call after the tasks (not concurrently with them). */
+PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
 /* The PVS of a cell whose task has run, or NULL (also for cells of other shards).
    PVS_BITSET_WORDS(object_count) words. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
@@ -7509,11 +7531,11 @@ PVS__STATIC int pvs__shrink_key_cmp(const void *x, const void *y) {
 /* One sample's cull map (Wonka 1999 §3-4, via the raster module's shadow rasterizer), occluders front
    to back; an occluder whose prism is already under the shadows is skipped (§3.4: an occluded occluder
    hides nothing more from this point). */
-PVS__STATIC void pvs__shrink_sample_map(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
-                                        const pvs__shrink_key *order, uint32_t n, int u, int v, uint32_t up) {
+PVS__STATIC uint32_t pvs__shrink_sample_map(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
+                                            const pvs__shrink_key *order, uint32_t n, int u, int v, uint32_t up) {
     double e[3];
     size_t i, cells = (size_t)r->cm_w * r->cm_h;
-    uint32_t c;
+    uint32_t c, drawn = 0;
     int simd = !(r->flags & PVS_RASTER_SCALAR);
     e[0] = eye[u];
     e[1] = eye[v];
@@ -7527,7 +7549,9 @@ PVS__STATIC void pvs__shrink_sample_map(pvs_raster *r, const float eye[3], const
         bx.max[u] = ch->points[4]; bx.max[v] = ch->points[5]; bx.max[up] = ch->top;
         if (c > 0 && !pvs_cull_map_test_box(r, &bx)) continue;
         pvs__cm_chain(r, e, ch->points, ch->point_count, 1, ch->base, ch->top, simd, 0.0);
+        ++drawn;
     }
+    return drawn;
 }
 
 /* §3: "sample points need only be placed on the edges of the top of the view cells". Why, for a
@@ -7559,7 +7583,7 @@ PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box 
    face is sampled instead, which is conservative without needing the
    argument for the interior; the edges suffice when pvs__shrink_edges_suffice says so. */
 PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
-                                       pvs_error *err) {
+                                       pvs_shrink_stats *st, pvs_error *err) {
     pvs_raster_desc rd;
     pvs_raster *r = NULL;
     pvs_result res;
@@ -7630,7 +7654,8 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
             eye[v] = nv > 1 ? cell->min[v] + (float)((double)b * ((double)cell->max[v] - cell->min[v]) / (nv - 1)) : cell->min[v];
             if (a + 1 == nu) eye[u] = cell->max[u];
             if (b + 1 == nv) eye[v] = cell->max[v];
-            pvs__shrink_sample_map(r, eye, chains, order, chain_count, u, v, up);
+            st->occluders_drawn += pvs__shrink_sample_map(r, eye, chains, order, chain_count, u, v, up);
+            ++st->samples;
             cm = r->cm;
             any = 0;
             if (a == 0 && b == 0) {
@@ -7669,7 +7694,7 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
    mode against the depth pyramid; the PVS is the union over the samples. Objects within twice the
    near distance of the cell are set outright (the cube does not see nearer than its near plane). */
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
-                                      pvs_error *err) {
+                                      pvs_shrink_stats *st, pvs_error *err) {
     pvs_raster_desc rd;
     pvs_raster *r = NULL;
     pvs_result res;
@@ -7725,6 +7750,8 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
                 p[a2] = n2 > 1 ? cell->min[a2] + (float)((double)b * ((double)cell->max[a2] - cell->min[a2]) / (n2 - 1)) : cell->min[a2];
                 if (a + 1 == n1) p[a1] = cell->max[a1];
                 if (b + 1 == n2) p[a2] = cell->max[a2];
+                ++st->samples;
+                st->occluders_drawn += nb;
                 for (dir = 0; dir < 6; ++dir) {
                     pvs_camera cam;
                     float m[16];
@@ -7759,23 +7786,36 @@ done:
 }
 
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_shrink_mode mode,
-                                   pvs_word *visible, pvs_error *err) {
+                                   pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err) {
     pvs_result res;
+    pvs_shrink_stats st;
+    memset(&st, 0, sizeof(st));
+    if (stats) memset(stats, 0, sizeof(*stats));
     if (!s || !o || !cell || !visible || o->scene != s) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "NULL argument or occluders of another scene");
     if (!pvs__box_valid(cell)) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "cell is not a valid box");
     if ((int)mode < 0 || mode >= PVS_SHRINK_MODE_COUNT) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown mode %d", (int)mode);
     if (mode == PVS_SHRINK_AUTO) mode = o->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
-    if (mode == PVS_SHRINK_2D5 ? o->chain_count == 0 : o->box_count == 0) {
+    st.mode = mode;
+    st.occluders = mode == PVS_SHRINK_2D5 ? o->chain_count : o->box_count;
+    if (st.occluders == 0) {
         /* nothing survived the erosion: nothing can hide anything, every drawable object is set */
         uint32_t i;
         for (i = 0; i < s->object_count; ++i)
             if (!(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i)) pvs_bitset_set(visible, i);
+        st.no_occluders = 1;
+        if (stats) *stats = st;
         pvs__ok(err);
         return PVS_OK;
     }
-    if (mode == PVS_SHRINK_2D5) res = pvs__shrink_2d5(s, o, cell, visible, err);
-    else res = pvs__shrink_3d(s, o, cell, visible, err);
-    if (res == PVS_OK) pvs__ok(err);
+    if (mode == PVS_SHRINK_2D5) res = pvs__shrink_2d5(s, o, cell, visible, &st, err);
+    else res = pvs__shrink_3d(s, o, cell, visible, &st, err);
+    if (res == PVS_OK) {
+        uint32_t i;
+        for (i = 0; i < s->object_count; ++i)
+            st.hidden += !(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i) && !pvs_bitset_test(visible, i);
+        if (stats) *stats = st;
+        pvs__ok(err);
+    }
     return res;
 }
 
@@ -7807,7 +7847,11 @@ struct pvs_bake {
     uint32_t extproj_resolution, extproj_occluders;
     pvs_occluders *occluders;  /* SHRINK */
     pvs_shrink_mode shrink_mode;
+    unsigned char *flags;      /* per task, written by its own task: PVS__BAKE_* */
+    uint32_t drawable;         /* objects that can appear in a PVS */
 };
+#define PVS__BAKE_ALL_VISIBLE 1u
+#define PVS__BAKE_NO_OCCLUDERS 2u
 
 PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs_allocator a;
@@ -7816,6 +7860,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs__free_array(&a, b->cells, b->cell_count, sizeof(pvs_box));
     pvs__free_array(&a, b->pvs, (size_t)b->cell_count * b->words, sizeof(pvs_word));
     pvs__free_array(&a, b->done, b->cell_count, 1);
+    pvs__free_array(&a, b->flags, b->cell_count, 1);
     pvs__free_array(&a, b->ot_facades, (size_t)b->ot_facade_count * 6 + 6, sizeof(float));
     pvs__free_array(&a, b->ot_objects, (size_t)b->object_count * 5 + 5, sizeof(float));
     pvs_kdtree_destroy(b->ot_tree);
@@ -8036,7 +8081,8 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     b->cells = (pvs_box *)pvs__alloc_array(&a, b->cell_count, sizeof(pvs_box));
     b->pvs = (pvs_word *)pvs__alloc_array(&a, total, sizeof(pvs_word));
     b->done = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
-    if (!b->cells || !b->pvs || !b->done) {
+    b->flags = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
+    if (!b->cells || !b->pvs || !b->done || !b->flags) {
         pvs_bake_destroy(b);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake arrays for %u cells", desc->cell_count);
     }
@@ -8052,6 +8098,9 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     }
     memset(b->pvs, 0, total * sizeof(pvs_word));
     memset(b->done, 0, b->cell_count);
+    memset(b->flags, 0, b->cell_count);
+    for (i = 0; i < b->object_count; ++i)
+        b->drawable += !(desc->scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(desc->scene->object_boxes + i);
     if (b->method == PVS_METHOD_OTREE && pvs__otree_prepare(b) != PVS_OK) {
         pvs_bake_destroy(b);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
@@ -8102,6 +8151,7 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
     cell = pvs_bake_task_cell(b, task);
     bits = b->pvs + (size_t)task * b->words;
     memset(bits, 0, b->words * sizeof(pvs_word));
+    b->flags[task] = 0;
     switch (b->method) {
     case PVS_METHOD_SAMPLE: {
         /* per-cell seed: independent of the order and thread the tasks run in */
@@ -8121,18 +8171,32 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         break;
     }
     case PVS_METHOD_SHRINK: {
-        pvs_result r = pvs_shrink_cell(b->scene, b->occluders, b->cells + task, b->shrink_mode, bits, err);
+        pvs_shrink_stats st;
+        pvs_result r = pvs_shrink_cell(b->scene, b->occluders, b->cells + task, b->shrink_mode, bits, &st, err);
         if (r != PVS_OK) {
             if (err) err->index = cell;
             return r;
         }
+        if (st.no_occluders) b->flags[task] |= PVS__BAKE_NO_OCCLUDERS;
         break;
     }
     default: return pvs__fail(err, PVS_ERROR_UNSUPPORTED, cell, 0, "method %d", (int)b->method);
     }
+    if (pvs_bitset_count(bits, b->object_count) >= b->drawable) b->flags[task] |= PVS__BAKE_ALL_VISIBLE;
     b->done[task] = 1;
     pvs__ok(err);
     return PVS_OK;
+}
+
+PVS_API void pvs_bake_get_report(const pvs_bake *b, pvs_bake_report *r) {
+    uint32_t i;
+    memset(r, 0, sizeof(*r));
+    for (i = 0; i < b->cell_count; ++i) {
+        if (!b->done[i]) continue;
+        ++r->cells;
+        r->cells_all_visible += (b->flags[i] & PVS__BAKE_ALL_VISIBLE) != 0;
+        r->cells_no_occluders += (b->flags[i] & PVS__BAKE_NO_OCCLUDERS) != 0;
+    }
 }
 
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *b, uint32_t cell) {

@@ -4,6 +4,7 @@
      BENCH shrink_synthesis_ms_<scene>_<f>x   occluder synthesis, once per bake
      BENCH shrink_tightness_<scene>_<f>x      mean PVS / mean ray-sampled visible set (>= 1 when conservative)
      BENCH shrink_culled_pct_<scene>_<f>x     objects left out of the PVS, percent
+     BENCH shrink_misses_<scene>_<f>x         ray-sampled visible objects missing from the PVS (must be 0)
    Over an evenly spread subset of BENCH_CELLS cells (default 60). Never asserts on time. */
 #include "../tools/cli.h"
 #include <stdlib.h>
@@ -68,10 +69,12 @@ static int run(const char *name, gen_kind kind, uint32_t max_cells) {
                 in_pvs += pvs_bitset_count(p, objects);
                 for (i = 0; i < objects; ++i) misses += pvs_bitset_test(r, i) && !pvs_bitset_test(p, i);
             }
-            printf("BENCH shrink_ms_per_cell_%s_%gx %.2f ms (eps %g, %s)\n", name, (double)factors[f], 1000.0 * t / cells.count,
-                   (double)pvs_bake_eps(b), pvs_bake_shrink_mode(b) == PVS_SHRINK_2D5 ? "2.5D" : "3D");
+            printf("# shrink %s %gx: eps %g, %s path, %u cells\n", name, (double)factors[f], (double)pvs_bake_eps(b),
+                   pvs_bake_shrink_mode(b) == PVS_SHRINK_2D5 ? "2.5D" : "3D", cells.count);
+            printf("BENCH shrink_ms_per_cell_%s_%gx %.2f ms\n", name, (double)factors[f], 1000.0 * t / cells.count);
             printf("BENCH shrink_synthesis_ms_%s_%gx %.1f ms\n", name, (double)factors[f], 1000.0 * t_syn);
-            printf("BENCH shrink_tightness_%s_%gx %.3f (misses %u)\n", name, (double)factors[f], sampled > 0 ? in_pvs / sampled : 0.0, misses);
+            printf("BENCH shrink_tightness_%s_%gx %.3f ratio\n", name, (double)factors[f], sampled > 0 ? in_pvs / sampled : 0.0);
+            printf("BENCH shrink_misses_%s_%gx %u objects\n", name, (double)factors[f], misses);
             printf("BENCH shrink_culled_pct_%s_%gx %.1f %%\n", name, (double)factors[f],
                    100.0 * (1.0 - in_pvs / ((double)cells.count * objects)));
             fflush(stdout);

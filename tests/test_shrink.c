@@ -120,6 +120,28 @@ static pvs_scene *make_scene(const mesh *m, uint32_t up) {
     return s;
 }
 
+/* A scene of every object of a mesh (any count). */
+static pvs_scene *make_scene_all(const mesh *m, uint32_t up) {
+    pvs_scene_desc d;
+    pvs_object_desc *obs = (pvs_object_desc *)malloc((m->object_count ? m->object_count : 1) * sizeof(pvs_object_desc));
+    pvs_scene *s = NULL;
+    pvs_error e;
+    uint32_t i;
+    for (i = 0; i < m->object_count; ++i) {
+        obs[i].first_triangle = m->objects[i].first_triangle;
+        obs[i].triangle_count = m->objects[i].triangle_count;
+        obs[i].flags = 0;
+    }
+    memset(&d, 0, sizeof(d));
+    d.positions = m->positions; d.vertex_count = m->vertex_count;
+    d.indices = m->indices; d.triangle_count = m->triangle_count;
+    d.objects = obs; d.object_count = m->object_count;
+    d.up_axis = up;
+    if (pvs_scene_create(&d, &s, &e) != PVS_OK) fprintf(stderr, "scene: %s\n", e.message);
+    free(obs);
+    return s;
+}
+
 /* Brute force for an axis-aligned closed box [lo, hi] (its six faces as triangles) and cells outside
    it: a voxel wholly inside the open box (away from the faces) is solid; one meeting a face is
    touched; one wholly outside is empty or ground. With a face left open, nothing is solid and the
@@ -610,6 +632,52 @@ static void check_scene(gen_kind kind, float size, uint64_t seed, uint32_t max_c
     mesh_free(&m);
 }
 
+/* The API says when shrink has no occluders: a scene of thin walls only (no volume) bakes, every cell
+   flagged in the report and in pvs_shrink_cell's stats; a city bakes with occluders. */
+static void test_report(void) {
+    int kind;
+    for (kind = 0; kind < 2; ++kind) {
+        gen_params gp;
+        mesh m;
+        mesh_cells cells;
+        pvs_scene *s;
+        pvs_bake_desc bd;
+        pvs_bake *b = NULL;
+        pvs_bake_report rep;
+        pvs_shrink_stats st;
+        pvs_error e;
+        pvs_word *bits;
+        uint32_t c;
+        mesh_init(&m);
+        mesh_cells_init(&cells);
+        memset(&gp, 0, sizeof(gp));
+        gp.kind = kind ? GEN_CITY : GEN_WALLS; gp.seed = 4; gp.size = 0.15f; gp.max_cells = 6;
+        CHECK(gen_scene(&gp, &m, &cells) == 0);
+        s = make_scene_all(&m, 1);
+        CHECK(s != NULL);
+        memset(&bd, 0, sizeof(bd));
+        bd.scene = s; bd.cells = (const pvs_box *)cells.boxes; bd.cell_count = cells.count; bd.method = PVS_METHOD_SHRINK;
+        CHECK(s && pvs_bake_begin(&bd, &b, &e) == PVS_OK);
+        if (!b) { pvs_scene_destroy(s); mesh_cells_free(&cells); mesh_free(&m); continue; }
+        pvs_bake_get_report(b, &rep);
+        CHECK(rep.cells == 0);
+        for (c = 0; c < pvs_bake_task_count(b); ++c) CHECK(pvs_bake_run_task(b, c, &e) == PVS_OK);
+        pvs_bake_get_report(b, &rep);
+        CHECK(rep.cells == cells.count);
+        if (kind == 0) { CHECK(rep.cells_no_occluders == cells.count); CHECK(rep.cells_all_visible == cells.count); }
+        else { CHECK(rep.cells_no_occluders == 0); CHECK(rep.cells_all_visible < cells.count); }
+        bits = (pvs_word *)calloc(PVS_BITSET_WORDS(pvs_scene_object_count(s)), sizeof(pvs_word));
+        CHECK(pvs_shrink_cell(s, pvs_bake_occluders(b), (const pvs_box *)cells.boxes, PVS_SHRINK_AUTO, bits, &st, &e) == PVS_OK);
+        CHECK(st.no_occluders == (kind == 0));
+        CHECK(kind == 0 ? st.samples == 0 && st.hidden == 0 : st.samples > 0 && st.occluders > 0 && st.occluders_drawn > 0);
+        free(bits);
+        pvs_bake_destroy(b);
+        pvs_scene_destroy(s);
+        mesh_cells_free(&cells);
+        mesh_free(&m);
+    }
+}
+
 static void test_args(void) {
     pvs_occluders_desc od;
     pvs_occluders *o = NULL;
@@ -624,6 +692,7 @@ static void test_args(void) {
 
 void test_shrink(void) {
     test_args();
+    test_report();
     test_theorem();
     test_synthesis();
     test_slits();

@@ -227,6 +227,14 @@ int main(int argc, char **argv) {
                 pvs_method_name(pvs_bake_method(bake)),
                 pvs_bake_method(bake) == PVS_METHOD_SAMPLE ? " (approximate: ray sampling, not conservative)" : " (conservative)",
                 sum / tasks, 100.0 * sum / tasks / objects, 1000.0 * t_bake / tasks, cli_seconds() - t0, size, (double)size / tasks);
+        {
+            pvs_bake_report rep;
+            pvs_bake_get_report(bake, &rep);
+            if (rep.cells_no_occluders)
+                fprintf(stderr, "  warning: %u of %u cells had no occluder (shrink): their PVS is every object\n", rep.cells_no_occluders, rep.cells);
+            else if (rep.cells_all_visible)
+                fprintf(stderr, "  %u of %u cells see every object\n", rep.cells_all_visible, rep.cells);
+        }
     }
     rc = 0;
     goto done;
