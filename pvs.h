@@ -813,10 +813,17 @@ PVS_API uint32_t pvs_occluders_voxel(const pvs_occluders *occluders, uint32_t i,
 PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
 /* The eroded 3D boxes (*count of them); every point within eps of a box is solid. Owned by occluders. */
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *occluders, uint32_t *count);
-/* The eroded 2.5D occluders as closed facade chains (4 points each, base = the ground, top already
-   lowered by eps): every point within eps of such a prism is solid or below the ground. Owned by
+/* The shrunk 2.5D occluders as facade chains (base = the ground, top already lowered by eps): the
+   outer boundaries of regions of the column map at or above a height as closed chains, the boundaries
+   of holes as open chains back to their first point. Every point within eps of such a prism (the
+   region x [ground, top]) lies where no viewer can reach it or is below the ground. Owned by
    occluders. */
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occluders, uint32_t *count);
+/* The column map at ground point (u, v) (x, z for up axis Y; x, y for Z): *solid receives the height
+   below which the column is proved solid (the ground where it is not), the return value the shrunk
+   occluder height (-FLT_MAX where there is none). Outside the map: the ground and -FLT_MAX.
+   On a square's edge the lower of the neighbours counts. */
+PVS_API float pvs_occluders_column_height(const pvs_occluders *occluders, float u, float v, float *solid);
 
 /* ---- methods --------------------------------------------------------------------------------- */
 
@@ -5328,8 +5335,29 @@ enum {
 /* What stops the leak diagnostic's flood. */
 #define PVS__VX_LEAK_STOP (PVS__VX_TOUCHED | PVS__VX_REACHED | PVS__VX_GROUND | PVS__VX_SOLID)
 
+/* A voxel grid: voxel (i, j, k) is origin + [i, i + 1] x [j, j + 1] x [k, k + 1] times h; n per axis. */
+typedef struct pvs__vx_grid {
+    double origin[3], h;
+    uint32_t n[3];
+} pvs__vx_grid;
+
+/* The 2.5D column map: squares of side grid.h over the ground plane (grid's u, v axes; n[up] = 1),
+   and min-pyramids over it: level l has squares of side grid.h * 2^l, each holding the least value of
+   the squares it covers (level 0 is the map itself). */
+#define PVS__VX_LEVELS 24
+typedef struct pvs__vx_cols {
+    pvs__vx_grid grid;
+    uint32_t nu, nv;
+    float *solid;               /* nu * nv: top of the proved-solid runs standing on the ground (ground: none) */
+    float *top;                 /* nu * nv: occluder height, shrunk by eps (-FLT_MAX: none) */
+    uint32_t levels;            /* pyramid levels (>= 1) */
+    uint32_t lw[PVS__VX_LEVELS], lh[PVS__VX_LEVELS];
+    float *ptop[PVS__VX_LEVELS], *psolid[PVS__VX_LEVELS]; /* level 0: top, solid; others allocated */
+} pvs__vx_cols;
+
 struct pvs_occluders {
     pvs_allocator allocator;
+    pvs__vx_grid grid;          /* the same as origin, h, n below */
     const pvs_scene *scene;
     pvs_occluders_info info;
     double origin[3], h;        /* grid */
@@ -5339,12 +5367,13 @@ struct pvs_occluders {
     uint8_t *eroded;            /* total: 1 where solid survives the erosion */
     pvs_box *boxes;
     uint32_t box_count;
-    pvs_facade_chain *chains;
-    float *chain_points;        /* 8 per chain */
+    pvs_facade_chain *chains;   /* the 2.5D occluders (pvs__vx_build_chains) */
+    pvs_box *chain_boxes;       /* per chain: ground bounding rectangle x [base, top] */
+    float *chain_points;        /* 2 floats per point */
     uint32_t chain_count;
+    size_t chain_point_count;
     float ground;
-    float *column_top;          /* n[u] * n[v]: top of each column's solid run before erosion (ground: none) */
-    size_t column_count;
+    pvs__vx_cols cols;          /* the 2.5D column map */
 };
 
 PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j, uint32_t k) {
@@ -5461,20 +5490,32 @@ PVS_API void pvs_occluders_destroy(pvs_occluders *o) {
     pvs__free_array(&a, o->state, o->total, 1);
     pvs__free_array(&a, o->eroded, o->total, 1);
     pvs__free_array(&a, o->boxes, o->box_count, sizeof(pvs_box));
-    pvs__free_array(&a, o->chains, o->chain_count, sizeof(pvs_facade_chain));
-    pvs__free_array(&a, o->chain_points, (size_t)o->chain_count * 8, sizeof(float));
-    pvs__free_array(&a, o->column_top, o->column_count, sizeof(float));
+    pvs__free_array(&a, o->chains, o->chain_count ? o->chain_count : 1, sizeof(pvs_facade_chain));
+    pvs__free_array(&a, o->chain_boxes, o->chain_count ? o->chain_count : 1, sizeof(pvs_box));
+    pvs__free_array(&a, o->chain_points, o->chain_point_count ? 2 * o->chain_point_count : 1, sizeof(float));
+    pvs__free_array(&a, o->cols.solid, (size_t)o->cols.nu * o->cols.nv, sizeof(float));
+    pvs__free_array(&a, o->cols.top, (size_t)o->cols.nu * o->cols.nv, sizeof(float));
+    {
+        uint32_t l;
+        for (l = 1; l < o->cols.levels; ++l) {
+            pvs__free_array(&a, o->cols.ptop[l], (size_t)o->cols.lw[l] * o->cols.lh[l], sizeof(float));
+            pvs__free_array(&a, o->cols.psolid[l], (size_t)o->cols.lw[l] * o->cols.lh[l], sizeof(float));
+        }
+    }
     pvs__free(&a, o, sizeof(*o), 16);
 }
 
-/* Voxel index range [*i0, *i1] on axis k of the closed interval [lo, hi] grown by `m`. */
-PVS__STATIC void pvs__vx_range(const pvs_occluders *o, int k, double lo, double hi, double m, uint32_t *i0, uint32_t *i1) {
-    double a = floor((lo - m - o->origin[k]) / o->h), b = floor((hi + m - o->origin[k]) / o->h);
+/* Voxel index range [*i0, *i1] on axis k of the closed interval [lo, hi] grown by `m` (empty: 1, 0). */
+PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double hi, double m, uint32_t *i0, uint32_t *i1) {
+    double a = floor((lo - m - gr->origin[k]) / gr->h), b = floor((hi + m - gr->origin[k]) / gr->h);
     if (a < 0) a = 0;
-    if (b > (double)o->n[k] - 1) b = (double)o->n[k] - 1;
-    if (b < a) { *i0 = 1; *i1 = 0; return; }
+    if (b > (double)gr->n[k] - 1) b = (double)gr->n[k] - 1;
+    if (!(b >= a)) { *i0 = 1; *i1 = 0; return; }
     *i0 = (uint32_t)a;
     *i1 = (uint32_t)b;
+}
+PVS__STATIC void pvs__vx_range(const pvs_occluders *o, int k, double lo, double hi, double m, uint32_t *i0, uint32_t *i1) {
+    pvs__vx_grange(&o->grid, k, lo, hi, m, i0, i1);
 }
 
 /* One-dimensional min filter of radius r along axis k over a byte grid (outside counts as 0):
@@ -5787,6 +5828,8 @@ typedef struct pvs__vx_flood {
     uint32_t *bucket_cells;
     uint32_t *stamp;         /* per cell: 1 + the last component that looked at it */
     uint32_t bnu, bnv;
+    uint32_t stamp_next;     /* the next stamp value */
+    pvs__vx_grid bucket_grid;/* the buckets as voxels of a grid (u, v axes) */
 } pvs__vx_flood;
 #define PVS__VX_BUCKET 8u    /* voxel columns per bucket side */
 
@@ -5816,8 +5859,7 @@ PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, 
 /* The parity w of the points of cell `cb` (which is clear of component K by the margin m, so they
    all share it): the crossings with K of a vertical line through a point of the cell, above that
    point (pvs__vx_cross; a crossing cannot lie within m of the point). -1 when eight lines fail. */
-PVS__STATIC int pvs__vx_point_parity(const pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
-    const pvs_scene *s = o->scene;
+PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
     uint32_t up = s->up_axis, t, line;
     int u, v;
     pvs__ground_axes(up, &u, &v);
@@ -5839,16 +5881,17 @@ PVS__STATIC int pvs__vx_point_parity(const pvs_occluders *o, const pvs__vx_topo 
     return -1;
 }
 
-/* One component K: voxel box lo..hi (inclusive, lo[up] >= 1), its triangles and open edges. Sets
-   PVS__VX_TOUCHED on the grid for its triangles and PVS__VX_SOLID on the voxels it proves solid
-   (see the argument above). */
-PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
-                                 const uint32_t hi[3], double m, pvs__vx_flood *fl) {
+/* The flood of one component K over grid `gr`: voxel box lo..hi (inclusive, lo[up] >= 1), its
+   triangles and open edges (see the argument above). Leaves in fl->bits, per box voxel, PVS__G_T/B/W
+   and the reached nodes; returns 0 when the outside of the box was never entered. With
+   mark_touched (gr is the occluders' own grid) it also sets PVS__VX_TOUCHED on the grid. */
+PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
+                                        const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl, int mark_touched) {
     const pvs_scene *s = o->scene;
     uint32_t up = s->up_axis, d[3], i, j, k, t, pass;
     int u, v, ext, any;
     size_t stride[3], nvox, vi, qh = 0, qt = 0, ncol;
-    double h = o->h;
+    double h = gr->h;
     uint8_t *bits = fl->bits, *col = fl->col;
     uint32_t *queue = fl->queue;
     pvs__ground_axes(up, &u, &v);
@@ -5872,7 +5915,7 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
             thi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
         }
         for (kk = 0; kk < 3; ++kk) {
-            pvs__vx_range(o, kk, tlo[kk], thi[kk], m, r0 + kk, r1 + kk);
+            pvs__vx_grange(gr, kk, tlo[kk], thi[kk], m, r0 + kk, r1 + kk);
             if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
             if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
         }
@@ -5882,12 +5925,12 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
                     double cc[3];
                     size_t x = (a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2]);
                     if (bits[x] & PVS__G_T) continue;
-                    cc[0] = o->origin[0] + (a + 0.5) * h;
-                    cc[1] = o->origin[1] + (b + 0.5) * h;
-                    cc[2] = o->origin[2] + (c + 0.5) * h;
+                    cc[0] = gr->origin[0] + (a + 0.5) * h;
+                    cc[1] = gr->origin[1] + (b + 0.5) * h;
+                    cc[2] = gr->origin[2] + (c + 0.5) * h;
                     if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) {
                         bits[x] |= PVS__G_T;
-                        o->state[pvs__vx_index(o, a, b, c)] |= PVS__VX_TOUCHED;
+                        if (mark_touched) o->state[pvs__vx_index(o, a, b, c)] |= PVS__VX_TOUCHED;
                     }
                 }
     }
@@ -5898,8 +5941,8 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
         const float *e = tp->open_edges + 6 * (size_t)t;
         double a0 = e[u], b0 = e[v], da = (double)e[3 + u] - e[u], db = (double)e[3 + v] - e[v];
         uint32_t r0[3], r1[3], a, b, c;
-        pvs__vx_range(o, u, pvs__dmin(e[u], e[3 + u]), pvs__dmax(e[u], e[3 + u]), m, r0 + u, r1 + u);
-        pvs__vx_range(o, v, pvs__dmin(e[v], e[3 + v]), pvs__dmax(e[v], e[3 + v]), m, r0 + v, r1 + v);
+        pvs__vx_grange(gr, u, pvs__dmin(e[u], e[3 + u]), pvs__dmax(e[u], e[3 + u]), m, r0 + u, r1 + u);
+        pvs__vx_grange(gr, v, pvs__dmin(e[v], e[3 + v]), pvs__dmax(e[v], e[3 + v]), m, r0 + v, r1 + v);
         if (r0[u] < lo[u]) r0[u] = lo[u];
         if (r1[u] > hi[u]) r1[u] = hi[u];
         if (r0[v] < lo[v]) r0[v] = lo[v];
@@ -5909,10 +5952,10 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
                 double t0 = 0.0, t1 = 1.0, q[4], pp[4], zt;
                 int side, ok = 1;
                 uint32_t top, idx[3];
-                pp[0] = -da; q[0] = a0 - (o->origin[u] + a * h - m);
-                pp[1] = da;  q[1] = o->origin[u] + (a + 1) * h + m - a0;
-                pp[2] = -db; q[2] = b0 - (o->origin[v] + b * h - m);
-                pp[3] = db;  q[3] = o->origin[v] + (b + 1) * h + m - b0;
+                pp[0] = -da; q[0] = a0 - (gr->origin[u] + a * h - m);
+                pp[1] = da;  q[1] = gr->origin[u] + (a + 1) * h + m - a0;
+                pp[2] = -db; q[2] = b0 - (gr->origin[v] + b * h - m);
+                pp[3] = db;  q[3] = gr->origin[v] + (b + 1) * h + m - b0;
                 for (side = 0; side < 4 && ok; ++side) {
                     if (pp[side] == 0.0) { ok = q[side] >= 0.0; continue; }
                     zt = q[side] / pp[side];
@@ -5922,7 +5965,7 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
                 if (!ok) continue;
                 zt = pvs__dmax((double)e[up] + t0 * ((double)e[3 + up] - e[up]), (double)e[up] + t1 * ((double)e[3 + up] - e[up]));
                 zt = pvs__dmin(zt + m + 1e-6 * pvs__dabs(zt), (double)pvs__dmax(e[up], e[3 + up]) + m);
-                top = (uint32_t)pvs__clampi(floor((zt - o->origin[up]) / h), (int32_t)lo[up], (int32_t)hi[up]);
+                top = (uint32_t)pvs__clampi(floor((zt - gr->origin[up]) / h), (int32_t)lo[up], (int32_t)hi[up]);
                 idx[u] = a; idx[v] = b;
                 for (c = lo[up]; c <= top; ++c) {
                     idx[up] = c;
@@ -5939,8 +5982,8 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
             const float *pa = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri];
             const float *pb = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 1];
             const float *pc = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2];
-            pvs__vx_range(o, u, pvs__dmin(pa[u], pvs__dmin(pb[u], pc[u])), pvs__dmax(pa[u], pvs__dmax(pb[u], pc[u])), m, &a0, &a1);
-            pvs__vx_range(o, v, pvs__dmin(pa[v], pvs__dmin(pb[v], pc[v])), pvs__dmax(pa[v], pvs__dmax(pb[v], pc[v])), m, &b0, &b1);
+            pvs__vx_grange(gr, u, pvs__dmin(pa[u], pvs__dmin(pb[u], pc[u])), pvs__dmax(pa[u], pvs__dmax(pb[u], pc[u])), m, &a0, &a1);
+            pvs__vx_grange(gr, v, pvs__dmin(pa[v], pvs__dmin(pb[v], pc[v])), pvs__dmax(pa[v], pvs__dmax(pb[v], pc[v])), m, &b0, &b1);
             if (a0 < lo[u]) a0 = lo[u];
             if (a1 > hi[u]) a1 = hi[u];
             if (b0 < lo[v]) b0 = lo[v];
@@ -5951,14 +5994,14 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
                     double z, dz;
                     int r;
                     if (col[ci] != pass) continue;
-                    r = pvs__vx_cross(pa, pb, pc, u, v, (int)up, o->origin[u] + (a + pvs__vx_line_u[pass]) * h,
-                                      o->origin[v] + (b + pvs__vx_line_v[pass]) * h, &z, &dz);
+                    r = pvs__vx_cross(pa, pb, pc, u, v, (int)up, gr->origin[u] + (a + pvs__vx_line_u[pass]) * h,
+                                      gr->origin[v] + (b + pvs__vx_line_v[pass]) * h, &z, &dz);
                     if (r == 1 && dz >= 0.5 * m) r = -1;
                     if (r < 0) col[ci] |= 0x80;
                     if (r == 1) {
                         uint32_t idx[3];
                         idx[u] = a - lo[u]; idx[v] = b - lo[v];
-                        idx[up] = (uint32_t)pvs__clampi(floor((z - o->origin[up]) / h) - (double)lo[up], 0, (int32_t)d[up] - 1);
+                        idx[up] = (uint32_t)pvs__clampi(floor((z - gr->origin[up]) / h) - (double)lo[up], 0, (int32_t)d[up] - 1);
                         bits[idx[0] + stride[1] * idx[1] + stride[2] * idx[2]] ^= PVS__G_F;
                     }
                 }
@@ -5992,18 +6035,20 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
        cell meeting K (partly inside a closed mesh, or touching it) gets every node of its voxels. */
     ext = 0;
     {
-        uint32_t bu, bv, near = 0, q;
-        for (bv = lo[v] / PVS__VX_BUCKET; bv <= hi[v] / PVS__VX_BUCKET; ++bv)
-            for (bu = lo[u] / PVS__VX_BUCKET; bu <= hi[u] / PVS__VX_BUCKET; ++bu) {
+        uint32_t bu, bv, near = 0, q, bu0, bu1, bv0, bv1, stamp = ++fl->stamp_next;
+        pvs__vx_grange(&fl->bucket_grid, u, gr->origin[u] + lo[u] * h, gr->origin[u] + (hi[u] + 1) * h, m, &bu0, &bu1);
+        pvs__vx_grange(&fl->bucket_grid, v, gr->origin[v] + lo[v] * h, gr->origin[v] + (hi[v] + 1) * h, m, &bv0, &bv1);
+        for (bv = bv0; bv <= bv1; ++bv)
+            for (bu = bu0; bu <= bu1; ++bu) {
                 size_t bk = (size_t)bv * fl->bnu + bu;
                 for (q = fl->bucket_first[bk]; q < fl->bucket_first[bk + 1]; ++q) {
                     uint32_t cid = fl->bucket_cells[q], r0[3], r1[3], s0[3], s1[3], a, b, c;
                     const pvs_box *cb = fl->cells + cid;
                     int touches = 0, maybe = 0, wc = -1, kk, out_w0 = 0;
-                    if (fl->stamp[cid] == comp + 1) continue;
-                    fl->stamp[cid] = comp + 1;
+                    if (fl->stamp[cid] == stamp) continue;
+                    fl->stamp[cid] = stamp;
                     for (kk = 0; kk < 3; ++kk) {
-                        pvs__vx_range(o, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
+                        pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
                         if (r0[kk] > r1[kk] || r1[kk] < lo[kk] || r0[kk] > hi[kk]) break;
                     }
                     if (kk < 3) continue;
@@ -6041,7 +6086,7 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
                     if (!touches && out_w0) wc = 0;
                     if (!touches && !out_w0) {
                         for (kk = 0; kk < 3; ++kk) {
-                            pvs__vx_range(o, kk, cb->min[kk], cb->max[kk], -m, s0 + kk, s1 + kk);
+                            pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], -m, s0 + kk, s1 + kk);
                             if (s0[kk] < lo[kk]) s0[kk] = lo[kk];
                             if (s1[kk] > hi[kk]) s1[kk] = hi[kk];
                         }
@@ -6051,7 +6096,7 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
                                     uint8_t f = bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])];
                                     if (!(f & (PVS__G_T | PVS__G_B))) wc = (f & PVS__G_W) != 0;
                                 }
-                        if (wc < 0) wc = pvs__vx_point_parity(o, tp, comp, cb);
+                        if (wc < 0) wc = pvs__vx_point_parity(s, tp, comp, cb);
                     }
                     for (c = r0[2]; c <= r1[2]; ++c)
                         for (b = r0[1]; b <= r1[1]; ++b)
@@ -6108,17 +6153,20 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
             else if ((fb & PVS__G_T) || ((fb & PVS__G_W) != 0) == x) pvs__vx_push(bits, queue, &qt, b, x);
         }
     }
-#ifdef PVS_DEBUG_CERTIFY
-    {
-        size_t np = 0, nm = 0, nb = 0, nw = 0, nr1 = 0;
-        for (vi = 0; vi < nvox; ++vi) {
-            uint8_t f = bits[vi];
-            if (f & PVS__G_B) ++nb; else if (f & PVS__G_T) ++nm; else { ++np; if (f & PVS__G_W) { ++nw; if (f & PVS__G_R1) ++nr1; } }
-        }
-        if (nvox > 1000) fprintf(stderr, "comp %u box %u %u %u: pure %zu (w1 %zu, reached %zu) mixed %zu bad %zu ext %d\n", comp, d[0], d[1], d[2], np, nw, nr1, nm, nb, ext);
-    }
-#endif
-    /* 5. pure voxels no node of which was reached: solid; the whole outside too when never entered */
+    return ext;
+}
+
+/* The coarse grid's certification of component K: pure voxels no node of which the flood reached
+   are solid; the whole outside of the box too when the flood never entered it. */
+PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
+                                 const uint32_t hi[3], double m, pvs__vx_flood *fl) {
+    uint32_t d[3], i, j, k;
+    size_t stride[3];
+    const uint8_t *bits = fl->bits;
+    int ext = pvs__vx_flood_component(o, &o->grid, tp, comp, lo, hi, m, fl, 1);
+    for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
+    stride[1] = d[0];
+    stride[2] = (size_t)d[0] * d[1];
     for (k = 0; k < d[2]; ++k)
         for (j = 0; j < d[1]; ++j)
             for (i = 0; i < d[0]; ++i) {
@@ -6137,6 +6185,625 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
                 }
 }
 
+/* ---- 2.5D occluders: proved-solid columns at a finer resolution, eroded by distance ----
+
+   Each component is flooded again on its own grid of voxel size eps (larger only where its box would
+   exceed PVS__VX_BOX_BUDGET voxels). Over a column map of squares of side c (half that, the map
+   capped at PVS__VX_MAP_BUDGET squares), a square's solid height is the least top of the runs of
+   proved-solid voxels standing on the ground over the voxel columns it overlaps; points of the
+   square below it cannot be seen from any cell. Its occluder height (Wonka 2000 §2, appendix: the
+   occluder shrunk by eps) is the solid height cut down to eps below every triangle of the component
+   that comes within eps of the square (the least height of the triangle clipped to the square grown
+   by eps): then the eps-ball of every point of the prism square x [ground, height] is free of the
+   component's triangles and joined to a proved-solid point, so it lies where no viewer reaches, and a
+   sight line through the ball meets a triangle first (as the theorem needs). Rounding: the squares
+   are grown by a margin above the coordinates' float precision. */
+
+#define PVS__VX_BOX_BUDGET (1u << 23)
+#define PVS__VX_MAP_BUDGET (1u << 22)
+
+PVS__STATIC int pvs__vx_float_cmp(const void *x, const void *y) {
+    float a = *(const float *)x, b = *(const float *)y;
+    return a < b ? -1 : a > b;
+}
+
+/* Least height (along `up`) of triangle p (3 points) clipped to the vertical prism over the ground
+   rectangle [x0, x1] x [y0, y1] (axes u, v); DBL_MAX when they do not meet. */
+PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, int up, double x0, double x1, double y0, double y1) {
+    double a[12][3], b[12][3], best = DBL_MAX;
+    int n = 3, side, i, k;
+    for (i = 0; i < 3; ++i)
+        for (k = 0; k < 3; ++k) a[i][k] = p[i][k];
+    for (side = 0; side < 4 && n > 0; ++side) {
+        int ax = side < 2 ? u : v, m = 0;
+        double lim = side == 0 ? x0 : side == 1 ? x1 : side == 2 ? y0 : y1, sg = side & 1 ? -1.0 : 1.0;
+        for (i = 0; i < n; ++i) {
+            const double *c = a[i], *d = a[(i + 1) % n];
+            double fc = sg * (c[ax] - lim), fd = sg * (d[ax] - lim);
+            if (fc >= 0.0) { for (k = 0; k < 3; ++k) b[m][k] = c[k]; ++m; }
+            if ((fc >= 0.0) != (fd >= 0.0)) {
+                double t = fc / (fc - fd);
+                for (k = 0; k < 3; ++k) b[m][k] = c[k] + t * (d[k] - c[k]);
+                b[m][ax] = lim;
+                ++m;
+            }
+        }
+        n = m;
+        for (i = 0; i < n; ++i)
+            for (k = 0; k < 3; ++k) a[i][k] = b[i][k];
+    }
+    for (i = 0; i < n; ++i) best = pvs__dmin(best, a[i][up]);
+    return best;
+}
+
+/* The column map's pass over one component: flood on its own grid, runs standing on the ground, the
+   squares' solid and occluder heights. Returns OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const pvs__vx_grid *gk,
+                                                 const uint32_t lo[3], const uint32_t hi[3], double m, double eps, double margin,
+                                                 pvs__vx_flood *fl) {
+    const pvs_scene *s = o->scene;
+    pvs__vx_cols *cm = &o->cols;
+    uint32_t up = s->up_axis, d[3], a, b, su0, su1, sv0, sv1, t, k;
+    int u, v, ext;
+    size_t stride[3], nsub, ncol;
+    double hk = gk->h, g = o->ground, e = eps + margin;
+    float *runh = NULL, *tmin = NULL;
+    pvs__ground_axes(up, &u, &v);
+    ext = pvs__vx_flood_component(o, gk, tp, comp, lo, hi, m, fl, 0);
+    for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
+    stride[0] = 1;
+    stride[1] = d[0];
+    stride[2] = (size_t)d[0] * d[1];
+    ncol = (size_t)d[u] * d[v];
+    /* the squares over the box's ground rectangle */
+    pvs__vx_grange(&cm->grid, u, gk->origin[u] + lo[u] * hk, gk->origin[u] + (hi[u] + 1) * hk, 0.0, &su0, &su1);
+    pvs__vx_grange(&cm->grid, v, gk->origin[v] + lo[v] * hk, gk->origin[v] + (hi[v] + 1) * hk, 0.0, &sv0, &sv1);
+    if (su0 > su1 || sv0 > sv1) return PVS_OK;
+    nsub = (size_t)(su1 - su0 + 1) * (sv1 - sv0 + 1);
+    runh = (float *)pvs__alloc_array(&o->allocator, ncol, sizeof(float));
+    tmin = (float *)pvs__alloc_array(&o->allocator, nsub, sizeof(float));
+    if (!runh || !tmin) {
+        pvs__free_array(&o->allocator, runh, ncol, sizeof(float));
+        pvs__free_array(&o->allocator, tmin, nsub, sizeof(float));
+        return PVS_ERROR_OUT_OF_MEMORY;
+    }
+    /* runs of proved-solid voxels from the ground (the box starts at layer 1 = the ground) */
+    for (b = 0; b < d[v]; ++b)
+        for (a = 0; a < d[u]; ++a) {
+            uint32_t idx[3], run = 0;
+            idx[u] = a; idx[v] = b;
+            if (lo[up] == 1)
+                for (idx[up] = 0; idx[up] < d[up]; ++idx[up], ++run) {
+                    uint8_t f = fl->bits[idx[0] + stride[1] * idx[1] + stride[2] * idx[2]];
+                    if ((f & (PVS__G_T | PVS__G_B)) || (f & ((f & PVS__G_W) ? PVS__G_R1 : PVS__G_R0))) break;
+                }
+            runh[(size_t)b * d[u] + a] = run ? (float)(gk->origin[up] + (lo[up] + run) * hk) : -FLT_MAX;
+        }
+    /* the least height of the component's triangles near each square */
+    for (a = 0; a < nsub; ++a) tmin[a] = FLT_MAX;
+    for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+        uint32_t tri = tp->tris[t], i0, i1, j0, j1, i, j;
+        double p[3][3], tlo[2], thi[2];
+        int q;
+        for (q = 0; q < 3; ++q)
+            for (k = 0; k < 3; ++k) p[q][k] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (uint32_t)q] + k];
+        tlo[0] = pvs__dmin(p[0][u], pvs__dmin(p[1][u], p[2][u])); thi[0] = pvs__dmax(p[0][u], pvs__dmax(p[1][u], p[2][u]));
+        tlo[1] = pvs__dmin(p[0][v], pvs__dmin(p[1][v], p[2][v])); thi[1] = pvs__dmax(p[0][v], pvs__dmax(p[1][v], p[2][v]));
+        pvs__vx_grange(&cm->grid, u, tlo[0], thi[0], e, &i0, &i1);
+        pvs__vx_grange(&cm->grid, v, tlo[1], thi[1], e, &j0, &j1);
+        if (i0 < su0) i0 = su0;
+        if (i1 > su1) i1 = su1;
+        if (j0 < sv0) j0 = sv0;
+        if (j1 > sv1) j1 = sv1;
+        for (j = j0; j <= j1; ++j)
+            for (i = i0; i <= i1; ++i) {
+                size_t x = (size_t)(j - sv0) * (su1 - su0 + 1) + (i - su0);
+                double x0 = cm->grid.origin[u] + i * cm->grid.h, y0 = cm->grid.origin[v] + j * cm->grid.h, z;
+                z = pvs__vx_clip_min_height((const double(*)[3])p, u, v, (int)up, x0 - e, x0 + cm->grid.h + e, y0 - e, y0 + cm->grid.h + e);
+                if (z < DBL_MAX && pvs__f_down(z - margin) < tmin[x]) tmin[x] = pvs__f_down(z - margin);
+            }
+    }
+    for (b = sv0; b <= sv1; ++b)
+        for (a = su0; a <= su1; ++a) {
+            size_t x = (size_t)b * cm->nu + a, xs = (size_t)(b - sv0) * (su1 - su0 + 1) + (a - su0);
+            double x0 = cm->grid.origin[u] + a * cm->grid.h, y0 = cm->grid.origin[v] + b * cm->grid.h, hsub = DBL_MAX, top;
+            uint32_t c0, c1, r0, r1, cc, rr;
+            /* the voxel columns the square overlaps (genuinely: a hair inside it) */
+            pvs__vx_grange(gk, u, x0, x0 + cm->grid.h, -1e-9 * cm->grid.h, &c0, &c1);
+            pvs__vx_grange(gk, v, y0, y0 + cm->grid.h, -1e-9 * cm->grid.h, &r0, &r1);
+            if (c0 > c1 || r0 > r1) continue;
+            for (rr = r0; rr <= r1 && hsub > -FLT_MAX; ++rr)
+                for (cc = c0; cc <= c1 && hsub > -FLT_MAX; ++cc) {
+                    if (cc < lo[u] || cc > hi[u] || rr < lo[v] || rr > hi[v]) { hsub = -FLT_MAX; break; }
+                    hsub = pvs__dmin(hsub, runh[(size_t)(rr - lo[v]) * d[u] + (cc - lo[u])]);
+                }
+            if (!(hsub > g)) continue;
+            if ((float)hsub > cm->solid[x]) cm->solid[x] = pvs__f_down(hsub);
+            top = pvs__dmin(hsub, (double)tmin[xs] - eps);
+            if (top > g && pvs__f_down(top) > cm->top[x]) cm->top[x] = pvs__f_down(top);
+        }
+    if (!ext) { /* every viewer is inside the box: all outside it is solid (to the grid's top); squares
+                   more than eps (and the margin) away from the box are occluders up there */
+        float sky = pvs__f_down(o->origin[up] + o->n[up] * o->h);
+        uint32_t e0, e1, f0, f1;
+        pvs__vx_grange(&cm->grid, u, gk->origin[u] + lo[u] * hk, gk->origin[u] + (hi[u] + 1) * hk, e, &e0, &e1);
+        pvs__vx_grange(&cm->grid, v, gk->origin[v] + lo[v] * hk, gk->origin[v] + (hi[v] + 1) * hk, e, &f0, &f1);
+        for (b = 0; b < cm->nv; ++b)
+            for (a = 0; a < cm->nu; ++a) {
+                size_t x = (size_t)b * cm->nu + a;
+                if (a >= su0 && a <= su1 && b >= sv0 && b <= sv1) continue;
+                cm->solid[x] = sky;
+                if (!(a >= e0 && a <= e1 && b >= f0 && b <= f1)) cm->top[x] = sky;
+            }
+    }
+    pvs__free_array(&o->allocator, runh, ncol, sizeof(float));
+    pvs__free_array(&o->allocator, tmin, nsub, sizeof(float));
+    return PVS_OK;
+}
+
+/* A growing array of chains and their points (through the occluders' allocator). */
+typedef struct pvs__vx_chainbuf {
+    pvs_facade_chain *chains;
+    size_t *first;           /* per chain: its first point in `points` (pointers are set at the end) */
+    float *points;           /* 2 floats per point */
+    size_t count, cap, cap_first, npts, cap_pts;
+} pvs__vx_chainbuf;
+
+PVS__STATIC int pvs__vx_grow(const pvs_allocator *a, void **p, size_t *cap, size_t need, size_t elem) {
+    size_t n = *cap ? *cap : 64;
+    void *q;
+    if (need <= *cap) return 1;
+    while (n < need) n *= 2;
+    q = pvs__alloc_array(a, n, elem);
+    if (!q) return 0;
+    if (*p) {
+        memcpy(q, *p, *cap * elem);
+        pvs__free_array(a, *p, *cap, elem);
+    }
+    *p = q;
+    *cap = n;
+    return 1;
+}
+
+/* Orientation of (b - a) x (c - a) on integer grid points (exact). */
+PVS__STATIC int64_t pvs__vx_orient_i(const int32_t *a, const int32_t *b, const int32_t *c) {
+    return (int64_t)(b[0] - a[0]) * (c[1] - a[1]) - (int64_t)(b[1] - a[1]) * (c[0] - a[0]);
+}
+/* 1 if closed segments p-q and r-t meet (exact, integer points). */
+PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int32_t *r, const int32_t *t) {
+    int64_t d1 = pvs__vx_orient_i(p, q, r), d2 = pvs__vx_orient_i(p, q, t), d3 = pvs__vx_orient_i(r, t, p), d4 = pvs__vx_orient_i(r, t, q);
+    if (((d1 > 0 && d2 > 0) || (d1 < 0 && d2 < 0)) || ((d3 > 0 && d4 > 0) || (d3 < 0 && d4 < 0))) return 0;
+    if (d1 == 0 && d2 == 0) /* collinear: do the projections overlap? */
+        return (p[0] < q[0] ? p[0] : q[0]) <= (r[0] > t[0] ? r[0] : t[0]) && (r[0] < t[0] ? r[0] : t[0]) <= (p[0] > q[0] ? p[0] : q[0]) &&
+               (p[1] < q[1] ? p[1] : q[1]) <= (r[1] > t[1] ? r[1] : t[1]) && (r[1] < t[1] ? r[1] : t[1]) <= (p[1] > q[1] ? p[1] : q[1]);
+    return 1;
+}
+
+/* Simplifies a boundary loop (n integer grid points, the region on the left of each edge) from the
+   inside: from each kept point, the farthest later point whose chord leaves every skipped point on
+   its right or on it, at most one square away (the skipped corners lie outside the chord: the region
+   between them and the chord is given up, never added) and meets no edge of the loop but the two it
+   joins. Staircases of
+   a slanted wall become a few long edges a square at most inside them (long facades rasterize their
+   shadows near the wall; a staircase of short ones covers no whole cull-map cell there). Returns the
+   number of points kept (in place). */
+PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
+    uint32_t i = 0, kept = 0, j, k, start;
+    int32_t *out;
+    if (n < 5) return n;
+    /* start at a point that must stay: the lowest-leftmost is a convex corner */
+    start = 0;
+    for (k = 1; k < n; ++k)
+        if (pt[2 * k + 1] < pt[2 * start + 1] || (pt[2 * k + 1] == pt[2 * start + 1] && pt[2 * k] < pt[2 * start])) start = k;
+    out = pt + 2 * n; /* scratch: n more points after the loop */
+    while (i < n) {
+        uint32_t best = i + 1;
+        const int32_t *a = pt + 2 * ((start + i) % n);
+        for (j = i + 2; j <= (i ? n : n - 1); ++j) {
+            const int32_t *b = pt + 2 * ((start + j) % n);
+            int ok = 1;
+            double len2 = (double)(b[0] - a[0]) * (b[0] - a[0]) + (double)(b[1] - a[1]) * (b[1] - a[1]);
+            for (k = i + 1; k < j && ok; ++k) { /* right of the chord or on it, and at most a square off it */
+                int64_t o = pvs__vx_orient_i(a, b, pt + 2 * ((start + k) % n));
+                ok = o <= 0 && (double)o * (double)o <= len2;
+            }
+            if (!ok) break;
+            for (k = 0; k < n && ok; ++k) { /* no other edge of the loop touches the chord */
+                uint32_t e0 = (start + k) % n, e1 = (start + k + 1) % n;
+                if (k >= i && k < j) continue;                  /* edges the chord replaces */
+                if (k + 1 == i || (k == j % n && j < n) || (j == n && k == 0) || (i == 0 && k + 1 == n)) {
+                    /* edges sharing an endpoint with the chord: they may only touch it there */
+                    const int32_t *c0 = pt + 2 * e0, *c1 = pt + 2 * e1;
+                    int64_t o0 = pvs__vx_orient_i(a, b, c0), o1 = pvs__vx_orient_i(a, b, c1);
+                    if (o0 == 0 && o1 == 0) ok = 0; /* collinear overlap */
+                    continue;
+                }
+                if (pvs__vx_seg_meet_i(a, b, pt + 2 * e0, pt + 2 * e1)) ok = 0;
+            }
+            if (ok) best = j;
+        }
+        out[2 * kept] = a[0];
+        out[2 * kept + 1] = a[1];
+        ++kept;
+        i = best;
+    }
+    memcpy(pt, out, (size_t)kept * 2 * sizeof(int32_t));
+    return kept;
+}
+
+/* The boundary loops of the squares marked in `mask` (w x h, row-major, with a frame of empty squares
+   around the set): edges walked with the set on their left, joined at grid vertices (where two
+   diagonal squares of the set meet, the loop turns left and stays with the square it follows:
+   4-connected regions). Each loop is simplified (pvs__vx_simplify) and becomes a chain of heights
+   [base, top] at grid point (i, j) -> (ox + i c, oy + j c): counter-clockwise loops (outer
+   boundaries) closed chains, clockwise loops (holes) open chains that come back to their first point
+   (two-sided: the inside of a hole is not solid). `used`: 4 (w + 1) (h + 1) bytes of scratch; `ip`,
+   `ipcap`: a growable integer point buffer. Returns 0 when out of memory. */
+PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w, uint32_t h, double ox,
+                              double oy, double c, float base, float top, uint8_t *used, int32_t **ip, size_t *ipcap) {
+    /* direction d: 0 +i, 1 +j, 2 -i, 3 -j; the squares left and right of an edge leaving vertex (x, y) */
+    static const int di[4] = {1, 0, -1, 0}, dj[4] = {0, 1, 0, -1};
+    static const int lqi[4] = {0, -1, -1, 0}, lqj[4] = {0, 0, -1, -1}, rqi[4] = {0, 0, -1, -1}, rqj[4] = {-1, 0, 0, -1};
+    /* square (i, j)'s side toward neighbour n (below, right, above, left) leaves vertex (i, j) + v0[n] in direction n */
+    static const int ni[4] = {0, 1, 0, -1}, nj[4] = {-1, 0, 1, 0}, v0i[4] = {0, 1, 1, 0}, v0j[4] = {0, 0, 1, 1};
+    uint32_t i, j;
+    memset(used, 0, (size_t)(w + 1) * (h + 1) * 4);
+#define PVS__IN(x, y) ((x) >= 0 && (y) >= 0 && (uint32_t)(x) < w && (uint32_t)(y) < h && mask[(size_t)(y) * w + (uint32_t)(x)])
+    for (j = 0; j < h; ++j)
+        for (i = 0; i < w; ++i) {
+            int side;
+            if (!mask[(size_t)j * w + i]) continue;
+            for (side = 0; side < 4; ++side) {
+                uint32_t vx, vy, start, e, n = 0, kept = 0, q;
+                size_t first;
+                int d = side;
+                float *pt;
+                int64_t area2 = 0;
+                if (PVS__IN((int)i + ni[side], (int)j + nj[side])) continue;
+                vx = i + (uint32_t)v0i[side];
+                vy = j + (uint32_t)v0j[side];
+                start = 4 * (vy * (w + 1) + vx) + (uint32_t)side;
+                if (used[start]) continue;
+                e = start;
+                for (;;) {
+                    int turn, nd = -1;
+                    used[e] = 1;
+                    if (!pvs__vx_grow(al, (void **)ip, ipcap, 2 * (size_t)n + 2, 2 * sizeof(int32_t))) return 0;
+                    (*ip)[2 * n] = (int32_t)vx;
+                    (*ip)[2 * n + 1] = (int32_t)vy;
+                    ++n;
+                    vx = (uint32_t)((int)vx + di[d]);
+                    vy = (uint32_t)((int)vy + dj[d]);
+                    for (turn = 0; turn < 3 && nd < 0; ++turn) { /* left, straight, right */
+                        int cand = turn == 0 ? (d + 1) & 3 : turn == 1 ? d : (d + 3) & 3;
+                        if (PVS__IN((int)vx + lqi[cand], (int)vy + lqj[cand]) && !PVS__IN((int)vx + rqi[cand], (int)vy + rqj[cand])) nd = cand;
+                    }
+                    if (nd < 0) return 0; /* not a boundary: cannot happen */
+                    d = nd;
+                    e = 4 * (vy * (w + 1) + vx) + (uint32_t)d;
+                    if (e == start) break;
+                }
+                /* corners only, then the simplification (scratch: the buffer holds 2n points) */
+                for (q = 0; q < n; ++q) {
+                    const int32_t *pp = *ip + 2 * ((q + n - 1) % n), *pc = *ip + 2 * q, *pn = *ip + 2 * ((q + 1) % n);
+                    if ((pp[0] == pc[0] && pc[0] == pn[0]) || (pp[1] == pc[1] && pc[1] == pn[1])) continue;
+                    (*ip)[2 * kept] = pc[0];
+                    (*ip)[2 * kept + 1] = pc[1];
+                    ++kept;
+                }
+                if (kept < 4) continue;
+                kept = pvs__vx_simplify(*ip, kept);
+                for (q = 0; q < kept; ++q) {
+                    const int32_t *pa = *ip + 2 * q, *pb = *ip + 2 * ((q + 1) % kept);
+                    area2 += (int64_t)pa[0] * pb[1] - (int64_t)pb[0] * pa[1];
+                }
+                if (kept < 3 || area2 == 0) continue;
+                first = cb->npts;
+                if (!pvs__vx_grow(al, (void **)&cb->points, &cb->cap_pts, cb->npts + kept + 1, 2 * sizeof(float))) return 0;
+                pt = cb->points + 2 * first;
+                for (q = 0; q <= kept; ++q) {
+                    if (q == kept && area2 > 0) break; /* only a hole repeats its first point */
+                    pt[2 * q] = (float)(ox + (*ip)[2 * (q % kept)] * c);
+                    pt[2 * q + 1] = (float)(oy + (*ip)[2 * (q % kept) + 1] * c);
+                }
+                cb->npts += area2 > 0 ? kept : kept + 1;
+                if (!pvs__vx_grow(al, (void **)&cb->chains, &cb->cap, cb->count + 1, sizeof(pvs_facade_chain)) ||
+                    !pvs__vx_grow(al, (void **)&cb->first, &cb->cap_first, cb->count + 1, sizeof(size_t)))
+                    return 0;
+                cb->first[cb->count] = first;
+                cb->chains[cb->count].points = NULL;
+                cb->chains[cb->count].point_count = (uint32_t)(cb->npts - first);
+                cb->chains[cb->count].closed = area2 > 0;
+                cb->chains[cb->count].base = base;
+                cb->chains[cb->count].top = top;
+                ++cb->count;
+            }
+        }
+#undef PVS__IN
+    return 1;
+}
+
+/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground: per 4-connected region of squares at or above a level that some
+   square of the region has, the region's boundary at that level (a level-set tree: a block of
+   buildings of several heights is one chain at its lowest height plus one per taller part, so no
+   crack opens where two heights meet). Quantum: a quarter of the square size. */
+PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
+    pvs__vx_cols *cm = &o->cols;
+    const pvs_allocator *al = &o->allocator;
+    size_t n = (size_t)cm->nu * cm->nv, x, qh, qt, cap = 0;
+    uint32_t *label = NULL, *queue = NULL, *members = NULL, nlab = 0, u2 = 0;
+    float *lev = NULL;
+    uint8_t *mask = NULL, *used = NULL, *inl = NULL;
+    uint32_t *sub = NULL;
+    size_t mcap = 0, ucap = 0, lcap = 0, scap = 0, ipcap = 0;
+    int32_t *ipts = NULL;
+    double g = o->ground, qz = 0.25 * cm->grid.h;
+    int u, v;
+    pvs__vx_chainbuf cb;
+    pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
+    memset(&cb, 0, sizeof(cb));
+    pvs__ground_axes(o->scene->up_axis, &u, &v);
+    (void)u2;
+    label = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    queue = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    members = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    if (!label || !queue || !members) goto done;
+    for (x = 0; x < n; ++x) { /* quantize */
+        float t = cm->top[x];
+        if (t > (float)g) cm->top[x] = pvs__f_down(g + floor(((double)t - g) / qz) * qz);
+        if (!(cm->top[x] > (float)g)) cm->top[x] = -FLT_MAX;
+        label[x] = 0xffffffffu;
+    }
+    for (x = 0; x < n; ++x) {
+        uint32_t i0, i1, j0, j1, bw, bh, nm = 0, k, nl = 0, li;
+        if (label[x] != 0xffffffffu || cm->top[x] == -FLT_MAX) continue;
+        /* the region: 4-connected squares with an occluder height */
+        qh = qt = 0;
+        queue[qt++] = (uint32_t)x;
+        label[x] = nlab;
+        i0 = i1 = (uint32_t)(x % cm->nu);
+        j0 = j1 = (uint32_t)(x / cm->nu);
+        while (qh < qt) {
+            uint32_t y = queue[qh++], yi = y % cm->nu, yj = y / cm->nu, dd;
+            members[nm++] = y;
+            if (yi < i0) i0 = yi;
+            if (yi > i1) i1 = yi;
+            if (yj < j0) j0 = yj;
+            if (yj > j1) j1 = yj;
+            for (dd = 0; dd < 4; ++dd) {
+                int zi = (int)yi + (dd == 0) - (dd == 1), zj = (int)yj + (dd == 2) - (dd == 3);
+                size_t z;
+                if (zi < 0 || zj < 0 || (uint32_t)zi >= cm->nu || (uint32_t)zj >= cm->nv) continue;
+                z = (size_t)zj * cm->nu + (uint32_t)zi;
+                if (label[z] != 0xffffffffu || cm->top[z] == -FLT_MAX) continue;
+                label[z] = nlab;
+                queue[qt++] = (uint32_t)z;
+            }
+        }
+        ++nlab;
+        /* its levels, ascending (distinct) */
+        if (!pvs__vx_grow(al, (void **)&lev, &lcap, nm, sizeof(float))) goto done;
+        for (k = 0; k < nm; ++k) lev[k] = cm->top[members[k]];
+        qsort(lev, nm, sizeof(float), pvs__vx_float_cmp);
+        for (k = 0; k < nm; ++k)
+            if (k == 0 || lev[k] != lev[nl - 1]) lev[nl++] = lev[k];
+        /* local frame of one square around the region's rectangle */
+        bw = i1 - i0 + 3;
+        bh = j1 - j0 + 3;
+        if (!pvs__vx_grow(al, (void **)&mask, &mcap, (size_t)bw * bh, 1) || !pvs__vx_grow(al, (void **)&inl, &scap, (size_t)bw * bh, 1) ||
+            !pvs__vx_grow(al, (void **)&sub, &ucap, (size_t)bw * bh, sizeof(uint32_t)) ||
+            !pvs__vx_grow(al, (void **)&used, &cap, (size_t)(bw + 1) * (bh + 1) * 4, 1))
+            goto done;
+        for (li = 0; li < nl; ++li) {
+            float L = lev[li];
+            uint32_t nsub = 0;
+            memset(inl, 0, (size_t)bw * bh);
+            for (k = 0; k < nm; ++k) {
+                uint32_t y = members[k];
+                if (cm->top[y] >= L) inl[(size_t)(y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1)] = 1;
+            }
+            for (k = 0; k < (size_t)bw * bh; ++k) sub[k] = 0xffffffffu;
+            for (k = 0; k < nm; ++k) { /* sub-regions at this level */
+                uint32_t y = members[k], s0 = (y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1), exact = 0, q2;
+                if (!inl[s0] || sub[s0] != 0xffffffffu) continue;
+                qh = qt = 0;
+                queue[qt++] = s0;
+                sub[s0] = nsub;
+                memset(mask, 0, (size_t)bw * bh);
+                while (qh < qt) {
+                    uint32_t z = queue[qh++], zi = z % bw, zj = z / bw, dd;
+                    mask[z] = 1;
+                    if (cm->top[(size_t)(zj + j0 - 1) * cm->nu + (zi + i0 - 1)] == L) exact = 1;
+                    for (dd = 0; dd < 4; ++dd) {
+                        uint32_t w2 = dd == 0 ? z + 1 : dd == 1 ? z - 1 : dd == 2 ? z + bw : z - bw;
+                        if (!inl[w2] || sub[w2] != 0xffffffffu) continue;
+                        sub[w2] = nsub;
+                        queue[qt++] = w2;
+                    }
+                }
+                ++nsub;
+                (void)q2;
+                if (exact && !pvs__vx_trace(al, &cb, mask, bw, bh, cm->grid.origin[u] + ((double)i0 - 1.0) * cm->grid.h,
+                                            cm->grid.origin[v] + ((double)j0 - 1.0) * cm->grid.h, cm->grid.h, (float)g, L, used, &ipts, &ipcap))
+                    goto done;
+            }
+        }
+    }
+    /* hand over: pointers into the final point buffer, bounding boxes */
+    o->chains = (pvs_facade_chain *)pvs__alloc_array(al, cb.count ? cb.count : 1, sizeof(pvs_facade_chain));
+    o->chain_boxes = (pvs_box *)pvs__alloc_array(al, cb.count ? cb.count : 1, sizeof(pvs_box));
+    o->chain_points = (float *)pvs__alloc_array(al, cb.npts ? 2 * cb.npts : 1, sizeof(float));
+    if (!o->chains || !o->chain_boxes || !o->chain_points) goto done;
+    o->chain_count = (uint32_t)cb.count;
+    o->chain_point_count = cb.npts;
+    if (cb.npts) memcpy(o->chain_points, cb.points, 2 * cb.npts * sizeof(float));
+    for (x = 0; x < cb.count; ++x) {
+        pvs_facade_chain *ch = o->chains + x;
+        pvs_box *bx = o->chain_boxes + x;
+        uint32_t k;
+        *ch = cb.chains[x];
+        ch->points = o->chain_points + 2 * cb.first[x];
+        bx->min[u] = bx->max[u] = ch->points[0];
+        bx->min[v] = bx->max[v] = ch->points[1];
+        for (k = 1; k < ch->point_count; ++k) {
+            if (ch->points[2 * k] < bx->min[u]) bx->min[u] = ch->points[2 * k];
+            if (ch->points[2 * k] > bx->max[u]) bx->max[u] = ch->points[2 * k];
+            if (ch->points[2 * k + 1] < bx->min[v]) bx->min[v] = ch->points[2 * k + 1];
+            if (ch->points[2 * k + 1] > bx->max[v]) bx->max[v] = ch->points[2 * k + 1];
+        }
+        bx->min[o->scene->up_axis] = ch->base;
+        bx->max[o->scene->up_axis] = ch->top;
+    }
+    res = PVS_OK;
+done:
+    pvs__free_array(al, label, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, queue, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, members, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, lev, lcap, sizeof(float));
+    pvs__free_array(al, mask, mcap, 1);
+    pvs__free_array(al, inl, scap, 1);
+    pvs__free_array(al, sub, ucap, sizeof(uint32_t));
+    pvs__free_array(al, used, cap, 1);
+    pvs__free_array(al, ipts, ipcap, 2 * sizeof(int32_t));
+    pvs__free_array(al, cb.chains, cb.cap, sizeof(pvs_facade_chain));
+    pvs__free_array(al, cb.first, cb.cap_first, sizeof(size_t));
+    pvs__free_array(al, cb.points, cb.cap_pts, 2 * sizeof(float));
+    return res;
+}
+
+
+/* The min-pyramids of the column map (pvs__vx_cols). */
+PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
+    pvs__vx_cols *cm = &o->cols;
+    uint32_t l, i, j;
+    cm->levels = 1;
+    cm->lw[0] = cm->nu;
+    cm->lh[0] = cm->nv;
+    cm->ptop[0] = cm->top;
+    cm->psolid[0] = cm->solid;
+    for (l = 1; l < PVS__VX_LEVELS && (cm->lw[l - 1] > 1 || cm->lh[l - 1] > 1); ++l) {
+        uint32_t w = (cm->lw[l - 1] + 1) / 2, h = (cm->lh[l - 1] + 1) / 2, pw = cm->lw[l - 1], ph = cm->lh[l - 1];
+        cm->ptop[l] = (float *)pvs__alloc_array(&o->allocator, (size_t)w * h, sizeof(float));
+        cm->psolid[l] = (float *)pvs__alloc_array(&o->allocator, (size_t)w * h, sizeof(float));
+        cm->lw[l] = w;
+        cm->lh[l] = h;
+        cm->levels = l + 1;
+        if (!cm->ptop[l] || !cm->psolid[l]) return PVS_ERROR_OUT_OF_MEMORY;
+        for (j = 0; j < h; ++j)
+            for (i = 0; i < w; ++i) {
+                float t = FLT_MAX, so = FLT_MAX;
+                uint32_t a, b;
+                for (b = 2 * j; b < 2 * j + 2; ++b)
+                    for (a = 2 * i; a < 2 * i + 2; ++a) {
+                        float x = -FLT_MAX, y = o->ground; /* outside the map: no occluder, not solid */
+                        if (a < pw && b < ph) {
+                            x = cm->ptop[l - 1][(size_t)b * pw + a];
+                            y = cm->psolid[l - 1][(size_t)b * pw + a];
+                        }
+                        if (x < t) t = x;
+                        if (y < so) so = y;
+                    }
+                cm->ptop[l][(size_t)j * w + i] = t;
+                cm->psolid[l][(size_t)j * w + i] = so;
+            }
+    }
+    return PVS_OK;
+}
+
+/* The column map and its chains: every component of three triangles or more flooded again on its own
+   grid of voxel size eps (grown when its box would exceed the budget). */
+PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps, double m,
+                                       pvs__vx_flood *fl) {
+    const pvs_scene *s = o->scene;
+    const pvs_allocator *al = &o->allocator;
+    pvs__vx_cols *cm = &o->cols;
+    uint32_t up = s->up_axis, comp, k;
+    int u, v;
+    double c, area, g = o->ground, margin, scale = 0.0;
+    size_t x, nmap;
+    pvs_result res = PVS_OK;
+    pvs__ground_axes(up, &u, &v);
+    area = ((double)ext->max[u] - ext->min[u] + 2.0 * eps) * ((double)ext->max[v] - ext->min[v] + 2.0 * eps);
+    c = pvs__dmax(0.5 * eps, sqrt(area / (double)PVS__VX_MAP_BUDGET));
+    memset(&cm->grid, 0, sizeof(cm->grid));
+    cm->grid.h = c;
+    for (k = 0; k < 3; ++k) {
+        if ((int)k == u || (int)k == v) {
+            cm->grid.origin[k] = (double)ext->min[k] - c;
+            cm->grid.n[k] = (uint32_t)(floor(((double)ext->max[k] - ext->min[k]) / c) + 3.0);
+        } else {
+            cm->grid.origin[k] = g;
+            cm->grid.n[k] = 1;
+        }
+        scale = pvs__dmax(scale, pvs__dmax(pvs__dabs(ext->min[k]), pvs__dabs(ext->max[k])));
+    }
+    cm->nu = cm->grid.n[u];
+    cm->nv = cm->grid.n[v];
+    nmap = (size_t)cm->nu * cm->nv;
+    /* the margin: float precision of the chain points and of the heights, and the voxel margin */
+    margin = 8.0 * FLT_EPSILON * scale + m;
+    cm->solid = (float *)pvs__alloc_array(al, nmap, sizeof(float));
+    cm->top = (float *)pvs__alloc_array(al, nmap, sizeof(float));
+    if (!cm->solid || !cm->top) return PVS_ERROR_OUT_OF_MEMORY;
+    for (x = 0; x < nmap; ++x) { cm->solid[x] = (float)g; cm->top[x] = -FLT_MAX; }
+    for (comp = 0; comp < tp->comp_count && res == PVS_OK; ++comp) {
+        pvs__vx_grid gk;
+        uint32_t lo[3], hi[3], t;
+        size_t vol, ncol;
+        double hk = eps;
+        if (tp->comp_first[comp + 1] - tp->comp_first[comp] < 3) continue;
+        for (;;) { /* the component's grid and box */
+            gk.h = hk;
+            for (k = 0; k < 3; ++k) {
+                gk.origin[k] = (double)ext->min[k] - hk;
+                gk.n[k] = (uint32_t)(floor(((double)ext->max[k] - ext->min[k]) / hk) + 3.0);
+                lo[k] = 0xffffffffu;
+                hi[k] = 0;
+            }
+            gk.origin[up] = g - hk;
+            for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+                uint32_t tri = tp->tris[t], r0, r1, q;
+                for (k = 0; k < 3; ++k) {
+                    double tl = DBL_MAX, th = -DBL_MAX;
+                    for (q = 0; q < 3; ++q) {
+                        double y = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + q] + k];
+                        tl = pvs__dmin(tl, y);
+                        th = pvs__dmax(th, y);
+                    }
+                    pvs__vx_grange(&gk, (int)k, tl, th, m, &r0, &r1);
+                    if (r0 < lo[k]) lo[k] = r0;
+                    if (r1 > hi[k]) hi[k] = r1;
+                }
+            }
+            if (lo[up] < 1 || tp->open_first[comp + 1] > tp->open_first[comp]) lo[up] = 1;
+            if (hi[up] < lo[up]) hi[up] = lo[up];
+            vol = 1;
+            for (k = 0; k < 3; ++k) vol *= (size_t)(hi[k] - lo[k] + 1);
+            if (vol <= PVS__VX_BOX_BUDGET) break;
+            hk *= 1.26;
+        }
+        ncol = (size_t)(hi[u] - lo[u] + 1) * (hi[v] - lo[v] + 1);
+        if (vol > fl->cap_vox) {
+            pvs__free_array(al, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
+            pvs__free_array(al, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
+            fl->bits = (uint8_t *)pvs__alloc_array(al, vol, 1);
+            fl->queue = (uint32_t *)pvs__alloc_array(al, 2 * vol, sizeof(uint32_t));
+            fl->cap_vox = vol;
+            if (!fl->bits || !fl->queue) return PVS_ERROR_OUT_OF_MEMORY;
+        }
+        if (ncol > fl->cap_col) {
+            pvs__free_array(al, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
+            fl->col = (uint8_t *)pvs__alloc_array(al, ncol, 1);
+            fl->cap_col = ncol;
+            if (!fl->col) return PVS_ERROR_OUT_OF_MEMORY;
+        }
+        res = pvs__vx_columns_component(o, tp, comp, &gk, lo, hi, m, eps, margin, fl);
+    }
+    if (res == PVS_OK) res = pvs__vx_build_chains(o);
+    if (res == PVS_OK) res = pvs__vx_pyramid(o);
+    return res;
+}
+
 PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occluders **out, pvs_error *err) {
     pvs_occluders *o;
     pvs_allocator a;
@@ -6148,7 +6815,6 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     pvs__vx_topo tp;
     pvs__vx_flood fl;
     uint8_t *tmp = NULL, *line = NULL;
-    float *colh = NULL;
     int u, v, kk;
     if (out) *out = NULL;
     memset(&tp, 0, sizeof(tp));
@@ -6192,16 +6858,19 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     }
     o->origin[up] = g - h; /* layer 0 lies below the ground, layer 1 starts at it */
     o->total = total;
+    for (kk = 0; kk < 3; ++kk) {
+        o->grid.origin[kk] = o->origin[kk];
+        o->grid.n[kk] = o->n[kk];
+    }
+    o->grid.h = h;
     o->state = (uint8_t *)pvs__alloc_array(&a, total, 1);
     o->eroded = (uint8_t *)pvs__alloc_array(&a, total, 1);
     tmp = (uint8_t *)pvs__alloc_array(&a, total, 1);
     line = (uint8_t *)pvs__alloc_array(&a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
     cols = (size_t)o->n[u] * o->n[v];
-    colh = (float *)pvs__alloc_array(&a, cols, sizeof(float));
-    if (!o->state || !o->eroded || !tmp || !line || !colh || total > 0x7fffffffu) {
+    if (!o->state || !o->eroded || !tmp || !line || total > 0x7fffffffu) {
         pvs__free_array(&a, tmp, total, 1);
         pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
-        pvs__free_array(&a, colh, cols, sizeof(float));
         pvs_occluders_destroy(o);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "voxel grid %u x %u x %u", o->n[0], o->n[1], o->n[2]);
     }
@@ -6219,6 +6888,10 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     fl.cell_count = d->cell_count;
     fl.bnu = (o->n[u] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
     fl.bnv = (o->n[v] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
+    fl.bucket_grid = o->grid;
+    fl.bucket_grid.h = o->h * PVS__VX_BUCKET;
+    fl.bucket_grid.n[u] = fl.bnu;
+    fl.bucket_grid.n[v] = fl.bnv;
     nbuckets = (size_t)fl.bnu * fl.bnv;
     fl.bucket_first = (uint32_t *)pvs__alloc_array(&a, nbuckets + 1, sizeof(uint32_t));
     fl.stamp = (uint32_t *)pvs__alloc_array(&a, d->cell_count, sizeof(uint32_t));
@@ -6234,11 +6907,11 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         }
         for (c = 0; c < d->cell_count; ++c) {
             uint32_t r0[3], r1[3], bu, bv;
-            pvs__vx_range(o, u, d->cells[c].min[u], d->cells[c].max[u], m, r0 + u, r1 + u);
-            pvs__vx_range(o, v, d->cells[c].min[v], d->cells[c].max[v], m, r0 + v, r1 + v);
+            pvs__vx_grange(&fl.bucket_grid, u, d->cells[c].min[u], d->cells[c].max[u], m, r0 + u, r1 + u);
+            pvs__vx_grange(&fl.bucket_grid, v, d->cells[c].min[v], d->cells[c].max[v], m, r0 + v, r1 + v);
             if (r0[u] > r1[u] || r0[v] > r1[v]) continue;
-            for (bv = r0[v] / PVS__VX_BUCKET; bv <= r1[v] / PVS__VX_BUCKET; ++bv)
-                for (bu = r0[u] / PVS__VX_BUCKET; bu <= r1[u] / PVS__VX_BUCKET; ++bu) {
+            for (bv = r0[v]; bv <= r1[v]; ++bv)
+                for (bu = r0[u]; bu <= r1[u]; ++bu) {
                     size_t bk = (size_t)bv * fl.bnu + bu;
                     if (!bpass) ++fl.bucket_first[bk + 1];
                     else fl.bucket_cells[--fl.bucket_first[bk + 1]] = c;
@@ -6319,12 +6992,10 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
     pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
     pvs__free_array(&a, cbox, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
-    pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
-    memset(&fl, 0, sizeof(fl));
+    fl.bits = fl.col = NULL;
+    fl.queue = NULL; /* `queue` keeps it for the leak flood */
+    fl.cap_vox = fl.cap_col = 0;
     cbox = NULL;
-    pvs__vx_topo_free(&a, &tp, s->triangle_count);
     for (vi = 0; vi < total; ++vi) o->info.touched += (o->state[vi] & PVS__VX_TOUCHED) != 0;
     /* 2. explicit occluder volumes are solid: voxels wholly inside one */
     for (c = 0; c < s->occluder_count; ++c) {
@@ -6394,111 +7065,29 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 for (i = r0[0]; i <= r1[0] && !found; ++i) found = o->eroded[pvs__vx_index(o, i, j, k)];
         o->info.thin_objects += !found;
     }
-    /* 4. 2.5D: per column the run of solid voxels standing on the ground (layer 1 up) */
+    /* 4. the 2.5D occluders: is the solid mostly runs standing on the ground? then the column map */
     r = (uint32_t)floor(d->eps / h) + 1u; /* strictly more than eps: rounding toward less solid */
     for (vi = 0; vi < cols; ++vi) {
-        uint32_t cu = (uint32_t)(vi % o->n[u]), cv = (uint32_t)(vi / o->n[u]), run = 0, idx[3];
-        idx[u] = cu; idx[v] = cv;
+        uint32_t idx[3];
+        idx[u] = (uint32_t)(vi % o->n[u]); idx[v] = (uint32_t)(vi / o->n[u]);
         for (idx[up] = 1; idx[up] < o->n[up]; ++idx[up]) {
             if (!o->eroded[pvs__vx_index(o, idx[0], idx[1], idx[2])]) break;
-            ++run;
+            ++o->info.column_voxels;
         }
-        o->info.column_voxels += run;
-        colh[vi] = run ? (float)run : 0.0f; /* in voxel layers for now */
-    }
-    o->column_top = (float *)pvs__alloc_array(&a, cols, sizeof(float));
-    if (o->column_top) {
-        o->column_count = cols;
-        for (vi = 0; vi < cols; ++vi) o->column_top[vi] = colh[vi] > 0.0f ? pvs__f_up(g + (double)colh[vi] * h) : (float)g;
     }
     o->info.is_2d5 = o->info.solid > 0 && (double)o->info.column_voxels >= 0.9 * (double)o->info.solid;
-    /* 2.5D erosion: column height = min over the (2r+1)^2 neighbourhood (outside: 0), minus eps */
-    {
-        float *t2 = (float *)tmp; /* reuse only if large enough */
-        float *buf = NULL;
-        size_t ii;
-        uint32_t a0, b0, q;
-        if (total >= cols * sizeof(float)) buf = t2;
-        else buf = (float *)pvs__alloc_array(&a, cols, sizeof(float));
-        if (!buf) {
-            pvs__free_array(&a, tmp, total, 1);
-            pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
-            pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
-            pvs__free_array(&a, colh, cols, sizeof(float));
-            pvs_occluders_destroy(o);
-            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "columns");
-        }
-        for (b0 = 0; b0 < o->n[v]; ++b0)
-            for (a0 = 0; a0 < o->n[u]; ++a0) {
-                float mn = colh[(size_t)b0 * o->n[u] + a0];
-                if (a0 < r || a0 + r >= o->n[u]) mn = 0.0f;
-                for (q = a0 >= r ? a0 - r : 0; mn > 0.0f && q <= a0 + r && q < o->n[u]; ++q)
-                    if (colh[(size_t)b0 * o->n[u] + q] < mn) mn = colh[(size_t)b0 * o->n[u] + q];
-                buf[(size_t)b0 * o->n[u] + a0] = mn;
-            }
-        for (b0 = 0; b0 < o->n[v]; ++b0)
-            for (a0 = 0; a0 < o->n[u]; ++a0) {
-                float mn = buf[(size_t)b0 * o->n[u] + a0];
-                if (b0 < r || b0 + r >= o->n[v]) mn = 0.0f;
-                for (q = b0 >= r ? b0 - r : 0; mn > 0.0f && q <= b0 + r && q < o->n[v]; ++q)
-                    if (buf[(size_t)q * o->n[u] + a0] < mn) mn = buf[(size_t)q * o->n[u] + a0];
-                colh[(size_t)b0 * o->n[u] + a0] = mn;
-            }
-        if (buf != t2) pvs__free_array(&a, buf, cols, sizeof(float));
-        /* heights in scene units: top of the run lowered by eps, rounded down; <= ground: none */
-        for (ii = 0; ii < cols; ++ii) {
-            double top = colh[ii] > 0.0f ? g + (double)colh[ii] * h - d->eps : g;
-            float f = pvs__f_down(top);
-            colh[ii] = top > g && f > (float)g ? f : -FLT_MAX;
-        }
-        /* merge equal columns into rectangles (greedy: along u, then v) */
-        {
-            uint32_t pass, count = 0;
-            uint8_t *used = tmp;
-            for (pass = 0; pass < 2; ++pass) {
-                memset(used, 0, cols);
-                count = 0;
-                for (b0 = 0; b0 < o->n[v]; ++b0)
-                    for (a0 = 0; a0 < o->n[u]; ++a0) {
-                        size_t x0 = (size_t)b0 * o->n[u] + a0;
-                        float hv = colh[x0];
-                        uint32_t a1, b1, t;
-                        int full = 1;
-                        if (used[x0] || hv == -FLT_MAX) continue;
-                        for (a1 = a0; a1 + 1 < o->n[u] && !used[x0 + (a1 + 1 - a0)] && colh[x0 + (a1 + 1 - a0)] == hv; ++a1) {}
-                        for (b1 = b0; full && b1 + 1 < o->n[v];) {
-                            for (t = a0; t <= a1 && full; ++t) {
-                                size_t y = (size_t)(b1 + 1) * o->n[u] + t;
-                                full = !used[y] && colh[y] == hv;
-                            }
-                            if (full) ++b1;
-                        }
-                        for (t = b0; t <= b1; ++t) memset(used + (size_t)t * o->n[u] + a0, 1, a1 - a0 + 1);
-                        if (pass == 1) {
-                            float *pt = o->chain_points + 8 * (size_t)count;
-                            float u0 = pvs__f_up(o->origin[u] + a0 * h), u1 = pvs__f_down(o->origin[u] + (a1 + 1) * h);
-                            float v0 = pvs__f_up(o->origin[v] + b0 * h), v1 = pvs__f_down(o->origin[v] + (b1 + 1) * h);
-                            pt[0] = u0; pt[1] = v0; pt[2] = u1; pt[3] = v0; pt[4] = u1; pt[5] = v1; pt[6] = u0; pt[7] = v1;
-                            o->chains[count].points = pt;
-                            o->chains[count].point_count = 4;
-                            o->chains[count].closed = 1;
-                            o->chains[count].base = (float)g;
-                            o->chains[count].top = hv;
-                        }
-                        ++count;
-                    }
-                if (pass == 0) {
-                    o->chain_count = count;
-                    o->chains = (pvs_facade_chain *)pvs__alloc_array(&a, count ? count : 1, sizeof(pvs_facade_chain));
-                    o->chain_points = (float *)pvs__alloc_array(&a, (size_t)(count ? count : 1) * 8, sizeof(float));
-                    if (!o->chains || !o->chain_points) break;
-                }
-            }
-            o->info.rect_count = o->chain_count;
-        }
-    }
+    if (pvs__vx_columns(o, &tp, &ext, d->eps, m, &fl) != PVS_OK) goto oom;
+    o->info.rect_count = o->chain_count;
+    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
+    pvs__free_array(&a, fl.queue, fl.cap_vox ? 2 * fl.cap_vox : 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
+    pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
+    memset(&fl, 0, sizeof(fl));
+    pvs__vx_topo_free(&a, &tp, s->triangle_count);
     /* 5. 3D erosion by r voxels (Chebyshev; outside the grid and the ground count as empty), then boxes */
-    if (o->chains && o->chain_points) {
+    {
         for (kk = 0; kk < 3; ++kk) pvs__vx_erode_axis(o, o->eroded, line, kk, r);
         for (vi = 0; vi < total; ++vi) o->info.eroded += o->eroded[vi];
         memcpy(tmp, o->eroded, total);
@@ -6513,8 +7102,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     pvs__free_array(&a, tmp, total, 1);
     pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
     pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
-    pvs__free_array(&a, colh, cols, sizeof(float));
-    if (!o->chains || !o->chain_points || !o->boxes || !o->column_top) {
+    if (!o->boxes) {
         pvs_occluders_destroy(o);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder boxes");
     }
@@ -6531,6 +7119,7 @@ oom:
     pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
     pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
     pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
+    if (fl.queue && fl.queue != queue) pvs__free_array(&a, fl.queue, fl.cap_vox ? 2 * fl.cap_vox : 1, sizeof(uint32_t));
     pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
     pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
     pvs__free_array(&a, cbox, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
@@ -6538,7 +7127,6 @@ oom:
     pvs__free_array(&a, tmp, total, 1);
     pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
     pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
-    pvs__free_array(&a, colh, cols, sizeof(float));
     pvs_occluders_destroy(o);
     return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder synthesis scratch");
 }
@@ -6559,6 +7147,27 @@ PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *o, uint32_t i, uint3
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *o, uint32_t *count) {
     if (count) *count = o->box_count;
     return o->boxes;
+}
+PVS_API float pvs_occluders_column_height(const pvs_occluders *o, float pu, float pv, float *solid) {
+    const pvs__vx_cols *cm = &o->cols;
+    uint32_t a0, a1, b0, b1, a, b;
+    float top = FLT_MAX, sol = FLT_MAX;
+    int u, v;
+    pvs__ground_axes(o->scene->up_axis, &u, &v);
+    pvs__vx_grange(&cm->grid, u, pu, pu, 0.0, &a0, &a1);
+    pvs__vx_grange(&cm->grid, v, pv, pv, 0.0, &b0, &b1);
+    if (a0 > a1 || b0 > b1 || !cm->top) {
+        if (solid) *solid = o->ground;
+        return -FLT_MAX;
+    }
+    for (b = b0; b <= b1; ++b)
+        for (a = a0; a <= a1; ++a) {
+            size_t x = (size_t)b * cm->nu + a;
+            if (cm->top[x] < top) top = cm->top[x];
+            if (cm->solid[x] < sol) sol = cm->solid[x];
+        }
+    if (solid) *solid = sol;
+    return top;
 }
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, uint32_t *count) {
     if (count) *count = o->chain_count;
@@ -7546,9 +8155,245 @@ done:
 
 /* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
 
+/* ---- the 2.5D path: per-sample occlusion horizons ----
+
+   Wonka 2000 §2.1 allows two ways to fuse the samples: intersect their umbrae, or unite their PVSs.
+   Here each sample's visibility is an occlusion horizon over PVS__HZ_BINS angular bins around the
+   eye E (ground point e, height H): the sight line from E to (x, z) is blocked when it crosses an
+   occluder facade of height T at ground distance dc < |x - e| below T, i.e. when (z - H) / |x - e| <
+   (T - H) / dc. For one chain of shrunk occluder facades (a closed outline or a hole's), a bin whose
+   whole angular range the chain's facades cover (consecutive facades share their corners, so their
+   ranges join exactly) is crossed by every ray in it at a distance at most dmax (the farthest
+   crossing of those facades inside the bin) and at least dmin; so points of the bin beyond dmax are
+   hidden below slope sigma = (T - H) / dmax (T >= H) or (T - H) / dmin (T < H). Per bin, a short
+   staircase of (distance, slope) steps keeps the best slope from each distance on. A box is hidden
+   from the sample when every bin its ground rectangle touches has, at the box's least distance, a
+   slope above the box's steepest sight line. No crack opens inside a chain (coverage is per bin over
+   the whole chain), and occluders are processed front to back with occluded ones skipped (§3.4).
+   Rounding: angles bin-exact (a shared corner gives the same angle to both facades), distances and
+   slopes widened toward the safe side. */
+
+#define PVS__HZ_BINS 2048
+#define PVS__HZ_STEPS 6
+
+/* Angles are pseudo-angles in [0, 4) (the "diamond angle": monotone in the true angle, a quarter
+   turn per unit, no trigonometry); bin b covers [4 b / BINS, 4 (b + 1) / BINS). */
+typedef struct pvs__hz {
+    double eu, ev, H, w;                         /* the eye; bin width (pseudo-angle) */
+    double dir[PVS__HZ_BINS + 1][2];             /* ray direction at each bin boundary (unnormalized) */
+    double dlen[PVS__HZ_BINS + 1];               /* its length */
+    uint8_t nstep[PVS__HZ_BINS];
+    float step_r[PVS__HZ_BINS][PVS__HZ_STEPS];   /* ascending */
+    float step_s[PVS__HZ_BINS][PVS__HZ_STEPS];   /* ascending with r (dominated steps dropped) */
+    /* per chain */
+    uint32_t stamp[PVS__HZ_BINS], cur;
+    uint8_t full[PVS__HZ_BINS];
+    double plo[PVS__HZ_BINS], phi[PVS__HZ_BINS], dmax[PVS__HZ_BINS], dmin[PVS__HZ_BINS];
+    uint16_t touched[PVS__HZ_BINS];
+    uint32_t ntouched;
+} pvs__hz;
+
+PVS__STATIC double pvs__hz_angle(double x, double y) {
+    double a;
+    if (y >= 0.0) a = x >= 0.0 ? y / (x + y) : 1.0 - x / (y - x);
+    else a = x < 0.0 ? 2.0 - y / (-x - y) : 3.0 + x / (x - y);
+    return a >= 0.0 && a < 4.0 ? a : 0.0;
+}
+PVS__STATIC void pvs__hz_init(pvs__hz *z) {
+    int32_t k;
+    z->w = 4.0 / PVS__HZ_BINS;
+    for (k = 0; k <= PVS__HZ_BINS; ++k) {
+        double a = k == PVS__HZ_BINS ? 0.0 : k * z->w, t = a - floor(a);
+        int q = (int)floor(a);
+        double *d = z->dir[k];
+        if (q == 0) { d[0] = 1.0 - t; d[1] = t; }
+        else if (q == 1) { d[0] = -t; d[1] = 1.0 - t; }
+        else if (q == 2) { d[0] = -(1.0 - t); d[1] = -t; }
+        else { d[0] = t; d[1] = -(1.0 - t); }
+        z->dlen[k] = sqrt(d[0] * d[0] + d[1] * d[1]);
+    }
+}
+PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
+    int32_t b = (int32_t)floor(a / z->w);
+    return b < 0 ? 0 : b >= PVS__HZ_BINS ? PVS__HZ_BINS - 1 : b;
+}
+PVS__STATIC double pvs__hz_lo(const pvs__hz *z, int32_t b) { return b * z->w; }
+PVS__STATIC double pvs__hz_hi(const pvs__hz *z, int32_t b) { return b + 1 == PVS__HZ_BINS ? 4.0 : (b + 1) * z->w; }
+
+/* Distance from the eye along the ray of bin boundary k to the line through p, q (relative ground
+   points); -1 when parallel. */
+PVS__STATIC double pvs__hz_ray(const pvs__hz *z, int32_t k, const double p[2], const double q[2]) {
+    double dx = z->dir[k][0], dy = z->dir[k][1], ex = q[0] - p[0], ey = q[1] - p[1], den = dx * ey - dy * ex;
+    if (den == 0.0) return -1.0;
+    return (p[0] * ey - p[1] * ex) / den * z->dlen[k];
+}
+
+/* The part [a0, a1] of bin b covered by a facade, crossed at distances d0 (at a0) and d1 (at a1),
+   the nearest point of its line at angle afoot, distance dfoot. */
+PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot, double afoot) {
+    double lo, hi;
+    if (!(d0 > 0.0) || !(d1 > 0.0)) return;
+    hi = pvs__dmax(d0, d1) * (1.0 + 1e-9);
+    lo = pvs__dmin(d0, d1);
+    if (afoot >= a0 && afoot <= a1) lo = pvs__dmin(lo, dfoot);
+    lo *= 1.0 - 1e-9;
+    if (z->stamp[b] != z->cur) {
+        z->stamp[b] = z->cur;
+        z->full[b] = 0;
+        z->plo[b] = a0;
+        z->phi[b] = a1;
+        z->dmax[b] = hi;
+        z->dmin[b] = lo;
+        z->touched[z->ntouched++] = (uint16_t)b;
+    } else {
+        if (hi > z->dmax[b]) z->dmax[b] = hi;
+        if (lo < z->dmin[b]) z->dmin[b] = lo;
+        /* the covered range: one interval grown by pieces that meet it (a gap stays a gap) */
+        if (a0 <= z->phi[b] && a1 >= z->plo[b]) {
+            if (a0 < z->plo[b]) z->plo[b] = a0;
+            if (a1 > z->phi[b]) z->phi[b] = a1;
+        } else if (a1 - a0 > z->phi[b] - z->plo[b]) {
+            z->plo[b] = a0;
+            z->phi[b] = a1;
+        }
+    }
+    if (a0 <= pvs__hz_lo(z, b) && a1 >= pvs__hz_hi(z, b)) z->full[b] = 1;
+}
+
+/* Adds facade p-q (world ground points) of the current chain. */
+PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
+    double p[2], q[2], cr, a, b, fx, fy, t, afoot, dfoot, len2, da, db;
+    int32_t b0, b1, k;
+    p[0] = pf[0] - z->eu; p[1] = pf[1] - z->ev;
+    q[0] = qf[0] - z->eu; q[1] = qf[1] - z->ev;
+    cr = p[0] * q[1] - p[1] * q[0];
+    len2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]);
+    if (!(pvs__dabs(cr) > 1e-12 * (p[0] * p[0] + p[1] * p[1] + q[0] * q[0] + q[1] * q[1]))) return; /* seen edge-on */
+    if (cr < 0.0) { double tt[2]; tt[0] = p[0]; tt[1] = p[1]; p[0] = q[0]; p[1] = q[1]; q[0] = tt[0]; q[1] = tt[1]; }
+    /* counter-clockwise from p (angle a) to q (angle b), less than a half turn */
+    a = pvs__hz_angle(p[0], p[1]);
+    b = pvs__hz_angle(q[0], q[1]);
+    da = sqrt(p[0] * p[0] + p[1] * p[1]);
+    db = sqrt(q[0] * q[0] + q[1] * q[1]);
+    /* the foot of the perpendicular from the eye (nearest point of the line) */
+    t = -(p[0] * (q[0] - p[0]) + p[1] * (q[1] - p[1])) / len2;
+    fx = p[0] + t * (q[0] - p[0]);
+    fy = p[1] + t * (q[1] - p[1]);
+    dfoot = sqrt(fx * fx + fy * fy);
+    afoot = t > 0.0 && t < 1.0 ? pvs__hz_angle(fx, fy) : -1.0;
+    b0 = pvs__hz_bin(z, a);
+    b1 = pvs__hz_bin(z, b);
+    if (b < a) b1 += PVS__HZ_BINS; /* across angle 0 */
+    for (k = b0; k <= b1; ++k) {
+        int32_t bk = k % PVS__HZ_BINS, lo_at_start = k == b0, hi_at_end = k == b1;
+        double s0 = lo_at_start ? a : pvs__hz_lo(z, bk), s1 = hi_at_end ? b : pvs__hz_hi(z, bk);
+        double d0 = lo_at_start ? da : pvs__hz_ray(z, bk, p, q), d1 = hi_at_end ? db : pvs__hz_ray(z, bk + 1, p, q);
+        if (k == b0 && k == b1 && b < a) continue; /* cannot happen: a half turn at most */
+        pvs__hz_piece(z, bk, s0, s1, d0, d1, dfoot, afoot);
+    }
+}
+
+/* Inserts step (r, s) into bin b: for distances >= r the slope is at least s. */
+PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
+    uint32_t n = z->nstep[b], i, j;
+    float *R = z->step_r[b], *S = z->step_s[b];
+    for (i = 0; i < n; ++i)
+        if (R[i] <= r && S[i] >= s) return; /* dominated */
+    for (i = 0, j = 0; i < n; ++i) /* drop the steps it dominates */
+        if (!(R[i] >= r && S[i] <= s)) { R[j] = R[i]; S[j] = S[i]; ++j; }
+    n = j;
+    if (n == PVS__HZ_STEPS) --n; /* full: forget the farthest step (less occlusion, still conservative) */
+    for (i = n; i > 0 && R[i - 1] > r; --i) { R[i] = R[i - 1]; S[i] = S[i - 1]; }
+    R[i] = r;
+    S[i] = s;
+    z->nstep[b] = (uint8_t)(n + 1);
+}
+
+/* The best slope of bin b for points at distance >= d (-FLT_MAX: none). */
+PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
+    uint32_t i;
+    float best = -FLT_MAX;
+    for (i = 0; i < z->nstep[b] && (double)z->step_r[b][i] <= d; ++i)
+        if (z->step_s[b][i] > best) best = z->step_s[b][i];
+    return best;
+}
+
+/* The angular bins [*b0, *b1] (b1 may wrap past the last bin: then b1 >= BINS) and the least and
+   greatest ground distance of the rectangle [u0, u1] x [v0, v1] seen from the eye; 0 when the eye is
+   inside it (or on its border). */
+PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1, double *dmin, double *dmax) {
+    double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, a[4], lo, hi, span = 0.0;
+    int k, first = 0;
+    if (x0 <= 0.0 && x1 >= 0.0 && y0 <= 0.0 && y1 >= 0.0) return 0;
+    nx = x0 > 0.0 ? x0 : x1 < 0.0 ? -x1 : 0.0;
+    ny = y0 > 0.0 ? y0 : y1 < 0.0 ? -y1 : 0.0;
+    fx = pvs__dmax(pvs__dabs(x0), pvs__dabs(x1));
+    fy = pvs__dmax(pvs__dabs(y0), pvs__dabs(y1));
+    *dmin = sqrt(nx * nx + ny * ny) * (1.0 - 1e-9);
+    *dmax = sqrt(fx * fx + fy * fy) * (1.0 + 1e-9);
+    a[0] = pvs__hz_angle(x0, y0); a[1] = pvs__hz_angle(x1, y0); a[2] = pvs__hz_angle(x1, y1); a[3] = pvs__hz_angle(x0, y1);
+    /* the corner from which all others lie counter-clockwise within a half turn: the span's start */
+    for (k = 0; k < 4; ++k) {
+        int j, ok = 1;
+        double m = 0.0;
+        for (j = 0; j < 4 && ok; ++j) {
+            double d = a[j] - a[k];
+            if (d < 0.0) d += 4.0;
+            if (d > 2.0) ok = 0;
+            m = pvs__dmax(m, d);
+        }
+        if (ok) { first = k; span = m; break; }
+    }
+    lo = a[first];
+    hi = lo + span;
+    *b0 = pvs__hz_bin(z, lo - 1e-12);
+    *b1 = (int32_t)floor((hi + 1e-12) / z->w);
+    if (*b1 < *b0) *b1 = *b0;
+    return 1;
+}
+
+/* 1 if the box may be visible from the eye. */
+PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int v, uint32_t up) {
+    int32_t b0, b1, k;
+    double dmin, dmax, need, top = bx->max[up];
+    if (!pvs__hz_rect(z, bx->min[u], bx->min[v], bx->max[u], bx->max[v], &b0, &b1, &dmin, &dmax)) return 1;
+    if (!(dmin > 0.0)) return 1;
+    need = top >= z->H ? (top - z->H) / dmin : (top - z->H) / dmax; /* the steepest sight line to the box */
+    need += 1e-9 * (pvs__dabs(need) + 1e-30);
+    for (k = b0; k <= b1; ++k)
+        if (!((double)pvs__hz_query(z, k % PVS__HZ_BINS, dmin) > need)) return 1;
+    return 0;
+}
+
+/* Adds one chain (closed: its facades back to the first point) of height top. */
+PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
+    uint32_t i, n = ch->point_count, segs = ch->closed ? n : n - 1;
+    double T = ch->top;
+    z->cur++;
+    z->ntouched = 0;
+    for (i = 0; i < segs; ++i) pvs__hz_facade(z, ch->points + 2 * i, ch->points + 2 * ((i + 1) % n));
+    for (i = 0; i < z->ntouched; ++i) {
+        int32_t b = z->touched[i];
+        double sl;
+        if (!z->full[b] && !(z->plo[b] <= pvs__hz_lo(z, b) && z->phi[b] >= pvs__hz_hi(z, b))) continue;
+        if (T >= z->H) sl = (T - z->H) / z->dmax[b];
+        else {
+            if (!(z->dmin[b] > 0.0)) continue;
+            sl = (T - z->H) / z->dmin[b];
+        }
+        pvs__hz_insert(z, b, pvs__f_up(z->dmax[b]), pvs__f_down(sl - 1e-9 * (pvs__dabs(sl) + 1e-30)));
+    }
+}
+
+/* 1 when the chain cannot add occlusion: its whole box, seen from the eye, is already hidden (an
+   occluded occluder, §3.4). */
+PVS__STATIC int pvs__hz_occluded(const pvs__hz *z, const pvs_box *bx, int u, int v, uint32_t up) {
+    return !pvs__hz_test_box(z, bx, u, v, up);
+}
+
 typedef struct pvs__shrink_walk {
     const pvs_scene *scene;
-    const pvs_raster *raster;
+    const pvs__hz *hz;
     const pvs_box *cell;
     pvs_word *visible;
     int u, v;
@@ -7560,19 +8405,42 @@ PVS__STATIC int pvs__shrink_near(const pvs__shrink_walk *w, const pvs_box *b) {
            b->max[w->v] >= w->cell->min[w->v];
 }
 
-/* §3.4 hierarchical rejection: a kD-tree node under the joint umbra is skipped with all it holds. */
+/* One sample's walk: a kD-tree node hidden from the sample is skipped with all it holds (§3.4). */
 PVS__STATIC pvs_visit pvs__shrink_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
     pvs__shrink_walk *w = (pvs__shrink_walk *)user;
-    uint32_t i;
+    uint32_t i, up = w->scene->up_axis;
     (void)distance;
-    if (!pvs__shrink_near(w, node_box) && !pvs_cull_map_test_box(w->raster, node_box)) return PVS_VISIT_SKIP;
+    if (!pvs__shrink_near(w, node_box) && !pvs__hz_test_box(w->hz, node_box, w->u, w->v, up)) return PVS_VISIT_SKIP;
     for (i = 0; i < count; ++i) {
         uint32_t ob = items[i];
         const pvs_box *b = w->scene->object_boxes + ob;
-        if (w->scene->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) continue;
-        if (pvs__shrink_near(w, b) || pvs_cull_map_test_box(w->raster, b)) pvs_bitset_set(w->visible, ob);
+        if ((w->scene->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) || pvs_bitset_test(w->visible, ob)) continue;
+        if (pvs__shrink_near(w, b) || pvs__hz_test_box(w->hz, b, w->u, w->v, up)) pvs_bitset_set(w->visible, ob);
     }
     return PVS_VISIT_DESCEND;
+}
+
+/* §3: "sample points need only be placed on the edges of the top of the view cells". Why, for a
+   heightfield occluder O standing on the ground and a point P whose ground position lies outside the
+   cell's footprint R (the others are set anyway): say V on the top face (height H) sees P. In the
+   vertical plane through P and V, the segment from P's ground position to V's crosses the boundary
+   of R at W'. If P is not above H, the segment P-W' lies above P-V at every ground distance from P,
+   so W' sees P. If P is above H, move V away from P to the boundary point W: P-W lies above P-V up to
+   V and above H after it, where no column of O inside R reaches. Either way a boundary point sees P.
+   Here O is the eps-neighbourhood of the shrunk occluder (a heightfield standing on the ground, and
+   where no viewer goes: a sight line V-P of the real scene avoids it), so the condition is that no
+   occluder column within eps of R rises above H - eps; with the theorem (appendix) the edge samples
+   decide. */
+PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
+    const pvs__vx_cols *cm = &o->cols;
+    uint32_t i0, i1, j0, j1, i, j;
+    double top = (double)cell->max[up] - o->info.eps;
+    pvs__vx_grange(&cm->grid, u, cell->min[u], cell->max[u], o->info.eps, &i0, &i1);
+    pvs__vx_grange(&cm->grid, v, cell->min[v], cell->max[v], o->info.eps, &j0, &j1);
+    for (j = j0; j <= j1; ++j)
+        for (i = i0; i <= i1; ++i)
+            if ((double)cm->top[(size_t)j * cm->nu + i] > top) return 0;
+    return 1;
 }
 
 typedef struct pvs__shrink_key {
@@ -7584,159 +8452,78 @@ PVS__STATIC int pvs__shrink_key_cmp(const void *x, const void *y) {
     return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
 }
 
-/* One sample's cull map (Wonka 1999 §3-4, via the raster module's shadow rasterizer), occluders front
-   to back; an occluder whose prism is already under the shadows is skipped (§3.4: an occluded occluder
-   hides nothing more from this point). */
-PVS__STATIC uint32_t pvs__shrink_sample_map(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
-                                            const pvs__shrink_key *order, uint32_t n, int u, int v, uint32_t up) {
-    double e[3];
-    size_t i, cells = (size_t)r->cm_w * r->cm_h;
-    uint32_t c, drawn = 0;
-    int simd = !(r->flags & PVS_RASTER_SCALAR);
-    e[0] = eye[u];
-    e[1] = eye[v];
-    e[2] = eye[up];
-    for (i = 0; i < cells; ++i) r->cm[i] = PVS_DEPTH_EMPTY;
-    for (i = 0; i < r->cm_tiles; ++i) r->cm_tile_min[i] = PVS_DEPTH_EMPTY;
-    for (c = 0; c < n; ++c) {
-        const pvs_facade_chain *ch = chains + order[c].i;
-        pvs_box bx;
-        bx.min[u] = ch->points[0]; bx.min[v] = ch->points[1]; bx.min[up] = ch->base;
-        bx.max[u] = ch->points[4]; bx.max[v] = ch->points[5]; bx.max[up] = ch->top;
-        if (c > 0 && !pvs_cull_map_test_box(r, &bx)) continue;
-        pvs__cm_chain(r, e, ch->points, ch->point_count, 1, ch->base, ch->top, simd, 0.0);
-        ++drawn;
-    }
-    return drawn;
-}
-
-/* §3: "sample points need only be placed on the edges of the top of the view cells". Why, for a
-   heightfield occluder O (the columns before erosion) and a point P whose ground position lies
-   outside the cell's footprint R (the others are set anyway): say V on the top face (height H) sees
-   P. In the vertical plane through P and V, the segment from P's ground position to V's crosses the
-   boundary of R at W'. If P is not above H, the segment P-W' lies above P-V at every ground distance
-   from P, so W' sees P. If P is above H, move V away from P to the boundary point W: P-W lies above
-   P-V up to V and above H after it, where no column of O inside R reaches (the condition tested here).
-   Either way a boundary point sees P; with the theorem (appendix) the edge samples decide. */
-PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
-    uint32_t i0, i1, j0, j1, i, j;
-    float top = cell->max[up];
-    pvs__vx_range(o, u, cell->min[u], cell->max[u], o->h, &i0, &i1);
-    pvs__vx_range(o, v, cell->min[v], cell->max[v], o->h, &j0, &j1);
-    for (j = j0; j <= j1; ++j)
-        for (i = i0; i <= i1; ++i)
-            if (o->column_top[(size_t)j * o->n[u] + i] > top) return 0;
-    return 1;
-}
-
-/* The 2.5D path (§3): the eroded column prisms (tops lowered by eps, footprints shrunk by eps) cast
-   occluder shadows from samples on the cell's top face (a 2.5D occluder hides from a point only what
-   it hides from every point above it, so the top face stands for the cell), spaced so that every
-   point of the face is within eps of a sample. Each sample's shadows go into the raster module's
-   cull map (Wonka 1999); the joint umbra is the per-cell minimum over the samples (§3.4, the
-   stencil intersection); objects are tested by box footprint and top through the kD-tree. The paper
-   samples only the top face's edges; where a column inside the cell rises above its top the whole
-   face is sampled instead, which is conservative without needing the
-   argument for the interior; the edges suffice when pvs__shrink_edges_suffice says so. */
+/* The 2.5D path (§3): samples on the cell's top face (a 2.5D occluder hides from a point only what it
+   hides from every point above it, so the top face stands for the cell), on its edges every 2 eps
+   when pvs__shrink_edges_suffice allows, else on a grid over the whole face with spacing eps sqrt(2)
+   (every point of the face within eps of a sample). Per sample the occlusion horizon of the shrunk
+   occluder chains, front to back from the cell, occluded occluders skipped (§3.4); the objects it may
+   see, found through the kD-tree with hidden nodes skipped, join the PVS (§2.1: the cell's PVS is the
+   union of its samples' PVSs). */
 PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
                                        pvs_shrink_stats *st, pvs_error *err) {
-    pvs_raster_desc rd;
-    pvs_raster *r = NULL;
-    pvs_result res;
+    pvs_result res = PVS_OK;
     pvs__shrink_walk w;
-    float *joint = NULL, eps = o->info.eps, spacing, eye[3];
-    size_t cells = 0, x, sweep_size;
+    pvs__hz *hz;
+    pvs__shrink_key *order;
+    float eps = o->info.eps;
+    double spacing, cu, cv;
+    size_t sweep_size;
     void *sweep = NULL;
-    uint32_t nu, nv, a, b, chain_count, up = s->up_axis;
-    const pvs_facade_chain *chains = pvs_occluders_columns(o, &chain_count);
-    double eu, ev, cm_res, cu, cv;
-    int edges;
-    pvs__shrink_key *order = NULL;
-    int u, v, any = 1;
+    uint32_t nu, nv, a, b, c, up = s->up_axis, nch = o->chain_count;
+    int edges, u, v;
     pvs__ground_axes(up, &u, &v);
-    memset(&rd, 0, sizeof(rd));
-    rd.width = rd.height = 1;
-    rd.scene = s;
-    eu = (double)s->bounds.max[u] - s->bounds.min[u];
-    ev = (double)s->bounds.max[v] - s->bounds.min[v];
-    cm_res = pvs__dmax(pvs__dmax(o->h, 0.75 * eps), pvs__dmax(eu, ev) / 1024.0);
-    rd.cull_map_width = (uint32_t)pvs__dmin(2048.0, pvs__dmax(16.0, ceil(eu / cm_res)));
-    rd.cull_map_height = (uint32_t)pvs__dmin(2048.0, pvs__dmax(16.0, ceil(ev / cm_res)));
-    rd.allocator = o->allocator;
-    res = pvs_raster_create(&rd, &r, err);
-    if (res != PVS_OK) return res;
-    cells = (size_t)r->cm_w * r->cm_h;
-    joint = (float *)pvs__alloc_array(&o->allocator, cells, sizeof(float));
-    sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
-    sweep = pvs__alloc(&o->allocator, sweep_size, 16);
-    order = (pvs__shrink_key *)pvs__alloc_array(&o->allocator, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
-    if (!joint || !sweep || !order) {
-        pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
-        pvs__free_array(&o->allocator, joint, cells, sizeof(float));
-        pvs__free(&o->allocator, sweep, sweep_size, 16);
-        pvs_raster_destroy(r);
-        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
-    }
-    /* samples: the top face's edges every 1.9 eps when no solid column inside the cell's footprint
-       rises above the top face (see pvs__shrink_edges_suffice), else a grid on the whole top face
-       with spacing <= eps * sqrt(2) (1.4 leaves a margin) */
     edges = pvs__shrink_edges_suffice(o, cell, u, v, up);
-    spacing = edges ? 1.9f * eps : 1.4f * eps;
+    spacing = edges ? 2.0 * eps * (1.0 - 1e-6) : 1.41 * eps;
     nu = (uint32_t)ceil(((double)cell->max[u] - cell->min[u]) / spacing) + 1u;
     nv = (uint32_t)ceil(((double)cell->max[v] - cell->min[v]) / spacing) + 1u;
-    /* front to back from the cell's centre: only speed depends on the order */
+    if (nu > 4096u || nv > 4096u) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu, nv);
+    hz = (pvs__hz *)pvs__alloc(&o->allocator, sizeof(pvs__hz), 16);
+    order = (pvs__shrink_key *)pvs__alloc_array(&o->allocator, nch ? nch : 1, sizeof(pvs__shrink_key));
+    sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
+    sweep = pvs__alloc(&o->allocator, sweep_size, 16);
+    if (!hz || !order || !sweep) {
+        pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
+        pvs__free_array(&o->allocator, order, nch ? nch : 1, sizeof(pvs__shrink_key));
+        pvs__free(&o->allocator, sweep, sweep_size, 16);
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
+    }
+    memset(hz, 0, sizeof(*hz));
+    pvs__hz_init(hz);
+    /* occluders front to back from the cell's centre: only speed depends on the order */
     cu = 0.5 * ((double)cell->min[u] + cell->max[u]);
     cv = 0.5 * ((double)cell->min[v] + cell->max[v]);
-    for (a = 0; a < chain_count; ++a) {
-        const float *pt = chains[a].points;
-        double du = pvs__dmax(0.0, pvs__dmax(pt[0] - cu, cu - pt[4])), dv = pvs__dmax(0.0, pvs__dmax(pt[1] - cv, cv - pt[5]));
-        order[a].d = du * du + dv * dv;
-        order[a].i = a;
+    for (c = 0; c < nch; ++c) {
+        const pvs_box *bb = o->chain_boxes + c;
+        double du = pvs__dmax(0.0, pvs__dmax(bb->min[u] - cu, cu - bb->max[u])), dv = pvs__dmax(0.0, pvs__dmax(bb->min[v] - cv, cv - bb->max[v]));
+        order[c].d = du * du + dv * dv;
+        order[c].i = c;
     }
-    qsort(order, chain_count, sizeof(pvs__shrink_key), pvs__shrink_key_cmp);
-    if (nu > 4096u || nv > 4096u) {
-        pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
-        pvs__free_array(&o->allocator, joint, cells, sizeof(float));
-        pvs__free(&o->allocator, sweep, sweep_size, 16);
-        pvs_raster_destroy(r);
-        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu, nv);
-    }
-    eye[up] = cell->max[up];
-    for (b = 0; b < nv && any; ++b)
-        for (a = 0; a < nu && any; ++a) {
-            const float *cm;
-            if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue; /* interior: not sampled */
-            eye[u] = nu > 1 ? cell->min[u] + (float)((double)a * ((double)cell->max[u] - cell->min[u]) / (nu - 1)) : cell->min[u];
-            eye[v] = nv > 1 ? cell->min[v] + (float)((double)b * ((double)cell->max[v] - cell->min[v]) / (nv - 1)) : cell->min[v];
-            if (a + 1 == nu) eye[u] = cell->max[u];
-            if (b + 1 == nv) eye[v] = cell->max[v];
-            st->occluders_drawn += pvs__shrink_sample_map(r, eye, chains, order, chain_count, u, v, up);
-            ++st->samples;
-            cm = r->cm;
-            any = 0;
-            if (a == 0 && b == 0) {
-                memcpy(joint, cm, cells * sizeof(float));
-                for (x = 0; x < cells; ++x) any |= joint[x] != PVS_DEPTH_EMPTY;
-            } else {
-                for (x = 0; x < cells; ++x) {
-                    if (cm[x] < joint[x]) joint[x] = cm[x];
-                    any |= joint[x] != PVS_DEPTH_EMPTY;
-                }
-            }
-        }
-    if (!any) for (x = 0; x < cells; ++x) joint[x] = PVS_DEPTH_EMPTY;
-    memcpy(r->cm, joint, cells * sizeof(float));
+    qsort(order, nch, sizeof(pvs__shrink_key), pvs__shrink_key_cmp);
     w.scene = s;
-    w.raster = r;
+    w.hz = hz;
     w.cell = cell;
     w.visible = visible;
     w.u = u;
     w.v = v;
-    res = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__shrink_visit, &w);
-    pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
-    pvs__free_array(&o->allocator, joint, cells, sizeof(float));
+    hz->H = cell->max[up];
+    for (b = 0; b < nv && res == PVS_OK; ++b)
+        for (a = 0; a < nu && res == PVS_OK; ++a) {
+            if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue; /* interior: not sampled */
+            hz->eu = a + 1 == nu ? cell->max[u] : cell->min[u] + (double)a * ((double)cell->max[u] - cell->min[u]) / (nu > 1 ? nu - 1 : 1);
+            hz->ev = b + 1 == nv ? cell->max[v] : cell->min[v] + (double)b * ((double)cell->max[v] - cell->min[v]) / (nv > 1 ? nv - 1 : 1);
+            memset(hz->nstep, 0, sizeof(hz->nstep));
+            for (c = 0; c < nch; ++c) {
+                const pvs_facade_chain *ch = o->chains + order[c].i;
+                if (c > 0 && pvs__hz_occluded(hz, o->chain_boxes + order[c].i, u, v, up)) continue;
+                pvs__hz_chain(hz, ch);
+                ++st->occluders_drawn;
+            }
+            ++st->samples;
+            res = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__shrink_visit, &w);
+        }
+    pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
+    pvs__free_array(&o->allocator, order, nch ? nch : 1, sizeof(pvs__shrink_key));
     pvs__free(&o->allocator, sweep, sweep_size, 16);
-    pvs_raster_destroy(r);
     if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "object sweep");
     return PVS_OK;
 }
