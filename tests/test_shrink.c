@@ -550,6 +550,147 @@ static void test_random_lattices(void) {
     }
 }
 
+/* Random 2.5D scenes against aimed ray sampling: extruded polygons (rotated rectangles, L shapes,
+   random star-shaped outlines) as closed meshes standing on the ground, small boxes among and behind
+   them, cells that are almost points (one sample: the horizon alone decides) and ordinary ones, some
+   cut into buildings. Every object a ray from a cell reaches must be in that cell's PVS. */
+static void add_prism(mesh *m, const char *name, const double *xz, int n, double h) {
+    uint32_t base = m->vertex_count, i;
+    int k;
+    mesh_begin_object(m, name, 0, 0);
+    for (k = 0; k < n; ++k) mesh_add_vertex(m, (float)xz[2 * k], 0.0f, (float)xz[2 * k + 1]);
+    for (k = 0; k < n; ++k) mesh_add_vertex(m, (float)xz[2 * k], (float)h, (float)xz[2 * k + 1]);
+    for (k = 0; k < n; ++k) {
+        uint32_t j = (uint32_t)((k + 1) % n);
+        mesh_add_quad(m, base + (uint32_t)k, base + j, base + (uint32_t)n + j, base + (uint32_t)n + (uint32_t)k);
+    }
+    for (i = 1; i + 1 < (uint32_t)n; ++i) mesh_add_triangle(m, base + (uint32_t)n, base + (uint32_t)n + i, base + (uint32_t)n + i + 1); /* fan: star-shaped from the first point */
+}
+
+/* 1 if the segment from eye e (x, y, z; y up) to p crosses a facade of the chains below its top. */
+static int chains_block(const pvs_facade_chain *ch, uint32_t nch, const double *e, const double *p) {
+    uint32_t c, k;
+    for (c = 0; c < nch; ++c) {
+        uint32_t n = ch[c].point_count, segs = ch[c].closed ? n : n - 1;
+        for (k = 0; k < segs; ++k) {
+            const float *a = ch[c].points + 2 * k, *b = ch[c].points + 2 * ((k + 1) % n);
+            double rx = p[0] - e[0], rz = p[2] - e[2], sx = (double)b[0] - a[0], sz = (double)b[1] - a[1];
+            double den = rx * sz - rz * sx, qx = (double)a[0] - e[0], qz = (double)a[1] - e[2], t, u2;
+            if (den == 0.0) continue;
+            t = (qx * sz - qz * sx) / den;  /* along e-p */
+            u2 = (qx * rz - qz * rx) / den; /* along a-b */
+            if (t <= 0.0 || t >= 1.0 || u2 < 0.0 || u2 > 1.0) continue;
+            if (e[1] + t * (p[1] - e[1]) < ch[c].top) return 1;
+        }
+    }
+    return 0;
+}
+
+static void test_random_prisms(void) {
+    int trial;
+    for (trial = 0; trial < 3; ++trial) {
+        mesh m;
+        pvs_scene *s;
+        pvs_bake_desc bd;
+        pvs_bake *b = NULL;
+        pvs_error e;
+        pvs_box cells[12];
+        uint32_t nc = 0, c, i, misses = 0, culled = 0, n, gb, unblocked = 0;
+        int k;
+        char name[32];
+        pvs_word *ref;
+        mesh_init(&m);
+        mesh_begin_object(&m, "ground", 0, 0);
+        gb = m.vertex_count;
+        mesh_add_vertex(&m, -5, 0, -5); mesh_add_vertex(&m, 85, 0, -5); mesh_add_vertex(&m, 85, 0, 85); mesh_add_vertex(&m, -5, 0, 85);
+        mesh_add_quad(&m, gb, gb + 1, gb + 2, gb + 3);
+        for (i = 0; i < 14; ++i) {
+            double xz[24], cx = 5 + 70 * rnd(), cz = 5 + 70 * rnd(), ang = rnd() * 6.2832, h = 3 + (i & 1 ? 20 : 5) * rnd(), r = 3 + 5 * rnd();
+            int kind = (int)(rnd() * 3), np;
+            if (kind == 0) { /* rotated rectangle */
+                double w = r, d = r * (0.4 + rnd());
+                double cs[4][2] = {{-w, -d}, {w, -d}, {w, d}, {-w, d}};
+                for (k = 0; k < 4; ++k) { xz[2 * k] = cx + cos(ang) * cs[k][0] - sin(ang) * cs[k][1]; xz[2 * k + 1] = cz + sin(ang) * cs[k][0] + cos(ang) * cs[k][1]; }
+                np = 4;
+            } else if (kind == 1) { /* L shape, fan from its inner corner (star-shaped from there) */
+                double L[6][2] = {{0, 0}, {0, -1}, {2, -1}, {2, 2}, {-1, 2}, {-1, 0}};
+                for (k = 0; k < 6; ++k) { double x = L[k][0] * r * 0.6, z = L[k][1] * r * 0.6; xz[2 * k] = cx + cos(ang) * x - sin(ang) * z; xz[2 * k + 1] = cz + sin(ang) * x + cos(ang) * z; }
+                np = 6;
+            } else { /* star-shaped around its first point (the centre): a fan of random radii */
+                np = 9;
+                xz[0] = cx; xz[1] = cz;
+                for (k = 1; k < np; ++k) { double a = ang + (k - 1) * 6.2832 / (np - 1) * 0.999, rr = r * (0.5 + rnd()); xz[2 * k] = cx + rr * cos(a); xz[2 * k + 1] = cz + rr * sin(a); }
+                /* the centre is a vertex of the outline: make it a thin notch between the first and last rays */
+            }
+            sprintf(name, "building_%u", i);
+            add_prism(&m, name, xz, np, h);
+        }
+        for (i = 0; i < 300; ++i) { /* small boxes */
+            float lo[3], hi[3], sz = (float)(0.3 + 1.5 * rnd());
+            lo[0] = (float)(80 * rnd()); lo[2] = (float)(80 * rnd()); lo[1] = 0.0f;
+            hi[0] = lo[0] + sz; hi[2] = lo[2] + sz; hi[1] = (float)(0.3 + (i & 1 ? 18 : 5) * rnd()); /* some tall poles */
+            sprintf(name, "box_%u", i);
+            add_box(&m, name, lo, hi, -1);
+        }
+        while (nc < 12) { /* cells: half of them almost points */
+            double cx = 80 * rnd(), cz = 80 * rnd(), hw = nc & 1 ? 1e-3 : 0.5 + 2 * rnd();
+            cells[nc].min[0] = (float)(cx - hw); cells[nc].max[0] = (float)(cx + hw);
+            cells[nc].min[2] = (float)(cz - hw); cells[nc].max[2] = (float)(cz + hw);
+            cells[nc].min[1] = 0.5f; cells[nc].max[1] = nc & 1 ? 0.5f + 2e-3f : 2.0f;
+            ++nc;
+        }
+        s = make_scene_all(&m, 1);
+        CHECK(s != NULL);
+        if (!s) { mesh_free(&m); continue; }
+        memset(&bd, 0, sizeof(bd));
+        bd.scene = s; bd.cells = cells; bd.cell_count = nc; bd.method = PVS_METHOD_SHRINK; bd.eps = 0.5f; bd.shrink_mode = PVS_SHRINK_2D5;
+        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
+        n = pvs_scene_object_count(s);
+        ref = (pvs_word *)calloc(PVS_BITSET_WORDS(n), sizeof(pvs_word));
+        for (c = 0; b && c < nc; ++c) {
+            const pvs_word *pv;
+            CHECK(pvs_bake_run_task(b, c, &e) == PVS_OK);
+            pv = pvs_bake_cell_pvs(b, c);
+            memset(ref, 0, PVS_BITSET_WORDS(n) * sizeof(pvs_word));
+            pvs_sample_visibility(s, cells + c, 8, 2048, 5 + c, ref);
+            pvs_sample_visibility_toward(s, cells + c, NULL, 48, 77 + c, ref);
+            for (i = 0; pv && i < n; ++i) {
+                misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pv, i);
+                culled += !pvs_bitset_test(pv, i);
+            }
+            if ((c & 1) && pv) { /* a point cell: every point of a culled box is behind the shrunk chains */
+                uint32_t nch;
+                const pvs_facade_chain *ch = pvs_occluders_columns(pvs_bake_occluders(b), &nch);
+                double e3[3];
+                e3[0] = cells[c].min[0]; e3[1] = cells[c].max[1]; e3[2] = cells[c].min[2];
+                for (i = 0; i < n; ++i) {
+                    pvs_box bx = pvs_scene_object_box(s, i);
+                    int fa, gx, gy;
+                    if (pvs_bitset_test(pv, i) || bx.min[1] < 0.0f || bx.max[1] <= 0.0f) continue; /* the flat ground aside */
+                    for (fa = 0; fa < 6; ++fa)
+                        for (gy = 0; gy <= 4; ++gy)
+                            for (gx = 0; gx <= 4; ++gx) {
+                                double pt[3], f0 = gx / 4.0, f1 = gy / 4.0;
+                                int ax = fa / 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
+                                pt[ax] = fa & 1 ? bx.max[ax] : bx.min[ax];
+                                pt[a1] = bx.min[a1] + f0 * ((double)bx.max[a1] - bx.min[a1]);
+                                pt[a2] = bx.min[a2] + f1 * ((double)bx.max[a2] - bx.min[a2]);
+                                if (!chains_block(ch, nch, e3, pt)) ++unblocked;
+                            }
+                }
+            }
+        }
+        if (misses || unblocked) fprintf(stderr, "random prisms %d: %u misses, %u points of culled boxes not behind the chains\n", trial, misses, unblocked);
+        CHECK(misses == 0);
+        CHECK(unblocked == 0);
+        CHECK(culled > nc * 10); /* not vacuous: the buildings hide things */
+        free(ref);
+        pvs_bake_destroy(b);
+        pvs_scene_destroy(s);
+        mesh_free(&m);
+    }
+}
+
 static void test_slits(void) {
     slit_room(0, 0.0, 0.0, 0.3, 0);   /* sealed */
     slit_room(0, 0.0, 0.0, 0.3, 1);   /* sealed, the cell partly inside */
@@ -697,6 +838,7 @@ void test_shrink(void) {
     test_synthesis();
     test_slits();
     test_random_lattices();
+    test_random_prisms();
     check_scene(GEN_CITY, 0.15f, 1, 12, PVS_SHRINK_AUTO, 0.0f, 1);
     check_scene(GEN_CITY, 0.15f, 2, 8, PVS_SHRINK_2D5, 1.5f, 1);
     check_scene(GEN_CITY, 0.15f, 3, 4, PVS_SHRINK_3D, 2.0f, 0);
