@@ -8229,8 +8229,9 @@ PVS__STATIC double pvs__hz_ray(const pvs__hz *z, int32_t k, const double p[2], c
 }
 
 /* The part [a0, a1] of bin b covered by a facade, crossed at distances d0 (at a0) and d1 (at a1),
-   the nearest point of its line at angle afoot, distance dfoot. */
-PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot, double afoot) {
+   the nearest point of its line at angle afoot, distance dfoot; `front`: the eye on the facade's
+   outer side (a sight line entering the occluder crosses such a facade first). */
+PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot, double afoot, int front) {
     double lo, hi;
     if (!(d0 > 0.0) || !(d1 > 0.0)) return;
     hi = pvs__dmax(d0, d1) * (1.0 + 1e-9);
@@ -8242,12 +8243,12 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
         z->full[b] = 0;
         z->plo[b] = a0;
         z->phi[b] = a1;
-        z->dmax[b] = hi;
-        z->dmin[b] = lo;
+        z->dmax[b] = front ? hi : 0.0;
+        z->dmin[b] = front ? lo : DBL_MAX;
         z->touched[z->ntouched++] = (uint16_t)b;
     } else {
-        if (hi > z->dmax[b]) z->dmax[b] = hi;
-        if (lo < z->dmin[b]) z->dmin[b] = lo;
+        if (front && hi > z->dmax[b]) z->dmax[b] = hi;
+        if (front && lo < z->dmin[b]) z->dmin[b] = lo;
         /* the covered range: one interval grown by pieces that meet it (a gap stays a gap) */
         if (a0 <= z->phi[b] && a1 >= z->plo[b]) {
             if (a0 < z->plo[b]) z->plo[b] = a0;
@@ -8264,11 +8265,14 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
     double p[2], q[2], cr, a, b, fx, fy, t, afoot, dfoot, len2, da, db;
     int32_t b0, b1, k;
+    int front;
     p[0] = pf[0] - z->eu; p[1] = pf[1] - z->ev;
     q[0] = qf[0] - z->eu; q[1] = qf[1] - z->ev;
     cr = p[0] * q[1] - p[1] * q[0];
     len2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]);
     if (!(pvs__dabs(cr) > 1e-12 * (p[0] * p[0] + p[1] * p[1] + q[0] * q[0] + q[1] * q[1]))) return; /* seen edge-on */
+    /* the occluder lies left of p -> q: the eye sees the facade from outside when it is on the right */
+    front = cr < 0.0;
     if (cr < 0.0) { double tt[2]; tt[0] = p[0]; tt[1] = p[1]; p[0] = q[0]; p[1] = q[1]; q[0] = tt[0]; q[1] = tt[1]; }
     /* counter-clockwise from p (angle a) to q (angle b), less than a half turn */
     a = pvs__hz_angle(p[0], p[1]);
@@ -8289,7 +8293,7 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
         double s0 = lo_at_start ? a : pvs__hz_lo(z, bk), s1 = hi_at_end ? b : pvs__hz_hi(z, bk);
         double d0 = lo_at_start ? da : pvs__hz_ray(z, bk, p, q), d1 = hi_at_end ? db : pvs__hz_ray(z, bk + 1, p, q);
         if (k == b0 && k == b1 && b < a) continue; /* cannot happen: a half turn at most */
-        pvs__hz_piece(z, bk, s0, s1, d0, d1, dfoot, afoot);
+        pvs__hz_piece(z, bk, s0, s1, d0, d1, dfoot, afoot, front);
     }
 }
 
@@ -8352,16 +8356,61 @@ PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, 
     return 1;
 }
 
-/* 1 if the box may be visible from the eye. */
+/* Distance along boundary ray k from the eye into the rectangle (relative coordinates), DBL_MAX when
+   it misses. */
+PVS__STATIC double pvs__hz_enter(const pvs__hz *z, int32_t k, double x0, double y0, double x1, double y1) {
+    double dx = z->dir[k][0], dy = z->dir[k][1], t0 = 0.0, t1 = DBL_MAX;
+    if (dx != 0.0) {
+        double a = x0 / dx, b = x1 / dx;
+        t0 = pvs__dmax(t0, pvs__dmin(a, b));
+        t1 = pvs__dmin(t1, pvs__dmax(a, b));
+    } else if (x0 > 0.0 || x1 < 0.0) return DBL_MAX;
+    if (dy != 0.0) {
+        double a = y0 / dy, b = y1 / dy;
+        t0 = pvs__dmax(t0, pvs__dmin(a, b));
+        t1 = pvs__dmin(t1, pvs__dmax(a, b));
+    } else if (y0 > 0.0 || y1 < 0.0) return DBL_MAX;
+    return t1 >= t0 ? t0 * z->dlen[k] : DBL_MAX;
+}
+
+/* 1 if the box may be visible from the eye: some bin its ground rectangle touches lacks, from the
+   rectangle's least distance in that bin on, a slope above the box's steepest sight line. */
 PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int v, uint32_t up) {
     int32_t b0, b1, k;
-    double dmin, dmax, need, top = bx->max[up];
+    double dmin, dmax, need, top = bx->max[up], x0, y0, x1, y1, ca[4], near_a;
     if (!pvs__hz_rect(z, bx->min[u], bx->min[v], bx->max[u], bx->max[v], &b0, &b1, &dmin, &dmax)) return 1;
     if (!(dmin > 0.0)) return 1;
     need = top >= z->H ? (top - z->H) / dmin : (top - z->H) / dmax; /* the steepest sight line to the box */
     need += 1e-9 * (pvs__dabs(need) + 1e-30);
-    for (k = b0; k <= b1; ++k)
-        if (!((double)pvs__hz_query(z, k % PVS__HZ_BINS, dmin) > need)) return 1;
+    if (b1 - b0 < 3) {
+        for (k = b0; k <= b1; ++k)
+            if (!((double)pvs__hz_query(z, k % PVS__HZ_BINS, dmin) > need)) return 1;
+        return 0;
+    }
+    /* wide boxes: the least distance of the part of the rectangle inside each bin's wedge (at the
+       wedge's rays, the corners inside it, or the rectangle's nearest point when inside it) */
+    x0 = bx->min[u] - z->eu; x1 = bx->max[u] - z->eu; y0 = bx->min[v] - z->ev; y1 = bx->max[v] - z->ev;
+    ca[0] = pvs__hz_angle(x0, y0); ca[1] = pvs__hz_angle(x1, y0); ca[2] = pvs__hz_angle(x1, y1); ca[3] = pvs__hz_angle(x0, y1);
+    {
+        double nx = x0 > 0.0 ? x0 : x1 < 0.0 ? x1 : 0.0, ny = y0 > 0.0 ? y0 : y1 < 0.0 ? y1 : 0.0;
+        near_a = pvs__hz_angle(nx, ny);
+    }
+    for (k = b0; k <= b1; ++k) {
+        int32_t bk = k % PVS__HZ_BINS, c;
+        double lo = pvs__hz_lo(z, bk), hi = pvs__hz_hi(z, bk), d = DBL_MAX, need_b;
+        d = pvs__dmin(pvs__hz_enter(z, bk, x0, y0, x1, y1), pvs__hz_enter(z, bk + 1, x0, y0, x1, y1));
+        for (c = 0; c < 4; ++c)
+            if (ca[c] >= lo && ca[c] <= hi) {
+                double cx = c == 0 || c == 3 ? x0 : x1, cy = c < 2 ? y0 : y1;
+                d = pvs__dmin(d, sqrt(cx * cx + cy * cy));
+            }
+        if (near_a >= lo && near_a <= hi) d = dmin;
+        if (d == DBL_MAX) d = dmin; /* rounding at the span's ends */
+        d = pvs__dmax(d * (1.0 - 1e-9), dmin);
+        need_b = top >= z->H ? (top - z->H) / d : need;
+        need_b += 1e-9 * (pvs__dabs(need_b) + 1e-30);
+        if (!((double)pvs__hz_query(z, bk, d) > need_b)) return 1;
+    }
     return 0;
 }
 
@@ -8376,6 +8425,7 @@ PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
         int32_t b = z->touched[i];
         double sl;
         if (!z->full[b] && !(z->plo[b] <= pvs__hz_lo(z, b) && z->phi[b] >= pvs__hz_hi(z, b))) continue;
+        if (!(z->dmax[b] > 0.0)) continue; /* no facade seen from outside: cannot happen when covered */
         if (T >= z->H) sl = (T - z->H) / z->dmax[b];
         else {
             if (!(z->dmin[b] > 0.0)) continue;
