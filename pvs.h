@@ -8315,11 +8315,10 @@ PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
 
 /* The best slope of bin b for points at distance >= d (-FLT_MAX: none). */
 PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
-    uint32_t i;
-    float best = -FLT_MAX;
-    for (i = 0; i < z->nstep[b] && (double)z->step_r[b][i] <= d; ++i)
-        if (z->step_s[b][i] > best) best = z->step_s[b][i];
-    return best;
+    uint32_t i = z->nstep[b];
+    /* steps ascend in distance and in slope: the last one not beyond d is the best */
+    while (i > 0 && (double)z->step_r[b][i - 1] > d) --i;
+    return i ? z->step_s[b][i - 1] : -FLT_MAX;
 }
 
 /* The angular bins [*b0, *b1] (b1 may wrap past the last bin: then b1 >= BINS) and the least and
@@ -8395,10 +8394,19 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
         double nx = x0 > 0.0 ? x0 : x1 < 0.0 ? x1 : 0.0, ny = y0 > 0.0 ? y0 : y1 < 0.0 ? y1 : 0.0;
         near_a = pvs__hz_angle(nx, ny);
     }
-    for (k = b0; k <= b1; ++k) {
+    {
+        double e_lo, e_hi = DBL_MAX;
+        int32_t have = b0 - 2; /* the bin whose upper ray e_hi belongs to */
+        for (k = b0; k <= b1; ++k) {
         int32_t bk = k % PVS__HZ_BINS, c;
-        double lo = pvs__hz_lo(z, bk), hi = pvs__hz_hi(z, bk), d = DBL_MAX, need_b;
-        d = pvs__dmin(pvs__hz_enter(z, bk, x0, y0, x1, y1), pvs__hz_enter(z, bk + 1, x0, y0, x1, y1));
+        double lo, hi, d, need_b;
+        if ((double)pvs__hz_query(z, bk, dmin) > need) continue; /* hidden even from the box's least distance */
+        e_lo = have == k - 1 ? e_hi : pvs__hz_enter(z, bk, x0, y0, x1, y1);
+        lo = pvs__hz_lo(z, bk);
+        hi = pvs__hz_hi(z, bk);
+        e_hi = pvs__hz_enter(z, bk + 1, x0, y0, x1, y1);
+        have = k;
+        d = pvs__dmin(e_lo, e_hi);
         for (c = 0; c < 4; ++c)
             if (ca[c] >= lo && ca[c] <= hi) {
                 double cx = c == 0 || c == 3 ? x0 : x1, cy = c < 2 ? y0 : y1;
@@ -8410,6 +8418,7 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
         need_b = top >= z->H ? (top - z->H) / d : need;
         need_b += 1e-9 * (pvs__dabs(need_b) + 1e-30);
         if (!((double)pvs__hz_query(z, bk, d) > need_b)) return 1;
+        }
     }
     return 0;
 }
