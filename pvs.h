@@ -8323,34 +8323,37 @@ PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
 
 /* The angular bins [*b0, *b1] (b1 may wrap past the last bin: then b1 >= BINS) and the least and
    greatest ground distance of the rectangle [u0, u1] x [v0, v1] seen from the eye; 0 when the eye is
-   inside it (or on its border). */
+   inside it (or on its border). The span runs counter-clockwise between the two silhouette corners,
+   which the eye's position among the nine regions around the rectangle names. */
 PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1, double *dmin, double *dmax) {
-    double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, a[4], lo, hi, span = 0.0;
-    int k, first = 0;
-    if (x0 <= 0.0 && x1 >= 0.0 && y0 <= 0.0 && y1 >= 0.0) return 0;
-    nx = x0 > 0.0 ? x0 : x1 < 0.0 ? -x1 : 0.0;
-    ny = y0 > 0.0 ? y0 : y1 < 0.0 ? -y1 : 0.0;
+    double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, sx, sy, ex, ey, as, ae;
+    int rx = x0 > 0.0 ? 0 : x1 < 0.0 ? 2 : 1, ry = y0 > 0.0 ? 0 : y1 < 0.0 ? 2 : 1; /* rectangle right of / left of / around the eye */
+    if (rx == 1 && ry == 1) return 0;
+    nx = rx == 0 ? x0 : rx == 2 ? -x1 : 0.0;
+    ny = ry == 0 ? y0 : ry == 2 ? -y1 : 0.0;
     fx = pvs__dmax(pvs__dabs(x0), pvs__dabs(x1));
     fy = pvs__dmax(pvs__dabs(y0), pvs__dabs(y1));
     *dmin = sqrt(nx * nx + ny * ny) * (1.0 - 1e-9);
     *dmax = sqrt(fx * fx + fy * fy) * (1.0 + 1e-9);
-    a[0] = pvs__hz_angle(x0, y0); a[1] = pvs__hz_angle(x1, y0); a[2] = pvs__hz_angle(x1, y1); a[3] = pvs__hz_angle(x0, y1);
-    /* the corner from which all others lie counter-clockwise within a half turn: the span's start */
-    for (k = 0; k < 4; ++k) {
-        int j, ok = 1;
-        double m = 0.0;
-        for (j = 0; j < 4 && ok; ++j) {
-            double d = a[j] - a[k];
-            if (d < 0.0) d += 4.0;
-            if (d > 2.0) ok = 0;
-            m = pvs__dmax(m, d);
-        }
-        if (ok) { first = k; span = m; break; }
+    /* start and end corners (counter-clockwise) by the rectangle's side of the eye */
+    if (rx == 0) {
+        if (ry == 0) { sx = x1; sy = y0; ex = x0; ey = y1; }
+        else if (ry == 1) { sx = x0; sy = y0; ex = x0; ey = y1; }
+        else { sx = x0; sy = y0; ex = x1; ey = y1; }
+    } else if (rx == 1) {
+        if (ry == 0) { sx = x1; sy = y0; ex = x0; ey = y0; }
+        else { sx = x0; sy = y1; ex = x1; ey = y1; }
+    } else {
+        if (ry == 0) { sx = x1; sy = y1; ex = x0; ey = y0; }
+        else if (ry == 1) { sx = x1; sy = y1; ex = x1; ey = y0; }
+        else { sx = x0; sy = y1; ex = x1; ey = y0; }
     }
-    lo = a[first];
-    hi = lo + span;
-    *b0 = pvs__hz_bin(z, lo - 1e-12);
-    *b1 = (int32_t)floor((hi + 1e-12) / z->w);
+    as = pvs__hz_angle(sx, sy) - 1e-12;
+    ae = pvs__hz_angle(ex, ey) + 1e-12;
+    if (as < 0.0) as += 4.0;
+    if (ae < as) ae += 4.0;
+    *b0 = pvs__hz_bin(z, as);
+    *b1 = (int32_t)floor(ae / z->w);
     if (*b1 < *b0) *b1 = *b0;
     return 1;
 }
