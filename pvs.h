@@ -5355,6 +5355,19 @@ typedef struct pvs__vx_cols {
     float *ptop[PVS__VX_LEVELS], *psolid[PVS__VX_LEVELS]; /* level 0: top, solid; others allocated */
 } pvs__vx_cols;
 
+/* A bounding volume hierarchy over the drawable objects (each in one leaf), tight boxes. */
+typedef struct pvs__obvh_node {
+    pvs_box box;
+    uint32_t first, count;      /* leaf: items[first .. first + count); inner: count == 0, children first, first + 1 */
+    uint32_t parent;
+} pvs__obvh_node;
+typedef struct pvs__obvh {
+    pvs__obvh_node *nodes;
+    uint32_t *items, *leaf_of; /* leaf_of: per object, its leaf (or 0xffffffff) */
+    uint32_t *count_below;     /* per node: objects under it */
+    uint32_t node_count, item_count, object_count;
+} pvs__obvh;
+
 struct pvs_occluders {
     pvs_allocator allocator;
     pvs__vx_grid grid;          /* the same as origin, h, n below */
@@ -5374,6 +5387,7 @@ struct pvs_occluders {
     size_t chain_point_count;
     float ground;
     pvs__vx_cols cols;          /* the 2.5D column map */
+    pvs__obvh bvh;              /* the drawable objects, for the 2.5D path's walks */
 };
 
 PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j, uint32_t k) {
@@ -5483,10 +5497,105 @@ PVS__STATIC int pvs__vx_in_occluder(const pvs_occluder_desc *oc, uint32_t up, co
     }
 }
 
+typedef struct pvs__obvh_key {
+    double d;
+    uint32_t i;
+} pvs__obvh_key;
+PVS__STATIC int pvs__obvh_key_cmp(const void *x, const void *y) {
+    const pvs__obvh_key *a = (const pvs__obvh_key *)x, *b = (const pvs__obvh_key *)y;
+    return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
+}
+
+/* Builds the object hierarchy: median splits on the longest axis of the centres, leaves of at most 4. */
+PVS__STATIC pvs_result pvs__obvh_build(pvs_occluders *o) {
+    const pvs_scene *s = o->scene;
+    pvs__obvh *h = &o->bvh;
+    const pvs_allocator *al = &o->allocator;
+    uint32_t i, n = 0, *stack = NULL, sp = 0;
+    pvs__obvh_key *keys = NULL;
+    memset(h, 0, sizeof(*h));
+    h->object_count = s->object_count;
+    h->items = (uint32_t *)pvs__alloc_array(al, s->object_count ? s->object_count : 1, sizeof(uint32_t));
+    h->leaf_of = (uint32_t *)pvs__alloc_array(al, s->object_count ? s->object_count : 1, sizeof(uint32_t));
+    if (!h->items || !h->leaf_of) return PVS_ERROR_OUT_OF_MEMORY;
+    for (i = 0; i < s->object_count; ++i) {
+        h->leaf_of[i] = 0xffffffffu;
+        if (!(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i)) h->items[n++] = i;
+    }
+    h->item_count = n;
+    h->nodes = (pvs__obvh_node *)pvs__alloc_array(al, 2 * (size_t)n + 1, sizeof(pvs__obvh_node));
+    h->count_below = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)n + 1, sizeof(uint32_t));
+    stack = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)n + 2, sizeof(uint32_t));
+    keys = (pvs__obvh_key *)pvs__alloc_array(al, n ? n : 1, sizeof(pvs__obvh_key));
+    if (!h->nodes || !h->count_below || !stack || !keys || !n) {
+        pvs__free_array(al, stack, 2 * (size_t)n + 2, sizeof(uint32_t));
+        pvs__free_array(al, keys, n ? n : 1, sizeof(pvs__obvh_key));
+        return h->nodes && h->count_below && stack && keys ? PVS_OK : PVS_ERROR_OUT_OF_MEMORY;
+    }
+    h->node_count = 1;
+    h->nodes[0].first = 0;
+    h->nodes[0].count = n;
+    h->nodes[0].parent = 0xffffffffu;
+    stack[sp++] = 0;
+    while (sp) {
+        uint32_t nd = stack[--sp], f = h->nodes[nd].first, c = h->nodes[nd].count, k, ax = 0, mid, lo = 0, hi = 0;
+        pvs_box b, cb;
+        int kk;
+        b = s->object_boxes[h->items[f]];
+        for (kk = 0; kk < 3; ++kk) cb.min[kk] = cb.max[kk] = 0.5f * (b.min[kk] + b.max[kk]);
+        for (k = f; k < f + c; ++k) {
+            const pvs_box *ob = s->object_boxes + h->items[k];
+            for (kk = 0; kk < 3; ++kk) {
+                float m = 0.5f * (ob->min[kk] + ob->max[kk]);
+                if (ob->min[kk] < b.min[kk]) b.min[kk] = ob->min[kk];
+                if (ob->max[kk] > b.max[kk]) b.max[kk] = ob->max[kk];
+                if (m < cb.min[kk]) cb.min[kk] = m;
+                if (m > cb.max[kk]) cb.max[kk] = m;
+            }
+        }
+        h->nodes[nd].box = b;
+        h->count_below[nd] = c;
+        if (c <= 4) {
+            for (k = f; k < f + c; ++k) h->leaf_of[h->items[k]] = nd;
+            continue;
+        }
+        for (kk = 1; kk < 3; ++kk)
+            if (cb.max[kk] - cb.min[kk] > cb.max[ax] - cb.min[ax]) ax = (uint32_t)kk;
+        /* split at the median centre along that axis */
+        for (k = 0; k < c; ++k) {
+            const pvs_box *ob = s->object_boxes + h->items[f + k];
+            keys[k].d = (double)ob->min[ax] + ob->max[ax];
+            keys[k].i = h->items[f + k];
+        }
+        qsort(keys, c, sizeof(pvs__obvh_key), pvs__obvh_key_cmp);
+        for (k = 0; k < c; ++k) h->items[f + k] = keys[k].i;
+        mid = f + c / 2;
+        (void)lo; (void)hi;
+        h->nodes[nd].first = h->node_count;
+        h->nodes[nd].count = 0;
+        h->nodes[h->node_count].first = f;
+        h->nodes[h->node_count].count = mid - f;
+        h->nodes[h->node_count].parent = nd;
+        h->nodes[h->node_count + 1].first = mid;
+        h->nodes[h->node_count + 1].count = f + c - mid;
+        h->nodes[h->node_count + 1].parent = nd;
+        stack[sp++] = h->node_count;
+        stack[sp++] = h->node_count + 1;
+        h->node_count += 2;
+    }
+    pvs__free_array(al, stack, 2 * (size_t)n + 2, sizeof(uint32_t));
+    pvs__free_array(al, keys, n ? n : 1, sizeof(pvs__obvh_key));
+    return PVS_OK;
+}
+
 PVS_API void pvs_occluders_destroy(pvs_occluders *o) {
     pvs_allocator a;
     if (!o) return;
     a = o->allocator;
+    pvs__free_array(&a, o->bvh.items, o->bvh.object_count ? o->bvh.object_count : 1, sizeof(uint32_t));
+    pvs__free_array(&a, o->bvh.leaf_of, o->bvh.object_count ? o->bvh.object_count : 1, sizeof(uint32_t));
+    pvs__free_array(&a, o->bvh.nodes, 2 * (size_t)o->bvh.item_count + 1, sizeof(pvs__obvh_node));
+    pvs__free_array(&a, o->bvh.count_below, 2 * (size_t)o->bvh.item_count + 1, sizeof(uint32_t));
     pvs__free_array(&a, o->state, o->total, 1);
     pvs__free_array(&a, o->eroded, o->total, 1);
     pvs__free_array(&a, o->boxes, o->box_count, sizeof(pvs_box));
@@ -7076,7 +7185,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         }
     }
     o->info.is_2d5 = o->info.solid > 0 && (double)o->info.column_voxels >= 0.9 * (double)o->info.solid;
-    if (pvs__vx_columns(o, &tp, &ext, d->eps, m, &fl) != PVS_OK) goto oom;
+    if (pvs__vx_columns(o, &tp, &ext, d->eps, m, &fl) != PVS_OK || pvs__obvh_build(o) != PVS_OK) goto oom;
     o->info.rect_count = o->chain_count;
     pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
     pvs__free_array(&a, fl.queue, fl.cap_vox ? 2 * fl.cap_vox : 1, sizeof(uint32_t));
@@ -8173,7 +8282,7 @@ done:
    Rounding: angles bin-exact (a shared corner gives the same angle to both facades), distances and
    slopes widened toward the safe side. */
 
-#define PVS__HZ_BINS 2048
+#define PVS__HZ_BINS 1024
 #define PVS__HZ_STEPS 6
 
 /* Angles are pseudo-angles in [0, 4) (the "diamond angle": monotone in the true angle, a quarter
@@ -8467,19 +8576,54 @@ PVS__STATIC int pvs__shrink_near(const pvs__shrink_walk *w, const pvs_box *b) {
            b->max[w->v] >= w->cell->min[w->v];
 }
 
-/* One sample's walk: a kD-tree node hidden from the sample is skipped with all it holds (§3.4). */
-PVS__STATIC pvs_visit pvs__shrink_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
-    pvs__shrink_walk *w = (pvs__shrink_walk *)user;
-    uint32_t i, up = w->scene->up_axis;
-    (void)distance;
-    if (!pvs__shrink_near(w, node_box) && !pvs__hz_test_box(w->hz, node_box, w->u, w->v, up)) return PVS_VISIT_SKIP;
-    for (i = 0; i < count; ++i) {
-        uint32_t ob = items[i];
-        const pvs_box *b = w->scene->object_boxes + ob;
-        if ((w->scene->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) || pvs_bitset_test(w->visible, ob)) continue;
-        if (pvs__shrink_near(w, b) || pvs__hz_test_box(w->hz, b, w->u, w->v, up)) pvs_bitset_set(w->visible, ob);
+/* Marks object ob visible and takes it off the count of every node above it. */
+PVS__STATIC void pvs__shrink_found(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t ob) {
+    uint32_t nd;
+    pvs_bitset_set(w->visible, ob);
+    for (nd = o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = o->bvh.nodes[nd].parent) --remaining[nd];
+}
+
+/* The objects meeting the cell or standing under its top face: visible without sampling. */
+PVS__STATIC void pvs__shrink_walk_near(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t *stack) {
+    uint32_t sp = 0, k;
+    if (!o->bvh.node_count) return;
+    stack[sp++] = 0;
+    while (sp) {
+        const pvs__obvh_node *nd = o->bvh.nodes + stack[--sp];
+        if (!pvs__shrink_near(w, &nd->box)) continue;
+        if (nd->count) {
+            for (k = nd->first; k < nd->first + nd->count; ++k) {
+                uint32_t ob = o->bvh.items[k];
+                if (!pvs_bitset_test(w->visible, ob) && pvs__shrink_near(w, w->scene->object_boxes + ob)) pvs__shrink_found(o, w, remaining, ob);
+            }
+        } else {
+            stack[sp++] = nd->first;
+            stack[sp++] = nd->first + 1;
+        }
     }
-    return PVS_VISIT_DESCEND;
+}
+
+/* One sample's walk over the object hierarchy: a node hidden from the sample (§3.4), or whose
+   objects are all found already, is skipped with all it holds. */
+PVS__STATIC void pvs__shrink_walk_sample(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t *stack) {
+    uint32_t sp = 0, k, up = w->scene->up_axis;
+    if (!o->bvh.node_count) return;
+    stack[sp++] = 0;
+    while (sp) {
+        uint32_t id = stack[--sp];
+        const pvs__obvh_node *nd = o->bvh.nodes + id;
+        if (!remaining[id] || !pvs__hz_test_box(w->hz, &nd->box, w->u, w->v, up)) continue;
+        if (nd->count) {
+            for (k = nd->first; k < nd->first + nd->count; ++k) {
+                uint32_t ob = o->bvh.items[k];
+                if (!pvs_bitset_test(w->visible, ob) && pvs__hz_test_box(w->hz, w->scene->object_boxes + ob, w->u, w->v, up))
+                    pvs__shrink_found(o, w, remaining, ob);
+            }
+        } else {
+            stack[sp++] = nd->first;
+            stack[sp++] = nd->first + 1;
+        }
+    }
 }
 
 /* §3: "sample points need only be placed on the edges of the top of the view cells". Why, for a
@@ -8523,14 +8667,12 @@ PVS__STATIC int pvs__shrink_key_cmp(const void *x, const void *y) {
    union of its samples' PVSs). */
 PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
                                        pvs_shrink_stats *st, pvs_error *err) {
-    pvs_result res = PVS_OK;
     pvs__shrink_walk w;
     pvs__hz *hz;
     pvs__shrink_key *order;
     float eps = o->info.eps;
     double spacing, cu, cv;
-    size_t sweep_size;
-    void *sweep = NULL;
+    uint32_t *remaining, *stack, nnodes = o->bvh.node_count ? o->bvh.node_count : 1;
     uint32_t nu, nv, a, b, c, up = s->up_axis, nch = o->chain_count;
     int edges, u, v;
     pvs__ground_axes(up, &u, &v);
@@ -8541,14 +8683,16 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
     if (nu > 4096u || nv > 4096u) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu, nv);
     hz = (pvs__hz *)pvs__alloc(&o->allocator, sizeof(pvs__hz), 16);
     order = (pvs__shrink_key *)pvs__alloc_array(&o->allocator, nch ? nch : 1, sizeof(pvs__shrink_key));
-    sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
-    sweep = pvs__alloc(&o->allocator, sweep_size, 16);
-    if (!hz || !order || !sweep) {
+    remaining = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
+    stack = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
+    if (!hz || !order || !remaining || !stack) {
         pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
         pvs__free_array(&o->allocator, order, nch ? nch : 1, sizeof(pvs__shrink_key));
-        pvs__free(&o->allocator, sweep, sweep_size, 16);
+        pvs__free_array(&o->allocator, remaining, nnodes, sizeof(uint32_t));
+        pvs__free_array(&o->allocator, stack, nnodes, sizeof(uint32_t));
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
     }
+    if (o->bvh.node_count) memcpy(remaining, o->bvh.count_below, o->bvh.node_count * sizeof(uint32_t));
     memset(hz, 0, sizeof(*hz));
     pvs__hz_init(hz);
     /* occluders front to back from the cell's centre: only speed depends on the order */
@@ -8568,8 +8712,9 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
     w.u = u;
     w.v = v;
     hz->H = cell->max[up];
-    for (b = 0; b < nv && res == PVS_OK; ++b)
-        for (a = 0; a < nu && res == PVS_OK; ++a) {
+    pvs__shrink_walk_near(o, &w, remaining, stack); /* objects meeting the cell, or under its top face */
+    for (b = 0; b < nv; ++b)
+        for (a = 0; a < nu; ++a) {
             if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue; /* interior: not sampled */
             hz->eu = a + 1 == nu ? cell->max[u] : cell->min[u] + (double)a * ((double)cell->max[u] - cell->min[u]) / (nu > 1 ? nu - 1 : 1);
             hz->ev = b + 1 == nv ? cell->max[v] : cell->min[v] + (double)b * ((double)cell->max[v] - cell->min[v]) / (nv > 1 ? nv - 1 : 1);
@@ -8581,12 +8726,12 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
                 ++st->occluders_drawn;
             }
             ++st->samples;
-            res = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__shrink_visit, &w);
+            pvs__shrink_walk_sample(o, &w, remaining, stack);
         }
     pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
     pvs__free_array(&o->allocator, order, nch ? nch : 1, sizeof(pvs__shrink_key));
-    pvs__free(&o->allocator, sweep, sweep_size, 16);
-    if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "object sweep");
+    pvs__free_array(&o->allocator, remaining, nnodes, sizeof(uint32_t));
+    pvs__free_array(&o->allocator, stack, nnodes, sizeof(uint32_t));
     return PVS_OK;
 }
 
