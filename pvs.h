@@ -8296,8 +8296,8 @@ typedef struct pvs__hz {
     float step_s[PVS__HZ_BINS][PVS__HZ_STEPS];   /* ascending with r (dominated steps dropped) */
     /* per chain */
     uint32_t stamp[PVS__HZ_BINS], cur;
-    uint8_t full[PVS__HZ_BINS];
-    double plo[PVS__HZ_BINS], phi[PVS__HZ_BINS], dmax[PVS__HZ_BINS], dmin[PVS__HZ_BINS];
+    uint8_t full[PVS__HZ_BINS], npart[PVS__HZ_BINS];
+    double plo[PVS__HZ_BINS][4], phi[PVS__HZ_BINS][4], dmax[PVS__HZ_BINS], dmin[PVS__HZ_BINS];
     uint16_t touched[PVS__HZ_BINS];
     uint32_t ntouched;
 } pvs__hz;
@@ -8350,24 +8350,38 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
     if (z->stamp[b] != z->cur) {
         z->stamp[b] = z->cur;
         z->full[b] = 0;
-        z->plo[b] = a0;
-        z->phi[b] = a1;
+        z->npart[b] = 0;
         z->dmax[b] = front ? hi : 0.0;
         z->dmin[b] = front ? lo : DBL_MAX;
         z->touched[z->ntouched++] = (uint16_t)b;
     } else {
         if (front && hi > z->dmax[b]) z->dmax[b] = hi;
         if (front && lo < z->dmin[b]) z->dmin[b] = lo;
-        /* the covered range: one interval grown by pieces that meet it (a gap stays a gap) */
-        if (a0 <= z->phi[b] && a1 >= z->plo[b]) {
-            if (a0 < z->plo[b]) z->plo[b] = a0;
-            if (a1 > z->phi[b]) z->phi[b] = a1;
-        } else if (a1 - a0 > z->phi[b] - z->plo[b]) {
-            z->plo[b] = a0;
-            z->phi[b] = a1;
-        }
     }
     if (a0 <= pvs__hz_lo(z, b) && a1 >= pvs__hz_hi(z, b)) z->full[b] = 1;
+    else if (!z->full[b]) { /* the covered parts: up to 4 disjoint intervals, merged where they meet */
+        uint32_t i, n = z->npart[b];
+        double *L = z->plo[b], *R = z->phi[b];
+        for (i = 0; i < n;) {
+            if (a0 <= R[i] && a1 >= L[i]) { /* meets: absorb it and look again */
+                a0 = pvs__dmin(a0, L[i]);
+                a1 = pvs__dmax(a1, R[i]);
+                L[i] = L[n - 1];
+                R[i] = R[n - 1];
+                --n;
+            } else ++i;
+        }
+        if (n < 4) { L[n] = a0; R[n] = a1; ++n; }
+        else { /* full: keep the longest (less coverage, still conservative) */
+            uint32_t sh = 0;
+            for (i = 1; i < 4; ++i)
+                if (R[i] - L[i] < R[sh] - L[sh]) sh = i;
+            if (a1 - a0 > R[sh] - L[sh]) { L[sh] = a0; R[sh] = a1; }
+        }
+        z->npart[b] = (uint8_t)n;
+        for (i = 0; i < n; ++i)
+            if (L[i] <= pvs__hz_lo(z, b) && R[i] >= pvs__hz_hi(z, b)) z->full[b] = 1;
+    }
 }
 
 /* Adds facade p-q (world ground points) of the current chain. */
@@ -8380,8 +8394,11 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
     cr = p[0] * q[1] - p[1] * q[0];
     len2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]);
     if (!(pvs__dabs(cr) > 1e-12 * (p[0] * p[0] + p[1] * p[1] + q[0] * q[0] + q[1] * q[1]))) return; /* seen edge-on */
-    /* the occluder lies left of p -> q: the eye sees the facade from outside when it is on the right */
+    /* the occluder lies left of p -> q: the eye sees the facade from outside when it is on the right.
+       Only such facades matter: every sight line into the occluder enters through one, so they alone
+       cover the chain's angular range (a back-facing one is always behind a front-facing one) */
     front = cr < 0.0;
+    if (!front) return;
     if (cr < 0.0) { double tt[2]; tt[0] = p[0]; tt[1] = p[1]; p[0] = q[0]; p[1] = q[1]; q[0] = tt[0]; q[1] = tt[1]; }
     /* counter-clockwise from p (angle a) to q (angle b), less than a half turn */
     a = pvs__hz_angle(p[0], p[1]);
@@ -8545,7 +8562,7 @@ PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
     for (i = 0; i < z->ntouched; ++i) {
         int32_t b = z->touched[i];
         double sl;
-        if (!z->full[b] && !(z->plo[b] <= pvs__hz_lo(z, b) && z->phi[b] >= pvs__hz_hi(z, b))) continue;
+        if (!z->full[b]) continue;
         if (!(z->dmax[b] > 0.0)) continue; /* no facade seen from outside: cannot happen when covered */
         if (T >= z->H) sl = (T - z->H) / z->dmax[b];
         else {
