@@ -5388,6 +5388,7 @@ struct pvs_occluders {
     float ground;
     pvs__vx_cols cols;          /* the 2.5D column map */
     pvs__obvh bvh;              /* the drawable objects, for the 2.5D path's walks */
+    pvs__obvh chain_bvh;        /* the chains' boxes */
 };
 
 PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j, uint32_t k) {
@@ -5506,21 +5507,19 @@ PVS__STATIC int pvs__obvh_key_cmp(const void *x, const void *y) {
     return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
 }
 
-/* Builds the object hierarchy: median splits on the longest axis of the centres, leaves of at most 4. */
-PVS__STATIC pvs_result pvs__obvh_build(pvs_occluders *o) {
-    const pvs_scene *s = o->scene;
-    pvs__obvh *h = &o->bvh;
-    const pvs_allocator *al = &o->allocator;
+/* Builds a hierarchy over boxes[0 .. count) (those with `keep` set, or all when keep is NULL):
+   median splits on the longest axis of the centres, leaves of at most 4. */
+PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *boxes, uint32_t count, const uint8_t *keep, pvs__obvh *h) {
     uint32_t i, n = 0, *stack = NULL, sp = 0;
     pvs__obvh_key *keys = NULL;
     memset(h, 0, sizeof(*h));
-    h->object_count = s->object_count;
-    h->items = (uint32_t *)pvs__alloc_array(al, s->object_count ? s->object_count : 1, sizeof(uint32_t));
-    h->leaf_of = (uint32_t *)pvs__alloc_array(al, s->object_count ? s->object_count : 1, sizeof(uint32_t));
+    h->object_count = count;
+    h->items = (uint32_t *)pvs__alloc_array(al, count ? count : 1, sizeof(uint32_t));
+    h->leaf_of = (uint32_t *)pvs__alloc_array(al, count ? count : 1, sizeof(uint32_t));
     if (!h->items || !h->leaf_of) return PVS_ERROR_OUT_OF_MEMORY;
-    for (i = 0; i < s->object_count; ++i) {
+    for (i = 0; i < count; ++i) {
         h->leaf_of[i] = 0xffffffffu;
-        if (!(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i)) h->items[n++] = i;
+        if (!keep || keep[i]) h->items[n++] = i;
     }
     h->item_count = n;
     h->nodes = (pvs__obvh_node *)pvs__alloc_array(al, 2 * (size_t)n + 1, sizeof(pvs__obvh_node));
@@ -5538,22 +5537,22 @@ PVS__STATIC pvs_result pvs__obvh_build(pvs_occluders *o) {
     h->nodes[0].parent = 0xffffffffu;
     stack[sp++] = 0;
     while (sp) {
-        uint32_t nd = stack[--sp], f = h->nodes[nd].first, c = h->nodes[nd].count, k, ax = 0, mid, lo = 0, hi = 0;
-        pvs_box b, cb;
+        uint32_t nd = stack[--sp], f = h->nodes[nd].first, c = h->nodes[nd].count, k, ax = 0, mid;
+        pvs_box bb, cb;
         int kk;
-        b = s->object_boxes[h->items[f]];
-        for (kk = 0; kk < 3; ++kk) cb.min[kk] = cb.max[kk] = 0.5f * (b.min[kk] + b.max[kk]);
+        bb = boxes[h->items[f]];
+        for (kk = 0; kk < 3; ++kk) cb.min[kk] = cb.max[kk] = 0.5f * (bb.min[kk] + bb.max[kk]);
         for (k = f; k < f + c; ++k) {
-            const pvs_box *ob = s->object_boxes + h->items[k];
+            const pvs_box *ob = boxes + h->items[k];
             for (kk = 0; kk < 3; ++kk) {
-                float m = 0.5f * (ob->min[kk] + ob->max[kk]);
-                if (ob->min[kk] < b.min[kk]) b.min[kk] = ob->min[kk];
-                if (ob->max[kk] > b.max[kk]) b.max[kk] = ob->max[kk];
-                if (m < cb.min[kk]) cb.min[kk] = m;
-                if (m > cb.max[kk]) cb.max[kk] = m;
+                float mm = 0.5f * (ob->min[kk] + ob->max[kk]);
+                if (ob->min[kk] < bb.min[kk]) bb.min[kk] = ob->min[kk];
+                if (ob->max[kk] > bb.max[kk]) bb.max[kk] = ob->max[kk];
+                if (mm < cb.min[kk]) cb.min[kk] = mm;
+                if (mm > cb.max[kk]) cb.max[kk] = mm;
             }
         }
-        h->nodes[nd].box = b;
+        h->nodes[nd].box = bb;
         h->count_below[nd] = c;
         if (c <= 4) {
             for (k = f; k < f + c; ++k) h->leaf_of[h->items[k]] = nd;
@@ -5563,14 +5562,13 @@ PVS__STATIC pvs_result pvs__obvh_build(pvs_occluders *o) {
             if (cb.max[kk] - cb.min[kk] > cb.max[ax] - cb.min[ax]) ax = (uint32_t)kk;
         /* split at the median centre along that axis */
         for (k = 0; k < c; ++k) {
-            const pvs_box *ob = s->object_boxes + h->items[f + k];
+            const pvs_box *ob = boxes + h->items[f + k];
             keys[k].d = (double)ob->min[ax] + ob->max[ax];
             keys[k].i = h->items[f + k];
         }
         qsort(keys, c, sizeof(pvs__obvh_key), pvs__obvh_key_cmp);
         for (k = 0; k < c; ++k) h->items[f + k] = keys[k].i;
         mid = f + c / 2;
-        (void)lo; (void)hi;
         h->nodes[nd].first = h->node_count;
         h->nodes[nd].count = 0;
         h->nodes[h->node_count].first = f;
@@ -5587,15 +5585,34 @@ PVS__STATIC pvs_result pvs__obvh_build(pvs_occluders *o) {
     pvs__free_array(al, keys, n ? n : 1, sizeof(pvs__obvh_key));
     return PVS_OK;
 }
+PVS__STATIC void pvs__obvh_free(const pvs_allocator *a, pvs__obvh *h) {
+    pvs__free_array(a, h->items, h->object_count ? h->object_count : 1, sizeof(uint32_t));
+    pvs__free_array(a, h->leaf_of, h->object_count ? h->object_count : 1, sizeof(uint32_t));
+    pvs__free_array(a, h->nodes, 2 * (size_t)h->item_count + 1, sizeof(pvs__obvh_node));
+    pvs__free_array(a, h->count_below, 2 * (size_t)h->item_count + 1, sizeof(uint32_t));
+    memset(h, 0, sizeof(*h));
+}
+
+/* The hierarchies of the 2.5D path: over the drawable objects and over the occluder chains. */
+PVS__STATIC pvs_result pvs__occluders_hierarchies(pvs_occluders *o) {
+    const pvs_scene *s = o->scene;
+    uint8_t *keep = (uint8_t *)pvs__alloc_array(&o->allocator, s->object_count ? s->object_count : 1, 1);
+    uint32_t i;
+    pvs_result r;
+    if (!keep) return PVS_ERROR_OUT_OF_MEMORY;
+    for (i = 0; i < s->object_count; ++i) keep[i] = !(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i);
+    r = pvs__obvh_build(&o->allocator, s->object_boxes, s->object_count, keep, &o->bvh);
+    pvs__free_array(&o->allocator, keep, s->object_count ? s->object_count : 1, 1);
+    if (r == PVS_OK) r = pvs__obvh_build(&o->allocator, o->chain_boxes, o->chain_count, NULL, &o->chain_bvh);
+    return r;
+}
 
 PVS_API void pvs_occluders_destroy(pvs_occluders *o) {
     pvs_allocator a;
     if (!o) return;
     a = o->allocator;
-    pvs__free_array(&a, o->bvh.items, o->bvh.object_count ? o->bvh.object_count : 1, sizeof(uint32_t));
-    pvs__free_array(&a, o->bvh.leaf_of, o->bvh.object_count ? o->bvh.object_count : 1, sizeof(uint32_t));
-    pvs__free_array(&a, o->bvh.nodes, 2 * (size_t)o->bvh.item_count + 1, sizeof(pvs__obvh_node));
-    pvs__free_array(&a, o->bvh.count_below, 2 * (size_t)o->bvh.item_count + 1, sizeof(uint32_t));
+    pvs__obvh_free(&a, &o->bvh);
+    pvs__obvh_free(&a, &o->chain_bvh);
     pvs__free_array(&a, o->state, o->total, 1);
     pvs__free_array(&a, o->eroded, o->total, 1);
     pvs__free_array(&a, o->boxes, o->box_count, sizeof(pvs_box));
@@ -7185,7 +7202,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         }
     }
     o->info.is_2d5 = o->info.solid > 0 && (double)o->info.column_voxels >= 0.9 * (double)o->info.solid;
-    if (pvs__vx_columns(o, &tp, &ext, d->eps, m, &fl) != PVS_OK || pvs__obvh_build(o) != PVS_OK) goto oom;
+    if (pvs__vx_columns(o, &tp, &ext, d->eps, m, &fl) != PVS_OK || pvs__occluders_hierarchies(o) != PVS_OK) goto oom;
     o->info.rect_count = o->chain_count;
     pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
     pvs__free_array(&a, fl.queue, fl.cap_vox ? 2 * fl.cap_vox : 1, sizeof(uint32_t));
@@ -8593,6 +8610,37 @@ PVS__STATIC int pvs__shrink_near(const pvs__shrink_walk *w, const pvs_box *b) {
            b->max[w->v] >= w->cell->min[w->v];
 }
 
+/* Distance (squared) from the eye to a box's ground rectangle. */
+PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int v) {
+    double du = pvs__dmax(0.0, pvs__dmax(b->min[u] - z->eu, z->eu - b->max[u])), dv = pvs__dmax(0.0, pvs__dmax(b->min[v] - z->ev, z->ev - b->max[v]));
+    return du * du + dv * dv;
+}
+
+/* The sample's horizon: the chains' hierarchy walked nearer child first (front to back, roughly),
+   a node or chain already hidden from the eye skipped (§3.4: occluded occluders add nothing). */
+PVS__STATIC void pvs__shrink_horizon(const pvs_occluders *o, pvs__hz *hz, uint32_t *stack, int u, int v, pvs_shrink_stats *st) {
+    const pvs__obvh *h = &o->chain_bvh;
+    uint32_t sp = 0, k, up = o->scene->up_axis;
+    if (!h->node_count) return;
+    stack[sp++] = 0;
+    while (sp) {
+        const pvs__obvh_node *nd = h->nodes + stack[--sp];
+        if (!pvs__hz_test_box(hz, &nd->box, u, v, up)) continue;
+        if (nd->count) {
+            for (k = nd->first; k < nd->first + nd->count; ++k) {
+                uint32_t c = h->items[k];
+                if (!pvs__hz_test_box(hz, o->chain_boxes + c, u, v, up)) continue;
+                pvs__hz_chain(hz, o->chains + c);
+                ++st->occluders_drawn;
+            }
+        } else {
+            int near0 = pvs__hz_dist2(hz, &h->nodes[nd->first].box, u, v) <= pvs__hz_dist2(hz, &h->nodes[nd->first + 1].box, u, v);
+            stack[sp++] = near0 ? nd->first + 1 : nd->first;
+            stack[sp++] = near0 ? nd->first : nd->first + 1;
+        }
+    }
+}
+
 /* Marks object ob visible and takes it off the count of every node above it. */
 PVS__STATIC void pvs__shrink_found(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t ob) {
     uint32_t nd;
@@ -8686,11 +8734,11 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
                                        pvs_shrink_stats *st, pvs_error *err) {
     pvs__shrink_walk w;
     pvs__hz *hz;
-    pvs__shrink_key *order;
     float eps = o->info.eps;
-    double spacing, cu, cv;
-    uint32_t *remaining, *stack, nnodes = o->bvh.node_count ? o->bvh.node_count : 1;
-    uint32_t nu, nv, a, b, c, up = s->up_axis, nch = o->chain_count;
+    double spacing;
+    uint32_t *remaining, *stack, *cstack, nnodes = o->bvh.node_count ? o->bvh.node_count : 1;
+    uint32_t ncnodes = o->chain_bvh.node_count ? o->chain_bvh.node_count : 1;
+    uint32_t nu, nv, a, b, up = s->up_axis;
     int edges, u, v;
     pvs__ground_axes(up, &u, &v);
     edges = pvs__shrink_edges_suffice(o, cell, u, v, up);
@@ -8699,29 +8747,19 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
     nv = (uint32_t)ceil(((double)cell->max[v] - cell->min[v]) / spacing) + 1u;
     if (nu > 4096u || nv > 4096u) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu, nv);
     hz = (pvs__hz *)pvs__alloc(&o->allocator, sizeof(pvs__hz), 16);
-    order = (pvs__shrink_key *)pvs__alloc_array(&o->allocator, nch ? nch : 1, sizeof(pvs__shrink_key));
     remaining = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
     stack = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
-    if (!hz || !order || !remaining || !stack) {
+    cstack = (uint32_t *)pvs__alloc_array(&o->allocator, ncnodes, sizeof(uint32_t));
+    if (!hz || !remaining || !stack || !cstack) {
         pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
-        pvs__free_array(&o->allocator, order, nch ? nch : 1, sizeof(pvs__shrink_key));
         pvs__free_array(&o->allocator, remaining, nnodes, sizeof(uint32_t));
         pvs__free_array(&o->allocator, stack, nnodes, sizeof(uint32_t));
+        pvs__free_array(&o->allocator, cstack, ncnodes, sizeof(uint32_t));
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
     }
     if (o->bvh.node_count) memcpy(remaining, o->bvh.count_below, o->bvh.node_count * sizeof(uint32_t));
     memset(hz, 0, sizeof(*hz));
     pvs__hz_init(hz);
-    /* occluders front to back from the cell's centre: only speed depends on the order */
-    cu = 0.5 * ((double)cell->min[u] + cell->max[u]);
-    cv = 0.5 * ((double)cell->min[v] + cell->max[v]);
-    for (c = 0; c < nch; ++c) {
-        const pvs_box *bb = o->chain_boxes + c;
-        double du = pvs__dmax(0.0, pvs__dmax(bb->min[u] - cu, cu - bb->max[u])), dv = pvs__dmax(0.0, pvs__dmax(bb->min[v] - cv, cv - bb->max[v]));
-        order[c].d = du * du + dv * dv;
-        order[c].i = c;
-    }
-    qsort(order, nch, sizeof(pvs__shrink_key), pvs__shrink_key_cmp);
     w.scene = s;
     w.hz = hz;
     w.cell = cell;
@@ -8736,19 +8774,14 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
             hz->eu = a + 1 == nu ? cell->max[u] : cell->min[u] + (double)a * ((double)cell->max[u] - cell->min[u]) / (nu > 1 ? nu - 1 : 1);
             hz->ev = b + 1 == nv ? cell->max[v] : cell->min[v] + (double)b * ((double)cell->max[v] - cell->min[v]) / (nv > 1 ? nv - 1 : 1);
             memset(hz->nstep, 0, sizeof(hz->nstep));
-            for (c = 0; c < nch; ++c) {
-                const pvs_facade_chain *ch = o->chains + order[c].i;
-                if (c > 0 && pvs__hz_occluded(hz, o->chain_boxes + order[c].i, u, v, up)) continue;
-                pvs__hz_chain(hz, ch);
-                ++st->occluders_drawn;
-            }
+            pvs__shrink_horizon(o, hz, cstack, u, v, st);
             ++st->samples;
             pvs__shrink_walk_sample(o, &w, remaining, stack);
         }
     pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
-    pvs__free_array(&o->allocator, order, nch ? nch : 1, sizeof(pvs__shrink_key));
     pvs__free_array(&o->allocator, remaining, nnodes, sizeof(uint32_t));
     pvs__free_array(&o->allocator, stack, nnodes, sizeof(uint32_t));
+    pvs__free_array(&o->allocator, cstack, ncnodes, sizeof(uint32_t));
     return PVS_OK;
 }
 
