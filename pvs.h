@@ -8590,12 +8590,6 @@ PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
     }
 }
 
-/* 1 when the chain cannot add occlusion: its whole box, seen from the eye, is already hidden (an
-   occluded occluder, §3.4). */
-PVS__STATIC int pvs__hz_occluded(const pvs__hz *z, const pvs_box *bx, int u, int v, uint32_t up) {
-    return !pvs__hz_test_box(z, bx, u, v, up);
-}
-
 typedef struct pvs__shrink_walk {
     const pvs_scene *scene;
     const pvs__hz *hz;
@@ -8712,15 +8706,6 @@ PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box 
         for (i = i0; i <= i1; ++i)
             if ((double)cm->top[(size_t)j * cm->nu + i] > top) return 0;
     return 1;
-}
-
-typedef struct pvs__shrink_key {
-    double d;
-    uint32_t i;
-} pvs__shrink_key;
-PVS__STATIC int pvs__shrink_key_cmp(const void *x, const void *y) {
-    const pvs__shrink_key *a = (const pvs__shrink_key *)x, *b = (const pvs__shrink_key *)y;
-    return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
 }
 
 /* The 2.5D path (§3): samples on the cell's top face (a 2.5D occluder hides from a point only what it

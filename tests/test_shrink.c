@@ -6,6 +6,7 @@
 #include "../tools/gen.h"
 #include "../tools/mesh.h"
 #include "test.h"
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -215,14 +216,21 @@ static void test_synthesis(void) {
         /* the floor is the ground: the walls stand on it and the top is closed, no leak */
         if (inner) CHECK(info.leak_cell == PVS_NO_CELL);
         if (variant == 0) {
-            /* every eroded column prism lies eps inside the block */
-            uint32_t n, c;
+            /* every shrunk occluder lies eps inside the block, and there is one */
+            uint32_t n, c, q;
             const pvs_facade_chain *ch = pvs_occluders_columns(o, &n);
+            CHECK(n >= 1);
             for (c = 0; c < n; ++c) {
-                CHECK(ch[c].points[0] >= lo[0] + 0.5f && ch[c].points[4] <= hi[0] - 0.5f);
-                CHECK(ch[c].points[1] >= lo[2] + 0.5f && ch[c].points[5] <= hi[2] - 0.5f);
-                CHECK(ch[c].top <= hi[1] - 0.5f);
+                for (q = 0; q < ch[c].point_count; ++q) {
+                    CHECK(ch[c].points[2 * q] >= lo[0] + 0.5f && ch[c].points[2 * q] <= hi[0] - 0.5f);
+                    CHECK(ch[c].points[2 * q + 1] >= lo[2] + 0.5f && ch[c].points[2 * q + 1] <= hi[2] - 0.5f);
+                }
+                CHECK(ch[c].top <= hi[1] - 0.5f && ch[c].base == 0.0f);
             }
+            /* the column map agrees: an occluder height inside, none within eps of the walls */
+            CHECK(pvs_occluders_column_height(o, 0.5f * (lo[0] + hi[0]), 0.5f * (lo[2] + hi[2]), NULL) > 4.0f);
+            CHECK(pvs_occluders_column_height(o, lo[0] + 0.3f, 0.5f * (lo[2] + hi[2]), NULL) == -FLT_MAX);
+            CHECK(pvs_occluders_column_height(o, -2.0f, -2.0f, NULL) == -FLT_MAX);
         }
         pvs_occluders_destroy(o);
         pvs_scene_destroy(s);
@@ -356,12 +364,8 @@ static int in_occluder(const pvs_occluders *o, const double p[3]) {
         if (p[0] >= bx[c].min[0] && p[0] <= bx[c].max[0] && p[1] >= bx[c].min[1] && p[1] <= bx[c].max[1] && p[2] >= bx[c].min[2] &&
             p[2] <= bx[c].max[2])
             return 1;
-    ch = pvs_occluders_columns(o, &n); /* y up: ground axes x, z */
-    for (c = 0; c < n; ++c)
-        if (p[0] >= ch[c].points[0] && p[0] <= ch[c].points[4] && p[2] >= ch[c].points[1] && p[2] <= ch[c].points[5] && p[1] >= ch[c].base &&
-            p[1] <= ch[c].top)
-            return 1;
-    return 0;
+    (void)ch;
+    return (double)pvs_occluders_column_height(o, (float)p[0], (float)p[2], NULL) >= p[1]; /* y up: ground axes x, z */
 }
 
 static void slit_room(int kind, double angle, double ox, double oz, int cell_inside) {
