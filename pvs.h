@@ -8586,7 +8586,8 @@ PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
             if (!(z->dmin[b] > 0.0)) continue;
             sl = (T - z->H) / z->dmin[b];
         }
-        pvs__hz_insert(z, b, pvs__f_up(z->dmax[b]), pvs__f_down(sl - 1e-9 * (pvs__dabs(sl) + 1e-30)));
+        /* to float toward the safe side: a relative margin far above float's half ulp (6e-8) */
+        pvs__hz_insert(z, b, (float)(z->dmax[b] * (1.0 + 1e-6)), (float)(sl - 1e-6 * pvs__dabs(sl) - 1e-30));
     }
 }
 
