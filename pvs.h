@@ -6334,23 +6334,23 @@ PVS__STATIC int pvs__vx_float_cmp(const void *x, const void *y) {
 }
 
 /* Least height (along `up`) of triangle p (3 points) clipped to the vertical prism over the ground
-   rectangle [x0, x1] x [y0, y1] (axes u, v); DBL_MAX when they do not meet. */
-PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, int up, double x0, double x1, double y0, double y1) {
-    double a[12][3], b[12][3], best = DBL_MAX;
+   octagon {x0 <= u <= x1, y0 <= v <= y1, s0 <= u + v <= s1, d0 <= u - v <= d1}; DBL_MAX when they do
+   not meet. */
+PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, int up, const double lim[8]) {
+    static const double nu[8] = {-1, 1, 0, 0, -1, 1, -1, 1}, nv[8] = {0, 0, -1, 1, -1, 1, 1, -1};
+    double a[16][3], b[16][3], best = DBL_MAX;
     int n = 3, side, i, k;
     for (i = 0; i < 3; ++i)
         for (k = 0; k < 3; ++k) a[i][k] = p[i][k];
-    for (side = 0; side < 4 && n > 0; ++side) {
-        int ax = side < 2 ? u : v, m = 0;
-        double lim = side == 0 ? x0 : side == 1 ? x1 : side == 2 ? y0 : y1, sg = side & 1 ? -1.0 : 1.0;
+    for (side = 0; side < 8 && n > 0; ++side) { /* keep nu u + nv v <= lim */
+        int m = 0;
         for (i = 0; i < n; ++i) {
             const double *c = a[i], *d = a[(i + 1) % n];
-            double fc = sg * (c[ax] - lim), fd = sg * (d[ax] - lim);
+            double fc = lim[side] - (nu[side] * c[u] + nv[side] * c[v]), fd = lim[side] - (nu[side] * d[u] + nv[side] * d[v]);
             if (fc >= 0.0) { for (k = 0; k < 3; ++k) b[m][k] = c[k]; ++m; }
             if ((fc >= 0.0) != (fd >= 0.0)) {
                 double t = fc / (fc - fd);
                 for (k = 0; k < 3; ++k) b[m][k] = c[k] + t * (d[k] - c[k]);
-                b[m][ax] = lim;
                 ++m;
             }
         }
@@ -6425,7 +6425,11 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
             for (i = i0; i <= i1; ++i) {
                 size_t x = (size_t)(j - sv0) * (su1 - su0 + 1) + (i - su0);
                 double x0 = cm->grid.origin[u] + i * cm->grid.h, y0 = cm->grid.origin[v] + j * cm->grid.h, z;
-                z = pvs__vx_clip_min_height((const double(*)[3])p, u, v, (int)up, x0 - e, x0 + cm->grid.h + e, y0 - e, y0 + cm->grid.h + e);
+                double lim[8], x1 = x0 + cm->grid.h, y1 = y0 + cm->grid.h, ed = e * 1.4142135623730951 * (1.0 + 1e-12);
+                /* the square grown by the octagon around the disc of radius e: holds every point within e */
+                lim[0] = -(x0 - e); lim[1] = x1 + e; lim[2] = -(y0 - e); lim[3] = y1 + e;
+                lim[4] = -(x0 + y0 - ed); lim[5] = x1 + y1 + ed; lim[6] = -(x0 - y1 - ed); lim[7] = x1 - y0 + ed;
+                z = pvs__vx_clip_min_height((const double(*)[3])p, u, v, (int)up, lim);
                 if (z < DBL_MAX && pvs__f_down(z - margin) < tmin[x]) tmin[x] = pvs__f_down(z - margin);
             }
     }
