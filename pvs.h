@@ -53,7 +53,8 @@
    >>scene      scene description, object bounds, triangle storage, explicit occluders
    >>kdtree     kD-tree over boxes: build, front-to-back sweep, ray cast, point location
    >>raster     conservative rasterizer, depth pyramid, cull map, per-frame culling
-   >>otree      occlusion trees: line-space BSP; exact 2D and conservative 2.5D (c-LSS) region visibility
+   >>otree      occlusion trees: line-space BSP; exact 2D and conservative 2.5D (c-LSS) region visibility;
+                from-point shadow-volume tree culling (pvs_otree_cull)
    >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps, boxes / columns
    >>methods    region methods: `shrink` (Wonka 2000), extended projections `extproj`, the estimator `sample`
    >>bake       bake driver: tasks, determinism
@@ -107,16 +108,21 @@
    or pvs_raster_cull_map (2.5D: facade shadows -> cull map -> grid scan) sets the visible objects and
    allocates nothing. Both are conservative: every object seen through the screen from the near
    plane on is reported, whatever the rounding (>>raster explains the margins). Depth is reversed
-   (larger is nearer). Pass a cell's decoded PVS as `candidates` to cull inside it.
+   (larger is nearer). Pass a cell's decoded PVS as `candidates` to cull inside it. The object-space
+   twin, pvs_otree_create / pvs_otree_cull (Bittner 2002 ch. 4), takes the same camera, parameters
+   and outputs: a shadow-volume occlusion tree of a few dozen occluder polygons instead of a depth
+   map, exact box tests, and temporal coherence (it remembers the last frame's occluders and node
+   states); it too allocates nothing per frame.
 
    MEMORY
    ======
    Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle
    kD-trees: about 100 bytes per triangle), pvs_bake_begin (the cells and one bitset per cell:
    cell_count * object_count / 8 bytes), pvs_file_encode (scratch about 40 bytes per cell plus one
-   bitset), pvs_raster_create (the depth map and pyramid, the cull map). Allocates nothing: every
-   pvs_file_* and pvs_cursor_* call, kD-tree queries (caller scratch), pvs_raster_cull and
-   pvs_raster_cull_map per frame. A .pvs file is used in place; it needs no copy.
+   bitset), pvs_raster_create (the depth map and pyramid, the cull map), pvs_otree_create (about 250
+   bytes per tree node of its budget, 5 bytes per kD node and object). Allocates nothing: every
+   pvs_file_* and pvs_cursor_* call, kD-tree queries (caller scratch), pvs_raster_cull,
+   pvs_raster_cull_map and pvs_otree_cull per frame. A .pvs file is used in place; it needs no copy.
 
    PERFORMANCE (`make bench`, 2026-11-22, one core of a shared 2-core AMD EPYC VM, release build)
    ===========
@@ -729,6 +735,67 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
    Thread-safe; allocates through desc->allocator. */
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
                                       pvs_error *err);
+
+/* From-point occlusion culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), the
+   object-space twin of pvs_raster_cull: same camera, parameters, outputs and errors. Each frame the
+   selected occluder polygons, in eye space, are merged front to back into a BSP tree whose planes
+   pass through the eye and an occluder edge (in-leaves keep the occluder fragment); then the scene's
+   object kD-tree is walked front to back with frustum culling and the conservative no-split box test
+   of §4.10.2 refined by an exact box / fragment-pyramid test at the in-leaves ("FME", Table 4.1);
+   temporal coherence by hierarchy updating with pull-up (§4.11.4) gives exactly the result of testing
+   every node. Occluders (§4.5): the caller's triangles, then the best `scene_occluders` polygons by
+   the area-angle measure among the triangles of the objects seen within `occluder_distance` in the
+   previous frame (after pvs_otree_create or pvs_otree_reset: the scene's triangles within that
+   distance), plus, with `scene_volumes`, the faces of BOX occluders and the walls of EXTRUSION
+   occluders within that distance. */
+typedef struct pvs_otree_desc {
+    const pvs_scene *scene;       /* required: sizes the per-node state; pvs_otree_cull then accepts this
+                                     scene (or one with no more objects, triangles and kD-tree nodes) */
+    float aspect;                 /* image width / height for the frustum's side planes, 0 = 1 */
+    uint32_t max_occluders;       /* scene polygons inserted per frame at most, 0 = 64; <= 65536 */
+    uint32_t node_budget;         /* occlusion tree nodes per frame, 0 = 8192; 64..2^24 (see pvs_otree_frame) */
+    uint32_t flags;               /* PVS_OTREE_* */
+    pvs_allocator allocator;
+} pvs_otree_desc;
+#define PVS_OTREE_NO_COHERENCE 1u /* test every reached kD node every frame (the classical traversal, §4.11.2) */
+#define PVS_OTREE_PLANE_ONLY 2u   /* in-leaves test the fragment's plane only ("FMC"), no box / fragment test */
+
+/* A from-point culling context: the tree's node pool, the kD nodes' visibility states of the last
+   frame, the occluder selection. Allocated once; pvs_otree_cull allocates nothing. One context per
+   thread (calls on one context are not thread-safe; distinct contexts are independent). */
+typedef struct pvs_otree pvs_otree;
+
+/* What the last pvs_otree_cull did, beyond pvs_cull_stats. */
+typedef struct pvs_otree_frame {
+    uint32_t tree_nodes;          /* occlusion tree nodes (inner and leaves) */
+    uint32_t fragments;           /* occluder fragments stored at in-leaves */
+    uint32_t occluders;           /* polygons offered to the tree (caller triangles + scene polygons) */
+    uint32_t node_tests;          /* kD nodes whose visibility was tested (frustum + tree) */
+    uint32_t nodes_skipped;       /* opened kD nodes whose test hierarchy updating skipped */
+    uint32_t object_tests;        /* object boxes tested in partly visible leaves */
+    uint32_t budget_exceeded;     /* 1 when the node budget or the polygon size stopped an insertion: the
+                                     rest counted as not blocking (still conservative) */
+} pvs_otree_frame;
+
+/* Allocates the context for desc->scene. Errors: INVALID_ARGUMENT, NOT_FINITE (aspect), COUNT_OVERFLOW,
+   OUT_OF_MEMORY. */
+PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out_otree, pvs_error *err);
+/* Frees the context through its allocator. NULL is allowed. */
+PVS_API void pvs_otree_destroy(pvs_otree *otree);
+/* Forgets the previous frame (a camera cut): the next frame selects its occluders by distance and
+   tests every node it reaches. */
+PVS_API void pvs_otree_reset(pvs_otree *otree);
+/* From-point occlusion culling (see pvs_otree_desc): sets in `visible` (PVS_BITSET_WORDS(object_count)
+   words, cleared first) every object whose box may be seen from the eye through the screen from the
+   near plane on; occluder-only objects are never set; params->candidates restricts the objects.
+   Conservative whatever the rounding: every plane test leans toward "visible". `params` may be NULL
+   (a frustum cull); params->facades are ignored. `stats` may be NULL. Errors: INVALID_ARGUMENT,
+   NOT_FINITE (camera), UNSUPPORTED (an orthographic camera: shadow volumes need an eye point),
+   BUFFER_TOO_SMALL (a scene larger than the context was created for). Allocates nothing. */
+PVS_API pvs_result pvs_otree_cull(pvs_otree *otree, const pvs_scene *scene, const pvs_camera *camera,
+                                  const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats, pvs_error *err);
+/* Fills *frame with the figures of the last pvs_otree_cull. */
+PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame);
 
 /* ---- occluders ------------------------------------------------------------------------------- */
 
@@ -3948,7 +4015,8 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
    geometry is in double, relative to the cell's centre.
 
    Users: pvs_visibility_2d (exact 2D from-region, ch. 6), pvs_visibility_25d (conservative 2.5D,
-   c-LSS, ch. 7) and the OTREE bake method. Not yet here: the from-point shadow-volume tree (ch. 4). */
+   c-LSS, ch. 7) and the OTREE bake method. The from-point shadow-volume tree (ch. 4, pvs_otree_cull)
+   at the end of this section has its own 3D kernel (planes through the eye). */
 
 #define PVS__OT_MAXV 16
 #define PVS__OT_OUT 1u
@@ -5252,6 +5320,925 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
         b->min[2] = low < f[4] ? low : f[4];
         b->max[2] = f[4];
     }
+}
+
+/* ---- from-point culling: the shadow-volume occlusion tree (ch. 4) ---- */
+
+/* The tree of §4.7 (Chin and Feiner's SVBSP, App. C.1.4) in eye space: every inner node is a plane
+   through the eye (unit normal, child[1] on the positive side), built from an occluder edge; an
+   in-leaf keeps the fragment of the occluder that blocks its pyramid of rays. Every polygon edge
+   carries the unit normal of the plane through the eye it lies in (the polygon on the positive
+   side) and a mark (§4.10.1): the edge lies in a plane already on the path, so the e-OT of an
+   out-leaf is made of the unmarked edges only.
+
+   Conservative rounding. An in-leaf's region is the intersection of exact planes (stored doubles)
+   built from the occluder's own edges or from planes on the path, so every ray in it meets the
+   occluder polygon: insertion may drop slivers thinner than its tolerance (less occlusion) but never
+   claims more. Tests widen: a box goes down every side it reaches within `tol` (1e-10 of the
+   eye-relative scene size, far above the error of a unit-normal dot product), is "behind" a fragment
+   only beyond its tolerance, and is separated from a fragment's pyramid only by a gap above it.
+   Every box test evaluates a plane at the box corner the normal's signs pick, with the same
+   operations for every box: the result is monotone in the box, so a child is never found more
+   visible than its parent would be hidden; that makes hierarchy updating exact (§4.11.4). */
+
+#define PVS__SV_MAXV 16
+#define PVS__SV_STACK 256
+#define PVS__SV_I 0u   /* visibility states (Table 3.1): invisible, visible, partly visible */
+#define PVS__SV_V 1u
+#define PVS__SV_P 2u
+#define PVS__SV_TRIANGLE 0xffffffffu
+
+typedef struct pvs__svpoly {
+    int n;
+    double v[PVS__SV_MAXV][3];   /* vertices, eye at the origin */
+    double e[PVS__SV_MAXV][3];   /* edge v[i] -> v[i + 1]: unit normal of its plane through the eye */
+    unsigned char mark[PVS__SV_MAXV];
+} pvs__svpoly;
+
+typedef struct pvs__svnode {
+    double n[3];
+    uint32_t kind;      /* 0 inner, PVS__OT_OUT, PVS__OT_IN */
+    uint32_t child[2];  /* [0] negative side, [1] positive side */
+    uint32_t frag;      /* in-leaf: its fragment */
+} pvs__svnode;
+
+/* A fragment: the occluder's plane (n.x + d > 0 on the eye's side) and the polygon's vertices f with
+   the inward normals m of the pyramid faces (0, f_i, f_i+1), for the box / fragment test. */
+typedef struct pvs__svfrag {
+    double plane[4];
+    double tol;          /* depth and separation tolerance for this fragment */
+    uint32_t first, count;
+} pvs__svfrag;
+typedef struct pvs__svvert {
+    double f[3], m[3];
+} pvs__svvert;
+
+/* An occluder candidate: score (area-angle, later distance for the order), triangle or volume face. */
+typedef struct pvs__svsel {
+    double key;
+    uint32_t a, b;       /* b == PVS__SV_TRIANGLE: triangle a; else face b of scene occluder a */
+} pvs__svsel;
+
+struct pvs_otree {
+    pvs_allocator allocator;
+    uint32_t flags, max_occluders, node_budget, frag_budget, vert_budget;
+    float aspect;
+    uint32_t max_objects, max_triangles, max_kd_nodes;
+    size_t sweep_size;
+    /* the tree of the current frame */
+    pvs__svnode *nodes;
+    uint32_t node_count;
+    pvs__svfrag *frags;
+    uint32_t frag_count;
+    pvs__svvert *verts;
+    uint32_t vert_count;
+    pvs__svpoly *stack;            /* PVS__SV_STACK insertion work items */
+    uint32_t *stack_node;
+    uint32_t *tstack;              /* node_budget + 2: the test traversal */
+    /* occluder selection (§4.5) */
+    pvs__svsel *sel;               /* max_occluders: min-heap on key while selecting */
+    uint32_t sel_count;
+    uint32_t *prev;                /* max_occluders triangles chosen at the end of the last frame */
+    uint32_t prev_count;
+    int have_prev;
+    void *sweep;
+    pvs_word *tri_seen;
+    uint32_t *obj_first, *obj_tris;/* each object's triangle range */
+    /* the kD nodes' visibility and frame of the last visit (§4.11.4) */
+    uint8_t *kd_vis;
+    uint32_t *kd_frame;
+    uint32_t frame;
+    const pvs_scene *last_scene;
+    uint8_t *obj_flag;             /* per object this frame: 1 in a visible leaf, 2 in a partly visible
+                                      leaf, 4 in a leaf within the selection distance */
+    uint32_t *touched;
+    uint32_t touched_count;
+    /* this frame */
+    const pvs_scene *s;
+    double eye[3], fw[3], near_d;
+    double fr[5][4];               /* frustum planes n.x + d >= 0 inside: near, then the four sides */
+    double tol, lambda;
+    pvs_otree_frame info;
+    pvs_cull_stats st;
+};
+
+PVS__STATIC double pvs__sv_dot(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+PVS__STATIC void pvs__sv_cross(const double a[3], const double b[3], double c[3]) {
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+PVS__STATIC double pvs__sv_unit(double v[3]) {
+    double len = sqrt(pvs__sv_dot(v, v));
+    if (len > 0.0) { v[0] /= len; v[1] /= len; v[2] /= len; }
+    return len;
+}
+/* Largest / smallest of n.x over the box [lo, hi] (eye-relative): the corner the signs pick, always
+   the same operations, so the value is monotone in the box. */
+PVS__STATIC double pvs__sv_hi(const double n[3], const double lo[3], const double hi[3]) {
+    return (n[0] * (n[0] >= 0.0 ? hi[0] : lo[0]) + n[1] * (n[1] >= 0.0 ? hi[1] : lo[1])) + n[2] * (n[2] >= 0.0 ? hi[2] : lo[2]);
+}
+PVS__STATIC double pvs__sv_lo(const double n[3], const double lo[3], const double hi[3]) {
+    return (n[0] * (n[0] >= 0.0 ? lo[0] : hi[0]) + n[1] * (n[1] >= 0.0 ? lo[1] : hi[1])) + n[2] * (n[2] >= 0.0 ? lo[2] : hi[2]);
+}
+
+/* Keeps the part of `in` where n.x + d >= 0. The new edge lies in the plane `en` (a plane through
+   the eye; NULL: the plane through the eye and the new edge's end points) with mark `mark`.
+   Returns the vertex count (0 = nothing left, -1 = too many vertices). */
+PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d, const double *en, int mark, pvs__svpoly *out) {
+    double s[PVS__SV_MAXV];
+    int i, m = 0, any = 0, newedge = -1;
+    for (i = 0; i < in->n; ++i) {
+        s[i] = pvs__sv_dot(n, in->v[i]) + d;
+        if (s[i] > 0.0) any = 1;
+    }
+    if (!any) { out->n = 0; return 0; }
+    for (i = 0; i < in->n; ++i) {
+        int j = (i + 1) % in->n, k;
+        int ii = s[i] >= 0.0, ij = s[j] >= 0.0;
+        if (ii) {
+            if (m >= PVS__SV_MAXV) return out->n = 0, -1;
+            memcpy(out->v[m], in->v[i], sizeof(out->v[m]));
+            memcpy(out->e[m], in->e[i], sizeof(out->e[m]));
+            out->mark[m] = in->mark[i];
+            ++m;
+        }
+        if (ii != ij) {
+            double t = s[i] / (s[i] - s[j]);
+            if (m >= PVS__SV_MAXV) return out->n = 0, -1;
+            for (k = 0; k < 3; ++k) out->v[m][k] = in->v[i][k] + t * (in->v[j][k] - in->v[i][k]);
+            if (ii) { /* leaving: the new edge starts here */
+                if (en) memcpy(out->e[m], en, sizeof(out->e[m]));
+                newedge = m;
+                out->mark[m] = (unsigned char)mark;
+            } else {
+                memcpy(out->e[m], in->e[i], sizeof(out->e[m]));
+                out->mark[m] = in->mark[i];
+            }
+            ++m;
+        }
+    }
+    out->n = m;
+    if (m < 3) return out->n = 0, 0;
+    if (!en && newedge >= 0) { /* the plane through the eye and the new edge, the polygon on its positive side */
+        double c[3] = {0, 0, 0}, *e = out->e[newedge];
+        int k;
+        pvs__sv_cross(out->v[newedge], out->v[(newedge + 1) % m], e);
+        if (!(pvs__sv_unit(e) > 0.0)) return out->n = 0, 0;
+        for (i = 0; i < m; ++i) for (k = 0; k < 3; ++k) c[k] += out->v[i][k];
+        if (pvs__sv_dot(e, c) < 0.0) { e[0] = -e[0]; e[1] = -e[1]; e[2] = -e[2]; }
+    }
+    return m;
+}
+
+PVS__STATIC int pvs__sv_same(const double a[3], const double b[3]) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
+
+/* Builds the eye-space polygon of an occluder (n world points, planar, convex) with its plane and
+   edge planes, clipped to the near plane and the frustum's sides (less occluder: conservative).
+   Returns 0 when nothing usable is left (seen edge-on, behind the eye, outside the frustum). */
+PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs__svpoly *q, double plane[4]) {
+    pvs__svpoly a, b;
+    double c[3] = {0, 0, 0}, nrm[3] = {0, 0, 0}, len, size = 0.0;
+    int i, k;
+    a.n = n;
+    for (i = 0; i < n; ++i)
+        for (k = 0; k < 3; ++k) {
+            a.v[i][k] = (double)p[i][k] - o->eye[k];
+            c[k] += a.v[i][k] / n;
+            if (fabs(a.v[i][k]) > size) size = fabs(a.v[i][k]);
+        }
+    for (i = 0; i < n; ++i) { /* Newell's normal */
+        const double *u = a.v[i], *w = a.v[(i + 1) % n];
+        nrm[0] += (u[1] - w[1]) * (u[2] + w[2]);
+        nrm[1] += (u[2] - w[2]) * (u[0] + w[0]);
+        nrm[2] += (u[0] - w[0]) * (u[1] + w[1]);
+    }
+    len = pvs__sv_unit(nrm);
+    if (!(len > 1e-12 * size * size)) return 0;                    /* no area */
+    plane[0] = nrm[0]; plane[1] = nrm[1]; plane[2] = nrm[2];
+    plane[3] = -pvs__sv_dot(nrm, c);
+    if (plane[3] < 0.0) for (k = 0; k < 4; ++k) plane[k] = -plane[k]; /* the eye on the positive side */
+    if (!(plane[3] > 1e-9 * size)) return 0;                        /* the eye (nearly) in its plane */
+    for (i = 0; i < n; ++i) {
+        double *e = a.e[i];
+        pvs__sv_cross(a.v[i], a.v[(i + 1) % n], e);
+        if (!(pvs__sv_unit(e) > 1e-12 * size * size)) return 0;     /* an edge pointing at the eye */
+        if (pvs__sv_dot(e, c) < 0.0) { e[0] = -e[0]; e[1] = -e[1]; e[2] = -e[2]; }
+        if (!(pvs__sv_dot(e, c) > 1e-9 * size)) return 0;
+        a.mark[i] = 0;
+    }
+    if (pvs__sv_clip(&a, o->fr[0], o->fr[0][3], NULL, 0, &b) < 3) return 0;
+    for (k = 1; k < 5; ++k) {
+        if (pvs__sv_clip(&b, o->fr[k], 0.0, o->fr[k], 0, &a) < 3) return 0;
+        b = a;
+    }
+    *q = b;
+    return 1;
+}
+
+/* Stores q as a new fragment of the occluder with `plane`; PVS__OT_NONE when the pools are full. */
+PVS__STATIC uint32_t pvs__sv_fragment(pvs_otree *o, const pvs__svpoly *q, const double plane[4]) {
+    pvs__svfrag *f;
+    double size = 0.0;
+    int i, k;
+    if (o->frag_count >= o->frag_budget || o->vert_count + (uint32_t)q->n > o->vert_budget) return PVS__OT_NONE;
+    f = o->frags + o->frag_count;
+    memcpy(f->plane, plane, sizeof(f->plane));
+    f->first = o->vert_count;
+    f->count = (uint32_t)q->n;
+    for (i = 0; i < q->n; ++i) {
+        pvs__svvert *v = o->verts + f->first + i;
+        memcpy(v->f, q->v[i], sizeof(v->f));
+        pvs__sv_cross(q->v[i], q->v[(i + 1) % q->n], v->m);
+        pvs__sv_unit(v->m);
+        if (pvs__sv_dot(v->m, q->v[(i + 2) % q->n]) < 0.0) for (k = 0; k < 3; ++k) v->m[k] = -v->m[k];
+        for (k = 0; k < 3; ++k) if (fabs(q->v[i][k]) > size) size = fabs(q->v[i][k]);
+    }
+    f->tol = 1e-10 * (o->tol * 1e10 + 3.0 * size + fabs(plane[3]));
+    o->vert_count += (uint32_t)q->n;
+    return o->frag_count++;
+}
+
+/* Turns leaf `node` into the chain of q's unmarked edges (the e-OT, §3.3.3, §4.10.1); the sides away
+   from q keep the leaf's kind and fragment. Returns the node whose region is q's pyramid, or
+   PVS__OT_NONE when the node budget is spent (the leaf is then unchanged). */
+PVS__STATIC uint32_t pvs__sv_refine(pvs_otree *o, uint32_t node, const pvs__svpoly *q) {
+    uint32_t need = 0;
+    int i;
+    for (i = 0; i < q->n; ++i) need += !q->mark[i];
+    if (o->node_count + 2 * need > o->node_budget) return PVS__OT_NONE;
+    for (i = 0; i < q->n; ++i) {
+        pvs__svnode old = o->nodes[node];
+        uint32_t out = o->node_count++, in = o->node_count++;
+        if (q->mark[i]) { o->node_count -= 2; continue; }
+        o->nodes[out] = old;
+        o->nodes[in] = old;
+        memcpy(o->nodes[node].n, q->e[i], sizeof(o->nodes[node].n));
+        o->nodes[node].kind = 0;
+        o->nodes[node].child[0] = out;
+        o->nodes[node].child[1] = in;
+        node = in;
+    }
+    return node;
+}
+
+/* Merges occluder polygon q (plane `plane`) into the tree (§3.3.3, App. C.1.4): filtered down with
+   splitting and edge marking; out-leaves become its e-OT; at an in-leaf it replaces the stored
+   fragment where it lies in front (a late nearer occluder of the approximate sweep), split along the
+   stored occluder's plane when it crosses it. */
+PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const double plane[4]) {
+    uint32_t sp = 0;
+    o->stack[0] = *poly;
+    o->stack_node[0] = 0;
+    sp = 1;
+    while (sp) {
+        pvs__svpoly *q = o->stack + --sp, part;
+        uint32_t node = o->stack_node[sp];
+        pvs__svnode *nd = o->nodes + node;
+        int i;
+        if (nd->kind == 0) {
+            double lo = DBL_MAX, hi = -DBL_MAX, ins = 1e-12 * o->tol * 1e10;
+            for (i = 0; i < q->n; ++i) {
+                double d = pvs__sv_dot(nd->n, q->v[i]);
+                if (d < lo) lo = d;
+                if (d > hi) hi = d;
+            }
+            if (lo >= -ins || hi <= ins) { /* one side; its edges lying in this plane (same side) are marked */
+                int side = lo >= -ins ? 1 : 0;
+                for (i = 0; i < q->n; ++i)
+                    if (side ? pvs__sv_same(q->e[i], nd->n)
+                             : (q->e[i][0] == -nd->n[0] && q->e[i][1] == -nd->n[1] && q->e[i][2] == -nd->n[2]))
+                        q->mark[i] = 1;
+                o->stack_node[sp++] = nd->child[side]; /* q stays in place */
+            } else {
+                double neg[3];
+                uint32_t c0 = nd->child[0], c1 = nd->child[1];
+                int r1, r0;
+                pvs__svpoly qq = *q;
+                neg[0] = -nd->n[0]; neg[1] = -nd->n[1]; neg[2] = -nd->n[2];
+                r1 = pvs__sv_clip(&qq, nd->n, 0.0, nd->n, 1, &part);
+                if (r1 < 0) o->info.budget_exceeded = 1;
+                if (r1 >= 3) { o->stack[sp] = part; o->stack_node[sp++] = c1; }
+                r0 = pvs__sv_clip(&qq, neg, 0.0, neg, 1, &part);
+                if (r0 < 0) o->info.budget_exceeded = 1;
+                if (r0 >= 3) {
+                    if (sp >= PVS__SV_STACK) { o->info.budget_exceeded = 1; continue; }
+                    o->stack[sp] = part; o->stack_node[sp++] = c0;
+                }
+            }
+            if (sp >= PVS__SV_STACK - 1) { /* no room for the next split: drop the deepest work (conservative) */
+                o->info.budget_exceeded = 1;
+                --sp;
+            }
+        } else {
+            const pvs__svpoly *use = q;
+            uint32_t leaf, fr;
+            if (nd->kind == PVS__OT_IN) {
+                const pvs__svfrag *f = o->frags + nd->frag;
+                double smin = DBL_MAX, smax = -DBL_MAX;
+                for (i = 0; i < q->n; ++i) {
+                    double s = pvs__sv_dot(f->plane, q->v[i]) + f->plane[3];
+                    if (s < smin) smin = s;
+                    if (s > smax) smax = s;
+                }
+                if (smax <= f->tol) continue;  /* behind the stored fragment (or in its plane): hidden here */
+                if (smin < -f->tol) {          /* crossing: keep the part in front */
+                    if (pvs__sv_clip(q, f->plane, f->plane[3], NULL, 0, &part) < 3) continue;
+                    use = &part;
+                }
+            }
+            fr = pvs__sv_fragment(o, use, plane);
+            if (fr == PVS__OT_NONE) { o->info.budget_exceeded = 1; continue; }
+            leaf = pvs__sv_refine(o, node, use);
+            if (leaf == PVS__OT_NONE) { o->info.budget_exceeded = 1; --o->frag_count; o->vert_count -= (uint32_t)use->n; continue; }
+            o->nodes[leaf].kind = PVS__OT_IN;
+            o->nodes[leaf].frag = fr;
+        }
+    }
+}
+
+/* Box [lo, hi] (eye-relative) against fragment f at an in-leaf (§4.10.2): invisible when wholly
+   behind the occluder's plane or (unless PLANE_ONLY) separated from the pyramid eye + fragment, the
+   only place where a box can be seen through this leaf (exact box / fragment test, "E"); visible
+   when wholly in front; partly visible otherwise. */
+PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f, const double lo[3], const double hi[3]) {
+    const pvs__svvert *v = o->verts + f->first;
+    double smin = pvs__sv_lo(f->plane, lo, hi) + f->plane[3], smax = pvs__sv_hi(f->plane, lo, hi) + f->plane[3], t = f->tol;
+    uint32_t i, j;
+    int k;
+    if (smax < -t) return PVS__SV_I;
+    if (!(o->flags & PVS_OTREE_PLANE_ONLY)) {
+        /* separating axes: the box's axes, the pyramid's side faces, its base, the edge pairs */
+        for (k = 0; k < 3; ++k) {
+            double plo = 0.0, phi = 0.0;
+            for (i = 0; i < f->count; ++i) {
+                if (v[i].f[k] < plo) plo = v[i].f[k];
+                if (v[i].f[k] > phi) phi = v[i].f[k];
+            }
+            if (hi[k] < plo - t || lo[k] > phi + t) return PVS__SV_I;
+        }
+        for (i = 0; i < f->count; ++i) { /* the pyramid's extent is taken over its points: valid for any axis */
+            double plo = 0.0, phi = 0.0, bh = pvs__sv_hi(v[i].m, lo, hi);
+            if (bh < -t) {
+                for (j = 0; j < f->count; ++j) {
+                    double d = pvs__sv_dot(v[i].m, v[j].f);
+                    if (d < plo) plo = d;
+                }
+                if (bh < plo - t) return PVS__SV_I;
+            } else {
+                for (j = 0; j < f->count; ++j) {
+                    double d = pvs__sv_dot(v[i].m, v[j].f);
+                    if (d > phi) phi = d;
+                }
+                if (pvs__sv_lo(v[i].m, lo, hi) > phi + t) return PVS__SV_I;
+            }
+        }
+        {   /* the base's plane: the pyramid spans from the eye (d) to its base (about 0) */
+            double plo = f->plane[3], phi = f->plane[3];
+            for (i = 0; i < f->count; ++i) {
+                double d = pvs__sv_dot(f->plane, v[i].f) + f->plane[3];
+                if (d < plo) plo = d;
+                if (d > phi) phi = d;
+            }
+            if (smin > phi + t || smax < plo - t) return PVS__SV_I;
+        }
+        for (k = 0; k < 3; ++k)
+            for (i = 0; i < 2 * f->count; ++i) {
+                double edge[3], ax[3], plo = 0.0, phi = 0.0, len;
+                uint32_t m;
+                if (i < f->count) memcpy(edge, v[i].f, sizeof(edge));
+                else {
+                    const double *p0 = v[i - f->count].f, *p1 = v[(i - f->count + 1) % f->count].f;
+                    edge[0] = p1[0] - p0[0]; edge[1] = p1[1] - p0[1]; edge[2] = p1[2] - p0[2];
+                }
+                ax[k] = 0.0;
+                ax[(k + 1) % 3] = -edge[(k + 2) % 3];
+                ax[(k + 2) % 3] = edge[(k + 1) % 3];
+                len = pvs__sv_unit(ax);
+                if (!(len > 1e-12 * (fabs(edge[0]) + fabs(edge[1]) + fabs(edge[2])))) continue;
+                for (m = 0; m < f->count; ++m) {
+                    double d = pvs__sv_dot(ax, v[m].f);
+                    if (d < plo) plo = d;
+                    if (d > phi) phi = d;
+                }
+                if (pvs__sv_hi(ax, lo, hi) < plo - t || pvs__sv_lo(ax, lo, hi) > phi + t) return PVS__SV_I;
+            }
+    }
+    return smin > t ? PVS__SV_V : PVS__SV_P;
+}
+
+/* The conservative visibility of box [lo, hi] in the tree (§4.10.2): descends, without splitting,
+   every side the box reaches; combines the leaves by Table 3.1 and stops at the first partly
+   visible result. */
+PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], const double hi[3]) {
+    uint32_t sp = 1, *stk = o->tstack;
+    int vis = 0, inv = 0;
+    stk[0] = 0;
+    while (sp) {
+        const pvs__svnode *nd = o->nodes + stk[--sp];
+        if (nd->kind == 0) {
+            if (pvs__sv_hi(nd->n, lo, hi) > -o->tol) stk[sp++] = nd->child[1];
+            if (pvs__sv_lo(nd->n, lo, hi) < o->tol) stk[sp++] = nd->child[0];
+        } else if (nd->kind == PVS__OT_OUT) {
+            vis = 1;
+        } else {
+            uint32_t r = pvs__sv_leaf_test(o, o->frags + nd->frag, lo, hi);
+            if (r == PVS__SV_P) return PVS__SV_P;
+            if (r == PVS__SV_V) vis = 1; else inv = 1;
+        }
+        if (vis && inv) return PVS__SV_P;
+    }
+    return vis ? PVS__SV_V : PVS__SV_I;
+}
+
+/* A box's visibility: frustum culling first (outside any plane: invisible; crossing one: at most
+   partly visible), then the tree. */
+PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
+    double lo[3], hi[3];
+    int k, cross = 0;
+    uint32_t r;
+    for (k = 0; k < 3; ++k) {
+        lo[k] = (double)b->min[k] - o->eye[k];
+        hi[k] = (double)b->max[k] - o->eye[k];
+    }
+    for (k = 0; k < 5; ++k) {
+        if (pvs__sv_hi(o->fr[k], lo, hi) + o->fr[k][3] < -o->tol) return PVS__SV_I;
+        if (pvs__sv_lo(o->fr[k], lo, hi) + o->fr[k][3] < o->tol) cross = 1;
+    }
+    r = pvs__sv_tree_test(o, lo, hi);
+    return r == PVS__SV_I ? r : cross ? PVS__SV_P : r;
+}
+
+/* ---- occluder selection (§4.5) ---- */
+
+/* Keeps the best max_occluders candidates in a min-heap on key. */
+PVS__STATIC void pvs__sv_offer(pvs_otree *o, uint32_t k, double key, uint32_t a, uint32_t b) {
+    pvs__svsel *h = o->sel, e;
+    uint32_t i, c, n;
+    e.key = key; e.a = a; e.b = b;
+    if (o->sel_count < k) {
+        i = o->sel_count++;
+        while (i > 0 && h[(i - 1) / 2].key > key) { h[i] = h[(i - 1) / 2]; i = (i - 1) / 2; }
+        h[i] = e;
+        return;
+    }
+    if (!k || !(key > h[0].key)) return;
+    n = o->sel_count;
+    i = 0;
+    while ((c = 2 * i + 1) < n) {
+        if (c + 1 < n && h[c + 1].key < h[c].key) ++c;
+        if (!(h[c].key < key)) break;
+        h[i] = h[c];
+        i = c;
+    }
+    h[i] = e;
+}
+
+/* The world points of candidate (a, b): a triangle or a face of a BOX / wall of an EXTRUSION occluder. */
+PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float q[4][3], const float *p[4]) {
+    int k, n;
+    if (b == PVS__SV_TRIANGLE) {
+        for (k = 0; k < 3; ++k) p[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)a + k];
+        return 3;
+    } else {
+        const pvs_occluder_desc *oc = s->occluders + a;
+        if (oc->kind == PVS_OCCLUDER_BOX) {
+            static const uint8_t f[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+            for (n = 0; n < 4; ++n)
+                for (k = 0; k < 3; ++k) q[n][k] = (f[b][n] >> k) & 1u ? oc->box.max[k] : oc->box.min[k];
+        } else {
+            int u, v, up = (int)s->up_axis;
+            const float *f0 = oc->footprint + 2 * b, *f1 = oc->footprint + 2 * ((b + 1) % oc->footprint_count);
+            pvs__ground_axes(s->up_axis, &u, &v);
+            q[0][u] = f0[0]; q[0][v] = f0[1]; q[0][up] = oc->base;
+            q[1][u] = f1[0]; q[1][v] = f1[1]; q[1][up] = oc->base;
+            q[2][u] = f1[0]; q[2][v] = f1[1]; q[2][up] = oc->top;
+            q[3][u] = f0[0]; q[3][v] = f0[1]; q[3][up] = oc->top;
+        }
+        for (n = 0; n < 4; ++n) p[n] = q[n];
+        return 4;
+    }
+}
+
+/* Bittner's area-angle measure M = A |N . V| / |D|^2 (§4.5) of a polygon, with V the unit direction
+   from the eye to its centre D (the solid angle it subtends, approximately; the thesis uses the view
+   direction), or -1 when it lies wholly outside the frustum. */
+PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int n) {
+    double v[4][3], c[3] = {0, 0, 0}, area[3] = {0, 0, 0}, dd;
+    int i, k;
+    for (i = 0; i < n; ++i)
+        for (k = 0; k < 3; ++k) { v[i][k] = (double)p[i][k] - o->eye[k]; c[k] += v[i][k] / n; }
+    for (k = 0; k < 5; ++k) {
+        for (i = 0; i < n; ++i) if (pvs__sv_dot(o->fr[k], v[i]) + o->fr[k][3] >= 0.0) break;
+        if (i == n) return -1.0;
+    }
+    for (i = 0; i < n; ++i) {
+        const double *u = v[i], *w = v[(i + 1) % n];
+        area[0] += (u[1] - w[1]) * (u[2] + w[2]);
+        area[1] += (u[2] - w[2]) * (u[0] + w[0]);
+        area[2] += (u[0] - w[0]) * (u[1] + w[1]);
+    }
+    dd = pvs__sv_dot(c, c);
+    if (!(dd > 0.0)) return -1.0;
+    return 0.5 * fabs(pvs__sv_dot(area, c)) / (dd * sqrt(dd));
+}
+
+PVS__STATIC int pvs__sv_before(const pvs__svsel *x, const pvs__svsel *y) {
+    return x->key < y->key || (x->key == y->key && (x->a < y->a || (x->a == y->a && x->b < y->b)));
+}
+/* Heap sort by (key, a, b): a deterministic order whatever the heap held. */
+PVS__STATIC void pvs__sv_sort(pvs__svsel *h, uint32_t n) {
+    uint32_t i, end;
+    for (i = n / 2; i-- > 0;) {
+        uint32_t r = i, c;
+        while ((c = 2 * r + 1) < n) {
+            pvs__svsel tmp;
+            if (c + 1 < n && pvs__sv_before(h + c, h + c + 1)) ++c;
+            if (!pvs__sv_before(h + r, h + c)) break;
+            tmp = h[r]; h[r] = h[c]; h[c] = tmp;
+            r = c;
+        }
+    }
+    for (end = n; end > 1; --end) {
+        pvs__svsel tmp = h[0];
+        uint32_t r = 0, c, m = end - 1;
+        h[0] = h[m]; h[m] = tmp;
+        while ((c = 2 * r + 1) < m) {
+            if (c + 1 < m && pvs__sv_before(h + c, h + c + 1)) ++c;
+            if (!pvs__sv_before(h + r, h + c)) break;
+            tmp = h[r]; h[r] = h[c]; h[c] = tmp;
+            r = c;
+        }
+    }
+}
+
+PVS__STATIC void pvs__sv_offer_triangle(pvs_otree *o, uint32_t k, uint32_t t) {
+    float q[4][3];
+    const float *p[4];
+    double m;
+    int n = pvs__sv_points(o->s, t, PVS__SV_TRIANGLE, q, p);
+    m = pvs__sv_score(o, p, n);
+    if (m > 0.0) pvs__sv_offer(o, k, m, t, PVS__SV_TRIANGLE);
+}
+
+typedef struct pvs__svboot {
+    pvs_otree *o;
+    uint32_t k;
+} pvs__svboot;
+PVS__STATIC pvs_visit pvs__sv_boot_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+    pvs__svboot *w = (pvs__svboot *)user;
+    uint32_t i;
+    (void)node_box;
+    if (distance > w->o->lambda) return PVS_VISIT_STOP;
+    for (i = 0; i < count; ++i) {
+        if (pvs_bitset_test(w->o->tri_seen, items[i])) continue;
+        pvs_bitset_set(w->o->tri_seen, items[i]);
+        pvs__sv_offer_triangle(w->o, w->k, items[i]);
+    }
+    return PVS_VISIT_DESCEND;
+}
+
+/* ---- the kD-tree walk with hierarchy updating (§4.11.4, Fig. 4.5) ---- */
+
+PVS__STATIC void pvs__sv_touch(pvs_otree *o, uint32_t obj, uint8_t flag) {
+    if (!o->obj_flag[obj]) o->touched[o->touched_count++] = obj;
+    o->obj_flag[obj] |= flag;
+}
+
+/* Marks the objects of every leaf below `node` with `flag` (a visible subtree: no tests). */
+PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, uint8_t flag) {
+    const pvs_kdtree *t = o->s->object_tree;
+    const pvs__kdnode *nd = t->nodes + node;
+    uint32_t axis = nd->bits & 3u, i;
+    ++o->st.nodes_visited;
+    if (axis == PVS__KD_LEAF) {
+        const uint32_t *items = t->items + (nd->bits >> 2);
+        pvs_box eyebox;
+        uint8_t near = 0;
+        int k;
+        for (k = 0; k < 3; ++k) eyebox.min[k] = eyebox.max[k] = (float)o->eye[k];
+        if (pvs__box_distance2(&eyebox, box) <= o->lambda * o->lambda) near = 4;
+        for (i = 0; i < nd->u.count; ++i) pvs__sv_touch(o, items[i], (uint8_t)(flag | near));
+        return;
+    } else {
+        pvs_box c0 = *box, c1 = *box;
+        float sp = nd->u.split;
+        c0.max[axis] = sp < box->max[axis] ? (sp > box->min[axis] ? sp : box->min[axis]) : box->max[axis];
+        c1.min[axis] = sp > box->min[axis] ? (sp < box->max[axis] ? sp : box->max[axis]) : box->min[axis];
+        pvs__sv_emit(o, nd->bits >> 2, &c0, flag);
+        pvs__sv_emit(o, (nd->bits >> 2) + 1, &c1, flag);
+    }
+}
+
+/* Fig. 4.5: termination nodes of the last frame (leaves, nodes not partly visible, nodes not visited
+   in the last frame) are tested; opened nodes are skipped and their children visited, near child
+   first; a node whose children all agree takes their state (pull-up). */
+PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
+    const pvs_kdtree *t = o->s->object_tree;
+    const pvs__kdnode *nd = t->nodes + node;
+    uint32_t axis = nd->bits & 3u, st = o->kd_vis[node];
+    ++o->st.nodes_visited;
+    if ((o->flags & PVS_OTREE_NO_COHERENCE) || axis == PVS__KD_LEAF || st != PVS__SV_P || o->kd_frame[node] + 1 < o->frame) {
+        st = pvs__sv_box_test(o, box);
+        ++o->info.node_tests;
+        ++o->st.boxes_tested;
+    } else {
+        ++o->info.nodes_skipped;
+    }
+    o->kd_vis[node] = (uint8_t)st;
+    o->kd_frame[node] = o->frame;
+    if (st == PVS__SV_V) {
+        --o->st.nodes_visited;
+        pvs__sv_emit(o, node, box, 1);
+    } else if (st == PVS__SV_P) {
+        if (axis == PVS__KD_LEAF) {
+            --o->st.nodes_visited;
+            pvs__sv_emit(o, node, box, 2);
+        } else {
+            pvs_box c[2];
+            float sp = nd->u.split;
+            uint32_t first = o->eye[axis] < (double)sp ? 0u : 1u, ch = nd->bits >> 2, v0, v1;
+            c[0] = *box; c[1] = *box;
+            c[0].max[axis] = sp < box->max[axis] ? (sp > box->min[axis] ? sp : box->min[axis]) : box->max[axis];
+            c[1].min[axis] = sp > box->min[axis] ? (sp < box->max[axis] ? sp : box->max[axis]) : box->min[axis];
+            pvs__sv_walk(o, ch + first, c + first); /* front to back */
+            pvs__sv_walk(o, ch + (1u - first), c + (1u - first));
+            v0 = o->kd_vis[ch];
+            v1 = o->kd_vis[ch + 1];
+            if (v0 == v1 && v0 != PVS__SV_P) o->kd_vis[node] = (uint8_t)v0; /* pull-up */
+        }
+    }
+}
+
+/* ---- context and per-frame API ---- */
+
+PVS_API void pvs_otree_destroy(pvs_otree *o) {
+    pvs_allocator a;
+    if (!o) return;
+    a = o->allocator;
+    pvs__free_array(&a, o->nodes, o->node_budget, sizeof(pvs__svnode));
+    pvs__free_array(&a, o->frags, o->frag_budget, sizeof(pvs__svfrag));
+    pvs__free_array(&a, o->verts, o->vert_budget, sizeof(pvs__svvert));
+    pvs__free_array(&a, o->stack, PVS__SV_STACK, sizeof(pvs__svpoly));
+    pvs__free_array(&a, o->stack_node, PVS__SV_STACK, sizeof(uint32_t));
+    pvs__free_array(&a, o->tstack, (size_t)o->node_budget + 2, sizeof(uint32_t));
+    pvs__free_array(&a, o->sel, o->max_occluders, sizeof(pvs__svsel));
+    pvs__free_array(&a, o->prev, o->max_occluders, sizeof(uint32_t));
+    pvs__free(&a, o->sweep, o->sweep_size, 16);
+    pvs__free_array(&a, o->tri_seen, PVS_BITSET_WORDS(o->max_triangles) + 1, sizeof(pvs_word));
+    pvs__free_array(&a, o->obj_first, (size_t)o->max_objects + 1, sizeof(uint32_t));
+    pvs__free_array(&a, o->obj_tris, (size_t)o->max_objects + 1, sizeof(uint32_t));
+    pvs__free_array(&a, o->kd_vis, (size_t)o->max_kd_nodes + 1, 1);
+    pvs__free_array(&a, o->kd_frame, (size_t)o->max_kd_nodes + 1, sizeof(uint32_t));
+    pvs__free_array(&a, o->obj_flag, (size_t)o->max_objects + 1, 1);
+    pvs__free_array(&a, o->touched, (size_t)o->max_objects + 1, sizeof(uint32_t));
+    pvs__free(&a, o, sizeof(*o), 16);
+}
+
+PVS_API void pvs_otree_reset(pvs_otree *o) {
+    if (!o) return;
+    o->have_prev = 0;
+    o->prev_count = 0;
+    o->last_scene = NULL; /* every kD node's state is stale */
+}
+
+PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out, pvs_error *err) {
+    pvs_otree *o;
+    pvs_allocator a;
+    const pvs_scene *s;
+    uint32_t i;
+    if (out) *out = NULL;
+    if (!desc || !out || !desc->scene) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, desc->scene and out_otree must not be NULL");
+    if (!pvs__finite(desc->aspect) || desc->aspect < 0.0f) return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "aspect must be finite and >= 0");
+    if (desc->max_occluders > 65536) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_occluders %u is over 65536", desc->max_occluders);
+    if (desc->node_budget && (desc->node_budget < 64 || desc->node_budget > (1u << 24)))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "node_budget %u is not in 64..2^24", desc->node_budget);
+    s = desc->scene;
+    a = desc->allocator;
+    o = (pvs_otree *)pvs__alloc(&a, sizeof(*o), 16);
+    if (!o) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree context");
+    memset(o, 0, sizeof(*o));
+    o->allocator = a;
+    o->flags = desc->flags;
+    o->aspect = desc->aspect > 0.0f ? desc->aspect : 1.0f;
+    o->max_occluders = desc->max_occluders ? desc->max_occluders : 64;
+    o->node_budget = desc->node_budget ? desc->node_budget : 8192;
+    o->frag_budget = o->node_budget / 2 + 1;
+    o->vert_budget = 4 * o->node_budget;
+    o->max_objects = s->object_count;
+    o->max_triangles = s->triangle_count;
+    o->max_kd_nodes = s->object_tree->node_count;
+    o->sweep_size = pvs_kdtree_sweep_scratch_size(s->triangle_tree);
+    o->nodes = (pvs__svnode *)pvs__alloc_array(&a, o->node_budget, sizeof(pvs__svnode));
+    o->frags = (pvs__svfrag *)pvs__alloc_array(&a, o->frag_budget, sizeof(pvs__svfrag));
+    o->verts = (pvs__svvert *)pvs__alloc_array(&a, o->vert_budget, sizeof(pvs__svvert));
+    o->stack = (pvs__svpoly *)pvs__alloc_array(&a, PVS__SV_STACK, sizeof(pvs__svpoly));
+    o->stack_node = (uint32_t *)pvs__alloc_array(&a, PVS__SV_STACK, sizeof(uint32_t));
+    o->tstack = (uint32_t *)pvs__alloc_array(&a, (size_t)o->node_budget + 2, sizeof(uint32_t));
+    o->sel = (pvs__svsel *)pvs__alloc_array(&a, o->max_occluders, sizeof(pvs__svsel));
+    o->prev = (uint32_t *)pvs__alloc_array(&a, o->max_occluders, sizeof(uint32_t));
+    o->sweep = pvs__alloc(&a, o->sweep_size ? o->sweep_size : 16, 16);
+    o->tri_seen = (pvs_word *)pvs__alloc_array(&a, PVS_BITSET_WORDS(o->max_triangles) + 1, sizeof(pvs_word));
+    o->obj_first = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, sizeof(uint32_t));
+    o->obj_tris = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, sizeof(uint32_t));
+    o->kd_vis = (uint8_t *)pvs__alloc_array(&a, (size_t)o->max_kd_nodes + 1, 1);
+    o->kd_frame = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_kd_nodes + 1, sizeof(uint32_t));
+    o->obj_flag = (uint8_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, 1);
+    o->touched = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, sizeof(uint32_t));
+    if (!o->sweep_size) o->sweep_size = 16;
+    if (!o->nodes || !o->frags || !o->verts || !o->stack || !o->stack_node || !o->tstack || !o->sel || !o->prev || !o->sweep ||
+        !o->tri_seen || !o->obj_first || !o->obj_tris || !o->kd_vis || !o->kd_frame || !o->obj_flag || !o->touched) {
+        pvs_otree_destroy(o);
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree buffers");
+    }
+    memset(o->obj_flag, 0, (size_t)o->max_objects + 1);
+    memset(o->kd_vis, 0, (size_t)o->max_kd_nodes + 1);
+    memset(o->kd_frame, 0, ((size_t)o->max_kd_nodes + 1) * sizeof(uint32_t));
+    o->frame = 2;
+    for (i = 0; i < o->max_objects; ++i) { o->obj_first[i] = 0; o->obj_tris[i] = 0; }
+    for (i = s->triangle_count; i-- > 0;) { /* objects are ranges of triangles */
+        uint32_t ob = s->triangle_object[i];
+        if (ob == PVS_NO_OBJECT) continue;
+        o->obj_first[ob] = i;
+        ++o->obj_tris[ob];
+    }
+    *out = o;
+    pvs__ok(err);
+    return PVS_OK;
+}
+
+PVS_API void pvs_otree_get_frame(const pvs_otree *o, pvs_otree_frame *frame) {
+    if (o && frame) *frame = o->info;
+}
+
+PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p,
+                                  pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
+    float m[16];
+    double u[3], r[3], len, ty, tx, size = 0.0;
+    uint32_t i, k, nocc = 0;
+    int j;
+    pvs_result res;
+    if (!o || !s || !cam || !visible) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree, scene, camera and visible must not be NULL");
+    if (s->object_count > o->max_objects || s->triangle_count > o->max_triangles || s->object_tree->node_count > o->max_kd_nodes ||
+        pvs_kdtree_sweep_scratch_size(s->triangle_tree) > o->sweep_size)
+        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "the context was created for a smaller scene");
+    res = pvs_camera_matrix(cam, o->aspect, m);
+    if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "unusable camera");
+    if (cam->fov_y == 0.0f) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "an orthographic camera: shadow volumes need an eye point");
+    memset(&o->info, 0, sizeof(o->info));
+    memset(&o->st, 0, sizeof(o->st));
+    memset(visible, 0, PVS_BITSET_WORDS(s->object_count) * sizeof(pvs_word));
+    if (s != o->last_scene || o->frame > 0xfffffff0u) { /* stale states everywhere */
+        memset(o->kd_frame, 0, ((size_t)o->max_kd_nodes + 1) * sizeof(uint32_t));
+        o->frame = 2;
+        if (s != o->last_scene && o->last_scene) o->have_prev = 0;
+        o->last_scene = s;
+    }
+    ++o->frame;
+    o->s = s;
+    /* the eye frame (as pvs_camera_matrix) and the frustum: near plane, then the four sides */
+    for (j = 0; j < 3; ++j) { o->eye[j] = cam->eye[j]; o->fw[j] = cam->forward[j]; u[j] = cam->up[j]; }
+    pvs__sv_unit(o->fw);
+    len = pvs__sv_dot(o->fw, u);
+    for (j = 0; j < 3; ++j) u[j] -= len * o->fw[j];
+    pvs__sv_unit(u);
+    pvs__sv_cross(o->fw, u, r);
+    ty = tan(0.5 * (double)cam->fov_y);
+    tx = ty * o->aspect;
+    o->near_d = cam->near_plane;
+    for (j = 0; j < 3; ++j) {
+        o->fr[0][j] = o->fw[j];
+        o->fr[1][j] = tx * o->fw[j] - r[j];
+        o->fr[2][j] = tx * o->fw[j] + r[j];
+        o->fr[3][j] = ty * o->fw[j] - u[j];
+        o->fr[4][j] = ty * o->fw[j] + u[j];
+    }
+    o->fr[0][3] = -o->near_d;
+    for (k = 1; k < 5; ++k) { pvs__sv_unit(o->fr[k]); o->fr[k][3] = 0.0; }
+    for (j = 0; j < 3; ++j) { /* the size of the eye-relative scene */
+        double a = fabs((double)s->bounds.min[j] - o->eye[j]), b = fabs((double)s->bounds.max[j] - o->eye[j]);
+        if (s->bounds.min[j] > s->bounds.max[j]) a = b = 0.0;
+        size += (a > b ? a : b);
+    }
+    o->tol = 1e-10 * (size + o->near_d + 1e-20);
+    o->lambda = p && p->occluder_distance > 0.0f ? p->occluder_distance : 100.0;
+    /* the tree: one out-leaf, then the occluders front to back (§4.3) */
+    o->node_count = 1;
+    o->frag_count = 0;
+    o->vert_count = 0;
+    memset(o->nodes, 0, sizeof(pvs__svnode));
+    o->nodes[0].kind = PVS__OT_OUT;
+    if (p && p->occluder_triangle_count && p->occluder_positions) { /* the caller's, in the caller's order */
+        for (i = 0; i < p->occluder_triangle_count; ++i) {
+            const float *pt[3];
+            pvs__svpoly q;
+            double plane[4];
+            int bad = 0;
+            for (j = 0; j < 3; ++j) {
+                uint32_t vi = p->occluder_indices ? p->occluder_indices[3 * (size_t)i + (uint32_t)j] : 3 * i + (uint32_t)j;
+                if (vi >= p->occluder_vertex_count) { bad = 1; break; }
+                pt[j] = p->occluder_positions + 3 * (size_t)vi;
+                if (!pvs__finite(pt[j][0]) || !pvs__finite(pt[j][1]) || !pvs__finite(pt[j][2])) bad = 1;
+            }
+            if (bad) continue;
+            ++nocc;
+            if (pvs__sv_polygon(o, pt, 3, &q, plane)) pvs__sv_insert(o, &q, plane);
+        }
+    }
+    o->sel_count = 0;
+    if (p && (p->scene_occluders || p->scene_volumes)) {
+        uint32_t kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
+        if (p->scene_volumes) kk = o->max_occluders;
+        if (p->scene_occluders) {
+            if (o->have_prev) {
+                for (i = 0; i < o->prev_count; ++i) pvs__sv_offer_triangle(o, kk, o->prev[i]);
+            } else {
+                pvs__svboot w;
+                pvs_box src;
+                w.o = o;
+                w.k = kk;
+                memset(o->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
+                for (j = 0; j < 3; ++j) src.min[j] = src.max[j] = cam->eye[j];
+                pvs_kdtree_sweep(s->triangle_tree, &src, o->sweep, o->sweep_size, pvs__sv_boot_visit, &w);
+            }
+        }
+        if (p->scene_volumes) {
+            pvs_box src;
+            for (j = 0; j < 3; ++j) src.min[j] = src.max[j] = cam->eye[j];
+            for (i = 0; i < s->occluder_count; ++i) {
+                const pvs_occluder_desc *oc = s->occluders + i;
+                uint32_t faces = oc->kind == PVS_OCCLUDER_BOX ? 6u : oc->kind == PVS_OCCLUDER_EXTRUSION ? oc->footprint_count : 0u, f;
+                if (!faces || pvs__box_distance2(&src, s->occluder_boxes + i) > o->lambda * o->lambda) continue;
+                for (f = 0; f < faces; ++f) {
+                    float q[4][3];
+                    const float *pt[4];
+                    int n = pvs__sv_points(s, i, f, q, pt);
+                    double sc = pvs__sv_score(o, pt, n);
+                    if (sc > 0.0) pvs__sv_offer(o, kk, sc, i, f);
+                }
+            }
+        }
+        /* insert in order of distance from the eye (the approximate occlusion sweep, §3.2) */
+        for (i = 0; i < o->sel_count; ++i) {
+            float q[4][3];
+            const float *pt[4];
+            double c[3] = {0, 0, 0};
+            int n = pvs__sv_points(s, o->sel[i].a, o->sel[i].b, q, pt);
+            for (j = 0; j < n; ++j) for (k = 0; k < 3; ++k) c[k] += ((double)pt[j][k] - o->eye[k]) / n;
+            o->sel[i].key = pvs__sv_dot(c, c);
+        }
+        pvs__sv_sort(o->sel, o->sel_count);
+        for (i = 0; i < o->sel_count; ++i) {
+            float q4[4][3];
+            const float *pt[4];
+            pvs__svpoly q;
+            double plane[4];
+            int n = pvs__sv_points(s, o->sel[i].a, o->sel[i].b, q4, pt);
+            ++nocc;
+            if (pvs__sv_polygon(o, pt, n, &q, plane)) pvs__sv_insert(o, &q, plane);
+        }
+    }
+    o->info.occluders = nocc;
+    o->info.tree_nodes = o->node_count;
+    o->info.fragments = o->frag_count;
+    o->st.occluder_triangles = nocc;
+    /* the hierarchical visibility walk (§4.3, Fig. 4.5) */
+    o->touched_count = 0;
+    if (s->object_tree->bounds.min[0] <= s->object_tree->bounds.max[0]) pvs__sv_walk(o, 0, &s->object_tree->bounds);
+    /* objects: those of visible leaves, and those of partly visible leaves whose own box may be seen */
+    for (i = 0; i < o->touched_count; ++i) {
+        uint32_t ob = o->touched[i], fl = o->obj_flag[ob];
+        if ((s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) || (p && p->candidates && !pvs_bitset_test(p->candidates, ob))) continue;
+        if (!(fl & 1u)) {
+            ++o->info.object_tests;
+            ++o->st.boxes_tested;
+            if (pvs__sv_box_test(o, s->object_boxes + ob) == PVS__SV_I) continue;
+        }
+        pvs_bitset_set(visible, ob);
+        ++o->st.visible;
+    }
+    /* the next frame's occluders: the best triangles of the objects seen within the distance (§4.5) */
+    if (p && p->scene_occluders) {
+        uint32_t kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
+        o->sel_count = 0;
+        for (i = 0; i < o->touched_count; ++i) {
+            uint32_t ob = o->touched[i], t;
+            if (!(o->obj_flag[ob] & 4u)) continue; /* not within the distance */
+            if (s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) {
+                if (!(o->obj_flag[ob] & 1u) && pvs__sv_box_test(o, s->object_boxes + ob) == PVS__SV_I) continue;
+            } else if (!pvs_bitset_test(visible, ob)) {
+                continue;
+            }
+            for (t = o->obj_first[ob]; t < o->obj_first[ob] + o->obj_tris[ob]; ++t) pvs__sv_offer_triangle(o, kk, t);
+        }
+        o->prev_count = o->sel_count;
+        for (i = 0; i < o->sel_count; ++i) o->prev[i] = o->sel[i].a;
+        o->have_prev = 1;
+    }
+    for (i = 0; i < o->touched_count; ++i) o->obj_flag[o->touched[i]] = 0;
+    if (stats) *stats = o->st;
+    pvs__ok(err);
+    return PVS_OK;
 }
 
 // >>occluders
