@@ -818,10 +818,20 @@ static void sv_camera(const svscene *t, pvs_camera *cam) {
         for (k = 0; k < 3; ++k) cam->eye[k] = rndf(b.min[k], b.max[k]);
         cam->eye[1] = rnd() < 0.7 ? rndf(0.5f, 2.0f) : rndf(b.min[1], b.max[1] + 10);
     }
+    if (rnd() < 0.15) { /* degenerate eyes: on a vertex, an edge or the face of a triangle (in occluder planes) */
+        uint32_t tri = (uint32_t)(rnd() * t->m.triangle_count) % t->m.triangle_count, mode = (uint32_t)(rnd() * 3);
+        const float *p0 = t->m.positions + 3 * t->m.indices[3 * tri], *p1 = t->m.positions + 3 * t->m.indices[3 * tri + 1];
+        const float *p2 = t->m.positions + 3 * t->m.indices[3 * tri + 2];
+        float w0 = mode == 0 ? 0.0f : (float)rnd(), w1 = mode == 2 ? (float)rnd() * (1 - w0) : 0.0f;
+        for (k = 0; k < 3; ++k) cam->eye[k] = p0[k] + w0 * (p1[k] - p0[k]) + w1 * (p2[k] - p0[k]);
+    }
     cam->forward[0] = rndf(-1, 1);
     cam->forward[2] = rndf(-1, 1);
     cam->forward[1] = rnd() < 0.1 ? rndf(-1, 1) : rndf(-0.3f, 0.3f);
     if (fabsf(cam->forward[0]) + fabsf(cam->forward[2]) < 0.05f) cam->forward[0] = 1;
+    if (rnd() < 0.1) { /* axis-aligned: frustum planes parallel to walls */
+        cam->forward[0] = rnd() < 0.5 ? 1.0f : -1.0f; cam->forward[1] = 0; cam->forward[2] = 0;
+    }
     cam->up[1] = 1;
     cam->fov_y = rndf(0.5f, 1.8f);
     cam->near_plane = rndf(0.05f, 0.3f);
