@@ -81,7 +81,7 @@ int main(int argc, char **argv) {
     pvs_word *bits;
     pvs_bake *b_ot = NULL, *b_sh = NULL;
     uint32_t c, n = 40, objects, frames = 600;
-    int only_frame = argc > 1 && strcmp(argv[1], "frame") == 0;
+    int only_frame = argc > 1 && strcmp(argv[1], "frame") == 0, only_bake = argc > 1 && strcmp(argv[1], "bake") == 0;
     double ms_ot, ms_sh, pvs_ot, pvs_sh, sum_ref = 0.0;
     if (cli_demo_city(&m, &cells, &scene, &te)) { fprintf(stderr, "%s\n", te.message); return 1; }
     objects = pvs_scene_object_count(scene);
@@ -90,6 +90,11 @@ int main(int argc, char **argv) {
         sub = (pvs_box *)malloc(n * sizeof(pvs_box));
         for (c = 0; c < n; ++c) memcpy(sub + c, cells.boxes + 6 * (size_t)((uint64_t)c * cells.count / n), sizeof(pvs_box));
         if (bake_cells(scene, sub, n, PVS_METHOD_OTREE, &ms_ot, &pvs_ot, &b_ot)) return 1;
+        if (only_bake) {
+            printf("BENCH otree_ms_per_cell %.2f ms\n", ms_ot);
+            printf("BENCH otree_mean_pvs %.1f objects\n", pvs_ot / n);
+            return 0;
+        }
         if (bake_cells(scene, sub, n, PVS_METHOD_SHRINK, &ms_sh, &pvs_sh, &b_sh)) return 1;
         bits = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
         for (c = 0; c < n; ++c) {
