@@ -99,7 +99,7 @@ int main(int argc, char **argv) {
         bits = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
         for (c = 0; c < n; ++c) {
             memset(bits, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
-            pvs_sample_visibility(scene, sub + c, 32, 2048, c, bits);
+            cli_reference_visibility(scene, sub + c, c, bits); /* uniform and aimed rays */
             sum_ref += pvs_bitset_count(bits, objects);
         }
         printf("BENCH otree_ms_per_cell %.2f ms\n", ms_ot);  /* one core, the same cells as shrink below */
