@@ -1,7 +1,8 @@
 /* bench_otree.c - `make bench` figures of the otree module on the demo city (GEN_CITY, seed 1):
    BENCH <name> <value> <unit>.
    1. The bake method (2.5D c-LSS) beside `shrink` on the same cells: ms per cell and tightness =
-      mean PVS / mean ray-sampled set (>= 1; the sampled set is a lower bound of the exact one).
+      mean PVS / mean reference set (cli_reference_visibility: uniform and aimed rays, a lower bound
+      of the exact set, so the ratio is >= 1).
    2. From-point culling with the shadow-volume occlusion tree (pvs_otree_cull) along a walk through
       the streets: ms per frame, tree nodes, kD node tests with and without hierarchy updating. */
 #include "../tools/cli.h"
