@@ -4050,11 +4050,14 @@ typedef struct pvs__otpoly {
 
 typedef struct pvs__otnode {
     double p[2];        /* interior: the plane is sign * (p.x, p.y, 1) */
+    double n[3];        /* ... as a unit normal */
     int32_t sign;
     uint32_t kind;      /* 0 interior, PVS__OT_OUT, PVS__OT_IN */
     uint32_t child[2];  /* [0] negative side, [1] positive side */
     uint32_t first, count; /* in-leaf payload: occluders seq[first .. first + count) */
+    uint32_t parent;    /* PVS__OT_NONE at the root */
     double mvd;         /* 2D: maximum visibility distance of the subtree (§6.5.5); DBL_MAX above out-leaves */
+    double mr, ms;      /* 2.5D: the subtree's hidden-height bound (pvs__ot25_bound); mr DBL_MAX: none */
 } pvs__otnode;
 
 typedef struct pvs__otree {
@@ -4065,6 +4068,7 @@ typedef struct pvs__otree {
     size_t seq_count, seq_cap;
     pvs__otpoly *stack;             /* work stack of polygons */
     uint32_t *stack_node;
+    uint32_t *stack_pend;           /* read-only tests: a clip still owed, (node << 1) | side, or PVS__OT_NONE */
     size_t stack_count, stack_cap;
     int oom;
     const double *seg;              /* occluder segments, 4 doubles each (local coordinates) */
@@ -4073,6 +4077,7 @@ typedef struct pvs__otree {
     double sa[2], sb[2];            /* the source edge (cell edge or top edge) */
     double eye;                     /* 2.5D: height of the source edge */
     const double *corners;          /* 2.5D: the cell's 4 ground corners (every possible eye position) */
+    double *jd;                     /* 2.5D: per occluder, its line and umbra data in this tree (pvs__ot25_prepare) */
     double len_eps;                 /* distances below this are ties */
 } pvs__otree;
 
@@ -4099,7 +4104,8 @@ PVS__STATIC void pvs__ot_free(pvs__otree *t) {
     pvs__free(t->a, t->seq, t->seq_cap * sizeof(uint32_t), 16);
     pvs__free(t->a, t->stack, t->stack_cap * sizeof(pvs__otpoly), 16);
     pvs__free(t->a, t->stack_node, t->stack_cap * sizeof(uint32_t), 16);
-    t->nodes = NULL; t->seq = NULL; t->stack = NULL; t->stack_node = NULL;
+    pvs__free(t->a, t->stack_pend, t->stack_cap * sizeof(uint32_t), 16);
+    t->nodes = NULL; t->seq = NULL; t->stack = NULL; t->stack_node = NULL; t->stack_pend = NULL;
     t->node_cap = t->seq_cap = t->stack_cap = 0;
 }
 
@@ -4110,6 +4116,8 @@ PVS__STATIC int pvs__ot_reset(pvs__otree *t) {
     memset(t->nodes, 0, sizeof(pvs__otnode));
     t->nodes[0].kind = PVS__OT_OUT;
     t->nodes[0].mvd = DBL_MAX;
+    t->nodes[0].mr = DBL_MAX;
+    t->nodes[0].parent = PVS__OT_NONE;
     t->node_count = 1;
     return 1;
 }
@@ -4123,20 +4131,42 @@ PVS__STATIC uint32_t pvs__ot_new_node(pvs__otree *t) {
     return (uint32_t)t->node_count++;
 }
 
-PVS__STATIC int pvs__ot_push(pvs__otree *t, uint32_t node, const pvs__otpoly *poly) {
-    size_t c1 = t->stack_cap, c2 = t->stack_cap;
-    if (t->stack_count + 1 > t->stack_cap) {
-        if (!pvs__ot_grow(t->a, (void **)&t->stack, &c1, t->stack_count + 1, sizeof(pvs__otpoly)) ||
-            !pvs__ot_grow(t->a, (void **)&t->stack_node, &c2, t->stack_count + 1, sizeof(uint32_t))) {
-            /* keep the arrays consistent with the smaller capacity */
-            t->oom = 1;
-            return 0;
-        }
-        t->stack_cap = c1 < c2 ? c1 : c2;
+/* Copies the live part of a polygon. */
+PVS__STATIC void pvs__ot_copy(pvs__otpoly *d, const pvs__otpoly *s) {
+    int n = s->n;
+    d->n = n;
+    d->xsplit = s->xsplit;
+    memcpy(d->v, s->v, (size_t)n * sizeof(s->v[0]));
+    memcpy(d->e, s->e, (size_t)n * sizeof(s->e[0]));
+    memcpy(d->mark, s->mark, (size_t)n);
+}
+
+/* Makes room for `need` work items (the three stack arrays grow together). */
+PVS__STATIC int pvs__ot_reserve(pvs__otree *t, size_t need) {
+    size_t c1 = t->stack_cap, c2 = t->stack_cap, c3 = t->stack_cap;
+    if (need <= t->stack_cap) return 1;
+    if (!pvs__ot_grow(t->a, (void **)&t->stack, &c1, need, sizeof(pvs__otpoly)) ||
+        !pvs__ot_grow(t->a, (void **)&t->stack_node, &c2, need, sizeof(uint32_t)) ||
+        !pvs__ot_grow(t->a, (void **)&t->stack_pend, &c3, need, sizeof(uint32_t))) {
+        t->oom = 1;
+        return 0;
     }
-    t->stack[t->stack_count] = *poly;
+    t->stack_cap = c1 < c2 ? (c1 < c3 ? c1 : c3) : (c2 < c3 ? c2 : c3);
+    return 1;
+}
+
+PVS__STATIC int pvs__ot_push(pvs__otree *t, uint32_t node, const pvs__otpoly *poly) {
+    if (!pvs__ot_reserve(t, t->stack_count + 1)) return 0;
+    pvs__ot_copy(t->stack + t->stack_count, poly);
+    t->stack_pend[t->stack_count] = PVS__OT_NONE;
     t->stack_node[t->stack_count++] = node;
     return 1;
+}
+/* Pops the top of the work stack into *q; returns its node. */
+PVS__STATIC uint32_t pvs__ot_pop(pvs__otree *t, pvs__otpoly *q) {
+    --t->stack_count;
+    pvs__ot_copy(q, t->stack + t->stack_count);
+    return t->stack_node[t->stack_count];
 }
 
 /* ---- line-space kernel (§6.4, §6.8) ---- */
@@ -4162,13 +4192,22 @@ PVS__STATIC void pvs__ot_normalize(double v[3]) {
 
 #define PVS__OT_EPS 1e-12
 
-/* Keeps the part of `in` where sign * side(p) >= -slack (slack 0: the exact half). New edges lie in
-   the plane of p and get mark `mark`. Returns the vertex count of the result (0 = empty). */
-PVS__STATIC int pvs__ot_clip(const pvs__otpoly *in, const double p[2], double sign, double slack, int mark, pvs__otpoly *out) {
+/* The unit normal of the plane sign * p* = sign * (p.x, p.y, 1): n . l = sign * side(l, p). */
+PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
+    double f = sign / sqrt(p[0] * p[0] + p[1] * p[1] + 1.0);
+    n[0] = p[0] * f;
+    n[1] = p[1] * f;
+    n[2] = f;
+}
+
+/* Keeps the part of `in` where n . l >= -slack (slack 0: the exact half), n the unit normal of the
+   plane of p. New edges lie in the plane of p and get mark `mark`. Returns the vertex count of the
+   result (0 = empty, -1 = too many vertices). */
+PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark, pvs__otpoly *out) {
     double d[PVS__OT_MAXV];
     int i, n = in->n, m = 0, any_in = 0;
     for (i = 0; i < n; ++i) {
-        d[i] = sign * pvs__ot_side(in->v[i], p) + slack;
+        d[i] = nn[0] * in->v[i][0] + nn[1] * in->v[i][1] + nn[2] * in->v[i][2] + slack;
         if (d[i] > PVS__OT_EPS) any_in = 1;
     }
     out->xsplit = in->xsplit;
@@ -4202,6 +4241,62 @@ PVS__STATIC int pvs__ot_clip(const pvs__otpoly *in, const double p[2], double si
     out->n = m;
     return m;
 }
+/* Both halves at once: *pos = pvs__ot_clip_n(in, n, p, slack) and *neg = the same with -n. Returns
+   the two vertex counts in r[0] (pos) and r[1] (neg), as pvs__ot_clip_n would. */
+PVS__STATIC void pvs__ot_split2(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark, pvs__otpoly *pos,
+                                pvs__otpoly *neg, int r[2]) {
+    double d[PVS__OT_MAXV];
+    int i, n = in->n, m[2] = {0, 0}, any[2] = {0, 0}, side;
+    for (i = 0; i < n; ++i) {
+        d[i] = nn[0] * in->v[i][0] + nn[1] * in->v[i][1] + nn[2] * in->v[i][2];
+        if (d[i] + slack > PVS__OT_EPS) any[0] = 1;
+        if (-d[i] + slack > PVS__OT_EPS) any[1] = 1;
+    }
+    pos->xsplit = neg->xsplit = in->xsplit;
+    r[0] = r[1] = 0;
+    for (side = 0; side < 2; ++side) {
+        pvs__otpoly *out = side ? neg : pos;
+        double sg = side ? -1.0 : 1.0;
+        if (!any[side]) { out->n = 0; continue; }
+        for (i = 0; i < n; ++i) {
+            int j = i + 1 == n ? 0 : i + 1;
+            double di = sg * d[i] + slack, dj = sg * d[j] + slack;
+            int in_i = di >= 0.0, in_j = dj >= 0.0;
+            if (in_i) {
+                if (m[side] >= PVS__OT_MAXV) { m[side] = -1; break; }
+                memcpy(out->v[m[side]], in->v[i], sizeof(out->v[0]));
+                out->e[m[side]][0] = in->e[i][0]; out->e[m[side]][1] = in->e[i][1];
+                out->mark[m[side]] = in->mark[i];
+                ++m[side];
+            }
+            if (in_i != in_j) {
+                double tt = di / (di - dj), *v;
+                int k;
+                if (m[side] >= PVS__OT_MAXV) { m[side] = -1; break; }
+                v = out->v[m[side]];
+                for (k = 0; k < 3; ++k) v[k] = in->v[i][k] + tt * (in->v[j][k] - in->v[i][k]);
+                pvs__ot_normalize(v);
+                if (in_i) { /* leaving: the new edge runs along p's plane */
+                    out->e[m[side]][0] = p[0]; out->e[m[side]][1] = p[1];
+                    out->mark[m[side]] = (unsigned char)mark;
+                } else {    /* entering: the rest of edge i */
+                    out->e[m[side]][0] = in->e[i][0]; out->e[m[side]][1] = in->e[i][1];
+                    out->mark[m[side]] = in->mark[i];
+                }
+                ++m[side];
+            }
+        }
+        if (m[side] < 0) { out->n = 0; r[side] = -1; }
+        else { out->n = m[side]; r[side] = m[side]; }
+    }
+}
+
+/* pvs__ot_clip_n for the plane sign * p*. */
+PVS__STATIC int pvs__ot_clip(const pvs__otpoly *in, const double p[2], double sign, double slack, int mark, pvs__otpoly *out) {
+    double n[3];
+    pvs__ot_normal(p, sign, n);
+    return pvs__ot_clip_n(in, n, p, slack, mark, out);
+}
 
 /* Min and max of side(p) over the polygon's vertices. */
 PVS__STATIC void pvs__ot_range(const pvs__otpoly *q, const double p[2], double *lo, double *hi) {
@@ -4214,45 +4309,85 @@ PVS__STATIC void pvs__ot_range(const pvs__otpoly *q, const double p[2], double *
     }
 }
 
-/* Insertion at an inner node (§3.3.3): q's edges lying on the node's line are marked (§4.10.1),
-   then q goes to the child it lies in, or is split between both. */
-PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, uint32_t node, pvs__otpoly *q) {
-    const pvs__otnode *nd = t->nodes + node;
-    pvs__otpoly part;
-    double lo, hi, p[2];
-    int i;
-    p[0] = nd->p[0]; p[1] = nd->p[1];
-    pvs__ot_range(q, p, &lo, &hi);
-    lo *= nd->sign; hi *= nd->sign;
-    if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
-    for (i = 0; i < q->n; ++i)
-        if (q->e[i][0] == p[0] && q->e[i][1] == p[1]) q->mark[i] = 1;
-    if (lo >= -1e-12) { pvs__ot_push(t, nd->child[1], q); return; }
-    if (hi <= 1e-12) { pvs__ot_push(t, nd->child[0], q); return; }
-    if (pvs__ot_clip(q, p, (double)nd->sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[1], &part);
-    if (pvs__ot_clip(q, p, -(double)t->nodes[node].sign, 0.0, 1, &part) >= 3) pvs__ot_push(t, t->nodes[node].child[0], &part);
+/* Insertion at an inner node (§3.3.3), on the top of the work stack in place: the polygon's edges
+   lying on the node's line are marked (§4.10.1), then it goes to the child it lies in, or is split
+   between both. */
+PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top) {
+    pvs__otpoly *q = t->stack + top, a, b;
+    const pvs__otnode *nd = t->nodes + t->stack_node[top];
+    double lo = DBL_MAX, hi = -DBL_MAX;
+    uint32_t c0 = nd->child[0], c1 = nd->child[1];
+    int i, na, nb;
+    for (i = 0; i < q->n; ++i) {
+        double d = nd->n[0] * q->v[i][0] + nd->n[1] * q->v[i][1] + nd->n[2] * q->v[i][2];
+        if (d < lo) lo = d;
+        if (d > hi) hi = d;
+        if (q->e[i][0] == nd->p[0] && q->e[i][1] == nd->p[1]) q->mark[i] = 1;
+    }
+    if (lo >= -1e-12) { t->stack_node[top] = c1; return; }
+    if (hi <= 1e-12) { t->stack_node[top] = c0; return; }
+    {
+        int r[2];
+        pvs__ot_split2(q, nd->n, nd->p, 0.0, 1, &a, &b, r);
+        na = r[0]; nb = r[1];
+    }
+    t->stack_count = top;
+    if (na >= 3) pvs__ot_push(t, c1, &a);
+    if (nb >= 3) pvs__ot_push(t, c0, &b);
 }
 
-/* A read-only test at an inner node (§3.3.4): q, or its parts, go on to the children. A polygon
-   whose vertices sit on the plane within 1e-12 (an edge on the plane) goes to one side; otherwise
-   both sides get their part widened by the same 1e-12. Returns 1 when a push failed (the budget):
-   the caller then counts q as visible. */
-PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
-    const pvs__otnode *nd = t->nodes + node;
+/* A read-only test at an inner node (§3.3.4), on the top of the work stack in place: the polygon,
+   or its parts, go on to the children. A polygon whose vertices sit on the plane within 1e-12 (an
+   edge on the plane) goes to one side; otherwise both sides get their part widened by the same
+   1e-12. Returns 1 when a push failed (the budget): the caller then counts it as visible. */
+PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top) {
+    pvs__otpoly *q;
+    const pvs__otnode *nd;
+    double lo = DBL_MAX, hi = -DBL_MAX, nf[3];
+    uint32_t c0, c1, node = t->stack_node[top];
+    int i, r, first;
+    if (!pvs__ot_reserve(t, top + 2)) return 1;
+    q = t->stack + top;
+    nd = t->nodes + node;
+    c0 = nd->child[0];
+    c1 = nd->child[1];
+    for (i = 0; i < q->n; ++i) {
+        double d = nd->n[0] * q->v[i][0] + nd->n[1] * q->v[i][1] + nd->n[2] * q->v[i][2];
+        if (d < lo) lo = d;
+        if (d > hi) hi = d;
+    }
+    if (lo >= -1e-12) { t->stack_node[top] = c1; return 0; }
+    if (hi <= 1e-12) { t->stack_node[top] = c0; return 0; }
+    /* the child without a hidden-height bound (out-leaves below, likely visible) goes first; the
+       other keeps the polygon as it is and clips it only if the test gets there (pvs__ot_owed) */
+    first = t->nodes[c1].mr == DBL_MAX && t->nodes[c0].mr != DBL_MAX ? 1 : 0;
+    for (i = 0; i < 3; ++i) nf[i] = first ? nd->n[i] : -nd->n[i];
+    r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, t->stack + top + 1);
+    if (r < 0) pvs__ot_copy(t->stack + top + 1, q); /* too many vertices: the whole polygon (conservative) */
+    t->stack_node[top] = first ? c0 : c1;
+    t->stack_pend[top] = (node << 1) | (uint32_t)(1 - first);
+    if (r != 0) {
+        t->stack_node[top + 1] = first ? c1 : c0;
+        t->stack_pend[top + 1] = PVS__OT_NONE;
+        t->stack_count = top + 2;
+    }
+    return 0;
+}
+
+/* Pays the clip owed by the work item at `top` (pvs__ot_test_inner): its part on side `side` of the
+   node's plane, widened by 1e-12. Returns 0 when nothing is left (the caller pops it). */
+PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
+    uint32_t pend = t->stack_pend[top];
+    const pvs__otnode *nd = t->nodes + (pend >> 1);
     pvs__otpoly part;
-    double lo, hi, p[2];
-    int vis = 0, c0;
-    p[0] = nd->p[0]; p[1] = nd->p[1];
-    pvs__ot_range(q, p, &lo, &hi);
-    lo *= nd->sign; hi *= nd->sign;
-    if (nd->sign < 0) { double tmp = lo; lo = hi; hi = tmp; }
-    if (lo >= -1e-12) return !pvs__ot_push(t, nd->child[1], q);
-    if (hi <= 1e-12) return !pvs__ot_push(t, nd->child[0], q);
-    c0 = pvs__ot_clip(q, p, (double)nd->sign, 1e-12, 0, &part);
-    if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[1], c0 > 0 ? &part : q);
-    c0 = pvs__ot_clip(q, p, -(double)t->nodes[node].sign, 1e-12, 0, &part);
-    if (c0 != 0) vis |= !pvs__ot_push(t, t->nodes[node].child[0], c0 > 0 ? &part : q);
-    return vis;
+    double nf[3];
+    int i, r;
+    t->stack_pend[top] = PVS__OT_NONE;
+    for (i = 0; i < 3; ++i) nf[i] = (pend & 1u) ? nd->n[i] : -nd->n[i];
+    r = pvs__ot_clip_n(t->stack + top, nf, nd->p, 1e-12, 0, &part);
+    if (r == 0) return 0;
+    if (r > 0) pvs__ot_copy(t->stack + top, &part);
+    return 1;
 }
 
 
@@ -4401,10 +4536,12 @@ PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otp
         old = t->nodes[node];
         t->nodes[outside] = old;
         t->nodes[inside] = old;
+        t->nodes[outside].parent = t->nodes[inside].parent = node;
         t->nodes[node].kind = 0;
         t->nodes[node].p[0] = q->e[i][0];
         t->nodes[node].p[1] = q->e[i][1];
         t->nodes[node].sign = s > 0 ? 1 : -1;
+        pvs__ot_normal(q->e[i], (double)t->nodes[node].sign, t->nodes[node].n);
         t->nodes[node].child[0] = outside;
         t->nodes[node].child[1] = inside;
         node = inside;
@@ -4420,10 +4557,12 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
     old = t->nodes[node];
     t->nodes[neg] = old;
     t->nodes[pos] = old;
+    t->nodes[neg].parent = t->nodes[pos].parent = node;
     t->nodes[node].kind = 0;
     t->nodes[node].p[0] = p[0];
     t->nodes[node].p[1] = p[1];
     t->nodes[node].sign = sign > 0 ? 1 : -1;
+    pvs__ot_normal(p, (double)t->nodes[node].sign, t->nodes[node].n);
     t->nodes[node].child[0] = neg;
     t->nodes[node].child[1] = pos;
     return pos;
@@ -4451,16 +4590,14 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
     if (!pvs__ot_push(t, 0, blocker)) return;
     while (t->stack_count > base && !t->oom) {
         pvs__otpoly q, part;
-        uint32_t node = t->stack_node[--t->stack_count];
-        pvs__otnode *nd;
-        q = t->stack[t->stack_count];
-        nd = t->nodes + node;
+        uint32_t node = t->stack_node[t->stack_count - 1];
+        pvs__otnode *nd = t->nodes + node;
         /* the maximum visibility distance shortcut (§6.5.5): every line of this subtree meets a
            stored occluder closer to any cell point than k is to the cell: k is hidden here */
-        if (near > nd->mvd) continue;
-        if (nd->kind == 0) {
-            pvs__ot_insert_inner(t, node, &q);
-        } else if (nd->kind == PVS__OT_OUT) {
+        if (near > nd->mvd) { --t->stack_count; continue; }
+        if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1); continue; }
+        pvs__ot_pop(t, &q);
+        if (nd->kind == PVS__OT_OUT) {
             uint32_t leaf = pvs__ot_refine(t, node, &q);
             if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
         } else {
@@ -4519,13 +4656,13 @@ PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint
     if (!pvs__ot_push(t, 0, blocker)) return 1;
     while (t->stack_count > base && !vis) {
         pvs__otpoly q, part;
-        uint32_t node = t->stack_node[--t->stack_count];
+        uint32_t node = t->stack_node[t->stack_count - 1];
         const pvs__otnode *nd = t->nodes + node;
-        q = t->stack[t->stack_count];
-        if (near > nd->mvd) continue; /* §6.5.5 */
-        if (nd->kind == 0) {
-            vis |= pvs__ot_test_inner(t, node, &q);
-        } else if (pvs__ot_thickness(&q) < PVS__OT_SLIVER) {
+        if (near > nd->mvd) { --t->stack_count; continue; } /* §6.5.5 */
+        if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) { --t->stack_count; continue; }
+        if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1); continue; }
+        pvs__ot_pop(t, &q);
+        if (pvs__ot_thickness(&q) < PVS__OT_SLIVER) {
             continue;
         } else if (nd->kind == PVS__OT_OUT) {
             vis = 1;
@@ -4868,6 +5005,75 @@ done:
 /* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
 
 #define PVS__OT25_MAX_UMBRAE 96
+#define PVS__OT25_JD 10 /* doubles of per-occluder data (pvs__ot25_prepare) */
+
+/* The hidden-height bound (a 2.5D form of the maximum visibility distance, §6.5.5, which alone
+   is not valid in 2.5D: occluders are seen over). Every line of an in-leaf crosses each member j
+   (its region lies in j's blocker). A ray from an eye no higher than H = t->eye over such a line
+   that passes over j (top h_j > H) is, at a point q with |pq| >= n > reach_j >= |pc| (p the eye's
+   ground point, c the crossing with j), at least H + (h_j - H) n / reach_j high: rising, it climbs
+   at least that slope. So a query point no nearer than n to the cell and lower than H + s n, s =
+   (h_j - H) / reach_j, is hidden in the leaf. A leaf keeps its steepest member (mr = reach, ms =
+   slope); an inner node the largest reach and the least slope of its children, so the bound holds
+   for its whole subtree. Out-leaves and leaves without a member taller than the eyes have none. */
+PVS__STATIC int pvs__ot25_hidden_below(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
+    return nd->mr < DBL_MAX && near > nd->mr && h < t->eye + nd->ms * near - 1e-9 * (fabs(t->eye) + nd->ms * near + 1.0);
+}
+PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
+    uint32_t m;
+    nd->mr = DBL_MAX;
+    nd->ms = 0.0;
+    if (nd->kind != PVS__OT_IN) return;
+    for (m = 0; m < nd->count; ++m) {
+        const double *jd = t->jd + PVS__OT25_JD * (size_t)t->seq[nd->first + m];
+        if (jd[9] > nd->ms) { nd->ms = jd[9]; nd->mr = jd[8]; }
+    }
+}
+/* Recomputes the bound of the subtree at `node` (just rebuilt from a leaf: a short chain) and of its
+   ancestors while they change. */
+PVS__STATIC void pvs__ot25_bound_subtree(pvs__otree *t, uint32_t node) {
+    pvs__otnode *nd = t->nodes + node;
+    if (nd->kind) { pvs__ot25_leaf_bound(t, nd); return; }
+    pvs__ot25_bound_subtree(t, nd->child[0]);
+    pvs__ot25_bound_subtree(t, nd->child[1]);
+    nd = t->nodes + node;
+    {
+        const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
+        nd->mr = a->mr > b->mr ? a->mr : b->mr;
+        nd->ms = a->ms < b->ms ? a->ms : b->ms;
+    }
+}
+PVS__STATIC void pvs__ot25_bound(pvs__otree *t, uint32_t node) {
+    uint32_t p;
+    pvs__ot25_bound_subtree(t, node);
+    for (p = t->nodes[node].parent; p != PVS__OT_NONE; p = t->nodes[p].parent) {
+        pvs__otnode *nd = t->nodes + p;
+        const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
+        double mr = a->mr > b->mr ? a->mr : b->mr, ms = a->ms < b->ms ? a->ms : b->ms;
+        if (mr == nd->mr && ms == nd->ms) break;
+        nd->mr = mr;
+        nd->ms = ms;
+    }
+}
+/* The least distance between the (grown) cell rectangle and segment e, rounded down. */
+PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
+    double d = DBL_MAX, poly[8];
+    int i;
+    for (i = 0; i < 8; ++i) poly[i] = t->corners[i];
+    if (pvs__ot_segment_meets_polygon(e, poly, 4)) return 0.0;
+    for (i = 0; i < 4; ++i) {
+        double side[4], x;
+        side[0] = poly[2 * i]; side[1] = poly[2 * i + 1]; side[2] = poly[(2 * i + 2) & 7]; side[3] = poly[(2 * i + 3) & 7];
+        x = pvs__ot_dist2(e, side);
+        if (x < d) d = x;
+        x = pvs__ot_dist2(e + 2, side);
+        if (x < d) d = x;
+        x = pvs__ot_dist2(side, e);
+        if (x < d) d = x;
+    }
+    d = sqrt(d) * (1.0 - 1e-9) - t->len_eps;
+    return d > 0.0 ? d : 0.0;
+}
 
 /* Extended umbra (§7.5.1) of occluder j on the top edge of a far segment e (height h) for 3D rays
    from eyes at height H = t->eye anywhere over the cell (§7.1: a descending ray is seen at least as
@@ -4879,30 +5085,14 @@ done:
    extreme distances of the cell's corners (clamped at 0: eyes behind j's line do not look over j)
    cover every eye; this is the plane pair pi_o / pi_s of the thesis, taken over the whole cell so
    that one tree per edge serves both kinds of rays. Returns 0 when the umbra is empty. */
-PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, uint32_t j, const double *e, double h, double *u0, double *u1) {
-    const double *s = t->seg + 4 * (size_t)j;
-    double dx = s[2] - s[0], dy = s[3] - s[1], len = sqrt(dx * dx + dy * dy), hj = t->top[j] - t->eye, hn = h - t->eye;
-    double de[2], q0, q1, lo = -DBL_MAX, hi = DBL_MAX, sa;
+PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0, double *u1) {
+    double hj = jd[6], hn = h - t->eye, lo = -DBL_MAX, hi = DBL_MAX;
     int i;
-    if (!(len > 0.0)) return 0;
-    /* the side the lines come from: the source edge's midpoint side */
-    sa = dx * (0.5 * (t->sa[1] + t->sb[1]) - s[1]) - dy * (0.5 * (t->sa[0] + t->sb[0]) - s[0]);
-    if (sa == 0.0) return 0;
-    sa = sa > 0.0 ? 1.0 : -1.0;
-    de[0] = DBL_MAX; de[1] = -DBL_MAX;
-    for (i = 0; i < 4; ++i) {
-        double d = sa * (dx * (t->corners[2 * i + 1] - s[1]) - dy * (t->corners[2 * i] - s[0])) / len;
-        if (d < 0.0) d = 0.0;
-        if (d < de[0]) de[0] = d;
-        if (d > de[1]) de[1] = d;
-    }
-    q0 = sa * (dx * (e[1] - s[1]) - dy * (e[0] - s[0])) / len;
-    q1 = sa * (dx * (e[3] - s[1]) - dy * (e[2] - s[0])) / len;
-    /* constraints alpha + beta u > margin */
+    /* constraints alpha + beta u > margin; q0, q1: the distances D of e's ends */
     for (i = 0; i < 3; ++i) {
         double alpha, beta, margin, lim;
         if (i < 2) {
-            double d = de[i];
+            double d = jd[3 + i];
             alpha = hj * (d - q0) - hn * d;
             beta = -hj * (q1 - q0);
             margin = 1e-9 * (fabs(hj) + fabs(hn) + 1.0) * (d + fabs(q0) + fabs(q1) + 1.0);
@@ -4924,6 +5114,48 @@ PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, uint32_t j, const double *e
     return 1;
 }
 
+/* What pvs__ot25_umbra and the depth order need of occluder j in the current tree, once per tree:
+   jd[0..2] its line as D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on the source edge's
+   side), jd[3..4] the least and largest D of the cell's corners (clamped at 0), jd[5] 1 when the
+   whole source edge lies on one side, jd[6] its top above the eyes, jd[7] 0 when no umbra exists
+   (the source edge's midpoint on its line, or a point segment); jd[8] its reach (the largest
+   distance between a cell point and it, rounded up) and jd[9] the slope (top - eyes) / reach of
+   its shadow's floor when it is taller than the eyes, else 0 (pvs__ot25_bound). */
+PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
+    const double *sg = t->seg + 4 * (size_t)j;
+    double *jd = t->jd + PVS__OT25_JD * (size_t)j, dx = sg[2] - sg[0], dy = sg[3] - sg[1], len = sqrt(dx * dx + dy * dy), sa, da, db;
+    double far2 = 0.0;
+    int i, k;
+    memset(jd, 0, PVS__OT25_JD * sizeof(double));
+    for (i = 0; i < 4; ++i)
+        for (k = 0; k < 2; ++k) {
+            double ex = sg[2 * k] - t->corners[2 * i], ey = sg[2 * k + 1] - t->corners[2 * i + 1];
+            if (ex * ex + ey * ey > far2) far2 = ex * ex + ey * ey;
+        }
+    jd[8] = sqrt(far2) * (1.0 + 1e-9) + t->len_eps;
+    if (t->top[j] > t->eye) jd[9] = (t->top[j] - t->eye) / jd[8] * (1.0 - 1e-9);
+    if (!(len > 0.0)) return;
+    sa = dx * (0.5 * (t->sa[1] + t->sb[1]) - sg[1]) - dy * (0.5 * (t->sa[0] + t->sb[0]) - sg[0]);
+    if (sa == 0.0) return;
+    sa = sa > 0.0 ? 1.0 : -1.0;
+    jd[0] = -sa * dy / len;
+    jd[1] = sa * dx / len;
+    jd[2] = sa * (dy * sg[0] - dx * sg[1]) / len;
+    jd[3] = DBL_MAX;
+    jd[4] = -DBL_MAX;
+    for (i = 0; i < 4; ++i) {
+        double d = jd[0] * t->corners[2 * i] + jd[1] * t->corners[2 * i + 1] + jd[2];
+        if (d < 0.0) d = 0.0;
+        if (d < jd[3]) jd[3] = d;
+        if (d > jd[4]) jd[4] = d;
+    }
+    da = jd[0] * t->sa[0] + jd[1] * t->sa[1] + jd[2];
+    db = jd[0] * t->sb[0] + jd[1] * t->sb[1] + jd[2];
+    jd[5] = (da > t->len_eps && db > t->len_eps) || (da < -t->len_eps && db < -t->len_eps);
+    jd[6] = t->top[j] - t->eye;
+    jd[7] = 1.0;
+}
+
 /* The part of far segment e (height h) seen over the front members of leaf payload
    seq[first..+count) within the funnel of polygon q: its parameter hull [*v0, *v1] inside the
    funnel range [*f0, *f1]. Members that cross `skip_box` (a 2D box, or NULL) or that are not
@@ -4934,20 +5166,13 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
     double um[PVS__OT25_MAX_UMBRAE][2];
     int i, nu = 0, changed;
     uint32_t m;
-    for (i = 0; i < q->n; ++i) {
-        double u;
-        if (pvs__ot_param(q->v[i], e, &u)) { if (u < flo) flo = u; if (u > fhi) fhi = u; }
-        else { flo = -DBL_MAX; fhi = DBL_MAX; }
-    }
-    if (flo < 0.0) flo = 0.0;
-    if (fhi > 1.0) fhi = 1.0;
-    *f0 = flo; *f1 = fhi;
-    *v0 = flo; *v1 = fhi;
+    *f0 = *v0 = 0.0; *f1 = *v1 = 1.0;
     for (m = 0; m < count && nu < PVS__OT25_MAX_UMBRAE; ++m) {
         uint32_t j = t->seq[first + m];
-        const double *sj = t->seg + 4 * (size_t)j;
+        const double *sj = t->seg + 4 * (size_t)j, *jd = t->jd + PVS__OT25_JD * (size_t)j;
+        double s0, s1, tol = t->len_eps;
         int front, behind;
-        if (j == self) continue;
+        if (j == self || !jd[7]) continue;
         if (skip_box) {
             double sb4[4];
             sb4[0] = skip_box[0]; sb4[1] = skip_box[1]; sb4[2] = skip_box[2]; sb4[3] = skip_box[3];
@@ -4961,27 +5186,34 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
                 if (pvs__ot_segment_meets_polygon(sj, poly, 4)) continue;
             }
         }
-        {   /* quick order: e wholly beyond j's line (seen from the source) puts j in front on every
-               line that crosses both; e wholly on the source side puts j behind */
-            double dx = sj[2] - sj[0], dy = sj[3] - sj[1];
-            double sa = dx * (t->sa[1] - sj[1]) - dy * (t->sa[0] - sj[0]), sb = dx * (t->sb[1] - sj[1]) - dy * (t->sb[0] - sj[0]);
-            double ss = sa + sb;
-            double s0 = dx * (e[1] - sj[1]) - dy * (e[0] - sj[0]), s1 = dx * (e[3] - sj[1]) - dy * (e[2] - sj[0]);
-            double tol = t->len_eps * sqrt(dx * dx + dy * dy);
-            if ((sa > tol && sb > tol) || (sa < -tol && sb < -tol)) { /* the whole source edge on one side */
-                if (ss < 0.0) { s0 = -s0; s1 = -s1; }
-                if (s0 >= -tol && s1 >= -tol) continue;       /* e on the source side: j is behind */
-                if (!(s0 < -tol && s1 < -tol)) {               /* e crosses j's line: vertex test */
-                    pvs__ot_depth(t, q, e, sj, &front, &behind);
-                    if (!front || behind) continue;
-                }
-            } else {
+        /* quick order: e wholly beyond j's line (seen from the source) puts j in front on every
+           line that crosses both; e wholly on the source side puts j behind */
+        s0 = jd[0] * e[0] + jd[1] * e[1] + jd[2];
+        s1 = jd[0] * e[2] + jd[1] * e[3] + jd[2];
+        if (jd[5]) { /* the whole source edge on one side */
+            if (s0 >= -tol && s1 >= -tol) continue;       /* e on the source side: j is behind */
+            if (!(s0 < -tol && s1 < -tol)) {               /* e crosses j's line: vertex test */
                 pvs__ot_depth(t, q, e, sj, &front, &behind);
                 if (!front || behind) continue;
             }
+        } else {
+            pvs__ot_depth(t, q, e, sj, &front, &behind);
+            if (!front || behind) continue;
         }
-        if (pvs__ot25_umbra(t, j, e, h, &um[nu][0], &um[nu][1])) ++nu;
+        if (pvs__ot25_umbra(t, jd, s0, s1, h, &um[nu][0], &um[nu][1])) {
+            if (um[nu][0] <= 0.0 && um[nu][1] >= 1.0) return 0; /* one umbra covers all of e: hidden whatever the funnel */
+            ++nu;
+        }
     }
+    for (i = 0; i < q->n; ++i) { /* the funnel: the parameters on e of the polygon's lines */
+        double u;
+        if (pvs__ot_param(q->v[i], e, &u)) { if (u < flo) flo = u; if (u > fhi) fhi = u; }
+        else { flo = -DBL_MAX; fhi = DBL_MAX; }
+    }
+    if (flo < 0.0) flo = 0.0;
+    if (fhi > 1.0) fhi = 1.0;
+    *f0 = flo; *f1 = fhi;
+    *v0 = flo; *v1 = fhi;
     /* the first and the last parameter of [flo, fhi] outside every umbra (touching umbrae join) */
     do {
         changed = 0;
@@ -5006,18 +5238,19 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
     size_t base = t->stack_count;
     const double *sk = t->seg + 4 * (size_t)k;
+    double near = pvs__ot25_near(t, sk), top = t->top[k];
     if (!pvs__ot_push(t, 0, blocker)) return;
     while (t->stack_count > base && !t->oom) {
         pvs__otpoly q;
-        uint32_t node = t->stack_node[--t->stack_count];
-        pvs__otnode *nd;
-        q = t->stack[t->stack_count];
-        nd = t->nodes + node;
-        if (nd->kind == 0) {
-            pvs__ot_insert_inner(t, node, &q);
-        } else if (nd->kind == PVS__OT_OUT) {
+        uint32_t node = t->stack_node[t->stack_count - 1];
+        pvs__otnode *nd = t->nodes + node;
+        if (pvs__ot25_hidden_below(t, nd, near, top)) { --t->stack_count; continue; } /* k hidden in this subtree */
+        if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1); continue; }
+        pvs__ot_pop(t, &q);
+        if (nd->kind == PVS__OT_OUT) {
             uint32_t leaf = pvs__ot_refine(t, node, &q);
             if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
+            pvs__ot25_bound(t, node);
         } else {
             uint32_t first = nd->first, count = nd->count, leaf;
             double f0, f1, v0, v1, cen[3] = {0, 0, 0};
@@ -5049,6 +5282,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
                 }
             }
             pvs__ot_set_payload(t, leaf, first, count, k);
+            pvs__ot25_bound(t, node);
         }
     }
     t->stack_count = base;
@@ -5058,16 +5292,18 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
    1 when some part of it may be seen through the lines of the blocker. */
 PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, const double *e, double h, const double *box) {
     size_t base = t->stack_count;
+    double near = pvs__ot25_near(t, e);
     int vis = 0;
     if (!pvs__ot_push(t, 0, blocker)) return 1;
     while (t->stack_count > base && !vis) {
         pvs__otpoly q;
-        uint32_t node = t->stack_node[--t->stack_count];
+        uint32_t node = t->stack_node[t->stack_count - 1];
         const pvs__otnode *nd = t->nodes + node;
-        q = t->stack[t->stack_count];
-        if (nd->kind == 0) {
-            vis |= pvs__ot_test_inner(t, node, &q);
-        } else if (nd->kind == PVS__OT_OUT) {
+        if (pvs__ot25_hidden_below(t, nd, near, h)) { --t->stack_count; continue; } /* hidden in this subtree */
+        if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) { --t->stack_count; continue; }
+        if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1); continue; }
+        pvs__ot_pop(t, &q);
+        if (nd->kind == PVS__OT_OUT) {
             vis = 1;
         } else {
             double f0, f1, v0, v1;
@@ -5081,23 +5317,23 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
 /* 1 when some part of box bx (umin, vmin, umax, vmax in local coordinates, top) beyond the source
    edge a -> b may be seen through the tree: its top edges as far segments (§7.7). */
 PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2], int *any_far) {
-    double c4[8];
-    int edge, vis = 0, skip = -1;
+    double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* the source edge's outward direction */
+    int i, vis = 0, far_edge, order[4];
     c4[0] = bx[0]; c4[1] = bx[1]; c4[2] = bx[2]; c4[3] = bx[1]; c4[4] = bx[2]; c4[5] = bx[3]; c4[6] = bx[0]; c4[7] = bx[3];
     if (any_far) *any_far = 0;
     /* A box taller than the eyes is seen (if at all) along a rising ray, at least as well at the
        point where the ray's 2D line enters the box; no line of this tree enters through the box
-       edge that faces the same way as the source edge (edges 0..3: -v, +u, +v, -u). */
-    if (top > t->eye) {
-        double nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* the source edge's outward direction */
-        if (fabs(nx) > fabs(ny)) skip = nx > 0 ? 1 : 3;
-        else skip = ny > 0 ? 2 : 0;
-    }
-    for (edge = 0; edge < 4 && !vis; ++edge) {
-        if (edge == skip) continue;
+       edge that faces the same way as the source edge (edges 0..3: -v, +u, +v, -u). The edge facing
+       the source goes first: the likeliest to be seen, and a visible box ends the test. */
+    if (fabs(nx) > fabs(ny)) far_edge = nx > 0 ? 1 : 3;
+    else far_edge = ny > 0 ? 2 : 0;
+    order[0] = (far_edge + 2) & 3; order[1] = (far_edge + 1) & 3; order[2] = (far_edge + 3) & 3;
+    order[3] = top > t->eye ? -1 : far_edge;
+    for (i = 0; i < 4 && !vis; ++i) {
+        int edge = order[i], on, nb, deg, m;
         double sg[4], o[4];
         pvs__otpoly bl[2];
-        int on, nb, deg, m;
+        if (edge < 0) continue;
         sg[0] = c4[2 * edge]; sg[1] = c4[2 * edge + 1]; sg[2] = c4[(2 * edge + 2) & 7]; sg[3] = c4[(2 * edge + 3) & 7];
         if (sg[0] == sg[2] && sg[1] == sg[3]) sg[2] += t->len_eps; /* a box flat on both axes: its corner */
         if (!pvs__ot_clip_segment(b, a, sg, o, &on)) continue;
@@ -5158,6 +5394,7 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
             if (t->node_count >= w->budget) { w->st->budget_exceeded = 1; continue; }
             memcpy((double *)t->seg + 4 * (size_t)it, o, sizeof(o));
             ((double *)t->top)[it] = d->facades[5 * (size_t)it + 4];
+            pvs__ot25_prepare(t, it);
             nb = pvs__ot_blockers(w->a, w->b, o, on, bl, &deg);
             for (m = 0; m < nb; ++m) pvs__ot25_insert(t, &bl[m], it);
             ++w->st->occluders_inserted;
@@ -5176,7 +5413,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     pvs__otree t;
     pvs_allocator al;
     double cell[8], cx, cy, ext = 1.0, margin;
-    double *all = NULL, *top = NULL, *seg = NULL, *box = NULL;
+    double *all = NULL, *top = NULL, *seg = NULL, *box = NULL, *jd = NULL;
     unsigned char *done = NULL, *state = NULL;
     void *scratch = NULL;
     size_t scratch_size = 0;
@@ -5223,12 +5460,13 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     all = (double *)pvs__alloc_array(&al, 4 * (size_t)nf + 4, sizeof(double));
     seg = (double *)pvs__alloc_array(&al, 4 * (size_t)nf + 4, sizeof(double));
     top = (double *)pvs__alloc_array(&al, (size_t)nf + 1, sizeof(double));
+    jd = (double *)pvs__alloc_array(&al, PVS__OT25_JD * ((size_t)nf + 1), sizeof(double));
     box = (double *)pvs__alloc_array(&al, 5 * (size_t)no + 5, sizeof(double));
     done = (unsigned char *)pvs__alloc_array(&al, (size_t)no + 1, 1);
     state = (unsigned char *)pvs__alloc_array(&al, (size_t)nf + 1, 1);
     scratch_size = pvs_kdtree_sweep_scratch_size(tree);
     scratch = pvs__alloc(&al, scratch_size, 16);
-    if (!all || !seg || !top || !box || !done || !state || !scratch) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays"); goto done; }
+    if (!all || !seg || !top || !jd || !box || !done || !state || !scratch) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays"); goto done; }
     memset(state, 0, (size_t)nf + 1);
     cx = 0.5 * ((double)desc->cell_min[0] + desc->cell_max[0]);
     cy = 0.5 * ((double)desc->cell_min[1] + desc->cell_max[1]);
@@ -5251,6 +5489,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     t.eye = (double)desc->cell_top + margin;
     t.top = top;
     t.seg = seg;
+    t.jd = jd;
     /* objects meeting the cell's rectangle are visible; empty ones never */
     for (i = 0; i < no; ++i) {
         const double *bb = box + 5 * i;
@@ -5313,6 +5552,7 @@ done:
     pvs__free_array(&al, all, 4 * (size_t)nf + 4, sizeof(double));
     pvs__free_array(&al, seg, 4 * (size_t)nf + 4, sizeof(double));
     pvs__free_array(&al, top, (size_t)nf + 1, sizeof(double));
+    pvs__free_array(&al, jd, PVS__OT25_JD * ((size_t)nf + 1), sizeof(double));
     pvs__free_array(&al, box, 5 * (size_t)no + 5, sizeof(double));
     pvs__free_array(&al, done, (size_t)no + 1, 1);
     pvs__free_array(&al, state, (size_t)nf + 1, 1);

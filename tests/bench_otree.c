@@ -84,6 +84,8 @@ int main(int argc, char **argv) {
     uint32_t c, n = 40, objects, frames = 600;
     int only_frame = argc > 1 && strcmp(argv[1], "frame") == 0, only_bake = argc > 1 && strcmp(argv[1], "bake") == 0;
     double ms_ot, ms_sh, pvs_ot, pvs_sh, sum_ref = 0.0;
+    if (argc > 2) n = (uint32_t)atoi(argv[2]); /* cells for the bake figures (default 40) */
+    if (n < 1) n = 1;
     if (cli_demo_city(&m, &cells, &scene, &te)) { fprintf(stderr, "%s\n", te.message); return 1; }
     objects = pvs_scene_object_count(scene);
     if (!only_frame) {
