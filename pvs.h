@@ -4431,29 +4431,32 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
     q->n = n;
     if (n < 3) return 0;
     /* fix each edge's plane: the point of the candidates that lies on both end lines */
-    for (i = 0; i < n; ++i) {
-        const double *v0 = q->v[i], *v1 = q->v[(i + 1) % n];
-        const double *cand[4];
-        int best = -1;
-        double best_err = DBL_MAX;
-        cand[0] = a; cand[1] = b; cand[2] = c; cand[3] = d;
-        for (k = 0; k < 4; ++k) {
-            double e0 = fabs(pvs__ot_side(v0, cand[k])), e1 = fabs(pvs__ot_side(v1, cand[k]));
-            double err = e0 > e1 ? e0 : e1;
-            if (err < best_err) { best_err = err; best = k; }
-        }
-        if (best < 0 || best_err > 1e-9) return 0;
-        q->e[i][0] = cand[best][0]; q->e[i][1] = cand[best][1];
-    }
-    /* convexity: every vertex on the inner side of every edge plane */
     {
-        double cen[3] = {0, 0, 0};
+        const double *cand[4];
+        double cn[4][3], en[PVS__OT_MAXV][3], cen[3] = {0, 0, 0};
+        cand[0] = a; cand[1] = b; cand[2] = c; cand[3] = d;
+        for (k = 0; k < 4; ++k) pvs__ot_normal(cand[k], 1.0, cn[k]);
+        for (i = 0; i < n; ++i) {
+            const double *v0 = q->v[i], *v1 = q->v[(i + 1) % n];
+            int best = -1;
+            double best_err = DBL_MAX;
+            for (k = 0; k < 4; ++k) {
+                double e0 = fabs(cn[k][0] * v0[0] + cn[k][1] * v0[1] + cn[k][2] * v0[2]);
+                double e1 = fabs(cn[k][0] * v1[0] + cn[k][1] * v1[1] + cn[k][2] * v1[2]);
+                double err = e0 > e1 ? e0 : e1;
+                if (err < best_err) { best_err = err; best = k; }
+            }
+            if (best < 0 || best_err > 1e-9) return 0;
+            q->e[i][0] = cand[best][0]; q->e[i][1] = cand[best][1];
+            memcpy(en[i], cn[best], sizeof(en[i]));
+        }
+        /* convexity: every vertex on the inner side of every edge plane */
         for (i = 0; i < n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
         for (i = 0; i < n; ++i) {
-            double s = pvs__ot_side(cen, q->e[i]);
-            if (fabs(s) <= 1e-12) return 0;
+            double s = (en[i][0] * cen[0] + en[i][1] * cen[1] + en[i][2] * cen[2]) / sqrt(cen[0] * cen[0] + cen[1] * cen[1] + cen[2] * cen[2]);
+            if (!(fabs(s) > 1e-12)) return 0;
             for (k = 0; k < n; ++k)
-                if ((s > 0 ? 1.0 : -1.0) * pvs__ot_side(q->v[k], q->e[i]) < -1e-9) return 0;
+                if ((s > 0 ? 1.0 : -1.0) * (en[i][0] * q->v[k][0] + en[i][1] * q->v[k][1] + en[i][2] * q->v[k][2]) < -1e-9) return 0;
         }
     }
     return 1;
@@ -5006,6 +5009,7 @@ done:
 
 #define PVS__OT25_MAX_UMBRAE 96
 #define PVS__OT25_JD 10 /* doubles of per-occluder data (pvs__ot25_prepare) */
+#define PVS__OT25_TEST_MIN 48 /* kD nodes with fewer item references are not tested (cf. §4.12.1: none below 50 polygons) */
 
 /* The hidden-height bound (a 2.5D form of the maximum visibility distance, §6.5.5, which alone
    is not valid in 2.5D: occluders are seen over). Every line of an in-leaf crosses each member j
@@ -5055,23 +5059,17 @@ PVS__STATIC void pvs__ot25_bound(pvs__otree *t, uint32_t node) {
         nd->ms = ms;
     }
 }
-/* The least distance between the (grown) cell rectangle and segment e, rounded down. */
+/* A lower bound of the distance between the (grown) cell rectangle and segment e: the distance
+   between the rectangle and e's bounding box (exact for axis-parallel segments), rounded down. */
 PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
-    double d = DBL_MAX, poly[8];
-    int i;
-    for (i = 0; i < 8; ++i) poly[i] = t->corners[i];
-    if (pvs__ot_segment_meets_polygon(e, poly, 4)) return 0.0;
-    for (i = 0; i < 4; ++i) {
-        double side[4], x;
-        side[0] = poly[2 * i]; side[1] = poly[2 * i + 1]; side[2] = poly[(2 * i + 2) & 7]; side[3] = poly[(2 * i + 3) & 7];
-        x = pvs__ot_dist2(e, side);
-        if (x < d) d = x;
-        x = pvs__ot_dist2(e + 2, side);
-        if (x < d) d = x;
-        x = pvs__ot_dist2(side, e);
-        if (x < d) d = x;
-    }
-    d = sqrt(d) * (1.0 - 1e-9) - t->len_eps;
+    double dx = 0.0, dy = 0.0, d;
+    double lx = e[0] < e[2] ? e[0] : e[2], hx = e[0] < e[2] ? e[2] : e[0];
+    double ly = e[1] < e[3] ? e[1] : e[3], hy = e[1] < e[3] ? e[3] : e[1];
+    if (lx > t->corners[2]) dx = lx - t->corners[2];
+    else if (hx < t->corners[0]) dx = t->corners[0] - hx;
+    if (ly > t->corners[5]) dy = ly - t->corners[5];
+    else if (hy < t->corners[1]) dy = t->corners[1] - hy;
+    d = sqrt(dx * dx + dy * dy) * (1.0 - 1e-9) - t->len_eps;
     return d > 0.0 ? d : 0.0;
 }
 
@@ -5357,6 +5355,9 @@ typedef struct pvs__ot25_sweep {
     double cx, cy;
     uint32_t side, budget;
     pvs_otree_stats *st;
+    const uint32_t *refs;    /* per kD node: item references in its subtree */
+    uint32_t node;           /* the node being visited */
+    uint32_t test_min;       /* inner nodes with fewer references are not tested */
 } pvs__ot25_sweep;
 
 /* The sweep visitor (§7.7): nodes front to back; a node whose box meets the cell is visible; else
@@ -5374,7 +5375,8 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
     bx[2] = (double)node_box->max[0] - w->cx; bx[3] = (double)node_box->max[1] - w->cy;
     /* leaves are not tested: inserting their facades and testing their objects after the sweep
        costs less than the box test (the thesis likewise skips tests of small nodes, §4.12.1) */
-    if (!items && !(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
+    if (!items && w->refs[w->node] >= w->test_min &&
+        !(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
         int far;
         if (!pvs__ot25_box_visible(t, bx, (double)node_box->max[2], w->a, w->b, &far)) return PVS_VISIT_SKIP;
         (void)far;
@@ -5406,6 +5408,54 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
     return PVS_VISIT_DESCEND;
 }
 
+/* The approximate occlusion sweep (§3.2) over the kD-tree, as pvs_kdtree_sweep, telling the visitor
+   which node it visits (w->node). */
+PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap, pvs__ot25_sweep *w) {
+    size_t n = 1;
+    int k;
+    if (t->bounds.min[0] > t->bounds.max[0]) return;
+    heap[0].d2 = pvs__box_distance2(source, &t->bounds);
+    heap[0].node = 0;
+    heap[0].box = t->bounds;
+    while (n) {
+        pvs__kdsweep top = heap[0];
+        const pvs__kdnode *nd = t->nodes + top.node;
+        uint32_t axis = nd->bits & 3u;
+        pvs_visit v;
+        size_t i, c;
+        if (--n) {
+            pvs__kdsweep last = heap[n];
+            i = 0;
+            while ((c = 2 * i + 1) < n) {
+                if (c + 1 < n && pvs__kdsweep_before(heap + c + 1, heap + c)) ++c;
+                if (!pvs__kdsweep_before(heap + c, &last)) break;
+                heap[i] = heap[c];
+                i = c;
+            }
+            heap[i] = last;
+        }
+        w->node = top.node;
+        if (axis == PVS__KD_LEAF) v = pvs__ot25_visit(w, &top.box, 0.0f, nd->u.count ? t->items + (nd->bits >> 2) : NULL, nd->u.count);
+        else v = pvs__ot25_visit(w, &top.box, 0.0f, NULL, 0);
+        if (v == PVS_VISIT_STOP) break;
+        if (v != PVS_VISIT_DESCEND || axis == PVS__KD_LEAF) continue;
+        for (k = 0; k < 2; ++k) {
+            pvs__kdsweep e;
+            e.node = (nd->bits >> 2) + (uint32_t)k;
+            e.box = top.box;
+            if (k == 0) e.box.max[axis] = nd->u.split;
+            else e.box.min[axis] = nd->u.split;
+            e.d2 = pvs__box_distance2(source, &e.box);
+            i = n++;
+            while (i > 0 && pvs__kdsweep_before(&e, heap + (i - 1) / 2)) {
+                heap[i] = heap[(i - 1) / 2];
+                i = (i - 1) / 2;
+            }
+            heap[i] = e;
+        }
+    }
+}
+
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
                                       pvs_box *boxes);
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
@@ -5415,6 +5465,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     double cell[8], cx, cy, ext = 1.0, margin;
     double *all = NULL, *top = NULL, *seg = NULL, *box = NULL, *jd = NULL;
     unsigned char *done = NULL, *state = NULL;
+    uint32_t *refs = NULL, kd_nodes = 0;
     void *scratch = NULL;
     size_t scratch_size = 0;
     pvs_kdtree *own_tree = NULL;
@@ -5466,7 +5517,9 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     state = (unsigned char *)pvs__alloc_array(&al, (size_t)nf + 1, 1);
     scratch_size = pvs_kdtree_sweep_scratch_size(tree);
     scratch = pvs__alloc(&al, scratch_size, 16);
-    if (!all || !seg || !top || !jd || !box || !done || !state || !scratch) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays"); goto done; }
+    kd_nodes = tree->node_count;
+    refs = (uint32_t *)pvs__alloc_array(&al, (size_t)kd_nodes + 1, sizeof(uint32_t));
+    if (!all || !seg || !top || !jd || !box || !done || !state || !scratch || !refs) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays"); goto done; }
     memset(state, 0, (size_t)nf + 1);
     cx = 0.5 * ((double)desc->cell_min[0] + desc->cell_max[0]);
     cy = 0.5 * ((double)desc->cell_min[1] + desc->cell_max[1]);
@@ -5512,6 +5565,16 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     w.cy = cy;
     w.budget = desc->node_budget ? desc->node_budget : 1u << 18;
     w.st = &st;
+    w.refs = refs;
+    w.test_min = PVS__OT25_TEST_MIN;
+    for (i = tree->node_count; i-- > 0;) { /* children follow their parent */
+        const pvs__kdnode *kn = tree->nodes + i;
+        if ((kn->bits & 3u) == PVS__KD_LEAF) refs[i] = kn->u.count;
+        else {
+            uint32_t c = kn->bits >> 2;
+            refs[i] = c + 1 < tree->node_count && c > i ? refs[c] + refs[c + 1] : 0xffffffffu;
+        }
+    }
     /* one tree per top edge (§7.1), holding the lines that leave the cell through it */
     t.corners = cell;
     for (side = 0; side < 4 && !t.oom; ++side) {
@@ -5527,8 +5590,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
         w.side = side;
         src.min[0] = (float)(cx + cell[0]); src.min[1] = (float)(cy + cell[1]); src.min[2] = desc->cell_top;
         src.max[0] = (float)(cx + cell[4]); src.max[1] = (float)(cy + cell[5]); src.max[2] = desc->cell_top;
-        r = pvs_kdtree_sweep(tree, &src, scratch, scratch_size, pvs__ot25_visit, &w);
-        if (r != PVS_OK) { pvs__fail(err, r, -1, 0, "2.5D sweep"); goto done; }
+        pvs__ot25_sweep_tree(tree, &src, (pvs__kdsweep *)scratch, &w);
         if (t.node_count > st.nodes) st.nodes = (uint32_t)t.node_count;
         if (t.oom) break;
         /* objects of the visible leaves, after the sweep (§7.7) */
@@ -5549,6 +5611,7 @@ done:
     pvs__ot_free(&t);
     pvs_kdtree_destroy(own_tree);
     pvs__free(&al, scratch, scratch_size, 16);
+    pvs__free_array(&al, refs, (size_t)kd_nodes + 1, sizeof(uint32_t));
     pvs__free_array(&al, all, 4 * (size_t)nf + 4, sizeof(double));
     pvs__free_array(&al, seg, 4 * (size_t)nf + 4, sizeof(double));
     pvs__free_array(&al, top, (size_t)nf + 1, sizeof(double));
