@@ -4309,10 +4309,16 @@ PVS__STATIC void pvs__ot_range(const pvs__otpoly *q, const double p[2], double *
     }
 }
 
+/* 2.5D: 1 when the subtree of nd hides every point no nearer than `near` to the cell and no higher
+   than h (the hidden-height bound, pvs__ot25_bound); near < 0: no bound (2D). */
+PVS__STATIC int pvs__ot25_hidden_below(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
+    return near >= 0.0 && nd->mr < DBL_MAX && near > nd->mr && h < t->eye + nd->ms * near - 1e-9 * (fabs(t->eye) + nd->ms * near + 1.0);
+}
+
 /* Insertion at an inner node (§3.3.3), on the top of the work stack in place: the polygon's edges
    lying on the node's line are marked (§4.10.1), then it goes to the child it lies in, or is split
-   between both. */
-PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top) {
+   between both; a child whose subtree hides the occluder (2.5D bound, near >= 0) gets nothing. */
+PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, double h) {
     pvs__otpoly *q = t->stack + top, a, b;
     const pvs__otnode *nd = t->nodes + t->stack_node[top];
     double lo = DBL_MAX, hi = -DBL_MAX;
@@ -4327,7 +4333,16 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top) {
     if (lo >= -1e-12) { t->stack_node[top] = c1; return; }
     if (hi <= 1e-12) { t->stack_node[top] = c0; return; }
     {
-        int r[2];
+        int r[2], h0 = pvs__ot25_hidden_below(t, t->nodes + c0, near, h), h1 = pvs__ot25_hidden_below(t, t->nodes + c1, near, h);
+        if (h0 && h1) { t->stack_count = top; return; }
+        if (h0 || h1) { /* only one side matters */
+            double nf[3];
+            for (i = 0; i < 3; ++i) nf[i] = h0 ? nd->n[i] : -nd->n[i];
+            na = pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, &a);
+            t->stack_count = top;
+            if (na >= 3) pvs__ot_push(t, h0 ? c1 : c0, &a);
+            return;
+        }
         pvs__ot_split2(q, nd->n, nd->p, 0.0, 1, &a, &b, r);
         na = r[0]; nb = r[1];
     }
@@ -4340,7 +4355,7 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top) {
    or its parts, go on to the children. A polygon whose vertices sit on the plane within 1e-12 (an
    edge on the plane) goes to one side; otherwise both sides get their part widened by the same
    1e-12. Returns 1 when a push failed (the budget): the caller then counts it as visible. */
-PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top) {
+PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, double h) {
     pvs__otpoly *q;
     const pvs__otnode *nd;
     double lo = DBL_MAX, hi = -DBL_MAX, nf[3];
@@ -4358,6 +4373,18 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top) {
     }
     if (lo >= -1e-12) { t->stack_node[top] = c1; return 0; }
     if (hi <= 1e-12) { t->stack_node[top] = c0; return 0; }
+    {   /* a child whose subtree hides the query (2.5D bound) gets nothing */
+        int h0 = pvs__ot25_hidden_below(t, t->nodes + c0, near, h), h1 = pvs__ot25_hidden_below(t, t->nodes + c1, near, h);
+        if (h0 && h1) { t->stack_count = top; return 0; }
+        if (h0 || h1) {
+            for (i = 0; i < 3; ++i) nf[i] = h0 ? nd->n[i] : -nd->n[i];
+            r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, t->stack + top + 1);
+            if (r == 0) { t->stack_count = top; return 0; }
+            if (r > 0) pvs__ot_copy(q, t->stack + top + 1);
+            t->stack_node[top] = h0 ? c1 : c0;
+            return 0;
+        }
+    }
     /* the child without a hidden-height bound (out-leaves below, likely visible) goes first; the
        other keeps the polygon as it is and clips it only if the test gets there (pvs__ot_owed) */
     first = t->nodes[c1].mr == DBL_MAX && t->nodes[c0].mr != DBL_MAX ? 1 : 0;
@@ -4598,7 +4625,7 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
         /* the maximum visibility distance shortcut (§6.5.5): every line of this subtree meets a
            stored occluder closer to any cell point than k is to the cell: k is hidden here */
         if (near > nd->mvd) { --t->stack_count; continue; }
-        if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1); continue; }
+        if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1, -1.0, 0.0); continue; }
         pvs__ot_pop(t, &q);
         if (nd->kind == PVS__OT_OUT) {
             uint32_t leaf = pvs__ot_refine(t, node, &q);
@@ -4663,7 +4690,7 @@ PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint
         const pvs__otnode *nd = t->nodes + node;
         if (near > nd->mvd) { --t->stack_count; continue; } /* §6.5.5 */
         if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) { --t->stack_count; continue; }
-        if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1); continue; }
+        if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1, -1.0, 0.0); continue; }
         pvs__ot_pop(t, &q);
         if (pvs__ot_thickness(&q) < PVS__OT_SLIVER) {
             continue;
@@ -5020,9 +5047,6 @@ done:
    (h_j - H) / reach_j, is hidden in the leaf. A leaf keeps its steepest member (mr = reach, ms =
    slope); an inner node the largest reach and the least slope of its children, so the bound holds
    for its whole subtree. Out-leaves and leaves without a member taller than the eyes have none. */
-PVS__STATIC int pvs__ot25_hidden_below(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
-    return nd->mr < DBL_MAX && near > nd->mr && h < t->eye + nd->ms * near - 1e-9 * (fabs(t->eye) + nd->ms * near + 1.0);
-}
 PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
     uint32_t m;
     nd->mr = DBL_MAX;
@@ -5243,7 +5267,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
         uint32_t node = t->stack_node[t->stack_count - 1];
         pvs__otnode *nd = t->nodes + node;
         if (pvs__ot25_hidden_below(t, nd, near, top)) { --t->stack_count; continue; } /* k hidden in this subtree */
-        if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1); continue; }
+        if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1, near, top); continue; }
         pvs__ot_pop(t, &q);
         if (nd->kind == PVS__OT_OUT) {
             uint32_t leaf = pvs__ot_refine(t, node, &q);
@@ -5299,7 +5323,7 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
         const pvs__otnode *nd = t->nodes + node;
         if (pvs__ot25_hidden_below(t, nd, near, h)) { --t->stack_count; continue; } /* hidden in this subtree */
         if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) { --t->stack_count; continue; }
-        if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1); continue; }
+        if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1, near, h); continue; }
         pvs__ot_pop(t, &q);
         if (nd->kind == PVS__OT_OUT) {
             vis = 1;
