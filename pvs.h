@@ -5620,6 +5620,21 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
         if (!live) break;
         t.sa[0] = a[0]; t.sa[1] = a[1]; t.sb[0] = b[0]; t.sb[1] = b[1];
         if (!pvs__ot_reset(&t)) break;
+        {   /* the root region: the lines crossing the source edge, bounded by the planes of its end points
+               (every blocker's edges on them are then marked, §4.10.1, instead of adding the two planes
+               again in every branch); the other sides hold lines that miss the edge, never asked about */
+            double m[2], m2[2], l[3], sa_, sb_;
+            uint32_t pos;
+            m[0] = 0.5 * (a[0] + b[0]); m[1] = 0.5 * (a[1] + b[1]);
+            m2[0] = 2.0 * m[0]; m2[1] = 2.0 * m[1]; /* the cell is centred at the origin: m points outward */
+            pvs__ot_line(m, m2, l);
+            sa_ = pvs__ot_side(l, a);
+            sb_ = pvs__ot_side(l, b);
+            pos = pvs__ot_split_leaf(&t, 0, a, sa_ > 0 ? 1.0 : -1.0);
+            if (pos != PVS__OT_NONE) pvs__ot_split_leaf(&t, pos, b, sb_ > 0 ? 1.0 : -1.0);
+            t.nodes[0].parent = PVS__OT_NONE;
+            if (t.oom) break;
+        }
         w.a = a;
         w.b = b;
         w.side = side;
