@@ -5779,6 +5779,7 @@ struct pvs_otree {
     uint32_t *kd_frame;
     uint32_t frame;
     const pvs_scene *last_scene;
+    const pvs_scene *ranges_scene; /* the scene obj_first / obj_tris describe */
     uint8_t *obj_flag;             /* per object this frame: 1 in a visible leaf, 2 in a partly visible
                                       leaf, 4 in a leaf within the selection distance */
     uint32_t *touched;
@@ -6376,7 +6377,6 @@ PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out,
     pvs_otree *o;
     pvs_allocator a;
     const pvs_scene *s;
-    uint32_t i;
     if (out) *out = NULL;
     if (!desc || !out || !desc->scene) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, desc->scene and out_otree must not be NULL");
     if (!pvs__finite(desc->aspect) || desc->aspect < 0.0f) return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "aspect must be finite and >= 0");
@@ -6425,13 +6425,6 @@ PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out,
     memset(o->kd_vis, 0, (size_t)o->max_kd_nodes + 1);
     memset(o->kd_frame, 0, ((size_t)o->max_kd_nodes + 1) * sizeof(uint32_t));
     o->frame = 2;
-    for (i = 0; i < o->max_objects; ++i) { o->obj_first[i] = 0; o->obj_tris[i] = 0; }
-    for (i = s->triangle_count; i-- > 0;) { /* objects are ranges of triangles */
-        uint32_t ob = s->triangle_object[i];
-        if (ob == PVS_NO_OBJECT) continue;
-        o->obj_first[ob] = i;
-        ++o->obj_tris[ob];
-    }
     *out = o;
     pvs__ok(err);
     return PVS_OK;
@@ -6461,7 +6454,17 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
     if (s != o->last_scene || o->frame > 0xfffffff0u) { /* stale states everywhere */
         memset(o->kd_frame, 0, ((size_t)o->max_kd_nodes + 1) * sizeof(uint32_t));
         o->frame = 2;
-        if (s != o->last_scene && o->last_scene) o->have_prev = 0;
+        if (s != o->last_scene) o->have_prev = 0;
+        if (s != o->ranges_scene) {
+            o->ranges_scene = s;
+            for (i = 0; i < s->object_count; ++i) { o->obj_first[i] = 0; o->obj_tris[i] = 0; }
+            for (i = s->triangle_count; i-- > 0;) { /* objects are ranges of triangles */
+                uint32_t ob = s->triangle_object[i];
+                if (ob == PVS_NO_OBJECT) continue;
+                o->obj_first[ob] = i;
+                ++o->obj_tris[ob];
+            }
+        }
         o->last_scene = s;
     }
     ++o->frame;
@@ -6521,7 +6524,8 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
         if (p->scene_volumes) kk = o->max_occluders;
         if (p->scene_occluders) {
             if (o->have_prev) {
-                for (i = 0; i < o->prev_count; ++i) pvs__sv_offer_triangle(o, kk, o->prev[i]);
+                for (i = 0; i < o->prev_count; ++i)
+                    if (o->prev[i] < s->triangle_count) pvs__sv_offer_triangle(o, kk, o->prev[i]);
             } else {
                 pvs__svboot w;
                 pvs_box src;

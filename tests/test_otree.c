@@ -1199,8 +1199,22 @@ static void sv_basic(void) {
     {
         svscene t;
         if (sv_random(&t, 30)) {
+            pvs_otree *ob = NULL;
+            pvs_word *vb = (pvs_word *)calloc(PVS_BITSET_WORDS(pvs_scene_object_count(t.scene)), sizeof(pvs_word));
             big = t.scene;
             CHECK(pvs_otree_cull(o, big, &cam, &cp, vis, &st, &e) == PVS_ERROR_BUFFER_TOO_SMALL);
+            /* a context made for the larger scene serves the smaller one too, and back */
+            od.scene = big;
+            CHECK(pvs_otree_create(&od, &ob, &e) == PVS_OK);
+            if (ob) {
+                CHECK(pvs_otree_cull(ob, big, &cam, &cp, vb, &st, &e) == PVS_OK);
+                CHECK(pvs_otree_cull(ob, sc, &cam, &cp, vis, &st, &e) == PVS_OK);
+                CHECK(pvs_otree_cull(ob, sc, &cam, &cp, vis, &st, &e) == PVS_OK); /* the last frame's selection */
+                CHECK(vis[0] == 0x5);
+                CHECK(pvs_otree_cull(ob, big, &cam, &cp, vb, &st, &e) == PVS_OK);
+                pvs_otree_destroy(ob);
+            }
+            free(vb);
             sv_free(&t);
         }
     }
