@@ -18,7 +18,7 @@ TOOL_HDR := pvs.h tools/mesh.h tools/obj.h tools/toolutil.h tools/gen.h tools/cl
 TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen
 TEST_SRC := tests/main.c tests/impl.c tests/test_core.c tests/test_format.c tests/test_noalloc.c tests/test_kdtree.c \
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c tests/test_extproj.c \
-            tests/test_shrink.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tests/fuzz_target.c
+            tests/test_shrink.c tests/test_auto.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tests/fuzz_target.c
 
 .PHONY: all tools test demo bench verify fuzz clean compile-checks readme-check examples cullmap-images
 all: tools
