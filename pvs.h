@@ -7518,7 +7518,7 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
         for (rank = 1; rank <= 4; ++rank)
             for (k = 0; k < (uint32_t)PVS_METHOD_COUNT; ++k) {
                 pvs_method m = (pvs_method)k;
-                const char *why = "skipped: preview runs the cheapest method that applies";
+                const char *why = "preview runs only the cheapest method that applies";
                 if (!(mask & (1u << k)) || pvs__method_cost_rank(m) != rank) continue;
                 b->considered[b->considered_count] = m;
                 if (!((b->flags & PVS_BAKE_PREVIEW) && b->run_count)) {
