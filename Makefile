@@ -19,7 +19,7 @@ TOOL_OBJ := $(patsubst tools/%.c,$(B)/obj/%.o,$(TOOL_LIB))
 TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen $(B)/pvsview
 TEST_SRC := tests/main.c tests/impl.c tests/test_core.c tests/test_format.c tests/test_noalloc.c tests/test_kdtree.c \
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c tests/test_extproj.c \
-            tests/test_shrink.c tests/test_auto.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
+            tests/test_shrink.c tests/test_auto.c tests/test_examples.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
 
 .PHONY: all tools test demo bench verify fuzz clean compile-checks readme-check examples cullmap-images
 all: tools
@@ -53,7 +53,7 @@ readme-check: README.md pvs.h
 	$(CC) -std=c99 -Wall -Wextra -Werror -I. -o $(B)/readme_example $(B)/readme_example.c -lm
 	./$(B)/readme_example | grep -x 'object 0 visible, object 1 hidden'
 
-test: compile-checks readme-check tools $(B)/pvstest
+test: compile-checks readme-check tools $(B)/pvsruntime $(B)/pvstest
 	cd $(B) && ./pvstest
 
 $(B)/pvsdemo: examples/demo.c $(TOOL_OBJ) $(TOOL_HDR)

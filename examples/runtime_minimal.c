@@ -6,8 +6,8 @@
    here: they must stay at zero.
 
    The path is a walk through the file's own cells: from the first cell's centre, steps of 1.5 m
-   along the ground axes, each accepted only when it lands in a cell (a viewer staying on the
-   streets), deterministic. At the end the draw flags must equal the current cell's decoded PVS.
+   along a heading on the ground axes, turning when the next step would leave every cell (a viewer
+   staying on the streets) and now and then at random; deterministic. At the end the draw flags must equal the current cell's decoded PVS.
 
    Usage: pvsruntime FILE.pvs [STEPS]   (make demo runs it on build/demo/city.pvs)
    Exit status: 0 ok, 1 bad file or inconsistent flags, 2 usage. */
@@ -51,7 +51,7 @@ int main(int argc, char **argv) {
     pvs_cursor cursor;
     counts cnt = {0, 0, 0};
     unsigned long steps = 4000, s, changes = 0, max_drawn = 0, sum_drawn = 0, no_cell = 0;
-    uint32_t cell, i, visited_cells = 0;
+    uint32_t cell, i, visited_cells = 0, heading = 0;
     uint64_t rng = 0x2545f4914f6cdd1dull;
     float p[3];
     pvs_box box;
@@ -90,16 +90,17 @@ int main(int argc, char **argv) {
         }
         sum_drawn += cnt.drawn;
         if (cnt.drawn > max_drawn) max_drawn = cnt.drawn;
-        /* the next step: 1.5 m along +-x or +-z, kept only inside some cell (up to 8 tries) */
-        for (tries = 0; tries < 8; ++tries) {
+        /* the next step: 1.5 m along the current heading (+-x or +-z); a new random heading when that
+           leaves every cell, and now and then at will (a viewer turning at a crossing) */
+        rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17;
+        if ((rng >> 40) % 50u == 0) heading = (uint32_t)(rng >> 20) % 4u;
+        for (tries = 0; tries < 12; ++tries) {
             float q[3];
-            uint32_t dir;
-            rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17;
-            dir = (uint32_t)(rng >> 32) % (tries < 4 ? 6u : 4u); /* a bias to keep going the same way */
             q[0] = p[0]; q[1] = p[1]; q[2] = p[2];
-            if (dir >= 4) dir = (uint32_t)(s / 64) % 4u;
-            if (dir == 0) q[0] += 1.5f; else if (dir == 1) q[0] -= 1.5f; else if (dir == 2) q[2] += 1.5f; else q[2] -= 1.5f;
+            if (heading == 0) q[0] += 1.5f; else if (heading == 1) q[0] -= 1.5f; else if (heading == 2) q[2] += 1.5f; else q[2] -= 1.5f;
             if (pvs_file_find_cell(&file, q) != PVS_NO_CELL) { p[0] = q[0]; p[1] = q[1]; p[2] = q[2]; break; }
+            rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17;
+            heading = (uint32_t)(rng >> 33) % 4u;
         }
     }
     /* the draw flags are the current cell's PVS */

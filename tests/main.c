@@ -17,6 +17,7 @@ void test_otree(void);
 void test_extproj(void);
 void test_shrink(void);
 void test_auto(void);
+void test_examples(void);
 
 static const struct {
     const char *name;
@@ -28,6 +29,7 @@ static const struct {
     {"extproj", test_extproj},
     {"shrink", test_shrink},
     {"auto", test_auto},
+    {"examples", test_examples},
 };
 
 int main(int argc, char **argv) {

@@ -162,6 +162,7 @@ typedef struct cli__check_job {
     uint32_t points, rays;
     uint64_t seed;
     uint32_t words;
+    float max_distance;   /* > 0: objects farther from the cell do not count as misses */
     pvs_word *seen, *pvs; /* per thread scratch: threads x words each */
     uint32_t *miss_count, *first_miss, *pvs_size, *seen_size;
     uint64_t *rays_cast;
@@ -182,6 +183,17 @@ static void cli__check_one(void *user, uint32_t cell, uint32_t thread) {
     memset(seen, 0, job->words * sizeof(pvs_word));
     job->rays_cast[cell] = pvs_sample_visibility(job->scene, &box, job->points, job->rays, z ^ (z >> 31), seen);
     pvs_file_decode(job->file, cell, pvs, job->words, NULL);
+    if (job->max_distance > 0.0f) /* a bake with a draw distance: what rays see beyond it is not a miss */
+        for (i = pvs_bitset_next(seen, n, 0); i < n; i = pvs_bitset_next(seen, n, i + 1)) {
+            pvs_box ob = pvs_scene_object_box(job->scene, i);
+            double g2 = 0.0;
+            int k;
+            for (k = 0; k < 3; ++k) {
+                double g = ob.min[k] > box.max[k] ? (double)ob.min[k] - box.max[k] : box.min[k] > ob.max[k] ? (double)box.min[k] - ob.max[k] : 0.0;
+                g2 += g * g;
+            }
+            if (g2 > (double)job->max_distance * job->max_distance) pvs_bitset_clear(seen, i);
+        }
     for (i = pvs_bitset_next(seen, n, 0); i < n; i = pvs_bitset_next(seen, n, i + 1))
         if (!pvs_bitset_test(pvs, i)) {
             if (first == 0xffffffffu) first = i;
@@ -196,6 +208,11 @@ static void cli__check_one(void *user, uint32_t cell, uint32_t thread) {
 
 int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint64_t seed,
                    uint32_t threads, int quiet, cli_check *out, tool_error *err) {
+    return cli_check_file_ex(scene, file, points, rays, seed, threads, quiet, 0.0f, out, err);
+}
+
+int cli_check_file_ex(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint64_t seed,
+                      uint32_t threads, int quiet, float max_distance, cli_check *out, tool_error *err) {
     cli__check_job job;
     progress bar;
     uint32_t c, nt = threads ? threads : cpu_count();
@@ -212,6 +229,7 @@ int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points
     job.rays = rays;
     job.seed = seed;
     job.words = (uint32_t)PVS_BITSET_WORDS(file->object_count);
+    job.max_distance = max_distance;
     job.seen = (pvs_word *)malloc((size_t)nt * job.words * sizeof(pvs_word));
     job.pvs = (pvs_word *)malloc((size_t)nt * job.words * sizeof(pvs_word));
     job.miss_count = (uint32_t *)malloc(file->cell_count * sizeof(uint32_t));

@@ -40,6 +40,10 @@ typedef struct cli_check {
    seeded per cell from `seed`), on `threads` threads. Deterministic for any thread count. */
 int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint64_t seed,
                    uint32_t threads, int quiet, cli_check *out, tool_error *err);
+/* The same for a bake with a draw distance (pvsbake --max-distance): objects whose box is farther
+   than max_distance (> 0) from the cell's box do not count as seen. */
+int cli_check_file_ex(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint64_t seed,
+                      uint32_t threads, int quiet, float max_distance, cli_check *out, tool_error *err);
 
 /* Encodes a finished bake and writes it to `path` (temp file + rename). *size gets the file size. */
 int cli_write_bake(const pvs_bake *bake, const char *path, size_t *size, tool_error *err);

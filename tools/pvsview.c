@@ -270,8 +270,11 @@ int main(int argc, char **argv) {
         for (i = 0; i < n; ++i) {
             int in = pvs_bitset_test(bits, i);
             uint32_t h = i * 2654435761u;
-            render_triangles(&fp, &view, m.positions, m.indices, m.objects[i].first_triangle, m.objects[i].triangle_count,
-                             in ? RENDER_RGBA(170 + (h >> 27), 170 + ((h >> 22) & 31), 150 + ((h >> 17) & 31), 255) : RENDER_RGBA(255, 0, 0, 255), 0);
+            pvs_box ob = pvs_scene_object_box(scene, i);
+            uint32_t col = !in ? RENDER_RGBA(255, 0, 0, 255)
+                           : !(ob.max[up] - ob.min[up] > 0.25f) ? RENDER_RGBA(125, 125, 118, 255)
+                           : RENDER_RGBA(170 + (h >> 27), 165 + ((h >> 22) & 31), 140 + ((h >> 17) & 31), 255);
+            render_triangles(&fp, &view, m.positions, m.indices, m.objects[i].first_triangle, m.objects[i].triangle_count, col, 0);
             /* the same in flat marker colours: which pixels belong to objects outside the PVS */
             render_triangles(&ids, &view, m.positions, m.indices, m.objects[i].first_triangle, m.objects[i].triangle_count,
                              in ? RENDER_RGBA(0, 0, 255, 255) : RENDER_RGBA(255, 0, 0, 255), RENDER_UNLIT);
