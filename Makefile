@@ -126,7 +126,12 @@ $(B)/bench_shrink: tests/bench_shrink.c $(TOOL_LIB) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_shrink.c $(TOOL_LIB) $(LDLIBS)
 
-bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster $(B)/bench_otree $(B)/bench_extproj $(B)/bench_shrink
+$(B)/bench_auto: tests/bench_auto.c $(TOOL_OBJ) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_auto.c $(TOOL_OBJ) $(LDLIBS)
+
+bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster $(B)/bench_otree $(B)/bench_extproj $(B)/bench_shrink \
+       $(B)/bench_auto $(B)/pvswalkthrough
 	./$(B)/bench_kdtree
 	./$(B)/bench_bake
 	./$(B)/bench_file
@@ -134,6 +139,8 @@ bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster $(B)/
 	./$(B)/bench_otree
 	./$(B)/bench_extproj
 	./$(B)/bench_shrink
+	./$(B)/bench_auto
+	./$(B)/pvswalkthrough --bench
 
 # Fuzzing the file reader: a libFuzzer build (clang) seeded with tests/corpus, FUZZ_SECONDS long, and
 # a plain replay binary (any compiler) that runs files through the same target.

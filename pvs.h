@@ -56,7 +56,7 @@
    >>otree      occlusion trees: line-space BSP; exact 2D and conservative 2.5D (c-LSS) region visibility
    >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps, boxes / columns
    >>methods    region methods: `shrink` (Wonka 2000), extended projections `extproj`, the estimator `sample`
-   >>bake       bake driver: tasks, determinism
+   >>bake       bake driver: tasks, AUTO (methods intersected), draw distance, resuming, determinism
    >>format     the .pvs file: writer and validating zero-copy reader
    >>runtime    cell look-up and decoding
 
@@ -83,6 +83,16 @@
    is tighter and slower. The `sample` method (ray sampling) is the exception: it is an estimate from
    below, the yardstick the tests measure the conservative methods against, and files baked with it
    carry PVS_FILE_APPROXIMATE.
+
+   Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
+   vertical walls stand on the ground (2.5D), EXTPROJ when there are planar occluders or convex solids
+   (3D), SHRINK when closed geometry leaves occluder volume after erosion by eps; it runs them cheapest
+   first and intersects their PVSs (an intersection of conservative sets is conservative, and at least
+   as tight as each). pvs_bake_get_method_info says which ran, which were skipped and why, and what
+   each contributed; pvs_bake_desc.methods restricts the candidates. SAMPLE is never among them.
+   PVS_BAKE_PREVIEW keeps only the cheapest with coarse settings. max_distance (a draw distance) drops
+   objects whose box is farther than it from every point of the cell (box to box, rounded toward
+   keeping). pvs_bake_restore_task resumes an interrupted bake from the PVSs it had finished.
 
    Memory. Every desc struct has a `pvs_allocator`; left at zero, PVS_MALLOC/PVS_FREE are used. An object
    remembers its allocator. Size arithmetic is overflow-checked. The runtime (pvs_file_*) and the
@@ -113,7 +123,8 @@
    ======
    Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle
    kD-trees: about 100 bytes per triangle), pvs_bake_begin (the cells and one bitset per cell:
-   cell_count * object_count / 8 bytes), pvs_file_encode (scratch about 40 bytes per cell plus one
+   cell_count * object_count / 8 bytes, and 40 bytes of statistics per cell), pvs_bake_run_task
+   (AUTO: one bitset per method it runs, freed before returning), pvs_file_encode (scratch about 40 bytes per cell plus one
    bitset), pvs_raster_create (the depth map and pyramid, the cull map). Allocates nothing: every
    pvs_file_* and pvs_cursor_* call, kD-tree queries (caller scratch), pvs_raster_cull and
    pvs_raster_cull_map per frame. A .pvs file is used in place; it needs no copy.
@@ -217,6 +228,8 @@
 
    RECENT HISTORY
    ==============
+   next               PVS_METHOD_AUTO, the default (the applicable conservative methods, intersected),
+                      bake max_distance, PVS_BAKE_PREVIEW, resumable bakes (pvs_bake_restore_task).
    0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps and per-frame culling;
                       bake methods shrink (with occluder synthesis), otree (c-LSS) and extproj.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
@@ -939,7 +952,8 @@ PVS_API float pvs_bake_eps(const pvs_bake *bake);
 /* The methods a bake considered, in the order it runs them: one for a single-method bake; for AUTO
    every candidate, also those it skipped (ran = 0) because they cannot cull anything in this scene. */
 PVS_API uint32_t pvs_bake_method_count(const pvs_bake *bake);
-/* What method i (< pvs_bake_method_count) did (pvs_bake_get_method_info). The sums cover the tasks run so far (not restored). */
+/* What method i (< pvs_bake_method_count) did (pvs_bake_get_method_info). The sums cover the tasks
+   run so far (not the restored ones). */
 typedef struct pvs_bake_method_info {
     pvs_method method;
     int ran;                  /* 1: every task runs it; 0: skipped */
@@ -960,8 +974,9 @@ PVS_API int pvs_bake_task_done(const pvs_bake *bake, uint32_t task);
    pvs_bake_run_task. Errors: INVALID_ARGUMENT (task out of range, NULL, a set bit past the objects or
    of an occluder-only object), BUFFER_TOO_SMALL. */
 PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pvs_word *bits, size_t word_count, pvs_error *err);
-/* SHRINK: the occluders pvs_bake_begin synthesized (owned by the bake; for the summary: leaks, thin
-   objects, 2.5D or 3D) and the path the tasks run; NULL / PVS_SHRINK_AUTO for other methods. */
+/* SHRINK (alone or within AUTO): the occluders pvs_bake_begin synthesized (owned by the bake; for the
+   summary: leaks, thin objects, 2.5D or 3D) and the path the tasks run; NULL / PVS_SHRINK_AUTO when
+   SHRINK was not prepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
 /* The PVS of a cell whose task has run, or NULL (also for cells of other shards).

@@ -15,9 +15,12 @@
    Writes into OUTDIR (default build/demo):
      walkthrough.csv   one line per frame: the three curves in objects and triangles
      walkthrough.png   the curves on a log scale (objects above, triangles below), part 2 shaded
-     frame_N.png       a few frames rendered with the software renderer (tools/render.h): what is
-                       drawn, plus an X-ray of what is not: red = culled by the cell's PVS, orange =
-                       in the PVS but culled per frame; objects outside the frustum are not shown
+     frame_1_street.png, frame_2_street.png, frame_3_square.png, frame_4_avenue.png: four frames
+                       rendered with the software renderer (tools/render.h), each in three panels:
+                       what is drawn; the same with an X-ray of the objects in the frustum that are
+                       not drawn (red = culled by the cell's PVS, orange = in the PVS but culled per
+                       frame); the surroundings from above. The caption counts the pixels that differ
+                       from drawing everything in the frustum (0: nothing visible was culled)
      path.png          the city from above with the path, part 1 blue, part 2 orange
    --bench prints BENCH lines instead (walkthrough_speedup = frustum triangles / pvs+cull triangles,
    averaged over the path) and writes nothing.
@@ -309,7 +312,7 @@ static int write_frame(const char *path, const mesh *m, const pvs_scene *scene, 
 
 /* The three curves on a log scale: objects (top panel) and triangles (bottom panel). */
 static int write_plot(const char *path, const frame *fr, uint32_t nf, uint32_t part2, tool_error *te) {
-    const uint32_t W = 1000, H = 720, L = 70, R = 20, T = 40, PH = 300, GAP = 40;
+    const uint32_t W = 1000, H = 760, L = 70, R = 20, T = 40, PH = 300, GAP = 44;
     static const uint32_t colours[3] = {RENDER_RGBA(120, 120, 120, 255), RENDER_RGBA(40, 110, 220, 255), RENDER_RGBA(220, 60, 40, 255)};
     static const char *names[3] = {"frustum culling only", "the cell's PVS", "PVS + per-frame culling"};
     render_image im;
@@ -341,6 +344,12 @@ static int write_plot(const char *path, const frame *fr, uint32_t nf, uint32_t p
             draw_text(im.rgba, W, H, 8, y - 4, text, TOOL_RGBA(0, 0, 0, 255));
         }
         render_rect(&im, L, y0, (int)W - (int)R, y1, RENDER_RGBA(0, 0, 0, 255));
+        for (i = 0; i < nf; i += 100) { /* frame ticks */
+            int x = L + (int)((double)i / (nf - 1) * (W - L - R));
+            render_fill_rect(&im, x, y1, x, y1 + 4, RENDER_RGBA(0, 0, 0, 255));
+            snprintf(text, sizeof(text), "%u", i);
+            draw_text(im.rgba, W, H, x - 3 * (int)strlen(text), y1 + 7, text, TOOL_RGBA(0, 0, 0, 255));
+        }
         draw_text(im.rgba, W, H, L + 6, y0 + 6, panel ? "triangles" : "objects", TOOL_RGBA(0, 0, 0, 255));
         draw_text(im.rgba, W, H, L + (int)((double)part2 / nf * (W - L - R)) + 6, y0 + 6, "part 2: open square, avenue",
                   TOOL_RGBA(150, 90, 0, 255));
@@ -353,7 +362,7 @@ static int write_plot(const char *path, const frame *fr, uint32_t nf, uint32_t p
             }
     }
     for (k = 0; k < 3; ++k) {
-        int x = L + 10 + k * 300, y = (int)(T + 2 * PH + GAP) + 14;
+        int x = L + 10 + k * 300, y = (int)(T + 2 * PH + GAP) + 26;
         render_fill_rect(&im, x, y + 2, x + 24, y + 4, colours[k]);
         draw_text(im.rgba, W, H, x + 30, y, names[k], TOOL_RGBA(0, 0, 0, 255));
     }
@@ -588,7 +597,16 @@ int main(int argc, char **argv) {
         int shots[4], s;
         shots[0] = (int)(part2 * 0.3);
         shots[1] = (int)(part2 * 0.8);
-        shots[2] = (int)part2 + 6 < (int)nf ? (int)part2 + 6 : (int)nf - 1;
+        shots[2] = (int)part2;
+        { /* in the square: the frame looking most directly at the monument, 10 m away or more */
+            double best = -2.0;
+            for (i = part2; i < nf && i < part2 + 80; ++i) {
+                double dx = mx - fr[i].eye[0], dz = mz - fr[i].eye[2], d = sqrt(dx * dx + dz * dz), cs;
+                if (d < 10.0) continue;
+                cs = (dx * fr[i].fwd[0] + dz * fr[i].fwd[2]) / d;
+                if (cs > best) { best = cs; shots[2] = (int)i; }
+            }
+        }
         shots[3] = (int)(part2 + (nf - part2) * 0.6);
         for (i = 0; i < nf; ++i) {
             pvs_camera cam;
@@ -625,7 +643,8 @@ int main(int argc, char **argv) {
             if (!bench)
                 for (s = 0; s < 4; ++s)
                     if ((int)i == shots[s]) {
-                        snprintf(path, sizeof(path), "%s/frame_%d.png", dir, (int)i);
+                        static const char *names[4] = {"frame_1_street", "frame_2_street", "frame_3_square", "frame_4_avenue"};
+                        snprintf(path, sizeof(path), "%s/%s.png", dir, names[s]);
                         uint64_t diff = 0;
                         if (write_frame(path, &m, scene, f, vis_f, cur, vis_c, (int)i, &diff, &te)) { fprintf(stderr, "walkthrough: %s\n", te.message); return 1; }
                         printf("wrote %s (%llu pixels differ from drawing everything in the frustum)\n", path, (unsigned long long)diff);
