@@ -11,7 +11,7 @@ int main(int argc, char **argv) {
     methods_view_opts o;
     memset(&o, 0, sizeof(o));
     o.kind = GEN_FOREST;
-    o.size = 0.5f;
+    o.size = 0.35f;
     o.seed = 1;
     o.radius = 45.0f;
     o.title = "forest";
