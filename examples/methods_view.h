@@ -4,7 +4,8 @@
    For the chosen cell (the regular cell nearest the scene's centre) each method of pvs.h (every
    pvs_method, AUTO included) bakes the cell (the bake gets all the scene's cells, so occluder
    synthesis sees the same free space as a full bake, but runs only this cell's task). Each PVS is
-   checked against ray sampling from the cell (64 points x 4096 rays): objects the rays see that the
+   checked against ray sampling from the cell (64 points x 4096 rays, then 64 rays aimed at each object
+   not seen yet): objects the rays see that the
    PVS lacks are misses (a conservative method has none; SAMPLE, an estimate from below, may).
    One PNG, one panel per method: objects in the PVS green, the others grey, misses magenta, flat
    objects (ground, floors) darker, the cell white; objects entirely above the cell (ceilings,
@@ -89,6 +90,7 @@ static int methods_view_main(const methods_view_opts *o, int argc, char **argv) 
     memcpy(&cb, cells.boxes + 6 * (size_t)cell, sizeof(cb));
     seen = (pvs_word *)calloc(words, sizeof(pvs_word));
     pvs_sample_visibility(scene, &cb, 64, 4096, 4242, seen);
+    pvs_sample_visibility_toward(scene, &cb, NULL, 64, 2424, seen);
     printf("%s: %u objects, %u triangles, %u cells; cell %u (%.1f x %.1f x %.1f m); ray sampling sees %u objects\n", o->title, n,
            pvs_scene_triangle_count(scene), cells.count, cell, (double)(cb.max[0] - cb.min[0]), (double)(cb.max[1] - cb.min[1]),
            (double)(cb.max[2] - cb.min[2]), pvs_bitset_count(seen, n));

@@ -3,7 +3,7 @@
    of cells of the generator at seed 1 (city size 1: 40 cells, indoor size 1: 40, forest size 0.5:
    20), each method baked alone and then AUTO, on one thread, timed in CPU seconds (clock()):
      BENCH methods_<method>_ms_per_cell_<scene>   bake time per cell, preparation included
-     BENCH methods_<method>_tightness_<scene>     mean PVS / mean ray-sampled set (16 points x 1024 rays)
+     BENCH methods_<method>_tightness_<scene>     mean PVS / mean ray-sampled set (cli_reference_visibility)
      BENCH auto_ms_per_cell_<scene>, auto_tightness_<scene>, auto_culled_pct_<scene>
      BENCH auto_vs_best_<scene>                   AUTO's mean PVS / the best single method's (<= 1)
    Every method is baked alone, also where AUTO skips it (it cannot cull there); auto_ms_per_cell
@@ -42,7 +42,7 @@ static int bench_scene(gen_kind kind, float size, uint32_t n, const char *name) 
     for (c = 0; c < n; ++c) {
         memcpy(sub + c, cells.boxes + 6 * (size_t)((uint64_t)c * cells.count / n), sizeof(pvs_box));
         memset(seen, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
-        pvs_sample_visibility(scene, sub + c, 16, 1024, 77 + c, seen);
+        cli_reference_visibility(scene, sub + c, 77 + c, seen);
         seen_sum += pvs_bitset_count(seen, objects);
     }
     for (k = 0; k < (uint32_t)PVS_METHOD_COUNT; ++k)

@@ -95,6 +95,7 @@ static void check_auto(gen_kind kind, float size, uint64_t seed, uint32_t max_ce
             /* 0 misses against ray sampling */
             memset(ref, 0, words * sizeof(pvs_word));
             pvs_sample_visibility(s, (const pvs_box *)cells.boxes + c, 24, 512, 1234 + c, ref);
+            pvs_sample_visibility_toward(s, (const pvs_box *)cells.boxes + c, NULL, 8, 4321 + c, ref);
             for (i = 0; i < n; ++i) misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pv, i);
             in_auto += pvs_bitset_count(pv, n);
         }
@@ -185,6 +186,7 @@ static void check_mask_preview(void) {
         for (c = 0; c < cells.count; ++c) {
             memset(ref, 0, PVS_BITSET_WORDS(n) * sizeof(pvs_word));
             pvs_sample_visibility(s, (const pvs_box *)cells.boxes + c, 24, 512, 77 + c, ref);
+            pvs_sample_visibility_toward(s, (const pvs_box *)cells.boxes + c, NULL, 8, 7 + c, ref);
             for (i = 0; i < n; ++i) misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pvs_bake_cell_pvs(b, c), i);
         }
         CHECK(misses == 0);
