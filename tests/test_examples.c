@@ -181,7 +181,7 @@ static void test_resume(void) {
     snprintf(cmd, sizeof(cmd), "%s -j 2 --state-every 2 -o " EDIR "/resumed.pvs", bake);
     CHECK(ex_run(cmd, &out) == 0);
     CHECK(strstr(out, "resumed") != NULL);
-    CHECK(strstr(out, "mean PVS") && strstr(out, "culled") && strstr(out, "slowest cells") && strstr(out, "ms per cell"));
+    CHECK(strstr(out, "mean PVS") && strstr(out, "culled") && strstr(out, "slowest cells") && strstr(out, "time per cell"));
     free(out);
     CHECK(same_files(EDIR "/whole.pvs", EDIR "/resumed.pvs"));
     CHECK(!ex_exists(EDIR "/resumed.pvs.state")); /* removed once the output is written */

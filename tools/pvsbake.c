@@ -217,8 +217,8 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
     fprintf(stderr, "  mean PVS %.1f objects (%.1f%%), max %u (cell %u); culled %.1f%% of the objects per cell\n", sum / tasks,
             100.0 * sum / tasks / objects, max, max_cell, 100.0 - 100.0 * sum / tasks / objects);
     if (ran)
-        fprintf(stderr, "  bake %.2f ms per cell (one thread's time per cell), %.2f s wall for %u cells, %.2f s total\n",
-                1000.0 * tsum / ran, wall, ran, total);
+        fprintf(stderr, "  time per cell %.2f ms (mean over the %u cells baked, each on one thread), bake %.2f s wall, %.2f s total\n",
+                1000.0 * tsum / ran, ran, wall, total);
     if (run->resumed) fprintf(stderr, "  resumed: %u cells came from the state file, %u were baked now\n", run->resumed, ran);
     if (slow && ran > 1) {
         uint32_t show = ran < 5 ? ran : 5;
