@@ -14,6 +14,8 @@ static const char *usage =
     "                to random points of its triangles (default 32; 0 = off): finds small, far objects\n"
     "  --seed N      random seed (default 7; use another seed than the bake)\n"
     "  -j THREADS    worker threads (default: all CPUs)\n"
+    "  --max-distance D  the bake's draw distance (pvsbake --max-distance): objects farther than D from\n"
+    "                the cell are not misses\n"
     "  -q, --quiet   no progress bar\n"
     "exit status: 0 no misses, 1 bad input, 2 usage, 3 misses found\n";
 
@@ -27,6 +29,7 @@ static int usage_error(const char *fmt, const char *arg) {
 int main(int argc, char **argv) {
     const char *scene_path = NULL, *pvs_path = NULL;
     uint32_t up = 0, points = 32, rays = 4096, aim = 32, seed = 7, threads = 0;
+    float max_distance = 0.0f;
     int quiet = 0, i, rc = 1;
     mesh m;
     pvs_scene *scene = NULL;
@@ -44,6 +47,9 @@ int main(int argc, char **argv) {
             return 0;
         } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
             quiet = 1;
+        } else if (!strcmp(a, "--max-distance")) {
+            if (!v || parse_float(v, &max_distance) || !(max_distance > 0.0f)) return usage_error("--max-distance needs a positive number%s", "");
+            ++i;
         } else if (!strcmp(a, "--up") || !strcmp(a, "--points") || !strcmp(a, "--rays") || !strcmp(a, "--aim") || !strcmp(a, "--seed") || !strcmp(a, "-j")) {
             if (!v) return usage_error("%s needs a value", a);
             ++i;
@@ -71,7 +77,7 @@ int main(int argc, char **argv) {
         goto fail;
     }
     if (cli_load_scene(scene_path, up ? up : f.up_axis, &m, &scene, &te)) goto fail;
-    if (cli_check_file(scene, &f, points, rays, aim, seed, threads, quiet, &chk, &te)) goto fail;
+    if (cli_check_file_ex(scene, &f, points, rays, aim, seed, threads, quiet, max_distance, &chk, &te)) goto fail;
     printf("cells %u  rays %llu  misses %llu in %u cells  mean pvs %.2f  mean sampled %.2f  tightness %.3f\n", chk.cells,
            (unsigned long long)chk.rays, (unsigned long long)chk.misses, chk.cells_with_misses, chk.pvs_sum / chk.cells,
            chk.seen_sum / chk.cells, chk.seen_sum > 0 ? chk.pvs_sum / chk.seen_sum : 1.0);
