@@ -144,7 +144,7 @@
    points; per-frame culling of 50,000 occluder triangles at 1920x1080 with 10,000 box tests about
    11-20 ms (SSE2); from-point culling with the occlusion tree (pvs_otree_cull, 32 occluders)
    about 0.5 ms per frame along a street walk; bake methods per cell on the demo city: extproj
-   about 45 ms, otree about 19 ms (2026-11-24), shrink about 260-500 ms (default eps).
+   about 15 ms, otree about 9 ms (CPU time, 2026-11-24), shrink about 200 ms (default eps).
 
    ALGORITHMS (each cited again where it is implemented)
    ==========
@@ -5085,8 +5085,8 @@ done:
 
 /* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
 
-/* Cost (bench_otree, demo city, 2026-11-24, loaded shared machine): about 18 ms per cell (111 M
-   instructions, callgrind), five to seven times less than the first version, from: unit plane
+/* Cost (bench_auto and bench_otree, demo city, 2026-11-24, shared machine): about 9 ms of CPU time
+   per cell (110 M instructions, callgrind), five times less than the first version, from: unit plane
    normals stored in the nodes (no square root per classification), the work stack used in place,
    per-occluder umbra data computed once per tree, an umbra covering the whole far edge ending the
    funnel test early, the hidden-height bound below (most hidden queries stop high in the tree), clips
