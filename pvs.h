@@ -4238,7 +4238,7 @@ PVS__STATIC double pvs__ot_side(const double l[3], const double p[2]) {
 }
 PVS__STATIC void pvs__ot_normalize(double v[3]) {
     double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (len > 0.0) { v[0] /= len; v[1] /= len; v[2] /= len; }
+    if (len > 0.0) { double f = 1.0 / len; v[0] *= f; v[1] *= f; v[2] *= f; }
 }
 
 #define PVS__OT_EPS 1e-12
@@ -4264,7 +4264,7 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
     out->xsplit = in->xsplit;
     if (!any_in) { out->n = 0; return 0; }
     for (i = 0; i < n; ++i) {
-        int j = (i + 1) % n;
+        int j = i + 1 == n ? 0 : i + 1;
         int in_i = d[i] >= 0.0, in_j = d[j] >= 0.0;
         if (in_i) {
             if (m >= PVS__OT_MAXV) { out->n = 0; return -1; }
@@ -4405,7 +4405,8 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 /* A read-only test at an inner node (§3.3.4), on the top of the work stack in place: the polygon,
    or its parts, go on to the children. A polygon whose vertices sit on the plane within 1e-12 (an
    edge on the plane) goes to one side; otherwise both sides get their part widened by the same
-   1e-12. Returns 1 when a push failed (the budget): the caller then counts it as visible. */
+   1e-12. Returns 1 when the query is visible for sure (2.5D: a straddled child is an out-leaf) or a
+   push failed (out of memory): the caller then counts it as visible. */
 PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, double h) {
     pvs__otpoly *q;
     const pvs__otnode *nd;
@@ -4424,6 +4425,9 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
     }
     if (lo >= -1e-12) { t->stack_node[top] = c1; return 0; }
     if (hi <= 1e-12) { t->stack_node[top] = c0; return 0; }
+    /* 2.5D (no sliver rule): both parts hold a vertex strictly off the plane, so an out-leaf child
+       answers at once */
+    if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) return 1;
     {   /* a child whose subtree hides the query (2.5D bound) gets nothing */
         int h0 = pvs__ot25_hidden_below(t, t->nodes + c0, near, h), h1 = pvs__ot25_hidden_below(t, t->nodes + c1, near, h);
         if (h0 && h1) { t->stack_count = top; return 0; }
@@ -5378,18 +5382,17 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
     int vis = 0;
     if (!pvs__ot_push(t, 0, blocker)) return 1;
     while (t->stack_count > base && !vis) {
-        pvs__otpoly q;
         uint32_t node = t->stack_node[t->stack_count - 1];
         const pvs__otnode *nd = t->nodes + node;
         if (pvs__ot25_hidden_below(t, nd, near, h)) { --t->stack_count; continue; } /* hidden in this subtree */
         if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) { --t->stack_count; continue; }
         if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1, near, h); continue; }
-        pvs__ot_pop(t, &q);
+        --t->stack_count; /* the polygon stays readable in its slot until the next push */
         if (nd->kind == PVS__OT_OUT) {
             vis = 1;
         } else {
             double f0, f1, v0, v1;
-            if (pvs__ot25_open(t, &q, nd->first, nd->count, PVS__OT_NONE, e, h, box, &f0, &f1, &v0, &v1)) vis = 1;
+            if (pvs__ot25_open(t, t->stack + t->stack_count, nd->first, nd->count, PVS__OT_NONE, e, h, box, &f0, &f1, &v0, &v1)) vis = 1;
         }
     }
     t->stack_count = base;
