@@ -14,11 +14,17 @@ static const char *usage =
     "                    shrink (occluder shrinking, Wonka 2000: conservative)\n"
     "                    otree (2.5D occlusion trees: conservative; occluders = vertical walls on the ground)\n"
     "                    extproj (extended projections, Durand et al. 2000: conservative)\n"
+    "                    vocc (virtual occluders, Koltun et al. 2000: conservative, 2.5D; the file also\n"
+    "                    stores a few occluders per cell from which pvs_vocc_cull rebuilds the PVS)\n"
     "  --eps E           sampling / shrinking distance (stored in the file); shrink's default is an\n"
     "                    eighth of the median cell width, printed in the summary\n"
     "  --2d5, --3d       shrink: force the 2.5D (cull map) or 3D (depth cube) path; default: 2.5D\n"
     "                    when the synthesized occluders stand on the ground\n"
     "  --voxel V         shrink: voxel size of the occluder synthesis (default eps / 1.5, capped)\n"
+    "  --vocc-only       vocc: store only the occluders (the PVS records list every object; the\n"
+    "                    runtime rebuilds each cell's PVS with pvs_vocc_cull)\n"
+    "  --vocc-slices N   vocc: height slices per cell (1..16, default 5)\n"
+    "  --vocc-max N      vocc: virtual occluders kept per cell (1..255, default 10)\n"
     "  --points N        sample method: points per cell (default 32)\n"
     "  --rays N          sample method: rays per point (default 2048)\n"
     "  --seed N          sample method: random seed (default 1)\n"
@@ -91,8 +97,8 @@ int main(int argc, char **argv) {
     const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL;
     float grid = 0.0f, eps = 0.0f, voxel = 0.0f;
     pvs_shrink_mode shrink_mode = PVS_SHRINK_AUTO;
-    uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0;
-    int quiet = 0, i;
+    uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0, vocc_slices = 0, vocc_max = 0;
+    int quiet = 0, i, vocc_only = 0;
     pvs_method method = PVS_METHOD_SAMPLE;
     mesh m;
     mesh_cells cells;
@@ -119,9 +125,12 @@ int main(int argc, char **argv) {
             shrink_mode = PVS_SHRINK_2D5;
         } else if (!strcmp(a, "--3d")) {
             shrink_mode = PVS_SHRINK_3D;
+        } else if (!strcmp(a, "--vocc-only")) {
+            vocc_only = 1;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--cells") || !strcmp(a, "--grid") || !strcmp(a, "--up") ||
                    !strcmp(a, "--method") || !strcmp(a, "--eps") || !strcmp(a, "-j") || !strcmp(a, "--points") ||
-                   !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard") || !strcmp(a, "--voxel")) {
+                   !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard") || !strcmp(a, "--voxel") ||
+                   !strcmp(a, "--vocc-slices") || !strcmp(a, "--vocc-max")) {
             if (!v) return usage_error("%s needs a value", a);
             ++i;
             if (!strcmp(a, "-o")) out_path = v;
@@ -135,7 +144,12 @@ int main(int argc, char **argv) {
                 else if (!strcmp(v, "shrink")) method = PVS_METHOD_SHRINK;
                 else if (!strcmp(v, "otree")) method = PVS_METHOD_OTREE;
                 else if (!strcmp(v, "extproj")) method = PVS_METHOD_EXTPROJ;
-                else return usage_error("unknown method '%s' (available: sample, shrink, otree, extproj)", v);
+                else if (!strcmp(v, "vocc")) method = PVS_METHOD_VOCC;
+                else return usage_error("unknown method '%s' (available: sample, shrink, otree, extproj, vocc)", v);
+            } else if (!strcmp(a, "--vocc-slices")) {
+                if (cli_parse_u32(v, 1, 16, &vocc_slices)) return usage_error("--vocc-slices takes 1..16, not '%s'", v);
+            } else if (!strcmp(a, "--vocc-max")) {
+                if (cli_parse_u32(v, 1, 255, &vocc_max)) return usage_error("--vocc-max takes 1..255, not '%s'", v);
             } else if (!strcmp(a, "--voxel")) {
                 if (parse_float(v, &voxel) || !(voxel > 0.0f)) return usage_error("--voxel needs a positive size, not '%s'", v);
             } else if (!strcmp(a, "--eps")) {
@@ -164,6 +178,8 @@ int main(int argc, char **argv) {
     if (!scene_path) return usage_error("%s", "no scene given");
     if (!out_path) return usage_error("%s", "no output given (-o OUT.pvs)");
     if (!cells_path == !(grid > 0.0f)) return usage_error("%s", "give exactly one of --cells FILE or --grid SIZE");
+    if ((vocc_only || vocc_slices || vocc_max) && method != PVS_METHOD_VOCC)
+        return usage_error("%s", "--vocc-only, --vocc-slices and --vocc-max need --method vocc");
 
     mesh_init(&m);
     mesh_cells_init(&cells);
@@ -183,6 +199,9 @@ int main(int argc, char **argv) {
     bd.max_chain = chain;
     bd.shrink_mode = shrink_mode;
     bd.voxel_size = voxel;
+    bd.vocc_slices = vocc_slices;
+    bd.vocc_max_occluders = vocc_max;
+    bd.vocc_only = (uint32_t)vocc_only;
     if (shard_n > 1) {
         if (shard_n > cells.count) {
             tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "--shard %u/%u: only %u cells", shard_k, shard_n, cells.count);
@@ -225,6 +244,13 @@ int main(int argc, char **argv) {
                 pvs_method_name(pvs_bake_method(bake)),
                 pvs_bake_method(bake) == PVS_METHOD_SAMPLE ? " (approximate: ray sampling, not conservative)" : " (conservative)",
                 sum / tasks, 100.0 * sum / tasks / objects, 1000.0 * t_bake / tasks, cli_seconds() - t0, size, (double)size / tasks);
+        if (pvs_bake_method(bake) == PVS_METHOD_VOCC) {
+            pvs_vocc_stats vs;
+            pvs_bake_vocc_stats(bake, &vs);
+            fprintf(stderr, "  vocc: %.2f virtual occluders per cell kept of %.1f found (%u slices, %u seeds, %u dropped)%s\n",
+                    (double)vs.selected / tasks, (double)vs.dense / tasks, vs.slices, vs.seeds, vs.dropped,
+                    vocc_only ? "; only the occluders are stored: the PVS above is the placeholder" : "");
+        }
     }
     rc = 0;
     goto done;
