@@ -159,7 +159,7 @@ int cli_run_bake(pvs_bake *bake, uint32_t threads, int quiet, const char *label,
 typedef struct cli__check_job {
     const pvs_scene *scene;
     const pvs_file *file;
-    uint32_t points, rays;
+    uint32_t points, rays, aim;
     uint64_t seed;
     uint32_t words;
     pvs_word *seen, *pvs; /* per thread scratch: threads x words each */
@@ -181,6 +181,8 @@ static void cli__check_one(void *user, uint32_t cell, uint32_t thread) {
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
     memset(seen, 0, job->words * sizeof(pvs_word));
     job->rays_cast[cell] = pvs_sample_visibility(job->scene, &box, job->points, job->rays, z ^ (z >> 31), seen);
+    /* then rays aimed at every object not seen yet: small and far objects that uniform directions pass by */
+    if (job->aim) job->rays_cast[cell] += pvs_sample_visibility_toward(job->scene, &box, NULL, job->aim, z ^ (z >> 17), seen);
     pvs_file_decode(job->file, cell, pvs, job->words, NULL);
     for (i = pvs_bitset_next(seen, n, 0); i < n; i = pvs_bitset_next(seen, n, i + 1))
         if (!pvs_bitset_test(pvs, i)) {
@@ -194,7 +196,12 @@ static void cli__check_one(void *user, uint32_t cell, uint32_t thread) {
     if (job->bar) progress_add(job->bar, 1);
 }
 
-int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint64_t seed,
+uint64_t cli_reference_visibility(const pvs_scene *scene, const pvs_box *cell, uint64_t seed, pvs_word *visible) {
+    uint64_t rays = pvs_sample_visibility(scene, cell, 32, 2048, seed, visible);
+    return rays + pvs_sample_visibility_toward(scene, cell, NULL, 32, seed ^ 0x5bd1e995u, visible);
+}
+
+int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint32_t aim, uint64_t seed,
                    uint32_t threads, int quiet, cli_check *out, tool_error *err) {
     cli__check_job job;
     progress bar;
@@ -210,6 +217,7 @@ int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points
     job.file = file;
     job.points = points;
     job.rays = rays;
+    job.aim = aim;
     job.seed = seed;
     job.words = (uint32_t)PVS_BITSET_WORDS(file->object_count);
     job.seen = (pvs_word *)malloc((size_t)nt * job.words * sizeof(pvs_word));

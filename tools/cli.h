@@ -27,6 +27,11 @@ int cli_grid_cells(const pvs_scene *scene, float size, uint32_t max_cells, mesh_
    quiet. Returns 0 or -1 with err set (the first failing task's message). */
 int cli_run_bake(pvs_bake *bake, uint32_t threads, int quiet, const char *label, tool_error *err);
 
+/* The one tightness yardstick of the benches: a lower bound of the cell's exact visible set from 32
+   points x 2048 uniform rays (pvs_sample_visibility) and then 32 rays aimed at every object not yet
+   seen (pvs_sample_visibility_toward). Sets bits in `visible` (not cleared first). Returns the rays. */
+uint64_t cli_reference_visibility(const pvs_scene *scene, const pvs_box *cell, uint64_t seed, pvs_word *visible);
+
 /* The ray-sampling check of a PVS table: per cell, objects the sampler sees that the PVS lacks. */
 typedef struct cli_check {
     uint32_t cells;
@@ -38,7 +43,7 @@ typedef struct cli_check {
 } cli_check;
 /* Checks cells [0, cell_count) of `file` against ray sampling in `scene` (points x rays per cell,
    seeded per cell from `seed`), on `threads` threads. Deterministic for any thread count. */
-int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint64_t seed,
+int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint32_t aim, uint64_t seed,
                    uint32_t threads, int quiet, cli_check *out, tool_error *err);
 
 /* Encodes a finished bake and writes it to `path` (temp file + rename). *size gets the file size. */
