@@ -6024,8 +6024,12 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, ui
 #define PVS__VO_MAXH 64u        /* most hull vertices of a loop used as a solid blocker */
 #define PVS__VO_ATOL 1e-11      /* pseudo-angle overlap needed to join intervals of different vertices */
 #define PVS__VO_RTOL 1e-9       /* lengths: times the context's scale */
+#ifndef PVS__VO_MAXG
 #define PVS__VO_MAXG 64u        /* most objects in one aggregate */
+#endif
+#ifndef PVS__VO_MAXSTEP
 #define PVS__VO_MAXSTEP 96u     /* most candidates examined per seed */
+#endif
 
 typedef struct pvs__vo_key {
     double k;
@@ -7232,71 +7236,113 @@ PVS__STATIC int pvs__vo_meets_umbra(pvs__vctx *c, uint32_t b, const double *extr
     return 0;
 }
 
-/* Places a virtual occluder behind object b (§3): on the line across the umbra (perpendicular to
-   the bisector of the two supporting lines) just beyond b's farthest point, the hidden interval
-   nearest b. `keep` > 0: re-use cur's line and keep the interval around its middle (case 3). */
-PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, pvs__vo_cur *cur, int keep) {
-    const pvs__vobj *o = c->obj + b;
-    const double *v = c->vx + 2 * (size_t)o->first;
-    double bis[2], pb[2], depth = -DBL_MAX, tb = 0.0, lo = DBL_MAX, hi = -DBL_MAX, half, best = DBL_MAX, iv[64];
-    uint32_t i, n, s;
-    if (keep && cur->valid) {
-        bis[0] = cur->d[1]; bis[1] = -cur->d[0];
-        depth = bis[0] * cur->p[0] + bis[1] * cur->p[1];
-        tb = 0.5 * (cur->t0 + cur->t1);
-    } else {
-        bis[0] = sd[0].pd[0] + sd[1].pd[0];
-        bis[1] = sd[0].pd[1] + sd[1].pd[1];
-        if (!pvs__vo_unit(bis)) return 0;
-        for (i = 0; i < o->n; ++i) {
-            double dd = bis[0] * v[2 * i] + bis[1] * v[2 * i + 1];
-            if (dd > depth) depth = dd;
-        }
-        depth += 1e-3 * depth + 2.0 * c->tol; /* strictly behind b */
-    }
-    pb[0] = -bis[1];
-    pb[1] = bis[0];
-    if (!keep) {
-        for (i = 0; i < o->n; ++i) tb += pb[0] * v[2 * i] + pb[1] * v[2 * i + 1];
-        tb /= o->n;
-    }
-    if (!(depth > 0.0) || depth >= c->range) return 0;
-    for (s = 0; s < 2; ++s) { /* the window: where the line meets the two supporting lines */
-        double den = bis[0] * sd[s].pd[0] + bis[1] * sd[s].pd[1], u, t;
-        if (den > 1e-9) {
-            u = (depth - bis[0] * sd[s].po[0] - bis[1] * sd[s].po[1]) / den;
-            t = pb[0] * (sd[s].po[0] + u * sd[s].pd[0]) + pb[1] * (sd[s].po[1] + u * sd[s].pd[1]);
-        } else {
-            t = s ? -c->range : c->range;
-        }
+/* The angle the segment from p + t0 d to p + t1 d subtends from the cell's centre. */
+PVS__STATIC double pvs__vo_angle(const double *p, const double *d, double t0, double t1) {
+    double a0 = p[0] + t0 * d[0], a1 = p[1] + t0 * d[1], b0 = p[0] + t1 * d[0], b1 = p[1] + t1 * d[1];
+    return fabs(atan2(a0 * b1 - a1 * b0, a0 * b0 + a1 * b1));
+}
+
+/* The hidden parts of the line p + t d (d unit) within the aggregate's wedge (between the two
+   supporting lines, widened by a quarter, within the analysis radius): keeps in *cur the interval
+   that subtends the largest angle from the cell (or, keep_t in range, the one around keep_t).
+   Returns that angle, 0 when nothing is hidden. */
+PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const double *p, const double *d, double keep_t, int keep,
+                                    pvs__vo_cur *cur) {
+    double lo = DBL_MAX, hi = -DBL_MAX, iv[64], best = 0.0, b, cc, disc, w;
+    uint32_t s, n, i;
+    for (s = 0; s < 2; ++s) { /* where the line meets the supporting lines */
+        double den = d[0] * sd[s].pd[1] - d[1] * sd[s].pd[0], t;
+        if (fabs(den) < 1e-9) continue;
+        t = ((sd[s].po[0] - p[0]) * sd[s].pd[1] - (sd[s].po[1] - p[1]) * sd[s].pd[0]) / den;
         if (t < lo) lo = t;
         if (t > hi) hi = t;
     }
-    half = sqrt(c->range * c->range - depth * depth);
-    {
-        double w = hi - lo;
-        lo -= 0.25 * w + c->tol;
-        hi += 0.25 * w + c->tol;
-    }
-    if (lo < -half) lo = -half;
-    if (hi > half) hi = half;
-    if (!(hi > lo)) return 0;
-    cur->p[0] = bis[0] * depth;
-    cur->p[1] = bis[1] * depth;
-    cur->d[0] = pb[0];
-    cur->d[1] = pb[1];
-    n = pvs__vo_line_hidden(c, cur->p, cur->d, lo, hi, iv, 32);
-    cur->valid = 0;
+    b = p[0] * d[0] + p[1] * d[1];
+    cc = p[0] * p[0] + p[1] * p[1] - c->range * c->range;
+    disc = b * b - cc;
+    if (!(disc > 0.0)) return 0.0;
+    disc = sqrt(disc);
+    if (lo > hi) { lo = -b - disc; hi = -b + disc; }
+    w = hi - lo;
+    lo -= 0.25 * w + c->tol;
+    hi += 0.25 * w + c->tol;
+    if (lo < -b - disc) lo = -b - disc;
+    if (hi > -b + disc) hi = -b + disc;
+    if (!(hi > lo)) return 0.0;
+    n = pvs__vo_line_hidden(c, p, d, lo, hi, iv, 32);
     for (i = 0; i < n; ++i) {
-        double dist = tb < iv[2 * i] ? iv[2 * i] - tb : tb > iv[2 * i + 1] ? tb - iv[2 * i + 1] : 0.0;
+        double ang;
         if (iv[2 * i + 1] - iv[2 * i] <= 4.0 * c->tol) continue;
-        if (dist < best) {
-            best = dist;
+        if (keep && !(iv[2 * i] <= keep_t && keep_t <= iv[2 * i + 1])) continue;
+        ang = pvs__vo_angle(p, d, iv[2 * i], iv[2 * i + 1]);
+        if (ang > best) {
+            best = ang;
+            memcpy(cur->p, p, sizeof(cur->p));
+            memcpy(cur->d, d, sizeof(cur->d));
             cur->t0 = iv[2 * i];
             cur->t1 = iv[2 * i + 1];
             cur->valid = 1;
         }
     }
+    return best;
+}
+
+/* Places a virtual occluder behind object b (§3) on the best of three lines: across the umbra
+   (perpendicular to the bisector of the supporting lines) just beyond b; along the aggregate's
+   silhouette chord (through the two supporting lines' contact points) just behind it; across the
+   view of b from the cell's centre just beyond b. Keeps the hidden interval that subtends the
+   largest angle. `keep`: case 3, the current occluder's line again, the interval around its middle. */
+PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, pvs__vo_cur *cur, int keep) {
+    const pvs__vobj *o = c->obj + b;
+    const double *v = c->vx + 2 * (size_t)o->first;
+    double best = 0.0, dir[2], p[2], cen[2] = {0.0, 0.0};
+    pvs__vo_cur out;
+    uint32_t i, k;
+    memset(&out, 0, sizeof(out));
+    if (keep && cur->valid) {
+        double line_p[2], line_d[2], mid = 0.5 * (cur->t0 + cur->t1);
+        memcpy(line_p, cur->p, sizeof(line_p));
+        memcpy(line_d, cur->d, sizeof(line_d));
+        if (pvs__vo_try_line(c, sd, line_p, line_d, mid, 1, &out) > 0.0) {
+            *cur = out;
+            return 1;
+        }
+        return 0;
+    }
+    for (i = 0; i < o->n; ++i) {
+        cen[0] += v[2 * i] / o->n;
+        cen[1] += v[2 * i + 1] / o->n;
+    }
+    for (k = 0; k < 3; ++k) {
+        double depth = -DBL_MAX, nrm[2];
+        if (k == 0) { nrm[0] = sd[0].pd[0] + sd[1].pd[0]; nrm[1] = sd[0].pd[1] + sd[1].pd[1]; }
+        else if (k == 1) { nrm[0] = sd[1].po[1] - sd[0].po[1]; nrm[1] = sd[0].po[0] - sd[1].po[0]; }
+        else { nrm[0] = cen[0]; nrm[1] = cen[1]; }
+        if (!pvs__vo_unit(nrm)) continue;
+        if (k == 1 && nrm[0] * sd[0].po[0] + nrm[1] * sd[0].po[1] < 0.0) { nrm[0] = -nrm[0]; nrm[1] = -nrm[1]; } /* away from the cell */
+        if (k == 1) {
+            depth = nrm[0] * sd[0].po[0] + nrm[1] * sd[0].po[1];
+        } else {
+            for (i = 0; i < o->n; ++i) {
+                double dd = nrm[0] * v[2 * i] + nrm[1] * v[2 * i + 1];
+                if (dd > depth) depth = dd;
+            }
+        }
+        depth += 1e-3 * fabs(depth) + 2.0 * c->tol; /* strictly behind */
+        if (!(depth > 0.0) || depth >= c->range) continue;
+        p[0] = nrm[0] * depth;
+        p[1] = nrm[1] * depth;
+        dir[0] = -nrm[1];
+        dir[1] = nrm[0];
+        {
+            double a = pvs__vo_try_line(c, sd, p, dir, 0.0, 0, &out);
+            if (a > best) {
+                best = a;
+                *cur = out;
+            }
+        }
+    }
+    if (!(best > 0.0)) cur->valid = 0;
     return cur->valid;
 }
 
@@ -7575,19 +7621,24 @@ PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
 
 typedef struct pvs__vo_rt {
     double o[2];              /* frame origin (world) */
-    double n[2], off;         /* the occluder's line n.x = off (frame), the cell on the side n.x < off */
-    double u[2], s0, s1;      /* along it: s = u.x, the occluder spans [s0, s1] (shrunk by the margin) */
-    double cs[4], cd[4];      /* the cell's ground corners: s and distance from the line (> 0) */
-    double dcmin, dcmax;
+    double n[2], off;         /* the occluder's line n.x = off (frame, n unit), the cell on the side n.x < off */
+    double h[8][3];           /* the 2D umbra's other sides: h[0..8) . (x, y, 1) >= 0 (unit normals) */
+    double dcmin, dcmax;      /* the cell's ground corners' distances from the line (> 0) */
     double base, top, cbot, ctop;
     double m, mh;             /* margins: lengths, heights */
     int u_axis, v_axis, up, ok;
 } pvs__vo_rt;
 
-/* Prepares the test of occluder a-b (world ground coordinates, heights base..top) for a cell. */
+/* Prepares the test of occluder a-b (world ground coordinates, heights base..top) for a cell. The 2D
+   part: a box is hidden when every segment from the cell's ground rectangle to the box's crosses
+   a-b, i.e. the box lies in the occluder's umbra (§3 for one convex occluder): beyond its line, and
+   for every cell corner c, on the far side of the lines c-a and c-b (the segment from c crosses the
+   occluder's line between a and b). Both rectangles are convex, so corners decide, and the box's
+   corners are tested at once with support functions. Margins m (1e-7 of the frame's extent) make
+   every rounding answer "not hidden". */
 PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const double *a, const double *b, double base, double top) {
-    double la[2], lb[2], len, ext = 1.0, dmin = DBL_MAX, dmax = -DBL_MAX;
-    int k;
+    double la[2], lb[2], cc[4][2], u[2], len, ext = 1.0, dmin = DBL_MAX, dmax = -DBL_MAX;
+    int k, e;
     memset(r, 0, sizeof(*r));
     r->up = up == 2 ? 2 : 1;
     pvs__ground_axes((uint32_t)r->up, &r->u_axis, &r->v_axis);
@@ -7599,43 +7650,48 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
         if (fabs(lb[k]) > ext) ext = fabs(lb[k]);
     }
     for (k = 0; k < 4; ++k) {
-        double cx = (double)((k & 1) ? cell->max[r->u_axis] : cell->min[r->u_axis]) - r->o[0];
-        double cy = (double)((k & 2) ? cell->max[r->v_axis] : cell->min[r->v_axis]) - r->o[1];
-        if (fabs(cx) > ext) ext = fabs(cx);
-        if (fabs(cy) > ext) ext = fabs(cy);
+        cc[k][0] = (double)((k & 1) ? cell->max[r->u_axis] : cell->min[r->u_axis]) - r->o[0];
+        cc[k][1] = (double)((k & 2) ? cell->max[r->v_axis] : cell->min[r->v_axis]) - r->o[1];
+        if (fabs(cc[k][0]) > ext) ext = fabs(cc[k][0]);
+        if (fabs(cc[k][1]) > ext) ext = fabs(cc[k][1]);
     }
     r->m = 1e-7 * ext;
-    r->u[0] = lb[0] - la[0];
-    r->u[1] = lb[1] - la[1];
-    len = sqrt(r->u[0] * r->u[0] + r->u[1] * r->u[1]);
-    if (!(len > 4.0 * r->m) || !(top > base) || !pvs__finite((float)top) || !pvs__finite((float)base)) return;
-    r->u[0] /= len;
-    r->u[1] /= len;
-    r->n[0] = -r->u[1];
-    r->n[1] = r->u[0];
+    u[0] = lb[0] - la[0];
+    u[1] = lb[1] - la[1];
+    len = sqrt(u[0] * u[0] + u[1] * u[1]);
+    if (!(len > 4.0 * r->m) || !(top > base) || !(fabs(top) < 1e30) || !(fabs(base) < 1e30)) return;
+    u[0] /= len;
+    u[1] /= len;
+    r->n[0] = -u[1];
+    r->n[1] = u[0];
     r->off = r->n[0] * la[0] + r->n[1] * la[1];
-    r->s0 = r->u[0] * la[0] + r->u[1] * la[1] + r->m;
-    r->s1 = r->u[0] * lb[0] + r->u[1] * lb[1] - r->m;
     for (k = 0; k < 4; ++k) {
-        double cx = (double)((k & 1) ? cell->max[r->u_axis] : cell->min[r->u_axis]) - r->o[0];
-        double cy = (double)((k & 2) ? cell->max[r->v_axis] : cell->min[r->v_axis]) - r->o[1];
-        r->cd[k] = r->off - (r->n[0] * cx + r->n[1] * cy);
-        r->cs[k] = r->u[0] * cx + r->u[1] * cy;
-    }
-    for (k = 0; k < 4; ++k) {
-        if (r->cd[k] < dmin) dmin = r->cd[k];
-        if (r->cd[k] > dmax) dmax = r->cd[k];
+        double d = r->off - (r->n[0] * cc[k][0] + r->n[1] * cc[k][1]);
+        if (d < dmin) dmin = d;
+        if (d > dmax) dmax = d;
     }
     if (dmax < 0.0) { /* the cell on the other side: flip the normal */
         double t = dmin;
         r->n[0] = -r->n[0];
         r->n[1] = -r->n[1];
         r->off = -r->off;
-        for (k = 0; k < 4; ++k) r->cd[k] = -r->cd[k];
         dmin = -dmax;
         dmax = -t;
     }
     if (!(dmin > r->m)) return; /* the line meets the cell: it hides nothing */
+    for (e = 0; e < 2; ++e) { /* through each end, a line from each cell corner, the occluder's side kept */
+        const double *p = e ? lb : la;
+        double inward[2];
+        inward[0] = e ? -u[0] : u[0];
+        inward[1] = e ? -u[1] : u[1];
+        for (k = 0; k < 4; ++k) {
+            double *h = r->h[4 * e + k], dx = p[0] - cc[k][0], dy = p[1] - cc[k][1], l = sqrt(dx * dx + dy * dy);
+            h[0] = -dy / l;
+            h[1] = dx / l;
+            if (h[0] * inward[0] + h[1] * inward[1] < 0.0) { h[0] = -h[0]; h[1] = -h[1]; }
+            h[2] = -(h[0] * p[0] + h[1] * p[1]);
+        }
+    }
     r->dcmin = dmin;
     r->dcmax = dmax;
     r->base = base;
@@ -7643,33 +7699,26 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
     r->cbot = cell->min[r->up];
     r->ctop = cell->max[r->up];
     r->mh = 1e-7 * (fabs(base) + fabs(top) + fabs(r->cbot) + fabs(r->ctop) + 1.0);
-    r->ok = r->s1 > r->s0;
+    r->ok = 1;
 }
 
 /* 1 if every sight line from the cell box to box b crosses the occluder (see pvs_vocc_box_hidden). */
 PVS__STATIC int pvs__vo_rt_hides(const pvs__vo_rt *r, const pvs_box *b) {
-    double bs[4], bd[4], dbmin = DBL_MAX, dbmax = -DBL_MAX, smin = DBL_MAX, smax = -DBL_MAX, tmin, tmax, btop, bbot;
-    int j, k;
+    double x0 = (double)b->min[r->u_axis] - r->o[0], x1 = (double)b->max[r->u_axis] - r->o[0];
+    double y0 = (double)b->min[r->v_axis] - r->o[1], y1 = (double)b->max[r->v_axis] - r->o[1];
+    double dbmin, dbmax, tmin, tmax, btop, bbot;
+    int k;
     if (!r->ok) return 0;
-    for (j = 0; j < 4; ++j) {
-        double x = (double)((j & 1) ? b->max[r->u_axis] : b->min[r->u_axis]) - r->o[0];
-        double y = (double)((j & 2) ? b->max[r->v_axis] : b->min[r->v_axis]) - r->o[1];
-        bd[j] = r->n[0] * x + r->n[1] * y - r->off;
-        if (bd[j] <= r->m) return 0; /* not entirely behind the occluder's line */
-        bs[j] = r->u[0] * x + r->u[1] * y;
-        if (bd[j] < dbmin) dbmin = bd[j];
-        if (bd[j] > dbmax) dbmax = bd[j];
+    /* beyond the line: the smallest n.x - off over the box (a support function) */
+    dbmin = (r->n[0] > 0.0 ? r->n[0] * x0 : r->n[0] * x1) + (r->n[1] > 0.0 ? r->n[1] * y0 : r->n[1] * y1) - r->off;
+    if (!(dbmin > r->m)) return 0;
+    for (k = 0; k < 8; ++k) {
+        const double *h = r->h[k];
+        if (!((h[0] > 0.0 ? h[0] * x0 : h[0] * x1) + (h[1] > 0.0 ? h[1] * y0 : h[1] * y1) + h[2] > r->m)) return 0;
     }
-    /* where the segments between the two rectangles cross the line: the extremes come from corner
-       pairs (the crossing set is the line's section of the hull of both rectangles) */
-    for (k = 0; k < 4; ++k)
-        for (j = 0; j < 4; ++j) {
-            double t = r->cd[k] / (r->cd[k] + bd[j]), s = r->cs[k] + (bs[j] - r->cs[k]) * t;
-            if (s < smin) smin = s;
-            if (s > smax) smax = s;
-        }
-    if (smin < r->s0 || smax > r->s1) return 0;
-    /* heights: a sight line crosses the plane at (1 - t) eye + t target, t in [tmin, tmax] */
+    /* heights: a sight line crosses the occluder's plane at (1 - t) eye + t target, where t = dc / (dc
+       + db) (distances of its ends from the line) lies in [tmin, tmax]; the bounds are linear in t */
+    dbmax = (r->n[0] > 0.0 ? r->n[0] * x1 : r->n[0] * x0) + (r->n[1] > 0.0 ? r->n[1] * y1 : r->n[1] * y0) - r->off;
     tmin = r->dcmin / (r->dcmin + dbmax);
     tmax = r->dcmax / (r->dcmax + dbmin);
     btop = b->max[r->up];
@@ -8010,7 +8059,11 @@ PVS__STATIC pvs_result pvs__vbake_create(const pvs_scene *s, const pvs_allocator
     vb->up = s->up_axis == 2 ? 2u : 1u;
     vb->slices = slices;
     vb->max_keep = max_keep;
+#ifndef PVS__VO_SEEDS
     vb->max_seeds = 16;
+#else
+    vb->max_seeds = PVS__VO_SEEDS;
+#endif
     vb->object_count = s->object_count;
     up = (int)vb->up;
     pvs__ground_axes(vb->up, &u, &v);

@@ -166,6 +166,13 @@ typedef struct cli__check_job {
     uint32_t *miss_count, *first_miss, *pvs_size, *seen_size;
     uint64_t *rays_cast;
     progress *bar;
+    /* files with virtual occluders: the PVS checked is the one pvs_vocc_cull rebuilds */
+    pvs_box *boxes;       /* object boxes, empty for occluder-only objects (as the bake saw them) */
+    pvs_kdtree *tree;
+    uint8_t *scratch;     /* per thread */
+    size_t scratch_size;
+    pvs_word *stored;     /* per thread: the stored records, compared with the rebuilt PVS */
+    uint8_t *differs;     /* per cell */
 } cli__check_job;
 
 static void cli__check_one(void *user, uint32_t cell, uint32_t thread) {
@@ -183,7 +190,20 @@ static void cli__check_one(void *user, uint32_t cell, uint32_t thread) {
     job->rays_cast[cell] = pvs_sample_visibility(job->scene, &box, job->points, job->rays, z ^ (z >> 31), seen);
     /* then rays aimed at every object not seen yet: small and far objects that uniform directions pass by */
     if (job->aim) job->rays_cast[cell] += pvs_sample_visibility_toward(job->scene, &box, NULL, job->aim, z ^ (z >> 17), seen);
-    pvs_file_decode(job->file, cell, pvs, job->words, NULL);
+    if (job->boxes) {
+        /* the runtime's rebuild: the top-down walk of the object tree (it may cull an object whose
+           parts lie behind different occluders, so it is checked: it is what an engine draws) */
+        pvs_word *stored = job->stored + 2 * (size_t)thread * job->words, *flat = stored + job->words;
+        uint8_t *scratch = job->scratch + (size_t)thread * job->scratch_size;
+        pvs_vocc_cull(job->file, cell, 0, job->boxes, n, job->tree, scratch, job->scratch_size, pvs, NULL);
+        if (!(job->file->vocc_flags & PVS_VOCC_ONLY)) { /* the stored PVS: every box against each occluder */
+            pvs_vocc_cull(job->file, cell, 0, job->boxes, n, NULL, scratch, job->scratch_size, flat, NULL);
+            pvs_file_decode(job->file, cell, stored, job->words, NULL);
+            job->differs[cell] = memcmp(stored, flat, job->words * sizeof(pvs_word)) != 0;
+        }
+    } else {
+        pvs_file_decode(job->file, cell, pvs, job->words, NULL);
+    }
     for (i = pvs_bitset_next(seen, n, 0); i < n; i = pvs_bitset_next(seen, n, i + 1))
         if (!pvs_bitset_test(pvs, i)) {
             if (first == 0xffffffffu) first = i;
@@ -227,7 +247,27 @@ int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points
     job.pvs_size = (uint32_t *)malloc(file->cell_count * sizeof(uint32_t));
     job.seen_size = (uint32_t *)malloc(file->cell_count * sizeof(uint32_t));
     job.rays_cast = (uint64_t *)malloc(file->cell_count * sizeof(uint64_t));
-    if (!job.seen || !job.pvs || !job.miss_count || !job.first_miss || !job.pvs_size || !job.seen_size || !job.rays_cast) {
+    if (file->vocc_flags & PVS_VOCC_STORED) { /* rebuild every cell's PVS from its virtual occluders */
+        pvs_kdtree_desc kd;
+        memset(&kd, 0, sizeof(kd));
+        job.boxes = (pvs_box *)malloc((size_t)file->object_count * sizeof(pvs_box) + 1);
+        job.differs = (uint8_t *)calloc(file->cell_count, 1);
+        job.stored = (pvs_word *)malloc(2 * (size_t)nt * job.words * sizeof(pvs_word));
+        if (job.boxes)
+            for (c = 0; c < file->object_count; ++c) {
+                job.boxes[c] = pvs_scene_object_box(scene, c);
+                if (pvs_scene_object_flags(scene, c) & PVS_OBJECT_OCCLUDER_ONLY) job.boxes[c].min[0] = 1.0f, job.boxes[c].max[0] = 0.0f;
+            }
+        kd.boxes = job.boxes;
+        kd.count = file->object_count;
+        if (job.boxes && pvs_kdtree_create(&kd, &job.tree, NULL) == PVS_OK) {
+            job.scratch_size = (pvs_vocc_cull_scratch_size(job.tree, 255) + 63) / 64 * 64;
+            job.scratch = (uint8_t *)malloc((size_t)nt * job.scratch_size);
+        }
+        out->rebuilt = 1;
+    }
+    if (!job.seen || !job.pvs || !job.miss_count || !job.first_miss || !job.pvs_size || !job.seen_size || !job.rays_cast ||
+        (out->rebuilt && (!job.tree || !job.scratch || !job.differs || !job.stored))) {
         tool_error_set(err, NULL, 0, "out of memory");
     } else {
         if (!quiet) {
@@ -248,11 +288,14 @@ int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points
                 out->cells_with_misses++;
             }
             out->pvs_sum += job.pvs_size[c];
+            if (job.differs) out->stored_differs += job.differs[c];
             out->seen_sum += job.seen_size[c];
             out->rays += job.rays_cast[c];
         }
     }
     free(job.seen); free(job.pvs); free(job.miss_count); free(job.first_miss); free(job.pvs_size); free(job.seen_size);
+    free(job.boxes); free(job.differs); free(job.stored); free(job.scratch);
+    pvs_kdtree_destroy(job.tree);
     free(job.rays_cast);
     return out->cells ? 0 : -1;
 }
