@@ -55,6 +55,8 @@
    >>raster     conservative rasterizer, depth pyramid, cull map, per-frame culling
    >>otree      occlusion trees: line-space BSP; exact 2D and conservative 2.5D (c-LSS) region visibility
    >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps, boxes / columns
+   >>vocc       virtual occluders (Koltun 2000): aggregate umbrae, height slices, selection, the VOCC
+                section, the PVS rebuilt on cell entry (pvs_vocc_cull)
    >>methods    region methods: `shrink` (Wonka 2000), extended projections `extproj`, the estimator `sample`
    >>bake       bake driver: tasks, determinism
    >>format     the .pvs file: writer and validating zero-copy reader
@@ -109,6 +111,12 @@
    plane on is reported, whatever the rounding (>>raster explains the margins). Depth is reversed
    (larger is nearer). Pass a cell's decoded PVS as `candidates` to cull inside it.
 
+   Virtual occluders. A file baked with the vocc method (Koltun 2000) also stores a few vertical
+   rectangles per cell (about 50 bytes) that are hidden from the whole cell; on cell entry
+   pvs_vocc_cull tests the engine's object boxes against them (top-down through a kD-tree, no
+   allocation) and sets the cell's PVS: a platform short of storage can bake --vocc-only and keep
+   only them.
+
    MEMORY
    ======
    Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle
@@ -116,7 +124,8 @@
    cell_count * object_count / 8 bytes), pvs_file_encode (scratch about 40 bytes per cell plus one
    bitset), pvs_raster_create (the depth map and pyramid, the cull map). Allocates nothing: every
    pvs_file_* and pvs_cursor_* call, kD-tree queries (caller scratch), pvs_raster_cull and
-   pvs_raster_cull_map per frame. A .pvs file is used in place; it needs no copy.
+   pvs_raster_cull_map per frame, pvs_vocc_cull (caller scratch: pvs_vocc_cull_scratch_size). A
+   .pvs file is used in place; it needs no copy.
 
    PERFORMANCE (`make bench`, 2026-11-22, one core of a shared 2-core AMD EPYC VM, release build)
    ===========
@@ -157,8 +166,8 @@
      section's bytes [CHECKSUM]. Sections start 8-byte aligned, lie inside the file, do not overlap
      and no tag repeats [BAD_SECTION, TRUNCATED]; every byte outside the header, the table and the
      sections is zero padding [BAD_SECTION]. Tags are four ASCII characters; a reader skips tags it
-     does not know (room for later optional sections: virtual occluders, object names, ...). The
-     writer emits META, CELL, TREE, RECS, then SHRD for part files, in that order.
+     does not know (room for later optional sections: object names, ...). The writer emits META,
+     CELL, TREE, RECS, then SHRD for part files, then VOCC when the bake made virtual occluders.
    "META" (required, 32 bytes; another size is BAD_SECTION) [BAD_HEADER; COUNT_OVERFLOW for counts
      past the limits]:
      0 u32 cell_count (1..2^30-1)   4 u32 object_count (1..2^32-2)   8 u32 method (pvs_method)
@@ -214,9 +223,31 @@
    "SHRD" (optional, 16 bytes, else BAD_SECTION; part files of a sharded bake) [BAD_HEADER]: u32 shard index (0-based),
      u32 shard count (>= 2), u32 total cell count, u32 zero. Cell j of the part is cell
      index + j * count of the whole; cell_count must be the number of such cells.
+   "VOCC" (optional; virtual occluders, Koltun et al. 2000, >>vocc) [BAD_SECTION]: per cell a few
+     vertical rectangles, each hidden from every point of the cell, most effective first; the
+     runtime rebuilds the cell's PVS from them (pvs_vocc_cull).
+     0  u32 flags: bit 0 = the records are placeholders (pvsbake --vocc-only: every drawable
+        object); other bits zero
+     4  u32 N, the occluders of all cells (<= 255 * cell_count)
+     8  f32 base, every occluder's bottom height    12 f32 step (> 0); both finite, base + 255 step too
+     16 u32 first[B + 1], B = ceil(cell_count / 16): first[b] = the index of the first occluder of
+        cell 16b; first[0] = 0, first[B] = N, first[b + 1] - first[b] = the sum of block b's counts
+     then u8 count[cell_count]: occluders per cell (0..255)
+     then u8 scale[cell_count]: the cell's coordinate scale S = 2^((scale - 128) / 8), exactly the
+        double nearest 2^(k / 8) for k = scale mod 8 times 2^(scale div 8 - 16)
+     then N occluders of 5 bytes, cell by cell: u8 q0 q1 (end point 0), q2 q3 (end point 1), q4 (top).
+        Ground coordinate (u, v along the up axis' ground axes) = centre + S (q - 128) |q - 128| /
+        16384, in double, where centre = 0.5f min + 0.5f max of the cell's box computed in float
+        (finer steps near the cell: the perspective); top = base + q4 step (in double).
+     The section ends there: its size is exactly 16 + 4 (B + 1) + 2 cell_count + 5 N. The bake rounds
+     each occluder toward a smaller one (end points pulled inward and away from the cell, the top
+     down) and proves the rounded occluder hidden, so the stored bytes are conservative as they are.
+     A reader that does not know VOCC skips it; the records stay a valid PVS.
 
    RECENT HISTORY
    ==============
+   next               virtual occluders (Koltun 2000): bake method vocc, the optional VOCC section,
+                      pvs_vocc_cull rebuilds a cell's PVS from them; pvsbake --vocc-only.
    0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps and per-frame culling;
                       bake methods shrink (with occluder synthesis), otree (c-LSS) and extproj.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set

@@ -333,7 +333,7 @@ static void test_cull(void) {
 
 /* ---- the bake on a generated city ---- */
 
-static pvs_scene *scene_from(const mesh *m) {
+static pvs_scene *scene_from_up(const mesh *m, uint32_t up) {
     pvs_scene_desc d;
     pvs_object_desc *obs = (pvs_object_desc *)malloc(m->object_count * sizeof(pvs_object_desc));
     pvs_scene *s = NULL;
@@ -348,11 +348,12 @@ static pvs_scene *scene_from(const mesh *m) {
     d.positions = m->positions; d.vertex_count = m->vertex_count;
     d.indices = m->indices; d.triangle_count = m->triangle_count;
     d.objects = obs; d.object_count = m->object_count;
-    d.up_axis = 1;
+    d.up_axis = up;
     if (pvs_scene_create(&d, &s, &e) != PVS_OK) fprintf(stderr, "scene: %s\n", e.message);
     free(obs);
     return s;
 }
+static pvs_scene *scene_from(const mesh *m) { return scene_from_up(m, 1); }
 
 static void *bake_file(pvs_scene *s, const pvs_box *cells, uint32_t n, uint32_t only, uint32_t slices, int reverse, size_t *size) {
     pvs_bake_desc bd;
@@ -499,6 +500,71 @@ static void test_bake(void) {
     free(data);
     free(again);
     free(only);
+    pvs_scene_destroy(s);
+    mesh_cells_free(&cells);
+    mesh_free(&m);
+}
+
+/* The same city turned Z-up ((x, y, z) -> (x, -z, y)): ground axes x, y. */
+static void test_zup(void) {
+    gen_params gp;
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *s;
+    pvs_file f;
+    pvs_error e;
+    pvs_box *cb, *boxes;
+    void *data;
+    size_t size, ss;
+    void *scratch;
+    pvs_word *pvs, *ref;
+    uint32_t c, i, objects, words, misses = 0, vos = 0;
+    double culled = 0.0;
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = GEN_CITY;
+    gp.seed = 3;
+    gp.size = 0.2f;
+    gp.max_cells = 10;
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    CHECK(gen_scene(&gp, &m, &cells) == 0);
+    for (i = 0; i < m.vertex_count; ++i) {
+        float y = m.positions[3 * i + 1], z = m.positions[3 * i + 2];
+        m.positions[3 * i + 1] = -z;
+        m.positions[3 * i + 2] = y;
+    }
+    cb = (pvs_box *)malloc(cells.count * sizeof(pvs_box));
+    for (c = 0; c < cells.count; ++c) {
+        const float *b = cells.boxes + 6 * c;
+        cb[c].min[0] = b[0]; cb[c].max[0] = b[3];
+        cb[c].min[1] = -b[5]; cb[c].max[1] = -b[2];
+        cb[c].min[2] = b[1]; cb[c].max[2] = b[4];
+    }
+    s = scene_from_up(&m, 2);
+    CHECK(s != NULL);
+    if (!s) return;
+    objects = pvs_scene_object_count(s);
+    words = (uint32_t)PVS_BITSET_WORDS(objects);
+    data = bake_file(s, cb, cells.count, 0, 3, 0, &size);
+    CHECK(data && pvs_file_open(data, size, &f, &e) == PVS_OK && f.up_axis == 2);
+    boxes = (pvs_box *)malloc(objects * sizeof(pvs_box));
+    for (i = 0; i < objects; ++i) boxes[i] = pvs_scene_object_box(s, i);
+    ss = pvs_vocc_cull_scratch_size(NULL, 255);
+    scratch = malloc(ss);
+    pvs = (pvs_word *)malloc(words * sizeof(pvs_word));
+    ref = (pvs_word *)malloc(words * sizeof(pvs_word));
+    for (c = 0; c < cells.count; ++c) {
+        vos += pvs_file_virtual_occluders(&f, c, NULL, 0);
+        CHECK(pvs_vocc_cull(&f, c, 0, boxes, objects, NULL, scratch, ss, pvs, &e) == PVS_OK);
+        memset(ref, 0, words * sizeof(pvs_word));
+        pvs_sample_visibility(s, cb + c, 16, 1024, 9 + c, ref);
+        pvs_sample_visibility_toward(s, cb + c, NULL, 8, 19 + c, ref);
+        for (i = 0; i < objects; ++i) misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pvs, i);
+        culled += objects - pvs_bitset_count(pvs, objects);
+    }
+    CHECK(misses == 0);
+    CHECK(vos > 0 && culled > 0.0);
+    free(scratch); free(pvs); free(ref); free(boxes); free(data); free(cb);
     pvs_scene_destroy(s);
     mesh_cells_free(&cells);
     mesh_free(&m);
@@ -663,4 +729,5 @@ void test_vocc(void) {
     test_section();
     test_unsupported();
     test_bake();
+    test_zup();
 }

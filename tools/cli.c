@@ -355,6 +355,7 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     uint32_t n = 0, total = 0, words = 0, c;
     pvs_box *boxes = NULL;
     pvs_word *table = NULL;
+    uint8_t *vcount = NULL, *vscale = NULL, *vbytes = NULL;
     pvs_file_desc d;
     pvs_error pe;
     size_t need = 0;
@@ -375,9 +376,10 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
         }
         if (i && (f->shard_count != f0->shard_count || f->total_cell_count != f0->total_cell_count ||
                   f->object_count != f0->object_count || f->method != f0->method || f->eps != f0->eps ||
-                  f->up_axis != f0->up_axis || f->flags != f0->flags || f->max_chain != f0->max_chain)) {
+                  f->up_axis != f0->up_axis || f->flags != f0->flags || f->max_chain != f0->max_chain || f->vocc_flags != f0->vocc_flags ||
+                  f->vocc_base != f0->vocc_base || f->vocc_height_step != f0->vocc_height_step)) {
             tool_error_set(err, paths[i], 0, "does not belong to the bake of %s (shard count, cells, objects, method, eps, "
-                                             "up axis, flags or chain bound differ)", paths[0]);
+                                             "up axis, flags, chain bound or virtual occluders differ)", paths[0]);
             goto done;
         }
     }
@@ -403,11 +405,24 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     boxes = (pvs_box *)malloc((size_t)total * sizeof(pvs_box));
     table = (pvs_word *)malloc((size_t)total * words * sizeof(pvs_word));
     if (!boxes || !table) { tool_error_set(err, NULL, 0, "out of memory for %u cells", total); goto done; }
+    if (files[0].vocc_flags & PVS_VOCC_STORED) { /* the virtual occluders too, one record per cell */
+        vcount = (uint8_t *)malloc(total);
+        vscale = (uint8_t *)malloc(total);
+        vbytes = (uint8_t *)malloc((size_t)total * 255 * 5);
+        if (!vcount || !vscale || !vbytes) { tool_error_set(err, NULL, 0, "out of memory for %u cells", total); goto done; }
+    }
     for (c = 0; c < total; ++c) {
         const pvs_file *f = files + by_shard[c % n];
         uint32_t local = c / n;
         boxes[c] = pvs_file_cell_box(f, local);
         pvs_file_decode(f, local, table + (size_t)c * words, words, NULL);
+        if (vcount) {
+            const uint8_t *p = NULL;
+            uint32_t sc = 0, k = pvs_file_vocc_record(f, local, &sc, &p);
+            vcount[c] = (uint8_t)k;
+            vscale[c] = (uint8_t)sc;
+            if (k) memcpy(vbytes + (size_t)c * 255 * 5, p, 5 * (size_t)k);
+        }
     }
     memset(&d, 0, sizeof(d));
     d.cells = boxes;
@@ -419,6 +434,15 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     d.up_axis = files[0].up_axis;
     d.flags = files[0].flags;
     d.max_chain = files[0].max_chain;
+    if (vcount) {
+        d.vocc_counts = vcount;
+        d.vocc_scales = vscale;
+        d.virtual_occluders = vbytes;
+        d.vocc_stride = 255 * 5;
+        d.vocc_base = files[0].vocc_base;
+        d.vocc_height_step = files[0].vocc_height_step;
+        d.vocc_flags = files[0].vocc_flags & PVS_VOCC_ONLY;
+    }
     if (pvs_file_encode(&d, NULL, 0, &need, &pe) != PVS_OK || !(*out = malloc(need)) ||
         pvs_file_encode(&d, *out, need, out_size, &pe) != PVS_OK) {
         tool_error_set(err, NULL, 0, "encoding the merged file: %s", *out ? pe.message : "out of memory");
@@ -434,6 +458,9 @@ done:
     free(by_shard);
     free(boxes);
     free(table);
+    free(vcount);
+    free(vscale);
+    free(vbytes);
     return rc;
 }
 
