@@ -899,8 +899,11 @@ PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_o
 /* Rebuilds a PVS from virtual occluders (Koltun 2000 §2, §4): sets in `visible`
    (PVS_BITSET_WORDS(object_count) words, cleared first) every object whose box is not hidden by a
    single occluder (pvs_vocc_box_hidden; the occluders are tried in order, so put the most effective
-   first). With a `tree` over the same object boxes (pvs_kdtree_create, item i = object i) the scene is
-   traversed top-down and hidden subtrees are skipped; with tree NULL every box is tested. Objects
+   first). With a `tree` over the same object boxes (pvs_kdtree_create, item i = object i; leaves of
+   16 or more items keep the walk short) the scene is traversed top-down and hidden subtrees are
+   skipped: a subtree is hidden when one occluder hides its whole node box, so an object whose parts
+   lie behind different occluders may be left out too (the walk's PVS is a subset of the flat one,
+   still conservative); with tree NULL every box is tested. Objects
    with an empty box (min > max) are never set. scratch: pvs_vocc_cull_scratch_size bytes, aligned to
    8. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. Allocates nothing; thread-safe. */
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders, uint32_t count,
@@ -6055,12 +6058,8 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, ui
 #define PVS__VO_MAXH 64u        /* most hull vertices of a loop used as a solid blocker */
 #define PVS__VO_ATOL 1e-11      /* pseudo-angle overlap needed to join intervals of different vertices */
 #define PVS__VO_RTOL 1e-9       /* lengths: times the context's scale */
-#ifndef PVS__VO_MAXG
 #define PVS__VO_MAXG 64u        /* most objects in one aggregate */
-#endif
-#ifndef PVS__VO_MAXSTEP
 #define PVS__VO_MAXSTEP 96u     /* most candidates examined per seed */
-#endif
 
 typedef struct pvs__vo_key {
     double k;
@@ -6826,11 +6825,22 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
         const double *v = c->vx + 2 * (size_t)o->first;
         uint32_t lo = 0, hi = 0, j, pieces;
         double plo, phi, sp[2][2];
+        int near_box;
         if (o->loop >= 0 && x[0] >= o->bb[0] && x[0] <= o->bb[2] && x[1] >= o->bb[1] && x[1] <= o->bb[3] &&
             pvs__vo_in_loop(c, (uint32_t)o->loop, x))
             return 1;
         if (o->bb[0] > bb[2] || o->bb[2] < bb[0] || o->bb[1] > bb[3] || o->bb[3] < bb[1]) continue;
-        if (pvs__vo_near_obj(c, o, x)) continue;
+        { /* a box wholly outside the fan (beyond one of its edge lines) cannot help */
+            /* cross(x, q, p) = e0 p1 - e1 p0 - e0 x1 + e1 x0 with e = q - x: linear in p, so its extremes
+               over the box come from its corners (support functions) */
+            double e0 = cl[0] - x[0], e1 = cl[1] - x[1], g0 = ch[0] - x[0], g1 = ch[1] - x[1], mx, mn;
+            mx = (e0 > 0.0 ? e0 * o->bb[3] : e0 * o->bb[1]) + (e1 > 0.0 ? -e1 * o->bb[0] : -e1 * o->bb[2]) - e0 * x[1] + e1 * x[0];
+            if (mx < -tol * (fabs(e0) + fabs(e1))) continue; /* wholly clockwise of the fan's edge x -> cl */
+            mn = (g0 > 0.0 ? g0 * o->bb[1] : g0 * o->bb[3]) + (g1 > 0.0 ? -g1 * o->bb[2] : -g1 * o->bb[0]) - g0 * x[1] + g1 * x[0];
+            if (mn > tol * (fabs(g0) + fabs(g1))) continue; /* wholly counter-clockwise of x -> ch */
+        }
+        near_box = x[0] >= o->bb[0] - tol && x[0] <= o->bb[2] + tol && x[1] >= o->bb[1] - tol && x[1] <= o->bb[3] + tol;
+        if (near_box && pvs__vo_near_obj(c, o, x)) continue;
         for (j = 1; j < o->n; ++j) {
             if (pvs__vo_cross(x, v + 2 * lo, v + 2 * j) < 0.0) lo = j;
             if (pvs__vo_cross(x, v + 2 * hi, v + 2 * j) > 0.0) hi = j;
@@ -8090,11 +8100,7 @@ PVS__STATIC pvs_result pvs__vbake_create(const pvs_scene *s, const pvs_allocator
     vb->up = s->up_axis == 2 ? 2u : 1u;
     vb->slices = slices;
     vb->max_keep = max_keep;
-#ifndef PVS__VO_SEEDS
     vb->max_seeds = 16;
-#else
-    vb->max_seeds = PVS__VO_SEEDS;
-#endif
     vb->object_count = s->object_count;
     up = (int)vb->up;
     pvs__ground_axes(vb->up, &u, &v);
@@ -8166,10 +8172,12 @@ done:
     return PVS_OK;
 }
 
-/* The slice heights of a cell (§3.1): the tops of the occluders that reach above the cell, weighted
-   by the angle each subtends from the cell's centre (its perspective size); heights at evenly spread
-   weighted quantiles, each snapped to an occluder's top (so that occluder takes part). Ascending,
-   distinct. Returns their number (<= n). */
+/* The slice heights of a cell (§3.1): a histogram of the tops of the occluders that reach above the
+   cell, each weighted by the angle it subtends from the cell's centre (its perspective size: a near
+   wall counts more than a far one); n heights at the weighted quantiles (i + 0.2) / (n + 0.2), each
+   snapped down to an occluder's top (so that occluder takes part). Low slices keep most occluders
+   and fuse best, higher ones hide what stands behind lower walls; one slice sits at the 1/6 quantile.
+   Ascending, distinct. Returns their number (<= n). */
 PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *centre, float ctop, uint32_t n, float *h, const pvs_allocator *al) {
     const pvs__vprep *p = vb->prep;
     pvs__vo_key *key;
@@ -8212,7 +8220,7 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
     }
     pvs__vo_sort(key, m);
     for (i = 0; i < n && m; ++i) {
-        double target = total * ((double)i + 0.5) / (double)n;
+        double target = total * ((double)i + 0.2) / ((double)n + 0.2);
         float hh;
         while (j + 1 < m && acc + w[key[j].i] < target) acc += w[key[j++].i];
         hh = (float)key[j].k;
@@ -8293,14 +8301,19 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
         memset(covered, 0, words * sizeof(pvs_word));
         for (i = 0; i < c.nout; ++i) {
             double a[2], b[2], lo, hi;
-            pvs_word *hw = hid + (size_t)i * words;
             for (j = 0; j < i; ++j)
                 if (!memcmp(c.out[j].q, c.out[i].q, 5)) break;
-            if (j < i) continue; /* the same bytes twice */
+            if (j < i) { /* the same bytes twice: hides nothing more */
+                memset(rt + i, 0, sizeof(pvs__vo_rt));
+                continue;
+            }
             pvs__vo_decode(cell, vb->up, code, c.out[i].q, vb->base, vb->hstep, a, b, &lo, &hi);
             pvs__vo_rt_init(rt + i, cell, vb->up, a, b, lo, hi);
-            for (j = 0; j < vb->object_count; ++j)
-                if (pvs__vo_box_ok(vb->boxes + j) && pvs__vo_rt_hides(rt + i, vb->boxes + j)) hw[j >> 6] |= (pvs_word)1 << (j & 63);
+        }
+        for (j = 0; j < vb->object_count; ++j) {
+            if (!pvs__vo_box_ok(vb->boxes + j)) continue;
+            for (i = 0; i < c.nout; ++i)
+                if (pvs__vo_rt_hides(rt + i, vb->boxes + j)) hid[(size_t)i * words + (j >> 6)] |= (pvs_word)1 << (j & 63);
         }
         while (keep < vb->max_keep) {
             uint32_t best = PVS__VO_NONE, best_gain = 0;

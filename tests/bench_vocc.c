@@ -86,6 +86,7 @@ int main(void) {
     memset(&kd, 0, sizeof(kd));
     kd.boxes = boxes;
     kd.count = objects;
+    kd.leaf_size = 16; /* few, fuller leaves: the walk visits fewer nodes */
     if (pvs_kdtree_create(&kd, &tree, NULL) != PVS_OK) return 1;
     scratch_size = pvs_vocc_cull_scratch_size(tree, 255);
     scratch = malloc(scratch_size);
@@ -136,13 +137,21 @@ int main(void) {
                (double)without / n);
         free(table);
     }
-    for (k = 0; k < 5; ++k) { /* rebuild time: min over 5 passes of the mean per cell */
-        double t = cli_seconds();
-        for (c = 0; c < n; ++c) pvs_vocc_cull(&run.f, c, 0, boxes, objects, tree, scratch, scratch_size, bits, NULL);
-        t = 1e6 * (cli_seconds() - t) / n;
-        if (t < best_us) best_us = t;
+    {
+        double best_flat = 1e30;
+        for (k = 0; k < 5; ++k) { /* rebuild time: min over 5 passes of the mean per cell */
+            double t = cli_seconds();
+            for (c = 0; c < n; ++c) pvs_vocc_cull(&run.f, c, 0, boxes, objects, tree, scratch, scratch_size, bits, NULL);
+            t = 1e6 * (cli_seconds() - t) / n;
+            if (t < best_us) best_us = t;
+            t = cli_seconds();
+            for (c = 0; c < n; ++c) pvs_vocc_cull(&run.f, c, 0, boxes, objects, NULL, scratch, scratch_size, bits, NULL);
+            t = 1e6 * (cli_seconds() - t) / n;
+            if (t < best_flat) best_flat = t;
+        }
+        printf("BENCH vocc_rebuild_us %.1f us (kD-tree walk, leaves of 16, %u objects; every box tested: %.1f us)\n", best_us, objects,
+               best_flat);
     }
-    printf("BENCH vocc_rebuild_us %.1f us (kD-tree walk, %u objects)\n", best_us, objects);
     printf("BENCH vocc_tightness %.3f ratio (mean PVS %.1f, mean sampled %.1f)\n", sampled > 0 ? in_pvs / sampled : 0.0, in_pvs / n, sampled / n);
     printf("BENCH vocc_ms_per_cell %.2f ms\n", run.ms_per_cell);
     fflush(stdout);
