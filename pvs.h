@@ -135,7 +135,9 @@
    decode); pvs_file_find_cell with 10,000 cells about 90 ns along a camera path, 130 ns at random
    points; per-frame culling of 50,000 occluder triangles at 1920x1080 with 10,000 box tests about
    11-20 ms (SSE2); bake methods per cell on the demo city: extproj about 45 ms, otree about
-   160 ms, shrink about 260 ms (default eps).
+   160 ms, shrink about 260 ms (default eps), vocc about 60-90 ms (10 virtual occluders per cell, 52
+   bytes, 88% of the objects culled: 98% of what shrink culls; rebuilding a cell's PVS from them
+   80 us testing every box, 110-170 us walking a kD-tree of 16-item leaves).
 
    ALGORITHMS (each cited again where it is implemented)
    ==========
@@ -6406,6 +6408,25 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
                 uint32_t x1 = (uint32_t)((b[2] - p->g0[0]) / cs), y1 = (uint32_t)((b[3] - p->g0[1]) / cs), x, y;
                 if (x1 >= p->gw) x1 = p->gw - 1;
                 if (y1 >= p->gh) y1 = p->gh - 1;
+                if (p->obj_ref[i] >= p->nloop && (uint64_t)(x1 - x0 + 1) * (y1 - y0 + 1) > 16) {
+                    /* a long wall: the buckets along it (samples a quarter bucket apart), not its box; a
+                       bucket missed only hides the wall from the growth's search (never from a check) */
+                    const double *sg = p->seg + 4 * (size_t)(p->obj_ref[i] - p->nloop);
+                    double len = sqrt((sg[2] - sg[0]) * (sg[2] - sg[0]) + (sg[3] - sg[1]) * (sg[3] - sg[1]));
+                    uint32_t steps = (uint32_t)(4.0 * len / cs) + 1, t, last = 0xffffffffu;
+                    for (t = 0; t <= steps; ++t) {
+                        double u = (double)t / steps;
+                        uint32_t bx = (uint32_t)((sg[0] + u * (sg[2] - sg[0]) - p->g0[0]) / cs), by = (uint32_t)((sg[1] + u * (sg[3] - sg[1]) - p->g0[1]) / cs), at;
+                        if (bx >= p->gw) bx = p->gw - 1;
+                        if (by >= p->gh) by = p->gh - 1;
+                        at = by * p->gw + bx;
+                        if (at == last) continue;
+                        last = at;
+                        if (j) p->gitem[--p->gstart[(size_t)at + 1]] = i;
+                        else ++total, ++p->gstart[(size_t)at + 1];
+                    }
+                    continue;
+                }
                 for (y = y0; y <= y1; ++y)
                     for (x = x0; x <= x1; ++x) {
                         if (j) p->gitem[--p->gstart[(size_t)y * p->gw + x + 1]] = i;
