@@ -16,6 +16,8 @@ void test_raster(void);
 void test_otree(void);
 void test_extproj(void);
 void test_shrink(void);
+void test_auto(void);
+void test_examples(void);
 void test_vocc(void);
 
 static const struct {
@@ -27,6 +29,8 @@ static const struct {
     {"otree", test_otree},
     {"extproj", test_extproj},
     {"shrink", test_shrink},
+    {"auto", test_auto},
+    {"examples", test_examples},
     {"vocc", test_vocc},
 };
 

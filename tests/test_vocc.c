@@ -489,6 +489,18 @@ static void test_bake(void) {
         bd.vocc_max_occluders = 256;
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
         CHECK(b == NULL);
+        bd.vocc_max_occluders = 0;
+        bd.method = PVS_METHOD_OTREE;
+        bd.vocc_only = 1; /* needs the vocc method */
+        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+        bd.method = PVS_METHOD_VOCC;
+        bd.vocc_only = 0;
+        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
+        if (b) { /* a vocc bake cannot resume from a PVS: its occluders must be baked */
+            pvs_file_decode(&f, 0, dec, words, NULL);
+            CHECK(pvs_bake_restore_task(b, 0, dec, words, &e) == PVS_ERROR_UNSUPPORTED);
+            pvs_bake_destroy(b);
+        }
     }
     CHECK(strcmp(pvs_method_name(PVS_METHOD_VOCC), "vocc") == 0);
     free(scratch);
