@@ -86,15 +86,17 @@
    below, the yardstick the tests measure the conservative methods against, and files baked with it
    carry PVS_FILE_APPROXIMATE.
 
-   Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
-   vertical walls stand on the ground (2.5D), EXTPROJ when there are planar occluders or convex solids
-   (3D), SHRINK when closed geometry leaves occluder volume after erosion by eps; it runs them cheapest
+   Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE and
+   VOCC when vertical walls stand on the ground (2.5D), EXTPROJ when there are planar occluders or
+   convex solids (3D), SHRINK when closed geometry leaves occluder volume after erosion by eps; it runs them cheapest
    first and intersects their PVSs (an intersection of conservative sets is conservative, and at least
    as tight as each). pvs_bake_get_method_info says which ran, which were skipped and why, and what
    each contributed; pvs_bake_desc.methods restricts the candidates. SAMPLE is never among them.
    PVS_BAKE_PREVIEW keeps only the cheapest with coarse settings. max_distance (a draw distance) drops
    objects whose box is farther than it from every point of the cell (box to box, rounded toward
-   keeping). pvs_bake_restore_task resumes an interrupted bake from the PVSs it had finished.
+   keeping). pvs_bake_restore_task resumes an interrupted bake from the PVSs it had finished (not a
+   VOCC bake: its virtual occluders are baked again). Only a VOCC bake stores virtual occluders; AUTO
+   uses vocc's PVS in the intersection and stores none.
 
    Memory. Every desc struct has a `pvs_allocator`; left at zero, PVS_MALLOC/PVS_FREE are used. An object
    remembers its allocator. Size arithmetic is overflow-checked. The runtime (pvs_file_*) and the

@@ -27,14 +27,19 @@ static double rnd(void) {
 static long double orient2(const long double *a, const long double *b, const long double *c) {
     return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
 }
-/* 1 if segment p-q meets one of the segments (closed), in long double. */
+/* 1 if segment p-q properly crosses one of the segments, decided in long double with the sign of
+   each orientation trusted only beyond its rounding bound (a touch or a near-touch counts as not
+   blocked: the reference rounds against the construction). Random sample points never pass
+   exactly through a wall's end, where touching chains would also block. */
 static int blocked2d(const long double *p, const long double *q, const float *seg, uint32_t n) {
     uint32_t i;
     for (i = 0; i < n; ++i) {
-        long double a[2], b[2], o1, o2, o3, o4;
+        long double a[2], b[2], o1, o2, o3, o4, s1, s2;
         a[0] = seg[4 * i]; a[1] = seg[4 * i + 1]; b[0] = seg[4 * i + 2]; b[1] = seg[4 * i + 3];
         o1 = orient2(p, q, a); o2 = orient2(p, q, b); o3 = orient2(a, b, p); o4 = orient2(a, b, q);
-        if (o1 * o2 <= 0 && o3 * o4 <= 0) return 1;
+        s1 = 1e-15L * (fabsl(q[0] - p[0]) + fabsl(q[1] - p[1])) * (fabsl(b[0] - a[0]) + fabsl(b[1] - a[1]) + fabsl(a[0] - p[0]) + fabsl(a[1] - p[1]) + 1.0L);
+        s2 = s1;
+        if (((o1 > s1 && o2 < -s1) || (o1 < -s1 && o2 > s1)) && ((o3 > s2 && o4 < -s2) || (o3 < -s2 && o4 > s2))) return 1;
     }
     return 0;
 }
