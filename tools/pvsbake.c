@@ -235,6 +235,14 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
         fprintf(stderr, "\n");
     }
     fprintf(stderr, "  file %zu bytes (%.1f per cell)\n", size, (double)size / tasks);
+    {
+        pvs_vocc_stats vs;
+        pvs_bake_vocc_stats(bake, &vs);
+        if (vs.slices)
+            fprintf(stderr, "  vocc: %.2f virtual occluders per cell kept of %.1f found (%.1f slices, %.1f seeds per cell; %u dropped)%s\n",
+                    (double)vs.selected / tasks, (double)vs.dense / tasks, (double)vs.slices / tasks, (double)vs.seeds / tasks, vs.dropped,
+                    pvs_bake_method(bake) != PVS_METHOD_VOCC ? "; only its PVS is used (auto stores no occluders)" : "");
+    }
     free(slow);
 }
 
@@ -412,6 +420,9 @@ int main(int argc, char **argv) {
     if (cli_write_bake(bake, out_path, &size, &te)) goto fail;
     if (run.state_path) remove(run.state_path);
     if (!quiet) print_summary(out_path, scene, bake, &run, secs, t_bake, cli_seconds() - t0, size, shard_n > 1);
+    if (!quiet && vocc_only)
+        fprintf(stderr, "  vocc-only: the PVS above is the placeholder the records store (every object); the runtime rebuilds\n"
+                        "  each cell's PVS from its virtual occluders (pvs_vocc_cull; pvscheck checks that one)\n");
     rc = 0;
     goto done;
 fail:
