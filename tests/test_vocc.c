@@ -507,6 +507,42 @@ static void test_bake(void) {
             pvs_bake_destroy(b);
         }
     }
+    { /* AUTO intersects vocc's PVS when the mask names it, and stores no occluders */
+        pvs_bake_desc bd;
+        pvs_bake *b = NULL;
+        pvs_bake_method_info mi;
+        memset(&bd, 0, sizeof(bd));
+        bd.scene = s;
+        bd.cells = (const pvs_box *)cells.boxes;
+        bd.cell_count = n;
+        bd.method = PVS_METHOD_AUTO;
+        bd.methods = 1u << PVS_METHOD_VOCC;
+        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
+        if (b) {
+            void *out;
+            size_t sz;
+            pvs_file fa;
+            CHECK(pvs_bake_method_count(b) == 1 && pvs_bake_get_method_info(b, 0, &mi) == PVS_OK && mi.method == PVS_METHOD_VOCC && mi.ran);
+            for (c = 0; c < n; ++c) CHECK(pvs_bake_run_task(b, c, &e) == PVS_OK);
+            sz = pvs_bake_file_size(b);
+            out = malloc(sz);
+            CHECK(pvs_bake_write_file(b, out, sz, &sz, &e) == PVS_OK && pvs_file_open(out, sz, &fa, &e) == PVS_OK);
+            CHECK(fa.vocc_flags == 0);
+            for (c = 0; c < n; ++c) { /* the same PVS as the vocc bake's records */
+                pvs_file_decode(&f, c, dec, words, NULL);
+                CHECK(memcmp(pvs_bake_cell_pvs(b, c), dec, words * sizeof(pvs_word)) == 0);
+            }
+            free(out);
+            pvs_bake_destroy(b);
+        }
+        bd.methods = 0; /* left out of AUTO's default candidates */
+        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
+        if (b) {
+            uint32_t k;
+            for (k = 0; k < pvs_bake_method_count(b); ++k) CHECK(pvs_bake_get_method_info(b, k, &mi) == PVS_OK && mi.method != PVS_METHOD_VOCC);
+            pvs_bake_destroy(b);
+        }
+    }
     CHECK(strcmp(pvs_method_name(PVS_METHOD_VOCC), "vocc") == 0);
     free(scratch);
     pvs_kdtree_destroy(tree);
