@@ -64,8 +64,8 @@ case " $CONSERVATIVE_METHODS " in *" otree "*)
   done;;
 esac
 # vocc on the full-size city: three seeds, 500 cells each; the PVS checked is the one rebuilt from the
-# stored virtual occluders (pvs_vocc_cull); files identical for -j1 and -j2; a --vocc-only bake
-# stores the same occluders
+# stored virtual occluders (pvs_vocc_cull); files identical for -j1 and -j2 and for 3 merged shards; a
+# --vocc-only bake stores the same occluders
 case " $CONSERVATIVE_METHODS " in *" vocc "*)
   for seed in 1 2 3; do
     base="$T/city-full-$seed"
@@ -74,6 +74,9 @@ case " $CONSERVATIVE_METHODS " in *" vocc "*)
     if [ "$seed" = 1 ]; then
       "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method vocc -j 2 -o "$base.vocc-j2.pvs" &&
         cmp -s "$base.vocc.pvs" "$base.vocc-j2.pvs" || { echo "city full $seed vocc: -j1 and -j2 files differ"; fail=1; }
+      for k in 1 2 3; do "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method vocc --shard $k/3 -j "$J" -o "$base.vocc-p$k.pvs"; done
+      "$B/pvsbake" merge -o "$base.vocc-merged.pvs" "$base.vocc-p3.pvs" "$base.vocc-p1.pvs" "$base.vocc-p2.pvs" 2>/dev/null &&
+        cmp -s "$base.vocc.pvs" "$base.vocc-merged.pvs" || { echo "city full $seed vocc: 3 shards merged differ from the whole bake"; fail=1; }
       "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method vocc --vocc-only -j "$J" -o "$base.vocc-only.pvs" &&
         "$B/pvsinfo" --vocc "$base.vocc.pvs" > "$base.vocc.txt" && "$B/pvsinfo" --vocc "$base.vocc-only.pvs" > "$base.vocc-only.txt" &&
         cmp -s "$base.vocc.txt" "$base.vocc-only.txt" || { echo "city full $seed vocc: --vocc-only stores other occluders"; fail=1; }

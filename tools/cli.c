@@ -378,6 +378,7 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     pvs_box *boxes = NULL;
     pvs_word *table = NULL;
     uint8_t *vcount = NULL, *vscale = NULL, *vbytes = NULL;
+    size_t vat = 0;
     pvs_file_desc d;
     pvs_error pe;
     size_t need = 0;
@@ -427,10 +428,12 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     boxes = (pvs_box *)malloc((size_t)total * sizeof(pvs_box));
     table = (pvs_word *)malloc((size_t)total * words * sizeof(pvs_word));
     if (!boxes || !table) { tool_error_set(err, NULL, 0, "out of memory for %u cells", total); goto done; }
-    if (files[0].vocc_flags & PVS_VOCC_STORED) { /* the virtual occluders too, one record per cell */
+    if (files[0].vocc_flags & PVS_VOCC_STORED) { /* the virtual occluders too, back to back in cell order */
+        size_t occluders = 0;
+        for (i = 0; i < count; ++i) occluders += files[i].virtual_occluder_count;
         vcount = (uint8_t *)malloc(total);
         vscale = (uint8_t *)malloc(total);
-        vbytes = (uint8_t *)malloc((size_t)total * 255 * 5);
+        vbytes = (uint8_t *)malloc(5 * occluders + 1);
         if (!vcount || !vscale || !vbytes) { tool_error_set(err, NULL, 0, "out of memory for %u cells", total); goto done; }
     }
     for (c = 0; c < total; ++c) {
@@ -443,7 +446,8 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
             uint32_t sc = 0, k = pvs_file_vocc_record(f, local, &sc, &p);
             vcount[c] = (uint8_t)k;
             vscale[c] = (uint8_t)sc;
-            if (k) memcpy(vbytes + (size_t)c * 255 * 5, p, 5 * (size_t)k);
+            if (k) memcpy(vbytes + vat, p, 5 * (size_t)k);
+            vat += 5 * (size_t)k;
         }
     }
     memset(&d, 0, sizeof(d));
@@ -460,7 +464,6 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
         d.vocc_counts = vcount;
         d.vocc_scales = vscale;
         d.virtual_occluders = vbytes;
-        d.vocc_stride = 255 * 5;
         d.vocc_base = files[0].vocc_base;
         d.vocc_height_step = files[0].vocc_height_step;
         d.vocc_flags = files[0].vocc_flags & PVS_VOCC_ONLY;
