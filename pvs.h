@@ -149,9 +149,9 @@
    decode); pvs_file_find_cell with 10,000 cells about 90 ns along a camera path, 130 ns at random
    points; per-frame culling of 50,000 occluder triangles at 1920x1080 with 10,000 box tests about
    11-20 ms (SSE2); bake methods per cell on the demo city: extproj about 45 ms, otree about
-   160 ms, shrink about 260 ms (default eps), vocc about 60-90 ms (10 virtual occluders per cell, 52
-   bytes, 88% of the objects culled: 98% of what shrink culls; rebuilding a cell's PVS from them
-   80 us testing every box, 110-170 us walking a kD-tree of 16-item leaves).
+   160 ms, shrink about 260 ms (default eps), vocc about 60 ms of CPU (10 virtual occluders per cell,
+   52 bytes, 88% of the objects culled: 98% of what shrink culls; rebuilding a cell's PVS from them
+   about 70 us testing every box, 110 us walking a kD-tree of 16-item leaves).
 
    ALGORITHMS (each cited again where it is implemented)
    ==========
