@@ -2529,6 +2529,16 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 #define PVS__RASTER_MAX_LEVELS 16
 #define PVS__RASTER_BIG 1e30
 
+/* One tile of the occluder buffer: 32 x 4 pixels (Hasselgren, Andersson and Akenine-Moller 2016,
+   "Masked Software Occlusion Culling", §3: a coverage mask and two depths per tile instead of a depth
+   per pixel). Reversed Z: every pixel of the tile has occluders at least as near as z0; the pixels of
+   the working layer `mask` have them at least as near as z1 (z1 > z0 while mask != 0). */
+typedef struct pvs__tile {
+    uint32_t mask[4]; /* bit k of mask[r]: pixel (32 tx + k, 4 ty + r) */
+    float z0, z1;
+    float pad[2];
+} pvs__tile;
+
 typedef struct pvs__occsel {
     float score;
     uint32_t triangle;
@@ -2545,9 +2555,25 @@ struct pvs_raster {
     float *lmin[PVS__RASTER_MAX_LEVELS + 1], *lmax[PVS__RASTER_MAX_LEVELS + 1];
     float *pyramid;
     size_t pyramid_floats;
-    int pyramid_valid;
+    int pyramid_valid;                          /* 1: the per-pixel pyramid is current, 2: the tile pyramid */
+    /* the occluder buffer: tiles of 32 x 4 pixels (see pvs__tile) */
+    pvs__tile *tile;
+    uint32_t tw, th;                            /* tile grid */
+    uint32_t xpad;                              /* bits of the last tile column past the map's right side */
+    uint32_t ypad;                              /* rows of the last tile row inside the map (1..4) */
+    int mixed;                                  /* occludee triangles drawn since the clear: `depth` holds them */
+    float *bmin;                                /* per block of 8 x 8 tiles: at most the least base (z0) */
+    uint8_t *bdirty;                            /*   and 1 when a base grew since bmin was taken */
+    uint32_t bw, bh;                            /* block grid */
+    uint32_t tlevels;                           /* tile pyramid levels above the tile grid */
+    uint32_t tlw[PVS__RASTER_MAX_LEVELS * 2 + 1], tlh[PVS__RASTER_MAX_LEVELS * 2 + 1];
+    uint8_t tsx[PVS__RASTER_MAX_LEVELS * 2 + 1], tsy[PVS__RASTER_MAX_LEVELS * 2 + 1]; /* tiles per texel: 1 << tsx by 1 << tsy */
+    float *tlmin[PVS__RASTER_MAX_LEVELS * 2 + 1], *tlmax[PVS__RASTER_MAX_LEVELS * 2 + 1];
+    float *tpyramid;
+    size_t tpyramid_floats;
     double m[16];                               /* current projection */
     double mabs[2];                             /* max row sum of |m| over x, y, z; max |translation| */
+    float mf[16], hwf, hhf;                     /* the projection as given, half the map's size (prefilter) */
     /* culling */
     const pvs_scene *scene;
     uint32_t max_objects, max_triangles;
@@ -2943,6 +2969,424 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
     pvs__raster_run(&s, buf, W, H, tile_min, occluder, simd, pvs__f_up(zhi));
 }
 
+/* ---- the occluder buffer: Masked Occlusion Culling (Hasselgren, Andersson and Akenine-Moller 2016)
+   with inner coverage. Occluder-mode polygons go into tiles of 32 x 4 pixels (pvs__tile): per row of
+   a tile the polygon's inner pixels are one run of columns, found from each edge's intercept with the
+   row (§3.2: "edge events" turned into bit masks by shifts), and the tile keeps a working layer (mask,
+   z1) over a base depth z0 (§3.1), merged by §3.3's heuristic. A tile costs about as much as one pixel
+   did, and a polygon drawn behind z0 costs one compare per tile. ---- */
+
+#define PVS__TW_SHIFT 5
+#define PVS__TH_SHIFT 2
+#define PVS__TH 4
+#define PVS__BLOCK_SHIFT 3 /* blocks of 8 x 8 tiles (256 x 32 pixels) for the prefilter's hidden test */
+#define PVS__U_2_20 9.5367431640625e-07        /* 2^-20 */
+#define PVS__U_2_21 4.76837158203125e-07       /* 2^-21 */
+#define PVS__U_2_44 5.684341886080802e-14      /* 2^-44 */
+#define PVS__U_2_48 3.552713678800501e-15      /* 2^-48 */
+
+/* One occluder polygon prepared for the tile loops; columns i and rows j relative to (i0, j0).
+   Pixel i of row j is inside edge e when i >= X_e(j) (e < nl: a left edge) or i <= X_e(j) (a right
+   edge), X_e(j) = xi + s j: the exact line of the double edge function, pixel corner shift and
+   setup margin included. The loops compute X in float; m bounds that rounding. */
+typedef struct pvs__tpoly {
+    int32_t i0, i1, j0, j1;    /* inner pixel range (absolute) */
+    int32_t jlo, jhi;          /* rows (relative) left by the near-horizontal edges */
+    int nl, ne;                /* edges [0, nl) bound from the left, [nl, ne) from the right */
+    double xi[PVS__RASTER_MAXV], s[PVS__RASTER_MAXV], cl[PVS__RASTER_MAXV];
+    float sf[PVS__RASTER_MAXV], m[PVS__RASTER_MAXV];
+    float zk, za, zb, zm, zlo; /* depth plane at pixel corner (i0, j0), less its float margin zm, no
+                                  farther than the vertices' farthest zlo */
+} pvs__tpoly;
+
+/* Columns L[d] .. R[d] (absolute; L > R when empty) of rows jrow + d (d = 0..3, relative) inside
+   every edge, from xr[e] = X_e(jrow) in float. The reference loop; the SIMD ones do the same float
+   operations lane by lane. */
+PVS__STATIC void pvs__tile_rows_scalar(const pvs__tpoly *t, int32_t jrow, const float *xr, int32_t *L, int32_t *R) {
+    const float fw = (float)(t->i1 - t->i0), fw1 = fw + 1.0f;
+    int d, e;
+    for (d = 0; d < PVS__TH; ++d) {
+        float lf = 0.0f, rf = fw, fd = (float)d, v;
+        int32_t l, r, j = jrow + d;
+        for (e = 0; e < t->nl; ++e) {
+            v = xr[e] + t->sf[e] * fd;
+            v = v + t->m[e];
+            lf = v > lf ? v : lf;
+        }
+        for (; e < t->ne; ++e) {
+            v = xr[e] + t->sf[e] * fd;
+            v = v - t->m[e];
+            rf = v < rf ? v : rf;
+        }
+        lf = lf < fw1 ? lf : fw1;
+        rf = rf > -1.0f ? rf : -1.0f;
+        l = (int32_t)lf;
+        if ((float)l < lf) ++l; /* ceil */
+        r = (int32_t)rf;
+        if ((float)r > rf) --r; /* floor */
+        if (j < t->jlo || j > t->jhi) { l = 1; r = 0; }
+        L[d] = l + t->i0;
+        R[d] = r + t->i0;
+    }
+}
+
+/* Mask bits of one tile row: columns L .. R of the tile starting at column x0 (bit k = column x0 + k). */
+PVS__STATIC uint32_t pvs__tile_bits(int32_t L, int32_t R, int32_t x0) {
+    int32_t lo = L - x0, hi = R - x0 + 1;
+    uint32_t a, b;
+    lo = lo < 0 ? 0 : lo;
+    hi = hi < 0 ? 0 : hi;
+    a = lo >= 32 ? 0u : ~0u << lo;
+    b = hi >= 32 ? 0u : ~0u << hi;
+    return a & ~b;
+}
+
+#if defined(PVS__SSE2)
+PVS__STATIC void pvs__tile_rows_simd(const pvs__tpoly *t, int32_t jrow, const float *xr, int32_t *L, int32_t *R) {
+    const __m128 d = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), fw = _mm_set1_ps((float)(t->i1 - t->i0));
+    __m128 lf = _mm_setzero_ps(), rf = fw, v;
+    __m128i l, r, j, bad;
+    int e;
+    for (e = 0; e < t->nl; ++e) {
+        v = _mm_add_ps(_mm_set1_ps(xr[e]), _mm_mul_ps(_mm_set1_ps(t->sf[e]), d));
+        v = _mm_add_ps(v, _mm_set1_ps(t->m[e]));
+        lf = _mm_max_ps(v, lf);
+    }
+    for (; e < t->ne; ++e) {
+        v = _mm_add_ps(_mm_set1_ps(xr[e]), _mm_mul_ps(_mm_set1_ps(t->sf[e]), d));
+        v = _mm_sub_ps(v, _mm_set1_ps(t->m[e]));
+        rf = _mm_min_ps(v, rf);
+    }
+    lf = _mm_min_ps(lf, _mm_add_ps(fw, _mm_set1_ps(1.0f)));
+    rf = _mm_max_ps(rf, _mm_set1_ps(-1.0f));
+    l = _mm_cvttps_epi32(lf);
+    l = _mm_sub_epi32(l, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(l), lf)));
+    r = _mm_cvttps_epi32(rf);
+    r = _mm_add_epi32(r, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(r), rf)));
+    j = _mm_add_epi32(_mm_set1_epi32(jrow), _mm_set_epi32(3, 2, 1, 0));
+    bad = _mm_or_si128(_mm_cmplt_epi32(j, _mm_set1_epi32(t->jlo)), _mm_cmpgt_epi32(j, _mm_set1_epi32(t->jhi)));
+    l = _mm_or_si128(_mm_andnot_si128(bad, l), _mm_and_si128(bad, _mm_set1_epi32(1)));
+    r = _mm_andnot_si128(bad, r);
+    _mm_storeu_si128((__m128i *)L, _mm_add_epi32(l, _mm_set1_epi32(t->i0)));
+    _mm_storeu_si128((__m128i *)R, _mm_add_epi32(r, _mm_set1_epi32(t->i0)));
+}
+/* ~0 << n per lane for n >= 0 (0 for n >= 32): 2^n built in a float's exponent, converted (2^31
+   converts to 0x80000000, which is 1 << 31), negated. */
+PVS__STATIC __m128i pvs__sh_sse2(__m128i n) {
+    __m128i p = _mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(n, _mm_set1_epi32(127)), 23)));
+    return _mm_and_si128(_mm_sub_epi32(_mm_setzero_si128(), p), _mm_cmplt_epi32(n, _mm_set1_epi32(32)));
+}
+/* The four rows' bits of the tile at column x0; returns 0 when all are empty. */
+PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t x0, uint32_t *out) {
+    __m128i vx = _mm_set1_epi32(x0), lo, hi, m;
+    lo = _mm_sub_epi32(_mm_loadu_si128((const __m128i *)L), vx);
+    hi = _mm_sub_epi32(_mm_add_epi32(_mm_loadu_si128((const __m128i *)R), _mm_set1_epi32(1)), vx);
+    lo = _mm_andnot_si128(_mm_srai_epi32(lo, 31), lo);
+    hi = _mm_andnot_si128(_mm_srai_epi32(hi, 31), hi);
+    m = _mm_andnot_si128(pvs__sh_sse2(hi), pvs__sh_sse2(lo));
+    _mm_storeu_si128((__m128i *)out, m);
+    return _mm_movemask_epi8(_mm_cmpeq_epi32(m, _mm_setzero_si128())) != 0xffff;
+}
+#define PVS__HAVE_TILE_SIMD 1
+#elif defined(PVS__NEON)
+PVS__STATIC void pvs__tile_rows_simd(const pvs__tpoly *t, int32_t jrow, const float *xr, int32_t *L, int32_t *R) {
+    static const float df[4] = {0.0f, 1.0f, 2.0f, 3.0f};
+    static const int32_t di[4] = {0, 1, 2, 3};
+    const float32x4_t d = vld1q_f32(df), fw = vdupq_n_f32((float)(t->i1 - t->i0));
+    float32x4_t lf = vdupq_n_f32(0.0f), rf = fw, v;
+    int32x4_t l, r, j;
+    uint32x4_t bad;
+    int e;
+    for (e = 0; e < t->nl; ++e) {
+        v = vaddq_f32(vdupq_n_f32(xr[e]), vmulq_f32(vdupq_n_f32(t->sf[e]), d));
+        v = vaddq_f32(v, vdupq_n_f32(t->m[e]));
+        lf = vbslq_f32(vcgtq_f32(v, lf), v, lf);
+    }
+    for (; e < t->ne; ++e) {
+        v = vaddq_f32(vdupq_n_f32(xr[e]), vmulq_f32(vdupq_n_f32(t->sf[e]), d));
+        v = vsubq_f32(v, vdupq_n_f32(t->m[e]));
+        rf = vbslq_f32(vcltq_f32(v, rf), v, rf);
+    }
+    v = vaddq_f32(fw, vdupq_n_f32(1.0f));
+    lf = vbslq_f32(vcltq_f32(lf, v), lf, v);
+    v = vdupq_n_f32(-1.0f);
+    rf = vbslq_f32(vcgtq_f32(rf, v), rf, v);
+    l = vcvtq_s32_f32(lf);
+    l = vsubq_s32(l, vreinterpretq_s32_u32(vcltq_f32(vcvtq_f32_s32(l), lf)));
+    r = vcvtq_s32_f32(rf);
+    r = vaddq_s32(r, vreinterpretq_s32_u32(vcgtq_f32(vcvtq_f32_s32(r), rf)));
+    j = vaddq_s32(vdupq_n_s32(jrow), vld1q_s32(di));
+    bad = vorrq_u32(vcltq_s32(j, vdupq_n_s32(t->jlo)), vcgtq_s32(j, vdupq_n_s32(t->jhi)));
+    l = vbslq_s32(bad, vdupq_n_s32(1), l);
+    r = vbslq_s32(bad, vdupq_n_s32(0), r);
+    vst1q_s32(L, vaddq_s32(l, vdupq_n_s32(t->i0)));
+    vst1q_s32(R, vaddq_s32(r, vdupq_n_s32(t->i0)));
+}
+PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t x0, uint32_t *out) {
+    int32x4_t vx = vdupq_n_s32(x0), zero = vdupq_n_s32(0), top = vdupq_n_s32(32), lo, hi;
+    uint32x4_t ones = vdupq_n_u32(~0u), m;
+    lo = vsubq_s32(vld1q_s32(L), vx);
+    hi = vsubq_s32(vaddq_s32(vld1q_s32(R), vdupq_n_s32(1)), vx);
+    lo = vminq_s32(vmaxq_s32(lo, zero), top); /* a register shift by >= 32 gives 0 */
+    hi = vminq_s32(vmaxq_s32(hi, zero), top);
+    m = vbicq_u32(vshlq_u32(ones, lo), vshlq_u32(ones, hi));
+    vst1q_u32(out, m);
+    return (vgetq_lane_u32(m, 0) | vgetq_lane_u32(m, 1) | vgetq_lane_u32(m, 2) | vgetq_lane_u32(m, 3)) != 0;
+}
+#define PVS__HAVE_TILE_SIMD 1
+#endif
+
+/* Merges polygon coverage T (at least as near as zt, zt > z0) into a tile, §3.3: a polygon covering
+   the tile becomes its base; otherwise the working layer takes the union at the farther of the two
+   depths, unless the polygon is nearer than the working layer by more than the working layer is
+   nearer than the base, which drops the working layer; a full working layer becomes the base. Every
+   step keeps each pixel's value a lower bound of its nearest occluder. `pad`: bits outside the map. */
+PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, const uint32_t *pad) {
+    uint32_t full = ~0u, any = 0, m;
+    int k;
+    for (k = 0; k < PVS__TH; ++k) {
+        full &= T[k] | pad[k];
+        any |= tl->mask[k];
+    }
+    if (full == ~0u) {
+        if (!(any && tl->z1 > zt))
+            for (k = 0; k < PVS__TH; ++k) tl->mask[k] = 0;
+        tl->z0 = zt;
+        return;
+    }
+    if (!any || zt - tl->z1 > tl->z1 - tl->z0) {
+        for (k = 0; k < PVS__TH; ++k) tl->mask[k] = T[k];
+        tl->z1 = zt;
+        return;
+    }
+    full = ~0u;
+    for (k = 0; k < PVS__TH; ++k) {
+        m = tl->mask[k] | T[k];
+        tl->mask[k] = m;
+        full &= m | pad[k];
+    }
+    if (zt < tl->z1) tl->z1 = zt;
+    if (full == ~0u) {
+        for (k = 0; k < PVS__TH; ++k) tl->mask[k] = 0;
+        tl->z0 = tl->z1;
+    }
+}
+
+/* Walks the tile rows of a prepared polygon: per row the runs of the four pixel rows, then per tile
+   the polygon's farthest depth over the run's rectangle (the plane at its corners, less the margin,
+   clamped by the vertices); tiles whose base is already at least that near are skipped before any
+   coverage is computed. */
+PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
+    int32_t ty, ty0 = (t->j0 + t->jlo) >> PVS__TH_SHIFT, ty1 = (t->j0 + t->jhi) >> PVS__TH_SHIFT;
+    float xr[PVS__RASTER_MAXV];
+    (void)simd;
+    for (ty = ty0; ty <= ty1; ++ty) {
+        int32_t jr = ty << PVS__TH_SHIFT, jrow = jr - t->j0, L[PVS__TH], R[PVS__TH], lmin = INT32_MAX, rmax = -1, tx;
+        int d, e, da = -1, db = -1;
+        uint32_t pad[PVS__TH], cov[PVS__TH];
+        float ya, yb, zy, p, zt, z0;
+        pvs__tile *row = r->tile + (size_t)ty * r->tw;
+        for (e = 0; e < t->ne; ++e) {
+            double X = t->xi[e] + t->s[e] * (double)jrow;
+            X = X < -t->cl[e] ? -t->cl[e] : X > t->cl[e] ? t->cl[e] : X;
+            xr[e] = (float)X;
+        }
+#if defined(PVS__HAVE_TILE_SIMD)
+        if (simd) pvs__tile_rows_simd(t, jrow, xr, L, R);
+        else
+#endif
+            pvs__tile_rows_scalar(t, jrow, xr, L, R);
+        for (d = 0; d < PVS__TH; ++d) {
+            if (L[d] > R[d]) continue;
+            lmin = L[d] < lmin ? L[d] : lmin;
+            rmax = R[d] > rmax ? R[d] : rmax;
+            if (da < 0) da = d;
+            db = d;
+        }
+        if (da < 0) continue;
+        ya = (float)(jr + da - t->j0);
+        yb = (float)(jr + db + 1 - t->j0);
+        ya = t->zb * ya;
+        yb = t->zb * yb;
+        zy = ya < yb ? ya : yb;
+        for (d = 0; d < PVS__TH; ++d) pad[d] = (uint32_t)ty == r->th - 1 && (uint32_t)d >= r->ypad ? ~0u : 0u;
+        for (tx = lmin >> PVS__TW_SHIFT; tx <= rmax >> PVS__TW_SHIFT; ++tx) {
+            pvs__tile *tl = row + tx;
+            int32_t x0 = tx << PVS__TW_SHIFT, xa = x0 > lmin ? x0 : lmin, xb = (x0 + 31 < rmax ? x0 + 31 : rmax) + 1;
+            float fa = t->za * (float)(xa - t->i0), fb = t->za * (float)(xb - t->i0);
+            p = t->zk + (fa < fb ? fa : fb);
+            p = p + zy;
+            p = p - t->zm;
+            zt = p > t->zlo ? p : t->zlo;
+            if (!(zt > tl->z0)) continue; /* nothing nearer than the tile's base */
+#if defined(PVS__HAVE_TILE_SIMD)
+            if (simd) {
+                if (!pvs__tile_mask_simd(L, R, x0, cov)) continue;
+            } else
+#endif
+            {
+                uint32_t any = 0;
+                for (d = 0; d < PVS__TH; ++d) any |= cov[d] = pvs__tile_bits(L[d], R[d], x0);
+                if (!any) continue;
+            }
+            z0 = tl->z0;
+            if ((uint32_t)tx == r->tw - 1) {
+                uint32_t q[PVS__TH];
+                for (d = 0; d < PVS__TH; ++d) q[d] = pad[d] | r->xpad;
+                pvs__tile_merge(tl, cov, zt, q);
+            } else {
+                pvs__tile_merge(tl, cov, zt, pad);
+            }
+            if (tl->z0 != z0) r->bdirty[(size_t)(ty >> PVS__BLOCK_SHIFT) * r->bw + (uint32_t)(tx >> PVS__BLOCK_SHIFT)] = 1;
+        }
+    }
+}
+
+/* Prepares an occluder polygon given in pixel coordinates (x, y), depth z, with the vertices' own
+   error perr (pixels) and zerr (depth), and draws it into the tiles. The edge and plane setup and its
+   margins are pvs__raster_poly's; see the comment at the top. */
+PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y, const double *z, int n, double perr, double zerr) {
+    pvs__tpoly t;
+    double xmin = x[0], xmax = x[0], ymin = y[0], ymax = y[0], zmin = z[0], zmax = z[0], area2 = 0.0, mag = 0.0, zmag = 0.0;
+    double span, dx, ox, oy, iw, jh, zlo, rxi[PVS__RASTER_MAXV], rs[PVS__RASTER_MAXV], rcl[PVS__RASTER_MAXV];
+    float rsf[PVS__RASTER_MAXV], rm[PVS__RASTER_MAXV];
+    int i, best = -1, nr = 0;
+    if (n < 3) return;
+    for (i = 0; i < n; ++i) {
+        int j = i + 1 == n ? 0 : i + 1;
+        if (!(x[i] == x[i] && y[i] == y[i] && z[i] == z[i])) return; /* NaN */
+        xmin = pvs__dmin(xmin, x[i]); xmax = pvs__dmax(xmax, x[i]);
+        ymin = pvs__dmin(ymin, y[i]); ymax = pvs__dmax(ymax, y[i]);
+        zmin = pvs__dmin(zmin, z[i]); zmax = pvs__dmax(zmax, z[i]);
+        area2 += x[i] * y[j] - x[j] * y[i];
+        mag = pvs__dmax(mag, pvs__dabs(x[i]) + pvs__dabs(y[i]));
+        zmag = pvs__dmax(zmag, pvs__dabs(z[i]));
+    }
+    dx = PVS__RASTER_ERR_D * (mag + 1.0) + perr;
+    zlo = zmin - PVS__RASTER_ERR_D * zmag - zerr;
+    t.i0 = pvs__clampi(ceil(xmin + dx), 0, (int32_t)r->width);
+    t.i1 = pvs__clampi(floor(xmax - dx) - 1.0, -1, (int32_t)r->width - 1);
+    t.j0 = pvs__clampi(ceil(ymin + dx), 0, (int32_t)r->height);
+    t.j1 = pvs__clampi(floor(ymax - dx) - 1.0, -1, (int32_t)r->height - 1);
+    if (t.i0 > t.i1 || t.j0 > t.j1) return;
+    if (!(mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) return;
+    span = (xmax - xmin) + (ymax - ymin);
+    if (!(pvs__dabs(area2) > 1e-9 * span * span) || !(pvs__dabs(area2) > 1e-300)) return; /* degenerate: covers nothing */
+    ox = (double)t.i0;
+    oy = (double)t.j0;
+    iw = (double)(t.i1 - t.i0);
+    jh = (double)(t.j1 - t.j0);
+    t.jlo = 0;
+    t.jhi = t.j1 - t.j0;
+    t.nl = 0;
+    for (i = 0; i < n; ++i) {
+        int j = i + 1 == n ? 0 : i + 1;
+        double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
+        if (area2 < 0) { a = -a; b = -b; }
+        len = pvs__dabs(a) + pvs__dabs(b);
+        if (len == 0.0) continue;
+        a /= len;
+        b /= len;
+        /* inner coverage: the edge function at the pixel's worst corner, less the setup error */
+        k = a * (ox - x[i]) + b * (oy - y[i]) + pvs__dmin(0.0, a) + pvs__dmin(0.0, b);
+        err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) * (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len);
+        lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
+        hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
+        if (lo - err >= 0.0) continue; /* every pixel passes this edge */
+        if (hi - err < 0.0) return;    /* no pixel does */
+        k -= err;
+        if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return;
+        if (pvs__dabs(a) > pvs__dabs(b) * PVS__U_2_20) {
+            /* pixel i of row j passes when a i + b j + k >= 0: i >= X(j) for a > 0, i <= X(j) for a < 0.
+               The loops clamp X(jrow) to +-cl (beyond it every row of the tile row falls on the same
+               side of the range) and evaluate X in float: at most 3 cl + 13 |s| units of 2^-24 and
+               the double part 2^-51 (|xi| + |s| |jrow|), below m. */
+            double xi = -k / a, sl = -b / a, sa = pvs__dabs(sl), cl = iw + 3.0 + 3.0 * sa;
+            float m = pvs__f_up(PVS__U_2_21 * cl + PVS__U_2_48 * (pvs__dabs(xi) + sa * (jh + 4.0)));
+            if (a > 0.0) {
+                t.xi[t.nl] = xi; t.s[t.nl] = sl; t.cl[t.nl] = cl; t.sf[t.nl] = (float)sl; t.m[t.nl] = m;
+                ++t.nl;
+            } else {
+                rxi[nr] = xi; rs[nr] = sl; rcl[nr] = cl; rsf[nr] = (float)sl; rm[nr] = m;
+                ++nr;
+            }
+        } else {
+            /* near-horizontal: the rows where the edge passes for every column of the range */
+            double wk = k + pvs__dmin(0.0, a * iw), tq = -wk / b, pad = PVS__U_2_44 * (pvs__dabs(k) + pvs__dabs(a) * iw + 1.0);
+            if (b > 0.0) {
+                int32_t jl = pvs__clampi(ceil(tq + pad), 0, t.jhi + 1);
+                if (jl > t.jlo) t.jlo = jl;
+            } else {
+                int32_t jm = pvs__clampi(floor(tq - pad), -1, t.jhi);
+                if (jm < t.jhi) t.jhi = jm;
+            }
+        }
+    }
+    if (t.jlo > t.jhi) return;
+    t.ne = t.nl + nr;
+    for (i = 0; i < nr; ++i) {
+        t.xi[t.nl + i] = rxi[i]; t.s[t.nl + i] = rs[i]; t.cl[t.nl + i] = rcl[i]; t.sf[t.nl + i] = rsf[i]; t.m[t.nl + i] = rm[i];
+    }
+    /* depth plane from the largest fan triangle, at pixel corner (i0, j0), lowered by its setup error */
+    {
+        double amax = 0.0;
+        for (i = 1; i + 1 < n; ++i) {
+            double a2 = pvs__dabs((x[i] - x[0]) * (y[i + 1] - y[0]) - (x[i + 1] - x[0]) * (y[i] - y[0]));
+            if (a2 > amax) { amax = a2; best = i; }
+        }
+    }
+    t.zlo = pvs__f_down(zlo);
+    t.za = t.zb = t.zm = 0.0f;
+    t.zk = -FLT_MAX;
+    if (best > 0) {
+        double x1 = x[best] - x[0], y1 = y[best] - y[0], z1 = z[best] - z[0];
+        double x2 = x[best + 1] - x[0], y2 = y[best + 1] - y[0], z2 = z[best + 1] - z[0];
+        double det = x1 * y2 - x2 * y1;
+        double za = (z1 * y2 - z2 * y1) / det, zb = (x1 * z2 - x2 * z1) / det;
+        double zk = z[0] + za * (ox - x[0]) + zb * (oy - y[0]), err, size;
+        err = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
+              PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
+                  (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det));
+        zk -= err;
+        /* the loops' float evaluation zk + za x + zb y - zm over x <= iw + 1, y <= jh + 1: coefficient
+           rounding and four operations, at most 6 units of 2^-24 of `size` */
+        size = pvs__dabs(zk) + pvs__dabs(za) * (iw + 1.0) + pvs__dabs(zb) * (jh + 1.0);
+        if (size < 1e30 && err < 1e30) {
+            t.za = (float)za;
+            t.zb = (float)zb;
+            t.zk = (float)zk;
+            t.zm = pvs__f_up(PVS__U_2_20 * size);
+        }
+    }
+    pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR));
+}
+
+/* The per-pixel depth map from the tiles: overwritten, or where occludee triangles were drawn into it
+   (r->mixed) the nearer of the two. */
+PVS__STATIC void pvs__tile_resolve(pvs_raster *r) {
+    uint32_t ty, tx, d, k;
+    for (ty = 0; ty < r->th; ++ty)
+        for (d = 0; d < PVS__TH && (ty << PVS__TH_SHIFT) + d < r->height; ++d) {
+            float *row = r->depth + (size_t)((ty << PVS__TH_SHIFT) + d) * r->width;
+            for (tx = 0; tx < r->tw; ++tx) {
+                const pvs__tile *tl = r->tile + (size_t)ty * r->tw + tx;
+                for (k = 0; k < 32 && (tx << PVS__TW_SHIFT) + k < r->width; ++k) {
+                    float v = (tl->mask[d] >> k) & 1u ? tl->z1 : tl->z0, *px = row + (tx << PVS__TW_SHIFT) + k;
+                    if (!r->mixed || v > *px) *px = v;
+                }
+            }
+        }
+}
+
+/* Occludee triangles go to the per-pixel map, cleared on the first one after pvs_raster_clear. */
+PVS__STATIC void pvs__raster_occludee_begin(pvs_raster *r) {
+    size_t i, n = (size_t)r->width * r->height;
+    if (r->mixed) return;
+    for (i = 0; i < n; ++i) r->depth[i] = PVS_DEPTH_EMPTY;
+    for (i = 0; i < r->tiles; ++i) r->tile_min[i] = PVS_DEPTH_EMPTY;
+    r->mixed = 1;
+}
+
 /* Clip-space vertex (double). */
 typedef struct pvs__cv {
     double c[4];
@@ -3007,7 +3451,12 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
         perr = pvs__dmax(perr, 2.0 * e * (1.0 + pvs__dabs(t[i].c[0] * iw) + pvs__dabs(t[i].c[1] * iw)) * pvs__dmax(hw, hh));
         zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z[i])));
     }
-    pvs__raster_poly(r->depth, r->width, r->height, r->tile_min, x, y, z, n, occluder, !(r->flags & PVS_RASTER_SCALAR), perr, zerr);
+    if (occluder) {
+        pvs__tile_poly(r, x, y, z, n, perr, zerr);
+    } else {
+        pvs__raster_occludee_begin(r);
+        pvs__raster_poly(r->depth, r->width, r->height, r->tile_min, x, y, z, n, 0, !(r->flags & PVS_RASTER_SCALAR), perr, zerr);
+    }
 }
 
 PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1, const float *p2, int occluder) {
@@ -3023,6 +3472,305 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
     if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
     pvs__raster_clipped(r, v, 3, occluder);
     r->pyramid_valid = 0;
+}
+
+/* ---- occluder prefilter: four triangles at a time in float, as Masked Occlusion Culling sets up
+   triangles in SIMD lanes (§4). It only drops triangles: ones behind the near plane, outside a side
+   of the screen, without a whole pixel in their bounding box, or no nearer than the base of every
+   tile under that box. Dropping an occluder is always conservative, so these tests need no error
+   margins; rounding at their borders drops at most a sliver the exact path might have drawn. The
+   rest go to the exact path (pvs__raster_tri). The scalar and SIMD loops do the same float
+   operations and decide the same. ---- */
+
+#define PVS__PF_TILES 16 /* the hidden test looks at tiles one by one in boxes up to this size */
+
+/* Per lane: 0 = drop, 1 = draw, 2 = draw unless empty or hidden (box[4 * lane ..] = i0, i1, j0, j1
+   and zmax[lane] then hold the float bounding box's whole pixels and its nearest vertex depth). */
+PVS__STATIC void pvs__pf_scalar(const pvs_raster *r, float p[3][3][4], int *state, int32_t *box, float *zmax) {
+    const float *m = r->mf, hw = r->hwf, hh = r->hhf, fw = (float)r->width, fh = (float)r->height;
+    int l, k;
+    for (l = 0; l < 4; ++l) {
+        float cx[3], cy[3], cz[3], cw[3], x[3], y[3], z[3], xmin, xmax, ymin, ymax, zm, v;
+        int behind = 0, nonpos = 0, xhi = 0, xlo = 0, yhi = 0, ylo = 0, fin = 1, cross;
+        for (k = 0; k < 3; ++k) {
+            float X = p[k][0][l], Y = p[k][1][l], Z = p[k][2][l];
+            cx[k] = m[0] * X + m[1] * Y + m[2] * Z + m[3];
+            cy[k] = m[4] * X + m[5] * Y + m[6] * Z + m[7];
+            cz[k] = m[8] * X + m[9] * Y + m[10] * Z + m[11];
+            cw[k] = m[12] * X + m[13] * Y + m[14] * Z + m[15];
+            behind += cz[k] > cw[k];
+            nonpos += cw[k] <= 0.0f;
+            xhi += cx[k] > cw[k];
+            xlo += cx[k] < 0.0f - cw[k];
+            yhi += cy[k] > cw[k];
+            ylo += cy[k] < 0.0f - cw[k];
+        }
+        if (behind == 3 || nonpos == 3 || xhi == 3 || xlo == 3 || yhi == 3 || ylo == 3) { state[l] = 0; continue; }
+        cross = behind || nonpos;
+        for (k = 0; k < 3; ++k) {
+            float rw = 1.0f / cw[k];
+            x[k] = cx[k] * rw * hw + hw;
+            y[k] = cy[k] * rw * hh + hh;
+            z[k] = cz[k] * rw;
+            fin &= (x[k] < 0.0f ? 0.0f - x[k] : x[k]) < 1e30f;
+            fin &= (y[k] < 0.0f ? 0.0f - y[k] : y[k]) < 1e30f;
+            fin &= (z[k] < 0.0f ? 0.0f - z[k] : z[k]) < 1e30f;
+        }
+        if (cross || !fin) { state[l] = 1; continue; }
+        xmin = x[1] < x[2] ? x[1] : x[2]; xmin = x[0] < xmin ? x[0] : xmin;
+        xmax = x[1] > x[2] ? x[1] : x[2]; xmax = x[0] > xmax ? x[0] : xmax;
+        ymin = y[1] < y[2] ? y[1] : y[2]; ymin = y[0] < ymin ? y[0] : ymin;
+        ymax = y[1] > y[2] ? y[1] : y[2]; ymax = y[0] > ymax ? y[0] : ymax;
+        zm = z[1] > z[2] ? z[1] : z[2]; zm = z[0] > zm ? z[0] : zm;
+        xmin = xmin > 0.0f ? xmin : 0.0f; xmax = xmax < fw ? xmax : fw;
+        ymin = ymin > 0.0f ? ymin : 0.0f; ymax = ymax < fh ? ymax : fh;
+        /* ceil of the mins, floor of the maxes less one */
+        v = (float)(int32_t)xmin; box[4 * l] = (int32_t)xmin + (v < xmin);
+        v = (float)(int32_t)xmax; box[4 * l + 1] = (int32_t)xmax - (v > xmax) - 1;
+        v = (float)(int32_t)ymin; box[4 * l + 2] = (int32_t)ymin + (v < ymin);
+        v = (float)(int32_t)ymax; box[4 * l + 3] = (int32_t)ymax - (v > ymax) - 1;
+        zmax[l] = zm;
+        state[l] = 2;
+    }
+}
+
+#if defined(PVS__SSE2)
+PVS__STATIC void pvs__pf_simd(const pvs_raster *r, float p[3][3][4], int *state, int32_t *box, float *zmax) {
+    const float *mf = r->mf;
+    const __m128 zero = _mm_setzero_ps(), hw = _mm_set1_ps(r->hwf), hh = _mm_set1_ps(r->hhf), big = _mm_set1_ps(1e30f);
+    const __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    __m128 behind = _mm_castsi128_ps(_mm_set1_epi32(-1)), nonpos = behind, xhi = behind, xlo = behind, yhi = behind, ylo = behind;
+    __m128 anyb = zero, fin = behind, x[3], y[3], z[3], cz[3], cw[3], cx[3], cy[3], xmin, xmax, ymin, ymax, zm, drop, t;
+    __m128i i0, i1, j0, j1;
+    int32_t st[4], sd[4], bx[4][4];
+    int k, l;
+    for (k = 0; k < 3; ++k) {
+        __m128 X = _mm_loadu_ps(p[k][0]), Y = _mm_loadu_ps(p[k][1]), Z = _mm_loadu_ps(p[k][2]);
+#define PVS__ROW(o) _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(mf[o]), X), _mm_mul_ps(_mm_set1_ps(mf[o + 1]), Y)), \
+                                          _mm_mul_ps(_mm_set1_ps(mf[o + 2]), Z)), _mm_set1_ps(mf[o + 3]))
+        cx[k] = PVS__ROW(0);
+        cy[k] = PVS__ROW(4);
+        cz[k] = PVS__ROW(8);
+        cw[k] = PVS__ROW(12);
+#undef PVS__ROW
+        t = _mm_cmpgt_ps(cz[k], cw[k]);
+        behind = _mm_and_ps(behind, t);
+        anyb = _mm_or_ps(anyb, t);
+        t = _mm_cmple_ps(cw[k], zero);
+        nonpos = _mm_and_ps(nonpos, t);
+        anyb = _mm_or_ps(anyb, t);
+        xhi = _mm_and_ps(xhi, _mm_cmpgt_ps(cx[k], cw[k]));
+        xlo = _mm_and_ps(xlo, _mm_cmplt_ps(cx[k], _mm_sub_ps(zero, cw[k])));
+        yhi = _mm_and_ps(yhi, _mm_cmpgt_ps(cy[k], cw[k]));
+        ylo = _mm_and_ps(ylo, _mm_cmplt_ps(cy[k], _mm_sub_ps(zero, cw[k])));
+    }
+    drop = _mm_or_ps(_mm_or_ps(_mm_or_ps(behind, nonpos), _mm_or_ps(xhi, xlo)), _mm_or_ps(yhi, ylo));
+    for (k = 0; k < 3; ++k) {
+        __m128 rw = _mm_div_ps(_mm_set1_ps(1.0f), cw[k]);
+        x[k] = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(cx[k], rw), hw), hw);
+        y[k] = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(cy[k], rw), hh), hh);
+        z[k] = _mm_mul_ps(cz[k], rw);
+        fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(x[k], absm), big));
+        fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(y[k], absm), big));
+        fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(z[k], absm), big));
+    }
+    xmin = _mm_min_ps(x[0], _mm_min_ps(x[1], x[2]));
+    xmax = _mm_max_ps(x[0], _mm_max_ps(x[1], x[2]));
+    ymin = _mm_min_ps(y[0], _mm_min_ps(y[1], y[2]));
+    ymax = _mm_max_ps(y[0], _mm_max_ps(y[1], y[2]));
+    zm = _mm_max_ps(z[0], _mm_max_ps(z[1], z[2]));
+    xmin = _mm_max_ps(xmin, zero); xmax = _mm_min_ps(xmax, _mm_set1_ps((float)r->width));
+    ymin = _mm_max_ps(ymin, zero); ymax = _mm_min_ps(ymax, _mm_set1_ps((float)r->height));
+    /* lanes that are not tested may hold anything: keep the conversions in range */
+    t = _mm_and_ps(fin, _mm_andnot_ps(anyb, _mm_castsi128_ps(_mm_set1_epi32(-1))));
+    xmin = _mm_and_ps(xmin, t); xmax = _mm_and_ps(xmax, t); ymin = _mm_and_ps(ymin, t); ymax = _mm_and_ps(ymax, t);
+    i0 = _mm_cvttps_epi32(xmin);
+    i0 = _mm_sub_epi32(i0, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(i0), xmin)));
+    i1 = _mm_cvttps_epi32(xmax);
+    i1 = _mm_sub_epi32(_mm_add_epi32(i1, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(i1), xmax))), _mm_set1_epi32(1));
+    j0 = _mm_cvttps_epi32(ymin);
+    j0 = _mm_sub_epi32(j0, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(j0), ymin)));
+    j1 = _mm_cvttps_epi32(ymax);
+    j1 = _mm_sub_epi32(_mm_add_epi32(j1, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(j1), ymax))), _mm_set1_epi32(1));
+    _mm_storeu_si128((__m128i *)bx[0], i0);
+    _mm_storeu_si128((__m128i *)bx[1], i1);
+    _mm_storeu_si128((__m128i *)bx[2], j0);
+    _mm_storeu_si128((__m128i *)bx[3], j1);
+    _mm_storeu_ps(zmax, zm);
+    _mm_storeu_si128((__m128i *)sd, _mm_castps_si128(drop));
+    _mm_storeu_si128((__m128i *)st, _mm_castps_si128(t));
+    for (l = 0; l < 4; ++l) {
+        state[l] = sd[l] ? 0 : st[l] ? 2 : 1;
+        for (k = 0; k < 4; ++k) box[4 * l + k] = bx[k][l];
+    }
+}
+#define PVS__HAVE_PF_SIMD 1
+#elif defined(PVS__NEON) && defined(__aarch64__) /* vdivq_f32 */
+PVS__STATIC void pvs__pf_simd(const pvs_raster *r, float p[3][3][4], int *state, int32_t *box, float *zmax) {
+    const float *mf = r->mf;
+    const float32x4_t zero = vdupq_n_f32(0.0f), hw = vdupq_n_f32(r->hwf), hh = vdupq_n_f32(r->hhf), big = vdupq_n_f32(1e30f);
+    uint32x4_t behind = vdupq_n_u32(~0u), nonpos = behind, xhi = behind, xlo = behind, yhi = behind, ylo = behind;
+    uint32x4_t anyb = vdupq_n_u32(0), fin = behind, drop, t, c;
+    float32x4_t x[3], y[3], z[3], cz[3], cw[3], cx[3], cy[3], xmin, xmax, ymin, ymax, zm, fv;
+    int32x4_t i0, i1, j0, j1;
+    uint32_t st[4], sd[4];
+    int32_t bx[4][4];
+    int k, l;
+    for (k = 0; k < 3; ++k) {
+        float32x4_t X = vld1q_f32(p[k][0]), Y = vld1q_f32(p[k][1]), Z = vld1q_f32(p[k][2]);
+#define PVS__ROW(o) vaddq_f32(vaddq_f32(vaddq_f32(vmulq_f32(vdupq_n_f32(mf[o]), X), vmulq_f32(vdupq_n_f32(mf[o + 1]), Y)), \
+                                        vmulq_f32(vdupq_n_f32(mf[o + 2]), Z)), vdupq_n_f32(mf[o + 3]))
+        cx[k] = PVS__ROW(0);
+        cy[k] = PVS__ROW(4);
+        cz[k] = PVS__ROW(8);
+        cw[k] = PVS__ROW(12);
+#undef PVS__ROW
+        t = vcgtq_f32(cz[k], cw[k]);
+        behind = vandq_u32(behind, t);
+        anyb = vorrq_u32(anyb, t);
+        t = vcleq_f32(cw[k], zero);
+        nonpos = vandq_u32(nonpos, t);
+        anyb = vorrq_u32(anyb, t);
+        xhi = vandq_u32(xhi, vcgtq_f32(cx[k], cw[k]));
+        xlo = vandq_u32(xlo, vcltq_f32(cx[k], vsubq_f32(zero, cw[k])));
+        yhi = vandq_u32(yhi, vcgtq_f32(cy[k], cw[k]));
+        ylo = vandq_u32(ylo, vcltq_f32(cy[k], vsubq_f32(zero, cw[k])));
+    }
+    drop = vorrq_u32(vorrq_u32(vorrq_u32(behind, nonpos), vorrq_u32(xhi, xlo)), vorrq_u32(yhi, ylo));
+    for (k = 0; k < 3; ++k) {
+        float32x4_t rw = vdivq_f32(vdupq_n_f32(1.0f), cw[k]);
+        x[k] = vaddq_f32(vmulq_f32(vmulq_f32(cx[k], rw), hw), hw);
+        y[k] = vaddq_f32(vmulq_f32(vmulq_f32(cy[k], rw), hh), hh);
+        z[k] = vmulq_f32(cz[k], rw);
+        fin = vandq_u32(fin, vcltq_f32(vabsq_f32(x[k]), big));
+        fin = vandq_u32(fin, vcltq_f32(vabsq_f32(y[k]), big));
+        fin = vandq_u32(fin, vcltq_f32(vabsq_f32(z[k]), big));
+    }
+#define PVS__MIN(a, b) vbslq_f32(vcltq_f32(a, b), a, b)
+#define PVS__MAX(a, b) vbslq_f32(vcgtq_f32(a, b), a, b)
+    xmin = PVS__MIN(x[0], PVS__MIN(x[1], x[2]));
+    xmax = PVS__MAX(x[0], PVS__MAX(x[1], x[2]));
+    ymin = PVS__MIN(y[0], PVS__MIN(y[1], y[2]));
+    ymax = PVS__MAX(y[0], PVS__MAX(y[1], y[2]));
+    zm = PVS__MAX(z[0], PVS__MAX(z[1], z[2]));
+    xmin = PVS__MAX(xmin, zero); fv = vdupq_n_f32((float)r->width); xmax = PVS__MIN(xmax, fv);
+    ymin = PVS__MAX(ymin, zero); fv = vdupq_n_f32((float)r->height); ymax = PVS__MIN(ymax, fv);
+#undef PVS__MIN
+#undef PVS__MAX
+    t = vbicq_u32(fin, anyb);
+    xmin = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(xmin), t));
+    xmax = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(xmax), t));
+    ymin = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(ymin), t));
+    ymax = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(ymax), t));
+    i0 = vcvtq_s32_f32(xmin);
+    c = vcltq_f32(vcvtq_f32_s32(i0), xmin);
+    i0 = vsubq_s32(i0, vreinterpretq_s32_u32(c));
+    i1 = vcvtq_s32_f32(xmax);
+    c = vcgtq_f32(vcvtq_f32_s32(i1), xmax);
+    i1 = vsubq_s32(vaddq_s32(i1, vreinterpretq_s32_u32(c)), vdupq_n_s32(1));
+    j0 = vcvtq_s32_f32(ymin);
+    c = vcltq_f32(vcvtq_f32_s32(j0), ymin);
+    j0 = vsubq_s32(j0, vreinterpretq_s32_u32(c));
+    j1 = vcvtq_s32_f32(ymax);
+    c = vcgtq_f32(vcvtq_f32_s32(j1), ymax);
+    j1 = vsubq_s32(vaddq_s32(j1, vreinterpretq_s32_u32(c)), vdupq_n_s32(1));
+    vst1q_s32(bx[0], i0);
+    vst1q_s32(bx[1], i1);
+    vst1q_s32(bx[2], j0);
+    vst1q_s32(bx[3], j1);
+    vst1q_f32(zmax, zm);
+    vst1q_u32(sd, drop);
+    vst1q_u32(st, t);
+    for (l = 0; l < 4; ++l) {
+        state[l] = sd[l] ? 0 : st[l] ? 2 : 1;
+        for (k = 0; k < 4; ++k) box[4 * l + k] = bx[k][l];
+    }
+}
+#define PVS__HAVE_PF_SIMD 1
+#endif
+
+/* 1 when every tile of [tx0, tx1] x [ty0, ty1] has a base at least as near as zmax. */
+PVS__STATIC int pvs__pf_tiles(const pvs_raster *r, uint32_t tx0, uint32_t tx1, uint32_t ty0, uint32_t ty1, float zmax) {
+    uint32_t tx, ty;
+    for (ty = ty0; ty <= ty1; ++ty)
+        for (tx = tx0; tx <= tx1; ++tx)
+            if (!(r->tile[(size_t)ty * r->tw + tx].z0 >= zmax)) return 0;
+    return 1;
+}
+
+/* 1 when every tile under the pixel box [i0, i1] x [j0, j1] already has a base at least as near as
+   zmax (the triangle would change nothing). Large boxes look at the blocks first: bases only grow,
+   so a block's stale least base is still a lower bound; it is retaken when it fails the test. */
+PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *b, float zmax) {
+    uint32_t tx0 = (uint32_t)b[0] >> PVS__TW_SHIFT, tx1 = (uint32_t)b[1] >> PVS__TW_SHIFT;
+    uint32_t ty0 = (uint32_t)b[2] >> PVS__TH_SHIFT, ty1 = (uint32_t)b[3] >> PVS__TH_SHIFT, bx, by;
+    if ((tx1 - tx0 + 1) * (ty1 - ty0 + 1) <= PVS__PF_TILES) return pvs__pf_tiles(r, tx0, tx1, ty0, ty1, zmax);
+    for (by = ty0 >> PVS__BLOCK_SHIFT; by <= ty1 >> PVS__BLOCK_SHIFT; ++by)
+        for (bx = tx0 >> PVS__BLOCK_SHIFT; bx <= tx1 >> PVS__BLOCK_SHIFT; ++bx) {
+            size_t k = (size_t)by * r->bw + bx;
+            uint32_t x0 = bx << PVS__BLOCK_SHIFT, y0 = by << PVS__BLOCK_SHIFT, x1 = x0 + (1u << PVS__BLOCK_SHIFT) - 1, y1 = y0 + (1u << PVS__BLOCK_SHIFT) - 1;
+            if (x1 >= r->tw) x1 = r->tw - 1;
+            if (y1 >= r->th) y1 = r->th - 1;
+            if (!(r->bmin[k] >= zmax) && r->bdirty[k]) {
+                uint32_t tx, ty;
+                float lo = FLT_MAX;
+                for (ty = y0; ty <= y1; ++ty)
+                    for (tx = x0; tx <= x1; ++tx) {
+                        float z = r->tile[(size_t)ty * r->tw + tx].z0;
+                        lo = z < lo ? z : lo;
+                    }
+                r->bmin[k] = lo;
+                r->bdirty[k] = 0;
+            }
+            if (r->bmin[k] >= zmax) continue;
+            if (!pvs__pf_tiles(r, x0 > tx0 ? x0 : tx0, x1 < tx1 ? x1 : tx1, y0 > ty0 ? y0 : ty0, y1 < ty1 ? y1 : ty1, zmax)) return 0;
+        }
+    return 1;
+}
+
+/* Occluder-mode triangles: `count` triangles of vertices `positions` (indices 3 per triangle or NULL)
+   or, with `tris`, the scene triangles tris[0 .. count). Four at a time through the prefilter. */
+PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count, const uint32_t *indices,
+                                       const pvs__occsel *tris, uint32_t count) {
+    uint32_t t, l, k, c;
+    const float *v[4][3];
+    float p[3][3][4], zmax[4];
+    int state[4], n;
+    int32_t box[16];
+    for (t = 0; t < count; t += 4) {
+        n = 0;
+        for (l = 0; l < 4 && t + l < count; ++l) {
+            uint32_t a, b, cc;
+            if (tris) {
+                const uint32_t *q = indices + 3 * (size_t)tris[t + l].triangle;
+                a = q[0]; b = q[1]; cc = q[2];
+            } else if (indices) {
+                a = indices[3 * (size_t)(t + l)]; b = indices[3 * (size_t)(t + l) + 1]; cc = indices[3 * (size_t)(t + l) + 2];
+            } else {
+                a = 3 * (t + l); b = a + 1; cc = a + 2;
+            }
+            if (a >= vertex_count || b >= vertex_count || cc >= vertex_count) continue;
+            v[n][0] = positions + 3 * (size_t)a;
+            v[n][1] = positions + 3 * (size_t)b;
+            v[n][2] = positions + 3 * (size_t)cc;
+            ++n;
+        }
+        if (!n) continue;
+        for (l = 0; l < 4; ++l)
+            for (k = 0; k < 3; ++k)
+                for (c = 0; c < 3; ++c) p[k][c][l] = v[l < (uint32_t)n ? l : 0][k][c];
+#if defined(PVS__HAVE_PF_SIMD)
+        if (!(r->flags & PVS_RASTER_SCALAR)) pvs__pf_simd(r, p, state, box, zmax);
+        else
+#endif
+            pvs__pf_scalar(r, p, state, box, zmax);
+        for (l = 0; l < (uint32_t)n; ++l) {
+            if (!state[l]) continue;
+            if (state[l] == 2 && (box[4 * l] > box[4 * l + 1] || box[4 * l + 2] > box[4 * l + 3] || pvs__pf_hidden(r, box + 4 * l, zmax[l])))
+                continue;
+            pvs__raster_tri(r, v[l][0], v[l][1], v[l][2], 1);
+        }
+    }
 }
 
 PVS_API pvs_result pvs_camera_matrix(const pvs_camera *c, float aspect, float m[16]) {
@@ -3089,7 +3837,7 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *r, const float m[16]) {
     if (!r || !m) return PVS_ERROR_INVALID_ARGUMENT;
     for (k = 0; k < 16; ++k)
         if (!pvs__finite(m[k])) return PVS_ERROR_NOT_FINITE;
-    for (k = 0; k < 16; ++k) r->m[k] = m[k];
+    for (k = 0; k < 16; ++k) r->m[k] = r->mf[k] = m[k];
     r->mabs[0] = r->mabs[1] = 0.0;
     for (k = 0; k < 4; ++k) { /* the largest row sums of |m|: bounds of the transform's terms */
         r->mabs[0] = pvs__dmax(r->mabs[0], pvs__dabs(r->m[4 * k]) + pvs__dabs(r->m[4 * k + 1]) + pvs__dabs(r->m[4 * k + 2]));
@@ -3099,9 +3847,18 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *r, const float m[16]) {
 }
 
 PVS_API void pvs_raster_clear(pvs_raster *r) {
-    size_t i, n = (size_t)r->width * r->height;
-    for (i = 0; i < n; ++i) r->depth[i] = PVS_DEPTH_EMPTY;
-    for (i = 0; i < r->tiles; ++i) r->tile_min[i] = PVS_DEPTH_EMPTY;
+    size_t i, n = (size_t)r->tw * r->th;
+    for (i = 0; i < n; ++i) {
+        pvs__tile *t = r->tile + i;
+        t->mask[0] = t->mask[1] = t->mask[2] = t->mask[3] = 0;
+        t->z0 = t->z1 = PVS_DEPTH_EMPTY;
+    }
+    n = (size_t)r->bw * r->bh;
+    for (i = 0; i < n; ++i) {
+        r->bmin[i] = PVS_DEPTH_EMPTY;
+        r->bdirty[i] = 0;
+    }
+    r->mixed = 0; /* the per-pixel map is cleared by the first occludee triangle */
     r->pyramid_valid = 0;
 }
 
@@ -3109,6 +3866,10 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, u
                                         uint32_t count, pvs_raster_mode mode) {
     uint32_t t;
     if (!r || (!positions && count) || (int)mode < 0 || mode >= PVS_RASTER_MODE_COUNT) return PVS_ERROR_INVALID_ARGUMENT;
+    if (mode == PVS_RASTER_OCCLUDER) {
+        pvs__raster_occluders(r, positions, vertex_count, indices, NULL, count);
+        return PVS_OK;
+    }
     for (t = 0; t < count; ++t) {
         uint32_t a, b, c;
         if (indices) { a = indices[3 * t]; b = indices[3 * t + 1]; c = indices[3 * t + 2]; }
@@ -3123,6 +3884,7 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, u
 PVS_API const float *pvs_raster_depth(const pvs_raster *r, uint32_t *w, uint32_t *h) {
     if (w) *w = r->width;
     if (h) *h = r->height;
+    pvs__tile_resolve((pvs_raster *)r); /* the map is a cache the context owns */
     return r->depth;
 }
 
@@ -3142,8 +3904,47 @@ PVS__STATIC void pvs__pyramid_texel(const float *pmin, const float *pmax, uint32
     *out_max = a > c ? a : c;
 }
 
+/* The pyramid over the tiles: level 0 holds per tile the farthest (its base) and the nearest value of
+   its pixels, each level above the extremes of 1 x 2, 2 x 1 or 2 x 2 texels below (texels kept about
+   square in pixels). */
+PVS__STATIC void pvs__tile_pyramid(pvs_raster *r) {
+    uint32_t l, x, y, n = r->tw * r->th, i;
+    float *lo = r->tlmin[0], *hi = r->tlmax[0];
+    for (i = 0; i < n; ++i) {
+        const pvs__tile *t = r->tile + i;
+        lo[i] = t->z0;
+        hi[i] = (t->mask[0] | t->mask[1] | t->mask[2] | t->mask[3]) ? t->z1 : t->z0;
+    }
+    for (l = 1; l <= r->tlevels; ++l) {
+        uint32_t pw = r->tlw[l - 1], ph = r->tlh[l - 1], w = r->tlw[l], h = r->tlh[l];
+        uint32_t mx = r->tsx[l] != r->tsx[l - 1], my = r->tsy[l] != r->tsy[l - 1];
+        const float *pmin = r->tlmin[l - 1], *pmax = r->tlmax[l - 1];
+        float *dmin = r->tlmin[l], *dmax = r->tlmax[l];
+        for (y = 0; y < h; ++y) {
+            uint32_t y0 = y << my, y1 = (y << my) + my < ph ? (y << my) + my : y0;
+            for (x = 0; x < w; ++x) {
+                uint32_t x0 = x << mx, x1 = (x << mx) + mx < pw ? (x << mx) + mx : x0;
+                float a = pmin[y0 * pw + x0], b = pmin[y0 * pw + x1], c = pmin[y1 * pw + x0], d = pmin[y1 * pw + x1];
+                a = a < b ? a : b;
+                c = c < d ? c : d;
+                dmin[y * w + x] = a < c ? a : c;
+                a = pmax[y0 * pw + x0]; b = pmax[y0 * pw + x1]; c = pmax[y1 * pw + x0]; d = pmax[y1 * pw + x1];
+                a = a > b ? a : b;
+                c = c > d ? c : d;
+                dmax[y * w + x] = a > c ? a : c;
+            }
+        }
+    }
+    r->pyramid_valid = 2;
+}
+
 PVS_API void pvs_raster_build_pyramid(pvs_raster *r) {
     uint32_t l, x, y;
+    if (!r->mixed) {
+        pvs__tile_pyramid(r);
+        return;
+    }
+    pvs__tile_resolve(r);
     r->lmin[0] = r->lmax[0] = r->depth;
     for (l = 1; l <= r->levels; ++l) {
         uint32_t pw = r->lw[l - 1], ph = r->lh[l - 1], w = r->lw[l], h = r->lh[l];
@@ -3193,6 +3994,42 @@ PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t t
     return 0;
 }
 
+/* pvs__pyramid_visible over the tile pyramid; at a tile, the pixels of the rectangle in and out of the
+   working layer decide exactly. px: the pixel rectangle, tr: its tile range. */
+PVS__STATIC int pvs__tpyr_visible(const pvs_raster *r, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *px, const uint32_t *tr, float d) {
+    uint32_t w = r->tlw[l], cx, cy, cx0, cx1, cy0, cy1;
+    float lo = r->tlmin[l][ty * w + tx], hi = r->tlmax[l][ty * w + tx];
+    if (lo > d) return 0;  /* every pixel under the texel is nearer: hidden */
+    if (hi <= d) return 1; /* every pixel under it is farther (the texel meets the rectangle) */
+    if (l == 0) {          /* z0 <= d < z1: visible where the rectangle leaves the working layer */
+        const pvs__tile *t = r->tile + (size_t)ty * r->tw + tx;
+        int32_t bx = (int32_t)(tx << PVS__TW_SHIFT), by = (int32_t)(ty << PVS__TH_SHIFT);
+        int32_t a0 = (px[0] > bx ? px[0] : bx) - bx, a1 = (px[2] < bx + 31 ? px[2] : bx + 31) - bx;
+        int32_t b0 = (px[1] > by ? px[1] : by) - by, b1 = (px[3] < by + 3 ? px[3] : by + 3) - by, k;
+        uint32_t bits = (~0u << a0) & (~0u >> (31 - a1));
+        for (k = b0; k <= b1; ++k)
+            if (bits & ~t->mask[k]) return 1;
+        return 0;
+    }
+    cx0 = cx1 = tx;
+    cy0 = cy1 = ty;
+    if (r->tsx[l] != r->tsx[l - 1]) {
+        cx0 = 2 * tx;
+        cx1 = cx0 + 1 < r->tlw[l - 1] ? cx0 + 1 : cx0;
+    }
+    if (r->tsy[l] != r->tsy[l - 1]) {
+        cy0 = 2 * ty;
+        cy1 = cy0 + 1 < r->tlh[l - 1] ? cy0 + 1 : cy0;
+    }
+    for (cy = cy0; cy <= cy1; ++cy)
+        for (cx = cx0; cx <= cx1; ++cx) {
+            uint32_t sx = r->tsx[l - 1], sy = r->tsy[l - 1];
+            if (((cx + 1) << sx) - 1 < tr[0] || (cx << sx) > tr[2] || ((cy + 1) << sy) - 1 < tr[1] || (cy << sy) > tr[3]) continue;
+            if (pvs__tpyr_visible(r, l - 1, cx, cy, px, tr, d)) return 1;
+        }
+    return 0;
+}
+
 PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t x1, int32_t y1, float depth) {
     uint32_t l = 0, tx, ty;
     if (x0 < 0) x0 = 0;
@@ -3201,6 +4038,19 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
     if (y1 > (int32_t)r->height - 1) y1 = (int32_t)r->height - 1;
     if (x0 > x1 || y0 > y1) return 0;
     if (!r->pyramid_valid) pvs_raster_build_pyramid(r);
+    if (r->pyramid_valid == 2) {
+        int32_t px[4];
+        uint32_t tr[4];
+        px[0] = x0; px[1] = y0; px[2] = x1; px[3] = y1;
+        tr[0] = (uint32_t)x0 >> PVS__TW_SHIFT; tr[1] = (uint32_t)y0 >> PVS__TH_SHIFT;
+        tr[2] = (uint32_t)x1 >> PVS__TW_SHIFT; tr[3] = (uint32_t)y1 >> PVS__TH_SHIFT;
+        /* the finest level where the rectangle spans at most 2 x 2 texels */
+        while (l < r->tlevels && ((tr[2] >> r->tsx[l]) - (tr[0] >> r->tsx[l]) > 1 || (tr[3] >> r->tsy[l]) - (tr[1] >> r->tsy[l]) > 1)) ++l;
+        for (ty = tr[1] >> r->tsy[l]; ty <= tr[3] >> r->tsy[l]; ++ty)
+            for (tx = tr[0] >> r->tsx[l]; tx <= tr[2] >> r->tsx[l]; ++tx)
+                if (pvs__tpyr_visible(r, l, tx, ty, px, tr, depth)) return 1;
+        return 0;
+    }
     /* the coarsest level where the rectangle spans at most 2 x 2 texels */
     while (l < r->levels && (((uint32_t)x1 >> l) - ((uint32_t)x0 >> l) > 1 || ((uint32_t)y1 >> l) - ((uint32_t)y0 >> l) > 1)) ++l;
     for (ty = (uint32_t)y0 >> l; ty <= (uint32_t)y1 >> l; ++ty)
@@ -3295,6 +4145,10 @@ PVS_API void pvs_raster_destroy(pvs_raster *r) {
     pvs__free_array(&a, r->depth, (size_t)r->width * r->height, sizeof(float));
     pvs__free_array(&a, r->pyramid, r->pyramid_floats, sizeof(float));
     pvs__free_array(&a, r->tile_min, r->tiles, sizeof(float));
+    pvs__free_array(&a, r->tile, (size_t)r->tw * r->th, sizeof(pvs__tile));
+    pvs__free_array(&a, r->tpyramid, r->tpyramid_floats, sizeof(float));
+    pvs__free_array(&a, r->bmin, (size_t)r->bw * r->bh, sizeof(float));
+    pvs__free_array(&a, r->bdirty, (size_t)r->bw * r->bh, 1);
     pvs__free(&a, r->sweep, r->sweep_size, 16);
     pvs__free_array(&a, r->occ, r->max_occluders, sizeof(pvs__occsel));
     pvs__free_array(&a, r->tri_seen, PVS_BITSET_WORDS(r->max_triangles), sizeof(pvs_word));
@@ -3350,7 +4204,9 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
     r->width = desc->width;
     r->height = desc->height;
     r->flags = desc->flags;
-    for (l = 0; l < 16; ++l) r->m[l] = (l % 5 == 0) ? 1.0 : 0.0;
+    for (l = 0; l < 16; ++l) r->m[l] = r->mf[l] = (l % 5 == 0) ? 1.0f : 0.0f;
+    r->hwf = 0.5f * (float)r->width;
+    r->hhf = 0.5f * (float)r->height;
     r->mabs[0] = 1.0;
     r->lw[0] = w = r->width;
     r->lh[0] = h = r->height;
@@ -3368,6 +4224,41 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
     r->tiles = (size_t)((r->width + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->height + PVS__TILE - 1) >> PVS__TILE_SHIFT);
     r->tile_min = (float *)pvs__alloc_array(&a, r->tiles, sizeof(float));
     if (!r->depth || !r->pyramid || !r->tile_min) goto oom;
+    /* the occluder tiles and their pyramid */
+    r->tw = (r->width + 31) >> PVS__TW_SHIFT;
+    r->th = (r->height + PVS__TH - 1) >> PVS__TH_SHIFT;
+    r->xpad = r->width & 31 ? ~0u << (r->width & 31) : 0u;
+    r->ypad = r->height & (PVS__TH - 1) ? r->height & (PVS__TH - 1) : PVS__TH;
+    r->tlw[0] = w = r->tw;
+    r->tlh[0] = h = r->th;
+    floats = 2 * (size_t)w * h;
+    while (w > 1 || h > 1) {
+        uint32_t pxw = 32u << r->tsx[r->tlevels], pxh = (uint32_t)PVS__TH << r->tsy[r->tlevels];
+        uint32_t mx = w > 1 && (pxw <= pxh || h == 1), my = h > 1 && (pxh <= pxw || w == 1);
+        if (mx) w = (w + 1) / 2;
+        if (my) h = (h + 1) / 2;
+        ++r->tlevels;
+        r->tlw[r->tlevels] = w;
+        r->tlh[r->tlevels] = h;
+        r->tsx[r->tlevels] = (uint8_t)(r->tsx[r->tlevels - 1] + mx);
+        r->tsy[r->tlevels] = (uint8_t)(r->tsy[r->tlevels - 1] + my);
+        floats += 2 * (size_t)w * h;
+    }
+    r->tile = (pvs__tile *)pvs__alloc_array(&a, (size_t)r->tw * r->th, sizeof(pvs__tile));
+    r->tpyramid_floats = floats;
+    r->tpyramid = (float *)pvs__alloc_array(&a, floats, sizeof(float));
+    r->bw = (r->tw + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
+    r->bh = (r->th + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
+    r->bmin = (float *)pvs__alloc_array(&a, (size_t)r->bw * r->bh, sizeof(float));
+    r->bdirty = (uint8_t *)pvs__alloc_array(&a, (size_t)r->bw * r->bh, 1);
+    if (!r->tile || !r->tpyramid || !r->bmin || !r->bdirty) goto oom;
+    floats = 0;
+    for (l = 0; l <= r->tlevels; ++l) {
+        r->tlmin[l] = r->tpyramid + floats;
+        floats += (size_t)r->tlw[l] * r->tlh[l];
+        r->tlmax[l] = r->tpyramid + floats;
+        floats += (size_t)r->tlw[l] * r->tlh[l];
+    }
     floats = 0;
     for (l = 1; l <= r->levels; ++l) {
         r->lmin[l] = r->pyramid + floats;
@@ -3610,10 +4501,7 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
         memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
         for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
         pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
-        for (i = 0; i < sc.n; ++i) {
-            const uint32_t *t = s->indices + 3 * (size_t)r->occ[i].triangle;
-            pvs__raster_tri(r, s->positions + 3 * (size_t)t[0], s->positions + 3 * (size_t)t[1], s->positions + 3 * (size_t)t[2], 1);
-        }
+        pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
         cc.st.occluder_triangles += sc.n;
     }
     if (p && p->scene_volumes) { /* explicit occluder volumes as triangles: a box's faces, an extrusion's walls */
