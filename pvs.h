@@ -2574,6 +2574,8 @@ struct pvs_raster {
     double m[16];                               /* current projection */
     double mabs[2];                             /* max row sum of |m| over x, y, z; max |translation| */
     float mf[16], hwf, hhf;                     /* the projection as given, half the map's size (prefilter) */
+    float mb[16][4];                            /* mf broadcast to four lanes */
+    double rowa[4], rowt[4];                    /* per row of m: |m_r0| + |m_r1| + |m_r2|, |m_r3| */
     /* culling */
     const pvs_scene *scene;
     uint32_t max_objects, max_triangles;
@@ -3484,105 +3486,115 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 
 #define PVS__PF_TILES 16 /* the hidden test looks at tiles one by one in boxes up to this size */
 
-/* Per lane: 0 = drop, 1 = draw, 2 = draw unless empty or hidden (box[4 * lane ..] = i0, i1, j0, j1
-   and zmax[lane] then hold the float bounding box's whole pixels and its nearest vertex depth). */
-PVS__STATIC void pvs__pf_scalar(const pvs_raster *r, float p[3][3][4], int *state, int32_t *box, float *zmax) {
+/* Returns the lanes to draw (bit l); those in *test (a subset) only when their box is not hidden:
+   box[0..3][l] = i0, i1, j0, j1 hold the whole pixels of the float bounding box clamped to the map
+   (not empty) and zmax[l] the nearest vertex depth. Lanes with a vertex behind the near plane or the
+   eye plane are drawn untested (the exact path clips them) unless all three are behind one of them;
+   lanes in front are dropped when their clamped box holds no whole pixel (which includes being off
+   the map). */
+PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4], float *zmax) {
     const float *m = r->mf, hw = r->hwf, hh = r->hhf, fw = (float)r->width, fh = (float)r->height;
     int l, k;
+    unsigned draw = 0;
+    *test = 0;
     for (l = 0; l < 4; ++l) {
-        float cx[3], cy[3], cz[3], cw[3], x[3], y[3], z[3], xmin, xmax, ymin, ymax, zm, v;
-        int behind = 0, nonpos = 0, xhi = 0, xlo = 0, yhi = 0, ylo = 0, fin = 1, cross;
+        float cz[3], cw[3], x, y, z, xmin = 0.0f, xmax = 0.0f, ymin = 0.0f, ymax = 0.0f, zm = 0.0f, f;
+        int behind = 0, nonpos = 0, fin = 1;
+        int32_t i0, i1, j0, j1;
         for (k = 0; k < 3; ++k) {
-            float X = p[k][0][l], Y = p[k][1][l], Z = p[k][2][l];
-            cx[k] = m[0] * X + m[1] * Y + m[2] * Z + m[3];
-            cy[k] = m[4] * X + m[5] * Y + m[6] * Z + m[7];
+            float X = v[l][k][0], Y = v[l][k][1], Z = v[l][k][2];
             cz[k] = m[8] * X + m[9] * Y + m[10] * Z + m[11];
             cw[k] = m[12] * X + m[13] * Y + m[14] * Z + m[15];
             behind += cz[k] > cw[k];
             nonpos += cw[k] <= 0.0f;
-            xhi += cx[k] > cw[k];
-            xlo += cx[k] < 0.0f - cw[k];
-            yhi += cy[k] > cw[k];
-            ylo += cy[k] < 0.0f - cw[k];
         }
-        if (behind == 3 || nonpos == 3 || xhi == 3 || xlo == 3 || yhi == 3 || ylo == 3) { state[l] = 0; continue; }
-        cross = behind || nonpos;
+        if (behind == 3 || nonpos == 3) continue;
+        draw |= 1u << l;
+        if (behind || nonpos) continue;
         for (k = 0; k < 3; ++k) {
-            float rw = 1.0f / cw[k];
-            x[k] = cx[k] * rw * hw + hw;
-            y[k] = cy[k] * rw * hh + hh;
-            z[k] = cz[k] * rw;
-            fin &= (x[k] < 0.0f ? 0.0f - x[k] : x[k]) < 1e30f;
-            fin &= (y[k] < 0.0f ? 0.0f - y[k] : y[k]) < 1e30f;
-            fin &= (z[k] < 0.0f ? 0.0f - z[k] : z[k]) < 1e30f;
+            float X = v[l][k][0], Y = v[l][k][1], Z = v[l][k][2], rw = 1.0f / cw[k];
+            x = (m[0] * X + m[1] * Y + m[2] * Z + m[3]) * rw * hw + hw;
+            y = (m[4] * X + m[5] * Y + m[6] * Z + m[7]) * rw * hh + hh;
+            z = cz[k] * rw;
+            fin &= (x < 0.0f ? 0.0f - x : x) < 1e30f;
+            fin &= (y < 0.0f ? 0.0f - y : y) < 1e30f;
+            fin &= (z < 0.0f ? 0.0f - z : z) < 1e30f;
+            if (k == 0) {
+                xmin = xmax = x; ymin = ymax = y; zm = z;
+            } else {
+                xmin = x < xmin ? x : xmin; xmax = x > xmax ? x : xmax;
+                ymin = y < ymin ? y : ymin; ymax = y > ymax ? y : ymax;
+                zm = z > zm ? z : zm;
+            }
         }
-        if (cross || !fin) { state[l] = 1; continue; }
-        xmin = x[1] < x[2] ? x[1] : x[2]; xmin = x[0] < xmin ? x[0] : xmin;
-        xmax = x[1] > x[2] ? x[1] : x[2]; xmax = x[0] > xmax ? x[0] : xmax;
-        ymin = y[1] < y[2] ? y[1] : y[2]; ymin = y[0] < ymin ? y[0] : ymin;
-        ymax = y[1] > y[2] ? y[1] : y[2]; ymax = y[0] > ymax ? y[0] : ymax;
-        zm = z[1] > z[2] ? z[1] : z[2]; zm = z[0] > zm ? z[0] : zm;
+        if (!fin) continue;
         xmin = xmin > 0.0f ? xmin : 0.0f; xmax = xmax < fw ? xmax : fw;
         ymin = ymin > 0.0f ? ymin : 0.0f; ymax = ymax < fh ? ymax : fh;
         /* ceil of the mins, floor of the maxes less one */
-        v = (float)(int32_t)xmin; box[4 * l] = (int32_t)xmin + (v < xmin);
-        v = (float)(int32_t)xmax; box[4 * l + 1] = (int32_t)xmax - (v > xmax) - 1;
-        v = (float)(int32_t)ymin; box[4 * l + 2] = (int32_t)ymin + (v < ymin);
-        v = (float)(int32_t)ymax; box[4 * l + 3] = (int32_t)ymax - (v > ymax) - 1;
+        f = (float)(int32_t)xmin; i0 = (int32_t)xmin + (f < xmin);
+        f = (float)(int32_t)xmax; i1 = (int32_t)xmax - (f > xmax) - 1;
+        f = (float)(int32_t)ymin; j0 = (int32_t)ymin + (f < ymin);
+        f = (float)(int32_t)ymax; j1 = (int32_t)ymax - (f > ymax) - 1;
+        if (i0 > i1 || j0 > j1) { draw &= ~(1u << l); continue; }
+        box[0][l] = i0; box[1][l] = i1; box[2][l] = j0; box[3][l] = j1;
         zmax[l] = zm;
-        state[l] = 2;
+        *test |= 1u << l;
     }
+    return draw;
 }
 
 #if defined(PVS__SSE2)
-PVS__STATIC void pvs__pf_simd(const pvs_raster *r, float p[3][3][4], int *state, int32_t *box, float *zmax) {
-    const float *mf = r->mf;
-    const __m128 zero = _mm_setzero_ps(), hw = _mm_set1_ps(r->hwf), hh = _mm_set1_ps(r->hhf), big = _mm_set1_ps(1e30f);
-    const __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-    __m128 behind = _mm_castsi128_ps(_mm_set1_epi32(-1)), nonpos = behind, xhi = behind, xlo = behind, yhi = behind, ylo = behind;
-    __m128 anyb = zero, fin = behind, x[3], y[3], z[3], cz[3], cw[3], cx[3], cy[3], xmin, xmax, ymin, ymax, zm, drop, t;
-    __m128i i0, i1, j0, j1;
-    int32_t st[4], sd[4], bx[4][4];
-    int k, l;
-    for (k = 0; k < 3; ++k) {
-        __m128 X = _mm_loadu_ps(p[k][0]), Y = _mm_loadu_ps(p[k][1]), Z = _mm_loadu_ps(p[k][2]);
-#define PVS__ROW(o) _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(mf[o]), X), _mm_mul_ps(_mm_set1_ps(mf[o + 1]), Y)), \
-                                          _mm_mul_ps(_mm_set1_ps(mf[o + 2]), Z)), _mm_set1_ps(mf[o + 3]))
-        cx[k] = PVS__ROW(0);
-        cy[k] = PVS__ROW(4);
-        cz[k] = PVS__ROW(8);
-        cw[k] = PVS__ROW(12);
+/* Each v[l][k] has 4 readable floats (the caller copies a last vertex). */
+PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4], float *zmax) {
+    const __m128 zero = _mm_setzero_ps(), absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), big = _mm_set1_ps(1e30f);
+    __m128 X0, Y0, Z0, X1, Y1, Z1, X2, Y2, Z2, cz0, cz1, cz2, cw0, cw1, cw2, t, anyb, allb, fin;
+    __m128 x, y, z, xmin, xmax, ymin, ymax, zm, rw;
+    __m128i i0, i1, j0, j1, empty;
+    unsigned all, any, tst;
+#define PVS__LOAD3(k, X, Y, Z) do { /* four vertices (x, y, z, -) to X, Y, Z lanes */ \
+        __m128 a = _mm_loadu_ps(v[0][k]), b = _mm_loadu_ps(v[1][k]), c = _mm_loadu_ps(v[2][k]), d = _mm_loadu_ps(v[3][k]); \
+        __m128 ab0 = _mm_unpacklo_ps(a, b), cd0 = _mm_unpacklo_ps(c, d), ab1 = _mm_unpackhi_ps(a, b), cd1 = _mm_unpackhi_ps(c, d); \
+        X = _mm_movelh_ps(ab0, cd0); Y = _mm_movehl_ps(cd0, ab0); Z = _mm_movelh_ps(ab1, cd1); } while (0)
+#define PVS__ROW(o, X, Y, Z) _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(r->mb[o]), X), _mm_mul_ps(_mm_loadu_ps(r->mb[o + 1]), Y)), \
+                                                   _mm_mul_ps(_mm_loadu_ps(r->mb[o + 2]), Z)), _mm_loadu_ps(r->mb[o + 3]))
+    PVS__LOAD3(0, X0, Y0, Z0);
+    PVS__LOAD3(1, X1, Y1, Z1);
+    PVS__LOAD3(2, X2, Y2, Z2);
+    cz0 = PVS__ROW(8, X0, Y0, Z0); cw0 = PVS__ROW(12, X0, Y0, Z0);
+    cz1 = PVS__ROW(8, X1, Y1, Z1); cw1 = PVS__ROW(12, X1, Y1, Z1);
+    cz2 = PVS__ROW(8, X2, Y2, Z2); cw2 = PVS__ROW(12, X2, Y2, Z2);
+    t = _mm_cmpgt_ps(cz0, cw0); anyb = t; allb = t;
+    t = _mm_cmpgt_ps(cz1, cw1); anyb = _mm_or_ps(anyb, t); allb = _mm_and_ps(allb, t);
+    t = _mm_cmpgt_ps(cz2, cw2); anyb = _mm_or_ps(anyb, t); allb = _mm_and_ps(allb, t);
+    t = _mm_and_ps(_mm_and_ps(_mm_cmple_ps(cw0, zero), _mm_cmple_ps(cw1, zero)), _mm_cmple_ps(cw2, zero));
+    allb = _mm_or_ps(allb, t);
+    anyb = _mm_or_ps(anyb, _mm_or_ps(_mm_or_ps(_mm_cmple_ps(cw0, zero), _mm_cmple_ps(cw1, zero)), _mm_cmple_ps(cw2, zero)));
+    all = (unsigned)_mm_movemask_ps(allb);
+    *test = 0;
+    if (all == 15u) return 0; /* all four behind the near plane or the eye */
+    any = (unsigned)_mm_movemask_ps(anyb);
+    if (any == 15u) return all ^ 15u;
+#define PVS__PROJ(X, Y, Z, cz, cw) do { \
+        rw = _mm_div_ps(_mm_set1_ps(1.0f), cw); \
+        x = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(PVS__ROW(0, X, Y, Z), rw), _mm_set1_ps(r->hwf)), _mm_set1_ps(r->hwf)); \
+        y = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(PVS__ROW(4, X, Y, Z), rw), _mm_set1_ps(r->hhf)), _mm_set1_ps(r->hhf)); \
+        z = _mm_mul_ps(cz, rw); \
+        fin = _mm_and_ps(fin, _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(x, absm), big), _mm_cmplt_ps(_mm_and_ps(y, absm), big))); \
+        fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(z, absm), big)); } while (0)
+    fin = _mm_castsi128_ps(_mm_set1_epi32(-1));
+    PVS__PROJ(X0, Y0, Z0, cz0, cw0);
+    xmin = xmax = x; ymin = ymax = y; zm = z;
+    PVS__PROJ(X1, Y1, Z1, cz1, cw1);
+    xmin = _mm_min_ps(x, xmin); xmax = _mm_max_ps(x, xmax); ymin = _mm_min_ps(y, ymin); ymax = _mm_max_ps(y, ymax); zm = _mm_max_ps(z, zm);
+    PVS__PROJ(X2, Y2, Z2, cz2, cw2);
+    xmin = _mm_min_ps(x, xmin); xmax = _mm_max_ps(x, xmax); ymin = _mm_min_ps(y, ymin); ymax = _mm_max_ps(y, ymax); zm = _mm_max_ps(z, zm);
+#undef PVS__PROJ
 #undef PVS__ROW
-        t = _mm_cmpgt_ps(cz[k], cw[k]);
-        behind = _mm_and_ps(behind, t);
-        anyb = _mm_or_ps(anyb, t);
-        t = _mm_cmple_ps(cw[k], zero);
-        nonpos = _mm_and_ps(nonpos, t);
-        anyb = _mm_or_ps(anyb, t);
-        xhi = _mm_and_ps(xhi, _mm_cmpgt_ps(cx[k], cw[k]));
-        xlo = _mm_and_ps(xlo, _mm_cmplt_ps(cx[k], _mm_sub_ps(zero, cw[k])));
-        yhi = _mm_and_ps(yhi, _mm_cmpgt_ps(cy[k], cw[k]));
-        ylo = _mm_and_ps(ylo, _mm_cmplt_ps(cy[k], _mm_sub_ps(zero, cw[k])));
-    }
-    drop = _mm_or_ps(_mm_or_ps(_mm_or_ps(behind, nonpos), _mm_or_ps(xhi, xlo)), _mm_or_ps(yhi, ylo));
-    for (k = 0; k < 3; ++k) {
-        __m128 rw = _mm_div_ps(_mm_set1_ps(1.0f), cw[k]);
-        x[k] = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(cx[k], rw), hw), hw);
-        y[k] = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(cy[k], rw), hh), hh);
-        z[k] = _mm_mul_ps(cz[k], rw);
-        fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(x[k], absm), big));
-        fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(y[k], absm), big));
-        fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(z[k], absm), big));
-    }
-    xmin = _mm_min_ps(x[0], _mm_min_ps(x[1], x[2]));
-    xmax = _mm_max_ps(x[0], _mm_max_ps(x[1], x[2]));
-    ymin = _mm_min_ps(y[0], _mm_min_ps(y[1], y[2]));
-    ymax = _mm_max_ps(y[0], _mm_max_ps(y[1], y[2]));
-    zm = _mm_max_ps(z[0], _mm_max_ps(z[1], z[2]));
+#undef PVS__LOAD3
     xmin = _mm_max_ps(xmin, zero); xmax = _mm_min_ps(xmax, _mm_set1_ps((float)r->width));
     ymin = _mm_max_ps(ymin, zero); ymax = _mm_min_ps(ymax, _mm_set1_ps((float)r->height));
-    /* lanes that are not tested may hold anything: keep the conversions in range */
-    t = _mm_and_ps(fin, _mm_andnot_ps(anyb, _mm_castsi128_ps(_mm_set1_epi32(-1))));
+    /* only the tested lanes matter: keep the others' conversions in range */
+    t = _mm_andnot_ps(anyb, fin);
     xmin = _mm_and_ps(xmin, t); xmax = _mm_and_ps(xmax, t); ymin = _mm_and_ps(ymin, t); ymax = _mm_and_ps(ymax, t);
     i0 = _mm_cvttps_epi32(xmin);
     i0 = _mm_sub_epi32(i0, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(i0), xmin)));
@@ -3592,71 +3604,71 @@ PVS__STATIC void pvs__pf_simd(const pvs_raster *r, float p[3][3][4], int *state,
     j0 = _mm_sub_epi32(j0, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(j0), ymin)));
     j1 = _mm_cvttps_epi32(ymax);
     j1 = _mm_sub_epi32(_mm_add_epi32(j1, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(j1), ymax))), _mm_set1_epi32(1));
-    _mm_storeu_si128((__m128i *)bx[0], i0);
-    _mm_storeu_si128((__m128i *)bx[1], i1);
-    _mm_storeu_si128((__m128i *)bx[2], j0);
-    _mm_storeu_si128((__m128i *)bx[3], j1);
+    empty = _mm_or_si128(_mm_cmpgt_epi32(i0, i1), _mm_cmpgt_epi32(j0, j1));
+    _mm_storeu_si128((__m128i *)box[0], i0);
+    _mm_storeu_si128((__m128i *)box[1], i1);
+    _mm_storeu_si128((__m128i *)box[2], j0);
+    _mm_storeu_si128((__m128i *)box[3], j1);
     _mm_storeu_ps(zmax, zm);
-    _mm_storeu_si128((__m128i *)sd, _mm_castps_si128(drop));
-    _mm_storeu_si128((__m128i *)st, _mm_castps_si128(t));
-    for (l = 0; l < 4; ++l) {
-        state[l] = sd[l] ? 0 : st[l] ? 2 : 1;
-        for (k = 0; k < 4; ++k) box[4 * l + k] = bx[k][l];
-    }
+    tst = (unsigned)_mm_movemask_ps(t);
+    *test = tst & ~(unsigned)_mm_movemask_ps(_mm_castsi128_ps(empty));
+    return (all ^ 15u) & ~(tst & ~*test);
 }
 #define PVS__HAVE_PF_SIMD 1
 #elif defined(PVS__NEON) && defined(__aarch64__) /* vdivq_f32 */
-PVS__STATIC void pvs__pf_simd(const pvs_raster *r, float p[3][3][4], int *state, int32_t *box, float *zmax) {
+PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4], float *zmax) {
     const float *mf = r->mf;
-    const float32x4_t zero = vdupq_n_f32(0.0f), hw = vdupq_n_f32(r->hwf), hh = vdupq_n_f32(r->hhf), big = vdupq_n_f32(1e30f);
-    uint32x4_t behind = vdupq_n_u32(~0u), nonpos = behind, xhi = behind, xlo = behind, yhi = behind, ylo = behind;
-    uint32x4_t anyb = vdupq_n_u32(0), fin = behind, drop, t, c;
-    float32x4_t x[3], y[3], z[3], cz[3], cw[3], cx[3], cy[3], xmin, xmax, ymin, ymax, zm, fv;
+    const float32x4_t zero = vdupq_n_f32(0.0f), big = vdupq_n_f32(1e30f), hw = vdupq_n_f32(r->hwf), hh = vdupq_n_f32(r->hhf);
+    float32x4_t X[3], Y[3], Z[3], cz[3], cw[3], x, y, z, xmin, xmax, ymin, ymax, zm, rw, fv;
+    uint32x4_t anyb = vdupq_n_u32(0), behind = vdupq_n_u32(~0u), nonpos = behind, allb, fin = behind, t, c, empty;
     int32x4_t i0, i1, j0, j1;
-    uint32_t st[4], sd[4];
-    int32_t bx[4][4];
+    uint32_t lanes[4], tl[4], el[4];
+    unsigned all = 0, any = 0, tst = 0, emp = 0;
     int k, l;
     for (k = 0; k < 3; ++k) {
-        float32x4_t X = vld1q_f32(p[k][0]), Y = vld1q_f32(p[k][1]), Z = vld1q_f32(p[k][2]);
-#define PVS__ROW(o) vaddq_f32(vaddq_f32(vaddq_f32(vmulq_f32(vdupq_n_f32(mf[o]), X), vmulq_f32(vdupq_n_f32(mf[o + 1]), Y)), \
-                                        vmulq_f32(vdupq_n_f32(mf[o + 2]), Z)), vdupq_n_f32(mf[o + 3]))
-        cx[k] = PVS__ROW(0);
-        cy[k] = PVS__ROW(4);
-        cz[k] = PVS__ROW(8);
-        cw[k] = PVS__ROW(12);
-#undef PVS__ROW
+        float xs[4], ys[4], zs[4];
+        for (l = 0; l < 4; ++l) { xs[l] = v[l][k][0]; ys[l] = v[l][k][1]; zs[l] = v[l][k][2]; }
+        X[k] = vld1q_f32(xs); Y[k] = vld1q_f32(ys); Z[k] = vld1q_f32(zs);
+    }
+#define PVS__ROW(o, k) vaddq_f32(vaddq_f32(vaddq_f32(vmulq_f32(vdupq_n_f32(mf[o]), X[k]), vmulq_f32(vdupq_n_f32(mf[o + 1]), Y[k])), \
+                                           vmulq_f32(vdupq_n_f32(mf[o + 2]), Z[k])), vdupq_n_f32(mf[o + 3]))
+    for (k = 0; k < 3; ++k) {
+        cz[k] = PVS__ROW(8, k);
+        cw[k] = PVS__ROW(12, k);
         t = vcgtq_f32(cz[k], cw[k]);
         behind = vandq_u32(behind, t);
         anyb = vorrq_u32(anyb, t);
         t = vcleq_f32(cw[k], zero);
         nonpos = vandq_u32(nonpos, t);
         anyb = vorrq_u32(anyb, t);
-        xhi = vandq_u32(xhi, vcgtq_f32(cx[k], cw[k]));
-        xlo = vandq_u32(xlo, vcltq_f32(cx[k], vsubq_f32(zero, cw[k])));
-        yhi = vandq_u32(yhi, vcgtq_f32(cy[k], cw[k]));
-        ylo = vandq_u32(ylo, vcltq_f32(cy[k], vsubq_f32(zero, cw[k])));
     }
-    drop = vorrq_u32(vorrq_u32(vorrq_u32(behind, nonpos), vorrq_u32(xhi, xlo)), vorrq_u32(yhi, ylo));
+    allb = vorrq_u32(behind, nonpos);
+    vst1q_u32(lanes, allb);
+    for (l = 0; l < 4; ++l) all |= (lanes[l] & 1u) << l;
+    *test = 0;
+    if (all == 15u) return 0;
+    vst1q_u32(lanes, anyb);
+    for (l = 0; l < 4; ++l) any |= (lanes[l] & 1u) << l;
+    if (any == 15u) return all ^ 15u;
+    xmin = xmax = ymin = ymax = zm = zero;
     for (k = 0; k < 3; ++k) {
-        float32x4_t rw = vdivq_f32(vdupq_n_f32(1.0f), cw[k]);
-        x[k] = vaddq_f32(vmulq_f32(vmulq_f32(cx[k], rw), hw), hw);
-        y[k] = vaddq_f32(vmulq_f32(vmulq_f32(cy[k], rw), hh), hh);
-        z[k] = vmulq_f32(cz[k], rw);
-        fin = vandq_u32(fin, vcltq_f32(vabsq_f32(x[k]), big));
-        fin = vandq_u32(fin, vcltq_f32(vabsq_f32(y[k]), big));
-        fin = vandq_u32(fin, vcltq_f32(vabsq_f32(z[k]), big));
+        rw = vdivq_f32(vdupq_n_f32(1.0f), cw[k]);
+        x = vaddq_f32(vmulq_f32(vmulq_f32(PVS__ROW(0, k), rw), hw), hw);
+        y = vaddq_f32(vmulq_f32(vmulq_f32(PVS__ROW(4, k), rw), hh), hh);
+        z = vmulq_f32(cz[k], rw);
+        fin = vandq_u32(fin, vandq_u32(vcltq_f32(vabsq_f32(x), big), vcltq_f32(vabsq_f32(y), big)));
+        fin = vandq_u32(fin, vcltq_f32(vabsq_f32(z), big));
+        if (k == 0) {
+            xmin = xmax = x; ymin = ymax = y; zm = z;
+        } else {
+            xmin = vbslq_f32(vcltq_f32(x, xmin), x, xmin); xmax = vbslq_f32(vcgtq_f32(x, xmax), x, xmax);
+            ymin = vbslq_f32(vcltq_f32(y, ymin), y, ymin); ymax = vbslq_f32(vcgtq_f32(y, ymax), y, ymax);
+            zm = vbslq_f32(vcgtq_f32(z, zm), z, zm);
+        }
     }
-#define PVS__MIN(a, b) vbslq_f32(vcltq_f32(a, b), a, b)
-#define PVS__MAX(a, b) vbslq_f32(vcgtq_f32(a, b), a, b)
-    xmin = PVS__MIN(x[0], PVS__MIN(x[1], x[2]));
-    xmax = PVS__MAX(x[0], PVS__MAX(x[1], x[2]));
-    ymin = PVS__MIN(y[0], PVS__MIN(y[1], y[2]));
-    ymax = PVS__MAX(y[0], PVS__MAX(y[1], y[2]));
-    zm = PVS__MAX(z[0], PVS__MAX(z[1], z[2]));
-    xmin = PVS__MAX(xmin, zero); fv = vdupq_n_f32((float)r->width); xmax = PVS__MIN(xmax, fv);
-    ymin = PVS__MAX(ymin, zero); fv = vdupq_n_f32((float)r->height); ymax = PVS__MIN(ymax, fv);
-#undef PVS__MIN
-#undef PVS__MAX
+#undef PVS__ROW
+    xmin = vbslq_f32(vcgtq_f32(xmin, zero), xmin, zero); fv = vdupq_n_f32((float)r->width); xmax = vbslq_f32(vcltq_f32(xmax, fv), xmax, fv);
+    ymin = vbslq_f32(vcgtq_f32(ymin, zero), ymin, zero); fv = vdupq_n_f32((float)r->height); ymax = vbslq_f32(vcltq_f32(ymax, fv), ymax, fv);
     t = vbicq_u32(fin, anyb);
     xmin = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(xmin), t));
     xmax = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(xmax), t));
@@ -3674,17 +3686,20 @@ PVS__STATIC void pvs__pf_simd(const pvs_raster *r, float p[3][3][4], int *state,
     j1 = vcvtq_s32_f32(ymax);
     c = vcgtq_f32(vcvtq_f32_s32(j1), ymax);
     j1 = vsubq_s32(vaddq_s32(j1, vreinterpretq_s32_u32(c)), vdupq_n_s32(1));
-    vst1q_s32(bx[0], i0);
-    vst1q_s32(bx[1], i1);
-    vst1q_s32(bx[2], j0);
-    vst1q_s32(bx[3], j1);
+    empty = vorrq_u32(vcgtq_s32(i0, i1), vcgtq_s32(j0, j1));
+    vst1q_s32(box[0], i0);
+    vst1q_s32(box[1], i1);
+    vst1q_s32(box[2], j0);
+    vst1q_s32(box[3], j1);
     vst1q_f32(zmax, zm);
-    vst1q_u32(sd, drop);
-    vst1q_u32(st, t);
+    vst1q_u32(tl, t);
+    vst1q_u32(el, empty);
     for (l = 0; l < 4; ++l) {
-        state[l] = sd[l] ? 0 : st[l] ? 2 : 1;
-        for (k = 0; k < 4; ++k) box[4 * l + k] = bx[k][l];
+        tst |= (tl[l] & 1u) << l;
+        emp |= (el[l] & 1u) << l;
     }
+    *test = tst & ~emp;
+    return (all ^ 15u) & ~(tst & emp);
 }
 #define PVS__HAVE_PF_SIMD 1
 #endif
@@ -3701,9 +3716,9 @@ PVS__STATIC int pvs__pf_tiles(const pvs_raster *r, uint32_t tx0, uint32_t tx1, u
 /* 1 when every tile under the pixel box [i0, i1] x [j0, j1] already has a base at least as near as
    zmax (the triangle would change nothing). Large boxes look at the blocks first: bases only grow,
    so a block's stale least base is still a lower bound; it is retaken when it fails the test. */
-PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *b, float zmax) {
-    uint32_t tx0 = (uint32_t)b[0] >> PVS__TW_SHIFT, tx1 = (uint32_t)b[1] >> PVS__TW_SHIFT;
-    uint32_t ty0 = (uint32_t)b[2] >> PVS__TH_SHIFT, ty1 = (uint32_t)b[3] >> PVS__TH_SHIFT, bx, by;
+PVS__STATIC int pvs__pf_hidden(pvs_raster *r, int32_t box[4][4], int l, float zmax) {
+    uint32_t tx0 = (uint32_t)box[0][l] >> PVS__TW_SHIFT, tx1 = (uint32_t)box[1][l] >> PVS__TW_SHIFT;
+    uint32_t ty0 = (uint32_t)box[2][l] >> PVS__TH_SHIFT, ty1 = (uint32_t)box[3][l] >> PVS__TH_SHIFT, bx, by;
     if ((tx1 - tx0 + 1) * (ty1 - ty0 + 1) <= PVS__PF_TILES) return pvs__pf_tiles(r, tx0, tx1, ty0, ty1, zmax);
     for (by = ty0 >> PVS__BLOCK_SHIFT; by <= ty1 >> PVS__BLOCK_SHIFT; ++by)
         for (bx = tx0 >> PVS__BLOCK_SHIFT; bx <= tx1 >> PVS__BLOCK_SHIFT; ++bx) {
@@ -3732,11 +3747,12 @@ PVS__STATIC int pvs__pf_hidden(pvs_raster *r, const int32_t *b, float zmax) {
    or, with `tris`, the scene triangles tris[0 .. count). Four at a time through the prefilter. */
 PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count, const uint32_t *indices,
                                        const pvs__occsel *tris, uint32_t count) {
-    uint32_t t, l, k, c;
+    uint32_t t, l, k;
     const float *v[4][3];
-    float p[3][3][4], zmax[4];
-    int state[4], n;
-    int32_t box[16];
+    float last[4], zmax[4];
+    unsigned draw, test;
+    int n;
+    int32_t box[4][4];
     for (t = 0; t < count; t += 4) {
         n = 0;
         for (l = 0; l < 4 && t + l < count; ++l) {
@@ -3753,21 +3769,25 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
             v[n][0] = positions + 3 * (size_t)a;
             v[n][1] = positions + 3 * (size_t)b;
             v[n][2] = positions + 3 * (size_t)cc;
+            for (k = 0; k < 3; ++k)
+                if (v[n][k] == positions + 3 * ((size_t)vertex_count - 1)) { /* the SIMD loads read 4 floats */
+                    last[0] = v[n][k][0]; last[1] = v[n][k][1]; last[2] = v[n][k][2]; last[3] = 0.0f;
+                    v[n][k] = last;
+                }
             ++n;
         }
         if (!n) continue;
-        for (l = 0; l < 4; ++l)
-            for (k = 0; k < 3; ++k)
-                for (c = 0; c < 3; ++c) p[k][c][l] = v[l < (uint32_t)n ? l : 0][k][c];
+        for (l = (uint32_t)n; l < 4; ++l)
+            for (k = 0; k < 3; ++k) v[l][k] = v[0][k];
 #if defined(PVS__HAVE_PF_SIMD)
-        if (!(r->flags & PVS_RASTER_SCALAR)) pvs__pf_simd(r, p, state, box, zmax);
+        if (!(r->flags & PVS_RASTER_SCALAR)) draw = pvs__pf_simd(r, (const float *const(*)[3])v, &test, box, zmax);
         else
 #endif
-            pvs__pf_scalar(r, p, state, box, zmax);
-        for (l = 0; l < (uint32_t)n; ++l) {
-            if (!state[l]) continue;
-            if (state[l] == 2 && (box[4 * l] > box[4 * l + 1] || box[4 * l + 2] > box[4 * l + 3] || pvs__pf_hidden(r, box + 4 * l, zmax[l])))
-                continue;
+            draw = pvs__pf_scalar(r, (const float *const(*)[3])v, &test, box, zmax);
+        draw &= (1u << n) - 1u;
+        for (l = 0; draw; ++l, draw >>= 1) {
+            if (!(draw & 1u)) continue;
+            if ((test >> l) & 1u && pvs__pf_hidden(r, box, (int)l, zmax[l])) continue;
             pvs__raster_tri(r, v[l][0], v[l][1], v[l][2], 1);
         }
     }
@@ -3837,8 +3857,15 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *r, const float m[16]) {
     if (!r || !m) return PVS_ERROR_INVALID_ARGUMENT;
     for (k = 0; k < 16; ++k)
         if (!pvs__finite(m[k])) return PVS_ERROR_NOT_FINITE;
-    for (k = 0; k < 16; ++k) r->m[k] = r->mf[k] = m[k];
+    for (k = 0; k < 16; ++k) {
+        r->m[k] = r->mf[k] = m[k];
+        r->mb[k][0] = r->mb[k][1] = r->mb[k][2] = r->mb[k][3] = m[k];
+    }
     r->mabs[0] = r->mabs[1] = 0.0;
+    for (k = 0; k < 4; ++k) {
+        r->rowa[k] = pvs__dabs(r->m[4 * k]) + pvs__dabs(r->m[4 * k + 1]) + pvs__dabs(r->m[4 * k + 2]);
+        r->rowt[k] = pvs__dabs(r->m[4 * k + 3]);
+    }
     for (k = 0; k < 4; ++k) { /* the largest row sums of |m|: bounds of the transform's terms */
         r->mabs[0] = pvs__dmax(r->mabs[0], pvs__dabs(r->m[4 * k]) + pvs__dabs(r->m[4 * k + 1]) + pvs__dabs(r->m[4 * k + 2]));
         r->mabs[1] = pvs__dmax(r->mabs[1], pvs__dabs(r->m[4 * k + 3]));
@@ -4059,6 +4086,249 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
     return 0;
 }
 
+/* ---- box tests in float: the eight corners in two SIMD registers (Masked Occlusion Culling §4.4
+   tests boxes by their screen rectangle and nearest depth the same way), with error bounds. Each
+   clip coordinate c_r = m_r . (p, 1) is computed in float with four roundings, at most 4.01 u S_r
+   (u = 2^-24, S_r = |m_r0| + |m_r1| + |m_r2| times the box's largest |coordinate|, plus |m_r3|);
+   E_r = 8 u S_r is twice that, which also covers rounding the differences the tests compare
+   (|c| <= 1.01 S, so u |c_a - c_b| < (E_a + E_b) / 8). A corner with w > 2 E_w has a true w of at
+   least 3/4 of the computed one, so x/w is off by at most 2/3 (E_x + |x/w| E_w) / w plus the
+   division's rounding; the per-box maxima of those terms widen the rectangle and raise the depth.
+   Boxes too large for float (S_r > 1e30) take the double path. ---- */
+
+/* What the corners give, all in front of the near plane: screen extremes, the nearest depth, the
+   largest 1 / w and |x / w|, |y / w|, |z / w|. */
+typedef struct pvs__boxf {
+    float xmin, xmax, ymin, ymax, zmax, rmax, nx, ny, nz;
+} pvs__boxf;
+
+/* The thresholds of one box: E_x, E_y, E_z, E_w, E_w + E_z, E_x + E_w, E_y + E_w, 2 E_w. */
+typedef struct pvs__boxe {
+    float e[4], nz, xw, yw, w2;
+} pvs__boxe;
+
+/* 0 = surely invisible, 1 = may reach behind the near plane (visible, no depth test), 2 = *o filled,
+   -1 = not finite (the caller falls back). */
+PVS__STATIC int pvs__box_scalar(const pvs_raster *r, const pvs_box *b, const pvs__boxe *E, pvs__boxf *o) {
+    const float *m = r->mf;
+    float c[8][4];
+    int k, bn = 0, bw = 0, mb = 0, s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+    memset(o, 0, sizeof(*o));
+    for (k = 0; k < 8; ++k) {
+        float X = k & 1 ? b->max[0] : b->min[0], Y = k & 2 ? b->max[1] : b->min[1], Z = k & 4 ? b->max[2] : b->min[2];
+        int rr;
+        for (rr = 0; rr < 4; ++rr) {
+            float a = m[4 * rr] * X + m[4 * rr + 1] * Y;
+            c[k][rr] = a + m[4 * rr + 2] * Z + m[4 * rr + 3];
+        }
+        bn += c[k][3] - c[k][2] < 0.0f - E->nz;
+        bw += c[k][3] < 0.0f - E->e[3];
+        mb += c[k][3] - c[k][2] < E->nz || c[k][3] <= E->w2;
+        s0 += c[k][0] - c[k][3] > E->xw;
+        s1 += 0.0f - c[k][0] - c[k][3] > E->xw;
+        s2 += c[k][1] - c[k][3] > E->yw;
+        s3 += 0.0f - c[k][1] - c[k][3] > E->yw;
+    }
+    if (bn == 8 || bw == 8 || s0 == 8 || s1 == 8 || s2 == 8 || s3 == 8) return 0;
+    if (mb) return 1;
+    for (k = 0; k < 8; ++k) {
+        float rw = 1.0f / c[k][3], xn = c[k][0] * rw, yn = c[k][1] * rw, z = c[k][2] * rw;
+        float x = xn * r->hwf + r->hwf, y = yn * r->hhf + r->hhf;
+        xn = xn < 0.0f ? 0.0f - xn : xn;
+        yn = yn < 0.0f ? 0.0f - yn : yn;
+        if (k == 0) {
+            o->xmin = o->xmax = x; o->ymin = o->ymax = y; o->zmax = z; o->rmax = rw; o->nx = xn; o->ny = yn;
+            o->nz = z < 0.0f ? 0.0f - z : z;
+        } else {
+            o->xmin = x < o->xmin ? x : o->xmin; o->xmax = x > o->xmax ? x : o->xmax;
+            o->ymin = y < o->ymin ? y : o->ymin; o->ymax = y > o->ymax ? y : o->ymax;
+            o->zmax = z > o->zmax ? z : o->zmax;
+            o->rmax = rw > o->rmax ? rw : o->rmax;
+            o->nx = xn > o->nx ? xn : o->nx;
+            o->ny = yn > o->ny ? yn : o->ny;
+            z = z < 0.0f ? 0.0f - z : z;
+            o->nz = z > o->nz ? z : o->nz;
+        }
+    }
+    return 2;
+}
+
+#if defined(PVS__SSE2)
+PVS__STATIC float pvs__hmin_sse2(__m128 v) {
+    v = _mm_min_ps(v, _mm_movehl_ps(v, v));
+    return _mm_cvtss_f32(_mm_min_ss(v, _mm_shuffle_ps(v, v, 1)));
+}
+PVS__STATIC float pvs__hmax_sse2(__m128 v) {
+    v = _mm_max_ps(v, _mm_movehl_ps(v, v));
+    return _mm_cvtss_f32(_mm_max_ss(v, _mm_shuffle_ps(v, v, 1)));
+}
+PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__boxe *E, pvs__boxf *o) {
+    const __m128 X = _mm_setr_ps(b->min[0], b->max[0], b->min[0], b->max[0]), Y = _mm_setr_ps(b->min[1], b->min[1], b->max[1], b->max[1]);
+    const __m128 Z0 = _mm_set1_ps(b->min[2]), Z1 = _mm_set1_ps(b->max[2]), zero = _mm_setzero_ps();
+    const __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    __m128 c0[4], c1[4], t0, t1, q0, q1, v0, v1, rw0, rw1;
+    int rr, all, any;
+    for (rr = 0; rr < 4; ++rr) {
+        __m128 a = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr]), X), _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 1]), Y));
+        c0[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z0)), _mm_loadu_ps(r->mb[4 * rr + 3]));
+        c1[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z1)), _mm_loadu_ps(r->mb[4 * rr + 3]));
+    }
+    q0 = _mm_sub_ps(c0[3], c0[2]);
+    q1 = _mm_sub_ps(c1[3], c1[2]);
+    t0 = _mm_set1_ps(0.0f - E->nz);
+    all = _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(q0, t0), _mm_cmplt_ps(q1, t0)));
+    t0 = _mm_set1_ps(0.0f - E->e[3]);
+    all |= _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(c0[3], t0), _mm_cmplt_ps(c1[3], t0))) << 4;
+    t0 = _mm_set1_ps(E->xw);
+    all |= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(c0[0], c0[3]), t0), _mm_cmpgt_ps(_mm_sub_ps(c1[0], c1[3]), t0))) << 8;
+    all |= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c0[0]), c0[3]), t0),
+                                      _mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c1[0]), c1[3]), t0))) << 12;
+    t0 = _mm_set1_ps(E->yw);
+    all |= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(c0[1], c0[3]), t0), _mm_cmpgt_ps(_mm_sub_ps(c1[1], c1[3]), t0))) << 16;
+    all |= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c0[1]), c0[3]), t0),
+                                      _mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c1[1]), c1[3]), t0))) << 20;
+    if ((all & 15) == 15 || (all & 0xf0) == 0xf0 || (all & 0xf00) == 0xf00 || (all & 0xf000) == 0xf000 || (all & 0xf0000) == 0xf0000 ||
+        (all & 0xf00000) == 0xf00000)
+        return 0;
+    t0 = _mm_set1_ps(E->nz);
+    t1 = _mm_set1_ps(E->w2);
+    any = _mm_movemask_ps(_mm_or_ps(_mm_or_ps(_mm_cmplt_ps(q0, t0), _mm_cmple_ps(c0[3], t1)), _mm_or_ps(_mm_cmplt_ps(q1, t0), _mm_cmple_ps(c1[3], t1))));
+    if (any) return 1;
+    rw0 = _mm_div_ps(_mm_set1_ps(1.0f), c0[3]);
+    rw1 = _mm_div_ps(_mm_set1_ps(1.0f), c1[3]);
+    o->rmax = pvs__hmax_sse2(_mm_max_ps(rw1, rw0));
+    v0 = _mm_mul_ps(c0[0], rw0); /* x / w */
+    v1 = _mm_mul_ps(c1[0], rw1);
+    o->nx = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm)));
+    t0 = _mm_set1_ps(r->hwf);
+    v0 = _mm_add_ps(_mm_mul_ps(v0, t0), t0);
+    v1 = _mm_add_ps(_mm_mul_ps(v1, t0), t0);
+    o->xmin = pvs__hmin_sse2(_mm_min_ps(v1, v0));
+    o->xmax = pvs__hmax_sse2(_mm_max_ps(v1, v0));
+    v0 = _mm_mul_ps(c0[1], rw0);
+    v1 = _mm_mul_ps(c1[1], rw1);
+    o->ny = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm)));
+    t0 = _mm_set1_ps(r->hhf);
+    v0 = _mm_add_ps(_mm_mul_ps(v0, t0), t0);
+    v1 = _mm_add_ps(_mm_mul_ps(v1, t0), t0);
+    o->ymin = pvs__hmin_sse2(_mm_min_ps(v1, v0));
+    o->ymax = pvs__hmax_sse2(_mm_max_ps(v1, v0));
+    v0 = _mm_mul_ps(c0[2], rw0);
+    v1 = _mm_mul_ps(c1[2], rw1);
+    o->zmax = pvs__hmax_sse2(_mm_max_ps(v1, v0));
+    o->nz = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm)));
+    return 2;
+}
+#define PVS__HAVE_BOX_SIMD 1
+#elif defined(PVS__NEON) && defined(__aarch64__)
+PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__boxe *E, pvs__boxf *o) {
+    const float xs[4] = {b->min[0], b->max[0], b->min[0], b->max[0]}, ys[4] = {b->min[1], b->min[1], b->max[1], b->max[1]};
+    const float32x4_t X = vld1q_f32(xs), Y = vld1q_f32(ys), Z0 = vdupq_n_f32(b->min[2]), Z1 = vdupq_n_f32(b->max[2]), zero = vdupq_n_f32(0.0f);
+    float32x4_t c0[4], c1[4], t0, t1, q0, q1, v0, v1, rw0, rw1, one = vdupq_n_f32(1.0f);
+    const float *mf = r->mf;
+    int rr;
+    for (rr = 0; rr < 4; ++rr) {
+        float32x4_t a = vaddq_f32(vmulq_f32(vdupq_n_f32(mf[4 * rr]), X), vmulq_f32(vdupq_n_f32(mf[4 * rr + 1]), Y));
+        c0[rr] = vaddq_f32(vaddq_f32(a, vmulq_f32(vdupq_n_f32(mf[4 * rr + 2]), Z0)), vdupq_n_f32(mf[4 * rr + 3]));
+        c1[rr] = vaddq_f32(vaddq_f32(a, vmulq_f32(vdupq_n_f32(mf[4 * rr + 2]), Z1)), vdupq_n_f32(mf[4 * rr + 3]));
+    }
+    q0 = vsubq_f32(c0[3], c0[2]);
+    q1 = vsubq_f32(c1[3], c1[2]);
+#define PVS__ALL(m) (vminvq_u32(m) != 0)
+#define PVS__ANY(m) (vmaxvq_u32(m) != 0)
+    t0 = vdupq_n_f32(0.0f - E->nz);
+    if (PVS__ALL(vandq_u32(vcltq_f32(q0, t0), vcltq_f32(q1, t0)))) return 0;
+    t0 = vdupq_n_f32(0.0f - E->e[3]);
+    if (PVS__ALL(vandq_u32(vcltq_f32(c0[3], t0), vcltq_f32(c1[3], t0)))) return 0;
+    t0 = vdupq_n_f32(E->xw);
+    if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(c0[0], c0[3]), t0), vcgtq_f32(vsubq_f32(c1[0], c1[3]), t0)))) return 0;
+    if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(vsubq_f32(zero, c0[0]), c0[3]), t0), vcgtq_f32(vsubq_f32(vsubq_f32(zero, c1[0]), c1[3]), t0)))) return 0;
+    t0 = vdupq_n_f32(E->yw);
+    if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(c0[1], c0[3]), t0), vcgtq_f32(vsubq_f32(c1[1], c1[3]), t0)))) return 0;
+    if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(vsubq_f32(zero, c0[1]), c0[3]), t0), vcgtq_f32(vsubq_f32(vsubq_f32(zero, c1[1]), c1[3]), t0)))) return 0;
+    t0 = vdupq_n_f32(E->nz);
+    t1 = vdupq_n_f32(E->w2);
+    if (PVS__ANY(vorrq_u32(vorrq_u32(vcltq_f32(q0, t0), vcleq_f32(c0[3], t1)), vorrq_u32(vcltq_f32(q1, t0), vcleq_f32(c1[3], t1))))) return 1;
+#undef PVS__ALL
+#undef PVS__ANY
+    rw0 = vdivq_f32(one, c0[3]);
+    rw1 = vdivq_f32(one, c1[3]);
+    o->rmax = vmaxvq_f32(vmaxq_f32(rw1, rw0));
+    v0 = vmulq_f32(c0[0], rw0);
+    v1 = vmulq_f32(c1[0], rw1);
+    o->nx = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0)));
+    t0 = vdupq_n_f32(r->hwf);
+    v0 = vaddq_f32(vmulq_f32(v0, t0), t0);
+    v1 = vaddq_f32(vmulq_f32(v1, t0), t0);
+    o->xmin = vminvq_f32(vminq_f32(v1, v0));
+    o->xmax = vmaxvq_f32(vmaxq_f32(v1, v0));
+    v0 = vmulq_f32(c0[1], rw0);
+    v1 = vmulq_f32(c1[1], rw1);
+    o->ny = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0)));
+    t0 = vdupq_n_f32(r->hhf);
+    v0 = vaddq_f32(vmulq_f32(v0, t0), t0);
+    v1 = vaddq_f32(vmulq_f32(v1, t0), t0);
+    o->ymin = vminvq_f32(vminq_f32(v1, v0));
+    o->ymax = vmaxvq_f32(vmaxq_f32(v1, v0));
+    v0 = vmulq_f32(c0[2], rw0);
+    v1 = vmulq_f32(c1[2], rw1);
+    o->zmax = vmaxvq_f32(vmaxq_f32(v1, v0));
+    o->nz = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0)));
+    return 2;
+}
+#define PVS__HAVE_BOX_SIMD 1
+#endif
+
+/* Double to a float at least as large without a library call: for margins (v >= 0, tiny slack) and
+   for a finite v (when rounding went down, one step up: |f| 2^-23 plus the least subnormal is at
+   least the gap to the next float, and rounding is monotonic). */
+PVS__STATIC float pvs__f_up_pos(double v) { return (float)(v * (1.0 + 4.76837158203125e-07) + 1e-37); }
+PVS__STATIC float pvs__f_up_fast(double v) {
+    float f = (float)v;
+    if ((double)f < v) f = (float)((double)f + pvs__dabs((double)f) * 1.1920928955078125e-07 + 1.5e-45);
+    return f;
+}
+
+/* The float box test; returns -1 when the box needs the double path. */
+PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t rect[4], float *dnear) {
+    pvs__boxe E;
+    pvs__boxf o = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    double pm = 0.0, e[4], ex, ey, ez, hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
+    int k, res;
+    for (k = 0; k < 3; ++k) pm = pvs__dmax(pm, pvs__dmax(pvs__dabs(b->min[k]), pvs__dabs(b->max[k])));
+    if (!(pm < 1e30)) return -1;
+    for (k = 0; k < 4; ++k) {
+        double sr = r->rowa[k] * pm + r->rowt[k];
+        if (!(sr < 1e30)) return -1;
+        e[k] = 1.1920928955078125e-07 * sr; /* 2^-23 */
+        E.e[k] = pvs__f_up_pos(e[k]);
+    }
+    E.nz = pvs__f_up_pos(e[3] + e[2]);
+    E.xw = pvs__f_up_pos(e[0] + e[3]);
+    E.yw = pvs__f_up_pos(e[1] + e[3]);
+    E.w2 = pvs__f_up_pos(2.0 * e[3]);
+#if defined(PVS__HAVE_BOX_SIMD)
+    if (!(r->flags & PVS_RASTER_SCALAR)) res = pvs__box_simd(r, b, &E, &o);
+    else
+#endif
+        res = pvs__box_scalar(r, b, &E, &o);
+    if (res != 2) return res;
+    if (!(o.rmax < 1e30f && o.nx < 1e30f && o.ny < 1e30f && o.nz < 1e30f && o.xmin > -1e30f && o.xmax < 1e30f && o.ymin > -1e30f && o.ymax < 1e30f))
+        return -1;
+    ex = hw * (0.7 * (e[0] + o.nx * e[3]) * o.rmax + 3e-7 * (o.nx + 1.0));
+    ey = hh * (0.7 * (e[1] + o.ny * e[3]) * o.rmax + 3e-7 * (o.ny + 1.0));
+    ez = 0.7 * (e[2] + o.nz * e[3]) * o.rmax + 2e-7 * o.nz;
+    if (!((double)o.xmax + ex >= 0.0) || !((double)o.ymax + ey >= 0.0) || !((double)o.xmin - ex <= (double)r->width) ||
+        !((double)o.ymin - ey <= (double)r->height))
+        return 0;
+    rect[0] = pvs__clampi(floor((double)o.xmin - ex), 0, (int32_t)r->width - 1);
+    rect[1] = pvs__clampi(floor((double)o.ymin - ey), 0, (int32_t)r->height - 1);
+    rect[2] = pvs__clampi(floor((double)o.xmax + ex), 0, (int32_t)r->width - 1);
+    rect[3] = pvs__clampi(floor((double)o.ymax + ey), 0, (int32_t)r->height - 1);
+    *dnear = pvs__f_up_fast((double)o.zmax + ez);
+    return 2;
+}
+
 /* Projects a box: 0 = invisible (behind the near plane or off the screen), 1 = may be visible without
    a depth test (reaches behind the near plane), 2 = *rect and *dnear hold its pixel rectangle
    (clamped to the map) and nearest depth. */
@@ -4067,6 +4337,8 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
     double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
     int k, behind_near = 0, behind_w = 0, maybe_behind = 0;
     pvs__cv v[8];
+    k = pvs__raster_box_f(r, b, rect, dnear);
+    if (k >= 0) return k;
     {
         /* the corners as the min corner plus the transformed edges (the margins cover the rounding) */
         pvs__cv base = pvs__raster_transform(r, b->min);
@@ -4204,9 +4476,16 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
     r->width = desc->width;
     r->height = desc->height;
     r->flags = desc->flags;
-    for (l = 0; l < 16; ++l) r->m[l] = r->mf[l] = (l % 5 == 0) ? 1.0f : 0.0f;
+    for (l = 0; l < 16; ++l) {
+        r->m[l] = r->mf[l] = (l % 5 == 0) ? 1.0f : 0.0f;
+        r->mb[l][0] = r->mb[l][1] = r->mb[l][2] = r->mb[l][3] = r->mf[l];
+    }
     r->hwf = 0.5f * (float)r->width;
     r->hhf = 0.5f * (float)r->height;
+    for (l = 0; l < 4; ++l) {
+        r->rowa[l] = 1.0;
+        r->rowt[l] = 0.0;
+    }
     r->mabs[0] = 1.0;
     r->lw[0] = w = r->width;
     r->lh[0] = h = r->height;
