@@ -3184,6 +3184,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
     (void)simd;
     for (ty = ty0; ty <= ty1; ++ty) {
         int32_t jr = ty << PVS__TH_SHIFT, jrow = jr - t->j0, L[PVS__TH], R[PVS__TH], lmin = INT32_MAX, rmax = -1, tx;
+        int32_t fl = -1, fr = INT32_MAX; /* columns every row of the tile row covers */
         int d, e, da = -1, db = -1;
         uint32_t pad[PVS__TH], cov[PVS__TH];
         float ya, yb, zy, p, zt, z0;
@@ -3199,9 +3200,14 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 #endif
             pvs__tile_rows_scalar(t, jrow, xr, L, R);
         for (d = 0; d < PVS__TH; ++d) {
-            if (L[d] > R[d]) continue;
+            if (L[d] > R[d]) {
+                if (jr + d < (int32_t)r->height) fr = -2; /* an empty row inside the map: no tile is full */
+                continue;
+            }
             lmin = L[d] < lmin ? L[d] : lmin;
             rmax = R[d] > rmax ? R[d] : rmax;
+            fl = L[d] > fl ? L[d] : fl;
+            fr = R[d] < fr ? R[d] : fr;
             if (da < 0) da = d;
             db = d;
         }
@@ -3221,6 +3227,14 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
             p = p - t->zm;
             zt = p > t->zlo ? p : t->zlo;
             if (!(zt > tl->z0)) continue; /* nothing nearer than the tile's base */
+            if (x0 >= fl && (x0 + 31 < (int32_t)r->width ? x0 + 31 : (int32_t)r->width - 1) <= fr) {
+                /* the polygon covers the tile: pvs__tile_merge's first case */
+                if (!((tl->mask[0] | tl->mask[1] | tl->mask[2] | tl->mask[3]) && tl->z1 > zt))
+                    tl->mask[0] = tl->mask[1] = tl->mask[2] = tl->mask[3] = 0;
+                tl->z0 = zt;
+                r->bdirty[(size_t)(ty >> PVS__BLOCK_SHIFT) * r->bw + (uint32_t)(tx >> PVS__BLOCK_SHIFT)] = 1;
+                continue;
+            }
 #if defined(PVS__HAVE_TILE_SIMD)
             if (simd) {
                 if (!pvs__tile_mask_simd(L, R, x0, cov)) continue;
@@ -3516,9 +3530,6 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
             x = (m[0] * X + m[1] * Y + m[2] * Z + m[3]) * rw * hw + hw;
             y = (m[4] * X + m[5] * Y + m[6] * Z + m[7]) * rw * hh + hh;
             z = cz[k] * rw;
-            fin &= (x < 0.0f ? 0.0f - x : x) < 1e30f;
-            fin &= (y < 0.0f ? 0.0f - y : y) < 1e30f;
-            fin &= (z < 0.0f ? 0.0f - z : z) < 1e30f;
             if (k == 0) {
                 xmin = xmax = x; ymin = ymax = y; zm = z;
             } else {
@@ -3527,6 +3538,9 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
                 zm = z > zm ? z : zm;
             }
         }
+        fin = (xmin < 0.0f ? 0.0f - xmin : xmin) < 1e30f && (xmax < 0.0f ? 0.0f - xmax : xmax) < 1e30f;
+        fin &= (ymin < 0.0f ? 0.0f - ymin : ymin) < 1e30f && (ymax < 0.0f ? 0.0f - ymax : ymax) < 1e30f;
+        fin &= (zm < 0.0f ? 0.0f - zm : zm) < 1e30f;
         if (!fin) continue;
         xmin = xmin > 0.0f ? xmin : 0.0f; xmax = xmax < fw ? xmax : fw;
         ymin = ymin > 0.0f ? ymin : 0.0f; ymax = ymax < fh ? ymax : fh;
@@ -3544,8 +3558,8 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 }
 
 #if defined(PVS__SSE2)
-/* Each v[l][k] has 4 readable floats (the caller copies a last vertex). */
-PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4], float *zmax) {
+/* Each v[l][k] has 4 readable floats (the caller copies a last vertex); mb: the matrix broadcast. */
+PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const float *const v[4][3], unsigned *test, int32_t box[4][4], float *zmax) {
     const __m128 zero = _mm_setzero_ps(), absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), big = _mm_set1_ps(1e30f);
     __m128 X0, Y0, Z0, X1, Y1, Z1, X2, Y2, Z2, cz0, cz1, cz2, cw0, cw1, cw2, t, anyb, allb, fin;
     __m128 x, y, z, xmin, xmax, ymin, ymax, zm, rw;
@@ -3555,8 +3569,7 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
         __m128 a = _mm_loadu_ps(v[0][k]), b = _mm_loadu_ps(v[1][k]), c = _mm_loadu_ps(v[2][k]), d = _mm_loadu_ps(v[3][k]); \
         __m128 ab0 = _mm_unpacklo_ps(a, b), cd0 = _mm_unpacklo_ps(c, d), ab1 = _mm_unpackhi_ps(a, b), cd1 = _mm_unpackhi_ps(c, d); \
         X = _mm_movelh_ps(ab0, cd0); Y = _mm_movehl_ps(cd0, ab0); Z = _mm_movelh_ps(ab1, cd1); } while (0)
-#define PVS__ROW(o, X, Y, Z) _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(r->mb[o]), X), _mm_mul_ps(_mm_loadu_ps(r->mb[o + 1]), Y)), \
-                                                   _mm_mul_ps(_mm_loadu_ps(r->mb[o + 2]), Z)), _mm_loadu_ps(r->mb[o + 3]))
+#define PVS__ROW(o, X, Y, Z) _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(mb[o], X), _mm_mul_ps(mb[o + 1], Y)), _mm_mul_ps(mb[o + 2], Z)), mb[o + 3])
     PVS__LOAD3(0, X0, Y0, Z0);
     PVS__LOAD3(1, X1, Y1, Z1);
     PVS__LOAD3(2, X2, Y2, Z2);
@@ -3578,10 +3591,7 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
         rw = _mm_div_ps(_mm_set1_ps(1.0f), cw); \
         x = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(PVS__ROW(0, X, Y, Z), rw), _mm_set1_ps(r->hwf)), _mm_set1_ps(r->hwf)); \
         y = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(PVS__ROW(4, X, Y, Z), rw), _mm_set1_ps(r->hhf)), _mm_set1_ps(r->hhf)); \
-        z = _mm_mul_ps(cz, rw); \
-        fin = _mm_and_ps(fin, _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(x, absm), big), _mm_cmplt_ps(_mm_and_ps(y, absm), big))); \
-        fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(z, absm), big)); } while (0)
-    fin = _mm_castsi128_ps(_mm_set1_epi32(-1));
+        z = _mm_mul_ps(cz, rw); } while (0)
     PVS__PROJ(X0, Y0, Z0, cz0, cw0);
     xmin = xmax = x; ymin = ymax = y; zm = z;
     PVS__PROJ(X1, Y1, Z1, cz1, cw1);
@@ -3591,6 +3601,11 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
 #undef PVS__PROJ
 #undef PVS__ROW
 #undef PVS__LOAD3
+    /* finite extremes (a NaN coordinate can drop out of the min and max: the triangle may be dropped,
+       which the scalar loop does alike and which is conservative) */
+    fin = _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(xmin, absm), big), _mm_cmplt_ps(_mm_and_ps(xmax, absm), big));
+    fin = _mm_and_ps(fin, _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(ymin, absm), big), _mm_cmplt_ps(_mm_and_ps(ymax, absm), big)));
+    fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(zm, absm), big));
     xmin = _mm_max_ps(xmin, zero); xmax = _mm_min_ps(xmax, _mm_set1_ps((float)r->width));
     ymin = _mm_max_ps(ymin, zero); ymax = _mm_min_ps(ymax, _mm_set1_ps((float)r->height));
     /* only the tested lanes matter: keep the others' conversions in range */
@@ -3656,8 +3671,6 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
         x = vaddq_f32(vmulq_f32(vmulq_f32(PVS__ROW(0, k), rw), hw), hw);
         y = vaddq_f32(vmulq_f32(vmulq_f32(PVS__ROW(4, k), rw), hh), hh);
         z = vmulq_f32(cz[k], rw);
-        fin = vandq_u32(fin, vandq_u32(vcltq_f32(vabsq_f32(x), big), vcltq_f32(vabsq_f32(y), big)));
-        fin = vandq_u32(fin, vcltq_f32(vabsq_f32(z), big));
         if (k == 0) {
             xmin = xmax = x; ymin = ymax = y; zm = z;
         } else {
@@ -3667,6 +3680,9 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
         }
     }
 #undef PVS__ROW
+    fin = vandq_u32(vcltq_f32(vabsq_f32(xmin), big), vcltq_f32(vabsq_f32(xmax), big));
+    fin = vandq_u32(fin, vandq_u32(vcltq_f32(vabsq_f32(ymin), big), vcltq_f32(vabsq_f32(ymax), big)));
+    fin = vandq_u32(fin, vcltq_f32(vabsq_f32(zm), big));
     xmin = vbslq_f32(vcgtq_f32(xmin, zero), xmin, zero); fv = vdupq_n_f32((float)r->width); xmax = vbslq_f32(vcltq_f32(xmax, fv), xmax, fv);
     ymin = vbslq_f32(vcgtq_f32(ymin, zero), ymin, zero); fv = vdupq_n_f32((float)r->height); ymax = vbslq_f32(vcltq_f32(ymax, fv), ymax, fv);
     t = vbicq_u32(fin, anyb);
@@ -3753,34 +3769,40 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
     unsigned draw, test;
     int n;
     int32_t box[4][4];
+#if defined(PVS__SSE2)
+    __m128 mb[16];
+    for (k = 0; k < 16; ++k) mb[k] = _mm_set1_ps(r->mf[k]);
+#endif
+    if (!vertex_count) return;
+    last[0] = positions[3 * ((size_t)vertex_count - 1)]; /* the SIMD loads read 4 floats: a copy of the last vertex */
+    last[1] = positions[3 * ((size_t)vertex_count - 1) + 1];
+    last[2] = positions[3 * ((size_t)vertex_count - 1) + 2];
+    last[3] = 0.0f;
     for (t = 0; t < count; t += 4) {
         n = 0;
         for (l = 0; l < 4 && t + l < count; ++l) {
-            uint32_t a, b, cc;
-            if (tris) {
-                const uint32_t *q = indices + 3 * (size_t)tris[t + l].triangle;
-                a = q[0]; b = q[1]; cc = q[2];
-            } else if (indices) {
-                a = indices[3 * (size_t)(t + l)]; b = indices[3 * (size_t)(t + l) + 1]; cc = indices[3 * (size_t)(t + l) + 2];
+            uint32_t q0, q1, q2;
+            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[t + l].triangle : indices ? indices + 3 * (size_t)(t + l) : NULL;
+            if (ix) {
+                q0 = ix[0]; q1 = ix[1]; q2 = ix[2];
             } else {
-                a = 3 * (t + l); b = a + 1; cc = a + 2;
+                q0 = 3 * (t + l); q1 = q0 + 1; q2 = q0 + 2;
             }
-            if (a >= vertex_count || b >= vertex_count || cc >= vertex_count) continue;
-            v[n][0] = positions + 3 * (size_t)a;
-            v[n][1] = positions + 3 * (size_t)b;
-            v[n][2] = positions + 3 * (size_t)cc;
-            for (k = 0; k < 3; ++k)
-                if (v[n][k] == positions + 3 * ((size_t)vertex_count - 1)) { /* the SIMD loads read 4 floats */
-                    last[0] = v[n][k][0]; last[1] = v[n][k][1]; last[2] = v[n][k][2]; last[3] = 0.0f;
-                    v[n][k] = last;
-                }
+            if (q0 >= vertex_count || q1 >= vertex_count || q2 >= vertex_count) continue;
+            v[n][0] = q0 + 1 == vertex_count ? last : positions + 3 * (size_t)q0;
+            v[n][1] = q1 + 1 == vertex_count ? last : positions + 3 * (size_t)q1;
+            v[n][2] = q2 + 1 == vertex_count ? last : positions + 3 * (size_t)q2;
             ++n;
         }
         if (!n) continue;
         for (l = (uint32_t)n; l < 4; ++l)
             for (k = 0; k < 3; ++k) v[l][k] = v[0][k];
 #if defined(PVS__HAVE_PF_SIMD)
+#if defined(PVS__SSE2)
+        if (!(r->flags & PVS_RASTER_SCALAR)) draw = pvs__pf_simd(r, mb, (const float *const(*)[3])v, &test, box, zmax);
+#else
         if (!(r->flags & PVS_RASTER_SCALAR)) draw = pvs__pf_simd(r, (const float *const(*)[3])v, &test, box, zmax);
+#endif
         else
 #endif
             draw = pvs__pf_scalar(r, (const float *const(*)[3])v, &test, box, zmax);
