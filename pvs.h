@@ -527,8 +527,13 @@ typedef struct pvs_camera {
    near / distance. Returns INVALID_ARGUMENT or NOT_FINITE for an unusable camera, else PVS_OK. */
 PVS_API pvs_result pvs_camera_matrix(const pvs_camera *camera, float aspect, float m[16]);
 
-/* Raster flags. */
-#define PVS_RASTER_SCALAR 1u  /* use the scalar code even where SIMD is compiled in (identical results) */
+/* Raster flags. Occluder-mode depth is kept one of two ways: per pixel (exact per pixel; the default
+   for maps of at most 65,536 pixels) or per tile of 32 x 4 pixels as a coverage mask and two depths
+   (Masked Occlusion Culling: several times faster, each tile's depth the farthest of what covers it;
+   the default for larger maps). Both are conservative. */
+#define PVS_RASTER_SCALAR 1u     /* use the scalar code even where SIMD is compiled in (identical results) */
+#define PVS_RASTER_PER_PIXEL 2u  /* occluders keep a depth per pixel */
+#define PVS_RASTER_TILED 4u      /* occluders go to tiles (wins over PVS_RASTER_PER_PIXEL) */
 
 /* What pvs_raster_create needs. Left at zero, optional fields get defaults. */
 typedef struct pvs_raster_desc {
@@ -2561,7 +2566,9 @@ struct pvs_raster {
     uint32_t tw, th;                            /* tile grid */
     uint32_t xpad;                              /* bits of the last tile column past the map's right side */
     uint32_t ypad;                              /* rows of the last tile row inside the map (1..4) */
-    int mixed;                                  /* occludee triangles drawn since the clear: `depth` holds them */
+    int tiled;                                  /* occluders go to the tiles (else to `depth`) */
+    int mixed;                                  /* `depth` holds pixels drawn since the clear (occludees, or all
+                                                   triangles when not tiled) */
     float *bmin;                                /* per block of 8 x 8 tiles: at most the least base (z0) */
     uint8_t *bdirty;                            /*   and 1 when a base grew since bmin was taken */
     uint32_t bw, bh;                            /* block grid */
@@ -3377,10 +3384,24 @@ PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y,
     pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR));
 }
 
+/* Occludee triangles (and all triangles when not tiled) go to the per-pixel map, cleared on the first
+   one after pvs_raster_clear. */
+PVS__STATIC void pvs__raster_occludee_begin(pvs_raster *r) {
+    size_t i, n = (size_t)r->width * r->height;
+    if (r->mixed) return;
+    for (i = 0; i < n; ++i) r->depth[i] = PVS_DEPTH_EMPTY;
+    for (i = 0; i < r->tiles; ++i) r->tile_min[i] = PVS_DEPTH_EMPTY;
+    r->mixed = 1;
+}
+
 /* The per-pixel depth map from the tiles: overwritten, or where occludee triangles were drawn into it
    (r->mixed) the nearer of the two. */
 PVS__STATIC void pvs__tile_resolve(pvs_raster *r) {
     uint32_t ty, tx, d, k;
+    if (!r->tiled) {
+        pvs__raster_occludee_begin(r); /* nothing drawn yet: the cleared map */
+        return;
+    }
     for (ty = 0; ty < r->th; ++ty)
         for (d = 0; d < PVS__TH && (ty << PVS__TH_SHIFT) + d < r->height; ++d) {
             float *row = r->depth + (size_t)((ty << PVS__TH_SHIFT) + d) * r->width;
@@ -3394,14 +3415,6 @@ PVS__STATIC void pvs__tile_resolve(pvs_raster *r) {
         }
 }
 
-/* Occludee triangles go to the per-pixel map, cleared on the first one after pvs_raster_clear. */
-PVS__STATIC void pvs__raster_occludee_begin(pvs_raster *r) {
-    size_t i, n = (size_t)r->width * r->height;
-    if (r->mixed) return;
-    for (i = 0; i < n; ++i) r->depth[i] = PVS_DEPTH_EMPTY;
-    for (i = 0; i < r->tiles; ++i) r->tile_min[i] = PVS_DEPTH_EMPTY;
-    r->mixed = 1;
-}
 
 /* Clip-space vertex (double). */
 typedef struct pvs__cv {
@@ -3467,11 +3480,11 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
         perr = pvs__dmax(perr, 2.0 * e * (1.0 + pvs__dabs(t[i].c[0] * iw) + pvs__dabs(t[i].c[1] * iw)) * pvs__dmax(hw, hh));
         zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z[i])));
     }
-    if (occluder) {
+    if (occluder && r->tiled) {
         pvs__tile_poly(r, x, y, z, n, perr, zerr);
     } else {
         pvs__raster_occludee_begin(r);
-        pvs__raster_poly(r->depth, r->width, r->height, r->tile_min, x, y, z, n, 0, !(r->flags & PVS_RASTER_SCALAR), perr, zerr);
+        pvs__raster_poly(r->depth, r->width, r->height, r->tile_min, x, y, z, n, occluder, !(r->flags & PVS_RASTER_SCALAR), perr, zerr);
     }
 }
 
@@ -3896,13 +3909,13 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *r, const float m[16]) {
 }
 
 PVS_API void pvs_raster_clear(pvs_raster *r) {
-    size_t i, n = (size_t)r->tw * r->th;
+    size_t i, n = r->tiled ? (size_t)r->tw * r->th : 0;
     for (i = 0; i < n; ++i) {
         pvs__tile *t = r->tile + i;
         t->mask[0] = t->mask[1] = t->mask[2] = t->mask[3] = 0;
         t->z0 = t->z1 = PVS_DEPTH_EMPTY;
     }
-    n = (size_t)r->bw * r->bh;
+    n = r->tiled ? (size_t)r->bw * r->bh : 0;
     for (i = 0; i < n; ++i) {
         r->bmin[i] = PVS_DEPTH_EMPTY;
         r->bdirty[i] = 0;
@@ -3915,7 +3928,7 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, u
                                         uint32_t count, pvs_raster_mode mode) {
     uint32_t t;
     if (!r || (!positions && count) || (int)mode < 0 || mode >= PVS_RASTER_MODE_COUNT) return PVS_ERROR_INVALID_ARGUMENT;
-    if (mode == PVS_RASTER_OCCLUDER) {
+    if (mode == PVS_RASTER_OCCLUDER && r->tiled) {
         pvs__raster_occluders(r, positions, vertex_count, indices, NULL, count);
         return PVS_OK;
     }
@@ -3989,7 +4002,7 @@ PVS__STATIC void pvs__tile_pyramid(pvs_raster *r) {
 
 PVS_API void pvs_raster_build_pyramid(pvs_raster *r) {
     uint32_t l, x, y;
-    if (!r->mixed) {
+    if (r->tiled && !r->mixed) {
         pvs__tile_pyramid(r);
         return;
     }
@@ -4359,8 +4372,10 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
     double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
     int k, behind_near = 0, behind_w = 0, maybe_behind = 0;
     pvs__cv v[8];
-    k = pvs__raster_box_f(r, b, rect, dnear);
-    if (k >= 0) return k;
+    if (r->tiled) { /* float, the tiles' speed; the per-pixel mode keeps the double test */
+        k = pvs__raster_box_f(r, b, rect, dnear);
+        if (k >= 0) return k;
+    }
     {
         /* the corners as the min corner plus the transformed edges (the margins cover the rounding) */
         pvs__cv base = pvs__raster_transform(r, b->min);
@@ -4526,6 +4541,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
     r->tile_min = (float *)pvs__alloc_array(&a, r->tiles, sizeof(float));
     if (!r->depth || !r->pyramid || !r->tile_min) goto oom;
     /* the occluder tiles and their pyramid */
+    r->tiled = (r->flags & PVS_RASTER_TILED) || (!(r->flags & PVS_RASTER_PER_PIXEL) && (size_t)r->width * r->height > 65536);
     r->tw = (r->width + 31) >> PVS__TW_SHIFT;
     r->th = (r->height + PVS__TH - 1) >> PVS__TH_SHIFT;
     r->xpad = r->width & 31 ? ~0u << (r->width & 31) : 0u;
@@ -4802,7 +4818,14 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
         memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
         for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
         pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
-        pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
+        if (r->tiled) {
+            pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
+        } else {
+            for (i = 0; i < sc.n; ++i) {
+                const uint32_t *t = s->indices + 3 * (size_t)r->occ[i].triangle;
+                pvs__raster_tri(r, s->positions + 3 * (size_t)t[0], s->positions + 3 * (size_t)t[1], s->positions + 3 * (size_t)t[2], 1);
+            }
+        }
         cc.st.occluder_triangles += sc.n;
     }
     if (p && p->scene_volumes) { /* explicit occluder volumes as triangles: a box's faces, an extrusion's walls */

@@ -21,6 +21,10 @@ static double rnd(void) {
 }
 static float rndf(float lo, float hi) { return lo + (hi - lo) * (float)rnd(); }
 
+/* The occluder representation the tests below use: PVS_RASTER_PER_PIXEL or PVS_RASTER_TILED (the
+   maps here are small, which would pick per pixel). raster_verify runs them with both. */
+static uint32_t mode_flag = PVS_RASTER_PER_PIXEL;
+
 /* ---- brute-force coverage ---- */
 
 /* Clip coordinates of a point under a row-major matrix, in double. */
@@ -177,7 +181,7 @@ static void test_coverage(int scale) {
     pvs_error e;
     int t, bad = 0, claimed = 0, n = 300 * scale;
     memset(&rd, 0, sizeof(rd));
-    rd.width = 13; rd.height = 9;
+    rd.width = 13; rd.height = 9; rd.flags = mode_flag;
     CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
     for (t = 0; t < n; ++t) {
         float m[16], p[9];
@@ -206,9 +210,9 @@ static void test_coverage(int scale) {
     pvs_raster_destroy(r);
 }
 
-/* SIMD and scalar give identical depth maps; many triangles on one map. Occluder mode merges tiles
-   (Masked Occlusion Culling's two layers): each pixel is at most the nearest of what the triangles give
-   it one at a time; occludee mode is per pixel, exactly that. */
+/* SIMD and scalar give identical depth maps; many triangles on one map. Per pixel, the map is the
+   nearest of what the triangles give one at a time; tiled occluders merge (Masked Occlusion Culling's
+   two layers): each pixel is at most that. */
 static void test_simd_identical(int scale) {
     pvs_raster_desc rd;
     pvs_raster *a, *b;
@@ -218,9 +222,9 @@ static void test_simd_identical(int scale) {
     float *tris;
     int n = 400 * scale;
     memset(&rd, 0, sizeof(rd));
-    rd.width = 67; rd.height = 45;
+    rd.width = 67; rd.height = 45; rd.flags = mode_flag;
     CHECK(pvs_raster_create(&rd, &a, &e) == PVS_OK);
-    rd.flags = PVS_RASTER_SCALAR;
+    rd.flags = PVS_RASTER_SCALAR | mode_flag;
     CHECK(pvs_raster_create(&rd, &b, &e) == PVS_OK);
     tris = (float *)malloc((size_t)n * 9 * sizeof(float));
     for (mode = 0; mode < 2; ++mode) {
@@ -245,7 +249,7 @@ static void test_simd_identical(int scale) {
                 for (px = 0; px < 67 * 45; ++px) ref[px] = d[px] > ref[px] ? d[px] : ref[px];
             }
             d = pvs_raster_depth(a, NULL, NULL);
-            if (mode == PVS_RASTER_OCCLUDEE) same &= memcmp(d, ref, 67 * 45 * sizeof(float)) == 0;
+            if (mode == PVS_RASTER_OCCLUDEE || mode_flag == PVS_RASTER_PER_PIXEL) same &= memcmp(d, ref, 67 * 45 * sizeof(float)) == 0;
             for (px = 0; px < 67 * 45; ++px) {
                 farther &= d[px] <= ref[px];
                 if (mode == PVS_RASTER_OCCLUDER) { alone += ref[px] != PVS_DEPTH_EMPTY; kept += d[px] != PVS_DEPTH_EMPTY; }
@@ -271,9 +275,9 @@ static void test_boxes(int scale) {
     int t, missed = 0, differ = 0, checked = 0, hidden = 0;
     const uint32_t W = 64, H = 48;
     memset(&rd, 0, sizeof(rd));
-    rd.width = W; rd.height = H;
+    rd.width = W; rd.height = H; rd.flags = mode_flag;
     CHECK(pvs_raster_create(&rd, &a, &e) == PVS_OK);
-    rd.flags = PVS_RASTER_SCALAR;
+    rd.flags = PVS_RASTER_SCALAR | mode_flag;
     CHECK(pvs_raster_create(&rd, &b, &e) == PVS_OK);
     for (t = 0; t < 40 * scale; ++t) {
         float m[16], off[3], tri[9 * 40];
@@ -378,7 +382,7 @@ static void test_pyramid(int scale) {
         float m[16], p[9];
         int t, q;
         memset(&rd, 0, sizeof(rd));
-        rd.width = W; rd.height = H;
+        rd.width = W; rd.height = H; rd.flags = mode_flag;
         CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
         for (t = 0; t < 10 * scale; ++t) {
             const float *d;
@@ -609,7 +613,7 @@ static uint32_t check_rays(const tscene *t, const pvs_camera *cam, float aspect,
 /* Culling (depth pyramid and cull map) against ray casting. */
 static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, const char *label) {
     pvs_raster_desc rd;
-    pvs_raster *r, *rs;
+    pvs_raster *r, *rs, *ctx[4];
     pvs_error e;
     pvs_word *vis, *vis_s, *cand;
     uint32_t n = pvs_scene_object_count(t->scene), c, same = 1, misses = 0, cm_misses = 0, hits = 0, culled = 0, cm_culled = 0, outside = 0;
@@ -619,9 +623,10 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
     rd.scene = t->scene;
     rd.max_occluders = 400;
     rd.cull_map_width = 128; rd.cull_map_height = 96;
-    CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
-    rd.flags = PVS_RASTER_SCALAR;
-    CHECK(pvs_raster_create(&rd, &rs, &e) == PVS_OK);
+    for (c = 0; c < 4; ++c) { /* per pixel and tiled, each SIMD and scalar */
+        rd.flags = (c & 1 ? PVS_RASTER_SCALAR : 0u) | (c & 2 ? PVS_RASTER_TILED : PVS_RASTER_PER_PIXEL);
+        CHECK(pvs_raster_create(&rd, &ctx[c], &e) == PVS_OK);
+    }
     vis = (pvs_word *)calloc(words, sizeof(pvs_word));
     vis_s = (pvs_word *)calloc(words, sizeof(pvs_word));
     cand = (pvs_word *)calloc(words, sizeof(pvs_word));
@@ -630,6 +635,8 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
         pvs_cull_params cp;
         pvs_cull_stats st;
         uint32_t i, use_cand = c % 4 == 3;
+        r = ctx[2 * (c & 1)];
+        rs = ctx[2 * (c & 1) + 1];
         random_camera(t, &cam, up);
         memset(&cp, 0, sizeof(cp));
         cp.scene_occluders = 64 + (uint32_t)(rnd() * 300);
@@ -680,8 +687,7 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
     free(vis);
     free(vis_s);
     free(cand);
-    pvs_raster_destroy(r);
-    pvs_raster_destroy(rs);
+    for (c = 0; c < 4; ++c) pvs_raster_destroy(ctx[c]);
 }
 
 static void test_culling(int scale) {
@@ -953,10 +959,14 @@ void raster_verify_coverage(int scale);
 void raster_verify_coverage(int scale) { test_coverage(scale); }
 void raster_verify(int scale);
 void raster_verify(int scale) {
-    test_coverage(scale);
-    test_simd_identical(scale);
-    test_boxes(scale);
-    test_pyramid(scale);
+    int k;
+    for (k = 0; k < 2; ++k) {
+        mode_flag = k ? PVS_RASTER_TILED : PVS_RASTER_PER_PIXEL;
+        test_coverage(scale);
+        test_simd_identical(scale);
+        test_boxes(scale);
+        test_pyramid(scale);
+    }
     test_cull_map_cells(scale);
     test_cull_map_footprints(scale);
     test_culling(scale);
