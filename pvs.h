@@ -2777,8 +2777,18 @@ PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a
     return inside;
 }
 
-/* Runs the pixel loops over the prepared polygon: blocks of 4 x 4 tiles classified against the
-   edges first, then tiles (skipped when hidden or outside, without edge tests when inside). */
+/* The most the pixel loops can write over pixels [a0, a1] x [b0, b1] (relative to the polygon's
+   corner): the plane's largest value there plus a slack above their float rounding, clamped as they
+   clamp. */
+PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1, int occluder) {
+    double pa = s->za, pb = s->zb, hi = (double)s->zk + pvs__dmax(pa * a0, pa * a1) + pvs__dmax(pb * b0, pb * b1);
+    hi += 3.814697265625e-06 * (pvs__dabs(s->zk) + pvs__dabs(pa) * a1 + pvs__dabs(pb) * b1) + 1e-30;
+    return occluder ? pvs__dmax(hi, s->zclamp) : pvs__dmin(hi, s->zclamp);
+}
+
+/* Runs the pixel loops over the prepared polygon: blocks of 4 x 4 tiles, skipped when every tile
+   already holds at least what the polygon could write there, classified against the edges; then
+   tiles (skipped likewise or when outside, without edge tests when inside). */
 PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder, int simd, float zbound) {
     uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, bx, by;
     int wrote, inside, edges, block;
@@ -2800,10 +2810,24 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
             if (c1 > s->i1) c1 = s->i1;
             if (d0 < s->j0) d0 = s->j0;
             if (d1 > s->j1) d1 = s->j1;
-            block = pvs__raster_classify(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0);
-            if (block < 0) continue;
             tx0 = (uint32_t)c0 >> PVS__TILE_SHIFT; tx1 = (uint32_t)c1 >> PVS__TILE_SHIFT;
             ty0 = (uint32_t)d0 >> PVS__TILE_SHIFT; ty1 = (uint32_t)d1 >> PVS__TILE_SHIFT;
+            {
+                float lo = FLT_MAX;
+                for (ty = ty0; ty <= ty1; ++ty) {
+                    const float *t = tile_min + ty * tw;
+                    if (tx1 - tx0 == 3) { /* a whole block row, without a loop */
+                        float a = t[tx0] < t[tx0 + 1] ? t[tx0] : t[tx0 + 1], b = t[tx0 + 2] < t[tx0 + 3] ? t[tx0 + 2] : t[tx0 + 3];
+                        a = a < b ? a : b;
+                        lo = a < lo ? a : lo;
+                    } else {
+                        for (tx = tx0; tx <= tx1; ++tx) lo = t[tx] < lo ? t[tx] : lo;
+                    }
+                }
+                if (lo >= zbound || (double)lo >= pvs__raster_zbound(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0, occluder)) continue;
+            }
+            block = pvs__raster_classify(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0);
+            if (block < 0) continue;
             for (ty = ty0; ty <= ty1; ++ty)
                 for (tx = tx0; tx <= tx1; ++tx) {
                     if (tile_min[ty * tw + tx] >= zbound) continue; /* nothing here can get nearer */
@@ -2811,6 +2835,8 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
                     s->li1 = (int32_t)(tx << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->li1 > s->i1) s->li1 = s->i1;
                     s->lj0 = (int32_t)(ty << PVS__TILE_SHIFT); if (s->lj0 < s->j0) s->lj0 = s->j0;
                     s->lj1 = (int32_t)(ty << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->lj1 > s->j1) s->lj1 = s->j1;
+                    if ((double)tile_min[ty * tw + tx] >= pvs__raster_zbound(s, s->li0 - s->i0, s->li1 - s->i0, s->lj0 - s->j0, s->lj1 - s->j0, occluder))
+                        continue;
                     inside = block ? 1 : pvs__raster_classify(s, s->li0 - s->i0, s->li1 - s->i0, s->lj0 - s->j0, s->lj1 - s->j0);
                     if (inside < 0) continue;
                     edges = s->edges;
