@@ -56,7 +56,7 @@
    >>otree      occlusion trees: line-space BSP; exact 2D and conservative 2.5D (c-LSS) region visibility
    >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps, boxes / columns
    >>methods    region methods: `shrink` (Wonka 2000), extended projections `extproj`, the estimator `sample`
-   >>bake       bake driver: tasks, determinism
+   >>bake       bake driver: tasks, AUTO (methods intersected), draw distance, resuming, determinism
    >>format     the .pvs file: writer and validating zero-copy reader
    >>runtime    cell look-up and decoding
 
@@ -83,6 +83,16 @@
    is tighter and slower. The `sample` method (ray sampling) is the exception: it is an estimate from
    below, the yardstick the tests measure the conservative methods against, and files baked with it
    carry PVS_FILE_APPROXIMATE.
+
+   Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
+   vertical walls stand on the ground (2.5D), EXTPROJ when there are planar occluders or convex solids
+   (3D), SHRINK when closed geometry leaves occluder volume after erosion by eps; it runs them cheapest
+   first and intersects their PVSs (an intersection of conservative sets is conservative, and at least
+   as tight as each). pvs_bake_get_method_info says which ran, which were skipped and why, and what
+   each contributed; pvs_bake_desc.methods restricts the candidates. SAMPLE is never among them.
+   PVS_BAKE_PREVIEW keeps only the cheapest with coarse settings. max_distance (a draw distance) drops
+   objects whose box is farther than it from every point of the cell (box to box, rounded toward
+   keeping). pvs_bake_restore_task resumes an interrupted bake from the PVSs it had finished.
 
    Memory. Every desc struct has a `pvs_allocator`; left at zero, PVS_MALLOC/PVS_FREE are used. An object
    remembers its allocator. Size arithmetic is overflow-checked. The runtime (pvs_file_*) and the
@@ -115,7 +125,8 @@
    ======
    Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle
    kD-trees: about 100 bytes per triangle), pvs_bake_begin (the cells and one bitset per cell:
-   cell_count * object_count / 8 bytes), pvs_file_encode (scratch about 40 bytes per cell plus one
+   cell_count * object_count / 8 bytes, and 40 bytes of statistics per cell), pvs_bake_run_task
+   (AUTO: one bitset per method it runs, freed before returning), pvs_file_encode (scratch about 40 bytes per cell plus one
    bitset), pvs_raster_create (the depth map and pyramid, the cull map). Allocates nothing: every
    pvs_file_* and pvs_cursor_* call, kD-tree queries (caller scratch), pvs_raster_cull and
    pvs_raster_cull_map per frame. A .pvs file is used in place; it needs no copy.
@@ -220,6 +231,8 @@
 
    RECENT HISTORY
    ==============
+   next               PVS_METHOD_AUTO, the default (the applicable conservative methods, intersected),
+                      bake max_distance, PVS_BAKE_PREVIEW, resumable bakes (pvs_bake_restore_task).
    0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps and per-frame culling;
                       bake methods shrink (with occluder synthesis), otree (c-LSS) and extproj.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
@@ -813,8 +826,7 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occlu
 
 /* ---- methods --------------------------------------------------------------------------------- */
 
-/* Region methods. 0 is the default (today: SAMPLE; SHRINK is conservative but not yet fast enough on
-   large cities to be the default). */
+/* Region methods. 0 is the default: AUTO. */
 typedef enum pvs_method {
     PVS_METHOD_DEFAULT = 0,
     PVS_METHOD_SAMPLE,       /* ray sampling: an estimate from below, NOT conservative */
@@ -822,6 +834,8 @@ typedef enum pvs_method {
                                 scene's vertical rectangles standing on the ground (see pvs_visibility_25d) */
     PVS_METHOD_EXTPROJ,      /* extended projections (Durand et al. 2000): conservative, 3D, planar occluders */
     PVS_METHOD_SHRINK,       /* occluder shrinking + point sampling (Wonka 2000): conservative */
+    PVS_METHOD_AUTO,         /* the conservative methods that apply to the scene, their PVSs intersected (see
+                                pvs_bake_desc.methods and pvs_bake_method_info); never SAMPLE */
     PVS_METHOD_COUNT
 } pvs_method;
 
@@ -855,6 +869,18 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *
    allocation. Returns the number of rays cast. */
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
                                        uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
+
+/* Object-directed ray sampling, a stronger lower bound than pvs_sample_visibility for small and far
+   objects (uniform directions pass them by): for each object set in `targets` (NULL: every object)
+   and not yet set in `visible`, up to `rays_per_object` segments from a uniformly random point of
+   `cell` to a random point of one of the object's triangles (chosen uniformly among its triangles,
+   the point pulled 1% toward the triangle's centroid). The first object each segment hits is set in
+   `visible` (it is seen from that point, whichever object it is); the object's rays stop at the first
+   that reaches it. Occluder-only objects are never set nor aimed at. Still a lower bound of the exact
+   visible set, never a PVS. Deterministic in `seed`. Thread-safe, no allocation. Returns the number
+   of rays cast. */
+PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_box *cell, const pvs_word *targets,
+                                              uint32_t rays_per_object, uint64_t seed, pvs_word *visible);
 
 /* ---- extended projections (Durand, Drettakis, Thollot, Puech 2000) ---- */
 
@@ -906,7 +932,7 @@ typedef struct pvs_bake_desc {
     const pvs_scene *scene;   /* must outlive the bake */
     const pvs_box *cells;     /* cell_count view cells, copied */
     uint32_t cell_count;
-    pvs_method method;        /* PVS_METHOD_DEFAULT picks */
+    pvs_method method;        /* PVS_METHOD_DEFAULT = AUTO */
     float eps;                /* sampling / shrinking distance; 0 = derived from the cells */
     uint32_t sample_points;   /* SAMPLE: points per cell, 0 = 32 */
     uint32_t sample_rays;     /* SAMPLE: rays per point, 0 = 2048 */
@@ -920,8 +946,18 @@ typedef struct pvs_bake_desc {
        shard_index + shard_count, ... and writes a part file; the parts of shard_index 0..shard_count-1
        merge (decode them, pvs_file_encode the whole table) into the file an unsharded bake writes. */
     uint32_t shard_index, shard_count;
+    uint32_t methods;         /* AUTO: the methods to consider, a mask of (1u << PVS_METHOD_*) of conservative
+                                 methods (not SAMPLE, DEFAULT or AUTO); 0 = every conservative method */
+    float max_distance;       /* > 0: an object whose box is farther than this from every point of the cell
+                                 box is left out (a draw distance); 0 = no limit */
+    uint32_t flags;           /* PVS_BAKE_* */
     pvs_allocator allocator;
 } pvs_bake_desc;
+
+/* Bake flags. */
+#define PVS_BAKE_PREVIEW 1u   /* fast and coarse, still conservative: AUTO runs only the cheapest method that
+                                 applies; EXTPROJ uses 64 pixels and 32 occluders per plane unless set; SHRINK's
+                                 derived eps is doubled */
 
 typedef struct pvs_bake pvs_bake;
 
@@ -937,8 +973,34 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *bake, uint32_t task, pvs_error *e
 /* The resolved parameters (method, eps). */
 PVS_API pvs_method pvs_bake_method(const pvs_bake *bake);
 PVS_API float pvs_bake_eps(const pvs_bake *bake);
-/* SHRINK: the occluders pvs_bake_begin synthesized (owned by the bake; for the summary: leaks, thin
-   objects, 2.5D or 3D) and the path the tasks run; NULL / PVS_SHRINK_AUTO for other methods. */
+/* The methods a bake considered, in the order it runs them: one for a single-method bake; for AUTO
+   every candidate, also those it skipped (ran = 0) because they cannot cull anything in this scene. */
+PVS_API uint32_t pvs_bake_method_count(const pvs_bake *bake);
+/* What method i (< pvs_bake_method_count) did (pvs_bake_get_method_info). The sums cover the tasks
+   run so far (not the restored ones). */
+typedef struct pvs_bake_method_info {
+    pvs_method method;
+    int ran;                  /* 1: every task runs it; 0: skipped */
+    const char *reason;       /* why it runs or was skipped (a constant string, never NULL) */
+    uint32_t cells;           /* tasks that ran it */
+    uint64_t pvs_sum;         /* sum over those cells of the PVS size this method found alone */
+    uint64_t sole_culls;      /* (cell, object) pairs this method alone left out of the intersection: its
+                                 contribution (for one method: every object it left out) */
+} pvs_bake_method_info;
+/* Fills *info. Errors: INVALID_ARGUMENT (i out of range, NULL). Call after the tasks ran (not
+   concurrently with pvs_bake_run_task). */
+PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *bake, uint32_t i, pvs_bake_method_info *info);
+/* 1 if the task has run (or was restored). */
+PVS_API int pvs_bake_task_done(const pvs_bake *bake, uint32_t task);
+/* Resumable bakes: marks a task done with a PVS kept from an earlier run of the same bake (same scene,
+   cells and parameters), e.g. read back from a state file. `bits` has word_count >=
+   PVS_BITSET_WORDS(object_count) words; bits past object_count must be zero. Thread-safe like
+   pvs_bake_run_task. Errors: INVALID_ARGUMENT (task out of range, NULL, a set bit past the objects or
+   of an occluder-only object), BUFFER_TOO_SMALL. */
+PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pvs_word *bits, size_t word_count, pvs_error *err);
+/* SHRINK (alone or within AUTO): the occluders pvs_bake_begin synthesized (owned by the bake; for the
+   summary: leaks, thin objects, 2.5D or 3D) and the path the tasks run; NULL / PVS_SHRINK_AUTO when
+   SHRINK was not prepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
 /* The PVS of a cell whose task has run, or NULL (also for cells of other shards).
@@ -1410,6 +1472,7 @@ struct pvs_scene {
     uint32_t *triangle_object;   /* triangle_count: object id or PVS_NO_OBJECT */
     pvs_box *object_boxes;       /* object_count; empty box (min > max) for empty objects */
     uint32_t *object_flags;      /* object_count */
+    uint32_t *object_triangles;  /* object_count * 2: first triangle, triangle count */
     pvs_box bounds;
     pvs_occluder_desc *occluders;/* occluder_count, arrays pointing into occluder_data */
     pvs_box *occluder_boxes;     /* occluder_count */
@@ -1626,6 +1689,7 @@ PVS_API void pvs_scene_destroy(pvs_scene *s) {
     pvs__free_array(&a, s->triangle_object, s->triangle_count, sizeof(uint32_t));
     pvs__free_array(&a, s->object_boxes, s->object_count, sizeof(pvs_box));
     pvs__free_array(&a, s->object_flags, s->object_count, sizeof(uint32_t));
+    pvs__free_array(&a, s->object_triangles, (size_t)s->object_count * 2, sizeof(uint32_t));
     pvs__free_array(&a, s->occluders, s->occluder_count, sizeof(pvs_occluder_desc));
     pvs__free_array(&a, s->occluder_boxes, s->occluder_count, sizeof(pvs_box));
     pvs__free_array(&a, s->occluder_data, s->occluder_data_count, sizeof(float));
@@ -1696,11 +1760,12 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
     s->triangle_object = (uint32_t *)pvs__alloc_array(&a, desc->triangle_count, sizeof(uint32_t));
     s->object_boxes = (pvs_box *)pvs__alloc_array(&a, desc->object_count, sizeof(pvs_box));
     s->object_flags = (uint32_t *)pvs__alloc_array(&a, desc->object_count, sizeof(uint32_t));
+    s->object_triangles = (uint32_t *)pvs__alloc_array(&a, (size_t)desc->object_count * 2, sizeof(uint32_t));
     s->occluders = (pvs_occluder_desc *)pvs__alloc_array(&a, desc->occluder_count, sizeof(pvs_occluder_desc));
     s->occluder_boxes = (pvs_box *)pvs__alloc_array(&a, desc->occluder_count, sizeof(pvs_box));
     s->occluder_data = (float *)pvs__alloc_array(&a, floats, sizeof(float));
     tri_boxes = (pvs_box *)pvs__alloc_array(&a, desc->triangle_count, sizeof(pvs_box));
-    if (!s->positions || !s->indices || !s->triangle_object || !s->object_boxes || !s->object_flags || !s->occluders ||
+    if (!s->positions || !s->indices || !s->triangle_object || !s->object_boxes || !s->object_flags || !s->object_triangles || !s->occluders ||
         !s->occluder_boxes || !s->occluder_data || !tri_boxes) {
         r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "scene arrays");
         goto fail;
@@ -1714,6 +1779,8 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
         const pvs_object_desc *ob = desc->objects + o;
         int any_area = 0;
         s->object_flags[o] = ob->flags;
+        s->object_triangles[2 * (size_t)o] = ob->first_triangle;
+        s->object_triangles[2 * (size_t)o + 1] = ob->triangle_count;
         s->object_boxes[o] = pvs__box_empty();
         for (t = ob->first_triangle; t < ob->first_triangle + ob->triangle_count; ++t) {
             const uint32_t *tri = s->indices + 3 * (size_t)t;
@@ -7057,6 +7124,7 @@ PVS_API const char *pvs_method_name(pvs_method m) {
     case PVS_METHOD_OTREE: return "otree";
     case PVS_METHOD_EXTPROJ: return "extproj";
     case PVS_METHOD_SHRINK: return "shrink";
+    case PVS_METHOD_AUTO: return "auto";
     default: return "unknown";
     }
 }
@@ -7144,6 +7212,45 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
             if (pvs_scene_raycast(scene, p, dir, tmax, &hit) && hit.object != PVS_NO_OBJECT &&
                 !(scene->object_flags[hit.object] & PVS_OBJECT_OCCLUDER_ONLY))
                 pvs_bitset_set(visible, hit.object);
+        }
+    }
+    return rays;
+}
+
+PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_box *cell, const pvs_word *targets,
+                                              uint32_t rays_per_object, uint64_t seed, pvs_word *visible) {
+    uint64_t state = seed, rays = 0;
+    uint32_t o, r;
+    int k;
+    if (!scene || !cell || !visible || !pvs__box_valid(cell)) return 0;
+    for (o = 0; o < scene->object_count; ++o) {
+        uint32_t first = scene->object_triangles[2 * (size_t)o], count = scene->object_triangles[2 * (size_t)o + 1];
+        if ((targets && !pvs_bitset_test(targets, o)) || pvs_bitset_test(visible, o) || !count ||
+            (scene->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY))
+            continue;
+        for (r = 0; r < rays_per_object; ++r) {
+            const uint32_t *tri = scene->indices + 3 * (size_t)(first + (uint32_t)(pvs__splitmix64(&state) % count));
+            const float *v0 = scene->positions + 3 * (size_t)tri[0], *v1 = scene->positions + 3 * (size_t)tri[1],
+                        *v2 = scene->positions + 3 * (size_t)tri[2];
+            float p[3], q[3], dir[3], su = sqrtf(pvs__random01(&state)), b = pvs__random01(&state), len = 0.0f;
+            float w1 = su * (1.0f - b), w2 = su * b, w0 = 1.0f - w1 - w2;
+            pvs_hit hit;
+            for (k = 0; k < 3; ++k) {
+                float c = (v0[k] + v1[k] + v2[k]) * (1.0f / 3.0f);
+                p[k] = cell->min[k] + pvs__random01(&state) * (cell->max[k] - cell->min[k]);
+                q[k] = 0.99f * (w0 * v0[k] + w1 * v1[k] + w2 * v2[k]) + 0.01f * c;
+                dir[k] = q[k] - p[k];
+                len += dir[k] * dir[k];
+            }
+            len = sqrtf(len);
+            if (!(len > 0.0f)) continue;
+            for (k = 0; k < 3; ++k) dir[k] /= len;
+            ++rays;
+            if (pvs_scene_raycast(scene, p, dir, len * 1.001f + 1e-6f, &hit) && hit.object != PVS_NO_OBJECT &&
+                !(scene->object_flags[hit.object] & PVS_OBJECT_OCCLUDER_ONLY)) {
+                pvs_bitset_set(visible, hit.object);
+                if (hit.object == o) break;
+            }
         }
     }
     return rays;
@@ -8326,6 +8433,18 @@ struct pvs_bake {
     uint32_t extproj_resolution, extproj_occluders;
     pvs_occluders *occluders;  /* SHRINK */
     pvs_shrink_mode shrink_mode;
+    /* the methods considered (AUTO: every candidate, in run order) and those each task runs; a task's
+       PVS is the intersection of theirs (an intersection of conservative sets is conservative) */
+    pvs_method considered[PVS_METHOD_COUNT];
+    const char *reason[PVS_METHOD_COUNT];
+    unsigned char ran[PVS_METHOD_COUNT];
+    uint32_t considered_count;
+    pvs_method run[PVS_METHOD_COUNT];
+    uint32_t run_count;
+    uint32_t *stats;           /* per task: run_count own PVS sizes, then run_count sole-cull counts */
+    unsigned char *restored;   /* per task: done by pvs_bake_restore_task (no stats) */
+    float max_distance;
+    uint32_t flags;
 };
 
 PVS_API void pvs_bake_destroy(pvs_bake *b) {
@@ -8335,6 +8454,8 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs__free_array(&a, b->cells, b->cell_count, sizeof(pvs_box));
     pvs__free_array(&a, b->pvs, (size_t)b->cell_count * b->words, sizeof(pvs_word));
     pvs__free_array(&a, b->done, b->cell_count, 1);
+    pvs__free_array(&a, b->restored, b->cell_count, 1);
+    pvs__free_array(&a, b->stats, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
     pvs__free_array(&a, b->ot_facades, (size_t)b->ot_facade_count * 6 + 6, sizeof(float));
     pvs__free_array(&a, b->ot_objects, (size_t)b->object_count * 5 + 5, sizeof(float));
     pvs_kdtree_destroy(b->ot_tree);
@@ -8504,124 +8625,84 @@ PVS__STATIC float pvs__shrink_default_eps(const pvs_box *cells, uint32_t n, uint
     return 0.125f * med;
 }
 
-PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs_error *err) {
-    pvs_bake *b;
-    pvs_allocator a;
-    size_t total, i;
-    pvs_result r;
-    if (out) *out = NULL;
-    if (!desc || !out || !desc->scene) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene and out_bake must not be NULL");
-    if (!desc->cells || desc->cell_count == 0) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "no cells");
-    if (desc->cell_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells");
-    if (desc->shard_count == 1 || (desc->shard_count && desc->shard_index >= desc->shard_count) || desc->shard_count > desc->cell_count)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u for %u cells", desc->shard_index, desc->shard_count,
-                         desc->cell_count);
-    if (desc->max_chain > PVS_MAX_CHAIN) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", desc->max_chain, PVS_MAX_CHAIN);
-    if ((int)desc->method < 0 || desc->method >= PVS_METHOD_COUNT)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown method %d", (int)desc->method);
-    if (!pvs__finite(desc->eps) || desc->eps < 0.0f)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and >= 0");
-    if (desc->extproj_resolution && (desc->extproj_resolution < 16 || desc->extproj_resolution > 4096))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_resolution %u is not in 16..4096", desc->extproj_resolution);
-    if (desc->extproj_occluders > 65536)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_occluders %u > 65536", desc->extproj_occluders);
-    for (i = 0; i < desc->cell_count; ++i) {
-        r = pvs__check_cell(desc->cells + i, (uint32_t)i, err);
-        if (r != PVS_OK) return r;
+/* ---- the driver's methods: preparation, applicability (AUTO), one cell ---- */
+
+/* 1 for the conservative methods AUTO may intersect (never SAMPLE: an estimate from below). */
+PVS__STATIC int pvs__method_conservative(pvs_method m) {
+    return m > PVS_METHOD_DEFAULT && m < PVS_METHOD_COUNT && m != PVS_METHOD_SAMPLE && m != PVS_METHOD_AUTO;
+}
+/* Rough cost per cell on the demo city, cheapest first (the PERFORMANCE figures): AUTO runs the
+   methods in this order and PREVIEW keeps the first that applies. Methods not listed come last. */
+PVS__STATIC int pvs__method_cost_rank(pvs_method m) {
+    switch (m) {
+    case PVS_METHOD_EXTPROJ: return 1;
+    case PVS_METHOD_OTREE: return 2;
+    case PVS_METHOD_SHRINK: return 3;
+    default: return 4;
     }
-    a = desc->allocator;
-    b = (pvs_bake *)pvs__alloc(&a, sizeof(pvs_bake), 16);
-    if (!b) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake");
-    memset(b, 0, sizeof(*b));
-    b->allocator = a;
-    b->scene = desc->scene;
-    b->total_cell_count = desc->cell_count;
-    b->shard_count = desc->shard_count;
-    b->shard_index = desc->shard_count ? desc->shard_index : 0;
-    b->cell_count = desc->shard_count ? (desc->cell_count - desc->shard_index + desc->shard_count - 1) / desc->shard_count : desc->cell_count;
-    b->max_chain = desc->max_chain;
-    b->object_count = pvs_scene_object_count(desc->scene);
-    b->words = PVS_BITSET_WORDS(b->object_count);
-    b->method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_SAMPLE : desc->method;
-    b->eps = desc->eps;
-    b->sample_points = desc->sample_points ? desc->sample_points : 32;
-    b->sample_rays = desc->sample_rays ? desc->sample_rays : 2048;
-    b->seed = desc->seed;
-    if (!pvs__mul(b->words, b->cell_count, &total) || !pvs__mul(total, sizeof(pvs_word), &i)) {
-        pvs_bake_destroy(b);
-        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "%u cells x %u objects do not fit in memory", desc->cell_count,
-                         b->object_count);
-    }
-    b->cells = (pvs_box *)pvs__alloc_array(&a, b->cell_count, sizeof(pvs_box));
-    b->pvs = (pvs_word *)pvs__alloc_array(&a, total, sizeof(pvs_word));
-    b->done = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
-    if (!b->cells || !b->pvs || !b->done) {
-        pvs_bake_destroy(b);
-        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake arrays for %u cells", desc->cell_count);
-    }
-    for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
-    b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution : PVS__EP_DEFAULT_RES;
-    b->extproj_occluders = desc->extproj_occluders ? desc->extproj_occluders : PVS__EP_DEFAULT_OCC;
-    if (b->method == PVS_METHOD_EXTPROJ) {
-        r = pvs__extproj_prepare(b->scene, &a, &b->extproj, err);
-        if (r != PVS_OK) {
-            pvs_bake_destroy(b);
-            return r;
-        }
-    }
-    memset(b->pvs, 0, total * sizeof(pvs_word));
-    memset(b->done, 0, b->cell_count);
-    if (b->method == PVS_METHOD_OTREE && pvs__otree_prepare(b) != PVS_OK) {
-        pvs_bake_destroy(b);
-        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
-    }
-    if (b->method == PVS_METHOD_SHRINK) {
+}
+
+/* Prepares method m's per-bake data (read-only in the tasks). UNSUPPORTED for a method the driver
+   has no cell function for. */
+PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, pvs_method m, const pvs_bake_desc *desc, pvs_error *err) {
+    switch (m) {
+    case PVS_METHOD_SAMPLE: return PVS_OK;
+    case PVS_METHOD_EXTPROJ: return pvs__extproj_prepare(b->scene, &b->allocator, &b->extproj, err);
+    case PVS_METHOD_OTREE:
+        if (pvs__otree_prepare(b) != PVS_OK) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
+        return PVS_OK;
+    case PVS_METHOD_SHRINK: {
         /* occluder synthesis over every cell of the bake (not only the shard's): shards agree */
         pvs_occluders_desc od;
-        if ((int)desc->shrink_mode < 0 || desc->shrink_mode >= PVS_SHRINK_MODE_COUNT) {
-            pvs_bake_destroy(b);
+        pvs_result r;
+        if ((int)desc->shrink_mode < 0 || desc->shrink_mode >= PVS_SHRINK_MODE_COUNT)
             return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown shrink mode %d", (int)desc->shrink_mode);
+        if (!(b->eps > 0.0f)) {
+            b->eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene));
+            if (b->flags & PVS_BAKE_PREVIEW) b->eps *= 2.0f;
         }
-        if (!(b->eps > 0.0f)) b->eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene));
         memset(&od, 0, sizeof(od));
         od.scene = desc->scene;
         od.cells = desc->cells;
         od.cell_count = desc->cell_count;
         od.eps = b->eps;
         od.voxel_size = desc->voxel_size;
-        od.allocator = a;
+        od.allocator = b->allocator;
         r = pvs_occluders_create(&od, &b->occluders, err);
-        if (r != PVS_OK) {
-            pvs_bake_destroy(b);
-            return r;
-        }
+        if (r != PVS_OK) return r;
         b->shrink_mode = desc->shrink_mode;
         if (b->shrink_mode == PVS_SHRINK_AUTO) b->shrink_mode = b->occluders->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
+        return PVS_OK;
     }
-    *out = b;
-    pvs__ok(err);
-    return PVS_OK;
+    default: return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "the bake driver cannot run method %s", pvs_method_name(m));
+    }
 }
 
-PVS_API uint32_t pvs_bake_task_count(const pvs_bake *b) { return b->cell_count; }
-PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *b, uint32_t task) {
-    PVS_ASSERT(task < b->cell_count);
-    return b->shard_count ? b->shard_index + task * b->shard_count : task;
+/* AUTO: 1 if the prepared method m can leave anything out in this scene (2.5D or not, planar
+   occluders or volumes), with the reason in *why either way. */
+PVS__STATIC int pvs__bake_applies(const pvs_bake *b, pvs_method m, const char **why) {
+    switch (m) {
+    case PVS_METHOD_EXTPROJ:
+        *why = b->extproj && b->extproj->occ_count ? "3D: planar occluders and convex solids" : "no planar occluder or convex solid";
+        return b->extproj && b->extproj->occ_count;
+    case PVS_METHOD_OTREE:
+        *why = b->ot_facade_count ? "2.5D: vertical walls standing on the ground" : "not 2.5D: no vertical wall stands on the ground";
+        return b->ot_facade_count != 0;
+    case PVS_METHOD_SHRINK:
+        if (!b->occluders || !b->occluders->info.eroded) {
+            *why = "no occluder volume survives erosion by eps (thin walls or open geometry)";
+            return 0;
+        }
+        *why = b->shrink_mode == PVS_SHRINK_2D5 ? "volumes: 2.5D columns synthesized from closed geometry"
+                                                : "volumes: 3D boxes synthesized from closed geometry";
+        return 1;
+    default: *why = "conservative"; return 1;
+    }
 }
-PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
-PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->eps; }
-PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *b) { return b->occluders; }
-PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) { return b->occluders ? b->shrink_mode : PVS_SHRINK_AUTO; }
 
-
-PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err) {
-    uint32_t cell;
-    pvs_word *bits;
-    if (!b || task >= b->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "task %u out of range", task);
-    cell = pvs_bake_task_cell(b, task);
-    bits = b->pvs + (size_t)task * b->words;
-    memset(bits, 0, b->words * sizeof(pvs_word));
-    switch (b->method) {
+/* One method's PVS of a task's cell: sets bits (cleared by the caller). */
+PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t task, uint32_t cell, pvs_word *bits, pvs_error *err) {
+    switch (m) {
     case PVS_METHOD_SAMPLE: {
         /* per-cell seed: independent of the order and thread the tasks run in */
         uint64_t state = b->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull);
@@ -8647,10 +8728,254 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         }
         break;
     }
-    default: return pvs__fail(err, PVS_ERROR_UNSUPPORTED, cell, 0, "method %d", (int)b->method);
+    default: return pvs__fail(err, PVS_ERROR_UNSUPPORTED, cell, 0, "method %d", (int)m);
     }
+    return PVS_OK;
+}
+
+/* The squared distance between two boxes exceeds d^2, with a margin: 1 only when every point of a
+   is certainly farther than d from every point of b. The per-axis gaps of float coordinates are
+   exact in double, the sum rounds by a few 1e-16 relative; the 1e-9 margin covers it, so a box at
+   distance d or a rounding hair beyond stays (conservative). */
+PVS__STATIC int pvs__box_beyond(const pvs_box *a, const pvs_box *b, float d) {
+    double sum = 0.0;
+    int k;
+    for (k = 0; k < 3; ++k) {
+        double g = 0.0;
+        if ((double)a->min[k] > (double)b->max[k]) g = (double)a->min[k] - (double)b->max[k];
+        else if ((double)b->min[k] > (double)a->max[k]) g = (double)b->min[k] - (double)a->max[k];
+        sum += g * g;
+    }
+    return sum > (double)d * (double)d * (1.0 + 1e-9);
+}
+
+PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs_error *err) {
+    pvs_bake *b;
+    pvs_allocator a;
+    size_t total, i;
+    pvs_result r;
+    pvs_method method;
+    uint32_t k, mask = 0;
+    if (out) *out = NULL;
+    if (!desc || !out || !desc->scene) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene and out_bake must not be NULL");
+    if (!desc->cells || desc->cell_count == 0) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "no cells");
+    if (desc->cell_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells");
+    if (desc->shard_count == 1 || (desc->shard_count && desc->shard_index >= desc->shard_count) || desc->shard_count > desc->cell_count)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u for %u cells", desc->shard_index, desc->shard_count,
+                         desc->cell_count);
+    if (desc->max_chain > PVS_MAX_CHAIN) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", desc->max_chain, PVS_MAX_CHAIN);
+    if ((int)desc->method < 0 || desc->method >= PVS_METHOD_COUNT)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown method %d", (int)desc->method);
+    if (!pvs__finite(desc->eps) || desc->eps < 0.0f)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and >= 0");
+    if (!pvs__finite(desc->max_distance) || desc->max_distance < 0.0f)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_distance must be finite and >= 0");
+    if (desc->flags & ~PVS_BAKE_PREVIEW) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown bake flags 0x%x", desc->flags);
+    if (desc->extproj_resolution && (desc->extproj_resolution < 16 || desc->extproj_resolution > 4096))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_resolution %u is not in 16..4096", desc->extproj_resolution);
+    if (desc->extproj_occluders > 65536)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_occluders %u > 65536", desc->extproj_occluders);
+    method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_AUTO : desc->method;
+    if (method == PVS_METHOD_AUTO) {
+        for (k = 0; k < (uint32_t)PVS_METHOD_COUNT; ++k)
+            if (pvs__method_conservative((pvs_method)k)) mask |= 1u << k;
+        if (desc->methods & ~mask)
+            return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "methods mask 0x%x names a method that is not conservative or unknown "
+                             "(auto never intersects sample)", desc->methods);
+        if (desc->methods) mask = desc->methods;
+    } else if (desc->methods) {
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "methods is for PVS_METHOD_AUTO only");
+    }
+    for (i = 0; i < desc->cell_count; ++i) {
+        r = pvs__check_cell(desc->cells + i, (uint32_t)i, err);
+        if (r != PVS_OK) return r;
+    }
+    a = desc->allocator;
+    b = (pvs_bake *)pvs__alloc(&a, sizeof(pvs_bake), 16);
+    if (!b) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake");
+    memset(b, 0, sizeof(*b));
+    b->allocator = a;
+    b->scene = desc->scene;
+    b->total_cell_count = desc->cell_count;
+    b->shard_count = desc->shard_count;
+    b->shard_index = desc->shard_count ? desc->shard_index : 0;
+    b->cell_count = desc->shard_count ? (desc->cell_count - desc->shard_index + desc->shard_count - 1) / desc->shard_count : desc->cell_count;
+    b->max_chain = desc->max_chain;
+    b->object_count = pvs_scene_object_count(desc->scene);
+    b->words = PVS_BITSET_WORDS(b->object_count);
+    b->method = method;
+    b->eps = desc->eps;
+    b->max_distance = desc->max_distance;
+    b->flags = desc->flags;
+    b->sample_points = desc->sample_points ? desc->sample_points : 32;
+    b->sample_rays = desc->sample_rays ? desc->sample_rays : 2048;
+    b->seed = desc->seed;
+    if (!pvs__mul(b->words, b->cell_count, &total) || !pvs__mul(total, sizeof(pvs_word), &i)) {
+        pvs_bake_destroy(b);
+        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "%u cells x %u objects do not fit in memory", desc->cell_count,
+                         b->object_count);
+    }
+    b->cells = (pvs_box *)pvs__alloc_array(&a, b->cell_count, sizeof(pvs_box));
+    b->pvs = (pvs_word *)pvs__alloc_array(&a, total, sizeof(pvs_word));
+    b->done = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
+    b->restored = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
+    b->stats = (uint32_t *)pvs__alloc_array(&a, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
+    if (!b->cells || !b->pvs || !b->done || !b->restored || !b->stats) {
+        pvs_bake_destroy(b);
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake arrays for %u cells", desc->cell_count);
+    }
+    for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
+    b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution : (b->flags & PVS_BAKE_PREVIEW) ? 64u : PVS__EP_DEFAULT_RES;
+    b->extproj_occluders = desc->extproj_occluders ? desc->extproj_occluders : (b->flags & PVS_BAKE_PREVIEW) ? 32u : PVS__EP_DEFAULT_OCC;
+    memset(b->pvs, 0, total * sizeof(pvs_word));
+    memset(b->done, 0, b->cell_count);
+    memset(b->restored, 0, b->cell_count);
+    memset(b->stats, 0, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT * sizeof(uint32_t));
+    if (method != PVS_METHOD_AUTO) {
+        b->considered[0] = b->run[0] = method;
+        b->ran[0] = 1;
+        b->reason[0] = "requested";
+        b->considered_count = b->run_count = 1;
+        r = pvs__bake_prepare(b, method, desc, err);
+        if (r != PVS_OK) {
+            pvs_bake_destroy(b);
+            return r;
+        }
+    } else {
+        /* AUTO: the candidates cheapest first; each is prepared, then kept if it can cull anything
+           in this scene; PREVIEW stops at the first kept */
+        int rank;
+        for (rank = 1; rank <= 4; ++rank)
+            for (k = 0; k < (uint32_t)PVS_METHOD_COUNT; ++k) {
+                pvs_method m = (pvs_method)k;
+                const char *why = "preview runs only the cheapest method that applies";
+                if (!(mask & (1u << k)) || pvs__method_cost_rank(m) != rank) continue;
+                b->considered[b->considered_count] = m;
+                if (!((b->flags & PVS_BAKE_PREVIEW) && b->run_count)) {
+                    r = pvs__bake_prepare(b, m, desc, err);
+                    if (r == PVS_ERROR_UNSUPPORTED) {
+                        why = "not available in the bake driver";
+                    } else if (r != PVS_OK) {
+                        pvs_bake_destroy(b);
+                        return r;
+                    } else if (pvs__bake_applies(b, m, &why)) {
+                        b->ran[b->considered_count] = 1;
+                        b->run[b->run_count++] = m;
+                    }
+                }
+                b->reason[b->considered_count++] = why;
+            }
+        if (!b->run_count) {
+            pvs_bake_destroy(b);
+            return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "auto: no conservative method can cull anything in this scene");
+        }
+    }
+    *out = b;
+    pvs__ok(err);
+    return PVS_OK;
+}
+
+PVS_API uint32_t pvs_bake_task_count(const pvs_bake *b) { return b->cell_count; }
+PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *b, uint32_t task) {
+    PVS_ASSERT(task < b->cell_count);
+    return b->shard_count ? b->shard_index + task * b->shard_count : task;
+}
+PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
+PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->eps; }
+PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *b) { return b->occluders; }
+PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) { return b->occluders ? b->shrink_mode : PVS_SHRINK_AUTO; }
+
+
+PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err) {
+    uint32_t cell, k, i, n, *own, *sole;
+    pvs_word *bits, *each = NULL;
+    pvs_result r = PVS_OK;
+    size_t w;
+    if (!b || task >= b->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "task %u out of range", task);
+    cell = pvs_bake_task_cell(b, task);
+    bits = b->pvs + (size_t)task * b->words;
+    n = b->run_count;
+    own = b->stats + (size_t)task * 2 * PVS_METHOD_COUNT;
+    sole = own + PVS_METHOD_COUNT;
+    memset(bits, 0, b->words * sizeof(pvs_word));
+    if (n == 1) {
+        r = pvs__bake_method_cell(b, b->run[0], task, cell, bits, err);
+        if (r != PVS_OK) return r;
+        own[0] = pvs_bitset_count(bits, b->object_count);
+        sole[0] = b->object_count - own[0];
+    } else {
+        /* AUTO: each method's PVS, then their intersection; a method's contribution is what it
+           alone leaves out */
+        each = (pvs_word *)pvs__alloc_array(&b->allocator, (size_t)n * b->words, sizeof(pvs_word));
+        if (!each) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u: auto scratch", cell);
+        memset(each, 0, (size_t)n * b->words * sizeof(pvs_word));
+        for (k = 0; k < n && r == PVS_OK; ++k) r = pvs__bake_method_cell(b, b->run[k], task, cell, each + (size_t)k * b->words, err);
+        if (r == PVS_OK) {
+            for (w = 0; w < b->words; ++w) {
+                pvs_word all = ~(pvs_word)0;
+                for (k = 0; k < n; ++k) all &= each[(size_t)k * b->words + w];
+                bits[w] = all;
+            }
+            for (k = 0; k < n; ++k) {
+                uint32_t c = 0;
+                own[k] = pvs_bitset_count(each + (size_t)k * b->words, b->object_count);
+                for (w = 0; w < b->words; ++w) {
+                    pvs_word others = ~(pvs_word)0;
+                    for (i = 0; i < n; ++i)
+                        if (i != k) others &= each[(size_t)i * b->words + w];
+                    c += pvs__popcount64(others & ~each[(size_t)k * b->words + w]);
+                }
+                sole[k] = c;
+            }
+        }
+        pvs__free_array(&b->allocator, each, (size_t)n * b->words, sizeof(pvs_word));
+        if (r != PVS_OK) return r;
+    }
+    if (b->max_distance > 0.0f) /* a draw distance: box to box, rounded toward keeping */
+        for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
+            if (pvs__box_beyond(b->cells + task, b->scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
     b->done[task] = 1;
     pvs__ok(err);
+    return PVS_OK;
+}
+
+PVS_API int pvs_bake_task_done(const pvs_bake *b, uint32_t task) { return b && task < b->cell_count && b->done[task]; }
+
+PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_word *bits, size_t word_count, pvs_error *err) {
+    uint32_t i;
+    if (!b || !bits || task >= b->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u out of range or NULL", task);
+    if (word_count < b->words) return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, task, 0, "restore: %zu words < %zu", word_count, b->words);
+    if ((b->object_count & 63u) && (bits[b->words - 1] >> (b->object_count & 63u)))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets a bit past the %u objects", task, b->object_count);
+    for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
+        if (b->scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)
+            return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets occluder-only object %u", task, i);
+    memcpy(b->pvs + (size_t)task * b->words, bits, b->words * sizeof(pvs_word));
+    b->restored[task] = 1;
+    b->done[task] = 1;
+    pvs__ok(err);
+    return PVS_OK;
+}
+
+PVS_API uint32_t pvs_bake_method_count(const pvs_bake *b) { return b ? b->considered_count : 0; }
+
+PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *b, uint32_t i, pvs_bake_method_info *info) {
+    uint32_t t, k, slot = 0;
+    if (!b || !info || i >= b->considered_count) return PVS_ERROR_INVALID_ARGUMENT;
+    memset(info, 0, sizeof(*info));
+    info->method = b->considered[i];
+    info->ran = b->ran[i];
+    info->reason = b->reason[i] ? b->reason[i] : "";
+    if (!info->ran) return PVS_OK;
+    for (k = 0; k < b->run_count; ++k)
+        if (b->run[k] == info->method) slot = k;
+    for (t = 0; t < b->cell_count; ++t) {
+        const uint32_t *own = b->stats + (size_t)t * 2 * PVS_METHOD_COUNT;
+        if (!b->done[t] || b->restored[t]) continue;
+        info->cells++;
+        info->pvs_sum += own[slot];
+        info->sole_culls += own[PVS_METHOD_COUNT + slot];
+    }
     return PVS_OK;
 }
 

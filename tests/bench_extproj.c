@@ -46,7 +46,7 @@ static int bench(gen_kind kind, const char *name, uint32_t n) {
     seen = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
     for (c = 0; c < n; ++c) {
         memset(seen, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
-        pvs_sample_visibility(scene, sub + c, 16, 1024, 77 + c, seen);
+        cli_reference_visibility(scene, sub + c, 77 + c, seen);
         seen_sum += pvs_bitset_count(seen, objects);
         pvs_sum += pvs_bitset_count(pvs_bake_cell_pvs(bake, c), objects);
     }

@@ -16,6 +16,8 @@ void test_raster(void);
 void test_otree(void);
 void test_extproj(void);
 void test_shrink(void);
+void test_auto(void);
+void test_examples(void);
 
 static const struct {
     const char *name;
@@ -26,6 +28,8 @@ static const struct {
     {"otree", test_otree},
     {"extproj", test_extproj},
     {"shrink", test_shrink},
+    {"auto", test_auto},
+    {"examples", test_examples},
 };
 
 int main(int argc, char **argv) {

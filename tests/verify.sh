@@ -3,12 +3,14 @@
 # and check the result against ray sampling with pvscheck. One line per scene and method:
 #   SCENE SEED SIZE METHOD cells=N misses=N tightness=T
 # Exits non-zero on any miss of a conservative method. The `sample` method is an estimate from below
-# (not conservative): its misses are printed for information and never fail the run.
+# (not conservative): its misses are printed for information and never fail the run. `auto` (the
+# intersection of the conservative methods that apply) must also be at least as tight as the best of
+# the other conservative methods on each scene (its mean PVS no larger).
 set -u
 B=${B:-build}
 T=$B/verify
 mkdir -p "$T"
-CONSERVATIVE_METHODS=${CONSERVATIVE_METHODS:-"shrink otree extproj"}   # filled in as conservative methods land
+CONSERVATIVE_METHODS=${CONSERVATIVE_METHODS:-"shrink otree extproj auto"}   # filled in as conservative methods land
 CELLS=${CELLS:-500}
 J=${J:-0}
 fail=0
@@ -17,6 +19,7 @@ for kind in city forest indoor walls soup; do
     for size in 0.3 0.6; do
       base="$T/$kind-$seed-$size"
       "$B/pvsgen" "$kind" --seed "$seed" --size "$size" --max-cells "$CELLS" -o "$base.obj" --cells "$base.cells" 2>/dev/null || { echo "$kind $seed $size: pvsgen failed"; fail=1; continue; }
+      best=""; auto_pvs=""
       for method in sample $CONSERVATIVE_METHODS; do
         if ! "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method "$method" -j "$J" -o "$base.$method.pvs"; then
           echo "$kind $seed $size $method: bake failed"; fail=1; continue
@@ -26,11 +29,19 @@ for kind in city forest indoor walls soup; do
         misses=$(echo "$line" | sed -n 's/.*misses \([0-9]*\).*/\1/p' | head -1)
         cells=$(echo "$line" | sed -n 's/^cells \([0-9]*\).*/\1/p' | head -1)
         tight=$(echo "$line" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p' | head -1)
+        mean=$(echo "$line" | sed -n 's/.*mean pvs \([0-9.]*\).*/\1/p' | head -1)
+        if [ "$method" = auto ]; then auto_pvs=$mean;
+        elif [ "$method" != sample ] && [ -n "$mean" ]; then
+          if [ -z "$best" ] || awk "BEGIN { exit !($mean < $best) }"; then best=$mean; fi
+        fi
         note=""
         if [ "$method" = sample ]; then note=" (approximate: not counted)";
         elif [ "$rc" -ne 0 ]; then fail=1; note=" FAIL"; fi
         echo "$kind $seed $size $method cells=$cells misses=$misses tightness=$tight$note"
       done
+      if [ -n "$auto_pvs" ] && [ -n "$best" ] && awk "BEGIN { exit !($auto_pvs > $best) }"; then
+        echo "$kind $seed $size auto: mean PVS $auto_pvs is larger than the best single method's $best FAIL"; fail=1
+      fi
     done
   done
 done
