@@ -4316,12 +4316,16 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
     const __m128 Z0 = _mm_set1_ps(b->min[2]), Z1 = _mm_set1_ps(b->max[2]), zero = _mm_setzero_ps();
     const __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
     __m128 c0[4], c1[4], t0, t1, q0, q1, v0, v1, rw0, rw1;
-    int rr, all, any;
-    for (rr = 0; rr < 4; ++rr) {
-        __m128 a = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr]), X), _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 1]), Y));
-        c0[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z0)), _mm_loadu_ps(r->mb[4 * rr + 3]));
-        c1[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z1)), _mm_loadu_ps(r->mb[4 * rr + 3]));
-    }
+    int all, any;
+#define PVS__ROW(rr) do { \
+        __m128 a = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr]), X), _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 1]), Y)); \
+        c0[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z0)), _mm_loadu_ps(r->mb[4 * rr + 3])); \
+        c1[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z1)), _mm_loadu_ps(r->mb[4 * rr + 3])); } while (0)
+    PVS__ROW(0);
+    PVS__ROW(1);
+    PVS__ROW(2);
+    PVS__ROW(3);
+#undef PVS__ROW
     q0 = _mm_sub_ps(c0[3], c0[2]);
     q1 = _mm_sub_ps(c1[3], c1[2]);
     t0 = _mm_set1_ps(0.0f - E->nz);
@@ -4443,15 +4447,31 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
     pvs__boxe E;
     pvs__boxf o = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     double pm = 0.0, e[4], ex, ey, ez, hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
-    int k, res;
-    for (k = 0; k < 3; ++k) pm = pvs__dmax(pm, pvs__dmax(pvs__dabs(b->min[k]), pvs__dabs(b->max[k])));
-    if (!(pm < 1e30)) return -1;
+    int k, res, nan = 0;
+    float pf = 0.0f;
+#if defined(PVS__SSE2) /* the largest |coordinate| (exact either way; min and max are the struct's six floats) */
+    {
+        const __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+        __m128 a = _mm_loadu_ps(b->min), c = _mm_loadu_ps(b->min + 2);
+        nan = _mm_movemask_ps(_mm_or_ps(_mm_cmpunord_ps(a, a), _mm_cmpunord_ps(c, c)));
+        pf = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(a, absm), _mm_and_ps(c, absm)));
+    }
+#else
+    for (k = 0; k < 3; ++k) {
+        float lo = b->min[k] < 0.0f ? -b->min[k] : b->min[k], hi = b->max[k] < 0.0f ? -b->max[k] : b->max[k];
+        nan |= !(lo == lo) || !(hi == hi);
+        lo = lo > hi ? lo : hi;
+        pf = lo > pf ? lo : pf;
+    }
+#endif
+    pm = pf;
+    if (nan || !(pm < 1e30)) return -1;
     for (k = 0; k < 4; ++k) {
         double sr = r->rowa[k] * pm + r->rowt[k];
-        if (!(sr < 1e30)) return -1;
         e[k] = 1.1920928955078125e-07 * sr; /* 2^-23 */
         E.e[k] = pvs__f_up_pos(e[k]);
     }
+    if (!(e[0] + e[1] + e[2] + e[3] < 1e23)) return -1;
     E.nz = pvs__f_up_pos(e[3] + e[2]);
     E.xw = pvs__f_up_pos(e[0] + e[3]);
     E.yw = pvs__f_up_pos(e[1] + e[3]);
@@ -4552,7 +4572,8 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
     int32_t rect[4];
     float d;
-    int k = pvs__raster_box(r, b, rect, &d);
+    int k = r->tiled ? pvs__raster_box_f(r, b, rect, &d) : -1;
+    if (k < 0) k = pvs__raster_box(r, b, rect, &d);
     if (k != 2) return k;
     return pvs_raster_test_rect(r, rect[0], rect[1], rect[2], rect[3], d);
 }
