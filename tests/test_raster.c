@@ -887,7 +887,7 @@ static void ra_free(void *p, size_t n, void *user) { (void)n; (void)user; free(p
 static void test_noalloc_and_errors(void) {
     tscene t, big;
     pvs_raster_desc rd;
-    pvs_raster *r;
+    pvs_raster *r, *rt;
     pvs_error e;
     pvs_word *vis;
     uint32_t k;
@@ -897,6 +897,9 @@ static void test_noalloc_and_errors(void) {
     rd.width = 64; rd.height = 48; rd.scene = t.scene; rd.cull_map_width = 32; rd.cull_map_height = 32;
     rd.allocator.alloc = ra_alloc; rd.allocator.free = ra_free;
     CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
+    rd.flags = PVS_RASTER_TILED;
+    CHECK(pvs_raster_create(&rd, &rt, &e) == PVS_OK);
+    rd.flags = 0;
     vis = (pvs_word *)calloc(PVS_BITSET_WORDS(pvs_scene_object_count(t.scene)), sizeof(pvs_word));
     before = ra_allocs;
     CHECK(before > 0);
@@ -912,8 +915,12 @@ static void test_noalloc_and_errors(void) {
         CHECK(pvs_raster_cull(r, t.scene, &cam, &cp, vis, NULL, &e) == PVS_OK);
         CHECK(pvs_raster_cull_map(r, t.scene, &cam, &cp, vis, NULL, &e) == PVS_OK);
         CHECK(pvs_raster_test_rect(r, 0, 0, 10, 10, 0.5f) >= 0);
+        CHECK(pvs_raster_cull(rt, t.scene, &cam, &cp, vis, NULL, &e) == PVS_OK);
+        CHECK(pvs_raster_test_rect(rt, 0, 0, 10, 10, 0.5f) >= 0);
+        CHECK(pvs_raster_depth(rt, NULL, NULL) != NULL);
     }
     CHECK(ra_allocs == before);
+    pvs_raster_destroy(rt);
     /* errors */
     {
         pvs_camera cam;
