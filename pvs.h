@@ -2623,7 +2623,7 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 #define PVS__RASTER_BIG 1e30
 
 /* One tile of the occluder buffer: 32 x 4 pixels (Hasselgren, Andersson and Akenine-Moller 2016,
-   "Masked Software Occlusion Culling", §3: a coverage mask and two depths per tile instead of a depth
+   "Masked Software Occlusion Culling": a coverage mask and two depths per tile instead of a depth
    per pixel). Reversed Z: every pixel of the tile has occluders at least as near as z0; the pixels of
    the working layer `mask` have them at least as near as z1 (z1 > z0 while mask != 0). */
 typedef struct pvs__tile {
@@ -3095,8 +3095,8 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 /* ---- the occluder buffer: Masked Occlusion Culling (Hasselgren, Andersson and Akenine-Moller 2016)
    with inner coverage. Occluder-mode polygons go into tiles of 32 x 4 pixels (pvs__tile): per row of
    a tile the polygon's inner pixels are one run of columns, found from each edge's intercept with the
-   row (§3.2: "edge events" turned into bit masks by shifts), and the tile keeps a working layer (mask,
-   z1) over a base depth z0 (§3.1), merged by §3.3's heuristic. A tile costs about as much as one pixel
+   row (the paper's per-scanline edge events turned into bit masks by shifts), and the tile keeps a
+   working layer (mask, z1) over a base depth z0, merged by the paper's layer heuristic. A tile costs about as much as one pixel
    did, and a polygon drawn behind z0 costs one compare per tile. ---- */
 
 #define PVS__TW_SHIFT 5
@@ -3259,11 +3259,12 @@ PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t 
 #define PVS__HAVE_TILE_SIMD 1
 #endif
 
-/* Merges polygon coverage T (at least as near as zt, zt > z0) into a tile, §3.3: a polygon covering
-   the tile becomes its base; otherwise the working layer takes the union at the farther of the two
-   depths, unless the polygon is nearer than the working layer by more than the working layer is
-   nearer than the base, which drops the working layer; a full working layer becomes the base. Every
-   step keeps each pixel's value a lower bound of its nearest occluder. `pad`: bits outside the map. */
+/* Merges polygon coverage T (at least as near as zt, zt > z0) into a tile (Hasselgren et al.'s
+   two-layer update, in reversed depth): a polygon covering the tile becomes its base; otherwise the
+   working layer takes the union at the farther of the two depths, unless the polygon is nearer than
+   the working layer by more than the working layer is nearer than the base, which drops the working
+   layer; a full working layer becomes the base. Every step keeps each pixel's value a lower bound of
+   its nearest occluder. `pad`: bits outside the map. */
 PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, const uint32_t *pad) {
     uint32_t full = ~0u, any = 0, m;
     int k;
@@ -3618,7 +3619,7 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 }
 
 /* ---- occluder prefilter: four triangles at a time in float, as Masked Occlusion Culling sets up
-   triangles in SIMD lanes (§4). It only drops triangles: ones behind the near plane, outside a side
+   triangles in SIMD lanes. It only drops triangles: ones behind the near plane, outside a side
    of the screen, without a whole pixel in their bounding box, or no nearer than the base of every
    tile under that box. Dropping an occluder is always conservative, so these tests need no error
    margins; rounding at their borders drops at most a sliver the exact path might have drawn. The
@@ -4235,8 +4236,8 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
     return 0;
 }
 
-/* ---- box tests in float: the eight corners in two SIMD registers (Masked Occlusion Culling §4.4
-   tests boxes by their screen rectangle and nearest depth the same way), with error bounds. Each
+/* ---- box tests in float: the eight corners in two SIMD registers (Masked Occlusion Culling tests
+   boxes by their screen rectangle and nearest depth the same way), with error bounds. Each
    clip coordinate c_r = m_r . (p, 1) is computed in float with four roundings, at most 4.01 u S_r
    (u = 2^-24, S_r = |m_r0| + |m_r1| + |m_r2| times the box's largest |coordinate|, plus |m_r3|);
    E_r = 8 u S_r is twice that, which also covers rounding the differences the tests compare
