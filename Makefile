@@ -19,9 +19,9 @@ TOOL_OBJ := $(patsubst tools/%.c,$(B)/obj/%.o,$(TOOL_LIB))
 TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen $(B)/pvsview
 TEST_SRC := tests/main.c tests/impl.c tests/test_core.c tests/test_format.c tests/test_noalloc.c tests/test_kdtree.c \
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c tests/test_extproj.c \
-            tests/test_shrink.c tests/test_auto.c tests/test_examples.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
+            tests/test_shrink.c tests/test_auto.c tests/test_examples.c tests/test_vocc.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
 
-.PHONY: all tools test demo bench verify fuzz clean compile-checks readme-check examples cullmap-images
+.PHONY: all tools test test-neon demo bench verify fuzz clean compile-checks readme-check examples cullmap-images
 all: tools
 tools: $(TOOLS)
 
@@ -55,6 +55,17 @@ readme-check: README.md pvs.h
 
 test: compile-checks readme-check tools $(B)/pvsruntime $(B)/pvstest
 	cd $(B) && ./pvstest
+
+# NEON (not part of `make test`): the test binary built for aarch64, static, its raster group run under
+# qemu-user; the SIMD and scalar paths must agree there as on x86. Skipped when the tools are missing.
+AARCH64_CC ?= aarch64-linux-gnu-gcc
+QEMU_AARCH64 ?= qemu-aarch64
+test-neon:
+	@if command -v $(AARCH64_CC) >/dev/null 2>&1 && command -v $(QEMU_AARCH64) >/dev/null 2>&1; then \
+	  mkdir -p $(B)/neon && \
+	  $(AARCH64_CC) -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -static -o $(B)/neon/pvstest $(TEST_SRC) $(LDLIBS) && \
+	  cd $(B) && $(QEMU_AARCH64) ./neon/pvstest raster; \
+	else echo "test-neon: $(AARCH64_CC) or $(QEMU_AARCH64) not found, skipped"; fi
 
 $(B)/pvsdemo: examples/demo.c $(TOOL_OBJ) $(TOOL_HDR)
 	@mkdir -p $(B)
@@ -130,8 +141,12 @@ $(B)/bench_auto: tests/bench_auto.c $(TOOL_OBJ) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_auto.c $(TOOL_OBJ) $(LDLIBS)
 
+$(B)/bench_vocc: tests/bench_vocc.c $(TOOL_OBJ) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_vocc.c $(TOOL_OBJ) $(LDLIBS)
+
 bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster $(B)/bench_otree $(B)/bench_extproj $(B)/bench_shrink \
-       $(B)/bench_auto $(B)/pvswalkthrough
+       $(B)/bench_auto $(B)/bench_vocc $(B)/pvswalkthrough
 	./$(B)/bench_kdtree
 	./$(B)/bench_bake
 	./$(B)/bench_file
@@ -141,6 +156,7 @@ bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster $(B)/
 	./$(B)/bench_shrink
 	./$(B)/bench_auto
 	./$(B)/pvswalkthrough --bench
+	./$(B)/bench_vocc
 
 # Fuzzing the file reader: a libFuzzer build (clang) seeded with tests/corpus, FUZZ_SECONDS long, and
 # a plain replay binary (any compiler) that runs files through the same target.

@@ -46,7 +46,8 @@ static int bench_scene(gen_kind kind, float size, uint32_t n, const char *name) 
         seen_sum += pvs_bitset_count(seen, objects);
     }
     for (k = 0; k < (uint32_t)PVS_METHOD_COUNT; ++k)
-        if (k != PVS_METHOD_DEFAULT && k != PVS_METHOD_SAMPLE) methods[method_count++] = (pvs_method)k; /* AUTO last */
+        if (k != PVS_METHOD_DEFAULT && k != PVS_METHOD_SAMPLE && k != PVS_METHOD_AUTO) methods[method_count++] = (pvs_method)k;
+    methods[method_count++] = PVS_METHOD_AUTO; /* AUTO last: auto_vs_best compares with every single method */
     for (k = 0; k < method_count; ++k) {
         pvs_bake_desc bd;
         pvs_bake *b;

@@ -18,6 +18,7 @@ void test_extproj(void);
 void test_shrink(void);
 void test_auto(void);
 void test_examples(void);
+void test_vocc(void);
 
 static const struct {
     const char *name;
@@ -30,6 +31,7 @@ static const struct {
     {"shrink", test_shrink},
     {"auto", test_auto},
     {"examples", test_examples},
+    {"vocc", test_vocc},
 };
 
 int main(int argc, char **argv) {

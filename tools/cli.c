@@ -167,6 +167,13 @@ typedef struct cli__check_job {
     uint32_t *miss_count, *first_miss, *pvs_size, *seen_size;
     uint64_t *rays_cast;
     progress *bar;
+    /* files with virtual occluders: the PVS checked is the one pvs_vocc_cull rebuilds */
+    pvs_box *boxes;       /* object boxes, empty for occluder-only objects (as the bake saw them) */
+    pvs_kdtree *tree;
+    uint8_t *scratch;     /* per thread */
+    size_t scratch_size;
+    pvs_word *stored;     /* per thread: the stored records, compared with the rebuilt PVS */
+    uint8_t *differs;     /* per cell */
 } cli__check_job;
 
 static void cli__check_one(void *user, uint32_t cell, uint32_t thread) {
@@ -184,7 +191,24 @@ static void cli__check_one(void *user, uint32_t cell, uint32_t thread) {
     job->rays_cast[cell] = pvs_sample_visibility(job->scene, &box, job->points, job->rays, z ^ (z >> 31), seen);
     /* then rays aimed at every object not seen yet: small and far objects that uniform directions pass by */
     if (job->aim) job->rays_cast[cell] += pvs_sample_visibility_toward(job->scene, &box, NULL, job->aim, z ^ (z >> 17), seen);
-    pvs_file_decode(job->file, cell, pvs, job->words, NULL);
+    if (job->boxes) {
+        /* the runtime's rebuild: the top-down walk of the object tree (it may cull an object whose
+           parts lie behind different occluders, so it is checked: it is what an engine draws) */
+        pvs_word *stored = job->stored + 2 * (size_t)thread * job->words, *flat = stored + job->words;
+        uint8_t *scratch = job->scratch + (size_t)thread * job->scratch_size;
+        size_t w;
+        pvs_vocc_cull(job->file, cell, 0, job->boxes, n, job->tree, scratch, job->scratch_size, pvs, NULL);
+        if (!(job->file->vocc_flags & PVS_VOCC_ONLY)) {
+            /* the stored PVS is the one every box against each occluder gives (minus objects beyond a
+               draw distance): never an object that rebuild leaves out */
+            pvs_vocc_cull(job->file, cell, 0, job->boxes, n, NULL, scratch, job->scratch_size, flat, NULL);
+            pvs_file_decode(job->file, cell, stored, job->words, NULL);
+            for (w = 0; w < job->words; ++w)
+                if (stored[w] & ~flat[w]) job->differs[cell] = 1;
+        }
+    } else {
+        pvs_file_decode(job->file, cell, pvs, job->words, NULL);
+    }
     if (job->max_distance > 0.0f) /* a bake with a draw distance: what rays see beyond it is not a miss */
         for (i = pvs_bitset_next(seen, n, 0); i < n; i = pvs_bitset_next(seen, n, i + 1)) {
             pvs_box ob = pvs_scene_object_box(job->scene, i);
@@ -245,7 +269,27 @@ int cli_check_file_ex(const pvs_scene *scene, const pvs_file *file, uint32_t poi
     job.pvs_size = (uint32_t *)malloc(file->cell_count * sizeof(uint32_t));
     job.seen_size = (uint32_t *)malloc(file->cell_count * sizeof(uint32_t));
     job.rays_cast = (uint64_t *)malloc(file->cell_count * sizeof(uint64_t));
-    if (!job.seen || !job.pvs || !job.miss_count || !job.first_miss || !job.pvs_size || !job.seen_size || !job.rays_cast) {
+    if (file->vocc_flags & PVS_VOCC_STORED) { /* rebuild every cell's PVS from its virtual occluders */
+        pvs_kdtree_desc kd;
+        memset(&kd, 0, sizeof(kd));
+        job.boxes = (pvs_box *)malloc((size_t)file->object_count * sizeof(pvs_box) + 1);
+        job.differs = (uint8_t *)calloc(file->cell_count, 1);
+        job.stored = (pvs_word *)malloc(2 * (size_t)nt * job.words * sizeof(pvs_word));
+        if (job.boxes)
+            for (c = 0; c < file->object_count; ++c) {
+                job.boxes[c] = pvs_scene_object_box(scene, c);
+                if (pvs_scene_object_flags(scene, c) & PVS_OBJECT_OCCLUDER_ONLY) job.boxes[c].min[0] = 1.0f, job.boxes[c].max[0] = 0.0f;
+            }
+        kd.boxes = job.boxes;
+        kd.count = file->object_count;
+        if (job.boxes && pvs_kdtree_create(&kd, &job.tree, NULL) == PVS_OK) {
+            job.scratch_size = (pvs_vocc_cull_scratch_size(job.tree, 255) + 63) / 64 * 64;
+            job.scratch = (uint8_t *)malloc((size_t)nt * job.scratch_size);
+        }
+        out->rebuilt = 1;
+    }
+    if (!job.seen || !job.pvs || !job.miss_count || !job.first_miss || !job.pvs_size || !job.seen_size || !job.rays_cast ||
+        (out->rebuilt && (!job.tree || !job.scratch || !job.differs || !job.stored))) {
         tool_error_set(err, NULL, 0, "out of memory");
     } else {
         if (!quiet) {
@@ -266,11 +310,14 @@ int cli_check_file_ex(const pvs_scene *scene, const pvs_file *file, uint32_t poi
                 out->cells_with_misses++;
             }
             out->pvs_sum += job.pvs_size[c];
+            if (job.differs) out->stored_differs += job.differs[c];
             out->seen_sum += job.seen_size[c];
             out->rays += job.rays_cast[c];
         }
     }
     free(job.seen); free(job.pvs); free(job.miss_count); free(job.first_miss); free(job.pvs_size); free(job.seen_size);
+    free(job.boxes); free(job.differs); free(job.stored); free(job.scratch);
+    pvs_kdtree_destroy(job.tree);
     free(job.rays_cast);
     return out->cells ? 0 : -1;
 }
@@ -330,6 +377,8 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     uint32_t n = 0, total = 0, words = 0, c;
     pvs_box *boxes = NULL;
     pvs_word *table = NULL;
+    uint8_t *vcount = NULL, *vscale = NULL, *vbytes = NULL;
+    size_t vat = 0;
     pvs_file_desc d;
     pvs_error pe;
     size_t need = 0;
@@ -350,9 +399,10 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
         }
         if (i && (f->shard_count != f0->shard_count || f->total_cell_count != f0->total_cell_count ||
                   f->object_count != f0->object_count || f->method != f0->method || f->eps != f0->eps ||
-                  f->up_axis != f0->up_axis || f->flags != f0->flags || f->max_chain != f0->max_chain)) {
+                  f->up_axis != f0->up_axis || f->flags != f0->flags || f->max_chain != f0->max_chain || f->vocc_flags != f0->vocc_flags ||
+                  f->vocc_base != f0->vocc_base || f->vocc_height_step != f0->vocc_height_step)) {
             tool_error_set(err, paths[i], 0, "does not belong to the bake of %s (shard count, cells, objects, method, eps, "
-                                             "up axis, flags or chain bound differ)", paths[0]);
+                                             "up axis, flags, chain bound or virtual occluders differ)", paths[0]);
             goto done;
         }
     }
@@ -378,11 +428,27 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     boxes = (pvs_box *)malloc((size_t)total * sizeof(pvs_box));
     table = (pvs_word *)malloc((size_t)total * words * sizeof(pvs_word));
     if (!boxes || !table) { tool_error_set(err, NULL, 0, "out of memory for %u cells", total); goto done; }
+    if (files[0].vocc_flags & PVS_VOCC_STORED) { /* the virtual occluders too, back to back in cell order */
+        size_t occluders = 0;
+        for (i = 0; i < count; ++i) occluders += files[i].virtual_occluder_count;
+        vcount = (uint8_t *)malloc(total);
+        vscale = (uint8_t *)malloc(total);
+        vbytes = (uint8_t *)malloc(5 * occluders + 1);
+        if (!vcount || !vscale || !vbytes) { tool_error_set(err, NULL, 0, "out of memory for %u cells", total); goto done; }
+    }
     for (c = 0; c < total; ++c) {
         const pvs_file *f = files + by_shard[c % n];
         uint32_t local = c / n;
         boxes[c] = pvs_file_cell_box(f, local);
         pvs_file_decode(f, local, table + (size_t)c * words, words, NULL);
+        if (vcount) {
+            const uint8_t *p = NULL;
+            uint32_t sc = 0, k = pvs_file_vocc_record(f, local, &sc, &p);
+            vcount[c] = (uint8_t)k;
+            vscale[c] = (uint8_t)sc;
+            if (k) memcpy(vbytes + vat, p, 5 * (size_t)k);
+            vat += 5 * (size_t)k;
+        }
     }
     memset(&d, 0, sizeof(d));
     d.cells = boxes;
@@ -394,6 +460,14 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     d.up_axis = files[0].up_axis;
     d.flags = files[0].flags;
     d.max_chain = files[0].max_chain;
+    if (vcount) {
+        d.vocc_counts = vcount;
+        d.vocc_scales = vscale;
+        d.virtual_occluders = vbytes;
+        d.vocc_base = files[0].vocc_base;
+        d.vocc_height_step = files[0].vocc_height_step;
+        d.vocc_flags = files[0].vocc_flags & PVS_VOCC_ONLY;
+    }
     if (pvs_file_encode(&d, NULL, 0, &need, &pe) != PVS_OK || !(*out = malloc(need)) ||
         pvs_file_encode(&d, *out, need, out_size, &pe) != PVS_OK) {
         tool_error_set(err, NULL, 0, "encoding the merged file: %s", *out ? pe.message : "out of memory");
@@ -409,6 +483,9 @@ done:
     free(by_shard);
     free(boxes);
     free(table);
+    free(vcount);
+    free(vscale);
+    free(vbytes);
     return rc;
 }
 

@@ -40,9 +40,15 @@ typedef struct cli_check {
     uint32_t first_miss_cell, first_miss_object;
     double pvs_sum, seen_sum;   /* sums of PVS sizes and ray-sampled visible set sizes */
     uint64_t rays;
+    uint32_t rebuilt;           /* 1: the file has virtual occluders and the PVS checked is the one pvs_vocc_cull
+                                   rebuilds from them (what a runtime using them draws) */
+    uint32_t stored_differs;    /* rebuilt: cells whose stored records hold an object the occluders' PVS
+                                   (every box tested, no tree) leaves out: must be 0 (the records are that
+                                   PVS, less objects beyond a draw distance; placeholders are not compared) */
 } cli_check;
 /* Checks cells [0, cell_count) of `file` against ray sampling in `scene` (points x rays per cell,
-   seeded per cell from `seed`), on `threads` threads. Deterministic for any thread count. */
+   seeded per cell from `seed`), on `threads` threads. Deterministic for any thread count. A file with
+   virtual occluders (VOCC) is checked through the PVS pvs_vocc_cull rebuilds from them. */
 int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint32_t aim, uint64_t seed,
                    uint32_t threads, int quiet, cli_check *out, tool_error *err);
 /* The same for a bake with a draw distance (pvsbake --max-distance): objects whose box is farther

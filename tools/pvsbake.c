@@ -16,6 +16,8 @@ static const char *usage =
     "                    shrink (occluder shrinking, Wonka 2000: conservative)\n"
     "                    otree (2.5D occlusion trees: conservative; occluders = vertical walls on the ground)\n"
     "                    extproj (extended projections, Durand et al. 2000: conservative)\n"
+    "                    vocc (virtual occluders, Koltun et al. 2000: conservative, 2.5D; the file also\n"
+    "                    stores a few occluders per cell from which pvs_vocc_cull rebuilds the PVS)\n"
     "                    A,B,...: auto over these conservative methods only (e.g. otree,extproj)\n"
     "  --preview         fast, coarse, still conservative: auto runs only the cheapest method that\n"
     "                    applies, with coarse settings\n"
@@ -25,6 +27,10 @@ static const char *usage =
     "  --2d5, --3d       shrink: force the 2.5D (cull map) or 3D (depth cube) path; default: 2.5D\n"
     "                    when the synthesized occluders stand on the ground\n"
     "  --voxel V         shrink: voxel size of the occluder synthesis (default eps / 1.5, capped)\n"
+    "  --vocc-only       vocc: store only the occluders (the PVS records list every object; the\n"
+    "                    runtime rebuilds each cell's PVS with pvs_vocc_cull)\n"
+    "  --vocc-slices N   vocc: height slices per cell (1..16, default 5)\n"
+    "  --vocc-max N      vocc: virtual occluders kept per cell (1..255, default 10)\n"
     "  --points N        sample method: points per cell (default 32)\n"
     "  --rays N          sample method: rays per point (default 2048)\n"
     "  --seed N          sample method: random seed (default 1)\n"
@@ -229,6 +235,14 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
         fprintf(stderr, "\n");
     }
     fprintf(stderr, "  file %zu bytes (%.1f per cell)\n", size, (double)size / tasks);
+    {
+        pvs_vocc_stats vs;
+        pvs_bake_vocc_stats(bake, &vs);
+        if (vs.slices)
+            fprintf(stderr, "  vocc: %.2f virtual occluders per cell kept of %.1f found (%.1f slices, %.1f seeds per cell; %u dropped)%s\n",
+                    (double)vs.selected / tasks, (double)vs.dense / tasks, (double)vs.slices / tasks, (double)vs.seeds / tasks, vs.dropped,
+                    pvs_bake_method(bake) != PVS_METHOD_VOCC ? "; only its PVS is used (auto stores no occluders)" : "");
+    }
     free(slow);
 }
 
@@ -237,7 +251,8 @@ int main(int argc, char **argv) {
     float grid = 0.0f, eps = 0.0f, voxel = 0.0f, max_distance = 0.0f;
     pvs_shrink_mode shrink_mode = PVS_SHRINK_AUTO;
     uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0, methods = 0, state_every = 0;
-    int quiet = 0, i, preview = 0, no_state = 0;
+    uint32_t vocc_slices = 0, vocc_max = 0;
+    int quiet = 0, i, preview = 0, no_state = 0, vocc_only = 0;
     pvs_method method = PVS_METHOD_AUTO;
     mesh m;
     mesh_cells cells;
@@ -267,6 +282,8 @@ int main(int argc, char **argv) {
             shrink_mode = PVS_SHRINK_2D5;
         } else if (!strcmp(a, "--3d")) {
             shrink_mode = PVS_SHRINK_3D;
+        } else if (!strcmp(a, "--vocc-only")) {
+            vocc_only = 1;
         } else if (!strcmp(a, "--preview")) {
             preview = 1;
         } else if (!strcmp(a, "--no-state")) {
@@ -274,7 +291,8 @@ int main(int argc, char **argv) {
         } else if (!strcmp(a, "-o") || !strcmp(a, "--cells") || !strcmp(a, "--grid") || !strcmp(a, "--up") ||
                    !strcmp(a, "--method") || !strcmp(a, "--eps") || !strcmp(a, "-j") || !strcmp(a, "--points") ||
                    !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard") || !strcmp(a, "--voxel") ||
-                   !strcmp(a, "--max-distance") || !strcmp(a, "--state") || !strcmp(a, "--state-every")) {
+                   !strcmp(a, "--max-distance") || !strcmp(a, "--state") || !strcmp(a, "--state-every") ||
+                   !strcmp(a, "--vocc-slices") || !strcmp(a, "--vocc-max")) {
             if (!v) return usage_error("%s needs a value", a);
             ++i;
             if (!strcmp(a, "-o")) out_path = v;
@@ -286,7 +304,11 @@ int main(int argc, char **argv) {
                 if (cli_parse_up(v, &up)) return usage_error("--up takes y or z, not '%s'", v);
             } else if (!strcmp(a, "--method")) {
                 if (parse_method(v, &method, &methods))
-                    return usage_error("unknown method '%s' (available: auto, sample, shrink, otree, extproj, or a list such as otree,extproj)", v);
+                    return usage_error("unknown method '%s' (available: auto, sample, shrink, otree, extproj, vocc, or a list such as otree,extproj)", v);
+            } else if (!strcmp(a, "--vocc-slices")) {
+                if (cli_parse_u32(v, 1, 16, &vocc_slices)) return usage_error("--vocc-slices takes 1..16, not '%s'", v);
+            } else if (!strcmp(a, "--vocc-max")) {
+                if (cli_parse_u32(v, 1, 255, &vocc_max)) return usage_error("--vocc-max takes 1..255, not '%s'", v);
             } else if (!strcmp(a, "--voxel")) {
                 if (parse_float(v, &voxel) || !(voxel > 0.0f)) return usage_error("--voxel needs a positive size, not '%s'", v);
             } else if (!strcmp(a, "--eps")) {
@@ -319,6 +341,7 @@ int main(int argc, char **argv) {
     if (!scene_path) return usage_error("%s", "no scene given");
     if (!out_path) return usage_error("%s", "no output given (-o OUT.pvs)");
     if (!cells_path == !(grid > 0.0f)) return usage_error("%s", "give exactly one of --cells FILE or --grid SIZE");
+    if (vocc_only && method != PVS_METHOD_VOCC) return usage_error("%s", "--vocc-only needs --method vocc");
     if (no_state && state_path) return usage_error("%s", "--state and --no-state contradict each other");
 
     mesh_init(&m);
@@ -343,6 +366,9 @@ int main(int argc, char **argv) {
     bd.max_chain = chain;
     bd.shrink_mode = shrink_mode;
     bd.voxel_size = voxel;
+    bd.vocc_slices = vocc_slices;
+    bd.vocc_max_occluders = vocc_max;
+    bd.vocc_only = (uint32_t)vocc_only;
     if (shard_n > 1) {
         if (shard_n > cells.count) {
             tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "--shard %u/%u: only %u cells", shard_k, shard_n, cells.count);
@@ -394,6 +420,9 @@ int main(int argc, char **argv) {
     if (cli_write_bake(bake, out_path, &size, &te)) goto fail;
     if (run.state_path) remove(run.state_path);
     if (!quiet) print_summary(out_path, scene, bake, &run, secs, t_bake, cli_seconds() - t0, size, shard_n > 1);
+    if (!quiet && vocc_only)
+        fprintf(stderr, "  vocc-only: the PVS above is the placeholder the records store (every object); the runtime rebuilds\n"
+                        "  each cell's PVS from its virtual occluders (pvs_vocc_cull; pvscheck checks that one)\n");
     rc = 0;
     goto done;
 fail:
