@@ -215,16 +215,17 @@ int main(int argc, char **argv) {
     t_bake = cli_seconds() - t_bake;
     if (cli_write_bake(bake, out_path, &size, &te)) goto fail;
     if (!quiet) {
-        uint32_t t, objects = pvs_scene_object_count(scene), tasks = pvs_bake_task_count(bake);
+        uint32_t t, objects = pvs_scene_object_count(scene), tasks = pvs_bake_task_count(bake), drawable = 0;
         double sum = 0.0;
         for (t = 0; t < tasks; ++t) sum += pvs_bitset_count(pvs_bake_cell_pvs(bake, pvs_bake_task_cell(bake, t)), objects);
+        for (t = 0; t < m.object_count; ++t) drawable += !(m.objects[t].flags & MESH_OBJECT_OCCLUDER); /* never in a PVS */
         fprintf(stderr,
                 "%s: %u objects, %u triangles, %u cells%s, method %s%s\n"
-                "  mean PVS %.1f objects (%.1f%%), bake %.2f ms per cell, %.2f s total, file %zu bytes (%.1f per cell)\n",
+                "  mean PVS %.1f objects (%.1f%% of the %u drawable), bake %.2f ms per cell, %.2f s total, file %zu bytes (%.1f per cell)\n",
                 out_path, objects, pvs_scene_triangle_count(scene), tasks, shard_n > 1 ? " (this shard)" : "",
                 pvs_method_name(pvs_bake_method(bake)),
                 pvs_bake_method(bake) == PVS_METHOD_SAMPLE ? " (approximate: ray sampling, not conservative)" : " (conservative)",
-                sum / tasks, 100.0 * sum / tasks / objects, 1000.0 * t_bake / tasks, cli_seconds() - t0, size, (double)size / tasks);
+                sum / tasks, drawable ? 100.0 * sum / tasks / drawable : 0.0, drawable, 1000.0 * t_bake / tasks, cli_seconds() - t0, size, (double)size / tasks);
     }
     rc = 0;
     goto done;
