@@ -823,6 +823,81 @@ static void test_report(void) {
     }
 }
 
+/* A leak costs only the leaking cells (the Quake 3 map finding): one closed room mesh (drawn faces
+   only, as game levels are), an object in the void beyond its wall x = 20, and cells inside; a third
+   cell pokes through that wall into the void. Without it the void is proved solid and hides the far
+   object from both inner cells. With it, the void joins the third cell's flood: that cell is left out
+   of the proof (its PVS is every object, st.excluded), the others keep their occluders, and the leak
+   diagnostic names the cell that pokes out (not the lowest-numbered cell). Checked against ray
+   sampling too. */
+static void test_leak_cells(void) {
+    int poke;
+    for (poke = 0; poke < 2; ++poke) {
+        mesh m;
+        pvs_scene *s;
+        pvs_occluders *o = NULL;
+        pvs_occluders_desc od;
+        pvs_occluders_info info;
+        pvs_shrink_stats st;
+        pvs_error e;
+        const float rlo[3] = {0, 0, 0}, rhi[3] = {20, 10, 10}, alo[3] = {3, 4, 4}, ahi[3] = {5, 6, 6};
+        const float blo[3] = {23, 4, 4}, bhi[3] = {25, 6, 6}, clo[3] = {15, 4, 4}, chi[3] = {17, 6, 6};
+        pvs_box cells[3] = {{{1, 1, 1}, {7, 9, 9}}, {{11, 1, 1}, {13, 9, 9}}, {{18, 4, 4}, {22, 6, 6}}};
+        pvs_word bits[1], ref[1];
+        const uint32_t *ex;
+        uint32_t c, n = poke ? 3 : 2, nex = 0;
+        mesh_init(&m);
+        add_box(&m, "room", rlo, rhi, -1);
+        add_box(&m, "objA", alo, ahi, -1);
+        add_box(&m, "objB", blo, bhi, -1); /* in the void beyond the wall x = 20 */
+        add_box(&m, "objC", clo, chi, -1);
+        s = make_scene(&m, 1);
+        CHECK(s != NULL);
+        if (!s) { mesh_free(&m); continue; }
+        memset(&od, 0, sizeof(od));
+        od.scene = s; od.cells = cells; od.cell_count = n; od.eps = 0.5f; od.voxel_size = 0.25f;
+        CHECK(pvs_occluders_create(&od, &o, &e) == PVS_OK);
+        if (!o) { pvs_scene_destroy(s); mesh_free(&m); continue; }
+        pvs_occluders_get_info(o, &info);
+        ex = pvs_occluders_excluded_cells(o, &nex);
+        CHECK(info.box_count > 0);
+        if (poke) {
+            CHECK(info.leak_cell == 2); CHECK(info.leak_cells == 1);
+            CHECK(info.leak_point[0] > 20.0f && info.leak_point[0] < 22.5f);
+            CHECK(nex == 1 && ex && ex[0] == 2); CHECK(info.excluded_cells == 1);
+        } else {
+            CHECK(info.leak_cell == PVS_NO_CELL); CHECK(info.leak_cells == 0); CHECK(nex == 0 && ex == NULL);
+        }
+        for (c = 0; c < n; ++c) {
+            bits[0] = ref[0] = 0;
+            CHECK(pvs_shrink_cell(s, o, cells + c, PVS_SHRINK_AUTO, bits, &st, &e) == PVS_OK);
+            pvs_sample_visibility(s, cells + c, 64, 4096, 7 + c, ref);
+            CHECK((ref[0] & ~bits[0]) == 0); /* no miss */
+            CHECK(st.excluded == (c == 2));
+            if (c < 2) CHECK(!(bits[0] & (1u << 2)) && st.hidden >= 1); /* objB hidden behind the solid void */
+            else CHECK(bits[0] == 15u && st.no_occluders == 0);
+        }
+        pvs_occluders_destroy(o);
+        if (poke) { /* through the bake: the report counts the left-out cell */
+            pvs_bake_desc bd;
+            pvs_bake *b = NULL;
+            pvs_bake_report rep;
+            memset(&bd, 0, sizeof(bd));
+            bd.scene = s; bd.cells = cells; bd.cell_count = 3; bd.method = PVS_METHOD_SHRINK; bd.eps = 0.5f; bd.voxel_size = 0.25f;
+            CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
+            for (c = 0; b && c < 3; ++c) CHECK(pvs_bake_run_task(b, c, &e) == PVS_OK);
+            if (b) {
+                pvs_bake_get_report(b, &rep);
+                CHECK(rep.cells_excluded == 1); CHECK(rep.cells_no_occluders == 0);
+                CHECK(!(pvs_bake_cell_pvs(b, 0)[0] & 4u) && pvs_bake_cell_pvs(b, 2)[0] == 15u);
+            }
+            pvs_bake_destroy(b);
+        }
+        pvs_scene_destroy(s);
+        mesh_free(&m);
+    }
+}
+
 static void test_args(void) {
     pvs_occluders_desc od;
     pvs_occluders *o = NULL;
@@ -840,6 +915,7 @@ void test_shrink(void) {
     test_report();
     test_theorem();
     test_synthesis();
+    test_leak_cells();
     test_slits();
     test_random_lattices();
     test_random_prisms();
