@@ -885,8 +885,13 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame)
    Below the lowest point of the scene and of the cells lies the ground (no sight line between points
    above it passes below it). The solid set is eroded by eps (rounding toward less solid), then merged
    into boxes (3D) and into per-column solid heights standing on the ground (2.5D), returned as
-   rectangles. A separate voxel flood through untouched voxels reports which cell reaches the grid's
-   border (the leak diagnostic; it never decides solidity). */
+   rectangles. Leaks: when most cells lie inside a component's box but a few reach its outside from
+   their own regions (a cell box poking through a wall into the void of a level whose walls have no
+   faces on the void side), those few are left out of every later flood (pvs_occluders_excluded_cells)
+   so that the others keep their solid walls; pvs_shrink_cell gives a left-out cell every object, and
+   the bake bakes those cells with a second synthesis that every cell seeds (PVS_OCCLUDERS_KEEP_LEAKS).
+   A separate 6-connected flood through untouched voxels from the grid's border reports the cells that
+   reach it (the leak diagnostic: a path of face-adjacent untouched voxels is a real free path). */
 typedef struct pvs_occluders_desc {
     const pvs_scene *scene;   /* required; must outlive the occluders */
     const pvs_box *cells;     /* cell_count view cells: the flood starts from them (required, >= 1) */
@@ -894,8 +899,13 @@ typedef struct pvs_occluders_desc {
     float eps;                /* erosion distance, > 0 */
     float voxel_size;         /* 0 = derived: eps / 1.5, grown until the grid fits max_voxels */
     uint32_t max_voxels;      /* 0 = 1 << 24 */
+    uint32_t flags;           /* PVS_OCCLUDERS_* */
     pvs_allocator allocator;
 } pvs_occluders_desc;
+
+/* pvs_occluders_desc.flags: seed the floods from every cell, leaking ones included (no cell is left
+   out: a leak then costs every cell the walls it opens, as in a single flood). */
+#define PVS_OCCLUDERS_KEEP_LEAKS 1u
 
 /* The synthesized occluders: immutable after creation, thread-safe to read. */
 typedef struct pvs_occluders pvs_occluders;
@@ -1275,7 +1285,8 @@ typedef struct pvs_bake_report {
     uint32_t cells_no_occluders; /* SHRINK: cells baked with no occluder at all (nothing survived the
                                     erosion by eps: thin walls only, or eps too large for the volumes) */
     uint32_t cells_excluded;     /* SHRINK: leaking cells the occluder synthesis left out
-                                    (pvs_occluders_excluded_cells): their PVS is every object */
+                                    (pvs_occluders_excluded_cells): baked with a second synthesis in
+                                    which every cell seeds the floods */
 } pvs_bake_report;
 /* Fills *report. Call after the tasks (not concurrently with them). */
 PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
@@ -8875,6 +8886,7 @@ typedef struct pvs__vx_flood {
     uint8_t *cellbuf;        /* per cell 7 bytes, the four arrays below */
     uint8_t *excluded;       /* per cell: 1 = left out of the floods (a leaking cell, see step 4) */
     uint32_t excluded_count;
+    int keep_leaks;          /* PVS_OCCLUDERS_KEEP_LEAKS: never exclude */
     uint32_t *near_cells;    /* per component: the cells meeting its box, */
     signed char *near_w;     /* their w (-1: every node), */
     uint8_t *near_flag;      /* 1 = sticks out of the box, 2 = the outside reaches its nodes */
@@ -9248,7 +9260,7 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
                     ++nnear;
                 }
             }
-        if (nnear && 2 * (active - nnear) < active) { /* mostly inside: which cells does the outside reach? */
+        if (!fl->keep_leaks && nnear && 2 * (active - nnear) < active) { /* mostly inside: which cells does the outside reach? */
             qh = qt = 0;
             pvs__vx_flood_run(bits, queue, &qh, &qt, d, stride, lo, up, 1);
             nout = active - nnear;
@@ -9949,6 +9961,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene, cells and out must be given");
     if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and > 0, voxel_size finite and >= 0");
+    if (d->flags & ~PVS_OCCLUDERS_KEEP_LEAKS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown occluders flags 0x%x", d->flags);
     for (c = 0; c < d->cell_count; ++c)
         if (!pvs__box_valid(d->cells + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "cell %u is not a valid box", c);
     s = d->scene;
@@ -10012,6 +10025,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     /* a bucket grid over the cells in the ground plane, for the floods' sources */
     fl.cells = d->cells;
     fl.cell_count = d->cell_count;
+    fl.keep_leaks = (d->flags & PVS_OCCLUDERS_KEEP_LEAKS) != 0;
     fl.bnu = (o->n[u] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
     fl.bnv = (o->n[v] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
     fl.bucket_grid = o->grid;
@@ -14439,6 +14453,7 @@ struct pvs_bake {
     struct pvs__extproj_prep *extproj;        /* EXTPROJ: the scene's occluders, read-only in tasks */
     uint32_t extproj_resolution, extproj_occluders;
     pvs_occluders *occluders;  /* SHRINK */
+    pvs_occluders *occluders_leak; /* SHRINK: made with every cell seeding, for the cells the first left out */
     pvs_shrink_mode shrink_mode;
     /* the methods considered (AUTO: every candidate, in run order) and those each task runs; a task's
        PVS is the intersection of theirs (an intersection of conservative sets is conservative) */
@@ -14479,6 +14494,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs_kdtree_destroy(b->ot_tree);
     pvs__extproj_prep_destroy(b->extproj);
     pvs_occluders_destroy(b->occluders);
+    pvs_occluders_destroy(b->occluders_leak);
     if (b->vocc) {
         pvs__free_array(&a, b->vocc_bytes, (size_t)b->cell_count * b->vocc->max_keep * 5, 1);
         pvs__free_array(&a, b->vocc_count, b->cell_count, 1);
@@ -14696,6 +14712,12 @@ PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, pvs_method m, const pvs_ba
         od.allocator = b->allocator;
         r = pvs_occluders_create(&od, &b->occluders, err);
         if (r != PVS_OK) return r;
+        if (b->occluders->info.excluded_cells) {
+            /* leaking cells were left out of the proof: they bake with occluders every cell seeded */
+            od.flags = PVS_OCCLUDERS_KEEP_LEAKS;
+            r = pvs_occluders_create(&od, &b->occluders_leak, err);
+            if (r != PVS_OK) return r;
+        }
         b->shrink_mode = desc->shrink_mode;
         if (b->shrink_mode == PVS_SHRINK_AUTO) b->shrink_mode = b->occluders->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
         return PVS_OK;
@@ -14775,6 +14797,11 @@ PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t
     case PVS_METHOD_SHRINK: {
         pvs_shrink_stats st;
         pvs_result r = pvs_shrink_cell(b->scene, b->occluders, b->cells + task, b->shrink_mode, bits, &st, err);
+        if (r == PVS_OK && st.excluded && b->occluders_leak) {
+            memset(bits, 0, b->words * sizeof(pvs_word));
+            r = pvs_shrink_cell(b->scene, b->occluders_leak, b->cells + task, b->shrink_mode, bits, &st, err);
+            st.excluded = 1;
+        }
         if (r != PVS_OK) {
             if (err) err->index = cell;
             return r;

@@ -400,8 +400,8 @@ int main(int argc, char **argv) {
         if (oi.excluded_cells) {
             uint32_t nex = 0, q;
             const uint32_t *ex = pvs_occluders_excluded_cells(pvs_bake_occluders(bake), &nex);
-            fprintf(stderr, "  warning: %u leaking cell%s left out of the solid proof (their PVS is every object; fix the cells or\n"
-                            "  seal the mesh):", nex, nex == 1 ? "" : "s");
+            fprintf(stderr, "  warning: %u leaking cell%s left out of the solid proof (baked with a second synthesis that every cell\n"
+                            "  seeds: little or no occlusion for them; fix the cells or seal the mesh):", nex, nex == 1 ? "" : "s");
             for (q = 0; q < nex && q < 32; ++q) fprintf(stderr, " %u", ex[q]);
             fprintf(stderr, "%s\n", nex > 32 ? " ..." : "");
         }
