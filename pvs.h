@@ -14265,6 +14265,22 @@ PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, 
     return 1;
 }
 
+/* The image of box bx (wholly ahead: dn > 0) seen from p along axis dax, as lateral offset / distance
+   ahead on the two other axes in increasing order: r[0..1] the least, r[2..3] the greatest (the
+   camera's image coordinates are these up to scale, sign and order). 0 when the box comes within
+   1e-3 of its own depth of the eye plane (no useful bound). */
+PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax, double dn, double df, double r[4]) {
+    int k;
+    if (!(dn > 1e-3 * df)) return 0;
+    for (k = 0; k < 2; ++k) {
+        int l = (dax + 1 + k) % 3;
+        double lo = (double)bx->min[l] - p[l], hi = (double)bx->max[l] - p[l];
+        r[k] = pvs__dmin(lo / dn, lo / df);
+        r[2 + k] = pvs__dmax(hi / dn, hi / df);
+    }
+    return 1;
+}
+
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
                                       pvs_shrink_stats *st, pvs_error *err) {
     pvs_raster_desc rd;
@@ -14336,6 +14352,8 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
                        frustum's being tan(0.8) = 1.03), and the boxes in that superset that reach
                        nearer than the farthest of those objects (a box wholly farther is nearer at no
                        pixel than any of them). Leaving out the rest changes no test's answer. */
+                    double crect[4] = {DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX}, brect[4];
+                    int bounded = 1;
                     ncand = 0;
                     for (ob = 0; ob < s->object_count; ++ob) {
                         double dn, df;
@@ -14343,11 +14361,22 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
                         if (!pvs__shrink_in_view(s->object_boxes + ob, p, dax, dir & 1, &dn, &df)) continue;
                         cand[ncand++] = ob;
                         if (df > far) far = df;
+                        if (bounded && pvs__shrink_view_rect(s->object_boxes + ob, p, dax, dn, df, brect))
+                            for (k = 0; k < 2; ++k) {
+                                crect[k] = pvs__dmin(crect[k], brect[k]);
+                                crect[2 + k] = pvs__dmax(crect[2 + k], brect[2 + k]);
+                            }
+                        else bounded = 0;
                     }
                     if (!ncand) continue;
                     for (i = 0; i < nb; ++i) {
                         double dn, df;
                         if (!pvs__shrink_in_view(o->boxes + i, p, dax, dir & 1, &dn, &df) || dn > far) continue;
+                        /* a box whose image misses the candidates' (a margin of a few pixels around)
+                           covers none of the pixels their tests read */
+                        if (bounded && pvs__shrink_view_rect(o->boxes + i, p, dax, dn, df, brect) &&
+                            (brect[0] > crect[2] + 0.1 || brect[2] < crect[0] - 0.1 || brect[1] > crect[3] + 0.1 || brect[3] < crect[1] - 0.1))
+                            continue;
                         memcpy(sel + 36 * (size_t)nsel, idx + 36 * (size_t)i, 36 * sizeof(uint32_t));
                         ++nsel;
                     }
