@@ -862,6 +862,7 @@ typedef struct pvs_extproj_plane {
     uint32_t width, height;   /* 1..4096 each */
 } pvs_extproj_plane;
 #define PVS_EXTPROJ_EMPTY 3.402823466e+38f
+#define PVS_EXTPROJ_SWEEP_PLANES 16u /* sweep planes per direction pvsbake --sweep asks for */
 
 /* Adds the extended Projection of one convex occluder (§3.2): `points` (count x (x, y, z), 1..16) are
    the vertices of a planar convex polygon or of a closed convex solid (a solid whose bounding box
@@ -902,6 +903,8 @@ typedef struct pvs_bake_desc {
     uint32_t max_chain;       /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
     uint32_t extproj_resolution; /* EXTPROJ: depth map pixels per side, 0 = 256; 16..4096 */
     uint32_t extproj_occluders;  /* EXTPROJ: occluders projected per plane, 0 = 128; <= 65536 */
+    uint32_t extproj_sweep;      /* EXTPROJ: occlusion sweep (Durand 2000 §5): at most this many planes per
+                                    direction, 0 = no sweep (pvsbake --sweep: PVS_EXTPROJ_SWEEP_PLANES); <= 256 */
     pvs_shrink_mode shrink_mode; /* SHRINK: path, AUTO picks */
     float voxel_size;         /* SHRINK: occluder synthesis voxel size, 0 = derived */
     /* Sharded bakes (build farms): with shard_count >= 2 this bake runs only cells shard_index,
@@ -6008,11 +6011,12 @@ PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
 /* The Projection of the part of a convex occluder inside the depth slab [lo, hi]: the views are
    convex hulls of the projected vertices of the clipped part. The clipped part's vertices are among
    the points inside the slab and the ends of the clipped segments between any two points. */
-PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo, double whi, float *map) {
+PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo, double whi, float *map,
+                                           unsigned char *mask) {
     pvs__epframe f = *fp;
     double P[PVS__EP_CLIPN][3], pts[PVS__EP_CLIPN][2], hull[PVS__EP_CLIPN + 1][2];
-    double ea[8 * PVS__EP_CLIPN], eb[8 * PVS__EP_CLIPN], ec[8 * PVS__EP_CLIPN];
-    double dmax = 0.0, xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, perr, mag = 0.0, base;
+    double ea[8 * PVS__EP_CLIPN], eb[8 * PVS__EP_CLIPN], ec[8 * PVS__EP_CLIPN], ee[8 * PVS__EP_CLIPN];
+    double dmax = 0.0, xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, base;
     int n = 0, i, j, c, edges = 0;
     int32_t i0, i1, j0, j1, row;
     uint32_t written = 0;
@@ -6044,7 +6048,7 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
     /* the intersection of the views from the 8 corners of the cell (§3.2) */
     for (c = 0; c < 8; ++c) {
         double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], h;
-        double bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX, area2 = 0.0;
+        double bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX, area2 = 0.0, mag = 0.0, verr;
         int k;
         for (i = 0; i < n; ++i) {
             double t = (f.W - Vw) / (P[i][2] - Vw);
@@ -6055,6 +6059,9 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
             mag = pvs__dmax(mag, pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) + (pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
                                      (pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
         }
+        /* a bound on each projected vertex's rounding error, in pixels: a few ulps of the terms'
+           size (the projection, the frame change), with a wide safety factor */
+        verr = 1e-12 * (mag + base + 1.0);
         if (!(bx1 - bx0 < 1e15) || !(by1 - by0 < 1e15)) return 0; /* beyond any useful precision */
         xlo = pvs__dmax(xlo, bx0); xhi = pvs__dmin(xhi, bx1);
         ylo = pvs__dmax(ylo, by0); yhi = pvs__dmin(yhi, by1);
@@ -6071,12 +6078,13 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
             ea[edges] = a / len;
             eb[edges] = b / len;
             ec[edges] = -(ea[edges] * p[0] + eb[edges] * p[1]);
+            /* moving both ends by verr changes (a, b) by 2 verr each and the L1 norm by 4 verr: at
+               a pixel at L1 distance D from p the normalized edge function moves by at most
+               verr (1 + 6 D / len) */
+            ee[edges] = verr * (2.0 + 8.0 * (pvs__dabs(p[0]) + pvs__dabs(p[1]) + (double)f.width + (double)f.height + 2.0) / len);
             ++edges;
         }
     }
-    /* a bound on the vertices' rounding errors, in pixels (projection and frame change: a few ulps
-       of the terms' size), widened for the edges' rotation over the raster's span */
-    perr = 1e-12 * (mag + base + 1.0);
     i0 = pvs__clampi(ceil(xlo), 0, (int32_t)f.width);
     i1 = pvs__clampi(floor(xhi) - 1.0, -1, (int32_t)f.width - 1);
     j0 = pvs__clampi(ceil(ylo), 0, (int32_t)f.height);
@@ -6090,7 +6098,7 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
             double a = ea[e], b = eb[e];
             /* the pixel's worst corner: a (i + [a < 0]) + b (y + [b < 0]) + c >= err */
             double r = ec[e] + b * y + (b < 0.0 ? b : 0.0) + (a < 0.0 ? a : 0.0);
-            double err = 1e-6 + perr * (4.0 + 4.0 * (mag + (double)f.width + (double)f.height)) + 1e-12 * (pvs__dabs(ec[e]) + pvs__dabs(b * y));
+            double err = 1e-6 + ee[e] + 1e-12 * (pvs__dabs(ec[e]) + pvs__dabs(b * y));
             r -= err;
             if (a > 1e-12) {
                 double x = -r / a;
@@ -6106,23 +6114,26 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
         }
         if (lo > hi) continue;
         {
-            float *px = map + (size_t)row * f.width;
             int32_t x0 = (int32_t)lo, x1 = (int32_t)hi, x;
-            for (x = x0; x <= x1; ++x)
-                if (px[x] > depth) px[x] = depth;
+            if (map) {
+                float *px = map + (size_t)row * f.width;
+                for (x = x0; x <= x1; ++x)
+                    if (px[x] > depth) px[x] = depth;
+            }
+            if (mask) memset(mask + (size_t)row * f.width + x0, 1, (size_t)(x1 - x0 + 1));
             written += (uint32_t)(x1 - x0 + 1);
         }
     }
     return written;
 }
 
-PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *points, uint32_t count, float *map) {
-    pvs__epframe f;
+/* pvs_extproj_occluder with a prepared frame and finite points: Depths go to `map` (min), pixels
+   to `mask` (set to 1), either may be NULL; only the part in front of the plane when front_only. */
+PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cell, const float *points, uint32_t count, int front_only,
+                                      float *map, unsigned char *mask) {
+    pvs__epframe f = *fp;
     double P[PVS__EP_MAXP][3], margin, wmax = -DBL_MAX;
     uint32_t i, written;
-    if (!pvs__ep_frame(pl, &f) || !points || !map || count < 1 || count > PVS__EP_MAXP) return 0;
-    for (i = 0; i < count * 3; ++i)
-        if (!pvs__finite(points[i])) return 0;
     for (i = 0; i < count; ++i) {
         P[i][0] = points[3 * i + f.u];
         P[i][1] = points[3 * i + f.v];
@@ -6143,16 +6154,25 @@ PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *
                        n[2] * ((double)points[3 * i + 2] - points[2]);
             planar = pvs__dabs(d) <= 1e-7 * len * scale;
         }
-        if (!(len > 0.0) || (!planar && pvs__box_overlap(&b, &pl->cell))) return 0;
+        if (!(len > 0.0) || (!planar && pvs__box_overlap(&b, cell))) return 0;
     }
     /* clipped to depths >= a small margin (views are defined beyond the cell), and split at the
        plane: the set of cell points that see a pixel through the part in front of the plane (or
        through the part behind it) is convex, so the corners decide for the whole cell; for a part
        straddling the plane it would not be */
     margin = 1e-4 * (f.W - f.cw[0]);
-    written = pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, margin, f.W, map);
-    if (wmax > f.W) written += pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX, map);
+    written = pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, margin, f.W, map, mask);
+    if (wmax > f.W && !front_only) written += pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX, map, mask);
     return written;
+}
+
+PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *points, uint32_t count, float *map) {
+    pvs__epframe f;
+    uint32_t i;
+    if (!pvs__ep_frame(pl, &f) || !points || !map || count < 1 || count > PVS__EP_MAXP) return 0;
+    for (i = 0; i < count * 3; ++i)
+        if (!pvs__finite(points[i])) return 0;
+    return pvs__ep_occluder(&f, &pl->cell, points, count, 0, map, NULL);
 }
 
 /* Pixel bounds of the views of the box's (k, w) extent from the cell's (k, w) corners; t[c][b] =
@@ -6190,6 +6210,43 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
     return 1;
 }
 
+/* The improved occludee Projection of Durand 2000 §4 on one axis k, for a box between the cell and
+   the plane (depths w0..w1 <= W; bk0..bk1 across). Cones are taken to the cell's near face (w = 0)
+   rather than the whole cell: cone(P, face) is inside cone(P, cell), so Property 2 still holds, and
+   because both axes cross w = 0 at once the 3D Projection is the Cartesian product of the two 2D
+   ones exactly. A point X of the box is in cone(P, face) iff P lies in X's views from the face,
+   [L(X), R(X)]; so I = [a, b] works iff a <= min_X R(X) and b >= max_X L(X). In front of the plane
+   L and R are linear in Xk and monotone in Xw, so the extremes sit at the box's corners. When
+   max L <= min R any single point between them serves (the "vanishing point" case: *any = 1, a
+   pixel range of which one column must be hidden); else the segment [min R, max L] (*any = 0,
+   every pixel of the range). Pixel indices may reach outside the map. */
+PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W, double k0,
+                                       double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
+    double maxL = -DBL_MAX, minR = DBL_MAX, mag = 0.0, err, a, b;
+    int x, y;
+    for (x = 0; x < 2; ++x)
+        for (y = 0; y < 2; ++y) {
+            double Xk = x ? bk1 : bk0, t = W / (y ? w1 : w0);
+            double v0 = (cell_k[0] + (Xk - cell_k[0]) * t - k0) * sk, v1 = (cell_k[1] + (Xk - cell_k[1]) * t - k0) * sk;
+            maxL = pvs__dmax(maxL, pvs__dmin(v0, v1));
+            minR = pvs__dmin(minR, pvs__dmax(v0, v1));
+            mag = pvs__dmax(mag, (pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1]) + (pvs__dabs(Xk) + pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1])) * t +
+                                  pvs__dabs(k0)) * sk);
+        }
+    err = 1e-6 + 1e-12 * mag;
+    a = maxL + err;
+    b = minR - err;
+    if (a <= b) { /* any point of [a, b] */
+        *any = 1;
+        *lo = pvs__clampi(floor(a), -1, (int32_t)size);
+        *hi = pvs__clampi(floor(b), -1, (int32_t)size);
+    } else { /* the whole of [min R, max L], widened */
+        *any = 0;
+        *lo = pvs__clampi(floor(minR - err), -1, (int32_t)size);
+        *hi = pvs__clampi(floor(maxL + err), -1, (int32_t)size);
+    }
+}
+
 PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *pl, const pvs_box *box, int32_t rect[4], float *depth) {
     pvs__epframe f;
     if (!pvs__ep_frame(pl, &f) || !box || !rect || !depth || !pvs__box_valid(box)) return 0;
@@ -6206,22 +6263,42 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
     return 0;
 }
 
-/* ---- the bake method: occluders prepared once per bake, then per cell six planes ---- */
+/* ---- the bake method: occluders prepared once per bake, then per cell six directions ---- */
 
 /* One convex occluder: a planar convex polygon (a triangle, or coplanar triangles merged) or a
-   closed convex solid (an object whose triangles bound their convex hull). */
+   closed convex solid (a connected component whose triangles bound their convex hull). */
 typedef struct pvs__epocc {
     pvs_box box;
-    float area[3];         /* area seen along each axis: of the polygon projected, of a solid's box face */
     uint32_t first, count; /* points */
+    int solid;
 } pvs__epocc;
+
+/* A closed non-convex component sliced by the planes (§3.3): a connected set of one object's
+   triangles in which every edge is shared by an even number of triangles, or whose odd edges (the
+   boundary) all lie in one plane with every vertex on one side of it ("capped": the boundary's
+   region in that plane closes it, e.g. a building standing on the ground with no floor). */
+typedef struct pvs__epslice {
+    pvs_box box;
+    uint32_t first, count;   /* scene triangles prep->stri[first .. first + count) */
+    uint32_t bfirst, bcount; /* capped: boundary edges prep->bedge[6 * bfirst ...], two points each */
+    int capped;              /* capped: the solid lies where cap_side * (x[cap_axis] - cap_value) >= 0 */
+    int cap_axis, cap_side;
+    float cap_value;
+} pvs__epslice;
 
 typedef struct pvs__extproj_prep {
     pvs_allocator allocator;
     pvs__epocc *occ;
-    uint32_t occ_count, occ_capacity;
-    float *pts;            /* 3 floats per point */
+    size_t occ_count, occ_capacity;
+    float *pts;              /* 3 floats per point */
     size_t pt_count, pt_capacity;
+    pvs__epslice *slc;
+    size_t slc_count, slc_capacity;
+    uint32_t *stri;
+    size_t stri_count, stri_capacity;
+    float *bedge;            /* 6 floats per boundary edge */
+    size_t bedge_count, bedge_capacity;
+    uint32_t max_slice_segments; /* the most triangles plus boundary edges of one sliced component */
 } pvs__extproj_prep;
 
 PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
@@ -6230,41 +6307,28 @@ PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
     a = p->allocator;
     pvs__free_array(&a, p->occ, p->occ_capacity, sizeof(pvs__epocc));
     pvs__free_array(&a, p->pts, p->pt_capacity * 3, sizeof(float));
+    pvs__free_array(&a, p->slc, p->slc_capacity, sizeof(pvs__epslice));
+    pvs__free_array(&a, p->stri, p->stri_capacity, sizeof(uint32_t));
+    pvs__free_array(&a, p->bedge, p->bedge_capacity * 6, sizeof(float));
     pvs__free(&a, p, sizeof(*p), 16);
 }
 
-/* Adds a convex occluder. A polygon's area along axis k is its area times |n_k| (n, its unit
-   normal: the area of its shadow on a plane of that axis); a solid's is its box's face. */
+/* Adds a convex occluder (room is reserved by the caller). */
 PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, int solid) {
     pvs__epocc *o = p->occ + p->occ_count++;
     uint32_t i;
-    int k;
     o->box = pvs__box_empty();
     o->first = (uint32_t)p->pt_count;
     o->count = n;
+    o->solid = solid;
     for (i = 0; i < n; ++i) {
         memcpy(p->pts + 3 * p->pt_count, pts[i], 3 * sizeof(float));
         pvs__box_add_point(&o->box, pts[i]);
         ++p->pt_count;
     }
-    if (solid) {
-        for (k = 0; k < 3; ++k)
-            o->area[k] = (o->box.max[(k + 1) % 3] - o->box.min[(k + 1) % 3]) * (o->box.max[(k + 2) % 3] - o->box.min[(k + 2) % 3]);
-    } else {
-        double a[3] = {0.0, 0.0, 0.0};
-        for (i = 1; i + 1 < n; ++i) { /* fan: twice the vector area */
-            double e1[3], e2[3];
-            for (k = 0; k < 3; ++k) { e1[k] = (double)pts[i][k] - pts[0][k]; e2[k] = (double)pts[i + 1][k] - pts[0][k]; }
-            a[0] += e1[1] * e2[2] - e1[2] * e2[1];
-            a[1] += e1[2] * e2[0] - e1[0] * e2[2];
-            a[2] += e1[0] * e2[1] - e1[1] * e2[0];
-        }
-        for (k = 0; k < 3; ++k) o->area[k] = (float)(0.5 * pvs__dabs(a[k]));
-    }
 }
 
 PVS__STATIC int pvs__ep_same(const float *a, const float *b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
-
 
 /* Two triangles sharing an edge, coplanar, whose union is a convex quad: fills q[4] and returns 1. */
 PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q) {
@@ -6293,30 +6357,90 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
     return 0;
 }
 
-/* An object whose triangles form a closed surface in convex position bounds a convex solid: its
-   unique vertices (<= PVS__EP_MAXP) go to pts. Returns the count, or 0. Every edge must be shared by
-   exactly two of the object's triangles (by position) and every vertex must lie on one side of
-   every triangle's plane. */
-PVS__STATIC uint32_t pvs__ep_convex_object(const pvs_scene *s, uint32_t t0, uint32_t tn, const float **pts) {
-    uint32_t t, n = 0, i, k;
+/* A vertex reference of the preparation: its position and its slot (3 t + k of the object). */
+typedef struct pvs__epvref {
+    float p[3];
+    uint32_t slot;
+} pvs__epvref;
+
+PVS__STATIC int pvs__ep_vref_cmp(const void *a, const void *b) {
+    const pvs__epvref *x = (const pvs__epvref *)a, *y = (const pvs__epvref *)b;
+    int k;
+    for (k = 0; k < 3; ++k)
+        if (x->p[k] != y->p[k]) return x->p[k] < y->p[k] ? -1 : 1;
+    return x->slot < y->slot ? -1 : x->slot > y->slot;
+}
+
+PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+PVS__STATIC uint32_t pvs__ep_find(uint32_t *parent, uint32_t i) {
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+/* Scratch of the preparation, sized for the largest object. */
+typedef struct pvs__epprepwork {
+    pvs__epvref *ref;     /* 3 per triangle */
+    uint32_t *canon;      /* 3 per triangle: the vertex's id among the object's distinct positions */
+    const float **vpos;   /* per distinct position */
+    uint32_t *owner;      /* per distinct position: a triangle using it */
+    uint32_t *parent;     /* per triangle: union-find */
+    uint32_t *order;      /* per triangle: grouped by component */
+    uint32_t *start;      /* per triangle + 1: component starts */
+    uint64_t *edges;      /* 3 per triangle */
+    uint32_t *mark;       /* per distinct position: last component that listed it */
+    uint32_t *uv;         /* per distinct position: the component's distinct vertices */
+    size_t cap;           /* triangles */
+} pvs__epprepwork;
+
+PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
+    size_t n = w->cap;
+    pvs__free_array(a, w->ref, 3 * n, sizeof(pvs__epvref));
+    pvs__free_array(a, w->canon, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, (void *)w->vpos, 3 * n, sizeof(const float *));
+    pvs__free_array(a, w->owner, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, w->parent, n, sizeof(uint32_t));
+    pvs__free_array(a, w->order, n, sizeof(uint32_t));
+    pvs__free_array(a, w->start, n + 1, sizeof(uint32_t));
+    pvs__free_array(a, w->edges, 3 * n, sizeof(uint64_t));
+    pvs__free_array(a, w->mark, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, w->uv, 3 * n, sizeof(uint32_t));
+    memset(w, 0, sizeof(*w));
+}
+
+PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, size_t n) {
+    memset(w, 0, sizeof(*w));
+    w->cap = n;
+    w->ref = (pvs__epvref *)pvs__alloc_array(a, 3 * n, sizeof(pvs__epvref));
+    w->canon = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->vpos = (const float **)pvs__alloc_array(a, 3 * n, sizeof(const float *));
+    w->owner = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->parent = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
+    w->order = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
+    w->start = (uint32_t *)pvs__alloc_array(a, n + 1, sizeof(uint32_t));
+    w->edges = (uint64_t *)pvs__alloc_array(a, 3 * n, sizeof(uint64_t));
+    w->mark = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->uv = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    return w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start && w->edges && w->mark && w->uv;
+}
+
+/* 1 if the component's distinct vertices (<= PVS__EP_MAXP) are in convex position with respect to
+   every one of its triangles: all on one side of each triangle's plane. */
+PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts, uint32_t n) {
+    uint32_t t, i, k;
     double scale = 0.0;
-    if (tn < 4 || tn > 2 * PVS__EP_MAXP) return 0;
-    for (t = t0; t < t0 + tn; ++t)
-        for (k = 0; k < 3; ++k) {
-            const float *p = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
-            for (i = 0; i < n && !pvs__ep_same(pts[i], p); ++i) {}
-            if (i == n) {
-                if (n == PVS__EP_MAXP) return 0;
-                pts[n++] = p;
-            }
-        }
     for (i = 0; i < n; ++i)
         for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]));
-    for (t = t0; t < t0 + tn; ++t) {
+    for (t = 0; t < tn; ++t) {
         const float *c[3];
         double nrm[3], len, lo = 0.0, hi = 0.0;
-        uint32_t e, u;
-        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
+        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
         len = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
         if (!(len > 0.0)) return 0;
         for (i = 0; i < n; ++i) {
@@ -6325,31 +6449,203 @@ PVS__STATIC uint32_t pvs__ep_convex_object(const pvs_scene *s, uint32_t t0, uint
             hi = pvs__dmax(hi, d);
         }
         if (lo < -1e-9 * len * scale && hi > 1e-9 * len * scale) return 0;
-        for (e = 0; e < 3; ++e) { /* each edge shared by exactly one other triangle */
-            const float *a = c[e], *b = c[(e + 1) % 3];
-            uint32_t shared = 0;
-            for (u = t0; u < t0 + tn; ++u) {
-                const float *d[3];
-                int m, has_a = 0, has_b = 0;
-                if (u == t) continue;
-                for (m = 0; m < 3; ++m) {
-                    d[m] = s->positions + 3 * (size_t)s->indices[3 * (size_t)u + m];
-                    has_a |= pvs__ep_same(d[m], a);
-                    has_b |= pvs__ep_same(d[m], b);
-                }
-                shared += (uint32_t)(has_a && has_b);
-            }
-            if (shared != 1) return 0;
+    }
+    return 1;
+}
+
+/* The cap of a component whose boundary edges (pairs of distinct-vertex ids in bnd) all lie in
+   one axis-aligned plane x_k = c, exactly (equal floats), with every vertex of the component on one
+   side of it: *side = +1 when the solid lies where x_k >= c, -1 when x_k <= c. Exact comparisons
+   keep the argument of pvs__ep_slice free of tolerances; tilted caps are not used. */
+PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv, uint32_t nuv, int *axis,
+                                 float *c, int *side) {
+    int k;
+    uint32_t i;
+    for (k = 0; k < 3; ++k) {
+        float v = vpos[bnd[0]][k];
+        int below = 0, above = 0;
+        for (i = 0; i < 2 * nb && vpos[bnd[i]][k] == v; ++i) {}
+        if (i < 2 * nb) continue;
+        for (i = 0; i < nuv; ++i) {
+            below |= vpos[uv[i]][k] < v;
+            above |= vpos[uv[i]][k] > v;
+        }
+        if (below == above) continue; /* both sides, or flat */
+        *axis = k;
+        *c = v;
+        *side = above ? 1 : -1;
+        return 1;
+    }
+    return 0;
+}
+
+/* Prepares one object's triangles t0 .. t0 + tn: connected components (by shared positions); a
+   closed convex component becomes one solid; any other component its polygons (coplanar
+   consecutive triangles merged into convex quads), and a closed or capped one is also kept for
+   slicing. */
+PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
+    const pvs_allocator *a = &p->allocator;
+    uint32_t i, nv = 0, comp;
+    pvs_result r = PVS_OK;
+    for (i = 0; i < 3 * tn; ++i) {
+        const float *q = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + i];
+        memcpy(w->ref[i].p, q, 3 * sizeof(float));
+        w->ref[i].slot = i;
+    }
+    qsort(w->ref, 3 * (size_t)tn, sizeof(pvs__epvref), pvs__ep_vref_cmp);
+    for (i = 0; i < 3 * tn; ++i) {
+        if (i == 0 || !pvs__ep_same(w->ref[i].p, w->ref[i - 1].p)) {
+            w->vpos[nv] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + w->ref[i].slot];
+            w->owner[nv] = 0xffffffffu;
+            w->mark[nv] = 0xffffffffu;
+            ++nv;
+        }
+        w->canon[w->ref[i].slot] = nv - 1;
+    }
+    for (i = 0; i < tn; ++i) w->parent[i] = i;
+    for (i = 0; i < 3 * tn; ++i) {
+        uint32_t v = w->canon[i], t = i / 3;
+        if (w->owner[v] == 0xffffffffu) w->owner[v] = t;
+        else {
+            uint32_t x = pvs__ep_find(w->parent, t), y = pvs__ep_find(w->parent, w->owner[v]);
+            if (x != y) w->parent[x > y ? x : y] = x < y ? x : y; /* the smaller index roots: deterministic */
         }
     }
-    return n;
+    /* components in order of their first triangle; triangles in order within each */
+    for (i = 0; i < tn; ++i) w->start[i] = 0;
+    for (i = 0; i < tn; ++i) ++w->start[pvs__ep_find(w->parent, i)];
+    {
+        uint32_t sum = 0;
+        for (i = 0; i < tn; ++i) {
+            uint32_t c = w->start[i];
+            w->start[i] = sum;
+            sum += c;
+        }
+        w->start[tn] = sum;
+    }
+    for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__ep_find(w->parent, i)]++] = i;
+    /* start[root] now holds the component's end; components are the roots in increasing order */
+    for (comp = 0; comp < tn; ++comp) {
+        uint32_t root = comp, begin, end, ne = 0, nb = 0, nuv = 0, k, j, closed;
+        const uint32_t *tl;
+        uint32_t tris_local[2 * PVS__EP_MAXP];
+        if (w->parent[comp] != comp) continue;
+        end = w->start[root];
+        begin = end;
+        while (begin > 0 && w->parent[w->order[begin - 1]] == root) --begin;
+        tl = w->order + begin;
+        /* edges by distinct-vertex pairs; boundary = edges used an odd number of times */
+        for (j = 0; j < end - begin; ++j)
+            for (k = 0; k < 3; ++k) {
+                uint32_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
+                if (x == y) continue;
+                w->edges[ne++] = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
+            }
+        qsort(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+        for (j = 0; j < ne;) {
+            uint32_t m = j;
+            while (m < ne && w->edges[m] == w->edges[j]) ++m;
+            if ((m - j) & 1u) w->edges[nb++] = w->edges[j]; /* compacted in place: nb <= j */
+            j = m;
+        }
+        for (j = 0; j < end - begin; ++j)
+            for (k = 0; k < 3; ++k) {
+                uint32_t v = w->canon[3 * tl[j] + k];
+                if (w->mark[v] != comp) { w->mark[v] = comp; w->uv[nuv++] = v; }
+            }
+        closed = nb == 0;
+        if (closed && nuv >= 4 && nuv <= PVS__EP_MAXP && end - begin <= 2 * PVS__EP_MAXP) {
+            const float *q[PVS__EP_MAXP];
+            for (j = 0; j < end - begin; ++j) tris_local[j] = t0 + tl[j];
+            for (j = 0; j < nuv; ++j) q[j] = w->vpos[w->uv[j]];
+            if (pvs__ep_convex_component(s, tris_local, end - begin, q, nuv)) {
+                pvs__ep_add(p, q, nuv, 1);
+                continue;
+            }
+        }
+        /* polygons: consecutive coplanar triangles forming a convex quad become one */
+        for (j = 0; j < end - begin; ++j) {
+            const float *tri[3], *nxt[3], *q[4];
+            double nrm[3];
+            for (k = 0; k < 3; ++k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
+            if (!(pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm) > 0.0)) continue;
+            if (j + 1 < end - begin) {
+                for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j + 1]) + k];
+                if (pvs__ep_quad(tri, nxt, q)) {
+                    pvs__ep_add(p, q, 4, 0);
+                    ++j;
+                    continue;
+                }
+            }
+            pvs__ep_add(p, tri, 3, 0);
+        }
+        if (end - begin < 4) continue;
+        for (j = 0; j < end - begin; ++j) { /* a zero-area triangle blocks no ray: not sliced */
+            const float *c3[3];
+            double nrm[3];
+            for (k = 0; k < 3; ++k) c3[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
+            if (!(pvs__ep_tri_normal(c3[0], c3[1], c3[2], nrm) > 0.0)) break;
+        }
+        if (j < end - begin) continue;
+        {
+            /* closed or capped: kept for slicing */
+            pvs__epslice *sl;
+            int capped = 0, cap_axis = 0, cap_side = 0;
+            float cap_value = 0.0f;
+            uint32_t *bnd = w->owner; /* reused: 2 ids per boundary edge (owner is done with) */
+            if (!closed) {
+                if (2 * nb > 3 * tn) continue;
+                for (j = 0; j < nb; ++j) {
+                    bnd[2 * j] = (uint32_t)(w->edges[j] >> 32);
+                    bnd[2 * j + 1] = (uint32_t)(w->edges[j] & 0xffffffffu);
+                }
+                if (!pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side)) continue;
+                capped = 1;
+            }
+            p->slc = (pvs__epslice *)pvs__kd_grow(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice), &r);
+            if (!p->slc) return r;
+            p->stri = (uint32_t *)pvs__kd_grow(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + (end - begin), sizeof(uint32_t), &r);
+            if (!p->stri) return r;
+            if (capped) {
+                /* pvs__kd_grow counts elements of 6 floats */
+                p->bedge = (float *)pvs__kd_grow(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb, 6 * sizeof(float), &r);
+                if (!p->bedge) return r;
+            }
+            sl = p->slc + p->slc_count++;
+            memset(sl, 0, sizeof(*sl));
+            sl->box = pvs__box_empty();
+            sl->first = (uint32_t)p->stri_count;
+            sl->count = end - begin;
+            for (j = 0; j < end - begin; ++j) {
+                p->stri[p->stri_count++] = t0 + tl[j];
+                for (k = 0; k < 3; ++k) pvs__box_add_point(&sl->box, s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k]);
+            }
+            sl->capped = capped;
+            if (capped) {
+                sl->bfirst = (uint32_t)p->bedge_count;
+                sl->bcount = nb;
+                for (j = 0; j < nb; ++j) {
+                    memcpy(p->bedge + 6 * p->bedge_count, w->vpos[bnd[2 * j]], 3 * sizeof(float));
+                    memcpy(p->bedge + 6 * p->bedge_count + 3, w->vpos[bnd[2 * j + 1]], 3 * sizeof(float));
+                    ++p->bedge_count;
+                }
+                sl->cap_axis = cap_axis;
+                sl->cap_side = cap_side;
+                sl->cap_value = cap_value;
+            }
+            if (sl->count + sl->bcount > p->max_slice_segments) p->max_slice_segments = sl->count + sl->bcount;
+        }
+    }
+    return r;
 }
 
 /* Builds the occluder list of a scene (§6.1 picks among it per cell). */
 PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out, pvs_error *err) {
     pvs__extproj_prep *p;
-    size_t occ_cap = (size_t)s->triangle_count + 1, pt_cap = 3 * (size_t)s->triangle_count + 1;
+    pvs__epprepwork w;
+    size_t occ_cap = (size_t)s->triangle_count + 1, pt_cap = 3 * (size_t)s->triangle_count + 1, most = 1;
     uint32_t o, t, i;
+    pvs_result r;
     *out = NULL;
     for (i = 0; i < s->occluder_count; ++i) {
         const pvs_occluder_desc *d = s->occluders + i;
@@ -6361,48 +6657,34 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
     if (!p) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj occluders");
     memset(p, 0, sizeof(*p));
     p->allocator = *a;
-    p->occ_capacity = (uint32_t)occ_cap;
+    p->occ_capacity = occ_cap;
     p->pt_capacity = pt_cap;
     p->occ = (pvs__epocc *)pvs__alloc_array(a, occ_cap, sizeof(pvs__epocc));
     p->pts = (float *)pvs__alloc_array(a, pt_cap * 3, sizeof(float));
-    if (!p->occ || !p->pts) {
+    for (t = 0; t < s->triangle_count;) { /* the largest object (or run of triangles in no object) */
+        uint32_t end = t + 1;
+        while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
+        if (end - t > most) most = end - t;
+        t = end;
+    }
+    if (!p->occ || !p->pts || !pvs__ep_work_alloc(a, &w, most)) {
+        pvs__ep_work_free(a, &w);
         pvs__extproj_prep_destroy(p);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj occluders (%llu)", (unsigned long long)occ_cap);
     }
-    /* triangles in object order; an object that is a closed convex surface becomes one solid,
-       consecutive coplanar triangles forming a convex quad become one polygon (fewer cracks between
-       Projections, §3.2-3.3) */
+    /* triangles in object order, one run of an object's triangles at a time */
     for (t = 0; t < s->triangle_count;) {
-        uint32_t obj = s->triangle_object[t], end = t + 1;
-        const float *tri[3], *nxt[3], *q[PVS__EP_MAXP];
-        double nrm[3], len;
-        int k;
-        if (obj != PVS_NO_OBJECT) {
-            /* the object's range starts here when t is its first triangle */
-            uint32_t n;
-            while (end < s->triangle_count && s->triangle_object[end] == obj) ++end;
-            n = pvs__ep_convex_object(s, t, end - t, q);
-            if (n >= 4) {
-                pvs__ep_add(p, q, n, 1);
-                t = end;
-                continue;
-            }
+        uint32_t end = t + 1;
+        while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
+        r = pvs__ep_prepare_object(p, s, t, end - t, &w);
+        if (r != PVS_OK) {
+            pvs__ep_work_free(a, &w);
+            pvs__extproj_prep_destroy(p);
+            return pvs__fail(err, r, -1, 0, "extproj: slices of the closed meshes");
         }
-        for (; t < end; ++t) {
-            for (k = 0; k < 3; ++k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
-            len = pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm);
-            if (!(len > 0.0)) continue;
-            if (t + 1 < end) {
-                for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t + 1) + k];
-                if (pvs__ep_quad(tri, nxt, q)) {
-                    pvs__ep_add(p, q, 4, 0);
-                    ++t;
-                    continue;
-                }
-            }
-            pvs__ep_add(p, tri, 3, 0);
-        }
+        t = end;
     }
+    pvs__ep_work_free(a, &w);
     for (o = 0; o < s->occluder_count; ++o) {
         const pvs_occluder_desc *d = s->occluders + o;
         float c[8][3];
@@ -6436,6 +6718,204 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
     *out = p;
     return PVS_OK;
 }
+
+/* ---- slices of closed meshes (§3.3) ---- */
+
+/* Per-cell scratch of the slicer: segments (x0, y0, x1, y1 in pixels), crossings and a row buffer. */
+typedef struct pvs__epslicer {
+    double *seg;
+    double *xs;
+    unsigned char *row;
+    size_t cap;          /* segments */
+    uint32_t width;      /* row buffer */
+} pvs__epslicer;
+
+/* The point where edge a-b (a on the near side of the plane, b on the far side) crosses w = W, in
+   pixels. The ends are taken in a fixed order (by position), so the two triangles sharing the edge
+   compute the same point and the section's segments close up exactly. */
+PVS__STATIC int pvs__ep_vref_cmp_pts(const float *a, const float *b) {
+    int k;
+    for (k = 0; k < 3; ++k)
+        if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
+    return 0;
+}
+
+PVS__STATIC void pvs__ep_cross(const pvs__epframe *f, const float *a, const float *b, double *x, double *y, double *mag) {
+    const float *p = a, *q = b;
+    double wp, wq, t, u, v;
+    if (pvs__ep_vref_cmp_pts(a, b) > 0) { p = b; q = a; }
+    wp = f->s * ((double)p[f->a] - f->face);
+    wq = f->s * ((double)q[f->a] - f->face);
+    t = (f->W - wp) / (wq - wp);
+    u = p[f->u] + ((double)q[f->u] - p[f->u]) * t;
+    v = p[f->v] + ((double)q[f->v] - p[f->v]) * t;
+    *x = (u - f->u0) * f->su;
+    *y = (v - f->v0) * f->sv;
+    *mag = pvs__dmax(*mag, (pvs__dabs(p[f->u]) + pvs__dabs(q[f->u]) + pvs__dabs(f->u0)) * f->su + (pvs__dabs(p[f->v]) + pvs__dabs(q[f->v]) + pvs__dabs(f->v0)) * f->sv);
+}
+
+PVS__STATIC int pvs__ep_double_cmp(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Rasterizes the section of a closed (or capped) component by the plane w = W (Durand 2000 §3.3:
+   the Projection of a closed manifold lying in the plane is itself): only pixels at a margin from
+   every segment of the section and inside it by parity get Depth W (map) or 1 (mask). Why it is
+   conservative: the cell lies outside the component's box, so a point V of the cell is outside the
+   solid, and a point X inside the section is inside it; the segment V-X crosses the closed surface
+   (mesh plus cap) an odd number of times, and never the cap (V and X lie strictly on the solid's
+   side of the cap's plane), so it crosses a triangle before reaching X, at a depth below W. Vertices
+   on the plane count as beyond it (symbolic perturbation), so every triangle and boundary edge
+   crossing the plane gives a consistent segment or point. Returns the pixels written. */
+PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
+                                   pvs__epslicer *sc, float *map, unsigned char *mask) {
+    uint32_t i, nseg = 0, ncap = 0, written = 0;
+    double mag = 0.0, m, ylo = DBL_MAX, yhi = -DBL_MAX;
+    int32_t j0, j1, j;
+    float depth = pvs__f_up(f->W);
+    for (i = 0; i < c->count; ++i) {
+        const uint32_t *ix = s->indices + 3 * (size_t)p->stri[c->first + i];
+        const float *v[3];
+        int k, far[3], nf = 0;
+        double pt[2][2];
+        int np = 0;
+        for (k = 0; k < 3; ++k) {
+            v[k] = s->positions + 3 * (size_t)ix[k];
+            far[k] = f->s * ((double)v[k][f->a] - f->face) >= f->W;
+            nf += far[k];
+        }
+        if (nf == 0 || nf == 3) continue;
+        for (k = 0; k < 3; ++k) {
+            int l = (k + 1) % 3;
+            if (far[k] == far[l]) continue;
+            pvs__ep_cross(f, far[k] ? v[l] : v[k], far[k] ? v[k] : v[l], &pt[np][0], &pt[np][1], &mag);
+            ++np;
+        }
+        sc->seg[4 * nseg] = pt[0][0];
+        sc->seg[4 * nseg + 1] = pt[0][1];
+        sc->seg[4 * nseg + 2] = pt[1][0];
+        sc->seg[4 * nseg + 3] = pt[1][1];
+        ++nseg;
+    }
+    if (c->capped) {
+        /* the cap (the boundary's region in its plane) meets the slicing plane along a line: the
+           boundary edges crossing the plane give points on it, paired in order along the line */
+        double *pts = sc->xs;
+        for (i = 0; i < c->bcount; ++i) {
+            const float *a = p->bedge + 6 * (size_t)(c->bfirst + i), *b = a + 3;
+            int fa = f->s * ((double)a[f->a] - f->face) >= f->W, fb = f->s * ((double)b[f->a] - f->face) >= f->W;
+            if (fa == fb) continue;
+            pvs__ep_cross(f, fa ? b : a, fa ? a : b, &pts[2 * ncap], &pts[2 * ncap + 1], &mag);
+            ++ncap;
+        }
+        if (ncap & 1u) return 0; /* cannot happen for a closed boundary; be safe */
+        if (ncap) {
+            /* the line lies along the plane's u or v axis: the cap is axis-aligned and the
+               slicing plane is perpendicular to another axis */
+            int key = c->cap_axis == f->u ? 1 : 0; /* the cap fixes u: the line runs along v */
+            uint32_t x, y;
+            for (x = 1; x < ncap; ++x) /* insertion sort by the running coordinate */
+                for (y = x; y > 0 && pts[2 * y + key] < pts[2 * (y - 1) + key]; --y) {
+                    double t0 = pts[2 * y], t1 = pts[2 * y + 1];
+                    pts[2 * y] = pts[2 * (y - 1)];
+                    pts[2 * y + 1] = pts[2 * (y - 1) + 1];
+                    pts[2 * (y - 1)] = t0;
+                    pts[2 * (y - 1) + 1] = t1;
+                }
+            for (x = 0; x + 1 < ncap; x += 2) {
+                sc->seg[4 * nseg] = pts[2 * x];
+                sc->seg[4 * nseg + 1] = pts[2 * x + 1];
+                sc->seg[4 * nseg + 2] = pts[2 * x + 2];
+                sc->seg[4 * nseg + 3] = pts[2 * x + 3];
+                ++nseg;
+            }
+        }
+    }
+    if (nseg < 3) return 0;
+    /* margin: a bound on the points' rounding errors in pixels, widely */
+    m = 1e-6 + 1e-12 * mag;
+    for (i = 0; i < nseg; ++i) {
+        ylo = pvs__dmin(ylo, pvs__dmin(sc->seg[4 * i + 1], sc->seg[4 * i + 3]));
+        yhi = pvs__dmax(yhi, pvs__dmax(sc->seg[4 * i + 1], sc->seg[4 * i + 3]));
+    }
+    j0 = pvs__clampi(floor(ylo), 0, (int32_t)f->height);
+    j1 = pvs__clampi(ceil(yhi), -1, (int32_t)f->height - 1);
+    for (j = j0; j <= j1; ++j) {
+        double yc = (double)j + 0.5, b0 = (double)j - m, b1 = (double)j + 1.0 + m;
+        uint32_t nx = 0, x;
+        /* parity crossings of the row's centre line (half-open in y) */
+        for (i = 0; i < nseg; ++i) {
+            const double *g = sc->seg + 4 * i;
+            if ((g[1] <= yc) != (g[3] <= yc)) sc->xs[nx++] = g[0] + (yc - g[1]) * (g[2] - g[0]) / (g[3] - g[1]);
+        }
+        if (nx < 2) continue;
+        qsort(sc->xs, nx, sizeof(double), pvs__ep_double_cmp);
+        /* pixels a segment passes through (in the band widened by the margin) are excluded */
+        memset(sc->row, 0, f->width);
+        for (i = 0; i < nseg; ++i) {
+            const double *g = sc->seg + 4 * i;
+            double ya = g[1], yb = g[3], xa = g[0], xb = g[2], ta, tb, xmin, xmax;
+            int32_t q0, q1;
+            if (pvs__dmax(ya, yb) < b0 || pvs__dmin(ya, yb) > b1) continue;
+            if (ya == yb) { ta = 0.0; tb = 1.0; }
+            else {
+                ta = (b0 - ya) / (yb - ya);
+                tb = (b1 - ya) / (yb - ya);
+                if (ta > tb) { double t = ta; ta = tb; tb = t; }
+                ta = pvs__dmax(ta, 0.0);
+                tb = pvs__dmin(tb, 1.0);
+            }
+            xmin = pvs__dmin(xa + (xb - xa) * ta, xa + (xb - xa) * tb) - m;
+            xmax = pvs__dmax(xa + (xb - xa) * ta, xa + (xb - xa) * tb) + m;
+            q0 = pvs__clampi(floor(xmin), 0, (int32_t)f->width);
+            q1 = pvs__clampi(floor(xmax), -1, (int32_t)f->width - 1);
+            if (q0 <= q1) memset(sc->row + q0, 1, (size_t)(q1 - q0 + 1));
+        }
+        for (x = 0; x + 1 < nx; x += 2) {
+            int32_t i0 = pvs__clampi(ceil(sc->xs[x]), 0, (int32_t)f->width), i1 = pvs__clampi(floor(sc->xs[x + 1]) - 1.0, -1, (int32_t)f->width - 1), q;
+            for (q = i0; q <= i1; ++q) {
+                if (sc->row[q]) continue;
+                if (map) {
+                    float *px = map + (size_t)j * f->width + (size_t)q;
+                    if (*px > depth) *px = depth;
+                }
+                if (mask) mask[(size_t)j * f->width + (size_t)q] = 1;
+                ++written;
+            }
+        }
+    }
+    return written;
+}
+
+/* 1 if the component may be sliced for this cell: the cell is outside its box and strictly on the
+   solid's side of its cap. */
+PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
+    if (pvs__box_overlap(&c->box, cell)) return 0;
+    if (c->capped) {
+        if (c->cap_side > 0 && !(cell->min[c->cap_axis] > c->cap_value)) return 0;
+        if (c->cap_side < 0 && !(cell->max[c->cap_axis] < c->cap_value)) return 0;
+    }
+    return 1;
+}
+
+/* Slices every component the plane cuts inside its rectangle. */
+PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs_extproj_plane *pl,
+                                    const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
+    uint32_t i, written = 0;
+    double pos = f->face + f->s * f->W;
+    for (i = 0; i < p->slc_count; ++i) {
+        const pvs__epslice *c = p->slc + i;
+        if (!(c->box.min[f->a] <= pos && c->box.max[f->a] >= pos)) continue;
+        if (c->box.max[f->u] < pl->rect[0] || c->box.min[f->u] > pl->rect[2] || c->box.max[f->v] < pl->rect[1] || c->box.min[f->v] > pl->rect[3])
+            continue;
+        if (!pvs__ep_slice_ok(c, cell)) continue;
+        written += pvs__ep_slice(s, p, c, f, sc, map, mask);
+    }
+    return written;
+}
+
+/* ---- depth maps with their pyramids, sweep masks ---- */
 
 /* A depth map with its max pyramid (§2.4): level l texel = the greatest Depth of its 2 x 2 children. */
 typedef struct pvs__epmap {
@@ -6489,31 +6969,192 @@ PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) 
     return 0;
 }
 
+/* A plane of the occlusion sweep (§5): a mask (1 = every ray from the cell through the pixel is
+   blocked before the plane) with its pyramid, level l texel = AND of its 2 x 2 children. */
+typedef struct pvs__epmask {
+    pvs_extproj_plane plane;
+    pvs__epframe frame;
+    uint32_t levels;
+    uint32_t lw[14], lh[14];
+    unsigned char *lv[14];
+} pvs__epmask;
+
+PVS__STATIC void pvs__ep_build_mask_pyramid(pvs__epmask *m) {
+    uint32_t l, x, y;
+    for (l = 1; l <= m->levels; ++l) {
+        uint32_t pw = m->lw[l - 1], ph = m->lh[l - 1];
+        const unsigned char *src = m->lv[l - 1];
+        unsigned char *dst = m->lv[l];
+        for (y = 0; y < m->lh[l]; ++y)
+            for (x = 0; x < m->lw[l]; ++x) {
+                uint32_t x0 = 2 * x, y0 = 2 * y, x1 = x0 + 1 < pw ? x0 + 1 : x0, y1 = y0 + 1 < ph ? y0 + 1 : y0;
+                dst[y * m->lw[l] + x] = (unsigned char)(src[y0 * pw + x0] & src[y0 * pw + x1] & src[y1 * pw + x0] & src[y1 * pw + x1]);
+            }
+    }
+}
+
+PVS__STATIC int pvs__ep_mask_open_at(const pvs__epmask *m, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *r) {
+    uint32_t cx, cy;
+    if (m->lv[l][ty * m->lw[l] + tx]) return 0;
+    if (l == 0) return 1;
+    for (cy = 2 * ty; cy <= 2 * ty + 1 && cy < m->lh[l - 1]; ++cy)
+        for (cx = 2 * tx; cx <= 2 * tx + 1 && cx < m->lw[l - 1]; ++cx) {
+            int32_t px0 = (int32_t)(cx << (l - 1)), py0 = (int32_t)(cy << (l - 1));
+            int32_t px1 = px0 + (int32_t)(1u << (l - 1)) - 1, py1 = py0 + (int32_t)(1u << (l - 1)) - 1;
+            if (px1 < r[0] || px0 > r[2] || py1 < r[1] || py0 > r[3]) continue;
+            if (pvs__ep_mask_open_at(m, l - 1, cx, cy, r)) return 1;
+        }
+    return 0;
+}
+
+/* 1 if some pixel of the rectangle is not blocked (or lies outside the plane). */
+PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r) {
+    uint32_t l = 0, tx, ty;
+    if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)m->plane.width || r[3] >= (int32_t)m->plane.height) return 1;
+    while (l < m->levels && (((uint32_t)r[2] >> l) - ((uint32_t)r[0] >> l) > 1 || ((uint32_t)r[3] >> l) - ((uint32_t)r[1] >> l) > 1)) ++l;
+    for (ty = (uint32_t)r[1] >> l; ty <= (uint32_t)r[3] >> l; ++ty)
+        for (tx = (uint32_t)r[0] >> l; tx <= (uint32_t)r[2] >> l; ++tx)
+            if (pvs__ep_mask_open_at(m, l, tx, ty, r)) return 1;
+    return 0;
+}
+
+/* Pixel ranges of plane `to` (per column: [lo, hi] on plane `from`'s u axis; per row likewise on
+   v) that the rays from the cell through each column (row) of `to` cross on `from`, nearer to the
+   cell (§5.1 reprojection). A ray from corner V through q crosses plane W_from at V + (q - V) a with
+   a = (W_from - Vw) / (W_to - Vw); per axis the extremes are at the cell's corners and the pixel's
+   edges. Ranges reaching outside `from` are marked lo = -1. */
+PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, double W_from, double W_to, double to_k0, double to_sk, uint32_t to_n,
+                                        double from_k0, double from_sk, uint32_t from_n, int32_t *lo, int32_t *hi) {
+    uint32_t i;
+    double a[2];
+    int c;
+    for (c = 0; c < 2; ++c) a[c] = (W_from - cw[c]) / (W_to - cw[c]);
+    for (i = 0; i < to_n; ++i) {
+        double q0 = to_k0 + (double)i / to_sk, q1 = to_k0 + (double)(i + 1) / to_sk, mn = DBL_MAX, mx = -DBL_MAX, err;
+        int e, k;
+        for (k = 0; k < 2; ++k)
+            for (c = 0; c < 2; ++c)
+                for (e = 0; e < 2; ++e) {
+                    double q = e ? q1 : q0, x = (ck[k] + (q - ck[k]) * a[c] - from_k0) * from_sk;
+                    mn = pvs__dmin(mn, x);
+                    mx = pvs__dmax(mx, x);
+                }
+        err = 1e-6 + 1e-12 * (pvs__dabs(mn) + pvs__dabs(mx) + (pvs__dabs(from_k0) + pvs__dabs(q0) + pvs__dabs(q1) + pvs__dabs(ck[0]) + pvs__dabs(ck[1])) * from_sk);
+        lo[i] = pvs__clampi(floor(mn - err), -1, (int32_t)from_n);
+        hi[i] = pvs__clampi(floor(mx + err), -1, (int32_t)from_n);
+        if (lo[i] < 0 || hi[i] >= (int32_t)from_n) lo[i] = -1;
+    }
+}
+
+/* ---- per cell: occluder selection, planes, the object sweep ---- */
+
 typedef struct pvs__epsel {
     float score;
     uint32_t occ;
 } pvs__epsel;
 
+typedef struct pvs__epparams {
+    uint32_t res;        /* depth map pixels per side */
+    uint32_t max_occ;    /* occluders projected per direction onto the planes of §6.1 */
+    uint32_t sweep;      /* occlusion sweep planes per direction (§5), 0 = no sweep */
+} pvs__epparams;
+
 typedef struct pvs__epcell {
     const pvs_scene *scene;
-    const pvs__extproj_prep *prep;
     pvs_box cell;
     pvs__epmap maps[6 * PVS__EP_PLANES];
+    pvs__epmask *masks;  /* 6 x sweep; masks of direction d: d * sweep .. + mask_count[d] */
+    uint32_t mask_count[6], sweep;
     pvs_word *bits;
-    uint32_t tested;
 } pvs__epcell;
 
-/* 1 if the box is hidden from the whole cell on one of the planes. Boxes meeting the cell are visible. */
+/* 1 if a box between the cell and the plane (depths w0 > 0 .. w1 <= W) is hidden by the improved
+   Projection (§4): some point of each "any" axis range and every point of each "all" range lie in
+   occluder pixels strictly nearer than w0. Property 1 needs the occluder at such a pixel to be convex
+   or planar: the Projections of convex occluders and reprojected (planar) maps are; slices (Depth
+   W) never pass the depth test of a box in front of the plane. */
+PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, double w0, double w1) {
+    const pvs__epframe *f = &m->frame;
+    int32_t ru[2], rv[2], r[4], i, j;
+    int anyu, anyv;
+    float depth = pvs__f_down(w0 - 1e-12 * w0);
+    double cu[2], cv[2];
+    cu[0] = f->cu[0]; cu[1] = f->cu[1];
+    cv[0] = f->cv[0]; cv[1] = f->cv[1];
+    pvs__ep_improved_axis(cu, b->min[f->u], b->max[f->u], w0, w1, f->W, f->u0, f->su, f->width, &ru[0], &ru[1], &anyu);
+    pvs__ep_improved_axis(cv, b->min[f->v], b->max[f->v], w0, w1, f->W, f->v0, f->sv, f->height, &rv[0], &rv[1], &anyv);
+    if (ru[0] < 0 || rv[0] < 0 || ru[1] >= (int32_t)f->width || rv[1] >= (int32_t)f->height) return 0;
+    if (anyu && ru[1] - ru[0] > 8) ru[1] = ru[0] + 8; /* a few candidates are enough */
+    if (anyv && rv[1] - rv[0] > 8) rv[1] = rv[0] + 8;
+    for (i = ru[0]; i <= ru[1]; ++i) {
+        r[0] = anyu ? i : ru[0];
+        r[2] = anyu ? i : ru[1];
+        for (j = rv[0]; j <= rv[1]; ++j) {
+            r[1] = anyv ? j : rv[0];
+            r[3] = anyv ? j : rv[1];
+            if (!pvs__ep_visible(m, r, depth)) return 1;
+            if (!anyv) break;
+        }
+        if (!anyu) break;
+    }
+    return 0;
+}
+
+/* A box in front of a sweep plane's mask: the Projection of §3.1 (the box lies beyond the plane, so
+   every blocked pixel's occluder is nearer than it). */
+PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
+    int32_t r[4];
+    float depth;
+    if (!pvs__ep_occludee(&m->frame, b, r, &depth)) return 0;
+    return !pvs__ep_mask_open(m, r);
+}
+
+/* 1 if the box is hidden from the whole cell on one of the planes. Boxes meeting the cell are
+   visible. On the planes of §6.1 a box behind a plane is tested with the Projection of §3.1, one in
+   front of it with the improved Projection of §4, one straddling it as the two parts cut at the
+   plane; on the sweep's planes (§5) a box is tested on the last two planes in front of it. */
 PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
     int d;
     if (pvs__box_overlap(b, &c->cell)) return 0;
-    ++c->tested;
     for (d = 0; d < 6 * PVS__EP_PLANES; ++d) {
+        const pvs__epmap *m = c->maps + d;
+        const pvs__epframe *f = &m->frame;
         int32_t r[4];
         float depth;
-        if (!c->maps[d].active) continue;
-        if (!pvs__ep_occludee(&c->maps[d].frame, b, r, &depth)) continue;
-        if (!pvs__ep_visible(&c->maps[d], r, depth)) return 1;
+        double w0, w1;
+        if (!m->active) continue;
+        w0 = f->s > 0 ? (double)b->min[f->a] - f->face : f->face - (double)b->max[f->a];
+        w1 = f->s > 0 ? (double)b->max[f->a] - f->face : f->face - (double)b->min[f->a];
+        if (!(w0 > 0.0)) continue;
+        if (w1 <= f->W) {
+            if (pvs__ep_front_hidden(m, b, w0, w1)) return 1;
+            continue;
+        }
+        if (w0 < f->W) {
+            /* straddling: the part in front by §4, the part behind by §3.1, cut at one float */
+            pvs_box back = *b;
+            float cut = f->s > 0 ? pvs__f_down(f->face + f->W) : pvs__f_up(f->face - f->W);
+            double cw = f->s > 0 ? (double)cut - f->face : f->face - (double)cut;
+            if (!(cw > 0.0) || !pvs__ep_front_hidden(m, b, w0, cw)) continue;
+            if (f->s > 0) back.min[f->a] = cut; else back.max[f->a] = cut;
+            if (!pvs__ep_occludee(f, &back, r, &depth)) continue;
+            if (!pvs__ep_visible(m, r, depth)) return 1;
+            continue;
+        }
+        if (!pvs__ep_occludee(f, b, r, &depth)) continue;
+        if (!pvs__ep_visible(m, r, depth)) return 1;
+    }
+    for (d = 0; d < 6 && c->sweep; ++d) {
+        const pvs__epmask *ms = c->masks + (size_t)d * c->sweep;
+        uint32_t n = c->mask_count[d], k;
+        int a = d >> 1;
+        double w0;
+        if (!n) continue;
+        w0 = d & 1 ? (double)c->cell.min[a] - b->max[a] : (double)b->min[a] - c->cell.max[a];
+        for (k = 0; k < n && ms[k].frame.W < w0; ++k) {}
+        /* planes k - 1 and k - 2 lie in front of the box */
+        if (k >= 1 && pvs__ep_mask_hidden(ms + k - 1, b)) return 1;
+        if (k >= 2 && pvs__ep_mask_hidden(ms + k - 2, b)) return 1;
     }
     return 0;
 }
@@ -6579,63 +7220,116 @@ PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, 
             ((double)cell->max[ax[1]] - cell->min[ax[1]] + 2.0 * PVS__EP_EXTEND * (W + ext)));
 }
 
-/* The PVS of one cell (Durand 2000 §6.1): per direction, the occluders with the largest solid angle,
-   a plane just behind the one that fills the most pixels, their Projections, then the occludees. */
-PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, uint32_t res,
-                                         uint32_t max_occ, const pvs_allocator *al, pvs_word *bits, uint32_t cell_id, pvs_error *err) {
-    pvs__epcell c;
-    pvs__epsel *sel = NULL;
-    uint32_t nsel[6], d, i, levels = 0;
-    size_t level_floats = 0, map_floats, sweep_size;
-    float *mem = NULL;
-    void *sweep = NULL;
-    double r2 = 0.0;
-    pvs_result r = PVS_OK;
-    memset(&c, 0, sizeof(c));
-    c.scene = s;
-    c.prep = p;
-    c.cell = *cell;
-    c.bits = bits;
-    {
-        uint32_t w = res, h = res;
-        level_floats = (size_t)w * h;
-        while ((w > 1 || h > 1) && levels < 13) {
-            w = (w + 1) / 2;
-            h = (h + 1) / 2;
-            level_floats += (size_t)w * h;
-            ++levels;
+/* A plane of direction d at distance W: the rectangle reaches PVS__EP_EXTEND times as far sideways
+   as the plane lies from the cell's far side (§6.1: extended planes catch the corner directions). */
+PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32_t res, pvs_extproj_plane *pl) {
+    int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3;
+    double ext = (double)cell->max[a] - cell->min[a];
+    memset(pl, 0, sizeof(*pl));
+    pl->cell = *cell;
+    pl->axis = (uint32_t)a;
+    pl->side = d & 1 ? -1 : 1;
+    pl->distance = pvs__f_up(W);
+    pl->rect[0] = pvs__f_down(cell->min[u] - PVS__EP_EXTEND * (W + ext));
+    pl->rect[1] = pvs__f_down(cell->min[v] - PVS__EP_EXTEND * (W + ext));
+    pl->rect[2] = pvs__f_up(cell->max[u] + PVS__EP_EXTEND * (W + ext));
+    pl->rect[3] = pvs__f_up(cell->max[v] + PVS__EP_EXTEND * (W + ext));
+    pl->width = pl->height = res;
+}
+
+/* Per-cell scratch. */
+typedef struct pvs__epscratch {
+    pvs__epsel *sel;
+    float *maps;
+    unsigned char *masks;
+    uint32_t *sat;
+    int32_t *ranges;
+    pvs__epmask *mask_hdr;
+    pvs__epslicer slicer;
+    void *sweep;
+    size_t nsel, map_floats, mask_bytes, sweep_size, nmask;
+} pvs__epscratch;
+
+PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w, uint32_t res) {
+    pvs__free_array(al, w->sel, w->nsel, sizeof(pvs__epsel));
+    pvs__free_array(al, w->maps, 6 * PVS__EP_PLANES * w->map_floats, sizeof(float));
+    pvs__free_array(al, w->masks, w->nmask * w->mask_bytes, 1);
+    pvs__free_array(al, w->mask_hdr, w->nmask, sizeof(pvs__epmask));
+    pvs__free_array(al, w->sat, ((size_t)res + 1) * ((size_t)res + 1), sizeof(uint32_t));
+    pvs__free_array(al, w->ranges, 4 * (size_t)res, sizeof(int32_t));
+    pvs__free_array(al, w->slicer.seg, 4 * w->slicer.cap, sizeof(double));
+    pvs__free_array(al, w->slicer.xs, 2 * w->slicer.cap, sizeof(double));
+    pvs__free_array(al, w->slicer.row, res, 1);
+    pvs__free(al, w->sweep, w->sweep_size, 16);
+}
+
+/* Solid angle of triangle (a, b, c) seen from e (Van Oosterom and Strackee 1983). */
+PVS__STATIC double pvs__ep_tri_solid_angle(const double *e, const float *a, const float *b, const float *c) {
+    double A[3], B[3], C[3], la, lb, lc, num, den;
+    int k;
+    for (k = 0; k < 3; ++k) { A[k] = a[k] - e[k]; B[k] = b[k] - e[k]; C[k] = c[k] - e[k]; }
+    la = sqrt(A[0] * A[0] + A[1] * A[1] + A[2] * A[2]);
+    lb = sqrt(B[0] * B[0] + B[1] * B[1] + B[2] * B[2]);
+    lc = sqrt(C[0] * C[0] + C[1] * C[1] + C[2] * C[2]);
+    num = A[0] * (B[1] * C[2] - B[2] * C[1]) + A[1] * (B[2] * C[0] - B[0] * C[2]) + A[2] * (B[0] * C[1] - B[1] * C[0]);
+    den = la * lb * lc + (A[0] * B[0] + A[1] * B[1] + A[2] * B[2]) * lc + (A[0] * C[0] + A[1] * C[1] + A[2] * C[2]) * lb +
+          (B[0] * C[0] + B[1] * C[1] + B[2] * C[2]) * la;
+    return 2.0 * pvs__dabs(atan2(num, den));
+}
+
+/* Solid angle of an occluder seen from e: a polygon's by a fan, a solid's by its box's faces
+   (at most three face e). */
+PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__epocc *o, const double *e) {
+    double sum = 0.0;
+    uint32_t i;
+    if (!o->solid) {
+        const float *q = p->pts + 3 * (size_t)o->first;
+        for (i = 1; i + 1 < o->count; ++i) sum += pvs__ep_tri_solid_angle(e, q, q + 3 * i, q + 3 * i + 3);
+    } else {
+        int k;
+        for (k = 0; k < 3; ++k) {
+            int u = (k + 1) % 3, v = (k + 2) % 3;
+            float f[4][3];
+            if (e[k] >= o->box.min[k] && e[k] <= o->box.max[k]) continue;
+            for (i = 0; i < 4; ++i) {
+                f[i][k] = e[k] < o->box.min[k] ? o->box.min[k] : o->box.max[k];
+                f[i][u] = (i == 1 || i == 2) ? o->box.max[u] : o->box.min[u];
+                f[i][v] = i >= 2 ? o->box.max[v] : o->box.min[v];
+            }
+            sum += pvs__ep_tri_solid_angle(e, f[0], f[1], f[2]) + pvs__ep_tri_solid_angle(e, f[0], f[2], f[3]);
         }
     }
-    map_floats = level_floats;
-    sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
-    sel = (pvs__epsel *)pvs__alloc_array(al, 6 * (size_t)max_occ, sizeof(pvs__epsel));
-    mem = (float *)pvs__alloc_array(al, 6 * PVS__EP_PLANES * map_floats, sizeof(float));
-    sweep = pvs__alloc(al, sweep_size, 16);
-    if (!sel || !mem || !sweep) {
-        r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell_id, 0, "extproj scratch for cell %u", cell_id);
-        goto done;
-    }
-    for (i = 0; i < 3; ++i) r2 += 0.25 * ((double)cell->max[i] - cell->min[i]) * ((double)cell->max[i] - cell->min[i]);
-    /* occluder selection by solid angle (§6.1): area over squared distance, per direction the
-       max_occ best among those reaching beyond the face (a min-heap on the score) */
+    return sum;
+}
+
+/* Selection by solid angle (§6.1): per direction the n best occluders reaching beyond the face (a
+   min-heap on the score, then sorted best first; ties by index: deterministic). The score is the
+   solid angle the occluder subtends from the cell's centre. */
+PVS__STATIC void pvs__ep_select(const pvs__extproj_prep *p, const pvs_box *cell, pvs__epsel *sel, uint32_t n, uint32_t *nsel) {
+    double centre[3];
+    uint32_t i, d;
+    for (i = 0; i < 3; ++i) centre[i] = 0.5 * ((double)cell->min[i] + cell->max[i]);
     for (d = 0; d < 6; ++d) nsel[d] = 0;
     for (i = 0; i < p->occ_count; ++i) {
         const pvs__epocc *o = p->occ + i;
-        double dist2 = pvs__box_distance2(cell, &o->box) + r2;
+        float score = -1.0f;
         for (d = 0; d < 6; ++d) {
             double w0, w1;
-            pvs__epsel *h = sel + (size_t)d * max_occ;
+            pvs__epsel *h = sel + (size_t)d * n;
             uint32_t k, ch;
-            float score = (float)(o->area[d >> 1] / dist2);
             pvs__ep_box_w(cell, &o->box, (int)d, &w0, &w1);
-            if (!(w1 > 0.0) || !(score > 0.0f)) continue;
-            if (nsel[d] == max_occ) {
+            if (!(w1 > 0.0)) continue;
+            if (score < 0.0f) {
+                score = (float)pvs__ep_solid_angle(p, o, centre);
+                if (!(score > 0.0f)) break;
+            }
+            if (nsel[d] == n) {
                 if (!(score > h[0].score)) continue;
                 k = 0; /* replace the root, sift down */
                 for (;;) {
                     ch = 2 * k + 1;
-                    if (ch >= max_occ) break;
-                    if (ch + 1 < max_occ && h[ch + 1].score < h[ch].score) ++ch;
+                    if (ch >= n) break;
+                    if (ch + 1 < n && (h[ch + 1].score < h[ch].score || (h[ch + 1].score == h[ch].score && h[ch + 1].occ > h[ch].occ))) ++ch;
                     if (!(h[ch].score < score)) break;
                     h[k] = h[ch];
                     k = ch;
@@ -6651,81 +7345,220 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
             h[k].occ = i;
         }
     }
-    for (d = 0; d < 6; ++d) {
-        pvs__epsel *h = sel + (size_t)d * max_occ;
-        int a = (int)(d >> 1), u = (a + 1) % 3, v = (a + 2) % 3, q;
-        double bestW = 0.0, bestFill = 0.0, firstW = 0.0, ext = (double)cell->max[a] - cell->min[a];
-        uint32_t k, j, w, hh;
-        if (!nsel[d]) continue;
-        /* §6.1 plane placement: a candidate just behind each of the best occluders, keep the one
-           that fills the most pixels (sorted by score, best first, for the candidates) */
-        for (k = 0; k < nsel[d]; ++k) /* sort descending by score, then by index: deterministic */
-            for (j = k + 1; j < nsel[d]; ++j)
-                if (h[j].score > h[k].score || (h[j].score == h[k].score && h[j].occ < h[k].occ)) {
-                    pvs__epsel t = h[k];
-                    h[k] = h[j];
-                    h[j] = t;
-                }
-        for (k = 0; k < nsel[d] && k < PVS__EP_PLANE_CANDIDATES; ++k) {
-            double w0, w1, W, fill = 0.0;
-            pvs__ep_box_w(cell, &p->occ[h[k].occ].box, (int)d, &w0, &w1);
-            W = w1 + 1e-3 * (w1 + ext);
-            if (k == 0) firstW = W;
-            for (j = 0; j < nsel[d]; ++j) fill += pvs__ep_fill_estimate(cell, &p->occ[h[j].occ].box, (int)d, W);
-            if (fill > bestFill || (fill == bestFill && bestW > 0.0 && W < bestW)) {
-                bestFill = fill;
-                bestW = W;
-            }
-        }
-        if (!(bestFill > 0.0)) continue;
-        /* a second plane just behind the occluder of largest solid angle: the plane holding the
-           most pixels loses the near occluders' edges to their penumbrae (§7.3, Fig. 16) */
-        for (q = 0; q < PVS__EP_PLANES; ++q) {
-        pvs__epmap *m = c.maps + PVS__EP_PLANES * d + (uint32_t)q;
-        float *base = mem + (size_t)(PVS__EP_PLANES * d + (uint32_t)q) * map_floats;
-        if (q == 1) {
-            if (!(firstW > 0.0) || !(pvs__dabs(firstW - bestW) > 0.05 * (bestW + ext))) continue;
-            bestW = firstW;
-        }
-        m->plane.cell = *cell;
-        m->plane.axis = (uint32_t)a;
-        m->plane.side = d & 1 ? -1 : 1;
-        m->plane.distance = pvs__f_up(bestW);
-        /* the plane reaches PVS__EP_EXTEND times as far sideways as it lies from the cell's far side
-           (§6.1: extended planes catch the corner directions) */
-        m->plane.rect[0] = pvs__f_down(cell->min[u] - PVS__EP_EXTEND * (bestW + ext));
-        m->plane.rect[1] = pvs__f_down(cell->min[v] - PVS__EP_EXTEND * (bestW + ext));
-        m->plane.rect[2] = pvs__f_up(cell->max[u] + PVS__EP_EXTEND * (bestW + ext));
-        m->plane.rect[3] = pvs__f_up(cell->max[v] + PVS__EP_EXTEND * (bestW + ext));
-        m->plane.width = m->plane.height = res;
-        m->levels = levels;
-        w = hh = res;
-        for (k = 0; k <= levels; ++k) {
-            m->lw[k] = w;
-            m->lh[k] = hh;
-            m->lv[k] = base;
-            base += (size_t)w * hh;
-            w = (w + 1) / 2;
-            hh = (hh + 1) / 2;
-        }
-        for (k = 0; k < res * res; ++k) m->lv[0][k] = PVS_EXTPROJ_EMPTY;
-        for (k = 0; k < nsel[d]; ++k) {
-            const pvs__epocc *o = p->occ + h[k].occ;
-            pvs_extproj_occluder(&m->plane, p->pts + 3 * (size_t)o->first, o->count, m->lv[0]);
-        }
-        pvs__ep_build_pyramid(m);
-        m->active = pvs__ep_frame(&m->plane, &m->frame);
+    for (d = 0; d < 6; ++d) { /* best first (heap sort would do; n is small) */
+        pvs__epsel *h = sel + (size_t)d * n;
+        uint32_t k, j;
+        for (k = 1; k < nsel[d]; ++k) {
+            pvs__epsel t = h[k];
+            for (j = k; j > 0 && (h[j - 1].score < t.score || (h[j - 1].score == t.score && h[j - 1].occ > t.occ)); --j) h[j] = h[j - 1];
+            h[j] = t;
         }
     }
-    r = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__ep_visit, &c);
-    if (r != PVS_OK) r = pvs__fail(err, r, cell_id, 0, "extproj: object sweep of cell %u", cell_id);
-done:
-    pvs__free_array(al, sel, 6 * (size_t)max_occ, sizeof(pvs__epsel));
-    pvs__free_array(al, mem, 6 * PVS__EP_PLANES * map_floats, sizeof(float));
-    pvs__free(al, sweep, sweep_size, 16);
-    return r;
 }
 
+/* Sets up a map's pyramid levels over `base`. */
+PVS__STATIC void pvs__ep_levels(uint32_t res, uint32_t levels, uint32_t *lw, uint32_t *lh, size_t elem, void *base, void **lv) {
+    uint32_t k, w = res, h = res;
+    unsigned char *b = (unsigned char *)base;
+    for (k = 0; k <= levels; ++k) {
+        lw[k] = w;
+        lh[k] = h;
+        lv[k] = b;
+        b += (size_t)w * h * elem;
+        w = (w + 1) / 2;
+        h = (h + 1) / 2;
+    }
+}
+
+/* The planes of §6.1 for direction d: a plane just behind the candidate occluder filling the most
+   pixels, a second just behind the occluder of largest solid angle (the plane holding the most
+   pixels loses the near occluders' edges to their penumbrae, §7.3, Fig. 16). */
+PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
+                                       uint32_t n, const pvs__epparams *prm, uint32_t levels, float *mem, size_t map_floats,
+                                       pvs__epslicer *sc, pvs__epmap *maps) {
+    int a = d >> 1, q;
+    double bestW = 0.0, bestFill = 0.0, firstW = 0.0, ext = (double)cell->max[a] - cell->min[a];
+    uint32_t k, j;
+    for (k = 0; k < n && k < PVS__EP_PLANE_CANDIDATES; ++k) {
+        double w0, w1, W, fill = 0.0;
+        pvs__ep_box_w(cell, &p->occ[h[k].occ].box, d, &w0, &w1);
+        W = w1 + 1e-3 * (w1 + ext);
+        if (k == 0) firstW = W;
+        for (j = 0; j < n; ++j) fill += pvs__ep_fill_estimate(cell, &p->occ[h[j].occ].box, d, W);
+        if (fill > bestFill || (fill == bestFill && bestW > 0.0 && W < bestW)) {
+            bestFill = fill;
+            bestW = W;
+        }
+    }
+    if (!(bestFill > 0.0)) return;
+    for (q = 0; q < PVS__EP_PLANES; ++q) {
+        pvs__epmap *m = maps + q;
+        double W = bestW;
+        if (q == 1) {
+            if (!(firstW > 0.0) || !(pvs__dabs(firstW - bestW) > 0.05 * (bestW + ext))) continue;
+            W = firstW;
+        }
+        pvs__ep_make_plane(cell, d, W, prm->res, &m->plane);
+        m->levels = levels;
+        pvs__ep_levels(prm->res, levels, m->lw, m->lh, sizeof(float), mem + (size_t)q * map_floats, (void **)m->lv);
+        for (k = 0; k < prm->res * prm->res; ++k) m->lv[0][k] = PVS_EXTPROJ_EMPTY;
+        if (!pvs__ep_frame(&m->plane, &m->frame)) continue;
+        for (k = 0; k < n; ++k) {
+            const pvs__epocc *o = p->occ + h[k].occ;
+            pvs__ep_occluder(&m->frame, cell, p->pts + 3 * (size_t)o->first, o->count, 0, m->lv[0], NULL);
+        }
+        pvs__ep_slices(s, p, cell, &m->plane, &m->frame, sc, m->lv[0], NULL);
+        pvs__ep_build_pyramid(m);
+        m->active = 1;
+    }
+}
+
+/* The occlusion sweep of §5 for direction d: parallel planes leaving the cell, each holding the
+   reprojection of the previous plane's blocked pixels (§5.1), the Projections of the occluders in
+   front of it not yet wholly projected, and the slices of the closed meshes it cuts. Planes are
+   spaced by §5.2 (a kernel of K = 5 pixels: dD = D (K - 1) P / (C N)) but at least geometrically,
+   so that `sweep` planes reach the farthest selected occluder. Returns the number of planes. */
+PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
+                                          uint32_t n, const pvs__epparams *prm, uint32_t levels, pvs__epscratch *w, pvs__epmask *ms) {
+    int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3;
+    double ext = (double)cell->max[a] - cell->min[a], C = pvs__dmax((double)cell->max[u] - cell->min[u], (double)cell->max[v] - cell->min[v]);
+    double W0 = DBL_MAX, Wend = 0.0, W, Wprev = 0.0, ratio;
+    uint32_t k, count = 0, res = prm->res;
+    size_t npx = (size_t)res * res;
+    for (k = 0; k < n; ++k) {
+        double w0, w1;
+        pvs__ep_box_w(cell, &p->occ[h[k].occ].box, d, &w0, &w1);
+        Wend = pvs__dmax(Wend, w1);
+        W0 = pvs__dmin(W0, pvs__dmax(w1, 0.0));
+    }
+    if (!(Wend > 0.0)) return 0;
+    if (!(C > 0.0)) C = pvs__dmax(ext, 1e-6);
+    W0 = pvs__dmax(W0, 1e-3 * (C + ext));
+    W0 = pvs__dmin(W0, Wend);
+    ratio = prm->sweep > 1 ? pow(pvs__dmax(Wend / W0, 1.0), 1.0 / (double)(prm->sweep - 1)) : 1.0;
+    for (W = W0; count < prm->sweep; ++count) {
+        pvs__epmask *m = ms + count;
+        unsigned char *mask;
+        pvs__ep_make_plane(cell, d, W, res, &m->plane);
+        if (!pvs__ep_frame(&m->plane, &m->frame)) break;
+        m->levels = levels;
+        pvs__ep_levels(res, levels, m->lw, m->lh, 1, w->masks + (size_t)((ms - w->mask_hdr) + count) * w->mask_bytes, (void **)m->lv);
+        mask = m->lv[0];
+        memset(mask, 0, npx);
+        if (count > 0) {
+            /* §5.1: a pixel is blocked when every ray from the cell through it crosses the previous
+               plane in blocked pixels (the umbra of the previous plane's blocked region, Appendix
+               B): a summed-area table of the previous plane's open pixels decides each pixel */
+            const pvs__epmask *pm = ms + count - 1;
+            const unsigned char *prev = pm->lv[0];
+            uint32_t *sat = w->sat, x, y, W1 = res + 1;
+            int32_t *clo = w->ranges, *chi = w->ranges + res, *rlo = w->ranges + 2 * res, *rhi = w->ranges + 3 * res;
+            for (x = 0; x <= res; ++x) sat[x] = 0;
+            for (y = 0; y < res; ++y) {
+                uint32_t run = 0;
+                sat[(size_t)(y + 1) * W1] = 0;
+                for (x = 0; x < res; ++x) {
+                    run += prev[(size_t)y * res + x] ? 0u : 1u;
+                    sat[(size_t)(y + 1) * W1 + x + 1] = sat[(size_t)y * W1 + x + 1] + run;
+                }
+            }
+            pvs__ep_reproject_axis(m->frame.cu, m->frame.cw, pm->frame.W, m->frame.W, m->frame.u0, m->frame.su, res, pm->frame.u0, pm->frame.su, res, clo, chi);
+            pvs__ep_reproject_axis(m->frame.cv, m->frame.cw, pm->frame.W, m->frame.W, m->frame.v0, m->frame.sv, res, pm->frame.v0, pm->frame.sv, res, rlo, rhi);
+            for (y = 0; y < res; ++y) {
+                if (rlo[y] < 0) continue;
+                for (x = 0; x < res; ++x) {
+                    size_t y0 = (size_t)rlo[y], y1 = (size_t)rhi[y] + 1, x0, x1;
+                    if (clo[x] < 0) continue;
+                    x0 = (size_t)clo[x];
+                    x1 = (size_t)chi[x] + 1;
+                    if (sat[y1 * W1 + x1] - sat[y0 * W1 + x1] - sat[y1 * W1 + x0] + sat[y0 * W1 + x0] == 0) mask[(size_t)y * res + x] = 1;
+                }
+            }
+        }
+        for (k = 0; k < n; ++k) {
+            const pvs__epocc *o = p->occ + h[k].occ;
+            double w0, w1;
+            pvs__ep_box_w(cell, &o->box, d, &w0, &w1);
+            if (!(w0 < W) || (count > 0 && w1 <= Wprev)) continue; /* behind the plane, or projected whole before */
+            pvs__ep_occluder(&m->frame, cell, p->pts + 3 * (size_t)o->first, o->count, 1, NULL, mask);
+        }
+        pvs__ep_slices(s, p, cell, &m->plane, &m->frame, &w->slicer, NULL, mask);
+        pvs__ep_build_mask_pyramid(m);
+        Wprev = m->frame.W;
+        if (W >= Wend) { ++count; break; }
+        {
+            double P = C + 2.0 * PVS__EP_EXTEND * (W + ext), step = W * 4.0 * P / (C * (double)res);
+            W = pvs__dmin(Wend, pvs__dmax(W + step, W * ratio));
+        }
+    }
+    return count;
+}
+
+/* The PVS of one cell (Durand 2000 §6.1): per direction, the occluders with the largest solid angle,
+   the planes of §6.1 and, with the sweep, the planes of §5; then the occludees front to back. */
+PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs__epparams *prm,
+                                         const pvs_allocator *al, pvs_word *bits, uint32_t cell_id, pvs_error *err) {
+    pvs__epcell c;
+    pvs__epscratch w;
+    uint32_t nsel[6], d, levels = 0, nper;
+    size_t level_floats = 0;
+    pvs_result r = PVS_OK;
+    memset(&c, 0, sizeof(c));
+    memset(&w, 0, sizeof(w));
+    c.scene = s;
+    c.cell = *cell;
+    c.bits = bits;
+    c.sweep = prm->sweep;
+    {
+        uint32_t ww = prm->res, hh = prm->res;
+        level_floats = (size_t)ww * hh;
+        while ((ww > 1 || hh > 1) && levels < 13) {
+            ww = (ww + 1) / 2;
+            hh = (hh + 1) / 2;
+            level_floats += (size_t)ww * hh;
+            ++levels;
+        }
+    }
+    nper = prm->sweep ? 4 * prm->max_occ : prm->max_occ;
+    w.nsel = 6 * (size_t)nper;
+    w.map_floats = level_floats;
+    w.mask_bytes = level_floats;
+    w.nmask = 6 * (size_t)prm->sweep;
+    w.sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
+    w.slicer.cap = (size_t)p->max_slice_segments + 4;
+    w.slicer.width = prm->res;
+    w.sel = (pvs__epsel *)pvs__alloc_array(al, w.nsel, sizeof(pvs__epsel));
+    w.maps = (float *)pvs__alloc_array(al, 6 * PVS__EP_PLANES * w.map_floats, sizeof(float));
+    w.slicer.seg = (double *)pvs__alloc_array(al, 4 * w.slicer.cap, sizeof(double));
+    w.slicer.xs = (double *)pvs__alloc_array(al, 2 * w.slicer.cap, sizeof(double));
+    w.slicer.row = (unsigned char *)pvs__alloc_array(al, prm->res, 1);
+    w.sweep = pvs__alloc(al, w.sweep_size, 16);
+    if (prm->sweep) {
+        w.masks = (unsigned char *)pvs__alloc_array(al, w.nmask * w.mask_bytes, 1);
+        w.mask_hdr = (pvs__epmask *)pvs__alloc_array(al, w.nmask, sizeof(pvs__epmask));
+        w.sat = (uint32_t *)pvs__alloc_array(al, ((size_t)prm->res + 1) * ((size_t)prm->res + 1), sizeof(uint32_t));
+        w.ranges = (int32_t *)pvs__alloc_array(al, 4 * (size_t)prm->res, sizeof(int32_t));
+    }
+    if (!w.sel || !w.maps || !w.slicer.seg || !w.slicer.xs || !w.slicer.row || !w.sweep ||
+        (prm->sweep && (!w.masks || !w.mask_hdr || !w.sat || !w.ranges))) {
+        r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell_id, 0, "extproj scratch for cell %u", cell_id);
+        goto done;
+    }
+    c.masks = w.mask_hdr;
+    pvs__ep_select(p, cell, w.sel, nper, nsel);
+    for (d = 0; d < 6; ++d) {
+        const pvs__epsel *h = w.sel + (size_t)d * nper;
+        if (!nsel[d]) continue;
+        pvs__ep_direct_planes(s, p, cell, (int)d, h, nsel[d] < prm->max_occ ? nsel[d] : prm->max_occ, prm, levels,
+                              w.maps + (size_t)PVS__EP_PLANES * d * w.map_floats, w.map_floats, &w.slicer, c.maps + PVS__EP_PLANES * d);
+        if (prm->sweep) c.mask_count[d] = pvs__ep_sweep_planes(s, p, cell, (int)d, h, nsel[d], prm, levels, &w, w.mask_hdr + (size_t)d * prm->sweep);
+    }
+    r = pvs_kdtree_sweep(s->object_tree, cell, w.sweep, w.sweep_size, pvs__ep_visit, &c);
+    if (r != PVS_OK) r = pvs__fail(err, r, cell_id, 0, "extproj: object sweep of cell %u", cell_id);
+done:
+    pvs__ep_scratch_free(al, &w, prm->res);
+    return r;
+}
 /* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
 
 typedef struct pvs__shrink_walk {
@@ -7064,7 +7897,7 @@ struct pvs_bake {
     float *ot_objects;         /* OTREE: object_count x (umin vmin umax vmax top) */
     pvs_kdtree *ot_tree;       /* OTREE: over pvs_visibility_25d_boxes */
     struct pvs__extproj_prep *extproj;        /* EXTPROJ: the scene's occluders, read-only in tasks */
-    uint32_t extproj_resolution, extproj_occluders;
+    uint32_t extproj_resolution, extproj_occluders, extproj_sweep;
     pvs_occluders *occluders;  /* SHRINK */
     pvs_shrink_mode shrink_mode;
 };
@@ -7266,6 +8099,8 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_resolution %u is not in 16..4096", desc->extproj_resolution);
     if (desc->extproj_occluders > 65536)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_occluders %u > 65536", desc->extproj_occluders);
+    if (desc->extproj_sweep > 256)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep %u > 256", desc->extproj_sweep);
     for (i = 0; i < desc->cell_count; ++i) {
         r = pvs__check_cell(desc->cells + i, (uint32_t)i, err);
         if (r != PVS_OK) return r;
@@ -7303,6 +8138,7 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
     b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution : PVS__EP_DEFAULT_RES;
     b->extproj_occluders = desc->extproj_occluders ? desc->extproj_occluders : PVS__EP_DEFAULT_OCC;
+    b->extproj_sweep = desc->extproj_sweep;
     if (b->method == PVS_METHOD_EXTPROJ) {
         r = pvs__extproj_prepare(b->scene, &a, &b->extproj, err);
         if (r != PVS_OK) {
@@ -7375,8 +8211,12 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         break;
     }
     case PVS_METHOD_EXTPROJ: {
-        pvs_result r = pvs__extproj_cell(b->scene, b->extproj, b->cells + task, b->extproj_resolution, b->extproj_occluders,
-                                         &b->allocator, bits, cell, err);
+        pvs__epparams prm;
+        pvs_result r;
+        prm.res = b->extproj_resolution;
+        prm.max_occ = b->extproj_occluders;
+        prm.sweep = b->extproj_sweep;
+        r = pvs__extproj_cell(b->scene, b->extproj, b->cells + task, &prm, &b->allocator, bits, cell, err);
         if (r != PVS_OK) return r;
         break;
     }

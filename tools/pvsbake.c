@@ -19,6 +19,8 @@ static const char *usage =
     "  --2d5, --3d       shrink: force the 2.5D (cull map) or 3D (depth cube) path; default: 2.5D\n"
     "                    when the synthesized occluders stand on the ground\n"
     "  --voxel V         shrink: voxel size of the occluder synthesis (default eps / 1.5, capped)\n"
+    "  --sweep           extproj: add the occlusion sweep (Durand 2000 §5) for scenes of many small\n"
+    "                    occluders (foliage); slower\n"
     "  --points N        sample method: points per cell (default 32)\n"
     "  --rays N          sample method: rays per point (default 2048)\n"
     "  --seed N          sample method: random seed (default 1)\n"
@@ -91,6 +93,7 @@ int main(int argc, char **argv) {
     const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL;
     float grid = 0.0f, eps = 0.0f, voxel = 0.0f;
     pvs_shrink_mode shrink_mode = PVS_SHRINK_AUTO;
+    uint32_t sweep = 0;
     uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0;
     int quiet = 0, i;
     pvs_method method = PVS_METHOD_SAMPLE;
@@ -119,6 +122,8 @@ int main(int argc, char **argv) {
             shrink_mode = PVS_SHRINK_2D5;
         } else if (!strcmp(a, "--3d")) {
             shrink_mode = PVS_SHRINK_3D;
+        } else if (!strcmp(a, "--sweep")) {
+            sweep = PVS_EXTPROJ_SWEEP_PLANES;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--cells") || !strcmp(a, "--grid") || !strcmp(a, "--up") ||
                    !strcmp(a, "--method") || !strcmp(a, "--eps") || !strcmp(a, "-j") || !strcmp(a, "--points") ||
                    !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard") || !strcmp(a, "--voxel")) {
@@ -182,6 +187,7 @@ int main(int argc, char **argv) {
     bd.seed = seed;
     bd.max_chain = chain;
     bd.shrink_mode = shrink_mode;
+    bd.extproj_sweep = sweep;
     bd.voxel_size = voxel;
     if (shard_n > 1) {
         if (shard_n > cells.count) {
