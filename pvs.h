@@ -6269,9 +6269,25 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
    closed convex solid (a connected component whose triangles bound their convex hull). */
 typedef struct pvs__epocc {
     pvs_box box;
-    uint32_t first, count; /* points */
+    uint32_t first, count;   /* points */
     int solid;
+    uint32_t xfirst, xcount; /* the occluder extended through a sheet (pvs__epsheet), xcount = 0 if none */
+    uint32_t sheet;
+    int xside;               /* the side of the sheet the occluder stands on */
 } pvs__epocc;
+
+/* A sheet: coplanar triangles (of any objects) in an axis-aligned plane x[axis] = value whose union
+   is one convex polygon without holes, e.g. a ground or a floor made of tiles. For a cell strictly on
+   one side of it and over it (its footprint inside the polygon), the half-space beyond the sheet,
+   over the polygon, is solid: a segment from the cell to a point there crosses the plane inside the
+   polygon (both ends lie over the convex polygon), so it hits a triangle of the sheet. */
+#define PVS__EP_MAX_SHEETS 16
+typedef struct pvs__epsheet {
+    int axis;
+    float value;
+    uint32_t first, count;   /* polygon vertices prep->spoly[2 * first ...] in the (axis + 1, axis + 2) plane, convex */
+    double area;
+} pvs__epsheet;
 
 /* A closed non-convex component sliced by the planes (§3.3): a connected set of one object's
    triangles in which every edge is shared by an even number of triangles, or whose odd edges (the
@@ -6299,6 +6315,10 @@ typedef struct pvs__extproj_prep {
     float *bedge;            /* 6 floats per boundary edge */
     size_t bedge_count, bedge_capacity;
     uint32_t max_slice_segments; /* the most triangles plus boundary edges of one sliced component */
+    pvs__epsheet sheet[PVS__EP_MAX_SHEETS];
+    uint32_t sheet_count;
+    float *spoly;            /* sheet polygons: 2 floats per vertex */
+    size_t spoly_count, spoly_capacity;
 } pvs__extproj_prep;
 
 PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
@@ -6310,6 +6330,7 @@ PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
     pvs__free_array(&a, p->slc, p->slc_capacity, sizeof(pvs__epslice));
     pvs__free_array(&a, p->stri, p->stri_capacity, sizeof(uint32_t));
     pvs__free_array(&a, p->bedge, p->bedge_capacity * 6, sizeof(float));
+    pvs__free_array(&a, p->spoly, p->spoly_capacity * 2, sizeof(float));
     pvs__free(&a, p, sizeof(*p), 16);
 }
 
@@ -6321,6 +6342,8 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
     o->first = (uint32_t)p->pt_count;
     o->count = n;
     o->solid = solid;
+    o->xfirst = o->xcount = 0;
+    o->sheet = 0;
     for (i = 0; i < n; ++i) {
         memcpy(p->pts + 3 * p->pt_count, pts[i], 3 * sizeof(float));
         pvs__box_add_point(&o->box, pts[i]);
@@ -6639,6 +6662,321 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
     return r;
 }
 
+
+/* ---- sheets (grounds, floors) and occluders extended through them ---- */
+
+typedef struct pvs__epskey {
+    float value;
+    uint32_t axis, tri;
+} pvs__epskey;
+
+PVS__STATIC int pvs__ep_skey_cmp(const void *a, const void *b) {
+    const pvs__epskey *x = (const pvs__epskey *)a, *y = (const pvs__epskey *)b;
+    if (x->axis != y->axis) return x->axis < y->axis ? -1 : 1;
+    if (x->value != y->value) return x->value < y->value ? -1 : 1;
+    return x->tri < y->tri ? -1 : x->tri > y->tri;
+}
+
+/* An edge in a sheet's plane, ends ordered. */
+typedef struct pvs__epedge2 {
+    float a[2], b[2];
+    uint32_t tri;            /* the triangle's index in its group, then its component's root */
+} pvs__epedge2;
+
+PVS__STATIC int pvs__ep_p2_cmp(const float *a, const float *b) {
+    if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
+    if (a[1] != b[1]) return a[1] < b[1] ? -1 : 1;
+    return 0;
+}
+
+PVS__STATIC int pvs__ep_edge2_cmp(const void *x, const void *y) {
+    const pvs__epedge2 *a = (const pvs__epedge2 *)x, *b = (const pvs__epedge2 *)y;
+    int c = pvs__ep_p2_cmp(a->a, b->a);
+    return c ? c : pvs__ep_p2_cmp(a->b, b->b);
+}
+
+PVS__STATIC int pvs__ep_edge2_root_cmp(const void *x, const void *y) {
+    const pvs__epedge2 *a = (const pvs__epedge2 *)x, *b = (const pvs__epedge2 *)y;
+    if (a->tri != b->tri) return a->tri < b->tri ? -1 : 1;
+    return pvs__ep_edge2_cmp(x, y);
+}
+
+/* 1 if (x, y) lies inside the convex counter-clockwise polygon q (n points) by a margin. */
+PVS__STATIC int pvs__ep_in_convex(const float *q, uint32_t n, double x, double y) {
+    uint32_t i;
+    for (i = 0; i < n; ++i) {
+        const float *a = q + 2 * i, *b = q + 2 * ((i + 1) % n);
+        double ex = (double)b[0] - a[0], ey = (double)b[1] - a[1], cr = ex * (y - a[1]) - ey * (x - a[0]);
+        double scale = (pvs__dabs(ex) + pvs__dabs(ey)) * (pvs__dabs(x - a[0]) + pvs__dabs(y - a[1]));
+        if (!(cr > 1e-9 * scale)) return 0;
+    }
+    return 1;
+}
+
+/* The union of a group's triangles as one convex polygon: boundary edges (used an odd number of
+   times) forming one loop that turns one way once, with the loop's area equal to the triangles'
+   (no overlap, no hole). Fills q (counter-clockwise, collinear points dropped) and returns its size. */
+PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep, uint32_t qcap) {
+    uint32_t nb = 0, i, j, n = 0, m;
+    double area = 0.0, turn = 0.0;
+    qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
+    for (i = 0; i < ne;) {
+        j = i;
+        while (j < ne && pvs__ep_edge2_cmp(e + j, e + i) == 0) ++j;
+        if ((j - i) & 1u) e[nb++] = e[i];
+        i = j;
+    }
+    if (nb < 3 || nb > qcap) return 0;
+    /* walk the loop: from each point exactly one unused edge (e[m .. nb)) must continue */
+    {
+        float cur[2];
+        q[0] = e[0].a[0]; q[1] = e[0].a[1];
+        cur[0] = e[0].b[0]; cur[1] = e[0].b[1];
+        n = 1;
+        for (m = 1; m < nb; ++m) {
+            uint32_t found = nb, k;
+            int end = 0;
+            pvs__epedge2 tmp;
+            q[2 * n] = cur[0];
+            q[2 * n + 1] = cur[1];
+            ++n;
+            for (k = m; k < nb; ++k) {
+                int ea = pvs__ep_p2_cmp(e[k].a, cur) == 0, eb = pvs__ep_p2_cmp(e[k].b, cur) == 0;
+                if (!ea && !eb) continue;
+                if (found != nb) return 0; /* a point on more than two boundary edges */
+                found = k;
+                end = ea;
+            }
+            if (found == nb) return 0;
+            cur[0] = end ? e[found].b[0] : e[found].a[0];
+            cur[1] = end ? e[found].b[1] : e[found].a[1];
+            tmp = e[m];
+            e[m] = e[found];
+            e[found] = tmp;
+        }
+        if (pvs__ep_p2_cmp(cur, q) != 0) return 0; /* the loop must close at its start */
+    }
+    for (i = 0; i < n; ++i) {
+        const float *a = q + 2 * i, *b = q + 2 * ((i + 1) % n);
+        area += (double)a[0] * b[1] - (double)b[0] * a[1];
+    }
+    area *= 0.5;
+    if (area < 0.0) { /* make it counter-clockwise */
+        for (i = 0; i < n / 2; ++i) {
+            float t0 = q[2 * i], t1 = q[2 * i + 1];
+            q[2 * i] = q[2 * (n - 1 - i)];
+            q[2 * i + 1] = q[2 * (n - 1 - i) + 1];
+            q[2 * (n - 1 - i)] = t0;
+            q[2 * (n - 1 - i) + 1] = t1;
+        }
+        area = -area;
+    }
+    if (!(pvs__dabs(area - tri_area) <= 1e-6 * tri_area)) return 0;
+    /* convex: no right turn, one full turn; collinear points are dropped (marked in keep) */
+    for (i = 0, m = 0; i < n; ++i) {
+        const float *a = q + 2 * ((i + n - 1) % n), *b = q + 2 * i, *c = q + 2 * ((i + 1) % n);
+        double ux = (double)b[0] - a[0], uy = (double)b[1] - a[1], vx = (double)c[0] - b[0], vy = (double)c[1] - b[1];
+        double cr = ux * vy - uy * vx;
+        if (cr < 0.0) return 0;
+        turn += atan2(cr, ux * vx + uy * vy);
+        keep[i] = cr > 0.0;
+        m += keep[i];
+    }
+    if (!(pvs__dabs(turn - 6.283185307179586) < 1e-3) || m < 3) return 0;
+    for (i = 0, m = 0; i < n; ++i)
+        if (keep[i]) {
+            q[2 * m] = q[2 * i];
+            q[2 * m + 1] = q[2 * i + 1];
+            ++m;
+        }
+    return m;
+}
+
+/* Finds the largest sheets (up to PVS__EP_MAX_SHEETS) and extends through them the occluders that
+   stand on them: a convex occluder with some vertices exactly in the sheet's plane, inside its
+   polygon, the others on one side and each exactly over one of those (a vertical wall, a box on the
+   floor), gets a second point set: its points plus those in the plane pushed through it by the
+   scene's size. The extended shape is the occluder joined with the prism under its footprint F (the
+   union is convex because the occluder lies over F), and that prism lies in the sheet's solid
+   half-space: for a cell over the sheet on the occluder's side, a ray hitting the extension first
+   crosses the sheet, at a nearer point, so the extended occluder blocks nothing the sheet and the
+   occluder do not. This closes the seam between a wall and the ground it stands on, which the
+   Projections of the two (each conservatively rasterized, and separated by the penumbra of their
+   common edge) leave open. */
+PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) {
+    const pvs_allocator *a = &p->allocator;
+    pvs__epskey *key = NULL;
+    pvs__epedge2 *e = NULL;
+    float *q = NULL;
+    unsigned char *keep = NULL;
+    uint32_t *uf = NULL, ne;
+    double *tarea = NULL;
+    size_t nkey = 0, i, ecap = 0;
+    uint32_t t, o;
+    pvs_result r = PVS_OK;
+    double D;
+    for (t = 0; t < s->triangle_count; ++t) {
+        const uint32_t *ix = s->indices + 3 * (size_t)t;
+        const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1], *v2 = s->positions + 3 * (size_t)ix[2];
+        int k;
+        for (k = 0; k < 3; ++k)
+            if (v0[k] == v1[k] && v1[k] == v2[k]) { ++nkey; break; }
+    }
+    if (!nkey) return PVS_OK;
+    key = (pvs__epskey *)pvs__alloc_array(a, nkey, sizeof(pvs__epskey));
+    if (!key) return PVS_ERROR_OUT_OF_MEMORY;
+    nkey = 0;
+    for (t = 0; t < s->triangle_count; ++t) {
+        const uint32_t *ix = s->indices + 3 * (size_t)t;
+        const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1], *v2 = s->positions + 3 * (size_t)ix[2];
+        int k;
+        double n[3];
+        if (!(pvs__ep_tri_normal(v0, v1, v2, n) > 0.0)) continue;
+        for (k = 0; k < 3; ++k)
+            if (v0[k] == v1[k] && v1[k] == v2[k]) {
+                key[nkey].value = v0[k] == 0.0f ? 0.0f : v0[k]; /* -0 and +0 group together */
+                key[nkey].axis = (uint32_t)k;
+                key[nkey].tri = t;
+                ++nkey;
+                break;
+            }
+    }
+    qsort(key, nkey, sizeof(pvs__epskey), pvs__ep_skey_cmp);
+    for (i = 0; i < nkey;) {
+        size_t j = i, g;
+        int k = (int)key[i].axis, u = (k + 1) % 3, v = (k + 2) % 3;
+        double area = 0.0;
+        uint32_t m, slot;
+        while (j < nkey && key[j].axis == key[i].axis && key[j].value == key[i].value) ++j;
+        if (j - i < 2) { i = j; continue; }
+        if (3 * (j - i) > ecap) {
+            pvs__free_array(a, e, ecap, sizeof(pvs__epedge2));
+            pvs__free_array(a, q, 2 * (ecap + 1), sizeof(float));
+            pvs__free_array(a, keep, ecap + 1, 1);
+            pvs__free_array(a, uf, ecap, sizeof(uint32_t));
+            pvs__free_array(a, tarea, ecap, sizeof(double));
+            ecap = 3 * (j - i);
+            e = (pvs__epedge2 *)pvs__alloc_array(a, ecap, sizeof(pvs__epedge2));
+            q = (float *)pvs__alloc_array(a, 2 * (ecap + 1), sizeof(float));
+            keep = (unsigned char *)pvs__alloc_array(a, ecap + 1, 1);
+            uf = (uint32_t *)pvs__alloc_array(a, ecap, sizeof(uint32_t));
+            tarea = (double *)pvs__alloc_array(a, ecap, sizeof(double));
+            if (!e || !q || !keep || !uf || !tarea) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
+        }
+        for (g = i; g < j; ++g) {
+            const uint32_t *ix = s->indices + 3 * (size_t)key[g].tri;
+            const float *c[3];
+            int l;
+            for (l = 0; l < 3; ++l) c[l] = s->positions + 3 * (size_t)ix[l];
+            tarea[g - i] = 0.5 * pvs__dabs(((double)c[1][u] - c[0][u]) * ((double)c[2][v] - c[0][v]) - ((double)c[2][u] - c[0][u]) * ((double)c[1][v] - c[0][v]));
+            uf[g - i] = (uint32_t)(g - i);
+            for (l = 0; l < 3; ++l) {
+                const float *x = c[l], *y = c[(l + 1) % 3];
+                float A[2], B[2];
+                pvs__epedge2 *ed = e + 3 * (g - i) + (size_t)l;
+                A[0] = x[u]; A[1] = x[v];
+                B[0] = y[u]; B[1] = y[v];
+                if (pvs__ep_p2_cmp(A, B) <= 0) { memcpy(ed->a, A, sizeof(A)); memcpy(ed->b, B, sizeof(B)); }
+                else { memcpy(ed->a, B, sizeof(B)); memcpy(ed->b, A, sizeof(A)); }
+                ed->tri = (uint32_t)(g - i);
+            }
+        }
+        /* pieces joined by shared edges (a lamp's base lying on the ground is a piece of its own) */
+        ne = (uint32_t)(3 * (j - i));
+        qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
+        for (g = 1; g < ne; ++g)
+            if (pvs__ep_edge2_cmp(e + g, e + g - 1) == 0) {
+                uint32_t x = pvs__ep_find(uf, e[g].tri), y = pvs__ep_find(uf, e[g - 1].tri);
+                if (x != y) uf[x > y ? x : y] = x < y ? x : y;
+            }
+        for (g = 0; g < ne; ++g) e[g].tri = pvs__ep_find(uf, e[g].tri);
+        for (g = 0; g < j - i; ++g) if (uf[g] != g) { tarea[pvs__ep_find(uf, (uint32_t)g)] += tarea[g]; tarea[g] = 0.0; }
+        qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_root_cmp);
+        for (g = 0; g < ne;) {
+            size_t h = g;
+            uint32_t root = e[g].tri;
+            while (h < ne && e[h].tri == root) ++h;
+            area = tarea[root];
+            m = pvs__ep_sheet_polygon(e + g, (uint32_t)(h - g), area, q, keep, (uint32_t)ecap);
+            g = h;
+            if (!m) continue;
+        /* keep the largest sheets */
+        if (p->sheet_count < PVS__EP_MAX_SHEETS) slot = p->sheet_count++;
+        else {
+            uint32_t x;
+            slot = 0;
+            for (x = 1; x < p->sheet_count; ++x)
+                if (p->sheet[x].area < p->sheet[slot].area) slot = x;
+            if (!(area > p->sheet[slot].area)) continue;
+        }
+        p->spoly = (float *)pvs__kd_grow(a, p->spoly, &p->spoly_capacity, p->spoly_count, p->spoly_count + m, 2 * sizeof(float), &r);
+        if (!p->spoly) goto done;
+        p->sheet[slot].axis = k;
+        p->sheet[slot].value = key[i].value;
+        p->sheet[slot].first = (uint32_t)p->spoly_count;
+        p->sheet[slot].count = m;
+        p->sheet[slot].area = area;
+        memcpy(p->spoly + 2 * p->spoly_count, q, 2 * (size_t)m * sizeof(float));
+        p->spoly_count += m;
+        }
+        i = j;
+    }
+    /* occluders standing on a sheet */
+    D = 0.0;
+    for (t = 0; t < 3; ++t) D = pvs__dmax(D, 2.0 * ((double)s->bounds.max[t] - s->bounds.min[t]) + 1.0);
+    for (o = 0; o < p->occ_count; ++o) {
+        pvs__epocc *oc = p->occ + o;
+        uint32_t sh;
+        for (sh = 0; sh < p->sheet_count && !oc->xcount; ++sh) {
+            const pvs__epsheet *S = p->sheet + sh;
+            const float *pts = p->pts + 3 * (size_t)oc->first, *poly = p->spoly + 2 * (size_t)S->first;
+            int k = S->axis, u = (k + 1) % 3, v = (k + 2) % 3, above = 0, below = 0, ok = 1;
+            uint32_t on = 0, x, y;
+            for (x = 0; x < oc->count; ++x) {
+                float c = pts[3 * x + k];
+                on += c == S->value;
+                above |= c > S->value;
+                below |= c < S->value;
+            }
+            if (!on || above == below || oc->count + on > PVS__EP_MAXP) continue;
+            for (x = 0; x < oc->count && ok; ++x) {
+                const float *P = pts + 3 * x;
+                if (P[k] == S->value) ok = pvs__ep_in_convex(poly, S->count, P[u], P[v]);
+                else {
+                    for (y = 0; y < oc->count; ++y)
+                        if (pts[3 * y + k] == S->value && pts[3 * y + u] == P[u] && pts[3 * y + v] == P[v]) break;
+                    ok = y < oc->count;
+                }
+            }
+            if (!ok) continue;
+            p->pts = (float *)pvs__kd_grow(a, p->pts, &p->pt_capacity, p->pt_count, p->pt_count + oc->count + on, 3 * sizeof(float), &r);
+            if (!p->pts) goto done;
+            pts = p->pts + 3 * (size_t)oc->first;
+            oc->xfirst = (uint32_t)p->pt_count;
+            memcpy(p->pts + 3 * p->pt_count, pts, 3 * sizeof(float) * oc->count);
+            p->pt_count += oc->count;
+            for (x = 0; x < oc->count; ++x) {
+                float *P;
+                if (pts[3 * x + k] != S->value) continue;
+                P = p->pts + 3 * p->pt_count++;
+                memcpy(P, pts + 3 * x, 3 * sizeof(float));
+                P[k] = (float)(above ? (double)S->value - D : (double)S->value + D);
+            }
+            oc->xcount = oc->count + on;
+            oc->sheet = sh;
+            oc->xside = above ? 1 : -1;
+        }
+    }
+done:
+    pvs__free_array(a, key, nkey, sizeof(pvs__epskey));
+    pvs__free_array(a, e, ecap, sizeof(pvs__epedge2));
+    pvs__free_array(a, q, 2 * (ecap + 1), sizeof(float));
+    pvs__free_array(a, keep, ecap + 1, 1);
+    pvs__free_array(a, uf, ecap, sizeof(uint32_t));
+    pvs__free_array(a, tarea, ecap, sizeof(double));
+    return r;
+}
+
 /* Builds the occluder list of a scene (§6.1 picks among it per cell). */
 PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out, pvs_error *err) {
     pvs__extproj_prep *p;
@@ -6714,6 +7052,11 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
             }
         }
         /* CONVEX occluders are not used (leaving an occluder out is conservative) */
+    }
+    r = pvs__ep_sheets(p, s);
+    if (r != PVS_OK) {
+        pvs__extproj_prep_destroy(p);
+        return pvs__fail(err, r, -1, 0, "extproj: sheets");
     }
     *out = p;
     return PVS_OK;
@@ -7370,12 +7713,38 @@ PVS__STATIC void pvs__ep_levels(uint32_t res, uint32_t levels, uint32_t *lw, uin
     }
 }
 
+/* The points an occluder is projected with on a plane of `axis`: extended through its sheet when
+   the cell stands over that sheet on the occluder's side (sheet_side[sheet]) and the extension runs
+   across the plane's axis (along it, it would only push the occluder's Depth away). */
+PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const int *sheet_side, int axis, uint32_t *count) {
+    if (o->xcount && sheet_side[o->sheet] == o->xside && p->sheet[o->sheet].axis != axis) {
+        *count = o->xcount;
+        return p->pts + 3 * (size_t)o->xfirst;
+    }
+    *count = o->count;
+    return p->pts + 3 * (size_t)o->first;
+}
+
+/* For each sheet: +1 (-1) when the cell lies strictly on its positive (negative) side and over its
+   polygon, else 0. */
+PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *cell, int *side) {
+    uint32_t i;
+    for (i = 0; i < p->sheet_count; ++i) {
+        const pvs__epsheet *S = p->sheet + i;
+        int k = S->axis, u = (k + 1) % 3, v = (k + 2) % 3, c;
+        const float *poly = p->spoly + 2 * (size_t)S->first;
+        side[i] = cell->min[k] > S->value ? 1 : cell->max[k] < S->value ? -1 : 0;
+        for (c = 0; c < 4 && side[i]; ++c)
+            if (!pvs__ep_in_convex(poly, S->count, c & 1 ? cell->max[u] : cell->min[u], c & 2 ? cell->max[v] : cell->min[v])) side[i] = 0;
+    }
+}
+
 /* The planes of §6.1 for direction d: a plane just behind the candidate occluder filling the most
    pixels, a second just behind the occluder of largest solid angle (the plane holding the most
    pixels loses the near occluders' edges to their penumbrae, §7.3, Fig. 16). */
 PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
                                        uint32_t n, const pvs__epparams *prm, uint32_t levels, float *mem, size_t map_floats,
-                                       pvs__epslicer *sc, pvs__epmap *maps) {
+                                       pvs__epslicer *sc, const int *sheet_side, pvs__epmap *maps) {
     int a = d >> 1, q;
     double bestW = 0.0, bestFill = 0.0, firstW = 0.0, ext = (double)cell->max[a] - cell->min[a];
     uint32_t k, j;
@@ -7404,8 +7773,9 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
         for (k = 0; k < prm->res * prm->res; ++k) m->lv[0][k] = PVS_EXTPROJ_EMPTY;
         if (!pvs__ep_frame(&m->plane, &m->frame)) continue;
         for (k = 0; k < n; ++k) {
-            const pvs__epocc *o = p->occ + h[k].occ;
-            pvs__ep_occluder(&m->frame, cell, p->pts + 3 * (size_t)o->first, o->count, 0, m->lv[0], NULL);
+            uint32_t cnt;
+            const float *pts = pvs__ep_points(p, p->occ + h[k].occ, sheet_side, a, &cnt);
+            pvs__ep_occluder(&m->frame, cell, pts, cnt, 0, m->lv[0], NULL);
         }
         pvs__ep_slices(s, p, cell, &m->plane, &m->frame, sc, m->lv[0], NULL);
         pvs__ep_build_pyramid(m);
@@ -7419,7 +7789,8 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
    spaced by §5.2 (a kernel of K = 5 pixels: dD = D (K - 1) P / (C N)) but at least geometrically,
    so that `sweep` planes reach the farthest selected occluder. Returns the number of planes. */
 PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
-                                          uint32_t n, const pvs__epparams *prm, uint32_t levels, pvs__epscratch *w, pvs__epmask *ms) {
+                                          uint32_t n, const pvs__epparams *prm, uint32_t levels, pvs__epscratch *w, const int *sheet_side,
+                                          pvs__epmask *ms) {
     int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3;
     double ext = (double)cell->max[a] - cell->min[a], C = pvs__dmax((double)cell->max[u] - cell->min[u], (double)cell->max[v] - cell->min[v]);
     double W0 = DBL_MAX, Wend = 0.0, W, Wprev = 0.0, ratio;
@@ -7480,7 +7851,11 @@ PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj
             double w0, w1;
             pvs__ep_box_w(cell, &o->box, d, &w0, &w1);
             if (!(w0 < W) || (count > 0 && w1 <= Wprev)) continue; /* behind the plane, or projected whole before */
-            pvs__ep_occluder(&m->frame, cell, p->pts + 3 * (size_t)o->first, o->count, 1, NULL, mask);
+            {
+                uint32_t cnt;
+                const float *pts = pvs__ep_points(p, o, sheet_side, a, &cnt);
+                pvs__ep_occluder(&m->frame, cell, pts, cnt, 1, NULL, mask);
+            }
         }
         pvs__ep_slices(s, p, cell, &m->plane, &m->frame, &w->slicer, NULL, mask);
         pvs__ep_build_mask_pyramid(m);
@@ -7501,6 +7876,7 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     pvs__epcell c;
     pvs__epscratch w;
     uint32_t nsel[6], d, levels = 0, nper;
+    int sheet_side[PVS__EP_MAX_SHEETS];
     size_t level_floats = 0;
     pvs_result r = PVS_OK;
     memset(&c, 0, sizeof(c));
@@ -7545,13 +7921,15 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
         goto done;
     }
     c.masks = w.mask_hdr;
+    pvs__ep_sheet_sides(p, cell, sheet_side);
     pvs__ep_select(p, cell, w.sel, nper, nsel);
     for (d = 0; d < 6; ++d) {
         const pvs__epsel *h = w.sel + (size_t)d * nper;
         if (!nsel[d]) continue;
         pvs__ep_direct_planes(s, p, cell, (int)d, h, nsel[d] < prm->max_occ ? nsel[d] : prm->max_occ, prm, levels,
-                              w.maps + (size_t)PVS__EP_PLANES * d * w.map_floats, w.map_floats, &w.slicer, c.maps + PVS__EP_PLANES * d);
-        if (prm->sweep) c.mask_count[d] = pvs__ep_sweep_planes(s, p, cell, (int)d, h, nsel[d], prm, levels, &w, w.mask_hdr + (size_t)d * prm->sweep);
+                              w.maps + (size_t)PVS__EP_PLANES * d * w.map_floats, w.map_floats, &w.slicer, sheet_side, c.maps + PVS__EP_PLANES * d);
+        if (prm->sweep)
+            c.mask_count[d] = pvs__ep_sweep_planes(s, p, cell, (int)d, h, nsel[d], prm, levels, &w, sheet_side, w.mask_hdr + (size_t)d * prm->sweep);
     }
     r = pvs_kdtree_sweep(s->object_tree, cell, w.sweep, w.sweep_size, pvs__ep_visit, &c);
     if (r != PVS_OK) r = pvs__fail(err, r, cell_id, 0, "extproj: object sweep of cell %u", cell_id);
