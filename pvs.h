@@ -5931,7 +5931,8 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
 #define PVS__EP_DEFAULT_RES 256
 #define PVS__EP_DEFAULT_OCC 128
 #define PVS__EP_PLANE_CANDIDATES 16
-#define PVS__EP_PLANES 2                              /* planes per direction */
+#define PVS__EP_PLANES 4                              /* planes per direction (§6.1) */
+#define PVS__EP_PLANE_RATIO 1.7                       /* their distance bands */
 
 typedef struct pvs__epframe {
     int a, u, v;
@@ -7242,11 +7243,79 @@ PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
     return 1;
 }
 
+/* The slice of a sheet's solid half-space (pvs__epsheet) by the plane: the points beyond the sheet
+   (on the side away from the cell) over its polygon. Pixels inside it by a margin get Depth W. */
+PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__epsheet *S, int side, const pvs__epframe *f, float *map,
+                                         unsigned char *mask) {
+    int k = S->axis, su = (k + 1) % 3;
+    const float *poly = p->spoly + 2 * (size_t)S->first;
+    double pos = f->face + f->s * f->W, lo = DBL_MAX, hi = -DBL_MAX, x0, x1, y0, y1, m, mag;
+    int32_t i0, i1, j0, j1, j, i;
+    uint32_t written = 0, e;
+    float depth = pvs__f_up(f->W);
+    if (k == f->a) {
+        /* parallel: the plane must lie beyond the sheet; the region is the polygon */
+        if (!(side > 0 ? pos < S->value : pos > S->value)) return 0;
+        return 0; /* a polygon fill would be needed; the planes along the sheet's axis gain little */
+    } else {
+        /* the polygon's extent along the line x[a] = pos: the other in-plane axis */
+        int along = f->a == su ? 0 : 1; /* polygon coordinate index of the plane's axis */
+        for (e = 0; e < S->count; ++e) {
+            const float *A = poly + 2 * e, *B = poly + 2 * ((e + 1) % S->count);
+            double a0 = A[along], a1 = B[along], t, x;
+            if ((a0 < pos && a1 < pos) || (a0 > pos && a1 > pos)) continue;
+            if (a0 == a1) {
+                lo = pvs__dmin(lo, pvs__dmin(A[1 - along], B[1 - along]));
+                hi = pvs__dmax(hi, pvs__dmax(A[1 - along], B[1 - along]));
+                continue;
+            }
+            t = (pos - a0) / (a1 - a0);
+            x = A[1 - along] + ((double)B[1 - along] - A[1 - along]) * t;
+            lo = pvs__dmin(lo, x);
+            hi = pvs__dmax(hi, x);
+        }
+        if (!(hi > lo)) return 0;
+        /* in plane pixels: the sheet's axis k is the plane's u or v; the interval is on the other */
+        if (f->u == k) {
+            double c = (S->value - f->u0) * f->su;
+            x0 = side > 0 ? -DBL_MAX : c;
+            x1 = side > 0 ? c : DBL_MAX;
+            y0 = (lo - f->v0) * f->sv;
+            y1 = (hi - f->v0) * f->sv;
+        } else {
+            double c = (S->value - f->v0) * f->sv;
+            y0 = side > 0 ? -DBL_MAX : c;
+            y1 = side > 0 ? c : DBL_MAX;
+            x0 = (lo - f->u0) * f->su;
+            x1 = (hi - f->u0) * f->su;
+        }
+    }
+    mag = (pvs__dabs(lo) + pvs__dabs(hi) + pvs__dabs(S->value) + pvs__dabs(f->u0) + pvs__dabs(f->v0) + pvs__dabs(pos)) * (f->su + f->sv);
+    m = 1e-6 + 1e-12 * mag;
+    i0 = pvs__clampi(ceil(x0 + m), 0, (int32_t)f->width);
+    i1 = pvs__clampi(floor(x1 - m) - 1.0, -1, (int32_t)f->width - 1);
+    j0 = pvs__clampi(ceil(y0 + m), 0, (int32_t)f->height);
+    j1 = pvs__clampi(floor(y1 - m) - 1.0, -1, (int32_t)f->height - 1);
+    for (j = j0; j <= j1; ++j) {
+        if (i0 > i1) break;
+        if (map)
+            for (i = i0; i <= i1; ++i) {
+                float *px = map + (size_t)j * f->width + (size_t)i;
+                if (*px > depth) *px = depth;
+            }
+        if (mask) memset(mask + (size_t)j * f->width + (size_t)i0, 1, (size_t)(i1 - i0 + 1));
+        written += (uint32_t)(i1 - i0 + 1);
+    }
+    return written;
+}
+
 /* Slices every component the plane cuts inside its rectangle. */
 PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs_extproj_plane *pl,
-                                    const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
+                                    const pvs__epframe *f, pvs__epslicer *sc, const int *sheet_side, float *map, unsigned char *mask) {
     uint32_t i, written = 0;
     double pos = f->face + f->s * f->W;
+    for (i = 0; i < p->sheet_count; ++i)
+        if (sheet_side[i]) written += pvs__ep_sheet_slice(p, p->sheet + i, sheet_side[i], f, map, mask);
     for (i = 0; i < p->slc_count; ++i) {
         const pvs__epslice *c = p->slc + i;
         if (!(c->box.min[f->a] <= pos && c->box.max[f->a] >= pos)) continue;
@@ -7739,33 +7808,42 @@ PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *
     }
 }
 
-/* The planes of §6.1 for direction d: a plane just behind the candidate occluder filling the most
-   pixels, a second just behind the occluder of largest solid angle (the plane holding the most
-   pixels loses the near occluders' edges to their penumbrae, §7.3, Fig. 16). */
+/* The planes of §6.1 for direction d. A plane just behind the farthest selected occluder keeps all
+   of them in front of it (for one occluder, planes anywhere behind it are equivalent, §7.3: its
+   Projection and the occludees' shrink alike; a plane in front of it loses it to its penumbra). The
+   others, one per band of distances (far / r^q, far / r^(q-1)], r = PVS__EP_PLANE_RATIO, each just
+   behind the occluder of its band whose candidate plane fills the most pixels (§6.1), serve the
+   occludees nearer the cell and the fusion of occluders at their distance (Fig. 16). */
 PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
                                        uint32_t n, const pvs__epparams *prm, uint32_t levels, float *mem, size_t map_floats,
                                        pvs__epslicer *sc, const int *sheet_side, pvs__epmap *maps) {
     int a = d >> 1, q;
-    double bestW = 0.0, bestFill = 0.0, firstW = 0.0, ext = (double)cell->max[a] - cell->min[a];
+    double ext = (double)cell->max[a] - cell->min[a], far = 0.0, w0, w1;
     uint32_t k, j;
-    for (k = 0; k < n && k < PVS__EP_PLANE_CANDIDATES; ++k) {
-        double w0, w1, W, fill = 0.0;
+    for (k = 0; k < n; ++k) {
         pvs__ep_box_w(cell, &p->occ[h[k].occ].box, d, &w0, &w1);
-        W = w1 + 1e-3 * (w1 + ext);
-        if (k == 0) firstW = W;
-        for (j = 0; j < n; ++j) fill += pvs__ep_fill_estimate(cell, &p->occ[h[j].occ].box, d, W);
-        if (fill > bestFill || (fill == bestFill && bestW > 0.0 && W < bestW)) {
-            bestFill = fill;
-            bestW = W;
-        }
+        far = pvs__dmax(far, w1);
     }
-    if (!(bestFill > 0.0)) return;
+    if (!(far > 0.0)) return;
     for (q = 0; q < PVS__EP_PLANES; ++q) {
         pvs__epmap *m = maps + q;
-        double W = bestW;
-        if (q == 1) {
-            if (!(firstW > 0.0) || !(pvs__dabs(firstW - bestW) > 0.05 * (bestW + ext))) continue;
-            W = firstW;
+        double W = far + 1e-3 * (far + ext), hi = far / pow(PVS__EP_PLANE_RATIO, (double)q), lo = hi / PVS__EP_PLANE_RATIO, bestFill = 0.0;
+        uint32_t tried = 0;
+        if (q > 0) { /* the band (lo, hi]: candidates behind its occluders, best solid angle first */
+            W = 0.0;
+            for (k = 0; k < n && tried < PVS__EP_PLANE_CANDIDATES; ++k) {
+                double Wc, fill = 0.0;
+                pvs__ep_box_w(cell, &p->occ[h[k].occ].box, d, &w0, &w1);
+                if (!(w1 > lo && w1 <= hi)) continue;
+                ++tried;
+                Wc = w1 + 1e-3 * (w1 + ext);
+                for (j = 0; j < n; ++j) fill += pvs__ep_fill_estimate(cell, &p->occ[h[j].occ].box, d, Wc);
+                if (fill > bestFill || (fill == bestFill && Wc < W)) {
+                    bestFill = fill;
+                    W = Wc;
+                }
+            }
+            if (!(W > 0.0)) continue;
         }
         pvs__ep_make_plane(cell, d, W, prm->res, &m->plane);
         m->levels = levels;
@@ -7777,7 +7855,7 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
             const float *pts = pvs__ep_points(p, p->occ + h[k].occ, sheet_side, a, &cnt);
             pvs__ep_occluder(&m->frame, cell, pts, cnt, 0, m->lv[0], NULL);
         }
-        pvs__ep_slices(s, p, cell, &m->plane, &m->frame, sc, m->lv[0], NULL);
+        pvs__ep_slices(s, p, cell, &m->plane, &m->frame, sc, sheet_side, m->lv[0], NULL);
         pvs__ep_build_pyramid(m);
         m->active = 1;
     }
@@ -7857,7 +7935,7 @@ PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj
                 pvs__ep_occluder(&m->frame, cell, pts, cnt, 1, NULL, mask);
             }
         }
-        pvs__ep_slices(s, p, cell, &m->plane, &m->frame, &w->slicer, NULL, mask);
+        pvs__ep_slices(s, p, cell, &m->plane, &m->frame, &w->slicer, sheet_side, NULL, mask);
         pvs__ep_build_mask_pyramid(m);
         Wprev = m->frame.W;
         if (W >= Wend) { ++count; break; }
