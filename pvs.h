@@ -6012,8 +6012,8 @@ PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
 /* The Projection of the part of a convex occluder inside the depth slab [lo, hi]: the views are
    convex hulls of the projected vertices of the clipped part. The clipped part's vertices are among
    the points inside the slab and the ends of the clipped segments between any two points. */
-PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo, double whi, float *map,
-                                           unsigned char *mask) {
+PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo, double whi, double slack,
+                                           float *map, unsigned char *mask) {
     pvs__epframe f = *fp;
     double P[PVS__EP_CLIPN][3], pts[PVS__EP_CLIPN][2], hull[PVS__EP_CLIPN + 1][2];
     double ea[8 * PVS__EP_CLIPN], eb[8 * PVS__EP_CLIPN], ec[8 * PVS__EP_CLIPN], ee[8 * PVS__EP_CLIPN];
@@ -6049,20 +6049,27 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
     /* the intersection of the views from the 8 corners of the cell (§3.2) */
     for (c = 0; c < 8; ++c) {
         double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], h;
-        double bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX, area2 = 0.0, mag = 0.0, verr;
+        double bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX, area2 = 0.0, mag = 0.0, verr, smax = 0.0;
         int k;
         for (i = 0; i < n; ++i) {
-            double t = (f.W - Vw) / (P[i][2] - Vw);
-            pts[i][0] = (Vu + (P[i][0] - Vu) * t - f.u0) * f.su;
-            pts[i][1] = (Vv + (P[i][1] - Vv) * t - f.v0) * f.sv;
+            double t = (f.W - Vw) / (P[i][2] - Vw), du, dv;
+            du = (P[i][0] - Vu) * t;
+            dv = (P[i][1] - Vv) * t;
+            pts[i][0] = (Vu + du - f.u0) * f.su;
+            pts[i][1] = (Vv + dv - f.v0) * f.sv;
             bx0 = pvs__dmin(bx0, pts[i][0]); bx1 = pvs__dmax(bx1, pts[i][0]);
             by0 = pvs__dmin(by0, pts[i][1]); by1 = pvs__dmax(by1, pts[i][1]);
             mag = pvs__dmax(mag, pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) + (pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
                                      (pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
+            /* a point moved by `slack` moves its view by at most slack (t + |view - V| / (Pw - Vw))
+               per axis (the derivative of the projection) */
+            smax = pvs__dmax(smax, t + (pvs__dabs(du) + pvs__dabs(dv)) / (P[i][2] - Vw));
         }
-        /* a bound on each projected vertex's rounding error, in pixels: a few ulps of the terms'
-           size (the projection, the frame change), with a wide safety factor */
-        verr = 1e-12 * (mag + base + 1.0);
+        /* a bound on each projected vertex's error, in pixels: a few ulps of the terms' size (the
+           projection, the frame change), with a wide safety factor, plus the occluder's slack (how
+           far its true shape may lie inside the hull of its points: non-planar quads, nearly
+           convex solids, within float precision) */
+        verr = 1e-12 * (mag + base + 1.0) + slack * smax * pvs__dmax(f.su, f.sv);
         if (!(bx1 - bx0 < 1e15) || !(by1 - by0 < 1e15)) return 0; /* beyond any useful precision */
         xlo = pvs__dmax(xlo, bx0); xhi = pvs__dmin(xhi, bx1);
         ylo = pvs__dmax(ylo, by0); yhi = pvs__dmin(yhi, by1);
@@ -6128,10 +6135,12 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
     return written;
 }
 
-/* pvs_extproj_occluder with a prepared frame and finite points: Depths go to `map` (min), pixels
-   to `mask` (set to 1), either may be NULL; only the part in front of the plane when front_only. */
-PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cell, const float *points, uint32_t count, int front_only,
-                                      float *map, unsigned char *mask) {
+/* pvs_extproj_occluder with a prepared frame and finite points: `solid` tells a convex solid from a
+   planar polygon, `slack` how far (world units) the true occluder may lie inside the hull of the
+   points. Depths go to `map` (min), pixels to `mask` (set to 1), either may be NULL; only the part in
+   front of the plane when front_only. */
+PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cell, const float *points, uint32_t count, int solid, double slack,
+                                      int front_only, float *map, unsigned char *mask) {
     pvs__epframe f = *fp;
     double P[PVS__EP_MAXP][3], margin, wmax = -DBL_MAX;
     uint32_t i, written;
@@ -6141,39 +6150,44 @@ PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cel
         P[i][2] = f.s * ((double)points[3 * i + f.a] - f.face);
         wmax = pvs__dmax(wmax, P[i][2]);
     }
-    if (count > 3) {
+    if (solid) {
         /* a solid that meets the cell could hold the viewer: its Depth would not bound the first
            hit. Such occluders are left out (conservative); planar ones never hold a viewer. */
-        double n[3], len = 0.0, scale = 0.0;
-        int planar = 1;
         pvs_box b = pvs__box_empty();
         for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
-        for (i = 2; i < count && !(len > 0.0); ++i) len = pvs__ep_tri_normal(points, points + 3, points + 3 * i, n);
-        for (i = 0; i < 3; ++i) scale = pvs__dmax(scale, (double)b.max[i] - b.min[i]);
-        for (i = 0; i < count && planar; ++i) {
-            double d = n[0] * ((double)points[3 * i] - points[0]) + n[1] * ((double)points[3 * i + 1] - points[1]) +
-                       n[2] * ((double)points[3 * i + 2] - points[2]);
-            planar = pvs__dabs(d) <= 1e-7 * len * scale;
-        }
-        if (!(len > 0.0) || (!planar && pvs__box_overlap(&b, cell))) return 0;
+        if (pvs__box_overlap(&b, cell)) return 0;
     }
     /* clipped to depths >= a small margin (views are defined beyond the cell), and split at the
        plane: the set of cell points that see a pixel through the part in front of the plane (or
        through the part behind it) is convex, so the corners decide for the whole cell; for a part
        straddling the plane it would not be */
     margin = 1e-4 * (f.W - f.cw[0]);
-    written = pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, margin, f.W, map, mask);
-    if (wmax > f.W && !front_only) written += pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX, map, mask);
+    written = pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, margin, f.W, slack, map, mask);
+    if (wmax > f.W && !front_only) written += pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX, slack, map, mask);
     return written;
 }
 
 PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *points, uint32_t count, float *map) {
     pvs__epframe f;
     uint32_t i;
+    int solid = 0;
     if (!pvs__ep_frame(pl, &f) || !points || !map || count < 1 || count > PVS__EP_MAXP) return 0;
     for (i = 0; i < count * 3; ++i)
         if (!pvs__finite(points[i])) return 0;
-    return pvs__ep_occluder(&f, &pl->cell, points, count, 0, map, NULL);
+    if (count > 3) { /* planar (a polygon) or not (a solid)? */
+        double n[3], len = 0.0, scale = 0.0;
+        pvs_box b = pvs__box_empty();
+        for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
+        for (i = 2; i < count && !(len > 0.0); ++i) len = pvs__ep_tri_normal(points, points + 3, points + 3 * i, n);
+        for (i = 0; i < 3; ++i) scale = pvs__dmax(scale, (double)b.max[i] - b.min[i]);
+        if (!(len > 0.0)) return 0;
+        for (i = 0; i < count && !solid; ++i) {
+            double d = n[0] * ((double)points[3 * i] - points[0]) + n[1] * ((double)points[3 * i + 1] - points[1]) +
+                       n[2] * ((double)points[3 * i + 2] - points[2]);
+            solid = pvs__dabs(d) > 1e-7 * len * scale;
+        }
+    }
+    return pvs__ep_occluder(&f, &pl->cell, points, count, solid, 0.0, 0, map, NULL);
 }
 
 /* Pixel bounds of the views of the box's (k, w) extent from the cell's (k, w) corners; t[c][b] =
@@ -6275,6 +6289,9 @@ typedef struct pvs__epocc {
     uint32_t xfirst, xcount; /* the occluder extended through a sheet (pvs__epsheet), xcount = 0 if none */
     uint32_t sheet;
     int xside;               /* the side of the sheet the occluder stands on */
+    int cap_side, cap_axis;  /* a capped convex solid (cap_side != 0): used only for cells where */
+    float cap_value;         /*   cap_side * (x[cap_axis] - cap_value) > 0 */
+    float slack;             /* how far the true shape may lie inside the hull of the points */
 } pvs__epocc;
 
 /* A sheet: coplanar triangles (of any objects) in an axis-aligned plane x[axis] = value whose union
@@ -6336,7 +6353,7 @@ PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
 }
 
 /* Adds a convex occluder (room is reserved by the caller). */
-PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, int solid) {
+PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, int solid, double slack) {
     pvs__epocc *o = p->occ + p->occ_count++;
     uint32_t i;
     o->box = pvs__box_empty();
@@ -6345,6 +6362,9 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
     o->solid = solid;
     o->xfirst = o->xcount = 0;
     o->sheet = 0;
+    o->xside = o->cap_side = o->cap_axis = 0;
+    o->cap_value = 0.0f;
+    o->slack = pvs__f_up(slack);
     for (i = 0; i < n; ++i) {
         memcpy(p->pts + 3 * p->pt_count, pts[i], 3 * sizeof(float));
         pvs__box_add_point(&o->box, pts[i]);
@@ -6354,28 +6374,32 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
 
 PVS__STATIC int pvs__ep_same(const float *a, const float *b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 
-/* Two triangles sharing an edge, coplanar, whose union is a convex quad: fills q[4] and returns 1. */
-PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q) {
+/* Two triangles sharing an edge, coplanar up to float precision, whose union is a convex quad:
+   fills q[4] and *slack (the fourth point's distance from the first triangle's plane) and returns 1. */
+PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q, double *slack) {
     int i, j, k;
     double n[3], len = pvs__ep_tri_normal(A[0], A[1], A[2], n), scale = 0.0;
     if (!(len > 0.0)) return 0;
     for (i = 0; i < 3; ++i)
         for (j = 0; j < 3; ++j) {
             const float *a0 = A[i], *a1 = A[(i + 1) % 3], *x;
+            double dev;
             if (!(pvs__ep_same(a0, B[j]) && pvs__ep_same(a1, B[(j + 2) % 3])) && !(pvs__ep_same(a0, B[(j + 2) % 3]) && pvs__ep_same(a1, B[j])))
                 continue;
             x = B[(j + 1) % 3];
             q[0] = a0; q[1] = x; q[2] = a1; q[3] = A[(i + 2) % 3];
-            for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)x[k] - a0[k]));
-            /* coplanar up to float precision of the input */
-            if (pvs__dabs(n[0] * ((double)x[0] - a0[0]) + n[1] * ((double)x[1] - a0[1]) + n[2] * ((double)x[2] - a0[2])) > 1e-7 * len * scale)
-                return 0;
+            for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
+            /* coplanar up to float precision of the input: the hull of the four points then
+               exceeds the two triangles by at most that distance, the occluder's slack */
+            dev = pvs__dabs(n[0] * ((double)x[0] - a0[0]) + n[1] * ((double)x[1] - a0[1]) + n[2] * ((double)x[2] - a0[2])) / len;
+            if (dev > 1e-6 * scale) return 0;
             for (k = 0; k < 4; ++k) { /* strictly convex at every corner, turning like the triangle */
                 const float *p0 = q[k], *p1 = q[(k + 1) % 4], *p2 = q[(k + 2) % 4];
                 double m[3];
                 pvs__ep_tri_normal(p0, p1, p2, m);
                 if (!(m[0] * n[0] + m[1] * n[1] + m[2] * n[2] > 0.0)) return 0;
             }
+            *slack = dev == 0.0 ? 0.0 : 2.0 * dev + 1e-12 * scale;
             return 1;
         }
     return 0;
@@ -6455,12 +6479,13 @@ PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, s
 }
 
 /* 1 if the component's distinct vertices (<= PVS__EP_MAXP) are in convex position with respect to
-   every one of its triangles: all on one side of each triangle's plane. */
-PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts, uint32_t n) {
+   every one of its triangles: all on one side of each triangle's plane, up to float precision; the
+   largest violation (doubled) goes to *slack: the hull exceeds the surface by no more. */
+PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts, uint32_t n, double *slack) {
     uint32_t t, i, k;
-    double scale = 0.0;
+    double scale = 0.0, worst = 0.0;
     for (i = 0; i < n; ++i)
-        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]));
+        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]) + pvs__dabs((double)pts[i][k]));
     for (t = 0; t < tn; ++t) {
         const float *c[3];
         double nrm[3], len, lo = 0.0, hi = 0.0;
@@ -6468,12 +6493,14 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
         len = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
         if (!(len > 0.0)) return 0;
         for (i = 0; i < n; ++i) {
-            double d = nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) + nrm[2] * ((double)pts[i][2] - c[0][2]);
+            double d = (nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) + nrm[2] * ((double)pts[i][2] - c[0][2])) / len;
             lo = pvs__dmin(lo, d);
             hi = pvs__dmax(hi, d);
         }
-        if (lo < -1e-9 * len * scale && hi > 1e-9 * len * scale) return 0;
+        worst = pvs__dmax(worst, pvs__dmin(-lo, hi));
     }
+    if (worst > 1e-6 * scale) return 0;
+    *slack = worst == 0.0 ? 0.0 : 2.0 * worst + 1e-12 * scale;
     return 1;
 }
 
@@ -6550,7 +6577,9 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
     for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__ep_find(w->parent, i)]++] = i;
     /* start[root] now holds the component's end; components are the roots in increasing order */
     for (comp = 0; comp < tn; ++comp) {
-        uint32_t root = comp, begin, end, ne = 0, nb = 0, nuv = 0, k, j, closed;
+        uint32_t root = comp, begin, end, ne = 0, nb = 0, nuv = 0, k, j, closed, *bnd = w->owner; /* owner is done with */
+        int capped, cap_axis = 0, cap_side = 0;
+        float cap_value = 0.0f;
         const uint32_t *tl;
         uint32_t tris_local[2 * PVS__EP_MAXP];
         if (w->parent[comp] != comp) continue;
@@ -6578,12 +6607,30 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
                 if (w->mark[v] != comp) { w->mark[v] = comp; w->uv[nuv++] = v; }
             }
         closed = nb == 0;
-        if (closed && nuv >= 4 && nuv <= PVS__EP_MAXP && end - begin <= 2 * PVS__EP_MAXP) {
+        capped = 0;
+        if (!closed && 2 * nb <= 3 * tn) {
+            for (j = 0; j < nb; ++j) {
+                bnd[2 * j] = (uint32_t)(w->edges[j] >> 32);
+                bnd[2 * j + 1] = (uint32_t)(w->edges[j] & 0xffffffffu);
+            }
+            capped = pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side);
+        }
+        if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && end - begin <= 2 * PVS__EP_MAXP) {
+            /* a convex solid; a capped one (its hull includes the cap) is used only for cells
+               strictly on the solid's side of the cap: a ray from there meets the hull first on a
+               real face, since it crosses the cap's plane only once, going away from the cell */
             const float *q[PVS__EP_MAXP];
             for (j = 0; j < end - begin; ++j) tris_local[j] = t0 + tl[j];
             for (j = 0; j < nuv; ++j) q[j] = w->vpos[w->uv[j]];
-            if (pvs__ep_convex_component(s, tris_local, end - begin, q, nuv)) {
-                pvs__ep_add(p, q, nuv, 1);
+            double slack;
+            if (pvs__ep_convex_component(s, tris_local, end - begin, q, nuv, &slack)) {
+                pvs__epocc *o = p->occ + p->occ_count;
+                pvs__ep_add(p, q, nuv, 1, slack);
+                if (capped) {
+                    o->cap_side = cap_side;
+                    o->cap_axis = cap_axis;
+                    o->cap_value = cap_value;
+                }
                 continue;
             }
         }
@@ -6595,13 +6642,14 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
             if (!(pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm) > 0.0)) continue;
             if (j + 1 < end - begin) {
                 for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j + 1]) + k];
-                if (pvs__ep_quad(tri, nxt, q)) {
-                    pvs__ep_add(p, q, 4, 0);
+                double slack;
+                if (pvs__ep_quad(tri, nxt, q, &slack)) {
+                    pvs__ep_add(p, q, 4, 0, slack);
                     ++j;
                     continue;
                 }
             }
-            pvs__ep_add(p, tri, 3, 0);
+            pvs__ep_add(p, tri, 3, 0, 0.0);
         }
         if (end - begin < 4) continue;
         for (j = 0; j < end - begin; ++j) { /* a zero-area triangle blocks no ray: not sliced */
@@ -6611,21 +6659,10 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
             if (!(pvs__ep_tri_normal(c3[0], c3[1], c3[2], nrm) > 0.0)) break;
         }
         if (j < end - begin) continue;
+        if (!closed && !capped) continue;
         {
             /* closed or capped: kept for slicing */
             pvs__epslice *sl;
-            int capped = 0, cap_axis = 0, cap_side = 0;
-            float cap_value = 0.0f;
-            uint32_t *bnd = w->owner; /* reused: 2 ids per boundary edge (owner is done with) */
-            if (!closed) {
-                if (2 * nb > 3 * tn) continue;
-                for (j = 0; j < nb; ++j) {
-                    bnd[2 * j] = (uint32_t)(w->edges[j] >> 32);
-                    bnd[2 * j + 1] = (uint32_t)(w->edges[j] & 0xffffffffu);
-                }
-                if (!pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side)) continue;
-                capped = 1;
-            }
             p->slc = (pvs__epslice *)pvs__kd_grow(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice), &r);
             if (!p->slc) return r;
             p->stri = (uint32_t *)pvs__kd_grow(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + (end - begin), sizeof(uint32_t), &r);
@@ -6940,13 +6977,25 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
                 below |= c < S->value;
             }
             if (!on || above == below || oc->count + on > PVS__EP_MAXP) continue;
-            for (x = 0; x < oc->count && ok; ++x) {
-                const float *P = pts + 3 * x;
-                if (P[k] == S->value) ok = pvs__ep_in_convex(poly, S->count, P[u], P[v]);
-                else {
-                    for (y = 0; y < oc->count; ++y)
-                        if (pts[3 * y + k] == S->value && pts[3 * y + u] == P[u] && pts[3 * y + v] == P[v]) break;
-                    ok = y < oc->count;
+            {
+                /* the footprint F: the hull of the vertices in the sheet's plane (counter-clockwise) */
+                double fp[PVS__EP_MAXP][2], fh[PVS__EP_MAXP + 1][2];
+                float fpoly[2 * PVS__EP_MAXP];
+                uint32_t nf = 0;
+                int hn;
+                for (x = 0; x < oc->count; ++x)
+                    if (pts[3 * x + k] == S->value) { fp[nf][0] = pts[3 * x + u]; fp[nf][1] = pts[3 * x + v]; ++nf; }
+                hn = nf >= 3 ? pvs__ep_hull(fp, (int)nf, fh) : 0;
+                for (y = 0; y < (uint32_t)hn; ++y) { fpoly[2 * y] = (float)fh[y][0]; fpoly[2 * y + 1] = (float)fh[y][1]; }
+                for (x = 0; x < oc->count && ok; ++x) {
+                    const float *P = pts + 3 * x;
+                    if (P[k] == S->value) ok = pvs__ep_in_convex(poly, S->count, P[u], P[v]);
+                    else {
+                        /* over F: exactly over one of its vertices, or strictly inside it */
+                        for (y = 0; y < oc->count; ++y)
+                            if (pts[3 * y + k] == S->value && pts[3 * y + u] == P[u] && pts[3 * y + v] == P[v]) break;
+                        ok = y < oc->count || (hn >= 3 && pvs__ep_in_convex(fpoly, (uint32_t)hn, P[u], P[v]));
+                    }
                 }
             }
             if (!ok) continue;
@@ -7035,7 +7084,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
                 c[i][2] = i & 4 ? d->box.max[2] : d->box.min[2];
                 q[i] = c[i];
             }
-            pvs__ep_add(p, q, 8, 1);
+            pvs__ep_add(p, q, 8, 1, 0.0);
         } else if (d->kind == PVS_OCCLUDER_EXTRUSION) { /* its walls, each a planar quad */
             int u, v, up = (int)s->up_axis;
             pvs__ground_axes(s->up_axis, &u, &v);
@@ -7049,7 +7098,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
                     c[k][up] = k < 2 ? d->base : d->top;
                     q[k] = c[k];
                 }
-                pvs__ep_add(p, q, 4, 0);
+                pvs__ep_add(p, q, 4, 0, 0.0);
             }
         }
         /* CONVEX occluders are not used (leaving an occluder out is conservative) */
@@ -7725,6 +7774,8 @@ PVS__STATIC void pvs__ep_select(const pvs__extproj_prep *p, const pvs_box *cell,
     for (i = 0; i < p->occ_count; ++i) {
         const pvs__epocc *o = p->occ + i;
         float score = -1.0f;
+        if ((o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) || (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)))
+            continue; /* a capped solid this cell cannot use */
         for (d = 0; d < 6; ++d) {
             double w0, w1;
             pvs__epsel *h = sel + (size_t)d * n;
@@ -7784,8 +7835,12 @@ PVS__STATIC void pvs__ep_levels(uint32_t res, uint32_t levels, uint32_t *lw, uin
 
 /* The points an occluder is projected with on a plane of `axis`: extended through its sheet when
    the cell stands over that sheet on the occluder's side (sheet_side[sheet]) and the extension runs
-   across the plane's axis (along it, it would only push the occluder's Depth away). */
-PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const int *sheet_side, int axis, uint32_t *count) {
+   across the plane's axis (along it, it would only push the occluder's Depth away). NULL for a
+   capped solid the cell does not stand over. */
+PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell, const int *sheet_side, int axis,
+                                        uint32_t *count) {
+    if (o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) return NULL;
+    if (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)) return NULL;
     if (o->xcount && sheet_side[o->sheet] == o->xside && p->sheet[o->sheet].axis != axis) {
         *count = o->xcount;
         return p->pts + 3 * (size_t)o->xfirst;
@@ -7852,8 +7907,8 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
         if (!pvs__ep_frame(&m->plane, &m->frame)) continue;
         for (k = 0; k < n; ++k) {
             uint32_t cnt;
-            const float *pts = pvs__ep_points(p, p->occ + h[k].occ, sheet_side, a, &cnt);
-            pvs__ep_occluder(&m->frame, cell, pts, cnt, 0, m->lv[0], NULL);
+            const float *pts = pvs__ep_points(p, p->occ + h[k].occ, cell, sheet_side, a, &cnt);
+            if (pts) pvs__ep_occluder(&m->frame, cell, pts, cnt, p->occ[h[k].occ].solid, p->occ[h[k].occ].slack, 0, m->lv[0], NULL);
         }
         pvs__ep_slices(s, p, cell, &m->plane, &m->frame, sc, sheet_side, m->lv[0], NULL);
         pvs__ep_build_pyramid(m);
@@ -7931,8 +7986,8 @@ PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj
             if (!(w0 < W) || (count > 0 && w1 <= Wprev)) continue; /* behind the plane, or projected whole before */
             {
                 uint32_t cnt;
-                const float *pts = pvs__ep_points(p, o, sheet_side, a, &cnt);
-                pvs__ep_occluder(&m->frame, cell, pts, cnt, 1, NULL, mask);
+                const float *pts = pvs__ep_points(p, o, cell, sheet_side, a, &cnt);
+                if (pts) pvs__ep_occluder(&m->frame, cell, pts, cnt, o->solid, o->slack, 1, NULL, mask);
             }
         }
         pvs__ep_slices(s, p, cell, &m->plane, &m->frame, &w->slicer, sheet_side, NULL, mask);
