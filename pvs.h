@@ -905,6 +905,14 @@ typedef struct pvs_bake_desc {
     uint32_t extproj_occluders;  /* EXTPROJ: occluders projected per plane, 0 = 128; <= 65536 */
     uint32_t extproj_sweep;      /* EXTPROJ: occlusion sweep (Durand 2000 §5): at most this many planes per
                                     direction, 0 = no sweep (pvsbake --sweep: PVS_EXTPROJ_SWEEP_PLANES); <= 256 */
+    /* Adaptive cells (Durand 2000 §6.1): a cell whose PVS holds more than adaptive_budget triangles is
+       split in two across its longest side, recursively, while the halves stay at least
+       adaptive_min_size long (0 = an eighth of the cell's longest side); the children are baked from
+       the parent's PVS (only its objects are tested; EXTPROJ also drops the occluders it hides). The
+       file then holds the leaf cells, in cell order, each cell's leaves depth first (low half first).
+       0 = off. Not with shards. */
+    uint32_t adaptive_budget;
+    float adaptive_min_size;
     pvs_shrink_mode shrink_mode; /* SHRINK: path, AUTO picks */
     float voxel_size;         /* SHRINK: occluder synthesis voxel size, 0 = derived */
     /* Sharded bakes (build farms): with shard_count >= 2 this bake runs only cells shard_index,
@@ -933,8 +941,11 @@ PVS_API float pvs_bake_eps(const pvs_bake *bake);
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
 /* The PVS of a cell whose task has run, or NULL (also for cells of other shards).
-   PVS_BITSET_WORDS(object_count) words. */
+   PVS_BITSET_WORDS(object_count) words. With adaptive cells, the PVS of the whole (unsplit) cell. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
+/* The cells the file will hold: the cell count, or with adaptive cells the leaves of the tasks run so
+   far (all of them once every task has run). */
+PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *bake);
 /* The exact size of the file (0 if not every task has run or on error). Encodes to measure: keep
    the number rather than calling it twice. */
 PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
@@ -6292,6 +6303,7 @@ typedef struct pvs__epocc {
     int cap_side, cap_axis;  /* a capped convex solid (cap_side != 0): used only for cells where */
     float cap_value;         /*   cap_side * (x[cap_axis] - cap_value) > 0 */
     float slack;             /* how far the true shape may lie inside the hull of the points */
+    uint32_t object;         /* the object the triangles belong to, PVS_NO_OBJECT for none */
 } pvs__epocc;
 
 /* A sheet: coplanar triangles (of any objects) in an axis-aligned plane x[axis] = value whose union
@@ -6365,6 +6377,7 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
     o->xside = o->cap_side = o->cap_axis = 0;
     o->cap_value = 0.0f;
     o->slack = pvs__f_up(slack);
+    o->object = PVS_NO_OBJECT;
     for (i = 0; i < n; ++i) {
         memcpy(p->pts + 3 * p->pt_count, pts[i], 3 * sizeof(float));
         pvs__box_add_point(&o->box, pts[i]);
@@ -7064,7 +7077,11 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
     for (t = 0; t < s->triangle_count;) {
         uint32_t end = t + 1;
         while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
-        r = pvs__ep_prepare_object(p, s, t, end - t, &w);
+        {
+            size_t first = p->occ_count, q;
+            r = pvs__ep_prepare_object(p, s, t, end - t, &w);
+            for (q = first; q < p->occ_count; ++q) p->occ[q].object = s->triangle_object[t];
+        }
         if (r != PVS_OK) {
             pvs__ep_work_free(a, &w);
             pvs__extproj_prep_destroy(p);
@@ -7526,6 +7543,7 @@ typedef struct pvs__epcell {
     pvs__epmap maps[6 * PVS__EP_PLANES];
     pvs__epmask *masks;  /* 6 x sweep; masks of direction d: d * sweep .. + mask_count[d] */
     uint32_t mask_count[6], sweep;
+    const pvs_word *candidates; /* adaptive cells (§6.1): only the parent's PVS is tested, NULL = all */
     pvs_word *bits;
 } pvs__epcell;
 
@@ -7632,6 +7650,7 @@ PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float d
         pvs_box b = c->scene->object_boxes[o];
         int k;
         if (pvs_bitset_test(c->bits, o) || (c->scene->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY)) continue;
+        if (c->candidates && !pvs_bitset_test(c->candidates, o)) continue; /* hidden from the parent cell */
         for (k = 0; k < 3; ++k) {
             if (node_box->min[k] > b.min[k]) b.min[k] = node_box->min[k];
             if (node_box->max[k] < b.max[k]) b.max[k] = node_box->max[k];
@@ -7766,7 +7785,8 @@ PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__ep
 /* Selection by solid angle (§6.1): per direction the n best occluders reaching beyond the face (a
    min-heap on the score, then sorted best first; ties by index: deterministic). The score is the
    solid angle the occluder subtends from the cell's centre. */
-PVS__STATIC void pvs__ep_select(const pvs__extproj_prep *p, const pvs_box *cell, pvs__epsel *sel, uint32_t n, uint32_t *nsel) {
+PVS__STATIC void pvs__ep_select(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs_word *candidates, pvs__epsel *sel,
+                                uint32_t n, uint32_t *nsel) {
     double centre[3];
     uint32_t i, d;
     for (i = 0; i < 3; ++i) centre[i] = 0.5 * ((double)cell->min[i] + cell->max[i]);
@@ -7776,6 +7796,9 @@ PVS__STATIC void pvs__ep_select(const pvs__extproj_prep *p, const pvs_box *cell,
         float score = -1.0f;
         if ((o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) || (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)))
             continue; /* a capped solid this cell cannot use */
+        if (candidates && o->object != PVS_NO_OBJECT && !(s->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
+            !pvs_bitset_test(candidates, o->object))
+            continue; /* §6.1: hidden from the parent cell, so redundant (and leaving it out is safe) */
         for (d = 0; d < 6; ++d) {
             double w0, w1;
             pvs__epsel *h = sel + (size_t)d * n;
@@ -7916,6 +7939,44 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
     }
 }
 
+/* §5.1 reprojection: marks in `to` (a plane of the same cell and direction, farther than `from`)
+   the pixels every ray from the cell through which crosses `from` in blocked pixels: the umbra of
+   from's blocked region (Appendix B: a subset of the umbra of the occluders in front of `from`, so a
+   conservative occluder itself). Equivalent to the convolution of §5.1 with the inverse image of the
+   cell as kernel, conservatively rasterized, keeping only fully black pixels; here the kernel is
+   taken per row and column from the true cell (pvs__ep_reproject_axis) and a summed-area table of
+   from's open pixels decides each pixel. `sat` holds (res + 1)^2 counts, `ranges` 4 res. */
+PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
+    const unsigned char *prev = from->lv[0];
+    unsigned char *mask = to->lv[0];
+    uint32_t fw = from->plane.width, fh = from->plane.height, tw = to->plane.width, th = to->plane.height, x, y, W1 = fw + 1;
+    int32_t *clo = ranges, *chi = ranges + tw, *rlo = ranges + 2 * tw, *rhi = ranges + 2 * tw + th;
+    for (x = 0; x <= fw; ++x) sat[x] = 0;
+    for (y = 0; y < fh; ++y) {
+        uint32_t run = 0;
+        sat[(size_t)(y + 1) * W1] = 0;
+        for (x = 0; x < fw; ++x) {
+            run += prev[(size_t)y * fw + x] ? 0u : 1u;
+            sat[(size_t)(y + 1) * W1 + x + 1] = sat[(size_t)y * W1 + x + 1] + run;
+        }
+    }
+    pvs__ep_reproject_axis(to->frame.cu, to->frame.cw, from->frame.W, to->frame.W, to->frame.u0, to->frame.su, tw, from->frame.u0, from->frame.su, fw, clo, chi);
+    pvs__ep_reproject_axis(to->frame.cv, to->frame.cw, from->frame.W, to->frame.W, to->frame.v0, to->frame.sv, th, from->frame.v0, from->frame.sv, fh, rlo, rhi);
+    for (y = 0; y < th; ++y) {
+        size_t y0, y1;
+        if (rlo[y] < 0) continue;
+        y0 = (size_t)rlo[y];
+        y1 = (size_t)rhi[y] + 1;
+        for (x = 0; x < tw; ++x) {
+            size_t x0, x1;
+            if (clo[x] < 0) continue;
+            x0 = (size_t)clo[x];
+            x1 = (size_t)chi[x] + 1;
+            if (sat[y1 * W1 + x1] - sat[y0 * W1 + x1] - sat[y1 * W1 + x0] + sat[y0 * W1 + x0] == 0) mask[(size_t)y * tw + x] = 1;
+        }
+    }
+}
+
 /* The occlusion sweep of §5 for direction d: parallel planes leaving the cell, each holding the
    reprojection of the previous plane's blocked pixels (§5.1), the Projections of the occluders in
    front of it not yet wholly projected, and the slices of the closed meshes it cuts. Planes are
@@ -7949,36 +8010,7 @@ PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj
         pvs__ep_levels(res, levels, m->lw, m->lh, 1, w->masks + (size_t)((ms - w->mask_hdr) + count) * w->mask_bytes, (void **)m->lv);
         mask = m->lv[0];
         memset(mask, 0, npx);
-        if (count > 0) {
-            /* §5.1: a pixel is blocked when every ray from the cell through it crosses the previous
-               plane in blocked pixels (the umbra of the previous plane's blocked region, Appendix
-               B): a summed-area table of the previous plane's open pixels decides each pixel */
-            const pvs__epmask *pm = ms + count - 1;
-            const unsigned char *prev = pm->lv[0];
-            uint32_t *sat = w->sat, x, y, W1 = res + 1;
-            int32_t *clo = w->ranges, *chi = w->ranges + res, *rlo = w->ranges + 2 * res, *rhi = w->ranges + 3 * res;
-            for (x = 0; x <= res; ++x) sat[x] = 0;
-            for (y = 0; y < res; ++y) {
-                uint32_t run = 0;
-                sat[(size_t)(y + 1) * W1] = 0;
-                for (x = 0; x < res; ++x) {
-                    run += prev[(size_t)y * res + x] ? 0u : 1u;
-                    sat[(size_t)(y + 1) * W1 + x + 1] = sat[(size_t)y * W1 + x + 1] + run;
-                }
-            }
-            pvs__ep_reproject_axis(m->frame.cu, m->frame.cw, pm->frame.W, m->frame.W, m->frame.u0, m->frame.su, res, pm->frame.u0, pm->frame.su, res, clo, chi);
-            pvs__ep_reproject_axis(m->frame.cv, m->frame.cw, pm->frame.W, m->frame.W, m->frame.v0, m->frame.sv, res, pm->frame.v0, pm->frame.sv, res, rlo, rhi);
-            for (y = 0; y < res; ++y) {
-                if (rlo[y] < 0) continue;
-                for (x = 0; x < res; ++x) {
-                    size_t y0 = (size_t)rlo[y], y1 = (size_t)rhi[y] + 1, x0, x1;
-                    if (clo[x] < 0) continue;
-                    x0 = (size_t)clo[x];
-                    x1 = (size_t)chi[x] + 1;
-                    if (sat[y1 * W1 + x1] - sat[y0 * W1 + x1] - sat[y1 * W1 + x0] + sat[y0 * W1 + x0] == 0) mask[(size_t)y * res + x] = 1;
-                }
-            }
-        }
+        if (count > 0) pvs__ep_reproject(ms + count - 1, m, w->sat, w->ranges);
         for (k = 0; k < n; ++k) {
             const pvs__epocc *o = p->occ + h[k].occ;
             double w0, w1;
@@ -8003,9 +8035,11 @@ PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj
 }
 
 /* The PVS of one cell (Durand 2000 §6.1): per direction, the occluders with the largest solid angle,
-   the planes of §6.1 and, with the sweep, the planes of §5; then the occludees front to back. */
+   the planes of §6.1 and, with the sweep, the planes of §5; then the occludees front to back. With
+   `candidates` (a sub-cell of the adaptive subdivision) only the parent's visible objects are
+   tested, and the occluders of the others are left out. */
 PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs__epparams *prm,
-                                         const pvs_allocator *al, pvs_word *bits, uint32_t cell_id, pvs_error *err) {
+                                         const pvs_word *candidates, const pvs_allocator *al, pvs_word *bits, uint32_t cell_id, pvs_error *err) {
     pvs__epcell c;
     pvs__epscratch w;
     uint32_t nsel[6], d, levels = 0, nper;
@@ -8018,6 +8052,7 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     c.cell = *cell;
     c.bits = bits;
     c.sweep = prm->sweep;
+    c.candidates = candidates;
     {
         uint32_t ww = prm->res, hh = prm->res;
         level_floats = (size_t)ww * hh;
@@ -8055,7 +8090,7 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     }
     c.masks = w.mask_hdr;
     pvs__ep_sheet_sides(p, cell, sheet_side);
-    pvs__ep_select(p, cell, w.sel, nper, nsel);
+    pvs__ep_select(s, p, cell, candidates, w.sel, nper, nsel);
     for (d = 0; d < 6; ++d) {
         const pvs__epsel *h = w.sel + (size_t)d * nper;
         if (!nsel[d]) continue;
@@ -8411,7 +8446,18 @@ struct pvs_bake {
     uint32_t extproj_resolution, extproj_occluders, extproj_sweep;
     pvs_occluders *occluders;  /* SHRINK */
     pvs_shrink_mode shrink_mode;
+    uint32_t adaptive_budget;  /* adaptive cells (§6.1), 0 = off */
+    float adaptive_min_size;
+    uint32_t *object_triangles;/* adaptive: triangles per object */
+    struct pvs__bakeleaves *leaves; /* adaptive: per task, its leaf cells */
 };
+
+/* The leaf cells of one adaptive task and their PVSs. */
+typedef struct pvs__bakeleaves {
+    size_t count, capacity;
+    pvs_box *boxes;
+    pvs_word *pvs;             /* count * words */
+} pvs__bakeleaves;
 
 PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs_allocator a;
@@ -8425,6 +8471,15 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs_kdtree_destroy(b->ot_tree);
     pvs__extproj_prep_destroy(b->extproj);
     pvs_occluders_destroy(b->occluders);
+    pvs__free_array(&a, b->object_triangles, (size_t)b->object_count + 1, sizeof(uint32_t));
+    if (b->leaves) {
+        uint32_t i;
+        for (i = 0; i < b->cell_count; ++i) {
+            pvs__free_array(&a, b->leaves[i].boxes, b->leaves[i].capacity, sizeof(pvs_box));
+            pvs__free_array(&a, b->leaves[i].pvs, b->leaves[i].capacity * b->words, sizeof(pvs_word));
+        }
+        pvs__free_array(&a, b->leaves, b->cell_count, sizeof(pvs__bakeleaves));
+    }
     pvs__free(&a, b, sizeof(*b), 16);
 }
 
@@ -8523,9 +8578,8 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs_bake *b) {
 }
 
 /* One cell with pvs_visibility_25d; facades whose base is above the cell's bottom are left out. */
-PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, uint32_t task, uint32_t cell, pvs_word *bits, pvs_error *err) {
+PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t cell, pvs_word *bits, pvs_error *err) {
     const pvs_scene *s = b->scene;
-    const pvs_box *c = b->cells + task; /* the bake keeps its (shard's) cells by task */
     int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
     pvs_visibility_25d_desc d;
     float *own = NULL;
@@ -8612,6 +8666,10 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_occluders %u > 65536", desc->extproj_occluders);
     if (desc->extproj_sweep > 256)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep %u > 256", desc->extproj_sweep);
+    if (!pvs__finite(desc->adaptive_min_size) || desc->adaptive_min_size < 0.0f)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "adaptive_min_size must be finite and >= 0");
+    if (desc->adaptive_budget && desc->shard_count)
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells in a sharded bake (part files index whole cells)");
     for (i = 0; i < desc->cell_count; ++i) {
         r = pvs__check_cell(desc->cells + i, (uint32_t)i, err);
         if (r != PVS_OK) return r;
@@ -8650,6 +8708,20 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution : PVS__EP_DEFAULT_RES;
     b->extproj_occluders = desc->extproj_occluders ? desc->extproj_occluders : PVS__EP_DEFAULT_OCC;
     b->extproj_sweep = desc->extproj_sweep;
+    b->adaptive_budget = desc->adaptive_budget;
+    b->adaptive_min_size = desc->adaptive_min_size;
+    if (b->adaptive_budget) {
+        b->object_triangles = (uint32_t *)pvs__alloc_array(&a, (size_t)b->object_count + 1, sizeof(uint32_t));
+        b->leaves = (pvs__bakeleaves *)pvs__alloc_array(&a, b->cell_count, sizeof(pvs__bakeleaves));
+        if (!b->object_triangles || !b->leaves) {
+            pvs_bake_destroy(b);
+            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "adaptive cells");
+        }
+        memset(b->object_triangles, 0, ((size_t)b->object_count + 1) * sizeof(uint32_t));
+        memset(b->leaves, 0, b->cell_count * sizeof(pvs__bakeleaves));
+        for (i = 0; i < desc->scene->triangle_count; ++i)
+            if (desc->scene->triangle_object[i] != PVS_NO_OBJECT) ++b->object_triangles[desc->scene->triangle_object[i]];
+    }
     if (b->method == PVS_METHOD_EXTPROJ) {
         r = pvs__extproj_prepare(b->scene, &a, &b->extproj, err);
         if (r != PVS_OK) {
@@ -8702,22 +8774,21 @@ PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *b) { return b->o
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) { return b->occluders ? b->shrink_mode : PVS_SHRINK_AUTO; }
 
 
-PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err) {
-    uint32_t cell;
-    pvs_word *bits;
-    if (!b || task >= b->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "task %u out of range", task);
-    cell = pvs_bake_task_cell(b, task);
-    bits = b->pvs + (size_t)task * b->words;
+/* The PVS of one box of task `task` (its cell or, adaptive, a part of it) into bits (cleared first).
+   With `candidates` (the parent's PVS) the result is within it. */
+PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+                                     pvs_error *err) {
+    size_t i;
     memset(bits, 0, b->words * sizeof(pvs_word));
     switch (b->method) {
     case PVS_METHOD_SAMPLE: {
         /* per-cell seed: independent of the order and thread the tasks run in */
         uint64_t state = b->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull);
-        pvs_sample_visibility(b->scene, b->cells + task, b->sample_points, b->sample_rays, pvs__splitmix64(&state), bits);
+        pvs_sample_visibility(b->scene, box, b->sample_points, b->sample_rays, pvs__splitmix64(&state), bits);
         break;
     }
     case PVS_METHOD_OTREE: {
-        pvs_result r = pvs__otree_cell(b, task, cell, bits, err);
+        pvs_result r = pvs__otree_cell(b, box, cell, bits, err);
         if (r != PVS_OK) return r;
         break;
     }
@@ -8727,12 +8798,12 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         prm.res = b->extproj_resolution;
         prm.max_occ = b->extproj_occluders;
         prm.sweep = b->extproj_sweep;
-        r = pvs__extproj_cell(b->scene, b->extproj, b->cells + task, &prm, &b->allocator, bits, cell, err);
+        r = pvs__extproj_cell(b->scene, b->extproj, box, &prm, candidates, &b->allocator, bits, cell, err);
         if (r != PVS_OK) return r;
         break;
     }
     case PVS_METHOD_SHRINK: {
-        pvs_result r = pvs_shrink_cell(b->scene, b->occluders, b->cells + task, b->shrink_mode, bits, err);
+        pvs_result r = pvs_shrink_cell(b->scene, b->occluders, box, b->shrink_mode, bits, err);
         if (r != PVS_OK) {
             if (err) err->index = cell;
             return r;
@@ -8741,9 +8812,106 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
     }
     default: return pvs__fail(err, PVS_ERROR_UNSUPPORTED, cell, 0, "method %d", (int)b->method);
     }
+    (void)task;
+    if (candidates) /* a part of the parent cell sees no more than it (both sets are conservative) */
+        for (i = 0; i < b->words; ++i) bits[i] &= candidates[i];
+    return PVS_OK;
+}
+
+/* Triangles of the objects in a PVS (the polygon budget of §6.1). */
+PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits) {
+    uint64_t n = 0;
+    uint32_t o;
+    for (o = pvs_bitset_next(bits, b->object_count, 0); o < b->object_count; o = pvs_bitset_next(bits, b->object_count, o + 1))
+        n += b->object_triangles[o];
+    return n;
+}
+
+/* Adaptive subdivision (Durand 2000 §6.1) of a box whose PVS is work[depth]: a leaf when its PVS fits
+   the budget or a half would be shorter than min_size, else its two halves across the longest side,
+   baked from its PVS, low half first. work holds 48 bitsets. */
+PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, float min_size, pvs_word *work,
+                                       uint32_t depth, pvs_error *err) {
+    pvs__bakeleaves *L = b->leaves + task;
+    const pvs_word *bits = work + (size_t)depth * b->words;
+    int k, axis = 0;
+    float mid;
+    pvs_result r = PVS_OK;
+    for (k = 1; k < 3; ++k)
+        if (box->max[k] - box->min[k] > box->max[axis] - box->min[axis]) axis = k;
+    mid = box->min[axis] + 0.5f * (box->max[axis] - box->min[axis]);
+    if (pvs__bake_triangles(b, bits) <= b->adaptive_budget || 0.5f * (box->max[axis] - box->min[axis]) < min_size || depth + 1 >= 48 ||
+        !(mid > box->min[axis] && mid < box->max[axis])) {
+        if (L->count == L->capacity) {
+            size_t cap = L->capacity ? 2 * L->capacity : 8;
+            pvs_box *nb = (pvs_box *)pvs__alloc_array(&b->allocator, cap, sizeof(pvs_box));
+            pvs_word *np = (pvs_word *)pvs__alloc_array(&b->allocator, cap * b->words, sizeof(pvs_word));
+            if (!nb || !np || cap > 0x3fffffffu) {
+                pvs__free_array(&b->allocator, nb, cap, sizeof(pvs_box));
+                pvs__free_array(&b->allocator, np, cap * b->words, sizeof(pvs_word));
+                return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "adaptive leaves of cell %u", cell);
+            }
+            if (L->count) {
+                memcpy(nb, L->boxes, L->count * sizeof(pvs_box));
+                memcpy(np, L->pvs, L->count * b->words * sizeof(pvs_word));
+            }
+            pvs__free_array(&b->allocator, L->boxes, L->capacity, sizeof(pvs_box));
+            pvs__free_array(&b->allocator, L->pvs, L->capacity * b->words, sizeof(pvs_word));
+            L->boxes = nb;
+            L->pvs = np;
+            L->capacity = cap;
+        }
+        L->boxes[L->count] = *box;
+        memcpy(L->pvs + L->count * b->words, bits, b->words * sizeof(pvs_word));
+        ++L->count;
+        return PVS_OK;
+    }
+    for (k = 0; k < 2; ++k) {
+        pvs_box child = *box;
+        if (k) child.min[axis] = mid; else child.max[axis] = mid;
+        r = pvs__bake_box(b, task, cell, &child, bits, work + (size_t)(depth + 1) * b->words, err);
+        if (r == PVS_OK) r = pvs__bake_split(b, task, cell, &child, min_size, work, depth + 1, err);
+        if (r != PVS_OK) return r;
+    }
+    return PVS_OK;
+}
+
+PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err) {
+    uint32_t cell;
+    pvs_word *bits;
+    pvs_result r;
+    if (!b || task >= b->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "task %u out of range", task);
+    cell = pvs_bake_task_cell(b, task);
+    bits = b->pvs + (size_t)task * b->words;
+    r = pvs__bake_box(b, task, cell, b->cells + task, NULL, bits, err);
+    if (r != PVS_OK) return r;
+    if (b->adaptive_budget) {
+        const pvs_box *c = b->cells + task;
+        float min_size = b->adaptive_min_size, longest = 0.0f;
+        pvs_word *work = (pvs_word *)pvs__alloc_array(&b->allocator, 48 * b->words, sizeof(pvs_word));
+        int k;
+        if (!work) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "adaptive cells of cell %u", cell);
+        for (k = 0; k < 3; ++k) longest = c->max[k] - c->min[k] > longest ? c->max[k] - c->min[k] : longest;
+        if (!(min_size > 0.0f)) min_size = 0.125f * longest;
+        b->leaves[task].count = 0; /* a task run again starts over */
+        memcpy(work, bits, b->words * sizeof(pvs_word));
+        r = pvs__bake_split(b, task, cell, c, min_size, work, 0, err);
+        pvs__free_array(&b->allocator, work, 48 * b->words, sizeof(pvs_word));
+        if (r != PVS_OK) return r;
+    }
     b->done[task] = 1;
     pvs__ok(err);
     return PVS_OK;
+}
+
+PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *b) {
+    uint64_t n = 0;
+    uint32_t i;
+    if (!b) return 0;
+    if (!b->adaptive_budget) return b->cell_count;
+    for (i = 0; i < b->cell_count; ++i)
+        if (b->done[i]) n += b->leaves[i].count;
+    return n > 0xffffffffu ? 0xffffffffu : (uint32_t)n;
 }
 
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *b, uint32_t cell) {
@@ -8780,23 +8948,64 @@ PVS__STATIC int pvs__bake_all_done(const pvs_bake *b) {
     return 1;
 }
 
-PVS_API size_t pvs_bake_file_size(const pvs_bake *b) {
+/* Adaptive cells: the leaves of every task in task order, gathered into one table for the encoder
+   (freed by the caller with the sizes returned). */
+PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cells, pvs_word **pvs, size_t *count) {
+    size_t n = 0, k = 0, bytes;
+    uint32_t i;
+    for (i = 0; i < b->cell_count; ++i) n += b->leaves[i].count;
+    *cells = NULL;
+    *pvs = NULL;
+    *count = n;
+    if (n >= 0x3fffffffu) return PVS_ERROR_COUNT_OVERFLOW;
+    if (!pvs__mul(n, b->words * sizeof(pvs_word), &bytes)) return PVS_ERROR_COUNT_OVERFLOW;
+    *cells = (pvs_box *)pvs__alloc_array(&b->allocator, n, sizeof(pvs_box));
+    *pvs = (pvs_word *)pvs__alloc_array(&b->allocator, n * b->words, sizeof(pvs_word));
+    if (!*cells || !*pvs) return PVS_ERROR_OUT_OF_MEMORY;
+    for (i = 0; i < b->cell_count; ++i) {
+        const pvs__bakeleaves *L = b->leaves + i;
+        memcpy(*cells + k, L->boxes, L->count * sizeof(pvs_box));
+        memcpy(*pvs + k * b->words, L->pvs, L->count * b->words * sizeof(pvs_word));
+        k += L->count;
+    }
+    return PVS_OK;
+}
+
+/* Encodes the bake (measure only when out is NULL). */
+PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
     pvs_file_desc fd;
+    pvs_box *cells = NULL;
+    pvs_word *pvs = NULL;
+    size_t n = 0;
+    pvs_result r;
+    pvs__bake_file_desc(b, &fd);
+    if (!b->adaptive_budget) return pvs_file_encode(&fd, out, capacity, out_size, err);
+    r = pvs__bake_gather_leaves(b, &cells, &pvs, &n);
+    if (r == PVS_OK) {
+        fd.cells = cells;
+        fd.cell_count = (uint32_t)n;
+        fd.pvs = pvs;
+        r = pvs_file_encode(&fd, out, capacity, out_size, err);
+    } else
+        r = pvs__fail(err, r, -1, 0, "%llu adaptive cells", (unsigned long long)n);
+    pvs__free_array(&b->allocator, cells, n, sizeof(pvs_box));
+    pvs__free_array(&b->allocator, pvs, n * b->words, sizeof(pvs_word));
+    return r;
+}
+
+PVS_API size_t pvs_bake_file_size(const pvs_bake *b) {
     size_t size = 0;
     if (!b || !pvs__bake_all_done(b)) return 0;
-    pvs__bake_file_desc(b, &fd);
-    return pvs_file_encode(&fd, NULL, 0, &size, NULL) == PVS_OK ? size : 0;
+    return pvs__bake_encode(b, NULL, 0, &size, NULL) == PVS_OK ? size : 0;
 }
 
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
-    pvs_file_desc fd;
     uint32_t i;
     if (!b) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bake is NULL");
     if (out_size) *out_size = 0;
     for (i = 0; i < b->cell_count; ++i)
         if (!b->done[i]) return pvs__fail(err, PVS_ERROR_NOT_DONE, pvs_bake_task_cell(b, i), 0, "cell %u has not been baked", pvs_bake_task_cell(b, i));
-    pvs__bake_file_desc(b, &fd);
-    return pvs_file_encode(&fd, out, capacity, out_size, err);
+    return pvs__bake_encode(b, out, capacity, out_size, err);
 }
 
 // >>format

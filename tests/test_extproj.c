@@ -1,8 +1,14 @@
 /* test_extproj.c - the extended projections of Durand et al. 2000 (PVS_METHOD_EXTPROJ) against
    brute force: the occluder Projection (every marked pixel is covered by the occluder from random
    points of the cell, checked by ray casts in double), the occludee Projection (random points of the
-   box seen from random points of the cell land inside the rectangle, no nearer than its Depth), and
-   the bake against ray sampling on small generated scenes (0 misses). */
+   box seen from random points of the cell land inside the rectangle, no nearer than its Depth), the
+   improved occludee Projection (§4, Property 2), slices of closed and capped meshes (§3.3), sheets
+   and the occluders extended through them, the sweep's reprojection (§5.1), and the bake against ray
+   sampling on small generated scenes (0 misses), with and without the sweep. */
+/* This file holds a private copy of the implementation (PVS_STATIC) so that it can test the
+   method's internals (improved Projection, slices, sheets, reprojection) against brute force. */
+#define PVS_STATIC
+#define PVS_IMPLEMENTATION
 #include "../pvs.h"
 #include "../tools/gen.h"
 #include "../tools/mesh.h"
@@ -206,6 +212,440 @@ static void test_occludee_projection(void) {
     if (bad) fprintf(stderr, "extproj: %d occludee samples outside the Projection\n", bad);
 }
 
+/* The improved occludee Projection (§4) on one axis: with `any`, every pixel of the range holds a
+   point P that lies in the views of every point X of the box from the cell's near face (Property 2:
+   X is then in cone(P, face)); without, the range holds the whole segment [min R(X), max L(X)]. X
+   runs over the box's corners (where the extremes lie) and random points. */
+static void test_improved_projection(void) {
+    int iter, bad = 0, anys = 0, alls = 0;
+    for (iter = 0; iter < 3000; ++iter) {
+        pvs_extproj_plane pl;
+        pvs__epframe f;
+        pvs_box b;
+        double w0, w1, maxL[2] = {-1e300, -1e300}, minR[2] = {1e300, 1e300};
+        int32_t lo[2], hi[2];
+        int any[2], k, s, a;
+        ep_random_plane(&pl, 64);
+        if (!pvs__ep_frame(&pl, &f)) continue;
+        a = f.a;
+        w0 = f.W * ep_rnd() * 0.95 + 1e-3 * f.W;
+        w1 = w0 + (f.W - w0) * ep_rnd();
+        for (k = 0; k < 3; ++k) {
+            float c = 0.5f * (pl.cell.min[k] + pl.cell.max[k]) + ep_rndf(-4.0f, 4.0f), h = ep_rndf(0.0f, 1.5f);
+            b.min[k] = c - h;
+            b.max[k] = c + h;
+        }
+        b.min[a] = (float)(f.s > 0 ? f.face + w0 : f.face - w1);
+        b.max[a] = (float)(f.s > 0 ? f.face + w1 : f.face - w0);
+        w0 = f.s > 0 ? (double)b.min[a] - f.face : f.face - (double)b.max[a];
+        w1 = f.s > 0 ? (double)b.max[a] - f.face : f.face - (double)b.min[a];
+        if (!(w0 > 0.0) || !(w1 <= f.W)) continue;
+        pvs__ep_improved_axis(f.cu, b.min[f.u], b.max[f.u], w0, w1, f.W, f.u0, f.su, f.width, &lo[0], &hi[0], &any[0]);
+        pvs__ep_improved_axis(f.cv, b.min[f.v], b.max[f.v], w0, w1, f.W, f.v0, f.sv, f.height, &lo[1], &hi[1], &any[1]);
+        for (s = 0; s < 40; ++s) {
+            double X[3];
+            int ax;
+            for (k = 0; k < 3; ++k)
+                X[k] = s < 8 ? ((s >> k) & 1 ? b.max[k] : b.min[k]) : b.min[k] + ep_rnd() * ((double)b.max[k] - b.min[k]);
+            for (ax = 0; ax < 2; ++ax) {
+                int kk = ax ? f.v : f.u;
+                const double *ck = ax ? f.cv : f.cu;
+                double k0 = ax ? f.v0 : f.u0, sk = ax ? f.sv : f.su, Xw = f.s * (X[a] - f.face), v0, v1;
+                v0 = (ck[0] + (X[kk] - ck[0]) * f.W / Xw - k0) * sk;
+                v1 = (ck[1] + (X[kk] - ck[1]) * f.W / Xw - k0) * sk;
+                if (v0 > v1) { double t = v0; v0 = v1; v1 = t; }
+                if (v0 > maxL[ax]) maxL[ax] = v0;
+                if (v1 < minR[ax]) minR[ax] = v1;
+            }
+        }
+        for (k = 0; k < 2; ++k) {
+            int32_t size = (int32_t)(k ? f.height : f.width), i;
+            if (lo[k] < 0 || hi[k] >= size) continue; /* off the map: the test declares it visible */
+            if (any[k]) {
+                ++anys;
+                for (i = lo[k]; i <= hi[k]; ++i)
+                    if (!((double)i + 1.0 >= maxL[k] - 1e-9 && (double)i <= minR[k] + 1e-9)) ++bad;
+            } else {
+                ++alls;
+                if (!((double)lo[k] <= floor(minR[k]) && (double)hi[k] >= floor(maxL[k]))) ++bad;
+            }
+        }
+    }
+    CHECK(bad == 0);
+    CHECK(anys > 200 && alls > 200);
+    if (bad) fprintf(stderr, "extproj: %d improved Projections break Property 2\n", bad);
+}
+
+/* Ray from o to o + d (t in (0, 1]) against a mesh: 1 if some triangle is hit. */
+static int ep_ray_mesh(const double *o, const double *d, const float *pos, const uint32_t *idx, uint32_t tris) {
+    uint32_t t;
+    for (t = 0; t < tris; ++t) {
+        double h = ep_ray_tri(o, d, pos + 3 * idx[3 * t], pos + 3 * idx[3 * t + 1], pos + 3 * idx[3 * t + 2]);
+        if (h > 0.0 && h <= 1.0) return 1;
+    }
+    return 0;
+}
+
+/* A scene of one object from arrays. */
+static pvs_scene *ep_scene_arrays(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t nt, const pvs_object_desc *obs, uint32_t no) {
+    pvs_scene_desc d;
+    pvs_scene *s = NULL;
+    pvs_error e;
+    memset(&d, 0, sizeof(d));
+    d.positions = pos;
+    d.vertex_count = nv;
+    d.indices = idx;
+    d.triangle_count = nt;
+    d.objects = obs;
+    d.object_count = no;
+    if (pvs_scene_create(&d, &s, &e) != PVS_OK) fprintf(stderr, "extproj scene: %s\n", e.message);
+    return s;
+}
+
+/* Extrudes a closed polygon (n points in x, z, counter-clockwise seen from +y) from y = 0 to y = h:
+   walls, a top made of the triangles `cap` (ncap triangles over the polygon's points), the bottom
+   the same reversed unless open. Appends to pos / idx. */
+static void ep_extrude(float *pos, uint32_t *nv, uint32_t *idx, uint32_t *nt, const float (*poly)[2], uint32_t n, const uint32_t (*cap)[3],
+                       uint32_t ncap, float h, int open_bottom) {
+    uint32_t base = *nv, i;
+    for (i = 0; i < n; ++i) {
+        float *b = pos + 3 * (*nv + i), *t = pos + 3 * (*nv + n + i);
+        b[0] = poly[i][0]; b[1] = 0.0f; b[2] = poly[i][1];
+        t[0] = poly[i][0]; t[1] = h; t[2] = poly[i][1];
+    }
+    *nv += 2 * n;
+    for (i = 0; i < n; ++i) {
+        uint32_t j = (i + 1) % n, *q = idx + 3 * *nt;
+        q[0] = base + i; q[1] = base + j; q[2] = base + n + j;
+        q[3] = base + i; q[4] = base + n + j; q[5] = base + n + i;
+        *nt += 2;
+    }
+    for (i = 0; i < ncap; ++i) {
+        uint32_t *q = idx + 3 * *nt;
+        q[0] = base + n + cap[i][0]; q[1] = base + n + cap[i][1]; q[2] = base + n + cap[i][2];
+        ++*nt;
+        if (!open_bottom) {
+            q = idx + 3 * *nt;
+            q[0] = base + cap[i][0]; q[1] = base + cap[i][2]; q[2] = base + cap[i][1];
+            ++*nt;
+        }
+    }
+}
+
+/* Slices (§3.3) of closed and capped non-convex meshes: an L-shaped prism, the same without its
+   bottom (capped by the plane y = 0, cells above), and a square ring (a hole): every pixel a slice
+   marks is blocked from every sampled point of the cell for every sampled point of the pixel. */
+static void test_slices(void) {
+    static const float L[6][2] = {{0, 0}, {6, 0}, {6, 2}, {2, 2}, {2, 6}, {0, 6}};
+    static const uint32_t Lcap[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
+    int shape, bad = 0, marked = 0, checked = 0;
+    for (shape = 0; shape < 3; ++shape) {
+        float pos[64 * 3];
+        uint32_t idx[128 * 3], nv = 0, nt = 0, iter;
+        pvs_object_desc ob;
+        pvs_scene *s;
+        pvs__extproj_prep *p = NULL;
+        pvs_allocator al;
+        pvs_error e;
+        if (shape < 2) ep_extrude(pos, &nv, idx, &nt, L, 6, Lcap, 4, 5.0f, shape == 1);
+        else {
+            /* a ring: outer 0..8, inner 2..6, walls in and out, top and bottom */
+            static const float outer[4][2] = {{0, 0}, {8, 0}, {8, 8}, {0, 8}}, inner[4][2] = {{2, 2}, {6, 2}, {6, 6}, {2, 6}};
+            uint32_t i, o0 = 0, i0 = 8;
+            for (i = 0; i < 4; ++i) {
+                float *v = pos + 3 * i;
+                v[0] = outer[i][0]; v[1] = 0; v[2] = outer[i][1];
+                v = pos + 3 * (4 + i); v[0] = outer[i][0]; v[1] = 4; v[2] = outer[i][1];
+                v = pos + 3 * (8 + i); v[0] = inner[i][0]; v[1] = 0; v[2] = inner[i][1];
+                v = pos + 3 * (12 + i); v[0] = inner[i][0]; v[1] = 4; v[2] = inner[i][1];
+            }
+            nv = 16;
+            for (i = 0; i < 4; ++i) {
+                uint32_t j = (i + 1) % 4, *q;
+                q = idx + 3 * nt; q[0] = o0 + i; q[1] = o0 + j; q[2] = o0 + 4 + j; q[3] = o0 + i; q[4] = o0 + 4 + j; q[5] = o0 + 4 + i; nt += 2;
+                q = idx + 3 * nt; q[0] = i0 + j; q[1] = i0 + i; q[2] = i0 + 4 + i; q[3] = i0 + j; q[4] = i0 + 4 + i; q[5] = i0 + 4 + j; nt += 2;
+                q = idx + 3 * nt; q[0] = 4 + i; q[1] = 4 + j; q[2] = 12 + j; q[3] = 4 + i; q[4] = 12 + j; q[5] = 12 + i; nt += 2; /* top */
+                q = idx + 3 * nt; q[0] = i; q[1] = 8 + j; q[2] = j; q[3] = i; q[4] = 8 + i; q[5] = 8 + j; nt += 2;                /* bottom */
+            }
+        }
+        ob.first_triangle = 0;
+        ob.triangle_count = nt;
+        ob.flags = 0;
+        s = ep_scene_arrays(pos, nv, idx, nt, &ob, 1);
+        CHECK(s != NULL);
+        if (!s) continue;
+        memset(&al, 0, sizeof(al));
+        CHECK(pvs__extproj_prepare(s, &al, &p, &e) == PVS_OK);
+        CHECK(p && p->slc_count == 1 && p->slc[0].capped == (shape == 1));
+        for (iter = 0; p && p->slc_count == 1 && iter < 200; ++iter) {
+            pvs_box cell;
+            pvs_extproj_plane pl;
+            pvs__epframe f;
+            pvs__epslicer sc;
+            double segs[4 * 256], xs[2 * 256];
+            unsigned char row[64], mask[64 * 64];
+            uint32_t i, j, written;
+            int a = (int)(ep_rnd() * 2.0) * 2, side = ep_rnd() < 0.5 ? 1 : -1, k;
+            /* a cell outside the mesh's box, above the ground, on one side along axis a */
+            for (k = 0; k < 3; ++k) {
+                cell.min[k] = ep_rndf(-6.0f, 12.0f);
+                cell.max[k] = cell.min[k] + ep_rndf(0.1f, 3.0f);
+            }
+            cell.min[1] = ep_rndf(0.2f, 3.0f);
+            cell.max[1] = cell.min[1] + ep_rndf(0.1f, 2.0f);
+            if (side > 0) { cell.max[a] = ep_rndf(-8.0f, -0.5f); cell.min[a] = cell.max[a] - ep_rndf(0.1f, 3.0f); }
+            else { cell.min[a] = ep_rndf(8.5f, 16.0f); cell.max[a] = cell.min[a] + ep_rndf(0.1f, 3.0f); }
+            if (!pvs__ep_slice_ok(p->slc, &cell)) continue;
+            memset(&pl, 0, sizeof(pl));
+            pl.cell = cell;
+            pl.axis = (uint32_t)a;
+            pl.side = side;
+            {
+                /* a plane through the mesh */
+                double x = ep_rnd() * 8.0;
+                pl.distance = (float)(side > 0 ? x - cell.max[a] : cell.min[a] - x);
+            }
+            if (!(pl.distance > 0.0f)) continue;
+            pl.rect[0] = cell.min[(a + 1) % 3] - 12.0f;
+            pl.rect[1] = cell.min[(a + 2) % 3] - 12.0f;
+            pl.rect[2] = cell.max[(a + 1) % 3] + 12.0f;
+            pl.rect[3] = cell.max[(a + 2) % 3] + 12.0f;
+            pl.width = pl.height = 64;
+            if (!pvs__ep_frame(&pl, &f)) continue;
+            sc.seg = segs;
+            sc.xs = xs;
+            sc.row = row;
+            sc.cap = 256;
+            sc.width = 64;
+            memset(mask, 0, sizeof(mask));
+            written = pvs__ep_slice(s, p, p->slc, &f, &sc, NULL, mask);
+            for (j = 0; j < 64; ++j)
+                for (i = 0; i < 64; ++i) {
+                    int q;
+                    if (!mask[j * 64 + i]) continue;
+                    ++marked;
+                    for (q = 0; q < 12; ++q) {
+                        double V[3], P[3], dir[3];
+                        double pu = pl.rect[0] + ((double)i + (q < 4 ? (double)(q & 1) : ep_rnd())) * ((double)pl.rect[2] - pl.rect[0]) / 64.0;
+                        double pv = pl.rect[1] + ((double)j + (q < 4 ? (double)((q >> 1) & 1) : ep_rnd())) * ((double)pl.rect[3] - pl.rect[1]) / 64.0;
+                        for (k = 0; k < 3; ++k) V[k] = q < 8 ? ((ep_rnd() < 0.5) ? cell.min[k] : cell.max[k]) : cell.min[k] + ep_rnd() * ((double)cell.max[k] - cell.min[k]);
+                        ep_plane_point(&pl, pu, pv, P);
+                        for (k = 0; k < 3; ++k) dir[k] = P[k] - V[k];
+                        ++checked;
+                        if (!ep_ray_mesh(V, dir, pos, idx, nt)) ++bad;
+                    }
+                }
+            CHECK(written <= 64 * 64);
+        }
+        pvs__extproj_prep_destroy(p);
+        pvs_scene_destroy(s);
+    }
+    CHECK(bad == 0);
+    CHECK(marked > 500);
+    if (bad) fprintf(stderr, "extproj: %d slice samples not blocked of %d\n", bad, checked);
+}
+
+/* Sheets: a ground of tiles (one object each) is found as one convex sheet; a wall and a box
+   standing on it get extended occluders; their Projections (and the slice of the solid beyond the
+   ground) only mark pixels blocked by the wall, the box or the ground from every sampled point of
+   the cell. */
+static void test_sheets(void) {
+    float pos[200 * 3];
+    uint32_t idx[200 * 3], nv = 0, nt = 0, i, j, iter, ext = 0;
+    pvs_object_desc obs[20];
+    pvs_scene *s;
+    pvs__extproj_prep *p = NULL;
+    pvs_allocator al;
+    pvs_error e;
+    int bad = 0, marked = 0;
+    /* 4 x 4 tiles of 5 m over [-10, 10]^2 at y = 0 */
+    for (j = 0; j < 4; ++j)
+        for (i = 0; i < 4; ++i) {
+            float x0 = -10.0f + 5.0f * (float)i, z0 = -10.0f + 5.0f * (float)j;
+            uint32_t b = nv, *q = idx + 3 * nt;
+            float *v = pos + 3 * nv;
+            v[0] = x0; v[1] = 0; v[2] = z0;
+            v[3] = x0 + 5; v[4] = 0; v[5] = z0;
+            v[6] = x0 + 5; v[7] = 0; v[8] = z0 + 5;
+            v[9] = x0; v[10] = 0; v[11] = z0 + 5;
+            nv += 4;
+            q[0] = b; q[1] = b + 2; q[2] = b + 1; q[3] = b; q[4] = b + 3; q[5] = b + 2;
+            obs[j * 4 + i].first_triangle = nt;
+            obs[j * 4 + i].triangle_count = 2;
+            obs[j * 4 + i].flags = 0;
+            nt += 2;
+        }
+    {
+        /* a wall x in [2, 7] at z = 3, 4 m high, and a box [-5, -4] x [0, 2] x [4, 5] */
+        static const float wall[4][3] = {{2, 0, 3}, {7, 0, 3}, {7, 4, 3}, {2, 4, 3}};
+        uint32_t b = nv, *q = idx + 3 * nt;
+        memcpy(pos + 3 * nv, wall, sizeof(wall));
+        nv += 4;
+        q[0] = b; q[1] = b + 1; q[2] = b + 2; q[3] = b; q[4] = b + 2; q[5] = b + 3;
+        obs[16].first_triangle = nt;
+        obs[16].triangle_count = 2;
+        obs[16].flags = 0;
+        nt += 2;
+    }
+    {
+        static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                          {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+        uint32_t b = nv, k;
+        for (k = 0; k < 8; ++k) {
+            float *v = pos + 3 * (nv + k);
+            v[0] = k & 1 ? -4.0f : -5.0f;
+            v[1] = k & 4 ? 2.0f : 0.0f;
+            v[2] = k & 2 ? 5.0f : 4.0f;
+        }
+        nv += 8;
+        for (k = 0; k < 12; ++k) {
+            idx[3 * nt] = b + f[k][0];
+            idx[3 * nt + 1] = b + f[k][1];
+            idx[3 * nt + 2] = b + f[k][2];
+            ++nt;
+        }
+        obs[17].first_triangle = nt - 12;
+        obs[17].triangle_count = 12;
+        obs[17].flags = 0;
+    }
+    s = ep_scene_arrays(pos, nv, idx, nt, obs, 18);
+    CHECK(s != NULL);
+    if (!s) return;
+    memset(&al, 0, sizeof(al));
+    CHECK(pvs__extproj_prepare(s, &al, &p, &e) == PVS_OK);
+    if (!p) { pvs_scene_destroy(s); return; }
+    for (i = 0, j = 0; i < p->sheet_count; ++i) j += p->sheet[i].axis == 1 && p->sheet[i].value == 0.0f && fabs(p->sheet[i].area - 400.0) < 1e-6;
+    CHECK(j == 1); /* the ground (the box's faces are small sheets too) */
+    for (i = 0; i < p->occ_count; ++i) ext += p->occ[i].xcount > 0;
+    CHECK(ext == 2);
+    for (iter = 0; iter < 300; ++iter) {
+        pvs_box cell;
+        pvs_extproj_plane pl;
+        pvs__epframe f;
+        unsigned char mask[48 * 48];
+        int sides[PVS__EP_MAX_SHEETS], a = (int)(ep_rnd() * 2.0) * 2, side = ep_rnd() < 0.5 ? 1 : -1, k;
+        uint32_t o, px, py;
+        for (k = 0; k < 3; ++k) {
+            cell.min[k] = ep_rndf(-9.0f, 7.0f);
+            cell.max[k] = cell.min[k] + ep_rndf(0.1f, 2.0f);
+        }
+        cell.min[1] = ep_rndf(0.05f, 2.0f);
+        cell.max[1] = cell.min[1] + ep_rndf(0.1f, 2.0f);
+        pvs__ep_sheet_sides(p, &cell, sides);
+        memset(&pl, 0, sizeof(pl));
+        pl.cell = cell;
+        pl.axis = (uint32_t)a;
+        pl.side = side;
+        pl.distance = ep_rndf(0.5f, 15.0f);
+        pl.rect[0] = cell.min[(a + 1) % 3] - 15.0f;
+        pl.rect[1] = cell.min[(a + 2) % 3] - 15.0f;
+        pl.rect[2] = cell.max[(a + 1) % 3] + 15.0f;
+        pl.rect[3] = cell.max[(a + 2) % 3] + 15.0f;
+        pl.width = pl.height = 48;
+        if (!pvs__ep_frame(&pl, &f)) continue;
+        memset(mask, 0, sizeof(mask));
+        for (o = 0; o < p->occ_count; ++o) {
+            uint32_t cnt;
+            const float *pts = pvs__ep_points(p, p->occ + o, &cell, sides, a, &cnt);
+            if (pts) pvs__ep_occluder(&f, &cell, pts, cnt, p->occ[o].solid, p->occ[o].slack, 0, NULL, mask);
+        }
+        for (o = 0; o < p->sheet_count; ++o)
+            if (sides[o]) pvs__ep_sheet_slice(p, p->sheet + o, sides[o], &f, NULL, mask);
+        for (py = 0; py < 48; ++py)
+            for (px = 0; px < 48; ++px) {
+                int q;
+                if (!mask[py * 48 + px]) continue;
+                ++marked;
+                for (q = 0; q < 10; ++q) {
+                    double V[3], P[3], dir[3];
+                    double pu = pl.rect[0] + ((double)px + (q < 4 ? (double)(q & 1) : ep_rnd())) * ((double)pl.rect[2] - pl.rect[0]) / 48.0;
+                    double pv = pl.rect[1] + ((double)py + (q < 4 ? (double)((q >> 1) & 1) : ep_rnd())) * ((double)pl.rect[3] - pl.rect[1]) / 48.0;
+                    for (k = 0; k < 3; ++k) V[k] = q < 6 ? ((ep_rnd() < 0.5) ? cell.min[k] : cell.max[k]) : cell.min[k] + ep_rnd() * ((double)cell.max[k] - cell.min[k]);
+                    ep_plane_point(&pl, pu, pv, P);
+                    for (k = 0; k < 3; ++k) dir[k] = P[k] - V[k];
+                    /* the Depth of a pixel is no nearer than the plane for the slices and the
+                       Projections in front of it; those behind the plane are checked to their
+                       far end: extend the ray past the plane */
+                    for (k = 0; k < 3; ++k) dir[k] *= 40.0;
+                    if (!ep_ray_mesh(V, dir, pos, idx, nt)) ++bad;
+                }
+            }
+    }
+    CHECK(bad == 0);
+    CHECK(marked > 1000);
+    if (bad) fprintf(stderr, "extproj: %d sheet samples not blocked\n", bad);
+    pvs__extproj_prep_destroy(p);
+    pvs_scene_destroy(s);
+}
+
+/* The reprojection of the sweep (§5.1): a pixel it blocks on the farther plane is crossed on the
+   nearer plane, by every sampled ray from the cell through it, inside a blocked pixel. */
+static void test_reprojection(void) {
+    int iter, bad = 0, marked = 0;
+    for (iter = 0; iter < 200; ++iter) {
+        pvs_box cell;
+        pvs__epmask from, to;
+        unsigned char m0[64 * 64], m1[64 * 64];
+        uint32_t sat[65 * 65], x, y, r;
+        int32_t ranges[4 * 64];
+        int a = (int)(ep_rnd() * 3.0) % 3, side = ep_rnd() < 0.5 ? 1 : -1, k;
+        double W0 = ep_rndf(0.5f, 10.0f), W1 = W0 * ep_rndf(1.05f, 2.0f);
+        for (k = 0; k < 3; ++k) {
+            cell.min[k] = ep_rndf(-2.0f, 2.0f);
+            cell.max[k] = cell.min[k] + ep_rndf(0.0f, 3.0f);
+        }
+        memset(&from, 0, sizeof(from));
+        memset(&to, 0, sizeof(to));
+        pvs__ep_make_plane(&cell, 2 * a + (side > 0 ? 0 : 1), W0, 64, &from.plane);
+        pvs__ep_make_plane(&cell, 2 * a + (side > 0 ? 0 : 1), W1, 64, &to.plane);
+        if (!pvs__ep_frame(&from.plane, &from.frame) || !pvs__ep_frame(&to.plane, &to.frame)) continue;
+        from.lv[0] = m0;
+        to.lv[0] = m1;
+        /* blocked blobs: a few random rectangles */
+        memset(m0, 0, sizeof(m0));
+        memset(m1, 0, sizeof(m1));
+        for (r = 0; r < 4; ++r) {
+            uint32_t x0 = (uint32_t)(ep_rnd() * 64), y0 = (uint32_t)(ep_rnd() * 64), w = 4 + (uint32_t)(ep_rnd() * 40), h = 4 + (uint32_t)(ep_rnd() * 40);
+            for (y = y0; y < y0 + h && y < 64; ++y)
+                for (x = x0; x < x0 + w && x < 64; ++x) m0[y * 64 + x] = 1;
+        }
+        pvs__ep_reproject(&from, &to, sat, ranges);
+        for (y = 0; y < 64; ++y)
+            for (x = 0; x < 64; ++x) {
+                int q;
+                if (!m1[y * 64 + x]) continue;
+                ++marked;
+                for (q = 0; q < 12; ++q) {
+                    double V[3], P[3], X[3], t, fx, fy;
+                    double pu = to.plane.rect[0] + ((double)x + (q < 4 ? (double)(q & 1) : ep_rnd())) * ((double)to.plane.rect[2] - to.plane.rect[0]) / 64.0;
+                    double pv = to.plane.rect[1] + ((double)y + (q < 4 ? (double)((q >> 1) & 1) : ep_rnd())) * ((double)to.plane.rect[3] - to.plane.rect[1]) / 64.0;
+                    int ix, iy, hit = 0, cx[2], cy[2], nx = 1, ny = 1, u2, v2;
+                    for (k = 0; k < 3; ++k) V[k] = q < 8 ? ((ep_rnd() < 0.5) ? cell.min[k] : cell.max[k]) : cell.min[k] + ep_rnd() * ((double)cell.max[k] - cell.min[k]);
+                    ep_plane_point(&to.plane, pu, pv, P);
+                    ep_plane_point(&from.plane, 0.0, 0.0, X);
+                    t = (X[a] - V[a]) / (P[a] - V[a]);
+                    for (k = 0; k < 3; ++k) X[k] = V[k] + (P[k] - V[k]) * t;
+                    fx = (X[(a + 1) % 3] - from.plane.rect[0]) * 64.0 / ((double)from.plane.rect[2] - from.plane.rect[0]);
+                    fy = (X[(a + 2) % 3] - from.plane.rect[1]) * 64.0 / ((double)from.plane.rect[3] - from.plane.rect[1]);
+                    ix = (int)floor(fx);
+                    iy = (int)floor(fy);
+                    /* a point on a pixel edge belongs to the pixels on both sides */
+                    cx[0] = ix;
+                    cy[0] = iy;
+                    if (fx == (double)ix) cx[nx++] = ix - 1;
+                    if (fy == (double)iy) cy[ny++] = iy - 1;
+                    for (u2 = 0; u2 < nx; ++u2)
+                        for (v2 = 0; v2 < ny; ++v2)
+                            if (cx[u2] >= 0 && cy[v2] >= 0 && cx[u2] < 64 && cy[v2] < 64 && m0[cy[v2] * 64 + cx[u2]]) hit = 1;
+                    if (!hit) ++bad;
+                }
+            }
+    }
+    CHECK(bad == 0);
+    CHECK(marked > 1000);
+    if (bad) fprintf(stderr, "extproj: %d reprojection samples not blocked\n", bad);
+}
+
 /* A mesh as a scene (every object drawable). */
 static pvs_scene *ep_scene(const mesh *m) {
     pvs_scene_desc d;
@@ -231,7 +671,7 @@ static pvs_scene *ep_scene(const mesh *m) {
 }
 
 /* Bake a generated scene with EXTPROJ and compare every cell with ray sampling: no misses. */
-static void ep_check_scene(gen_kind kind, uint64_t seed, float size, uint32_t max_cells, uint32_t points, uint32_t rays) {
+static void ep_check_scene(gen_kind kind, uint64_t seed, float size, uint32_t max_cells, uint32_t points, uint32_t rays, uint32_t sweep) {
     gen_params gp;
     mesh m;
     mesh_cells cells;
@@ -259,6 +699,7 @@ static void ep_check_scene(gen_kind kind, uint64_t seed, float size, uint32_t ma
     bd.cells = (const pvs_box *)cells.boxes;
     bd.cell_count = cells.count;
     bd.method = PVS_METHOD_EXTPROJ;
+    bd.extproj_sweep = sweep;
     CHECK(pvs_bake_begin(&bd, &bake, &e) == PVS_OK);
     seen = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
     for (t = 0; t < pvs_bake_task_count(bake); ++t) {
@@ -294,7 +735,7 @@ static void ep_check_scene(gen_kind kind, uint64_t seed, float size, uint32_t ma
         pvs_bake_destroy(b2);
     }
     if (kind == GEN_CITY || kind == GEN_WALLS || kind == GEN_INDOOR) CHECK(pvs_sum < 0.9 * objects * pvs_bake_task_count(bake)); /* culls */
-    fprintf(stderr, "  extproj %-6s %3u cells: mean PVS %.1f, sampled %.1f, of %u objects\n", gen_kind_name(kind), pvs_bake_task_count(bake),
+    fprintf(stderr, "  extproj %-6s%s %3u cells: mean PVS %.1f, sampled %.1f, of %u objects\n", gen_kind_name(kind), sweep ? " sweep" : "", pvs_bake_task_count(bake),
             pvs_sum / pvs_bake_task_count(bake), seen_sum / pvs_bake_task_count(bake), objects);
     free(seen);
     pvs_bake_destroy(bake);
@@ -344,10 +785,18 @@ static void test_thin_wall(void) {
 void test_extproj(void) {
     test_occluder_projection();
     test_occludee_projection();
+    test_improved_projection();
+    test_slices();
+    test_sheets();
+    test_reprojection();
     test_thin_wall();
-    ep_check_scene(GEN_CITY, 1, 0.3f, 24, 16, 1024);
-    ep_check_scene(GEN_WALLS, 2, 0.4f, 30, 16, 1024);
-    ep_check_scene(GEN_INDOOR, 1, 0.3f, 30, 16, 1024);
-    ep_check_scene(GEN_FOREST, 1, 0.25f, 20, 16, 1024);
-    ep_check_scene(GEN_SOUP, 3, 0.3f, 20, 16, 1024);
+    ep_check_scene(GEN_CITY, 1, 0.3f, 24, 16, 1024, 0);
+    ep_check_scene(GEN_CITY, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
+    ep_check_scene(GEN_WALLS, 2, 0.4f, 30, 16, 1024, 0);
+    ep_check_scene(GEN_WALLS, 3, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
+    ep_check_scene(GEN_INDOOR, 1, 0.3f, 30, 16, 1024, 0);
+    ep_check_scene(GEN_INDOOR, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
+    ep_check_scene(GEN_FOREST, 1, 0.25f, 20, 16, 1024, 0);
+    ep_check_scene(GEN_FOREST, 2, 0.25f, 10, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
+    ep_check_scene(GEN_SOUP, 3, 0.3f, 20, 16, 1024, 0);
 }

@@ -21,6 +21,9 @@ static const char *usage =
     "  --voxel V         shrink: voxel size of the occluder synthesis (default eps / 1.5, capped)\n"
     "  --sweep           extproj: add the occlusion sweep (Durand 2000 §5) for scenes of many small\n"
     "                    occluders (foliage); slower\n"
+    "  --adaptive N      split a cell whose PVS holds more than N triangles in two, recursively\n"
+    "                    (Durand 2000 §6.1); the file holds the leaf cells. Not with --shard\n"
+    "  --min-cell S      --adaptive: no cell side below S (default: an eighth of the cell's longest)\n"
     "  --points N        sample method: points per cell (default 32)\n"
     "  --rays N          sample method: rays per point (default 2048)\n"
     "  --seed N          sample method: random seed (default 1)\n"
@@ -93,7 +96,8 @@ int main(int argc, char **argv) {
     const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL;
     float grid = 0.0f, eps = 0.0f, voxel = 0.0f;
     pvs_shrink_mode shrink_mode = PVS_SHRINK_AUTO;
-    uint32_t sweep = 0;
+    uint32_t sweep = 0, adaptive = 0;
+    float min_cell = 0.0f;
     uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0;
     int quiet = 0, i;
     pvs_method method = PVS_METHOD_SAMPLE;
@@ -126,7 +130,8 @@ int main(int argc, char **argv) {
             sweep = PVS_EXTPROJ_SWEEP_PLANES;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--cells") || !strcmp(a, "--grid") || !strcmp(a, "--up") ||
                    !strcmp(a, "--method") || !strcmp(a, "--eps") || !strcmp(a, "-j") || !strcmp(a, "--points") ||
-                   !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard") || !strcmp(a, "--voxel")) {
+                   !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard") || !strcmp(a, "--voxel") ||
+                   !strcmp(a, "--adaptive") || !strcmp(a, "--min-cell")) {
             if (!v) return usage_error("%s needs a value", a);
             ++i;
             if (!strcmp(a, "-o")) out_path = v;
@@ -141,6 +146,10 @@ int main(int argc, char **argv) {
                 else if (!strcmp(v, "otree")) method = PVS_METHOD_OTREE;
                 else if (!strcmp(v, "extproj")) method = PVS_METHOD_EXTPROJ;
                 else return usage_error("unknown method '%s' (available: sample, shrink, otree, extproj)", v);
+            } else if (!strcmp(a, "--adaptive")) {
+                if (cli_parse_u32(v, 1, 0xffffffffu, &adaptive)) return usage_error("--adaptive takes a triangle budget >= 1, not '%s'", v);
+            } else if (!strcmp(a, "--min-cell")) {
+                if (parse_float(v, &min_cell) || !(min_cell > 0.0f)) return usage_error("--min-cell needs a positive size, not '%s'", v);
             } else if (!strcmp(a, "--voxel")) {
                 if (parse_float(v, &voxel) || !(voxel > 0.0f)) return usage_error("--voxel needs a positive size, not '%s'", v);
             } else if (!strcmp(a, "--eps")) {
@@ -188,6 +197,8 @@ int main(int argc, char **argv) {
     bd.max_chain = chain;
     bd.shrink_mode = shrink_mode;
     bd.extproj_sweep = sweep;
+    bd.adaptive_budget = adaptive;
+    bd.adaptive_min_size = min_cell;
     bd.voxel_size = voxel;
     if (shard_n > 1) {
         if (shard_n > cells.count) {
@@ -231,6 +242,9 @@ int main(int argc, char **argv) {
                 pvs_method_name(pvs_bake_method(bake)),
                 pvs_bake_method(bake) == PVS_METHOD_SAMPLE ? " (approximate: ray sampling, not conservative)" : " (conservative)",
                 sum / tasks, 100.0 * sum / tasks / objects, 1000.0 * t_bake / tasks, cli_seconds() - t0, size, (double)size / tasks);
+        if (adaptive)
+            fprintf(stderr, "  adaptive: %u leaf cells in the file (budget %u triangles; the mean PVS above is of the whole cells)\n",
+                    pvs_bake_leaf_count(bake), adaptive);
     }
     rc = 0;
     goto done;
