@@ -6020,6 +6020,16 @@ PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
     return k - 1; /* the last point repeats the first */
 }
 
+/* ceil and floor of x in (-2^31, 2^31) by conversion (the callers clamp to the raster first). */
+PVS__STATIC double pvs__ceil_small(double x) {
+    double t = (double)(int32_t)x;
+    return t < x ? t + 1.0 : t;
+}
+PVS__STATIC double pvs__floor_small(double x) {
+    double t = (double)(int32_t)x;
+    return t > x ? t - 1.0 : t;
+}
+
 /* The Projection of the part of a convex occluder inside the depth slab [lo, hi]: the views are
    convex hulls of the projected vertices of the clipped part. The clipped part's vertices are among
    the points inside the slab and the ends of the clipped segments between any two points. */
@@ -6110,6 +6120,26 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
     j1 = pvs__clampi(floor(yhi) - 1.0, -1, (int32_t)f.height - 1);
     if (i0 > i1 || j0 > j1) return 0;
     depth = pvs__f_up(dmax + 1e-12 * dmax);
+    {
+        /* edges that hold for every candidate pixel square ([i0, i1 + 1] x [j0, j1 + 1], where the
+           linear edge function is least at a corner) by more than the row loop's margins cannot
+           cut a row: drop them (most edges of the eight views lie outside their intersection) */
+        int e, m = 0;
+        double x0 = i0, x1 = (double)i1 + 1.0, y0 = j0, y1 = (double)j1 + 1.0;
+        for (e = 0; e < edges; ++e) {
+            double a = ea[e], b = eb[e], cc = ec[e];
+            double least = cc + pvs__dmin(a * x0, a * x1) + pvs__dmin(b * y0, b * y1);
+            double errmax = 1e-6 + ee[e] + 1e-12 * (pvs__dabs(cc) + pvs__dabs(b) * y1);
+            double room = 1e-6 + 1e-8 * (pvs__dabs(cc) + pvs__dabs(b) * y1 + pvs__dabs(a) * x1);
+            if (least - errmax > room) continue;
+            ea[m] = a;
+            eb[m] = b;
+            ec[m] = cc;
+            ee[m] = 1e-6 + ee[e] + 1e-12 * pvs__dabs(cc); /* the row loop's margin, less its row part */
+            ++m;
+        }
+        edges = m;
+    }
     for (row = j0; row <= j1; ++row) {
         double lo = i0, hi = i1, y = row;
         int e;
@@ -6117,14 +6147,15 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
             double a = ea[e], b = eb[e];
             /* the pixel's worst corner: a (i + [a < 0]) + b (y + [b < 0]) + c >= err */
             double r = ec[e] + b * y + (b < 0.0 ? b : 0.0) + (a < 0.0 ? a : 0.0);
-            double err = 1e-6 + ee[e] + 1e-12 * (pvs__dabs(ec[e]) + pvs__dabs(b * y));
-            r -= err;
+            r -= ee[e] + 1e-12 * pvs__dabs(b * y);
             if (a > 1e-12) {
                 double x = -r / a;
-                lo = pvs__dmax(lo, ceil(x + 1e-9 * (1.0 + pvs__dabs(x))));
+                x += 1e-9 * (1.0 + pvs__dabs(x));
+                if (x > lo) lo = x > hi ? hi + 1.0 : pvs__ceil_small(x);
             } else if (a < -1e-12) {
                 double x = r / -a;
-                hi = pvs__dmin(hi, floor(x - 1e-9 * (1.0 + pvs__dabs(x))));
+                x -= 1e-9 * (1.0 + pvs__dabs(x));
+                if (x < hi) hi = x < lo ? lo - 1.0 : pvs__floor_small(x);
             } else {
                 /* nearly horizontal: test the worst of the row's two ends */
                 double worst = r + pvs__dmin(a * lo, a * hi) - pvs__dabs(a);
@@ -6144,6 +6175,44 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
         }
     }
     return written;
+}
+
+/* 0 when the part of the occluder (points P in frame coordinates) in the depth slab [wlo, whi]
+   certainly covers no pixel of the map: the Projection of its bounding box, axis by axis, holds no
+   whole pixel inside the map (the Projection of a subset lies in the Projection of the set). A cheap
+   test before the exact one; 1 means "maybe". */
+PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3], int count, double wlo, double whi) {
+    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    int i, k;
+    for (i = 0; i < count; ++i)
+        for (k = 0; k < 3; ++k) {
+            lo[k] = pvs__dmin(lo[k], P[i][k]);
+            hi[k] = pvs__dmax(hi[k], P[i][k]);
+        }
+    lo[2] = pvs__dmax(lo[2], wlo);
+    hi[2] = pvs__dmin(hi[2], whi);
+    if (!(hi[2] >= lo[2])) return 0;
+    for (k = 0; k < 2; ++k) {
+        const double *ck = k ? f->cv : f->cu;
+        double k0 = k ? f->v0 : f->u0, sk = k ? f->sv : f->su, a = -DBL_MAX, b = DBL_MAX, size = k ? (double)f->height : (double)f->width;
+        int c, e;
+        for (c = 0; c < 4; ++c) {
+            double Vk = ck[c & 1], Vw = f->cw[c >> 1], mn = DBL_MAX, mx = -DBL_MAX;
+            for (e = 0; e < 4; ++e) {
+                double x = Vk + ((e & 1 ? hi[k] : lo[k]) - Vk) * (f->W - Vw) / ((e & 2 ? hi[2] : lo[2]) - Vw);
+                mn = pvs__dmin(mn, x);
+                mx = pvs__dmax(mx, x);
+            }
+            a = pvs__dmax(a, mn);
+            b = pvs__dmin(b, mx);
+        }
+        a = (a - k0) * sk;
+        b = (b - k0) * sk;
+        /* a margin far above the rounding of these few operations */
+        if (b - a < 1.0 - 1e-6 * (1.0 + pvs__dabs(a) + pvs__dabs(b)) || b < -1e-6 * (1.0 + pvs__dabs(b)) || a > size + 1e-6 * (1.0 + pvs__dabs(a)))
+            return 0;
+    }
+    return 1;
 }
 
 /* pvs_extproj_occluder with a prepared frame and finite points: `solid` tells a convex solid from a
@@ -6173,8 +6242,11 @@ PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cel
        through the part behind it) is convex, so the corners decide for the whole cell; for a part
        straddling the plane it would not be */
     margin = 1e-4 * (f.W - f.cw[0]);
-    written = pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, margin, f.W, slack, map, mask);
-    if (wmax > f.W && !front_only) written += pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX, slack, map, mask);
+    written = 0;
+    if (pvs__ep_box_may_cover(&f, (const double(*)[3])P, (int)count, margin, f.W))
+        written = pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, margin, f.W, slack, map, mask);
+    if (wmax > f.W && !front_only && pvs__ep_box_may_cover(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX))
+        written += pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX, slack, map, mask);
     return written;
 }
 
@@ -6304,6 +6376,7 @@ typedef struct pvs__epocc {
     float cap_value;         /*   cap_side * (x[cap_axis] - cap_value) > 0 */
     float slack;             /* how far the true shape may lie inside the hull of the points */
     uint32_t object;         /* the object the triangles belong to, PVS_NO_OBJECT for none */
+    float area;              /* a bound on the area it shows from any point: solid angle <= area / distance^2 */
 } pvs__epocc;
 
 /* A sheet: coplanar triangles (of any objects) in an axis-aligned plane x[axis] = value whose union
@@ -6378,6 +6451,24 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
     o->cap_value = 0.0f;
     o->slack = pvs__f_up(slack);
     o->object = PVS_NO_OBJECT;
+    {
+        /* a polygon: its area (at most its bounding box's largest face); a solid: three faces of its box */
+        double ex = (double)o->box.max[0] - o->box.min[0], ey = (double)o->box.max[1] - o->box.min[1], ez = (double)o->box.max[2] - o->box.min[2];
+        double f = solid ? ex * ey + ey * ez + ez * ex : pvs__dmax(pvs__dmax(ex * ey, ey * ez), ez * ex) * 1.0000001;
+        if (!solid) { /* the polygon's own area, by its fan */
+            double a3[3] = {0.0, 0.0, 0.0};
+            int k;
+            for (i = 1; i + 1 < n; ++i) {
+                double e1[3], e2[3];
+                for (k = 0; k < 3; ++k) { e1[k] = (double)pts[i][k] - pts[0][k]; e2[k] = (double)pts[i + 1][k] - pts[0][k]; }
+                a3[0] += e1[1] * e2[2] - e1[2] * e2[1];
+                a3[1] += e1[2] * e2[0] - e1[0] * e2[2];
+                a3[2] += e1[0] * e2[1] - e1[1] * e2[0];
+            }
+            f = pvs__dmin(f, 0.5 * sqrt(a3[0] * a3[0] + a3[1] * a3[1] + a3[2] * a3[2]) * 1.000001 + 1e-30);
+        }
+        o->area = pvs__f_up(f);
+    }
     for (i = 0; i < n; ++i) {
         memcpy(p->pts + 3 * p->pt_count, pts[i], 3 * sizeof(float));
         pvs__box_add_point(&o->box, pts[i]);
@@ -7799,6 +7890,23 @@ PVS__STATIC void pvs__ep_select(const pvs_scene *s, const pvs__extproj_prep *p, 
         if (candidates && o->object != PVS_NO_OBJECT && !(s->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
             !pvs_bitset_test(candidates, o->object))
             continue; /* §6.1: hidden from the parent cell, so redundant (and leaving it out is safe) */
+        {
+            /* a cheap bound first: solid angle <= area / distance^2 (every point of it lies at
+               least that far from the centre); skip it when it could not enter any heap */
+            double d2 = 0.0, bound;
+            int need = 0;
+            for (d = 0; d < 3; ++d) {
+                double g = centre[d] < o->box.min[d] ? o->box.min[d] - centre[d] : centre[d] > o->box.max[d] ? centre[d] - o->box.max[d] : 0.0;
+                d2 += g * g;
+            }
+            bound = d2 > 0.0 ? (double)o->area / d2 : 1e30;
+            for (d = 0; d < 6 && !need; ++d) {
+                double w0, w1;
+                pvs__ep_box_w(cell, &o->box, (int)d, &w0, &w1);
+                need = w1 > 0.0 && (nsel[d] < n || bound * 1.000001 > (double)sel[(size_t)d * n].score);
+            }
+            if (!need) continue;
+        }
         for (d = 0; d < 6; ++d) {
             double w0, w1;
             pvs__epsel *h = sel + (size_t)d * n;
