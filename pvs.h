@@ -6385,6 +6385,7 @@ typedef struct pvs__epocc {
    over the polygon, is solid: a segment from the cell to a point there crosses the plane inside the
    polygon (both ends lie over the convex polygon), so it hits a triangle of the sheet. */
 #define PVS__EP_MAX_SHEETS 16
+#define PVS__EP_AREA_CLASSES 8
 typedef struct pvs__epsheet {
     int axis;
     float value;
@@ -6420,6 +6421,12 @@ typedef struct pvs__extproj_prep {
     uint32_t max_slice_segments; /* the most triangles plus boundary edges of one sliced component */
     pvs__epsheet sheet[PVS__EP_MAX_SHEETS];
     uint32_t sheet_count;
+    /* the occluders by size class (area bound < 4^c square units), a kD-tree over each class's
+       boxes for the selection, which prunes a node by the class's largest area */
+    pvs_kdtree *occ_tree[PVS__EP_AREA_CLASSES];
+    uint32_t *class_occ[PVS__EP_AREA_CLASSES]; /* tree item -> occluder */
+    uint32_t class_count[PVS__EP_AREA_CLASSES];
+    float class_area[PVS__EP_AREA_CLASSES];
     float *spoly;            /* sheet polygons: 2 floats per vertex */
     size_t spoly_count, spoly_capacity;
 } pvs__extproj_prep;
@@ -6434,6 +6441,13 @@ PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
     pvs__free_array(&a, p->stri, p->stri_capacity, sizeof(uint32_t));
     pvs__free_array(&a, p->bedge, p->bedge_capacity * 6, sizeof(float));
     pvs__free_array(&a, p->spoly, p->spoly_capacity * 2, sizeof(float));
+    {
+        int c;
+        for (c = 0; c < PVS__EP_AREA_CLASSES; ++c) {
+            pvs_kdtree_destroy(p->occ_tree[c]);
+            pvs__free_array(&a, p->class_occ[c], (size_t)p->class_count[c] + 1, sizeof(uint32_t));
+        }
+    }
     pvs__free(&a, p, sizeof(*p), 16);
 }
 
@@ -7131,6 +7145,17 @@ done:
     return r;
 }
 
+/* The size class of an occluder: area bound < 4^c square units (the last class open-ended). */
+PVS__STATIC int pvs__ep_area_class(float area) {
+    int c = 0;
+    float lim = 1.0f;
+    while (c + 1 < PVS__EP_AREA_CLASSES && !(area < lim)) {
+        ++c;
+        lim *= 4.0f;
+    }
+    return c;
+}
+
 /* Builds the occluder list of a scene (§6.1 picks among it per cell). */
 PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out, pvs_error *err) {
     pvs__extproj_prep *p;
@@ -7215,6 +7240,41 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
     if (r != PVS_OK) {
         pvs__extproj_prep_destroy(p);
         return pvs__fail(err, r, -1, 0, "extproj: sheets");
+    }
+    {
+        /* size classes: area bound < 1, 4, 16, ..., the last open-ended */
+        pvs_kdtree_desc kd;
+        pvs_box *boxes = (pvs_box *)pvs__alloc_array(a, p->occ_count + 1, sizeof(pvs_box));
+        size_t q;
+        int c;
+        if (!boxes) {
+            pvs__extproj_prep_destroy(p);
+            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj: occluder trees");
+        }
+        for (q = 0; q < p->occ_count; ++q) ++p->class_count[pvs__ep_area_class(p->occ[q].area)];
+        for (c = 0; c < PVS__EP_AREA_CLASSES; ++c) {
+            uint32_t m = 0;
+            p->class_occ[c] = (uint32_t *)pvs__alloc_array(a, (size_t)p->class_count[c] + 1, sizeof(uint32_t));
+            if (!p->class_occ[c]) r = PVS_ERROR_OUT_OF_MEMORY;
+            for (q = 0; q < p->occ_count && r == PVS_OK; ++q)
+                if (pvs__ep_area_class(p->occ[q].area) == c) {
+                    p->class_occ[c][m] = (uint32_t)q;
+                    boxes[m++] = p->occ[q].box;
+                    if (p->occ[q].area > p->class_area[c]) p->class_area[c] = p->occ[q].area;
+                }
+            if (r != PVS_OK) break;
+            memset(&kd, 0, sizeof(kd));
+            kd.boxes = boxes;
+            kd.count = m;
+            kd.allocator = *a;
+            r = pvs_kdtree_create(&kd, &p->occ_tree[c], err);
+            if (r != PVS_OK) break;
+        }
+        pvs__free_array(a, boxes, p->occ_count + 1, sizeof(pvs_box));
+        if (r != PVS_OK) {
+            pvs__extproj_prep_destroy(p);
+            return pvs__fail(err, r, -1, 0, "extproj: occluder trees");
+        }
     }
     *out = p;
     return PVS_OK;
@@ -7818,7 +7878,8 @@ typedef struct pvs__epscratch {
     pvs__epmask *mask_hdr;
     pvs__epslicer slicer;
     void *sweep;
-    size_t nsel, map_floats, mask_bytes, sweep_size, nmask;
+    pvs_word *seen;
+    size_t nsel, map_floats, mask_bytes, sweep_size, nmask, seen_words;
 } pvs__epscratch;
 
 PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w, uint32_t res) {
@@ -7832,6 +7893,7 @@ PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w
     pvs__free_array(al, w->slicer.xs, 2 * w->slicer.cap, sizeof(double));
     pvs__free_array(al, w->slicer.row, res, 1);
     pvs__free(al, w->sweep, w->sweep_size, 16);
+    pvs__free_array(al, w->seen, w->seen_words, sizeof(pvs_word));
 }
 
 /* Solid angle of triangle (a, b, c) seen from e (Van Oosterom and Strackee 1983). */
@@ -7873,81 +7935,133 @@ PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__ep
     return sum;
 }
 
-/* Selection by solid angle (§6.1): per direction the n best occluders reaching beyond the face (a
-   min-heap on the score, then sorted best first; ties by index: deterministic). The score is the
-   solid angle the occluder subtends from the cell's centre. */
-PVS__STATIC void pvs__ep_select(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs_word *candidates, pvs__epsel *sel,
-                                uint32_t n, uint32_t *nsel) {
+/* Selection by solid angle (§6.1): per direction the n best occluders reaching beyond the face, by
+   (score, lower index) - a total order, so the set does not depend on the order they are seen in;
+   the score is the solid angle the occluder subtends from the cell's centre. The occluders come
+   front to back from a kD-tree over their boxes; a node is skipped when no occluder in it could
+   enter a heap (solid angle <= largest area / distance^2), an occluder when its own bound says so. */
+typedef struct pvs__epselect {
+    const pvs_scene *scene;
+    const pvs__extproj_prep *p;
+    const pvs_box *cell;
+    const pvs_word *candidates;
+    pvs__epsel *sel;
+    uint32_t n, *nsel;
     double centre[3];
-    uint32_t i, d;
-    for (i = 0; i < 3; ++i) centre[i] = 0.5 * ((double)cell->min[i] + cell->max[i]);
-    for (d = 0; d < 6; ++d) nsel[d] = 0;
-    for (i = 0; i < p->occ_count; ++i) {
-        const pvs__epocc *o = p->occ + i;
-        float score = -1.0f;
-        if ((o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) || (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)))
-            continue; /* a capped solid this cell cannot use */
-        if (candidates && o->object != PVS_NO_OBJECT && !(s->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
-            !pvs_bitset_test(candidates, o->object))
-            continue; /* §6.1: hidden from the parent cell, so redundant (and leaving it out is safe) */
-        {
-            /* a cheap bound first: solid angle <= area / distance^2 (every point of it lies at
-               least that far from the centre); skip it when it could not enter any heap */
-            double d2 = 0.0, bound;
-            int need = 0;
-            for (d = 0; d < 3; ++d) {
-                double g = centre[d] < o->box.min[d] ? o->box.min[d] - centre[d] : centre[d] > o->box.max[d] ? centre[d] - o->box.max[d] : 0.0;
-                d2 += g * g;
-            }
-            bound = d2 > 0.0 ? (double)o->area / d2 : 1e30;
-            for (d = 0; d < 6 && !need; ++d) {
-                double w0, w1;
-                pvs__ep_box_w(cell, &o->box, (int)d, &w0, &w1);
-                need = w1 > 0.0 && (nsel[d] < n || bound * 1.000001 > (double)sel[(size_t)d * n].score);
-            }
-            if (!need) continue;
+    pvs_word *seen;          /* occluders met in an earlier leaf */
+    int cls;                 /* the size class being swept */
+} pvs__epselect;
+
+/* 1 if (score, occ) ranks before the heap entry h. */
+PVS__STATIC int pvs__ep_sel_better(float score, uint32_t occ, const pvs__epsel *h) {
+    return score > h->score || (score == h->score && occ < h->occ);
+}
+
+PVS__STATIC void pvs__ep_sel_push(pvs__epsel *h, uint32_t n, uint32_t *count, float score, uint32_t occ) {
+    uint32_t k, ch;
+    if (*count == n) {
+        if (!pvs__ep_sel_better(score, occ, h)) return;
+        k = 0; /* replace the root (the worst), sift down */
+        for (;;) {
+            ch = 2 * k + 1;
+            if (ch >= n) break;
+            if (ch + 1 < n && pvs__ep_sel_better(h[ch].score, h[ch].occ, h + ch + 1)) ++ch; /* the worse child */
+            if (!pvs__ep_sel_better(score, occ, h + ch)) break;
+            h[k] = h[ch];
+            k = ch;
         }
-        for (d = 0; d < 6; ++d) {
-            double w0, w1;
-            pvs__epsel *h = sel + (size_t)d * n;
-            uint32_t k, ch;
-            pvs__ep_box_w(cell, &o->box, (int)d, &w0, &w1);
-            if (!(w1 > 0.0)) continue;
-            if (score < 0.0f) {
-                score = (float)pvs__ep_solid_angle(p, o, centre);
-                if (!(score > 0.0f)) break;
-            }
-            if (nsel[d] == n) {
-                if (!(score > h[0].score)) continue;
-                k = 0; /* replace the root, sift down */
-                for (;;) {
-                    ch = 2 * k + 1;
-                    if (ch >= n) break;
-                    if (ch + 1 < n && (h[ch + 1].score < h[ch].score || (h[ch + 1].score == h[ch].score && h[ch + 1].occ > h[ch].occ))) ++ch;
-                    if (!(h[ch].score < score)) break;
-                    h[k] = h[ch];
-                    k = ch;
-                }
-            } else {
-                k = nsel[d]++;
-                while (k > 0 && h[(k - 1) / 2].score > score) {
-                    h[k] = h[(k - 1) / 2];
-                    k = (k - 1) / 2;
-                }
-            }
-            h[k].score = score;
-            h[k].occ = i;
+    } else {
+        pvs__epsel e;
+        e.score = score;
+        e.occ = occ;
+        k = (*count)++;
+        while (k > 0 && pvs__ep_sel_better(h[(k - 1) / 2].score, h[(k - 1) / 2].occ, &e)) { /* the parent ranks before: move it down */
+            h[k] = h[(k - 1) / 2];
+            k = (k - 1) / 2;
         }
     }
-    for (d = 0; d < 6; ++d) { /* best first (heap sort would do; n is small) */
+    h[k].score = score;
+    h[k].occ = occ;
+}
+
+/* 1 when an occluder of this box could enter the heap of some direction whose face it reaches
+   beyond, given a bound on its solid angle. */
+PVS__STATIC int pvs__ep_sel_wanted(const pvs__epselect *w, const pvs_box *box, double bound) {
+    uint32_t d;
+    for (d = 0; d < 6; ++d) {
+        double w0, w1;
+        pvs__ep_box_w(w->cell, box, (int)d, &w0, &w1);
+        if (w1 > 0.0 && (w->nsel[d] < w->n || bound * 1.000001 >= (double)w->sel[(size_t)d * w->n].score)) return 1;
+    }
+    return 0;
+}
+
+PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+    pvs__epselect *w = (pvs__epselect *)user;
+    const pvs__extproj_prep *p = w->p;
+    const pvs_box *cell = w->cell;
+    uint32_t j, d;
+    if (distance > 0.0f && !pvs__ep_sel_wanted(w, node_box, (double)p->class_area[w->cls] / ((double)distance * distance))) return PVS_VISIT_SKIP;
+    for (j = 0; j < count; ++j) {
+        uint32_t i = p->class_occ[w->cls][items[j]];
+        const pvs__epocc *o = p->occ + i;
+        float score;
+        double d2 = 0.0;
+        if (pvs_bitset_test(w->seen, i)) continue;
+        pvs_bitset_set(w->seen, i);
+        if ((o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) || (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)))
+            continue; /* a capped solid this cell cannot use */
+        if (w->candidates && o->object != PVS_NO_OBJECT && !(w->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
+            !pvs_bitset_test(w->candidates, o->object))
+            continue; /* §6.1: hidden from the parent cell, so redundant (and leaving it out is safe) */
+        for (d = 0; d < 3; ++d) {
+            double g = w->centre[d] < o->box.min[d] ? o->box.min[d] - w->centre[d] : w->centre[d] > o->box.max[d] ? w->centre[d] - o->box.max[d] : 0.0;
+            d2 += g * g;
+        }
+        if (!pvs__ep_sel_wanted(w, &o->box, d2 > 0.0 ? (double)o->area / d2 : 1e30)) continue;
+        score = (float)pvs__ep_solid_angle(p, o, w->centre);
+        if (!(score > 0.0f)) continue;
+        for (d = 0; d < 6; ++d) {
+            double w0, w1;
+            pvs__ep_box_w(cell, &o->box, (int)d, &w0, &w1);
+            if (w1 > 0.0) pvs__ep_sel_push(w->sel + (size_t)d * w->n, w->n, w->nsel + d, score, i);
+        }
+    }
+    return PVS_VISIT_DESCEND;
+}
+
+PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs_word *candidates,
+                                      pvs__epsel *sel, uint32_t n, uint32_t *nsel, pvs_word *seen, void *sweep, size_t sweep_size) {
+    pvs__epselect w;
+    uint32_t i, d;
+    pvs_result r;
+    memset(&w, 0, sizeof(w));
+    w.scene = s;
+    w.p = p;
+    w.cell = cell;
+    w.candidates = candidates;
+    w.sel = sel;
+    w.n = n;
+    w.nsel = nsel;
+    w.seen = seen;
+    for (i = 0; i < 3; ++i) w.centre[i] = 0.5 * ((double)cell->min[i] + cell->max[i]);
+    for (d = 0; d < 6; ++d) nsel[d] = 0;
+    memset(seen, 0, PVS_BITSET_WORDS(p->occ_count) * sizeof(pvs_word));
+    /* the largest occluders first: the heaps fill with high scores and prune the rest early */
+    for (w.cls = PVS__EP_AREA_CLASSES - 1; w.cls >= 0; --w.cls) {
+        r = pvs_kdtree_sweep(p->occ_tree[w.cls], cell, sweep, sweep_size, pvs__ep_sel_visit, &w);
+        if (r != PVS_OK) return r;
+    }
+    for (d = 0; d < 6; ++d) { /* best first */
         pvs__epsel *h = sel + (size_t)d * n;
         uint32_t k, j;
         for (k = 1; k < nsel[d]; ++k) {
             pvs__epsel t = h[k];
-            for (j = k; j > 0 && (h[j - 1].score < t.score || (h[j - 1].score == t.score && h[j - 1].occ > t.occ)); --j) h[j] = h[j - 1];
+            for (j = k; j > 0 && pvs__ep_sel_better(t.score, t.occ, h + j - 1); --j) h[j] = h[j - 1];
             h[j] = t;
         }
     }
+    return PVS_OK;
 }
 
 /* Sets up a map's pyramid levels over `base`. */
@@ -8177,6 +8291,15 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     w.mask_bytes = level_floats;
     w.nmask = 6 * (size_t)prm->sweep;
     w.sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
+    {
+        int cls;
+        for (cls = 0; cls < PVS__EP_AREA_CLASSES; ++cls) {
+            size_t occ_sweep = pvs_kdtree_sweep_scratch_size(p->occ_tree[cls]);
+            if (occ_sweep > w.sweep_size) w.sweep_size = occ_sweep;
+        }
+    }
+    w.seen_words = PVS_BITSET_WORDS(p->occ_count);
+    w.seen = (pvs_word *)pvs__alloc_array(al, w.seen_words, sizeof(pvs_word));
     w.slicer.cap = (size_t)p->max_slice_segments + 4;
     w.slicer.width = prm->res;
     w.sel = (pvs__epsel *)pvs__alloc_array(al, w.nsel, sizeof(pvs__epsel));
@@ -8191,14 +8314,18 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
         w.sat = (uint32_t *)pvs__alloc_array(al, ((size_t)prm->res + 1) * ((size_t)prm->res + 1), sizeof(uint32_t));
         w.ranges = (int32_t *)pvs__alloc_array(al, 4 * (size_t)prm->res, sizeof(int32_t));
     }
-    if (!w.sel || !w.maps || !w.slicer.seg || !w.slicer.xs || !w.slicer.row || !w.sweep ||
+    if (!w.sel || !w.maps || !w.slicer.seg || !w.slicer.xs || !w.slicer.row || !w.sweep || !w.seen ||
         (prm->sweep && (!w.masks || !w.mask_hdr || !w.sat || !w.ranges))) {
         r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell_id, 0, "extproj scratch for cell %u", cell_id);
         goto done;
     }
     c.masks = w.mask_hdr;
     pvs__ep_sheet_sides(p, cell, sheet_side);
-    pvs__ep_select(s, p, cell, candidates, w.sel, nper, nsel);
+    r = pvs__ep_select(s, p, cell, candidates, w.sel, nper, nsel, w.seen, w.sweep, w.sweep_size);
+    if (r != PVS_OK) {
+        r = pvs__fail(err, r, cell_id, 0, "extproj: occluder selection of cell %u", cell_id);
+        goto done;
+    }
     for (d = 0; d < 6; ++d) {
         const pvs__epsel *h = w.sel + (size_t)d * nper;
         if (!nsel[d]) continue;
