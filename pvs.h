@@ -5923,18 +5923,29 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
    same kind of margin; its Depth is its least w, rounded down. A box is hidden when every pixel of
    its rectangle holds an occluder strictly nearer (§2.2); pixels outside the plane count as visible.
 
-   The bake method (§6.1). Occluders are prepared once per bake: an object whose triangles close a
-   convex surface becomes one convex solid, two consecutive coplanar triangles forming a convex quad
+   The bake method (§6.1). Occluders are prepared once per bake from each object's connected
+   components (triangles sharing positions): a closed convex component becomes one convex solid, a
+   convex one closed by a planar cap (a trunk or a post standing on the ground, no bottom) a solid
+   for the cells on the cap's solid side, two consecutive coplanar triangles forming a convex quad
    one polygon, any other triangle itself; explicit BOX occluders are solids, EXTRUSION walls quads.
-   Per cell and direction: the PVS__EP_DEFAULT_OCC occluders of largest solid angle (area seen along
-   the axis over squared distance), a plane just behind the candidate filling the most pixels and a
-   second one just behind the largest occluder, 256 x 256 depth maps with a max pyramid; then the
-   object kD-tree front to back, skipping hidden nodes, an object visible when a part of its box cut
-   by a leaf is. Objects meeting the cell are always visible.
-   Limits: not done yet are the improved occludee Projection (§4), the slicing of concave closed
-   meshes (§3.3), the occlusion sweep (§5) and adaptive cells; occluders are never fused across
-   polygons except through the depth map, so gaps open at building corners and T-junctions, and in
-   big street cells of a city or a forest of small leaves the PVS stays loose (see make bench). */
+   Polygons coplanar and solids convex only up to float precision carry that slack into the
+   rasterizer's error bound. A closed non-convex component (or one capped by an axis-aligned plane:
+   a building with no floor) is also kept for slicing (§3.3). Coplanar triangles whose union is one
+   convex polygon form a sheet (a ground of tiles); occluders standing on it get a copy extended
+   through it, which closes the seam between a wall and the ground. Per cell and direction: the
+   occluders of largest solid angle (from the cell's centre, front to back over kD-trees by size
+   class), PVS__EP_PLANES planes (one just behind the farthest selected occluder, the others in
+   distance bands, each just behind the occluder whose candidate plane fills the most pixels), each a
+   256 x 256 depth map with the Projections, the slices of the closed meshes and of the sheets'
+   solids, and a max pyramid; with the sweep, PVS_EXTPROJ_SWEEP_PLANES more planes per direction
+   holding reprojected umbrae (§5). Then the object kD-tree front to back, skipping hidden nodes,
+   an object visible when a part of its box cut by a leaf is; boxes in front of a plane use the
+   improved Projection (§4). Objects meeting the cell are always visible.
+   Limits: occluders fuse only through the depth maps and slices, so a pixel across the common edge
+   of two occluders that are not sliced is lost; a Depth is flat per occluder part, so long walls
+   running away from the cell hide only what lies beyond their far end on that plane; the sweep's
+   reprojection erodes by a pixel or so per plane; scenes of sparse small occluders (the generator's
+   forest) stay loose even with the sweep. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
@@ -6465,10 +6476,17 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
     o->cap_value = 0.0f;
     o->slack = pvs__f_up(slack);
     o->object = PVS_NO_OBJECT;
+    for (i = 0; i < n; ++i) {
+        memcpy(p->pts + 3 * p->pt_count, pts[i], 3 * sizeof(float));
+        pvs__box_add_point(&o->box, pts[i]);
+        ++p->pt_count;
+    }
     {
-        /* a polygon: its area (at most its bounding box's largest face); a solid: three faces of its box */
+        /* a bound on the area it shows (the solid angle it subtends from a point at distance d is at
+           most that over d^2): a polygon's area; for a solid, the three faces of its box that
+           pvs__ep_solid_angle measures */
         double ex = (double)o->box.max[0] - o->box.min[0], ey = (double)o->box.max[1] - o->box.min[1], ez = (double)o->box.max[2] - o->box.min[2];
-        double f = solid ? ex * ey + ey * ez + ez * ex : pvs__dmax(pvs__dmax(ex * ey, ey * ez), ez * ex) * 1.0000001;
+        double f = ex * ey + ey * ez + ez * ex;
         if (!solid) { /* the polygon's own area, by its fan */
             double a3[3] = {0.0, 0.0, 0.0};
             int k;
@@ -6479,14 +6497,9 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
                 a3[1] += e1[2] * e2[0] - e1[0] * e2[2];
                 a3[2] += e1[0] * e2[1] - e1[1] * e2[0];
             }
-            f = pvs__dmin(f, 0.5 * sqrt(a3[0] * a3[0] + a3[1] * a3[1] + a3[2] * a3[2]) * 1.000001 + 1e-30);
+            f = 0.5 * sqrt(a3[0] * a3[0] + a3[1] * a3[1] + a3[2] * a3[2]) * 1.000001 + 1e-30;
         }
         o->area = pvs__f_up(f);
-    }
-    for (i = 0; i < n; ++i) {
-        memcpy(p->pts + 3 * p->pt_count, pts[i], 3 * sizeof(float));
-        pvs__box_add_point(&o->box, pts[i]);
-        ++p->pt_count;
     }
 }
 
