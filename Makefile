@@ -13,20 +13,26 @@ CFLAGS  := -std=c99 $(WARN) $(CFLAGS_$(CONFIG))
 LDLIBS  := -lm -lpthread
 TEST_CFLAGS := -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
 
-TOOL_LIB := tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/pvs_impl.c
-TOOL_HDR := pvs.h tools/mesh.h tools/obj.h tools/toolutil.h tools/gen.h tools/cli.h
-TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen
+TOOL_LIB := tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tools/pvs_impl.c
+TOOL_HDR := pvs.h tools/mesh.h tools/obj.h tools/toolutil.h tools/gen.h tools/cli.h tools/render.h
+TOOL_OBJ := $(patsubst tools/%.c,$(B)/obj/%.o,$(TOOL_LIB))
+TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen $(B)/pvsview
 TEST_SRC := tests/main.c tests/impl.c tests/test_core.c tests/test_format.c tests/test_noalloc.c tests/test_kdtree.c \
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c tests/test_extproj.c \
-            tests/test_shrink.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tests/fuzz_target.c
+            tests/test_shrink.c tests/test_auto.c tests/test_examples.c tests/test_vocc.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
 
-.PHONY: all tools test demo bench verify fuzz clean compile-checks readme-check examples cullmap-images
+.PHONY: all tools test test-neon demo bench verify fuzz clean compile-checks readme-check examples cullmap-images
 all: tools
 tools: $(TOOLS)
 
-$(B)/%: tools/%.c $(TOOL_LIB) $(TOOL_HDR)
+# the implementation and the tool helpers are compiled once and linked into every tool and example
+$(B)/obj/%.o: tools/%.c $(TOOL_HDR)
+	@mkdir -p $(B)/obj
+	$(CC) $(CFLAGS) -c -o $@ $<
+
+$(B)/%: tools/%.c $(TOOL_OBJ) $(TOOL_HDR)
 	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -o $@ $< $(TOOL_LIB) $(LDLIBS)
+	$(CC) $(CFLAGS) -o $@ $< $(TOOL_OBJ) $(LDLIBS)
 
 # The header compiles as C99, C11 and C++ (include, define, include again) and as a PVS_STATIC unit.
 compile-checks: tests/compile_check.c pvs.h
@@ -47,27 +53,62 @@ readme-check: README.md pvs.h
 	$(CC) -std=c99 -Wall -Wextra -Werror -I. -o $(B)/readme_example $(B)/readme_example.c -lm
 	./$(B)/readme_example | grep -x 'object 0 visible, object 1 hidden'
 
-test: compile-checks readme-check tools $(B)/pvstest
+test: compile-checks readme-check tools $(B)/pvsruntime $(B)/pvstest
 	cd $(B) && ./pvstest
 
-$(B)/pvsdemo: examples/demo.c $(TOOL_LIB) $(TOOL_HDR)
+# NEON (not part of `make test`): the test binary built for aarch64, static, its raster group run under
+# qemu-user; the SIMD and scalar paths must agree there as on x86. Skipped when the tools are missing.
+AARCH64_CC ?= aarch64-linux-gnu-gcc
+QEMU_AARCH64 ?= qemu-aarch64
+test-neon:
+	@if command -v $(AARCH64_CC) >/dev/null 2>&1 && command -v $(QEMU_AARCH64) >/dev/null 2>&1; then \
+	  mkdir -p $(B)/neon && \
+	  $(AARCH64_CC) -std=c99 -Wall -Wextra -Wshadow -Werror -O1 -g -static -o $(B)/neon/pvstest $(TEST_SRC) $(LDLIBS) && \
+	  cd $(B) && $(QEMU_AARCH64) ./neon/pvstest raster; \
+	else echo "test-neon: $(AARCH64_CC) or $(QEMU_AARCH64) not found, skipped"; fi
+
+$(B)/pvsdemo: examples/demo.c $(TOOL_OBJ) $(TOOL_HDR)
 	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -Itools -o $@ examples/demo.c $(TOOL_LIB) $(LDLIBS)
+	$(CC) $(CFLAGS) -Itools -o $@ examples/demo.c $(TOOL_OBJ) $(LDLIBS)
 
 # examples/cullmap.c: per-frame culling of the city, images in build/cullmap/
-$(B)/pvscullmap: examples/cullmap.c $(TOOL_LIB) $(TOOL_HDR)
+$(B)/pvscullmap: examples/cullmap.c $(TOOL_OBJ) $(TOOL_HDR)
 	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -Itools -o $@ examples/cullmap.c $(TOOL_LIB) $(LDLIBS)
+	$(CC) $(CFLAGS) -Itools -o $@ examples/cullmap.c $(TOOL_OBJ) $(LDLIBS)
 
-examples: $(B)/pvsdemo $(B)/pvscullmap
+# examples/walkthrough.c, forest.c, indoor.c (the demo's images) and runtime_minimal.c (the
+# runtime alone: pvs.h and libc, no tool code, no allocation)
+$(B)/pvswalkthrough: examples/walkthrough.c $(TOOL_OBJ) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -Itools -o $@ examples/walkthrough.c $(TOOL_OBJ) $(LDLIBS)
+$(B)/pvsforest: examples/forest.c examples/methods_view.h $(TOOL_OBJ) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -Itools -o $@ examples/forest.c $(TOOL_OBJ) $(LDLIBS)
+$(B)/pvsindoor: examples/indoor.c examples/methods_view.h $(TOOL_OBJ) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -Itools -o $@ examples/indoor.c $(TOOL_OBJ) $(LDLIBS)
+$(B)/pvsruntime: examples/runtime_minimal.c pvs.h
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -o $@ examples/runtime_minimal.c -lm
+
+examples: $(B)/pvsdemo $(B)/pvscullmap $(B)/pvswalkthrough $(B)/pvsforest $(B)/pvsindoor $(B)/pvsruntime
 
 cullmap-images: $(B)/pvscullmap
 	@mkdir -p $(B)/cullmap
 	./$(B)/pvscullmap -o $(B)/cullmap
 
-demo: $(B)/pvsdemo
+# make demo: the city baked on 2 cores (otree: see examples/demo.c), the walkthrough with its plot and
+# frames, pvsview's map of the bake, the methods side by side on the forest and the indoor plan, and
+# the runtime on a memory buffer. Everything lands in build/demo/.
+demo: $(B)/pvsdemo $(B)/pvswalkthrough $(B)/pvsview $(B)/pvsforest $(B)/pvsindoor $(B)/pvsruntime $(B)/pvsgen
 	@mkdir -p $(B)/demo
 	./$(B)/pvsdemo -j 2 -o $(B)/demo/city.pvs
+	./$(B)/pvswalkthrough --pvs $(B)/demo/city.pvs -o $(B)/demo
+	./$(B)/pvsgen city -o $(B)/demo/city.obj --cells $(B)/demo/city.cells
+	./$(B)/pvsview $(B)/demo/city.obj $(B)/demo/city.pvs -o $(B)/demo/view.png --cell-at 346 1.7 388 --frame 346 1.7 388 1 -0.03 0
+	./$(B)/pvsforest -o $(B)/demo
+	./$(B)/pvsindoor -o $(B)/demo
+	./$(B)/pvsruntime $(B)/demo/city.pvs
 
 $(B)/bench_kdtree: tests/bench_kdtree.c pvs.h
 	@mkdir -p $(B)
@@ -96,7 +137,16 @@ $(B)/bench_shrink: tests/bench_shrink.c $(TOOL_LIB) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_shrink.c $(TOOL_LIB) $(LDLIBS)
 
-bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster $(B)/bench_otree $(B)/bench_extproj $(B)/bench_shrink
+$(B)/bench_auto: tests/bench_auto.c $(TOOL_OBJ) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_auto.c $(TOOL_OBJ) $(LDLIBS)
+
+$(B)/bench_vocc: tests/bench_vocc.c $(TOOL_OBJ) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_vocc.c $(TOOL_OBJ) $(LDLIBS)
+
+bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster $(B)/bench_otree $(B)/bench_extproj $(B)/bench_shrink \
+       $(B)/bench_auto $(B)/bench_vocc $(B)/pvswalkthrough
 	./$(B)/bench_kdtree
 	./$(B)/bench_bake
 	./$(B)/bench_file
@@ -104,6 +154,9 @@ bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster $(B)/
 	./$(B)/bench_otree
 	./$(B)/bench_extproj
 	./$(B)/bench_shrink
+	./$(B)/bench_auto
+	./$(B)/pvswalkthrough --bench
+	./$(B)/bench_vocc
 
 # Fuzzing the file reader: a libFuzzer build (clang) seeded with tests/corpus, FUZZ_SECONDS long, and
 # a plain replay binary (any compiler) that runs files through the same target.

@@ -1,5 +1,7 @@
-/* demo.c - `make demo`: generates the default city in memory, bakes it on the given threads with the
-   best method available, writes build/demo/city.pvs and prints a short table. */
+/* demo.c - `make demo`: generates the default city in memory, bakes it on the given threads, writes
+   build/demo/city.pvs and prints a short table. The method is otree by default: of the conservative
+   methods it culls best in a 2.5D city for its cost, so make demo stays near a minute on 2 cores;
+   --method auto intersects otree, extproj and shrink (tighter, about 4x the time today). */
 #include "../tools/cli.h"
 #include <stdlib.h>
 #include <string.h>
@@ -7,6 +9,7 @@
 int main(int argc, char **argv) {
     const char *out_path = "build/demo/city.pvs";
     uint32_t threads = 2;
+    pvs_method method = PVS_METHOD_OTREE;
     int i;
     mesh m;
     mesh_cells cells;
@@ -24,8 +27,14 @@ int main(int argc, char **argv) {
             if (parse_threads(argv[++i], &threads)) { fprintf(stderr, "demo: bad -j\n"); return 2; }
         } else if (!strcmp(argv[i], "-o") && i + 1 < argc) {
             out_path = argv[++i];
+        } else if (!strcmp(argv[i], "--method") && i + 1 < argc) {
+            int k;
+            ++i;
+            for (k = 1; k < PVS_METHOD_COUNT; ++k)
+                if (!strcmp(argv[i], pvs_method_name((pvs_method)k))) method = (pvs_method)k;
+            if (strcmp(argv[i], pvs_method_name(method))) { fprintf(stderr, "demo: unknown method '%s'\n", argv[i]); return 2; }
         } else {
-            fprintf(stderr, "usage: pvsdemo [-j THREADS] [-o OUT.pvs]\n");
+            fprintf(stderr, "usage: pvsdemo [-j THREADS] [-o OUT.pvs] [--method NAME]\n");
             return 2;
         }
     }
@@ -37,7 +46,7 @@ int main(int argc, char **argv) {
     bd.scene = scene;
     bd.cells = (const pvs_box *)cells.boxes;
     bd.cell_count = cells.count;
-    bd.method = PVS_METHOD_DEFAULT;
+    bd.method = method;
     bd.sample_points = 16;
     bd.sample_rays = 1024;
     bd.seed = 1;
@@ -51,7 +60,8 @@ int main(int argc, char **argv) {
     for (c = 0; c < cells.count; ++c) sum += pvs_bitset_count(pvs_bake_cell_pvs(bake, c), objects);
     printf("\npvs.h demo: the default city (seed 1), baked on %u thread%s\n", threads, threads == 1 ? "" : "s");
     printf("  method             %s%s\n", pvs_method_name(pvs_bake_method(bake)),
-           pvs_bake_method(bake) == PVS_METHOD_SAMPLE ? " (ray sampling: approximate, not conservative)" : "");
+           pvs_bake_method(bake) == PVS_METHOD_SAMPLE ? " (ray sampling: approximate, not conservative)"
+           : pvs_bake_method(bake) == PVS_METHOD_OTREE ? " (conservative; chosen for make demo's time budget: see --method)" : " (conservative)");
     printf("  objects            %u (%u triangles)\n", objects, pvs_scene_triangle_count(scene));
     printf("  cells              %u\n", cells.count);
     printf("  mean PVS           %.1f objects (%.2f%% of all)\n", sum / cells.count, 100.0 * sum / cells.count / objects);

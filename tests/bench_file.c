@@ -61,6 +61,7 @@ int main(int argc, char **argv) {
     bd.scene = scene;
     bd.cells = (const pvs_box *)cells.boxes;
     bd.cell_count = cells.count;
+    bd.method = PVS_METHOD_SAMPLE;
     bd.sample_points = 16;
     bd.sample_rays = 1024;
     bd.seed = 1;

@@ -47,7 +47,7 @@ int main(void) {
     bits = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
     for (c = 0; c < n; ++c) {
         memset(bits, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
-        pvs_sample_visibility(scene, sub + c, 32, 2048, c, bits);
+        cli_reference_visibility(scene, sub + c, c, bits);
         sum_ref += pvs_bitset_count(bits, objects);
         sum_pvs += pvs_bitset_count(pvs_bake_cell_pvs(bake, c), objects);
     }

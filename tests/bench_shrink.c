@@ -36,7 +36,7 @@ static int run(const char *name, gen_kind kind, uint32_t max_cells) {
         double sampled = 0.0;
         for (c = 0; c < cells.count; ++c) {
             pvs_word *r = ref + PVS_BITSET_WORDS(objects) * (size_t)c;
-            pvs_sample_visibility(scene, (const pvs_box *)(cells.boxes + 6 * (size_t)c), 32, 1024, 7 + c, r);
+            cli_reference_visibility(scene, (const pvs_box *)(cells.boxes + 6 * (size_t)c), 7 + c, r);
             sampled += pvs_bitset_count(r, objects);
         }
         for (f = 0; f < 3; ++f) {

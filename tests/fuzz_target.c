@@ -1,6 +1,7 @@
 /* fuzz_target.c - what the fuzzer and the corpus replay do with one input: open it as a .pvs file
    and, when it opens, exercise every runtime path on it (decode each cell, walk the cursor, look up
-   points). Returns the open result; crashes and sanitizer reports are the failures. */
+   points, decode the virtual occluders and rebuild cells from them). Returns the open result;
+   crashes and sanitizer reports are the failures. */
 #include "../pvs.h"
 #include <stdlib.h>
 #include <string.h>
@@ -79,6 +80,26 @@ static int fuzz_open(const uint8_t *data, size_t size) {
                 if (pvs_cursor_move(&cursor, (c * 7919u) % f.cell_count, NULL, NULL) != PVS_OK) abort();
                 if (pvs_cursor_move(&cursor, c, NULL, NULL) != PVS_OK) abort();
                 if (memcmp(cur, bits, words * sizeof(pvs_word))) abort(); /* the cursor agrees with decode */
+            }
+            if (f.vocc_flags & PVS_VOCC_STORED) { /* virtual occluders: decode them, rebuild a few cells */
+                static uint8_t vscratch[1 << 17];
+                pvs_box *boxes = (pvs_box *)malloc(((size_t)f.object_count + 1) * sizeof(pvs_box));
+                uint32_t i, total = 0;
+                for (i = 0; boxes && i < f.object_count; ++i) {
+                    int k;
+                    for (k = 0; k < 3; ++k) { boxes[i].min[k] = (float)(i % 13) - 6.0f; boxes[i].max[k] = boxes[i].min[k] + (float)(i % 3); }
+                }
+                for (c = 0; c < n; ++c) {
+                    pvs_virtual_occluder vo[8];
+                    uint32_t m = pvs_file_virtual_occluders(&f, c, vo, 8);
+                    if (m > 255 || pvs_file_vocc_record(&f, c, NULL, NULL) != m) abort();
+                    total += m;
+                    if (boxes && c < 64 && f.object_count <= 4096 &&
+                        pvs_vocc_cull(&f, c, 0, boxes, f.object_count, NULL, vscratch, sizeof(vscratch), bits, NULL) != PVS_OK)
+                        abort();
+                }
+                if (n == f.cell_count && total != f.virtual_occluder_count) abort();
+                free(boxes);
             }
         }
         free(bits);

@@ -16,6 +16,9 @@ void test_raster(void);
 void test_otree(void);
 void test_extproj(void);
 void test_shrink(void);
+void test_auto(void);
+void test_examples(void);
+void test_vocc(void);
 
 static const struct {
     const char *name;
@@ -26,6 +29,9 @@ static const struct {
     {"otree", test_otree},
     {"extproj", test_extproj},
     {"shrink", test_shrink},
+    {"auto", test_auto},
+    {"examples", test_examples},
+    {"vocc", test_vocc},
 };
 
 int main(int argc, char **argv) {

@@ -57,3 +57,32 @@ for i in range(n):
     t,o,s,c=struct.unpack_from('<4sIII',g,32+16*i); secs.append((t,bytes(g[o:o+s])))
 secs.append((b'ZERO',b''))
 open(d+'/ok-empty-section.pvs','wb').write(build(secs))
+
+# virtual occluders (VOCC, >>vocc): the golden file plus a VOCC section, and broken variants
+def vocc_sec(cells, counts, scales, occ, flags=0, base=0.0, step=0.25, first=None):
+    blocks=(cells+15)//16; n=sum(counts)
+    if first is None:
+        first=[0]
+        for b in range(blocks): first.append(first[-1]+sum(counts[16*b:16*b+16]))
+    return struct.pack('<IIff',flags,n,base,step)+struct.pack('<%dI'%(blocks+1),*first)+bytes(counts)+bytes(scales)+bytes(occ)
+def with_vocc(sec_bytes):
+    secs=[]
+    for i in range(struct.unpack_from('<I',good,12)[0]):
+        t,o,s,c=struct.unpack_from('<4sIII',good,32+16*i); secs.append((t,bytes(good[o:o+s])))
+    secs.append((b'VOCC',sec_bytes))
+    return build(secs)
+m,_=sec(good,b'META'); cells=struct.unpack_from('<I',good,m)[0]
+counts=[(i*5)%4 for i in range(cells)]; scales=[120+(i%40) for i in range(cells)]
+occ=[]
+for i in range(sum(counts)): occ+=[(37*i+11)%256,(53*i+7)%256,(71*i+200)%256,(13*i+90)%256,1+(i%200)]
+open(d+'/ok-vocc.pvs','wb').write(with_vocc(vocc_sec(cells,counts,scales,occ)))
+open(d+'/ok-vocc-only.pvs','wb').write(with_vocc(vocc_sec(cells,counts,scales,occ,flags=1)))
+open(d+'/bad-vocc-flags.pvs','wb').write(with_vocc(vocc_sec(cells,counts,scales,occ,flags=6)))
+open(d+'/bad-vocc-step.pvs','wb').write(with_vocc(vocc_sec(cells,counts,scales,occ,step=float('nan'))))
+bad=list(counts); bad[0]+=1
+open(d+'/bad-vocc-count.pvs','wb').write(with_vocc(vocc_sec(cells,bad,scales,occ)))
+open(d+'/bad-vocc-size.pvs','wb').write(with_vocc(vocc_sec(cells,counts,scales,occ)+b'\0\0\0'))
+fb=[0]
+for b in range((cells+15)//16): fb.append(fb[-1]+sum(counts[16*b:16*b+16]))
+fb[1]+=1
+open(d+'/bad-vocc-block.pvs','wb').write(with_vocc(vocc_sec(cells,counts,scales,occ,first=fb)))

@@ -93,6 +93,7 @@ static void test_city_round_trip(void) {
     bd.scene = scene;
     bd.cells = (const pvs_box *)cells.boxes;
     bd.cell_count = cells.count;
+    bd.method = PVS_METHOD_SAMPLE;
     bd.sample_points = 2;
     bd.sample_rays = 256;
     if (scene && pvs_bake_begin(&bd, &bake, NULL) == PVS_OK && cli_run_bake(bake, 2, 1, "bake", &te) == 0) {
@@ -163,9 +164,9 @@ void test_cli(void) {
     CHECK(!exists(DIR "/x.pvs"));
 
     /* a good bake; options in any order; identical bytes for 1 and 2 threads */
-    rc = run("./pvsbake -q --cells " DIR "/cells.txt -o " DIR "/a.pvs -j 1 " DIR "/scene.obj --rays 256 --points 16", &out);
+    rc = run("./pvsbake --method sample -q --cells " DIR "/cells.txt -o " DIR "/a.pvs -j 1 " DIR "/scene.obj --rays 256 --points 16", &out);
     CHECK(rc == 0); free(out);
-    rc = run("./pvsbake " DIR "/scene.obj -o " DIR "/b.pvs --cells " DIR "/cells.txt -j 2 --rays 256 --points 16", &out);
+    rc = run("./pvsbake --method sample " DIR "/scene.obj -o " DIR "/b.pvs --cells " DIR "/cells.txt -j 2 --rays 256 --points 16", &out);
     CHECK(rc == 0 && strstr(out, "approximate")); free(out);
     {
         char *fa = slurp(DIR "/a.pvs"), *fb = slurp(DIR "/b.pvs");
@@ -176,7 +177,7 @@ void test_cli(void) {
     }
     /* sharded bakes: parts merge into the bytes of the whole bake for N = 1, 2, 3, 7 */
     CHECK(run("./pvsgen indoor --seed 3 --size 0.3 --max-cells 30 -o " DIR "/in.obj --cells " DIR "/in.txt", &out) == 0); free(out);
-    CHECK(run("./pvsbake -q " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/whole.pvs --rays 64 --points 4 -j 2", &out) == 0); free(out);
+    CHECK(run("./pvsbake --method sample -q " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/whole.pvs --rays 64 --points 4 -j 2", &out) == 0); free(out);
     {
         static const int ns[4] = {1, 2, 3, 7};
         char *whole = slurp(DIR "/whole.pvs");
@@ -189,7 +190,7 @@ void test_cli(void) {
             int len = snprintf(cmd, sizeof(cmd), "./pvsbake merge -o " DIR "/merged.pvs");
             for (k = ns[j]; k >= 1; --k) { /* parts in any order */
                 char bake[512];
-                snprintf(bake, sizeof(bake), "./pvsbake -q " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/part%d.pvs --rays 64 --points 4 -j 1 --shard %d/%d",
+                snprintf(bake, sizeof(bake), "./pvsbake --method sample -q " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/part%d.pvs --rays 64 --points 4 -j 1 --shard %d/%d",
                          k, k, ns[j]);
                 CHECK(run(bake, &out) == 0); free(out);
                 len += snprintf(cmd + len, sizeof(cmd) - (size_t)len, " " DIR "/part%d.pvs", k);
@@ -239,7 +240,7 @@ void test_cli(void) {
         CHECK(run("./pvscheck " DIR "/other.obj " DIR "/a.pvs", &out) == 1 && strstr(out, "not the same scene")); free(out);
     }
     /* --grid */
-    CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/g.pvs --grid 4 --rays 64 --points 4", &out) == 0); free(out);
+    CHECK(run("./pvsbake --method sample -q " DIR "/scene.obj -o " DIR "/g.pvs --grid 4 --rays 64 --points 4", &out) == 0); free(out);
     CHECK(run("./pvsinfo --verify " DIR "/g.pvs", &out) == 0); free(out);
     CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/g2.pvs --grid 0.0001", &out) == 1 && strstr(out, "exceed")); free(out);
     CHECK(!exists(DIR "/g2.pvs"));
@@ -282,11 +283,11 @@ void test_cli(void) {
     }
     write_str(DIR "/m9.obj", "o flat\nv 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
     /* an object of zero-area triangles only is kept (ids follow the file) with a warning naming it */
-    CHECK(run("./pvsbake " DIR "/m9.obj -o " DIR "/o9.pvs --cells " DIR "/cells.txt --rays 16 --points 2", &out) == 0 &&
+    CHECK(run("./pvsbake --method sample " DIR "/m9.obj -o " DIR "/o9.pvs --cells " DIR "/cells.txt --rays 16 --points 2", &out) == 0 &&
           strstr(out, DIR "/m9.obj:1:") && strstr(out, "zero-area"));
     free(out);
     /* an output into a missing directory leaves nothing behind */
-    rc = run("./pvsbake -q " DIR "/scene.obj -o " DIR "/nodir/o.pvs --cells " DIR "/cells.txt --rays 16 --points 2", &out);
+    rc = run("./pvsbake --method sample -q " DIR "/scene.obj -o " DIR "/nodir/o.pvs --cells " DIR "/cells.txt --rays 16 --points 2", &out);
     CHECK(rc == 1 && strstr(out, DIR "/nodir/o.pvs")); free(out);
     {
         char *ls;

@@ -864,6 +864,60 @@ static void test_sample_visibility(void) {
     tm_free(&m);
 }
 
+/* The aimed sampler: a small object seen only through a slit in a wall, which uniform directions
+   almost never hit; an object behind the solid part of the wall is never set (a lower bound). */
+static void test_sample_visibility_toward(void) {
+    tmesh m;
+    pvs_object_desc obj[5];
+    pvs_scene *s;
+    float lo[3], hi[3];
+    memset(&m, 0, sizeof(m));
+    lo[0] = 4; lo[1] = 0; lo[2] = -10; hi[0] = 5; hi[1] = 30; hi[2] = -0.05f; /* wall, left of the slit */
+    obj[0].first_triangle = m.tc; obj[0].triangle_count = 12; obj[0].flags = 0;
+    tm_box(&m, lo, hi);
+    lo[2] = 0.05f; hi[2] = 10; /* wall, right of the slit */
+    obj[1].first_triangle = m.tc; obj[1].triangle_count = 12; obj[1].flags = 0;
+    tm_box(&m, lo, hi);
+    lo[0] = 30; lo[1] = 0.9f; lo[2] = -0.1f; hi[0] = 30.2f; hi[1] = 1.1f; hi[2] = 0.1f; /* seen through the slit */
+    obj[2].first_triangle = m.tc; obj[2].triangle_count = 12; obj[2].flags = 0;
+    tm_box(&m, lo, hi);
+    lo[2] = 5; hi[2] = 5.2f; /* behind the wall */
+    obj[3].first_triangle = m.tc; obj[3].triangle_count = 12; obj[3].flags = 0;
+    tm_box(&m, lo, hi);
+    lo[0] = 1; lo[1] = 0; lo[2] = 3; hi[0] = 2; hi[1] = 1; hi[2] = 4; /* occluder only, in plain view */
+    obj[4].first_triangle = m.tc; obj[4].triangle_count = 12; obj[4].flags = PVS_OBJECT_OCCLUDER_ONLY;
+    tm_box(&m, lo, hi);
+    s = make_scene(&m, obj, 5);
+    CHECK(s != NULL);
+    if (s) {
+        pvs_box cell;
+        pvs_word a[1] = {0}, b[1] = {0}, t[1] = {0};
+        uint64_t n;
+        cell.min[0] = 0; cell.min[1] = 0.5f; cell.min[2] = -1;
+        cell.max[0] = 2; cell.max[1] = 1.5f; cell.max[2] = 1;
+        pvs_sample_visibility(s, &cell, 20, 300, 3, a);
+        CHECK(!pvs_bitset_test(a, 2)); /* 6,000 uniform rays pass the slit by */
+        n = pvs_sample_visibility_toward(s, &cell, NULL, 256, 11, a);
+        CHECK(n > 0 && n <= 4u * 256u);
+        CHECK(pvs_bitset_test(a, 0) && pvs_bitset_test(a, 1) && pvs_bitset_test(a, 2));
+        CHECK(!pvs_bitset_test(a, 3) && !pvs_bitset_test(a, 4));
+        CHECK(pvs_sample_visibility_toward(s, &cell, NULL, 256, 11, b) == pvs_sample_visibility_toward(s, &cell, NULL, 256, 11, t));
+        CHECK(b[0] == t[0]); /* deterministic */
+        /* only the targets are aimed at; objects already set are skipped (no rays) */
+        b[0] = 0; t[0] = 0;
+        pvs_bitset_set(t, 3);
+        pvs_sample_visibility_toward(s, &cell, t, 64, 5, b);
+        CHECK(b[0] == 0 || b[0] == 1u || b[0] == 2u || b[0] == 3u); /* rays at 3 may stop on the wall only */
+        b[0] = 0x1f;
+        CHECK(pvs_sample_visibility_toward(s, &cell, NULL, 64, 5, b) == 0);
+        CHECK(pvs_sample_visibility_toward(s, &cell, NULL, 0, 5, b) == 0);
+        cell.min[0] = NAN;
+        CHECK(pvs_sample_visibility_toward(s, &cell, NULL, 8, 5, a) == 0);
+        pvs_scene_destroy(s);
+    }
+    tm_free(&m);
+}
+
 void test_kdtree(void) {
     test_kdtree_edge_cases();
     test_kdtree_sweep();
@@ -873,4 +927,5 @@ void test_kdtree(void) {
     test_raycast_city();
     test_raycast_watertight();
     test_sample_visibility();
+    test_sample_visibility_toward();
 }

@@ -1,5 +1,6 @@
 /* test_noalloc.c - a private (PVS_STATIC) copy of the implementation whose PVS_MALLOC counts calls:
-   proves that opening, looking up, decoding and walking a file with the cursor allocate nothing. */
+   proves that opening, looking up, decoding and walking a file with the cursor, and rebuilding a
+   cell's PVS from its virtual occluders, allocate nothing. */
 #include "test.h"
 #include <stdlib.h>
 #include <string.h>
@@ -57,4 +58,46 @@ void test_noalloc(void) {
     CHECK(sum > 0);
     CHECK(noalloc_mallocs == 0);
     free(buf);
+    { /* the virtual occluders' rebuild (pvs_vocc_cull), flat and through an object kD-tree */
+        static uint8_t counts[CELLS], scales[CELLS], vo[CELLS * 2 * 5];
+        static pvs_box objs[OBJECTS];
+        static uint8_t scratch[1 << 18];
+        pvs_kdtree *tree = NULL;
+        pvs_kdtree_desc kd;
+        size_t ss;
+        for (c = 0; c < CELLS; ++c) {
+            counts[c] = 2;
+            scales[c] = 160;
+            for (i = 0; i < 2; ++i) {
+                uint8_t *q = vo + 10 * c + 5 * i;
+                q[0] = (uint8_t)(100 + 40 * i); q[1] = 200; q[2] = (uint8_t)(140 + 40 * i); q[3] = 210; q[4] = 200;
+            }
+        }
+        for (i = 0; i < OBJECTS; ++i) {
+            int k;
+            for (k = 0; k < 3; ++k) { objs[i].min[k] = (float)(i % 37) * 3.0f - 50.0f + (float)k; objs[i].max[k] = objs[i].min[k] + 2.0f; }
+        }
+        d.vocc_counts = counts; d.vocc_scales = scales; d.virtual_occluders = vo; d.vocc_base = -100.0f; d.vocc_height_step = 1.0f;
+        CHECK(pvs_file_encode(&d, NULL, 0, &bound, &e) == PVS_OK);
+        buf = (uint8_t *)malloc(bound);
+        CHECK(pvs_file_encode(&d, buf, bound, &size, &e) == PVS_OK);
+        memset(&kd, 0, sizeof(kd));
+        kd.boxes = objs;
+        kd.count = OBJECTS;
+        CHECK(pvs_kdtree_create(&kd, &tree, &e) == PVS_OK);
+        ss = pvs_vocc_cull_scratch_size(tree, 255);
+        CHECK(ss <= sizeof(scratch));
+        noalloc_mallocs = 0;
+        CHECK(pvs_file_open(buf, size, &f, &e) == PVS_OK && (f.vocc_flags & PVS_VOCC_STORED));
+        for (c = 0; c < CELLS; ++c) {
+            pvs_virtual_occluder out[2];
+            CHECK(pvs_file_virtual_occluders(&f, c, out, 2) == 2);
+            CHECK(pvs_vocc_cull(&f, c, 0, objs, OBJECTS, NULL, scratch, ss, bits, &e) == PVS_OK);
+            CHECK(pvs_vocc_cull(&f, c, 0, objs, OBJECTS, tree, scratch, ss, bits, &e) == PVS_OK);
+            CHECK(pvs_vocc_cull_occluders(boxes + c, 1, out, 2, objs, OBJECTS, tree, scratch, ss, bits, &e) == PVS_OK);
+        }
+        CHECK(noalloc_mallocs == 0);
+        pvs_kdtree_destroy(tree);
+        free(buf);
+    }
 }

@@ -21,6 +21,10 @@ static double rnd(void) {
 }
 static float rndf(float lo, float hi) { return lo + (hi - lo) * (float)rnd(); }
 
+/* The occluder representation the tests below use: PVS_RASTER_PER_PIXEL or PVS_RASTER_TILED (the
+   maps here are small, which would pick per pixel). raster_verify runs them with both. */
+static uint32_t mode_flag = PVS_RASTER_PER_PIXEL;
+
 /* ---- brute-force coverage ---- */
 
 /* Clip coordinates of a point under a row-major matrix, in double. */
@@ -177,7 +181,7 @@ static void test_coverage(int scale) {
     pvs_error e;
     int t, bad = 0, claimed = 0, n = 300 * scale;
     memset(&rd, 0, sizeof(rd));
-    rd.width = 13; rd.height = 9;
+    rd.width = 13; rd.height = 9; rd.flags = mode_flag;
     CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
     for (t = 0; t < n; ++t) {
         float m[16], p[9];
@@ -206,18 +210,21 @@ static void test_coverage(int scale) {
     pvs_raster_destroy(r);
 }
 
-/* SIMD and scalar give identical depth maps; many triangles on one map. */
+/* SIMD and scalar give identical depth maps; many triangles on one map. Per pixel, the map is the
+   nearest of what the triangles give one at a time; tiled occluders merge (Masked Occlusion Culling's
+   two layers): each pixel is at most that. */
 static void test_simd_identical(int scale) {
     pvs_raster_desc rd;
     pvs_raster *a, *b;
     pvs_error e;
-    int t, mode, same = 1;
+    int t, mode, same = 1, farther = 1;
+    uint32_t kept = 0, alone = 0;
     float *tris;
     int n = 400 * scale;
     memset(&rd, 0, sizeof(rd));
-    rd.width = 67; rd.height = 45;
+    rd.width = 67; rd.height = 45; rd.flags = mode_flag;
     CHECK(pvs_raster_create(&rd, &a, &e) == PVS_OK);
-    rd.flags = PVS_RASTER_SCALAR;
+    rd.flags = PVS_RASTER_SCALAR | mode_flag;
     CHECK(pvs_raster_create(&rd, &b, &e) == PVS_OK);
     tris = (float *)malloc((size_t)n * 9 * sizeof(float));
     for (mode = 0; mode < 2; ++mode) {
@@ -229,24 +236,135 @@ static void test_simd_identical(int scale) {
         pvs_raster_triangles(a, tris, 3 * (uint32_t)n, NULL, (uint32_t)n, (pvs_raster_mode)mode);
         pvs_raster_triangles(b, tris, 3 * (uint32_t)n, NULL, (uint32_t)n, (pvs_raster_mode)mode);
         same &= memcmp(pvs_raster_depth(a, NULL, NULL), pvs_raster_depth(b, NULL, NULL), 67 * 45 * sizeof(float)) == 0;
-        /* one triangle at a time, combined by hand: the tiles' skipping changes nothing */
+        /* one triangle at a time, combined by hand */
         {
             float *ref = (float *)malloc(67 * 45 * sizeof(float));
+            const float *d;
             uint32_t px;
             for (px = 0; px < 67 * 45; ++px) ref[px] = PVS_DEPTH_EMPTY;
             for (t = 0; t < n; ++t) {
-                const float *d;
                 pvs_raster_clear(b);
                 pvs_raster_triangles(b, tris + 9 * t, 3, NULL, 1, (pvs_raster_mode)mode);
                 d = pvs_raster_depth(b, NULL, NULL);
                 for (px = 0; px < 67 * 45; ++px) ref[px] = d[px] > ref[px] ? d[px] : ref[px];
             }
-            same &= memcmp(pvs_raster_depth(a, NULL, NULL), ref, 67 * 45 * sizeof(float)) == 0;
+            d = pvs_raster_depth(a, NULL, NULL);
+            if (mode == PVS_RASTER_OCCLUDEE || mode_flag == PVS_RASTER_PER_PIXEL) same &= memcmp(d, ref, 67 * 45 * sizeof(float)) == 0;
+            for (px = 0; px < 67 * 45; ++px) {
+                farther &= d[px] <= ref[px];
+                if (mode == PVS_RASTER_OCCLUDER) { alone += ref[px] != PVS_DEPTH_EMPTY; kept += d[px] != PVS_DEPTH_EMPTY; }
+            }
             free(ref);
         }
     }
     CHECK(same);
+    CHECK(farther);
+    CHECK(kept * 10 >= alone * 9); /* the merge keeps most of the coverage */
     free(tris);
+    pvs_raster_destroy(a);
+    pvs_raster_destroy(b);
+}
+
+/* Box tests against the exact projection: under random cameras (some far from the origin, where
+   float rounding is large), every box whose exact screen rectangle holds a pixel storing a depth at
+   most the box's exact nearest depth is reported visible; SIMD and scalar agree box by box. */
+static void test_boxes(int scale) {
+    pvs_raster_desc rd;
+    pvs_raster *a, *b;
+    pvs_error e;
+    int t, missed = 0, differ = 0, checked = 0, hidden = 0;
+    const uint32_t W = 64, H = 48;
+    memset(&rd, 0, sizeof(rd));
+    rd.width = W; rd.height = H; rd.flags = mode_flag;
+    CHECK(pvs_raster_create(&rd, &a, &e) == PVS_OK);
+    rd.flags = PVS_RASTER_SCALAR | mode_flag;
+    CHECK(pvs_raster_create(&rd, &b, &e) == PVS_OK);
+    for (t = 0; t < 40 * scale; ++t) {
+        float m[16], off[3], tri[9 * 40];
+        const float *d;
+        int k, q;
+        pvs_camera cam;
+        memset(&cam, 0, sizeof(cam));
+        for (k = 0; k < 3; ++k) off[k] = t % 3 == 0 ? 0.0f : rndf(-1, 1) * (t % 3 == 1 ? 1e3f : 3e4f);
+        for (k = 0; k < 3; ++k) { cam.eye[k] = off[k] + rndf(-1, 1); cam.forward[k] = rndf(-1, 1); }
+        cam.forward[2] += 0.5f;
+        cam.up[1] = 1;
+        cam.near_plane = rndf(0.05f, 0.5f);
+        cam.fov_y = t % 4 == 3 ? 0.0f : rndf(0.5f, 2.0f);
+        cam.ortho_height = rndf(2, 10);
+        cam.far_plane = 40.0f;
+        if (pvs_camera_matrix(&cam, (float)W / (float)H, m) != PVS_OK) continue;
+        for (k = 0; k < 40; ++k) {
+            int c;
+            random_triangle(tri + 9 * k, 0);
+            for (c = 0; c < 9; ++c) tri[9 * k + c] += off[c % 3];
+        }
+        if (t % 2) { /* a wall in the plane z = off[2] + 2 with a hole; boxes below touch it from behind */
+            static const float sq[6][2] = {{-6, -6}, {6, -6}, {6, 6}, {-6, -6}, {6, 6}, {-6, 6}};
+            float hx = rndf(-3, 3), hy = rndf(-3, 3);
+            for (k = 0; k < 6; ++k) {
+                tri[3 * k] = off[0] + sq[k][0]; tri[3 * k + 1] = off[1] + sq[k][1]; tri[3 * k + 2] = off[2] + 2.0f;
+                tri[18 + 3 * k] = off[0] + hx + 0.1f * sq[k][0]; tri[18 + 3 * k + 1] = off[1] + hy + 0.1f * sq[k][1];
+                tri[18 + 3 * k + 2] = off[2] + 3.0f; /* a smaller square behind the wall */
+            }
+            for (k = 36; k < 9 * 40; ++k) tri[k] = 0.0f; /* degenerate: nothing */
+            if (cam.eye[2] > off[2] + 1.5f) cam.eye[2] = off[2] + 1.5f - rndf(0, 3);
+            cam.forward[2] = 1.0f;
+            if (t % 4 == 1) cam.forward[0] = cam.forward[1] = 0.0f; /* facing the wall: one depth over it */
+            if (pvs_camera_matrix(&cam, (float)W / (float)H, m) != PVS_OK) continue;
+        }
+        pvs_raster_clear(a); pvs_raster_clear(b);
+        pvs_raster_set_matrix(a, m); pvs_raster_set_matrix(b, m);
+        pvs_raster_triangles(a, tri, 120, NULL, 40, PVS_RASTER_OCCLUDER);
+        pvs_raster_triangles(b, tri, 120, NULL, 40, PVS_RASTER_OCCLUDER);
+        d = pvs_raster_depth(a, NULL, NULL);
+        for (q = 0; q < 200; ++q) {
+            pvs_box bx;
+            double C[8][4], xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300, zmax = -1e300;
+            int front = 1, va, vb, x, y, expect = 0;
+            float sz = rnd() < 0.3 ? rndf(1e-4f, 0.05f) : rndf(0.05f, 4.0f);
+            for (k = 0; k < 3; ++k) {
+                bx.min[k] = off[k] + rndf(-6, 6);
+                bx.max[k] = bx.min[k] + sz * rndf(0.1f, 1.0f);
+            }
+            if (t % 2 && q % 2) { /* touching the wall from behind */
+                bx.min[2] = off[2] + 2.0f;
+                bx.max[2] = bx.min[2] + sz;
+            }
+            va = pvs_raster_test_box(a, &bx);
+            vb = pvs_raster_test_box(b, &bx);
+            differ += va != vb;
+            for (k = 0; k < 8; ++k) {
+                float p[3];
+                p[0] = k & 1 ? bx.max[0] : bx.min[0];
+                p[1] = k & 2 ? bx.max[1] : bx.min[1];
+                p[2] = k & 4 ? bx.max[2] : bx.min[2];
+                clip_of(m, p, C[k]);
+                if (!(C[k][3] > 1e-9 && C[k][3] - C[k][2] > 0.0)) front = 0;
+            }
+            if (!front) continue;
+            for (k = 0; k < 8; ++k) {
+                double sx = (C[k][0] / C[k][3] + 1.0) * 0.5 * W, sy = (C[k][1] / C[k][3] + 1.0) * 0.5 * H, z = C[k][2] / C[k][3];
+                xmin = sx < xmin ? sx : xmin; xmax = sx > xmax ? sx : xmax;
+                ymin = sy < ymin ? sy : ymin; ymax = sy > ymax ? sy : ymax;
+                zmax = z > zmax ? z : zmax;
+            }
+            if (xmax < 0 || ymax < 0 || xmin > W || ymin > H) continue;
+            for (y = ymin < 0 ? 0 : (int)floor(ymin); y <= (int)floor(ymax) && y < (int)H; ++y)
+                for (x = xmin < 0 ? 0 : (int)floor(xmin); x <= (int)floor(xmax) && x < (int)W; ++x) expect |= (double)d[y * (int)W + x] <= zmax;
+            ++checked;
+            hidden += !va;
+            if (expect && !va) {
+                ++missed;
+                fprintf(stderr, "box test missed: camera %d box %d (%.9g %.9g %.9g)-(%.9g %.9g %.9g)\n", t, q, bx.min[0], bx.min[1], bx.min[2],
+                        bx.max[0], bx.max[1], bx.max[2]);
+            }
+        }
+    }
+    CHECK(missed == 0);
+    CHECK(differ == 0);
+    CHECK(checked > 100 * scale);
+    CHECK(hidden > 0);
     pvs_raster_destroy(a);
     pvs_raster_destroy(b);
 }
@@ -264,7 +382,7 @@ static void test_pyramid(int scale) {
         float m[16], p[9];
         int t, q;
         memset(&rd, 0, sizeof(rd));
-        rd.width = W; rd.height = H;
+        rd.width = W; rd.height = H; rd.flags = mode_flag;
         CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
         for (t = 0; t < 10 * scale; ++t) {
             const float *d;
@@ -495,7 +613,7 @@ static uint32_t check_rays(const tscene *t, const pvs_camera *cam, float aspect,
 /* Culling (depth pyramid and cull map) against ray casting. */
 static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, const char *label) {
     pvs_raster_desc rd;
-    pvs_raster *r, *rs;
+    pvs_raster *r, *rs, *ctx[4];
     pvs_error e;
     pvs_word *vis, *vis_s, *cand;
     uint32_t n = pvs_scene_object_count(t->scene), c, same = 1, misses = 0, cm_misses = 0, hits = 0, culled = 0, cm_culled = 0, outside = 0;
@@ -505,9 +623,10 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
     rd.scene = t->scene;
     rd.max_occluders = 400;
     rd.cull_map_width = 128; rd.cull_map_height = 96;
-    CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
-    rd.flags = PVS_RASTER_SCALAR;
-    CHECK(pvs_raster_create(&rd, &rs, &e) == PVS_OK);
+    for (c = 0; c < 4; ++c) { /* per pixel and tiled, each SIMD and scalar */
+        rd.flags = (c & 1 ? PVS_RASTER_SCALAR : 0u) | (c & 2 ? PVS_RASTER_TILED : PVS_RASTER_PER_PIXEL);
+        CHECK(pvs_raster_create(&rd, &ctx[c], &e) == PVS_OK);
+    }
     vis = (pvs_word *)calloc(words, sizeof(pvs_word));
     vis_s = (pvs_word *)calloc(words, sizeof(pvs_word));
     cand = (pvs_word *)calloc(words, sizeof(pvs_word));
@@ -516,6 +635,8 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
         pvs_cull_params cp;
         pvs_cull_stats st;
         uint32_t i, use_cand = c % 4 == 3;
+        r = ctx[2 * (c & 1)];
+        rs = ctx[2 * (c & 1) + 1];
         random_camera(t, &cam, up);
         memset(&cp, 0, sizeof(cp));
         cp.scene_occluders = 64 + (uint32_t)(rnd() * 300);
@@ -566,8 +687,7 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
     free(vis);
     free(vis_s);
     free(cand);
-    pvs_raster_destroy(r);
-    pvs_raster_destroy(rs);
+    for (c = 0; c < 4; ++c) pvs_raster_destroy(ctx[c]);
 }
 
 static void test_culling(int scale) {
@@ -767,7 +887,7 @@ static void ra_free(void *p, size_t n, void *user) { (void)n; (void)user; free(p
 static void test_noalloc_and_errors(void) {
     tscene t, big;
     pvs_raster_desc rd;
-    pvs_raster *r;
+    pvs_raster *r, *rt;
     pvs_error e;
     pvs_word *vis;
     uint32_t k;
@@ -777,6 +897,9 @@ static void test_noalloc_and_errors(void) {
     rd.width = 64; rd.height = 48; rd.scene = t.scene; rd.cull_map_width = 32; rd.cull_map_height = 32;
     rd.allocator.alloc = ra_alloc; rd.allocator.free = ra_free;
     CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
+    rd.flags = PVS_RASTER_TILED;
+    CHECK(pvs_raster_create(&rd, &rt, &e) == PVS_OK);
+    rd.flags = 0;
     vis = (pvs_word *)calloc(PVS_BITSET_WORDS(pvs_scene_object_count(t.scene)), sizeof(pvs_word));
     before = ra_allocs;
     CHECK(before > 0);
@@ -792,8 +915,12 @@ static void test_noalloc_and_errors(void) {
         CHECK(pvs_raster_cull(r, t.scene, &cam, &cp, vis, NULL, &e) == PVS_OK);
         CHECK(pvs_raster_cull_map(r, t.scene, &cam, &cp, vis, NULL, &e) == PVS_OK);
         CHECK(pvs_raster_test_rect(r, 0, 0, 10, 10, 0.5f) >= 0);
+        CHECK(pvs_raster_cull(rt, t.scene, &cam, &cp, vis, NULL, &e) == PVS_OK);
+        CHECK(pvs_raster_test_rect(rt, 0, 0, 10, 10, 0.5f) >= 0);
+        CHECK(pvs_raster_depth(rt, NULL, NULL) != NULL);
     }
     CHECK(ra_allocs == before);
+    pvs_raster_destroy(rt);
     /* errors */
     {
         pvs_camera cam;
@@ -839,9 +966,14 @@ void raster_verify_coverage(int scale);
 void raster_verify_coverage(int scale) { test_coverage(scale); }
 void raster_verify(int scale);
 void raster_verify(int scale) {
-    test_coverage(scale);
-    test_simd_identical(scale);
-    test_pyramid(scale);
+    int k;
+    for (k = 0; k < 2; ++k) {
+        mode_flag = k ? PVS_RASTER_TILED : PVS_RASTER_PER_PIXEL;
+        test_coverage(scale);
+        test_simd_identical(scale);
+        test_boxes(scale);
+        test_pyramid(scale);
+    }
     test_cull_map_cells(scale);
     test_cull_map_footprints(scale);
     test_culling(scale);

@@ -3,12 +3,14 @@
 # and check the result against ray sampling with pvscheck. One line per scene and method:
 #   SCENE SEED SIZE METHOD cells=N misses=N tightness=T
 # Exits non-zero on any miss of a conservative method. The `sample` method is an estimate from below
-# (not conservative): its misses are printed for information and never fail the run.
+# (not conservative): its misses are printed for information and never fail the run. `auto` (the
+# intersection of the conservative methods that apply) must also be at least as tight as the best of
+# the other conservative methods on each scene (its mean PVS no larger).
 set -u
 B=${B:-build}
 T=$B/verify
 mkdir -p "$T"
-CONSERVATIVE_METHODS=${CONSERVATIVE_METHODS:-"shrink otree extproj"}   # filled in as conservative methods land
+CONSERVATIVE_METHODS=${CONSERVATIVE_METHODS:-"shrink otree extproj vocc auto"}   # filled in as conservative methods land
 CELLS=${CELLS:-500}
 J=${J:-0}
 fail=0
@@ -17,7 +19,10 @@ for kind in city forest indoor walls soup; do
     for size in 0.3 0.6; do
       base="$T/$kind-$seed-$size"
       "$B/pvsgen" "$kind" --seed "$seed" --size "$size" --max-cells "$CELLS" -o "$base.obj" --cells "$base.cells" 2>/dev/null || { echo "$kind $seed $size: pvsgen failed"; fail=1; continue; }
+      best=""; auto_pvs=""
       for method in sample $CONSERVATIVE_METHODS; do
+        # vocc needs vertical walls standing on the ground (2.5D); it refuses forest and soup
+        case "$method:$kind" in vocc:forest|vocc:soup) continue;; esac
         if ! "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method "$method" -j "$J" -o "$base.$method.pvs"; then
           echo "$kind $seed $size $method: bake failed"; fail=1; continue
         fi
@@ -26,11 +31,19 @@ for kind in city forest indoor walls soup; do
         misses=$(echo "$line" | sed -n 's/.*misses \([0-9]*\).*/\1/p' | head -1)
         cells=$(echo "$line" | sed -n 's/^cells \([0-9]*\).*/\1/p' | head -1)
         tight=$(echo "$line" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p' | head -1)
+        mean=$(echo "$line" | sed -n 's/.*mean pvs \([0-9.]*\).*/\1/p' | head -1)
+        if [ "$method" = auto ]; then auto_pvs=$mean;
+        elif [ "$method" != sample ] && [ -n "$mean" ]; then
+          if [ -z "$best" ] || awk "BEGIN { exit !($mean < $best) }"; then best=$mean; fi
+        fi
         note=""
         if [ "$method" = sample ]; then note=" (approximate: not counted)";
         elif [ "$rc" -ne 0 ]; then fail=1; note=" FAIL"; fi
         echo "$kind $seed $size $method cells=$cells misses=$misses tightness=$tight$note"
       done
+      if [ -n "$auto_pvs" ] && [ -n "$best" ] && awk "BEGIN { exit !($auto_pvs > $best) }"; then
+        echo "$kind $seed $size auto: mean PVS $auto_pvs is larger than the best single method's $best FAIL"; fail=1
+      fi
     done
   done
 done
@@ -50,20 +63,48 @@ case " $CONSERVATIVE_METHODS " in *" otree "*)
     echo "city $seed 1 otree $line$note"
   done;;
 esac
+# vocc on the full-size city: three seeds, 500 cells each; the PVS checked is the one rebuilt from the
+# stored virtual occluders (pvs_vocc_cull); files identical for -j1 and -j2 and for 3 merged shards; a
+# --vocc-only bake stores the same occluders
+case " $CONSERVATIVE_METHODS " in *" vocc "*)
+  for seed in 1 2 3; do
+    base="$T/city-full-$seed"
+    [ -f "$base.obj" ] || "$B/pvsgen" city --seed "$seed" --max-cells "${CITY_CELLS:-500}" -o "$base.obj" --cells "$base.cells" 2>/dev/null || { echo "city full $seed: pvsgen failed"; fail=1; continue; }
+    "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method vocc -j 1 -o "$base.vocc.pvs" || { echo "city full $seed vocc: bake failed"; fail=1; continue; }
+    if [ "$seed" = 1 ]; then
+      "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method vocc -j 2 -o "$base.vocc-j2.pvs" &&
+        cmp -s "$base.vocc.pvs" "$base.vocc-j2.pvs" || { echo "city full $seed vocc: -j1 and -j2 files differ"; fail=1; }
+      for k in 1 2 3; do "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method vocc --shard $k/3 -j "$J" -o "$base.vocc-p$k.pvs"; done
+      "$B/pvsbake" merge -o "$base.vocc-merged.pvs" "$base.vocc-p3.pvs" "$base.vocc-p1.pvs" "$base.vocc-p2.pvs" 2>/dev/null &&
+        cmp -s "$base.vocc.pvs" "$base.vocc-merged.pvs" || { echo "city full $seed vocc: 3 shards merged differ from the whole bake"; fail=1; }
+      "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method vocc --vocc-only -j "$J" -o "$base.vocc-only.pvs" &&
+        "$B/pvsinfo" --vocc "$base.vocc.pvs" > "$base.vocc.txt" && "$B/pvsinfo" --vocc "$base.vocc-only.pvs" > "$base.vocc-only.txt" &&
+        cmp -s "$base.vocc.txt" "$base.vocc-only.txt" || { echo "city full $seed vocc: --vocc-only stores other occluders"; fail=1; }
+      line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.vocc-only.pvs")
+      rc=$?
+      note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
+      echo "city $seed 1 vocc-only $line$note"
+    fi
+    line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.vocc.pvs")
+    rc=$?
+    note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
+    echo "city $seed 1 vocc $line$note"
+  done;;
+esac
 # extproj with the occlusion sweep (§5) and with adaptive cells (§6.1): every generator, three seeds,
-# EXTPROJ_CELLS cells each; files identical for -j1 and -j2
+# EXTPROJ_CELLS cells each (ADAPTIVE_CELLS for adaptive cells, each split into many); files identical
+# for -j1 and -j2
 case " $CONSERVATIVE_METHODS " in *" extproj "*)
   for kind in city forest indoor walls soup; do
     for seed in 1 2 3; do
       base="$T/$kind-$seed-ep"
       "$B/pvsgen" "$kind" --seed "$seed" --size 0.6 --max-cells "${EXTPROJ_CELLS:-500}" -o "$base.obj" --cells "$base.cells" 2>/dev/null || { echo "$kind $seed extproj: pvsgen failed"; fail=1; continue; }
-      # adaptive cells split each cell into many: fewer cells (ADAPTIVE_CELLS)
       "$B/pvsgen" "$kind" --seed "$seed" --size 0.6 --max-cells "${ADAPTIVE_CELLS:-100}" -o "$base-a.obj" --cells "$base-a.cells" 2>/dev/null || { echo "$kind $seed extproj: pvsgen failed"; fail=1; continue; }
       for variant in sweep adaptive; do
         if [ "$variant" = sweep ]; then opts="--sweep"; cf="$base.cells"; else opts="--adaptive ${ADAPTIVE_BUDGET:-20000}"; cf="$base-a.cells"; fi
-        "$B/pvsbake" -q "$base.obj" --cells "$cf" --method extproj $opts -j "$J" -o "$base.$variant.pvs" || { echo "$kind $seed extproj $variant: bake failed"; fail=1; continue; }
+        "$B/pvsbake" -q --no-state "$base.obj" --cells "$cf" --method extproj $opts -j "$J" -o "$base.$variant.pvs" || { echo "$kind $seed extproj $variant: bake failed"; fail=1; continue; }
         if [ "$seed" = 1 ]; then
-          "$B/pvsbake" -q "$base.obj" --cells "$cf" --method extproj $opts -j 1 -o "$base.$variant-j1.pvs" &&
+          "$B/pvsbake" -q --no-state "$base.obj" --cells "$cf" --method extproj $opts -j 1 -o "$base.$variant-j1.pvs" &&
             cmp -s "$base.$variant.pvs" "$base.$variant-j1.pvs" || { echo "$kind $seed extproj $variant: files differ with the thread count"; fail=1; }
         fi
         line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.$variant.pvs")

@@ -1,7 +1,7 @@
 /* verify_raster.c - the long acceptance run of the raster module (make verify): tests/test_raster.c
    at a larger scale, optimised: >= 10,000 camera positions checked against ray casting (0 misses),
    thousands of random triangles against 16 x 16 sub-sample brute force. Exit 0 when all pass.
-   Usage: verify_raster [SCALE [coverage]]   (default 50: 40 x SCALE cameras per scene) */
+   Usage: verify_raster [SCALE [coverage]]   (default 100: 40 x SCALE cameras per scene, half of them with tiles) */
 #include "test.h"
 #include <stdlib.h>
 
@@ -11,7 +11,7 @@ void raster_verify(int scale);
 void raster_verify_coverage(int scale);
 
 int main(int argc, char **argv) {
-    int scale = argc > 1 ? atoi(argv[1]) : 50;
+    int scale = argc > 1 ? atoi(argv[1]) : 100;
     if (scale < 1) scale = 1;
     if (argc > 2) raster_verify_coverage(scale); /* any second argument: the coverage part only */
     else raster_verify(scale);

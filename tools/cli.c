@@ -159,13 +159,21 @@ int cli_run_bake(pvs_bake *bake, uint32_t threads, int quiet, const char *label,
 typedef struct cli__check_job {
     const pvs_scene *scene;
     const pvs_file *file;
-    uint32_t points, rays;
+    uint32_t points, rays, aim;
     uint64_t seed;
     uint32_t words;
+    float max_distance;   /* > 0: objects farther from the cell do not count as misses */
     pvs_word *seen, *pvs; /* per thread scratch: threads x words each */
     uint32_t *miss_count, *first_miss, *pvs_size, *seen_size;
     uint64_t *rays_cast;
     progress *bar;
+    /* files with virtual occluders: the PVS checked is the one pvs_vocc_cull rebuilds */
+    pvs_box *boxes;       /* object boxes, empty for occluder-only objects (as the bake saw them) */
+    pvs_kdtree *tree;
+    uint8_t *scratch;     /* per thread */
+    size_t scratch_size;
+    pvs_word *stored;     /* per thread: the stored records, compared with the rebuilt PVS */
+    uint8_t *differs;     /* per cell */
 } cli__check_job;
 
 static void cli__check_one(void *user, uint32_t cell, uint32_t thread) {
@@ -181,7 +189,37 @@ static void cli__check_one(void *user, uint32_t cell, uint32_t thread) {
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
     memset(seen, 0, job->words * sizeof(pvs_word));
     job->rays_cast[cell] = pvs_sample_visibility(job->scene, &box, job->points, job->rays, z ^ (z >> 31), seen);
-    pvs_file_decode(job->file, cell, pvs, job->words, NULL);
+    /* then rays aimed at every object not seen yet: small and far objects that uniform directions pass by */
+    if (job->aim) job->rays_cast[cell] += pvs_sample_visibility_toward(job->scene, &box, NULL, job->aim, z ^ (z >> 17), seen);
+    if (job->boxes) {
+        /* the runtime's rebuild: the top-down walk of the object tree (it may cull an object whose
+           parts lie behind different occluders, so it is checked: it is what an engine draws) */
+        pvs_word *stored = job->stored + 2 * (size_t)thread * job->words, *flat = stored + job->words;
+        uint8_t *scratch = job->scratch + (size_t)thread * job->scratch_size;
+        size_t w;
+        pvs_vocc_cull(job->file, cell, 0, job->boxes, n, job->tree, scratch, job->scratch_size, pvs, NULL);
+        if (!(job->file->vocc_flags & PVS_VOCC_ONLY)) {
+            /* the stored PVS is the one every box against each occluder gives (minus objects beyond a
+               draw distance): never an object that rebuild leaves out */
+            pvs_vocc_cull(job->file, cell, 0, job->boxes, n, NULL, scratch, job->scratch_size, flat, NULL);
+            pvs_file_decode(job->file, cell, stored, job->words, NULL);
+            for (w = 0; w < job->words; ++w)
+                if (stored[w] & ~flat[w]) job->differs[cell] = 1;
+        }
+    } else {
+        pvs_file_decode(job->file, cell, pvs, job->words, NULL);
+    }
+    if (job->max_distance > 0.0f) /* a bake with a draw distance: what rays see beyond it is not a miss */
+        for (i = pvs_bitset_next(seen, n, 0); i < n; i = pvs_bitset_next(seen, n, i + 1)) {
+            pvs_box ob = pvs_scene_object_box(job->scene, i);
+            double g2 = 0.0;
+            int k;
+            for (k = 0; k < 3; ++k) {
+                double g = ob.min[k] > box.max[k] ? (double)ob.min[k] - box.max[k] : box.min[k] > ob.max[k] ? (double)box.min[k] - ob.max[k] : 0.0;
+                g2 += g * g;
+            }
+            if (g2 > (double)job->max_distance * job->max_distance) pvs_bitset_clear(seen, i);
+        }
     for (i = pvs_bitset_next(seen, n, 0); i < n; i = pvs_bitset_next(seen, n, i + 1))
         if (!pvs_bitset_test(pvs, i)) {
             if (first == 0xffffffffu) first = i;
@@ -194,8 +232,18 @@ static void cli__check_one(void *user, uint32_t cell, uint32_t thread) {
     if (job->bar) progress_add(job->bar, 1);
 }
 
-int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint64_t seed,
+uint64_t cli_reference_visibility(const pvs_scene *scene, const pvs_box *cell, uint64_t seed, pvs_word *visible) {
+    uint64_t rays = pvs_sample_visibility(scene, cell, 32, 2048, seed, visible);
+    return rays + pvs_sample_visibility_toward(scene, cell, NULL, 32, seed ^ 0x5bd1e995u, visible);
+}
+
+int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint32_t aim, uint64_t seed,
                    uint32_t threads, int quiet, cli_check *out, tool_error *err) {
+    return cli_check_file_ex(scene, file, points, rays, aim, seed, threads, quiet, 0.0f, out, err);
+}
+
+int cli_check_file_ex(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint32_t aim, uint64_t seed,
+                      uint32_t threads, int quiet, float max_distance, cli_check *out, tool_error *err) {
     cli__check_job job;
     progress bar;
     uint32_t c, nt = threads ? threads : cpu_count();
@@ -210,8 +258,10 @@ int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points
     job.file = file;
     job.points = points;
     job.rays = rays;
+    job.aim = aim;
     job.seed = seed;
     job.words = (uint32_t)PVS_BITSET_WORDS(file->object_count);
+    job.max_distance = max_distance;
     job.seen = (pvs_word *)malloc((size_t)nt * job.words * sizeof(pvs_word));
     job.pvs = (pvs_word *)malloc((size_t)nt * job.words * sizeof(pvs_word));
     job.miss_count = (uint32_t *)malloc(file->cell_count * sizeof(uint32_t));
@@ -219,7 +269,27 @@ int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points
     job.pvs_size = (uint32_t *)malloc(file->cell_count * sizeof(uint32_t));
     job.seen_size = (uint32_t *)malloc(file->cell_count * sizeof(uint32_t));
     job.rays_cast = (uint64_t *)malloc(file->cell_count * sizeof(uint64_t));
-    if (!job.seen || !job.pvs || !job.miss_count || !job.first_miss || !job.pvs_size || !job.seen_size || !job.rays_cast) {
+    if (file->vocc_flags & PVS_VOCC_STORED) { /* rebuild every cell's PVS from its virtual occluders */
+        pvs_kdtree_desc kd;
+        memset(&kd, 0, sizeof(kd));
+        job.boxes = (pvs_box *)malloc((size_t)file->object_count * sizeof(pvs_box) + 1);
+        job.differs = (uint8_t *)calloc(file->cell_count, 1);
+        job.stored = (pvs_word *)malloc(2 * (size_t)nt * job.words * sizeof(pvs_word));
+        if (job.boxes)
+            for (c = 0; c < file->object_count; ++c) {
+                job.boxes[c] = pvs_scene_object_box(scene, c);
+                if (pvs_scene_object_flags(scene, c) & PVS_OBJECT_OCCLUDER_ONLY) job.boxes[c].min[0] = 1.0f, job.boxes[c].max[0] = 0.0f;
+            }
+        kd.boxes = job.boxes;
+        kd.count = file->object_count;
+        if (job.boxes && pvs_kdtree_create(&kd, &job.tree, NULL) == PVS_OK) {
+            job.scratch_size = (pvs_vocc_cull_scratch_size(job.tree, 255) + 63) / 64 * 64;
+            job.scratch = (uint8_t *)malloc((size_t)nt * job.scratch_size);
+        }
+        out->rebuilt = 1;
+    }
+    if (!job.seen || !job.pvs || !job.miss_count || !job.first_miss || !job.pvs_size || !job.seen_size || !job.rays_cast ||
+        (out->rebuilt && (!job.tree || !job.scratch || !job.differs || !job.stored))) {
         tool_error_set(err, NULL, 0, "out of memory");
     } else {
         if (!quiet) {
@@ -240,11 +310,14 @@ int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points
                 out->cells_with_misses++;
             }
             out->pvs_sum += job.pvs_size[c];
+            if (job.differs) out->stored_differs += job.differs[c];
             out->seen_sum += job.seen_size[c];
             out->rays += job.rays_cast[c];
         }
     }
     free(job.seen); free(job.pvs); free(job.miss_count); free(job.first_miss); free(job.pvs_size); free(job.seen_size);
+    free(job.boxes); free(job.differs); free(job.stored); free(job.scratch);
+    pvs_kdtree_destroy(job.tree);
     free(job.rays_cast);
     return out->cells ? 0 : -1;
 }
@@ -304,6 +377,8 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     uint32_t n = 0, total = 0, words = 0, c;
     pvs_box *boxes = NULL;
     pvs_word *table = NULL;
+    uint8_t *vcount = NULL, *vscale = NULL, *vbytes = NULL;
+    size_t vat = 0;
     pvs_file_desc d;
     pvs_error pe;
     size_t need = 0;
@@ -324,9 +399,10 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
         }
         if (i && (f->shard_count != f0->shard_count || f->total_cell_count != f0->total_cell_count ||
                   f->object_count != f0->object_count || f->method != f0->method || f->eps != f0->eps ||
-                  f->up_axis != f0->up_axis || f->flags != f0->flags || f->max_chain != f0->max_chain)) {
+                  f->up_axis != f0->up_axis || f->flags != f0->flags || f->max_chain != f0->max_chain || f->vocc_flags != f0->vocc_flags ||
+                  f->vocc_base != f0->vocc_base || f->vocc_height_step != f0->vocc_height_step)) {
             tool_error_set(err, paths[i], 0, "does not belong to the bake of %s (shard count, cells, objects, method, eps, "
-                                             "up axis, flags or chain bound differ)", paths[0]);
+                                             "up axis, flags, chain bound or virtual occluders differ)", paths[0]);
             goto done;
         }
     }
@@ -352,11 +428,27 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     boxes = (pvs_box *)malloc((size_t)total * sizeof(pvs_box));
     table = (pvs_word *)malloc((size_t)total * words * sizeof(pvs_word));
     if (!boxes || !table) { tool_error_set(err, NULL, 0, "out of memory for %u cells", total); goto done; }
+    if (files[0].vocc_flags & PVS_VOCC_STORED) { /* the virtual occluders too, back to back in cell order */
+        size_t occluders = 0;
+        for (i = 0; i < count; ++i) occluders += files[i].virtual_occluder_count;
+        vcount = (uint8_t *)malloc(total);
+        vscale = (uint8_t *)malloc(total);
+        vbytes = (uint8_t *)malloc(5 * occluders + 1);
+        if (!vcount || !vscale || !vbytes) { tool_error_set(err, NULL, 0, "out of memory for %u cells", total); goto done; }
+    }
     for (c = 0; c < total; ++c) {
         const pvs_file *f = files + by_shard[c % n];
         uint32_t local = c / n;
         boxes[c] = pvs_file_cell_box(f, local);
         pvs_file_decode(f, local, table + (size_t)c * words, words, NULL);
+        if (vcount) {
+            const uint8_t *p = NULL;
+            uint32_t sc = 0, k = pvs_file_vocc_record(f, local, &sc, &p);
+            vcount[c] = (uint8_t)k;
+            vscale[c] = (uint8_t)sc;
+            if (k) memcpy(vbytes + vat, p, 5 * (size_t)k);
+            vat += 5 * (size_t)k;
+        }
     }
     memset(&d, 0, sizeof(d));
     d.cells = boxes;
@@ -368,6 +460,14 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     d.up_axis = files[0].up_axis;
     d.flags = files[0].flags;
     d.max_chain = files[0].max_chain;
+    if (vcount) {
+        d.vocc_counts = vcount;
+        d.vocc_scales = vscale;
+        d.virtual_occluders = vbytes;
+        d.vocc_base = files[0].vocc_base;
+        d.vocc_height_step = files[0].vocc_height_step;
+        d.vocc_flags = files[0].vocc_flags & PVS_VOCC_ONLY;
+    }
     if (pvs_file_encode(&d, NULL, 0, &need, &pe) != PVS_OK || !(*out = malloc(need)) ||
         pvs_file_encode(&d, *out, need, out_size, &pe) != PVS_OK) {
         tool_error_set(err, NULL, 0, "encoding the merged file: %s", *out ? pe.message : "out of memory");
@@ -383,6 +483,9 @@ done:
     free(by_shard);
     free(boxes);
     free(table);
+    free(vcount);
+    free(vscale);
+    free(vbytes);
     return rc;
 }
 
@@ -400,4 +503,202 @@ int cli_demo_city(mesh *m, mesh_cells *cells, pvs_scene **scene, tool_error *err
         return -1;
     }
     return cli_make_scene("city", m, 1, scene, err);
+}
+
+/* ---- resumable bakes ---- */
+
+uint64_t cli_fingerprint(uint64_t h, const void *data, size_t size) {
+    const unsigned char *p = (const unsigned char *)data;
+    size_t i;
+    for (i = 0; i < size; ++i) {
+        h ^= p[i];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+/* The state file: "PVSSTATE", u32 version 1, u32 task count, u32 object count, u32 record count,
+   u64 fingerprint, then per record u32 task, u32 zero, the task's PVS words (u64 each), and a
+   CRC-32 of everything before it. All little-endian. */
+#define CLI__STATE_HEAD 32u
+
+static void cli__put32(unsigned char *p, uint32_t v) { p[0] = (unsigned char)v; p[1] = (unsigned char)(v >> 8); p[2] = (unsigned char)(v >> 16); p[3] = (unsigned char)(v >> 24); }
+static void cli__put64(unsigned char *p, uint64_t v) { cli__put32(p, (uint32_t)v); cli__put32(p + 4, (uint32_t)(v >> 32)); }
+static uint32_t cli__get32(const unsigned char *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
+static uint64_t cli__get64(const unsigned char *p) { return (uint64_t)cli__get32(p) | (uint64_t)cli__get32(p + 4) << 32; }
+
+/* Writes the state of the tasks marked in done[] (atomically). */
+static int cli__state_write(const pvs_bake *bake, uint32_t objects, const char *path, uint64_t fp, const unsigned char *done,
+                            tool_error *err) {
+    uint32_t tasks = pvs_bake_task_count(bake), t, n = 0;
+    size_t words = PVS_BITSET_WORDS(objects), rec = 8 + 8 * words, size, at = CLI__STATE_HEAD;
+    unsigned char *buf;
+    int rc;
+    for (t = 0; t < tasks; ++t) n += done[t] != 0;
+    size = CLI__STATE_HEAD + (size_t)n * rec + 4;
+    buf = (unsigned char *)malloc(size);
+    if (!buf) {
+        tool_error_set(err, path, 0, "out of memory for the state file");
+        return -1;
+    }
+    memcpy(buf, "PVSSTATE", 8);
+    cli__put32(buf + 8, 1);
+    cli__put32(buf + 12, tasks);
+    cli__put32(buf + 16, objects);
+    cli__put32(buf + 20, n);
+    cli__put64(buf + 24, fp);
+    for (t = 0; t < tasks; ++t) {
+        const pvs_word *bits;
+        size_t w;
+        if (!done[t]) continue;
+        bits = pvs_bake_cell_pvs(bake, pvs_bake_task_cell(bake, t));
+        cli__put32(buf + at, t);
+        cli__put32(buf + at + 4, 0);
+        for (w = 0; w < words; ++w) cli__put64(buf + at + 8 + 8 * w, bits ? bits[w] : 0);
+        at += rec;
+    }
+    cli__put32(buf + at, tool_crc32(0, buf, at));
+    rc = write_file_atomic(path, buf, size, err);
+    free(buf);
+    return rc;
+}
+
+/* Restores the tasks of a state file. Returns the count restored, or -1 when the file is not a
+   state of this bake (damaged, other fingerprint or shape): the caller starts over. */
+static int cli__state_read(pvs_bake *bake, uint32_t objects, const char *path, uint64_t fp, unsigned char *done) {
+    uint32_t tasks = pvs_bake_task_count(bake), n, k;
+    size_t words = PVS_BITSET_WORDS(objects), rec = 8 + 8 * words, size = 0, w;
+    void *data = NULL;
+    const unsigned char *p;
+    pvs_word *bits;
+    int restored = 0;
+    if (read_file(path, &data, &size, NULL)) return -1;
+    p = (const unsigned char *)data;
+    if (size < CLI__STATE_HEAD + 4 || memcmp(p, "PVSSTATE", 8) || cli__get32(p + 8) != 1 || cli__get32(p + 12) != tasks ||
+        cli__get32(p + 16) != objects || cli__get64(p + 24) != fp || (n = cli__get32(p + 20)) > tasks ||
+        size != CLI__STATE_HEAD + (size_t)n * rec + 4 || cli__get32(p + size - 4) != tool_crc32(0, p, size - 4)) {
+        free(data);
+        return -1;
+    }
+    bits = (pvs_word *)malloc(words * sizeof(pvs_word) + 8);
+    if (!bits) {
+        free(data);
+        return -1;
+    }
+    for (k = 0; k < n; ++k) {
+        const unsigned char *r = p + CLI__STATE_HEAD + (size_t)k * rec;
+        uint32_t t = cli__get32(r);
+        if (t >= tasks || done[t]) continue;
+        for (w = 0; w < words; ++w) bits[w] = cli__get64(r + 8 + 8 * w);
+        if (pvs_bake_restore_task(bake, t, bits, words, NULL) == PVS_OK) {
+            done[t] = 1;
+            ++restored;
+        }
+    }
+    free(bits);
+    free(data);
+    return restored;
+}
+
+typedef struct cli__run_job {
+    pvs_bake *bake;
+    progress *bar;
+    pthread_mutex_t mutex;
+    const uint32_t *todo;      /* tasks to run */
+    unsigned char *done;       /* per task, under the mutex */
+    cli_bake_run *run;
+    uint32_t since_write;
+    int failed, state_failed;
+    uint32_t failed_task;
+    pvs_error error;
+    tool_error state_error;
+} cli__run_job;
+
+static void cli__run_one(void *user, uint32_t index, uint32_t thread) {
+    cli__run_job *job = (cli__run_job *)user;
+    uint32_t task = job->todo[index];
+    pvs_error e;
+    double t0 = cli_seconds();
+    int ok = pvs_bake_run_task(job->bake, task, &e) == PVS_OK;
+    double dt = cli_seconds() - t0;
+    (void)thread;
+    pthread_mutex_lock(&job->mutex);
+    if (job->run->task_seconds) job->run->task_seconds[task] = dt;
+    if (!ok) {
+        if (!job->failed || task < job->failed_task) { /* report the lowest failing task: deterministic */
+            job->failed = 1;
+            job->failed_task = task;
+            job->error = e;
+        }
+    } else {
+        job->done[task] = 1;
+        if (job->run->state_path && ++job->since_write >= job->run->state_every) {
+            job->since_write = 0;
+            if (cli__state_write(job->bake, job->run->object_count, job->run->state_path, job->run->fingerprint, job->done, &job->state_error))
+                job->state_failed = 1;
+        }
+    }
+    pthread_mutex_unlock(&job->mutex);
+    if (job->bar) progress_add(job->bar, 1);
+}
+
+int cli_run_bake_ex(pvs_bake *bake, uint32_t threads, int quiet, const char *label, cli_bake_run *run, tool_error *err) {
+    cli__run_job job;
+    progress bar;
+    uint32_t tasks = pvs_bake_task_count(bake), t, n = 0;
+    uint32_t *todo = (uint32_t *)malloc((size_t)tasks * sizeof(uint32_t) + 4);
+    unsigned char *done = (unsigned char *)calloc((size_t)tasks + 1, 1);
+    int rc = 0;
+    run->resumed = 0;
+    run->state_ignored = 0;
+    if (!run->state_every) run->state_every = 32;
+    if (!todo || !done) {
+        free(todo);
+        free(done);
+        tool_error_set(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    if (run->task_seconds)
+        for (t = 0; t < tasks; ++t) run->task_seconds[t] = -1.0;
+    if (run->state_path && !run->object_count) {
+        free(todo);
+        free(done);
+        tool_error_set(err, run->state_path, 0, "a state file needs the object count");
+        return -1;
+    }
+    if (run->state_path) {
+        FILE *f = fopen(run->state_path, "rb");
+        if (f) {
+            int r;
+            fclose(f);
+            r = cli__state_read(bake, run->object_count, run->state_path, run->fingerprint, done);
+            if (r < 0) run->state_ignored = 1;
+            else run->resumed = (uint32_t)r;
+        }
+    }
+    for (t = 0; t < tasks; ++t)
+        if (!done[t]) todo[n++] = t;
+    memset(&job, 0, sizeof(job));
+    job.bake = bake;
+    job.todo = todo;
+    job.done = done;
+    job.run = run;
+    pthread_mutex_init(&job.mutex, NULL);
+    if (!quiet) {
+        progress_begin(&bar, label, n);
+        job.bar = &bar;
+    }
+    parallel_for(threads, n, cli__run_one, &job);
+    if (!quiet) progress_end(&bar);
+    pthread_mutex_destroy(&job.mutex);
+    if (job.failed) {
+        if (run->state_path) cli__state_write(bake, run->object_count, run->state_path, run->fingerprint, done, NULL); /* keep what is done */
+        tool_error_set(err, NULL, 0, "cell %u: %s", pvs_bake_task_cell(bake, job.failed_task), job.error.message);
+        rc = -1;
+    } else if (job.state_failed) { /* the bake itself is fine: only resuming it would not be */
+        fprintf(stderr, "warning: cannot save the bake's state: %s\n", job.state_error.message);
+    }
+    free(todo);
+    free(done);
+    return rc;
 }

@@ -27,6 +27,11 @@ int cli_grid_cells(const pvs_scene *scene, float size, uint32_t max_cells, mesh_
    quiet. Returns 0 or -1 with err set (the first failing task's message). */
 int cli_run_bake(pvs_bake *bake, uint32_t threads, int quiet, const char *label, tool_error *err);
 
+/* The one tightness yardstick of the benches: a lower bound of the cell's exact visible set from 32
+   points x 2048 uniform rays (pvs_sample_visibility) and then 32 rays aimed at every object not yet
+   seen (pvs_sample_visibility_toward). Sets bits in `visible` (not cleared first). Returns the rays. */
+uint64_t cli_reference_visibility(const pvs_scene *scene, const pvs_box *cell, uint64_t seed, pvs_word *visible);
+
 /* The ray-sampling check of a PVS table: per cell, objects the sampler sees that the PVS lacks. */
 typedef struct cli_check {
     uint32_t cells;
@@ -35,11 +40,21 @@ typedef struct cli_check {
     uint32_t first_miss_cell, first_miss_object;
     double pvs_sum, seen_sum;   /* sums of PVS sizes and ray-sampled visible set sizes */
     uint64_t rays;
+    uint32_t rebuilt;           /* 1: the file has virtual occluders and the PVS checked is the one pvs_vocc_cull
+                                   rebuilds from them (what a runtime using them draws) */
+    uint32_t stored_differs;    /* rebuilt: cells whose stored records hold an object the occluders' PVS
+                                   (every box tested, no tree) leaves out: must be 0 (the records are that
+                                   PVS, less objects beyond a draw distance; placeholders are not compared) */
 } cli_check;
 /* Checks cells [0, cell_count) of `file` against ray sampling in `scene` (points x rays per cell,
-   seeded per cell from `seed`), on `threads` threads. Deterministic for any thread count. */
-int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint64_t seed,
+   seeded per cell from `seed`), on `threads` threads. Deterministic for any thread count. A file with
+   virtual occluders (VOCC) is checked through the PVS pvs_vocc_cull rebuilds from them. */
+int cli_check_file(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint32_t aim, uint64_t seed,
                    uint32_t threads, int quiet, cli_check *out, tool_error *err);
+/* The same for a bake with a draw distance (pvsbake --max-distance): objects whose box is farther
+   than max_distance (> 0) from the cell's box do not count as seen. */
+int cli_check_file_ex(const pvs_scene *scene, const pvs_file *file, uint32_t points, uint32_t rays, uint32_t aim, uint64_t seed,
+                      uint32_t threads, int quiet, float max_distance, cli_check *out, tool_error *err);
 
 /* Encodes a finished bake and writes it to `path` (temp file + rename). *size gets the file size. */
 int cli_write_bake(const pvs_bake *bake, const char *path, size_t *size, tool_error *err);
@@ -56,5 +71,28 @@ double cli_seconds(void);
 int cli_parse_up(const char *s, uint32_t *up);
 /* Strict unsigned decimal in [lo, hi]. */
 int cli_parse_u32(const char *s, uint32_t lo, uint32_t hi, uint32_t *out);
+
+/* ---- resumable bakes with statistics (pvsbake, the examples) ---- */
+
+/* Options and results of cli_run_bake_ex. Zero-initialise, then set what you need. */
+typedef struct cli_bake_run {
+    const char *state_path;   /* NULL: no state file. Else, when it exists and belongs to this bake (same
+                                 fingerprint, task and object counts), its cells are restored and only
+                                 the others run; the state is rewritten (temp file + rename) after every
+                                 `state_every` finished cells and on a failure, and removed at the end */
+    uint32_t state_every;     /* 0 = 32 */
+    uint64_t fingerprint;     /* identifies the bake's inputs (cli_fingerprint) */
+    uint32_t object_count;    /* the scene's (needed with a state file) */
+    double *task_seconds;     /* NULL, or task_count entries: each run task's time (restored: -1) */
+    uint32_t resumed;         /* out: tasks restored from the state file */
+    int state_ignored;        /* out: 1 when a state file was there but belongs to another bake */
+} cli_bake_run;
+
+/* cli_run_bake with a state file for resuming and per-task times. Returns 0 or -1 with err set. */
+int cli_run_bake_ex(pvs_bake *bake, uint32_t threads, int quiet, const char *label, cli_bake_run *run, tool_error *err);
+
+/* FNV-1a 64 over bytes, chained: start with h = CLI_FNV_START. */
+#define CLI_FNV_START 0xcbf29ce484222325ull
+uint64_t cli_fingerprint(uint64_t h, const void *data, size_t size);
 
 #endif

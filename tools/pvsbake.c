@@ -10,10 +10,18 @@ static const char *usage =
     "  --cells FILE      view cells: one 'minx miny minz maxx maxy maxz' per line ('#' comments)\n"
     "  --grid SIZE       view cells: a 3D grid of SIZE cubes over the scene bounds\n"
     "  --up y|z          up axis of the scene (default y, the OBJ convention)\n"
-    "  --method NAME     sample (ray sampling: an approximate PVS, NOT conservative)\n"
+    "  --method NAME     auto (the default: the conservative methods that apply to the scene, their PVSs\n"
+    "                    intersected; the summary says which ran and what each contributed)\n"
+    "                    sample (ray sampling: an approximate PVS, NOT conservative)\n"
     "                    shrink (occluder shrinking, Wonka 2000: conservative)\n"
     "                    otree (2.5D occlusion trees: conservative; occluders = vertical walls on the ground)\n"
     "                    extproj (extended projections, Durand et al. 2000: conservative)\n"
+    "                    vocc (virtual occluders, Koltun et al. 2000: conservative, 2.5D; the file also\n"
+    "                    stores a few occluders per cell from which pvs_vocc_cull rebuilds the PVS)\n"
+    "                    A,B,...: auto over these conservative methods only (e.g. otree,extproj)\n"
+    "  --preview         fast, coarse, still conservative: auto runs only the cheapest method that\n"
+    "                    applies, with coarse settings\n"
+    "  --max-distance D  leave out objects farther than D from every point of the cell (a draw distance)\n"
     "  --eps E           sampling / shrinking distance (stored in the file); shrink's default is an\n"
     "                    eighth of the median cell width, printed in the summary\n"
     "  --2d5, --3d       shrink: force the 2.5D (cull map) or 3D (depth cube) path; default: 2.5D\n"
@@ -22,14 +30,23 @@ static const char *usage =
     "  --sweep           extproj: add the occlusion sweep (Durand 2000 §5) for scenes of many small\n"
     "                    occluders (foliage); slower\n"
     "  --adaptive N      split a cell whose PVS holds more than N triangles in two, recursively\n"
-    "                    (Durand 2000 §6.1); the file holds the leaf cells. Not with --shard\n"
+    "                    (Durand 2000 §6.1); the file holds the leaf cells. Not with --shard, vocc\n"
+    "                    or resuming (no state file)\n"
     "  --min-cell S      --adaptive: no cell side below S (default: an eighth of the cell's longest)\n"
+    "  --vocc-only       vocc: store only the occluders (the PVS records list every object; the\n"
+    "                    runtime rebuilds each cell's PVS with pvs_vocc_cull)\n"
+    "  --vocc-slices N   vocc: height slices per cell (1..16, default 5)\n"
+    "  --vocc-max N      vocc: virtual occluders kept per cell (1..255, default 10)\n"
     "  --points N        sample method: points per cell (default 32)\n"
     "  --rays N          sample method: rays per point (default 2048)\n"
     "  --seed N          sample method: random seed (default 1)\n"
     "  --chain K         file: decode any cell in at most K deltas (1..64, default 8)\n"
     "  --shard K/N       bake only shard K of N (cells K-1, K-1+N, ...) into a part file for merge\n"
     "  -j THREADS        worker threads (default: all CPUs); the file is identical for any count\n"
+    "  --state FILE      resumable bake: the finished cells are saved to FILE (default OUT.pvs.state)\n"
+    "                    every --state-every N cells (default 32); rerunning the same command continues\n"
+    "                    from it; it is removed when the output is written\n"
+    "  --no-state        no state file\n"
     "  -q, --quiet       no progress bar and no summary\n"
     "  --help            this text\n"
     "exit status: 0 success, 1 bad input (message names file and line), 2 usage\n";
@@ -92,15 +109,159 @@ static int parse_shard(const char *v, uint32_t *k, uint32_t *n) {
     return 0;
 }
 
+/* "name" or "a,b,...": a method, or AUTO with a mask of conservative methods. */
+static int parse_method(const char *v, pvs_method *method, uint32_t *mask) {
+    char name[64];
+    const char *p = v;
+    uint32_t n = 0;
+    *mask = 0;
+    if (!strchr(v, ',')) {
+        int m;
+        for (m = 1; m < PVS_METHOD_COUNT; ++m)
+            if (!strcmp(v, pvs_method_name((pvs_method)m))) {
+                *method = (pvs_method)m;
+                return 0;
+            }
+        return -1;
+    }
+    while (*p) {
+        const char *end = strchr(p, ',');
+        size_t len = end ? (size_t)(end - p) : strlen(p);
+        int m, found = 0;
+        if (!len || len >= sizeof(name)) return -1;
+        memcpy(name, p, len);
+        name[len] = 0;
+        for (m = 1; m < PVS_METHOD_COUNT; ++m)
+            if (!strcmp(name, pvs_method_name((pvs_method)m)) && m != PVS_METHOD_SAMPLE && m != PVS_METHOD_AUTO) {
+                *mask |= 1u << m;
+                found = 1;
+            }
+        if (!found) return -1;
+        ++n;
+        p += len + (end ? 1 : 0);
+        if (end && !*p) return -1;
+    }
+    *method = PVS_METHOD_AUTO;
+    return n ? 0 : -1;
+}
+
+static int cmp_str(const void *a, const void *b) { return strcmp(*(const char *const *)a, *(const char *const *)b); }
+
+/* What identifies a bake for its state file: the scene's arrays, the cells, and every option that
+   may change the result, as sorted "option=value" strings (an option's value is the next token
+   unless it starts with '-'). Left out: -j, -q, -o, --state, --state-every, --no-state, and --cells
+   and the scene path, whose contents count instead. */
+static uint64_t bake_fingerprint(int argc, char **argv, const mesh *m, const mesh_cells *cells, uint32_t up) {
+    char **pairs = (char **)calloc((size_t)argc + 1, sizeof(char *));
+    uint64_t h = CLI_FNV_START;
+    uint32_t o;
+    int i, n = 0, j;
+    h = cli_fingerprint(h, m->positions, (size_t)m->vertex_count * 3 * sizeof(float));
+    h = cli_fingerprint(h, m->indices, (size_t)m->triangle_count * 3 * sizeof(uint32_t));
+    for (o = 0; o < m->object_count; ++o) {
+        uint32_t r[3];
+        r[0] = m->objects[o].first_triangle; r[1] = m->objects[o].triangle_count; r[2] = m->objects[o].flags;
+        h = cli_fingerprint(h, r, sizeof(r));
+    }
+    h = cli_fingerprint(h, cells->boxes, (size_t)cells->count * 6 * sizeof(float));
+    h = cli_fingerprint(h, &up, sizeof(up));
+    if (!pairs) return h;
+    for (i = 1; i < argc; ++i) {
+        const char *a = argv[i], *v = i + 1 < argc && argv[i + 1][0] != '-' ? argv[i + 1] : NULL;
+        size_t len;
+        if (a[0] != '-') continue; /* the scene path */
+        if (v) ++i;
+        if (!strcmp(a, "-j") || !strcmp(a, "-o") || !strcmp(a, "--state") || !strcmp(a, "--state-every") || !strcmp(a, "--cells") ||
+            !strcmp(a, "-q") || !strcmp(a, "--quiet") || !strcmp(a, "--no-state"))
+            continue;
+        len = strlen(a) + (v ? strlen(v) : 0) + 2;
+        if (!(pairs[n] = (char *)malloc(len))) break;
+        snprintf(pairs[n++], len, "%s=%s", a, v ? v : "");
+    }
+    qsort(pairs, (size_t)n, sizeof(char *), cmp_str);
+    for (j = 0; j < n; ++j) {
+        h = cli_fingerprint(h, pairs[j], strlen(pairs[j]) + 1);
+        free(pairs[j]);
+    }
+    free(pairs);
+    return h;
+}
+
+typedef struct slow_cell { uint32_t task; double seconds; } slow_cell;
+static int cmp_slow(const void *a, const void *b) {
+    const slow_cell *x = (const slow_cell *)a, *y = (const slow_cell *)b;
+    if (x->seconds != y->seconds) return x->seconds > y->seconds ? -1 : 1;
+    return x->task < y->task ? -1 : x->task > y->task;
+}
+
+/* The statistics at the end of a bake: methods, PVS sizes, culled share, time per cell, slowest cells. */
+static void print_summary(const char *out_path, const pvs_scene *scene, const pvs_bake *bake, const cli_bake_run *run,
+                          const double *secs, double wall, double total, size_t size, int sharded) {
+    uint32_t t, objects = pvs_scene_object_count(scene), tasks = pvs_bake_task_count(bake), max = 0, max_cell = 0, ran = 0, i;
+    double sum = 0.0, tsum = 0.0;
+    slow_cell *slow = (slow_cell *)malloc((size_t)tasks * sizeof(slow_cell) + 1);
+    for (t = 0; t < tasks; ++t) {
+        uint32_t n = pvs_bitset_count(pvs_bake_cell_pvs(bake, pvs_bake_task_cell(bake, t)), objects);
+        sum += n;
+        if (n > max) { max = n; max_cell = pvs_bake_task_cell(bake, t); }
+        if (secs[t] >= 0.0) {
+            if (slow) { slow[ran].task = t; slow[ran].seconds = secs[t]; }
+            tsum += secs[t];
+            ++ran;
+        }
+    }
+    fprintf(stderr, "%s: %u objects, %u triangles, %u cells%s, method %s%s\n", out_path, objects, pvs_scene_triangle_count(scene), tasks,
+            sharded ? " (this shard)" : "", pvs_method_name(pvs_bake_method(bake)),
+            pvs_bake_method(bake) == PVS_METHOD_SAMPLE ? " (approximate: ray sampling, not conservative)" : " (conservative)");
+    if (pvs_bake_method(bake) == PVS_METHOD_AUTO || pvs_bake_method_count(bake) > 1)
+        for (i = 0; i < pvs_bake_method_count(bake); ++i) {
+            pvs_bake_method_info mi;
+            if (pvs_bake_get_method_info(bake, i, &mi) != PVS_OK) continue;
+            if (!mi.ran) {
+                fprintf(stderr, "  %-8s skipped: %s\n", pvs_method_name(mi.method), mi.reason);
+            } else if (mi.cells) {
+                fprintf(stderr, "  %-8s ran (%s): its own PVS %.1f objects, it alone culled %.1f per cell\n", pvs_method_name(mi.method),
+                        mi.reason, (double)mi.pvs_sum / mi.cells, (double)mi.sole_culls / mi.cells);
+            } else {
+                fprintf(stderr, "  %-8s ran (%s)\n", pvs_method_name(mi.method), mi.reason);
+            }
+        }
+    fprintf(stderr, "  mean PVS %.1f objects (%.1f%%), max %u (cell %u); culled %.1f%% of the objects per cell\n", sum / tasks,
+            100.0 * sum / tasks / objects, max, max_cell, 100.0 - 100.0 * sum / tasks / objects);
+    if (ran)
+        fprintf(stderr, "  time per cell %.2f ms (mean over the %u cells baked, each on one thread), bake %.2f s wall, %.2f s total\n",
+                1000.0 * tsum / ran, ran, wall, total);
+    if (run->resumed) fprintf(stderr, "  resumed: %u cells came from the state file, %u were baked now\n", run->resumed, ran);
+    if (slow && ran > 1) {
+        uint32_t show = ran < 5 ? ran : 5;
+        qsort(slow, ran, sizeof(slow_cell), cmp_slow);
+        fprintf(stderr, "  slowest cells:");
+        for (i = 0; i < show; ++i)
+            fprintf(stderr, " %u (%.1f ms)", pvs_bake_task_cell(bake, slow[i].task), 1000.0 * slow[i].seconds);
+        fprintf(stderr, "\n");
+    }
+    fprintf(stderr, "  file %zu bytes (%.1f per cell)\n", size, (double)size / tasks);
+    {
+        pvs_vocc_stats vs;
+        pvs_bake_vocc_stats(bake, &vs);
+        if (vs.slices)
+            fprintf(stderr, "  vocc: %.2f virtual occluders per cell kept of %.1f found (%.1f slices, %.1f seeds per cell; %u dropped)%s\n",
+                    (double)vs.selected / tasks, (double)vs.dense / tasks, (double)vs.slices / tasks, (double)vs.seeds / tasks, vs.dropped,
+                    pvs_bake_method(bake) != PVS_METHOD_VOCC ? "; only its PVS is used (auto stores no occluders)" : "");
+    }
+    free(slow);
+}
+
 int main(int argc, char **argv) {
-    const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL;
-    float grid = 0.0f, eps = 0.0f, voxel = 0.0f;
+    const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL, *state_path = NULL;
+    float grid = 0.0f, eps = 0.0f, voxel = 0.0f, max_distance = 0.0f;
     pvs_shrink_mode shrink_mode = PVS_SHRINK_AUTO;
     uint32_t sweep = 0, adaptive = 0;
     float min_cell = 0.0f;
-    uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0;
-    int quiet = 0, i;
-    pvs_method method = PVS_METHOD_SAMPLE;
+    uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0, methods = 0, state_every = 0;
+    uint32_t vocc_slices = 0, vocc_max = 0;
+    int quiet = 0, i, preview = 0, no_state = 0, vocc_only = 0;
+    pvs_method method = PVS_METHOD_AUTO;
     mesh m;
     mesh_cells cells;
     pvs_scene *scene = NULL;
@@ -108,6 +269,9 @@ int main(int argc, char **argv) {
     pvs_bake_desc bd;
     pvs_error pe;
     tool_error te;
+    cli_bake_run run;
+    double *secs = NULL;
+    char *state_buf = NULL;
     size_t size = 0;
     double t0, t_bake;
     int rc = 1;
@@ -128,32 +292,43 @@ int main(int argc, char **argv) {
             shrink_mode = PVS_SHRINK_3D;
         } else if (!strcmp(a, "--sweep")) {
             sweep = PVS_EXTPROJ_SWEEP_PLANES;
+        } else if (!strcmp(a, "--vocc-only")) {
+            vocc_only = 1;
+        } else if (!strcmp(a, "--preview")) {
+            preview = 1;
+        } else if (!strcmp(a, "--no-state")) {
+            no_state = 1;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--cells") || !strcmp(a, "--grid") || !strcmp(a, "--up") ||
                    !strcmp(a, "--method") || !strcmp(a, "--eps") || !strcmp(a, "-j") || !strcmp(a, "--points") ||
                    !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard") || !strcmp(a, "--voxel") ||
-                   !strcmp(a, "--adaptive") || !strcmp(a, "--min-cell")) {
+                   !strcmp(a, "--max-distance") || !strcmp(a, "--state") || !strcmp(a, "--state-every") ||
+                   !strcmp(a, "--vocc-slices") || !strcmp(a, "--vocc-max") || !strcmp(a, "--adaptive") || !strcmp(a, "--min-cell")) {
             if (!v) return usage_error("%s needs a value", a);
             ++i;
             if (!strcmp(a, "-o")) out_path = v;
             else if (!strcmp(a, "--cells")) cells_path = v;
+            else if (!strcmp(a, "--state")) state_path = v;
             else if (!strcmp(a, "--grid")) {
                 if (parse_float(v, &grid) || !(grid > 0.0f)) return usage_error("--grid needs a positive size, not '%s'", v);
             } else if (!strcmp(a, "--up")) {
                 if (cli_parse_up(v, &up)) return usage_error("--up takes y or z, not '%s'", v);
             } else if (!strcmp(a, "--method")) {
-                if (!strcmp(v, "sample")) method = PVS_METHOD_SAMPLE;
-                else if (!strcmp(v, "shrink")) method = PVS_METHOD_SHRINK;
-                else if (!strcmp(v, "otree")) method = PVS_METHOD_OTREE;
-                else if (!strcmp(v, "extproj")) method = PVS_METHOD_EXTPROJ;
-                else return usage_error("unknown method '%s' (available: sample, shrink, otree, extproj)", v);
+                if (parse_method(v, &method, &methods))
+                    return usage_error("unknown method '%s' (available: auto, sample, shrink, otree, extproj, vocc, or a list such as otree,extproj)", v);
             } else if (!strcmp(a, "--adaptive")) {
                 if (cli_parse_u32(v, 1, 0xffffffffu, &adaptive)) return usage_error("--adaptive takes a triangle budget >= 1, not '%s'", v);
             } else if (!strcmp(a, "--min-cell")) {
                 if (parse_float(v, &min_cell) || !(min_cell > 0.0f)) return usage_error("--min-cell needs a positive size, not '%s'", v);
+            } else if (!strcmp(a, "--vocc-slices")) {
+                if (cli_parse_u32(v, 1, 16, &vocc_slices)) return usage_error("--vocc-slices takes 1..16, not '%s'", v);
+            } else if (!strcmp(a, "--vocc-max")) {
+                if (cli_parse_u32(v, 1, 255, &vocc_max)) return usage_error("--vocc-max takes 1..255, not '%s'", v);
             } else if (!strcmp(a, "--voxel")) {
                 if (parse_float(v, &voxel) || !(voxel > 0.0f)) return usage_error("--voxel needs a positive size, not '%s'", v);
             } else if (!strcmp(a, "--eps")) {
                 if (parse_float(v, &eps) || !(eps > 0.0f)) return usage_error("--eps needs a positive number, not '%s'", v);
+            } else if (!strcmp(a, "--max-distance")) {
+                if (parse_float(v, &max_distance) || !(max_distance > 0.0f)) return usage_error("--max-distance needs a positive number, not '%s'", v);
             } else if (!strcmp(a, "-j")) {
                 if (parse_threads(v, &threads)) return usage_error("-j takes a thread count 0..1024, not '%s'", v);
             } else if (!strcmp(a, "--points")) {
@@ -166,6 +341,8 @@ int main(int argc, char **argv) {
                 if (parse_shard(v, &shard_k, &shard_n)) return usage_error("--shard takes K/N with 1 <= K <= N, not '%s'", v);
             } else if (!strcmp(a, "--seed")) {
                 if (cli_parse_u32(v, 0, 0xffffffffu, &seed)) return usage_error("--seed takes an unsigned integer, not '%s'", v);
+            } else if (!strcmp(a, "--state-every")) {
+                if (cli_parse_u32(v, 1, 1u << 30, &state_every)) return usage_error("--state-every takes a cell count >= 1, not '%s'", v);
             }
         } else if (a[0] == '-' && a[1]) {
             return usage_error("unknown option '%s'", a);
@@ -178,9 +355,12 @@ int main(int argc, char **argv) {
     if (!scene_path) return usage_error("%s", "no scene given");
     if (!out_path) return usage_error("%s", "no output given (-o OUT.pvs)");
     if (!cells_path == !(grid > 0.0f)) return usage_error("%s", "give exactly one of --cells FILE or --grid SIZE");
+    if (vocc_only && method != PVS_METHOD_VOCC) return usage_error("%s", "--vocc-only needs --method vocc");
+    if (no_state && state_path) return usage_error("%s", "--state and --no-state contradict each other");
 
     mesh_init(&m);
     mesh_cells_init(&cells);
+    memset(&run, 0, sizeof(run));
     t0 = cli_seconds();
     if (cli_load_scene(scene_path, up, &m, &scene, &te)) goto fail;
     if (cells_path ? cells_load(cells_path, &cells, &te) : cli_grid_cells(scene, grid, 10000000u, &cells, &te)) goto fail;
@@ -190,16 +370,23 @@ int main(int argc, char **argv) {
     bd.cells = (const pvs_box *)cells.boxes;
     bd.cell_count = cells.count;
     bd.method = method;
+    bd.methods = methods;
     bd.eps = eps;
+    bd.max_distance = max_distance;
+    bd.flags = preview ? PVS_BAKE_PREVIEW : 0u;
     bd.sample_points = points;
     bd.sample_rays = rays;
     bd.seed = seed;
     bd.max_chain = chain;
     bd.shrink_mode = shrink_mode;
+    bd.voxel_size = voxel;
+    bd.vocc_slices = vocc_slices;
+    bd.vocc_max_occluders = vocc_max;
+    bd.vocc_only = (uint32_t)vocc_only;
     bd.extproj_sweep = sweep;
     bd.adaptive_budget = adaptive;
     bd.adaptive_min_size = min_cell;
-    bd.voxel_size = voxel;
+    if (adaptive) no_state = 1; /* a cell's PVS alone does not restore its leaves */
     if (shard_n > 1) {
         if (shard_n > cells.count) {
             tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "--shard %u/%u: only %u cells", shard_k, shard_n, cells.count);
@@ -223,34 +410,47 @@ int main(int argc, char **argv) {
             fprintf(stderr, "  cell %u reaches the outside (open to the sky, or a leak) near %g %g %g\n", oi.leak_cell,
                     (double)oi.leak_point[0], (double)oi.leak_point[1], (double)oi.leak_point[2]);
         fprintf(stderr, "  %u objects give no occluder volume (thin walls with open space on both sides, props)\n", oi.thin_objects);
-        if (oi.eroded == 0)
+        if (oi.eroded == 0 && pvs_bake_method(bake) == PVS_METHOD_SHRINK)
             fprintf(stderr, "  warning: no occluder volume survives erosion by eps: every object will be visible from every cell;\n"
                             "  try a smaller --voxel or --eps, or --method extproj for thin walls\n");
     }
-    t_bake = cli_seconds();
-    if (cli_run_bake(bake, threads, quiet, "bake", &te)) goto fail;
-    t_bake = cli_seconds() - t_bake;
-    if (cli_write_bake(bake, out_path, &size, &te)) goto fail;
-    if (!quiet) {
-        uint32_t t, objects = pvs_scene_object_count(scene), tasks = pvs_bake_task_count(bake);
-        double sum = 0.0;
-        for (t = 0; t < tasks; ++t) sum += pvs_bitset_count(pvs_bake_cell_pvs(bake, pvs_bake_task_cell(bake, t)), objects);
-        fprintf(stderr,
-                "%s: %u objects, %u triangles, %u cells%s, method %s%s\n"
-                "  mean PVS %.1f objects (%.1f%%), bake %.2f ms per cell, %.2f s total, file %zu bytes (%.1f per cell)\n",
-                out_path, objects, pvs_scene_triangle_count(scene), tasks, shard_n > 1 ? " (this shard)" : "",
-                pvs_method_name(pvs_bake_method(bake)),
-                pvs_bake_method(bake) == PVS_METHOD_SAMPLE ? " (approximate: ray sampling, not conservative)" : " (conservative)",
-                sum / tasks, 100.0 * sum / tasks / objects, 1000.0 * t_bake / tasks, cli_seconds() - t0, size, (double)size / tasks);
-        if (adaptive)
-            fprintf(stderr, "  adaptive: %u leaf cells in the file (budget %u triangles; the mean PVS above is of the whole cells)\n",
-                    pvs_bake_leaf_count(bake), adaptive);
+    secs = (double *)malloc((size_t)pvs_bake_task_count(bake) * sizeof(double) + 8);
+    if (!secs) { tool_error_set(&te, NULL, 0, "out of memory"); goto fail; }
+    run.task_seconds = secs;
+    run.object_count = pvs_scene_object_count(scene);
+    run.state_every = state_every;
+    if (!no_state) {
+        if (!state_path) {
+            size_t len = strlen(out_path) + 7;
+            state_buf = (char *)malloc(len);
+            if (!state_buf) { tool_error_set(&te, NULL, 0, "out of memory"); goto fail; }
+            snprintf(state_buf, len, "%s.state", out_path);
+            state_path = state_buf;
+        }
+        run.state_path = state_path;
+        run.fingerprint = bake_fingerprint(argc, argv, &m, &cells, up);
     }
+    t_bake = cli_seconds();
+    if (cli_run_bake_ex(bake, threads, quiet, "bake", &run, &te)) goto fail;
+    t_bake = cli_seconds() - t_bake;
+    if (!quiet && run.state_ignored) fprintf(stderr, "warning: %s belongs to another bake (scene, cells or options differ): ignored\n", state_path);
+    if (!quiet && run.resumed) fprintf(stderr, "resumed %u of %u cells from %s\n", run.resumed, pvs_bake_task_count(bake), state_path);
+    if (cli_write_bake(bake, out_path, &size, &te)) goto fail;
+    if (run.state_path) remove(run.state_path);
+    if (!quiet) print_summary(out_path, scene, bake, &run, secs, t_bake, cli_seconds() - t0, size, shard_n > 1);
+    if (!quiet && adaptive)
+        fprintf(stderr, "  adaptive: %u leaf cells in the file (budget %u triangles; the PVS figures above are of the whole cells)\n",
+                pvs_bake_leaf_count(bake), adaptive);
+    if (!quiet && vocc_only)
+        fprintf(stderr, "  vocc-only: the PVS above is the placeholder the records store (every object); the runtime rebuilds\n"
+                        "  each cell's PVS from its virtual occluders (pvs_vocc_cull; pvscheck checks that one)\n");
     rc = 0;
     goto done;
 fail:
     fprintf(stderr, "pvsbake: %s\n", te.message);
 done:
+    free(secs);
+    free(state_buf);
     pvs_bake_destroy(bake);
     pvs_scene_destroy(scene);
     mesh_cells_free(&cells);

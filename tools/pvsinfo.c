@@ -8,6 +8,10 @@ static const char *usage =
     "       pvsinfo --dump OUT.pvs       one line per cell: \"CELL: OBJ OBJ ...\" (ids ascending)\n"
     "       pvsinfo --at X Y Z OUT.pvs   the cell containing the point and its PVS, same format\n"
     "       pvsinfo --verify OUT.pvs     full validation: exit 0 if sound, 1 with the reason\n"
+    "       pvsinfo --vocc OUT.pvs       virtual occluders, one line per cell:\n"
+    "                                    \"CELL: u0 v0 u1 v1 top, ...\" (ground end points, top height)\n"
+    "  Files baked with --vocc-only store placeholder records (every object): --dump and --at print\n"
+    "  those; the real PVS is rebuilt from the virtual occluders at run time (pvscheck checks it).\n"
     "exit status: 0 success, 1 bad input (or a point in no cell for --at), 2 usage\n";
 
 static int usage_error(const char *fmt, const char *arg) {
@@ -28,7 +32,7 @@ static void print_cell(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t 
 
 int main(int argc, char **argv) {
     const char *path = NULL;
-    int dump = 0, verify = 0, at = 0, i, rc = 1;
+    int dump = 0, verify = 0, at = 0, vocc = 0, i, rc = 1;
     float p[3] = {0, 0, 0};
     void *data = NULL;
     size_t size = 0, words;
@@ -46,6 +50,8 @@ int main(int argc, char **argv) {
             dump = 1;
         } else if (!strcmp(a, "--verify")) {
             verify = 1;
+        } else if (!strcmp(a, "--vocc")) {
+            vocc = 1;
         } else if (!strcmp(a, "--at")) {
             int k;
             for (k = 0; k < 3; ++k)
@@ -62,7 +68,7 @@ int main(int argc, char **argv) {
         }
     }
     if (!path) return usage_error("%s", "no file given");
-    if (dump + verify + at > 1) return usage_error("%s", "give at most one of --dump, --at, --verify");
+    if (dump + verify + at + vocc > 1) return usage_error("%s", "give at most one of --dump, --at, --verify, --vocc");
     if (read_file(path, &data, &size, &te)) {
         fprintf(stderr, "pvsinfo: %s\n", te.message);
         return 1;
@@ -118,7 +124,23 @@ int main(int argc, char **argv) {
         rc = 0;
     } else if (dump) {
         uint32_t c;
+        if (f.vocc_flags & PVS_VOCC_ONLY)
+            fprintf(stderr, "pvsinfo: %s: placeholder records (vocc-only): the PVS is rebuilt from the virtual occluders at run time\n", path);
         for (c = 0; c < f.cell_count; ++c) print_cell(&f, c, bits, words);
+        rc = 0;
+    } else if (vocc) {
+        uint32_t c, k;
+        if (!(f.vocc_flags & PVS_VOCC_STORED)) {
+            fprintf(stderr, "pvsinfo: %s: the file stores no virtual occluders\n", path);
+            goto done;
+        }
+        for (c = 0; c < f.cell_count; ++c) {
+            pvs_virtual_occluder vo[255];
+            uint32_t n = pvs_file_virtual_occluders(&f, c, vo, 255);
+            printf("%u:", c);
+            for (k = 0; k < n; ++k) printf("%s %g %g %g %g %g", k ? "," : "", vo[k].p0[0], vo[k].p0[1], vo[k].p1[0], vo[k].p1[1], vo[k].top);
+            printf("\n");
+        }
         rc = 0;
     } else if (at) {
         uint32_t c = pvs_file_find_cell(&f, p);
@@ -170,6 +192,19 @@ int main(int argc, char **argv) {
             if (f.shard_count)
                 printf("part        shard %u of %u (%u cells in the whole bake): combine with pvsbake merge\n", f.shard_index + 1,
                        f.shard_count, f.total_cell_count);
+            if (f.vocc_flags & PVS_VOCC_STORED) {
+                uint32_t most = 0;
+                for (c = 0; c < f.cell_count; ++c) {
+                    uint32_t n = pvs_file_vocc_record(&f, c, NULL, NULL);
+                    if (n > most) most = n;
+                }
+                printf("vocc        %u virtual occluders (%.2f per cell, at most %u; %.1f bytes per cell); base %g, height step %g\n",
+                       f.virtual_occluder_count, (double)f.virtual_occluder_count / f.cell_count, most,
+                       (5.0 * f.virtual_occluder_count + 2.0 * f.cell_count + 4.0 * ((f.cell_count + 15) / 16 + 1) + 16.0) / f.cell_count,
+                       (double)f.vocc_base, (double)f.vocc_height_step);
+                if (f.vocc_flags & PVS_VOCC_ONLY)
+                    printf("            vocc-only: the records are placeholders (every object); rebuild each PVS with pvs_vocc_cull\n");
+            }
         }
         rc = 0;
     }

@@ -1,0 +1,103 @@
+/* bench_auto.c - `make bench` figures of the conservative methods and of AUTO (their intersection)
+   side by side on the demo scenes, for the README's method guide: per scene an evenly spread subset
+   of cells of the generator at seed 1 (city size 1: 40 cells, indoor size 1: 40, forest size 0.5:
+   20), each method baked alone and then AUTO, on one thread, timed in CPU seconds (clock()):
+     BENCH methods_<method>_ms_per_cell_<scene>   bake time per cell, preparation included
+     BENCH methods_<method>_tightness_<scene>     mean PVS / mean ray-sampled set (cli_reference_visibility)
+     BENCH auto_ms_per_cell_<scene>, auto_tightness_<scene>, auto_culled_pct_<scene>
+     BENCH auto_vs_best_<scene>                   AUTO's mean PVS / the best single method's (<= 1)
+   Every method is baked alone, also where AUTO skips it (it cannot cull there); auto_ms_per_cell
+   names the methods AUTO ran. */
+#include "../tools/cli.h"
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* CPU seconds of this (single-threaded) process: steadier than the wall clock on a shared machine. */
+static double cpu_seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
+
+static int bench_scene(gen_kind kind, float size, uint32_t n, const char *name) {
+    gen_params gp;
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *scene;
+    tool_error te;
+    pvs_box *sub;
+    pvs_word *seen;
+    uint32_t c, objects, k;
+    double seen_sum = 0.0, best = -1.0, auto_sum = 0.0;
+    pvs_method methods[PVS_METHOD_COUNT];
+    uint32_t method_count = 0;
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = kind;
+    gp.seed = 1;
+    gp.size = size;
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    if (gen_scene(&gp, &m, &cells) || cli_make_scene(name, &m, 1, &scene, &te)) return 1;
+    objects = pvs_scene_object_count(scene);
+    if (n > cells.count) n = cells.count;
+    sub = (pvs_box *)malloc(n * sizeof(pvs_box));
+    seen = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
+    for (c = 0; c < n; ++c) {
+        memcpy(sub + c, cells.boxes + 6 * (size_t)((uint64_t)c * cells.count / n), sizeof(pvs_box));
+        memset(seen, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
+        cli_reference_visibility(scene, sub + c, 77 + c, seen);
+        seen_sum += pvs_bitset_count(seen, objects);
+    }
+    for (k = 0; k < (uint32_t)PVS_METHOD_COUNT; ++k)
+        if (k != PVS_METHOD_DEFAULT && k != PVS_METHOD_SAMPLE && k != PVS_METHOD_AUTO) methods[method_count++] = (pvs_method)k;
+    methods[method_count++] = PVS_METHOD_AUTO; /* AUTO last: auto_vs_best compares with every single method */
+    for (k = 0; k < method_count; ++k) {
+        pvs_bake_desc bd;
+        pvs_bake *b;
+        pvs_error pe;
+        double t, sum = 0.0;
+        memset(&bd, 0, sizeof(bd));
+        bd.scene = scene;
+        bd.cells = sub;
+        bd.cell_count = n;
+        bd.method = methods[k];
+        t = cpu_seconds();
+        if (pvs_bake_begin(&bd, &b, &pe) != PVS_OK) {
+            printf("BENCH methods_%s_tightness_%s 0 (not available: %s)\n", pvs_method_name(methods[k]), name, pe.message);
+            continue;
+        }
+        for (c = 0; c < n; ++c)
+            if (pvs_bake_run_task(b, c, &pe) != PVS_OK) { fprintf(stderr, "%s: %s\n", name, pe.message); return 1; }
+        t = cpu_seconds() - t;
+        for (c = 0; c < n; ++c) sum += pvs_bitset_count(pvs_bake_cell_pvs(b, c), objects);
+        if (methods[k] == PVS_METHOD_AUTO) {
+            uint32_t i;
+            auto_sum = sum;
+            printf("BENCH auto_ms_per_cell_%s %.2f ms (ran:", name, 1000.0 * t / n);
+            for (i = 0; i < pvs_bake_method_count(b); ++i) {
+                pvs_bake_method_info mi;
+                pvs_bake_get_method_info(b, i, &mi);
+                if (mi.ran) printf(" %s", pvs_method_name(mi.method));
+            }
+            printf(")\n");
+            printf("BENCH auto_tightness_%s %.3f ratio\n", name, seen_sum > 0.0 ? sum / seen_sum : 0.0);
+            printf("BENCH auto_culled_pct_%s %.1f %%\n", name, 100.0 * (1.0 - sum / n / objects));
+            printf("BENCH auto_vs_best_%s %.3f ratio\n", name, best > 0.0 ? auto_sum / best : 1.0);
+        } else {
+            printf("BENCH methods_%s_ms_per_cell_%s %.2f ms\n", pvs_method_name(methods[k]), name, 1000.0 * t / n);
+            printf("BENCH methods_%s_tightness_%s %.3f ratio\n", pvs_method_name(methods[k]), name, seen_sum > 0.0 ? sum / seen_sum : 0.0);
+            if (best < 0.0 || sum < best) best = sum;
+        }
+        pvs_bake_destroy(b);
+    }
+    free(sub);
+    free(seen);
+    pvs_scene_destroy(scene);
+    mesh_cells_free(&cells);
+    mesh_free(&m);
+    return 0;
+}
+
+int main(void) {
+    if (bench_scene(GEN_CITY, 1.0f, 40, "city")) return 1;
+    if (bench_scene(GEN_INDOOR, 1.0f, 40, "indoor")) return 1;
+    if (bench_scene(GEN_FOREST, 0.5f, 20, "forest")) return 1;
+    return 0;
+}

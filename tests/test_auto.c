@@ -1,0 +1,420 @@
+/* test_auto.c - the bake driver's AUTO method and conveniences: AUTO's PVS is exactly the
+   intersection of the PVSs of the methods it ran, each baked alone (and their statistics add up),
+   with 0 misses against ray sampling on several generators; the methods mask; PREVIEW; the
+   max_distance cut against a brute-force box distance (also at the exact threshold); restoring tasks
+   (resumable bakes) gives the bytes of an uninterrupted bake; bad arguments. */
+#include "../pvs.h"
+#include "../tools/cli.h"
+#include "test.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static pvs_bake *bake_with(const pvs_scene *s, const mesh_cells *cells, pvs_method method, uint32_t methods, uint32_t flags,
+                           float max_distance) {
+    pvs_bake_desc bd;
+    pvs_bake *b = NULL;
+    pvs_error e;
+    uint32_t t;
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = s;
+    bd.cells = (const pvs_box *)cells->boxes;
+    bd.cell_count = cells->count;
+    bd.method = method;
+    bd.methods = methods;
+    bd.flags = flags;
+    bd.max_distance = max_distance;
+    if (pvs_bake_begin(&bd, &b, &e) != PVS_OK) {
+        fprintf(stderr, "auto: bake_begin: %s\n", e.message);
+        return NULL;
+    }
+    for (t = 0; t < pvs_bake_task_count(b); ++t)
+        if (pvs_bake_run_task(b, t, &e) != PVS_OK) {
+            fprintf(stderr, "auto: task %u: %s\n", t, e.message);
+            pvs_bake_destroy(b);
+            return NULL;
+        }
+    return b;
+}
+
+/* AUTO against its members baked alone and against ray sampling. */
+static void check_auto(gen_kind kind, float size, uint64_t seed, uint32_t max_cells, int expect_cull) {
+    gen_params gp;
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *s = NULL;
+    tool_error te;
+    pvs_bake *a, *single[PVS_METHOD_COUNT];
+    pvs_word *ref, *and_bits;
+    uint32_t n, words, c, i, k, misses = 0, mismatches = 0, stat_bad = 0, ran = 0;
+    uint64_t in_auto = 0;
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = kind;
+    gp.seed = seed;
+    gp.size = size;
+    gp.max_cells = max_cells;
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    memset(single, 0, sizeof(single));
+    CHECK(gen_scene(&gp, &m, &cells) == 0);
+    CHECK(cli_make_scene("auto-test", &m, 1, &s, &te) == 0);
+    if (!s) return;
+    n = pvs_scene_object_count(s);
+    words = (uint32_t)PVS_BITSET_WORDS(n);
+    a = bake_with(s, &cells, PVS_METHOD_DEFAULT, 0, 0, 0.0f); /* DEFAULT is AUTO */
+    CHECK(a != NULL);
+    ref = (pvs_word *)calloc(words, sizeof(pvs_word));
+    and_bits = (pvs_word *)calloc(words, sizeof(pvs_word));
+    if (a) {
+        CHECK(pvs_bake_method(a) == PVS_METHOD_AUTO);
+        CHECK(pvs_bake_method_count(a) >= 1);
+        for (k = 0; k < pvs_bake_method_count(a); ++k) {
+            pvs_bake_method_info mi;
+            CHECK(pvs_bake_get_method_info(a, k, &mi) == PVS_OK);
+            CHECK(mi.method != PVS_METHOD_SAMPLE && mi.method != PVS_METHOD_AUTO && mi.reason != NULL);
+            if (!mi.ran) continue;
+            ++ran;
+            single[mi.method] = bake_with(s, &cells, mi.method, 0, 0, 0.0f);
+            CHECK(single[mi.method] != NULL);
+            CHECK(mi.cells == cells.count);
+        }
+        CHECK(ran >= 1);
+        CHECK(pvs_bake_get_method_info(a, pvs_bake_method_count(a), NULL) == PVS_ERROR_INVALID_ARGUMENT);
+        for (c = 0; c < cells.count; ++c) {
+            const pvs_word *pv = pvs_bake_cell_pvs(a, c);
+            if (!pv) { CHECK(0); continue; }
+            /* exactly the intersection of the members */
+            for (i = 0; i < words; ++i) and_bits[i] = ~(pvs_word)0;
+            for (k = 0; k < PVS_METHOD_COUNT; ++k)
+                if (single[k]) {
+                    const pvs_word *sp = pvs_bake_cell_pvs(single[k], c);
+                    for (i = 0; i < words; ++i) and_bits[i] &= sp ? sp[i] : 0;
+                }
+            if (n & 63u) and_bits[words - 1] &= ((pvs_word)1 << (n & 63u)) - 1;
+            mismatches += memcmp(and_bits, pv, words * sizeof(pvs_word)) != 0;
+            /* 0 misses against ray sampling */
+            memset(ref, 0, words * sizeof(pvs_word));
+            pvs_sample_visibility(s, (const pvs_box *)cells.boxes + c, 24, 512, 1234 + c, ref);
+            pvs_sample_visibility_toward(s, (const pvs_box *)cells.boxes + c, NULL, 8, 4321 + c, ref);
+            for (i = 0; i < n; ++i) misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pv, i);
+            in_auto += pvs_bitset_count(pv, n);
+        }
+        /* the statistics: each member's own sum and what it alone left out, recomputed */
+        for (k = 0; k < pvs_bake_method_count(a); ++k) {
+            pvs_bake_method_info mi;
+            uint64_t own = 0, sole = 0;
+            pvs_bake_get_method_info(a, k, &mi);
+            if (!mi.ran || !single[mi.method]) continue;
+            for (c = 0; c < cells.count; ++c) {
+                const pvs_word *sp = pvs_bake_cell_pvs(single[mi.method], c);
+                own += pvs_bitset_count(sp, n);
+                for (i = 0; i < n; ++i) {
+                    int others = 1;
+                    uint32_t j;
+                    for (j = 0; j < PVS_METHOD_COUNT; ++j)
+                        if (single[j] && j != (uint32_t)mi.method) others &= pvs_bitset_test(pvs_bake_cell_pvs(single[j], c), i);
+                    sole += others && !pvs_bitset_test(sp, i);
+                }
+            }
+            stat_bad += own != mi.pvs_sum || sole != mi.sole_culls;
+        }
+    }
+    if (misses || mismatches || stat_bad)
+        fprintf(stderr, "auto: %s size %g: %u misses, %u cells differ from the intersection, %u bad statistics\n", gen_kind_name(kind),
+                (double)size, misses, mismatches, stat_bad);
+    CHECK(misses == 0);
+    CHECK(mismatches == 0);
+    CHECK(stat_bad == 0);
+    if (expect_cull) CHECK(in_auto < (uint64_t)n * cells.count);
+    /* at least as tight as each member */
+    for (k = 0; k < PVS_METHOD_COUNT; ++k)
+        if (single[k]) {
+            uint64_t sum = 0;
+            for (c = 0; c < cells.count; ++c) sum += pvs_bitset_count(pvs_bake_cell_pvs(single[k], c), n);
+            CHECK(in_auto <= sum);
+            pvs_bake_destroy(single[k]);
+        }
+    free(ref);
+    free(and_bits);
+    pvs_bake_destroy(a);
+    pvs_scene_destroy(s);
+    mesh_cells_free(&cells);
+    mesh_free(&m);
+}
+
+/* The methods mask, PREVIEW, and descs AUTO refuses. */
+static void check_mask_preview(void) {
+    gen_params gp;
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *s = NULL;
+    tool_error te;
+    pvs_bake_desc bd;
+    pvs_bake *b = NULL;
+    pvs_bake_method_info mi;
+    pvs_error e;
+    pvs_word *ref;
+    uint32_t n, c, i, misses = 0, k, ran = 0;
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = GEN_WALLS;
+    gp.seed = 2;
+    gp.size = 0.3f;
+    gp.max_cells = 12;
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    CHECK(gen_scene(&gp, &m, &cells) == 0);
+    CHECK(cli_make_scene("auto-mask", &m, 1, &s, &te) == 0);
+    if (!s) return;
+    n = pvs_scene_object_count(s);
+    b = bake_with(s, &cells, PVS_METHOD_AUTO, (1u << PVS_METHOD_OTREE) | (1u << PVS_METHOD_EXTPROJ), 0, 0.0f);
+    CHECK(b && pvs_bake_method_count(b) == 2);
+    if (b) {
+        CHECK(pvs_bake_get_method_info(b, 0, &mi) == PVS_OK && mi.method == PVS_METHOD_EXTPROJ); /* cheapest first */
+        CHECK(pvs_bake_get_method_info(b, 1, &mi) == PVS_OK && mi.method == PVS_METHOD_OTREE && mi.ran);
+    }
+    pvs_bake_destroy(b);
+    /* preview: one method runs, the others are listed as skipped; still conservative */
+    b = bake_with(s, &cells, PVS_METHOD_AUTO, 0, PVS_BAKE_PREVIEW, 0.0f);
+    CHECK(b != NULL);
+    ref = (pvs_word *)calloc(PVS_BITSET_WORDS(n), sizeof(pvs_word));
+    if (b) {
+        for (k = 0; k < pvs_bake_method_count(b); ++k) {
+            pvs_bake_get_method_info(b, k, &mi);
+            ran += (uint32_t)mi.ran;
+        }
+        CHECK(ran == 1);
+        for (c = 0; c < cells.count; ++c) {
+            memset(ref, 0, PVS_BITSET_WORDS(n) * sizeof(pvs_word));
+            pvs_sample_visibility(s, (const pvs_box *)cells.boxes + c, 24, 512, 77 + c, ref);
+            pvs_sample_visibility_toward(s, (const pvs_box *)cells.boxes + c, NULL, 8, 7 + c, ref);
+            for (i = 0; i < n; ++i) misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pvs_bake_cell_pvs(b, c), i);
+        }
+        CHECK(misses == 0);
+    }
+    pvs_bake_destroy(b);
+    free(ref);
+    /* single-method bakes report themselves */
+    b = bake_with(s, &cells, PVS_METHOD_OTREE, 0, 0, 0.0f);
+    CHECK(b && pvs_bake_method_count(b) == 1 && pvs_bake_get_method_info(b, 0, &mi) == PVS_OK && mi.method == PVS_METHOD_OTREE && mi.ran);
+    pvs_bake_destroy(b);
+    /* refused descs */
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = s;
+    bd.cells = (const pvs_box *)cells.boxes;
+    bd.cell_count = cells.count;
+    bd.method = PVS_METHOD_AUTO;
+    bd.methods = 1u << PVS_METHOD_SAMPLE; /* never sample */
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "sample"));
+    bd.methods = 1u << PVS_METHOD_COUNT;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    bd.method = PVS_METHOD_OTREE;
+    bd.methods = 1u << PVS_METHOD_OTREE; /* a mask is for AUTO only */
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    bd.methods = 0;
+    bd.max_distance = -1.0f;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    bd.max_distance = NAN;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    bd.max_distance = 0.0f;
+    bd.flags = 0x80u;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    CHECK(b == NULL);
+    CHECK(strcmp(pvs_method_name(PVS_METHOD_AUTO), "auto") == 0);
+    pvs_scene_destroy(s);
+    mesh_cells_free(&cells);
+    mesh_free(&m);
+}
+
+/* A scene where no conservative method can cull: a single small triangle high above the cell (no
+   wall on the ground, no volume, and no occluder between cell and anything). AUTO says so. */
+static void check_nothing_applies(void) {
+    static const float v[9] = {0, 10, 0, 1, 10, 0, 0, 10, 1};
+    static const uint32_t idx[3] = {0, 1, 2};
+    pvs_object_desc o = {0, 1, 0};
+    pvs_scene_desc sd;
+    pvs_scene *s = NULL;
+    pvs_bake_desc bd;
+    pvs_bake *b = NULL;
+    pvs_box cell = {{-5, 0, -5}, {-4, 1, -4}};
+    pvs_error e;
+    memset(&sd, 0, sizeof(sd));
+    sd.positions = v; sd.vertex_count = 3; sd.indices = idx; sd.triangle_count = 1; sd.objects = &o; sd.object_count = 1;
+    CHECK(pvs_scene_create(&sd, &s, NULL) == PVS_OK);
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = s; bd.cells = &cell; bd.cell_count = 1;
+    bd.methods = 1u << PVS_METHOD_OTREE;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_UNSUPPORTED && strstr(e.message, "auto") && b == NULL);
+    pvs_scene_destroy(s);
+}
+
+/* Box distance (double, exact for these inputs) for the brute-force reference. */
+static double box_dist(const pvs_box *a, const pvs_box *b) {
+    double s = 0.0;
+    int k;
+    for (k = 0; k < 3; ++k) {
+        double g = 0.0;
+        if (a->min[k] > b->max[k]) g = (double)a->min[k] - b->max[k];
+        if (b->min[k] > a->max[k]) g = (double)b->min[k] - a->max[k];
+        s += g * g;
+    }
+    return sqrt(s);
+}
+
+/* max_distance: the PVS is the unlimited PVS minus exactly the objects clearly beyond D. */
+static void check_max_distance(void) {
+    gen_params gp;
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *s = NULL;
+    tool_error te;
+    pvs_bake *full, *cut;
+    const float D = 12.5f;
+    uint32_t n, c, i, bad = 0, removed = 0;
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = GEN_INDOOR;
+    gp.seed = 1;
+    gp.size = 0.4f;
+    gp.max_cells = 10;
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    CHECK(gen_scene(&gp, &m, &cells) == 0);
+    CHECK(cli_make_scene("auto-dist", &m, 1, &s, &te) == 0);
+    if (!s) return;
+    n = pvs_scene_object_count(s);
+    full = bake_with(s, &cells, PVS_METHOD_OTREE, 0, 0, 0.0f);
+    cut = bake_with(s, &cells, PVS_METHOD_OTREE, 0, 0, D);
+    CHECK(full && cut);
+    for (c = 0; full && cut && c < cells.count; ++c)
+        for (i = 0; i < n; ++i) {
+            pvs_box ob = pvs_scene_object_box(s, i);
+            double d = box_dist((const pvs_box *)cells.boxes + c, &ob);
+            int in_full = pvs_bitset_test(pvs_bake_cell_pvs(full, c), i), in_cut = pvs_bitset_test(pvs_bake_cell_pvs(cut, c), i);
+            if (in_cut && !in_full) ++bad;                    /* never adds */
+            if (in_full && d <= D && !in_cut) ++bad;          /* within D: kept */
+            if (in_full && d > D * 1.000001 && in_cut) ++bad; /* clearly beyond: cut */
+            removed += in_full && !in_cut;
+        }
+    CHECK(bad == 0);
+    CHECK(removed > 0);
+    pvs_bake_destroy(full);
+    pvs_bake_destroy(cut);
+    pvs_scene_destroy(s);
+    mesh_cells_free(&cells);
+    mesh_free(&m);
+    /* the exact threshold: a box at distance exactly D (an inexact square: 0.1) stays */
+    {
+        float pos[24];
+        static const uint32_t box[36] = {0,2,1, 0,3,2, 4,5,6, 4,6,7, 0,1,5, 0,5,4, 2,3,7, 2,7,6, 1,2,6, 1,6,5, 0,4,7, 0,7,3};
+        pvs_object_desc o = {0, 12, 0};
+        pvs_scene_desc sd;
+        pvs_bake_desc bd;
+        pvs_bake *b = NULL;
+        pvs_box cell = {{0, 0, 0}, {1, 1, 1}};
+        float gap = 0.1f, x0 = 1.0f + gap;
+        int k, pass;
+        for (k = 0; k < 8; ++k) {
+            pos[3 * k + 0] = (k == 1 || k == 2 || k == 5 || k == 6) ? x0 + 1.0f : x0;
+            pos[3 * k + 1] = (float)(k == 2 || k == 3 || k == 6 || k == 7);
+            pos[3 * k + 2] = (float)(k >= 4);
+        }
+        memset(&sd, 0, sizeof(sd));
+        sd.positions = pos; sd.vertex_count = 8; sd.indices = box; sd.triangle_count = 12; sd.objects = &o; sd.object_count = 1;
+        CHECK(pvs_scene_create(&sd, &s, NULL) == PVS_OK);
+        for (pass = 0; pass < 2; ++pass) {
+            float d = pass == 0 ? x0 - 1.0f : 0.5f * (x0 - 1.0f);
+            memset(&bd, 0, sizeof(bd));
+            bd.scene = s; bd.cells = &cell; bd.cell_count = 1; bd.method = PVS_METHOD_SAMPLE; bd.max_distance = d;
+            bd.sample_points = 16; bd.sample_rays = 256;
+            CHECK(pvs_bake_begin(&bd, &b, NULL) == PVS_OK);
+            if (b) {
+                CHECK(pvs_bake_run_task(b, 0, NULL) == PVS_OK);
+                /* at exactly D it is kept (rounding toward keeping); beyond D it is gone */
+                CHECK(pvs_bitset_test(pvs_bake_cell_pvs(b, 0), 0) == (pass == 0));
+            }
+            pvs_bake_destroy(b);
+            b = NULL;
+        }
+        pvs_scene_destroy(s);
+    }
+}
+
+/* Restoring tasks from an earlier run gives the uninterrupted bake's bytes; bad restores refused. */
+static void check_restore(void) {
+    gen_params gp;
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *s = NULL;
+    tool_error te;
+    pvs_bake *whole, *part = NULL;
+    pvs_bake_desc bd;
+    pvs_error e;
+    uint32_t n, words, t;
+    size_t sa = 0, sb = 0;
+    uint8_t *fa = NULL, *fb = NULL;
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = GEN_WALLS;
+    gp.seed = 5;
+    gp.size = 0.3f;
+    gp.max_cells = 16;
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    CHECK(gen_scene(&gp, &m, &cells) == 0);
+    m.objects[3].flags |= MESH_OBJECT_OCCLUDER;
+    CHECK(cli_make_scene("auto-restore", &m, 1, &s, &te) == 0);
+    if (!s) return;
+    n = pvs_scene_object_count(s);
+    words = (uint32_t)PVS_BITSET_WORDS(n);
+    whole = bake_with(s, &cells, PVS_METHOD_AUTO, 0, 0, 0.0f);
+    CHECK(whole != NULL);
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = s;
+    bd.cells = (const pvs_box *)cells.boxes;
+    bd.cell_count = cells.count;
+    CHECK(pvs_bake_begin(&bd, &part, &e) == PVS_OK);
+    if (whole && part) {
+        pvs_word *bits = (pvs_word *)calloc(words + 1, sizeof(pvs_word));
+        for (t = 0; t < pvs_bake_task_count(part); t += 2) /* half restored, in any order */
+            CHECK(pvs_bake_restore_task(part, t, pvs_bake_cell_pvs(whole, pvs_bake_task_cell(whole, t)), words, &e) == PVS_OK);
+        CHECK(pvs_bake_task_done(part, 0) && !pvs_bake_task_done(part, 1));
+        CHECK(pvs_bake_file_size(part) == 0); /* not done yet */
+        for (t = 1; t < pvs_bake_task_count(part); t += 2) CHECK(pvs_bake_run_task(part, t, &e) == PVS_OK);
+        sa = pvs_bake_file_size(whole);
+        sb = pvs_bake_file_size(part);
+        fa = (uint8_t *)malloc(sa + 1);
+        fb = (uint8_t *)malloc(sb + 1);
+        CHECK(sa == sb && sa > 0);
+        CHECK(pvs_bake_write_file(whole, fa, sa, &sa, NULL) == PVS_OK && pvs_bake_write_file(part, fb, sb, &sb, NULL) == PVS_OK);
+        CHECK(sa == sb && memcmp(fa, fb, sa) == 0);
+        /* bad restores */
+        CHECK(pvs_bake_restore_task(part, pvs_bake_task_count(part), bits, words, &e) == PVS_ERROR_INVALID_ARGUMENT);
+        CHECK(pvs_bake_restore_task(part, 0, NULL, words, &e) == PVS_ERROR_INVALID_ARGUMENT);
+        CHECK(pvs_bake_restore_task(part, 0, bits, words - 1, &e) == PVS_ERROR_BUFFER_TOO_SMALL);
+        if (n & 63u) {
+            bits[words - 1] = (pvs_word)1 << 63;
+            CHECK(pvs_bake_restore_task(part, 0, bits, words, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "past"));
+            bits[words - 1] = 0;
+        }
+        pvs_bitset_set(bits, 3);
+        CHECK(pvs_bake_restore_task(part, 0, bits, words, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "occluder"));
+        free(bits);
+    }
+    free(fa);
+    free(fb);
+    pvs_bake_destroy(whole);
+    pvs_bake_destroy(part);
+    pvs_scene_destroy(s);
+    mesh_cells_free(&cells);
+    mesh_free(&m);
+}
+
+void test_auto(void) {
+    check_mask_preview();
+    check_nothing_applies();
+    check_max_distance();
+    check_restore();
+    check_auto(GEN_CITY, 0.15f, 1, 10, 1);
+    check_auto(GEN_INDOOR, 0.3f, 2, 10, 1);
+    check_auto(GEN_WALLS, 0.3f, 3, 10, 1);
+    check_auto(GEN_FOREST, 0.12f, 1, 6, 0);
+    check_auto(GEN_SOUP, 0.2f, 1, 6, 0);
+}

@@ -1,0 +1,363 @@
+/* test_examples.c - the software renderer of the examples against a ray-casting reference; the
+   resumable bake (a pvsbake killed half-way with SIGKILL and rerun gives the bytes of an
+   uninterrupted bake; a state of another bake is ignored); pvsbake's new options and statistics;
+   pvsview (the map, the frame's count of pixels of objects outside the PVS, which flags a PVS that
+   misses, bad input); the runtime example (no allocation). Runs from build/ like test_cli. */
+#define _POSIX_C_SOURCE 200809L
+#include "test.h"
+#include "../tools/cli.h"
+#include "../tools/render.h"
+#include <math.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#define EDIR "examples-test"
+
+static char *ex_slurp(const char *path, size_t *size) {
+    void *data = NULL;
+    size_t n = 0;
+    if (read_file(path, &data, &n, NULL)) return NULL;
+    if (size) *size = n;
+    return (char *)data;
+}
+
+static int ex_run(const char *cmd, char **out) {
+    char full[4096];
+    int status;
+    snprintf(full, sizeof(full), "%s >" EDIR "/out.txt 2>&1", cmd);
+    status = system(full);
+    *out = ex_slurp(EDIR "/out.txt", NULL);
+    if (!*out) *out = (char *)calloc(1, 1);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+static int ex_exists(const char *path) {
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+static int same_files(const char *a, const char *b) {
+    size_t sa = 0, sb = 0;
+    char *fa = ex_slurp(a, &sa), *fb = ex_slurp(b, &sb);
+    int same = fa && fb && sa == sb && memcmp(fa, fb, sa) == 0;
+    free(fa);
+    free(fb);
+    return same;
+}
+
+/* ---- the renderer ---- */
+
+static uint64_t rs = 0x5eed;
+static double rnd(void) {
+    uint64_t z = (rs += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return (double)((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* Random triangles, some crossing the near plane or behind the eye, drawn one per image and
+   compared per pixel with a ray cast through the pixel centre (double): a pixel is drawn exactly
+   when the ray hits the triangle in front of the near plane (pixels within a hair of an edge are
+   not judged), and its depth is near / distance along the view axis. Then depth order: two
+   overlapping triangles give the nearer one's colour in either drawing order. */
+static void test_renderer(void) {
+    render_image im;
+    render_view view;
+    pvs_camera cam;
+    uint32_t t, x, y, bad_cover = 0, bad_depth = 0, judged = 0, drawn = 0;
+    CHECK(render_image_init(&im, 96, 64) == 0);
+    memset(&cam, 0, sizeof(cam));
+    cam.eye[0] = 0.5f; cam.eye[1] = 1.0f; cam.eye[2] = -0.25f;
+    cam.forward[0] = 0.2f; cam.forward[1] = -0.1f; cam.forward[2] = 1.0f;
+    cam.up[1] = 1.0f;
+    cam.fov_y = 1.1f;
+    cam.near_plane = 0.5f;
+    CHECK(render_view_init(&view, &cam, &im) == 0);
+    for (t = 0; t < 300; ++t) {
+        float v[9];
+        double f[3], r[3], u[3], fl, ul, th = tan(0.5 * cam.fov_y), asp = 96.0 / 64.0;
+        int k;
+        for (k = 0; k < 9; ++k) v[k] = (float)((k % 3 == 2 ? -2.0 : -6.0) + (k % 3 == 2 ? 10.0 : 12.0) * rnd());
+        render_clear(&im, RENDER_RGBA(0, 0, 0, 255));
+        render_triangles(&im, &view, v, NULL, 0, 1, RENDER_RGBA(255, 255, 255, 255), RENDER_UNLIT);
+        /* the camera frame, as pvs_camera_matrix builds it */
+        for (k = 0; k < 3; ++k) f[k] = cam.forward[k];
+        fl = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+        for (k = 0; k < 3; ++k) f[k] /= fl;
+        for (k = 0; k < 3; ++k) u[k] = cam.up[k] - f[k] * (f[1] * 1.0);
+        ul = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+        for (k = 0; k < 3; ++k) u[k] /= ul;
+        r[0] = f[1] * u[2] - f[2] * u[1]; r[1] = f[2] * u[0] - f[0] * u[2]; r[2] = f[0] * u[1] - f[1] * u[0];
+        for (y = 0; y < im.height; ++y)
+            for (x = 0; x < im.width; ++x) {
+                double sx = ((x + 0.5) / im.width * 2.0 - 1.0) * th * asp, sy = (1.0 - (y + 0.5) / im.height * 2.0) * th, d[3], e1[3], e2[3],
+                       s[3], p[3], q[3], det, bu, bv, tt, margin;
+                int hit, got;
+                for (k = 0; k < 3; ++k) {
+                    d[k] = f[k] + sx * r[k] + sy * u[k]; /* a unit step along the view axis */
+                    e1[k] = (double)v[3 + k] - v[k];
+                    e2[k] = (double)v[6 + k] - v[k];
+                    s[k] = (double)cam.eye[k] - v[k];
+                }
+                p[0] = d[1] * e2[2] - d[2] * e2[1]; p[1] = d[2] * e2[0] - d[0] * e2[2]; p[2] = d[0] * e2[1] - d[1] * e2[0];
+                det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+                if (fabs(det) < 1e-12) continue;
+                bu = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) / det;
+                q[0] = s[1] * e1[2] - s[2] * e1[1]; q[1] = s[2] * e1[0] - s[0] * e1[2]; q[2] = s[0] * e1[1] - s[1] * e1[0];
+                bv = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
+                tt = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det; /* distance along the view axis */
+                margin = fmin(fmin(fabs(bu), fabs(bv)), fmin(fabs(1.0 - bu - bv), fabs(tt - cam.near_plane)));
+                if (margin < 1e-4) continue;
+                hit = bu > 0.0 && bv > 0.0 && bu + bv < 1.0 && tt > cam.near_plane;
+                got = im.rgba[4 * ((size_t)y * im.width + x)] == 255;
+                ++judged;
+                drawn += (uint32_t)got;
+                bad_cover += (uint32_t)(hit != got);
+                if (hit && got && fabs(im.depth[(size_t)y * im.width + x] - cam.near_plane / tt) > 1e-4 * (cam.near_plane / tt)) ++bad_depth;
+            }
+    }
+    CHECK(judged > 100000 && drawn > 10000);
+    CHECK(bad_cover == 0);
+    CHECK(bad_depth == 0);
+    if (bad_cover || bad_depth) fprintf(stderr, "renderer: %u coverage and %u depth mismatches of %u pixels\n", bad_cover, bad_depth, judged);
+    {
+        /* two parallel quads facing the camera: the nearer one wins in both orders */
+        static const float q[24] = {-3, -2, 4, 3, -2, 4, 3, 3, 4, -3, 3, 4, -3, -2, 6, 3, -2, 6, 3, 3, 6, -3, 3, 6};
+        static const uint32_t idx[12] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+        size_t centre = (size_t)(im.height / 2) * im.width + im.width / 2;
+        render_clear(&im, 0);
+        render_triangles(&im, &view, q, idx, 0, 2, RENDER_RGBA(255, 0, 0, 255), RENDER_UNLIT);
+        render_triangles(&im, &view, q, idx, 2, 2, RENDER_RGBA(0, 255, 0, 255), RENDER_UNLIT);
+        CHECK(im.rgba[4 * centre] == 255 && im.rgba[4 * centre + 1] == 0);
+        render_clear(&im, 0);
+        render_triangles(&im, &view, q, idx, 2, 2, RENDER_RGBA(0, 255, 0, 255), RENDER_UNLIT);
+        render_triangles(&im, &view, q, idx, 0, 2, RENDER_RGBA(255, 0, 0, 255), RENDER_UNLIT);
+        CHECK(im.rgba[4 * centre] == 255 && im.rgba[4 * centre + 1] == 0);
+        /* blending and the X-ray composite */
+        render_fill_rect(&im, 0, 0, 0, 0, RENDER_RGBA(0, 0, 255, 128));
+        CHECK(im.rgba[2] == 128 || im.rgba[2] == 127);
+    }
+    CHECK(render_heat(0.0f) != render_heat(1.0f));
+    render_image_free(&im);
+}
+
+/* ---- pvsbake: resume after SIGKILL, statistics, options ---- */
+
+static void test_resume(void) {
+    char *out;
+    pid_t pid;
+    int status, waited = 0;
+    const char *bake = "./pvsbake " EDIR "/in.obj --cells " EDIR "/in.txt --method otree";
+    char cmd[1024];
+    CHECK(ex_run("./pvsgen indoor --seed 4 -o " EDIR "/in.obj --cells " EDIR "/in.txt", &out) == 0); free(out);
+    snprintf(cmd, sizeof(cmd), "%s -q --no-state -j 1 -o " EDIR "/whole.pvs", bake);
+    CHECK(ex_run(cmd, &out) == 0); free(out);
+    /* a bake killed (SIGKILL, no chance to clean up) right after its first state write */
+    pid = fork();
+    if (pid == 0) {
+        execl("./pvsbake", "pvsbake", EDIR "/in.obj", "--cells", EDIR "/in.txt", "--method", "otree", "-q", "-j", "1", "--state-every", "2", "-o",
+              EDIR "/resumed.pvs", (char *)NULL);
+        _exit(127);
+    }
+    CHECK(pid > 0);
+    if (pid > 0) {
+        struct timespec ts = {0, 1000000};
+        while (!ex_exists(EDIR "/resumed.pvs.state") && waited < 60000) {
+            nanosleep(&ts, NULL);
+            ++waited;
+        }
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        CHECK(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL); /* it did not finish first */
+        CHECK(!ex_exists(EDIR "/resumed.pvs"));
+        CHECK(ex_exists(EDIR "/resumed.pvs.state"));
+    }
+    /* rerun (another thread count: the fingerprint ignores -j): continues, same bytes */
+    snprintf(cmd, sizeof(cmd), "%s -j 2 --state-every 2 -o " EDIR "/resumed.pvs", bake);
+    CHECK(ex_run(cmd, &out) == 0);
+    CHECK(strstr(out, "resumed") != NULL);
+    CHECK(strstr(out, "mean PVS") && strstr(out, "culled") && strstr(out, "slowest cells") && strstr(out, "time per cell"));
+    free(out);
+    CHECK(same_files(EDIR "/whole.pvs", EDIR "/resumed.pvs"));
+    CHECK(!ex_exists(EDIR "/resumed.pvs.state")); /* removed once the output is written */
+    /* a state file of another bake (other options) is ignored, with a warning */
+    {
+        size_t n = 0;
+        char *st;
+        pid = fork();
+        if (pid == 0) {
+            execl("./pvsbake", "pvsbake", EDIR "/in.obj", "--cells", EDIR "/in.txt", "--method", "otree", "-q", "-j", "1", "--state-every", "2",
+                  "-o", EDIR "/other.pvs", (char *)NULL);
+            _exit(127);
+        }
+        if (pid > 0) {
+            struct timespec ts = {0, 1000000};
+            waited = 0;
+            while (!ex_exists(EDIR "/other.pvs.state") && waited < 60000) {
+                nanosleep(&ts, NULL);
+                ++waited;
+            }
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+        }
+        st = ex_slurp(EDIR "/other.pvs.state", &n);
+        CHECK(st != NULL && n > 36);
+        free(st);
+        snprintf(cmd, sizeof(cmd), "%s -j 2 --max-distance 20 -o " EDIR "/other.pvs", bake);
+        CHECK(ex_run(cmd, &out) == 0 && strstr(out, "another bake") && !strstr(out, "resumed")); free(out);
+        snprintf(cmd, sizeof(cmd), "%s -q --no-state -j 1 --max-distance 20 -o " EDIR "/fresh.pvs", bake);
+        CHECK(ex_run(cmd, &out) == 0); free(out);
+        CHECK(same_files(EDIR "/fresh.pvs", EDIR "/other.pvs"));
+        CHECK(!same_files(EDIR "/whole.pvs", EDIR "/other.pvs")); /* the distance did cut */
+    }
+    /* a damaged state file is ignored too */
+    {
+        size_t n = 0;
+        char *st = NULL;
+        snprintf(cmd, sizeof(cmd), "%s -q -j 1 --state-every 1 -o " EDIR "/dmg.pvs", bake);
+        pid = fork();
+        if (pid == 0) {
+            execl("./pvsbake", "pvsbake", EDIR "/in.obj", "--cells", EDIR "/in.txt", "--method", "otree", "-q", "-j", "1", "--state-every", "1", "-o",
+                  EDIR "/dmg.pvs", (char *)NULL);
+            _exit(127);
+        }
+        if (pid > 0) {
+            struct timespec ts = {0, 1000000};
+            waited = 0;
+            while (!ex_exists(EDIR "/dmg.pvs.state") && waited < 60000) {
+                nanosleep(&ts, NULL);
+                ++waited;
+            }
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            st = ex_slurp(EDIR "/dmg.pvs.state", &n);
+        }
+        if (st && n > 40) {
+            FILE *f = fopen(EDIR "/dmg.pvs.state", "wb");
+            st[n - 10] ^= 0x10; /* a flipped bit in a PVS word: the CRC catches it */
+            if (f) { fwrite(st, 1, n, f); fclose(f); }
+            snprintf(cmd, sizeof(cmd), "%s -j 1 -o " EDIR "/dmg.pvs", bake);
+            CHECK(ex_run(cmd, &out) == 0 && strstr(out, "another bake")); free(out);
+            CHECK(same_files(EDIR "/whole.pvs", EDIR "/dmg.pvs"));
+        } else {
+            CHECK(0);
+        }
+        free(st);
+    }
+}
+
+static void test_bake_options(void) {
+    char *out;
+    const char *base = "./pvsbake -q " EDIR "/in.obj --cells " EDIR "/in.txt -o " EDIR "/opt.pvs";
+    char cmd[1024];
+    snprintf(cmd, sizeof(cmd), "%s --method otree,sample", base);
+    CHECK(ex_run(cmd, &out) == 2 && strstr(out, "unknown method")); free(out);
+    snprintf(cmd, sizeof(cmd), "%s --method otree,", base);
+    CHECK(ex_run(cmd, &out) == 2); free(out);
+    snprintf(cmd, sizeof(cmd), "%s --max-distance -3", base);
+    CHECK(ex_run(cmd, &out) == 2); free(out);
+    snprintf(cmd, sizeof(cmd), "%s --max-distance nan", base);
+    CHECK(ex_run(cmd, &out) == 2); free(out);
+    snprintf(cmd, sizeof(cmd), "%s --state-every 0", base);
+    CHECK(ex_run(cmd, &out) == 2); free(out);
+    snprintf(cmd, sizeof(cmd), "%s --state x --no-state", base);
+    CHECK(ex_run(cmd, &out) == 2); free(out);
+    /* a list: auto over those methods; the summary names each with its contribution */
+    CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells " EDIR "/in.txt -o " EDIR "/opt.pvs -j 2 --method otree,extproj", &out) == 0);
+    CHECK(strstr(out, "method auto") && strstr(out, "otree    ran") && strstr(out, "extproj  ran") && strstr(out, "alone culled") &&
+          !strstr(out, "shrink"));
+    free(out);
+    CHECK(ex_run("./pvsinfo " EDIR "/opt.pvs", &out) == 0 && strstr(out, "auto")); free(out);
+    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/opt.pvs --points 8 --rays 512", &out) == 0 && strstr(out, "misses 0")); free(out);
+    /* the default is auto; preview runs one method and is still conservative */
+    CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells " EDIR "/in.txt -o " EDIR "/pre.pvs -j 2 --preview", &out) == 0);
+    CHECK(strstr(out, "method auto") && strstr(out, "preview runs only"));
+    free(out);
+    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/pre.pvs --points 8 --rays 512", &out) == 0 && strstr(out, "misses 0")); free(out);
+    /* max distance: pvscheck counts only objects within the distance */
+    CHECK(ex_run("./pvsbake -q " EDIR "/in.obj --cells " EDIR "/in.txt -o " EDIR "/far.pvs -j 2 --method otree --max-distance 15", &out) == 0);
+    free(out);
+    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/far.pvs --points 8 --rays 512 --max-distance 15", &out) == 0 && strstr(out, "misses 0"));
+    free(out);
+    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/far.pvs --points 8 --rays 512", &out) == 3); free(out);
+}
+
+/* ---- pvsview and the runtime example ---- */
+
+static void test_view_runtime(void) {
+    char *out, *png;
+    size_t n = 0;
+    CHECK(ex_run("./pvsview " EDIR "/in.obj " EDIR "/whole.pvs -o " EDIR "/v.png --size 300 --cell 5 --frame 10 1.2 10 1 0 0.2", &out) != 2);
+    free(out);
+    /* a point inside a cell of the file for the frame: the centre of cell 7 */
+    {
+        pvs_file f;
+        size_t sz = 0;
+        char *bytes = ex_slurp(EDIR "/whole.pvs", &sz), cmd[512];
+        if (bytes && pvs_file_open(bytes, sz, &f, NULL) == PVS_OK) {
+            pvs_box b = pvs_file_cell_box(&f, 7);
+            snprintf(cmd, sizeof(cmd), "./pvsview " EDIR "/in.obj " EDIR "/whole.pvs -o " EDIR "/v.png --size 300 --cell 7 --frame %g %g %g 1 0 0.3",
+                     0.5 * (b.min[0] + b.max[0]), 0.5 * (b.min[1] + b.max[1]), 0.5 * (b.min[2] + b.max[2]));
+            CHECK(ex_run(cmd, &out) == 0 && strstr(out, "0 pixels of objects outside the PVS") && strstr(out, "cell 7")); free(out);
+            png = ex_slurp(EDIR "/v.png", &n);
+            CHECK(png && n > 100 && memcmp(png, "\x89PNG", 4) == 0);
+            free(png);
+            /* a PVS that misses: the same cells, every set empty: the frame shows red pixels, exit 3 */
+            {
+                uint32_t c, words = (uint32_t)PVS_BITSET_WORDS(f.object_count);
+                pvs_box *boxes = (pvs_box *)malloc(f.cell_count * sizeof(pvs_box));
+                pvs_word *table = (pvs_word *)calloc((size_t)f.cell_count * words, sizeof(pvs_word));
+                pvs_file_desc d;
+                size_t need = 0;
+                void *enc = NULL;
+                for (c = 0; c < f.cell_count; ++c) boxes[c] = pvs_file_cell_box(&f, c);
+                memset(&d, 0, sizeof(d));
+                d.cells = boxes;
+                d.cell_count = f.cell_count;
+                d.object_count = f.object_count;
+                d.pvs = table;
+                d.method = PVS_METHOD_OTREE;
+                d.up_axis = 1;
+                CHECK(pvs_file_encode(&d, NULL, 0, &need, NULL) == PVS_OK && (enc = malloc(need)) != NULL &&
+                      pvs_file_encode(&d, enc, need, &need, NULL) == PVS_OK);
+                if (enc) {
+                    FILE *fo = fopen(EDIR "/empty.pvs", "wb");
+                    if (fo) { fwrite(enc, 1, need, fo); fclose(fo); }
+                }
+                snprintf(cmd, sizeof(cmd), "./pvsview " EDIR "/in.obj " EDIR "/empty.pvs -o " EDIR "/e.png --size 200 --frame %g %g %g 1 0 0.3",
+                         0.5 * (b.min[0] + b.max[0]), 0.5 * (b.min[1] + b.max[1]), 0.5 * (b.min[2] + b.max[2]));
+                CHECK(ex_run(cmd, &out) == 3 && !strstr(out, " 0 pixels of objects outside")); free(out);
+                free(enc);
+                free(boxes);
+                free(table);
+            }
+        } else {
+            CHECK(0);
+        }
+        free(bytes);
+    }
+    CHECK(ex_run("./pvsview " EDIR "/in.obj " EDIR "/whole.pvs", &out) == 2); free(out);
+    CHECK(ex_run("./pvsview " EDIR "/in.obj " EDIR "/whole.pvs -o " EDIR "/v.png --cell 99999", &out) == 1 && strstr(out, "cells")); free(out);
+    CHECK(ex_run("./pvsview " EDIR "/in.obj " EDIR "/whole.pvs -o " EDIR "/v.png --cell-at 1e6 0 0", &out) == 1 && strstr(out, "no cell")); free(out);
+    CHECK(ex_run("./pvsview " EDIR "/in.obj " EDIR "/whole.pvs -o " EDIR "/v.png --frame 1 2 3", &out) == 2); free(out);
+    CHECK(ex_run("./pvsgen walls --size 0.2 -o " EDIR "/w.obj --cells " EDIR "/w.txt", &out) == 0); free(out);
+    CHECK(ex_run("./pvsview " EDIR "/w.obj " EDIR "/whole.pvs -o " EDIR "/v.png", &out) == 1 && strstr(out, "not the same scene")); free(out);
+    /* the runtime example: a memory buffer, a cursor walk, no allocation */
+    CHECK(ex_run("./pvsruntime " EDIR "/whole.pvs 3000", &out) == 0 && strstr(out, "allocations     0") && strstr(out, "equal the decoded PVS of the last cell: yes"));
+    free(out);
+    CHECK(ex_run("./pvsruntime " EDIR "/in.obj", &out) == 1 && strstr(out, "bad magic")); free(out);
+}
+
+void test_examples(void) {
+    test_renderer();
+    if (system("rm -rf " EDIR " && mkdir -p " EDIR) != 0) { CHECK(0); return; }
+    test_resume();
+    test_bake_options();
+    test_view_runtime();
+    if (system("rm -rf " EDIR) != 0) CHECK(0);
+}
