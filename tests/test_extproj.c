@@ -782,6 +782,131 @@ static void test_thin_wall(void) {
     pvs_scene_destroy(s);
 }
 
+/* Adaptive cells (§6.1): the leaves tile their cells, each within its parent's PVS, within the budget
+   or at the minimum size, with no misses against ray sampling; the file's look-up finds them; the
+   bytes do not depend on the task order; bad parameters are refused. */
+static void test_adaptive(void) {
+    gen_params gp;
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *s;
+    pvs_bake_desc bd;
+    pvs_bake *b = NULL, *b2 = NULL;
+    pvs_error e;
+    pvs_file file;
+    void *f1 = NULL, *f2 = NULL;
+    size_t n1 = 0, n2 = 0;
+    uint32_t t, c, objects, misses = 0, *tris, budget = 12000;
+    pvs_word *seen, *bits;
+    double vol_cells = 0.0, vol_leaves = 0.0;
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = GEN_CITY;
+    gp.seed = 4;
+    gp.size = 0.3f;
+    gp.max_cells = 6;
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    CHECK(gen_scene(&gp, &m, &cells) == 0);
+    s = ep_scene(&m);
+    CHECK(s != NULL);
+    if (!s) return;
+    objects = pvs_scene_object_count(s);
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = s;
+    bd.cells = (const pvs_box *)cells.boxes;
+    bd.cell_count = cells.count;
+    bd.method = PVS_METHOD_EXTPROJ;
+    bd.adaptive_budget = budget;
+    /* refused: shards, a bad minimum size, too many sweep planes */
+    bd.shard_count = 2;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_UNSUPPORTED);
+    bd.shard_count = 0;
+    bd.adaptive_min_size = -1.0f;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    bd.adaptive_min_size = 0.0f;
+    bd.extproj_sweep = 257;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    bd.extproj_sweep = 0;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
+    CHECK(pvs_bake_begin(&bd, &b2, &e) == PVS_OK);
+    if (!b || !b2) return;
+    for (t = 0; t < pvs_bake_task_count(b); ++t) CHECK(pvs_bake_run_task(b, t, &e) == PVS_OK);
+    for (t = pvs_bake_task_count(b2); t-- > 0;) CHECK(pvs_bake_run_task(b2, t, &e) == PVS_OK);
+    {
+        pvs_word *w = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
+        CHECK(pvs_bake_restore_task(b2, 0, w, PVS_BITSET_WORDS(objects), &e) == PVS_ERROR_UNSUPPORTED); /* leaves are not in a PVS */
+        free(w);
+    }
+    n1 = pvs_bake_file_size(b);
+    n2 = pvs_bake_file_size(b2);
+    CHECK(n1 > 0 && n1 == n2);
+    f1 = malloc(n1 ? n1 : 1);
+    f2 = malloc(n2 ? n2 : 1);
+    CHECK(pvs_bake_write_file(b, f1, n1, &n1, &e) == PVS_OK && pvs_bake_write_file(b2, f2, n2, &n2, &e) == PVS_OK);
+    CHECK(n1 == n2 && memcmp(f1, f2, n1) == 0);
+    CHECK(pvs_file_open(f1, n1, &file, &e) == PVS_OK);
+    CHECK(file.cell_count == pvs_bake_leaf_count(b) && file.cell_count > cells.count);
+    tris = (uint32_t *)calloc(objects, sizeof(uint32_t));
+    for (t = 0; t < m.object_count; ++t) tris[t] = m.objects[t].triangle_count;
+    seen = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
+    bits = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
+    for (t = 0; t < cells.count; ++t) {
+        const float *cb = cells.boxes + 6 * (size_t)t;
+        vol_cells += ((double)cb[3] - cb[0]) * ((double)cb[4] - cb[1]) * ((double)cb[5] - cb[2]);
+    }
+    for (c = 0; c < file.cell_count; ++c) {
+        pvs_box lb = pvs_file_cell_box(&file, c);
+        uint32_t o, parent = cells.count, k, sum = 0;
+        float p[3], longest = 0.0f, plong = 0.0f;
+        const pvs_word *pp;
+        vol_leaves += ((double)lb.max[0] - lb.min[0]) * ((double)lb.max[1] - lb.min[1]) * ((double)lb.max[2] - lb.min[2]);
+        for (t = 0; t < cells.count && parent == cells.count; ++t) {
+            const float *cb = cells.boxes + 6 * (size_t)t;
+            if (lb.min[0] >= cb[0] && lb.min[1] >= cb[1] && lb.min[2] >= cb[2] && lb.max[0] <= cb[3] && lb.max[1] <= cb[4] && lb.max[2] <= cb[5]) parent = t;
+        }
+        CHECK(parent < cells.count);
+        if (parent >= cells.count) continue;
+        CHECK(pvs_file_decode(&file, c, bits, PVS_BITSET_WORDS(objects), &e) == PVS_OK);
+        pp = pvs_bake_cell_pvs(b, parent);
+        for (o = pvs_bitset_next(bits, objects, 0); o < objects; o = pvs_bitset_next(bits, objects, o + 1)) {
+            CHECK(pvs_bitset_test(pp, o)); /* within the whole cell's PVS */
+            sum += tris[o];
+        }
+        for (k = 0; k < 3; ++k) {
+            if (lb.max[k] - lb.min[k] > longest) longest = lb.max[k] - lb.min[k];
+            if (cells.boxes[6 * parent + 3 + k] - cells.boxes[6 * parent + k] > plong) plong = cells.boxes[6 * parent + 3 + k] - cells.boxes[6 * parent + k];
+        }
+        CHECK(sum <= budget || 0.5f * longest < 0.125f * plong); /* within the budget, or at the minimum size */
+        for (k = 0; k < 3; ++k) p[k] = 0.5f * (lb.min[k] + lb.max[k]);
+        {
+            uint32_t found = pvs_file_find_cell(&file, p);
+            pvs_box fb = pvs_file_cell_box(&file, found < file.cell_count ? found : 0);
+            CHECK(found < file.cell_count && p[0] >= fb.min[0] && p[0] <= fb.max[0] && p[1] >= fb.min[1] && p[1] <= fb.max[1] && p[2] >= fb.min[2] &&
+                  p[2] <= fb.max[2]);
+        }
+        memset(seen, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
+        pvs_sample_visibility(s, &lb, 12, 768, 500 + c, seen);
+        for (o = pvs_bitset_next(seen, objects, 0); o < objects; o = pvs_bitset_next(seen, objects, o + 1))
+            if (!pvs_bitset_test(bits, o)) {
+                if (misses < 5) fprintf(stderr, "extproj adaptive: leaf %u misses object %u\n", c, o);
+                ++misses;
+            }
+    }
+    CHECK(misses == 0);
+    CHECK(fabs(vol_cells - vol_leaves) <= 1e-4 * vol_cells); /* the leaves tile the cells */
+    fprintf(stderr, "  extproj adaptive: %u cells -> %u leaves (budget %u triangles), %zu bytes\n", cells.count, file.cell_count, budget, n1);
+    free(tris);
+    free(seen);
+    free(bits);
+    free(f1);
+    free(f2);
+    pvs_bake_destroy(b);
+    pvs_bake_destroy(b2);
+    pvs_scene_destroy(s);
+    mesh_free(&m);
+    mesh_cells_free(&cells);
+}
+
 void test_extproj(void) {
     test_occluder_projection();
     test_occludee_projection();
@@ -790,6 +915,7 @@ void test_extproj(void) {
     test_sheets();
     test_reprojection();
     test_thin_wall();
+    test_adaptive();
     ep_check_scene(GEN_CITY, 1, 0.3f, 24, 16, 1024, 0);
     ep_check_scene(GEN_CITY, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
     ep_check_scene(GEN_WALLS, 2, 0.4f, 30, 16, 1024, 0);
