@@ -57,8 +57,9 @@
    >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps, boxes / columns
    >>vocc       virtual occluders (Koltun 2000): aggregate umbrae, height slices, selection, the VOCC
                 section, the PVS rebuilt on cell entry (pvs_vocc_cull)
-   >>methods    region methods: `shrink` (Wonka 2000), extended projections `extproj`, the estimator `sample`
-   >>bake       bake driver: tasks, AUTO (methods intersected), draw distance, resuming, determinism
+   >>methods    region methods: `shrink` (Wonka 2000), `extproj` (Durand 2000), the estimator `sample`
+   >>bake       bake driver: tasks, AUTO (methods intersected), draw distance, resuming, adaptive
+                cells, determinism
    >>format     the .pvs file: writer and validating zero-copy reader
    >>runtime    cell look-up and decoding
 
@@ -99,6 +100,15 @@
    VOCC bake: its virtual occluders are baked again). Only a VOCC bake stores virtual occluders; AUTO
    uses vocc's PVS in the intersection and stores none.
 
+   Adaptive cells. With pvs_bake_desc.adaptive_budget (Durand 2000 §6.1) a cell whose PVS holds more
+   triangles than the budget is split in two across its longest side, again and again down to
+   adaptive_min_size; each half is baked from its parent's PVS (with every method of the bake, the
+   result intersected with the parent's; EXTPROJ tests only the parent's objects and drops the
+   occluders it hides). The file holds the leaf cells (pvs_bake_leaf_count), in cell order, each
+   cell's leaves depth first, and its look-up tree covers them; pvs_bake_cell_pvs still gives a
+   whole cell's PVS. Deterministic for any thread count; not with shards, VOCC or resuming. EXTPROJ
+   also takes extproj_sweep, the occlusion sweep of §5 (for many small occluders; slower).
+
    Memory. Every desc struct has a `pvs_allocator`; left at zero, PVS_MALLOC/PVS_FREE are used. An object
    remembers its allocator. Size arithmetic is overflow-checked. The runtime (pvs_file_*) and the
    kD-tree queries allocate nothing: they use the caller's memory.
@@ -137,8 +147,9 @@
    Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle
    kD-trees: about 100 bytes per triangle), pvs_bake_begin (the cells and one bitset per cell:
    cell_count * object_count / 8 bytes, and 40 bytes of statistics per cell), pvs_bake_run_task
-   (AUTO: one bitset per method it runs, freed before returning), pvs_file_encode (scratch about 40 bytes per cell plus one
-   bitset), pvs_raster_create (the depth map and pyramid, the cull map). Allocates nothing: every
+   (AUTO: one bitset per method it runs; EXTPROJ about 8 MB of depth maps at 256 x 256 pixels, 8 MB
+   more with the sweep; all freed before returning; adaptive cells: a box and a bitset per leaf,
+   kept), pvs_file_encode (scratch about 40 bytes per cell plus one bitset), pvs_raster_create (the depth map and pyramid, the cull map). Allocates nothing: every
    pvs_file_* and pvs_cursor_* call, kD-tree queries (caller scratch), pvs_raster_cull and
    pvs_raster_cull_map per frame, pvs_vocc_cull (caller scratch: pvs_vocc_cull_scratch_size). A
    .pvs file is used in place; it needs no copy.
@@ -151,7 +162,9 @@
    decode); pvs_file_find_cell with 10,000 cells about 90 ns along a camera path, 130 ns at random
    points; per-frame culling of 50,000 occluder triangles at 1920x1080 with 10,000 box tests about
    1.0 ms (SSE2; 2.0 ms scalar), 1,000 facades into a 256 x 256 cull map about 0.8 ms; bake
-   methods per cell on the demo city: extproj about 45 ms, otree about 160 ms, shrink about 260 ms
+   methods per cell on the demo city: extproj about 10 ms of CPU (13.5 ms with its occluder
+   preparation amortized over 60 cells; 28 ms with the occlusion sweep), otree about 160 ms,
+   shrink about 260 ms
    (default eps), vocc about 60 ms of CPU (10 virtual occluders per cell, 52 bytes, 88% of the
    objects culled: 98% of what shrink culls; rebuilding a cell's PVS from them about 70 us testing
    every box, 110 us walking a kD-tree of 16-item leaves).
@@ -270,6 +283,9 @@
                       bake max_distance, PVS_BAKE_PREVIEW, resumable bakes (pvs_bake_restore_task);
                       virtual occluders (Koltun 2000): bake method vocc, the optional VOCC section,
                       pvs_vocc_cull rebuilds a cell's PVS from them; pvsbake --vocc-only.
+                      extproj: slices of closed meshes, sheets (grounds) with occluders extended
+                      through them, improved occludee Projection, planes by distance band, the
+                      occlusion sweep (pvsbake --sweep); adaptive cells (pvsbake --adaptive N).
    0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps and per-frame culling;
                       bake methods shrink (with occluder synthesis), otree (c-LSS) and extproj.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
