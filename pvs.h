@@ -11925,316 +11925,6 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
     return 0;
 }
 
-/* A vertex reference of the preparation: its position and its slot (3 t + k of the object). */
-typedef struct pvs__epvref {
-    float p[3];
-    uint32_t slot;
-} pvs__epvref;
-
-PVS__STATIC int pvs__ep_vref_cmp(const void *a, const void *b) {
-    const pvs__epvref *x = (const pvs__epvref *)a, *y = (const pvs__epvref *)b;
-    int k;
-    for (k = 0; k < 3; ++k)
-        if (x->p[k] != y->p[k]) return x->p[k] < y->p[k] ? -1 : 1;
-    return x->slot < y->slot ? -1 : x->slot > y->slot;
-}
-
-PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-PVS__STATIC uint32_t pvs__ep_find(uint32_t *parent, uint32_t i) {
-    while (parent[i] != i) {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    return i;
-}
-
-/* Scratch of the preparation, sized for the largest object. */
-typedef struct pvs__epprepwork {
-    pvs__epvref *ref;     /* 3 per triangle */
-    uint32_t *canon;      /* 3 per triangle: the vertex's id among the object's distinct positions */
-    const float **vpos;   /* per distinct position */
-    uint32_t *owner;      /* per distinct position: a triangle using it */
-    uint32_t *parent;     /* per triangle: union-find */
-    uint32_t *order;      /* per triangle: grouped by component */
-    uint32_t *start;      /* per triangle + 1: component starts */
-    uint64_t *edges;      /* 3 per triangle */
-    uint32_t *mark;       /* per distinct position: last component that listed it */
-    uint32_t *uv;         /* per distinct position: the component's distinct vertices */
-    size_t cap;           /* triangles */
-} pvs__epprepwork;
-
-PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
-    size_t n = w->cap;
-    pvs__free_array(a, w->ref, 3 * n, sizeof(pvs__epvref));
-    pvs__free_array(a, w->canon, 3 * n, sizeof(uint32_t));
-    pvs__free_array(a, (void *)w->vpos, 3 * n, sizeof(const float *));
-    pvs__free_array(a, w->owner, 3 * n, sizeof(uint32_t));
-    pvs__free_array(a, w->parent, n, sizeof(uint32_t));
-    pvs__free_array(a, w->order, n, sizeof(uint32_t));
-    pvs__free_array(a, w->start, n + 1, sizeof(uint32_t));
-    pvs__free_array(a, w->edges, 3 * n, sizeof(uint64_t));
-    pvs__free_array(a, w->mark, 3 * n, sizeof(uint32_t));
-    pvs__free_array(a, w->uv, 3 * n, sizeof(uint32_t));
-    memset(w, 0, sizeof(*w));
-}
-
-PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, size_t n) {
-    memset(w, 0, sizeof(*w));
-    w->cap = n;
-    w->ref = (pvs__epvref *)pvs__alloc_array(a, 3 * n, sizeof(pvs__epvref));
-    w->canon = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
-    w->vpos = (const float **)pvs__alloc_array(a, 3 * n, sizeof(const float *));
-    w->owner = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
-    w->parent = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
-    w->order = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
-    w->start = (uint32_t *)pvs__alloc_array(a, n + 1, sizeof(uint32_t));
-    w->edges = (uint64_t *)pvs__alloc_array(a, 3 * n, sizeof(uint64_t));
-    w->mark = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
-    w->uv = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
-    return w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start && w->edges && w->mark && w->uv;
-}
-
-/* 1 if the component's distinct vertices (<= PVS__EP_MAXP) are in convex position with respect to
-   every one of its triangles: all on one side of each triangle's plane, up to float precision; the
-   largest violation (doubled) goes to *slack: the hull exceeds the surface by no more. */
-PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts, uint32_t n, double *slack) {
-    uint32_t t, i, k;
-    double scale = 0.0, worst = 0.0;
-    for (i = 0; i < n; ++i)
-        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]) + pvs__dabs((double)pts[i][k]));
-    for (t = 0; t < tn; ++t) {
-        const float *c[3];
-        double nrm[3], len, lo = 0.0, hi = 0.0;
-        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
-        len = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
-        if (!(len > 0.0)) return 0;
-        for (i = 0; i < n; ++i) {
-            double d = (nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) + nrm[2] * ((double)pts[i][2] - c[0][2])) / len;
-            lo = pvs__dmin(lo, d);
-            hi = pvs__dmax(hi, d);
-        }
-        worst = pvs__dmax(worst, pvs__dmin(-lo, hi));
-    }
-    if (worst > 1e-6 * scale) return 0;
-    *slack = worst == 0.0 ? 0.0 : 2.0 * worst + 1e-12 * scale;
-    return 1;
-}
-
-/* The cap of a component whose boundary edges (pairs of distinct-vertex ids in bnd) all lie in
-   one axis-aligned plane x_k = c, exactly (equal floats), with every vertex of the component on one
-   side of it: *side = +1 when the solid lies where x_k >= c, -1 when x_k <= c. Exact comparisons
-   keep the argument of pvs__ep_slice free of tolerances; tilted caps are not used. */
-PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv, uint32_t nuv, int *axis,
-                                 float *c, int *side) {
-    int k;
-    uint32_t i;
-    for (k = 0; k < 3; ++k) {
-        float v = vpos[bnd[0]][k];
-        int below = 0, above = 0;
-        for (i = 0; i < 2 * nb && vpos[bnd[i]][k] == v; ++i) {}
-        if (i < 2 * nb) continue;
-        for (i = 0; i < nuv; ++i) {
-            below |= vpos[uv[i]][k] < v;
-            above |= vpos[uv[i]][k] > v;
-        }
-        if (below == above) continue; /* both sides, or flat */
-        *axis = k;
-        *c = v;
-        *side = above ? 1 : -1;
-        return 1;
-    }
-    return 0;
-}
-
-/* Prepares one object's triangles t0 .. t0 + tn: connected components (by shared positions); a
-   closed convex component becomes one solid; any other component its polygons (coplanar
-   consecutive triangles merged into convex quads), and a closed or capped one is also kept for
-   slicing. */
-PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
-    const pvs_allocator *a = &p->allocator;
-    uint32_t i, nv = 0, comp;
-    pvs_result r = PVS_OK;
-    for (i = 0; i < 3 * tn; ++i) {
-        const float *q = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + i];
-        memcpy(w->ref[i].p, q, 3 * sizeof(float));
-        w->ref[i].slot = i;
-    }
-    qsort(w->ref, 3 * (size_t)tn, sizeof(pvs__epvref), pvs__ep_vref_cmp);
-    for (i = 0; i < 3 * tn; ++i) {
-        if (i == 0 || !pvs__ep_same(w->ref[i].p, w->ref[i - 1].p)) {
-            w->vpos[nv] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + w->ref[i].slot];
-            w->owner[nv] = 0xffffffffu;
-            w->mark[nv] = 0xffffffffu;
-            ++nv;
-        }
-        w->canon[w->ref[i].slot] = nv - 1;
-    }
-    for (i = 0; i < tn; ++i) w->parent[i] = i;
-    for (i = 0; i < 3 * tn; ++i) {
-        uint32_t v = w->canon[i], t = i / 3;
-        if (w->owner[v] == 0xffffffffu) w->owner[v] = t;
-        else {
-            uint32_t x = pvs__ep_find(w->parent, t), y = pvs__ep_find(w->parent, w->owner[v]);
-            if (x != y) w->parent[x > y ? x : y] = x < y ? x : y; /* the smaller index roots: deterministic */
-        }
-    }
-    /* components in order of their first triangle; triangles in order within each */
-    for (i = 0; i < tn; ++i) w->start[i] = 0;
-    for (i = 0; i < tn; ++i) ++w->start[pvs__ep_find(w->parent, i)];
-    {
-        uint32_t sum = 0;
-        for (i = 0; i < tn; ++i) {
-            uint32_t c = w->start[i];
-            w->start[i] = sum;
-            sum += c;
-        }
-        w->start[tn] = sum;
-    }
-    for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__ep_find(w->parent, i)]++] = i;
-    /* start[root] now holds the component's end; components are the roots in increasing order */
-    for (comp = 0; comp < tn; ++comp) {
-        uint32_t root = comp, begin, end, ne = 0, nb = 0, nuv = 0, k, j, closed, *bnd = w->owner; /* owner is done with */
-        int capped, cap_axis = 0, cap_side = 0;
-        float cap_value = 0.0f;
-        const uint32_t *tl;
-        uint32_t tris_local[2 * PVS__EP_MAXP];
-        if (w->parent[comp] != comp) continue;
-        end = w->start[root];
-        begin = end;
-        while (begin > 0 && w->parent[w->order[begin - 1]] == root) --begin;
-        tl = w->order + begin;
-        /* edges by distinct-vertex pairs; boundary = edges used an odd number of times */
-        for (j = 0; j < end - begin; ++j)
-            for (k = 0; k < 3; ++k) {
-                uint32_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
-                if (x == y) continue;
-                w->edges[ne++] = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
-            }
-        qsort(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
-        for (j = 0; j < ne;) {
-            uint32_t m = j;
-            while (m < ne && w->edges[m] == w->edges[j]) ++m;
-            if ((m - j) & 1u) w->edges[nb++] = w->edges[j]; /* compacted in place: nb <= j */
-            j = m;
-        }
-        for (j = 0; j < end - begin; ++j)
-            for (k = 0; k < 3; ++k) {
-                uint32_t v = w->canon[3 * tl[j] + k];
-                if (w->mark[v] != comp) { w->mark[v] = comp; w->uv[nuv++] = v; }
-            }
-        closed = nb == 0;
-        capped = 0;
-        if (!closed && 2 * nb <= 3 * tn) {
-            for (j = 0; j < nb; ++j) {
-                bnd[2 * j] = (uint32_t)(w->edges[j] >> 32);
-                bnd[2 * j + 1] = (uint32_t)(w->edges[j] & 0xffffffffu);
-            }
-            capped = pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side);
-        }
-        if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && end - begin <= 2 * PVS__EP_MAXP) {
-            /* a convex solid; a capped one (its hull includes the cap) is used only for cells
-               strictly on the solid's side of the cap: a ray from there meets the hull first on a
-               real face, since it crosses the cap's plane only once, going away from the cell */
-            const float *q[PVS__EP_MAXP];
-            for (j = 0; j < end - begin; ++j) tris_local[j] = t0 + tl[j];
-            for (j = 0; j < nuv; ++j) q[j] = w->vpos[w->uv[j]];
-            double slack;
-            if (pvs__ep_convex_component(s, tris_local, end - begin, q, nuv, &slack)) {
-                pvs__epocc *o = p->occ + p->occ_count;
-                pvs__ep_add(p, q, nuv, 1, slack);
-                if (capped) {
-                    o->cap_side = cap_side;
-                    o->cap_axis = cap_axis;
-                    o->cap_value = cap_value;
-                }
-                continue;
-            }
-        }
-        /* polygons: consecutive coplanar triangles forming a convex quad become one */
-        for (j = 0; j < end - begin; ++j) {
-            const float *tri[3], *nxt[3], *q[4];
-            double nrm[3];
-            for (k = 0; k < 3; ++k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
-            if (!(pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm) > 0.0)) continue;
-            if (j + 1 < end - begin) {
-                for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j + 1]) + k];
-                double slack;
-                if (pvs__ep_quad(tri, nxt, q, &slack)) {
-                    pvs__ep_add(p, q, 4, 0, slack);
-                    ++j;
-                    continue;
-                }
-            }
-            pvs__ep_add(p, tri, 3, 0, 0.0);
-        }
-        if (end - begin < 4) continue;
-        for (j = 0; j < end - begin; ++j) { /* a zero-area triangle blocks no ray: not sliced */
-            const float *c3[3];
-            double nrm[3];
-            for (k = 0; k < 3; ++k) c3[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
-            if (!(pvs__ep_tri_normal(c3[0], c3[1], c3[2], nrm) > 0.0)) break;
-        }
-        if (j < end - begin) continue;
-        if (!closed && !capped) continue;
-        {
-            /* closed or capped: kept for slicing */
-            pvs__epslice *sl;
-            p->slc = (pvs__epslice *)pvs__kd_grow(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice), &r);
-            if (!p->slc) return r;
-            p->stri = (uint32_t *)pvs__kd_grow(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + (end - begin), sizeof(uint32_t), &r);
-            if (!p->stri) return r;
-            if (capped) {
-                /* pvs__kd_grow counts elements of 6 floats */
-                p->bedge = (float *)pvs__kd_grow(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb, 6 * sizeof(float), &r);
-                if (!p->bedge) return r;
-            }
-            sl = p->slc + p->slc_count++;
-            memset(sl, 0, sizeof(*sl));
-            sl->box = pvs__box_empty();
-            sl->first = (uint32_t)p->stri_count;
-            sl->count = end - begin;
-            for (j = 0; j < end - begin; ++j) {
-                p->stri[p->stri_count++] = t0 + tl[j];
-                for (k = 0; k < 3; ++k) pvs__box_add_point(&sl->box, s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k]);
-            }
-            sl->capped = capped;
-            if (capped) {
-                sl->bfirst = (uint32_t)p->bedge_count;
-                sl->bcount = nb;
-                for (j = 0; j < nb; ++j) {
-                    memcpy(p->bedge + 6 * p->bedge_count, w->vpos[bnd[2 * j]], 3 * sizeof(float));
-                    memcpy(p->bedge + 6 * p->bedge_count + 3, w->vpos[bnd[2 * j + 1]], 3 * sizeof(float));
-                    ++p->bedge_count;
-                }
-                sl->cap_axis = cap_axis;
-                sl->cap_side = cap_side;
-                sl->cap_value = cap_value;
-            }
-            if (sl->count + sl->bcount > p->max_slice_segments) p->max_slice_segments = sl->count + sl->bcount;
-        }
-    }
-    return r;
-}
-
-
-/* ---- sheets (grounds, floors) and occluders extended through them ---- */
-
-typedef struct pvs__epskey {
-    float value;
-    uint32_t axis, tri;
-} pvs__epskey;
-
-PVS__STATIC int pvs__ep_skey_cmp(const void *a, const void *b) {
-    const pvs__epskey *x = (const pvs__epskey *)a, *y = (const pvs__epskey *)b;
-    if (x->axis != y->axis) return x->axis < y->axis ? -1 : 1;
-    if (x->value != y->value) return x->value < y->value ? -1 : 1;
-    return x->tri < y->tri ? -1 : x->tri > y->tri;
-}
-
 /* An edge in a sheet's plane, ends ordered. */
 typedef struct pvs__epedge2 {
     float a[2], b[2];
@@ -12348,6 +12038,457 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
             ++m;
         }
     return m;
+}
+
+/* A vertex reference of the preparation: its position and its slot (3 t + k of the object). */
+typedef struct pvs__epvref {
+    float p[3];
+    uint32_t slot;
+} pvs__epvref;
+
+PVS__STATIC int pvs__ep_vref_cmp(const void *a, const void *b) {
+    const pvs__epvref *x = (const pvs__epvref *)a, *y = (const pvs__epvref *)b;
+    int k;
+    for (k = 0; k < 3; ++k)
+        if (x->p[k] != y->p[k]) return x->p[k] < y->p[k] ? -1 : 1;
+    return x->slot < y->slot ? -1 : x->slot > y->slot;
+}
+
+PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+PVS__STATIC uint32_t pvs__ep_find(uint32_t *parent, uint32_t i) {
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+/* Scratch of the preparation, sized for the largest object. */
+typedef struct pvs__epprepwork {
+    pvs__epvref *ref;     /* 3 per triangle */
+    uint32_t *canon;      /* 3 per triangle: the vertex's id among the object's distinct positions */
+    const float **vpos;   /* per distinct position */
+    uint32_t *owner;      /* per distinct position: a triangle using it */
+    uint32_t *parent;     /* per triangle: union-find */
+    uint32_t *order;      /* per triangle: grouped by component */
+    uint32_t *start;      /* per triangle + 1: component starts */
+    uint64_t *edges;      /* 3 per triangle */
+    uint32_t *mark;       /* per distinct position: last component that listed it */
+    uint32_t *uv;         /* per distinct position: the component's distinct vertices */
+    pvs__epedge2 *e2;     /* 3 per triangle: a planar group's edges in its 2D frame */
+    float *q2;            /* 2 (3 per triangle + 1): the group's polygon */
+    unsigned char *keep;  /* 3 per triangle + 1 */
+    uint32_t *gparent;    /* per triangle of a component: planar groups (union-find) */
+    unsigned char *used;  /* per triangle of a component: merged into a planar polygon */
+    size_t cap;           /* triangles */
+} pvs__epprepwork;
+
+PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
+    size_t n = w->cap;
+    pvs__free_array(a, w->ref, 3 * n, sizeof(pvs__epvref));
+    pvs__free_array(a, w->canon, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, (void *)w->vpos, 3 * n, sizeof(const float *));
+    pvs__free_array(a, w->owner, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, w->parent, n, sizeof(uint32_t));
+    pvs__free_array(a, w->order, n, sizeof(uint32_t));
+    pvs__free_array(a, w->start, n + 1, sizeof(uint32_t));
+    pvs__free_array(a, w->edges, 3 * n, sizeof(uint64_t));
+    pvs__free_array(a, w->mark, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, w->uv, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, w->e2, 3 * n, sizeof(pvs__epedge2));
+    pvs__free_array(a, w->q2, 2 * (3 * n + 1), sizeof(float));
+    pvs__free_array(a, w->keep, 3 * n + 1, 1);
+    pvs__free_array(a, w->gparent, n, sizeof(uint32_t));
+    pvs__free_array(a, w->used, n, 1);
+    memset(w, 0, sizeof(*w));
+}
+
+PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, size_t n) {
+    memset(w, 0, sizeof(*w));
+    w->cap = n;
+    w->ref = (pvs__epvref *)pvs__alloc_array(a, 3 * n, sizeof(pvs__epvref));
+    w->canon = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->vpos = (const float **)pvs__alloc_array(a, 3 * n, sizeof(const float *));
+    w->owner = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->parent = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
+    w->order = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
+    w->start = (uint32_t *)pvs__alloc_array(a, n + 1, sizeof(uint32_t));
+    w->edges = (uint64_t *)pvs__alloc_array(a, 3 * n, sizeof(uint64_t));
+    w->mark = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->uv = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->e2 = (pvs__epedge2 *)pvs__alloc_array(a, 3 * n, sizeof(pvs__epedge2));
+    w->q2 = (float *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(float));
+    w->keep = (unsigned char *)pvs__alloc_array(a, 3 * n + 1, 1);
+    w->gparent = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
+    w->used = (unsigned char *)pvs__alloc_array(a, n, 1);
+    return w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start && w->edges && w->mark && w->uv && w->e2 &&
+           w->q2 && w->keep && w->gparent && w->used;
+}
+
+/* 1 if the component's distinct vertices (<= PVS__EP_MAXP) are in convex position with respect to
+   every one of its triangles: all on one side of each triangle's plane, up to float precision; the
+   largest violation (doubled) goes to *slack: the hull exceeds the surface by no more. */
+PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts, uint32_t n, double *slack) {
+    uint32_t t, i, k;
+    double scale = 0.0, worst = 0.0;
+    for (i = 0; i < n; ++i)
+        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]) + pvs__dabs((double)pts[i][k]));
+    for (t = 0; t < tn; ++t) {
+        const float *c[3];
+        double nrm[3], len, lo = 0.0, hi = 0.0;
+        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
+        len = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
+        if (!(len > 0.0)) return 0;
+        for (i = 0; i < n; ++i) {
+            double d = (nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) + nrm[2] * ((double)pts[i][2] - c[0][2])) / len;
+            lo = pvs__dmin(lo, d);
+            hi = pvs__dmax(hi, d);
+        }
+        worst = pvs__dmax(worst, pvs__dmin(-lo, hi));
+    }
+    if (worst > 1e-6 * scale) return 0;
+    *slack = worst == 0.0 ? 0.0 : 2.0 * worst + 1e-12 * scale;
+    return 1;
+}
+
+/* The cap of a component whose boundary edges (pairs of distinct-vertex ids in bnd) all lie in
+   one axis-aligned plane x_k = c, exactly (equal floats), with every vertex of the component on one
+   side of it: *side = +1 when the solid lies where x_k >= c, -1 when x_k <= c. Exact comparisons
+   keep the argument of pvs__ep_slice free of tolerances; tilted caps are not used. */
+PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv, uint32_t nuv, int *axis,
+                                 float *c, int *side) {
+    int k;
+    uint32_t i;
+    for (k = 0; k < 3; ++k) {
+        float v = vpos[bnd[0]][k];
+        int below = 0, above = 0;
+        for (i = 0; i < 2 * nb && vpos[bnd[i]][k] == v; ++i) {}
+        if (i < 2 * nb) continue;
+        for (i = 0; i < nuv; ++i) {
+            below |= vpos[uv[i]][k] < v;
+            above |= vpos[uv[i]][k] > v;
+        }
+        if (below == above) continue; /* both sides, or flat */
+        *axis = k;
+        *c = v;
+        *side = above ? 1 : -1;
+        return 1;
+    }
+    return 0;
+}
+
+/* 1 if triangle b (corners B) lies in the plane of triangle a (corners A, normal na of length la)
+   up to float precision and faces the same way: the two may be merged into one planar occluder. */
+PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double la, const float *const *B, double scale) {
+    double nb[3];
+    int k;
+    if (!(pvs__ep_tri_normal(B[0], B[1], B[2], nb) > 0.0) || !(na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] > 0.0)) return 0;
+    for (k = 0; k < 3; ++k) {
+        double d = (na[0] * ((double)B[k][0] - A[0][0]) + na[1] * ((double)B[k][1] - A[0][1]) + na[2] * ((double)B[k][2] - A[0][2])) / la;
+        if (pvs__dabs(d) > 1e-6 * scale) return 0;
+    }
+    return 1;
+}
+
+/* Durand 2000 §3.3-3.4: a wall made of several triangles must act as one occluder, or every piece
+   alone loses a strip along each shared edge to that edge's penumbra and the wall hides nothing.
+   Groups the component's triangles (tl[0 .. n), scene triangles t0 + tl[j]) that are coplanar up
+   to float precision, face the same way and are joined by shared edges; a group of two or more
+   whose union is one convex polygon (pvs__ep_sheet_polygon: boundary edges forming one loop, one
+   turn, the loop's area equal to the triangles') of at most PVS__EP_MAXP corners becomes one planar
+   occluder, and its triangles are marked in w->used. The hull of the corners exceeds the surface by
+   at most the largest distance of a corner from the group's plane (the slack, doubled, and once
+   more for measuring along the dominant axis). */
+PVS__STATIC void pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n, pvs__epprepwork *w) {
+    uint32_t j, k, ne = 0, g;
+    double scale = 0.0;
+#define PVS__EP_TRI(j, k) (s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + (k)])
+    for (j = 0; j < n; ++j) { w->used[j] = 0; w->gparent[j] = j; }
+    if (n < 2 || 3 * (uint64_t)n >= (1u << 21)) return;
+    for (j = 0; j < n; ++j)
+        for (k = 0; k < 3; ++k) {
+            const float *x = PVS__EP_TRI(j, k);
+            int c;
+            for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, 2.0 * pvs__dabs((double)x[c]));
+        }
+    /* edges (distinct-vertex pairs) with their triangle: 21 bits each */
+    for (j = 0; j < n; ++j)
+        for (k = 0; k < 3; ++k) {
+            uint64_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
+            if (x == y) continue;
+            w->edges[ne++] = (x < y ? (x << 42) | (y << 21) : (y << 42) | (x << 21)) | j;
+        }
+    qsort(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+    for (g = 0; g < ne;) {
+        uint32_t h = g + 1;
+        while (h < ne && (w->edges[h] >> 21) == (w->edges[g] >> 21)) ++h;
+        for (k = g; k + 1 < h; ++k) { /* triangles around the edge, each with the next */
+            uint32_t ja = (uint32_t)(w->edges[k] & 0x1fffffu), jb = (uint32_t)(w->edges[k + 1] & 0x1fffffu), m;
+            const float *A[3], *B[3];
+            double na[3], la;
+            for (m = 0; m < 3; ++m) { A[m] = PVS__EP_TRI(ja, m); B[m] = PVS__EP_TRI(jb, m); }
+            la = pvs__ep_tri_normal(A[0], A[1], A[2], na);
+            if (!(la > 0.0) || !pvs__ep_coplanar(A, na, la, B, scale) || !pvs__ep_coplanar(B, na, la, A, scale)) continue;
+            {
+                uint32_t x = pvs__ep_find(w->gparent, ja), y = pvs__ep_find(w->gparent, jb);
+                if (x != y) w->gparent[x > y ? x : y] = x < y ? x : y;
+            }
+        }
+        g = h;
+    }
+    /* groups: (root, triangle) pairs sorted, the root being the group's first triangle */
+    for (j = 0; j < n; ++j) w->edges[j] = ((uint64_t)pvs__ep_find(w->gparent, j) << 32) | j;
+    qsort(w->edges, n, sizeof(uint64_t), pvs__ep_u64_cmp);
+    for (g = 0; g < n;) {
+        uint32_t h = g + 1, r = (uint32_t)(w->edges[g] >> 32), m, cnt, e = 0, ax = 0, u, v;
+        const float *A[3], *q3[PVS__EP_MAXP];
+        double nr[3], lr, dev = 0.0, area = 0.0;
+        while (h < n && (uint32_t)(w->edges[h] >> 32) == r) ++h;
+        cnt = h - g;
+        m = g;
+        g = h;
+        if (cnt < 2) continue;
+        for (k = 0; k < 3; ++k) A[k] = PVS__EP_TRI(r, k);
+        lr = pvs__ep_tri_normal(A[0], A[1], A[2], nr);
+        if (!(lr > 0.0)) continue;
+        for (k = 1; k < 3; ++k)
+            if (pvs__dabs(nr[k]) > pvs__dabs(nr[ax])) ax = k;
+        u = (ax + 1) % 3;
+        v = (ax + 2) % 3;
+        for (h = m; h < m + cnt; ++h) {
+            uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
+            const float *C[3];
+            for (c = 0; c < 3; ++c) {
+                const float *x = C[c] = PVS__EP_TRI(t, c);
+                dev = pvs__dmax(dev, pvs__dabs(nr[0] * ((double)x[0] - A[0][0]) + nr[1] * ((double)x[1] - A[0][1]) + nr[2] * ((double)x[2] - A[0][2])) / lr);
+            }
+            area += 0.5 * pvs__dabs(((double)C[1][u] - C[0][u]) * ((double)C[2][v] - C[0][v]) - ((double)C[2][u] - C[0][u]) * ((double)C[1][v] - C[0][v]));
+            for (c = 0; c < 3; ++c) {
+                const float *x = C[c], *y = C[(c + 1) % 3];
+                float P0[2], P1[2];
+                pvs__epedge2 *ed = w->e2 + e++;
+                P0[0] = x[u]; P0[1] = x[v];
+                P1[0] = y[u]; P1[1] = y[v];
+                if (pvs__ep_p2_cmp(P0, P1) <= 0) { memcpy(ed->a, P0, sizeof(P0)); memcpy(ed->b, P1, sizeof(P1)); }
+                else { memcpy(ed->a, P1, sizeof(P1)); memcpy(ed->b, P0, sizeof(P0)); }
+                ed->tri = t;
+            }
+        }
+        if (dev > 1e-6 * scale || !(area > 0.0)) continue;
+        k = pvs__ep_sheet_polygon(w->e2, e, area, w->q2, w->keep, e);
+        if (k < 3 || k > PVS__EP_MAXP) continue;
+        {
+            uint32_t i, found = 0;
+            for (i = 0; i < k; ++i) { /* the corners back in 3D: the group's vertices with those (u, v) */
+                const float *hit = NULL;
+                for (h = m; h < m + cnt && !hit; ++h) {
+                    uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
+                    for (c = 0; c < 3 && !hit; ++c) {
+                        const float *x = PVS__EP_TRI(t, c);
+                        if (x[u] == w->q2[2 * i] && x[v] == w->q2[2 * i + 1]) hit = x;
+                    }
+                }
+                if (!hit) break;
+                q3[found++] = hit;
+            }
+            if (found != k) continue;
+            pvs__ep_add(p, q3, k, 0, dev == 0.0 ? 0.0 : 4.0 * dev + 1e-12 * scale);
+            for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
+        }
+    }
+#undef PVS__EP_TRI
+}
+
+/* Prepares one object's triangles t0 .. t0 + tn: connected components (by shared positions); a
+   closed convex component becomes one solid; any other component its polygons (coplanar
+   consecutive triangles merged into convex quads), and a closed or capped one is also kept for
+   slicing. */
+PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
+    const pvs_allocator *a = &p->allocator;
+    uint32_t i, nv = 0, comp;
+    pvs_result r = PVS_OK;
+    for (i = 0; i < 3 * tn; ++i) {
+        const float *q = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + i];
+        memcpy(w->ref[i].p, q, 3 * sizeof(float));
+        w->ref[i].slot = i;
+    }
+    qsort(w->ref, 3 * (size_t)tn, sizeof(pvs__epvref), pvs__ep_vref_cmp);
+    for (i = 0; i < 3 * tn; ++i) {
+        if (i == 0 || !pvs__ep_same(w->ref[i].p, w->ref[i - 1].p)) {
+            w->vpos[nv] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + w->ref[i].slot];
+            w->owner[nv] = 0xffffffffu;
+            w->mark[nv] = 0xffffffffu;
+            ++nv;
+        }
+        w->canon[w->ref[i].slot] = nv - 1;
+    }
+    for (i = 0; i < tn; ++i) w->parent[i] = i;
+    for (i = 0; i < 3 * tn; ++i) {
+        uint32_t v = w->canon[i], t = i / 3;
+        if (w->owner[v] == 0xffffffffu) w->owner[v] = t;
+        else {
+            uint32_t x = pvs__ep_find(w->parent, t), y = pvs__ep_find(w->parent, w->owner[v]);
+            if (x != y) w->parent[x > y ? x : y] = x < y ? x : y; /* the smaller index roots: deterministic */
+        }
+    }
+    /* components in order of their first triangle; triangles in order within each */
+    for (i = 0; i < tn; ++i) w->start[i] = 0;
+    for (i = 0; i < tn; ++i) ++w->start[pvs__ep_find(w->parent, i)];
+    {
+        uint32_t sum = 0;
+        for (i = 0; i < tn; ++i) {
+            uint32_t c = w->start[i];
+            w->start[i] = sum;
+            sum += c;
+        }
+        w->start[tn] = sum;
+    }
+    for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__ep_find(w->parent, i)]++] = i;
+    /* start[root] now holds the component's end; components are the roots in increasing order */
+    for (comp = 0; comp < tn; ++comp) {
+        uint32_t root = comp, begin, end, ne = 0, nb = 0, nuv = 0, k, j, closed, *bnd = w->owner; /* owner is done with */
+        int capped, cap_axis = 0, cap_side = 0;
+        float cap_value = 0.0f;
+        const uint32_t *tl;
+        uint32_t tris_local[2 * PVS__EP_MAXP];
+        if (w->parent[comp] != comp) continue;
+        end = w->start[root];
+        begin = end;
+        while (begin > 0 && w->parent[w->order[begin - 1]] == root) --begin;
+        tl = w->order + begin;
+        /* edges by distinct-vertex pairs; boundary = edges used an odd number of times */
+        for (j = 0; j < end - begin; ++j)
+            for (k = 0; k < 3; ++k) {
+                uint32_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
+                if (x == y) continue;
+                w->edges[ne++] = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
+            }
+        qsort(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+        for (j = 0; j < ne;) {
+            uint32_t m = j;
+            while (m < ne && w->edges[m] == w->edges[j]) ++m;
+            if ((m - j) & 1u) w->edges[nb++] = w->edges[j]; /* compacted in place: nb <= j */
+            j = m;
+        }
+        for (j = 0; j < end - begin; ++j)
+            for (k = 0; k < 3; ++k) {
+                uint32_t v = w->canon[3 * tl[j] + k];
+                if (w->mark[v] != comp) { w->mark[v] = comp; w->uv[nuv++] = v; }
+            }
+        closed = nb == 0;
+        capped = 0;
+        if (!closed && 2 * nb <= 3 * tn) {
+            for (j = 0; j < nb; ++j) {
+                bnd[2 * j] = (uint32_t)(w->edges[j] >> 32);
+                bnd[2 * j + 1] = (uint32_t)(w->edges[j] & 0xffffffffu);
+            }
+            capped = pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side);
+        }
+        if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && end - begin <= 2 * PVS__EP_MAXP) {
+            /* a convex solid; a capped one (its hull includes the cap) is used only for cells
+               strictly on the solid's side of the cap: a ray from there meets the hull first on a
+               real face, since it crosses the cap's plane only once, going away from the cell */
+            const float *q[PVS__EP_MAXP];
+            for (j = 0; j < end - begin; ++j) tris_local[j] = t0 + tl[j];
+            for (j = 0; j < nuv; ++j) q[j] = w->vpos[w->uv[j]];
+            double slack;
+            if (pvs__ep_convex_component(s, tris_local, end - begin, q, nuv, &slack)) {
+                pvs__epocc *o = p->occ + p->occ_count;
+                pvs__ep_add(p, q, nuv, 1, slack);
+                if (capped) {
+                    o->cap_side = cap_side;
+                    o->cap_axis = cap_axis;
+                    o->cap_value = cap_value;
+                }
+                continue;
+            }
+        }
+        /* polygons: coplanar edge-connected triangles whose union is convex become one
+           (pvs__ep_merge_planar), then consecutive coplanar triangles forming a convex quad */
+        pvs__ep_merge_planar(p, s, t0, tl, end - begin, w);
+        for (j = 0; j < end - begin; ++j) {
+            const float *tri[3], *nxt[3], *q[4];
+            double nrm[3];
+            if (w->used[j]) continue;
+            for (k = 0; k < 3; ++k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
+            if (!(pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm) > 0.0)) continue;
+            if (j + 1 < end - begin && !w->used[j + 1]) {
+                for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j + 1]) + k];
+                double slack;
+                if (pvs__ep_quad(tri, nxt, q, &slack)) {
+                    pvs__ep_add(p, q, 4, 0, slack);
+                    ++j;
+                    continue;
+                }
+            }
+            pvs__ep_add(p, tri, 3, 0, 0.0);
+        }
+        if (end - begin < 4) continue;
+        for (j = 0; j < end - begin; ++j) { /* a zero-area triangle blocks no ray: not sliced */
+            const float *c3[3];
+            double nrm[3];
+            for (k = 0; k < 3; ++k) c3[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
+            if (!(pvs__ep_tri_normal(c3[0], c3[1], c3[2], nrm) > 0.0)) break;
+        }
+        if (j < end - begin) continue;
+        if (!closed && !capped) continue;
+        {
+            /* closed or capped: kept for slicing */
+            pvs__epslice *sl;
+            p->slc = (pvs__epslice *)pvs__kd_grow(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice), &r);
+            if (!p->slc) return r;
+            p->stri = (uint32_t *)pvs__kd_grow(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + (end - begin), sizeof(uint32_t), &r);
+            if (!p->stri) return r;
+            if (capped) {
+                /* pvs__kd_grow counts elements of 6 floats */
+                p->bedge = (float *)pvs__kd_grow(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb, 6 * sizeof(float), &r);
+                if (!p->bedge) return r;
+            }
+            sl = p->slc + p->slc_count++;
+            memset(sl, 0, sizeof(*sl));
+            sl->box = pvs__box_empty();
+            sl->first = (uint32_t)p->stri_count;
+            sl->count = end - begin;
+            for (j = 0; j < end - begin; ++j) {
+                p->stri[p->stri_count++] = t0 + tl[j];
+                for (k = 0; k < 3; ++k) pvs__box_add_point(&sl->box, s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k]);
+            }
+            sl->capped = capped;
+            if (capped) {
+                sl->bfirst = (uint32_t)p->bedge_count;
+                sl->bcount = nb;
+                for (j = 0; j < nb; ++j) {
+                    memcpy(p->bedge + 6 * p->bedge_count, w->vpos[bnd[2 * j]], 3 * sizeof(float));
+                    memcpy(p->bedge + 6 * p->bedge_count + 3, w->vpos[bnd[2 * j + 1]], 3 * sizeof(float));
+                    ++p->bedge_count;
+                }
+                sl->cap_axis = cap_axis;
+                sl->cap_side = cap_side;
+                sl->cap_value = cap_value;
+            }
+            if (sl->count + sl->bcount > p->max_slice_segments) p->max_slice_segments = sl->count + sl->bcount;
+        }
+    }
+    return r;
+}
+
+
+/* ---- sheets (grounds, floors) and occluders extended through them ---- */
+
+typedef struct pvs__epskey {
+    float value;
+    uint32_t axis, tri;
+} pvs__epskey;
+
+PVS__STATIC int pvs__ep_skey_cmp(const void *a, const void *b) {
+    const pvs__epskey *x = (const pvs__epskey *)a, *y = (const pvs__epskey *)b;
+    if (x->axis != y->axis) return x->axis < y->axis ? -1 : 1;
+    if (x->value != y->value) return x->value < y->value ? -1 : 1;
+    return x->tri < y->tri ? -1 : x->tri > y->tri;
 }
 
 /* Finds the largest sheets (up to PVS__EP_MAX_SHEETS) and extends through them the occluders that
