@@ -11963,8 +11963,12 @@ PVS__STATIC int pvs__ep_in_convex(const float *q, uint32_t n, double x, double y
 
 /* The union of a group's triangles as one convex polygon: boundary edges (used an odd number of
    times) forming one loop that turns one way once, with the loop's area equal to the triangles'
-   (no overlap, no hole). Fills q (counter-clockwise, collinear points dropped) and returns its size. */
-PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep, uint32_t qcap) {
+   (no overlap, no hole). Fills q (counter-clockwise, collinear points dropped) and returns its size.
+   With tol > 0 (points rounded to floats off an exact plane, pvs__ep_merge_planar), a turn the
+   wrong way by less than tol (relative) is taken as straight: q is then the convex hull of the loop
+   (hp, hh: scratch of qcap + 1 points) and *dent the farthest a loop point lies inside it. */
+PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep, uint32_t qcap,
+                                           double tol, double (*hp)[2], double (*hh)[2], double *dent) {
     uint32_t nb = 0, i, j, n = 0, m;
     double area = 0.0, turn = 0.0;
     qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
@@ -12020,6 +12024,37 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
         area = -area;
     }
     if (!(pvs__dabs(area - tri_area) <= 1e-6 * tri_area)) return 0;
+    if (tol > 0.0) {
+        int hn;
+        for (i = 0; i < n; ++i) {
+            const float *a = q + 2 * ((i + n - 1) % n), *b = q + 2 * i, *c = q + 2 * ((i + 1) % n);
+            double ux = (double)b[0] - a[0], uy = (double)b[1] - a[1], vx = (double)c[0] - b[0], vy = (double)c[1] - b[1];
+            double cr = ux * vy - uy * vx;
+            if (cr < -tol * (pvs__dabs(ux) + pvs__dabs(uy)) * (pvs__dabs(vx) + pvs__dabs(vy))) return 0;
+            turn += atan2(cr, ux * vx + uy * vy);
+            hp[i][0] = b[0];
+            hp[i][1] = b[1];
+        }
+        if (!(pvs__dabs(turn - 6.283185307179586) < 1e-3)) return 0;
+        hn = pvs__ep_hull(hp, (int)n, hh);
+        if (hn < 3) return 0;
+        *dent = 0.0;
+        for (i = 0; i < n; ++i) { /* each loop point's distance inside the hull (hp is sorted now) */
+            double best = DBL_MAX;
+            int h;
+            for (h = 0; h < hn; ++h) {
+                const double *a = hh[h], *b = hh[h + 1 < hn ? h + 1 : 0];
+                double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
+                if (len > 0.0) best = pvs__dmin(best, pvs__dabs(ex * (hp[i][1] - a[1]) - ey * (hp[i][0] - a[0])) / len);
+            }
+            *dent = pvs__dmax(*dent, best);
+        }
+        for (i = 0; i < (uint32_t)hn; ++i) {
+            q[2 * i] = (float)hh[i][0];
+            q[2 * i + 1] = (float)hh[i][1];
+        }
+        return (uint32_t)hn;
+    }
     /* convex: no right turn, one full turn; collinear points are dropped (marked in keep) */
     for (i = 0, m = 0; i < n; ++i) {
         const float *a = q + 2 * ((i + n - 1) % n), *b = q + 2 * i, *c = q + 2 * ((i + 1) % n);
@@ -12084,6 +12119,7 @@ typedef struct pvs__epprepwork {
     unsigned char *keep;  /* 3 per triangle + 1 */
     uint32_t *gparent;    /* per triangle of a component: planar groups (union-find) */
     unsigned char *used;  /* per triangle of a component: merged into a planar polygon */
+    double *hp, *hh;      /* 2 (3 per triangle + 1): hull scratch */
     size_t cap;           /* triangles */
 } pvs__epprepwork;
 
@@ -12104,6 +12140,8 @@ PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
     pvs__free_array(a, w->keep, 3 * n + 1, 1);
     pvs__free_array(a, w->gparent, n, sizeof(uint32_t));
     pvs__free_array(a, w->used, n, 1);
+    pvs__free_array(a, w->hp, 2 * (3 * n + 1), sizeof(double));
+    pvs__free_array(a, w->hh, 2 * (3 * n + 1), sizeof(double));
     memset(w, 0, sizeof(*w));
 }
 
@@ -12125,7 +12163,9 @@ PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, s
     w->keep = (unsigned char *)pvs__alloc_array(a, 3 * n + 1, 1);
     w->gparent = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
     w->used = (unsigned char *)pvs__alloc_array(a, n, 1);
-    return w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start && w->edges && w->mark && w->uv && w->e2 &&
+    w->hp = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
+    w->hh = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
+    return w->hp && w->hh && w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start && w->edges && w->mark && w->uv && w->e2 &&
            w->q2 && w->keep && w->gparent && w->used;
 }
 
@@ -12246,7 +12286,7 @@ PVS__STATIC void pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, 
     for (g = 0; g < n;) {
         uint32_t h = g + 1, r = (uint32_t)(w->edges[g] >> 32), m, cnt, e = 0, ax = 0, u, v;
         const float *A[3], *q3[PVS__EP_MAXP];
-        double nr[3], lr, dev = 0.0, area = 0.0;
+        double nr[3], lr, dev = 0.0, area = 0.0, dent = 0.0;
         while (h < n && (uint32_t)(w->edges[h] >> 32) == r) ++h;
         cnt = h - g;
         m = g;
@@ -12279,8 +12319,8 @@ PVS__STATIC void pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, 
             }
         }
         if (dev > 1e-6 * scale || !(area > 0.0)) continue;
-        k = pvs__ep_sheet_polygon(w->e2, e, area, w->q2, w->keep, e);
-        if (k < 3 || k > PVS__EP_MAXP) continue;
+        k = pvs__ep_sheet_polygon(w->e2, e, area, w->q2, w->keep, e, 1e-4, (double(*)[2])w->hp, (double(*)[2])w->hh, &dent);
+        if (k < 3 || k > PVS__EP_MAXP || dent > 1e-6 * scale) continue;
         {
             uint32_t i, found = 0;
             for (i = 0; i < k; ++i) { /* the corners back in 3D: the group's vertices with those (u, v) */
@@ -12296,7 +12336,32 @@ PVS__STATIC void pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, 
                 q3[found++] = hit;
             }
             if (found != k) continue;
-            pvs__ep_add(p, q3, k, 0, dev == 0.0 ? 0.0 : 4.0 * dev + 1e-12 * scale);
+            {
+                /* the slack: the vertices' distance from a plane through three corners far apart
+                   (the first triangle's plane tilts with its rounding), measured both ways for the
+                   hull and the surface, once more for the footprint, plus the dent (a point dent
+                   inside the hull in the (u, v) plane lies |n| / |n_ax| dent inside it in the plane) */
+                double best = 0.0, nb[3], lb = 0.0, dev2 = 0.0;
+                uint32_t i1, i2, b1 = 1, b2 = 2;
+                for (i1 = 1; i1 < k; ++i1)
+                    for (i2 = i1 + 1; i2 < k; ++i2) {
+                        double l = pvs__ep_tri_normal(q3[0], q3[i1], q3[i2], nb);
+                        if (l > best) { best = l; b1 = i1; b2 = i2; }
+                    }
+                lb = pvs__ep_tri_normal(q3[0], q3[b1], q3[b2], nb);
+                if (lb > 0.0 && nb[0] * nr[0] + nb[1] * nr[1] + nb[2] * nr[2] > 0.0) {
+                    for (h = m; h < m + cnt; ++h) {
+                        uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
+                        for (c = 0; c < 3; ++c) {
+                            const float *x = PVS__EP_TRI(t, c);
+                            dev2 = pvs__dmax(dev2, pvs__dabs(nb[0] * ((double)x[0] - q3[0][0]) + nb[1] * ((double)x[1] - q3[0][1]) + nb[2] * ((double)x[2] - q3[0][2])) / lb);
+                        }
+                    }
+                    dev = pvs__dmin(dev, dev2);
+                }
+                dev = 4.0 * dev + 2.0 * dent * lr / pvs__dabs(nr[ax]);
+            }
+            pvs__ep_add(p, q3, k, 0, dev == 0.0 ? 0.0 : dev + 1e-12 * scale);
             for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
         }
     }
@@ -12596,7 +12661,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
             uint32_t root = e[g].tri;
             while (h < ne && e[h].tri == root) ++h;
             area = tarea[root];
-            m = pvs__ep_sheet_polygon(e + g, (uint32_t)(h - g), area, q, keep, (uint32_t)ecap);
+            m = pvs__ep_sheet_polygon(e + g, (uint32_t)(h - g), area, q, keep, (uint32_t)ecap, 0.0, NULL, NULL, NULL);
             g = h;
             if (!m) continue;
         /* keep the largest sheets */
