@@ -11777,6 +11777,9 @@ typedef struct pvs__epocc {
     float slack;             /* how far the true shape may lie inside the hull of the points */
     uint32_t object;         /* the object the triangles belong to, PVS_NO_OBJECT for none */
     float area;              /* a bound on the area it shows from any point: solid angle <= area / distance^2 */
+    uint32_t efirst, ecount; /* a concave planar occluder (ecount > 0): its boundary edges prep->cedge[6 * efirst ...];
+                                the points are then the hull of its vertices, for selection only */
+    float pn[3], pd;         /*   its plane pn . x = pd (pn a unit normal) */
 } pvs__epocc;
 
 /* A sheet: coplanar triangles (of any objects) in an axis-aligned plane x[axis] = value whose union
@@ -11829,6 +11832,8 @@ typedef struct pvs__extproj_prep {
     float class_area[PVS__EP_AREA_CLASSES];
     float *spoly;            /* sheet polygons: 2 floats per vertex */
     size_t spoly_count, spoly_capacity;
+    float *cedge;            /* boundary edges of concave planar occluders: 6 floats per edge */
+    size_t cedge_count, cedge_capacity;
 } pvs__extproj_prep;
 
 PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
@@ -11841,6 +11846,7 @@ PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
     pvs__free_array(&a, p->stri, p->stri_capacity, sizeof(uint32_t));
     pvs__free_array(&a, p->bedge, p->bedge_capacity * 6, sizeof(float));
     pvs__free_array(&a, p->spoly, p->spoly_capacity * 2, sizeof(float));
+    pvs__free_array(&a, p->cedge, p->cedge_capacity * 6, sizeof(float));
     {
         int c;
         for (c = 0; c < PVS__EP_AREA_CLASSES; ++c) {
@@ -11865,6 +11871,8 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
     o->cap_value = 0.0f;
     o->slack = pvs__f_up(slack);
     o->object = PVS_NO_OBJECT;
+    o->efirst = o->ecount = 0;
+    o->pn[0] = o->pn[1] = o->pn[2] = o->pd = 0.0f;
     for (i = 0; i < n; ++i) {
         memcpy(p->pts + 3 * p->pt_count, pts[i], 3 * sizeof(float));
         pvs__box_add_point(&o->box, pts[i]);
@@ -12120,6 +12128,7 @@ typedef struct pvs__epprepwork {
     uint32_t *gparent;    /* per triangle of a component: planar groups (union-find) */
     unsigned char *used;  /* per triangle of a component: merged into a planar polygon */
     double *hp, *hh;      /* 2 (3 per triangle + 1): hull scratch */
+    uint64_t *bed;        /* 3 per triangle: a group's edges */
     size_t cap;           /* triangles */
 } pvs__epprepwork;
 
@@ -12142,6 +12151,7 @@ PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
     pvs__free_array(a, w->used, n, 1);
     pvs__free_array(a, w->hp, 2 * (3 * n + 1), sizeof(double));
     pvs__free_array(a, w->hh, 2 * (3 * n + 1), sizeof(double));
+    pvs__free_array(a, w->bed, 3 * n, sizeof(uint64_t));
     memset(w, 0, sizeof(*w));
 }
 
@@ -12165,7 +12175,8 @@ PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, s
     w->used = (unsigned char *)pvs__alloc_array(a, n, 1);
     w->hp = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
     w->hh = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
-    return w->hp && w->hh && w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start && w->edges && w->mark && w->uv && w->e2 &&
+    w->bed = (uint64_t *)pvs__alloc_array(a, 3 * n, sizeof(uint64_t));
+    return w->hp && w->hh && w->bed && w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start && w->edges && w->mark && w->uv && w->e2 &&
            w->q2 && w->keep && w->gparent && w->used;
 }
 
@@ -12234,6 +12245,78 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
     return 1;
 }
 
+#define PVS__EP_TRI(j, k) (s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + (k)])
+#define PVS__EP_CONCAVE_EDGES 256
+
+/* A planar group (triangles tl[w->edges[m .. m + cnt) & 0xffffffff]) whose union is not one convex
+   polygon becomes a concave planar occluder (Durand 2000 §3.4, Fig. 7: planar, possibly concave,
+   with holes): its boundary edges (used by an odd number of its triangles) and its plane (unit
+   normal nr / lr through the first triangle, the vertices within dev of it); its points, for the
+   selection only, are the hull of its vertices. Left as pieces when it has more than
+   PVS__EP_CONCAVE_EDGES boundary edges. */
+PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
+                                           uint32_t m, uint32_t cnt, const double *nr, double lr, double dev, double scale) {
+    uint32_t h, c, nb = 0, ne = 0, ax = 0, u, v, i, nh = 0;
+    int k, hn;
+    pvs_result r = PVS_OK;
+    const float *q3[3 * PVS__EP_CONCAVE_EDGES];
+    pvs__epocc *o;
+    for (k = 1; k < 3; ++k)
+        if (pvs__dabs(nr[k]) > pvs__dabs(nr[ax])) ax = (uint32_t)k;
+    u = (ax + 1) % 3;
+    v = (ax + 2) % 3;
+    for (h = m; h < m + cnt; ++h) {
+        uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu);
+        for (c = 0; c < 3; ++c) {
+            uint64_t x = w->canon[3 * tl[t] + c], y = w->canon[3 * tl[t] + (c + 1) % 3];
+            if (x != y) w->bed[ne++] = x < y ? (x << 32) | y : (y << 32) | x;
+        }
+    }
+    qsort(w->bed, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+    for (h = 0; h < ne;) {
+        uint32_t g = h;
+        while (g < ne && w->bed[g] == w->bed[h]) ++g;
+        if ((g - h) & 1u) w->bed[nb++] = w->bed[h];
+        h = g;
+    }
+    if (nb < 3 || nb > PVS__EP_CONCAVE_EDGES) return PVS_OK;
+    /* the hull of the boundary's vertices (the interior ones lie inside it) */
+    for (h = 0; h < 2 * nb; ++h) {
+        const float *x = w->vpos[h & 1u ? (uint32_t)(w->bed[h >> 1] & 0xffffffffu) : (uint32_t)(w->bed[h >> 1] >> 32)];
+        w->hp[2 * h] = x[u];
+        w->hp[2 * h + 1] = x[v];
+    }
+    hn = pvs__ep_hull((double(*)[2])w->hp, (int)(2 * nb), (double(*)[2])w->hh);
+    if (hn < 3) return PVS_OK;
+    for (k = 0; k < hn; ++k) {
+        const float *hit = NULL;
+        for (h = 0; h < 2 * nb && !hit; ++h) {
+            const float *x = w->vpos[h & 1u ? (uint32_t)(w->bed[h >> 1] & 0xffffffffu) : (uint32_t)(w->bed[h >> 1] >> 32)];
+            if ((double)x[u] == w->hh[2 * k] && (double)x[v] == w->hh[2 * k + 1]) hit = x;
+        }
+        if (!hit) return PVS_OK;
+        q3[nh++] = hit;
+    }
+    p->cedge = (float *)pvs__kd_grow(&p->allocator, p->cedge, &p->cedge_capacity, p->cedge_count, p->cedge_count + nb, 6 * sizeof(float), &r);
+    if (!p->cedge) return r;
+    o = p->occ + p->occ_count;
+    pvs__ep_add(p, q3, nh, 0, dev == 0.0 ? 0.0 : dev + 1e-12 * scale);
+    o->efirst = (uint32_t)p->cedge_count;
+    o->ecount = nb;
+    for (i = 0; i < nb; ++i) {
+        memcpy(p->cedge + 6 * p->cedge_count, w->vpos[(uint32_t)(w->bed[i] >> 32)], 3 * sizeof(float));
+        memcpy(p->cedge + 6 * p->cedge_count + 3, w->vpos[(uint32_t)(w->bed[i] & 0xffffffffu)], 3 * sizeof(float));
+        ++p->cedge_count;
+    }
+    {
+        const float *a0 = PVS__EP_TRI((uint32_t)(w->edges[m] & 0xffffffffu), 0);
+        for (k = 0; k < 3; ++k) o->pn[k] = (float)(nr[k] / lr);
+        o->pd = (float)(o->pn[0] * (double)a0[0] + o->pn[1] * (double)a0[1] + o->pn[2] * (double)a0[2]);
+    }
+    for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
+    return PVS_OK;
+}
+
 /* Durand 2000 §3.3-3.4: a wall made of several triangles must act as one occluder, or every piece
    alone loses a strip along each shared edge to that edge's penumbra and the wall hides nothing.
    Groups the component's triangles (tl[0 .. n), scene triangles t0 + tl[j]) that are coplanar up
@@ -12243,12 +12326,13 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
    occluder, and its triangles are marked in w->used. The hull of the corners exceeds the surface by
    at most the largest distance of a corner from the group's plane (the slack, doubled, and once
    more for measuring along the dominant axis). */
-PVS__STATIC void pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n, pvs__epprepwork *w) {
+PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
+                                            pvs__epprepwork *w) {
     uint32_t j, k, ne = 0, g;
     double scale = 0.0;
-#define PVS__EP_TRI(j, k) (s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + (k)])
+    pvs_result r = PVS_OK;
     for (j = 0; j < n; ++j) { w->used[j] = 0; w->gparent[j] = j; }
-    if (n < 2 || 3 * (uint64_t)n >= (1u << 21)) return;
+    if (n < 2 || 3 * (uint64_t)n >= (1u << 21)) return PVS_OK;
     for (j = 0; j < n; ++j)
         for (k = 0; k < 3; ++k) {
             const float *x = PVS__EP_TRI(j, k);
@@ -12284,15 +12368,15 @@ PVS__STATIC void pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, 
     for (j = 0; j < n; ++j) w->edges[j] = ((uint64_t)pvs__ep_find(w->gparent, j) << 32) | j;
     qsort(w->edges, n, sizeof(uint64_t), pvs__ep_u64_cmp);
     for (g = 0; g < n;) {
-        uint32_t h = g + 1, r = (uint32_t)(w->edges[g] >> 32), m, cnt, e = 0, ax = 0, u, v;
+        uint32_t h = g + 1, root = (uint32_t)(w->edges[g] >> 32), m, cnt, e = 0, ax = 0, u, v;
         const float *A[3], *q3[PVS__EP_MAXP];
         double nr[3], lr, dev = 0.0, area = 0.0, dent = 0.0;
-        while (h < n && (uint32_t)(w->edges[h] >> 32) == r) ++h;
+        while (h < n && (uint32_t)(w->edges[h] >> 32) == root) ++h;
         cnt = h - g;
         m = g;
         g = h;
         if (cnt < 2) continue;
-        for (k = 0; k < 3; ++k) A[k] = PVS__EP_TRI(r, k);
+        for (k = 0; k < 3; ++k) A[k] = PVS__EP_TRI(root, k);
         lr = pvs__ep_tri_normal(A[0], A[1], A[2], nr);
         if (!(lr > 0.0)) continue;
         for (k = 1; k < 3; ++k)
@@ -12320,7 +12404,11 @@ PVS__STATIC void pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, 
         }
         if (dev > 1e-6 * scale || !(area > 0.0)) continue;
         k = pvs__ep_sheet_polygon(w->e2, e, area, w->q2, w->keep, e, 1e-4, (double(*)[2])w->hp, (double(*)[2])w->hh, &dent);
-        if (k < 3 || k > PVS__EP_MAXP || dent > 1e-6 * scale) continue;
+        if (k < 3 || k > PVS__EP_MAXP || dent > 1e-6 * scale) {
+            r = pvs__ep_add_concave(p, s, t0, tl, w, m, cnt, nr, lr, dev, scale);
+            if (r != PVS_OK) return r;
+            continue;
+        }
         {
             uint32_t i, found = 0;
             for (i = 0; i < k; ++i) { /* the corners back in 3D: the group's vertices with those (u, v) */
@@ -12365,8 +12453,9 @@ PVS__STATIC void pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, 
             for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
         }
     }
-#undef PVS__EP_TRI
+    return r;
 }
+#undef PVS__EP_TRI
 
 /* Prepares one object's triangles t0 .. t0 + tn: connected components (by shared positions); a
    closed convex component becomes one solid; any other component its polygons (coplanar
@@ -12474,7 +12563,8 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
         }
         /* polygons: coplanar edge-connected triangles whose union is convex become one
            (pvs__ep_merge_planar), then consecutive coplanar triangles forming a convex quad */
-        pvs__ep_merge_planar(p, s, t0, tl, end - begin, w);
+        r = pvs__ep_merge_planar(p, s, t0, tl, end - begin, w);
+        if (r != PVS_OK) return r;
         for (j = 0; j < end - begin; ++j) {
             const float *tri[3], *nxt[3], *q[4];
             double nrm[3];
@@ -12702,7 +12792,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
                 above |= c > S->value;
                 below |= c < S->value;
             }
-            if (!on || above == below || oc->count + on > PVS__EP_MAXP) continue;
+            if (!on || above == below || oc->count + on > PVS__EP_MAXP || oc->ecount) continue;
             {
                 /* the footprint F: the hull of the vertices in the sheet's plane (counter-clockwise) */
                 double fp[PVS__EP_MAXP][2], fh[PVS__EP_MAXP + 1][2];
@@ -12895,6 +12985,7 @@ typedef struct pvs__epslicer {
     double *seg;
     double *xs;
     unsigned char *row;
+    unsigned char *cmark;    /* width * width: pixels in the penumbra of a concave occluder's boundary */
     size_t cap;          /* segments */
     uint32_t width;      /* row buffer */
 } pvs__epslicer;
@@ -13148,6 +13239,187 @@ PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep 
             continue;
         if (!pvs__ep_slice_ok(c, cell)) continue;
         written += pvs__ep_slice(s, p, c, f, sc, map, mask);
+    }
+    return written;
+}
+
+/* ---- concave planar occluders (§3.4) ---- */
+
+/* The Projection of a concave planar occluder P (Durand 2000 §3.4, Fig. 7: planar, possibly
+   concave, with holes) lying wholly in front of the plane ([margin, W]) or, unless front_only,
+   wholly behind it. A pixel X is in it when every line from the cell through X meets P. Let C(X) be
+   where those lines cross P's plane. As the cell point moves, the crossing can leave P only through
+   P's boundary, so X is covered when (1) no line from the cell through any point of the pixel meets a
+   boundary edge e, i.e. the pixel is outside the penumbra of every e, and (2) the line from one cell
+   point (the centre) through X crosses the plane inside P. The penumbra of a segment e = [a, b] on
+   the plane lies in the convex hull of the 16 views of a and b from the cell's corners (for a fixed
+   point of e the views from the cell are the hull of the corners' views; each corner's views of e
+   form a segment), rasterized here conservatively (every pixel the hull may touch, into cmark); then
+   per row each run of unmarked pixels is connected, so one crossing test (parity against the
+   boundary, away from it by more than the slack) decides the whole run. Unlike the pieces' own
+   Projections, which each lose a strip along every shared edge to its penumbra, the boundary's
+   penumbra is the only loss. Depth: the farthest vertex, plus the slack. Returns the pixels set. */
+PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o, int front_only, unsigned char *cmark,
+                                     float *map, unsigned char *mask) {
+    const pvs__epframe f = *fp;
+    const float *E = p->cedge + 6 * (size_t)o->efirst;
+    uint32_t e, written = 0, n = o->ecount;
+    double wmin = DBL_MAX, wmax = -DBL_MAX, margin = 1e-4 * (f.W - f.cw[0]), slack = o->slack, base;
+    double xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, V0[3], world0[3], pn[3], scale = 0.0;
+    int c, front, pax = 0, pu, pv;
+    int32_t i0, i1, j0, j1, row;
+    float depth;
+    for (e = 0; e < 2 * n; ++e) {
+        double w = f.s * ((double)E[3 * e + f.a] - f.face);
+        wmin = pvs__dmin(wmin, w);
+        wmax = pvs__dmax(wmax, w);
+        for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, pvs__dabs((double)E[3 * e + c]));
+    }
+    if (!(wmin - slack > margin)) return 0;
+    if (wmax + slack <= f.W) front = 1;
+    else if (!front_only && wmin - slack >= f.W) front = 0;
+    else return 0;
+    base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv + 1.0;
+    /* candidate pixels: inside every corner's view of the boundary's bounding box */
+    for (c = 0; c < 8; ++c) {
+        double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX;
+        for (e = 0; e < 2 * n; ++e) {
+            const float *x = E + 3 * e;
+            double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
+            double pu_ = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su, pv_ = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
+            bx0 = pvs__dmin(bx0, pu_); bx1 = pvs__dmax(bx1, pu_);
+            by0 = pvs__dmin(by0, pv_); by1 = pvs__dmax(by1, pv_);
+        }
+        xlo = pvs__dmax(xlo, bx0); xhi = pvs__dmin(xhi, bx1);
+        ylo = pvs__dmax(ylo, by0); yhi = pvs__dmin(yhi, by1);
+    }
+    if (!(xhi - xlo >= 1.0) || !(yhi - ylo >= 1.0) || !(xhi - xlo < 1e9) || !(yhi - ylo < 1e9)) return 0;
+    i0 = pvs__clampi(ceil(xlo + 1e-6 * (1.0 + pvs__dabs(xlo))), 0, (int32_t)f.width);
+    i1 = pvs__clampi(floor(xhi - 1e-6 * (1.0 + pvs__dabs(xhi))) - 1.0, -1, (int32_t)f.width - 1);
+    j0 = pvs__clampi(ceil(ylo + 1e-6 * (1.0 + pvs__dabs(ylo))), 0, (int32_t)f.height);
+    j1 = pvs__clampi(floor(yhi - 1e-6 * (1.0 + pvs__dabs(yhi))) - 1.0, -1, (int32_t)f.height - 1);
+    if (i0 > i1 || j0 > j1) return 0;
+    for (row = j0; row <= j1; ++row) memset(cmark + (size_t)row * f.width + i0, 0, (size_t)(i1 - i0 + 1));
+    /* (1) the boundary's penumbrae */
+    for (e = 0; e < n; ++e) {
+        double pts[16][2], hull[17][2], err = 0.0, hy0 = DBL_MAX, hy1 = -DBL_MAX;
+        int k = 0, hn, m;
+        int32_t r0, r1;
+        for (c = 0; c < 8; ++c) {
+            double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1];
+            int end;
+            for (end = 0; end < 2; ++end) {
+                const float *x = E + 6 * (size_t)e + 3 * end;
+                double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
+                pts[k][0] = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su;
+                pts[k][1] = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
+                /* rounding: a few ulps of the terms, with a wide factor (the ends are exact) */
+                err = pvs__dmax(err, 1e-12 * (pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
+                                              ((pvs__dabs(Vu) + pvs__dabs((double)x[f.u])) * f.su + (pvs__dabs(Vv) + pvs__dabs((double)x[f.v])) * f.sv) * t));
+                ++k;
+            }
+        }
+        err += 1e-3; /* and a thousandth of a pixel to spare for the crossing test (2) */
+        for (k = 0; k < 16; ++k) { hy0 = pvs__dmin(hy0, pts[k][1]); hy1 = pvs__dmax(hy1, pts[k][1]); }
+        hn = pvs__ep_hull(pts, 16, hull);
+        if (!(hy1 - hy0 < 1e9)) { /* too far to bound: everything is marked */
+            for (row = j0; row <= j1; ++row) memset(cmark + (size_t)row * f.width + i0, 1, (size_t)(i1 - i0 + 1));
+            break;
+        }
+        if (hn < 3) { /* collinear views: their bounding box */
+            hn = 0;
+            hull[0][0] = hull[3][0] = DBL_MAX; hull[1][0] = hull[2][0] = -DBL_MAX;
+            for (k = 0; k < 16; ++k) {
+                hull[0][0] = pvs__dmin(hull[0][0], pts[k][0]);
+                hull[1][0] = pvs__dmax(hull[1][0], pts[k][0]);
+            }
+            hull[3][0] = hull[0][0]; hull[2][0] = hull[1][0];
+            hull[0][1] = hull[1][1] = hy0;
+            hull[2][1] = hull[3][1] = hy1;
+            hn = 4;
+        }
+        r0 = pvs__clampi(floor(hy0 - err), j0 - 1, j1 + 1);
+        r1 = pvs__clampi(floor(hy1 + err), j0 - 1, j1 + 1);
+        for (row = r0 < j0 ? j0 : r0; row <= r1 && row <= j1; ++row) {
+            /* the hull's x extent over the band [row - err, row + 1 + err] */
+            double y0 = row - err, y1 = row + 1.0 + err, mn = DBL_MAX, mx = -DBL_MAX;
+            int32_t x0, x1;
+            for (m = 0; m < hn; ++m) {
+                const double *a = hull[m], *b = hull[m + 1 < hn ? m + 1 : 0];
+                double ta = 0.0, tb = 1.0, dy = b[1] - a[1];
+                if (dy != 0.0) {
+                    double t0 = (y0 - a[1]) / dy, t1 = (y1 - a[1]) / dy;
+                    if (t0 > t1) { double tt = t0; t0 = t1; t1 = tt; }
+                    ta = pvs__dmax(ta, t0);
+                    tb = pvs__dmin(tb, t1);
+                } else if (a[1] < y0 || a[1] > y1) continue;
+                if (ta > tb) continue;
+                mn = pvs__dmin(mn, pvs__dmin(a[0] + (b[0] - a[0]) * ta, a[0] + (b[0] - a[0]) * tb));
+                mx = pvs__dmax(mx, pvs__dmax(a[0] + (b[0] - a[0]) * ta, a[0] + (b[0] - a[0]) * tb));
+            }
+            if (mn > mx) continue;
+            x0 = pvs__clampi(floor(mn - err - 1e-9 * (1.0 + pvs__dabs(mn))), i0 - 1, i1 + 1);
+            x1 = pvs__clampi(floor(mx + err + 1e-9 * (1.0 + pvs__dabs(mx))), i0 - 1, i1 + 1);
+            if (x0 < i0) x0 = i0;
+            if (x1 > i1) x1 = i1;
+            if (x0 <= x1) memset(cmark + (size_t)row * f.width + x0, 1, (size_t)(x1 - x0 + 1));
+        }
+    }
+    /* (2) per run of unmarked pixels, the crossing of the line from the cell's centre */
+    for (c = 0; c < 3; ++c) pn[c] = o->pn[c];
+    for (c = 1; c < 3; ++c)
+        if (pvs__dabs(pn[c]) > pvs__dabs(pn[pax])) pax = c;
+    pu = (pax + 1) % 3;
+    pv = (pax + 2) % 3;
+    V0[0] = 0.5 * (f.cu[0] + f.cu[1]);
+    V0[1] = 0.5 * (f.cv[0] + f.cv[1]);
+    V0[2] = 0.5 * f.cw[0];
+    world0[f.u] = V0[0];
+    world0[f.v] = V0[1];
+    world0[f.a] = f.face + f.s * V0[2];
+    depth = pvs__f_up(wmax + slack + 1e-12 * (pvs__dabs(wmax) + pvs__dabs(f.face)));
+    for (row = j0; row <= j1; ++row) {
+        const unsigned char *mk = cmark + (size_t)row * f.width;
+        int32_t x = i0;
+        while (x <= i1) {
+            int32_t xs, xe, xm;
+            double X[3], dir[3], den, t, cp[3], best = DBL_MAX, tol;
+            int inside = 0;
+            uint32_t q;
+            if (mk[x]) { ++x; continue; }
+            xs = x;
+            while (x <= i1 && !mk[x]) ++x;
+            xe = x - 1;
+            xm = (xs + xe) / 2;
+            X[f.u] = f.u0 + ((double)xm + 0.5) / f.su;
+            X[f.v] = f.v0 + ((double)row + 0.5) / f.sv;
+            X[f.a] = f.face + f.s * f.W;
+            for (c = 0; c < 3; ++c) dir[c] = X[c] - world0[c];
+            den = pn[0] * dir[0] + pn[1] * dir[1] + pn[2] * dir[2];
+            if (!(pvs__dabs(den) > 1e-9 * sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]))) continue;
+            t = ((double)o->pd - (pn[0] * world0[0] + pn[1] * world0[1] + pn[2] * world0[2])) / den;
+            if (front ? !(t > 0.0 && t <= 1.0) : !(t >= 1.0)) continue;
+            for (c = 0; c < 3; ++c) cp[c] = world0[c] + dir[c] * t;
+            for (q = 0; q < n; ++q) { /* parity and distance against the boundary, in (pu, pv) */
+                const float *a = E + 6 * (size_t)q, *b = a + 3;
+                double ax = a[pu], ay = a[pv], bx = b[pu], by = b[pv], ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey, s2;
+                if ((ay > cp[pv]) != (by > cp[pv]) && cp[pu] < ax + ex * (cp[pv] - ay) / ey) inside = !inside;
+                s2 = l2 > 0.0 ? pvs__dmin(1.0, pvs__dmax(0.0, ((cp[pu] - ax) * ex + (cp[pv] - ay) * ey) / l2)) : 0.0;
+                best = pvs__dmin(best, sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) + (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
+            }
+            /* the surface lies within the slack of the plane: a crossing that near the boundary
+               (measured in (pu, pv), slack / |n_pax| along the axis) is not trusted */
+            tol = 4.0 * slack / pvs__dabs(pn[pax]) + 1e-9 * scale;
+            if (!inside || !(best > tol)) continue;
+            if (map) {
+                float *px = map + (size_t)row * f.width;
+                int32_t xx;
+                for (xx = xs; xx <= xe; ++xx)
+                    if (px[xx] > depth) px[xx] = depth;
+            }
+            if (mask) memset(mask + (size_t)row * f.width + xs, 1, (size_t)(xe - xs + 1));
+            written += (uint32_t)(xe - xs + 1);
+        }
     }
     return written;
 }
@@ -13500,6 +13772,7 @@ PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w
     pvs__free_array(al, w->slicer.seg, 4 * w->slicer.cap, sizeof(double));
     pvs__free_array(al, w->slicer.xs, 2 * w->slicer.cap, sizeof(double));
     pvs__free_array(al, w->slicer.row, res, 1);
+    pvs__free_array(al, w->slicer.cmark, (size_t)res * res, 1);
     pvs__free(al, w->sweep, w->sweep_size, 16);
     pvs__free_array(al, w->seen, w->seen_words, sizeof(pvs_word));
 }
@@ -13761,7 +14034,8 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
         for (k = 0; k < n; ++k) {
             uint32_t cnt;
             const float *pts = pvs__ep_points(p, p->occ + h[k].occ, cell, sheet_side, a, &cnt);
-            if (pts) pvs__ep_occluder(&m->frame, cell, pts, cnt, p->occ[h[k].occ].solid, p->occ[h[k].occ].slack, 0, m->lv[0], NULL);
+            if (p->occ[h[k].occ].ecount) pvs__ep_concave(&m->frame, p, p->occ + h[k].occ, 0, sc->cmark, m->lv[0], NULL);
+            else if (pts) pvs__ep_occluder(&m->frame, cell, pts, cnt, p->occ[h[k].occ].solid, p->occ[h[k].occ].slack, 0, m->lv[0], NULL);
         }
         pvs__ep_slices(s, p, cell, &m->plane, &m->frame, sc, sheet_side, m->lv[0], NULL);
         pvs__ep_build_pyramid(m);
@@ -13849,7 +14123,8 @@ PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj
             {
                 uint32_t cnt;
                 const float *pts = pvs__ep_points(p, o, cell, sheet_side, a, &cnt);
-                if (pts) pvs__ep_occluder(&m->frame, cell, pts, cnt, o->solid, o->slack, 1, NULL, mask);
+                if (o->ecount) pvs__ep_concave(&m->frame, p, o, 1, w->slicer.cmark, NULL, mask);
+                else if (pts) pvs__ep_occluder(&m->frame, cell, pts, cnt, o->solid, o->slack, 1, NULL, mask);
             }
         }
         pvs__ep_slices(s, p, cell, &m->plane, &m->frame, &w->slicer, sheet_side, NULL, mask);
@@ -13915,6 +14190,7 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     w.slicer.seg = (double *)pvs__alloc_array(al, 4 * w.slicer.cap, sizeof(double));
     w.slicer.xs = (double *)pvs__alloc_array(al, 2 * w.slicer.cap, sizeof(double));
     w.slicer.row = (unsigned char *)pvs__alloc_array(al, prm->res, 1);
+    w.slicer.cmark = (unsigned char *)pvs__alloc_array(al, (size_t)prm->res * prm->res, 1);
     w.sweep = pvs__alloc(al, w.sweep_size, 16);
     if (prm->sweep) {
         w.masks = (unsigned char *)pvs__alloc_array(al, w.nmask * w.mask_bytes, 1);
@@ -13922,7 +14198,7 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
         w.sat = (uint32_t *)pvs__alloc_array(al, ((size_t)prm->res + 1) * ((size_t)prm->res + 1), sizeof(uint32_t));
         w.ranges = (int32_t *)pvs__alloc_array(al, 4 * (size_t)prm->res, sizeof(int32_t));
     }
-    if (!w.sel || !w.maps || !w.slicer.seg || !w.slicer.xs || !w.slicer.row || !w.sweep || !w.seen ||
+    if (!w.sel || !w.maps || !w.slicer.seg || !w.slicer.xs || !w.slicer.row || !w.slicer.cmark || !w.sweep || !w.seen ||
         (prm->sweep && (!w.masks || !w.mask_hdr || !w.sat || !w.ranges))) {
         r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell_id, 0, "extproj scratch for cell %u", cell_id);
         goto done;

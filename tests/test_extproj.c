@@ -789,7 +789,8 @@ static void test_thin_wall(void) {
    runs), a box behind it at x 14..16, four cells in front; the whole scene rotated (non-axis planes,
    float rounding) in most runs. Every cell is checked against ray sampling (0 misses), and a full
    wall must hide the box from every cell the single quad (same rotation) hides it from (but the
-   nearest in a tilted run, see below). */
+   nearest in a tilted run, see below). A wall with a window or a notch is a concave planar
+   occluder (§3.4): it hides what lies behind its solid part. */
 static void ep_rot(const double R[3][3], const double *x, float *out) {
     int k;
     for (k = 0; k < 3; ++k) out[k] = (float)(R[k][0] * x[0] + R[k][1] * x[1] + R[k][2] * x[2] + 20.0);
@@ -799,7 +800,7 @@ enum { EP_MAXG = 9 };
 
 /* Bakes the scene of one run; returns the cells (bits) whose PVS holds the box, and counts misses. */
 static unsigned ep_wall_run(const double R[3][3], uint32_t nx, uint32_t ny, const double *cy, const double *cz, const int *diag, int hi, int hj,
-                            uint32_t *misses) {
+                            double by, double bz, uint32_t *misses) {
     static float pos[3 * ((EP_MAXG + 1) * (EP_MAXG + 1) + 8)];
     static uint32_t idx[3 * (2 * EP_MAXG * EP_MAXG + 12)];
     static const int box_tris[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
@@ -831,7 +832,7 @@ static unsigned ep_wall_run(const double R[3][3], uint32_t nx, uint32_t ny, cons
     obs[0].flags = 0;
     for (c = 0; c < 8; ++c) {
         double x[3];
-        x[0] = c & 1 ? 16.0 : 14.0; x[1] = c & 2 ? 6.0 : 4.0; x[2] = c & 4 ? 6.0 : 4.0;
+        x[0] = c & 1 ? 16.0 : 14.0; x[1] = c & 2 ? by + 1.0 : by - 1.0; x[2] = c & 4 ? bz + 1.0 : bz - 1.0;
         ep_rot(R, x, pos + 3 * (nv + c));
     }
     for (c = 0; c < 12; ++c, ++nt)
@@ -901,8 +902,8 @@ static void test_fragmented_wall(void) {
         for (i = 0; i <= nx; ++i) cy[i] = i == 0 ? 0.0 : i == nx ? 10.0 : 10.0 * (i + 0.6 * (ep_rnd() - 0.5)) / nx;
         for (j = 0; j <= ny; ++j) cz[j] = j == 0 ? 0.0 : j == ny ? 10.0 : 10.0 * (j + 0.6 * (ep_rnd() - 0.5)) / ny;
         for (i = 0; i < nx * ny; ++i) diag[i] = ep_rnd() < 0.5;
-        single = ep_wall_run((const double(*)[3])R, 1, 1, one, one, &zero, -1, -1, &misses);
-        pieces = ep_wall_run((const double(*)[3])R, nx, ny, cy, cz, diag, hi, hj, &misses);
+        single = ep_wall_run((const double(*)[3])R, 1, 1, one, one, &zero, -1, -1, 5.0, 5.0, &misses);
+        pieces = ep_wall_run((const double(*)[3])R, nx, ny, cy, cz, diag, hi, hj, 5.0, 5.0, &misses);
         if (!rotate) unrotated_hidden &= !(single & 1u);
         if (hole && hj != 0) CHECK(pieces & 1u); /* seen through the window from the middle cell */
         if (!hole) {
@@ -916,9 +917,128 @@ static void test_fragmented_wall(void) {
             if (pieces & ~single & m) fprintf(stderr, "extproj: a wall of %u x %u pieces (rotated %d) hides less than the quad (%x, %x)\n", nx, ny, rotate, pieces, single);
         }
     }
+    {
+        /* concave (§3.4): a 6 x 6 wall with a window at (4, 4) still hides a box behind its solid
+           middle from the middle cell, tilted or not; one behind the window is seen */
+        double cu[7], R[3][3];
+        int diag[36], k, rot;
+        for (k = 0; k <= 6; ++k) cu[k] = 10.0 * k / 6.0;
+        for (k = 0; k < 36; ++k) diag[k] = k % 3 == 0;
+        for (rot = 0; rot < 2; ++rot) {
+            double ca = cos(0.3 * rot), sa = sin(0.3 * rot);
+            memset(R, 0, sizeof(R));
+            R[0][0] = ca; R[0][1] = -sa; R[1][0] = sa; R[1][1] = ca; R[2][2] = 1.0;
+            CHECK(!(ep_wall_run((const double(*)[3])R, 6, 6, cu, cu, diag, 4, 4, 5.0, 5.0, &misses) & 1u));
+            CHECK(ep_wall_run((const double(*)[3])R, 6, 6, cu, cu, diag, 4, 4, 8.5, 8.5, &misses) & 1u);
+            CHECK(!(ep_wall_run((const double(*)[3])R, 6, 6, cu, cu, diag, 2, 0, 5.0, 5.0, &misses) & 1u)); /* a notch */
+        }
+    }
     CHECK(misses == 0);
     CHECK(unrotated_hidden);
     CHECK(hid_single > 20 && hid_pieces == hid_single);
+}
+
+/* The Projection of a concave planar occluder (§3.4, pvs__ep_concave): a planar 4 x 4 grid of
+   quads with some left out (holes, notches; the rest edge-connected or not) in a random plane in
+   front of or behind a random projection plane; every marked pixel is covered from random points of
+   the cell through random points of the pixel (ray casts in double against the triangles), no
+   deeper than the stored Depth. */
+static void test_concave_projection(void) {
+    int iter, bad = 0, marked_total = 0, checked = 0, concave = 0;
+    for (iter = 0; iter < 200; ++iter) {
+        pvs_extproj_plane pl;
+        pvs__epframe f;
+        float pos[25 * 3], *map;
+        uint32_t idx[32 * 3], nt = 0, i, j, k, o;
+        double c[3], e1[3], e2[3];
+        int a, miss1 = (int)(ep_rnd() * 16.0), miss2 = (int)(ep_rnd() * 20.0);
+        pvs_object_desc ob;
+        pvs_scene *s;
+        pvs__extproj_prep *prep = NULL;
+        pvs_allocator al;
+        pvs_error err;
+        unsigned char *cmark;
+        ep_random_plane(&pl, 48);
+        if (!pvs__ep_frame(&pl, &f)) continue;
+        a = (int)pl.axis;
+        {
+            double face = pl.side > 0 ? pl.cell.max[a] : pl.cell.min[a], size = ep_rndf(2.0f, 10.0f);
+            int u = (a + 1) % 3, v = (a + 2) % 3;
+            c[a] = face + pl.side * ep_rndf(0.5f, 14.0f);
+            c[u] = 0.5 * (pl.cell.min[u] + pl.cell.max[u]) + ep_rndf(-3.0f, 3.0f);
+            c[v] = 0.5 * (pl.cell.min[v] + pl.cell.max[v]) + ep_rndf(-3.0f, 3.0f);
+            for (k = 0; k < 3; ++k) { e1[k] = size * ep_rndf(-0.3f, 0.3f); e2[k] = size * ep_rndf(-0.3f, 0.3f); }
+            e1[u] += 0.25 * size; /* mostly across the axis */
+            e2[v] += 0.25 * size;
+        }
+        for (j = 0; j <= 4; ++j)
+            for (i = 0; i <= 4; ++i)
+                for (k = 0; k < 3; ++k) pos[3 * (j * 5 + i) + k] = (float)(c[k] + ((double)i - 2.0) * e1[k] + ((double)j - 2.0) * e2[k]);
+        for (j = 0; j < 4; ++j)
+            for (i = 0; i < 4; ++i) {
+                uint32_t v00 = j * 5 + i, q = j * 4 + i;
+                if ((int)q == miss1 || (int)q == miss2) continue;
+                idx[3 * nt] = v00; idx[3 * nt + 1] = v00 + 1; idx[3 * nt + 2] = v00 + 6; ++nt;
+                idx[3 * nt] = v00; idx[3 * nt + 1] = v00 + 6; idx[3 * nt + 2] = v00 + 5; ++nt;
+            }
+        ob.first_triangle = 0;
+        ob.triangle_count = nt;
+        ob.flags = 0;
+        s = ep_scene_arrays(pos, 25, idx, nt, &ob, 1);
+        if (!s) { CHECK(0); continue; }
+        memset(&al, 0, sizeof(al));
+        CHECK(pvs__extproj_prepare(s, &al, &prep, &err) == PVS_OK);
+        map = (float *)malloc(sizeof(float) * pl.width * pl.height);
+        cmark = (unsigned char *)malloc((size_t)pl.width * pl.height);
+        for (o = 0; prep && o < prep->occ_count; ++o) {
+            const pvs__epocc *oc = prep->occ + o;
+            uint32_t count = 0, written;
+            if (!oc->ecount) continue;
+            ++concave;
+            for (i = 0; i < pl.width * pl.height; ++i) map[i] = PVS_EXTPROJ_EMPTY;
+            written = pvs__ep_concave(&f, prep, oc, 0, cmark, map, NULL);
+            for (j = 0; j < pl.height; ++j)
+                for (i = 0; i < pl.width; ++i) {
+                    float dstored = map[j * pl.width + i];
+                    int smp;
+                    if (dstored == PVS_EXTPROJ_EMPTY) continue;
+                    ++count;
+                    for (smp = 0; smp < 12; ++smp) {
+                        double V[3], P[3], dir[3], best = 2.0, face = pl.side > 0 ? pl.cell.max[a] : pl.cell.min[a], hitw;
+                        double pu = pl.rect[0] + ((double)i + ep_rnd()) * ((double)pl.rect[2] - pl.rect[0]) / pl.width;
+                        double pv = pl.rect[1] + ((double)j + ep_rnd()) * ((double)pl.rect[3] - pl.rect[1]) / pl.height;
+                        uint32_t t2;
+                        if (smp < 4) {
+                            pu = pl.rect[0] + (double)(i + (smp & 1)) * ((double)pl.rect[2] - pl.rect[0]) / pl.width;
+                            pv = pl.rect[1] + (double)(j + ((smp >> 1) & 1)) * ((double)pl.rect[3] - pl.rect[1]) / pl.height;
+                        }
+                        for (k = 0; k < 3; ++k)
+                            V[k] = smp < 8 ? ((ep_rnd() < 0.5) ? pl.cell.min[k] : pl.cell.max[k]) : pl.cell.min[k] + ep_rnd() * ((double)pl.cell.max[k] - pl.cell.min[k]);
+                        ep_plane_point(&pl, pu, pv, P);
+                        for (k = 0; k < 3; ++k) dir[k] = (P[k] - V[k]) * 1000.0;
+                        for (t2 = 0; t2 < nt; ++t2) {
+                            double t = ep_ray_tri(V, dir, pos + 3 * idx[3 * t2], pos + 3 * idx[3 * t2 + 1], pos + 3 * idx[3 * t2 + 2]);
+                            if (t >= 0.0 && t < best) best = t;
+                        }
+                        ++checked;
+                        if (best > 1.0) { ++bad; continue; }
+                        hitw = pl.side * (V[a] + best * dir[a] - face);
+                        if (hitw > (double)dstored + 1e-9 * (1.0 + fabs(hitw))) ++bad;
+                    }
+                }
+            CHECK(count == written);
+            marked_total += (int)count;
+        }
+        free(map);
+        free(cmark);
+        pvs__extproj_prep_destroy(prep);
+        pvs_scene_destroy(s);
+    }
+    CHECK(bad == 0);
+    CHECK(concave > 50);
+    CHECK(marked_total > 1000);
+    if (bad) fprintf(stderr, "extproj: %d concave occluder samples not covered of %d\n", bad, checked);
+    fprintf(stderr, "  extproj concave: %d occluders, %d pixels, %d rays\n", concave, marked_total, checked);
 }
 
 /* Adaptive cells (§6.1): the leaves tile their cells, each within its parent's PVS, within the budget
@@ -1055,6 +1175,7 @@ void test_extproj(void) {
     test_reprojection();
     test_thin_wall();
     test_fragmented_wall();
+    test_concave_projection();
     test_adaptive();
     ep_check_scene(GEN_CITY, 1, 0.3f, 24, 16, 1024, 0);
     ep_check_scene(GEN_CITY, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
