@@ -90,7 +90,8 @@
 
    Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
    vertical walls stand on the ground (2.5D), EXTPROJ when there are planar occluders or convex solids
-   (3D), SHRINK when closed geometry leaves occluder volume after erosion by eps (VOCC, which adds
+   (3D; coplanar edge-connected triangles of an object act as one planar occluder, convex or not, so
+   a wall split into many pieces hides what the whole wall hides), SHRINK when closed geometry leaves occluder volume after erosion by eps (VOCC, which adds
    little tightness, only when pvs_bake_desc.methods names it); it runs them cheapest
    first and intersects their PVSs (an intersection of conservative sets is conservative, and at least
    as tight as each). pvs_bake_get_method_info says which ran, which were skipped and why, and what
@@ -293,7 +294,9 @@
                       pvs_vocc_cull rebuilds a cell's PVS from them; pvsbake --vocc-only.
                       extproj: slices of closed meshes, sheets (grounds) with occluders extended
                       through them, improved occludee Projection, planes by distance band, the
-                      occlusion sweep (pvsbake --sweep); adaptive cells (pvsbake --adaptive N).
+                      occlusion sweep (pvsbake --sweep); adaptive cells (pvsbake --adaptive N);
+                      coplanar triangles merged into one planar occluder, convex or concave (walls
+                      split into pieces, as in game maps, hide again).
    0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps and per-frame culling;
                       bake methods shrink (with occluder synthesis), otree (c-LSS) and extproj.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
