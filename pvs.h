@@ -12209,6 +12209,37 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
     return 1;
 }
 
+/* 1 if the component (triangles tris[0 .. tn), distinct vertices pts[0 .. n)) is flat: every vertex
+   within float precision of the plane of its largest triangle. A flat closed mesh (a two-sided wall)
+   bounds no volume: it is neither a convex solid (its vertices' hull would fill its windows) nor
+   sliced; its faces are planar occluders. */
+PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts, uint32_t n) {
+    uint32_t t, i, k, best = 0;
+    double bl = 0.0, nrm[3], scale = 0.0;
+    const float *c0 = NULL;
+    for (t = 0; t < tn; ++t) {
+        const float *c[3];
+        double l;
+        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
+        l = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
+        if (l > bl) { bl = l; best = t; }
+    }
+    if (!(bl > 0.0)) return 1;
+    {
+        const float *c[3];
+        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[best] + k];
+        bl = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
+        c0 = c[0];
+    }
+    for (i = 0; i < n; ++i)
+        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - c0[k]) + pvs__dabs((double)pts[i][k]));
+    for (i = 0; i < n; ++i) {
+        double d = (nrm[0] * ((double)pts[i][0] - c0[0]) + nrm[1] * ((double)pts[i][1] - c0[1]) + nrm[2] * ((double)pts[i][2] - c0[2])) / bl;
+        if (pvs__dabs(d) > 1e-6 * scale) return 0;
+    }
+    return 1;
+}
+
 /* The cap of a component whose boundary edges (pairs of distinct-vertex ids in bnd) all lie in
    one axis-aligned plane x_k = c, exactly (equal floats), with every vertex of the component on one
    side of it: *side = +1 when the solid lies where x_k >= c, -1 when x_k <= c. Exact comparisons
@@ -12353,16 +12384,19 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
     for (g = 0; g < ne;) {
         uint32_t h = g + 1;
         while (h < ne && (w->edges[h] >> 21) == (w->edges[g] >> 21)) ++h;
-        for (k = g; k + 1 < h; ++k) { /* triangles around the edge, each with the next */
-            uint32_t ja = (uint32_t)(w->edges[k] & 0x1fffffu), jb = (uint32_t)(w->edges[k + 1] & 0x1fffffu), m;
-            const float *A[3], *B[3];
-            double na[3], la;
-            for (m = 0; m < 3; ++m) { A[m] = PVS__EP_TRI(ja, m); B[m] = PVS__EP_TRI(jb, m); }
-            la = pvs__ep_tri_normal(A[0], A[1], A[2], na);
-            if (!(la > 0.0) || !pvs__ep_coplanar(A, na, la, B, scale) || !pvs__ep_coplanar(B, na, la, A, scale)) continue;
-            {
-                uint32_t x = pvs__ep_find(w->gparent, ja), y = pvs__ep_find(w->gparent, jb);
-                if (x != y) w->gparent[x > y ? x : y] = x < y ? x : y;
+        for (k = g; k + 1 < h; ++k) { /* triangles around the edge, pairwise (two-sided walls: four) */
+            uint32_t k2;
+            for (k2 = k + 1; k2 < h && k2 < k + 8; ++k2) {
+                uint32_t ja = (uint32_t)(w->edges[k] & 0x1fffffu), jb = (uint32_t)(w->edges[k2] & 0x1fffffu), m;
+                const float *A[3], *B[3];
+                double na[3], la;
+                for (m = 0; m < 3; ++m) { A[m] = PVS__EP_TRI(ja, m); B[m] = PVS__EP_TRI(jb, m); }
+                la = pvs__ep_tri_normal(A[0], A[1], A[2], na);
+                if (!(la > 0.0) || !pvs__ep_coplanar(A, na, la, B, scale) || !pvs__ep_coplanar(B, na, la, A, scale)) continue;
+                {
+                    uint32_t x = pvs__ep_find(w->gparent, ja), y = pvs__ep_find(w->gparent, jb);
+                    if (x != y) w->gparent[x > y ? x : y] = x < y ? x : y;
+                }
             }
         }
         g = h;
@@ -12544,6 +12578,16 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
                 bnd[2 * j + 1] = (uint32_t)(w->edges[j] & 0xffffffffu);
             }
             capped = pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side);
+        }
+        if (closed || capped) {
+            /* a flat closed or capped mesh bounds no volume */
+            const float **vq = (const float **)w->ref; /* ref is done with: room for 3 tn pointers */
+            for (j = 0; j < nuv; ++j) vq[j] = w->vpos[w->uv[j]];
+            {
+                uint32_t *tt = w->gparent; /* not in use until the polygons */
+                for (j = 0; j < end - begin; ++j) tt[j] = t0 + tl[j];
+                if (pvs__ep_flat_component(s, tt, end - begin, vq, nuv)) closed = capped = 0;
+            }
         }
         if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && end - begin <= 2 * PVS__EP_MAXP) {
             /* a convex solid; a capped one (its hull includes the cap) is used only for cells

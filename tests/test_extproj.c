@@ -790,7 +790,7 @@ static void test_thin_wall(void) {
    float rounding) in most runs. Every cell is checked against ray sampling (0 misses), and a full
    wall must hide the box from every cell the single quad (same rotation) hides it from (but the
    nearest in a tilted run, see below). A wall with a window or a notch is a concave planar
-   occluder (§3.4): it hides what lies behind its solid part. */
+   occluder (§3.4): it hides what lies behind its solid part; two-sided, it is still no solid. */
 static void ep_rot(const double R[3][3], const double *x, float *out) {
     int k;
     for (k = 0; k < 3; ++k) out[k] = (float)(R[k][0] * x[0] + R[k][1] * x[1] + R[k][2] * x[2] + 20.0);
@@ -800,9 +800,9 @@ enum { EP_MAXG = 9 };
 
 /* Bakes the scene of one run; returns the cells (bits) whose PVS holds the box, and counts misses. */
 static unsigned ep_wall_run(const double R[3][3], uint32_t nx, uint32_t ny, const double *cy, const double *cz, const int *diag, int hi, int hj,
-                            double by, double bz, uint32_t *misses) {
+                            double by, double bz, int two_sided, uint32_t *misses) {
     static float pos[3 * ((EP_MAXG + 1) * (EP_MAXG + 1) + 8)];
-    static uint32_t idx[3 * (2 * EP_MAXG * EP_MAXG + 12)];
+    static uint32_t idx[3 * (4 * EP_MAXG * EP_MAXG + 12)];
     static const int box_tris[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
                                         {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
     uint32_t i, j, nv = 0, nt = 0, c;
@@ -826,6 +826,11 @@ static unsigned ep_wall_run(const double R[3][3], uint32_t nx, uint32_t ny, cons
             if ((int)i == hi && (int)j == hj) continue;
             memcpy(idx + 3 * nt, diag[j * nx + i] ? t1 : t0, sizeof(t0));
             nt += 2;
+            if (two_sided) { /* the back faces */
+                uint32_t b0[6] = {v00, v11, v10, v00, v01, v11};
+                memcpy(idx + 3 * nt, b0, sizeof(b0));
+                nt += 2;
+            }
         }
     obs[0].first_triangle = 0;
     obs[0].triangle_count = nt;
@@ -902,8 +907,8 @@ static void test_fragmented_wall(void) {
         for (i = 0; i <= nx; ++i) cy[i] = i == 0 ? 0.0 : i == nx ? 10.0 : 10.0 * (i + 0.6 * (ep_rnd() - 0.5)) / nx;
         for (j = 0; j <= ny; ++j) cz[j] = j == 0 ? 0.0 : j == ny ? 10.0 : 10.0 * (j + 0.6 * (ep_rnd() - 0.5)) / ny;
         for (i = 0; i < nx * ny; ++i) diag[i] = ep_rnd() < 0.5;
-        single = ep_wall_run((const double(*)[3])R, 1, 1, one, one, &zero, -1, -1, 5.0, 5.0, &misses);
-        pieces = ep_wall_run((const double(*)[3])R, nx, ny, cy, cz, diag, hi, hj, 5.0, 5.0, &misses);
+        single = ep_wall_run((const double(*)[3])R, 1, 1, one, one, &zero, -1, -1, 5.0, 5.0, 0, &misses);
+        pieces = ep_wall_run((const double(*)[3])R, nx, ny, cy, cz, diag, hi, hj, 5.0, 5.0, run % 5 == 1, &misses);
         if (!rotate) unrotated_hidden &= !(single & 1u);
         if (hole && hj != 0) CHECK(pieces & 1u); /* seen through the window from the middle cell */
         if (!hole) {
@@ -928,9 +933,19 @@ static void test_fragmented_wall(void) {
             double ca = cos(0.3 * rot), sa = sin(0.3 * rot);
             memset(R, 0, sizeof(R));
             R[0][0] = ca; R[0][1] = -sa; R[1][0] = sa; R[1][1] = ca; R[2][2] = 1.0;
-            CHECK(!(ep_wall_run((const double(*)[3])R, 6, 6, cu, cu, diag, 4, 4, 5.0, 5.0, &misses) & 1u));
-            CHECK(ep_wall_run((const double(*)[3])R, 6, 6, cu, cu, diag, 4, 4, 8.5, 8.5, &misses) & 1u);
-            CHECK(!(ep_wall_run((const double(*)[3])R, 6, 6, cu, cu, diag, 2, 0, 5.0, 5.0, &misses) & 1u)); /* a notch */
+            CHECK(!(ep_wall_run((const double(*)[3])R, 6, 6, cu, cu, diag, 4, 4, 5.0, 5.0, rot, &misses) & 1u));
+            CHECK(ep_wall_run((const double(*)[3])R, 6, 6, cu, cu, diag, 4, 4, 8.5, 8.5, rot, &misses) & 1u);
+            CHECK(!(ep_wall_run((const double(*)[3])R, 6, 6, cu, cu, diag, 2, 0, 5.0, 5.0, rot, &misses) & 1u)); /* a notch */
+        }
+        {
+            /* a two-sided wall of 2 x 2 quads with a window: a closed mesh, but flat, so not a
+               convex solid (its vertices' hull would fill the window) */
+            double c2[3] = {0.0, 5.0, 10.0};
+            int d2[4] = {0, 1, 0, 1};
+            memset(R, 0, sizeof(R));
+            R[0][0] = R[1][1] = R[2][2] = 1.0;
+            CHECK(ep_wall_run((const double(*)[3])R, 2, 2, c2, c2, d2, 1, 1, 7.5, 7.5, 1, &misses) & 1u);
+            CHECK(!(ep_wall_run((const double(*)[3])R, 2, 2, c2, c2, d2, 1, 1, 2.5, 2.5, 1, &misses) & 1u));
         }
     }
     CHECK(misses == 0);
