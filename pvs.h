@@ -13309,20 +13309,78 @@ PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep 
 PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o, int front_only, unsigned char *cmark,
                                      float *map, unsigned char *mask) {
     const pvs__epframe f = *fp;
-    const float *E = p->cedge + 6 * (size_t)o->efirst;
+    double E[6 * (PVS__EP_CONCAVE_EDGES + PVS__EP_CONCAVE_EDGES / 2 + 1)];
     uint32_t e, written = 0, n = o->ecount;
     double wmin = DBL_MAX, wmax = -DBL_MAX, margin = 1e-4 * (f.W - f.cw[0]), slack = o->slack, base;
     double xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, V0[3], world0[3], pn[3], scale = 0.0;
     int c, front, pax = 0, pu, pv;
     int32_t i0, i1, j0, j1, row;
     float depth;
+    if (n > PVS__EP_CONCAVE_EDGES) return 0;
+    for (e = 0; e < 6 * n; ++e) E[e] = p->cedge[6 * (size_t)o->efirst + e];
     for (e = 0; e < 2 * n; ++e) {
-        double w = f.s * ((double)E[3 * e + f.a] - f.face);
+        double w = f.s * (E[3 * e + f.a] - f.face);
         wmin = pvs__dmin(wmin, w);
         wmax = pvs__dmax(wmax, w);
-        for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, pvs__dabs((double)E[3 * e + c]));
+        for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, pvs__dabs(E[3 * e + c]));
     }
-    if (!(wmin - slack > margin)) return 0;
+    if (!(wmin - slack > margin)) {
+        /* reaching past the cell's face (a wall beside the cell): its part at depths >= margin,
+           P' = P and the half-space, whose boundary is that of P clipped plus the segments of
+           the clipping line inside P (between crossings, by parity with the half-open rule
+           w >= margin, so the two agree). Exact input only (no slack) */
+        uint32_t nc = 0, nx = 0, q;
+        double xs[PVS__EP_CONCAVE_EDGES][4], dir[3], best = 0.0;
+        if (slack > 0.0 || !(wmax > margin) || wmax > f.W) return 0;
+        { /* the clipping line's direction: pn x (the axis) */
+            double ea[3] = {0.0, 0.0, 0.0};
+            ea[f.a] = 1.0;
+            dir[0] = (double)o->pn[1] * ea[2] - (double)o->pn[2] * ea[1];
+            dir[1] = (double)o->pn[2] * ea[0] - (double)o->pn[0] * ea[2];
+            dir[2] = (double)o->pn[0] * ea[1] - (double)o->pn[1] * ea[0];
+        }
+        for (c = 0; c < 3; ++c) best = pvs__dmax(best, pvs__dabs(dir[c]));
+        if (!(best > 1e-6)) return 0; /* the plane is nearly parallel to the face: nothing to keep */
+        for (q = 0; q < n; ++q) { /* in place: the kept edges move down (nc <= q) */
+            double A[3], Bq[3], wa, wb;
+            int ia, ib;
+            double *out = E + 6 * (size_t)nc;
+            for (c = 0; c < 3; ++c) { A[c] = E[6 * (size_t)q + c]; Bq[c] = E[6 * (size_t)q + 3 + c]; }
+            wa = f.s * (A[f.a] - f.face);
+            wb = f.s * (Bq[f.a] - f.face);
+            ia = wa >= margin;
+            ib = wb >= margin;
+            if (!ia && !ib) continue;
+            for (c = 0; c < 3; ++c) { out[c] = A[c]; out[3 + c] = Bq[c]; }
+            if (ia != ib) { /* the cut end, in double on the edge, exactly at depth margin */
+                double t = (margin - wa) / (wb - wa), *end = ia ? out + 3 : out;
+                for (c = 0; c < 3; ++c) end[c] = A[c] + (Bq[c] - A[c]) * t;
+                end[f.a] = f.face + f.s * margin;
+                for (c = 0; c < 3; ++c) xs[nx][c] = end[c];
+                xs[nx][3] = end[0] * dir[0] + end[1] * dir[1] + end[2] * dir[2];
+                ++nx;
+            }
+            ++nc;
+        }
+        if (nx & 1u) return 0;
+        /* the crossings along the line, paired */
+        for (q = 1; q < nx; ++q) {
+            double tmp[4];
+            uint32_t r2 = q;
+            memcpy(tmp, xs[q], sizeof(tmp));
+            while (r2 > 0 && xs[r2 - 1][3] > tmp[3]) { memcpy(xs[r2], xs[r2 - 1], sizeof(tmp)); --r2; }
+            memcpy(xs[r2], tmp, sizeof(tmp));
+        }
+        for (q = 0; q + 1 < nx; q += 2) {
+            double *out = E + 6 * (size_t)nc++;
+            for (c = 0; c < 3; ++c) { out[c] = xs[q][c]; out[3 + c] = xs[q + 1][c]; }
+        }
+        n = nc;
+        if (n < 3) return 0;
+        wmin = DBL_MAX;
+        for (e = 0; e < 2 * n; ++e) wmin = pvs__dmin(wmin, f.s * (E[3 * e + f.a] - f.face));
+        if (!(wmin >= margin)) return 0;
+    }
     if (wmax + slack <= f.W) front = 1;
     else if (!front_only && wmin - slack >= f.W) front = 0;
     else return 0;
@@ -13331,7 +13389,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
     for (c = 0; c < 8; ++c) {
         double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX;
         for (e = 0; e < 2 * n; ++e) {
-            const float *x = E + 3 * e;
+            const double *x = E + 3 * (size_t)e;
             double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
             double pu_ = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su, pv_ = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
             bx0 = pvs__dmin(bx0, pu_); bx1 = pvs__dmax(bx1, pu_);
@@ -13356,7 +13414,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
             double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1];
             int end;
             for (end = 0; end < 2; ++end) {
-                const float *x = E + 6 * (size_t)e + 3 * end;
+                const double *x = E + 6 * (size_t)e + 3 * end;
                 double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
                 pts[k][0] = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su;
                 pts[k][1] = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
@@ -13448,7 +13506,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
             if (front ? !(t > 0.0 && t <= 1.0) : !(t >= 1.0)) continue;
             for (c = 0; c < 3; ++c) cp[c] = world0[c] + dir[c] * t;
             for (q = 0; q < n; ++q) { /* parity and distance against the boundary, in (pu, pv) */
-                const float *a = E + 6 * (size_t)q, *b = a + 3;
+                const double *a = E + 6 * (size_t)q, *b = a + 3;
                 double ax = a[pu], ay = a[pv], bx = b[pu], by = b[pv], ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey, s2;
                 if ((ay > cp[pv]) != (by > cp[pv]) && cp[pu] < ax + ex * (cp[pv] - ay) / ey) inside = !inside;
                 s2 = l2 > 0.0 ? pvs__dmin(1.0, pvs__dmax(0.0, ((cp[pu] - ax) * ex + (cp[pv] - ay) * ey) / l2)) : 0.0;

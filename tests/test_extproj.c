@@ -979,7 +979,7 @@ static void test_concave_projection(void) {
         {
             double face = pl.side > 0 ? pl.cell.max[a] : pl.cell.min[a], size = ep_rndf(2.0f, 10.0f);
             int u = (a + 1) % 3, v = (a + 2) % 3;
-            c[a] = face + pl.side * ep_rndf(0.5f, 14.0f);
+            c[a] = face + pl.side * (iter % 2 ? ep_rndf(-2.0f, 3.0f) : ep_rndf(0.5f, 14.0f)); /* odd: often reaching past the face */
             c[u] = 0.5 * (pl.cell.min[u] + pl.cell.max[u]) + ep_rndf(-3.0f, 3.0f);
             c[v] = 0.5 * (pl.cell.min[v] + pl.cell.max[v]) + ep_rndf(-3.0f, 3.0f);
             for (k = 0; k < 3; ++k) { e1[k] = size * ep_rndf(-0.3f, 0.3f); e2[k] = size * ep_rndf(-0.3f, 0.3f); }
