@@ -13512,9 +13512,11 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
                 s2 = l2 > 0.0 ? pvs__dmin(1.0, pvs__dmax(0.0, ((cp[pu] - ax) * ex + (cp[pv] - ay) * ey) / l2)) : 0.0;
                 best = pvs__dmin(best, sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) + (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
             }
-            /* the surface lies within the slack of the plane: a crossing that near the boundary
-               (measured in (pu, pv), slack / |n_pax| along the axis) is not trusted */
-            tol = 4.0 * slack / pvs__dabs(pn[pax]) + 1e-9 * scale;
+            /* the surface lies within the slack of the plane: the segment crosses that slab over a
+               stretch of slack / sin(angle) (|dir| / |den|), measured in (pu, pv) a factor
+               1 / |n_pax| longer; a crossing that near the boundary is not trusted */
+            tol = 4.0 * slack / pvs__dabs(pn[pax]) * pvs__dmax(1.0, sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]) / pvs__dabs(den)) +
+                  1e-9 * scale;
             if (!inside || !(best > tol)) continue;
             if (map) {
                 float *px = map + (size_t)row * f.width;
