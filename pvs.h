@@ -172,7 +172,8 @@
    1.0 ms (SSE2; 2.0 ms scalar), 1,000 facades into a 256 x 256 cull map about 0.8 ms; from-point
    culling with the occlusion tree (pvs_otree_cull, 32 occluders) about 0.2 ms of CPU per frame
    along a street walk; bake methods per cell on the demo city: extproj about 10 ms of CPU (13.5 ms
-   with its occluder preparation amortized over 60 cells; 28 ms with the occlusion sweep), otree
+   with its occluder preparation amortized over 60 cells; 28 ms with the occlusion sweep; on
+   2026-11-24 under load 15.7 ms and 31.7 ms with coplanar pieces merged, 14.3 ms without), otree
    about 9 ms of CPU (2026-11-24), shrink about 260 ms (default eps), vocc about 60 ms of CPU (10
    virtual occluders per cell, 52 bytes, 88% of the objects culled: 98% of what shrink culls;
    rebuilding a cell's PVS from them about 70 us testing every box, 110 us walking a kD-tree of
