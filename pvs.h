@@ -13293,6 +13293,58 @@ PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep 
 
 /* ---- concave planar occluders (§3.4) ---- */
 
+/* Clips a concave planar occluder's boundary edges (E, n, in double) to the depths w >= c (ge) or
+   w <= c: the boundary of P and the half-space is that of P clipped (the cut ends computed in
+   double on the edges, exactly at depth c) plus the segments of the clipping line inside P, found
+   between the crossings sorted along the line and paired by parity with the same half-open rule,
+   so the two close up. E needs room for 1.5 n + 1 edges. Returns the new count (0 if none). */
+PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epocc *o, double *E, uint32_t n, double cdepth, int ge) {
+    const pvs__epframe f = *fp;
+    uint32_t nc = 0, nx = 0, q;
+    double xs[PVS__EP_CONCAVE_EDGES][4], dir[3], best = 0.0, ea[3] = {0.0, 0.0, 0.0};
+    int c;
+    if (n > PVS__EP_CONCAVE_EDGES) return 0;
+    ea[f.a] = 1.0; /* the clipping line's direction: pn x (the axis) */
+    dir[0] = (double)o->pn[1] * ea[2] - (double)o->pn[2] * ea[1];
+    dir[1] = (double)o->pn[2] * ea[0] - (double)o->pn[0] * ea[2];
+    dir[2] = (double)o->pn[0] * ea[1] - (double)o->pn[1] * ea[0];
+    for (c = 0; c < 3; ++c) best = pvs__dmax(best, pvs__dabs(dir[c]));
+    if (!(best > 1e-6)) return 0; /* the plane nearly parallel to the cut: nothing kept */
+    for (q = 0; q < n; ++q) { /* in place: the kept edges move down (nc <= q) */
+        double A[3], B[3], wa, wb, *out = E + 6 * (size_t)nc;
+        int ia, ib;
+        for (c = 0; c < 3; ++c) { A[c] = E[6 * (size_t)q + c]; B[c] = E[6 * (size_t)q + 3 + c]; }
+        wa = f.s * (A[f.a] - f.face);
+        wb = f.s * (B[f.a] - f.face);
+        ia = ge ? wa >= cdepth : wa <= cdepth;
+        ib = ge ? wb >= cdepth : wb <= cdepth;
+        if (!ia && !ib) continue;
+        for (c = 0; c < 3; ++c) { out[c] = A[c]; out[3 + c] = B[c]; }
+        if (ia != ib) {
+            double t = (cdepth - wa) / (wb - wa), *end = ia ? out + 3 : out;
+            for (c = 0; c < 3; ++c) end[c] = A[c] + (B[c] - A[c]) * t;
+            end[f.a] = f.face + f.s * cdepth;
+            for (c = 0; c < 3; ++c) xs[nx][c] = end[c];
+            xs[nx][3] = end[0] * dir[0] + end[1] * dir[1] + end[2] * dir[2];
+            ++nx;
+        }
+        ++nc;
+    }
+    if (nx & 1u) return 0;
+    for (q = 1; q < nx; ++q) { /* the crossings along the line, then paired */
+        double tmp[4];
+        uint32_t r2 = q;
+        memcpy(tmp, xs[q], sizeof(tmp));
+        while (r2 > 0 && xs[r2 - 1][3] > tmp[3]) { memcpy(xs[r2], xs[r2 - 1], sizeof(tmp)); --r2; }
+        memcpy(xs[r2], tmp, sizeof(tmp));
+    }
+    for (q = 0; q + 1 < nx; q += 2) {
+        double *out = E + 6 * (size_t)nc++;
+        for (c = 0; c < 3; ++c) { out[c] = xs[q][c]; out[3 + c] = xs[q + 1][c]; }
+    }
+    return nc;
+}
+
 /* The Projection of a concave planar occluder P (Durand 2000 §3.4, Fig. 7: planar, possibly
    concave, with holes) lying wholly in front of the plane ([margin, W]) or, unless front_only,
    wholly behind it. A pixel X is in it when every line from the cell through X meets P. Let C(X) be
@@ -13326,65 +13378,20 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
         for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, pvs__dabs(E[3 * e + c]));
     }
     if (!(wmin - slack > margin)) {
-        /* reaching past the cell's face (a wall beside the cell): its part at depths >= margin,
-           P' = P and the half-space, whose boundary is that of P clipped plus the segments of
-           the clipping line inside P (between crossings, by parity with the half-open rule
-           w >= margin, so the two agree). Exact input only (no slack) */
-        uint32_t nc = 0, nx = 0, q;
-        double xs[PVS__EP_CONCAVE_EDGES][4], dir[3], best = 0.0;
-        if (slack > 0.0 || !(wmax > margin) || wmax > f.W) return 0;
-        { /* the clipping line's direction: pn x (the axis) */
-            double ea[3] = {0.0, 0.0, 0.0};
-            ea[f.a] = 1.0;
-            dir[0] = (double)o->pn[1] * ea[2] - (double)o->pn[2] * ea[1];
-            dir[1] = (double)o->pn[2] * ea[0] - (double)o->pn[0] * ea[2];
-            dir[2] = (double)o->pn[0] * ea[1] - (double)o->pn[1] * ea[0];
-        }
-        for (c = 0; c < 3; ++c) best = pvs__dmax(best, pvs__dabs(dir[c]));
-        if (!(best > 1e-6)) return 0; /* the plane is nearly parallel to the face: nothing to keep */
-        for (q = 0; q < n; ++q) { /* in place: the kept edges move down (nc <= q) */
-            double A[3], Bq[3], wa, wb;
-            int ia, ib;
-            double *out = E + 6 * (size_t)nc;
-            for (c = 0; c < 3; ++c) { A[c] = E[6 * (size_t)q + c]; Bq[c] = E[6 * (size_t)q + 3 + c]; }
-            wa = f.s * (A[f.a] - f.face);
-            wb = f.s * (Bq[f.a] - f.face);
-            ia = wa >= margin;
-            ib = wb >= margin;
-            if (!ia && !ib) continue;
-            for (c = 0; c < 3; ++c) { out[c] = A[c]; out[3 + c] = Bq[c]; }
-            if (ia != ib) { /* the cut end, in double on the edge, exactly at depth margin */
-                double t = (margin - wa) / (wb - wa), *end = ia ? out + 3 : out;
-                for (c = 0; c < 3; ++c) end[c] = A[c] + (Bq[c] - A[c]) * t;
-                end[f.a] = f.face + f.s * margin;
-                for (c = 0; c < 3; ++c) xs[nx][c] = end[c];
-                xs[nx][3] = end[0] * dir[0] + end[1] * dir[1] + end[2] * dir[2];
-                ++nx;
-            }
-            ++nc;
-        }
-        if (nx & 1u) return 0;
-        /* the crossings along the line, paired */
-        for (q = 1; q < nx; ++q) {
-            double tmp[4];
-            uint32_t r2 = q;
-            memcpy(tmp, xs[q], sizeof(tmp));
-            while (r2 > 0 && xs[r2 - 1][3] > tmp[3]) { memcpy(xs[r2], xs[r2 - 1], sizeof(tmp)); --r2; }
-            memcpy(xs[r2], tmp, sizeof(tmp));
-        }
-        for (q = 0; q + 1 < nx; q += 2) {
-            double *out = E + 6 * (size_t)nc++;
-            for (c = 0; c < 3; ++c) { out[c] = xs[q][c]; out[3 + c] = xs[q + 1][c]; }
-        }
-        n = nc;
+        /* reaching past the cell's face (a wall beside the cell): its part at depths >= margin.
+           Exact input only (no slack) */
+        if (slack > 0.0 || !(wmax > margin)) return 0;
+        n = pvs__ep_clip_concave(&f, o, E, n, margin, 1);
         if (n < 3) return 0;
-        wmin = DBL_MAX;
-        for (e = 0; e < 2 * n; ++e) wmin = pvs__dmin(wmin, f.s * (E[3 * e + f.a] - f.face));
-        if (!(wmin >= margin)) return 0;
     }
     if (wmax + slack <= f.W) front = 1;
     else if (!front_only && wmin - slack >= f.W) front = 0;
-    else return 0;
+    else if (slack == 0.0) { /* straddling the plane: its part in front */
+        n = pvs__ep_clip_concave(&f, o, E, n, f.W, 0);
+        if (n < 3) return 0;
+        front = 1;
+        wmax = f.W;
+    } else return 0;
     base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv + 1.0;
     /* candidate pixels: inside every corner's view of the boundary's bounding box */
     for (c = 0; c < 8; ++c) {

@@ -985,6 +985,16 @@ static void test_concave_projection(void) {
             for (k = 0; k < 3; ++k) { e1[k] = size * ep_rndf(-0.3f, 0.3f); e2[k] = size * ep_rndf(-0.3f, 0.3f); }
             e1[u] += 0.25 * size; /* mostly across the axis */
             e2[v] += 0.25 * size;
+            if (iter % 4 >= 2) { /* exact (no slack): a wall across the axis, or along it beside the cell */
+                int along = iter % 8 >= 6;
+                for (k = 0; k < 3; ++k) {
+                    c[k] = floor(c[k] * 8.0) / 8.0;
+                    e1[k] = e2[k] = 0.0;
+                }
+                e1[along ? a : u] = floor(size * 2.0) / 8.0 + 0.25;
+                e2[v] = floor(size * 2.0) / 8.0 + 0.25;
+                if (along) c[a] = (pl.side > 0 ? pl.cell.max[a] : pl.cell.min[a]) - 1.0 * pl.side;
+            }
         }
         for (j = 0; j <= 4; ++j)
             for (i = 0; i <= 4; ++i)
