@@ -58,8 +58,9 @@
    >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps, boxes / columns
    >>vocc       virtual occluders (Koltun 2000): aggregate umbrae, height slices, selection, the VOCC
                 section, the PVS rebuilt on cell entry (pvs_vocc_cull)
-   >>methods    region methods: `shrink` (Wonka 2000), extended projections `extproj`, the estimator `sample`
-   >>bake       bake driver: tasks, AUTO (methods intersected), draw distance, resuming, determinism
+   >>methods    region methods: `shrink` (Wonka 2000), `extproj` (Durand 2000), the estimator `sample`
+   >>bake       bake driver: tasks, AUTO (methods intersected), draw distance, resuming, adaptive
+                cells, determinism
    >>format     the .pvs file: writer and validating zero-copy reader
    >>runtime    cell look-up and decoding
 
@@ -89,7 +90,8 @@
 
    Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
    vertical walls stand on the ground (2.5D), EXTPROJ when there are planar occluders or convex solids
-   (3D), SHRINK when closed geometry leaves occluder volume after erosion by eps (VOCC, which adds
+   (3D; coplanar edge-connected triangles of an object act as one planar occluder, convex or not, so
+   a wall split into many pieces hides what the whole wall hides), SHRINK when closed geometry leaves occluder volume after erosion by eps (VOCC, which adds
    little tightness, only when pvs_bake_desc.methods names it); it runs them cheapest
    first and intersects their PVSs (an intersection of conservative sets is conservative, and at least
    as tight as each). pvs_bake_get_method_info says which ran, which were skipped and why, and what
@@ -99,6 +101,15 @@
    keeping). pvs_bake_restore_task resumes an interrupted bake from the PVSs it had finished (not a
    VOCC bake: its virtual occluders are baked again). Only a VOCC bake stores virtual occluders; AUTO
    uses vocc's PVS in the intersection and stores none.
+
+   Adaptive cells. With pvs_bake_desc.adaptive_budget (Durand 2000 §6.1) a cell whose PVS holds more
+   triangles than the budget is split in two across its longest side, again and again down to
+   adaptive_min_size; each half is baked from its parent's PVS (with every method of the bake, the
+   result intersected with the parent's; EXTPROJ tests only the parent's objects and drops the
+   occluders it hides). The file holds the leaf cells (pvs_bake_leaf_count), in cell order, each
+   cell's leaves depth first, and its look-up tree covers them; pvs_bake_cell_pvs still gives a
+   whole cell's PVS. Deterministic for any thread count; not with shards, VOCC or resuming. EXTPROJ
+   also takes extproj_sweep, the occlusion sweep of §5 (for many small occluders; slower).
 
    Memory. Every desc struct has a `pvs_allocator`; left at zero, PVS_MALLOC/PVS_FREE are used. An object
    remembers its allocator. Size arithmetic is overflow-checked. The runtime (pvs_file_*) and the
@@ -142,12 +153,14 @@
    Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle
    kD-trees: about 100 bytes per triangle), pvs_bake_begin (the cells and one bitset per cell:
    cell_count * object_count / 8 bytes, and 40 bytes of statistics per cell), pvs_bake_run_task
-   (AUTO: one bitset per method it runs, freed before returning), pvs_file_encode (scratch about 40 bytes per cell plus one
-   bitset), pvs_raster_create (the depth map and pyramid, the cull map), pvs_otree_create (about 250
-   bytes per tree node of its budget, 5 bytes per kD node and object). Allocates nothing: every
-   pvs_file_* and pvs_cursor_* call, kD-tree queries (caller scratch), pvs_raster_cull,
-   pvs_raster_cull_map and pvs_otree_cull per frame, pvs_vocc_cull (caller scratch:
-   pvs_vocc_cull_scratch_size). A .pvs file is used in place; it needs no copy.
+   (AUTO: one bitset per method it runs; EXTPROJ about 8 MB of depth maps at 256 x 256 pixels, 8 MB
+   more with the sweep; all freed before returning; adaptive cells: a box and a bitset per leaf,
+   kept), pvs_file_encode (scratch about 40 bytes per cell plus one bitset), pvs_raster_create (the
+   depth map and pyramid, the cull map), pvs_otree_create (about 250 bytes per tree node of its
+   budget, 5 bytes per kD node and object). Allocates nothing: every pvs_file_* and pvs_cursor_*
+   call, kD-tree queries (caller scratch), pvs_raster_cull, pvs_raster_cull_map and pvs_otree_cull
+   per frame, pvs_vocc_cull (caller scratch: pvs_vocc_cull_scratch_size). A .pvs file is used in
+   place; it needs no copy.
 
    PERFORMANCE (`make bench`, 2026-11-22, one core of a shared 2-core AMD EPYC VM, release build)
    ===========
@@ -158,10 +171,13 @@
    points; per-frame culling of 50,000 occluder triangles at 1920x1080 with 10,000 box tests about
    1.0 ms (SSE2; 2.0 ms scalar), 1,000 facades into a 256 x 256 cull map about 0.8 ms; from-point
    culling with the occlusion tree (pvs_otree_cull, 32 occluders) about 0.2 ms of CPU per frame
-   along a street walk; bake methods per cell on the demo city: extproj about 45 ms, otree about
-   9 ms of CPU (2026-11-24), shrink about 260 ms (default eps), vocc about 60 ms of CPU (10 virtual
-   occluders per cell, 52 bytes, 88% of the objects culled: 98% of what shrink culls; rebuilding a
-   cell's PVS from them about 70 us testing every box, 110 us walking a kD-tree of 16-item leaves).
+   along a street walk; bake methods per cell on the demo city: extproj about 10 ms of CPU (13.5 ms
+   with its occluder preparation amortized over 60 cells; 28 ms with the occlusion sweep; on
+   2026-11-24 under load 15.7 ms and 31.7 ms with coplanar pieces merged, 14.3 ms without), otree
+   about 9 ms of CPU (2026-11-24), shrink about 260 ms (default eps), vocc about 60 ms of CPU (10
+   virtual occluders per cell, 52 bytes, 88% of the objects culled: 98% of what shrink culls;
+   rebuilding a cell's PVS from them about 70 us testing every box, 110 us walking a kD-tree of
+   16-item leaves).
 
    ALGORITHMS (each cited again where it is implemented)
    ==========
@@ -277,6 +293,11 @@
                       bake max_distance, PVS_BAKE_PREVIEW, resumable bakes (pvs_bake_restore_task);
                       virtual occluders (Koltun 2000): bake method vocc, the optional VOCC section,
                       pvs_vocc_cull rebuilds a cell's PVS from them; pvsbake --vocc-only.
+                      extproj: slices of closed meshes, sheets (grounds) with occluders extended
+                      through them, improved occludee Projection, planes by distance band, the
+                      occlusion sweep (pvsbake --sweep); adaptive cells (pvsbake --adaptive N);
+                      coplanar triangles merged into one planar occluder, convex or concave (walls
+                      split into pieces, as in game maps, hide again).
    0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps and per-frame culling;
                       bake methods shrink (with occluder synthesis), otree (c-LSS) and extproj.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
@@ -1169,6 +1190,7 @@ typedef struct pvs_extproj_plane {
     uint32_t width, height;   /* 1..4096 each */
 } pvs_extproj_plane;
 #define PVS_EXTPROJ_EMPTY 3.402823466e+38f
+#define PVS_EXTPROJ_SWEEP_PLANES 16u /* sweep planes per direction pvsbake --sweep asks for */
 
 /* Adds the extended Projection of one convex occluder (§3.2): `points` (count x (x, y, z), 1..16) are
    the vertices of a planar convex polygon or of a closed convex solid (a solid whose bounding box
@@ -1209,6 +1231,16 @@ typedef struct pvs_bake_desc {
     uint32_t max_chain;       /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
     uint32_t extproj_resolution; /* EXTPROJ: depth map pixels per side, 0 = 256; 16..4096 */
     uint32_t extproj_occluders;  /* EXTPROJ: occluders projected per plane, 0 = 128; <= 65536 */
+    uint32_t extproj_sweep;      /* EXTPROJ: occlusion sweep (Durand 2000 §5): at most this many planes per
+                                    direction, 0 = no sweep (pvsbake --sweep: PVS_EXTPROJ_SWEEP_PLANES); <= 256 */
+    /* Adaptive cells (Durand 2000 §6.1): a cell whose PVS holds more than adaptive_budget triangles is
+       split in two across its longest side, recursively, while the halves stay at least
+       adaptive_min_size long (0 = an eighth of the cell's longest side); the children are baked from
+       the parent's PVS (only its objects are tested; EXTPROJ also drops the occluders it hides). The
+       file then holds the leaf cells, in cell order, each cell's leaves depth first (low half first).
+       0 = off. Not with shards. */
+    uint32_t adaptive_budget;
+    float adaptive_min_size;
     pvs_shrink_mode shrink_mode; /* SHRINK: path, AUTO picks */
     uint32_t vocc_slices;     /* VOCC: height slices per cell (§3.1), 0 = 5; 1..16 */
     uint32_t vocc_max_occluders; /* VOCC: virtual occluders kept per cell (Fig. 6), 0 = 10; 1..255 */
@@ -1291,8 +1323,11 @@ typedef struct pvs_bake_report {
 /* Fills *report. Call after the tasks (not concurrently with them). */
 PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
 /* The PVS of a cell whose task has run, or NULL (also for cells of other shards).
-   PVS_BITSET_WORDS(object_count) words. */
+   PVS_BITSET_WORDS(object_count) words. With adaptive cells, the PVS of the whole (unsplit) cell. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
+/* The cells the file will hold: the cell count, or with adaptive cells the leaves of the tasks run so
+   far (all of them once every task has run). */
+PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *bake);
 /* The exact size of the file (0 if not every task has run or on error). Encodes to measure: keep
    the number rather than calling it twice. */
 PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
@@ -12932,18 +12967,29 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    same kind of margin; its Depth is its least w, rounded down. A box is hidden when every pixel of
    its rectangle holds an occluder strictly nearer (§2.2); pixels outside the plane count as visible.
 
-   The bake method (§6.1). Occluders are prepared once per bake: an object whose triangles close a
-   convex surface becomes one convex solid, two consecutive coplanar triangles forming a convex quad
+   The bake method (§6.1). Occluders are prepared once per bake from each object's connected
+   components (triangles sharing positions): a closed convex component becomes one convex solid, a
+   convex one closed by a planar cap (a trunk or a post standing on the ground, no bottom) a solid
+   for the cells on the cap's solid side, two consecutive coplanar triangles forming a convex quad
    one polygon, any other triangle itself; explicit BOX occluders are solids, EXTRUSION walls quads.
-   Per cell and direction: the PVS__EP_DEFAULT_OCC occluders of largest solid angle (area seen along
-   the axis over squared distance), a plane just behind the candidate filling the most pixels and a
-   second one just behind the largest occluder, 256 x 256 depth maps with a max pyramid; then the
-   object kD-tree front to back, skipping hidden nodes, an object visible when a part of its box cut
-   by a leaf is. Objects meeting the cell are always visible.
-   Limits: not done yet are the improved occludee Projection (§4), the slicing of concave closed
-   meshes (§3.3), the occlusion sweep (§5) and adaptive cells; occluders are never fused across
-   polygons except through the depth map, so gaps open at building corners and T-junctions, and in
-   big street cells of a city or a forest of small leaves the PVS stays loose (see make bench). */
+   Polygons coplanar and solids convex only up to float precision carry that slack into the
+   rasterizer's error bound. A closed non-convex component (or one capped by an axis-aligned plane:
+   a building with no floor) is also kept for slicing (§3.3). Coplanar triangles whose union is one
+   convex polygon form a sheet (a ground of tiles); occluders standing on it get a copy extended
+   through it, which closes the seam between a wall and the ground. Per cell and direction: the
+   occluders of largest solid angle (from the cell's centre, front to back over kD-trees by size
+   class), PVS__EP_PLANES planes (one just behind the farthest selected occluder, the others in
+   distance bands, each just behind the occluder whose candidate plane fills the most pixels), each a
+   256 x 256 depth map with the Projections, the slices of the closed meshes and of the sheets'
+   solids, and a max pyramid; with the sweep, PVS_EXTPROJ_SWEEP_PLANES more planes per direction
+   holding reprojected umbrae (§5). Then the object kD-tree front to back, skipping hidden nodes,
+   an object visible when a part of its box cut by a leaf is; boxes in front of a plane use the
+   improved Projection (§4). Objects meeting the cell are always visible.
+   Limits: occluders fuse only through the depth maps and slices, so a pixel across the common edge
+   of two occluders that are not sliced is lost; a Depth is flat per occluder part, so long walls
+   running away from the cell hide only what lies beyond their far end on that plane; the sweep's
+   reprojection erodes by a pixel or so per plane; scenes of sparse small occluders (the generator's
+   forest) stay loose even with the sweep. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
@@ -12951,7 +12997,8 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 #define PVS__EP_DEFAULT_RES 256
 #define PVS__EP_DEFAULT_OCC 128
 #define PVS__EP_PLANE_CANDIDATES 16
-#define PVS__EP_PLANES 2                              /* planes per direction */
+#define PVS__EP_PLANES 4                              /* planes per direction (§6.1) */
+#define PVS__EP_PLANE_RATIO 1.7                       /* their distance bands */
 
 typedef struct pvs__epframe {
     int a, u, v;
@@ -13028,14 +13075,25 @@ PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
     return k - 1; /* the last point repeats the first */
 }
 
+/* ceil and floor of x in (-2^31, 2^31) by conversion (the callers clamp to the raster first). */
+PVS__STATIC double pvs__ceil_small(double x) {
+    double t = (double)(int32_t)x;
+    return t < x ? t + 1.0 : t;
+}
+PVS__STATIC double pvs__floor_small(double x) {
+    double t = (double)(int32_t)x;
+    return t > x ? t - 1.0 : t;
+}
+
 /* The Projection of the part of a convex occluder inside the depth slab [lo, hi]: the views are
    convex hulls of the projected vertices of the clipped part. The clipped part's vertices are among
    the points inside the slab and the ends of the clipped segments between any two points. */
-PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo, double whi, float *map) {
+PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo, double whi, double slack,
+                                           float *map, unsigned char *mask) {
     pvs__epframe f = *fp;
     double P[PVS__EP_CLIPN][3], pts[PVS__EP_CLIPN][2], hull[PVS__EP_CLIPN + 1][2];
-    double ea[8 * PVS__EP_CLIPN], eb[8 * PVS__EP_CLIPN], ec[8 * PVS__EP_CLIPN];
-    double dmax = 0.0, xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, perr, mag = 0.0, base;
+    double ea[8 * PVS__EP_CLIPN], eb[8 * PVS__EP_CLIPN], ec[8 * PVS__EP_CLIPN], ee[8 * PVS__EP_CLIPN];
+    double dmax = 0.0, xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, base;
     int n = 0, i, j, c, edges = 0;
     int32_t i0, i1, j0, j1, row;
     uint32_t written = 0;
@@ -13067,17 +13125,27 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
     /* the intersection of the views from the 8 corners of the cell (§3.2) */
     for (c = 0; c < 8; ++c) {
         double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], h;
-        double bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX, area2 = 0.0;
+        double bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX, area2 = 0.0, mag = 0.0, verr, smax = 0.0;
         int k;
         for (i = 0; i < n; ++i) {
-            double t = (f.W - Vw) / (P[i][2] - Vw);
-            pts[i][0] = (Vu + (P[i][0] - Vu) * t - f.u0) * f.su;
-            pts[i][1] = (Vv + (P[i][1] - Vv) * t - f.v0) * f.sv;
+            double t = (f.W - Vw) / (P[i][2] - Vw), du, dv;
+            du = (P[i][0] - Vu) * t;
+            dv = (P[i][1] - Vv) * t;
+            pts[i][0] = (Vu + du - f.u0) * f.su;
+            pts[i][1] = (Vv + dv - f.v0) * f.sv;
             bx0 = pvs__dmin(bx0, pts[i][0]); bx1 = pvs__dmax(bx1, pts[i][0]);
             by0 = pvs__dmin(by0, pts[i][1]); by1 = pvs__dmax(by1, pts[i][1]);
             mag = pvs__dmax(mag, pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) + (pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
                                      (pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
+            /* a point moved by `slack` moves its view by at most slack (t + |view - V| / (Pw - Vw))
+               per axis (the derivative of the projection) */
+            smax = pvs__dmax(smax, t + (pvs__dabs(du) + pvs__dabs(dv)) / (P[i][2] - Vw));
         }
+        /* a bound on each projected vertex's error, in pixels: a few ulps of the terms' size (the
+           projection, the frame change), with a wide safety factor, plus the occluder's slack (how
+           far its true shape may lie inside the hull of its points: non-planar quads, nearly
+           convex solids, within float precision) */
+        verr = 1e-12 * (mag + base + 1.0) + slack * smax * pvs__dmax(f.su, f.sv);
         if (!(bx1 - bx0 < 1e15) || !(by1 - by0 < 1e15)) return 0; /* beyond any useful precision */
         xlo = pvs__dmax(xlo, bx0); xhi = pvs__dmin(xhi, bx1);
         ylo = pvs__dmax(ylo, by0); yhi = pvs__dmin(yhi, by1);
@@ -13094,18 +13162,39 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
             ea[edges] = a / len;
             eb[edges] = b / len;
             ec[edges] = -(ea[edges] * p[0] + eb[edges] * p[1]);
+            /* moving both ends by verr changes (a, b) by 2 verr each and the L1 norm by 4 verr: at
+               a pixel at L1 distance D from p the normalized edge function moves by at most
+               verr (1 + 6 D / len) */
+            ee[edges] = verr * (2.0 + 8.0 * (pvs__dabs(p[0]) + pvs__dabs(p[1]) + (double)f.width + (double)f.height + 2.0) / len);
             ++edges;
         }
     }
-    /* a bound on the vertices' rounding errors, in pixels (projection and frame change: a few ulps
-       of the terms' size), widened for the edges' rotation over the raster's span */
-    perr = 1e-12 * (mag + base + 1.0);
     i0 = pvs__clampi(ceil(xlo), 0, (int32_t)f.width);
     i1 = pvs__clampi(floor(xhi) - 1.0, -1, (int32_t)f.width - 1);
     j0 = pvs__clampi(ceil(ylo), 0, (int32_t)f.height);
     j1 = pvs__clampi(floor(yhi) - 1.0, -1, (int32_t)f.height - 1);
     if (i0 > i1 || j0 > j1) return 0;
     depth = pvs__f_up(dmax + 1e-12 * dmax);
+    {
+        /* edges that hold for every candidate pixel square ([i0, i1 + 1] x [j0, j1 + 1], where the
+           linear edge function is least at a corner) by more than the row loop's margins cannot
+           cut a row: drop them (most edges of the eight views lie outside their intersection) */
+        int e, m = 0;
+        double x0 = i0, x1 = (double)i1 + 1.0, y0 = j0, y1 = (double)j1 + 1.0;
+        for (e = 0; e < edges; ++e) {
+            double a = ea[e], b = eb[e], cc = ec[e];
+            double least = cc + pvs__dmin(a * x0, a * x1) + pvs__dmin(b * y0, b * y1);
+            double errmax = 1e-6 + ee[e] + 1e-12 * (pvs__dabs(cc) + pvs__dabs(b) * y1);
+            double room = 1e-6 + 1e-8 * (pvs__dabs(cc) + pvs__dabs(b) * y1 + pvs__dabs(a) * x1);
+            if (least - errmax > room) continue;
+            ea[m] = a;
+            eb[m] = b;
+            ec[m] = cc;
+            ee[m] = 1e-6 + ee[e] + 1e-12 * pvs__dabs(cc); /* the row loop's margin, less its row part */
+            ++m;
+        }
+        edges = m;
+    }
     for (row = j0; row <= j1; ++row) {
         double lo = i0, hi = i1, y = row;
         int e;
@@ -13113,14 +13202,15 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
             double a = ea[e], b = eb[e];
             /* the pixel's worst corner: a (i + [a < 0]) + b (y + [b < 0]) + c >= err */
             double r = ec[e] + b * y + (b < 0.0 ? b : 0.0) + (a < 0.0 ? a : 0.0);
-            double err = 1e-6 + perr * (4.0 + 4.0 * (mag + (double)f.width + (double)f.height)) + 1e-12 * (pvs__dabs(ec[e]) + pvs__dabs(b * y));
-            r -= err;
+            r -= ee[e] + 1e-12 * pvs__dabs(b * y);
             if (a > 1e-12) {
                 double x = -r / a;
-                lo = pvs__dmax(lo, ceil(x + 1e-9 * (1.0 + pvs__dabs(x))));
+                x += 1e-9 * (1.0 + pvs__dabs(x));
+                if (x > lo) lo = x > hi ? hi + 1.0 : pvs__ceil_small(x);
             } else if (a < -1e-12) {
                 double x = r / -a;
-                hi = pvs__dmin(hi, floor(x - 1e-9 * (1.0 + pvs__dabs(x))));
+                x -= 1e-9 * (1.0 + pvs__dabs(x));
+                if (x < hi) hi = x < lo ? lo - 1.0 : pvs__floor_small(x);
             } else {
                 /* nearly horizontal: test the worst of the row's two ends */
                 double worst = r + pvs__dmin(a * lo, a * hi) - pvs__dabs(a);
@@ -13129,53 +13219,113 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
         }
         if (lo > hi) continue;
         {
-            float *px = map + (size_t)row * f.width;
             int32_t x0 = (int32_t)lo, x1 = (int32_t)hi, x;
-            for (x = x0; x <= x1; ++x)
-                if (px[x] > depth) px[x] = depth;
+            if (map) {
+                float *px = map + (size_t)row * f.width;
+                for (x = x0; x <= x1; ++x)
+                    if (px[x] > depth) px[x] = depth;
+            }
+            if (mask) memset(mask + (size_t)row * f.width + x0, 1, (size_t)(x1 - x0 + 1));
             written += (uint32_t)(x1 - x0 + 1);
         }
     }
     return written;
 }
 
-PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *points, uint32_t count, float *map) {
-    pvs__epframe f;
+/* 0 when the part of the occluder (points P in frame coordinates) in the depth slab [wlo, whi]
+   certainly covers no pixel of the map: the Projection of its bounding box, axis by axis, holds no
+   whole pixel inside the map (the Projection of a subset lies in the Projection of the set). A cheap
+   test before the exact one; 1 means "maybe". */
+PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3], int count, double wlo, double whi) {
+    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    int i, k;
+    for (i = 0; i < count; ++i)
+        for (k = 0; k < 3; ++k) {
+            lo[k] = pvs__dmin(lo[k], P[i][k]);
+            hi[k] = pvs__dmax(hi[k], P[i][k]);
+        }
+    lo[2] = pvs__dmax(lo[2], wlo);
+    hi[2] = pvs__dmin(hi[2], whi);
+    if (!(hi[2] >= lo[2])) return 0;
+    for (k = 0; k < 2; ++k) {
+        const double *ck = k ? f->cv : f->cu;
+        double k0 = k ? f->v0 : f->u0, sk = k ? f->sv : f->su, a = -DBL_MAX, b = DBL_MAX, size = k ? (double)f->height : (double)f->width;
+        int c, e;
+        for (c = 0; c < 4; ++c) {
+            double Vk = ck[c & 1], Vw = f->cw[c >> 1], mn = DBL_MAX, mx = -DBL_MAX;
+            for (e = 0; e < 4; ++e) {
+                double x = Vk + ((e & 1 ? hi[k] : lo[k]) - Vk) * (f->W - Vw) / ((e & 2 ? hi[2] : lo[2]) - Vw);
+                mn = pvs__dmin(mn, x);
+                mx = pvs__dmax(mx, x);
+            }
+            a = pvs__dmax(a, mn);
+            b = pvs__dmin(b, mx);
+        }
+        a = (a - k0) * sk;
+        b = (b - k0) * sk;
+        /* a margin far above the rounding of these few operations */
+        if (b - a < 1.0 - 1e-6 * (1.0 + pvs__dabs(a) + pvs__dabs(b)) || b < -1e-6 * (1.0 + pvs__dabs(b)) || a > size + 1e-6 * (1.0 + pvs__dabs(a)))
+            return 0;
+    }
+    return 1;
+}
+
+/* pvs_extproj_occluder with a prepared frame and finite points: `solid` tells a convex solid from a
+   planar polygon, `slack` how far (world units) the true occluder may lie inside the hull of the
+   points. Depths go to `map` (min), pixels to `mask` (set to 1), either may be NULL; only the part in
+   front of the plane when front_only. */
+PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cell, const float *points, uint32_t count, int solid, double slack,
+                                      int front_only, float *map, unsigned char *mask) {
+    pvs__epframe f = *fp;
     double P[PVS__EP_MAXP][3], margin, wmax = -DBL_MAX;
     uint32_t i, written;
-    if (!pvs__ep_frame(pl, &f) || !points || !map || count < 1 || count > PVS__EP_MAXP) return 0;
-    for (i = 0; i < count * 3; ++i)
-        if (!pvs__finite(points[i])) return 0;
     for (i = 0; i < count; ++i) {
         P[i][0] = points[3 * i + f.u];
         P[i][1] = points[3 * i + f.v];
         P[i][2] = f.s * ((double)points[3 * i + f.a] - f.face);
         wmax = pvs__dmax(wmax, P[i][2]);
     }
-    if (count > 3) {
+    if (solid) {
         /* a solid that meets the cell could hold the viewer: its Depth would not bound the first
            hit. Such occluders are left out (conservative); planar ones never hold a viewer. */
-        double n[3], len = 0.0, scale = 0.0;
-        int planar = 1;
         pvs_box b = pvs__box_empty();
         for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
-        for (i = 2; i < count && !(len > 0.0); ++i) len = pvs__ep_tri_normal(points, points + 3, points + 3 * i, n);
-        for (i = 0; i < 3; ++i) scale = pvs__dmax(scale, (double)b.max[i] - b.min[i]);
-        for (i = 0; i < count && planar; ++i) {
-            double d = n[0] * ((double)points[3 * i] - points[0]) + n[1] * ((double)points[3 * i + 1] - points[1]) +
-                       n[2] * ((double)points[3 * i + 2] - points[2]);
-            planar = pvs__dabs(d) <= 1e-7 * len * scale;
-        }
-        if (!(len > 0.0) || (!planar && pvs__box_overlap(&b, &pl->cell))) return 0;
+        if (pvs__box_overlap(&b, cell)) return 0;
     }
     /* clipped to depths >= a small margin (views are defined beyond the cell), and split at the
        plane: the set of cell points that see a pixel through the part in front of the plane (or
        through the part behind it) is convex, so the corners decide for the whole cell; for a part
        straddling the plane it would not be */
     margin = 1e-4 * (f.W - f.cw[0]);
-    written = pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, margin, f.W, map);
-    if (wmax > f.W) written += pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX, map);
+    written = 0;
+    if (pvs__ep_box_may_cover(&f, (const double(*)[3])P, (int)count, margin, f.W))
+        written = pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, margin, f.W, slack, map, mask);
+    if (wmax > f.W && !front_only && pvs__ep_box_may_cover(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX))
+        written += pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX, slack, map, mask);
     return written;
+}
+
+PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *points, uint32_t count, float *map) {
+    pvs__epframe f;
+    uint32_t i;
+    int solid = 0;
+    if (!pvs__ep_frame(pl, &f) || !points || !map || count < 1 || count > PVS__EP_MAXP) return 0;
+    for (i = 0; i < count * 3; ++i)
+        if (!pvs__finite(points[i])) return 0;
+    if (count > 3) { /* planar (a polygon) or not (a solid)? */
+        double n[3], len = 0.0, scale = 0.0;
+        pvs_box b = pvs__box_empty();
+        for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
+        for (i = 2; i < count && !(len > 0.0); ++i) len = pvs__ep_tri_normal(points, points + 3, points + 3 * i, n);
+        for (i = 0; i < 3; ++i) scale = pvs__dmax(scale, (double)b.max[i] - b.min[i]);
+        if (!(len > 0.0)) return 0;
+        for (i = 0; i < count && !solid; ++i) {
+            double d = n[0] * ((double)points[3 * i] - points[0]) + n[1] * ((double)points[3 * i + 1] - points[1]) +
+                       n[2] * ((double)points[3 * i + 2] - points[2]);
+            solid = pvs__dabs(d) > 1e-7 * len * scale;
+        }
+    }
+    return pvs__ep_occluder(&f, &pl->cell, points, count, solid, 0.0, 0, map, NULL);
 }
 
 /* Pixel bounds of the views of the box's (k, w) extent from the cell's (k, w) corners; t[c][b] =
@@ -13213,6 +13363,43 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
     return 1;
 }
 
+/* The improved occludee Projection of Durand 2000 §4 on one axis k, for a box between the cell and
+   the plane (depths w0..w1 <= W; bk0..bk1 across). Cones are taken to the cell's near face (w = 0)
+   rather than the whole cell: cone(P, face) is inside cone(P, cell), so Property 2 still holds, and
+   because both axes cross w = 0 at once the 3D Projection is the Cartesian product of the two 2D
+   ones exactly. A point X of the box is in cone(P, face) iff P lies in X's views from the face,
+   [L(X), R(X)]; so I = [a, b] works iff a <= min_X R(X) and b >= max_X L(X). In front of the plane
+   L and R are linear in Xk and monotone in Xw, so the extremes sit at the box's corners. When
+   max L <= min R any single point between them serves (the "vanishing point" case: *any = 1, a
+   pixel range of which one column must be hidden); else the segment [min R, max L] (*any = 0,
+   every pixel of the range). Pixel indices may reach outside the map. */
+PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W, double k0,
+                                       double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
+    double maxL = -DBL_MAX, minR = DBL_MAX, mag = 0.0, err, a, b;
+    int x, y;
+    for (x = 0; x < 2; ++x)
+        for (y = 0; y < 2; ++y) {
+            double Xk = x ? bk1 : bk0, t = W / (y ? w1 : w0);
+            double v0 = (cell_k[0] + (Xk - cell_k[0]) * t - k0) * sk, v1 = (cell_k[1] + (Xk - cell_k[1]) * t - k0) * sk;
+            maxL = pvs__dmax(maxL, pvs__dmin(v0, v1));
+            minR = pvs__dmin(minR, pvs__dmax(v0, v1));
+            mag = pvs__dmax(mag, (pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1]) + (pvs__dabs(Xk) + pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1])) * t +
+                                  pvs__dabs(k0)) * sk);
+        }
+    err = 1e-6 + 1e-12 * mag;
+    a = maxL + err;
+    b = minR - err;
+    if (a <= b) { /* any point of [a, b] */
+        *any = 1;
+        *lo = pvs__clampi(floor(a), -1, (int32_t)size);
+        *hi = pvs__clampi(floor(b), -1, (int32_t)size);
+    } else { /* the whole of [min R, max L], widened */
+        *any = 0;
+        *lo = pvs__clampi(floor(minR - err), -1, (int32_t)size);
+        *hi = pvs__clampi(floor(maxL + err), -1, (int32_t)size);
+    }
+}
+
 PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *pl, const pvs_box *box, int32_t rect[4], float *depth) {
     pvs__epframe f;
     if (!pvs__ep_frame(pl, &f) || !box || !rect || !depth || !pvs__box_valid(box)) return 0;
@@ -13229,22 +13416,79 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
     return 0;
 }
 
-/* ---- the bake method: occluders prepared once per bake, then per cell six planes ---- */
+/* ---- the bake method: occluders prepared once per bake, then per cell six directions ---- */
 
 /* One convex occluder: a planar convex polygon (a triangle, or coplanar triangles merged) or a
-   closed convex solid (an object whose triangles bound their convex hull). */
+   closed convex solid (a connected component whose triangles bound their convex hull). */
 typedef struct pvs__epocc {
     pvs_box box;
-    float area[3];         /* area seen along each axis: of the polygon projected, of a solid's box face */
-    uint32_t first, count; /* points */
+    uint32_t first, count;   /* points */
+    int solid;
+    uint32_t xfirst, xcount; /* the occluder extended through a sheet (pvs__epsheet), xcount = 0 if none */
+    uint32_t sheet;
+    int xside;               /* the side of the sheet the occluder stands on */
+    int cap_side, cap_axis;  /* a capped convex solid (cap_side != 0): used only for cells where */
+    float cap_value;         /*   cap_side * (x[cap_axis] - cap_value) > 0 */
+    float slack;             /* how far the true shape may lie inside the hull of the points */
+    uint32_t object;         /* the object the triangles belong to, PVS_NO_OBJECT for none */
+    float area;              /* a bound on the area it shows from any point: solid angle <= area / distance^2 */
+    uint32_t efirst, ecount; /* a concave planar occluder (ecount > 0): its boundary edges prep->cedge[6 * efirst ...];
+                                the points are then the hull of its vertices, for selection only */
+    float pn[3], pd;         /*   its plane pn . x = pd (pn a unit normal) */
 } pvs__epocc;
+
+/* A sheet: coplanar triangles (of any objects) in an axis-aligned plane x[axis] = value whose union
+   is one convex polygon without holes, e.g. a ground or a floor made of tiles. For a cell strictly on
+   one side of it and over it (its footprint inside the polygon), the half-space beyond the sheet,
+   over the polygon, is solid: a segment from the cell to a point there crosses the plane inside the
+   polygon (both ends lie over the convex polygon), so it hits a triangle of the sheet. */
+#define PVS__EP_MAX_SHEETS 16
+#define PVS__EP_AREA_CLASSES 8
+typedef struct pvs__epsheet {
+    int axis;
+    float value;
+    uint32_t first, count;   /* polygon vertices prep->spoly[2 * first ...] in the (axis + 1, axis + 2) plane, convex */
+    double area;
+} pvs__epsheet;
+
+/* A closed non-convex component sliced by the planes (§3.3): a connected set of one object's
+   triangles in which every edge is shared by an even number of triangles, or whose odd edges (the
+   boundary) all lie in one plane with every vertex on one side of it ("capped": the boundary's
+   region in that plane closes it, e.g. a building standing on the ground with no floor). */
+typedef struct pvs__epslice {
+    pvs_box box;
+    uint32_t first, count;   /* scene triangles prep->stri[first .. first + count) */
+    uint32_t bfirst, bcount; /* capped: boundary edges prep->bedge[6 * bfirst ...], two points each */
+    int capped;              /* capped: the solid lies where cap_side * (x[cap_axis] - cap_value) >= 0 */
+    int cap_axis, cap_side;
+    float cap_value;
+} pvs__epslice;
 
 typedef struct pvs__extproj_prep {
     pvs_allocator allocator;
     pvs__epocc *occ;
-    uint32_t occ_count, occ_capacity;
-    float *pts;            /* 3 floats per point */
+    size_t occ_count, occ_capacity;
+    float *pts;              /* 3 floats per point */
     size_t pt_count, pt_capacity;
+    pvs__epslice *slc;
+    size_t slc_count, slc_capacity;
+    uint32_t *stri;
+    size_t stri_count, stri_capacity;
+    float *bedge;            /* 6 floats per boundary edge */
+    size_t bedge_count, bedge_capacity;
+    uint32_t max_slice_segments; /* the most triangles plus boundary edges of one sliced component */
+    pvs__epsheet sheet[PVS__EP_MAX_SHEETS];
+    uint32_t sheet_count;
+    /* the occluders by size class (area bound < 4^c square units), a kD-tree over each class's
+       boxes for the selection, which prunes a node by the class's largest area */
+    pvs_kdtree *occ_tree[PVS__EP_AREA_CLASSES];
+    uint32_t *class_occ[PVS__EP_AREA_CLASSES]; /* tree item -> occluder */
+    uint32_t class_count[PVS__EP_AREA_CLASSES];
+    float class_area[PVS__EP_AREA_CLASSES];
+    float *spoly;            /* sheet polygons: 2 floats per vertex */
+    size_t spoly_count, spoly_capacity;
+    float *cedge;            /* boundary edges of concave planar occluders: 6 floats per edge */
+    size_t cedge_count, cedge_capacity;
 } pvs__extproj_prep;
 
 PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
@@ -13253,126 +13497,1069 @@ PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
     a = p->allocator;
     pvs__free_array(&a, p->occ, p->occ_capacity, sizeof(pvs__epocc));
     pvs__free_array(&a, p->pts, p->pt_capacity * 3, sizeof(float));
+    pvs__free_array(&a, p->slc, p->slc_capacity, sizeof(pvs__epslice));
+    pvs__free_array(&a, p->stri, p->stri_capacity, sizeof(uint32_t));
+    pvs__free_array(&a, p->bedge, p->bedge_capacity * 6, sizeof(float));
+    pvs__free_array(&a, p->spoly, p->spoly_capacity * 2, sizeof(float));
+    pvs__free_array(&a, p->cedge, p->cedge_capacity * 6, sizeof(float));
+    {
+        int c;
+        for (c = 0; c < PVS__EP_AREA_CLASSES; ++c) {
+            pvs_kdtree_destroy(p->occ_tree[c]);
+            pvs__free_array(&a, p->class_occ[c], (size_t)p->class_count[c] + 1, sizeof(uint32_t));
+        }
+    }
     pvs__free(&a, p, sizeof(*p), 16);
 }
 
-/* Adds a convex occluder. A polygon's area along axis k is its area times |n_k| (n, its unit
-   normal: the area of its shadow on a plane of that axis); a solid's is its box's face. */
-PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, int solid) {
+/* Adds a convex occluder (room is reserved by the caller). */
+PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, int solid, double slack) {
     pvs__epocc *o = p->occ + p->occ_count++;
     uint32_t i;
-    int k;
     o->box = pvs__box_empty();
     o->first = (uint32_t)p->pt_count;
     o->count = n;
+    o->solid = solid;
+    o->xfirst = o->xcount = 0;
+    o->sheet = 0;
+    o->xside = o->cap_side = o->cap_axis = 0;
+    o->cap_value = 0.0f;
+    o->slack = pvs__f_up(slack);
+    o->object = PVS_NO_OBJECT;
+    o->efirst = o->ecount = 0;
+    o->pn[0] = o->pn[1] = o->pn[2] = o->pd = 0.0f;
     for (i = 0; i < n; ++i) {
         memcpy(p->pts + 3 * p->pt_count, pts[i], 3 * sizeof(float));
         pvs__box_add_point(&o->box, pts[i]);
         ++p->pt_count;
     }
-    if (solid) {
-        for (k = 0; k < 3; ++k)
-            o->area[k] = (o->box.max[(k + 1) % 3] - o->box.min[(k + 1) % 3]) * (o->box.max[(k + 2) % 3] - o->box.min[(k + 2) % 3]);
-    } else {
-        double a[3] = {0.0, 0.0, 0.0};
-        for (i = 1; i + 1 < n; ++i) { /* fan: twice the vector area */
-            double e1[3], e2[3];
-            for (k = 0; k < 3; ++k) { e1[k] = (double)pts[i][k] - pts[0][k]; e2[k] = (double)pts[i + 1][k] - pts[0][k]; }
-            a[0] += e1[1] * e2[2] - e1[2] * e2[1];
-            a[1] += e1[2] * e2[0] - e1[0] * e2[2];
-            a[2] += e1[0] * e2[1] - e1[1] * e2[0];
+    {
+        /* a bound on the area it shows (the solid angle it subtends from a point at distance d is at
+           most that over d^2): a polygon's area; for a solid, the three faces of its box that
+           pvs__ep_solid_angle measures */
+        double ex = (double)o->box.max[0] - o->box.min[0], ey = (double)o->box.max[1] - o->box.min[1], ez = (double)o->box.max[2] - o->box.min[2];
+        double f = ex * ey + ey * ez + ez * ex;
+        if (!solid) { /* the polygon's own area, by its fan */
+            double a3[3] = {0.0, 0.0, 0.0};
+            int k;
+            for (i = 1; i + 1 < n; ++i) {
+                double e1[3], e2[3];
+                for (k = 0; k < 3; ++k) { e1[k] = (double)pts[i][k] - pts[0][k]; e2[k] = (double)pts[i + 1][k] - pts[0][k]; }
+                a3[0] += e1[1] * e2[2] - e1[2] * e2[1];
+                a3[1] += e1[2] * e2[0] - e1[0] * e2[2];
+                a3[2] += e1[0] * e2[1] - e1[1] * e2[0];
+            }
+            f = 0.5 * sqrt(a3[0] * a3[0] + a3[1] * a3[1] + a3[2] * a3[2]) * 1.000001 + 1e-30;
         }
-        for (k = 0; k < 3; ++k) o->area[k] = (float)(0.5 * pvs__dabs(a[k]));
+        o->area = pvs__f_up(f);
     }
 }
 
 PVS__STATIC int pvs__ep_same(const float *a, const float *b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 
-
-/* Two triangles sharing an edge, coplanar, whose union is a convex quad: fills q[4] and returns 1. */
-PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q) {
+/* Two triangles sharing an edge, coplanar up to float precision, whose union is a convex quad:
+   fills q[4] and *slack (the fourth point's distance from the first triangle's plane) and returns 1. */
+PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q, double *slack) {
     int i, j, k;
     double n[3], len = pvs__ep_tri_normal(A[0], A[1], A[2], n), scale = 0.0;
     if (!(len > 0.0)) return 0;
     for (i = 0; i < 3; ++i)
         for (j = 0; j < 3; ++j) {
             const float *a0 = A[i], *a1 = A[(i + 1) % 3], *x;
+            double dev;
             if (!(pvs__ep_same(a0, B[j]) && pvs__ep_same(a1, B[(j + 2) % 3])) && !(pvs__ep_same(a0, B[(j + 2) % 3]) && pvs__ep_same(a1, B[j])))
                 continue;
             x = B[(j + 1) % 3];
             q[0] = a0; q[1] = x; q[2] = a1; q[3] = A[(i + 2) % 3];
-            for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)x[k] - a0[k]));
-            /* coplanar up to float precision of the input */
-            if (pvs__dabs(n[0] * ((double)x[0] - a0[0]) + n[1] * ((double)x[1] - a0[1]) + n[2] * ((double)x[2] - a0[2])) > 1e-7 * len * scale)
-                return 0;
+            for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
+            /* coplanar up to float precision of the input: the hull of the four points then
+               exceeds the two triangles by at most that distance, the occluder's slack */
+            dev = pvs__dabs(n[0] * ((double)x[0] - a0[0]) + n[1] * ((double)x[1] - a0[1]) + n[2] * ((double)x[2] - a0[2])) / len;
+            if (dev > 1e-6 * scale) return 0;
             for (k = 0; k < 4; ++k) { /* strictly convex at every corner, turning like the triangle */
                 const float *p0 = q[k], *p1 = q[(k + 1) % 4], *p2 = q[(k + 2) % 4];
                 double m[3];
                 pvs__ep_tri_normal(p0, p1, p2, m);
                 if (!(m[0] * n[0] + m[1] * n[1] + m[2] * n[2] > 0.0)) return 0;
             }
+            *slack = dev == 0.0 ? 0.0 : 2.0 * dev + 1e-12 * scale;
             return 1;
         }
     return 0;
 }
 
-/* An object whose triangles form a closed surface in convex position bounds a convex solid: its
-   unique vertices (<= PVS__EP_MAXP) go to pts. Returns the count, or 0. Every edge must be shared by
-   exactly two of the object's triangles (by position) and every vertex must lie on one side of
-   every triangle's plane. */
-PVS__STATIC uint32_t pvs__ep_convex_object(const pvs_scene *s, uint32_t t0, uint32_t tn, const float **pts) {
-    uint32_t t, n = 0, i, k;
-    double scale = 0.0;
-    if (tn < 4 || tn > 2 * PVS__EP_MAXP) return 0;
-    for (t = t0; t < t0 + tn; ++t)
-        for (k = 0; k < 3; ++k) {
-            const float *p = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
-            for (i = 0; i < n && !pvs__ep_same(pts[i], p); ++i) {}
-            if (i == n) {
-                if (n == PVS__EP_MAXP) return 0;
-                pts[n++] = p;
+/* An edge in a sheet's plane, ends ordered. */
+typedef struct pvs__epedge2 {
+    float a[2], b[2];
+    uint32_t tri;            /* the triangle's index in its group, then its component's root */
+} pvs__epedge2;
+
+PVS__STATIC int pvs__ep_p2_cmp(const float *a, const float *b) {
+    if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
+    if (a[1] != b[1]) return a[1] < b[1] ? -1 : 1;
+    return 0;
+}
+
+PVS__STATIC int pvs__ep_edge2_cmp(const void *x, const void *y) {
+    const pvs__epedge2 *a = (const pvs__epedge2 *)x, *b = (const pvs__epedge2 *)y;
+    int c = pvs__ep_p2_cmp(a->a, b->a);
+    return c ? c : pvs__ep_p2_cmp(a->b, b->b);
+}
+
+PVS__STATIC int pvs__ep_edge2_root_cmp(const void *x, const void *y) {
+    const pvs__epedge2 *a = (const pvs__epedge2 *)x, *b = (const pvs__epedge2 *)y;
+    if (a->tri != b->tri) return a->tri < b->tri ? -1 : 1;
+    return pvs__ep_edge2_cmp(x, y);
+}
+
+/* 1 if (x, y) lies inside the convex counter-clockwise polygon q (n points) by a margin. */
+PVS__STATIC int pvs__ep_in_convex(const float *q, uint32_t n, double x, double y) {
+    uint32_t i;
+    for (i = 0; i < n; ++i) {
+        const float *a = q + 2 * i, *b = q + 2 * ((i + 1) % n);
+        double ex = (double)b[0] - a[0], ey = (double)b[1] - a[1], cr = ex * (y - a[1]) - ey * (x - a[0]);
+        double scale = (pvs__dabs(ex) + pvs__dabs(ey)) * (pvs__dabs(x - a[0]) + pvs__dabs(y - a[1]));
+        if (!(cr > 1e-9 * scale)) return 0;
+    }
+    return 1;
+}
+
+/* The union of a group's triangles as one convex polygon: boundary edges (used an odd number of
+   times) forming one loop that turns one way once, with the loop's area equal to the triangles'
+   (no overlap, no hole). Fills q (counter-clockwise, collinear points dropped) and returns its size.
+   With tol > 0 (points rounded to floats off an exact plane, pvs__ep_merge_planar), a turn the
+   wrong way by less than tol (relative) is taken as straight: q is then the convex hull of the loop
+   (hp, hh: scratch of qcap + 1 points) and *dent the farthest a loop point lies inside it. */
+PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep, uint32_t qcap,
+                                           double tol, double (*hp)[2], double (*hh)[2], double *dent) {
+    uint32_t nb = 0, i, j, n = 0, m;
+    double area = 0.0, turn = 0.0;
+    qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
+    for (i = 0; i < ne;) {
+        j = i;
+        while (j < ne && pvs__ep_edge2_cmp(e + j, e + i) == 0) ++j;
+        if ((j - i) & 1u) e[nb++] = e[i];
+        i = j;
+    }
+    if (nb < 3 || nb > qcap) return 0;
+    /* walk the loop: from each point exactly one unused edge (e[m .. nb)) must continue */
+    {
+        float cur[2];
+        q[0] = e[0].a[0]; q[1] = e[0].a[1];
+        cur[0] = e[0].b[0]; cur[1] = e[0].b[1];
+        n = 1;
+        for (m = 1; m < nb; ++m) {
+            uint32_t found = nb, k;
+            int end = 0;
+            pvs__epedge2 tmp;
+            q[2 * n] = cur[0];
+            q[2 * n + 1] = cur[1];
+            ++n;
+            for (k = m; k < nb; ++k) {
+                int ea = pvs__ep_p2_cmp(e[k].a, cur) == 0, eb = pvs__ep_p2_cmp(e[k].b, cur) == 0;
+                if (!ea && !eb) continue;
+                if (found != nb) return 0; /* a point on more than two boundary edges */
+                found = k;
+                end = ea;
             }
+            if (found == nb) return 0;
+            cur[0] = end ? e[found].b[0] : e[found].a[0];
+            cur[1] = end ? e[found].b[1] : e[found].a[1];
+            tmp = e[m];
+            e[m] = e[found];
+            e[found] = tmp;
         }
+        if (pvs__ep_p2_cmp(cur, q) != 0) return 0; /* the loop must close at its start */
+    }
+    for (i = 0; i < n; ++i) {
+        const float *a = q + 2 * i, *b = q + 2 * ((i + 1) % n);
+        area += (double)a[0] * b[1] - (double)b[0] * a[1];
+    }
+    area *= 0.5;
+    if (area < 0.0) { /* make it counter-clockwise */
+        for (i = 0; i < n / 2; ++i) {
+            float t0 = q[2 * i], t1 = q[2 * i + 1];
+            q[2 * i] = q[2 * (n - 1 - i)];
+            q[2 * i + 1] = q[2 * (n - 1 - i) + 1];
+            q[2 * (n - 1 - i)] = t0;
+            q[2 * (n - 1 - i) + 1] = t1;
+        }
+        area = -area;
+    }
+    if (!(pvs__dabs(area - tri_area) <= 1e-6 * tri_area)) return 0;
+    if (tol > 0.0) {
+        int hn;
+        for (i = 0; i < n; ++i) {
+            const float *a = q + 2 * ((i + n - 1) % n), *b = q + 2 * i, *c = q + 2 * ((i + 1) % n);
+            double ux = (double)b[0] - a[0], uy = (double)b[1] - a[1], vx = (double)c[0] - b[0], vy = (double)c[1] - b[1];
+            double cr = ux * vy - uy * vx;
+            if (cr < -tol * (pvs__dabs(ux) + pvs__dabs(uy)) * (pvs__dabs(vx) + pvs__dabs(vy))) return 0;
+            turn += atan2(cr, ux * vx + uy * vy);
+            hp[i][0] = b[0];
+            hp[i][1] = b[1];
+        }
+        if (!(pvs__dabs(turn - 6.283185307179586) < 1e-3)) return 0;
+        hn = pvs__ep_hull(hp, (int)n, hh);
+        if (hn < 3) return 0;
+        *dent = 0.0;
+        for (i = 0; i < n; ++i) { /* each loop point's distance inside the hull (hp is sorted now) */
+            double best = DBL_MAX;
+            int h;
+            for (h = 0; h < hn; ++h) {
+                const double *a = hh[h], *b = hh[h + 1 < hn ? h + 1 : 0];
+                double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
+                if (len > 0.0) best = pvs__dmin(best, pvs__dabs(ex * (hp[i][1] - a[1]) - ey * (hp[i][0] - a[0])) / len);
+            }
+            *dent = pvs__dmax(*dent, best);
+        }
+        for (i = 0; i < (uint32_t)hn; ++i) {
+            q[2 * i] = (float)hh[i][0];
+            q[2 * i + 1] = (float)hh[i][1];
+        }
+        return (uint32_t)hn;
+    }
+    /* convex: no right turn, one full turn; collinear points are dropped (marked in keep) */
+    for (i = 0, m = 0; i < n; ++i) {
+        const float *a = q + 2 * ((i + n - 1) % n), *b = q + 2 * i, *c = q + 2 * ((i + 1) % n);
+        double ux = (double)b[0] - a[0], uy = (double)b[1] - a[1], vx = (double)c[0] - b[0], vy = (double)c[1] - b[1];
+        double cr = ux * vy - uy * vx;
+        if (cr < 0.0) return 0;
+        turn += atan2(cr, ux * vx + uy * vy);
+        keep[i] = cr > 0.0;
+        m += keep[i];
+    }
+    if (!(pvs__dabs(turn - 6.283185307179586) < 1e-3) || m < 3) return 0;
+    for (i = 0, m = 0; i < n; ++i)
+        if (keep[i]) {
+            q[2 * m] = q[2 * i];
+            q[2 * m + 1] = q[2 * i + 1];
+            ++m;
+        }
+    return m;
+}
+
+/* A vertex reference of the preparation: its position and its slot (3 t + k of the object). */
+typedef struct pvs__epvref {
+    float p[3];
+    uint32_t slot;
+} pvs__epvref;
+
+PVS__STATIC int pvs__ep_vref_cmp(const void *a, const void *b) {
+    const pvs__epvref *x = (const pvs__epvref *)a, *y = (const pvs__epvref *)b;
+    int k;
+    for (k = 0; k < 3; ++k)
+        if (x->p[k] != y->p[k]) return x->p[k] < y->p[k] ? -1 : 1;
+    return x->slot < y->slot ? -1 : x->slot > y->slot;
+}
+
+PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+PVS__STATIC uint32_t pvs__ep_find(uint32_t *parent, uint32_t i) {
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+/* Scratch of the preparation, sized for the largest object. */
+typedef struct pvs__epprepwork {
+    pvs__epvref *ref;     /* 3 per triangle */
+    uint32_t *canon;      /* 3 per triangle: the vertex's id among the object's distinct positions */
+    const float **vpos;   /* per distinct position */
+    uint32_t *owner;      /* per distinct position: a triangle using it */
+    uint32_t *parent;     /* per triangle: union-find */
+    uint32_t *order;      /* per triangle: grouped by component */
+    uint32_t *start;      /* per triangle + 1: component starts */
+    uint64_t *edges;      /* 3 per triangle */
+    uint32_t *mark;       /* per distinct position: last component that listed it */
+    uint32_t *uv;         /* per distinct position: the component's distinct vertices */
+    pvs__epedge2 *e2;     /* 3 per triangle: a planar group's edges in its 2D frame */
+    float *q2;            /* 2 (3 per triangle + 1): the group's polygon */
+    unsigned char *keep;  /* 3 per triangle + 1 */
+    uint32_t *gparent;    /* per triangle of a component: planar groups (union-find) */
+    unsigned char *used;  /* per triangle of a component: merged into a planar polygon */
+    double *hp, *hh;      /* 2 (3 per triangle + 1): hull scratch */
+    uint64_t *bed;        /* 3 per triangle: a group's edges */
+    size_t cap;           /* triangles */
+} pvs__epprepwork;
+
+PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
+    size_t n = w->cap;
+    pvs__free_array(a, w->ref, 3 * n, sizeof(pvs__epvref));
+    pvs__free_array(a, w->canon, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, (void *)w->vpos, 3 * n, sizeof(const float *));
+    pvs__free_array(a, w->owner, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, w->parent, n, sizeof(uint32_t));
+    pvs__free_array(a, w->order, n, sizeof(uint32_t));
+    pvs__free_array(a, w->start, n + 1, sizeof(uint32_t));
+    pvs__free_array(a, w->edges, 3 * n, sizeof(uint64_t));
+    pvs__free_array(a, w->mark, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, w->uv, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, w->e2, 3 * n, sizeof(pvs__epedge2));
+    pvs__free_array(a, w->q2, 2 * (3 * n + 1), sizeof(float));
+    pvs__free_array(a, w->keep, 3 * n + 1, 1);
+    pvs__free_array(a, w->gparent, n, sizeof(uint32_t));
+    pvs__free_array(a, w->used, n, 1);
+    pvs__free_array(a, w->hp, 2 * (3 * n + 1), sizeof(double));
+    pvs__free_array(a, w->hh, 2 * (3 * n + 1), sizeof(double));
+    pvs__free_array(a, w->bed, 3 * n, sizeof(uint64_t));
+    memset(w, 0, sizeof(*w));
+}
+
+PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, size_t n) {
+    memset(w, 0, sizeof(*w));
+    w->cap = n;
+    w->ref = (pvs__epvref *)pvs__alloc_array(a, 3 * n, sizeof(pvs__epvref));
+    w->canon = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->vpos = (const float **)pvs__alloc_array(a, 3 * n, sizeof(const float *));
+    w->owner = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->parent = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
+    w->order = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
+    w->start = (uint32_t *)pvs__alloc_array(a, n + 1, sizeof(uint32_t));
+    w->edges = (uint64_t *)pvs__alloc_array(a, 3 * n, sizeof(uint64_t));
+    w->mark = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->uv = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->e2 = (pvs__epedge2 *)pvs__alloc_array(a, 3 * n, sizeof(pvs__epedge2));
+    w->q2 = (float *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(float));
+    w->keep = (unsigned char *)pvs__alloc_array(a, 3 * n + 1, 1);
+    w->gparent = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
+    w->used = (unsigned char *)pvs__alloc_array(a, n, 1);
+    w->hp = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
+    w->hh = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
+    w->bed = (uint64_t *)pvs__alloc_array(a, 3 * n, sizeof(uint64_t));
+    return w->hp && w->hh && w->bed && w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start && w->edges && w->mark && w->uv && w->e2 &&
+           w->q2 && w->keep && w->gparent && w->used;
+}
+
+/* 1 if the component's distinct vertices (<= PVS__EP_MAXP) are in convex position with respect to
+   every one of its triangles: all on one side of each triangle's plane, up to float precision; the
+   largest violation (doubled) goes to *slack: the hull exceeds the surface by no more. */
+PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts, uint32_t n, double *slack) {
+    uint32_t t, i, k;
+    double scale = 0.0, worst = 0.0;
     for (i = 0; i < n; ++i)
-        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]));
-    for (t = t0; t < t0 + tn; ++t) {
+        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]) + pvs__dabs((double)pts[i][k]));
+    for (t = 0; t < tn; ++t) {
         const float *c[3];
         double nrm[3], len, lo = 0.0, hi = 0.0;
-        uint32_t e, u;
-        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
+        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
         len = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
         if (!(len > 0.0)) return 0;
         for (i = 0; i < n; ++i) {
-            double d = nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) + nrm[2] * ((double)pts[i][2] - c[0][2]);
+            double d = (nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) + nrm[2] * ((double)pts[i][2] - c[0][2])) / len;
             lo = pvs__dmin(lo, d);
             hi = pvs__dmax(hi, d);
         }
-        if (lo < -1e-9 * len * scale && hi > 1e-9 * len * scale) return 0;
-        for (e = 0; e < 3; ++e) { /* each edge shared by exactly one other triangle */
-            const float *a = c[e], *b = c[(e + 1) % 3];
-            uint32_t shared = 0;
-            for (u = t0; u < t0 + tn; ++u) {
-                const float *d[3];
-                int m, has_a = 0, has_b = 0;
-                if (u == t) continue;
-                for (m = 0; m < 3; ++m) {
-                    d[m] = s->positions + 3 * (size_t)s->indices[3 * (size_t)u + m];
-                    has_a |= pvs__ep_same(d[m], a);
-                    has_b |= pvs__ep_same(d[m], b);
-                }
-                shared += (uint32_t)(has_a && has_b);
-            }
-            if (shared != 1) return 0;
+        worst = pvs__dmax(worst, pvs__dmin(-lo, hi));
+    }
+    if (worst > 1e-6 * scale) return 0;
+    *slack = worst == 0.0 ? 0.0 : 2.0 * worst + 1e-12 * scale;
+    return 1;
+}
+
+/* 1 if the component (triangles tris[0 .. tn), distinct vertices pts[0 .. n)) is flat: every vertex
+   within float precision of the plane of its largest triangle. A flat closed mesh (a two-sided wall)
+   bounds no volume: it is neither a convex solid (its vertices' hull would fill its windows) nor
+   sliced; its faces are planar occluders. */
+PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts, uint32_t n) {
+    uint32_t t, i, k, best = 0;
+    double bl = 0.0, nrm[3], scale = 0.0;
+    const float *c0 = NULL;
+    for (t = 0; t < tn; ++t) {
+        const float *c[3];
+        double l;
+        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
+        l = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
+        if (l > bl) { bl = l; best = t; }
+    }
+    if (!(bl > 0.0)) return 1;
+    {
+        const float *c[3];
+        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[best] + k];
+        bl = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
+        c0 = c[0];
+    }
+    for (i = 0; i < n; ++i)
+        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - c0[k]) + pvs__dabs((double)pts[i][k]));
+    for (i = 0; i < n; ++i) {
+        double d = (nrm[0] * ((double)pts[i][0] - c0[0]) + nrm[1] * ((double)pts[i][1] - c0[1]) + nrm[2] * ((double)pts[i][2] - c0[2])) / bl;
+        if (pvs__dabs(d) > 1e-6 * scale) return 0;
+    }
+    return 1;
+}
+
+/* The cap of a component whose boundary edges (pairs of distinct-vertex ids in bnd) all lie in
+   one axis-aligned plane x_k = c, exactly (equal floats), with every vertex of the component on one
+   side of it: *side = +1 when the solid lies where x_k >= c, -1 when x_k <= c. Exact comparisons
+   keep the argument of pvs__ep_slice free of tolerances; tilted caps are not used. */
+PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv, uint32_t nuv, int *axis,
+                                 float *c, int *side) {
+    int k;
+    uint32_t i;
+    for (k = 0; k < 3; ++k) {
+        float v = vpos[bnd[0]][k];
+        int below = 0, above = 0;
+        for (i = 0; i < 2 * nb && vpos[bnd[i]][k] == v; ++i) {}
+        if (i < 2 * nb) continue;
+        for (i = 0; i < nuv; ++i) {
+            below |= vpos[uv[i]][k] < v;
+            above |= vpos[uv[i]][k] > v;
+        }
+        if (below == above) continue; /* both sides, or flat */
+        *axis = k;
+        *c = v;
+        *side = above ? 1 : -1;
+        return 1;
+    }
+    return 0;
+}
+
+/* 1 if triangle b (corners B) lies in the plane of triangle a (corners A, normal na of length la)
+   up to float precision and faces the same way: the two may be merged into one planar occluder. */
+PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double la, const float *const *B, double scale) {
+    double nb[3];
+    int k;
+    if (!(pvs__ep_tri_normal(B[0], B[1], B[2], nb) > 0.0) || !(na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] > 0.0)) return 0;
+    for (k = 0; k < 3; ++k) {
+        double d = (na[0] * ((double)B[k][0] - A[0][0]) + na[1] * ((double)B[k][1] - A[0][1]) + na[2] * ((double)B[k][2] - A[0][2])) / la;
+        if (pvs__dabs(d) > 1e-6 * scale) return 0;
+    }
+    return 1;
+}
+
+#define PVS__EP_TRI(j, k) (s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + (k)])
+#define PVS__EP_CONCAVE_EDGES 256
+
+/* A planar group (triangles tl[w->edges[m .. m + cnt) & 0xffffffff]) whose union is not one convex
+   polygon becomes a concave planar occluder (Durand 2000 §3.4, Fig. 7: planar, possibly concave,
+   with holes): its boundary edges (used by an odd number of its triangles) and its plane (unit
+   normal nr / lr through the first triangle, the vertices within dev of it); its points, for the
+   selection only, are the hull of its vertices. Left as pieces when it has more than
+   PVS__EP_CONCAVE_EDGES boundary edges. */
+PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
+                                           uint32_t m, uint32_t cnt, const double *nr, double lr, double dev, double scale) {
+    uint32_t h, c, nb = 0, ne = 0, ax = 0, u, v, i, nh = 0;
+    int k, hn;
+    pvs_result r = PVS_OK;
+    const float *q3[3 * PVS__EP_CONCAVE_EDGES];
+    pvs__epocc *o;
+    for (k = 1; k < 3; ++k)
+        if (pvs__dabs(nr[k]) > pvs__dabs(nr[ax])) ax = (uint32_t)k;
+    u = (ax + 1) % 3;
+    v = (ax + 2) % 3;
+    for (h = m; h < m + cnt; ++h) {
+        uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu);
+        for (c = 0; c < 3; ++c) {
+            uint64_t x = w->canon[3 * tl[t] + c], y = w->canon[3 * tl[t] + (c + 1) % 3];
+            if (x != y) w->bed[ne++] = x < y ? (x << 32) | y : (y << 32) | x;
         }
     }
-    return n;
+    qsort(w->bed, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+    for (h = 0; h < ne;) {
+        uint32_t g = h;
+        while (g < ne && w->bed[g] == w->bed[h]) ++g;
+        if ((g - h) & 1u) w->bed[nb++] = w->bed[h];
+        h = g;
+    }
+    if (nb < 3 || nb > PVS__EP_CONCAVE_EDGES) return PVS_OK;
+    /* the hull of the boundary's vertices (the interior ones lie inside it) */
+    for (h = 0; h < 2 * nb; ++h) {
+        const float *x = w->vpos[h & 1u ? (uint32_t)(w->bed[h >> 1] & 0xffffffffu) : (uint32_t)(w->bed[h >> 1] >> 32)];
+        w->hp[2 * h] = x[u];
+        w->hp[2 * h + 1] = x[v];
+    }
+    hn = pvs__ep_hull((double(*)[2])w->hp, (int)(2 * nb), (double(*)[2])w->hh);
+    if (hn < 3) return PVS_OK;
+    for (k = 0; k < hn; ++k) {
+        const float *hit = NULL;
+        for (h = 0; h < 2 * nb && !hit; ++h) {
+            const float *x = w->vpos[h & 1u ? (uint32_t)(w->bed[h >> 1] & 0xffffffffu) : (uint32_t)(w->bed[h >> 1] >> 32)];
+            if ((double)x[u] == w->hh[2 * k] && (double)x[v] == w->hh[2 * k + 1]) hit = x;
+        }
+        if (!hit) return PVS_OK;
+        q3[nh++] = hit;
+    }
+    p->cedge = (float *)pvs__kd_grow(&p->allocator, p->cedge, &p->cedge_capacity, p->cedge_count, p->cedge_count + nb, 6 * sizeof(float), &r);
+    if (!p->cedge) return r;
+    o = p->occ + p->occ_count;
+    pvs__ep_add(p, q3, nh, 0, dev == 0.0 ? 0.0 : dev + 1e-12 * scale);
+    o->efirst = (uint32_t)p->cedge_count;
+    o->ecount = nb;
+    for (i = 0; i < nb; ++i) {
+        memcpy(p->cedge + 6 * p->cedge_count, w->vpos[(uint32_t)(w->bed[i] >> 32)], 3 * sizeof(float));
+        memcpy(p->cedge + 6 * p->cedge_count + 3, w->vpos[(uint32_t)(w->bed[i] & 0xffffffffu)], 3 * sizeof(float));
+        ++p->cedge_count;
+    }
+    {
+        const float *a0 = PVS__EP_TRI((uint32_t)(w->edges[m] & 0xffffffffu), 0);
+        for (k = 0; k < 3; ++k) o->pn[k] = (float)(nr[k] / lr);
+        o->pd = (float)(o->pn[0] * (double)a0[0] + o->pn[1] * (double)a0[1] + o->pn[2] * (double)a0[2]);
+    }
+    for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
+    return PVS_OK;
+}
+
+/* Durand 2000 §3.3-3.4: a wall made of several triangles must act as one occluder, or every piece
+   alone loses a strip along each shared edge to that edge's penumbra and the wall hides nothing.
+   Groups the component's triangles (tl[0 .. n), scene triangles t0 + tl[j]) that are coplanar up
+   to float precision, face the same way and are joined by shared edges; a group of two or more
+   whose union is one convex polygon (pvs__ep_sheet_polygon: boundary edges forming one loop, one
+   turn, the loop's area equal to the triangles') of at most PVS__EP_MAXP corners becomes one planar
+   occluder, and its triangles are marked in w->used. The hull of the corners exceeds the surface by
+   at most the largest distance of a corner from the group's plane (the slack, doubled, and once
+   more for measuring along the dominant axis). */
+PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
+                                            pvs__epprepwork *w) {
+    uint32_t j, k, ne = 0, g;
+    double scale = 0.0;
+    pvs_result r = PVS_OK;
+    for (j = 0; j < n; ++j) { w->used[j] = 0; w->gparent[j] = j; }
+    if (n < 2 || 3 * (uint64_t)n >= (1u << 21)) return PVS_OK;
+    for (j = 0; j < n; ++j)
+        for (k = 0; k < 3; ++k) {
+            const float *x = PVS__EP_TRI(j, k);
+            int c;
+            for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, 2.0 * pvs__dabs((double)x[c]));
+        }
+    /* edges (distinct-vertex pairs) with their triangle: 21 bits each */
+    for (j = 0; j < n; ++j)
+        for (k = 0; k < 3; ++k) {
+            uint64_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
+            if (x == y) continue;
+            w->edges[ne++] = (x < y ? (x << 42) | (y << 21) : (y << 42) | (x << 21)) | j;
+        }
+    qsort(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+    for (g = 0; g < ne;) {
+        uint32_t h = g + 1;
+        while (h < ne && (w->edges[h] >> 21) == (w->edges[g] >> 21)) ++h;
+        for (k = g; k + 1 < h; ++k) { /* triangles around the edge, pairwise (two-sided walls: four) */
+            uint32_t k2;
+            for (k2 = k + 1; k2 < h && k2 < k + 8; ++k2) {
+                uint32_t ja = (uint32_t)(w->edges[k] & 0x1fffffu), jb = (uint32_t)(w->edges[k2] & 0x1fffffu), m;
+                const float *A[3], *B[3];
+                double na[3], la;
+                for (m = 0; m < 3; ++m) { A[m] = PVS__EP_TRI(ja, m); B[m] = PVS__EP_TRI(jb, m); }
+                la = pvs__ep_tri_normal(A[0], A[1], A[2], na);
+                if (!(la > 0.0) || !pvs__ep_coplanar(A, na, la, B, scale) || !pvs__ep_coplanar(B, na, la, A, scale)) continue;
+                {
+                    uint32_t x = pvs__ep_find(w->gparent, ja), y = pvs__ep_find(w->gparent, jb);
+                    if (x != y) w->gparent[x > y ? x : y] = x < y ? x : y;
+                }
+            }
+        }
+        g = h;
+    }
+    /* groups: (root, triangle) pairs sorted, the root being the group's first triangle */
+    for (j = 0; j < n; ++j) w->edges[j] = ((uint64_t)pvs__ep_find(w->gparent, j) << 32) | j;
+    qsort(w->edges, n, sizeof(uint64_t), pvs__ep_u64_cmp);
+    for (g = 0; g < n;) {
+        uint32_t h = g + 1, root = (uint32_t)(w->edges[g] >> 32), m, cnt, e = 0, ax = 0, u, v;
+        const float *A[3], *q3[PVS__EP_MAXP];
+        double nr[3], lr, dev = 0.0, area = 0.0, dent = 0.0;
+        while (h < n && (uint32_t)(w->edges[h] >> 32) == root) ++h;
+        cnt = h - g;
+        m = g;
+        g = h;
+        if (cnt < 2) continue;
+        for (k = 0; k < 3; ++k) A[k] = PVS__EP_TRI(root, k);
+        lr = pvs__ep_tri_normal(A[0], A[1], A[2], nr);
+        if (!(lr > 0.0)) continue;
+        for (k = 1; k < 3; ++k)
+            if (pvs__dabs(nr[k]) > pvs__dabs(nr[ax])) ax = k;
+        u = (ax + 1) % 3;
+        v = (ax + 2) % 3;
+        for (h = m; h < m + cnt; ++h) {
+            uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
+            const float *C[3];
+            for (c = 0; c < 3; ++c) {
+                const float *x = C[c] = PVS__EP_TRI(t, c);
+                dev = pvs__dmax(dev, pvs__dabs(nr[0] * ((double)x[0] - A[0][0]) + nr[1] * ((double)x[1] - A[0][1]) + nr[2] * ((double)x[2] - A[0][2])) / lr);
+            }
+            area += 0.5 * pvs__dabs(((double)C[1][u] - C[0][u]) * ((double)C[2][v] - C[0][v]) - ((double)C[2][u] - C[0][u]) * ((double)C[1][v] - C[0][v]));
+            for (c = 0; c < 3; ++c) {
+                const float *x = C[c], *y = C[(c + 1) % 3];
+                float P0[2], P1[2];
+                pvs__epedge2 *ed = w->e2 + e++;
+                P0[0] = x[u]; P0[1] = x[v];
+                P1[0] = y[u]; P1[1] = y[v];
+                if (pvs__ep_p2_cmp(P0, P1) <= 0) { memcpy(ed->a, P0, sizeof(P0)); memcpy(ed->b, P1, sizeof(P1)); }
+                else { memcpy(ed->a, P1, sizeof(P1)); memcpy(ed->b, P0, sizeof(P0)); }
+                ed->tri = t;
+            }
+        }
+        if (dev > 1e-6 * scale || !(area > 0.0)) continue;
+        k = pvs__ep_sheet_polygon(w->e2, e, area, w->q2, w->keep, e, 1e-4, (double(*)[2])w->hp, (double(*)[2])w->hh, &dent);
+        if (k < 3 || k > PVS__EP_MAXP || dent > 1e-6 * scale) {
+            r = pvs__ep_add_concave(p, s, t0, tl, w, m, cnt, nr, lr, dev, scale);
+            if (r != PVS_OK) return r;
+            continue;
+        }
+        {
+            uint32_t i, found = 0;
+            for (i = 0; i < k; ++i) { /* the corners back in 3D: the group's vertices with those (u, v) */
+                const float *hit = NULL;
+                for (h = m; h < m + cnt && !hit; ++h) {
+                    uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
+                    for (c = 0; c < 3 && !hit; ++c) {
+                        const float *x = PVS__EP_TRI(t, c);
+                        if (x[u] == w->q2[2 * i] && x[v] == w->q2[2 * i + 1]) hit = x;
+                    }
+                }
+                if (!hit) break;
+                q3[found++] = hit;
+            }
+            if (found != k) continue;
+            {
+                /* the slack: the vertices' distance from a plane through three corners far apart
+                   (the first triangle's plane tilts with its rounding), measured both ways for the
+                   hull and the surface, once more for the footprint, plus the dent (a point dent
+                   inside the hull in the (u, v) plane lies |n| / |n_ax| dent inside it in the plane) */
+                double best = 0.0, nb[3], lb = 0.0, dev2 = 0.0;
+                uint32_t i1, i2, b1 = 1, b2 = 2;
+                for (i1 = 1; i1 < k; ++i1)
+                    for (i2 = i1 + 1; i2 < k; ++i2) {
+                        double l = pvs__ep_tri_normal(q3[0], q3[i1], q3[i2], nb);
+                        if (l > best) { best = l; b1 = i1; b2 = i2; }
+                    }
+                lb = pvs__ep_tri_normal(q3[0], q3[b1], q3[b2], nb);
+                if (lb > 0.0 && nb[0] * nr[0] + nb[1] * nr[1] + nb[2] * nr[2] > 0.0) {
+                    for (h = m; h < m + cnt; ++h) {
+                        uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
+                        for (c = 0; c < 3; ++c) {
+                            const float *x = PVS__EP_TRI(t, c);
+                            dev2 = pvs__dmax(dev2, pvs__dabs(nb[0] * ((double)x[0] - q3[0][0]) + nb[1] * ((double)x[1] - q3[0][1]) + nb[2] * ((double)x[2] - q3[0][2])) / lb);
+                        }
+                    }
+                    dev = pvs__dmin(dev, dev2);
+                }
+                dev = 4.0 * dev + 2.0 * dent * lr / pvs__dabs(nr[ax]);
+            }
+            pvs__ep_add(p, q3, k, 0, dev == 0.0 ? 0.0 : dev + 1e-12 * scale);
+            for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
+        }
+    }
+    return r;
+}
+#undef PVS__EP_TRI
+
+/* Prepares one object's triangles t0 .. t0 + tn: connected components (by shared positions); a
+   closed convex component becomes one solid; any other component its polygons (coplanar
+   consecutive triangles merged into convex quads), and a closed or capped one is also kept for
+   slicing. */
+PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
+    const pvs_allocator *a = &p->allocator;
+    uint32_t i, nv = 0, comp;
+    pvs_result r = PVS_OK;
+    for (i = 0; i < 3 * tn; ++i) {
+        const float *q = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + i];
+        memcpy(w->ref[i].p, q, 3 * sizeof(float));
+        w->ref[i].slot = i;
+    }
+    qsort(w->ref, 3 * (size_t)tn, sizeof(pvs__epvref), pvs__ep_vref_cmp);
+    for (i = 0; i < 3 * tn; ++i) {
+        if (i == 0 || !pvs__ep_same(w->ref[i].p, w->ref[i - 1].p)) {
+            w->vpos[nv] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + w->ref[i].slot];
+            w->owner[nv] = 0xffffffffu;
+            w->mark[nv] = 0xffffffffu;
+            ++nv;
+        }
+        w->canon[w->ref[i].slot] = nv - 1;
+    }
+    for (i = 0; i < tn; ++i) w->parent[i] = i;
+    for (i = 0; i < 3 * tn; ++i) {
+        uint32_t v = w->canon[i], t = i / 3;
+        if (w->owner[v] == 0xffffffffu) w->owner[v] = t;
+        else {
+            uint32_t x = pvs__ep_find(w->parent, t), y = pvs__ep_find(w->parent, w->owner[v]);
+            if (x != y) w->parent[x > y ? x : y] = x < y ? x : y; /* the smaller index roots: deterministic */
+        }
+    }
+    /* components in order of their first triangle; triangles in order within each */
+    for (i = 0; i < tn; ++i) w->start[i] = 0;
+    for (i = 0; i < tn; ++i) ++w->start[pvs__ep_find(w->parent, i)];
+    {
+        uint32_t sum = 0;
+        for (i = 0; i < tn; ++i) {
+            uint32_t c = w->start[i];
+            w->start[i] = sum;
+            sum += c;
+        }
+        w->start[tn] = sum;
+    }
+    for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__ep_find(w->parent, i)]++] = i;
+    /* start[root] now holds the component's end; components are the roots in increasing order */
+    for (comp = 0; comp < tn; ++comp) {
+        uint32_t root = comp, begin, end, ne = 0, nb = 0, nuv = 0, k, j, closed, *bnd = w->owner; /* owner is done with */
+        int capped, cap_axis = 0, cap_side = 0;
+        float cap_value = 0.0f;
+        const uint32_t *tl;
+        uint32_t tris_local[2 * PVS__EP_MAXP];
+        if (w->parent[comp] != comp) continue;
+        end = w->start[root];
+        begin = end;
+        while (begin > 0 && w->parent[w->order[begin - 1]] == root) --begin;
+        tl = w->order + begin;
+        /* edges by distinct-vertex pairs; boundary = edges used an odd number of times */
+        for (j = 0; j < end - begin; ++j)
+            for (k = 0; k < 3; ++k) {
+                uint32_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
+                if (x == y) continue;
+                w->edges[ne++] = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
+            }
+        qsort(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+        for (j = 0; j < ne;) {
+            uint32_t m = j;
+            while (m < ne && w->edges[m] == w->edges[j]) ++m;
+            if ((m - j) & 1u) w->edges[nb++] = w->edges[j]; /* compacted in place: nb <= j */
+            j = m;
+        }
+        for (j = 0; j < end - begin; ++j)
+            for (k = 0; k < 3; ++k) {
+                uint32_t v = w->canon[3 * tl[j] + k];
+                if (w->mark[v] != comp) { w->mark[v] = comp; w->uv[nuv++] = v; }
+            }
+        closed = nb == 0;
+        capped = 0;
+        if (!closed && 2 * nb <= 3 * tn) {
+            for (j = 0; j < nb; ++j) {
+                bnd[2 * j] = (uint32_t)(w->edges[j] >> 32);
+                bnd[2 * j + 1] = (uint32_t)(w->edges[j] & 0xffffffffu);
+            }
+            capped = pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side);
+        }
+        if (closed || capped) {
+            /* a flat closed or capped mesh bounds no volume */
+            const float **vq = (const float **)w->ref; /* ref is done with: room for 3 tn pointers */
+            for (j = 0; j < nuv; ++j) vq[j] = w->vpos[w->uv[j]];
+            {
+                uint32_t *tt = w->gparent; /* not in use until the polygons */
+                for (j = 0; j < end - begin; ++j) tt[j] = t0 + tl[j];
+                if (pvs__ep_flat_component(s, tt, end - begin, vq, nuv)) closed = capped = 0;
+            }
+        }
+        if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && end - begin <= 2 * PVS__EP_MAXP) {
+            /* a convex solid; a capped one (its hull includes the cap) is used only for cells
+               strictly on the solid's side of the cap: a ray from there meets the hull first on a
+               real face, since it crosses the cap's plane only once, going away from the cell */
+            const float *q[PVS__EP_MAXP];
+            for (j = 0; j < end - begin; ++j) tris_local[j] = t0 + tl[j];
+            for (j = 0; j < nuv; ++j) q[j] = w->vpos[w->uv[j]];
+            double slack;
+            if (pvs__ep_convex_component(s, tris_local, end - begin, q, nuv, &slack)) {
+                pvs__epocc *o = p->occ + p->occ_count;
+                pvs__ep_add(p, q, nuv, 1, slack);
+                if (capped) {
+                    o->cap_side = cap_side;
+                    o->cap_axis = cap_axis;
+                    o->cap_value = cap_value;
+                }
+                continue;
+            }
+        }
+        /* polygons: coplanar edge-connected triangles whose union is convex become one
+           (pvs__ep_merge_planar), then consecutive coplanar triangles forming a convex quad */
+        r = pvs__ep_merge_planar(p, s, t0, tl, end - begin, w);
+        if (r != PVS_OK) return r;
+        for (j = 0; j < end - begin; ++j) {
+            const float *tri[3], *nxt[3], *q[4];
+            double nrm[3];
+            if (w->used[j]) continue;
+            for (k = 0; k < 3; ++k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
+            if (!(pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm) > 0.0)) continue;
+            if (j + 1 < end - begin && !w->used[j + 1]) {
+                for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j + 1]) + k];
+                double slack;
+                if (pvs__ep_quad(tri, nxt, q, &slack)) {
+                    pvs__ep_add(p, q, 4, 0, slack);
+                    ++j;
+                    continue;
+                }
+            }
+            pvs__ep_add(p, tri, 3, 0, 0.0);
+        }
+        if (end - begin < 4) continue;
+        for (j = 0; j < end - begin; ++j) { /* a zero-area triangle blocks no ray: not sliced */
+            const float *c3[3];
+            double nrm[3];
+            for (k = 0; k < 3; ++k) c3[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
+            if (!(pvs__ep_tri_normal(c3[0], c3[1], c3[2], nrm) > 0.0)) break;
+        }
+        if (j < end - begin) continue;
+        if (!closed && !capped) continue;
+        {
+            /* closed or capped: kept for slicing */
+            pvs__epslice *sl;
+            p->slc = (pvs__epslice *)pvs__kd_grow(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice), &r);
+            if (!p->slc) return r;
+            p->stri = (uint32_t *)pvs__kd_grow(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + (end - begin), sizeof(uint32_t), &r);
+            if (!p->stri) return r;
+            if (capped) {
+                /* pvs__kd_grow counts elements of 6 floats */
+                p->bedge = (float *)pvs__kd_grow(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb, 6 * sizeof(float), &r);
+                if (!p->bedge) return r;
+            }
+            sl = p->slc + p->slc_count++;
+            memset(sl, 0, sizeof(*sl));
+            sl->box = pvs__box_empty();
+            sl->first = (uint32_t)p->stri_count;
+            sl->count = end - begin;
+            for (j = 0; j < end - begin; ++j) {
+                p->stri[p->stri_count++] = t0 + tl[j];
+                for (k = 0; k < 3; ++k) pvs__box_add_point(&sl->box, s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k]);
+            }
+            sl->capped = capped;
+            if (capped) {
+                sl->bfirst = (uint32_t)p->bedge_count;
+                sl->bcount = nb;
+                for (j = 0; j < nb; ++j) {
+                    memcpy(p->bedge + 6 * p->bedge_count, w->vpos[bnd[2 * j]], 3 * sizeof(float));
+                    memcpy(p->bedge + 6 * p->bedge_count + 3, w->vpos[bnd[2 * j + 1]], 3 * sizeof(float));
+                    ++p->bedge_count;
+                }
+                sl->cap_axis = cap_axis;
+                sl->cap_side = cap_side;
+                sl->cap_value = cap_value;
+            }
+            if (sl->count + sl->bcount > p->max_slice_segments) p->max_slice_segments = sl->count + sl->bcount;
+        }
+    }
+    return r;
+}
+
+
+/* ---- sheets (grounds, floors) and occluders extended through them ---- */
+
+typedef struct pvs__epskey {
+    float value;
+    uint32_t axis, tri;
+} pvs__epskey;
+
+PVS__STATIC int pvs__ep_skey_cmp(const void *a, const void *b) {
+    const pvs__epskey *x = (const pvs__epskey *)a, *y = (const pvs__epskey *)b;
+    if (x->axis != y->axis) return x->axis < y->axis ? -1 : 1;
+    if (x->value != y->value) return x->value < y->value ? -1 : 1;
+    return x->tri < y->tri ? -1 : x->tri > y->tri;
+}
+
+/* Finds the largest sheets (up to PVS__EP_MAX_SHEETS) and extends through them the occluders that
+   stand on them: a convex occluder with some vertices exactly in the sheet's plane, inside its
+   polygon, the others on one side and each exactly over one of those (a vertical wall, a box on the
+   floor), gets a second point set: its points plus those in the plane pushed through it by the
+   scene's size. The extended shape is the occluder joined with the prism under its footprint F (the
+   union is convex because the occluder lies over F), and that prism lies in the sheet's solid
+   half-space: for a cell over the sheet on the occluder's side, a ray hitting the extension first
+   crosses the sheet, at a nearer point, so the extended occluder blocks nothing the sheet and the
+   occluder do not. This closes the seam between a wall and the ground it stands on, which the
+   Projections of the two (each conservatively rasterized, and separated by the penumbra of their
+   common edge) leave open. */
+PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) {
+    const pvs_allocator *a = &p->allocator;
+    pvs__epskey *key = NULL;
+    pvs__epedge2 *e = NULL;
+    float *q = NULL;
+    unsigned char *keep = NULL;
+    uint32_t *uf = NULL, ne;
+    double *tarea = NULL;
+    size_t nkey = 0, i, ecap = 0;
+    uint32_t t, o;
+    pvs_result r = PVS_OK;
+    double D;
+    for (t = 0; t < s->triangle_count; ++t) {
+        const uint32_t *ix = s->indices + 3 * (size_t)t;
+        const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1], *v2 = s->positions + 3 * (size_t)ix[2];
+        int k;
+        for (k = 0; k < 3; ++k)
+            if (v0[k] == v1[k] && v1[k] == v2[k]) { ++nkey; break; }
+    }
+    if (!nkey) return PVS_OK;
+    key = (pvs__epskey *)pvs__alloc_array(a, nkey, sizeof(pvs__epskey));
+    if (!key) return PVS_ERROR_OUT_OF_MEMORY;
+    nkey = 0;
+    for (t = 0; t < s->triangle_count; ++t) {
+        const uint32_t *ix = s->indices + 3 * (size_t)t;
+        const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1], *v2 = s->positions + 3 * (size_t)ix[2];
+        int k;
+        double n[3];
+        if (!(pvs__ep_tri_normal(v0, v1, v2, n) > 0.0)) continue;
+        for (k = 0; k < 3; ++k)
+            if (v0[k] == v1[k] && v1[k] == v2[k]) {
+                key[nkey].value = v0[k] == 0.0f ? 0.0f : v0[k]; /* -0 and +0 group together */
+                key[nkey].axis = (uint32_t)k;
+                key[nkey].tri = t;
+                ++nkey;
+                break;
+            }
+    }
+    qsort(key, nkey, sizeof(pvs__epskey), pvs__ep_skey_cmp);
+    for (i = 0; i < nkey;) {
+        size_t j = i, g;
+        int k = (int)key[i].axis, u = (k + 1) % 3, v = (k + 2) % 3;
+        double area = 0.0;
+        uint32_t m, slot;
+        while (j < nkey && key[j].axis == key[i].axis && key[j].value == key[i].value) ++j;
+        if (j - i < 2) { i = j; continue; }
+        if (3 * (j - i) > ecap) {
+            pvs__free_array(a, e, ecap, sizeof(pvs__epedge2));
+            pvs__free_array(a, q, 2 * (ecap + 1), sizeof(float));
+            pvs__free_array(a, keep, ecap + 1, 1);
+            pvs__free_array(a, uf, ecap, sizeof(uint32_t));
+            pvs__free_array(a, tarea, ecap, sizeof(double));
+            ecap = 3 * (j - i);
+            e = (pvs__epedge2 *)pvs__alloc_array(a, ecap, sizeof(pvs__epedge2));
+            q = (float *)pvs__alloc_array(a, 2 * (ecap + 1), sizeof(float));
+            keep = (unsigned char *)pvs__alloc_array(a, ecap + 1, 1);
+            uf = (uint32_t *)pvs__alloc_array(a, ecap, sizeof(uint32_t));
+            tarea = (double *)pvs__alloc_array(a, ecap, sizeof(double));
+            if (!e || !q || !keep || !uf || !tarea) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
+        }
+        for (g = i; g < j; ++g) {
+            const uint32_t *ix = s->indices + 3 * (size_t)key[g].tri;
+            const float *c[3];
+            int l;
+            for (l = 0; l < 3; ++l) c[l] = s->positions + 3 * (size_t)ix[l];
+            tarea[g - i] = 0.5 * pvs__dabs(((double)c[1][u] - c[0][u]) * ((double)c[2][v] - c[0][v]) - ((double)c[2][u] - c[0][u]) * ((double)c[1][v] - c[0][v]));
+            uf[g - i] = (uint32_t)(g - i);
+            for (l = 0; l < 3; ++l) {
+                const float *x = c[l], *y = c[(l + 1) % 3];
+                float A[2], B[2];
+                pvs__epedge2 *ed = e + 3 * (g - i) + (size_t)l;
+                A[0] = x[u]; A[1] = x[v];
+                B[0] = y[u]; B[1] = y[v];
+                if (pvs__ep_p2_cmp(A, B) <= 0) { memcpy(ed->a, A, sizeof(A)); memcpy(ed->b, B, sizeof(B)); }
+                else { memcpy(ed->a, B, sizeof(B)); memcpy(ed->b, A, sizeof(A)); }
+                ed->tri = (uint32_t)(g - i);
+            }
+        }
+        /* pieces joined by shared edges (a lamp's base lying on the ground is a piece of its own) */
+        ne = (uint32_t)(3 * (j - i));
+        qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
+        for (g = 1; g < ne; ++g)
+            if (pvs__ep_edge2_cmp(e + g, e + g - 1) == 0) {
+                uint32_t x = pvs__ep_find(uf, e[g].tri), y = pvs__ep_find(uf, e[g - 1].tri);
+                if (x != y) uf[x > y ? x : y] = x < y ? x : y;
+            }
+        for (g = 0; g < ne; ++g) e[g].tri = pvs__ep_find(uf, e[g].tri);
+        for (g = 0; g < j - i; ++g) if (uf[g] != g) { tarea[pvs__ep_find(uf, (uint32_t)g)] += tarea[g]; tarea[g] = 0.0; }
+        qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_root_cmp);
+        for (g = 0; g < ne;) {
+            size_t h = g;
+            uint32_t root = e[g].tri;
+            while (h < ne && e[h].tri == root) ++h;
+            area = tarea[root];
+            m = pvs__ep_sheet_polygon(e + g, (uint32_t)(h - g), area, q, keep, (uint32_t)ecap, 0.0, NULL, NULL, NULL);
+            g = h;
+            if (!m) continue;
+        /* keep the largest sheets */
+        if (p->sheet_count < PVS__EP_MAX_SHEETS) slot = p->sheet_count++;
+        else {
+            uint32_t x;
+            slot = 0;
+            for (x = 1; x < p->sheet_count; ++x)
+                if (p->sheet[x].area < p->sheet[slot].area) slot = x;
+            if (!(area > p->sheet[slot].area)) continue;
+        }
+        p->spoly = (float *)pvs__kd_grow(a, p->spoly, &p->spoly_capacity, p->spoly_count, p->spoly_count + m, 2 * sizeof(float), &r);
+        if (!p->spoly) goto done;
+        p->sheet[slot].axis = k;
+        p->sheet[slot].value = key[i].value;
+        p->sheet[slot].first = (uint32_t)p->spoly_count;
+        p->sheet[slot].count = m;
+        p->sheet[slot].area = area;
+        memcpy(p->spoly + 2 * p->spoly_count, q, 2 * (size_t)m * sizeof(float));
+        p->spoly_count += m;
+        }
+        i = j;
+    }
+    /* occluders standing on a sheet */
+    D = 0.0;
+    for (t = 0; t < 3; ++t) D = pvs__dmax(D, 2.0 * ((double)s->bounds.max[t] - s->bounds.min[t]) + 1.0);
+    for (o = 0; o < p->occ_count; ++o) {
+        pvs__epocc *oc = p->occ + o;
+        uint32_t sh;
+        for (sh = 0; sh < p->sheet_count && !oc->xcount; ++sh) {
+            const pvs__epsheet *S = p->sheet + sh;
+            const float *pts = p->pts + 3 * (size_t)oc->first, *poly = p->spoly + 2 * (size_t)S->first;
+            int k = S->axis, u = (k + 1) % 3, v = (k + 2) % 3, above = 0, below = 0, ok = 1;
+            uint32_t on = 0, x, y;
+            for (x = 0; x < oc->count; ++x) {
+                float c = pts[3 * x + k];
+                on += c == S->value;
+                above |= c > S->value;
+                below |= c < S->value;
+            }
+            if (!on || above == below || oc->count + on > PVS__EP_MAXP || oc->ecount) continue;
+            {
+                /* the footprint F: the hull of the vertices in the sheet's plane (counter-clockwise) */
+                double fp[PVS__EP_MAXP][2], fh[PVS__EP_MAXP + 1][2];
+                float fpoly[2 * PVS__EP_MAXP];
+                uint32_t nf = 0;
+                int hn;
+                for (x = 0; x < oc->count; ++x)
+                    if (pts[3 * x + k] == S->value) { fp[nf][0] = pts[3 * x + u]; fp[nf][1] = pts[3 * x + v]; ++nf; }
+                hn = nf >= 3 ? pvs__ep_hull(fp, (int)nf, fh) : 0;
+                for (y = 0; y < (uint32_t)hn; ++y) { fpoly[2 * y] = (float)fh[y][0]; fpoly[2 * y + 1] = (float)fh[y][1]; }
+                for (x = 0; x < oc->count && ok; ++x) {
+                    const float *P = pts + 3 * x;
+                    if (P[k] == S->value) ok = pvs__ep_in_convex(poly, S->count, P[u], P[v]);
+                    else {
+                        /* over F: exactly over one of its vertices, or strictly inside it */
+                        for (y = 0; y < oc->count; ++y)
+                            if (pts[3 * y + k] == S->value && pts[3 * y + u] == P[u] && pts[3 * y + v] == P[v]) break;
+                        ok = y < oc->count || (hn >= 3 && pvs__ep_in_convex(fpoly, (uint32_t)hn, P[u], P[v]));
+                    }
+                }
+            }
+            if (!ok) continue;
+            p->pts = (float *)pvs__kd_grow(a, p->pts, &p->pt_capacity, p->pt_count, p->pt_count + oc->count + on, 3 * sizeof(float), &r);
+            if (!p->pts) goto done;
+            pts = p->pts + 3 * (size_t)oc->first;
+            oc->xfirst = (uint32_t)p->pt_count;
+            memcpy(p->pts + 3 * p->pt_count, pts, 3 * sizeof(float) * oc->count);
+            p->pt_count += oc->count;
+            for (x = 0; x < oc->count; ++x) {
+                float *P;
+                if (pts[3 * x + k] != S->value) continue;
+                P = p->pts + 3 * p->pt_count++;
+                memcpy(P, pts + 3 * x, 3 * sizeof(float));
+                P[k] = (float)(above ? (double)S->value - D : (double)S->value + D);
+            }
+            oc->xcount = oc->count + on;
+            oc->sheet = sh;
+            oc->xside = above ? 1 : -1;
+        }
+    }
+done:
+    pvs__free_array(a, key, nkey, sizeof(pvs__epskey));
+    pvs__free_array(a, e, ecap, sizeof(pvs__epedge2));
+    pvs__free_array(a, q, 2 * (ecap + 1), sizeof(float));
+    pvs__free_array(a, keep, ecap + 1, 1);
+    pvs__free_array(a, uf, ecap, sizeof(uint32_t));
+    pvs__free_array(a, tarea, ecap, sizeof(double));
+    return r;
+}
+
+/* The size class of an occluder: area bound < 4^c square units (the last class open-ended). */
+PVS__STATIC int pvs__ep_area_class(float area) {
+    int c = 0;
+    float lim = 1.0f;
+    while (c + 1 < PVS__EP_AREA_CLASSES && !(area < lim)) {
+        ++c;
+        lim *= 4.0f;
+    }
+    return c;
 }
 
 /* Builds the occluder list of a scene (§6.1 picks among it per cell). */
 PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out, pvs_error *err) {
     pvs__extproj_prep *p;
-    size_t occ_cap = (size_t)s->triangle_count + 1, pt_cap = 3 * (size_t)s->triangle_count + 1;
+    pvs__epprepwork w;
+    size_t occ_cap = (size_t)s->triangle_count + 1, pt_cap = 3 * (size_t)s->triangle_count + 1, most = 1;
     uint32_t o, t, i;
+    pvs_result r;
     *out = NULL;
     for (i = 0; i < s->occluder_count; ++i) {
         const pvs_occluder_desc *d = s->occluders + i;
@@ -13384,48 +14571,38 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
     if (!p) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj occluders");
     memset(p, 0, sizeof(*p));
     p->allocator = *a;
-    p->occ_capacity = (uint32_t)occ_cap;
+    p->occ_capacity = occ_cap;
     p->pt_capacity = pt_cap;
     p->occ = (pvs__epocc *)pvs__alloc_array(a, occ_cap, sizeof(pvs__epocc));
     p->pts = (float *)pvs__alloc_array(a, pt_cap * 3, sizeof(float));
-    if (!p->occ || !p->pts) {
+    for (t = 0; t < s->triangle_count;) { /* the largest object (or run of triangles in no object) */
+        uint32_t end = t + 1;
+        while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
+        if (end - t > most) most = end - t;
+        t = end;
+    }
+    if (!p->occ || !p->pts || !pvs__ep_work_alloc(a, &w, most)) {
+        pvs__ep_work_free(a, &w);
         pvs__extproj_prep_destroy(p);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj occluders (%llu)", (unsigned long long)occ_cap);
     }
-    /* triangles in object order; an object that is a closed convex surface becomes one solid,
-       consecutive coplanar triangles forming a convex quad become one polygon (fewer cracks between
-       Projections, §3.2-3.3) */
+    /* triangles in object order, one run of an object's triangles at a time */
     for (t = 0; t < s->triangle_count;) {
-        uint32_t obj = s->triangle_object[t], end = t + 1;
-        const float *tri[3], *nxt[3], *q[PVS__EP_MAXP];
-        double nrm[3], len;
-        int k;
-        if (obj != PVS_NO_OBJECT) {
-            /* the object's range starts here when t is its first triangle */
-            uint32_t n;
-            while (end < s->triangle_count && s->triangle_object[end] == obj) ++end;
-            n = pvs__ep_convex_object(s, t, end - t, q);
-            if (n >= 4) {
-                pvs__ep_add(p, q, n, 1);
-                t = end;
-                continue;
-            }
+        uint32_t end = t + 1;
+        while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
+        {
+            size_t first = p->occ_count, q;
+            r = pvs__ep_prepare_object(p, s, t, end - t, &w);
+            for (q = first; q < p->occ_count; ++q) p->occ[q].object = s->triangle_object[t];
         }
-        for (; t < end; ++t) {
-            for (k = 0; k < 3; ++k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
-            len = pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm);
-            if (!(len > 0.0)) continue;
-            if (t + 1 < end) {
-                for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t + 1) + k];
-                if (pvs__ep_quad(tri, nxt, q)) {
-                    pvs__ep_add(p, q, 4, 0);
-                    ++t;
-                    continue;
-                }
-            }
-            pvs__ep_add(p, tri, 3, 0);
+        if (r != PVS_OK) {
+            pvs__ep_work_free(a, &w);
+            pvs__extproj_prep_destroy(p);
+            return pvs__fail(err, r, -1, 0, "extproj: slices of the closed meshes");
         }
+        t = end;
     }
+    pvs__ep_work_free(a, &w);
     for (o = 0; o < s->occluder_count; ++o) {
         const pvs_occluder_desc *d = s->occluders + o;
         float c[8][3];
@@ -13437,7 +14614,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
                 c[i][2] = i & 4 ? d->box.max[2] : d->box.min[2];
                 q[i] = c[i];
             }
-            pvs__ep_add(p, q, 8, 1);
+            pvs__ep_add(p, q, 8, 1, 0.0);
         } else if (d->kind == PVS_OCCLUDER_EXTRUSION) { /* its walls, each a planar quad */
             int u, v, up = (int)s->up_axis;
             pvs__ground_axes(s->up_axis, &u, &v);
@@ -13451,14 +14628,569 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
                     c[k][up] = k < 2 ? d->base : d->top;
                     q[k] = c[k];
                 }
-                pvs__ep_add(p, q, 4, 0);
+                pvs__ep_add(p, q, 4, 0, 0.0);
             }
         }
         /* CONVEX occluders are not used (leaving an occluder out is conservative) */
     }
+    r = pvs__ep_sheets(p, s);
+    if (r != PVS_OK) {
+        pvs__extproj_prep_destroy(p);
+        return pvs__fail(err, r, -1, 0, "extproj: sheets");
+    }
+    {
+        /* size classes: area bound < 1, 4, 16, ..., the last open-ended */
+        pvs_kdtree_desc kd;
+        pvs_box *boxes = (pvs_box *)pvs__alloc_array(a, p->occ_count + 1, sizeof(pvs_box));
+        size_t q;
+        int c;
+        if (!boxes) {
+            pvs__extproj_prep_destroy(p);
+            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj: occluder trees");
+        }
+        for (q = 0; q < p->occ_count; ++q) ++p->class_count[pvs__ep_area_class(p->occ[q].area)];
+        for (c = 0; c < PVS__EP_AREA_CLASSES; ++c) {
+            uint32_t m = 0;
+            p->class_occ[c] = (uint32_t *)pvs__alloc_array(a, (size_t)p->class_count[c] + 1, sizeof(uint32_t));
+            if (!p->class_occ[c]) r = PVS_ERROR_OUT_OF_MEMORY;
+            for (q = 0; q < p->occ_count && r == PVS_OK; ++q)
+                if (pvs__ep_area_class(p->occ[q].area) == c) {
+                    p->class_occ[c][m] = (uint32_t)q;
+                    boxes[m++] = p->occ[q].box;
+                    if (p->occ[q].area > p->class_area[c]) p->class_area[c] = p->occ[q].area;
+                }
+            if (r != PVS_OK) break;
+            memset(&kd, 0, sizeof(kd));
+            kd.boxes = boxes;
+            kd.count = m;
+            kd.allocator = *a;
+            r = pvs_kdtree_create(&kd, &p->occ_tree[c], err);
+            if (r != PVS_OK) break;
+        }
+        pvs__free_array(a, boxes, p->occ_count + 1, sizeof(pvs_box));
+        if (r != PVS_OK) {
+            pvs__extproj_prep_destroy(p);
+            return pvs__fail(err, r, -1, 0, "extproj: occluder trees");
+        }
+    }
     *out = p;
     return PVS_OK;
 }
+
+/* ---- slices of closed meshes (§3.3) ---- */
+
+/* Per-cell scratch of the slicer: segments (x0, y0, x1, y1 in pixels), crossings and a row buffer. */
+typedef struct pvs__epslicer {
+    double *seg;
+    double *xs;
+    unsigned char *row;
+    unsigned char *cmark;    /* width * width: pixels in the penumbra of a concave occluder's boundary */
+    size_t cap;          /* segments */
+    uint32_t width;      /* row buffer */
+} pvs__epslicer;
+
+/* The point where edge a-b (a on the near side of the plane, b on the far side) crosses w = W, in
+   pixels. The ends are taken in a fixed order (by position), so the two triangles sharing the edge
+   compute the same point and the section's segments close up exactly. */
+PVS__STATIC int pvs__ep_vref_cmp_pts(const float *a, const float *b) {
+    int k;
+    for (k = 0; k < 3; ++k)
+        if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
+    return 0;
+}
+
+PVS__STATIC void pvs__ep_cross(const pvs__epframe *f, const float *a, const float *b, double *x, double *y, double *mag) {
+    const float *p = a, *q = b;
+    double wp, wq, t, u, v;
+    if (pvs__ep_vref_cmp_pts(a, b) > 0) { p = b; q = a; }
+    wp = f->s * ((double)p[f->a] - f->face);
+    wq = f->s * ((double)q[f->a] - f->face);
+    t = (f->W - wp) / (wq - wp);
+    u = p[f->u] + ((double)q[f->u] - p[f->u]) * t;
+    v = p[f->v] + ((double)q[f->v] - p[f->v]) * t;
+    *x = (u - f->u0) * f->su;
+    *y = (v - f->v0) * f->sv;
+    *mag = pvs__dmax(*mag, (pvs__dabs(p[f->u]) + pvs__dabs(q[f->u]) + pvs__dabs(f->u0)) * f->su + (pvs__dabs(p[f->v]) + pvs__dabs(q[f->v]) + pvs__dabs(f->v0)) * f->sv);
+}
+
+PVS__STATIC int pvs__ep_double_cmp(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Rasterizes the section of a closed (or capped) component by the plane w = W (Durand 2000 §3.3:
+   the Projection of a closed manifold lying in the plane is itself): only pixels at a margin from
+   every segment of the section and inside it by parity get Depth W (map) or 1 (mask). Why it is
+   conservative: the cell lies outside the component's box, so a point V of the cell is outside the
+   solid, and a point X inside the section is inside it; the segment V-X crosses the closed surface
+   (mesh plus cap) an odd number of times, and never the cap (V and X lie strictly on the solid's
+   side of the cap's plane), so it crosses a triangle before reaching X, at a depth below W. Vertices
+   on the plane count as beyond it (symbolic perturbation), so every triangle and boundary edge
+   crossing the plane gives a consistent segment or point. Returns the pixels written. */
+PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
+                                   pvs__epslicer *sc, float *map, unsigned char *mask) {
+    uint32_t i, nseg = 0, ncap = 0, written = 0;
+    double mag = 0.0, m, ylo = DBL_MAX, yhi = -DBL_MAX;
+    int32_t j0, j1, j;
+    float depth = pvs__f_up(f->W);
+    for (i = 0; i < c->count; ++i) {
+        const uint32_t *ix = s->indices + 3 * (size_t)p->stri[c->first + i];
+        const float *v[3];
+        int k, far[3], nf = 0;
+        double pt[2][2];
+        int np = 0;
+        for (k = 0; k < 3; ++k) {
+            v[k] = s->positions + 3 * (size_t)ix[k];
+            far[k] = f->s * ((double)v[k][f->a] - f->face) >= f->W;
+            nf += far[k];
+        }
+        if (nf == 0 || nf == 3) continue;
+        for (k = 0; k < 3; ++k) {
+            int l = (k + 1) % 3;
+            if (far[k] == far[l]) continue;
+            pvs__ep_cross(f, far[k] ? v[l] : v[k], far[k] ? v[k] : v[l], &pt[np][0], &pt[np][1], &mag);
+            ++np;
+        }
+        sc->seg[4 * nseg] = pt[0][0];
+        sc->seg[4 * nseg + 1] = pt[0][1];
+        sc->seg[4 * nseg + 2] = pt[1][0];
+        sc->seg[4 * nseg + 3] = pt[1][1];
+        ++nseg;
+    }
+    if (c->capped) {
+        /* the cap (the boundary's region in its plane) meets the slicing plane along a line: the
+           boundary edges crossing the plane give points on it, paired in order along the line */
+        double *pts = sc->xs;
+        for (i = 0; i < c->bcount; ++i) {
+            const float *a = p->bedge + 6 * (size_t)(c->bfirst + i), *b = a + 3;
+            int fa = f->s * ((double)a[f->a] - f->face) >= f->W, fb = f->s * ((double)b[f->a] - f->face) >= f->W;
+            if (fa == fb) continue;
+            pvs__ep_cross(f, fa ? b : a, fa ? a : b, &pts[2 * ncap], &pts[2 * ncap + 1], &mag);
+            ++ncap;
+        }
+        if (ncap & 1u) return 0; /* cannot happen for a closed boundary; be safe */
+        if (ncap) {
+            /* the line lies along the plane's u or v axis: the cap is axis-aligned and the
+               slicing plane is perpendicular to another axis */
+            int key = c->cap_axis == f->u ? 1 : 0; /* the cap fixes u: the line runs along v */
+            uint32_t x, y;
+            for (x = 1; x < ncap; ++x) /* insertion sort by the running coordinate */
+                for (y = x; y > 0 && pts[2 * y + key] < pts[2 * (y - 1) + key]; --y) {
+                    double t0 = pts[2 * y], t1 = pts[2 * y + 1];
+                    pts[2 * y] = pts[2 * (y - 1)];
+                    pts[2 * y + 1] = pts[2 * (y - 1) + 1];
+                    pts[2 * (y - 1)] = t0;
+                    pts[2 * (y - 1) + 1] = t1;
+                }
+            for (x = 0; x + 1 < ncap; x += 2) {
+                sc->seg[4 * nseg] = pts[2 * x];
+                sc->seg[4 * nseg + 1] = pts[2 * x + 1];
+                sc->seg[4 * nseg + 2] = pts[2 * x + 2];
+                sc->seg[4 * nseg + 3] = pts[2 * x + 3];
+                ++nseg;
+            }
+        }
+    }
+    if (nseg < 3) return 0;
+    /* margin: a bound on the points' rounding errors in pixels, widely */
+    m = 1e-6 + 1e-12 * mag;
+    for (i = 0; i < nseg; ++i) {
+        ylo = pvs__dmin(ylo, pvs__dmin(sc->seg[4 * i + 1], sc->seg[4 * i + 3]));
+        yhi = pvs__dmax(yhi, pvs__dmax(sc->seg[4 * i + 1], sc->seg[4 * i + 3]));
+    }
+    j0 = pvs__clampi(floor(ylo), 0, (int32_t)f->height);
+    j1 = pvs__clampi(ceil(yhi), -1, (int32_t)f->height - 1);
+    for (j = j0; j <= j1; ++j) {
+        double yc = (double)j + 0.5, b0 = (double)j - m, b1 = (double)j + 1.0 + m;
+        uint32_t nx = 0, x;
+        /* parity crossings of the row's centre line (half-open in y) */
+        for (i = 0; i < nseg; ++i) {
+            const double *g = sc->seg + 4 * i;
+            if ((g[1] <= yc) != (g[3] <= yc)) sc->xs[nx++] = g[0] + (yc - g[1]) * (g[2] - g[0]) / (g[3] - g[1]);
+        }
+        if (nx < 2) continue;
+        qsort(sc->xs, nx, sizeof(double), pvs__ep_double_cmp);
+        /* pixels a segment passes through (in the band widened by the margin) are excluded */
+        memset(sc->row, 0, f->width);
+        for (i = 0; i < nseg; ++i) {
+            const double *g = sc->seg + 4 * i;
+            double ya = g[1], yb = g[3], xa = g[0], xb = g[2], ta, tb, xmin, xmax;
+            int32_t q0, q1;
+            if (pvs__dmax(ya, yb) < b0 || pvs__dmin(ya, yb) > b1) continue;
+            if (ya == yb) { ta = 0.0; tb = 1.0; }
+            else {
+                ta = (b0 - ya) / (yb - ya);
+                tb = (b1 - ya) / (yb - ya);
+                if (ta > tb) { double t = ta; ta = tb; tb = t; }
+                ta = pvs__dmax(ta, 0.0);
+                tb = pvs__dmin(tb, 1.0);
+            }
+            xmin = pvs__dmin(xa + (xb - xa) * ta, xa + (xb - xa) * tb) - m;
+            xmax = pvs__dmax(xa + (xb - xa) * ta, xa + (xb - xa) * tb) + m;
+            q0 = pvs__clampi(floor(xmin), 0, (int32_t)f->width);
+            q1 = pvs__clampi(floor(xmax), -1, (int32_t)f->width - 1);
+            if (q0 <= q1) memset(sc->row + q0, 1, (size_t)(q1 - q0 + 1));
+        }
+        for (x = 0; x + 1 < nx; x += 2) {
+            int32_t i0 = pvs__clampi(ceil(sc->xs[x]), 0, (int32_t)f->width), i1 = pvs__clampi(floor(sc->xs[x + 1]) - 1.0, -1, (int32_t)f->width - 1), q;
+            for (q = i0; q <= i1; ++q) {
+                if (sc->row[q]) continue;
+                if (map) {
+                    float *px = map + (size_t)j * f->width + (size_t)q;
+                    if (*px > depth) *px = depth;
+                }
+                if (mask) mask[(size_t)j * f->width + (size_t)q] = 1;
+                ++written;
+            }
+        }
+    }
+    return written;
+}
+
+/* 1 if the component may be sliced for this cell: the cell is outside its box and strictly on the
+   solid's side of its cap. */
+PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
+    if (pvs__box_overlap(&c->box, cell)) return 0;
+    if (c->capped) {
+        if (c->cap_side > 0 && !(cell->min[c->cap_axis] > c->cap_value)) return 0;
+        if (c->cap_side < 0 && !(cell->max[c->cap_axis] < c->cap_value)) return 0;
+    }
+    return 1;
+}
+
+/* The slice of a sheet's solid half-space (pvs__epsheet) by the plane: the points beyond the sheet
+   (on the side away from the cell) over its polygon. Pixels inside it by a margin get Depth W. */
+PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__epsheet *S, int side, const pvs__epframe *f, float *map,
+                                         unsigned char *mask) {
+    int k = S->axis, su = (k + 1) % 3;
+    const float *poly = p->spoly + 2 * (size_t)S->first;
+    double pos = f->face + f->s * f->W, lo = DBL_MAX, hi = -DBL_MAX, x0, x1, y0, y1, m, mag;
+    int32_t i0, i1, j0, j1, j, i;
+    uint32_t written = 0, e;
+    float depth = pvs__f_up(f->W);
+    if (k == f->a) {
+        /* parallel: the plane must lie beyond the sheet; the region is the polygon */
+        if (!(side > 0 ? pos < S->value : pos > S->value)) return 0;
+        return 0; /* a polygon fill would be needed; the planes along the sheet's axis gain little */
+    } else {
+        /* the polygon's extent along the line x[a] = pos: the other in-plane axis */
+        int along = f->a == su ? 0 : 1; /* polygon coordinate index of the plane's axis */
+        for (e = 0; e < S->count; ++e) {
+            const float *A = poly + 2 * e, *B = poly + 2 * ((e + 1) % S->count);
+            double a0 = A[along], a1 = B[along], t, x;
+            if ((a0 < pos && a1 < pos) || (a0 > pos && a1 > pos)) continue;
+            if (a0 == a1) {
+                lo = pvs__dmin(lo, pvs__dmin(A[1 - along], B[1 - along]));
+                hi = pvs__dmax(hi, pvs__dmax(A[1 - along], B[1 - along]));
+                continue;
+            }
+            t = (pos - a0) / (a1 - a0);
+            x = A[1 - along] + ((double)B[1 - along] - A[1 - along]) * t;
+            lo = pvs__dmin(lo, x);
+            hi = pvs__dmax(hi, x);
+        }
+        if (!(hi > lo)) return 0;
+        /* in plane pixels: the sheet's axis k is the plane's u or v; the interval is on the other */
+        if (f->u == k) {
+            double c = (S->value - f->u0) * f->su;
+            x0 = side > 0 ? -DBL_MAX : c;
+            x1 = side > 0 ? c : DBL_MAX;
+            y0 = (lo - f->v0) * f->sv;
+            y1 = (hi - f->v0) * f->sv;
+        } else {
+            double c = (S->value - f->v0) * f->sv;
+            y0 = side > 0 ? -DBL_MAX : c;
+            y1 = side > 0 ? c : DBL_MAX;
+            x0 = (lo - f->u0) * f->su;
+            x1 = (hi - f->u0) * f->su;
+        }
+    }
+    mag = (pvs__dabs(lo) + pvs__dabs(hi) + pvs__dabs(S->value) + pvs__dabs(f->u0) + pvs__dabs(f->v0) + pvs__dabs(pos)) * (f->su + f->sv);
+    m = 1e-6 + 1e-12 * mag;
+    i0 = pvs__clampi(ceil(x0 + m), 0, (int32_t)f->width);
+    i1 = pvs__clampi(floor(x1 - m) - 1.0, -1, (int32_t)f->width - 1);
+    j0 = pvs__clampi(ceil(y0 + m), 0, (int32_t)f->height);
+    j1 = pvs__clampi(floor(y1 - m) - 1.0, -1, (int32_t)f->height - 1);
+    for (j = j0; j <= j1; ++j) {
+        if (i0 > i1) break;
+        if (map)
+            for (i = i0; i <= i1; ++i) {
+                float *px = map + (size_t)j * f->width + (size_t)i;
+                if (*px > depth) *px = depth;
+            }
+        if (mask) memset(mask + (size_t)j * f->width + (size_t)i0, 1, (size_t)(i1 - i0 + 1));
+        written += (uint32_t)(i1 - i0 + 1);
+    }
+    return written;
+}
+
+/* Slices every component the plane cuts inside its rectangle. */
+PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs_extproj_plane *pl,
+                                    const pvs__epframe *f, pvs__epslicer *sc, const int *sheet_side, float *map, unsigned char *mask) {
+    uint32_t i, written = 0;
+    double pos = f->face + f->s * f->W;
+    for (i = 0; i < p->sheet_count; ++i)
+        if (sheet_side[i]) written += pvs__ep_sheet_slice(p, p->sheet + i, sheet_side[i], f, map, mask);
+    for (i = 0; i < p->slc_count; ++i) {
+        const pvs__epslice *c = p->slc + i;
+        if (!(c->box.min[f->a] <= pos && c->box.max[f->a] >= pos)) continue;
+        if (c->box.max[f->u] < pl->rect[0] || c->box.min[f->u] > pl->rect[2] || c->box.max[f->v] < pl->rect[1] || c->box.min[f->v] > pl->rect[3])
+            continue;
+        if (!pvs__ep_slice_ok(c, cell)) continue;
+        written += pvs__ep_slice(s, p, c, f, sc, map, mask);
+    }
+    return written;
+}
+
+/* ---- concave planar occluders (§3.4) ---- */
+
+/* Clips a concave planar occluder's boundary edges (E, n, in double) to the depths w >= c (ge) or
+   w <= c: the boundary of P and the half-space is that of P clipped (the cut ends computed in
+   double on the edges, exactly at depth c) plus the segments of the clipping line inside P, found
+   between the crossings sorted along the line and paired by parity with the same half-open rule,
+   so the two close up. E needs room for 1.5 n + 1 edges. Returns the new count (0 if none). */
+PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epocc *o, double *E, uint32_t n, double cdepth, int ge) {
+    const pvs__epframe f = *fp;
+    uint32_t nc = 0, nx = 0, q;
+    double xs[PVS__EP_CONCAVE_EDGES][4], dir[3], best = 0.0, ea[3] = {0.0, 0.0, 0.0};
+    int c;
+    if (n > PVS__EP_CONCAVE_EDGES) return 0;
+    ea[f.a] = 1.0; /* the clipping line's direction: pn x (the axis) */
+    dir[0] = (double)o->pn[1] * ea[2] - (double)o->pn[2] * ea[1];
+    dir[1] = (double)o->pn[2] * ea[0] - (double)o->pn[0] * ea[2];
+    dir[2] = (double)o->pn[0] * ea[1] - (double)o->pn[1] * ea[0];
+    for (c = 0; c < 3; ++c) best = pvs__dmax(best, pvs__dabs(dir[c]));
+    if (!(best > 1e-6)) return 0; /* the plane nearly parallel to the cut: nothing kept */
+    for (q = 0; q < n; ++q) { /* in place: the kept edges move down (nc <= q) */
+        double A[3], B[3], wa, wb, *out = E + 6 * (size_t)nc;
+        int ia, ib;
+        for (c = 0; c < 3; ++c) { A[c] = E[6 * (size_t)q + c]; B[c] = E[6 * (size_t)q + 3 + c]; }
+        wa = f.s * (A[f.a] - f.face);
+        wb = f.s * (B[f.a] - f.face);
+        ia = ge ? wa >= cdepth : wa <= cdepth;
+        ib = ge ? wb >= cdepth : wb <= cdepth;
+        if (!ia && !ib) continue;
+        for (c = 0; c < 3; ++c) { out[c] = A[c]; out[3 + c] = B[c]; }
+        if (ia != ib) {
+            double t = (cdepth - wa) / (wb - wa), *end = ia ? out + 3 : out;
+            for (c = 0; c < 3; ++c) end[c] = A[c] + (B[c] - A[c]) * t;
+            end[f.a] = f.face + f.s * cdepth;
+            for (c = 0; c < 3; ++c) xs[nx][c] = end[c];
+            xs[nx][3] = end[0] * dir[0] + end[1] * dir[1] + end[2] * dir[2];
+            ++nx;
+        }
+        ++nc;
+    }
+    if (nx & 1u) return 0;
+    for (q = 1; q < nx; ++q) { /* the crossings along the line, then paired */
+        double tmp[4];
+        uint32_t r2 = q;
+        memcpy(tmp, xs[q], sizeof(tmp));
+        while (r2 > 0 && xs[r2 - 1][3] > tmp[3]) { memcpy(xs[r2], xs[r2 - 1], sizeof(tmp)); --r2; }
+        memcpy(xs[r2], tmp, sizeof(tmp));
+    }
+    for (q = 0; q + 1 < nx; q += 2) {
+        double *out = E + 6 * (size_t)nc++;
+        for (c = 0; c < 3; ++c) { out[c] = xs[q][c]; out[3 + c] = xs[q + 1][c]; }
+    }
+    return nc;
+}
+
+/* The Projection of a concave planar occluder P (Durand 2000 §3.4, Fig. 7: planar, possibly
+   concave, with holes) lying wholly in front of the plane ([margin, W]) or, unless front_only,
+   wholly behind it. A pixel X is in it when every line from the cell through X meets P. Let C(X) be
+   where those lines cross P's plane. As the cell point moves, the crossing can leave P only through
+   P's boundary, so X is covered when (1) no line from the cell through any point of the pixel meets a
+   boundary edge e, i.e. the pixel is outside the penumbra of every e, and (2) the line from one cell
+   point (the centre) through X crosses the plane inside P. The penumbra of a segment e = [a, b] on
+   the plane lies in the convex hull of the 16 views of a and b from the cell's corners (for a fixed
+   point of e the views from the cell are the hull of the corners' views; each corner's views of e
+   form a segment), rasterized here conservatively (every pixel the hull may touch, into cmark); then
+   per row each run of unmarked pixels is connected, so one crossing test (parity against the
+   boundary, away from it by more than the slack) decides the whole run. Unlike the pieces' own
+   Projections, which each lose a strip along every shared edge to its penumbra, the boundary's
+   penumbra is the only loss. Depth: the farthest vertex, plus the slack. Returns the pixels set. */
+PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o, int front_only, unsigned char *cmark,
+                                     float *map, unsigned char *mask) {
+    const pvs__epframe f = *fp;
+    double E[6 * (PVS__EP_CONCAVE_EDGES + PVS__EP_CONCAVE_EDGES / 2 + 1)];
+    uint32_t e, written = 0, n = o->ecount;
+    double wmin = DBL_MAX, wmax = -DBL_MAX, margin = 1e-4 * (f.W - f.cw[0]), slack = o->slack, base;
+    double xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, V0[3], world0[3], pn[3], scale = 0.0;
+    int c, front, pax = 0, pu, pv;
+    int32_t i0, i1, j0, j1, row;
+    float depth;
+    if (n > PVS__EP_CONCAVE_EDGES) return 0;
+    for (e = 0; e < 6 * n; ++e) E[e] = p->cedge[6 * (size_t)o->efirst + e];
+    for (e = 0; e < 2 * n; ++e) {
+        double w = f.s * (E[3 * e + f.a] - f.face);
+        wmin = pvs__dmin(wmin, w);
+        wmax = pvs__dmax(wmax, w);
+        for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, pvs__dabs(E[3 * e + c]));
+    }
+    if (!(wmin - slack > margin)) {
+        /* reaching past the cell's face (a wall beside the cell): its part at depths >= margin.
+           Exact input only (no slack) */
+        if (slack > 0.0 || !(wmax > margin)) return 0;
+        n = pvs__ep_clip_concave(&f, o, E, n, margin, 1);
+        if (n < 3) return 0;
+    }
+    if (wmax + slack <= f.W) front = 1;
+    else if (!front_only && wmin - slack >= f.W) front = 0;
+    else if (slack == 0.0) { /* straddling the plane: its part in front */
+        n = pvs__ep_clip_concave(&f, o, E, n, f.W, 0);
+        if (n < 3) return 0;
+        front = 1;
+        wmax = f.W;
+    } else return 0;
+    base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv + 1.0;
+    /* candidate pixels: inside every corner's view of the boundary's bounding box */
+    for (c = 0; c < 8; ++c) {
+        double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX;
+        for (e = 0; e < 2 * n; ++e) {
+            const double *x = E + 3 * (size_t)e;
+            double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
+            double pu_ = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su, pv_ = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
+            bx0 = pvs__dmin(bx0, pu_); bx1 = pvs__dmax(bx1, pu_);
+            by0 = pvs__dmin(by0, pv_); by1 = pvs__dmax(by1, pv_);
+        }
+        xlo = pvs__dmax(xlo, bx0); xhi = pvs__dmin(xhi, bx1);
+        ylo = pvs__dmax(ylo, by0); yhi = pvs__dmin(yhi, by1);
+    }
+    if (!(xhi - xlo >= 1.0) || !(yhi - ylo >= 1.0) || !(xhi - xlo < 1e9) || !(yhi - ylo < 1e9)) return 0;
+    i0 = pvs__clampi(ceil(xlo + 1e-6 * (1.0 + pvs__dabs(xlo))), 0, (int32_t)f.width);
+    i1 = pvs__clampi(floor(xhi - 1e-6 * (1.0 + pvs__dabs(xhi))) - 1.0, -1, (int32_t)f.width - 1);
+    j0 = pvs__clampi(ceil(ylo + 1e-6 * (1.0 + pvs__dabs(ylo))), 0, (int32_t)f.height);
+    j1 = pvs__clampi(floor(yhi - 1e-6 * (1.0 + pvs__dabs(yhi))) - 1.0, -1, (int32_t)f.height - 1);
+    if (i0 > i1 || j0 > j1) return 0;
+    for (row = j0; row <= j1; ++row) memset(cmark + (size_t)row * f.width + i0, 0, (size_t)(i1 - i0 + 1));
+    /* (1) the boundary's penumbrae */
+    for (e = 0; e < n; ++e) {
+        double pts[16][2], hull[17][2], err = 0.0, hy0 = DBL_MAX, hy1 = -DBL_MAX;
+        int k = 0, hn, m;
+        int32_t r0, r1;
+        for (c = 0; c < 8; ++c) {
+            double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1];
+            int end;
+            for (end = 0; end < 2; ++end) {
+                const double *x = E + 6 * (size_t)e + 3 * end;
+                double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
+                pts[k][0] = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su;
+                pts[k][1] = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
+                /* rounding: a few ulps of the terms, with a wide factor (the ends are exact) */
+                err = pvs__dmax(err, 1e-12 * (pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
+                                              ((pvs__dabs(Vu) + pvs__dabs((double)x[f.u])) * f.su + (pvs__dabs(Vv) + pvs__dabs((double)x[f.v])) * f.sv) * t));
+                ++k;
+            }
+        }
+        err += 1e-3; /* and a thousandth of a pixel to spare for the crossing test (2) */
+        for (k = 0; k < 16; ++k) { hy0 = pvs__dmin(hy0, pts[k][1]); hy1 = pvs__dmax(hy1, pts[k][1]); }
+        hn = pvs__ep_hull(pts, 16, hull);
+        if (!(hy1 - hy0 < 1e9)) { /* too far to bound: everything is marked */
+            for (row = j0; row <= j1; ++row) memset(cmark + (size_t)row * f.width + i0, 1, (size_t)(i1 - i0 + 1));
+            break;
+        }
+        if (hn < 3) { /* collinear views: their bounding box */
+            hn = 0;
+            hull[0][0] = hull[3][0] = DBL_MAX; hull[1][0] = hull[2][0] = -DBL_MAX;
+            for (k = 0; k < 16; ++k) {
+                hull[0][0] = pvs__dmin(hull[0][0], pts[k][0]);
+                hull[1][0] = pvs__dmax(hull[1][0], pts[k][0]);
+            }
+            hull[3][0] = hull[0][0]; hull[2][0] = hull[1][0];
+            hull[0][1] = hull[1][1] = hy0;
+            hull[2][1] = hull[3][1] = hy1;
+            hn = 4;
+        }
+        r0 = pvs__clampi(floor(hy0 - err), j0 - 1, j1 + 1);
+        r1 = pvs__clampi(floor(hy1 + err), j0 - 1, j1 + 1);
+        for (row = r0 < j0 ? j0 : r0; row <= r1 && row <= j1; ++row) {
+            /* the hull's x extent over the band [row - err, row + 1 + err] */
+            double y0 = row - err, y1 = row + 1.0 + err, mn = DBL_MAX, mx = -DBL_MAX;
+            int32_t x0, x1;
+            for (m = 0; m < hn; ++m) {
+                const double *a = hull[m], *b = hull[m + 1 < hn ? m + 1 : 0];
+                double ta = 0.0, tb = 1.0, dy = b[1] - a[1];
+                if (dy != 0.0) {
+                    double t0 = (y0 - a[1]) / dy, t1 = (y1 - a[1]) / dy;
+                    if (t0 > t1) { double tt = t0; t0 = t1; t1 = tt; }
+                    ta = pvs__dmax(ta, t0);
+                    tb = pvs__dmin(tb, t1);
+                } else if (a[1] < y0 || a[1] > y1) continue;
+                if (ta > tb) continue;
+                mn = pvs__dmin(mn, pvs__dmin(a[0] + (b[0] - a[0]) * ta, a[0] + (b[0] - a[0]) * tb));
+                mx = pvs__dmax(mx, pvs__dmax(a[0] + (b[0] - a[0]) * ta, a[0] + (b[0] - a[0]) * tb));
+            }
+            if (mn > mx) continue;
+            x0 = pvs__clampi(floor(mn - err - 1e-9 * (1.0 + pvs__dabs(mn))), i0 - 1, i1 + 1);
+            x1 = pvs__clampi(floor(mx + err + 1e-9 * (1.0 + pvs__dabs(mx))), i0 - 1, i1 + 1);
+            if (x0 < i0) x0 = i0;
+            if (x1 > i1) x1 = i1;
+            if (x0 <= x1) memset(cmark + (size_t)row * f.width + x0, 1, (size_t)(x1 - x0 + 1));
+        }
+    }
+    /* (2) per run of unmarked pixels, the crossing of the line from the cell's centre */
+    for (c = 0; c < 3; ++c) pn[c] = o->pn[c];
+    for (c = 1; c < 3; ++c)
+        if (pvs__dabs(pn[c]) > pvs__dabs(pn[pax])) pax = c;
+    pu = (pax + 1) % 3;
+    pv = (pax + 2) % 3;
+    V0[0] = 0.5 * (f.cu[0] + f.cu[1]);
+    V0[1] = 0.5 * (f.cv[0] + f.cv[1]);
+    V0[2] = 0.5 * f.cw[0];
+    world0[f.u] = V0[0];
+    world0[f.v] = V0[1];
+    world0[f.a] = f.face + f.s * V0[2];
+    depth = pvs__f_up(wmax + slack + 1e-12 * (pvs__dabs(wmax) + pvs__dabs(f.face)));
+    for (row = j0; row <= j1; ++row) {
+        const unsigned char *mk = cmark + (size_t)row * f.width;
+        int32_t x = i0;
+        while (x <= i1) {
+            int32_t xs, xe, xm;
+            double X[3], dir[3], den, t, cp[3], best = DBL_MAX, tol;
+            int inside = 0;
+            uint32_t q;
+            if (mk[x]) { ++x; continue; }
+            xs = x;
+            while (x <= i1 && !mk[x]) ++x;
+            xe = x - 1;
+            xm = (xs + xe) / 2;
+            X[f.u] = f.u0 + ((double)xm + 0.5) / f.su;
+            X[f.v] = f.v0 + ((double)row + 0.5) / f.sv;
+            X[f.a] = f.face + f.s * f.W;
+            for (c = 0; c < 3; ++c) dir[c] = X[c] - world0[c];
+            den = pn[0] * dir[0] + pn[1] * dir[1] + pn[2] * dir[2];
+            if (!(pvs__dabs(den) > 1e-9 * sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]))) continue;
+            t = ((double)o->pd - (pn[0] * world0[0] + pn[1] * world0[1] + pn[2] * world0[2])) / den;
+            if (front ? !(t > 0.0 && t <= 1.0) : !(t >= 1.0)) continue;
+            for (c = 0; c < 3; ++c) cp[c] = world0[c] + dir[c] * t;
+            for (q = 0; q < n; ++q) { /* parity and distance against the boundary, in (pu, pv) */
+                const double *a = E + 6 * (size_t)q, *b = a + 3;
+                double ax = a[pu], ay = a[pv], bx = b[pu], by = b[pv], ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey, s2;
+                if ((ay > cp[pv]) != (by > cp[pv]) && cp[pu] < ax + ex * (cp[pv] - ay) / ey) inside = !inside;
+                s2 = l2 > 0.0 ? pvs__dmin(1.0, pvs__dmax(0.0, ((cp[pu] - ax) * ex + (cp[pv] - ay) * ey) / l2)) : 0.0;
+                best = pvs__dmin(best, sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) + (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
+            }
+            /* the surface lies within the slack of the plane: the segment crosses that slab over a
+               stretch of slack / sin(angle) (|dir| / |den|), measured in (pu, pv) a factor
+               1 / |n_pax| longer; a crossing that near the boundary is not trusted */
+            tol = 4.0 * slack / pvs__dabs(pn[pax]) * pvs__dmax(1.0, sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]) / pvs__dabs(den)) +
+                  1e-9 * scale;
+            if (!inside || !(best > tol)) continue;
+            if (map) {
+                float *px = map + (size_t)row * f.width;
+                int32_t xx;
+                for (xx = xs; xx <= xe; ++xx)
+                    if (px[xx] > depth) px[xx] = depth;
+            }
+            if (mask) memset(mask + (size_t)row * f.width + xs, 1, (size_t)(xe - xs + 1));
+            written += (uint32_t)(xe - xs + 1);
+        }
+    }
+    return written;
+}
+
+/* ---- depth maps with their pyramids, sweep masks ---- */
 
 /* A depth map with its max pyramid (§2.4): level l texel = the greatest Depth of its 2 x 2 children. */
 typedef struct pvs__epmap {
@@ -13512,31 +15244,193 @@ PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) 
     return 0;
 }
 
+/* A plane of the occlusion sweep (§5): a mask (1 = every ray from the cell through the pixel is
+   blocked before the plane) with its pyramid, level l texel = AND of its 2 x 2 children. */
+typedef struct pvs__epmask {
+    pvs_extproj_plane plane;
+    pvs__epframe frame;
+    uint32_t levels;
+    uint32_t lw[14], lh[14];
+    unsigned char *lv[14];
+} pvs__epmask;
+
+PVS__STATIC void pvs__ep_build_mask_pyramid(pvs__epmask *m) {
+    uint32_t l, x, y;
+    for (l = 1; l <= m->levels; ++l) {
+        uint32_t pw = m->lw[l - 1], ph = m->lh[l - 1];
+        const unsigned char *src = m->lv[l - 1];
+        unsigned char *dst = m->lv[l];
+        for (y = 0; y < m->lh[l]; ++y)
+            for (x = 0; x < m->lw[l]; ++x) {
+                uint32_t x0 = 2 * x, y0 = 2 * y, x1 = x0 + 1 < pw ? x0 + 1 : x0, y1 = y0 + 1 < ph ? y0 + 1 : y0;
+                dst[y * m->lw[l] + x] = (unsigned char)(src[y0 * pw + x0] & src[y0 * pw + x1] & src[y1 * pw + x0] & src[y1 * pw + x1]);
+            }
+    }
+}
+
+PVS__STATIC int pvs__ep_mask_open_at(const pvs__epmask *m, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *r) {
+    uint32_t cx, cy;
+    if (m->lv[l][ty * m->lw[l] + tx]) return 0;
+    if (l == 0) return 1;
+    for (cy = 2 * ty; cy <= 2 * ty + 1 && cy < m->lh[l - 1]; ++cy)
+        for (cx = 2 * tx; cx <= 2 * tx + 1 && cx < m->lw[l - 1]; ++cx) {
+            int32_t px0 = (int32_t)(cx << (l - 1)), py0 = (int32_t)(cy << (l - 1));
+            int32_t px1 = px0 + (int32_t)(1u << (l - 1)) - 1, py1 = py0 + (int32_t)(1u << (l - 1)) - 1;
+            if (px1 < r[0] || px0 > r[2] || py1 < r[1] || py0 > r[3]) continue;
+            if (pvs__ep_mask_open_at(m, l - 1, cx, cy, r)) return 1;
+        }
+    return 0;
+}
+
+/* 1 if some pixel of the rectangle is not blocked (or lies outside the plane). */
+PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r) {
+    uint32_t l = 0, tx, ty;
+    if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)m->plane.width || r[3] >= (int32_t)m->plane.height) return 1;
+    while (l < m->levels && (((uint32_t)r[2] >> l) - ((uint32_t)r[0] >> l) > 1 || ((uint32_t)r[3] >> l) - ((uint32_t)r[1] >> l) > 1)) ++l;
+    for (ty = (uint32_t)r[1] >> l; ty <= (uint32_t)r[3] >> l; ++ty)
+        for (tx = (uint32_t)r[0] >> l; tx <= (uint32_t)r[2] >> l; ++tx)
+            if (pvs__ep_mask_open_at(m, l, tx, ty, r)) return 1;
+    return 0;
+}
+
+/* Pixel ranges of plane `to` (per column: [lo, hi] on plane `from`'s u axis; per row likewise on
+   v) that the rays from the cell through each column (row) of `to` cross on `from`, nearer to the
+   cell (§5.1 reprojection). A ray from corner V through q crosses plane W_from at V + (q - V) a with
+   a = (W_from - Vw) / (W_to - Vw); per axis the extremes are at the cell's corners and the pixel's
+   edges. Ranges reaching outside `from` are marked lo = -1. */
+PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, double W_from, double W_to, double to_k0, double to_sk, uint32_t to_n,
+                                        double from_k0, double from_sk, uint32_t from_n, int32_t *lo, int32_t *hi) {
+    uint32_t i;
+    double a[2];
+    int c;
+    for (c = 0; c < 2; ++c) a[c] = (W_from - cw[c]) / (W_to - cw[c]);
+    for (i = 0; i < to_n; ++i) {
+        double q0 = to_k0 + (double)i / to_sk, q1 = to_k0 + (double)(i + 1) / to_sk, mn = DBL_MAX, mx = -DBL_MAX, err;
+        int e, k;
+        for (k = 0; k < 2; ++k)
+            for (c = 0; c < 2; ++c)
+                for (e = 0; e < 2; ++e) {
+                    double q = e ? q1 : q0, x = (ck[k] + (q - ck[k]) * a[c] - from_k0) * from_sk;
+                    mn = pvs__dmin(mn, x);
+                    mx = pvs__dmax(mx, x);
+                }
+        err = 1e-6 + 1e-12 * (pvs__dabs(mn) + pvs__dabs(mx) + (pvs__dabs(from_k0) + pvs__dabs(q0) + pvs__dabs(q1) + pvs__dabs(ck[0]) + pvs__dabs(ck[1])) * from_sk);
+        lo[i] = pvs__clampi(floor(mn - err), -1, (int32_t)from_n);
+        hi[i] = pvs__clampi(floor(mx + err), -1, (int32_t)from_n);
+        if (lo[i] < 0 || hi[i] >= (int32_t)from_n) lo[i] = -1;
+    }
+}
+
+/* ---- per cell: occluder selection, planes, the object sweep ---- */
+
 typedef struct pvs__epsel {
     float score;
     uint32_t occ;
 } pvs__epsel;
 
+typedef struct pvs__epparams {
+    uint32_t res;        /* depth map pixels per side */
+    uint32_t max_occ;    /* occluders projected per direction onto the planes of §6.1 */
+    uint32_t sweep;      /* occlusion sweep planes per direction (§5), 0 = no sweep */
+} pvs__epparams;
+
 typedef struct pvs__epcell {
     const pvs_scene *scene;
-    const pvs__extproj_prep *prep;
     pvs_box cell;
     pvs__epmap maps[6 * PVS__EP_PLANES];
+    pvs__epmask *masks;  /* 6 x sweep; masks of direction d: d * sweep .. + mask_count[d] */
+    uint32_t mask_count[6], sweep;
+    const pvs_word *candidates; /* adaptive cells (§6.1): only the parent's PVS is tested, NULL = all */
     pvs_word *bits;
-    uint32_t tested;
 } pvs__epcell;
 
-/* 1 if the box is hidden from the whole cell on one of the planes. Boxes meeting the cell are visible. */
+/* 1 if a box between the cell and the plane (depths w0 > 0 .. w1 <= W) is hidden by the improved
+   Projection (§4): some point of each "any" axis range and every point of each "all" range lie in
+   occluder pixels strictly nearer than w0. Property 1 needs the occluder at such a pixel to be convex
+   or planar: the Projections of convex occluders and reprojected (planar) maps are; slices (Depth
+   W) never pass the depth test of a box in front of the plane. */
+PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, double w0, double w1) {
+    const pvs__epframe *f = &m->frame;
+    int32_t ru[2], rv[2], r[4], i, j;
+    int anyu, anyv;
+    float depth = pvs__f_down(w0 - 1e-12 * w0);
+    double cu[2], cv[2];
+    cu[0] = f->cu[0]; cu[1] = f->cu[1];
+    cv[0] = f->cv[0]; cv[1] = f->cv[1];
+    pvs__ep_improved_axis(cu, b->min[f->u], b->max[f->u], w0, w1, f->W, f->u0, f->su, f->width, &ru[0], &ru[1], &anyu);
+    pvs__ep_improved_axis(cv, b->min[f->v], b->max[f->v], w0, w1, f->W, f->v0, f->sv, f->height, &rv[0], &rv[1], &anyv);
+    if (ru[0] < 0 || rv[0] < 0 || ru[1] >= (int32_t)f->width || rv[1] >= (int32_t)f->height) return 0;
+    if (anyu && ru[1] - ru[0] > 8) ru[1] = ru[0] + 8; /* a few candidates are enough */
+    if (anyv && rv[1] - rv[0] > 8) rv[1] = rv[0] + 8;
+    for (i = ru[0]; i <= ru[1]; ++i) {
+        r[0] = anyu ? i : ru[0];
+        r[2] = anyu ? i : ru[1];
+        for (j = rv[0]; j <= rv[1]; ++j) {
+            r[1] = anyv ? j : rv[0];
+            r[3] = anyv ? j : rv[1];
+            if (!pvs__ep_visible(m, r, depth)) return 1;
+            if (!anyv) break;
+        }
+        if (!anyu) break;
+    }
+    return 0;
+}
+
+/* A box in front of a sweep plane's mask: the Projection of §3.1 (the box lies beyond the plane, so
+   every blocked pixel's occluder is nearer than it). */
+PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
+    int32_t r[4];
+    float depth;
+    if (!pvs__ep_occludee(&m->frame, b, r, &depth)) return 0;
+    return !pvs__ep_mask_open(m, r);
+}
+
+/* 1 if the box is hidden from the whole cell on one of the planes. Boxes meeting the cell are
+   visible. On the planes of §6.1 a box behind a plane is tested with the Projection of §3.1, one in
+   front of it with the improved Projection of §4, one straddling it as the two parts cut at the
+   plane; on the sweep's planes (§5) a box is tested on the last two planes in front of it. */
 PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
     int d;
     if (pvs__box_overlap(b, &c->cell)) return 0;
-    ++c->tested;
     for (d = 0; d < 6 * PVS__EP_PLANES; ++d) {
+        const pvs__epmap *m = c->maps + d;
+        const pvs__epframe *f = &m->frame;
         int32_t r[4];
         float depth;
-        if (!c->maps[d].active) continue;
-        if (!pvs__ep_occludee(&c->maps[d].frame, b, r, &depth)) continue;
-        if (!pvs__ep_visible(&c->maps[d], r, depth)) return 1;
+        double w0, w1;
+        if (!m->active) continue;
+        w0 = f->s > 0 ? (double)b->min[f->a] - f->face : f->face - (double)b->max[f->a];
+        w1 = f->s > 0 ? (double)b->max[f->a] - f->face : f->face - (double)b->min[f->a];
+        if (!(w0 > 0.0)) continue;
+        if (w1 <= f->W) {
+            if (pvs__ep_front_hidden(m, b, w0, w1)) return 1;
+            continue;
+        }
+        if (w0 < f->W) {
+            /* straddling: the part in front by §4, the part behind by §3.1, cut at one float */
+            pvs_box back = *b;
+            float cut = f->s > 0 ? pvs__f_down(f->face + f->W) : pvs__f_up(f->face - f->W);
+            double cw = f->s > 0 ? (double)cut - f->face : f->face - (double)cut;
+            if (!(cw > 0.0) || !pvs__ep_front_hidden(m, b, w0, cw)) continue;
+            if (f->s > 0) back.min[f->a] = cut; else back.max[f->a] = cut;
+            if (!pvs__ep_occludee(f, &back, r, &depth)) continue;
+            if (!pvs__ep_visible(m, r, depth)) return 1;
+            continue;
+        }
+        if (!pvs__ep_occludee(f, b, r, &depth)) continue;
+        if (!pvs__ep_visible(m, r, depth)) return 1;
+    }
+    for (d = 0; d < 6 && c->sweep; ++d) {
+        const pvs__epmask *ms = c->masks + (size_t)d * c->sweep;
+        uint32_t n = c->mask_count[d], k;
+        int a = d >> 1;
+        double w0;
+        if (!n) continue;
+        w0 = d & 1 ? (double)c->cell.min[a] - b->max[a] : (double)b->min[a] - c->cell.max[a];
+        for (k = 0; k < n && ms[k].frame.W < w0; ++k) {}
+        /* planes k - 1 and k - 2 lie in front of the box */
+        if (k >= 1 && pvs__ep_mask_hidden(ms + k - 1, b)) return 1;
+        if (k >= 2 && pvs__ep_mask_hidden(ms + k - 2, b)) return 1;
     }
     return 0;
 }
@@ -13553,6 +15447,7 @@ PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float d
         pvs_box b = c->scene->object_boxes[o];
         int k;
         if (pvs_bitset_test(c->bits, o) || (c->scene->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY)) continue;
+        if (c->candidates && !pvs_bitset_test(c->candidates, o)) continue; /* hidden from the parent cell */
         for (k = 0; k < 3; ++k) {
             if (node_box->min[k] > b.min[k]) b.min[k] = node_box->min[k];
             if (node_box->max[k] < b.max[k]) b.max[k] = node_box->max[k];
@@ -13602,153 +15497,499 @@ PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, 
             ((double)cell->max[ax[1]] - cell->min[ax[1]] + 2.0 * PVS__EP_EXTEND * (W + ext)));
 }
 
+/* A plane of direction d at distance W: the rectangle reaches PVS__EP_EXTEND times as far sideways
+   as the plane lies from the cell's far side (§6.1: extended planes catch the corner directions). */
+PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32_t res, pvs_extproj_plane *pl) {
+    int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3;
+    double ext = (double)cell->max[a] - cell->min[a];
+    memset(pl, 0, sizeof(*pl));
+    pl->cell = *cell;
+    pl->axis = (uint32_t)a;
+    pl->side = d & 1 ? -1 : 1;
+    pl->distance = pvs__f_up(W);
+    pl->rect[0] = pvs__f_down(cell->min[u] - PVS__EP_EXTEND * (W + ext));
+    pl->rect[1] = pvs__f_down(cell->min[v] - PVS__EP_EXTEND * (W + ext));
+    pl->rect[2] = pvs__f_up(cell->max[u] + PVS__EP_EXTEND * (W + ext));
+    pl->rect[3] = pvs__f_up(cell->max[v] + PVS__EP_EXTEND * (W + ext));
+    pl->width = pl->height = res;
+}
+
+/* Per-cell scratch. */
+typedef struct pvs__epscratch {
+    pvs__epsel *sel;
+    float *maps;
+    unsigned char *masks;
+    uint32_t *sat;
+    int32_t *ranges;
+    pvs__epmask *mask_hdr;
+    pvs__epslicer slicer;
+    void *sweep;
+    pvs_word *seen;
+    size_t nsel, map_floats, mask_bytes, sweep_size, nmask, seen_words;
+} pvs__epscratch;
+
+PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w, uint32_t res) {
+    pvs__free_array(al, w->sel, w->nsel, sizeof(pvs__epsel));
+    pvs__free_array(al, w->maps, 6 * PVS__EP_PLANES * w->map_floats, sizeof(float));
+    pvs__free_array(al, w->masks, w->nmask * w->mask_bytes, 1);
+    pvs__free_array(al, w->mask_hdr, w->nmask, sizeof(pvs__epmask));
+    pvs__free_array(al, w->sat, ((size_t)res + 1) * ((size_t)res + 1), sizeof(uint32_t));
+    pvs__free_array(al, w->ranges, 4 * (size_t)res, sizeof(int32_t));
+    pvs__free_array(al, w->slicer.seg, 4 * w->slicer.cap, sizeof(double));
+    pvs__free_array(al, w->slicer.xs, 2 * w->slicer.cap, sizeof(double));
+    pvs__free_array(al, w->slicer.row, res, 1);
+    pvs__free_array(al, w->slicer.cmark, (size_t)res * res, 1);
+    pvs__free(al, w->sweep, w->sweep_size, 16);
+    pvs__free_array(al, w->seen, w->seen_words, sizeof(pvs_word));
+}
+
+/* Solid angle of triangle (a, b, c) seen from e (Van Oosterom and Strackee 1983). */
+PVS__STATIC double pvs__ep_tri_solid_angle(const double *e, const float *a, const float *b, const float *c) {
+    double A[3], B[3], C[3], la, lb, lc, num, den;
+    int k;
+    for (k = 0; k < 3; ++k) { A[k] = a[k] - e[k]; B[k] = b[k] - e[k]; C[k] = c[k] - e[k]; }
+    la = sqrt(A[0] * A[0] + A[1] * A[1] + A[2] * A[2]);
+    lb = sqrt(B[0] * B[0] + B[1] * B[1] + B[2] * B[2]);
+    lc = sqrt(C[0] * C[0] + C[1] * C[1] + C[2] * C[2]);
+    num = A[0] * (B[1] * C[2] - B[2] * C[1]) + A[1] * (B[2] * C[0] - B[0] * C[2]) + A[2] * (B[0] * C[1] - B[1] * C[0]);
+    den = la * lb * lc + (A[0] * B[0] + A[1] * B[1] + A[2] * B[2]) * lc + (A[0] * C[0] + A[1] * C[1] + A[2] * C[2]) * lb +
+          (B[0] * C[0] + B[1] * C[1] + B[2] * C[2]) * la;
+    return 2.0 * pvs__dabs(atan2(num, den));
+}
+
+/* Solid angle of an occluder seen from e: a polygon's by a fan, a solid's by its box's faces
+   (at most three face e). */
+PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__epocc *o, const double *e) {
+    double sum = 0.0;
+    uint32_t i;
+    if (!o->solid) {
+        const float *q = p->pts + 3 * (size_t)o->first;
+        for (i = 1; i + 1 < o->count; ++i) sum += pvs__ep_tri_solid_angle(e, q, q + 3 * i, q + 3 * i + 3);
+    } else {
+        int k;
+        for (k = 0; k < 3; ++k) {
+            int u = (k + 1) % 3, v = (k + 2) % 3;
+            float f[4][3];
+            if (e[k] >= o->box.min[k] && e[k] <= o->box.max[k]) continue;
+            for (i = 0; i < 4; ++i) {
+                f[i][k] = e[k] < o->box.min[k] ? o->box.min[k] : o->box.max[k];
+                f[i][u] = (i == 1 || i == 2) ? o->box.max[u] : o->box.min[u];
+                f[i][v] = i >= 2 ? o->box.max[v] : o->box.min[v];
+            }
+            sum += pvs__ep_tri_solid_angle(e, f[0], f[1], f[2]) + pvs__ep_tri_solid_angle(e, f[0], f[2], f[3]);
+        }
+    }
+    return sum;
+}
+
+/* Selection by solid angle (§6.1): per direction the n best occluders reaching beyond the face, by
+   (score, lower index) - a total order, so the set does not depend on the order they are seen in;
+   the score is the solid angle the occluder subtends from the cell's centre. The occluders come
+   front to back from a kD-tree over their boxes; a node is skipped when no occluder in it could
+   enter a heap (solid angle <= largest area / distance^2), an occluder when its own bound says so. */
+typedef struct pvs__epselect {
+    const pvs_scene *scene;
+    const pvs__extproj_prep *p;
+    const pvs_box *cell;
+    const pvs_word *candidates;
+    pvs__epsel *sel;
+    uint32_t n, *nsel;
+    double centre[3];
+    pvs_word *seen;          /* occluders met in an earlier leaf */
+    int cls;                 /* the size class being swept */
+} pvs__epselect;
+
+/* 1 if (score, occ) ranks before the heap entry h. */
+PVS__STATIC int pvs__ep_sel_better(float score, uint32_t occ, const pvs__epsel *h) {
+    return score > h->score || (score == h->score && occ < h->occ);
+}
+
+PVS__STATIC void pvs__ep_sel_push(pvs__epsel *h, uint32_t n, uint32_t *count, float score, uint32_t occ) {
+    uint32_t k, ch;
+    if (*count == n) {
+        if (!pvs__ep_sel_better(score, occ, h)) return;
+        k = 0; /* replace the root (the worst), sift down */
+        for (;;) {
+            ch = 2 * k + 1;
+            if (ch >= n) break;
+            if (ch + 1 < n && pvs__ep_sel_better(h[ch].score, h[ch].occ, h + ch + 1)) ++ch; /* the worse child */
+            if (!pvs__ep_sel_better(score, occ, h + ch)) break;
+            h[k] = h[ch];
+            k = ch;
+        }
+    } else {
+        pvs__epsel e;
+        e.score = score;
+        e.occ = occ;
+        k = (*count)++;
+        while (k > 0 && pvs__ep_sel_better(h[(k - 1) / 2].score, h[(k - 1) / 2].occ, &e)) { /* the parent ranks before: move it down */
+            h[k] = h[(k - 1) / 2];
+            k = (k - 1) / 2;
+        }
+    }
+    h[k].score = score;
+    h[k].occ = occ;
+}
+
+/* 1 when an occluder of this box could enter the heap of some direction whose face it reaches
+   beyond, given a bound on its solid angle. */
+PVS__STATIC int pvs__ep_sel_wanted(const pvs__epselect *w, const pvs_box *box, double bound) {
+    uint32_t d;
+    for (d = 0; d < 6; ++d) {
+        double w0, w1;
+        pvs__ep_box_w(w->cell, box, (int)d, &w0, &w1);
+        if (w1 > 0.0 && (w->nsel[d] < w->n || bound * 1.000001 >= (double)w->sel[(size_t)d * w->n].score)) return 1;
+    }
+    return 0;
+}
+
+PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+    pvs__epselect *w = (pvs__epselect *)user;
+    const pvs__extproj_prep *p = w->p;
+    const pvs_box *cell = w->cell;
+    uint32_t j, d;
+    if (distance > 0.0f && !pvs__ep_sel_wanted(w, node_box, (double)p->class_area[w->cls] / ((double)distance * distance))) return PVS_VISIT_SKIP;
+    for (j = 0; j < count; ++j) {
+        uint32_t i = p->class_occ[w->cls][items[j]];
+        const pvs__epocc *o = p->occ + i;
+        float score;
+        double d2 = 0.0;
+        if (pvs_bitset_test(w->seen, i)) continue;
+        pvs_bitset_set(w->seen, i);
+        if ((o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) || (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)))
+            continue; /* a capped solid this cell cannot use */
+        if (w->candidates && o->object != PVS_NO_OBJECT && !(w->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
+            !pvs_bitset_test(w->candidates, o->object))
+            continue; /* §6.1: hidden from the parent cell, so redundant (and leaving it out is safe) */
+        for (d = 0; d < 3; ++d) {
+            double g = w->centre[d] < o->box.min[d] ? o->box.min[d] - w->centre[d] : w->centre[d] > o->box.max[d] ? w->centre[d] - o->box.max[d] : 0.0;
+            d2 += g * g;
+        }
+        if (!pvs__ep_sel_wanted(w, &o->box, d2 > 0.0 ? (double)o->area / d2 : 1e30)) continue;
+        score = (float)pvs__ep_solid_angle(p, o, w->centre);
+        if (!(score > 0.0f)) continue;
+        for (d = 0; d < 6; ++d) {
+            double w0, w1;
+            pvs__ep_box_w(cell, &o->box, (int)d, &w0, &w1);
+            if (w1 > 0.0) pvs__ep_sel_push(w->sel + (size_t)d * w->n, w->n, w->nsel + d, score, i);
+        }
+    }
+    return PVS_VISIT_DESCEND;
+}
+
+PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs_word *candidates,
+                                      pvs__epsel *sel, uint32_t n, uint32_t *nsel, pvs_word *seen, void *sweep, size_t sweep_size) {
+    pvs__epselect w;
+    uint32_t i, d;
+    pvs_result r;
+    memset(&w, 0, sizeof(w));
+    w.scene = s;
+    w.p = p;
+    w.cell = cell;
+    w.candidates = candidates;
+    w.sel = sel;
+    w.n = n;
+    w.nsel = nsel;
+    w.seen = seen;
+    for (i = 0; i < 3; ++i) w.centre[i] = 0.5 * ((double)cell->min[i] + cell->max[i]);
+    for (d = 0; d < 6; ++d) nsel[d] = 0;
+    memset(seen, 0, PVS_BITSET_WORDS(p->occ_count) * sizeof(pvs_word));
+    /* the largest occluders first: the heaps fill with high scores and prune the rest early */
+    for (w.cls = PVS__EP_AREA_CLASSES - 1; w.cls >= 0; --w.cls) {
+        r = pvs_kdtree_sweep(p->occ_tree[w.cls], cell, sweep, sweep_size, pvs__ep_sel_visit, &w);
+        if (r != PVS_OK) return r;
+    }
+    for (d = 0; d < 6; ++d) { /* best first */
+        pvs__epsel *h = sel + (size_t)d * n;
+        uint32_t k, j;
+        for (k = 1; k < nsel[d]; ++k) {
+            pvs__epsel t = h[k];
+            for (j = k; j > 0 && pvs__ep_sel_better(t.score, t.occ, h + j - 1); --j) h[j] = h[j - 1];
+            h[j] = t;
+        }
+    }
+    return PVS_OK;
+}
+
+/* Sets up a map's pyramid levels over `base`. */
+PVS__STATIC void pvs__ep_levels(uint32_t res, uint32_t levels, uint32_t *lw, uint32_t *lh, size_t elem, void *base, void **lv) {
+    uint32_t k, w = res, h = res;
+    unsigned char *b = (unsigned char *)base;
+    for (k = 0; k <= levels; ++k) {
+        lw[k] = w;
+        lh[k] = h;
+        lv[k] = b;
+        b += (size_t)w * h * elem;
+        w = (w + 1) / 2;
+        h = (h + 1) / 2;
+    }
+}
+
+/* The points an occluder is projected with on a plane of `axis`: extended through its sheet when
+   the cell stands over that sheet on the occluder's side (sheet_side[sheet]) and the extension runs
+   across the plane's axis (along it, it would only push the occluder's Depth away). NULL for a
+   capped solid the cell does not stand over. */
+PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell, const int *sheet_side, int axis,
+                                        uint32_t *count) {
+    if (o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) return NULL;
+    if (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)) return NULL;
+    if (o->xcount && sheet_side[o->sheet] == o->xside && p->sheet[o->sheet].axis != axis) {
+        *count = o->xcount;
+        return p->pts + 3 * (size_t)o->xfirst;
+    }
+    *count = o->count;
+    return p->pts + 3 * (size_t)o->first;
+}
+
+/* For each sheet: +1 (-1) when the cell lies strictly on its positive (negative) side and over its
+   polygon, else 0. */
+PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *cell, int *side) {
+    uint32_t i;
+    for (i = 0; i < p->sheet_count; ++i) {
+        const pvs__epsheet *S = p->sheet + i;
+        int k = S->axis, u = (k + 1) % 3, v = (k + 2) % 3, c;
+        const float *poly = p->spoly + 2 * (size_t)S->first;
+        side[i] = cell->min[k] > S->value ? 1 : cell->max[k] < S->value ? -1 : 0;
+        for (c = 0; c < 4 && side[i]; ++c)
+            if (!pvs__ep_in_convex(poly, S->count, c & 1 ? cell->max[u] : cell->min[u], c & 2 ? cell->max[v] : cell->min[v])) side[i] = 0;
+    }
+}
+
+/* The planes of §6.1 for direction d. A plane just behind the farthest selected occluder keeps all
+   of them in front of it (for one occluder, planes anywhere behind it are equivalent, §7.3: its
+   Projection and the occludees' shrink alike; a plane in front of it loses it to its penumbra). The
+   others, one per band of distances (far / r^q, far / r^(q-1)], r = PVS__EP_PLANE_RATIO, each just
+   behind the occluder of its band whose candidate plane fills the most pixels (§6.1), serve the
+   occludees nearer the cell and the fusion of occluders at their distance (Fig. 16). */
+PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
+                                       uint32_t n, const pvs__epparams *prm, uint32_t levels, float *mem, size_t map_floats,
+                                       pvs__epslicer *sc, const int *sheet_side, pvs__epmap *maps) {
+    int a = d >> 1, q;
+    double ext = (double)cell->max[a] - cell->min[a], far = 0.0, w0, w1;
+    uint32_t k, j;
+    for (k = 0; k < n; ++k) {
+        pvs__ep_box_w(cell, &p->occ[h[k].occ].box, d, &w0, &w1);
+        far = pvs__dmax(far, w1);
+    }
+    if (!(far > 0.0)) return;
+    for (q = 0; q < PVS__EP_PLANES; ++q) {
+        pvs__epmap *m = maps + q;
+        double W = far + 1e-3 * (far + ext), hi = far / pow(PVS__EP_PLANE_RATIO, (double)q), lo = hi / PVS__EP_PLANE_RATIO, bestFill = 0.0;
+        uint32_t tried = 0;
+        if (q > 0) { /* the band (lo, hi]: candidates behind its occluders, best solid angle first */
+            W = 0.0;
+            for (k = 0; k < n && tried < PVS__EP_PLANE_CANDIDATES; ++k) {
+                double Wc, fill = 0.0;
+                pvs__ep_box_w(cell, &p->occ[h[k].occ].box, d, &w0, &w1);
+                if (!(w1 > lo && w1 <= hi)) continue;
+                ++tried;
+                Wc = w1 + 1e-3 * (w1 + ext);
+                for (j = 0; j < n; ++j) fill += pvs__ep_fill_estimate(cell, &p->occ[h[j].occ].box, d, Wc);
+                if (fill > bestFill || (fill == bestFill && Wc < W)) {
+                    bestFill = fill;
+                    W = Wc;
+                }
+            }
+            if (!(W > 0.0)) continue;
+        }
+        pvs__ep_make_plane(cell, d, W, prm->res, &m->plane);
+        m->levels = levels;
+        pvs__ep_levels(prm->res, levels, m->lw, m->lh, sizeof(float), mem + (size_t)q * map_floats, (void **)m->lv);
+        for (k = 0; k < prm->res * prm->res; ++k) m->lv[0][k] = PVS_EXTPROJ_EMPTY;
+        if (!pvs__ep_frame(&m->plane, &m->frame)) continue;
+        for (k = 0; k < n; ++k) {
+            uint32_t cnt;
+            const float *pts = pvs__ep_points(p, p->occ + h[k].occ, cell, sheet_side, a, &cnt);
+            if (p->occ[h[k].occ].ecount) pvs__ep_concave(&m->frame, p, p->occ + h[k].occ, 0, sc->cmark, m->lv[0], NULL);
+            else if (pts) pvs__ep_occluder(&m->frame, cell, pts, cnt, p->occ[h[k].occ].solid, p->occ[h[k].occ].slack, 0, m->lv[0], NULL);
+        }
+        pvs__ep_slices(s, p, cell, &m->plane, &m->frame, sc, sheet_side, m->lv[0], NULL);
+        pvs__ep_build_pyramid(m);
+        m->active = 1;
+    }
+}
+
+/* §5.1 reprojection: marks in `to` (a plane of the same cell and direction, farther than `from`)
+   the pixels every ray from the cell through which crosses `from` in blocked pixels: the umbra of
+   from's blocked region (Appendix B: a subset of the umbra of the occluders in front of `from`, so a
+   conservative occluder itself). Equivalent to the convolution of §5.1 with the inverse image of the
+   cell as kernel, conservatively rasterized, keeping only fully black pixels; here the kernel is
+   taken per row and column from the true cell (pvs__ep_reproject_axis) and a summed-area table of
+   from's open pixels decides each pixel. `sat` holds (res + 1)^2 counts, `ranges` 4 res. */
+PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
+    const unsigned char *prev = from->lv[0];
+    unsigned char *mask = to->lv[0];
+    uint32_t fw = from->plane.width, fh = from->plane.height, tw = to->plane.width, th = to->plane.height, x, y, W1 = fw + 1;
+    int32_t *clo = ranges, *chi = ranges + tw, *rlo = ranges + 2 * tw, *rhi = ranges + 2 * tw + th;
+    for (x = 0; x <= fw; ++x) sat[x] = 0;
+    for (y = 0; y < fh; ++y) {
+        uint32_t run = 0;
+        sat[(size_t)(y + 1) * W1] = 0;
+        for (x = 0; x < fw; ++x) {
+            run += prev[(size_t)y * fw + x] ? 0u : 1u;
+            sat[(size_t)(y + 1) * W1 + x + 1] = sat[(size_t)y * W1 + x + 1] + run;
+        }
+    }
+    pvs__ep_reproject_axis(to->frame.cu, to->frame.cw, from->frame.W, to->frame.W, to->frame.u0, to->frame.su, tw, from->frame.u0, from->frame.su, fw, clo, chi);
+    pvs__ep_reproject_axis(to->frame.cv, to->frame.cw, from->frame.W, to->frame.W, to->frame.v0, to->frame.sv, th, from->frame.v0, from->frame.sv, fh, rlo, rhi);
+    for (y = 0; y < th; ++y) {
+        size_t y0, y1;
+        if (rlo[y] < 0) continue;
+        y0 = (size_t)rlo[y];
+        y1 = (size_t)rhi[y] + 1;
+        for (x = 0; x < tw; ++x) {
+            size_t x0, x1;
+            if (clo[x] < 0) continue;
+            x0 = (size_t)clo[x];
+            x1 = (size_t)chi[x] + 1;
+            if (sat[y1 * W1 + x1] - sat[y0 * W1 + x1] - sat[y1 * W1 + x0] + sat[y0 * W1 + x0] == 0) mask[(size_t)y * tw + x] = 1;
+        }
+    }
+}
+
+/* The occlusion sweep of §5 for direction d: parallel planes leaving the cell, each holding the
+   reprojection of the previous plane's blocked pixels (§5.1), the Projections of the occluders in
+   front of it not yet wholly projected, and the slices of the closed meshes it cuts. Planes are
+   spaced by §5.2 (a kernel of K = 5 pixels: dD = D (K - 1) P / (C N)) but at least geometrically,
+   so that `sweep` planes reach the farthest selected occluder. Returns the number of planes. */
+PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
+                                          uint32_t n, const pvs__epparams *prm, uint32_t levels, pvs__epscratch *w, const int *sheet_side,
+                                          pvs__epmask *ms) {
+    int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3;
+    double ext = (double)cell->max[a] - cell->min[a], C = pvs__dmax((double)cell->max[u] - cell->min[u], (double)cell->max[v] - cell->min[v]);
+    double W0 = DBL_MAX, Wend = 0.0, W, Wprev = 0.0, ratio;
+    uint32_t k, count = 0, res = prm->res;
+    size_t npx = (size_t)res * res;
+    for (k = 0; k < n; ++k) {
+        double w0, w1;
+        pvs__ep_box_w(cell, &p->occ[h[k].occ].box, d, &w0, &w1);
+        Wend = pvs__dmax(Wend, w1);
+        W0 = pvs__dmin(W0, pvs__dmax(w1, 0.0));
+    }
+    if (!(Wend > 0.0)) return 0;
+    if (!(C > 0.0)) C = pvs__dmax(ext, 1e-6);
+    W0 = pvs__dmax(W0, 1e-3 * (C + ext));
+    W0 = pvs__dmin(W0, Wend);
+    ratio = prm->sweep > 1 ? pow(pvs__dmax(Wend / W0, 1.0), 1.0 / (double)(prm->sweep - 1)) : 1.0;
+    for (W = W0; count < prm->sweep; ++count) {
+        pvs__epmask *m = ms + count;
+        unsigned char *mask;
+        pvs__ep_make_plane(cell, d, W, res, &m->plane);
+        if (!pvs__ep_frame(&m->plane, &m->frame)) break;
+        m->levels = levels;
+        pvs__ep_levels(res, levels, m->lw, m->lh, 1, w->masks + (size_t)((ms - w->mask_hdr) + count) * w->mask_bytes, (void **)m->lv);
+        mask = m->lv[0];
+        memset(mask, 0, npx);
+        if (count > 0) pvs__ep_reproject(ms + count - 1, m, w->sat, w->ranges);
+        for (k = 0; k < n; ++k) {
+            const pvs__epocc *o = p->occ + h[k].occ;
+            double w0, w1;
+            pvs__ep_box_w(cell, &o->box, d, &w0, &w1);
+            if (!(w0 < W) || (count > 0 && w1 <= Wprev)) continue; /* behind the plane, or projected whole before */
+            {
+                uint32_t cnt;
+                const float *pts = pvs__ep_points(p, o, cell, sheet_side, a, &cnt);
+                if (o->ecount) pvs__ep_concave(&m->frame, p, o, 1, w->slicer.cmark, NULL, mask);
+                else if (pts) pvs__ep_occluder(&m->frame, cell, pts, cnt, o->solid, o->slack, 1, NULL, mask);
+            }
+        }
+        pvs__ep_slices(s, p, cell, &m->plane, &m->frame, &w->slicer, sheet_side, NULL, mask);
+        pvs__ep_build_mask_pyramid(m);
+        Wprev = m->frame.W;
+        if (W >= Wend) { ++count; break; }
+        {
+            double P = C + 2.0 * PVS__EP_EXTEND * (W + ext), step = W * 4.0 * P / (C * (double)res);
+            W = pvs__dmin(Wend, pvs__dmax(W + step, W * ratio));
+        }
+    }
+    return count;
+}
+
 /* The PVS of one cell (Durand 2000 §6.1): per direction, the occluders with the largest solid angle,
-   a plane just behind the one that fills the most pixels, their Projections, then the occludees. */
-PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, uint32_t res,
-                                         uint32_t max_occ, const pvs_allocator *al, pvs_word *bits, uint32_t cell_id, pvs_error *err) {
+   the planes of §6.1 and, with the sweep, the planes of §5; then the occludees front to back. With
+   `candidates` (a sub-cell of the adaptive subdivision) only the parent's visible objects are
+   tested, and the occluders of the others are left out. */
+PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs__epparams *prm,
+                                         const pvs_word *candidates, const pvs_allocator *al, pvs_word *bits, uint32_t cell_id, pvs_error *err) {
     pvs__epcell c;
-    pvs__epsel *sel = NULL;
-    uint32_t nsel[6], d, i, levels = 0;
-    size_t level_floats = 0, map_floats, sweep_size;
-    float *mem = NULL;
-    void *sweep = NULL;
-    double r2 = 0.0;
+    pvs__epscratch w;
+    uint32_t nsel[6], d, levels = 0, nper;
+    int sheet_side[PVS__EP_MAX_SHEETS];
+    size_t level_floats = 0;
     pvs_result r = PVS_OK;
     memset(&c, 0, sizeof(c));
+    memset(&w, 0, sizeof(w));
     c.scene = s;
-    c.prep = p;
     c.cell = *cell;
     c.bits = bits;
+    c.sweep = prm->sweep;
+    c.candidates = candidates;
     {
-        uint32_t w = res, h = res;
-        level_floats = (size_t)w * h;
-        while ((w > 1 || h > 1) && levels < 13) {
-            w = (w + 1) / 2;
-            h = (h + 1) / 2;
-            level_floats += (size_t)w * h;
+        uint32_t ww = prm->res, hh = prm->res;
+        level_floats = (size_t)ww * hh;
+        while ((ww > 1 || hh > 1) && levels < 13) {
+            ww = (ww + 1) / 2;
+            hh = (hh + 1) / 2;
+            level_floats += (size_t)ww * hh;
             ++levels;
         }
     }
-    map_floats = level_floats;
-    sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
-    sel = (pvs__epsel *)pvs__alloc_array(al, 6 * (size_t)max_occ, sizeof(pvs__epsel));
-    mem = (float *)pvs__alloc_array(al, 6 * PVS__EP_PLANES * map_floats, sizeof(float));
-    sweep = pvs__alloc(al, sweep_size, 16);
-    if (!sel || !mem || !sweep) {
+    nper = prm->sweep ? 4 * prm->max_occ : prm->max_occ;
+    w.nsel = 6 * (size_t)nper;
+    w.map_floats = level_floats;
+    w.mask_bytes = level_floats;
+    w.nmask = 6 * (size_t)prm->sweep;
+    w.sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
+    {
+        int cls;
+        for (cls = 0; cls < PVS__EP_AREA_CLASSES; ++cls) {
+            size_t occ_sweep = pvs_kdtree_sweep_scratch_size(p->occ_tree[cls]);
+            if (occ_sweep > w.sweep_size) w.sweep_size = occ_sweep;
+        }
+    }
+    w.seen_words = PVS_BITSET_WORDS(p->occ_count);
+    w.seen = (pvs_word *)pvs__alloc_array(al, w.seen_words, sizeof(pvs_word));
+    w.slicer.cap = (size_t)p->max_slice_segments + 4;
+    w.slicer.width = prm->res;
+    w.sel = (pvs__epsel *)pvs__alloc_array(al, w.nsel, sizeof(pvs__epsel));
+    w.maps = (float *)pvs__alloc_array(al, 6 * PVS__EP_PLANES * w.map_floats, sizeof(float));
+    w.slicer.seg = (double *)pvs__alloc_array(al, 4 * w.slicer.cap, sizeof(double));
+    w.slicer.xs = (double *)pvs__alloc_array(al, 2 * w.slicer.cap, sizeof(double));
+    w.slicer.row = (unsigned char *)pvs__alloc_array(al, prm->res, 1);
+    w.slicer.cmark = (unsigned char *)pvs__alloc_array(al, (size_t)prm->res * prm->res, 1);
+    w.sweep = pvs__alloc(al, w.sweep_size, 16);
+    if (prm->sweep) {
+        w.masks = (unsigned char *)pvs__alloc_array(al, w.nmask * w.mask_bytes, 1);
+        w.mask_hdr = (pvs__epmask *)pvs__alloc_array(al, w.nmask, sizeof(pvs__epmask));
+        w.sat = (uint32_t *)pvs__alloc_array(al, ((size_t)prm->res + 1) * ((size_t)prm->res + 1), sizeof(uint32_t));
+        w.ranges = (int32_t *)pvs__alloc_array(al, 4 * (size_t)prm->res, sizeof(int32_t));
+    }
+    if (!w.sel || !w.maps || !w.slicer.seg || !w.slicer.xs || !w.slicer.row || !w.slicer.cmark || !w.sweep || !w.seen ||
+        (prm->sweep && (!w.masks || !w.mask_hdr || !w.sat || !w.ranges))) {
         r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell_id, 0, "extproj scratch for cell %u", cell_id);
         goto done;
     }
-    for (i = 0; i < 3; ++i) r2 += 0.25 * ((double)cell->max[i] - cell->min[i]) * ((double)cell->max[i] - cell->min[i]);
-    /* occluder selection by solid angle (§6.1): area over squared distance, per direction the
-       max_occ best among those reaching beyond the face (a min-heap on the score) */
-    for (d = 0; d < 6; ++d) nsel[d] = 0;
-    for (i = 0; i < p->occ_count; ++i) {
-        const pvs__epocc *o = p->occ + i;
-        double dist2 = pvs__box_distance2(cell, &o->box) + r2;
-        for (d = 0; d < 6; ++d) {
-            double w0, w1;
-            pvs__epsel *h = sel + (size_t)d * max_occ;
-            uint32_t k, ch;
-            float score = (float)(o->area[d >> 1] / dist2);
-            pvs__ep_box_w(cell, &o->box, (int)d, &w0, &w1);
-            if (!(w1 > 0.0) || !(score > 0.0f)) continue;
-            if (nsel[d] == max_occ) {
-                if (!(score > h[0].score)) continue;
-                k = 0; /* replace the root, sift down */
-                for (;;) {
-                    ch = 2 * k + 1;
-                    if (ch >= max_occ) break;
-                    if (ch + 1 < max_occ && h[ch + 1].score < h[ch].score) ++ch;
-                    if (!(h[ch].score < score)) break;
-                    h[k] = h[ch];
-                    k = ch;
-                }
-            } else {
-                k = nsel[d]++;
-                while (k > 0 && h[(k - 1) / 2].score > score) {
-                    h[k] = h[(k - 1) / 2];
-                    k = (k - 1) / 2;
-                }
-            }
-            h[k].score = score;
-            h[k].occ = i;
-        }
+    c.masks = w.mask_hdr;
+    pvs__ep_sheet_sides(p, cell, sheet_side);
+    r = pvs__ep_select(s, p, cell, candidates, w.sel, nper, nsel, w.seen, w.sweep, w.sweep_size);
+    if (r != PVS_OK) {
+        r = pvs__fail(err, r, cell_id, 0, "extproj: occluder selection of cell %u", cell_id);
+        goto done;
     }
     for (d = 0; d < 6; ++d) {
-        pvs__epsel *h = sel + (size_t)d * max_occ;
-        int a = (int)(d >> 1), u = (a + 1) % 3, v = (a + 2) % 3, q;
-        double bestW = 0.0, bestFill = 0.0, firstW = 0.0, ext = (double)cell->max[a] - cell->min[a];
-        uint32_t k, j, w, hh;
+        const pvs__epsel *h = w.sel + (size_t)d * nper;
         if (!nsel[d]) continue;
-        /* §6.1 plane placement: a candidate just behind each of the best occluders, keep the one
-           that fills the most pixels (sorted by score, best first, for the candidates) */
-        for (k = 0; k < nsel[d]; ++k) /* sort descending by score, then by index: deterministic */
-            for (j = k + 1; j < nsel[d]; ++j)
-                if (h[j].score > h[k].score || (h[j].score == h[k].score && h[j].occ < h[k].occ)) {
-                    pvs__epsel t = h[k];
-                    h[k] = h[j];
-                    h[j] = t;
-                }
-        for (k = 0; k < nsel[d] && k < PVS__EP_PLANE_CANDIDATES; ++k) {
-            double w0, w1, W, fill = 0.0;
-            pvs__ep_box_w(cell, &p->occ[h[k].occ].box, (int)d, &w0, &w1);
-            W = w1 + 1e-3 * (w1 + ext);
-            if (k == 0) firstW = W;
-            for (j = 0; j < nsel[d]; ++j) fill += pvs__ep_fill_estimate(cell, &p->occ[h[j].occ].box, (int)d, W);
-            if (fill > bestFill || (fill == bestFill && bestW > 0.0 && W < bestW)) {
-                bestFill = fill;
-                bestW = W;
-            }
-        }
-        if (!(bestFill > 0.0)) continue;
-        /* a second plane just behind the occluder of largest solid angle: the plane holding the
-           most pixels loses the near occluders' edges to their penumbrae (§7.3, Fig. 16) */
-        for (q = 0; q < PVS__EP_PLANES; ++q) {
-        pvs__epmap *m = c.maps + PVS__EP_PLANES * d + (uint32_t)q;
-        float *base = mem + (size_t)(PVS__EP_PLANES * d + (uint32_t)q) * map_floats;
-        if (q == 1) {
-            if (!(firstW > 0.0) || !(pvs__dabs(firstW - bestW) > 0.05 * (bestW + ext))) continue;
-            bestW = firstW;
-        }
-        m->plane.cell = *cell;
-        m->plane.axis = (uint32_t)a;
-        m->plane.side = d & 1 ? -1 : 1;
-        m->plane.distance = pvs__f_up(bestW);
-        /* the plane reaches PVS__EP_EXTEND times as far sideways as it lies from the cell's far side
-           (§6.1: extended planes catch the corner directions) */
-        m->plane.rect[0] = pvs__f_down(cell->min[u] - PVS__EP_EXTEND * (bestW + ext));
-        m->plane.rect[1] = pvs__f_down(cell->min[v] - PVS__EP_EXTEND * (bestW + ext));
-        m->plane.rect[2] = pvs__f_up(cell->max[u] + PVS__EP_EXTEND * (bestW + ext));
-        m->plane.rect[3] = pvs__f_up(cell->max[v] + PVS__EP_EXTEND * (bestW + ext));
-        m->plane.width = m->plane.height = res;
-        m->levels = levels;
-        w = hh = res;
-        for (k = 0; k <= levels; ++k) {
-            m->lw[k] = w;
-            m->lh[k] = hh;
-            m->lv[k] = base;
-            base += (size_t)w * hh;
-            w = (w + 1) / 2;
-            hh = (hh + 1) / 2;
-        }
-        for (k = 0; k < res * res; ++k) m->lv[0][k] = PVS_EXTPROJ_EMPTY;
-        for (k = 0; k < nsel[d]; ++k) {
-            const pvs__epocc *o = p->occ + h[k].occ;
-            pvs_extproj_occluder(&m->plane, p->pts + 3 * (size_t)o->first, o->count, m->lv[0]);
-        }
-        pvs__ep_build_pyramid(m);
-        m->active = pvs__ep_frame(&m->plane, &m->frame);
-        }
+        pvs__ep_direct_planes(s, p, cell, (int)d, h, nsel[d] < prm->max_occ ? nsel[d] : prm->max_occ, prm, levels,
+                              w.maps + (size_t)PVS__EP_PLANES * d * w.map_floats, w.map_floats, &w.slicer, sheet_side, c.maps + PVS__EP_PLANES * d);
+        if (prm->sweep)
+            c.mask_count[d] = pvs__ep_sweep_planes(s, p, cell, (int)d, h, nsel[d], prm, levels, &w, sheet_side, w.mask_hdr + (size_t)d * prm->sweep);
     }
-    r = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__ep_visit, &c);
+    r = pvs_kdtree_sweep(s->object_tree, cell, w.sweep, w.sweep_size, pvs__ep_visit, &c);
     if (r != PVS_OK) r = pvs__fail(err, r, cell_id, 0, "extproj: object sweep of cell %u", cell_id);
 done:
-    pvs__free_array(al, sel, 6 * (size_t)max_occ, sizeof(pvs__epsel));
-    pvs__free_array(al, mem, 6 * PVS__EP_PLANES * map_floats, sizeof(float));
-    pvs__free(al, sweep, sweep_size, 16);
+    pvs__ep_scratch_free(al, &w, prm->res);
     return r;
 }
-
 /* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
 
 /* ---- the 2.5D path: per-sample occlusion horizons ----
@@ -14480,7 +16721,7 @@ struct pvs_bake {
     float *ot_objects;         /* OTREE: object_count x (umin vmin umax vmax top) */
     pvs_kdtree *ot_tree;       /* OTREE: over pvs_visibility_25d_boxes */
     struct pvs__extproj_prep *extproj;        /* EXTPROJ: the scene's occluders, read-only in tasks */
-    uint32_t extproj_resolution, extproj_occluders;
+    uint32_t extproj_resolution, extproj_occluders, extproj_sweep;
     pvs_occluders *occluders;  /* SHRINK */
     pvs_occluders *occluders_leak; /* SHRINK: made with every cell seeding, for the cells the first left out */
     pvs_shrink_mode shrink_mode;
@@ -14503,10 +16744,21 @@ struct pvs_bake {
     uint32_t vocc_only;
     unsigned char *cell_flags; /* per task, written by its own task: PVS__BAKE_* */
     uint32_t drawable;         /* objects that can appear in a PVS */
+    uint32_t adaptive_budget;  /* adaptive cells (§6.1), 0 = off */
+    float adaptive_min_size;
+    uint32_t *object_triangles;/* adaptive: triangles per object */
+    struct pvs__bakeleaves *leaves; /* adaptive: per task, its leaf cells */
 };
 #define PVS__BAKE_ALL_VISIBLE 1u
 #define PVS__BAKE_NO_OCCLUDERS 2u
 #define PVS__BAKE_EXCLUDED 4u
+
+/* The leaf cells of one adaptive task and their PVSs. */
+typedef struct pvs__bakeleaves {
+    size_t count, capacity;
+    pvs_box *boxes;
+    pvs_word *pvs;             /* count * words */
+} pvs__bakeleaves;
 
 PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs_allocator a;
@@ -14530,6 +16782,15 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
         pvs__free_array(&a, b->vocc_scale, b->cell_count, 1);
         pvs__free_array(&a, b->vocc_stats, b->cell_count, sizeof(pvs_vocc_stats));
         pvs__vbake_destroy(b->vocc);
+    }
+    pvs__free_array(&a, b->object_triangles, (size_t)b->object_count + 1, sizeof(uint32_t));
+    if (b->leaves) {
+        uint32_t i;
+        for (i = 0; i < b->cell_count; ++i) {
+            pvs__free_array(&a, b->leaves[i].boxes, b->leaves[i].capacity, sizeof(pvs_box));
+            pvs__free_array(&a, b->leaves[i].pvs, b->leaves[i].capacity * b->words, sizeof(pvs_word));
+        }
+        pvs__free_array(&a, b->leaves, b->cell_count, sizeof(pvs__bakeleaves));
     }
     pvs__free(&a, b, sizeof(*b), 16);
 }
@@ -14629,9 +16890,8 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs_bake *b) {
 }
 
 /* One cell with pvs_visibility_25d; facades whose base is above the cell's bottom are left out. */
-PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, uint32_t task, uint32_t cell, pvs_word *bits, pvs_error *err) {
+PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t cell, pvs_word *bits, pvs_error *err) {
     const pvs_scene *s = b->scene;
-    const pvs_box *c = b->cells + task; /* the bake keeps its (shard's) cells by task */
     int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
     pvs_visibility_25d_desc d;
     float *own = NULL;
@@ -14803,32 +17063,39 @@ PVS__STATIC int pvs__bake_applies(const pvs_bake *b, pvs_method m, const char **
     }
 }
 
-/* One method's PVS of a task's cell: sets bits (cleared by the caller). */
-PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t task, uint32_t cell, pvs_word *bits, pvs_error *err) {
+/* One method's PVS of a box of a task (its cell or, adaptive, a part of it): sets bits (cleared by the
+   caller). `candidates` (adaptive sub-cells: the parent's PVS) may be NULL; EXTPROJ tests only those
+   objects, the others are intersected with it by the caller. */
+PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t task, uint32_t cell, const pvs_box *box,
+                                             const pvs_word *candidates, pvs_word *bits, pvs_error *err) {
     switch (m) {
     case PVS_METHOD_SAMPLE: {
         /* per-cell seed: independent of the order and thread the tasks run in */
         uint64_t state = b->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull);
-        pvs_sample_visibility(b->scene, b->cells + task, b->sample_points, b->sample_rays, pvs__splitmix64(&state), bits);
+        pvs_sample_visibility(b->scene, box, b->sample_points, b->sample_rays, pvs__splitmix64(&state), bits);
         break;
     }
     case PVS_METHOD_OTREE: {
-        pvs_result r = pvs__otree_cell(b, task, cell, bits, err);
+        pvs_result r = pvs__otree_cell(b, box, cell, bits, err);
         if (r != PVS_OK) return r;
         break;
     }
     case PVS_METHOD_EXTPROJ: {
-        pvs_result r = pvs__extproj_cell(b->scene, b->extproj, b->cells + task, b->extproj_resolution, b->extproj_occluders,
-                                         &b->allocator, bits, cell, err);
+        pvs__epparams prm;
+        pvs_result r;
+        prm.res = b->extproj_resolution;
+        prm.max_occ = b->extproj_occluders;
+        prm.sweep = b->extproj_sweep;
+        r = pvs__extproj_cell(b->scene, b->extproj, box, &prm, candidates, &b->allocator, bits, cell, err);
         if (r != PVS_OK) return r;
         break;
     }
     case PVS_METHOD_SHRINK: {
         pvs_shrink_stats st;
-        pvs_result r = pvs_shrink_cell(b->scene, b->occluders, b->cells + task, b->shrink_mode, bits, &st, err);
+        pvs_result r = pvs_shrink_cell(b->scene, b->occluders, box, b->shrink_mode, bits, &st, err);
         if (r == PVS_OK && st.excluded && b->occluders_leak) {
             memset(bits, 0, b->words * sizeof(pvs_word));
-            r = pvs_shrink_cell(b->scene, b->occluders_leak, b->cells + task, b->shrink_mode, bits, &st, err);
+            r = pvs_shrink_cell(b->scene, b->occluders_leak, box, b->shrink_mode, bits, &st, err);
             st.excluded = 1;
         }
         if (r != PVS_OK) {
@@ -14904,6 +17171,14 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_resolution %u is not in 16..4096", desc->extproj_resolution);
     if (desc->extproj_occluders > 65536)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_occluders %u > 65536", desc->extproj_occluders);
+    if (desc->extproj_sweep > 256)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep %u > 256", desc->extproj_sweep);
+    if (!pvs__finite(desc->adaptive_min_size) || desc->adaptive_min_size < 0.0f)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "adaptive_min_size must be finite and >= 0");
+    if (desc->adaptive_budget && desc->shard_count)
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells in a sharded bake (part files index whole cells)");
+    if (desc->adaptive_budget && desc->method == PVS_METHOD_VOCC)
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells with vocc (its records belong to whole cells)");
     method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_AUTO : desc->method;
     if (method == PVS_METHOD_AUTO) {
         for (k = 0; k < (uint32_t)PVS_METHOD_COUNT; ++k)
@@ -14962,6 +17237,21 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
     b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution : (b->flags & PVS_BAKE_PREVIEW) ? 64u : PVS__EP_DEFAULT_RES;
     b->extproj_occluders = desc->extproj_occluders ? desc->extproj_occluders : (b->flags & PVS_BAKE_PREVIEW) ? 32u : PVS__EP_DEFAULT_OCC;
+    b->extproj_sweep = desc->extproj_sweep;
+    b->adaptive_budget = desc->adaptive_budget;
+    b->adaptive_min_size = desc->adaptive_min_size;
+    if (b->adaptive_budget) {
+        b->object_triangles = (uint32_t *)pvs__alloc_array(&a, (size_t)b->object_count + 1, sizeof(uint32_t));
+        b->leaves = (pvs__bakeleaves *)pvs__alloc_array(&a, b->cell_count, sizeof(pvs__bakeleaves));
+        if (!b->object_triangles || !b->leaves) {
+            pvs_bake_destroy(b);
+            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "adaptive cells");
+        }
+        memset(b->object_triangles, 0, ((size_t)b->object_count + 1) * sizeof(uint32_t));
+        memset(b->leaves, 0, b->cell_count * sizeof(pvs__bakeleaves));
+        for (i = 0; i < desc->scene->triangle_count; ++i)
+            if (desc->scene->triangle_object[i] != PVS_NO_OBJECT) ++b->object_triangles[desc->scene->triangle_object[i]];
+    }
     memset(b->pvs, 0, total * sizeof(pvs_word));
     memset(b->done, 0, b->cell_count);
     memset(b->restored, 0, b->cell_count);
@@ -15033,6 +17323,103 @@ PVS_API void pvs_bake_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 }
 
 
+/* Every method the bake runs on one box of a task, intersected, within `candidates` when given,
+   and the draw distance applied: the PVS of an adaptive sub-cell. `each` holds run_count bitsets. */
+PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+                                     pvs_word *each, pvs_error *err) {
+    uint32_t k, i;
+    size_t w;
+    pvs_result r = PVS_OK;
+    memset(each, 0, (size_t)b->run_count * b->words * sizeof(pvs_word));
+    for (k = 0; k < b->run_count && r == PVS_OK; ++k) r = pvs__bake_method_cell(b, b->run[k], task, cell, box, candidates, each + (size_t)k * b->words, err);
+    if (r != PVS_OK) return r;
+    for (w = 0; w < b->words; ++w) {
+        pvs_word all = candidates ? candidates[w] : ~(pvs_word)0;
+        for (k = 0; k < b->run_count; ++k) all &= each[(size_t)k * b->words + w];
+        bits[w] = all;
+    }
+    if (b->max_distance > 0.0f)
+        for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
+            if (pvs__box_beyond(box, b->scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
+    return PVS_OK;
+}
+
+/* Triangles of the objects in a PVS (the polygon budget of §6.1). */
+PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits) {
+    uint64_t n = 0;
+    uint32_t o;
+    for (o = pvs_bitset_next(bits, b->object_count, 0); o < b->object_count; o = pvs_bitset_next(bits, b->object_count, o + 1))
+        n += b->object_triangles[o];
+    return n;
+}
+
+/* Adaptive subdivision (Durand 2000 §6.1) of a box whose PVS is work[depth]: a leaf when its PVS fits
+   the budget or a half would be shorter than min_size, else its two halves across the longest side,
+   baked from its PVS, low half first. work holds 48 bitsets, each run_count more. */
+PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, float min_size, pvs_word *work,
+                                       pvs_word *each, uint32_t depth, pvs_error *err) {
+    pvs__bakeleaves *L = b->leaves + task;
+    const pvs_word *bits = work + (size_t)depth * b->words;
+    int k, axis = 0;
+    float mid;
+    pvs_result r = PVS_OK;
+    for (k = 1; k < 3; ++k)
+        if (box->max[k] - box->min[k] > box->max[axis] - box->min[axis]) axis = k;
+    mid = box->min[axis] + 0.5f * (box->max[axis] - box->min[axis]);
+    if (pvs__bake_triangles(b, bits) <= b->adaptive_budget || 0.5f * (box->max[axis] - box->min[axis]) < min_size || depth + 1 >= 48 ||
+        !(mid > box->min[axis] && mid < box->max[axis])) {
+        if (L->count == L->capacity) {
+            size_t cap = L->capacity ? 2 * L->capacity : 8;
+            pvs_box *nb = (pvs_box *)pvs__alloc_array(&b->allocator, cap, sizeof(pvs_box));
+            pvs_word *np = (pvs_word *)pvs__alloc_array(&b->allocator, cap * b->words, sizeof(pvs_word));
+            if (!nb || !np || cap > 0x3fffffffu) {
+                pvs__free_array(&b->allocator, nb, cap, sizeof(pvs_box));
+                pvs__free_array(&b->allocator, np, cap * b->words, sizeof(pvs_word));
+                return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "adaptive leaves of cell %u", cell);
+            }
+            if (L->count) {
+                memcpy(nb, L->boxes, L->count * sizeof(pvs_box));
+                memcpy(np, L->pvs, L->count * b->words * sizeof(pvs_word));
+            }
+            pvs__free_array(&b->allocator, L->boxes, L->capacity, sizeof(pvs_box));
+            pvs__free_array(&b->allocator, L->pvs, L->capacity * b->words, sizeof(pvs_word));
+            L->boxes = nb;
+            L->pvs = np;
+            L->capacity = cap;
+        }
+        L->boxes[L->count] = *box;
+        memcpy(L->pvs + L->count * b->words, bits, b->words * sizeof(pvs_word));
+        ++L->count;
+        return PVS_OK;
+    }
+    for (k = 0; k < 2; ++k) {
+        pvs_box child = *box;
+        if (k) child.min[axis] = mid; else child.max[axis] = mid;
+        r = pvs__bake_box(b, task, cell, &child, bits, work + (size_t)(depth + 1) * b->words, each, err);
+        if (r == PVS_OK) r = pvs__bake_split(b, task, cell, &child, min_size, work, each, depth + 1, err);
+        if (r != PVS_OK) return r;
+    }
+    return PVS_OK;
+}
+
+/* Adaptive cells of a task whose whole cell's PVS is done: its leaves, from scratch. */
+PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell, pvs_error *err) {
+    const pvs_box *c = b->cells + task;
+    float min_size = b->adaptive_min_size, longest = 0.0f;
+    size_t nw = (48 + (size_t)b->run_count) * b->words;
+    pvs_word *work = (pvs_word *)pvs__alloc_array(&b->allocator, nw, sizeof(pvs_word));
+    pvs_result r;
+    int k;
+    if (!work) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "adaptive cells of cell %u", cell);
+    for (k = 0; k < 3; ++k) longest = c->max[k] - c->min[k] > longest ? c->max[k] - c->min[k] : longest;
+    if (!(min_size > 0.0f)) min_size = 0.125f * longest;
+    b->leaves[task].count = 0; /* a task run again starts over */
+    memcpy(work, b->pvs + (size_t)task * b->words, b->words * sizeof(pvs_word));
+    r = pvs__bake_split(b, task, cell, c, min_size, work, work + 48 * b->words, 0, err);
+    pvs__free_array(&b->allocator, work, nw, sizeof(pvs_word));
+    return r;
+}
+
 PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err) {
     uint32_t cell, k, i, n, *own, *sole;
     pvs_word *bits, *each = NULL;
@@ -15047,7 +17434,7 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
     memset(bits, 0, b->words * sizeof(pvs_word));
     b->cell_flags[task] = 0;
     if (n == 1) {
-        r = pvs__bake_method_cell(b, b->run[0], task, cell, bits, err);
+        r = pvs__bake_method_cell(b, b->run[0], task, cell, b->cells + task, NULL, bits, err);
         if (r != PVS_OK) return r;
         own[0] = pvs_bitset_count(bits, b->object_count);
         sole[0] = b->object_count - own[0];
@@ -15057,7 +17444,8 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         each = (pvs_word *)pvs__alloc_array(&b->allocator, (size_t)n * b->words, sizeof(pvs_word));
         if (!each) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u: auto scratch", cell);
         memset(each, 0, (size_t)n * b->words * sizeof(pvs_word));
-        for (k = 0; k < n && r == PVS_OK; ++k) r = pvs__bake_method_cell(b, b->run[k], task, cell, each + (size_t)k * b->words, err);
+        for (k = 0; k < n && r == PVS_OK; ++k)
+            r = pvs__bake_method_cell(b, b->run[k], task, cell, b->cells + task, NULL, each + (size_t)k * b->words, err);
         if (r == PVS_OK) {
             for (w = 0; w < b->words; ++w) {
                 pvs_word all = ~(pvs_word)0;
@@ -15083,6 +17471,10 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
             if (pvs__box_beyond(b->cells + task, b->scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
     if (pvs_bitset_count(bits, b->object_count) >= b->drawable) b->cell_flags[task] |= PVS__BAKE_ALL_VISIBLE;
+    if (b->adaptive_budget) {
+        r = pvs__bake_adapt(b, task, cell, err);
+        if (r != PVS_OK) return r;
+    }
     b->done[task] = 1;
     pvs__ok(err);
     return PVS_OK;
@@ -15100,6 +17492,16 @@ PVS_API void pvs_bake_get_report(const pvs_bake *b, pvs_bake_report *r) {
     }
 }
 
+PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *b) {
+    uint64_t n = 0;
+    uint32_t i;
+    if (!b) return 0;
+    if (!b->adaptive_budget) return b->cell_count;
+    for (i = 0; i < b->cell_count; ++i)
+        if (b->done[i]) n += b->leaves[i].count;
+    return n > 0xffffffffu ? 0xffffffffu : (uint32_t)n;
+}
+
 PVS_API int pvs_bake_task_done(const pvs_bake *b, uint32_t task) { return b && task < b->cell_count && b->done[task]; }
 
 PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_word *bits, size_t word_count, pvs_error *err) {
@@ -15108,6 +17510,8 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_w
     if (word_count < b->words) return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, task, 0, "restore: %zu words < %zu", word_count, b->words);
     if (b->method == PVS_METHOD_VOCC) /* the file stores the cell's virtual occluders too, which a PVS does not carry */
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0, "restore: a vocc bake cannot resume from PVSs: run task %u again", task);
+    if (b->adaptive_budget) /* the file stores the cell's leaves, which its PVS does not carry */
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0, "restore: an adaptive bake cannot resume from PVSs: run task %u again", task);
     if ((b->object_count & 63u) && (bits[b->words - 1] >> (b->object_count & 63u)))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets a bit past the %u objects", task, b->object_count);
     for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
@@ -15185,23 +17589,64 @@ PVS__STATIC int pvs__bake_all_done(const pvs_bake *b) {
     return 1;
 }
 
-PVS_API size_t pvs_bake_file_size(const pvs_bake *b) {
+/* Adaptive cells: the leaves of every task in task order, gathered into one table for the encoder
+   (freed by the caller with the sizes returned). */
+PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cells, pvs_word **pvs, size_t *count) {
+    size_t n = 0, k = 0, bytes;
+    uint32_t i;
+    for (i = 0; i < b->cell_count; ++i) n += b->leaves[i].count;
+    *cells = NULL;
+    *pvs = NULL;
+    *count = n;
+    if (n >= 0x3fffffffu) return PVS_ERROR_COUNT_OVERFLOW;
+    if (!pvs__mul(n, b->words * sizeof(pvs_word), &bytes)) return PVS_ERROR_COUNT_OVERFLOW;
+    *cells = (pvs_box *)pvs__alloc_array(&b->allocator, n, sizeof(pvs_box));
+    *pvs = (pvs_word *)pvs__alloc_array(&b->allocator, n * b->words, sizeof(pvs_word));
+    if (!*cells || !*pvs) return PVS_ERROR_OUT_OF_MEMORY;
+    for (i = 0; i < b->cell_count; ++i) {
+        const pvs__bakeleaves *L = b->leaves + i;
+        memcpy(*cells + k, L->boxes, L->count * sizeof(pvs_box));
+        memcpy(*pvs + k * b->words, L->pvs, L->count * b->words * sizeof(pvs_word));
+        k += L->count;
+    }
+    return PVS_OK;
+}
+
+/* Encodes the bake (measure only when out is NULL). */
+PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
     pvs_file_desc fd;
+    pvs_box *cells = NULL;
+    pvs_word *pvs = NULL;
+    size_t n = 0;
+    pvs_result r;
+    pvs__bake_file_desc(b, &fd);
+    if (!b->adaptive_budget) return pvs_file_encode(&fd, out, capacity, out_size, err);
+    r = pvs__bake_gather_leaves(b, &cells, &pvs, &n);
+    if (r == PVS_OK) {
+        fd.cells = cells;
+        fd.cell_count = (uint32_t)n;
+        fd.pvs = pvs;
+        r = pvs_file_encode(&fd, out, capacity, out_size, err);
+    } else
+        r = pvs__fail(err, r, -1, 0, "%llu adaptive cells", (unsigned long long)n);
+    pvs__free_array(&b->allocator, cells, n, sizeof(pvs_box));
+    pvs__free_array(&b->allocator, pvs, n * b->words, sizeof(pvs_word));
+    return r;
+}
+
+PVS_API size_t pvs_bake_file_size(const pvs_bake *b) {
     size_t size = 0;
     if (!b || !pvs__bake_all_done(b)) return 0;
-    pvs__bake_file_desc(b, &fd);
-    return pvs_file_encode(&fd, NULL, 0, &size, NULL) == PVS_OK ? size : 0;
+    return pvs__bake_encode(b, NULL, 0, &size, NULL) == PVS_OK ? size : 0;
 }
 
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
-    pvs_file_desc fd;
     uint32_t i;
     if (!b) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bake is NULL");
     if (out_size) *out_size = 0;
     for (i = 0; i < b->cell_count; ++i)
         if (!b->done[i]) return pvs__fail(err, PVS_ERROR_NOT_DONE, pvs_bake_task_cell(b, i), 0, "cell %u has not been baked", pvs_bake_task_cell(b, i));
-    pvs__bake_file_desc(b, &fd);
-    return pvs_file_encode(&fd, out, capacity, out_size, err);
+    return pvs__bake_encode(b, out, capacity, out_size, err);
 }
 
 // >>format
