@@ -5611,6 +5611,7 @@ typedef struct pvs__otnode {
     uint32_t parent;    /* PVS__OT_NONE at the root */
     double mvd;         /* 2D: maximum visibility distance of the subtree (§6.5.5); DBL_MAX above out-leaves */
     double mr, ms;      /* 2.5D: the subtree's hidden-height bound (pvs__ot25_bound); mr DBL_MAX: none */
+    double ml, mls;     /* 2.5D: a second one, from the member of least reach; ml DBL_MAX: none */
 } pvs__otnode;
 
 typedef struct pvs__otree {
@@ -5670,6 +5671,7 @@ PVS__STATIC int pvs__ot_reset(pvs__otree *t) {
     t->nodes[0].kind = PVS__OT_OUT;
     t->nodes[0].mvd = DBL_MAX;
     t->nodes[0].mr = DBL_MAX;
+    t->nodes[0].ml = DBL_MAX;
     t->nodes[0].parent = PVS__OT_NONE;
     t->node_count = 1;
     return 1;
@@ -5865,7 +5867,8 @@ PVS__STATIC void pvs__ot_range(const pvs__otpoly *q, const double p[2], double *
 /* 2.5D: 1 when the subtree of nd hides every point no nearer than `near` to the cell and no higher
    than h (the hidden-height bound, pvs__ot25_bound); near < 0: no bound (2D). */
 PVS__STATIC int pvs__ot25_hidden_below(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
-    return near >= 0.0 && nd->mr < DBL_MAX && near > nd->mr && h < t->eye + nd->ms * near - 1e-9 * (fabs(t->eye) + nd->ms * near + 1.0);
+    return near >= 0.0 && ((nd->mr < DBL_MAX && near > nd->mr && h < t->eye + nd->ms * near - 1e-9 * (fabs(t->eye) + nd->ms * near + 1.0)) ||
+                           (nd->ml < DBL_MAX && near > nd->ml && h < t->eye + nd->mls * near - 1e-9 * (fabs(t->eye) + nd->mls * near + 1.0)));
 }
 
 /* Insertion at an inner node (§3.3.3), on the top of the work stack in place: the polygon's edges
@@ -6614,14 +6617,52 @@ done:
    slope); an inner node the largest reach and the least slope of its children, so the bound holds
    for its whole subtree. Out-leaves and leaves without a member taller than the eyes have none. */
 PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
-    uint32_t m;
-    nd->mr = DBL_MAX;
-    nd->ms = 0.0;
-    if (nd->kind != PVS__OT_IN) return;
-    for (m = 0; m < nd->count; ++m) {
-        const double *jd = t->jd + PVS__OT25_JD * (size_t)t->seq[nd->first + m];
-        if (jd[9] > nd->ms) { nd->ms = jd[9]; nd->mr = jd[8]; }
+    (void)t;
+    if (nd->kind == PVS__OT_IN) return; /* set as members join (pvs__ot25_join), inherited by parts */
+    nd->mr = nd->ml = DBL_MAX;
+    nd->ms = nd->mls = 0.0;
+}
+/* Member k joins in-leaf `node` whose lines cross k only within parameters [f0, f1] of its (clipped)
+   segment: its reach in this leaf is the largest distance between a cell point and that part of k
+   (a cell corner and an end of the part), at most jd[8], so the slope of its shadow's floor is at
+   least jd[9]. The leaf keeps the steepest member (mr, ms) and the one of least reach (ml, mls);
+   both stay valid for the parts a later split makes (fewer lines). */
+PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double f0, double f1) {
+    const double *sg = t->seg + 4 * (size_t)k, *jd = t->jd + PVS__OT25_JD * (size_t)k;
+    pvs__otnode *nd = t->nodes + node;
+    double r = jd[8], sl = jd[9], far2 = 0.0, e[4];
+    int i, m;
+    if (!(sl > 0.0)) return; /* not taller than the eyes: no bound */
+    f0 -= 1e-9; f1 += 1e-9;
+    if (f0 < 0.0) f0 = 0.0;
+    if (f1 > 1.0) f1 = 1.0;
+    if (f0 <= f1) {
+        e[0] = sg[0] + f0 * (sg[2] - sg[0]); e[1] = sg[1] + f0 * (sg[3] - sg[1]);
+        e[2] = sg[0] + f1 * (sg[2] - sg[0]); e[3] = sg[1] + f1 * (sg[3] - sg[1]);
+        for (i = 0; i < 4; ++i)
+            for (m = 0; m < 2; ++m) {
+                double ex = e[2 * m] - t->corners[2 * i], ey = e[2 * m + 1] - t->corners[2 * i + 1];
+                if (ex * ex + ey * ey > far2) far2 = ex * ex + ey * ey;
+            }
+        far2 = sqrt(far2) * (1.0 + 1e-9) + 2.0 * t->len_eps;
+        if (far2 < r) {
+            sl = (t->top[k] - t->eye) / far2 * (1.0 - 1e-9);
+            r = far2;
+        }
     }
+    if (sl > nd->ms || (sl == nd->ms && r < nd->mr)) { nd->ms = sl; nd->mr = r; }
+    if (r < nd->ml) { nd->ml = r; nd->mls = sl; }
+}
+/* The parameter hull on segment e of the lines of polygon q (its vertices), clamped to [0, 1]. */
+PVS__STATIC void pvs__ot25_funnel(const pvs__otpoly *q, const double *e, double *f0, double *f1) {
+    double lo = DBL_MAX, hi = -DBL_MAX, u;
+    int i;
+    for (i = 0; i < q->n; ++i) {
+        if (pvs__ot_param(q->v[i], e, &u)) { if (u < lo) lo = u; if (u > hi) hi = u; }
+        else { lo = -DBL_MAX; hi = DBL_MAX; }
+    }
+    *f0 = lo < 0.0 ? 0.0 : lo;
+    *f1 = hi > 1.0 ? 1.0 : hi;
 }
 /* Recomputes the bound of the subtree at `node` (just rebuilt from a leaf: a short chain) and of its
    ancestors while they change. */
@@ -6635,6 +6676,8 @@ PVS__STATIC void pvs__ot25_bound_subtree(pvs__otree *t, uint32_t node) {
         const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
         nd->mr = a->mr > b->mr ? a->mr : b->mr;
         nd->ms = a->ms < b->ms ? a->ms : b->ms;
+        nd->ml = a->ml > b->ml ? a->ml : b->ml;
+        nd->mls = a->mls < b->mls ? a->mls : b->mls;
     }
 }
 PVS__STATIC void pvs__ot25_bound(pvs__otree *t, uint32_t node) {
@@ -6644,9 +6687,12 @@ PVS__STATIC void pvs__ot25_bound(pvs__otree *t, uint32_t node) {
         pvs__otnode *nd = t->nodes + p;
         const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
         double mr = a->mr > b->mr ? a->mr : b->mr, ms = a->ms < b->ms ? a->ms : b->ms;
-        if (mr == nd->mr && ms == nd->ms) break;
+        double ml = a->ml > b->ml ? a->ml : b->ml, mls = a->mls < b->mls ? a->mls : b->mls;
+        if (mr == nd->mr && ms == nd->ms && ml == nd->ml && mls == nd->mls) break;
         nd->mr = mr;
         nd->ms = ms;
+        nd->ml = ml;
+        nd->mls = mls;
     }
 }
 /* A lower bound of the distance between the (grown) cell rectangle and segment e: the distance
@@ -6846,7 +6892,11 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
         pvs__ot_pop(t, &q);
         if (nd->kind == PVS__OT_OUT) {
             uint32_t leaf = pvs__ot_refine(t, node, &q);
-            if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
+            if (leaf != PVS__OT_NONE && pvs__ot_set_payload(t, leaf, 0, 0, k)) {
+                double f0, f1;
+                pvs__ot25_funnel(&q, sk, &f0, &f1);
+                pvs__ot25_join(t, leaf, k, f0, f1);
+            }
             pvs__ot25_bound(t, node);
         } else {
             uint32_t first = nd->first, count = nd->count, leaf;
@@ -6878,7 +6928,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
                     leaf = nx;
                 }
             }
-            pvs__ot_set_payload(t, leaf, first, count, k);
+            if (pvs__ot_set_payload(t, leaf, first, count, k)) pvs__ot25_join(t, leaf, k, f0, f1);
             pvs__ot25_bound(t, node);
         }
     }
