@@ -5688,12 +5688,14 @@ PVS__STATIC uint32_t pvs__ot_new_node(pvs__otree *t) {
 
 /* Copies the live part of a polygon. */
 PVS__STATIC void pvs__ot_copy(pvs__otpoly *d, const pvs__otpoly *s) {
-    int n = s->n;
+    int n = s->n, i;
     d->n = n;
     d->xsplit = s->xsplit;
-    memcpy(d->v, s->v, (size_t)n * sizeof(s->v[0]));
-    memcpy(d->e, s->e, (size_t)n * sizeof(s->e[0]));
-    memcpy(d->mark, s->mark, (size_t)n);
+    for (i = 0; i < n; ++i) { /* a loop: n is small, a library call costs more */
+        d->v[i][0] = s->v[i][0]; d->v[i][1] = s->v[i][1]; d->v[i][2] = s->v[i][2];
+        d->e[i][0] = s->e[i][0]; d->e[i][1] = s->e[i][1];
+        d->mark[i] = s->mark[i];
+    }
 }
 
 /* Makes room for `need` work items (the three stack arrays grow together). */
@@ -5918,7 +5920,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
     double lo = DBL_MAX, hi = -DBL_MAX, nf[3];
     uint32_t c0, c1, node = t->stack_node[top];
     int i, r, first;
-    if (!pvs__ot_reserve(t, top + 2)) return 1;
+    if (top + 2 > t->stack_cap && !pvs__ot_reserve(t, top + 2)) return 1;
     q = t->stack + top;
     nd = t->nodes + node;
     c0 = nd->child[0];
@@ -6027,6 +6029,17 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
             const double *v0 = q->v[i], *v1 = q->v[(i + 1) % n];
             int best = -1;
             double best_err = DBL_MAX;
+            if (n == 4) { /* no vertex merged: edge i lies in the plane of pt[i] (a, d, b, c = cand 0, 3, 1, 2) */
+                static const int pick[4] = {0, 3, 1, 2};
+                const double *c0 = cn[pick[i]];
+                double e0 = fabs(c0[0] * v0[0] + c0[1] * v0[1] + c0[2] * v0[2]);
+                double e1 = fabs(c0[0] * v1[0] + c0[1] * v1[1] + c0[2] * v1[2]);
+                if ((e0 > e1 ? e0 : e1) <= 1e-9) {
+                    q->e[i][0] = cand[pick[i]][0]; q->e[i][1] = cand[pick[i]][1];
+                    memcpy(en[i], c0, sizeof(en[i]));
+                    continue;
+                }
+            }
             for (k = 0; k < 4; ++k) {
                 double e0 = fabs(cn[k][0] * v0[0] + cn[k][1] * v0[1] + cn[k][2] * v0[2]);
                 double e1 = fabs(cn[k][0] * v1[0] + cn[k][1] * v1[1] + cn[k][2] * v1[2]);
@@ -7109,6 +7122,39 @@ PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source
     }
 }
 
+/* A balanced top for the tree of a source edge. Insertion front to back carves the open region
+   (the lines down a street) by one occluder after the other: a chain as deep as the occluders seen
+   along it, which every later query walks down. Splitting the root region first by the planes of
+   PVS__OT25_PRESPLIT far points spread over the directions (a balanced binary split, a plane through
+   the origin of line space like any other, so the regions stay exact) cuts the chain into short
+   ones, one per direction sector. Demo city: 5% fewer instructions per cell. pts[lo..hi) are
+   reordered: the points whose representative line (from m) lies on a child's side go with it. */
+#define PVS__OT25_PRESPLIT 16
+PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m[2], double (*pts)[2], int lo, int hi) {
+    double l[3], tmp[PVS__OT25_PRESPLIT][2];
+    int mid, j, na = 0, nb = 0, pass;
+    uint32_t pos, neg;
+    if (hi <= lo || t->oom) return;
+    mid = (lo + hi) / 2;
+    pos = pvs__ot_split_leaf(t, leaf, pts[mid], 1.0);
+    if (pos == PVS__OT_NONE) return;
+    neg = t->nodes[leaf].child[0];
+    for (pass = 0; pass < 2; ++pass)
+        for (j = lo; j < hi; ++j) {
+            int positive;
+            if (j == mid) continue;
+            pvs__ot_line(m, pts[j], l);
+            positive = pvs__ot_side(l, pts[mid]) > 0;
+            if (positive != (pass == 0)) continue;
+            tmp[na + nb][0] = pts[j][0];
+            tmp[na + nb][1] = pts[j][1];
+            if (pass == 0) ++na; else ++nb;
+        }
+    for (j = 0; j < na + nb; ++j) { pts[lo + j][0] = tmp[j][0]; pts[lo + j][1] = tmp[j][1]; }
+    pvs__ot25_presplit(t, pos, m, pts, lo, lo + na);
+    pvs__ot25_presplit(t, neg, m, pts, lo + na, lo + na + nb);
+}
+
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
                                       pvs_box *boxes);
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
@@ -7249,7 +7295,19 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
             sa_ = pvs__ot_side(l, a);
             sb_ = pvs__ot_side(l, b);
             pos = pvs__ot_split_leaf(&t, 0, a, sa_ > 0 ? 1.0 : -1.0);
-            if (pos != PVS__OT_NONE) pvs__ot_split_leaf(&t, pos, b, sb_ > 0 ? 1.0 : -1.0);
+            if (pos != PVS__OT_NONE) pos = pvs__ot_split_leaf(&t, pos, b, sb_ > 0 ? 1.0 : -1.0);
+            if (pos != PVS__OT_NONE) { /* a balanced top (pvs__ot25_presplit) */
+                double pts[PVS__OT25_PRESPLIT][2], dd = 10.0 * (cell[4] - cell[0] + cell[5] - cell[1]) + 1.0;
+                double nx = m[0], ny = m[1], nl = sqrt(nx * nx + ny * ny);
+                int q;
+                nx /= nl; ny /= nl;
+                for (q = 0; q < PVS__OT25_PRESPLIT; ++q) {
+                    double th = (-80.0 + 160.0 * (q + 0.5) / PVS__OT25_PRESPLIT) * (3.14159265358979323846 / 180.0), tt = dd * tan(th);
+                    pts[q][0] = m[0] + nx * dd - ny * tt;
+                    pts[q][1] = m[1] + ny * dd + nx * tt;
+                }
+                pvs__ot25_presplit(&t, pos, m, pts, 0, PVS__OT25_PRESPLIT);
+            }
             t.nodes[0].parent = PVS__OT_NONE;
             if (t.oom) break;
         }
