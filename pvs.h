@@ -6605,6 +6605,282 @@ done:
     return r;
 }
 
+/* ---- facades: the scene's vertical walls as 2.5D occluders (§7.1, the input of c-LSS) ---- */
+
+/* Extraction from a triangle mesh of any tessellation (real maps split a wall at T-junctions, per
+   brush, into strips and fans; floors lie at several heights).
+   1. Vertical triangles (the three ground points on one line within `tol`, a positive ground length
+      and height) are grouped by their supporting ground line: direction, then offset, each within a
+      tolerance; a member farther than tol from the group's reference line (that of its member of
+      longest ground extent) is left out.
+   2. In a group every triangle is a polygon of the (s, h) plane, s along the line. The distinct s of
+      the vertices cut the line into slabs; no vertex lies inside a slab, so the lower and the upper
+      boundary of each triangle's cross-section are linear there. Two triangles whose cross-sections
+      overlap (within tol) at both slab ends overlap all across it, so a connected set of them covers
+      at every s of the slab one interval containing [min_j max(lo_j), max_j min(hi_j)] (lo_j, hi_j:
+      member j's bounds at the two ends): the heights the union covers over the whole slab.
+   3. Consecutive slabs with the same interval (within tol) make one facade: a segment of the line
+      with the height interval [bottom, top] it fully covers over its whole length. A wall with a door
+      gives the pieces beside the door at full height and the lintel as a facade of its own.
+   Conservative: a facade is covered by the scene's triangles up to cracks and offsets of tol (eight
+   float epsilons of the scene's coordinates: the T-junction cracks of real meshes); its ends and
+   heights are rounded inward to floats. Writes *count facades of 6 floats (u0 v0 u1 v1 top bottom)
+   into a new array *out (through allocator a; *out_floats floats), *vertical the number of vertical
+   triangles. OUT_OF_MEMORY on failure (*out NULL). */
+#define PVS__FX_MAX_COVER 512
+#define PVS__OT25_LEVELS 4    /* base heights of facades the OTREE bake tells apart (pvs__otree_prepare) */ /* a slab covered by more triangles is left out (conservative) */
+
+typedef struct pvs__fxopen {
+    double s0, s1, bot, top;
+    double g0[2], g1[2]; /* the ground points of the mesh vertices at s0 and s1 */
+} pvs__fxopen;
+
+PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, uint32_t *count, const pvs__fxopen *f) {
+    float *o, bot, top;
+    int k;
+    if (!(f->s1 > f->s0) || !(f->top > f->bot)) return 1;
+    bot = (float)f->bot;
+    if ((double)bot < f->bot) bot = nextafterf(bot, FLT_MAX);
+    top = (float)f->top;
+    if ((double)top > f->top) top = nextafterf(top, -FLT_MAX);
+    if (!(top > bot) || *count >= 0x7fffffffu) return 1;
+    if (!pvs__ot_grow(a, (void **)out, cap, 6 * ((size_t)*count + 2), sizeof(float))) return 0;
+    o = *out + 6 * (size_t)*count;
+    for (k = 0; k < 2; ++k) { o[k] = (float)f->g0[k]; o[2 + k] = (float)f->g1[k]; } /* the vertices' own floats */
+    o[4] = top;
+    o[5] = bot;
+    ++*count;
+    return 1;
+}
+
+/* The cross-section [lo, hi] at s of triangle (ts[3], th[3]), s within its range. Each edge is
+   evaluated from its end of smaller s, so a shared edge gives both its triangles the same values. */
+PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, double *lo, double *hi) {
+    int i;
+    *lo = DBL_MAX; *hi = -DBL_MAX;
+    for (i = 0; i < 3; ++i) {
+        int j = i == 2 ? 0 : i + 1, p = i, q = j;
+        double h;
+        if (ts[q] < ts[p] || (ts[q] == ts[p] && th[q] < th[p])) { p = j; q = i; }
+        if (s < ts[p] || s > ts[q]) continue;
+        if (ts[q] == ts[p]) {
+            if (th[p] < *lo) *lo = th[p];
+            if (th[q] > *hi) *hi = th[q];
+            continue;
+        }
+        h = s == ts[p] ? th[p] : s == ts[q] ? th[q] : th[p] + (th[q] - th[p]) * ((s - ts[p]) / (ts[q] - ts[p]));
+        if (h < *lo) *lo = h;
+        if (h > *hi) *hi = h;
+    }
+}
+
+PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_allocator *a, float **out, size_t *out_floats, uint32_t *count,
+                                            uint32_t *vertical) {
+    int u, v, up;
+    uint32_t t, nv = 0, i, k, g0, g1, c0, c1, nt = sc->triangle_count;
+    double ext = 1.0, tol, tol_a = 1e-7;
+    pvs__ot_order *ord = NULL, *sord = NULL, *so = NULL;
+    double *tl = NULL, *sv = NULL, *sec = NULL;
+    uint32_t *vt = NULL, *ins = NULL, *act = NULL, *comp = NULL, *que = NULL;
+    pvs__fxopen *opn = NULL, *nxt = NULL;
+    size_t cap = 0;
+    pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
+    *out = NULL;
+    *out_floats = 0;
+    *count = 0;
+    *vertical = 0;
+    up = sc->up_axis == 2 ? 2 : 1;
+    pvs__ground_axes((uint32_t)up, &u, &v);
+    if (nt)
+        for (k = 0; k < 3; ++k) {
+            if (fabs((double)sc->bounds.min[k]) > ext) ext = fabs((double)sc->bounds.min[k]);
+            if (fabs((double)sc->bounds.max[k]) > ext) ext = fabs((double)sc->bounds.max[k]);
+        }
+    tol = 8.0 * FLT_EPSILON * ext;
+    /* per vertical triangle (slot): tl = theta, c, d0, d1, ground length (direction d, offset
+       c = n . g with n = (-d1, d0)); vt its triangle */
+    tl = (double *)pvs__alloc_array(a, 5 * (size_t)nt + 5, sizeof(double));
+    vt = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 1, sizeof(uint32_t));
+    if (!tl || !vt) goto done;
+    for (t = 0; t < nt; ++t) {
+        double gx[3], gy[3], h[3], best = 0.0, dx, dy, len, hmin, hmax, *q;
+        int bi = 0, bj = 1, m;
+        for (k = 0; k < 3; ++k) {
+            const float *p = sc->positions + 3 * (size_t)sc->indices[3 * (size_t)t + k];
+            gx[k] = p[u]; gy[k] = p[v]; h[k] = p[up];
+        }
+        for (k = 0; k < 3; ++k) {
+            uint32_t l = k == 2 ? 0 : k + 1;
+            double ex = gx[l] - gx[k], ey = gy[l] - gy[k], e2 = ex * ex + ey * ey;
+            if (e2 > best) { best = e2; bi = (int)k; bj = (int)l; }
+        }
+        len = sqrt(best);
+        if (!(len > tol)) continue;
+        dx = (gx[bj] - gx[bi]) / len; dy = (gy[bj] - gy[bi]) / len;
+        m = 3 - bi - bj;
+        if (!(fabs(-dy * (gx[m] - gx[bi]) + dx * (gy[m] - gy[bi])) <= tol)) continue; /* not vertical */
+        hmin = h[0] < h[1] ? (h[0] < h[2] ? h[0] : h[2]) : (h[1] < h[2] ? h[1] : h[2]);
+        hmax = h[0] > h[1] ? (h[0] > h[2] ? h[0] : h[2]) : (h[1] > h[2] ? h[1] : h[2]);
+        if (!(hmax - hmin > tol)) continue;
+        if (dy < 0.0 || (dy == 0.0 && dx < 0.0)) { dx = -dx; dy = -dy; } /* one direction per line: theta in [0, pi) */
+        q = tl + 5 * (size_t)nv;
+        q[0] = atan2(dy, dx);
+        q[1] = -dy * gx[bi] + dx * gy[bi];
+        q[2] = dx;
+        q[3] = dy;
+        q[4] = len;
+        vt[nv++] = t;
+    }
+    *vertical = nv;
+    ord = (pvs__ot_order *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__ot_order));
+    sord = (pvs__ot_order *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__ot_order));
+    so = (pvs__ot_order *)pvs__alloc_array(a, 3 * (size_t)nv + 3, sizeof(pvs__ot_order));
+    sv = (double *)pvs__alloc_array(a, 14 * (size_t)nv + 14, sizeof(double)); /* per member: s[3], h[3], smin, smax, ground[3][2] */
+    sec = (double *)pvs__alloc_array(a, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
+    ins = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
+    act = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
+    comp = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+    que = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+    opn = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+    nxt = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+    if (!ord || !sord || !so || !sv || !sec || !ins || !act || !comp || !que || !opn || !nxt) goto done;
+    for (i = 0; i < nv; ++i) { ord[i].key = tl[5 * (size_t)i]; ord[i].index = i; }
+    pvs__ot_sort(ord, nv); /* by direction (ties by slot: deterministic) */
+    for (g0 = 0; g0 < nv; g0 = g1) {
+        for (g1 = g0 + 1; g1 < nv && ord[g1].key - ord[g0].key <= tol_a; ++g1) ;
+        for (i = g0; i < g1; ++i) { sord[i - g0].key = tl[5 * (size_t)ord[i].index + 1]; sord[i - g0].index = ord[i].index; }
+        pvs__ot_sort(sord, g1 - g0); /* then by offset */
+        for (c0 = 0; c0 < g1 - g0; c0 = c1) {
+            uint32_t ref, nm = 0, ns = 0, nopen = 0, na = 0, next = 0, slab;
+            double d[2], c;
+            for (c1 = c0 + 1; c1 < g1 - g0 && sord[c1].key - sord[c0].key <= tol; ++c1) ;
+            ref = sord[c0].index;
+            for (i = c0 + 1; i < c1; ++i) {
+                uint32_t sl = sord[i].index;
+                if (tl[5 * (size_t)sl + 4] > tl[5 * (size_t)ref + 4] || (tl[5 * (size_t)sl + 4] == tl[5 * (size_t)ref + 4] && sl < ref)) ref = sl;
+            }
+            d[0] = tl[5 * (size_t)ref + 2]; d[1] = tl[5 * (size_t)ref + 3]; c = tl[5 * (size_t)ref + 1];
+            /* the members on the reference line as (s, h) triangles */
+            for (i = c0; i < c1; ++i) {
+                uint32_t tri = vt[sord[i].index];
+                double *q = sv + 14 * (size_t)nm;
+                int ok = 1;
+                for (k = 0; k < 3; ++k) {
+                    const float *p = sc->positions + 3 * (size_t)sc->indices[3 * (size_t)tri + k];
+                    double gx = p[u], gy = p[v];
+                    if (!(fabs(-d[1] * gx + d[0] * gy - c) <= tol)) ok = 0;
+                    q[k] = d[0] * gx + d[1] * gy;
+                    q[3 + k] = p[up];
+                    q[8 + 2 * k] = gx;
+                    q[9 + 2 * k] = gy;
+                }
+                if (!ok) continue;
+                q[6] = q[0] < q[1] ? (q[0] < q[2] ? q[0] : q[2]) : (q[1] < q[2] ? q[1] : q[2]);
+                q[7] = q[0] > q[1] ? (q[0] > q[2] ? q[0] : q[2]) : (q[1] > q[2] ? q[1] : q[2]);
+                ++nm;
+            }
+            if (!nm) continue;
+            for (i = 0; i < nm; ++i) { so[i].key = sv[14 * (size_t)i + 6]; so[i].index = i; }
+            pvs__ot_sort(so, nm);
+            for (i = 0; i < nm; ++i) ins[i] = so[i].index; /* members in order of their smallest s */
+            for (i = 0; i < nm; ++i)
+                for (k = 0; k < 3; ++k) { so[ns].key = sv[14 * (size_t)i + k]; so[ns].index = 3 * i + k; ++ns; }
+            pvs__ot_sort(so, ns); /* every vertex s: the slab boundaries */
+            for (slab = 0; slab + 1 < ns; ++slab) {
+                double sa = so[slab].key, sb = so[slab + 1].key, ga[2], gb[2];
+                uint32_t m = 0, nn = 0, j, nc, seen, use;
+                if (!(sb > sa)) continue;
+                ga[0] = sv[14 * (size_t)(so[slab].index / 3) + 8 + 2 * (so[slab].index % 3)];
+                ga[1] = sv[14 * (size_t)(so[slab].index / 3) + 9 + 2 * (so[slab].index % 3)];
+                gb[0] = sv[14 * (size_t)(so[slab + 1].index / 3) + 8 + 2 * (so[slab + 1].index % 3)];
+                gb[1] = sv[14 * (size_t)(so[slab + 1].index / 3) + 9 + 2 * (so[slab + 1].index % 3)];
+                while (next < nm && sv[14 * (size_t)ins[next] + 6] <= sa) act[na++] = ins[next++];
+                for (j = 0; j < na; ++j) /* members whose range ends before the slab leave */
+                    if (sv[14 * (size_t)act[j] + 7] >= sb) act[m++] = act[j];
+                na = m;
+                use = na > PVS__FX_MAX_COVER ? 0 : na; /* too many to join: the slab is left out (conservative) */
+                for (j = 0; j < use; ++j) {
+                    const double *q = sv + 14 * (size_t)act[j];
+                    pvs__fx_section(q, q + 3, sa, sec + 4 * j, sec + 4 * j + 2);
+                    pvs__fx_section(q, q + 3, sb, sec + 4 * j + 1, sec + 4 * j + 3);
+                    comp[j] = 0xffffffffu;
+                }
+                /* connected sets (overlap within tol at both ends), breadth first */
+                for (seen = 0, nc = 0; seen < use; ++seen) {
+                    uint32_t qh = 0, qt = 1;
+                    double bot = DBL_MAX, top = -DBL_MAX;
+                    if (comp[seen] != 0xffffffffu) continue;
+                    comp[seen] = nc;
+                    que[0] = seen;
+                    while (qh < qt) {
+                        const double *x = sec + 4 * que[qh++];
+                        double lo = x[0] > x[1] ? x[0] : x[1], hi = x[2] < x[3] ? x[2] : x[3];
+                        if (lo < bot) bot = lo;
+                        if (hi > top) top = hi;
+                        for (j = seen + 1; j < use; ++j) {
+                            const double *y = sec + 4 * j;
+                            if (comp[j] != 0xffffffffu) continue;
+                            if (y[0] <= x[2] + tol && y[1] <= x[3] + tol && x[0] <= y[2] + tol && x[1] <= y[3] + tol) {
+                                comp[j] = nc;
+                                que[qt++] = j;
+                            }
+                        }
+                    }
+                    ++nc;
+                    if (top - bot > tol) {
+                        /* continue an opn facade with the same interval, else opn a new one */
+                        uint32_t f;
+                        for (f = 0; f < nopen; ++f)
+                            if (opn[f].s1 == sa && fabs(opn[f].bot - bot) <= tol && fabs(opn[f].top - top) <= tol) break;
+                        if (f < nopen) {
+                            nxt[nn] = opn[f];
+                            nxt[nn].s1 = sb;
+                            nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
+                            if (bot > nxt[nn].bot) nxt[nn].bot = bot;
+                            if (top < nxt[nn].top) nxt[nn].top = top;
+                            opn[f] = opn[--nopen];
+                        } else {
+                            nxt[nn].s0 = sa; nxt[nn].s1 = sb; nxt[nn].bot = bot; nxt[nn].top = top;
+                            nxt[nn].g0[0] = ga[0]; nxt[nn].g0[1] = ga[1];
+                            nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
+                        }
+                        ++nn;
+                    }
+                }
+                for (j = 0; j < nopen; ++j) /* not continued: done */
+                    if (!pvs__fx_emit(a, out, &cap, count, opn + j)) goto done;
+                {
+                    pvs__fxopen *sw = opn;
+                    opn = nxt;
+                    nxt = sw;
+                    nopen = nn;
+                }
+            }
+            for (i = 0; i < nopen; ++i)
+                if (!pvs__fx_emit(a, out, &cap, count, opn + i)) goto done;
+        }
+    }
+    if (!*out && !pvs__ot_grow(a, (void **)out, &cap, 6, sizeof(float))) goto done;
+    *out_floats = cap;
+    r = PVS_OK;
+done:
+    if (r != PVS_OK && *out) { pvs__free(a, *out, cap * sizeof(float), 16); *out = NULL; *count = 0; }
+    pvs__free_array(a, tl, 5 * (size_t)nt + 5, sizeof(double));
+    pvs__free_array(a, vt, (size_t)nt + 1, sizeof(uint32_t));
+    pvs__free_array(a, ord, (size_t)nv + 1, sizeof(pvs__ot_order));
+    pvs__free_array(a, sord, (size_t)nv + 1, sizeof(pvs__ot_order));
+    pvs__free_array(a, so, 3 * (size_t)nv + 3, sizeof(pvs__ot_order));
+    pvs__free_array(a, sv, 14 * (size_t)nv + 14, sizeof(double));
+    pvs__free_array(a, sec, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
+    pvs__free_array(a, ins, (size_t)nv + 1, sizeof(uint32_t));
+    pvs__free_array(a, act, (size_t)nv + 1, sizeof(uint32_t));
+    pvs__free_array(a, comp, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+    pvs__free_array(a, que, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+    pvs__free_array(a, opn, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+    pvs__free_array(a, nxt, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+    return r;
+}
+
 /* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
 
 /* Cost (bench_auto and bench_otree, demo city, 2026-11-24, shared machine): about 9 ms of CPU time
@@ -12552,10 +12828,12 @@ struct pvs_bake {
     float eps;
     uint32_t sample_points, sample_rays, max_chain;
     uint64_t seed;
-    float *ot_facades;         /* OTREE: facade_count x (u0 v0 u1 v1 top), then facade_count bases */
-    uint32_t ot_facade_count;
+    float *ot_facades;         /* OTREE: facade_count x (u0 v0 u1 v1 top), by level (pvs__otree_prepare) */
+    uint32_t ot_facade_count, ot_facade_cap, ot_vertical, ot_level_count, ot_prepared;
+    float ot_level[PVS__OT25_LEVELS];        /* OTREE: base heights, ascending */
+    uint32_t ot_level_end[PVS__OT25_LEVELS]; /* the facades of levels <= k: [0, ot_level_end[k]) */
     float *ot_objects;         /* OTREE: object_count x (umin vmin umax vmax top) */
-    pvs_kdtree *ot_tree;       /* OTREE: over pvs_visibility_25d_boxes */
+    pvs_kdtree *ot_tree[PVS__OT25_LEVELS];   /* OTREE: per level, over pvs_visibility_25d_boxes */
     struct pvs__extproj_prep *extproj;        /* EXTPROJ: the scene's occluders, read-only in tasks */
     uint32_t extproj_resolution, extproj_occluders;
     pvs_occluders *occluders;  /* SHRINK */
@@ -12588,9 +12866,12 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs__free_array(&a, b->done, b->cell_count, 1);
     pvs__free_array(&a, b->restored, b->cell_count, 1);
     pvs__free_array(&a, b->stats, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
-    pvs__free_array(&a, b->ot_facades, (size_t)b->ot_facade_count * 6 + 6, sizeof(float));
+    pvs__free_array(&a, b->ot_facades, (size_t)b->ot_facade_cap * 5 + 5, sizeof(float));
     pvs__free_array(&a, b->ot_objects, (size_t)b->object_count * 5 + 5, sizeof(float));
-    pvs_kdtree_destroy(b->ot_tree);
+    {
+        uint32_t k;
+        for (k = 0; k < PVS__OT25_LEVELS; ++k) pvs_kdtree_destroy(b->ot_tree[k]);
+    }
     pvs__extproj_prep_destroy(b->extproj);
     pvs_occluders_destroy(b->occluders);
     if (b->vocc) {
@@ -12617,124 +12898,175 @@ PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *
 
 /* ---- the OTREE bake method ---- */
 
-/* Facades for c-LSS (§7.1): pairs of consecutive triangles that form a vertical rectangle (two
-   ground positions x two heights, split along a diagonal) whose bottom is at or below the lowest
-   point of the scene, so it certainly blocks every height from the ground to its top. Anything
-   else is ignored (never blocks: conservative). */
-PVS__STATIC pvs_result pvs__otree_prepare(pvs_bake *b) {
+/* Facades for c-LSS (§7.1) from the scene's vertical walls, any tessellation (pvs__facades_extract):
+   wall segments with the height interval [base, top] they fully cover over their length.
+   Base heights. c-LSS takes an occluder as standing on the ground: a ray over its 2D line passes it
+   only above its top. A facade with base b is such an occluder for every ray whose two ends are no
+   lower than b: the ray's height is linear, so it is at least b where it crosses the facade. From a
+   cell whose bottom is c, toward an object whose bottom is o, every ray starts no lower than c and
+   ends no lower than o: the facades with b <= min(c, o) may be used, the others not (a ray may pass
+   under them). The bases are gathered into at most PVS__OT25_LEVELS levels (a facade belongs to the
+   lowest level at or above its base: it is then used for fewer pairs, conservative), the facades
+   are sorted by level, and every level k gets a kD-tree over the facades of levels <= k and the
+   objects. A cell then runs pvs_visibility_25d once per level that some object needs (one run for a
+   scene whose walls all stand on the ground); objects below every level are visible. */
+PVS__STATIC pvs_result pvs__otree_prepare(pvs_bake *b, const pvs_box *cells, uint32_t cell_count) {
     const pvs_scene *s = b->scene;
-    int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
-    float ground = s->bounds.min[up];
-    uint32_t t, n = 0, pass, i = 0;
-    for (pass = 0; pass < 2; ++pass) {
-        n = 0;
-        for (t = 0; t + 1 < s->triangle_count; ++t) {
-            const float *c[6];
-            float pu[2], pv[2], h[2];
-            int np = 0, nh = 0, k, m, shared = 0, diag = 1;
-            for (k = 0; k < 6; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t + (uint32_t)(k / 3)) + (uint32_t)(k % 3)];
-            for (k = 0; k < 6 && np <= 2 && nh <= 2; ++k) {
-                for (m = 0; m < np; ++m) if (pu[m] == c[k][u] && pv[m] == c[k][v]) break;
-                if (m == np) { if (np < 2) { pu[np] = c[k][u]; pv[np] = c[k][v]; } ++np; }
-                for (m = 0; m < nh; ++m) if (h[m] == c[k][up]) break;
-                if (m == nh) { if (nh < 2) h[nh] = c[k][up]; ++nh; }
-            }
-            if (np != 2 || nh != 2) continue;
-            /* each triangle has three distinct corners; they share exactly two, on a diagonal */
-            for (k = 0; k < 3; ++k)
-                if (c[k] == c[(k + 1) % 3] || c[3 + k] == c[3 + (k + 1) % 3] ||
-                    !memcmp(c[k], c[(k + 1) % 3], 12) || !memcmp(c[3 + k], c[3 + (k + 1) % 3], 12)) break;
-            if (k < 3) continue;
-            for (k = 0; k < 3; ++k)
-                for (m = 3; m < 6; ++m)
-                    if (!memcmp(c[k], c[m], 12)) {
-                        ++shared;
-                        if (shared == 1) i = (uint32_t)k; else {
-                            const float *p0 = c[i], *p1 = c[k];
-                            diag = (p0[u] != p1[u] || p0[v] != p1[v]) && p0[up] != p1[up];
-                        }
-                    }
-            if (shared != 2 || !diag) continue;
-            {
-                float lo = h[0] < h[1] ? h[0] : h[1], hi = h[0] < h[1] ? h[1] : h[0];
-                if (!(lo <= ground)) continue;
-                if (pass) {
-                    float *f = b->ot_facades + 5 * (size_t)n;
-                    f[0] = pu[0]; f[1] = pv[0]; f[2] = pu[1]; f[3] = pv[1]; f[4] = hi;
-                    b->ot_facades[5 * (size_t)b->ot_facade_count + n] = lo;
-                }
-            }
-            ++n;
-            ++t; /* the pair is used up */
-        }
-        if (!pass) {
-            b->ot_facade_count = n;
-            b->ot_facades = (float *)pvs__alloc_array(&b->allocator, (size_t)n * 6 + 6, sizeof(float));
-            b->ot_objects = (float *)pvs__alloc_array(&b->allocator, (size_t)b->object_count * 5 + 5, sizeof(float));
-            if (!b->ot_facades || !b->ot_objects) return PVS_ERROR_OUT_OF_MEMORY;
-        }
+    int up = s->up_axis == 2 ? 2 : 1, u, v;
+    float *fac = NULL, maxc = -FLT_MAX;
+    size_t fac_floats = 0;
+    uint32_t n = 0, i, k, nl = 0, m = 0, total;
+    pvs__ot_order *ord = NULL;
+    pvs_result r;
+    pvs__ground_axes((uint32_t)up, &u, &v);
+    b->ot_prepared = 1;
+    r = pvs__facades_extract(s, &b->allocator, &fac, &fac_floats, &n, &b->ot_vertical);
+    if (r != PVS_OK) return r;
+    r = PVS_ERROR_OUT_OF_MEMORY;
+    total = n;
+    b->ot_facade_cap = n;
+    b->ot_facades = (float *)pvs__alloc_array(&b->allocator, (size_t)n * 5 + 5, sizeof(float));
+    b->ot_objects = (float *)pvs__alloc_array(&b->allocator, (size_t)b->object_count * 5 + 5, sizeof(float));
+    ord = (pvs__ot_order *)pvs__alloc_array(&b->allocator, (size_t)n + 1, sizeof(pvs__ot_order));
+    if (!b->ot_facades || !b->ot_objects || !ord) goto done;
+    /* only facades some cell can use: base no higher than the highest cell bottom (of the whole bake,
+       so that shards agree) */
+    for (i = 0; i < cell_count; ++i)
+        if (i == 0 || cells[i].min[up] > maxc) maxc = cells[i].min[up];
+    for (i = 0; i < n; ++i) {
+        const float *f = fac + 6 * (size_t)i;
+        if (!(f[5] <= maxc)) continue;
+        ord[m].key = f[5];
+        ord[m].index = i;
+        ++m;
     }
+    pvs__ot_sort(ord, m); /* by base, then extraction order */
+    /* the levels: the PVS__OT25_LEVELS distinct bases holding the most wall area (ties: the lower) */
+    {
+        double area[PVS__OT25_LEVELS];
+        float cand[PVS__OT25_LEVELS];
+        uint32_t nc = 0, j;
+        for (i = 0; i < m;) {
+            float base = (float)ord[i].key;
+            double sum = 0.0;
+            for (j = i; j < m && (float)ord[j].key == base; ++j) {
+                const float *f = fac + 6 * (size_t)ord[j].index;
+                double dx = (double)f[2] - f[0], dy = (double)f[3] - f[1];
+                sum += sqrt(dx * dx + dy * dy) * ((double)f[4] - f[5]);
+            }
+            i = j;
+            if (nc < PVS__OT25_LEVELS) { cand[nc] = base; area[nc] = sum; ++nc; continue; }
+            for (j = 0, k = 1; k < nc; ++k) if (area[k] < area[j] || (area[k] == area[j] && cand[k] > cand[j])) j = k;
+            if (sum > area[j]) { cand[j] = base; area[j] = sum; }
+        }
+        for (i = 0; i < nc; ++i) { /* ascending */
+            for (j = i + 1; j < nc; ++j)
+                if (cand[j] < cand[i]) { float tf = cand[i]; double ta = area[i]; cand[i] = cand[j]; area[i] = area[j]; cand[j] = tf; area[j] = ta; }
+            b->ot_level[i] = cand[i];
+        }
+        nl = nc;
+    }
+    b->ot_level_count = nl;
+    /* facades by level (a facade joins the lowest level at or above its base; above the highest it is
+       left out), 5 floats each */
+    for (i = 0, k = 0, n = 0; i < m && k < nl; ++i) {
+        const float *f = fac + 6 * (size_t)ord[i].index;
+        while (k < nl && b->ot_level[k] < f[5]) b->ot_level_end[k++] = n;
+        if (k == nl) break;
+        memcpy(b->ot_facades + 5 * (size_t)n++, f, 5 * sizeof(float));
+    }
+    for (; k < nl; ++k) b->ot_level_end[k] = n;
+    b->ot_facade_count = n;
     for (i = 0; i < b->object_count; ++i) {
         const pvs_box *bx = s->object_boxes + i;
         float *o = b->ot_objects + 5 * (size_t)i;
         o[0] = bx->min[u]; o[1] = bx->min[v]; o[2] = bx->max[u]; o[3] = bx->max[v]; o[4] = bx->max[up];
         if (bx->min[0] > bx->max[0] || (s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)) { o[0] = 1.0f; o[2] = 0.0f; } /* never visible */
     }
-    {
+    for (k = 0; k < nl; ++k) {
         pvs_kdtree_desc kd;
-        pvs_result r;
-        pvs_box *boxes = (pvs_box *)pvs__alloc_array(&b->allocator, (size_t)n + b->object_count + 1, sizeof(pvs_box));
-        if (!boxes) return PVS_ERROR_OUT_OF_MEMORY;
-        pvs_visibility_25d_boxes(b->ot_facades, n, b->ot_objects, b->object_count, boxes);
+        uint32_t nk = b->ot_level_end[k];
+        pvs_box *boxes = (pvs_box *)pvs__alloc_array(&b->allocator, (size_t)nk + b->object_count + 1, sizeof(pvs_box));
+        if (!boxes) goto done;
+        pvs_visibility_25d_boxes(b->ot_facades, nk, b->ot_objects, b->object_count, boxes);
         memset(&kd, 0, sizeof(kd));
         kd.boxes = boxes;
-        kd.count = n + b->object_count;
+        kd.count = nk + b->object_count;
         kd.allocator = b->allocator;
-        r = pvs_kdtree_create(&kd, &b->ot_tree, NULL);
-        pvs__free_array(&b->allocator, boxes, (size_t)n + b->object_count + 1, sizeof(pvs_box));
-        if (r != PVS_OK) return r;
+        r = pvs_kdtree_create(&kd, &b->ot_tree[k], NULL);
+        pvs__free_array(&b->allocator, boxes, (size_t)nk + b->object_count + 1, sizeof(pvs_box));
+        if (r != PVS_OK) goto done;
+        r = PVS_ERROR_OUT_OF_MEMORY;
     }
-    return PVS_OK;
+    r = PVS_OK;
+done:
+    pvs__free(&b->allocator, fac, fac_floats * sizeof(float), 16);
+    pvs__free_array(&b->allocator, ord, (size_t)total + 1, sizeof(pvs__ot_order));
+    return r;
 }
 
-/* One cell with pvs_visibility_25d; facades whose base is above the cell's bottom are left out. */
+/* One cell with pvs_visibility_25d, once per level some object needs (pvs__otree_prepare): the
+   objects whose min(cell bottom, object bottom) lies in [level k, level k + 1) are tested against
+   the facades of levels <= k; objects below the lowest level are visible. */
 PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, uint32_t task, uint32_t cell, pvs_word *bits, pvs_error *err) {
     const pvs_scene *s = b->scene;
     const pvs_box *c = b->cells + task; /* the bake keeps its (shard's) cells by task */
-    int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
+    int up = s->up_axis == 2 ? 2 : 1, u, v;
     pvs_visibility_25d_desc d;
     float *own = NULL;
-    uint32_t i, n = b->ot_facade_count;
-    pvs_result r;
+    pvs_word *part = NULL;
+    unsigned char *grp = NULL;
+    uint32_t i, k, no = b->object_count, used = 0, below = 0;
+    pvs_result r = PVS_OK;
+    pvs__ground_axes((uint32_t)up, &u, &v);
     memset(&d, 0, sizeof(d));
     d.cell_min[0] = c->min[u]; d.cell_min[1] = c->min[v];
     d.cell_max[0] = c->max[u]; d.cell_max[1] = c->max[v];
     d.cell_top = c->max[up];
-    d.facades = b->ot_facades;
-    d.facade_count = n;
-    d.objects = b->ot_objects;
-    d.object_count = b->object_count;
     d.allocator = b->allocator;
-    d.tree = b->ot_tree;
-    for (i = 0; i < n; ++i)
-        if (b->ot_facades[5 * (size_t)n + i] > c->min[up]) break;
-    if (i < n) { /* a cell reaching below some facade's base: keep only the facades under it */
-        uint32_t m = 0;
-        own = (float *)pvs__alloc_array(&b->allocator, (size_t)n * 5 + 5, sizeof(float));
-        if (!own) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u facades", cell);
-        d.tree = NULL; /* the shared tree indexes every facade */
-        for (i = 0; i < n; ++i)
-            if (b->ot_facades[5 * (size_t)n + i] <= c->min[up]) memcpy(own + 5 * (size_t)m++, b->ot_facades + 5 * (size_t)i, 5 * sizeof(float));
-        d.facades = own;
-        d.facade_count = m;
+    grp = (unsigned char *)pvs__alloc_array(&b->allocator, (size_t)no + 1, 1);
+    if (!grp) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u object levels", cell);
+    for (i = 0; i < no; ++i) { /* the level of each drawable object: the highest one at or below its floor */
+        float fl = s->object_boxes[i].min[up];
+        if (c->min[up] < fl) fl = c->min[up];
+        grp[i] = 0xff;
+        if (b->ot_objects[5 * (size_t)i] > b->ot_objects[5 * (size_t)i + 2]) continue; /* never visible */
+        for (k = b->ot_level_count; k-- > 0;)
+            if (b->ot_level[k] <= fl) { grp[i] = (unsigned char)k; used |= 1u << k; break; }
+        if (grp[i] == 0xff) { pvs_bitset_set(bits, i); below = 1; } /* below every facade's base: seen under them */
     }
-    r = pvs_visibility_25d(&d, bits, NULL, err);
-    if (own) pvs__free_array(&b->allocator, own, (size_t)n * 5 + 5, sizeof(float));
+    for (k = 0; k < b->ot_level_count && r == PVS_OK; ++k) {
+        if (!(used & (1u << k))) continue;
+        d.facades = b->ot_facades;
+        d.facade_count = b->ot_level_end[k];
+        d.tree = b->ot_tree[k];
+        d.objects = b->ot_objects;
+        d.object_count = no;
+        if (used != 1u << k || below) { /* other levels' objects are left out of this run */
+            if (!own) {
+                own = (float *)pvs__alloc_array(&b->allocator, (size_t)no * 5 + 5, sizeof(float));
+                part = (pvs_word *)pvs__alloc_array(&b->allocator, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
+                if (!own || !part) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u objects", cell); break; }
+            }
+            memcpy(own, b->ot_objects, (size_t)no * 5 * sizeof(float));
+            for (i = 0; i < no; ++i)
+                if (grp[i] != k) { own[5 * (size_t)i] = 1.0f; own[5 * (size_t)i + 2] = 0.0f; }
+            d.objects = own;
+            r = pvs_visibility_25d(&d, part, NULL, err);
+            if (r == PVS_OK)
+                for (i = 0; i < (uint32_t)PVS_BITSET_WORDS(no); ++i) bits[i] |= part[i];
+        } else {
+            r = pvs_visibility_25d(&d, bits, NULL, err); /* the only run, every object: into bits directly */
+        }
+    }
+    if (own) pvs__free_array(&b->allocator, own, (size_t)no * 5 + 5, sizeof(float));
+    if (part) pvs__free_array(&b->allocator, part, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
+    pvs__free_array(&b->allocator, grp, (size_t)no + 1, 1);
     if (r != PVS_OK) {
         if (err) err->index = cell;
         return r;
     }
-    for (i = 0; i < b->object_count; ++i) /* occluder-only and empty objects never appear */
+    for (i = 0; i < no; ++i) /* occluder-only and empty objects never appear */
         if (b->ot_objects[5 * (size_t)i] > b->ot_objects[5 * (size_t)i + 2]) pvs_bitset_clear(bits, i);
     return PVS_OK;
 }
@@ -12789,7 +13121,7 @@ PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, pvs_method m, const pvs_ba
     case PVS_METHOD_SAMPLE: return PVS_OK;
     case PVS_METHOD_EXTPROJ: return pvs__extproj_prepare(b->scene, &b->allocator, &b->extproj, err);
     case PVS_METHOD_OTREE:
-        if (pvs__otree_prepare(b) != PVS_OK) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
+        if (pvs__otree_prepare(b, desc->cells, desc->cell_count) != PVS_OK) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
         return PVS_OK;
     case PVS_METHOD_SHRINK: {
         /* occluder synthesis over every cell of the bake (not only the shard's): shards agree */
@@ -12848,7 +13180,7 @@ PVS__STATIC int pvs__bake_applies(const pvs_bake *b, pvs_method m, const char **
         *why = b->extproj && b->extproj->occ_count ? "3D: planar occluders and convex solids" : "no planar occluder or convex solid";
         return b->extproj && b->extproj->occ_count;
     case PVS_METHOD_OTREE:
-        *why = b->ot_facade_count ? "2.5D: vertical walls standing on the ground" : "not 2.5D: no vertical wall stands on the ground";
+        *why = b->ot_facade_count ? "2.5D: facades (vertical walls)" : "no vertical wall gives a facade (2.5D occluder)";
         return b->ot_facade_count != 0;
     case PVS_METHOD_SHRINK:
         if (!b->occluders || !b->occluders->info.eroded) {
