@@ -799,6 +799,23 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
                                       pvs_error *err);
 
+/* The 2.5D occluders an OTREE bake (or an AUTO bake that considered OTREE) found in its scene. The
+   facades are made of vertical triangles of any tessellation: coplanar pieces are merged, and a
+   facade is a wall segment with the height range [base, top] it fully covers over its whole length.
+   A cell uses a facade only toward objects whose bottom, like its own, is at or above the facade's
+   level (the lowest of at most eight base heights at or above its base; a ray could pass under it).
+   facades == 0: the bake culls nothing (every object is visible from every cell); the bake driver
+   says so. All zero when the bake did not prepare OTREE. */
+typedef struct pvs_otree_bake_info {
+    uint32_t prepared;           /* 1 when the bake prepared OTREE */
+    uint32_t vertical_triangles; /* triangles of the scene standing vertical */
+    uint32_t facades;            /* facades in use (base no higher than the highest cell bottom) */
+    uint32_t levels;             /* distinct base heights in use */
+    float lowest_level;          /* the lowest of them (when levels > 0) */
+} pvs_otree_bake_info;
+struct pvs_bake; /* >>bake */
+PVS_API void pvs_bake_otree_info(const struct pvs_bake *bake, pvs_otree_bake_info *info);
+
 /* From-point occlusion culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), the
    object-space twin of pvs_raster_cull: same camera, parameters, outputs and errors. Each frame the
    selected occluder polygons, in eye space, are merged front to back into a BSP tree whose planes
@@ -2125,11 +2142,12 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
     return s->occluders + i;
 }
 
-/* The scene's 2.5D facades (shared by the 2.5D methods, >>bake OTREE and >>vocc): pairs of
-   consecutive triangles that form a vertical rectangle (two ground positions x two heights, split
-   along a diagonal) whose bottom is at or below the lowest point of the scene, so it certainly
-   blocks every height from the ground to its top. Anything else is left out (never blocks:
-   conservative). Writes *count facades of 6 floats (u0 v0 u1 v1 top bottom) in triangle order into
+/* The scene's 2.5D facades for >>vocc: pairs of consecutive triangles that form a vertical
+   rectangle (two ground positions x two heights, split along a diagonal) whose bottom is at or below
+   the lowest point of the scene, so it certainly blocks every height from the ground to its top.
+   Anything else is left out (never blocks: conservative). The OTREE bake uses the general
+   extraction (pvs__facades_extract, >>otree: any tessellation, base heights); vocc keeps this one,
+   as switching would change its results (it would find more and longer walls). Writes *count facades of 6 floats (u0 v0 u1 v1 top bottom) in triangle order into
    a new array *out (6 * count + 6 floats, through allocator a; NULL on failure). */
 PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocator *a, float **out, uint32_t *count) {
     int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
@@ -6628,7 +6646,7 @@ done:
    into a new array *out (through allocator a; *out_floats floats), *vertical the number of vertical
    triangles. OUT_OF_MEMORY on failure (*out NULL). */
 #define PVS__FX_MAX_COVER 512
-#define PVS__OT25_LEVELS 4    /* base heights of facades the OTREE bake tells apart (pvs__otree_prepare) */ /* a slab covered by more triangles is left out (conservative) */
+#define PVS__OT25_LEVELS 8    /* base heights of facades the OTREE bake tells apart (pvs__otree_prepare) */ /* a slab covered by more triangles is left out (conservative) */
 
 typedef struct pvs__fxopen {
     double s0, s1, bot, top;
@@ -13405,6 +13423,15 @@ PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
 PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->eps; }
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *b) { return b->occluders; }
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) { return b->occluders ? b->shrink_mode : PVS_SHRINK_AUTO; }
+PVS_API void pvs_bake_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
+    memset(info, 0, sizeof(*info));
+    if (!b || !b->ot_prepared) return;
+    info->prepared = 1;
+    info->vertical_triangles = b->ot_vertical;
+    info->facades = b->ot_facade_count;
+    info->levels = b->ot_level_count;
+    info->lowest_level = b->ot_level_count ? b->ot_level[0] : 0.0f;
+}
 PVS_API void pvs_bake_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
     uint32_t i;
     memset(out, 0, sizeof(*out));
