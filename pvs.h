@@ -7246,7 +7246,10 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
    1 when some part of it may be seen through the lines of the blocker. */
 PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, const double *e, double h, const double *box) {
     size_t base = t->stack_count;
-    double near = pvs__ot25_near(t, e);
+    /* the hidden-height bound counts every member of a subtree, also those crossing the box that
+       pvs__ot25_open ignores (a wall standing on a ground tile would hide the tile's far edge): with
+       the nearness of the whole box, a member of smaller reach lies wholly nearer than the box */
+    double near = pvs__ot25_near(t, box ? box : e);
     int vis = 0;
     if (!pvs__ot_push(t, 0, blocker)) return 1;
     while (t->stack_count > base && !vis) {
