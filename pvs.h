@@ -7336,6 +7336,12 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
     if (t->oom) return PVS_VISIT_STOP;
     bx[0] = (double)node_box->min[0] - w->cx; bx[1] = (double)node_box->min[1] - w->cy;
     bx[2] = (double)node_box->max[0] - w->cx; bx[3] = (double)node_box->max[1] - w->cy;
+    { /* a node wholly behind the source edge's line: no line of this tree reaches it */
+        /* a -> b runs clockwise round the cell: (-ey, ex) points outward; the farthest box corner along it */
+        double ex = w->b[0] - w->a[0], ey = w->b[1] - w->a[1], nx = -ey, ny = ex, far;
+        far = nx * (nx > 0 ? bx[2] : bx[0]) + ny * (ny > 0 ? bx[3] : bx[1]) - (nx * w->a[0] + ny * w->a[1]);
+        if (far < -t->len_eps * (fabs(nx) + fabs(ny) + 1.0)) return PVS_VISIT_SKIP;
+    }
     /* leaves are not tested: inserting their facades and testing their objects after the sweep
        costs less than the box test (the thesis likewise skips tests of small nodes, §4.12.1) */
     if (!items && w->refs[w->node] >= w->test_min &&
