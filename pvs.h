@@ -88,7 +88,7 @@
    carry PVS_FILE_APPROXIMATE.
 
    Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
-   vertical walls stand on the ground (2.5D), EXTPROJ when there are planar occluders or convex solids
+   vertical walls give facades (2.5D; pvs_bake_otree_info), EXTPROJ when there are planar occluders or convex solids
    (3D), SHRINK when closed geometry leaves occluder volume after erosion by eps (VOCC, which adds
    little tightness, only when pvs_bake_desc.methods names it); it runs them cheapest
    first and intersects their PVSs (an intersection of conservative sets is conservative, and at least
@@ -1055,8 +1055,9 @@ PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uin
 typedef enum pvs_method {
     PVS_METHOD_DEFAULT = 0,
     PVS_METHOD_SAMPLE,       /* ray sampling: an estimate from below, NOT conservative */
-    PVS_METHOD_OTREE,        /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7): conservative; occluders are the
-                                scene's vertical rectangles standing on the ground (see pvs_visibility_25d) */
+    PVS_METHOD_OTREE,        /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7): conservative; occluders are
+                                facades made of the scene's vertical triangles, with base heights
+                                (pvs_bake_otree_info, pvs_visibility_25d) */
     PVS_METHOD_EXTPROJ,      /* extended projections (Durand et al. 2000): conservative, 3D, planar occluders */
     PVS_METHOD_SHRINK,       /* occluder shrinking + point sampling (Wonka 2000): conservative */
     PVS_METHOD_AUTO,         /* the conservative methods that apply to the scene, their PVSs intersected (see
@@ -6901,14 +6902,19 @@ done:
 
 /* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
 
-/* Cost (bench_auto and bench_otree, demo city, 2026-11-24, shared machine): about 9 ms of CPU time
-   per cell (110 M instructions, callgrind), five times less than the first version, from: unit plane
-   normals stored in the nodes (no square root per classification), the work stack used in place,
-   per-occluder umbra data computed once per tree, an umbra covering the whole far edge ending the
-   funnel test early, the hidden-height bound below (most hidden queries stop high in the tree), clips
-   of read-only tests paid only where the test goes, and no box tests of kD nodes holding fewer than
-   PVS__OT25_TEST_MIN items. What remains is the depth of the tree (leaves about 35 levels down): the
-   splitting of facade blockers on insertion and the descent of visible kD boxes to an out-leaf. */
+/* Cost (bench_otree, demo city, 2026-11-24, shared machine): 88 M instructions per cell (callgrind,
+   8 cells), about 6.5-7 ms of CPU time under load; it was 112 M / 8.5-8.9 ms before the second round
+   and 550 M in the first version. First round: unit plane normals stored in the nodes (no square root
+   per classification), the work stack used in place, per-occluder umbra data computed once per tree,
+   an umbra covering the whole far edge ending the funnel test early, the hidden-height bound below
+   (most hidden queries stop high in the tree), clips of read-only tests paid only where the test
+   goes, and no box tests of kD nodes holding fewer than PVS__OT25_TEST_MIN items. Second round: lazy
+   funnel splitting (PVS__OT25_SPLIT_MIN), low boxes tested on their three exit edges, per-leaf
+   hidden-height bounds from the part of each member the leaf's lines cross (pvs__ot25_join), a
+   balanced top of the tree (pvs__ot25_presplit), blocker edge planes without a search, kD nodes
+   behind the source edge skipped. What remains: about three quarters of the inserted facades and
+   two thirds of the tested objects are hidden, and proving it walks the tree to its leaves (about
+   40 steps per query). */
 
 #define PVS__OT25_MAX_UMBRAE 96
 #define PVS__OT25_JD 10 /* doubles of per-occluder data (pvs__ot25_prepare) */
