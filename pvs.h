@@ -880,15 +880,35 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame)
 /* ---- occluders ------------------------------------------------------------------------------- */
 
 /* Occluder synthesis: volumes that are certainly solid, for the shrink method (Wonka 2000 §2: the
-   theorem of its appendix needs volumetric occluders). The scene is voxelized; a voxel is solid only
-   if no triangle touches it (a conservative triangle/box test rounding toward "touched") and it
-   cannot be reached from any view cell through untouched voxels (a 26-connected flood fill from the
-   cells; a scene open to the sky is flooded from outside its bounds through the cells that reach
-   it), or if it lies inside an explicit occluder volume. Below the lowest point of the scene and of
-   the cells lies the ground. The solid set is eroded by eps (rounding toward less solid), then merged
+   theorem of its appendix needs volumetric occluders). A voxel is solid only when no viewer in any
+   cell can reach it along a path that touches no triangle, so a sight line through it always meets a
+   triangle first; solid is proved, never guessed from voxel connectivity (a triangle-touched voxel
+   may hide a slit narrower than itself, so touched voxels are never taken as walls):
+   - the triangles (minus those lying flat on the lowest ground level) are split into edge-connected
+     components, vertices matched by exact position; an edge used by an odd number of triangles and
+     not lying on the ground level is open;
+   - per component K, a ray straight up from a point has a crossing parity with K that stays constant
+     along any path avoiding K and the vertical sheets below K's open edges (a closed surface's inside
+     is odd, the ground closes meshes standing on it). Per voxel: untouched by K and clear of those
+     sheets = one free region of known parity (computed with error-bounded predicates; a column no
+     ray can decide counts as open), touched by K = up to two regions (odd and even), near an open
+     edge or its sheet = one region joined to everything. A 6-connected flood over these regions from
+     the cells (and from the outside of K's box) over-approximates where a viewer can go; untouched
+     voxels it does not reach are solid. Thin slits, windows and doors narrower than a voxel keep
+     their regions joined, so the space behind them is reached; a mesh with a crack or a T-junction
+     gives no volume where the crack's sheet runs (conservative). An enclosure formed only by several
+     separate meshes together is not recognised.
+   - voxels inside an explicit occluder volume are solid.
+   Below the lowest point of the scene and of the cells lies the ground (no sight line between points
+   above it passes below it). The solid set is eroded by eps (rounding toward less solid), then merged
    into boxes (3D) and into per-column solid heights standing on the ground (2.5D), returned as
-   rectangles. Limitation: free space is followed voxel to voxel, so an opening narrower than about
-   two voxels may be taken as sealed; choose voxel_size well below the narrowest door or gap. */
+   rectangles. Leaks: when most cells lie inside a component's box but a few reach its outside from
+   their own regions (a cell box poking through a wall into the void of a level whose walls have no
+   faces on the void side), those few are left out of every later flood (pvs_occluders_excluded_cells)
+   so that the others keep their solid walls; pvs_shrink_cell gives a left-out cell every object, and
+   the bake bakes those cells with a second synthesis that every cell seeds (PVS_OCCLUDERS_KEEP_LEAKS).
+   A separate 6-connected flood through untouched voxels from the grid's border reports the cells that
+   reach it (the leak diagnostic: a path of face-adjacent untouched voxels is a real free path). */
 typedef struct pvs_occluders_desc {
     const pvs_scene *scene;   /* required; must outlive the occluders */
     const pvs_box *cells;     /* cell_count view cells: the flood starts from them (required, >= 1) */
@@ -896,8 +916,13 @@ typedef struct pvs_occluders_desc {
     float eps;                /* erosion distance, > 0 */
     float voxel_size;         /* 0 = derived: eps / 1.5, grown until the grid fits max_voxels */
     uint32_t max_voxels;      /* 0 = 1 << 24 */
+    uint32_t flags;           /* PVS_OCCLUDERS_* */
     pvs_allocator allocator;
 } pvs_occluders_desc;
+
+/* pvs_occluders_desc.flags: seed the floods from every cell, leaking ones included (no cell is left
+   out: a leak then costs every cell the walls it opens, as in a single flood). */
+#define PVS_OCCLUDERS_KEEP_LEAKS 1u
 
 /* The synthesized occluders: immutable after creation, thread-safe to read. */
 typedef struct pvs_occluders pvs_occluders;
@@ -915,16 +940,25 @@ typedef struct pvs_occluders_info {
     uint32_t box_count;       /* eroded 3D boxes */
     uint32_t rect_count;      /* eroded 2.5D column rectangles */
     int is_2d5;               /* 1 when the column runs hold the solid voxels (>= 90%): use the 2.5D path */
-    uint32_t leak_cell;       /* the first cell whose flood reaches the outside, PVS_NO_CELL if sealed */
-    float leak_point[3];      /* a voxel centre on its way out (valid when leak_cell != PVS_NO_CELL) */
+    uint32_t leak_cell;       /* the lowest cell that reaches the grid's border by a path of untouched
+                                 voxels (outside the scene: open to the sky, or a leak), PVS_NO_CELL if none */
+    float leak_point[3];      /* the centre of a voxel of that cell on such a path (when leak_cell is set) */
+    uint32_t leak_cells;      /* cells that reach the grid's border so */
+    uint32_t excluded_cells;  /* leaking cells left out of the solid proof (pvs_occluders_excluded_cells):
+                                 a few cells, fewer than half of those inside a component's box, whose
+                                 own sources reach the outside of it; they get no occluder */
     uint32_t thin_objects;    /* drawable objects with no solid voxel in their box: thin walls with open
                                  space on both sides and small props give no volume */
+    uint32_t components;      /* edge-connected triangle sets flooded (3 triangles or more) */
+    uint32_t closed_components; /* of them, those without an open edge */
+    uint64_t open_edges;      /* edges used by an odd number of triangles, off the ground level */
+    uint64_t undecided_columns; /* voxel columns of a component where no test ray gave a certain parity */
 } pvs_occluders_info;
 
 /* Voxel classes pvs_occluders_voxel returns. */
-#define PVS_VOXEL_EMPTY 0u    /* untouched and reached from a cell */
-#define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it */
-#define PVS_VOXEL_SOLID 2u    /* solid (before erosion) */
+#define PVS_VOXEL_EMPTY 0u    /* untouched and not solid */
+#define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it (and it is not solid) */
+#define PVS_VOXEL_SOLID 2u    /* solid (before erosion); may hold triangles of another component */
 #define PVS_VOXEL_GROUND 3u   /* the padding layer below the ground */
 
 /* Runs the synthesis. Errors: INVALID_ARGUMENT (NULL, no cells, eps <= 0 or not finite), BAD_CELL,
@@ -941,10 +975,21 @@ PVS_API uint32_t pvs_occluders_voxel(const pvs_occluders *occluders, uint32_t i,
 PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
 /* The eroded 3D boxes (*count of them); every point within eps of a box is solid. Owned by occluders. */
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *occluders, uint32_t *count);
-/* The eroded 2.5D occluders as closed facade chains (4 points each, base = the ground, top already
-   lowered by eps): every point within eps of such a prism is solid or below the ground. Owned by
+/* The shrunk 2.5D occluders as facade chains (base = the ground, top already lowered by eps): the
+   outer boundaries of regions of the column map at or above a height as closed chains, the boundaries
+   of holes as open chains back to their first point. Every point within eps of such a prism (the
+   region x [ground, top]) lies where no viewer can reach it or is below the ground. Owned by
    occluders. */
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occluders, uint32_t *count);
+/* The column map at ground point (u, v) (x, z for up axis Y; x, y for Z): *solid receives the height
+   below which the column is proved solid (the ground where it is not), the return value the shrunk
+   occluder height (-FLT_MAX where there is none). Outside the map: the ground and -FLT_MAX.
+   On a square's edge the lower of the neighbours counts. */
+PVS_API float pvs_occluders_column_height(const pvs_occluders *occluders, float u, float v, float *solid);
+/* The leaking cells the synthesis left out (indices into desc->cells, increasing; *count of them,
+   info.excluded_cells): pvs_shrink_cell sets every object for them and for boxes inside them.
+   Owned by occluders; NULL when there are none. */
+PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occluders, uint32_t *count);
 
 /* ---- vocc ------------------------------------------------------------------------------------ */
 
@@ -1078,16 +1123,30 @@ typedef enum pvs_shrink_mode {
     PVS_SHRINK_MODE_COUNT
 } pvs_shrink_mode;
 
+/* What one pvs_shrink_cell call did. */
+typedef struct pvs_shrink_stats {
+    pvs_shrink_mode mode;     /* the path that ran */
+    uint32_t occluders;       /* occluders of that path: column prisms (2.5D) or boxes (3D) */
+    int no_occluders;         /* 1 when there are none (nothing survived erosion): every drawable object
+                                 was set without sampling, the PVS culls nothing */
+    int excluded;             /* 1 when the cell lies inside a leaking cell the synthesis left out
+                                 (pvs_occluders_excluded_cells): every drawable object was set */
+    uint32_t samples;         /* sample points */
+    uint64_t occluders_drawn; /* occluders rasterized, summed over the samples (after §3.4's rejection) */
+    uint32_t hidden;          /* drawable objects left out of the PVS */
+} pvs_shrink_stats;
+
 /* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): the occluders, eroded by their
    eps, are point-sampled from the cell every eps; an object is left out only when every sample sees
    it hidden (appendix theorem: then every point of the cell does). Objects meeting the cell, or
    standing under its top face, are always set. Sets bits in `visible` (PVS_BITSET_WORDS(object_count)
    words, not cleared first); occluder-only objects are never set. `occluders` must have been made
-   for this scene. Scratch is allocated through the occluders' allocator and freed before returning:
-   thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (a path this build cannot run, with
-   the reason), OUT_OF_MEMORY. */
+   for this scene. `stats` may be NULL; when the occluders are empty, stats->no_occluders says so (the
+   call still succeeds: the PVS is every object, which is conservative). Scratch is allocated through
+   the occluders' allocator and freed before returning: thread-safe. Errors: INVALID_ARGUMENT,
+   BAD_CELL, UNSUPPORTED (a path this build cannot run, with the reason), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
-                                   pvs_shrink_mode mode, pvs_word *visible, pvs_error *err);
+                                   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
 /* The ray-sampling estimator: `points` stratified points in `cell` (its 8 corners and 6 face centres
    first, then a jittered grid), `rays_per_point` uniformly distributed directions from each, and the
@@ -1236,6 +1295,20 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pv
    SHRINK was not prepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
+/* Counts over the tasks that have run, for the caller's summary: a bake that culls nothing is not an
+   error (every object visible is conservative) but the caller should hear of it. */
+typedef struct pvs_bake_report {
+    uint32_t cells;              /* tasks run so far */
+    uint32_t cells_all_visible;  /* cells whose PVS holds every drawable object: nothing culled */
+    uint32_t cells_no_occluders; /* SHRINK: cells baked with no occluder at all (nothing survived the
+                                    erosion by eps: thin walls only, or eps too large for the volumes);
+                                    OTREE: cells with no usable facade (pvs_bake_otree_info) */
+    uint32_t cells_excluded;     /* SHRINK: leaking cells the occluder synthesis left out
+                                    (pvs_occluders_excluded_cells): baked with a second synthesis in
+                                    which every cell seeds the floods */
+} pvs_bake_report;
+/* Fills *report. Call after the tasks (not concurrently with them). */
+PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
 /* The PVS of a cell whose task has run, or NULL (also for cells of other shards).
    PVS_BITSET_WORDS(object_count) words. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
@@ -8605,49 +8678,97 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 /* occluders: synthesis of certainly-solid volumes (for Wonka 2000's shrinking, §2 and appendix)  */
 /* ---------------------------------------------------------------------------------------------- */
 
-enum { PVS__VX_FREE = 0, PVS__VX_TOUCHED = 1, PVS__VX_REACHED = 2, PVS__VX_EXPLICIT = 3, PVS__VX_GROUND = 4 };
+/* Voxel state flags (pvs_occluders.state). */
+enum {
+    PVS__VX_TOUCHED = 1,   /* a triangle comes within the margin of the voxel */
+    PVS__VX_REACHED = 2,   /* the leak diagnostic's flood got here */
+    PVS__VX_GROUND = 4,    /* layer 0: below the lowest point of the scene and the cells */
+    PVS__VX_SOLID = 8,     /* certainly solid: proved by a component's parity flood, or explicit */
+    PVS__VX_EXPLICIT = 16  /* inside an explicit occluder volume */
+};
+/* What stops the leak diagnostic's flood. */
+#define PVS__VX_LEAK_STOP (PVS__VX_TOUCHED | PVS__VX_REACHED | PVS__VX_GROUND | PVS__VX_EXPLICIT)
+
+/* A voxel grid: voxel (i, j, k) is origin + [i, i + 1] x [j, j + 1] x [k, k + 1] times h; n per axis. */
+typedef struct pvs__vx_grid {
+    double origin[3], h;
+    uint32_t n[3];
+} pvs__vx_grid;
+
+/* The 2.5D column map: squares of side grid.h over the ground plane (grid's u, v axes; n[up] = 1),
+   and min-pyramids over it: level l has squares of side grid.h * 2^l, each holding the least value of
+   the squares it covers (level 0 is the map itself). */
+#define PVS__VX_LEVELS 24
+typedef struct pvs__vx_cols {
+    pvs__vx_grid grid;
+    uint32_t nu, nv;
+    float *solid;               /* nu * nv: top of the proved-solid runs standing on the ground (ground: none) */
+    float *top;                 /* nu * nv: occluder height, shrunk by eps (-FLT_MAX: none) */
+    uint32_t levels;            /* pyramid levels (>= 1) */
+    uint32_t lw[PVS__VX_LEVELS], lh[PVS__VX_LEVELS];
+    float *ptop[PVS__VX_LEVELS], *psolid[PVS__VX_LEVELS]; /* level 0: top, solid; others allocated */
+} pvs__vx_cols;
+
+/* A bounding volume hierarchy over the drawable objects (each in one leaf), tight boxes. */
+typedef struct pvs__obvh_node {
+    pvs_box box;
+    uint32_t first, count;      /* leaf: items[first .. first + count); inner: count == 0, children first, first + 1 */
+    uint32_t parent;
+} pvs__obvh_node;
+typedef struct pvs__obvh {
+    pvs__obvh_node *nodes;
+    uint32_t *items, *leaf_of; /* leaf_of: per object, its leaf (or 0xffffffff) */
+    uint32_t *count_below;     /* per node: objects under it */
+    uint32_t node_count, item_count, object_count;
+} pvs__obvh;
 
 struct pvs_occluders {
     pvs_allocator allocator;
+    pvs__vx_grid grid;          /* the same as origin, h, n below */
     const pvs_scene *scene;
     pvs_occluders_info info;
     double origin[3], h;        /* grid */
     uint32_t n[3];
     size_t total;
-    uint8_t *state;             /* total: PVS__VX_* ; solid = FREE (never reached) or EXPLICIT */
+    uint8_t *state;             /* total: PVS__VX_* flags */
     uint8_t *eroded;            /* total: 1 where solid survives the erosion */
     pvs_box *boxes;
     uint32_t box_count;
-    pvs_facade_chain *chains;
-    float *chain_points;        /* 8 per chain */
+    pvs_facade_chain *chains;   /* the 2.5D occluders (pvs__vx_build_chains) */
+    pvs_box *chain_boxes;       /* per chain: ground bounding rectangle x [base, top] */
+    float *chain_points;        /* 2 floats per point */
     uint32_t chain_count;
+    size_t chain_point_count;
     float ground;
-    float *column_top;          /* n[u] * n[v]: top of each column's solid run before erosion (ground: none) */
-    size_t column_count;
+    pvs__vx_cols cols;          /* the 2.5D column map */
+    pvs__obvh bvh;              /* the drawable objects, for the 2.5D path's walks */
+    pvs__obvh chain_bvh;        /* the chains' boxes */
+    uint32_t *excluded;         /* info.excluded_cells: the leaking cells left out of the floods, */
+    pvs_box *excluded_boxes;    /* and their boxes */
 };
 
 PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j, uint32_t k) {
     return (size_t)i + (size_t)o->n[0] * ((size_t)j + (size_t)o->n[1] * (size_t)k);
 }
-PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return s == PVS__VX_FREE || s == PVS__VX_EXPLICIT; }
+PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return (s & PVS__VX_SOLID) != 0; }
 
 /* Triangle / box overlap by the separating axis theorem (Akenine-Moller 2001), in double, with the
-   box half size `hs` already grown by a margin: rounding errs toward "touched". */
-PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, const double *b, const double *d) {
+   box half sizes `hs` already grown by a margin: rounding errs toward "touched". */
+PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const double *a, const double *b, const double *d) {
     double v[3][3], e[3][3], n[3], p, q, r, lo, hi, rad;
     int i, j;
     for (i = 0; i < 3; ++i) { v[0][i] = a[i] - c[i]; v[1][i] = b[i] - c[i]; v[2][i] = d[i] - c[i]; }
     for (i = 0; i < 3; ++i) {
         lo = hi = v[0][i];
         for (j = 1; j < 3; ++j) { if (v[j][i] < lo) lo = v[j][i]; if (v[j][i] > hi) hi = v[j][i]; }
-        if (lo > hs || hi < -hs) return 0;
+        if (lo > hs[i] || hi < -hs[i]) return 0;
     }
     for (i = 0; i < 3; ++i) { e[0][i] = v[1][i] - v[0][i]; e[1][i] = v[2][i] - v[1][i]; e[2][i] = v[0][i] - v[2][i]; }
     n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
     n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
     n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
     p = n[0] * v[0][0] + n[1] * v[0][1] + n[2] * v[0][2];
-    rad = hs * (pvs__dabs(n[0]) + pvs__dabs(n[1]) + pvs__dabs(n[2]));
+    rad = hs[0] * pvs__dabs(n[0]) + hs[1] * pvs__dabs(n[1]) + hs[2] * pvs__dabs(n[2]);
     if (p > rad * (1.0 + 1e-9) + 1e-300 || p < -rad * (1.0 + 1e-9) - 1e-300) return 0;
     for (i = 0; i < 3; ++i)       /* edge i x box axis j */
         for (j = 0; j < 3; ++j) {
@@ -8662,11 +8783,17 @@ PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, cons
                 if (q < lo) lo = q;
                 if (q > hi) hi = q;
             }
-            r = hs * (pvs__dabs(ax[0]) + pvs__dabs(ax[1]) + pvs__dabs(ax[2]));
+            r = hs[0] * pvs__dabs(ax[0]) + hs[1] * pvs__dabs(ax[1]) + hs[2] * pvs__dabs(ax[2]);
             r = r * (1.0 + 1e-9) + 1e-300;
             if (lo > r || hi < -r) return 0;
         }
     return 1;
+}
+/* The same for a cube of half size hs. */
+PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, const double *b, const double *d) {
+    double h3[3];
+    h3[0] = h3[1] = h3[2] = hs;
+    return pvs__tri_aabb(c, h3, a, b, d);
 }
 
 /* 1 if point (x, y) is inside the polygon (even-odd rule). */
@@ -8727,27 +8854,152 @@ PVS__STATIC int pvs__vx_in_occluder(const pvs_occluder_desc *oc, uint32_t up, co
     }
 }
 
+typedef struct pvs__obvh_key {
+    double d;
+    uint32_t i;
+} pvs__obvh_key;
+PVS__STATIC int pvs__obvh_key_cmp(const void *x, const void *y) {
+    const pvs__obvh_key *a = (const pvs__obvh_key *)x, *b = (const pvs__obvh_key *)y;
+    return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
+}
+
+/* Builds a hierarchy over boxes[0 .. count) (those with `keep` set, or all when keep is NULL):
+   median splits on the longest axis of the centres, leaves of at most 4. */
+PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *boxes, uint32_t count, const uint8_t *keep, pvs__obvh *h) {
+    uint32_t i, n = 0, *stack = NULL, sp = 0;
+    pvs__obvh_key *keys = NULL;
+    memset(h, 0, sizeof(*h));
+    h->object_count = count;
+    h->items = (uint32_t *)pvs__alloc_array(al, count ? count : 1, sizeof(uint32_t));
+    h->leaf_of = (uint32_t *)pvs__alloc_array(al, count ? count : 1, sizeof(uint32_t));
+    if (!h->items || !h->leaf_of) return PVS_ERROR_OUT_OF_MEMORY;
+    for (i = 0; i < count; ++i) {
+        h->leaf_of[i] = 0xffffffffu;
+        if (!keep || keep[i]) h->items[n++] = i;
+    }
+    h->item_count = n;
+    h->nodes = (pvs__obvh_node *)pvs__alloc_array(al, 2 * (size_t)n + 1, sizeof(pvs__obvh_node));
+    h->count_below = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)n + 1, sizeof(uint32_t));
+    stack = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)n + 2, sizeof(uint32_t));
+    keys = (pvs__obvh_key *)pvs__alloc_array(al, n ? n : 1, sizeof(pvs__obvh_key));
+    if (!h->nodes || !h->count_below || !stack || !keys || !n) {
+        pvs__free_array(al, stack, 2 * (size_t)n + 2, sizeof(uint32_t));
+        pvs__free_array(al, keys, n ? n : 1, sizeof(pvs__obvh_key));
+        return h->nodes && h->count_below && stack && keys ? PVS_OK : PVS_ERROR_OUT_OF_MEMORY;
+    }
+    h->node_count = 1;
+    h->nodes[0].first = 0;
+    h->nodes[0].count = n;
+    h->nodes[0].parent = 0xffffffffu;
+    stack[sp++] = 0;
+    while (sp) {
+        uint32_t nd = stack[--sp], f = h->nodes[nd].first, c = h->nodes[nd].count, k, ax = 0, mid;
+        pvs_box bb, cb;
+        int kk;
+        bb = boxes[h->items[f]];
+        for (kk = 0; kk < 3; ++kk) cb.min[kk] = cb.max[kk] = 0.5f * (bb.min[kk] + bb.max[kk]);
+        for (k = f; k < f + c; ++k) {
+            const pvs_box *ob = boxes + h->items[k];
+            for (kk = 0; kk < 3; ++kk) {
+                float mm = 0.5f * (ob->min[kk] + ob->max[kk]);
+                if (ob->min[kk] < bb.min[kk]) bb.min[kk] = ob->min[kk];
+                if (ob->max[kk] > bb.max[kk]) bb.max[kk] = ob->max[kk];
+                if (mm < cb.min[kk]) cb.min[kk] = mm;
+                if (mm > cb.max[kk]) cb.max[kk] = mm;
+            }
+        }
+        h->nodes[nd].box = bb;
+        h->count_below[nd] = c;
+        if (c <= 4) {
+            for (k = f; k < f + c; ++k) h->leaf_of[h->items[k]] = nd;
+            continue;
+        }
+        for (kk = 1; kk < 3; ++kk)
+            if (cb.max[kk] - cb.min[kk] > cb.max[ax] - cb.min[ax]) ax = (uint32_t)kk;
+        /* split at the median centre along that axis */
+        for (k = 0; k < c; ++k) {
+            const pvs_box *ob = boxes + h->items[f + k];
+            keys[k].d = (double)ob->min[ax] + ob->max[ax];
+            keys[k].i = h->items[f + k];
+        }
+        qsort(keys, c, sizeof(pvs__obvh_key), pvs__obvh_key_cmp);
+        for (k = 0; k < c; ++k) h->items[f + k] = keys[k].i;
+        mid = f + c / 2;
+        h->nodes[nd].first = h->node_count;
+        h->nodes[nd].count = 0;
+        h->nodes[h->node_count].first = f;
+        h->nodes[h->node_count].count = mid - f;
+        h->nodes[h->node_count].parent = nd;
+        h->nodes[h->node_count + 1].first = mid;
+        h->nodes[h->node_count + 1].count = f + c - mid;
+        h->nodes[h->node_count + 1].parent = nd;
+        stack[sp++] = h->node_count;
+        stack[sp++] = h->node_count + 1;
+        h->node_count += 2;
+    }
+    pvs__free_array(al, stack, 2 * (size_t)n + 2, sizeof(uint32_t));
+    pvs__free_array(al, keys, n ? n : 1, sizeof(pvs__obvh_key));
+    return PVS_OK;
+}
+PVS__STATIC void pvs__obvh_free(const pvs_allocator *a, pvs__obvh *h) {
+    pvs__free_array(a, h->items, h->object_count ? h->object_count : 1, sizeof(uint32_t));
+    pvs__free_array(a, h->leaf_of, h->object_count ? h->object_count : 1, sizeof(uint32_t));
+    pvs__free_array(a, h->nodes, 2 * (size_t)h->item_count + 1, sizeof(pvs__obvh_node));
+    pvs__free_array(a, h->count_below, 2 * (size_t)h->item_count + 1, sizeof(uint32_t));
+    memset(h, 0, sizeof(*h));
+}
+
+/* The hierarchies of the 2.5D path: over the drawable objects and over the occluder chains. */
+PVS__STATIC pvs_result pvs__occluders_hierarchies(pvs_occluders *o) {
+    const pvs_scene *s = o->scene;
+    uint8_t *keep = (uint8_t *)pvs__alloc_array(&o->allocator, s->object_count ? s->object_count : 1, 1);
+    uint32_t i;
+    pvs_result r;
+    if (!keep) return PVS_ERROR_OUT_OF_MEMORY;
+    for (i = 0; i < s->object_count; ++i) keep[i] = !(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i);
+    r = pvs__obvh_build(&o->allocator, s->object_boxes, s->object_count, keep, &o->bvh);
+    pvs__free_array(&o->allocator, keep, s->object_count ? s->object_count : 1, 1);
+    if (r == PVS_OK) r = pvs__obvh_build(&o->allocator, o->chain_boxes, o->chain_count, NULL, &o->chain_bvh);
+    return r;
+}
+
 PVS_API void pvs_occluders_destroy(pvs_occluders *o) {
     pvs_allocator a;
     if (!o) return;
     a = o->allocator;
+    pvs__obvh_free(&a, &o->bvh);
+    pvs__obvh_free(&a, &o->chain_bvh);
+    pvs__free_array(&a, o->excluded, o->info.excluded_cells, sizeof(uint32_t));
+    pvs__free_array(&a, o->excluded_boxes, o->info.excluded_cells, sizeof(pvs_box));
     pvs__free_array(&a, o->state, o->total, 1);
     pvs__free_array(&a, o->eroded, o->total, 1);
     pvs__free_array(&a, o->boxes, o->box_count, sizeof(pvs_box));
-    pvs__free_array(&a, o->chains, o->chain_count, sizeof(pvs_facade_chain));
-    pvs__free_array(&a, o->chain_points, (size_t)o->chain_count * 8, sizeof(float));
-    pvs__free_array(&a, o->column_top, o->column_count, sizeof(float));
+    pvs__free_array(&a, o->chains, o->chain_count ? o->chain_count : 1, sizeof(pvs_facade_chain));
+    pvs__free_array(&a, o->chain_boxes, o->chain_count ? o->chain_count : 1, sizeof(pvs_box));
+    pvs__free_array(&a, o->chain_points, o->chain_point_count ? 2 * o->chain_point_count : 1, sizeof(float));
+    pvs__free_array(&a, o->cols.solid, (size_t)o->cols.nu * o->cols.nv, sizeof(float));
+    pvs__free_array(&a, o->cols.top, (size_t)o->cols.nu * o->cols.nv, sizeof(float));
+    {
+        uint32_t l;
+        for (l = 1; l < o->cols.levels; ++l) {
+            pvs__free_array(&a, o->cols.ptop[l], (size_t)o->cols.lw[l] * o->cols.lh[l], sizeof(float));
+            pvs__free_array(&a, o->cols.psolid[l], (size_t)o->cols.lw[l] * o->cols.lh[l], sizeof(float));
+        }
+    }
     pvs__free(&a, o, sizeof(*o), 16);
 }
 
-/* Voxel index range [*i0, *i1] on axis k of the closed interval [lo, hi] grown by `m`. */
-PVS__STATIC void pvs__vx_range(const pvs_occluders *o, int k, double lo, double hi, double m, uint32_t *i0, uint32_t *i1) {
-    double a = floor((lo - m - o->origin[k]) / o->h), b = floor((hi + m - o->origin[k]) / o->h);
+/* Voxel index range [*i0, *i1] on axis k of the closed interval [lo, hi] grown by `m` (empty: 1, 0). */
+PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double hi, double m, uint32_t *i0, uint32_t *i1) {
+    double a = floor((lo - m - gr->origin[k]) / gr->h), b = floor((hi + m - gr->origin[k]) / gr->h);
     if (a < 0) a = 0;
-    if (b > (double)o->n[k] - 1) b = (double)o->n[k] - 1;
-    if (b < a) { *i0 = 1; *i1 = 0; return; }
+    if (b > (double)gr->n[k] - 1) b = (double)gr->n[k] - 1;
+    if (!(b >= a)) { *i0 = 1; *i1 = 0; return; }
     *i0 = (uint32_t)a;
     *i1 = (uint32_t)b;
+}
+PVS__STATIC void pvs__vx_range(const pvs_occluders *o, int k, double lo, double hi, double m, uint32_t *i0, uint32_t *i1) {
+    pvs__vx_grange(&o->grid, k, lo, hi, m, i0, i1);
 }
 
 /* One-dimensional min filter of radius r along axis k over a byte grid (outside counts as 0):
@@ -8805,22 +9057,1342 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
     return count;
 }
 
+/* ---- certified solid: crossing parity floods per edge-connected component ----
+
+   Why it is conservative (the argument the code relies on). Let K be a set of triangles, and for a
+   point x above the ground level g let w(x) be the parity of the number of triangles of K the ray
+   from x straight up crosses (for a ray that meets no edge or vertex of K). If every edge of K is
+   used by an even number of triangles of K (edges lying in the plane up = g excepted: only points
+   above g matter, and no sight line between such points goes below g), K is a closed surface modulo
+   2 above g and w is constant on every connected piece of space minus K: moving x changes the
+   crossing count only when x crosses a triangle or the ray sweeps over an edge, and an edge shared by
+   an even number of triangles changes it by an even number. An open edge (odd count) changes it along
+   the vertical sheet below that edge, so w is constant off K and off those sheets.
+   Now take voxels (closed boxes): "pure" when no triangle of K and no sheet comes within the margin
+   m of it (w is then one number on the whole voxel), "mixed" when a triangle of K does but no sheet
+   (its free space splits into parts, each with w = 0 or 1: merging the parts of equal w over-
+   approximates connectivity), "bad" when a sheet does (all of its free space is merged into one
+   region). A path avoiding K can be moved off voxel edges and corners (free space is open), so it
+   passes from voxel to voxel through faces; where it crosses a face it carries the w of the face
+   point, which is the w of the part it leaves and of the part it enters. So the graph whose nodes are
+   (pure voxel), (mixed voxel, 0), (mixed voxel, 1), (bad voxel) and whose links join two nodes of
+   face neighbours with equal w (any node of a bad voxel) contains every such path. Outside K's voxel
+   box there is no triangle and, below it, no sheet (sheets reach down to g, inside the box), so the
+   outside is one connected region with w = 0 on its faces. A flood over the graph from the voxels
+   meeting a cell, and from the outside when some cell lies outside the box, reaches every region a
+   viewer can walk to without touching K; a pure voxel it does not reach cannot be seen from any cell
+   (a sight line to it would be such a path), so a sight line through it has met a triangle first.
+   Solidity from any subset of the scene's triangles holds for all of them, so each component is
+   flooded on its own (two closed meshes that overlap, or an open mesh above a closed one, do not
+   spoil each other's parity). w is computed per voxel column along one vertical line, its position
+   in the column chosen so that the signs of every 2D orientation test are certain under a rigorous
+   rounding-error bound (pvs__vx_cross), and the crossing heights so accurate that no pure voxel can
+   be misplaced relative to them; a column where eight positions fail is treated as bad.
+   Slits, windows and doors narrower than a voxel: the voxels they pass through are mixed or bad and
+   keep both sides' regions of equal w joined, so the space behind them is reached. */
+
+/* orient2d (b - a) x (p - a) in double, with *bound a bound on its rounding error (each difference,
+   product and the final difference rounded once: <= 4.5e-16 (|t1| + |t2|)); its sign is certain when
+   |value| > *bound. Inputs are at most doubles; no underflow for float scene coordinates. */
+PVS__STATIC double pvs__vx_orient(double ax, double ay, double bx, double by, double px, double py, double *bound) {
+    double t1 = (bx - ax) * (py - ay), t2 = (by - ay) * (px - ax);
+    *bound = 1e-15 * (pvs__dabs(t1) + pvs__dabs(t2));
+    return t1 - t2;
+}
+
+/* The vertical line through (pu, pv) against triangle (a, b, c), up axis `up`, ground axes u, v:
+   0 when it certainly misses, 1 when it certainly crosses the interior at height *z (the true height
+   within *dz), -1 when undecidable (the line passes within rounding of an edge or a vertex, or the
+   height is too uncertain): the caller picks another line. */
+PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, int u, int v, int up, double pu, double pv,
+                              double *z, double *dz) {
+    const float *p[3];
+    double o[3], bd[3], r = 0.0, zlo, zhi, w0, w1, w2;
+    int i, pos = 0, neg = 0, unsure = 0;
+    p[0] = a; p[1] = b; p[2] = c;
+    for (i = 0; i < 3; ++i) { /* a zero-length projected edge: no projected area, a segment or a point */
+        const float *q = p[i], *s = p[(i + 1) % 3], *t = p[(i + 2) % 3];
+        if (q[u] == s[u] && q[v] == s[v]) {
+            if (t[u] == q[u] && t[v] == q[v]) return pu == (double)q[u] && pv == (double)q[v] ? -1 : 0;
+            o[0] = pvs__vx_orient(q[u], q[v], t[u], t[v], pu, pv, bd);
+            return pvs__dabs(o[0]) <= bd[0] ? -1 : 0;
+        }
+    }
+    for (i = 0; i < 3; ++i) {
+        const float *q = p[i], *s = p[(i + 1) % 3];
+        o[i] = pvs__vx_orient(q[u], q[v], s[u], s[v], pu, pv, bd + i);
+        if (pvs__dabs(o[i]) <= bd[i]) unsure = 1;
+        else if (o[i] > 0.0) pos = 1;
+        else neg = 1;
+    }
+    if (pos && neg) return 0;
+    if (unsure) return -1;
+    /* inside: barycentric weights |o| (o[1] belongs to a, o[2] to b, o[0] to c), each known to a
+       relative error r; a weighted mean of the corner heights then errs by <= range * 2r / (1 - r) */
+    for (i = 0; i < 3; ++i) r = pvs__dmax(r, bd[i] / pvs__dabs(o[i]));
+    if (r >= 0.25) return -1;
+    w0 = pvs__dabs(o[1]); w1 = pvs__dabs(o[2]); w2 = pvs__dabs(o[0]);
+    *z = (w0 * a[up] + w1 * b[up] + w2 * c[up]) / (w0 + w1 + w2);
+    zlo = pvs__dmin(a[up], pvs__dmin(b[up], c[up]));
+    zhi = pvs__dmax(a[up], pvs__dmax(b[up], c[up]));
+    *dz = (zhi - zlo) * 2.0 * r / (1.0 - r) + 1e-15 * (pvs__dabs(zlo) + pvs__dabs(zhi));
+    return 1;
+}
+
+/* Per-voxel bits of a component's flood. */
+enum { PVS__G_T = 1, PVS__G_B = 2, PVS__G_F = 4, PVS__G_W = 8, PVS__G_R0 = 16, PVS__G_R1 = 32 };
+
+typedef struct pvs__vx_vkey {
+    float p[3];
+    uint32_t i;
+} pvs__vx_vkey;
+PVS__STATIC int pvs__vx_vkey_cmp(const void *x, const void *y) {
+    const pvs__vx_vkey *a = (const pvs__vx_vkey *)x, *b = (const pvs__vx_vkey *)y;
+    int k;
+    for (k = 0; k < 3; ++k) {
+        if (a->p[k] < b->p[k]) return -1;
+        if (a->p[k] > b->p[k]) return 1;
+    }
+    return a->i < b->i ? -1 : a->i > b->i;
+}
+PVS__STATIC int pvs__vx_vkey_cmp_pos(const pvs__vx_vkey *a, const pvs__vx_vkey *b) {
+    return a->p[0] != b->p[0] || a->p[1] != b->p[1] || a->p[2] != b->p[2];
+}
+typedef struct pvs__vx_edge {
+    uint64_t key;  /* canonical vertex ids, smaller first */
+    uint32_t tri;
+} pvs__vx_edge;
+PVS__STATIC int pvs__vx_edge_cmp(const void *x, const void *y) {
+    const pvs__vx_edge *a = (const pvs__vx_edge *)x, *b = (const pvs__vx_edge *)y;
+    if (a->key != b->key) return a->key < b->key ? -1 : 1;
+    return a->tri < b->tri ? -1 : a->tri > b->tri;
+}
+PVS__STATIC uint32_t pvs__vx_find(uint32_t *parent, uint32_t x) {
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+/* What the synthesis knows about the triangles' topology. */
+typedef struct pvs__vx_topo {
+    uint32_t *tris;          /* included triangles grouped by component: comp_first[c] .. comp_first[c + 1] */
+    uint32_t *comp_first;    /* comp_count + 1 */
+    uint32_t comp_count;
+    uint32_t tri_count;      /* included triangles */
+    uint32_t *open_first;    /* comp_count + 1: ranges of open_edges per component */
+    float *open_edges;       /* 6 floats per open edge (two corners), grouped by component */
+    uint32_t open_count;
+    uint32_t *vcanon;        /* (freed early) */
+} pvs__vx_topo;
+
+PVS__STATIC void pvs__vx_topo_free(const pvs_allocator *a, pvs__vx_topo *t, uint32_t triangle_count) {
+    pvs__free_array(a, t->tris, triangle_count ? triangle_count : 1, sizeof(uint32_t));
+    pvs__free_array(a, t->comp_first, (size_t)triangle_count + 2, sizeof(uint32_t));
+    pvs__free_array(a, t->open_first, (size_t)triangle_count + 2, sizeof(uint32_t));
+    pvs__free_array(a, t->open_edges, (size_t)(t->open_count ? t->open_count : 1) * 6, sizeof(float));
+    memset(t, 0, sizeof(*t));
+}
+
+/* 1 if the triangle lies flat on the ground level g (then it is left out: it bounds nothing above g). */
+PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) {
+    uint32_t up = s->up_axis, k;
+    for (k = 0; k < 3; ++k)
+        if (s->positions[3 * (size_t)s->indices[3 * (size_t)t + k] + up] != g) return 0;
+    return 1;
+}
+
+/* Components of the triangles (edge-connected, vertices matched by exact position) and their open
+   edges (odd use count, not both corners on the ground level g). */
+PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_allocator *a, pvs__vx_topo *t) {
+    uint32_t nv = s->vertex_count, nt = s->triangle_count, i, k, up = s->up_axis, ne = 0, c;
+    pvs__vx_vkey *vk = NULL;
+    pvs__vx_edge *ed = NULL;
+    uint32_t *canon = NULL, *parent = NULL, *cid = NULL;
+    size_t e0, e1;
+    pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
+    memset(t, 0, sizeof(*t));
+    vk = (pvs__vx_vkey *)pvs__alloc_array(a, nv ? nv : 1, sizeof(pvs__vx_vkey));
+    canon = (uint32_t *)pvs__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    ed = (pvs__vx_edge *)pvs__alloc_array(a, (size_t)(nt ? nt : 1) * 3, sizeof(pvs__vx_edge));
+    parent = (uint32_t *)pvs__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
+    cid = (uint32_t *)pvs__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
+    t->tris = (uint32_t *)pvs__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
+    t->comp_first = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 2, sizeof(uint32_t));
+    t->open_first = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 2, sizeof(uint32_t));
+    if (!vk || !canon || !ed || !parent || !cid || !t->tris || !t->comp_first || !t->open_first) goto done;
+    for (i = 0; i < nv; ++i) {
+        for (k = 0; k < 3; ++k) vk[i].p[k] = s->positions[3 * (size_t)i + k];
+        vk[i].i = i;
+    }
+    qsort(vk, nv, sizeof(pvs__vx_vkey), pvs__vx_vkey_cmp);
+    for (i = 0; i < nv; ++i) canon[vk[i].i] = i > 0 && !pvs__vx_vkey_cmp_pos(vk + i - 1, vk + i) ? canon[vk[i - 1].i] : i;
+    for (i = 0; i < nt; ++i) {
+        parent[i] = i;
+        if (pvs__vx_flat_on_ground(s, i, g)) { parent[i] = 0xffffffffu; continue; }
+        for (k = 0; k < 3; ++k) {
+            uint32_t x = canon[s->indices[3 * (size_t)i + k]], y = canon[s->indices[3 * (size_t)i + (k + 1) % 3]];
+            if (x == y) continue;
+            ed[ne].key = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
+            ed[ne].tri = i;
+            ++ne;
+        }
+    }
+    qsort(ed, ne, sizeof(pvs__vx_edge), pvs__vx_edge_cmp);
+    for (e0 = 0; e0 < ne; e0 = e1) {
+        for (e1 = e0 + 1; e1 < ne && ed[e1].key == ed[e0].key; ++e1) {
+            uint32_t ra = pvs__vx_find(parent, ed[e0].tri), rb = pvs__vx_find(parent, ed[e1].tri);
+            if (ra != rb) parent[ra > rb ? ra : rb] = ra < rb ? ra : rb; /* the smaller root wins: deterministic */
+        }
+    }
+    /* components numbered by their first triangle */
+    t->comp_count = 0;
+    for (i = 0; i < nt; ++i) {
+        if (parent[i] == 0xffffffffu) { cid[i] = 0xffffffffu; continue; }
+        k = pvs__vx_find(parent, i);
+        cid[i] = k == i ? t->comp_count++ : cid[k];
+    }
+    memset(t->comp_first, 0, ((size_t)t->comp_count + 2) * sizeof(uint32_t));
+    for (i = 0; i < nt; ++i)
+        if (cid[i] != 0xffffffffu) ++t->comp_first[cid[i] + 1];
+    for (c = 0; c < t->comp_count; ++c) t->comp_first[c + 1] += t->comp_first[c];
+    t->tri_count = t->comp_first[t->comp_count];
+    {
+        uint32_t *fill = parent; /* reuse as cursors */
+        for (c = 0; c < t->comp_count; ++c) fill[c] = t->comp_first[c];
+        for (i = 0; i < nt; ++i)
+            if (cid[i] != 0xffffffffu) t->tris[fill[cid[i]]++] = i;
+    }
+    /* open edges: odd runs; corners from the vertex keys (canon id = index into the sorted keys) */
+    t->open_count = 0;
+    for (e0 = 0; e0 < ne; e0 = e1) {
+        const float *p0, *p1;
+        for (e1 = e0 + 1; e1 < ne && ed[e1].key == ed[e0].key; ++e1) {}
+        if (!((e1 - e0) & 1)) continue;
+        p0 = vk[(uint32_t)(ed[e0].key >> 32)].p;
+        p1 = vk[(uint32_t)ed[e0].key].p;
+        if (p0[up] == g && p1[up] == g) continue;
+        ed[t->open_count++] = ed[e0]; /* compacted in place (t->open_count <= e0) */
+    }
+    t->open_edges = (float *)pvs__alloc_array(a, (size_t)(t->open_count ? t->open_count : 1) * 6, sizeof(float));
+    if (!t->open_edges) goto done;
+    memset(t->open_first, 0, ((size_t)t->comp_count + 2) * sizeof(uint32_t));
+    for (i = 0; i < t->open_count; ++i) ++t->open_first[cid[ed[i].tri] + 1];
+    for (c = 0; c < t->comp_count; ++c) t->open_first[c + 1] += t->open_first[c];
+    {
+        uint32_t *fill = parent;
+        for (c = 0; c < t->comp_count; ++c) fill[c] = t->open_first[c];
+        for (i = 0; i < t->open_count; ++i) {
+            float *dst = t->open_edges + 6 * (size_t)fill[cid[ed[i].tri]]++;
+            memcpy(dst, vk[(uint32_t)(ed[i].key >> 32)].p, 3 * sizeof(float));
+            memcpy(dst + 3, vk[(uint32_t)ed[i].key].p, 3 * sizeof(float));
+        }
+    }
+    res = PVS_OK;
+done:
+    pvs__free_array(a, vk, nv ? nv : 1, sizeof(pvs__vx_vkey));
+    pvs__free_array(a, canon, nv ? nv : 1, sizeof(uint32_t));
+    pvs__free_array(a, ed, (size_t)(nt ? nt : 1) * 3, sizeof(pvs__vx_edge));
+    pvs__free_array(a, parent, nt ? nt : 1, sizeof(uint32_t));
+    pvs__free_array(a, cid, nt ? nt : 1, sizeof(uint32_t));
+    if (res != PVS_OK) pvs__vx_topo_free(a, t, nt);
+    return res;
+}
+
+/* Scratch of the component floods, sized for the largest component box. */
+typedef struct pvs__vx_flood {
+    uint8_t *bits;           /* box voxels: PVS__G_* */
+    uint8_t *col;            /* box columns: candidate line index, 0x80 = undecided in this pass, 0xff = failed */
+    uint32_t *queue;         /* 2 nodes per box voxel */
+    size_t cap_vox, cap_col;
+    const pvs_box *cells;    /* the view cells, and a bucket grid over them in the ground plane */
+    uint32_t cell_count;
+    uint32_t *bucket_first;  /* bnu * bnv + 1 */
+    uint32_t *bucket_cells;
+    uint32_t *stamp;         /* per cell: 1 + the last component that looked at it */
+    uint32_t bnu, bnv;
+    uint32_t stamp_next;     /* the next stamp value */
+    pvs__vx_grid bucket_grid;/* the buckets as voxels of a grid (u, v axes) */
+    uint8_t *cellbuf;        /* per cell 7 bytes, the four arrays below */
+    uint8_t *excluded;       /* per cell: 1 = left out of the floods (a leaking cell, see step 4) */
+    uint32_t excluded_count;
+    int keep_leaks;          /* PVS_OCCLUDERS_KEEP_LEAKS: never exclude */
+    uint32_t *near_cells;    /* per component: the cells meeting its box, */
+    signed char *near_w;     /* their w (-1: every node), */
+    uint8_t *near_flag;      /* 1 = sticks out of the box, 2 = the outside reaches its nodes */
+} pvs__vx_flood;
+#define PVS__VX_BUCKET 8u    /* voxel columns per bucket side */
+
+/* Positions of the test line inside a column, as fractions of the voxel (no structure on purpose). */
+static const double pvs__vx_line_u[8] = {0.4142, 0.7071, 0.2360, 0.8660, 0.5773, 0.1547, 0.6458, 0.3183};
+static const double pvs__vx_line_v[8] = {0.6180, 0.2679, 0.7937, 0.4472, 0.1213, 0.8944, 0.3660, 0.5403};
+
+PVS__STATIC void pvs__vx_push(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi, int x) {
+    uint8_t f = (uint8_t)(x ? PVS__G_R1 : PVS__G_R0);
+    if (bits[vi] & f) return;
+    bits[vi] |= f;
+    queue[(*qt)++] = (uint32_t)(2 * vi + (size_t)x);
+}
+/* Every node of voxel vi. */
+PVS__STATIC void pvs__vx_push_all(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi) {
+    uint8_t f = bits[vi];
+    if (f & PVS__G_B) pvs__vx_push(bits, queue, qt, vi, 0);
+    else if (f & PVS__G_T) { pvs__vx_push(bits, queue, qt, vi, 0); pvs__vx_push(bits, queue, qt, vi, 1); }
+    else pvs__vx_push(bits, queue, qt, vi, (f & PVS__G_W) != 0);
+}
+/* The node of voxel vi that the outside (w = 0) enters. */
+PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi) {
+    uint8_t f = bits[vi];
+    pvs__vx_push(bits, queue, qt, vi, (f & (PVS__G_B | PVS__G_T)) ? 0 : (f & PVS__G_W) != 0);
+}
+
+/* The parity w of the points of cell `cb` (which is clear of component K by the margin m, so they
+   all share it): the crossings with K of a vertical line through a point of the cell, above that
+   point (pvs__vx_cross; a crossing cannot lie within m of the point). -1 when eight lines fail. */
+PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
+    uint32_t up = s->up_axis, t, line;
+    int u, v;
+    pvs__ground_axes(up, &u, &v);
+    for (line = 0; line < 8; ++line) {
+        double pu = cb->min[u] + pvs__vx_line_u[line] * ((double)cb->max[u] - cb->min[u]);
+        double pv = cb->min[v] + pvs__vx_line_v[line] * ((double)cb->max[v] - cb->min[v]);
+        double z0 = 0.5 * ((double)cb->min[up] + cb->max[up]);
+        int w = 0, ok = 1;
+        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1] && ok; ++t) {
+            uint32_t tri = tp->tris[t];
+            double z, dz;
+            int r = pvs__vx_cross(s->positions + 3 * (size_t)s->indices[3 * (size_t)tri], s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 1],
+                                  s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2], u, v, (int)up, pu, pv, &z, &dz);
+            if (r < 0 || (r == 1 && pvs__dabs(z - z0) <= dz)) ok = 0;
+            else if (r == 1 && z > z0) w ^= 1;
+        }
+        if (ok) return w;
+    }
+    return -1;
+}
+
+/* A cell's sources in the flood of a component (box lo..hi of grid gr, strides of fl->bits): w = wc
+   for the cell's voxels, every node where wc < 0. test = 0 pushes them; test = 1 pushes nothing and
+   returns 1 when one of them is already reached. */
+PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const uint32_t lo[3], const uint32_t hi[3], const size_t stride[3],
+                             double m, int wc, uint8_t *bits, uint32_t *queue, size_t *qt, int test) {
+    uint32_t r0[3], r1[3], a, b, c;
+    int kk;
+    for (kk = 0; kk < 3; ++kk) {
+        pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
+        if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
+        if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
+    }
+    for (c = r0[2]; c <= r1[2]; ++c)
+        for (b = r0[1]; b <= r1[1]; ++b)
+            for (a = r0[0]; a <= r1[0]; ++a) {
+                size_t x = (a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2]);
+                uint8_t f = bits[x], need;
+                if (!test) {
+                    if (wc < 0) pvs__vx_push_all(bits, queue, qt, x);
+                    else if (f & PVS__G_B) pvs__vx_push(bits, queue, qt, x, 0);
+                    else if (f & PVS__G_T) pvs__vx_push(bits, queue, qt, x, wc);
+                    else pvs__vx_push(bits, queue, qt, x, (f & PVS__G_W) != 0);
+                    continue;
+                }
+                if (f & PVS__G_B) need = PVS__G_R0;
+                else if (f & PVS__G_T) need = wc < 0 ? (PVS__G_R0 | PVS__G_R1) : wc ? PVS__G_R1 : PVS__G_R0;
+                else need = (f & PVS__G_W) ? PVS__G_R1 : PVS__G_R0;
+                if (f & need) return 1;
+            }
+    return 0;
+}
+
+/* The flood over the nodes of a component's box (see the argument above) from the queue's nodes,
+   entering from the outside when ext is 1 (or when the flood reaches a face of the box with a node
+   that joins the outside). Returns 0 when the outside was never entered. */
+PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io, size_t *qt_io, const uint32_t d[3], const size_t stride[3],
+                                  const uint32_t lo[3], uint32_t up, int ext) {
+    size_t qh = *qh_io, qt = *qt_io;
+    uint32_t i, j, k;
+    for (;;) {
+        uint32_t node, idx[3], kk;
+        size_t a;
+        int x, dir;
+        uint8_t fa;
+        if (ext == 1) { /* enter through every face of the box but the ground */
+            for (k = 0; k < d[2]; ++k)
+                for (j = 0; j < d[1]; ++j)
+                    for (i = 0; i < d[0]; ++i) {
+                        int face = 0;
+                        idx[0] = i; idx[1] = j; idx[2] = k;
+                        for (kk = 0; kk < 3; ++kk)
+                            face |= idx[kk] + 1 == d[kk] || (idx[kk] == 0 && (kk != up || lo[up] > 1));
+                        if (face) pvs__vx_push_entry(bits, queue, &qt, i + stride[1] * j + stride[2] * k);
+                    }
+            ext = 2;
+        }
+        if (qh == qt) break;
+        node = queue[qh++];
+        a = node >> 1;
+        x = (int)(node & 1u);
+        fa = bits[a];
+        idx[0] = (uint32_t)(a % d[0]);
+        idx[1] = (uint32_t)((a / d[0]) % d[1]);
+        idx[2] = (uint32_t)(a / stride[2]);
+        for (dir = 0; dir < 6; ++dir) {
+            size_t b;
+            uint8_t fb;
+            kk = (uint32_t)dir >> 1;
+            if (dir & 1 ? idx[kk] + 1 == d[kk] : idx[kk] == 0) { /* a face of the box */
+                if (kk == up && !(dir & 1) && lo[up] == 1) continue; /* the ground */
+                if (!ext && ((fa & PVS__G_B) || !(fa & PVS__G_T) || x == 0)) ext = 1;
+                continue;
+            }
+            b = dir & 1 ? a + stride[kk] : a - stride[kk];
+            fb = bits[b];
+            if (fa & PVS__G_B) pvs__vx_push_all(bits, queue, &qt, b);
+            else if (fb & PVS__G_B) pvs__vx_push(bits, queue, &qt, b, 0);
+            else if (!(fa & PVS__G_T)) pvs__vx_push(bits, queue, &qt, b, (fb & PVS__G_T) ? x : (fb & PVS__G_W) != 0);
+            else if ((fb & PVS__G_T) || ((fb & PVS__G_W) != 0) == x) pvs__vx_push(bits, queue, &qt, b, x);
+        }
+    }
+    *qh_io = qh;
+    *qt_io = qt;
+    return ext;
+}
+
+/* The flood of one component K over grid `gr`: voxel box lo..hi (inclusive, lo[up] >= 1), its
+   triangles and open edges (see the argument above). Leaves in fl->bits, per box voxel, PVS__G_T/B/W
+   and the reached nodes; returns 0 when the outside of the box was never entered. With
+   mark_touched (gr is the occluders' own grid) it also sets PVS__VX_TOUCHED on the grid. */
+PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
+                                        const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl, int mark_touched) {
+    const pvs_scene *s = o->scene;
+    uint32_t up = s->up_axis, d[3], k, t, pass;
+    int u, v, ext, any;
+    size_t stride[3], nvox, vi, qh = 0, qt = 0, ncol;
+    double h = gr->h;
+    uint8_t *bits = fl->bits, *col = fl->col;
+    uint32_t *queue = fl->queue;
+    pvs__ground_axes(up, &u, &v);
+    for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
+    stride[0] = 1;
+    stride[1] = d[0];
+    stride[2] = (size_t)d[0] * d[1];
+    nvox = stride[2] * d[2];
+    ncol = (size_t)d[u] * d[v];
+    memset(bits, 0, nvox);
+    /* 1. touched by K (separating axes, margin toward touched) */
+    for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+        uint32_t tri = tp->tris[t], r0[3], r1[3], a, b, c;
+        double p[3][3], tlo[3], thi[3];
+        int kk;
+        for (kk = 0; kk < 3; ++kk) {
+            p[0][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri] + kk];
+            p[1][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 1] + kk];
+            p[2][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 2] + kk];
+            tlo[kk] = pvs__dmin(p[0][kk], pvs__dmin(p[1][kk], p[2][kk]));
+            thi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
+        }
+        for (kk = 0; kk < 3; ++kk) {
+            pvs__vx_grange(gr, kk, tlo[kk], thi[kk], m, r0 + kk, r1 + kk);
+            if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
+            if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
+        }
+        for (c = r0[2]; c <= r1[2]; ++c)
+            for (b = r0[1]; b <= r1[1]; ++b)
+                for (a = r0[0]; a <= r1[0]; ++a) {
+                    double cc[3];
+                    size_t x = (a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2]);
+                    if (bits[x] & PVS__G_T) continue;
+                    cc[0] = gr->origin[0] + (a + 0.5) * h;
+                    cc[1] = gr->origin[1] + (b + 0.5) * h;
+                    cc[2] = gr->origin[2] + (c + 0.5) * h;
+                    if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) {
+                        bits[x] |= PVS__G_T;
+                        if (mark_touched) o->state[pvs__vx_index(o, a, b, c)] |= PVS__VX_TOUCHED;
+                    }
+                }
+    }
+    /* 2. bad: the vertical sheet below each open edge, from the edge (plus margin) down to the
+       ground; per column whose square (grown by m) the projected edge meets, over the part of the
+       edge inside it (Liang-Barsky clip) */
+    for (t = tp->open_first[comp]; t < tp->open_first[comp + 1]; ++t) {
+        const float *e = tp->open_edges + 6 * (size_t)t;
+        double a0 = e[u], b0 = e[v], da = (double)e[3 + u] - e[u], db = (double)e[3 + v] - e[v];
+        uint32_t r0[3], r1[3], a, b, c;
+        pvs__vx_grange(gr, u, pvs__dmin(e[u], e[3 + u]), pvs__dmax(e[u], e[3 + u]), m, r0 + u, r1 + u);
+        pvs__vx_grange(gr, v, pvs__dmin(e[v], e[3 + v]), pvs__dmax(e[v], e[3 + v]), m, r0 + v, r1 + v);
+        if (r0[u] < lo[u]) r0[u] = lo[u];
+        if (r1[u] > hi[u]) r1[u] = hi[u];
+        if (r0[v] < lo[v]) r0[v] = lo[v];
+        if (r1[v] > hi[v]) r1[v] = hi[v];
+        for (b = r0[v]; b <= r1[v]; ++b)
+            for (a = r0[u]; a <= r1[u]; ++a) {
+                double t0 = 0.0, t1 = 1.0, q[4], pp[4], zt;
+                int side, ok = 1;
+                uint32_t top, idx[3];
+                pp[0] = -da; q[0] = a0 - (gr->origin[u] + a * h - m);
+                pp[1] = da;  q[1] = gr->origin[u] + (a + 1) * h + m - a0;
+                pp[2] = -db; q[2] = b0 - (gr->origin[v] + b * h - m);
+                pp[3] = db;  q[3] = gr->origin[v] + (b + 1) * h + m - b0;
+                for (side = 0; side < 4 && ok; ++side) {
+                    if (pp[side] == 0.0) { ok = q[side] >= 0.0; continue; }
+                    zt = q[side] / pp[side];
+                    if (pp[side] < 0.0) { if (zt > t0) t0 = zt; } else if (zt < t1) t1 = zt;
+                    ok = t0 <= t1;
+                }
+                if (!ok) continue;
+                zt = pvs__dmax((double)e[up] + t0 * ((double)e[3 + up] - e[up]), (double)e[up] + t1 * ((double)e[3 + up] - e[up]));
+                zt = pvs__dmin(zt + m + 1e-6 * pvs__dabs(zt), (double)pvs__dmax(e[up], e[3 + up]) + m);
+                top = (uint32_t)pvs__clampi(floor((zt - gr->origin[up]) / h), (int32_t)lo[up], (int32_t)hi[up]);
+                idx[u] = a; idx[v] = b;
+                for (c = lo[up]; c <= top; ++c) {
+                    idx[up] = c;
+                    bits[(idx[0] - lo[0]) + stride[1] * (idx[1] - lo[1]) + stride[2] * (idx[2] - lo[2])] |= PVS__G_B;
+                }
+            }
+    }
+    /* 3. parity of the pure voxels: per column, the crossings of one vertical line (pvs__vx_cross)
+       toggle PVS__G_F at their layer; up to 8 positions of the line per column */
+    memset(col, 0, ncol);
+    for (pass = 0, any = 1; any && pass < 8; ++pass) {
+        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+            uint32_t tri = tp->tris[t], a, b, a0, a1, b0, b1;
+            const float *pa = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri];
+            const float *pb = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 1];
+            const float *pc = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2];
+            pvs__vx_grange(gr, u, pvs__dmin(pa[u], pvs__dmin(pb[u], pc[u])), pvs__dmax(pa[u], pvs__dmax(pb[u], pc[u])), m, &a0, &a1);
+            pvs__vx_grange(gr, v, pvs__dmin(pa[v], pvs__dmin(pb[v], pc[v])), pvs__dmax(pa[v], pvs__dmax(pb[v], pc[v])), m, &b0, &b1);
+            if (a0 < lo[u]) a0 = lo[u];
+            if (a1 > hi[u]) a1 = hi[u];
+            if (b0 < lo[v]) b0 = lo[v];
+            if (b1 > hi[v]) b1 = hi[v];
+            for (b = b0; b <= b1; ++b)
+                for (a = a0; a <= a1; ++a) {
+                    size_t ci = (a - lo[u]) + (size_t)d[u] * (b - lo[v]);
+                    double z, dz;
+                    int r;
+                    if (col[ci] != pass) continue;
+                    r = pvs__vx_cross(pa, pb, pc, u, v, (int)up, gr->origin[u] + (a + pvs__vx_line_u[pass]) * h,
+                                      gr->origin[v] + (b + pvs__vx_line_v[pass]) * h, &z, &dz);
+                    if (r == 1 && dz >= 0.5 * m) r = -1;
+                    if (r < 0) col[ci] |= 0x80;
+                    if (r == 1) {
+                        uint32_t idx[3];
+                        idx[u] = a - lo[u]; idx[v] = b - lo[v];
+                        idx[up] = (uint32_t)pvs__clampi(floor((z - gr->origin[up]) / h) - (double)lo[up], 0, (int32_t)d[up] - 1);
+                        bits[idx[0] + stride[1] * idx[1] + stride[2] * idx[2]] ^= PVS__G_F;
+                    }
+                }
+        }
+        any = 0;
+        for (vi = 0; vi < ncol; ++vi) {
+            uint32_t idx[3];
+            if (!(col[vi] & 0x80)) continue;
+            idx[u] = (uint32_t)(vi % d[u]); idx[v] = (uint32_t)(vi / d[u]);
+            for (idx[up] = 0; idx[up] < d[up]; ++idx[up]) {
+                size_t x = idx[0] + stride[1] * idx[1] + stride[2] * idx[2];
+                bits[x] &= (uint8_t)~PVS__G_F;
+                if (pass + 1 == 8) bits[x] |= PVS__G_B;
+            }
+            if (pass + 1 == 8) { col[vi] = 0xff; ++o->info.undecided_columns; }
+            else { col[vi] = (uint8_t)(pass + 1); any = 1; }
+        }
+    }
+    for (vi = 0; vi < ncol; ++vi) { /* w of a pure voxel = parity of the crossings above it */
+        uint32_t idx[3], acc = 0;
+        idx[u] = (uint32_t)(vi % d[u]); idx[v] = (uint32_t)(vi / d[u]);
+        for (idx[up] = d[up]; idx[up]-- > 0;) {
+            size_t x = idx[0] + stride[1] * idx[1] + stride[2] * idx[2];
+            if (acc && !(bits[x] & (PVS__G_T | PVS__G_B))) bits[x] |= PVS__G_W;
+            acc ^= (bits[x] & PVS__G_F) != 0;
+        }
+    }
+    /* 4. the flood's sources: each cell meeting the box, and the outside of the box when a cell lies
+       (partly) outside it. A cell clear of K (by the margin) is convex and free, so all its points
+       share one w, read off a pure voxel it genuinely overlaps; its voxels get the node of that w. A
+       cell meeting K (partly inside a closed mesh, or touching it) gets every node of its voxels.
+       Leaking cells: when most cells lie inside the box (a closed level) but a few reach the outside
+       (a cell box poking through a wall into the void of a mesh with no faces there, as game levels
+       are), their nodes would join every wall's interior to the flood and no wall would be solid
+       for any cell. So when the cells outside the box are fewer than half of those in use, the
+       outside is flooded first; the cells lying partly outside or whose nodes it reached are then
+       excluded when they too are fewer than half, and the flood runs from the others only. An
+       excluded cell seeds no later flood and gets no occluder at all (pvs_shrink_cell sets every
+       object for it); every cell that keeps the occluders seeded every flood, so the argument above
+       holds for it unchanged. */
+    {
+        uint32_t bu, bv, nnear = 0, q, bu0, bu1, bv0, bv1, stamp, active = fl->cell_count - fl->excluded_count, nout, excl = 0;
+        fl->stamp_next += 2;
+        stamp = fl->stamp_next - 1; /* stamp: looked at for this component, stamp + 1: meets its box */
+        pvs__vx_grange(&fl->bucket_grid, u, gr->origin[u] + lo[u] * h, gr->origin[u] + (hi[u] + 1) * h, m, &bu0, &bu1);
+        pvs__vx_grange(&fl->bucket_grid, v, gr->origin[v] + lo[v] * h, gr->origin[v] + (hi[v] + 1) * h, m, &bv0, &bv1);
+        for (bv = bv0; bv <= bv1; ++bv)
+            for (bu = bu0; bu <= bu1; ++bu) {
+                size_t bk = (size_t)bv * fl->bnu + bu;
+                for (q = fl->bucket_first[bk]; q < fl->bucket_first[bk + 1]; ++q) {
+                    uint32_t cid = fl->bucket_cells[q], r0[3], r1[3], s0[3], s1[3], a, b, c;
+                    const pvs_box *cb = fl->cells + cid;
+                    int touches = 0, maybe = 0, wc = -1, kk, out_w0 = 0, stick = 0;
+                    if (fl->stamp[cid] >= stamp || fl->excluded[cid]) continue;
+                    fl->stamp[cid] = stamp;
+                    for (kk = 0; kk < 3; ++kk) {
+                        pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
+                        if (r0[kk] > r1[kk] || r1[kk] < lo[kk] || r0[kk] > hi[kk]) break;
+                    }
+                    if (kk < 3) continue;
+                    fl->stamp[cid] = stamp + 1;
+                    for (kk = 0; kk < 3; ++kk) {
+                        if (r0[kk] < lo[kk] || r1[kk] > hi[kk]) stick = 1; /* sticks out of the box */
+                        if (r1[kk] > hi[kk] || (r0[kk] < lo[kk] && ((uint32_t)kk != up || lo[up] > 1))) out_w0 = 1;
+                        if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
+                        if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
+                    }
+                    for (c = r0[2]; c <= r1[2] && !maybe; ++c)
+                        for (b = r0[1]; b <= r1[1] && !maybe; ++b)
+                            for (a = r0[0]; a <= r1[0] && !maybe; ++a)
+                                maybe = (bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])] & (PVS__G_T | PVS__G_B)) != 0;
+                    if (maybe) { /* does the cell, grown by m, meet a triangle of K? */
+                        double cc[3], hs[3];
+                        for (kk = 0; kk < 3; ++kk) {
+                            cc[kk] = 0.5 * ((double)cb->min[kk] + cb->max[kk]);
+                            hs[kk] = 0.5 * ((double)cb->max[kk] - cb->min[kk]) + m;
+                        }
+                        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1] && !touches; ++t) {
+                            uint32_t tri = tp->tris[t], e;
+                            double pt[3][3];
+                            int out = 0;
+                            for (e = 0; e < 3; ++e)
+                                for (kk = 0; kk < 3; ++kk) pt[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + e] + kk];
+                            for (kk = 0; kk < 3 && !out; ++kk)
+                                out = pvs__dmin(pt[0][kk], pvs__dmin(pt[1][kk], pt[2][kk])) > cc[kk] + hs[kk] ||
+                                      pvs__dmax(pt[0][kk], pvs__dmax(pt[1][kk], pt[2][kk])) < cc[kk] - hs[kk];
+                            if (!out) touches = pvs__tri_aabb(cc, hs, pt[0], pt[1], pt[2]);
+                        }
+                    }
+                    /* w of a cell clear of K: 0 when (grown by m) it reaches out of the box above the ground
+                       (w = 0 there), else that of a pure voxel it overlaps by more than m, else a ray of its own */
+                    if (!touches && out_w0) wc = 0;
+                    if (!touches && !out_w0) {
+                        for (kk = 0; kk < 3; ++kk) {
+                            pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], -m, s0 + kk, s1 + kk);
+                            if (s0[kk] < lo[kk]) s0[kk] = lo[kk];
+                            if (s1[kk] > hi[kk]) s1[kk] = hi[kk];
+                        }
+                        for (c = s0[2]; c <= s1[2] && wc < 0; ++c)
+                            for (b = s0[1]; b <= s1[1] && wc < 0; ++b)
+                                for (a = s0[0]; a <= s1[0] && wc < 0; ++a) {
+                                    uint8_t f = bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])];
+                                    if (!(f & (PVS__G_T | PVS__G_B))) wc = (f & PVS__G_W) != 0;
+                                }
+                        if (wc < 0) wc = pvs__vx_point_parity(s, tp, comp, cb);
+                    }
+                    fl->near_cells[nnear] = cid;
+                    fl->near_w[nnear] = (signed char)wc;
+                    fl->near_flag[nnear] = (uint8_t)stick;
+                    ++nnear;
+                }
+            }
+        if (!fl->keep_leaks && nnear && 2 * (active - nnear) < active) { /* mostly inside: which cells does the outside reach? */
+            qh = qt = 0;
+            pvs__vx_flood_run(bits, queue, &qh, &qt, d, stride, lo, up, 1);
+            nout = active - nnear;
+            for (q = 0; q < nnear; ++q) {
+                if (!fl->near_flag[q] && pvs__vx_seed(gr, fl->cells + fl->near_cells[q], lo, hi, stride, m, fl->near_w[q], bits, queue, &qt, 1))
+                    fl->near_flag[q] = 2;
+                nout += fl->near_flag[q] != 0;
+            }
+            if (nout && 2 * nout < active) {
+                excl = 1;
+                for (q = 0; q < nnear; ++q)
+                    if (fl->near_flag[q]) { fl->excluded[fl->near_cells[q]] = 1; ++fl->excluded_count; }
+                for (q = 0; q < fl->cell_count; ++q)
+                    if (!fl->excluded[q] && fl->stamp[q] != stamp + 1) { fl->excluded[q] = 1; ++fl->excluded_count; }
+            }
+            for (vi = 0; vi < nvox; ++vi) bits[vi] &= (uint8_t)~(PVS__G_R0 | PVS__G_R1);
+        }
+        qh = qt = 0;
+        ext = 0;
+        for (q = 0; q < nnear; ++q) {
+            if (excl && fl->near_flag[q]) continue;
+            if (fl->near_flag[q] & 1) ext = 1;
+            pvs__vx_seed(gr, fl->cells + fl->near_cells[q], lo, hi, stride, m, fl->near_w[q], bits, queue, &qt, 0);
+        }
+        if (!excl && nnear < active) ext = 1;
+    }
+    return pvs__vx_flood_run(bits, queue, &qh, &qt, d, stride, lo, up, ext);
+}
+
+/* The coarse grid's certification of component K: pure voxels no node of which the flood reached
+   are solid; the whole outside of the box too when the flood never entered it. */
+PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
+                                 const uint32_t hi[3], double m, pvs__vx_flood *fl) {
+    uint32_t d[3], i, j, k;
+    size_t stride[3];
+    const uint8_t *bits = fl->bits;
+    int ext = pvs__vx_flood_component(o, &o->grid, tp, comp, lo, hi, m, fl, 1);
+    for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
+    stride[1] = d[0];
+    stride[2] = (size_t)d[0] * d[1];
+    for (k = 0; k < d[2]; ++k)
+        for (j = 0; j < d[1]; ++j)
+            for (i = 0; i < d[0]; ++i) {
+                uint8_t f = bits[i + stride[1] * j + stride[2] * k];
+                if (f & (PVS__G_T | PVS__G_B)) continue;
+                if (f & ((f & PVS__G_W) ? PVS__G_R1 : PVS__G_R0)) continue;
+                o->state[pvs__vx_index(o, lo[0] + i, lo[1] + j, lo[2] + k)] |= PVS__VX_SOLID;
+            }
+    if (!ext)
+        for (k = 0; k < o->n[2]; ++k)
+            for (j = 0; j < o->n[1]; ++j)
+                for (i = 0; i < o->n[0]; ++i) {
+                    size_t x = pvs__vx_index(o, i, j, k);
+                    if (i >= lo[0] && i <= hi[0] && j >= lo[1] && j <= hi[1] && k >= lo[2] && k <= hi[2]) continue;
+                    if (!(o->state[x] & PVS__VX_GROUND)) o->state[x] |= PVS__VX_SOLID;
+                }
+}
+
+/* ---- 2.5D occluders: proved-solid columns at a finer resolution, eroded by distance ----
+
+   Each component is flooded again on its own grid of voxel size eps (larger only where its box would
+   exceed PVS__VX_BOX_BUDGET voxels). Over a column map of squares of side c (half that, the map
+   capped at PVS__VX_MAP_BUDGET squares), a square's solid height is the least top of the runs of
+   proved-solid voxels standing on the ground over the voxel columns it overlaps; points of the
+   square below it cannot be seen from any cell. Its occluder height (Wonka 2000 §2, appendix: the
+   occluder shrunk by eps) is the solid height cut down to eps below every triangle of the component
+   that comes within eps of the square (the least height of the triangle clipped to the square grown
+   by eps): then the eps-ball of every point of the prism square x [ground, height] is free of the
+   component's triangles and joined to a proved-solid point, so it lies where no viewer reaches, and a
+   sight line through the ball meets a triangle first (as the theorem needs). Rounding: the squares
+   are grown by a margin above the coordinates' float precision. */
+
+#define PVS__VX_BOX_BUDGET (1u << 23)
+#define PVS__VX_MAP_BUDGET (1u << 22)
+
+PVS__STATIC int pvs__vx_float_cmp(const void *x, const void *y) {
+    float a = *(const float *)x, b = *(const float *)y;
+    return a < b ? -1 : a > b;
+}
+
+/* Least height (along `up`) of triangle p (3 points) clipped to the vertical prism over the ground
+   octagon {x0 <= u <= x1, y0 <= v <= y1, s0 <= u + v <= s1, d0 <= u - v <= d1}; DBL_MAX when they do
+   not meet. */
+PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, int up, const double lim[8]) {
+    static const double nu[8] = {-1, 1, 0, 0, -1, 1, -1, 1}, nv[8] = {0, 0, -1, 1, -1, 1, 1, -1};
+    double a[16][3], b[16][3], best = DBL_MAX;
+    int n = 3, side, i, k;
+    for (i = 0; i < 3; ++i)
+        for (k = 0; k < 3; ++k) a[i][k] = p[i][k];
+    for (side = 0; side < 8 && n > 0; ++side) { /* keep nu u + nv v <= lim */
+        int m = 0;
+        for (i = 0; i < n; ++i) {
+            const double *c = a[i], *d = a[(i + 1) % n];
+            double fc = lim[side] - (nu[side] * c[u] + nv[side] * c[v]), fd = lim[side] - (nu[side] * d[u] + nv[side] * d[v]);
+            if (fc >= 0.0) { for (k = 0; k < 3; ++k) b[m][k] = c[k]; ++m; }
+            if ((fc >= 0.0) != (fd >= 0.0)) {
+                double t = fc / (fc - fd);
+                for (k = 0; k < 3; ++k) b[m][k] = c[k] + t * (d[k] - c[k]);
+                ++m;
+            }
+        }
+        n = m;
+        for (i = 0; i < n; ++i)
+            for (k = 0; k < 3; ++k) a[i][k] = b[i][k];
+    }
+    for (i = 0; i < n; ++i) best = pvs__dmin(best, a[i][up]);
+    return best;
+}
+
+/* The column map's pass over one component: flood on its own grid, runs standing on the ground, the
+   squares' solid and occluder heights. Returns OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const pvs__vx_grid *gk,
+                                                 const uint32_t lo[3], const uint32_t hi[3], double m, double eps, double margin,
+                                                 pvs__vx_flood *fl) {
+    const pvs_scene *s = o->scene;
+    pvs__vx_cols *cm = &o->cols;
+    uint32_t up = s->up_axis, d[3], a, b, su0, su1, sv0, sv1, t, k;
+    int u, v, ext;
+    size_t stride[3], nsub, ncol;
+    double hk = gk->h, g = o->ground, e = eps + margin;
+    float *runh = NULL, *tmin = NULL;
+    pvs__ground_axes(up, &u, &v);
+    ext = pvs__vx_flood_component(o, gk, tp, comp, lo, hi, m, fl, 0);
+    for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
+    stride[0] = 1;
+    stride[1] = d[0];
+    stride[2] = (size_t)d[0] * d[1];
+    ncol = (size_t)d[u] * d[v];
+    /* the squares over the box's ground rectangle */
+    pvs__vx_grange(&cm->grid, u, gk->origin[u] + lo[u] * hk, gk->origin[u] + (hi[u] + 1) * hk, 0.0, &su0, &su1);
+    pvs__vx_grange(&cm->grid, v, gk->origin[v] + lo[v] * hk, gk->origin[v] + (hi[v] + 1) * hk, 0.0, &sv0, &sv1);
+    if (su0 > su1 || sv0 > sv1) return PVS_OK;
+    nsub = (size_t)(su1 - su0 + 1) * (sv1 - sv0 + 1);
+    runh = (float *)pvs__alloc_array(&o->allocator, ncol, sizeof(float));
+    tmin = (float *)pvs__alloc_array(&o->allocator, nsub, sizeof(float));
+    if (!runh || !tmin) {
+        pvs__free_array(&o->allocator, runh, ncol, sizeof(float));
+        pvs__free_array(&o->allocator, tmin, nsub, sizeof(float));
+        return PVS_ERROR_OUT_OF_MEMORY;
+    }
+    /* runs of proved-solid voxels from the ground (the box starts at layer 1 = the ground) */
+    for (b = 0; b < d[v]; ++b)
+        for (a = 0; a < d[u]; ++a) {
+            uint32_t idx[3], run = 0;
+            idx[u] = a; idx[v] = b;
+            if (lo[up] == 1)
+                for (idx[up] = 0; idx[up] < d[up]; ++idx[up], ++run) {
+                    uint8_t f = fl->bits[idx[0] + stride[1] * idx[1] + stride[2] * idx[2]];
+                    if ((f & (PVS__G_T | PVS__G_B)) || (f & ((f & PVS__G_W) ? PVS__G_R1 : PVS__G_R0))) break;
+                }
+            runh[(size_t)b * d[u] + a] = run ? (float)(gk->origin[up] + (lo[up] + run) * hk) : -FLT_MAX;
+        }
+    /* the least height of the component's triangles near each square */
+    for (a = 0; a < nsub; ++a) tmin[a] = FLT_MAX;
+    for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+        uint32_t tri = tp->tris[t], i0, i1, j0, j1, i, j;
+        double p[3][3], tlo[2], thi[2];
+        int q;
+        for (q = 0; q < 3; ++q)
+            for (k = 0; k < 3; ++k) p[q][k] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (uint32_t)q] + k];
+        tlo[0] = pvs__dmin(p[0][u], pvs__dmin(p[1][u], p[2][u])); thi[0] = pvs__dmax(p[0][u], pvs__dmax(p[1][u], p[2][u]));
+        tlo[1] = pvs__dmin(p[0][v], pvs__dmin(p[1][v], p[2][v])); thi[1] = pvs__dmax(p[0][v], pvs__dmax(p[1][v], p[2][v]));
+        pvs__vx_grange(&cm->grid, u, tlo[0], thi[0], e, &i0, &i1);
+        pvs__vx_grange(&cm->grid, v, tlo[1], thi[1], e, &j0, &j1);
+        if (i0 < su0) i0 = su0;
+        if (i1 > su1) i1 = su1;
+        if (j0 < sv0) j0 = sv0;
+        if (j1 > sv1) j1 = sv1;
+        for (j = j0; j <= j1; ++j)
+            for (i = i0; i <= i1; ++i) {
+                size_t x = (size_t)(j - sv0) * (su1 - su0 + 1) + (i - su0);
+                double x0 = cm->grid.origin[u] + i * cm->grid.h, y0 = cm->grid.origin[v] + j * cm->grid.h, z;
+                double lim[8], x1 = x0 + cm->grid.h, y1 = y0 + cm->grid.h, ed = e * 1.4142135623730951 * (1.0 + 1e-12);
+                /* the square grown by the octagon around the disc of radius e: holds every point within e */
+                lim[0] = -(x0 - e); lim[1] = x1 + e; lim[2] = -(y0 - e); lim[3] = y1 + e;
+                lim[4] = -(x0 + y0 - ed); lim[5] = x1 + y1 + ed; lim[6] = -(x0 - y1 - ed); lim[7] = x1 - y0 + ed;
+                z = pvs__vx_clip_min_height((const double(*)[3])p, u, v, (int)up, lim);
+                if (z < DBL_MAX && pvs__f_down(z - margin) < tmin[x]) tmin[x] = pvs__f_down(z - margin);
+            }
+    }
+    for (b = sv0; b <= sv1; ++b)
+        for (a = su0; a <= su1; ++a) {
+            size_t x = (size_t)b * cm->nu + a, xs = (size_t)(b - sv0) * (su1 - su0 + 1) + (a - su0);
+            double x0 = cm->grid.origin[u] + a * cm->grid.h, y0 = cm->grid.origin[v] + b * cm->grid.h, hsub = DBL_MAX, top;
+            uint32_t c0, c1, r0, r1, cc, rr;
+            /* the voxel columns the square overlaps (genuinely: a hair inside it) */
+            pvs__vx_grange(gk, u, x0, x0 + cm->grid.h, -1e-9 * cm->grid.h, &c0, &c1);
+            pvs__vx_grange(gk, v, y0, y0 + cm->grid.h, -1e-9 * cm->grid.h, &r0, &r1);
+            if (c0 > c1 || r0 > r1) continue;
+            for (rr = r0; rr <= r1 && hsub > -FLT_MAX; ++rr)
+                for (cc = c0; cc <= c1 && hsub > -FLT_MAX; ++cc) {
+                    if (cc < lo[u] || cc > hi[u] || rr < lo[v] || rr > hi[v]) { hsub = -FLT_MAX; break; }
+                    hsub = pvs__dmin(hsub, runh[(size_t)(rr - lo[v]) * d[u] + (cc - lo[u])]);
+                }
+            if (!(hsub > g)) continue;
+            if ((float)hsub > cm->solid[x]) cm->solid[x] = pvs__f_down(hsub);
+            top = pvs__dmin(hsub, (double)tmin[xs] - eps);
+            if (top > g && pvs__f_down(top) > cm->top[x]) cm->top[x] = pvs__f_down(top);
+        }
+    if (!ext) { /* every viewer is inside the box: all outside it is solid (to the grid's top); squares
+                   more than eps (and the margin) away from the box are occluders up there */
+        float sky = pvs__f_down(o->origin[up] + o->n[up] * o->h);
+        uint32_t e0, e1, f0, f1;
+        pvs__vx_grange(&cm->grid, u, gk->origin[u] + lo[u] * hk, gk->origin[u] + (hi[u] + 1) * hk, e, &e0, &e1);
+        pvs__vx_grange(&cm->grid, v, gk->origin[v] + lo[v] * hk, gk->origin[v] + (hi[v] + 1) * hk, e, &f0, &f1);
+        for (b = 0; b < cm->nv; ++b)
+            for (a = 0; a < cm->nu; ++a) {
+                size_t x = (size_t)b * cm->nu + a;
+                if (a >= su0 && a <= su1 && b >= sv0 && b <= sv1) continue;
+                cm->solid[x] = sky;
+                if (!(a >= e0 && a <= e1 && b >= f0 && b <= f1)) cm->top[x] = sky;
+            }
+    }
+    pvs__free_array(&o->allocator, runh, ncol, sizeof(float));
+    pvs__free_array(&o->allocator, tmin, nsub, sizeof(float));
+    return PVS_OK;
+}
+
+/* A growing array of chains and their points (through the occluders' allocator). */
+typedef struct pvs__vx_chainbuf {
+    pvs_facade_chain *chains;
+    size_t *first;           /* per chain: its first point in `points` (pointers are set at the end) */
+    float *points;           /* 2 floats per point */
+    size_t count, cap, cap_first, npts, cap_pts;
+} pvs__vx_chainbuf;
+
+PVS__STATIC int pvs__vx_grow(const pvs_allocator *a, void **p, size_t *cap, size_t need, size_t elem) {
+    size_t n = *cap ? *cap : 64;
+    void *q;
+    if (need <= *cap) return 1;
+    while (n < need) n *= 2;
+    q = pvs__alloc_array(a, n, elem);
+    if (!q) return 0;
+    if (*p) {
+        memcpy(q, *p, *cap * elem);
+        pvs__free_array(a, *p, *cap, elem);
+    }
+    *p = q;
+    *cap = n;
+    return 1;
+}
+
+/* Orientation of (b - a) x (c - a) on integer grid points (exact). */
+PVS__STATIC int64_t pvs__vx_orient_i(const int32_t *a, const int32_t *b, const int32_t *c) {
+    return (int64_t)(b[0] - a[0]) * (c[1] - a[1]) - (int64_t)(b[1] - a[1]) * (c[0] - a[0]);
+}
+/* 1 if closed segments p-q and r-t meet (exact, integer points). */
+PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int32_t *r, const int32_t *t) {
+    int64_t d1 = pvs__vx_orient_i(p, q, r), d2 = pvs__vx_orient_i(p, q, t), d3 = pvs__vx_orient_i(r, t, p), d4 = pvs__vx_orient_i(r, t, q);
+    if (((d1 > 0 && d2 > 0) || (d1 < 0 && d2 < 0)) || ((d3 > 0 && d4 > 0) || (d3 < 0 && d4 < 0))) return 0;
+    if (d1 == 0 && d2 == 0) /* collinear: do the projections overlap? */
+        return (p[0] < q[0] ? p[0] : q[0]) <= (r[0] > t[0] ? r[0] : t[0]) && (r[0] < t[0] ? r[0] : t[0]) <= (p[0] > q[0] ? p[0] : q[0]) &&
+               (p[1] < q[1] ? p[1] : q[1]) <= (r[1] > t[1] ? r[1] : t[1]) && (r[1] < t[1] ? r[1] : t[1]) <= (p[1] > q[1] ? p[1] : q[1]);
+    return 1;
+}
+
+/* Simplifies a boundary loop (n integer grid points, the region on the left of each edge) from the
+   inside: from each kept point, the farthest later point whose chord leaves every skipped point on
+   its right or on it, at most one square away (the skipped corners lie outside the chord: the region
+   between them and the chord is given up, never added) and meets no edge of the loop but the two it
+   joins. Staircases of
+   a slanted wall become a few long edges a square at most inside them (long facades rasterize their
+   shadows near the wall; a staircase of short ones covers no whole cull-map cell there). Returns the
+   number of points kept (in place). */
+PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
+    uint32_t i = 0, kept = 0, j, k, start;
+    int32_t *out;
+    if (n < 5) return n;
+    /* start at a point that must stay: the lowest-leftmost is a convex corner */
+    start = 0;
+    for (k = 1; k < n; ++k)
+        if (pt[2 * k + 1] < pt[2 * start + 1] || (pt[2 * k + 1] == pt[2 * start + 1] && pt[2 * k] < pt[2 * start])) start = k;
+    out = pt + 2 * n; /* scratch: n more points after the loop */
+    while (i < n) {
+        uint32_t best = i + 1;
+        const int32_t *a = pt + 2 * ((start + i) % n);
+        for (j = i + 2; j <= (i ? n : n - 1); ++j) {
+            const int32_t *b = pt + 2 * ((start + j) % n);
+            int ok = 1;
+            double len2 = (double)(b[0] - a[0]) * (b[0] - a[0]) + (double)(b[1] - a[1]) * (b[1] - a[1]);
+            for (k = i + 1; k < j && ok; ++k) { /* right of the chord or on it, and at most a square off it */
+                int64_t o = pvs__vx_orient_i(a, b, pt + 2 * ((start + k) % n));
+                ok = o <= 0 && (double)o * (double)o <= len2;
+            }
+            if (!ok) break;
+            for (k = 0; k < n && ok; ++k) { /* no other edge of the loop touches the chord */
+                uint32_t e0 = (start + k) % n, e1 = (start + k + 1) % n;
+                if (k >= i && k < j) continue;                  /* edges the chord replaces */
+                if (k + 1 == i || (k == j % n && j < n) || (j == n && k == 0) || (i == 0 && k + 1 == n)) {
+                    /* edges sharing an endpoint with the chord: they may only touch it there */
+                    const int32_t *c0 = pt + 2 * e0, *c1 = pt + 2 * e1;
+                    int64_t o0 = pvs__vx_orient_i(a, b, c0), o1 = pvs__vx_orient_i(a, b, c1);
+                    if (o0 == 0 && o1 == 0) ok = 0; /* collinear overlap */
+                    continue;
+                }
+                if (pvs__vx_seg_meet_i(a, b, pt + 2 * e0, pt + 2 * e1)) ok = 0;
+            }
+            if (ok) best = j;
+        }
+        out[2 * kept] = a[0];
+        out[2 * kept + 1] = a[1];
+        ++kept;
+        i = best;
+    }
+    memcpy(pt, out, (size_t)kept * 2 * sizeof(int32_t));
+    return kept;
+}
+
+/* The boundary loops of the squares marked in `mask` (w x h, row-major, with a frame of empty squares
+   around the set): edges walked with the set on their left, joined at grid vertices (where two
+   diagonal squares of the set meet, the loop turns left and stays with the square it follows:
+   4-connected regions). Each loop is simplified (pvs__vx_simplify) and becomes a chain of heights
+   [base, top] at grid point (i, j) -> (ox + i c, oy + j c): counter-clockwise loops (outer
+   boundaries) closed chains, clockwise loops (holes) open chains that come back to their first point
+   (two-sided: the inside of a hole is not solid). `used`: 4 (w + 1) (h + 1) bytes of scratch; `ip`,
+   `ipcap`: a growable integer point buffer. Returns 0 when out of memory. */
+PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w, uint32_t h, double ox,
+                              double oy, double c, float base, float top, uint8_t *used, int32_t **ip, size_t *ipcap) {
+    /* direction d: 0 +i, 1 +j, 2 -i, 3 -j; the squares left and right of an edge leaving vertex (x, y) */
+    static const int di[4] = {1, 0, -1, 0}, dj[4] = {0, 1, 0, -1};
+    static const int lqi[4] = {0, -1, -1, 0}, lqj[4] = {0, 0, -1, -1}, rqi[4] = {0, 0, -1, -1}, rqj[4] = {-1, 0, 0, -1};
+    /* square (i, j)'s side toward neighbour n (below, right, above, left) leaves vertex (i, j) + v0[n] in direction n */
+    static const int ni[4] = {0, 1, 0, -1}, nj[4] = {-1, 0, 1, 0}, v0i[4] = {0, 1, 1, 0}, v0j[4] = {0, 0, 1, 1};
+    uint32_t i, j;
+    memset(used, 0, (size_t)(w + 1) * (h + 1) * 4);
+#define PVS__IN(x, y) ((x) >= 0 && (y) >= 0 && (uint32_t)(x) < w && (uint32_t)(y) < h && mask[(size_t)(y) * w + (uint32_t)(x)])
+    for (j = 0; j < h; ++j)
+        for (i = 0; i < w; ++i) {
+            int side;
+            if (!mask[(size_t)j * w + i]) continue;
+            for (side = 0; side < 4; ++side) {
+                uint32_t vx, vy, start, e, n = 0, kept = 0, q;
+                size_t first;
+                int d = side;
+                float *pt;
+                int64_t area2 = 0;
+                if (PVS__IN((int)i + ni[side], (int)j + nj[side])) continue;
+                vx = i + (uint32_t)v0i[side];
+                vy = j + (uint32_t)v0j[side];
+                start = 4 * (vy * (w + 1) + vx) + (uint32_t)side;
+                if (used[start]) continue;
+                e = start;
+                for (;;) {
+                    int turn, nd = -1;
+                    used[e] = 1;
+                    if (!pvs__vx_grow(al, (void **)ip, ipcap, 2 * (size_t)n + 2, 2 * sizeof(int32_t))) return 0;
+                    (*ip)[2 * n] = (int32_t)vx;
+                    (*ip)[2 * n + 1] = (int32_t)vy;
+                    ++n;
+                    vx = (uint32_t)((int)vx + di[d]);
+                    vy = (uint32_t)((int)vy + dj[d]);
+                    for (turn = 0; turn < 3 && nd < 0; ++turn) { /* left, straight, right */
+                        int cand = turn == 0 ? (d + 1) & 3 : turn == 1 ? d : (d + 3) & 3;
+                        if (PVS__IN((int)vx + lqi[cand], (int)vy + lqj[cand]) && !PVS__IN((int)vx + rqi[cand], (int)vy + rqj[cand])) nd = cand;
+                    }
+                    if (nd < 0) return 0; /* not a boundary: cannot happen */
+                    d = nd;
+                    e = 4 * (vy * (w + 1) + vx) + (uint32_t)d;
+                    if (e == start) break;
+                }
+                /* corners only, then the simplification (scratch: the buffer holds 2n points) */
+                for (q = 0; q < n; ++q) {
+                    const int32_t *pp = *ip + 2 * ((q + n - 1) % n), *pc = *ip + 2 * q, *pn = *ip + 2 * ((q + 1) % n);
+                    if ((pp[0] == pc[0] && pc[0] == pn[0]) || (pp[1] == pc[1] && pc[1] == pn[1])) continue;
+                    (*ip)[2 * kept] = pc[0];
+                    (*ip)[2 * kept + 1] = pc[1];
+                    ++kept;
+                }
+                if (kept < 4) continue;
+                kept = pvs__vx_simplify(*ip, kept);
+                for (q = 0; q < kept; ++q) {
+                    const int32_t *pa = *ip + 2 * q, *pb = *ip + 2 * ((q + 1) % kept);
+                    area2 += (int64_t)pa[0] * pb[1] - (int64_t)pb[0] * pa[1];
+                }
+                if (kept < 3 || area2 == 0) continue;
+                first = cb->npts;
+                if (!pvs__vx_grow(al, (void **)&cb->points, &cb->cap_pts, cb->npts + kept + 1, 2 * sizeof(float))) return 0;
+                pt = cb->points + 2 * first;
+                for (q = 0; q <= kept; ++q) {
+                    if (q == kept && area2 > 0) break; /* only a hole repeats its first point */
+                    pt[2 * q] = (float)(ox + (*ip)[2 * (q % kept)] * c);
+                    pt[2 * q + 1] = (float)(oy + (*ip)[2 * (q % kept) + 1] * c);
+                }
+                cb->npts += area2 > 0 ? kept : kept + 1;
+                if (!pvs__vx_grow(al, (void **)&cb->chains, &cb->cap, cb->count + 1, sizeof(pvs_facade_chain)) ||
+                    !pvs__vx_grow(al, (void **)&cb->first, &cb->cap_first, cb->count + 1, sizeof(size_t)))
+                    return 0;
+                cb->first[cb->count] = first;
+                cb->chains[cb->count].points = NULL;
+                cb->chains[cb->count].point_count = (uint32_t)(cb->npts - first);
+                cb->chains[cb->count].closed = area2 > 0;
+                cb->chains[cb->count].base = base;
+                cb->chains[cb->count].top = top;
+                ++cb->count;
+            }
+        }
+#undef PVS__IN
+    return 1;
+}
+
+/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground: per 4-connected region of squares at or above a level that some
+   square of the region has, the region's boundary at that level (a level-set tree: a block of
+   buildings of several heights is one chain at its lowest height plus one per taller part, so no
+   crack opens where two heights meet). Quantum: a quarter of the square size. */
+PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
+    pvs__vx_cols *cm = &o->cols;
+    const pvs_allocator *al = &o->allocator;
+    size_t n = (size_t)cm->nu * cm->nv, x, qh, qt, cap = 0;
+    uint32_t *label = NULL, *queue = NULL, *members = NULL, nlab = 0, u2 = 0;
+    float *lev = NULL;
+    uint8_t *mask = NULL, *used = NULL, *inl = NULL;
+    uint32_t *sub = NULL;
+    size_t mcap = 0, ucap = 0, lcap = 0, scap = 0, ipcap = 0;
+    int32_t *ipts = NULL;
+    double g = o->ground, qz = 0.25 * cm->grid.h;
+    int u, v;
+    pvs__vx_chainbuf cb;
+    pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
+    memset(&cb, 0, sizeof(cb));
+    pvs__ground_axes(o->scene->up_axis, &u, &v);
+    (void)u2;
+    label = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    queue = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    members = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    if (!label || !queue || !members) goto done;
+    for (x = 0; x < n; ++x) { /* quantize */
+        float t = cm->top[x];
+        if (t > (float)g) cm->top[x] = pvs__f_down(g + floor(((double)t - g) / qz) * qz);
+        if (!(cm->top[x] > (float)g)) cm->top[x] = -FLT_MAX;
+        label[x] = 0xffffffffu;
+    }
+    for (x = 0; x < n; ++x) {
+        uint32_t i0, i1, j0, j1, bw, bh, nm = 0, k, nl = 0, li;
+        if (label[x] != 0xffffffffu || cm->top[x] == -FLT_MAX) continue;
+        /* the region: 4-connected squares with an occluder height */
+        qh = qt = 0;
+        queue[qt++] = (uint32_t)x;
+        label[x] = nlab;
+        i0 = i1 = (uint32_t)(x % cm->nu);
+        j0 = j1 = (uint32_t)(x / cm->nu);
+        while (qh < qt) {
+            uint32_t y = queue[qh++], yi = y % cm->nu, yj = y / cm->nu, dd;
+            members[nm++] = y;
+            if (yi < i0) i0 = yi;
+            if (yi > i1) i1 = yi;
+            if (yj < j0) j0 = yj;
+            if (yj > j1) j1 = yj;
+            for (dd = 0; dd < 4; ++dd) {
+                int zi = (int)yi + (dd == 0) - (dd == 1), zj = (int)yj + (dd == 2) - (dd == 3);
+                size_t z;
+                if (zi < 0 || zj < 0 || (uint32_t)zi >= cm->nu || (uint32_t)zj >= cm->nv) continue;
+                z = (size_t)zj * cm->nu + (uint32_t)zi;
+                if (label[z] != 0xffffffffu || cm->top[z] == -FLT_MAX) continue;
+                label[z] = nlab;
+                queue[qt++] = (uint32_t)z;
+            }
+        }
+        ++nlab;
+        /* its levels, ascending (distinct) */
+        if (!pvs__vx_grow(al, (void **)&lev, &lcap, nm, sizeof(float))) goto done;
+        for (k = 0; k < nm; ++k) lev[k] = cm->top[members[k]];
+        qsort(lev, nm, sizeof(float), pvs__vx_float_cmp);
+        for (k = 0; k < nm; ++k)
+            if (k == 0 || lev[k] != lev[nl - 1]) lev[nl++] = lev[k];
+        /* local frame of one square around the region's rectangle */
+        bw = i1 - i0 + 3;
+        bh = j1 - j0 + 3;
+        if (!pvs__vx_grow(al, (void **)&mask, &mcap, (size_t)bw * bh, 1) || !pvs__vx_grow(al, (void **)&inl, &scap, (size_t)bw * bh, 1) ||
+            !pvs__vx_grow(al, (void **)&sub, &ucap, (size_t)bw * bh, sizeof(uint32_t)) ||
+            !pvs__vx_grow(al, (void **)&used, &cap, (size_t)(bw + 1) * (bh + 1) * 4, 1))
+            goto done;
+        for (li = 0; li < nl; ++li) {
+            float L = lev[li];
+            uint32_t nsub = 0;
+            memset(inl, 0, (size_t)bw * bh);
+            for (k = 0; k < nm; ++k) {
+                uint32_t y = members[k];
+                if (cm->top[y] >= L) inl[(size_t)(y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1)] = 1;
+            }
+            for (k = 0; k < (size_t)bw * bh; ++k) sub[k] = 0xffffffffu;
+            for (k = 0; k < nm; ++k) { /* sub-regions at this level */
+                uint32_t y = members[k], s0 = (y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1), exact = 0, q2;
+                if (!inl[s0] || sub[s0] != 0xffffffffu) continue;
+                qh = qt = 0;
+                queue[qt++] = s0;
+                sub[s0] = nsub;
+                memset(mask, 0, (size_t)bw * bh);
+                while (qh < qt) {
+                    uint32_t z = queue[qh++], zi = z % bw, zj = z / bw, dd;
+                    mask[z] = 1;
+                    if (cm->top[(size_t)(zj + j0 - 1) * cm->nu + (zi + i0 - 1)] == L) exact = 1;
+                    for (dd = 0; dd < 4; ++dd) {
+                        uint32_t w2 = dd == 0 ? z + 1 : dd == 1 ? z - 1 : dd == 2 ? z + bw : z - bw;
+                        if (!inl[w2] || sub[w2] != 0xffffffffu) continue;
+                        sub[w2] = nsub;
+                        queue[qt++] = w2;
+                    }
+                }
+                ++nsub;
+                (void)q2;
+                if (exact && !pvs__vx_trace(al, &cb, mask, bw, bh, cm->grid.origin[u] + ((double)i0 - 1.0) * cm->grid.h,
+                                            cm->grid.origin[v] + ((double)j0 - 1.0) * cm->grid.h, cm->grid.h, (float)g, L, used, &ipts, &ipcap))
+                    goto done;
+            }
+        }
+    }
+    /* hand over: pointers into the final point buffer, bounding boxes */
+    o->chains = (pvs_facade_chain *)pvs__alloc_array(al, cb.count ? cb.count : 1, sizeof(pvs_facade_chain));
+    o->chain_boxes = (pvs_box *)pvs__alloc_array(al, cb.count ? cb.count : 1, sizeof(pvs_box));
+    o->chain_points = (float *)pvs__alloc_array(al, cb.npts ? 2 * cb.npts : 1, sizeof(float));
+    if (!o->chains || !o->chain_boxes || !o->chain_points) goto done;
+    o->chain_count = (uint32_t)cb.count;
+    o->chain_point_count = cb.npts;
+    if (cb.npts) memcpy(o->chain_points, cb.points, 2 * cb.npts * sizeof(float));
+    for (x = 0; x < cb.count; ++x) {
+        pvs_facade_chain *ch = o->chains + x;
+        pvs_box *bx = o->chain_boxes + x;
+        uint32_t k;
+        *ch = cb.chains[x];
+        ch->points = o->chain_points + 2 * cb.first[x];
+        bx->min[u] = bx->max[u] = ch->points[0];
+        bx->min[v] = bx->max[v] = ch->points[1];
+        for (k = 1; k < ch->point_count; ++k) {
+            if (ch->points[2 * k] < bx->min[u]) bx->min[u] = ch->points[2 * k];
+            if (ch->points[2 * k] > bx->max[u]) bx->max[u] = ch->points[2 * k];
+            if (ch->points[2 * k + 1] < bx->min[v]) bx->min[v] = ch->points[2 * k + 1];
+            if (ch->points[2 * k + 1] > bx->max[v]) bx->max[v] = ch->points[2 * k + 1];
+        }
+        bx->min[o->scene->up_axis] = ch->base;
+        bx->max[o->scene->up_axis] = ch->top;
+    }
+    res = PVS_OK;
+done:
+    pvs__free_array(al, label, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, queue, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, members, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, lev, lcap, sizeof(float));
+    pvs__free_array(al, mask, mcap, 1);
+    pvs__free_array(al, inl, scap, 1);
+    pvs__free_array(al, sub, ucap, sizeof(uint32_t));
+    pvs__free_array(al, used, cap, 1);
+    pvs__free_array(al, ipts, ipcap, 2 * sizeof(int32_t));
+    pvs__free_array(al, cb.chains, cb.cap, sizeof(pvs_facade_chain));
+    pvs__free_array(al, cb.first, cb.cap_first, sizeof(size_t));
+    pvs__free_array(al, cb.points, cb.cap_pts, 2 * sizeof(float));
+    return res;
+}
+
+
+/* The min-pyramids of the column map (pvs__vx_cols). */
+PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
+    pvs__vx_cols *cm = &o->cols;
+    uint32_t l, i, j;
+    cm->levels = 1;
+    cm->lw[0] = cm->nu;
+    cm->lh[0] = cm->nv;
+    cm->ptop[0] = cm->top;
+    cm->psolid[0] = cm->solid;
+    for (l = 1; l < PVS__VX_LEVELS && (cm->lw[l - 1] > 1 || cm->lh[l - 1] > 1); ++l) {
+        uint32_t w = (cm->lw[l - 1] + 1) / 2, h = (cm->lh[l - 1] + 1) / 2, pw = cm->lw[l - 1], ph = cm->lh[l - 1];
+        cm->ptop[l] = (float *)pvs__alloc_array(&o->allocator, (size_t)w * h, sizeof(float));
+        cm->psolid[l] = (float *)pvs__alloc_array(&o->allocator, (size_t)w * h, sizeof(float));
+        cm->lw[l] = w;
+        cm->lh[l] = h;
+        cm->levels = l + 1;
+        if (!cm->ptop[l] || !cm->psolid[l]) return PVS_ERROR_OUT_OF_MEMORY;
+        for (j = 0; j < h; ++j)
+            for (i = 0; i < w; ++i) {
+                float t = FLT_MAX, so = FLT_MAX;
+                uint32_t a, b;
+                for (b = 2 * j; b < 2 * j + 2; ++b)
+                    for (a = 2 * i; a < 2 * i + 2; ++a) {
+                        float x = -FLT_MAX, y = o->ground; /* outside the map: no occluder, not solid */
+                        if (a < pw && b < ph) {
+                            x = cm->ptop[l - 1][(size_t)b * pw + a];
+                            y = cm->psolid[l - 1][(size_t)b * pw + a];
+                        }
+                        if (x < t) t = x;
+                        if (y < so) so = y;
+                    }
+                cm->ptop[l][(size_t)j * w + i] = t;
+                cm->psolid[l][(size_t)j * w + i] = so;
+            }
+    }
+    return PVS_OK;
+}
+
+/* The column map and its chains: every component of three triangles or more flooded again on its own
+   grid of voxel size eps (grown when its box would exceed the budget). */
+PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps, double m,
+                                       pvs__vx_flood *fl) {
+    const pvs_scene *s = o->scene;
+    const pvs_allocator *al = &o->allocator;
+    pvs__vx_cols *cm = &o->cols;
+    uint32_t up = s->up_axis, comp, k;
+    int u, v;
+    double c, area, g = o->ground, margin, scale = 0.0;
+    size_t x, nmap;
+    pvs_result res = PVS_OK;
+    pvs__ground_axes(up, &u, &v);
+    area = ((double)ext->max[u] - ext->min[u] + 2.0 * eps) * ((double)ext->max[v] - ext->min[v] + 2.0 * eps);
+    c = pvs__dmax(0.5 * eps, sqrt(area / (double)PVS__VX_MAP_BUDGET));
+    memset(&cm->grid, 0, sizeof(cm->grid));
+    cm->grid.h = c;
+    for (k = 0; k < 3; ++k) {
+        if ((int)k == u || (int)k == v) {
+            cm->grid.origin[k] = (double)ext->min[k] - c;
+            cm->grid.n[k] = (uint32_t)(floor(((double)ext->max[k] - ext->min[k]) / c) + 3.0);
+        } else {
+            cm->grid.origin[k] = g;
+            cm->grid.n[k] = 1;
+        }
+        scale = pvs__dmax(scale, pvs__dmax(pvs__dabs(ext->min[k]), pvs__dabs(ext->max[k])));
+    }
+    cm->nu = cm->grid.n[u];
+    cm->nv = cm->grid.n[v];
+    nmap = (size_t)cm->nu * cm->nv;
+    /* the margin: float precision of the chain points and of the heights, and the voxel margin */
+    margin = 8.0 * FLT_EPSILON * scale + m;
+    cm->solid = (float *)pvs__alloc_array(al, nmap, sizeof(float));
+    cm->top = (float *)pvs__alloc_array(al, nmap, sizeof(float));
+    if (!cm->solid || !cm->top) return PVS_ERROR_OUT_OF_MEMORY;
+    for (x = 0; x < nmap; ++x) { cm->solid[x] = (float)g; cm->top[x] = -FLT_MAX; }
+    for (comp = 0; comp < tp->comp_count && res == PVS_OK; ++comp) {
+        pvs__vx_grid gk;
+        uint32_t lo[3], hi[3], t;
+        size_t vol, ncol;
+        double hk = eps;
+        if (tp->comp_first[comp + 1] - tp->comp_first[comp] < 3) continue;
+        for (;;) { /* the component's grid and box */
+            gk.h = hk;
+            for (k = 0; k < 3; ++k) {
+                gk.origin[k] = (double)ext->min[k] - hk;
+                gk.n[k] = (uint32_t)(floor(((double)ext->max[k] - ext->min[k]) / hk) + 3.0);
+                lo[k] = 0xffffffffu;
+                hi[k] = 0;
+            }
+            gk.origin[up] = g - hk;
+            for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+                uint32_t tri = tp->tris[t], r0, r1, q;
+                for (k = 0; k < 3; ++k) {
+                    double tl = DBL_MAX, th = -DBL_MAX;
+                    for (q = 0; q < 3; ++q) {
+                        double y = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + q] + k];
+                        tl = pvs__dmin(tl, y);
+                        th = pvs__dmax(th, y);
+                    }
+                    pvs__vx_grange(&gk, (int)k, tl, th, m, &r0, &r1);
+                    if (r0 < lo[k]) lo[k] = r0;
+                    if (r1 > hi[k]) hi[k] = r1;
+                }
+            }
+            if (lo[up] < 1 || tp->open_first[comp + 1] > tp->open_first[comp]) lo[up] = 1;
+            if (hi[up] < lo[up]) hi[up] = lo[up];
+            vol = 1;
+            for (k = 0; k < 3; ++k) vol *= (size_t)(hi[k] - lo[k] + 1);
+            if (vol <= PVS__VX_BOX_BUDGET) break;
+            hk *= 1.26;
+        }
+        ncol = (size_t)(hi[u] - lo[u] + 1) * (hi[v] - lo[v] + 1);
+        if (vol > fl->cap_vox) {
+            pvs__free_array(al, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
+            pvs__free_array(al, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
+            fl->bits = (uint8_t *)pvs__alloc_array(al, vol, 1);
+            fl->queue = (uint32_t *)pvs__alloc_array(al, 2 * vol, sizeof(uint32_t));
+            fl->cap_vox = vol;
+            if (!fl->bits || !fl->queue) return PVS_ERROR_OUT_OF_MEMORY;
+        }
+        if (ncol > fl->cap_col) {
+            pvs__free_array(al, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
+            fl->col = (uint8_t *)pvs__alloc_array(al, ncol, 1);
+            fl->cap_col = ncol;
+            if (!fl->col) return PVS_ERROR_OUT_OF_MEMORY;
+        }
+        res = pvs__vx_columns_component(o, tp, comp, &gk, lo, hi, m, eps, margin, fl);
+    }
+    if (res == PVS_OK) res = pvs__vx_build_chains(o);
+    if (res == PVS_OK) res = pvs__vx_pyramid(o);
+    return res;
+}
+
 PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occluders **out, pvs_error *err) {
     pvs_occluders *o;
     pvs_allocator a;
     const pvs_scene *s;
     pvs_box ext;
     double g, h, m;
-    uint32_t up, i, j, k, c, r, *queue = NULL, qh, qt;
-    size_t total, vi, cols;
+    uint32_t up, i, j, k, c, r, *queue = NULL, qh, qt, *cbox = NULL, bpass, bucket_entries = 0;
+    size_t total, vi, cols, qcap = 0, nbuckets = 0;
+    pvs__vx_topo tp;
+    pvs__vx_flood fl;
     uint8_t *tmp = NULL, *line = NULL;
-    float *colh = NULL;
     int u, v, kk;
     if (out) *out = NULL;
+    memset(&tp, 0, sizeof(tp));
+    memset(&fl, 0, sizeof(fl));
     if (!d || !out || !d->scene || !d->cells || !d->cell_count)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene, cells and out must be given");
     if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and > 0, voxel_size finite and >= 0");
+    if (d->flags & ~PVS_OCCLUDERS_KEEP_LEAKS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown occluders flags 0x%x", d->flags);
     for (c = 0; c < d->cell_count; ++c)
         if (!pvs__box_valid(d->cells + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "cell %u is not a valid box", c);
     s = d->scene;
@@ -8856,22 +10428,23 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     }
     o->origin[up] = g - h; /* layer 0 lies below the ground, layer 1 starts at it */
     o->total = total;
+    for (kk = 0; kk < 3; ++kk) {
+        o->grid.origin[kk] = o->origin[kk];
+        o->grid.n[kk] = o->n[kk];
+    }
+    o->grid.h = h;
     o->state = (uint8_t *)pvs__alloc_array(&a, total, 1);
     o->eroded = (uint8_t *)pvs__alloc_array(&a, total, 1);
     tmp = (uint8_t *)pvs__alloc_array(&a, total, 1);
-    queue = (uint32_t *)pvs__alloc_array(&a, total, sizeof(uint32_t));
     line = (uint8_t *)pvs__alloc_array(&a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
     cols = (size_t)o->n[u] * o->n[v];
-    colh = (float *)pvs__alloc_array(&a, cols, sizeof(float));
-    if (!o->state || !o->eroded || !tmp || !queue || !line || !colh || total > 0xffffffffu) {
+    if (!o->state || !o->eroded || !tmp || !line || total > 0x7fffffffu) {
         pvs__free_array(&a, tmp, total, 1);
-        pvs__free_array(&a, queue, total, sizeof(uint32_t));
         pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
-        pvs__free_array(&a, colh, cols, sizeof(float));
         pvs_occluders_destroy(o);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "voxel grid %u x %u x %u", o->n[0], o->n[1], o->n[2]);
     }
-    memset(o->state, PVS__VX_FREE, total);
+    memset(o->state, 0, total);
     for (k = 0; k < o->n[2]; ++k)
         for (j = 0; j < o->n[1]; ++j)
             for (i = 0; i < o->n[0]; ++i) {
@@ -8879,34 +10452,128 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 idx[0] = i; idx[1] = j; idx[2] = k;
                 if (idx[up] == 0) o->state[pvs__vx_index(o, i, j, k)] = PVS__VX_GROUND;
             }
-    /* 1. touched voxels: every triangle against the voxels of its box (SAT, margin toward touched).
-       Triangles lying flat on the ground (the lowest height) touch nothing above it. */
-    m = h * 1e-4 + 1e-6 * (pvs__dabs(g) + 1.0);
-    for (c = 0; c < s->triangle_count; ++c) {
-        double p[3][3], lo[3], hi[3];
-        uint32_t r0[3], r1[3];
-        for (kk = 0; kk < 3; ++kk) {
-            p[0][kk] = s->positions[3 * s->indices[3 * c] + kk];
-            p[1][kk] = s->positions[3 * s->indices[3 * c + 1] + kk];
-            p[2][kk] = s->positions[3 * s->indices[3 * c + 2] + kk];
-            lo[kk] = pvs__dmin(p[0][kk], pvs__dmin(p[1][kk], p[2][kk]));
-            hi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
+    m = h * 1e-4 + 1e-6 * (pvs__dabs(g) + 1.0); /* the margin every voxel test rounds toward "touched" by */
+    /* a bucket grid over the cells in the ground plane, for the floods' sources */
+    fl.cells = d->cells;
+    fl.cell_count = d->cell_count;
+    fl.keep_leaks = (d->flags & PVS_OCCLUDERS_KEEP_LEAKS) != 0;
+    fl.bnu = (o->n[u] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
+    fl.bnv = (o->n[v] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
+    fl.bucket_grid = o->grid;
+    fl.bucket_grid.h = o->h * PVS__VX_BUCKET;
+    fl.bucket_grid.n[u] = fl.bnu;
+    fl.bucket_grid.n[v] = fl.bnv;
+    nbuckets = (size_t)fl.bnu * fl.bnv;
+    fl.bucket_first = (uint32_t *)pvs__alloc_array(&a, nbuckets + 1, sizeof(uint32_t));
+    fl.stamp = (uint32_t *)pvs__alloc_array(&a, d->cell_count, sizeof(uint32_t));
+    fl.cellbuf = (uint8_t *)pvs__alloc_array(&a, d->cell_count, 7);
+    if (!fl.bucket_first || !fl.stamp || !fl.cellbuf) goto oom;
+    memset(fl.bucket_first, 0, (nbuckets + 1) * sizeof(uint32_t));
+    memset(fl.stamp, 0, d->cell_count * sizeof(uint32_t));
+    memset(fl.cellbuf, 0, (size_t)d->cell_count * 7);
+    fl.near_cells = (uint32_t *)(void *)fl.cellbuf; /* the allocator aligns to 16 */
+    fl.excluded = fl.cellbuf + 4 * (size_t)d->cell_count;
+    fl.near_w = (signed char *)(fl.excluded + d->cell_count);
+    fl.near_flag = fl.excluded + 2 * (size_t)d->cell_count;
+    for (bpass = 0; bpass < 2; ++bpass) {
+        if (bpass) {
+            for (vi = 0; vi < nbuckets; ++vi) fl.bucket_first[vi + 1] += fl.bucket_first[vi];
+            bucket_entries = fl.bucket_first[nbuckets];
+            fl.bucket_cells = (uint32_t *)pvs__alloc_array(&a, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
+            if (!fl.bucket_cells) goto oom;
         }
-        if (hi[up] <= g) continue;
-        for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, lo[kk], hi[kk], m, r0 + kk, r1 + kk);
-        for (k = r0[2]; k <= r1[2]; ++k)
-            for (j = r0[1]; j <= r1[1]; ++j)
-                for (i = r0[0]; i <= r1[0]; ++i) {
-                    double cc[3];
-                    size_t x = pvs__vx_index(o, i, j, k);
-                    if (o->state[x] != PVS__VX_FREE) continue;
-                    cc[0] = o->origin[0] + (i + 0.5) * h;
-                    cc[1] = o->origin[1] + (j + 0.5) * h;
-                    cc[2] = o->origin[2] + (k + 0.5) * h;
-                    if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) o->state[x] = PVS__VX_TOUCHED;
+        for (c = 0; c < d->cell_count; ++c) {
+            uint32_t r0[3], r1[3], bu, bv;
+            pvs__vx_grange(&fl.bucket_grid, u, d->cells[c].min[u], d->cells[c].max[u], m, r0 + u, r1 + u);
+            pvs__vx_grange(&fl.bucket_grid, v, d->cells[c].min[v], d->cells[c].max[v], m, r0 + v, r1 + v);
+            if (r0[u] > r1[u] || r0[v] > r1[v]) continue;
+            for (bv = r0[v]; bv <= r1[v]; ++bv)
+                for (bu = r0[u]; bu <= r1[u]; ++bu) {
+                    size_t bk = (size_t)bv * fl.bnu + bu;
+                    if (!bpass) ++fl.bucket_first[bk + 1];
+                    else fl.bucket_cells[--fl.bucket_first[bk + 1]] = c;
                 }
+        }
     }
-    for (vi = 0; vi < total; ++vi) o->info.touched += o->state[vi] == PVS__VX_TOUCHED;
+    for (vi = 0; vi < nbuckets; ++vi) fl.bucket_first[vi] = fl.bucket_first[vi + 1]; /* the fill moved each end to its start */
+    fl.bucket_first[nbuckets] = bucket_entries;
+    /* 1. solid proved per component (see the argument before pvs__vx_orient) */
+    if (pvs__vx_topology(s, (float)g, &a, &tp) != PVS_OK) goto oom;
+    cbox = (uint32_t *)pvs__alloc_array(&a, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
+    if (!cbox) goto oom;
+    for (c = 0; c < tp.comp_count; ++c) {
+        uint32_t *bx = cbox + 6 * (size_t)c, t;
+        size_t vol = 1, ncol;
+        for (kk = 0; kk < 3; ++kk) { bx[kk] = 0xffffffffu; bx[3 + kk] = 0; }
+        for (t = tp.comp_first[c]; t < tp.comp_first[c + 1]; ++t) {
+            uint32_t tri = tp.tris[t], r0, r1, q;
+            for (kk = 0; kk < 3; ++kk) {
+                double lo = DBL_MAX, hi = -DBL_MAX;
+                for (q = 0; q < 3; ++q) {
+                    double x = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + q] + kk];
+                    lo = pvs__dmin(lo, x);
+                    hi = pvs__dmax(hi, x);
+                }
+                pvs__vx_range(o, kk, lo, hi, m, &r0, &r1);
+                if (r0 < bx[kk]) bx[kk] = r0;
+                if (r1 > bx[3 + kk]) bx[3 + kk] = r1;
+            }
+        }
+        if (bx[up] < 1 || tp.open_first[c + 1] > tp.open_first[c]) bx[up] = 1; /* open edges: sheets to the ground */
+        if (bx[3 + up] < bx[up]) bx[3 + up] = bx[up];
+        for (kk = 0; kk < 3; ++kk) vol *= (size_t)(bx[3 + kk] - bx[kk] + 1);
+        ncol = (size_t)(bx[3 + u] - bx[u] + 1) * (bx[3 + v] - bx[v] + 1);
+        if (tp.comp_first[c + 1] - tp.comp_first[c] < 3) continue; /* encloses nothing: touched only */
+        if (vol > fl.cap_vox) fl.cap_vox = vol;
+        if (ncol > fl.cap_col) fl.cap_col = ncol;
+    }
+    qcap = total > 2 * fl.cap_vox ? total : 2 * fl.cap_vox;
+    fl.bits = (uint8_t *)pvs__alloc_array(&a, fl.cap_vox ? fl.cap_vox : 1, 1);
+    fl.col = (uint8_t *)pvs__alloc_array(&a, fl.cap_col ? fl.cap_col : 1, 1);
+    queue = (uint32_t *)pvs__alloc_array(&a, qcap, sizeof(uint32_t));
+    fl.queue = queue;
+    if (!fl.bits || !fl.col || !queue) goto oom;
+    for (c = 0; c < tp.comp_count; ++c) {
+        uint32_t t;
+        if (tp.comp_first[c + 1] - tp.comp_first[c] >= 3) {
+            pvs__vx_certify(o, &tp, c, cbox + 6 * (size_t)c, cbox + 6 * (size_t)c + 3, m, &fl);
+            ++o->info.components;
+            o->info.closed_components += tp.open_first[c + 1] == tp.open_first[c];
+            continue;
+        }
+        for (t = tp.comp_first[c]; t < tp.comp_first[c + 1]; ++t) { /* touched, for the summary and the leak flood */
+            uint32_t tri = tp.tris[t], r0[3], r1[3];
+            double p[3][3], tlo[3], thi[3];
+            for (kk = 0; kk < 3; ++kk) {
+                p[0][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri] + kk];
+                p[1][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 1] + kk];
+                p[2][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 2] + kk];
+                tlo[kk] = pvs__dmin(p[0][kk], pvs__dmin(p[1][kk], p[2][kk]));
+                thi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
+            }
+            for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, tlo[kk], thi[kk], m, r0 + kk, r1 + kk);
+            for (k = r0[2]; k <= r1[2]; ++k)
+                for (j = r0[1]; j <= r1[1]; ++j)
+                    for (i = r0[0]; i <= r1[0]; ++i) {
+                        double cc[3];
+                        size_t x = pvs__vx_index(o, i, j, k);
+                        if (o->state[x] & (PVS__VX_TOUCHED | PVS__VX_GROUND)) continue;
+                        cc[0] = o->origin[0] + (i + 0.5) * h;
+                        cc[1] = o->origin[1] + (j + 0.5) * h;
+                        cc[2] = o->origin[2] + (k + 0.5) * h;
+                        if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) o->state[x] |= PVS__VX_TOUCHED;
+                    }
+        }
+    }
+    o->info.open_edges = tp.open_count;
+    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
+    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
+    pvs__free_array(&a, cbox, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
+    fl.bits = fl.col = NULL;
+    fl.queue = NULL; /* `queue` keeps it for the leak flood */
+    fl.cap_vox = fl.cap_col = 0;
+    cbox = NULL;
+    for (vi = 0; vi < total; ++vi) o->info.touched += (o->state[vi] & PVS__VX_TOUCHED) != 0;
     /* 2. explicit occluder volumes are solid: voxels wholly inside one */
     for (c = 0; c < s->occluder_count; ++c) {
         const pvs_box *ob = s->occluder_boxes + c;
@@ -8917,47 +10584,59 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 for (i = r0[0]; i <= r1[0]; ++i) {
                     double lo[3], hi[3];
                     size_t x = pvs__vx_index(o, i, j, k);
-                    if (o->state[x] == PVS__VX_GROUND) continue;
+                    if (o->state[x] & PVS__VX_GROUND) continue;
                     lo[0] = o->origin[0] + i * h; hi[0] = lo[0] + h;
                     lo[1] = o->origin[1] + j * h; hi[1] = lo[1] + h;
                     lo[2] = o->origin[2] + k * h; hi[2] = lo[2] + h;
-                    if (pvs__vx_in_occluder(s->occluders + c, up, lo, hi)) o->state[x] = PVS__VX_EXPLICIT;
+                    if (pvs__vx_in_occluder(s->occluders + c, up, lo, hi)) o->state[x] |= PVS__VX_EXPLICIT | PVS__VX_SOLID;
                 }
     }
-    /* 3. flood fill, 26-connected, from every cell through untouched voxels; a cell reaching the
-       grid's border (outside the scene) floods the outside too and is reported as the leak */
+    /* 3. the leak diagnostic: a 6-connected flood through untouched, unsolid voxels from the grid's
+       border (outside the scene); a chain of face-adjacent untouched voxels is a real path that meets
+       no triangle, so every cell with a voxel it reached truly reaches the outside. The lowest such
+       cell is reported, with one of its reached voxels. */
     o->info.leak_cell = PVS_NO_CELL;
+    qh = qt = 0;
+    for (k = 0; k < o->n[2]; ++k)
+        for (j = 0; j < o->n[1]; ++j)
+            for (i = 0; i < o->n[0]; ++i) {
+                size_t x;
+                if (i && j && k && i + 1 < o->n[0] && j + 1 < o->n[1] && k + 1 < o->n[2]) continue;
+                x = pvs__vx_index(o, i, j, k);
+                if (!(o->state[x] & PVS__VX_LEAK_STOP)) { o->state[x] |= PVS__VX_REACHED; queue[qt++] = (uint32_t)x; }
+            }
+    while (qh < qt) {
+        uint32_t x = queue[qh++], cidx[3];
+        int dir;
+        cidx[0] = x % o->n[0]; cidx[1] = (x / o->n[0]) % o->n[1]; cidx[2] = x / o->n[0] / o->n[1];
+        for (dir = 0; dir < 6; ++dir) {
+            uint32_t ax = (uint32_t)dir >> 1, nidx[3];
+            size_t y;
+            if (dir & 1 ? cidx[ax] + 1 >= o->n[ax] : cidx[ax] == 0) continue;
+            nidx[0] = cidx[0]; nidx[1] = cidx[1]; nidx[2] = cidx[2];
+            nidx[ax] = dir & 1 ? cidx[ax] + 1 : cidx[ax] - 1;
+            y = pvs__vx_index(o, nidx[0], nidx[1], nidx[2]);
+            if (!(o->state[y] & PVS__VX_LEAK_STOP)) { o->state[y] |= PVS__VX_REACHED; queue[qt++] = (uint32_t)y; }
+        }
+    }
     for (c = 0; c < d->cell_count; ++c) {
         uint32_t r0[3], r1[3];
+        int found = 0;
         const pvs_box *cb = d->cells + c;
-        qh = qt = 0;
         for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
-        for (k = r0[2]; k <= r1[2]; ++k)
-            for (j = r0[1]; j <= r1[1]; ++j)
-                for (i = r0[0]; i <= r1[0]; ++i) {
-                    size_t x = pvs__vx_index(o, i, j, k);
-                    if (o->state[x] == PVS__VX_FREE) { o->state[x] = PVS__VX_REACHED; queue[qt++] = (uint32_t)x; }
-                }
-        while (qh < qt) {
-            uint32_t x = queue[qh++], ci = x % o->n[0], cj = (x / o->n[0]) % o->n[1], ck = x / o->n[0] / o->n[1];
-            int di, dj, dk;
-            if (o->info.leak_cell == PVS_NO_CELL &&
-                (ci == 0 || cj == 0 || ck == 0 || ci + 1 == o->n[0] || cj + 1 == o->n[1] || ck + 1 == o->n[2])) {
-                o->info.leak_cell = c;
-                o->info.leak_point[0] = (float)(o->origin[0] + (ci + 0.5) * h);
-                o->info.leak_point[1] = (float)(o->origin[1] + (cj + 0.5) * h);
-                o->info.leak_point[2] = (float)(o->origin[2] + (ck + 0.5) * h);
-            }
-            for (dk = -1; dk <= 1; ++dk)
-                for (dj = -1; dj <= 1; ++dj)
-                    for (di = -1; di <= 1; ++di) {
-                        int64_t ni = (int64_t)ci + di, nj = (int64_t)cj + dj, nk = (int64_t)ck + dk;
-                        size_t y;
-                        if (ni < 0 || nj < 0 || nk < 0 || ni >= o->n[0] || nj >= o->n[1] || nk >= o->n[2]) continue;
-                        y = pvs__vx_index(o, (uint32_t)ni, (uint32_t)nj, (uint32_t)nk);
-                        if (o->state[y] == PVS__VX_FREE) { o->state[y] = PVS__VX_REACHED; queue[qt++] = (uint32_t)y; }
+        for (k = r0[2]; k <= r1[2] && !found; ++k)
+            for (j = r0[1]; j <= r1[1] && !found; ++j)
+                for (i = r0[0]; i <= r1[0] && !found; ++i)
+                    if (o->state[pvs__vx_index(o, i, j, k)] & PVS__VX_REACHED) {
+                        found = 1;
+                        if (o->info.leak_cell == PVS_NO_CELL) {
+                            o->info.leak_cell = c;
+                            o->info.leak_point[0] = (float)(o->origin[0] + (i + 0.5) * h);
+                            o->info.leak_point[1] = (float)(o->origin[1] + (j + 0.5) * h);
+                            o->info.leak_point[2] = (float)(o->origin[2] + (k + 0.5) * h);
+                        }
                     }
-        }
+        o->info.leak_cells += (uint32_t)found;
     }
     for (vi = 0; vi < total; ++vi) {
         o->eroded[vi] = (uint8_t)pvs__vx_solid_state(o->state[vi]);
@@ -8975,111 +10654,44 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 for (i = r0[0]; i <= r1[0] && !found; ++i) found = o->eroded[pvs__vx_index(o, i, j, k)];
         o->info.thin_objects += !found;
     }
-    /* 4. 2.5D: per column the run of solid voxels standing on the ground (layer 1 up) */
+    /* 4. the 2.5D occluders: is the solid mostly runs standing on the ground? then the column map */
     r = (uint32_t)floor(d->eps / h) + 1u; /* strictly more than eps: rounding toward less solid */
     for (vi = 0; vi < cols; ++vi) {
-        uint32_t cu = (uint32_t)(vi % o->n[u]), cv = (uint32_t)(vi / o->n[u]), run = 0, idx[3];
-        idx[u] = cu; idx[v] = cv;
+        uint32_t idx[3];
+        idx[u] = (uint32_t)(vi % o->n[u]); idx[v] = (uint32_t)(vi / o->n[u]);
         for (idx[up] = 1; idx[up] < o->n[up]; ++idx[up]) {
             if (!o->eroded[pvs__vx_index(o, idx[0], idx[1], idx[2])]) break;
-            ++run;
+            ++o->info.column_voxels;
         }
-        o->info.column_voxels += run;
-        colh[vi] = run ? (float)run : 0.0f; /* in voxel layers for now */
-    }
-    o->column_top = (float *)pvs__alloc_array(&a, cols, sizeof(float));
-    if (o->column_top) {
-        o->column_count = cols;
-        for (vi = 0; vi < cols; ++vi) o->column_top[vi] = colh[vi] > 0.0f ? pvs__f_up(g + (double)colh[vi] * h) : (float)g;
     }
     o->info.is_2d5 = o->info.solid > 0 && (double)o->info.column_voxels >= 0.9 * (double)o->info.solid;
-    /* 2.5D erosion: column height = min over the (2r+1)^2 neighbourhood (outside: 0), minus eps */
-    {
-        float *t2 = (float *)tmp; /* reuse only if large enough */
-        float *buf = NULL;
-        size_t ii;
-        uint32_t a0, b0, q;
-        if (total >= cols * sizeof(float)) buf = t2;
-        else buf = (float *)pvs__alloc_array(&a, cols, sizeof(float));
-        if (!buf) {
-            pvs__free_array(&a, tmp, total, 1);
-            pvs__free_array(&a, queue, total, sizeof(uint32_t));
-            pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
-            pvs__free_array(&a, colh, cols, sizeof(float));
-            pvs_occluders_destroy(o);
-            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "columns");
+    if (pvs__vx_columns(o, &tp, &ext, d->eps, m, &fl) != PVS_OK || pvs__occluders_hierarchies(o) != PVS_OK) goto oom;
+    o->info.rect_count = o->chain_count;
+    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
+    pvs__free_array(&a, fl.queue, fl.cap_vox ? 2 * fl.cap_vox : 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
+    pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
+    /* the leaking cells the floods left out (step 4 of pvs__vx_flood_component) */
+    o->info.excluded_cells = fl.excluded_count;
+    if (fl.excluded_count) {
+        uint32_t n = 0;
+        o->excluded = (uint32_t *)pvs__alloc_array(&a, fl.excluded_count, sizeof(uint32_t));
+        o->excluded_boxes = (pvs_box *)pvs__alloc_array(&a, fl.excluded_count, sizeof(pvs_box));
+        if (!o->excluded || !o->excluded_boxes) {
+            pvs__free_array(&a, fl.cellbuf, d->cell_count, 7);
+            fl.cellbuf = NULL;
+            goto oom;
         }
-        for (b0 = 0; b0 < o->n[v]; ++b0)
-            for (a0 = 0; a0 < o->n[u]; ++a0) {
-                float mn = colh[(size_t)b0 * o->n[u] + a0];
-                if (a0 < r || a0 + r >= o->n[u]) mn = 0.0f;
-                for (q = a0 >= r ? a0 - r : 0; mn > 0.0f && q <= a0 + r && q < o->n[u]; ++q)
-                    if (colh[(size_t)b0 * o->n[u] + q] < mn) mn = colh[(size_t)b0 * o->n[u] + q];
-                buf[(size_t)b0 * o->n[u] + a0] = mn;
-            }
-        for (b0 = 0; b0 < o->n[v]; ++b0)
-            for (a0 = 0; a0 < o->n[u]; ++a0) {
-                float mn = buf[(size_t)b0 * o->n[u] + a0];
-                if (b0 < r || b0 + r >= o->n[v]) mn = 0.0f;
-                for (q = b0 >= r ? b0 - r : 0; mn > 0.0f && q <= b0 + r && q < o->n[v]; ++q)
-                    if (buf[(size_t)q * o->n[u] + a0] < mn) mn = buf[(size_t)q * o->n[u] + a0];
-                colh[(size_t)b0 * o->n[u] + a0] = mn;
-            }
-        if (buf != t2) pvs__free_array(&a, buf, cols, sizeof(float));
-        /* heights in scene units: top of the run lowered by eps, rounded down; <= ground: none */
-        for (ii = 0; ii < cols; ++ii) {
-            double top = colh[ii] > 0.0f ? g + (double)colh[ii] * h - d->eps : g;
-            float f = pvs__f_down(top);
-            colh[ii] = top > g && f > (float)g ? f : -FLT_MAX;
-        }
-        /* merge equal columns into rectangles (greedy: along u, then v) */
-        {
-            uint32_t pass, count = 0;
-            uint8_t *used = tmp;
-            for (pass = 0; pass < 2; ++pass) {
-                memset(used, 0, cols);
-                count = 0;
-                for (b0 = 0; b0 < o->n[v]; ++b0)
-                    for (a0 = 0; a0 < o->n[u]; ++a0) {
-                        size_t x0 = (size_t)b0 * o->n[u] + a0;
-                        float hv = colh[x0];
-                        uint32_t a1, b1, t;
-                        int full = 1;
-                        if (used[x0] || hv == -FLT_MAX) continue;
-                        for (a1 = a0; a1 + 1 < o->n[u] && !used[x0 + (a1 + 1 - a0)] && colh[x0 + (a1 + 1 - a0)] == hv; ++a1) {}
-                        for (b1 = b0; full && b1 + 1 < o->n[v];) {
-                            for (t = a0; t <= a1 && full; ++t) {
-                                size_t y = (size_t)(b1 + 1) * o->n[u] + t;
-                                full = !used[y] && colh[y] == hv;
-                            }
-                            if (full) ++b1;
-                        }
-                        for (t = b0; t <= b1; ++t) memset(used + (size_t)t * o->n[u] + a0, 1, a1 - a0 + 1);
-                        if (pass == 1) {
-                            float *pt = o->chain_points + 8 * (size_t)count;
-                            float u0 = pvs__f_up(o->origin[u] + a0 * h), u1 = pvs__f_down(o->origin[u] + (a1 + 1) * h);
-                            float v0 = pvs__f_up(o->origin[v] + b0 * h), v1 = pvs__f_down(o->origin[v] + (b1 + 1) * h);
-                            pt[0] = u0; pt[1] = v0; pt[2] = u1; pt[3] = v0; pt[4] = u1; pt[5] = v1; pt[6] = u0; pt[7] = v1;
-                            o->chains[count].points = pt;
-                            o->chains[count].point_count = 4;
-                            o->chains[count].closed = 1;
-                            o->chains[count].base = (float)g;
-                            o->chains[count].top = hv;
-                        }
-                        ++count;
-                    }
-                if (pass == 0) {
-                    o->chain_count = count;
-                    o->chains = (pvs_facade_chain *)pvs__alloc_array(&a, count ? count : 1, sizeof(pvs_facade_chain));
-                    o->chain_points = (float *)pvs__alloc_array(&a, (size_t)(count ? count : 1) * 8, sizeof(float));
-                    if (!o->chains || !o->chain_points) break;
-                }
-            }
-            o->info.rect_count = o->chain_count;
-        }
+        for (c = 0; c < d->cell_count; ++c)
+            if (fl.excluded[c]) { o->excluded[n] = c; o->excluded_boxes[n++] = d->cells[c]; }
     }
+    pvs__free_array(&a, fl.cellbuf, d->cell_count, 7);
+    memset(&fl, 0, sizeof(fl));
+    pvs__vx_topo_free(&a, &tp, s->triangle_count);
     /* 5. 3D erosion by r voxels (Chebyshev; outside the grid and the ground count as empty), then boxes */
-    if (o->chains && o->chain_points) {
+    {
         for (kk = 0; kk < 3; ++kk) pvs__vx_erode_axis(o, o->eroded, line, kk, r);
         for (vi = 0; vi < total; ++vi) o->info.eroded += o->eroded[vi];
         memcpy(tmp, o->eroded, total);
@@ -9092,10 +10704,9 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         o->info.box_count = o->box_count;
     }
     pvs__free_array(&a, tmp, total, 1);
-    pvs__free_array(&a, queue, total, sizeof(uint32_t));
+    pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
     pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
-    pvs__free_array(&a, colh, cols, sizeof(float));
-    if (!o->chains || !o->chain_points || !o->boxes || !o->column_top) {
+    if (!o->boxes) {
         pvs_occluders_destroy(o);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder boxes");
     }
@@ -9108,6 +10719,21 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     *out = o;
     pvs__ok(err);
     return PVS_OK;
+oom:
+    pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
+    pvs__free_array(&a, fl.cellbuf, d->cell_count, 7);
+    if (fl.queue && fl.queue != queue) pvs__free_array(&a, fl.queue, fl.cap_vox ? 2 * fl.cap_vox : 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
+    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
+    pvs__free_array(&a, cbox, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
+    pvs__vx_topo_free(&a, &tp, s->triangle_count);
+    pvs__free_array(&a, tmp, total, 1);
+    pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
+    pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+    pvs_occluders_destroy(o);
+    return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder synthesis scratch");
 }
 
 PVS_API void pvs_occluders_get_info(const pvs_occluders *o, pvs_occluders_info *info) { *info = o->info; }
@@ -9126,6 +10752,32 @@ PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *o, uint32_t i, uint3
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *o, uint32_t *count) {
     if (count) *count = o->box_count;
     return o->boxes;
+}
+PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *o, uint32_t *count) {
+    *count = o->info.excluded_cells;
+    return o->info.excluded_cells ? o->excluded : NULL;
+}
+
+PVS_API float pvs_occluders_column_height(const pvs_occluders *o, float pu, float pv, float *solid) {
+    const pvs__vx_cols *cm = &o->cols;
+    uint32_t a0, a1, b0, b1, a, b;
+    float top = FLT_MAX, sol = FLT_MAX;
+    int u, v;
+    pvs__ground_axes(o->scene->up_axis, &u, &v);
+    pvs__vx_grange(&cm->grid, u, pu, pu, 0.0, &a0, &a1);
+    pvs__vx_grange(&cm->grid, v, pv, pv, 0.0, &b0, &b1);
+    if (a0 > a1 || b0 > b1 || !cm->top) {
+        if (solid) *solid = o->ground;
+        return -FLT_MAX;
+    }
+    for (b = b0; b <= b1; ++b)
+        for (a = a0; a <= a1; ++a) {
+            size_t x = (size_t)b * cm->nu + a;
+            if (cm->top[x] < top) top = cm->top[x];
+            if (cm->solid[x] < sol) sol = cm->solid[x];
+        }
+    if (solid) *solid = sol;
+    return top;
 }
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, uint32_t *count) {
     if (count) *count = o->chain_count;
@@ -12530,9 +14182,319 @@ done:
 
 /* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
 
+/* ---- the 2.5D path: per-sample occlusion horizons ----
+
+   Wonka 2000 §2.1 allows two ways to fuse the samples: intersect their umbrae, or unite their PVSs.
+   Here each sample's visibility is an occlusion horizon over PVS__HZ_BINS angular bins around the
+   eye E (ground point e, height H): the sight line from E to (x, z) is blocked when it crosses an
+   occluder facade of height T at ground distance dc < |x - e| below T, i.e. when (z - H) / |x - e| <
+   (T - H) / dc. For one chain of shrunk occluder facades (a closed outline or a hole's), a bin whose
+   whole angular range the chain's facades cover (consecutive facades share their corners, so their
+   ranges join exactly) is crossed by every ray in it at a distance at most dmax (the farthest
+   crossing of those facades inside the bin) and at least dmin; so points of the bin beyond dmax are
+   hidden below slope sigma = (T - H) / dmax (T >= H) or (T - H) / dmin (T < H). Per bin, a short
+   staircase of (distance, slope) steps keeps the best slope from each distance on. A box is hidden
+   from the sample when every bin its ground rectangle touches has, at the box's least distance, a
+   slope above the box's steepest sight line. No crack opens inside a chain (coverage is per bin over
+   the whole chain), and occluders are processed front to back with occluded ones skipped (§3.4).
+   Rounding: angles bin-exact (a shared corner gives the same angle to both facades), distances and
+   slopes widened toward the safe side. */
+
+#define PVS__HZ_BINS 1024
+#define PVS__HZ_STEPS 6
+
+/* Angles are pseudo-angles in [0, 4) (the "diamond angle": monotone in the true angle, a quarter
+   turn per unit, no trigonometry); bin b covers [4 b / BINS, 4 (b + 1) / BINS). */
+typedef struct pvs__hz {
+    double eu, ev, H, w;                         /* the eye; bin width (pseudo-angle) */
+    double dir[PVS__HZ_BINS + 1][2];             /* ray direction at each bin boundary (unnormalized) */
+    double dlen[PVS__HZ_BINS + 1];               /* its length */
+    uint8_t nstep[PVS__HZ_BINS];
+    float step_r[PVS__HZ_BINS][PVS__HZ_STEPS];   /* ascending */
+    float step_s[PVS__HZ_BINS][PVS__HZ_STEPS];   /* ascending with r (dominated steps dropped) */
+    /* per chain */
+    uint32_t stamp[PVS__HZ_BINS], cur;
+    uint8_t full[PVS__HZ_BINS], npart[PVS__HZ_BINS];
+    double plo[PVS__HZ_BINS][4], phi[PVS__HZ_BINS][4], dmax[PVS__HZ_BINS], dmin[PVS__HZ_BINS];
+    uint16_t touched[PVS__HZ_BINS];
+    uint32_t ntouched;
+} pvs__hz;
+
+PVS__STATIC double pvs__hz_angle(double x, double y) {
+    double a;
+    if (y >= 0.0) a = x >= 0.0 ? y / (x + y) : 1.0 - x / (y - x);
+    else a = x < 0.0 ? 2.0 - y / (-x - y) : 3.0 + x / (x - y);
+    return a >= 0.0 && a < 4.0 ? a : 0.0;
+}
+PVS__STATIC void pvs__hz_init(pvs__hz *z) {
+    int32_t k;
+    z->w = 4.0 / PVS__HZ_BINS;
+    for (k = 0; k <= PVS__HZ_BINS; ++k) {
+        double a = k == PVS__HZ_BINS ? 0.0 : k * z->w, t = a - floor(a);
+        int q = (int)floor(a);
+        double *d = z->dir[k];
+        if (q == 0) { d[0] = 1.0 - t; d[1] = t; }
+        else if (q == 1) { d[0] = -t; d[1] = 1.0 - t; }
+        else if (q == 2) { d[0] = -(1.0 - t); d[1] = -t; }
+        else { d[0] = t; d[1] = -(1.0 - t); }
+        z->dlen[k] = sqrt(d[0] * d[0] + d[1] * d[1]);
+    }
+}
+PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
+    int32_t b = (int32_t)floor(a / z->w);
+    return b < 0 ? 0 : b >= PVS__HZ_BINS ? PVS__HZ_BINS - 1 : b;
+}
+PVS__STATIC double pvs__hz_lo(const pvs__hz *z, int32_t b) { return b * z->w; }
+PVS__STATIC double pvs__hz_hi(const pvs__hz *z, int32_t b) { return b + 1 == PVS__HZ_BINS ? 4.0 : (b + 1) * z->w; }
+
+/* Distance from the eye along the ray of bin boundary k to the line through p, q (relative ground
+   points); -1 when parallel. */
+PVS__STATIC double pvs__hz_ray(const pvs__hz *z, int32_t k, const double p[2], const double q[2]) {
+    double dx = z->dir[k][0], dy = z->dir[k][1], ex = q[0] - p[0], ey = q[1] - p[1], den = dx * ey - dy * ex;
+    if (den == 0.0) return -1.0;
+    return (p[0] * ey - p[1] * ex) / den * z->dlen[k];
+}
+
+/* The part [a0, a1] of bin b covered by a facade, crossed at distances d0 (at a0) and d1 (at a1),
+   the nearest point of its line at angle afoot, distance dfoot; `front`: the eye on the facade's
+   outer side (a sight line entering the occluder crosses such a facade first). */
+PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot, double afoot, int front) {
+    double lo, hi;
+    if (!(d0 > 0.0) || !(d1 > 0.0)) return;
+    hi = pvs__dmax(d0, d1) * (1.0 + 1e-9);
+    lo = pvs__dmin(d0, d1);
+    if (afoot >= a0 && afoot <= a1) lo = pvs__dmin(lo, dfoot);
+    lo *= 1.0 - 1e-9;
+    if (z->stamp[b] != z->cur) {
+        z->stamp[b] = z->cur;
+        z->full[b] = 0;
+        z->npart[b] = 0;
+        z->dmax[b] = front ? hi : 0.0;
+        z->dmin[b] = front ? lo : DBL_MAX;
+        z->touched[z->ntouched++] = (uint16_t)b;
+    } else {
+        if (front && hi > z->dmax[b]) z->dmax[b] = hi;
+        if (front && lo < z->dmin[b]) z->dmin[b] = lo;
+    }
+    if (a0 <= pvs__hz_lo(z, b) && a1 >= pvs__hz_hi(z, b)) z->full[b] = 1;
+    else if (!z->full[b]) { /* the covered parts: up to 4 disjoint intervals, merged where they meet */
+        uint32_t i, n = z->npart[b];
+        double *L = z->plo[b], *R = z->phi[b];
+        for (i = 0; i < n;) {
+            if (a0 <= R[i] && a1 >= L[i]) { /* meets: absorb it and look again */
+                a0 = pvs__dmin(a0, L[i]);
+                a1 = pvs__dmax(a1, R[i]);
+                L[i] = L[n - 1];
+                R[i] = R[n - 1];
+                --n;
+            } else ++i;
+        }
+        if (n < 4) { L[n] = a0; R[n] = a1; ++n; }
+        else { /* full: keep the longest (less coverage, still conservative) */
+            uint32_t sh = 0;
+            for (i = 1; i < 4; ++i)
+                if (R[i] - L[i] < R[sh] - L[sh]) sh = i;
+            if (a1 - a0 > R[sh] - L[sh]) { L[sh] = a0; R[sh] = a1; }
+        }
+        z->npart[b] = (uint8_t)n;
+        for (i = 0; i < n; ++i)
+            if (L[i] <= pvs__hz_lo(z, b) && R[i] >= pvs__hz_hi(z, b)) z->full[b] = 1;
+    }
+}
+
+/* Adds facade p-q (world ground points) of the current chain. */
+PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
+    double p[2], q[2], cr, a, b, fx, fy, t, afoot, dfoot, len2, da, db;
+    int32_t b0, b1, k;
+    int front;
+    p[0] = pf[0] - z->eu; p[1] = pf[1] - z->ev;
+    q[0] = qf[0] - z->eu; q[1] = qf[1] - z->ev;
+    cr = p[0] * q[1] - p[1] * q[0];
+    len2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]);
+    if (!(pvs__dabs(cr) > 1e-12 * (p[0] * p[0] + p[1] * p[1] + q[0] * q[0] + q[1] * q[1]))) return; /* seen edge-on */
+    /* the occluder lies left of p -> q: the eye sees the facade from outside when it is on the right.
+       Only such facades matter: every sight line into the occluder enters through one, so they alone
+       cover the chain's angular range (a back-facing one is always behind a front-facing one) */
+    front = cr < 0.0;
+    if (!front) return;
+    if (cr < 0.0) { double tt[2]; tt[0] = p[0]; tt[1] = p[1]; p[0] = q[0]; p[1] = q[1]; q[0] = tt[0]; q[1] = tt[1]; }
+    /* counter-clockwise from p (angle a) to q (angle b), less than a half turn */
+    a = pvs__hz_angle(p[0], p[1]);
+    b = pvs__hz_angle(q[0], q[1]);
+    da = sqrt(p[0] * p[0] + p[1] * p[1]);
+    db = sqrt(q[0] * q[0] + q[1] * q[1]);
+    /* the foot of the perpendicular from the eye (nearest point of the line) */
+    t = -(p[0] * (q[0] - p[0]) + p[1] * (q[1] - p[1])) / len2;
+    fx = p[0] + t * (q[0] - p[0]);
+    fy = p[1] + t * (q[1] - p[1]);
+    dfoot = sqrt(fx * fx + fy * fy);
+    afoot = t > 0.0 && t < 1.0 ? pvs__hz_angle(fx, fy) : -1.0;
+    b0 = pvs__hz_bin(z, a);
+    b1 = pvs__hz_bin(z, b);
+    if (b < a) b1 += PVS__HZ_BINS; /* across angle 0 */
+    for (k = b0; k <= b1; ++k) {
+        int32_t bk = k % PVS__HZ_BINS, lo_at_start = k == b0, hi_at_end = k == b1;
+        double s0 = lo_at_start ? a : pvs__hz_lo(z, bk), s1 = hi_at_end ? b : pvs__hz_hi(z, bk);
+        double d0 = lo_at_start ? da : pvs__hz_ray(z, bk, p, q), d1 = hi_at_end ? db : pvs__hz_ray(z, bk + 1, p, q);
+        if (k == b0 && k == b1 && b < a) continue; /* cannot happen: a half turn at most */
+        pvs__hz_piece(z, bk, s0, s1, d0, d1, dfoot, afoot, front);
+    }
+}
+
+/* Inserts step (r, s) into bin b: for distances >= r the slope is at least s. */
+PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
+    uint32_t n = z->nstep[b], i, j;
+    float *R = z->step_r[b], *S = z->step_s[b];
+    for (i = 0; i < n; ++i)
+        if (R[i] <= r && S[i] >= s) return; /* dominated */
+    for (i = 0, j = 0; i < n; ++i) /* drop the steps it dominates */
+        if (!(R[i] >= r && S[i] <= s)) { R[j] = R[i]; S[j] = S[i]; ++j; }
+    n = j;
+    if (n == PVS__HZ_STEPS) --n; /* full: forget the farthest step (less occlusion, still conservative) */
+    for (i = n; i > 0 && R[i - 1] > r; --i) { R[i] = R[i - 1]; S[i] = S[i - 1]; }
+    R[i] = r;
+    S[i] = s;
+    z->nstep[b] = (uint8_t)(n + 1);
+}
+
+/* The best slope of bin b for points at distance >= d (-FLT_MAX: none). */
+PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
+    uint32_t i = z->nstep[b];
+    /* steps ascend in distance and in slope: the last one not beyond d is the best */
+    while (i > 0 && (double)z->step_r[b][i - 1] > d) --i;
+    return i ? z->step_s[b][i - 1] : -FLT_MAX;
+}
+
+/* The angular bins [*b0, *b1] (b1 may wrap past the last bin: then b1 >= BINS) and the least and
+   greatest ground distance of the rectangle [u0, u1] x [v0, v1] seen from the eye; 0 when the eye is
+   inside it (or on its border). The span runs counter-clockwise between the two silhouette corners,
+   which the eye's position among the nine regions around the rectangle names. */
+PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1, double *dmin, double *dmax) {
+    double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, sx, sy, ex, ey, as, ae;
+    int rx = x0 > 0.0 ? 0 : x1 < 0.0 ? 2 : 1, ry = y0 > 0.0 ? 0 : y1 < 0.0 ? 2 : 1; /* rectangle right of / left of / around the eye */
+    if (rx == 1 && ry == 1) return 0;
+    nx = rx == 0 ? x0 : rx == 2 ? -x1 : 0.0;
+    ny = ry == 0 ? y0 : ry == 2 ? -y1 : 0.0;
+    fx = pvs__dmax(pvs__dabs(x0), pvs__dabs(x1));
+    fy = pvs__dmax(pvs__dabs(y0), pvs__dabs(y1));
+    *dmin = sqrt(nx * nx + ny * ny) * (1.0 - 1e-9);
+    *dmax = sqrt(fx * fx + fy * fy) * (1.0 + 1e-9);
+    /* start and end corners (counter-clockwise) by the rectangle's side of the eye */
+    if (rx == 0) {
+        if (ry == 0) { sx = x1; sy = y0; ex = x0; ey = y1; }
+        else if (ry == 1) { sx = x0; sy = y0; ex = x0; ey = y1; }
+        else { sx = x0; sy = y0; ex = x1; ey = y1; }
+    } else if (rx == 1) {
+        if (ry == 0) { sx = x1; sy = y0; ex = x0; ey = y0; }
+        else { sx = x0; sy = y1; ex = x1; ey = y1; }
+    } else {
+        if (ry == 0) { sx = x1; sy = y1; ex = x0; ey = y0; }
+        else if (ry == 1) { sx = x1; sy = y1; ex = x1; ey = y0; }
+        else { sx = x0; sy = y1; ex = x1; ey = y0; }
+    }
+    as = pvs__hz_angle(sx, sy) - 1e-12;
+    ae = pvs__hz_angle(ex, ey) + 1e-12;
+    if (as < 0.0) as += 4.0;
+    if (ae < as) ae += 4.0;
+    *b0 = pvs__hz_bin(z, as);
+    *b1 = (int32_t)floor(ae / z->w);
+    if (*b1 < *b0) *b1 = *b0;
+    return 1;
+}
+
+/* Distance along boundary ray k from the eye into the rectangle (relative coordinates), DBL_MAX when
+   it misses. */
+PVS__STATIC double pvs__hz_enter(const pvs__hz *z, int32_t k, double x0, double y0, double x1, double y1) {
+    double dx = z->dir[k][0], dy = z->dir[k][1], t0 = 0.0, t1 = DBL_MAX;
+    if (dx != 0.0) {
+        double a = x0 / dx, b = x1 / dx;
+        t0 = pvs__dmax(t0, pvs__dmin(a, b));
+        t1 = pvs__dmin(t1, pvs__dmax(a, b));
+    } else if (x0 > 0.0 || x1 < 0.0) return DBL_MAX;
+    if (dy != 0.0) {
+        double a = y0 / dy, b = y1 / dy;
+        t0 = pvs__dmax(t0, pvs__dmin(a, b));
+        t1 = pvs__dmin(t1, pvs__dmax(a, b));
+    } else if (y0 > 0.0 || y1 < 0.0) return DBL_MAX;
+    return t1 >= t0 ? t0 * z->dlen[k] : DBL_MAX;
+}
+
+/* 1 if the box may be visible from the eye: some bin its ground rectangle touches lacks, from the
+   rectangle's least distance in that bin on, a slope above the box's steepest sight line. */
+PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int v, uint32_t up) {
+    int32_t b0, b1, k;
+    double dmin, dmax, need, top = bx->max[up], x0, y0, x1, y1, ca[4], near_a;
+    if (!pvs__hz_rect(z, bx->min[u], bx->min[v], bx->max[u], bx->max[v], &b0, &b1, &dmin, &dmax)) return 1;
+    if (!(dmin > 0.0)) return 1;
+    need = top >= z->H ? (top - z->H) / dmin : (top - z->H) / dmax; /* the steepest sight line to the box */
+    need += 1e-9 * (pvs__dabs(need) + 1e-30);
+    if (b1 - b0 < 3) {
+        for (k = b0; k <= b1; ++k)
+            if (!((double)pvs__hz_query(z, k % PVS__HZ_BINS, dmin) > need)) return 1;
+        return 0;
+    }
+    /* wide boxes: the least distance of the part of the rectangle inside each bin's wedge (at the
+       wedge's rays, the corners inside it, or the rectangle's nearest point when inside it) */
+    x0 = bx->min[u] - z->eu; x1 = bx->max[u] - z->eu; y0 = bx->min[v] - z->ev; y1 = bx->max[v] - z->ev;
+    ca[0] = pvs__hz_angle(x0, y0); ca[1] = pvs__hz_angle(x1, y0); ca[2] = pvs__hz_angle(x1, y1); ca[3] = pvs__hz_angle(x0, y1);
+    {
+        double nx = x0 > 0.0 ? x0 : x1 < 0.0 ? x1 : 0.0, ny = y0 > 0.0 ? y0 : y1 < 0.0 ? y1 : 0.0;
+        near_a = pvs__hz_angle(nx, ny);
+    }
+    {
+        double e_lo, e_hi = DBL_MAX;
+        int32_t have = b0 - 2; /* the bin whose upper ray e_hi belongs to */
+        for (k = b0; k <= b1; ++k) {
+        int32_t bk = k % PVS__HZ_BINS, c;
+        double lo, hi, d, need_b;
+        if ((double)pvs__hz_query(z, bk, dmin) > need) continue; /* hidden even from the box's least distance */
+        e_lo = have == k - 1 ? e_hi : pvs__hz_enter(z, bk, x0, y0, x1, y1);
+        lo = pvs__hz_lo(z, bk);
+        hi = pvs__hz_hi(z, bk);
+        e_hi = pvs__hz_enter(z, bk + 1, x0, y0, x1, y1);
+        have = k;
+        d = pvs__dmin(e_lo, e_hi);
+        for (c = 0; c < 4; ++c)
+            if (ca[c] >= lo && ca[c] <= hi) {
+                double cx = c == 0 || c == 3 ? x0 : x1, cy = c < 2 ? y0 : y1;
+                d = pvs__dmin(d, sqrt(cx * cx + cy * cy));
+            }
+        if (near_a >= lo && near_a <= hi) d = dmin;
+        if (d == DBL_MAX) d = dmin; /* rounding at the span's ends */
+        d = pvs__dmax(d * (1.0 - 1e-9), dmin);
+        need_b = top >= z->H ? (top - z->H) / d : need;
+        need_b += 1e-9 * (pvs__dabs(need_b) + 1e-30);
+        if (!((double)pvs__hz_query(z, bk, d) > need_b)) return 1;
+        }
+    }
+    return 0;
+}
+
+/* Adds one chain (closed: its facades back to the first point) of height top. */
+PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
+    uint32_t i, n = ch->point_count, segs = ch->closed ? n : n - 1;
+    double T = ch->top;
+    z->cur++;
+    z->ntouched = 0;
+    for (i = 0; i < segs; ++i) pvs__hz_facade(z, ch->points + 2 * i, ch->points + 2 * ((i + 1) % n));
+    for (i = 0; i < z->ntouched; ++i) {
+        int32_t b = z->touched[i];
+        double sl;
+        if (!z->full[b]) continue;
+        if (!(z->dmax[b] > 0.0)) continue; /* no facade seen from outside: cannot happen when covered */
+        if (T >= z->H) sl = (T - z->H) / z->dmax[b];
+        else {
+            if (!(z->dmin[b] > 0.0)) continue;
+            sl = (T - z->H) / z->dmin[b];
+        }
+        /* to float toward the safe side: a relative margin far above float's half ulp (6e-8) */
+        pvs__hz_insert(z, b, (float)(z->dmax[b] * (1.0 + 1e-6)), (float)(sl - 1e-6 * pvs__dabs(sl) - 1e-30));
+    }
+}
+
 typedef struct pvs__shrink_walk {
     const pvs_scene *scene;
-    const pvs_raster *raster;
+    const pvs__hz *hz;
     const pvs_box *cell;
     pvs_word *visible;
     int u, v;
@@ -12544,181 +14506,169 @@ PVS__STATIC int pvs__shrink_near(const pvs__shrink_walk *w, const pvs_box *b) {
            b->max[w->v] >= w->cell->min[w->v];
 }
 
-/* §3.4 hierarchical rejection: a kD-tree node under the joint umbra is skipped with all it holds. */
-PVS__STATIC pvs_visit pvs__shrink_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
-    pvs__shrink_walk *w = (pvs__shrink_walk *)user;
-    uint32_t i;
-    (void)distance;
-    if (!pvs__shrink_near(w, node_box) && !pvs_cull_map_test_box(w->raster, node_box)) return PVS_VISIT_SKIP;
-    for (i = 0; i < count; ++i) {
-        uint32_t ob = items[i];
-        const pvs_box *b = w->scene->object_boxes + ob;
-        if (w->scene->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) continue;
-        if (pvs__shrink_near(w, b) || pvs_cull_map_test_box(w->raster, b)) pvs_bitset_set(w->visible, ob);
+/* Distance (squared) from the eye to a box's ground rectangle. */
+PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int v) {
+    double du = pvs__dmax(0.0, pvs__dmax(b->min[u] - z->eu, z->eu - b->max[u])), dv = pvs__dmax(0.0, pvs__dmax(b->min[v] - z->ev, z->ev - b->max[v]));
+    return du * du + dv * dv;
+}
+
+/* The sample's horizon: the chains' hierarchy walked nearer child first (front to back, roughly),
+   a node or chain already hidden from the eye skipped (§3.4: occluded occluders add nothing). */
+PVS__STATIC void pvs__shrink_horizon(const pvs_occluders *o, pvs__hz *hz, uint32_t *stack, int u, int v, pvs_shrink_stats *st) {
+    const pvs__obvh *h = &o->chain_bvh;
+    uint32_t sp = 0, k, up = o->scene->up_axis;
+    if (!h->node_count) return;
+    stack[sp++] = 0;
+    while (sp) {
+        const pvs__obvh_node *nd = h->nodes + stack[--sp];
+        if (!pvs__hz_test_box(hz, &nd->box, u, v, up)) continue;
+        if (nd->count) {
+            for (k = nd->first; k < nd->first + nd->count; ++k) {
+                uint32_t c = h->items[k];
+                if (!pvs__hz_test_box(hz, o->chain_boxes + c, u, v, up)) continue;
+                pvs__hz_chain(hz, o->chains + c);
+                ++st->occluders_drawn;
+            }
+        } else {
+            int near0 = pvs__hz_dist2(hz, &h->nodes[nd->first].box, u, v) <= pvs__hz_dist2(hz, &h->nodes[nd->first + 1].box, u, v);
+            stack[sp++] = near0 ? nd->first + 1 : nd->first;
+            stack[sp++] = near0 ? nd->first : nd->first + 1;
+        }
     }
-    return PVS_VISIT_DESCEND;
 }
 
-typedef struct pvs__shrink_key {
-    double d;
-    uint32_t i;
-} pvs__shrink_key;
-PVS__STATIC int pvs__shrink_key_cmp(const void *x, const void *y) {
-    const pvs__shrink_key *a = (const pvs__shrink_key *)x, *b = (const pvs__shrink_key *)y;
-    return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
+/* Marks object ob visible and takes it off the count of every node above it. */
+PVS__STATIC void pvs__shrink_found(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t ob) {
+    uint32_t nd;
+    pvs_bitset_set(w->visible, ob);
+    for (nd = o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = o->bvh.nodes[nd].parent) --remaining[nd];
 }
 
-/* One sample's cull map (Wonka 1999 §3-4, via the raster module's shadow rasterizer), occluders front
-   to back; an occluder whose prism is already under the shadows is skipped (§3.4: an occluded occluder
-   hides nothing more from this point). */
-PVS__STATIC void pvs__shrink_sample_map(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
-                                        const pvs__shrink_key *order, uint32_t n, int u, int v, uint32_t up) {
-    double e[3];
-    size_t i, cells = (size_t)r->cm_w * r->cm_h;
-    uint32_t c;
-    int simd = !(r->flags & PVS_RASTER_SCALAR);
-    e[0] = eye[u];
-    e[1] = eye[v];
-    e[2] = eye[up];
-    for (i = 0; i < cells; ++i) r->cm[i] = PVS_DEPTH_EMPTY;
-    for (i = 0; i < r->cm_tiles; ++i) r->cm_tile_min[i] = PVS_DEPTH_EMPTY;
-    for (c = 0; c < n; ++c) {
-        const pvs_facade_chain *ch = chains + order[c].i;
-        pvs_box bx;
-        bx.min[u] = ch->points[0]; bx.min[v] = ch->points[1]; bx.min[up] = ch->base;
-        bx.max[u] = ch->points[4]; bx.max[v] = ch->points[5]; bx.max[up] = ch->top;
-        if (c > 0 && !pvs_cull_map_test_box(r, &bx)) continue;
-        pvs__cm_chain(r, e, ch->points, ch->point_count, 1, ch->base, ch->top, simd, 0.0);
+/* The objects meeting the cell or standing under its top face: visible without sampling. */
+PVS__STATIC void pvs__shrink_walk_near(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t *stack) {
+    uint32_t sp = 0, k;
+    if (!o->bvh.node_count) return;
+    stack[sp++] = 0;
+    while (sp) {
+        const pvs__obvh_node *nd = o->bvh.nodes + stack[--sp];
+        if (!pvs__shrink_near(w, &nd->box)) continue;
+        if (nd->count) {
+            for (k = nd->first; k < nd->first + nd->count; ++k) {
+                uint32_t ob = o->bvh.items[k];
+                if (!pvs_bitset_test(w->visible, ob) && pvs__shrink_near(w, w->scene->object_boxes + ob)) pvs__shrink_found(o, w, remaining, ob);
+            }
+        } else {
+            stack[sp++] = nd->first;
+            stack[sp++] = nd->first + 1;
+        }
+    }
+}
+
+/* One sample's walk over the object hierarchy: a node hidden from the sample (§3.4), or whose
+   objects are all found already, is skipped with all it holds. */
+PVS__STATIC void pvs__shrink_walk_sample(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t *stack) {
+    uint32_t sp = 0, k, up = w->scene->up_axis;
+    if (!o->bvh.node_count) return;
+    stack[sp++] = 0;
+    while (sp) {
+        uint32_t id = stack[--sp];
+        const pvs__obvh_node *nd = o->bvh.nodes + id;
+        if (!remaining[id] || !pvs__hz_test_box(w->hz, &nd->box, w->u, w->v, up)) continue;
+        if (nd->count) {
+            for (k = nd->first; k < nd->first + nd->count; ++k) {
+                uint32_t ob = o->bvh.items[k];
+                if (!pvs_bitset_test(w->visible, ob) && pvs__hz_test_box(w->hz, w->scene->object_boxes + ob, w->u, w->v, up))
+                    pvs__shrink_found(o, w, remaining, ob);
+            }
+        } else {
+            stack[sp++] = nd->first;
+            stack[sp++] = nd->first + 1;
+        }
     }
 }
 
 /* §3: "sample points need only be placed on the edges of the top of the view cells". Why, for a
-   heightfield occluder O (the columns before erosion) and a point P whose ground position lies
-   outside the cell's footprint R (the others are set anyway): say V on the top face (height H) sees
-   P. In the vertical plane through P and V, the segment from P's ground position to V's crosses the
-   boundary of R at W'. If P is not above H, the segment P-W' lies above P-V at every ground distance
-   from P, so W' sees P. If P is above H, move V away from P to the boundary point W: P-W lies above
-   P-V up to V and above H after it, where no column of O inside R reaches (the condition tested here).
-   Either way a boundary point sees P; with the theorem (appendix) the edge samples decide. */
+   heightfield occluder O standing on the ground and a point P whose ground position lies outside the
+   cell's footprint R (the others are set anyway): say V on the top face (height H) sees P. In the
+   vertical plane through P and V, the segment from P's ground position to V's crosses the boundary
+   of R at W'. If P is not above H, the segment P-W' lies above P-V at every ground distance from P,
+   so W' sees P. If P is above H, move V away from P to the boundary point W: P-W lies above P-V up to
+   V and above H after it, where no column of O inside R reaches. Either way a boundary point sees P.
+   Here O is the eps-neighbourhood of the shrunk occluder (a heightfield standing on the ground, and
+   where no viewer goes: a sight line V-P of the real scene avoids it), so the condition is that no
+   occluder column within eps of R rises above H - eps; with the theorem (appendix) the edge samples
+   decide. */
 PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
+    const pvs__vx_cols *cm = &o->cols;
     uint32_t i0, i1, j0, j1, i, j;
-    float top = cell->max[up];
-    pvs__vx_range(o, u, cell->min[u], cell->max[u], o->h, &i0, &i1);
-    pvs__vx_range(o, v, cell->min[v], cell->max[v], o->h, &j0, &j1);
+    double top = (double)cell->max[up] - o->info.eps;
+    pvs__vx_grange(&cm->grid, u, cell->min[u], cell->max[u], o->info.eps, &i0, &i1);
+    pvs__vx_grange(&cm->grid, v, cell->min[v], cell->max[v], o->info.eps, &j0, &j1);
     for (j = j0; j <= j1; ++j)
         for (i = i0; i <= i1; ++i)
-            if (o->column_top[(size_t)j * o->n[u] + i] > top) return 0;
+            if ((double)cm->top[(size_t)j * cm->nu + i] > top) return 0;
     return 1;
 }
 
-/* The 2.5D path (§3): the eroded column prisms (tops lowered by eps, footprints shrunk by eps) cast
-   occluder shadows from samples on the cell's top face (a 2.5D occluder hides from a point only what
-   it hides from every point above it, so the top face stands for the cell), spaced so that every
-   point of the face is within eps of a sample. Each sample's shadows go into the raster module's
-   cull map (Wonka 1999); the joint umbra is the per-cell minimum over the samples (§3.4, the
-   stencil intersection); objects are tested by box footprint and top through the kD-tree. The paper
-   samples only the top face's edges; where a column inside the cell rises above its top the whole
-   face is sampled instead, which is conservative without needing the
-   argument for the interior; the edges suffice when pvs__shrink_edges_suffice says so. */
+/* The 2.5D path (§3): samples on the cell's top face (a 2.5D occluder hides from a point only what it
+   hides from every point above it, so the top face stands for the cell), on its edges every 2 eps
+   when pvs__shrink_edges_suffice allows, else on a grid over the whole face with spacing eps sqrt(2)
+   (every point of the face within eps of a sample). Per sample the occlusion horizon of the shrunk
+   occluder chains, front to back from the cell, occluded occluders skipped (§3.4); the objects it may
+   see, found through the kD-tree with hidden nodes skipped, join the PVS (§2.1: the cell's PVS is the
+   union of its samples' PVSs). */
 PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
-                                       pvs_error *err) {
-    pvs_raster_desc rd;
-    pvs_raster *r = NULL;
-    pvs_result res;
+                                       pvs_shrink_stats *st, pvs_error *err) {
     pvs__shrink_walk w;
-    float *joint = NULL, eps = o->info.eps, spacing, eye[3];
-    size_t cells = 0, x, sweep_size;
-    void *sweep = NULL;
-    uint32_t nu, nv, a, b, chain_count, up = s->up_axis;
-    const pvs_facade_chain *chains = pvs_occluders_columns(o, &chain_count);
-    double eu, ev, cm_res, cu, cv;
-    int edges;
-    pvs__shrink_key *order = NULL;
-    int u, v, any = 1;
+    pvs__hz *hz;
+    float eps = o->info.eps;
+    double spacing;
+    uint32_t *remaining, *stack, *cstack, nnodes = o->bvh.node_count ? o->bvh.node_count : 1;
+    uint32_t ncnodes = o->chain_bvh.node_count ? o->chain_bvh.node_count : 1;
+    uint32_t nu, nv, a, b, up = s->up_axis;
+    int edges, u, v;
     pvs__ground_axes(up, &u, &v);
-    memset(&rd, 0, sizeof(rd));
-    rd.width = rd.height = 1;
-    rd.scene = s;
-    eu = (double)s->bounds.max[u] - s->bounds.min[u];
-    ev = (double)s->bounds.max[v] - s->bounds.min[v];
-    cm_res = pvs__dmax(pvs__dmax(o->h, 0.75 * eps), pvs__dmax(eu, ev) / 1024.0);
-    rd.cull_map_width = (uint32_t)pvs__dmin(2048.0, pvs__dmax(16.0, ceil(eu / cm_res)));
-    rd.cull_map_height = (uint32_t)pvs__dmin(2048.0, pvs__dmax(16.0, ceil(ev / cm_res)));
-    rd.allocator = o->allocator;
-    res = pvs_raster_create(&rd, &r, err);
-    if (res != PVS_OK) return res;
-    cells = (size_t)r->cm_w * r->cm_h;
-    joint = (float *)pvs__alloc_array(&o->allocator, cells, sizeof(float));
-    sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
-    sweep = pvs__alloc(&o->allocator, sweep_size, 16);
-    order = (pvs__shrink_key *)pvs__alloc_array(&o->allocator, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
-    if (!joint || !sweep || !order) {
-        pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
-        pvs__free_array(&o->allocator, joint, cells, sizeof(float));
-        pvs__free(&o->allocator, sweep, sweep_size, 16);
-        pvs_raster_destroy(r);
-        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
-    }
-    /* samples: the top face's edges every 1.9 eps when no solid column inside the cell's footprint
-       rises above the top face (see pvs__shrink_edges_suffice), else a grid on the whole top face
-       with spacing <= eps * sqrt(2) (1.4 leaves a margin) */
     edges = pvs__shrink_edges_suffice(o, cell, u, v, up);
-    spacing = edges ? 1.9f * eps : 1.4f * eps;
+    spacing = edges ? 2.0 * eps * (1.0 - 1e-6) : 1.41 * eps;
     nu = (uint32_t)ceil(((double)cell->max[u] - cell->min[u]) / spacing) + 1u;
     nv = (uint32_t)ceil(((double)cell->max[v] - cell->min[v]) / spacing) + 1u;
-    /* front to back from the cell's centre: only speed depends on the order */
-    cu = 0.5 * ((double)cell->min[u] + cell->max[u]);
-    cv = 0.5 * ((double)cell->min[v] + cell->max[v]);
-    for (a = 0; a < chain_count; ++a) {
-        const float *pt = chains[a].points;
-        double du = pvs__dmax(0.0, pvs__dmax(pt[0] - cu, cu - pt[4])), dv = pvs__dmax(0.0, pvs__dmax(pt[1] - cv, cv - pt[5]));
-        order[a].d = du * du + dv * dv;
-        order[a].i = a;
+    if (nu > 4096u || nv > 4096u) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu, nv);
+    hz = (pvs__hz *)pvs__alloc(&o->allocator, sizeof(pvs__hz), 16);
+    remaining = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
+    stack = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
+    cstack = (uint32_t *)pvs__alloc_array(&o->allocator, ncnodes, sizeof(uint32_t));
+    if (!hz || !remaining || !stack || !cstack) {
+        pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
+        pvs__free_array(&o->allocator, remaining, nnodes, sizeof(uint32_t));
+        pvs__free_array(&o->allocator, stack, nnodes, sizeof(uint32_t));
+        pvs__free_array(&o->allocator, cstack, ncnodes, sizeof(uint32_t));
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
     }
-    qsort(order, chain_count, sizeof(pvs__shrink_key), pvs__shrink_key_cmp);
-    if (nu > 4096u || nv > 4096u) {
-        pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
-        pvs__free_array(&o->allocator, joint, cells, sizeof(float));
-        pvs__free(&o->allocator, sweep, sweep_size, 16);
-        pvs_raster_destroy(r);
-        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu, nv);
-    }
-    eye[up] = cell->max[up];
-    for (b = 0; b < nv && any; ++b)
-        for (a = 0; a < nu && any; ++a) {
-            const float *cm;
-            if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue; /* interior: not sampled */
-            eye[u] = nu > 1 ? cell->min[u] + (float)((double)a * ((double)cell->max[u] - cell->min[u]) / (nu - 1)) : cell->min[u];
-            eye[v] = nv > 1 ? cell->min[v] + (float)((double)b * ((double)cell->max[v] - cell->min[v]) / (nv - 1)) : cell->min[v];
-            if (a + 1 == nu) eye[u] = cell->max[u];
-            if (b + 1 == nv) eye[v] = cell->max[v];
-            pvs__shrink_sample_map(r, eye, chains, order, chain_count, u, v, up);
-            cm = r->cm;
-            any = 0;
-            if (a == 0 && b == 0) {
-                memcpy(joint, cm, cells * sizeof(float));
-                for (x = 0; x < cells; ++x) any |= joint[x] != PVS_DEPTH_EMPTY;
-            } else {
-                for (x = 0; x < cells; ++x) {
-                    if (cm[x] < joint[x]) joint[x] = cm[x];
-                    any |= joint[x] != PVS_DEPTH_EMPTY;
-                }
-            }
-        }
-    if (!any) for (x = 0; x < cells; ++x) joint[x] = PVS_DEPTH_EMPTY;
-    memcpy(r->cm, joint, cells * sizeof(float));
+    if (o->bvh.node_count) memcpy(remaining, o->bvh.count_below, o->bvh.node_count * sizeof(uint32_t));
+    memset(hz, 0, sizeof(*hz));
+    pvs__hz_init(hz);
     w.scene = s;
-    w.raster = r;
+    w.hz = hz;
     w.cell = cell;
     w.visible = visible;
     w.u = u;
     w.v = v;
-    res = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__shrink_visit, &w);
-    pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
-    pvs__free_array(&o->allocator, joint, cells, sizeof(float));
-    pvs__free(&o->allocator, sweep, sweep_size, 16);
-    pvs_raster_destroy(r);
-    if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "object sweep");
+    hz->H = cell->max[up];
+    pvs__shrink_walk_near(o, &w, remaining, stack); /* objects meeting the cell, or under its top face */
+    for (b = 0; b < nv; ++b)
+        for (a = 0; a < nu; ++a) {
+            if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue; /* interior: not sampled */
+            hz->eu = a + 1 == nu ? cell->max[u] : cell->min[u] + (double)a * ((double)cell->max[u] - cell->min[u]) / (nu > 1 ? nu - 1 : 1);
+            hz->ev = b + 1 == nv ? cell->max[v] : cell->min[v] + (double)b * ((double)cell->max[v] - cell->min[v]) / (nv > 1 ? nv - 1 : 1);
+            memset(hz->nstep, 0, sizeof(hz->nstep));
+            pvs__shrink_horizon(o, hz, cstack, u, v, st);
+            ++st->samples;
+            pvs__shrink_walk_sample(o, &w, remaining, stack);
+        }
+    pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
+    pvs__free_array(&o->allocator, remaining, nnodes, sizeof(uint32_t));
+    pvs__free_array(&o->allocator, stack, nnodes, sizeof(uint32_t));
+    pvs__free_array(&o->allocator, cstack, ncnodes, sizeof(uint32_t));
     return PVS_OK;
 }
 
@@ -12730,13 +14680,45 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
    of the eroded boxes (occluder mode: inner coverage, farthest depth), objects tested in occludee
    mode against the depth pyramid; the PVS is the union over the samples. Objects within twice the
    near distance of the cell are set outright (the cube does not see nearer than its near plane). */
+/* 1 when box bx may reach into the view from eye p along axis dax (positive when pos), a superset of
+   the shrink 3D path's frustum (fov 1.6 rad, square): some point ahead with lateral offsets within
+   1.1 x its distance ahead. *dn, *df: the box's least and greatest distance ahead. In double, from
+   float coordinates: exact differences, the 1.1 covers the rounding. */
+PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, int pos, double *dn, double *df) {
+    int l;
+    double lim;
+    if (pos) { *dn = (double)bx->min[dax] - p[dax]; *df = (double)bx->max[dax] - p[dax]; }
+    else { *dn = (double)p[dax] - bx->max[dax]; *df = (double)p[dax] - bx->min[dax]; }
+    if (!(*df > 0.0)) return 0;
+    lim = 1.1 * *df;
+    for (l = 0; l < 3; ++l)
+        if (l != dax && ((double)bx->min[l] - p[l] > lim || (double)bx->max[l] - p[l] < -lim)) return 0;
+    return 1;
+}
+
+/* The image of box bx (wholly ahead: dn > 0) seen from p along axis dax, as lateral offset / distance
+   ahead on the two other axes in increasing order: r[0..1] the least, r[2..3] the greatest (the
+   camera's image coordinates are these up to scale, sign and order). 0 when the box comes within
+   1e-3 of its own depth of the eye plane (no useful bound). */
+PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax, double dn, double df, double r[4]) {
+    int k;
+    if (!(dn > 1e-3 * df)) return 0;
+    for (k = 0; k < 2; ++k) {
+        int l = (dax + 1 + k) % 3;
+        double lo = (double)bx->min[l] - p[l], hi = (double)bx->max[l] - p[l];
+        r[k] = pvs__dmin(lo / dn, lo / df);
+        r[2 + k] = pvs__dmax(hi / dn, hi / df);
+    }
+    return 1;
+}
+
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
-                                      pvs_error *err) {
+                                      pvs_shrink_stats *st, pvs_error *err) {
     pvs_raster_desc rd;
     pvs_raster *r = NULL;
     pvs_result res;
     float *pos = NULL, eps = o->info.eps, spacing = 1.4f * eps, nearp = 0.05f * eps;
-    uint32_t *idx = NULL, nb = o->box_count, i, face, a, b, dir, ob;
+    uint32_t *idx = NULL, *sel = NULL, *cand = NULL, nb = o->box_count, i, face, a, b, dir, ob, ncand;
     pvs_word *seen = NULL;
     size_t words = PVS_BITSET_WORDS(s->object_count);
     static const uint32_t quad[36] = {0, 1, 3, 0, 3, 2, 4, 6, 7, 4, 7, 5, 0, 4, 5, 0, 5, 1,
@@ -12751,7 +14733,9 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
     pos = (float *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 24, sizeof(float));
     idx = (uint32_t *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
     seen = (pvs_word *)pvs__alloc_array(&o->allocator, words ? words : 1, sizeof(pvs_word));
-    if (!pos || !idx || !seen) {
+    sel = (uint32_t *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
+    cand = (uint32_t *)pvs__alloc_array(&o->allocator, s->object_count ? s->object_count : 1, sizeof(uint32_t));
+    if (!pos || !idx || !seen || !sel || !cand) {
         res = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink 3D scratch");
         goto done;
     }
@@ -12787,10 +14771,47 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
                 p[a2] = n2 > 1 ? cell->min[a2] + (float)((double)b * ((double)cell->max[a2] - cell->min[a2]) / (n2 - 1)) : cell->min[a2];
                 if (a + 1 == n1) p[a1] = cell->max[a1];
                 if (b + 1 == n2) p[a2] = cell->max[a2];
+                ++st->samples;
                 for (dir = 0; dir < 6; ++dir) {
                     pvs_camera cam;
                     float m[16];
                     int dax = (int)dir / 2;
+                    uint32_t nsel = 0;
+                    double far = -1.0;
+                    /* Only what this view can change: the objects not yet seen that reach into a
+                       superset of its frustum (lateral offsets within 1.1 x the distance ahead, the
+                       frustum's being tan(0.8) = 1.03), and the boxes in that superset that reach
+                       nearer than the farthest of those objects (a box wholly farther is nearer at no
+                       pixel than any of them). Leaving out the rest changes no test's answer. */
+                    double crect[4] = {DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX}, brect[4];
+                    int bounded = 1;
+                    ncand = 0;
+                    for (ob = 0; ob < s->object_count; ++ob) {
+                        double dn, df;
+                        if (pvs_bitset_test(seen, ob) || !pvs__box_valid(s->object_boxes + ob)) continue;
+                        if (!pvs__shrink_in_view(s->object_boxes + ob, p, dax, dir & 1, &dn, &df)) continue;
+                        cand[ncand++] = ob;
+                        if (df > far) far = df;
+                        if (bounded && pvs__shrink_view_rect(s->object_boxes + ob, p, dax, dn, df, brect))
+                            for (k = 0; k < 2; ++k) {
+                                crect[k] = pvs__dmin(crect[k], brect[k]);
+                                crect[2 + k] = pvs__dmax(crect[2 + k], brect[2 + k]);
+                            }
+                        else bounded = 0;
+                    }
+                    if (!ncand) continue;
+                    for (i = 0; i < nb; ++i) {
+                        double dn, df;
+                        if (!pvs__shrink_in_view(o->boxes + i, p, dax, dir & 1, &dn, &df) || dn > far) continue;
+                        /* a box whose image misses the candidates' (a margin of a few pixels around)
+                           covers none of the pixels their tests read */
+                        if (bounded && pvs__shrink_view_rect(o->boxes + i, p, dax, dn, df, brect) &&
+                            (brect[0] > crect[2] + 0.1 || brect[2] < crect[0] - 0.1 || brect[1] > crect[3] + 0.1 || brect[3] < crect[1] - 0.1))
+                            continue;
+                        memcpy(sel + 36 * (size_t)nsel, idx + 36 * (size_t)i, 36 * sizeof(uint32_t));
+                        ++nsel;
+                    }
+                    st->occluders_drawn += nsel;
                     memset(&cam, 0, sizeof(cam));
                     for (k = 0; k < 3; ++k) cam.eye[k] = p[k];
                     cam.forward[dax] = dir & 1 ? 1.0f : -1.0f;
@@ -12800,12 +14821,10 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
                     if (pvs_camera_matrix(&cam, 1.0f, m) != PVS_OK) continue;
                     pvs_raster_clear(r);
                     pvs_raster_set_matrix(r, m);
-                    if (nb) pvs_raster_triangles(r, pos, 8 * nb, idx, 12 * nb, PVS_RASTER_OCCLUDER);
+                    if (nsel) pvs_raster_triangles(r, pos, 8 * nb, sel, 12 * nsel, PVS_RASTER_OCCLUDER);
                     pvs_raster_build_pyramid(r);
-                    for (ob = 0; ob < s->object_count; ++ob) {
-                        if (pvs_bitset_test(seen, ob) || !pvs__box_valid(s->object_boxes + ob)) continue;
-                        if (pvs_raster_test_box(r, s->object_boxes + ob)) pvs_bitset_set(seen, ob);
-                    }
+                    for (i = 0; i < ncand; ++i)
+                        if (pvs_raster_test_box(r, s->object_boxes + cand[i])) pvs_bitset_set(seen, cand[i]);
                 }
             }
     }
@@ -12816,28 +14835,54 @@ done:
     pvs__free_array(&o->allocator, pos, (size_t)(nb ? nb : 1) * 24, sizeof(float));
     pvs__free_array(&o->allocator, idx, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
     pvs__free_array(&o->allocator, seen, words ? words : 1, sizeof(pvs_word));
+    pvs__free_array(&o->allocator, sel, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
+    pvs__free_array(&o->allocator, cand, s->object_count ? s->object_count : 1, sizeof(uint32_t));
     pvs_raster_destroy(r);
     return res;
 }
 
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_shrink_mode mode,
-                                   pvs_word *visible, pvs_error *err) {
+                                   pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err) {
     pvs_result res;
+    pvs_shrink_stats st;
+    memset(&st, 0, sizeof(st));
+    if (stats) memset(stats, 0, sizeof(*stats));
     if (!s || !o || !cell || !visible || o->scene != s) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "NULL argument or occluders of another scene");
     if (!pvs__box_valid(cell)) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "cell is not a valid box");
     if ((int)mode < 0 || mode >= PVS_SHRINK_MODE_COUNT) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown mode %d", (int)mode);
     if (mode == PVS_SHRINK_AUTO) mode = o->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
-    if (mode == PVS_SHRINK_2D5 ? o->chain_count == 0 : o->box_count == 0) {
-        /* nothing survived the erosion: nothing can hide anything, every drawable object is set */
+    st.mode = mode;
+    st.occluders = mode == PVS_SHRINK_2D5 ? o->chain_count : o->box_count;
+    {
+        /* a leaking cell the synthesis left out (or a box inside one): the solid was proved for the
+           other cells only */
+        uint32_t i;
+        int k;
+        for (i = 0; i < o->info.excluded_cells && !st.excluded; ++i) {
+            for (k = 0; k < 3; ++k)
+                if (cell->min[k] < o->excluded_boxes[i].min[k] || cell->max[k] > o->excluded_boxes[i].max[k]) break;
+            st.excluded = k == 3;
+        }
+    }
+    if (st.occluders == 0 || st.excluded) {
+        /* nothing survived the erosion, or a left-out cell: every drawable object is set */
         uint32_t i;
         for (i = 0; i < s->object_count; ++i)
             if (!(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i)) pvs_bitset_set(visible, i);
+        st.no_occluders = st.occluders == 0;
+        if (stats) *stats = st;
         pvs__ok(err);
         return PVS_OK;
     }
-    if (mode == PVS_SHRINK_2D5) res = pvs__shrink_2d5(s, o, cell, visible, err);
-    else res = pvs__shrink_3d(s, o, cell, visible, err);
-    if (res == PVS_OK) pvs__ok(err);
+    if (mode == PVS_SHRINK_2D5) res = pvs__shrink_2d5(s, o, cell, visible, &st, err);
+    else res = pvs__shrink_3d(s, o, cell, visible, &st, err);
+    if (res == PVS_OK) {
+        uint32_t i;
+        for (i = 0; i < s->object_count; ++i)
+            st.hidden += !(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i) && !pvs_bitset_test(visible, i);
+        if (stats) *stats = st;
+        pvs__ok(err);
+    }
     return res;
 }
 
@@ -12870,6 +14915,7 @@ struct pvs_bake {
     struct pvs__extproj_prep *extproj;        /* EXTPROJ: the scene's occluders, read-only in tasks */
     uint32_t extproj_resolution, extproj_occluders;
     pvs_occluders *occluders;  /* SHRINK */
+    pvs_occluders *occluders_leak; /* SHRINK: made with every cell seeding, for the cells the first left out */
     pvs_shrink_mode shrink_mode;
     /* the methods considered (AUTO: every candidate, in run order) and those each task runs; a task's
        PVS is the intersection of theirs (an intersection of conservative sets is conservative) */
@@ -12888,7 +14934,12 @@ struct pvs_bake {
     uint8_t *vocc_count, *vocc_scale; /* its count and scale code */
     pvs_vocc_stats *vocc_stats;/* per task */
     uint32_t vocc_only;
+    unsigned char *cell_flags; /* per task, written by its own task: PVS__BAKE_* */
+    uint32_t drawable;         /* objects that can appear in a PVS */
 };
+#define PVS__BAKE_ALL_VISIBLE 1u
+#define PVS__BAKE_NO_OCCLUDERS 2u
+#define PVS__BAKE_EXCLUDED 4u
 
 PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs_allocator a;
@@ -12899,6 +14950,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs__free_array(&a, b->done, b->cell_count, 1);
     pvs__free_array(&a, b->restored, b->cell_count, 1);
     pvs__free_array(&a, b->stats, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
+    pvs__free_array(&a, b->cell_flags, b->cell_count, 1);
     pvs__free_array(&a, b->ot_facades, (size_t)b->ot_facade_cap * 5 + 5, sizeof(float));
     pvs__free_array(&a, b->ot_objects, (size_t)b->object_count * 5 + 5, sizeof(float));
     {
@@ -12907,6 +14959,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     }
     pvs__extproj_prep_destroy(b->extproj);
     pvs_occluders_destroy(b->occluders);
+    pvs_occluders_destroy(b->occluders_leak);
     if (b->vocc) {
         pvs__free_array(&a, b->vocc_bytes, (size_t)b->cell_count * b->vocc->max_keep * 5, 1);
         pvs__free_array(&a, b->vocc_count, b->cell_count, 1);
@@ -13041,7 +15094,7 @@ done:
 /* One cell with pvs_visibility_25d, once per level some object needs (pvs__otree_prepare): the
    objects whose min(cell bottom, object bottom) lies in [level k, level k + 1) are tested against
    the facades of levels <= k; objects below the lowest level are visible. */
-PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, uint32_t task, uint32_t cell, pvs_word *bits, pvs_error *err) {
+PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, uint32_t task, uint32_t cell, pvs_word *bits, int *no_occluders, pvs_error *err) {
     const pvs_scene *s = b->scene;
     const pvs_box *c = b->cells + task; /* the bake keeps its (shard's) cells by task */
     int up = s->up_axis == 2 ? 2 : 1, u, v;
@@ -13068,6 +15121,7 @@ PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, uint32_t task, uint32_t cell
             if (b->ot_level[k] <= fl) { grp[i] = (unsigned char)k; used |= 1u << k; break; }
         if (grp[i] == 0xff) { pvs_bitset_set(bits, i); below = 1; } /* below every facade's base: seen under them */
     }
+    *no_occluders = used == 0; /* no object had a facade to be hidden by */
     for (k = 0; k < b->ot_level_count && r == PVS_OK; ++k) {
         if (!(used & (1u << k))) continue;
         d.facades = b->ot_facades;
@@ -13175,6 +15229,12 @@ PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, pvs_method m, const pvs_ba
         od.allocator = b->allocator;
         r = pvs_occluders_create(&od, &b->occluders, err);
         if (r != PVS_OK) return r;
+        if (b->occluders->info.excluded_cells) {
+            /* leaking cells were left out of the proof: they bake with occluders every cell seeded */
+            od.flags = PVS_OCCLUDERS_KEEP_LEAKS;
+            r = pvs_occluders_create(&od, &b->occluders_leak, err);
+            if (r != PVS_OK) return r;
+        }
         b->shrink_mode = desc->shrink_mode;
         if (b->shrink_mode == PVS_SHRINK_AUTO) b->shrink_mode = b->occluders->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
         return PVS_OK;
@@ -13241,8 +15301,10 @@ PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t
         break;
     }
     case PVS_METHOD_OTREE: {
-        pvs_result r = pvs__otree_cell(b, task, cell, bits, err);
+        int none = 0;
+        pvs_result r = pvs__otree_cell(b, task, cell, bits, &none, err);
         if (r != PVS_OK) return r;
+        if (none) b->cell_flags[task] |= PVS__BAKE_NO_OCCLUDERS;
         break;
     }
     case PVS_METHOD_EXTPROJ: {
@@ -13252,11 +15314,19 @@ PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t
         break;
     }
     case PVS_METHOD_SHRINK: {
-        pvs_result r = pvs_shrink_cell(b->scene, b->occluders, b->cells + task, b->shrink_mode, bits, err);
+        pvs_shrink_stats st;
+        pvs_result r = pvs_shrink_cell(b->scene, b->occluders, b->cells + task, b->shrink_mode, bits, &st, err);
+        if (r == PVS_OK && st.excluded && b->occluders_leak) {
+            memset(bits, 0, b->words * sizeof(pvs_word));
+            r = pvs_shrink_cell(b->scene, b->occluders_leak, b->cells + task, b->shrink_mode, bits, &st, err);
+            st.excluded = 1;
+        }
         if (r != PVS_OK) {
             if (err) err->index = cell;
             return r;
         }
+        if (st.no_occluders) b->cell_flags[task] |= PVS__BAKE_NO_OCCLUDERS;
+        if (st.excluded) b->cell_flags[task] |= PVS__BAKE_EXCLUDED;
         break;
     }
     case PVS_METHOD_VOCC: {
@@ -13374,7 +15444,8 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     b->done = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
     b->restored = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
     b->stats = (uint32_t *)pvs__alloc_array(&a, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
-    if (!b->cells || !b->pvs || !b->done || !b->restored || !b->stats) {
+    b->cell_flags = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
+    if (!b->cells || !b->pvs || !b->done || !b->restored || !b->stats || !b->cell_flags) {
         pvs_bake_destroy(b);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake arrays for %u cells", desc->cell_count);
     }
@@ -13384,6 +15455,9 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     memset(b->pvs, 0, total * sizeof(pvs_word));
     memset(b->done, 0, b->cell_count);
     memset(b->restored, 0, b->cell_count);
+    memset(b->cell_flags, 0, b->cell_count);
+    for (i = 0; i < b->object_count; ++i)
+        b->drawable += !(desc->scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(desc->scene->object_boxes + i);
     memset(b->stats, 0, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT * sizeof(uint32_t));
     if (method != PVS_METHOD_AUTO) {
         b->considered[0] = b->run[0] = method;
@@ -13470,6 +15544,7 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
     own = b->stats + (size_t)task * 2 * PVS_METHOD_COUNT;
     sole = own + PVS_METHOD_COUNT;
     memset(bits, 0, b->words * sizeof(pvs_word));
+    b->cell_flags[task] = 0;
     if (n == 1) {
         r = pvs__bake_method_cell(b, b->run[0], task, cell, bits, err);
         if (r != PVS_OK) return r;
@@ -13506,9 +15581,22 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
     if (b->max_distance > 0.0f) /* a draw distance: box to box, rounded toward keeping */
         for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
             if (pvs__box_beyond(b->cells + task, b->scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
+    if (pvs_bitset_count(bits, b->object_count) >= b->drawable) b->cell_flags[task] |= PVS__BAKE_ALL_VISIBLE;
     b->done[task] = 1;
     pvs__ok(err);
     return PVS_OK;
+}
+
+PVS_API void pvs_bake_get_report(const pvs_bake *b, pvs_bake_report *r) {
+    uint32_t i;
+    memset(r, 0, sizeof(*r));
+    for (i = 0; i < b->cell_count; ++i) {
+        if (!b->done[i] || b->restored[i]) continue;
+        ++r->cells;
+        r->cells_all_visible += (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE) != 0;
+        r->cells_no_occluders += (b->cell_flags[i] & PVS__BAKE_NO_OCCLUDERS) != 0;
+        r->cells_excluded += (b->cell_flags[i] & PVS__BAKE_EXCLUDED) != 0;
+    }
 }
 
 PVS_API int pvs_bake_task_done(const pvs_bake *b, uint32_t task) { return b && task < b->cell_count && b->done[task]; }

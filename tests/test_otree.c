@@ -1393,6 +1393,9 @@ static void test_facades_split(void) {
                 CHECK(info.prepared == 1 && info.levels >= 1);
                 CHECK(pvs_bitset_test(pvs, 1) && pvs_bitset_test(pvs, 3));
                 CHECK(!pvs_bitset_test(pvs, 2));
+                pvs_bake_report rep;
+                pvs_bake_get_report(b, &rep);
+                CHECK(rep.cells_no_occluders == 0);
                 if (!count1) count1 = info.facades;
                 CHECK(info.facades == count1); /* the wall is one facade however it is cut */
             }
@@ -1491,8 +1494,11 @@ static void test_facades_none(void) {
     b = fx_bake(&m, &cell, 1, &info, &sc);
     if (b) {
         const pvs_word *pvs = pvs_bake_cell_pvs(b, 0);
+        pvs_bake_report rep;
         CHECK(info.prepared == 1 && info.facades == 0 && info.vertical_triangles == 16);
         CHECK(pvs_bitset_count(pvs, 3) == 3);
+        pvs_bake_get_report(b, &rep); /* the driver's summary hears of it */
+        CHECK(rep.cells == 1 && rep.cells_no_occluders == 1);
     }
     pvs_bake_destroy(b);
     pvs_scene_destroy(sc);

@@ -391,9 +391,20 @@ int main(int argc, char **argv) {
                 (double)pvs_bake_eps(bake), eps > 0.0f ? "" : " (default: an eighth of the median cell width)",
                 pvs_bake_shrink_mode(bake) == PVS_SHRINK_2D5 ? "2.5D" : "3D", oi.dims[0], oi.dims[1], oi.dims[2],
                 (double)oi.voxel_size, (unsigned long long)oi.solid, (unsigned long long)oi.eroded, oi.box_count, oi.rect_count);
+        fprintf(stderr, "  %u closed of %u meshes (edge-connected triangle sets), %llu open edges, %llu undecided columns\n",
+                oi.closed_components, oi.components, (unsigned long long)oi.open_edges, (unsigned long long)oi.undecided_columns);
         if (oi.leak_cell != PVS_NO_CELL)
-            fprintf(stderr, "  cell %u reaches the outside (open to the sky, or a leak) near %g %g %g\n", oi.leak_cell,
-                    (double)oi.leak_point[0], (double)oi.leak_point[1], (double)oi.leak_point[2]);
+            fprintf(stderr, "  %u cell%s reach%s the outside (open to the sky, or a leak), the first cell %u near %g %g %g\n", oi.leak_cells,
+                    oi.leak_cells == 1 ? "" : "s", oi.leak_cells == 1 ? "es" : "", oi.leak_cell, (double)oi.leak_point[0],
+                    (double)oi.leak_point[1], (double)oi.leak_point[2]);
+        if (oi.excluded_cells) {
+            uint32_t nex = 0, q;
+            const uint32_t *ex = pvs_occluders_excluded_cells(pvs_bake_occluders(bake), &nex);
+            fprintf(stderr, "  warning: %u leaking cell%s left out of the solid proof (baked with a second synthesis that every cell\n"
+                            "  seeds: little or no occlusion for them; fix the cells or seal the mesh):", nex, nex == 1 ? "" : "s");
+            for (q = 0; q < nex && q < 32; ++q) fprintf(stderr, " %u", ex[q]);
+            fprintf(stderr, "%s\n", nex > 32 ? " ..." : "");
+        }
         fprintf(stderr, "  %u objects give no occluder volume (thin walls with open space on both sides, props)\n", oi.thin_objects);
         if (oi.eroded == 0 && pvs_bake_method(bake) == PVS_METHOD_SHRINK)
             fprintf(stderr, "  warning: no occluder volume survives erosion by eps: every object will be visible from every cell;\n"
@@ -435,6 +446,15 @@ int main(int argc, char **argv) {
     if (cli_write_bake(bake, out_path, &size, &te)) goto fail;
     if (run.state_path) remove(run.state_path);
     if (!quiet) print_summary(out_path, scene, bake, &run, secs, t_bake, cli_seconds() - t0, size, shard_n > 1);
+    if (!quiet) {
+        pvs_bake_report rep;
+        pvs_bake_get_report(bake, &rep);
+        if (rep.cells_no_occluders)
+            fprintf(stderr, "  warning: %u of %u cells had no occluder (shrink volumes or otree facades): their PVS is every object\n",
+                    rep.cells_no_occluders, rep.cells);
+        else if (rep.cells_all_visible)
+            fprintf(stderr, "  %u of %u cells see every object\n", rep.cells_all_visible, rep.cells);
+    }
     if (!quiet && vocc_only)
         fprintf(stderr, "  vocc-only: the PVS above is the placeholder the records store (every object); the runtime rebuilds\n"
                         "  each cell's PVS from its virtual occluders (pvs_vocc_cull; pvscheck checks that one)\n");
