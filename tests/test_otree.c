@@ -1262,8 +1262,262 @@ void otree_verify(int scale) {
     sv_free(&t);
 }
 
+
+/* ---- facades from real-world tessellations, base heights, scenes without facades ---- */
+
+/* A Y-up mesh under construction: (u, v, height) -> (x = u, y = height, z = v). */
+typedef struct fx_mesh {
+    float pos[3 * 2048];
+    uint32_t idx[3 * 2048];
+    uint32_t vc, tc;
+    pvs_object_desc od[16];
+    uint32_t oc;
+} fx_mesh;
+static uint32_t fx_vertex(fx_mesh *m, float u, float v, float h) {
+    m->pos[3 * m->vc] = u; m->pos[3 * m->vc + 1] = h; m->pos[3 * m->vc + 2] = v;
+    return m->vc++;
+}
+static void fx_tri(fx_mesh *m, uint32_t a, uint32_t b, uint32_t c) {
+    m->idx[3 * m->tc] = a; m->idx[3 * m->tc + 1] = b; m->idx[3 * m->tc + 2] = c;
+    ++m->tc;
+}
+static void fx_begin(fx_mesh *m) { m->od[m->oc].first_triangle = m->tc; m->od[m->oc].flags = 0; }
+static void fx_end(fx_mesh *m) { m->od[m->oc].triangle_count = m->tc - m->od[m->oc].first_triangle; ++m->oc; }
+/* a quad of the wall u = wu: v0..v1 x h0..h1, split along one diagonal or the other */
+static void fx_quad(fx_mesh *m, float wu, float v0, float v1, float h0, float h1, int flip) {
+    uint32_t a = fx_vertex(m, wu, v0, h0), b = fx_vertex(m, wu, v1, h0), c = fx_vertex(m, wu, v1, h1), d = fx_vertex(m, wu, v0, h1);
+    if (flip) { fx_tri(m, a, b, d); fx_tri(m, b, c, d); }
+    else { fx_tri(m, a, b, c); fx_tri(m, a, c, d); }
+}
+static void fx_box(fx_mesh *m, float u0, float v0, float h0, float u1, float v1, float h1) {
+    float lo[3], hi[3];
+    lo[0] = u0; lo[1] = v0; lo[2] = h0; hi[0] = u1; hi[1] = v1; hi[2] = h1;
+    fx_begin(m);
+    add_box(m->pos, &m->vc, m->idx, &m->tc, lo, hi, 0);
+    fx_end(m);
+}
+/* Bakes the cells with OTREE; checks no object seen by 3D ray sampling is missing; *info. */
+static pvs_bake *fx_bake(fx_mesh *m, const pvs_box *cells, uint32_t nc, pvs_otree_bake_info *info, pvs_scene **out_sc) {
+    pvs_scene_desc sd;
+    pvs_scene *sc = NULL;
+    pvs_bake_desc bd;
+    pvs_bake *b = NULL;
+    uint32_t t, c, i, miss = 0;
+    pvs_word bits[4];
+    memset(&sd, 0, sizeof(sd));
+    sd.positions = m->pos; sd.vertex_count = m->vc; sd.indices = m->idx; sd.triangle_count = m->tc;
+    sd.objects = m->od; sd.object_count = m->oc; sd.up_axis = 1;
+    CHECK(pvs_scene_create(&sd, &sc, NULL) == PVS_OK);
+    *out_sc = sc;
+    if (!sc) return NULL;
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = sc; bd.cells = cells; bd.cell_count = nc; bd.method = PVS_METHOD_OTREE;
+    CHECK(pvs_bake_begin(&bd, &b, NULL) == PVS_OK);
+    if (!b) return NULL;
+    for (t = 0; t < pvs_bake_task_count(b); ++t) CHECK(pvs_bake_run_task(b, t, NULL) == PVS_OK);
+    pvs_bake_otree_info(b, info);
+    for (c = 0; c < nc; ++c) {
+        const pvs_word *pvs = pvs_bake_cell_pvs(b, c);
+        memset(bits, 0, sizeof(bits));
+        pvs_sample_visibility(sc, cells + c, 16, 2048, 11 + c, bits);
+        for (i = 0; i < m->oc; ++i)
+            if (pvs_bitset_test(bits, i) && !pvs_bitset_test(pvs, i)) {
+                ++miss;
+                fprintf(stderr, "otree facades: cell %u misses object %u\n", c, i);
+            }
+    }
+    CHECK(miss == 0);
+    return b;
+}
+static pvs_box fx_cell(float u0, float v0, float h0, float u1, float v1, float h1) {
+    pvs_box c;
+    c.min[0] = u0; c.min[1] = h0; c.min[2] = v0;
+    c.max[0] = u1; c.max[1] = h1; c.max[2] = v1;
+    return c;
+}
+
+/* A wall (u = 10, v -20..20, height 0..10) between a cell and a box, tessellated in many ways (a
+   grid of N x N quads, either diagonal, a fan around an inner vertex, T-junctions, uneven strips):
+   the pieces are merged into one facade, so the box behind is culled as with a single quad, and
+   the facade count does not depend on the tessellation. */
+static void test_facades_split(void) {
+    static fx_mesh m;
+    int variant, n;
+    uint32_t count1 = 0;
+    for (variant = 0; variant < 5; ++variant)
+        for (n = 1; n <= 7; n += 3) {
+            pvs_otree_bake_info info;
+            pvs_scene *sc = NULL;
+            pvs_bake *b;
+            pvs_box cell = fx_cell(0, -1, 0.5f, 2, 1, 2);
+            int i, j;
+            memset(&m, 0, sizeof(m));
+            fx_box(&m, -20, -30, -0.01f, 40, 30, 0); /* object 0: the ground */
+            fx_begin(&m);                            /* object 1: the wall */
+            if (variant == 0 || variant == 1) {      /* an n x n grid, one diagonal or alternating */
+                for (i = 0; i < n; ++i)
+                    for (j = 0; j < n; ++j)
+                        fx_quad(&m, 10, -20 + 40.0f * i / n, -20 + 40.0f * (i + 1) / n, 10.0f * j / n, 10.0f * (j + 1) / n,
+                                variant == 1 && ((i + j) & 1));
+            } else if (variant == 2) {               /* a fan around (v 3, h 4), n pieces per side */
+                uint32_t cen = fx_vertex(&m, 10, 3, 4), prev = 0, first = 0;
+                int k;
+                for (k = 0; k <= 4 * n; ++k) {
+                    int sdn = (k / n) % 4, q = k % n;
+                    float v = 0, h = 0, f = (float)q / n;
+                    uint32_t cur;
+                    if (sdn == 0) { v = -20 + 40 * f; h = 0; }
+                    else if (sdn == 1) { v = 20; h = 10 * f; }
+                    else if (sdn == 2) { v = 20 - 40 * f; h = 10; }
+                    else { v = -20; h = 10 - 10 * f; }
+                    cur = k == 4 * n ? first : fx_vertex(&m, 10, v, h);
+                    if (k == 0) first = cur;
+                    else fx_tri(&m, cen, prev, cur);
+                    prev = cur;
+                }
+            } else if (variant == 3) {               /* T-junctions: one quad, beside it n x n quads */
+                fx_quad(&m, 10, -20, 0, 0, 10, 0);
+                for (i = 0; i < n; ++i)
+                    for (j = 0; j < n; ++j) fx_quad(&m, 10, 20.0f * i / n, 20.0f * (i + 1) / n, 10.0f * j / n, 10.0f * (j + 1) / n, 0);
+            } else {                                 /* uneven horizontal strips, each split in n columns */
+                static const float hs[4] = {0, 3.3f, 7.1f, 10};
+                for (j = 0; j < 3; ++j)
+                    for (i = 0; i < n; ++i) fx_quad(&m, 10, -20 + 40.0f * i / n, -20 + 40.0f * (i + 1) / n, hs[j], hs[j + 1], i & 1);
+            }
+            fx_end(&m);
+            fx_box(&m, 15, -1, 0, 16, 1, 3);   /* object 2: behind the wall */
+            fx_box(&m, 15, 60, 0, 16, 61, 3);  /* object 3: beyond its end, seen */
+            b = fx_bake(&m, &cell, 1, &info, &sc);
+            if (b) {
+                const pvs_word *pvs = pvs_bake_cell_pvs(b, 0);
+                CHECK(info.prepared == 1 && info.levels >= 1);
+                CHECK(pvs_bitset_test(pvs, 1) && pvs_bitset_test(pvs, 3));
+                CHECK(!pvs_bitset_test(pvs, 2));
+                pvs_bake_report rep;
+                pvs_bake_get_report(b, &rep);
+                CHECK(rep.cells_no_occluders == 0);
+                if (!count1) count1 = info.facades;
+                CHECK(info.facades == count1); /* the wall is one facade however it is cut */
+            }
+            pvs_bake_destroy(b);
+            pvs_scene_destroy(sc);
+        }
+    CHECK(count1 == 13); /* the ground's and the two boxes' 4 sides each, and the wall */
+}
+
+/* A wall with a door (left and right pieces, a lintel over the door): the box seen through the
+   door stays visible, the box behind the full-height part is culled. */
+static void test_facades_door(void) {
+    static fx_mesh m;
+    pvs_otree_bake_info info;
+    pvs_scene *sc = NULL;
+    pvs_bake *b;
+    pvs_box cell = fx_cell(0, -1, 0.5f, 2, 1, 2);
+    memset(&m, 0, sizeof(m));
+    fx_box(&m, -20, -30, -0.01f, 40, 30, 0);
+    fx_begin(&m);
+    fx_quad(&m, 10, -20, -1, 0, 10, 0);
+    fx_quad(&m, 10, 1, 20, 0, 10, 1);
+    fx_quad(&m, 10, -1, 1, 2.5f, 10, 0);
+    fx_end(&m);
+    fx_box(&m, 15, -0.5f, 0, 16, 0.5f, 1); /* object 2: through the door */
+    fx_box(&m, 15, 8, 0, 16, 9, 1);        /* object 3: behind the wall */
+    b = fx_bake(&m, &cell, 1, &info, &sc);
+    if (b) {
+        const pvs_word *pvs = pvs_bake_cell_pvs(b, 0);
+        CHECK(pvs_bitset_test(pvs, 2));
+        CHECK(!pvs_bitset_test(pvs, 3));
+    }
+    pvs_bake_destroy(b);
+    pvs_scene_destroy(sc);
+}
+
+/* Base heights: a wall raised to 5..15 (nothing under it) and a low wall 0..3 behind it; a cell
+   above the raised wall's base (5.5..7). A box standing at 5 behind the raised wall is hidden by
+   it; a box on the ground behind both is seen under the raised wall but hidden by the low one; a
+   box on the ground beyond the low wall's end is seen under the raised one. */
+static void test_facades_levels(void) {
+    static fx_mesh m;
+    pvs_otree_bake_info info;
+    pvs_scene *sc = NULL;
+    pvs_bake *b;
+    pvs_box cell = fx_cell(0, -1, 5.5f, 2, 1, 7);
+    memset(&m, 0, sizeof(m));
+    fx_box(&m, -20, -30, -0.01f, 40, 30, 0);   /* 0: ground */
+    fx_begin(&m); fx_quad(&m, 10, -20, 20, 5, 15, 0); fx_end(&m); /* 1: the raised wall */
+    fx_begin(&m); fx_quad(&m, 12, -20, 20, 0, 3, 1); fx_end(&m);  /* 2: the low wall */
+    fx_box(&m, 15, -1, 5, 16, 1, 6);           /* 3: at the raised wall's base, behind it */
+    fx_box(&m, 15, -1, 0, 16, 1, 1);           /* 4: on the ground behind both */
+    fx_box(&m, 15, 40, 0, 16, 41, 1);          /* 5: on the ground, far to the side */
+    b = fx_bake(&m, &cell, 1, &info, &sc);
+    if (b) {
+        const pvs_word *pvs = pvs_bake_cell_pvs(b, 0);
+        CHECK(info.levels >= 2);
+        CHECK(!pvs_bitset_test(pvs, 3));
+        CHECK(!pvs_bitset_test(pvs, 4));
+        CHECK(pvs_bitset_test(pvs, 1) && pvs_bitset_test(pvs, 2));
+    }
+    pvs_bake_destroy(b);
+    pvs_scene_destroy(sc);
+    /* without the low wall, the ground box is seen under the raised one */
+    memset(&m, 0, sizeof(m));
+    fx_box(&m, -20, -30, -0.01f, 40, 30, 0);
+    fx_begin(&m); fx_quad(&m, 10, -20, 20, 5, 15, 0); fx_end(&m);
+    fx_box(&m, 15, -1, 5, 16, 1, 6);
+    fx_box(&m, 15, -1, 0, 16, 1, 1);
+    b = fx_bake(&m, &cell, 1, &info, &sc);
+    if (b) {
+        const pvs_word *pvs = pvs_bake_cell_pvs(b, 0);
+        CHECK(!pvs_bitset_test(pvs, 2));
+        CHECK(pvs_bitset_test(pvs, 3));
+    }
+    pvs_bake_destroy(b);
+    pvs_scene_destroy(sc);
+}
+
+/* No usable facade (only floating boxes above the cells, and flat ground): the bake says so
+   (pvs_bake_otree_info: 0 facades) and every drawable object is in every PVS. */
+static void test_facades_none(void) {
+    static fx_mesh m;
+    pvs_otree_bake_info info;
+    pvs_scene *sc = NULL;
+    pvs_bake *b;
+    pvs_box cell = fx_cell(0, -1, 0.5f, 2, 1, 2);
+    uint32_t f0, f1, f2;
+    memset(&m, 0, sizeof(m));
+    fx_begin(&m);
+    f0 = fx_vertex(&m, -20, -20, 0); f1 = fx_vertex(&m, 40, -20, 0); f2 = fx_vertex(&m, 40, 20, 0);
+    fx_tri(&m, f0, f1, f2);
+    fx_end(&m);
+    fx_box(&m, 10, -5, 3, 11, 5, 9);
+    fx_box(&m, 15, -1, 3, 16, 1, 4);
+    b = fx_bake(&m, &cell, 1, &info, &sc);
+    if (b) {
+        const pvs_word *pvs = pvs_bake_cell_pvs(b, 0);
+        pvs_bake_report rep;
+        CHECK(info.prepared == 1 && info.facades == 0 && info.vertical_triangles == 16);
+        CHECK(pvs_bitset_count(pvs, 3) == 3);
+        pvs_bake_get_report(b, &rep); /* the driver's summary hears of it */
+        CHECK(rep.cells == 1 && rep.cells_no_occluders == 1);
+    }
+    pvs_bake_destroy(b);
+    pvs_scene_destroy(sc);
+    {   /* a bake of another method reports nothing */
+        pvs_bake_desc bd;
+        pvs_bake *s = NULL;
+        memset(&bd, 0, sizeof(bd));
+        pvs_bake_otree_info(NULL, &info);
+        CHECK(info.prepared == 0 && info.facades == 0);
+        (void)s;
+    }
+}
+
 void test_otree(void);
 void test_otree(void) {
+    test_facades_split();
+    test_facades_door();
+    test_facades_levels();
+    test_facades_none();
     otree_verify(1);
     test_25d_degenerate();
     test_bake_axes();

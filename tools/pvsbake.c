@@ -428,6 +428,18 @@ int main(int argc, char **argv) {
             fprintf(stderr, "  warning: no occluder volume survives erosion by eps: every object will be visible from every cell;\n"
                             "  try a smaller --voxel or --eps, or --method extproj for thin walls\n");
     }
+    if (!quiet) {
+        pvs_otree_bake_info oti;
+        pvs_bake_otree_info(bake, &oti);
+        if (oti.prepared) {
+            fprintf(stderr, "otree: %u facades (2.5D occluders) from %u vertical triangles", oti.facades, oti.vertical_triangles);
+            if (oti.levels) fprintf(stderr, ", %u base level%s from %g", oti.levels, oti.levels > 1 ? "s" : "", (double)oti.lowest_level);
+            fprintf(stderr, "\n");
+            if (!oti.facades && pvs_bake_method(bake) == PVS_METHOD_OTREE)
+                fprintf(stderr, "  warning: no vertical wall gives a facade usable from the cells: every object will be visible from every cell;\n"
+                                "  try --method extproj or shrink\n");
+        }
+    }
     secs = (double *)malloc((size_t)pvs_bake_task_count(bake) * sizeof(double) + 8);
     if (!secs) { tool_error_set(&te, NULL, 0, "out of memory"); goto fail; }
     run.task_seconds = secs;
@@ -456,7 +468,8 @@ int main(int argc, char **argv) {
         pvs_bake_report rep;
         pvs_bake_get_report(bake, &rep);
         if (rep.cells_no_occluders)
-            fprintf(stderr, "  warning: %u of %u cells had no occluder (shrink): their PVS is every object\n", rep.cells_no_occluders, rep.cells);
+            fprintf(stderr, "  warning: %u of %u cells had no occluder (shrink volumes or otree facades): their PVS is every object\n",
+                    rep.cells_no_occluders, rep.cells);
         else if (rep.cells_all_visible)
             fprintf(stderr, "  %u of %u cells see every object\n", rep.cells_all_visible, rep.cells);
     }
