@@ -86,7 +86,10 @@
    set). Methods with a sampling or shrinking distance `eps` are conservative for every eps; smaller eps
    is tighter and slower. The `sample` method (ray sampling) is the exception: it is an estimate from
    below, the yardstick the tests measure the conservative methods against, and files baked with it
-   carry PVS_FILE_APPROXIMATE.
+   carry PVS_FILE_APPROXIMATE. One stated tolerance: OTREE's facade extraction treats cracks and
+   offsets of up to eight float epsilons of the scene's coordinates between pieces of one wall as
+   closed (the T-junction cracks of real meshes, about 1 mm at 1 km); an opening meant to be seen
+   through must be wider.
 
    Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
    vertical walls give facades (2.5D; pvs_bake_otree_info), EXTPROJ when there are planar occluders or convex solids
@@ -6754,8 +6757,8 @@ done:
    heights are rounded inward to floats. Writes *count facades of 6 floats (u0 v0 u1 v1 top bottom)
    into a new array *out (through allocator a; *out_floats floats), *vertical the number of vertical
    triangles. OUT_OF_MEMORY on failure (*out NULL). */
-#define PVS__FX_MAX_COVER 512
-#define PVS__OT25_LEVELS 8    /* base heights of facades the OTREE bake tells apart (pvs__otree_prepare) */ /* a slab covered by more triangles is left out (conservative) */
+#define PVS__FX_MAX_COVER 512 /* a slab covered by more triangles is left out (conservative) */
+#define PVS__OT25_LEVELS 8    /* base heights of facades the OTREE bake tells apart (pvs__otree_prepare) */
 
 typedef struct pvs__fxopen {
     double s0, s1, bot, top;
