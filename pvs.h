@@ -5745,8 +5745,11 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
     memset(&cc, 0, sizeof(cc));
     pvs_raster_clear(r);
     if (p && p->occluder_triangle_count && p->occluder_positions) {
-        pvs_raster_triangles(r, p->occluder_positions, p->occluder_vertex_count, p->occluder_indices, p->occluder_triangle_count,
-                             PVS_RASTER_OCCLUDER);
+        if (p->occluder_flags & PVS_CULL_OCCLUDER_MESH)
+            pvs_raster_mesh(r, p->occluder_positions, p->occluder_vertex_count, p->occluder_indices, p->occluder_triangle_count);
+        else
+            pvs_raster_triangles(r, p->occluder_positions, p->occluder_vertex_count, p->occluder_indices, p->occluder_triangle_count,
+                                 PVS_RASTER_OCCLUDER);
         cc.st.occluder_triangles += p->occluder_triangle_count;
     }
     if (p && p->scene_occluders) {
@@ -5765,7 +5768,9 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
         memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
         for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
         pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
-        if (r->tiled) {
+        if (!(p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES)) {
+            pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n); /* welded: walls fuse (Durand 2000 §3.3) */
+        } else if (r->tiled) {
             pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
         } else {
             for (i = 0; i < sc.n; ++i) {
@@ -5786,22 +5791,46 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
             uint32_t j;
             if (pvs__box_distance2(&src, s->occluder_boxes + i) > dist * dist) continue;
             if (o->kind == PVS_OCCLUDER_BOX) {
-                static const uint8_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
                                                  {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
                 for (j = 0; j < 8; ++j)
                     for (k = 0; k < 3; ++k) q[j][k] = (j >> k) & 1u ? o->box.max[k] : o->box.min[k];
-                for (j = 0; j < 12; ++j) pvs__raster_tri(r, q[f[j][0]], q[f[j][1]], q[f[j][2]], 1);
+                if (p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES)
+                    for (j = 0; j < 12; ++j) pvs__raster_tri(r, q[f[j][0]], q[f[j][1]], q[f[j][2]], 1);
+                else
+                    pvs__mesh(r, &q[0][0], 8, &f[0][0], NULL, 12);
                 cc.st.occluder_triangles += 12;
             } else if (o->kind == PVS_OCCLUDER_EXTRUSION) {
-                for (j = 0; j < o->footprint_count; ++j) {
-                    const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
-                    q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
-                    q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
-                    q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
-                    q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
-                    pvs__raster_tri(r, q[0], q[1], q[2], 1);
-                    pvs__raster_tri(r, q[0], q[2], q[3], 1);
-                    cc.st.occluder_triangles += 2;
+                if (!(p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES)) {
+                    /* the walls as meshes of up to 32 walls (two triangles each, neighbours sharing
+                       their vertical edge) */
+                    float wp[2 * 33][3];
+                    uint32_t wi[32 * 6], c, nw;
+                    for (j = 0; j < o->footprint_count; j += 32) {
+                        nw = o->footprint_count - j < 32 ? o->footprint_count - j : 32;
+                        for (c = 0; c <= nw; ++c) {
+                            const float *a = o->footprint + 2 * ((j + c) % o->footprint_count);
+                            wp[2 * c][u] = a[0]; wp[2 * c][v] = a[1]; wp[2 * c][up] = o->base;
+                            wp[2 * c + 1][u] = a[0]; wp[2 * c + 1][v] = a[1]; wp[2 * c + 1][up] = o->top;
+                        }
+                        for (c = 0; c < nw; ++c) { /* (a0 b0 b1) (a0 b1 a1), as drawn one by one */
+                            wi[6 * c] = 2 * c; wi[6 * c + 1] = 2 * c + 2; wi[6 * c + 2] = 2 * c + 3;
+                            wi[6 * c + 3] = 2 * c; wi[6 * c + 4] = 2 * c + 3; wi[6 * c + 5] = 2 * c + 1;
+                        }
+                        pvs__mesh(r, &wp[0][0], 2 * (nw + 1), wi, NULL, 2 * nw);
+                        cc.st.occluder_triangles += 2 * nw;
+                    }
+                } else {
+                    for (j = 0; j < o->footprint_count; ++j) {
+                        const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
+                        q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
+                        q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
+                        q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
+                        q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
+                        pvs__raster_tri(r, q[0], q[1], q[2], 1);
+                        pvs__raster_tri(r, q[0], q[2], q[3], 1);
+                        cc.st.occluder_triangles += 2;
+                    }
                 }
             }
         }
@@ -11558,6 +11587,7 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
     int k;
     memset(&rd, 0, sizeof(rd));
     rd.width = rd.height = PVS__SHRINK_RES;
+    rd.max_mesh_triangles = nb ? (nb < 4096u ? 12 * nb : 49152u) : 12u; /* the boxes as one occluder mesh */
     rd.allocator = o->allocator;
     res = pvs_raster_create(&rd, &r, err);
     if (res != PVS_OK) return res;
@@ -11613,7 +11643,7 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
                     if (pvs_camera_matrix(&cam, 1.0f, m) != PVS_OK) continue;
                     pvs_raster_clear(r);
                     pvs_raster_set_matrix(r, m);
-                    if (nb) pvs_raster_triangles(r, pos, 8 * nb, idx, 12 * nb, PVS_RASTER_OCCLUDER);
+                    if (nb) pvs_raster_mesh(r, pos, 8 * nb, idx, 12 * nb); /* no cracks along the faces' diagonals */
                     pvs_raster_build_pyramid(r);
                     for (ob = 0; ob < s->object_count; ++ob) {
                         if (pvs_bitset_test(seen, ob) || !pvs__box_valid(s->object_boxes + ob)) continue;
