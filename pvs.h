@@ -2928,6 +2928,7 @@ struct pvs_raster {
     uint32_t *mtab, *morder, *mact, *mband;     /* hash slots; mesh_cap; mesh_cap; th + 1 */
     float *mzmin, *mzin;                        /* 4 width: least bound of the touching triangles, inner */
     uint8_t *mflag;                             /* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
+    uint8_t *mdirty;                            /* 4 tw: the 32-pixel words of the band's rows the scratch holds */
     /* culling */
     const pvs_scene *scene;
     uint32_t max_objects, max_triangles;
@@ -4425,6 +4426,7 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
         }
         rlo[j - jb] = lo < rlo[j - jb] ? lo : rlo[j - jb];
         rhi[j - jb] = hi > rhi[j - jb] ? hi : rhi[j - jb];
+        for (i = lo >> PVS__TW_SHIFT; i <= hi >> PVS__TW_SHIFT; ++i) r->mdirty[(size_t)(j - jb) * r->tw + (uint32_t)i] = 1;
         /* surely meets: the x and y extents overlap the pixel and no edge separates */
         if (dj + 1.0 >= t->ymin + t->dx && dj <= t->ymax - t->dx) {
             clo = pvs__clampi(ceil(t->xmin + t->dx) - 1.0, lo, hi + 1);
@@ -4468,6 +4470,7 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
         for (i = lo; i <= hi; ++i) fl[i] |= 2u;
         rlo[j - jb] = lo < rlo[j - jb] ? lo : rlo[j - jb];
         rhi[j - jb] = hi > rhi[j - jb] ? hi : rhi[j - jb];
+        for (i = lo >> PVS__TW_SHIFT; i <= hi >> PVS__TW_SHIFT; ++i) r->mdirty[(size_t)(j - jb) * r->tw + (uint32_t)i] = 1;
     }
 }
 
@@ -4495,10 +4498,17 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
     if (!r->tiled) {
         for (d = 0; d < PVS__TH; ++d) {
             float *row = r->depth + (size_t)(PVS__TH * b + (uint32_t)d) * W;
+            uint8_t *dw = r->mdirty + (size_t)d * r->tw;
             for (i = rlo[d]; i <= rhi[d]; ++i) {
+                if (!dw[i >> PVS__TW_SHIFT]) { /* nothing in this word: on to the next */
+                    i |= 31;
+                    continue;
+                }
                 z = pvs__mesh_take(r, (size_t)d * W + (size_t)i);
                 if (z > row[i]) row[i] = z;
             }
+            if (rlo[d] <= rhi[d])
+                for (tx = rlo[d] >> PVS__TW_SHIFT; tx <= rhi[d] >> PVS__TW_SHIFT; ++tx) dw[tx] = 0;
         }
         return;
     }
@@ -4509,7 +4519,11 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
         pvs__tile *tl = r->tile + (size_t)b * r->tw + (size_t)tx;
         for (d = 0; d < PVS__TH; ++d) {
             int32_t a0 = rlo[d] > x0 ? rlo[d] : x0, a1 = rhi[d] < x0 + 31 ? rhi[d] : x0 + 31;
+            uint8_t *dw = r->mdirty + (size_t)d * r->tw + (uint32_t)tx;
             cov[d] = 0;
+            pad[d] = (b == r->th - 1 && (uint32_t)d >= r->ypad ? ~0u : 0u) | ((uint32_t)tx == r->tw - 1 ? r->xpad : 0u);
+            if (!*dw) continue;
+            *dw = 0;
             for (i = a0; i <= a1; ++i) {
                 z = pvs__mesh_take(r, (size_t)d * W + (size_t)i);
                 if (z == PVS_DEPTH_EMPTY) continue;
@@ -4517,7 +4531,6 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
                 zt = z < zt ? z : zt;
             }
             any |= cov[d];
-            pad[d] = (b == r->th - 1 && (uint32_t)d >= r->ypad ? ~0u : 0u) | ((uint32_t)tx == r->tw - 1 ? r->xpad : 0u);
         }
         if (!any || !(zt > tl->z0)) continue;
         z0 = tl->z0;
@@ -4613,6 +4626,14 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
             }
         }
         if (!ok) continue;
+        if (r->tiled) { /* hidden behind what earlier pieces drew: left out (its edges become boundary edges) */
+            const float *pv[4][3];
+            unsigned test, l;
+            int32_t box[4][4];
+            float zmax[4];
+            for (l = 0; l < 4; ++l) { pv[l][0] = p[0]; pv[l][1] = p[1]; pv[l][2] = p[2]; }
+            if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax) & test & 1u) && pvs__pf_hidden(r, box, 0, zmax[0])) continue;
+        }
         for (k = 0; k < 3; ++k) { /* the first vertex with the same position (open addressing) */
             uint32_t x = pvs__mesh_fbits(p[k][0]), y = pvs__mesh_fbits(p[k][1]), z = pvs__mesh_fbits(p[k][2]);
             h = (x * 0x9E3779B1u) ^ (y * 0x85EBCA77u) ^ (z * 0xC2B2AE3Du);
@@ -5391,6 +5412,7 @@ PVS_API void pvs_raster_destroy(pvs_raster *r) {
     pvs__free_array(&a, r->mzmin, (size_t)PVS__TH * r->width, sizeof(float));
     pvs__free_array(&a, r->mzin, (size_t)PVS__TH * r->width, sizeof(float));
     pvs__free_array(&a, r->mflag, (size_t)PVS__TH * r->width, 1);
+    pvs__free_array(&a, r->mdirty, (size_t)PVS__TH * r->tw, 1);
     pvs__free(&a, r, sizeof(*r), 16);
 }
 
@@ -5527,6 +5549,9 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
     r->mzmin = (float *)pvs__alloc_array(&a, (size_t)PVS__TH * r->width, sizeof(float));
     r->mzin = (float *)pvs__alloc_array(&a, (size_t)PVS__TH * r->width, sizeof(float));
     r->mflag = (uint8_t *)pvs__alloc_array(&a, (size_t)PVS__TH * r->width, 1);
+    r->mdirty = (uint8_t *)pvs__alloc_array(&a, (size_t)PVS__TH * r->tw, 1);
+    if (!r->mdirty) goto oom;
+    memset(r->mdirty, 0, (size_t)PVS__TH * r->tw);
     if (!r->mt || !r->mcid || !r->mpart || !r->mvst || !r->mgrp || !r->mtab || !r->morder || !r->mact || !r->mband || !r->mzmin ||
         !r->mzin || !r->mflag)
         goto oom;
