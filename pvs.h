@@ -4404,73 +4404,52 @@ PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t 
     }
 }
 
-/* One polygon over row j of the four-row band starting at row jb: the least depth bound over the
-   pixels it may touch, the inner pixels' own depth, the pixels it surely meets, the pixels its
-   boundary edges may meet. rlo, rhi: the columns touched per row of the band. */
+/* One polygon over row j of the four-row band starting at row jb, along its edges only (its inner
+   pixels were drawn by the triangle pass): over the pixels an edge may meet, the polygon's least depth
+   bound, whether the polygon surely meets the pixel (1) and whether a boundary edge may meet it (2).
+   rlo, rhi: the columns touched per row of the band. */
 PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int32_t jb, int32_t *rlo, int32_t *rhi) {
     const uint32_t W = r->width;
-    float *zm = r->mzmin + (size_t)(j - jb) * W, *zi = r->mzin + (size_t)(j - jb) * W;
-    uint8_t *fl = r->mflag + (size_t)(j - jb) * W;
+    float *zm = r->mzmin + (size_t)(j - jb) * W;
+    uint8_t *fl = r->mflag + (size_t)(j - jb) * W, *dw = r->mdirty + (size_t)(j - jb) * r->tw;
     float fj = (float)(j - t->j0), rz = t->zk + t->zb * fj, d;
     double dj = (double)j;
-    int32_t lo = t->i0, hi = t->i1, clo, chi, i;
+    int32_t lo, hi, clo = 0, chi = -1, i;
     int e;
-    for (e = 0; e < t->n; ++e)
-        if (t->a[e] != 0.0 || t->b[e] != 0.0)
-            pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), -t->e[e], 1, &lo, &hi);
-    if (lo <= hi) {
-        for (i = lo; i <= hi; ++i) {
-            d = rz + t->za * (float)(i - t->i0);
-            d = d < t->zclamp ? t->zclamp : d;
-            if (d < zm[i]) zm[i] = d;
-        }
-        rlo[j - jb] = lo < rlo[j - jb] ? lo : rlo[j - jb];
-        rhi[j - jb] = hi > rhi[j - jb] ? hi : rhi[j - jb];
-        for (i = lo >> PVS__TW_SHIFT; i <= hi >> PVS__TW_SHIFT; ++i) r->mdirty[(size_t)(j - jb) * r->tw + (uint32_t)i] = 1;
-        /* surely meets: the x and y extents overlap the pixel and no edge separates */
-        if (dj + 1.0 >= t->ymin + t->dx && dj <= t->ymax - t->dx) {
-            clo = pvs__clampi(ceil(t->xmin + t->dx) - 1.0, lo, hi + 1);
-            chi = pvs__clampi(floor(t->xmax - t->dx), lo - 1, hi);
-            for (e = 0; e < t->n; ++e)
-                if (t->a[e] != 0.0 || t->b[e] != 0.0)
-                    pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), t->e[e], 0, &clo, &chi);
-            for (i = clo; i <= chi; ++i) fl[i] |= 1u;
-        }
-        /* inside: every edge holds over the whole pixel (the triangle's own inner coverage) */
-        if (t->full >= 3 && dj >= t->ymin + t->dx && dj + 1.0 <= t->ymax - t->dx) {
-            clo = pvs__clampi(ceil(t->xmin + t->dx), lo, hi + 1);
-            chi = pvs__clampi(floor(t->xmax - t->dx) - 1.0, lo - 1, hi);
-            for (e = 0; e < t->n; ++e)
-                if (t->a[e] != 0.0 || t->b[e] != 0.0)
-                    pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmin(0.0, t->a[e]) + pvs__dmin(0.0, t->b[e]), t->e[e], 0, &clo, &chi);
-            for (i = clo; i <= chi; ++i) {
-                d = rz + t->za * (float)(i - t->i0);
-                d = d < t->zclamp ? t->zclamp : d;
-                if (d > zi[i]) zi[i] = d;
-            }
-        }
+    /* surely meets: the x and y extents overlap the pixel and no edge separates */
+    if (dj + 1.0 >= t->ymin + t->dx && dj <= t->ymax - t->dx) {
+        clo = pvs__clampi(ceil(t->xmin + t->dx) - 1.0, t->i0, t->i1 + 1);
+        chi = pvs__clampi(floor(t->xmax - t->dx), t->i0 - 1, t->i1);
+        for (e = 0; e < t->n; ++e)
+            if (t->a[e] != 0.0 || t->b[e] != 0.0)
+                pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), t->e[e], 0, &clo, &chi);
     }
-    /* boundary edges: pixels whose closed square the segment may meet (its extents and its line) */
+    /* each edge: the pixels whose closed square the segment may meet (its extents and its line) */
     for (e = 0; e < t->n; ++e) {
         int f = e + 1 == t->n ? 0 : e + 1;
         double sx0, sx1, sy0, sy1;
-        if (!t->bnd[e]) continue;
+        uint8_t bit = t->bnd[e] ? 2u : 0u;
         sy0 = pvs__dmin(t->y[e], t->y[f]) - t->dx;
         sy1 = pvs__dmax(t->y[e], t->y[f]) + t->dx;
         if (dj + 1.0 < sy0 || dj > sy1) continue;
         sx0 = pvs__dmin(t->x[e], t->x[f]) - t->dx;
         sx1 = pvs__dmax(t->x[e], t->x[f]) + t->dx;
-        lo = pvs__clampi(ceil(sx0) - 1.0, 0, (int32_t)W);
-        hi = pvs__clampi(floor(sx1), -1, (int32_t)W - 1);
+        lo = pvs__clampi(ceil(sx0) - 1.0, t->i0, t->i1 + 1);
+        hi = pvs__clampi(floor(sx1), t->i0 - 1, t->i1);
         if (t->a[e] != 0.0 || t->b[e] != 0.0) {
             pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), -t->e[e], 1, &lo, &hi);
             pvs__mesh_cut(-t->a[e], -(t->b[e] * dj + t->k[e] + pvs__dmin(0.0, t->a[e]) + pvs__dmin(0.0, t->b[e])), -t->e[e], 1, &lo, &hi);
         }
         if (lo > hi) continue;
-        for (i = lo; i <= hi; ++i) fl[i] |= 2u;
+        for (i = lo; i <= hi; ++i) {
+            d = rz + t->za * (float)(i - t->i0);
+            d = d < t->zclamp ? t->zclamp : d;
+            if (d < zm[i]) zm[i] = d;
+            fl[i] |= (uint8_t)(bit | (i >= clo && i <= chi ? 1u : 0u));
+        }
         rlo[j - jb] = lo < rlo[j - jb] ? lo : rlo[j - jb];
         rhi[j - jb] = hi > rhi[j - jb] ? hi : rhi[j - jb];
-        for (i = lo >> PVS__TW_SHIFT; i <= hi >> PVS__TW_SHIFT; ++i) r->mdirty[(size_t)(j - jb) * r->tw + (uint32_t)i] = 1;
+        for (i = lo >> PVS__TW_SHIFT; i <= hi >> PVS__TW_SHIFT; ++i) dw[i] = 1;
     }
 }
 
@@ -4727,7 +4706,17 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
 PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices, const pvs__occsel *tris, uint32_t count) {
     uint32_t first;
     if (!count || !vc) return;
-    if (!r->tiled) pvs__raster_occludee_begin(r); /* the per-pixel map, cleared on first use */
+    /* the triangles' own inner pixels (the fast paths); then the pixels along their edges */
+    if (r->tiled) {
+        pvs__raster_occluders(r, pos, vc, indices, tris, count);
+    } else {
+        for (first = 0; first < count; ++first) {
+            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[first].triangle : indices ? indices + 3 * (size_t)first : NULL;
+            uint32_t q0 = ix ? ix[0] : 3 * first, q1 = ix ? ix[1] : 3 * first + 1, q2 = ix ? ix[2] : 3 * first + 2;
+            if (q0 < vc && q1 < vc && q2 < vc) pvs__raster_tri(r, pos + 3 * (size_t)q0, pos + 3 * (size_t)q1, pos + 3 * (size_t)q2, 1);
+        }
+        pvs__raster_occludee_begin(r); /* the per-pixel map, cleared on first use */
+    }
     for (first = 0; first < count; first += r->mesh_cap)
         pvs__mesh_piece(r, pos, vc, indices, tris, first, count - first < r->mesh_cap ? count - first : r->mesh_cap);
     r->pyramid_valid = 0;
