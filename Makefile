@@ -176,8 +176,14 @@ $(B)/verify_raster: tests/verify_raster.c tests/test_raster.c tests/test.h tools
 	@mkdir -p $(B)
 	$(CC) -std=c99 $(WARN) -Werror -O2 -g -o $@ tests/verify_raster.c tests/test_raster.c tests/impl.c tools/mesh.c tools/gen.c $(LDLIBS)
 
-verify: tools $(B)/verify_raster
+# From-point culling with the occlusion tree: >= 10,000 cameras against ray casting, optimised build.
+$(B)/verify_otree: tests/verify_otree.c tests/test_otree.c tests/test.h tools/mesh.c tools/gen.c $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) -std=c99 $(WARN) -Werror -O2 -g -o $@ tests/verify_otree.c tests/test_otree.c tests/impl.c tools/mesh.c tools/gen.c $(LDLIBS)
+
+verify: tools $(B)/verify_raster $(B)/verify_otree
 	./$(B)/verify_raster
+	./$(B)/verify_otree
 	sh tests/verify.sh
 
 clean:

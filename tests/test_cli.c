@@ -168,6 +168,12 @@ void test_cli(void) {
     CHECK(rc == 0); free(out);
     rc = run("./pvsbake --method sample " DIR "/scene.obj -o " DIR "/b.pvs --cells " DIR "/cells.txt -j 2 --rays 256 --points 16", &out);
     CHECK(rc == 0 && strstr(out, "approximate")); free(out);
+    /* the summary's share is of the drawable objects: occluder_* objects are never in a PVS (a
+       conservative bake that culls nothing reads 100%, not 75%) */
+    rc = run("./pvsbake " DIR "/scene.obj -o " DIR "/s.pvs --cells " DIR "/cells.txt --method shrink --eps 100", &out);
+    CHECK(rc == 0 && strstr(out, "mean PVS 3.0 objects (100.0% of the 3 drawable)"));
+    if (rc != 0 || !strstr(out, "(100.0% of the 3 drawable)")) fprintf(stderr, "  output: %s\n", out);
+    free(out);
     {
         char *fa = slurp(DIR "/a.pvs"), *fb = slurp(DIR "/b.pvs");
         struct stat sa, sb;

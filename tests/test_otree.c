@@ -746,7 +746,525 @@ static void test_25d_degenerate(void) {
     CHECK(pvs_visibility_25d(&d, bits, NULL, &e) == PVS_ERROR_BAD_CELL);
 }
 
+/* ---- from-point culling with the shadow-volume occlusion tree (ch. 4) ---- */
+
+unsigned long otree_cameras, otree_misses; /* totals for tests/verify_otree.c */
+
+/* A test scene: a mesh, its pvs_scene and cells (camera places). */
+typedef struct svscene {
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *scene;
+} svscene;
+
+static void sv_free(svscene *t) {
+    pvs_scene_destroy(t->scene);
+    mesh_free(&t->m);
+    mesh_cells_free(&t->cells);
+    t->scene = NULL;
+}
+static int sv_gen(svscene *t, gen_kind kind, float size, uint64_t seed) {
+    gen_params gp;
+    mesh_init(&t->m);
+    mesh_cells_init(&t->cells);
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = kind; gp.seed = seed; gp.size = size;
+    if (gen_scene(&gp, &t->m, &t->cells) != 0) return 0;
+    t->scene = scene_from_mesh(&t->m);
+    return t->scene != NULL;
+}
+/* Random boxes and thin random walls (two triangles) on a ground quad; no cells. */
+static int sv_random(svscene *t, uint32_t n) {
+    static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    uint32_t i, k;
+    mesh_init(&t->m);
+    mesh_cells_init(&t->cells);
+    mesh_begin_object(&t->m, "ground", 0, 0);
+    mesh_add_vertex(&t->m, -60, 0, -60); mesh_add_vertex(&t->m, 60, 0, -60);
+    mesh_add_vertex(&t->m, 60, 0, 60); mesh_add_vertex(&t->m, -60, 0, 60);
+    mesh_add_quad(&t->m, 0, 1, 2, 3);
+    for (i = 0; i < n; ++i) {
+        uint32_t base = t->m.vertex_count;
+        char name[32];
+        sprintf(name, "o_%u", i);
+        mesh_begin_object(&t->m, name, 0, 0);
+        if (rnd() < 0.7) {
+            float lo[3], hi[3];
+            lo[0] = rndf(-50, 48); lo[2] = rndf(-50, 48); lo[1] = rnd() < 0.8 ? 0.0f : rndf(0, 3);
+            hi[0] = lo[0] + rndf(0.2f, 8); hi[2] = lo[2] + rndf(0.2f, 8); hi[1] = lo[1] + rndf(0.3f, 12);
+            for (k = 0; k < 8; ++k) mesh_add_vertex(&t->m, k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]);
+            for (k = 0; k < 12; ++k) mesh_add_triangle(&t->m, base + f[k][0], base + f[k][1], base + f[k][2]);
+        } else { /* a free-standing wall at any angle, maybe tilted */
+            float x = rndf(-50, 50), z = rndf(-50, 50), a = rndf(0, 6.283f), l = rndf(1, 12), h0 = rnd() < 0.7 ? 0 : rndf(0, 2);
+            float h1 = h0 + rndf(1, 10), dx = l * cosf(a), dz = l * sinf(a), tilt = rnd() < 0.3 ? rndf(-2, 2) : 0;
+            mesh_add_vertex(&t->m, x, h0, z); mesh_add_vertex(&t->m, x + dx, h0, z + dz);
+            mesh_add_vertex(&t->m, x + dx + tilt, h1, z + dz); mesh_add_vertex(&t->m, x + tilt, h1, z);
+            mesh_add_quad(&t->m, base, base + 1, base + 2, base + 3);
+        }
+    }
+    t->scene = scene_from_mesh(&t->m);
+    return t->scene != NULL;
+}
+
+static void sv_camera(const svscene *t, pvs_camera *cam) {
+    pvs_box b = pvs_scene_bounds(t->scene);
+    int k;
+    memset(cam, 0, sizeof(*cam));
+    if (t->cells.count && rnd() < 0.8) {
+        const float *c = t->cells.boxes + 6 * (uint32_t)(rnd() * t->cells.count);
+        for (k = 0; k < 3; ++k) cam->eye[k] = c[k] + (c[3 + k] - c[k]) * (float)rnd();
+    } else {
+        for (k = 0; k < 3; ++k) cam->eye[k] = rndf(b.min[k], b.max[k]);
+        cam->eye[1] = rnd() < 0.7 ? rndf(0.5f, 2.0f) : rndf(b.min[1], b.max[1] + 10);
+    }
+    if (rnd() < 0.15) { /* degenerate eyes: on a vertex, an edge or the face of a triangle (in occluder planes) */
+        uint32_t tri = (uint32_t)(rnd() * t->m.triangle_count) % t->m.triangle_count, mode = (uint32_t)(rnd() * 3);
+        const float *p0 = t->m.positions + 3 * t->m.indices[3 * tri], *p1 = t->m.positions + 3 * t->m.indices[3 * tri + 1];
+        const float *p2 = t->m.positions + 3 * t->m.indices[3 * tri + 2];
+        float w0 = mode == 0 ? 0.0f : (float)rnd(), w1 = mode == 2 ? (float)rnd() * (1 - w0) : 0.0f;
+        for (k = 0; k < 3; ++k) cam->eye[k] = p0[k] + w0 * (p1[k] - p0[k]) + w1 * (p2[k] - p0[k]);
+    }
+    cam->forward[0] = rndf(-1, 1);
+    cam->forward[2] = rndf(-1, 1);
+    cam->forward[1] = rnd() < 0.1 ? rndf(-1, 1) : rndf(-0.3f, 0.3f);
+    if (fabsf(cam->forward[0]) + fabsf(cam->forward[2]) < 0.05f) cam->forward[0] = 1;
+    if (rnd() < 0.1) { /* axis-aligned: frustum planes parallel to walls */
+        cam->forward[0] = rnd() < 0.5 ? 1.0f : -1.0f; cam->forward[1] = 0; cam->forward[2] = 0;
+    }
+    cam->up[1] = 1;
+    cam->fov_y = rndf(0.5f, 1.8f);
+    cam->near_plane = rndf(0.05f, 0.3f);
+}
+
+/* The camera's frame: unit forward f, up u, right r and the screen half-extents at distance 1. */
+static void sv_frame(const pvs_camera *cam, float aspect, double f[3], double u[3], double r[3], double *sx, double *sy) {
+    double len, fu;
+    int k;
+    for (k = 0; k < 3; ++k) { f[k] = cam->forward[k]; u[k] = cam->up[k]; }
+    len = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    for (k = 0; k < 3; ++k) f[k] /= len;
+    fu = f[0] * u[0] + f[1] * u[1] + f[2] * u[2];
+    for (k = 0; k < 3; ++k) u[k] -= fu * f[k];
+    len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (k = 0; k < 3; ++k) u[k] /= len;
+    r[0] = f[1] * u[2] - f[2] * u[1]; r[1] = f[2] * u[0] - f[0] * u[2]; r[2] = f[0] * u[1] - f[1] * u[0];
+    *sy = tan(0.5 * cam->fov_y);
+    *sx = *sy * aspect;
+}
+
+/* One reference ray from the near plane along direction d (forward component 1): the first object
+   hit must be set in `vis` (unless it is not a candidate). Returns 1 on a miss. */
+static int sv_ray(const svscene *t, const pvs_camera *cam, const double d[3], const pvs_word *vis, const pvs_word *cand, uint32_t *hits) {
+    float o[3], df[3];
+    pvs_hit hit;
+    int k;
+    for (k = 0; k < 3; ++k) { df[k] = (float)d[k]; o[k] = (float)(cam->eye[k] + cam->near_plane * d[k]); }
+    if (!pvs_scene_raycast(t->scene, o, df, 1e30f, &hit) || hit.object == PVS_NO_OBJECT) return 0;
+    if (pvs_scene_object_flags(t->scene, hit.object) & PVS_OBJECT_OCCLUDER_ONLY) return 0;
+    ++*hits;
+    if (cand && !pvs_bitset_test(cand, hit.object)) return 0;
+    if (pvs_bitset_test(vis, hit.object)) return 0;
+    fprintf(stderr, "otree cull miss: object %u (%s) from eye (%g %g %g) dir (%g %g %g) fov %g t %g\n", hit.object,
+            t->m.objects[hit.object].name, cam->eye[0], cam->eye[1], cam->eye[2], d[0], d[1], d[2], cam->fov_y, hit.t);
+    return 1;
+}
+
+/* The brute-force reference: rays from the eye through random screen points, and rays aimed at
+   random points of random triangles of every object in the frustum (small far objects too). */
+static uint32_t sv_check(const svscene *t, const pvs_camera *cam, float aspect, const pvs_word *vis, const pvs_word *cand,
+                         uint32_t rays, uint32_t *hits) {
+    double f[3], u[3], r[3], sx, sy;
+    uint32_t i, misses = 0, n = pvs_scene_object_count(t->scene);
+    int k;
+    sv_frame(cam, aspect, f, u, r, &sx, &sy);
+    for (i = 0; i < rays; ++i) {
+        double a = (2 * rnd() - 1) * sx, b = (2 * rnd() - 1) * sy, d[3];
+        for (k = 0; k < 3; ++k) d[k] = f[k] + a * r[k] + b * u[k];
+        misses += (uint32_t)sv_ray(t, cam, d, vis, cand, hits);
+    }
+    for (i = 0; i < rays; ++i) { /* silhouette probes: just beside a random point of a random triangle's edge */
+        uint32_t tri = (uint32_t)(rnd() * t->m.triangle_count) % t->m.triangle_count, e0 = (uint32_t)(rnd() * 3) % 3;
+        const float *p0 = t->m.positions + 3 * t->m.indices[3 * tri + e0], *p1 = t->m.positions + 3 * t->m.indices[3 * tri + (e0 + 1) % 3];
+        double w = rnd(), q[3], d[3], df, a, b, jit = (rnd() - 0.5) * (rnd() < 0.5 ? 1e-3 : 1e-6);
+        for (k = 0; k < 3; ++k) q[k] = p0[k] + w * (p1[k] - p0[k]) - cam->eye[k];
+        df = q[0] * f[0] + q[1] * f[1] + q[2] * f[2];
+        if (!(df > cam->near_plane * 1.001)) continue;
+        a = (q[0] * r[0] + q[1] * r[1] + q[2] * r[2]) / df + jit;
+        b = (q[0] * u[0] + q[1] * u[1] + q[2] * u[2]) / df + (rnd() - 0.5) * fabs(jit);
+        if (fabs(a) > sx || fabs(b) > sy) continue;
+        for (k = 0; k < 3; ++k) d[k] = f[k] + a * r[k] + b * u[k];
+        misses += (uint32_t)sv_ray(t, cam, d, vis, cand, hits);
+    }
+    for (i = 0; i < n; ++i) { /* aimed rays: 3 per object */
+        const mesh_object *ob = t->m.objects + i;
+        int j;
+        if (!ob->triangle_count) continue;
+        for (j = 0; j < 3; ++j) {
+            uint32_t tri = ob->first_triangle + (uint32_t)(rnd() * ob->triangle_count) % ob->triangle_count;
+            const float *p0 = t->m.positions + 3 * t->m.indices[3 * tri], *p1 = t->m.positions + 3 * t->m.indices[3 * tri + 1];
+            const float *p2 = t->m.positions + 3 * t->m.indices[3 * tri + 2];
+            double w0 = rnd(), w1 = rnd(), q[3], d[3], df, a, b;
+            if (w0 + w1 > 1) { w0 = 1 - w0; w1 = 1 - w1; }
+            for (k = 0; k < 3; ++k) q[k] = p0[k] + w0 * (p1[k] - p0[k]) + w1 * (p2[k] - p0[k]) - cam->eye[k];
+            df = q[0] * f[0] + q[1] * f[1] + q[2] * f[2];
+            if (!(df > cam->near_plane * 1.001)) continue;
+            a = (q[0] * r[0] + q[1] * r[1] + q[2] * r[2]) / df;
+            b = (q[0] * u[0] + q[1] * u[1] + q[2] * u[2]) / df;
+            if (fabs(a) > sx || fabs(b) > sy) continue;
+            for (k = 0; k < 3; ++k) d[k] = q[k] / df;
+            misses += (uint32_t)sv_ray(t, cam, d, vis, cand, hits);
+        }
+    }
+    return misses;
+}
+
+/* Random cameras over a scene: the occlusion-tree culler (fresh selection each camera, or the last
+   camera's) against the reference, with and without candidates, FME and FMC. */
+static void sv_cull_scene(svscene *t, uint32_t cameras, uint32_t rays, const char *label) {
+    pvs_otree_desc od;
+    pvs_otree *o = NULL, *oc = NULL;
+    pvs_error e;
+    uint32_t n = pvs_scene_object_count(t->scene), c, misses = 0, hits = 0, culled = 0, i;
+    size_t words = PVS_BITSET_WORDS(n);
+    pvs_word *vis = (pvs_word *)calloc(words, sizeof(pvs_word)), *cand = (pvs_word *)calloc(words, sizeof(pvs_word));
+    memset(&od, 0, sizeof(od));
+    od.scene = t->scene;
+    od.aspect = 1.5f;
+    od.max_occluders = 128;
+    CHECK(pvs_otree_create(&od, &o, &e) == PVS_OK);
+    od.flags = PVS_OTREE_PLANE_ONLY;
+    od.node_budget = 512;
+    CHECK(pvs_otree_create(&od, &oc, &e) == PVS_OK);
+    if (!o || !oc) return;
+    for (c = 0; c < cameras; ++c) {
+        pvs_camera cam;
+        pvs_cull_params cp;
+        pvs_cull_stats st;
+        pvs_otree *use = c % 5 == 4 ? oc : o;
+        int use_cand = c % 4 == 3;
+        sv_camera(t, &cam);
+        memset(&cp, 0, sizeof(cp));
+        cp.scene_occluders = 16 + (uint32_t)(rnd() * 112);
+        cp.occluder_distance = rndf(10, 80);
+        if (use_cand) {
+            for (i = 0; i < n; ++i) if (rnd() < 0.5) pvs_bitset_set(cand, i); else pvs_bitset_clear(cand, i);
+            cp.candidates = cand;
+        }
+        if (c % 3 != 2) pvs_otree_reset(use);
+        CHECK(pvs_otree_cull(use, t->scene, &cam, &cp, vis, &st, &e) == PVS_OK);
+        if (c % 3 == 1) CHECK(pvs_otree_cull(use, t->scene, &cam, &cp, vis, &st, &e) == PVS_OK); /* its own selection */
+        if (use_cand) for (i = 0; i < words; ++i) CHECK((vis[i] & ~cand[i]) == 0);
+        CHECK(st.visible == pvs_bitset_count(vis, n));
+        culled += n - st.visible;
+        misses += sv_check(t, &cam, 1.5f, vis, use_cand ? cand : NULL, rays, &hits);
+    }
+    otree_cameras += cameras;
+    otree_misses += misses;
+    fprintf(stderr, "otree cull %s: %u cameras, %u misses over %u hits, %.1f%% culled\n", label, cameras, misses, hits,
+            100.0 * culled / ((double)cameras * n));
+    CHECK(misses == 0);
+    CHECK(hits > cameras);
+    CHECK(culled > 0);
+    pvs_otree_destroy(o);
+    pvs_otree_destroy(oc);
+    free(vis);
+    free(cand);
+}
+
+/* A recorded walkthrough: hierarchy updating (§4.11.4) gives exactly the bitsets of testing every
+   node, frame by frame, with fewer node tests; and no miss against the reference. */
+static void sv_walkthrough(svscene *t, uint32_t frames, uint32_t rays, const char *label) {
+    pvs_otree_desc od;
+    pvs_otree *hu = NULL, *full = NULL;
+    pvs_error e;
+    uint32_t n = pvs_scene_object_count(t->scene), f, same = 1, misses = 0, hits = 0;
+    unsigned long tests_hu = 0, tests_full = 0, skipped = 0;
+    size_t words = PVS_BITSET_WORDS(n);
+    pvs_word *v1 = (pvs_word *)calloc(words, sizeof(pvs_word)), *v2 = (pvs_word *)calloc(words, sizeof(pvs_word));
+    pvs_camera cam;
+    float a = 0.0f, step[3] = {0, 0, 0};
+    memset(&od, 0, sizeof(od));
+    od.scene = t->scene;
+    od.aspect = 1.5f;
+    CHECK(pvs_otree_create(&od, &hu, &e) == PVS_OK);
+    od.flags = PVS_OTREE_NO_COHERENCE;
+    CHECK(pvs_otree_create(&od, &full, &e) == PVS_OK);
+    if (!hu || !full) return;
+    sv_camera(t, &cam);
+    cam.fov_y = 1.0f;
+    for (f = 0; f < frames; ++f) {
+        pvs_cull_params cp;
+        pvs_otree_frame fi;
+        if (f % 40 == 0) { /* a new leg: a cell to walk from, a heading */
+            float h = rndf(0, 6.283f);
+            sv_camera(t, &cam);
+            cam.fov_y = 1.0f;
+            step[0] = 0.4f * cosf(h); step[2] = 0.4f * sinf(h);
+            a = h;
+        }
+        cam.eye[0] += step[0]; cam.eye[2] += step[2];
+        a += 0.03f;
+        cam.forward[0] = cosf(a); cam.forward[2] = sinf(a); cam.forward[1] = -0.05f;
+        memset(&cp, 0, sizeof(cp));
+        cp.scene_occluders = 32;
+        cp.occluder_distance = 40;
+        CHECK(pvs_otree_cull(hu, t->scene, &cam, &cp, v1, NULL, &e) == PVS_OK);
+        pvs_otree_get_frame(hu, &fi);
+        tests_hu += fi.node_tests;
+        skipped += fi.nodes_skipped;
+        CHECK(pvs_otree_cull(full, t->scene, &cam, &cp, v2, NULL, &e) == PVS_OK);
+        pvs_otree_get_frame(full, &fi);
+        tests_full += fi.node_tests;
+        same &= memcmp(v1, v2, words * sizeof(pvs_word)) == 0;
+        if (f % 4 == 0) misses += sv_check(t, &cam, 1.5f, v1, NULL, rays, &hits);
+    }
+    fprintf(stderr, "otree walkthrough %s: %u frames, node tests %lu with hierarchy updating, %lu testing every node (%lu skipped), %u misses\n",
+            label, frames, tests_hu, tests_full, skipped, misses);
+    otree_cameras += frames;
+    otree_misses += misses;
+    CHECK(same);
+    CHECK(skipped > 0 && tests_hu < tests_full);
+    CHECK(misses == 0);
+    pvs_otree_destroy(hu);
+    pvs_otree_destroy(full);
+    free(v1);
+    free(v2);
+}
+
+/* Caller occluders only (random triangles, any order: late nearer ones too) against brute force:
+   an object reported hidden has every sampled point of its box blocked by a caller triangle. */
+static double sv_ray_tri(const double o[3], const double d[3], const float *p0, const float *p1, const float *p2) {
+    double e1[3], e2[3], pv[3], tv[3], qv[3], det, u, v, t;
+    int k;
+    for (k = 0; k < 3; ++k) { e1[k] = p1[k] - p0[k]; e2[k] = p2[k] - p0[k]; tv[k] = o[k] - p0[k]; }
+    pv[0] = d[1] * e2[2] - d[2] * e2[1]; pv[1] = d[2] * e2[0] - d[0] * e2[2]; pv[2] = d[0] * e2[1] - d[1] * e2[0];
+    det = e1[0] * pv[0] + e1[1] * pv[1] + e1[2] * pv[2];
+    if (fabs(det) < 1e-14) return -1;
+    u = (tv[0] * pv[0] + tv[1] * pv[1] + tv[2] * pv[2]) / det;
+    if (u < 0 || u > 1) return -1;
+    qv[0] = tv[1] * e1[2] - tv[2] * e1[1]; qv[1] = tv[2] * e1[0] - tv[0] * e1[2]; qv[2] = tv[0] * e1[1] - tv[1] * e1[0];
+    v = (d[0] * qv[0] + d[1] * qv[1] + d[2] * qv[2]) / det;
+    if (v < 0 || u + v > 1) return -1;
+    t = (e2[0] * qv[0] + e2[1] * qv[1] + e2[2] * qv[2]) / det;
+    return t;
+}
+static void sv_caller_occluders(uint32_t rounds) {
+    svscene t;
+    uint32_t rd, bad = 0, hidden = 0, total = 0;
+    if (!sv_random(&t, 120)) { CHECK(0); return; }
+    for (rd = 0; rd < rounds; ++rd) {
+        enum { NT = 60 };
+        float tri[NT * 9];
+        pvs_otree_desc od;
+        pvs_otree *o = NULL;
+        pvs_camera cam;
+        pvs_cull_params cp;
+        uint32_t n = pvs_scene_object_count(t.scene), i, k, j;
+        pvs_word *vis = (pvs_word *)calloc(PVS_BITSET_WORDS(n), sizeof(pvs_word));
+        double f[3], u[3], r[3], sx, sy;
+        memset(&cam, 0, sizeof(cam));
+        cam.eye[0] = rndf(-10, 10); cam.eye[1] = rndf(0.5f, 6); cam.eye[2] = rndf(-10, 10);
+        cam.forward[0] = rndf(-1, 1); cam.forward[1] = rndf(-0.3f, 0.3f); cam.forward[2] = rndf(-1, 1);
+        cam.up[1] = 1;
+        cam.fov_y = rndf(0.8f, 2.0f);
+        cam.near_plane = 0.1f;
+        for (i = 0; i < NT; ++i) { /* big triangles around the eye, some meeting at shared edges or crossing */
+            float c[3];
+            for (k = 0; k < 3; ++k) c[k] = cam.eye[k] + rndf(-25, 25);
+            for (j = 0; j < 3; ++j)
+                for (k = 0; k < 3; ++k) tri[9 * i + 3 * j + k] = c[k] + rndf(-12, 12);
+            if (i && rnd() < 0.3) { /* share an edge with the previous one */
+                memcpy(tri + 9 * i, tri + 9 * (i - 1), 6 * sizeof(float));
+            }
+        }
+        memset(&od, 0, sizeof(od));
+        od.scene = t.scene;
+        od.node_budget = rd % 4 == 3 ? 200 : 0;
+        od.flags = rd % 3 == 2 ? PVS_OTREE_PLANE_ONLY : 0;
+        CHECK(pvs_otree_create(&od, &o, NULL) == PVS_OK);
+        if (!o) { free(vis); continue; }
+        memset(&cp, 0, sizeof(cp));
+        cp.occluder_positions = tri;
+        cp.occluder_vertex_count = 3 * NT;
+        cp.occluder_triangle_count = NT;
+        CHECK(pvs_otree_cull(o, t.scene, &cam, &cp, vis, NULL, NULL) == PVS_OK);
+        sv_frame(&cam, 1.0f, f, u, r, &sx, &sy);
+        for (i = 0; i < n; ++i) {
+            pvs_box b = pvs_scene_object_box(t.scene, i);
+            int s;
+            ++total;
+            if (pvs_bitset_test(vis, i)) continue;
+            ++hidden;
+            for (s = 0; s < 200; ++s) { /* points of the box in the frustum beyond the near plane must be blocked */
+                double q[3], d[3], df, a, bb, tq, best = 1e300, o3[3];
+                for (k = 0; k < 3; ++k) q[k] = b.min[k] + (b.max[k] - b.min[k]) * (s < 8 ? (double)((s >> k) & 1) : rnd()) - cam.eye[k];
+                df = q[0] * f[0] + q[1] * f[1] + q[2] * f[2];
+                if (!(df > cam.near_plane)) continue;
+                a = (q[0] * r[0] + q[1] * r[1] + q[2] * r[2]) / df;
+                bb = (q[0] * u[0] + q[1] * u[1] + q[2] * u[2]) / df;
+                if (fabs(a) > sx || fabs(bb) > sy) continue;
+                for (k = 0; k < 3; ++k) { d[k] = q[k] / df; o3[k] = cam.eye[k]; }
+                for (j = 0; j < NT; ++j) {
+                    double tt = sv_ray_tri(o3, d, tri + 9 * j, tri + 9 * j + 3, tri + 9 * j + 6);
+                    if (tt > cam.near_plane && tt < best) best = tt;
+                }
+                tq = df; /* the point is at t = df along d */
+                if (!(best < tq * (1 + 1e-9))) {
+                    if (!bad) fprintf(stderr, "otree caller occluders: object %u reported hidden, point t %g unblocked (nearest %g)\n", i, tq, best);
+                    ++bad;
+                    break;
+                }
+            }
+        }
+        pvs_otree_destroy(o);
+        free(vis);
+    }
+    fprintf(stderr, "otree caller occluders: %u rounds, %u of %u objects hidden, %u wrongly\n", rounds, hidden, total, bad);
+    CHECK(bad == 0);
+    CHECK(hidden > 0);
+    sv_free(&t);
+}
+
+/* Small exact cases and the API's errors. */
+static void sv_basic(void) {
+    float pos[3 * 64];
+    uint32_t idx[3 * 64], vc = 0, tc = 0;
+    pvs_object_desc obd[4];
+    pvs_scene_desc sd;
+    pvs_scene *sc = NULL, *big = NULL;
+    pvs_otree_desc od;
+    pvs_otree *o = NULL;
+    pvs_camera cam;
+    pvs_cull_params cp;
+    pvs_cull_stats st;
+    pvs_word vis[1];
+    pvs_error e;
+    float lo[3], hi[3];
+    /* object 0: a wall at x = 5 (z -10..10, 0..20); 1: a box behind it; 2: a box beside it; 3: a
+       box behind the wall's shared edge of two walls (fusion) */
+    add_wall(pos, &vc, idx, &tc, 5, -3, 5, 0, 0, 4, 0);
+    add_wall(pos, &vc, idx, &tc, 5, 0, 5, 3, 0, 4, 0);
+    obd[0].first_triangle = 0; obd[0].triangle_count = 4; obd[0].flags = 0;
+    lo[0] = 8; lo[1] = -2; lo[2] = 0; hi[0] = 9; hi[1] = 2; hi[2] = 3; /* (u, v, height) */
+    add_box(pos, &vc, idx, &tc, lo, hi, 0);
+    obd[1].first_triangle = 4; obd[1].triangle_count = 12; obd[1].flags = 0;
+    lo[1] = 5; hi[1] = 6;
+    add_box(pos, &vc, idx, &tc, lo, hi, 0);
+    obd[2].first_triangle = 16; obd[2].triangle_count = 12; obd[2].flags = 0;
+    lo[0] = 20; hi[0] = 21; lo[1] = -0.5f; hi[1] = 0.5f;
+    add_box(pos, &vc, idx, &tc, lo, hi, 0);
+    obd[3].first_triangle = 28; obd[3].triangle_count = 12; obd[3].flags = 0;
+    memset(&sd, 0, sizeof(sd));
+    sd.positions = pos; sd.vertex_count = vc; sd.indices = idx; sd.triangle_count = tc;
+    sd.objects = obd; sd.object_count = 4; sd.up_axis = 1;
+    CHECK(pvs_scene_create(&sd, &sc, NULL) == PVS_OK);
+    if (!sc) return;
+    memset(&od, 0, sizeof(od));
+    od.scene = sc;
+    CHECK(pvs_otree_create(&od, &o, &e) == PVS_OK);
+    if (!o) { pvs_scene_destroy(sc); return; }
+    memset(&cam, 0, sizeof(cam));
+    cam.eye[1] = 1.5f;
+    cam.forward[0] = 1; cam.up[1] = 1; cam.fov_y = 1.2f; cam.near_plane = 0.1f;
+    memset(&cp, 0, sizeof(cp));
+    CHECK(pvs_otree_cull(o, sc, &cam, NULL, vis, &st, &e) == PVS_OK); /* a frustum cull */
+    CHECK(vis[0] == 0xf);
+    cp.scene_occluders = 8;
+    CHECK(pvs_otree_cull(o, sc, &cam, &cp, vis, &st, &e) == PVS_OK);
+    CHECK(vis[0] == 0x5); /* the wall and the box beside it; both boxes behind the two walls hidden */
+    CHECK(st.occluder_triangles == 8); /* the 8 best of the 40 scene triangles */
+    {
+        pvs_otree_frame fi;
+        pvs_otree_get_frame(o, &fi);
+        CHECK(fi.fragments >= 2 && fi.tree_nodes >= 5 && fi.node_tests > 0 && !fi.budget_exceeded);
+        /* edge marking: the second triangle of each wall adds only its two free edges' planes, the
+           two walls share an edge: at most 3 + 2 + 2 + 2 planes (two nodes each) and the root */
+        CHECK(fi.tree_nodes <= 1 + 2 * 9);
+    }
+    cam.forward[0] = -1; /* looking away: only what lies behind the eye's back is culled */
+    CHECK(pvs_otree_cull(o, sc, &cam, &cp, vis, &st, &e) == PVS_OK);
+    CHECK(vis[0] == 0);
+    /* errors */
+    cam.forward[0] = 1;
+    cam.fov_y = 0; cam.ortho_height = 10;
+    CHECK(pvs_otree_cull(o, sc, &cam, &cp, vis, &st, &e) == PVS_ERROR_UNSUPPORTED);
+    cam.fov_y = 1.2f; cam.near_plane = 0;
+    CHECK(pvs_otree_cull(o, sc, &cam, &cp, vis, &st, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    cam.near_plane = 0.1f; cam.eye[0] = NAN;
+    CHECK(pvs_otree_cull(o, sc, &cam, &cp, vis, &st, &e) == PVS_ERROR_NOT_FINITE);
+    cam.eye[0] = 0;
+    CHECK(pvs_otree_cull(o, NULL, &cam, &cp, vis, &st, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    CHECK(pvs_otree_cull(o, sc, &cam, &cp, NULL, &st, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    {
+        svscene t;
+        if (sv_random(&t, 30)) {
+            pvs_otree *ob = NULL;
+            pvs_word *vb = (pvs_word *)calloc(PVS_BITSET_WORDS(pvs_scene_object_count(t.scene)), sizeof(pvs_word));
+            big = t.scene;
+            CHECK(pvs_otree_cull(o, big, &cam, &cp, vis, &st, &e) == PVS_ERROR_BUFFER_TOO_SMALL);
+            /* a context made for the larger scene serves the smaller one too, and back */
+            od.scene = big;
+            CHECK(pvs_otree_create(&od, &ob, &e) == PVS_OK);
+            if (ob) {
+                CHECK(pvs_otree_cull(ob, big, &cam, &cp, vb, &st, &e) == PVS_OK);
+                CHECK(pvs_otree_cull(ob, sc, &cam, &cp, vis, &st, &e) == PVS_OK);
+                CHECK(pvs_otree_cull(ob, sc, &cam, &cp, vis, &st, &e) == PVS_OK); /* the last frame's selection */
+                CHECK(vis[0] == 0x5);
+                CHECK(pvs_otree_cull(ob, big, &cam, &cp, vb, &st, &e) == PVS_OK);
+                pvs_otree_destroy(ob);
+            }
+            free(vb);
+            sv_free(&t);
+        }
+    }
+    memset(&od, 0, sizeof(od));
+    CHECK(pvs_otree_create(&od, NULL, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    {
+        pvs_otree *x = NULL;
+        CHECK(pvs_otree_create(&od, &x, &e) == PVS_ERROR_INVALID_ARGUMENT && !x); /* no scene */
+        od.scene = sc;
+        od.node_budget = 10;
+        CHECK(pvs_otree_create(&od, &x, &e) == PVS_ERROR_INVALID_ARGUMENT && !x);
+        od.node_budget = 0;
+        od.aspect = NAN;
+        CHECK(pvs_otree_create(&od, &x, &e) == PVS_ERROR_NOT_FINITE && !x);
+    }
+    pvs_otree_destroy(NULL);
+    pvs_otree_destroy(o);
+    pvs_scene_destroy(sc);
+}
+
+/* The from-point tests; scale 1 in make test, larger in make verify (tests/verify_otree.c). */
+void otree_verify(int scale);
+void otree_verify(int scale) {
+    svscene t;
+    uint32_t cams = 20 * (uint32_t)scale, rays = 300;
+    sv_basic();
+    sv_caller_occluders(8 * (uint32_t)scale);
+    if (sv_random(&t, 150)) sv_cull_scene(&t, cams, rays, "random");
+    sv_free(&t);
+    if (sv_gen(&t, GEN_CITY, 0.25f, 1 + (uint64_t)scale)) {
+        sv_cull_scene(&t, cams, rays, "city");
+        sv_walkthrough(&t, 40 * (uint32_t)scale, 200, "city");
+    }
+    sv_free(&t);
+    if (sv_gen(&t, GEN_INDOOR, 0.4f, 3)) {
+        sv_cull_scene(&t, cams, rays, "indoor");
+        sv_walkthrough(&t, 40 * (uint32_t)scale, 200, "indoor");
+    }
+    sv_free(&t);
+    if (sv_gen(&t, GEN_WALLS, 0.4f, 2)) sv_cull_scene(&t, cams, rays, "walls");
+    sv_free(&t);
+    if (sv_gen(&t, GEN_SOUP, 0.3f, 4)) sv_cull_scene(&t, cams / 2, rays, "soup");
+    sv_free(&t);
+    if (sv_gen(&t, GEN_FOREST, 0.2f, 5)) sv_cull_scene(&t, cams / 2, rays, "forest");
+    sv_free(&t);
+}
+
+void test_otree(void);
 void test_otree(void) {
+    otree_verify(1);
     test_25d_degenerate();
     test_bake_axes();
     test_bake_city();

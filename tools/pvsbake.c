@@ -192,8 +192,10 @@ static int cmp_slow(const void *a, const void *b) {
 static void print_summary(const char *out_path, const pvs_scene *scene, const pvs_bake *bake, const cli_bake_run *run,
                           const double *secs, double wall, double total, size_t size, int sharded) {
     uint32_t t, objects = pvs_scene_object_count(scene), tasks = pvs_bake_task_count(bake), max = 0, max_cell = 0, ran = 0, i;
-    double sum = 0.0, tsum = 0.0;
+    uint32_t drawable = 0; /* occluder-only objects are never in a PVS: shares are of the others */
+    double sum = 0.0, tsum = 0.0, share;
     slow_cell *slow = (slow_cell *)malloc((size_t)tasks * sizeof(slow_cell) + 1);
+    for (t = 0; t < objects; ++t) drawable += !(pvs_scene_object_flags(scene, t) & PVS_OBJECT_OCCLUDER_ONLY);
     for (t = 0; t < tasks; ++t) {
         uint32_t n = pvs_bitset_count(pvs_bake_cell_pvs(bake, pvs_bake_task_cell(bake, t)), objects);
         sum += n;
@@ -220,8 +222,9 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
                 fprintf(stderr, "  %-8s ran (%s)\n", pvs_method_name(mi.method), mi.reason);
             }
         }
-    fprintf(stderr, "  mean PVS %.1f objects (%.1f%%), max %u (cell %u); culled %.1f%% of the objects per cell\n", sum / tasks,
-            100.0 * sum / tasks / objects, max, max_cell, 100.0 - 100.0 * sum / tasks / objects);
+    share = drawable ? 100.0 * sum / tasks / drawable : 0.0;
+    fprintf(stderr, "  mean PVS %.1f objects (%.1f%% of the %u drawable), max %u (cell %u); culled %.1f%% of them per cell\n", sum / tasks,
+            share, drawable, max, max_cell, 100.0 - share);
     if (ran)
         fprintf(stderr, "  time per cell %.2f ms (mean over the %u cells baked, each on one thread), bake %.2f s wall, %.2f s total\n",
                 1000.0 * tsum / ran, ran, wall, total);
