@@ -4580,9 +4580,26 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
             any |= cov[d];
         }
         if (!any || !(zt > tl->z0)) continue;
-        z0 = tl->z0;
-        pvs__tile_merge(tl, cov, zt, pad);
-        if (tl->z0 != z0) r->bdirty[(size_t)(b >> PVS__BLOCK_SHIFT) * r->bw + (uint32_t)(tx >> PVS__BLOCK_SHIFT)] = 1;
+        /* unlike pvs__tile_merge, never at the cost of the working layer (the pixels along edges are
+           a thin set, often farther than it): the union at the working layer's depth when zt is no
+           farther, a new working layer when there is none, else nothing */
+        {
+            uint32_t full = ~0u, have = 0;
+            for (d = 0; d < PVS__TH; ++d) {
+                have |= tl->mask[d];
+                full &= tl->mask[d] | cov[d] | pad[d];
+            }
+            if (have && zt < tl->z1) continue;
+            z0 = have ? tl->z1 : zt;
+            if (full == ~0u) {
+                for (d = 0; d < PVS__TH; ++d) tl->mask[d] = 0;
+                tl->z0 = z0;
+                r->bdirty[(size_t)(b >> PVS__BLOCK_SHIFT) * r->bw + (uint32_t)(tx >> PVS__BLOCK_SHIFT)] = 1;
+            } else {
+                for (d = 0; d < PVS__TH; ++d) tl->mask[d] |= cov[d];
+                tl->z1 = z0;
+            }
+        }
     }
 }
 
