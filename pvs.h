@@ -4351,6 +4351,8 @@ typedef struct pvs__mtri {
     double a[PVS__MESH_MAXV], b[PVS__MESH_MAXV], k[PVS__MESH_MAXV], e[PVS__MESH_MAXV]; /* E = a x + b y + k >= 0
                                        inside, |a| + |b| = 1 (a = b = 0: a zero-length edge); |E - exact| < e */
     double xmin, xmax, ymin, ymax, dx; /* extents; dx bounds the vertices' error */
+    double wide;                    /* the edge strips' extra width: far above the triangle pass's float
+                                       rounding, so a pixel it leaves out beside an edge is in the strip */
     float za, zb, zk, zclamp;       /* depth bound over pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
 } pvs__mtri;
 
@@ -4397,6 +4399,7 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
     }
     if (!(mag < PVS__RASTER_BIG * PVS__RASTER_BIG) || !(perr < PVS__RASTER_BIG) || !(zerr < PVS__RASTER_BIG)) return 0;
     t->dx = PVS__RASTER_ERR_D * (mag + 1.0) + perr;
+    t->wide = (mag + (double)r->width + (double)r->height + 1.0) * (1.0 / 16384.0);
     /* pixels whose closed square meets [xmin - dx, xmax + dx] x [ymin - dx, ymax + dx] */
     t->i0 = pvs__clampi(ceil(t->xmin - t->dx) - 1.0, 0, (int32_t)r->width);
     t->i1 = pvs__clampi(floor(t->xmax + t->dx), -1, (int32_t)r->width - 1);
@@ -4497,16 +4500,17 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
         int f = e + 1 == t->n ? 0 : e + 1;
         double sx0, sx1, sy0, sy1;
         uint8_t bit = t->bnd[e] ? 2u : 0u;
-        sy0 = pvs__dmin(t->y[e], t->y[f]) - t->dx;
-        sy1 = pvs__dmax(t->y[e], t->y[f]) + t->dx;
+        sy0 = pvs__dmin(t->y[e], t->y[f]) - t->dx - t->wide;
+        sy1 = pvs__dmax(t->y[e], t->y[f]) + t->dx + t->wide;
         if (dj + 1.0 < sy0 || dj > sy1) continue;
-        sx0 = pvs__dmin(t->x[e], t->x[f]) - t->dx;
-        sx1 = pvs__dmax(t->x[e], t->x[f]) + t->dx;
+        sx0 = pvs__dmin(t->x[e], t->x[f]) - t->dx - t->wide;
+        sx1 = pvs__dmax(t->x[e], t->x[f]) + t->dx + t->wide;
         lo = pvs__clampi(ceil(sx0) - 1.0, t->i0, t->i1 + 1);
         hi = pvs__clampi(floor(sx1), t->i0 - 1, t->i1);
         if (t->a[e] != 0.0 || t->b[e] != 0.0) {
-            pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), -t->e[e], 1, &lo, &hi);
-            pvs__mesh_cut(-t->a[e], -(t->b[e] * dj + t->k[e] + pvs__dmin(0.0, t->a[e]) + pvs__dmin(0.0, t->b[e])), -t->e[e], 1, &lo, &hi);
+            double m = t->e[e] + t->wide;
+            pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), -m, 1, &lo, &hi);
+            pvs__mesh_cut(-t->a[e], -(t->b[e] * dj + t->k[e] + pvs__dmin(0.0, t->a[e]) + pvs__dmin(0.0, t->b[e])), -m, 1, &lo, &hi);
         }
         if (lo > hi) continue;
         for (i = lo; i <= hi; ++i) {
