@@ -637,8 +637,8 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positio
                                         const uint32_t *indices, uint32_t count, pvs_raster_mode mode);
 /* Rasterizes `count` triangles as one connected occluder mesh (Durand 2000 §3.3: per-triangle inner
    coverage loses the connectivity of occluders, leaving a crack of unclaimed pixels along every edge
-   two triangles share). Each triangle's own inner pixels are claimed as by pvs_raster_triangles
-   (occluder mode), and also every pixel the union of the mesh's triangles covers whole: a pixel that
+   two triangles share). The triangles are drawn as by pvs_raster_triangles (occluder mode), then
+   every pixel along their edges that the union of the mesh's triangles covers whole: a pixel that
    no boundary edge of the union touches and that some triangle touches. Boundary edges are the edges
    not shared by exactly two triangles, the silhouettes between a front- and a back-facing triangle,
    the edges of triangles wound against their neighbour, the edges cut by the near plane and the cuts
@@ -4329,11 +4329,20 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
    depth there is at least its plane's least value over the pixel and at least its least vertex depth;
    the least of these bounds over the group's polygons that may touch the pixel is no nearer than the
    mesh there. Folds, back faces, non-manifold edges, inconsistent winding, T-junctions and near-plane
-   cuts only add boundary edges: the union is claimed in smaller pieces, never beyond itself. Each
-   triangle's own inner pixels are claimed as well (pvs_raster_triangles' rule, its depth), so a mesh
-   never claims less than its triangles drawn one at a time. Rows are processed four at a time over an
-   active list of the group's polygons, in double with the same float depth evaluation as the pixel
-   loops; there is one code path, so SIMD and scalar builds agree bit for bit. ---- */
+   cuts only add boundary edges: the union is claimed in smaller pieces, never beyond itself.
+   Two passes: the triangles first, one at a time through the ordinary occluder path (its inner
+   pixels, its depth, SIMD; so a mesh never claims less than its triangles drawn alone), then the
+   mesh pass over the pixels some edge may meet only (a strip widened beyond the first pass's float
+   margins). A pixel of the strips that no edge meets lies inside one polygon P; P surely meets it, so
+   P's bound is in the minimum; otherwise every point of the pixel lies in a polygon with an edge
+   meeting it (the edges cut the pixel into regions, each on the inner side of one of them), whose
+   strip holds the pixel: the minimum over the strips' polygons is a lower bound there too. Tiled, a
+   band's claimed pixels join a tile's working layer only at no cost to it (at most as near as it, or
+   as the first layer; a full tile becomes the base). A triangle whose box the tiles already hide at
+   its nearest depth (the prefilter's test) is left out of the mesh pass: it changes nothing, and its
+   edges become boundary edges. Rows are processed four at a time over an active list of the group's
+   polygons, in double with the same float depth evaluation as the pixel loops; the mesh pass has one
+   code path, so SIMD and scalar builds agree bit for bit. ---- */
 
 #define PVS__MESH_NONE 0xffffffffu
 #define PVS__MESH_MULTI 0xfffffffeu
@@ -4584,17 +4593,19 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
             any |= cov[d];
         }
         if (!any || !(zt > tl->z0)) continue;
-        /* unlike pvs__tile_merge, never at the cost of the working layer (the pixels along edges are
-           a thin set, often farther than it): the union at the working layer's depth when zt is no
-           farther, a new working layer when there is none, else nothing */
+        /* unlike pvs__tile_merge, hardly at the cost of the working layer (the pixels along edges are
+           a thin set, often farther than it): the union at the farther depth when zt is no farther, the
+           tile fills up or the layer loses at most 1/8 of its lead over the base; a new working layer
+           when there is none; else nothing */
         {
             uint32_t full = ~0u, have = 0;
             for (d = 0; d < PVS__TH; ++d) {
                 have |= tl->mask[d];
                 full &= tl->mask[d] | cov[d] | pad[d];
             }
-            if (have && zt < tl->z1) continue;
-            z0 = have ? tl->z1 : zt;
+            /* farther than the working layer: only when the tile fills up or the layer loses little */
+            if (have && zt < tl->z1 && full != ~0u && (double)tl->z1 - zt > 0.125 * ((double)tl->z1 - tl->z0)) continue;
+            z0 = have && tl->z1 < zt ? tl->z1 : zt;
             if (full == ~0u) {
                 for (d = 0; d < PVS__TH; ++d) tl->mask[d] = 0;
                 tl->z0 = z0;
