@@ -58,8 +58,9 @@
    >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps, boxes / columns
    >>vocc       virtual occluders (Koltun 2000): aggregate umbrae, height slices, selection, the VOCC
                 section, the PVS rebuilt on cell entry (pvs_vocc_cull)
-   >>methods    region methods: `shrink` (Wonka 2000), extended projections `extproj`, the estimator `sample`
-   >>bake       bake driver: tasks, AUTO (methods intersected), draw distance, resuming, determinism
+   >>methods    region methods: `shrink` (Wonka 2000), `extproj` (Durand 2000), the estimator `sample`
+   >>bake       bake driver: tasks, AUTO (methods intersected), draw distance, resuming, adaptive
+                cells, determinism
    >>format     the .pvs file: writer and validating zero-copy reader
    >>runtime    cell look-up and decoding
 
@@ -89,7 +90,8 @@
 
    Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
    vertical walls stand on the ground (2.5D), EXTPROJ when there are planar occluders or convex solids
-   (3D), SHRINK when closed geometry leaves occluder volume after erosion by eps (VOCC, which adds
+   (3D; coplanar edge-connected triangles of an object act as one planar occluder, convex or not, so
+   a wall split into many pieces hides what the whole wall hides), SHRINK when closed geometry leaves occluder volume after erosion by eps (VOCC, which adds
    little tightness, only when pvs_bake_desc.methods names it); it runs them cheapest
    first and intersects their PVSs (an intersection of conservative sets is conservative, and at least
    as tight as each). pvs_bake_get_method_info says which ran, which were skipped and why, and what
@@ -99,6 +101,15 @@
    keeping). pvs_bake_restore_task resumes an interrupted bake from the PVSs it had finished (not a
    VOCC bake: its virtual occluders are baked again). Only a VOCC bake stores virtual occluders; AUTO
    uses vocc's PVS in the intersection and stores none.
+
+   Adaptive cells. With pvs_bake_desc.adaptive_budget (Durand 2000 §6.1) a cell whose PVS holds more
+   triangles than the budget is split in two across its longest side, again and again down to
+   adaptive_min_size; each half is baked from its parent's PVS (with every method of the bake, the
+   result intersected with the parent's; EXTPROJ tests only the parent's objects and drops the
+   occluders it hides). The file holds the leaf cells (pvs_bake_leaf_count), in cell order, each
+   cell's leaves depth first, and its look-up tree covers them; pvs_bake_cell_pvs still gives a
+   whole cell's PVS. Deterministic for any thread count; not with shards, VOCC or resuming. EXTPROJ
+   also takes extproj_sweep, the occlusion sweep of §5 (for many small occluders; slower).
 
    Memory. Every desc struct has a `pvs_allocator`; left at zero, PVS_MALLOC/PVS_FREE are used. An object
    remembers its allocator. Size arithmetic is overflow-checked. The runtime (pvs_file_*) and the
@@ -142,12 +153,14 @@
    Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle
    kD-trees: about 100 bytes per triangle), pvs_bake_begin (the cells and one bitset per cell:
    cell_count * object_count / 8 bytes, and 40 bytes of statistics per cell), pvs_bake_run_task
-   (AUTO: one bitset per method it runs, freed before returning), pvs_file_encode (scratch about 40 bytes per cell plus one
-   bitset), pvs_raster_create (the depth map and pyramid, the cull map), pvs_otree_create (about 250
-   bytes per tree node of its budget, 5 bytes per kD node and object). Allocates nothing: every
-   pvs_file_* and pvs_cursor_* call, kD-tree queries (caller scratch), pvs_raster_cull,
-   pvs_raster_cull_map and pvs_otree_cull per frame, pvs_vocc_cull (caller scratch:
-   pvs_vocc_cull_scratch_size). A .pvs file is used in place; it needs no copy.
+   (AUTO: one bitset per method it runs; EXTPROJ about 8 MB of depth maps at 256 x 256 pixels, 8 MB
+   more with the sweep; all freed before returning; adaptive cells: a box and a bitset per leaf,
+   kept), pvs_file_encode (scratch about 40 bytes per cell plus one bitset), pvs_raster_create (the
+   depth map and pyramid, the cull map), pvs_otree_create (about 250 bytes per tree node of its
+   budget, 5 bytes per kD node and object). Allocates nothing: every pvs_file_* and pvs_cursor_*
+   call, kD-tree queries (caller scratch), pvs_raster_cull, pvs_raster_cull_map and pvs_otree_cull
+   per frame, pvs_vocc_cull (caller scratch: pvs_vocc_cull_scratch_size). A .pvs file is used in
+   place; it needs no copy.
 
    PERFORMANCE (`make bench`, 2026-11-22, one core of a shared 2-core AMD EPYC VM, release build)
    ===========
@@ -158,10 +171,13 @@
    points; per-frame culling of 50,000 occluder triangles at 1920x1080 with 10,000 box tests about
    1.0 ms (SSE2; 2.0 ms scalar), 1,000 facades into a 256 x 256 cull map about 0.8 ms; from-point
    culling with the occlusion tree (pvs_otree_cull, 32 occluders) about 0.2 ms of CPU per frame
-   along a street walk; bake methods per cell on the demo city: extproj about 45 ms, otree about
-   9 ms of CPU (2026-11-24), shrink about 260 ms (default eps), vocc about 60 ms of CPU (10 virtual
-   occluders per cell, 52 bytes, 88% of the objects culled: 98% of what shrink culls; rebuilding a
-   cell's PVS from them about 70 us testing every box, 110 us walking a kD-tree of 16-item leaves).
+   along a street walk; bake methods per cell on the demo city: extproj about 10 ms of CPU (13.5 ms
+   with its occluder preparation amortized over 60 cells; 28 ms with the occlusion sweep; on
+   2026-11-24 under load 15.7 ms and 31.7 ms with coplanar pieces merged, 14.3 ms without), otree
+   about 9 ms of CPU (2026-11-24), shrink about 260 ms (default eps), vocc about 60 ms of CPU (10
+   virtual occluders per cell, 52 bytes, 88% of the objects culled: 98% of what shrink culls;
+   rebuilding a cell's PVS from them about 70 us testing every box, 110 us walking a kD-tree of
+   16-item leaves).
 
    ALGORITHMS (each cited again where it is implemented)
    ==========
@@ -277,6 +293,11 @@
                       bake max_distance, PVS_BAKE_PREVIEW, resumable bakes (pvs_bake_restore_task);
                       virtual occluders (Koltun 2000): bake method vocc, the optional VOCC section,
                       pvs_vocc_cull rebuilds a cell's PVS from them; pvsbake --vocc-only.
+                      extproj: slices of closed meshes, sheets (grounds) with occluders extended
+                      through them, improved occludee Projection, planes by distance band, the
+                      occlusion sweep (pvsbake --sweep); adaptive cells (pvsbake --adaptive N);
+                      coplanar triangles merged into one planar occluder, convex or concave (walls
+                      split into pieces, as in game maps, hide again).
    0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps and per-frame culling;
                       bake methods shrink (with occluder synthesis), otree (c-LSS) and extproj.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
@@ -890,15 +911,35 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame)
 /* ---- occluders ------------------------------------------------------------------------------- */
 
 /* Occluder synthesis: volumes that are certainly solid, for the shrink method (Wonka 2000 §2: the
-   theorem of its appendix needs volumetric occluders). The scene is voxelized; a voxel is solid only
-   if no triangle touches it (a conservative triangle/box test rounding toward "touched") and it
-   cannot be reached from any view cell through untouched voxels (a 26-connected flood fill from the
-   cells; a scene open to the sky is flooded from outside its bounds through the cells that reach
-   it), or if it lies inside an explicit occluder volume. Below the lowest point of the scene and of
-   the cells lies the ground. The solid set is eroded by eps (rounding toward less solid), then merged
+   theorem of its appendix needs volumetric occluders). A voxel is solid only when no viewer in any
+   cell can reach it along a path that touches no triangle, so a sight line through it always meets a
+   triangle first; solid is proved, never guessed from voxel connectivity (a triangle-touched voxel
+   may hide a slit narrower than itself, so touched voxels are never taken as walls):
+   - the triangles (minus those lying flat on the lowest ground level) are split into edge-connected
+     components, vertices matched by exact position; an edge used by an odd number of triangles and
+     not lying on the ground level is open;
+   - per component K, a ray straight up from a point has a crossing parity with K that stays constant
+     along any path avoiding K and the vertical sheets below K's open edges (a closed surface's inside
+     is odd, the ground closes meshes standing on it). Per voxel: untouched by K and clear of those
+     sheets = one free region of known parity (computed with error-bounded predicates; a column no
+     ray can decide counts as open), touched by K = up to two regions (odd and even), near an open
+     edge or its sheet = one region joined to everything. A 6-connected flood over these regions from
+     the cells (and from the outside of K's box) over-approximates where a viewer can go; untouched
+     voxels it does not reach are solid. Thin slits, windows and doors narrower than a voxel keep
+     their regions joined, so the space behind them is reached; a mesh with a crack or a T-junction
+     gives no volume where the crack's sheet runs (conservative). An enclosure formed only by several
+     separate meshes together is not recognised.
+   - voxels inside an explicit occluder volume are solid.
+   Below the lowest point of the scene and of the cells lies the ground (no sight line between points
+   above it passes below it). The solid set is eroded by eps (rounding toward less solid), then merged
    into boxes (3D) and into per-column solid heights standing on the ground (2.5D), returned as
-   rectangles. Limitation: free space is followed voxel to voxel, so an opening narrower than about
-   two voxels may be taken as sealed; choose voxel_size well below the narrowest door or gap. */
+   rectangles. Leaks: when most cells lie inside a component's box but a few reach its outside from
+   their own regions (a cell box poking through a wall into the void of a level whose walls have no
+   faces on the void side), those few are left out of every later flood (pvs_occluders_excluded_cells)
+   so that the others keep their solid walls; pvs_shrink_cell gives a left-out cell every object, and
+   the bake bakes those cells with a second synthesis that every cell seeds (PVS_OCCLUDERS_KEEP_LEAKS).
+   A separate 6-connected flood through untouched voxels from the grid's border reports the cells that
+   reach it (the leak diagnostic: a path of face-adjacent untouched voxels is a real free path). */
 typedef struct pvs_occluders_desc {
     const pvs_scene *scene;   /* required; must outlive the occluders */
     const pvs_box *cells;     /* cell_count view cells: the flood starts from them (required, >= 1) */
@@ -906,8 +947,13 @@ typedef struct pvs_occluders_desc {
     float eps;                /* erosion distance, > 0 */
     float voxel_size;         /* 0 = derived: eps / 1.5, grown until the grid fits max_voxels */
     uint32_t max_voxels;      /* 0 = 1 << 24 */
+    uint32_t flags;           /* PVS_OCCLUDERS_* */
     pvs_allocator allocator;
 } pvs_occluders_desc;
+
+/* pvs_occluders_desc.flags: seed the floods from every cell, leaking ones included (no cell is left
+   out: a leak then costs every cell the walls it opens, as in a single flood). */
+#define PVS_OCCLUDERS_KEEP_LEAKS 1u
 
 /* The synthesized occluders: immutable after creation, thread-safe to read. */
 typedef struct pvs_occluders pvs_occluders;
@@ -925,16 +971,25 @@ typedef struct pvs_occluders_info {
     uint32_t box_count;       /* eroded 3D boxes */
     uint32_t rect_count;      /* eroded 2.5D column rectangles */
     int is_2d5;               /* 1 when the column runs hold the solid voxels (>= 90%): use the 2.5D path */
-    uint32_t leak_cell;       /* the first cell whose flood reaches the outside, PVS_NO_CELL if sealed */
-    float leak_point[3];      /* a voxel centre on its way out (valid when leak_cell != PVS_NO_CELL) */
+    uint32_t leak_cell;       /* the lowest cell that reaches the grid's border by a path of untouched
+                                 voxels (outside the scene: open to the sky, or a leak), PVS_NO_CELL if none */
+    float leak_point[3];      /* the centre of a voxel of that cell on such a path (when leak_cell is set) */
+    uint32_t leak_cells;      /* cells that reach the grid's border so */
+    uint32_t excluded_cells;  /* leaking cells left out of the solid proof (pvs_occluders_excluded_cells):
+                                 a few cells, fewer than half of those inside a component's box, whose
+                                 own sources reach the outside of it; they get no occluder */
     uint32_t thin_objects;    /* drawable objects with no solid voxel in their box: thin walls with open
                                  space on both sides and small props give no volume */
+    uint32_t components;      /* edge-connected triangle sets flooded (3 triangles or more) */
+    uint32_t closed_components; /* of them, those without an open edge */
+    uint64_t open_edges;      /* edges used by an odd number of triangles, off the ground level */
+    uint64_t undecided_columns; /* voxel columns of a component where no test ray gave a certain parity */
 } pvs_occluders_info;
 
 /* Voxel classes pvs_occluders_voxel returns. */
-#define PVS_VOXEL_EMPTY 0u    /* untouched and reached from a cell */
-#define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it */
-#define PVS_VOXEL_SOLID 2u    /* solid (before erosion) */
+#define PVS_VOXEL_EMPTY 0u    /* untouched and not solid */
+#define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it (and it is not solid) */
+#define PVS_VOXEL_SOLID 2u    /* solid (before erosion); may hold triangles of another component */
 #define PVS_VOXEL_GROUND 3u   /* the padding layer below the ground */
 
 /* Runs the synthesis. Errors: INVALID_ARGUMENT (NULL, no cells, eps <= 0 or not finite), BAD_CELL,
@@ -951,10 +1006,21 @@ PVS_API uint32_t pvs_occluders_voxel(const pvs_occluders *occluders, uint32_t i,
 PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
 /* The eroded 3D boxes (*count of them); every point within eps of a box is solid. Owned by occluders. */
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *occluders, uint32_t *count);
-/* The eroded 2.5D occluders as closed facade chains (4 points each, base = the ground, top already
-   lowered by eps): every point within eps of such a prism is solid or below the ground. Owned by
+/* The shrunk 2.5D occluders as facade chains (base = the ground, top already lowered by eps): the
+   outer boundaries of regions of the column map at or above a height as closed chains, the boundaries
+   of holes as open chains back to their first point. Every point within eps of such a prism (the
+   region x [ground, top]) lies where no viewer can reach it or is below the ground. Owned by
    occluders. */
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occluders, uint32_t *count);
+/* The column map at ground point (u, v) (x, z for up axis Y; x, y for Z): *solid receives the height
+   below which the column is proved solid (the ground where it is not), the return value the shrunk
+   occluder height (-FLT_MAX where there is none). Outside the map: the ground and -FLT_MAX.
+   On a square's edge the lower of the neighbours counts. */
+PVS_API float pvs_occluders_column_height(const pvs_occluders *occluders, float u, float v, float *solid);
+/* The leaking cells the synthesis left out (indices into desc->cells, increasing; *count of them,
+   info.excluded_cells): pvs_shrink_cell sets every object for them and for boxes inside them.
+   Owned by occluders; NULL when there are none. */
+PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occluders, uint32_t *count);
 
 /* ---- vocc ------------------------------------------------------------------------------------ */
 
@@ -1087,16 +1153,30 @@ typedef enum pvs_shrink_mode {
     PVS_SHRINK_MODE_COUNT
 } pvs_shrink_mode;
 
+/* What one pvs_shrink_cell call did. */
+typedef struct pvs_shrink_stats {
+    pvs_shrink_mode mode;     /* the path that ran */
+    uint32_t occluders;       /* occluders of that path: column prisms (2.5D) or boxes (3D) */
+    int no_occluders;         /* 1 when there are none (nothing survived erosion): every drawable object
+                                 was set without sampling, the PVS culls nothing */
+    int excluded;             /* 1 when the cell lies inside a leaking cell the synthesis left out
+                                 (pvs_occluders_excluded_cells): every drawable object was set */
+    uint32_t samples;         /* sample points */
+    uint64_t occluders_drawn; /* occluders rasterized, summed over the samples (after §3.4's rejection) */
+    uint32_t hidden;          /* drawable objects left out of the PVS */
+} pvs_shrink_stats;
+
 /* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): the occluders, eroded by their
    eps, are point-sampled from the cell every eps; an object is left out only when every sample sees
    it hidden (appendix theorem: then every point of the cell does). Objects meeting the cell, or
    standing under its top face, are always set. Sets bits in `visible` (PVS_BITSET_WORDS(object_count)
    words, not cleared first); occluder-only objects are never set. `occluders` must have been made
-   for this scene. Scratch is allocated through the occluders' allocator and freed before returning:
-   thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (a path this build cannot run, with
-   the reason), OUT_OF_MEMORY. */
+   for this scene. `stats` may be NULL; when the occluders are empty, stats->no_occluders says so (the
+   call still succeeds: the PVS is every object, which is conservative). Scratch is allocated through
+   the occluders' allocator and freed before returning: thread-safe. Errors: INVALID_ARGUMENT,
+   BAD_CELL, UNSUPPORTED (a path this build cannot run, with the reason), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
-                                   pvs_shrink_mode mode, pvs_word *visible, pvs_error *err);
+                                   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
 /* The ray-sampling estimator: `points` stratified points in `cell` (its 8 corners and 6 face centres
    first, then a jittered grid), `rays_per_point` uniformly distributed directions from each, and the
@@ -1137,6 +1217,7 @@ typedef struct pvs_extproj_plane {
     uint32_t width, height;   /* 1..4096 each */
 } pvs_extproj_plane;
 #define PVS_EXTPROJ_EMPTY 3.402823466e+38f
+#define PVS_EXTPROJ_SWEEP_PLANES 16u /* sweep planes per direction pvsbake --sweep asks for */
 
 /* Adds the extended Projection of one convex occluder (§3.2): `points` (count x (x, y, z), 1..16) are
    the vertices of a planar convex polygon or of a closed convex solid (a solid whose bounding box
@@ -1177,6 +1258,16 @@ typedef struct pvs_bake_desc {
     uint32_t max_chain;       /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
     uint32_t extproj_resolution; /* EXTPROJ: depth map pixels per side, 0 = 256; 16..4096 */
     uint32_t extproj_occluders;  /* EXTPROJ: occluders projected per plane, 0 = 128; <= 65536 */
+    uint32_t extproj_sweep;      /* EXTPROJ: occlusion sweep (Durand 2000 §5): at most this many planes per
+                                    direction, 0 = no sweep (pvsbake --sweep: PVS_EXTPROJ_SWEEP_PLANES); <= 256 */
+    /* Adaptive cells (Durand 2000 §6.1): a cell whose PVS holds more than adaptive_budget triangles is
+       split in two across its longest side, recursively, while the halves stay at least
+       adaptive_min_size long (0 = an eighth of the cell's longest side); the children are baked from
+       the parent's PVS (only its objects are tested; EXTPROJ also drops the occluders it hides). The
+       file then holds the leaf cells, in cell order, each cell's leaves depth first (low half first).
+       0 = off. Not with shards. */
+    uint32_t adaptive_budget;
+    float adaptive_min_size;
     pvs_shrink_mode shrink_mode; /* SHRINK: path, AUTO picks */
     uint32_t vocc_slices;     /* VOCC: height slices per cell (§3.1), 0 = 5; 1..16 */
     uint32_t vocc_max_occluders; /* VOCC: virtual occluders kept per cell (Fig. 6), 0 = 10; 1..255 */
@@ -1245,9 +1336,25 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pv
    SHRINK was not prepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
+/* Counts over the tasks that have run, for the caller's summary: a bake that culls nothing is not an
+   error (every object visible is conservative) but the caller should hear of it. */
+typedef struct pvs_bake_report {
+    uint32_t cells;              /* tasks run so far */
+    uint32_t cells_all_visible;  /* cells whose PVS holds every drawable object: nothing culled */
+    uint32_t cells_no_occluders; /* SHRINK: cells baked with no occluder at all (nothing survived the
+                                    erosion by eps: thin walls only, or eps too large for the volumes) */
+    uint32_t cells_excluded;     /* SHRINK: leaking cells the occluder synthesis left out
+                                    (pvs_occluders_excluded_cells): baked with a second synthesis in
+                                    which every cell seeds the floods */
+} pvs_bake_report;
+/* Fills *report. Call after the tasks (not concurrently with them). */
+PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
 /* The PVS of a cell whose task has run, or NULL (also for cells of other shards).
-   PVS_BITSET_WORDS(object_count) words. */
+   PVS_BITSET_WORDS(object_count) words. With adaptive cells, the PVS of the whole (unsplit) cell. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
+/* The cells the file will hold: the cell count, or with adaptive cells the leaves of the tasks run so
+   far (all of them once every task has run). */
+PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *bake);
 /* The exact size of the file (0 if not every task has run or on error). Encodes to measure: keep
    the number rather than calling it twice. */
 PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
@@ -8840,49 +8947,97 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 /* occluders: synthesis of certainly-solid volumes (for Wonka 2000's shrinking, §2 and appendix)  */
 /* ---------------------------------------------------------------------------------------------- */
 
-enum { PVS__VX_FREE = 0, PVS__VX_TOUCHED = 1, PVS__VX_REACHED = 2, PVS__VX_EXPLICIT = 3, PVS__VX_GROUND = 4 };
+/* Voxel state flags (pvs_occluders.state). */
+enum {
+    PVS__VX_TOUCHED = 1,   /* a triangle comes within the margin of the voxel */
+    PVS__VX_REACHED = 2,   /* the leak diagnostic's flood got here */
+    PVS__VX_GROUND = 4,    /* layer 0: below the lowest point of the scene and the cells */
+    PVS__VX_SOLID = 8,     /* certainly solid: proved by a component's parity flood, or explicit */
+    PVS__VX_EXPLICIT = 16  /* inside an explicit occluder volume */
+};
+/* What stops the leak diagnostic's flood. */
+#define PVS__VX_LEAK_STOP (PVS__VX_TOUCHED | PVS__VX_REACHED | PVS__VX_GROUND | PVS__VX_EXPLICIT)
+
+/* A voxel grid: voxel (i, j, k) is origin + [i, i + 1] x [j, j + 1] x [k, k + 1] times h; n per axis. */
+typedef struct pvs__vx_grid {
+    double origin[3], h;
+    uint32_t n[3];
+} pvs__vx_grid;
+
+/* The 2.5D column map: squares of side grid.h over the ground plane (grid's u, v axes; n[up] = 1),
+   and min-pyramids over it: level l has squares of side grid.h * 2^l, each holding the least value of
+   the squares it covers (level 0 is the map itself). */
+#define PVS__VX_LEVELS 24
+typedef struct pvs__vx_cols {
+    pvs__vx_grid grid;
+    uint32_t nu, nv;
+    float *solid;               /* nu * nv: top of the proved-solid runs standing on the ground (ground: none) */
+    float *top;                 /* nu * nv: occluder height, shrunk by eps (-FLT_MAX: none) */
+    uint32_t levels;            /* pyramid levels (>= 1) */
+    uint32_t lw[PVS__VX_LEVELS], lh[PVS__VX_LEVELS];
+    float *ptop[PVS__VX_LEVELS], *psolid[PVS__VX_LEVELS]; /* level 0: top, solid; others allocated */
+} pvs__vx_cols;
+
+/* A bounding volume hierarchy over the drawable objects (each in one leaf), tight boxes. */
+typedef struct pvs__obvh_node {
+    pvs_box box;
+    uint32_t first, count;      /* leaf: items[first .. first + count); inner: count == 0, children first, first + 1 */
+    uint32_t parent;
+} pvs__obvh_node;
+typedef struct pvs__obvh {
+    pvs__obvh_node *nodes;
+    uint32_t *items, *leaf_of; /* leaf_of: per object, its leaf (or 0xffffffff) */
+    uint32_t *count_below;     /* per node: objects under it */
+    uint32_t node_count, item_count, object_count;
+} pvs__obvh;
 
 struct pvs_occluders {
     pvs_allocator allocator;
+    pvs__vx_grid grid;          /* the same as origin, h, n below */
     const pvs_scene *scene;
     pvs_occluders_info info;
     double origin[3], h;        /* grid */
     uint32_t n[3];
     size_t total;
-    uint8_t *state;             /* total: PVS__VX_* ; solid = FREE (never reached) or EXPLICIT */
+    uint8_t *state;             /* total: PVS__VX_* flags */
     uint8_t *eroded;            /* total: 1 where solid survives the erosion */
     pvs_box *boxes;
     uint32_t box_count;
-    pvs_facade_chain *chains;
-    float *chain_points;        /* 8 per chain */
+    pvs_facade_chain *chains;   /* the 2.5D occluders (pvs__vx_build_chains) */
+    pvs_box *chain_boxes;       /* per chain: ground bounding rectangle x [base, top] */
+    float *chain_points;        /* 2 floats per point */
     uint32_t chain_count;
+    size_t chain_point_count;
     float ground;
-    float *column_top;          /* n[u] * n[v]: top of each column's solid run before erosion (ground: none) */
-    size_t column_count;
+    pvs__vx_cols cols;          /* the 2.5D column map */
+    pvs__obvh bvh;              /* the drawable objects, for the 2.5D path's walks */
+    pvs__obvh chain_bvh;        /* the chains' boxes */
+    uint32_t *excluded;         /* info.excluded_cells: the leaking cells left out of the floods, */
+    pvs_box *excluded_boxes;    /* and their boxes */
 };
 
 PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j, uint32_t k) {
     return (size_t)i + (size_t)o->n[0] * ((size_t)j + (size_t)o->n[1] * (size_t)k);
 }
-PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return s == PVS__VX_FREE || s == PVS__VX_EXPLICIT; }
+PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return (s & PVS__VX_SOLID) != 0; }
 
 /* Triangle / box overlap by the separating axis theorem (Akenine-Moller 2001), in double, with the
-   box half size `hs` already grown by a margin: rounding errs toward "touched". */
-PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, const double *b, const double *d) {
+   box half sizes `hs` already grown by a margin: rounding errs toward "touched". */
+PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const double *a, const double *b, const double *d) {
     double v[3][3], e[3][3], n[3], p, q, r, lo, hi, rad;
     int i, j;
     for (i = 0; i < 3; ++i) { v[0][i] = a[i] - c[i]; v[1][i] = b[i] - c[i]; v[2][i] = d[i] - c[i]; }
     for (i = 0; i < 3; ++i) {
         lo = hi = v[0][i];
         for (j = 1; j < 3; ++j) { if (v[j][i] < lo) lo = v[j][i]; if (v[j][i] > hi) hi = v[j][i]; }
-        if (lo > hs || hi < -hs) return 0;
+        if (lo > hs[i] || hi < -hs[i]) return 0;
     }
     for (i = 0; i < 3; ++i) { e[0][i] = v[1][i] - v[0][i]; e[1][i] = v[2][i] - v[1][i]; e[2][i] = v[0][i] - v[2][i]; }
     n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
     n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
     n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
     p = n[0] * v[0][0] + n[1] * v[0][1] + n[2] * v[0][2];
-    rad = hs * (pvs__dabs(n[0]) + pvs__dabs(n[1]) + pvs__dabs(n[2]));
+    rad = hs[0] * pvs__dabs(n[0]) + hs[1] * pvs__dabs(n[1]) + hs[2] * pvs__dabs(n[2]);
     if (p > rad * (1.0 + 1e-9) + 1e-300 || p < -rad * (1.0 + 1e-9) - 1e-300) return 0;
     for (i = 0; i < 3; ++i)       /* edge i x box axis j */
         for (j = 0; j < 3; ++j) {
@@ -8897,11 +9052,17 @@ PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, cons
                 if (q < lo) lo = q;
                 if (q > hi) hi = q;
             }
-            r = hs * (pvs__dabs(ax[0]) + pvs__dabs(ax[1]) + pvs__dabs(ax[2]));
+            r = hs[0] * pvs__dabs(ax[0]) + hs[1] * pvs__dabs(ax[1]) + hs[2] * pvs__dabs(ax[2]);
             r = r * (1.0 + 1e-9) + 1e-300;
             if (lo > r || hi < -r) return 0;
         }
     return 1;
+}
+/* The same for a cube of half size hs. */
+PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, const double *b, const double *d) {
+    double h3[3];
+    h3[0] = h3[1] = h3[2] = hs;
+    return pvs__tri_aabb(c, h3, a, b, d);
 }
 
 /* 1 if point (x, y) is inside the polygon (even-odd rule). */
@@ -8962,27 +9123,152 @@ PVS__STATIC int pvs__vx_in_occluder(const pvs_occluder_desc *oc, uint32_t up, co
     }
 }
 
+typedef struct pvs__obvh_key {
+    double d;
+    uint32_t i;
+} pvs__obvh_key;
+PVS__STATIC int pvs__obvh_key_cmp(const void *x, const void *y) {
+    const pvs__obvh_key *a = (const pvs__obvh_key *)x, *b = (const pvs__obvh_key *)y;
+    return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
+}
+
+/* Builds a hierarchy over boxes[0 .. count) (those with `keep` set, or all when keep is NULL):
+   median splits on the longest axis of the centres, leaves of at most 4. */
+PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *boxes, uint32_t count, const uint8_t *keep, pvs__obvh *h) {
+    uint32_t i, n = 0, *stack = NULL, sp = 0;
+    pvs__obvh_key *keys = NULL;
+    memset(h, 0, sizeof(*h));
+    h->object_count = count;
+    h->items = (uint32_t *)pvs__alloc_array(al, count ? count : 1, sizeof(uint32_t));
+    h->leaf_of = (uint32_t *)pvs__alloc_array(al, count ? count : 1, sizeof(uint32_t));
+    if (!h->items || !h->leaf_of) return PVS_ERROR_OUT_OF_MEMORY;
+    for (i = 0; i < count; ++i) {
+        h->leaf_of[i] = 0xffffffffu;
+        if (!keep || keep[i]) h->items[n++] = i;
+    }
+    h->item_count = n;
+    h->nodes = (pvs__obvh_node *)pvs__alloc_array(al, 2 * (size_t)n + 1, sizeof(pvs__obvh_node));
+    h->count_below = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)n + 1, sizeof(uint32_t));
+    stack = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)n + 2, sizeof(uint32_t));
+    keys = (pvs__obvh_key *)pvs__alloc_array(al, n ? n : 1, sizeof(pvs__obvh_key));
+    if (!h->nodes || !h->count_below || !stack || !keys || !n) {
+        pvs__free_array(al, stack, 2 * (size_t)n + 2, sizeof(uint32_t));
+        pvs__free_array(al, keys, n ? n : 1, sizeof(pvs__obvh_key));
+        return h->nodes && h->count_below && stack && keys ? PVS_OK : PVS_ERROR_OUT_OF_MEMORY;
+    }
+    h->node_count = 1;
+    h->nodes[0].first = 0;
+    h->nodes[0].count = n;
+    h->nodes[0].parent = 0xffffffffu;
+    stack[sp++] = 0;
+    while (sp) {
+        uint32_t nd = stack[--sp], f = h->nodes[nd].first, c = h->nodes[nd].count, k, ax = 0, mid;
+        pvs_box bb, cb;
+        int kk;
+        bb = boxes[h->items[f]];
+        for (kk = 0; kk < 3; ++kk) cb.min[kk] = cb.max[kk] = 0.5f * (bb.min[kk] + bb.max[kk]);
+        for (k = f; k < f + c; ++k) {
+            const pvs_box *ob = boxes + h->items[k];
+            for (kk = 0; kk < 3; ++kk) {
+                float mm = 0.5f * (ob->min[kk] + ob->max[kk]);
+                if (ob->min[kk] < bb.min[kk]) bb.min[kk] = ob->min[kk];
+                if (ob->max[kk] > bb.max[kk]) bb.max[kk] = ob->max[kk];
+                if (mm < cb.min[kk]) cb.min[kk] = mm;
+                if (mm > cb.max[kk]) cb.max[kk] = mm;
+            }
+        }
+        h->nodes[nd].box = bb;
+        h->count_below[nd] = c;
+        if (c <= 4) {
+            for (k = f; k < f + c; ++k) h->leaf_of[h->items[k]] = nd;
+            continue;
+        }
+        for (kk = 1; kk < 3; ++kk)
+            if (cb.max[kk] - cb.min[kk] > cb.max[ax] - cb.min[ax]) ax = (uint32_t)kk;
+        /* split at the median centre along that axis */
+        for (k = 0; k < c; ++k) {
+            const pvs_box *ob = boxes + h->items[f + k];
+            keys[k].d = (double)ob->min[ax] + ob->max[ax];
+            keys[k].i = h->items[f + k];
+        }
+        qsort(keys, c, sizeof(pvs__obvh_key), pvs__obvh_key_cmp);
+        for (k = 0; k < c; ++k) h->items[f + k] = keys[k].i;
+        mid = f + c / 2;
+        h->nodes[nd].first = h->node_count;
+        h->nodes[nd].count = 0;
+        h->nodes[h->node_count].first = f;
+        h->nodes[h->node_count].count = mid - f;
+        h->nodes[h->node_count].parent = nd;
+        h->nodes[h->node_count + 1].first = mid;
+        h->nodes[h->node_count + 1].count = f + c - mid;
+        h->nodes[h->node_count + 1].parent = nd;
+        stack[sp++] = h->node_count;
+        stack[sp++] = h->node_count + 1;
+        h->node_count += 2;
+    }
+    pvs__free_array(al, stack, 2 * (size_t)n + 2, sizeof(uint32_t));
+    pvs__free_array(al, keys, n ? n : 1, sizeof(pvs__obvh_key));
+    return PVS_OK;
+}
+PVS__STATIC void pvs__obvh_free(const pvs_allocator *a, pvs__obvh *h) {
+    pvs__free_array(a, h->items, h->object_count ? h->object_count : 1, sizeof(uint32_t));
+    pvs__free_array(a, h->leaf_of, h->object_count ? h->object_count : 1, sizeof(uint32_t));
+    pvs__free_array(a, h->nodes, 2 * (size_t)h->item_count + 1, sizeof(pvs__obvh_node));
+    pvs__free_array(a, h->count_below, 2 * (size_t)h->item_count + 1, sizeof(uint32_t));
+    memset(h, 0, sizeof(*h));
+}
+
+/* The hierarchies of the 2.5D path: over the drawable objects and over the occluder chains. */
+PVS__STATIC pvs_result pvs__occluders_hierarchies(pvs_occluders *o) {
+    const pvs_scene *s = o->scene;
+    uint8_t *keep = (uint8_t *)pvs__alloc_array(&o->allocator, s->object_count ? s->object_count : 1, 1);
+    uint32_t i;
+    pvs_result r;
+    if (!keep) return PVS_ERROR_OUT_OF_MEMORY;
+    for (i = 0; i < s->object_count; ++i) keep[i] = !(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i);
+    r = pvs__obvh_build(&o->allocator, s->object_boxes, s->object_count, keep, &o->bvh);
+    pvs__free_array(&o->allocator, keep, s->object_count ? s->object_count : 1, 1);
+    if (r == PVS_OK) r = pvs__obvh_build(&o->allocator, o->chain_boxes, o->chain_count, NULL, &o->chain_bvh);
+    return r;
+}
+
 PVS_API void pvs_occluders_destroy(pvs_occluders *o) {
     pvs_allocator a;
     if (!o) return;
     a = o->allocator;
+    pvs__obvh_free(&a, &o->bvh);
+    pvs__obvh_free(&a, &o->chain_bvh);
+    pvs__free_array(&a, o->excluded, o->info.excluded_cells, sizeof(uint32_t));
+    pvs__free_array(&a, o->excluded_boxes, o->info.excluded_cells, sizeof(pvs_box));
     pvs__free_array(&a, o->state, o->total, 1);
     pvs__free_array(&a, o->eroded, o->total, 1);
     pvs__free_array(&a, o->boxes, o->box_count, sizeof(pvs_box));
-    pvs__free_array(&a, o->chains, o->chain_count, sizeof(pvs_facade_chain));
-    pvs__free_array(&a, o->chain_points, (size_t)o->chain_count * 8, sizeof(float));
-    pvs__free_array(&a, o->column_top, o->column_count, sizeof(float));
+    pvs__free_array(&a, o->chains, o->chain_count ? o->chain_count : 1, sizeof(pvs_facade_chain));
+    pvs__free_array(&a, o->chain_boxes, o->chain_count ? o->chain_count : 1, sizeof(pvs_box));
+    pvs__free_array(&a, o->chain_points, o->chain_point_count ? 2 * o->chain_point_count : 1, sizeof(float));
+    pvs__free_array(&a, o->cols.solid, (size_t)o->cols.nu * o->cols.nv, sizeof(float));
+    pvs__free_array(&a, o->cols.top, (size_t)o->cols.nu * o->cols.nv, sizeof(float));
+    {
+        uint32_t l;
+        for (l = 1; l < o->cols.levels; ++l) {
+            pvs__free_array(&a, o->cols.ptop[l], (size_t)o->cols.lw[l] * o->cols.lh[l], sizeof(float));
+            pvs__free_array(&a, o->cols.psolid[l], (size_t)o->cols.lw[l] * o->cols.lh[l], sizeof(float));
+        }
+    }
     pvs__free(&a, o, sizeof(*o), 16);
 }
 
-/* Voxel index range [*i0, *i1] on axis k of the closed interval [lo, hi] grown by `m`. */
-PVS__STATIC void pvs__vx_range(const pvs_occluders *o, int k, double lo, double hi, double m, uint32_t *i0, uint32_t *i1) {
-    double a = floor((lo - m - o->origin[k]) / o->h), b = floor((hi + m - o->origin[k]) / o->h);
+/* Voxel index range [*i0, *i1] on axis k of the closed interval [lo, hi] grown by `m` (empty: 1, 0). */
+PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double hi, double m, uint32_t *i0, uint32_t *i1) {
+    double a = floor((lo - m - gr->origin[k]) / gr->h), b = floor((hi + m - gr->origin[k]) / gr->h);
     if (a < 0) a = 0;
-    if (b > (double)o->n[k] - 1) b = (double)o->n[k] - 1;
-    if (b < a) { *i0 = 1; *i1 = 0; return; }
+    if (b > (double)gr->n[k] - 1) b = (double)gr->n[k] - 1;
+    if (!(b >= a)) { *i0 = 1; *i1 = 0; return; }
     *i0 = (uint32_t)a;
     *i1 = (uint32_t)b;
+}
+PVS__STATIC void pvs__vx_range(const pvs_occluders *o, int k, double lo, double hi, double m, uint32_t *i0, uint32_t *i1) {
+    pvs__vx_grange(&o->grid, k, lo, hi, m, i0, i1);
 }
 
 /* One-dimensional min filter of radius r along axis k over a byte grid (outside counts as 0):
@@ -9040,22 +9326,1342 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
     return count;
 }
 
+/* ---- certified solid: crossing parity floods per edge-connected component ----
+
+   Why it is conservative (the argument the code relies on). Let K be a set of triangles, and for a
+   point x above the ground level g let w(x) be the parity of the number of triangles of K the ray
+   from x straight up crosses (for a ray that meets no edge or vertex of K). If every edge of K is
+   used by an even number of triangles of K (edges lying in the plane up = g excepted: only points
+   above g matter, and no sight line between such points goes below g), K is a closed surface modulo
+   2 above g and w is constant on every connected piece of space minus K: moving x changes the
+   crossing count only when x crosses a triangle or the ray sweeps over an edge, and an edge shared by
+   an even number of triangles changes it by an even number. An open edge (odd count) changes it along
+   the vertical sheet below that edge, so w is constant off K and off those sheets.
+   Now take voxels (closed boxes): "pure" when no triangle of K and no sheet comes within the margin
+   m of it (w is then one number on the whole voxel), "mixed" when a triangle of K does but no sheet
+   (its free space splits into parts, each with w = 0 or 1: merging the parts of equal w over-
+   approximates connectivity), "bad" when a sheet does (all of its free space is merged into one
+   region). A path avoiding K can be moved off voxel edges and corners (free space is open), so it
+   passes from voxel to voxel through faces; where it crosses a face it carries the w of the face
+   point, which is the w of the part it leaves and of the part it enters. So the graph whose nodes are
+   (pure voxel), (mixed voxel, 0), (mixed voxel, 1), (bad voxel) and whose links join two nodes of
+   face neighbours with equal w (any node of a bad voxel) contains every such path. Outside K's voxel
+   box there is no triangle and, below it, no sheet (sheets reach down to g, inside the box), so the
+   outside is one connected region with w = 0 on its faces. A flood over the graph from the voxels
+   meeting a cell, and from the outside when some cell lies outside the box, reaches every region a
+   viewer can walk to without touching K; a pure voxel it does not reach cannot be seen from any cell
+   (a sight line to it would be such a path), so a sight line through it has met a triangle first.
+   Solidity from any subset of the scene's triangles holds for all of them, so each component is
+   flooded on its own (two closed meshes that overlap, or an open mesh above a closed one, do not
+   spoil each other's parity). w is computed per voxel column along one vertical line, its position
+   in the column chosen so that the signs of every 2D orientation test are certain under a rigorous
+   rounding-error bound (pvs__vx_cross), and the crossing heights so accurate that no pure voxel can
+   be misplaced relative to them; a column where eight positions fail is treated as bad.
+   Slits, windows and doors narrower than a voxel: the voxels they pass through are mixed or bad and
+   keep both sides' regions of equal w joined, so the space behind them is reached. */
+
+/* orient2d (b - a) x (p - a) in double, with *bound a bound on its rounding error (each difference,
+   product and the final difference rounded once: <= 4.5e-16 (|t1| + |t2|)); its sign is certain when
+   |value| > *bound. Inputs are at most doubles; no underflow for float scene coordinates. */
+PVS__STATIC double pvs__vx_orient(double ax, double ay, double bx, double by, double px, double py, double *bound) {
+    double t1 = (bx - ax) * (py - ay), t2 = (by - ay) * (px - ax);
+    *bound = 1e-15 * (pvs__dabs(t1) + pvs__dabs(t2));
+    return t1 - t2;
+}
+
+/* The vertical line through (pu, pv) against triangle (a, b, c), up axis `up`, ground axes u, v:
+   0 when it certainly misses, 1 when it certainly crosses the interior at height *z (the true height
+   within *dz), -1 when undecidable (the line passes within rounding of an edge or a vertex, or the
+   height is too uncertain): the caller picks another line. */
+PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, int u, int v, int up, double pu, double pv,
+                              double *z, double *dz) {
+    const float *p[3];
+    double o[3], bd[3], r = 0.0, zlo, zhi, w0, w1, w2;
+    int i, pos = 0, neg = 0, unsure = 0;
+    p[0] = a; p[1] = b; p[2] = c;
+    for (i = 0; i < 3; ++i) { /* a zero-length projected edge: no projected area, a segment or a point */
+        const float *q = p[i], *s = p[(i + 1) % 3], *t = p[(i + 2) % 3];
+        if (q[u] == s[u] && q[v] == s[v]) {
+            if (t[u] == q[u] && t[v] == q[v]) return pu == (double)q[u] && pv == (double)q[v] ? -1 : 0;
+            o[0] = pvs__vx_orient(q[u], q[v], t[u], t[v], pu, pv, bd);
+            return pvs__dabs(o[0]) <= bd[0] ? -1 : 0;
+        }
+    }
+    for (i = 0; i < 3; ++i) {
+        const float *q = p[i], *s = p[(i + 1) % 3];
+        o[i] = pvs__vx_orient(q[u], q[v], s[u], s[v], pu, pv, bd + i);
+        if (pvs__dabs(o[i]) <= bd[i]) unsure = 1;
+        else if (o[i] > 0.0) pos = 1;
+        else neg = 1;
+    }
+    if (pos && neg) return 0;
+    if (unsure) return -1;
+    /* inside: barycentric weights |o| (o[1] belongs to a, o[2] to b, o[0] to c), each known to a
+       relative error r; a weighted mean of the corner heights then errs by <= range * 2r / (1 - r) */
+    for (i = 0; i < 3; ++i) r = pvs__dmax(r, bd[i] / pvs__dabs(o[i]));
+    if (r >= 0.25) return -1;
+    w0 = pvs__dabs(o[1]); w1 = pvs__dabs(o[2]); w2 = pvs__dabs(o[0]);
+    *z = (w0 * a[up] + w1 * b[up] + w2 * c[up]) / (w0 + w1 + w2);
+    zlo = pvs__dmin(a[up], pvs__dmin(b[up], c[up]));
+    zhi = pvs__dmax(a[up], pvs__dmax(b[up], c[up]));
+    *dz = (zhi - zlo) * 2.0 * r / (1.0 - r) + 1e-15 * (pvs__dabs(zlo) + pvs__dabs(zhi));
+    return 1;
+}
+
+/* Per-voxel bits of a component's flood. */
+enum { PVS__G_T = 1, PVS__G_B = 2, PVS__G_F = 4, PVS__G_W = 8, PVS__G_R0 = 16, PVS__G_R1 = 32 };
+
+typedef struct pvs__vx_vkey {
+    float p[3];
+    uint32_t i;
+} pvs__vx_vkey;
+PVS__STATIC int pvs__vx_vkey_cmp(const void *x, const void *y) {
+    const pvs__vx_vkey *a = (const pvs__vx_vkey *)x, *b = (const pvs__vx_vkey *)y;
+    int k;
+    for (k = 0; k < 3; ++k) {
+        if (a->p[k] < b->p[k]) return -1;
+        if (a->p[k] > b->p[k]) return 1;
+    }
+    return a->i < b->i ? -1 : a->i > b->i;
+}
+PVS__STATIC int pvs__vx_vkey_cmp_pos(const pvs__vx_vkey *a, const pvs__vx_vkey *b) {
+    return a->p[0] != b->p[0] || a->p[1] != b->p[1] || a->p[2] != b->p[2];
+}
+typedef struct pvs__vx_edge {
+    uint64_t key;  /* canonical vertex ids, smaller first */
+    uint32_t tri;
+} pvs__vx_edge;
+PVS__STATIC int pvs__vx_edge_cmp(const void *x, const void *y) {
+    const pvs__vx_edge *a = (const pvs__vx_edge *)x, *b = (const pvs__vx_edge *)y;
+    if (a->key != b->key) return a->key < b->key ? -1 : 1;
+    return a->tri < b->tri ? -1 : a->tri > b->tri;
+}
+PVS__STATIC uint32_t pvs__vx_find(uint32_t *parent, uint32_t x) {
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+/* What the synthesis knows about the triangles' topology. */
+typedef struct pvs__vx_topo {
+    uint32_t *tris;          /* included triangles grouped by component: comp_first[c] .. comp_first[c + 1] */
+    uint32_t *comp_first;    /* comp_count + 1 */
+    uint32_t comp_count;
+    uint32_t tri_count;      /* included triangles */
+    uint32_t *open_first;    /* comp_count + 1: ranges of open_edges per component */
+    float *open_edges;       /* 6 floats per open edge (two corners), grouped by component */
+    uint32_t open_count;
+    uint32_t *vcanon;        /* (freed early) */
+} pvs__vx_topo;
+
+PVS__STATIC void pvs__vx_topo_free(const pvs_allocator *a, pvs__vx_topo *t, uint32_t triangle_count) {
+    pvs__free_array(a, t->tris, triangle_count ? triangle_count : 1, sizeof(uint32_t));
+    pvs__free_array(a, t->comp_first, (size_t)triangle_count + 2, sizeof(uint32_t));
+    pvs__free_array(a, t->open_first, (size_t)triangle_count + 2, sizeof(uint32_t));
+    pvs__free_array(a, t->open_edges, (size_t)(t->open_count ? t->open_count : 1) * 6, sizeof(float));
+    memset(t, 0, sizeof(*t));
+}
+
+/* 1 if the triangle lies flat on the ground level g (then it is left out: it bounds nothing above g). */
+PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) {
+    uint32_t up = s->up_axis, k;
+    for (k = 0; k < 3; ++k)
+        if (s->positions[3 * (size_t)s->indices[3 * (size_t)t + k] + up] != g) return 0;
+    return 1;
+}
+
+/* Components of the triangles (edge-connected, vertices matched by exact position) and their open
+   edges (odd use count, not both corners on the ground level g). */
+PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_allocator *a, pvs__vx_topo *t) {
+    uint32_t nv = s->vertex_count, nt = s->triangle_count, i, k, up = s->up_axis, ne = 0, c;
+    pvs__vx_vkey *vk = NULL;
+    pvs__vx_edge *ed = NULL;
+    uint32_t *canon = NULL, *parent = NULL, *cid = NULL;
+    size_t e0, e1;
+    pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
+    memset(t, 0, sizeof(*t));
+    vk = (pvs__vx_vkey *)pvs__alloc_array(a, nv ? nv : 1, sizeof(pvs__vx_vkey));
+    canon = (uint32_t *)pvs__alloc_array(a, nv ? nv : 1, sizeof(uint32_t));
+    ed = (pvs__vx_edge *)pvs__alloc_array(a, (size_t)(nt ? nt : 1) * 3, sizeof(pvs__vx_edge));
+    parent = (uint32_t *)pvs__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
+    cid = (uint32_t *)pvs__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
+    t->tris = (uint32_t *)pvs__alloc_array(a, nt ? nt : 1, sizeof(uint32_t));
+    t->comp_first = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 2, sizeof(uint32_t));
+    t->open_first = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 2, sizeof(uint32_t));
+    if (!vk || !canon || !ed || !parent || !cid || !t->tris || !t->comp_first || !t->open_first) goto done;
+    for (i = 0; i < nv; ++i) {
+        for (k = 0; k < 3; ++k) vk[i].p[k] = s->positions[3 * (size_t)i + k];
+        vk[i].i = i;
+    }
+    qsort(vk, nv, sizeof(pvs__vx_vkey), pvs__vx_vkey_cmp);
+    for (i = 0; i < nv; ++i) canon[vk[i].i] = i > 0 && !pvs__vx_vkey_cmp_pos(vk + i - 1, vk + i) ? canon[vk[i - 1].i] : i;
+    for (i = 0; i < nt; ++i) {
+        parent[i] = i;
+        if (pvs__vx_flat_on_ground(s, i, g)) { parent[i] = 0xffffffffu; continue; }
+        for (k = 0; k < 3; ++k) {
+            uint32_t x = canon[s->indices[3 * (size_t)i + k]], y = canon[s->indices[3 * (size_t)i + (k + 1) % 3]];
+            if (x == y) continue;
+            ed[ne].key = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
+            ed[ne].tri = i;
+            ++ne;
+        }
+    }
+    qsort(ed, ne, sizeof(pvs__vx_edge), pvs__vx_edge_cmp);
+    for (e0 = 0; e0 < ne; e0 = e1) {
+        for (e1 = e0 + 1; e1 < ne && ed[e1].key == ed[e0].key; ++e1) {
+            uint32_t ra = pvs__vx_find(parent, ed[e0].tri), rb = pvs__vx_find(parent, ed[e1].tri);
+            if (ra != rb) parent[ra > rb ? ra : rb] = ra < rb ? ra : rb; /* the smaller root wins: deterministic */
+        }
+    }
+    /* components numbered by their first triangle */
+    t->comp_count = 0;
+    for (i = 0; i < nt; ++i) {
+        if (parent[i] == 0xffffffffu) { cid[i] = 0xffffffffu; continue; }
+        k = pvs__vx_find(parent, i);
+        cid[i] = k == i ? t->comp_count++ : cid[k];
+    }
+    memset(t->comp_first, 0, ((size_t)t->comp_count + 2) * sizeof(uint32_t));
+    for (i = 0; i < nt; ++i)
+        if (cid[i] != 0xffffffffu) ++t->comp_first[cid[i] + 1];
+    for (c = 0; c < t->comp_count; ++c) t->comp_first[c + 1] += t->comp_first[c];
+    t->tri_count = t->comp_first[t->comp_count];
+    {
+        uint32_t *fill = parent; /* reuse as cursors */
+        for (c = 0; c < t->comp_count; ++c) fill[c] = t->comp_first[c];
+        for (i = 0; i < nt; ++i)
+            if (cid[i] != 0xffffffffu) t->tris[fill[cid[i]]++] = i;
+    }
+    /* open edges: odd runs; corners from the vertex keys (canon id = index into the sorted keys) */
+    t->open_count = 0;
+    for (e0 = 0; e0 < ne; e0 = e1) {
+        const float *p0, *p1;
+        for (e1 = e0 + 1; e1 < ne && ed[e1].key == ed[e0].key; ++e1) {}
+        if (!((e1 - e0) & 1)) continue;
+        p0 = vk[(uint32_t)(ed[e0].key >> 32)].p;
+        p1 = vk[(uint32_t)ed[e0].key].p;
+        if (p0[up] == g && p1[up] == g) continue;
+        ed[t->open_count++] = ed[e0]; /* compacted in place (t->open_count <= e0) */
+    }
+    t->open_edges = (float *)pvs__alloc_array(a, (size_t)(t->open_count ? t->open_count : 1) * 6, sizeof(float));
+    if (!t->open_edges) goto done;
+    memset(t->open_first, 0, ((size_t)t->comp_count + 2) * sizeof(uint32_t));
+    for (i = 0; i < t->open_count; ++i) ++t->open_first[cid[ed[i].tri] + 1];
+    for (c = 0; c < t->comp_count; ++c) t->open_first[c + 1] += t->open_first[c];
+    {
+        uint32_t *fill = parent;
+        for (c = 0; c < t->comp_count; ++c) fill[c] = t->open_first[c];
+        for (i = 0; i < t->open_count; ++i) {
+            float *dst = t->open_edges + 6 * (size_t)fill[cid[ed[i].tri]]++;
+            memcpy(dst, vk[(uint32_t)(ed[i].key >> 32)].p, 3 * sizeof(float));
+            memcpy(dst + 3, vk[(uint32_t)ed[i].key].p, 3 * sizeof(float));
+        }
+    }
+    res = PVS_OK;
+done:
+    pvs__free_array(a, vk, nv ? nv : 1, sizeof(pvs__vx_vkey));
+    pvs__free_array(a, canon, nv ? nv : 1, sizeof(uint32_t));
+    pvs__free_array(a, ed, (size_t)(nt ? nt : 1) * 3, sizeof(pvs__vx_edge));
+    pvs__free_array(a, parent, nt ? nt : 1, sizeof(uint32_t));
+    pvs__free_array(a, cid, nt ? nt : 1, sizeof(uint32_t));
+    if (res != PVS_OK) pvs__vx_topo_free(a, t, nt);
+    return res;
+}
+
+/* Scratch of the component floods, sized for the largest component box. */
+typedef struct pvs__vx_flood {
+    uint8_t *bits;           /* box voxels: PVS__G_* */
+    uint8_t *col;            /* box columns: candidate line index, 0x80 = undecided in this pass, 0xff = failed */
+    uint32_t *queue;         /* 2 nodes per box voxel */
+    size_t cap_vox, cap_col;
+    const pvs_box *cells;    /* the view cells, and a bucket grid over them in the ground plane */
+    uint32_t cell_count;
+    uint32_t *bucket_first;  /* bnu * bnv + 1 */
+    uint32_t *bucket_cells;
+    uint32_t *stamp;         /* per cell: 1 + the last component that looked at it */
+    uint32_t bnu, bnv;
+    uint32_t stamp_next;     /* the next stamp value */
+    pvs__vx_grid bucket_grid;/* the buckets as voxels of a grid (u, v axes) */
+    uint8_t *cellbuf;        /* per cell 7 bytes, the four arrays below */
+    uint8_t *excluded;       /* per cell: 1 = left out of the floods (a leaking cell, see step 4) */
+    uint32_t excluded_count;
+    int keep_leaks;          /* PVS_OCCLUDERS_KEEP_LEAKS: never exclude */
+    uint32_t *near_cells;    /* per component: the cells meeting its box, */
+    signed char *near_w;     /* their w (-1: every node), */
+    uint8_t *near_flag;      /* 1 = sticks out of the box, 2 = the outside reaches its nodes */
+} pvs__vx_flood;
+#define PVS__VX_BUCKET 8u    /* voxel columns per bucket side */
+
+/* Positions of the test line inside a column, as fractions of the voxel (no structure on purpose). */
+static const double pvs__vx_line_u[8] = {0.4142, 0.7071, 0.2360, 0.8660, 0.5773, 0.1547, 0.6458, 0.3183};
+static const double pvs__vx_line_v[8] = {0.6180, 0.2679, 0.7937, 0.4472, 0.1213, 0.8944, 0.3660, 0.5403};
+
+PVS__STATIC void pvs__vx_push(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi, int x) {
+    uint8_t f = (uint8_t)(x ? PVS__G_R1 : PVS__G_R0);
+    if (bits[vi] & f) return;
+    bits[vi] |= f;
+    queue[(*qt)++] = (uint32_t)(2 * vi + (size_t)x);
+}
+/* Every node of voxel vi. */
+PVS__STATIC void pvs__vx_push_all(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi) {
+    uint8_t f = bits[vi];
+    if (f & PVS__G_B) pvs__vx_push(bits, queue, qt, vi, 0);
+    else if (f & PVS__G_T) { pvs__vx_push(bits, queue, qt, vi, 0); pvs__vx_push(bits, queue, qt, vi, 1); }
+    else pvs__vx_push(bits, queue, qt, vi, (f & PVS__G_W) != 0);
+}
+/* The node of voxel vi that the outside (w = 0) enters. */
+PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi) {
+    uint8_t f = bits[vi];
+    pvs__vx_push(bits, queue, qt, vi, (f & (PVS__G_B | PVS__G_T)) ? 0 : (f & PVS__G_W) != 0);
+}
+
+/* The parity w of the points of cell `cb` (which is clear of component K by the margin m, so they
+   all share it): the crossings with K of a vertical line through a point of the cell, above that
+   point (pvs__vx_cross; a crossing cannot lie within m of the point). -1 when eight lines fail. */
+PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
+    uint32_t up = s->up_axis, t, line;
+    int u, v;
+    pvs__ground_axes(up, &u, &v);
+    for (line = 0; line < 8; ++line) {
+        double pu = cb->min[u] + pvs__vx_line_u[line] * ((double)cb->max[u] - cb->min[u]);
+        double pv = cb->min[v] + pvs__vx_line_v[line] * ((double)cb->max[v] - cb->min[v]);
+        double z0 = 0.5 * ((double)cb->min[up] + cb->max[up]);
+        int w = 0, ok = 1;
+        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1] && ok; ++t) {
+            uint32_t tri = tp->tris[t];
+            double z, dz;
+            int r = pvs__vx_cross(s->positions + 3 * (size_t)s->indices[3 * (size_t)tri], s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 1],
+                                  s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2], u, v, (int)up, pu, pv, &z, &dz);
+            if (r < 0 || (r == 1 && pvs__dabs(z - z0) <= dz)) ok = 0;
+            else if (r == 1 && z > z0) w ^= 1;
+        }
+        if (ok) return w;
+    }
+    return -1;
+}
+
+/* A cell's sources in the flood of a component (box lo..hi of grid gr, strides of fl->bits): w = wc
+   for the cell's voxels, every node where wc < 0. test = 0 pushes them; test = 1 pushes nothing and
+   returns 1 when one of them is already reached. */
+PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const uint32_t lo[3], const uint32_t hi[3], const size_t stride[3],
+                             double m, int wc, uint8_t *bits, uint32_t *queue, size_t *qt, int test) {
+    uint32_t r0[3], r1[3], a, b, c;
+    int kk;
+    for (kk = 0; kk < 3; ++kk) {
+        pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
+        if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
+        if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
+    }
+    for (c = r0[2]; c <= r1[2]; ++c)
+        for (b = r0[1]; b <= r1[1]; ++b)
+            for (a = r0[0]; a <= r1[0]; ++a) {
+                size_t x = (a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2]);
+                uint8_t f = bits[x], need;
+                if (!test) {
+                    if (wc < 0) pvs__vx_push_all(bits, queue, qt, x);
+                    else if (f & PVS__G_B) pvs__vx_push(bits, queue, qt, x, 0);
+                    else if (f & PVS__G_T) pvs__vx_push(bits, queue, qt, x, wc);
+                    else pvs__vx_push(bits, queue, qt, x, (f & PVS__G_W) != 0);
+                    continue;
+                }
+                if (f & PVS__G_B) need = PVS__G_R0;
+                else if (f & PVS__G_T) need = wc < 0 ? (PVS__G_R0 | PVS__G_R1) : wc ? PVS__G_R1 : PVS__G_R0;
+                else need = (f & PVS__G_W) ? PVS__G_R1 : PVS__G_R0;
+                if (f & need) return 1;
+            }
+    return 0;
+}
+
+/* The flood over the nodes of a component's box (see the argument above) from the queue's nodes,
+   entering from the outside when ext is 1 (or when the flood reaches a face of the box with a node
+   that joins the outside). Returns 0 when the outside was never entered. */
+PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io, size_t *qt_io, const uint32_t d[3], const size_t stride[3],
+                                  const uint32_t lo[3], uint32_t up, int ext) {
+    size_t qh = *qh_io, qt = *qt_io;
+    uint32_t i, j, k;
+    for (;;) {
+        uint32_t node, idx[3], kk;
+        size_t a;
+        int x, dir;
+        uint8_t fa;
+        if (ext == 1) { /* enter through every face of the box but the ground */
+            for (k = 0; k < d[2]; ++k)
+                for (j = 0; j < d[1]; ++j)
+                    for (i = 0; i < d[0]; ++i) {
+                        int face = 0;
+                        idx[0] = i; idx[1] = j; idx[2] = k;
+                        for (kk = 0; kk < 3; ++kk)
+                            face |= idx[kk] + 1 == d[kk] || (idx[kk] == 0 && (kk != up || lo[up] > 1));
+                        if (face) pvs__vx_push_entry(bits, queue, &qt, i + stride[1] * j + stride[2] * k);
+                    }
+            ext = 2;
+        }
+        if (qh == qt) break;
+        node = queue[qh++];
+        a = node >> 1;
+        x = (int)(node & 1u);
+        fa = bits[a];
+        idx[0] = (uint32_t)(a % d[0]);
+        idx[1] = (uint32_t)((a / d[0]) % d[1]);
+        idx[2] = (uint32_t)(a / stride[2]);
+        for (dir = 0; dir < 6; ++dir) {
+            size_t b;
+            uint8_t fb;
+            kk = (uint32_t)dir >> 1;
+            if (dir & 1 ? idx[kk] + 1 == d[kk] : idx[kk] == 0) { /* a face of the box */
+                if (kk == up && !(dir & 1) && lo[up] == 1) continue; /* the ground */
+                if (!ext && ((fa & PVS__G_B) || !(fa & PVS__G_T) || x == 0)) ext = 1;
+                continue;
+            }
+            b = dir & 1 ? a + stride[kk] : a - stride[kk];
+            fb = bits[b];
+            if (fa & PVS__G_B) pvs__vx_push_all(bits, queue, &qt, b);
+            else if (fb & PVS__G_B) pvs__vx_push(bits, queue, &qt, b, 0);
+            else if (!(fa & PVS__G_T)) pvs__vx_push(bits, queue, &qt, b, (fb & PVS__G_T) ? x : (fb & PVS__G_W) != 0);
+            else if ((fb & PVS__G_T) || ((fb & PVS__G_W) != 0) == x) pvs__vx_push(bits, queue, &qt, b, x);
+        }
+    }
+    *qh_io = qh;
+    *qt_io = qt;
+    return ext;
+}
+
+/* The flood of one component K over grid `gr`: voxel box lo..hi (inclusive, lo[up] >= 1), its
+   triangles and open edges (see the argument above). Leaves in fl->bits, per box voxel, PVS__G_T/B/W
+   and the reached nodes; returns 0 when the outside of the box was never entered. With
+   mark_touched (gr is the occluders' own grid) it also sets PVS__VX_TOUCHED on the grid. */
+PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
+                                        const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl, int mark_touched) {
+    const pvs_scene *s = o->scene;
+    uint32_t up = s->up_axis, d[3], k, t, pass;
+    int u, v, ext, any;
+    size_t stride[3], nvox, vi, qh = 0, qt = 0, ncol;
+    double h = gr->h;
+    uint8_t *bits = fl->bits, *col = fl->col;
+    uint32_t *queue = fl->queue;
+    pvs__ground_axes(up, &u, &v);
+    for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
+    stride[0] = 1;
+    stride[1] = d[0];
+    stride[2] = (size_t)d[0] * d[1];
+    nvox = stride[2] * d[2];
+    ncol = (size_t)d[u] * d[v];
+    memset(bits, 0, nvox);
+    /* 1. touched by K (separating axes, margin toward touched) */
+    for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+        uint32_t tri = tp->tris[t], r0[3], r1[3], a, b, c;
+        double p[3][3], tlo[3], thi[3];
+        int kk;
+        for (kk = 0; kk < 3; ++kk) {
+            p[0][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri] + kk];
+            p[1][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 1] + kk];
+            p[2][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 2] + kk];
+            tlo[kk] = pvs__dmin(p[0][kk], pvs__dmin(p[1][kk], p[2][kk]));
+            thi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
+        }
+        for (kk = 0; kk < 3; ++kk) {
+            pvs__vx_grange(gr, kk, tlo[kk], thi[kk], m, r0 + kk, r1 + kk);
+            if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
+            if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
+        }
+        for (c = r0[2]; c <= r1[2]; ++c)
+            for (b = r0[1]; b <= r1[1]; ++b)
+                for (a = r0[0]; a <= r1[0]; ++a) {
+                    double cc[3];
+                    size_t x = (a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2]);
+                    if (bits[x] & PVS__G_T) continue;
+                    cc[0] = gr->origin[0] + (a + 0.5) * h;
+                    cc[1] = gr->origin[1] + (b + 0.5) * h;
+                    cc[2] = gr->origin[2] + (c + 0.5) * h;
+                    if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) {
+                        bits[x] |= PVS__G_T;
+                        if (mark_touched) o->state[pvs__vx_index(o, a, b, c)] |= PVS__VX_TOUCHED;
+                    }
+                }
+    }
+    /* 2. bad: the vertical sheet below each open edge, from the edge (plus margin) down to the
+       ground; per column whose square (grown by m) the projected edge meets, over the part of the
+       edge inside it (Liang-Barsky clip) */
+    for (t = tp->open_first[comp]; t < tp->open_first[comp + 1]; ++t) {
+        const float *e = tp->open_edges + 6 * (size_t)t;
+        double a0 = e[u], b0 = e[v], da = (double)e[3 + u] - e[u], db = (double)e[3 + v] - e[v];
+        uint32_t r0[3], r1[3], a, b, c;
+        pvs__vx_grange(gr, u, pvs__dmin(e[u], e[3 + u]), pvs__dmax(e[u], e[3 + u]), m, r0 + u, r1 + u);
+        pvs__vx_grange(gr, v, pvs__dmin(e[v], e[3 + v]), pvs__dmax(e[v], e[3 + v]), m, r0 + v, r1 + v);
+        if (r0[u] < lo[u]) r0[u] = lo[u];
+        if (r1[u] > hi[u]) r1[u] = hi[u];
+        if (r0[v] < lo[v]) r0[v] = lo[v];
+        if (r1[v] > hi[v]) r1[v] = hi[v];
+        for (b = r0[v]; b <= r1[v]; ++b)
+            for (a = r0[u]; a <= r1[u]; ++a) {
+                double t0 = 0.0, t1 = 1.0, q[4], pp[4], zt;
+                int side, ok = 1;
+                uint32_t top, idx[3];
+                pp[0] = -da; q[0] = a0 - (gr->origin[u] + a * h - m);
+                pp[1] = da;  q[1] = gr->origin[u] + (a + 1) * h + m - a0;
+                pp[2] = -db; q[2] = b0 - (gr->origin[v] + b * h - m);
+                pp[3] = db;  q[3] = gr->origin[v] + (b + 1) * h + m - b0;
+                for (side = 0; side < 4 && ok; ++side) {
+                    if (pp[side] == 0.0) { ok = q[side] >= 0.0; continue; }
+                    zt = q[side] / pp[side];
+                    if (pp[side] < 0.0) { if (zt > t0) t0 = zt; } else if (zt < t1) t1 = zt;
+                    ok = t0 <= t1;
+                }
+                if (!ok) continue;
+                zt = pvs__dmax((double)e[up] + t0 * ((double)e[3 + up] - e[up]), (double)e[up] + t1 * ((double)e[3 + up] - e[up]));
+                zt = pvs__dmin(zt + m + 1e-6 * pvs__dabs(zt), (double)pvs__dmax(e[up], e[3 + up]) + m);
+                top = (uint32_t)pvs__clampi(floor((zt - gr->origin[up]) / h), (int32_t)lo[up], (int32_t)hi[up]);
+                idx[u] = a; idx[v] = b;
+                for (c = lo[up]; c <= top; ++c) {
+                    idx[up] = c;
+                    bits[(idx[0] - lo[0]) + stride[1] * (idx[1] - lo[1]) + stride[2] * (idx[2] - lo[2])] |= PVS__G_B;
+                }
+            }
+    }
+    /* 3. parity of the pure voxels: per column, the crossings of one vertical line (pvs__vx_cross)
+       toggle PVS__G_F at their layer; up to 8 positions of the line per column */
+    memset(col, 0, ncol);
+    for (pass = 0, any = 1; any && pass < 8; ++pass) {
+        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+            uint32_t tri = tp->tris[t], a, b, a0, a1, b0, b1;
+            const float *pa = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri];
+            const float *pb = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 1];
+            const float *pc = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2];
+            pvs__vx_grange(gr, u, pvs__dmin(pa[u], pvs__dmin(pb[u], pc[u])), pvs__dmax(pa[u], pvs__dmax(pb[u], pc[u])), m, &a0, &a1);
+            pvs__vx_grange(gr, v, pvs__dmin(pa[v], pvs__dmin(pb[v], pc[v])), pvs__dmax(pa[v], pvs__dmax(pb[v], pc[v])), m, &b0, &b1);
+            if (a0 < lo[u]) a0 = lo[u];
+            if (a1 > hi[u]) a1 = hi[u];
+            if (b0 < lo[v]) b0 = lo[v];
+            if (b1 > hi[v]) b1 = hi[v];
+            for (b = b0; b <= b1; ++b)
+                for (a = a0; a <= a1; ++a) {
+                    size_t ci = (a - lo[u]) + (size_t)d[u] * (b - lo[v]);
+                    double z, dz;
+                    int r;
+                    if (col[ci] != pass) continue;
+                    r = pvs__vx_cross(pa, pb, pc, u, v, (int)up, gr->origin[u] + (a + pvs__vx_line_u[pass]) * h,
+                                      gr->origin[v] + (b + pvs__vx_line_v[pass]) * h, &z, &dz);
+                    if (r == 1 && dz >= 0.5 * m) r = -1;
+                    if (r < 0) col[ci] |= 0x80;
+                    if (r == 1) {
+                        uint32_t idx[3];
+                        idx[u] = a - lo[u]; idx[v] = b - lo[v];
+                        idx[up] = (uint32_t)pvs__clampi(floor((z - gr->origin[up]) / h) - (double)lo[up], 0, (int32_t)d[up] - 1);
+                        bits[idx[0] + stride[1] * idx[1] + stride[2] * idx[2]] ^= PVS__G_F;
+                    }
+                }
+        }
+        any = 0;
+        for (vi = 0; vi < ncol; ++vi) {
+            uint32_t idx[3];
+            if (!(col[vi] & 0x80)) continue;
+            idx[u] = (uint32_t)(vi % d[u]); idx[v] = (uint32_t)(vi / d[u]);
+            for (idx[up] = 0; idx[up] < d[up]; ++idx[up]) {
+                size_t x = idx[0] + stride[1] * idx[1] + stride[2] * idx[2];
+                bits[x] &= (uint8_t)~PVS__G_F;
+                if (pass + 1 == 8) bits[x] |= PVS__G_B;
+            }
+            if (pass + 1 == 8) { col[vi] = 0xff; ++o->info.undecided_columns; }
+            else { col[vi] = (uint8_t)(pass + 1); any = 1; }
+        }
+    }
+    for (vi = 0; vi < ncol; ++vi) { /* w of a pure voxel = parity of the crossings above it */
+        uint32_t idx[3], acc = 0;
+        idx[u] = (uint32_t)(vi % d[u]); idx[v] = (uint32_t)(vi / d[u]);
+        for (idx[up] = d[up]; idx[up]-- > 0;) {
+            size_t x = idx[0] + stride[1] * idx[1] + stride[2] * idx[2];
+            if (acc && !(bits[x] & (PVS__G_T | PVS__G_B))) bits[x] |= PVS__G_W;
+            acc ^= (bits[x] & PVS__G_F) != 0;
+        }
+    }
+    /* 4. the flood's sources: each cell meeting the box, and the outside of the box when a cell lies
+       (partly) outside it. A cell clear of K (by the margin) is convex and free, so all its points
+       share one w, read off a pure voxel it genuinely overlaps; its voxels get the node of that w. A
+       cell meeting K (partly inside a closed mesh, or touching it) gets every node of its voxels.
+       Leaking cells: when most cells lie inside the box (a closed level) but a few reach the outside
+       (a cell box poking through a wall into the void of a mesh with no faces there, as game levels
+       are), their nodes would join every wall's interior to the flood and no wall would be solid
+       for any cell. So when the cells outside the box are fewer than half of those in use, the
+       outside is flooded first; the cells lying partly outside or whose nodes it reached are then
+       excluded when they too are fewer than half, and the flood runs from the others only. An
+       excluded cell seeds no later flood and gets no occluder at all (pvs_shrink_cell sets every
+       object for it); every cell that keeps the occluders seeded every flood, so the argument above
+       holds for it unchanged. */
+    {
+        uint32_t bu, bv, nnear = 0, q, bu0, bu1, bv0, bv1, stamp, active = fl->cell_count - fl->excluded_count, nout, excl = 0;
+        fl->stamp_next += 2;
+        stamp = fl->stamp_next - 1; /* stamp: looked at for this component, stamp + 1: meets its box */
+        pvs__vx_grange(&fl->bucket_grid, u, gr->origin[u] + lo[u] * h, gr->origin[u] + (hi[u] + 1) * h, m, &bu0, &bu1);
+        pvs__vx_grange(&fl->bucket_grid, v, gr->origin[v] + lo[v] * h, gr->origin[v] + (hi[v] + 1) * h, m, &bv0, &bv1);
+        for (bv = bv0; bv <= bv1; ++bv)
+            for (bu = bu0; bu <= bu1; ++bu) {
+                size_t bk = (size_t)bv * fl->bnu + bu;
+                for (q = fl->bucket_first[bk]; q < fl->bucket_first[bk + 1]; ++q) {
+                    uint32_t cid = fl->bucket_cells[q], r0[3], r1[3], s0[3], s1[3], a, b, c;
+                    const pvs_box *cb = fl->cells + cid;
+                    int touches = 0, maybe = 0, wc = -1, kk, out_w0 = 0, stick = 0;
+                    if (fl->stamp[cid] >= stamp || fl->excluded[cid]) continue;
+                    fl->stamp[cid] = stamp;
+                    for (kk = 0; kk < 3; ++kk) {
+                        pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
+                        if (r0[kk] > r1[kk] || r1[kk] < lo[kk] || r0[kk] > hi[kk]) break;
+                    }
+                    if (kk < 3) continue;
+                    fl->stamp[cid] = stamp + 1;
+                    for (kk = 0; kk < 3; ++kk) {
+                        if (r0[kk] < lo[kk] || r1[kk] > hi[kk]) stick = 1; /* sticks out of the box */
+                        if (r1[kk] > hi[kk] || (r0[kk] < lo[kk] && ((uint32_t)kk != up || lo[up] > 1))) out_w0 = 1;
+                        if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
+                        if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
+                    }
+                    for (c = r0[2]; c <= r1[2] && !maybe; ++c)
+                        for (b = r0[1]; b <= r1[1] && !maybe; ++b)
+                            for (a = r0[0]; a <= r1[0] && !maybe; ++a)
+                                maybe = (bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])] & (PVS__G_T | PVS__G_B)) != 0;
+                    if (maybe) { /* does the cell, grown by m, meet a triangle of K? */
+                        double cc[3], hs[3];
+                        for (kk = 0; kk < 3; ++kk) {
+                            cc[kk] = 0.5 * ((double)cb->min[kk] + cb->max[kk]);
+                            hs[kk] = 0.5 * ((double)cb->max[kk] - cb->min[kk]) + m;
+                        }
+                        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1] && !touches; ++t) {
+                            uint32_t tri = tp->tris[t], e;
+                            double pt[3][3];
+                            int out = 0;
+                            for (e = 0; e < 3; ++e)
+                                for (kk = 0; kk < 3; ++kk) pt[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + e] + kk];
+                            for (kk = 0; kk < 3 && !out; ++kk)
+                                out = pvs__dmin(pt[0][kk], pvs__dmin(pt[1][kk], pt[2][kk])) > cc[kk] + hs[kk] ||
+                                      pvs__dmax(pt[0][kk], pvs__dmax(pt[1][kk], pt[2][kk])) < cc[kk] - hs[kk];
+                            if (!out) touches = pvs__tri_aabb(cc, hs, pt[0], pt[1], pt[2]);
+                        }
+                    }
+                    /* w of a cell clear of K: 0 when (grown by m) it reaches out of the box above the ground
+                       (w = 0 there), else that of a pure voxel it overlaps by more than m, else a ray of its own */
+                    if (!touches && out_w0) wc = 0;
+                    if (!touches && !out_w0) {
+                        for (kk = 0; kk < 3; ++kk) {
+                            pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], -m, s0 + kk, s1 + kk);
+                            if (s0[kk] < lo[kk]) s0[kk] = lo[kk];
+                            if (s1[kk] > hi[kk]) s1[kk] = hi[kk];
+                        }
+                        for (c = s0[2]; c <= s1[2] && wc < 0; ++c)
+                            for (b = s0[1]; b <= s1[1] && wc < 0; ++b)
+                                for (a = s0[0]; a <= s1[0] && wc < 0; ++a) {
+                                    uint8_t f = bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])];
+                                    if (!(f & (PVS__G_T | PVS__G_B))) wc = (f & PVS__G_W) != 0;
+                                }
+                        if (wc < 0) wc = pvs__vx_point_parity(s, tp, comp, cb);
+                    }
+                    fl->near_cells[nnear] = cid;
+                    fl->near_w[nnear] = (signed char)wc;
+                    fl->near_flag[nnear] = (uint8_t)stick;
+                    ++nnear;
+                }
+            }
+        if (!fl->keep_leaks && nnear && 2 * (active - nnear) < active) { /* mostly inside: which cells does the outside reach? */
+            qh = qt = 0;
+            pvs__vx_flood_run(bits, queue, &qh, &qt, d, stride, lo, up, 1);
+            nout = active - nnear;
+            for (q = 0; q < nnear; ++q) {
+                if (!fl->near_flag[q] && pvs__vx_seed(gr, fl->cells + fl->near_cells[q], lo, hi, stride, m, fl->near_w[q], bits, queue, &qt, 1))
+                    fl->near_flag[q] = 2;
+                nout += fl->near_flag[q] != 0;
+            }
+            if (nout && 2 * nout < active) {
+                excl = 1;
+                for (q = 0; q < nnear; ++q)
+                    if (fl->near_flag[q]) { fl->excluded[fl->near_cells[q]] = 1; ++fl->excluded_count; }
+                for (q = 0; q < fl->cell_count; ++q)
+                    if (!fl->excluded[q] && fl->stamp[q] != stamp + 1) { fl->excluded[q] = 1; ++fl->excluded_count; }
+            }
+            for (vi = 0; vi < nvox; ++vi) bits[vi] &= (uint8_t)~(PVS__G_R0 | PVS__G_R1);
+        }
+        qh = qt = 0;
+        ext = 0;
+        for (q = 0; q < nnear; ++q) {
+            if (excl && fl->near_flag[q]) continue;
+            if (fl->near_flag[q] & 1) ext = 1;
+            pvs__vx_seed(gr, fl->cells + fl->near_cells[q], lo, hi, stride, m, fl->near_w[q], bits, queue, &qt, 0);
+        }
+        if (!excl && nnear < active) ext = 1;
+    }
+    return pvs__vx_flood_run(bits, queue, &qh, &qt, d, stride, lo, up, ext);
+}
+
+/* The coarse grid's certification of component K: pure voxels no node of which the flood reached
+   are solid; the whole outside of the box too when the flood never entered it. */
+PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
+                                 const uint32_t hi[3], double m, pvs__vx_flood *fl) {
+    uint32_t d[3], i, j, k;
+    size_t stride[3];
+    const uint8_t *bits = fl->bits;
+    int ext = pvs__vx_flood_component(o, &o->grid, tp, comp, lo, hi, m, fl, 1);
+    for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
+    stride[1] = d[0];
+    stride[2] = (size_t)d[0] * d[1];
+    for (k = 0; k < d[2]; ++k)
+        for (j = 0; j < d[1]; ++j)
+            for (i = 0; i < d[0]; ++i) {
+                uint8_t f = bits[i + stride[1] * j + stride[2] * k];
+                if (f & (PVS__G_T | PVS__G_B)) continue;
+                if (f & ((f & PVS__G_W) ? PVS__G_R1 : PVS__G_R0)) continue;
+                o->state[pvs__vx_index(o, lo[0] + i, lo[1] + j, lo[2] + k)] |= PVS__VX_SOLID;
+            }
+    if (!ext)
+        for (k = 0; k < o->n[2]; ++k)
+            for (j = 0; j < o->n[1]; ++j)
+                for (i = 0; i < o->n[0]; ++i) {
+                    size_t x = pvs__vx_index(o, i, j, k);
+                    if (i >= lo[0] && i <= hi[0] && j >= lo[1] && j <= hi[1] && k >= lo[2] && k <= hi[2]) continue;
+                    if (!(o->state[x] & PVS__VX_GROUND)) o->state[x] |= PVS__VX_SOLID;
+                }
+}
+
+/* ---- 2.5D occluders: proved-solid columns at a finer resolution, eroded by distance ----
+
+   Each component is flooded again on its own grid of voxel size eps (larger only where its box would
+   exceed PVS__VX_BOX_BUDGET voxels). Over a column map of squares of side c (half that, the map
+   capped at PVS__VX_MAP_BUDGET squares), a square's solid height is the least top of the runs of
+   proved-solid voxels standing on the ground over the voxel columns it overlaps; points of the
+   square below it cannot be seen from any cell. Its occluder height (Wonka 2000 §2, appendix: the
+   occluder shrunk by eps) is the solid height cut down to eps below every triangle of the component
+   that comes within eps of the square (the least height of the triangle clipped to the square grown
+   by eps): then the eps-ball of every point of the prism square x [ground, height] is free of the
+   component's triangles and joined to a proved-solid point, so it lies where no viewer reaches, and a
+   sight line through the ball meets a triangle first (as the theorem needs). Rounding: the squares
+   are grown by a margin above the coordinates' float precision. */
+
+#define PVS__VX_BOX_BUDGET (1u << 23)
+#define PVS__VX_MAP_BUDGET (1u << 22)
+
+PVS__STATIC int pvs__vx_float_cmp(const void *x, const void *y) {
+    float a = *(const float *)x, b = *(const float *)y;
+    return a < b ? -1 : a > b;
+}
+
+/* Least height (along `up`) of triangle p (3 points) clipped to the vertical prism over the ground
+   octagon {x0 <= u <= x1, y0 <= v <= y1, s0 <= u + v <= s1, d0 <= u - v <= d1}; DBL_MAX when they do
+   not meet. */
+PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, int up, const double lim[8]) {
+    static const double nu[8] = {-1, 1, 0, 0, -1, 1, -1, 1}, nv[8] = {0, 0, -1, 1, -1, 1, 1, -1};
+    double a[16][3], b[16][3], best = DBL_MAX;
+    int n = 3, side, i, k;
+    for (i = 0; i < 3; ++i)
+        for (k = 0; k < 3; ++k) a[i][k] = p[i][k];
+    for (side = 0; side < 8 && n > 0; ++side) { /* keep nu u + nv v <= lim */
+        int m = 0;
+        for (i = 0; i < n; ++i) {
+            const double *c = a[i], *d = a[(i + 1) % n];
+            double fc = lim[side] - (nu[side] * c[u] + nv[side] * c[v]), fd = lim[side] - (nu[side] * d[u] + nv[side] * d[v]);
+            if (fc >= 0.0) { for (k = 0; k < 3; ++k) b[m][k] = c[k]; ++m; }
+            if ((fc >= 0.0) != (fd >= 0.0)) {
+                double t = fc / (fc - fd);
+                for (k = 0; k < 3; ++k) b[m][k] = c[k] + t * (d[k] - c[k]);
+                ++m;
+            }
+        }
+        n = m;
+        for (i = 0; i < n; ++i)
+            for (k = 0; k < 3; ++k) a[i][k] = b[i][k];
+    }
+    for (i = 0; i < n; ++i) best = pvs__dmin(best, a[i][up]);
+    return best;
+}
+
+/* The column map's pass over one component: flood on its own grid, runs standing on the ground, the
+   squares' solid and occluder heights. Returns OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const pvs__vx_grid *gk,
+                                                 const uint32_t lo[3], const uint32_t hi[3], double m, double eps, double margin,
+                                                 pvs__vx_flood *fl) {
+    const pvs_scene *s = o->scene;
+    pvs__vx_cols *cm = &o->cols;
+    uint32_t up = s->up_axis, d[3], a, b, su0, su1, sv0, sv1, t, k;
+    int u, v, ext;
+    size_t stride[3], nsub, ncol;
+    double hk = gk->h, g = o->ground, e = eps + margin;
+    float *runh = NULL, *tmin = NULL;
+    pvs__ground_axes(up, &u, &v);
+    ext = pvs__vx_flood_component(o, gk, tp, comp, lo, hi, m, fl, 0);
+    for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
+    stride[0] = 1;
+    stride[1] = d[0];
+    stride[2] = (size_t)d[0] * d[1];
+    ncol = (size_t)d[u] * d[v];
+    /* the squares over the box's ground rectangle */
+    pvs__vx_grange(&cm->grid, u, gk->origin[u] + lo[u] * hk, gk->origin[u] + (hi[u] + 1) * hk, 0.0, &su0, &su1);
+    pvs__vx_grange(&cm->grid, v, gk->origin[v] + lo[v] * hk, gk->origin[v] + (hi[v] + 1) * hk, 0.0, &sv0, &sv1);
+    if (su0 > su1 || sv0 > sv1) return PVS_OK;
+    nsub = (size_t)(su1 - su0 + 1) * (sv1 - sv0 + 1);
+    runh = (float *)pvs__alloc_array(&o->allocator, ncol, sizeof(float));
+    tmin = (float *)pvs__alloc_array(&o->allocator, nsub, sizeof(float));
+    if (!runh || !tmin) {
+        pvs__free_array(&o->allocator, runh, ncol, sizeof(float));
+        pvs__free_array(&o->allocator, tmin, nsub, sizeof(float));
+        return PVS_ERROR_OUT_OF_MEMORY;
+    }
+    /* runs of proved-solid voxels from the ground (the box starts at layer 1 = the ground) */
+    for (b = 0; b < d[v]; ++b)
+        for (a = 0; a < d[u]; ++a) {
+            uint32_t idx[3], run = 0;
+            idx[u] = a; idx[v] = b;
+            if (lo[up] == 1)
+                for (idx[up] = 0; idx[up] < d[up]; ++idx[up], ++run) {
+                    uint8_t f = fl->bits[idx[0] + stride[1] * idx[1] + stride[2] * idx[2]];
+                    if ((f & (PVS__G_T | PVS__G_B)) || (f & ((f & PVS__G_W) ? PVS__G_R1 : PVS__G_R0))) break;
+                }
+            runh[(size_t)b * d[u] + a] = run ? (float)(gk->origin[up] + (lo[up] + run) * hk) : -FLT_MAX;
+        }
+    /* the least height of the component's triangles near each square */
+    for (a = 0; a < nsub; ++a) tmin[a] = FLT_MAX;
+    for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+        uint32_t tri = tp->tris[t], i0, i1, j0, j1, i, j;
+        double p[3][3], tlo[2], thi[2];
+        int q;
+        for (q = 0; q < 3; ++q)
+            for (k = 0; k < 3; ++k) p[q][k] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (uint32_t)q] + k];
+        tlo[0] = pvs__dmin(p[0][u], pvs__dmin(p[1][u], p[2][u])); thi[0] = pvs__dmax(p[0][u], pvs__dmax(p[1][u], p[2][u]));
+        tlo[1] = pvs__dmin(p[0][v], pvs__dmin(p[1][v], p[2][v])); thi[1] = pvs__dmax(p[0][v], pvs__dmax(p[1][v], p[2][v]));
+        pvs__vx_grange(&cm->grid, u, tlo[0], thi[0], e, &i0, &i1);
+        pvs__vx_grange(&cm->grid, v, tlo[1], thi[1], e, &j0, &j1);
+        if (i0 < su0) i0 = su0;
+        if (i1 > su1) i1 = su1;
+        if (j0 < sv0) j0 = sv0;
+        if (j1 > sv1) j1 = sv1;
+        for (j = j0; j <= j1; ++j)
+            for (i = i0; i <= i1; ++i) {
+                size_t x = (size_t)(j - sv0) * (su1 - su0 + 1) + (i - su0);
+                double x0 = cm->grid.origin[u] + i * cm->grid.h, y0 = cm->grid.origin[v] + j * cm->grid.h, z;
+                double lim[8], x1 = x0 + cm->grid.h, y1 = y0 + cm->grid.h, ed = e * 1.4142135623730951 * (1.0 + 1e-12);
+                /* the square grown by the octagon around the disc of radius e: holds every point within e */
+                lim[0] = -(x0 - e); lim[1] = x1 + e; lim[2] = -(y0 - e); lim[3] = y1 + e;
+                lim[4] = -(x0 + y0 - ed); lim[5] = x1 + y1 + ed; lim[6] = -(x0 - y1 - ed); lim[7] = x1 - y0 + ed;
+                z = pvs__vx_clip_min_height((const double(*)[3])p, u, v, (int)up, lim);
+                if (z < DBL_MAX && pvs__f_down(z - margin) < tmin[x]) tmin[x] = pvs__f_down(z - margin);
+            }
+    }
+    for (b = sv0; b <= sv1; ++b)
+        for (a = su0; a <= su1; ++a) {
+            size_t x = (size_t)b * cm->nu + a, xs = (size_t)(b - sv0) * (su1 - su0 + 1) + (a - su0);
+            double x0 = cm->grid.origin[u] + a * cm->grid.h, y0 = cm->grid.origin[v] + b * cm->grid.h, hsub = DBL_MAX, top;
+            uint32_t c0, c1, r0, r1, cc, rr;
+            /* the voxel columns the square overlaps (genuinely: a hair inside it) */
+            pvs__vx_grange(gk, u, x0, x0 + cm->grid.h, -1e-9 * cm->grid.h, &c0, &c1);
+            pvs__vx_grange(gk, v, y0, y0 + cm->grid.h, -1e-9 * cm->grid.h, &r0, &r1);
+            if (c0 > c1 || r0 > r1) continue;
+            for (rr = r0; rr <= r1 && hsub > -FLT_MAX; ++rr)
+                for (cc = c0; cc <= c1 && hsub > -FLT_MAX; ++cc) {
+                    if (cc < lo[u] || cc > hi[u] || rr < lo[v] || rr > hi[v]) { hsub = -FLT_MAX; break; }
+                    hsub = pvs__dmin(hsub, runh[(size_t)(rr - lo[v]) * d[u] + (cc - lo[u])]);
+                }
+            if (!(hsub > g)) continue;
+            if ((float)hsub > cm->solid[x]) cm->solid[x] = pvs__f_down(hsub);
+            top = pvs__dmin(hsub, (double)tmin[xs] - eps);
+            if (top > g && pvs__f_down(top) > cm->top[x]) cm->top[x] = pvs__f_down(top);
+        }
+    if (!ext) { /* every viewer is inside the box: all outside it is solid (to the grid's top); squares
+                   more than eps (and the margin) away from the box are occluders up there */
+        float sky = pvs__f_down(o->origin[up] + o->n[up] * o->h);
+        uint32_t e0, e1, f0, f1;
+        pvs__vx_grange(&cm->grid, u, gk->origin[u] + lo[u] * hk, gk->origin[u] + (hi[u] + 1) * hk, e, &e0, &e1);
+        pvs__vx_grange(&cm->grid, v, gk->origin[v] + lo[v] * hk, gk->origin[v] + (hi[v] + 1) * hk, e, &f0, &f1);
+        for (b = 0; b < cm->nv; ++b)
+            for (a = 0; a < cm->nu; ++a) {
+                size_t x = (size_t)b * cm->nu + a;
+                if (a >= su0 && a <= su1 && b >= sv0 && b <= sv1) continue;
+                cm->solid[x] = sky;
+                if (!(a >= e0 && a <= e1 && b >= f0 && b <= f1)) cm->top[x] = sky;
+            }
+    }
+    pvs__free_array(&o->allocator, runh, ncol, sizeof(float));
+    pvs__free_array(&o->allocator, tmin, nsub, sizeof(float));
+    return PVS_OK;
+}
+
+/* A growing array of chains and their points (through the occluders' allocator). */
+typedef struct pvs__vx_chainbuf {
+    pvs_facade_chain *chains;
+    size_t *first;           /* per chain: its first point in `points` (pointers are set at the end) */
+    float *points;           /* 2 floats per point */
+    size_t count, cap, cap_first, npts, cap_pts;
+} pvs__vx_chainbuf;
+
+PVS__STATIC int pvs__vx_grow(const pvs_allocator *a, void **p, size_t *cap, size_t need, size_t elem) {
+    size_t n = *cap ? *cap : 64;
+    void *q;
+    if (need <= *cap) return 1;
+    while (n < need) n *= 2;
+    q = pvs__alloc_array(a, n, elem);
+    if (!q) return 0;
+    if (*p) {
+        memcpy(q, *p, *cap * elem);
+        pvs__free_array(a, *p, *cap, elem);
+    }
+    *p = q;
+    *cap = n;
+    return 1;
+}
+
+/* Orientation of (b - a) x (c - a) on integer grid points (exact). */
+PVS__STATIC int64_t pvs__vx_orient_i(const int32_t *a, const int32_t *b, const int32_t *c) {
+    return (int64_t)(b[0] - a[0]) * (c[1] - a[1]) - (int64_t)(b[1] - a[1]) * (c[0] - a[0]);
+}
+/* 1 if closed segments p-q and r-t meet (exact, integer points). */
+PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int32_t *r, const int32_t *t) {
+    int64_t d1 = pvs__vx_orient_i(p, q, r), d2 = pvs__vx_orient_i(p, q, t), d3 = pvs__vx_orient_i(r, t, p), d4 = pvs__vx_orient_i(r, t, q);
+    if (((d1 > 0 && d2 > 0) || (d1 < 0 && d2 < 0)) || ((d3 > 0 && d4 > 0) || (d3 < 0 && d4 < 0))) return 0;
+    if (d1 == 0 && d2 == 0) /* collinear: do the projections overlap? */
+        return (p[0] < q[0] ? p[0] : q[0]) <= (r[0] > t[0] ? r[0] : t[0]) && (r[0] < t[0] ? r[0] : t[0]) <= (p[0] > q[0] ? p[0] : q[0]) &&
+               (p[1] < q[1] ? p[1] : q[1]) <= (r[1] > t[1] ? r[1] : t[1]) && (r[1] < t[1] ? r[1] : t[1]) <= (p[1] > q[1] ? p[1] : q[1]);
+    return 1;
+}
+
+/* Simplifies a boundary loop (n integer grid points, the region on the left of each edge) from the
+   inside: from each kept point, the farthest later point whose chord leaves every skipped point on
+   its right or on it, at most one square away (the skipped corners lie outside the chord: the region
+   between them and the chord is given up, never added) and meets no edge of the loop but the two it
+   joins. Staircases of
+   a slanted wall become a few long edges a square at most inside them (long facades rasterize their
+   shadows near the wall; a staircase of short ones covers no whole cull-map cell there). Returns the
+   number of points kept (in place). */
+PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
+    uint32_t i = 0, kept = 0, j, k, start;
+    int32_t *out;
+    if (n < 5) return n;
+    /* start at a point that must stay: the lowest-leftmost is a convex corner */
+    start = 0;
+    for (k = 1; k < n; ++k)
+        if (pt[2 * k + 1] < pt[2 * start + 1] || (pt[2 * k + 1] == pt[2 * start + 1] && pt[2 * k] < pt[2 * start])) start = k;
+    out = pt + 2 * n; /* scratch: n more points after the loop */
+    while (i < n) {
+        uint32_t best = i + 1;
+        const int32_t *a = pt + 2 * ((start + i) % n);
+        for (j = i + 2; j <= (i ? n : n - 1); ++j) {
+            const int32_t *b = pt + 2 * ((start + j) % n);
+            int ok = 1;
+            double len2 = (double)(b[0] - a[0]) * (b[0] - a[0]) + (double)(b[1] - a[1]) * (b[1] - a[1]);
+            for (k = i + 1; k < j && ok; ++k) { /* right of the chord or on it, and at most a square off it */
+                int64_t o = pvs__vx_orient_i(a, b, pt + 2 * ((start + k) % n));
+                ok = o <= 0 && (double)o * (double)o <= len2;
+            }
+            if (!ok) break;
+            for (k = 0; k < n && ok; ++k) { /* no other edge of the loop touches the chord */
+                uint32_t e0 = (start + k) % n, e1 = (start + k + 1) % n;
+                if (k >= i && k < j) continue;                  /* edges the chord replaces */
+                if (k + 1 == i || (k == j % n && j < n) || (j == n && k == 0) || (i == 0 && k + 1 == n)) {
+                    /* edges sharing an endpoint with the chord: they may only touch it there */
+                    const int32_t *c0 = pt + 2 * e0, *c1 = pt + 2 * e1;
+                    int64_t o0 = pvs__vx_orient_i(a, b, c0), o1 = pvs__vx_orient_i(a, b, c1);
+                    if (o0 == 0 && o1 == 0) ok = 0; /* collinear overlap */
+                    continue;
+                }
+                if (pvs__vx_seg_meet_i(a, b, pt + 2 * e0, pt + 2 * e1)) ok = 0;
+            }
+            if (ok) best = j;
+        }
+        out[2 * kept] = a[0];
+        out[2 * kept + 1] = a[1];
+        ++kept;
+        i = best;
+    }
+    memcpy(pt, out, (size_t)kept * 2 * sizeof(int32_t));
+    return kept;
+}
+
+/* The boundary loops of the squares marked in `mask` (w x h, row-major, with a frame of empty squares
+   around the set): edges walked with the set on their left, joined at grid vertices (where two
+   diagonal squares of the set meet, the loop turns left and stays with the square it follows:
+   4-connected regions). Each loop is simplified (pvs__vx_simplify) and becomes a chain of heights
+   [base, top] at grid point (i, j) -> (ox + i c, oy + j c): counter-clockwise loops (outer
+   boundaries) closed chains, clockwise loops (holes) open chains that come back to their first point
+   (two-sided: the inside of a hole is not solid). `used`: 4 (w + 1) (h + 1) bytes of scratch; `ip`,
+   `ipcap`: a growable integer point buffer. Returns 0 when out of memory. */
+PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w, uint32_t h, double ox,
+                              double oy, double c, float base, float top, uint8_t *used, int32_t **ip, size_t *ipcap) {
+    /* direction d: 0 +i, 1 +j, 2 -i, 3 -j; the squares left and right of an edge leaving vertex (x, y) */
+    static const int di[4] = {1, 0, -1, 0}, dj[4] = {0, 1, 0, -1};
+    static const int lqi[4] = {0, -1, -1, 0}, lqj[4] = {0, 0, -1, -1}, rqi[4] = {0, 0, -1, -1}, rqj[4] = {-1, 0, 0, -1};
+    /* square (i, j)'s side toward neighbour n (below, right, above, left) leaves vertex (i, j) + v0[n] in direction n */
+    static const int ni[4] = {0, 1, 0, -1}, nj[4] = {-1, 0, 1, 0}, v0i[4] = {0, 1, 1, 0}, v0j[4] = {0, 0, 1, 1};
+    uint32_t i, j;
+    memset(used, 0, (size_t)(w + 1) * (h + 1) * 4);
+#define PVS__IN(x, y) ((x) >= 0 && (y) >= 0 && (uint32_t)(x) < w && (uint32_t)(y) < h && mask[(size_t)(y) * w + (uint32_t)(x)])
+    for (j = 0; j < h; ++j)
+        for (i = 0; i < w; ++i) {
+            int side;
+            if (!mask[(size_t)j * w + i]) continue;
+            for (side = 0; side < 4; ++side) {
+                uint32_t vx, vy, start, e, n = 0, kept = 0, q;
+                size_t first;
+                int d = side;
+                float *pt;
+                int64_t area2 = 0;
+                if (PVS__IN((int)i + ni[side], (int)j + nj[side])) continue;
+                vx = i + (uint32_t)v0i[side];
+                vy = j + (uint32_t)v0j[side];
+                start = 4 * (vy * (w + 1) + vx) + (uint32_t)side;
+                if (used[start]) continue;
+                e = start;
+                for (;;) {
+                    int turn, nd = -1;
+                    used[e] = 1;
+                    if (!pvs__vx_grow(al, (void **)ip, ipcap, 2 * (size_t)n + 2, 2 * sizeof(int32_t))) return 0;
+                    (*ip)[2 * n] = (int32_t)vx;
+                    (*ip)[2 * n + 1] = (int32_t)vy;
+                    ++n;
+                    vx = (uint32_t)((int)vx + di[d]);
+                    vy = (uint32_t)((int)vy + dj[d]);
+                    for (turn = 0; turn < 3 && nd < 0; ++turn) { /* left, straight, right */
+                        int cand = turn == 0 ? (d + 1) & 3 : turn == 1 ? d : (d + 3) & 3;
+                        if (PVS__IN((int)vx + lqi[cand], (int)vy + lqj[cand]) && !PVS__IN((int)vx + rqi[cand], (int)vy + rqj[cand])) nd = cand;
+                    }
+                    if (nd < 0) return 0; /* not a boundary: cannot happen */
+                    d = nd;
+                    e = 4 * (vy * (w + 1) + vx) + (uint32_t)d;
+                    if (e == start) break;
+                }
+                /* corners only, then the simplification (scratch: the buffer holds 2n points) */
+                for (q = 0; q < n; ++q) {
+                    const int32_t *pp = *ip + 2 * ((q + n - 1) % n), *pc = *ip + 2 * q, *pn = *ip + 2 * ((q + 1) % n);
+                    if ((pp[0] == pc[0] && pc[0] == pn[0]) || (pp[1] == pc[1] && pc[1] == pn[1])) continue;
+                    (*ip)[2 * kept] = pc[0];
+                    (*ip)[2 * kept + 1] = pc[1];
+                    ++kept;
+                }
+                if (kept < 4) continue;
+                kept = pvs__vx_simplify(*ip, kept);
+                for (q = 0; q < kept; ++q) {
+                    const int32_t *pa = *ip + 2 * q, *pb = *ip + 2 * ((q + 1) % kept);
+                    area2 += (int64_t)pa[0] * pb[1] - (int64_t)pb[0] * pa[1];
+                }
+                if (kept < 3 || area2 == 0) continue;
+                first = cb->npts;
+                if (!pvs__vx_grow(al, (void **)&cb->points, &cb->cap_pts, cb->npts + kept + 1, 2 * sizeof(float))) return 0;
+                pt = cb->points + 2 * first;
+                for (q = 0; q <= kept; ++q) {
+                    if (q == kept && area2 > 0) break; /* only a hole repeats its first point */
+                    pt[2 * q] = (float)(ox + (*ip)[2 * (q % kept)] * c);
+                    pt[2 * q + 1] = (float)(oy + (*ip)[2 * (q % kept) + 1] * c);
+                }
+                cb->npts += area2 > 0 ? kept : kept + 1;
+                if (!pvs__vx_grow(al, (void **)&cb->chains, &cb->cap, cb->count + 1, sizeof(pvs_facade_chain)) ||
+                    !pvs__vx_grow(al, (void **)&cb->first, &cb->cap_first, cb->count + 1, sizeof(size_t)))
+                    return 0;
+                cb->first[cb->count] = first;
+                cb->chains[cb->count].points = NULL;
+                cb->chains[cb->count].point_count = (uint32_t)(cb->npts - first);
+                cb->chains[cb->count].closed = area2 > 0;
+                cb->chains[cb->count].base = base;
+                cb->chains[cb->count].top = top;
+                ++cb->count;
+            }
+        }
+#undef PVS__IN
+    return 1;
+}
+
+/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground: per 4-connected region of squares at or above a level that some
+   square of the region has, the region's boundary at that level (a level-set tree: a block of
+   buildings of several heights is one chain at its lowest height plus one per taller part, so no
+   crack opens where two heights meet). Quantum: a quarter of the square size. */
+PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
+    pvs__vx_cols *cm = &o->cols;
+    const pvs_allocator *al = &o->allocator;
+    size_t n = (size_t)cm->nu * cm->nv, x, qh, qt, cap = 0;
+    uint32_t *label = NULL, *queue = NULL, *members = NULL, nlab = 0, u2 = 0;
+    float *lev = NULL;
+    uint8_t *mask = NULL, *used = NULL, *inl = NULL;
+    uint32_t *sub = NULL;
+    size_t mcap = 0, ucap = 0, lcap = 0, scap = 0, ipcap = 0;
+    int32_t *ipts = NULL;
+    double g = o->ground, qz = 0.25 * cm->grid.h;
+    int u, v;
+    pvs__vx_chainbuf cb;
+    pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
+    memset(&cb, 0, sizeof(cb));
+    pvs__ground_axes(o->scene->up_axis, &u, &v);
+    (void)u2;
+    label = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    queue = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    members = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    if (!label || !queue || !members) goto done;
+    for (x = 0; x < n; ++x) { /* quantize */
+        float t = cm->top[x];
+        if (t > (float)g) cm->top[x] = pvs__f_down(g + floor(((double)t - g) / qz) * qz);
+        if (!(cm->top[x] > (float)g)) cm->top[x] = -FLT_MAX;
+        label[x] = 0xffffffffu;
+    }
+    for (x = 0; x < n; ++x) {
+        uint32_t i0, i1, j0, j1, bw, bh, nm = 0, k, nl = 0, li;
+        if (label[x] != 0xffffffffu || cm->top[x] == -FLT_MAX) continue;
+        /* the region: 4-connected squares with an occluder height */
+        qh = qt = 0;
+        queue[qt++] = (uint32_t)x;
+        label[x] = nlab;
+        i0 = i1 = (uint32_t)(x % cm->nu);
+        j0 = j1 = (uint32_t)(x / cm->nu);
+        while (qh < qt) {
+            uint32_t y = queue[qh++], yi = y % cm->nu, yj = y / cm->nu, dd;
+            members[nm++] = y;
+            if (yi < i0) i0 = yi;
+            if (yi > i1) i1 = yi;
+            if (yj < j0) j0 = yj;
+            if (yj > j1) j1 = yj;
+            for (dd = 0; dd < 4; ++dd) {
+                int zi = (int)yi + (dd == 0) - (dd == 1), zj = (int)yj + (dd == 2) - (dd == 3);
+                size_t z;
+                if (zi < 0 || zj < 0 || (uint32_t)zi >= cm->nu || (uint32_t)zj >= cm->nv) continue;
+                z = (size_t)zj * cm->nu + (uint32_t)zi;
+                if (label[z] != 0xffffffffu || cm->top[z] == -FLT_MAX) continue;
+                label[z] = nlab;
+                queue[qt++] = (uint32_t)z;
+            }
+        }
+        ++nlab;
+        /* its levels, ascending (distinct) */
+        if (!pvs__vx_grow(al, (void **)&lev, &lcap, nm, sizeof(float))) goto done;
+        for (k = 0; k < nm; ++k) lev[k] = cm->top[members[k]];
+        qsort(lev, nm, sizeof(float), pvs__vx_float_cmp);
+        for (k = 0; k < nm; ++k)
+            if (k == 0 || lev[k] != lev[nl - 1]) lev[nl++] = lev[k];
+        /* local frame of one square around the region's rectangle */
+        bw = i1 - i0 + 3;
+        bh = j1 - j0 + 3;
+        if (!pvs__vx_grow(al, (void **)&mask, &mcap, (size_t)bw * bh, 1) || !pvs__vx_grow(al, (void **)&inl, &scap, (size_t)bw * bh, 1) ||
+            !pvs__vx_grow(al, (void **)&sub, &ucap, (size_t)bw * bh, sizeof(uint32_t)) ||
+            !pvs__vx_grow(al, (void **)&used, &cap, (size_t)(bw + 1) * (bh + 1) * 4, 1))
+            goto done;
+        for (li = 0; li < nl; ++li) {
+            float L = lev[li];
+            uint32_t nsub = 0;
+            memset(inl, 0, (size_t)bw * bh);
+            for (k = 0; k < nm; ++k) {
+                uint32_t y = members[k];
+                if (cm->top[y] >= L) inl[(size_t)(y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1)] = 1;
+            }
+            for (k = 0; k < (size_t)bw * bh; ++k) sub[k] = 0xffffffffu;
+            for (k = 0; k < nm; ++k) { /* sub-regions at this level */
+                uint32_t y = members[k], s0 = (y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1), exact = 0, q2;
+                if (!inl[s0] || sub[s0] != 0xffffffffu) continue;
+                qh = qt = 0;
+                queue[qt++] = s0;
+                sub[s0] = nsub;
+                memset(mask, 0, (size_t)bw * bh);
+                while (qh < qt) {
+                    uint32_t z = queue[qh++], zi = z % bw, zj = z / bw, dd;
+                    mask[z] = 1;
+                    if (cm->top[(size_t)(zj + j0 - 1) * cm->nu + (zi + i0 - 1)] == L) exact = 1;
+                    for (dd = 0; dd < 4; ++dd) {
+                        uint32_t w2 = dd == 0 ? z + 1 : dd == 1 ? z - 1 : dd == 2 ? z + bw : z - bw;
+                        if (!inl[w2] || sub[w2] != 0xffffffffu) continue;
+                        sub[w2] = nsub;
+                        queue[qt++] = w2;
+                    }
+                }
+                ++nsub;
+                (void)q2;
+                if (exact && !pvs__vx_trace(al, &cb, mask, bw, bh, cm->grid.origin[u] + ((double)i0 - 1.0) * cm->grid.h,
+                                            cm->grid.origin[v] + ((double)j0 - 1.0) * cm->grid.h, cm->grid.h, (float)g, L, used, &ipts, &ipcap))
+                    goto done;
+            }
+        }
+    }
+    /* hand over: pointers into the final point buffer, bounding boxes */
+    o->chains = (pvs_facade_chain *)pvs__alloc_array(al, cb.count ? cb.count : 1, sizeof(pvs_facade_chain));
+    o->chain_boxes = (pvs_box *)pvs__alloc_array(al, cb.count ? cb.count : 1, sizeof(pvs_box));
+    o->chain_points = (float *)pvs__alloc_array(al, cb.npts ? 2 * cb.npts : 1, sizeof(float));
+    if (!o->chains || !o->chain_boxes || !o->chain_points) goto done;
+    o->chain_count = (uint32_t)cb.count;
+    o->chain_point_count = cb.npts;
+    if (cb.npts) memcpy(o->chain_points, cb.points, 2 * cb.npts * sizeof(float));
+    for (x = 0; x < cb.count; ++x) {
+        pvs_facade_chain *ch = o->chains + x;
+        pvs_box *bx = o->chain_boxes + x;
+        uint32_t k;
+        *ch = cb.chains[x];
+        ch->points = o->chain_points + 2 * cb.first[x];
+        bx->min[u] = bx->max[u] = ch->points[0];
+        bx->min[v] = bx->max[v] = ch->points[1];
+        for (k = 1; k < ch->point_count; ++k) {
+            if (ch->points[2 * k] < bx->min[u]) bx->min[u] = ch->points[2 * k];
+            if (ch->points[2 * k] > bx->max[u]) bx->max[u] = ch->points[2 * k];
+            if (ch->points[2 * k + 1] < bx->min[v]) bx->min[v] = ch->points[2 * k + 1];
+            if (ch->points[2 * k + 1] > bx->max[v]) bx->max[v] = ch->points[2 * k + 1];
+        }
+        bx->min[o->scene->up_axis] = ch->base;
+        bx->max[o->scene->up_axis] = ch->top;
+    }
+    res = PVS_OK;
+done:
+    pvs__free_array(al, label, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, queue, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, members, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, lev, lcap, sizeof(float));
+    pvs__free_array(al, mask, mcap, 1);
+    pvs__free_array(al, inl, scap, 1);
+    pvs__free_array(al, sub, ucap, sizeof(uint32_t));
+    pvs__free_array(al, used, cap, 1);
+    pvs__free_array(al, ipts, ipcap, 2 * sizeof(int32_t));
+    pvs__free_array(al, cb.chains, cb.cap, sizeof(pvs_facade_chain));
+    pvs__free_array(al, cb.first, cb.cap_first, sizeof(size_t));
+    pvs__free_array(al, cb.points, cb.cap_pts, 2 * sizeof(float));
+    return res;
+}
+
+
+/* The min-pyramids of the column map (pvs__vx_cols). */
+PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
+    pvs__vx_cols *cm = &o->cols;
+    uint32_t l, i, j;
+    cm->levels = 1;
+    cm->lw[0] = cm->nu;
+    cm->lh[0] = cm->nv;
+    cm->ptop[0] = cm->top;
+    cm->psolid[0] = cm->solid;
+    for (l = 1; l < PVS__VX_LEVELS && (cm->lw[l - 1] > 1 || cm->lh[l - 1] > 1); ++l) {
+        uint32_t w = (cm->lw[l - 1] + 1) / 2, h = (cm->lh[l - 1] + 1) / 2, pw = cm->lw[l - 1], ph = cm->lh[l - 1];
+        cm->ptop[l] = (float *)pvs__alloc_array(&o->allocator, (size_t)w * h, sizeof(float));
+        cm->psolid[l] = (float *)pvs__alloc_array(&o->allocator, (size_t)w * h, sizeof(float));
+        cm->lw[l] = w;
+        cm->lh[l] = h;
+        cm->levels = l + 1;
+        if (!cm->ptop[l] || !cm->psolid[l]) return PVS_ERROR_OUT_OF_MEMORY;
+        for (j = 0; j < h; ++j)
+            for (i = 0; i < w; ++i) {
+                float t = FLT_MAX, so = FLT_MAX;
+                uint32_t a, b;
+                for (b = 2 * j; b < 2 * j + 2; ++b)
+                    for (a = 2 * i; a < 2 * i + 2; ++a) {
+                        float x = -FLT_MAX, y = o->ground; /* outside the map: no occluder, not solid */
+                        if (a < pw && b < ph) {
+                            x = cm->ptop[l - 1][(size_t)b * pw + a];
+                            y = cm->psolid[l - 1][(size_t)b * pw + a];
+                        }
+                        if (x < t) t = x;
+                        if (y < so) so = y;
+                    }
+                cm->ptop[l][(size_t)j * w + i] = t;
+                cm->psolid[l][(size_t)j * w + i] = so;
+            }
+    }
+    return PVS_OK;
+}
+
+/* The column map and its chains: every component of three triangles or more flooded again on its own
+   grid of voxel size eps (grown when its box would exceed the budget). */
+PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps, double m,
+                                       pvs__vx_flood *fl) {
+    const pvs_scene *s = o->scene;
+    const pvs_allocator *al = &o->allocator;
+    pvs__vx_cols *cm = &o->cols;
+    uint32_t up = s->up_axis, comp, k;
+    int u, v;
+    double c, area, g = o->ground, margin, scale = 0.0;
+    size_t x, nmap;
+    pvs_result res = PVS_OK;
+    pvs__ground_axes(up, &u, &v);
+    area = ((double)ext->max[u] - ext->min[u] + 2.0 * eps) * ((double)ext->max[v] - ext->min[v] + 2.0 * eps);
+    c = pvs__dmax(0.5 * eps, sqrt(area / (double)PVS__VX_MAP_BUDGET));
+    memset(&cm->grid, 0, sizeof(cm->grid));
+    cm->grid.h = c;
+    for (k = 0; k < 3; ++k) {
+        if ((int)k == u || (int)k == v) {
+            cm->grid.origin[k] = (double)ext->min[k] - c;
+            cm->grid.n[k] = (uint32_t)(floor(((double)ext->max[k] - ext->min[k]) / c) + 3.0);
+        } else {
+            cm->grid.origin[k] = g;
+            cm->grid.n[k] = 1;
+        }
+        scale = pvs__dmax(scale, pvs__dmax(pvs__dabs(ext->min[k]), pvs__dabs(ext->max[k])));
+    }
+    cm->nu = cm->grid.n[u];
+    cm->nv = cm->grid.n[v];
+    nmap = (size_t)cm->nu * cm->nv;
+    /* the margin: float precision of the chain points and of the heights, and the voxel margin */
+    margin = 8.0 * FLT_EPSILON * scale + m;
+    cm->solid = (float *)pvs__alloc_array(al, nmap, sizeof(float));
+    cm->top = (float *)pvs__alloc_array(al, nmap, sizeof(float));
+    if (!cm->solid || !cm->top) return PVS_ERROR_OUT_OF_MEMORY;
+    for (x = 0; x < nmap; ++x) { cm->solid[x] = (float)g; cm->top[x] = -FLT_MAX; }
+    for (comp = 0; comp < tp->comp_count && res == PVS_OK; ++comp) {
+        pvs__vx_grid gk;
+        uint32_t lo[3], hi[3], t;
+        size_t vol, ncol;
+        double hk = eps;
+        if (tp->comp_first[comp + 1] - tp->comp_first[comp] < 3) continue;
+        for (;;) { /* the component's grid and box */
+            gk.h = hk;
+            for (k = 0; k < 3; ++k) {
+                gk.origin[k] = (double)ext->min[k] - hk;
+                gk.n[k] = (uint32_t)(floor(((double)ext->max[k] - ext->min[k]) / hk) + 3.0);
+                lo[k] = 0xffffffffu;
+                hi[k] = 0;
+            }
+            gk.origin[up] = g - hk;
+            for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+                uint32_t tri = tp->tris[t], r0, r1, q;
+                for (k = 0; k < 3; ++k) {
+                    double tl = DBL_MAX, th = -DBL_MAX;
+                    for (q = 0; q < 3; ++q) {
+                        double y = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + q] + k];
+                        tl = pvs__dmin(tl, y);
+                        th = pvs__dmax(th, y);
+                    }
+                    pvs__vx_grange(&gk, (int)k, tl, th, m, &r0, &r1);
+                    if (r0 < lo[k]) lo[k] = r0;
+                    if (r1 > hi[k]) hi[k] = r1;
+                }
+            }
+            if (lo[up] < 1 || tp->open_first[comp + 1] > tp->open_first[comp]) lo[up] = 1;
+            if (hi[up] < lo[up]) hi[up] = lo[up];
+            vol = 1;
+            for (k = 0; k < 3; ++k) vol *= (size_t)(hi[k] - lo[k] + 1);
+            if (vol <= PVS__VX_BOX_BUDGET) break;
+            hk *= 1.26;
+        }
+        ncol = (size_t)(hi[u] - lo[u] + 1) * (hi[v] - lo[v] + 1);
+        if (vol > fl->cap_vox) {
+            pvs__free_array(al, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
+            pvs__free_array(al, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
+            fl->bits = (uint8_t *)pvs__alloc_array(al, vol, 1);
+            fl->queue = (uint32_t *)pvs__alloc_array(al, 2 * vol, sizeof(uint32_t));
+            fl->cap_vox = vol;
+            if (!fl->bits || !fl->queue) return PVS_ERROR_OUT_OF_MEMORY;
+        }
+        if (ncol > fl->cap_col) {
+            pvs__free_array(al, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
+            fl->col = (uint8_t *)pvs__alloc_array(al, ncol, 1);
+            fl->cap_col = ncol;
+            if (!fl->col) return PVS_ERROR_OUT_OF_MEMORY;
+        }
+        res = pvs__vx_columns_component(o, tp, comp, &gk, lo, hi, m, eps, margin, fl);
+    }
+    if (res == PVS_OK) res = pvs__vx_build_chains(o);
+    if (res == PVS_OK) res = pvs__vx_pyramid(o);
+    return res;
+}
+
 PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occluders **out, pvs_error *err) {
     pvs_occluders *o;
     pvs_allocator a;
     const pvs_scene *s;
     pvs_box ext;
     double g, h, m;
-    uint32_t up, i, j, k, c, r, *queue = NULL, qh, qt;
-    size_t total, vi, cols;
+    uint32_t up, i, j, k, c, r, *queue = NULL, qh, qt, *cbox = NULL, bpass, bucket_entries = 0;
+    size_t total, vi, cols, qcap = 0, nbuckets = 0;
+    pvs__vx_topo tp;
+    pvs__vx_flood fl;
     uint8_t *tmp = NULL, *line = NULL;
-    float *colh = NULL;
     int u, v, kk;
     if (out) *out = NULL;
+    memset(&tp, 0, sizeof(tp));
+    memset(&fl, 0, sizeof(fl));
     if (!d || !out || !d->scene || !d->cells || !d->cell_count)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene, cells and out must be given");
     if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and > 0, voxel_size finite and >= 0");
+    if (d->flags & ~PVS_OCCLUDERS_KEEP_LEAKS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown occluders flags 0x%x", d->flags);
     for (c = 0; c < d->cell_count; ++c)
         if (!pvs__box_valid(d->cells + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "cell %u is not a valid box", c);
     s = d->scene;
@@ -9091,22 +10697,23 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     }
     o->origin[up] = g - h; /* layer 0 lies below the ground, layer 1 starts at it */
     o->total = total;
+    for (kk = 0; kk < 3; ++kk) {
+        o->grid.origin[kk] = o->origin[kk];
+        o->grid.n[kk] = o->n[kk];
+    }
+    o->grid.h = h;
     o->state = (uint8_t *)pvs__alloc_array(&a, total, 1);
     o->eroded = (uint8_t *)pvs__alloc_array(&a, total, 1);
     tmp = (uint8_t *)pvs__alloc_array(&a, total, 1);
-    queue = (uint32_t *)pvs__alloc_array(&a, total, sizeof(uint32_t));
     line = (uint8_t *)pvs__alloc_array(&a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
     cols = (size_t)o->n[u] * o->n[v];
-    colh = (float *)pvs__alloc_array(&a, cols, sizeof(float));
-    if (!o->state || !o->eroded || !tmp || !queue || !line || !colh || total > 0xffffffffu) {
+    if (!o->state || !o->eroded || !tmp || !line || total > 0x7fffffffu) {
         pvs__free_array(&a, tmp, total, 1);
-        pvs__free_array(&a, queue, total, sizeof(uint32_t));
         pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
-        pvs__free_array(&a, colh, cols, sizeof(float));
         pvs_occluders_destroy(o);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "voxel grid %u x %u x %u", o->n[0], o->n[1], o->n[2]);
     }
-    memset(o->state, PVS__VX_FREE, total);
+    memset(o->state, 0, total);
     for (k = 0; k < o->n[2]; ++k)
         for (j = 0; j < o->n[1]; ++j)
             for (i = 0; i < o->n[0]; ++i) {
@@ -9114,34 +10721,128 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 idx[0] = i; idx[1] = j; idx[2] = k;
                 if (idx[up] == 0) o->state[pvs__vx_index(o, i, j, k)] = PVS__VX_GROUND;
             }
-    /* 1. touched voxels: every triangle against the voxels of its box (SAT, margin toward touched).
-       Triangles lying flat on the ground (the lowest height) touch nothing above it. */
-    m = h * 1e-4 + 1e-6 * (pvs__dabs(g) + 1.0);
-    for (c = 0; c < s->triangle_count; ++c) {
-        double p[3][3], lo[3], hi[3];
-        uint32_t r0[3], r1[3];
-        for (kk = 0; kk < 3; ++kk) {
-            p[0][kk] = s->positions[3 * s->indices[3 * c] + kk];
-            p[1][kk] = s->positions[3 * s->indices[3 * c + 1] + kk];
-            p[2][kk] = s->positions[3 * s->indices[3 * c + 2] + kk];
-            lo[kk] = pvs__dmin(p[0][kk], pvs__dmin(p[1][kk], p[2][kk]));
-            hi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
+    m = h * 1e-4 + 1e-6 * (pvs__dabs(g) + 1.0); /* the margin every voxel test rounds toward "touched" by */
+    /* a bucket grid over the cells in the ground plane, for the floods' sources */
+    fl.cells = d->cells;
+    fl.cell_count = d->cell_count;
+    fl.keep_leaks = (d->flags & PVS_OCCLUDERS_KEEP_LEAKS) != 0;
+    fl.bnu = (o->n[u] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
+    fl.bnv = (o->n[v] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
+    fl.bucket_grid = o->grid;
+    fl.bucket_grid.h = o->h * PVS__VX_BUCKET;
+    fl.bucket_grid.n[u] = fl.bnu;
+    fl.bucket_grid.n[v] = fl.bnv;
+    nbuckets = (size_t)fl.bnu * fl.bnv;
+    fl.bucket_first = (uint32_t *)pvs__alloc_array(&a, nbuckets + 1, sizeof(uint32_t));
+    fl.stamp = (uint32_t *)pvs__alloc_array(&a, d->cell_count, sizeof(uint32_t));
+    fl.cellbuf = (uint8_t *)pvs__alloc_array(&a, d->cell_count, 7);
+    if (!fl.bucket_first || !fl.stamp || !fl.cellbuf) goto oom;
+    memset(fl.bucket_first, 0, (nbuckets + 1) * sizeof(uint32_t));
+    memset(fl.stamp, 0, d->cell_count * sizeof(uint32_t));
+    memset(fl.cellbuf, 0, (size_t)d->cell_count * 7);
+    fl.near_cells = (uint32_t *)(void *)fl.cellbuf; /* the allocator aligns to 16 */
+    fl.excluded = fl.cellbuf + 4 * (size_t)d->cell_count;
+    fl.near_w = (signed char *)(fl.excluded + d->cell_count);
+    fl.near_flag = fl.excluded + 2 * (size_t)d->cell_count;
+    for (bpass = 0; bpass < 2; ++bpass) {
+        if (bpass) {
+            for (vi = 0; vi < nbuckets; ++vi) fl.bucket_first[vi + 1] += fl.bucket_first[vi];
+            bucket_entries = fl.bucket_first[nbuckets];
+            fl.bucket_cells = (uint32_t *)pvs__alloc_array(&a, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
+            if (!fl.bucket_cells) goto oom;
         }
-        if (hi[up] <= g) continue;
-        for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, lo[kk], hi[kk], m, r0 + kk, r1 + kk);
-        for (k = r0[2]; k <= r1[2]; ++k)
-            for (j = r0[1]; j <= r1[1]; ++j)
-                for (i = r0[0]; i <= r1[0]; ++i) {
-                    double cc[3];
-                    size_t x = pvs__vx_index(o, i, j, k);
-                    if (o->state[x] != PVS__VX_FREE) continue;
-                    cc[0] = o->origin[0] + (i + 0.5) * h;
-                    cc[1] = o->origin[1] + (j + 0.5) * h;
-                    cc[2] = o->origin[2] + (k + 0.5) * h;
-                    if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) o->state[x] = PVS__VX_TOUCHED;
+        for (c = 0; c < d->cell_count; ++c) {
+            uint32_t r0[3], r1[3], bu, bv;
+            pvs__vx_grange(&fl.bucket_grid, u, d->cells[c].min[u], d->cells[c].max[u], m, r0 + u, r1 + u);
+            pvs__vx_grange(&fl.bucket_grid, v, d->cells[c].min[v], d->cells[c].max[v], m, r0 + v, r1 + v);
+            if (r0[u] > r1[u] || r0[v] > r1[v]) continue;
+            for (bv = r0[v]; bv <= r1[v]; ++bv)
+                for (bu = r0[u]; bu <= r1[u]; ++bu) {
+                    size_t bk = (size_t)bv * fl.bnu + bu;
+                    if (!bpass) ++fl.bucket_first[bk + 1];
+                    else fl.bucket_cells[--fl.bucket_first[bk + 1]] = c;
                 }
+        }
     }
-    for (vi = 0; vi < total; ++vi) o->info.touched += o->state[vi] == PVS__VX_TOUCHED;
+    for (vi = 0; vi < nbuckets; ++vi) fl.bucket_first[vi] = fl.bucket_first[vi + 1]; /* the fill moved each end to its start */
+    fl.bucket_first[nbuckets] = bucket_entries;
+    /* 1. solid proved per component (see the argument before pvs__vx_orient) */
+    if (pvs__vx_topology(s, (float)g, &a, &tp) != PVS_OK) goto oom;
+    cbox = (uint32_t *)pvs__alloc_array(&a, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
+    if (!cbox) goto oom;
+    for (c = 0; c < tp.comp_count; ++c) {
+        uint32_t *bx = cbox + 6 * (size_t)c, t;
+        size_t vol = 1, ncol;
+        for (kk = 0; kk < 3; ++kk) { bx[kk] = 0xffffffffu; bx[3 + kk] = 0; }
+        for (t = tp.comp_first[c]; t < tp.comp_first[c + 1]; ++t) {
+            uint32_t tri = tp.tris[t], r0, r1, q;
+            for (kk = 0; kk < 3; ++kk) {
+                double lo = DBL_MAX, hi = -DBL_MAX;
+                for (q = 0; q < 3; ++q) {
+                    double x = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + q] + kk];
+                    lo = pvs__dmin(lo, x);
+                    hi = pvs__dmax(hi, x);
+                }
+                pvs__vx_range(o, kk, lo, hi, m, &r0, &r1);
+                if (r0 < bx[kk]) bx[kk] = r0;
+                if (r1 > bx[3 + kk]) bx[3 + kk] = r1;
+            }
+        }
+        if (bx[up] < 1 || tp.open_first[c + 1] > tp.open_first[c]) bx[up] = 1; /* open edges: sheets to the ground */
+        if (bx[3 + up] < bx[up]) bx[3 + up] = bx[up];
+        for (kk = 0; kk < 3; ++kk) vol *= (size_t)(bx[3 + kk] - bx[kk] + 1);
+        ncol = (size_t)(bx[3 + u] - bx[u] + 1) * (bx[3 + v] - bx[v] + 1);
+        if (tp.comp_first[c + 1] - tp.comp_first[c] < 3) continue; /* encloses nothing: touched only */
+        if (vol > fl.cap_vox) fl.cap_vox = vol;
+        if (ncol > fl.cap_col) fl.cap_col = ncol;
+    }
+    qcap = total > 2 * fl.cap_vox ? total : 2 * fl.cap_vox;
+    fl.bits = (uint8_t *)pvs__alloc_array(&a, fl.cap_vox ? fl.cap_vox : 1, 1);
+    fl.col = (uint8_t *)pvs__alloc_array(&a, fl.cap_col ? fl.cap_col : 1, 1);
+    queue = (uint32_t *)pvs__alloc_array(&a, qcap, sizeof(uint32_t));
+    fl.queue = queue;
+    if (!fl.bits || !fl.col || !queue) goto oom;
+    for (c = 0; c < tp.comp_count; ++c) {
+        uint32_t t;
+        if (tp.comp_first[c + 1] - tp.comp_first[c] >= 3) {
+            pvs__vx_certify(o, &tp, c, cbox + 6 * (size_t)c, cbox + 6 * (size_t)c + 3, m, &fl);
+            ++o->info.components;
+            o->info.closed_components += tp.open_first[c + 1] == tp.open_first[c];
+            continue;
+        }
+        for (t = tp.comp_first[c]; t < tp.comp_first[c + 1]; ++t) { /* touched, for the summary and the leak flood */
+            uint32_t tri = tp.tris[t], r0[3], r1[3];
+            double p[3][3], tlo[3], thi[3];
+            for (kk = 0; kk < 3; ++kk) {
+                p[0][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri] + kk];
+                p[1][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 1] + kk];
+                p[2][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 2] + kk];
+                tlo[kk] = pvs__dmin(p[0][kk], pvs__dmin(p[1][kk], p[2][kk]));
+                thi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
+            }
+            for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, tlo[kk], thi[kk], m, r0 + kk, r1 + kk);
+            for (k = r0[2]; k <= r1[2]; ++k)
+                for (j = r0[1]; j <= r1[1]; ++j)
+                    for (i = r0[0]; i <= r1[0]; ++i) {
+                        double cc[3];
+                        size_t x = pvs__vx_index(o, i, j, k);
+                        if (o->state[x] & (PVS__VX_TOUCHED | PVS__VX_GROUND)) continue;
+                        cc[0] = o->origin[0] + (i + 0.5) * h;
+                        cc[1] = o->origin[1] + (j + 0.5) * h;
+                        cc[2] = o->origin[2] + (k + 0.5) * h;
+                        if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) o->state[x] |= PVS__VX_TOUCHED;
+                    }
+        }
+    }
+    o->info.open_edges = tp.open_count;
+    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
+    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
+    pvs__free_array(&a, cbox, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
+    fl.bits = fl.col = NULL;
+    fl.queue = NULL; /* `queue` keeps it for the leak flood */
+    fl.cap_vox = fl.cap_col = 0;
+    cbox = NULL;
+    for (vi = 0; vi < total; ++vi) o->info.touched += (o->state[vi] & PVS__VX_TOUCHED) != 0;
     /* 2. explicit occluder volumes are solid: voxels wholly inside one */
     for (c = 0; c < s->occluder_count; ++c) {
         const pvs_box *ob = s->occluder_boxes + c;
@@ -9152,47 +10853,59 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 for (i = r0[0]; i <= r1[0]; ++i) {
                     double lo[3], hi[3];
                     size_t x = pvs__vx_index(o, i, j, k);
-                    if (o->state[x] == PVS__VX_GROUND) continue;
+                    if (o->state[x] & PVS__VX_GROUND) continue;
                     lo[0] = o->origin[0] + i * h; hi[0] = lo[0] + h;
                     lo[1] = o->origin[1] + j * h; hi[1] = lo[1] + h;
                     lo[2] = o->origin[2] + k * h; hi[2] = lo[2] + h;
-                    if (pvs__vx_in_occluder(s->occluders + c, up, lo, hi)) o->state[x] = PVS__VX_EXPLICIT;
+                    if (pvs__vx_in_occluder(s->occluders + c, up, lo, hi)) o->state[x] |= PVS__VX_EXPLICIT | PVS__VX_SOLID;
                 }
     }
-    /* 3. flood fill, 26-connected, from every cell through untouched voxels; a cell reaching the
-       grid's border (outside the scene) floods the outside too and is reported as the leak */
+    /* 3. the leak diagnostic: a 6-connected flood through untouched, unsolid voxels from the grid's
+       border (outside the scene); a chain of face-adjacent untouched voxels is a real path that meets
+       no triangle, so every cell with a voxel it reached truly reaches the outside. The lowest such
+       cell is reported, with one of its reached voxels. */
     o->info.leak_cell = PVS_NO_CELL;
+    qh = qt = 0;
+    for (k = 0; k < o->n[2]; ++k)
+        for (j = 0; j < o->n[1]; ++j)
+            for (i = 0; i < o->n[0]; ++i) {
+                size_t x;
+                if (i && j && k && i + 1 < o->n[0] && j + 1 < o->n[1] && k + 1 < o->n[2]) continue;
+                x = pvs__vx_index(o, i, j, k);
+                if (!(o->state[x] & PVS__VX_LEAK_STOP)) { o->state[x] |= PVS__VX_REACHED; queue[qt++] = (uint32_t)x; }
+            }
+    while (qh < qt) {
+        uint32_t x = queue[qh++], cidx[3];
+        int dir;
+        cidx[0] = x % o->n[0]; cidx[1] = (x / o->n[0]) % o->n[1]; cidx[2] = x / o->n[0] / o->n[1];
+        for (dir = 0; dir < 6; ++dir) {
+            uint32_t ax = (uint32_t)dir >> 1, nidx[3];
+            size_t y;
+            if (dir & 1 ? cidx[ax] + 1 >= o->n[ax] : cidx[ax] == 0) continue;
+            nidx[0] = cidx[0]; nidx[1] = cidx[1]; nidx[2] = cidx[2];
+            nidx[ax] = dir & 1 ? cidx[ax] + 1 : cidx[ax] - 1;
+            y = pvs__vx_index(o, nidx[0], nidx[1], nidx[2]);
+            if (!(o->state[y] & PVS__VX_LEAK_STOP)) { o->state[y] |= PVS__VX_REACHED; queue[qt++] = (uint32_t)y; }
+        }
+    }
     for (c = 0; c < d->cell_count; ++c) {
         uint32_t r0[3], r1[3];
+        int found = 0;
         const pvs_box *cb = d->cells + c;
-        qh = qt = 0;
         for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
-        for (k = r0[2]; k <= r1[2]; ++k)
-            for (j = r0[1]; j <= r1[1]; ++j)
-                for (i = r0[0]; i <= r1[0]; ++i) {
-                    size_t x = pvs__vx_index(o, i, j, k);
-                    if (o->state[x] == PVS__VX_FREE) { o->state[x] = PVS__VX_REACHED; queue[qt++] = (uint32_t)x; }
-                }
-        while (qh < qt) {
-            uint32_t x = queue[qh++], ci = x % o->n[0], cj = (x / o->n[0]) % o->n[1], ck = x / o->n[0] / o->n[1];
-            int di, dj, dk;
-            if (o->info.leak_cell == PVS_NO_CELL &&
-                (ci == 0 || cj == 0 || ck == 0 || ci + 1 == o->n[0] || cj + 1 == o->n[1] || ck + 1 == o->n[2])) {
-                o->info.leak_cell = c;
-                o->info.leak_point[0] = (float)(o->origin[0] + (ci + 0.5) * h);
-                o->info.leak_point[1] = (float)(o->origin[1] + (cj + 0.5) * h);
-                o->info.leak_point[2] = (float)(o->origin[2] + (ck + 0.5) * h);
-            }
-            for (dk = -1; dk <= 1; ++dk)
-                for (dj = -1; dj <= 1; ++dj)
-                    for (di = -1; di <= 1; ++di) {
-                        int64_t ni = (int64_t)ci + di, nj = (int64_t)cj + dj, nk = (int64_t)ck + dk;
-                        size_t y;
-                        if (ni < 0 || nj < 0 || nk < 0 || ni >= o->n[0] || nj >= o->n[1] || nk >= o->n[2]) continue;
-                        y = pvs__vx_index(o, (uint32_t)ni, (uint32_t)nj, (uint32_t)nk);
-                        if (o->state[y] == PVS__VX_FREE) { o->state[y] = PVS__VX_REACHED; queue[qt++] = (uint32_t)y; }
+        for (k = r0[2]; k <= r1[2] && !found; ++k)
+            for (j = r0[1]; j <= r1[1] && !found; ++j)
+                for (i = r0[0]; i <= r1[0] && !found; ++i)
+                    if (o->state[pvs__vx_index(o, i, j, k)] & PVS__VX_REACHED) {
+                        found = 1;
+                        if (o->info.leak_cell == PVS_NO_CELL) {
+                            o->info.leak_cell = c;
+                            o->info.leak_point[0] = (float)(o->origin[0] + (i + 0.5) * h);
+                            o->info.leak_point[1] = (float)(o->origin[1] + (j + 0.5) * h);
+                            o->info.leak_point[2] = (float)(o->origin[2] + (k + 0.5) * h);
+                        }
                     }
-        }
+        o->info.leak_cells += (uint32_t)found;
     }
     for (vi = 0; vi < total; ++vi) {
         o->eroded[vi] = (uint8_t)pvs__vx_solid_state(o->state[vi]);
@@ -9210,111 +10923,44 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 for (i = r0[0]; i <= r1[0] && !found; ++i) found = o->eroded[pvs__vx_index(o, i, j, k)];
         o->info.thin_objects += !found;
     }
-    /* 4. 2.5D: per column the run of solid voxels standing on the ground (layer 1 up) */
+    /* 4. the 2.5D occluders: is the solid mostly runs standing on the ground? then the column map */
     r = (uint32_t)floor(d->eps / h) + 1u; /* strictly more than eps: rounding toward less solid */
     for (vi = 0; vi < cols; ++vi) {
-        uint32_t cu = (uint32_t)(vi % o->n[u]), cv = (uint32_t)(vi / o->n[u]), run = 0, idx[3];
-        idx[u] = cu; idx[v] = cv;
+        uint32_t idx[3];
+        idx[u] = (uint32_t)(vi % o->n[u]); idx[v] = (uint32_t)(vi / o->n[u]);
         for (idx[up] = 1; idx[up] < o->n[up]; ++idx[up]) {
             if (!o->eroded[pvs__vx_index(o, idx[0], idx[1], idx[2])]) break;
-            ++run;
+            ++o->info.column_voxels;
         }
-        o->info.column_voxels += run;
-        colh[vi] = run ? (float)run : 0.0f; /* in voxel layers for now */
-    }
-    o->column_top = (float *)pvs__alloc_array(&a, cols, sizeof(float));
-    if (o->column_top) {
-        o->column_count = cols;
-        for (vi = 0; vi < cols; ++vi) o->column_top[vi] = colh[vi] > 0.0f ? pvs__f_up(g + (double)colh[vi] * h) : (float)g;
     }
     o->info.is_2d5 = o->info.solid > 0 && (double)o->info.column_voxels >= 0.9 * (double)o->info.solid;
-    /* 2.5D erosion: column height = min over the (2r+1)^2 neighbourhood (outside: 0), minus eps */
-    {
-        float *t2 = (float *)tmp; /* reuse only if large enough */
-        float *buf = NULL;
-        size_t ii;
-        uint32_t a0, b0, q;
-        if (total >= cols * sizeof(float)) buf = t2;
-        else buf = (float *)pvs__alloc_array(&a, cols, sizeof(float));
-        if (!buf) {
-            pvs__free_array(&a, tmp, total, 1);
-            pvs__free_array(&a, queue, total, sizeof(uint32_t));
-            pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
-            pvs__free_array(&a, colh, cols, sizeof(float));
-            pvs_occluders_destroy(o);
-            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "columns");
+    if (pvs__vx_columns(o, &tp, &ext, d->eps, m, &fl) != PVS_OK || pvs__occluders_hierarchies(o) != PVS_OK) goto oom;
+    o->info.rect_count = o->chain_count;
+    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
+    pvs__free_array(&a, fl.queue, fl.cap_vox ? 2 * fl.cap_vox : 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
+    pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
+    /* the leaking cells the floods left out (step 4 of pvs__vx_flood_component) */
+    o->info.excluded_cells = fl.excluded_count;
+    if (fl.excluded_count) {
+        uint32_t n = 0;
+        o->excluded = (uint32_t *)pvs__alloc_array(&a, fl.excluded_count, sizeof(uint32_t));
+        o->excluded_boxes = (pvs_box *)pvs__alloc_array(&a, fl.excluded_count, sizeof(pvs_box));
+        if (!o->excluded || !o->excluded_boxes) {
+            pvs__free_array(&a, fl.cellbuf, d->cell_count, 7);
+            fl.cellbuf = NULL;
+            goto oom;
         }
-        for (b0 = 0; b0 < o->n[v]; ++b0)
-            for (a0 = 0; a0 < o->n[u]; ++a0) {
-                float mn = colh[(size_t)b0 * o->n[u] + a0];
-                if (a0 < r || a0 + r >= o->n[u]) mn = 0.0f;
-                for (q = a0 >= r ? a0 - r : 0; mn > 0.0f && q <= a0 + r && q < o->n[u]; ++q)
-                    if (colh[(size_t)b0 * o->n[u] + q] < mn) mn = colh[(size_t)b0 * o->n[u] + q];
-                buf[(size_t)b0 * o->n[u] + a0] = mn;
-            }
-        for (b0 = 0; b0 < o->n[v]; ++b0)
-            for (a0 = 0; a0 < o->n[u]; ++a0) {
-                float mn = buf[(size_t)b0 * o->n[u] + a0];
-                if (b0 < r || b0 + r >= o->n[v]) mn = 0.0f;
-                for (q = b0 >= r ? b0 - r : 0; mn > 0.0f && q <= b0 + r && q < o->n[v]; ++q)
-                    if (buf[(size_t)q * o->n[u] + a0] < mn) mn = buf[(size_t)q * o->n[u] + a0];
-                colh[(size_t)b0 * o->n[u] + a0] = mn;
-            }
-        if (buf != t2) pvs__free_array(&a, buf, cols, sizeof(float));
-        /* heights in scene units: top of the run lowered by eps, rounded down; <= ground: none */
-        for (ii = 0; ii < cols; ++ii) {
-            double top = colh[ii] > 0.0f ? g + (double)colh[ii] * h - d->eps : g;
-            float f = pvs__f_down(top);
-            colh[ii] = top > g && f > (float)g ? f : -FLT_MAX;
-        }
-        /* merge equal columns into rectangles (greedy: along u, then v) */
-        {
-            uint32_t pass, count = 0;
-            uint8_t *used = tmp;
-            for (pass = 0; pass < 2; ++pass) {
-                memset(used, 0, cols);
-                count = 0;
-                for (b0 = 0; b0 < o->n[v]; ++b0)
-                    for (a0 = 0; a0 < o->n[u]; ++a0) {
-                        size_t x0 = (size_t)b0 * o->n[u] + a0;
-                        float hv = colh[x0];
-                        uint32_t a1, b1, t;
-                        int full = 1;
-                        if (used[x0] || hv == -FLT_MAX) continue;
-                        for (a1 = a0; a1 + 1 < o->n[u] && !used[x0 + (a1 + 1 - a0)] && colh[x0 + (a1 + 1 - a0)] == hv; ++a1) {}
-                        for (b1 = b0; full && b1 + 1 < o->n[v];) {
-                            for (t = a0; t <= a1 && full; ++t) {
-                                size_t y = (size_t)(b1 + 1) * o->n[u] + t;
-                                full = !used[y] && colh[y] == hv;
-                            }
-                            if (full) ++b1;
-                        }
-                        for (t = b0; t <= b1; ++t) memset(used + (size_t)t * o->n[u] + a0, 1, a1 - a0 + 1);
-                        if (pass == 1) {
-                            float *pt = o->chain_points + 8 * (size_t)count;
-                            float u0 = pvs__f_up(o->origin[u] + a0 * h), u1 = pvs__f_down(o->origin[u] + (a1 + 1) * h);
-                            float v0 = pvs__f_up(o->origin[v] + b0 * h), v1 = pvs__f_down(o->origin[v] + (b1 + 1) * h);
-                            pt[0] = u0; pt[1] = v0; pt[2] = u1; pt[3] = v0; pt[4] = u1; pt[5] = v1; pt[6] = u0; pt[7] = v1;
-                            o->chains[count].points = pt;
-                            o->chains[count].point_count = 4;
-                            o->chains[count].closed = 1;
-                            o->chains[count].base = (float)g;
-                            o->chains[count].top = hv;
-                        }
-                        ++count;
-                    }
-                if (pass == 0) {
-                    o->chain_count = count;
-                    o->chains = (pvs_facade_chain *)pvs__alloc_array(&a, count ? count : 1, sizeof(pvs_facade_chain));
-                    o->chain_points = (float *)pvs__alloc_array(&a, (size_t)(count ? count : 1) * 8, sizeof(float));
-                    if (!o->chains || !o->chain_points) break;
-                }
-            }
-            o->info.rect_count = o->chain_count;
-        }
+        for (c = 0; c < d->cell_count; ++c)
+            if (fl.excluded[c]) { o->excluded[n] = c; o->excluded_boxes[n++] = d->cells[c]; }
     }
+    pvs__free_array(&a, fl.cellbuf, d->cell_count, 7);
+    memset(&fl, 0, sizeof(fl));
+    pvs__vx_topo_free(&a, &tp, s->triangle_count);
     /* 5. 3D erosion by r voxels (Chebyshev; outside the grid and the ground count as empty), then boxes */
-    if (o->chains && o->chain_points) {
+    {
         for (kk = 0; kk < 3; ++kk) pvs__vx_erode_axis(o, o->eroded, line, kk, r);
         for (vi = 0; vi < total; ++vi) o->info.eroded += o->eroded[vi];
         memcpy(tmp, o->eroded, total);
@@ -9327,10 +10973,9 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         o->info.box_count = o->box_count;
     }
     pvs__free_array(&a, tmp, total, 1);
-    pvs__free_array(&a, queue, total, sizeof(uint32_t));
+    pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
     pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
-    pvs__free_array(&a, colh, cols, sizeof(float));
-    if (!o->chains || !o->chain_points || !o->boxes || !o->column_top) {
+    if (!o->boxes) {
         pvs_occluders_destroy(o);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder boxes");
     }
@@ -9343,6 +10988,21 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     *out = o;
     pvs__ok(err);
     return PVS_OK;
+oom:
+    pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
+    pvs__free_array(&a, fl.cellbuf, d->cell_count, 7);
+    if (fl.queue && fl.queue != queue) pvs__free_array(&a, fl.queue, fl.cap_vox ? 2 * fl.cap_vox : 1, sizeof(uint32_t));
+    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
+    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
+    pvs__free_array(&a, cbox, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
+    pvs__vx_topo_free(&a, &tp, s->triangle_count);
+    pvs__free_array(&a, tmp, total, 1);
+    pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
+    pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+    pvs_occluders_destroy(o);
+    return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder synthesis scratch");
 }
 
 PVS_API void pvs_occluders_get_info(const pvs_occluders *o, pvs_occluders_info *info) { *info = o->info; }
@@ -9361,6 +11021,32 @@ PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *o, uint32_t i, uint3
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *o, uint32_t *count) {
     if (count) *count = o->box_count;
     return o->boxes;
+}
+PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *o, uint32_t *count) {
+    *count = o->info.excluded_cells;
+    return o->info.excluded_cells ? o->excluded : NULL;
+}
+
+PVS_API float pvs_occluders_column_height(const pvs_occluders *o, float pu, float pv, float *solid) {
+    const pvs__vx_cols *cm = &o->cols;
+    uint32_t a0, a1, b0, b1, a, b;
+    float top = FLT_MAX, sol = FLT_MAX;
+    int u, v;
+    pvs__ground_axes(o->scene->up_axis, &u, &v);
+    pvs__vx_grange(&cm->grid, u, pu, pu, 0.0, &a0, &a1);
+    pvs__vx_grange(&cm->grid, v, pv, pv, 0.0, &b0, &b1);
+    if (a0 > a1 || b0 > b1 || !cm->top) {
+        if (solid) *solid = o->ground;
+        return -FLT_MAX;
+    }
+    for (b = b0; b <= b1; ++b)
+        for (a = a0; a <= a1; ++a) {
+            size_t x = (size_t)b * cm->nu + a;
+            if (cm->top[x] < top) top = cm->top[x];
+            if (cm->solid[x] < sol) sol = cm->solid[x];
+        }
+    if (solid) *solid = sol;
+    return top;
 }
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, uint32_t *count) {
     if (count) *count = o->chain_count;
@@ -11946,18 +13632,29 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    same kind of margin; its Depth is its least w, rounded down. A box is hidden when every pixel of
    its rectangle holds an occluder strictly nearer (§2.2); pixels outside the plane count as visible.
 
-   The bake method (§6.1). Occluders are prepared once per bake: an object whose triangles close a
-   convex surface becomes one convex solid, two consecutive coplanar triangles forming a convex quad
+   The bake method (§6.1). Occluders are prepared once per bake from each object's connected
+   components (triangles sharing positions): a closed convex component becomes one convex solid, a
+   convex one closed by a planar cap (a trunk or a post standing on the ground, no bottom) a solid
+   for the cells on the cap's solid side, two consecutive coplanar triangles forming a convex quad
    one polygon, any other triangle itself; explicit BOX occluders are solids, EXTRUSION walls quads.
-   Per cell and direction: the PVS__EP_DEFAULT_OCC occluders of largest solid angle (area seen along
-   the axis over squared distance), a plane just behind the candidate filling the most pixels and a
-   second one just behind the largest occluder, 256 x 256 depth maps with a max pyramid; then the
-   object kD-tree front to back, skipping hidden nodes, an object visible when a part of its box cut
-   by a leaf is. Objects meeting the cell are always visible.
-   Limits: not done yet are the improved occludee Projection (§4), the slicing of concave closed
-   meshes (§3.3), the occlusion sweep (§5) and adaptive cells; occluders are never fused across
-   polygons except through the depth map, so gaps open at building corners and T-junctions, and in
-   big street cells of a city or a forest of small leaves the PVS stays loose (see make bench). */
+   Polygons coplanar and solids convex only up to float precision carry that slack into the
+   rasterizer's error bound. A closed non-convex component (or one capped by an axis-aligned plane:
+   a building with no floor) is also kept for slicing (§3.3). Coplanar triangles whose union is one
+   convex polygon form a sheet (a ground of tiles); occluders standing on it get a copy extended
+   through it, which closes the seam between a wall and the ground. Per cell and direction: the
+   occluders of largest solid angle (from the cell's centre, front to back over kD-trees by size
+   class), PVS__EP_PLANES planes (one just behind the farthest selected occluder, the others in
+   distance bands, each just behind the occluder whose candidate plane fills the most pixels), each a
+   256 x 256 depth map with the Projections, the slices of the closed meshes and of the sheets'
+   solids, and a max pyramid; with the sweep, PVS_EXTPROJ_SWEEP_PLANES more planes per direction
+   holding reprojected umbrae (§5). Then the object kD-tree front to back, skipping hidden nodes,
+   an object visible when a part of its box cut by a leaf is; boxes in front of a plane use the
+   improved Projection (§4). Objects meeting the cell are always visible.
+   Limits: occluders fuse only through the depth maps and slices, so a pixel across the common edge
+   of two occluders that are not sliced is lost; a Depth is flat per occluder part, so long walls
+   running away from the cell hide only what lies beyond their far end on that plane; the sweep's
+   reprojection erodes by a pixel or so per plane; scenes of sparse small occluders (the generator's
+   forest) stay loose even with the sweep. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
@@ -11965,7 +13662,8 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 #define PVS__EP_DEFAULT_RES 256
 #define PVS__EP_DEFAULT_OCC 128
 #define PVS__EP_PLANE_CANDIDATES 16
-#define PVS__EP_PLANES 2                              /* planes per direction */
+#define PVS__EP_PLANES 4                              /* planes per direction (§6.1) */
+#define PVS__EP_PLANE_RATIO 1.7                       /* their distance bands */
 
 typedef struct pvs__epframe {
     int a, u, v;
@@ -12042,14 +13740,25 @@ PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
     return k - 1; /* the last point repeats the first */
 }
 
+/* ceil and floor of x in (-2^31, 2^31) by conversion (the callers clamp to the raster first). */
+PVS__STATIC double pvs__ceil_small(double x) {
+    double t = (double)(int32_t)x;
+    return t < x ? t + 1.0 : t;
+}
+PVS__STATIC double pvs__floor_small(double x) {
+    double t = (double)(int32_t)x;
+    return t > x ? t - 1.0 : t;
+}
+
 /* The Projection of the part of a convex occluder inside the depth slab [lo, hi]: the views are
    convex hulls of the projected vertices of the clipped part. The clipped part's vertices are among
    the points inside the slab and the ends of the clipped segments between any two points. */
-PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo, double whi, float *map) {
+PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo, double whi, double slack,
+                                           float *map, unsigned char *mask) {
     pvs__epframe f = *fp;
     double P[PVS__EP_CLIPN][3], pts[PVS__EP_CLIPN][2], hull[PVS__EP_CLIPN + 1][2];
-    double ea[8 * PVS__EP_CLIPN], eb[8 * PVS__EP_CLIPN], ec[8 * PVS__EP_CLIPN];
-    double dmax = 0.0, xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, perr, mag = 0.0, base;
+    double ea[8 * PVS__EP_CLIPN], eb[8 * PVS__EP_CLIPN], ec[8 * PVS__EP_CLIPN], ee[8 * PVS__EP_CLIPN];
+    double dmax = 0.0, xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, base;
     int n = 0, i, j, c, edges = 0;
     int32_t i0, i1, j0, j1, row;
     uint32_t written = 0;
@@ -12081,17 +13790,27 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
     /* the intersection of the views from the 8 corners of the cell (§3.2) */
     for (c = 0; c < 8; ++c) {
         double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], h;
-        double bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX, area2 = 0.0;
+        double bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX, area2 = 0.0, mag = 0.0, verr, smax = 0.0;
         int k;
         for (i = 0; i < n; ++i) {
-            double t = (f.W - Vw) / (P[i][2] - Vw);
-            pts[i][0] = (Vu + (P[i][0] - Vu) * t - f.u0) * f.su;
-            pts[i][1] = (Vv + (P[i][1] - Vv) * t - f.v0) * f.sv;
+            double t = (f.W - Vw) / (P[i][2] - Vw), du, dv;
+            du = (P[i][0] - Vu) * t;
+            dv = (P[i][1] - Vv) * t;
+            pts[i][0] = (Vu + du - f.u0) * f.su;
+            pts[i][1] = (Vv + dv - f.v0) * f.sv;
             bx0 = pvs__dmin(bx0, pts[i][0]); bx1 = pvs__dmax(bx1, pts[i][0]);
             by0 = pvs__dmin(by0, pts[i][1]); by1 = pvs__dmax(by1, pts[i][1]);
             mag = pvs__dmax(mag, pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) + (pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
                                      (pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
+            /* a point moved by `slack` moves its view by at most slack (t + |view - V| / (Pw - Vw))
+               per axis (the derivative of the projection) */
+            smax = pvs__dmax(smax, t + (pvs__dabs(du) + pvs__dabs(dv)) / (P[i][2] - Vw));
         }
+        /* a bound on each projected vertex's error, in pixels: a few ulps of the terms' size (the
+           projection, the frame change), with a wide safety factor, plus the occluder's slack (how
+           far its true shape may lie inside the hull of its points: non-planar quads, nearly
+           convex solids, within float precision) */
+        verr = 1e-12 * (mag + base + 1.0) + slack * smax * pvs__dmax(f.su, f.sv);
         if (!(bx1 - bx0 < 1e15) || !(by1 - by0 < 1e15)) return 0; /* beyond any useful precision */
         xlo = pvs__dmax(xlo, bx0); xhi = pvs__dmin(xhi, bx1);
         ylo = pvs__dmax(ylo, by0); yhi = pvs__dmin(yhi, by1);
@@ -12108,18 +13827,39 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
             ea[edges] = a / len;
             eb[edges] = b / len;
             ec[edges] = -(ea[edges] * p[0] + eb[edges] * p[1]);
+            /* moving both ends by verr changes (a, b) by 2 verr each and the L1 norm by 4 verr: at
+               a pixel at L1 distance D from p the normalized edge function moves by at most
+               verr (1 + 6 D / len) */
+            ee[edges] = verr * (2.0 + 8.0 * (pvs__dabs(p[0]) + pvs__dabs(p[1]) + (double)f.width + (double)f.height + 2.0) / len);
             ++edges;
         }
     }
-    /* a bound on the vertices' rounding errors, in pixels (projection and frame change: a few ulps
-       of the terms' size), widened for the edges' rotation over the raster's span */
-    perr = 1e-12 * (mag + base + 1.0);
     i0 = pvs__clampi(ceil(xlo), 0, (int32_t)f.width);
     i1 = pvs__clampi(floor(xhi) - 1.0, -1, (int32_t)f.width - 1);
     j0 = pvs__clampi(ceil(ylo), 0, (int32_t)f.height);
     j1 = pvs__clampi(floor(yhi) - 1.0, -1, (int32_t)f.height - 1);
     if (i0 > i1 || j0 > j1) return 0;
     depth = pvs__f_up(dmax + 1e-12 * dmax);
+    {
+        /* edges that hold for every candidate pixel square ([i0, i1 + 1] x [j0, j1 + 1], where the
+           linear edge function is least at a corner) by more than the row loop's margins cannot
+           cut a row: drop them (most edges of the eight views lie outside their intersection) */
+        int e, m = 0;
+        double x0 = i0, x1 = (double)i1 + 1.0, y0 = j0, y1 = (double)j1 + 1.0;
+        for (e = 0; e < edges; ++e) {
+            double a = ea[e], b = eb[e], cc = ec[e];
+            double least = cc + pvs__dmin(a * x0, a * x1) + pvs__dmin(b * y0, b * y1);
+            double errmax = 1e-6 + ee[e] + 1e-12 * (pvs__dabs(cc) + pvs__dabs(b) * y1);
+            double room = 1e-6 + 1e-8 * (pvs__dabs(cc) + pvs__dabs(b) * y1 + pvs__dabs(a) * x1);
+            if (least - errmax > room) continue;
+            ea[m] = a;
+            eb[m] = b;
+            ec[m] = cc;
+            ee[m] = 1e-6 + ee[e] + 1e-12 * pvs__dabs(cc); /* the row loop's margin, less its row part */
+            ++m;
+        }
+        edges = m;
+    }
     for (row = j0; row <= j1; ++row) {
         double lo = i0, hi = i1, y = row;
         int e;
@@ -12127,14 +13867,15 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
             double a = ea[e], b = eb[e];
             /* the pixel's worst corner: a (i + [a < 0]) + b (y + [b < 0]) + c >= err */
             double r = ec[e] + b * y + (b < 0.0 ? b : 0.0) + (a < 0.0 ? a : 0.0);
-            double err = 1e-6 + perr * (4.0 + 4.0 * (mag + (double)f.width + (double)f.height)) + 1e-12 * (pvs__dabs(ec[e]) + pvs__dabs(b * y));
-            r -= err;
+            r -= ee[e] + 1e-12 * pvs__dabs(b * y);
             if (a > 1e-12) {
                 double x = -r / a;
-                lo = pvs__dmax(lo, ceil(x + 1e-9 * (1.0 + pvs__dabs(x))));
+                x += 1e-9 * (1.0 + pvs__dabs(x));
+                if (x > lo) lo = x > hi ? hi + 1.0 : pvs__ceil_small(x);
             } else if (a < -1e-12) {
                 double x = r / -a;
-                hi = pvs__dmin(hi, floor(x - 1e-9 * (1.0 + pvs__dabs(x))));
+                x -= 1e-9 * (1.0 + pvs__dabs(x));
+                if (x < hi) hi = x < lo ? lo - 1.0 : pvs__floor_small(x);
             } else {
                 /* nearly horizontal: test the worst of the row's two ends */
                 double worst = r + pvs__dmin(a * lo, a * hi) - pvs__dabs(a);
@@ -12143,53 +13884,113 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
         }
         if (lo > hi) continue;
         {
-            float *px = map + (size_t)row * f.width;
             int32_t x0 = (int32_t)lo, x1 = (int32_t)hi, x;
-            for (x = x0; x <= x1; ++x)
-                if (px[x] > depth) px[x] = depth;
+            if (map) {
+                float *px = map + (size_t)row * f.width;
+                for (x = x0; x <= x1; ++x)
+                    if (px[x] > depth) px[x] = depth;
+            }
+            if (mask) memset(mask + (size_t)row * f.width + x0, 1, (size_t)(x1 - x0 + 1));
             written += (uint32_t)(x1 - x0 + 1);
         }
     }
     return written;
 }
 
-PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *points, uint32_t count, float *map) {
-    pvs__epframe f;
+/* 0 when the part of the occluder (points P in frame coordinates) in the depth slab [wlo, whi]
+   certainly covers no pixel of the map: the Projection of its bounding box, axis by axis, holds no
+   whole pixel inside the map (the Projection of a subset lies in the Projection of the set). A cheap
+   test before the exact one; 1 means "maybe". */
+PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3], int count, double wlo, double whi) {
+    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    int i, k;
+    for (i = 0; i < count; ++i)
+        for (k = 0; k < 3; ++k) {
+            lo[k] = pvs__dmin(lo[k], P[i][k]);
+            hi[k] = pvs__dmax(hi[k], P[i][k]);
+        }
+    lo[2] = pvs__dmax(lo[2], wlo);
+    hi[2] = pvs__dmin(hi[2], whi);
+    if (!(hi[2] >= lo[2])) return 0;
+    for (k = 0; k < 2; ++k) {
+        const double *ck = k ? f->cv : f->cu;
+        double k0 = k ? f->v0 : f->u0, sk = k ? f->sv : f->su, a = -DBL_MAX, b = DBL_MAX, size = k ? (double)f->height : (double)f->width;
+        int c, e;
+        for (c = 0; c < 4; ++c) {
+            double Vk = ck[c & 1], Vw = f->cw[c >> 1], mn = DBL_MAX, mx = -DBL_MAX;
+            for (e = 0; e < 4; ++e) {
+                double x = Vk + ((e & 1 ? hi[k] : lo[k]) - Vk) * (f->W - Vw) / ((e & 2 ? hi[2] : lo[2]) - Vw);
+                mn = pvs__dmin(mn, x);
+                mx = pvs__dmax(mx, x);
+            }
+            a = pvs__dmax(a, mn);
+            b = pvs__dmin(b, mx);
+        }
+        a = (a - k0) * sk;
+        b = (b - k0) * sk;
+        /* a margin far above the rounding of these few operations */
+        if (b - a < 1.0 - 1e-6 * (1.0 + pvs__dabs(a) + pvs__dabs(b)) || b < -1e-6 * (1.0 + pvs__dabs(b)) || a > size + 1e-6 * (1.0 + pvs__dabs(a)))
+            return 0;
+    }
+    return 1;
+}
+
+/* pvs_extproj_occluder with a prepared frame and finite points: `solid` tells a convex solid from a
+   planar polygon, `slack` how far (world units) the true occluder may lie inside the hull of the
+   points. Depths go to `map` (min), pixels to `mask` (set to 1), either may be NULL; only the part in
+   front of the plane when front_only. */
+PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cell, const float *points, uint32_t count, int solid, double slack,
+                                      int front_only, float *map, unsigned char *mask) {
+    pvs__epframe f = *fp;
     double P[PVS__EP_MAXP][3], margin, wmax = -DBL_MAX;
     uint32_t i, written;
-    if (!pvs__ep_frame(pl, &f) || !points || !map || count < 1 || count > PVS__EP_MAXP) return 0;
-    for (i = 0; i < count * 3; ++i)
-        if (!pvs__finite(points[i])) return 0;
     for (i = 0; i < count; ++i) {
         P[i][0] = points[3 * i + f.u];
         P[i][1] = points[3 * i + f.v];
         P[i][2] = f.s * ((double)points[3 * i + f.a] - f.face);
         wmax = pvs__dmax(wmax, P[i][2]);
     }
-    if (count > 3) {
+    if (solid) {
         /* a solid that meets the cell could hold the viewer: its Depth would not bound the first
            hit. Such occluders are left out (conservative); planar ones never hold a viewer. */
-        double n[3], len = 0.0, scale = 0.0;
-        int planar = 1;
         pvs_box b = pvs__box_empty();
         for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
-        for (i = 2; i < count && !(len > 0.0); ++i) len = pvs__ep_tri_normal(points, points + 3, points + 3 * i, n);
-        for (i = 0; i < 3; ++i) scale = pvs__dmax(scale, (double)b.max[i] - b.min[i]);
-        for (i = 0; i < count && planar; ++i) {
-            double d = n[0] * ((double)points[3 * i] - points[0]) + n[1] * ((double)points[3 * i + 1] - points[1]) +
-                       n[2] * ((double)points[3 * i + 2] - points[2]);
-            planar = pvs__dabs(d) <= 1e-7 * len * scale;
-        }
-        if (!(len > 0.0) || (!planar && pvs__box_overlap(&b, &pl->cell))) return 0;
+        if (pvs__box_overlap(&b, cell)) return 0;
     }
     /* clipped to depths >= a small margin (views are defined beyond the cell), and split at the
        plane: the set of cell points that see a pixel through the part in front of the plane (or
        through the part behind it) is convex, so the corners decide for the whole cell; for a part
        straddling the plane it would not be */
     margin = 1e-4 * (f.W - f.cw[0]);
-    written = pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, margin, f.W, map);
-    if (wmax > f.W) written += pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX, map);
+    written = 0;
+    if (pvs__ep_box_may_cover(&f, (const double(*)[3])P, (int)count, margin, f.W))
+        written = pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, margin, f.W, slack, map, mask);
+    if (wmax > f.W && !front_only && pvs__ep_box_may_cover(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX))
+        written += pvs__ep_occluder_part(&f, (const double(*)[3])P, (int)count, f.W, DBL_MAX, slack, map, mask);
     return written;
+}
+
+PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *points, uint32_t count, float *map) {
+    pvs__epframe f;
+    uint32_t i;
+    int solid = 0;
+    if (!pvs__ep_frame(pl, &f) || !points || !map || count < 1 || count > PVS__EP_MAXP) return 0;
+    for (i = 0; i < count * 3; ++i)
+        if (!pvs__finite(points[i])) return 0;
+    if (count > 3) { /* planar (a polygon) or not (a solid)? */
+        double n[3], len = 0.0, scale = 0.0;
+        pvs_box b = pvs__box_empty();
+        for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
+        for (i = 2; i < count && !(len > 0.0); ++i) len = pvs__ep_tri_normal(points, points + 3, points + 3 * i, n);
+        for (i = 0; i < 3; ++i) scale = pvs__dmax(scale, (double)b.max[i] - b.min[i]);
+        if (!(len > 0.0)) return 0;
+        for (i = 0; i < count && !solid; ++i) {
+            double d = n[0] * ((double)points[3 * i] - points[0]) + n[1] * ((double)points[3 * i + 1] - points[1]) +
+                       n[2] * ((double)points[3 * i + 2] - points[2]);
+            solid = pvs__dabs(d) > 1e-7 * len * scale;
+        }
+    }
+    return pvs__ep_occluder(&f, &pl->cell, points, count, solid, 0.0, 0, map, NULL);
 }
 
 /* Pixel bounds of the views of the box's (k, w) extent from the cell's (k, w) corners; t[c][b] =
@@ -12227,6 +14028,43 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
     return 1;
 }
 
+/* The improved occludee Projection of Durand 2000 §4 on one axis k, for a box between the cell and
+   the plane (depths w0..w1 <= W; bk0..bk1 across). Cones are taken to the cell's near face (w = 0)
+   rather than the whole cell: cone(P, face) is inside cone(P, cell), so Property 2 still holds, and
+   because both axes cross w = 0 at once the 3D Projection is the Cartesian product of the two 2D
+   ones exactly. A point X of the box is in cone(P, face) iff P lies in X's views from the face,
+   [L(X), R(X)]; so I = [a, b] works iff a <= min_X R(X) and b >= max_X L(X). In front of the plane
+   L and R are linear in Xk and monotone in Xw, so the extremes sit at the box's corners. When
+   max L <= min R any single point between them serves (the "vanishing point" case: *any = 1, a
+   pixel range of which one column must be hidden); else the segment [min R, max L] (*any = 0,
+   every pixel of the range). Pixel indices may reach outside the map. */
+PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W, double k0,
+                                       double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
+    double maxL = -DBL_MAX, minR = DBL_MAX, mag = 0.0, err, a, b;
+    int x, y;
+    for (x = 0; x < 2; ++x)
+        for (y = 0; y < 2; ++y) {
+            double Xk = x ? bk1 : bk0, t = W / (y ? w1 : w0);
+            double v0 = (cell_k[0] + (Xk - cell_k[0]) * t - k0) * sk, v1 = (cell_k[1] + (Xk - cell_k[1]) * t - k0) * sk;
+            maxL = pvs__dmax(maxL, pvs__dmin(v0, v1));
+            minR = pvs__dmin(minR, pvs__dmax(v0, v1));
+            mag = pvs__dmax(mag, (pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1]) + (pvs__dabs(Xk) + pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1])) * t +
+                                  pvs__dabs(k0)) * sk);
+        }
+    err = 1e-6 + 1e-12 * mag;
+    a = maxL + err;
+    b = minR - err;
+    if (a <= b) { /* any point of [a, b] */
+        *any = 1;
+        *lo = pvs__clampi(floor(a), -1, (int32_t)size);
+        *hi = pvs__clampi(floor(b), -1, (int32_t)size);
+    } else { /* the whole of [min R, max L], widened */
+        *any = 0;
+        *lo = pvs__clampi(floor(minR - err), -1, (int32_t)size);
+        *hi = pvs__clampi(floor(maxL + err), -1, (int32_t)size);
+    }
+}
+
 PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *pl, const pvs_box *box, int32_t rect[4], float *depth) {
     pvs__epframe f;
     if (!pvs__ep_frame(pl, &f) || !box || !rect || !depth || !pvs__box_valid(box)) return 0;
@@ -12243,22 +14081,79 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
     return 0;
 }
 
-/* ---- the bake method: occluders prepared once per bake, then per cell six planes ---- */
+/* ---- the bake method: occluders prepared once per bake, then per cell six directions ---- */
 
 /* One convex occluder: a planar convex polygon (a triangle, or coplanar triangles merged) or a
-   closed convex solid (an object whose triangles bound their convex hull). */
+   closed convex solid (a connected component whose triangles bound their convex hull). */
 typedef struct pvs__epocc {
     pvs_box box;
-    float area[3];         /* area seen along each axis: of the polygon projected, of a solid's box face */
-    uint32_t first, count; /* points */
+    uint32_t first, count;   /* points */
+    int solid;
+    uint32_t xfirst, xcount; /* the occluder extended through a sheet (pvs__epsheet), xcount = 0 if none */
+    uint32_t sheet;
+    int xside;               /* the side of the sheet the occluder stands on */
+    int cap_side, cap_axis;  /* a capped convex solid (cap_side != 0): used only for cells where */
+    float cap_value;         /*   cap_side * (x[cap_axis] - cap_value) > 0 */
+    float slack;             /* how far the true shape may lie inside the hull of the points */
+    uint32_t object;         /* the object the triangles belong to, PVS_NO_OBJECT for none */
+    float area;              /* a bound on the area it shows from any point: solid angle <= area / distance^2 */
+    uint32_t efirst, ecount; /* a concave planar occluder (ecount > 0): its boundary edges prep->cedge[6 * efirst ...];
+                                the points are then the hull of its vertices, for selection only */
+    float pn[3], pd;         /*   its plane pn . x = pd (pn a unit normal) */
 } pvs__epocc;
+
+/* A sheet: coplanar triangles (of any objects) in an axis-aligned plane x[axis] = value whose union
+   is one convex polygon without holes, e.g. a ground or a floor made of tiles. For a cell strictly on
+   one side of it and over it (its footprint inside the polygon), the half-space beyond the sheet,
+   over the polygon, is solid: a segment from the cell to a point there crosses the plane inside the
+   polygon (both ends lie over the convex polygon), so it hits a triangle of the sheet. */
+#define PVS__EP_MAX_SHEETS 16
+#define PVS__EP_AREA_CLASSES 8
+typedef struct pvs__epsheet {
+    int axis;
+    float value;
+    uint32_t first, count;   /* polygon vertices prep->spoly[2 * first ...] in the (axis + 1, axis + 2) plane, convex */
+    double area;
+} pvs__epsheet;
+
+/* A closed non-convex component sliced by the planes (§3.3): a connected set of one object's
+   triangles in which every edge is shared by an even number of triangles, or whose odd edges (the
+   boundary) all lie in one plane with every vertex on one side of it ("capped": the boundary's
+   region in that plane closes it, e.g. a building standing on the ground with no floor). */
+typedef struct pvs__epslice {
+    pvs_box box;
+    uint32_t first, count;   /* scene triangles prep->stri[first .. first + count) */
+    uint32_t bfirst, bcount; /* capped: boundary edges prep->bedge[6 * bfirst ...], two points each */
+    int capped;              /* capped: the solid lies where cap_side * (x[cap_axis] - cap_value) >= 0 */
+    int cap_axis, cap_side;
+    float cap_value;
+} pvs__epslice;
 
 typedef struct pvs__extproj_prep {
     pvs_allocator allocator;
     pvs__epocc *occ;
-    uint32_t occ_count, occ_capacity;
-    float *pts;            /* 3 floats per point */
+    size_t occ_count, occ_capacity;
+    float *pts;              /* 3 floats per point */
     size_t pt_count, pt_capacity;
+    pvs__epslice *slc;
+    size_t slc_count, slc_capacity;
+    uint32_t *stri;
+    size_t stri_count, stri_capacity;
+    float *bedge;            /* 6 floats per boundary edge */
+    size_t bedge_count, bedge_capacity;
+    uint32_t max_slice_segments; /* the most triangles plus boundary edges of one sliced component */
+    pvs__epsheet sheet[PVS__EP_MAX_SHEETS];
+    uint32_t sheet_count;
+    /* the occluders by size class (area bound < 4^c square units), a kD-tree over each class's
+       boxes for the selection, which prunes a node by the class's largest area */
+    pvs_kdtree *occ_tree[PVS__EP_AREA_CLASSES];
+    uint32_t *class_occ[PVS__EP_AREA_CLASSES]; /* tree item -> occluder */
+    uint32_t class_count[PVS__EP_AREA_CLASSES];
+    float class_area[PVS__EP_AREA_CLASSES];
+    float *spoly;            /* sheet polygons: 2 floats per vertex */
+    size_t spoly_count, spoly_capacity;
+    float *cedge;            /* boundary edges of concave planar occluders: 6 floats per edge */
+    size_t cedge_count, cedge_capacity;
 } pvs__extproj_prep;
 
 PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
@@ -12267,126 +14162,1069 @@ PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
     a = p->allocator;
     pvs__free_array(&a, p->occ, p->occ_capacity, sizeof(pvs__epocc));
     pvs__free_array(&a, p->pts, p->pt_capacity * 3, sizeof(float));
+    pvs__free_array(&a, p->slc, p->slc_capacity, sizeof(pvs__epslice));
+    pvs__free_array(&a, p->stri, p->stri_capacity, sizeof(uint32_t));
+    pvs__free_array(&a, p->bedge, p->bedge_capacity * 6, sizeof(float));
+    pvs__free_array(&a, p->spoly, p->spoly_capacity * 2, sizeof(float));
+    pvs__free_array(&a, p->cedge, p->cedge_capacity * 6, sizeof(float));
+    {
+        int c;
+        for (c = 0; c < PVS__EP_AREA_CLASSES; ++c) {
+            pvs_kdtree_destroy(p->occ_tree[c]);
+            pvs__free_array(&a, p->class_occ[c], (size_t)p->class_count[c] + 1, sizeof(uint32_t));
+        }
+    }
     pvs__free(&a, p, sizeof(*p), 16);
 }
 
-/* Adds a convex occluder. A polygon's area along axis k is its area times |n_k| (n, its unit
-   normal: the area of its shadow on a plane of that axis); a solid's is its box's face. */
-PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, int solid) {
+/* Adds a convex occluder (room is reserved by the caller). */
+PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, int solid, double slack) {
     pvs__epocc *o = p->occ + p->occ_count++;
     uint32_t i;
-    int k;
     o->box = pvs__box_empty();
     o->first = (uint32_t)p->pt_count;
     o->count = n;
+    o->solid = solid;
+    o->xfirst = o->xcount = 0;
+    o->sheet = 0;
+    o->xside = o->cap_side = o->cap_axis = 0;
+    o->cap_value = 0.0f;
+    o->slack = pvs__f_up(slack);
+    o->object = PVS_NO_OBJECT;
+    o->efirst = o->ecount = 0;
+    o->pn[0] = o->pn[1] = o->pn[2] = o->pd = 0.0f;
     for (i = 0; i < n; ++i) {
         memcpy(p->pts + 3 * p->pt_count, pts[i], 3 * sizeof(float));
         pvs__box_add_point(&o->box, pts[i]);
         ++p->pt_count;
     }
-    if (solid) {
-        for (k = 0; k < 3; ++k)
-            o->area[k] = (o->box.max[(k + 1) % 3] - o->box.min[(k + 1) % 3]) * (o->box.max[(k + 2) % 3] - o->box.min[(k + 2) % 3]);
-    } else {
-        double a[3] = {0.0, 0.0, 0.0};
-        for (i = 1; i + 1 < n; ++i) { /* fan: twice the vector area */
-            double e1[3], e2[3];
-            for (k = 0; k < 3; ++k) { e1[k] = (double)pts[i][k] - pts[0][k]; e2[k] = (double)pts[i + 1][k] - pts[0][k]; }
-            a[0] += e1[1] * e2[2] - e1[2] * e2[1];
-            a[1] += e1[2] * e2[0] - e1[0] * e2[2];
-            a[2] += e1[0] * e2[1] - e1[1] * e2[0];
+    {
+        /* a bound on the area it shows (the solid angle it subtends from a point at distance d is at
+           most that over d^2): a polygon's area; for a solid, the three faces of its box that
+           pvs__ep_solid_angle measures */
+        double ex = (double)o->box.max[0] - o->box.min[0], ey = (double)o->box.max[1] - o->box.min[1], ez = (double)o->box.max[2] - o->box.min[2];
+        double f = ex * ey + ey * ez + ez * ex;
+        if (!solid) { /* the polygon's own area, by its fan */
+            double a3[3] = {0.0, 0.0, 0.0};
+            int k;
+            for (i = 1; i + 1 < n; ++i) {
+                double e1[3], e2[3];
+                for (k = 0; k < 3; ++k) { e1[k] = (double)pts[i][k] - pts[0][k]; e2[k] = (double)pts[i + 1][k] - pts[0][k]; }
+                a3[0] += e1[1] * e2[2] - e1[2] * e2[1];
+                a3[1] += e1[2] * e2[0] - e1[0] * e2[2];
+                a3[2] += e1[0] * e2[1] - e1[1] * e2[0];
+            }
+            f = 0.5 * sqrt(a3[0] * a3[0] + a3[1] * a3[1] + a3[2] * a3[2]) * 1.000001 + 1e-30;
         }
-        for (k = 0; k < 3; ++k) o->area[k] = (float)(0.5 * pvs__dabs(a[k]));
+        o->area = pvs__f_up(f);
     }
 }
 
 PVS__STATIC int pvs__ep_same(const float *a, const float *b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 
-
-/* Two triangles sharing an edge, coplanar, whose union is a convex quad: fills q[4] and returns 1. */
-PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q) {
+/* Two triangles sharing an edge, coplanar up to float precision, whose union is a convex quad:
+   fills q[4] and *slack (the fourth point's distance from the first triangle's plane) and returns 1. */
+PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q, double *slack) {
     int i, j, k;
     double n[3], len = pvs__ep_tri_normal(A[0], A[1], A[2], n), scale = 0.0;
     if (!(len > 0.0)) return 0;
     for (i = 0; i < 3; ++i)
         for (j = 0; j < 3; ++j) {
             const float *a0 = A[i], *a1 = A[(i + 1) % 3], *x;
+            double dev;
             if (!(pvs__ep_same(a0, B[j]) && pvs__ep_same(a1, B[(j + 2) % 3])) && !(pvs__ep_same(a0, B[(j + 2) % 3]) && pvs__ep_same(a1, B[j])))
                 continue;
             x = B[(j + 1) % 3];
             q[0] = a0; q[1] = x; q[2] = a1; q[3] = A[(i + 2) % 3];
-            for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)x[k] - a0[k]));
-            /* coplanar up to float precision of the input */
-            if (pvs__dabs(n[0] * ((double)x[0] - a0[0]) + n[1] * ((double)x[1] - a0[1]) + n[2] * ((double)x[2] - a0[2])) > 1e-7 * len * scale)
-                return 0;
+            for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
+            /* coplanar up to float precision of the input: the hull of the four points then
+               exceeds the two triangles by at most that distance, the occluder's slack */
+            dev = pvs__dabs(n[0] * ((double)x[0] - a0[0]) + n[1] * ((double)x[1] - a0[1]) + n[2] * ((double)x[2] - a0[2])) / len;
+            if (dev > 1e-6 * scale) return 0;
             for (k = 0; k < 4; ++k) { /* strictly convex at every corner, turning like the triangle */
                 const float *p0 = q[k], *p1 = q[(k + 1) % 4], *p2 = q[(k + 2) % 4];
                 double m[3];
                 pvs__ep_tri_normal(p0, p1, p2, m);
                 if (!(m[0] * n[0] + m[1] * n[1] + m[2] * n[2] > 0.0)) return 0;
             }
+            *slack = dev == 0.0 ? 0.0 : 2.0 * dev + 1e-12 * scale;
             return 1;
         }
     return 0;
 }
 
-/* An object whose triangles form a closed surface in convex position bounds a convex solid: its
-   unique vertices (<= PVS__EP_MAXP) go to pts. Returns the count, or 0. Every edge must be shared by
-   exactly two of the object's triangles (by position) and every vertex must lie on one side of
-   every triangle's plane. */
-PVS__STATIC uint32_t pvs__ep_convex_object(const pvs_scene *s, uint32_t t0, uint32_t tn, const float **pts) {
-    uint32_t t, n = 0, i, k;
-    double scale = 0.0;
-    if (tn < 4 || tn > 2 * PVS__EP_MAXP) return 0;
-    for (t = t0; t < t0 + tn; ++t)
-        for (k = 0; k < 3; ++k) {
-            const float *p = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
-            for (i = 0; i < n && !pvs__ep_same(pts[i], p); ++i) {}
-            if (i == n) {
-                if (n == PVS__EP_MAXP) return 0;
-                pts[n++] = p;
+/* An edge in a sheet's plane, ends ordered. */
+typedef struct pvs__epedge2 {
+    float a[2], b[2];
+    uint32_t tri;            /* the triangle's index in its group, then its component's root */
+} pvs__epedge2;
+
+PVS__STATIC int pvs__ep_p2_cmp(const float *a, const float *b) {
+    if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
+    if (a[1] != b[1]) return a[1] < b[1] ? -1 : 1;
+    return 0;
+}
+
+PVS__STATIC int pvs__ep_edge2_cmp(const void *x, const void *y) {
+    const pvs__epedge2 *a = (const pvs__epedge2 *)x, *b = (const pvs__epedge2 *)y;
+    int c = pvs__ep_p2_cmp(a->a, b->a);
+    return c ? c : pvs__ep_p2_cmp(a->b, b->b);
+}
+
+PVS__STATIC int pvs__ep_edge2_root_cmp(const void *x, const void *y) {
+    const pvs__epedge2 *a = (const pvs__epedge2 *)x, *b = (const pvs__epedge2 *)y;
+    if (a->tri != b->tri) return a->tri < b->tri ? -1 : 1;
+    return pvs__ep_edge2_cmp(x, y);
+}
+
+/* 1 if (x, y) lies inside the convex counter-clockwise polygon q (n points) by a margin. */
+PVS__STATIC int pvs__ep_in_convex(const float *q, uint32_t n, double x, double y) {
+    uint32_t i;
+    for (i = 0; i < n; ++i) {
+        const float *a = q + 2 * i, *b = q + 2 * ((i + 1) % n);
+        double ex = (double)b[0] - a[0], ey = (double)b[1] - a[1], cr = ex * (y - a[1]) - ey * (x - a[0]);
+        double scale = (pvs__dabs(ex) + pvs__dabs(ey)) * (pvs__dabs(x - a[0]) + pvs__dabs(y - a[1]));
+        if (!(cr > 1e-9 * scale)) return 0;
+    }
+    return 1;
+}
+
+/* The union of a group's triangles as one convex polygon: boundary edges (used an odd number of
+   times) forming one loop that turns one way once, with the loop's area equal to the triangles'
+   (no overlap, no hole). Fills q (counter-clockwise, collinear points dropped) and returns its size.
+   With tol > 0 (points rounded to floats off an exact plane, pvs__ep_merge_planar), a turn the
+   wrong way by less than tol (relative) is taken as straight: q is then the convex hull of the loop
+   (hp, hh: scratch of qcap + 1 points) and *dent the farthest a loop point lies inside it. */
+PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep, uint32_t qcap,
+                                           double tol, double (*hp)[2], double (*hh)[2], double *dent) {
+    uint32_t nb = 0, i, j, n = 0, m;
+    double area = 0.0, turn = 0.0;
+    qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
+    for (i = 0; i < ne;) {
+        j = i;
+        while (j < ne && pvs__ep_edge2_cmp(e + j, e + i) == 0) ++j;
+        if ((j - i) & 1u) e[nb++] = e[i];
+        i = j;
+    }
+    if (nb < 3 || nb > qcap) return 0;
+    /* walk the loop: from each point exactly one unused edge (e[m .. nb)) must continue */
+    {
+        float cur[2];
+        q[0] = e[0].a[0]; q[1] = e[0].a[1];
+        cur[0] = e[0].b[0]; cur[1] = e[0].b[1];
+        n = 1;
+        for (m = 1; m < nb; ++m) {
+            uint32_t found = nb, k;
+            int end = 0;
+            pvs__epedge2 tmp;
+            q[2 * n] = cur[0];
+            q[2 * n + 1] = cur[1];
+            ++n;
+            for (k = m; k < nb; ++k) {
+                int ea = pvs__ep_p2_cmp(e[k].a, cur) == 0, eb = pvs__ep_p2_cmp(e[k].b, cur) == 0;
+                if (!ea && !eb) continue;
+                if (found != nb) return 0; /* a point on more than two boundary edges */
+                found = k;
+                end = ea;
             }
+            if (found == nb) return 0;
+            cur[0] = end ? e[found].b[0] : e[found].a[0];
+            cur[1] = end ? e[found].b[1] : e[found].a[1];
+            tmp = e[m];
+            e[m] = e[found];
+            e[found] = tmp;
         }
+        if (pvs__ep_p2_cmp(cur, q) != 0) return 0; /* the loop must close at its start */
+    }
+    for (i = 0; i < n; ++i) {
+        const float *a = q + 2 * i, *b = q + 2 * ((i + 1) % n);
+        area += (double)a[0] * b[1] - (double)b[0] * a[1];
+    }
+    area *= 0.5;
+    if (area < 0.0) { /* make it counter-clockwise */
+        for (i = 0; i < n / 2; ++i) {
+            float t0 = q[2 * i], t1 = q[2 * i + 1];
+            q[2 * i] = q[2 * (n - 1 - i)];
+            q[2 * i + 1] = q[2 * (n - 1 - i) + 1];
+            q[2 * (n - 1 - i)] = t0;
+            q[2 * (n - 1 - i) + 1] = t1;
+        }
+        area = -area;
+    }
+    if (!(pvs__dabs(area - tri_area) <= 1e-6 * tri_area)) return 0;
+    if (tol > 0.0) {
+        int hn;
+        for (i = 0; i < n; ++i) {
+            const float *a = q + 2 * ((i + n - 1) % n), *b = q + 2 * i, *c = q + 2 * ((i + 1) % n);
+            double ux = (double)b[0] - a[0], uy = (double)b[1] - a[1], vx = (double)c[0] - b[0], vy = (double)c[1] - b[1];
+            double cr = ux * vy - uy * vx;
+            if (cr < -tol * (pvs__dabs(ux) + pvs__dabs(uy)) * (pvs__dabs(vx) + pvs__dabs(vy))) return 0;
+            turn += atan2(cr, ux * vx + uy * vy);
+            hp[i][0] = b[0];
+            hp[i][1] = b[1];
+        }
+        if (!(pvs__dabs(turn - 6.283185307179586) < 1e-3)) return 0;
+        hn = pvs__ep_hull(hp, (int)n, hh);
+        if (hn < 3) return 0;
+        *dent = 0.0;
+        for (i = 0; i < n; ++i) { /* each loop point's distance inside the hull (hp is sorted now) */
+            double best = DBL_MAX;
+            int h;
+            for (h = 0; h < hn; ++h) {
+                const double *a = hh[h], *b = hh[h + 1 < hn ? h + 1 : 0];
+                double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
+                if (len > 0.0) best = pvs__dmin(best, pvs__dabs(ex * (hp[i][1] - a[1]) - ey * (hp[i][0] - a[0])) / len);
+            }
+            *dent = pvs__dmax(*dent, best);
+        }
+        for (i = 0; i < (uint32_t)hn; ++i) {
+            q[2 * i] = (float)hh[i][0];
+            q[2 * i + 1] = (float)hh[i][1];
+        }
+        return (uint32_t)hn;
+    }
+    /* convex: no right turn, one full turn; collinear points are dropped (marked in keep) */
+    for (i = 0, m = 0; i < n; ++i) {
+        const float *a = q + 2 * ((i + n - 1) % n), *b = q + 2 * i, *c = q + 2 * ((i + 1) % n);
+        double ux = (double)b[0] - a[0], uy = (double)b[1] - a[1], vx = (double)c[0] - b[0], vy = (double)c[1] - b[1];
+        double cr = ux * vy - uy * vx;
+        if (cr < 0.0) return 0;
+        turn += atan2(cr, ux * vx + uy * vy);
+        keep[i] = cr > 0.0;
+        m += keep[i];
+    }
+    if (!(pvs__dabs(turn - 6.283185307179586) < 1e-3) || m < 3) return 0;
+    for (i = 0, m = 0; i < n; ++i)
+        if (keep[i]) {
+            q[2 * m] = q[2 * i];
+            q[2 * m + 1] = q[2 * i + 1];
+            ++m;
+        }
+    return m;
+}
+
+/* A vertex reference of the preparation: its position and its slot (3 t + k of the object). */
+typedef struct pvs__epvref {
+    float p[3];
+    uint32_t slot;
+} pvs__epvref;
+
+PVS__STATIC int pvs__ep_vref_cmp(const void *a, const void *b) {
+    const pvs__epvref *x = (const pvs__epvref *)a, *y = (const pvs__epvref *)b;
+    int k;
+    for (k = 0; k < 3; ++k)
+        if (x->p[k] != y->p[k]) return x->p[k] < y->p[k] ? -1 : 1;
+    return x->slot < y->slot ? -1 : x->slot > y->slot;
+}
+
+PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+PVS__STATIC uint32_t pvs__ep_find(uint32_t *parent, uint32_t i) {
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+/* Scratch of the preparation, sized for the largest object. */
+typedef struct pvs__epprepwork {
+    pvs__epvref *ref;     /* 3 per triangle */
+    uint32_t *canon;      /* 3 per triangle: the vertex's id among the object's distinct positions */
+    const float **vpos;   /* per distinct position */
+    uint32_t *owner;      /* per distinct position: a triangle using it */
+    uint32_t *parent;     /* per triangle: union-find */
+    uint32_t *order;      /* per triangle: grouped by component */
+    uint32_t *start;      /* per triangle + 1: component starts */
+    uint64_t *edges;      /* 3 per triangle */
+    uint32_t *mark;       /* per distinct position: last component that listed it */
+    uint32_t *uv;         /* per distinct position: the component's distinct vertices */
+    pvs__epedge2 *e2;     /* 3 per triangle: a planar group's edges in its 2D frame */
+    float *q2;            /* 2 (3 per triangle + 1): the group's polygon */
+    unsigned char *keep;  /* 3 per triangle + 1 */
+    uint32_t *gparent;    /* per triangle of a component: planar groups (union-find) */
+    unsigned char *used;  /* per triangle of a component: merged into a planar polygon */
+    double *hp, *hh;      /* 2 (3 per triangle + 1): hull scratch */
+    uint64_t *bed;        /* 3 per triangle: a group's edges */
+    size_t cap;           /* triangles */
+} pvs__epprepwork;
+
+PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
+    size_t n = w->cap;
+    pvs__free_array(a, w->ref, 3 * n, sizeof(pvs__epvref));
+    pvs__free_array(a, w->canon, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, (void *)w->vpos, 3 * n, sizeof(const float *));
+    pvs__free_array(a, w->owner, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, w->parent, n, sizeof(uint32_t));
+    pvs__free_array(a, w->order, n, sizeof(uint32_t));
+    pvs__free_array(a, w->start, n + 1, sizeof(uint32_t));
+    pvs__free_array(a, w->edges, 3 * n, sizeof(uint64_t));
+    pvs__free_array(a, w->mark, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, w->uv, 3 * n, sizeof(uint32_t));
+    pvs__free_array(a, w->e2, 3 * n, sizeof(pvs__epedge2));
+    pvs__free_array(a, w->q2, 2 * (3 * n + 1), sizeof(float));
+    pvs__free_array(a, w->keep, 3 * n + 1, 1);
+    pvs__free_array(a, w->gparent, n, sizeof(uint32_t));
+    pvs__free_array(a, w->used, n, 1);
+    pvs__free_array(a, w->hp, 2 * (3 * n + 1), sizeof(double));
+    pvs__free_array(a, w->hh, 2 * (3 * n + 1), sizeof(double));
+    pvs__free_array(a, w->bed, 3 * n, sizeof(uint64_t));
+    memset(w, 0, sizeof(*w));
+}
+
+PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, size_t n) {
+    memset(w, 0, sizeof(*w));
+    w->cap = n;
+    w->ref = (pvs__epvref *)pvs__alloc_array(a, 3 * n, sizeof(pvs__epvref));
+    w->canon = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->vpos = (const float **)pvs__alloc_array(a, 3 * n, sizeof(const float *));
+    w->owner = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->parent = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
+    w->order = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
+    w->start = (uint32_t *)pvs__alloc_array(a, n + 1, sizeof(uint32_t));
+    w->edges = (uint64_t *)pvs__alloc_array(a, 3 * n, sizeof(uint64_t));
+    w->mark = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->uv = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
+    w->e2 = (pvs__epedge2 *)pvs__alloc_array(a, 3 * n, sizeof(pvs__epedge2));
+    w->q2 = (float *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(float));
+    w->keep = (unsigned char *)pvs__alloc_array(a, 3 * n + 1, 1);
+    w->gparent = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
+    w->used = (unsigned char *)pvs__alloc_array(a, n, 1);
+    w->hp = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
+    w->hh = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
+    w->bed = (uint64_t *)pvs__alloc_array(a, 3 * n, sizeof(uint64_t));
+    return w->hp && w->hh && w->bed && w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start && w->edges && w->mark && w->uv && w->e2 &&
+           w->q2 && w->keep && w->gparent && w->used;
+}
+
+/* 1 if the component's distinct vertices (<= PVS__EP_MAXP) are in convex position with respect to
+   every one of its triangles: all on one side of each triangle's plane, up to float precision; the
+   largest violation (doubled) goes to *slack: the hull exceeds the surface by no more. */
+PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts, uint32_t n, double *slack) {
+    uint32_t t, i, k;
+    double scale = 0.0, worst = 0.0;
     for (i = 0; i < n; ++i)
-        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]));
-    for (t = t0; t < t0 + tn; ++t) {
+        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]) + pvs__dabs((double)pts[i][k]));
+    for (t = 0; t < tn; ++t) {
         const float *c[3];
         double nrm[3], len, lo = 0.0, hi = 0.0;
-        uint32_t e, u;
-        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
+        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
         len = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
         if (!(len > 0.0)) return 0;
         for (i = 0; i < n; ++i) {
-            double d = nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) + nrm[2] * ((double)pts[i][2] - c[0][2]);
+            double d = (nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) + nrm[2] * ((double)pts[i][2] - c[0][2])) / len;
             lo = pvs__dmin(lo, d);
             hi = pvs__dmax(hi, d);
         }
-        if (lo < -1e-9 * len * scale && hi > 1e-9 * len * scale) return 0;
-        for (e = 0; e < 3; ++e) { /* each edge shared by exactly one other triangle */
-            const float *a = c[e], *b = c[(e + 1) % 3];
-            uint32_t shared = 0;
-            for (u = t0; u < t0 + tn; ++u) {
-                const float *d[3];
-                int m, has_a = 0, has_b = 0;
-                if (u == t) continue;
-                for (m = 0; m < 3; ++m) {
-                    d[m] = s->positions + 3 * (size_t)s->indices[3 * (size_t)u + m];
-                    has_a |= pvs__ep_same(d[m], a);
-                    has_b |= pvs__ep_same(d[m], b);
-                }
-                shared += (uint32_t)(has_a && has_b);
-            }
-            if (shared != 1) return 0;
+        worst = pvs__dmax(worst, pvs__dmin(-lo, hi));
+    }
+    if (worst > 1e-6 * scale) return 0;
+    *slack = worst == 0.0 ? 0.0 : 2.0 * worst + 1e-12 * scale;
+    return 1;
+}
+
+/* 1 if the component (triangles tris[0 .. tn), distinct vertices pts[0 .. n)) is flat: every vertex
+   within float precision of the plane of its largest triangle. A flat closed mesh (a two-sided wall)
+   bounds no volume: it is neither a convex solid (its vertices' hull would fill its windows) nor
+   sliced; its faces are planar occluders. */
+PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts, uint32_t n) {
+    uint32_t t, i, k, best = 0;
+    double bl = 0.0, nrm[3], scale = 0.0;
+    const float *c0 = NULL;
+    for (t = 0; t < tn; ++t) {
+        const float *c[3];
+        double l;
+        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[t] + k];
+        l = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
+        if (l > bl) { bl = l; best = t; }
+    }
+    if (!(bl > 0.0)) return 1;
+    {
+        const float *c[3];
+        for (k = 0; k < 3; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[best] + k];
+        bl = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
+        c0 = c[0];
+    }
+    for (i = 0; i < n; ++i)
+        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - c0[k]) + pvs__dabs((double)pts[i][k]));
+    for (i = 0; i < n; ++i) {
+        double d = (nrm[0] * ((double)pts[i][0] - c0[0]) + nrm[1] * ((double)pts[i][1] - c0[1]) + nrm[2] * ((double)pts[i][2] - c0[2])) / bl;
+        if (pvs__dabs(d) > 1e-6 * scale) return 0;
+    }
+    return 1;
+}
+
+/* The cap of a component whose boundary edges (pairs of distinct-vertex ids in bnd) all lie in
+   one axis-aligned plane x_k = c, exactly (equal floats), with every vertex of the component on one
+   side of it: *side = +1 when the solid lies where x_k >= c, -1 when x_k <= c. Exact comparisons
+   keep the argument of pvs__ep_slice free of tolerances; tilted caps are not used. */
+PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv, uint32_t nuv, int *axis,
+                                 float *c, int *side) {
+    int k;
+    uint32_t i;
+    for (k = 0; k < 3; ++k) {
+        float v = vpos[bnd[0]][k];
+        int below = 0, above = 0;
+        for (i = 0; i < 2 * nb && vpos[bnd[i]][k] == v; ++i) {}
+        if (i < 2 * nb) continue;
+        for (i = 0; i < nuv; ++i) {
+            below |= vpos[uv[i]][k] < v;
+            above |= vpos[uv[i]][k] > v;
+        }
+        if (below == above) continue; /* both sides, or flat */
+        *axis = k;
+        *c = v;
+        *side = above ? 1 : -1;
+        return 1;
+    }
+    return 0;
+}
+
+/* 1 if triangle b (corners B) lies in the plane of triangle a (corners A, normal na of length la)
+   up to float precision and faces the same way: the two may be merged into one planar occluder. */
+PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double la, const float *const *B, double scale) {
+    double nb[3];
+    int k;
+    if (!(pvs__ep_tri_normal(B[0], B[1], B[2], nb) > 0.0) || !(na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] > 0.0)) return 0;
+    for (k = 0; k < 3; ++k) {
+        double d = (na[0] * ((double)B[k][0] - A[0][0]) + na[1] * ((double)B[k][1] - A[0][1]) + na[2] * ((double)B[k][2] - A[0][2])) / la;
+        if (pvs__dabs(d) > 1e-6 * scale) return 0;
+    }
+    return 1;
+}
+
+#define PVS__EP_TRI(j, k) (s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + (k)])
+#define PVS__EP_CONCAVE_EDGES 256
+
+/* A planar group (triangles tl[w->edges[m .. m + cnt) & 0xffffffff]) whose union is not one convex
+   polygon becomes a concave planar occluder (Durand 2000 §3.4, Fig. 7: planar, possibly concave,
+   with holes): its boundary edges (used by an odd number of its triangles) and its plane (unit
+   normal nr / lr through the first triangle, the vertices within dev of it); its points, for the
+   selection only, are the hull of its vertices. Left as pieces when it has more than
+   PVS__EP_CONCAVE_EDGES boundary edges. */
+PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
+                                           uint32_t m, uint32_t cnt, const double *nr, double lr, double dev, double scale) {
+    uint32_t h, c, nb = 0, ne = 0, ax = 0, u, v, i, nh = 0;
+    int k, hn;
+    pvs_result r = PVS_OK;
+    const float *q3[3 * PVS__EP_CONCAVE_EDGES];
+    pvs__epocc *o;
+    for (k = 1; k < 3; ++k)
+        if (pvs__dabs(nr[k]) > pvs__dabs(nr[ax])) ax = (uint32_t)k;
+    u = (ax + 1) % 3;
+    v = (ax + 2) % 3;
+    for (h = m; h < m + cnt; ++h) {
+        uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu);
+        for (c = 0; c < 3; ++c) {
+            uint64_t x = w->canon[3 * tl[t] + c], y = w->canon[3 * tl[t] + (c + 1) % 3];
+            if (x != y) w->bed[ne++] = x < y ? (x << 32) | y : (y << 32) | x;
         }
     }
-    return n;
+    qsort(w->bed, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+    for (h = 0; h < ne;) {
+        uint32_t g = h;
+        while (g < ne && w->bed[g] == w->bed[h]) ++g;
+        if ((g - h) & 1u) w->bed[nb++] = w->bed[h];
+        h = g;
+    }
+    if (nb < 3 || nb > PVS__EP_CONCAVE_EDGES) return PVS_OK;
+    /* the hull of the boundary's vertices (the interior ones lie inside it) */
+    for (h = 0; h < 2 * nb; ++h) {
+        const float *x = w->vpos[h & 1u ? (uint32_t)(w->bed[h >> 1] & 0xffffffffu) : (uint32_t)(w->bed[h >> 1] >> 32)];
+        w->hp[2 * h] = x[u];
+        w->hp[2 * h + 1] = x[v];
+    }
+    hn = pvs__ep_hull((double(*)[2])w->hp, (int)(2 * nb), (double(*)[2])w->hh);
+    if (hn < 3) return PVS_OK;
+    for (k = 0; k < hn; ++k) {
+        const float *hit = NULL;
+        for (h = 0; h < 2 * nb && !hit; ++h) {
+            const float *x = w->vpos[h & 1u ? (uint32_t)(w->bed[h >> 1] & 0xffffffffu) : (uint32_t)(w->bed[h >> 1] >> 32)];
+            if ((double)x[u] == w->hh[2 * k] && (double)x[v] == w->hh[2 * k + 1]) hit = x;
+        }
+        if (!hit) return PVS_OK;
+        q3[nh++] = hit;
+    }
+    p->cedge = (float *)pvs__kd_grow(&p->allocator, p->cedge, &p->cedge_capacity, p->cedge_count, p->cedge_count + nb, 6 * sizeof(float), &r);
+    if (!p->cedge) return r;
+    o = p->occ + p->occ_count;
+    pvs__ep_add(p, q3, nh, 0, dev == 0.0 ? 0.0 : dev + 1e-12 * scale);
+    o->efirst = (uint32_t)p->cedge_count;
+    o->ecount = nb;
+    for (i = 0; i < nb; ++i) {
+        memcpy(p->cedge + 6 * p->cedge_count, w->vpos[(uint32_t)(w->bed[i] >> 32)], 3 * sizeof(float));
+        memcpy(p->cedge + 6 * p->cedge_count + 3, w->vpos[(uint32_t)(w->bed[i] & 0xffffffffu)], 3 * sizeof(float));
+        ++p->cedge_count;
+    }
+    {
+        const float *a0 = PVS__EP_TRI((uint32_t)(w->edges[m] & 0xffffffffu), 0);
+        for (k = 0; k < 3; ++k) o->pn[k] = (float)(nr[k] / lr);
+        o->pd = (float)(o->pn[0] * (double)a0[0] + o->pn[1] * (double)a0[1] + o->pn[2] * (double)a0[2]);
+    }
+    for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
+    return PVS_OK;
+}
+
+/* Durand 2000 §3.3-3.4: a wall made of several triangles must act as one occluder, or every piece
+   alone loses a strip along each shared edge to that edge's penumbra and the wall hides nothing.
+   Groups the component's triangles (tl[0 .. n), scene triangles t0 + tl[j]) that are coplanar up
+   to float precision, face the same way and are joined by shared edges; a group of two or more
+   whose union is one convex polygon (pvs__ep_sheet_polygon: boundary edges forming one loop, one
+   turn, the loop's area equal to the triangles') of at most PVS__EP_MAXP corners becomes one planar
+   occluder, and its triangles are marked in w->used. The hull of the corners exceeds the surface by
+   at most the largest distance of a corner from the group's plane (the slack, doubled, and once
+   more for measuring along the dominant axis). */
+PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
+                                            pvs__epprepwork *w) {
+    uint32_t j, k, ne = 0, g;
+    double scale = 0.0;
+    pvs_result r = PVS_OK;
+    for (j = 0; j < n; ++j) { w->used[j] = 0; w->gparent[j] = j; }
+    if (n < 2 || 3 * (uint64_t)n >= (1u << 21)) return PVS_OK;
+    for (j = 0; j < n; ++j)
+        for (k = 0; k < 3; ++k) {
+            const float *x = PVS__EP_TRI(j, k);
+            int c;
+            for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, 2.0 * pvs__dabs((double)x[c]));
+        }
+    /* edges (distinct-vertex pairs) with their triangle: 21 bits each */
+    for (j = 0; j < n; ++j)
+        for (k = 0; k < 3; ++k) {
+            uint64_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
+            if (x == y) continue;
+            w->edges[ne++] = (x < y ? (x << 42) | (y << 21) : (y << 42) | (x << 21)) | j;
+        }
+    qsort(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+    for (g = 0; g < ne;) {
+        uint32_t h = g + 1;
+        while (h < ne && (w->edges[h] >> 21) == (w->edges[g] >> 21)) ++h;
+        for (k = g; k + 1 < h; ++k) { /* triangles around the edge, pairwise (two-sided walls: four) */
+            uint32_t k2;
+            for (k2 = k + 1; k2 < h && k2 < k + 8; ++k2) {
+                uint32_t ja = (uint32_t)(w->edges[k] & 0x1fffffu), jb = (uint32_t)(w->edges[k2] & 0x1fffffu), m;
+                const float *A[3], *B[3];
+                double na[3], la;
+                for (m = 0; m < 3; ++m) { A[m] = PVS__EP_TRI(ja, m); B[m] = PVS__EP_TRI(jb, m); }
+                la = pvs__ep_tri_normal(A[0], A[1], A[2], na);
+                if (!(la > 0.0) || !pvs__ep_coplanar(A, na, la, B, scale) || !pvs__ep_coplanar(B, na, la, A, scale)) continue;
+                {
+                    uint32_t x = pvs__ep_find(w->gparent, ja), y = pvs__ep_find(w->gparent, jb);
+                    if (x != y) w->gparent[x > y ? x : y] = x < y ? x : y;
+                }
+            }
+        }
+        g = h;
+    }
+    /* groups: (root, triangle) pairs sorted, the root being the group's first triangle */
+    for (j = 0; j < n; ++j) w->edges[j] = ((uint64_t)pvs__ep_find(w->gparent, j) << 32) | j;
+    qsort(w->edges, n, sizeof(uint64_t), pvs__ep_u64_cmp);
+    for (g = 0; g < n;) {
+        uint32_t h = g + 1, root = (uint32_t)(w->edges[g] >> 32), m, cnt, e = 0, ax = 0, u, v;
+        const float *A[3], *q3[PVS__EP_MAXP];
+        double nr[3], lr, dev = 0.0, area = 0.0, dent = 0.0;
+        while (h < n && (uint32_t)(w->edges[h] >> 32) == root) ++h;
+        cnt = h - g;
+        m = g;
+        g = h;
+        if (cnt < 2) continue;
+        for (k = 0; k < 3; ++k) A[k] = PVS__EP_TRI(root, k);
+        lr = pvs__ep_tri_normal(A[0], A[1], A[2], nr);
+        if (!(lr > 0.0)) continue;
+        for (k = 1; k < 3; ++k)
+            if (pvs__dabs(nr[k]) > pvs__dabs(nr[ax])) ax = k;
+        u = (ax + 1) % 3;
+        v = (ax + 2) % 3;
+        for (h = m; h < m + cnt; ++h) {
+            uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
+            const float *C[3];
+            for (c = 0; c < 3; ++c) {
+                const float *x = C[c] = PVS__EP_TRI(t, c);
+                dev = pvs__dmax(dev, pvs__dabs(nr[0] * ((double)x[0] - A[0][0]) + nr[1] * ((double)x[1] - A[0][1]) + nr[2] * ((double)x[2] - A[0][2])) / lr);
+            }
+            area += 0.5 * pvs__dabs(((double)C[1][u] - C[0][u]) * ((double)C[2][v] - C[0][v]) - ((double)C[2][u] - C[0][u]) * ((double)C[1][v] - C[0][v]));
+            for (c = 0; c < 3; ++c) {
+                const float *x = C[c], *y = C[(c + 1) % 3];
+                float P0[2], P1[2];
+                pvs__epedge2 *ed = w->e2 + e++;
+                P0[0] = x[u]; P0[1] = x[v];
+                P1[0] = y[u]; P1[1] = y[v];
+                if (pvs__ep_p2_cmp(P0, P1) <= 0) { memcpy(ed->a, P0, sizeof(P0)); memcpy(ed->b, P1, sizeof(P1)); }
+                else { memcpy(ed->a, P1, sizeof(P1)); memcpy(ed->b, P0, sizeof(P0)); }
+                ed->tri = t;
+            }
+        }
+        if (dev > 1e-6 * scale || !(area > 0.0)) continue;
+        k = pvs__ep_sheet_polygon(w->e2, e, area, w->q2, w->keep, e, 1e-4, (double(*)[2])w->hp, (double(*)[2])w->hh, &dent);
+        if (k < 3 || k > PVS__EP_MAXP || dent > 1e-6 * scale) {
+            r = pvs__ep_add_concave(p, s, t0, tl, w, m, cnt, nr, lr, dev, scale);
+            if (r != PVS_OK) return r;
+            continue;
+        }
+        {
+            uint32_t i, found = 0;
+            for (i = 0; i < k; ++i) { /* the corners back in 3D: the group's vertices with those (u, v) */
+                const float *hit = NULL;
+                for (h = m; h < m + cnt && !hit; ++h) {
+                    uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
+                    for (c = 0; c < 3 && !hit; ++c) {
+                        const float *x = PVS__EP_TRI(t, c);
+                        if (x[u] == w->q2[2 * i] && x[v] == w->q2[2 * i + 1]) hit = x;
+                    }
+                }
+                if (!hit) break;
+                q3[found++] = hit;
+            }
+            if (found != k) continue;
+            {
+                /* the slack: the vertices' distance from a plane through three corners far apart
+                   (the first triangle's plane tilts with its rounding), measured both ways for the
+                   hull and the surface, once more for the footprint, plus the dent (a point dent
+                   inside the hull in the (u, v) plane lies |n| / |n_ax| dent inside it in the plane) */
+                double best = 0.0, nb[3], lb = 0.0, dev2 = 0.0;
+                uint32_t i1, i2, b1 = 1, b2 = 2;
+                for (i1 = 1; i1 < k; ++i1)
+                    for (i2 = i1 + 1; i2 < k; ++i2) {
+                        double l = pvs__ep_tri_normal(q3[0], q3[i1], q3[i2], nb);
+                        if (l > best) { best = l; b1 = i1; b2 = i2; }
+                    }
+                lb = pvs__ep_tri_normal(q3[0], q3[b1], q3[b2], nb);
+                if (lb > 0.0 && nb[0] * nr[0] + nb[1] * nr[1] + nb[2] * nr[2] > 0.0) {
+                    for (h = m; h < m + cnt; ++h) {
+                        uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
+                        for (c = 0; c < 3; ++c) {
+                            const float *x = PVS__EP_TRI(t, c);
+                            dev2 = pvs__dmax(dev2, pvs__dabs(nb[0] * ((double)x[0] - q3[0][0]) + nb[1] * ((double)x[1] - q3[0][1]) + nb[2] * ((double)x[2] - q3[0][2])) / lb);
+                        }
+                    }
+                    dev = pvs__dmin(dev, dev2);
+                }
+                dev = 4.0 * dev + 2.0 * dent * lr / pvs__dabs(nr[ax]);
+            }
+            pvs__ep_add(p, q3, k, 0, dev == 0.0 ? 0.0 : dev + 1e-12 * scale);
+            for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
+        }
+    }
+    return r;
+}
+#undef PVS__EP_TRI
+
+/* Prepares one object's triangles t0 .. t0 + tn: connected components (by shared positions); a
+   closed convex component becomes one solid; any other component its polygons (coplanar
+   consecutive triangles merged into convex quads), and a closed or capped one is also kept for
+   slicing. */
+PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
+    const pvs_allocator *a = &p->allocator;
+    uint32_t i, nv = 0, comp;
+    pvs_result r = PVS_OK;
+    for (i = 0; i < 3 * tn; ++i) {
+        const float *q = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + i];
+        memcpy(w->ref[i].p, q, 3 * sizeof(float));
+        w->ref[i].slot = i;
+    }
+    qsort(w->ref, 3 * (size_t)tn, sizeof(pvs__epvref), pvs__ep_vref_cmp);
+    for (i = 0; i < 3 * tn; ++i) {
+        if (i == 0 || !pvs__ep_same(w->ref[i].p, w->ref[i - 1].p)) {
+            w->vpos[nv] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + w->ref[i].slot];
+            w->owner[nv] = 0xffffffffu;
+            w->mark[nv] = 0xffffffffu;
+            ++nv;
+        }
+        w->canon[w->ref[i].slot] = nv - 1;
+    }
+    for (i = 0; i < tn; ++i) w->parent[i] = i;
+    for (i = 0; i < 3 * tn; ++i) {
+        uint32_t v = w->canon[i], t = i / 3;
+        if (w->owner[v] == 0xffffffffu) w->owner[v] = t;
+        else {
+            uint32_t x = pvs__ep_find(w->parent, t), y = pvs__ep_find(w->parent, w->owner[v]);
+            if (x != y) w->parent[x > y ? x : y] = x < y ? x : y; /* the smaller index roots: deterministic */
+        }
+    }
+    /* components in order of their first triangle; triangles in order within each */
+    for (i = 0; i < tn; ++i) w->start[i] = 0;
+    for (i = 0; i < tn; ++i) ++w->start[pvs__ep_find(w->parent, i)];
+    {
+        uint32_t sum = 0;
+        for (i = 0; i < tn; ++i) {
+            uint32_t c = w->start[i];
+            w->start[i] = sum;
+            sum += c;
+        }
+        w->start[tn] = sum;
+    }
+    for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__ep_find(w->parent, i)]++] = i;
+    /* start[root] now holds the component's end; components are the roots in increasing order */
+    for (comp = 0; comp < tn; ++comp) {
+        uint32_t root = comp, begin, end, ne = 0, nb = 0, nuv = 0, k, j, closed, *bnd = w->owner; /* owner is done with */
+        int capped, cap_axis = 0, cap_side = 0;
+        float cap_value = 0.0f;
+        const uint32_t *tl;
+        uint32_t tris_local[2 * PVS__EP_MAXP];
+        if (w->parent[comp] != comp) continue;
+        end = w->start[root];
+        begin = end;
+        while (begin > 0 && w->parent[w->order[begin - 1]] == root) --begin;
+        tl = w->order + begin;
+        /* edges by distinct-vertex pairs; boundary = edges used an odd number of times */
+        for (j = 0; j < end - begin; ++j)
+            for (k = 0; k < 3; ++k) {
+                uint32_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
+                if (x == y) continue;
+                w->edges[ne++] = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
+            }
+        qsort(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+        for (j = 0; j < ne;) {
+            uint32_t m = j;
+            while (m < ne && w->edges[m] == w->edges[j]) ++m;
+            if ((m - j) & 1u) w->edges[nb++] = w->edges[j]; /* compacted in place: nb <= j */
+            j = m;
+        }
+        for (j = 0; j < end - begin; ++j)
+            for (k = 0; k < 3; ++k) {
+                uint32_t v = w->canon[3 * tl[j] + k];
+                if (w->mark[v] != comp) { w->mark[v] = comp; w->uv[nuv++] = v; }
+            }
+        closed = nb == 0;
+        capped = 0;
+        if (!closed && 2 * nb <= 3 * tn) {
+            for (j = 0; j < nb; ++j) {
+                bnd[2 * j] = (uint32_t)(w->edges[j] >> 32);
+                bnd[2 * j + 1] = (uint32_t)(w->edges[j] & 0xffffffffu);
+            }
+            capped = pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side);
+        }
+        if (closed || capped) {
+            /* a flat closed or capped mesh bounds no volume */
+            const float **vq = (const float **)w->ref; /* ref is done with: room for 3 tn pointers */
+            for (j = 0; j < nuv; ++j) vq[j] = w->vpos[w->uv[j]];
+            {
+                uint32_t *tt = w->gparent; /* not in use until the polygons */
+                for (j = 0; j < end - begin; ++j) tt[j] = t0 + tl[j];
+                if (pvs__ep_flat_component(s, tt, end - begin, vq, nuv)) closed = capped = 0;
+            }
+        }
+        if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && end - begin <= 2 * PVS__EP_MAXP) {
+            /* a convex solid; a capped one (its hull includes the cap) is used only for cells
+               strictly on the solid's side of the cap: a ray from there meets the hull first on a
+               real face, since it crosses the cap's plane only once, going away from the cell */
+            const float *q[PVS__EP_MAXP];
+            for (j = 0; j < end - begin; ++j) tris_local[j] = t0 + tl[j];
+            for (j = 0; j < nuv; ++j) q[j] = w->vpos[w->uv[j]];
+            double slack;
+            if (pvs__ep_convex_component(s, tris_local, end - begin, q, nuv, &slack)) {
+                pvs__epocc *o = p->occ + p->occ_count;
+                pvs__ep_add(p, q, nuv, 1, slack);
+                if (capped) {
+                    o->cap_side = cap_side;
+                    o->cap_axis = cap_axis;
+                    o->cap_value = cap_value;
+                }
+                continue;
+            }
+        }
+        /* polygons: coplanar edge-connected triangles whose union is convex become one
+           (pvs__ep_merge_planar), then consecutive coplanar triangles forming a convex quad */
+        r = pvs__ep_merge_planar(p, s, t0, tl, end - begin, w);
+        if (r != PVS_OK) return r;
+        for (j = 0; j < end - begin; ++j) {
+            const float *tri[3], *nxt[3], *q[4];
+            double nrm[3];
+            if (w->used[j]) continue;
+            for (k = 0; k < 3; ++k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
+            if (!(pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm) > 0.0)) continue;
+            if (j + 1 < end - begin && !w->used[j + 1]) {
+                for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j + 1]) + k];
+                double slack;
+                if (pvs__ep_quad(tri, nxt, q, &slack)) {
+                    pvs__ep_add(p, q, 4, 0, slack);
+                    ++j;
+                    continue;
+                }
+            }
+            pvs__ep_add(p, tri, 3, 0, 0.0);
+        }
+        if (end - begin < 4) continue;
+        for (j = 0; j < end - begin; ++j) { /* a zero-area triangle blocks no ray: not sliced */
+            const float *c3[3];
+            double nrm[3];
+            for (k = 0; k < 3; ++k) c3[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
+            if (!(pvs__ep_tri_normal(c3[0], c3[1], c3[2], nrm) > 0.0)) break;
+        }
+        if (j < end - begin) continue;
+        if (!closed && !capped) continue;
+        {
+            /* closed or capped: kept for slicing */
+            pvs__epslice *sl;
+            p->slc = (pvs__epslice *)pvs__kd_grow(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice), &r);
+            if (!p->slc) return r;
+            p->stri = (uint32_t *)pvs__kd_grow(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + (end - begin), sizeof(uint32_t), &r);
+            if (!p->stri) return r;
+            if (capped) {
+                /* pvs__kd_grow counts elements of 6 floats */
+                p->bedge = (float *)pvs__kd_grow(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb, 6 * sizeof(float), &r);
+                if (!p->bedge) return r;
+            }
+            sl = p->slc + p->slc_count++;
+            memset(sl, 0, sizeof(*sl));
+            sl->box = pvs__box_empty();
+            sl->first = (uint32_t)p->stri_count;
+            sl->count = end - begin;
+            for (j = 0; j < end - begin; ++j) {
+                p->stri[p->stri_count++] = t0 + tl[j];
+                for (k = 0; k < 3; ++k) pvs__box_add_point(&sl->box, s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k]);
+            }
+            sl->capped = capped;
+            if (capped) {
+                sl->bfirst = (uint32_t)p->bedge_count;
+                sl->bcount = nb;
+                for (j = 0; j < nb; ++j) {
+                    memcpy(p->bedge + 6 * p->bedge_count, w->vpos[bnd[2 * j]], 3 * sizeof(float));
+                    memcpy(p->bedge + 6 * p->bedge_count + 3, w->vpos[bnd[2 * j + 1]], 3 * sizeof(float));
+                    ++p->bedge_count;
+                }
+                sl->cap_axis = cap_axis;
+                sl->cap_side = cap_side;
+                sl->cap_value = cap_value;
+            }
+            if (sl->count + sl->bcount > p->max_slice_segments) p->max_slice_segments = sl->count + sl->bcount;
+        }
+    }
+    return r;
+}
+
+
+/* ---- sheets (grounds, floors) and occluders extended through them ---- */
+
+typedef struct pvs__epskey {
+    float value;
+    uint32_t axis, tri;
+} pvs__epskey;
+
+PVS__STATIC int pvs__ep_skey_cmp(const void *a, const void *b) {
+    const pvs__epskey *x = (const pvs__epskey *)a, *y = (const pvs__epskey *)b;
+    if (x->axis != y->axis) return x->axis < y->axis ? -1 : 1;
+    if (x->value != y->value) return x->value < y->value ? -1 : 1;
+    return x->tri < y->tri ? -1 : x->tri > y->tri;
+}
+
+/* Finds the largest sheets (up to PVS__EP_MAX_SHEETS) and extends through them the occluders that
+   stand on them: a convex occluder with some vertices exactly in the sheet's plane, inside its
+   polygon, the others on one side and each exactly over one of those (a vertical wall, a box on the
+   floor), gets a second point set: its points plus those in the plane pushed through it by the
+   scene's size. The extended shape is the occluder joined with the prism under its footprint F (the
+   union is convex because the occluder lies over F), and that prism lies in the sheet's solid
+   half-space: for a cell over the sheet on the occluder's side, a ray hitting the extension first
+   crosses the sheet, at a nearer point, so the extended occluder blocks nothing the sheet and the
+   occluder do not. This closes the seam between a wall and the ground it stands on, which the
+   Projections of the two (each conservatively rasterized, and separated by the penumbra of their
+   common edge) leave open. */
+PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) {
+    const pvs_allocator *a = &p->allocator;
+    pvs__epskey *key = NULL;
+    pvs__epedge2 *e = NULL;
+    float *q = NULL;
+    unsigned char *keep = NULL;
+    uint32_t *uf = NULL, ne;
+    double *tarea = NULL;
+    size_t nkey = 0, i, ecap = 0;
+    uint32_t t, o;
+    pvs_result r = PVS_OK;
+    double D;
+    for (t = 0; t < s->triangle_count; ++t) {
+        const uint32_t *ix = s->indices + 3 * (size_t)t;
+        const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1], *v2 = s->positions + 3 * (size_t)ix[2];
+        int k;
+        for (k = 0; k < 3; ++k)
+            if (v0[k] == v1[k] && v1[k] == v2[k]) { ++nkey; break; }
+    }
+    if (!nkey) return PVS_OK;
+    key = (pvs__epskey *)pvs__alloc_array(a, nkey, sizeof(pvs__epskey));
+    if (!key) return PVS_ERROR_OUT_OF_MEMORY;
+    nkey = 0;
+    for (t = 0; t < s->triangle_count; ++t) {
+        const uint32_t *ix = s->indices + 3 * (size_t)t;
+        const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1], *v2 = s->positions + 3 * (size_t)ix[2];
+        int k;
+        double n[3];
+        if (!(pvs__ep_tri_normal(v0, v1, v2, n) > 0.0)) continue;
+        for (k = 0; k < 3; ++k)
+            if (v0[k] == v1[k] && v1[k] == v2[k]) {
+                key[nkey].value = v0[k] == 0.0f ? 0.0f : v0[k]; /* -0 and +0 group together */
+                key[nkey].axis = (uint32_t)k;
+                key[nkey].tri = t;
+                ++nkey;
+                break;
+            }
+    }
+    qsort(key, nkey, sizeof(pvs__epskey), pvs__ep_skey_cmp);
+    for (i = 0; i < nkey;) {
+        size_t j = i, g;
+        int k = (int)key[i].axis, u = (k + 1) % 3, v = (k + 2) % 3;
+        double area = 0.0;
+        uint32_t m, slot;
+        while (j < nkey && key[j].axis == key[i].axis && key[j].value == key[i].value) ++j;
+        if (j - i < 2) { i = j; continue; }
+        if (3 * (j - i) > ecap) {
+            pvs__free_array(a, e, ecap, sizeof(pvs__epedge2));
+            pvs__free_array(a, q, 2 * (ecap + 1), sizeof(float));
+            pvs__free_array(a, keep, ecap + 1, 1);
+            pvs__free_array(a, uf, ecap, sizeof(uint32_t));
+            pvs__free_array(a, tarea, ecap, sizeof(double));
+            ecap = 3 * (j - i);
+            e = (pvs__epedge2 *)pvs__alloc_array(a, ecap, sizeof(pvs__epedge2));
+            q = (float *)pvs__alloc_array(a, 2 * (ecap + 1), sizeof(float));
+            keep = (unsigned char *)pvs__alloc_array(a, ecap + 1, 1);
+            uf = (uint32_t *)pvs__alloc_array(a, ecap, sizeof(uint32_t));
+            tarea = (double *)pvs__alloc_array(a, ecap, sizeof(double));
+            if (!e || !q || !keep || !uf || !tarea) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
+        }
+        for (g = i; g < j; ++g) {
+            const uint32_t *ix = s->indices + 3 * (size_t)key[g].tri;
+            const float *c[3];
+            int l;
+            for (l = 0; l < 3; ++l) c[l] = s->positions + 3 * (size_t)ix[l];
+            tarea[g - i] = 0.5 * pvs__dabs(((double)c[1][u] - c[0][u]) * ((double)c[2][v] - c[0][v]) - ((double)c[2][u] - c[0][u]) * ((double)c[1][v] - c[0][v]));
+            uf[g - i] = (uint32_t)(g - i);
+            for (l = 0; l < 3; ++l) {
+                const float *x = c[l], *y = c[(l + 1) % 3];
+                float A[2], B[2];
+                pvs__epedge2 *ed = e + 3 * (g - i) + (size_t)l;
+                A[0] = x[u]; A[1] = x[v];
+                B[0] = y[u]; B[1] = y[v];
+                if (pvs__ep_p2_cmp(A, B) <= 0) { memcpy(ed->a, A, sizeof(A)); memcpy(ed->b, B, sizeof(B)); }
+                else { memcpy(ed->a, B, sizeof(B)); memcpy(ed->b, A, sizeof(A)); }
+                ed->tri = (uint32_t)(g - i);
+            }
+        }
+        /* pieces joined by shared edges (a lamp's base lying on the ground is a piece of its own) */
+        ne = (uint32_t)(3 * (j - i));
+        qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
+        for (g = 1; g < ne; ++g)
+            if (pvs__ep_edge2_cmp(e + g, e + g - 1) == 0) {
+                uint32_t x = pvs__ep_find(uf, e[g].tri), y = pvs__ep_find(uf, e[g - 1].tri);
+                if (x != y) uf[x > y ? x : y] = x < y ? x : y;
+            }
+        for (g = 0; g < ne; ++g) e[g].tri = pvs__ep_find(uf, e[g].tri);
+        for (g = 0; g < j - i; ++g) if (uf[g] != g) { tarea[pvs__ep_find(uf, (uint32_t)g)] += tarea[g]; tarea[g] = 0.0; }
+        qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_root_cmp);
+        for (g = 0; g < ne;) {
+            size_t h = g;
+            uint32_t root = e[g].tri;
+            while (h < ne && e[h].tri == root) ++h;
+            area = tarea[root];
+            m = pvs__ep_sheet_polygon(e + g, (uint32_t)(h - g), area, q, keep, (uint32_t)ecap, 0.0, NULL, NULL, NULL);
+            g = h;
+            if (!m) continue;
+        /* keep the largest sheets */
+        if (p->sheet_count < PVS__EP_MAX_SHEETS) slot = p->sheet_count++;
+        else {
+            uint32_t x;
+            slot = 0;
+            for (x = 1; x < p->sheet_count; ++x)
+                if (p->sheet[x].area < p->sheet[slot].area) slot = x;
+            if (!(area > p->sheet[slot].area)) continue;
+        }
+        p->spoly = (float *)pvs__kd_grow(a, p->spoly, &p->spoly_capacity, p->spoly_count, p->spoly_count + m, 2 * sizeof(float), &r);
+        if (!p->spoly) goto done;
+        p->sheet[slot].axis = k;
+        p->sheet[slot].value = key[i].value;
+        p->sheet[slot].first = (uint32_t)p->spoly_count;
+        p->sheet[slot].count = m;
+        p->sheet[slot].area = area;
+        memcpy(p->spoly + 2 * p->spoly_count, q, 2 * (size_t)m * sizeof(float));
+        p->spoly_count += m;
+        }
+        i = j;
+    }
+    /* occluders standing on a sheet */
+    D = 0.0;
+    for (t = 0; t < 3; ++t) D = pvs__dmax(D, 2.0 * ((double)s->bounds.max[t] - s->bounds.min[t]) + 1.0);
+    for (o = 0; o < p->occ_count; ++o) {
+        pvs__epocc *oc = p->occ + o;
+        uint32_t sh;
+        for (sh = 0; sh < p->sheet_count && !oc->xcount; ++sh) {
+            const pvs__epsheet *S = p->sheet + sh;
+            const float *pts = p->pts + 3 * (size_t)oc->first, *poly = p->spoly + 2 * (size_t)S->first;
+            int k = S->axis, u = (k + 1) % 3, v = (k + 2) % 3, above = 0, below = 0, ok = 1;
+            uint32_t on = 0, x, y;
+            for (x = 0; x < oc->count; ++x) {
+                float c = pts[3 * x + k];
+                on += c == S->value;
+                above |= c > S->value;
+                below |= c < S->value;
+            }
+            if (!on || above == below || oc->count + on > PVS__EP_MAXP || oc->ecount) continue;
+            {
+                /* the footprint F: the hull of the vertices in the sheet's plane (counter-clockwise) */
+                double fp[PVS__EP_MAXP][2], fh[PVS__EP_MAXP + 1][2];
+                float fpoly[2 * PVS__EP_MAXP];
+                uint32_t nf = 0;
+                int hn;
+                for (x = 0; x < oc->count; ++x)
+                    if (pts[3 * x + k] == S->value) { fp[nf][0] = pts[3 * x + u]; fp[nf][1] = pts[3 * x + v]; ++nf; }
+                hn = nf >= 3 ? pvs__ep_hull(fp, (int)nf, fh) : 0;
+                for (y = 0; y < (uint32_t)hn; ++y) { fpoly[2 * y] = (float)fh[y][0]; fpoly[2 * y + 1] = (float)fh[y][1]; }
+                for (x = 0; x < oc->count && ok; ++x) {
+                    const float *P = pts + 3 * x;
+                    if (P[k] == S->value) ok = pvs__ep_in_convex(poly, S->count, P[u], P[v]);
+                    else {
+                        /* over F: exactly over one of its vertices, or strictly inside it */
+                        for (y = 0; y < oc->count; ++y)
+                            if (pts[3 * y + k] == S->value && pts[3 * y + u] == P[u] && pts[3 * y + v] == P[v]) break;
+                        ok = y < oc->count || (hn >= 3 && pvs__ep_in_convex(fpoly, (uint32_t)hn, P[u], P[v]));
+                    }
+                }
+            }
+            if (!ok) continue;
+            p->pts = (float *)pvs__kd_grow(a, p->pts, &p->pt_capacity, p->pt_count, p->pt_count + oc->count + on, 3 * sizeof(float), &r);
+            if (!p->pts) goto done;
+            pts = p->pts + 3 * (size_t)oc->first;
+            oc->xfirst = (uint32_t)p->pt_count;
+            memcpy(p->pts + 3 * p->pt_count, pts, 3 * sizeof(float) * oc->count);
+            p->pt_count += oc->count;
+            for (x = 0; x < oc->count; ++x) {
+                float *P;
+                if (pts[3 * x + k] != S->value) continue;
+                P = p->pts + 3 * p->pt_count++;
+                memcpy(P, pts + 3 * x, 3 * sizeof(float));
+                P[k] = (float)(above ? (double)S->value - D : (double)S->value + D);
+            }
+            oc->xcount = oc->count + on;
+            oc->sheet = sh;
+            oc->xside = above ? 1 : -1;
+        }
+    }
+done:
+    pvs__free_array(a, key, nkey, sizeof(pvs__epskey));
+    pvs__free_array(a, e, ecap, sizeof(pvs__epedge2));
+    pvs__free_array(a, q, 2 * (ecap + 1), sizeof(float));
+    pvs__free_array(a, keep, ecap + 1, 1);
+    pvs__free_array(a, uf, ecap, sizeof(uint32_t));
+    pvs__free_array(a, tarea, ecap, sizeof(double));
+    return r;
+}
+
+/* The size class of an occluder: area bound < 4^c square units (the last class open-ended). */
+PVS__STATIC int pvs__ep_area_class(float area) {
+    int c = 0;
+    float lim = 1.0f;
+    while (c + 1 < PVS__EP_AREA_CLASSES && !(area < lim)) {
+        ++c;
+        lim *= 4.0f;
+    }
+    return c;
 }
 
 /* Builds the occluder list of a scene (§6.1 picks among it per cell). */
 PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out, pvs_error *err) {
     pvs__extproj_prep *p;
-    size_t occ_cap = (size_t)s->triangle_count + 1, pt_cap = 3 * (size_t)s->triangle_count + 1;
+    pvs__epprepwork w;
+    size_t occ_cap = (size_t)s->triangle_count + 1, pt_cap = 3 * (size_t)s->triangle_count + 1, most = 1;
     uint32_t o, t, i;
+    pvs_result r;
     *out = NULL;
     for (i = 0; i < s->occluder_count; ++i) {
         const pvs_occluder_desc *d = s->occluders + i;
@@ -12398,48 +15236,38 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
     if (!p) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj occluders");
     memset(p, 0, sizeof(*p));
     p->allocator = *a;
-    p->occ_capacity = (uint32_t)occ_cap;
+    p->occ_capacity = occ_cap;
     p->pt_capacity = pt_cap;
     p->occ = (pvs__epocc *)pvs__alloc_array(a, occ_cap, sizeof(pvs__epocc));
     p->pts = (float *)pvs__alloc_array(a, pt_cap * 3, sizeof(float));
-    if (!p->occ || !p->pts) {
+    for (t = 0; t < s->triangle_count;) { /* the largest object (or run of triangles in no object) */
+        uint32_t end = t + 1;
+        while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
+        if (end - t > most) most = end - t;
+        t = end;
+    }
+    if (!p->occ || !p->pts || !pvs__ep_work_alloc(a, &w, most)) {
+        pvs__ep_work_free(a, &w);
         pvs__extproj_prep_destroy(p);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj occluders (%llu)", (unsigned long long)occ_cap);
     }
-    /* triangles in object order; an object that is a closed convex surface becomes one solid,
-       consecutive coplanar triangles forming a convex quad become one polygon (fewer cracks between
-       Projections, §3.2-3.3) */
+    /* triangles in object order, one run of an object's triangles at a time */
     for (t = 0; t < s->triangle_count;) {
-        uint32_t obj = s->triangle_object[t], end = t + 1;
-        const float *tri[3], *nxt[3], *q[PVS__EP_MAXP];
-        double nrm[3], len;
-        int k;
-        if (obj != PVS_NO_OBJECT) {
-            /* the object's range starts here when t is its first triangle */
-            uint32_t n;
-            while (end < s->triangle_count && s->triangle_object[end] == obj) ++end;
-            n = pvs__ep_convex_object(s, t, end - t, q);
-            if (n >= 4) {
-                pvs__ep_add(p, q, n, 1);
-                t = end;
-                continue;
-            }
+        uint32_t end = t + 1;
+        while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
+        {
+            size_t first = p->occ_count, q;
+            r = pvs__ep_prepare_object(p, s, t, end - t, &w);
+            for (q = first; q < p->occ_count; ++q) p->occ[q].object = s->triangle_object[t];
         }
-        for (; t < end; ++t) {
-            for (k = 0; k < 3; ++k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k];
-            len = pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm);
-            if (!(len > 0.0)) continue;
-            if (t + 1 < end) {
-                for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t + 1) + k];
-                if (pvs__ep_quad(tri, nxt, q)) {
-                    pvs__ep_add(p, q, 4, 0);
-                    ++t;
-                    continue;
-                }
-            }
-            pvs__ep_add(p, tri, 3, 0);
+        if (r != PVS_OK) {
+            pvs__ep_work_free(a, &w);
+            pvs__extproj_prep_destroy(p);
+            return pvs__fail(err, r, -1, 0, "extproj: slices of the closed meshes");
         }
+        t = end;
     }
+    pvs__ep_work_free(a, &w);
     for (o = 0; o < s->occluder_count; ++o) {
         const pvs_occluder_desc *d = s->occluders + o;
         float c[8][3];
@@ -12451,7 +15279,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
                 c[i][2] = i & 4 ? d->box.max[2] : d->box.min[2];
                 q[i] = c[i];
             }
-            pvs__ep_add(p, q, 8, 1);
+            pvs__ep_add(p, q, 8, 1, 0.0);
         } else if (d->kind == PVS_OCCLUDER_EXTRUSION) { /* its walls, each a planar quad */
             int u, v, up = (int)s->up_axis;
             pvs__ground_axes(s->up_axis, &u, &v);
@@ -12465,14 +15293,569 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
                     c[k][up] = k < 2 ? d->base : d->top;
                     q[k] = c[k];
                 }
-                pvs__ep_add(p, q, 4, 0);
+                pvs__ep_add(p, q, 4, 0, 0.0);
             }
         }
         /* CONVEX occluders are not used (leaving an occluder out is conservative) */
     }
+    r = pvs__ep_sheets(p, s);
+    if (r != PVS_OK) {
+        pvs__extproj_prep_destroy(p);
+        return pvs__fail(err, r, -1, 0, "extproj: sheets");
+    }
+    {
+        /* size classes: area bound < 1, 4, 16, ..., the last open-ended */
+        pvs_kdtree_desc kd;
+        pvs_box *boxes = (pvs_box *)pvs__alloc_array(a, p->occ_count + 1, sizeof(pvs_box));
+        size_t q;
+        int c;
+        if (!boxes) {
+            pvs__extproj_prep_destroy(p);
+            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj: occluder trees");
+        }
+        for (q = 0; q < p->occ_count; ++q) ++p->class_count[pvs__ep_area_class(p->occ[q].area)];
+        for (c = 0; c < PVS__EP_AREA_CLASSES; ++c) {
+            uint32_t m = 0;
+            p->class_occ[c] = (uint32_t *)pvs__alloc_array(a, (size_t)p->class_count[c] + 1, sizeof(uint32_t));
+            if (!p->class_occ[c]) r = PVS_ERROR_OUT_OF_MEMORY;
+            for (q = 0; q < p->occ_count && r == PVS_OK; ++q)
+                if (pvs__ep_area_class(p->occ[q].area) == c) {
+                    p->class_occ[c][m] = (uint32_t)q;
+                    boxes[m++] = p->occ[q].box;
+                    if (p->occ[q].area > p->class_area[c]) p->class_area[c] = p->occ[q].area;
+                }
+            if (r != PVS_OK) break;
+            memset(&kd, 0, sizeof(kd));
+            kd.boxes = boxes;
+            kd.count = m;
+            kd.allocator = *a;
+            r = pvs_kdtree_create(&kd, &p->occ_tree[c], err);
+            if (r != PVS_OK) break;
+        }
+        pvs__free_array(a, boxes, p->occ_count + 1, sizeof(pvs_box));
+        if (r != PVS_OK) {
+            pvs__extproj_prep_destroy(p);
+            return pvs__fail(err, r, -1, 0, "extproj: occluder trees");
+        }
+    }
     *out = p;
     return PVS_OK;
 }
+
+/* ---- slices of closed meshes (§3.3) ---- */
+
+/* Per-cell scratch of the slicer: segments (x0, y0, x1, y1 in pixels), crossings and a row buffer. */
+typedef struct pvs__epslicer {
+    double *seg;
+    double *xs;
+    unsigned char *row;
+    unsigned char *cmark;    /* width * width: pixels in the penumbra of a concave occluder's boundary */
+    size_t cap;          /* segments */
+    uint32_t width;      /* row buffer */
+} pvs__epslicer;
+
+/* The point where edge a-b (a on the near side of the plane, b on the far side) crosses w = W, in
+   pixels. The ends are taken in a fixed order (by position), so the two triangles sharing the edge
+   compute the same point and the section's segments close up exactly. */
+PVS__STATIC int pvs__ep_vref_cmp_pts(const float *a, const float *b) {
+    int k;
+    for (k = 0; k < 3; ++k)
+        if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
+    return 0;
+}
+
+PVS__STATIC void pvs__ep_cross(const pvs__epframe *f, const float *a, const float *b, double *x, double *y, double *mag) {
+    const float *p = a, *q = b;
+    double wp, wq, t, u, v;
+    if (pvs__ep_vref_cmp_pts(a, b) > 0) { p = b; q = a; }
+    wp = f->s * ((double)p[f->a] - f->face);
+    wq = f->s * ((double)q[f->a] - f->face);
+    t = (f->W - wp) / (wq - wp);
+    u = p[f->u] + ((double)q[f->u] - p[f->u]) * t;
+    v = p[f->v] + ((double)q[f->v] - p[f->v]) * t;
+    *x = (u - f->u0) * f->su;
+    *y = (v - f->v0) * f->sv;
+    *mag = pvs__dmax(*mag, (pvs__dabs(p[f->u]) + pvs__dabs(q[f->u]) + pvs__dabs(f->u0)) * f->su + (pvs__dabs(p[f->v]) + pvs__dabs(q[f->v]) + pvs__dabs(f->v0)) * f->sv);
+}
+
+PVS__STATIC int pvs__ep_double_cmp(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Rasterizes the section of a closed (or capped) component by the plane w = W (Durand 2000 §3.3:
+   the Projection of a closed manifold lying in the plane is itself): only pixels at a margin from
+   every segment of the section and inside it by parity get Depth W (map) or 1 (mask). Why it is
+   conservative: the cell lies outside the component's box, so a point V of the cell is outside the
+   solid, and a point X inside the section is inside it; the segment V-X crosses the closed surface
+   (mesh plus cap) an odd number of times, and never the cap (V and X lie strictly on the solid's
+   side of the cap's plane), so it crosses a triangle before reaching X, at a depth below W. Vertices
+   on the plane count as beyond it (symbolic perturbation), so every triangle and boundary edge
+   crossing the plane gives a consistent segment or point. Returns the pixels written. */
+PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
+                                   pvs__epslicer *sc, float *map, unsigned char *mask) {
+    uint32_t i, nseg = 0, ncap = 0, written = 0;
+    double mag = 0.0, m, ylo = DBL_MAX, yhi = -DBL_MAX;
+    int32_t j0, j1, j;
+    float depth = pvs__f_up(f->W);
+    for (i = 0; i < c->count; ++i) {
+        const uint32_t *ix = s->indices + 3 * (size_t)p->stri[c->first + i];
+        const float *v[3];
+        int k, far[3], nf = 0;
+        double pt[2][2];
+        int np = 0;
+        for (k = 0; k < 3; ++k) {
+            v[k] = s->positions + 3 * (size_t)ix[k];
+            far[k] = f->s * ((double)v[k][f->a] - f->face) >= f->W;
+            nf += far[k];
+        }
+        if (nf == 0 || nf == 3) continue;
+        for (k = 0; k < 3; ++k) {
+            int l = (k + 1) % 3;
+            if (far[k] == far[l]) continue;
+            pvs__ep_cross(f, far[k] ? v[l] : v[k], far[k] ? v[k] : v[l], &pt[np][0], &pt[np][1], &mag);
+            ++np;
+        }
+        sc->seg[4 * nseg] = pt[0][0];
+        sc->seg[4 * nseg + 1] = pt[0][1];
+        sc->seg[4 * nseg + 2] = pt[1][0];
+        sc->seg[4 * nseg + 3] = pt[1][1];
+        ++nseg;
+    }
+    if (c->capped) {
+        /* the cap (the boundary's region in its plane) meets the slicing plane along a line: the
+           boundary edges crossing the plane give points on it, paired in order along the line */
+        double *pts = sc->xs;
+        for (i = 0; i < c->bcount; ++i) {
+            const float *a = p->bedge + 6 * (size_t)(c->bfirst + i), *b = a + 3;
+            int fa = f->s * ((double)a[f->a] - f->face) >= f->W, fb = f->s * ((double)b[f->a] - f->face) >= f->W;
+            if (fa == fb) continue;
+            pvs__ep_cross(f, fa ? b : a, fa ? a : b, &pts[2 * ncap], &pts[2 * ncap + 1], &mag);
+            ++ncap;
+        }
+        if (ncap & 1u) return 0; /* cannot happen for a closed boundary; be safe */
+        if (ncap) {
+            /* the line lies along the plane's u or v axis: the cap is axis-aligned and the
+               slicing plane is perpendicular to another axis */
+            int key = c->cap_axis == f->u ? 1 : 0; /* the cap fixes u: the line runs along v */
+            uint32_t x, y;
+            for (x = 1; x < ncap; ++x) /* insertion sort by the running coordinate */
+                for (y = x; y > 0 && pts[2 * y + key] < pts[2 * (y - 1) + key]; --y) {
+                    double t0 = pts[2 * y], t1 = pts[2 * y + 1];
+                    pts[2 * y] = pts[2 * (y - 1)];
+                    pts[2 * y + 1] = pts[2 * (y - 1) + 1];
+                    pts[2 * (y - 1)] = t0;
+                    pts[2 * (y - 1) + 1] = t1;
+                }
+            for (x = 0; x + 1 < ncap; x += 2) {
+                sc->seg[4 * nseg] = pts[2 * x];
+                sc->seg[4 * nseg + 1] = pts[2 * x + 1];
+                sc->seg[4 * nseg + 2] = pts[2 * x + 2];
+                sc->seg[4 * nseg + 3] = pts[2 * x + 3];
+                ++nseg;
+            }
+        }
+    }
+    if (nseg < 3) return 0;
+    /* margin: a bound on the points' rounding errors in pixels, widely */
+    m = 1e-6 + 1e-12 * mag;
+    for (i = 0; i < nseg; ++i) {
+        ylo = pvs__dmin(ylo, pvs__dmin(sc->seg[4 * i + 1], sc->seg[4 * i + 3]));
+        yhi = pvs__dmax(yhi, pvs__dmax(sc->seg[4 * i + 1], sc->seg[4 * i + 3]));
+    }
+    j0 = pvs__clampi(floor(ylo), 0, (int32_t)f->height);
+    j1 = pvs__clampi(ceil(yhi), -1, (int32_t)f->height - 1);
+    for (j = j0; j <= j1; ++j) {
+        double yc = (double)j + 0.5, b0 = (double)j - m, b1 = (double)j + 1.0 + m;
+        uint32_t nx = 0, x;
+        /* parity crossings of the row's centre line (half-open in y) */
+        for (i = 0; i < nseg; ++i) {
+            const double *g = sc->seg + 4 * i;
+            if ((g[1] <= yc) != (g[3] <= yc)) sc->xs[nx++] = g[0] + (yc - g[1]) * (g[2] - g[0]) / (g[3] - g[1]);
+        }
+        if (nx < 2) continue;
+        qsort(sc->xs, nx, sizeof(double), pvs__ep_double_cmp);
+        /* pixels a segment passes through (in the band widened by the margin) are excluded */
+        memset(sc->row, 0, f->width);
+        for (i = 0; i < nseg; ++i) {
+            const double *g = sc->seg + 4 * i;
+            double ya = g[1], yb = g[3], xa = g[0], xb = g[2], ta, tb, xmin, xmax;
+            int32_t q0, q1;
+            if (pvs__dmax(ya, yb) < b0 || pvs__dmin(ya, yb) > b1) continue;
+            if (ya == yb) { ta = 0.0; tb = 1.0; }
+            else {
+                ta = (b0 - ya) / (yb - ya);
+                tb = (b1 - ya) / (yb - ya);
+                if (ta > tb) { double t = ta; ta = tb; tb = t; }
+                ta = pvs__dmax(ta, 0.0);
+                tb = pvs__dmin(tb, 1.0);
+            }
+            xmin = pvs__dmin(xa + (xb - xa) * ta, xa + (xb - xa) * tb) - m;
+            xmax = pvs__dmax(xa + (xb - xa) * ta, xa + (xb - xa) * tb) + m;
+            q0 = pvs__clampi(floor(xmin), 0, (int32_t)f->width);
+            q1 = pvs__clampi(floor(xmax), -1, (int32_t)f->width - 1);
+            if (q0 <= q1) memset(sc->row + q0, 1, (size_t)(q1 - q0 + 1));
+        }
+        for (x = 0; x + 1 < nx; x += 2) {
+            int32_t i0 = pvs__clampi(ceil(sc->xs[x]), 0, (int32_t)f->width), i1 = pvs__clampi(floor(sc->xs[x + 1]) - 1.0, -1, (int32_t)f->width - 1), q;
+            for (q = i0; q <= i1; ++q) {
+                if (sc->row[q]) continue;
+                if (map) {
+                    float *px = map + (size_t)j * f->width + (size_t)q;
+                    if (*px > depth) *px = depth;
+                }
+                if (mask) mask[(size_t)j * f->width + (size_t)q] = 1;
+                ++written;
+            }
+        }
+    }
+    return written;
+}
+
+/* 1 if the component may be sliced for this cell: the cell is outside its box and strictly on the
+   solid's side of its cap. */
+PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
+    if (pvs__box_overlap(&c->box, cell)) return 0;
+    if (c->capped) {
+        if (c->cap_side > 0 && !(cell->min[c->cap_axis] > c->cap_value)) return 0;
+        if (c->cap_side < 0 && !(cell->max[c->cap_axis] < c->cap_value)) return 0;
+    }
+    return 1;
+}
+
+/* The slice of a sheet's solid half-space (pvs__epsheet) by the plane: the points beyond the sheet
+   (on the side away from the cell) over its polygon. Pixels inside it by a margin get Depth W. */
+PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__epsheet *S, int side, const pvs__epframe *f, float *map,
+                                         unsigned char *mask) {
+    int k = S->axis, su = (k + 1) % 3;
+    const float *poly = p->spoly + 2 * (size_t)S->first;
+    double pos = f->face + f->s * f->W, lo = DBL_MAX, hi = -DBL_MAX, x0, x1, y0, y1, m, mag;
+    int32_t i0, i1, j0, j1, j, i;
+    uint32_t written = 0, e;
+    float depth = pvs__f_up(f->W);
+    if (k == f->a) {
+        /* parallel: the plane must lie beyond the sheet; the region is the polygon */
+        if (!(side > 0 ? pos < S->value : pos > S->value)) return 0;
+        return 0; /* a polygon fill would be needed; the planes along the sheet's axis gain little */
+    } else {
+        /* the polygon's extent along the line x[a] = pos: the other in-plane axis */
+        int along = f->a == su ? 0 : 1; /* polygon coordinate index of the plane's axis */
+        for (e = 0; e < S->count; ++e) {
+            const float *A = poly + 2 * e, *B = poly + 2 * ((e + 1) % S->count);
+            double a0 = A[along], a1 = B[along], t, x;
+            if ((a0 < pos && a1 < pos) || (a0 > pos && a1 > pos)) continue;
+            if (a0 == a1) {
+                lo = pvs__dmin(lo, pvs__dmin(A[1 - along], B[1 - along]));
+                hi = pvs__dmax(hi, pvs__dmax(A[1 - along], B[1 - along]));
+                continue;
+            }
+            t = (pos - a0) / (a1 - a0);
+            x = A[1 - along] + ((double)B[1 - along] - A[1 - along]) * t;
+            lo = pvs__dmin(lo, x);
+            hi = pvs__dmax(hi, x);
+        }
+        if (!(hi > lo)) return 0;
+        /* in plane pixels: the sheet's axis k is the plane's u or v; the interval is on the other */
+        if (f->u == k) {
+            double c = (S->value - f->u0) * f->su;
+            x0 = side > 0 ? -DBL_MAX : c;
+            x1 = side > 0 ? c : DBL_MAX;
+            y0 = (lo - f->v0) * f->sv;
+            y1 = (hi - f->v0) * f->sv;
+        } else {
+            double c = (S->value - f->v0) * f->sv;
+            y0 = side > 0 ? -DBL_MAX : c;
+            y1 = side > 0 ? c : DBL_MAX;
+            x0 = (lo - f->u0) * f->su;
+            x1 = (hi - f->u0) * f->su;
+        }
+    }
+    mag = (pvs__dabs(lo) + pvs__dabs(hi) + pvs__dabs(S->value) + pvs__dabs(f->u0) + pvs__dabs(f->v0) + pvs__dabs(pos)) * (f->su + f->sv);
+    m = 1e-6 + 1e-12 * mag;
+    i0 = pvs__clampi(ceil(x0 + m), 0, (int32_t)f->width);
+    i1 = pvs__clampi(floor(x1 - m) - 1.0, -1, (int32_t)f->width - 1);
+    j0 = pvs__clampi(ceil(y0 + m), 0, (int32_t)f->height);
+    j1 = pvs__clampi(floor(y1 - m) - 1.0, -1, (int32_t)f->height - 1);
+    for (j = j0; j <= j1; ++j) {
+        if (i0 > i1) break;
+        if (map)
+            for (i = i0; i <= i1; ++i) {
+                float *px = map + (size_t)j * f->width + (size_t)i;
+                if (*px > depth) *px = depth;
+            }
+        if (mask) memset(mask + (size_t)j * f->width + (size_t)i0, 1, (size_t)(i1 - i0 + 1));
+        written += (uint32_t)(i1 - i0 + 1);
+    }
+    return written;
+}
+
+/* Slices every component the plane cuts inside its rectangle. */
+PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs_extproj_plane *pl,
+                                    const pvs__epframe *f, pvs__epslicer *sc, const int *sheet_side, float *map, unsigned char *mask) {
+    uint32_t i, written = 0;
+    double pos = f->face + f->s * f->W;
+    for (i = 0; i < p->sheet_count; ++i)
+        if (sheet_side[i]) written += pvs__ep_sheet_slice(p, p->sheet + i, sheet_side[i], f, map, mask);
+    for (i = 0; i < p->slc_count; ++i) {
+        const pvs__epslice *c = p->slc + i;
+        if (!(c->box.min[f->a] <= pos && c->box.max[f->a] >= pos)) continue;
+        if (c->box.max[f->u] < pl->rect[0] || c->box.min[f->u] > pl->rect[2] || c->box.max[f->v] < pl->rect[1] || c->box.min[f->v] > pl->rect[3])
+            continue;
+        if (!pvs__ep_slice_ok(c, cell)) continue;
+        written += pvs__ep_slice(s, p, c, f, sc, map, mask);
+    }
+    return written;
+}
+
+/* ---- concave planar occluders (§3.4) ---- */
+
+/* Clips a concave planar occluder's boundary edges (E, n, in double) to the depths w >= c (ge) or
+   w <= c: the boundary of P and the half-space is that of P clipped (the cut ends computed in
+   double on the edges, exactly at depth c) plus the segments of the clipping line inside P, found
+   between the crossings sorted along the line and paired by parity with the same half-open rule,
+   so the two close up. E needs room for 1.5 n + 1 edges. Returns the new count (0 if none). */
+PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epocc *o, double *E, uint32_t n, double cdepth, int ge) {
+    const pvs__epframe f = *fp;
+    uint32_t nc = 0, nx = 0, q;
+    double xs[PVS__EP_CONCAVE_EDGES][4], dir[3], best = 0.0, ea[3] = {0.0, 0.0, 0.0};
+    int c;
+    if (n > PVS__EP_CONCAVE_EDGES) return 0;
+    ea[f.a] = 1.0; /* the clipping line's direction: pn x (the axis) */
+    dir[0] = (double)o->pn[1] * ea[2] - (double)o->pn[2] * ea[1];
+    dir[1] = (double)o->pn[2] * ea[0] - (double)o->pn[0] * ea[2];
+    dir[2] = (double)o->pn[0] * ea[1] - (double)o->pn[1] * ea[0];
+    for (c = 0; c < 3; ++c) best = pvs__dmax(best, pvs__dabs(dir[c]));
+    if (!(best > 1e-6)) return 0; /* the plane nearly parallel to the cut: nothing kept */
+    for (q = 0; q < n; ++q) { /* in place: the kept edges move down (nc <= q) */
+        double A[3], B[3], wa, wb, *out = E + 6 * (size_t)nc;
+        int ia, ib;
+        for (c = 0; c < 3; ++c) { A[c] = E[6 * (size_t)q + c]; B[c] = E[6 * (size_t)q + 3 + c]; }
+        wa = f.s * (A[f.a] - f.face);
+        wb = f.s * (B[f.a] - f.face);
+        ia = ge ? wa >= cdepth : wa <= cdepth;
+        ib = ge ? wb >= cdepth : wb <= cdepth;
+        if (!ia && !ib) continue;
+        for (c = 0; c < 3; ++c) { out[c] = A[c]; out[3 + c] = B[c]; }
+        if (ia != ib) {
+            double t = (cdepth - wa) / (wb - wa), *end = ia ? out + 3 : out;
+            for (c = 0; c < 3; ++c) end[c] = A[c] + (B[c] - A[c]) * t;
+            end[f.a] = f.face + f.s * cdepth;
+            for (c = 0; c < 3; ++c) xs[nx][c] = end[c];
+            xs[nx][3] = end[0] * dir[0] + end[1] * dir[1] + end[2] * dir[2];
+            ++nx;
+        }
+        ++nc;
+    }
+    if (nx & 1u) return 0;
+    for (q = 1; q < nx; ++q) { /* the crossings along the line, then paired */
+        double tmp[4];
+        uint32_t r2 = q;
+        memcpy(tmp, xs[q], sizeof(tmp));
+        while (r2 > 0 && xs[r2 - 1][3] > tmp[3]) { memcpy(xs[r2], xs[r2 - 1], sizeof(tmp)); --r2; }
+        memcpy(xs[r2], tmp, sizeof(tmp));
+    }
+    for (q = 0; q + 1 < nx; q += 2) {
+        double *out = E + 6 * (size_t)nc++;
+        for (c = 0; c < 3; ++c) { out[c] = xs[q][c]; out[3 + c] = xs[q + 1][c]; }
+    }
+    return nc;
+}
+
+/* The Projection of a concave planar occluder P (Durand 2000 §3.4, Fig. 7: planar, possibly
+   concave, with holes) lying wholly in front of the plane ([margin, W]) or, unless front_only,
+   wholly behind it. A pixel X is in it when every line from the cell through X meets P. Let C(X) be
+   where those lines cross P's plane. As the cell point moves, the crossing can leave P only through
+   P's boundary, so X is covered when (1) no line from the cell through any point of the pixel meets a
+   boundary edge e, i.e. the pixel is outside the penumbra of every e, and (2) the line from one cell
+   point (the centre) through X crosses the plane inside P. The penumbra of a segment e = [a, b] on
+   the plane lies in the convex hull of the 16 views of a and b from the cell's corners (for a fixed
+   point of e the views from the cell are the hull of the corners' views; each corner's views of e
+   form a segment), rasterized here conservatively (every pixel the hull may touch, into cmark); then
+   per row each run of unmarked pixels is connected, so one crossing test (parity against the
+   boundary, away from it by more than the slack) decides the whole run. Unlike the pieces' own
+   Projections, which each lose a strip along every shared edge to its penumbra, the boundary's
+   penumbra is the only loss. Depth: the farthest vertex, plus the slack. Returns the pixels set. */
+PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o, int front_only, unsigned char *cmark,
+                                     float *map, unsigned char *mask) {
+    const pvs__epframe f = *fp;
+    double E[6 * (PVS__EP_CONCAVE_EDGES + PVS__EP_CONCAVE_EDGES / 2 + 1)];
+    uint32_t e, written = 0, n = o->ecount;
+    double wmin = DBL_MAX, wmax = -DBL_MAX, margin = 1e-4 * (f.W - f.cw[0]), slack = o->slack, base;
+    double xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, V0[3], world0[3], pn[3], scale = 0.0;
+    int c, front, pax = 0, pu, pv;
+    int32_t i0, i1, j0, j1, row;
+    float depth;
+    if (n > PVS__EP_CONCAVE_EDGES) return 0;
+    for (e = 0; e < 6 * n; ++e) E[e] = p->cedge[6 * (size_t)o->efirst + e];
+    for (e = 0; e < 2 * n; ++e) {
+        double w = f.s * (E[3 * e + f.a] - f.face);
+        wmin = pvs__dmin(wmin, w);
+        wmax = pvs__dmax(wmax, w);
+        for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, pvs__dabs(E[3 * e + c]));
+    }
+    if (!(wmin - slack > margin)) {
+        /* reaching past the cell's face (a wall beside the cell): its part at depths >= margin.
+           Exact input only (no slack) */
+        if (slack > 0.0 || !(wmax > margin)) return 0;
+        n = pvs__ep_clip_concave(&f, o, E, n, margin, 1);
+        if (n < 3) return 0;
+    }
+    if (wmax + slack <= f.W) front = 1;
+    else if (!front_only && wmin - slack >= f.W) front = 0;
+    else if (slack == 0.0) { /* straddling the plane: its part in front */
+        n = pvs__ep_clip_concave(&f, o, E, n, f.W, 0);
+        if (n < 3) return 0;
+        front = 1;
+        wmax = f.W;
+    } else return 0;
+    base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv + 1.0;
+    /* candidate pixels: inside every corner's view of the boundary's bounding box */
+    for (c = 0; c < 8; ++c) {
+        double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX;
+        for (e = 0; e < 2 * n; ++e) {
+            const double *x = E + 3 * (size_t)e;
+            double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
+            double pu_ = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su, pv_ = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
+            bx0 = pvs__dmin(bx0, pu_); bx1 = pvs__dmax(bx1, pu_);
+            by0 = pvs__dmin(by0, pv_); by1 = pvs__dmax(by1, pv_);
+        }
+        xlo = pvs__dmax(xlo, bx0); xhi = pvs__dmin(xhi, bx1);
+        ylo = pvs__dmax(ylo, by0); yhi = pvs__dmin(yhi, by1);
+    }
+    if (!(xhi - xlo >= 1.0) || !(yhi - ylo >= 1.0) || !(xhi - xlo < 1e9) || !(yhi - ylo < 1e9)) return 0;
+    i0 = pvs__clampi(ceil(xlo + 1e-6 * (1.0 + pvs__dabs(xlo))), 0, (int32_t)f.width);
+    i1 = pvs__clampi(floor(xhi - 1e-6 * (1.0 + pvs__dabs(xhi))) - 1.0, -1, (int32_t)f.width - 1);
+    j0 = pvs__clampi(ceil(ylo + 1e-6 * (1.0 + pvs__dabs(ylo))), 0, (int32_t)f.height);
+    j1 = pvs__clampi(floor(yhi - 1e-6 * (1.0 + pvs__dabs(yhi))) - 1.0, -1, (int32_t)f.height - 1);
+    if (i0 > i1 || j0 > j1) return 0;
+    for (row = j0; row <= j1; ++row) memset(cmark + (size_t)row * f.width + i0, 0, (size_t)(i1 - i0 + 1));
+    /* (1) the boundary's penumbrae */
+    for (e = 0; e < n; ++e) {
+        double pts[16][2], hull[17][2], err = 0.0, hy0 = DBL_MAX, hy1 = -DBL_MAX;
+        int k = 0, hn, m;
+        int32_t r0, r1;
+        for (c = 0; c < 8; ++c) {
+            double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1];
+            int end;
+            for (end = 0; end < 2; ++end) {
+                const double *x = E + 6 * (size_t)e + 3 * end;
+                double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
+                pts[k][0] = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su;
+                pts[k][1] = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
+                /* rounding: a few ulps of the terms, with a wide factor (the ends are exact) */
+                err = pvs__dmax(err, 1e-12 * (pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
+                                              ((pvs__dabs(Vu) + pvs__dabs((double)x[f.u])) * f.su + (pvs__dabs(Vv) + pvs__dabs((double)x[f.v])) * f.sv) * t));
+                ++k;
+            }
+        }
+        err += 1e-3; /* and a thousandth of a pixel to spare for the crossing test (2) */
+        for (k = 0; k < 16; ++k) { hy0 = pvs__dmin(hy0, pts[k][1]); hy1 = pvs__dmax(hy1, pts[k][1]); }
+        hn = pvs__ep_hull(pts, 16, hull);
+        if (!(hy1 - hy0 < 1e9)) { /* too far to bound: everything is marked */
+            for (row = j0; row <= j1; ++row) memset(cmark + (size_t)row * f.width + i0, 1, (size_t)(i1 - i0 + 1));
+            break;
+        }
+        if (hn < 3) { /* collinear views: their bounding box */
+            hn = 0;
+            hull[0][0] = hull[3][0] = DBL_MAX; hull[1][0] = hull[2][0] = -DBL_MAX;
+            for (k = 0; k < 16; ++k) {
+                hull[0][0] = pvs__dmin(hull[0][0], pts[k][0]);
+                hull[1][0] = pvs__dmax(hull[1][0], pts[k][0]);
+            }
+            hull[3][0] = hull[0][0]; hull[2][0] = hull[1][0];
+            hull[0][1] = hull[1][1] = hy0;
+            hull[2][1] = hull[3][1] = hy1;
+            hn = 4;
+        }
+        r0 = pvs__clampi(floor(hy0 - err), j0 - 1, j1 + 1);
+        r1 = pvs__clampi(floor(hy1 + err), j0 - 1, j1 + 1);
+        for (row = r0 < j0 ? j0 : r0; row <= r1 && row <= j1; ++row) {
+            /* the hull's x extent over the band [row - err, row + 1 + err] */
+            double y0 = row - err, y1 = row + 1.0 + err, mn = DBL_MAX, mx = -DBL_MAX;
+            int32_t x0, x1;
+            for (m = 0; m < hn; ++m) {
+                const double *a = hull[m], *b = hull[m + 1 < hn ? m + 1 : 0];
+                double ta = 0.0, tb = 1.0, dy = b[1] - a[1];
+                if (dy != 0.0) {
+                    double t0 = (y0 - a[1]) / dy, t1 = (y1 - a[1]) / dy;
+                    if (t0 > t1) { double tt = t0; t0 = t1; t1 = tt; }
+                    ta = pvs__dmax(ta, t0);
+                    tb = pvs__dmin(tb, t1);
+                } else if (a[1] < y0 || a[1] > y1) continue;
+                if (ta > tb) continue;
+                mn = pvs__dmin(mn, pvs__dmin(a[0] + (b[0] - a[0]) * ta, a[0] + (b[0] - a[0]) * tb));
+                mx = pvs__dmax(mx, pvs__dmax(a[0] + (b[0] - a[0]) * ta, a[0] + (b[0] - a[0]) * tb));
+            }
+            if (mn > mx) continue;
+            x0 = pvs__clampi(floor(mn - err - 1e-9 * (1.0 + pvs__dabs(mn))), i0 - 1, i1 + 1);
+            x1 = pvs__clampi(floor(mx + err + 1e-9 * (1.0 + pvs__dabs(mx))), i0 - 1, i1 + 1);
+            if (x0 < i0) x0 = i0;
+            if (x1 > i1) x1 = i1;
+            if (x0 <= x1) memset(cmark + (size_t)row * f.width + x0, 1, (size_t)(x1 - x0 + 1));
+        }
+    }
+    /* (2) per run of unmarked pixels, the crossing of the line from the cell's centre */
+    for (c = 0; c < 3; ++c) pn[c] = o->pn[c];
+    for (c = 1; c < 3; ++c)
+        if (pvs__dabs(pn[c]) > pvs__dabs(pn[pax])) pax = c;
+    pu = (pax + 1) % 3;
+    pv = (pax + 2) % 3;
+    V0[0] = 0.5 * (f.cu[0] + f.cu[1]);
+    V0[1] = 0.5 * (f.cv[0] + f.cv[1]);
+    V0[2] = 0.5 * f.cw[0];
+    world0[f.u] = V0[0];
+    world0[f.v] = V0[1];
+    world0[f.a] = f.face + f.s * V0[2];
+    depth = pvs__f_up(wmax + slack + 1e-12 * (pvs__dabs(wmax) + pvs__dabs(f.face)));
+    for (row = j0; row <= j1; ++row) {
+        const unsigned char *mk = cmark + (size_t)row * f.width;
+        int32_t x = i0;
+        while (x <= i1) {
+            int32_t xs, xe, xm;
+            double X[3], dir[3], den, t, cp[3], best = DBL_MAX, tol;
+            int inside = 0;
+            uint32_t q;
+            if (mk[x]) { ++x; continue; }
+            xs = x;
+            while (x <= i1 && !mk[x]) ++x;
+            xe = x - 1;
+            xm = (xs + xe) / 2;
+            X[f.u] = f.u0 + ((double)xm + 0.5) / f.su;
+            X[f.v] = f.v0 + ((double)row + 0.5) / f.sv;
+            X[f.a] = f.face + f.s * f.W;
+            for (c = 0; c < 3; ++c) dir[c] = X[c] - world0[c];
+            den = pn[0] * dir[0] + pn[1] * dir[1] + pn[2] * dir[2];
+            if (!(pvs__dabs(den) > 1e-9 * sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]))) continue;
+            t = ((double)o->pd - (pn[0] * world0[0] + pn[1] * world0[1] + pn[2] * world0[2])) / den;
+            if (front ? !(t > 0.0 && t <= 1.0) : !(t >= 1.0)) continue;
+            for (c = 0; c < 3; ++c) cp[c] = world0[c] + dir[c] * t;
+            for (q = 0; q < n; ++q) { /* parity and distance against the boundary, in (pu, pv) */
+                const double *a = E + 6 * (size_t)q, *b = a + 3;
+                double ax = a[pu], ay = a[pv], bx = b[pu], by = b[pv], ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey, s2;
+                if ((ay > cp[pv]) != (by > cp[pv]) && cp[pu] < ax + ex * (cp[pv] - ay) / ey) inside = !inside;
+                s2 = l2 > 0.0 ? pvs__dmin(1.0, pvs__dmax(0.0, ((cp[pu] - ax) * ex + (cp[pv] - ay) * ey) / l2)) : 0.0;
+                best = pvs__dmin(best, sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) + (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
+            }
+            /* the surface lies within the slack of the plane: the segment crosses that slab over a
+               stretch of slack / sin(angle) (|dir| / |den|), measured in (pu, pv) a factor
+               1 / |n_pax| longer; a crossing that near the boundary is not trusted */
+            tol = 4.0 * slack / pvs__dabs(pn[pax]) * pvs__dmax(1.0, sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]) / pvs__dabs(den)) +
+                  1e-9 * scale;
+            if (!inside || !(best > tol)) continue;
+            if (map) {
+                float *px = map + (size_t)row * f.width;
+                int32_t xx;
+                for (xx = xs; xx <= xe; ++xx)
+                    if (px[xx] > depth) px[xx] = depth;
+            }
+            if (mask) memset(mask + (size_t)row * f.width + xs, 1, (size_t)(xe - xs + 1));
+            written += (uint32_t)(xe - xs + 1);
+        }
+    }
+    return written;
+}
+
+/* ---- depth maps with their pyramids, sweep masks ---- */
 
 /* A depth map with its max pyramid (§2.4): level l texel = the greatest Depth of its 2 x 2 children. */
 typedef struct pvs__epmap {
@@ -12526,31 +15909,193 @@ PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) 
     return 0;
 }
 
+/* A plane of the occlusion sweep (§5): a mask (1 = every ray from the cell through the pixel is
+   blocked before the plane) with its pyramid, level l texel = AND of its 2 x 2 children. */
+typedef struct pvs__epmask {
+    pvs_extproj_plane plane;
+    pvs__epframe frame;
+    uint32_t levels;
+    uint32_t lw[14], lh[14];
+    unsigned char *lv[14];
+} pvs__epmask;
+
+PVS__STATIC void pvs__ep_build_mask_pyramid(pvs__epmask *m) {
+    uint32_t l, x, y;
+    for (l = 1; l <= m->levels; ++l) {
+        uint32_t pw = m->lw[l - 1], ph = m->lh[l - 1];
+        const unsigned char *src = m->lv[l - 1];
+        unsigned char *dst = m->lv[l];
+        for (y = 0; y < m->lh[l]; ++y)
+            for (x = 0; x < m->lw[l]; ++x) {
+                uint32_t x0 = 2 * x, y0 = 2 * y, x1 = x0 + 1 < pw ? x0 + 1 : x0, y1 = y0 + 1 < ph ? y0 + 1 : y0;
+                dst[y * m->lw[l] + x] = (unsigned char)(src[y0 * pw + x0] & src[y0 * pw + x1] & src[y1 * pw + x0] & src[y1 * pw + x1]);
+            }
+    }
+}
+
+PVS__STATIC int pvs__ep_mask_open_at(const pvs__epmask *m, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *r) {
+    uint32_t cx, cy;
+    if (m->lv[l][ty * m->lw[l] + tx]) return 0;
+    if (l == 0) return 1;
+    for (cy = 2 * ty; cy <= 2 * ty + 1 && cy < m->lh[l - 1]; ++cy)
+        for (cx = 2 * tx; cx <= 2 * tx + 1 && cx < m->lw[l - 1]; ++cx) {
+            int32_t px0 = (int32_t)(cx << (l - 1)), py0 = (int32_t)(cy << (l - 1));
+            int32_t px1 = px0 + (int32_t)(1u << (l - 1)) - 1, py1 = py0 + (int32_t)(1u << (l - 1)) - 1;
+            if (px1 < r[0] || px0 > r[2] || py1 < r[1] || py0 > r[3]) continue;
+            if (pvs__ep_mask_open_at(m, l - 1, cx, cy, r)) return 1;
+        }
+    return 0;
+}
+
+/* 1 if some pixel of the rectangle is not blocked (or lies outside the plane). */
+PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r) {
+    uint32_t l = 0, tx, ty;
+    if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)m->plane.width || r[3] >= (int32_t)m->plane.height) return 1;
+    while (l < m->levels && (((uint32_t)r[2] >> l) - ((uint32_t)r[0] >> l) > 1 || ((uint32_t)r[3] >> l) - ((uint32_t)r[1] >> l) > 1)) ++l;
+    for (ty = (uint32_t)r[1] >> l; ty <= (uint32_t)r[3] >> l; ++ty)
+        for (tx = (uint32_t)r[0] >> l; tx <= (uint32_t)r[2] >> l; ++tx)
+            if (pvs__ep_mask_open_at(m, l, tx, ty, r)) return 1;
+    return 0;
+}
+
+/* Pixel ranges of plane `to` (per column: [lo, hi] on plane `from`'s u axis; per row likewise on
+   v) that the rays from the cell through each column (row) of `to` cross on `from`, nearer to the
+   cell (§5.1 reprojection). A ray from corner V through q crosses plane W_from at V + (q - V) a with
+   a = (W_from - Vw) / (W_to - Vw); per axis the extremes are at the cell's corners and the pixel's
+   edges. Ranges reaching outside `from` are marked lo = -1. */
+PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, double W_from, double W_to, double to_k0, double to_sk, uint32_t to_n,
+                                        double from_k0, double from_sk, uint32_t from_n, int32_t *lo, int32_t *hi) {
+    uint32_t i;
+    double a[2];
+    int c;
+    for (c = 0; c < 2; ++c) a[c] = (W_from - cw[c]) / (W_to - cw[c]);
+    for (i = 0; i < to_n; ++i) {
+        double q0 = to_k0 + (double)i / to_sk, q1 = to_k0 + (double)(i + 1) / to_sk, mn = DBL_MAX, mx = -DBL_MAX, err;
+        int e, k;
+        for (k = 0; k < 2; ++k)
+            for (c = 0; c < 2; ++c)
+                for (e = 0; e < 2; ++e) {
+                    double q = e ? q1 : q0, x = (ck[k] + (q - ck[k]) * a[c] - from_k0) * from_sk;
+                    mn = pvs__dmin(mn, x);
+                    mx = pvs__dmax(mx, x);
+                }
+        err = 1e-6 + 1e-12 * (pvs__dabs(mn) + pvs__dabs(mx) + (pvs__dabs(from_k0) + pvs__dabs(q0) + pvs__dabs(q1) + pvs__dabs(ck[0]) + pvs__dabs(ck[1])) * from_sk);
+        lo[i] = pvs__clampi(floor(mn - err), -1, (int32_t)from_n);
+        hi[i] = pvs__clampi(floor(mx + err), -1, (int32_t)from_n);
+        if (lo[i] < 0 || hi[i] >= (int32_t)from_n) lo[i] = -1;
+    }
+}
+
+/* ---- per cell: occluder selection, planes, the object sweep ---- */
+
 typedef struct pvs__epsel {
     float score;
     uint32_t occ;
 } pvs__epsel;
 
+typedef struct pvs__epparams {
+    uint32_t res;        /* depth map pixels per side */
+    uint32_t max_occ;    /* occluders projected per direction onto the planes of §6.1 */
+    uint32_t sweep;      /* occlusion sweep planes per direction (§5), 0 = no sweep */
+} pvs__epparams;
+
 typedef struct pvs__epcell {
     const pvs_scene *scene;
-    const pvs__extproj_prep *prep;
     pvs_box cell;
     pvs__epmap maps[6 * PVS__EP_PLANES];
+    pvs__epmask *masks;  /* 6 x sweep; masks of direction d: d * sweep .. + mask_count[d] */
+    uint32_t mask_count[6], sweep;
+    const pvs_word *candidates; /* adaptive cells (§6.1): only the parent's PVS is tested, NULL = all */
     pvs_word *bits;
-    uint32_t tested;
 } pvs__epcell;
 
-/* 1 if the box is hidden from the whole cell on one of the planes. Boxes meeting the cell are visible. */
+/* 1 if a box between the cell and the plane (depths w0 > 0 .. w1 <= W) is hidden by the improved
+   Projection (§4): some point of each "any" axis range and every point of each "all" range lie in
+   occluder pixels strictly nearer than w0. Property 1 needs the occluder at such a pixel to be convex
+   or planar: the Projections of convex occluders and reprojected (planar) maps are; slices (Depth
+   W) never pass the depth test of a box in front of the plane. */
+PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, double w0, double w1) {
+    const pvs__epframe *f = &m->frame;
+    int32_t ru[2], rv[2], r[4], i, j;
+    int anyu, anyv;
+    float depth = pvs__f_down(w0 - 1e-12 * w0);
+    double cu[2], cv[2];
+    cu[0] = f->cu[0]; cu[1] = f->cu[1];
+    cv[0] = f->cv[0]; cv[1] = f->cv[1];
+    pvs__ep_improved_axis(cu, b->min[f->u], b->max[f->u], w0, w1, f->W, f->u0, f->su, f->width, &ru[0], &ru[1], &anyu);
+    pvs__ep_improved_axis(cv, b->min[f->v], b->max[f->v], w0, w1, f->W, f->v0, f->sv, f->height, &rv[0], &rv[1], &anyv);
+    if (ru[0] < 0 || rv[0] < 0 || ru[1] >= (int32_t)f->width || rv[1] >= (int32_t)f->height) return 0;
+    if (anyu && ru[1] - ru[0] > 8) ru[1] = ru[0] + 8; /* a few candidates are enough */
+    if (anyv && rv[1] - rv[0] > 8) rv[1] = rv[0] + 8;
+    for (i = ru[0]; i <= ru[1]; ++i) {
+        r[0] = anyu ? i : ru[0];
+        r[2] = anyu ? i : ru[1];
+        for (j = rv[0]; j <= rv[1]; ++j) {
+            r[1] = anyv ? j : rv[0];
+            r[3] = anyv ? j : rv[1];
+            if (!pvs__ep_visible(m, r, depth)) return 1;
+            if (!anyv) break;
+        }
+        if (!anyu) break;
+    }
+    return 0;
+}
+
+/* A box in front of a sweep plane's mask: the Projection of §3.1 (the box lies beyond the plane, so
+   every blocked pixel's occluder is nearer than it). */
+PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
+    int32_t r[4];
+    float depth;
+    if (!pvs__ep_occludee(&m->frame, b, r, &depth)) return 0;
+    return !pvs__ep_mask_open(m, r);
+}
+
+/* 1 if the box is hidden from the whole cell on one of the planes. Boxes meeting the cell are
+   visible. On the planes of §6.1 a box behind a plane is tested with the Projection of §3.1, one in
+   front of it with the improved Projection of §4, one straddling it as the two parts cut at the
+   plane; on the sweep's planes (§5) a box is tested on the last two planes in front of it. */
 PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
     int d;
     if (pvs__box_overlap(b, &c->cell)) return 0;
-    ++c->tested;
     for (d = 0; d < 6 * PVS__EP_PLANES; ++d) {
+        const pvs__epmap *m = c->maps + d;
+        const pvs__epframe *f = &m->frame;
         int32_t r[4];
         float depth;
-        if (!c->maps[d].active) continue;
-        if (!pvs__ep_occludee(&c->maps[d].frame, b, r, &depth)) continue;
-        if (!pvs__ep_visible(&c->maps[d], r, depth)) return 1;
+        double w0, w1;
+        if (!m->active) continue;
+        w0 = f->s > 0 ? (double)b->min[f->a] - f->face : f->face - (double)b->max[f->a];
+        w1 = f->s > 0 ? (double)b->max[f->a] - f->face : f->face - (double)b->min[f->a];
+        if (!(w0 > 0.0)) continue;
+        if (w1 <= f->W) {
+            if (pvs__ep_front_hidden(m, b, w0, w1)) return 1;
+            continue;
+        }
+        if (w0 < f->W) {
+            /* straddling: the part in front by §4, the part behind by §3.1, cut at one float */
+            pvs_box back = *b;
+            float cut = f->s > 0 ? pvs__f_down(f->face + f->W) : pvs__f_up(f->face - f->W);
+            double cw = f->s > 0 ? (double)cut - f->face : f->face - (double)cut;
+            if (!(cw > 0.0) || !pvs__ep_front_hidden(m, b, w0, cw)) continue;
+            if (f->s > 0) back.min[f->a] = cut; else back.max[f->a] = cut;
+            if (!pvs__ep_occludee(f, &back, r, &depth)) continue;
+            if (!pvs__ep_visible(m, r, depth)) return 1;
+            continue;
+        }
+        if (!pvs__ep_occludee(f, b, r, &depth)) continue;
+        if (!pvs__ep_visible(m, r, depth)) return 1;
+    }
+    for (d = 0; d < 6 && c->sweep; ++d) {
+        const pvs__epmask *ms = c->masks + (size_t)d * c->sweep;
+        uint32_t n = c->mask_count[d], k;
+        int a = d >> 1;
+        double w0;
+        if (!n) continue;
+        w0 = d & 1 ? (double)c->cell.min[a] - b->max[a] : (double)b->min[a] - c->cell.max[a];
+        for (k = 0; k < n && ms[k].frame.W < w0; ++k) {}
+        /* planes k - 1 and k - 2 lie in front of the box */
+        if (k >= 1 && pvs__ep_mask_hidden(ms + k - 1, b)) return 1;
+        if (k >= 2 && pvs__ep_mask_hidden(ms + k - 2, b)) return 1;
     }
     return 0;
 }
@@ -12567,6 +16112,7 @@ PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float d
         pvs_box b = c->scene->object_boxes[o];
         int k;
         if (pvs_bitset_test(c->bits, o) || (c->scene->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY)) continue;
+        if (c->candidates && !pvs_bitset_test(c->candidates, o)) continue; /* hidden from the parent cell */
         for (k = 0; k < 3; ++k) {
             if (node_box->min[k] > b.min[k]) b.min[k] = node_box->min[k];
             if (node_box->max[k] < b.max[k]) b.max[k] = node_box->max[k];
@@ -12616,158 +16162,814 @@ PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, 
             ((double)cell->max[ax[1]] - cell->min[ax[1]] + 2.0 * PVS__EP_EXTEND * (W + ext)));
 }
 
+/* A plane of direction d at distance W: the rectangle reaches PVS__EP_EXTEND times as far sideways
+   as the plane lies from the cell's far side (§6.1: extended planes catch the corner directions). */
+PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32_t res, pvs_extproj_plane *pl) {
+    int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3;
+    double ext = (double)cell->max[a] - cell->min[a];
+    memset(pl, 0, sizeof(*pl));
+    pl->cell = *cell;
+    pl->axis = (uint32_t)a;
+    pl->side = d & 1 ? -1 : 1;
+    pl->distance = pvs__f_up(W);
+    pl->rect[0] = pvs__f_down(cell->min[u] - PVS__EP_EXTEND * (W + ext));
+    pl->rect[1] = pvs__f_down(cell->min[v] - PVS__EP_EXTEND * (W + ext));
+    pl->rect[2] = pvs__f_up(cell->max[u] + PVS__EP_EXTEND * (W + ext));
+    pl->rect[3] = pvs__f_up(cell->max[v] + PVS__EP_EXTEND * (W + ext));
+    pl->width = pl->height = res;
+}
+
+/* Per-cell scratch. */
+typedef struct pvs__epscratch {
+    pvs__epsel *sel;
+    float *maps;
+    unsigned char *masks;
+    uint32_t *sat;
+    int32_t *ranges;
+    pvs__epmask *mask_hdr;
+    pvs__epslicer slicer;
+    void *sweep;
+    pvs_word *seen;
+    size_t nsel, map_floats, mask_bytes, sweep_size, nmask, seen_words;
+} pvs__epscratch;
+
+PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w, uint32_t res) {
+    pvs__free_array(al, w->sel, w->nsel, sizeof(pvs__epsel));
+    pvs__free_array(al, w->maps, 6 * PVS__EP_PLANES * w->map_floats, sizeof(float));
+    pvs__free_array(al, w->masks, w->nmask * w->mask_bytes, 1);
+    pvs__free_array(al, w->mask_hdr, w->nmask, sizeof(pvs__epmask));
+    pvs__free_array(al, w->sat, ((size_t)res + 1) * ((size_t)res + 1), sizeof(uint32_t));
+    pvs__free_array(al, w->ranges, 4 * (size_t)res, sizeof(int32_t));
+    pvs__free_array(al, w->slicer.seg, 4 * w->slicer.cap, sizeof(double));
+    pvs__free_array(al, w->slicer.xs, 2 * w->slicer.cap, sizeof(double));
+    pvs__free_array(al, w->slicer.row, res, 1);
+    pvs__free_array(al, w->slicer.cmark, (size_t)res * res, 1);
+    pvs__free(al, w->sweep, w->sweep_size, 16);
+    pvs__free_array(al, w->seen, w->seen_words, sizeof(pvs_word));
+}
+
+/* Solid angle of triangle (a, b, c) seen from e (Van Oosterom and Strackee 1983). */
+PVS__STATIC double pvs__ep_tri_solid_angle(const double *e, const float *a, const float *b, const float *c) {
+    double A[3], B[3], C[3], la, lb, lc, num, den;
+    int k;
+    for (k = 0; k < 3; ++k) { A[k] = a[k] - e[k]; B[k] = b[k] - e[k]; C[k] = c[k] - e[k]; }
+    la = sqrt(A[0] * A[0] + A[1] * A[1] + A[2] * A[2]);
+    lb = sqrt(B[0] * B[0] + B[1] * B[1] + B[2] * B[2]);
+    lc = sqrt(C[0] * C[0] + C[1] * C[1] + C[2] * C[2]);
+    num = A[0] * (B[1] * C[2] - B[2] * C[1]) + A[1] * (B[2] * C[0] - B[0] * C[2]) + A[2] * (B[0] * C[1] - B[1] * C[0]);
+    den = la * lb * lc + (A[0] * B[0] + A[1] * B[1] + A[2] * B[2]) * lc + (A[0] * C[0] + A[1] * C[1] + A[2] * C[2]) * lb +
+          (B[0] * C[0] + B[1] * C[1] + B[2] * C[2]) * la;
+    return 2.0 * pvs__dabs(atan2(num, den));
+}
+
+/* Solid angle of an occluder seen from e: a polygon's by a fan, a solid's by its box's faces
+   (at most three face e). */
+PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__epocc *o, const double *e) {
+    double sum = 0.0;
+    uint32_t i;
+    if (!o->solid) {
+        const float *q = p->pts + 3 * (size_t)o->first;
+        for (i = 1; i + 1 < o->count; ++i) sum += pvs__ep_tri_solid_angle(e, q, q + 3 * i, q + 3 * i + 3);
+    } else {
+        int k;
+        for (k = 0; k < 3; ++k) {
+            int u = (k + 1) % 3, v = (k + 2) % 3;
+            float f[4][3];
+            if (e[k] >= o->box.min[k] && e[k] <= o->box.max[k]) continue;
+            for (i = 0; i < 4; ++i) {
+                f[i][k] = e[k] < o->box.min[k] ? o->box.min[k] : o->box.max[k];
+                f[i][u] = (i == 1 || i == 2) ? o->box.max[u] : o->box.min[u];
+                f[i][v] = i >= 2 ? o->box.max[v] : o->box.min[v];
+            }
+            sum += pvs__ep_tri_solid_angle(e, f[0], f[1], f[2]) + pvs__ep_tri_solid_angle(e, f[0], f[2], f[3]);
+        }
+    }
+    return sum;
+}
+
+/* Selection by solid angle (§6.1): per direction the n best occluders reaching beyond the face, by
+   (score, lower index) - a total order, so the set does not depend on the order they are seen in;
+   the score is the solid angle the occluder subtends from the cell's centre. The occluders come
+   front to back from a kD-tree over their boxes; a node is skipped when no occluder in it could
+   enter a heap (solid angle <= largest area / distance^2), an occluder when its own bound says so. */
+typedef struct pvs__epselect {
+    const pvs_scene *scene;
+    const pvs__extproj_prep *p;
+    const pvs_box *cell;
+    const pvs_word *candidates;
+    pvs__epsel *sel;
+    uint32_t n, *nsel;
+    double centre[3];
+    pvs_word *seen;          /* occluders met in an earlier leaf */
+    int cls;                 /* the size class being swept */
+} pvs__epselect;
+
+/* 1 if (score, occ) ranks before the heap entry h. */
+PVS__STATIC int pvs__ep_sel_better(float score, uint32_t occ, const pvs__epsel *h) {
+    return score > h->score || (score == h->score && occ < h->occ);
+}
+
+PVS__STATIC void pvs__ep_sel_push(pvs__epsel *h, uint32_t n, uint32_t *count, float score, uint32_t occ) {
+    uint32_t k, ch;
+    if (*count == n) {
+        if (!pvs__ep_sel_better(score, occ, h)) return;
+        k = 0; /* replace the root (the worst), sift down */
+        for (;;) {
+            ch = 2 * k + 1;
+            if (ch >= n) break;
+            if (ch + 1 < n && pvs__ep_sel_better(h[ch].score, h[ch].occ, h + ch + 1)) ++ch; /* the worse child */
+            if (!pvs__ep_sel_better(score, occ, h + ch)) break;
+            h[k] = h[ch];
+            k = ch;
+        }
+    } else {
+        pvs__epsel e;
+        e.score = score;
+        e.occ = occ;
+        k = (*count)++;
+        while (k > 0 && pvs__ep_sel_better(h[(k - 1) / 2].score, h[(k - 1) / 2].occ, &e)) { /* the parent ranks before: move it down */
+            h[k] = h[(k - 1) / 2];
+            k = (k - 1) / 2;
+        }
+    }
+    h[k].score = score;
+    h[k].occ = occ;
+}
+
+/* 1 when an occluder of this box could enter the heap of some direction whose face it reaches
+   beyond, given a bound on its solid angle. */
+PVS__STATIC int pvs__ep_sel_wanted(const pvs__epselect *w, const pvs_box *box, double bound) {
+    uint32_t d;
+    for (d = 0; d < 6; ++d) {
+        double w0, w1;
+        pvs__ep_box_w(w->cell, box, (int)d, &w0, &w1);
+        if (w1 > 0.0 && (w->nsel[d] < w->n || bound * 1.000001 >= (double)w->sel[(size_t)d * w->n].score)) return 1;
+    }
+    return 0;
+}
+
+PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+    pvs__epselect *w = (pvs__epselect *)user;
+    const pvs__extproj_prep *p = w->p;
+    const pvs_box *cell = w->cell;
+    uint32_t j, d;
+    if (distance > 0.0f && !pvs__ep_sel_wanted(w, node_box, (double)p->class_area[w->cls] / ((double)distance * distance))) return PVS_VISIT_SKIP;
+    for (j = 0; j < count; ++j) {
+        uint32_t i = p->class_occ[w->cls][items[j]];
+        const pvs__epocc *o = p->occ + i;
+        float score;
+        double d2 = 0.0;
+        if (pvs_bitset_test(w->seen, i)) continue;
+        pvs_bitset_set(w->seen, i);
+        if ((o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) || (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)))
+            continue; /* a capped solid this cell cannot use */
+        if (w->candidates && o->object != PVS_NO_OBJECT && !(w->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
+            !pvs_bitset_test(w->candidates, o->object))
+            continue; /* §6.1: hidden from the parent cell, so redundant (and leaving it out is safe) */
+        for (d = 0; d < 3; ++d) {
+            double g = w->centre[d] < o->box.min[d] ? o->box.min[d] - w->centre[d] : w->centre[d] > o->box.max[d] ? w->centre[d] - o->box.max[d] : 0.0;
+            d2 += g * g;
+        }
+        if (!pvs__ep_sel_wanted(w, &o->box, d2 > 0.0 ? (double)o->area / d2 : 1e30)) continue;
+        score = (float)pvs__ep_solid_angle(p, o, w->centre);
+        if (!(score > 0.0f)) continue;
+        for (d = 0; d < 6; ++d) {
+            double w0, w1;
+            pvs__ep_box_w(cell, &o->box, (int)d, &w0, &w1);
+            if (w1 > 0.0) pvs__ep_sel_push(w->sel + (size_t)d * w->n, w->n, w->nsel + d, score, i);
+        }
+    }
+    return PVS_VISIT_DESCEND;
+}
+
+PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs_word *candidates,
+                                      pvs__epsel *sel, uint32_t n, uint32_t *nsel, pvs_word *seen, void *sweep, size_t sweep_size) {
+    pvs__epselect w;
+    uint32_t i, d;
+    pvs_result r;
+    memset(&w, 0, sizeof(w));
+    w.scene = s;
+    w.p = p;
+    w.cell = cell;
+    w.candidates = candidates;
+    w.sel = sel;
+    w.n = n;
+    w.nsel = nsel;
+    w.seen = seen;
+    for (i = 0; i < 3; ++i) w.centre[i] = 0.5 * ((double)cell->min[i] + cell->max[i]);
+    for (d = 0; d < 6; ++d) nsel[d] = 0;
+    memset(seen, 0, PVS_BITSET_WORDS(p->occ_count) * sizeof(pvs_word));
+    /* the largest occluders first: the heaps fill with high scores and prune the rest early */
+    for (w.cls = PVS__EP_AREA_CLASSES - 1; w.cls >= 0; --w.cls) {
+        r = pvs_kdtree_sweep(p->occ_tree[w.cls], cell, sweep, sweep_size, pvs__ep_sel_visit, &w);
+        if (r != PVS_OK) return r;
+    }
+    for (d = 0; d < 6; ++d) { /* best first */
+        pvs__epsel *h = sel + (size_t)d * n;
+        uint32_t k, j;
+        for (k = 1; k < nsel[d]; ++k) {
+            pvs__epsel t = h[k];
+            for (j = k; j > 0 && pvs__ep_sel_better(t.score, t.occ, h + j - 1); --j) h[j] = h[j - 1];
+            h[j] = t;
+        }
+    }
+    return PVS_OK;
+}
+
+/* Sets up a map's pyramid levels over `base`. */
+PVS__STATIC void pvs__ep_levels(uint32_t res, uint32_t levels, uint32_t *lw, uint32_t *lh, size_t elem, void *base, void **lv) {
+    uint32_t k, w = res, h = res;
+    unsigned char *b = (unsigned char *)base;
+    for (k = 0; k <= levels; ++k) {
+        lw[k] = w;
+        lh[k] = h;
+        lv[k] = b;
+        b += (size_t)w * h * elem;
+        w = (w + 1) / 2;
+        h = (h + 1) / 2;
+    }
+}
+
+/* The points an occluder is projected with on a plane of `axis`: extended through its sheet when
+   the cell stands over that sheet on the occluder's side (sheet_side[sheet]) and the extension runs
+   across the plane's axis (along it, it would only push the occluder's Depth away). NULL for a
+   capped solid the cell does not stand over. */
+PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell, const int *sheet_side, int axis,
+                                        uint32_t *count) {
+    if (o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) return NULL;
+    if (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)) return NULL;
+    if (o->xcount && sheet_side[o->sheet] == o->xside && p->sheet[o->sheet].axis != axis) {
+        *count = o->xcount;
+        return p->pts + 3 * (size_t)o->xfirst;
+    }
+    *count = o->count;
+    return p->pts + 3 * (size_t)o->first;
+}
+
+/* For each sheet: +1 (-1) when the cell lies strictly on its positive (negative) side and over its
+   polygon, else 0. */
+PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *cell, int *side) {
+    uint32_t i;
+    for (i = 0; i < p->sheet_count; ++i) {
+        const pvs__epsheet *S = p->sheet + i;
+        int k = S->axis, u = (k + 1) % 3, v = (k + 2) % 3, c;
+        const float *poly = p->spoly + 2 * (size_t)S->first;
+        side[i] = cell->min[k] > S->value ? 1 : cell->max[k] < S->value ? -1 : 0;
+        for (c = 0; c < 4 && side[i]; ++c)
+            if (!pvs__ep_in_convex(poly, S->count, c & 1 ? cell->max[u] : cell->min[u], c & 2 ? cell->max[v] : cell->min[v])) side[i] = 0;
+    }
+}
+
+/* The planes of §6.1 for direction d. A plane just behind the farthest selected occluder keeps all
+   of them in front of it (for one occluder, planes anywhere behind it are equivalent, §7.3: its
+   Projection and the occludees' shrink alike; a plane in front of it loses it to its penumbra). The
+   others, one per band of distances (far / r^q, far / r^(q-1)], r = PVS__EP_PLANE_RATIO, each just
+   behind the occluder of its band whose candidate plane fills the most pixels (§6.1), serve the
+   occludees nearer the cell and the fusion of occluders at their distance (Fig. 16). */
+PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
+                                       uint32_t n, const pvs__epparams *prm, uint32_t levels, float *mem, size_t map_floats,
+                                       pvs__epslicer *sc, const int *sheet_side, pvs__epmap *maps) {
+    int a = d >> 1, q;
+    double ext = (double)cell->max[a] - cell->min[a], far = 0.0, w0, w1;
+    uint32_t k, j;
+    for (k = 0; k < n; ++k) {
+        pvs__ep_box_w(cell, &p->occ[h[k].occ].box, d, &w0, &w1);
+        far = pvs__dmax(far, w1);
+    }
+    if (!(far > 0.0)) return;
+    for (q = 0; q < PVS__EP_PLANES; ++q) {
+        pvs__epmap *m = maps + q;
+        double W = far + 1e-3 * (far + ext), hi = far / pow(PVS__EP_PLANE_RATIO, (double)q), lo = hi / PVS__EP_PLANE_RATIO, bestFill = 0.0;
+        uint32_t tried = 0;
+        if (q > 0) { /* the band (lo, hi]: candidates behind its occluders, best solid angle first */
+            W = 0.0;
+            for (k = 0; k < n && tried < PVS__EP_PLANE_CANDIDATES; ++k) {
+                double Wc, fill = 0.0;
+                pvs__ep_box_w(cell, &p->occ[h[k].occ].box, d, &w0, &w1);
+                if (!(w1 > lo && w1 <= hi)) continue;
+                ++tried;
+                Wc = w1 + 1e-3 * (w1 + ext);
+                for (j = 0; j < n; ++j) fill += pvs__ep_fill_estimate(cell, &p->occ[h[j].occ].box, d, Wc);
+                if (fill > bestFill || (fill == bestFill && Wc < W)) {
+                    bestFill = fill;
+                    W = Wc;
+                }
+            }
+            if (!(W > 0.0)) continue;
+        }
+        pvs__ep_make_plane(cell, d, W, prm->res, &m->plane);
+        m->levels = levels;
+        pvs__ep_levels(prm->res, levels, m->lw, m->lh, sizeof(float), mem + (size_t)q * map_floats, (void **)m->lv);
+        for (k = 0; k < prm->res * prm->res; ++k) m->lv[0][k] = PVS_EXTPROJ_EMPTY;
+        if (!pvs__ep_frame(&m->plane, &m->frame)) continue;
+        for (k = 0; k < n; ++k) {
+            uint32_t cnt;
+            const float *pts = pvs__ep_points(p, p->occ + h[k].occ, cell, sheet_side, a, &cnt);
+            if (p->occ[h[k].occ].ecount) pvs__ep_concave(&m->frame, p, p->occ + h[k].occ, 0, sc->cmark, m->lv[0], NULL);
+            else if (pts) pvs__ep_occluder(&m->frame, cell, pts, cnt, p->occ[h[k].occ].solid, p->occ[h[k].occ].slack, 0, m->lv[0], NULL);
+        }
+        pvs__ep_slices(s, p, cell, &m->plane, &m->frame, sc, sheet_side, m->lv[0], NULL);
+        pvs__ep_build_pyramid(m);
+        m->active = 1;
+    }
+}
+
+/* §5.1 reprojection: marks in `to` (a plane of the same cell and direction, farther than `from`)
+   the pixels every ray from the cell through which crosses `from` in blocked pixels: the umbra of
+   from's blocked region (Appendix B: a subset of the umbra of the occluders in front of `from`, so a
+   conservative occluder itself). Equivalent to the convolution of §5.1 with the inverse image of the
+   cell as kernel, conservatively rasterized, keeping only fully black pixels; here the kernel is
+   taken per row and column from the true cell (pvs__ep_reproject_axis) and a summed-area table of
+   from's open pixels decides each pixel. `sat` holds (res + 1)^2 counts, `ranges` 4 res. */
+PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
+    const unsigned char *prev = from->lv[0];
+    unsigned char *mask = to->lv[0];
+    uint32_t fw = from->plane.width, fh = from->plane.height, tw = to->plane.width, th = to->plane.height, x, y, W1 = fw + 1;
+    int32_t *clo = ranges, *chi = ranges + tw, *rlo = ranges + 2 * tw, *rhi = ranges + 2 * tw + th;
+    for (x = 0; x <= fw; ++x) sat[x] = 0;
+    for (y = 0; y < fh; ++y) {
+        uint32_t run = 0;
+        sat[(size_t)(y + 1) * W1] = 0;
+        for (x = 0; x < fw; ++x) {
+            run += prev[(size_t)y * fw + x] ? 0u : 1u;
+            sat[(size_t)(y + 1) * W1 + x + 1] = sat[(size_t)y * W1 + x + 1] + run;
+        }
+    }
+    pvs__ep_reproject_axis(to->frame.cu, to->frame.cw, from->frame.W, to->frame.W, to->frame.u0, to->frame.su, tw, from->frame.u0, from->frame.su, fw, clo, chi);
+    pvs__ep_reproject_axis(to->frame.cv, to->frame.cw, from->frame.W, to->frame.W, to->frame.v0, to->frame.sv, th, from->frame.v0, from->frame.sv, fh, rlo, rhi);
+    for (y = 0; y < th; ++y) {
+        size_t y0, y1;
+        if (rlo[y] < 0) continue;
+        y0 = (size_t)rlo[y];
+        y1 = (size_t)rhi[y] + 1;
+        for (x = 0; x < tw; ++x) {
+            size_t x0, x1;
+            if (clo[x] < 0) continue;
+            x0 = (size_t)clo[x];
+            x1 = (size_t)chi[x] + 1;
+            if (sat[y1 * W1 + x1] - sat[y0 * W1 + x1] - sat[y1 * W1 + x0] + sat[y0 * W1 + x0] == 0) mask[(size_t)y * tw + x] = 1;
+        }
+    }
+}
+
+/* The occlusion sweep of §5 for direction d: parallel planes leaving the cell, each holding the
+   reprojection of the previous plane's blocked pixels (§5.1), the Projections of the occluders in
+   front of it not yet wholly projected, and the slices of the closed meshes it cuts. Planes are
+   spaced by §5.2 (a kernel of K = 5 pixels: dD = D (K - 1) P / (C N)) but at least geometrically,
+   so that `sweep` planes reach the farthest selected occluder. Returns the number of planes. */
+PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
+                                          uint32_t n, const pvs__epparams *prm, uint32_t levels, pvs__epscratch *w, const int *sheet_side,
+                                          pvs__epmask *ms) {
+    int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3;
+    double ext = (double)cell->max[a] - cell->min[a], C = pvs__dmax((double)cell->max[u] - cell->min[u], (double)cell->max[v] - cell->min[v]);
+    double W0 = DBL_MAX, Wend = 0.0, W, Wprev = 0.0, ratio;
+    uint32_t k, count = 0, res = prm->res;
+    size_t npx = (size_t)res * res;
+    for (k = 0; k < n; ++k) {
+        double w0, w1;
+        pvs__ep_box_w(cell, &p->occ[h[k].occ].box, d, &w0, &w1);
+        Wend = pvs__dmax(Wend, w1);
+        W0 = pvs__dmin(W0, pvs__dmax(w1, 0.0));
+    }
+    if (!(Wend > 0.0)) return 0;
+    if (!(C > 0.0)) C = pvs__dmax(ext, 1e-6);
+    W0 = pvs__dmax(W0, 1e-3 * (C + ext));
+    W0 = pvs__dmin(W0, Wend);
+    ratio = prm->sweep > 1 ? pow(pvs__dmax(Wend / W0, 1.0), 1.0 / (double)(prm->sweep - 1)) : 1.0;
+    for (W = W0; count < prm->sweep; ++count) {
+        pvs__epmask *m = ms + count;
+        unsigned char *mask;
+        pvs__ep_make_plane(cell, d, W, res, &m->plane);
+        if (!pvs__ep_frame(&m->plane, &m->frame)) break;
+        m->levels = levels;
+        pvs__ep_levels(res, levels, m->lw, m->lh, 1, w->masks + (size_t)((ms - w->mask_hdr) + count) * w->mask_bytes, (void **)m->lv);
+        mask = m->lv[0];
+        memset(mask, 0, npx);
+        if (count > 0) pvs__ep_reproject(ms + count - 1, m, w->sat, w->ranges);
+        for (k = 0; k < n; ++k) {
+            const pvs__epocc *o = p->occ + h[k].occ;
+            double w0, w1;
+            pvs__ep_box_w(cell, &o->box, d, &w0, &w1);
+            if (!(w0 < W) || (count > 0 && w1 <= Wprev)) continue; /* behind the plane, or projected whole before */
+            {
+                uint32_t cnt;
+                const float *pts = pvs__ep_points(p, o, cell, sheet_side, a, &cnt);
+                if (o->ecount) pvs__ep_concave(&m->frame, p, o, 1, w->slicer.cmark, NULL, mask);
+                else if (pts) pvs__ep_occluder(&m->frame, cell, pts, cnt, o->solid, o->slack, 1, NULL, mask);
+            }
+        }
+        pvs__ep_slices(s, p, cell, &m->plane, &m->frame, &w->slicer, sheet_side, NULL, mask);
+        pvs__ep_build_mask_pyramid(m);
+        Wprev = m->frame.W;
+        if (W >= Wend) { ++count; break; }
+        {
+            double P = C + 2.0 * PVS__EP_EXTEND * (W + ext), step = W * 4.0 * P / (C * (double)res);
+            W = pvs__dmin(Wend, pvs__dmax(W + step, W * ratio));
+        }
+    }
+    return count;
+}
+
 /* The PVS of one cell (Durand 2000 §6.1): per direction, the occluders with the largest solid angle,
-   a plane just behind the one that fills the most pixels, their Projections, then the occludees. */
-PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, uint32_t res,
-                                         uint32_t max_occ, const pvs_allocator *al, pvs_word *bits, uint32_t cell_id, pvs_error *err) {
+   the planes of §6.1 and, with the sweep, the planes of §5; then the occludees front to back. With
+   `candidates` (a sub-cell of the adaptive subdivision) only the parent's visible objects are
+   tested, and the occluders of the others are left out. */
+PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs__epparams *prm,
+                                         const pvs_word *candidates, const pvs_allocator *al, pvs_word *bits, uint32_t cell_id, pvs_error *err) {
     pvs__epcell c;
-    pvs__epsel *sel = NULL;
-    uint32_t nsel[6], d, i, levels = 0;
-    size_t level_floats = 0, map_floats, sweep_size;
-    float *mem = NULL;
-    void *sweep = NULL;
-    double r2 = 0.0;
+    pvs__epscratch w;
+    uint32_t nsel[6], d, levels = 0, nper;
+    int sheet_side[PVS__EP_MAX_SHEETS];
+    size_t level_floats = 0;
     pvs_result r = PVS_OK;
     memset(&c, 0, sizeof(c));
+    memset(&w, 0, sizeof(w));
     c.scene = s;
-    c.prep = p;
     c.cell = *cell;
     c.bits = bits;
+    c.sweep = prm->sweep;
+    c.candidates = candidates;
     {
-        uint32_t w = res, h = res;
-        level_floats = (size_t)w * h;
-        while ((w > 1 || h > 1) && levels < 13) {
-            w = (w + 1) / 2;
-            h = (h + 1) / 2;
-            level_floats += (size_t)w * h;
+        uint32_t ww = prm->res, hh = prm->res;
+        level_floats = (size_t)ww * hh;
+        while ((ww > 1 || hh > 1) && levels < 13) {
+            ww = (ww + 1) / 2;
+            hh = (hh + 1) / 2;
+            level_floats += (size_t)ww * hh;
             ++levels;
         }
     }
-    map_floats = level_floats;
-    sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
-    sel = (pvs__epsel *)pvs__alloc_array(al, 6 * (size_t)max_occ, sizeof(pvs__epsel));
-    mem = (float *)pvs__alloc_array(al, 6 * PVS__EP_PLANES * map_floats, sizeof(float));
-    sweep = pvs__alloc(al, sweep_size, 16);
-    if (!sel || !mem || !sweep) {
+    nper = prm->sweep ? 4 * prm->max_occ : prm->max_occ;
+    w.nsel = 6 * (size_t)nper;
+    w.map_floats = level_floats;
+    w.mask_bytes = level_floats;
+    w.nmask = 6 * (size_t)prm->sweep;
+    w.sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
+    {
+        int cls;
+        for (cls = 0; cls < PVS__EP_AREA_CLASSES; ++cls) {
+            size_t occ_sweep = pvs_kdtree_sweep_scratch_size(p->occ_tree[cls]);
+            if (occ_sweep > w.sweep_size) w.sweep_size = occ_sweep;
+        }
+    }
+    w.seen_words = PVS_BITSET_WORDS(p->occ_count);
+    w.seen = (pvs_word *)pvs__alloc_array(al, w.seen_words, sizeof(pvs_word));
+    w.slicer.cap = (size_t)p->max_slice_segments + 4;
+    w.slicer.width = prm->res;
+    w.sel = (pvs__epsel *)pvs__alloc_array(al, w.nsel, sizeof(pvs__epsel));
+    w.maps = (float *)pvs__alloc_array(al, 6 * PVS__EP_PLANES * w.map_floats, sizeof(float));
+    w.slicer.seg = (double *)pvs__alloc_array(al, 4 * w.slicer.cap, sizeof(double));
+    w.slicer.xs = (double *)pvs__alloc_array(al, 2 * w.slicer.cap, sizeof(double));
+    w.slicer.row = (unsigned char *)pvs__alloc_array(al, prm->res, 1);
+    w.slicer.cmark = (unsigned char *)pvs__alloc_array(al, (size_t)prm->res * prm->res, 1);
+    w.sweep = pvs__alloc(al, w.sweep_size, 16);
+    if (prm->sweep) {
+        w.masks = (unsigned char *)pvs__alloc_array(al, w.nmask * w.mask_bytes, 1);
+        w.mask_hdr = (pvs__epmask *)pvs__alloc_array(al, w.nmask, sizeof(pvs__epmask));
+        w.sat = (uint32_t *)pvs__alloc_array(al, ((size_t)prm->res + 1) * ((size_t)prm->res + 1), sizeof(uint32_t));
+        w.ranges = (int32_t *)pvs__alloc_array(al, 4 * (size_t)prm->res, sizeof(int32_t));
+    }
+    if (!w.sel || !w.maps || !w.slicer.seg || !w.slicer.xs || !w.slicer.row || !w.slicer.cmark || !w.sweep || !w.seen ||
+        (prm->sweep && (!w.masks || !w.mask_hdr || !w.sat || !w.ranges))) {
         r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell_id, 0, "extproj scratch for cell %u", cell_id);
         goto done;
     }
-    for (i = 0; i < 3; ++i) r2 += 0.25 * ((double)cell->max[i] - cell->min[i]) * ((double)cell->max[i] - cell->min[i]);
-    /* occluder selection by solid angle (§6.1): area over squared distance, per direction the
-       max_occ best among those reaching beyond the face (a min-heap on the score) */
-    for (d = 0; d < 6; ++d) nsel[d] = 0;
-    for (i = 0; i < p->occ_count; ++i) {
-        const pvs__epocc *o = p->occ + i;
-        double dist2 = pvs__box_distance2(cell, &o->box) + r2;
-        for (d = 0; d < 6; ++d) {
-            double w0, w1;
-            pvs__epsel *h = sel + (size_t)d * max_occ;
-            uint32_t k, ch;
-            float score = (float)(o->area[d >> 1] / dist2);
-            pvs__ep_box_w(cell, &o->box, (int)d, &w0, &w1);
-            if (!(w1 > 0.0) || !(score > 0.0f)) continue;
-            if (nsel[d] == max_occ) {
-                if (!(score > h[0].score)) continue;
-                k = 0; /* replace the root, sift down */
-                for (;;) {
-                    ch = 2 * k + 1;
-                    if (ch >= max_occ) break;
-                    if (ch + 1 < max_occ && h[ch + 1].score < h[ch].score) ++ch;
-                    if (!(h[ch].score < score)) break;
-                    h[k] = h[ch];
-                    k = ch;
-                }
-            } else {
-                k = nsel[d]++;
-                while (k > 0 && h[(k - 1) / 2].score > score) {
-                    h[k] = h[(k - 1) / 2];
-                    k = (k - 1) / 2;
-                }
-            }
-            h[k].score = score;
-            h[k].occ = i;
-        }
+    c.masks = w.mask_hdr;
+    pvs__ep_sheet_sides(p, cell, sheet_side);
+    r = pvs__ep_select(s, p, cell, candidates, w.sel, nper, nsel, w.seen, w.sweep, w.sweep_size);
+    if (r != PVS_OK) {
+        r = pvs__fail(err, r, cell_id, 0, "extproj: occluder selection of cell %u", cell_id);
+        goto done;
     }
     for (d = 0; d < 6; ++d) {
-        pvs__epsel *h = sel + (size_t)d * max_occ;
-        int a = (int)(d >> 1), u = (a + 1) % 3, v = (a + 2) % 3, q;
-        double bestW = 0.0, bestFill = 0.0, firstW = 0.0, ext = (double)cell->max[a] - cell->min[a];
-        uint32_t k, j, w, hh;
+        const pvs__epsel *h = w.sel + (size_t)d * nper;
         if (!nsel[d]) continue;
-        /* §6.1 plane placement: a candidate just behind each of the best occluders, keep the one
-           that fills the most pixels (sorted by score, best first, for the candidates) */
-        for (k = 0; k < nsel[d]; ++k) /* sort descending by score, then by index: deterministic */
-            for (j = k + 1; j < nsel[d]; ++j)
-                if (h[j].score > h[k].score || (h[j].score == h[k].score && h[j].occ < h[k].occ)) {
-                    pvs__epsel t = h[k];
-                    h[k] = h[j];
-                    h[j] = t;
-                }
-        for (k = 0; k < nsel[d] && k < PVS__EP_PLANE_CANDIDATES; ++k) {
-            double w0, w1, W, fill = 0.0;
-            pvs__ep_box_w(cell, &p->occ[h[k].occ].box, (int)d, &w0, &w1);
-            W = w1 + 1e-3 * (w1 + ext);
-            if (k == 0) firstW = W;
-            for (j = 0; j < nsel[d]; ++j) fill += pvs__ep_fill_estimate(cell, &p->occ[h[j].occ].box, (int)d, W);
-            if (fill > bestFill || (fill == bestFill && bestW > 0.0 && W < bestW)) {
-                bestFill = fill;
-                bestW = W;
-            }
-        }
-        if (!(bestFill > 0.0)) continue;
-        /* a second plane just behind the occluder of largest solid angle: the plane holding the
-           most pixels loses the near occluders' edges to their penumbrae (§7.3, Fig. 16) */
-        for (q = 0; q < PVS__EP_PLANES; ++q) {
-        pvs__epmap *m = c.maps + PVS__EP_PLANES * d + (uint32_t)q;
-        float *base = mem + (size_t)(PVS__EP_PLANES * d + (uint32_t)q) * map_floats;
-        if (q == 1) {
-            if (!(firstW > 0.0) || !(pvs__dabs(firstW - bestW) > 0.05 * (bestW + ext))) continue;
-            bestW = firstW;
-        }
-        m->plane.cell = *cell;
-        m->plane.axis = (uint32_t)a;
-        m->plane.side = d & 1 ? -1 : 1;
-        m->plane.distance = pvs__f_up(bestW);
-        /* the plane reaches PVS__EP_EXTEND times as far sideways as it lies from the cell's far side
-           (§6.1: extended planes catch the corner directions) */
-        m->plane.rect[0] = pvs__f_down(cell->min[u] - PVS__EP_EXTEND * (bestW + ext));
-        m->plane.rect[1] = pvs__f_down(cell->min[v] - PVS__EP_EXTEND * (bestW + ext));
-        m->plane.rect[2] = pvs__f_up(cell->max[u] + PVS__EP_EXTEND * (bestW + ext));
-        m->plane.rect[3] = pvs__f_up(cell->max[v] + PVS__EP_EXTEND * (bestW + ext));
-        m->plane.width = m->plane.height = res;
-        m->levels = levels;
-        w = hh = res;
-        for (k = 0; k <= levels; ++k) {
-            m->lw[k] = w;
-            m->lh[k] = hh;
-            m->lv[k] = base;
-            base += (size_t)w * hh;
-            w = (w + 1) / 2;
-            hh = (hh + 1) / 2;
-        }
-        for (k = 0; k < res * res; ++k) m->lv[0][k] = PVS_EXTPROJ_EMPTY;
-        for (k = 0; k < nsel[d]; ++k) {
-            const pvs__epocc *o = p->occ + h[k].occ;
-            pvs_extproj_occluder(&m->plane, p->pts + 3 * (size_t)o->first, o->count, m->lv[0]);
-        }
-        pvs__ep_build_pyramid(m);
-        m->active = pvs__ep_frame(&m->plane, &m->frame);
-        }
+        pvs__ep_direct_planes(s, p, cell, (int)d, h, nsel[d] < prm->max_occ ? nsel[d] : prm->max_occ, prm, levels,
+                              w.maps + (size_t)PVS__EP_PLANES * d * w.map_floats, w.map_floats, &w.slicer, sheet_side, c.maps + PVS__EP_PLANES * d);
+        if (prm->sweep)
+            c.mask_count[d] = pvs__ep_sweep_planes(s, p, cell, (int)d, h, nsel[d], prm, levels, &w, sheet_side, w.mask_hdr + (size_t)d * prm->sweep);
     }
-    r = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__ep_visit, &c);
+    r = pvs_kdtree_sweep(s->object_tree, cell, w.sweep, w.sweep_size, pvs__ep_visit, &c);
     if (r != PVS_OK) r = pvs__fail(err, r, cell_id, 0, "extproj: object sweep of cell %u", cell_id);
 done:
-    pvs__free_array(al, sel, 6 * (size_t)max_occ, sizeof(pvs__epsel));
-    pvs__free_array(al, mem, 6 * PVS__EP_PLANES * map_floats, sizeof(float));
-    pvs__free(al, sweep, sweep_size, 16);
+    pvs__ep_scratch_free(al, &w, prm->res);
     return r;
 }
-
 /* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
+
+/* ---- the 2.5D path: per-sample occlusion horizons ----
+
+   Wonka 2000 §2.1 allows two ways to fuse the samples: intersect their umbrae, or unite their PVSs.
+   Here each sample's visibility is an occlusion horizon over PVS__HZ_BINS angular bins around the
+   eye E (ground point e, height H): the sight line from E to (x, z) is blocked when it crosses an
+   occluder facade of height T at ground distance dc < |x - e| below T, i.e. when (z - H) / |x - e| <
+   (T - H) / dc. For one chain of shrunk occluder facades (a closed outline or a hole's), a bin whose
+   whole angular range the chain's facades cover (consecutive facades share their corners, so their
+   ranges join exactly) is crossed by every ray in it at a distance at most dmax (the farthest
+   crossing of those facades inside the bin) and at least dmin; so points of the bin beyond dmax are
+   hidden below slope sigma = (T - H) / dmax (T >= H) or (T - H) / dmin (T < H). Per bin, a short
+   staircase of (distance, slope) steps keeps the best slope from each distance on. A box is hidden
+   from the sample when every bin its ground rectangle touches has, at the box's least distance, a
+   slope above the box's steepest sight line. No crack opens inside a chain (coverage is per bin over
+   the whole chain), and occluders are processed front to back with occluded ones skipped (§3.4).
+   Rounding: angles bin-exact (a shared corner gives the same angle to both facades), distances and
+   slopes widened toward the safe side. */
+
+#define PVS__HZ_BINS 1024
+#define PVS__HZ_STEPS 6
+
+/* Angles are pseudo-angles in [0, 4) (the "diamond angle": monotone in the true angle, a quarter
+   turn per unit, no trigonometry); bin b covers [4 b / BINS, 4 (b + 1) / BINS). */
+typedef struct pvs__hz {
+    double eu, ev, H, w;                         /* the eye; bin width (pseudo-angle) */
+    double dir[PVS__HZ_BINS + 1][2];             /* ray direction at each bin boundary (unnormalized) */
+    double dlen[PVS__HZ_BINS + 1];               /* its length */
+    uint8_t nstep[PVS__HZ_BINS];
+    float step_r[PVS__HZ_BINS][PVS__HZ_STEPS];   /* ascending */
+    float step_s[PVS__HZ_BINS][PVS__HZ_STEPS];   /* ascending with r (dominated steps dropped) */
+    /* per chain */
+    uint32_t stamp[PVS__HZ_BINS], cur;
+    uint8_t full[PVS__HZ_BINS], npart[PVS__HZ_BINS];
+    double plo[PVS__HZ_BINS][4], phi[PVS__HZ_BINS][4], dmax[PVS__HZ_BINS], dmin[PVS__HZ_BINS];
+    uint16_t touched[PVS__HZ_BINS];
+    uint32_t ntouched;
+} pvs__hz;
+
+PVS__STATIC double pvs__hz_angle(double x, double y) {
+    double a;
+    if (y >= 0.0) a = x >= 0.0 ? y / (x + y) : 1.0 - x / (y - x);
+    else a = x < 0.0 ? 2.0 - y / (-x - y) : 3.0 + x / (x - y);
+    return a >= 0.0 && a < 4.0 ? a : 0.0;
+}
+PVS__STATIC void pvs__hz_init(pvs__hz *z) {
+    int32_t k;
+    z->w = 4.0 / PVS__HZ_BINS;
+    for (k = 0; k <= PVS__HZ_BINS; ++k) {
+        double a = k == PVS__HZ_BINS ? 0.0 : k * z->w, t = a - floor(a);
+        int q = (int)floor(a);
+        double *d = z->dir[k];
+        if (q == 0) { d[0] = 1.0 - t; d[1] = t; }
+        else if (q == 1) { d[0] = -t; d[1] = 1.0 - t; }
+        else if (q == 2) { d[0] = -(1.0 - t); d[1] = -t; }
+        else { d[0] = t; d[1] = -(1.0 - t); }
+        z->dlen[k] = sqrt(d[0] * d[0] + d[1] * d[1]);
+    }
+}
+PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
+    int32_t b = (int32_t)floor(a / z->w);
+    return b < 0 ? 0 : b >= PVS__HZ_BINS ? PVS__HZ_BINS - 1 : b;
+}
+PVS__STATIC double pvs__hz_lo(const pvs__hz *z, int32_t b) { return b * z->w; }
+PVS__STATIC double pvs__hz_hi(const pvs__hz *z, int32_t b) { return b + 1 == PVS__HZ_BINS ? 4.0 : (b + 1) * z->w; }
+
+/* Distance from the eye along the ray of bin boundary k to the line through p, q (relative ground
+   points); -1 when parallel. */
+PVS__STATIC double pvs__hz_ray(const pvs__hz *z, int32_t k, const double p[2], const double q[2]) {
+    double dx = z->dir[k][0], dy = z->dir[k][1], ex = q[0] - p[0], ey = q[1] - p[1], den = dx * ey - dy * ex;
+    if (den == 0.0) return -1.0;
+    return (p[0] * ey - p[1] * ex) / den * z->dlen[k];
+}
+
+/* The part [a0, a1] of bin b covered by a facade, crossed at distances d0 (at a0) and d1 (at a1),
+   the nearest point of its line at angle afoot, distance dfoot; `front`: the eye on the facade's
+   outer side (a sight line entering the occluder crosses such a facade first). */
+PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot, double afoot, int front) {
+    double lo, hi;
+    if (!(d0 > 0.0) || !(d1 > 0.0)) return;
+    hi = pvs__dmax(d0, d1) * (1.0 + 1e-9);
+    lo = pvs__dmin(d0, d1);
+    if (afoot >= a0 && afoot <= a1) lo = pvs__dmin(lo, dfoot);
+    lo *= 1.0 - 1e-9;
+    if (z->stamp[b] != z->cur) {
+        z->stamp[b] = z->cur;
+        z->full[b] = 0;
+        z->npart[b] = 0;
+        z->dmax[b] = front ? hi : 0.0;
+        z->dmin[b] = front ? lo : DBL_MAX;
+        z->touched[z->ntouched++] = (uint16_t)b;
+    } else {
+        if (front && hi > z->dmax[b]) z->dmax[b] = hi;
+        if (front && lo < z->dmin[b]) z->dmin[b] = lo;
+    }
+    if (a0 <= pvs__hz_lo(z, b) && a1 >= pvs__hz_hi(z, b)) z->full[b] = 1;
+    else if (!z->full[b]) { /* the covered parts: up to 4 disjoint intervals, merged where they meet */
+        uint32_t i, n = z->npart[b];
+        double *L = z->plo[b], *R = z->phi[b];
+        for (i = 0; i < n;) {
+            if (a0 <= R[i] && a1 >= L[i]) { /* meets: absorb it and look again */
+                a0 = pvs__dmin(a0, L[i]);
+                a1 = pvs__dmax(a1, R[i]);
+                L[i] = L[n - 1];
+                R[i] = R[n - 1];
+                --n;
+            } else ++i;
+        }
+        if (n < 4) { L[n] = a0; R[n] = a1; ++n; }
+        else { /* full: keep the longest (less coverage, still conservative) */
+            uint32_t sh = 0;
+            for (i = 1; i < 4; ++i)
+                if (R[i] - L[i] < R[sh] - L[sh]) sh = i;
+            if (a1 - a0 > R[sh] - L[sh]) { L[sh] = a0; R[sh] = a1; }
+        }
+        z->npart[b] = (uint8_t)n;
+        for (i = 0; i < n; ++i)
+            if (L[i] <= pvs__hz_lo(z, b) && R[i] >= pvs__hz_hi(z, b)) z->full[b] = 1;
+    }
+}
+
+/* Adds facade p-q (world ground points) of the current chain. */
+PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
+    double p[2], q[2], cr, a, b, fx, fy, t, afoot, dfoot, len2, da, db;
+    int32_t b0, b1, k;
+    int front;
+    p[0] = pf[0] - z->eu; p[1] = pf[1] - z->ev;
+    q[0] = qf[0] - z->eu; q[1] = qf[1] - z->ev;
+    cr = p[0] * q[1] - p[1] * q[0];
+    len2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]);
+    if (!(pvs__dabs(cr) > 1e-12 * (p[0] * p[0] + p[1] * p[1] + q[0] * q[0] + q[1] * q[1]))) return; /* seen edge-on */
+    /* the occluder lies left of p -> q: the eye sees the facade from outside when it is on the right.
+       Only such facades matter: every sight line into the occluder enters through one, so they alone
+       cover the chain's angular range (a back-facing one is always behind a front-facing one) */
+    front = cr < 0.0;
+    if (!front) return;
+    if (cr < 0.0) { double tt[2]; tt[0] = p[0]; tt[1] = p[1]; p[0] = q[0]; p[1] = q[1]; q[0] = tt[0]; q[1] = tt[1]; }
+    /* counter-clockwise from p (angle a) to q (angle b), less than a half turn */
+    a = pvs__hz_angle(p[0], p[1]);
+    b = pvs__hz_angle(q[0], q[1]);
+    da = sqrt(p[0] * p[0] + p[1] * p[1]);
+    db = sqrt(q[0] * q[0] + q[1] * q[1]);
+    /* the foot of the perpendicular from the eye (nearest point of the line) */
+    t = -(p[0] * (q[0] - p[0]) + p[1] * (q[1] - p[1])) / len2;
+    fx = p[0] + t * (q[0] - p[0]);
+    fy = p[1] + t * (q[1] - p[1]);
+    dfoot = sqrt(fx * fx + fy * fy);
+    afoot = t > 0.0 && t < 1.0 ? pvs__hz_angle(fx, fy) : -1.0;
+    b0 = pvs__hz_bin(z, a);
+    b1 = pvs__hz_bin(z, b);
+    if (b < a) b1 += PVS__HZ_BINS; /* across angle 0 */
+    for (k = b0; k <= b1; ++k) {
+        int32_t bk = k % PVS__HZ_BINS, lo_at_start = k == b0, hi_at_end = k == b1;
+        double s0 = lo_at_start ? a : pvs__hz_lo(z, bk), s1 = hi_at_end ? b : pvs__hz_hi(z, bk);
+        double d0 = lo_at_start ? da : pvs__hz_ray(z, bk, p, q), d1 = hi_at_end ? db : pvs__hz_ray(z, bk + 1, p, q);
+        if (k == b0 && k == b1 && b < a) continue; /* cannot happen: a half turn at most */
+        pvs__hz_piece(z, bk, s0, s1, d0, d1, dfoot, afoot, front);
+    }
+}
+
+/* Inserts step (r, s) into bin b: for distances >= r the slope is at least s. */
+PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
+    uint32_t n = z->nstep[b], i, j;
+    float *R = z->step_r[b], *S = z->step_s[b];
+    for (i = 0; i < n; ++i)
+        if (R[i] <= r && S[i] >= s) return; /* dominated */
+    for (i = 0, j = 0; i < n; ++i) /* drop the steps it dominates */
+        if (!(R[i] >= r && S[i] <= s)) { R[j] = R[i]; S[j] = S[i]; ++j; }
+    n = j;
+    if (n == PVS__HZ_STEPS) --n; /* full: forget the farthest step (less occlusion, still conservative) */
+    for (i = n; i > 0 && R[i - 1] > r; --i) { R[i] = R[i - 1]; S[i] = S[i - 1]; }
+    R[i] = r;
+    S[i] = s;
+    z->nstep[b] = (uint8_t)(n + 1);
+}
+
+/* The best slope of bin b for points at distance >= d (-FLT_MAX: none). */
+PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
+    uint32_t i = z->nstep[b];
+    /* steps ascend in distance and in slope: the last one not beyond d is the best */
+    while (i > 0 && (double)z->step_r[b][i - 1] > d) --i;
+    return i ? z->step_s[b][i - 1] : -FLT_MAX;
+}
+
+/* The angular bins [*b0, *b1] (b1 may wrap past the last bin: then b1 >= BINS) and the least and
+   greatest ground distance of the rectangle [u0, u1] x [v0, v1] seen from the eye; 0 when the eye is
+   inside it (or on its border). The span runs counter-clockwise between the two silhouette corners,
+   which the eye's position among the nine regions around the rectangle names. */
+PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1, double *dmin, double *dmax) {
+    double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, sx, sy, ex, ey, as, ae;
+    int rx = x0 > 0.0 ? 0 : x1 < 0.0 ? 2 : 1, ry = y0 > 0.0 ? 0 : y1 < 0.0 ? 2 : 1; /* rectangle right of / left of / around the eye */
+    if (rx == 1 && ry == 1) return 0;
+    nx = rx == 0 ? x0 : rx == 2 ? -x1 : 0.0;
+    ny = ry == 0 ? y0 : ry == 2 ? -y1 : 0.0;
+    fx = pvs__dmax(pvs__dabs(x0), pvs__dabs(x1));
+    fy = pvs__dmax(pvs__dabs(y0), pvs__dabs(y1));
+    *dmin = sqrt(nx * nx + ny * ny) * (1.0 - 1e-9);
+    *dmax = sqrt(fx * fx + fy * fy) * (1.0 + 1e-9);
+    /* start and end corners (counter-clockwise) by the rectangle's side of the eye */
+    if (rx == 0) {
+        if (ry == 0) { sx = x1; sy = y0; ex = x0; ey = y1; }
+        else if (ry == 1) { sx = x0; sy = y0; ex = x0; ey = y1; }
+        else { sx = x0; sy = y0; ex = x1; ey = y1; }
+    } else if (rx == 1) {
+        if (ry == 0) { sx = x1; sy = y0; ex = x0; ey = y0; }
+        else { sx = x0; sy = y1; ex = x1; ey = y1; }
+    } else {
+        if (ry == 0) { sx = x1; sy = y1; ex = x0; ey = y0; }
+        else if (ry == 1) { sx = x1; sy = y1; ex = x1; ey = y0; }
+        else { sx = x0; sy = y1; ex = x1; ey = y0; }
+    }
+    as = pvs__hz_angle(sx, sy) - 1e-12;
+    ae = pvs__hz_angle(ex, ey) + 1e-12;
+    if (as < 0.0) as += 4.0;
+    if (ae < as) ae += 4.0;
+    *b0 = pvs__hz_bin(z, as);
+    *b1 = (int32_t)floor(ae / z->w);
+    if (*b1 < *b0) *b1 = *b0;
+    return 1;
+}
+
+/* Distance along boundary ray k from the eye into the rectangle (relative coordinates), DBL_MAX when
+   it misses. */
+PVS__STATIC double pvs__hz_enter(const pvs__hz *z, int32_t k, double x0, double y0, double x1, double y1) {
+    double dx = z->dir[k][0], dy = z->dir[k][1], t0 = 0.0, t1 = DBL_MAX;
+    if (dx != 0.0) {
+        double a = x0 / dx, b = x1 / dx;
+        t0 = pvs__dmax(t0, pvs__dmin(a, b));
+        t1 = pvs__dmin(t1, pvs__dmax(a, b));
+    } else if (x0 > 0.0 || x1 < 0.0) return DBL_MAX;
+    if (dy != 0.0) {
+        double a = y0 / dy, b = y1 / dy;
+        t0 = pvs__dmax(t0, pvs__dmin(a, b));
+        t1 = pvs__dmin(t1, pvs__dmax(a, b));
+    } else if (y0 > 0.0 || y1 < 0.0) return DBL_MAX;
+    return t1 >= t0 ? t0 * z->dlen[k] : DBL_MAX;
+}
+
+/* 1 if the box may be visible from the eye: some bin its ground rectangle touches lacks, from the
+   rectangle's least distance in that bin on, a slope above the box's steepest sight line. */
+PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int v, uint32_t up) {
+    int32_t b0, b1, k;
+    double dmin, dmax, need, top = bx->max[up], x0, y0, x1, y1, ca[4], near_a;
+    if (!pvs__hz_rect(z, bx->min[u], bx->min[v], bx->max[u], bx->max[v], &b0, &b1, &dmin, &dmax)) return 1;
+    if (!(dmin > 0.0)) return 1;
+    need = top >= z->H ? (top - z->H) / dmin : (top - z->H) / dmax; /* the steepest sight line to the box */
+    need += 1e-9 * (pvs__dabs(need) + 1e-30);
+    if (b1 - b0 < 3) {
+        for (k = b0; k <= b1; ++k)
+            if (!((double)pvs__hz_query(z, k % PVS__HZ_BINS, dmin) > need)) return 1;
+        return 0;
+    }
+    /* wide boxes: the least distance of the part of the rectangle inside each bin's wedge (at the
+       wedge's rays, the corners inside it, or the rectangle's nearest point when inside it) */
+    x0 = bx->min[u] - z->eu; x1 = bx->max[u] - z->eu; y0 = bx->min[v] - z->ev; y1 = bx->max[v] - z->ev;
+    ca[0] = pvs__hz_angle(x0, y0); ca[1] = pvs__hz_angle(x1, y0); ca[2] = pvs__hz_angle(x1, y1); ca[3] = pvs__hz_angle(x0, y1);
+    {
+        double nx = x0 > 0.0 ? x0 : x1 < 0.0 ? x1 : 0.0, ny = y0 > 0.0 ? y0 : y1 < 0.0 ? y1 : 0.0;
+        near_a = pvs__hz_angle(nx, ny);
+    }
+    {
+        double e_lo, e_hi = DBL_MAX;
+        int32_t have = b0 - 2; /* the bin whose upper ray e_hi belongs to */
+        for (k = b0; k <= b1; ++k) {
+        int32_t bk = k % PVS__HZ_BINS, c;
+        double lo, hi, d, need_b;
+        if ((double)pvs__hz_query(z, bk, dmin) > need) continue; /* hidden even from the box's least distance */
+        e_lo = have == k - 1 ? e_hi : pvs__hz_enter(z, bk, x0, y0, x1, y1);
+        lo = pvs__hz_lo(z, bk);
+        hi = pvs__hz_hi(z, bk);
+        e_hi = pvs__hz_enter(z, bk + 1, x0, y0, x1, y1);
+        have = k;
+        d = pvs__dmin(e_lo, e_hi);
+        for (c = 0; c < 4; ++c)
+            if (ca[c] >= lo && ca[c] <= hi) {
+                double cx = c == 0 || c == 3 ? x0 : x1, cy = c < 2 ? y0 : y1;
+                d = pvs__dmin(d, sqrt(cx * cx + cy * cy));
+            }
+        if (near_a >= lo && near_a <= hi) d = dmin;
+        if (d == DBL_MAX) d = dmin; /* rounding at the span's ends */
+        d = pvs__dmax(d * (1.0 - 1e-9), dmin);
+        need_b = top >= z->H ? (top - z->H) / d : need;
+        need_b += 1e-9 * (pvs__dabs(need_b) + 1e-30);
+        if (!((double)pvs__hz_query(z, bk, d) > need_b)) return 1;
+        }
+    }
+    return 0;
+}
+
+/* Adds one chain (closed: its facades back to the first point) of height top. */
+PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
+    uint32_t i, n = ch->point_count, segs = ch->closed ? n : n - 1;
+    double T = ch->top;
+    z->cur++;
+    z->ntouched = 0;
+    for (i = 0; i < segs; ++i) pvs__hz_facade(z, ch->points + 2 * i, ch->points + 2 * ((i + 1) % n));
+    for (i = 0; i < z->ntouched; ++i) {
+        int32_t b = z->touched[i];
+        double sl;
+        if (!z->full[b]) continue;
+        if (!(z->dmax[b] > 0.0)) continue; /* no facade seen from outside: cannot happen when covered */
+        if (T >= z->H) sl = (T - z->H) / z->dmax[b];
+        else {
+            if (!(z->dmin[b] > 0.0)) continue;
+            sl = (T - z->H) / z->dmin[b];
+        }
+        /* to float toward the safe side: a relative margin far above float's half ulp (6e-8) */
+        pvs__hz_insert(z, b, (float)(z->dmax[b] * (1.0 + 1e-6)), (float)(sl - 1e-6 * pvs__dabs(sl) - 1e-30));
+    }
+}
 
 typedef struct pvs__shrink_walk {
     const pvs_scene *scene;
-    const pvs_raster *raster;
+    const pvs__hz *hz;
     const pvs_box *cell;
     pvs_word *visible;
     int u, v;
@@ -12779,181 +16981,169 @@ PVS__STATIC int pvs__shrink_near(const pvs__shrink_walk *w, const pvs_box *b) {
            b->max[w->v] >= w->cell->min[w->v];
 }
 
-/* §3.4 hierarchical rejection: a kD-tree node under the joint umbra is skipped with all it holds. */
-PVS__STATIC pvs_visit pvs__shrink_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
-    pvs__shrink_walk *w = (pvs__shrink_walk *)user;
-    uint32_t i;
-    (void)distance;
-    if (!pvs__shrink_near(w, node_box) && !pvs_cull_map_test_box(w->raster, node_box)) return PVS_VISIT_SKIP;
-    for (i = 0; i < count; ++i) {
-        uint32_t ob = items[i];
-        const pvs_box *b = w->scene->object_boxes + ob;
-        if (w->scene->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) continue;
-        if (pvs__shrink_near(w, b) || pvs_cull_map_test_box(w->raster, b)) pvs_bitset_set(w->visible, ob);
+/* Distance (squared) from the eye to a box's ground rectangle. */
+PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int v) {
+    double du = pvs__dmax(0.0, pvs__dmax(b->min[u] - z->eu, z->eu - b->max[u])), dv = pvs__dmax(0.0, pvs__dmax(b->min[v] - z->ev, z->ev - b->max[v]));
+    return du * du + dv * dv;
+}
+
+/* The sample's horizon: the chains' hierarchy walked nearer child first (front to back, roughly),
+   a node or chain already hidden from the eye skipped (§3.4: occluded occluders add nothing). */
+PVS__STATIC void pvs__shrink_horizon(const pvs_occluders *o, pvs__hz *hz, uint32_t *stack, int u, int v, pvs_shrink_stats *st) {
+    const pvs__obvh *h = &o->chain_bvh;
+    uint32_t sp = 0, k, up = o->scene->up_axis;
+    if (!h->node_count) return;
+    stack[sp++] = 0;
+    while (sp) {
+        const pvs__obvh_node *nd = h->nodes + stack[--sp];
+        if (!pvs__hz_test_box(hz, &nd->box, u, v, up)) continue;
+        if (nd->count) {
+            for (k = nd->first; k < nd->first + nd->count; ++k) {
+                uint32_t c = h->items[k];
+                if (!pvs__hz_test_box(hz, o->chain_boxes + c, u, v, up)) continue;
+                pvs__hz_chain(hz, o->chains + c);
+                ++st->occluders_drawn;
+            }
+        } else {
+            int near0 = pvs__hz_dist2(hz, &h->nodes[nd->first].box, u, v) <= pvs__hz_dist2(hz, &h->nodes[nd->first + 1].box, u, v);
+            stack[sp++] = near0 ? nd->first + 1 : nd->first;
+            stack[sp++] = near0 ? nd->first : nd->first + 1;
+        }
     }
-    return PVS_VISIT_DESCEND;
 }
 
-typedef struct pvs__shrink_key {
-    double d;
-    uint32_t i;
-} pvs__shrink_key;
-PVS__STATIC int pvs__shrink_key_cmp(const void *x, const void *y) {
-    const pvs__shrink_key *a = (const pvs__shrink_key *)x, *b = (const pvs__shrink_key *)y;
-    return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
+/* Marks object ob visible and takes it off the count of every node above it. */
+PVS__STATIC void pvs__shrink_found(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t ob) {
+    uint32_t nd;
+    pvs_bitset_set(w->visible, ob);
+    for (nd = o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = o->bvh.nodes[nd].parent) --remaining[nd];
 }
 
-/* One sample's cull map (Wonka 1999 §3-4, via the raster module's shadow rasterizer), occluders front
-   to back; an occluder whose prism is already under the shadows is skipped (§3.4: an occluded occluder
-   hides nothing more from this point). */
-PVS__STATIC void pvs__shrink_sample_map(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
-                                        const pvs__shrink_key *order, uint32_t n, int u, int v, uint32_t up) {
-    double e[3];
-    size_t i, cells = (size_t)r->cm_w * r->cm_h;
-    uint32_t c;
-    int simd = !(r->flags & PVS_RASTER_SCALAR);
-    e[0] = eye[u];
-    e[1] = eye[v];
-    e[2] = eye[up];
-    for (i = 0; i < cells; ++i) r->cm[i] = PVS_DEPTH_EMPTY;
-    for (i = 0; i < r->cm_tiles; ++i) r->cm_tile_min[i] = PVS_DEPTH_EMPTY;
-    for (c = 0; c < n; ++c) {
-        const pvs_facade_chain *ch = chains + order[c].i;
-        pvs_box bx;
-        bx.min[u] = ch->points[0]; bx.min[v] = ch->points[1]; bx.min[up] = ch->base;
-        bx.max[u] = ch->points[4]; bx.max[v] = ch->points[5]; bx.max[up] = ch->top;
-        if (c > 0 && !pvs_cull_map_test_box(r, &bx)) continue;
-        pvs__cm_chain(r, e, ch->points, ch->point_count, 1, ch->base, ch->top, simd, 0.0);
+/* The objects meeting the cell or standing under its top face: visible without sampling. */
+PVS__STATIC void pvs__shrink_walk_near(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t *stack) {
+    uint32_t sp = 0, k;
+    if (!o->bvh.node_count) return;
+    stack[sp++] = 0;
+    while (sp) {
+        const pvs__obvh_node *nd = o->bvh.nodes + stack[--sp];
+        if (!pvs__shrink_near(w, &nd->box)) continue;
+        if (nd->count) {
+            for (k = nd->first; k < nd->first + nd->count; ++k) {
+                uint32_t ob = o->bvh.items[k];
+                if (!pvs_bitset_test(w->visible, ob) && pvs__shrink_near(w, w->scene->object_boxes + ob)) pvs__shrink_found(o, w, remaining, ob);
+            }
+        } else {
+            stack[sp++] = nd->first;
+            stack[sp++] = nd->first + 1;
+        }
+    }
+}
+
+/* One sample's walk over the object hierarchy: a node hidden from the sample (§3.4), or whose
+   objects are all found already, is skipped with all it holds. */
+PVS__STATIC void pvs__shrink_walk_sample(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t *stack) {
+    uint32_t sp = 0, k, up = w->scene->up_axis;
+    if (!o->bvh.node_count) return;
+    stack[sp++] = 0;
+    while (sp) {
+        uint32_t id = stack[--sp];
+        const pvs__obvh_node *nd = o->bvh.nodes + id;
+        if (!remaining[id] || !pvs__hz_test_box(w->hz, &nd->box, w->u, w->v, up)) continue;
+        if (nd->count) {
+            for (k = nd->first; k < nd->first + nd->count; ++k) {
+                uint32_t ob = o->bvh.items[k];
+                if (!pvs_bitset_test(w->visible, ob) && pvs__hz_test_box(w->hz, w->scene->object_boxes + ob, w->u, w->v, up))
+                    pvs__shrink_found(o, w, remaining, ob);
+            }
+        } else {
+            stack[sp++] = nd->first;
+            stack[sp++] = nd->first + 1;
+        }
     }
 }
 
 /* §3: "sample points need only be placed on the edges of the top of the view cells". Why, for a
-   heightfield occluder O (the columns before erosion) and a point P whose ground position lies
-   outside the cell's footprint R (the others are set anyway): say V on the top face (height H) sees
-   P. In the vertical plane through P and V, the segment from P's ground position to V's crosses the
-   boundary of R at W'. If P is not above H, the segment P-W' lies above P-V at every ground distance
-   from P, so W' sees P. If P is above H, move V away from P to the boundary point W: P-W lies above
-   P-V up to V and above H after it, where no column of O inside R reaches (the condition tested here).
-   Either way a boundary point sees P; with the theorem (appendix) the edge samples decide. */
+   heightfield occluder O standing on the ground and a point P whose ground position lies outside the
+   cell's footprint R (the others are set anyway): say V on the top face (height H) sees P. In the
+   vertical plane through P and V, the segment from P's ground position to V's crosses the boundary
+   of R at W'. If P is not above H, the segment P-W' lies above P-V at every ground distance from P,
+   so W' sees P. If P is above H, move V away from P to the boundary point W: P-W lies above P-V up to
+   V and above H after it, where no column of O inside R reaches. Either way a boundary point sees P.
+   Here O is the eps-neighbourhood of the shrunk occluder (a heightfield standing on the ground, and
+   where no viewer goes: a sight line V-P of the real scene avoids it), so the condition is that no
+   occluder column within eps of R rises above H - eps; with the theorem (appendix) the edge samples
+   decide. */
 PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
+    const pvs__vx_cols *cm = &o->cols;
     uint32_t i0, i1, j0, j1, i, j;
-    float top = cell->max[up];
-    pvs__vx_range(o, u, cell->min[u], cell->max[u], o->h, &i0, &i1);
-    pvs__vx_range(o, v, cell->min[v], cell->max[v], o->h, &j0, &j1);
+    double top = (double)cell->max[up] - o->info.eps;
+    pvs__vx_grange(&cm->grid, u, cell->min[u], cell->max[u], o->info.eps, &i0, &i1);
+    pvs__vx_grange(&cm->grid, v, cell->min[v], cell->max[v], o->info.eps, &j0, &j1);
     for (j = j0; j <= j1; ++j)
         for (i = i0; i <= i1; ++i)
-            if (o->column_top[(size_t)j * o->n[u] + i] > top) return 0;
+            if ((double)cm->top[(size_t)j * cm->nu + i] > top) return 0;
     return 1;
 }
 
-/* The 2.5D path (§3): the eroded column prisms (tops lowered by eps, footprints shrunk by eps) cast
-   occluder shadows from samples on the cell's top face (a 2.5D occluder hides from a point only what
-   it hides from every point above it, so the top face stands for the cell), spaced so that every
-   point of the face is within eps of a sample. Each sample's shadows go into the raster module's
-   cull map (Wonka 1999); the joint umbra is the per-cell minimum over the samples (§3.4, the
-   stencil intersection); objects are tested by box footprint and top through the kD-tree. The paper
-   samples only the top face's edges; where a column inside the cell rises above its top the whole
-   face is sampled instead, which is conservative without needing the
-   argument for the interior; the edges suffice when pvs__shrink_edges_suffice says so. */
+/* The 2.5D path (§3): samples on the cell's top face (a 2.5D occluder hides from a point only what it
+   hides from every point above it, so the top face stands for the cell), on its edges every 2 eps
+   when pvs__shrink_edges_suffice allows, else on a grid over the whole face with spacing eps sqrt(2)
+   (every point of the face within eps of a sample). Per sample the occlusion horizon of the shrunk
+   occluder chains, front to back from the cell, occluded occluders skipped (§3.4); the objects it may
+   see, found through the kD-tree with hidden nodes skipped, join the PVS (§2.1: the cell's PVS is the
+   union of its samples' PVSs). */
 PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
-                                       pvs_error *err) {
-    pvs_raster_desc rd;
-    pvs_raster *r = NULL;
-    pvs_result res;
+                                       pvs_shrink_stats *st, pvs_error *err) {
     pvs__shrink_walk w;
-    float *joint = NULL, eps = o->info.eps, spacing, eye[3];
-    size_t cells = 0, x, sweep_size;
-    void *sweep = NULL;
-    uint32_t nu, nv, a, b, chain_count, up = s->up_axis;
-    const pvs_facade_chain *chains = pvs_occluders_columns(o, &chain_count);
-    double eu, ev, cm_res, cu, cv;
-    int edges;
-    pvs__shrink_key *order = NULL;
-    int u, v, any = 1;
+    pvs__hz *hz;
+    float eps = o->info.eps;
+    double spacing;
+    uint32_t *remaining, *stack, *cstack, nnodes = o->bvh.node_count ? o->bvh.node_count : 1;
+    uint32_t ncnodes = o->chain_bvh.node_count ? o->chain_bvh.node_count : 1;
+    uint32_t nu, nv, a, b, up = s->up_axis;
+    int edges, u, v;
     pvs__ground_axes(up, &u, &v);
-    memset(&rd, 0, sizeof(rd));
-    rd.width = rd.height = 1;
-    rd.scene = s;
-    eu = (double)s->bounds.max[u] - s->bounds.min[u];
-    ev = (double)s->bounds.max[v] - s->bounds.min[v];
-    cm_res = pvs__dmax(pvs__dmax(o->h, 0.75 * eps), pvs__dmax(eu, ev) / 1024.0);
-    rd.cull_map_width = (uint32_t)pvs__dmin(2048.0, pvs__dmax(16.0, ceil(eu / cm_res)));
-    rd.cull_map_height = (uint32_t)pvs__dmin(2048.0, pvs__dmax(16.0, ceil(ev / cm_res)));
-    rd.allocator = o->allocator;
-    res = pvs_raster_create(&rd, &r, err);
-    if (res != PVS_OK) return res;
-    cells = (size_t)r->cm_w * r->cm_h;
-    joint = (float *)pvs__alloc_array(&o->allocator, cells, sizeof(float));
-    sweep_size = pvs_kdtree_sweep_scratch_size(s->object_tree);
-    sweep = pvs__alloc(&o->allocator, sweep_size, 16);
-    order = (pvs__shrink_key *)pvs__alloc_array(&o->allocator, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
-    if (!joint || !sweep || !order) {
-        pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
-        pvs__free_array(&o->allocator, joint, cells, sizeof(float));
-        pvs__free(&o->allocator, sweep, sweep_size, 16);
-        pvs_raster_destroy(r);
-        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
-    }
-    /* samples: the top face's edges every 1.9 eps when no solid column inside the cell's footprint
-       rises above the top face (see pvs__shrink_edges_suffice), else a grid on the whole top face
-       with spacing <= eps * sqrt(2) (1.4 leaves a margin) */
     edges = pvs__shrink_edges_suffice(o, cell, u, v, up);
-    spacing = edges ? 1.9f * eps : 1.4f * eps;
+    spacing = edges ? 2.0 * eps * (1.0 - 1e-6) : 1.41 * eps;
     nu = (uint32_t)ceil(((double)cell->max[u] - cell->min[u]) / spacing) + 1u;
     nv = (uint32_t)ceil(((double)cell->max[v] - cell->min[v]) / spacing) + 1u;
-    /* front to back from the cell's centre: only speed depends on the order */
-    cu = 0.5 * ((double)cell->min[u] + cell->max[u]);
-    cv = 0.5 * ((double)cell->min[v] + cell->max[v]);
-    for (a = 0; a < chain_count; ++a) {
-        const float *pt = chains[a].points;
-        double du = pvs__dmax(0.0, pvs__dmax(pt[0] - cu, cu - pt[4])), dv = pvs__dmax(0.0, pvs__dmax(pt[1] - cv, cv - pt[5]));
-        order[a].d = du * du + dv * dv;
-        order[a].i = a;
+    if (nu > 4096u || nv > 4096u) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu, nv);
+    hz = (pvs__hz *)pvs__alloc(&o->allocator, sizeof(pvs__hz), 16);
+    remaining = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
+    stack = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
+    cstack = (uint32_t *)pvs__alloc_array(&o->allocator, ncnodes, sizeof(uint32_t));
+    if (!hz || !remaining || !stack || !cstack) {
+        pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
+        pvs__free_array(&o->allocator, remaining, nnodes, sizeof(uint32_t));
+        pvs__free_array(&o->allocator, stack, nnodes, sizeof(uint32_t));
+        pvs__free_array(&o->allocator, cstack, ncnodes, sizeof(uint32_t));
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
     }
-    qsort(order, chain_count, sizeof(pvs__shrink_key), pvs__shrink_key_cmp);
-    if (nu > 4096u || nv > 4096u) {
-        pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
-        pvs__free_array(&o->allocator, joint, cells, sizeof(float));
-        pvs__free(&o->allocator, sweep, sweep_size, 16);
-        pvs_raster_destroy(r);
-        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu, nv);
-    }
-    eye[up] = cell->max[up];
-    for (b = 0; b < nv && any; ++b)
-        for (a = 0; a < nu && any; ++a) {
-            const float *cm;
-            if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue; /* interior: not sampled */
-            eye[u] = nu > 1 ? cell->min[u] + (float)((double)a * ((double)cell->max[u] - cell->min[u]) / (nu - 1)) : cell->min[u];
-            eye[v] = nv > 1 ? cell->min[v] + (float)((double)b * ((double)cell->max[v] - cell->min[v]) / (nv - 1)) : cell->min[v];
-            if (a + 1 == nu) eye[u] = cell->max[u];
-            if (b + 1 == nv) eye[v] = cell->max[v];
-            pvs__shrink_sample_map(r, eye, chains, order, chain_count, u, v, up);
-            cm = r->cm;
-            any = 0;
-            if (a == 0 && b == 0) {
-                memcpy(joint, cm, cells * sizeof(float));
-                for (x = 0; x < cells; ++x) any |= joint[x] != PVS_DEPTH_EMPTY;
-            } else {
-                for (x = 0; x < cells; ++x) {
-                    if (cm[x] < joint[x]) joint[x] = cm[x];
-                    any |= joint[x] != PVS_DEPTH_EMPTY;
-                }
-            }
-        }
-    if (!any) for (x = 0; x < cells; ++x) joint[x] = PVS_DEPTH_EMPTY;
-    memcpy(r->cm, joint, cells * sizeof(float));
+    if (o->bvh.node_count) memcpy(remaining, o->bvh.count_below, o->bvh.node_count * sizeof(uint32_t));
+    memset(hz, 0, sizeof(*hz));
+    pvs__hz_init(hz);
     w.scene = s;
-    w.raster = r;
+    w.hz = hz;
     w.cell = cell;
     w.visible = visible;
     w.u = u;
     w.v = v;
-    res = pvs_kdtree_sweep(s->object_tree, cell, sweep, sweep_size, pvs__shrink_visit, &w);
-    pvs__free_array(&o->allocator, order, chain_count ? chain_count : 1, sizeof(pvs__shrink_key));
-    pvs__free_array(&o->allocator, joint, cells, sizeof(float));
-    pvs__free(&o->allocator, sweep, sweep_size, 16);
-    pvs_raster_destroy(r);
-    if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "object sweep");
+    hz->H = cell->max[up];
+    pvs__shrink_walk_near(o, &w, remaining, stack); /* objects meeting the cell, or under its top face */
+    for (b = 0; b < nv; ++b)
+        for (a = 0; a < nu; ++a) {
+            if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue; /* interior: not sampled */
+            hz->eu = a + 1 == nu ? cell->max[u] : cell->min[u] + (double)a * ((double)cell->max[u] - cell->min[u]) / (nu > 1 ? nu - 1 : 1);
+            hz->ev = b + 1 == nv ? cell->max[v] : cell->min[v] + (double)b * ((double)cell->max[v] - cell->min[v]) / (nv > 1 ? nv - 1 : 1);
+            memset(hz->nstep, 0, sizeof(hz->nstep));
+            pvs__shrink_horizon(o, hz, cstack, u, v, st);
+            ++st->samples;
+            pvs__shrink_walk_sample(o, &w, remaining, stack);
+        }
+    pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
+    pvs__free_array(&o->allocator, remaining, nnodes, sizeof(uint32_t));
+    pvs__free_array(&o->allocator, stack, nnodes, sizeof(uint32_t));
+    pvs__free_array(&o->allocator, cstack, ncnodes, sizeof(uint32_t));
     return PVS_OK;
 }
 
@@ -12965,13 +17155,45 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
    of the eroded boxes (occluder mode: inner coverage, farthest depth), objects tested in occludee
    mode against the depth pyramid; the PVS is the union over the samples. Objects within twice the
    near distance of the cell are set outright (the cube does not see nearer than its near plane). */
+/* 1 when box bx may reach into the view from eye p along axis dax (positive when pos), a superset of
+   the shrink 3D path's frustum (fov 1.6 rad, square): some point ahead with lateral offsets within
+   1.1 x its distance ahead. *dn, *df: the box's least and greatest distance ahead. In double, from
+   float coordinates: exact differences, the 1.1 covers the rounding. */
+PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, int pos, double *dn, double *df) {
+    int l;
+    double lim;
+    if (pos) { *dn = (double)bx->min[dax] - p[dax]; *df = (double)bx->max[dax] - p[dax]; }
+    else { *dn = (double)p[dax] - bx->max[dax]; *df = (double)p[dax] - bx->min[dax]; }
+    if (!(*df > 0.0)) return 0;
+    lim = 1.1 * *df;
+    for (l = 0; l < 3; ++l)
+        if (l != dax && ((double)bx->min[l] - p[l] > lim || (double)bx->max[l] - p[l] < -lim)) return 0;
+    return 1;
+}
+
+/* The image of box bx (wholly ahead: dn > 0) seen from p along axis dax, as lateral offset / distance
+   ahead on the two other axes in increasing order: r[0..1] the least, r[2..3] the greatest (the
+   camera's image coordinates are these up to scale, sign and order). 0 when the box comes within
+   1e-3 of its own depth of the eye plane (no useful bound). */
+PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax, double dn, double df, double r[4]) {
+    int k;
+    if (!(dn > 1e-3 * df)) return 0;
+    for (k = 0; k < 2; ++k) {
+        int l = (dax + 1 + k) % 3;
+        double lo = (double)bx->min[l] - p[l], hi = (double)bx->max[l] - p[l];
+        r[k] = pvs__dmin(lo / dn, lo / df);
+        r[2 + k] = pvs__dmax(hi / dn, hi / df);
+    }
+    return 1;
+}
+
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
-                                      pvs_error *err) {
+                                      pvs_shrink_stats *st, pvs_error *err) {
     pvs_raster_desc rd;
     pvs_raster *r = NULL;
     pvs_result res;
     float *pos = NULL, eps = o->info.eps, spacing = 1.4f * eps, nearp = 0.05f * eps;
-    uint32_t *idx = NULL, nb = o->box_count, i, face, a, b, dir, ob;
+    uint32_t *idx = NULL, *sel = NULL, *cand = NULL, nb = o->box_count, i, face, a, b, dir, ob, ncand;
     pvs_word *seen = NULL;
     size_t words = PVS_BITSET_WORDS(s->object_count);
     static const uint32_t quad[36] = {0, 1, 3, 0, 3, 2, 4, 6, 7, 4, 7, 5, 0, 4, 5, 0, 5, 1,
@@ -12987,7 +17209,9 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
     pos = (float *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 24, sizeof(float));
     idx = (uint32_t *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
     seen = (pvs_word *)pvs__alloc_array(&o->allocator, words ? words : 1, sizeof(pvs_word));
-    if (!pos || !idx || !seen) {
+    sel = (uint32_t *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
+    cand = (uint32_t *)pvs__alloc_array(&o->allocator, s->object_count ? s->object_count : 1, sizeof(uint32_t));
+    if (!pos || !idx || !seen || !sel || !cand) {
         res = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink 3D scratch");
         goto done;
     }
@@ -13023,10 +17247,47 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
                 p[a2] = n2 > 1 ? cell->min[a2] + (float)((double)b * ((double)cell->max[a2] - cell->min[a2]) / (n2 - 1)) : cell->min[a2];
                 if (a + 1 == n1) p[a1] = cell->max[a1];
                 if (b + 1 == n2) p[a2] = cell->max[a2];
+                ++st->samples;
                 for (dir = 0; dir < 6; ++dir) {
                     pvs_camera cam;
                     float m[16];
                     int dax = (int)dir / 2;
+                    uint32_t nsel = 0;
+                    double far = -1.0;
+                    /* Only what this view can change: the objects not yet seen that reach into a
+                       superset of its frustum (lateral offsets within 1.1 x the distance ahead, the
+                       frustum's being tan(0.8) = 1.03), and the boxes in that superset that reach
+                       nearer than the farthest of those objects (a box wholly farther is nearer at no
+                       pixel than any of them). Leaving out the rest changes no test's answer. */
+                    double crect[4] = {DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX}, brect[4];
+                    int bounded = 1;
+                    ncand = 0;
+                    for (ob = 0; ob < s->object_count; ++ob) {
+                        double dn, df;
+                        if (pvs_bitset_test(seen, ob) || !pvs__box_valid(s->object_boxes + ob)) continue;
+                        if (!pvs__shrink_in_view(s->object_boxes + ob, p, dax, dir & 1, &dn, &df)) continue;
+                        cand[ncand++] = ob;
+                        if (df > far) far = df;
+                        if (bounded && pvs__shrink_view_rect(s->object_boxes + ob, p, dax, dn, df, brect))
+                            for (k = 0; k < 2; ++k) {
+                                crect[k] = pvs__dmin(crect[k], brect[k]);
+                                crect[2 + k] = pvs__dmax(crect[2 + k], brect[2 + k]);
+                            }
+                        else bounded = 0;
+                    }
+                    if (!ncand) continue;
+                    for (i = 0; i < nb; ++i) {
+                        double dn, df;
+                        if (!pvs__shrink_in_view(o->boxes + i, p, dax, dir & 1, &dn, &df) || dn > far) continue;
+                        /* a box whose image misses the candidates' (a margin of a few pixels around)
+                           covers none of the pixels their tests read */
+                        if (bounded && pvs__shrink_view_rect(o->boxes + i, p, dax, dn, df, brect) &&
+                            (brect[0] > crect[2] + 0.1 || brect[2] < crect[0] - 0.1 || brect[1] > crect[3] + 0.1 || brect[3] < crect[1] - 0.1))
+                            continue;
+                        memcpy(sel + 36 * (size_t)nsel, idx + 36 * (size_t)i, 36 * sizeof(uint32_t));
+                        ++nsel;
+                    }
+                    st->occluders_drawn += nsel;
                     memset(&cam, 0, sizeof(cam));
                     for (k = 0; k < 3; ++k) cam.eye[k] = p[k];
                     cam.forward[dax] = dir & 1 ? 1.0f : -1.0f;
@@ -13036,12 +17297,10 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
                     if (pvs_camera_matrix(&cam, 1.0f, m) != PVS_OK) continue;
                     pvs_raster_clear(r);
                     pvs_raster_set_matrix(r, m);
-                    if (nb) pvs_raster_mesh(r, pos, 8 * nb, idx, 12 * nb); /* no cracks along the faces' diagonals */
+                    if (nsel) pvs_raster_mesh(r, pos, 8 * nb, sel, 12 * nsel); /* no cracks along the faces' diagonals */
                     pvs_raster_build_pyramid(r);
-                    for (ob = 0; ob < s->object_count; ++ob) {
-                        if (pvs_bitset_test(seen, ob) || !pvs__box_valid(s->object_boxes + ob)) continue;
-                        if (pvs_raster_test_box(r, s->object_boxes + ob)) pvs_bitset_set(seen, ob);
-                    }
+                    for (i = 0; i < ncand; ++i)
+                        if (pvs_raster_test_box(r, s->object_boxes + cand[i])) pvs_bitset_set(seen, cand[i]);
                 }
             }
     }
@@ -13052,28 +17311,54 @@ done:
     pvs__free_array(&o->allocator, pos, (size_t)(nb ? nb : 1) * 24, sizeof(float));
     pvs__free_array(&o->allocator, idx, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
     pvs__free_array(&o->allocator, seen, words ? words : 1, sizeof(pvs_word));
+    pvs__free_array(&o->allocator, sel, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
+    pvs__free_array(&o->allocator, cand, s->object_count ? s->object_count : 1, sizeof(uint32_t));
     pvs_raster_destroy(r);
     return res;
 }
 
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_shrink_mode mode,
-                                   pvs_word *visible, pvs_error *err) {
+                                   pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err) {
     pvs_result res;
+    pvs_shrink_stats st;
+    memset(&st, 0, sizeof(st));
+    if (stats) memset(stats, 0, sizeof(*stats));
     if (!s || !o || !cell || !visible || o->scene != s) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "NULL argument or occluders of another scene");
     if (!pvs__box_valid(cell)) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "cell is not a valid box");
     if ((int)mode < 0 || mode >= PVS_SHRINK_MODE_COUNT) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown mode %d", (int)mode);
     if (mode == PVS_SHRINK_AUTO) mode = o->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
-    if (mode == PVS_SHRINK_2D5 ? o->chain_count == 0 : o->box_count == 0) {
-        /* nothing survived the erosion: nothing can hide anything, every drawable object is set */
+    st.mode = mode;
+    st.occluders = mode == PVS_SHRINK_2D5 ? o->chain_count : o->box_count;
+    {
+        /* a leaking cell the synthesis left out (or a box inside one): the solid was proved for the
+           other cells only */
+        uint32_t i;
+        int k;
+        for (i = 0; i < o->info.excluded_cells && !st.excluded; ++i) {
+            for (k = 0; k < 3; ++k)
+                if (cell->min[k] < o->excluded_boxes[i].min[k] || cell->max[k] > o->excluded_boxes[i].max[k]) break;
+            st.excluded = k == 3;
+        }
+    }
+    if (st.occluders == 0 || st.excluded) {
+        /* nothing survived the erosion, or a left-out cell: every drawable object is set */
         uint32_t i;
         for (i = 0; i < s->object_count; ++i)
             if (!(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i)) pvs_bitset_set(visible, i);
+        st.no_occluders = st.occluders == 0;
+        if (stats) *stats = st;
         pvs__ok(err);
         return PVS_OK;
     }
-    if (mode == PVS_SHRINK_2D5) res = pvs__shrink_2d5(s, o, cell, visible, err);
-    else res = pvs__shrink_3d(s, o, cell, visible, err);
-    if (res == PVS_OK) pvs__ok(err);
+    if (mode == PVS_SHRINK_2D5) res = pvs__shrink_2d5(s, o, cell, visible, &st, err);
+    else res = pvs__shrink_3d(s, o, cell, visible, &st, err);
+    if (res == PVS_OK) {
+        uint32_t i;
+        for (i = 0; i < s->object_count; ++i)
+            st.hidden += !(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i) && !pvs_bitset_test(visible, i);
+        if (stats) *stats = st;
+        pvs__ok(err);
+    }
     return res;
 }
 
@@ -13102,8 +17387,9 @@ struct pvs_bake {
     float *ot_objects;         /* OTREE: object_count x (umin vmin umax vmax top) */
     pvs_kdtree *ot_tree;       /* OTREE: over pvs_visibility_25d_boxes */
     struct pvs__extproj_prep *extproj;        /* EXTPROJ: the scene's occluders, read-only in tasks */
-    uint32_t extproj_resolution, extproj_occluders;
+    uint32_t extproj_resolution, extproj_occluders, extproj_sweep;
     pvs_occluders *occluders;  /* SHRINK */
+    pvs_occluders *occluders_leak; /* SHRINK: made with every cell seeding, for the cells the first left out */
     pvs_shrink_mode shrink_mode;
     /* the methods considered (AUTO: every candidate, in run order) and those each task runs; a task's
        PVS is the intersection of theirs (an intersection of conservative sets is conservative) */
@@ -13122,7 +17408,23 @@ struct pvs_bake {
     uint8_t *vocc_count, *vocc_scale; /* its count and scale code */
     pvs_vocc_stats *vocc_stats;/* per task */
     uint32_t vocc_only;
+    unsigned char *cell_flags; /* per task, written by its own task: PVS__BAKE_* */
+    uint32_t drawable;         /* objects that can appear in a PVS */
+    uint32_t adaptive_budget;  /* adaptive cells (§6.1), 0 = off */
+    float adaptive_min_size;
+    uint32_t *object_triangles;/* adaptive: triangles per object */
+    struct pvs__bakeleaves *leaves; /* adaptive: per task, its leaf cells */
 };
+#define PVS__BAKE_ALL_VISIBLE 1u
+#define PVS__BAKE_NO_OCCLUDERS 2u
+#define PVS__BAKE_EXCLUDED 4u
+
+/* The leaf cells of one adaptive task and their PVSs. */
+typedef struct pvs__bakeleaves {
+    size_t count, capacity;
+    pvs_box *boxes;
+    pvs_word *pvs;             /* count * words */
+} pvs__bakeleaves;
 
 PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs_allocator a;
@@ -13133,17 +17435,28 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs__free_array(&a, b->done, b->cell_count, 1);
     pvs__free_array(&a, b->restored, b->cell_count, 1);
     pvs__free_array(&a, b->stats, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
+    pvs__free_array(&a, b->cell_flags, b->cell_count, 1);
     pvs__free_array(&a, b->ot_facades, (size_t)b->ot_facade_count * 6 + 6, sizeof(float));
     pvs__free_array(&a, b->ot_objects, (size_t)b->object_count * 5 + 5, sizeof(float));
     pvs_kdtree_destroy(b->ot_tree);
     pvs__extproj_prep_destroy(b->extproj);
     pvs_occluders_destroy(b->occluders);
+    pvs_occluders_destroy(b->occluders_leak);
     if (b->vocc) {
         pvs__free_array(&a, b->vocc_bytes, (size_t)b->cell_count * b->vocc->max_keep * 5, 1);
         pvs__free_array(&a, b->vocc_count, b->cell_count, 1);
         pvs__free_array(&a, b->vocc_scale, b->cell_count, 1);
         pvs__free_array(&a, b->vocc_stats, b->cell_count, sizeof(pvs_vocc_stats));
         pvs__vbake_destroy(b->vocc);
+    }
+    pvs__free_array(&a, b->object_triangles, (size_t)b->object_count + 1, sizeof(uint32_t));
+    if (b->leaves) {
+        uint32_t i;
+        for (i = 0; i < b->cell_count; ++i) {
+            pvs__free_array(&a, b->leaves[i].boxes, b->leaves[i].capacity, sizeof(pvs_box));
+            pvs__free_array(&a, b->leaves[i].pvs, b->leaves[i].capacity * b->words, sizeof(pvs_word));
+        }
+        pvs__free_array(&a, b->leaves, b->cell_count, sizeof(pvs__bakeleaves));
     }
     pvs__free(&a, b, sizeof(*b), 16);
 }
@@ -13243,9 +17556,8 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs_bake *b) {
 }
 
 /* One cell with pvs_visibility_25d; facades whose base is above the cell's bottom are left out. */
-PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, uint32_t task, uint32_t cell, pvs_word *bits, pvs_error *err) {
+PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t cell, pvs_word *bits, pvs_error *err) {
     const pvs_scene *s = b->scene;
-    const pvs_box *c = b->cells + task; /* the bake keeps its (shard's) cells by task */
     int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
     pvs_visibility_25d_desc d;
     float *own = NULL;
@@ -13355,6 +17667,12 @@ PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, pvs_method m, const pvs_ba
         od.allocator = b->allocator;
         r = pvs_occluders_create(&od, &b->occluders, err);
         if (r != PVS_OK) return r;
+        if (b->occluders->info.excluded_cells) {
+            /* leaking cells were left out of the proof: they bake with occluders every cell seeded */
+            od.flags = PVS_OCCLUDERS_KEEP_LEAKS;
+            r = pvs_occluders_create(&od, &b->occluders_leak, err);
+            if (r != PVS_OK) return r;
+        }
         b->shrink_mode = desc->shrink_mode;
         if (b->shrink_mode == PVS_SHRINK_AUTO) b->shrink_mode = b->occluders->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
         return PVS_OK;
@@ -13411,32 +17729,47 @@ PVS__STATIC int pvs__bake_applies(const pvs_bake *b, pvs_method m, const char **
     }
 }
 
-/* One method's PVS of a task's cell: sets bits (cleared by the caller). */
-PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t task, uint32_t cell, pvs_word *bits, pvs_error *err) {
+/* One method's PVS of a box of a task (its cell or, adaptive, a part of it): sets bits (cleared by the
+   caller). `candidates` (adaptive sub-cells: the parent's PVS) may be NULL; EXTPROJ tests only those
+   objects, the others are intersected with it by the caller. */
+PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t task, uint32_t cell, const pvs_box *box,
+                                             const pvs_word *candidates, pvs_word *bits, pvs_error *err) {
     switch (m) {
     case PVS_METHOD_SAMPLE: {
         /* per-cell seed: independent of the order and thread the tasks run in */
         uint64_t state = b->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull);
-        pvs_sample_visibility(b->scene, b->cells + task, b->sample_points, b->sample_rays, pvs__splitmix64(&state), bits);
+        pvs_sample_visibility(b->scene, box, b->sample_points, b->sample_rays, pvs__splitmix64(&state), bits);
         break;
     }
     case PVS_METHOD_OTREE: {
-        pvs_result r = pvs__otree_cell(b, task, cell, bits, err);
+        pvs_result r = pvs__otree_cell(b, box, cell, bits, err);
         if (r != PVS_OK) return r;
         break;
     }
     case PVS_METHOD_EXTPROJ: {
-        pvs_result r = pvs__extproj_cell(b->scene, b->extproj, b->cells + task, b->extproj_resolution, b->extproj_occluders,
-                                         &b->allocator, bits, cell, err);
+        pvs__epparams prm;
+        pvs_result r;
+        prm.res = b->extproj_resolution;
+        prm.max_occ = b->extproj_occluders;
+        prm.sweep = b->extproj_sweep;
+        r = pvs__extproj_cell(b->scene, b->extproj, box, &prm, candidates, &b->allocator, bits, cell, err);
         if (r != PVS_OK) return r;
         break;
     }
     case PVS_METHOD_SHRINK: {
-        pvs_result r = pvs_shrink_cell(b->scene, b->occluders, b->cells + task, b->shrink_mode, bits, err);
+        pvs_shrink_stats st;
+        pvs_result r = pvs_shrink_cell(b->scene, b->occluders, box, b->shrink_mode, bits, &st, err);
+        if (r == PVS_OK && st.excluded && b->occluders_leak) {
+            memset(bits, 0, b->words * sizeof(pvs_word));
+            r = pvs_shrink_cell(b->scene, b->occluders_leak, box, b->shrink_mode, bits, &st, err);
+            st.excluded = 1;
+        }
         if (r != PVS_OK) {
             if (err) err->index = cell;
             return r;
         }
+        if (st.no_occluders) b->cell_flags[task] |= PVS__BAKE_NO_OCCLUDERS;
+        if (st.excluded) b->cell_flags[task] |= PVS__BAKE_EXCLUDED;
         break;
     }
     case PVS_METHOD_VOCC: {
@@ -13504,6 +17837,14 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_resolution %u is not in 16..4096", desc->extproj_resolution);
     if (desc->extproj_occluders > 65536)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_occluders %u > 65536", desc->extproj_occluders);
+    if (desc->extproj_sweep > 256)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep %u > 256", desc->extproj_sweep);
+    if (!pvs__finite(desc->adaptive_min_size) || desc->adaptive_min_size < 0.0f)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "adaptive_min_size must be finite and >= 0");
+    if (desc->adaptive_budget && desc->shard_count)
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells in a sharded bake (part files index whole cells)");
+    if (desc->adaptive_budget && desc->method == PVS_METHOD_VOCC)
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells with vocc (its records belong to whole cells)");
     method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_AUTO : desc->method;
     if (method == PVS_METHOD_AUTO) {
         for (k = 0; k < (uint32_t)PVS_METHOD_COUNT; ++k)
@@ -13554,16 +17895,35 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     b->done = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
     b->restored = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
     b->stats = (uint32_t *)pvs__alloc_array(&a, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
-    if (!b->cells || !b->pvs || !b->done || !b->restored || !b->stats) {
+    b->cell_flags = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
+    if (!b->cells || !b->pvs || !b->done || !b->restored || !b->stats || !b->cell_flags) {
         pvs_bake_destroy(b);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake arrays for %u cells", desc->cell_count);
     }
     for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
     b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution : (b->flags & PVS_BAKE_PREVIEW) ? 64u : PVS__EP_DEFAULT_RES;
     b->extproj_occluders = desc->extproj_occluders ? desc->extproj_occluders : (b->flags & PVS_BAKE_PREVIEW) ? 32u : PVS__EP_DEFAULT_OCC;
+    b->extproj_sweep = desc->extproj_sweep;
+    b->adaptive_budget = desc->adaptive_budget;
+    b->adaptive_min_size = desc->adaptive_min_size;
+    if (b->adaptive_budget) {
+        b->object_triangles = (uint32_t *)pvs__alloc_array(&a, (size_t)b->object_count + 1, sizeof(uint32_t));
+        b->leaves = (pvs__bakeleaves *)pvs__alloc_array(&a, b->cell_count, sizeof(pvs__bakeleaves));
+        if (!b->object_triangles || !b->leaves) {
+            pvs_bake_destroy(b);
+            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "adaptive cells");
+        }
+        memset(b->object_triangles, 0, ((size_t)b->object_count + 1) * sizeof(uint32_t));
+        memset(b->leaves, 0, b->cell_count * sizeof(pvs__bakeleaves));
+        for (i = 0; i < desc->scene->triangle_count; ++i)
+            if (desc->scene->triangle_object[i] != PVS_NO_OBJECT) ++b->object_triangles[desc->scene->triangle_object[i]];
+    }
     memset(b->pvs, 0, total * sizeof(pvs_word));
     memset(b->done, 0, b->cell_count);
     memset(b->restored, 0, b->cell_count);
+    memset(b->cell_flags, 0, b->cell_count);
+    for (i = 0; i < b->object_count; ++i)
+        b->drawable += !(desc->scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(desc->scene->object_boxes + i);
     memset(b->stats, 0, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT * sizeof(uint32_t));
     if (method != PVS_METHOD_AUTO) {
         b->considered[0] = b->run[0] = method;
@@ -13629,6 +17989,103 @@ PVS_API void pvs_bake_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 }
 
 
+/* Every method the bake runs on one box of a task, intersected, within `candidates` when given,
+   and the draw distance applied: the PVS of an adaptive sub-cell. `each` holds run_count bitsets. */
+PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+                                     pvs_word *each, pvs_error *err) {
+    uint32_t k, i;
+    size_t w;
+    pvs_result r = PVS_OK;
+    memset(each, 0, (size_t)b->run_count * b->words * sizeof(pvs_word));
+    for (k = 0; k < b->run_count && r == PVS_OK; ++k) r = pvs__bake_method_cell(b, b->run[k], task, cell, box, candidates, each + (size_t)k * b->words, err);
+    if (r != PVS_OK) return r;
+    for (w = 0; w < b->words; ++w) {
+        pvs_word all = candidates ? candidates[w] : ~(pvs_word)0;
+        for (k = 0; k < b->run_count; ++k) all &= each[(size_t)k * b->words + w];
+        bits[w] = all;
+    }
+    if (b->max_distance > 0.0f)
+        for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
+            if (pvs__box_beyond(box, b->scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
+    return PVS_OK;
+}
+
+/* Triangles of the objects in a PVS (the polygon budget of §6.1). */
+PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits) {
+    uint64_t n = 0;
+    uint32_t o;
+    for (o = pvs_bitset_next(bits, b->object_count, 0); o < b->object_count; o = pvs_bitset_next(bits, b->object_count, o + 1))
+        n += b->object_triangles[o];
+    return n;
+}
+
+/* Adaptive subdivision (Durand 2000 §6.1) of a box whose PVS is work[depth]: a leaf when its PVS fits
+   the budget or a half would be shorter than min_size, else its two halves across the longest side,
+   baked from its PVS, low half first. work holds 48 bitsets, each run_count more. */
+PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, float min_size, pvs_word *work,
+                                       pvs_word *each, uint32_t depth, pvs_error *err) {
+    pvs__bakeleaves *L = b->leaves + task;
+    const pvs_word *bits = work + (size_t)depth * b->words;
+    int k, axis = 0;
+    float mid;
+    pvs_result r = PVS_OK;
+    for (k = 1; k < 3; ++k)
+        if (box->max[k] - box->min[k] > box->max[axis] - box->min[axis]) axis = k;
+    mid = box->min[axis] + 0.5f * (box->max[axis] - box->min[axis]);
+    if (pvs__bake_triangles(b, bits) <= b->adaptive_budget || 0.5f * (box->max[axis] - box->min[axis]) < min_size || depth + 1 >= 48 ||
+        !(mid > box->min[axis] && mid < box->max[axis])) {
+        if (L->count == L->capacity) {
+            size_t cap = L->capacity ? 2 * L->capacity : 8;
+            pvs_box *nb = (pvs_box *)pvs__alloc_array(&b->allocator, cap, sizeof(pvs_box));
+            pvs_word *np = (pvs_word *)pvs__alloc_array(&b->allocator, cap * b->words, sizeof(pvs_word));
+            if (!nb || !np || cap > 0x3fffffffu) {
+                pvs__free_array(&b->allocator, nb, cap, sizeof(pvs_box));
+                pvs__free_array(&b->allocator, np, cap * b->words, sizeof(pvs_word));
+                return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "adaptive leaves of cell %u", cell);
+            }
+            if (L->count) {
+                memcpy(nb, L->boxes, L->count * sizeof(pvs_box));
+                memcpy(np, L->pvs, L->count * b->words * sizeof(pvs_word));
+            }
+            pvs__free_array(&b->allocator, L->boxes, L->capacity, sizeof(pvs_box));
+            pvs__free_array(&b->allocator, L->pvs, L->capacity * b->words, sizeof(pvs_word));
+            L->boxes = nb;
+            L->pvs = np;
+            L->capacity = cap;
+        }
+        L->boxes[L->count] = *box;
+        memcpy(L->pvs + L->count * b->words, bits, b->words * sizeof(pvs_word));
+        ++L->count;
+        return PVS_OK;
+    }
+    for (k = 0; k < 2; ++k) {
+        pvs_box child = *box;
+        if (k) child.min[axis] = mid; else child.max[axis] = mid;
+        r = pvs__bake_box(b, task, cell, &child, bits, work + (size_t)(depth + 1) * b->words, each, err);
+        if (r == PVS_OK) r = pvs__bake_split(b, task, cell, &child, min_size, work, each, depth + 1, err);
+        if (r != PVS_OK) return r;
+    }
+    return PVS_OK;
+}
+
+/* Adaptive cells of a task whose whole cell's PVS is done: its leaves, from scratch. */
+PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell, pvs_error *err) {
+    const pvs_box *c = b->cells + task;
+    float min_size = b->adaptive_min_size, longest = 0.0f;
+    size_t nw = (48 + (size_t)b->run_count) * b->words;
+    pvs_word *work = (pvs_word *)pvs__alloc_array(&b->allocator, nw, sizeof(pvs_word));
+    pvs_result r;
+    int k;
+    if (!work) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "adaptive cells of cell %u", cell);
+    for (k = 0; k < 3; ++k) longest = c->max[k] - c->min[k] > longest ? c->max[k] - c->min[k] : longest;
+    if (!(min_size > 0.0f)) min_size = 0.125f * longest;
+    b->leaves[task].count = 0; /* a task run again starts over */
+    memcpy(work, b->pvs + (size_t)task * b->words, b->words * sizeof(pvs_word));
+    r = pvs__bake_split(b, task, cell, c, min_size, work, work + 48 * b->words, 0, err);
+    pvs__free_array(&b->allocator, work, nw, sizeof(pvs_word));
+    return r;
+}
+
 PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err) {
     uint32_t cell, k, i, n, *own, *sole;
     pvs_word *bits, *each = NULL;
@@ -13641,8 +18098,9 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
     own = b->stats + (size_t)task * 2 * PVS_METHOD_COUNT;
     sole = own + PVS_METHOD_COUNT;
     memset(bits, 0, b->words * sizeof(pvs_word));
+    b->cell_flags[task] = 0;
     if (n == 1) {
-        r = pvs__bake_method_cell(b, b->run[0], task, cell, bits, err);
+        r = pvs__bake_method_cell(b, b->run[0], task, cell, b->cells + task, NULL, bits, err);
         if (r != PVS_OK) return r;
         own[0] = pvs_bitset_count(bits, b->object_count);
         sole[0] = b->object_count - own[0];
@@ -13652,7 +18110,8 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         each = (pvs_word *)pvs__alloc_array(&b->allocator, (size_t)n * b->words, sizeof(pvs_word));
         if (!each) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u: auto scratch", cell);
         memset(each, 0, (size_t)n * b->words * sizeof(pvs_word));
-        for (k = 0; k < n && r == PVS_OK; ++k) r = pvs__bake_method_cell(b, b->run[k], task, cell, each + (size_t)k * b->words, err);
+        for (k = 0; k < n && r == PVS_OK; ++k)
+            r = pvs__bake_method_cell(b, b->run[k], task, cell, b->cells + task, NULL, each + (size_t)k * b->words, err);
         if (r == PVS_OK) {
             for (w = 0; w < b->words; ++w) {
                 pvs_word all = ~(pvs_word)0;
@@ -13677,9 +18136,36 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
     if (b->max_distance > 0.0f) /* a draw distance: box to box, rounded toward keeping */
         for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
             if (pvs__box_beyond(b->cells + task, b->scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
+    if (pvs_bitset_count(bits, b->object_count) >= b->drawable) b->cell_flags[task] |= PVS__BAKE_ALL_VISIBLE;
+    if (b->adaptive_budget) {
+        r = pvs__bake_adapt(b, task, cell, err);
+        if (r != PVS_OK) return r;
+    }
     b->done[task] = 1;
     pvs__ok(err);
     return PVS_OK;
+}
+
+PVS_API void pvs_bake_get_report(const pvs_bake *b, pvs_bake_report *r) {
+    uint32_t i;
+    memset(r, 0, sizeof(*r));
+    for (i = 0; i < b->cell_count; ++i) {
+        if (!b->done[i] || b->restored[i]) continue;
+        ++r->cells;
+        r->cells_all_visible += (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE) != 0;
+        r->cells_no_occluders += (b->cell_flags[i] & PVS__BAKE_NO_OCCLUDERS) != 0;
+        r->cells_excluded += (b->cell_flags[i] & PVS__BAKE_EXCLUDED) != 0;
+    }
+}
+
+PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *b) {
+    uint64_t n = 0;
+    uint32_t i;
+    if (!b) return 0;
+    if (!b->adaptive_budget) return b->cell_count;
+    for (i = 0; i < b->cell_count; ++i)
+        if (b->done[i]) n += b->leaves[i].count;
+    return n > 0xffffffffu ? 0xffffffffu : (uint32_t)n;
 }
 
 PVS_API int pvs_bake_task_done(const pvs_bake *b, uint32_t task) { return b && task < b->cell_count && b->done[task]; }
@@ -13690,6 +18176,8 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_w
     if (word_count < b->words) return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, task, 0, "restore: %zu words < %zu", word_count, b->words);
     if (b->method == PVS_METHOD_VOCC) /* the file stores the cell's virtual occluders too, which a PVS does not carry */
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0, "restore: a vocc bake cannot resume from PVSs: run task %u again", task);
+    if (b->adaptive_budget) /* the file stores the cell's leaves, which its PVS does not carry */
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0, "restore: an adaptive bake cannot resume from PVSs: run task %u again", task);
     if ((b->object_count & 63u) && (bits[b->words - 1] >> (b->object_count & 63u)))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets a bit past the %u objects", task, b->object_count);
     for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
@@ -13767,23 +18255,64 @@ PVS__STATIC int pvs__bake_all_done(const pvs_bake *b) {
     return 1;
 }
 
-PVS_API size_t pvs_bake_file_size(const pvs_bake *b) {
+/* Adaptive cells: the leaves of every task in task order, gathered into one table for the encoder
+   (freed by the caller with the sizes returned). */
+PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cells, pvs_word **pvs, size_t *count) {
+    size_t n = 0, k = 0, bytes;
+    uint32_t i;
+    for (i = 0; i < b->cell_count; ++i) n += b->leaves[i].count;
+    *cells = NULL;
+    *pvs = NULL;
+    *count = n;
+    if (n >= 0x3fffffffu) return PVS_ERROR_COUNT_OVERFLOW;
+    if (!pvs__mul(n, b->words * sizeof(pvs_word), &bytes)) return PVS_ERROR_COUNT_OVERFLOW;
+    *cells = (pvs_box *)pvs__alloc_array(&b->allocator, n, sizeof(pvs_box));
+    *pvs = (pvs_word *)pvs__alloc_array(&b->allocator, n * b->words, sizeof(pvs_word));
+    if (!*cells || !*pvs) return PVS_ERROR_OUT_OF_MEMORY;
+    for (i = 0; i < b->cell_count; ++i) {
+        const pvs__bakeleaves *L = b->leaves + i;
+        memcpy(*cells + k, L->boxes, L->count * sizeof(pvs_box));
+        memcpy(*pvs + k * b->words, L->pvs, L->count * b->words * sizeof(pvs_word));
+        k += L->count;
+    }
+    return PVS_OK;
+}
+
+/* Encodes the bake (measure only when out is NULL). */
+PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
     pvs_file_desc fd;
+    pvs_box *cells = NULL;
+    pvs_word *pvs = NULL;
+    size_t n = 0;
+    pvs_result r;
+    pvs__bake_file_desc(b, &fd);
+    if (!b->adaptive_budget) return pvs_file_encode(&fd, out, capacity, out_size, err);
+    r = pvs__bake_gather_leaves(b, &cells, &pvs, &n);
+    if (r == PVS_OK) {
+        fd.cells = cells;
+        fd.cell_count = (uint32_t)n;
+        fd.pvs = pvs;
+        r = pvs_file_encode(&fd, out, capacity, out_size, err);
+    } else
+        r = pvs__fail(err, r, -1, 0, "%llu adaptive cells", (unsigned long long)n);
+    pvs__free_array(&b->allocator, cells, n, sizeof(pvs_box));
+    pvs__free_array(&b->allocator, pvs, n * b->words, sizeof(pvs_word));
+    return r;
+}
+
+PVS_API size_t pvs_bake_file_size(const pvs_bake *b) {
     size_t size = 0;
     if (!b || !pvs__bake_all_done(b)) return 0;
-    pvs__bake_file_desc(b, &fd);
-    return pvs_file_encode(&fd, NULL, 0, &size, NULL) == PVS_OK ? size : 0;
+    return pvs__bake_encode(b, NULL, 0, &size, NULL) == PVS_OK ? size : 0;
 }
 
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
-    pvs_file_desc fd;
     uint32_t i;
     if (!b) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bake is NULL");
     if (out_size) *out_size = 0;
     for (i = 0; i < b->cell_count; ++i)
         if (!b->done[i]) return pvs__fail(err, PVS_ERROR_NOT_DONE, pvs_bake_task_cell(b, i), 0, "cell %u has not been baked", pvs_bake_task_cell(b, i));
-    pvs__bake_file_desc(b, &fd);
-    return pvs_file_encode(&fd, out, capacity, out_size, err);
+    return pvs__bake_encode(b, out, capacity, out_size, err);
 }
 
 // >>format

@@ -1,8 +1,14 @@
 /* test_extproj.c - the extended projections of Durand et al. 2000 (PVS_METHOD_EXTPROJ) against
    brute force: the occluder Projection (every marked pixel is covered by the occluder from random
    points of the cell, checked by ray casts in double), the occludee Projection (random points of the
-   box seen from random points of the cell land inside the rectangle, no nearer than its Depth), and
-   the bake against ray sampling on small generated scenes (0 misses). */
+   box seen from random points of the cell land inside the rectangle, no nearer than its Depth), the
+   improved occludee Projection (§4, Property 2), slices of closed and capped meshes (§3.3), sheets
+   and the occluders extended through them, the sweep's reprojection (§5.1), and the bake against ray
+   sampling on small generated scenes (0 misses), with and without the sweep. */
+/* This file holds a private copy of the implementation (PVS_STATIC) so that it can test the
+   method's internals (improved Projection, slices, sheets, reprojection) against brute force. */
+#define PVS_STATIC
+#define PVS_IMPLEMENTATION
 #include "../pvs.h"
 #include "../tools/gen.h"
 #include "../tools/mesh.h"
@@ -206,6 +212,440 @@ static void test_occludee_projection(void) {
     if (bad) fprintf(stderr, "extproj: %d occludee samples outside the Projection\n", bad);
 }
 
+/* The improved occludee Projection (§4) on one axis: with `any`, every pixel of the range holds a
+   point P that lies in the views of every point X of the box from the cell's near face (Property 2:
+   X is then in cone(P, face)); without, the range holds the whole segment [min R(X), max L(X)]. X
+   runs over the box's corners (where the extremes lie) and random points. */
+static void test_improved_projection(void) {
+    int iter, bad = 0, anys = 0, alls = 0;
+    for (iter = 0; iter < 3000; ++iter) {
+        pvs_extproj_plane pl;
+        pvs__epframe f;
+        pvs_box b;
+        double w0, w1, maxL[2] = {-1e300, -1e300}, minR[2] = {1e300, 1e300};
+        int32_t lo[2], hi[2];
+        int any[2], k, s, a;
+        ep_random_plane(&pl, 64);
+        if (!pvs__ep_frame(&pl, &f)) continue;
+        a = f.a;
+        w0 = f.W * ep_rnd() * 0.95 + 1e-3 * f.W;
+        w1 = w0 + (f.W - w0) * ep_rnd();
+        for (k = 0; k < 3; ++k) {
+            float c = 0.5f * (pl.cell.min[k] + pl.cell.max[k]) + ep_rndf(-4.0f, 4.0f), h = ep_rndf(0.0f, 1.5f);
+            b.min[k] = c - h;
+            b.max[k] = c + h;
+        }
+        b.min[a] = (float)(f.s > 0 ? f.face + w0 : f.face - w1);
+        b.max[a] = (float)(f.s > 0 ? f.face + w1 : f.face - w0);
+        w0 = f.s > 0 ? (double)b.min[a] - f.face : f.face - (double)b.max[a];
+        w1 = f.s > 0 ? (double)b.max[a] - f.face : f.face - (double)b.min[a];
+        if (!(w0 > 0.0) || !(w1 <= f.W)) continue;
+        pvs__ep_improved_axis(f.cu, b.min[f.u], b.max[f.u], w0, w1, f.W, f.u0, f.su, f.width, &lo[0], &hi[0], &any[0]);
+        pvs__ep_improved_axis(f.cv, b.min[f.v], b.max[f.v], w0, w1, f.W, f.v0, f.sv, f.height, &lo[1], &hi[1], &any[1]);
+        for (s = 0; s < 40; ++s) {
+            double X[3];
+            int ax;
+            for (k = 0; k < 3; ++k)
+                X[k] = s < 8 ? ((s >> k) & 1 ? b.max[k] : b.min[k]) : b.min[k] + ep_rnd() * ((double)b.max[k] - b.min[k]);
+            for (ax = 0; ax < 2; ++ax) {
+                int kk = ax ? f.v : f.u;
+                const double *ck = ax ? f.cv : f.cu;
+                double k0 = ax ? f.v0 : f.u0, sk = ax ? f.sv : f.su, Xw = f.s * (X[a] - f.face), v0, v1;
+                v0 = (ck[0] + (X[kk] - ck[0]) * f.W / Xw - k0) * sk;
+                v1 = (ck[1] + (X[kk] - ck[1]) * f.W / Xw - k0) * sk;
+                if (v0 > v1) { double t = v0; v0 = v1; v1 = t; }
+                if (v0 > maxL[ax]) maxL[ax] = v0;
+                if (v1 < minR[ax]) minR[ax] = v1;
+            }
+        }
+        for (k = 0; k < 2; ++k) {
+            int32_t size = (int32_t)(k ? f.height : f.width), i;
+            if (lo[k] < 0 || hi[k] >= size) continue; /* off the map: the test declares it visible */
+            if (any[k]) {
+                ++anys;
+                for (i = lo[k]; i <= hi[k]; ++i)
+                    if (!((double)i + 1.0 >= maxL[k] - 1e-9 && (double)i <= minR[k] + 1e-9)) ++bad;
+            } else {
+                ++alls;
+                if (!((double)lo[k] <= floor(minR[k]) && (double)hi[k] >= floor(maxL[k]))) ++bad;
+            }
+        }
+    }
+    CHECK(bad == 0);
+    CHECK(anys > 200 && alls > 200);
+    if (bad) fprintf(stderr, "extproj: %d improved Projections break Property 2\n", bad);
+}
+
+/* Ray from o to o + d (t in (0, 1]) against a mesh: 1 if some triangle is hit. */
+static int ep_ray_mesh(const double *o, const double *d, const float *pos, const uint32_t *idx, uint32_t tris) {
+    uint32_t t;
+    for (t = 0; t < tris; ++t) {
+        double h = ep_ray_tri(o, d, pos + 3 * idx[3 * t], pos + 3 * idx[3 * t + 1], pos + 3 * idx[3 * t + 2]);
+        if (h > 0.0 && h <= 1.0) return 1;
+    }
+    return 0;
+}
+
+/* A scene of one object from arrays. */
+static pvs_scene *ep_scene_arrays(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t nt, const pvs_object_desc *obs, uint32_t no) {
+    pvs_scene_desc d;
+    pvs_scene *s = NULL;
+    pvs_error e;
+    memset(&d, 0, sizeof(d));
+    d.positions = pos;
+    d.vertex_count = nv;
+    d.indices = idx;
+    d.triangle_count = nt;
+    d.objects = obs;
+    d.object_count = no;
+    if (pvs_scene_create(&d, &s, &e) != PVS_OK) fprintf(stderr, "extproj scene: %s\n", e.message);
+    return s;
+}
+
+/* Extrudes a closed polygon (n points in x, z, counter-clockwise seen from +y) from y = 0 to y = h:
+   walls, a top made of the triangles `cap` (ncap triangles over the polygon's points), the bottom
+   the same reversed unless open. Appends to pos / idx. */
+static void ep_extrude(float *pos, uint32_t *nv, uint32_t *idx, uint32_t *nt, const float (*poly)[2], uint32_t n, const uint32_t (*cap)[3],
+                       uint32_t ncap, float h, int open_bottom) {
+    uint32_t base = *nv, i;
+    for (i = 0; i < n; ++i) {
+        float *b = pos + 3 * (*nv + i), *t = pos + 3 * (*nv + n + i);
+        b[0] = poly[i][0]; b[1] = 0.0f; b[2] = poly[i][1];
+        t[0] = poly[i][0]; t[1] = h; t[2] = poly[i][1];
+    }
+    *nv += 2 * n;
+    for (i = 0; i < n; ++i) {
+        uint32_t j = (i + 1) % n, *q = idx + 3 * *nt;
+        q[0] = base + i; q[1] = base + j; q[2] = base + n + j;
+        q[3] = base + i; q[4] = base + n + j; q[5] = base + n + i;
+        *nt += 2;
+    }
+    for (i = 0; i < ncap; ++i) {
+        uint32_t *q = idx + 3 * *nt;
+        q[0] = base + n + cap[i][0]; q[1] = base + n + cap[i][1]; q[2] = base + n + cap[i][2];
+        ++*nt;
+        if (!open_bottom) {
+            q = idx + 3 * *nt;
+            q[0] = base + cap[i][0]; q[1] = base + cap[i][2]; q[2] = base + cap[i][1];
+            ++*nt;
+        }
+    }
+}
+
+/* Slices (§3.3) of closed and capped non-convex meshes: an L-shaped prism, the same without its
+   bottom (capped by the plane y = 0, cells above), and a square ring (a hole): every pixel a slice
+   marks is blocked from every sampled point of the cell for every sampled point of the pixel. */
+static void test_slices(void) {
+    static const float L[6][2] = {{0, 0}, {6, 0}, {6, 2}, {2, 2}, {2, 6}, {0, 6}};
+    static const uint32_t Lcap[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
+    int shape, bad = 0, marked = 0, checked = 0;
+    for (shape = 0; shape < 3; ++shape) {
+        float pos[64 * 3];
+        uint32_t idx[128 * 3], nv = 0, nt = 0, iter;
+        pvs_object_desc ob;
+        pvs_scene *s;
+        pvs__extproj_prep *p = NULL;
+        pvs_allocator al;
+        pvs_error e;
+        if (shape < 2) ep_extrude(pos, &nv, idx, &nt, L, 6, Lcap, 4, 5.0f, shape == 1);
+        else {
+            /* a ring: outer 0..8, inner 2..6, walls in and out, top and bottom */
+            static const float outer[4][2] = {{0, 0}, {8, 0}, {8, 8}, {0, 8}}, inner[4][2] = {{2, 2}, {6, 2}, {6, 6}, {2, 6}};
+            uint32_t i, o0 = 0, i0 = 8;
+            for (i = 0; i < 4; ++i) {
+                float *v = pos + 3 * i;
+                v[0] = outer[i][0]; v[1] = 0; v[2] = outer[i][1];
+                v = pos + 3 * (4 + i); v[0] = outer[i][0]; v[1] = 4; v[2] = outer[i][1];
+                v = pos + 3 * (8 + i); v[0] = inner[i][0]; v[1] = 0; v[2] = inner[i][1];
+                v = pos + 3 * (12 + i); v[0] = inner[i][0]; v[1] = 4; v[2] = inner[i][1];
+            }
+            nv = 16;
+            for (i = 0; i < 4; ++i) {
+                uint32_t j = (i + 1) % 4, *q;
+                q = idx + 3 * nt; q[0] = o0 + i; q[1] = o0 + j; q[2] = o0 + 4 + j; q[3] = o0 + i; q[4] = o0 + 4 + j; q[5] = o0 + 4 + i; nt += 2;
+                q = idx + 3 * nt; q[0] = i0 + j; q[1] = i0 + i; q[2] = i0 + 4 + i; q[3] = i0 + j; q[4] = i0 + 4 + i; q[5] = i0 + 4 + j; nt += 2;
+                q = idx + 3 * nt; q[0] = 4 + i; q[1] = 4 + j; q[2] = 12 + j; q[3] = 4 + i; q[4] = 12 + j; q[5] = 12 + i; nt += 2; /* top */
+                q = idx + 3 * nt; q[0] = i; q[1] = 8 + j; q[2] = j; q[3] = i; q[4] = 8 + i; q[5] = 8 + j; nt += 2;                /* bottom */
+            }
+        }
+        ob.first_triangle = 0;
+        ob.triangle_count = nt;
+        ob.flags = 0;
+        s = ep_scene_arrays(pos, nv, idx, nt, &ob, 1);
+        CHECK(s != NULL);
+        if (!s) continue;
+        memset(&al, 0, sizeof(al));
+        CHECK(pvs__extproj_prepare(s, &al, &p, &e) == PVS_OK);
+        CHECK(p && p->slc_count == 1 && p->slc[0].capped == (shape == 1));
+        for (iter = 0; p && p->slc_count == 1 && iter < 200; ++iter) {
+            pvs_box cell;
+            pvs_extproj_plane pl;
+            pvs__epframe f;
+            pvs__epslicer sc;
+            double segs[4 * 256], xs[2 * 256];
+            unsigned char row[64], mask[64 * 64];
+            uint32_t i, j, written;
+            int a = (int)(ep_rnd() * 2.0) * 2, side = ep_rnd() < 0.5 ? 1 : -1, k;
+            /* a cell outside the mesh's box, above the ground, on one side along axis a */
+            for (k = 0; k < 3; ++k) {
+                cell.min[k] = ep_rndf(-6.0f, 12.0f);
+                cell.max[k] = cell.min[k] + ep_rndf(0.1f, 3.0f);
+            }
+            cell.min[1] = ep_rndf(0.2f, 3.0f);
+            cell.max[1] = cell.min[1] + ep_rndf(0.1f, 2.0f);
+            if (side > 0) { cell.max[a] = ep_rndf(-8.0f, -0.5f); cell.min[a] = cell.max[a] - ep_rndf(0.1f, 3.0f); }
+            else { cell.min[a] = ep_rndf(8.5f, 16.0f); cell.max[a] = cell.min[a] + ep_rndf(0.1f, 3.0f); }
+            if (!pvs__ep_slice_ok(p->slc, &cell)) continue;
+            memset(&pl, 0, sizeof(pl));
+            pl.cell = cell;
+            pl.axis = (uint32_t)a;
+            pl.side = side;
+            {
+                /* a plane through the mesh */
+                double x = ep_rnd() * 8.0;
+                pl.distance = (float)(side > 0 ? x - cell.max[a] : cell.min[a] - x);
+            }
+            if (!(pl.distance > 0.0f)) continue;
+            pl.rect[0] = cell.min[(a + 1) % 3] - 12.0f;
+            pl.rect[1] = cell.min[(a + 2) % 3] - 12.0f;
+            pl.rect[2] = cell.max[(a + 1) % 3] + 12.0f;
+            pl.rect[3] = cell.max[(a + 2) % 3] + 12.0f;
+            pl.width = pl.height = 64;
+            if (!pvs__ep_frame(&pl, &f)) continue;
+            sc.seg = segs;
+            sc.xs = xs;
+            sc.row = row;
+            sc.cap = 256;
+            sc.width = 64;
+            memset(mask, 0, sizeof(mask));
+            written = pvs__ep_slice(s, p, p->slc, &f, &sc, NULL, mask);
+            for (j = 0; j < 64; ++j)
+                for (i = 0; i < 64; ++i) {
+                    int q;
+                    if (!mask[j * 64 + i]) continue;
+                    ++marked;
+                    for (q = 0; q < 12; ++q) {
+                        double V[3], P[3], dir[3];
+                        double pu = pl.rect[0] + ((double)i + (q < 4 ? (double)(q & 1) : ep_rnd())) * ((double)pl.rect[2] - pl.rect[0]) / 64.0;
+                        double pv = pl.rect[1] + ((double)j + (q < 4 ? (double)((q >> 1) & 1) : ep_rnd())) * ((double)pl.rect[3] - pl.rect[1]) / 64.0;
+                        for (k = 0; k < 3; ++k) V[k] = q < 8 ? ((ep_rnd() < 0.5) ? cell.min[k] : cell.max[k]) : cell.min[k] + ep_rnd() * ((double)cell.max[k] - cell.min[k]);
+                        ep_plane_point(&pl, pu, pv, P);
+                        for (k = 0; k < 3; ++k) dir[k] = P[k] - V[k];
+                        ++checked;
+                        if (!ep_ray_mesh(V, dir, pos, idx, nt)) ++bad;
+                    }
+                }
+            CHECK(written <= 64 * 64);
+        }
+        pvs__extproj_prep_destroy(p);
+        pvs_scene_destroy(s);
+    }
+    CHECK(bad == 0);
+    CHECK(marked > 500);
+    if (bad) fprintf(stderr, "extproj: %d slice samples not blocked of %d\n", bad, checked);
+}
+
+/* Sheets: a ground of tiles (one object each) is found as one convex sheet; a wall and a box
+   standing on it get extended occluders; their Projections (and the slice of the solid beyond the
+   ground) only mark pixels blocked by the wall, the box or the ground from every sampled point of
+   the cell. */
+static void test_sheets(void) {
+    float pos[200 * 3];
+    uint32_t idx[200 * 3], nv = 0, nt = 0, i, j, iter, ext = 0;
+    pvs_object_desc obs[20];
+    pvs_scene *s;
+    pvs__extproj_prep *p = NULL;
+    pvs_allocator al;
+    pvs_error e;
+    int bad = 0, marked = 0;
+    /* 4 x 4 tiles of 5 m over [-10, 10]^2 at y = 0 */
+    for (j = 0; j < 4; ++j)
+        for (i = 0; i < 4; ++i) {
+            float x0 = -10.0f + 5.0f * (float)i, z0 = -10.0f + 5.0f * (float)j;
+            uint32_t b = nv, *q = idx + 3 * nt;
+            float *v = pos + 3 * nv;
+            v[0] = x0; v[1] = 0; v[2] = z0;
+            v[3] = x0 + 5; v[4] = 0; v[5] = z0;
+            v[6] = x0 + 5; v[7] = 0; v[8] = z0 + 5;
+            v[9] = x0; v[10] = 0; v[11] = z0 + 5;
+            nv += 4;
+            q[0] = b; q[1] = b + 2; q[2] = b + 1; q[3] = b; q[4] = b + 3; q[5] = b + 2;
+            obs[j * 4 + i].first_triangle = nt;
+            obs[j * 4 + i].triangle_count = 2;
+            obs[j * 4 + i].flags = 0;
+            nt += 2;
+        }
+    {
+        /* a wall x in [2, 7] at z = 3, 4 m high, and a box [-5, -4] x [0, 2] x [4, 5] */
+        static const float wall[4][3] = {{2, 0, 3}, {7, 0, 3}, {7, 4, 3}, {2, 4, 3}};
+        uint32_t b = nv, *q = idx + 3 * nt;
+        memcpy(pos + 3 * nv, wall, sizeof(wall));
+        nv += 4;
+        q[0] = b; q[1] = b + 1; q[2] = b + 2; q[3] = b; q[4] = b + 2; q[5] = b + 3;
+        obs[16].first_triangle = nt;
+        obs[16].triangle_count = 2;
+        obs[16].flags = 0;
+        nt += 2;
+    }
+    {
+        static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                          {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+        uint32_t b = nv, k;
+        for (k = 0; k < 8; ++k) {
+            float *v = pos + 3 * (nv + k);
+            v[0] = k & 1 ? -4.0f : -5.0f;
+            v[1] = k & 4 ? 2.0f : 0.0f;
+            v[2] = k & 2 ? 5.0f : 4.0f;
+        }
+        nv += 8;
+        for (k = 0; k < 12; ++k) {
+            idx[3 * nt] = b + f[k][0];
+            idx[3 * nt + 1] = b + f[k][1];
+            idx[3 * nt + 2] = b + f[k][2];
+            ++nt;
+        }
+        obs[17].first_triangle = nt - 12;
+        obs[17].triangle_count = 12;
+        obs[17].flags = 0;
+    }
+    s = ep_scene_arrays(pos, nv, idx, nt, obs, 18);
+    CHECK(s != NULL);
+    if (!s) return;
+    memset(&al, 0, sizeof(al));
+    CHECK(pvs__extproj_prepare(s, &al, &p, &e) == PVS_OK);
+    if (!p) { pvs_scene_destroy(s); return; }
+    for (i = 0, j = 0; i < p->sheet_count; ++i) j += p->sheet[i].axis == 1 && p->sheet[i].value == 0.0f && fabs(p->sheet[i].area - 400.0) < 1e-6;
+    CHECK(j == 1); /* the ground (the box's faces are small sheets too) */
+    for (i = 0; i < p->occ_count; ++i) ext += p->occ[i].xcount > 0;
+    CHECK(ext == 2);
+    for (iter = 0; iter < 300; ++iter) {
+        pvs_box cell;
+        pvs_extproj_plane pl;
+        pvs__epframe f;
+        unsigned char mask[48 * 48];
+        int sides[PVS__EP_MAX_SHEETS], a = (int)(ep_rnd() * 2.0) * 2, side = ep_rnd() < 0.5 ? 1 : -1, k;
+        uint32_t o, px, py;
+        for (k = 0; k < 3; ++k) {
+            cell.min[k] = ep_rndf(-9.0f, 7.0f);
+            cell.max[k] = cell.min[k] + ep_rndf(0.1f, 2.0f);
+        }
+        cell.min[1] = ep_rndf(0.05f, 2.0f);
+        cell.max[1] = cell.min[1] + ep_rndf(0.1f, 2.0f);
+        pvs__ep_sheet_sides(p, &cell, sides);
+        memset(&pl, 0, sizeof(pl));
+        pl.cell = cell;
+        pl.axis = (uint32_t)a;
+        pl.side = side;
+        pl.distance = ep_rndf(0.5f, 15.0f);
+        pl.rect[0] = cell.min[(a + 1) % 3] - 15.0f;
+        pl.rect[1] = cell.min[(a + 2) % 3] - 15.0f;
+        pl.rect[2] = cell.max[(a + 1) % 3] + 15.0f;
+        pl.rect[3] = cell.max[(a + 2) % 3] + 15.0f;
+        pl.width = pl.height = 48;
+        if (!pvs__ep_frame(&pl, &f)) continue;
+        memset(mask, 0, sizeof(mask));
+        for (o = 0; o < p->occ_count; ++o) {
+            uint32_t cnt;
+            const float *pts = pvs__ep_points(p, p->occ + o, &cell, sides, a, &cnt);
+            if (pts) pvs__ep_occluder(&f, &cell, pts, cnt, p->occ[o].solid, p->occ[o].slack, 0, NULL, mask);
+        }
+        for (o = 0; o < p->sheet_count; ++o)
+            if (sides[o]) pvs__ep_sheet_slice(p, p->sheet + o, sides[o], &f, NULL, mask);
+        for (py = 0; py < 48; ++py)
+            for (px = 0; px < 48; ++px) {
+                int q;
+                if (!mask[py * 48 + px]) continue;
+                ++marked;
+                for (q = 0; q < 10; ++q) {
+                    double V[3], P[3], dir[3];
+                    double pu = pl.rect[0] + ((double)px + (q < 4 ? (double)(q & 1) : ep_rnd())) * ((double)pl.rect[2] - pl.rect[0]) / 48.0;
+                    double pv = pl.rect[1] + ((double)py + (q < 4 ? (double)((q >> 1) & 1) : ep_rnd())) * ((double)pl.rect[3] - pl.rect[1]) / 48.0;
+                    for (k = 0; k < 3; ++k) V[k] = q < 6 ? ((ep_rnd() < 0.5) ? cell.min[k] : cell.max[k]) : cell.min[k] + ep_rnd() * ((double)cell.max[k] - cell.min[k]);
+                    ep_plane_point(&pl, pu, pv, P);
+                    for (k = 0; k < 3; ++k) dir[k] = P[k] - V[k];
+                    /* the Depth of a pixel is no nearer than the plane for the slices and the
+                       Projections in front of it; those behind the plane are checked to their
+                       far end: extend the ray past the plane */
+                    for (k = 0; k < 3; ++k) dir[k] *= 40.0;
+                    if (!ep_ray_mesh(V, dir, pos, idx, nt)) ++bad;
+                }
+            }
+    }
+    CHECK(bad == 0);
+    CHECK(marked > 1000);
+    if (bad) fprintf(stderr, "extproj: %d sheet samples not blocked\n", bad);
+    pvs__extproj_prep_destroy(p);
+    pvs_scene_destroy(s);
+}
+
+/* The reprojection of the sweep (§5.1): a pixel it blocks on the farther plane is crossed on the
+   nearer plane, by every sampled ray from the cell through it, inside a blocked pixel. */
+static void test_reprojection(void) {
+    int iter, bad = 0, marked = 0;
+    for (iter = 0; iter < 200; ++iter) {
+        pvs_box cell;
+        pvs__epmask from, to;
+        unsigned char m0[64 * 64], m1[64 * 64];
+        uint32_t sat[65 * 65], x, y, r;
+        int32_t ranges[4 * 64];
+        int a = (int)(ep_rnd() * 3.0) % 3, side = ep_rnd() < 0.5 ? 1 : -1, k;
+        double W0 = ep_rndf(0.5f, 10.0f), W1 = W0 * ep_rndf(1.05f, 2.0f);
+        for (k = 0; k < 3; ++k) {
+            cell.min[k] = ep_rndf(-2.0f, 2.0f);
+            cell.max[k] = cell.min[k] + ep_rndf(0.0f, 3.0f);
+        }
+        memset(&from, 0, sizeof(from));
+        memset(&to, 0, sizeof(to));
+        pvs__ep_make_plane(&cell, 2 * a + (side > 0 ? 0 : 1), W0, 64, &from.plane);
+        pvs__ep_make_plane(&cell, 2 * a + (side > 0 ? 0 : 1), W1, 64, &to.plane);
+        if (!pvs__ep_frame(&from.plane, &from.frame) || !pvs__ep_frame(&to.plane, &to.frame)) continue;
+        from.lv[0] = m0;
+        to.lv[0] = m1;
+        /* blocked blobs: a few random rectangles */
+        memset(m0, 0, sizeof(m0));
+        memset(m1, 0, sizeof(m1));
+        for (r = 0; r < 4; ++r) {
+            uint32_t x0 = (uint32_t)(ep_rnd() * 64), y0 = (uint32_t)(ep_rnd() * 64), w = 4 + (uint32_t)(ep_rnd() * 40), h = 4 + (uint32_t)(ep_rnd() * 40);
+            for (y = y0; y < y0 + h && y < 64; ++y)
+                for (x = x0; x < x0 + w && x < 64; ++x) m0[y * 64 + x] = 1;
+        }
+        pvs__ep_reproject(&from, &to, sat, ranges);
+        for (y = 0; y < 64; ++y)
+            for (x = 0; x < 64; ++x) {
+                int q;
+                if (!m1[y * 64 + x]) continue;
+                ++marked;
+                for (q = 0; q < 12; ++q) {
+                    double V[3], P[3], X[3], t, fx, fy;
+                    double pu = to.plane.rect[0] + ((double)x + (q < 4 ? (double)(q & 1) : ep_rnd())) * ((double)to.plane.rect[2] - to.plane.rect[0]) / 64.0;
+                    double pv = to.plane.rect[1] + ((double)y + (q < 4 ? (double)((q >> 1) & 1) : ep_rnd())) * ((double)to.plane.rect[3] - to.plane.rect[1]) / 64.0;
+                    int ix, iy, hit = 0, cx[2], cy[2], nx = 1, ny = 1, u2, v2;
+                    for (k = 0; k < 3; ++k) V[k] = q < 8 ? ((ep_rnd() < 0.5) ? cell.min[k] : cell.max[k]) : cell.min[k] + ep_rnd() * ((double)cell.max[k] - cell.min[k]);
+                    ep_plane_point(&to.plane, pu, pv, P);
+                    ep_plane_point(&from.plane, 0.0, 0.0, X);
+                    t = (X[a] - V[a]) / (P[a] - V[a]);
+                    for (k = 0; k < 3; ++k) X[k] = V[k] + (P[k] - V[k]) * t;
+                    fx = (X[(a + 1) % 3] - from.plane.rect[0]) * 64.0 / ((double)from.plane.rect[2] - from.plane.rect[0]);
+                    fy = (X[(a + 2) % 3] - from.plane.rect[1]) * 64.0 / ((double)from.plane.rect[3] - from.plane.rect[1]);
+                    ix = (int)floor(fx);
+                    iy = (int)floor(fy);
+                    /* a point on a pixel edge belongs to the pixels on both sides */
+                    cx[0] = ix;
+                    cy[0] = iy;
+                    if (fx == (double)ix) cx[nx++] = ix - 1;
+                    if (fy == (double)iy) cy[ny++] = iy - 1;
+                    for (u2 = 0; u2 < nx; ++u2)
+                        for (v2 = 0; v2 < ny; ++v2)
+                            if (cx[u2] >= 0 && cy[v2] >= 0 && cx[u2] < 64 && cy[v2] < 64 && m0[cy[v2] * 64 + cx[u2]]) hit = 1;
+                    if (!hit) ++bad;
+                }
+            }
+    }
+    CHECK(bad == 0);
+    CHECK(marked > 1000);
+    if (bad) fprintf(stderr, "extproj: %d reprojection samples not blocked\n", bad);
+}
+
 /* A mesh as a scene (every object drawable). */
 static pvs_scene *ep_scene(const mesh *m) {
     pvs_scene_desc d;
@@ -231,7 +671,7 @@ static pvs_scene *ep_scene(const mesh *m) {
 }
 
 /* Bake a generated scene with EXTPROJ and compare every cell with ray sampling: no misses. */
-static void ep_check_scene(gen_kind kind, uint64_t seed, float size, uint32_t max_cells, uint32_t points, uint32_t rays) {
+static void ep_check_scene(gen_kind kind, uint64_t seed, float size, uint32_t max_cells, uint32_t points, uint32_t rays, uint32_t sweep) {
     gen_params gp;
     mesh m;
     mesh_cells cells;
@@ -259,6 +699,7 @@ static void ep_check_scene(gen_kind kind, uint64_t seed, float size, uint32_t ma
     bd.cells = (const pvs_box *)cells.boxes;
     bd.cell_count = cells.count;
     bd.method = PVS_METHOD_EXTPROJ;
+    bd.extproj_sweep = sweep;
     CHECK(pvs_bake_begin(&bd, &bake, &e) == PVS_OK);
     seen = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
     for (t = 0; t < pvs_bake_task_count(bake); ++t) {
@@ -294,7 +735,7 @@ static void ep_check_scene(gen_kind kind, uint64_t seed, float size, uint32_t ma
         pvs_bake_destroy(b2);
     }
     if (kind == GEN_CITY || kind == GEN_WALLS || kind == GEN_INDOOR) CHECK(pvs_sum < 0.9 * objects * pvs_bake_task_count(bake)); /* culls */
-    fprintf(stderr, "  extproj %-6s %3u cells: mean PVS %.1f, sampled %.1f, of %u objects\n", gen_kind_name(kind), pvs_bake_task_count(bake),
+    fprintf(stderr, "  extproj %-6s%s %3u cells: mean PVS %.1f, sampled %.1f, of %u objects\n", gen_kind_name(kind), sweep ? " sweep" : "", pvs_bake_task_count(bake),
             pvs_sum / pvs_bake_task_count(bake), seen_sum / pvs_bake_task_count(bake), objects);
     free(seen);
     pvs_bake_destroy(bake);
@@ -341,13 +782,555 @@ static void test_thin_wall(void) {
     pvs_scene_destroy(s);
 }
 
+/* A wall made of many coplanar triangles hides what the single quad hides (Durand §3.3-3.4: the
+   pieces are merged into one planar occluder, else each loses a strip along every shared edge to its
+   penumbra and the wall hides nothing). Local frame: the wall at x = 10 over y, z in [0, 10] cut into
+   an irregular nx x ny grid with random diagonals (one quad left out for a window or a notch in some
+   runs), a box behind it at x 14..16, four cells in front; the whole scene rotated (non-axis planes,
+   float rounding) in most runs. Every cell is checked against ray sampling (0 misses), and a full
+   wall must hide the box from every cell the single quad (same rotation) hides it from (but the
+   nearest in a tilted run, see below). A wall with a window or a notch is a concave planar
+   occluder (§3.4): it hides what lies behind its solid part; two-sided, it is still no solid. */
+static void ep_rot(const double R[3][3], const double *x, float *out) {
+    int k;
+    for (k = 0; k < 3; ++k) out[k] = (float)(R[k][0] * x[0] + R[k][1] * x[1] + R[k][2] * x[2] + 20.0);
+}
+
+enum { EP_MAXG = 9 };
+
+/* Bakes the scene of one run; returns the cells (bits) whose PVS holds the box, and counts misses. */
+static unsigned ep_wall_run(const double R[3][3], uint32_t nx, uint32_t ny, const double *cy, const double *cz, const int *diag, int hi, int hj,
+                            double by, double bz, int two_sided, uint32_t *misses) {
+    static float pos[3 * ((EP_MAXG + 1) * (EP_MAXG + 1) + 8)];
+    static uint32_t idx[3 * (4 * EP_MAXG * EP_MAXG + 12)];
+    static const int box_tris[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                                        {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+    uint32_t i, j, nv = 0, nt = 0, c;
+    unsigned in_pvs = 0;
+    pvs_object_desc obs[2];
+    pvs_scene *s;
+    pvs_box cells[4];
+    pvs_bake_desc bd;
+    pvs_bake *bk = NULL;
+    pvs_error e;
+    for (j = 0; j <= ny; ++j)
+        for (i = 0; i <= nx; ++i) {
+            double x[3];
+            x[0] = 10.0; x[1] = cy[i]; x[2] = cz[j];
+            ep_rot(R, x, pos + 3 * nv++);
+        }
+    for (j = 0; j < ny; ++j)
+        for (i = 0; i < nx; ++i) {
+            uint32_t v00 = j * (nx + 1) + i, v10 = v00 + 1, v01 = v00 + nx + 1, v11 = v01 + 1;
+            uint32_t t0[6] = {v00, v10, v11, v00, v11, v01}, t1[6] = {v00, v10, v01, v10, v11, v01};
+            if ((int)i == hi && (int)j == hj) continue;
+            memcpy(idx + 3 * nt, diag[j * nx + i] ? t1 : t0, sizeof(t0));
+            nt += 2;
+            if (two_sided) { /* the back faces */
+                uint32_t b0[6] = {v00, v11, v10, v00, v01, v11};
+                memcpy(idx + 3 * nt, b0, sizeof(b0));
+                nt += 2;
+            }
+        }
+    obs[0].first_triangle = 0;
+    obs[0].triangle_count = nt;
+    obs[0].flags = 0;
+    for (c = 0; c < 8; ++c) {
+        double x[3];
+        x[0] = c & 1 ? 16.0 : 14.0; x[1] = c & 2 ? by + 1.0 : by - 1.0; x[2] = c & 4 ? bz + 1.0 : bz - 1.0;
+        ep_rot(R, x, pos + 3 * (nv + c));
+    }
+    for (c = 0; c < 12; ++c, ++nt)
+        for (i = 0; i < 3; ++i) idx[3 * nt + i] = nv + (uint32_t)box_tris[c][i];
+    nv += 8;
+    obs[1].first_triangle = obs[0].triangle_count;
+    obs[1].triangle_count = 12;
+    obs[1].flags = 0;
+    s = ep_scene_arrays(pos, nv, idx, nt, obs, 2);
+    CHECK(s != NULL);
+    if (!s) return 0;
+    for (c = 0; c < 4; ++c) { /* in front of the wall: the middle, then nearer its edges */
+        double x[3];
+        float q[3];
+        int k;
+        x[0] = c == 3 ? 8.5 : 5.0; x[1] = c == 1 ? 2.0 : 5.0; x[2] = c == 2 ? 8.0 : 5.0;
+        ep_rot(R, x, q);
+        for (k = 0; k < 3; ++k) { cells[c].min[k] = q[k] - 0.5f; cells[c].max[k] = q[k] + 0.5f; }
+    }
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = s;
+    bd.cells = cells;
+    bd.cell_count = 4;
+    bd.method = PVS_METHOD_EXTPROJ;
+    CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
+    for (c = 0; bk && c < 4; ++c) {
+        pvs_word seen[1] = {0};
+        const pvs_word *pv;
+        CHECK(pvs_bake_run_task(bk, c, &e) == PVS_OK);
+        pv = pvs_bake_cell_pvs(bk, c);
+        pvs_sample_visibility(s, cells + c, 16, 2048, 77 + c, seen);
+        pvs_sample_visibility_toward(s, cells + c, NULL, 256, 99 + c, seen);
+        if ((seen[0] & 2u) && !pvs_bitset_test(pv, 1)) ++*misses;
+        if (pvs_bitset_test(pv, 1)) in_pvs |= 1u << c;
+    }
+    pvs_bake_destroy(bk);
+    pvs_scene_destroy(s);
+    return in_pvs;
+}
+
+static int ep_bits(unsigned x) {
+    int n = 0;
+    for (; x; x &= x - 1) ++n;
+    return n;
+}
+
+static void test_fragmented_wall(void) {
+    int run, hid_single = 0, hid_pieces = 0, unrotated_hidden = 1;
+    uint32_t misses = 0;
+    for (run = 0; run < 24; ++run) {
+        uint32_t nx = 1 + (uint32_t)(run % EP_MAXG), ny = 1 + (uint32_t)((run * 5 + 2) % EP_MAXG), i, j;
+        int hole = run % 4 == 3 && nx * ny > 2, rotate = run % 3 != 0, diag[EP_MAXG * EP_MAXG], zero = 0;
+        int hi = hole ? (int)(nx / 2) : -1, hj = run % 8 == 7 ? 0 : (int)(ny / 2); /* a window, or a notch at the edge */
+        double cy[EP_MAXG + 1], cz[EP_MAXG + 1], R[3][3], a = ep_rnd() * 6.283, b = (ep_rnd() - 0.5) * 1.2, one[2] = {0.0, 10.0};
+        unsigned single, pieces;
+        if (rotate) { /* about z by a, then about x by b */
+            double ca = cos(a), sa = sin(a), cb = cos(b), sb = sin(b);
+            double Rz[3][3] = {{ca, -sa, 0}, {sa, ca, 0}, {0, 0, 1}}, Rx[3][3] = {{1, 0, 0}, {0, cb, -sb}, {0, sb, cb}};
+            int r, k, m;
+            for (r = 0; r < 3; ++r)
+                for (k = 0; k < 3; ++k)
+                    for (R[r][k] = 0.0, m = 0; m < 3; ++m) R[r][k] += Rx[r][m] * Rz[m][k];
+        } else {
+            memset(R, 0, sizeof(R));
+            R[0][0] = R[1][1] = R[2][2] = 1.0;
+        }
+        for (i = 0; i <= nx; ++i) cy[i] = i == 0 ? 0.0 : i == nx ? 10.0 : 10.0 * (i + 0.6 * (ep_rnd() - 0.5)) / nx;
+        for (j = 0; j <= ny; ++j) cz[j] = j == 0 ? 0.0 : j == ny ? 10.0 : 10.0 * (j + 0.6 * (ep_rnd() - 0.5)) / ny;
+        for (i = 0; i < nx * ny; ++i) diag[i] = ep_rnd() < 0.5;
+        single = ep_wall_run((const double(*)[3])R, 1, 1, one, one, &zero, -1, -1, 5.0, 5.0, 0, &misses);
+        pieces = ep_wall_run((const double(*)[3])R, nx, ny, cy, cz, diag, hi, hj, 5.0, 5.0, run % 5 == 1, &misses);
+        if (!rotate) unrotated_hidden &= !(single & 1u);
+        if (hole && hj != 0) CHECK(pieces & 1u); /* seen through the window from the middle cell */
+        if (!hole) {
+            /* the cell 1.5 units from a tilted wall is marginal: the pieces' corners, rounded to
+               floats off one plane, give the merged polygon a slack of about 1e-5, which the views
+               of its parts next to the cell magnify, where the single quad may be exactly planar */
+            unsigned m = rotate ? 7u : 15u;
+            hid_single += ep_bits(~single & m);
+            hid_pieces += ep_bits(~(pieces | single) & m);
+            CHECK((pieces & ~single & m) == 0u);
+            if (pieces & ~single & m) fprintf(stderr, "extproj: a wall of %u x %u pieces (rotated %d) hides less than the quad (%x, %x)\n", nx, ny, rotate, pieces, single);
+        }
+    }
+    {
+        /* concave (§3.4): a 6 x 6 wall with a window at (4, 4) still hides a box behind its solid
+           middle from the middle cell, tilted or not; one behind the window is seen */
+        double cu[7], R[3][3];
+        int diag[36], k, rot;
+        for (k = 0; k <= 6; ++k) cu[k] = 10.0 * k / 6.0;
+        for (k = 0; k < 36; ++k) diag[k] = k % 3 == 0;
+        for (rot = 0; rot < 2; ++rot) {
+            double ca = cos(0.3 * rot), sa = sin(0.3 * rot);
+            memset(R, 0, sizeof(R));
+            R[0][0] = ca; R[0][1] = -sa; R[1][0] = sa; R[1][1] = ca; R[2][2] = 1.0;
+            CHECK(!(ep_wall_run((const double(*)[3])R, 6, 6, cu, cu, diag, 4, 4, 5.0, 5.0, rot, &misses) & 1u));
+            CHECK(ep_wall_run((const double(*)[3])R, 6, 6, cu, cu, diag, 4, 4, 8.5, 8.5, rot, &misses) & 1u);
+            CHECK(!(ep_wall_run((const double(*)[3])R, 6, 6, cu, cu, diag, 2, 0, 5.0, 5.0, rot, &misses) & 1u)); /* a notch */
+        }
+        {
+            /* a two-sided wall of 2 x 2 quads with a window: a closed mesh, but flat, so not a
+               convex solid (its vertices' hull would fill the window) */
+            double c2[3] = {0.0, 5.0, 10.0};
+            int d2[4] = {0, 1, 0, 1};
+            memset(R, 0, sizeof(R));
+            R[0][0] = R[1][1] = R[2][2] = 1.0;
+            CHECK(ep_wall_run((const double(*)[3])R, 2, 2, c2, c2, d2, 1, 1, 7.5, 7.5, 1, &misses) & 1u);
+            CHECK(!(ep_wall_run((const double(*)[3])R, 2, 2, c2, c2, d2, 1, 1, 2.5, 2.5, 1, &misses) & 1u));
+        }
+    }
+    CHECK(misses == 0);
+    CHECK(unrotated_hidden);
+    CHECK(hid_single > 20 && hid_pieces == hid_single);
+}
+
+/* The Projection of a concave planar occluder (§3.4, pvs__ep_concave): a planar 4 x 4 grid of
+   quads with some left out (holes, notches; the rest edge-connected or not) in a random plane in
+   front of or behind a random projection plane; every marked pixel is covered from random points of
+   the cell through random points of the pixel (ray casts in double against the triangles), no
+   deeper than the stored Depth. */
+static void test_concave_projection(void) {
+    int iter, bad = 0, marked_total = 0, checked = 0, concave = 0;
+    for (iter = 0; iter < 200; ++iter) {
+        pvs_extproj_plane pl;
+        pvs__epframe f;
+        float pos[25 * 3], *map;
+        uint32_t idx[32 * 3], nt = 0, i, j, k, o;
+        double c[3], e1[3], e2[3];
+        int a, miss1 = (int)(ep_rnd() * 16.0), miss2 = (int)(ep_rnd() * 20.0);
+        pvs_object_desc ob;
+        pvs_scene *s;
+        pvs__extproj_prep *prep = NULL;
+        pvs_allocator al;
+        pvs_error err;
+        unsigned char *cmark;
+        ep_random_plane(&pl, 48);
+        if (!pvs__ep_frame(&pl, &f)) continue;
+        a = (int)pl.axis;
+        {
+            double face = pl.side > 0 ? pl.cell.max[a] : pl.cell.min[a], size = ep_rndf(2.0f, 10.0f);
+            int u = (a + 1) % 3, v = (a + 2) % 3;
+            c[a] = face + pl.side * (iter % 2 ? ep_rndf(-2.0f, 3.0f) : ep_rndf(0.5f, 14.0f)); /* odd: often reaching past the face */
+            c[u] = 0.5 * (pl.cell.min[u] + pl.cell.max[u]) + ep_rndf(-3.0f, 3.0f);
+            c[v] = 0.5 * (pl.cell.min[v] + pl.cell.max[v]) + ep_rndf(-3.0f, 3.0f);
+            for (k = 0; k < 3; ++k) { e1[k] = size * ep_rndf(-0.3f, 0.3f); e2[k] = size * ep_rndf(-0.3f, 0.3f); }
+            e1[u] += 0.25 * size; /* mostly across the axis */
+            e2[v] += 0.25 * size;
+            if (iter % 4 >= 2) { /* exact (no slack): a wall across the axis, or along it beside the cell */
+                int along = iter % 8 >= 6;
+                for (k = 0; k < 3; ++k) {
+                    c[k] = floor(c[k] * 8.0) / 8.0;
+                    e1[k] = e2[k] = 0.0;
+                }
+                e1[along ? a : u] = floor(size * 2.0) / 8.0 + 0.25;
+                e2[v] = floor(size * 2.0) / 8.0 + 0.25;
+                if (along) c[a] = (pl.side > 0 ? pl.cell.max[a] : pl.cell.min[a]) - 1.0 * pl.side;
+            }
+        }
+        for (j = 0; j <= 4; ++j)
+            for (i = 0; i <= 4; ++i)
+                for (k = 0; k < 3; ++k) pos[3 * (j * 5 + i) + k] = (float)(c[k] + ((double)i - 2.0) * e1[k] + ((double)j - 2.0) * e2[k]);
+        for (j = 0; j < 4; ++j)
+            for (i = 0; i < 4; ++i) {
+                uint32_t v00 = j * 5 + i, q = j * 4 + i;
+                if ((int)q == miss1 || (int)q == miss2) continue;
+                idx[3 * nt] = v00; idx[3 * nt + 1] = v00 + 1; idx[3 * nt + 2] = v00 + 6; ++nt;
+                idx[3 * nt] = v00; idx[3 * nt + 1] = v00 + 6; idx[3 * nt + 2] = v00 + 5; ++nt;
+            }
+        ob.first_triangle = 0;
+        ob.triangle_count = nt;
+        ob.flags = 0;
+        s = ep_scene_arrays(pos, 25, idx, nt, &ob, 1);
+        if (!s) { CHECK(0); continue; }
+        memset(&al, 0, sizeof(al));
+        CHECK(pvs__extproj_prepare(s, &al, &prep, &err) == PVS_OK);
+        map = (float *)malloc(sizeof(float) * pl.width * pl.height);
+        cmark = (unsigned char *)malloc((size_t)pl.width * pl.height);
+        for (o = 0; prep && o < prep->occ_count; ++o) {
+            const pvs__epocc *oc = prep->occ + o;
+            uint32_t count = 0, written;
+            if (!oc->ecount) continue;
+            ++concave;
+            for (i = 0; i < pl.width * pl.height; ++i) map[i] = PVS_EXTPROJ_EMPTY;
+            written = pvs__ep_concave(&f, prep, oc, 0, cmark, map, NULL);
+            for (j = 0; j < pl.height; ++j)
+                for (i = 0; i < pl.width; ++i) {
+                    float dstored = map[j * pl.width + i];
+                    int smp;
+                    if (dstored == PVS_EXTPROJ_EMPTY) continue;
+                    ++count;
+                    for (smp = 0; smp < 12; ++smp) {
+                        double V[3], P[3], dir[3], best = 2.0, face = pl.side > 0 ? pl.cell.max[a] : pl.cell.min[a], hitw;
+                        double pu = pl.rect[0] + ((double)i + ep_rnd()) * ((double)pl.rect[2] - pl.rect[0]) / pl.width;
+                        double pv = pl.rect[1] + ((double)j + ep_rnd()) * ((double)pl.rect[3] - pl.rect[1]) / pl.height;
+                        uint32_t t2;
+                        if (smp < 4) {
+                            pu = pl.rect[0] + (double)(i + (smp & 1)) * ((double)pl.rect[2] - pl.rect[0]) / pl.width;
+                            pv = pl.rect[1] + (double)(j + ((smp >> 1) & 1)) * ((double)pl.rect[3] - pl.rect[1]) / pl.height;
+                        }
+                        for (k = 0; k < 3; ++k)
+                            V[k] = smp < 8 ? ((ep_rnd() < 0.5) ? pl.cell.min[k] : pl.cell.max[k]) : pl.cell.min[k] + ep_rnd() * ((double)pl.cell.max[k] - pl.cell.min[k]);
+                        ep_plane_point(&pl, pu, pv, P);
+                        for (k = 0; k < 3; ++k) dir[k] = (P[k] - V[k]) * 1000.0;
+                        for (t2 = 0; t2 < nt; ++t2) {
+                            double t = ep_ray_tri(V, dir, pos + 3 * idx[3 * t2], pos + 3 * idx[3 * t2 + 1], pos + 3 * idx[3 * t2 + 2]);
+                            if (t >= 0.0 && t < best) best = t;
+                        }
+                        ++checked;
+                        if (best > 1.0) { ++bad; continue; }
+                        hitw = pl.side * (V[a] + best * dir[a] - face);
+                        if (hitw > (double)dstored + 1e-9 * (1.0 + fabs(hitw))) ++bad;
+                    }
+                }
+            CHECK(count == written);
+            marked_total += (int)count;
+        }
+        free(map);
+        free(cmark);
+        pvs__extproj_prep_destroy(prep);
+        pvs_scene_destroy(s);
+    }
+    CHECK(bad == 0);
+    CHECK(concave > 50);
+    CHECK(marked_total > 1000);
+    if (bad) fprintf(stderr, "extproj: %d concave occluder samples not covered of %d\n", bad, checked);
+    fprintf(stderr, "  extproj concave: %d occluders, %d pixels, %d rays\n", concave, marked_total, checked);
+}
+
+/* Random planar walls made of grids of pieces with holes (concave, edge-connected coplanar groups;
+   axis-aligned or tilted; half of them two-sided, i.e. flat closed meshes) among small boxes, cells
+   anywhere: the bake with and without the sweep against ray sampling, 0 misses. */
+static void test_random_walls(void) {
+    enum { NW = 40, NB = 60, NC = 12, G = 3 };
+    float *pos = (float *)malloc(sizeof(float) * 3 * (NW * (G + 1) * (G + 1) + NB * 8));
+    uint32_t *idx = (uint32_t *)malloc(sizeof(uint32_t) * 3 * (NW * 4 * G * G + NB * 12));
+    pvs_object_desc obs[NW + NB];
+    static const int box_tris[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                                        {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+    uint32_t nv = 0, nt = 0, no = 0, misses = 0, w, i, j, c, culled = 0;
+    int scene, sweep;
+    for (scene = 0; scene < 2; ++scene) {
+        pvs_scene *s;
+        pvs_box cells[NC];
+        nv = nt = no = 0;
+        for (w = 0; w < NW; ++w) {
+            double o[3], e1[3], e2[3], cy[G + 1], cz[G + 1];
+            uint32_t nx = 1 + (uint32_t)(ep_rnd() * G) % G, ny = 1 + (uint32_t)(ep_rnd() * G) % G, base = nv, first = nt, k;
+            int holes[3], two = ep_rnd() < 0.5;
+            for (k = 0; k < 3; ++k) o[k] = ep_rnd() * 30.0;
+            if (ep_rnd() < 0.5) { /* axis-aligned */
+                int ax = (int)(ep_rnd() * 3.0) % 3;
+                memset(e1, 0, sizeof(e1));
+                memset(e2, 0, sizeof(e2));
+                e1[(ax + 1) % 3] = 6.0 + 14.0 * ep_rnd();
+                e2[(ax + 2) % 3] = 6.0 + 14.0 * ep_rnd();
+            } else {
+                double a = ep_rnd() * 6.283, b = (ep_rnd() - 0.5) * 1.6, l1 = 6.0 + 14.0 * ep_rnd(), l2 = 6.0 + 14.0 * ep_rnd();
+                e1[0] = l1 * cos(a); e1[1] = l1 * sin(a); e1[2] = 0.0;
+                e2[0] = -l2 * sin(a) * sin(b); e2[1] = l2 * cos(a) * sin(b); e2[2] = l2 * cos(b);
+            }
+            for (i = 0; i <= nx; ++i) cy[i] = i == 0 ? 0.0 : i == nx ? 1.0 : (i + 0.6 * (ep_rnd() - 0.5)) / nx;
+            for (j = 0; j <= ny; ++j) cz[j] = j == 0 ? 0.0 : j == ny ? 1.0 : (j + 0.6 * (ep_rnd() - 0.5)) / ny;
+            for (k = 0; k < 3; ++k) holes[k] = (int)(ep_rnd() * (double)(nx * ny + 2));
+            for (j = 0; j <= ny; ++j)
+                for (i = 0; i <= nx; ++i, ++nv)
+                    for (k = 0; k < 3; ++k) pos[3 * nv + k] = (float)(o[k] + cy[i] * e1[k] + cz[j] * e2[k]);
+            for (j = 0; j < ny; ++j)
+                for (i = 0; i < nx; ++i) {
+                    uint32_t v00 = base + j * (nx + 1) + i, v10 = v00 + 1, v01 = v00 + nx + 1, v11 = v01 + 1, q = j * nx + i;
+                    uint32_t t0[6] = {v00, v10, v11, v00, v11, v01}, t1[6] = {v00, v10, v01, v10, v11, v01}, b0[6] = {v00, v11, v10, v00, v01, v11};
+                    if ((int)q == holes[0] || (int)q == holes[1] || (int)q == holes[2]) continue;
+                    memcpy(idx + 3 * nt, ep_rnd() < 0.5 ? t0 : t1, sizeof(t0));
+                    nt += 2;
+                    if (two) {
+                        memcpy(idx + 3 * nt, b0, sizeof(b0));
+                        nt += 2;
+                    }
+                }
+            if (nt == first) continue;
+            obs[no].first_triangle = first;
+            obs[no].triangle_count = nt - first;
+            obs[no].flags = 0;
+            ++no;
+        }
+        for (w = 0; w < NB; ++w) {
+            double cc[3], h = 0.2 + 1.3 * ep_rnd();
+            uint32_t k;
+            for (k = 0; k < 3; ++k) cc[k] = ep_rnd() * 30.0;
+            for (c = 0; c < 8; ++c)
+                for (k = 0; k < 3; ++k) pos[3 * (nv + c) + k] = (float)(cc[k] + ((c >> k) & 1 ? h : -h));
+            obs[no].first_triangle = nt;
+            obs[no].triangle_count = 12;
+            obs[no].flags = 0;
+            ++no;
+            for (c = 0; c < 12; ++c, ++nt)
+                for (k = 0; k < 3; ++k) idx[3 * nt + k] = nv + (uint32_t)box_tris[c][k];
+            nv += 8;
+        }
+        s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
+        CHECK(s != NULL);
+        if (!s) continue;
+        for (c = 0; c < NC; ++c) {
+            uint32_t k;
+            for (k = 0; k < 3; ++k) {
+                float m = (float)(ep_rnd() * 30.0), h = (float)(0.3 + 2.5 * ep_rnd());
+                cells[c].min[k] = m - h;
+                cells[c].max[k] = m + h;
+            }
+        }
+        for (sweep = 0; sweep < 2; ++sweep) {
+            pvs_bake_desc bd;
+            pvs_bake *bk = NULL;
+            pvs_error e;
+            pvs_word *seen = (pvs_word *)calloc(PVS_BITSET_WORDS(no), sizeof(pvs_word));
+            memset(&bd, 0, sizeof(bd));
+            bd.scene = s;
+            bd.cells = cells;
+            bd.cell_count = NC;
+            bd.method = PVS_METHOD_EXTPROJ;
+            bd.extproj_sweep = sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0;
+            CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
+            for (c = 0; bk && c < NC; ++c) {
+                const pvs_word *pv;
+                uint32_t o;
+                CHECK(pvs_bake_run_task(bk, c, &e) == PVS_OK);
+                pv = pvs_bake_cell_pvs(bk, c);
+                memset(seen, 0, PVS_BITSET_WORDS(no) * sizeof(pvs_word));
+                pvs_sample_visibility(s, cells + c, 16, 1024, 500 + c, seen);
+                pvs_sample_visibility_toward(s, cells + c, NULL, 48, 900 + c, seen);
+                for (o = 0; o < no; ++o) {
+                    if (pvs_bitset_test(seen, o) && !pvs_bitset_test(pv, o)) {
+                        if (misses < 5) fprintf(stderr, "extproj random walls: scene %d cell %u misses object %u\n", scene, c, o);
+                        ++misses;
+                    }
+                    culled += !pvs_bitset_test(pv, o);
+                }
+            }
+            free(seen);
+            pvs_bake_destroy(bk);
+        }
+        pvs_scene_destroy(s);
+    }
+    CHECK(misses == 0);
+    CHECK(culled > 100); /* something is hidden */
+    fprintf(stderr, "  extproj random walls: %u objects left out over 48 cell bakes\n", culled);
+    free(pos);
+    free(idx);
+}
+
+/* Adaptive cells (§6.1): the leaves tile their cells, each within its parent's PVS, within the budget
+   or at the minimum size, with no misses against ray sampling; the file's look-up finds them; the
+   bytes do not depend on the task order; bad parameters are refused. */
+static void test_adaptive(void) {
+    gen_params gp;
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *s;
+    pvs_bake_desc bd;
+    pvs_bake *b = NULL, *b2 = NULL;
+    pvs_error e;
+    pvs_file file;
+    void *f1 = NULL, *f2 = NULL;
+    size_t n1 = 0, n2 = 0;
+    uint32_t t, c, objects, misses = 0, *tris, budget = 12000;
+    pvs_word *seen, *bits;
+    double vol_cells = 0.0, vol_leaves = 0.0;
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = GEN_CITY;
+    gp.seed = 4;
+    gp.size = 0.3f;
+    gp.max_cells = 6;
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    CHECK(gen_scene(&gp, &m, &cells) == 0);
+    s = ep_scene(&m);
+    CHECK(s != NULL);
+    if (!s) return;
+    objects = pvs_scene_object_count(s);
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = s;
+    bd.cells = (const pvs_box *)cells.boxes;
+    bd.cell_count = cells.count;
+    bd.method = PVS_METHOD_EXTPROJ;
+    bd.adaptive_budget = budget;
+    /* refused: shards, a bad minimum size, too many sweep planes */
+    bd.shard_count = 2;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_UNSUPPORTED);
+    bd.shard_count = 0;
+    bd.adaptive_min_size = -1.0f;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    bd.adaptive_min_size = 0.0f;
+    bd.extproj_sweep = 257;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    bd.extproj_sweep = 0;
+    CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
+    CHECK(pvs_bake_begin(&bd, &b2, &e) == PVS_OK);
+    if (!b || !b2) return;
+    for (t = 0; t < pvs_bake_task_count(b); ++t) CHECK(pvs_bake_run_task(b, t, &e) == PVS_OK);
+    for (t = pvs_bake_task_count(b2); t-- > 0;) CHECK(pvs_bake_run_task(b2, t, &e) == PVS_OK);
+    {
+        pvs_word *w = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
+        CHECK(pvs_bake_restore_task(b2, 0, w, PVS_BITSET_WORDS(objects), &e) == PVS_ERROR_UNSUPPORTED); /* leaves are not in a PVS */
+        free(w);
+    }
+    n1 = pvs_bake_file_size(b);
+    n2 = pvs_bake_file_size(b2);
+    CHECK(n1 > 0 && n1 == n2);
+    f1 = malloc(n1 ? n1 : 1);
+    f2 = malloc(n2 ? n2 : 1);
+    CHECK(pvs_bake_write_file(b, f1, n1, &n1, &e) == PVS_OK && pvs_bake_write_file(b2, f2, n2, &n2, &e) == PVS_OK);
+    CHECK(n1 == n2 && memcmp(f1, f2, n1) == 0);
+    CHECK(pvs_file_open(f1, n1, &file, &e) == PVS_OK);
+    CHECK(file.cell_count == pvs_bake_leaf_count(b) && file.cell_count > cells.count);
+    tris = (uint32_t *)calloc(objects, sizeof(uint32_t));
+    for (t = 0; t < m.object_count; ++t) tris[t] = m.objects[t].triangle_count;
+    seen = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
+    bits = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
+    for (t = 0; t < cells.count; ++t) {
+        const float *cb = cells.boxes + 6 * (size_t)t;
+        vol_cells += ((double)cb[3] - cb[0]) * ((double)cb[4] - cb[1]) * ((double)cb[5] - cb[2]);
+    }
+    for (c = 0; c < file.cell_count; ++c) {
+        pvs_box lb = pvs_file_cell_box(&file, c);
+        uint32_t o, parent = cells.count, k, sum = 0;
+        float p[3], longest = 0.0f, plong = 0.0f;
+        const pvs_word *pp;
+        vol_leaves += ((double)lb.max[0] - lb.min[0]) * ((double)lb.max[1] - lb.min[1]) * ((double)lb.max[2] - lb.min[2]);
+        for (t = 0; t < cells.count && parent == cells.count; ++t) {
+            const float *cb = cells.boxes + 6 * (size_t)t;
+            if (lb.min[0] >= cb[0] && lb.min[1] >= cb[1] && lb.min[2] >= cb[2] && lb.max[0] <= cb[3] && lb.max[1] <= cb[4] && lb.max[2] <= cb[5]) parent = t;
+        }
+        CHECK(parent < cells.count);
+        if (parent >= cells.count) continue;
+        CHECK(pvs_file_decode(&file, c, bits, PVS_BITSET_WORDS(objects), &e) == PVS_OK);
+        pp = pvs_bake_cell_pvs(b, parent);
+        for (o = pvs_bitset_next(bits, objects, 0); o < objects; o = pvs_bitset_next(bits, objects, o + 1)) {
+            CHECK(pvs_bitset_test(pp, o)); /* within the whole cell's PVS */
+            sum += tris[o];
+        }
+        for (k = 0; k < 3; ++k) {
+            if (lb.max[k] - lb.min[k] > longest) longest = lb.max[k] - lb.min[k];
+            if (cells.boxes[6 * parent + 3 + k] - cells.boxes[6 * parent + k] > plong) plong = cells.boxes[6 * parent + 3 + k] - cells.boxes[6 * parent + k];
+        }
+        CHECK(sum <= budget || 0.5f * longest < 0.125f * plong); /* within the budget, or at the minimum size */
+        for (k = 0; k < 3; ++k) p[k] = 0.5f * (lb.min[k] + lb.max[k]);
+        {
+            uint32_t found = pvs_file_find_cell(&file, p);
+            pvs_box fb = pvs_file_cell_box(&file, found < file.cell_count ? found : 0);
+            CHECK(found < file.cell_count && p[0] >= fb.min[0] && p[0] <= fb.max[0] && p[1] >= fb.min[1] && p[1] <= fb.max[1] && p[2] >= fb.min[2] &&
+                  p[2] <= fb.max[2]);
+        }
+        memset(seen, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
+        pvs_sample_visibility(s, &lb, 12, 768, 500 + c, seen);
+        for (o = pvs_bitset_next(seen, objects, 0); o < objects; o = pvs_bitset_next(seen, objects, o + 1))
+            if (!pvs_bitset_test(bits, o)) {
+                if (misses < 5) fprintf(stderr, "extproj adaptive: leaf %u misses object %u\n", c, o);
+                ++misses;
+            }
+    }
+    CHECK(misses == 0);
+    CHECK(fabs(vol_cells - vol_leaves) <= 1e-4 * vol_cells); /* the leaves tile the cells */
+    fprintf(stderr, "  extproj adaptive: %u cells -> %u leaves (budget %u triangles), %zu bytes\n", cells.count, file.cell_count, budget, n1);
+    free(tris);
+    free(seen);
+    free(bits);
+    free(f1);
+    free(f2);
+    pvs_bake_destroy(b);
+    pvs_bake_destroy(b2);
+    pvs_scene_destroy(s);
+    mesh_free(&m);
+    mesh_cells_free(&cells);
+}
+
 void test_extproj(void) {
     test_occluder_projection();
     test_occludee_projection();
+    test_improved_projection();
+    test_slices();
+    test_sheets();
+    test_reprojection();
     test_thin_wall();
-    ep_check_scene(GEN_CITY, 1, 0.3f, 24, 16, 1024);
-    ep_check_scene(GEN_WALLS, 2, 0.4f, 30, 16, 1024);
-    ep_check_scene(GEN_INDOOR, 1, 0.3f, 30, 16, 1024);
-    ep_check_scene(GEN_FOREST, 1, 0.25f, 20, 16, 1024);
-    ep_check_scene(GEN_SOUP, 3, 0.3f, 20, 16, 1024);
+    test_fragmented_wall();
+    test_concave_projection();
+    test_random_walls();
+    test_adaptive();
+    ep_check_scene(GEN_CITY, 1, 0.3f, 24, 16, 1024, 0);
+    ep_check_scene(GEN_CITY, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
+    ep_check_scene(GEN_WALLS, 2, 0.4f, 30, 16, 1024, 0);
+    ep_check_scene(GEN_WALLS, 3, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
+    ep_check_scene(GEN_INDOOR, 1, 0.3f, 30, 16, 1024, 0);
+    ep_check_scene(GEN_INDOOR, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
+    ep_check_scene(GEN_FOREST, 1, 0.25f, 20, 16, 1024, 0);
+    ep_check_scene(GEN_FOREST, 2, 0.25f, 10, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
+    ep_check_scene(GEN_SOUP, 3, 0.3f, 20, 16, 1024, 0);
 }

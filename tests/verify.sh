@@ -91,5 +91,29 @@ case " $CONSERVATIVE_METHODS " in *" vocc "*)
     echo "city $seed 1 vocc $line$note"
   done;;
 esac
+# extproj with the occlusion sweep (§5) and with adaptive cells (§6.1): every generator, three seeds,
+# EXTPROJ_CELLS cells each (ADAPTIVE_CELLS for adaptive cells, each split into many); files identical
+# for -j1 and -j2
+case " $CONSERVATIVE_METHODS " in *" extproj "*)
+  for kind in city forest indoor walls soup; do
+    for seed in 1 2 3; do
+      base="$T/$kind-$seed-ep"
+      "$B/pvsgen" "$kind" --seed "$seed" --size 0.6 --max-cells "${EXTPROJ_CELLS:-500}" -o "$base.obj" --cells "$base.cells" 2>/dev/null || { echo "$kind $seed extproj: pvsgen failed"; fail=1; continue; }
+      "$B/pvsgen" "$kind" --seed "$seed" --size 0.6 --max-cells "${ADAPTIVE_CELLS:-100}" -o "$base-a.obj" --cells "$base-a.cells" 2>/dev/null || { echo "$kind $seed extproj: pvsgen failed"; fail=1; continue; }
+      for variant in sweep adaptive; do
+        if [ "$variant" = sweep ]; then opts="--sweep"; cf="$base.cells"; else opts="--adaptive ${ADAPTIVE_BUDGET:-20000}"; cf="$base-a.cells"; fi
+        "$B/pvsbake" -q --no-state "$base.obj" --cells "$cf" --method extproj $opts -j "$J" -o "$base.$variant.pvs" || { echo "$kind $seed extproj $variant: bake failed"; fail=1; continue; }
+        if [ "$seed" = 1 ]; then
+          "$B/pvsbake" -q --no-state "$base.obj" --cells "$cf" --method extproj $opts -j 1 -o "$base.$variant-j1.pvs" &&
+            cmp -s "$base.$variant.pvs" "$base.$variant-j1.pvs" || { echo "$kind $seed extproj $variant: files differ with the thread count"; fail=1; }
+        fi
+        line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.$variant.pvs")
+        rc=$?
+        note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
+        echo "$kind $seed 0.6 extproj-$variant $line$note"
+      done
+    done
+  done;;
+esac
 [ $fail -eq 0 ] && echo "verify: ok" || echo "verify: FAILED"
 exit $fail

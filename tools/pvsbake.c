@@ -27,6 +27,12 @@ static const char *usage =
     "  --2d5, --3d       shrink: force the 2.5D (cull map) or 3D (depth cube) path; default: 2.5D\n"
     "                    when the synthesized occluders stand on the ground\n"
     "  --voxel V         shrink: voxel size of the occluder synthesis (default eps / 1.5, capped)\n"
+    "  --sweep           extproj: add the occlusion sweep (Durand 2000 §5) for scenes of many small\n"
+    "                    occluders (foliage); slower\n"
+    "  --adaptive N      split a cell whose PVS holds more than N triangles in two, recursively\n"
+    "                    (Durand 2000 §6.1); the file holds the leaf cells. Not with --shard, vocc\n"
+    "                    or resuming (no state file)\n"
+    "  --min-cell S      --adaptive: no cell side below S (default: an eighth of the cell's longest)\n"
     "  --vocc-only       vocc: store only the occluders (the PVS records list every object; the\n"
     "                    runtime rebuilds each cell's PVS with pvs_vocc_cull)\n"
     "  --vocc-slices N   vocc: height slices per cell (1..16, default 5)\n"
@@ -253,6 +259,8 @@ int main(int argc, char **argv) {
     const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL, *state_path = NULL;
     float grid = 0.0f, eps = 0.0f, voxel = 0.0f, max_distance = 0.0f;
     pvs_shrink_mode shrink_mode = PVS_SHRINK_AUTO;
+    uint32_t sweep = 0, adaptive = 0;
+    float min_cell = 0.0f;
     uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0, methods = 0, state_every = 0;
     uint32_t vocc_slices = 0, vocc_max = 0;
     int quiet = 0, i, preview = 0, no_state = 0, vocc_only = 0;
@@ -285,6 +293,8 @@ int main(int argc, char **argv) {
             shrink_mode = PVS_SHRINK_2D5;
         } else if (!strcmp(a, "--3d")) {
             shrink_mode = PVS_SHRINK_3D;
+        } else if (!strcmp(a, "--sweep")) {
+            sweep = PVS_EXTPROJ_SWEEP_PLANES;
         } else if (!strcmp(a, "--vocc-only")) {
             vocc_only = 1;
         } else if (!strcmp(a, "--preview")) {
@@ -295,7 +305,7 @@ int main(int argc, char **argv) {
                    !strcmp(a, "--method") || !strcmp(a, "--eps") || !strcmp(a, "-j") || !strcmp(a, "--points") ||
                    !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard") || !strcmp(a, "--voxel") ||
                    !strcmp(a, "--max-distance") || !strcmp(a, "--state") || !strcmp(a, "--state-every") ||
-                   !strcmp(a, "--vocc-slices") || !strcmp(a, "--vocc-max")) {
+                   !strcmp(a, "--vocc-slices") || !strcmp(a, "--vocc-max") || !strcmp(a, "--adaptive") || !strcmp(a, "--min-cell")) {
             if (!v) return usage_error("%s needs a value", a);
             ++i;
             if (!strcmp(a, "-o")) out_path = v;
@@ -308,6 +318,10 @@ int main(int argc, char **argv) {
             } else if (!strcmp(a, "--method")) {
                 if (parse_method(v, &method, &methods))
                     return usage_error("unknown method '%s' (available: auto, sample, shrink, otree, extproj, vocc, or a list such as otree,extproj)", v);
+            } else if (!strcmp(a, "--adaptive")) {
+                if (cli_parse_u32(v, 1, 0xffffffffu, &adaptive)) return usage_error("--adaptive takes a triangle budget >= 1, not '%s'", v);
+            } else if (!strcmp(a, "--min-cell")) {
+                if (parse_float(v, &min_cell) || !(min_cell > 0.0f)) return usage_error("--min-cell needs a positive size, not '%s'", v);
             } else if (!strcmp(a, "--vocc-slices")) {
                 if (cli_parse_u32(v, 1, 16, &vocc_slices)) return usage_error("--vocc-slices takes 1..16, not '%s'", v);
             } else if (!strcmp(a, "--vocc-max")) {
@@ -372,6 +386,10 @@ int main(int argc, char **argv) {
     bd.vocc_slices = vocc_slices;
     bd.vocc_max_occluders = vocc_max;
     bd.vocc_only = (uint32_t)vocc_only;
+    bd.extproj_sweep = sweep;
+    bd.adaptive_budget = adaptive;
+    bd.adaptive_min_size = min_cell;
+    if (adaptive) no_state = 1; /* a cell's PVS alone does not restore its leaves */
     if (shard_n > 1) {
         if (shard_n > cells.count) {
             tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "--shard %u/%u: only %u cells", shard_k, shard_n, cells.count);
@@ -391,9 +409,20 @@ int main(int argc, char **argv) {
                 (double)pvs_bake_eps(bake), eps > 0.0f ? "" : " (default: an eighth of the median cell width)",
                 pvs_bake_shrink_mode(bake) == PVS_SHRINK_2D5 ? "2.5D" : "3D", oi.dims[0], oi.dims[1], oi.dims[2],
                 (double)oi.voxel_size, (unsigned long long)oi.solid, (unsigned long long)oi.eroded, oi.box_count, oi.rect_count);
+        fprintf(stderr, "  %u closed of %u meshes (edge-connected triangle sets), %llu open edges, %llu undecided columns\n",
+                oi.closed_components, oi.components, (unsigned long long)oi.open_edges, (unsigned long long)oi.undecided_columns);
         if (oi.leak_cell != PVS_NO_CELL)
-            fprintf(stderr, "  cell %u reaches the outside (open to the sky, or a leak) near %g %g %g\n", oi.leak_cell,
-                    (double)oi.leak_point[0], (double)oi.leak_point[1], (double)oi.leak_point[2]);
+            fprintf(stderr, "  %u cell%s reach%s the outside (open to the sky, or a leak), the first cell %u near %g %g %g\n", oi.leak_cells,
+                    oi.leak_cells == 1 ? "" : "s", oi.leak_cells == 1 ? "es" : "", oi.leak_cell, (double)oi.leak_point[0],
+                    (double)oi.leak_point[1], (double)oi.leak_point[2]);
+        if (oi.excluded_cells) {
+            uint32_t nex = 0, q;
+            const uint32_t *ex = pvs_occluders_excluded_cells(pvs_bake_occluders(bake), &nex);
+            fprintf(stderr, "  warning: %u leaking cell%s left out of the solid proof (baked with a second synthesis that every cell\n"
+                            "  seeds: little or no occlusion for them; fix the cells or seal the mesh):", nex, nex == 1 ? "" : "s");
+            for (q = 0; q < nex && q < 32; ++q) fprintf(stderr, " %u", ex[q]);
+            fprintf(stderr, "%s\n", nex > 32 ? " ..." : "");
+        }
         fprintf(stderr, "  %u objects give no occluder volume (thin walls with open space on both sides, props)\n", oi.thin_objects);
         if (oi.eroded == 0 && pvs_bake_method(bake) == PVS_METHOD_SHRINK)
             fprintf(stderr, "  warning: no occluder volume survives erosion by eps: every object will be visible from every cell;\n"
@@ -423,6 +452,17 @@ int main(int argc, char **argv) {
     if (cli_write_bake(bake, out_path, &size, &te)) goto fail;
     if (run.state_path) remove(run.state_path);
     if (!quiet) print_summary(out_path, scene, bake, &run, secs, t_bake, cli_seconds() - t0, size, shard_n > 1);
+    if (!quiet) {
+        pvs_bake_report rep;
+        pvs_bake_get_report(bake, &rep);
+        if (rep.cells_no_occluders)
+            fprintf(stderr, "  warning: %u of %u cells had no occluder (shrink): their PVS is every object\n", rep.cells_no_occluders, rep.cells);
+        else if (rep.cells_all_visible)
+            fprintf(stderr, "  %u of %u cells see every object\n", rep.cells_all_visible, rep.cells);
+    }
+    if (!quiet && adaptive)
+        fprintf(stderr, "  adaptive: %u leaf cells in the file (budget %u triangles; the PVS figures above are of the whole cells)\n",
+                pvs_bake_leaf_count(bake), adaptive);
     if (!quiet && vocc_only)
         fprintf(stderr, "  vocc-only: the PVS above is the placeholder the records store (every object); the runtime rebuilds\n"
                         "  each cell's PVS from its virtual occluders (pvs_vocc_cull; pvscheck checks that one)\n");
