@@ -139,7 +139,12 @@
    plane on is reported, whatever the rounding (>>raster explains the margins). Depth is reversed
    (larger is nearer). Pass a cell's decoded PVS as `candidates` to cull inside it. Depth maps above
    65,536 pixels keep occluders in Masked Occlusion Culling's tiles (fast, a little coarser); smaller
-   ones per pixel; PVS_RASTER_TILED / PVS_RASTER_PER_PIXEL choose. The object-space twin,
+   ones per pixel; PVS_RASTER_TILED / PVS_RASTER_PER_PIXEL choose. A triangle alone covers only the
+   pixels it covers entirely, so a wall of many triangles leaves cracks along their shared edges;
+   pvs_raster_mesh draws a connected mesh as one surface (a pixel counts when the union covers it),
+   which pvs_raster_cull does for the scene's occluders by default (PVS_CULL_SEPARATE_TRIANGLES: the
+   old way) and for the caller's triangles with PVS_CULL_OCCLUDER_MESH; it costs more than the
+   triangles alone (bench_raster: raster_mesh_frame_ms_1080p). The object-space twin,
    pvs_otree_create / pvs_otree_cull (Bittner 2002 ch. 4), takes the same camera, parameters and
    outputs: a shadow-volume occlusion tree of a few dozen occluder polygons instead of a depth map,
    exact box tests, and temporal coherence (it remembers the last frame's occluders and node
