@@ -6729,6 +6729,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
         double d = nd->n[0] * q->v[i][0] + nd->n[1] * q->v[i][1] + nd->n[2] * q->v[i][2];
         if (d < lo) lo = d;
         if (d > hi) hi = d;
+        if (lo < -1e-12 && hi > 1e-12) break; /* straddles: the other vertices cannot change the answer */
     }
     if (lo >= -1e-12) { t->stack_node[top] = c1; return 0; }
     if (hi <= 1e-12) { t->stack_node[top] = c0; return 0; }
@@ -6822,7 +6823,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
     /* fix each edge's plane: the point of the candidates that lies on both end lines */
     {
         const double *cand[4];
-        double cn[4][3], en[PVS__OT_MAXV][3], cen[3] = {0, 0, 0};
+        double cn[4][3], en[PVS__OT_MAXV][3], cen[3] = {0, 0, 0}, clen;
         cand[0] = a; cand[1] = b; cand[2] = c; cand[3] = d;
         for (k = 0; k < 4; ++k) pvs__ot_normal(cand[k], 1.0, cn[k]);
         for (i = 0; i < n; ++i) {
@@ -6852,8 +6853,9 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
         }
         /* convexity: every vertex on the inner side of every edge plane */
         for (i = 0; i < n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
+        clen = sqrt(cen[0] * cen[0] + cen[1] * cen[1] + cen[2] * cen[2]);
         for (i = 0; i < n; ++i) {
-            double s = (en[i][0] * cen[0] + en[i][1] * cen[1] + en[i][2] * cen[2]) / sqrt(cen[0] * cen[0] + cen[1] * cen[1] + cen[2] * cen[2]);
+            double s = (en[i][0] * cen[0] + en[i][1] * cen[1] + en[i][2] * cen[2]) / clen;
             if (!(fabs(s) > 1e-12)) return 0;
             for (k = 0; k < n; ++k)
                 if ((s > 0 ? 1.0 : -1.0) * (en[i][0] * q->v[k][0] + en[i][1] * q->v[k][1] + en[i][2] * q->v[k][2]) < -1e-9) return 0;
@@ -7978,17 +7980,17 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
     double near = pvs__ot25_near(t, sk), top = t->top[k];
     if (!pvs__ot_push(t, 0, blocker)) return;
     while (t->stack_count > base && !t->oom) {
-        pvs__otpoly q;
+        const pvs__otpoly *q;
         uint32_t node = t->stack_node[t->stack_count - 1];
         pvs__otnode *nd = t->nodes + node;
         if (pvs__ot25_hidden_below(t, nd, near, top)) { --t->stack_count; continue; } /* k hidden in this subtree */
         if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1, near, top); continue; }
-        pvs__ot_pop(t, &q);
+        q = t->stack + --t->stack_count; /* read in its slot: nothing is pushed before the next pop */
         if (nd->kind == PVS__OT_OUT) {
-            uint32_t leaf = pvs__ot_refine(t, node, &q);
+            uint32_t leaf = pvs__ot_refine(t, node, q);
             if (leaf != PVS__OT_NONE && pvs__ot_set_payload(t, leaf, 0, 0, k)) {
                 double f0, f1;
-                pvs__ot25_funnel(&q, sk, &f0, &f1);
+                pvs__ot25_funnel(q, sk, &f0, &f1);
                 pvs__ot25_join(t, leaf, k, f0, f1);
             }
             pvs__ot25_bound(t, node);
@@ -7997,10 +7999,10 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
             double f0, f1, v0, v1, cen[3] = {0, 0, 0};
             int i, c;
             if (count >= PVS__OT25_MAX_SEQ) continue; /* a full leaf keeps its members: conservative */
-            if (!pvs__ot25_open(t, &q, first, count, k, sk, t->top[k], NULL, &f0, &f1, &v0, &v1)) continue; /* hidden here */
-            leaf = pvs__ot_refine(t, node, &q);
+            if (!pvs__ot25_open(t, q, first, count, k, sk, t->top[k], NULL, &f0, &f1, &v0, &v1)) continue; /* hidden here */
+            leaf = pvs__ot_refine(t, node, q);
             if (leaf == PVS__OT_NONE) break;
-            for (i = 0; i < q.n; ++i) for (c = 0; c < 3; ++c) cen[c] += q.v[i][c];
+            for (i = 0; i < q->n; ++i) for (c = 0; c < 3; ++c) cen[c] += q->v[i][c];
             if (count >= PVS__OT25_SPLIT_MIN && v0 > f0 + 1e-9) { /* lines through k before v0 see only the old members */
                 double x[2];
                 x[0] = sk[0] + v0 * (sk[2] - sk[0]); x[1] = sk[1] + v0 * (sk[3] - sk[1]);
