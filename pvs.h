@@ -6420,7 +6420,8 @@ typedef struct pvs__otree {
     size_t node_count, node_cap;
     uint32_t *seq;
     size_t seq_count, seq_cap;
-    pvs__otpoly *stack;             /* work stack of polygons */
+    pvs__otpoly *stack;             /* work stack of polygons: item i is stack[stack_slot[i]] (PVS__OT_ITEM) */
+    uint32_t *stack_slot;           /* a permutation of the storage: a clip writes into a free slot, then swaps */
     uint32_t *stack_node;
     uint32_t *stack_pend;           /* read-only tests: a clip still owed, (node << 1) | side, or PVS__OT_NONE */
     size_t stack_count, stack_cap;
@@ -6459,7 +6460,8 @@ PVS__STATIC void pvs__ot_free(pvs__otree *t) {
     pvs__free(t->a, t->stack, t->stack_cap * sizeof(pvs__otpoly), 16);
     pvs__free(t->a, t->stack_node, t->stack_cap * sizeof(uint32_t), 16);
     pvs__free(t->a, t->stack_pend, t->stack_cap * sizeof(uint32_t), 16);
-    t->nodes = NULL; t->seq = NULL; t->stack = NULL; t->stack_node = NULL; t->stack_pend = NULL;
+    pvs__free(t->a, t->stack_slot, t->stack_cap * sizeof(uint32_t), 16);
+    t->nodes = NULL; t->seq = NULL; t->stack = NULL; t->stack_node = NULL; t->stack_pend = NULL; t->stack_slot = NULL;
     t->node_cap = t->seq_cap = t->stack_cap = 0;
 }
 
@@ -6498,23 +6500,34 @@ PVS__STATIC void pvs__ot_copy(pvs__otpoly *d, const pvs__otpoly *s) {
     }
 }
 
-/* Makes room for `need` work items (the three stack arrays grow together). */
+/* Makes room for `need` work items (the four stack arrays grow together; new items get new slots). */
 PVS__STATIC int pvs__ot_reserve(pvs__otree *t, size_t need) {
-    size_t c1 = t->stack_cap, c2 = t->stack_cap, c3 = t->stack_cap;
+    size_t c1 = t->stack_cap, c2 = t->stack_cap, c3 = t->stack_cap, c4 = t->stack_cap, i;
     if (need <= t->stack_cap) return 1;
     if (!pvs__ot_grow(t->a, (void **)&t->stack, &c1, need, sizeof(pvs__otpoly)) ||
         !pvs__ot_grow(t->a, (void **)&t->stack_node, &c2, need, sizeof(uint32_t)) ||
-        !pvs__ot_grow(t->a, (void **)&t->stack_pend, &c3, need, sizeof(uint32_t))) {
+        !pvs__ot_grow(t->a, (void **)&t->stack_pend, &c3, need, sizeof(uint32_t)) ||
+        !pvs__ot_grow(t->a, (void **)&t->stack_slot, &c4, need, sizeof(uint32_t))) {
         t->oom = 1;
         return 0;
     }
+    for (i = t->stack_cap; i < c4; ++i) t->stack_slot[i] = (uint32_t)i;
     t->stack_cap = c1 < c2 ? (c1 < c3 ? c1 : c3) : (c2 < c3 ? c2 : c3);
+    if (c4 < t->stack_cap) t->stack_cap = c4;
     return 1;
+}
+/* Work item i's polygon. */
+#define PVS__OT_ITEM(t, i) ((t)->stack + (t)->stack_slot[i])
+/* Items i and j trade polygons (no copy). */
+PVS__STATIC void pvs__ot_swap(pvs__otree *t, size_t i, size_t j) {
+    uint32_t s = t->stack_slot[i];
+    t->stack_slot[i] = t->stack_slot[j];
+    t->stack_slot[j] = s;
 }
 
 PVS__STATIC int pvs__ot_push(pvs__otree *t, uint32_t node, const pvs__otpoly *poly) {
     if (!pvs__ot_reserve(t, t->stack_count + 1)) return 0;
-    pvs__ot_copy(t->stack + t->stack_count, poly);
+    pvs__ot_copy(PVS__OT_ITEM(t, t->stack_count), poly);
     t->stack_pend[t->stack_count] = PVS__OT_NONE;
     t->stack_node[t->stack_count++] = node;
     return 1;
@@ -6522,7 +6535,7 @@ PVS__STATIC int pvs__ot_push(pvs__otree *t, uint32_t node, const pvs__otpoly *po
 /* Pops the top of the work stack into *q; returns its node. */
 PVS__STATIC uint32_t pvs__ot_pop(pvs__otree *t, pvs__otpoly *q) {
     --t->stack_count;
-    pvs__ot_copy(q, t->stack + t->stack_count);
+    pvs__ot_copy(q, PVS__OT_ITEM(t, t->stack_count));
     return t->stack_node[t->stack_count];
 }
 
@@ -6677,7 +6690,7 @@ PVS__STATIC int pvs__ot25_hidden_below(const pvs__otree *t, const pvs__otnode *n
    lying on the node's line are marked (§4.10.1), then it goes to the child it lies in, or is split
    between both; a child whose subtree hides the occluder (2.5D bound, near >= 0) gets nothing. */
 PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, double h) {
-    pvs__otpoly *q = t->stack + top, a, b;
+    pvs__otpoly *q = PVS__OT_ITEM(t, top);
     const pvs__otnode *nd = t->nodes + t->stack_node[top];
     double lo = DBL_MAX, hi = -DBL_MAX;
     uint32_t c0 = nd->child[0], c1 = nd->child[1];
@@ -6692,21 +6705,37 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
     if (hi <= 1e-12) { t->stack_node[top] = c0; return; }
     {
         int r[2], h0 = pvs__ot25_hidden_below(t, t->nodes + c0, near, h), h1 = pvs__ot25_hidden_below(t, t->nodes + c1, near, h);
+        uint32_t s0, s1, s2;
+        size_t m = top;
         if (h0 && h1) { t->stack_count = top; return; }
+        /* the parts are written into the free slots above the top, which then trade places */
+        if (!pvs__ot_reserve(t, top + 3)) { t->stack_count = top; return; }
+        q = PVS__OT_ITEM(t, top);
         if (h0 || h1) { /* only one side matters */
             double nf[3];
             for (i = 0; i < 3; ++i) nf[i] = h0 ? nd->n[i] : -nd->n[i];
-            na = pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, &a);
+            na = pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
             t->stack_count = top;
-            if (na >= 3) pvs__ot_push(t, h0 ? c1 : c0, &a);
+            if (na >= 3) {
+                pvs__ot_swap(t, top, top + 1);
+                t->stack_pend[top] = PVS__OT_NONE;
+                t->stack_node[top] = h0 ? c1 : c0;
+                t->stack_count = top + 1;
+            }
             return;
         }
-        pvs__ot_split2(q, nd->n, nd->p, 0.0, 1, &a, &b, r);
+        pvs__ot_split2(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1), PVS__OT_ITEM(t, top + 2), r);
         na = r[0]; nb = r[1];
+        /* items top.. become the positive part (c1), then the negative one (c0), as two pushes
+           would leave them; the unused slots go above (the slots stay a permutation) */
+        s0 = t->stack_slot[top]; s1 = t->stack_slot[top + 1]; s2 = t->stack_slot[top + 2];
+        if (na >= 3) { t->stack_slot[m] = s1; t->stack_node[m] = c1; t->stack_pend[m] = PVS__OT_NONE; ++m; }
+        if (nb >= 3) { t->stack_slot[m] = s2; t->stack_node[m] = c0; t->stack_pend[m] = PVS__OT_NONE; ++m; }
+        t->stack_count = m;
+        t->stack_slot[m++] = s0;
+        if (na < 3) t->stack_slot[m++] = s1;
+        if (nb < 3) t->stack_slot[m++] = s2;
     }
-    t->stack_count = top;
-    if (na >= 3) pvs__ot_push(t, c1, &a);
-    if (nb >= 3) pvs__ot_push(t, c0, &b);
 }
 
 /* A read-only test at an inner node (§3.3.4), on the top of the work stack in place: the polygon,
@@ -6721,7 +6750,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
     uint32_t c0, c1, node = t->stack_node[top];
     int i, r, first;
     if (top + 2 > t->stack_cap && !pvs__ot_reserve(t, top + 2)) return 1;
-    q = t->stack + top;
+    q = PVS__OT_ITEM(t, top);
     nd = t->nodes + node;
     c0 = nd->child[0];
     c1 = nd->child[1];
@@ -6741,9 +6770,9 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
         if (h0 && h1) { t->stack_count = top; return 0; }
         if (h0 || h1) {
             for (i = 0; i < 3; ++i) nf[i] = h0 ? nd->n[i] : -nd->n[i];
-            r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, t->stack + top + 1);
+            r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
             if (r == 0) { t->stack_count = top; return 0; }
-            if (r > 0) pvs__ot_copy(q, t->stack + top + 1);
+            if (r > 0) pvs__ot_swap(t, top, top + 1);
             t->stack_node[top] = h0 ? c1 : c0;
             return 0;
         }
@@ -6752,8 +6781,8 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
        other keeps the polygon as it is and clips it only if the test gets there (pvs__ot_owed) */
     first = t->nodes[c1].mr == DBL_MAX && t->nodes[c0].mr != DBL_MAX ? 1 : 0;
     for (i = 0; i < 3; ++i) nf[i] = first ? nd->n[i] : -nd->n[i];
-    r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, t->stack + top + 1);
-    if (r < 0) pvs__ot_copy(t->stack + top + 1, q); /* too many vertices: the whole polygon (conservative) */
+    r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
+    if (r < 0) pvs__ot_copy(PVS__OT_ITEM(t, top + 1), q); /* too many vertices: the whole polygon (conservative) */
     t->stack_node[top] = first ? c0 : c1;
     t->stack_pend[top] = (node << 1) | (uint32_t)(1 - first);
     if (r != 0) {
@@ -6774,9 +6803,14 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
     int i, r;
     t->stack_pend[top] = PVS__OT_NONE;
     for (i = 0; i < 3; ++i) nf[i] = (pend & 1u) ? nd->n[i] : -nd->n[i];
-    r = pvs__ot_clip_n(t->stack + top, nf, nd->p, 1e-12, 0, &part);
+    if (top + 2 <= t->stack_cap) { /* into the free slot above, which then trades places */
+        r = pvs__ot_clip_n(PVS__OT_ITEM(t, top), nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
+        if (r > 0) pvs__ot_swap(t, top, top + 1);
+        return r != 0;
+    }
+    r = pvs__ot_clip_n(PVS__OT_ITEM(t, top), nf, nd->p, 1e-12, 0, &part);
     if (r == 0) return 0;
-    if (r > 0) pvs__ot_copy(t->stack + top, &part);
+    if (r > 0) pvs__ot_copy(PVS__OT_ITEM(t, top), &part);
     return 1;
 }
 
@@ -7985,7 +8019,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
         pvs__otnode *nd = t->nodes + node;
         if (pvs__ot25_hidden_below(t, nd, near, top)) { --t->stack_count; continue; } /* k hidden in this subtree */
         if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1, near, top); continue; }
-        q = t->stack + --t->stack_count; /* read in its slot: nothing is pushed before the next pop */
+        q = PVS__OT_ITEM(t, --t->stack_count); /* read in its slot: nothing is pushed before the next pop */
         if (nd->kind == PVS__OT_OUT) {
             uint32_t leaf = pvs__ot_refine(t, node, q);
             if (leaf != PVS__OT_NONE && pvs__ot_set_payload(t, leaf, 0, 0, k)) {
@@ -8052,7 +8086,7 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
             vis = 1;
         } else {
             double f0, f1, v0, v1;
-            if (pvs__ot25_open(t, t->stack + t->stack_count, nd->first, nd->count, PVS__OT_NONE, e, h, box, &f0, &f1, &v0, &v1)) vis = 1;
+            if (pvs__ot25_open(t, PVS__OT_ITEM(t, t->stack_count), nd->first, nd->count, PVS__OT_NONE, e, h, box, &f0, &f1, &v0, &v1)) vis = 1;
         }
     }
     t->stack_count = base;
