@@ -6574,17 +6574,20 @@ PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
    plane of p. New edges lie in the plane of p and get mark `mark`. Returns the vertex count of the
    result (0 = empty, -1 = too many vertices). */
 PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark, pvs__otpoly *out) {
-    double d[PVS__OT_MAXV];
+    double d[PVS__OT_MAXV + 1];
+    unsigned char ins[PVS__OT_MAXV + 1];
     int i, n = in->n, m = 0, any_in = 0;
     for (i = 0; i < n; ++i) {
         d[i] = nn[0] * in->v[i][0] + nn[1] * in->v[i][1] + nn[2] * in->v[i][2] + slack;
+        ins[i] = d[i] >= 0.0;
         if (d[i] > PVS__OT_EPS) any_in = 1;
     }
     out->xsplit = in->xsplit;
     if (!any_in) { out->n = 0; return 0; }
+    d[n] = d[0]; ins[n] = ins[0];
     for (i = 0; i < n; ++i) {
         int j = i + 1 == n ? 0 : i + 1;
-        int in_i = d[i] >= 0.0, in_j = d[j] >= 0.0;
+        int in_i = ins[i], in_j = ins[i + 1];
         if (in_i) {
             if (m >= PVS__OT_MAXV) { out->n = 0; return -1; }
             memcpy(out->v[m], in->v[i], sizeof(out->v[m]));
@@ -6593,11 +6596,12 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
             ++m;
         }
         if (in_i != in_j) {
-            double tt = d[i] / (d[i] - d[j]);
+            double tt = d[i] / (d[i] - d[i + 1]), *v = out->v[m], len;
             int k;
             if (m >= PVS__OT_MAXV) { out->n = 0; return -1; }
-            for (k = 0; k < 3; ++k) out->v[m][k] = in->v[i][k] + tt * (in->v[j][k] - in->v[i][k]);
-            pvs__ot_normalize(out->v[m]);
+            for (k = 0; k < 3; ++k) v[k] = in->v[i][k] + tt * (in->v[j][k] - in->v[i][k]);
+            len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); /* pvs__ot_normalize, in line */
+            if (len > 0.0) { double f = 1.0 / len; v[0] *= f; v[1] *= f; v[2] *= f; }
             if (in_i) { /* leaving: the new edge runs along p's plane */
                 out->e[m][0] = p[0]; out->e[m][1] = p[1];
                 out->mark[m] = (unsigned char)mark;
@@ -8348,9 +8352,11 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     memset(state, 0, (size_t)nf + 1);
     cx = 0.5 * ((double)desc->cell_min[0] + desc->cell_max[0]);
     cy = 0.5 * ((double)desc->cell_min[1] + desc->cell_max[1]);
-    for (i = 0; i < 4 * nf; ++i) {
-        all[i] = (double)desc->facades[5 * (i / 4) + (i % 4)] - (i & 1 ? cy : cx);
-        if (fabs(all[i]) > ext) ext = fabs(all[i]);
+    for (i = 0; i < nf; ++i) {
+        const float *f = desc->facades + 5 * (size_t)i;
+        double *o = all + 4 * (size_t)i;
+        o[0] = (double)f[0] - cx; o[1] = (double)f[1] - cy; o[2] = (double)f[2] - cx; o[3] = (double)f[3] - cy;
+        for (k = 0; k < 4; ++k) if (fabs(o[k]) > ext) ext = fabs(o[k]);
     }
     for (i = 0; i < no; ++i) {
         for (k = 0; k < 4; ++k) box[5 * i + k] = (double)desc->objects[5 * i + k] - (k & 1 ? cy : cx);
