@@ -67,6 +67,7 @@ typedef struct gen_params {
     uint64_t seed;
     float size;         /* scale factor, 1 = default; (0, 8] */
     uint32_t max_cells; /* 0 = all; otherwise an evenly spread subset of at most this many cells */
+    int dense;          /* forest only (other kinds: bad params): the dense forest described above; 0 = the default */
 } gen_params;
 
 /* Where the deliberate stress cells are. Cells are ordered: regular cells first, then
