@@ -1025,13 +1025,15 @@ static int gen__forest(gen__ctx *c, const gen_params *P) {
 }
 
 /* The dense forest (gen_params.dense), after Durand 2000 §7.2's test scene (7,750 trees of 1,000
-   leaves): trees 4.5 m apart whose foliage reaches down to eye height, and bushes between them, so
-   that from inside the forest only the nearest few percent of the objects can be seen, through the
-   gaps between many small leaves. Conifers: a column of leaf clusters from 0.8-1.6 m up to the top,
-   widest at the bottom; broadleaves: clusters from 1.4-3 m up, spread around the top of the trunk.
-   Bushes (bush_N): 2-3 clusters of smaller leaves on the ground. Cells are 3 m boxes at y 0.5..2.0
-   where one fits without touching any leaf or trunk (exact test, 0.1 m margin). */
+   leaves, "coarse and made of large triangles"): trees 4.5 m apart whose foliage reaches down to
+   eye height, and bushes between them, so that from inside the forest only the nearest few percent
+   of the objects can be seen, through the gaps between many leaves. Conifers: a column of leaf
+   clusters from 0.8-1.6 m up to the top, widest at the bottom; broadleaves: clusters from 1.4-3 m
+   up, spread around the top of the trunk. Bushes (bush_N): 2-3 clusters of smaller leaves on the
+   ground. Cells are 3 m boxes at y 0.5..2.0 where one fits without touching any leaf or trunk
+   (exact test, 0.1 m margin). Uses its own random stream: the default forest is unchanged. */
 static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
+    const double LT = 1.5; /* leaf size: coarse, large triangles (0.5-1.1 m), as in Durand 2000 §7.2 */
     static const double hex[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, {-0.5, 0.8660254037844386},
                                      {-1, 0}, {-0.5, -0.8660254037844386}, {0.5, -0.8660254037844386}};
     gen__rng *r = &c->rng;
@@ -1085,14 +1087,14 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
                     int ncu = 4 + (int)gen__ri(r, 3);
                     for (int k = 0; k < ncu; ++k) {
                         double f = (double)k / (ncu - 1), rad = R * (1.0 - 0.7 * f) * gen__rf(r, 0.85, 1.0);
-                        double cy = y0 + rad * 0.6 + f * (ht - y0 - rad * 0.6), ts = gen__rf(r, 0.5, 0.75);
+                        double cy = y0 + rad * 0.6 + f * (ht - y0 - rad * 0.6), ts = LT * gen__rf(r, 0.5, 0.75);
                         gen__leaves(c, x, cy, z, rad, 18 + (int)gen__ri(r, 7), ts);
                     }
                 } else {
                     double y0 = gen__rf(r, 1.4, 3.0);
                     int ncu = 3 + (int)gen__ri(r, 3);
                     for (int k = 0; k < ncu; ++k) {
-                        double rad = gen__rf(r, 1.2, 1.9), ts = gen__rf(r, 0.5, 0.75);
+                        double rad = gen__rf(r, 1.2, 1.9), ts = LT * gen__rf(r, 0.5, 0.75);
                         double cx = x + gen__rf(r, -1.4, 1.4), cz = z + gen__rf(r, -1.4, 1.4);
                         double cy = gen__rf(r, y0 + rad * 0.7, gen__max(y0 + rad * 0.7, ht - 0.5));
                         gen__leaves(c, cx, cy, cz, rad, 18 + (int)gen__ri(r, 7), ts);
@@ -1108,7 +1110,7 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
                 gen__obj(c, "bush_%u", nbush++);
                 int ncu = 2 + (int)gen__ri(r, 2);
                 for (int k = 0; k < ncu; ++k) {
-                    double rad = gen__rf(r, 0.6, 1.1), ts = gen__rf(r, 0.35, 0.55);
+                    double rad = gen__rf(r, 0.6, 1.1), ts = LT * gen__rf(r, 0.35, 0.55);
                     double cx = bx + gen__rf(r, -0.5, 0.5), cz = bz + gen__rf(r, -0.5, 0.5), cy = rad * gen__rf(r, 0.8, 1.2) + ts;
                     gen__leaves(c, cx, cy, cz, rad, 14 + (int)gen__ri(r, 7), ts);
                 }
