@@ -1033,7 +1033,7 @@ static int gen__forest(gen__ctx *c, const gen_params *P) {
    ground. Cells are 3 m boxes at y 0.5..2.0 where one fits without touching any leaf or trunk
    (exact test, 0.1 m margin). Uses its own random stream: the default forest is unchanged. */
 static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
-    const double LT = 1.5; /* leaf size: coarse, large triangles (0.5-1.1 m), as in Durand 2000 §7.2 */
+    const double LT = 2.0; /* leaf size: coarse, large triangles (0.7-1.5 m), as in Durand 2000 §7.2 */
     static const double hex[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, {-0.5, 0.8660254037844386},
                                      {-1, 0}, {-0.5, -0.8660254037844386}, {0.5, -0.8660254037844386}};
     gen__rng *r = &c->rng;
@@ -1069,7 +1069,7 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
             first[(size_t)j * ng + i] = c->m->object_count;
             double x = (i + 0.5) * sp + gen__rf(r, -0.3, 0.3) * sp, z = (j + 0.5) * sp + gen__rf(r, -0.3, 0.3) * sp;
             double tr_r = gen__rf(r, 0.1, 0.3), ht = gen__rf(r, 6, 14);
-            int conifer = gen__chance(r, 0.45), keep = gen__chance(r, 0.94), bush = gen__chance(r, 0.8);
+            int conifer = gen__chance(r, 0.45), keep = gen__chance(r, 0.94), bush = gen__chance(r, 0.95);
             double ba = gen__rf(r, 0, 4), bd = gen__rf(r, 1.6, 2.4); /* the bush: side (0..4 around a square) and distance */
             for (int k = 0; k < ncl; ++k)
                 if ((x - cl[k][0]) * (x - cl[k][0]) + (z - cl[k][1]) * (z - cl[k][1]) < cl[k][2] * cl[k][2]) keep = bush = 0;
