@@ -86,7 +86,10 @@
    set). Methods with a sampling or shrinking distance `eps` are conservative for every eps; smaller eps
    is tighter and slower. The `sample` method (ray sampling) is the exception: it is an estimate from
    below, the yardstick the tests measure the conservative methods against, and files baked with it
-   carry PVS_FILE_APPROXIMATE.
+   carry PVS_FILE_APPROXIMATE. One stated tolerance: OTREE's facade extraction treats cracks and
+   offsets of up to eight float epsilons of the scene's coordinates between pieces of one wall as
+   closed (the T-junction cracks of real meshes, about 1 mm at 1 km); an opening meant to be seen
+   through must be wider.
 
    Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
    vertical walls give facades (2.5D; pvs_bake_otree_info), EXTPROJ when there are planar occluders or convex solids
@@ -136,7 +139,12 @@
    plane on is reported, whatever the rounding (>>raster explains the margins). Depth is reversed
    (larger is nearer). Pass a cell's decoded PVS as `candidates` to cull inside it. Depth maps above
    65,536 pixels keep occluders in Masked Occlusion Culling's tiles (fast, a little coarser); smaller
-   ones per pixel; PVS_RASTER_TILED / PVS_RASTER_PER_PIXEL choose. The object-space twin,
+   ones per pixel; PVS_RASTER_TILED / PVS_RASTER_PER_PIXEL choose. A triangle alone covers only the
+   pixels it covers entirely, so a wall of many triangles leaves cracks along their shared edges;
+   pvs_raster_mesh draws a connected mesh as one surface (a pixel counts when the union covers it),
+   which pvs_raster_cull does for the scene's occluders by default (PVS_CULL_SEPARATE_TRIANGLES: the
+   old way) and for the caller's triangles with PVS_CULL_OCCLUDER_MESH; it costs more than the
+   triangles alone (bench_raster: raster_mesh_frame_ms_1080p). The object-space twin,
    pvs_otree_create / pvs_otree_cull (Bittner 2002 ch. 4), takes the same camera, parameters and
    outputs: a shadow-volume occlusion tree of a few dozen occluder polygons instead of a depth map,
    exact box tests, and temporal coherence (it remembers the last frame's occluders and node
@@ -626,6 +634,8 @@ typedef struct pvs_raster_desc {
     uint32_t cull_map_width;      /* cull map cells over the scene's ground rectangle, 0 = no cull map */
     uint32_t cull_map_height;     /*   (both or neither; 1..4096; needs `scene`) */
     uint32_t flags;               /* PVS_RASTER_* */
+    uint32_t max_mesh_triangles;  /* triangles pvs_raster_mesh connects in one piece, 0 = 4096 (scratch:
+                                     about 400 bytes each) */
     pvs_allocator allocator;
 } pvs_raster_desc;
 
@@ -654,6 +664,23 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *raster, const float m[16]);
    mode, else PVS_OK. `vertex_count` bounds the indices (an index >= it skips the triangle). */
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positions, uint32_t vertex_count,
                                         const uint32_t *indices, uint32_t count, pvs_raster_mode mode);
+/* Rasterizes `count` triangles as one connected occluder mesh (Durand 2000 §3.3: per-triangle inner
+   coverage loses the connectivity of occluders, leaving a crack of unclaimed pixels along every edge
+   two triangles share). The triangles are drawn as by pvs_raster_triangles (occluder mode), then
+   every pixel along their edges that the union of the mesh's triangles covers whole: a pixel that
+   no boundary edge of the union touches and that some triangle touches. Boundary edges are the edges
+   not shared by exactly two triangles, the silhouettes between a front- and a back-facing triangle,
+   the edges of triangles wound against their neighbour, the edges cut by the near plane and the cuts
+   themselves; a crack remains only along them. Such a pixel stores the farthest depth over the pixel
+   of every triangle of its facing that touches it, so never a depth nearer than the mesh's farthest
+   over it. Vertices are shared by index and by equal position (a triangle soup is welded). Meshes of
+   more than the context's max_mesh_triangles are drawn in consecutive pieces of that many triangles
+   (edges between pieces stay boundary edges). Skips triangles with an index >= vertex_count or a
+   non-finite coordinate. Returns INVALID_ARGUMENT for a NULL raster or NULL positions with count > 0,
+   else PVS_OK. Conservative under rounding like pvs_raster_triangles (>>raster explains the
+   argument). Allocates nothing; the same result with and without SIMD. */
+PVS_API pvs_result pvs_raster_mesh(pvs_raster *raster, const float *positions, uint32_t vertex_count, const uint32_t *indices,
+                                   uint32_t count);
 /* The depth map: width * height floats, row-major, row 0 first. Valid until the next raster call.
    A tiled context writes it from the tiles on this call (a pass over the map). */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
@@ -720,7 +747,14 @@ typedef struct pvs_cull_params {
     uint32_t cull_map_flags;          /*   ... and PVS_CULL_MAP_* flags for pvs_cull_map_build */
     const pvs_word *candidates;       /* optional: only objects set here are tested and reported (inside
                                          a cell's PVS); PVS_BITSET_WORDS(object_count) words */
+    uint32_t occluder_flags;          /* PVS_CULL_* below */
 } pvs_cull_params;
+
+/* Occluder flags of pvs_raster_cull. */
+#define PVS_CULL_OCCLUDER_MESH 1u      /* the caller's occluder triangles are connected meshes: drawn with
+                                          pvs_raster_mesh (no cracks along shared edges) */
+#define PVS_CULL_SEPARATE_TRIANGLES 2u /* the scene's selected triangles and occluder volumes one triangle
+                                          at a time, as before 0.4 (by default they are drawn as meshes) */
 
 /* What a culling call did (for statistics and tests). */
 typedef struct pvs_cull_stats {
@@ -731,8 +765,9 @@ typedef struct pvs_cull_stats {
 } pvs_cull_stats;
 
 /* From-point occlusion culling with the depth pyramid: clears the depth map, sets the camera's matrix
-   (aspect width / height), rasterizes the caller's and the selected scene occluders (occluder mode),
-   builds the pyramid, then sweeps the scene's object kD-tree front to back from the eye (Bittner 2002
+   (aspect width / height), rasterizes the caller's and the selected scene occluders (occluder mode;
+   the selected scene triangles as one mesh, each box or extrusion volume as a mesh, the caller's
+   triangles as meshes with PVS_CULL_OCCLUDER_MESH: see pvs_raster_mesh), builds the pyramid, then sweeps the scene's object kD-tree front to back from the eye (Bittner 2002
    §3.2), skipping subtrees whose box is hidden, and sets in `visible` (PVS_BITSET_WORDS(object_count)
    words, cleared first) every object whose box may be visible. Occluder-only objects are never set.
    Conservative: every object seen through the screen from the eye is set. `stats` may be NULL.
@@ -3087,6 +3122,16 @@ struct pvs_raster {
     float mf[16], hwf, hhf;                     /* the projection as given, half the map's size (prefilter) */
     float mb[16][4];                            /* mf broadcast to four lanes */
     double rowa[4], rowt[4];                    /* per row of m: |m_r0| + |m_r1| + |m_r2|, |m_r3| */
+    /* occluder meshes (pvs_raster_mesh): scratch for mesh_cap triangles and four rows of pixels */
+    uint32_t mesh_cap, mesh_hash;               /* triangles per piece; hash slots (a power of two) */
+    struct pvs__mtri *mt;                       /* mesh_cap prepared triangles */
+    uint32_t *mcid, *mpart;                     /* 3 mesh_cap: welded vertex per corner, partner half-edge */
+    uint8_t *mvst;                              /* 3 mesh_cap: corner in front of both clip planes / behind */
+    int8_t *mgrp;                               /* mesh_cap: facing +1 / -1, 0 = left out */
+    uint32_t *mtab, *morder, *mact, *mband;     /* hash slots; mesh_cap; mesh_cap; th + 1 */
+    float *mzmin, *mzin;                        /* 4 width: least bound of the touching triangles, inner */
+    uint8_t *mflag;                             /* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
+    uint8_t *mdirty;                            /* 4 tw: the 32-pixel words of the band's rows the scratch holds */
     /* culling */
     const pvs_scene *scene;
     uint32_t max_objects, max_triangles;
@@ -3388,14 +3433,51 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
             for (tx = (uint32_t)i0 >> PVS__TILE_SHIFT; tx <= (uint32_t)i1 >> PVS__TILE_SHIFT; ++tx) pvs__tile_update(buf, W, H, tile_min, tx, ty);
 }
 
+/* The depth plane bound of a polygon (pixel coordinates x, y, depth z, n vertices; span, mag, zmag its
+   extents, perr, zerr its vertices' errors) over the pixels (ox + fi, oy + fj), fi in [0, iw], fj in
+   [0, jh]: the float evaluation (zk + zb fj) + za fi is at most (occluder) or at least (occludee) the
+   plane's extreme over the pixel [ox + fi, +1] x [oy + fj, +1]. The plane comes from the largest fan
+   triangle; without one (or beyond float) zk is -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
+PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const double *z, int n, double ox, double oy, double iw,
+                                    double jh, double span, double mag, double zmag, double perr, double zerr, int occluder,
+                                    float *za_out, float *zb_out, float *zk_out) {
+    int i, best = -1;
+    double amax = 0.0;
+    for (i = 1; i + 1 < n; ++i) {
+        double a2 = pvs__dabs((x[i] - x[0]) * (y[i + 1] - y[0]) - (x[i + 1] - x[0]) * (y[i] - y[0]));
+        if (a2 > amax) { amax = a2; best = i; }
+    }
+    *za_out = *zb_out = 0.0f;
+    *zk_out = occluder ? -FLT_MAX : FLT_MAX;
+    if (best > 0) {
+        double x1 = x[best] - x[0], y1 = y[best] - y[0], z1 = z[best] - z[0];
+        double x2 = x[best + 1] - x[0], y2 = y[best + 1] - y[0], z2 = z[best + 1] - z[0];
+        double det = x1 * y2 - x2 * y1;
+        double za = (z1 * y2 - z2 * y1) / det, zb = (x1 * z2 - x2 * z1) / det;
+        double zk = z[0] + za * (ox - x[0]) + zb * (oy - y[0]), err, dy;
+        zk += occluder ? pvs__dmin(0.0, za) + pvs__dmin(0.0, zb) : pvs__dmax(0.0, za) + pvs__dmax(0.0, zb);
+        err = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
+              PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
+                  (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det)) +
+              PVS__RASTER_ERR_F * (pvs__dabs(zk) + pvs__dabs(za) * iw + pvs__dabs(zb) * jh + 1e-30);
+        zk += occluder ? -err : err;
+        dy = pvs__dabs(zk) + pvs__dabs(za) * iw + pvs__dabs(zb) * jh;
+        if (dy < 1e30 && err < 1e30) {
+            *za_out = (float)za;
+            *zb_out = (float)zb;
+            *zk_out = (float)zk;
+        }
+    }
+}
+
 /* Rasterizes a convex polygon given in pixel coordinates (x, y) with depth z (affine over it) into a
    W x H float buffer, keeping the larger (nearer) depth per pixel. See the comment at the top. */
 PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *tile_min, const double *x, const double *y,
                                   const double *z, int n, int occluder, int simd, double perr, double zerr) {
     pvs__rsetup s;
     double xmin = x[0], xmax = x[0], ymin = y[0], ymax = y[0], zmin = z[0], zmax = z[0], area2 = 0.0, mag = 0.0, zmag = 0.0;
-    double span, dx, dy, ox, oy, iw, jh, zlo, zhi;
-    int i, best = -1;
+    double span, dx, ox, oy, iw, jh, zlo, zhi;
+    int i;
     if (n < 3) return;
     for (i = 0; i < n; ++i) {
         int j = i + 1 == n ? 0 : i + 1;
@@ -3475,36 +3557,8 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
         s.k[s.edges] = (float)k;
         ++s.edges;
     }
-    /* depth plane from the largest fan triangle */
-    {
-        double amax = 0.0;
-        for (i = 1; i + 1 < n; ++i) {
-            double a2 = pvs__dabs((x[i] - x[0]) * (y[i + 1] - y[0]) - (x[i + 1] - x[0]) * (y[i] - y[0]));
-            if (a2 > amax) { amax = a2; best = i; }
-        }
-    }
     s.zclamp = occluder ? pvs__f_down(zlo) : pvs__f_up(zhi);
-    s.za = s.zb = 0.0f;
-    s.zk = occluder ? -FLT_MAX : FLT_MAX;
-    if (best > 0) {
-        double x1 = x[best] - x[0], y1 = y[best] - y[0], z1 = z[best] - z[0];
-        double x2 = x[best + 1] - x[0], y2 = y[best + 1] - y[0], z2 = z[best + 1] - z[0];
-        double det = x1 * y2 - x2 * y1;
-        double za = (z1 * y2 - z2 * y1) / det, zb = (x1 * z2 - x2 * z1) / det;
-        double zk = z[0] + za * (ox - x[0]) + zb * (oy - y[0]), err;
-        zk += occluder ? pvs__dmin(0.0, za) + pvs__dmin(0.0, zb) : pvs__dmax(0.0, za) + pvs__dmax(0.0, zb);
-        err = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
-              PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
-                  (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det)) +
-              PVS__RASTER_ERR_F * (pvs__dabs(zk) + pvs__dabs(za) * iw + pvs__dabs(zb) * jh + 1e-30);
-        zk += occluder ? -err : err;
-        dy = pvs__dabs(zk) + pvs__dabs(za) * iw + pvs__dabs(zb) * jh;
-        if (dy < 1e30 && err < 1e30) {
-            s.za = (float)za;
-            s.zb = (float)zb;
-            s.zk = (float)zk;
-        }
-    }
+    pvs__raster_zplane(x, y, z, n, ox, oy, iw, jh, span, mag, zmag, perr, zerr, occluder, &s.za, &s.zb, &s.zk);
     pvs__raster_run(&s, buf, W, H, tile_min, occluder, simd, pvs__f_up(zhi));
 }
 
@@ -3965,17 +4019,34 @@ PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) 
     return v;
 }
 
-/* Sutherland-Hodgman against f(v) >= 0 with f = w - z (near plane) or f = w - tiny (w > 0). */
-PVS__STATIC int pvs__raster_clip(const pvs__cv *in, int n, pvs__cv *out, int plane) {
+/* Sutherland-Hodgman against f(v) >= 0 with f = w - z (near plane) or f = w - tiny (w > 0). With
+   labels (lin[i]: what the edge from vertex i to i + 1 is; NULL for none), lout gets the output edges'
+   labels: a part of input edge i keeps lin[i], an edge along the plane gets PVS__MESH_CLIP; and a cut
+   point is interpolated from the edge's inside vertex, so two polygons sharing an edge cut it at the
+   same point bit for bit. */
+#define PVS__MESH_CLIP 3
+PVS__STATIC int pvs__raster_clip(const pvs__cv *in, int n, pvs__cv *out, int plane, const uint8_t *lin, uint8_t *lout) {
     int i, m = 0;
     for (i = 0; i < n; ++i) {
         const pvs__cv *a = in + i, *b = in + (i + 1 == n ? 0 : i + 1);
         double fa = plane == 0 ? a->c[3] - a->c[2] : a->c[3] - 1e-30;
         double fb = plane == 0 ? b->c[3] - b->c[2] : b->c[3] - 1e-30;
-        if (fa >= 0.0) out[m++] = *a;
+        if (fa >= 0.0) {
+            if (lin) lout[m] = lin[i];
+            out[m++] = *a;
+        }
         if ((fa >= 0.0) != (fb >= 0.0)) {
             double t = fa / (fa - fb);
             int k;
+            if (lin) {
+                lout[m] = fa >= 0.0 ? (uint8_t)PVS__MESH_CLIP : lin[i];
+                if (fa < 0.0) { /* from the inside vertex b */
+                    const pvs__cv *c = a;
+                    a = b;
+                    b = c;
+                    t = fb / (fb - fa);
+                }
+            }
             for (k = 0; k < 4; ++k) out[m].c[k] = a->c[k] + (b->c[k] - a->c[k]) * t;
             out[m].e = 2.0 * pvs__dmax(a->e, b->e);
             if (plane == 0) out[m].c[2] = out[m].c[3]; /* exactly on the near plane */
@@ -3996,9 +4067,9 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
     for (i = 0; i < n; ++i)
         if (!(v[i].c[3] - v[i].c[2] >= 0.0) || !(v[i].c[3] >= 1e-30)) break;
     if (i < n) { /* something to clip */
-        n = pvs__raster_clip(v, n, t1, 0);
+        n = pvs__raster_clip(v, n, t1, 0, NULL, NULL);
         if (n < 3) return;
-        n = pvs__raster_clip(t1, n, t2, 1);
+        n = pvs__raster_clip(t1, n, t2, 1, NULL, NULL);
         if (n < 3) return;
         t = t2;
     }
@@ -4359,6 +4430,533 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
     }
 }
 
+/* ---- occluder meshes: the connectivity of occluders (Durand 2000 §3.3) ----
+
+   Inner coverage per triangle loses every pixel that an edge shared by two triangles of one occluder
+   crosses: neither triangle covers it alone, so a quad, a box or any game mesh has a crack along each
+   internal edge (§3.3 calls it the loss of the connectivity of occluders). pvs__mesh claims the pixels
+   the union of a mesh's triangles covers whole. The argument, on the exact projection (every computed
+   quantity used below is off by less than its margin, so each test below decides about the exact
+   geometry, with the near-plane cut's own limit stated at the top of >>raster):
+
+   Groups. A triangle's facing is the sign of D = det(x, y, w) of its three clip-space vertices, which
+   is the orientation of the visible (w > 0) part of its projection. A triangle whose sign is not
+   certain (|D| within its rounding bound), whose visible polygon is empty or beyond float joins no
+   group. An edge of a triangle is internal when (i) exactly two triangles of the piece have it
+   (vertices welded by index and by equal position), (ii) both are in one group and run it in opposite
+   directions (consistent winding), and (iii) an end point is surely in front of both clip planes and
+   neither end point is within rounding of one. Every other edge, and every edge of a visible polygon
+   that lies on a clip plane, is a boundary edge; B is their union, per group.
+   Claim: the boundary of a group's union U (of its visible polygons) lies in B. Take q on it; q is on
+   an edge or a vertex of some polygon P, since an interior point of P is interior to U. (a) q inside
+   the visible part of an internal edge ab: for points p of triangle abc near ab, det(a, b, p) =
+   gamma det(a, b, c) with gamma > 0, and one facing with opposite directions makes det(a, b, c1) and
+   det(a, b, c2) of opposite signs, so the two triangles lie on opposite sides of ab in projection; by
+   (iii) q is strictly in front of both planes, so each covers a half-disk at q: q is interior. (b) q a
+   vertex made by clipping: it ends a clip edge, in B. (c) q an original vertex v: if an edge at v is a
+   boundary edge, q is in B; else every edge at v is internal, v's triangles form closed fans whose
+   consecutive sectors lie on opposite sides of their shared edge (a), so each fan turns about v by a
+   positive multiple of 2 pi, and v is strictly in front (iii): a neighbourhood of q is covered.
+   So a closed pixel square that no boundary edge meets and that meets U lies inside U (it is
+   connected and U's boundary does not cross it): "meets" by separating-axis tests (the pixel's axes
+   and the edge normals) with the margins on the safe side, "may meet" for B, "surely meets" for U.
+   Depth: every point of such a pixel lies in a polygon of the group that touches the pixel, whose
+   depth there is at least its plane's least value over the pixel and at least its least vertex depth;
+   the least of these bounds over the group's polygons that may touch the pixel is no nearer than the
+   mesh there. Folds, back faces, non-manifold edges, inconsistent winding, T-junctions and near-plane
+   cuts only add boundary edges: the union is claimed in smaller pieces, never beyond itself.
+   Two passes: the triangles first, one at a time through the ordinary occluder path (its inner
+   pixels, its depth, SIMD; so a mesh never claims less than its triangles drawn alone), then the
+   mesh pass over the pixels some edge may meet only (a strip widened beyond the first pass's float
+   margins). A pixel of the strips that no edge meets lies inside one polygon P; P surely meets it, so
+   P's bound is in the minimum; otherwise every point of the pixel lies in a polygon with an edge
+   meeting it (the edges cut the pixel into regions, each on the inner side of one of them), whose
+   strip holds the pixel: the minimum over the strips' polygons is a lower bound there too. Tiled, a
+   band's claimed pixels join a tile's working layer only at no cost to it (at most as near as it, or
+   as the first layer; a full tile becomes the base). A triangle whose box the tiles already hide at
+   its nearest depth (the prefilter's test) is left out of the mesh pass: it changes nothing, and its
+   edges become boundary edges. Rows are processed four at a time over an active list of the group's
+   polygons, in double with the same float depth evaluation as the pixel loops; the mesh pass has one
+   code path, so SIMD and scalar builds agree bit for bit. ---- */
+
+#define PVS__MESH_NONE 0xffffffffu
+#define PVS__MESH_MULTI 0xfffffffeu
+#define PVS__MESH_DEFAULT 4096u
+#define PVS__MESH_MAXV 5 /* a triangle clipped by two planes */
+
+/* One triangle of a mesh piece, clipped, projected and prepared. */
+typedef struct pvs__mtri {
+    int32_t i0, i1, j0, j1;         /* pixels that may meet the polygon, clamped to the map (empty: i0 > i1 or j0 > j1) */
+    int n;                          /* polygon vertices, 3..5 */
+    int full;                       /* edges of non-zero length (the inner test needs 3) */
+    uint8_t lab[PVS__MESH_MAXV];    /* edge k (vertex k to k + 1): triangle edge 0..2 or PVS__MESH_CLIP */
+    uint8_t bnd[PVS__MESH_MAXV];    /* 1: a boundary edge */
+    double x[PVS__MESH_MAXV], y[PVS__MESH_MAXV];
+    double a[PVS__MESH_MAXV], b[PVS__MESH_MAXV], k[PVS__MESH_MAXV], e[PVS__MESH_MAXV]; /* E = a x + b y + k >= 0
+                                       inside, |a| + |b| = 1 (a = b = 0: a zero-length edge); |E - exact| < e */
+    double xmin, xmax, ymin, ymax, dx; /* extents; dx bounds the vertices' error */
+    double wide;                    /* the edge strips' extra width: far above the triangle pass's float
+                                       rounding, so a pixel it leaves out beside an edge is in the strip */
+    float za, zb, zk, zclamp;       /* depth bound over pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
+} pvs__mtri;
+
+/* Clips, projects and prepares triangle v (clip space) of facing `orient` (+1 / -1, the orientation of
+   its projection); 0 when nothing usable is left. */
+PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orient, pvs__mtri *t) {
+    pvs__cv t1[PVS__RASTER_MAXV], t2[PVS__RASTER_MAXV];
+    uint8_t l0[PVS__RASTER_MAXV] = {0, 1, 2}, l1[PVS__RASTER_MAXV], l2[PVS__RASTER_MAXV];
+    const pvs__cv *p = v;
+    const uint8_t *lab = l0;
+    double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height, perr = 0.0, zerr = 0.0, z[PVS__MESH_MAXV];
+    double mag = 0.0, zmag = 0.0, zmin = 0.0, ox, oy, iw, jh, span, noise;
+    int i, n = 3;
+    for (i = 0; i < 3; ++i)
+        if (!(v[i].c[3] - v[i].c[2] >= 0.0) || !(v[i].c[3] >= 1e-30)) break;
+    if (i < 3) {
+        n = pvs__raster_clip(v, 3, t1, 0, l0, l1);
+        if (n < 3) return 0;
+        n = pvs__raster_clip(t1, n, t2, 1, l1, l2);
+        if (n < 3 || n > PVS__MESH_MAXV) return 0;
+        p = t2;
+        lab = l2;
+    }
+    t->n = n;
+    for (i = 0; i < n; ++i) {
+        double iwv = 1.0 / p[i].c[3], e = p[i].e * iwv;
+        t->x[i] = (p[i].c[0] * iwv + 1.0) * hw;
+        t->y[i] = (p[i].c[1] * iwv + 1.0) * hh;
+        z[i] = p[i].c[2] * iwv;
+        if (!(t->x[i] == t->x[i] && t->y[i] == t->y[i] && z[i] == z[i])) return 0;
+        perr = pvs__dmax(perr, 2.0 * e * (1.0 + pvs__dabs(p[i].c[0] * iwv) + pvs__dabs(p[i].c[1] * iwv)) * pvs__dmax(hw, hh));
+        zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z[i])));
+        t->lab[i] = lab[i];
+        t->bnd[i] = 1;
+        if (i == 0) {
+            t->xmin = t->xmax = t->x[0]; t->ymin = t->ymax = t->y[0]; zmin = z[0];
+        } else {
+            t->xmin = pvs__dmin(t->xmin, t->x[i]); t->xmax = pvs__dmax(t->xmax, t->x[i]);
+            t->ymin = pvs__dmin(t->ymin, t->y[i]); t->ymax = pvs__dmax(t->ymax, t->y[i]);
+            zmin = pvs__dmin(zmin, z[i]);
+        }
+        mag = pvs__dmax(mag, pvs__dabs(t->x[i]) + pvs__dabs(t->y[i]));
+        zmag = pvs__dmax(zmag, pvs__dabs(z[i]));
+    }
+    if (!(mag < PVS__RASTER_BIG * PVS__RASTER_BIG) || !(perr < PVS__RASTER_BIG) || !(zerr < PVS__RASTER_BIG)) return 0;
+    t->dx = PVS__RASTER_ERR_D * (mag + 1.0) + perr;
+    t->wide = (mag + (double)r->width + (double)r->height + 1.0) * (1.0 / 16384.0);
+    /* pixels whose closed square meets [xmin - dx, xmax + dx] x [ymin - dx, ymax + dx] */
+    t->i0 = pvs__clampi(ceil(t->xmin - t->dx) - 1.0, 0, (int32_t)r->width);
+    t->i1 = pvs__clampi(floor(t->xmax + t->dx), -1, (int32_t)r->width - 1);
+    t->j0 = pvs__clampi(ceil(t->ymin - t->dx) - 1.0, 0, (int32_t)r->height);
+    t->j1 = pvs__clampi(floor(t->ymax + t->dx), -1, (int32_t)r->height - 1);
+    ox = (double)t->i0;
+    oy = (double)t->j0;
+    iw = pvs__dmax(0.0, (double)(t->i1 - t->i0));
+    jh = pvs__dmax(0.0, (double)(t->j1 - t->j0));
+    /* the evaluation a X + b Y + k at pixel corners (X, Y <= mag + map size) in double: far below this */
+    noise = PVS__RASTER_ERR_D * (mag + (double)r->width + (double)r->height + 4.0);
+    t->full = 0;
+    for (i = 0; i < n; ++i) {
+        int j = i + 1 == n ? 0 : i + 1;
+        double a = t->y[i] - t->y[j], b = t->x[j] - t->x[i], len;
+        if (orient < 0) { a = -a; b = -b; }
+        len = pvs__dabs(a) + pvs__dabs(b);
+        if (len == 0.0) {
+            t->a[i] = t->b[i] = t->k[i] = t->e[i] = 0.0;
+            continue;
+        }
+        a /= len;
+        b /= len;
+        t->a[i] = a;
+        t->b[i] = b;
+        t->k[i] = -(a * t->x[i] + b * t->y[i]);
+        /* the line through vertices off by dx (pvs__raster_poly's bound, for every pixel corner of the
+           range), and the evaluation */
+        t->e[i] = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) *
+                      (1.0 + (pvs__dabs(ox - t->x[i]) + pvs__dabs(oy - t->y[i]) + iw + jh + 2.0) / len) + noise;
+        ++t->full;
+    }
+    span = (t->xmax - t->xmin) + (t->ymax - t->ymin);
+    t->zclamp = pvs__f_down(zmin - PVS__RASTER_ERR_D * zmag - zerr);
+    pvs__raster_zplane(t->x, t->y, z, n, ox, oy, iw, jh, span, mag, zmag, perr, zerr, 1, &t->za, &t->zb, &t->zk);
+    return 1;
+}
+
+/* Restricts the columns [*lo, *hi] to those where a i + c >= t evaluated in double. outer: may keep
+   more, never drops a column that passes; else may keep fewer, never one that fails. The bound found
+   is checked against its neighbour, so with the threshold's margin it holds for the real-valued
+   a i + c, which is monotonic in i. */
+PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t *lo, int32_t *hi) {
+    int32_t i;
+    int s;
+    double X;
+    if (*lo > *hi) return;
+    if (a == 0.0) {
+        if (!(c >= t)) *hi = *lo - 1;
+        return;
+    }
+    X = (t - c) / a;
+    if (a > 0.0) { /* keep i >= X */
+        i = X > (double)*hi ? *hi + 1 : X > (double)*lo ? (int32_t)ceil(X) : *lo;
+        for (s = 0; s < 3 && i > *lo && a * (double)(i - 1) + c >= t; ++s) --i;
+        for (s = 0; s < 3 && i <= *hi && !(a * (double)i + c >= t); ++s) ++i;
+        if (outer) {
+            if (i > *lo && !(a * (double)(i - 1) + c < t)) i = *lo; /* not settled: keep all */
+        } else if (i <= *hi && !(a * (double)i + c >= t)) {
+            i = *hi + 1; /* not settled: keep none */
+        }
+        *lo = i;
+    } else { /* keep i <= X */
+        i = X < (double)*lo ? *lo - 1 : X < (double)*hi ? (int32_t)floor(X) : *hi;
+        for (s = 0; s < 3 && i < *hi && a * (double)(i + 1) + c >= t; ++s) ++i;
+        for (s = 0; s < 3 && i >= *lo && !(a * (double)i + c >= t); ++s) --i;
+        if (outer) {
+            if (i < *hi && !(a * (double)(i + 1) + c < t)) i = *hi;
+        } else if (i >= *lo && !(a * (double)i + c >= t)) {
+            i = *lo - 1;
+        }
+        *hi = i;
+    }
+}
+
+/* One polygon over row j of the four-row band starting at row jb, along its edges only (its inner
+   pixels were drawn by the triangle pass): over the pixels an edge may meet, the polygon's least depth
+   bound, whether the polygon surely meets the pixel (1) and whether a boundary edge may meet it (2).
+   rlo, rhi: the columns touched per row of the band. */
+PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int32_t jb, int32_t *rlo, int32_t *rhi) {
+    const uint32_t W = r->width;
+    float *zm = r->mzmin + (size_t)(j - jb) * W;
+    uint8_t *fl = r->mflag + (size_t)(j - jb) * W, *dw = r->mdirty + (size_t)(j - jb) * r->tw;
+    float fj = (float)(j - t->j0), rz = t->zk + t->zb * fj, d;
+    double dj = (double)j;
+    int32_t lo, hi, clo = 0, chi = -1, i;
+    int e;
+    /* surely meets: the x and y extents overlap the pixel and no edge separates */
+    if (dj + 1.0 >= t->ymin + t->dx && dj <= t->ymax - t->dx) {
+        clo = pvs__clampi(ceil(t->xmin + t->dx) - 1.0, t->i0, t->i1 + 1);
+        chi = pvs__clampi(floor(t->xmax - t->dx), t->i0 - 1, t->i1);
+        for (e = 0; e < t->n; ++e)
+            if (t->a[e] != 0.0 || t->b[e] != 0.0)
+                pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), t->e[e], 0, &clo, &chi);
+    }
+    /* each edge: the pixels whose closed square the segment may meet (its extents and its line) */
+    for (e = 0; e < t->n; ++e) {
+        int f = e + 1 == t->n ? 0 : e + 1;
+        double sx0, sx1, sy0, sy1;
+        uint8_t bit = t->bnd[e] ? 2u : 0u;
+        sy0 = pvs__dmin(t->y[e], t->y[f]) - t->dx - t->wide;
+        sy1 = pvs__dmax(t->y[e], t->y[f]) + t->dx + t->wide;
+        if (dj + 1.0 < sy0 || dj > sy1) continue;
+        sx0 = pvs__dmin(t->x[e], t->x[f]) - t->dx - t->wide;
+        sx1 = pvs__dmax(t->x[e], t->x[f]) + t->dx + t->wide;
+        lo = pvs__clampi(ceil(sx0) - 1.0, t->i0, t->i1 + 1);
+        hi = pvs__clampi(floor(sx1), t->i0 - 1, t->i1);
+        if (t->a[e] != 0.0 || t->b[e] != 0.0) {
+            double m = t->e[e] + t->wide;
+            pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), -m, 1, &lo, &hi);
+            pvs__mesh_cut(-t->a[e], -(t->b[e] * dj + t->k[e] + pvs__dmin(0.0, t->a[e]) + pvs__dmin(0.0, t->b[e])), -m, 1, &lo, &hi);
+        }
+        if (lo > hi) continue;
+        for (i = lo; i <= hi; ++i) {
+            d = rz + t->za * (float)(i - t->i0);
+            d = d < t->zclamp ? t->zclamp : d;
+            if (d < zm[i]) zm[i] = d;
+            fl[i] |= (uint8_t)(bit | (i >= clo && i <= chi ? 1u : 0u));
+        }
+        rlo[j - jb] = lo < rlo[j - jb] ? lo : rlo[j - jb];
+        rhi[j - jb] = hi > rhi[j - jb] ? hi : rhi[j - jb];
+        for (i = lo >> PVS__TW_SHIFT; i <= hi >> PVS__TW_SHIFT; ++i) dw[i] = 1;
+    }
+}
+
+/* The claimed depth of a band pixel (PVS_DEPTH_EMPTY: none), resetting its scratch. */
+PVS__STATIC float pvs__mesh_take(pvs_raster *r, size_t q) {
+    float z = r->mzin[q];
+    if (r->mflag[q] == 1u && r->mzmin[q] < FLT_MAX && r->mzmin[q] > z) z = r->mzmin[q];
+    r->mzin[q] = PVS_DEPTH_EMPTY;
+    r->mzmin[q] = FLT_MAX;
+    r->mflag[q] = 0;
+    return z;
+}
+
+/* Writes the claimed pixels of band b (rows 4 b .. 4 b + 3) into the depth map or, tiled, per tile as
+   a coverage mask at the least claimed depth (pvs__tile_merge). */
+PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, const int32_t *rhi) {
+    const uint32_t W = r->width;
+    int32_t lo = INT32_MAX, hi = -1, i, d, tx;
+    float z;
+    for (d = 0; d < PVS__TH; ++d) {
+        lo = rlo[d] < lo ? rlo[d] : lo;
+        hi = rhi[d] > hi ? rhi[d] : hi;
+    }
+    if (lo > hi) return;
+    if (!r->tiled) {
+        for (d = 0; d < PVS__TH; ++d) {
+            float *row = r->depth + (size_t)(PVS__TH * b + (uint32_t)d) * W;
+            uint8_t *dw = r->mdirty + (size_t)d * r->tw;
+            for (i = rlo[d]; i <= rhi[d]; ++i) {
+                if (!dw[i >> PVS__TW_SHIFT]) { /* nothing in this word: on to the next */
+                    i |= 31;
+                    continue;
+                }
+                z = pvs__mesh_take(r, (size_t)d * W + (size_t)i);
+                if (z > row[i]) row[i] = z;
+            }
+            if (rlo[d] <= rhi[d])
+                for (tx = rlo[d] >> PVS__TW_SHIFT; tx <= rhi[d] >> PVS__TW_SHIFT; ++tx) dw[tx] = 0;
+        }
+        return;
+    }
+    for (tx = lo >> PVS__TW_SHIFT; tx <= hi >> PVS__TW_SHIFT; ++tx) {
+        int32_t x0 = tx << PVS__TW_SHIFT;
+        uint32_t cov[PVS__TH], any = 0, pad[PVS__TH];
+        float zt = FLT_MAX, z0;
+        pvs__tile *tl = r->tile + (size_t)b * r->tw + (size_t)tx;
+        for (d = 0; d < PVS__TH; ++d) {
+            int32_t a0 = rlo[d] > x0 ? rlo[d] : x0, a1 = rhi[d] < x0 + 31 ? rhi[d] : x0 + 31;
+            uint8_t *dw = r->mdirty + (size_t)d * r->tw + (uint32_t)tx;
+            cov[d] = 0;
+            pad[d] = (b == r->th - 1 && (uint32_t)d >= r->ypad ? ~0u : 0u) | ((uint32_t)tx == r->tw - 1 ? r->xpad : 0u);
+            if (!*dw) continue;
+            *dw = 0;
+            for (i = a0; i <= a1; ++i) {
+                z = pvs__mesh_take(r, (size_t)d * W + (size_t)i);
+                if (z == PVS_DEPTH_EMPTY) continue;
+                cov[d] |= 1u << (i - x0);
+                zt = z < zt ? z : zt;
+            }
+            any |= cov[d];
+        }
+        if (!any || !(zt > tl->z0)) continue;
+        /* unlike pvs__tile_merge, hardly at the cost of the working layer (the pixels along edges are
+           a thin set, often farther than it): the union at the farther depth when zt is no farther, the
+           tile fills up or the layer loses at most 1/8 of its lead over the base; a new working layer
+           when there is none; else nothing */
+        {
+            uint32_t full = ~0u, have = 0;
+            for (d = 0; d < PVS__TH; ++d) {
+                have |= tl->mask[d];
+                full &= tl->mask[d] | cov[d] | pad[d];
+            }
+            /* farther than the working layer: only when the tile fills up or the layer loses little */
+            if (have && zt < tl->z1 && full != ~0u && (double)tl->z1 - zt > 0.125 * ((double)tl->z1 - tl->z0)) continue;
+            z0 = have && tl->z1 < zt ? tl->z1 : zt;
+            if (full == ~0u) {
+                for (d = 0; d < PVS__TH; ++d) tl->mask[d] = 0;
+                tl->z0 = z0;
+                r->bdirty[(size_t)(b >> PVS__BLOCK_SHIFT) * r->bw + (uint32_t)(tx >> PVS__BLOCK_SHIFT)] = 1;
+            } else {
+                for (d = 0; d < PVS__TH; ++d) tl->mask[d] |= cov[d];
+                tl->z1 = z0;
+            }
+        }
+    }
+}
+
+/* Draws the prepared polygons of facing g among the piece's n triangles: band by band (four rows, a
+   tile row) over an active list sorted by first band. */
+PVS__STATIC void pvs__mesh_draw(pvs_raster *r, uint32_t n, int g) {
+    uint32_t *cnt = r->mband, *order = r->morder, *act = r->mact, t, m = 0, pos = 0, na = 0, b = 0, k, keep;
+    int32_t rlo[PVS__TH], rhi[PVS__TH], j;
+    int d;
+    for (b = 0; b <= r->th; ++b) cnt[b] = 0;
+    for (t = 0; t < n; ++t) {
+        const pvs__mtri *p = r->mt + t;
+        if (r->mgrp[t] != g || p->i0 > p->i1 || p->j0 > p->j1) continue;
+        ++cnt[((uint32_t)p->j0 >> PVS__TH_SHIFT) + 1];
+        ++m;
+    }
+    if (!m) return;
+    for (b = 0; b < r->th; ++b) cnt[b + 1] += cnt[b];
+    for (t = 0; t < n; ++t) {
+        const pvs__mtri *p = r->mt + t;
+        if (r->mgrp[t] != g || p->i0 > p->i1 || p->j0 > p->j1) continue;
+        order[cnt[(uint32_t)p->j0 >> PVS__TH_SHIFT]++] = t;
+    }
+    while (pos < m || na) {
+        if (!na) b = (uint32_t)r->mt[order[pos]].j0 >> PVS__TH_SHIFT;
+        while (pos < m && (uint32_t)r->mt[order[pos]].j0 >> PVS__TH_SHIFT == b) act[na++] = order[pos++];
+        for (d = 0; d < PVS__TH; ++d) { rlo[d] = INT32_MAX; rhi[d] = -1; }
+        for (k = 0; k < na; ++k) {
+            const pvs__mtri *p = r->mt + act[k];
+            int32_t jb = (int32_t)(b << PVS__TH_SHIFT), ja = p->j0 > jb ? p->j0 : jb, jz = p->j1 < jb + 3 ? p->j1 : jb + 3;
+            for (j = ja; j <= jz; ++j) pvs__mesh_row(r, p, j, jb, rlo, rhi);
+        }
+        pvs__mesh_claim(r, b, rlo, rhi);
+        for (k = keep = 0; k < na; ++k)
+            if ((uint32_t)r->mt[act[k]].j1 >> PVS__TH_SHIFT > b) act[keep++] = act[k];
+        na = keep;
+        ++b;
+    }
+}
+
+/* Facing of a clip-space triangle: the sign of det(x, y, w), 0 when within its rounding bound (each
+   entry off by at most e: 48 M^2 e covers the first- and higher-order terms for e <= M, 1e-14 M^3 the
+   evaluation). */
+PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
+    const double *p = v[0].c, *q = v[1].c, *s = v[2].c;
+    double d = p[0] * (q[1] * s[3] - s[1] * q[3]) - p[1] * (q[0] * s[3] - s[0] * q[3]) + p[3] * (q[0] * s[1] - s[0] * q[1]);
+    double M = 0.0, e = pvs__dmax(v[0].e, pvs__dmax(v[1].e, v[2].e)), bound;
+    int i;
+    for (i = 0; i < 3; ++i) M = pvs__dmax(M, pvs__dmax(pvs__dabs(v[i].c[0]), pvs__dmax(pvs__dabs(v[i].c[1]), pvs__dabs(v[i].c[3]))));
+    bound = 48.0 * M * M * e + 1e-14 * M * M * M + 1e-300;
+    if (d > bound) return 1;
+    if (d < -bound) return -1;
+    return 0;
+}
+
+PVS__STATIC uint32_t pvs__mesh_fbits(float f) {
+    uint32_t u;
+    f += 0.0f; /* -0 and 0 weld */
+    memcpy(&u, &f, 4);
+    return u;
+}
+
+/* One piece of a mesh: triangles first .. first + n - 1 (n <= mesh_cap) of `indices` (NULL:
+   consecutive vertices) or of tris[]. */
+PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices, const pvs__occsel *tris,
+                                 uint32_t first, uint32_t n) {
+    uint32_t hs = 16, t, k, h, *tab = r->mtab, *cid = r->mcid, *part = r->mpart;
+    while (hs < 6 * n && hs < r->mesh_hash) hs <<= 1;
+    for (h = 0; h < hs; ++h) tab[h] = 0;
+    /* weld, transform, facing, clip and prepare */
+    for (t = 0; t < n; ++t) {
+        uint32_t q[3];
+        const float *p[3];
+        pvs__cv v[3];
+        int ok = 1, g;
+        r->mgrp[t] = 0;
+        if (tris || indices) {
+            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[first + t].triangle : indices + 3 * (size_t)(first + t);
+            q[0] = ix[0]; q[1] = ix[1]; q[2] = ix[2];
+        } else {
+            q[0] = 3 * (first + t); q[1] = q[0] + 1; q[2] = q[0] + 2;
+        }
+        for (k = 0; k < 3 && ok; ++k) {
+            ok = q[k] < vc;
+            if (ok) {
+                p[k] = pos + 3 * (size_t)q[k];
+                ok = pvs__finite(p[k][0]) && pvs__finite(p[k][1]) && pvs__finite(p[k][2]);
+            }
+        }
+        if (!ok) continue;
+        if (r->tiled) { /* hidden behind what earlier pieces drew: left out (its edges become boundary edges) */
+            const float *pv[4][3];
+            unsigned test, l;
+            int32_t box[4][4];
+            float zmax[4];
+            for (l = 0; l < 4; ++l) { pv[l][0] = p[0]; pv[l][1] = p[1]; pv[l][2] = p[2]; }
+            if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax) & test & 1u) && pvs__pf_hidden(r, box, 0, zmax[0])) continue;
+        }
+        for (k = 0; k < 3; ++k) { /* the first vertex with the same position (open addressing) */
+            uint32_t x = pvs__mesh_fbits(p[k][0]), y = pvs__mesh_fbits(p[k][1]), z = pvs__mesh_fbits(p[k][2]);
+            h = (x * 0x9E3779B1u) ^ (y * 0x85EBCA77u) ^ (z * 0xC2B2AE3Du);
+            h = (h ^ (h >> 15)) & (hs - 1);
+            for (;;) {
+                if (!tab[h]) {
+                    tab[h] = q[k] + 1;
+                    cid[3 * t + k] = q[k];
+                    break;
+                }
+                {
+                    const float *o = pos + 3 * (size_t)(tab[h] - 1);
+                    if (o[0] == p[k][0] && o[1] == p[k][1] && o[2] == p[k][2]) {
+                        cid[3 * t + k] = tab[h] - 1;
+                        break;
+                    }
+                }
+                h = (h + 1) & (hs - 1);
+            }
+        }
+        if (cid[3 * t] == cid[3 * t + 1] || cid[3 * t + 1] == cid[3 * t + 2] || cid[3 * t + 2] == cid[3 * t]) continue;
+        for (k = 0; k < 3; ++k) v[k] = pvs__raster_transform(r, p[k]);
+        if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) continue;
+        if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) continue;
+        g = pvs__mesh_facing(v);
+        if (!g || !pvs__mesh_setup(r, v, g, r->mt + t)) continue;
+        for (k = 0; k < 3; ++k) { /* 1: surely in front of both clip planes, 2: surely behind one, 0: neither */
+            double w = v[k].c[3], zc = v[k].c[2], e = v[k].e;
+            double m1 = 2.0 * e + 4.5e-16 * (pvs__dabs(w) + pvs__dabs(zc)), m2 = e + 4.5e-16 * pvs__dabs(w) + 1e-45;
+            r->mvst[3 * t + k] = (uint8_t)(w - zc > m1 && w - 1e-30 > m2 ? 1 : w - zc < -m1 || w - 1e-30 < -m2 ? 2 : 0);
+        }
+        r->mgrp[t] = (int8_t)g;
+    }
+    /* edges by their welded end points: the partner half-edge, NONE or MULTI */
+    for (h = 0; h < hs; ++h) tab[h] = 0;
+    for (t = 0; t < n; ++t) {
+        if (!r->mgrp[t]) continue;
+        for (k = 0; k < 3; ++k) {
+            uint32_t he = 3 * t + k, a = cid[he], b = cid[3 * t + (k + 1) % 3], lo = a < b ? a : b, hi2 = a < b ? b : a;
+            part[he] = PVS__MESH_NONE;
+            h = (lo * 0x9E3779B1u) ^ (hi2 * 0x85EBCA77u);
+            h = (h ^ (h >> 16)) & (hs - 1);
+            for (;;) {
+                uint32_t o, oa, ob;
+                if (!tab[h]) {
+                    tab[h] = he + 1;
+                    break;
+                }
+                o = tab[h] - 1;
+                oa = cid[o];
+                ob = cid[3 * (o / 3) + (o % 3 + 1) % 3];
+                if ((oa == lo && ob == hi2) || (oa == hi2 && ob == lo)) {
+                    if (part[o] == PVS__MESH_NONE) {
+                        part[o] = he;
+                        part[he] = o;
+                    } else {
+                        if (part[o] != PVS__MESH_MULTI) part[part[o]] = PVS__MESH_MULTI;
+                        part[o] = part[he] = PVS__MESH_MULTI;
+                    }
+                    break;
+                }
+                h = (h + 1) & (hs - 1);
+            }
+        }
+    }
+    /* which polygon edges are boundary edges (conditions (i)-(iii) above) */
+    for (t = 0; t < n; ++t) {
+        pvs__mtri *p = r->mt + t;
+        int e;
+        if (!r->mgrp[t]) continue;
+        for (e = 0; e < p->n; ++e) {
+            uint32_t L = p->lab[e], he, o;
+            uint8_t sa, sb;
+            if (L == PVS__MESH_CLIP) continue;
+            he = 3 * t + L;
+            o = part[he];
+            sa = r->mvst[he];
+            sb = r->mvst[3 * t + (L + 1) % 3];
+            if (o >= PVS__MESH_MULTI || r->mgrp[o / 3] != r->mgrp[t]) continue;
+            if (cid[he] != cid[3 * (o / 3) + (o % 3 + 1) % 3]) continue; /* both run it the same way */
+            if (!(sa == 1 || sb == 1) || !sa || !sb) continue;
+            p->bnd[e] = 0;
+        }
+    }
+    pvs__mesh_draw(r, n, 1);
+    pvs__mesh_draw(r, n, -1);
+}
+
+/* Occluder meshes: `count` triangles of `indices` (NULL: consecutive vertices) or of tris[], in pieces
+   of mesh_cap triangles. */
+PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices, const pvs__occsel *tris, uint32_t count) {
+    uint32_t first;
+    if (!count || !vc) return;
+    /* the triangles' own inner pixels (the fast paths); then the pixels along their edges */
+    if (r->tiled) {
+        pvs__raster_occluders(r, pos, vc, indices, tris, count);
+    } else {
+        for (first = 0; first < count; ++first) {
+            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[first].triangle : indices ? indices + 3 * (size_t)first : NULL;
+            uint32_t q0 = ix ? ix[0] : 3 * first, q1 = ix ? ix[1] : 3 * first + 1, q2 = ix ? ix[2] : 3 * first + 2;
+            if (q0 < vc && q1 < vc && q2 < vc) pvs__raster_tri(r, pos + 3 * (size_t)q0, pos + 3 * (size_t)q1, pos + 3 * (size_t)q2, 1);
+        }
+        pvs__raster_occludee_begin(r); /* the per-pixel map, cleared on first use */
+    }
+    for (first = 0; first < count; first += r->mesh_cap)
+        pvs__mesh_piece(r, pos, vc, indices, tris, first, count - first < r->mesh_cap ? count - first : r->mesh_cap);
+    r->pyramid_valid = 0;
+}
+
 PVS_API pvs_result pvs_camera_matrix(const pvs_camera *c, float aspect, float m[16]) {
     double f[3], u[3], rt[3], len, fu, e[3], sx, sy;
     int k;
@@ -4471,6 +5069,13 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, u
         pvs__raster_tri(r, positions + 3 * (size_t)a, positions + 3 * (size_t)b, positions + 3 * (size_t)c,
                         mode == PVS_RASTER_OCCLUDER);
     }
+    return PVS_OK;
+}
+
+PVS_API pvs_result pvs_raster_mesh(pvs_raster *r, const float *positions, uint32_t vertex_count, const uint32_t *indices,
+                                   uint32_t count) {
+    if (!r || (!positions && count)) return PVS_ERROR_INVALID_ARGUMENT;
+    pvs__mesh(r, positions, vertex_count, indices, NULL, count);
     return PVS_OK;
 }
 
@@ -5019,6 +5624,19 @@ PVS_API void pvs_raster_destroy(pvs_raster *r) {
     pvs__free_array(&a, r->cm_bound, cells, sizeof(float));
     pvs__free_array(&a, r->cm_start, cells + (r->cm_start ? 1 : 0), sizeof(uint32_t));
     pvs__free_array(&a, r->cm_items, r->cm_item_count, sizeof(uint32_t));
+    pvs__free_array(&a, r->mt, r->mesh_cap, sizeof(pvs__mtri));
+    pvs__free_array(&a, r->mcid, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
+    pvs__free_array(&a, r->mpart, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
+    pvs__free_array(&a, r->mvst, 3 * (size_t)r->mesh_cap, 1);
+    pvs__free_array(&a, r->mgrp, r->mesh_cap, 1);
+    pvs__free_array(&a, r->mtab, r->mesh_hash, sizeof(uint32_t));
+    pvs__free_array(&a, r->morder, r->mesh_cap, sizeof(uint32_t));
+    pvs__free_array(&a, r->mact, r->mesh_cap, sizeof(uint32_t));
+    pvs__free_array(&a, r->mband, (size_t)r->th + 1, sizeof(uint32_t));
+    pvs__free_array(&a, r->mzmin, (size_t)PVS__TH * r->width, sizeof(float));
+    pvs__free_array(&a, r->mzin, (size_t)PVS__TH * r->width, sizeof(float));
+    pvs__free_array(&a, r->mflag, (size_t)PVS__TH * r->width, 1);
+    pvs__free_array(&a, r->mdirty, (size_t)PVS__TH * r->tw, 1);
     pvs__free(&a, r, sizeof(*r), 16);
 }
 
@@ -5140,6 +5758,32 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
     r->max_occluders = desc->max_occluders ? desc->max_occluders : 1024;
     r->occ = (pvs__occsel *)pvs__alloc_array(&a, r->max_occluders, sizeof(pvs__occsel));
     if (!r->occ) goto oom;
+    /* occluder meshes: a piece's triangles, its hash (load <= 1/2), four rows of pixels */
+    r->mesh_cap = desc->max_mesh_triangles ? (desc->max_mesh_triangles < (1u << 24) ? desc->max_mesh_triangles : 1u << 24) : PVS__MESH_DEFAULT;
+    for (r->mesh_hash = 16; r->mesh_hash < 6 * r->mesh_cap; r->mesh_hash <<= 1) {}
+    r->mt = (pvs__mtri *)pvs__alloc_array(&a, r->mesh_cap, sizeof(pvs__mtri));
+    r->mcid = (uint32_t *)pvs__alloc_array(&a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
+    r->mpart = (uint32_t *)pvs__alloc_array(&a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
+    r->mvst = (uint8_t *)pvs__alloc_array(&a, 3 * (size_t)r->mesh_cap, 1);
+    r->mgrp = (int8_t *)pvs__alloc_array(&a, r->mesh_cap, 1);
+    r->mtab = (uint32_t *)pvs__alloc_array(&a, r->mesh_hash, sizeof(uint32_t));
+    r->morder = (uint32_t *)pvs__alloc_array(&a, r->mesh_cap, sizeof(uint32_t));
+    r->mact = (uint32_t *)pvs__alloc_array(&a, r->mesh_cap, sizeof(uint32_t));
+    r->mband = (uint32_t *)pvs__alloc_array(&a, (size_t)r->th + 1, sizeof(uint32_t));
+    r->mzmin = (float *)pvs__alloc_array(&a, (size_t)PVS__TH * r->width, sizeof(float));
+    r->mzin = (float *)pvs__alloc_array(&a, (size_t)PVS__TH * r->width, sizeof(float));
+    r->mflag = (uint8_t *)pvs__alloc_array(&a, (size_t)PVS__TH * r->width, 1);
+    r->mdirty = (uint8_t *)pvs__alloc_array(&a, (size_t)PVS__TH * r->tw, 1);
+    if (!r->mdirty) goto oom;
+    memset(r->mdirty, 0, (size_t)PVS__TH * r->tw);
+    if (!r->mt || !r->mcid || !r->mpart || !r->mvst || !r->mgrp || !r->mtab || !r->morder || !r->mact || !r->mband || !r->mzmin ||
+        !r->mzin || !r->mflag)
+        goto oom;
+    for (i = 0; i < (size_t)PVS__TH * r->width; ++i) {
+        r->mzmin[i] = FLT_MAX;
+        r->mzin[i] = PVS_DEPTH_EMPTY;
+        r->mflag[i] = 0;
+    }
     if (desc->scene) {
         const pvs_scene *s = desc->scene;
         size_t s1 = pvs_kdtree_sweep_scratch_size(s->object_tree), s2 = pvs_kdtree_sweep_scratch_size(s->triangle_tree);
@@ -5350,8 +5994,11 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
     memset(&cc, 0, sizeof(cc));
     pvs_raster_clear(r);
     if (p && p->occluder_triangle_count && p->occluder_positions) {
-        pvs_raster_triangles(r, p->occluder_positions, p->occluder_vertex_count, p->occluder_indices, p->occluder_triangle_count,
-                             PVS_RASTER_OCCLUDER);
+        if (p->occluder_flags & PVS_CULL_OCCLUDER_MESH)
+            pvs_raster_mesh(r, p->occluder_positions, p->occluder_vertex_count, p->occluder_indices, p->occluder_triangle_count);
+        else
+            pvs_raster_triangles(r, p->occluder_positions, p->occluder_vertex_count, p->occluder_indices, p->occluder_triangle_count,
+                                 PVS_RASTER_OCCLUDER);
         cc.st.occluder_triangles += p->occluder_triangle_count;
     }
     if (p && p->scene_occluders) {
@@ -5370,7 +6017,9 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
         memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
         for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
         pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
-        if (r->tiled) {
+        if (!(p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES)) {
+            pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n); /* welded: walls fuse (Durand 2000 §3.3) */
+        } else if (r->tiled) {
             pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
         } else {
             for (i = 0; i < sc.n; ++i) {
@@ -5391,22 +6040,46 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
             uint32_t j;
             if (pvs__box_distance2(&src, s->occluder_boxes + i) > dist * dist) continue;
             if (o->kind == PVS_OCCLUDER_BOX) {
-                static const uint8_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
                                                  {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
                 for (j = 0; j < 8; ++j)
                     for (k = 0; k < 3; ++k) q[j][k] = (j >> k) & 1u ? o->box.max[k] : o->box.min[k];
-                for (j = 0; j < 12; ++j) pvs__raster_tri(r, q[f[j][0]], q[f[j][1]], q[f[j][2]], 1);
+                if (p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES)
+                    for (j = 0; j < 12; ++j) pvs__raster_tri(r, q[f[j][0]], q[f[j][1]], q[f[j][2]], 1);
+                else
+                    pvs__mesh(r, &q[0][0], 8, &f[0][0], NULL, 12);
                 cc.st.occluder_triangles += 12;
             } else if (o->kind == PVS_OCCLUDER_EXTRUSION) {
-                for (j = 0; j < o->footprint_count; ++j) {
-                    const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
-                    q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
-                    q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
-                    q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
-                    q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
-                    pvs__raster_tri(r, q[0], q[1], q[2], 1);
-                    pvs__raster_tri(r, q[0], q[2], q[3], 1);
-                    cc.st.occluder_triangles += 2;
+                if (!(p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES)) {
+                    /* the walls as meshes of up to 32 walls (two triangles each, neighbours sharing
+                       their vertical edge) */
+                    float wp[2 * 33][3];
+                    uint32_t wi[32 * 6], c, nw;
+                    for (j = 0; j < o->footprint_count; j += 32) {
+                        nw = o->footprint_count - j < 32 ? o->footprint_count - j : 32;
+                        for (c = 0; c <= nw; ++c) {
+                            const float *a = o->footprint + 2 * ((j + c) % o->footprint_count);
+                            wp[2 * c][u] = a[0]; wp[2 * c][v] = a[1]; wp[2 * c][up] = o->base;
+                            wp[2 * c + 1][u] = a[0]; wp[2 * c + 1][v] = a[1]; wp[2 * c + 1][up] = o->top;
+                        }
+                        for (c = 0; c < nw; ++c) { /* (a0 b0 b1) (a0 b1 a1), as drawn one by one */
+                            wi[6 * c] = 2 * c; wi[6 * c + 1] = 2 * c + 2; wi[6 * c + 2] = 2 * c + 3;
+                            wi[6 * c + 3] = 2 * c; wi[6 * c + 4] = 2 * c + 3; wi[6 * c + 5] = 2 * c + 1;
+                        }
+                        pvs__mesh(r, &wp[0][0], 2 * (nw + 1), wi, NULL, 2 * nw);
+                        cc.st.occluder_triangles += 2 * nw;
+                    }
+                } else {
+                    for (j = 0; j < o->footprint_count; ++j) {
+                        const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
+                        q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
+                        q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
+                        q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
+                        q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
+                        pvs__raster_tri(r, q[0], q[1], q[2], 1);
+                        pvs__raster_tri(r, q[0], q[2], q[3], 1);
+                        cc.st.occluder_triangles += 2;
+                    }
                 }
             }
         }
@@ -6754,8 +7427,8 @@ done:
    heights are rounded inward to floats. Writes *count facades of 6 floats (u0 v0 u1 v1 top bottom)
    into a new array *out (through allocator a; *out_floats floats), *vertical the number of vertical
    triangles. OUT_OF_MEMORY on failure (*out NULL). */
-#define PVS__FX_MAX_COVER 512
-#define PVS__OT25_LEVELS 8    /* base heights of facades the OTREE bake tells apart (pvs__otree_prepare) */ /* a slab covered by more triangles is left out (conservative) */
+#define PVS__FX_MAX_COVER 512 /* a slab covered by more triangles is left out (conservative) */
+#define PVS__OT25_LEVELS 8    /* base heights of facades the OTREE bake tells apart (pvs__otree_prepare) */
 
 typedef struct pvs__fxopen {
     double s0, s1, bot, top;
@@ -16968,6 +17641,7 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
     int k;
     memset(&rd, 0, sizeof(rd));
     rd.width = rd.height = PVS__SHRINK_RES;
+    rd.max_mesh_triangles = nb ? (nb < 4096u ? 12 * nb : 49152u) : 12u; /* the boxes as one occluder mesh */
     rd.allocator = o->allocator;
     res = pvs_raster_create(&rd, &r, err);
     if (res != PVS_OK) return res;
@@ -17062,7 +17736,7 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
                     if (pvs_camera_matrix(&cam, 1.0f, m) != PVS_OK) continue;
                     pvs_raster_clear(r);
                     pvs_raster_set_matrix(r, m);
-                    if (nsel) pvs_raster_triangles(r, pos, 8 * nb, sel, 12 * nsel, PVS_RASTER_OCCLUDER);
+                    if (nsel) pvs_raster_mesh(r, pos, 8 * nb, sel, 12 * nsel); /* no cracks along the faces' diagonals */
                     pvs_raster_build_pyramid(r);
                     for (i = 0; i < ncand; ++i)
                         if (pvs_raster_test_box(r, s->object_boxes + cand[i])) pvs_bitset_set(seen, cand[i]);
