@@ -142,9 +142,9 @@
    ones per pixel; PVS_RASTER_TILED / PVS_RASTER_PER_PIXEL choose. A triangle alone covers only the
    pixels it covers entirely, so a wall of many triangles leaves cracks along their shared edges;
    pvs_raster_mesh draws a connected mesh as one surface (a pixel counts when the union covers it),
-   which pvs_raster_cull does for the scene's occluders by default (PVS_CULL_SEPARATE_TRIANGLES: the
-   old way) and for the caller's triangles with PVS_CULL_OCCLUDER_MESH; it costs more than the
-   triangles alone (bench_raster: raster_mesh_frame_ms_1080p). The object-space twin,
+   which pvs_raster_cull does for occluder volumes by default, for the selected scene triangles with
+   PVS_CULL_SCENE_MESH and for the caller's with PVS_CULL_OCCLUDER_MESH; it costs more than the
+   triangles alone (bench_raster: raster_mesh_frame_ms_1080p), so those two are opt-in. The object-space twin,
    pvs_otree_create / pvs_otree_cull (Bittner 2002 ch. 4), takes the same camera, parameters and
    outputs: a shadow-volume occlusion tree of a few dozen occluder polygons instead of a depth map,
    exact box tests, and temporal coherence (it remembers the last frame's occluders and node
@@ -753,8 +753,13 @@ typedef struct pvs_cull_params {
 /* Occluder flags of pvs_raster_cull. */
 #define PVS_CULL_OCCLUDER_MESH 1u      /* the caller's occluder triangles are connected meshes: drawn with
                                           pvs_raster_mesh (no cracks along shared edges) */
-#define PVS_CULL_SEPARATE_TRIANGLES 2u /* the scene's selected triangles and occluder volumes one triangle
-                                          at a time, as before 0.4 (by default they are drawn as meshes) */
+#define PVS_CULL_SCENE_MESH 2u         /* the scene's selected triangles drawn as one welded mesh
+                                          (pvs_raster_mesh): tighter where walls are made of many
+                                          triangles, but about 1.6 times the culling time on the demo
+                                          city's walkthrough; by default one triangle at a time */
+#define PVS_CULL_SEPARATE_TRIANGLES 4u /* the scene's occluder volumes (scene_volumes) one triangle at a
+                                          time, as before 0.4 (by default each is drawn as a mesh: no
+                                          cracks along its faces' diagonals, a small cost) */
 
 /* What a culling call did (for statistics and tests). */
 typedef struct pvs_cull_stats {
@@ -766,8 +771,8 @@ typedef struct pvs_cull_stats {
 
 /* From-point occlusion culling with the depth pyramid: clears the depth map, sets the camera's matrix
    (aspect width / height), rasterizes the caller's and the selected scene occluders (occluder mode;
-   the selected scene triangles as one mesh, each box or extrusion volume as a mesh, the caller's
-   triangles as meshes with PVS_CULL_OCCLUDER_MESH: see pvs_raster_mesh), builds the pyramid, then sweeps the scene's object kD-tree front to back from the eye (Bittner 2002
+   each box or extrusion volume as a mesh, the selected scene triangles as one mesh with
+   PVS_CULL_SCENE_MESH and the caller's with PVS_CULL_OCCLUDER_MESH: see pvs_raster_mesh), builds the pyramid, then sweeps the scene's object kD-tree front to back from the eye (Bittner 2002
    §3.2), skipping subtrees whose box is hidden, and sets in `visible` (PVS_BITSET_WORDS(object_count)
    words, cleared first) every object whose box may be visible. Occluder-only objects are never set.
    Conservative: every object seen through the screen from the eye is set. `stats` may be NULL.
@@ -1870,6 +1875,7 @@ struct pvs_scene {
     pvs_kdtree *triangle_tree;   /* over triangle boxes (zero-area triangles left out) */
     pvs_kdtree *object_tree;     /* over object boxes (empty objects left out) */
     float *triangle_corners;     /* triangle_count * 9: corners sorted lexicographically, for ray casts */
+    double max_triangle_area;    /* the largest triangle's area (occluder selection's bound) */
 };
 
 /* Fills s->triangle_corners and empties the boxes of zero-area triangles (>>kdtree). */
@@ -2874,6 +2880,11 @@ PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes,
         }
         if (e1[1] * e2[2] - e1[2] * e2[1] == 0.0 && e1[2] * e2[0] - e1[0] * e2[2] == 0.0 && e1[0] * e2[1] - e1[1] * e2[0] == 0.0)
             tri_boxes[t] = pvs__box_empty(); /* zero area: never hit, left out of the tree */
+        else {
+            double n0 = e1[1] * e2[2] - e1[2] * e2[1], n1 = e1[2] * e2[0] - e1[0] * e2[2], n2 = e1[0] * e2[1] - e1[1] * e2[0];
+            double area = 0.5 * sqrt(n0 * n0 + n1 * n1 + n2 * n2);
+            if (area > s->max_triangle_area) s->max_triangle_area = area;
+        }
     }
     return PVS_OK;
 }
@@ -5906,8 +5917,16 @@ PVS__STATIC void pvs__occ_push(pvs__occsel *h, uint32_t *n, uint32_t k, float sc
 PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
     pvs__selctx *c = (pvs__selctx *)user;
     uint32_t i;
-    (void)node_box;
     if (distance > c->max_dist) return PVS_VISIT_STOP;
+    /* the heap full and no triangle left could enter it: every unseen triangle has its centre in a
+       node not yet reached (each leaf its box overlaps references it), so at least `distance` away,
+       and a score of at most area / distance^2 (rounded up: the same selection as without the stop) */
+    if (c->n == c->k && distance > 0.0f &&
+        c->s->max_triangle_area * 1.0001 / ((double)distance * distance * 0.9999) < (double)c->r->occ[0].score)
+        return PVS_VISIT_STOP;
+    /* a node outside the view (or hidden behind the caller's occluders, already drawn) holds no
+       triangle part that could hide anything in view: skipped, the budget goes to what is seen */
+    if (!pvs_raster_test_box(c->r, node_box)) return PVS_VISIT_SKIP;
     for (i = 0; i < count; ++i) {
         uint32_t t = items[i], k;
         const float *p[3];
@@ -6017,7 +6036,7 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
         memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
         for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
         pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
-        if (!(p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES)) {
+        if (p->occluder_flags & PVS_CULL_SCENE_MESH) {
             pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n); /* welded: walls fuse (Durand 2000 §3.3) */
         } else if (r->tiled) {
             pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);

@@ -405,6 +405,71 @@ static void tg_golden(void) {
     }
 }
 
+/* The dense forest (gen_params.dense): deterministic, valid, pinned, foliage down to eye height, and
+   the option leaves the default forest (and the other kinds) alone. */
+static void tg_dense(void) {
+    mesh a, b, c, d;
+    mesh_cells ca, cb, cc, cd;
+    gen_params p;
+    gen_info ia, id;
+    uint32_t o, trees = 0, bushes = 0, low_trees = 0;
+    uint64_t h;
+    int print = getenv("TEST_GEN_PRINT_HASHES") != NULL;
+    memset(&p, 0, sizeof p);
+    p.kind = GEN_FOREST;
+    p.seed = 42;
+    p.size = 0.25f;
+    p.dense = 1;
+    mesh_init(&a); mesh_cells_init(&ca);
+    mesh_init(&b); mesh_cells_init(&cb);
+    mesh_init(&c); mesh_cells_init(&cc);
+    mesh_init(&d); mesh_cells_init(&cd);
+    CHECK(gen_scene_ex(&p, &a, &ca, &ia) == 0);
+    CHECK(gen_scene(&p, &b, &cb) == 0);
+    CHECK(tg_scene_hash(&a, &ca) == tg_scene_hash(&b, &cb));
+    h = tg_scene_hash(&a, &ca);
+    if (print) fprintf(stderr, "test_gen: forest --dense 0x%016llxull\n", (unsigned long long)h);
+    CHECK(h == 0x716932b4cbc742ecull);
+    tg_validate("forest --dense", &a, &ca, &ia);
+    /* the default forest of the same parameters: unchanged (tg_golden's pinned value) and different */
+    p.dense = 0;
+    CHECK(gen_scene(&p, &c, &cc) == 0);
+    CHECK(tg_scene_hash(&c, &cc) == 0x24e803d55028eb01ull);
+    CHECK(tg_scene_hash(&c, &cc) != h);
+    /* only the forest takes it */
+    p.dense = 1;
+    p.kind = GEN_CITY;
+    CHECK(gen_scene(&p, &d, &cd) == -1);
+    CHECK(d.object_count == 0 && cd.count == 0);
+    mesh_free(&a); mesh_free(&b); mesh_free(&c);
+    mesh_cells_free(&ca); mesh_cells_free(&cb); mesh_cells_free(&cc);
+    /* the default size: trees and bushes, foliage reaching below eye height, a moderate size */
+    p.kind = GEN_FOREST;
+    p.seed = 1;
+    p.size = 1.0f;
+    CHECK(gen_scene_ex(&p, &d, &cd, &id) == 0);
+    for (o = 0; o < d.object_count; ++o) {
+        const mesh_object *ob = &d.objects[o];
+        uint32_t t;
+        float low = 1e30f;
+        if (strncmp(ob->name, "bush_", 5) == 0) ++bushes;
+        if (strncmp(ob->name, "tree_", 5) != 0) continue;
+        ++trees;
+        for (t = ob->first_triangle + 16; t < ob->first_triangle + ob->triangle_count; ++t) { /* the leaves */
+            const float *q = d.positions + 3 * (size_t)d.indices[3 * (size_t)t];
+            if (q[1] < low) low = q[1];
+        }
+        low_trees += low < 1.5f;
+    }
+    CHECK(trees >= 3000 && bushes >= 2000);
+    CHECK(low_trees * 4 >= trees);
+    CHECK(d.triangle_count >= 200000 && d.triangle_count <= 800000);
+    CHECK(cd.count >= 300);
+    tg_validate("forest --dense size 1", &d, &cd, &id);
+    mesh_free(&d);
+    mesh_cells_free(&cd);
+}
+
 void test_gen(void);
 void test_gen(void) {
     tg_names();
@@ -414,4 +479,5 @@ void test_gen(void) {
     tg_max_cells();
     tg_sizes();
     tg_golden();
+    tg_dense();
 }

@@ -908,7 +908,7 @@ static void cull_scene(tscene *t, uint32_t up, uint32_t cameras, uint32_t rays, 
         memset(&cp, 0, sizeof(cp));
         cp.scene_occluders = 64 + (uint32_t)(rnd() * 300);
         cp.occluder_distance = rndf(10, 80);
-        if (c % 3 == 2) cp.occluder_flags = PVS_CULL_SEPARATE_TRIANGLES; /* else the scene occluders as meshes */
+        cp.occluder_flags = c % 3 == 2 ? PVS_CULL_SEPARATE_TRIANGLES : PVS_CULL_SCENE_MESH; /* or one triangle at a time */
         if (use_cand) {
             for (i = 0; i < n; ++i) if (rnd() < 0.5) pvs_bitset_set(cand, i); else pvs_bitset_clear(cand, i);
             cp.candidates = cand;
@@ -1258,6 +1258,8 @@ static void test_noalloc_and_errors(void) {
         memset(&cp, 0, sizeof(cp));
         cp.occluder_positions = tri; cp.occluder_vertex_count = 3; cp.occluder_triangle_count = 1;
         cp.scene_occluders = 100;
+        cp.scene_volumes = 1;
+        cp.occluder_flags = k & 1u ? PVS_CULL_SCENE_MESH | PVS_CULL_OCCLUDER_MESH : 0; /* the mesh paths too */
         cp.facades = t.chains; cp.facade_count = t.chain_count;
         CHECK(pvs_raster_cull(r, t.scene, &cam, &cp, vis, NULL, &e) == PVS_OK);
         CHECK(pvs_raster_cull_map(r, t.scene, &cam, &cp, vis, NULL, &e) == PVS_OK);

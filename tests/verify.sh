@@ -115,5 +115,21 @@ case " $CONSERVATIVE_METHODS " in *" extproj "*)
     done
   done;;
 esac
+# the dense forest (pvsgen forest --dense, Durand 2000 §7.2's kind of scene): extproj with and without
+# the occlusion sweep, three seeds, DENSE_CELLS cells each; 0 misses (pvscheck's default --aim 32)
+case " $CONSERVATIVE_METHODS " in *" extproj "*)
+  for seed in 1 2 3; do
+    base="$T/forest-dense-$seed"
+    "$B/pvsgen" forest --dense --seed "$seed" --size 0.6 --max-cells "${DENSE_CELLS:-200}" -o "$base.obj" --cells "$base.cells" 2>/dev/null || { echo "forest --dense $seed: pvsgen failed"; fail=1; continue; }
+    for variant in sweep plain; do
+      if [ "$variant" = sweep ]; then opts="--sweep"; else opts=""; fi
+      "$B/pvsbake" -q --no-state "$base.obj" --cells "$base.cells" --method extproj $opts -j "$J" -o "$base.$variant.pvs" || { echo "forest --dense $seed extproj $variant: bake failed"; fail=1; continue; }
+      line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.$variant.pvs")
+      rc=$?
+      note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
+      echo "forest-dense $seed 0.6 extproj-$variant $line$note"
+    done
+  done;;
+esac
 [ $fail -eq 0 ] && echo "verify: ok" || echo "verify: FAILED"
 exit $fail

@@ -1024,6 +1024,136 @@ static int gen__forest(gen__ctx *c, const gen_params *P) {
     return c->err ? -1 : 0;
 }
 
+/* The dense forest (gen_params.dense), after Durand 2000 §7.2's test scene (7,750 trees of 1,000
+   leaves, "coarse and made of large triangles"): trees 4.5 m apart whose foliage reaches down to
+   eye height, and bushes between them, so that from inside the forest only the nearest few percent
+   of the objects can be seen, through the gaps between many leaves. Conifers: a column of leaf
+   clusters from 0.8-1.6 m up to the top, widest at the bottom; broadleaves: clusters from 1.4-3 m
+   up, spread around the top of the trunk. Bushes (bush_N): 2-3 clusters of smaller leaves on the
+   ground. Cells are 3 m boxes at y 0.5..2.0 where one fits without touching any leaf or trunk
+   (exact test, 0.1 m margin). Uses its own random stream: the default forest is unchanged. */
+static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
+    const double LT = 2.0; /* leaf size: coarse, large triangles (0.7-1.5 m), as in Durand 2000 §7.2 */
+    static const double hex[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, {-0.5, 0.8660254037844386},
+                                     {-1, 0}, {-0.5, -0.8660254037844386}, {0.5, -0.8660254037844386}};
+    gen__rng *r = &c->rng;
+    const double sp = 5.0;
+    double S = 300.0 * P->size;
+    int ng = (int)floor(S / sp);
+    if (ng < 3) ng = 3;
+    S = ng * sp;
+    /* first object of each slot (objects are emitted slot by slot), for the cells' search */
+    uint32_t *first = (uint32_t *)malloc(sizeof(uint32_t) * ((size_t)ng * (size_t)ng + 1));
+    float *obb = NULL;
+    if (!first) return -1;
+    int ncl = gen__iround(3.0 * P->size * P->size);
+    if (ncl < 1) ncl = 1;
+    if (ncl > 256) ncl = 256;
+    double cl[256][3];
+    for (int k = 0; k < ncl; ++k) {
+        cl[k][2] = gen__min(gen__rf(r, 8, 16), S / 4);
+        cl[k][0] = gen__rf(r, 0.15 * S, 0.85 * S);
+        cl[k][1] = gen__rf(r, 0.15 * S, 0.85 * S);
+    }
+    double pz0 = gen__rf(r, 0.3 * S, 0.6 * S), pz1 = pz0 + 3.0;
+    const double T = 20.0;
+    int nt = (int)ceil(S / T);
+    for (int j = 0; j < nt; ++j)
+        for (int i = 0; i < nt; ++i) {
+            gen__obj(c, "ground_%d_%d", i, j);
+            gen__hquad(c, i * T, j * T, gen__min((i + 1) * T, S), gen__min((j + 1) * T, S), 0, 0);
+        }
+    uint32_t ntree = 0, nbush = 0;
+    for (int j = 0; j < ng && !c->err; ++j)
+        for (int i = 0; i < ng && !c->err; ++i) {
+            first[(size_t)j * ng + i] = c->m->object_count;
+            double x = (i + 0.5) * sp + gen__rf(r, -0.3, 0.3) * sp, z = (j + 0.5) * sp + gen__rf(r, -0.3, 0.3) * sp;
+            double tr_r = gen__rf(r, 0.1, 0.3), ht = gen__rf(r, 6, 14);
+            int conifer = gen__chance(r, 0.45), keep = gen__chance(r, 0.94), bush = gen__chance(r, 0.95);
+            double ba = gen__rf(r, 0, 4), bd = gen__rf(r, 1.6, 2.4); /* the bush: side (0..4 around a square) and distance */
+            for (int k = 0; k < ncl; ++k)
+                if ((x - cl[k][0]) * (x - cl[k][0]) + (z - cl[k][1]) * (z - cl[k][1]) < cl[k][2] * cl[k][2]) keep = bush = 0;
+            if (z + 3.0 > pz0 && z - 3.0 < pz1) keep = bush = 0;
+            if (keep) {
+                gen__obj(c, "tree_%u", ntree++);
+                uint32_t b = c->m->vertex_count;
+                for (int k = 0; k < 6; ++k) gen__v(c, x + hex[k][0] * tr_r, 0, z + hex[k][1] * tr_r);
+                for (int k = 0; k < 6; ++k) gen__v(c, x + hex[k][0] * tr_r * 0.5, ht, z + hex[k][1] * tr_r * 0.5);
+                for (uint32_t k = 0; k < 6; ++k) gen__quad(c, b + k, b + 6 + k, b + 6 + (k + 1) % 6, b + (k + 1) % 6);
+                gen__tri(c, b + 6, b + 11, b + 10); gen__tri(c, b + 6, b + 10, b + 9);
+                gen__tri(c, b + 6, b + 9, b + 8); gen__tri(c, b + 6, b + 8, b + 7);
+                if (conifer) {
+                    double y0 = gen__rf(r, 0.8, 1.6), R = gen__rf(r, 1.6, 2.2);
+                    int ncu = 4 + (int)gen__ri(r, 3);
+                    for (int k = 0; k < ncu; ++k) {
+                        double f = (double)k / (ncu - 1), rad = R * (1.0 - 0.7 * f) * gen__rf(r, 0.85, 1.0);
+                        double cy = y0 + rad * 0.6 + f * (ht - y0 - rad * 0.6), ts = LT * gen__rf(r, 0.5, 0.75);
+                        gen__leaves(c, x, cy, z, rad, 18 + (int)gen__ri(r, 7), ts);
+                    }
+                } else {
+                    double y0 = gen__rf(r, 1.4, 3.0);
+                    int ncu = 3 + (int)gen__ri(r, 3);
+                    for (int k = 0; k < ncu; ++k) {
+                        double rad = gen__rf(r, 1.2, 1.9), ts = LT * gen__rf(r, 0.5, 0.75);
+                        double cx = x + gen__rf(r, -1.4, 1.4), cz = z + gen__rf(r, -1.4, 1.4);
+                        double cy = gen__rf(r, y0 + rad * 0.7, gen__max(y0 + rad * 0.7, ht - 0.5));
+                        gen__leaves(c, cx, cy, cz, rad, 18 + (int)gen__ri(r, 7), ts);
+                    }
+                }
+            }
+            if (bush) {
+                double bx = x, bz = z, t = ba - floor(ba), u = 2.0 * t - 1.0;
+                if (ba < 1) { bx += bd; bz += u * bd; }
+                else if (ba < 2) { bx -= bd; bz += u * bd; }
+                else if (ba < 3) { bz += bd; bx += u * bd; }
+                else { bz -= bd; bx += u * bd; }
+                gen__obj(c, "bush_%u", nbush++);
+                int ncu = 2 + (int)gen__ri(r, 2);
+                for (int k = 0; k < ncu; ++k) {
+                    double rad = gen__rf(r, 0.6, 1.1), ts = LT * gen__rf(r, 0.35, 0.55);
+                    double cx = bx + gen__rf(r, -0.5, 0.5), cz = bz + gen__rf(r, -0.5, 0.5), cy = rad * gen__rf(r, 0.8, 1.2) + ts;
+                    gen__leaves(c, cx, cy, cz, rad, 14 + (int)gen__ri(r, 7), ts);
+                }
+            }
+        }
+    first[(size_t)ng * ng] = c->m->object_count;
+    if (!c->err) obb = gen__object_boxes(c->m);
+    if (!obb) c->err = 1;
+    /* cells: whole 10 m tiles in clearings, else a 3 m box per 10 m tile where one is free */
+    int nc = (int)floor(S / 10.0);
+    for (int j = 0; j < nc && !c->err; ++j)
+        for (int i = 0; i < nc && !c->err; ++i) {
+            gen__r2 R = {i * 10.0, j * 10.0, i * 10.0 + 10, j * 10.0 + 10};
+            int in_clearing = 0;
+            for (int k = 0; k < ncl && !in_clearing; ++k) {
+                double dx = gen__max(fabs(R.x0 - cl[k][0]), fabs(R.x1 - cl[k][0])), dz = gen__max(fabs(R.z0 - cl[k][1]), fabs(R.z1 - cl[k][1]));
+                in_clearing = dx * dx + dz * dz < cl[k][2] * cl[k][2];
+            }
+            for (int tries = 0; tries < (in_clearing ? 1 : 24); ++tries) {
+                double x0 = R.x0, z0 = R.z0, w = 10.0;
+                if (!in_clearing) { x0 += gen__rf(r, 0, 7); z0 += gen__rf(r, 0, 7); w = 3.0; }
+                double box[6] = {x0 - 0.1, 0.4, z0 - 0.1, x0 + w + 0.1, 2.1, z0 + w + 0.1};
+                int i0 = (int)floor(box[0] / sp) - 2, i1 = (int)floor(box[3] / sp) + 2, j0 = (int)floor(box[2] / sp) - 2, j1 = (int)floor(box[5] / sp) + 2;
+                int hit = 0;
+                for (int sj = j0 < 0 ? 0 : j0; sj <= j1 && sj < ng && !hit; ++sj) {
+                    int si0 = i0 < 0 ? 0 : i0, si1 = i1 < ng ? i1 : ng - 1;
+                    if (si0 > si1) continue;
+                    /* objects of slots si0..si1 of row sj are contiguous */
+                    mesh sub = *c->m;
+                    sub.object_count = first[(size_t)sj * ng + si1 + 1];
+                    hit = gen__box_hits(&sub, obb, first[(size_t)sj * ng + si0], box);
+                }
+                if (hit) continue;
+                gen__cell(c, x0, 0.5, z0, x0 + w, 2.0, z0 + w);
+                break;
+            }
+        }
+    free(first);
+    free(obb);
+    if (P->max_cells) gen__thin_cells(c->cells, 0, P->max_cells);
+    return c->err ? -1 : 0;
+}
+
 /* ------------------------------------------------------------------------------------------------
    Indoor */
 
@@ -1556,6 +1686,7 @@ int gen_scene_ex(const gen_params *p, mesh *m, mesh_cells *cells, gen_info *info
     memset(info, 0, sizeof *info);
     if (!p || !m || !cells || !gen_kind_name(p->kind)) return -1;
     if (!(p->size > 0.0f && p->size <= 8.0f)) return -1;
+    if (p->dense && p->kind != GEN_FOREST) return -1;
     if (m->vertex_count || m->triangle_count || m->object_count || cells->count) return -1;
     gen__ctx c;
     memset(&c, 0, sizeof c);
@@ -1566,7 +1697,7 @@ int gen_scene_ex(const gen_params *p, mesh *m, mesh_cells *cells, gen_info *info
     int rc;
     switch (p->kind) {
     case GEN_CITY: rc = gen__city_scene(&c, p, info); break;
-    case GEN_FOREST: rc = gen__forest(&c, p); break;
+    case GEN_FOREST: rc = p->dense ? gen__forest_dense(&c, p) : gen__forest(&c, p); break;
     case GEN_INDOOR: rc = gen__indoor_scene(&c, p); break;
     case GEN_WALLS: rc = gen__walls(&c, p); break;
     default: rc = gen__soup(&c, p); break;

@@ -1,5 +1,5 @@
 /* pvsgen - write a procedural test scene (OBJ) and its view cells.
-   usage: pvsgen city|forest|indoor|walls|soup [--seed N] [--size S] [--max-cells N] -o OUT.obj [--cells OUT_CELLS.txt]
+   usage: pvsgen city|forest|indoor|walls|soup [--seed N] [--size S] [--max-cells N] [--dense] -o OUT.obj [--cells OUT_CELLS.txt]
    Exit codes: 0 ok, 1 I/O error or out of memory, 2 usage. */
 #if !defined(_WIN32) && !defined(_POSIX_C_SOURCE)
 #define _POSIX_C_SOURCE 200809L
@@ -21,7 +21,7 @@
 
 static void usage(FILE *f) {
     fprintf(f,
-            "usage: pvsgen city|forest|indoor|walls|soup [--seed N] [--size S] [--max-cells N]\n"
+            "usage: pvsgen city|forest|indoor|walls|soup [--seed N] [--size S] [--max-cells N] [--dense]\n"
             "              -o OUT.obj [--cells OUT_CELLS.txt]\n"
             "\n"
             "Writes a deterministic procedural test scene as OBJ (Y up, metres, ground at y = 0) and its\n"
@@ -29,6 +29,8 @@ static void usage(FILE *f) {
             "  --seed N        PRNG seed (default 1)\n"
             "  --size S        scale factor in (0, 8], 1 = default (city ~1 km^2, forest ~300 m square)\n"
             "  --max-cells N   keep at most N cells, evenly spread (0 = all, the default)\n"
+            "  --dense         forest only: the dense forest (foliage down to eye height, bushes; from\n"
+            "                  inside it only a few percent of the trees can be seen; Durand et al. 2000)\n"
             "  -o OUT.obj      the scene (written to a temporary file, then renamed)\n"
             "  --cells FILE    the view cells (same)\n"
             "Exit codes: 0 ok, 1 I/O error, 2 usage.\n");
@@ -46,6 +48,7 @@ typedef struct cells_ctx {
     const mesh_cells *cells;
     const gen_info *info;
     const char *kind;
+    int dense;
     unsigned long long seed;
     double size;
 } cells_ctx;
@@ -54,8 +57,8 @@ static int write_obj(FILE *f, const void *ctx) { return mesh_write_obj((const me
 
 static int write_cells(FILE *f, const void *ctx) {
     const cells_ctx *c = (const cells_ctx *)ctx;
-    fprintf(f, "# pvsgen %s --seed %llu --size %g: %u cells, minx miny minz maxx maxy maxz, Y up\n", c->kind, c->seed, c->size,
-            c->cells->count);
+    fprintf(f, "# pvsgen %s%s --seed %llu --size %g: %u cells, minx miny minz maxx maxy maxz, Y up\n", c->kind, c->dense ? " --dense" : "", c->seed,
+            c->size, c->cells->count);
     if (c->info->touching_count)
         fprintf(f, "# cells %u..%u touch geometry (a face within 1 mm of a wall)\n", c->info->touching_first,
                 c->info->touching_first + c->info->touching_count - 1);
@@ -143,6 +146,7 @@ static int parse_u64(const char *s, unsigned long long *out) {
 int main(int argc, char **argv) {
     const char *kind_s = NULL, *out = NULL, *cells_out = NULL;
     unsigned long long seed = 1, max_cells = 0;
+    int dense = 0;
     double size = 1.0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -162,6 +166,8 @@ int main(int argc, char **argv) {
         } else if (!strcmp(a, "--max-cells")) {
             if (parse_u64(v, &max_cells) || max_cells > 0xffffffffull) return bad_usage("--max-cells needs a non-negative integer", v);
             ++i;
+        } else if (!strcmp(a, "--dense")) {
+            dense = 1;
         } else if (!strcmp(a, "-o")) {
             if (!v) return bad_usage("-o needs a file name", NULL);
             out = v;
@@ -182,10 +188,12 @@ int main(int argc, char **argv) {
     memset(&p, 0, sizeof p);
     if (!kind_s) return bad_usage("missing scene kind", NULL);
     if (gen_kind_parse(kind_s, &p.kind)) return bad_usage("unknown scene kind", kind_s);
+    if (dense && p.kind != GEN_FOREST) return bad_usage("--dense is for the forest only", kind_s);
     if (!out) return bad_usage("missing -o OUT.obj", NULL);
     p.seed = seed;
     p.size = (float)size;
     p.max_cells = (uint32_t)max_cells;
+    p.dense = dense;
 
     mesh m;
     mesh_cells cells;
@@ -203,12 +211,13 @@ int main(int argc, char **argv) {
         cc.cells = &cells;
         cc.info = &info;
         cc.kind = kind_s;
+        cc.dense = dense;
         cc.seed = seed;
         cc.size = size;
         if (write_atomic(cells_out, write_cells, &cc)) rc = 1;
     }
     if (!rc) {
-        fprintf(stderr, "pvsgen: %s seed %llu size %g: %u objects, %u triangles, %u vertices, %u cells", kind_s, seed, size,
+        fprintf(stderr, "pvsgen: %s%s seed %llu size %g: %u objects, %u triangles, %u vertices, %u cells", kind_s, dense ? " (dense)" : "", seed, size,
                 m.object_count, m.triangle_count, m.vertex_count, cells.count);
         if (info.touching_count || info.inside_count)
             fprintf(stderr, " (%u touching a wall at %u, %u partly inside buildings at %u)", info.touching_count,
