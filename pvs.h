@@ -4802,15 +4802,16 @@ PVS__STATIC void pvs__mesh_draw(pvs_raster *r, uint32_t n, int g) {
 }
 
 /* Facing of a clip-space triangle: the sign of det(x, y, w), 0 when within its rounding bound (each
-   entry off by at most e: 48 M^2 e covers the first- and higher-order terms for e <= M, 1e-14 M^3 the
-   evaluation). */
+   entry off by at most e moves the determinant by at most 6 ((M + e)^3 - M^3), for any e; 1e-14
+   (M + e)^3 covers the evaluation). */
 PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
     const double *p = v[0].c, *q = v[1].c, *s = v[2].c;
     double d = p[0] * (q[1] * s[3] - s[1] * q[3]) - p[1] * (q[0] * s[3] - s[0] * q[3]) + p[3] * (q[0] * s[1] - s[0] * q[1]);
     double M = 0.0, e = pvs__dmax(v[0].e, pvs__dmax(v[1].e, v[2].e)), bound;
     int i;
     for (i = 0; i < 3; ++i) M = pvs__dmax(M, pvs__dmax(pvs__dabs(v[i].c[0]), pvs__dmax(pvs__dabs(v[i].c[1]), pvs__dabs(v[i].c[3]))));
-    bound = 48.0 * M * M * e + 1e-14 * M * M * M + 1e-300;
+    /* (M + e)^3 - M^3 = e (3 M^2 + 3 M e + e^2), without cancellation */
+    bound = 6.0 * e * (3.0 * M * M + 3.0 * M * e + e * e) * (1.0 + 1e-14) + 1e-14 * (M + e) * (M + e) * (M + e) + 1e-300;
     if (d > bound) return 1;
     if (d < -bound) return -1;
     return 0;
