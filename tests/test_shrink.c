@@ -599,7 +599,7 @@ static void test_random_prisms(void) {
         pvs_bake *b = NULL;
         pvs_error e;
         pvs_box cells[12];
-        uint32_t nc = 0, c, i, misses = 0, culled = 0, n, gb, unblocked = 0;
+        uint32_t nc = 0, c, i, misses = 0, culled = 0, n, gb, unblocked = 0, wide_culled = 0;
         int k;
         char name[32];
         pvs_word *ref;
@@ -636,6 +636,14 @@ static void test_random_prisms(void) {
             sprintf(name, "box_%u", i);
             add_box(&m, name, lo, hi, -1);
         }
+        for (i = 0; i < 40; ++i) { /* wide boxes (slabs and blocks): many horizon bins each, the
+                                      interleaved scan of pvs__hz_test_box */
+            float lo[3], hi[3];
+            lo[0] = (float)(80 * rnd()); lo[2] = (float)(80 * rnd()); lo[1] = 0.0f;
+            hi[0] = lo[0] + (float)(3 + 9 * rnd()); hi[2] = lo[2] + (float)(3 + 9 * rnd()); hi[1] = (float)(i & 1 ? 0.05 : 0.3 + 12 * rnd());
+            sprintf(name, "wide_%u", i);
+            add_box(&m, name, lo, hi, -1);
+        }
         while (nc < 12) { /* cells: half of them almost points */
             double cx = 80 * rnd(), cz = 80 * rnd(), hw = nc & 1 ? 1e-3 : 0.5 + 2 * rnd();
             cells[nc].min[0] = (float)(cx - hw); cells[nc].max[0] = (float)(cx + hw);
@@ -669,12 +677,13 @@ static void test_random_prisms(void) {
                 e3[0] = cells[c].min[0]; e3[1] = cells[c].max[1]; e3[2] = cells[c].min[2];
                 for (i = 0; i < n; ++i) {
                     pvs_box bx = pvs_scene_object_box(s, i);
-                    int fa, gx, gy;
+                    int fa, gx, gy, g = 4;
                     if (pvs_bitset_test(pv, i) || bx.min[1] < 0.0f || bx.max[1] <= 0.0f) continue; /* the flat ground aside */
+                    if (bx.max[0] - bx.min[0] > 2.5f && bx.max[2] - bx.min[2] > 2.5f) { g = 24; ++wide_culled; } /* every bin it spans */
                     for (fa = 0; fa < 6; ++fa)
-                        for (gy = 0; gy <= 4; ++gy)
-                            for (gx = 0; gx <= 4; ++gx) {
-                                double pt[3], f0 = gx / 4.0, f1 = gy / 4.0;
+                        for (gy = 0; gy <= g; ++gy)
+                            for (gx = 0; gx <= g; ++gx) {
+                                double pt[3], f0 = gx / (double)g, f1 = gy / (double)g;
                                 int ax = fa / 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
                                 pt[ax] = fa & 1 ? bx.max[ax] : bx.min[ax];
                                 pt[a1] = bx.min[a1] + f0 * ((double)bx.max[a1] - bx.min[a1]);
@@ -688,6 +697,7 @@ static void test_random_prisms(void) {
         CHECK(misses == 0);
         CHECK(unblocked == 0);
         CHECK(culled > nc * 10); /* not vacuous: the buildings hide things */
+        CHECK(wide_culled > 0);   /* ... wide boxes among them */
         free(ref);
         pvs_bake_destroy(b);
         pvs_scene_destroy(s);
