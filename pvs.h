@@ -6409,6 +6409,7 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
    at the end of this section has its own 3D kernel (planes through the eye). */
 
 #define PVS__OT_MAXV 16
+#define PVS__OT25_WITNESSES 16
 #define PVS__OT_OUT 1u
 #define PVS__OT_IN 2u
 #define PVS__OT_NONE 0xffffffffu
@@ -6454,6 +6455,9 @@ typedef struct pvs__otree {
     const double *corners;          /* 2.5D: the cell's 4 ground corners (every possible eye position) */
     double *jd;                     /* 2.5D: per occluder, its line and umbra data in this tree (pvs__ot25_prepare) */
     double len_eps;                 /* distances below this are ties */
+    uint32_t root_in;               /* 2.5D: the node whose region is the lines leaving through the source edge */
+    int nwit;                       /* 2.5D: witness lines, most recently useful first (pvs__ot25_witnessed) */
+    double wit[PVS__OT25_WITNESSES][3];
 } pvs__otree;
 
 PVS__STATIC int pvs__ot_grow(const pvs_allocator *a, void **p, size_t *cap, size_t need, size_t elem) {
@@ -6496,6 +6500,8 @@ PVS__STATIC int pvs__ot_reset(pvs__otree *t) {
     t->nodes[0].ml = DBL_MAX;
     t->nodes[0].parent = PVS__OT_NONE;
     t->node_count = 1;
+    t->root_in = PVS__OT_NONE;
+    t->nwit = 0;
     return 1;
 }
 
@@ -6703,6 +6709,20 @@ PVS__STATIC void pvs__ot_range(const pvs__otpoly *q, const double p[2], double *
     }
 }
 
+/* 2.5D witness lines. A read-only test that finds an out-leaf keeps a line of the polygon part it
+   reached there (the normalised sum of its vertices, inside it). Out-leaves only ever turn into
+   in-leaves, so a witness found in an in-leaf later is dropped for good. */
+PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
+    double w[3] = {0, 0, 0}, len;
+    int i;
+    for (i = 0; i < q->n; ++i) { w[0] += q->v[i][0]; w[1] += q->v[i][1]; w[2] += q->v[i][2]; }
+    len = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    if (!(len > 0.0)) return;
+    if (t->nwit < PVS__OT25_WITNESSES) ++t->nwit;
+    for (i = t->nwit - 1; i > 0; --i) memcpy(t->wit[i], t->wit[i - 1], sizeof(t->wit[i]));
+    t->wit[0][0] = w[0] / len; t->wit[0][1] = w[1] / len; t->wit[0][2] = w[2] / len;
+}
+
 /* 2.5D: 1 when the subtree of nd hides every point no nearer than `near` to the cell and no higher
    than h (the hidden-height bound, pvs__ot25_bound); near < 0: no bound (2D). */
 PVS__STATIC int pvs__ot25_hidden_below(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
@@ -6788,7 +6808,13 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
     if (hi <= 1e-12) { t->stack_node[top] = c0; return 0; }
     /* 2.5D (no sliver rule): both parts hold a vertex strictly off the plane, so an out-leaf child
        answers at once */
-    if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) return 1;
+    if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) {
+        /* keep a line of the part in the out-leaf as a witness (pvs__ot25_witnessed) */
+        int out1 = t->nodes[c1].kind == PVS__OT_OUT;
+        for (i = 0; i < 3; ++i) nf[i] = out1 ? nd->n[i] : -nd->n[i];
+        if (pvs__ot_clip_n(q, nf, nd->p, 0.0, 0, PVS__OT_ITEM(t, top + 1)) >= 3) pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top + 1));
+        return 1;
+    }
     {   /* a child whose subtree hides the query (2.5D bound) gets nothing */
         int h0 = pvs__ot25_hidden_below(t, t->nodes + c0, near, h), h1 = pvs__ot25_hidden_below(t, t->nodes + c1, near, h);
         if (h0 && h1) { t->stack_count = top; return 0; }
@@ -8096,6 +8122,66 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
     t->stack_count = base;
 }
 
+/* The kind of the leaf holding line w (unit), found by descending with w alone; 0 when w lies within
+   1e-9 of a plane on its path (no answer) or outside the lines leaving through the source edge. */
+PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
+    uint32_t node = 0;
+    int in_root = 0;
+    while (t->nodes[node].kind == 0) {
+        const pvs__otnode *nd = t->nodes + node;
+        double d = nd->n[0] * w[0] + nd->n[1] * w[1] + nd->n[2] * w[2];
+        if (node == t->root_in) in_root = 1;
+        if (d > 1e-9) node = nd->child[1];
+        else if (d < -1e-9) node = nd->child[0];
+        else return 0;
+    }
+    return in_root ? t->nodes[node].kind : 0;
+}
+
+/* A shortcut of pvs__ot25_box_visible for visible boxes (an early exit, §3.3.4): 1 when a witness
+   line crosses the interior of box bx (umin, vmin, umax, vmax), which lies wholly beyond the source
+   edge a -> b, and is still in an out-leaf. Such a line leaves the cell through the source edge,
+   meets no occluder of the tree and then two sides of the box, one of the three that
+   pvs__ot25_box_visible tests, so that test would reach the same out-leaf; margins of 1e-6 of the
+   scene size keep rounding out of it (else 0: the caller runs the full test). */
+PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const double a[2], const double b[2]) {
+    double nx = a[1] - b[1], ny = b[0] - a[0], mg = 1e3 * t->len_eps, near;
+    int i, k;
+    if (!t->nwit || !(bx[0] < bx[2] && bx[1] < bx[3])) return 0;
+    near = nx * (nx > 0 ? bx[0] : bx[2]) + ny * (ny > 0 ? bx[1] : bx[3]) - (nx * a[0] + ny * a[1]);
+    if (!(near > mg * sqrt(nx * nx + ny * ny))) return 0;
+    for (i = 0; i < t->nwit; ++i) {
+        const double *w = t->wit[i];
+        double m = mg * sqrt(w[0] * w[0] + w[1] * w[1]), s0, s1, s2, s3, lo, hi;
+        uint32_t kind;
+        s0 = w[0] * bx[0] + w[1] * bx[1] + w[2];
+        s1 = w[0] * bx[2] + w[1] * bx[1] + w[2];
+        s2 = w[0] * bx[2] + w[1] * bx[3] + w[2];
+        s3 = w[0] * bx[0] + w[1] * bx[3] + w[2];
+        lo = s0 < s1 ? s0 : s1;
+        hi = s0 < s1 ? s1 : s0;
+        if (s2 < lo) lo = s2;
+        if (s2 > hi) hi = s2;
+        if (s3 < lo) lo = s3;
+        if (s3 > hi) hi = s3;
+        if (!(lo < -m && hi > m)) continue;
+        kind = pvs__ot25_locate(t, w);
+        if (kind == PVS__OT_OUT) {
+            double keep[3];
+            memcpy(keep, w, sizeof(keep));
+            for (k = i; k > 0; --k) memcpy(t->wit[k], t->wit[k - 1], sizeof(t->wit[k]));
+            memcpy(t->wit[0], keep, sizeof(keep));
+            return 1;
+        }
+        if (kind == PVS__OT_IN) { /* in for good */
+            for (k = i; k + 1 < t->nwit; ++k) memcpy(t->wit[k], t->wit[k + 1], sizeof(t->wit[k]));
+            --t->nwit;
+            --i;
+        }
+    }
+    return 0;
+}
+
 /* Read-only c-LSS test of a far edge e (height h) of an object box `box` (umin, vmin, umax, vmax):
    1 when some part of it may be seen through the lines of the blocker. */
 PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, const double *e, double h, const double *box) {
@@ -8115,6 +8201,7 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
         --t->stack_count; /* the polygon stays readable in its slot until the next push */
         if (nd->kind == PVS__OT_OUT) {
             vis = 1;
+            pvs__ot25_witness_add(t, PVS__OT_ITEM(t, t->stack_count));
         } else {
             double f0, f1, v0, v1;
             if (pvs__ot25_open(t, PVS__OT_ITEM(t, t->stack_count), nd->first, nd->count, PVS__OT_NONE, e, h, box, &f0, &f1, &v0, &v1)) vis = 1;
@@ -8131,6 +8218,7 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
     int i, vis = 0, far_edge, order[3];
     c4[0] = bx[0]; c4[1] = bx[1]; c4[2] = bx[2]; c4[3] = bx[1]; c4[4] = bx[2]; c4[5] = bx[3]; c4[6] = bx[0]; c4[7] = bx[3];
     if (any_far) *any_far = 0;
+    if (!any_far && pvs__ot25_witnessed(t, bx, a, b)) return 1;
     /* A box taller than the eyes is seen (if at all) along a rising ray, at least as well at the
        point where the ray's 2D line enters the box; no line of this tree enters through the box
        edge that faces the same way as the source edge (edges 0..3: -v, +u, +v, -u). A box no taller
@@ -8200,9 +8288,7 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
        costs less than the box test (the thesis likewise skips tests of small nodes, §4.12.1) */
     if (!items && w->refs[w->node] >= w->test_min &&
         !(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
-        int far;
-        if (!pvs__ot25_box_visible(t, bx, (double)node_box->max[2], w->a, w->b, &far)) return PVS_VISIT_SKIP;
-        (void)far;
+        if (!pvs__ot25_box_visible(t, bx, (double)node_box->max[2], w->a, w->b, NULL)) return PVS_VISIT_SKIP;
     }
     for (i = 0; i < item_count; ++i) {
         uint32_t it = items[i];
@@ -8468,6 +8554,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
                 pvs__ot25_presplit(&t, pos, m, pts, 0, PVS__OT25_PRESPLIT);
             }
             t.nodes[0].parent = PVS__OT_NONE;
+            t.root_in = pos;
             if (t.oom) break;
         }
         w.a = a;
