@@ -6726,8 +6726,18 @@ PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 /* 2.5D: 1 when the subtree of nd hides every point no nearer than `near` to the cell and no higher
    than h (the hidden-height bound, pvs__ot25_bound); near < 0: no bound (2D). */
 PVS__STATIC int pvs__ot25_hidden_below(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
-    return near >= 0.0 && ((nd->mr < DBL_MAX && near > nd->mr && h < t->eye + nd->ms * near - 1e-9 * (fabs(t->eye) + nd->ms * near + 1.0)) ||
-                           (nd->ml < DBL_MAX && near > nd->ml && h < t->eye + nd->mls * near - 1e-9 * (fabs(t->eye) + nd->mls * near + 1.0)));
+    double x;
+    if (!(near >= 0.0)) return 0;
+    /* a bound of DBL_MAX fails `near > mr` by itself (near is finite) */
+    if (near > nd->mr) {
+        x = nd->ms * near;
+        if (h < t->eye + x - 1e-9 * (fabs(t->eye) + x + 1.0)) return 1;
+    }
+    if (near > nd->ml) {
+        x = nd->mls * near;
+        if (h < t->eye + x - 1e-9 * (fabs(t->eye) + x + 1.0)) return 1;
+    }
+    return 0;
 }
 
 /* Insertion at an inner node (§3.3.3), on the top of the work stack in place: the polygon's edges
@@ -6737,13 +6747,15 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
     pvs__otpoly *q = PVS__OT_ITEM(t, top);
     const pvs__otnode *nd = t->nodes + t->stack_node[top];
     double lo = DBL_MAX, hi = -DBL_MAX;
+    const double n0 = nd->n[0], n1 = nd->n[1], n2 = nd->n[2], p0 = nd->p[0], p1 = nd->p[1];
     uint32_t c0 = nd->child[0], c1 = nd->child[1];
-    int i, na, nb;
-    for (i = 0; i < q->n; ++i) {
-        double d = nd->n[0] * q->v[i][0] + nd->n[1] * q->v[i][1] + nd->n[2] * q->v[i][2];
+    int i, na, nb, nv = q->n;
+    for (i = 0; i < nv; ++i) { /* locals: the mark stores may alias everything */
+        const double *v = q->v[i];
+        double d = n0 * v[0] + n1 * v[1] + n2 * v[2];
         if (d < lo) lo = d;
         if (d > hi) hi = d;
-        if (q->e[i][0] == nd->p[0] && q->e[i][1] == nd->p[1]) q->mark[i] = 1;
+        if (q->e[i][0] == p0 && q->e[i][1] == p1) q->mark[i] = 1;
     }
     if (lo >= -1e-12) { t->stack_node[top] = c1; return; }
     if (hi <= 1e-12) { t->stack_node[top] = c0; return; }
@@ -6798,11 +6810,16 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
     nd = t->nodes + node;
     c0 = nd->child[0];
     c1 = nd->child[1];
-    for (i = 0; i < q->n; ++i) {
-        double d = nd->n[0] * q->v[i][0] + nd->n[1] * q->v[i][1] + nd->n[2] * q->v[i][2];
-        if (d < lo) lo = d;
-        if (d > hi) hi = d;
-        if (lo < -1e-12 && hi > 1e-12) break; /* straddles: the other vertices cannot change the answer */
+    {
+        const double n0 = nd->n[0], n1 = nd->n[1], n2 = nd->n[2];
+        int nv = q->n;
+        for (i = 0; i < nv; ++i) {
+            const double *v = q->v[i];
+            double d = n0 * v[0] + n1 * v[1] + n2 * v[2];
+            if (d < lo) lo = d;
+            if (d > hi) hi = d;
+            if (lo < -1e-12 && hi > 1e-12) break; /* straddles: the other vertices cannot change the answer */
+        }
     }
     if (lo >= -1e-12) { t->stack_node[top] = c1; return 0; }
     if (hi <= 1e-12) { t->stack_node[top] = c0; return 0; }
