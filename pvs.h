@@ -8251,8 +8251,15 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
     order[2] = (far_edge + 3) & 3;
     for (i = 0; i < 3 && !vis; ++i) {
         int edge = order[i], on, nb, deg, m;
-        double sg[4], o[4];
+        double sg[4], o[4], pa, pb, c;
         pvs__otpoly bl[2];
+        /* an edge no line of the tree enters (tall box) or leaves (low box) is not needed: every line
+           through the box is tested where it enters (leaves) it. With outward normal m and m.x = c on
+           the edge, a line from p enters it when m.p > c, leaves it when m.p < c (exact compares) */
+        if (edge & 1) { pa = a[0]; pb = b[0]; c = edge == 1 ? bx[2] : bx[0]; }
+        else { pa = a[1]; pb = b[1]; c = edge == 2 ? bx[3] : bx[1]; }
+        if (edge == 0 || edge == 3) { pa = -pa; pb = -pb; c = -c; }
+        if (top > t->eye ? !(pa > c || pb > c) : !(pa < c || pb < c)) continue;
         sg[0] = c4[2 * edge]; sg[1] = c4[2 * edge + 1]; sg[2] = c4[(2 * edge + 2) & 7]; sg[3] = c4[(2 * edge + 3) & 7];
         if (sg[0] == sg[2] && sg[1] == sg[3]) sg[2] += t->len_eps; /* a box flat on both axes: its corner */
         if (!pvs__ot_clip_segment(b, a, sg, o, &on)) continue;
