@@ -8005,6 +8005,13 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
     int i, nu = 0, changed;
     uint32_t m;
     *f0 = *v0 = 0.0; *f1 = *v1 = 1.0;
+    for (i = 0; i < q->n; ++i) { /* the funnel: the parameters on e of the polygon's lines */
+        double u;
+        if (pvs__ot_param(q->v[i], e, &u)) { if (u < flo) flo = u; if (u > fhi) fhi = u; }
+        else { flo = -DBL_MAX; fhi = DBL_MAX; }
+    }
+    if (flo < 0.0) flo = 0.0;
+    if (fhi > 1.0) fhi = 1.0;
     for (m = 0; m < count && nu < PVS__OT25_MAX_UMBRAE; ++m) {
         uint32_t j = t->seq[first + m];
         const double *sj = t->seg + 4 * (size_t)j, *jd = t->jd + PVS__OT25_JD * (size_t)j;
@@ -8028,6 +8035,10 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
            line that crosses both; e wholly on the source side puts j behind */
         s0 = jd[0] * e[0] + jd[1] * e[1] + jd[2];
         s1 = jd[0] * e[2] + jd[1] * e[3] + jd[2];
+        /* the umbra first (cheap): one that misses the open funnel range cannot change the answer
+           below (it never moves v0 or v1), so the depth order is not needed; one that covers it
+           hides e here once j is found in front */
+        if (!pvs__ot25_umbra(t, jd, s0, s1, h, &um[nu][0], &um[nu][1]) || um[nu][1] <= flo || um[nu][0] >= fhi) continue;
         if (jd[5]) { /* the whole source edge on one side */
             if (s0 >= -tol && s1 >= -tol) continue;       /* e on the source side: j is behind */
             if (!(s0 < -tol && s1 < -tol)) {               /* e crosses j's line: vertex test */
@@ -8038,18 +8049,9 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
             pvs__ot_depth(t, q, e, sj, &front, &behind);
             if (!front || behind) continue;
         }
-        if (pvs__ot25_umbra(t, jd, s0, s1, h, &um[nu][0], &um[nu][1])) {
-            if (um[nu][0] <= 0.0 && um[nu][1] >= 1.0) return 0; /* one umbra covers all of e: hidden whatever the funnel */
-            ++nu;
-        }
+        if (um[nu][0] <= flo && um[nu][1] >= fhi) return 0; /* one umbra covers the funnel's part of e: hidden */
+        ++nu;
     }
-    for (i = 0; i < q->n; ++i) { /* the funnel: the parameters on e of the polygon's lines */
-        double u;
-        if (pvs__ot_param(q->v[i], e, &u)) { if (u < flo) flo = u; if (u > fhi) fhi = u; }
-        else { flo = -DBL_MAX; fhi = DBL_MAX; }
-    }
-    if (flo < 0.0) flo = 0.0;
-    if (fhi > 1.0) fhi = 1.0;
     *f0 = flo; *f1 = fhi;
     *v0 = flo; *v1 = fhi;
     /* the first and the last parameter of [flo, fhi] outside every umbra (touching umbrae join) */
