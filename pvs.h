@@ -6742,23 +6742,33 @@ PVS__STATIC int pvs__ot25_hidden_below(const pvs__otree *t, const pvs__otnode *n
 
 /* Insertion at an inner node (§3.3.3), on the top of the work stack in place: the polygon's edges
    lying on the node's line are marked (§4.10.1), then it goes to the child it lies in, or is split
-   between both; a child whose subtree hides the occluder (2.5D bound, near >= 0) gets nothing. */
+   between both; a child whose subtree hides the occluder (2.5D bound, near >= 0) gets nothing.
+   2.5D: a polygon that goes to one inner child goes on down here, as the caller's loop would take it
+   (it stops at leaves and at subtrees the bound hides, which the caller then handles). */
 PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, double h) {
     pvs__otpoly *q = PVS__OT_ITEM(t, top);
-    const pvs__otnode *nd = t->nodes + t->stack_node[top];
-    double lo = DBL_MAX, hi = -DBL_MAX;
-    const double n0 = nd->n[0], n1 = nd->n[1], n2 = nd->n[2], p0 = nd->p[0], p1 = nd->p[1];
-    uint32_t c0 = nd->child[0], c1 = nd->child[1];
+    const pvs__otnode *nd;
+    uint32_t c0, c1;
     int i, na, nb, nv = q->n;
-    for (i = 0; i < nv; ++i) { /* locals: the mark stores may alias everything */
-        const double *v = q->v[i];
-        double d = n0 * v[0] + n1 * v[1] + n2 * v[2];
-        if (d < lo) lo = d;
-        if (d > hi) hi = d;
-        if (q->e[i][0] == p0 && q->e[i][1] == p1) q->mark[i] = 1;
+    for (;;) {
+        double lo = DBL_MAX, hi = -DBL_MAX, n0, n1, n2, p0, p1;
+        uint32_t c;
+        nd = t->nodes + t->stack_node[top];
+        n0 = nd->n[0]; n1 = nd->n[1]; n2 = nd->n[2]; p0 = nd->p[0]; p1 = nd->p[1];
+        c0 = nd->child[0]; c1 = nd->child[1];
+        for (i = 0; i < nv; ++i) { /* locals: the mark stores may alias everything */
+            const double *v = q->v[i];
+            double d = n0 * v[0] + n1 * v[1] + n2 * v[2];
+            if (d < lo) lo = d;
+            if (d > hi) hi = d;
+            if (q->e[i][0] == p0 && q->e[i][1] == p1) q->mark[i] = 1;
+        }
+        if (lo >= -1e-12) c = c1;
+        else if (hi <= 1e-12) c = c0;
+        else break;
+        t->stack_node[top] = c;
+        if (near < 0.0 || t->nodes[c].kind != 0 || pvs__ot25_hidden_below(t, t->nodes + c, near, h)) return;
     }
-    if (lo >= -1e-12) { t->stack_node[top] = c1; return; }
-    if (hi <= 1e-12) { t->stack_node[top] = c0; return; }
     {
         int r[2], h0 = pvs__ot25_hidden_below(t, t->nodes + c0, near, h), h1 = pvs__ot25_hidden_below(t, t->nodes + c1, near, h);
         uint32_t s0, s1, s2;
@@ -6802,17 +6812,20 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, double h) {
     pvs__otpoly *q;
     const pvs__otnode *nd;
-    double lo = DBL_MAX, hi = -DBL_MAX, nf[3];
-    uint32_t c0, c1, node = t->stack_node[top];
-    int i, r, first;
+    double nf[3];
+    uint32_t c0, c1, node;
+    int i, r, first, nv;
     if (top + 2 > t->stack_cap && !pvs__ot_reserve(t, top + 2)) return 1;
     q = PVS__OT_ITEM(t, top);
-    nd = t->nodes + node;
-    c0 = nd->child[0];
-    c1 = nd->child[1];
-    {
-        const double n0 = nd->n[0], n1 = nd->n[1], n2 = nd->n[2];
-        int nv = q->n;
+    nv = q->n;
+    for (;;) { /* 2.5D: down through one-sided nodes here, as in pvs__ot_insert_inner */
+        double lo = DBL_MAX, hi = -DBL_MAX, n0, n1, n2;
+        uint32_t c;
+        node = t->stack_node[top];
+        nd = t->nodes + node;
+        c0 = nd->child[0];
+        c1 = nd->child[1];
+        n0 = nd->n[0]; n1 = nd->n[1]; n2 = nd->n[2];
         for (i = 0; i < nv; ++i) {
             const double *v = q->v[i];
             double d = n0 * v[0] + n1 * v[1] + n2 * v[2];
@@ -6820,9 +6833,12 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
             if (d > hi) hi = d;
             if (lo < -1e-12 && hi > 1e-12) break; /* straddles: the other vertices cannot change the answer */
         }
+        if (lo >= -1e-12) c = c1;
+        else if (hi <= 1e-12) c = c0;
+        else break;
+        t->stack_node[top] = c;
+        if (near < 0.0 || t->nodes[c].kind != 0 || pvs__ot25_hidden_below(t, t->nodes + c, near, h)) return 0;
     }
-    if (lo >= -1e-12) { t->stack_node[top] = c1; return 0; }
-    if (hi <= 1e-12) { t->stack_node[top] = c0; return 0; }
     /* 2.5D (no sliver rule): both parts hold a vertex strictly off the plane, so an out-leaf child
        answers at once */
     if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) {
