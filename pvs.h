@@ -6581,10 +6581,6 @@ PVS__STATIC double pvs__ot_line(const double u[2], const double v[2], double l[3
 PVS__STATIC double pvs__ot_side(const double l[3], const double p[2]) {
     return (l[0] * p[0] + l[1] * p[1] + l[2]) / sqrt(p[0] * p[0] + p[1] * p[1] + 1.0);
 }
-PVS__STATIC void pvs__ot_normalize(double v[3]) {
-    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (len > 0.0) { double f = 1.0 / len; v[0] *= f; v[1] *= f; v[2] *= f; }
-}
 
 #define PVS__OT_EPS 1e-12
 
@@ -6622,12 +6618,15 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
             ++m;
         }
         if (in_i != in_j) {
-            double tt = d[i] / (d[i] - d[i + 1]), *v = out->v[m], len;
-            int k;
+            double tt = d[i] / (d[i] - d[i + 1]), *v = out->v[m], len, x0, x1, x2;
+            const double *vi = in->v[i], *vj = in->v[j];
             if (m >= PVS__OT_MAXV) { out->n = 0; return -1; }
-            for (k = 0; k < 3; ++k) v[k] = in->v[i][k] + tt * (in->v[j][k] - in->v[i][k]);
-            len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); /* pvs__ot_normalize, in line */
-            if (len > 0.0) { double f = 1.0 / len; v[0] *= f; v[1] *= f; v[2] *= f; }
+            x0 = vi[0] + tt * (vj[0] - vi[0]); /* in locals: out may alias in as far as the compiler knows */
+            x1 = vi[1] + tt * (vj[1] - vi[1]);
+            x2 = vi[2] + tt * (vj[2] - vi[2]);
+            len = sqrt(x0 * x0 + x1 * x1 + x2 * x2); /* pvs__ot_normalize, in line */
+            if (len > 0.0) { double f = 1.0 / len; x0 *= f; x1 *= f; x2 *= f; }
+            v[0] = x0; v[1] = x1; v[2] = x2;
             if (in_i) { /* leaving: the new edge runs along p's plane */
                 out->e[m][0] = p[0]; out->e[m][1] = p[1];
                 out->mark[m] = (unsigned char)mark;
@@ -6670,12 +6669,16 @@ PVS__STATIC void pvs__ot_split2(const pvs__otpoly *in, const double nn[3], const
                 ++m[side];
             }
             if (in_i != in_j) {
-                double tt = di / (di - dj), *v;
-                int k;
+                double tt = di / (di - dj), *v, x0, x1, x2, len;
+                const double *vi = in->v[i], *vj = in->v[j];
                 if (m[side] >= PVS__OT_MAXV) { m[side] = -1; break; }
                 v = out->v[m[side]];
-                for (k = 0; k < 3; ++k) v[k] = in->v[i][k] + tt * (in->v[j][k] - in->v[i][k]);
-                pvs__ot_normalize(v);
+                x0 = vi[0] + tt * (vj[0] - vi[0]); /* pvs__ot_normalize in line, on locals */
+                x1 = vi[1] + tt * (vj[1] - vi[1]);
+                x2 = vi[2] + tt * (vj[2] - vi[2]);
+                len = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+                if (len > 0.0) { double f = 1.0 / len; x0 *= f; x1 *= f; x2 *= f; }
+                v[0] = x0; v[1] = x1; v[2] = x2;
                 if (in_i) { /* leaving: the new edge runs along p's plane */
                     out->e[m[side]][0] = p[0]; out->e[m[side]][1] = p[1];
                     out->mark[m[side]] = (unsigned char)mark;
@@ -6974,24 +6977,28 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
         for (i = 0; i < n; ++i) {
             double s = (en[i][0] * cen[0] + en[i][1] * cen[1] + en[i][2] * cen[2]) / clen;
             if (!(fabs(s) > 1e-12)) return 0;
-            for (k = 0; k < n; ++k)
-                if ((s > 0 ? 1.0 : -1.0) * (en[i][0] * q->v[k][0] + en[i][1] * q->v[k][1] + en[i][2] * q->v[k][2]) < -1e-9) return 0;
+            for (k = 0; k < n; ++k) /* the edge's own ends lie within 1e-9 of its plane (checked above) */
+                if (k != i && k != (i + 1) % n &&
+                    (s > 0 ? 1.0 : -1.0) * (en[i][0] * q->v[k][0] + en[i][1] * q->v[k][1] + en[i][2] * q->v[k][2]) < -1e-9) return 0;
         }
     }
     return 1;
 }
 
-/* Parameter along line l (unit direction (l1, -l0)) of its crossing with the line through segment
-   `s` (4 doubles); 0 when (nearly) parallel or the same line. */
-PVS__STATIC int pvs__ot_hit(const double l[3], const double *s, double *t) {
-    double m[3], x, y, w, dx = l[1], dy = -l[0], dn;
+/* The line through segment s (4 doubles) for pvs__ot_hit_m: m[0..2] = (s0, 1) x (s1, 1), m[3] = |(m0, m1)|. */
+PVS__STATIC void pvs__ot_hit_line(const double *s, double m[4]) {
     m[0] = s[1] - s[3];
     m[1] = s[2] - s[0];
     m[2] = s[0] * s[3] - s[1] * s[2];
+    m[3] = sqrt(m[0] * m[0] + m[1] * m[1]);
+}
+/* Parameter along line l (unit direction (l1, -l0)) of its crossing with the line m of a segment
+   (pvs__ot_hit_line); 0 when (nearly) parallel or the same line. */
+PVS__STATIC int pvs__ot_hit_m(const double l[3], const double m[4], double *t) {
+    double x, y, w, dx = l[1], dy = -l[0], dn = m[3];
     x = l[1] * m[2] - l[2] * m[1];
     y = l[2] * m[0] - l[0] * m[2];
     w = l[0] * m[1] - l[1] * m[0];
-    dn = sqrt(m[0] * m[0] + m[1] * m[1]);
     if (!(fabs(w) > 1e-12 * dn)) return 0;
     *t = (x * dx + y * dy) / (w * sqrt(dx * dx + dy * dy));
     return 1;
@@ -7024,14 +7031,16 @@ PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
    a rounding sliver (a polygon clipped with slack), where the order means nothing. */
 PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk, int *front, int *behind) {
     int i, have_x;
-    double x[2];
+    double x[2], mj[4], mk[4];
     *front = *behind = 0;
     /* after a split at the crossing X the lines through X are ties, whatever rounding says */
     have_x = q->xsplit && pvs__ot_cross(sj, sk, x);
+    pvs__ot_hit_line(sj, mj);
+    pvs__ot_hit_line(sk, mk);
     for (i = 0; i < q->n; ++i) {
         double tj, tk, uj, uk;
         if (have_x && fabs(pvs__ot_side(q->v[i], x)) <= 1e-9) continue;
-        if (!pvs__ot_hit(q->v[i], sj, &tj) || !pvs__ot_hit(q->v[i], sk, &tk)) continue;
+        if (!pvs__ot_hit_m(q->v[i], mj, &tj) || !pvs__ot_hit_m(q->v[i], mk, &tk)) continue;
         if (!pvs__ot_param(q->v[i], sj, &uj) || !pvs__ot_param(q->v[i], sk, &uk)) continue;
         if (uj < -1e-7 || uj > 1.0 + 1e-7 || uk < -1e-7 || uk > 1.0 + 1e-7) continue;
         if (tk < tj - t->len_eps) ++*front;
