@@ -6728,7 +6728,10 @@ PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 
 /* 2.5D: 1 when the subtree of nd hides every point no nearer than `near` to the cell and no higher
    than h (the hidden-height bound, pvs__ot25_bound); near < 0: no bound (2D). */
-PVS__STATIC int pvs__ot25_hidden_below(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
+/* pvs__ot25_hidden_below_at without the call where neither bound can apply (most nodes); `nd` is
+   evaluated twice */
+#define PVS__OT25_HIDDEN(t, nd, near, h) (((near) > (nd)->mr || (near) > (nd)->ml) && pvs__ot25_hidden_below_at(t, nd, near, h))
+PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
     double x;
     if (!(near >= 0.0)) return 0;
     /* a bound of DBL_MAX fails `near > mr` by itself (near is finite) */
@@ -6770,10 +6773,10 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
         else if (hi <= 1e-12) c = c0;
         else break;
         t->stack_node[top] = c;
-        if (near < 0.0 || t->nodes[c].kind != 0 || pvs__ot25_hidden_below(t, t->nodes + c, near, h)) return;
+        if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return;
     }
     {
-        int r[2], h0 = pvs__ot25_hidden_below(t, t->nodes + c0, near, h), h1 = pvs__ot25_hidden_below(t, t->nodes + c1, near, h);
+        int r[2], h0 = PVS__OT25_HIDDEN(t, t->nodes + c0, near, h), h1 = PVS__OT25_HIDDEN(t, t->nodes + c1, near, h);
         uint32_t s0, s1, s2;
         size_t m = top;
         if (h0 && h1) { t->stack_count = top; return; }
@@ -6840,7 +6843,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
         else if (hi <= 1e-12) c = c0;
         else break;
         t->stack_node[top] = c;
-        if (near < 0.0 || t->nodes[c].kind != 0 || pvs__ot25_hidden_below(t, t->nodes + c, near, h)) return 0;
+        if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return 0;
     }
     /* 2.5D (no sliver rule): both parts hold a vertex strictly off the plane, so an out-leaf child
        answers at once */
@@ -6852,7 +6855,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
         return 1;
     }
     {   /* a child whose subtree hides the query (2.5D bound) gets nothing */
-        int h0 = pvs__ot25_hidden_below(t, t->nodes + c0, near, h), h1 = pvs__ot25_hidden_below(t, t->nodes + c1, near, h);
+        int h0 = PVS__OT25_HIDDEN(t, t->nodes + c0, near, h), h1 = PVS__OT25_HIDDEN(t, t->nodes + c1, near, h);
         if (h0 && h1) { t->stack_count = top; return 0; }
         if (h0 || h1) {
             for (i = 0; i < 3; ++i) nf[i] = h0 ? nd->n[i] : -nd->n[i];
@@ -8118,7 +8121,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
         const pvs__otpoly *q;
         uint32_t node = t->stack_node[t->stack_count - 1];
         pvs__otnode *nd = t->nodes + node;
-        if (pvs__ot25_hidden_below(t, nd, near, top)) { --t->stack_count; continue; } /* k hidden in this subtree */
+        if (PVS__OT25_HIDDEN(t, nd, near, top)) { --t->stack_count; continue; } /* k hidden in this subtree */
         if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1, near, top); continue; }
         q = PVS__OT_ITEM(t, --t->stack_count); /* read in its slot: nothing is pushed before the next pop */
         if (nd->kind == PVS__OT_OUT) {
@@ -8239,7 +8242,7 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
     while (t->stack_count > base && !vis) {
         uint32_t node = t->stack_node[t->stack_count - 1];
         const pvs__otnode *nd = t->nodes + node;
-        if (pvs__ot25_hidden_below(t, nd, near, h)) { --t->stack_count; continue; } /* hidden in this subtree */
+        if (PVS__OT25_HIDDEN(t, nd, near, h)) { --t->stack_count; continue; } /* hidden in this subtree */
         if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) { --t->stack_count; continue; }
         if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1, near, h); continue; }
         --t->stack_count; /* the polygon stays readable in its slot until the next push */
