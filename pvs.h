@@ -6979,9 +6979,10 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
         clen = sqrt(cen[0] * cen[0] + cen[1] * cen[1] + cen[2] * cen[2]);
         for (i = 0; i < n; ++i) {
             double s = (en[i][0] * cen[0] + en[i][1] * cen[1] + en[i][2] * cen[2]) / clen;
+            int i1 = i + 1 == n ? 0 : i + 1;
             if (!(fabs(s) > 1e-12)) return 0;
             for (k = 0; k < n; ++k) /* the edge's own ends lie within 1e-9 of its plane (checked above) */
-                if (k != i && k != (i + 1) % n &&
+                if (k != i && k != i1 &&
                     (s > 0 ? 1.0 : -1.0) * (en[i][0] * q->v[k][0] + en[i][1] * q->v[k][1] + en[i][2] * q->v[k][2]) < -1e-9) return 0;
         }
     }
