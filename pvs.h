@@ -7841,8 +7841,8 @@ done:
    to its vertices: almost never decisive, +12%), descending into the one unhidden child without
    clipping (cheaper, but the PVS grows 8%), 32 or 64 presplit sectors (-1%, +5%), PVS__OT25_TEST_MIN
    96 or 200 (+0.5%, +7%). Fourth round (63 M instructions per cell, 8 cells, -23%; byte-identical
-   bake of the demo city; bench_otree min of 5 on a loaded machine 4.7 ms beside 6.4 ms for the third
-   round's build run alternately): witness lines (pvs__ot25_witnessed) answer about 40% of the
+   bakes of the demo city and of three city seeds; bench_otree min of 6 on a loaded machine, load 3.6
+   on 2 cores, 4.48 ms beside 6.19 ms for the third round's build run alternately): witness lines (pvs__ot25_witnessed) answer about 40% of the
    visible box tests without a traversal (kD node tests -40%); box tests skip the side no line of the
    tree enters (tall box) or leaves (low box), one of the three for most boxes (-6%);
    pvs__ot25_open takes the funnel range first, so a member whose umbra misses it skips the depth
