@@ -91,18 +91,18 @@ static int bench(gen_kind kind, int dense, const char *name, uint32_t n, uint32_
         printf("BENCH extproj%s_tightness_%s %.2f\n", sweep ? "_sweep" : "", name, seen_sum > 0.0 ? pvs_sum / seen_sum : 0.0);
         printf("BENCH extproj%s_culled_pct_%s %.1f %%\n", sweep ? "_sweep" : "", name, 100.0 * (1.0 - pvs_sum / n / objects));
         if (kind == GEN_FOREST && !sweep) {
-            uint32_t m = n < FOREST_AIMED_CELLS ? n : FOREST_AIMED_CELLS;
+            uint32_t na = n < FOREST_AIMED_CELLS ? n : FOREST_AIMED_CELLS;
             printf("BENCH extproj_reference_visible_pct_%s %.1f %%\n", name, 100.0 * seen_sum / n / objects);
             seen_sum = 0.0;
-            for (c = 0; c < m; ++c) { /* cells spread over the subset */
-                uint32_t cc = (uint32_t)((uint64_t)c * n / m);
+            for (c = 0; c < na; ++c) { /* cells spread over the subset */
+                uint32_t cc = (uint32_t)((uint64_t)c * n / na);
                 memset(seen, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
                 cli_reference_visibility(scene, sub + cc, 77 + cc, seen);
                 pvs_sample_visibility_toward(scene, sub + cc, NULL, FOREST_AIMED_RAYS, 991 + cc, seen);
                 seen_sum += pvs_bitset_count(seen, objects);
             }
             printf("BENCH extproj_reference_visible_pct_%s_aimed %.1f %% (%u cells, %u more aimed rays per object)\n", name,
-                   100.0 * seen_sum / m / objects, m, FOREST_AIMED_RAYS);
+                   100.0 * seen_sum / na / objects, na, FOREST_AIMED_RAYS);
         }
         free(seen);
     }
