@@ -14179,6 +14179,7 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 #define PVS__EP_PLANE_CANDIDATES 16
 #define PVS__EP_PLANES 4                              /* planes per direction (§6.1) */
 #define PVS__EP_PLANE_RATIO 1.7                       /* their distance bands */
+#define PVS__EP_SAT_CACHE ((size_t)64 << 20)          /* bytes of the sweep's summed-area tables */
 
 typedef struct pvs__epframe {
     int a, u, v;
@@ -16706,6 +16707,7 @@ typedef struct pvs__epscratch {
     void *sweep;
     pvs_word *seen;
     size_t nsel, map_floats, mask_bytes, sweep_size, nmask, seen_words;
+    size_t sat_count;    /* summed-area tables: the sweep's planes of one direction, or 1 (too big) */
 } pvs__epscratch;
 
 PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w, uint32_t res) {
@@ -16713,7 +16715,7 @@ PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w
     pvs__free_array(al, w->maps, 6 * PVS__EP_PLANES * w->map_floats, sizeof(float));
     pvs__free_array(al, w->masks, w->nmask * w->mask_bytes, 1);
     pvs__free_array(al, w->mask_hdr, w->nmask, sizeof(pvs__epmask));
-    pvs__free_array(al, w->sat, ((size_t)res + 1) * ((size_t)res + 1), sizeof(uint32_t));
+    pvs__free_array(al, w->sat, w->sat_count * ((size_t)res + 1) * ((size_t)res + 1), sizeof(uint32_t));
     pvs__free_array(al, w->ranges, 4 * (size_t)res, sizeof(int32_t));
     pvs__free_array(al, w->slicer.seg, 4 * w->slicer.cap, sizeof(double));
     pvs__free_array(al, w->slicer.xs, 2 * w->slicer.cap, sizeof(double));
@@ -16995,21 +16997,11 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
    conservative occluder itself). Equivalent to the convolution of §5.1 with the inverse image of the
    cell as kernel, conservatively rasterized, keeping only fully black pixels; here the kernel is
    taken per row and column from the true cell (pvs__ep_reproject_axis) and a summed-area table of
-   from's open pixels decides each pixel. `sat` holds (res + 1)^2 counts, `ranges` 4 res. */
-PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
-    const unsigned char *prev = from->lv[0];
+   from's open pixels (pvs__ep_mask_sat) decides each pixel. `ranges` holds 4 res. */
+PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, pvs__epmask *to, int32_t *ranges) {
     unsigned char *mask = to->lv[0];
     uint32_t fw = from->plane.width, fh = from->plane.height, tw = to->plane.width, th = to->plane.height, x, y, W1 = fw + 1;
     int32_t *clo = ranges, *chi = ranges + tw, *rlo = ranges + 2 * tw, *rhi = ranges + 2 * tw + th;
-    for (x = 0; x <= fw; ++x) sat[x] = 0;
-    for (y = 0; y < fh; ++y) {
-        uint32_t run = 0;
-        sat[(size_t)(y + 1) * W1] = 0;
-        for (x = 0; x < fw; ++x) {
-            run += prev[(size_t)y * fw + x] ? 0u : 1u;
-            sat[(size_t)(y + 1) * W1 + x + 1] = sat[(size_t)y * W1 + x + 1] + run;
-        }
-    }
     pvs__ep_reproject_axis(to->frame.cu, to->frame.cw, from->frame.W, to->frame.W, to->frame.u0, to->frame.su, tw, from->frame.u0, from->frame.su, fw, clo, chi);
     pvs__ep_reproject_axis(to->frame.cv, to->frame.cw, from->frame.W, to->frame.W, to->frame.v0, to->frame.sv, th, from->frame.v0, from->frame.sv, fh, rlo, rhi);
     for (y = 0; y < th; ++y) {
@@ -17019,12 +17011,33 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
         y1 = (size_t)rhi[y] + 1;
         for (x = 0; x < tw; ++x) {
             size_t x0, x1;
-            if (clo[x] < 0) continue;
+            if (clo[x] < 0 || mask[(size_t)y * tw + x]) continue;
             x0 = (size_t)clo[x];
             x1 = (size_t)chi[x] + 1;
             if (sat[y1 * W1 + x1] - sat[y0 * W1 + x1] - sat[y1 * W1 + x0] + sat[y0 * W1 + x0] == 0) mask[(size_t)y * tw + x] = 1;
         }
     }
+}
+
+/* The summed-area table of a mask's open pixels: (width + 1) x (height + 1) counts. */
+PVS__STATIC void pvs__ep_mask_sat(const pvs__epmask *from, uint32_t *sat) {
+    const unsigned char *prev = from->lv[0];
+    uint32_t fw = from->plane.width, fh = from->plane.height, x, y, W1 = fw + 1;
+    for (x = 0; x <= fw; ++x) sat[x] = 0;
+    for (y = 0; y < fh; ++y) {
+        uint32_t run = 0;
+        sat[(size_t)(y + 1) * W1] = 0;
+        for (x = 0; x < fw; ++x) {
+            run += prev[(size_t)y * fw + x] ? 0u : 1u;
+            sat[(size_t)(y + 1) * W1 + x + 1] = sat[(size_t)y * W1 + x + 1] + run;
+        }
+    }
+}
+
+/* pvs__ep_reproject_sat with the table built in `sat` ((res + 1)^2 counts). */
+PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
+    pvs__ep_mask_sat(from, sat);
+    pvs__ep_reproject_sat(from, sat, to, ranges);
 }
 
 /* §5.1 reprojection onto plane `count` of the sweep `ms` (planes ms[0 .. count - 1] done, farther
@@ -17035,10 +17048,16 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
    not a whole number of pixels: the cell is a box, not the paper's planar equivalent cell), and a
    chain of one reprojection per plane would add that up plane after plane (32 planes lose two
    thirds of a large blocked region), while the umbra itself does not depend on the spacing; with
-   the skips a region blocked on plane j reaches plane k in at most log2(k - j) + 1 steps. */
-PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
+   the skips a region blocked on plane j reaches plane k in at most log2(k - j) + 1 steps. With
+   `cached`, sat holds the tables of ms[0 ..] (pvs__ep_mask_sat), one after another; else it is
+   scratch for one. */
+PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat, int cached, int32_t *ranges) {
     uint32_t back;
-    for (back = 1; back <= count; back *= 2) pvs__ep_reproject(ms + count - back, to, sat, ranges);
+    size_t stride = ((size_t)ms->plane.width + 1) * ((size_t)ms->plane.height + 1);
+    for (back = 1; back <= count; back *= 2) {
+        if (cached) pvs__ep_reproject_sat(ms + count - back, sat + (size_t)(count - back) * stride, to, ranges);
+        else pvs__ep_reproject(ms + count - back, to, sat, ranges);
+    }
 }
 
 /* The occlusion sweep of §5 for direction d: parallel planes leaving the cell, each holding the
@@ -17074,7 +17093,7 @@ PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj
         pvs__ep_levels(res, levels, m->lw, m->lh, 1, w->masks + (size_t)((ms - w->mask_hdr) + count) * w->mask_bytes, (void **)m->lv);
         mask = m->lv[0];
         memset(mask, 0, npx);
-        pvs__ep_reproject_sweep(ms, count, m, w->sat, w->ranges);
+        pvs__ep_reproject_sweep(ms, count, m, w->sat, w->sat_count == prm->sweep, w->ranges);
         for (k = 0; k < n; ++k) {
             const pvs__epocc *o = p->occ + h[k].occ;
             double w0, w1;
@@ -17088,6 +17107,7 @@ PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj
             }
         }
         pvs__ep_slices(s, p, cell, &m->plane, &m->frame, &w->slicer, sheet_side, NULL, mask);
+        if (w->sat_count == prm->sweep) pvs__ep_mask_sat(m, w->sat + (size_t)count * ((size_t)res + 1) * ((size_t)res + 1));
         pvs__ep_build_mask_pyramid(m);
         Wprev = m->frame.W;
         if (W >= Wend) { ++count; break; }
@@ -17153,9 +17173,13 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     w.slicer.cmark = (unsigned char *)pvs__alloc_array(al, (size_t)prm->res * prm->res, 1);
     w.sweep = pvs__alloc(al, w.sweep_size, 16);
     if (prm->sweep) {
+        size_t table = ((size_t)prm->res + 1) * ((size_t)prm->res + 1);
         w.masks = (unsigned char *)pvs__alloc_array(al, w.nmask * w.mask_bytes, 1);
         w.mask_hdr = (pvs__epmask *)pvs__alloc_array(al, w.nmask, sizeof(pvs__epmask));
-        w.sat = (uint32_t *)pvs__alloc_array(al, ((size_t)prm->res + 1) * ((size_t)prm->res + 1), sizeof(uint32_t));
+        /* one table per plane of a direction (each is read by up to log2(sweep) + 1 later planes),
+           unless that is more than PVS__EP_SAT_CACHE bytes: then one, rebuilt for each use */
+        w.sat_count = (size_t)prm->sweep * table * sizeof(uint32_t) <= PVS__EP_SAT_CACHE ? prm->sweep : 1;
+        w.sat = (uint32_t *)pvs__alloc_array(al, w.sat_count * table, sizeof(uint32_t));
         w.ranges = (int32_t *)pvs__alloc_array(al, 4 * (size_t)prm->res, sizeof(int32_t));
     }
     if (!w.sel || !w.maps || !w.slicer.seg || !w.slicer.xs || !w.slicer.row || !w.slicer.cmark || !w.sweep || !w.seen ||

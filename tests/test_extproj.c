@@ -654,13 +654,14 @@ static void test_reprojection(void) {
    here), where a chain of single-plane reprojections kept 1% (rounding adds up plane after plane). */
 static void test_reprojection_chain(void) {
     enum { RES = 96, NPL = 24 };
-    int iter, bad = 0, marked = 0, tight_runs = 0, tight_ok = 0;
-    unsigned char *mem = (unsigned char *)malloc((size_t)NPL * RES * RES);
+    int iter, bad = 0, marked = 0, tight_runs = 0, tight_ok = 0, differ = 0;
+    unsigned char *mem = (unsigned char *)malloc((size_t)NPL * RES * RES), *mem2 = (unsigned char *)malloc((size_t)NPL * RES * RES);
+    uint32_t *sats = (uint32_t *)malloc(sizeof(uint32_t) * NPL * (RES + 1) * (RES + 1));
     uint32_t *sat = (uint32_t *)malloc(sizeof(uint32_t) * (RES + 1) * (RES + 1));
     int32_t *ranges = (int32_t *)malloc(sizeof(int32_t) * 4 * RES);
     for (iter = 0; iter < 24; ++iter) {
         pvs_box cell;
-        pvs__epmask ms[NPL];
+        pvs__epmask ms[NPL], ms2[NPL];
         double W0 = ep_rndf(1.0f, 5.0f), W1 = W0 * ep_rndf(3.0f, 8.0f), lo[2], hi[2];
         int d = (int)(ep_rnd() * 6.0) % 6, a = d >> 1, k, single = iter % 2 == 0, ok = 1;
         uint32_t x, y, q, r;
@@ -688,7 +689,17 @@ static void test_reprojection_chain(void) {
             lo[0] = ms[0].frame.u0 + x0 / ms[0].frame.su; hi[0] = ms[0].frame.u0 + x1 / ms[0].frame.su;
             lo[1] = ms[0].frame.v0 + y0 / ms[0].frame.sv; hi[1] = ms[0].frame.v0 + y1 / ms[0].frame.sv;
         }
-        for (k = 1; k < NPL; ++k) pvs__ep_reproject_sweep(ms, (uint32_t)k, ms + k, sat, ranges);
+        /* the sweep's way (a summed-area table per plane, kept) and the one-table way agree */
+        memcpy(ms2, ms, sizeof(ms));
+        for (k = 0; k < NPL; ++k) ms2[k].lv[0] = mem2 + (size_t)k * RES * RES;
+        memcpy(mem2, mem, (size_t)NPL * RES * RES);
+        pvs__ep_mask_sat(ms2, sats);
+        for (k = 1; k < NPL; ++k) {
+            pvs__ep_reproject_sweep(ms, (uint32_t)k, ms + k, sat, 0, ranges);
+            pvs__ep_reproject_sweep(ms2, (uint32_t)k, ms2 + k, sats, 1, ranges);
+            pvs__ep_mask_sat(ms2 + k, sats + (size_t)k * (RES + 1) * (RES + 1));
+        }
+        if (memcmp(mem, mem2, (size_t)NPL * RES * RES) != 0) ++differ;
         /* conservative, on every later plane */
         for (k = 1; k < NPL; ++k) {
             const pvs__epmask *to = ms + k;
@@ -750,9 +761,12 @@ static void test_reprojection_chain(void) {
     CHECK(bad == 0);
     CHECK(marked > 10000);
     CHECK(tight_runs >= 6 && tight_ok == tight_runs);
+    CHECK(differ == 0);
     if (bad) fprintf(stderr, "extproj: %d reprojection chain samples not blocked\n", bad);
     free(mem);
+    free(mem2);
     free(sat);
+    free(sats);
     free(ranges);
 }
 
