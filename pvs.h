@@ -181,7 +181,9 @@
    culling with the occlusion tree (pvs_otree_cull, 32 occluders) about 0.2 ms of CPU per frame
    along a street walk; bake methods per cell on the demo city: extproj about 10 ms of CPU (13.5 ms
    with its occluder preparation amortized over 60 cells; 28 ms with the occlusion sweep; on
-   2026-11-24 under load 15.7 ms and 31.7 ms with coplanar pieces merged, 14.3 ms without), otree
+   2026-11-24 under load 15.7 ms and 31.7 ms with coplanar pieces merged, 14.3 ms without; the
+   sweep's reprojection from 1, 2, 4, ... planes back then cost it 35% more time, min of 3 runs,
+   for 8% smaller PVSs), otree
    about 9 ms of CPU (2026-11-24), shrink about 260 ms (default eps), vocc about 60 ms of CPU (10
    virtual occluders per cell, 52 bytes, 88% of the objects culled: 98% of what shrink culls;
    rebuilding a cell's PVS from them about 70 us testing every box, 110 us walking a kD-tree of
