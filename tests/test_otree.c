@@ -422,6 +422,13 @@ static void test_25d_random(void) {
             extra += got[i] && !ref[i];
         }
         CHECK(miss == 0);
+        {   /* the shortcuts of the box tests (witness lines, unused sides) change nothing */
+            pvs_word full[2];
+            d.flags = PVS_VISIBILITY_25D_FULL_TESTS;
+            CHECK(pvs_visibility_25d(&d, full, NULL, &e) == PVS_OK);
+            CHECK(memcmp(full, bits, sizeof(full)) == 0);
+            d.flags = 0;
+        }
         {   /* a node budget stops insertion: reported, and the set only grows */
             pvs_word cut[2];
             pvs_otree_stats st2;
@@ -689,6 +696,55 @@ static void test_bake_axes(void) {
 /* 2.5D degenerate input: facades touching the cell, on the line of a cell edge, through a corner,
    crossing the cell, zero-length, collinear overlaps; closed rings (buildings) with objects inside.
    Never a miss against 3D ray sampling; a tall closed ring hides what it encloses. */
+/* The box-test shortcuts (witness lines in out-leaves, sides no line enters or leaves) against full
+   tests on a city grid: streets give long open lines (witnesses), blocks of walls of random heights
+   hide most objects; cells in the streets. */
+static void test_25d_shortcuts(void) {
+    enum { B = 7, NW = 4 * B * B, NO = B * B + 3 * B * B };
+    float *walls = (float *)malloc(5 * NW * sizeof(float)), *objs = (float *)malloc(5 * NO * sizeof(float));
+    uint32_t nw = 0, no = 0, i, k, c, differ = 0, seen = 0, total = 0;
+    pvs_word full[PVS_BITSET_WORDS(NO)], fast[PVS_BITSET_WORDS(NO)];
+    pvs_visibility_25d_desc d;
+    pvs_error e;
+    for (i = 0; i < B; ++i)
+        for (k = 0; k < B; ++k) { /* block (i, k): x 12i .. 12i + 8, y 12k .. 12k + 8, streets 4 wide */
+            float x0 = 12.0f * i, y0 = 12.0f * k, x1 = x0 + 8, y1 = y0 + 8, h = rndf(3, 20), q[8];
+            uint32_t j;
+            q[0] = x0; q[1] = y0; q[2] = x1; q[3] = y0; q[4] = x1; q[5] = y1; q[6] = x0; q[7] = y1;
+            for (j = 0; j < 4; ++j) {
+                float *w = walls + 5 * nw++;
+                w[0] = q[2 * j]; w[1] = q[2 * j + 1]; w[2] = q[(2 * j + 2) % 8]; w[3] = q[(2 * j + 3) % 8]; w[4] = h;
+            }
+            objs[5 * no] = x0; objs[5 * no + 1] = y0; objs[5 * no + 2] = x1; objs[5 * no + 3] = y1; objs[5 * no + 4] = h; ++no;
+            for (j = 0; j < 3; ++j) { /* props in the streets, some taller than the eyes */
+                float px = x1 + rndf(0.2f, 3.0f), py = y0 + rndf(0, 10), *o = objs + 5 * no++;
+                if (j == 1) { px = x0 + rndf(0, 10); py = y1 + rndf(0.2f, 3.0f); }
+                o[0] = px; o[1] = py; o[2] = px + rndf(0.1f, 0.8f); o[3] = py + rndf(0.1f, 0.8f); o[4] = rndf(0.5f, 6.0f);
+            }
+        }
+    memset(&d, 0, sizeof(d));
+    d.facades = walls; d.facade_count = nw; d.objects = objs; d.object_count = no;
+    for (c = 0; c < 12; ++c) {
+        float cx = 12.0f * (float)(c % 6) + 9.0f, cy = 12.0f * (float)(c / 2 % 6) + rndf(0, 8);
+        if (c & 1) { float tmp = cx; cx = cy; cy = tmp; }
+        d.cell_min[0] = cx; d.cell_min[1] = cy; d.cell_max[0] = cx + 2; d.cell_max[1] = cy + 2; d.cell_top = 2.0f;
+        d.flags = 0;
+        CHECK(pvs_visibility_25d(&d, fast, NULL, &e) == PVS_OK);
+        d.flags = PVS_VISIBILITY_25D_FULL_TESTS;
+        CHECK(pvs_visibility_25d(&d, full, NULL, &e) == PVS_OK);
+        for (i = 0; i < no; ++i) {
+            differ += pvs_bitset_test(fast, i) != pvs_bitset_test(full, i);
+            seen += pvs_bitset_test(fast, i);
+        }
+        total += no;
+    }
+    fprintf(stderr, "25d shortcuts: %u of %u object tests visible, %u differ from the full tests\n", seen, total, differ);
+    CHECK(differ == 0);
+    CHECK(seen > 0 && seen < total / 2);
+    free(walls);
+    free(objs);
+}
+
 static void test_25d_degenerate(void) {
     float cmin[2] = {-1, -1}, cmax[2] = {1, 1};
     float walls[5 * 40], objs[5 * 16];
@@ -1523,6 +1579,7 @@ void test_otree(void) {
     test_bake_axes();
     test_bake_city();
     test_25d_random();
+    test_25d_shortcuts();
     test_2d_degenerate();
     test_2d_rings();
     test_2d_random();
