@@ -181,7 +181,9 @@
    culling with the occlusion tree (pvs_otree_cull, 32 occluders) about 0.2 ms of CPU per frame
    along a street walk; bake methods per cell on the demo city: extproj about 10 ms of CPU (13.5 ms
    with its occluder preparation amortized over 60 cells; 28 ms with the occlusion sweep; on
-   2026-11-24 under load 15.7 ms and 31.7 ms with coplanar pieces merged, 14.3 ms without), otree
+   2026-11-24 under load 15.7 ms and 31.7 ms with coplanar pieces merged, 14.3 ms without; the
+   sweep's reprojection from 1, 2, 4, ... planes back then cost it 35% more time, min of 3 runs,
+   for 8% smaller PVSs), otree
    about 9 ms of CPU (2026-11-24), shrink about 260 ms (default eps), vocc about 60 ms of CPU (10
    virtual occluders per cell, 52 bytes, 88% of the objects culled: 98% of what shrink culls;
    rebuilding a cell's PVS from them about 70 us testing every box, 110 us walking a kD-tree of
@@ -14316,9 +14318,16 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    improved Projection (§4). Objects meeting the cell are always visible.
    Limits: occluders fuse only through the depth maps and slices, so a pixel across the common edge
    of two occluders that are not sliced is lost; a Depth is flat per occluder part, so long walls
-   running away from the cell hide only what lies beyond their far end on that plane; the sweep's
-   reprojection erodes by a pixel or so per plane; scenes of sparse small occluders (the generator's
-   forest) stay loose even with the sweep. */
+   running away from the cell hide only what lies beyond their far end on that plane; a reprojection
+   erodes by up to a pixel per side beyond the umbra (the sweep reprojects from planes 1, 2, 4, ...
+   back so this does not add up along it); scenes of sparse small occluders stay loose even with the
+   sweep: the umbra of a plane's blocked region shrinks by the cell's size over the distance (C dD /
+   D per plane), so small occluders fuse only where they add coverage faster than that, which the
+   generator's dense forest (3 m cells, leaves of about 1 m, about 100 per tree) never does: on its
+   inner cells the blocked share of the plane ahead peaks near 10-20% a few metres out and falls back
+   (measured with 16 to 200 planes, 256 or 512 pixels, 512 to 65536 occluders per direction, even
+   with ten times the leaves), so nothing is culled there; a ray reference with 2048 more aimed rays
+   per object already sees a quarter of the objects from those cells. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
@@ -14328,6 +14337,7 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 #define PVS__EP_PLANE_CANDIDATES 16
 #define PVS__EP_PLANES 4                              /* planes per direction (§6.1) */
 #define PVS__EP_PLANE_RATIO 1.7                       /* their distance bands */
+#define PVS__EP_SAT_CACHE ((size_t)64 << 20)          /* bytes of the sweep's summed-area tables */
 
 typedef struct pvs__epframe {
     int a, u, v;
@@ -16855,6 +16865,7 @@ typedef struct pvs__epscratch {
     void *sweep;
     pvs_word *seen;
     size_t nsel, map_floats, mask_bytes, sweep_size, nmask, seen_words;
+    size_t sat_count;    /* summed-area tables: the sweep's planes of one direction, or 1 (too big) */
 } pvs__epscratch;
 
 PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w, uint32_t res) {
@@ -16862,7 +16873,7 @@ PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w
     pvs__free_array(al, w->maps, 6 * PVS__EP_PLANES * w->map_floats, sizeof(float));
     pvs__free_array(al, w->masks, w->nmask * w->mask_bytes, 1);
     pvs__free_array(al, w->mask_hdr, w->nmask, sizeof(pvs__epmask));
-    pvs__free_array(al, w->sat, ((size_t)res + 1) * ((size_t)res + 1), sizeof(uint32_t));
+    pvs__free_array(al, w->sat, w->sat_count * ((size_t)res + 1) * ((size_t)res + 1), sizeof(uint32_t));
     pvs__free_array(al, w->ranges, 4 * (size_t)res, sizeof(int32_t));
     pvs__free_array(al, w->slicer.seg, 4 * w->slicer.cap, sizeof(double));
     pvs__free_array(al, w->slicer.xs, 2 * w->slicer.cap, sizeof(double));
@@ -17144,21 +17155,11 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
    conservative occluder itself). Equivalent to the convolution of §5.1 with the inverse image of the
    cell as kernel, conservatively rasterized, keeping only fully black pixels; here the kernel is
    taken per row and column from the true cell (pvs__ep_reproject_axis) and a summed-area table of
-   from's open pixels decides each pixel. `sat` holds (res + 1)^2 counts, `ranges` 4 res. */
-PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
-    const unsigned char *prev = from->lv[0];
+   from's open pixels (pvs__ep_mask_sat) decides each pixel. `ranges` holds 4 res. */
+PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, pvs__epmask *to, int32_t *ranges) {
     unsigned char *mask = to->lv[0];
     uint32_t fw = from->plane.width, fh = from->plane.height, tw = to->plane.width, th = to->plane.height, x, y, W1 = fw + 1;
     int32_t *clo = ranges, *chi = ranges + tw, *rlo = ranges + 2 * tw, *rhi = ranges + 2 * tw + th;
-    for (x = 0; x <= fw; ++x) sat[x] = 0;
-    for (y = 0; y < fh; ++y) {
-        uint32_t run = 0;
-        sat[(size_t)(y + 1) * W1] = 0;
-        for (x = 0; x < fw; ++x) {
-            run += prev[(size_t)y * fw + x] ? 0u : 1u;
-            sat[(size_t)(y + 1) * W1 + x + 1] = sat[(size_t)y * W1 + x + 1] + run;
-        }
-    }
     pvs__ep_reproject_axis(to->frame.cu, to->frame.cw, from->frame.W, to->frame.W, to->frame.u0, to->frame.su, tw, from->frame.u0, from->frame.su, fw, clo, chi);
     pvs__ep_reproject_axis(to->frame.cv, to->frame.cw, from->frame.W, to->frame.W, to->frame.v0, to->frame.sv, th, from->frame.v0, from->frame.sv, fh, rlo, rhi);
     for (y = 0; y < th; ++y) {
@@ -17168,7 +17169,7 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
         y1 = (size_t)rhi[y] + 1;
         for (x = 0; x < tw; ++x) {
             size_t x0, x1;
-            if (clo[x] < 0) continue;
+            if (clo[x] < 0 || mask[(size_t)y * tw + x]) continue;
             x0 = (size_t)clo[x];
             x1 = (size_t)chi[x] + 1;
             if (sat[y1 * W1 + x1] - sat[y0 * W1 + x1] - sat[y1 * W1 + x0] + sat[y0 * W1 + x0] == 0) mask[(size_t)y * tw + x] = 1;
@@ -17176,8 +17177,49 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
     }
 }
 
+/* The summed-area table of a mask's open pixels: (width + 1) x (height + 1) counts. */
+PVS__STATIC void pvs__ep_mask_sat(const pvs__epmask *from, uint32_t *sat) {
+    const unsigned char *prev = from->lv[0];
+    uint32_t fw = from->plane.width, fh = from->plane.height, x, y, W1 = fw + 1;
+    for (x = 0; x <= fw; ++x) sat[x] = 0;
+    for (y = 0; y < fh; ++y) {
+        uint32_t run = 0;
+        sat[(size_t)(y + 1) * W1] = 0;
+        for (x = 0; x < fw; ++x) {
+            run += prev[(size_t)y * fw + x] ? 0u : 1u;
+            sat[(size_t)(y + 1) * W1 + x + 1] = sat[(size_t)y * W1 + x + 1] + run;
+        }
+    }
+}
+
+/* pvs__ep_reproject_sat with the table built in `sat` ((res + 1)^2 counts). */
+PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
+    pvs__ep_mask_sat(from, sat);
+    pvs__ep_reproject_sat(from, sat, to, ranges);
+}
+
+/* §5.1 reprojection onto plane `count` of the sweep `ms` (planes ms[0 .. count - 1] done, farther
+   ones later): from the previous plane and from the planes 2, 4, 8, ... back. Every earlier plane's
+   blocked pixels lie in the umbra of the occluders in front of it (Appendix B), so the umbra of any
+   of them is blocked on this plane and the union is conservative. The skips keep the sweep tight:
+   each reprojection loses up to a pixel on each side of a blocked region to rounding (the kernel is
+   not a whole number of pixels: the cell is a box, not the paper's planar equivalent cell), and a
+   chain of one reprojection per plane would add that up plane after plane (32 planes lose two
+   thirds of a large blocked region), while the umbra itself does not depend on the spacing; with
+   the skips a region blocked on plane j reaches plane k in at most log2(k - j) + 1 steps. With
+   `cached`, sat holds the tables of ms[0 ..] (pvs__ep_mask_sat), one after another; else it is
+   scratch for one. */
+PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat, int cached, int32_t *ranges) {
+    uint32_t back;
+    size_t stride = ((size_t)ms->plane.width + 1) * ((size_t)ms->plane.height + 1);
+    for (back = 1; back <= count; back *= 2) {
+        if (cached) pvs__ep_reproject_sat(ms + count - back, sat + (size_t)(count - back) * stride, to, ranges);
+        else pvs__ep_reproject(ms + count - back, to, sat, ranges);
+    }
+}
+
 /* The occlusion sweep of §5 for direction d: parallel planes leaving the cell, each holding the
-   reprojection of the previous plane's blocked pixels (§5.1), the Projections of the occluders in
+   reprojection of the earlier planes' blocked pixels (§5.1, pvs__ep_reproject_sweep), the Projections of the occluders in
    front of it not yet wholly projected, and the slices of the closed meshes it cuts. Planes are
    spaced by §5.2 (a kernel of K = 5 pixels: dD = D (K - 1) P / (C N)) but at least geometrically,
    so that `sweep` planes reach the farthest selected occluder. Returns the number of planes. */
@@ -17209,7 +17251,7 @@ PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj
         pvs__ep_levels(res, levels, m->lw, m->lh, 1, w->masks + (size_t)((ms - w->mask_hdr) + count) * w->mask_bytes, (void **)m->lv);
         mask = m->lv[0];
         memset(mask, 0, npx);
-        if (count > 0) pvs__ep_reproject(ms + count - 1, m, w->sat, w->ranges);
+        pvs__ep_reproject_sweep(ms, count, m, w->sat, w->sat_count == prm->sweep, w->ranges);
         for (k = 0; k < n; ++k) {
             const pvs__epocc *o = p->occ + h[k].occ;
             double w0, w1;
@@ -17223,6 +17265,7 @@ PVS__STATIC uint32_t pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj
             }
         }
         pvs__ep_slices(s, p, cell, &m->plane, &m->frame, &w->slicer, sheet_side, NULL, mask);
+        if (w->sat_count == prm->sweep) pvs__ep_mask_sat(m, w->sat + (size_t)count * ((size_t)res + 1) * ((size_t)res + 1));
         pvs__ep_build_mask_pyramid(m);
         Wprev = m->frame.W;
         if (W >= Wend) { ++count; break; }
@@ -17288,9 +17331,13 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     w.slicer.cmark = (unsigned char *)pvs__alloc_array(al, (size_t)prm->res * prm->res, 1);
     w.sweep = pvs__alloc(al, w.sweep_size, 16);
     if (prm->sweep) {
+        size_t table = ((size_t)prm->res + 1) * ((size_t)prm->res + 1);
         w.masks = (unsigned char *)pvs__alloc_array(al, w.nmask * w.mask_bytes, 1);
         w.mask_hdr = (pvs__epmask *)pvs__alloc_array(al, w.nmask, sizeof(pvs__epmask));
-        w.sat = (uint32_t *)pvs__alloc_array(al, ((size_t)prm->res + 1) * ((size_t)prm->res + 1), sizeof(uint32_t));
+        /* one table per plane of a direction (each is read by up to log2(sweep) + 1 later planes),
+           unless that is more than PVS__EP_SAT_CACHE bytes: then one, rebuilt for each use */
+        w.sat_count = (size_t)prm->sweep * table * sizeof(uint32_t) <= PVS__EP_SAT_CACHE ? prm->sweep : 1;
+        w.sat = (uint32_t *)pvs__alloc_array(al, w.sat_count * table, sizeof(uint32_t));
         w.ranges = (int32_t *)pvs__alloc_array(al, 4 * (size_t)prm->res, sizeof(int32_t));
     }
     if (!w.sel || !w.maps || !w.slicer.seg || !w.slicer.xs || !w.slicer.row || !w.slicer.cmark || !w.sweep || !w.seen ||
