@@ -170,24 +170,19 @@
    per frame, pvs_vocc_cull (caller scratch: pvs_vocc_cull_scratch_size). A .pvs file is used in
    place; it needs no copy.
 
-   PERFORMANCE (`make bench`, 2026-11-22, one core of a shared 2-core AMD EPYC VM, release build)
+   PERFORMANCE (`make bench`, 2026-11-24, one core of a 2-core AMD EPYC VM, release build)
    ===========
    kD-tree build 0.8 s per million triangles; 0.55 M closest-hit rays/s (200k-triangle boxes);
    demo city (3,575 objects, 457k triangles, 1,211 cells): file 0.099 of raw bitsets, 44 bytes per
-   cell, encode 0.1 s; decode of a cell 3-5 us; a cursor move 0.2-1.3 us (one delta or a full
-   decode); pvs_file_find_cell with 10,000 cells about 90 ns along a camera path, 130 ns at random
-   points; per-frame culling of 50,000 occluder triangles at 1920x1080 with 10,000 box tests about
-   1.0 ms (SSE2; 2.0 ms scalar), 1,000 facades into a 256 x 256 cull map about 0.8 ms; from-point
-   culling with the occlusion tree (pvs_otree_cull, 32 occluders) about 0.2 ms of CPU per frame
-   along a street walk; bake methods per cell on the demo city: extproj about 10 ms of CPU (13.5 ms
-   with its occluder preparation amortized over 60 cells; 28 ms with the occlusion sweep; on
-   2026-11-24 under load 15.7 ms and 31.7 ms with coplanar pieces merged, 14.3 ms without; the
-   sweep's reprojection from 1, 2, 4, ... planes back then cost it 35% more time, min of 3 runs,
-   for 8% smaller PVSs), otree
-   about 9 ms of CPU (2026-11-24), shrink about 260 ms (default eps), vocc about 60 ms of CPU (10
-   virtual occluders per cell, 52 bytes, 88% of the objects culled: 98% of what shrink culls;
-   rebuilding a cell's PVS from them about 70 us testing every box, 110 us walking a kD-tree of
-   16-item leaves).
+   cell; a cursor move about 0.3 us; pvs_file_find_cell with 10,000 cells about 40 ns along a
+   camera path, 65 ns at random points; per-frame culling of 50,000 occluder triangles at 1920x1080
+   with 10,000 box tests about 0.9 ms (SSE2; 1.9 ms scalar), 1,000 facades into a 256 x 256 cull map
+   about 0.8 ms; from-point culling with the occlusion tree (pvs_otree_cull, 32 occluders) about
+   0.2 ms per frame along a street walk. Bake methods per cell on the demo city (60 cells spread
+   over it): otree about 4.5 ms; shrink about 4.4 ms at the default eps (plus about 4 s of occluder
+   synthesis per bake); extproj about 14 ms (its occluder preparation amortized), about 37 ms with
+   the occlusion sweep; vocc about 60 ms (10 virtual occluders per cell, 52 bytes, 88% of the
+   objects culled: 96% of what shrink culls; rebuilding a cell's PVS from them about 0.1 ms).
 
    ALGORITHMS (each cited again where it is implemented)
    ==========
