@@ -172,15 +172,15 @@
 
    PERFORMANCE (`make bench`, 2026-11-24, one core of a 2-core AMD EPYC VM, release build)
    ===========
-   kD-tree build 0.8 s per million triangles; 0.55 M closest-hit rays/s (200k-triangle boxes);
+   kD-tree build 0.36 s per million triangles; 1.1 M closest-hit rays/s (200k-triangle boxes);
    demo city (3,575 objects, 457k triangles, 1,211 cells): file 0.099 of raw bitsets, 44 bytes per
    cell; a cursor move about 0.3 us; pvs_file_find_cell with 10,000 cells about 40 ns along a
    camera path, 65 ns at random points; per-frame culling of 50,000 occluder triangles at 1920x1080
    with 10,000 box tests about 0.9 ms (SSE2; 1.9 ms scalar), 1,000 facades into a 256 x 256 cull map
    about 0.8 ms; from-point culling with the occlusion tree (pvs_otree_cull, 32 occluders) about
    0.2 ms per frame along a street walk. Bake methods per cell on the demo city (60 cells spread
-   over it): otree about 4.5 ms; shrink about 4.4 ms at the default eps (plus about 4 s of occluder
-   synthesis per bake); extproj about 14 ms (its occluder preparation amortized), about 37 ms with
+   over it): otree about 4.3 ms; shrink about 4.5 ms at the default eps (plus about 4 s of occluder
+   synthesis per bake); extproj about 14 ms (its occluder preparation amortized), about 40 ms with
    the occlusion sweep; vocc about 60 ms (10 virtual occluders per cell, 52 bytes, 88% of the
    objects culled: 96% of what shrink culls; rebuilding a cell's PVS from them about 0.1 ms).
 
