@@ -844,8 +844,9 @@ typedef struct pvs_visibility_25d_desc {
     uint32_t flags;                 /* 0, or PVS_VISIBILITY_25D_FULL_TESTS */
 } pvs_visibility_25d_desc;
 
-/* pvs_visibility_25d_desc.flags: every box test walks the tree in full (no witness lines) on all
-   three top edges it could use: the reference for the shortcuts, slower, the same result. */
+/* pvs_visibility_25d_desc.flags: every box test walks the tree in full, through all three box sides
+   a line could cross, with no witness lines: the reference for those shortcuts, slower, the same
+   result. */
 #define PVS_VISIBILITY_25D_FULL_TESTS 1u
 
 /* Fills boxes[facade_count + object_count] for the kD-tree of pvs_visibility_25d_desc.tree: facade i
