@@ -844,9 +844,10 @@ typedef struct pvs_visibility_25d_desc {
     uint32_t flags;                 /* 0, or PVS_VISIBILITY_25D_FULL_TESTS */
 } pvs_visibility_25d_desc;
 
-/* pvs_visibility_25d_desc.flags: every box test walks the tree in full, through all three box sides
-   a line could cross, with no witness lines: the reference for those shortcuts, slower, the same
-   result. */
+/* pvs_visibility_25d_desc.flags: every box test walks the tree, with no witness lines (a remembered
+   line in an out-leaf that crosses the box answers "visible" without a walk): the reference for that
+   shortcut, slower, the same result (a witness answers only where the walk reaches the same
+   out-leaf). */
 #define PVS_VISIBILITY_25D_FULL_TESTS 1u
 
 /* Fills boxes[facade_count + object_count] for the kD-tree of pvs_visibility_25d_desc.tree: facade i
@@ -6456,7 +6457,7 @@ typedef struct pvs__otree {
     double *jd;                     /* 2.5D: per occluder, its line and umbra data in this tree (pvs__ot25_prepare) */
     double len_eps;                 /* distances below this are ties */
     uint32_t root_in;               /* 2.5D: the node whose region is the lines leaving through the source edge */
-    int full_tests;                 /* 2.5D: PVS_VISIBILITY_25D_FULL_TESTS */
+    int full_tests;                 /* 2.5D: PVS_VISIBILITY_25D_FULL_TESTS (no witness lines) */
     int nwit;                       /* 2.5D: witness lines, most recently useful first (pvs__ot25_witnessed) */
     double wit[PVS__OT25_WITNESSES][3];
 } pvs__otree;
@@ -8301,7 +8302,7 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
         if (edge & 1) { pa = a[0]; pb = b[0]; c = edge == 1 ? bx[2] : bx[0]; }
         else { pa = a[1]; pb = b[1]; c = edge == 2 ? bx[3] : bx[1]; }
         if (edge == 0 || edge == 3) { pa = -pa; pb = -pb; c = -c; }
-        if (!t->full_tests && (top > t->eye ? !(pa > c || pb > c) : !(pa < c || pb < c))) continue;
+        if (top > t->eye ? !(pa > c || pb > c) : !(pa < c || pb < c)) continue;
         sg[0] = c4[2 * edge]; sg[1] = c4[2 * edge + 1]; sg[2] = c4[(2 * edge + 2) & 7]; sg[3] = c4[(2 * edge + 3) & 7];
         if (sg[0] == sg[2] && sg[1] == sg[3]) sg[2] += t->len_eps; /* a box flat on both axes: its corner */
         if (!pvs__ot_clip_segment(b, a, sg, o, &on)) continue;
@@ -17432,12 +17433,18 @@ PVS__STATIC void pvs__hz_init(pvs__hz *z) {
         z->dlen[k] = sqrt(d[0] * d[0] + d[1] * d[1]);
     }
 }
-PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
-    int32_t b = (int32_t)floor(a / z->w);
-    return b < 0 ? 0 : b >= PVS__HZ_BINS ? PVS__HZ_BINS - 1 : b;
-}
 PVS__STATIC double pvs__hz_lo(const pvs__hz *z, int32_t b) { return b * z->w; }
 PVS__STATIC double pvs__hz_hi(const pvs__hz *z, int32_t b) { return b + 1 == PVS__HZ_BINS ? 4.0 : (b + 1) * z->w; }
+/* The bin holding pseudo-angle a, consistent with the boundaries pvs__hz_lo / pvs__hz_hi compute (w is
+   not a power of two, so floor(a / w) alone can put an angle just below b w into bin b: a facade
+   ending there would then claim bin b - 1 covered up to its upper boundary). */
+PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
+    int32_t b = (int32_t)floor(a / z->w);
+    b = b < 0 ? 0 : b >= PVS__HZ_BINS ? PVS__HZ_BINS - 1 : b;
+    if (b > 0 && a < pvs__hz_lo(z, b)) --b;
+    else if (b + 1 < PVS__HZ_BINS && a >= pvs__hz_hi(z, b)) ++b;
+    return b;
+}
 
 /* Distance from the eye along the ray of bin boundary k to the line through p, q (relative ground
    points); -1 when parallel. */

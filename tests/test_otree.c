@@ -422,7 +422,7 @@ static void test_25d_random(void) {
             extra += got[i] && !ref[i];
         }
         CHECK(miss == 0);
-        {   /* the shortcuts of the box tests (witness lines, unused sides) change nothing */
+        {   /* the witness lines of the box tests change nothing */
             pvs_word full[2];
             d.flags = PVS_VISIBILITY_25D_FULL_TESTS;
             CHECK(pvs_visibility_25d(&d, full, NULL, &e) == PVS_OK);
@@ -696,7 +696,7 @@ static void test_bake_axes(void) {
 /* 2.5D degenerate input: facades touching the cell, on the line of a cell edge, through a corner,
    crossing the cell, zero-length, collinear overlaps; closed rings (buildings) with objects inside.
    Never a miss against 3D ray sampling; a tall closed ring hides what it encloses. */
-/* The box-test shortcuts (witness lines in out-leaves, sides no line enters or leaves) against full
+/* The witness-line shortcut of the box tests (lines remembered in out-leaves) against full
    tests on a city grid: streets give long open lines (witnesses), blocks of walls of random heights
    hide most objects; cells in the streets. */
 static void test_25d_shortcuts(void) {
