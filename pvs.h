@@ -841,7 +841,7 @@ typedef struct pvs_visibility_25d_desc {
     uint32_t node_budget;           /* per tree (0 = 2^18); see pvs_otree_stats */
     const pvs_kdtree *tree;         /* NULL, or a kD-tree over pvs_visibility_25d_boxes (reused across cells) */
     pvs_allocator allocator;
-    uint32_t flags;                 /* 0, or PVS_VISIBILITY_25D_FULL_TESTS */
+    uint32_t flags;                 /* 0, or PVS_VISIBILITY_25D_FULL_TESTS (other bits: INVALID_ARGUMENT) */
 } pvs_visibility_25d_desc;
 
 /* pvs_visibility_25d_desc.flags: every box test walks the tree, with no witness lines (a remembered
@@ -8488,6 +8488,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     if (stats) *stats = st;
     if (!desc || !visible_objects || (desc->facade_count && !desc->facades) || (desc->object_count && !desc->objects))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, facades, objects and visible_objects are required");
+    if (desc->flags & ~PVS_VISIBILITY_25D_FULL_TESTS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown 2.5D flags 0x%x", desc->flags);
     nf = desc->facade_count;
     no = desc->object_count;
     if ((uint64_t)nf + no >= 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many facades and objects");

@@ -798,6 +798,9 @@ static void test_25d_degenerate(void) {
     CHECK(pvs_bitset_test(bits, 7));  /* towers over the ring */
     /* bad input */
     CHECK(pvs_visibility_25d(NULL, bits, NULL, &e) == PVS_ERROR_INVALID_ARGUMENT);
+    d.flags = 2u;
+    CHECK(pvs_visibility_25d(&d, bits, NULL, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "flags"));
+    d.flags = 0;
     d.cell_min[0] = 2;
     CHECK(pvs_visibility_25d(&d, bits, NULL, &e) == PVS_ERROR_BAD_CELL);
 }

@@ -33,11 +33,11 @@ static void clip_of(const float *m, const float *p, double c[4]) {
     for (r = 0; r < 4; ++r) c[r] = (double)m[4 * r] * p[0] + (double)m[4 * r + 1] * p[1] + (double)m[4 * r + 2] * p[2] + m[4 * r + 3];
 }
 
-/* Is screen point (x_ndc, y_ndc) on the triangle (visible part: w > 0, in front of the near plane)?
-   Returns 1 and the exact depth z/w. */
-static int tri_at(const double C[3][4], double x, double y, double *depth) {
-    /* solve sum l_i (X_i - x W_i) = 0, sum l_i (Y_i - y W_i) = 0, sum l_i W_i = 1 */
-    double a[3][3], det, l[3];
+/* Barycentric point-in-triangle with a relative tolerance tol (tol > 0: points on or a hair outside an
+   edge count; the union test must not see a crack on a shared edge from the solve's own rounding). A
+   (nearly) degenerate projection covers no sample (its sliver is narrower than 1e-9 of its size). */
+static int tri_at_tol(const double C[3][4], double x, double y, double tol, double *depth) {
+    double a[3][3], det, l[3], n0, n1, n2;
     int i;
     for (i = 0; i < 3; ++i) {
         a[0][i] = C[i][0] - x * C[i][3];
@@ -46,21 +46,21 @@ static int tri_at(const double C[3][4], double x, double y, double *depth) {
     }
     det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-    {
-        /* a (nearly) degenerate projection covers no sample (its sliver is narrower than 1e-9 of its
-           size); the solve would be noise there */
-        double n0 = fabs(a[0][0]) + fabs(a[0][1]) + fabs(a[0][2]), n1 = fabs(a[1][0]) + fabs(a[1][1]) + fabs(a[1][2]);
-        double n2 = fabs(a[2][0]) + fabs(a[2][1]) + fabs(a[2][2]);
-        if (!(fabs(det) > 1e-9 * n0 * n1 * n2)) return 0;
-    }
-    /* Cramer with rhs (0, 0, 1) */
+    n0 = fabs(a[0][0]) + fabs(a[0][1]) + fabs(a[0][2]);
+    n1 = fabs(a[1][0]) + fabs(a[1][1]) + fabs(a[1][2]);
+    n2 = fabs(a[2][0]) + fabs(a[2][1]) + fabs(a[2][2]);
+    if (!(fabs(det) > 1e-9 * n0 * n1 * n2)) return 0;
     l[0] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) / det;
     l[1] = -(a[0][0] * a[1][2] - a[0][2] * a[1][0]) / det;
     l[2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
-    if (l[0] < 0 || l[1] < 0 || l[2] < 0) return 0;
+    if (l[0] < -tol || l[1] < -tol || l[2] < -tol) return 0;
     *depth = l[0] * C[0][2] + l[1] * C[1][2] + l[2] * C[2][2];
-    return *depth <= 1.0; /* w = 1: in front of the near plane when z <= w */
+    return *depth <= 1.0 + tol; /* in front of the near plane (z <= w = 1) */
 }
+
+/* Is screen point (x_ndc, y_ndc) on the triangle (visible part: w > 0, in front of the near plane)?
+   Returns 1 and the exact depth z/w. */
+static int tri_at(const double C[3][4], double x, double y, double *depth) { return tri_at_tol(C, x, y, 0.0, depth); }
 
 /* A random test matrix: a camera (perspective or orthographic) or an off-axis perspective. */
 static void random_matrix(float m[16], float aspect, int kind) {
@@ -211,30 +211,6 @@ static void test_coverage(int scale) {
 }
 
 /* ---- occluder meshes (pvs_raster_mesh): brute-force union coverage ---- */
-
-/* Barycentric point-in-triangle with a relative tolerance tol (tol > 0: points on or a hair outside an
-   edge count; the union test must not see a crack on a shared edge from the solve's own rounding). */
-static int tri_at_tol(const double C[3][4], double x, double y, double tol, double *depth) {
-    double a[3][3], det, l[3], n0, n1, n2;
-    int i;
-    for (i = 0; i < 3; ++i) {
-        a[0][i] = C[i][0] - x * C[i][3];
-        a[1][i] = C[i][1] - y * C[i][3];
-        a[2][i] = C[i][3];
-    }
-    det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-          a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-    n0 = fabs(a[0][0]) + fabs(a[0][1]) + fabs(a[0][2]);
-    n1 = fabs(a[1][0]) + fabs(a[1][1]) + fabs(a[1][2]);
-    n2 = fabs(a[2][0]) + fabs(a[2][1]) + fabs(a[2][2]);
-    if (!(fabs(det) > 1e-9 * n0 * n1 * n2)) return 0;
-    l[0] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) / det;
-    l[1] = -(a[0][0] * a[1][2] - a[0][2] * a[1][0]) / det;
-    l[2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
-    if (l[0] < -tol || l[1] < -tol || l[2] < -tol) return 0;
-    *depth = l[0] * C[0][2] + l[1] * C[1][2] + l[2] * C[2][2];
-    return *depth <= 1.0 + tol; /* in front of the near plane (z <= w = 1) */
-}
 
 #define MESH_MAXV 400
 #define MESH_MAXT 640

@@ -101,28 +101,8 @@ static void add_box(mesh *m, const char *name, const float lo[3], const float hi
         if ((int)k != open_face) mesh_add_quad(m, base + f[k][0], base + f[k][1], base + f[k][2], base + f[k][3]);
 }
 
-static pvs_scene *make_scene(const mesh *m, uint32_t up) {
-    pvs_scene_desc d;
-    pvs_object_desc obs[64];
-    pvs_scene *s = NULL;
-    pvs_error e;
-    uint32_t i;
-    for (i = 0; i < m->object_count && i < 64; ++i) {
-        obs[i].first_triangle = m->objects[i].first_triangle;
-        obs[i].triangle_count = m->objects[i].triangle_count;
-        obs[i].flags = 0;
-    }
-    memset(&d, 0, sizeof(d));
-    d.positions = m->positions; d.vertex_count = m->vertex_count;
-    d.indices = m->indices; d.triangle_count = m->triangle_count;
-    d.objects = obs; d.object_count = m->object_count;
-    d.up_axis = up;
-    if (pvs_scene_create(&d, &s, &e) != PVS_OK) fprintf(stderr, "scene: %s\n", e.message);
-    return s;
-}
-
 /* A scene of every object of a mesh (any count). */
-static pvs_scene *make_scene_all(const mesh *m, uint32_t up) {
+static pvs_scene *make_scene(const mesh *m, uint32_t up) {
     pvs_scene_desc d;
     pvs_object_desc *obs = (pvs_object_desc *)malloc((m->object_count ? m->object_count : 1) * sizeof(pvs_object_desc));
     pvs_scene *s = NULL;
@@ -651,7 +631,7 @@ static void test_random_prisms(void) {
             cells[nc].min[1] = 0.5f; cells[nc].max[1] = nc & 1 ? 0.5f + 2e-3f : 2.0f;
             ++nc;
         }
-        s = make_scene_all(&m, 1);
+        s = make_scene(&m, 1);
         CHECK(s != NULL);
         if (!s) { mesh_free(&m); continue; }
         memset(&bd, 0, sizeof(bd));
@@ -808,7 +788,7 @@ static void test_report(void) {
         memset(&gp, 0, sizeof(gp));
         gp.kind = kind ? GEN_CITY : GEN_WALLS; gp.seed = 4; gp.size = 0.15f; gp.max_cells = 6;
         CHECK(gen_scene(&gp, &m, &cells) == 0);
-        s = make_scene_all(&m, 1);
+        s = make_scene(&m, 1);
         CHECK(s != NULL);
         memset(&bd, 0, sizeof(bd));
         bd.scene = s; bd.cells = (const pvs_box *)cells.boxes; bd.cell_count = cells.count; bd.method = PVS_METHOD_SHRINK;

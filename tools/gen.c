@@ -932,6 +932,31 @@ static int gen__forest_free(const gen__tree *tr, int ng, double sp, gen__r2 R) {
     return 1;
 }
 
+/* The forests' clearings: n = round(density size^2) (1..256) circles (x, z, radius) with radii in
+   [rmin, rmax] (at most S / 4) and centres in the middle 70% of the S x S square. Returns n. */
+static int gen__clearings(gen__rng *r, const gen_params *P, double S, double density, double rmin, double rmax, double cl[256][3]) {
+    int ncl = gen__iround(density * P->size * P->size);
+    if (ncl < 1) ncl = 1;
+    if (ncl > 256) ncl = 256;
+    for (int k = 0; k < ncl; ++k) {
+        cl[k][2] = gen__min(gen__rf(r, rmin, rmax), S / 4);
+        cl[k][0] = gen__rf(r, 0.15 * S, 0.85 * S);
+        cl[k][1] = gen__rf(r, 0.15 * S, 0.85 * S);
+    }
+    return ncl;
+}
+
+/* The forests' ground: 20 m tiles over the S x S square, one object each. */
+static void gen__ground_tiles(gen__ctx *c, double S) {
+    const double T = 20.0;
+    int nt = (int)ceil(S / T);
+    for (int j = 0; j < nt; ++j)
+        for (int i = 0; i < nt; ++i) {
+            gen__obj(c, "ground_%d_%d", i, j);
+            gen__hquad(c, i * T, j * T, gen__min((i + 1) * T, S), gen__min((j + 1) * T, S), 0, 0);
+        }
+}
+
 static int gen__forest(gen__ctx *c, const gen_params *P) {
     static const double hex[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, {-0.5, 0.8660254037844386},
                                      {-1, 0}, {-0.5, -0.8660254037844386}, {0.5, -0.8660254037844386}};
@@ -944,24 +969,10 @@ static int gen__forest(gen__ctx *c, const gen_params *P) {
     gen__tree *tr = (gen__tree *)malloc(sizeof(gen__tree) * (size_t)ng * (size_t)ng);
     if (!tr) return -1;
     /* clearings and a straight path along x */
-    int ncl = gen__iround(6.0 * P->size * P->size);
-    if (ncl < 1) ncl = 1;
-    if (ncl > 256) ncl = 256;
     double cl[256][3];
-    for (int k = 0; k < ncl; ++k) {
-        cl[k][2] = gen__min(gen__rf(r, 10, 22), S / 4);
-        cl[k][0] = gen__rf(r, 0.15 * S, 0.85 * S);
-        cl[k][1] = gen__rf(r, 0.15 * S, 0.85 * S);
-    }
+    int ncl = gen__clearings(r, P, S, 6.0, 10, 22, cl);
     double pz0 = gen__rf(r, 0.3 * S, 0.6 * S), pz1 = pz0 + 4.0;
-    /* ground tiles */
-    const double T = 20.0;
-    int nt = (int)ceil(S / T);
-    for (int j = 0; j < nt; ++j)
-        for (int i = 0; i < nt; ++i) {
-            gen__obj(c, "ground_%d_%d", i, j);
-            gen__hquad(c, i * T, j * T, gen__min((i + 1) * T, S), gen__min((j + 1) * T, S), 0, 0);
-        }
+    gen__ground_tiles(c, S);
     uint32_t ntree = 0;
     for (int j = 0; j < ng && !c->err; ++j)
         for (int i = 0; i < ng && !c->err; ++i) {
@@ -1046,23 +1057,10 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
     uint32_t *first = (uint32_t *)malloc(sizeof(uint32_t) * ((size_t)ng * (size_t)ng + 1));
     float *obb = NULL;
     if (!first) return -1;
-    int ncl = gen__iround(3.0 * P->size * P->size);
-    if (ncl < 1) ncl = 1;
-    if (ncl > 256) ncl = 256;
     double cl[256][3];
-    for (int k = 0; k < ncl; ++k) {
-        cl[k][2] = gen__min(gen__rf(r, 8, 16), S / 4);
-        cl[k][0] = gen__rf(r, 0.15 * S, 0.85 * S);
-        cl[k][1] = gen__rf(r, 0.15 * S, 0.85 * S);
-    }
+    int ncl = gen__clearings(r, P, S, 3.0, 8, 16, cl);
     double pz0 = gen__rf(r, 0.3 * S, 0.6 * S), pz1 = pz0 + 3.0;
-    const double T = 20.0;
-    int nt = (int)ceil(S / T);
-    for (int j = 0; j < nt; ++j)
-        for (int i = 0; i < nt; ++i) {
-            gen__obj(c, "ground_%d_%d", i, j);
-            gen__hquad(c, i * T, j * T, gen__min((i + 1) * T, S), gen__min((j + 1) * T, S), 0, 0);
-        }
+    gen__ground_tiles(c, S);
     uint32_t ntree = 0, nbush = 0;
     for (int j = 0; j < ng && !c->err; ++j)
         for (int i = 0; i < ng && !c->err; ++i) {
