@@ -1436,6 +1436,87 @@ static void test_adaptive(void) {
     mesh_cells_free(&cells);
 }
 
+/* The sweep projects every occluder between its planes (§5.2), not only the few the selection of
+   §6.1 keeps: a curtain of N x N overlapping square shingles (separate objects, alternately 1 mm
+   apart in depth, so neither coplanar nor one sheet) 4 units in front of a unit cell hides a wide
+   box 20 units away. With 16 occluders per direction the planes of §6.1 see too few shingles to
+   hide it; the sweep (whose selection of 64 only sets its depth range) hides it; a box beside the
+   curtain stays visible, and ray sampling sees nothing the bake misses. */
+static void test_sweep_all_occluders(void) {
+    enum { N = 16 };
+    float *pos = (float *)malloc(sizeof(float) * 3 * (4 * N * N + 16));
+    uint32_t *idx = (uint32_t *)malloc(sizeof(uint32_t) * 3 * (2 * N * N + 24));
+    pvs_object_desc obs[N * N + 2];
+    static const int box_tris[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                                        {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+    pvs_box cell = {{-1.0f, -0.5f, -0.5f}, {0.0f, 0.5f, 0.5f}};
+    uint32_t nv = 0, nt = 0, no = 0, i, j, k, c, misses = 0;
+    int sweep;
+    pvs_scene *s;
+    /* shingles: pitch 0.6, side 0.8 (0.2 overlap), centred on the cell's axis, x = 4 or 4.02 */
+    for (j = 0; j < N; ++j)
+        for (i = 0; i < N; ++i) {
+            float x = ((i + j) & 1) ? 4.001f : 4.0f, y0 = -0.4f * N + 0.6f * (float)i - 0.1f, z0 = -0.4f * N + 0.6f * (float)j - 0.1f;
+            uint32_t b = nv;
+            for (k = 0; k < 4; ++k, ++nv) {
+                pos[3 * nv] = x;
+                pos[3 * nv + 1] = y0 + ((k & 1) ? 0.8f : 0.0f);
+                pos[3 * nv + 2] = z0 + ((k & 2) ? 0.8f : 0.0f);
+            }
+            obs[no].first_triangle = nt;
+            obs[no].triangle_count = 2;
+            obs[no].flags = 0;
+            ++no;
+            idx[3 * nt] = b; idx[3 * nt + 1] = b + 1; idx[3 * nt + 2] = b + 3; ++nt;
+            idx[3 * nt] = b; idx[3 * nt + 1] = b + 3; idx[3 * nt + 2] = b + 2; ++nt;
+        }
+    for (k = 0; k < 2; ++k) { /* the hidden box behind the curtain, one beside it */
+        float lo[3] = {20.0f, -6.0f, -6.0f}, hi[3] = {21.0f, 6.0f, 6.0f};
+        if (k) { lo[2] = 40.0f; hi[2] = 44.0f; }
+        for (c = 0; c < 8; ++c, ++nv)
+            for (i = 0; i < 3; ++i) pos[3 * nv + i] = (c >> i) & 1 ? hi[i] : lo[i];
+        obs[no].first_triangle = nt;
+        obs[no].triangle_count = 12;
+        obs[no].flags = 0;
+        ++no;
+        for (c = 0; c < 12; ++c, ++nt)
+            for (i = 0; i < 3; ++i) idx[3 * nt + i] = nv - 8 + (uint32_t)box_tris[c][i];
+    }
+    s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
+    CHECK(s != NULL);
+    for (sweep = 0; s && sweep < 2; ++sweep) {
+        pvs_bake_desc bd;
+        pvs_bake *bk = NULL;
+        pvs_error e;
+        pvs_word *seen = (pvs_word *)calloc(PVS_BITSET_WORDS(no), sizeof(pvs_word));
+        memset(&bd, 0, sizeof(bd));
+        bd.scene = s;
+        bd.cells = &cell;
+        bd.cell_count = 1;
+        bd.method = PVS_METHOD_EXTPROJ;
+        bd.extproj_occluders = 16;
+        bd.extproj_sweep = sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0;
+        CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
+        CHECK(bk && pvs_bake_run_task(bk, 0, &e) == PVS_OK);
+        if (bk) {
+            const pvs_word *pv = pvs_bake_cell_pvs(bk, 0);
+            uint32_t o;
+            pvs_sample_visibility(s, &cell, 16, 1024, 41, seen);
+            pvs_sample_visibility_toward(s, &cell, NULL, 256, 43, seen);
+            for (o = 0; o < no; ++o) misses += pvs_bitset_test(seen, o) && !pvs_bitset_test(pv, o);
+            CHECK(!pvs_bitset_test(seen, no - 2));              /* the rays agree: the box is hidden */
+            CHECK(pvs_bitset_test(pv, no - 1));                 /* the one beside the curtain is seen */
+            CHECK(pvs_bitset_test(pv, no - 2) == (sweep == 0)); /* hidden only by the sweep */
+        }
+        pvs_bake_destroy(bk);
+        free(seen);
+    }
+    CHECK(misses == 0);
+    pvs_scene_destroy(s);
+    free(pos);
+    free(idx);
+}
+
 void test_extproj(void) {
     test_occluder_projection();
     test_occludee_projection();
@@ -1448,6 +1529,7 @@ void test_extproj(void) {
     test_fragmented_wall();
     test_concave_projection();
     test_random_walls();
+    test_sweep_all_occluders();
     test_adaptive();
     ep_check_scene(GEN_CITY, 1, 0.3f, 24, 16, 1024, 0);
     ep_check_scene(GEN_CITY, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
