@@ -287,6 +287,10 @@ static int ep_ray_mesh(const double *o, const double *d, const float *pos, const
 }
 
 /* A scene of one object from arrays. */
+/* The 12 triangles of a box whose corner c has coordinate k at max when bit k of c is set. */
+static const int ep_box_tris[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                                       {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+
 static pvs_scene *ep_scene_arrays(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t nt, const pvs_object_desc *obs, uint32_t no) {
     pvs_scene_desc d;
     pvs_scene *s = NULL;
@@ -927,8 +931,6 @@ static unsigned ep_wall_run(const double R[3][3], uint32_t nx, uint32_t ny, cons
                             double by, double bz, int two_sided, uint32_t *misses) {
     static float pos[3 * ((EP_MAXG + 1) * (EP_MAXG + 1) + 8)];
     static uint32_t idx[3 * (4 * EP_MAXG * EP_MAXG + 12)];
-    static const int box_tris[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                                        {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
     uint32_t i, j, nv = 0, nt = 0, c;
     unsigned in_pvs = 0;
     pvs_object_desc obs[2];
@@ -965,7 +967,7 @@ static unsigned ep_wall_run(const double R[3][3], uint32_t nx, uint32_t ny, cons
         ep_rot(R, x, pos + 3 * (nv + c));
     }
     for (c = 0; c < 12; ++c, ++nt)
-        for (i = 0; i < 3; ++i) idx[3 * nt + i] = nv + (uint32_t)box_tris[c][i];
+        for (i = 0; i < 3; ++i) idx[3 * nt + i] = nv + (uint32_t)ep_box_tris[c][i];
     nv += 8;
     obs[1].first_triangle = obs[0].triangle_count;
     obs[1].triangle_count = 12;
@@ -1198,8 +1200,6 @@ static void test_random_walls(void) {
     float *pos = (float *)malloc(sizeof(float) * 3 * (NW * (G + 1) * (G + 1) + NB * 8));
     uint32_t *idx = (uint32_t *)malloc(sizeof(uint32_t) * 3 * (NW * 4 * G * G + NB * 12));
     pvs_object_desc obs[NW + NB];
-    static const int box_tris[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                                        {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
     uint32_t nv = 0, nt = 0, no = 0, misses = 0, w, i, j, c, culled = 0;
     int scene, sweep;
     for (scene = 0; scene < 2; ++scene) {
@@ -1257,7 +1257,7 @@ static void test_random_walls(void) {
             obs[no].flags = 0;
             ++no;
             for (c = 0; c < 12; ++c, ++nt)
-                for (k = 0; k < 3; ++k) idx[3 * nt + k] = nv + (uint32_t)box_tris[c][k];
+                for (k = 0; k < 3; ++k) idx[3 * nt + k] = nv + (uint32_t)ep_box_tris[c][k];
             nv += 8;
         }
         s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
@@ -1447,8 +1447,6 @@ static void test_sweep_all_occluders(void) {
     float *pos = (float *)malloc(sizeof(float) * 3 * (4 * N * N + 16));
     uint32_t *idx = (uint32_t *)malloc(sizeof(uint32_t) * 3 * (2 * N * N + 24));
     pvs_object_desc obs[N * N + 2];
-    static const int box_tris[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                                        {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
     pvs_box cell = {{-1.0f, -0.5f, -0.5f}, {0.0f, 0.5f, 0.5f}};
     uint32_t nv = 0, nt = 0, no = 0, i, j, k, c, misses = 0;
     int sweep;
@@ -1480,7 +1478,7 @@ static void test_sweep_all_occluders(void) {
         obs[no].flags = 0;
         ++no;
         for (c = 0; c < 12; ++c, ++nt)
-            for (i = 0; i < 3; ++i) idx[3 * nt + i] = nv - 8 + (uint32_t)box_tris[c][i];
+            for (i = 0; i < 3; ++i) idx[3 * nt + i] = nv - 8 + (uint32_t)ep_box_tris[c][i];
     }
     s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
     CHECK(s != NULL);
