@@ -6587,6 +6587,15 @@ PVS__STATIC double pvs__ot_side(const double l[3], const double p[2]) {
 
 #define PVS__OT_EPS 1e-12
 
+/* out = (a + t (b - a)) normalised (left as is when zero): a clipped line's vertex. Computed in
+   locals and stored last (out may alias a or b as far as the compiler knows). */
+PVS__STATIC void pvs__ot_lerp_unit(const double *a, const double *b, double t, double *out) {
+    double x0 = a[0] + t * (b[0] - a[0]), x1 = a[1] + t * (b[1] - a[1]), x2 = a[2] + t * (b[2] - a[2]);
+    double len = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+    if (len > 0.0) { double f = 1.0 / len; x0 *= f; x1 *= f; x2 *= f; }
+    out[0] = x0; out[1] = x1; out[2] = x2;
+}
+
 /* The unit normal of the plane sign * p* = sign * (p.x, p.y, 1): n . l = sign * side(l, p). */
 PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
     double f = sign / sqrt(p[0] * p[0] + p[1] * p[1] + 1.0);
@@ -6621,15 +6630,8 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
             ++m;
         }
         if (in_i != in_j) {
-            double tt = d[i] / (d[i] - d[i + 1]), *v = out->v[m], len, x0, x1, x2;
-            const double *vi = in->v[i], *vj = in->v[j];
             if (m >= PVS__OT_MAXV) { out->n = 0; return -1; }
-            x0 = vi[0] + tt * (vj[0] - vi[0]); /* in locals: out may alias in as far as the compiler knows */
-            x1 = vi[1] + tt * (vj[1] - vi[1]);
-            x2 = vi[2] + tt * (vj[2] - vi[2]);
-            len = sqrt(x0 * x0 + x1 * x1 + x2 * x2); /* pvs__ot_normalize, in line */
-            if (len > 0.0) { double f = 1.0 / len; x0 *= f; x1 *= f; x2 *= f; }
-            v[0] = x0; v[1] = x1; v[2] = x2;
+            pvs__ot_lerp_unit(in->v[i], in->v[j], d[i] / (d[i] - d[i + 1]), out->v[m]);
             if (in_i) { /* leaving: the new edge runs along p's plane */
                 out->e[m][0] = p[0]; out->e[m][1] = p[1];
                 out->mark[m] = (unsigned char)mark;
@@ -6672,16 +6674,8 @@ PVS__STATIC void pvs__ot_split2(const pvs__otpoly *in, const double nn[3], const
                 ++m[side];
             }
             if (in_i != in_j) {
-                double tt = di / (di - dj), *v, x0, x1, x2, len;
-                const double *vi = in->v[i], *vj = in->v[j];
                 if (m[side] >= PVS__OT_MAXV) { m[side] = -1; break; }
-                v = out->v[m[side]];
-                x0 = vi[0] + tt * (vj[0] - vi[0]); /* pvs__ot_normalize in line, on locals */
-                x1 = vi[1] + tt * (vj[1] - vi[1]);
-                x2 = vi[2] + tt * (vj[2] - vi[2]);
-                len = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
-                if (len > 0.0) { double f = 1.0 / len; x0 *= f; x1 *= f; x2 *= f; }
-                v[0] = x0; v[1] = x1; v[2] = x2;
+                pvs__ot_lerp_unit(in->v[i], in->v[j], di / (di - dj), out->v[m[side]]);
                 if (in_i) { /* leaving: the new edge runs along p's plane */
                     out->e[m[side]][0] = p[0]; out->e[m[side]][1] = p[1];
                     out->mark[m[side]] = (unsigned char)mark;

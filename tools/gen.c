@@ -957,9 +957,20 @@ static void gen__ground_tiles(gen__ctx *c, double S) {
         }
 }
 
-static int gen__forest(gen__ctx *c, const gen_params *P) {
+/* A tree trunk: a hexagonal frustum from radius r0 on the ground to r1 at height ht, open at the
+   bottom (it stands on the ground), capped at the top. */
+static void gen__trunk(gen__ctx *c, double x, double z, double r0, double r1, double ht) {
     static const double hex[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, {-0.5, 0.8660254037844386},
                                      {-1, 0}, {-0.5, -0.8660254037844386}, {0.5, -0.8660254037844386}};
+    uint32_t b = c->m->vertex_count;
+    for (int k = 0; k < 6; ++k) gen__v(c, x + hex[k][0] * r0, 0, z + hex[k][1] * r0);
+    for (int k = 0; k < 6; ++k) gen__v(c, x + hex[k][0] * r1, ht, z + hex[k][1] * r1);
+    for (uint32_t k = 0; k < 6; ++k) gen__quad(c, b + k, b + 6 + k, b + 6 + (k + 1) % 6, b + (k + 1) % 6);
+    gen__tri(c, b + 6, b + 11, b + 10); gen__tri(c, b + 6, b + 10, b + 9);
+    gen__tri(c, b + 6, b + 9, b + 8); gen__tri(c, b + 6, b + 8, b + 7);
+}
+
+static int gen__forest(gen__ctx *c, const gen_params *P) {
     gen__rng *r = &c->rng;
     const double sp = 5.0;
     double S = 300.0 * P->size;
@@ -987,12 +998,7 @@ static int gen__forest(gen__ctx *c, const gen_params *P) {
             if (!keep) continue;
             t->r = (float)tr_r;
             gen__obj(c, "tree_%u", ntree++);
-            uint32_t b = c->m->vertex_count;
-            for (int k = 0; k < 6; ++k) gen__v(c, x + hex[k][0] * tr_r, 0, z + hex[k][1] * tr_r);
-            for (int k = 0; k < 6; ++k) gen__v(c, x + hex[k][0] * tr_r * 0.6, ht, z + hex[k][1] * tr_r * 0.6);
-            for (uint32_t k = 0; k < 6; ++k) gen__quad(c, b + k, b + 6 + k, b + 6 + (k + 1) % 6, b + (k + 1) % 6);
-            gen__tri(c, b + 6, b + 11, b + 10); gen__tri(c, b + 6, b + 10, b + 9);
-            gen__tri(c, b + 6, b + 9, b + 8); gen__tri(c, b + 6, b + 8, b + 7);
+            gen__trunk(c, x, z, tr_r, tr_r * 0.6, ht);
             int ncu = 3 + (int)gen__ri(r, 4);
             for (int k = 0; k < ncu; ++k) {
                 double rad, cx, cy, cz, ts = gen__rf(r, 0.25, 0.45);
@@ -1045,8 +1051,6 @@ static int gen__forest(gen__ctx *c, const gen_params *P) {
    (exact test, 0.1 m margin). Uses its own random stream: the default forest is unchanged. */
 static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
     const double LT = 2.0; /* leaf size: coarse, large triangles (0.7-1.5 m), as in Durand 2000 §7.2 */
-    static const double hex[6][2] = {{1, 0}, {0.5, 0.8660254037844386}, {-0.5, 0.8660254037844386},
-                                     {-1, 0}, {-0.5, -0.8660254037844386}, {0.5, -0.8660254037844386}};
     gen__rng *r = &c->rng;
     const double sp = 5.0;
     double S = 300.0 * P->size;
@@ -1074,12 +1078,7 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
             if (z + 3.0 > pz0 && z - 3.0 < pz1) keep = bush = 0;
             if (keep) {
                 gen__obj(c, "tree_%u", ntree++);
-                uint32_t b = c->m->vertex_count;
-                for (int k = 0; k < 6; ++k) gen__v(c, x + hex[k][0] * tr_r, 0, z + hex[k][1] * tr_r);
-                for (int k = 0; k < 6; ++k) gen__v(c, x + hex[k][0] * tr_r * 0.5, ht, z + hex[k][1] * tr_r * 0.5);
-                for (uint32_t k = 0; k < 6; ++k) gen__quad(c, b + k, b + 6 + k, b + 6 + (k + 1) % 6, b + (k + 1) % 6);
-                gen__tri(c, b + 6, b + 11, b + 10); gen__tri(c, b + 6, b + 10, b + 9);
-                gen__tri(c, b + 6, b + 9, b + 8); gen__tri(c, b + 6, b + 8, b + 7);
+                gen__trunk(c, x, z, tr_r, tr_r * 0.5, ht);
                 if (conifer) {
                     double y0 = gen__rf(r, 0.8, 1.6), R = gen__rf(r, 1.6, 2.2);
                     int ncu = 4 + (int)gen__ri(r, 3);
