@@ -180,7 +180,7 @@
    about 0.8 ms; from-point culling with the occlusion tree (pvs_otree_cull, 32 occluders) about
    0.2 ms per frame along a street walk. Bake methods per cell on the demo city (60 cells spread
    over it): otree about 4.3 ms; shrink about 4.5 ms at the default eps (plus about 4 s of occluder
-   synthesis per bake); extproj about 15 ms (its occluder preparation amortized), about 50 ms with
+   synthesis per bake); extproj about 15 ms (its occluder preparation amortized), about 55 ms with
    the occlusion sweep; vocc about 60 ms (10 virtual occluders per cell, 52 bytes, 88% of the
    objects culled: 96% of what shrink culls; rebuilding a cell's PVS from them about 0.1 ms).
 
@@ -14316,23 +14316,17 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    erodes by up to a pixel per side beyond the umbra (the sweep reprojects from planes 1, 2, 4, ...
    back so this does not add up along it); scenes of sparse small occluders stay loose even with the
    sweep: the umbra of a plane's blocked region shrinks by the cell's size over the distance (C dD /
-   D per plane), so small occluders fuse only where they add coverage faster than that, which the
-   generator's dense forest (3 m cells, leaves of about 1 m, about 100 per tree) never does: on its
-   inner cells the blocked share of the plane ahead peaks near 10-20% a few metres out and falls back
-   (measured with 16 to 200 planes, 256 or 512 pixels, 512 to 65536 occluders per direction, even
-   with ten times the leaves), so nothing is culled there; a ray reference with 2048 more aimed rays
-   per object already sees a quarter of the objects from those cells. A 10 m slab of 12,000 leaves
-   in front of a 1 m cell hides 11 cubes from every ray, yet none is culled at 256 pixels: a region
-   survives a reprojection only where it holds a whole kernel window (about 5 pixels, 0.5 m at 8 m,
-   for 1 m leaves), so the planes' 60-80% leaf coverage reprojects to little; 1024 pixels with every
-   leaf as occluder culls 6 of them (2026-11-24). Since then the sweep projects every occluder
-   between its planes (it projected the 4 x extproj_occluders of largest solid angle): on the demo
-   city's bench cells the sweep went from 1.68 to 1.65 in tightness and from 40 to 50 ms per cell;
-   the forests stay at no culling. In a 150 m dense forest with 1,000 leaves per tree (the paper's
-   density; uniform rays see 10% of the objects, aimed rays 19%) and cells of 0.3 m, the sweep's
-   planes ahead are 85-92% blocked, but the band just above the ground's horizon (sight lines under
-   the crowns to the foot of far trees) stays open on every plane, and every tree's box reaches the
-   ground, so no tree is hidden. */
+   D per plane), so small occluders fuse only where they add coverage faster than that, and a
+   region survives a reprojection only where it holds a whole kernel window. Measured on the
+   generator's forests (bench_extproj, 2026-11-24): the dense forest (3 m cells, about 100 leaves
+   of about 1 m per tree) culls nothing, with or without the sweep (16 to 200 planes, 256 or 512
+   pixels); rays aimed at each object see a quarter of the objects from its cells. At the paper's
+   density (1,000 leaves per tree, bushes as dense, 1 m cells; rays see about 2% of the objects)
+   nothing is culled without the sweep, and with it about 1% at 256 pixels and 16 planes, 8% at
+   512 and 32, 25% at 1024 and 64: the planes ahead are 80% blocked, but the band just above the
+   ground under the bushes stays open, and the box of every tree reaches the ground there. With the
+   bushes lowered to the ground (an experiment, not in the generator) 85% was culled; testing each
+   object's triangles instead of its box took 25% to 35%. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
@@ -17287,9 +17281,24 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
 /* The occlusion sweep of §5 for direction d: parallel planes leaving the cell, each holding the
    reprojection of the earlier planes' blocked pixels (§5.1, pvs__ep_reproject_sweep), the
    Projections of all occluders between it and the previous plane (pvs__epslab), and the slices of
-   the closed meshes it cuts. Planes are spaced by §5.2 (a kernel of K = 5 pixels: dD = D (K - 1) P
-   / (C N)) but at least geometrically, so that `sweep` planes reach the farthest selected occluder
-   (the selection of §6.1 sets only this depth range). The number of planes goes to *planes. */
+   the closed meshes it cuts. The planes run from one cell size C ahead of the cell (or the nearest
+   selected occluder, if farther) to the far end of the scene, spaced geometrically. Departures
+   from §5.2, measured (2026-11-24):
+   - §5.2 spaces the planes for a kernel of K pixels, dD = D (K - 1) P / (C N), and stops wherever
+     the planes run out. With P growing like D that puts most planes within a few cell sizes of the
+     cell, where a small occluder's umbra is short anyway, and leaves few far out, where the gaps
+     between many small occluders close. The demo city's PVS over the ray-sampled sets went 1.65 ->
+     1.51 with geometric spacing (bench cells, 16 planes, 256 pixels); the generator's dense forest
+     at 1,000 leaves per tree with its bushes lowered to the ground (2 cells of 1 m, 1024 pixels,
+     64 planes) culled 59% with §5.2's spacing, 85% with geometric. Reprojection does not need a
+     whole kernel here (pvs__ep_reproject_sat takes the true cell per row and column).
+   - Planes nearer than C add little: an occluder of width s < C / 2 at distance w casts an umbra
+     ending before w C / (C - s) < 2 w, and the occluders in front of the first plane are still
+     projected onto it; only their fusion on nearer planes is given up.
+   - The far end is the scene's, not the farthest selected occluder's (the selection of §6.1 picks
+     large solid angles, i.e. near occluders, and objects beyond the last plane met only its mask):
+     geometry far beyond the cells (a sky box) spreads the planes thinner.
+   The number of planes goes to *planes. */
 PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
                                             uint32_t n, const pvs__epparams *prm, uint32_t levels, pvs__epscratch *w, const int *sheet_side,
                                             const pvs_word *candidates, pvs__epmask *ms, uint32_t *planes) {
@@ -17307,11 +17316,16 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
         W0 = pvs__dmin(W0, pvs__dmax(w1, 0.0));
         Wend = pvs__dmax(Wend, w1);
     }
+    {
+        double b0, b1;
+        pvs__ep_box_w(cell, &s->bounds, d, &b0, &b1);
+        Wend = pvs__dmax(Wend, b1);
+    }
     if (!(Wend > 0.0)) return PVS_OK;
     if (!(C > 0.0)) C = pvs__dmax(ext, 1e-6);
-    /* the first and the last plane just behind their occluders (a flat one facing the plane lies
-       wholly in front of it only there) */
-    W0 = pvs__dmax(W0 + 1e-3 * (W0 + ext), 1e-3 * (C + ext));
+    /* the first plane at C or just behind the nearest occluder, the last just behind the scene (a
+       flat occluder facing a plane lies wholly in front of it only there) */
+    W0 = pvs__dmax(W0 + 1e-3 * (W0 + ext), C);
     Wend += 1e-3 * (Wend + ext);
     W0 = pvs__dmin(W0, Wend);
     ratio = prm->sweep > 1 ? pow(pvs__dmax(Wend / W0, 1.0), 1.0 / (double)(prm->sweep - 1)) : 1.0;
@@ -17356,10 +17370,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
         pvs__ep_build_mask_pyramid(m);
         Wprev = m->frame.W;
         if (W >= Wend) { ++count; break; }
-        {
-            double P = C + 2.0 * PVS__EP_EXTEND * (W + ext), step = W * 4.0 * P / (C * (double)res);
-            W = pvs__dmin(Wend, pvs__dmax(W + step, W * ratio));
-        }
+        W = pvs__dmin(Wend, W * ratio);
     }
     *planes = count;
     return PVS_OK;

@@ -161,7 +161,29 @@ void test_cli(void) {
     CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt -j -3", &out) == 2); free(out);
     CHECK(run("./pvsinfo", &out) == 2); free(out);
     CHECK(run("./pvscheck " DIR "/scene.obj", &out) == 2); free(out);
+    CHECK(run("./pvsgen forest --leaves-per-tree 1000 -o " DIR "/f.obj", &out) == 2 && strstr(out, "--dense only")); free(out);
+    CHECK(run("./pvsgen forest --dense --cell-size 0.01 -o " DIR "/f.obj", &out) == 2 && strstr(out, "[0.1, 8]")); free(out);
+    CHECK(run("./pvsgen forest --dense --leaves-per-tree 0 -o " DIR "/f.obj", &out) == 2); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj --sweep-planes 0", &out) == 2 &&
+          strstr(out, "--sweep-planes takes 1..256")); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj --sweep-planes 257", &out) == 2); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj --resolution 8", &out) == 2 &&
+          strstr(out, "--resolution takes 16..4096")); free(out);
     CHECK(!exists(DIR "/x.pvs"));
+    /* --sweep is --sweep-planes 16, the default resolution 256; other values bake another file */
+    CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/sw1.pvs --cells " DIR "/cells.txt --method extproj --sweep", &out) == 0); free(out);
+    CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/sw2.pvs --cells " DIR "/cells.txt --method extproj --sweep-planes 16 --resolution 256", &out) == 0);
+    free(out);
+    CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/sw3.pvs --cells " DIR "/cells.txt --method extproj --sweep --resolution 64 --sweep-planes 4", &out) == 0);
+    free(out);
+    {
+        char *f1 = slurp(DIR "/sw1.pvs"), *f2 = slurp(DIR "/sw2.pvs");
+        struct stat s1, s2;
+        CHECK(f1 && f2 && stat(DIR "/sw1.pvs", &s1) == 0 && stat(DIR "/sw2.pvs", &s2) == 0 && s1.st_size == s2.st_size &&
+              memcmp(f1, f2, (size_t)s1.st_size) == 0);
+        free(f1); free(f2);
+    }
+    CHECK(run("./pvscheck -q " DIR "/scene.obj " DIR "/sw3.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
 
     /* a good bake; options in any order; identical bytes for 1 and 2 threads */
     rc = run("./pvsbake --method sample -q --cells " DIR "/cells.txt -o " DIR "/a.pvs -j 1 " DIR "/scene.obj --rays 256 --points 16", &out);

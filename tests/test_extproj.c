@@ -1515,6 +1515,98 @@ static void test_sweep_all_occluders(void) {
     free(idx);
 }
 
+/* The sweep runs to the far end of the scene, not only through the depths of the occluders the
+   selection of §6.1 keeps (large solid angles, so near ones): four 10 x 10 panels 2 units from a
+   unit cell, off its axis, take the selection (one occluder per direction); a curtain of 12 x 12
+   overlapping 2 x 2 shingles (separate objects, alternately 1 mm apart in depth) 30 units away hides
+   a wide box 60 units away. Only a sweep that reaches past the panels projects the curtain and
+   hides the box; a box beside the curtain stays visible, and ray sampling sees nothing the bake
+   misses. */
+static void test_sweep_depth(void) {
+    enum { N = 12 };
+    float *pos = (float *)malloc(sizeof(float) * 3 * (4 * N * N + 16 + 16));
+    uint32_t *idx = (uint32_t *)malloc(sizeof(uint32_t) * 3 * (2 * N * N + 8 + 24));
+    pvs_object_desc obs[N * N + 4 + 2];
+    pvs_box cell = {{-1.0f, -0.5f, -0.5f}, {0.0f, 0.5f, 0.5f}};
+    uint32_t nv = 0, nt = 0, no = 0, i, j, k, c, misses = 0;
+    int sweep;
+    pvs_scene *s;
+    for (k = 0; k < 4 + N * N; ++k) { /* the panels (k < 4), then the shingles */
+        float x, y0, z0, side;
+        uint32_t b = nv;
+        if (k < 4) {
+            float off = (k & 1) ? -12.0f : 2.0f;
+            x = 2.0f;
+            side = 10.0f;
+            y0 = (k & 2) ? -5.0f : off;
+            z0 = (k & 2) ? off : -5.0f;
+        } else {
+            i = (k - 4) % N;
+            j = (k - 4) / N;
+            x = ((i + j) & 1) ? 30.001f : 30.0f;
+            side = 2.0f;
+            y0 = -0.5f * (float)N - 0.5f + (float)i;
+            z0 = -0.5f * (float)N - 0.5f + (float)j;
+        }
+        for (c = 0; c < 4; ++c, ++nv) {
+            pos[3 * nv] = x;
+            pos[3 * nv + 1] = y0 + ((c & 1) ? side : 0.0f);
+            pos[3 * nv + 2] = z0 + ((c & 2) ? side : 0.0f);
+        }
+        obs[no].first_triangle = nt;
+        obs[no].triangle_count = 2;
+        obs[no].flags = 0;
+        ++no;
+        idx[3 * nt] = b; idx[3 * nt + 1] = b + 1; idx[3 * nt + 2] = b + 3; ++nt;
+        idx[3 * nt] = b; idx[3 * nt + 1] = b + 3; idx[3 * nt + 2] = b + 2; ++nt;
+    }
+    for (k = 0; k < 2; ++k) { /* the hidden box behind the curtain, one beside it */
+        float lo[3] = {60.0f, -4.0f, -4.0f}, hi[3] = {61.0f, 4.0f, 4.0f};
+        if (k) { lo[2] = 40.0f; hi[2] = 44.0f; }
+        for (c = 0; c < 8; ++c, ++nv)
+            for (i = 0; i < 3; ++i) pos[3 * nv + i] = (c >> i) & 1 ? hi[i] : lo[i];
+        obs[no].first_triangle = nt;
+        obs[no].triangle_count = 12;
+        obs[no].flags = 0;
+        ++no;
+        for (c = 0; c < 12; ++c, ++nt)
+            for (i = 0; i < 3; ++i) idx[3 * nt + i] = nv - 8 + (uint32_t)ep_box_tris[c][i];
+    }
+    s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
+    CHECK(s != NULL);
+    for (sweep = 0; s && sweep < 2; ++sweep) {
+        pvs_bake_desc bd;
+        pvs_bake *bk = NULL;
+        pvs_error e;
+        pvs_word *seen = (pvs_word *)calloc(PVS_BITSET_WORDS(no), sizeof(pvs_word));
+        memset(&bd, 0, sizeof(bd));
+        bd.scene = s;
+        bd.cells = &cell;
+        bd.cell_count = 1;
+        bd.method = PVS_METHOD_EXTPROJ;
+        bd.extproj_occluders = 1;
+        bd.extproj_sweep = sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0;
+        CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
+        CHECK(bk && pvs_bake_run_task(bk, 0, &e) == PVS_OK);
+        if (bk) {
+            const pvs_word *pv = pvs_bake_cell_pvs(bk, 0);
+            uint32_t o;
+            pvs_sample_visibility(s, &cell, 16, 1024, 47, seen);
+            pvs_sample_visibility_toward(s, &cell, NULL, 256, 49, seen);
+            for (o = 0; o < no; ++o) misses += pvs_bitset_test(seen, o) && !pvs_bitset_test(pv, o);
+            CHECK(!pvs_bitset_test(seen, no - 2));              /* the rays agree: the box is hidden */
+            CHECK(pvs_bitset_test(pv, no - 1));                 /* the one beside the curtain is seen */
+            CHECK(pvs_bitset_test(pv, no - 2) == (sweep == 0)); /* hidden only by the sweep */
+        }
+        pvs_bake_destroy(bk);
+        free(seen);
+    }
+    CHECK(misses == 0);
+    pvs_scene_destroy(s);
+    free(pos);
+    free(idx);
+}
+
 void test_extproj(void) {
     test_occluder_projection();
     test_occludee_projection();
@@ -1528,6 +1620,7 @@ void test_extproj(void) {
     test_concave_projection();
     test_random_walls();
     test_sweep_all_occluders();
+    test_sweep_depth();
     test_adaptive();
     ep_check_scene(GEN_CITY, 1, 0.3f, 24, 16, 1024, 0);
     ep_check_scene(GEN_CITY, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);

@@ -470,6 +470,60 @@ static void tg_dense(void) {
     mesh_cells_free(&cd);
 }
 
+/* The dense forest at the paper's density (gen_params.leaves_per_tree, cell_size): every tree holds
+   exactly that many leaves after its 16 trunk triangles, the bushes scale with it, the inner cells
+   have the asked side, and the options are refused outside the dense forest or out of range. */
+static void tg_leaves_per_tree(void) {
+    gen_params p;
+    mesh a, b;
+    mesh_cells ca, cb;
+    uint32_t o, trees = 0, bushes = 0, bad = 0, small = 0, sized = 0;
+    gen_info info;
+    memset(&p, 0, sizeof p);
+    p.kind = GEN_FOREST;
+    p.seed = 3;
+    p.size = 0.15f;
+    p.dense = 1;
+    p.leaves_per_tree = 1000;
+    p.cell_size = 1.0f;
+    mesh_init(&a); mesh_cells_init(&ca);
+    mesh_init(&b); mesh_cells_init(&cb);
+    CHECK(gen_scene_ex(&p, &b, &cb, &info) == 0);
+    for (o = 0; o < b.object_count; ++o) {
+        uint32_t n = b.objects[o].triangle_count;
+        if (strncmp(b.objects[o].name, "tree_", 5) == 0) {
+            ++trees;
+            bad += n != 16 + 1000;
+        } else if (strncmp(b.objects[o].name, "bush_", 5) == 0) { /* 2-3 clusters of 14-20 leaves, times 10 */
+            ++bushes;
+            bad += n < 280 || n > 600;
+        }
+    }
+    CHECK(trees > 0 && bushes > 0 && bad == 0);
+    for (o = 0; o < cb.count; ++o) {
+        const float *q = cb.boxes + 6 * (size_t)o;
+        if (q[3] - q[0] < 5.0f) { ++small; sized += fabsf(q[3] - q[0] - 1.0f) < 1e-4f && fabsf(q[5] - q[2] - 1.0f) < 1e-4f; }
+    }
+    CHECK(small > 0 && sized == small);
+    tg_validate("forest --dense --leaves-per-tree 1000 --cell-size 1", &b, &cb, &info);
+    mesh_free(&a); mesh_free(&b);
+    mesh_cells_free(&ca); mesh_cells_free(&cb);
+    /* refused: outside the dense forest, cell size out of range or NaN, too many leaves */
+    p.dense = 0;
+    CHECK(gen_scene(&p, &a, &ca) == -1);
+    p.dense = 1;
+    p.cell_size = 0.05f;
+    CHECK(gen_scene(&p, &a, &ca) == -1);
+    p.cell_size = 9.0f;
+    CHECK(gen_scene(&p, &a, &ca) == -1);
+    p.cell_size = (float)sqrt(-1.0 + 0.0 * p.size);
+    CHECK(gen_scene(&p, &a, &ca) == -1);
+    p.cell_size = 0.0f;
+    p.leaves_per_tree = 10001;
+    CHECK(gen_scene(&p, &a, &ca) == -1);
+    CHECK(a.object_count == 0 && ca.count == 0);
+}
+
 void test_gen(void);
 void test_gen(void) {
     tg_names();
@@ -480,4 +534,5 @@ void test_gen(void) {
     tg_sizes();
     tg_golden();
     tg_dense();
+    tg_leaves_per_tree();
 }

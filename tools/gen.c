@@ -1085,7 +1085,9 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
                     for (int k = 0; k < ncu; ++k) {
                         double f = (double)k / (ncu - 1), rad = R * (1.0 - 0.7 * f) * gen__rf(r, 0.85, 1.0);
                         double cy = y0 + rad * 0.6 + f * (ht - y0 - rad * 0.6), ts = LT * gen__rf(r, 0.5, 0.75);
-                        gen__leaves(c, x, cy, z, rad, 18 + (int)gen__ri(r, 7), ts);
+                        int nl = 18 + (int)gen__ri(r, 7);
+                        if (P->leaves_per_tree) nl = (int)(P->leaves_per_tree / (uint32_t)ncu + ((uint32_t)k < P->leaves_per_tree % (uint32_t)ncu));
+                        gen__leaves(c, x, cy, z, rad, nl, ts);
                     }
                 } else {
                     double y0 = gen__rf(r, 1.4, 3.0);
@@ -1094,7 +1096,9 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
                         double rad = gen__rf(r, 1.2, 1.9), ts = LT * gen__rf(r, 0.5, 0.75);
                         double cx = x + gen__rf(r, -1.4, 1.4), cz = z + gen__rf(r, -1.4, 1.4);
                         double cy = gen__rf(r, y0 + rad * 0.7, gen__max(y0 + rad * 0.7, ht - 0.5));
-                        gen__leaves(c, cx, cy, cz, rad, 18 + (int)gen__ri(r, 7), ts);
+                        int nl = 18 + (int)gen__ri(r, 7);
+                        if (P->leaves_per_tree) nl = (int)(P->leaves_per_tree / (uint32_t)ncu + ((uint32_t)k < P->leaves_per_tree % (uint32_t)ncu));
+                        gen__leaves(c, cx, cy, cz, rad, nl, ts);
                     }
                 }
             }
@@ -1109,7 +1113,9 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
                 for (int k = 0; k < ncu; ++k) {
                     double rad = gen__rf(r, 0.6, 1.1), ts = LT * gen__rf(r, 0.35, 0.55);
                     double cx = bx + gen__rf(r, -0.5, 0.5), cz = bz + gen__rf(r, -0.5, 0.5), cy = rad * gen__rf(r, 0.8, 1.2) + ts;
-                    gen__leaves(c, cx, cy, cz, rad, 14 + (int)gen__ri(r, 7), ts);
+                    int nl = 14 + (int)gen__ri(r, 7);
+                    if (P->leaves_per_tree) nl = (int)((uint64_t)nl * P->leaves_per_tree / 100u); /* as dense as the trees */
+                    gen__leaves(c, cx, cy, cz, rad, nl > 1 ? nl : 1, ts);
                 }
             }
         }
@@ -1128,7 +1134,7 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
             }
             for (int tries = 0; tries < (in_clearing ? 1 : 24); ++tries) {
                 double x0 = R.x0, z0 = R.z0, w = 10.0;
-                if (!in_clearing) { x0 += gen__rf(r, 0, 7); z0 += gen__rf(r, 0, 7); w = 3.0; }
+                if (!in_clearing) { w = P->cell_size > 0 ? P->cell_size : 3.0; x0 += gen__rf(r, 0, 10.0 - w); z0 += gen__rf(r, 0, 10.0 - w); }
                 double box[6] = {x0 - 0.1, 0.4, z0 - 0.1, x0 + w + 0.1, 2.1, z0 + w + 0.1};
                 int i0 = (int)floor(box[0] / sp) - 2, i1 = (int)floor(box[3] / sp) + 2, j0 = (int)floor(box[2] / sp) - 2, j1 = (int)floor(box[5] / sp) + 2;
                 int hit = 0;
@@ -1684,6 +1690,9 @@ int gen_scene_ex(const gen_params *p, mesh *m, mesh_cells *cells, gen_info *info
     if (!p || !m || !cells || !gen_kind_name(p->kind)) return -1;
     if (!(p->size > 0.0f && p->size <= 8.0f)) return -1;
     if (p->dense && p->kind != GEN_FOREST) return -1;
+    if ((p->leaves_per_tree || p->cell_size != 0) && !p->dense) return -1;
+    if (p->cell_size != 0 && !(p->cell_size >= 0.1f && p->cell_size <= 8.0f)) return -1;
+    if (p->leaves_per_tree > 10000) return -1;
     if (m->vertex_count || m->triangle_count || m->object_count || cells->count) return -1;
     gen__ctx c;
     memset(&c, 0, sizeof c);

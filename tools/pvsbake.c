@@ -29,6 +29,9 @@ static const char *usage =
     "  --voxel V         shrink: voxel size of the occluder synthesis (default eps / 1.5, capped)\n"
     "  --sweep           extproj: add the occlusion sweep (Durand 2000 §5) for scenes of many small\n"
     "                    occluders (foliage); slower\n"
+    "  --sweep-planes N  extproj: the sweep with N planes per direction (1..256, --sweep: 16)\n"
+    "  --resolution N    extproj: depth map pixels per side (16..4096, default 256); foliage of\n"
+    "                    small leaves needs 1024 and 64 sweep planes to fuse\n"
     "  --adaptive N      split a cell whose PVS holds more than N triangles in two, recursively\n"
     "                    (Durand 2000 §6.1); the file holds the leaf cells. Not with --shard, vocc\n"
     "                    or resuming (no state file)\n"
@@ -259,7 +262,7 @@ int main(int argc, char **argv) {
     const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL, *state_path = NULL;
     float grid = 0.0f, eps = 0.0f, voxel = 0.0f, max_distance = 0.0f;
     pvs_shrink_mode shrink_mode = PVS_SHRINK_AUTO;
-    uint32_t sweep = 0, adaptive = 0;
+    uint32_t sweep = 0, adaptive = 0, resolution = 0;
     float min_cell = 0.0f;
     uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0, methods = 0, state_every = 0;
     uint32_t vocc_slices = 0, vocc_max = 0;
@@ -294,7 +297,7 @@ int main(int argc, char **argv) {
         } else if (!strcmp(a, "--3d")) {
             shrink_mode = PVS_SHRINK_3D;
         } else if (!strcmp(a, "--sweep")) {
-            sweep = PVS_EXTPROJ_SWEEP_PLANES;
+            if (!sweep) sweep = PVS_EXTPROJ_SWEEP_PLANES;
         } else if (!strcmp(a, "--vocc-only")) {
             vocc_only = 1;
         } else if (!strcmp(a, "--preview")) {
@@ -305,7 +308,8 @@ int main(int argc, char **argv) {
                    !strcmp(a, "--method") || !strcmp(a, "--eps") || !strcmp(a, "-j") || !strcmp(a, "--points") ||
                    !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard") || !strcmp(a, "--voxel") ||
                    !strcmp(a, "--max-distance") || !strcmp(a, "--state") || !strcmp(a, "--state-every") ||
-                   !strcmp(a, "--vocc-slices") || !strcmp(a, "--vocc-max") || !strcmp(a, "--adaptive") || !strcmp(a, "--min-cell")) {
+                   !strcmp(a, "--vocc-slices") || !strcmp(a, "--vocc-max") || !strcmp(a, "--adaptive") || !strcmp(a, "--min-cell") ||
+                   !strcmp(a, "--sweep-planes") || !strcmp(a, "--resolution")) {
             if (!v) return usage_error("%s needs a value", a);
             ++i;
             if (!strcmp(a, "-o")) out_path = v;
@@ -324,6 +328,10 @@ int main(int argc, char **argv) {
                 if (parse_float(v, &min_cell) || !(min_cell > 0.0f)) return usage_error("--min-cell needs a positive size, not '%s'", v);
             } else if (!strcmp(a, "--vocc-slices")) {
                 if (cli_parse_u32(v, 1, 16, &vocc_slices)) return usage_error("--vocc-slices takes 1..16, not '%s'", v);
+            } else if (!strcmp(a, "--sweep-planes")) {
+                if (cli_parse_u32(v, 1, 256, &sweep)) return usage_error("--sweep-planes takes 1..256, not '%s'", v);
+            } else if (!strcmp(a, "--resolution")) {
+                if (cli_parse_u32(v, 16, 4096, &resolution)) return usage_error("--resolution takes 16..4096, not '%s'", v);
             } else if (!strcmp(a, "--vocc-max")) {
                 if (cli_parse_u32(v, 1, 255, &vocc_max)) return usage_error("--vocc-max takes 1..255, not '%s'", v);
             } else if (!strcmp(a, "--voxel")) {
@@ -387,6 +395,7 @@ int main(int argc, char **argv) {
     bd.vocc_max_occluders = vocc_max;
     bd.vocc_only = (uint32_t)vocc_only;
     bd.extproj_sweep = sweep;
+    bd.extproj_resolution = resolution;
     bd.adaptive_budget = adaptive;
     bd.adaptive_min_size = min_cell;
     if (adaptive) no_state = 1; /* a cell's PVS alone does not restore its leaves */

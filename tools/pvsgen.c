@@ -22,7 +22,7 @@
 static void usage(FILE *f) {
     fprintf(f,
             "usage: pvsgen city|forest|indoor|walls|soup [--seed N] [--size S] [--max-cells N] [--dense]\n"
-            "              -o OUT.obj [--cells OUT_CELLS.txt]\n"
+            "              [--leaves-per-tree N] [--cell-size M] -o OUT.obj [--cells OUT_CELLS.txt]\n"
             "\n"
             "Writes a deterministic procedural test scene as OBJ (Y up, metres, ground at y = 0) and its\n"
             "view cells (one 'minx miny minz maxx maxy maxz' box per line, '#' comments).\n"
@@ -31,6 +31,10 @@ static void usage(FILE *f) {
             "  --max-cells N   keep at most N cells, evenly spread (0 = all, the default)\n"
             "  --dense         forest only: the dense forest (foliage down to eye height, bushes; from\n"
             "                  inside it only a few percent of the trees can be seen; Durand et al. 2000)\n"
+            "  --leaves-per-tree N  with --dense: N leaves per tree (default ~85-105), bushes N / 100 times\n"
+            "                  as dense; 1000 is the forest of Durand 2000 §7.2 (1,000 coarse, large leaf\n"
+            "                  triangles per tree)\n"
+            "  --cell-size M   with --dense: the side of the cells between the trees (default 3 m)\n"
             "  -o OUT.obj      the scene (written to a temporary file, then renamed)\n"
             "  --cells FILE    the view cells (same)\n"
             "Exit codes: 0 ok, 1 I/O error, 2 usage.\n");
@@ -146,8 +150,9 @@ static int parse_u64(const char *s, unsigned long long *out) {
 int main(int argc, char **argv) {
     const char *kind_s = NULL, *out = NULL, *cells_out = NULL;
     unsigned long long seed = 1, max_cells = 0;
+    unsigned long long leaves = 0;
     int dense = 0;
-    double size = 1.0;
+    double size = 1.0, cell_size = 0.0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -168,6 +173,15 @@ int main(int argc, char **argv) {
             ++i;
         } else if (!strcmp(a, "--dense")) {
             dense = 1;
+        } else if (!strcmp(a, "--leaves-per-tree")) {
+            if (parse_u64(v, &leaves) || leaves < 1 || leaves > 10000) return bad_usage("--leaves-per-tree needs an integer in [1, 10000]", v);
+            ++i;
+        } else if (!strcmp(a, "--cell-size")) {
+            char *end;
+            if (!v) return bad_usage("--cell-size needs a number", NULL);
+            cell_size = strtod(v, &end);
+            if (*end || !(cell_size >= 0.1 && cell_size <= 8)) return bad_usage("--cell-size must be in [0.1, 8]", v);
+            ++i;
         } else if (!strcmp(a, "-o")) {
             if (!v) return bad_usage("-o needs a file name", NULL);
             out = v;
@@ -189,11 +203,14 @@ int main(int argc, char **argv) {
     if (!kind_s) return bad_usage("missing scene kind", NULL);
     if (gen_kind_parse(kind_s, &p.kind)) return bad_usage("unknown scene kind", kind_s);
     if (dense && p.kind != GEN_FOREST) return bad_usage("--dense is for the forest only", kind_s);
+    if ((leaves || cell_size != 0.0) && !dense) return bad_usage("--leaves-per-tree and --cell-size are for forest --dense only", kind_s);
     if (!out) return bad_usage("missing -o OUT.obj", NULL);
     p.seed = seed;
     p.size = (float)size;
     p.max_cells = (uint32_t)max_cells;
     p.dense = dense;
+    p.leaves_per_tree = (uint32_t)leaves;
+    p.cell_size = (float)cell_size;
 
     mesh m;
     mesh_cells cells;
