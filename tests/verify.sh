@@ -129,6 +129,19 @@ case " $CONSERVATIVE_METHODS " in *" extproj "*)
       note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
       echo "forest-dense $seed 0.6 extproj-$variant $line$note"
     done
+  done
+  # the paper's density (1,000 leaves per tree, 1 m cells) with the sweep at 1024 pixels and 64
+  # planes (bench_extproj's forest1000 settings), two seeds, PAPER_CELLS cells each
+  for seed in 1 2; do
+    base="$T/forest-1000-$seed"
+    "$B/pvsgen" forest --dense --leaves-per-tree 1000 --cell-size 1 --seed "$seed" --size 0.4 --max-cells "${PAPER_CELLS:-30}" -o "$base.obj" --cells "$base.cells" 2>/dev/null ||
+      { echo "forest --dense --leaves-per-tree 1000 $seed: pvsgen failed"; fail=1; continue; }
+    "$B/pvsbake" -q --no-state "$base.obj" --cells "$base.cells" --method extproj --sweep-planes 64 --resolution 1024 -j "$J" -o "$base.pvs" ||
+      { echo "forest 1000 $seed extproj: bake failed"; fail=1; continue; }
+    line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.pvs")
+    rc=$?
+    note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
+    echo "forest-1000 $seed 0.4 extproj-sweep64-1024 $line$note"
   done;;
 esac
 [ $fail -eq 0 ] && echo "verify: ok" || echo "verify: FAILED"
