@@ -14305,8 +14305,9 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    class), PVS__EP_PLANES planes (one just behind the farthest selected occluder, the others in
    distance bands, each just behind the occluder whose candidate plane fills the most pixels), each a
    256 x 256 depth map with the Projections, the slices of the closed meshes and of the sheets'
-   solids, and a max pyramid; with the sweep, PVS_EXTPROJ_SWEEP_PLANES more planes per direction
-   holding reprojected umbrae and the Projections of every occluder between them (§5). Then the
+   solids, and a max pyramid; with the sweep, extproj_sweep more planes per direction from one cell
+   size out to the scene's far end, holding reprojected umbrae and the Projections of every
+   occluder between them (§5). Then the
    object kD-tree front to back, skipping hidden nodes, an object visible when a part of its box
    cut by a leaf is; boxes in front of a plane use the improved Projection (§4). Objects meeting
    the cell are always visible.
@@ -17288,16 +17289,17 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
      the planes run out. With P growing like D that puts most planes within a few cell sizes of the
      cell, where a small occluder's umbra is short anyway, and leaves few far out, where the gaps
      between many small occluders close. The demo city's PVS over the ray-sampled sets went 1.65 ->
-     1.51 with geometric spacing (bench cells, 16 planes, 256 pixels); the generator's dense forest
+     1.50 with geometric spacing (bench cells, 16 planes, 256 pixels); the generator's dense forest
      at 1,000 leaves per tree with its bushes lowered to the ground (2 cells of 1 m, 1024 pixels,
-     64 planes) culled 59% with §5.2's spacing, 85% with geometric. Reprojection does not need a
-     whole kernel here (pvs__ep_reproject_sat takes the true cell per row and column).
+     64 planes) culled 59% with §5.2's spacing, 85% with geometric. The kernel need not be a whole
+     number of pixels here (pvs__ep_reproject_sat takes the true cell per row and column).
    - Planes nearer than C add little: an occluder of width s < C / 2 at distance w casts an umbra
      ending before w C / (C - s) < 2 w, and the occluders in front of the first plane are still
      projected onto it; only their fusion on nearer planes is given up.
    - The far end is the scene's, not the farthest selected occluder's (the selection of §6.1 picks
      large solid angles, i.e. near occluders, and objects beyond the last plane met only its mask):
-     geometry far beyond the cells (a sky box) spreads the planes thinner.
+     geometry far beyond the cells (a sky box) spreads the planes thinner. No plane is built at the
+     far end itself: no object lies beyond it, so it would serve no occludee test.
    The number of planes goes to *planes. */
 PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
                                             uint32_t n, const pvs__epparams *prm, uint32_t levels, pvs__epscratch *w, const int *sheet_side,
@@ -17310,7 +17312,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
     pvs__epslab sl;
     pvs_result r = PVS_OK;
     *planes = 0;
-    for (k = 0; k < n; ++k) { /* from the nearest to the farthest selected occluder (§6.1) */
+    for (k = 0; k < n; ++k) { /* the nearest and the farthest selected occluder (§6.1) */
         double w0, w1;
         pvs__ep_box_w(cell, &p->occ[h[k].occ].box, d, &w0, &w1);
         W0 = pvs__dmin(W0, pvs__dmax(w1, 0.0));
@@ -17323,12 +17325,12 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
     }
     if (!(Wend > 0.0)) return PVS_OK;
     if (!(C > 0.0)) C = pvs__dmax(ext, 1e-6);
-    /* the first plane at C or just behind the nearest occluder, the last just behind the scene (a
-       flat occluder facing a plane lies wholly in front of it only there) */
+    /* the first plane at C or just behind the nearest occluder (a flat occluder facing a plane lies
+       wholly in front of it only there), then `sweep` planes up to the scene's far end, exclusive */
     W0 = pvs__dmax(W0 + 1e-3 * (W0 + ext), C);
     Wend += 1e-3 * (Wend + ext);
-    W0 = pvs__dmin(W0, Wend);
-    ratio = prm->sweep > 1 ? pow(pvs__dmax(Wend / W0, 1.0), 1.0 / (double)(prm->sweep - 1)) : 1.0;
+    if (!(W0 < Wend)) return PVS_OK; /* nothing beyond the first plane */
+    ratio = pow(Wend / W0, 1.0 / (double)prm->sweep);
     memset(&sl, 0, sizeof(sl));
     sl.scene = s;
     sl.p = p;
@@ -17369,8 +17371,8 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
         if (w->sat_count == prm->sweep) pvs__ep_mask_sat(m, w->sat + (size_t)count * ((size_t)res + 1) * ((size_t)res + 1));
         pvs__ep_build_mask_pyramid(m);
         Wprev = m->frame.W;
-        if (W >= Wend) { ++count; break; }
-        W = pvs__dmin(Wend, W * ratio);
+        W *= ratio;
+        if (!(W < Wend) || !(ratio > 1.0)) { ++count; break; }
     }
     *planes = count;
     return PVS_OK;

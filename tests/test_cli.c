@@ -164,26 +164,29 @@ void test_cli(void) {
     CHECK(run("./pvsgen forest --leaves-per-tree 1000 -o " DIR "/f.obj", &out) == 2 && strstr(out, "--dense only")); free(out);
     CHECK(run("./pvsgen forest --dense --cell-size 0.01 -o " DIR "/f.obj", &out) == 2 && strstr(out, "[0.1, 8]")); free(out);
     CHECK(run("./pvsgen forest --dense --leaves-per-tree 0 -o " DIR "/f.obj", &out) == 2); free(out);
+    CHECK(run("./pvsgen forest --dense --leaves-per-tree 5000 --size 2 -o " DIR "/f.obj", &out) == 2 && strstr(out, "at most 10000")); free(out);
     CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj --sweep-planes 0", &out) == 2 &&
           strstr(out, "--sweep-planes takes 1..256")); free(out);
     CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj --sweep-planes 257", &out) == 2); free(out);
     CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj --resolution 8", &out) == 2 &&
           strstr(out, "--resolution takes 16..4096")); free(out);
     CHECK(!exists(DIR "/x.pvs"));
-    /* --sweep is --sweep-planes 16, the default resolution 256; other values bake another file */
-    CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/sw1.pvs --cells " DIR "/cells.txt --method extproj --sweep", &out) == 0); free(out);
-    CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/sw2.pvs --cells " DIR "/cells.txt --method extproj --sweep-planes 16 --resolution 256", &out) == 0);
+    /* --sweep is --sweep-planes 16 at the default resolution 256; other values bake another PVS */
+    CHECK(run("./pvsgen walls --size 0.3 --max-cells 12 -o " DIR "/w.obj --cells " DIR "/w.txt", &out) == 0); free(out);
+    CHECK(run("./pvsbake -q " DIR "/w.obj -o " DIR "/sw1.pvs --cells " DIR "/w.txt --method extproj --sweep", &out) == 0); free(out);
+    CHECK(run("./pvsbake -q " DIR "/w.obj -o " DIR "/sw2.pvs --cells " DIR "/w.txt --method extproj --sweep-planes 16 --resolution 256", &out) == 0);
     free(out);
-    CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/sw3.pvs --cells " DIR "/cells.txt --method extproj --sweep --resolution 64 --sweep-planes 4", &out) == 0);
+    CHECK(run("./pvsbake -q " DIR "/w.obj -o " DIR "/sw3.pvs --cells " DIR "/w.txt --method extproj --sweep --resolution 32 --sweep-planes 2", &out) == 0);
     free(out);
+    CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/sw3.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
     {
-        char *f1 = slurp(DIR "/sw1.pvs"), *f2 = slurp(DIR "/sw2.pvs");
-        struct stat s1, s2;
-        CHECK(f1 && f2 && stat(DIR "/sw1.pvs", &s1) == 0 && stat(DIR "/sw2.pvs", &s2) == 0 && s1.st_size == s2.st_size &&
-              memcmp(f1, f2, (size_t)s1.st_size) == 0);
-        free(f1); free(f2);
+        char *f1 = slurp(DIR "/sw1.pvs"), *f2 = slurp(DIR "/sw2.pvs"), *f3 = slurp(DIR "/sw3.pvs");
+        struct stat s1, s2, s3;
+        CHECK(f1 && f2 && f3 && stat(DIR "/sw1.pvs", &s1) == 0 && stat(DIR "/sw2.pvs", &s2) == 0 && stat(DIR "/sw3.pvs", &s3) == 0);
+        CHECK(f1 && f2 && s1.st_size == s2.st_size && memcmp(f1, f2, (size_t)s1.st_size) == 0);
+        CHECK(f1 && f3 && (s1.st_size != s3.st_size || memcmp(f1, f3, (size_t)s1.st_size) != 0)); /* the options reach the bake */
+        free(f1); free(f2); free(f3);
     }
-    CHECK(run("./pvscheck -q " DIR "/scene.obj " DIR "/sw3.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
 
     /* a good bake; options in any order; identical bytes for 1 and 2 threads */
     rc = run("./pvsbake --method sample -q --cells " DIR "/cells.txt -o " DIR "/a.pvs -j 1 " DIR "/scene.obj --rays 256 --points 16", &out);

@@ -1517,10 +1517,10 @@ static void test_sweep_all_occluders(void) {
 
 /* The sweep runs to the far end of the scene, not only through the depths of the occluders the
    selection of §6.1 keeps (large solid angles, so near ones): four 10 x 10 panels 2 units from a
-   unit cell, off its axis, take the selection (one occluder per direction); a curtain of 12 x 12
-   overlapping 2 x 2 shingles (separate objects, alternately 1 mm apart in depth) 30 units away hides
-   a wide box 60 units away. Only a sweep that reaches past the panels projects the curtain and
-   hides the box; a box beside the curtain stays visible, and ray sampling sees nothing the bake
+   unit cell, off its axis, fill the selection (extproj_occluders 1: the sweep selects 4 x 1); a
+   curtain of 12 x 12 overlapping 2 x 2 shingles (separate objects, alternately 1 mm apart in depth)
+   30 units away hides a wide box 60 units away. Only a sweep that reaches past the panels projects
+   the curtain and hides the box; the rays see a box beside the curtain, and nothing the bake
    misses. */
 static void test_sweep_depth(void) {
     enum { N = 12 };
@@ -1595,7 +1595,7 @@ static void test_sweep_depth(void) {
             pvs_sample_visibility_toward(s, &cell, NULL, 256, 49, seen);
             for (o = 0; o < no; ++o) misses += pvs_bitset_test(seen, o) && !pvs_bitset_test(pv, o);
             CHECK(!pvs_bitset_test(seen, no - 2));              /* the rays agree: the box is hidden */
-            CHECK(pvs_bitset_test(pv, no - 1));                 /* the one beside the curtain is seen */
+            CHECK(pvs_bitset_test(seen, no - 1));               /* the one beside the curtain is seen */
             CHECK(pvs_bitset_test(pv, no - 2) == (sweep == 0)); /* hidden only by the sweep */
         }
         pvs_bake_destroy(bk);

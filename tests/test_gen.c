@@ -521,6 +521,9 @@ static void tg_leaves_per_tree(void) {
     p.cell_size = 0.0f;
     p.leaves_per_tree = 10001;
     CHECK(gen_scene(&p, &a, &ca) == -1);
+    p.leaves_per_tree = 1000; /* 1000 x 4^2 > 10000: about 600M triangles */
+    p.size = 4.0f;
+    CHECK(gen_scene(&p, &a, &ca) == -1);
     CHECK(a.object_count == 0 && ca.count == 0);
 }
 

@@ -138,6 +138,10 @@ case " $CONSERVATIVE_METHODS " in *" extproj "*)
       { echo "forest --dense --leaves-per-tree 1000 $seed: pvsgen failed"; fail=1; continue; }
     "$B/pvsbake" -q --no-state "$base.obj" --cells "$base.cells" --method extproj --sweep-planes 64 --resolution 1024 -j "$J" -o "$base.pvs" ||
       { echo "forest 1000 $seed extproj: bake failed"; fail=1; continue; }
+    if [ "$seed" = 1 ]; then
+      "$B/pvsbake" -q --no-state "$base.obj" --cells "$base.cells" --method extproj --sweep-planes 64 --resolution 1024 -j 1 -o "$base-j1.pvs" &&
+        cmp -s "$base.pvs" "$base-j1.pvs" || { echo "forest 1000 $seed extproj: files differ with the thread count"; fail=1; }
+    fi
     line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.pvs")
     rc=$?
     note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }

@@ -1047,8 +1047,9 @@ static int gen__forest(gen__ctx *c, const gen_params *P) {
    of the objects can be seen, through the gaps between many leaves. Conifers: a column of leaf
    clusters from 0.8-1.6 m up to the top, widest at the bottom; broadleaves: clusters from 1.4-3 m
    up, spread around the top of the trunk. Bushes (bush_N): 2-3 clusters of smaller leaves on the
-   ground. Cells are 3 m boxes at y 0.5..2.0 where one fits without touching any leaf or trunk
-   (exact test, 0.1 m margin). Uses its own random stream: the default forest is unchanged. */
+   ground. Cells are 3 m boxes (cell_size) at y 0.5..2.0 where one fits without touching any leaf
+   or trunk (exact test, 0.1 m margin). leaves_per_tree sets the leaves per tree and scales the
+   bushes' (the paper's 1,000). Uses its own random stream: the default forest is unchanged. */
 static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
     const double LT = 2.0; /* leaf size: coarse, large triangles (0.7-1.5 m), as in Durand 2000 §7.2 */
     gen__rng *r = &c->rng;
@@ -1122,7 +1123,7 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
     first[(size_t)ng * ng] = c->m->object_count;
     if (!c->err) obb = gen__object_boxes(c->m);
     if (!obb) c->err = 1;
-    /* cells: whole 10 m tiles in clearings, else a 3 m box per 10 m tile where one is free */
+    /* cells: whole 10 m tiles in clearings, else a 3 m (cell_size) box per 10 m tile where one is free */
     int nc = (int)floor(S / 10.0);
     for (int j = 0; j < nc && !c->err; ++j)
         for (int i = 0; i < nc && !c->err; ++i) {
@@ -1692,7 +1693,8 @@ int gen_scene_ex(const gen_params *p, mesh *m, mesh_cells *cells, gen_info *info
     if (p->dense && p->kind != GEN_FOREST) return -1;
     if ((p->leaves_per_tree || p->cell_size != 0) && !p->dense) return -1;
     if (p->cell_size != 0 && !(p->cell_size >= 0.1f && p->cell_size <= 8.0f)) return -1;
-    if (p->leaves_per_tree > 10000) return -1;
+    /* about 3600 size^2 trees: at most ~40M leaf triangles */
+    if (p->leaves_per_tree > 10000 || (double)p->leaves_per_tree * p->size * p->size > 10000.0) return -1;
     if (m->vertex_count || m->triangle_count || m->object_count || cells->count) return -1;
     gen__ctx c;
     memset(&c, 0, sizeof c);

@@ -81,7 +81,8 @@ typedef struct gen_params {
     int dense;          /* forest only (other kinds: bad params): the dense forest described above; 0 = the default */
     uint32_t leaves_per_tree; /* dense forest only (else bad params unless 0): leaves per tree, spread evenly over its
                                  clusters (1000: Durand 2000 §7.2's forest), and the bushes' leaves scaled by
-                                 leaves_per_tree / 100; <= 10000; 0 = the default (~85-105) */
+                                 leaves_per_tree / 100; leaves_per_tree x size^2 <= 10000 (about 40M
+                                 triangles); 0 = the default (~85-105) */
     float cell_size;    /* dense forest only (else bad params unless 0): the side of the inner cells, in [0.1, 8]; 0 = 3 m */
 } gen_params;
 

@@ -33,7 +33,7 @@ static void usage(FILE *f) {
             "                  inside it only a few percent of the trees can be seen; Durand et al. 2000)\n"
             "  --leaves-per-tree N  with --dense: N leaves per tree (default ~85-105), bushes N / 100 times\n"
             "                  as dense; 1000 is the forest of Durand 2000 §7.2 (1,000 coarse, large leaf\n"
-            "                  triangles per tree)\n"
+            "                  triangles per tree); N x size^2 <= 10000 (about 40M triangles)\n"
             "  --cell-size M   with --dense: the side of the cells between the trees (default 3 m)\n"
             "  -o OUT.obj      the scene (written to a temporary file, then renamed)\n"
             "  --cells FILE    the view cells (same)\n"
@@ -151,6 +151,7 @@ int main(int argc, char **argv) {
     const char *kind_s = NULL, *out = NULL, *cells_out = NULL;
     unsigned long long seed = 1, max_cells = 0;
     unsigned long long leaves = 0;
+    const char *v_leaves = NULL;
     int dense = 0;
     double size = 1.0, cell_size = 0.0;
     for (int i = 1; i < argc; ++i) {
@@ -175,6 +176,7 @@ int main(int argc, char **argv) {
             dense = 1;
         } else if (!strcmp(a, "--leaves-per-tree")) {
             if (parse_u64(v, &leaves) || leaves < 1 || leaves > 10000) return bad_usage("--leaves-per-tree needs an integer in [1, 10000]", v);
+            v_leaves = v;
             ++i;
         } else if (!strcmp(a, "--cell-size")) {
             char *end;
@@ -204,6 +206,7 @@ int main(int argc, char **argv) {
     if (gen_kind_parse(kind_s, &p.kind)) return bad_usage("unknown scene kind", kind_s);
     if (dense && p.kind != GEN_FOREST) return bad_usage("--dense is for the forest only", kind_s);
     if ((leaves || cell_size != 0.0) && !dense) return bad_usage("--leaves-per-tree and --cell-size are for forest --dense only", kind_s);
+    if ((double)leaves * size * size > 10000.0) return bad_usage("--leaves-per-tree times --size squared must be at most 10000", v_leaves);
     if (!out) return bad_usage("missing -o OUT.obj", NULL);
     p.seed = seed;
     p.size = (float)size;
