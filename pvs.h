@@ -14320,8 +14320,8 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    D per plane), so small occluders fuse only where they add coverage faster than that, and a
    region survives a reprojection only where it holds a whole kernel window. Measured on the
    generator's forests (bench_extproj, 2026-11-24): the dense forest (3 m cells, about 100 leaves
-   of about 1 m per tree) culls nothing, with or without the sweep (16 to 200 planes, 256 or 512
-   pixels); rays aimed at each object see a quarter of the objects from its cells. At the paper's
+   of about 1 m per tree) culls nothing, with or without the sweep (16 planes at 256 pixels, 64 at
+   512); rays aimed at each object see a quarter of the objects from its cells. At the paper's
    density (1,000 leaves per tree, bushes as dense, 1 m cells; rays see about 2% of the objects)
    nothing is culled without the sweep, and with it about 1% at 256 pixels and 16 planes, 8% at
    512 and 32, 25% at 1024 and 64: the planes ahead are 80% blocked, but the band just above the
