@@ -1436,40 +1436,38 @@ static void test_adaptive(void) {
     mesh_cells_free(&cells);
 }
 
-/* The sweep projects every occluder between its planes (§5.2), not only the few the selection of
-   §6.1 keeps: a curtain of N x N overlapping square shingles (separate objects, alternately 1 mm
-   apart in depth, so neither coplanar nor one sheet) 4 units in front of a unit cell hides a wide
-   box 20 units away. With 16 occluders per direction the planes of §6.1 see too few shingles to
-   hide it; the sweep (whose selection of 64 only sets its depth range) hides it; a box beside the
-   curtain stays visible, and ray sampling sees nothing the bake misses. */
-static void test_sweep_all_occluders(void) {
-    enum { N = 16 };
-    float *pos = (float *)malloc(sizeof(float) * 3 * (4 * N * N + 16));
-    uint32_t *idx = (uint32_t *)malloc(sizeof(uint32_t) * 3 * (2 * N * N + 24));
-    pvs_object_desc obs[N * N + 2];
+/* Appends a square object (two triangles) in the plane x, corner (x, y0, z0), side `side`. */
+static void ep_add_square(float *pos, uint32_t *nv, uint32_t *idx, uint32_t *nt, pvs_object_desc *obs, uint32_t *no, float x, float y0, float z0,
+                          float side) {
+    uint32_t b = *nv, c;
+    for (c = 0; c < 4; ++c, ++*nv) {
+        pos[3 * *nv] = x;
+        pos[3 * *nv + 1] = y0 + ((c & 1) ? side : 0.0f);
+        pos[3 * *nv + 2] = z0 + ((c & 2) ? side : 0.0f);
+    }
+    obs[*no].first_triangle = *nt;
+    obs[*no].triangle_count = 2;
+    obs[*no].flags = 0;
+    ++*no;
+    idx[3 * *nt] = b; idx[3 * *nt + 1] = b + 1; idx[3 * *nt + 2] = b + 3; ++*nt;
+    idx[3 * *nt] = b; idx[3 * *nt + 1] = b + 3; idx[3 * *nt + 2] = b + 2; ++*nt;
+}
+
+/* The sweep tests' check: appends a box from x0 to x0 + 1 (y, z in [-h, h]) behind the occluders
+   already in the arrays and one beside them (z 40..44), then bakes the unit cell with and without
+   the sweep (`occluders` per direction): the rays see the box beside and not the one behind, the
+   bake hides the one behind only with the sweep, and misses nothing the rays see. The arrays have
+   room for 16 more vertices, 24 triangles and 2 objects. */
+static void ep_sweep_hides_box(float *pos, uint32_t nv, uint32_t *idx, uint32_t nt, pvs_object_desc *obs, uint32_t no, float x0, float h,
+                               uint32_t occluders, uint64_t seed) {
     pvs_box cell = {{-1.0f, -0.5f, -0.5f}, {0.0f, 0.5f, 0.5f}};
-    uint32_t nv = 0, nt = 0, no = 0, i, j, k, c, misses = 0;
+    uint32_t i, k, c, misses = 0;
     int sweep;
     pvs_scene *s;
-    /* shingles: pitch 0.6, side 0.8 (0.2 overlap), centred on the cell's axis, x = 4 or 4.02 */
-    for (j = 0; j < N; ++j)
-        for (i = 0; i < N; ++i) {
-            float x = ((i + j) & 1) ? 4.001f : 4.0f, y0 = -0.4f * N + 0.6f * (float)i - 0.1f, z0 = -0.4f * N + 0.6f * (float)j - 0.1f;
-            uint32_t b = nv;
-            for (k = 0; k < 4; ++k, ++nv) {
-                pos[3 * nv] = x;
-                pos[3 * nv + 1] = y0 + ((k & 1) ? 0.8f : 0.0f);
-                pos[3 * nv + 2] = z0 + ((k & 2) ? 0.8f : 0.0f);
-            }
-            obs[no].first_triangle = nt;
-            obs[no].triangle_count = 2;
-            obs[no].flags = 0;
-            ++no;
-            idx[3 * nt] = b; idx[3 * nt + 1] = b + 1; idx[3 * nt + 2] = b + 3; ++nt;
-            idx[3 * nt] = b; idx[3 * nt + 1] = b + 3; idx[3 * nt + 2] = b + 2; ++nt;
-        }
-    for (k = 0; k < 2; ++k) { /* the hidden box behind the curtain, one beside it */
-        float lo[3] = {20.0f, -6.0f, -6.0f}, hi[3] = {21.0f, 6.0f, 6.0f};
+    for (k = 0; k < 2; ++k) { /* the hidden box behind the occluders, one beside them */
+        float lo[3], hi[3];
+        lo[0] = x0; hi[0] = x0 + 1.0f;
+        lo[1] = lo[2] = -h; hi[1] = hi[2] = h;
         if (k) { lo[2] = 40.0f; hi[2] = 44.0f; }
         for (c = 0; c < 8; ++c, ++nv)
             for (i = 0; i < 3; ++i) pos[3 * nv + i] = (c >> i) & 1 ? hi[i] : lo[i];
@@ -1492,18 +1490,19 @@ static void test_sweep_all_occluders(void) {
         bd.cells = &cell;
         bd.cell_count = 1;
         bd.method = PVS_METHOD_EXTPROJ;
-        bd.extproj_occluders = 16;
+        bd.extproj_occluders = occluders;
         bd.extproj_sweep = sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0;
+        CHECK(seen != NULL);
         CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
         CHECK(bk && pvs_bake_run_task(bk, 0, &e) == PVS_OK);
-        if (bk) {
+        if (bk && seen) {
             const pvs_word *pv = pvs_bake_cell_pvs(bk, 0);
             uint32_t o;
-            pvs_sample_visibility(s, &cell, 16, 1024, 41, seen);
-            pvs_sample_visibility_toward(s, &cell, NULL, 256, 43, seen);
+            pvs_sample_visibility(s, &cell, 16, 1024, seed, seen);
+            pvs_sample_visibility_toward(s, &cell, NULL, 256, seed + 2, seen);
             for (o = 0; o < no; ++o) misses += pvs_bitset_test(seen, o) && !pvs_bitset_test(pv, o);
             CHECK(!pvs_bitset_test(seen, no - 2));              /* the rays agree: the box is hidden */
-            CHECK(pvs_bitset_test(pv, no - 1));                 /* the one beside the curtain is seen */
+            CHECK(pvs_bitset_test(seen, no - 1));               /* and see the one beside */
             CHECK(pvs_bitset_test(pv, no - 2) == (sweep == 0)); /* hidden only by the sweep */
         }
         pvs_bake_destroy(bk);
@@ -1511,6 +1510,28 @@ static void test_sweep_all_occluders(void) {
     }
     CHECK(misses == 0);
     pvs_scene_destroy(s);
+}
+
+/* The sweep projects every occluder between its planes (§5.2), not only the few the selection of
+   §6.1 keeps: a curtain of N x N overlapping square shingles (separate objects, alternately 1 mm
+   apart in depth, so neither coplanar nor one sheet) 4 units in front of a unit cell hides a wide
+   box 20 units away. With 16 occluders per direction the planes of §6.1 see too few shingles to
+   hide it; the sweep (whose selection of 64 only sets its depth range) hides it; a box beside the
+   curtain stays visible, and ray sampling sees nothing the bake misses. */
+static void test_sweep_all_occluders(void) {
+    enum { N = 16 };
+    float *pos = (float *)malloc(sizeof(float) * 3 * (4 * N * N + 16));
+    uint32_t *idx = (uint32_t *)malloc(sizeof(uint32_t) * 3 * (2 * N * N + 24));
+    pvs_object_desc obs[N * N + 2];
+    uint32_t nv = 0, nt = 0, no = 0, i, j;
+    CHECK(pos && idx);
+    if (!pos || !idx) { free(pos); free(idx); return; }
+    /* shingles: pitch 0.6, side 0.8 (0.2 overlap), centred on the cell's axis, x = 4 or 4.001 */
+    for (j = 0; j < N; ++j)
+        for (i = 0; i < N; ++i)
+            ep_add_square(pos, &nv, idx, &nt, obs, &no, ((i + j) & 1) ? 4.001f : 4.0f, -0.4f * N + 0.6f * (float)i - 0.1f,
+                          -0.4f * N + 0.6f * (float)j - 0.1f, 0.8f);
+    ep_sweep_hides_box(pos, nv, idx, nt, obs, no, 20.0f, 6.0f, 16, 41);
     free(pos);
     free(idx);
 }
@@ -1527,82 +1548,18 @@ static void test_sweep_depth(void) {
     float *pos = (float *)malloc(sizeof(float) * 3 * (4 * N * N + 16 + 16));
     uint32_t *idx = (uint32_t *)malloc(sizeof(uint32_t) * 3 * (2 * N * N + 8 + 24));
     pvs_object_desc obs[N * N + 4 + 2];
-    pvs_box cell = {{-1.0f, -0.5f, -0.5f}, {0.0f, 0.5f, 0.5f}};
-    uint32_t nv = 0, nt = 0, no = 0, i, j, k, c, misses = 0;
-    int sweep;
-    pvs_scene *s;
-    for (k = 0; k < 4 + N * N; ++k) { /* the panels (k < 4), then the shingles */
-        float x, y0, z0, side;
-        uint32_t b = nv;
-        if (k < 4) {
-            float off = (k & 1) ? -12.0f : 2.0f;
-            x = 2.0f;
-            side = 10.0f;
-            y0 = (k & 2) ? -5.0f : off;
-            z0 = (k & 2) ? off : -5.0f;
-        } else {
-            i = (k - 4) % N;
-            j = (k - 4) / N;
-            x = ((i + j) & 1) ? 30.001f : 30.0f;
-            side = 2.0f;
-            y0 = -0.5f * (float)N - 0.5f + (float)i;
-            z0 = -0.5f * (float)N - 0.5f + (float)j;
-        }
-        for (c = 0; c < 4; ++c, ++nv) {
-            pos[3 * nv] = x;
-            pos[3 * nv + 1] = y0 + ((c & 1) ? side : 0.0f);
-            pos[3 * nv + 2] = z0 + ((c & 2) ? side : 0.0f);
-        }
-        obs[no].first_triangle = nt;
-        obs[no].triangle_count = 2;
-        obs[no].flags = 0;
-        ++no;
-        idx[3 * nt] = b; idx[3 * nt + 1] = b + 1; idx[3 * nt + 2] = b + 3; ++nt;
-        idx[3 * nt] = b; idx[3 * nt + 1] = b + 3; idx[3 * nt + 2] = b + 2; ++nt;
+    uint32_t nv = 0, nt = 0, no = 0, i, j, k;
+    CHECK(pos && idx);
+    if (!pos || !idx) { free(pos); free(idx); return; }
+    for (k = 0; k < 4; ++k) { /* the panels: 10 x 10 at x = 2, above, below and to both sides */
+        float off = (k & 1) ? -12.0f : 2.0f;
+        ep_add_square(pos, &nv, idx, &nt, obs, &no, 2.0f, (k & 2) ? -5.0f : off, (k & 2) ? off : -5.0f, 10.0f);
     }
-    for (k = 0; k < 2; ++k) { /* the hidden box behind the curtain, one beside it */
-        float lo[3] = {60.0f, -4.0f, -4.0f}, hi[3] = {61.0f, 4.0f, 4.0f};
-        if (k) { lo[2] = 40.0f; hi[2] = 44.0f; }
-        for (c = 0; c < 8; ++c, ++nv)
-            for (i = 0; i < 3; ++i) pos[3 * nv + i] = (c >> i) & 1 ? hi[i] : lo[i];
-        obs[no].first_triangle = nt;
-        obs[no].triangle_count = 12;
-        obs[no].flags = 0;
-        ++no;
-        for (c = 0; c < 12; ++c, ++nt)
-            for (i = 0; i < 3; ++i) idx[3 * nt + i] = nv - 8 + (uint32_t)ep_box_tris[c][i];
-    }
-    s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
-    CHECK(s != NULL);
-    for (sweep = 0; s && sweep < 2; ++sweep) {
-        pvs_bake_desc bd;
-        pvs_bake *bk = NULL;
-        pvs_error e;
-        pvs_word *seen = (pvs_word *)calloc(PVS_BITSET_WORDS(no), sizeof(pvs_word));
-        memset(&bd, 0, sizeof(bd));
-        bd.scene = s;
-        bd.cells = &cell;
-        bd.cell_count = 1;
-        bd.method = PVS_METHOD_EXTPROJ;
-        bd.extproj_occluders = 1;
-        bd.extproj_sweep = sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0;
-        CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
-        CHECK(bk && pvs_bake_run_task(bk, 0, &e) == PVS_OK);
-        if (bk) {
-            const pvs_word *pv = pvs_bake_cell_pvs(bk, 0);
-            uint32_t o;
-            pvs_sample_visibility(s, &cell, 16, 1024, 47, seen);
-            pvs_sample_visibility_toward(s, &cell, NULL, 256, 49, seen);
-            for (o = 0; o < no; ++o) misses += pvs_bitset_test(seen, o) && !pvs_bitset_test(pv, o);
-            CHECK(!pvs_bitset_test(seen, no - 2));              /* the rays agree: the box is hidden */
-            CHECK(pvs_bitset_test(seen, no - 1));               /* the one beside the curtain is seen */
-            CHECK(pvs_bitset_test(pv, no - 2) == (sweep == 0)); /* hidden only by the sweep */
-        }
-        pvs_bake_destroy(bk);
-        free(seen);
-    }
-    CHECK(misses == 0);
-    pvs_scene_destroy(s);
+    for (j = 0; j < N; ++j) /* the curtain: pitch 1, side 2, x = 30 or 30.001 */
+        for (i = 0; i < N; ++i)
+            ep_add_square(pos, &nv, idx, &nt, obs, &no, ((i + j) & 1) ? 30.001f : 30.0f, -0.5f * (float)N - 0.5f + (float)i,
+                          -0.5f * (float)N - 0.5f + (float)j, 2.0f);
+    ep_sweep_hides_box(pos, nv, idx, nt, obs, no, 60.0f, 4.0f, 1, 47);
     free(pos);
     free(idx);
 }
