@@ -1516,7 +1516,7 @@ static void ep_sweep_hides_box(float *pos, uint32_t nv, uint32_t *idx, uint32_t 
    §6.1 keeps: a curtain of N x N overlapping square shingles (separate objects, alternately 1 mm
    apart in depth, so neither coplanar nor one sheet) 4 units in front of a unit cell hides a wide
    box 20 units away. With 16 occluders per direction the planes of §6.1 see too few shingles to
-   hide it; the sweep (whose selection of 64 only sets its depth range) hides it; a box beside the
+   hide it; the sweep (whose selection of 64 only sets where it starts) hides it; a box beside the
    curtain stays visible, and ray sampling sees nothing the bake misses. */
 static void test_sweep_all_occluders(void) {
     enum { N = 16 };
