@@ -306,6 +306,17 @@ static pvs_scene *ep_scene_arrays(const float *pos, uint32_t nv, const uint32_t 
     return s;
 }
 
+/* An extproj bake of `count` cells of the scene, with `sweep` planes per direction (0: none); the
+   other fields zero (defaults). */
+static void ep_bake_desc(pvs_bake_desc *bd, const pvs_scene *s, const pvs_box *cells, uint32_t count, uint32_t sweep) {
+    memset(bd, 0, sizeof(*bd));
+    bd->scene = s;
+    bd->cells = cells;
+    bd->cell_count = count;
+    bd->method = PVS_METHOD_EXTPROJ;
+    bd->extproj_sweep = sweep;
+}
+
 /* Extrudes a closed polygon (n points in x, z, counter-clockwise seen from +y) from y = 0 to y = h:
    walls, a top made of the triangles `cap` (ncap triangles over the polygon's points), the bottom
    the same reversed unless open. Appends to pos / idx. */
@@ -822,12 +833,7 @@ static void ep_check_scene(gen_kind kind, uint64_t seed, float size, uint32_t ma
     CHECK(s != NULL);
     if (!s) return;
     objects = pvs_scene_object_count(s);
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = s;
-    bd.cells = (const pvs_box *)cells.boxes;
-    bd.cell_count = cells.count;
-    bd.method = PVS_METHOD_EXTPROJ;
-    bd.extproj_sweep = sweep;
+    ep_bake_desc(&bd, s, (const pvs_box *)cells.boxes, cells.count, sweep);
     CHECK(pvs_bake_begin(&bd, &bake, &e) == PVS_OK);
     seen = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
     for (t = 0; t < pvs_bake_task_count(bake); ++t) {
@@ -894,11 +900,7 @@ static void test_thin_wall(void) {
     d.objects = obs;
     d.object_count = 2;
     CHECK(pvs_scene_create(&d, &s, &e) == PVS_OK);
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = s;
-    bd.cells = cells;
-    bd.cell_count = 2;
-    bd.method = PVS_METHOD_EXTPROJ;
+    ep_bake_desc(&bd, s, cells, 2, 0);
     CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
     CHECK(pvs_bake_run_task(b, 0, &e) == PVS_OK);
     CHECK(pvs_bake_run_task(b, 1, &e) == PVS_OK);
@@ -983,11 +985,7 @@ static unsigned ep_wall_run(const double R[3][3], uint32_t nx, uint32_t ny, cons
         ep_rot(R, x, q);
         for (k = 0; k < 3; ++k) { cells[c].min[k] = q[k] - 0.5f; cells[c].max[k] = q[k] + 0.5f; }
     }
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = s;
-    bd.cells = cells;
-    bd.cell_count = 4;
-    bd.method = PVS_METHOD_EXTPROJ;
+    ep_bake_desc(&bd, s, cells, 4, 0);
     CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
     for (c = 0; bk && c < 4; ++c) {
         pvs_word seen[1] = {0};
@@ -1276,12 +1274,7 @@ static void test_random_walls(void) {
             pvs_bake *bk = NULL;
             pvs_error e;
             pvs_word *seen = (pvs_word *)calloc(PVS_BITSET_WORDS(no), sizeof(pvs_word));
-            memset(&bd, 0, sizeof(bd));
-            bd.scene = s;
-            bd.cells = cells;
-            bd.cell_count = NC;
-            bd.method = PVS_METHOD_EXTPROJ;
-            bd.extproj_sweep = sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0;
+            ep_bake_desc(&bd, s, cells, NC, sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0);
             CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
             for (c = 0; bk && c < NC; ++c) {
                 const pvs_word *pv;
@@ -1340,11 +1333,7 @@ static void test_adaptive(void) {
     CHECK(s != NULL);
     if (!s) return;
     objects = pvs_scene_object_count(s);
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = s;
-    bd.cells = (const pvs_box *)cells.boxes;
-    bd.cell_count = cells.count;
-    bd.method = PVS_METHOD_EXTPROJ;
+    ep_bake_desc(&bd, s, (const pvs_box *)cells.boxes, cells.count, 0);
     bd.adaptive_budget = budget;
     /* refused: shards, a bad minimum size, too many sweep planes */
     bd.shard_count = 2;
@@ -1485,13 +1474,8 @@ static void ep_sweep_hides_box(float *pos, uint32_t nv, uint32_t *idx, uint32_t 
         pvs_bake *bk = NULL;
         pvs_error e;
         pvs_word *seen = (pvs_word *)calloc(PVS_BITSET_WORDS(no), sizeof(pvs_word));
-        memset(&bd, 0, sizeof(bd));
-        bd.scene = s;
-        bd.cells = &cell;
-        bd.cell_count = 1;
-        bd.method = PVS_METHOD_EXTPROJ;
+        ep_bake_desc(&bd, s, &cell, 1, sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0);
         bd.extproj_occluders = occluders;
-        bd.extproj_sweep = sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0;
         CHECK(seen != NULL);
         CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
         CHECK(bk && pvs_bake_run_task(bk, 0, &e) == PVS_OK);

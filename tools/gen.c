@@ -970,13 +970,20 @@ static void gen__trunk(gen__ctx *c, double x, double z, double r0, double r1, do
     gen__tri(c, b + 6, b + 9, b + 8); gen__tri(c, b + 6, b + 8, b + 7);
 }
 
+/* The forests' grid: ng x ng slots of sp = 5 m (at least min_ng) over the 300 m x size square,
+   whose side ng sp goes to *S. */
+static int gen__forest_grid(const gen_params *P, int min_ng, double *S) {
+    int ng = (int)floor(300.0 * P->size / 5.0);
+    if (ng < min_ng) ng = min_ng;
+    *S = ng * 5.0;
+    return ng;
+}
+
 static int gen__forest(gen__ctx *c, const gen_params *P) {
     gen__rng *r = &c->rng;
     const double sp = 5.0;
-    double S = 300.0 * P->size;
-    int ng = (int)floor(S / sp);
-    if (ng < 2) ng = 2;
-    S = ng * sp;
+    double S;
+    int ng = gen__forest_grid(P, 2, &S);
     gen__tree *tr = (gen__tree *)malloc(sizeof(gen__tree) * (size_t)ng * (size_t)ng);
     if (!tr) return -1;
     /* clearings and a straight path along x */
@@ -1054,10 +1061,8 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
     const double LT = 2.0; /* leaf size: coarse, large triangles (0.7-1.5 m), as in Durand 2000 §7.2 */
     gen__rng *r = &c->rng;
     const double sp = 5.0;
-    double S = 300.0 * P->size;
-    int ng = (int)floor(S / sp);
-    if (ng < 3) ng = 3;
-    S = ng * sp;
+    double S;
+    int ng = gen__forest_grid(P, 3, &S);
     /* first object of each slot (objects are emitted slot by slot), for the cells' search */
     uint32_t *first = (uint32_t *)malloc(sizeof(uint32_t) * ((size_t)ng * (size_t)ng + 1));
     float *obb = NULL;
