@@ -170,6 +170,21 @@ void test_cli(void) {
     CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj --sweep-planes 257", &out) == 2); free(out);
     CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj --resolution 8", &out) == 2 &&
           strstr(out, "--resolution takes 16..4096")); free(out);
+    /* an option for a method the bake does not run is a usage error, not silently ignored */
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method otree --sweep", &out) == 2 &&
+          strstr(out, "--sweep applies only to method extproj, which --method otree does not run")); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method otree,extproj --voxel 0.5", &out) == 2 &&
+          strstr(out, "--voxel applies only to method shrink")); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --vocc-max 3", &out) == 2 &&
+          strstr(out, "auto runs vocc only when a list names it")); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj --rays 16", &out) == 2 &&
+          strstr(out, "--rays applies only to method sample")); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --seed 4", &out) == 2 &&
+          strstr(out, "sample is never part of auto")); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method shrink --min-cell 1", &out) == 2 &&
+          strstr(out, "--min-cell needs --adaptive")); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --no-state --state-every 4", &out) == 2 &&
+          strstr(out, "contradict --no-state")); free(out);
     CHECK(!exists(DIR "/x.pvs"));
     /* --sweep is --sweep-planes 16 at the default resolution 256; other values bake another PVS */
     CHECK(run("./pvsgen walls --size 0.3 --max-cells 12 -o " DIR "/w.obj --cells " DIR "/w.txt", &out) == 0); free(out);

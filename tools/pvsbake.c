@@ -53,6 +53,9 @@ static const char *usage =
     "  --no-state        no state file\n"
     "  -q, --quiet       no progress bar and no summary\n"
     "  --help            this text\n"
+    "An option for one method (shrink:, extproj:, vocc:, sample method: above) with a --method that\n"
+    "does not run that method is a usage error, as are --min-cell without --adaptive and --state or\n"
+    "--state-every with --no-state.\n"
     "exit status: 0 success, 1 bad input (message names file and line), 2 usage\n";
 
 static int usage_error(const char *fmt, const char *arg) {
@@ -60,6 +63,35 @@ static int usage_error(const char *fmt, const char *arg) {
     fprintf(stderr, fmt, arg);
     fprintf(stderr, "\n(see pvsbake --help)\n");
     return 2;
+}
+
+/* Options that only one method reads: given with a --method that does not run it, they are usage
+   errors rather than silently ignored. */
+static const struct { const char *option; pvs_method method; } method_options[] = {
+    {"--2d5", PVS_METHOD_SHRINK},         {"--3d", PVS_METHOD_SHRINK},          {"--voxel", PVS_METHOD_SHRINK},
+    {"--sweep", PVS_METHOD_EXTPROJ},      {"--sweep-planes", PVS_METHOD_EXTPROJ}, {"--resolution", PVS_METHOD_EXTPROJ},
+    {"--vocc-slices", PVS_METHOD_VOCC},   {"--vocc-max", PVS_METHOD_VOCC},
+    {"--points", PVS_METHOD_SAMPLE},      {"--rays", PVS_METHOD_SAMPLE},        {"--seed", PVS_METHOD_SAMPLE},
+};
+#define METHOD_OPTION_COUNT (sizeof(method_options) / sizeof(method_options[0]))
+
+/* 2 (after a message) when option k of `given` (bits over method_options) names a method the bake
+   cannot run: method alone, or AUTO over `mask` (0: every conservative method but VOCC). */
+static int check_method_options(uint32_t given, pvs_method method, uint32_t mask, const char *method_arg) {
+    uint32_t runs = method != PVS_METHOD_AUTO ? 1u << method
+                  : mask ? mask
+                  : (1u << PVS_METHOD_SHRINK) | (1u << PVS_METHOD_OTREE) | (1u << PVS_METHOD_EXTPROJ);
+    size_t k;
+    for (k = 0; k < METHOD_OPTION_COUNT; ++k) {
+        pvs_method m = method_options[k].method;
+        if (!(given >> k & 1u) || (runs >> m & 1u)) continue;
+        fprintf(stderr, "pvsbake: %s applies only to method %s, which --method %s does not run%s\n(see pvsbake --help)\n",
+                method_options[k].option, pvs_method_name(m), method_arg,
+                m == PVS_METHOD_VOCC && method == PVS_METHOD_AUTO ? " (auto runs vocc only when a list names it, e.g. otree,vocc)"
+                : m == PVS_METHOD_SAMPLE ? " (sample is never part of auto: --method sample)" : "");
+        return 2;
+    }
+    return 0;
 }
 
 /* pvsbake merge -o OUT PART... */
@@ -269,6 +301,9 @@ int main(int argc, char **argv) {
     uint32_t vocc_slices = 0, vocc_max = 0;
     int quiet = 0, i, preview = 0, no_state = 0, vocc_only = 0;
     pvs_method method = PVS_METHOD_AUTO;
+    const char *method_arg = "auto";
+    uint32_t given = 0, state_every_given = 0;
+    size_t k;
     mesh m;
     mesh_cells cells;
     pvs_scene *scene = NULL;
@@ -288,6 +323,8 @@ int main(int argc, char **argv) {
     for (i = 1; i < argc; ++i) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        for (k = 0; k < METHOD_OPTION_COUNT; ++k)
+            if (!strcmp(a, method_options[k].option)) given |= 1u << k;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             fputs(usage, stdout);
             return 0;
@@ -323,6 +360,7 @@ int main(int argc, char **argv) {
             } else if (!strcmp(a, "--method")) {
                 if (parse_method(v, &method, &methods))
                     return usage_error("unknown method '%s' (available: auto, sample, shrink, otree, extproj, vocc, or a list such as otree,extproj)", v);
+                method_arg = v;
             } else if (!strcmp(a, "--adaptive")) {
                 if (cli_parse_u32(v, 1, 0xffffffffu, &adaptive)) return usage_error("--adaptive takes a triangle budget >= 1, not '%s'", v);
             } else if (!strcmp(a, "--min-cell")) {
@@ -355,6 +393,7 @@ int main(int argc, char **argv) {
                 if (cli_parse_u32(v, 0, 0xffffffffu, &seed)) return usage_error("--seed takes an unsigned integer, not '%s'", v);
             } else if (!strcmp(a, "--state-every")) {
                 if (cli_parse_u32(v, 1, 1u << 30, &state_every)) return usage_error("--state-every takes a cell count >= 1, not '%s'", v);
+                state_every_given = 1;
             }
         } else if (a[0] == '-' && a[1]) {
             return usage_error("unknown option '%s'", a);
@@ -368,7 +407,9 @@ int main(int argc, char **argv) {
     if (!out_path) return usage_error("%s", "no output given (-o OUT.pvs)");
     if (!cells_path == !(grid > 0.0f)) return usage_error("%s", "give exactly one of --cells FILE or --grid SIZE");
     if (vocc_only && method != PVS_METHOD_VOCC) return usage_error("%s", "--vocc-only needs --method vocc");
-    if (no_state && state_path) return usage_error("%s", "--state and --no-state contradict each other");
+    if (check_method_options(given, method, methods, method_arg)) return 2;
+    if (min_cell > 0.0f && !adaptive) return usage_error("%s", "--min-cell needs --adaptive");
+    if (no_state && (state_path || state_every_given)) return usage_error("%s", "--state and --state-every contradict --no-state");
 
     mesh_init(&m);
     mesh_cells_init(&cells);
