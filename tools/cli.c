@@ -328,6 +328,26 @@ int cli_parse_up(const char *s, uint32_t *up) {
     return -1;
 }
 
+static int cli__attached_jobs(const char *a) { return a[0] == '-' && a[1] == 'j' && a[2] >= '0' && a[2] <= '9'; }
+
+char **cli_split_jobs(int *argc, char **argv) {
+    int i, n = 0, k = 0;
+    char **out;
+    for (i = 0; i < *argc; ++i) n += cli__attached_jobs(argv[i]);
+    if (!n || !(out = (char **)malloc(sizeof(char *) * ((size_t)*argc + (size_t)n + 1)))) return argv;
+    for (i = 0; i < *argc; ++i) {
+        if (cli__attached_jobs(argv[i])) {
+            out[k++] = (char *)"-j";
+            out[k++] = argv[i] + 2;
+        } else {
+            out[k++] = argv[i];
+        }
+    }
+    out[k] = NULL;
+    *argc = k;
+    return out;
+}
+
 int cli_parse_u32(const char *s, uint32_t lo, uint32_t hi, uint32_t *out) {
     char *end;
     unsigned long long v;

@@ -46,7 +46,8 @@ static const char *usage =
     "  --seed N          sample method: random seed (default 1)\n"
     "  --chain K         file: decode any cell in at most K deltas (1..64, default 8)\n"
     "  --shard K/N       bake only shard K of N (cells K-1, K-1+N, ...) into a part file for merge\n"
-    "  -j THREADS        worker threads (default: all CPUs); the file is identical for any count\n"
+    "  -j THREADS        worker threads (default: all CPUs; -j2 works too); the file is identical\n"
+    "                    for any count\n"
     "  --state FILE      resumable bake: the finished cells are saved to FILE (default OUT.pvs.state)\n"
     "                    every --state-every N cells (default 32); rerunning the same command continues\n"
     "                    from it; it is removed when the output is written\n"
@@ -319,6 +320,7 @@ int main(int argc, char **argv) {
     int rc = 1;
 
     if (argc > 1 && !strcmp(argv[1], "merge")) return merge_main(argc, argv);
+    argv = cli_split_jobs(&argc, argv); /* -j2 as well as -j 2 */
 
     for (i = 1; i < argc; ++i) {
         const char *a = argv[i];

@@ -15,7 +15,7 @@ static const char *usage =
     "  --aim N       then up to N rays aimed at each object not yet seen, from random points of the cell\n"
     "                to random points of its triangles (default 32; 0 = off): finds small, far objects\n"
     "  --seed N      random seed (default 7; use another seed than the bake)\n"
-    "  -j THREADS    worker threads (default: all CPUs)\n"
+    "  -j THREADS    worker threads (default: all CPUs; -j2 works too)\n"
     "  --max-distance D  the bake's draw distance (pvsbake --max-distance): objects farther than D from\n"
     "                the cell are not misses\n"
     "  -q, --quiet   no progress bar\n"
@@ -42,6 +42,7 @@ int main(int argc, char **argv) {
     tool_error te;
     cli_check chk;
 
+    argv = cli_split_jobs(&argc, argv); /* -j2 as well as -j 2 */
     for (i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
