@@ -185,6 +185,10 @@ void test_cli(void) {
           strstr(out, "--min-cell needs --adaptive")); free(out);
     CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --no-state --state-every 4", &out) == 2 &&
           strstr(out, "contradict --no-state")); free(out);
+    /* a method that cannot handle the scene names the scene file, not the cells file */
+    write_str(DIR "/tri.obj", "o t\nv 0 0 0\nv 4 0 0\nv 0 4 0\nf 1 2 3\n");
+    CHECK(run("./pvsbake " DIR "/tri.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method vocc", &out) == 1 &&
+          strstr(out, "tri.obj: unsupported: vocc")); free(out);
     CHECK(!exists(DIR "/x.pvs"));
     /* --sweep is --sweep-planes 16 at the default resolution 256; other values bake another PVS */
     CHECK(run("./pvsgen walls --size 0.3 --max-cells 12 -o " DIR "/w.obj --cells " DIR "/w.txt", &out) == 0); free(out);

@@ -452,7 +452,9 @@ int main(int argc, char **argv) {
         bd.shard_count = shard_n;
     }
     if (pvs_bake_begin(&bd, &bake, &pe) != PVS_OK) {
-        tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "%s", pe.message);
+        /* a bad cell is the cells file's; a method that cannot handle the input, the scene's */
+        tool_error_set(&te, pe.result == PVS_ERROR_BAD_CELL ? (cells_path ? cells_path : "--grid") : pe.result == PVS_ERROR_UNSUPPORTED ? scene_path : "pvsbake",
+                       0, "%s", pe.message);
         goto fail;
     }
     if (!quiet && pvs_bake_occluders(bake)) {
