@@ -14326,16 +14326,17 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    nothing is culled without the sweep, and with it about 1% at 256 pixels and 16 planes, 8% at
    512 and 32, 25% at 1024 and 64, 47% at 2048 and 64 (20 s per cell), 60% at 4096 and 64 (71 s,
    8.6 GB): the planes ahead are 80% blocked, but the band just above the ground under the bushes
-   stays open, and the box of every tree reaches the ground there. Experiments, not kept: the
-   bushes lowered to the ground, 85%; each object's triangles tested instead of its box, 25% ->
-   35%; at 1024 pixels, the sweep planes' occluders covered at 4 x 4 sub-pixels (a pixel blocked
-   when the union covers it), 31%, and sub-pixel distances into the blocked region carried through
-   the reprojections (a kernel erodes by its true width, not by whole pixels), 28%: the gain of
+   stays open, and the box of every tree reaches the ground there. Experiments, not kept: the bushes
+   lowered to the ground, 85%; each object's triangles tested instead of its box, 25% -> 35%; at
+   1024 pixels, the sweep planes' occluders covered at 4 x 4 sub-pixels (a pixel blocked when the
+   union covers it), 31%, and sub-pixel distances into the blocked region carried through the
+   reprojections (a kernel erodes by its true width, not by whole pixels), 28%: the gain of
    resolution is spread over coverage, reprojection and the occludees' rectangles; with cells of
-   0.25 m instead of 1 m, 65%. Rays from the cells' bottom faces reach about 1% of the trunk bases
-   beyond 50 m, while the trunks alone (an exact 2D from-region test of their sections) hide only
-   about a fifth of all trunk sections: the band is closed by bush leaves and trunks together, in
-   depth, which one binary umbra per plane does not capture. */
+   0.25 m instead of 1 m, 65%, but the union of four horizontal slabs of a 1 m cell, 30%. Rays from
+   the cells' bottom faces reach about 1% of the trunk bases beyond 50 m, while the trunks alone (an
+   exact 2D from-region test of their sections) hide only about a fifth of all trunk sections: the
+   band is closed by bush leaves and trunks together, in depth, which one binary umbra per plane
+   does not capture. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
