@@ -161,13 +161,15 @@
    Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle
    kD-trees: about 100 bytes per triangle), pvs_bake_begin (the cells and one bitset per cell:
    cell_count * object_count / 8 bytes, and 40 bytes of statistics per cell), pvs_bake_run_task
-   (AUTO: one bitset per method it runs; EXTPROJ about 8 MB of depth maps at 256 x 256 pixels, 8 MB
-   more with the sweep; all freed before returning; adaptive cells: a box and a bitset per leaf,
-   kept), pvs_file_encode (scratch about 40 bytes per cell plus one bitset), pvs_raster_create (the
-   depth map and pyramid, the cull map), pvs_otree_create (about 250 bytes per tree node of its
-   budget, 5 bytes per kD node and object). Allocates nothing: every pvs_file_* and pvs_cursor_*
-   call, kD-tree queries (caller scratch), pvs_raster_cull, pvs_raster_cull_map and pvs_otree_cull
-   per frame, pvs_vocc_cull (caller scratch: pvs_vocc_cull_scratch_size). A .pvs file is used in
+   (AUTO: one bitset per method it runs; EXTPROJ (128 + 8 x sweep planes) x N^2 bytes of depth maps
+   and sweep masks at N x N pixels, plus the sweep's summed-area tables (4 (N + 1)^2 bytes per plane
+   of a direction up to 64 MiB): 8 MB at 256 pixels, 21 MB with 16 sweep planes, 0.7 GB at 1024 and
+   64; all freed before returning; adaptive cells: a box and a bitset per leaf, kept),
+   pvs_file_encode (scratch about 40 bytes per cell plus one bitset), pvs_raster_create (the depth
+   map and pyramid, the cull map), pvs_otree_create (about 250 bytes per tree node of its budget, 5
+   bytes per kD node and object). Allocates nothing: every pvs_file_* and pvs_cursor_* call, kD-tree
+   queries (caller scratch), pvs_raster_cull, pvs_raster_cull_map and pvs_otree_cull per frame,
+   pvs_vocc_cull (caller scratch: pvs_vocc_cull_scratch_size). A .pvs file is used in
    place; it needs no copy.
 
    PERFORMANCE (`make bench`, 2026-11-24, one core of a 2-core AMD EPYC VM, release build)

@@ -190,6 +190,26 @@ void test_cli(void) {
     CHECK(run("./pvsgen forest --dense --cell-size 0.01 -o " DIR "/f.obj", &out) == 2 && strstr(out, "[0.1, 8]")); free(out);
     CHECK(run("./pvsgen forest --dense --leaves-per-tree 0 -o " DIR "/f.obj", &out) == 2); free(out);
     CHECK(run("./pvsgen forest --dense --leaves-per-tree 5000 --size 2 -o " DIR "/f.obj", &out) == 2 && strstr(out, "at most 10000")); free(out);
+    /* extproj's memory against the machine's (PVSBAKE_MEMORY stands in for it): one thread that does
+       not fit, or a -j that does not, is a usage error; without -j the threads that fit run */
+    CHECK(run("PVSBAKE_MEMORY=1000000000 ./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj "
+              "--resolution 4096 --sweep", &out) == 2 && strstr(out, "needs about 4.1 GiB per thread, more than this machine's 954 MiB"));
+    free(out);
+    CHECK(run("PVSBAKE_MEMORY=1000000000 ./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt "
+              "--resolution 1024 --sweep-planes 64 -j 2", &out) == 2 && strstr(out, "use -j 1 or fewer"));
+    free(out);
+    CHECK(run("PVSBAKE_MEMORY=2000000 ./pvsbake -q " DIR "/scene.obj -o " DIR "/fit.pvs --cells " DIR "/cells.txt --method extproj "
+              "--sweep --resolution 64", &out) == 0);
+    free(out);
+    CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/fit1.pvs --cells " DIR "/cells.txt --method extproj --sweep --resolution 64 -j 1", &out) == 0);
+    free(out);
+    {
+        char *f1 = slurp(DIR "/fit.pvs"), *f2 = slurp(DIR "/fit1.pvs");
+        struct stat s1, s2;
+        CHECK(f1 && f2 && stat(DIR "/fit.pvs", &s1) == 0 && stat(DIR "/fit1.pvs", &s2) == 0 && s1.st_size == s2.st_size &&
+              memcmp(f1, f2, (size_t)s1.st_size) == 0);
+        free(f1); free(f2);
+    }
     /* a method that cannot handle the scene names the scene file, not the cells file */
     write_str(DIR "/tri.obj", "o t\nv 0 0 0\nv 4 0 0\nv 0 4 0\nf 1 2 3\n");
     CHECK(run("./pvsbake " DIR "/tri.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method vocc", &out) == 1 &&

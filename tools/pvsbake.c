@@ -32,7 +32,8 @@ static const char *usage =
     "  --sweep-planes N  extproj: the sweep with N planes per direction (1..256, --sweep: 16)\n"
     "  --resolution N    extproj: depth map pixels per side (16..4096, default 256, --preview 64);\n"
     "                    foliage of small leaves needs 1024 and 64 sweep planes to fuse. The sweep\n"
-    "                    keeps about 8 x planes x N^2 bytes per thread (0.5 GiB at 1024 and 64)\n"
+    "                    keeps about 8 x planes x N^2 bytes per thread (0.5 GiB at 1024 and 64);\n"
+    "                    without -j, fewer threads run when all would not fit in memory\n"
     "  --adaptive N      split a cell whose PVS holds more than N triangles in two, recursively\n"
     "                    (Durand 2000 §6.1); the file holds the leaf cells. Not with --shard, vocc\n"
     "                    or resuming (no state file)\n"
@@ -76,12 +77,18 @@ static const struct { const char *option; pvs_method method; } method_options[] 
 };
 #define METHOD_OPTION_COUNT (sizeof(method_options) / sizeof(method_options[0]))
 
+/* The methods a bake may run (bits 1 << PVS_METHOD_*): method alone, or AUTO over `mask` (0: every
+   conservative method but VOCC). */
+static uint32_t methods_run(pvs_method method, uint32_t mask) {
+    return method != PVS_METHOD_AUTO ? 1u << method
+         : mask ? mask
+         : (1u << PVS_METHOD_SHRINK) | (1u << PVS_METHOD_OTREE) | (1u << PVS_METHOD_EXTPROJ);
+}
+
 /* 2 (after a message) when option k of `given` (bits over method_options) names a method the bake
-   cannot run: method alone, or AUTO over `mask` (0: every conservative method but VOCC). */
+   cannot run. */
 static int check_method_options(uint32_t given, pvs_method method, uint32_t mask, const char *method_arg) {
-    uint32_t runs = method != PVS_METHOD_AUTO ? 1u << method
-                  : mask ? mask
-                  : (1u << PVS_METHOD_SHRINK) | (1u << PVS_METHOD_OTREE) | (1u << PVS_METHOD_EXTPROJ);
+    uint32_t runs = methods_run(method, mask);
     size_t k;
     for (k = 0; k < METHOD_OPTION_COUNT; ++k) {
         pvs_method m = method_options[k].method;
@@ -92,6 +99,51 @@ static int check_method_options(uint32_t given, pvs_method method, uint32_t mask
                 : m == PVS_METHOD_SAMPLE ? " (sample is never part of auto: --method sample)" : "");
         return 2;
     }
+    return 0;
+}
+
+/* Bytes one EXTPROJ task holds at once (pvs.h MEMORY): six directions of PVS__EP_PLANES float depth
+   maps with their pyramids (128 N^2), the sweep's byte masks with pyramids (8 N^2 per plane and
+   direction) and its summed-area tables (one per plane of a direction, or one when those would
+   pass 64 MiB). */
+static double extproj_task_bytes(uint32_t res, uint32_t sweep) {
+    double table = 4.0 * ((double)res + 1.0) * ((double)res + 1.0);
+    return (128.0 + 8.0 * sweep) * (double)res * (double)res + (!sweep ? 0.0 : sweep * table <= 64.0 * 1048576.0 ? sweep * table : table);
+}
+
+/* "1.5 GiB", or "300 MiB" below a GiB, into buf (32 bytes). */
+static const char *size_text(double bytes, char *buf) {
+    if (bytes >= 1073741824.0) snprintf(buf, 32, "%.1f GiB", bytes / 1073741824.0);
+    else snprintf(buf, 32, "%.0f MiB", bytes / 1048576.0);
+    return buf;
+}
+
+/* Fits the threads to the machine's memory when extproj may hold much of it: 2 (after a message)
+   when one thread does not fit, or when -j asked for more than fit; else lowers *threads (0: all
+   CPUs) to what fits, with a note. PVSBAKE_MEMORY (bytes) stands in for the machine's memory. */
+static int fit_threads_to_memory(uint32_t *threads, uint32_t res, uint32_t sweep, int quiet) {
+    const char *env = getenv("PVSBAKE_MEMORY");
+    double mem = env && *env ? strtod(env, NULL) : memory_bytes(), task = extproj_task_bytes(res, sweep), room = 0.9 * mem;
+    uint32_t want = *threads ? *threads : cpu_count(), fit;
+    char a[32], b[32], c[32];
+    if (!(mem > 0.0) || task * want <= room) return 0;
+    if (task > room) {
+        fprintf(stderr, "pvsbake: extproj at %u pixels with %u sweep planes needs about %s per thread, more than this "
+                        "machine's %s: lower --resolution or --sweep-planes\n(see pvsbake --help)\n",
+                res, sweep, size_text(task, a), size_text(mem, b));
+        return 2;
+    }
+    fit = (uint32_t)(room / task);
+    if (*threads) {
+        fprintf(stderr, "pvsbake: -j %u needs about %s for extproj (%s per thread), more than this machine's %s: use -j %u or "
+                        "fewer\n(see pvsbake --help)\n",
+                want, size_text(task * want, a), size_text(task, b), size_text(mem, c), fit);
+        return 2;
+    }
+    if (!quiet)
+        fprintf(stderr, "pvsbake: %u thread%s, not %u: extproj holds about %s per thread and the machine has %s\n", fit,
+                fit == 1 ? "" : "s", want, size_text(task, a), size_text(mem, b));
+    *threads = fit;
     return 0;
 }
 
@@ -410,6 +462,9 @@ int main(int argc, char **argv) {
     if (!cells_path == !(grid > 0.0f)) return usage_error("%s", "give exactly one of --cells FILE or --grid SIZE");
     if (vocc_only && method != PVS_METHOD_VOCC) return usage_error("%s", "--vocc-only needs --method vocc");
     if (check_method_options(given, method, methods, method_arg)) return 2;
+    if ((methods_run(method, methods) >> PVS_METHOD_EXTPROJ & 1u) &&
+        fit_threads_to_memory(&threads, resolution ? resolution : preview ? 64u : 256u, sweep, quiet))
+        return 2;
     if (min_cell > 0.0f && !adaptive) return usage_error("%s", "--min-cell needs --adaptive");
     if (no_state && (state_path || state_every_given)) return usage_error("%s", "--state and --state-every contradict --no-state");
 

@@ -254,6 +254,14 @@ uint32_t cpu_count(void) {
     return (uint32_t)n;
 }
 
+double memory_bytes(void) {
+#if defined(_SC_PHYS_PAGES) && defined(_SC_PAGESIZE)
+    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    if (pages > 0 && size > 0) return (double)pages * (double)size;
+#endif
+    return 0.0;
+}
+
 typedef struct pf__shared {
     pthread_mutex_t mutex;
     uint32_t next, count;

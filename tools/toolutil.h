@@ -80,6 +80,9 @@ void progress_end(progress *p);
 /* Number of online CPUs (at least 1). */
 uint32_t cpu_count(void);
 
+/* Physical memory in bytes, 0 when the system does not say. */
+double memory_bytes(void);
+
 /* Calls fn(user, index, thread) for every index in [0, count) exactly once, spread over `threads`
    threads (0 = cpu_count(); never more threads than indices) with dynamic scheduling (each thread
    takes the next unclaimed index). `thread` is in [0, threads used); the caller's own thread takes
