@@ -14327,7 +14327,7 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    density (1,000 leaves per tree, bushes as dense, 1 m cells; rays see about 2% of the objects)
    nothing is culled without the sweep, and with it about 1% at 256 pixels and 16 planes, 8% at
    512 and 32, 25% at 1024 and 64, 47% at 2048 and 64 (20 s per cell), 60% at 4096 and 64 (71 s,
-   8.6 GB): the planes ahead are 80% blocked, but the band just above the ground under the bushes
+   10 GiB): the planes ahead are 80% blocked, but the band just above the ground under the bushes
    stays open, and the box of every tree reaches the ground there. Experiments, not kept: the bushes
    lowered to the ground, 85%; each object's triangles tested instead of its box, 25% -> 35%; at
    1024 pixels, the sweep planes' occluders covered at 4 x 4 sub-pixels (a pixel blocked when the

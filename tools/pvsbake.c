@@ -31,12 +31,13 @@ static const char *usage =
     "                    occluders (foliage); slower\n"
     "  --sweep-planes N  extproj: the sweep with N planes per direction (1..256, --sweep: 16)\n"
     "  --resolution N    extproj: depth map pixels per side (16..4096, default 256, --preview 64);\n"
-    "                    foliage of small leaves needs 1024 and 64 sweep planes to fuse. The sweep\n"
-    "                    keeps about 8 x planes x N^2 bytes per thread (0.5 GiB at 1024 and 64);\n"
-    "                    without -j, fewer threads run when all would not fit in memory\n"
+    "                    foliage of small leaves needs 1024 and 64 sweep planes to fuse. extproj\n"
+    "                    keeps about (128 + 8 x planes) x N^2 bytes per thread (0.65 GiB at 1024\n"
+    "                    and 64). Without -j, only as many threads run as fit in 90% of the\n"
+    "                    machine's memory (PVSBAKE_MEMORY=BYTES sets the memory assumed)\n"
     "  --adaptive N      split a cell whose PVS holds more than N triangles in two, recursively\n"
-    "                    (Durand 2000 §6.1); the file holds the leaf cells. Not with --shard, vocc\n"
-    "                    or resuming (no state file)\n"
+    "                    (Durand 2000 §6.1); the file holds the leaf cells. Not with --shard,\n"
+    "                    --method vocc, --state or --state-every (no state file: no resuming)\n"
     "  --min-cell S      --adaptive: no cell side below S (default: an eighth of the cell's longest)\n"
     "  --vocc-only       vocc: store only the occluders (the PVS records list every object; the\n"
     "                    runtime rebuilds each cell's PVS with pvs_vocc_cull)\n"
@@ -128,15 +129,15 @@ static int fit_threads_to_memory(uint32_t *threads, uint32_t res, uint32_t sweep
     char a[32], b[32], c[32];
     if (!(mem > 0.0) || task * want <= room) return 0;
     if (task > room) {
-        fprintf(stderr, "pvsbake: extproj at %u pixels with %u sweep planes needs about %s per thread, more than this "
-                        "machine's %s: lower --resolution or --sweep-planes\n(see pvsbake --help)\n",
+        fprintf(stderr, "pvsbake: extproj at %u pixels with %u sweep planes needs about %s per thread, more than 90%% of "
+                        "this machine's %s: lower --resolution or --sweep-planes\n(see pvsbake --help)\n",
                 res, sweep, size_text(task, a), size_text(mem, b));
         return 2;
     }
     fit = (uint32_t)(room / task);
     if (*threads) {
-        fprintf(stderr, "pvsbake: -j %u needs about %s for extproj (%s per thread), more than this machine's %s: use -j %u or "
-                        "fewer\n(see pvsbake --help)\n",
+        fprintf(stderr, "pvsbake: -j %u needs about %s for extproj (%s per thread), more than 90%% of this machine's %s: use "
+                        "-j %u or fewer\n(see pvsbake --help)\n",
                 want, size_text(task * want, a), size_text(task, b), size_text(mem, c), fit);
         return 2;
     }
@@ -466,6 +467,8 @@ int main(int argc, char **argv) {
         fit_threads_to_memory(&threads, resolution ? resolution : preview ? 64u : 256u, sweep, quiet))
         return 2;
     if (min_cell > 0.0f && !adaptive) return usage_error("%s", "--min-cell needs --adaptive");
+    if (adaptive && (shard_n > 1 || method == PVS_METHOD_VOCC || state_path || state_every_given))
+        return usage_error("%s", "--adaptive does not go with --shard, --method vocc, --state or --state-every");
     if (no_state && (state_path || state_every_given)) return usage_error("%s", "--state and --state-every contradict --no-state");
 
     mesh_init(&m);
@@ -508,8 +511,9 @@ int main(int argc, char **argv) {
     }
     if (pvs_bake_begin(&bd, &bake, &pe) != PVS_OK) {
         /* a bad cell is the cells file's; a method that cannot handle the input, the scene's */
-        tool_error_set(&te, pe.result == PVS_ERROR_BAD_CELL ? (cells_path ? cells_path : "--grid") : pe.result == PVS_ERROR_UNSUPPORTED ? scene_path : "pvsbake",
-                       0, "%s", pe.message);
+        const char *where = pe.result == PVS_ERROR_BAD_CELL ? (cells_path ? cells_path : "--grid")
+                          : pe.result == PVS_ERROR_UNSUPPORTED ? scene_path : "pvsbake";
+        tool_error_set(&te, where, 0, "%s", pe.message);
         goto fail;
     }
     if (!quiet && pvs_bake_occluders(bake)) {

@@ -1,5 +1,8 @@
 /* toolutil.c - see toolutil.h */
 #define _POSIX_C_SOURCE 200809L
+#if defined(__APPLE__)
+#define _DARWIN_C_SOURCE /* sysconf(_SC_PHYS_PAGES) */
+#endif
 #include "toolutil.h"
 #include <errno.h>
 #include <fcntl.h>

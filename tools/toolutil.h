@@ -80,7 +80,7 @@ void progress_end(progress *p);
 /* Number of online CPUs (at least 1). */
 uint32_t cpu_count(void);
 
-/* Physical memory in bytes, 0 when the system does not say. */
+/* Physical memory in bytes (sysconf _SC_PHYS_PAGES: Linux, macOS), 0 when the system does not say. */
 double memory_bytes(void);
 
 /* Calls fn(user, index, thread) for every index in [0, count) exactly once, spread over `threads`
