@@ -285,7 +285,7 @@ static int cmp_slow(const void *a, const void *b) {
 }
 
 /* The statistics at the end of a bake: methods, PVS sizes, culled share, time per cell, slowest cells. */
-static void print_summary(const char *out_path, const pvs_scene *scene, const pvs_bake *bake, const cli_bake_run *run,
+static void print_summary(const char *out_path, const pvs_scene *scene, const pvs_bake *bake, const cli_bake_run *run, uint32_t threads,
                           const double *secs, double wall, double total, size_t size, int sharded) {
     uint32_t t, objects = pvs_scene_object_count(scene), tasks = pvs_bake_task_count(bake), max = 0, max_cell = 0, ran = 0, i;
     uint32_t drawable = 0; /* occluder-only objects are never in a PVS: shares are of the others */
@@ -321,9 +321,11 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
     share = drawable ? 100.0 * sum / tasks / drawable : 0.0;
     fprintf(stderr, "  mean PVS %.1f objects (%.1f%% of the %u drawable), max %u (cell %u); culled %.1f%% of them per cell\n", sum / tasks,
             share, drawable, max, max_cell, 100.0 - share);
+    if (threads > ran) threads = ran; /* never more threads than cells to bake */
     if (ran)
-        fprintf(stderr, "  time per cell %.2f ms (mean over the %u cells baked, each on one thread), bake %.2f s wall, %.2f s total\n",
-                1000.0 * tsum / ran, ran, wall, total);
+        fprintf(stderr, "  time per cell %.2f ms (mean over the %u cells baked, each on one thread), bake %.2f s wall on %u thread%s, "
+                        "%.2f s total\n",
+                1000.0 * tsum / ran, ran, wall, threads, threads == 1 ? "" : "s", total);
     if (run->resumed) fprintf(stderr, "  resumed: %u cells came from the state file, %u were baked now\n", run->resumed, ran);
     if (slow && ran > 1) {
         uint32_t show = ran < 5 ? ran : 5;
@@ -577,7 +579,7 @@ int main(int argc, char **argv) {
     if (!quiet && run.resumed) fprintf(stderr, "resumed %u of %u cells from %s\n", run.resumed, pvs_bake_task_count(bake), state_path);
     if (cli_write_bake(bake, out_path, &size, &te)) goto fail;
     if (run.state_path) remove(run.state_path);
-    if (!quiet) print_summary(out_path, scene, bake, &run, secs, t_bake, cli_seconds() - t0, size, shard_n > 1);
+    if (!quiet) print_summary(out_path, scene, bake, &run, threads ? threads : cpu_count(), secs, t_bake, cli_seconds() - t0, size, shard_n > 1);
     if (!quiet) {
         pvs_bake_report rep;
         pvs_bake_get_report(bake, &rep);
