@@ -206,6 +206,11 @@ void test_cli(void) {
              "--sweep --resolution 64", &out);
     CHECK(rc == 0 && (sysconf(_SC_NPROCESSORS_ONLN) < 2 || (strstr(out, "pvsbake: 1 thread, not ") && strstr(out, "wall on 1 thread,"))));
     free(out);
+    /* threads beyond the cells to bake are not counted: -j 2 with one cell needs one thread's memory */
+    write_str(DIR "/one.txt", "-3 0.5 -0.5 -2 1.5 0.5\n");
+    CHECK(run("PVSBAKE_MEMORY=250000000 ./pvsbake -q " DIR "/scene.obj -o " DIR "/one.pvs --cells " DIR "/one.txt --method extproj "
+              "--resolution 512 --sweep-planes 64 -j 2", &out) == 0);
+    free(out);
     CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/fit1.pvs --cells " DIR "/cells.txt --method extproj --sweep "
               "--resolution 64 -j 1", &out) == 0);
     free(out);

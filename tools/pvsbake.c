@@ -121,11 +121,13 @@ static const char *size_text(double bytes, char *buf) {
 
 /* Fits the threads to the machine's memory when extproj may hold much of it: 2 (after a message)
    when one thread does not fit, or when -j asked for more than fit; else lowers *threads (0: all
-   CPUs) to what fits, with a note. PVSBAKE_MEMORY (bytes) stands in for the machine's memory. */
-static int fit_threads_to_memory(uint32_t *threads, uint32_t res, uint32_t sweep, int quiet) {
+   CPUs) to what fits, with a note. Never counts more threads than `tasks` (the cells to bake).
+   PVSBAKE_MEMORY (bytes) stands in for the machine's memory. */
+static int fit_threads_to_memory(uint32_t *threads, uint32_t tasks, uint32_t res, uint32_t sweep, int quiet) {
     const char *env = getenv("PVSBAKE_MEMORY");
     double mem = env && *env ? strtod(env, NULL) : memory_bytes(), task = extproj_task_bytes(res, sweep), room = 0.9 * mem;
     uint32_t want = *threads ? *threads : cpu_count(), fit;
+    if (tasks && want > tasks) want = tasks;
     char a[32], b[32], c[32];
     if (!(mem > 0.0) || task * want <= room) return 0;
     if (task > room) {
@@ -465,9 +467,6 @@ int main(int argc, char **argv) {
     if (!cells_path == !(grid > 0.0f)) return usage_error("%s", "give exactly one of --cells FILE or --grid SIZE");
     if (vocc_only && method != PVS_METHOD_VOCC) return usage_error("%s", "--vocc-only needs --method vocc");
     if (check_method_options(given, method, methods, method_arg)) return 2;
-    if ((methods_run(method, methods) >> PVS_METHOD_EXTPROJ & 1u) &&
-        fit_threads_to_memory(&threads, resolution ? resolution : preview ? 64u : 256u, sweep, quiet))
-        return 2;
     if (min_cell > 0.0f && !adaptive) return usage_error("%s", "--min-cell needs --adaptive");
     if (adaptive && (shard_n > 1 || method == PVS_METHOD_VOCC || state_path || state_every_given))
         return usage_error("%s", "--adaptive does not go with --shard, --method vocc, --state or --state-every");
@@ -479,6 +478,12 @@ int main(int argc, char **argv) {
     t0 = cli_seconds();
     if (cli_load_scene(scene_path, up, &m, &scene, &te)) goto fail;
     if (cells_path ? cells_load(cells_path, &cells, &te) : cli_grid_cells(scene, grid, 10000000u, &cells, &te)) goto fail;
+    if ((methods_run(method, methods) >> PVS_METHOD_EXTPROJ & 1u) &&
+        fit_threads_to_memory(&threads, shard_n > 1 && shard_k <= cells.count ? (cells.count - shard_k) / shard_n + 1 : cells.count,
+                              resolution ? resolution : preview ? 64u : 256u, sweep, quiet)) {
+        rc = 2;
+        goto done;
+    }
 
     memset(&bd, 0, sizeof(bd));
     bd.scene = scene;
