@@ -206,6 +206,9 @@ void test_cli(void) {
              "--sweep --resolution 64", &out);
     CHECK(rc == 0 && (sysconf(_SC_NPROCESSORS_ONLN) < 2 || (strstr(out, "pvsbake: 1 thread, not ") && strstr(out, "wall on 1 thread,"))));
     free(out);
+    CHECK(run("PVSBAKE_MEMORY=lots ./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj", &out) == 2 &&
+          strstr(out, "PVSBAKE_MEMORY takes a positive number of bytes, not 'lots'"));
+    free(out);
     /* threads beyond the cells to bake are not counted: -j 2 with one cell needs one thread's memory */
     write_str(DIR "/one.txt", "-3 0.5 -0.5 -2 1.5 0.5\n");
     CHECK(run("PVSBAKE_MEMORY=250000000 ./pvsbake -q " DIR "/scene.obj -o " DIR "/one.pvs --cells " DIR "/one.txt --method extproj "

@@ -125,10 +125,14 @@ static const char *size_text(double bytes, char *buf) {
    PVSBAKE_MEMORY (bytes) stands in for the machine's memory. */
 static int fit_threads_to_memory(uint32_t *threads, uint32_t tasks, uint32_t res, uint32_t sweep, int quiet) {
     const char *env = getenv("PVSBAKE_MEMORY");
-    double mem = env && *env ? strtod(env, NULL) : memory_bytes(), task = extproj_task_bytes(res, sweep), room = 0.9 * mem;
+    char *end = NULL, a[32], b[32], c[32];
+    double mem = env && *env ? strtod(env, &end) : memory_bytes(), task = extproj_task_bytes(res, sweep), room = 0.9 * mem;
     uint32_t want = *threads ? *threads : cpu_count(), fit;
+    if (env && *env && (*end || !(mem > 0.0) || !(mem < 1e300))) {
+        fprintf(stderr, "pvsbake: PVSBAKE_MEMORY takes a positive number of bytes, not '%s'\n(see pvsbake --help)\n", env);
+        return 2;
+    }
     if (tasks && want > tasks) want = tasks;
-    char a[32], b[32], c[32];
     if (!(mem > 0.0) || task * want <= room) return 0;
     if (task > room) {
         fprintf(stderr, "pvsbake: extproj at %u pixels with %u sweep planes needs about %s per thread, more than 90%% of "
