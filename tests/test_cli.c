@@ -54,6 +54,17 @@ static int exists(const char *path) {
     return stat(path, &st) == 0;
 }
 
+/* 1 when both files exist and hold the same bytes. */
+static int same_bytes(const char *path_a, const char *path_b) {
+    char *a = slurp(path_a), *b = slurp(path_b);
+    struct stat sa, sb;
+    int same = a && b && stat(path_a, &sa) == 0 && stat(path_b, &sb) == 0 && sa.st_size == sb.st_size &&
+               memcmp(a, b, (size_t)sa.st_size) == 0;
+    free(a);
+    free(b);
+    return same;
+}
+
 /* A box of 12 triangles, as OBJ lines, with vertex offset base (1-based). */
 static void box_obj(char *dst, size_t cap, const char *name, float x0, float y0, float z0, float x1, float y1, float z1, int base) {
     snprintf(dst, cap,
@@ -217,13 +228,7 @@ void test_cli(void) {
     CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/fit1.pvs --cells " DIR "/cells.txt --method extproj --sweep "
               "--resolution 64 -j 1", &out) == 0);
     free(out);
-    {
-        char *f1 = slurp(DIR "/fit.pvs"), *f2 = slurp(DIR "/fit1.pvs");
-        struct stat s1, s2;
-        CHECK(f1 && f2 && stat(DIR "/fit.pvs", &s1) == 0 && stat(DIR "/fit1.pvs", &s2) == 0 && s1.st_size == s2.st_size &&
-              memcmp(f1, f2, (size_t)s1.st_size) == 0);
-        free(f1); free(f2);
-    }
+    CHECK(same_bytes(DIR "/fit.pvs", DIR "/fit1.pvs"));
     /* a method that cannot handle the scene names the scene file, not the cells file */
     write_str(DIR "/tri.obj", "o t\nv 0 0 0\nv 4 0 0\nv 0 4 0\nf 1 2 3\n");
     CHECK(run("./pvsbake " DIR "/tri.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method vocc", &out) == 1 &&
@@ -237,14 +242,8 @@ void test_cli(void) {
     CHECK(run("./pvsbake -q " DIR "/w.obj -o " DIR "/sw3.pvs --cells " DIR "/w.txt --method extproj --sweep --resolution 32 --sweep-planes 2", &out) == 0);
     free(out);
     CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/sw3.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
-    {
-        char *f1 = slurp(DIR "/sw1.pvs"), *f2 = slurp(DIR "/sw2.pvs"), *f3 = slurp(DIR "/sw3.pvs");
-        struct stat s1, s2, s3;
-        CHECK(f1 && f2 && f3 && stat(DIR "/sw1.pvs", &s1) == 0 && stat(DIR "/sw2.pvs", &s2) == 0 && stat(DIR "/sw3.pvs", &s3) == 0);
-        CHECK(f1 && f2 && s1.st_size == s2.st_size && memcmp(f1, f2, (size_t)s1.st_size) == 0);
-        CHECK(f1 && f3 && (s1.st_size != s3.st_size || memcmp(f1, f3, (size_t)s1.st_size) != 0)); /* the options reach the bake */
-        free(f1); free(f2); free(f3);
-    }
+    CHECK(same_bytes(DIR "/sw1.pvs", DIR "/sw2.pvs"));
+    CHECK(exists(DIR "/sw3.pvs") && !same_bytes(DIR "/sw1.pvs", DIR "/sw3.pvs")); /* the options reach the bake */
 
     /* a good bake; options in any order; identical bytes for 1 and 2 threads (-j2 spelt as make does) */
     rc = run("./pvsbake --method sample -q --cells " DIR "/cells.txt -o " DIR "/a.pvs -j 1 " DIR "/scene.obj --rays 256 --points 16", &out);
@@ -257,13 +256,7 @@ void test_cli(void) {
     CHECK(rc == 0 && strstr(out, "mean PVS 3.0 objects (100.0% of the 3 drawable)"));
     if (rc != 0 || !strstr(out, "(100.0% of the 3 drawable)")) fprintf(stderr, "  output: %s\n", out);
     free(out);
-    {
-        char *fa = slurp(DIR "/a.pvs"), *fb = slurp(DIR "/b.pvs");
-        struct stat sa, sb;
-        CHECK(fa && fb && stat(DIR "/a.pvs", &sa) == 0 && stat(DIR "/b.pvs", &sb) == 0 && sa.st_size == sb.st_size &&
-              memcmp(fa, fb, (size_t)sa.st_size) == 0);
-        free(fa); free(fb);
-    }
+    CHECK(same_bytes(DIR "/a.pvs", DIR "/b.pvs"));
     /* sharded bakes: parts merge into the bytes of the whole bake for N = 1, 2, 3, 7 */
     CHECK(run("./pvsgen indoor --seed 3 --size 0.3 --max-cells 30 -o " DIR "/in.obj --cells " DIR "/in.txt", &out) == 0); free(out);
     CHECK(run("./pvsbake --method sample -q " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/whole.pvs --rays 64 --points 4 -j 2", &out) == 0); free(out);
