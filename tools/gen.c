@@ -1048,6 +1048,13 @@ static int gen__forest(gen__ctx *c, const gen_params *P) {
     return c->err ? -1 : 0;
 }
 
+/* Leaves of cluster k of a tree's ncu: `drawn` (the default forest's count, drawn either way so
+   the random stream stays the same), or leaves_per_tree spread evenly over the clusters. */
+static int gen__cluster_leaves(const gen_params *P, int drawn, int ncu, int k) {
+    if (!P->leaves_per_tree) return drawn;
+    return (int)(P->leaves_per_tree / (uint32_t)ncu + ((uint32_t)k < P->leaves_per_tree % (uint32_t)ncu));
+}
+
 /* The dense forest (gen_params.dense), after Durand 2000 §7.2's test scene (7,750 trees of 1,000
    leaves, "coarse and made of large triangles"): trees 4.5 m apart whose foliage reaches down to
    eye height, and bushes between them, so that from inside the forest only the nearest few percent
@@ -1091,8 +1098,7 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
                     for (int k = 0; k < ncu; ++k) {
                         double f = (double)k / (ncu - 1), rad = R * (1.0 - 0.7 * f) * gen__rf(r, 0.85, 1.0);
                         double cy = y0 + rad * 0.6 + f * (ht - y0 - rad * 0.6), ts = LT * gen__rf(r, 0.5, 0.75);
-                        int nl = 18 + (int)gen__ri(r, 7);
-                        if (P->leaves_per_tree) nl = (int)(P->leaves_per_tree / (uint32_t)ncu + ((uint32_t)k < P->leaves_per_tree % (uint32_t)ncu));
+                        int nl = gen__cluster_leaves(P, 18 + (int)gen__ri(r, 7), ncu, k);
                         gen__leaves(c, x, cy, z, rad, nl, ts);
                     }
                 } else {
@@ -1102,8 +1108,7 @@ static int gen__forest_dense(gen__ctx *c, const gen_params *P) {
                         double rad = gen__rf(r, 1.2, 1.9), ts = LT * gen__rf(r, 0.5, 0.75);
                         double cx = x + gen__rf(r, -1.4, 1.4), cz = z + gen__rf(r, -1.4, 1.4);
                         double cy = gen__rf(r, y0 + rad * 0.7, gen__max(y0 + rad * 0.7, ht - 0.5));
-                        int nl = 18 + (int)gen__ri(r, 7);
-                        if (P->leaves_per_tree) nl = (int)(P->leaves_per_tree / (uint32_t)ncu + ((uint32_t)k < P->leaves_per_tree % (uint32_t)ncu));
+                        int nl = gen__cluster_leaves(P, 18 + (int)gen__ri(r, 7), ncu, k);
                         gen__leaves(c, cx, cy, cz, rad, nl, ts);
                     }
                 }
