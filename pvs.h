@@ -162,12 +162,12 @@
    kD-trees: about 100 bytes per triangle), pvs_bake_begin (the cells and one bitset per cell:
    cell_count * object_count / 8 bytes, and 40 bytes of statistics per cell), pvs_bake_run_task
    (AUTO: one bitset per method it runs; EXTPROJ (128 + 8 x sweep planes) x N^2 bytes of depth maps
-   and sweep masks at N x N pixels, plus the sweep's summed-area tables (4 (N + 1)^2 bytes per plane
-   of a direction up to 64 MiB): 8 MB at 256 pixels, 21 MB with 16 sweep planes, 0.7 GB at 1024 and
-   64; all freed before returning; adaptive cells: a box and a bitset per leaf, kept),
-   pvs_file_encode (scratch about 40 bytes per cell plus one bitset), pvs_raster_create (the depth
-   map and pyramid, the cull map), pvs_otree_create (about 250 bytes per tree node of its budget, 5
-   bytes per kD node and object). Allocates nothing: every pvs_file_* and pvs_cursor_* call, kD-tree
+   and sweep masks of N x N pixels each, plus the sweep's summed-area tables (4 (N^2 + N + 1 +
+   min(16 N, 16384)) bytes per plane of a direction up to 64 MiB): 8 MB at 256 pixels, 21 MB with
+   16 sweep planes, 0.7 GB at 1024 and 64; all freed before returning; adaptive cells: a box and a
+   bitset per leaf, kept), pvs_file_encode (scratch about 40 bytes per cell plus one bitset),
+   pvs_raster_create (the depth map and pyramid, the cull map), pvs_otree_create (about 250 bytes
+   per tree node of its budget, 5 bytes per kD node and object). Allocates nothing: every pvs_file_* and pvs_cursor_* call, kD-tree
    queries (caller scratch), pvs_raster_cull, pvs_raster_cull_map and pvs_otree_cull per frame,
    pvs_vocc_cull (caller scratch: pvs_vocc_cull_scratch_size). A .pvs file is used in
    place; it needs no copy.
@@ -1293,7 +1293,8 @@ typedef struct pvs_bake_desc {
     uint32_t sample_rays;     /* SAMPLE: rays per point, 0 = 2048 */
     uint64_t seed;            /* SAMPLE: random seed */
     uint32_t max_chain;       /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
-    uint32_t extproj_resolution; /* EXTPROJ: depth map pixels per side, 0 = 256; 16..4096 */
+    uint32_t extproj_resolution; /* EXTPROJ: N x N pixels per plane, 0 = 256; 16..4096 (the sweep's planes spread
+                                    them as square pixels over the part of the plane the cell and scene span) */
     uint32_t extproj_occluders;  /* EXTPROJ: occluders projected on the planes of §6.1, 0 = 128; <= 65536 (the
                                     sweep's planes take every occluder between them) */
     uint32_t extproj_sweep;      /* EXTPROJ: occlusion sweep (Durand 2000 §5): at most this many planes per
@@ -14308,8 +14309,9 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    distance bands, each just behind the occluder whose candidate plane fills the most pixels), each a
    256 x 256 depth map with the Projections, the slices of the closed meshes and of the sheets'
    solids, and a max pyramid; with the sweep, extproj_sweep more planes per direction from one cell
-   size out to the scene's far end, holding reprojected umbrae and the Projections of every
-   occluder between them (§5). Then the
+   size out to the scene's far end, each cut to the span of the cell and the scene with 256 x 256
+   pixels spread over that as square pixels (pvs__ep_fit_plane), holding reprojected umbrae and the
+   Projections of every occluder between them (§5). Then the
    object kD-tree front to back, skipping hidden nodes, an object visible when a part of its box
    cut by a leaf is; boxes in front of a plane use the improved Projection (§4). Objects meeting
    the cell are always visible.
@@ -14325,20 +14327,20 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    of about 1 m per tree) culls nothing, with or without the sweep (16 planes at 256 pixels, 64 at
    512); rays aimed at each object see a quarter of the objects from its cells. At the paper's
    density (1,000 leaves per tree, bushes as dense, 1 m cells; rays see about 2% of the objects)
-   nothing is culled without the sweep, and with it about 1% at 256 pixels and 16 planes, 8% at
-   512 and 32, 25% at 1024 and 64, 47% at 2048 and 64 (20 s per cell), 60% at 4096 and 64 (71 s,
-   10 GiB): the planes ahead are 80% blocked, but the band just above the ground under the bushes
-   stays open, and the box of every tree reaches the ground there. Experiments, not kept: the bushes
-   lowered to the ground, 85%; each object's triangles tested instead of its box, 25% -> 35%; at
-   1024 pixels, the sweep planes' occluders covered at 4 x 4 sub-pixels (a pixel blocked when the
-   union covers it), 31%, and sub-pixel distances into the blocked region carried through the
-   reprojections (a kernel erodes by its true width, not by whole pixels), 28%: the gain of
-   resolution is spread over coverage, reprojection and the occludees' rectangles; with cells of
-   0.25 m instead of 1 m, 65%, but the union of four horizontal slabs of a 1 m cell, 30%. Rays from
-   the cells' bottom faces reach about 1% of the trunk bases beyond 50 m, while the trunks alone (an
-   exact 2D from-region test of their sections) hide only about a fifth of all trunk sections: the
-   band is closed by bush leaves and trunks together, in depth, which one binary umbra per plane
-   does not capture. */
+   nothing is culled without the sweep, and with it 8% at 256 pixels and 16 planes (3 s per cell),
+   35% at 512 and 32 (4 s), 59% at 1024 and 64 (9 s), 65% at 2048 and 64 (24 s); before the planes
+   were fitted to the scene's span (pvs__ep_fit_plane) these were 1%, 8%, 25% and 47%, and 4096
+   pixels gave 60% (71 s, 10 GiB). The planes ahead are 80% blocked, but the band just above the
+   ground under the bushes stays partly open, and the box of every tree reaches the ground there.
+   Experiments on square planes, not kept: the bushes lowered to the ground, 85%; each object's
+   triangles tested instead of its box, 25% -> 35%; at 1024 pixels, the sweep planes' occluders
+   covered at 4 x 4 sub-pixels (a pixel blocked when the union covers it), 31%, and sub-pixel
+   distances into the blocked region carried through the reprojections (a kernel erodes by its true
+   width, not by whole pixels), 28%; with cells of 0.25 m instead of 1 m, 65%, but the union of four
+   horizontal slabs of a 1 m cell, 30%. Rays from the cells' bottom faces reach about 1% of the trunk
+   bases beyond 50 m, while the trunks alone (an exact 2D from-region test of their sections) hide
+   only about a fifth of all trunk sections: the band is closed by bush leaves and trunks together,
+   in depth, which one binary umbra per plane does not capture. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
@@ -14349,6 +14351,7 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 #define PVS__EP_PLANES 4                              /* planes per direction (§6.1) */
 #define PVS__EP_PLANE_RATIO 1.7                       /* their distance bands */
 #define PVS__EP_SAT_CACHE ((size_t)64 << 20)          /* bytes of the sweep's summed-area tables */
+#define PVS__EP_MAX_SIDE 16384u                       /* longest side of a sweep mask, in pixels */
 
 typedef struct pvs__epframe {
     int a, u, v;
@@ -14357,14 +14360,16 @@ typedef struct pvs__epframe {
     uint32_t width, height;
 } pvs__epframe;
 
-PVS__STATIC int pvs__ep_frame(const pvs_extproj_plane *pl, pvs__epframe *f) {
+/* The frame of a plane whose sides are at most max_side pixels (4096 for the public functions,
+   PVS__EP_MAX_SIDE for the sweep's fitted masks, pvs__ep_fit_plane); 0 if the plane is bad. */
+PVS__STATIC int pvs__ep_frame_max(const pvs_extproj_plane *pl, uint32_t max_side, pvs__epframe *f) {
     int k;
     if (!pl || pl->axis > 2 || (pl->side != 1 && pl->side != -1) || !pvs__box_valid(&pl->cell)) return 0;
     if (!pvs__finite(pl->distance) || !(pl->distance > 0.0f)) return 0;
     for (k = 0; k < 4; ++k)
         if (!pvs__finite(pl->rect[k])) return 0;
     if (!(pl->rect[2] > pl->rect[0]) || !(pl->rect[3] > pl->rect[1])) return 0;
-    if (pl->width < 1 || pl->width > 4096 || pl->height < 1 || pl->height > 4096) return 0;
+    if (pl->width < 1 || pl->width > max_side || pl->height < 1 || pl->height > max_side) return 0;
     f->a = (int)pl->axis;
     f->u = (f->a + 1) % 3;
     f->v = (f->a + 2) % 3;
@@ -14383,6 +14388,8 @@ PVS__STATIC int pvs__ep_frame(const pvs_extproj_plane *pl, pvs__epframe *f) {
     f->height = pl->height;
     return 1;
 }
+
+PVS__STATIC int pvs__ep_frame(const pvs_extproj_plane *pl, pvs__epframe *f) { return pvs__ep_frame_max(pl, 4096u, f); }
 
 PVS__STATIC double pvs__ep_tri_normal(const float *a, const float *b, const float *c, double n[3]) {
     double e1[3], e2[3];
@@ -16034,9 +16041,10 @@ typedef struct pvs__epslicer {
     double *seg;
     double *xs;
     unsigned char *row;
-    unsigned char *cmark;    /* width * width: pixels in the penumbra of a concave occluder's boundary */
+    unsigned char *cmark;    /* res * res (no map or mask has more pixels): pixels in the penumbra of a
+                                concave occluder's boundary */
     size_t cap;          /* segments */
-    uint32_t width;      /* row buffer */
+    uint32_t width;      /* row buffer: the longest side of a map or mask */
 } pvs__epslicer;
 
 /* The point where edge a-b (a on the near side of the plane, b on the far side) crosses w = W, in
@@ -16679,7 +16687,7 @@ typedef struct pvs__epsel {
 } pvs__epsel;
 
 typedef struct pvs__epparams {
-    uint32_t res;        /* depth map pixels per side */
+    uint32_t res;        /* pixels per plane: res x res (a sweep mask spreads them, pvs__ep_fit_plane) */
     uint32_t max_occ;    /* occluders projected per direction onto the planes of §6.1 */
     uint32_t sweep;      /* occlusion sweep planes per direction (§5), 0 = no sweep */
 } pvs__epparams;
@@ -16864,6 +16872,75 @@ PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32
     pl->width = pl->height = res;
 }
 
+/* The sweep's masks cover only the part of their plane that matters, with the pixels of a res x res
+   map spread over it as square pixels (pvs__ep_fit_plane). Their longest side: */
+PVS__STATIC uint32_t pvs__ep_max_side(uint32_t res) { return 16u * res < PVS__EP_MAX_SIDE ? 16u * res : PVS__EP_MAX_SIDE; }
+
+/* Pixels of a w x h map with `levels` pyramid levels above it. */
+PVS__STATIC size_t pvs__ep_pyramid_size(uint32_t w, uint32_t h, uint32_t levels) {
+    size_t n = 0;
+    uint32_t k;
+    for (k = 0; k <= levels; ++k) {
+        n += (size_t)w * h;
+        w = (w + 1) / 2;
+        h = (h + 1) / 2;
+    }
+    return n;
+}
+
+/* Counts in one summed-area table of a mask: (w + 1) (h + 1) <= res^2 + w + h + 1, and with
+   w h <= res^2 and w, h <= side, w + h <= side + res. */
+PVS__STATIC size_t pvs__ep_sat_table(uint32_t res) { return (size_t)res * res + pvs__ep_max_side(res) + res + 1; }
+
+/* Fits a plane of the occlusion sweep (§5) to the part of it that can hide anything, and spreads a
+   res x res map's pixels over that part as (nearly) square pixels, in at most `room` pixels with
+   the pyramid's `levels`. On each axis the rectangle is cut to the span of the cell and the scene's
+   bounds (plus a sliver, as Projections are rounded outward); the pixels outside count as open,
+   which is conservative. Nothing that could hide is lost: a mask is read only by the occludees
+   beyond it (pvs__ep_box_hidden; §3.1) and by the reprojection onto farther planes (§5.1), and a
+   ray from a cell point to a point beyond the plane crosses it at a blend of the two, inside the
+   span. The occluders beyond the rectangle's edge are still skipped rightly (pvs__epslab): the cut
+   rectangle holds the cell's span. The gain is on flat scenes: seen from a cell on the ground, the
+   planes of the four horizontal directions reach 1.5 times their distance up and down, while the
+   scene may be a few metres high, so a square map spent most of its rows on sky and underground.
+   Measured (2026-11-24, bench_extproj): the demo city with the sweep, PVS over the ray-sampled sets
+   1.50 -> 1.38; the forest at the paper's density (1 m cells, 1024 pixels, 64 planes) culls 59.0%
+   instead of 25.6%, its planes up to about 4300 x 250 pixels. §6.1's planes are not fitted: an
+   occludee in front of one (§4) is often hidden by pixels outside the span (a table, by the floor's
+   Projection below the floor); fitted, extproj without the sweep went 2.80 -> 2.56 on the city but
+   1.9 -> 2.14 indoors (bench_auto). */
+PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels, size_t room, pvs_extproj_plane *pl) {
+    int a = (int)pl->axis, k;
+    uint32_t side = pvs__ep_max_side(res);
+    double len[2], w, h, px = (double)res * res;
+    for (k = 0; k < 2; ++k) {
+        int ax = k ? (a + 2) % 3 : (a + 1) % 3;
+        double lo = pvs__dmin(cell->min[ax], bounds->min[ax]), hi = pvs__dmax(cell->max[ax], bounds->max[ax]), m = (hi - lo) / 512.0;
+        float r0 = (double)pl->rect[k] < lo - m ? pvs__f_down(lo - m) : pl->rect[k];
+        float r1 = (double)pl->rect[k + 2] > hi + m ? pvs__f_up(hi + m) : pl->rect[k + 2];
+        if (r1 > r0) { /* else a flat cell in a flat scene: the plane stays as it was */
+            pl->rect[k] = r0;
+            pl->rect[k + 2] = r1;
+        }
+        len[k] = (double)pl->rect[k + 2] - pl->rect[k];
+    }
+    if (!(len[0] > 0.0) || !(len[1] > 0.0)) return; /* left for pvs__ep_frame_max to refuse */
+    w = floor((double)res * sqrt(len[0] / len[1]));
+    w = w < 1.0 ? 1.0 : w > side ? side : w;
+    h = floor(px / w);
+    h = h < 1.0 ? 1.0 : h > side ? side : h;
+    w = floor(px / h);
+    w = w > side ? side : w;
+    pl->width = (uint32_t)w;
+    pl->height = (uint32_t)h;
+    /* w h <= res^2, but each pyramid level rounds its sides up: a long thin map may need a few
+       pixels more than a square one */
+    while (pvs__ep_pyramid_size(pl->width, pl->height, levels) > room) {
+        if (pl->width >= pl->height) --pl->width;
+        else --pl->height;
+    }
+}
+
 /* Per-cell scratch. */
 typedef struct pvs__epscratch {
     pvs__epsel *sel;
@@ -16877,6 +16954,8 @@ typedef struct pvs__epscratch {
     pvs_word *seen;
     size_t nsel, map_floats, mask_bytes, sweep_size, nmask, seen_words;
     size_t sat_count;    /* summed-area tables: the sweep's planes of one direction, or 1 (too big) */
+    size_t sat_table;    /* counts per table: enough for any mask (pvs__ep_fit_plane) */
+    size_t range_count;  /* int32s in `ranges`: 2 x (width + height) of any mask */
     uint32_t *stamp;     /* the sweep: one per occluder (pvs__epslab) */
     size_t stamp_count;
 } pvs__epscratch;
@@ -16886,11 +16965,11 @@ PVS__STATIC void pvs__ep_scratch_free(const pvs_allocator *al, pvs__epscratch *w
     pvs__free_array(al, w->maps, 6 * PVS__EP_PLANES * w->map_floats, sizeof(float));
     pvs__free_array(al, w->masks, w->nmask * w->mask_bytes, 1);
     pvs__free_array(al, w->mask_hdr, w->nmask, sizeof(pvs__epmask));
-    pvs__free_array(al, w->sat, w->sat_count * ((size_t)res + 1) * ((size_t)res + 1), sizeof(uint32_t));
-    pvs__free_array(al, w->ranges, 4 * (size_t)res, sizeof(int32_t));
+    pvs__free_array(al, w->sat, w->sat_count * w->sat_table, sizeof(uint32_t));
+    pvs__free_array(al, w->ranges, w->range_count, sizeof(int32_t));
     pvs__free_array(al, w->slicer.seg, 4 * w->slicer.cap, sizeof(double));
     pvs__free_array(al, w->slicer.xs, 2 * w->slicer.cap, sizeof(double));
-    pvs__free_array(al, w->slicer.row, res, 1);
+    pvs__free_array(al, w->slicer.row, w->slicer.width, 1);
     pvs__free_array(al, w->slicer.cmark, (size_t)res * res, 1);
     pvs__free(al, w->sweep, w->sweep_size, 16);
     pvs__free_array(al, w->seen, w->seen_words, sizeof(pvs_word));
@@ -17066,8 +17145,8 @@ PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_pre
 }
 
 /* Sets up a map's pyramid levels over `base`. */
-PVS__STATIC void pvs__ep_levels(uint32_t res, uint32_t levels, uint32_t *lw, uint32_t *lh, size_t elem, void *base, void **lv) {
-    uint32_t k, w = res, h = res;
+PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_t *lw, uint32_t *lh, size_t elem, void *base, void **lv) {
+    uint32_t k;
     unsigned char *b = (unsigned char *)base;
     for (k = 0; k <= levels; ++k) {
         lw[k] = w;
@@ -17148,7 +17227,7 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
         }
         pvs__ep_make_plane(cell, d, W, prm->res, &m->plane);
         m->levels = levels;
-        pvs__ep_levels(prm->res, levels, m->lw, m->lh, sizeof(float), mem + (size_t)q * map_floats, (void **)m->lv);
+        pvs__ep_levels(prm->res, prm->res, levels, m->lw, m->lh, sizeof(float), mem + (size_t)q * map_floats, (void **)m->lv);
         for (k = 0; k < prm->res * prm->res; ++k) m->lv[0][k] = PVS_EXTPROJ_EMPTY;
         if (!pvs__ep_frame(&m->plane, &m->frame)) continue;
         for (k = 0; k < n; ++k) {
@@ -17169,7 +17248,7 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
    conservative occluder itself). Equivalent to the convolution of §5.1 with the inverse image of the
    cell as kernel, conservatively rasterized, keeping only fully black pixels; here the kernel is
    taken per row and column from the true cell (pvs__ep_reproject_axis) and a summed-area table of
-   from's open pixels (pvs__ep_mask_sat) decides each pixel. `ranges` holds 4 res. */
+   from's open pixels (pvs__ep_mask_sat) decides each pixel. `ranges` holds 2 (width + height) of `to`. */
 PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, pvs__epmask *to, int32_t *ranges) {
     unsigned char *mask = to->lv[0];
     uint32_t fw = from->plane.width, fh = from->plane.height, tw = to->plane.width, th = to->plane.height, x, y, W1 = fw + 1;
@@ -17221,11 +17300,11 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
    chain of one reprojection per plane would add that up plane after plane (32 planes lose two
    thirds of a large blocked region), while the umbra itself does not depend on the spacing; with
    the skips a region blocked on plane j reaches plane k in at most log2(k - j) + 1 steps. With
-   `cached`, sat holds the tables of ms[0 ..] (pvs__ep_mask_sat), one after another; else it is
+   `cached`, sat holds the tables of ms[0 ..] (pvs__ep_mask_sat), `stride` counts apart; else it is
    scratch for one. */
-PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat, int cached, int32_t *ranges) {
+PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat, size_t stride, int cached,
+                                         int32_t *ranges) {
     uint32_t back;
-    size_t stride = ((size_t)ms->plane.width + 1) * ((size_t)ms->plane.height + 1);
     for (back = 1; back <= count; back *= 2) {
         if (cached) pvs__ep_reproject_sat(ms + count - back, sat + (size_t)(count - back) * stride, to, ranges);
         else pvs__ep_reproject(ms + count - back, to, sat, ranges);
@@ -17319,7 +17398,6 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
     double ext = (double)cell->max[a] - cell->min[a], C = pvs__dmax((double)cell->max[u] - cell->min[u], (double)cell->max[v] - cell->min[v]);
     double W0 = DBL_MAX, Wend = 0.0, W, Wprev = 0.0, ratio;
     uint32_t k, count = 0, res = prm->res;
-    size_t npx = (size_t)res * res;
     pvs__epslab sl;
     pvs_result r = PVS_OK;
     *planes = 0;
@@ -17357,12 +17435,14 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
         pvs__epmask *m = ms + count;
         unsigned char *mask;
         pvs__ep_make_plane(cell, d, W, res, &m->plane);
-        if (!pvs__ep_frame(&m->plane, &m->frame)) break;
+        pvs__ep_fit_plane(cell, &s->bounds, res, levels, w->mask_bytes, &m->plane);
+        if (!pvs__ep_frame_max(&m->plane, PVS__EP_MAX_SIDE, &m->frame)) break;
         m->levels = levels;
-        pvs__ep_levels(res, levels, m->lw, m->lh, 1, w->masks + (size_t)((ms - w->mask_hdr) + count) * w->mask_bytes, (void **)m->lv);
+        pvs__ep_levels(m->plane.width, m->plane.height, levels, m->lw, m->lh, 1,
+                       w->masks + (size_t)((ms - w->mask_hdr) + count) * w->mask_bytes, (void **)m->lv);
         mask = m->lv[0];
-        memset(mask, 0, npx);
-        pvs__ep_reproject_sweep(ms, count, m, w->sat, w->sat_count == prm->sweep, w->ranges);
+        memset(mask, 0, (size_t)m->plane.width * m->plane.height);
+        pvs__ep_reproject_sweep(ms, count, m, w->sat, w->sat_table, w->sat_count == prm->sweep, w->ranges);
         sl.prev = count ? ms + count - 1 : NULL;
         sl.m = m;
         sl.W = m->frame.W;
@@ -17379,7 +17459,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
             if (r != PVS_OK) return r;
         }
         pvs__ep_slices(s, p, cell, &m->plane, &m->frame, &w->slicer, sheet_side, NULL, mask);
-        if (w->sat_count == prm->sweep) pvs__ep_mask_sat(m, w->sat + (size_t)count * ((size_t)res + 1) * ((size_t)res + 1));
+        if (w->sat_count == prm->sweep) pvs__ep_mask_sat(m, w->sat + (size_t)count * w->sat_table);
         pvs__ep_build_mask_pyramid(m);
         Wprev = m->frame.W;
         W *= ratio;
@@ -17434,23 +17514,25 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     w.seen_words = PVS_BITSET_WORDS(p->occ_count);
     w.seen = (pvs_word *)pvs__alloc_array(al, w.seen_words, sizeof(pvs_word));
     w.slicer.cap = (size_t)p->max_slice_segments + 4;
-    w.slicer.width = prm->res;
+    w.slicer.width = prm->sweep ? pvs__ep_max_side(prm->res) : prm->res;
     w.sel = (pvs__epsel *)pvs__alloc_array(al, w.nsel, sizeof(pvs__epsel));
     w.maps = (float *)pvs__alloc_array(al, 6 * PVS__EP_PLANES * w.map_floats, sizeof(float));
     w.slicer.seg = (double *)pvs__alloc_array(al, 4 * w.slicer.cap, sizeof(double));
     w.slicer.xs = (double *)pvs__alloc_array(al, 2 * w.slicer.cap, sizeof(double));
-    w.slicer.row = (unsigned char *)pvs__alloc_array(al, prm->res, 1);
+    w.slicer.row = (unsigned char *)pvs__alloc_array(al, w.slicer.width, 1);
     w.slicer.cmark = (unsigned char *)pvs__alloc_array(al, (size_t)prm->res * prm->res, 1);
     w.sweep = pvs__alloc(al, w.sweep_size, 16);
     if (prm->sweep) {
-        size_t table = ((size_t)prm->res + 1) * ((size_t)prm->res + 1);
+        size_t table = pvs__ep_sat_table(prm->res);
         w.masks = (unsigned char *)pvs__alloc_array(al, w.nmask * w.mask_bytes, 1);
         w.mask_hdr = (pvs__epmask *)pvs__alloc_array(al, w.nmask, sizeof(pvs__epmask));
         /* one table per plane of a direction (each is read by up to log2(sweep) + 1 later planes),
            unless that is more than PVS__EP_SAT_CACHE bytes: then one, rebuilt for each use */
         w.sat_count = (size_t)prm->sweep * table * sizeof(uint32_t) <= PVS__EP_SAT_CACHE ? prm->sweep : 1;
+        w.sat_table = table;
         w.sat = (uint32_t *)pvs__alloc_array(al, w.sat_count * table, sizeof(uint32_t));
-        w.ranges = (int32_t *)pvs__alloc_array(al, 4 * (size_t)prm->res, sizeof(int32_t));
+        w.range_count = 2 * ((size_t)pvs__ep_max_side(prm->res) + prm->res);
+        w.ranges = (int32_t *)pvs__alloc_array(al, w.range_count, sizeof(int32_t));
         w.stamp_count = p->occ_count ? p->occ_count : 1;
         w.stamp = (uint32_t *)pvs__alloc_array(al, w.stamp_count, sizeof(uint32_t));
         if (w.stamp) memset(w.stamp, 0, w.stamp_count * sizeof(uint32_t));

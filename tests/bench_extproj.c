@@ -12,7 +12,7 @@
    the 10 m tiles of the clearings, and at least 30 m from its edge).
    The forest1000 lines: the dense forest at the paper's density (gen leaves_per_tree 1000, bushes
    as dense, 4.6M triangles) with 1 m cells, baked at 1024 pixels and FOREST1000_PLANES sweep planes
-   per direction (at the defaults, 256 and 16, the sweep culls about 1% there).
+   per direction (at the defaults, 256 and 16, the sweep culls about 8% there).
    extproj_reference_visible_pct_forest: mean share of the objects the ray-sampled reference sees
    from those cells (the most any conservative method could cull is 100 minus this).
    extproj_reference_visible_pct_forest_aimed: the same on FOREST_AIMED_CELLS of those cells (1 for

@@ -593,16 +593,76 @@ static void test_sheets(void) {
     pvs_scene_destroy(s);
 }
 
+/* pvs__ep_fit_plane on random cells, scenes (flat, tall, degenerate: a scene of zero height,
+   smaller than the cell, or flat with a flat cell in it), resolutions and distances: a res x res map's pixels at most, sides within
+   the limit, the pyramid within its room, the rectangle inside the plane's and over the cell's span,
+   and a plane pvs__ep_frame_max accepts; on a flat scene the pixels come out nearly square (unless
+   a side is at its limit or a few pixels long). */
+static void test_fit_plane(void) {
+    int iter, bad = 0, square_ok = 0, flat_runs = 0;
+    for (iter = 0; iter < 2000; ++iter) {
+        pvs_box cell, bounds;
+        pvs_extproj_plane pl, orig;
+        pvs__epframe f;
+        uint32_t res = 16u << (iter % 9), levels = 0, ww = res, hh = res;
+        size_t room;
+        int d = iter % 6, a = d >> 1, k, kind = (iter / 6) % 5;
+        double W = ep_rndf(0.01f, 500.0f);
+        for (k = 0; k < 3; ++k) {
+            cell.min[k] = ep_rndf(-50.0f, 50.0f);
+            cell.max[k] = cell.min[k] + ep_rndf(0.01f, 10.0f);
+            bounds.min[k] = ep_rndf(-300.0f, 0.0f);
+            bounds.max[k] = bounds.min[k] + (kind == 0 ? ep_rndf(0.0f, 600.0f) : kind == 1 ? 0.0f : ep_rndf(0.0f, 3.0f));
+        }
+        if (kind == 3) bounds = cell;
+        if (kind == 4) { /* a flat cell in a scene flat on the same plane: that axis is left alone */
+            int ax = (a + 1 + iter % 2) % 3;
+            cell.max[ax] = cell.min[ax];
+            bounds.min[ax] = bounds.max[ax] = cell.min[ax];
+        }
+        if (kind == 1) { /* flat: the scene of the forest or a city, seen sideways */
+            bounds.min[(a + 2) % 3] = -300.0f;
+            bounds.max[(a + 2) % 3] = 300.0f;
+        }
+        while ((ww > 1 || hh > 1) && levels < 13) {
+            ww = (ww + 1) / 2;
+            hh = (hh + 1) / 2;
+            ++levels;
+        }
+        room = pvs__ep_pyramid_size(res, res, levels);
+        pvs__ep_make_plane(&cell, d, W, res, &orig);
+        pl = orig;
+        pvs__ep_fit_plane(&cell, &bounds, res, levels, room, &pl);
+        if (!pvs__ep_frame_max(&pl, PVS__EP_MAX_SIDE, &f)) { ++bad; continue; }
+        if ((size_t)pl.width * pl.height > (size_t)res * res || pl.width > pvs__ep_max_side(res) || pl.height > pvs__ep_max_side(res)) ++bad;
+        if (pvs__ep_pyramid_size(pl.width, pl.height, levels) > room || ((size_t)pl.width + 1) * (pl.height + 1) > pvs__ep_sat_table(res)) ++bad;
+        for (k = 0; k < 2; ++k) {
+            int ax = k ? (a + 2) % 3 : (a + 1) % 3;
+            if (pl.rect[k] < orig.rect[k] || pl.rect[k + 2] > orig.rect[k + 2]) ++bad;
+            if (pl.rect[k] > cell.min[ax] || pl.rect[k + 2] < cell.max[ax]) ++bad;
+        }
+        if (kind == 1 && pl.width + 16 < pvs__ep_max_side(res) && pl.height + 16 < pvs__ep_max_side(res) && pl.width >= 4 && pl.height >= 4) {
+            double pu = ((double)pl.rect[2] - pl.rect[0]) / pl.width, pv = ((double)pl.rect[3] - pl.rect[1]) / pl.height;
+            ++flat_runs;
+            square_ok += pu / pv < 2.0 && pv / pu < 2.0;
+        }
+    }
+    CHECK(bad == 0);
+    CHECK(flat_runs > 100 && square_ok == flat_runs);
+    if (bad || square_ok != flat_runs) fprintf(stderr, "extproj: fit_plane %d bad, %d of %d flat planes square\n", bad, square_ok, flat_runs);
+}
+
 /* The reprojection of the sweep (§5.1): a pixel it blocks on the farther plane is crossed on the
-   nearer plane, by every sampled ray from the cell through it, inside a blocked pixel. */
+   nearer plane, by every sampled ray from the cell through it, inside a blocked pixel. Every other
+   pair of planes is fitted to a flat scene (pvs__ep_fit_plane): two different long thin shapes. */
 static void test_reprojection(void) {
-    int iter, bad = 0, marked = 0;
+    int iter, bad = 0, marked = 0, fitted = 0;
     for (iter = 0; iter < 200; ++iter) {
         pvs_box cell;
         pvs__epmask from, to;
         unsigned char m0[64 * 64], m1[64 * 64];
-        uint32_t sat[65 * 65], x, y, r;
-        int32_t ranges[4 * 64];
+        uint32_t sat[64 * 64 + 16 * 64 + 64 + 1], x, y, r, fw, fh, tw, th;
+        int32_t ranges[2 * (16 * 64 + 64)];
         int a = (int)(ep_rnd() * 3.0) % 3, side = ep_rnd() < 0.5 ? 1 : -1, k;
         double W0 = ep_rndf(0.5f, 10.0f), W1 = W0 * ep_rndf(1.05f, 2.0f);
         for (k = 0; k < 3; ++k) {
@@ -613,35 +673,51 @@ static void test_reprojection(void) {
         memset(&to, 0, sizeof(to));
         pvs__ep_make_plane(&cell, 2 * a + (side > 0 ? 0 : 1), W0, 64, &from.plane);
         pvs__ep_make_plane(&cell, 2 * a + (side > 0 ? 0 : 1), W1, 64, &to.plane);
-        if (!pvs__ep_frame(&from.plane, &from.frame) || !pvs__ep_frame(&to.plane, &to.frame)) continue;
+        if (iter % 2) { /* the fitted planes (pvs__ep_fit_plane): cut to a flat scene, long and thin, of different shapes */
+            pvs_box flat = cell;
+            flat.min[(a + 1) % 3] -= ep_rndf(0.0f, 0.5f);
+            flat.max[(a + 1) % 3] += ep_rndf(0.0f, 0.5f);
+            flat.min[(a + 2) % 3] -= ep_rndf(5.0f, 40.0f);
+            flat.max[(a + 2) % 3] += ep_rndf(5.0f, 40.0f);
+            pvs__ep_fit_plane(&cell, &flat, 64, 0, 64 * 64, &from.plane);
+            pvs__ep_fit_plane(&cell, &flat, 64, 0, 64 * 64, &to.plane);
+        }
+        if (!pvs__ep_frame_max(&from.plane, PVS__EP_MAX_SIDE, &from.frame) || !pvs__ep_frame_max(&to.plane, PVS__EP_MAX_SIDE, &to.frame)) continue;
+        fw = from.plane.width;
+        fh = from.plane.height;
+        tw = to.plane.width;
+        th = to.plane.height;
+        CHECK(fw * fh <= 64 * 64 && tw * th <= 64 * 64 && fw <= 16 * 64 && fh <= 16 * 64 && tw <= 16 * 64 && th <= 16 * 64);
+        CHECK((fw + 1) * (fh + 1) <= pvs__ep_sat_table(64) && 2 * (tw + th) <= 2 * (16 * 64 + 64));
+        if (iter % 2) fitted += fw != fh;
         from.lv[0] = m0;
         to.lv[0] = m1;
         /* blocked blobs: a few random rectangles */
         memset(m0, 0, sizeof(m0));
         memset(m1, 0, sizeof(m1));
         for (r = 0; r < 4; ++r) {
-            uint32_t x0 = (uint32_t)(ep_rnd() * 64), y0 = (uint32_t)(ep_rnd() * 64), w = 4 + (uint32_t)(ep_rnd() * 40), h = 4 + (uint32_t)(ep_rnd() * 40);
-            for (y = y0; y < y0 + h && y < 64; ++y)
-                for (x = x0; x < x0 + w && x < 64; ++x) m0[y * 64 + x] = 1;
+            uint32_t x0 = (uint32_t)(ep_rnd() * fw), y0 = (uint32_t)(ep_rnd() * fh), w = 1 + (uint32_t)(ep_rnd() * 0.6 * fw), h = 1 + (uint32_t)(ep_rnd() * 0.6 * fh);
+            for (y = y0; y < y0 + h && y < fh; ++y)
+                for (x = x0; x < x0 + w && x < fw; ++x) m0[y * fw + x] = 1;
         }
         pvs__ep_reproject(&from, &to, sat, ranges);
-        for (y = 0; y < 64; ++y)
-            for (x = 0; x < 64; ++x) {
+        for (y = 0; y < th; ++y)
+            for (x = 0; x < tw; ++x) {
                 int q;
-                if (!m1[y * 64 + x]) continue;
+                if (!m1[y * tw + x]) continue;
                 ++marked;
                 for (q = 0; q < 12; ++q) {
                     double V[3], P[3], X[3], t, fx, fy;
-                    double pu = to.plane.rect[0] + ((double)x + (q < 4 ? (double)(q & 1) : ep_rnd())) * ((double)to.plane.rect[2] - to.plane.rect[0]) / 64.0;
-                    double pv = to.plane.rect[1] + ((double)y + (q < 4 ? (double)((q >> 1) & 1) : ep_rnd())) * ((double)to.plane.rect[3] - to.plane.rect[1]) / 64.0;
+                    double pu = to.plane.rect[0] + ((double)x + (q < 4 ? (double)(q & 1) : ep_rnd())) * ((double)to.plane.rect[2] - to.plane.rect[0]) / tw;
+                    double pv = to.plane.rect[1] + ((double)y + (q < 4 ? (double)((q >> 1) & 1) : ep_rnd())) * ((double)to.plane.rect[3] - to.plane.rect[1]) / th;
                     int ix, iy, hit = 0, cx[2], cy[2], nx = 1, ny = 1, u2, v2;
                     for (k = 0; k < 3; ++k) V[k] = q < 8 ? ((ep_rnd() < 0.5) ? cell.min[k] : cell.max[k]) : cell.min[k] + ep_rnd() * ((double)cell.max[k] - cell.min[k]);
                     ep_plane_point(&to.plane, pu, pv, P);
                     ep_plane_point(&from.plane, 0.0, 0.0, X);
                     t = (X[a] - V[a]) / (P[a] - V[a]);
                     for (k = 0; k < 3; ++k) X[k] = V[k] + (P[k] - V[k]) * t;
-                    fx = (X[(a + 1) % 3] - from.plane.rect[0]) * 64.0 / ((double)from.plane.rect[2] - from.plane.rect[0]);
-                    fy = (X[(a + 2) % 3] - from.plane.rect[1]) * 64.0 / ((double)from.plane.rect[3] - from.plane.rect[1]);
+                    fx = (X[(a + 1) % 3] - from.plane.rect[0]) * fw / ((double)from.plane.rect[2] - from.plane.rect[0]);
+                    fy = (X[(a + 2) % 3] - from.plane.rect[1]) * fh / ((double)from.plane.rect[3] - from.plane.rect[1]);
                     ix = (int)floor(fx);
                     iy = (int)floor(fy);
                     /* a point on a pixel edge belongs to the pixels on both sides */
@@ -651,13 +727,14 @@ static void test_reprojection(void) {
                     if (fy == (double)iy) cy[ny++] = iy - 1;
                     for (u2 = 0; u2 < nx; ++u2)
                         for (v2 = 0; v2 < ny; ++v2)
-                            if (cx[u2] >= 0 && cy[v2] >= 0 && cx[u2] < 64 && cy[v2] < 64 && m0[cy[v2] * 64 + cx[u2]]) hit = 1;
+                            if (cx[u2] >= 0 && cy[v2] >= 0 && cx[u2] < (int)fw && cy[v2] < (int)fh && m0[cy[v2] * (int)fw + cx[u2]]) hit = 1;
                     if (!hit) ++bad;
                 }
             }
     }
     CHECK(bad == 0);
     CHECK(marked > 1000);
+    CHECK(fitted > 50);
     if (bad) fprintf(stderr, "extproj: %d reprojection samples not blocked\n", bad);
 }
 
@@ -710,8 +787,8 @@ static void test_reprojection_chain(void) {
         memcpy(mem2, mem, (size_t)NPL * RES * RES);
         pvs__ep_mask_sat(ms2, sats);
         for (k = 1; k < NPL; ++k) {
-            pvs__ep_reproject_sweep(ms, (uint32_t)k, ms + k, sat, 0, ranges);
-            pvs__ep_reproject_sweep(ms2, (uint32_t)k, ms2 + k, sats, 1, ranges);
+            pvs__ep_reproject_sweep(ms, (uint32_t)k, ms + k, sat, 0, 0, ranges);
+            pvs__ep_reproject_sweep(ms2, (uint32_t)k, ms2 + k, sats, (size_t)(RES + 1) * (RES + 1), 1, ranges);
             pvs__ep_mask_sat(ms2 + k, sats + (size_t)k * (RES + 1) * (RES + 1));
         }
         if (memcmp(mem, mem2, (size_t)NPL * RES * RES) != 0) ++differ;
@@ -1554,6 +1631,7 @@ void test_extproj(void) {
     test_improved_projection();
     test_slices();
     test_sheets();
+    test_fit_plane();
     test_reprojection();
     test_reprojection_chain();
     test_thin_wall();

@@ -30,7 +30,8 @@ static const char *usage =
     "  --sweep           extproj: add the occlusion sweep (Durand 2000 §5) for scenes of many small\n"
     "                    occluders (foliage); slower\n"
     "  --sweep-planes N  extproj: the sweep with N planes per direction (1..256, --sweep: 16)\n"
-    "  --resolution N    extproj: depth map pixels per side (16..4096, default 256, --preview 64);\n"
+    "  --resolution N    extproj: N x N pixels per plane (16..4096, default 256, --preview 64; the\n"
+    "                    sweep's planes spread them over the part of the plane the scene spans);\n"
     "                    foliage of small leaves needs 1024 and 64 sweep planes to fuse. extproj\n"
     "                    keeps about (128 + 8 x planes) x N^2 bytes per thread (0.65 GiB at 1024\n"
     "                    and 64). Without -j, only as many threads run as fit in 90% of the\n"
@@ -106,9 +107,11 @@ static int check_method_options(uint32_t given, pvs_method method, uint32_t mask
 /* Bytes one EXTPROJ task holds at once (pvs.h MEMORY): six directions of PVS__EP_PLANES float depth
    maps with their pyramids (128 N^2), the sweep's byte masks with pyramids (8 N^2 per plane and
    direction) and its summed-area tables (one per plane of a direction, or one when those would
-   pass 64 MiB). */
+   pass 64 MiB; N^2 + side + N + 1 counts each, side = min(16 N, 16384): a fitted plane is long and
+   thin). */
 static double extproj_task_bytes(uint32_t res, uint32_t sweep) {
-    double table = 4.0 * ((double)res + 1.0) * ((double)res + 1.0);
+    double side = 16.0 * res < 16384.0 ? 16.0 * res : 16384.0;
+    double table = 4.0 * ((double)res * res + side + res + 1.0);
     return (128.0 + 8.0 * sweep) * (double)res * (double)res + (!sweep ? 0.0 : sweep * table <= 64.0 * 1048576.0 ? sweep * table : table);
 }
 
