@@ -594,10 +594,10 @@ static void test_sheets(void) {
 }
 
 /* pvs__ep_fit_plane on random cells, scenes (flat, tall, degenerate: a scene of zero height,
-   smaller than the cell, or flat with a flat cell in it), resolutions and distances: a res x res map's pixels at most, sides within
-   the limit, the pyramid within its room, the rectangle inside the plane's and over the cell's span,
-   and a plane pvs__ep_frame_max accepts; on a flat scene the pixels come out nearly square (unless
-   a side is at its limit or a few pixels long). */
+   smaller than the cell, or flat with a flat cell in it), resolutions and distances: a res x res
+   map's pixels at most, sides within the limit, the pyramid within its room, the rectangle inside
+   the plane's and over the cell's span, and a plane pvs__ep_frame_max accepts; on a flat scene the
+   pixels come out nearly square (unless a side is at its limit or a few pixels long). */
 static void test_fit_plane(void) {
     int iter, bad = 0, square_ok = 0, flat_runs = 0;
     for (iter = 0; iter < 2000; ++iter) {
@@ -673,7 +673,7 @@ static void test_reprojection(void) {
         memset(&to, 0, sizeof(to));
         pvs__ep_make_plane(&cell, 2 * a + (side > 0 ? 0 : 1), W0, 64, &from.plane);
         pvs__ep_make_plane(&cell, 2 * a + (side > 0 ? 0 : 1), W1, 64, &to.plane);
-        if (iter % 2) { /* the fitted planes (pvs__ep_fit_plane): cut to a flat scene, long and thin, of different shapes */
+        if (iter % 2) { /* fitted planes (pvs__ep_fit_plane) of a flat scene: long, thin, two shapes */
             pvs_box flat = cell;
             flat.min[(a + 1) % 3] -= ep_rndf(0.0f, 0.5f);
             flat.max[(a + 1) % 3] += ep_rndf(0.0f, 0.5f);
