@@ -163,8 +163,8 @@
    cell_count * object_count / 8 bytes, and 40 bytes of statistics per cell), pvs_bake_run_task
    (AUTO: one bitset per method it runs; EXTPROJ (128 + 8 x sweep planes) x N^2 bytes of depth maps
    and sweep masks of N x N pixels each, plus the sweep's summed-area tables (4 (N^2 + N + 1 +
-   min(16 N, 16384)) bytes per plane of a direction up to 64 MiB): 8 MB at 256 pixels, 21 MB with
-   16 sweep planes, 0.7 GB at 1024 and 64; all freed before returning; adaptive cells: a box and a
+   min(16 N, 16384)) bytes per plane of a direction up to 64 MiB; pvs_extproj_task_bytes): 8 MB at
+   256 pixels, 21 MB with 16 sweep planes, 0.7 GB at 1024 and 64; all freed before returning; adaptive cells: a box and a
    bitset per leaf, kept), pvs_file_encode (scratch about 40 bytes per cell plus one bitset),
    pvs_raster_create (the depth map and pyramid, the cull map), pvs_otree_create (about 250 bytes
    per tree node of its budget, 5 bytes per kD node and object). Allocates nothing: every pvs_file_* and pvs_cursor_* call, kD-tree
@@ -1279,6 +1279,13 @@ PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *plane, const pvs_box *
    in the depth map: some pixel of the rectangle lies outside the map or stores a Depth >= depth.
    0 when every pixel holds an occluder strictly nearer: hidden from the whole cell (§2.2). */
 PVS_API int pvs_extproj_test(const pvs_extproj_plane *plane, const float *depth_map, const int32_t rect[4], float depth);
+
+/* Bytes one EXTPROJ bake task (one cell) allocates for its planes at `resolution` (0 = 256) and
+   `sweep` planes per direction (0 = no sweep): §6.1's depth maps, the sweep's masks and summed-area
+   tables and the per-pixel scratch (see MEMORY). Scratch that grows with the scene's occluders is
+   not counted. 0 for a resolution outside 16..4096 or more than 256 sweep planes. For tools that
+   fit their threads to the machine's memory. */
+PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep);
 
 /* ---- bake ------------------------------------------------------------------------------------ */
 
@@ -16888,9 +16895,39 @@ PVS__STATIC size_t pvs__ep_pyramid_size(uint32_t w, uint32_t h, uint32_t levels)
     return n;
 }
 
+/* The pyramid levels above a res x res map (down to 1 x 1, at most 13). */
+PVS__STATIC uint32_t pvs__ep_level_count(uint32_t res) {
+    uint32_t levels = 0;
+    while (res > 1 && levels < 13) {
+        res = (res + 1) / 2;
+        ++levels;
+    }
+    return levels;
+}
+
 /* Counts in one summed-area table of a mask: (w + 1) (h + 1) <= res^2 + w + h + 1, and with
    w h <= res^2 and w, h <= side, w + h <= side + res. */
 PVS__STATIC size_t pvs__ep_sat_table(uint32_t res) { return (size_t)res * res + pvs__ep_max_side(res) + res + 1; }
+
+/* The sweep's summed-area tables: one per plane of a direction (each is read by up to log2(sweep)
+   + 1 later planes), unless that is more than PVS__EP_SAT_CACHE bytes: then one, rebuilt for each
+   use. */
+PVS__STATIC size_t pvs__ep_sat_count(uint32_t res, uint32_t sweep) {
+    return (size_t)sweep * pvs__ep_sat_table(res) * sizeof(uint32_t) <= PVS__EP_SAT_CACHE ? sweep : 1;
+}
+
+/* What pvs__extproj_cell allocates per pixel (pvs__ep_scratch_free frees the same). */
+PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
+    uint32_t res = resolution ? resolution : PVS__EP_DEFAULT_RES, levels = pvs__ep_level_count(res);
+    size_t level_floats, bytes;
+    if (res < 16 || res > 4096 || sweep > 256) return 0;
+    level_floats = pvs__ep_pyramid_size(res, res, levels);
+    bytes = 6 * PVS__EP_PLANES * level_floats * sizeof(float) + (size_t)res * res + res; /* maps, cmark, row */
+    if (sweep)
+        bytes += 6 * (size_t)sweep * (level_floats + sizeof(pvs__epmask)) + pvs__ep_sat_count(res, sweep) * pvs__ep_sat_table(res) * sizeof(uint32_t) +
+                 2 * ((size_t)pvs__ep_max_side(res) + res) * sizeof(int32_t) + pvs__ep_max_side(res) - res; /* masks, tables, ranges, longer row */
+    return bytes;
+}
 
 /* Fits a plane of the occlusion sweep (§5) to the part of it that can hide anything, and spreads a
    res x res map's pixels over that part as (nearly) square pixels, in at most `room` pixels with
@@ -17477,9 +17514,9 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
                                          const pvs_word *candidates, const pvs_allocator *al, pvs_word *bits, uint32_t cell_id, pvs_error *err) {
     pvs__epcell c;
     pvs__epscratch w;
-    uint32_t nsel[6], d, levels = 0, nper;
+    uint32_t nsel[6], d, levels = pvs__ep_level_count(prm->res), nper;
     int sheet_side[PVS__EP_MAX_SHEETS];
-    size_t level_floats = 0;
+    size_t level_floats = pvs__ep_pyramid_size(prm->res, prm->res, levels);
     pvs_result r = PVS_OK;
     memset(&c, 0, sizeof(c));
     memset(&w, 0, sizeof(w));
@@ -17488,16 +17525,6 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     c.bits = bits;
     c.sweep = prm->sweep;
     c.candidates = candidates;
-    {
-        uint32_t ww = prm->res, hh = prm->res;
-        level_floats = (size_t)ww * hh;
-        while ((ww > 1 || hh > 1) && levels < 13) {
-            ww = (ww + 1) / 2;
-            hh = (hh + 1) / 2;
-            level_floats += (size_t)ww * hh;
-            ++levels;
-        }
-    }
     nper = prm->sweep ? 4 * prm->max_occ : prm->max_occ;
     w.nsel = 6 * (size_t)nper;
     w.map_floats = level_floats;
@@ -17523,14 +17550,11 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     w.slicer.cmark = (unsigned char *)pvs__alloc_array(al, (size_t)prm->res * prm->res, 1);
     w.sweep = pvs__alloc(al, w.sweep_size, 16);
     if (prm->sweep) {
-        size_t table = pvs__ep_sat_table(prm->res);
         w.masks = (unsigned char *)pvs__alloc_array(al, w.nmask * w.mask_bytes, 1);
         w.mask_hdr = (pvs__epmask *)pvs__alloc_array(al, w.nmask, sizeof(pvs__epmask));
-        /* one table per plane of a direction (each is read by up to log2(sweep) + 1 later planes),
-           unless that is more than PVS__EP_SAT_CACHE bytes: then one, rebuilt for each use */
-        w.sat_count = (size_t)prm->sweep * table * sizeof(uint32_t) <= PVS__EP_SAT_CACHE ? prm->sweep : 1;
-        w.sat_table = table;
-        w.sat = (uint32_t *)pvs__alloc_array(al, w.sat_count * table, sizeof(uint32_t));
+        w.sat_count = pvs__ep_sat_count(prm->res, prm->sweep);
+        w.sat_table = pvs__ep_sat_table(prm->res);
+        w.sat = (uint32_t *)pvs__alloc_array(al, w.sat_count * w.sat_table, sizeof(uint32_t));
         w.range_count = 2 * ((size_t)pvs__ep_max_side(prm->res) + prm->res);
         w.ranges = (int32_t *)pvs__alloc_array(al, w.range_count, sizeof(int32_t));
         w.stamp_count = p->occ_count ? p->occ_count : 1;

@@ -604,7 +604,7 @@ static void test_fit_plane(void) {
         pvs_box cell, bounds;
         pvs_extproj_plane pl, orig;
         pvs__epframe f;
-        uint32_t res = 16u << (iter % 9), levels = 0, ww = res, hh = res;
+        uint32_t res = 16u << (iter % 9), levels = pvs__ep_level_count(res);
         size_t room;
         int d = iter % 6, a = d >> 1, k, kind = (iter / 6) % 5;
         double W = ep_rndf(0.01f, 500.0f);
@@ -623,11 +623,6 @@ static void test_fit_plane(void) {
         if (kind == 1) { /* flat: the scene of the forest or a city, seen sideways */
             bounds.min[(a + 2) % 3] = -300.0f;
             bounds.max[(a + 2) % 3] = 300.0f;
-        }
-        while ((ww > 1 || hh > 1) && levels < 13) {
-            ww = (ww + 1) / 2;
-            hh = (hh + 1) / 2;
-            ++levels;
         }
         room = pvs__ep_pyramid_size(res, res, levels);
         pvs__ep_make_plane(&cell, d, W, res, &orig);
@@ -1625,6 +1620,59 @@ static void test_sweep_depth(void) {
     free(idx);
 }
 
+/* A pvs_allocator that tracks the bytes it holds and their peak. */
+typedef struct ep_peak { size_t live, peak; } ep_peak;
+static void *ep_peak_alloc(size_t size, size_t align, void *user) {
+    ep_peak *k = (ep_peak *)user;
+    (void)align;
+    k->live += size;
+    if (k->live > k->peak) k->peak = k->live;
+    return malloc(size ? size : 1);
+}
+static void ep_peak_free(void *ptr, size_t size, void *user) {
+    ((ep_peak *)user)->live -= size;
+    free(ptr);
+}
+
+/* pvs_extproj_task_bytes against what one bake task really allocates (a peak-tracking allocator,
+   a scene of a few squares, whose occluder-dependent scratch is small): at least the count, and
+   within 64 KiB above it; 0 for bad arguments. */
+static void test_task_bytes(void) {
+    static const uint32_t cfg[4][2] = {{64, 0}, {256, 0}, {256, 16}, {128, 64}};
+    float pos[4 * 4 * 3];
+    uint32_t idx[4 * 2 * 3], nv = 0, nt = 0, no = 0, k;
+    pvs_object_desc obs[4];
+    pvs_box cell = {{-1.0f, -1.0f, -1.0f}, {1.0f, 1.0f, 1.0f}};
+    pvs_scene *s;
+    for (k = 0; k < 4; ++k) ep_add_square(pos, &nv, idx, &nt, obs, &no, 5.0f + 5.0f * (float)k, -2.0f, -2.0f, 4.0f);
+    s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
+    CHECK(s != NULL);
+    if (!s) return;
+    for (k = 0; k < 4; ++k) {
+        ep_peak pk = {0, 0};
+        pvs_bake_desc bd;
+        pvs_bake *b = NULL;
+        pvs_error e;
+        size_t base, want = pvs_extproj_task_bytes(cfg[k][0], cfg[k][1]);
+        ep_bake_desc(&bd, s, &cell, 1, cfg[k][1]);
+        bd.extproj_resolution = cfg[k][0];
+        bd.allocator.alloc = ep_peak_alloc;
+        bd.allocator.free = ep_peak_free;
+        bd.allocator.user = &pk;
+        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
+        if (!b) continue;
+        base = pk.peak = pk.live;
+        CHECK(pvs_bake_run_task(b, 0, &e) == PVS_OK);
+        CHECK(want > 0 && pk.peak - base >= want && pk.peak - base <= want + 65536);
+        if (!(want > 0 && pk.peak - base >= want && pk.peak - base <= want + 65536))
+            fprintf(stderr, "extproj: %u px, %u planes: task allocated %zu bytes, pvs_extproj_task_bytes %zu\n", cfg[k][0], cfg[k][1], pk.peak - base, want);
+        pvs_bake_destroy(b);
+    }
+    CHECK(pvs_extproj_task_bytes(0, 0) == pvs_extproj_task_bytes(256, 0));
+    CHECK(pvs_extproj_task_bytes(8, 0) == 0 && pvs_extproj_task_bytes(8192, 0) == 0 && pvs_extproj_task_bytes(256, 257) == 0);
+    pvs_scene_destroy(s);
+}
+
 void test_extproj(void) {
     test_occluder_projection();
     test_occludee_projection();
@@ -1632,6 +1680,7 @@ void test_extproj(void) {
     test_slices();
     test_sheets();
     test_fit_plane();
+    test_task_bytes();
     test_reprojection();
     test_reprojection_chain();
     test_thin_wall();

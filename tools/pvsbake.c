@@ -104,17 +104,6 @@ static int check_method_options(uint32_t given, pvs_method method, uint32_t mask
     return 0;
 }
 
-/* Bytes one EXTPROJ task holds at once (pvs.h MEMORY): six directions of PVS__EP_PLANES float depth
-   maps with their pyramids (128 N^2), the sweep's byte masks with pyramids (8 N^2 per plane and
-   direction) and its summed-area tables (one per plane of a direction, or one when those would
-   pass 64 MiB; N^2 + side + N + 1 counts each, side = min(16 N, 16384): a fitted plane is long and
-   thin). */
-static double extproj_task_bytes(uint32_t res, uint32_t sweep) {
-    double side = 16.0 * res < 16384.0 ? 16.0 * res : 16384.0;
-    double table = 4.0 * ((double)res * res + side + res + 1.0);
-    return (128.0 + 8.0 * sweep) * (double)res * (double)res + (!sweep ? 0.0 : sweep * table <= 64.0 * 1048576.0 ? sweep * table : table);
-}
-
 /* "1.5 GiB", or "300 MiB" below a GiB, into buf (32 bytes). */
 static const char *size_text(double bytes, char *buf) {
     if (bytes >= 1073741824.0) snprintf(buf, 32, "%.1f GiB", bytes / 1073741824.0);
@@ -125,11 +114,11 @@ static const char *size_text(double bytes, char *buf) {
 /* Fits the threads to the machine's memory when extproj may hold much of it: 2 (after a message)
    when one thread does not fit, or when -j asked for more than fit; else lowers *threads (0: all
    CPUs) to what fits, with a note. Never counts more threads than `tasks` (the cells to bake).
-   PVSBAKE_MEMORY (bytes) stands in for the machine's memory. */
+   PVSBAKE_MEMORY (bytes) stands in for the machine's memory; a task's bytes are pvs_extproj_task_bytes. */
 static int fit_threads_to_memory(uint32_t *threads, uint32_t tasks, uint32_t res, uint32_t sweep, int quiet) {
     const char *env = getenv("PVSBAKE_MEMORY");
     char *end = NULL, a[32], b[32], c[32];
-    double mem = env && *env ? strtod(env, &end) : memory_bytes(), task = extproj_task_bytes(res, sweep), room = 0.9 * mem;
+    double mem = env && *env ? strtod(env, &end) : memory_bytes(), task = (double)pvs_extproj_task_bytes(res, sweep), room = 0.9 * mem;
     uint32_t want = *threads ? *threads : cpu_count(), fit;
     if (env && *env && (*end || !(mem > 0.0) || !(mem < 1e300))) {
         fprintf(stderr, "pvsbake: PVSBAKE_MEMORY takes a positive number of bytes, not '%s'\n(see pvsbake --help)\n", env);
