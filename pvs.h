@@ -1305,7 +1305,9 @@ typedef struct pvs_bake_desc {
     uint32_t extproj_occluders;  /* EXTPROJ: occluders projected on the planes of §6.1, 0 = 128; <= 65536 (the
                                     sweep's planes take every occluder between them) */
     uint32_t extproj_sweep;      /* EXTPROJ: occlusion sweep (Durand 2000 §5): at most this many planes per
-                                    direction, 0 = no sweep (pvsbake --sweep: PVS_EXTPROJ_SWEEP_PLANES); <= 256 */
+                                    direction, 0 = no sweep (pvsbake --sweep: PVS_EXTPROJ_SWEEP_PLANES); <= 256;
+                                    with it an object whose box is not hidden is tested by parts of its
+                                    triangles (foliage: a tree is kept only if a leaf or its trunk may be seen) */
     /* Adaptive cells (Durand 2000 §6.1): a cell whose PVS holds more than adaptive_budget triangles is
        split in two across its longest side, recursively, while the halves stay at least
        adaptive_min_size long (0 = an eighth of the cell's longest side); the children are baked from
@@ -14320,8 +14322,9 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    pixels spread over that as square pixels (pvs__ep_fit_plane), holding reprojected umbrae and the
    Projections of every occluder between them (§5). Then the
    object kD-tree front to back, skipping hidden nodes, an object visible when a part of its box
-   cut by a leaf is; boxes in front of a plane use the improved Projection (§4). Objects meeting
-   the cell are always visible.
+   cut by a leaf is (with the sweep, when a part of the object in that box is: the boxes of halves
+   of its triangles, top-down, pvs__ep_parts_visible); boxes in front of a plane use the improved
+   Projection (§4). Objects meeting the cell are always visible.
    Limits: occluders fuse only through the depth maps and slices, so a pixel across the common edge
    of two occluders that are not sliced is lost; a Depth is flat per occluder part, so long walls
    running away from the cell hide only what lies beyond their far end on that plane; a reprojection
@@ -14334,20 +14337,25 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    of about 1 m per tree) culls nothing, with or without the sweep (16 planes at 256 pixels, 64 at
    512); rays aimed at each object see a quarter of the objects from its cells. At the paper's
    density (1,000 leaves per tree, bushes as dense, 1 m cells; rays see about 2% of the objects)
-   nothing is culled without the sweep, and with it 8% at 256 pixels and 16 planes (3 s per cell),
-   35% at 512 and 32 (4 s), 59% at 1024 and 64 (9 s), 65% at 2048 and 64 (24 s); before the planes
-   were fitted to the scene's span (pvs__ep_fit_plane) these were 1%, 8%, 25% and 47%, and 4096
-   pixels gave 60% (71 s, 10 GiB). The planes ahead are 80% blocked, but the band just above the
-   ground under the bushes stays partly open, and the box of every tree reaches the ground there.
-   Experiments on square planes, not kept: the bushes lowered to the ground, 85%; each object's
-   triangles tested instead of its box, 25% -> 35%; at 1024 pixels, the sweep planes' occluders
-   covered at 4 x 4 sub-pixels (a pixel blocked when the union covers it), 31%, and sub-pixel
-   distances into the blocked region carried through the reprojections (a kernel erodes by its true
-   width, not by whole pixels), 28%; with cells of 0.25 m instead of 1 m, 65%, but the union of four
-   horizontal slabs of a 1 m cell, 30%. Rays from the cells' bottom faces reach about 1% of the trunk
-   bases beyond 50 m, while the trunks alone (an exact 2D from-region test of their sections) hide
-   only about a fifth of all trunk sections: the band is closed by bush leaves and trunks together,
-   in depth, which one binary umbra per plane does not capture. */
+   nothing is culled without the sweep, and with it 16% at 256 pixels and 16 planes (3 s per cell),
+   50% at 512 and 32 (4 s), 71% at 1024 and 64 (9 s), 76% at 2048 and 64 (25 s, 4.5 GB); with
+   objects tested by their boxes only these were 8%, 35%, 59% and 65%, and before the planes were
+   fitted to the scene's span (pvs__ep_fit_plane) 1%, 8%, 25% and 47% (4096 pixels: 60%, 71 s,
+   10 GiB). 128 planes at 1024 pixels add 3 points for twice the time. The planes 40 m ahead are
+   97% blocked, but the band just above the ground under the bushes stays open on them, and every
+   trunk's foot and the bushes' lowest leaves stand in it. That band is partly open in fact: rays
+   from the lowest 10 cm of a cell to the points of an object below 0.7 m see 118 to 218 more
+   objects per cell (of 115 to 227 the reference sees) among those the sweep keeps (4096 rays per
+   object; 165 instead of 118 with 32768), so the reference's 2% is well below the visible set.
+   Experiments on square planes, not kept: the bushes lowered to the ground, 85%; at 1024 pixels,
+   the sweep planes' occluders covered at 4 x 4 sub-pixels (a pixel blocked when the union covers
+   it), 31%, and sub-pixel distances into the blocked region carried through the reprojections (a
+   kernel erodes by its true width, not by whole pixels), 28%; with cells of 0.25 m instead of 1 m,
+   65%, but the union of four horizontal slabs of a 1 m cell, 30%. Where the band is closed, bush
+   leaves and trunks close it together, in depth (the trunks alone, by an exact 2D from-region test
+   of their sections, hide about a fifth of the trunk sections), which one binary umbra per plane
+   does not capture; testing the triangles' parts further (boxes halved down to 1/64 of a
+   triangle's) adds 2 points. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
@@ -16800,8 +16808,61 @@ PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
     return 0;
 }
 
+/* 1 if some part of object o inside box b (its box cut by a kD-tree leaf) is visible, the parts
+   tested top-down as a hierarchy of boxes over its triangles in file order (§6.1 tests "the nodes of
+   the hierarchy of bounding boxes"; Durand 2000 §7.2's forest culls inside the trees): a range of
+   triangles, its box cut by b; hidden, the range is skipped; visible, it is halved, down to single
+   triangles. Each box holds its triangles' points inside b, so an object is kept whenever a point of
+   it inside b may be seen. Used with the sweep (§5): a tree's box is mostly air between leaves and
+   the band under its crown, its leaves and trunk are not. On the planes of §6.1 alone it did not pay
+   (demo city 2.80 -> 2.78 for 11% more time, the forests unchanged). */
+PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box *b) {
+    const pvs_scene *s = c->scene;
+    uint32_t stack[2 * 34], top = 0; /* ranges, a pending half per level: at most 33 */
+    uint32_t t0 = s->object_triangles[2 * (size_t)o], tn = s->object_triangles[2 * (size_t)o + 1];
+    if (tn < 2) return 1; /* the box test (of all its triangles) already said so */
+    stack[top++] = t0 + tn / 2; /* the whole object's box was tested: start with its halves */
+    stack[top++] = t0 + tn;
+    stack[top++] = t0;
+    stack[top++] = t0 + tn / 2;
+    while (top) {
+        uint32_t hi = stack[--top], lo = stack[--top], t, mid;
+        pvs_box pb;
+        int k;
+        for (k = 0; k < 3; ++k) {
+            pb.min[k] = FLT_MAX;
+            pb.max[k] = -FLT_MAX;
+        }
+        for (t = lo; t < hi; ++t) {
+            const uint32_t *ix = s->indices + 3 * (size_t)t;
+            int q;
+            for (q = 0; q < 3; ++q) {
+                const float *P = s->positions + 3 * (size_t)ix[q];
+                for (k = 0; k < 3; ++k) {
+                    if (P[k] < pb.min[k]) pb.min[k] = P[k];
+                    if (P[k] > pb.max[k]) pb.max[k] = P[k];
+                }
+            }
+        }
+        for (k = 0; k < 3; ++k) {
+            if (b->min[k] > pb.min[k]) pb.min[k] = b->min[k];
+            if (b->max[k] < pb.max[k]) pb.max[k] = b->max[k];
+            if (pb.min[k] > pb.max[k]) break;
+        }
+        if (k < 3 || pvs__ep_box_hidden(c, &pb)) continue; /* no point inside b, or hidden */
+        if (hi - lo == 1) return 1;
+        mid = lo + (hi - lo) / 2; /* the first half on top */
+        stack[top++] = mid;
+        stack[top++] = hi;
+        stack[top++] = lo;
+        stack[top++] = mid;
+    }
+    return 0;
+}
+
 /* §6.1: the occludees tested top-down through the object kD-tree, stopping at hidden nodes. An
-   object is visible when a part of its box (its box cut by a leaf's cell) is. */
+   object is visible when a part of its box (its box cut by a leaf's cell) is; with the sweep, when
+   a part of it in that box is (pvs__ep_parts_visible). */
 PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
     pvs__epcell *c = (pvs__epcell *)user;
     uint32_t i;
@@ -16818,7 +16879,7 @@ PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float d
             if (node_box->max[k] < b.max[k]) b.max[k] = node_box->max[k];
         }
         if (b.min[0] > b.max[0] || b.min[1] > b.max[1] || b.min[2] > b.max[2]) continue; /* not in this leaf */
-        if (!pvs__ep_box_hidden(c, &b)) pvs_bitset_set(c->bits, o);
+        if (!pvs__ep_box_hidden(c, &b) && (!c->sweep || pvs__ep_parts_visible(c, o, &b))) pvs_bitset_set(c->bits, o);
     }
     return PVS_VISIT_DESCEND;
 }
@@ -16942,10 +17003,10 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
    scene may be a few metres high, so a square map spent most of its rows on sky and underground.
    Measured (2026-11-24, bench_extproj): the demo city with the sweep, PVS over the ray-sampled sets
    1.50 -> 1.38; the forest at the paper's density (1 m cells, 1024 pixels, 64 planes) culls 59.0%
-   instead of 25.6%, its planes up to about 4300 x 250 pixels. §6.1's planes are not fitted: an
-   occludee in front of one (§4) is often hidden by pixels outside the span (a table, by the floor's
-   Projection below the floor); fitted, extproj without the sweep went 2.80 -> 2.56 on the city but
-   1.9 -> 2.14 indoors (bench_auto). */
+   instead of 25.6% (objects tested by their boxes only), its planes up to about 4300 x 250
+   pixels. §6.1's planes are not fitted: an occludee in front of one (§4) is often hidden by
+   pixels outside the span (a table, by the floor's Projection below the floor); fitted, extproj
+   without the sweep went 2.80 -> 2.56 on the city but 1.9 -> 2.14 indoors (bench_auto). */
 PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels, size_t room, pvs_extproj_plane *pl) {
     int a = (int)pl->axis, k;
     uint32_t side = pvs__ep_max_side(res);
