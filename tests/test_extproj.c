@@ -1624,21 +1624,28 @@ static void test_sweep_depth(void) {
 /* With the sweep an object is tested by its parts (pvs__ep_parts_visible): two 10 x 10 walls 4 units
    from a unit cell leave a gap 0.4 wide at z = 0; behind them, 20 units away, an object of two 2 x 2
    squares, one behind each wall. Its box spans the gap, so the planes of §6.1 keep it; its squares
-   are hidden, so the sweep drops it. The same object with a third square in the gap is kept by
-   both, and the rays see it. Ray sampling sees nothing the bakes miss. */
+   are hidden, so the sweep drops it (k = 0). The same object with a third square in the gap is kept
+   by both, and the rays see it (k = 1). Padded with copies of its first triangle to
+   PVS__EP_PARTS_TRIS triangles it is still dropped (k = 2), past that kept on its box (k = 3). Ray
+   sampling sees nothing the bakes miss. */
 static void test_sweep_parts(void) {
     pvs_box cell = {{-1.0f, -0.5f, -0.5f}, {0.0f, 0.5f, 0.5f}};
-    uint32_t k, misses = 0;
-    for (k = 0; k < 2; ++k) {
-        float pos[3 * 20];
-        uint32_t idx[3 * 10], nv = 0, nt = 0, no = 0, sweep;
+    uint32_t k, misses = 0, cap = PVS__EP_PARTS_TRIS + 16;
+    float pos[3 * 20];
+    uint32_t *idx = (uint32_t *)malloc(sizeof(uint32_t) * 3 * cap);
+    CHECK(idx != NULL);
+    for (k = 0; idx && k < 4; ++k) {
+        uint32_t nv = 0, nt = 0, no = 0, sweep, target = k == 2 ? PVS__EP_PARTS_TRIS : PVS__EP_PARTS_TRIS + 1;
+        int kept_by_sweep = k == 1 || k == 3;
         pvs_object_desc obs[5];
         pvs_scene *s;
         ep_add_square(pos, &nv, idx, &nt, obs, &no, 4.0f, -5.0f, -10.2f, 10.0f); /* the walls: z <= -0.2, z >= 0.2 */
         ep_add_square(pos, &nv, idx, &nt, obs, &no, 4.0f, -5.0f, 0.2f, 10.0f);
         ep_add_square(pos, &nv, idx, &nt, obs, &no, 20.0f, -1.0f, -6.0f, 2.0f); /* the object: z in [-6, -4], */
         ep_add_square(pos, &nv, idx, &nt, obs, &no, 20.0f, -1.0f, 4.0f, 2.0f);  /* [4, 6] */
-        if (k) ep_add_square(pos, &nv, idx, &nt, obs, &no, 20.0f, -1.0f, -1.0f, 2.0f); /* and [-1, 1] */
+        if (k == 1) ep_add_square(pos, &nv, idx, &nt, obs, &no, 20.0f, -1.0f, -1.0f, 2.0f); /* and [-1, 1] */
+        if (k >= 2)
+            for (; nt - obs[2].first_triangle < target; ++nt) memcpy(idx + 3 * nt, idx + 3 * obs[2].first_triangle, 3 * sizeof(uint32_t));
         obs[2].triangle_count = nt - obs[2].first_triangle;
         no = 3;
         s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
@@ -1656,13 +1663,14 @@ static void test_sweep_parts(void) {
             pvs_sample_visibility(s, &cell, 16, 1024, 61 + k, seen);
             pvs_sample_visibility_toward(s, &cell, NULL, 256, 63 + k, seen);
             for (o = 0; o < no; ++o) misses += pvs_bitset_test(seen, o) && !pvs_bitset_test(pvs_bake_cell_pvs(bk, 0), o);
-            CHECK(pvs_bitset_test(seen, 2) == (int)k);                                      /* the rays: seen only through the gap */
-            CHECK(pvs_bitset_test(pvs_bake_cell_pvs(bk, 0), 2) == (int)(k || !sweep)); /* the box alone keeps it */
+            CHECK(pvs_bitset_test(seen, 2) == (k == 1));                                       /* the rays: seen only through the gap */
+            CHECK(pvs_bitset_test(pvs_bake_cell_pvs(bk, 0), 2) == (kept_by_sweep || !sweep)); /* the box alone keeps it */
             pvs_bake_destroy(bk);
         }
         pvs_scene_destroy(s);
     }
     CHECK(misses == 0);
+    free(idx);
 }
 
 /* A pvs_allocator that tracks the bytes it holds and their peak. */
