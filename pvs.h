@@ -1255,6 +1255,8 @@ typedef struct pvs_extproj_plane {
 } pvs_extproj_plane;
 #define PVS_EXTPROJ_EMPTY 3.402823466e+38f
 #define PVS_EXTPROJ_SWEEP_PLANES 16u /* sweep planes per direction pvsbake --sweep asks for */
+#define PVS_EXTPROJ_RESOLUTION 256u /* pixels per plane side when pvs_bake_desc.extproj_resolution is 0 */
+#define PVS_EXTPROJ_PREVIEW_RESOLUTION 64u /* the same with PVS_BAKE_PREVIEW */
 
 /* Adds the extended Projection of one convex occluder (§3.2): `points` (count x (x, y, z), 1..16) are
    the vertices of a planar convex polygon or of a closed convex solid (a solid whose bounding box
@@ -1300,8 +1302,9 @@ typedef struct pvs_bake_desc {
     uint32_t sample_rays;     /* SAMPLE: rays per point, 0 = 2048 */
     uint64_t seed;            /* SAMPLE: random seed */
     uint32_t max_chain;       /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
-    uint32_t extproj_resolution; /* EXTPROJ: N x N pixels per plane, 0 = 256; 16..4096 (the sweep's planes spread
-                                    them as square pixels over the part of the plane the cell and scene span) */
+    uint32_t extproj_resolution; /* EXTPROJ: N x N pixels per plane, 0 = PVS_EXTPROJ_RESOLUTION (256; with
+                                    PVS_BAKE_PREVIEW, PVS_EXTPROJ_PREVIEW_RESOLUTION, 64); 16..4096 (the sweep's
+                                    planes spread them as square pixels over the part the cell and scene span) */
     uint32_t extproj_occluders;  /* EXTPROJ: occluders projected on the planes of §6.1, 0 = 128; <= 65536 (the
                                     sweep's planes take every occluder between them) */
     uint32_t extproj_sweep;      /* EXTPROJ: occlusion sweep (Durand 2000 §5): at most this many planes per
@@ -14360,7 +14363,7 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
 #define PVS__EP_EXTEND 1.5                            /* planes extended beyond the cell (§6.1) */
-#define PVS__EP_DEFAULT_RES 256
+#define PVS__EP_DEFAULT_RES PVS_EXTPROJ_RESOLUTION
 #define PVS__EP_DEFAULT_OCC 128
 #define PVS__EP_PLANE_CANDIDATES 16
 #define PVS__EP_PLANES 4                              /* planes per direction (§6.1) */
@@ -18984,7 +18987,7 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake arrays for %u cells", desc->cell_count);
     }
     for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
-    b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution : (b->flags & PVS_BAKE_PREVIEW) ? 64u : PVS__EP_DEFAULT_RES;
+    b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution : (b->flags & PVS_BAKE_PREVIEW) ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS__EP_DEFAULT_RES;
     b->extproj_occluders = desc->extproj_occluders ? desc->extproj_occluders : (b->flags & PVS_BAKE_PREVIEW) ? 32u : PVS__EP_DEFAULT_OCC;
     b->extproj_sweep = desc->extproj_sweep;
     b->adaptive_budget = desc->adaptive_budget;

@@ -476,7 +476,7 @@ int main(int argc, char **argv) {
     if (cells_path ? cells_load(cells_path, &cells, &te) : cli_grid_cells(scene, grid, 10000000u, &cells, &te)) goto fail;
     if ((methods_run(method, methods) >> PVS_METHOD_EXTPROJ & 1u) &&
         fit_threads_to_memory(&threads, shard_n > 1 && shard_k <= cells.count ? (cells.count - shard_k) / shard_n + 1 : cells.count,
-                              resolution ? resolution : preview ? 64u : 256u, sweep, quiet)) {
+                              resolution ? resolution : preview ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS_EXTPROJ_RESOLUTION, sweep, quiet)) {
         rc = 2;
         goto done;
     }
