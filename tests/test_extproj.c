@@ -1515,6 +1515,31 @@ static void ep_add_square(float *pos, uint32_t *nv, uint32_t *idx, uint32_t *nt,
     idx[3 * *nt] = b; idx[3 * *nt + 1] = b + 3; idx[3 * *nt + 2] = b + 2; ++*nt;
 }
 
+/* Bakes the one cell of a small scene with extproj (`sweep` planes per direction, `occluders` per
+   direction on the planes of §6.1, 0 = the default) and sets in `seen` what ray sampling sees from it
+   (uniform rays and rays aimed at each object, seeds `seed` and seed + 2); adds to *misses the
+   objects the rays see and the PVS lacks. Returns the bake (NULL if it failed: CHECKed). */
+static pvs_bake *ep_bake_sampled(const pvs_scene *s, const pvs_box *cell, uint32_t sweep, uint32_t occluders, uint64_t seed, pvs_word *seen,
+                                 uint32_t *misses) {
+    pvs_bake_desc bd;
+    pvs_bake *bk = NULL;
+    pvs_error e;
+    uint32_t o, n = pvs_scene_object_count(s);
+    ep_bake_desc(&bd, s, cell, 1, sweep);
+    bd.extproj_occluders = occluders;
+    CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
+    if (bk && pvs_bake_run_task(bk, 0, &e) != PVS_OK) {
+        pvs_bake_destroy(bk);
+        bk = NULL;
+    }
+    CHECK(bk != NULL);
+    if (!bk) return NULL;
+    pvs_sample_visibility(s, cell, 16, 1024, seed, seen);
+    pvs_sample_visibility_toward(s, cell, NULL, 256, seed + 2, seen);
+    for (o = 0; o < n; ++o) *misses += pvs_bitset_test(seen, o) && !pvs_bitset_test(pvs_bake_cell_pvs(bk, 0), o);
+    return bk;
+}
+
 /* The sweep tests' check: appends a box from x0 to x0 + 1 (y, z in [-h, h]) behind the occluders
    already in the arrays and one beside them (z 40..44), then bakes the unit cell with and without
    the sweep (`occluders` per direction): the rays see the box beside and not the one behind, the
@@ -1543,21 +1568,11 @@ static void ep_sweep_hides_box(float *pos, uint32_t nv, uint32_t *idx, uint32_t 
     s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
     CHECK(s != NULL);
     for (sweep = 0; s && sweep < 2; ++sweep) {
-        pvs_bake_desc bd;
-        pvs_bake *bk = NULL;
-        pvs_error e;
         pvs_word *seen = (pvs_word *)calloc(PVS_BITSET_WORDS(no), sizeof(pvs_word));
-        ep_bake_desc(&bd, s, &cell, 1, sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0);
-        bd.extproj_occluders = occluders;
+        pvs_bake *bk = seen ? ep_bake_sampled(s, &cell, sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0, occluders, seed, seen, &misses) : NULL;
         CHECK(seen != NULL);
-        CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
-        CHECK(bk && pvs_bake_run_task(bk, 0, &e) == PVS_OK);
-        if (bk && seen) {
+        if (bk) {
             const pvs_word *pv = pvs_bake_cell_pvs(bk, 0);
-            uint32_t o;
-            pvs_sample_visibility(s, &cell, 16, 1024, seed, seen);
-            pvs_sample_visibility_toward(s, &cell, NULL, 256, seed + 2, seen);
-            for (o = 0; o < no; ++o) misses += pvs_bitset_test(seen, o) && !pvs_bitset_test(pv, o);
             CHECK(!pvs_bitset_test(seen, no - 2));              /* the rays agree: the box is hidden */
             CHECK(pvs_bitset_test(seen, no - 1));               /* and see the one beside */
             CHECK(pvs_bitset_test(pv, no - 2) == (sweep == 0)); /* hidden only by the sweep */
@@ -1651,18 +1666,9 @@ static void test_sweep_parts(void) {
         s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
         CHECK(s != NULL);
         for (sweep = 0; s && sweep < 2; ++sweep) {
-            pvs_bake_desc bd;
-            pvs_bake *bk = NULL;
-            pvs_error e;
             pvs_word seen[1] = {0};
-            uint32_t o;
-            ep_bake_desc(&bd, s, &cell, 1, sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0);
-            CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
-            CHECK(bk && pvs_bake_run_task(bk, 0, &e) == PVS_OK);
+            pvs_bake *bk = ep_bake_sampled(s, &cell, sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0, 0, 61 + k, seen, &misses);
             if (!bk) continue;
-            pvs_sample_visibility(s, &cell, 16, 1024, 61 + k, seen);
-            pvs_sample_visibility_toward(s, &cell, NULL, 256, 63 + k, seen);
-            for (o = 0; o < no; ++o) misses += pvs_bitset_test(seen, o) && !pvs_bitset_test(pvs_bake_cell_pvs(bk, 0), o);
             CHECK(pvs_bitset_test(seen, 2) == (k == 1));                                       /* the rays: seen only through the gap */
             CHECK(pvs_bitset_test(pvs_bake_cell_pvs(bk, 0), 2) == (kept_by_sweep || !sweep)); /* the box alone keeps it */
             pvs_bake_destroy(bk);
