@@ -1310,7 +1310,8 @@ typedef struct pvs_bake_desc {
     uint32_t extproj_sweep;      /* EXTPROJ: occlusion sweep (Durand 2000 §5): at most this many planes per
                                     direction, 0 = no sweep (pvsbake --sweep: PVS_EXTPROJ_SWEEP_PLANES); <= 256;
                                     with it an object whose box is not hidden is tested by parts of its
-                                    triangles (foliage: a tree is kept only if a leaf or its trunk may be seen) */
+                                    triangles (foliage: a tree is kept only if a leaf or its trunk may be
+                                    seen; objects over 16,384 triangles by their box alone) */
     /* Adaptive cells (Durand 2000 §6.1): a cell whose PVS holds more than adaptive_budget triangles is
        split in two across its longest side, recursively, while the halves stay at least
        adaptive_min_size long (0 = an eighth of the cell's longest side); the children are baked from
@@ -16817,13 +16818,13 @@ PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
    tested top-down as a hierarchy of boxes over its triangles in file order (Durand 2000 §2.4 and
    §6.1: the occludees are a hierarchy of axis-aligned bounding boxes, tested recursively; Fig. 1
    shows the forest's culled nodes): a range of triangles, its box cut by b; hidden, the range is
-   skipped; visible, it is halved, down to single triangles. Each box holds its triangles' points inside b, so an object is kept whenever a point of
-   it inside b may be seen. Used with the sweep (§5): a tree's box is mostly air between leaves and
-   the band under its crown, its leaves and trunk are not. On the planes of §6.1 alone it did not pay
-   (demo city 2.80 -> 2.78 for 11% more time, the forests unchanged). The work is bounded: an
-   object of more than PVS__EP_PARTS_TRIS triangles is kept on its box, and one whose parts take
-   more than PVS__EP_PARTS_TESTS box tests is kept (in the forest of 1,000 leaves per tree: 15 on
-   average, at most 194, at 512 pixels). */
+   skipped; visible, it is halved, down to single triangles. Each box holds its triangles' points
+   inside b, so an object is kept whenever a point of it inside b may be seen. Used with the sweep
+   (§5): a tree's box is mostly air between leaves and the band under its crown, its leaves and
+   trunk are not. On the planes of §6.1 alone it did not pay (demo city 2.80 -> 2.78 for 11% more
+   time, the forests unchanged). The work is bounded: an object of more than PVS__EP_PARTS_TRIS
+   triangles is kept on its box, and one whose parts take more than PVS__EP_PARTS_TESTS box tests
+   is kept (in the forest of 1,000 leaves per tree: 15 on average, at most 194, at 512 pixels). */
 #define PVS__EP_PARTS_TRIS 16384u
 #define PVS__EP_PARTS_TESTS 256u
 PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box *b) {
@@ -18989,7 +18990,8 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake arrays for %u cells", desc->cell_count);
     }
     for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
-    b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution : (b->flags & PVS_BAKE_PREVIEW) ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS__EP_DEFAULT_RES;
+    b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution
+                            : (b->flags & PVS_BAKE_PREVIEW) ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS__EP_DEFAULT_RES;
     b->extproj_occluders = desc->extproj_occluders ? desc->extproj_occluders : (b->flags & PVS_BAKE_PREVIEW) ? 32u : PVS__EP_DEFAULT_OCC;
     b->extproj_sweep = desc->extproj_sweep;
     b->adaptive_budget = desc->adaptive_budget;

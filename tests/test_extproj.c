@@ -1637,46 +1637,84 @@ static void test_sweep_depth(void) {
 }
 
 /* With the sweep an object is tested by its parts (pvs__ep_parts_visible): two 10 x 10 walls 4 units
-   from a unit cell leave a gap 0.4 wide at z = 0; behind them, 20 units away, an object of two 2 x 2
-   squares, one behind each wall. Its box spans the gap, so the planes of §6.1 keep it; its squares
-   are hidden, so the sweep drops it (k = 0). The same object with a third square in the gap is kept
-   by both, and the rays see it (k = 1). Padded with copies of its first triangle to
-   PVS__EP_PARTS_TRIS triangles it is still dropped (k = 2), past that kept on its box (k = 3). Ray
-   sampling sees nothing the bakes miss. */
+   from a unit cell leave a gap 0.4 wide at z = 0; behind them, 20 units away, stand a 2 x 2 square
+   behind each wall (A at z in [-6, -4], B at [4, 6]) and one in the gap (V at [-1, 1]). The object
+   under test is made of copies of their triangles in the order a case gives. Its box spans the gap,
+   so the planes of §6.1 always keep it; the sweep drops it exactly when it holds no triangle of V,
+   at most PVS__EP_PARTS_TRIS triangles, and takes at most PVS__EP_PARTS_TESTS box tests (A's and
+   B's first triangles alternating make every range of two or more visible: n triangles take
+   2 n - 2 tests). V's triangles go first, in the middle or last, among 4 to 104 hidden ones. Each
+   case runs alone and (but the test count's) among 60 small squares just above the object spread
+   over its width, which cut it across kD-tree leaves. The rays see the object only through V, and
+   nothing the bakes miss. */
 static void test_sweep_parts(void) {
+    enum { MAXT = PVS__EP_PARTS_TRIS + 16, FILL = 60 };
+    /* hidden: 4 + pad triangles, A0 A1 B0 B1 then, by mode, 0: A0 A1 B0 B1 again and again,
+       1: A0 B0 alternating from the start, 2: A0; where: V's two triangles 1 first, 2 in the middle,
+       3 last, 0 none */
+    static const struct { uint32_t pad, where, mode; int kept, fill; } cases[] = {
+        {0, 0, 0, 0, 1}, {0, 1, 0, 1, 1}, {0, 2, 0, 1, 1}, {0, 3, 0, 1, 1}, {5, 1, 0, 1, 1}, {5, 2, 0, 1, 1}, {5, 3, 0, 1, 1},
+        {100, 1, 0, 1, 1}, {100, 2, 0, 1, 1}, {100, 3, 0, 1, 1}, {100, 0, 0, 0, 1},
+        {PVS__EP_PARTS_TRIS - 4, 0, 2, 0, 1}, {PVS__EP_PARTS_TRIS - 3, 0, 2, 1, 1},
+        {(PVS__EP_PARTS_TESTS + 2) / 2 - 4, 0, 1, 0, 0}, {(PVS__EP_PARTS_TESTS + 2) / 2 - 3, 0, 1, 1, 0}};
     pvs_box cell = {{-1.0f, -0.5f, -0.5f}, {0.0f, 0.5f, 0.5f}};
-    uint32_t k, misses = 0, cap = PVS__EP_PARTS_TRIS + 16;
-    float pos[3 * 20];
-    uint32_t *idx = (uint32_t *)malloc(sizeof(uint32_t) * 3 * cap);
-    CHECK(idx != NULL);
-    for (k = 0; idx && k < 4; ++k) {
-        uint32_t nv = 0, nt = 0, no = 0, sweep, target = k == 2 ? PVS__EP_PARTS_TRIS : PVS__EP_PARTS_TRIS + 1;
-        int kept_by_sweep = k == 1 || k == 3;
-        pvs_object_desc obs[5];
-        pvs_scene *s;
-        ep_add_square(pos, &nv, idx, &nt, obs, &no, 4.0f, -5.0f, -10.2f, 10.0f); /* the walls: z <= -0.2, z >= 0.2 */
-        ep_add_square(pos, &nv, idx, &nt, obs, &no, 4.0f, -5.0f, 0.2f, 10.0f);
-        ep_add_square(pos, &nv, idx, &nt, obs, &no, 20.0f, -1.0f, -6.0f, 2.0f); /* the object: z in [-6, -4], */
-        ep_add_square(pos, &nv, idx, &nt, obs, &no, 20.0f, -1.0f, 4.0f, 2.0f);  /* [4, 6] */
-        if (k == 1) ep_add_square(pos, &nv, idx, &nt, obs, &no, 20.0f, -1.0f, -1.0f, 2.0f); /* and [-1, 1] */
-        if (k >= 2)
-            for (; nt - obs[2].first_triangle < target; ++nt) memcpy(idx + 3 * nt, idx + 3 * obs[2].first_triangle, 3 * sizeof(uint32_t));
-        obs[2].triangle_count = nt - obs[2].first_triangle;
-        no = 3;
-        s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
-        CHECK(s != NULL);
-        for (sweep = 0; s && sweep < 2; ++sweep) {
-            pvs_word seen[1] = {0};
-            pvs_bake *bk = ep_bake_sampled(s, &cell, sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0, 0, 61 + k, seen, &misses);
-            if (!bk) continue;
-            CHECK(pvs_bitset_test(seen, 2) == (k == 1));                                       /* the rays: seen only through the gap */
-            CHECK(pvs_bitset_test(pvs_bake_cell_pvs(bk, 0), 2) == (kept_by_sweep || !sweep)); /* the box alone keeps it */
-            pvs_bake_destroy(bk);
+    uint32_t k, fill, misses = 0;
+    float *pos = (float *)malloc(sizeof(float) * 3 * (20 + 4 * FILL));
+    uint32_t *idx = (uint32_t *)malloc(sizeof(uint32_t) * 3 * (MAXT + 2 * FILL + 8));
+    pvs_object_desc *obs = (pvs_object_desc *)malloc(sizeof(pvs_object_desc) * (8 + FILL));
+    CHECK(pos && idx && obs);
+    for (k = 0; pos && idx && obs && k < sizeof(cases) / sizeof(cases[0]); ++k)
+        for (fill = 0; fill <= (uint32_t)cases[k].fill; ++fill) {
+            uint32_t nv = 0, nt = 0, no = 0, sweep, t, n, at, src[6][3], f;
+            pvs_scene *s;
+            ep_add_square(pos, &nv, idx, &nt, obs, &no, 4.0f, -5.0f, -10.2f, 10.0f); /* the walls: z <= -0.2, z >= 0.2 */
+            ep_add_square(pos, &nv, idx, &nt, obs, &no, 4.0f, -5.0f, 0.2f, 10.0f);
+            ep_add_square(pos, &nv, idx, &nt, obs, &no, 20.0f, -1.0f, -6.0f, 2.0f); /* A, B, V: their triangles */
+            ep_add_square(pos, &nv, idx, &nt, obs, &no, 20.0f, -1.0f, 4.0f, 2.0f);  /* are copied, then taken off */
+            ep_add_square(pos, &nv, idx, &nt, obs, &no, 20.0f, -1.0f, -1.0f, 2.0f);
+            memcpy(src, idx + 3 * 4, sizeof(src)); /* A0 A1 B0 B1 V0 V1 */
+            nt = 4;
+            no = 3;
+            obs[2].first_triangle = nt;
+            obs[2].flags = 0;
+            n = 4 + cases[k].pad;
+            at = cases[k].where == 1 ? 0 : cases[k].where == 2 ? n / 2 : n;
+            for (t = 0; t < n; ++t) {
+                uint32_t h = cases[k].mode == 1 ? (t & 1) * 2 : t < 4 ? t : cases[k].mode == 0 ? (t & 3) : 0;
+                if (cases[k].where && t == at) {
+                    memcpy(idx + 3 * nt++, src[4], sizeof(src[4]));
+                    memcpy(idx + 3 * nt++, src[5], sizeof(src[5]));
+                }
+                memcpy(idx + 3 * nt++, src[h], sizeof(src[h]));
+            }
+            if (cases[k].where && at == n) {
+                memcpy(idx + 3 * nt++, src[4], sizeof(src[4]));
+                memcpy(idx + 3 * nt++, src[5], sizeof(src[5]));
+            }
+            obs[2].triangle_count = nt - obs[2].first_triangle;
+            for (f = 0; fill && f < FILL; ++f) /* 0.2 x 0.2 squares just above the object, over z in [-7, 7] */
+                ep_add_square(pos, &nv, idx, &nt, obs, &no, 20.0f + 0.05f * (float)(f % 3), 1.5f + 0.01f * (float)(f % 7), -7.0f + 14.0f * (float)f / FILL, 0.2f);
+            s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
+            CHECK(s != NULL);
+            for (sweep = 0; s && sweep < 2; ++sweep) {
+                pvs_word *seen = (pvs_word *)calloc(PVS_BITSET_WORDS(no), sizeof(pvs_word));
+                pvs_bake *bk = seen ? ep_bake_sampled(s, &cell, sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0, 0, 61 + k, seen, &misses) : NULL;
+                CHECK(seen != NULL);
+                if (bk) {
+                    int in = pvs_bitset_test(pvs_bake_cell_pvs(bk, 0), 2);
+                    CHECK(pvs_bitset_test(seen, 2) == (cases[k].where != 0)); /* the rays: seen only through the gap */
+                    CHECK(in == (cases[k].kept || !sweep));                   /* the box alone keeps it */
+                    if (in != (cases[k].kept || !sweep)) fprintf(stderr, "  sweep parts case %u (fill %u, sweep %u): kept %d\n", k, fill, sweep, in);
+                }
+                pvs_bake_destroy(bk);
+                free(seen);
+            }
+            pvs_scene_destroy(s);
         }
-        pvs_scene_destroy(s);
-    }
     CHECK(misses == 0);
+    free(pos);
     free(idx);
+    free(obs);
 }
 
 /* A pvs_allocator that tracks the bytes it holds and their peak. */
