@@ -257,6 +257,17 @@ void test_cli(void) {
     if (rc != 0 || !strstr(out, "(100.0% of the 3 drawable)")) fprintf(stderr, "  output: %s\n", out);
     free(out);
     CHECK(same_bytes(DIR "/a.pvs", DIR "/b.pvs"));
+    /* an option's value is never split as -jN: files named -j3.txt and -j4.pvs */
+    CHECK(run("cp " DIR "/cells.txt " DIR "/-j3.txt", &out) == 0); free(out);
+    rc = run("(cd " DIR " && ../pvsbake --method sample -q --cells -j3.txt -o -j4.pvs -j 1 scene.obj --rays 256 --points 16)", &out);
+    CHECK(rc == 0);
+    if (rc != 0) fprintf(stderr, "  output: %s\n", out);
+    free(out);
+    CHECK(same_bytes(DIR "/-j4.pvs", DIR "/a.pvs"));
+    rc = run("./pvscheck -q --seed -j5 " DIR "/scene.obj " DIR "/a.pvs", &out);
+    CHECK(rc == 2 && strstr(out, "bad --seed '-j5'"));
+    if (rc != 2 || !strstr(out, "bad --seed '-j5'")) fprintf(stderr, "  output: %s\n", out);
+    free(out);
     /* sharded bakes: parts merge into the bytes of the whole bake for N = 1, 2, 3, 7 */
     CHECK(run("./pvsgen indoor --seed 3 --size 0.3 --max-cells 30 -o " DIR "/in.obj --cells " DIR "/in.txt", &out) == 0); free(out);
     CHECK(run("./pvsbake --method sample -q " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/whole.pvs --rays 64 --points 4 -j 2", &out) == 0); free(out);

@@ -330,13 +330,22 @@ int cli_parse_up(const char *s, uint32_t *up) {
 
 static int cli__attached_jobs(const char *a) { return a[0] == '-' && a[1] == 'j' && a[2] >= '0' && a[2] <= '9'; }
 
-char **cli_split_jobs(int *argc, char **argv) {
+int cli_is_option(const char *option, const char *const *list) {
+    for (; list && *list; ++list)
+        if (!strcmp(option, *list)) return 1;
+    return 0;
+}
+
+char **cli_split_jobs(int *argc, char **argv, const char *const *value_options) {
     int i, n = 0, k = 0;
     char **out;
     for (i = 0; i < *argc; ++i) n += cli__attached_jobs(argv[i]);
     if (!n || !(out = (char **)malloc(sizeof(char *) * ((size_t)*argc + (size_t)n + 1)))) return argv;
     for (i = 0; i < *argc; ++i) {
-        if (cli__attached_jobs(argv[i])) {
+        if (cli_is_option(argv[i], value_options) && i + 1 < *argc) {
+            out[k++] = argv[i++]; /* the option and its value, whatever it looks like */
+            out[k++] = argv[i];
+        } else if (cli__attached_jobs(argv[i])) {
             out[k++] = (char *)"-j";
             out[k++] = argv[i] + 2;
         } else {

@@ -72,9 +72,12 @@ int cli_parse_up(const char *s, uint32_t *up);
 /* Strict unsigned decimal in [lo, hi]. */
 int cli_parse_u32(const char *s, uint32_t lo, uint32_t hi, uint32_t *out);
 /* The arguments with every "-jN" (N starting with a digit) split into "-j" and "N", as make spells
-   it: a new NULL-terminated array (the strings are argv's) that lives until exit, or argv itself
-   when there is none or no memory. *argc is updated. */
-char **cli_split_jobs(int *argc, char **argv);
+   it, except where it is the value of one of `value_options` (a NULL-terminated list of the options
+   that take a value: a file may be named -j2.txt): a new NULL-terminated array (the strings are
+   argv's) that lives until exit, or argv itself when there is none or no memory. *argc is updated. */
+char **cli_split_jobs(int *argc, char **argv, const char *const *value_options);
+/* 1 if `option` is in the NULL-terminated list. */
+int cli_is_option(const char *option, const char *const *list);
 
 /* ---- resumable bakes with statistics (pvsbake, the examples) ---- */
 

@@ -235,9 +235,15 @@ static int parse_method(const char *v, pvs_method *method, uint32_t *mask) {
 
 static int cmp_str(const void *a, const void *b) { return strcmp(*(const char *const *)a, *(const char *const *)b); }
 
+/* The options that take a value (the next argument, whatever it looks like). */
+static const char *const value_options[] = {"-o", "--cells", "--grid", "--up", "--method", "--eps", "-j", "--points", "--rays",
+                                            "--seed", "--chain", "--shard", "--voxel", "--max-distance", "--state",
+                                            "--state-every", "--vocc-slices", "--vocc-max", "--adaptive", "--min-cell",
+                                            "--sweep-planes", "--resolution", NULL};
+
 /* What identifies a bake for its state file: the scene's arrays, the cells, and every option that
-   may change the result, as sorted "option=value" strings (an option's value is the next token
-   unless it starts with '-'). Left out: -j, -q, -o, --state, --state-every, --no-state, and --cells
+   may change the result, as sorted "option=value" strings (value_options take the next argument,
+   the others none). Left out: -j, -q, -o, --state, --state-every, --no-state, and --cells
    and the scene path, whose contents count instead. */
 static uint64_t bake_fingerprint(int argc, char **argv, const mesh *m, const mesh_cells *cells, uint32_t up) {
     char **pairs = (char **)calloc((size_t)argc + 1, sizeof(char *));
@@ -255,7 +261,7 @@ static uint64_t bake_fingerprint(int argc, char **argv, const mesh *m, const mes
     h = cli_fingerprint(h, &up, sizeof(up));
     if (!pairs) return h;
     for (i = 1; i < argc; ++i) {
-        const char *a = argv[i], *v = i + 1 < argc && argv[i + 1][0] != '-' ? argv[i + 1] : NULL;
+        const char *a = argv[i], *v = i + 1 < argc && cli_is_option(a, value_options) ? argv[i + 1] : NULL;
         size_t len;
         if (a[0] != '-') continue; /* the scene path */
         if (v) ++i;
@@ -373,7 +379,7 @@ int main(int argc, char **argv) {
     int rc = 1;
 
     if (argc > 1 && !strcmp(argv[1], "merge")) return merge_main(argc, argv);
-    argv = cli_split_jobs(&argc, argv); /* -j2 as well as -j 2 */
+    argv = cli_split_jobs(&argc, argv, value_options); /* -j2 as well as -j 2 */
 
     for (i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -397,12 +403,7 @@ int main(int argc, char **argv) {
             preview = 1;
         } else if (!strcmp(a, "--no-state")) {
             no_state = 1;
-        } else if (!strcmp(a, "-o") || !strcmp(a, "--cells") || !strcmp(a, "--grid") || !strcmp(a, "--up") ||
-                   !strcmp(a, "--method") || !strcmp(a, "--eps") || !strcmp(a, "-j") || !strcmp(a, "--points") ||
-                   !strcmp(a, "--rays") || !strcmp(a, "--seed") || !strcmp(a, "--chain") || !strcmp(a, "--shard") || !strcmp(a, "--voxel") ||
-                   !strcmp(a, "--max-distance") || !strcmp(a, "--state") || !strcmp(a, "--state-every") ||
-                   !strcmp(a, "--vocc-slices") || !strcmp(a, "--vocc-max") || !strcmp(a, "--adaptive") || !strcmp(a, "--min-cell") ||
-                   !strcmp(a, "--sweep-planes") || !strcmp(a, "--resolution")) {
+        } else if (cli_is_option(a, value_options)) {
             if (!v) return usage_error("%s needs a value", a);
             ++i;
             if (!strcmp(a, "-o")) out_path = v;

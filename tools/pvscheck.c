@@ -21,6 +21,9 @@ static const char *usage =
     "  -q, --quiet   no progress bar\n"
     "exit status: 0 no misses, 1 bad input, 2 usage, 3 misses found (or stored and rebuilt PVS differ)\n";
 
+/* The options that take a value (the next argument, whatever it looks like). */
+static const char *const value_options[] = {"--max-distance", "--up", "--points", "--rays", "--aim", "--seed", "-j", NULL};
+
 static int usage_error(const char *fmt, const char *arg) {
     fprintf(stderr, "pvscheck: ");
     fprintf(stderr, fmt, arg);
@@ -42,7 +45,7 @@ int main(int argc, char **argv) {
     tool_error te;
     cli_check chk;
 
-    argv = cli_split_jobs(&argc, argv); /* -j2 as well as -j 2 */
+    argv = cli_split_jobs(&argc, argv, value_options); /* -j2 as well as -j 2 */
     for (i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -53,7 +56,7 @@ int main(int argc, char **argv) {
         } else if (!strcmp(a, "--max-distance")) {
             if (!v || parse_float(v, &max_distance) || !(max_distance > 0.0f)) return usage_error("--max-distance needs a positive number%s", "");
             ++i;
-        } else if (!strcmp(a, "--up") || !strcmp(a, "--points") || !strcmp(a, "--rays") || !strcmp(a, "--aim") || !strcmp(a, "--seed") || !strcmp(a, "-j")) {
+        } else if (cli_is_option(a, value_options)) {
             if (!v) return usage_error("%s needs a value", a);
             ++i;
             if (!strcmp(a, "--up") && cli_parse_up(v, &up)) return usage_error("--up takes y or z, not '%s'", v);
