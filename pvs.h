@@ -1776,6 +1776,15 @@ PVS__STATIC int pvs__box_overlap(const pvs_box *a, const pvs_box *b) {
     return a->min[0] <= b->max[0] && b->min[0] <= a->max[0] && a->min[1] <= b->max[1] && b->min[1] <= a->max[1] &&
            a->min[2] <= b->max[2] && b->min[2] <= a->max[2];
 }
+/* Cuts b to `by`; 1 if something (a point at least) is left. */
+PVS__STATIC int pvs__box_clip(pvs_box *b, const pvs_box *by) {
+    int i;
+    for (i = 0; i < 3; ++i) {
+        if (by->min[i] > b->min[i]) b->min[i] = by->min[i];
+        if (by->max[i] < b->max[i]) b->max[i] = by->max[i];
+    }
+    return b->min[0] <= b->max[0] && b->min[1] <= b->max[1] && b->min[2] <= b->max[2];
+}
 /* Squared minimum distance between two boxes (0 where they meet). */
 PVS__STATIC float pvs__box_distance2(const pvs_box *a, const pvs_box *b) {
     float d2 = 0.0f;
@@ -16837,30 +16846,11 @@ PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box 
     stack[top++] = t0;
     stack[top++] = t0 + tn / 2;
     while (top) {
-        uint32_t hi = stack[--top], lo = stack[--top], t, mid;
-        pvs_box pb;
-        int k;
-        for (k = 0; k < 3; ++k) {
-            pb.min[k] = FLT_MAX;
-            pb.max[k] = -FLT_MAX;
-        }
-        for (t = lo; t < hi; ++t) {
-            const uint32_t *ix = s->indices + 3 * (size_t)t;
-            int q;
-            for (q = 0; q < 3; ++q) {
-                const float *P = s->positions + 3 * (size_t)ix[q];
-                for (k = 0; k < 3; ++k) {
-                    if (P[k] < pb.min[k]) pb.min[k] = P[k];
-                    if (P[k] > pb.max[k]) pb.max[k] = P[k];
-                }
-            }
-        }
-        for (k = 0; k < 3; ++k) {
-            if (b->min[k] > pb.min[k]) pb.min[k] = b->min[k];
-            if (b->max[k] < pb.max[k]) pb.max[k] = b->max[k];
-            if (pb.min[k] > pb.max[k]) break;
-        }
-        if (k < 3) continue; /* no point inside b */
+        uint32_t hi = stack[--top], lo = stack[--top], mid;
+        pvs_box pb = pvs__box_empty();
+        size_t t;
+        for (t = 3 * (size_t)lo; t < 3 * (size_t)hi; ++t) pvs__box_add_point(&pb, s->positions + 3 * (size_t)s->indices[t]);
+        if (!pvs__box_clip(&pb, b)) continue; /* no point inside b */
         if (++tests > PVS__EP_PARTS_TESTS) return 1;
         if (pvs__ep_box_hidden(c, &pb)) continue;
         if (hi - lo == 1) return 1;
@@ -16884,14 +16874,9 @@ PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float d
     for (i = 0; i < count; ++i) {
         uint32_t o = items[i];
         pvs_box b = c->scene->object_boxes[o];
-        int k;
         if (pvs_bitset_test(c->bits, o) || (c->scene->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY)) continue;
         if (c->candidates && !pvs_bitset_test(c->candidates, o)) continue; /* hidden from the parent cell */
-        for (k = 0; k < 3; ++k) {
-            if (node_box->min[k] > b.min[k]) b.min[k] = node_box->min[k];
-            if (node_box->max[k] < b.max[k]) b.max[k] = node_box->max[k];
-        }
-        if (b.min[0] > b.max[0] || b.min[1] > b.max[1] || b.min[2] > b.max[2]) continue; /* not in this leaf */
+        if (!pvs__box_clip(&b, node_box)) continue; /* not in this leaf */
         if (!pvs__ep_box_hidden(c, &b) && (!c->sweep || pvs__ep_parts_visible(c, o, &b))) pvs_bitset_set(c->bits, o);
     }
     return PVS_VISIT_DESCEND;

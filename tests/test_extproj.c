@@ -1644,8 +1644,8 @@ static void test_sweep_depth(void) {
    at most PVS__EP_PARTS_TRIS triangles, and takes at most PVS__EP_PARTS_TESTS box tests (A's and
    B's first triangles alternating make every range of two or more visible: n triangles take
    2 n - 2 tests). V's triangles go first, in the middle or last, among 4 to 104 hidden ones. Each
-   case runs alone and (but the test count's) among 60 small squares just above the object spread
-   over its width, which cut it across kD-tree leaves. The rays see the object only through V, and
+   case runs alone and, but for the two at the test bound (cuts change the count), among 60 small
+   squares just above the object spread over its width, which cut it across kD-tree leaves. The rays see the object only through V, and
    nothing the bakes miss. */
 static void test_sweep_parts(void) {
     enum { MAXT = PVS__EP_PARTS_TRIS + 16, FILL = 60 };
