@@ -97,7 +97,9 @@
    a wall split into many pieces hides what the whole wall hides), SHRINK when closed geometry leaves occluder volume after erosion by eps (VOCC, which adds
    little tightness, only when pvs_bake_desc.methods names it); it runs them cheapest
    first and intersects their PVSs (an intersection of conservative sets is conservative, and at least
-   as tight as each). pvs_bake_get_method_info says which ran, which were skipped and why, and what
+   as tight as each). SHRINK, the costliest, runs last and samples only the objects the others kept:
+   the intersection is the same, and a cell where the others leave nothing for it to cull costs little
+   (a Quake 3 arena with its brushes, 422 cells: 1.59 s per cell before, 0.11 s). pvs_bake_get_method_info says which ran, which were skipped and why, and what
    each contributed; pvs_bake_desc.methods restricts the candidates. SAMPLE is never among them.
    PVS_BAKE_PREVIEW keeps only the cheapest with coarse settings. max_distance (a draw distance) drops
    objects whose box is farther than it from every point of the cell (box to box, rounded toward
@@ -1207,7 +1209,9 @@ typedef struct pvs_shrink_stats {
    eps, are point-sampled from the cell every eps; an object is left out only when every sample sees
    it hidden (appendix theorem: then every point of the cell does). Objects meeting the cell, or
    standing under its top face, are always set. Sets bits in `visible` (PVS_BITSET_WORDS(object_count)
-   words, not cleared first); occluder-only objects are never set. `occluders` must have been made
+   words, not cleared first); occluder-only objects are never set. Objects already set on entry are
+   not tested (AUTO sets the objects other methods culled, so that only the rest are sampled: the
+   other objects' answers do not depend on them). `occluders` must have been made
    for this scene. `stats` may be NULL; when the occluders are empty, stats->no_occluders says so (the
    call still succeeds: the PVS is every object, which is conservative). Scratch is allocated through
    the occluders' allocator and freed before returning: thread-safe. Errors: INVALID_ARGUMENT,
@@ -1370,7 +1374,12 @@ typedef struct pvs_bake_method_info {
     uint32_t cells;           /* tasks that ran it */
     uint64_t pvs_sum;         /* sum over those cells of the PVS size this method found alone */
     uint64_t sole_culls;      /* (cell, object) pairs this method alone left out of the intersection: its
-                                 contribution (for one method: every object it left out) */
+                                 contribution (for one method: every object it left out). An object a
+                                 method run later did not test (kept_only below) counts for the methods
+                                 that culled it */
+    int kept_only;            /* 1: it tested only the objects the methods run before it kept (AUTO runs
+                                 SHRINK, the costliest, last; the intersection is the same, the time far
+                                 less): pvs_sum counts the objects they culled as kept */
 } pvs_bake_method_info;
 /* Fills *info. Errors: INVALID_ARGUMENT (i out of range, NULL). Call after the tasks ran (not
    concurrently with pvs_bake_run_task). */
@@ -18133,7 +18142,13 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
         pvs__free_array(&o->allocator, cstack, ncnodes, sizeof(uint32_t));
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
     }
-    if (o->bvh.node_count) memcpy(remaining, o->bvh.count_below, o->bvh.node_count * sizeof(uint32_t));
+    if (o->bvh.node_count) {
+        uint32_t ob, nd;
+        memcpy(remaining, o->bvh.count_below, o->bvh.node_count * sizeof(uint32_t));
+        /* objects set on entry are not tested: off the counts, so nodes holding only them are skipped */
+        for (ob = pvs_bitset_next(visible, s->object_count, 0); ob < s->object_count; ob = pvs_bitset_next(visible, s->object_count, ob + 1))
+            for (nd = o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = o->bvh.nodes[nd].parent) --remaining[nd];
+    }
     memset(hz, 0, sizeof(*hz));
     pvs__hz_init(hz);
     w.scene = s;
@@ -18230,6 +18245,7 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
         goto done;
     }
     memset(seen, 0, (words ? words : 1) * sizeof(pvs_word));
+    memcpy(seen, visible, words * sizeof(pvs_word)); /* objects set on entry are not tested */
     for (i = 0; i < nb; ++i) {
         const pvs_box *bx = o->boxes + i;
         uint32_t c;
@@ -18801,9 +18817,37 @@ PVS__STATIC int pvs__bake_applies(const pvs_bake *b, pvs_method m, const char **
     }
 }
 
+/* SHRINK tests only the candidates: the other drawable objects are set in `bits` first (kept, until
+   the caller's intersection leaves them out), and pvs_shrink_cell does not test what is set. */
+PVS__STATIC void pvs__bake_preset(const pvs_bake *b, const pvs_word *candidates, pvs_word *bits) {
+    uint32_t i;
+    if (!candidates) return;
+    for (i = 0; i < b->object_count; ++i)
+        if (!pvs_bitset_test(candidates, i) && !(b->scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(b->scene->object_boxes + i))
+            pvs_bitset_set(bits, i);
+}
+
+/* The candidates of method k of a box: those of the box (adaptive sub-cells: the parent's PVS, or
+   NULL) and, from the second method on, only what the methods before it kept (AUTO runs the costliest,
+   SHRINK, last: it then tests only the objects the others could not cull). In *scratch when it must
+   be computed. */
+PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const pvs_word *candidates, const pvs_word *each, pvs_word *scratch) {
+    size_t w;
+    uint32_t i;
+    if (k == 0) return candidates;
+    for (w = 0; w < b->words; ++w) {
+        pvs_word all = candidates ? candidates[w] : ~(pvs_word)0;
+        for (i = 0; i < k; ++i) all &= each[(size_t)i * b->words + w];
+        scratch[w] = all;
+    }
+    return scratch;
+}
+
 /* One method's PVS of a box of a task (its cell or, adaptive, a part of it): sets bits (cleared by the
-   caller). `candidates` (adaptive sub-cells: the parent's PVS) may be NULL; EXTPROJ tests only those
-   objects, the others are intersected with it by the caller. */
+   caller). `candidates` (the objects the caller will intersect with: an adaptive sub-cell's parent
+   PVS, the methods before this one) may be NULL; EXTPROJ tests only those objects and sets none of
+   the others, SHRINK tests only those and sets all the others (pvs__bake_preset), the other methods
+   test every object. */
 PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t task, uint32_t cell, const pvs_box *box,
                                              const pvs_word *candidates, pvs_word *bits, pvs_error *err) {
     switch (m) {
@@ -18832,9 +18876,12 @@ PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t
     }
     case PVS_METHOD_SHRINK: {
         pvs_shrink_stats st;
-        pvs_result r = pvs_shrink_cell(b->scene, b->occluders, box, b->shrink_mode, bits, &st, err);
+        pvs_result r;
+        pvs__bake_preset(b, candidates, bits);
+        r = pvs_shrink_cell(b->scene, b->occluders, box, b->shrink_mode, bits, &st, err);
         if (r == PVS_OK && st.excluded && b->occluders_leak) {
             memset(bits, 0, b->words * sizeof(pvs_word));
+            pvs__bake_preset(b, candidates, bits);
             r = pvs_shrink_cell(b->scene, b->occluders_leak, box, b->shrink_mode, bits, &st, err);
             st.excluded = 1;
         }
@@ -19074,14 +19121,16 @@ PVS_API void pvs_bake_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 
 
 /* Every method the bake runs on one box of a task, intersected, within `candidates` when given,
-   and the draw distance applied: the PVS of an adaptive sub-cell. `each` holds run_count bitsets. */
+   and the draw distance applied: the PVS of an adaptive sub-cell. `each` holds run_count + 1 bitsets. */
 PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
                                      pvs_word *each, pvs_error *err) {
     uint32_t k, i;
     size_t w;
     pvs_result r = PVS_OK;
     memset(each, 0, (size_t)b->run_count * b->words * sizeof(pvs_word));
-    for (k = 0; k < b->run_count && r == PVS_OK; ++k) r = pvs__bake_method_cell(b, b->run[k], task, cell, box, candidates, each + (size_t)k * b->words, err);
+    for (k = 0; k < b->run_count && r == PVS_OK; ++k)
+        r = pvs__bake_method_cell(b, b->run[k], task, cell, box, pvs__bake_prior(b, k, candidates, each, each + (size_t)b->run_count * b->words),
+                                  each + (size_t)k * b->words, err);
     if (r != PVS_OK) return r;
     for (w = 0; w < b->words; ++w) {
         pvs_word all = candidates ? candidates[w] : ~(pvs_word)0;
@@ -19156,7 +19205,7 @@ PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell
 PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell, pvs_error *err) {
     const pvs_box *c = b->cells + task;
     float min_size = b->adaptive_min_size, longest = 0.0f;
-    size_t nw = (48 + (size_t)b->run_count) * b->words;
+    size_t nw = (49 + (size_t)b->run_count) * b->words;
     pvs_word *work = (pvs_word *)pvs__alloc_array(&b->allocator, nw, sizeof(pvs_word));
     pvs_result r;
     int k;
@@ -19191,11 +19240,12 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
     } else {
         /* AUTO: each method's PVS, then their intersection; a method's contribution is what it
            alone leaves out */
-        each = (pvs_word *)pvs__alloc_array(&b->allocator, (size_t)n * b->words, sizeof(pvs_word));
+        each = (pvs_word *)pvs__alloc_array(&b->allocator, (size_t)(n + 1) * b->words, sizeof(pvs_word));
         if (!each) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u: auto scratch", cell);
         memset(each, 0, (size_t)n * b->words * sizeof(pvs_word));
         for (k = 0; k < n && r == PVS_OK; ++k)
-            r = pvs__bake_method_cell(b, b->run[k], task, cell, b->cells + task, NULL, each + (size_t)k * b->words, err);
+            r = pvs__bake_method_cell(b, b->run[k], task, cell, b->cells + task, pvs__bake_prior(b, k, NULL, each, each + (size_t)n * b->words),
+                                      each + (size_t)k * b->words, err);
         if (r == PVS_OK) {
             for (w = 0; w < b->words; ++w) {
                 pvs_word all = ~(pvs_word)0;
@@ -19214,7 +19264,7 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
                 sole[k] = c;
             }
         }
-        pvs__free_array(&b->allocator, each, (size_t)n * b->words, sizeof(pvs_word));
+        pvs__free_array(&b->allocator, each, (size_t)(n + 1) * b->words, sizeof(pvs_word));
         if (r != PVS_OK) return r;
     }
     if (b->max_distance > 0.0f) /* a draw distance: box to box, rounded toward keeping */
@@ -19286,6 +19336,7 @@ PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *b, uint32_t i, pvs_b
     if (!info->ran) return PVS_OK;
     for (k = 0; k < b->run_count; ++k)
         if (b->run[k] == info->method) slot = k;
+    info->kept_only = slot > 0 && info->method == PVS_METHOD_SHRINK; /* pvs__bake_prior */
     for (t = 0; t < b->cell_count; ++t) {
         const uint32_t *own = b->stats + (size_t)t * 2 * PVS_METHOD_COUNT;
         if (!b->done[t] || b->restored[t]) continue;

@@ -99,24 +99,47 @@ static void check_auto(gen_kind kind, float size, uint64_t seed, uint32_t max_ce
             for (i = 0; i < n; ++i) misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pv, i);
             in_auto += pvs_bitset_count(pv, n);
         }
-        /* the statistics: each member's own sum and what it alone left out, recomputed */
-        for (k = 0; k < pvs_bake_method_count(a); ++k) {
-            pvs_bake_method_info mi;
-            uint64_t own = 0, sole = 0;
-            pvs_bake_get_method_info(a, k, &mi);
-            if (!mi.ran || !single[mi.method]) continue;
-            for (c = 0; c < cells.count; ++c) {
-                const pvs_word *sp = pvs_bake_cell_pvs(single[mi.method], c);
-                own += pvs_bitset_count(sp, n);
-                for (i = 0; i < n; ++i) {
-                    int others = 1;
-                    uint32_t j;
-                    for (j = 0; j < PVS_METHOD_COUNT; ++j)
-                        if (single[j] && j != (uint32_t)mi.method) others &= pvs_bitset_test(pvs_bake_cell_pvs(single[j], c), i);
-                    sole += others && !pvs_bitset_test(sp, i);
-                }
+        /* the statistics: each member's own sum and what it alone left out, recomputed. A member that
+           tested only what the members run before it kept (kept_only: SHRINK after others) counts
+           every other drawable object as kept. */
+        {
+            pvs_method order[PVS_METHOD_COUNT];
+            int kept_only[PVS_METHOD_COUNT];
+            uint32_t nr = 0, r;
+            for (k = 0; k < pvs_bake_method_count(a); ++k) {
+                pvs_bake_method_info mi;
+                pvs_bake_get_method_info(a, k, &mi);
+                if (!mi.ran || !single[mi.method]) continue;
+                CHECK(mi.kept_only == (nr > 0 && mi.method == PVS_METHOD_SHRINK));
+                kept_only[nr] = mi.kept_only;
+                order[nr++] = mi.method;
             }
-            stat_bad += own != mi.pvs_sum || sole != mi.sole_culls;
+            for (r = 0; r < nr; ++r) {
+                pvs_bake_method_info mi;
+                uint64_t own = 0, sole = 0;
+                for (k = 0; k < pvs_bake_method_count(a); ++k) {
+                    pvs_bake_get_method_info(a, k, &mi);
+                    if (mi.method == order[r]) break;
+                }
+                for (c = 0; c < cells.count; ++c)
+                    for (i = 0; i < n; ++i) {
+                        pvs_box ob = pvs_scene_object_box(s, i);
+                        int drawable = !(pvs_scene_object_flags(s, i) & PVS_OBJECT_OCCLUDER_ONLY) && ob.min[0] <= ob.max[0] &&
+                                       ob.min[1] <= ob.max[1] && ob.min[2] <= ob.max[2];
+                        int eff[PVS_METHOD_COUNT], prior = 1, others = 1;
+                        uint32_t j;
+                        for (j = 0; j < nr; ++j) {
+                            eff[j] = pvs_bitset_test(pvs_bake_cell_pvs(single[order[j]], c), i);
+                            if (kept_only[j] && !prior && drawable) eff[j] = 1;
+                            prior &= eff[j];
+                        }
+                        for (j = 0; j < nr; ++j)
+                            if (j != r) others &= eff[j];
+                        own += (uint64_t)eff[r];
+                        sole += others && !eff[r];
+                    }
+                stat_bad += own != mi.pvs_sum || sole != mi.sole_culls;
+            }
         }
     }
     if (misses || mismatches || stat_bad)

@@ -315,6 +315,9 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
             if (pvs_bake_get_method_info(bake, i, &mi) != PVS_OK) continue;
             if (!mi.ran) {
                 fprintf(stderr, "  %-8s skipped: %s\n", pvs_method_name(mi.method), mi.reason);
+            } else if (mi.cells && mi.kept_only) {
+                fprintf(stderr, "  %-8s ran (%s) on the objects the others kept: it alone culled %.1f per cell\n", pvs_method_name(mi.method),
+                        mi.reason, (double)mi.sole_culls / mi.cells);
             } else if (mi.cells) {
                 fprintf(stderr, "  %-8s ran (%s): its own PVS %.1f objects, it alone culled %.1f per cell\n", pvs_method_name(mi.method),
                         mi.reason, (double)mi.pvs_sum / mi.cells, (double)mi.sole_culls / mi.cells);
