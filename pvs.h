@@ -19120,11 +19120,20 @@ PVS_API void pvs_bake_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 }
 
 
+/* The draw distance (max_distance, if any): objects farther than it from every point of the box
+   leave `bits` (box to box, rounded toward keeping: pvs__box_beyond). */
+PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_word *bits) {
+    uint32_t i;
+    if (!(b->max_distance > 0.0f)) return;
+    for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
+        if (pvs__box_beyond(box, b->scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
+}
+
 /* Every method the bake runs on one box of a task, intersected, within `candidates` when given,
    and the draw distance applied: the PVS of an adaptive sub-cell. `each` holds run_count + 1 bitsets. */
 PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
                                      pvs_word *each, pvs_error *err) {
-    uint32_t k, i;
+    uint32_t k;
     size_t w;
     pvs_result r = PVS_OK;
     memset(each, 0, (size_t)b->run_count * b->words * sizeof(pvs_word));
@@ -19137,9 +19146,7 @@ PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, 
         for (k = 0; k < b->run_count; ++k) all &= each[(size_t)k * b->words + w];
         bits[w] = all;
     }
-    if (b->max_distance > 0.0f)
-        for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
-            if (pvs__box_beyond(box, b->scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
+    pvs__bake_distance(b, box, bits);
     return PVS_OK;
 }
 
@@ -19237,21 +19244,14 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         if (r != PVS_OK) return r;
         own[0] = pvs_bitset_count(bits, b->object_count);
         sole[0] = b->object_count - own[0];
+        pvs__bake_distance(b, b->cells + task, bits);
     } else {
-        /* AUTO: each method's PVS, then their intersection; a method's contribution is what it
-           alone leaves out */
+        /* AUTO: each method's PVS, then their intersection (pvs__bake_box); a method's contribution
+           is what it alone leaves out */
         each = (pvs_word *)pvs__alloc_array(&b->allocator, (size_t)(n + 1) * b->words, sizeof(pvs_word));
         if (!each) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u: auto scratch", cell);
-        memset(each, 0, (size_t)n * b->words * sizeof(pvs_word));
-        for (k = 0; k < n && r == PVS_OK; ++k)
-            r = pvs__bake_method_cell(b, b->run[k], task, cell, b->cells + task, pvs__bake_prior(b, k, NULL, each, each + (size_t)n * b->words),
-                                      each + (size_t)k * b->words, err);
+        r = pvs__bake_box(b, task, cell, b->cells + task, NULL, bits, each, err);
         if (r == PVS_OK) {
-            for (w = 0; w < b->words; ++w) {
-                pvs_word all = ~(pvs_word)0;
-                for (k = 0; k < n; ++k) all &= each[(size_t)k * b->words + w];
-                bits[w] = all;
-            }
             for (k = 0; k < n; ++k) {
                 uint32_t c = 0;
                 own[k] = pvs_bitset_count(each + (size_t)k * b->words, b->object_count);
@@ -19267,9 +19267,6 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         pvs__free_array(&b->allocator, each, (size_t)(n + 1) * b->words, sizeof(pvs_word));
         if (r != PVS_OK) return r;
     }
-    if (b->max_distance > 0.0f) /* a draw distance: box to box, rounded toward keeping */
-        for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
-            if (pvs__box_beyond(b->cells + task, b->scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
     if (pvs_bitset_count(bits, b->object_count) >= b->drawable) b->cell_flags[task] |= PVS__BAKE_ALL_VISIBLE;
     if (b->adaptive_budget) {
         r = pvs__bake_adapt(b, task, cell, err);

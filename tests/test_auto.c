@@ -103,24 +103,17 @@ static void check_auto(gen_kind kind, float size, uint64_t seed, uint32_t max_ce
            tested only what the members run before it kept (kept_only: SHRINK after others) counts
            every other drawable object as kept. */
         {
-            pvs_method order[PVS_METHOD_COUNT];
-            int kept_only[PVS_METHOD_COUNT];
+            pvs_bake_method_info ran_info[PVS_METHOD_COUNT]; /* the members that ran, in run order */
             uint32_t nr = 0, r;
             for (k = 0; k < pvs_bake_method_count(a); ++k) {
                 pvs_bake_method_info mi;
                 pvs_bake_get_method_info(a, k, &mi);
                 if (!mi.ran || !single[mi.method]) continue;
                 CHECK(mi.kept_only == (nr > 0 && mi.method == PVS_METHOD_SHRINK));
-                kept_only[nr] = mi.kept_only;
-                order[nr++] = mi.method;
+                ran_info[nr++] = mi;
             }
             for (r = 0; r < nr; ++r) {
-                pvs_bake_method_info mi;
                 uint64_t own = 0, sole = 0;
-                for (k = 0; k < pvs_bake_method_count(a); ++k) {
-                    pvs_bake_get_method_info(a, k, &mi);
-                    if (mi.method == order[r]) break;
-                }
                 for (c = 0; c < cells.count; ++c)
                     for (i = 0; i < n; ++i) {
                         pvs_box ob = pvs_scene_object_box(s, i);
@@ -129,8 +122,8 @@ static void check_auto(gen_kind kind, float size, uint64_t seed, uint32_t max_ce
                         int eff[PVS_METHOD_COUNT], prior = 1, others = 1;
                         uint32_t j;
                         for (j = 0; j < nr; ++j) {
-                            eff[j] = pvs_bitset_test(pvs_bake_cell_pvs(single[order[j]], c), i);
-                            if (kept_only[j] && !prior && drawable) eff[j] = 1;
+                            eff[j] = pvs_bitset_test(pvs_bake_cell_pvs(single[ran_info[j].method], c), i);
+                            if (ran_info[j].kept_only && !prior && drawable) eff[j] = 1;
                             prior &= eff[j];
                         }
                         for (j = 0; j < nr; ++j)
@@ -138,7 +131,7 @@ static void check_auto(gen_kind kind, float size, uint64_t seed, uint32_t max_ce
                         own += (uint64_t)eff[r];
                         sole += others && !eff[r];
                     }
-                stat_bad += own != mi.pvs_sum || sole != mi.sole_culls;
+                stat_bad += own != ran_info[r].pvs_sum || sole != ran_info[r].sole_culls;
             }
         }
     }
