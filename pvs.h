@@ -1404,7 +1404,8 @@ typedef struct pvs_bake_report {
     uint32_t cells_all_visible;  /* cells whose PVS holds every drawable object: nothing culled */
     uint32_t cells_no_occluders; /* SHRINK: cells baked with no occluder at all (nothing survived the
                                     erosion by eps: thin walls only, or eps too large for the volumes);
-                                    OTREE: cells with no usable facade (pvs_bake_otree_info) */
+                                    OTREE: cells with no usable facade (pvs_bake_otree_info); AUTO:
+                                    cells where shrink or otree found none and nothing was culled */
     uint32_t cells_excluded;     /* SHRINK: leaking cells the occluder synthesis left out
                                     (pvs_occluders_excluded_cells): baked with a second synthesis in
                                     which every cell seeds the floods */
@@ -19272,6 +19273,8 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         r = pvs__bake_adapt(b, task, cell, err);
         if (r != PVS_OK) return r;
     }
+    /* AUTO: a method without occluders for the cell (otree, shrink) says nothing when another culled */
+    if (n > 1 && !(b->cell_flags[task] & PVS__BAKE_ALL_VISIBLE)) b->cell_flags[task] &= (unsigned char)~PVS__BAKE_NO_OCCLUDERS;
     b->done[task] = 1;
     pvs__ok(err);
     return PVS_OK;

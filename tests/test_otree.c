@@ -1571,12 +1571,73 @@ static void test_facades_none(void) {
     }
 }
 
+/* AUTO where otree has facades but none for a cell, and extproj culls: a ground quad, a wall standing
+   on it, a quad above it, a cell under the ground (below every facade's base) and one above it
+   (which puts the wall's facade in use). Otree alone reports the cell under the ground as having no
+   occluder (its PVS is every object); AUTO does not, since extproj hides the quad above the ground
+   from it and its PVS is not every object. */
+static void test_facades_none_auto(void) {
+    static fx_mesh m;
+    pvs_scene_desc sd;
+    pvs_scene *sc = NULL;
+    pvs_box cells[2];
+    uint32_t f0, f1, f2, f3, k;
+    cells[0] = fx_cell(0, -1, -3, 2, 1, -1.5f);
+    cells[1] = fx_cell(20, -1, 0.5f, 22, 1, 2);
+    memset(&m, 0, sizeof(m));
+    fx_begin(&m); /* the ground, height 0 */
+    f0 = fx_vertex(&m, -40, -40, 0); f1 = fx_vertex(&m, 40, -40, 0); f2 = fx_vertex(&m, 40, 40, 0); f3 = fx_vertex(&m, -40, 40, 0);
+    fx_tri(&m, f0, f2, f1);
+    fx_tri(&m, f0, f3, f2);
+    fx_end(&m);
+    fx_begin(&m); /* a wall on it: u = 10, v -5..5, height 0..5 */
+    f0 = fx_vertex(&m, 10, -5, 0); f1 = fx_vertex(&m, 10, 5, 0); f2 = fx_vertex(&m, 10, 5, 5); f3 = fx_vertex(&m, 10, -5, 5);
+    fx_tri(&m, f0, f1, f2);
+    fx_tri(&m, f0, f2, f3);
+    fx_end(&m);
+    fx_begin(&m); /* above the ground, over the cell */
+    f0 = fx_vertex(&m, -1, -2, 2); f1 = fx_vertex(&m, 3, -2, 2); f2 = fx_vertex(&m, 3, 2, 2); f3 = fx_vertex(&m, -1, 2, 2);
+    fx_tri(&m, f0, f1, f2);
+    fx_tri(&m, f0, f2, f3);
+    fx_end(&m);
+    memset(&sd, 0, sizeof(sd));
+    sd.positions = m.pos; sd.vertex_count = m.vc; sd.indices = m.idx; sd.triangle_count = m.tc;
+    sd.objects = m.od; sd.object_count = m.oc; sd.up_axis = 1;
+    CHECK(pvs_scene_create(&sd, &sc, NULL) == PVS_OK);
+    for (k = 0; k < 2 && sc; ++k) {
+        pvs_bake_desc bd;
+        pvs_bake *b = NULL;
+        pvs_bake_report rep;
+        pvs_otree_bake_info info;
+        memset(&bd, 0, sizeof(bd));
+        bd.scene = sc; bd.cells = cells; bd.cell_count = 2; bd.method = k ? PVS_METHOD_AUTO : PVS_METHOD_OTREE;
+        CHECK(pvs_bake_begin(&bd, &b, NULL) == PVS_OK);
+        if (!b) continue;
+        CHECK(pvs_bake_run_task(b, 0, NULL) == PVS_OK);
+        CHECK(pvs_bake_run_task(b, 1, NULL) == PVS_OK);
+        pvs_bake_get_report(b, &rep);
+        pvs_bake_otree_info(b, &info);
+        CHECK(info.prepared == 1 && info.facades > 0);
+        if (k == 0) { /* otree: nothing for this cell, every object */
+            CHECK(pvs_bitset_count(pvs_bake_cell_pvs(b, 0), 3) == 3);
+            CHECK(rep.cells_no_occluders == 1 && rep.cells_all_visible == 1);
+        } else { /* auto: the quad above the ground is culled */
+            const pvs_word *pvs = pvs_bake_cell_pvs(b, 0);
+            CHECK(pvs_bitset_test(pvs, 0) && !pvs_bitset_test(pvs, 2));
+            CHECK(rep.cells_no_occluders == 0 && rep.cells_all_visible == 0);
+        }
+        pvs_bake_destroy(b);
+    }
+    pvs_scene_destroy(sc);
+}
+
 void test_otree(void);
 void test_otree(void) {
     test_facades_split();
     test_facades_door();
     test_facades_levels();
     test_facades_none();
+    test_facades_none_auto();
     otree_verify(1);
     test_25d_degenerate();
     test_bake_axes();
