@@ -24,6 +24,8 @@ static pvs_bake *bake_with(const pvs_scene *s, const mesh_cells *cells, pvs_meth
     bd.methods = methods;
     bd.flags = flags;
     bd.max_distance = max_distance;
+    /* EXTPROJ as AUTO runs it: with the occlusion sweep, except in a preview */
+    if (method == PVS_METHOD_EXTPROJ && !(flags & PVS_BAKE_PREVIEW)) bd.extproj_sweep = PVS_EXTPROJ_SWEEP_PLANES;
     if (pvs_bake_begin(&bd, &b, &e) != PVS_OK) {
         fprintf(stderr, "auto: bake_begin: %s\n", e.message);
         return NULL;
@@ -423,7 +425,87 @@ static void check_restore(void) {
     mesh_free(&m);
 }
 
+/* AUTO's extproj runs the occlusion sweep unless told not to (PVS_EXTPROJ_NO_SWEEP) or previewing:
+   the default bake equals one with extproj_sweep = PVS_EXTPROJ_SWEEP_PLANES, and the method info says
+   so; PVS_EXTPROJ_NO_SWEEP equals the bake of before (EXTPROJ alone with 0: no sweep). */
+static pvs_bake *bake_sweep(const pvs_scene *s, const mesh_cells *cells, pvs_method method, uint32_t sweep, uint32_t flags) {
+    pvs_bake_desc bd;
+    pvs_bake *b = NULL;
+    uint32_t t;
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = s;
+    bd.cells = (const pvs_box *)cells->boxes;
+    bd.cell_count = cells->count;
+    bd.method = method;
+    bd.extproj_sweep = sweep;
+    bd.flags = flags;
+    if (pvs_bake_begin(&bd, &b, NULL) != PVS_OK) return NULL;
+    for (t = 0; t < pvs_bake_task_count(b); ++t) CHECK(pvs_bake_run_task(b, t, NULL) == PVS_OK);
+    return b;
+}
+
+static int same_pvs(const pvs_bake *a, const pvs_bake *b, uint32_t cells, uint32_t objects) {
+    uint32_t c, differ = 0;
+    if (!a || !b) return 0;
+    for (c = 0; c < cells; ++c) differ += memcmp(pvs_bake_cell_pvs(a, c), pvs_bake_cell_pvs(b, c), PVS_BITSET_WORDS(objects) * sizeof(pvs_word)) != 0;
+    return differ == 0;
+}
+
+/* The reason AUTO gives for extproj (the first method, the cheapest). */
+static const char *extproj_reason(const pvs_bake *b) {
+    pvs_bake_method_info mi;
+    uint32_t k;
+    for (k = 0; b && k < pvs_bake_method_count(b); ++k)
+        if (pvs_bake_get_method_info(b, k, &mi) == PVS_OK && mi.method == PVS_METHOD_EXTPROJ) return mi.reason;
+    return "";
+}
+
+static void check_sweep_default(void) {
+    gen_params gp;
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *s = NULL;
+    tool_error te;
+    pvs_bake *def, *with, *without, *alone0, *alone_off, *preview;
+    uint32_t n;
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = GEN_CITY;
+    gp.seed = 4;
+    gp.size = 0.15f;
+    gp.max_cells = 8;
+    mesh_init(&m);
+    mesh_cells_init(&cells);
+    CHECK(gen_scene(&gp, &m, &cells) == 0);
+    CHECK(cli_make_scene("auto-sweep", &m, 1, &s, &te) == 0);
+    if (!s) return;
+    n = pvs_scene_object_count(s);
+    def = bake_sweep(s, &cells, PVS_METHOD_AUTO, 0, 0);
+    with = bake_sweep(s, &cells, PVS_METHOD_AUTO, PVS_EXTPROJ_SWEEP_PLANES, 0);
+    without = bake_sweep(s, &cells, PVS_METHOD_AUTO, PVS_EXTPROJ_NO_SWEEP, 0);
+    alone0 = bake_sweep(s, &cells, PVS_METHOD_EXTPROJ, 0, 0);
+    alone_off = bake_sweep(s, &cells, PVS_METHOD_EXTPROJ, PVS_EXTPROJ_NO_SWEEP, 0);
+    preview = bake_sweep(s, &cells, PVS_METHOD_AUTO, 0, PVS_BAKE_PREVIEW);
+    CHECK(def && with && without && alone0 && alone_off && preview);
+    CHECK(same_pvs(def, with, cells.count, n));
+    CHECK(!same_pvs(def, without, cells.count, n)); /* the sweep changes something on this city */
+    CHECK(same_pvs(alone0, alone_off, cells.count, n));
+    CHECK(strstr(extproj_reason(def), "sweep") != NULL);
+    CHECK(strstr(extproj_reason(without), "sweep") == NULL);
+    CHECK(strstr(extproj_reason(preview), "sweep") == NULL);
+    CHECK(bake_sweep(s, &cells, PVS_METHOD_AUTO, 257, 0) == NULL); /* still refused */
+    pvs_bake_destroy(def);
+    pvs_bake_destroy(with);
+    pvs_bake_destroy(without);
+    pvs_bake_destroy(alone0);
+    pvs_bake_destroy(alone_off);
+    pvs_bake_destroy(preview);
+    pvs_scene_destroy(s);
+    mesh_cells_free(&cells);
+    mesh_free(&m);
+}
+
 void test_auto(void) {
+    check_sweep_default();
     check_mask_preview();
     check_nothing_applies();
     check_max_distance();

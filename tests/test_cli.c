@@ -177,6 +177,8 @@ void test_cli(void) {
             {"--method extproj --sweep-planes 257", "--sweep-planes takes 1..256"},
             {"--method extproj --resolution 8", "--resolution takes 16..4096"},
             {"--method otree --sweep", "--sweep applies only to method extproj, which --method otree does not run"},
+            {"--method otree --no-sweep", "--no-sweep applies only to method extproj"},
+            {"--no-sweep --sweep-planes 8", "--no-sweep contradicts --sweep"},
             {"--method otree,extproj --voxel 0.5", "--voxel applies only to method shrink"},
             {"--vocc-max 3", "auto runs vocc only when a list names it"},
             {"--method extproj --rays 16", "--rays applies only to method sample"},
