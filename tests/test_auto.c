@@ -10,23 +10,32 @@
 #include <stdlib.h>
 #include <string.h>
 
-static pvs_bake *bake_with(const pvs_scene *s, const mesh_cells *cells, pvs_method method, uint32_t methods, uint32_t flags,
-                           float max_distance) {
-    pvs_bake_desc bd;
+/* A generator scene of the given kind (mesh and cells left for the caller to free); NULL on failure. */
+static pvs_scene *gen_auto_scene(const char *name, gen_kind kind, uint64_t seed, float size, uint32_t max_cells, mesh *m, mesh_cells *cells) {
+    gen_params gp;
+    pvs_scene *s = NULL;
+    tool_error te;
+    memset(&gp, 0, sizeof(gp));
+    gp.kind = kind;
+    gp.seed = seed;
+    gp.size = size;
+    gp.max_cells = max_cells;
+    mesh_init(m);
+    mesh_cells_init(cells);
+    CHECK(gen_scene(&gp, m, cells) == 0);
+    CHECK(cli_make_scene(name, m, 1, &s, &te) == 0);
+    return s;
+}
+
+/* Bakes every task of bd (scene and cells set by the caller); NULL (after a message) on failure. */
+static pvs_bake *bake_all(pvs_bake_desc *bd, const pvs_scene *s, const mesh_cells *cells) {
     pvs_bake *b = NULL;
     pvs_error e;
     uint32_t t;
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = s;
-    bd.cells = (const pvs_box *)cells->boxes;
-    bd.cell_count = cells->count;
-    bd.method = method;
-    bd.methods = methods;
-    bd.flags = flags;
-    bd.max_distance = max_distance;
-    /* EXTPROJ as AUTO runs it: with the occlusion sweep, except in a preview */
-    if (method == PVS_METHOD_EXTPROJ && !(flags & PVS_BAKE_PREVIEW)) bd.extproj_sweep = PVS_EXTPROJ_SWEEP_PLANES;
-    if (pvs_bake_begin(&bd, &b, &e) != PVS_OK) {
+    bd->scene = s;
+    bd->cells = (const pvs_box *)cells->boxes;
+    bd->cell_count = cells->count;
+    if (pvs_bake_begin(bd, &b, &e) != PVS_OK) {
         fprintf(stderr, "auto: bake_begin: %s\n", e.message);
         return NULL;
     }
@@ -39,27 +48,29 @@ static pvs_bake *bake_with(const pvs_scene *s, const mesh_cells *cells, pvs_meth
     return b;
 }
 
+static pvs_bake *bake_with(const pvs_scene *s, const mesh_cells *cells, pvs_method method, uint32_t methods, uint32_t flags,
+                           float max_distance) {
+    pvs_bake_desc bd;
+    memset(&bd, 0, sizeof(bd));
+    bd.method = method;
+    bd.methods = methods;
+    bd.flags = flags;
+    bd.max_distance = max_distance;
+    /* EXTPROJ as AUTO runs it: with the occlusion sweep, except in a preview */
+    if (method == PVS_METHOD_EXTPROJ && !(flags & PVS_BAKE_PREVIEW)) bd.extproj_sweep = PVS_EXTPROJ_SWEEP_PLANES;
+    return bake_all(&bd, s, cells);
+}
+
 /* AUTO against its members baked alone and against ray sampling. */
 static void check_auto(gen_kind kind, float size, uint64_t seed, uint32_t max_cells, int expect_cull) {
-    gen_params gp;
     mesh m;
     mesh_cells cells;
-    pvs_scene *s = NULL;
-    tool_error te;
+    pvs_scene *s = gen_auto_scene("auto-test", kind, seed, size, max_cells, &m, &cells);
     pvs_bake *a, *single[PVS_METHOD_COUNT];
     pvs_word *ref, *and_bits;
     uint32_t n, words, c, i, k, misses = 0, mismatches = 0, stat_bad = 0, ran = 0;
     uint64_t in_auto = 0;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = kind;
-    gp.seed = seed;
-    gp.size = size;
-    gp.max_cells = max_cells;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
     memset(single, 0, sizeof(single));
-    CHECK(gen_scene(&gp, &m, &cells) == 0);
-    CHECK(cli_make_scene("auto-test", &m, 1, &s, &te) == 0);
     if (!s) return;
     n = pvs_scene_object_count(s);
     words = (uint32_t)PVS_BITSET_WORDS(n);
@@ -162,26 +173,15 @@ static void check_auto(gen_kind kind, float size, uint64_t seed, uint32_t max_ce
 
 /* The methods mask, PREVIEW, and descs AUTO refuses. */
 static void check_mask_preview(void) {
-    gen_params gp;
     mesh m;
     mesh_cells cells;
-    pvs_scene *s = NULL;
-    tool_error te;
+    pvs_scene *s = gen_auto_scene("auto-mask", GEN_WALLS, 2, 0.3f, 12, &m, &cells);
     pvs_bake_desc bd;
     pvs_bake *b = NULL;
     pvs_bake_method_info mi;
     pvs_error e;
     pvs_word *ref;
     uint32_t n, c, i, misses = 0, k, ran = 0;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_WALLS;
-    gp.seed = 2;
-    gp.size = 0.3f;
-    gp.max_cells = 12;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    CHECK(gen_scene(&gp, &m, &cells) == 0);
-    CHECK(cli_make_scene("auto-mask", &m, 1, &s, &te) == 0);
     if (!s) return;
     n = pvs_scene_object_count(s);
     b = bake_with(s, &cells, PVS_METHOD_AUTO, (1u << PVS_METHOD_OTREE) | (1u << PVS_METHOD_EXTPROJ), 0, 0.0f);
@@ -280,23 +280,12 @@ static double box_dist(const pvs_box *a, const pvs_box *b) {
 
 /* max_distance: the PVS is the unlimited PVS minus exactly the objects clearly beyond D. */
 static void check_max_distance(void) {
-    gen_params gp;
     mesh m;
     mesh_cells cells;
-    pvs_scene *s = NULL;
-    tool_error te;
+    pvs_scene *s = gen_auto_scene("auto-dist", GEN_INDOOR, 1, 0.4f, 10, &m, &cells);
     pvs_bake *full, *cut;
     const float D = 12.5f;
     uint32_t n, c, i, bad = 0, removed = 0;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_INDOOR;
-    gp.seed = 1;
-    gp.size = 0.4f;
-    gp.max_cells = 10;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    CHECK(gen_scene(&gp, &m, &cells) == 0);
-    CHECK(cli_make_scene("auto-dist", &m, 1, &s, &te) == 0);
     if (!s) return;
     n = pvs_scene_object_count(s);
     full = bake_with(s, &cells, PVS_METHOD_OTREE, 0, 0, 0.0f);
@@ -430,18 +419,11 @@ static void check_restore(void) {
    so; PVS_EXTPROJ_NO_SWEEP equals the bake of before (EXTPROJ alone with 0: no sweep). */
 static pvs_bake *bake_sweep(const pvs_scene *s, const mesh_cells *cells, pvs_method method, uint32_t sweep, uint32_t flags) {
     pvs_bake_desc bd;
-    pvs_bake *b = NULL;
-    uint32_t t;
     memset(&bd, 0, sizeof(bd));
-    bd.scene = s;
-    bd.cells = (const pvs_box *)cells->boxes;
-    bd.cell_count = cells->count;
     bd.method = method;
     bd.extproj_sweep = sweep;
     bd.flags = flags;
-    if (pvs_bake_begin(&bd, &b, NULL) != PVS_OK) return NULL;
-    for (t = 0; t < pvs_bake_task_count(b); ++t) CHECK(pvs_bake_run_task(b, t, NULL) == PVS_OK);
-    return b;
+    return bake_all(&bd, s, cells);
 }
 
 static int same_pvs(const pvs_bake *a, const pvs_bake *b, uint32_t cells, uint32_t objects) {
@@ -461,22 +443,11 @@ static const char *extproj_reason(const pvs_bake *b) {
 }
 
 static void check_sweep_default(void) {
-    gen_params gp;
     mesh m;
     mesh_cells cells;
-    pvs_scene *s = NULL;
-    tool_error te;
+    pvs_scene *s = gen_auto_scene("auto-sweep", GEN_CITY, 4, 0.15f, 8, &m, &cells);
     pvs_bake *def, *with, *without, *alone0, *alone_off, *preview;
     uint32_t n;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_CITY;
-    gp.seed = 4;
-    gp.size = 0.15f;
-    gp.max_cells = 8;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    CHECK(gen_scene(&gp, &m, &cells) == 0);
-    CHECK(cli_make_scene("auto-sweep", &m, 1, &s, &te) == 0);
     if (!s) return;
     n = pvs_scene_object_count(s);
     def = bake_sweep(s, &cells, PVS_METHOD_AUTO, 0, 0);
