@@ -19036,9 +19036,9 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution
                             : (b->flags & PVS_BAKE_PREVIEW) ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS__EP_DEFAULT_RES;
     b->extproj_occluders = desc->extproj_occluders ? desc->extproj_occluders : (b->flags & PVS_BAKE_PREVIEW) ? 32u : PVS__EP_DEFAULT_OCC;
-    b->extproj_sweep = desc->extproj_sweep == PVS_EXTPROJ_NO_SWEEP ? 0u
-                       : desc->extproj_sweep || method != PVS_METHOD_AUTO || (b->flags & PVS_BAKE_PREVIEW) ? desc->extproj_sweep
-                       : PVS_EXTPROJ_SWEEP_PLANES;
+    b->extproj_sweep = desc->extproj_sweep == PVS_EXTPROJ_NO_SWEEP ? 0u : desc->extproj_sweep;
+    if (!desc->extproj_sweep && method == PVS_METHOD_AUTO && !(b->flags & PVS_BAKE_PREVIEW))
+        b->extproj_sweep = PVS_EXTPROJ_SWEEP_PLANES; /* AUTO's default */
     b->adaptive_budget = desc->adaptive_budget;
     b->adaptive_min_size = desc->adaptive_min_size;
     if (b->adaptive_budget) {
@@ -19147,18 +19147,13 @@ PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_w
 PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
                                      pvs_word *each, pvs_error *err) {
     uint32_t k;
-    size_t w;
     pvs_result r = PVS_OK;
     memset(each, 0, (size_t)b->run_count * b->words * sizeof(pvs_word));
     for (k = 0; k < b->run_count && r == PVS_OK; ++k)
         r = pvs__bake_method_cell(b, b->run[k], task, cell, box, pvs__bake_prior(b, k, candidates, each, each + (size_t)b->run_count * b->words),
                                   each + (size_t)k * b->words, err);
     if (r != PVS_OK) return r;
-    for (w = 0; w < b->words; ++w) {
-        pvs_word all = candidates ? candidates[w] : ~(pvs_word)0;
-        for (k = 0; k < b->run_count; ++k) all &= each[(size_t)k * b->words + w];
-        bits[w] = all;
-    }
+    pvs__bake_prior(b, b->run_count, candidates, each, bits); /* all of them (run_count >= 1) */
     pvs__bake_distance(b, box, bits);
     return PVS_OK;
 }
@@ -19285,8 +19280,6 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         r = pvs__bake_adapt(b, task, cell, err);
         if (r != PVS_OK) return r;
     }
-    /* AUTO: a method without occluders for the cell (otree, shrink) says nothing when another culled */
-    if (n > 1 && !(b->cell_flags[task] & PVS__BAKE_ALL_VISIBLE)) b->cell_flags[task] &= (unsigned char)~PVS__BAKE_NO_OCCLUDERS;
     b->done[task] = 1;
     pvs__ok(err);
     return PVS_OK;
@@ -19299,7 +19292,8 @@ PVS_API void pvs_bake_get_report(const pvs_bake *b, pvs_bake_report *r) {
         if (!b->done[i] || b->restored[i]) continue;
         ++r->cells;
         r->cells_all_visible += (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE) != 0;
-        r->cells_no_occluders += (b->cell_flags[i] & PVS__BAKE_NO_OCCLUDERS) != 0;
+        /* AUTO: a method without occluders for the cell (otree, shrink) says nothing when another culled */
+        r->cells_no_occluders += (b->cell_flags[i] & PVS__BAKE_NO_OCCLUDERS) && (b->run_count == 1 || (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE));
         r->cells_excluded += (b->cell_flags[i] & PVS__BAKE_EXCLUDED) != 0;
     }
 }

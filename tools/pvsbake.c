@@ -487,6 +487,7 @@ int main(int argc, char **argv) {
     if ((methods_run(method, methods) >> PVS_METHOD_EXTPROJ & 1u) &&
         fit_threads_to_memory(&threads, shard_n > 1 && shard_k <= cells.count ? (cells.count - shard_k) / shard_n + 1 : cells.count,
                               resolution ? resolution : preview ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS_EXTPROJ_RESOLUTION,
+                              /* the sweep planes pvs_bake_begin will use (AUTO's default: PVS_EXTPROJ_SWEEP_PLANES) */
                               sweep ? sweep : method == PVS_METHOD_AUTO && !preview && !no_sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0, quiet)) {
         rc = 2;
         goto done;
