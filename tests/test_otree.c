@@ -1631,8 +1631,51 @@ static void test_facades_none_auto(void) {
     pvs_scene_destroy(sc);
 }
 
+/* The default node budget (PVS_OTREE_25D_BUDGET): many small facades at random angles around a cell
+   (the brushes of a game map) split the trees past it; the default run stops there as an explicit
+   budget of that size does, and twice the budget hides at least as much. */
+static void test_25d_default_budget(void) {
+    enum { NW = 9000, NO = 400 };
+    float *walls = (float *)malloc(5 * NW * sizeof(float)), objs[5 * NO];
+    pvs_word def[PVS_BITSET_WORDS(NO)], same[PVS_BITSET_WORDS(NO)], big[PVS_BITSET_WORDS(NO)];
+    pvs_visibility_25d_desc d;
+    pvs_otree_stats st, st2;
+    pvs_error e;
+    uint32_t nw = 0, no = 0, i;
+    if (!walls) { CHECK(0); return; }
+    while (nw < NW) {
+        float x = rndf(-60, 60), y = rndf(-60, 60), a = rndf(0, 6.2831853f), l = rndf(0.2f, 1.5f);
+        float *w = walls + 5 * nw;
+        if (fabsf(x) < 3 && fabsf(y) < 3) continue;
+        w[0] = x; w[1] = y; w[2] = x + l * cosf(a); w[3] = y + l * sinf(a); w[4] = rndf(0.1f, 1.2f);
+        ++nw;
+    }
+    while (no < NO) {
+        float x = rndf(-70, 70), y = rndf(-70, 70), *b = objs + 5 * no;
+        if (fabsf(x) < 4 && fabsf(y) < 4) continue;
+        b[0] = x; b[1] = y; b[2] = x + rndf(0.1f, 1); b[3] = y + rndf(0.1f, 1); b[4] = rndf(0.1f, 3.0f);
+        ++no;
+    }
+    memset(&d, 0, sizeof(d));
+    d.cell_min[0] = -1; d.cell_min[1] = -1; d.cell_max[0] = 1; d.cell_max[1] = 1; d.cell_top = 1.5f;
+    d.facades = walls; d.facade_count = nw; d.objects = objs; d.object_count = no;
+    CHECK(pvs_visibility_25d(&d, def, &st, &e) == PVS_OK);
+    CHECK(st.budget_exceeded == 1 && st.nodes >= PVS_OTREE_25D_BUDGET && st.nodes < PVS_OTREE_25D_BUDGET + 4096);
+    d.node_budget = PVS_OTREE_25D_BUDGET;
+    CHECK(pvs_visibility_25d(&d, same, &st2, &e) == PVS_OK);
+    CHECK(memcmp(def, same, sizeof(def)) == 0 && st2.nodes == st.nodes);
+    d.node_budget = 2 * PVS_OTREE_25D_BUDGET;
+    CHECK(pvs_visibility_25d(&d, big, &st2, &e) == PVS_OK);
+    CHECK(st2.nodes > st.nodes);
+    for (i = 0; i < no; ++i) CHECK(!pvs_bitset_test(big, i) || pvs_bitset_test(def, i));
+    fprintf(stderr, "25d default budget: %u facades, %u nodes (%u with twice the budget), %u / %u objects visible\n", nw, st.nodes, st2.nodes,
+            pvs_bitset_count(def, no), pvs_bitset_count(big, no));
+    free(walls);
+}
+
 void test_otree(void);
 void test_otree(void) {
+    test_25d_default_budget();
     test_facades_split();
     test_facades_door();
     test_facades_levels();
