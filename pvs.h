@@ -102,8 +102,9 @@
    (a Quake 3 arena with its brushes, 422 cells: 1.59 s per cell before, 0.11 s). EXTPROJ runs with
    the occlusion sweep of §5 (pvs_bake_desc.extproj_sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on
    indoor game maps it fuses walls and floors that the planes of §6.1 do not (six Quake 3 maps with
-   their brushes, 2026-11-25: AUTO's PVS 1% to 29% smaller, 6% more time on the large ones, up to 3
-   times on a small one, 12 to 38 ms per cell; the generator's scenes: about 1% smaller for 40 to
+   their brushes, 2026-11-25: AUTO's PVS 1% to 29% smaller, 10% to 27% more time on the large ones
+   (ons-reborn 2.4 -> 3.0 s per cell, dieselpower 0.60 -> 0.74 s, oa_rpg3dm2 0.86 -> 0.94 s), up to
+   3 times on a small one, 12 to 38 ms per cell; the generator's scenes: about 1% smaller for 40 to
    120 ms more per cell). pvs_bake_get_method_info says which ran, which were skipped and why, and what
    each contributed; pvs_bake_desc.methods restricts the candidates. SAMPLE is never among them.
    PVS_BAKE_PREVIEW keeps only the cheapest with coarse settings. max_distance (a draw distance) drops
