@@ -14399,7 +14399,15 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    leaves and trunks close it together, in depth (the trunks alone, by an exact 2D from-region test
    of their sections, hide about a fifth of the trunk sections), which one binary umbra per plane
    does not capture; testing the triangles' parts further (boxes halved down to 1/64 of a
-   triangle's) adds 2 points. */
+   triangle's) adds 2 points. Where the tightness goes, measured (2026-11-25) with two experiments
+   that are not conservative: closing one-pixel gaps between the blocked regions of the sweep's
+   masks took dieselpower (a Quake 3 map with its brushes, 15 cells, 16 planes) from 323.6 to 248.9
+   objects (ray sampling sees 90.6) and the first forest1000 bench cell (1024 pixels, 64 planes)
+   from 78% to 87% culled; blocking a pixel when the union of the Projections covers its 4 x 4
+   sample points, 296.8 and 82%. Most of what is lost lies in the penumbra gaps between the
+   Projections of adjacent occluders (each Projection is the umbra of one occluder), a third in
+   pixels that two Projections cover only together. Running the cell as 4 (8) sub-cells and taking
+   the union of their PVSs culls 81% (83%) on that forest cell, at 4 (8) times the time. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
