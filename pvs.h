@@ -14406,8 +14406,9 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    from 78% to 87% culled; blocking a pixel when the union of the Projections covers its 4 x 4
    sample points, 296.8 and 82%. Most of what is lost lies in the penumbra gaps between the
    Projections of adjacent occluders (each Projection is the umbra of one occluder), a third in
-   pixels that two Projections cover only together. Running the cell as 4 (8) sub-cells and taking
-   the union of their PVSs culls 81% (83%) on that forest cell, at 4 (8) times the time. */
+   pixels that two Projections cover only together. Baking the cell as 4 horizontal slabs (2 x 2 x 2
+   sub-cells) and taking the union of their PVSs culls 81% (83%) on that forest cell, at 4 (8) times
+   the time. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
