@@ -854,8 +854,8 @@ typedef struct pvs_visibility_25d_desc {
     uint32_t flags;                 /* 0, or PVS_VISIBILITY_25D_FULL_TESTS (other bits: INVALID_ARGUMENT) */
 } pvs_visibility_25d_desc;
 
-/* The default node budget of a 2.5D occlusion tree (pvs_visibility_25d_desc.node_budget, and every
-   OTREE bake). The budget spent, the remaining facades are not inserted (counted as not blocking:
+/* The default node budget of a 2.5D occlusion tree (pvs_visibility_25d_desc.node_budget, and OTREE
+   bakes: pvs_bake_desc.otree_node_budget). The budget spent, the remaining facades are not inserted (counted as not blocking:
    conservative) and the objects are still tested. The generator scenes never reach it. On the brush
    geometry of Quake 3 maps thousands of small facades split the tree into slivers: measured
    (2026-11-25, OTREE alone, 2 threads) against the former 2^18, per cell: ons-reborn 12.7 -> 2.6 s
@@ -1349,6 +1349,9 @@ typedef struct pvs_bake_desc {
     uint32_t vocc_only;       /* VOCC: 1 = store only the occluders: the PVS records are placeholders (every
                                  drawable object) and the runtime rebuilds each PVS with pvs_vocc_cull */
     float voxel_size;         /* SHRINK: occluder synthesis voxel size, 0 = derived */
+    uint32_t otree_node_budget; /* OTREE (also under AUTO): nodes per occlusion tree, 0 = PVS_OTREE_25D_BUDGET;
+                                 64..2^24. A larger budget never hides less; on maps of many small facades
+                                 the time grows faster than the budget (see PVS_OTREE_25D_BUDGET) */
     /* Sharded bakes (build farms): with shard_count >= 2 this bake runs only cells shard_index,
        shard_index + shard_count, ... and writes a part file; the parts of shard_index 0..shard_count-1
        merge (decode them, pvs_file_encode the whole table) into the file an unsharded bake writes. */
@@ -18449,6 +18452,7 @@ struct pvs_bake {
     pvs_kdtree *ot_tree[PVS__OT25_LEVELS];   /* OTREE: per level, over pvs_visibility_25d_boxes */
     struct pvs__extproj_prep *extproj;        /* EXTPROJ: the scene's occluders, read-only in tasks */
     uint32_t extproj_resolution, extproj_occluders, extproj_sweep;
+    uint32_t otree_budget;     /* OTREE: pvs_visibility_25d_desc.node_budget (0 = its default) */
     pvs_occluders *occluders;  /* SHRINK */
     pvs_occluders *occluders_leak; /* SHRINK: made with every cell seeding, for the cells the first left out */
     pvs_shrink_mode shrink_mode;
@@ -18665,6 +18669,7 @@ PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t c
     d.cell_max[0] = c->max[u]; d.cell_max[1] = c->max[v];
     d.cell_top = c->max[up];
     d.allocator = b->allocator;
+    d.node_budget = b->otree_budget;
     grp = (unsigned char *)pvs__alloc_array(&b->allocator, (size_t)no + 1, 1);
     if (!grp) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u object levels", cell);
     for (i = 0; i < no; ++i) { /* the level of each drawable object: the highest one at or below its floor */
@@ -18991,6 +18996,8 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_occluders %u > 65536", desc->extproj_occluders);
     if (desc->extproj_sweep > 256 && desc->extproj_sweep != PVS_EXTPROJ_NO_SWEEP)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep %u > 256", desc->extproj_sweep);
+    if (desc->otree_node_budget && (desc->otree_node_budget < 64 || desc->otree_node_budget > (1u << 24)))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree_node_budget %u is not in 64..2^24", desc->otree_node_budget);
     if (!pvs__finite(desc->adaptive_min_size) || desc->adaptive_min_size < 0.0f)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "adaptive_min_size must be finite and >= 0");
     if (desc->adaptive_budget && desc->shard_count)
@@ -19059,6 +19066,7 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     b->extproj_sweep = desc->extproj_sweep == PVS_EXTPROJ_NO_SWEEP ? 0u : desc->extproj_sweep;
     if (!desc->extproj_sweep && method == PVS_METHOD_AUTO && !(b->flags & PVS_BAKE_PREVIEW))
         b->extproj_sweep = PVS_EXTPROJ_SWEEP_PLANES; /* AUTO's default */
+    b->otree_budget = desc->otree_node_budget;
     b->adaptive_budget = desc->adaptive_budget;
     b->adaptive_min_size = desc->adaptive_min_size;
     if (b->adaptive_budget) {

@@ -179,6 +179,8 @@ void test_cli(void) {
             {"--method otree --sweep", "--sweep applies only to method extproj, which --method otree does not run"},
             {"--method otree --no-sweep", "--no-sweep applies only to method extproj"},
             {"--no-sweep --sweep-planes 8", "--no-sweep contradicts --sweep"},
+            {"--method otree --otree-budget 63", "--otree-budget takes 64..16777216"},
+            {"--method extproj --otree-budget 4096", "--otree-budget applies only to method otree"},
             {"--method otree,extproj --voxel 0.5", "--voxel applies only to method shrink"},
             {"--vocc-max 3", "auto runs vocc only when a list names it"},
             {"--method extproj --rays 16", "--rays applies only to method sample"},
@@ -246,6 +248,11 @@ void test_cli(void) {
     CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/sw3.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
     CHECK(same_bytes(DIR "/sw1.pvs", DIR "/sw2.pvs"));
     CHECK(exists(DIR "/sw3.pvs") && !same_bytes(DIR "/sw1.pvs", DIR "/sw3.pvs")); /* the options reach the bake */
+    /* --otree-budget reaches the bake too: a tiny tree culls less, still with no miss */
+    CHECK(run("./pvsbake -q " DIR "/w.obj -o " DIR "/ob1.pvs --cells " DIR "/w.txt --method otree", &out) == 0); free(out);
+    CHECK(run("./pvsbake -q " DIR "/w.obj -o " DIR "/ob2.pvs --cells " DIR "/w.txt --method otree --otree-budget 64", &out) == 0); free(out);
+    CHECK(exists(DIR "/ob2.pvs") && !same_bytes(DIR "/ob1.pvs", DIR "/ob2.pvs"));
+    CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/ob2.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
 
     /* a good bake; options in any order; identical bytes for 1 and 2 threads (-j2 spelt as make does) */
     rc = run("./pvsbake --method sample -q --cells " DIR "/cells.txt -o " DIR "/a.pvs -j 1 " DIR "/scene.obj --rays 256 --points 16", &out);

@@ -27,6 +27,8 @@ static const char *usage =
     "  --2d5, --3d       shrink: force the 2.5D (cull map) or 3D (depth cube) path; default: 2.5D\n"
     "                    when the synthesized occluders stand on the ground\n"
     "  --voxel V         shrink: voxel size of the occluder synthesis (default eps / 1.5, capped)\n"
+    "  --otree-budget N  otree: nodes per occlusion tree (64..16777216, default 65536); more can\n"
+    "                    only hide more, and on maps of many small facades costs far more time\n"
     "  --sweep           extproj: add the occlusion sweep (Durand 2000 §5) for scenes of many small\n"
     "                    occluders (foliage); slower. auto runs it by default (not with --preview)\n"
     "  --sweep-planes N  extproj: the sweep with N planes per direction (1..256, --sweep: 16)\n"
@@ -76,7 +78,7 @@ static int usage_error(const char *fmt, const char *arg) {
 static const struct { const char *option; pvs_method method; } method_options[] = {
     {"--2d5", PVS_METHOD_SHRINK},         {"--3d", PVS_METHOD_SHRINK},          {"--voxel", PVS_METHOD_SHRINK},
     {"--sweep", PVS_METHOD_EXTPROJ},      {"--sweep-planes", PVS_METHOD_EXTPROJ}, {"--resolution", PVS_METHOD_EXTPROJ},
-    {"--no-sweep", PVS_METHOD_EXTPROJ},
+    {"--no-sweep", PVS_METHOD_EXTPROJ},   {"--otree-budget", PVS_METHOD_OTREE},
     {"--vocc-slices", PVS_METHOD_VOCC},   {"--vocc-max", PVS_METHOD_VOCC},
     {"--points", PVS_METHOD_SAMPLE},      {"--rays", PVS_METHOD_SAMPLE},        {"--seed", PVS_METHOD_SAMPLE},
 };
@@ -242,7 +244,7 @@ static int cmp_str(const void *a, const void *b) { return strcmp(*(const char *c
 static const char *const value_options[] = {"-o", "--cells", "--grid", "--up", "--method", "--eps", "-j", "--points", "--rays",
                                             "--seed", "--chain", "--shard", "--voxel", "--max-distance", "--state",
                                             "--state-every", "--vocc-slices", "--vocc-max", "--adaptive", "--min-cell",
-                                            "--sweep-planes", "--resolution", NULL};
+                                            "--sweep-planes", "--resolution", "--otree-budget", NULL};
 
 /* What identifies a bake for its state file: the scene's arrays, the cells, and every option that
    may change the result, as sorted "option=value" strings (value_options take the next argument,
@@ -361,7 +363,7 @@ int main(int argc, char **argv) {
     const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL, *state_path = NULL;
     float grid = 0.0f, eps = 0.0f, voxel = 0.0f, max_distance = 0.0f;
     pvs_shrink_mode shrink_mode = PVS_SHRINK_AUTO;
-    uint32_t sweep = 0, adaptive = 0, resolution = 0;
+    uint32_t sweep = 0, adaptive = 0, resolution = 0, otree_budget = 0;
     float min_cell = 0.0f;
     uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0, methods = 0, state_every = 0;
     uint32_t vocc_slices = 0, vocc_max = 0;
@@ -433,6 +435,8 @@ int main(int argc, char **argv) {
                 if (cli_parse_u32(v, 1, 16, &vocc_slices)) return usage_error("--vocc-slices takes 1..16, not '%s'", v);
             } else if (!strcmp(a, "--sweep-planes")) {
                 if (cli_parse_u32(v, 1, 256, &sweep)) return usage_error("--sweep-planes takes 1..256, not '%s'", v);
+            } else if (!strcmp(a, "--otree-budget")) {
+                if (cli_parse_u32(v, 64, 1u << 24, &otree_budget)) return usage_error("--otree-budget takes 64..16777216, not '%s'", v);
             } else if (!strcmp(a, "--resolution")) {
                 if (cli_parse_u32(v, 16, 4096, &resolution)) return usage_error("--resolution takes 16..4096, not '%s'", v);
             } else if (!strcmp(a, "--vocc-max")) {
@@ -513,6 +517,7 @@ int main(int argc, char **argv) {
     bd.vocc_only = (uint32_t)vocc_only;
     bd.extproj_sweep = no_sweep ? PVS_EXTPROJ_NO_SWEEP : sweep; /* 0: auto's default, the sweep */
     bd.extproj_resolution = resolution;
+    bd.otree_node_budget = otree_budget;
     bd.adaptive_budget = adaptive;
     bd.adaptive_min_size = min_cell;
     if (adaptive) no_state = 1; /* a cell's PVS alone does not restore its leaves */
