@@ -1396,9 +1396,10 @@ typedef struct pvs_bake_method_info {
     uint32_t cells;           /* tasks that ran it */
     uint64_t pvs_sum;         /* sum over those cells of the PVS size this method found alone */
     uint64_t sole_culls;      /* (cell, object) pairs this method alone left out of the intersection: its
-                                 contribution (for one method: every object it left out). An object a
-                                 method run later did not test (kept_only below) counts for the methods
-                                 that culled it */
+                                 contribution (for one method: every drawable object it left out; objects
+                                 flagged PVS_OBJECT_OCCLUDER_ONLY are in no PVS and count for none). An
+                                 object a method run later did not test (kept_only below) counts for the
+                                 methods that culled it */
     int kept_only;            /* 1: it tested only the objects the methods run before it kept (AUTO runs
                                  SHRINK, the costliest, last; the intersection is the same, the time far
                                  less): pvs_sum counts the objects they culled as kept */
@@ -19279,7 +19280,7 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         r = pvs__bake_method_cell(b, b->run[0], task, cell, b->cells + task, NULL, bits, err);
         if (r != PVS_OK) return r;
         own[0] = pvs_bitset_count(bits, b->object_count);
-        sole[0] = b->object_count - own[0];
+        sole[0] = own[0] < b->drawable ? b->drawable - own[0] : 0; /* occluder-only objects are never in a PVS */
         pvs__bake_distance(b, b->cells + task, bits);
     } else {
         /* AUTO: each method's PVS, then their intersection (pvs__bake_box); a method's contribution

@@ -142,7 +142,7 @@ static void check_auto(gen_kind kind, float size, uint64_t seed, uint32_t max_ce
                         for (j = 0; j < nr; ++j)
                             if (j != r) others &= eff[j];
                         own += (uint64_t)eff[r];
-                        sole += others && !eff[r];
+                        sole += others && !eff[r] && drawable; /* occluder-only objects count for no method */
                     }
                 stat_bad += own != ran_info[r].pvs_sum || sole != ran_info[r].sole_culls;
             }

@@ -259,6 +259,17 @@ void test_cli(void) {
     CHECK(rc == 0); free(out);
     rc = run("./pvsbake --method sample " DIR "/scene.obj -o " DIR "/b.pvs --cells " DIR "/cells.txt -j2 --rays 256 --points 16", &out);
     CHECK(rc == 0 && strstr(out, "approximate")); free(out);
+    /* a method's own PVS and what it alone culled add up to the drawable objects: the occluder_*
+       object, in no PVS, is culled by none (auto --preview runs one method) */
+    rc = run("./pvsbake " DIR "/scene.obj -o " DIR "/p.pvs --cells " DIR "/cells.txt --preview", &out);
+    {
+        const char *at = out ? strstr(out, "its own PVS ") : NULL;
+        double own = -1.0, culled = -1.0;
+        CHECK(rc == 0 && at && sscanf(at, "its own PVS %lf objects, it alone culled %lf", &own, &culled) == 2);
+        CHECK(own >= 0.0 && culled >= 0.0 && own + culled > 2.95 && own + culled < 3.05);
+        if (!(own + culled > 2.95 && own + culled < 3.05)) fprintf(stderr, "  output: %s\n", out ? out : "");
+    }
+    free(out);
     /* the summary's share is of the drawable objects: occluder_* objects are never in a PVS (a
        conservative bake that culls nothing reads 100%, not 75%) */
     rc = run("./pvsbake " DIR "/scene.obj -o " DIR "/s.pvs --cells " DIR "/cells.txt --method shrink --eps 100", &out);
