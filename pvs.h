@@ -14408,9 +14408,11 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    masks took dieselpower (a Quake 3 map with its brushes, 15 cells, 16 planes) from 323.6 to 248.9
    objects (ray sampling sees 90.6) and the first forest1000 bench cell (1024 pixels, 64 planes)
    from 78% to 87% culled; blocking a pixel when the union of the Projections covers its 4 x 4
-   sample points, 296.8 and 82%. Most of what is lost lies in the penumbra gaps between the
-   Projections of adjacent occluders (each Projection is the umbra of one occluder), a third in
-   pixels that two Projections cover only together. Baking the cell as 4 horizontal slabs (2 x 2 x 2
+   sample points, 296.8 and 82%, and when each of its 4 x 4 sub-squares lies inside one Projection
+   (what a conservative version could reach), 315.7 and 81%. Most of what is lost lies in the
+   penumbra gaps between the Projections of adjacent occluders (each Projection is the umbra of one
+   occluder), the rest in pixels that two Projections cover only together. Moving every sweep plane
+   by a fraction of its spacing changes dieselpower's PVS by under 1%. Baking the cell as 4 horizontal slabs (2 x 2 x 2
    sub-cells) and taking the union of their PVSs culls 81% (83%) on that forest cell, at 4 (8) times
    the time. */
 
