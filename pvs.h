@@ -855,9 +855,9 @@ typedef struct pvs_visibility_25d_desc {
 } pvs_visibility_25d_desc;
 
 /* The default node budget of a 2.5D occlusion tree (pvs_visibility_25d_desc.node_budget, and OTREE
-   bakes: pvs_bake_desc.otree_node_budget). The budget spent, the remaining facades are not inserted (counted as not blocking:
-   conservative) and the objects are still tested. The generator scenes never reach it. On the brush
-   geometry of Quake 3 maps thousands of small facades split the tree into slivers: measured
+   bakes: pvs_bake_desc.otree_node_budget). The budget spent, the remaining facades are not inserted
+   (counted as not blocking: conservative) and the objects are still tested. The generator scenes
+   never reach it. On the brush geometry of Quake 3 maps thousands of small facades split the tree into slivers: measured
    (2026-11-25, OTREE alone, 2 threads) against the former 2^18, per cell: ons-reborn 12.7 -> 2.6 s
    (PVS 702.2 -> 702.9 objects), oa_rpg3dm2 1.70 -> 1.20 s (1188.3 -> 1188.4), am_thornish 1.31 ->
    0.75 s, aneurysm 0.48 -> 0.26 s, oa_thor 0.33 -> 0.23 s (2024.7 -> 2026.3), the others unchanged;
@@ -14412,9 +14412,9 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    (what a conservative version could reach), 315.7 and 81%. Most of what is lost lies in the
    penumbra gaps between the Projections of adjacent occluders (each Projection is the umbra of one
    occluder), the rest in pixels that two Projections cover only together. Moving every sweep plane
-   by a fraction of its spacing changes dieselpower's PVS by under 1%. Baking the cell as 4 horizontal slabs (2 x 2 x 2
-   sub-cells) and taking the union of their PVSs culls 81% (83%) on that forest cell, at 4 (8) times
-   the time. */
+   by a fraction of its spacing changes dieselpower's PVS by under 1%. Baking the cell as 4
+   horizontal slabs (2 x 2 x 2 sub-cells) and taking the union of their PVSs culls 81% (83%) on that
+   forest cell, at 4 (8) times the time. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
