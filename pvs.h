@@ -857,11 +857,12 @@ typedef struct pvs_visibility_25d_desc {
 /* The default node budget of a 2.5D occlusion tree (pvs_visibility_25d_desc.node_budget, and OTREE
    bakes: pvs_bake_desc.otree_node_budget). The budget spent, the remaining facades are not inserted
    (counted as not blocking: conservative) and the objects are still tested. The generator scenes
-   never reach it. On the brush geometry of Quake 3 maps thousands of small facades split the tree into slivers: measured
-   (2026-11-25, OTREE alone, 2 threads) against the former 2^18, per cell: ons-reborn 12.7 -> 2.6 s
-   (PVS 702.2 -> 702.9 objects), oa_rpg3dm2 1.70 -> 1.20 s (1188.3 -> 1188.4), am_thornish 1.31 ->
-   0.75 s, aneurysm 0.48 -> 0.26 s, oa_thor 0.33 -> 0.23 s (2024.7 -> 2026.3), the others unchanged;
-   under AUTO on ons-reborn 19.7 -> 1.8 s per cell with the same file. */
+   never reach it. On the brush geometry of Quake 3 maps thousands of small facades split the tree
+   into slivers: measured (2026-11-25, OTREE alone, 2 threads) against the former 2^18, per cell:
+   ons-reborn 12.7 -> 2.6 s (PVS 702.2 -> 702.9 objects), oa_rpg3dm2 1.70 -> 1.20 s (1188.3 ->
+   1188.4), am_thornish 1.31 -> 0.75 s, aneurysm 0.48 -> 0.26 s, oa_thor 0.33 -> 0.23 s (2024.7 ->
+   2026.3), the others unchanged; under AUTO on ons-reborn 19.7 -> 1.8 s per cell with the same
+   file. */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
 
 /* pvs_visibility_25d_desc.flags: every box test walks the tree, with no witness lines (a remembered
