@@ -1433,6 +1433,9 @@ typedef struct pvs_bake_report {
     uint32_t cells_excluded;     /* SHRINK: leaking cells the occluder synthesis left out
                                     (pvs_occluders_excluded_cells): baked with a second synthesis in
                                     which every cell seeds the floods */
+    uint32_t cells_otree_budget; /* OTREE (also under AUTO): cells where an occlusion tree reached its node
+                                    budget (pvs_bake_desc.otree_node_budget) and took no more facades:
+                                    conservative; a larger budget may cull more there, for more time */
 } pvs_bake_report;
 /* Fills *report. Call after the tasks (not concurrently with them). */
 PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
@@ -18486,6 +18489,7 @@ struct pvs_bake {
 };
 #define PVS__BAKE_ALL_VISIBLE 1u
 #define PVS__BAKE_NO_OCCLUDERS 2u
+#define PVS__BAKE_OTREE_BUDGET 4u
 #define PVS__BAKE_EXCLUDED 4u
 
 /* The leaf cells of one adaptive task and their PVSs. */
@@ -18658,8 +18662,10 @@ done:
    objects whose min(cell bottom, object bottom) lies in [level k, level k + 1) are tested against
    the facades of levels <= k; objects below the lowest level are visible. c: the task's cell or,
    with adaptive cells, a part of it. */
-PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t cell, pvs_word *bits, int *no_occluders, pvs_error *err) {
+PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t cell, pvs_word *bits, int *no_occluders, int *budget_hit,
+                                       pvs_error *err) {
     const pvs_scene *s = b->scene;
+    pvs_otree_stats st;
     int up = s->up_axis == 2 ? 2 : 1, u, v;
     pvs_visibility_25d_desc d;
     float *own = NULL;
@@ -18703,12 +18709,13 @@ PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t c
             for (i = 0; i < no; ++i)
                 if (grp[i] != k) { own[5 * (size_t)i] = 1.0f; own[5 * (size_t)i + 2] = 0.0f; }
             d.objects = own;
-            r = pvs_visibility_25d(&d, part, NULL, err);
+            r = pvs_visibility_25d(&d, part, &st, err);
             if (r == PVS_OK)
                 for (i = 0; i < (uint32_t)PVS_BITSET_WORDS(no); ++i) bits[i] |= part[i];
         } else {
-            r = pvs_visibility_25d(&d, bits, NULL, err); /* the only run, every object: into bits directly */
+            r = pvs_visibility_25d(&d, bits, &st, err); /* the only run, every object: into bits directly */
         }
+        if (r == PVS_OK && st.budget_exceeded) *budget_hit = 1;
     }
     if (own) pvs__free_array(&b->allocator, own, (size_t)no * 5 + 5, sizeof(float));
     if (part) pvs__free_array(&b->allocator, part, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
@@ -18898,10 +18905,11 @@ PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t
         break;
     }
     case PVS_METHOD_OTREE: {
-        int none = 0;
-        pvs_result r = pvs__otree_cell(b, box, cell, bits, &none, err);
+        int none = 0, budget_hit = 0;
+        pvs_result r = pvs__otree_cell(b, box, cell, bits, &none, &budget_hit, err);
         if (r != PVS_OK) return r;
         if (none) b->cell_flags[task] |= PVS__BAKE_NO_OCCLUDERS;
+        if (budget_hit) b->cell_flags[task] |= PVS__BAKE_OTREE_BUDGET;
         break;
     }
     case PVS_METHOD_EXTPROJ: {
@@ -19326,6 +19334,7 @@ PVS_API void pvs_bake_get_report(const pvs_bake *b, pvs_bake_report *r) {
         r->cells_all_visible += (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE) != 0;
         /* AUTO: a method without occluders for the cell (otree, shrink) says nothing when another culled */
         r->cells_no_occluders += (b->cell_flags[i] & PVS__BAKE_NO_OCCLUDERS) && (b->run_count == 1 || (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE));
+        r->cells_otree_budget += (b->cell_flags[i] & PVS__BAKE_OTREE_BUDGET) != 0;
         r->cells_excluded += (b->cell_flags[i] & PVS__BAKE_EXCLUDED) != 0;
     }
 }

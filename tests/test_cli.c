@@ -249,8 +249,11 @@ void test_cli(void) {
     CHECK(same_bytes(DIR "/sw1.pvs", DIR "/sw2.pvs"));
     CHECK(exists(DIR "/sw3.pvs") && !same_bytes(DIR "/sw1.pvs", DIR "/sw3.pvs")); /* the options reach the bake */
     /* --otree-budget reaches the bake too: a tiny tree culls less, still with no miss */
-    CHECK(run("./pvsbake -q " DIR "/w.obj -o " DIR "/ob1.pvs --cells " DIR "/w.txt --method otree", &out) == 0); free(out);
-    CHECK(run("./pvsbake -q " DIR "/w.obj -o " DIR "/ob2.pvs --cells " DIR "/w.txt --method otree --otree-budget 64", &out) == 0); free(out);
+    CHECK(run("./pvsbake " DIR "/w.obj -o " DIR "/ob1.pvs --cells " DIR "/w.txt --method otree", &out) == 0 && !strstr(out, "node budget"));
+    free(out);
+    CHECK(run("./pvsbake " DIR "/w.obj -o " DIR "/ob2.pvs --cells " DIR "/w.txt --method otree --otree-budget 64", &out) == 0 &&
+          strstr(out, "a tree reached its node budget and took no more facades"));
+    free(out);
     CHECK(exists(DIR "/ob2.pvs") && !same_bytes(DIR "/ob1.pvs", DIR "/ob2.pvs"));
     CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/ob2.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
 

@@ -612,6 +612,13 @@ static void test_bake_city(void) {
             }
         }
         CHECK(lost == 0 && wider > 0);
+        {   /* the report says where the budget stopped a tree: there, not at the default */
+            pvs_bake_report rp;
+            pvs_bake_get_report(b3, &rp);
+            CHECK(rp.cells == cells.count && rp.cells_otree_budget > 0 && rp.cells_otree_budget <= cells.count);
+            pvs_bake_get_report(b1, &rp);
+            CHECK(rp.cells_otree_budget == 0);
+        }
         pvs_bake_destroy(b3);
         b3 = NULL;
         bd.otree_node_budget = 63;

@@ -606,6 +606,9 @@ int main(int argc, char **argv) {
                     rep.cells_no_occluders, rep.cells);
         else if (rep.cells_all_visible)
             fprintf(stderr, "  %u of %u cells see every object\n", rep.cells_all_visible, rep.cells);
+        if (rep.cells_otree_budget)
+            fprintf(stderr, "  otree: in %u of %u cells a tree reached its node budget and took no more facades (conservative;\n"
+                            "  --otree-budget raises it: it may cull more there, for more time)\n", rep.cells_otree_budget, rep.cells);
     }
     if (!quiet && adaptive)
         fprintf(stderr, "  adaptive: %u leaf cells in the file (budget %u triangles; the PVS figures above are of the whole cells)\n",
