@@ -18489,8 +18489,8 @@ struct pvs_bake {
 };
 #define PVS__BAKE_ALL_VISIBLE 1u
 #define PVS__BAKE_NO_OCCLUDERS 2u
-#define PVS__BAKE_OTREE_BUDGET 4u
 #define PVS__BAKE_EXCLUDED 4u
+#define PVS__BAKE_OTREE_BUDGET 8u
 
 /* The leaf cells of one adaptive task and their PVSs. */
 typedef struct pvs__bakeleaves {

@@ -616,6 +616,7 @@ static void test_bake_city(void) {
             pvs_bake_report rp;
             pvs_bake_get_report(b3, &rp);
             CHECK(rp.cells == cells.count && rp.cells_otree_budget > 0 && rp.cells_otree_budget <= cells.count);
+            CHECK(rp.cells_excluded == 0 && rp.cells_no_occluders == 0); /* a flag of its own */
             pvs_bake_get_report(b1, &rp);
             CHECK(rp.cells_otree_budget == 0);
         }
