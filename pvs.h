@@ -18661,9 +18661,9 @@ done:
 /* One cell with pvs_visibility_25d, once per level some object needs (pvs__otree_prepare): the
    objects whose min(cell bottom, object bottom) lies in [level k, level k + 1) are tested against
    the facades of levels <= k; objects below the lowest level are visible. c: the task's cell or,
-   with adaptive cells, a part of it. */
-PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t cell, pvs_word *bits, int *no_occluders, int *budget_hit,
-                                       pvs_error *err) {
+   with adaptive cells, a part of it. Adds PVS__BAKE_NO_OCCLUDERS and PVS__BAKE_OTREE_BUDGET to
+   *flags where they hold. */
+PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t cell, pvs_word *bits, unsigned *flags, pvs_error *err) {
     const pvs_scene *s = b->scene;
     pvs_otree_stats st;
     int up = s->up_axis == 2 ? 2 : 1, u, v;
@@ -18691,7 +18691,7 @@ PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t c
             if (b->ot_level[k] <= fl) { grp[i] = (unsigned char)k; used |= 1u << k; break; }
         if (grp[i] == 0xff) { pvs_bitset_set(bits, i); below = 1; } /* below every facade's base: seen under them */
     }
-    *no_occluders = used == 0; /* no object had a facade to be hidden by */
+    if (!used) *flags |= PVS__BAKE_NO_OCCLUDERS; /* no object had a facade to be hidden by */
     for (k = 0; k < b->ot_level_count && r == PVS_OK; ++k) {
         if (!(used & (1u << k))) continue;
         d.facades = b->ot_facades;
@@ -18715,7 +18715,7 @@ PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t c
         } else {
             r = pvs_visibility_25d(&d, bits, &st, err); /* the only run, every object: into bits directly */
         }
-        if (r == PVS_OK && st.budget_exceeded) *budget_hit = 1;
+        if (r == PVS_OK && st.budget_exceeded) *flags |= PVS__BAKE_OTREE_BUDGET;
     }
     if (own) pvs__free_array(&b->allocator, own, (size_t)no * 5 + 5, sizeof(float));
     if (part) pvs__free_array(&b->allocator, part, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
@@ -18905,11 +18905,10 @@ PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t
         break;
     }
     case PVS_METHOD_OTREE: {
-        int none = 0, budget_hit = 0;
-        pvs_result r = pvs__otree_cell(b, box, cell, bits, &none, &budget_hit, err);
+        unsigned flags = 0;
+        pvs_result r = pvs__otree_cell(b, box, cell, bits, &flags, err);
         if (r != PVS_OK) return r;
-        if (none) b->cell_flags[task] |= PVS__BAKE_NO_OCCLUDERS;
-        if (budget_hit) b->cell_flags[task] |= PVS__BAKE_OTREE_BUDGET;
+        b->cell_flags[task] |= (unsigned char)flags;
         break;
     }
     case PVS_METHOD_EXTPROJ: {
