@@ -12,7 +12,9 @@
    the 10 m tiles of the clearings, and at least 30 m from its edge).
    The forest1000 lines: the dense forest at the paper's density (gen leaves_per_tree 1000, bushes
    as dense, 4.6M triangles) with 1 m cells, baked at 1024 pixels and FOREST1000_PLANES sweep planes
-   per direction (at the defaults, 256 and 16, the sweep culls about 8% there).
+   per direction (at the defaults, 256 and 16, the sweep culls about 8% there); the
+   forest1000_subcells lines add pvs_bake_desc.extproj_sweep_subcells = 4 (the sweep's planes hold
+   the umbrae of the cell's four quarters).
    extproj_reference_visible_pct_forest: mean share of the objects the ray-sampled reference sees
    from those cells (the most any conservative method could cull is 100 minus this).
    extproj_reference_visible_pct_forest_aimed: the same on FOREST_AIMED_CELLS of those cells (1 for
@@ -36,7 +38,7 @@ static double cpu_seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
 #define FOREST1000_PLANES 64u
 
 /* `paper`: the dense forest at the paper's density with 1 m cells, baked at 1024 pixels. */
-static int bench(gen_kind kind, int dense, int paper, const char *name, uint32_t n, uint32_t sweep, uint32_t adaptive) {
+static int bench(gen_kind kind, int dense, int paper, const char *name, uint32_t n, uint32_t sweep, uint32_t adaptive, uint32_t subcells) {
     gen_params gp;
     mesh m;
     mesh_cells cells;
@@ -79,6 +81,7 @@ static int bench(gen_kind kind, int dense, int paper, const char *name, uint32_t
     bd.cell_count = n;
     bd.method = PVS_METHOD_EXTPROJ;
     bd.extproj_sweep = sweep;
+    bd.extproj_sweep_subcells = subcells;
     bd.adaptive_budget = adaptive;
     if (paper) bd.extproj_resolution = 1024;
     t = cpu_seconds();
@@ -101,7 +104,7 @@ static int bench(gen_kind kind, int dense, int paper, const char *name, uint32_t
         printf("BENCH extproj%s_ms_per_cell_%s %.2f ms\n", sweep ? "_sweep" : "", name, 1000.0 * t / n);
         printf("BENCH extproj%s_tightness_%s %.2f\n", sweep ? "_sweep" : "", name, seen_sum > 0.0 ? pvs_sum / seen_sum : 0.0);
         printf("BENCH extproj%s_culled_pct_%s %.1f %%\n", sweep ? "_sweep" : "", name, 100.0 * (1.0 - pvs_sum / n / objects));
-        if (kind == GEN_FOREST && !sweep) {
+        if (kind == GEN_FOREST && !sweep && !subcells) {
             uint32_t na = n < FOREST_AIMED_CELLS ? n : FOREST_AIMED_CELLS;
             if (paper) na = 1;
             printf("BENCH extproj_reference_visible_pct_%s %.1f %%\n", name, 100.0 * seen_sum / n / objects);
@@ -127,12 +130,14 @@ static int bench(gen_kind kind, int dense, int paper, const char *name, uint32_t
 }
 
 int main(void) {
-    if (bench(GEN_CITY, 0, 0, "city", 60, 0, 0)) return 1;
-    if (bench(GEN_CITY, 0, 0, "city", 60, PVS_EXTPROJ_SWEEP_PLANES, 0)) return 1;
-    if (bench(GEN_FOREST, 1, 0, "forest", 30, 0, 0)) return 1;
-    if (bench(GEN_FOREST, 1, 0, "forest", 30, PVS_EXTPROJ_SWEEP_PLANES, 0)) return 1;
-    if (bench(GEN_FOREST, 1, 1, "forest1000", FOREST1000_CELLS, 0, 0)) return 1;
-    if (bench(GEN_FOREST, 1, 1, "forest1000", FOREST1000_CELLS, FOREST1000_PLANES, 0)) return 1;
-    if (bench(GEN_CITY, 0, 0, "city", 20, 0, ADAPTIVE_BUDGET)) return 1;
+    if (bench(GEN_CITY, 0, 0, "city", 60, 0, 0, 0)) return 1;
+    if (bench(GEN_CITY, 0, 0, "city", 60, PVS_EXTPROJ_SWEEP_PLANES, 0, 0)) return 1;
+    if (bench(GEN_CITY, 0, 0, "city_subcells", 60, PVS_EXTPROJ_SWEEP_PLANES, 0, 4)) return 1;
+    if (bench(GEN_FOREST, 1, 0, "forest", 30, 0, 0, 0)) return 1;
+    if (bench(GEN_FOREST, 1, 0, "forest", 30, PVS_EXTPROJ_SWEEP_PLANES, 0, 0)) return 1;
+    if (bench(GEN_FOREST, 1, 1, "forest1000", FOREST1000_CELLS, 0, 0, 0)) return 1;
+    if (bench(GEN_FOREST, 1, 1, "forest1000", FOREST1000_CELLS, FOREST1000_PLANES, 0, 0)) return 1;
+    if (bench(GEN_FOREST, 1, 1, "forest1000_subcells", FOREST1000_CELLS, FOREST1000_PLANES, 0, 4)) return 1;
+    if (bench(GEN_CITY, 0, 0, "city", 20, 0, ADAPTIVE_BUDGET, 0)) return 1;
     return 0;
 }

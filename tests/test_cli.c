@@ -181,6 +181,9 @@ void test_cli(void) {
             {"--no-sweep --sweep-planes 8", "--no-sweep contradicts --sweep"},
             {"--method otree --otree-budget 63", "--otree-budget takes 64..16777216"},
             {"--method extproj --otree-budget 4096", "--otree-budget applies only to method otree"},
+            {"--method extproj --subcells", "--subcells needs the sweep"},
+            {"--no-sweep --subcells", "--subcells needs the sweep"},
+            {"--method otree --subcells", "--subcells applies only to method extproj"},
             {"--method otree,extproj --voxel 0.5", "--voxel applies only to method shrink"},
             {"--vocc-max 3", "auto runs vocc only when a list names it"},
             {"--method extproj --rays 16", "--rays applies only to method sample"},
@@ -248,6 +251,11 @@ void test_cli(void) {
     CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/sw3.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
     CHECK(same_bytes(DIR "/sw1.pvs", DIR "/sw2.pvs"));
     CHECK(exists(DIR "/sw3.pvs") && !same_bytes(DIR "/sw1.pvs", DIR "/sw3.pvs")); /* the options reach the bake */
+    /* --subcells reaches the bake: a different file, no miss */
+    CHECK(run("./pvsbake -q " DIR "/w.obj -o " DIR "/sw4.pvs --cells " DIR "/w.txt --method extproj --sweep --subcells", &out) == 0);
+    free(out);
+    CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/sw4.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
+    CHECK(exists(DIR "/sw4.pvs") && !same_bytes(DIR "/sw1.pvs", DIR "/sw4.pvs"));
     /* --otree-budget reaches the bake too: a tiny tree culls less, still with no miss */
     CHECK(run("./pvsbake " DIR "/w.obj -o " DIR "/ob1.pvs --cells " DIR "/w.txt --method otree", &out) == 0 && !strstr(out, "node budget"));
     free(out);

@@ -780,11 +780,11 @@ static void test_reprojection_chain(void) {
         memcpy(ms2, ms, sizeof(ms));
         for (k = 0; k < NPL; ++k) ms2[k].lv[0] = mem2 + (size_t)k * RES * RES;
         memcpy(mem2, mem, (size_t)NPL * RES * RES);
-        pvs__ep_mask_sat(ms2, sats);
+        pvs__ep_mask_sat(ms2, sats, 1);
         for (k = 1; k < NPL; ++k) {
             pvs__ep_reproject_sweep(ms, (uint32_t)k, ms + k, sat, 0, 0, ranges);
             pvs__ep_reproject_sweep(ms2, (uint32_t)k, ms2 + k, sats, (size_t)(RES + 1) * (RES + 1), 1, ranges);
-            pvs__ep_mask_sat(ms2 + k, sats + (size_t)k * (RES + 1) * (RES + 1));
+            pvs__ep_mask_sat(ms2 + k, sats + (size_t)k * (RES + 1) * (RES + 1), 1);
         }
         if (memcmp(mem, mem2, (size_t)NPL * RES * RES) != 0) ++differ;
         /* conservative, on every later plane */
@@ -882,7 +882,8 @@ static pvs_scene *ep_scene(const mesh *m) {
 }
 
 /* Bake a generated scene with EXTPROJ and compare every cell with ray sampling: no misses. */
-static void ep_check_scene(gen_kind kind, int dense, uint64_t seed, float size, uint32_t max_cells, uint32_t points, uint32_t rays, uint32_t sweep) {
+static double ep_check_scene(gen_kind kind, int dense, uint64_t seed, float size, uint32_t max_cells, uint32_t points, uint32_t rays, uint32_t sweep,
+                             uint32_t subcells) {
     gen_params gp;
     mesh m;
     mesh_cells cells;
@@ -904,9 +905,10 @@ static void ep_check_scene(gen_kind kind, int dense, uint64_t seed, float size, 
     CHECK(gen_scene(&gp, &m, &cells) == 0);
     s = ep_scene(&m);
     CHECK(s != NULL);
-    if (!s) return;
+    if (!s) return 0.0;
     objects = pvs_scene_object_count(s);
     ep_bake_desc(&bd, s, (const pvs_box *)cells.boxes, cells.count, sweep);
+    bd.extproj_sweep_subcells = subcells;
     CHECK(pvs_bake_begin(&bd, &bake, &e) == PVS_OK);
     seen = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
     for (t = 0; t < pvs_bake_task_count(bake); ++t) {
@@ -942,13 +944,14 @@ static void ep_check_scene(gen_kind kind, int dense, uint64_t seed, float size, 
         pvs_bake_destroy(b2);
     }
     if (kind == GEN_CITY || kind == GEN_WALLS || kind == GEN_INDOOR) CHECK(pvs_sum < 0.9 * objects * pvs_bake_task_count(bake)); /* culls */
-    fprintf(stderr, "  extproj %-6s%s%s %3u cells: mean PVS %.1f, sampled %.1f, of %u objects\n", gen_kind_name(kind), dense ? " dense" : "", sweep ? " sweep" : "", pvs_bake_task_count(bake),
-            pvs_sum / pvs_bake_task_count(bake), seen_sum / pvs_bake_task_count(bake), objects);
+    fprintf(stderr, "  extproj %-6s%s%s%s %3u cells: mean PVS %.1f, sampled %.1f, of %u objects\n", gen_kind_name(kind), dense ? " dense" : "", sweep ? " sweep" : "",
+            subcells == 4 ? " subcells" : "", pvs_bake_task_count(bake), pvs_sum / pvs_bake_task_count(bake), seen_sum / pvs_bake_task_count(bake), objects);
     free(seen);
     pvs_bake_destroy(bake);
     pvs_scene_destroy(s);
     mesh_free(&m);
     mesh_cells_free(&cells);
+    return pvs_sum;
 }
 
 /* Thin two-sided walls: a wall between the cell and an object hides it; a wall with a gap does not. */
@@ -1770,6 +1773,158 @@ static void test_task_bytes(void) {
     pvs_scene_destroy(s);
 }
 
+/* The sweep's reprojection with sub-cells (pvs__epmask, pvs__ep_reproject_split): each quarter of
+   the cell has its own blocked rectangles on the nearer plane (bit j); a pixel whose bit j it sets
+   on the farther plane is crossed, by every sampled ray from quarter j through it, inside a pixel
+   holding bit j. With the same blocked pixels in every bit, each bit blocks at least what the
+   cell's own reprojection blocks (a quarter's kernel lies inside the cell's), and more in total.
+   The packed tables count each bit's open pixels like the one-bit table. */
+static void test_reprojection_subcells(void) {
+    enum { RES = 64 };
+    int iter, bad = 0, marked = 0, lost = 0, gained = 0, sat_bad = 0;
+    for (iter = 0; iter < 120; ++iter) {
+        pvs_box cell;
+        pvs__epmask from, to, whole_from, whole_to;
+        unsigned char m0[RES * RES], m1[RES * RES], w0[RES * RES], w1[RES * RES];
+        uint64_t sat[RES * RES + 16 * RES + RES + 1]; /* the split tables' room (pvs__ep_reproject), 8-byte aligned */
+        uint32_t sat1[RES * RES + 16 * RES + RES + 1], x, y, r, j;
+        int32_t ranges[2 * (16 * RES + RES)];
+        int a = (int)(ep_rnd() * 3.0) % 3, side = ep_rnd() < 0.5 ? 1 : -1, k, same = iter % 3 == 0;
+        double W0 = ep_rndf(0.5f, 10.0f), W1 = W0 * ep_rndf(1.05f, 2.0f);
+        for (k = 0; k < 3; ++k) {
+            cell.min[k] = ep_rndf(-2.0f, 2.0f);
+            cell.max[k] = cell.min[k] + ep_rndf(0.1f, 3.0f);
+        }
+        memset(&from, 0, sizeof(from));
+        memset(&to, 0, sizeof(to));
+        pvs__ep_make_plane(&cell, 2 * a + (side > 0 ? 0 : 1), W0, RES, &from.plane);
+        pvs__ep_make_plane(&cell, 2 * a + (side > 0 ? 0 : 1), W1, RES, &to.plane);
+        if (!pvs__ep_frame(&from.plane, &from.frame) || !pvs__ep_frame(&to.plane, &to.frame)) continue;
+        whole_from = from;
+        whole_to = to;
+        pvs__ep_split_mask(&from);
+        pvs__ep_split_mask(&to);
+        CHECK(from.nsub == 4 && from.frame.bits == 15 && to.sub[3].bits == 8);
+        from.lv[0] = m0;
+        to.lv[0] = m1;
+        whole_from.lv[0] = w0;
+        whole_to.lv[0] = w1;
+        memset(m0, 0, sizeof(m0));
+        memset(m1, 0, sizeof(m1));
+        memset(w0, 0, sizeof(w0));
+        memset(w1, 0, sizeof(w1));
+        for (j = 0; j < 4; ++j)
+            for (r = 0; r < (same ? 1u : 3u); ++r) {
+                uint32_t x0 = (uint32_t)(ep_rnd() * RES), y0 = (uint32_t)(ep_rnd() * RES), w = 1 + (uint32_t)(ep_rnd() * 0.7 * RES), h = 1 + (uint32_t)(ep_rnd() * 0.7 * RES);
+                if (same && j) break;
+                for (y = y0; y < y0 + h && y < RES; ++y)
+                    for (x = x0; x < x0 + w && x < RES; ++x) {
+                        if (same) { m0[y * RES + x] = 15; w0[y * RES + x] = 1; }
+                        else m0[y * RES + x] |= (unsigned char)(1u << j);
+                    }
+            }
+        /* the packed tables against the one-bit table */
+        pvs__ep_mask_sat_split(&from, sat);
+        for (j = 0; j < 4; ++j) {
+            pvs__ep_mask_sat(&from, sat1, (unsigned char)(1u << j));
+            for (y = 0; y <= RES; ++y)
+                for (x = 0; x <= RES; ++x)
+                    sat_bad += (uint32_t)((sat[y * (RES + 1) + x] >> (16 * j)) & 0xFFFFu) != (sat1[y * (RES + 1) + x] & 0xFFFFu);
+        }
+        pvs__ep_reproject(&from, &to, (uint32_t *)(void *)sat, ranges);
+        if (same) {
+            pvs__ep_reproject(&whole_from, &whole_to, sat1, ranges);
+            for (x = 0; x < RES * RES; ++x) {
+                if (w1[x] && m1[x] != 15) ++lost;
+                gained += m1[x] != 0 && !w1[x];
+            }
+        }
+        for (j = 0; j < 4; ++j) {
+            const pvs__epframe *sf = &to.sub[j];
+            for (y = 0; y < RES; ++y)
+                for (x = 0; x < RES; ++x) {
+                    int q;
+                    if (!(m1[y * RES + x] & sf->bits)) continue;
+                    ++marked;
+                    for (q = 0; q < 8; ++q) {
+                        double V[3], P[3], X[3], t, fx, fy, lo[3], hi[3];
+                        double pu = to.plane.rect[0] + ((double)x + (q < 4 ? (double)(q & 1) : ep_rnd())) * ((double)to.plane.rect[2] - to.plane.rect[0]) / RES;
+                        double pv = to.plane.rect[1] + ((double)y + (q < 4 ? (double)((q >> 1) & 1) : ep_rnd())) * ((double)to.plane.rect[3] - to.plane.rect[1]) / RES;
+                        int ix, iy, hit = 0, cx[2], cy[2], nx = 1, ny = 1, u2, v2;
+                        for (k = 0; k < 3; ++k) { lo[k] = cell.min[k]; hi[k] = cell.max[k]; }
+                        lo[(a + 1) % 3] = sf->cu[0]; hi[(a + 1) % 3] = sf->cu[1]; /* quarter j, in world terms */
+                        lo[(a + 2) % 3] = sf->cv[0]; hi[(a + 2) % 3] = sf->cv[1];
+                        for (k = 0; k < 3; ++k) V[k] = q < 2 ? (ep_rnd() < 0.5 ? lo[k] : hi[k]) : lo[k] + ep_rnd() * (hi[k] - lo[k]);
+                        ep_plane_point(&to.plane, pu, pv, P);
+                        ep_plane_point(&from.plane, 0.0, 0.0, X);
+                        t = (X[a] - V[a]) / (P[a] - V[a]);
+                        for (k = 0; k < 3; ++k) X[k] = V[k] + (P[k] - V[k]) * t;
+                        fx = (X[(a + 1) % 3] - from.plane.rect[0]) * RES / ((double)from.plane.rect[2] - from.plane.rect[0]);
+                        fy = (X[(a + 2) % 3] - from.plane.rect[1]) * RES / ((double)from.plane.rect[3] - from.plane.rect[1]);
+                        ix = (int)floor(fx);
+                        iy = (int)floor(fy);
+                        cx[0] = ix;
+                        cy[0] = iy;
+                        if (fx == (double)ix) cx[nx++] = ix - 1; /* on a pixel edge: both sides count */
+                        if (fy == (double)iy) cy[ny++] = iy - 1;
+                        for (u2 = 0; u2 < nx; ++u2)
+                            for (v2 = 0; v2 < ny; ++v2)
+                                if (cx[u2] >= 0 && cy[v2] >= 0 && cx[u2] < RES && cy[v2] < RES && (m0[cy[v2] * RES + cx[u2]] & sf->bits)) hit = 1;
+                        if (!hit) ++bad;
+                    }
+                }
+        }
+    }
+    CHECK(bad == 0 && sat_bad == 0 && lost == 0);
+    CHECK(marked > 1000 && gained > 100);
+    if (bad || sat_bad || lost || marked <= 1000 || gained <= 100)
+        fprintf(stderr, "extproj: sub-cell reprojection: %d samples not blocked, %d table counts differ, %d pixels lost, %d marked, %d gained\n", bad, sat_bad, lost,
+                marked, gained);
+}
+
+/* Sub-cells on the sweep's planes (pvs_bake_desc.extproj_sweep_subcells = 4): no misses against ray
+   sampling, never a larger PVS in total than the cell's own umbrae, a smaller one in the city; and
+   the bad values refused. */
+static void test_sweep_subcells(void) {
+    double whole, quarters;
+    pvs_bake_desc bd;
+    pvs_bake *b = NULL;
+    pvs_error e;
+    pvs_box cell = {{0, 0, 0}, {1, 1, 1}};
+    whole = ep_check_scene(GEN_FOREST, 1, 3, 0.25f, 6, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
+    quarters = ep_check_scene(GEN_FOREST, 1, 3, 0.25f, 6, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 4);
+    CHECK(quarters <= whole); /* this small forest hides nothing at 256 pixels either way */
+    whole = ep_check_scene(GEN_CITY, 0, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
+    quarters = ep_check_scene(GEN_CITY, 0, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 4);
+    CHECK(quarters < whole); /* 122.1 against 127.9 objects per cell */
+    ep_check_scene(GEN_WALLS, 0, 3, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 4);
+    ep_check_scene(GEN_INDOOR, 0, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 4);
+    ep_check_scene(GEN_SOUP, 0, 4, 0.3f, 12, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 4);
+    {
+        pvs_scene *s;
+        float pos[4 * 3];
+        uint32_t idx[2 * 3], nv = 0, nt = 0, no = 0;
+        pvs_object_desc obs[1];
+        ep_add_square(pos, &nv, idx, &nt, obs, &no, 5.0f, -2.0f, -2.0f, 4.0f);
+        s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
+        CHECK(s != NULL);
+        if (!s) return;
+        ep_bake_desc(&bd, s, &cell, 1, PVS_EXTPROJ_SWEEP_PLANES);
+        bd.extproj_sweep_subcells = 2;
+        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "extproj_sweep_subcells") != NULL);
+        bd.extproj_sweep_subcells = 4;
+        bd.extproj_sweep = 0; /* EXTPROJ without the sweep */
+        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "needs the occlusion sweep") != NULL);
+        bd.method = PVS_METHOD_AUTO; /* AUTO's sweep */
+        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
+        pvs_bake_destroy(b);
+        b = NULL;
+        bd.extproj_sweep = PVS_EXTPROJ_NO_SWEEP;
+        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
+        pvs_scene_destroy(s);
+    }
+}
+
 void test_extproj(void) {
     test_occluder_projection();
     test_occludee_projection();
@@ -1780,6 +1935,7 @@ void test_extproj(void) {
     test_task_bytes();
     test_reprojection();
     test_reprojection_chain();
+    test_reprojection_subcells();
     test_thin_wall();
     test_fragmented_wall();
     test_concave_projection();
@@ -1788,14 +1944,15 @@ void test_extproj(void) {
     test_sweep_depth();
     test_sweep_parts();
     test_adaptive();
-    ep_check_scene(GEN_CITY, 0, 1, 0.3f, 24, 16, 1024, 0);
-    ep_check_scene(GEN_CITY, 0, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
-    ep_check_scene(GEN_WALLS, 0, 2, 0.4f, 30, 16, 1024, 0);
-    ep_check_scene(GEN_WALLS, 0, 3, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
-    ep_check_scene(GEN_INDOOR, 0, 1, 0.3f, 30, 16, 1024, 0);
-    ep_check_scene(GEN_INDOOR, 0, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
-    ep_check_scene(GEN_FOREST, 0, 1, 0.25f, 20, 16, 1024, 0);
-    ep_check_scene(GEN_FOREST, 0, 2, 0.25f, 10, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES);
-    ep_check_scene(GEN_FOREST, 1, 3, 0.25f, 6, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES); /* leafy objects: tested by parts */
-    ep_check_scene(GEN_SOUP, 0, 3, 0.3f, 20, 16, 1024, 0);
+    test_sweep_subcells();
+    ep_check_scene(GEN_CITY, 0, 1, 0.3f, 24, 16, 1024, 0, 0);
+    ep_check_scene(GEN_CITY, 0, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
+    ep_check_scene(GEN_WALLS, 0, 2, 0.4f, 30, 16, 1024, 0, 0);
+    ep_check_scene(GEN_WALLS, 0, 3, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
+    ep_check_scene(GEN_INDOOR, 0, 1, 0.3f, 30, 16, 1024, 0, 0);
+    ep_check_scene(GEN_INDOOR, 0, 2, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
+    ep_check_scene(GEN_FOREST, 0, 1, 0.25f, 20, 16, 1024, 0, 0);
+    ep_check_scene(GEN_FOREST, 0, 2, 0.25f, 10, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
+    ep_check_scene(GEN_FOREST, 1, 3, 0.25f, 6, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0); /* leafy objects: tested by parts */
+    ep_check_scene(GEN_SOUP, 0, 3, 0.3f, 20, 16, 1024, 0, 0);
 }
