@@ -17455,9 +17455,11 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
    cell as kernel, conservatively rasterized, keeping only fully black pixels; here the kernel is
    taken per row and column from the true cell (pvs__ep_reproject_axis) and a summed-area table of
    from's open pixels (pvs__ep_mask_sat) decides each pixel. `ranges` holds 2 (width + height) of `to`.
-   With sub-cells, for sub-cell j of both planes (the table counts the pixels of `from` without its
-   bit), its own kernel. */
-PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, pvs__epmask *to, int32_t *ranges, uint32_t j) {
+   With sub-cells, for sub-cell j of both planes with its own kernel, from the 16-bit lane j of the
+   tables of pvs__ep_mask_sat_split (sat_split, else sat), a window of 2^16 pixels or more left open
+   (conservative). */
+PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, const uint64_t *sat_split, pvs__epmask *to, int32_t *ranges,
+                                       uint32_t j) {
     unsigned char *mask = to->lv[0];
     const pvs__epframe *tf = pvs__ep_subframe(to, j);
     unsigned char bit = tf->bits;
@@ -17472,11 +17474,17 @@ PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *
         y1 = (size_t)rhi[y] + 1;
         for (x = 0; x < tw; ++x) {
             size_t x0, x1;
+            uint64_t open;
             if (clo[x] < 0 || (mask[(size_t)y * tw + x] & bit)) continue;
             x0 = (size_t)clo[x];
             x1 = (size_t)chi[x] + 1;
-            if (sat[y1 * W1 + x1] - sat[y0 * W1 + x1] - sat[y1 * W1 + x0] + sat[y0 * W1 + x0] == 0)
-                mask[(size_t)y * tw + x] = (unsigned char)(mask[(size_t)y * tw + x] | bit);
+            if (sat_split) {
+                if ((x1 - x0) * (y1 - y0) >= 65536u) continue; /* a lane could overflow: left open */
+                open = sat_split[y1 * W1 + x1] - sat_split[y0 * W1 + x1] - sat_split[y1 * W1 + x0] + sat_split[y0 * W1 + x0];
+                open = (open >> (16u * j)) & 0xFFFFu;
+            } else
+                open = sat[y1 * W1 + x1] - sat[y0 * W1 + x1] - sat[y1 * W1 + x0] + sat[y0 * W1 + x0];
+            if (!open) mask[(size_t)y * tw + x] = (unsigned char)(mask[(size_t)y * tw + x] | bit);
         }
     }
 }
@@ -17517,45 +17525,17 @@ PVS__STATIC void pvs__ep_mask_sat_split(const pvs__epmask *from, uint64_t *sat) 
     }
 }
 
-/* pvs__ep_reproject_sat for sub-cell j with the tables of pvs__ep_mask_sat_split; a window of 2^16
-   pixels or more is left open (conservative). */
-PVS__STATIC void pvs__ep_reproject_split(const pvs__epmask *from, const uint64_t *sat, pvs__epmask *to, int32_t *ranges, uint32_t j) {
-    unsigned char *mask = to->lv[0];
-    const pvs__epframe *tf = pvs__ep_subframe(to, j);
-    unsigned char bit = tf->bits;
-    uint32_t fw = from->plane.width, fh = from->plane.height, tw = to->plane.width, th = to->plane.height, x, y, W1 = fw + 1;
-    int32_t *clo = ranges, *chi = ranges + tw, *rlo = ranges + 2 * tw, *rhi = ranges + 2 * tw + th;
-    pvs__ep_reproject_axis(tf->cu, tf->cw, from->frame.W, tf->W, tf->u0, tf->su, tw, from->frame.u0, from->frame.su, fw, clo, chi);
-    pvs__ep_reproject_axis(tf->cv, tf->cw, from->frame.W, tf->W, tf->v0, tf->sv, th, from->frame.v0, from->frame.sv, fh, rlo, rhi);
-    for (y = 0; y < th; ++y) {
-        size_t y0, y1;
-        if (rlo[y] < 0) continue;
-        y0 = (size_t)rlo[y];
-        y1 = (size_t)rhi[y] + 1;
-        for (x = 0; x < tw; ++x) {
-            size_t x0, x1;
-            uint64_t sum;
-            if (clo[x] < 0 || (mask[(size_t)y * tw + x] & bit)) continue;
-            x0 = (size_t)clo[x];
-            x1 = (size_t)chi[x] + 1;
-            if ((x1 - x0) * (y1 - y0) >= 65536u) continue;
-            sum = sat[y1 * W1 + x1] - sat[y0 * W1 + x1] - sat[y1 * W1 + x0] + sat[y0 * W1 + x0];
-            if (((sum >> (16u * j)) & 0xFFFFu) == 0) mask[(size_t)y * tw + x] = (unsigned char)(mask[(size_t)y * tw + x] | bit);
-        }
-    }
-}
-
 /* pvs__ep_reproject_sat with the table built in `sat` ((res + 1)^2 counts; with sub-cells, the
    split tables of twice that many, 8-byte aligned). */
 PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
     uint32_t j;
     if (!to->nsub) {
         pvs__ep_mask_sat(from, sat, 1);
-        pvs__ep_reproject_sat(from, sat, to, ranges, 0);
+        pvs__ep_reproject_sat(from, sat, NULL, to, ranges, 0);
         return;
     }
     pvs__ep_mask_sat_split(from, (uint64_t *)(void *)sat);
-    for (j = 0; j < to->nsub; ++j) pvs__ep_reproject_split(from, (const uint64_t *)(void *)sat, to, ranges, j);
+    for (j = 0; j < to->nsub; ++j) pvs__ep_reproject_sat(from, NULL, (const uint64_t *)(void *)sat, to, ranges, j);
 }
 
 /* §5.1 reprojection onto plane `count` of the sweep `ms` (planes ms[0 .. count - 1] done, farther
@@ -17573,7 +17553,7 @@ PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, 
                                          int32_t *ranges) {
     uint32_t back;
     for (back = 1; back <= count; back *= 2) {
-        if (cached) pvs__ep_reproject_sat(ms + count - back, sat + (size_t)(count - back) * stride, to, ranges, 0);
+        if (cached) pvs__ep_reproject_sat(ms + count - back, sat + (size_t)(count - back) * stride, NULL, to, ranges, 0);
         else pvs__ep_reproject(ms + count - back, to, sat, ranges);
     }
 }

@@ -647,6 +647,30 @@ static void test_fit_plane(void) {
     if (bad || square_ok != flat_runs) fprintf(stderr, "extproj: fit_plane %d bad, %d of %d flat planes square\n", bad, square_ok, flat_runs);
 }
 
+/* 1 if the ray from V through P (a point of a farther plane of axis a) crosses the plane `from` (fw x
+   fh pixels in its rectangle) inside a pixel of m holding `bit`; a point on a pixel edge belongs to
+   the pixels on both sides. */
+static int ep_ray_hits_mask(const pvs_extproj_plane *from, uint32_t fw, uint32_t fh, const unsigned char *m, unsigned char bit, int a,
+                            const double *V, const double *P) {
+    double X[3], t, fx, fy;
+    int ix, iy, k, cx[2], cy[2], nx = 1, ny = 1, u2, v2;
+    ep_plane_point(from, 0.0, 0.0, X);
+    t = (X[a] - V[a]) / (P[a] - V[a]);
+    for (k = 0; k < 3; ++k) X[k] = V[k] + (P[k] - V[k]) * t;
+    fx = (X[(a + 1) % 3] - from->rect[0]) * fw / ((double)from->rect[2] - from->rect[0]);
+    fy = (X[(a + 2) % 3] - from->rect[1]) * fh / ((double)from->rect[3] - from->rect[1]);
+    ix = (int)floor(fx);
+    iy = (int)floor(fy);
+    cx[0] = ix;
+    cy[0] = iy;
+    if (fx == (double)ix) cx[nx++] = ix - 1;
+    if (fy == (double)iy) cy[ny++] = iy - 1;
+    for (u2 = 0; u2 < nx; ++u2)
+        for (v2 = 0; v2 < ny; ++v2)
+            if (cx[u2] >= 0 && cy[v2] >= 0 && cx[u2] < (int)fw && cy[v2] < (int)fh && (m[cy[v2] * (int)fw + cx[u2]] & bit)) return 1;
+    return 0;
+}
+
 /* The reprojection of the sweep (§5.1): a pixel it blocks on the farther plane is crossed on the
    nearer plane, by every sampled ray from the cell through it, inside a blocked pixel. Every other
    pair of planes is fitted to a flat scene (pvs__ep_fit_plane): two different long thin shapes. */
@@ -702,28 +726,12 @@ static void test_reprojection(void) {
                 if (!m1[y * tw + x]) continue;
                 ++marked;
                 for (q = 0; q < 12; ++q) {
-                    double V[3], P[3], X[3], t, fx, fy;
+                    double V[3], P[3];
                     double pu = to.plane.rect[0] + ((double)x + (q < 4 ? (double)(q & 1) : ep_rnd())) * ((double)to.plane.rect[2] - to.plane.rect[0]) / tw;
                     double pv = to.plane.rect[1] + ((double)y + (q < 4 ? (double)((q >> 1) & 1) : ep_rnd())) * ((double)to.plane.rect[3] - to.plane.rect[1]) / th;
-                    int ix, iy, hit = 0, cx[2], cy[2], nx = 1, ny = 1, u2, v2;
                     for (k = 0; k < 3; ++k) V[k] = q < 8 ? ((ep_rnd() < 0.5) ? cell.min[k] : cell.max[k]) : cell.min[k] + ep_rnd() * ((double)cell.max[k] - cell.min[k]);
                     ep_plane_point(&to.plane, pu, pv, P);
-                    ep_plane_point(&from.plane, 0.0, 0.0, X);
-                    t = (X[a] - V[a]) / (P[a] - V[a]);
-                    for (k = 0; k < 3; ++k) X[k] = V[k] + (P[k] - V[k]) * t;
-                    fx = (X[(a + 1) % 3] - from.plane.rect[0]) * fw / ((double)from.plane.rect[2] - from.plane.rect[0]);
-                    fy = (X[(a + 2) % 3] - from.plane.rect[1]) * fh / ((double)from.plane.rect[3] - from.plane.rect[1]);
-                    ix = (int)floor(fx);
-                    iy = (int)floor(fy);
-                    /* a point on a pixel edge belongs to the pixels on both sides */
-                    cx[0] = ix;
-                    cy[0] = iy;
-                    if (fx == (double)ix) cx[nx++] = ix - 1;
-                    if (fy == (double)iy) cy[ny++] = iy - 1;
-                    for (u2 = 0; u2 < nx; ++u2)
-                        for (v2 = 0; v2 < ny; ++v2)
-                            if (cx[u2] >= 0 && cy[v2] >= 0 && cx[u2] < (int)fw && cy[v2] < (int)fh && m0[cy[v2] * (int)fw + cx[u2]]) hit = 1;
-                    if (!hit) ++bad;
+                    if (!ep_ray_hits_mask(&from.plane, fw, fh, m0, 0xFF, a, V, P)) ++bad;
                 }
             }
     }
@@ -1773,10 +1781,10 @@ static void test_task_bytes(void) {
     pvs_scene_destroy(s);
 }
 
-/* The sweep's reprojection with sub-cells (pvs__epmask, pvs__ep_reproject_split): each quarter of
-   the cell has its own blocked rectangles on the nearer plane (bit j); a pixel whose bit j it sets
-   on the farther plane is crossed, by every sampled ray from quarter j through it, inside a pixel
-   holding bit j. With the same blocked pixels in every bit, each bit blocks at least what the
+/* The sweep's reprojection with sub-cells (pvs__epmask; pvs__ep_reproject_sat with the split
+   tables): each quarter of the cell has its own blocked rectangles on the nearer plane (bit j); a
+   pixel whose bit j it sets on the farther plane is crossed, by every sampled ray from quarter j
+   through it, inside a pixel holding bit j. With the same blocked pixels in every bit, each bit blocks at least what the
    cell's own reprojection blocks (a quarter's kernel lies inside the cell's), and more in total.
    The packed tables count each bit's open pixels like the one-bit table. */
 static void test_reprojection_subcells(void) {
@@ -1847,30 +1855,15 @@ static void test_reprojection_subcells(void) {
                     if (!(m1[y * RES + x] & sf->bits)) continue;
                     ++marked;
                     for (q = 0; q < 8; ++q) {
-                        double V[3], P[3], X[3], t, fx, fy, lo[3], hi[3];
+                        double V[3], P[3], lo[3], hi[3];
                         double pu = to.plane.rect[0] + ((double)x + (q < 4 ? (double)(q & 1) : ep_rnd())) * ((double)to.plane.rect[2] - to.plane.rect[0]) / RES;
                         double pv = to.plane.rect[1] + ((double)y + (q < 4 ? (double)((q >> 1) & 1) : ep_rnd())) * ((double)to.plane.rect[3] - to.plane.rect[1]) / RES;
-                        int ix, iy, hit = 0, cx[2], cy[2], nx = 1, ny = 1, u2, v2;
                         for (k = 0; k < 3; ++k) { lo[k] = cell.min[k]; hi[k] = cell.max[k]; }
                         lo[(a + 1) % 3] = sf->cu[0]; hi[(a + 1) % 3] = sf->cu[1]; /* quarter j, in world terms */
                         lo[(a + 2) % 3] = sf->cv[0]; hi[(a + 2) % 3] = sf->cv[1];
                         for (k = 0; k < 3; ++k) V[k] = q < 2 ? (ep_rnd() < 0.5 ? lo[k] : hi[k]) : lo[k] + ep_rnd() * (hi[k] - lo[k]);
                         ep_plane_point(&to.plane, pu, pv, P);
-                        ep_plane_point(&from.plane, 0.0, 0.0, X);
-                        t = (X[a] - V[a]) / (P[a] - V[a]);
-                        for (k = 0; k < 3; ++k) X[k] = V[k] + (P[k] - V[k]) * t;
-                        fx = (X[(a + 1) % 3] - from.plane.rect[0]) * RES / ((double)from.plane.rect[2] - from.plane.rect[0]);
-                        fy = (X[(a + 2) % 3] - from.plane.rect[1]) * RES / ((double)from.plane.rect[3] - from.plane.rect[1]);
-                        ix = (int)floor(fx);
-                        iy = (int)floor(fy);
-                        cx[0] = ix;
-                        cy[0] = iy;
-                        if (fx == (double)ix) cx[nx++] = ix - 1; /* on a pixel edge: both sides count */
-                        if (fy == (double)iy) cy[ny++] = iy - 1;
-                        for (u2 = 0; u2 < nx; ++u2)
-                            for (v2 = 0; v2 < ny; ++v2)
-                                if (cx[u2] >= 0 && cy[v2] >= 0 && cx[u2] < RES && cy[v2] < RES && (m0[cy[v2] * RES + cx[u2]] & sf->bits)) hit = 1;
-                        if (!hit) ++bad;
+                        if (!ep_ray_hits_mask(&from.plane, RES, RES, m0, sf->bits, a, V, P)) ++bad;
                     }
                 }
         }
