@@ -92,28 +92,28 @@
    through must be wider.
 
    Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
-   vertical walls give facades (2.5D; pvs_bake_otree_info), EXTPROJ when there are planar occluders or convex solids
-   (3D; coplanar edge-connected triangles of an object act as one planar occluder, convex or not, so
-   a wall split into many pieces hides what the whole wall hides), SHRINK when closed geometry leaves occluder volume after erosion by eps (VOCC, which adds
-   little tightness, only when pvs_bake_desc.methods names it); it runs them cheapest
-   first and intersects their PVSs (an intersection of conservative sets is conservative, and at least
-   as tight as each). SHRINK, the costliest, runs last and samples only the objects the others kept:
-   the intersection is the same, and a cell where the others leave nothing for it to cull costs little
-   (a Quake 3 arena with its brushes, 422 cells: 1.59 s per cell before, 0.11 s). EXTPROJ runs with
-   the occlusion sweep of §5 (pvs_bake_desc.extproj_sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on
-   indoor game maps it fuses walls and floors that the planes of §6.1 do not (six Quake 3 maps with
-   their brushes, 2026-11-25: AUTO's PVS 1% to 29% smaller, 10% to 27% more time on the large ones
-   (ons-reborn 2.4 -> 3.0 s per cell, dieselpower 0.60 -> 0.74 s, oa_rpg3dm2 0.86 -> 0.94 s), up to
-   3 times on a small one, 12 to 38 ms per cell; the generator's scenes: about 1% smaller for 40 to
-   120 ms more per cell). pvs_bake_desc.extproj_sweep_subcells = 4 gives each sweep plane the umbrae
-   of the cell's four quarters (tighter, about 2.5 times the bake's time). pvs_bake_get_method_info
-   says which ran, which were skipped and why, and what
-   each contributed; pvs_bake_desc.methods restricts the candidates. SAMPLE is never among them.
-   PVS_BAKE_PREVIEW keeps only the cheapest with coarse settings. max_distance (a draw distance) drops
-   objects whose box is farther than it from every point of the cell (box to box, rounded toward
-   keeping). pvs_bake_restore_task resumes an interrupted bake from the PVSs it had finished (not a
-   VOCC bake: its virtual occluders are baked again). Only a VOCC bake stores virtual occluders; AUTO
-   uses vocc's PVS in the intersection and stores none.
+   vertical walls give facades (2.5D; pvs_bake_otree_info), EXTPROJ when there are planar occluders or
+   convex solids (3D; coplanar edge-connected triangles of an object act as one planar occluder, convex
+   or not, so a wall split into many pieces hides what the whole wall hides), SHRINK when closed
+   geometry leaves occluder volume after erosion by eps (VOCC, which adds little tightness, only when
+   pvs_bake_desc.methods names it); it runs them cheapest first and intersects their PVSs (an
+   intersection of conservative sets is conservative, and at least as tight as each). SHRINK, the
+   costliest, runs last and samples only the objects the others kept: the intersection is the same, and
+   a cell where the others leave nothing for it to cull costs little (a Quake 3 arena with its brushes,
+   422 cells: 1.59 s per cell before, 0.11 s). EXTPROJ runs with the occlusion sweep of §5
+   (pvs_bake_desc.extproj_sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on indoor game maps it fuses walls
+   and floors that the planes of §6.1 do not (six Quake 3 maps with their brushes, 2026-11-25: AUTO's
+   PVS 1% to 29% smaller, 10% to 27% more time on the large ones (ons-reborn 2.4 -> 3.0 s per cell,
+   dieselpower 0.60 -> 0.74 s, oa_rpg3dm2 0.86 -> 0.94 s), up to 3 times on a small one, 12 to 38 ms
+   per cell; the generator's scenes: about 1% smaller for 40 to 120 ms more per cell).
+   pvs_bake_desc.extproj_sweep_subcells = 4 gives each sweep plane the umbrae of the cell's four
+   quarters (tighter, about 2.5 times the bake's time). pvs_bake_get_method_info says which ran, which
+   were skipped and why, and what each contributed; pvs_bake_desc.methods restricts the candidates.
+   SAMPLE is never among them. PVS_BAKE_PREVIEW keeps only the cheapest with coarse settings.
+   max_distance (a draw distance) drops objects whose box is farther than it from every point of the
+   cell (box to box, rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake from
+   the PVSs it had finished (not a VOCC bake: its virtual occluders are baked again). Only a VOCC bake
+   stores virtual occluders; AUTO uses vocc's PVS in the intersection and stores none.
 
    Adaptive cells. With pvs_bake_desc.adaptive_budget (Durand 2000 §6.1) a cell whose PVS holds more
    triangles than the budget is split in two across its longest side, again and again down to
@@ -168,20 +168,19 @@
 
    MEMORY
    ======
-   Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle
-   kD-trees: about 100 bytes per triangle), pvs_bake_begin (the cells and one bitset per cell:
-   cell_count * object_count / 8 bytes, and 40 bytes of statistics per cell), pvs_bake_run_task
-   (AUTO: one bitset per method it runs; EXTPROJ (128 + 8 x sweep planes) x N^2 bytes of depth maps
-   and sweep masks of N x N pixels each, plus the sweep's summed-area tables (4 (N^2 + N + 1 +
-   min(16 N, 16384)) bytes per plane of a direction up to 64 MiB, at least two;
-   pvs_extproj_task_bytes): 8 MB at
-   256 pixels, 21 MB with 16 sweep planes, 0.7 GB at 1024 and 64; all freed before returning; adaptive cells: a box and a
+   Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle kD-trees:
+   about 100 bytes per triangle), pvs_bake_begin (the cells and one bitset per cell: cell_count *
+   object_count / 8 bytes, and 40 bytes of statistics per cell), pvs_bake_run_task (AUTO: one bitset
+   per method it runs; EXTPROJ (128 + 8 x sweep planes) x N^2 bytes of depth maps and sweep masks of N
+   x N pixels each, plus the sweep's summed-area tables (4 (N^2 + N + 1 + min(16 N, 16384)) bytes per
+   plane of a direction up to 64 MiB, at least two; pvs_extproj_task_bytes): 8 MB at 256 pixels, 21 MB
+   with 16 sweep planes, 0.7 GB at 1024 and 64; all freed before returning; adaptive cells: a box and a
    bitset per leaf, kept), pvs_file_encode (scratch about 40 bytes per cell plus one bitset),
-   pvs_raster_create (the depth map and pyramid, the cull map), pvs_otree_create (about 250 bytes
-   per tree node of its budget, 5 bytes per kD node and object). Allocates nothing: every pvs_file_* and pvs_cursor_* call, kD-tree
-   queries (caller scratch), pvs_raster_cull, pvs_raster_cull_map and pvs_otree_cull per frame,
-   pvs_vocc_cull (caller scratch: pvs_vocc_cull_scratch_size). A .pvs file is used in
-   place; it needs no copy.
+   pvs_raster_create (the depth map and pyramid, the cull map), pvs_otree_create (about 250 bytes per
+   tree node of its budget, 5 bytes per kD node and object). Allocates nothing: every pvs_file_* and
+   pvs_cursor_* call, kD-tree queries (caller scratch), pvs_raster_cull, pvs_raster_cull_map and
+   pvs_otree_cull per frame, pvs_vocc_cull (caller scratch: pvs_vocc_cull_scratch_size). A .pvs file is
+   used in place; it needs no copy.
 
    PERFORMANCE (`make bench`, 2026-11-24, one core of a 2-core AMD EPYC VM, release build)
    ===========
@@ -14433,7 +14432,12 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    forest1000 bench cells cull 76.9% instead of 71.0% (the first cell 83.6%, where halving on one
    axis gave 81%, also in depth 84.1% for half again the time), at about 25 s instead of 6.5 s per
    cell (the occluders projected four times); the generator's city, indoor and walls scenes (3
-   seeds, 100 cells, 16 planes): PVS 3% to 7% smaller, 0 misses, 2.5 times the bake's time. */
+   seeds, 100 cells, 16 planes): PVS 3% to 7% smaller, 0 misses, 2.5 times the bake's time. The share
+   culled grows with the forest's extent (the far objects are the hidden ones): on a forest of the
+   paper's extent (generator size 1.5: 7,339 trees of 1,000 leaves and 7,393 bushes, 10.6M
+   triangles, against the paper's 7,750 trees and 7.8M; rays see 0.8% of the objects) the sweep
+   culls 82.5% from six inner cells, 87.2% with sub-cells (bench_extproj's forest_paper lines,
+   2026-11-25; nothing without the sweep). */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)

@@ -91,17 +91,21 @@ case " $CONSERVATIVE_METHODS " in *" vocc "*)
     echo "city $seed 1 vocc $line$note"
   done;;
 esac
-# extproj with the occlusion sweep (§5) and with adaptive cells (§6.1): every generator, three seeds,
-# EXTPROJ_CELLS cells each (ADAPTIVE_CELLS for adaptive cells, each split into many); files identical
-# for -j1 and -j2
+# extproj with the occlusion sweep (§5), with its sub-cells and with adaptive cells (§6.1): every
+# generator, three seeds, EXTPROJ_CELLS cells each (ADAPTIVE_CELLS for adaptive cells, each split
+# into many); files identical for -j1 and -j2
 case " $CONSERVATIVE_METHODS " in *" extproj "*)
   for kind in city forest indoor walls soup; do
     for seed in 1 2 3; do
       base="$T/$kind-$seed-ep"
       "$B/pvsgen" "$kind" --seed "$seed" --size 0.6 --max-cells "${EXTPROJ_CELLS:-500}" -o "$base.obj" --cells "$base.cells" 2>/dev/null || { echo "$kind $seed extproj: pvsgen failed"; fail=1; continue; }
       "$B/pvsgen" "$kind" --seed "$seed" --size 0.6 --max-cells "${ADAPTIVE_CELLS:-100}" -o "$base-a.obj" --cells "$base-a.cells" 2>/dev/null || { echo "$kind $seed extproj: pvsgen failed"; fail=1; continue; }
-      for variant in sweep adaptive; do
-        if [ "$variant" = sweep ]; then opts="--sweep"; cf="$base.cells"; else opts="--adaptive ${ADAPTIVE_BUDGET:-20000}"; cf="$base-a.cells"; fi
+      for variant in sweep subcells adaptive; do
+        case $variant in
+          sweep) opts="--sweep"; cf="$base.cells";;
+          subcells) opts="--sweep --subcells"; cf="$base.cells";;
+          *) opts="--adaptive ${ADAPTIVE_BUDGET:-20000}"; cf="$base-a.cells";;
+        esac
         "$B/pvsbake" -q --no-state "$base.obj" --cells "$cf" --method extproj $opts -j "$J" -o "$base.$variant.pvs" || { echo "$kind $seed extproj $variant: bake failed"; fail=1; continue; }
         if [ "$seed" = 1 ]; then
           "$B/pvsbake" -q --no-state "$base.obj" --cells "$cf" --method extproj $opts -j 1 -o "$base.$variant-j1.pvs" &&
@@ -131,7 +135,8 @@ case " $CONSERVATIVE_METHODS " in *" extproj "*)
     done
   done
   # the paper's density (1,000 leaves per tree, 1 m cells) with the sweep at 1024 pixels and 64
-  # planes (bench_extproj's forest1000 settings), two seeds, PAPER_CELLS cells each
+  # planes (bench_extproj's forest1000 settings), with and without sub-cells, two seeds, PAPER_CELLS
+  # cells each
   for seed in 1 2; do
     base="$T/forest-1000-$seed"
     "$B/pvsgen" forest --dense --leaves-per-tree 1000 --cell-size 1 --seed "$seed" --size 0.4 --max-cells "${PAPER_CELLS:-30}" -o "$base.obj" --cells "$base.cells" 2>/dev/null ||
@@ -146,6 +151,12 @@ case " $CONSERVATIVE_METHODS " in *" extproj "*)
     rc=$?
     note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
     echo "forest-1000 $seed 0.4 extproj-sweep64-1024 $line$note"
+    "$B/pvsbake" -q --no-state "$base.obj" --cells "$base.cells" --method extproj --sweep-planes 64 --resolution 1024 --subcells -j "$J" -o "$base.sub.pvs" ||
+      { echo "forest 1000 $seed extproj --subcells: bake failed"; fail=1; continue; }
+    line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.sub.pvs")
+    rc=$?
+    note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
+    echo "forest-1000 $seed 0.4 extproj-sweep64-1024-subcells $line$note"
   done;;
 esac
 [ $fail -eq 0 ] && echo "verify: ok" || echo "verify: FAILED"
