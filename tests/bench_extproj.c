@@ -22,10 +22,10 @@
    extproj_reference_visible_pct_forest: mean share of the objects the ray-sampled reference sees
    from those cells (the most any conservative method could cull is 100 minus this).
    extproj_reference_visible_pct_forest_aimed: the same on FOREST_AIMED_CELLS of those cells (1 for
-   forest1000 and forest_paper) with FOREST_AIMED_RAYS more rays aimed at every object not yet seen: a tighter lower
-   bound of the cells' exact visible sets (through the gaps between the leaves far more objects are
-   visible from a 3 m cell than 32 aimed rays find, so 100 minus this bounds the culling any
-   conservative method can reach there; it still grows with more rays).
+   forest1000 and forest_paper) with FOREST_AIMED_RAYS more rays aimed at every object not yet seen: a
+   tighter lower bound of the cells' exact visible sets (through the gaps between the leaves far more
+   objects are visible from a 3 m cell than 32 aimed rays find, so 100 minus this bounds the culling
+   any conservative method can reach there; it still grows with more rays).
    adaptive_cells / adaptive_bytes: the leaf cells and the file size of an adaptive bake (§6.1) of
    the city subset with a budget of ADAPTIVE_BUDGET triangles per cell. */
 #include "../tools/cli.h"
