@@ -73,6 +73,8 @@
    | PVS_API               | extern / static    | decoration of every public function                     |
    | PVS_MALLOC(sz)        | malloc(sz)         | fallback allocator when a desc's allocator is zero;     |
    | PVS_FREE(p)           | free(p)            |   define both or neither                                 |
+   | PVS_QSORT(b, n, sz, f)| qsort(b, n, sz, f) | every sort (qsort's contract); no output depends on the  |
+   |                       |                    |   order it leaves equal elements in                      |
    | PVS_ASSERT(x)         | assert(x)          | checks of programmer misuse only, never of input data    |
    | PVS_NO_STDIO          | undefined          | error messages without snprintf (reason strings only)    |
    | PVS_NO_SIMD           | undefined          | scalar code paths only (identical results)               |
@@ -1621,6 +1623,10 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 #include <stdlib.h>
 #define PVS_MALLOC(sz) malloc(sz)
 #define PVS_FREE(p) free(p)
+#endif
+#ifndef PVS_QSORT
+#include <stdlib.h>
+#define PVS_QSORT(base, n, size, cmp) qsort(base, n, size, cmp)
 #endif
 #ifndef PVS_ASSERT
 #include <assert.h>
@@ -7350,7 +7356,7 @@ typedef struct pvs__ot_order {
 PVS__STATIC int pvs__ot_order_less(const pvs__ot_order *a, const pvs__ot_order *b) {
     return a->key < b->key || (a->key == b->key && a->index < b->index);
 }
-/* Heap sort by (key, index): no libc qsort (stdlib.h is optional when PVS_MALLOC is defined). */
+/* Heap sort by (key, index), a total order. */
 PVS__STATIC void pvs__ot_sort(pvs__ot_order *o, uint32_t n) {
     uint32_t i, end;
     for (end = n; end > 1; --end) {
@@ -9919,7 +9925,7 @@ PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *b
             keys[k].d = (double)ob->min[ax] + ob->max[ax];
             keys[k].i = h->items[f + k];
         }
-        qsort(keys, c, sizeof(pvs__obvh_key), pvs__obvh_key_cmp);
+        PVS_QSORT(keys, c, sizeof(pvs__obvh_key), pvs__obvh_key_cmp);
         for (k = 0; k < c; ++k) h->items[f + k] = keys[k].i;
         mid = f + c / 2;
         h->nodes[nd].first = h->node_count;
@@ -10223,7 +10229,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
         for (k = 0; k < 3; ++k) vk[i].p[k] = s->positions[3 * (size_t)i + k];
         vk[i].i = i;
     }
-    qsort(vk, nv, sizeof(pvs__vx_vkey), pvs__vx_vkey_cmp);
+    PVS_QSORT(vk, nv, sizeof(pvs__vx_vkey), pvs__vx_vkey_cmp);
     for (i = 0; i < nv; ++i) canon[vk[i].i] = i > 0 && !pvs__vx_vkey_cmp_pos(vk + i - 1, vk + i) ? canon[vk[i - 1].i] : i;
     for (i = 0; i < nt; ++i) {
         parent[i] = i;
@@ -10236,7 +10242,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
             ++ne;
         }
     }
-    qsort(ed, ne, sizeof(pvs__vx_edge), pvs__vx_edge_cmp);
+    PVS_QSORT(ed, ne, sizeof(pvs__vx_edge), pvs__vx_edge_cmp);
     for (e0 = 0; e0 < ne; e0 = e1) {
         for (e1 = e0 + 1; e1 < ne && ed[e1].key == ed[e0].key; ++e1) {
             uint32_t ra = pvs__vx_find(parent, ed[e0].tri), rb = pvs__vx_find(parent, ed[e1].tri);
@@ -11150,7 +11156,7 @@ PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
         /* its levels, ascending (distinct) */
         if (!pvs__vx_grow(al, (void **)&lev, &lcap, nm, sizeof(float))) goto done;
         for (k = 0; k < nm; ++k) lev[k] = cm->top[members[k]];
-        qsort(lev, nm, sizeof(float), pvs__vx_float_cmp);
+        PVS_QSORT(lev, nm, sizeof(float), pvs__vx_float_cmp);
         for (k = 0; k < nm; ++k)
             if (k == 0 || lev[k] != lev[nl - 1]) lev[nl++] = lev[k];
         /* local frame of one square around the region's rectangle */
@@ -15099,7 +15105,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
                                            double tol, double (*hp)[2], double (*hh)[2], double *dent) {
     uint32_t nb = 0, i, j, n = 0, m;
     double area = 0.0, turn = 0.0;
-    qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
+    PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
     for (i = 0; i < ne;) {
         j = i;
         while (j < ne && pvs__ep_edge2_cmp(e + j, e + i) == 0) ++j;
@@ -15423,7 +15429,7 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
             if (x != y) w->bed[ne++] = x < y ? (x << 32) | y : (y << 32) | x;
         }
     }
-    qsort(w->bed, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+    PVS_QSORT(w->bed, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
     for (h = 0; h < ne;) {
         uint32_t g = h;
         while (g < ne && w->bed[g] == w->bed[h]) ++g;
@@ -15497,7 +15503,7 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
             if (x == y) continue;
             w->edges[ne++] = (x < y ? (x << 42) | (y << 21) : (y << 42) | (x << 21)) | j;
         }
-    qsort(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+    PVS_QSORT(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
     for (g = 0; g < ne;) {
         uint32_t h = g + 1;
         while (h < ne && (w->edges[h] >> 21) == (w->edges[g] >> 21)) ++h;
@@ -15520,7 +15526,7 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
     }
     /* groups: (root, triangle) pairs sorted, the root being the group's first triangle */
     for (j = 0; j < n; ++j) w->edges[j] = ((uint64_t)pvs__ep_find(w->gparent, j) << 32) | j;
-    qsort(w->edges, n, sizeof(uint64_t), pvs__ep_u64_cmp);
+    PVS_QSORT(w->edges, n, sizeof(uint64_t), pvs__ep_u64_cmp);
     for (g = 0; g < n;) {
         uint32_t h = g + 1, root = (uint32_t)(w->edges[g] >> 32), m, cnt, e = 0, ax = 0, u, v;
         const float *A[3], *q3[PVS__EP_MAXP];
@@ -15624,7 +15630,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
         memcpy(w->ref[i].p, q, 3 * sizeof(float));
         w->ref[i].slot = i;
     }
-    qsort(w->ref, 3 * (size_t)tn, sizeof(pvs__epvref), pvs__ep_vref_cmp);
+    PVS_QSORT(w->ref, 3 * (size_t)tn, sizeof(pvs__epvref), pvs__ep_vref_cmp);
     for (i = 0; i < 3 * tn; ++i) {
         if (i == 0 || !pvs__ep_same(w->ref[i].p, w->ref[i - 1].p)) {
             w->vpos[nv] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + w->ref[i].slot];
@@ -15675,7 +15681,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
                 if (x == y) continue;
                 w->edges[ne++] = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
             }
-        qsort(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+        PVS_QSORT(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
         for (j = 0; j < ne;) {
             uint32_t m = j;
             while (m < ne && w->edges[m] == w->edges[j]) ++m;
@@ -15859,7 +15865,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
                 break;
             }
     }
-    qsort(key, nkey, sizeof(pvs__epskey), pvs__ep_skey_cmp);
+    PVS_QSORT(key, nkey, sizeof(pvs__epskey), pvs__ep_skey_cmp);
     for (i = 0; i < nkey;) {
         size_t j = i, g;
         int k = (int)key[i].axis, u = (k + 1) % 3, v = (k + 2) % 3;
@@ -15901,7 +15907,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
         }
         /* pieces joined by shared edges (a lamp's base lying on the ground is a piece of its own) */
         ne = (uint32_t)(3 * (j - i));
-        qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
+        PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
         for (g = 1; g < ne; ++g)
             if (pvs__ep_edge2_cmp(e + g, e + g - 1) == 0) {
                 uint32_t x = pvs__ep_find(uf, e[g].tri), y = pvs__ep_find(uf, e[g - 1].tri);
@@ -15909,7 +15915,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
             }
         for (g = 0; g < ne; ++g) e[g].tri = pvs__ep_find(uf, e[g].tri);
         for (g = 0; g < j - i; ++g) if (uf[g] != g) { tarea[pvs__ep_find(uf, (uint32_t)g)] += tarea[g]; tarea[g] = 0.0; }
-        qsort(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_root_cmp);
+        PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_root_cmp);
         for (g = 0; g < ne;) {
             size_t h = g;
             uint32_t root = e[g].tri;
@@ -16275,7 +16281,7 @@ PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *
             if ((g[1] <= yc) != (g[3] <= yc)) sc->xs[nx++] = g[0] + (yc - g[1]) * (g[2] - g[0]) / (g[3] - g[1]);
         }
         if (nx < 2) continue;
-        qsort(sc->xs, nx, sizeof(double), pvs__ep_double_cmp);
+        PVS_QSORT(sc->xs, nx, sizeof(double), pvs__ep_double_cmp);
         /* pixels a segment passes through (in the band widened by the margin) are excluded */
         memset(sc->row, 0, f->width);
         for (i = 0; i < nseg; ++i) {
@@ -20173,8 +20179,8 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
                 mins[i] = b->boxes[ids[i]].min[axis];
                 maxs[i] = b->boxes[ids[i]].max[axis];
             }
-            qsort(mins, n, sizeof(float), pvs__float_cmp);
-            qsort(maxs, n, sizeof(float), pvs__float_cmp);
+            PVS_QSORT(mins, n, sizeof(float), pvs__float_cmp);
+            PVS_QSORT(maxs, n, sizeof(float), pvs__float_cmp);
             for (side = 0; side < 2; ++side)
                 for (i = 0; i < n; ++i) {
                     float v = side ? maxs[i] : mins[i];
@@ -20392,7 +20398,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
         }
     }
     /* unique undirected edges, weighted */
-    qsort(e->edges, e->edge_count, sizeof(pvs__link), pvs__edge_cmp);
+    PVS_QSORT(e->edges, e->edge_count, sizeof(pvs__link), pvs__edge_cmp);
     for (k = 0, m = 0; k < e->edge_count; ++k)
         if (!m || e->edges[k].a != e->edges[m - 1].a || e->edges[k].b != e->edges[m - 1].b) e->edges[m++] = e->edges[k];
     e->edge_count = m;
@@ -20542,7 +20548,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
             v[2 * i] = e.boxes[i].min[k];
             v[2 * i + 1] = e.boxes[i].max[k];
         }
-        qsort(v, 2 * (size_t)e.cells, sizeof(float), pvs__float_cmp);
+        PVS_QSORT(v, 2 * (size_t)e.cells, sizeof(float), pvs__float_cmp);
         for (i = 0; i < 2 * e.cells; ++i)
             if (!n || v[i] != v[n - 1]) v[n++] = v[i];
         e.value_count[k] = n;
@@ -20574,7 +20580,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
             if (!ext) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell extents"); goto done; }
             for (k = 0; k < 3; ++k) {
                 for (i = 0; i < e.cells; ++i) ext[i] = e.boxes[i].max[k] - e.boxes[i].min[k];
-                qsort(ext, e.cells, sizeof(float), pvs__float_cmp);
+                PVS_QSORT(ext, e.cells, sizeof(float), pvs__float_cmp);
                 med[k] = ext[e.cells / 4]; /* the lower quartile: half the cells may be long */
             }
             for (i = 0; i < e.cells; ++i)
