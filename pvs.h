@@ -73,8 +73,8 @@
    | PVS_API               | extern / static    | decoration of every public function                     |
    | PVS_MALLOC(sz)        | malloc(sz)         | fallback allocator when a desc's allocator is zero;     |
    | PVS_FREE(p)           | free(p)            |   define both or neither                                 |
-   | PVS_QSORT(b, n, sz, f)| qsort(b, n, sz, f) | every sort (qsort's contract); no output depends on the  |
-   |                       |                    |   order it leaves equal elements in                      |
+   | PVS_QSORT(b, n, sz, f)| qsort(b, n, sz, f) | every sort, with qsort's contract; which of two equal    |
+   |                       |                    |   elements comes first changes no result                 |
    | PVS_ASSERT(x)         | assert(x)          | checks of programmer misuse only, never of input data    |
    | PVS_NO_STDIO          | undefined          | error messages without snprintf (reason strings only)    |
    | PVS_NO_SIMD           | undefined          | scalar code paths only (identical results)               |
