@@ -171,7 +171,8 @@
    MEMORY
    ======
    Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle kD-trees:
-   about 100 bytes per triangle), pvs_bake_begin (the cells and one bitset per cell: cell_count *
+   105 to 430 bytes per triangle on the generator's scenes, and never more than 2.4 KB per triangle
+   and per object whatever the triangles' shapes: PVS_SCENE_BYTES_PER_TRIANGLE), pvs_bake_begin (the cells and one bitset per cell: cell_count *
    object_count / 8 bytes, and 40 bytes of statistics per cell), pvs_bake_run_task (AUTO: one bitset
    per method it runs; EXTPROJ (128 + 8 x sweep planes) x N^2 bytes of depth maps and sweep masks of N
    x N pixels each, plus the sweep's summed-area tables (4 (N^2 + N + 1 + min(16 N, 16384)) bytes per
@@ -488,7 +489,13 @@ typedef struct pvs_scene pvs_scene;
 
 /* Copies and validates the arrays, computes object bounds, builds the triangle and object kD-trees.
    Errors: INVALID_ARGUMENT, INDEX_OUT_OF_RANGE, NOT_FINITE, EMPTY_OBJECT, DEGENERATE_OBJECT,
-   OVERLAPPING_OBJECTS, BAD_OCCLUDER, COUNT_OVERFLOW, OUT_OF_MEMORY; err->index names the element. */
+   OVERLAPPING_OBJECTS, BAD_OCCLUDER, COUNT_OVERFLOW, OUT_OF_MEMORY; err->index names the element.
+   Memory: at most PVS_SCENE_BYTES_PER_TRIANGLE per triangle, PVS_SCENE_BYTES_PER_OBJECT per object,
+   12 per vertex and PVS_SCENE_BYTES_FIXED at once, for any triangle shapes (the kD-trees' bounds);
+   the generator's scenes hold 105 to 430 bytes per triangle after creation, 210 to 600 at its peak. */
+#define PVS_SCENE_BYTES_PER_TRIANGLE 2432
+#define PVS_SCENE_BYTES_PER_OBJECT 2400
+#define PVS_SCENE_BYTES_FIXED 16384
 PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out_scene, pvs_error *err);
 /* Frees the scene through its allocator. NULL is allowed. */
 PVS_API void pvs_scene_destroy(pvs_scene *scene);
@@ -538,6 +545,15 @@ typedef struct pvs_kdtree_desc {
     pvs_allocator allocator;
 } pvs_kdtree_desc;
 #define PVS_KDTREE_MAX_DEPTH 48
+/* Memory, for any boxes however they overlap: a tree holds at most PVS_KDTREE_MAX_REFS_PER_BOX item
+   references and PVS_KDTREE_MAX_NODES_PER_BOX nodes per box (4 and 8 bytes each), and building it
+   holds at most PVS_KDTREE_BUILD_BYTES_PER_BOX bytes per box plus PVS_KDTREE_BUILD_BYTES_FIXED at
+   once. Ordinary sets stay far below (1 to 30 references, 1 to 18 nodes per box); boxes that
+   overlap everywhere (a fan of slivers around one vertex) get bigger leaves instead of more memory. */
+#define PVS_KDTREE_MAX_REFS_PER_BOX 64
+#define PVS_KDTREE_MAX_NODES_PER_BOX 32
+#define PVS_KDTREE_BUILD_BYTES_PER_BOX 2336
+#define PVS_KDTREE_BUILD_BYTES_FIXED 4096
 
 /* Builds the tree; deterministic (the same boxes give the same tree). Boxes with min > max on some
    axis are left out; flat boxes (min == max) are fine; count 0 gives an empty tree. Errors:
@@ -2482,6 +2498,8 @@ typedef struct pvs__kdbuild {
     pvs_kdtree *tree;
     pvs__kdref *refs;        /* a stack: the node being split is on top, pending left children below */
     size_t ref_capacity;
+    size_t refs_left, nodes_left;   /* the pools (pvs__kd_build) */
+    size_t ref_limit, item_limit, node_limit; /* the most the arrays can need (pvs_kdtree_create) */
     uint32_t leaf_size, max_depth;
     pvs_error *err;
     float planes[3][PVS__KD_BINS + 1];    /* candidate planes of the node being split */
@@ -2489,10 +2507,12 @@ typedef struct pvs__kdbuild {
     uint32_t ends[3][PVS__KD_BINS + 1];   /* [e]: refs whose max is >= planes[e] last */
 } pvs__kdbuild;
 
-/* Grows an array of `elem`-byte elements to hold at least `need`, keeping the first `used`. Returns
-   the (possibly new) array, or NULL with *r set (the old array is then still owned by the caller). */
-PVS__STATIC void *pvs__kd_grow(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need, size_t elem,
-                          pvs_result *r) {
+/* Grows an array of `elem`-byte elements to hold at least `need` (doubling its capacity), keeping the
+   first `used`, but to no more than `limit` when limit >= need (a bound the caller has proved).
+   Returns the (possibly new) array, or NULL with *r set (the old array is then still owned by the
+   caller). */
+PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need, size_t limit, size_t elem,
+                                   pvs_result *r) {
     size_t cap = *capacity ? *capacity : 64, bytes;
     void *q;
     if (need <= *capacity) return p;
@@ -2500,6 +2520,7 @@ PVS__STATIC void *pvs__kd_grow(const pvs_allocator *a, void *p, size_t *capacity
         if (cap > (size_t)-1 / 2) { *r = PVS_ERROR_COUNT_OVERFLOW; return NULL; }
         cap *= 2;
     }
+    if (limit >= need && cap > limit) cap = limit;
     if (!pvs__mul(cap, elem, &bytes)) { *r = PVS_ERROR_COUNT_OVERFLOW; return NULL; }
     q = pvs__alloc_array(a, cap, elem);
     if (!q) { *r = PVS_ERROR_OUT_OF_MEMORY; return NULL; }
@@ -2507,6 +2528,10 @@ PVS__STATIC void *pvs__kd_grow(const pvs_allocator *a, void *p, size_t *capacity
     pvs__free_array(a, p, *capacity, elem);
     *capacity = cap;
     return q;
+}
+/* The same without a limit. */
+PVS__STATIC void *pvs__kd_grow(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need, size_t elem, pvs_result *r) {
+    return pvs__grow_capped(a, p, capacity, used, need, 0, elem, r);
 }
 
 PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t base, size_t n) {
@@ -2516,8 +2541,8 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
     uint32_t *items;
     if (t->item_count > PVS__KD_MAX_INDEX || n > (size_t)0xffffffffu - t->item_count)
         return pvs__fail(b->err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "kD-tree: more than 2^30 item references");
-    items = (uint32_t *)pvs__kd_grow(&t->allocator, t->items, &t->item_capacity, t->item_count, t->item_count + n,
-                                     sizeof(uint32_t), &r);
+    items = (uint32_t *)pvs__grow_capped(&t->allocator, t->items, &t->item_capacity, t->item_count, t->item_count + n, b->item_limit,
+                                         sizeof(uint32_t), &r);
     if (!items) return pvs__fail(b->err, r, -1, 0, "kD-tree leaf items (%llu)", (unsigned long long)(t->item_count + n));
     t->items = items;
     for (i = 0; i < n; ++i) items[t->item_count + i] = b->refs[base + i].item;
@@ -2531,16 +2556,26 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
    makes it a leaf. Binned SAH over all three axes (Bittner 2002 §4.4 uses SAH or fewest cut objects;
    binning after Wald 2007): up to 31 planes per axis, fewer in small nodes. The counts are exact for
    the closed-interval distribution below (up to sampling in big nodes), so straddlers and boxes
-   lying in a plane are costed as they will be stored. */
+   lying in a plane are costed as they will be stored.
+
+   Budgets. A box straddling a plane goes to both sides, so a split can add references, and boxes
+   that overlap everywhere (a fan of long slivers around one vertex) would multiply them at every
+   level: memory quadratic in the count. The build therefore draws from two pools set by
+   pvs_kdtree_create: the references a split adds (l + r - n) and the nodes (two per split). A split
+   that the pools cannot pay for is not taken (the node stays a leaf, a bigger one). The pools are
+   spent in build order, so a tree that stays inside them is the tree built without them: ordinary
+   scenes (at most 30 references and 18 nodes per box on the generator's scenes, about half the
+   pools) are unchanged, and an adversarial one gets big leaves where the pools ran out instead of
+   more memory. */
 PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box, uint32_t depth) {
     pvs_kdtree *t = b->tree;
     float ext[3], k0[3], k1[3], scale[3], inv_measure, inv_nb, best_cost, count_scale, split;
     int axis, best_axis = -1, best_k = 0, area, nb, valid[3];
-    size_t i, j, w, top, sampled;
+    size_t i, j, w, top, sampled, nl, nr;
     uint32_t child;
     pvs_result r = PVS_OK;
     pvs_box lbox, rbox;
-    if (n <= b->leaf_size || depth >= b->max_depth) return pvs__kd_make_leaf(b, node, base, n);
+    if (n <= b->leaf_size || depth >= b->max_depth || b->nodes_left < 2) return pvs__kd_make_leaf(b, node, base, n);
 
     /* the SAH measure of a box is linear in its extent along one axis: k1[axis] * extent + k0[axis];
        half the surface area, or the edge sum for boxes with no area */
@@ -2602,6 +2637,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
             left += b->starts[axis][k];
             if (k > 1) right -= b->ends[axis][k - 1];
             if (!(p > box->min[axis] && p < box->max[axis])) continue;
+            if ((float)(left + right) * count_scale > (float)(n + b->refs_left)) continue; /* estimate: checked below */
             cost = PVS__KD_COST_TRAVERSE +
                    PVS__KD_COST_ITEM * inv_measure * count_scale *
                        ((k1[axis] * (p - box->min[axis]) + k0[axis]) * (float)left +
@@ -2617,12 +2653,19 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
     if (best_axis < 0) return pvs__kd_make_leaf(b, node, base, n);
     axis = best_axis;
     split = b->planes[axis][best_k];
+    for (i = 0, nl = 0, nr = 0; i < n; ++i) { /* the exact sides, for the budget */
+        nl += b->refs[base + i].min[axis] <= split;
+        nr += b->refs[base + i].max[axis] >= split;
+    }
+    if (nl + nr > n + b->refs_left) return pvs__kd_make_leaf(b, node, base, n);
+    b->refs_left -= nl + nr - n;
+    b->nodes_left -= 2;
 
     /* distribute with closed intervals: a ref touching the plane goes to both sides, clipped. The
        left refs are compacted in place, the right ones written above the node's: right of base + n. */
-    {
-        pvs__kdref *refs = (pvs__kdref *)pvs__kd_grow(&t->allocator, b->refs, &b->ref_capacity, base + n, base + 2 * n,
-                                                      sizeof(pvs__kdref), &r);
+    { /* the loop below writes one slot past the right refs */
+        pvs__kdref *refs = (pvs__kdref *)pvs__grow_capped(&t->allocator, b->refs, &b->ref_capacity, base + n, base + n + nr + 1, b->ref_limit,
+                                                          sizeof(pvs__kdref), &r);
         if (!refs) return pvs__fail(b->err, r, -1, 0, "kD-tree build references");
         b->refs = refs;
     }
@@ -2643,8 +2686,8 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
     if (t->node_count > PVS__KD_MAX_INDEX - 1)
         return pvs__fail(b->err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "kD-tree: more than 2^30 nodes");
     {
-        pvs__kdnode *nodes = (pvs__kdnode *)pvs__kd_grow(&t->allocator, t->nodes, &t->node_capacity, t->node_count,
-                                                         (size_t)t->node_count + 2, sizeof(pvs__kdnode), &r);
+        pvs__kdnode *nodes = (pvs__kdnode *)pvs__grow_capped(&t->allocator, t->nodes, &t->node_capacity, t->node_count,
+                                                             (size_t)t->node_count + 2, b->node_limit, sizeof(pvs__kdnode), &r);
         if (!nodes) return pvs__fail(b->err, r, -1, 0, "kD-tree nodes (%u)", t->node_count + 2);
         t->nodes = nodes;
     }
@@ -2657,9 +2700,10 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
     lbox.max[axis] = split;
     rbox.min[axis] = split;
     /* the right refs are on top of the stack: build them first, then the left ones below */
-    r = pvs__kd_build(b, child + 1, base + n, top - (base + n), &rbox, depth + 1);
+    PVS_ASSERT(w - base == nl && top - (base + n) == nr);
+    r = pvs__kd_build(b, child + 1, base + n, nr, &rbox, depth + 1);
     if (r != PVS_OK) return r;
-    return pvs__kd_build(b, child, base, w - base, &lbox, depth + 1);
+    return pvs__kd_build(b, child, base, nl, &lbox, depth + 1);
 }
 
 PVS_API void pvs_kdtree_destroy(pvs_kdtree *t) {
@@ -2706,10 +2750,22 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
     b->max_depth = desc->max_depth ? desc->max_depth : 8 + (13 * lg + 9) / 10;
     if (b->max_depth > PVS_KDTREE_MAX_DEPTH) b->max_depth = PVS_KDTREE_MAX_DEPTH;
 
-    /* first guesses; everything grows on demand */
-    t->nodes = (pvs__kdnode *)pvs__kd_grow(&a, NULL, &t->node_capacity, 0, 1 + (size_t)m / 2, sizeof(pvs__kdnode), &r);
-    if (t->nodes) t->items = (uint32_t *)pvs__kd_grow(&a, NULL, &t->item_capacity, 0, 1 + (size_t)m + m / 2, sizeof(uint32_t), &r);
-    if (t->items) b->refs = (pvs__kdref *)pvs__kd_grow(&a, NULL, &b->ref_capacity, 0, 1 + (size_t)m + m / 2, sizeof(pvs__kdref), &r);
+    /* the pools: at most PVS_KDTREE_MAX_REFS_PER_BOX references and PVS_KDTREE_MAX_NODES_PER_BOX
+       nodes per box in the tree. The stack holds the refs of leaves still to build, and a node being
+       split holds its own n and its right side above: at most the pool's total plus one node's count
+       (and a slot). So the build holds at most 4 K + 8 N + 28 (K + 1) bytes per box (K, N: the
+       limits per box), PVS_KDTREE_BUILD_BYTES_PER_BOX. */
+    b->refs_left = (size_t)(PVS_KDTREE_MAX_REFS_PER_BOX - 1) * m;
+    b->nodes_left = (size_t)PVS_KDTREE_MAX_NODES_PER_BOX * m;
+    b->item_limit = (size_t)PVS_KDTREE_MAX_REFS_PER_BOX * m;
+    b->node_limit = (size_t)PVS_KDTREE_MAX_NODES_PER_BOX * m + 1;
+    b->ref_limit = (size_t)(PVS_KDTREE_MAX_REFS_PER_BOX + 1) * m + 2;
+    /* first guesses; everything grows on demand, within the limits */
+    t->nodes = (pvs__kdnode *)pvs__grow_capped(&a, NULL, &t->node_capacity, 0, 1 + (size_t)m / 2, b->node_limit, sizeof(pvs__kdnode), &r);
+    if (t->nodes)
+        t->items = (uint32_t *)pvs__grow_capped(&a, NULL, &t->item_capacity, 0, 1 + (size_t)m + m / 2, b->item_limit, sizeof(uint32_t), &r);
+    if (t->items)
+        b->refs = (pvs__kdref *)pvs__grow_capped(&a, NULL, &b->ref_capacity, 0, 1 + (size_t)m + m / 2, b->ref_limit, sizeof(pvs__kdref), &r);
     if (!b->refs) { r = pvs__fail(err, r, -1, 0, "kD-tree arrays for %u boxes", m); goto done; }
     m = 0;
     for (i = 0; i < desc->count; ++i) {
@@ -10005,6 +10061,88 @@ PVS__STATIC void pvs__vx_range(const pvs_occluders *o, int k, double lo, double 
     pvs__vx_grange(&o->grid, k, lo, hi, m, i0, i1);
 }
 
+/* Sutherland-Hodgman against one axis-aligned half-space: the points of convex polygon `in` (n points
+   of 3 doubles; n = 2 is a segment) with sign * (x[k] - c) >= 0, into out (room for n + 1 points).
+   Returns the count (0: nothing left). */
+PVS__STATIC int pvs__vx_clip_half(const double *in, int n, int k, double c, double sign, double *out) {
+    int i, r = 0;
+    for (i = 0; i < n; ++i) {
+        const double *a = in + 3 * i, *b = in + 3 * ((i + 1) % n);
+        double da = sign * (a[k] - c), db = sign * (b[k] - c);
+        if (da >= 0.0) { memcpy(out + 3 * r, a, 3 * sizeof(double)); ++r; }
+        if ((da >= 0.0) != (db >= 0.0)) {
+            double t = da / (da - db);
+            int q;
+            for (q = 0; q < 3; ++q) out[3 * r + q] = a[q] + t * (b[q] - a[q]);
+            out[3 * r + k] = c; /* exactly on the plane */
+            ++r;
+        }
+    }
+    return r;
+}
+
+/* The index range along axis k of the cells [origin + i h, origin + (i + 1) h] grown by g that meet
+   the extent of polygon p (n points) on that axis, within [r0, r1]; empty when *i0 > *i1. */
+PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int n, int k, double g, uint32_t r0, uint32_t r1, uint32_t *i0,
+                                    uint32_t *i1) {
+    double lo = p[k], hi = p[k], a, b;
+    int i;
+    for (i = 1; i < n; ++i) {
+        lo = pvs__dmin(lo, p[3 * i + k]);
+        hi = pvs__dmax(hi, p[3 * i + k]);
+    }
+    a = floor((lo - g - gr->origin[k]) / gr->h);
+    b = floor((hi + g - gr->origin[k]) / gr->h);
+    a = a > (double)r0 ? a : (double)r0;
+    b = b < (double)r1 ? b : (double)r1;
+    if (!(b >= a)) { *i0 = 1; *i1 = 0; return; }
+    *i0 = (uint32_t)a;
+    *i1 = (uint32_t)b;
+}
+
+typedef void (*pvs__vx_visit_fn)(void *user, const uint32_t idx[3]);
+
+/* Calls visit for the cells of grid gr within the index ranges [r0, r1] (per axis) that convex
+   polygon p (n = 3: a triangle, n = 2: a segment; 3 doubles a point) grown by m may meet: over
+   axis k[2] (dims 3) slab by slab, the polygon clipped to each slab, then over axis k[1] row by row,
+   each row's range along k[0] read off the clipped part. dims 2 scans the (k[0], k[1]) plane only
+   (idx[k[2]] is then 0). The cost is the cells visited plus one clip per slab and row, where the
+   bounding box of a long diagonal sliver would cost its area (a fan of n slivers around one vertex:
+   quadratic). Candidates only: the caller tests each exactly. The slabs are widened by a thousandth
+   of a cell beyond m, far more than the clip's rounding, so every cell an exact test with margin m
+   accepts is visited. */
+PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, const int k[3], int dims, double m, const uint32_t r0[3],
+                              const uint32_t r1[3], pvs__vx_visit_fn visit, void *user) {
+    double slab[3 * 8], tmp[3 * 8], row[3 * 8], g = m + 1e-3 * gr->h, h = gr->h;
+    uint32_t idx[3], c, c0 = 0, c1 = 0, b, b0, b1, a, a0, a1;
+    idx[0] = idx[1] = idx[2] = 0;
+    if (dims == 3) pvs__vx_poly_range(gr, p, n, k[2], g, r0[k[2]], r1[k[2]], &c0, &c1);
+    for (c = c0; c <= c1 && c0 <= c1; ++c) {
+        const double *sp = p;
+        int sn = n, rn;
+        if (dims == 3) {
+            sn = pvs__vx_clip_half(p, n, k[2], gr->origin[k[2]] + c * h - g, 1.0, tmp);
+            sn = pvs__vx_clip_half(tmp, sn, k[2], gr->origin[k[2]] + (c + 1) * h + g, -1.0, slab);
+            if (!sn) continue;
+            sp = slab;
+            idx[k[2]] = c;
+        }
+        pvs__vx_poly_range(gr, sp, sn, k[1], g, r0[k[1]], r1[k[1]], &b0, &b1);
+        for (b = b0; b <= b1 && b0 <= b1; ++b) {
+            rn = pvs__vx_clip_half(sp, sn, k[1], gr->origin[k[1]] + b * h - g, 1.0, tmp);
+            rn = pvs__vx_clip_half(tmp, rn, k[1], gr->origin[k[1]] + (b + 1) * h + g, -1.0, row);
+            if (!rn) continue;
+            pvs__vx_poly_range(gr, row, rn, k[0], g, r0[k[0]], r1[k[0]], &a0, &a1);
+            idx[k[1]] = b;
+            for (a = a0; a <= a1 && a0 <= a1; ++a) {
+                idx[k[0]] = a;
+                visit(user, idx);
+            }
+        }
+        if (dims != 3) break;
+    }
+}
+
 /* One-dimensional min filter of radius r along axis k over a byte grid (outside counts as 0):
    Chebyshev erosion is separable. */
 PVS__STATIC void pvs__vx_erode_axis(const pvs_occluders *o, uint8_t *g, uint8_t *line, int k, uint32_t r) {
@@ -10465,8 +10603,109 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
    triangles and open edges (see the argument above). Leaves in fl->bits, per box voxel, PVS__G_T/B/W
    and the reached nodes; returns 0 when the outside of the box was never entered. With
    mark_touched (gr is the occluders' own grid) it also sets PVS__VX_TOUCHED on the grid. */
+/* Step 1's test of one voxel of a component's box (pvs__vx_scan's visitor). */
+/* The voxels a triangle touches (separating axes, margin toward touched): pvs__vx_scan's visitor. */
+typedef struct pvs__vx_touch {
+    pvs_occluders *o;          /* non-NULL: set PVS__VX_TOUCHED on its grid (gr is then its grid) */
+    const pvs__vx_grid *gr;
+    uint8_t *bits;             /* non-NULL: a component's box from lo (strides `stride`): set PVS__G_T; */
+    const uint32_t *lo;        /*   NULL: the occluders' grid alone, where touched or ground voxels */
+    const size_t *stride;      /*   are skipped */
+    double p[3][3], hs;        /* the triangle, the voxel half size grown by the margin */
+} pvs__vx_touch;
+PVS__STATIC void pvs__vx_touch_visit(void *user, const uint32_t idx[3]) {
+    pvs__vx_touch *tv = (pvs__vx_touch *)user;
+    size_t x = 0;
+    double cc[3];
+    int kk;
+    if (tv->bits) {
+        x = (idx[0] - tv->lo[0]) + tv->stride[1] * (idx[1] - tv->lo[1]) + tv->stride[2] * (idx[2] - tv->lo[2]);
+        if (tv->bits[x] & PVS__G_T) return;
+    } else if (tv->o->state[pvs__vx_index(tv->o, idx[0], idx[1], idx[2])] & (PVS__VX_TOUCHED | PVS__VX_GROUND)) {
+        return;
+    }
+    for (kk = 0; kk < 3; ++kk) cc[kk] = tv->gr->origin[kk] + (idx[kk] + 0.5) * tv->gr->h;
+    if (pvs__tri_box(cc, tv->hs, tv->p[0], tv->p[1], tv->p[2])) {
+        if (tv->bits) tv->bits[x] |= PVS__G_T;
+        if (tv->o) tv->o->state[pvs__vx_index(tv->o, idx[0], idx[1], idx[2])] |= PVS__VX_TOUCHED;
+    }
+}
+
+/* The corners of triangle `tri` of the scene, in double. */
+PVS__STATIC void pvs__vx_tri_points(const pvs_scene *s, uint32_t tri, double p[3][3]) {
+    int e, kk;
+    for (e = 0; e < 3; ++e)
+        for (kk = 0; kk < 3; ++kk) p[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (size_t)e] + (size_t)kk];
+}
+
+/* Steps 2 and 3 of a component's flood, one column of its box at a time (pvs__vx_scan's visitors). */
+typedef struct pvs__vx_colvisit {
+    const pvs__vx_grid *gr;
+    uint8_t *bits, *col;       /* the box's voxels from lo (strides `stride`), its columns (d[u] a row) */
+    const uint32_t *lo, *hi, *d;
+    const size_t *stride;
+    int u, v, up;
+    double m;
+    const float *e;            /* step 2: the open edge (two points) */
+    const float *tri[3];       /* step 3: the triangle's corners */
+    uint32_t pass;             /* step 3: the line's position in the column */
+} pvs__vx_colvisit;
+
+/* Step 2 at column (a, b): the sheet below the part of the edge over the column's square grown by m. */
+PVS__STATIC void pvs__vx_sheet_visit(void *user, const uint32_t at[3]) {
+    const pvs__vx_colvisit *cv = (const pvs__vx_colvisit *)user;
+    const float *e = cv->e;
+    const double *org = cv->gr->origin;
+    int u = cv->u, v = cv->v, up = cv->up, side, ok = 1;
+    double h = cv->gr->h, m = cv->m, a0 = e[u], b0 = e[v], da = (double)e[3 + u] - e[u], db = (double)e[3 + v] - e[v];
+    double t0 = 0.0, t1 = 1.0, q[4], pp[4], zt;
+    uint32_t a = at[u], b = at[v], top, c, idx[3];
+    pp[0] = -da; q[0] = a0 - (org[u] + a * h - m);
+    pp[1] = da;  q[1] = org[u] + (a + 1) * h + m - a0;
+    pp[2] = -db; q[2] = b0 - (org[v] + b * h - m);
+    pp[3] = db;  q[3] = org[v] + (b + 1) * h + m - b0;
+    for (side = 0; side < 4 && ok; ++side) {
+        if (pp[side] == 0.0) { ok = q[side] >= 0.0; continue; }
+        zt = q[side] / pp[side];
+        if (pp[side] < 0.0) { if (zt > t0) t0 = zt; } else if (zt < t1) t1 = zt;
+        ok = t0 <= t1;
+    }
+    if (!ok) return;
+    zt = pvs__dmax((double)e[up] + t0 * ((double)e[3 + up] - e[up]), (double)e[up] + t1 * ((double)e[3 + up] - e[up]));
+    zt = pvs__dmin(zt + m + 1e-6 * pvs__dabs(zt), (double)pvs__dmax(e[up], e[3 + up]) + m);
+    top = (uint32_t)pvs__clampi(floor((zt - org[up]) / h), (int32_t)cv->lo[up], (int32_t)cv->hi[up]);
+    idx[u] = a; idx[v] = b;
+    for (c = cv->lo[up]; c <= top; ++c) {
+        idx[up] = c;
+        cv->bits[(idx[0] - cv->lo[0]) + cv->stride[1] * (idx[1] - cv->lo[1]) + cv->stride[2] * (idx[2] - cv->lo[2])] |= PVS__G_B;
+    }
+}
+
+/* Step 3 at column (a, b): the crossing of the column's line at position `pass` with the triangle. */
+PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
+    const pvs__vx_colvisit *cv = (const pvs__vx_colvisit *)user;
+    int u = cv->u, v = cv->v, up = cv->up, r;
+    uint32_t a = at[u], b = at[v], idx[3];
+    size_t ci = (a - cv->lo[u]) + (size_t)cv->d[u] * (b - cv->lo[v]);
+    double z, dz, h = cv->gr->h;
+    if (cv->col[ci] != cv->pass) return;
+    r = pvs__vx_cross(cv->tri[0], cv->tri[1], cv->tri[2], u, v, up, cv->gr->origin[u] + (a + pvs__vx_line_u[cv->pass]) * h,
+                      cv->gr->origin[v] + (b + pvs__vx_line_v[cv->pass]) * h, &z, &dz);
+    if (r == 1 && dz >= 0.5 * cv->m) r = -1;
+    if (r < 0) cv->col[ci] |= 0x80;
+    if (r == 1) {
+        idx[u] = a - cv->lo[u]; idx[v] = b - cv->lo[v];
+        idx[up] = (uint32_t)pvs__clampi(floor((z - cv->gr->origin[up]) / h) - (double)cv->lo[up], 0, (int32_t)cv->d[up] - 1);
+        cv->bits[idx[0] + cv->stride[1] * idx[1] + cv->stride[2] * idx[2]] ^= PVS__G_F;
+    }
+}
+
 PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
                                         const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl, int mark_touched) {
+    static const int xyz[3] = {0, 1, 2};
+    int axes[3];
+    pvs__vx_touch tv;
+    pvs__vx_colvisit cv;
     const pvs_scene *s = o->scene;
     uint32_t up = s->up_axis, d[3], k, t, pass;
     int u, v, ext, any;
@@ -10483,108 +10722,52 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
     ncol = (size_t)d[u] * d[v];
     memset(bits, 0, nvox);
     /* 1. touched by K (separating axes, margin toward touched) */
+    memset(&tv, 0, sizeof(tv));
+    tv.o = mark_touched ? o : NULL;
+    tv.gr = gr;
+    tv.bits = bits;
+    tv.lo = lo;
+    tv.stride = stride;
+    tv.hs = 0.5 * h + m;
     for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
-        uint32_t tri = tp->tris[t], r0[3], r1[3], a, b, c;
-        double p[3][3], tlo[3], thi[3];
-        int kk;
-        for (kk = 0; kk < 3; ++kk) {
-            p[0][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri] + kk];
-            p[1][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 1] + kk];
-            p[2][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 2] + kk];
-            tlo[kk] = pvs__dmin(p[0][kk], pvs__dmin(p[1][kk], p[2][kk]));
-            thi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
-        }
-        for (kk = 0; kk < 3; ++kk) {
-            pvs__vx_grange(gr, kk, tlo[kk], thi[kk], m, r0 + kk, r1 + kk);
-            if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
-            if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
-        }
-        for (c = r0[2]; c <= r1[2]; ++c)
-            for (b = r0[1]; b <= r1[1]; ++b)
-                for (a = r0[0]; a <= r1[0]; ++a) {
-                    double cc[3];
-                    size_t x = (a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2]);
-                    if (bits[x] & PVS__G_T) continue;
-                    cc[0] = gr->origin[0] + (a + 0.5) * h;
-                    cc[1] = gr->origin[1] + (b + 0.5) * h;
-                    cc[2] = gr->origin[2] + (c + 0.5) * h;
-                    if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) {
-                        bits[x] |= PVS__G_T;
-                        if (mark_touched) o->state[pvs__vx_index(o, a, b, c)] |= PVS__VX_TOUCHED;
-                    }
-                }
+        pvs__vx_tri_points(s, tp->tris[t], tv.p);
+        pvs__vx_scan(gr, tv.p[0], 3, xyz, 3, m, lo, hi, pvs__vx_touch_visit, &tv);
     }
     /* 2. bad: the vertical sheet below each open edge, from the edge (plus margin) down to the
        ground; per column whose square (grown by m) the projected edge meets, over the part of the
-       edge inside it (Liang-Barsky clip) */
+       edge inside it (Liang-Barsky clip: pvs__vx_sheet_visit) */
+    memset(&cv, 0, sizeof(cv));
+    cv.gr = gr;
+    cv.bits = bits;
+    cv.col = col;
+    cv.lo = lo;
+    cv.hi = hi;
+    cv.d = d;
+    cv.stride = stride;
+    cv.u = u;
+    cv.v = v;
+    cv.up = (int)up;
+    cv.m = m;
+    axes[0] = u;
+    axes[1] = v;
+    axes[2] = (int)up;
     for (t = tp->open_first[comp]; t < tp->open_first[comp + 1]; ++t) {
-        const float *e = tp->open_edges + 6 * (size_t)t;
-        double a0 = e[u], b0 = e[v], da = (double)e[3 + u] - e[u], db = (double)e[3 + v] - e[v];
-        uint32_t r0[3], r1[3], a, b, c;
-        pvs__vx_grange(gr, u, pvs__dmin(e[u], e[3 + u]), pvs__dmax(e[u], e[3 + u]), m, r0 + u, r1 + u);
-        pvs__vx_grange(gr, v, pvs__dmin(e[v], e[3 + v]), pvs__dmax(e[v], e[3 + v]), m, r0 + v, r1 + v);
-        if (r0[u] < lo[u]) r0[u] = lo[u];
-        if (r1[u] > hi[u]) r1[u] = hi[u];
-        if (r0[v] < lo[v]) r0[v] = lo[v];
-        if (r1[v] > hi[v]) r1[v] = hi[v];
-        for (b = r0[v]; b <= r1[v]; ++b)
-            for (a = r0[u]; a <= r1[u]; ++a) {
-                double t0 = 0.0, t1 = 1.0, q[4], pp[4], zt;
-                int side, ok = 1;
-                uint32_t top, idx[3];
-                pp[0] = -da; q[0] = a0 - (gr->origin[u] + a * h - m);
-                pp[1] = da;  q[1] = gr->origin[u] + (a + 1) * h + m - a0;
-                pp[2] = -db; q[2] = b0 - (gr->origin[v] + b * h - m);
-                pp[3] = db;  q[3] = gr->origin[v] + (b + 1) * h + m - b0;
-                for (side = 0; side < 4 && ok; ++side) {
-                    if (pp[side] == 0.0) { ok = q[side] >= 0.0; continue; }
-                    zt = q[side] / pp[side];
-                    if (pp[side] < 0.0) { if (zt > t0) t0 = zt; } else if (zt < t1) t1 = zt;
-                    ok = t0 <= t1;
-                }
-                if (!ok) continue;
-                zt = pvs__dmax((double)e[up] + t0 * ((double)e[3 + up] - e[up]), (double)e[up] + t1 * ((double)e[3 + up] - e[up]));
-                zt = pvs__dmin(zt + m + 1e-6 * pvs__dabs(zt), (double)pvs__dmax(e[up], e[3 + up]) + m);
-                top = (uint32_t)pvs__clampi(floor((zt - gr->origin[up]) / h), (int32_t)lo[up], (int32_t)hi[up]);
-                idx[u] = a; idx[v] = b;
-                for (c = lo[up]; c <= top; ++c) {
-                    idx[up] = c;
-                    bits[(idx[0] - lo[0]) + stride[1] * (idx[1] - lo[1]) + stride[2] * (idx[2] - lo[2])] |= PVS__G_B;
-                }
-            }
+        double pe[2][3];
+        for (k = 0; k < 6; ++k) pe[k / 3][k % 3] = tp->open_edges[6 * (size_t)t + k];
+        cv.e = tp->open_edges + 6 * (size_t)t;
+        pvs__vx_scan(gr, pe[0], 2, axes, 2, m, lo, hi, pvs__vx_sheet_visit, &cv);
     }
     /* 3. parity of the pure voxels: per column, the crossings of one vertical line (pvs__vx_cross)
        toggle PVS__G_F at their layer; up to 8 positions of the line per column */
     memset(col, 0, ncol);
     for (pass = 0, any = 1; any && pass < 8; ++pass) {
+        cv.pass = pass;
         for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
-            uint32_t tri = tp->tris[t], a, b, a0, a1, b0, b1;
-            const float *pa = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri];
-            const float *pb = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 1];
-            const float *pc = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2];
-            pvs__vx_grange(gr, u, pvs__dmin(pa[u], pvs__dmin(pb[u], pc[u])), pvs__dmax(pa[u], pvs__dmax(pb[u], pc[u])), m, &a0, &a1);
-            pvs__vx_grange(gr, v, pvs__dmin(pa[v], pvs__dmin(pb[v], pc[v])), pvs__dmax(pa[v], pvs__dmax(pb[v], pc[v])), m, &b0, &b1);
-            if (a0 < lo[u]) a0 = lo[u];
-            if (a1 > hi[u]) a1 = hi[u];
-            if (b0 < lo[v]) b0 = lo[v];
-            if (b1 > hi[v]) b1 = hi[v];
-            for (b = b0; b <= b1; ++b)
-                for (a = a0; a <= a1; ++a) {
-                    size_t ci = (a - lo[u]) + (size_t)d[u] * (b - lo[v]);
-                    double z, dz;
-                    int r;
-                    if (col[ci] != pass) continue;
-                    r = pvs__vx_cross(pa, pb, pc, u, v, (int)up, gr->origin[u] + (a + pvs__vx_line_u[pass]) * h,
-                                      gr->origin[v] + (b + pvs__vx_line_v[pass]) * h, &z, &dz);
-                    if (r == 1 && dz >= 0.5 * m) r = -1;
-                    if (r < 0) col[ci] |= 0x80;
-                    if (r == 1) {
-                        uint32_t idx[3];
-                        idx[u] = a - lo[u]; idx[v] = b - lo[v];
-                        idx[up] = (uint32_t)pvs__clampi(floor((z - gr->origin[up]) / h) - (double)lo[up], 0, (int32_t)d[up] - 1);
-                        bits[idx[0] + stride[1] * idx[1] + stride[2] * idx[2]] ^= PVS__G_F;
-                    }
-                }
+            uint32_t tri = tp->tris[t];
+            double pt[3][3];
+            for (k = 0; k < 3; ++k) cv.tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + k];
+            pvs__vx_tri_points(s, tri, pt);
+            pvs__vx_scan(gr, pt[0], 3, axes, 2, m, lo, hi, pvs__vx_cross_visit, &cv);
         }
         any = 0;
         for (vi = 0; vi < ncol; ++vi) {
@@ -10804,11 +10987,67 @@ PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, i
     return best;
 }
 
+/* The least height of a triangle near each square of the column map (pvs__vx_scan's visitor). */
+typedef struct pvs__vx_tminvisit {
+    const pvs__vx_grid *gr;    /* the column map's */
+    double p[3][3], e, margin; /* the triangle; near = within e */
+    double zlo;                /* its lowest corner's height */
+    double gu, gv, slack;      /* sloped: its plane's height gradient along u and v, the rounding slack */
+    int sloped;
+    int u, v, up;
+    float *tmin;               /* per square of [su0, su0 + row) x [sv0, ...) */
+    uint32_t su0, sv0, row;
+} pvs__vx_tminvisit;
+/* The triangle's lowest corner and, when it is not steep, its plane as a height field: the bounds
+   that let pvs__vx_tmin_visit skip the clip (coincident or stacked triangles meet each square many
+   times). The slack covers the rounding of the plane's height, so the bound stays below the
+   exact least height. */
+PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
+    const double *a = tv->p[0], *b = tv->p[1], *c = tv->p[2];
+    int u = tv->u, v = tv->v, up = tv->up;
+    double e1[3], e2[3], n[3], mag;
+    int k;
+    tv->zlo = pvs__dmin(a[up], pvs__dmin(b[up], c[up]));
+    for (k = 0; k < 3; ++k) { e1[k] = b[k] - a[k]; e2[k] = c[k] - a[k]; }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    mag = pvs__dabs(n[0]) + pvs__dabs(n[1]) + pvs__dabs(n[2]);
+    tv->sloped = pvs__dabs(n[up]) > 1e-3 * mag; /* slopes below 1000: the plane's bound is useful */
+    if (!tv->sloped) return;
+    tv->gu = n[u] / n[up];
+    tv->gv = n[v] / n[up];
+    tv->slack = 1e-9 * (pvs__dabs(a[up]) + pvs__dabs(b[up]) + pvs__dabs(c[up]) + (pvs__dabs(tv->gu) + pvs__dabs(tv->gv)) *
+                        (pvs__dabs(a[u]) + pvs__dabs(a[v]) + pvs__dabs(b[u]) + pvs__dabs(b[v]) + pvs__dabs(c[u]) + pvs__dabs(c[v]) + 1.0));
+}
+PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
+    const pvs__vx_tminvisit *tv = (const pvs__vx_tminvisit *)user;
+    uint32_t i = at[tv->u], j = at[tv->v];
+    size_t x = (size_t)(j - tv->sv0) * tv->row + (i - tv->su0);
+    double h = tv->gr->h, e = tv->e, x0 = tv->gr->origin[tv->u] + i * h, y0 = tv->gr->origin[tv->v] + j * h, z;
+    double lim[8], x1 = x0 + h, y1 = y0 + h, ed = e * 1.4142135623730951 * (1.0 + 1e-12);
+    /* the square grown by the octagon around the disc of radius e: holds every point within e */
+    lim[0] = -(x0 - e); lim[1] = x1 + e; lim[2] = -(y0 - e); lim[3] = y1 + e;
+    lim[4] = -(x0 + y0 - ed); lim[5] = x1 + y1 + ed; lim[6] = -(x0 - y1 - ed); lim[7] = x1 - y0 + ed;
+    z = tv->zlo; /* a lower bound of the clip's height: its lowest corner, or its plane's lowest over the grown square */
+    if (tv->sloped) {
+        double zp = tv->p[0][tv->up] - tv->gu * ((tv->gu > 0.0 ? x0 - e : x1 + e) - tv->p[0][tv->u]) -
+                    tv->gv * ((tv->gv > 0.0 ? y0 - e : y1 + e) - tv->p[0][tv->v]);
+        z = pvs__dmax(z, zp - tv->slack);
+    }
+    if (pvs__f_down(z - tv->margin) >= tv->tmin[x]) return; /* the clip cannot lower it */
+    z = pvs__vx_clip_min_height((const double(*)[3])tv->p, tv->u, tv->v, tv->up, lim);
+    if (z < DBL_MAX && pvs__f_down(z - tv->margin) < tv->tmin[x]) tv->tmin[x] = pvs__f_down(z - tv->margin);
+}
+
 /* The column map's pass over one component: flood on its own grid, runs standing on the ground, the
    squares' solid and occluder heights. Returns OUT_OF_MEMORY or PVS_OK. */
 PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const pvs__vx_grid *gk,
                                                  const uint32_t lo[3], const uint32_t hi[3], double m, double eps, double margin,
                                                  pvs__vx_flood *fl) {
+    pvs__vx_tminvisit tv;
+    int axes[3];
+    uint32_t sq0[3], sq1[3];
     const pvs_scene *s = o->scene;
     pvs__vx_cols *cm = &o->cols;
     uint32_t up = s->up_axis, d[3], a, b, su0, su1, sv0, sv1, t, k;
@@ -10849,31 +11088,26 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
         }
     /* the least height of the component's triangles near each square */
     for (a = 0; a < nsub; ++a) tmin[a] = FLT_MAX;
+    memset(&tv, 0, sizeof(tv));
+    tv.gr = &cm->grid;
+    tv.u = u;
+    tv.v = v;
+    tv.up = (int)up;
+    tv.e = e;
+    tv.margin = margin;
+    tv.tmin = tmin;
+    tv.su0 = su0;
+    tv.sv0 = sv0;
+    tv.row = su1 - su0 + 1;
+    axes[0] = u;
+    axes[1] = v;
+    axes[2] = (int)up;
+    sq0[u] = su0; sq0[v] = sv0; sq0[up] = 0;
+    sq1[u] = su1; sq1[v] = sv1; sq1[up] = 0;
     for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
-        uint32_t tri = tp->tris[t], i0, i1, j0, j1, i, j;
-        double p[3][3], tlo[2], thi[2];
-        int q;
-        for (q = 0; q < 3; ++q)
-            for (k = 0; k < 3; ++k) p[q][k] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (uint32_t)q] + k];
-        tlo[0] = pvs__dmin(p[0][u], pvs__dmin(p[1][u], p[2][u])); thi[0] = pvs__dmax(p[0][u], pvs__dmax(p[1][u], p[2][u]));
-        tlo[1] = pvs__dmin(p[0][v], pvs__dmin(p[1][v], p[2][v])); thi[1] = pvs__dmax(p[0][v], pvs__dmax(p[1][v], p[2][v]));
-        pvs__vx_grange(&cm->grid, u, tlo[0], thi[0], e, &i0, &i1);
-        pvs__vx_grange(&cm->grid, v, tlo[1], thi[1], e, &j0, &j1);
-        if (i0 < su0) i0 = su0;
-        if (i1 > su1) i1 = su1;
-        if (j0 < sv0) j0 = sv0;
-        if (j1 > sv1) j1 = sv1;
-        for (j = j0; j <= j1; ++j)
-            for (i = i0; i <= i1; ++i) {
-                size_t x = (size_t)(j - sv0) * (su1 - su0 + 1) + (i - su0);
-                double x0 = cm->grid.origin[u] + i * cm->grid.h, y0 = cm->grid.origin[v] + j * cm->grid.h, z;
-                double lim[8], x1 = x0 + cm->grid.h, y1 = y0 + cm->grid.h, ed = e * 1.4142135623730951 * (1.0 + 1e-12);
-                /* the square grown by the octagon around the disc of radius e: holds every point within e */
-                lim[0] = -(x0 - e); lim[1] = x1 + e; lim[2] = -(y0 - e); lim[3] = y1 + e;
-                lim[4] = -(x0 + y0 - ed); lim[5] = x1 + y1 + ed; lim[6] = -(x0 - y1 - ed); lim[7] = x1 - y0 + ed;
-                z = pvs__vx_clip_min_height((const double(*)[3])p, u, v, (int)up, lim);
-                if (z < DBL_MAX && pvs__f_down(z - margin) < tmin[x]) tmin[x] = pvs__f_down(z - margin);
-            }
+        pvs__vx_tri_points(s, tp->tris[t], tv.p);
+        pvs__vx_tmin_plane(&tv);
+        pvs__vx_scan(&cm->grid, tv.p[0], 3, axes, 2, e, sq0, sq1, pvs__vx_tmin_visit, &tv);
     }
     for (b = sv0; b <= sv1; ++b)
         for (a = su0; a <= su1; ++a) {
@@ -11388,6 +11622,9 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     pvs__vx_flood fl;
     uint8_t *tmp = NULL, *line = NULL;
     int u, v, kk;
+    static const int xyz[3] = {0, 1, 2};
+    uint32_t zero[3] = {0, 0, 0}, last[3];
+    pvs__vx_touch tv;
     if (out) *out = NULL;
     memset(&tp, 0, sizeof(tp));
     memset(&fl, 0, sizeof(fl));
@@ -11536,6 +11773,11 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     queue = (uint32_t *)pvs__alloc_array(&a, qcap, sizeof(uint32_t));
     fl.queue = queue;
     if (!fl.bits || !fl.col || !queue) goto oom;
+    memset(&tv, 0, sizeof(tv));
+    tv.o = o;
+    tv.gr = &o->grid;
+    tv.hs = 0.5 * h + m;
+    for (kk = 0; kk < 3; ++kk) last[kk] = o->n[kk] - 1;
     for (c = 0; c < tp.comp_count; ++c) {
         uint32_t t;
         if (tp.comp_first[c + 1] - tp.comp_first[c] >= 3) {
@@ -11545,27 +11787,8 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
             continue;
         }
         for (t = tp.comp_first[c]; t < tp.comp_first[c + 1]; ++t) { /* touched, for the summary and the leak flood */
-            uint32_t tri = tp.tris[t], r0[3], r1[3];
-            double p[3][3], tlo[3], thi[3];
-            for (kk = 0; kk < 3; ++kk) {
-                p[0][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri] + kk];
-                p[1][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 1] + kk];
-                p[2][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + 2] + kk];
-                tlo[kk] = pvs__dmin(p[0][kk], pvs__dmin(p[1][kk], p[2][kk]));
-                thi[kk] = pvs__dmax(p[0][kk], pvs__dmax(p[1][kk], p[2][kk]));
-            }
-            for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, tlo[kk], thi[kk], m, r0 + kk, r1 + kk);
-            for (k = r0[2]; k <= r1[2]; ++k)
-                for (j = r0[1]; j <= r1[1]; ++j)
-                    for (i = r0[0]; i <= r1[0]; ++i) {
-                        double cc[3];
-                        size_t x = pvs__vx_index(o, i, j, k);
-                        if (o->state[x] & (PVS__VX_TOUCHED | PVS__VX_GROUND)) continue;
-                        cc[0] = o->origin[0] + (i + 0.5) * h;
-                        cc[1] = o->origin[1] + (j + 0.5) * h;
-                        cc[2] = o->origin[2] + (k + 0.5) * h;
-                        if (pvs__tri_box(cc, 0.5 * h + m, p[0], p[1], p[2])) o->state[x] |= PVS__VX_TOUCHED;
-                    }
+            pvs__vx_tri_points(s, tp.tris[t], tv.p);
+            pvs__vx_scan(&o->grid, tv.p[0], 3, xyz, 3, m, zero, last, pvs__vx_touch_visit, &tv);
         }
     }
     o->info.open_edges = tp.open_count;
@@ -14511,19 +14734,16 @@ PVS__STATIC double pvs__ep_orient(const double *a, const double *b, const double
     return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
 }
 
+PVS__STATIC int pvs__ep_pt2_cmp(const void *x, const void *y) {
+    const double *a = (const double *)x, *b = (const double *)y;
+    if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
+    return a[1] < b[1] ? -1 : a[1] > b[1];
+}
 /* Convex hull (Andrew's monotone chain), counter-clockwise, collinear points dropped. pts: n x 2,
    sorted in place; hull receives up to n + 1 points. Returns the hull's size. */
 PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
-    int i, j, k = 0, lower;
-    for (i = 1; i < n; ++i) { /* insertion sort: n is small */
-        double x = pts[i][0], y = pts[i][1];
-        for (j = i - 1; j >= 0 && (pts[j][0] > x || (pts[j][0] == x && pts[j][1] > y)); --j) {
-            pts[j + 1][0] = pts[j][0];
-            pts[j + 1][1] = pts[j][1];
-        }
-        pts[j + 1][0] = x;
-        pts[j + 1][1] = y;
-    }
+    int i, k = 0, lower;
+    if (n > 1) PVS_QSORT(pts, (size_t)n, sizeof(pts[0]), pvs__ep_pt2_cmp); /* equal points are equal values */
     if (n < 3) return 0;
     for (i = 0; i < n; ++i) {
         while (k >= 2 && pvs__ep_orient(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
@@ -15095,53 +15315,72 @@ PVS__STATIC int pvs__ep_in_convex(const float *q, uint32_t n, double x, double y
     return 1;
 }
 
+/* An end of a boundary edge (pvs__ep_sheet_polygon's walk). */
+typedef struct pvs__epend {
+    float p[2];
+    uint32_t edge;
+} pvs__epend;
+PVS__STATIC int pvs__ep_end_cmp(const void *x, const void *y) {
+    const pvs__epend *a = (const pvs__epend *)x, *b = (const pvs__epend *)y;
+    int c = pvs__ep_p2_cmp(a->p, b->p);
+    return c ? c : a->edge < b->edge ? -1 : a->edge > b->edge;
+}
+
+/* The boundary edges e[0 .. nb) (each point on exactly two of them) as one loop from e[0].a: its
+   points into q (n = nb). 0 when a point lies on more than two of them or they form more than one
+   loop. ends: scratch of 2 nb; sorted ends make the walk O(nb log nb). */
+PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, pvs__epend *ends) {
+    uint32_t i, m, edge = 0;
+    float cur[2];
+    for (i = 0; i < nb; ++i) {
+        memcpy(ends[2 * i].p, e[i].a, sizeof(cur));
+        memcpy(ends[2 * i + 1].p, e[i].b, sizeof(cur));
+        ends[2 * i].edge = ends[2 * i + 1].edge = i;
+    }
+    PVS_QSORT(ends, 2 * (size_t)nb, sizeof(pvs__epend), pvs__ep_end_cmp);
+    q[0] = e[0].a[0]; q[1] = e[0].a[1];
+    cur[0] = e[0].b[0]; cur[1] = e[0].b[1];
+    for (m = 1; m < nb; ++m) {
+        uint32_t lo = 0, hi = 2 * nb, next;
+        q[2 * m] = cur[0];
+        q[2 * m + 1] = cur[1];
+        while (lo < hi) { /* the first end at cur */
+            uint32_t mid = lo + (hi - lo) / 2;
+            if (pvs__ep_p2_cmp(ends[mid].p, cur) < 0) lo = mid + 1;
+            else hi = mid;
+        }
+        if (lo + 1 >= 2 * nb || pvs__ep_p2_cmp(ends[lo + 1].p, cur) != 0) return 0; /* a loose end */
+        if (lo + 2 < 2 * nb && pvs__ep_p2_cmp(ends[lo + 2].p, cur) == 0) return 0; /* a point on more than two edges */
+        next = ends[lo].edge == edge ? ends[lo + 1].edge : ends[lo].edge;
+        if (next == 0 || next == edge) return 0; /* back at the start before every edge was walked */
+        edge = next;
+        if (pvs__ep_p2_cmp(e[edge].a, cur) == 0) { cur[0] = e[edge].b[0]; cur[1] = e[edge].b[1]; }
+        else { cur[0] = e[edge].a[0]; cur[1] = e[edge].a[1]; }
+    }
+    return pvs__ep_p2_cmp(cur, q) == 0; /* the loop must close at its start */
+}
+
 /* The union of a group's triangles as one convex polygon: boundary edges (used an odd number of
    times) forming one loop that turns one way once, with the loop's area equal to the triangles'
    (no overlap, no hole). Fills q (counter-clockwise, collinear points dropped) and returns its size.
    With tol > 0 (points rounded to floats off an exact plane, pvs__ep_merge_planar), a turn the
    wrong way by less than tol (relative) is taken as straight: q is then the convex hull of the loop
-   (hp, hh: scratch of qcap + 1 points) and *dent the farthest a loop point lies inside it. */
+   (hp, hh: scratch of qcap + 1 points) and *dent the farthest a loop point lies inside it; a hull of
+   more than max_hull points gives 0 (the caller takes no more). ends: scratch of 2 qcap. */
 PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep, uint32_t qcap,
-                                           double tol, double (*hp)[2], double (*hh)[2], double *dent) {
+                                           pvs__epend *ends, double tol, double (*hp)[2], double (*hh)[2], int max_hull, double *dent) {
     uint32_t nb = 0, i, j, n = 0, m;
     double area = 0.0, turn = 0.0;
     PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
-    for (i = 0; i < ne;) {
+    for (i = 0; i < ne;) { /* a zero-area triangle leaves a zero-length edge: a point, not a side */
         j = i;
         while (j < ne && pvs__ep_edge2_cmp(e + j, e + i) == 0) ++j;
-        if ((j - i) & 1u) e[nb++] = e[i];
+        if (((j - i) & 1u) && pvs__ep_p2_cmp(e[i].a, e[i].b) != 0) e[nb++] = e[i];
         i = j;
     }
     if (nb < 3 || nb > qcap) return 0;
-    /* walk the loop: from each point exactly one unused edge (e[m .. nb)) must continue */
-    {
-        float cur[2];
-        q[0] = e[0].a[0]; q[1] = e[0].a[1];
-        cur[0] = e[0].b[0]; cur[1] = e[0].b[1];
-        n = 1;
-        for (m = 1; m < nb; ++m) {
-            uint32_t found = nb, k;
-            int end = 0;
-            pvs__epedge2 tmp;
-            q[2 * n] = cur[0];
-            q[2 * n + 1] = cur[1];
-            ++n;
-            for (k = m; k < nb; ++k) {
-                int ea = pvs__ep_p2_cmp(e[k].a, cur) == 0, eb = pvs__ep_p2_cmp(e[k].b, cur) == 0;
-                if (!ea && !eb) continue;
-                if (found != nb) return 0; /* a point on more than two boundary edges */
-                found = k;
-                end = ea;
-            }
-            if (found == nb) return 0;
-            cur[0] = end ? e[found].b[0] : e[found].a[0];
-            cur[1] = end ? e[found].b[1] : e[found].a[1];
-            tmp = e[m];
-            e[m] = e[found];
-            e[found] = tmp;
-        }
-        if (pvs__ep_p2_cmp(cur, q) != 0) return 0; /* the loop must close at its start */
-    }
+    if (!pvs__ep_walk_loop(e, nb, q, ends)) return 0;
+    n = nb;
     for (i = 0; i < n; ++i) {
         const float *a = q + 2 * i, *b = q + 2 * ((i + 1) % n);
         area += (double)a[0] * b[1] - (double)b[0] * a[1];
@@ -15171,7 +15410,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
         }
         if (!(pvs__dabs(turn - 6.283185307179586) < 1e-3)) return 0;
         hn = pvs__ep_hull(hp, (int)n, hh);
-        if (hn < 3) return 0;
+        if (hn < 3 || hn > max_hull) return 0;
         *dent = 0.0;
         for (i = 0; i < n; ++i) { /* each loop point's distance inside the hull (hp is sorted now) */
             double best = DBL_MAX;
@@ -15251,6 +15490,7 @@ typedef struct pvs__epprepwork {
     pvs__epedge2 *e2;     /* 3 per triangle: a planar group's edges in its 2D frame */
     float *q2;            /* 2 (3 per triangle + 1): the group's polygon */
     unsigned char *keep;  /* 3 per triangle + 1 */
+    pvs__epend *ends;     /* 6 per triangle: the loop walk's scratch */
     uint32_t *gparent;    /* per triangle of a component: planar groups (union-find) */
     unsigned char *used;  /* per triangle of a component: merged into a planar polygon */
     double *hp, *hh;      /* 2 (3 per triangle + 1): hull scratch */
@@ -15271,6 +15511,7 @@ PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
     pvs__free_array(a, w->mark, 3 * n, sizeof(uint32_t));
     pvs__free_array(a, w->uv, 3 * n, sizeof(uint32_t));
     pvs__free_array(a, w->e2, 3 * n, sizeof(pvs__epedge2));
+    pvs__free_array(a, w->ends, 6 * n, sizeof(pvs__epend));
     pvs__free_array(a, w->q2, 2 * (3 * n + 1), sizeof(float));
     pvs__free_array(a, w->keep, 3 * n + 1, 1);
     pvs__free_array(a, w->gparent, n, sizeof(uint32_t));
@@ -15297,13 +15538,14 @@ PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, s
     w->e2 = (pvs__epedge2 *)pvs__alloc_array(a, 3 * n, sizeof(pvs__epedge2));
     w->q2 = (float *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(float));
     w->keep = (unsigned char *)pvs__alloc_array(a, 3 * n + 1, 1);
+    w->ends = (pvs__epend *)pvs__alloc_array(a, 6 * n, sizeof(pvs__epend));
     w->gparent = (uint32_t *)pvs__alloc_array(a, n, sizeof(uint32_t));
     w->used = (unsigned char *)pvs__alloc_array(a, n, 1);
     w->hp = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
     w->hh = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
     w->bed = (uint64_t *)pvs__alloc_array(a, 3 * n, sizeof(uint64_t));
     return w->hp && w->hh && w->bed && w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start && w->edges && w->mark && w->uv && w->e2 &&
-           w->q2 && w->keep && w->gparent && w->used;
+           w->q2 && w->keep && w->ends && w->gparent && w->used;
 }
 
 /* 1 if the component's distinct vertices (<= PVS__EP_MAXP) are in convex position with respect to
@@ -15563,7 +15805,8 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
             }
         }
         if (dev > 1e-6 * scale || !(area > 0.0)) continue;
-        k = pvs__ep_sheet_polygon(w->e2, e, area, w->q2, w->keep, e, 1e-4, (double(*)[2])w->hp, (double(*)[2])w->hh, &dent);
+        k = pvs__ep_sheet_polygon(w->e2, e, area, w->q2, w->keep, e, w->ends, 1e-4, (double(*)[2])w->hp, (double(*)[2])w->hh, PVS__EP_MAXP,
+                                  &dent);
         if (k < 3 || k > PVS__EP_MAXP || dent > 1e-6 * scale) {
             r = pvs__ep_add_concave(p, s, t0, tl, w, m, cnt, nr, lr, dev, scale);
             if (r != PVS_OK) return r;
@@ -15833,6 +16076,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
     pvs__epedge2 *e = NULL;
     float *q = NULL;
     unsigned char *keep = NULL;
+    pvs__epend *ends = NULL;
     uint32_t *uf = NULL, ne;
     double *tarea = NULL;
     size_t nkey = 0, i, ecap = 0;
@@ -15877,15 +16121,17 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
             pvs__free_array(a, e, ecap, sizeof(pvs__epedge2));
             pvs__free_array(a, q, 2 * (ecap + 1), sizeof(float));
             pvs__free_array(a, keep, ecap + 1, 1);
+            pvs__free_array(a, ends, 2 * ecap, sizeof(pvs__epend));
             pvs__free_array(a, uf, ecap, sizeof(uint32_t));
             pvs__free_array(a, tarea, ecap, sizeof(double));
             ecap = 3 * (j - i);
             e = (pvs__epedge2 *)pvs__alloc_array(a, ecap, sizeof(pvs__epedge2));
             q = (float *)pvs__alloc_array(a, 2 * (ecap + 1), sizeof(float));
             keep = (unsigned char *)pvs__alloc_array(a, ecap + 1, 1);
+            ends = (pvs__epend *)pvs__alloc_array(a, 2 * ecap, sizeof(pvs__epend));
             uf = (uint32_t *)pvs__alloc_array(a, ecap, sizeof(uint32_t));
             tarea = (double *)pvs__alloc_array(a, ecap, sizeof(double));
-            if (!e || !q || !keep || !uf || !tarea) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
+            if (!e || !q || !keep || !ends || !uf || !tarea) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
         }
         for (g = i; g < j; ++g) {
             const uint32_t *ix = s->indices + 3 * (size_t)key[g].tri;
@@ -15921,7 +16167,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
             uint32_t root = e[g].tri;
             while (h < ne && e[h].tri == root) ++h;
             area = tarea[root];
-            m = pvs__ep_sheet_polygon(e + g, (uint32_t)(h - g), area, q, keep, (uint32_t)ecap, 0.0, NULL, NULL, NULL);
+            m = pvs__ep_sheet_polygon(e + g, (uint32_t)(h - g), area, q, keep, (uint32_t)ecap, ends, 0.0, NULL, NULL, 0, NULL);
             g = h;
             if (!m) continue;
         /* keep the largest sheets */
@@ -16008,6 +16254,7 @@ done:
     pvs__free_array(a, e, ecap, sizeof(pvs__epedge2));
     pvs__free_array(a, q, 2 * (ecap + 1), sizeof(float));
     pvs__free_array(a, keep, ecap + 1, 1);
+    pvs__free_array(a, ends, 2 * ecap, sizeof(pvs__epend));
     pvs__free_array(a, uf, ecap, sizeof(uint32_t));
     pvs__free_array(a, tarea, ecap, sizeof(double));
     return r;

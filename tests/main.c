@@ -19,6 +19,7 @@ void test_shrink(void);
 void test_auto(void);
 void test_examples(void);
 void test_vocc(void);
+void test_bounded(void);
 
 static const struct {
     const char *name;
@@ -32,6 +33,7 @@ static const struct {
     {"auto", test_auto},
     {"examples", test_examples},
     {"vocc", test_vocc},
+    {"bounded", test_bounded},
 };
 
 int main(int argc, char **argv) {

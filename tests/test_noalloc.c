@@ -3,6 +3,7 @@
    PVS from its virtual occluders and per-frame culling with the occlusion tree (pvs_otree_cull)
    allocate nothing. */
 #include "test.h"
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -169,4 +170,286 @@ void test_noalloc(void) {
         pvs_kdtree_destroy(tree);
         free(buf);
     }
+}
+
+/* ---- bounded time on adversarial input: the fast paths against their brute-force references ----
+
+   This private copy also tests two internals that replaced bounding-box loops and a quadratic walk
+   (a fan of long slivers around one vertex made them quadratic): pvs__vx_scan (the occluder
+   synthesis visits only the voxels or columns near a triangle or an edge, by slab and row clips)
+   against every cell of the bounding box with an exact test, and pvs__ep_walk_loop (extproj's
+   boundary loop, through sorted edge ends) against the old walk that searched every unused edge. */
+
+static uint64_t bd_state = 0x5eed0b0d5ull;
+static double bd_rnd(void) {
+    uint64_t z = (bd_state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
+}
+
+typedef struct bd_scan_log {
+    uint32_t n[3];
+    unsigned char *hit;        /* per cell: visits */
+    int outside;
+} bd_scan_log;
+static void bd_scan_visit(void *user, const uint32_t idx[3]) {
+    bd_scan_log *lg = (bd_scan_log *)user;
+    int k;
+    for (k = 0; k < 3; ++k)
+        if (idx[k] >= lg->n[k]) { lg->outside = 1; return; }
+    ++lg->hit[idx[0] + (size_t)lg->n[0] * (idx[1] + (size_t)lg->n[1] * idx[2])];
+}
+
+/* Does segment p-q meet the 2D box [lo, hi] (axes u, v)? Liang-Barsky in double, exact enough. */
+static int bd_segment_box(const double *p, const double *q, int u, int v, const double lo[2], const double hi[2]) {
+    double t0 = 0.0, t1 = 1.0, d[2], o[2];
+    int k;
+    d[0] = q[u] - p[u]; d[1] = q[v] - p[v];
+    o[0] = p[u]; o[1] = p[v];
+    for (k = 0; k < 2; ++k) {
+        if (d[k] == 0.0) {
+            if (o[k] < lo[k] || o[k] > hi[k]) return 0;
+            continue;
+        }
+        {
+            double a = (lo[k] - o[k]) / d[k], b = (hi[k] - o[k]) / d[k];
+            if (a > b) { double x = a; a = b; b = x; }
+            if (a > t0) t0 = a;
+            if (b < t1) t1 = b;
+            if (t0 > t1) return 0;
+        }
+    }
+    return 1;
+}
+/* Does the triangle projected on (u, v) meet the 2D box? Its edges meet it, or it holds the box's centre. */
+static int bd_tri_box2(const double p[3][3], int u, int v, const double lo[2], const double hi[2]) {
+    double c[2], s[3];
+    int e;
+    for (e = 0; e < 3; ++e)
+        if (bd_segment_box(p[e], p[(e + 1) % 3], u, v, lo, hi)) return 1;
+    c[0] = 0.5 * (lo[0] + hi[0]);
+    c[1] = 0.5 * (lo[1] + hi[1]);
+    for (e = 0; e < 3; ++e) {
+        const double *a = p[e], *b = p[(e + 1) % 3];
+        s[e] = (b[u] - a[u]) * (c[1] - a[v]) - (b[v] - a[v]) * (c[0] - a[u]);
+    }
+    return (s[0] > 0 && s[1] > 0 && s[2] > 0) || (s[0] < 0 && s[1] < 0 && s[2] < 0);
+}
+
+static void bd_test_scan(void) {
+    int trial, missed = 0, twice = 0, outside = 0;
+    size_t visited = 0, boxed = 0;
+    for (trial = 0; trial < 3000; ++trial) {
+        pvs__vx_grid g;
+        bd_scan_log lg;
+        uint32_t r0[3], r1[3], a, b, c;
+        double p[3][3], m;
+        int k, kind = trial % 6, dims = trial % 3 == 0 ? 2 : 3, npts = trial % 7 == 0 && dims == 2 ? 2 : 3, axes[3], up = trial % 2 ? 1 : 2;
+        size_t cells;
+        g.h = 0.1 + 2.0 * bd_rnd();
+        for (k = 0; k < 3; ++k) {
+            g.origin[k] = -20.0 + 10.0 * bd_rnd();
+            g.n[k] = 4 + (uint32_t)(26 * bd_rnd());
+        }
+        m = bd_rnd() < 0.2 ? 0.0 : g.h * bd_rnd();
+        for (k = 0; k < 3; ++k) {
+            double lo = g.origin[k] - 2.0, span = g.n[k] * g.h + 4.0;
+            p[0][k] = lo + span * bd_rnd();
+            p[1][k] = kind == 1 ? p[0][k] + 1e-3 * bd_rnd() : lo + span * bd_rnd();  /* a sliver */
+            p[2][k] = kind == 4 ? p[0][k] + 1e-4 * g.h * bd_rnd() : lo + span * bd_rnd(); /* tiny or degenerate */
+        }
+        if (kind == 2) p[2][0] = p[1][0], p[2][2 - (trial % 2)] = p[1][2 - (trial % 2)]; /* vertical or axis-aligned */
+        if (kind == 3) for (k = 0; k < 3; ++k) p[1][k] = p[0][k] + 0.5 * (p[2][k] - p[0][k]); /* collinear */
+        if (kind == 5) for (k = 0; k < 3; ++k) p[1][k] = p[0][k], p[2][k] = p[0][k]; /* a point */
+        for (k = 0; k < 3; ++k) {
+            r0[k] = (uint32_t)(g.n[k] * 0.3 * bd_rnd());
+            r1[k] = g.n[k] - 1 - (uint32_t)(g.n[k] * 0.3 * bd_rnd());
+        }
+        axes[0] = up == 1 ? 0 : 0; axes[1] = up == 1 ? 2 : 1; axes[2] = up;
+        if (dims == 3) { axes[0] = 0; axes[1] = 1; axes[2] = 2; }
+        if (dims == 2) r0[up] = r1[up] = 0;
+        cells = (size_t)g.n[0] * g.n[1] * g.n[2];
+        memset(&lg, 0, sizeof(lg));
+        memcpy(lg.n, g.n, sizeof(lg.n));
+        lg.hit = (unsigned char *)calloc(cells, 1);
+        pvs__vx_scan(&g, p[0], npts, axes, dims, m, r0, r1, bd_scan_visit, &lg);
+        outside |= lg.outside;
+        for (c = r0[2]; c <= r1[2]; ++c)
+            for (b = r0[1]; b <= r1[1]; ++b)
+                for (a = r0[0]; a <= r1[0]; ++a) {
+                    size_t x = a + (size_t)g.n[0] * (b + (size_t)g.n[1] * c);
+                    uint32_t idx[3];
+                    int need;
+                    idx[0] = a; idx[1] = b; idx[2] = c;
+                    if (dims == 3) {
+                        double cc[3];
+                        for (k = 0; k < 3; ++k) cc[k] = g.origin[k] + (idx[k] + 0.5) * g.h;
+                        need = npts == 3 ? pvs__tri_box(cc, 0.5 * g.h + m, p[0], p[1], p[2]) : 0;
+                    } else {
+                        double lo[2], hi[2];
+                        lo[0] = g.origin[axes[0]] + idx[axes[0]] * g.h - m; hi[0] = lo[0] + g.h + 2 * m;
+                        lo[1] = g.origin[axes[1]] + idx[axes[1]] * g.h - m; hi[1] = lo[1] + g.h + 2 * m;
+                        need = npts == 3 ? bd_tri_box2((const double(*)[3])p, axes[0], axes[1], lo, hi)
+                                         : bd_segment_box(p[0], p[1], axes[0], axes[1], lo, hi);
+                    }
+                    ++boxed;
+                    if (need && !lg.hit[x]) ++missed;
+                }
+        for (a = 0; a < cells; ++a) {
+            twice += lg.hit[a] > 1;
+            visited += lg.hit[a];
+            if (lg.hit[a]) { /* within the ranges */
+                uint32_t i0 = a % g.n[0], i1 = (a / g.n[0]) % g.n[1], i2 = a / (g.n[0] * g.n[1]);
+                if (i0 < r0[0] || i0 > r1[0] || i1 < r0[1] || i1 > r1[1] || i2 < r0[2] || i2 > r1[2]) outside = 1;
+            }
+        }
+        free(lg.hit);
+    }
+    CHECK(missed == 0);
+    CHECK(twice == 0);
+    CHECK(outside == 0);
+    CHECK(visited * 4 < boxed); /* the point of it: far fewer than the bounding boxes' cells */
+    fprintf(stderr, "  voxel scan: %zu cells visited where the bounding boxes hold %zu, none missed\n", visited, boxed);
+}
+
+/* The walk before pvs__ep_walk_loop: every step searched the unused edges (quadratic). */
+static int bd_old_walk(pvs__epedge2 *e, uint32_t nb, float *q) {
+    float cur[2];
+    uint32_t n, m;
+    q[0] = e[0].a[0]; q[1] = e[0].a[1];
+    cur[0] = e[0].b[0]; cur[1] = e[0].b[1];
+    n = 1;
+    for (m = 1; m < nb; ++m) {
+        uint32_t found = nb, k;
+        int end = 0;
+        pvs__epedge2 tmp;
+        q[2 * n] = cur[0];
+        q[2 * n + 1] = cur[1];
+        ++n;
+        for (k = m; k < nb; ++k) {
+            int ea = pvs__ep_p2_cmp(e[k].a, cur) == 0, eb = pvs__ep_p2_cmp(e[k].b, cur) == 0;
+            if (!ea && !eb) continue;
+            if (found != nb) return 0;
+            found = k;
+            end = ea;
+        }
+        if (found == nb) return 0;
+        cur[0] = end ? e[found].b[0] : e[found].a[0];
+        cur[1] = end ? e[found].b[1] : e[found].a[1];
+        tmp = e[m];
+        e[m] = e[found];
+        e[found] = tmp;
+    }
+    return pvs__ep_p2_cmp(cur, q) == 0;
+}
+
+static void bd_test_walk(void) {
+    enum { MAXE = 600 };
+    static pvs__epedge2 e[MAXE], e2[MAXE];
+    static pvs__epend ends[2 * MAXE];
+    static float q1[2 * MAXE + 2], q2[2 * MAXE + 2], pts[2 * MAXE];
+    int trial, agree = 0, ok = 0;
+    for (trial = 0; trial < 2000; ++trial) {
+        uint32_t n = 3 + (uint32_t)(bd_rnd() * (trial % 10 == 0 ? 500 : 30)), nb = 0, i, kind = (uint32_t)trial % 7;
+        int r1, r2, same = 1;
+        for (i = 0; i < n; ++i) { /* a star polygon: simple, any turns */
+            double a = 6.283185307179586 * (i + 0.5 * bd_rnd()) / n, r = 1.0 + 9.0 * bd_rnd();
+            pts[2 * i] = (float)(r * cos(a));
+            pts[2 * i + 1] = (float)(r * sin(a));
+        }
+        for (i = 0; i < n; ++i) {
+            const float *p0 = pts + 2 * i, *p1 = pts + 2 * ((i + 1) % n);
+            if (kind == 1 && i == n / 2) continue;                       /* a loose end */
+            if (kind == 2 && i + 1 == n) p1 = pts + 2 * (n / 2);         /* a point on three edges */
+            if (pvs__ep_p2_cmp(p0, p1) <= 0) { memcpy(e[nb].a, p0, 8); memcpy(e[nb].b, p1, 8); }
+            else { memcpy(e[nb].a, p1, 8); memcpy(e[nb].b, p0, 8); }
+            e[nb++].tri = i;
+        }
+        if (kind == 3 && n >= 6) { /* two loops: a triangle of its own */
+            float t[3][2] = {{20, 20}, {21, 20}, {20, 22}};
+            for (i = 0; i < 3; ++i) {
+                const float *p0 = t[i], *p1 = t[(i + 1) % 3];
+                if (pvs__ep_p2_cmp(p0, p1) <= 0) { memcpy(e[nb].a, p0, 8); memcpy(e[nb].b, p1, 8); }
+                else { memcpy(e[nb].a, p1, 8); memcpy(e[nb].b, p0, 8); }
+                e[nb++].tri = 0;
+            }
+        }
+        if (kind == 4) { memcpy(e[nb].a, pts, 8); memcpy(e[nb].b, pts, 8); ++nb; } /* a zero-length edge */
+        for (i = nb; i > 1; --i) { /* shuffled, as the sort of the caller leaves them in any order */
+            uint32_t j = (uint32_t)(bd_rnd() * i);
+            pvs__epedge2 t = e[i - 1];
+            e[i - 1] = e[j];
+            e[j] = t;
+        }
+        memcpy(e2, e, nb * sizeof(e[0]));
+        if (kind == 4) { /* pvs__ep_sheet_polygon drops zero-length edges before the walk (the old
+                            walk took them only when it happened to reach them last) */
+            uint32_t w = 0;
+            for (i = 0; i < nb; ++i)
+                if (pvs__ep_p2_cmp(e[i].a, e[i].b) != 0) e[w++] = e[i];
+            nb = w;
+            memcpy(e2, e, nb * sizeof(e[0]));
+        }
+        r1 = pvs__ep_walk_loop(e, nb, q1, ends);
+        r2 = bd_old_walk(e2, nb, q2);
+        if (r1 && r2) same = memcmp(q1, q2, 2 * nb * sizeof(float)) == 0;
+        agree += r1 == r2 && same;
+        ok += r1;
+    }
+    CHECK(agree == 2000);
+    CHECK(ok > 500 && ok < 1800);
+    { /* big loops (the 100,000-sided polygon of the issue, smaller): a square of 20,000 rim points
+         (collinear ones dropped: 4 corners, with or without the hull), and a circle of as many,
+         whose hull the caller would not take (more than PVS__EP_MAXP points: refused early) */
+        enum { N = 20000 };
+        pvs__epedge2 *big = (pvs__epedge2 *)malloc(6 * N * sizeof(pvs__epedge2));
+        float *q = (float *)malloc(2 * (3 * N + 1) * sizeof(float));
+        unsigned char *keep = (unsigned char *)malloc(3 * N + 1);
+        pvs__epend *be = (pvs__epend *)malloc(6 * N * sizeof(pvs__epend));
+        double (*hp)[2] = (double(*)[2])malloc((3 * N + 1) * sizeof(double[2]));
+        double (*hh)[2] = (double(*)[2])malloc((3 * N + 1) * sizeof(double[2]));
+        int shape;
+        for (shape = 0; shape < 2; ++shape) {
+            double area = 0.0, dent = 0.0;
+            uint32_t i, ne = 0, k;
+            for (i = 0; i < N; ++i) { /* a fan: centre, rim i, rim i + 1 */
+                float c[2] = {0, 0}, p[2][2], *tri[3];
+                uint32_t j;
+                for (j = 0; j < 2; ++j) {
+                    uint32_t r = (i + j) % N, side = r / (N / 4), at = r % (N / 4);
+                    float t = -50.0f + 100.0f * (float)at / (float)(N / 4);
+                    double a = 6.283185307179586 * r / N;
+                    if (shape == 1) { p[j][0] = (float)(50 * cos(a)); p[j][1] = (float)(50 * sin(a)); }
+                    else if (side == 0) { p[j][0] = t; p[j][1] = -50; }
+                    else if (side == 1) { p[j][0] = 50; p[j][1] = t; }
+                    else if (side == 2) { p[j][0] = -t; p[j][1] = 50; }
+                    else { p[j][0] = -50; p[j][1] = -t; }
+                }
+                tri[0] = c; tri[1] = p[0]; tri[2] = p[1];
+                area += 0.5 * ((double)p[0][0] * p[1][1] - (double)p[1][0] * p[0][1]);
+                for (k = 0; k < 3; ++k) {
+                    const float *x = tri[k], *y = tri[(k + 1) % 3];
+                    if (pvs__ep_p2_cmp(x, y) <= 0) { memcpy(big[ne].a, x, 8); memcpy(big[ne].b, y, 8); }
+                    else { memcpy(big[ne].a, y, 8); memcpy(big[ne].b, x, 8); }
+                    big[ne++].tri = i;
+                }
+            }
+            memcpy(big + ne, big, ne * sizeof(pvs__epedge2)); /* the call sorts and compacts its edges */
+            if (shape == 0) {
+                CHECK(pvs__ep_sheet_polygon(big, ne, area, q, keep, ne, be, 0.0, NULL, NULL, 0, NULL) == 4);
+                memcpy(big, big + ne, ne * sizeof(pvs__epedge2));
+                CHECK(pvs__ep_sheet_polygon(big, ne, area, q, keep, ne, be, 1e-4, hp, hh, PVS__EP_MAXP, &dent) == 4 && dent == 0.0);
+            } else {
+                CHECK(pvs__ep_sheet_polygon(big, ne, area, q, keep, ne, be, 1e-4, hp, hh, PVS__EP_MAXP, &dent) == 0);
+            }
+        }
+        free(big); free(q); free(keep); free(be); free(hp); free(hh);
+    }
+}
+
+void test_bounded(void) {
+    bd_test_scan();
+    bd_test_walk();
 }
