@@ -148,107 +148,121 @@ static void test_renderer(void) {
 
 /* ---- pvsbake: resume after SIGKILL, statistics, options ---- */
 
-static void test_resume(void) {
-    char *out;
+/* Starts pvsbake (otree, one thread, a record flushed per cell) writing `out`, and kills it (SIGKILL,
+   no chance to clean up) once its state journal holds more than `bytes` bytes. Returns 1 when the
+   bake was killed before finishing. */
+static int ex_bake_and_kill(const char *out, long bytes) {
+    char state[256];
     pid_t pid;
-    int status, waited = 0;
+    int status = 0, waited = 0;
+    snprintf(state, sizeof(state), "%s.state", out);
+    pid = fork();
+    if (pid == 0) {
+        execl("./pvsbake", "pvsbake", EDIR "/in.obj", "--cells", EDIR "/in.txt", "--method", "otree", "-q", "-j", "1", "--state-every", "1", "-o",
+              out, (char *)NULL);
+        _exit(127);
+    }
+    if (pid <= 0) return 0;
+    for (;;) {
+        struct timespec ts = {0, 1000000};
+        struct stat st;
+        if ((stat(state, &st) == 0 && st.st_size > bytes) || waited++ > 60000) break;
+        nanosleep(&ts, NULL);
+    }
+    kill(pid, SIGKILL);
+    waitpid(pid, &status, 0);
+    return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL && !ex_exists(out) && ex_exists(state);
+}
+
+static void test_resume(void) {
+    char *out, *st = NULL;
+    size_t n = 0, whole = 0;
     const char *bake = "./pvsbake " EDIR "/in.obj --cells " EDIR "/in.txt --method otree";
     char cmd[1024];
     CHECK(ex_run("./pvsgen indoor --seed 4 -o " EDIR "/in.obj --cells " EDIR "/in.txt", &out) == 0); free(out);
     snprintf(cmd, sizeof(cmd), "%s -q --no-state -j 1 -o " EDIR "/whole.pvs", bake);
     CHECK(ex_run(cmd, &out) == 0); free(out);
-    /* a bake killed (SIGKILL, no chance to clean up) right after its first state write */
-    pid = fork();
-    if (pid == 0) {
-        execl("./pvsbake", "pvsbake", EDIR "/in.obj", "--cells", EDIR "/in.txt", "--method", "otree", "-q", "-j", "1", "--state-every", "2", "-o",
-              EDIR "/resumed.pvs", (char *)NULL);
-        _exit(127);
-    }
-    CHECK(pid > 0);
-    if (pid > 0) {
-        struct timespec ts = {0, 1000000};
-        while (!ex_exists(EDIR "/resumed.pvs.state") && waited < 60000) {
-            nanosleep(&ts, NULL);
-            ++waited;
-        }
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
-        CHECK(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL); /* it did not finish first */
-        CHECK(!ex_exists(EDIR "/resumed.pvs"));
-        CHECK(ex_exists(EDIR "/resumed.pvs.state"));
-    }
+    free(ex_slurp(EDIR "/whole.pvs", &whole));
+    /* a bake killed once its journal holds a few cells */
+    CHECK(ex_bake_and_kill(EDIR "/resumed.pvs", 400));
+    st = ex_slurp(EDIR "/resumed.pvs.state", &n);
     /* rerun (another thread count: the fingerprint ignores -j): continues, same bytes */
     snprintf(cmd, sizeof(cmd), "%s -j 2 --state-every 2 -o " EDIR "/resumed.pvs", bake);
     CHECK(ex_run(cmd, &out) == 0);
-    CHECK(strstr(out, "resumed") != NULL);
+    CHECK(strstr(out, "resumed") != NULL && !strstr(out, "damaged"));
     CHECK(strstr(out, "mean PVS") && strstr(out, "culled") && strstr(out, "slowest cells") && strstr(out, "time per cell"));
     free(out);
     CHECK(same_files(EDIR "/whole.pvs", EDIR "/resumed.pvs"));
     CHECK(!ex_exists(EDIR "/resumed.pvs.state")); /* removed once the output is written */
-    /* a state file of another bake (other options) is ignored, with a warning */
-    {
-        size_t n = 0;
-        char *st;
-        pid = fork();
-        if (pid == 0) {
-            execl("./pvsbake", "pvsbake", EDIR "/in.obj", "--cells", EDIR "/in.txt", "--method", "otree", "-q", "-j", "1", "--state-every", "2",
-                  "-o", EDIR "/other.pvs", (char *)NULL);
-            _exit(127);
+    /* a torn journal (a write cut short at any byte): the whole records before the cut are used,
+       the rest is baked again, the same bytes */
+    if (st && n > 120) {
+        size_t cuts[5], c;
+        cuts[0] = 32;          /* the header alone */
+        cuts[1] = 33;          /* a record's first byte */
+        cuts[2] = n - 1;       /* the last record one byte short */
+        cuts[3] = n / 2;       /* anywhere */
+        cuts[4] = 32 + (n - 32) / 3;
+        for (c = 0; c < 5; ++c) {
+            FILE *f = fopen(EDIR "/torn.pvs.state", "wb");
+            if (f) { fwrite(st, 1, cuts[c], f); fclose(f); }
+            snprintf(cmd, sizeof(cmd), "%s -j 2 -o " EDIR "/torn.pvs", bake);
+            CHECK(ex_run(cmd, &out) == 0);
+            CHECK(!strstr(out, "not this bake's state"));
+            CHECK(c == 0 ? !strstr(out, "damaged") : strstr(out, "damaged") != NULL);
+            CHECK(c < 2 ? !strstr(out, "resumed") : strstr(out, "resumed") != NULL);
+            free(out);
+            CHECK(same_files(EDIR "/whole.pvs", EDIR "/torn.pvs"));
         }
-        if (pid > 0) {
-            struct timespec ts = {0, 1000000};
-            waited = 0;
-            while (!ex_exists(EDIR "/other.pvs.state") && waited < 60000) {
-                nanosleep(&ts, NULL);
-                ++waited;
-            }
-            kill(pid, SIGKILL);
-            waitpid(pid, &status, 0);
-        }
-        st = ex_slurp(EDIR "/other.pvs.state", &n);
-        CHECK(st != NULL && n > 36);
-        free(st);
-        snprintf(cmd, sizeof(cmd), "%s -j 2 --max-distance 20 -o " EDIR "/other.pvs", bake);
-        CHECK(ex_run(cmd, &out) == 0 && strstr(out, "another bake") && !strstr(out, "resumed")); free(out);
-        snprintf(cmd, sizeof(cmd), "%s -q --no-state -j 1 --max-distance 20 -o " EDIR "/fresh.pvs", bake);
-        CHECK(ex_run(cmd, &out) == 0); free(out);
-        CHECK(same_files(EDIR "/fresh.pvs", EDIR "/other.pvs"));
-        CHECK(!same_files(EDIR "/whole.pvs", EDIR "/other.pvs")); /* the distance did cut */
-    }
-    /* a damaged state file is ignored too */
-    {
-        size_t n = 0;
-        char *st = NULL;
-        snprintf(cmd, sizeof(cmd), "%s -q -j 1 --state-every 1 -o " EDIR "/dmg.pvs", bake);
-        pid = fork();
-        if (pid == 0) {
-            execl("./pvsbake", "pvsbake", EDIR "/in.obj", "--cells", EDIR "/in.txt", "--method", "otree", "-q", "-j", "1", "--state-every", "1", "-o",
-                  EDIR "/dmg.pvs", (char *)NULL);
-            _exit(127);
-        }
-        if (pid > 0) {
-            struct timespec ts = {0, 1000000};
-            waited = 0;
-            while (!ex_exists(EDIR "/dmg.pvs.state") && waited < 60000) {
-                nanosleep(&ts, NULL);
-                ++waited;
-            }
-            kill(pid, SIGKILL);
-            waitpid(pid, &status, 0);
-            st = ex_slurp(EDIR "/dmg.pvs.state", &n);
-        }
-        if (st && n > 40) {
-            FILE *f = fopen(EDIR "/dmg.pvs.state", "wb");
-            st[n - 10] ^= 0x10; /* a flipped bit in a PVS word: the CRC catches it */
+        /* a flipped bit in the last record: the CRC catches it; the records before it are used */
+        {
+            FILE *f = fopen(EDIR "/torn.pvs.state", "wb");
+            st[n - 6] ^= 0x10;
             if (f) { fwrite(st, 1, n, f); fclose(f); }
-            snprintf(cmd, sizeof(cmd), "%s -j 1 -o " EDIR "/dmg.pvs", bake);
-            CHECK(ex_run(cmd, &out) == 0 && strstr(out, "another bake")); free(out);
-            CHECK(same_files(EDIR "/whole.pvs", EDIR "/dmg.pvs"));
-        } else {
-            CHECK(0);
+            snprintf(cmd, sizeof(cmd), "%s -j 1 -o " EDIR "/torn.pvs", bake);
+            CHECK(ex_run(cmd, &out) == 0 && strstr(out, "damaged") && strstr(out, "resumed")); free(out);
+            CHECK(same_files(EDIR "/whole.pvs", EDIR "/torn.pvs"));
+            st[n - 6] ^= 0x10;
         }
-        free(st);
+        /* the journal's size is of the order of the file's: a record per cell, its PVS as runs */
+        {
+            uint32_t cells = 0, records = 0;
+            size_t at = 32;
+            char *txt = ex_slurp(EDIR "/in.txt", NULL), *q;
+            for (q = txt; q && *q; ++q) cells += *q == '\n';
+            free(txt);
+            while (at + 12 <= n) {
+                const unsigned char *r = (const unsigned char *)st + at;
+                size_t p = (size_t)r[4] | (size_t)r[5] << 8 | (size_t)r[6] << 16 | (size_t)r[7] << 24;
+                if (at + 12 + p > n) break;
+                at += 12 + p;
+                ++records;
+            }
+            CHECK(cells > 100 && records >= 4 && at == n);
+            if (!(cells > 100 && records >= 4 && at == n)) fprintf(stderr, "journal: %u cells, %u records, %zu of %zu bytes\n", cells, records, at, n);
+            CHECK((double)(n - 32) / records < 4.0 * (double)whole / cells);
+        }
+        /* a damaged header is not this bake's state: ignored, with a warning */
+        {
+            FILE *f = fopen(EDIR "/torn.pvs.state", "wb");
+            st[20] ^= 0x01;
+            if (f) { fwrite(st, 1, n, f); fclose(f); }
+            snprintf(cmd, sizeof(cmd), "%s -j 1 -o " EDIR "/torn.pvs", bake);
+            CHECK(ex_run(cmd, &out) == 0 && strstr(out, "not this bake's state") && !strstr(out, "resumed")); free(out);
+            CHECK(same_files(EDIR "/whole.pvs", EDIR "/torn.pvs"));
+        }
+    } else {
+        CHECK(0);
     }
+    free(st);
+    /* a state file of another bake (other options) is ignored, with a warning */
+    CHECK(ex_bake_and_kill(EDIR "/other.pvs", 100));
+    snprintf(cmd, sizeof(cmd), "%s -j 2 --max-distance 20 -o " EDIR "/other.pvs", bake);
+    CHECK(ex_run(cmd, &out) == 0 && strstr(out, "not this bake's state") && !strstr(out, "resumed")); free(out);
+    snprintf(cmd, sizeof(cmd), "%s -q --no-state -j 1 --max-distance 20 -o " EDIR "/fresh.pvs", bake);
+    CHECK(ex_run(cmd, &out) == 0); free(out);
+    CHECK(same_files(EDIR "/fresh.pvs", EDIR "/other.pvs"));
+    CHECK(!same_files(EDIR "/whole.pvs", EDIR "/other.pvs")); /* the distance did cut */
 }
 
 static void test_bake_options(void) {
@@ -359,5 +373,5 @@ void test_examples(void) {
     test_resume();
     test_bake_options();
     test_view_runtime();
-    if (system("rm -rf " EDIR) != 0) CHECK(0);
+    if (!getenv("PVSTEST_KEEP") && system("rm -rf " EDIR) != 0) CHECK(0);
 }

@@ -3,6 +3,7 @@
 #include "cli.h"
 #include <time.h>
 #include <errno.h>
+#include <unistd.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -546,86 +547,217 @@ uint64_t cli_fingerprint(uint64_t h, const void *data, size_t size) {
     return h;
 }
 
-/* The state file: "PVSSTATE", u32 version 1, u32 task count, u32 object count, u32 record count,
-   u64 fingerprint, then per record u32 task, u32 zero, the task's PVS words (u64 each), and a
-   CRC-32 of everything before it. All little-endian. */
+/* The state file: an append-only journal of finished cells. A 32-byte header ("PVSSTATE", u32
+   version 2, u32 task count, u32 object count, u64 fingerprint, u32 CRC-32 of the 28 bytes before),
+   then one record per finished task: u32 task, u32 payload size P, P payload bytes, u32 CRC-32 of the
+   8 + P bytes before it. The payload is the task's PVS, whichever is smaller: byte 0 = 0 and the raw
+   bitset (object count bits, little-endian bytes), or byte 0 = 1 and the lengths of its alternating
+   runs of clear and set bits, clear first, as LEB128 varints summing to the object count. So a
+   finished cell costs one record, of the order of its PVS, instead of a rewrite of the whole state.
+   A record cut short by a kill (or damaged), and everything after it, is ignored when reading. On
+   resume and when a bake fails, the journal is compacted: rewritten (temp file + rename) with one
+   record per finished task, in task order. All little-endian. */
 #define CLI__STATE_HEAD 32u
+#define CLI__STATE_VERSION 2u
+#define CLI__FLUSH_SECONDS 1.0   /* appended records reach the file at least this often, */
+#define CLI__SYNC_SECONDS 5.0    /* and the disk at least this often */
 
 static void cli__put32(unsigned char *p, uint32_t v) { p[0] = (unsigned char)v; p[1] = (unsigned char)(v >> 8); p[2] = (unsigned char)(v >> 16); p[3] = (unsigned char)(v >> 24); }
 static void cli__put64(unsigned char *p, uint64_t v) { cli__put32(p, (uint32_t)v); cli__put32(p + 4, (uint32_t)(v >> 32)); }
 static uint32_t cli__get32(const unsigned char *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
 static uint64_t cli__get64(const unsigned char *p) { return (uint64_t)cli__get32(p) | (uint64_t)cli__get32(p + 4) << 32; }
 
-/* Writes the state of the tasks marked in done[] (atomically). */
-static int cli__state_write(const pvs_bake *bake, uint32_t objects, const char *path, uint64_t fp, const unsigned char *done,
-                            tool_error *err) {
-    uint32_t tasks = pvs_bake_task_count(bake), t, n = 0;
-    size_t words = PVS_BITSET_WORDS(objects), rec = 8 + 8 * words, size, at = CLI__STATE_HEAD;
-    unsigned char *buf;
-    int rc;
-    for (t = 0; t < tasks; ++t) n += done[t] != 0;
-    size = CLI__STATE_HEAD + (size_t)n * rec + 4;
-    buf = (unsigned char *)malloc(size);
-    if (!buf) {
-        tool_error_set(err, path, 0, "out of memory for the state file");
-        return -1;
+/* The largest payload of `objects` bits: the raw form. */
+static size_t cli__payload_max(uint32_t objects) { return 1 + ((size_t)objects + 7) / 8; }
+
+/* Encodes a PVS of `objects` bits (NULL: none set) into out (cli__payload_max bytes). Returns the size. */
+static size_t cli__pvs_encode(const pvs_word *bits, uint32_t objects, unsigned char *out) {
+    size_t max = cli__payload_max(objects), n = 1, i;
+    uint32_t at = 0;
+    int set = 0;
+    out[0] = 1;
+    while (at < objects && n < max) { /* runs: clear, set, clear, ... */
+        uint32_t end = at;
+        while (end < objects && (bits && pvs_bitset_test(bits, end)) == set) ++end;
+        for (uint32_t run = end - at; n < max;) {
+            out[n++] = (unsigned char)((run & 0x7fu) | (run > 0x7fu ? 0x80u : 0u));
+            run >>= 7;
+            if (!run) break;
+        }
+        at = end;
+        set = !set;
     }
-    memcpy(buf, "PVSSTATE", 8);
-    cli__put32(buf + 8, 1);
-    cli__put32(buf + 12, tasks);
-    cli__put32(buf + 16, objects);
-    cli__put32(buf + 20, n);
-    cli__put64(buf + 24, fp);
-    for (t = 0; t < tasks; ++t) {
-        const pvs_word *bits;
-        size_t w;
-        if (!done[t]) continue;
-        bits = pvs_bake_cell_pvs(bake, pvs_bake_task_cell(bake, t));
-        cli__put32(buf + at, t);
-        cli__put32(buf + at + 4, 0);
-        for (w = 0; w < words; ++w) cli__put64(buf + at + 8 + 8 * w, bits ? bits[w] : 0);
-        at += rec;
-    }
-    cli__put32(buf + at, tool_crc32(0, buf, at));
-    rc = write_file_atomic(path, buf, size, err);
-    free(buf);
-    return rc;
+    if (at == objects && n < max) return n;
+    out[0] = 0; /* raw: the runs were no smaller */
+    memset(out + 1, 0, max - 1);
+    for (i = 0; bits && i < objects; ++i)
+        if (pvs_bitset_test(bits, (uint32_t)i)) out[1 + i / 8] |= (unsigned char)(1u << (i % 8));
+    return max;
 }
 
-/* Restores the tasks of a state file. Returns the count restored, or -1 when the file is not a
-   state of this bake (damaged, other fingerprint or shape): the caller starts over. */
-static int cli__state_read(pvs_bake *bake, uint32_t objects, const char *path, uint64_t fp, unsigned char *done) {
-    uint32_t tasks = pvs_bake_task_count(bake), n, k;
-    size_t words = PVS_BITSET_WORDS(objects), rec = 8 + 8 * words, size = 0, w;
-    void *data = NULL;
-    const unsigned char *p;
-    pvs_word *bits;
-    int restored = 0;
-    if (read_file(path, &data, &size, NULL)) return -1;
-    p = (const unsigned char *)data;
-    if (size < CLI__STATE_HEAD + 4 || memcmp(p, "PVSSTATE", 8) || cli__get32(p + 8) != 1 || cli__get32(p + 12) != tasks ||
-        cli__get32(p + 16) != objects || cli__get64(p + 24) != fp || (n = cli__get32(p + 20)) > tasks ||
-        size != CLI__STATE_HEAD + (size_t)n * rec + 4 || cli__get32(p + size - 4) != tool_crc32(0, p, size - 4)) {
-        free(data);
+/* Decodes a payload into bits (PVS_BITSET_WORDS(objects) words). Returns 0, or -1 when malformed. */
+static int cli__pvs_decode(const unsigned char *p, size_t size, uint32_t objects, pvs_word *bits) {
+    size_t n = 1, i;
+    uint32_t at = 0;
+    int set = 0;
+    memset(bits, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
+    if (size < 1) return -1;
+    if (p[0] == 0) {
+        if (size != cli__payload_max(objects)) return -1;
+        for (i = 0; i < objects; ++i)
+            if (p[1 + i / 8] >> (i % 8) & 1u) pvs_bitset_set(bits, (uint32_t)i);
+        return 0;
+    }
+    if (p[0] != 1) return -1;
+    while (n < size) {
+        uint64_t run = 0;
+        int shift = 0;
+        do {
+            if (n >= size || shift > 28) return -1;
+            run |= (uint64_t)(p[n] & 0x7fu) << shift;
+            shift += 7;
+        } while (p[n++] & 0x80u);
+        if (run > objects - at) return -1;
+        if (set)
+            for (i = 0; i < run; ++i) pvs_bitset_set(bits, at + (uint32_t)i);
+        at += (uint32_t)run;
+        set = !set;
+    }
+    return at == objects ? 0 : -1;
+}
+
+/* The journal being appended to. */
+typedef struct cli__journal {
+    FILE *f;
+    const char *path;
+    uint32_t tasks, objects, every, pending;
+    unsigned char *rec;      /* 12 + cli__payload_max bytes */
+    double flushed, synced;  /* when */
+    int failed;
+    tool_error error;
+} cli__journal;
+
+/* Writes one record of task t (its PVS `bits`) to f. Returns 0 or -1. */
+static int cli__record_write(FILE *f, unsigned char *rec, uint32_t objects, uint32_t t, const pvs_word *bits) {
+    size_t p = cli__pvs_encode(bits, objects, rec + 8);
+    cli__put32(rec, t);
+    cli__put32(rec + 4, (uint32_t)p);
+    cli__put32(rec + 8 + p, tool_crc32(0, rec, 8 + p));
+    return fwrite(rec, 1, 12 + p, f) == 12 + p ? 0 : -1;
+}
+
+static int cli__sync(FILE *f) {
+    if (fflush(f) != 0) return -1;
+    return fsync(fileno(f)) != 0 && errno != EINVAL && errno != EROFS ? -1 : 0;
+}
+
+/* Starts the journal at j->path anew (temp file + rename) with the tasks marked in done[] (NULL:
+   none), then opens it for appending. Returns 0 or -1 with j->error set. */
+static int cli__journal_start(cli__journal *j, const pvs_bake *bake, uint64_t fp, const unsigned char *done) {
+    unsigned char head[CLI__STATE_HEAD];
+    size_t plen = strlen(j->path);
+    char *tmp = (char *)malloc(plen + 32);
+    FILE *f;
+    uint32_t t;
+    int ok;
+    if (j->f) fclose(j->f);
+    j->f = NULL;
+    if (!tmp) {
+        tool_error_set(&j->error, j->path, 0, "out of memory");
         return -1;
     }
-    bits = (pvs_word *)malloc(words * sizeof(pvs_word) + 8);
-    if (!bits) {
-        free(data);
+    snprintf(tmp, plen + 32, "%s.tmp.%ld", j->path, (long)getpid());
+    memcpy(head, "PVSSTATE", 8);
+    cli__put32(head + 8, CLI__STATE_VERSION);
+    cli__put32(head + 12, j->tasks);
+    cli__put32(head + 16, j->objects);
+    cli__put64(head + 20, fp);
+    cli__put32(head + 28, tool_crc32(0, head, 28));
+    f = fopen(tmp, "wb");
+    ok = f && fwrite(head, 1, sizeof(head), f) == sizeof(head);
+    for (t = 0; ok && done && t < j->tasks; ++t)
+        if (done[t]) ok = cli__record_write(f, j->rec, j->objects, t, pvs_bake_cell_pvs(bake, pvs_bake_task_cell(bake, t))) == 0;
+    ok = ok && cli__sync(f) == 0;
+    if (f && fclose(f) != 0) ok = 0;
+    if (ok && rename(tmp, j->path) != 0) ok = 0;
+    if (!ok) {
+        tool_error_set(&j->error, j->path, 0, "cannot write the state file: %s", strerror(errno));
+        remove(tmp);
+        free(tmp);
         return -1;
     }
-    for (k = 0; k < n; ++k) {
-        const unsigned char *r = p + CLI__STATE_HEAD + (size_t)k * rec;
-        uint32_t t = cli__get32(r);
-        if (t >= tasks || done[t]) continue;
-        for (w = 0; w < words; ++w) bits[w] = cli__get64(r + 8 + 8 * w);
+    free(tmp);
+    j->f = fopen(j->path, "ab");
+    if (!j->f) {
+        tool_error_set(&j->error, j->path, 0, "cannot append to the state file: %s", strerror(errno));
+        return -1;
+    }
+    j->flushed = j->synced = cli_seconds();
+    j->pending = 0;
+    return 0;
+}
+
+/* Appends task t's record; flushes after `every` records or a second, syncs every few seconds. A
+   failure marks the journal failed (the bake goes on: only resuming it would not). */
+static void cli__journal_append(cli__journal *j, uint32_t t, const pvs_word *bits) {
+    double now;
+    if (!j->f || j->failed) return;
+    if (cli__record_write(j->f, j->rec, j->objects, t, bits)) goto fail;
+    now = cli_seconds();
+    if (++j->pending >= j->every || now - j->flushed >= CLI__FLUSH_SECONDS) {
+        if (fflush(j->f) != 0) goto fail;
+        j->pending = 0;
+        j->flushed = now;
+        if (now - j->synced >= CLI__SYNC_SECONDS) {
+            if (cli__sync(j->f)) goto fail;
+            j->synced = now;
+        }
+    }
+    return;
+fail:
+    tool_error_set(&j->error, j->path, 0, "cannot append to the state file: %s", strerror(errno));
+    j->failed = 1;
+}
+
+/* Restores the tasks of a state journal (streamed; a torn or damaged record ends it: *torn = 1).
+   Returns the count restored, or -1 when the file is not a state of this bake (other version,
+   fingerprint or shape): the caller starts over. */
+static int cli__journal_read(pvs_bake *bake, uint32_t objects, const char *path, uint64_t fp, unsigned char *done, int *torn) {
+    uint32_t tasks = pvs_bake_task_count(bake);
+    size_t max = cli__payload_max(objects), words = PVS_BITSET_WORDS(objects);
+    unsigned char head[CLI__STATE_HEAD], *rec = (unsigned char *)malloc(12 + max);
+    pvs_word *bits = (pvs_word *)malloc(words * sizeof(pvs_word) + 8);
+    FILE *f = fopen(path, "rb");
+    int restored = -1;
+    if (!f || !rec || !bits || fread(head, 1, sizeof(head), f) != sizeof(head) || memcmp(head, "PVSSTATE", 8) ||
+        cli__get32(head + 8) != CLI__STATE_VERSION || cli__get32(head + 12) != tasks || cli__get32(head + 16) != objects ||
+        cli__get64(head + 20) != fp || cli__get32(head + 28) != tool_crc32(0, head, 28))
+        goto done;
+    restored = 0;
+    for (;;) {
+        uint32_t t, p;
+        size_t got = fread(rec, 1, 8, f);
+        if (got != 8) {
+            *torn |= got != 0;
+            break;
+        }
+        t = cli__get32(rec);
+        p = cli__get32(rec + 4);
+        if (t >= tasks || p < 1 || p > max || fread(rec + 8, 1, (size_t)p + 4, f) != (size_t)p + 4 ||
+            cli__get32(rec + 8 + p) != tool_crc32(0, rec, 8 + (size_t)p) || cli__pvs_decode(rec + 8, p, objects, bits)) {
+            *torn = 1; /* a torn or damaged tail */
+            break;
+        }
+        if (done[t]) continue;
         if (pvs_bake_restore_task(bake, t, bits, words, NULL) == PVS_OK) {
             done[t] = 1;
             ++restored;
         }
     }
+done:
+    if (f) fclose(f);
+    free(rec);
     free(bits);
-    free(data);
     return restored;
 }
 
@@ -636,11 +768,10 @@ typedef struct cli__run_job {
     const uint32_t *todo;      /* tasks to run */
     unsigned char *done;       /* per task, under the mutex */
     cli_bake_run *run;
-    uint32_t since_write;
-    int failed, state_failed;
+    cli__journal journal;      /* under the mutex; journal.f NULL: no state file */
+    int failed;
     uint32_t failed_task;
     pvs_error error;
-    tool_error state_error;
 } cli__run_job;
 
 static void cli__run_one(void *user, uint32_t index, uint32_t thread) {
@@ -661,11 +792,7 @@ static void cli__run_one(void *user, uint32_t index, uint32_t thread) {
         }
     } else {
         job->done[task] = 1;
-        if (job->run->state_path && ++job->since_write >= job->run->state_every) {
-            job->since_write = 0;
-            if (cli__state_write(job->bake, job->run->object_count, job->run->state_path, job->run->fingerprint, job->done, &job->state_error))
-                job->state_failed = 1;
-        }
+        cli__journal_append(&job->journal, task, pvs_bake_cell_pvs(job->bake, pvs_bake_task_cell(job->bake, task)));
     }
     pthread_mutex_unlock(&job->mutex);
     if (job->bar) progress_add(job->bar, 1);
@@ -680,6 +807,7 @@ int cli_run_bake_ex(pvs_bake *bake, uint32_t threads, int quiet, const char *lab
     int rc = 0;
     run->resumed = 0;
     run->state_ignored = 0;
+    run->state_torn = 0;
     if (!run->state_every) run->state_every = 32;
     if (!todo || !done) {
         free(todo);
@@ -695,19 +823,27 @@ int cli_run_bake_ex(pvs_bake *bake, uint32_t threads, int quiet, const char *lab
         tool_error_set(err, run->state_path, 0, "a state file needs the object count");
         return -1;
     }
+    memset(&job, 0, sizeof(job));
     if (run->state_path) {
         FILE *f = fopen(run->state_path, "rb");
         if (f) {
             int r;
             fclose(f);
-            r = cli__state_read(bake, run->object_count, run->state_path, run->fingerprint, done);
+            r = cli__journal_read(bake, run->object_count, run->state_path, run->fingerprint, done, &run->state_torn);
             if (r < 0) run->state_ignored = 1;
             else run->resumed = (uint32_t)r;
         }
+        /* a new journal, holding what was restored (compacted: no torn tail, no duplicates) */
+        job.journal.path = run->state_path;
+        job.journal.tasks = tasks;
+        job.journal.objects = run->object_count;
+        job.journal.every = run->state_every;
+        job.journal.rec = (unsigned char *)malloc(12 + cli__payload_max(run->object_count));
+        if (!job.journal.rec) tool_error_set(&job.journal.error, run->state_path, 0, "out of memory");
+        if (!job.journal.rec || cli__journal_start(&job.journal, bake, run->fingerprint, done)) job.journal.failed = 1;
     }
     for (t = 0; t < tasks; ++t)
         if (!done[t]) todo[n++] = t;
-    memset(&job, 0, sizeof(job));
     job.bake = bake;
     job.todo = todo;
     job.done = done;
@@ -720,12 +856,18 @@ int cli_run_bake_ex(pvs_bake *bake, uint32_t threads, int quiet, const char *lab
     parallel_for(threads, n, cli__run_one, &job);
     if (!quiet) progress_end(&bar);
     pthread_mutex_destroy(&job.mutex);
+    if (job.failed && run->state_path && job.journal.rec) /* keep what is done, compacted */
+        job.journal.failed = cli__journal_start(&job.journal, bake, run->fingerprint, done) != 0;
+    if (job.journal.f && fclose(job.journal.f) != 0 && !job.journal.failed) {
+        tool_error_set(&job.journal.error, run->state_path, 0, "cannot write the state file: %s", strerror(errno));
+        job.journal.failed = 1;
+    }
+    free(job.journal.rec);
     if (job.failed) {
-        if (run->state_path) cli__state_write(bake, run->object_count, run->state_path, run->fingerprint, done, NULL); /* keep what is done */
         tool_error_set(err, NULL, 0, "cell %u: %s", pvs_bake_task_cell(bake, job.failed_task), job.error.message);
         rc = -1;
-    } else if (job.state_failed) { /* the bake itself is fine: only resuming it would not be */
-        fprintf(stderr, "warning: cannot save the bake's state: %s\n", job.state_error.message);
+    } else if (job.journal.failed) { /* the bake itself is fine: only resuming it would not be */
+        fprintf(stderr, "warning: cannot save the bake's state: %s\n", job.journal.error.message);
     }
     free(todo);
     free(done);

@@ -85,14 +85,17 @@ int cli_is_option(const char *option, const char *const *list);
 typedef struct cli_bake_run {
     const char *state_path;   /* NULL: no state file. Else, when it exists and belongs to this bake (same
                                  fingerprint, task and object counts), its cells are restored and only
-                                 the others run; the state is rewritten (temp file + rename) after every
-                                 `state_every` finished cells and on a failure, and removed at the end */
+                                 the others run. It is a journal (cli.c): each finished cell appends a
+                                 record, flushed after every `state_every` records or a second; it is
+                                 compacted when read and when the bake fails; the caller removes it
+                                 once the output is written */
     uint32_t state_every;     /* 0 = 32 */
     uint64_t fingerprint;     /* identifies the bake's inputs (cli_fingerprint) */
     uint32_t object_count;    /* the scene's (needed with a state file) */
     double *task_seconds;     /* NULL, or task_count entries: each run task's time (restored: -1) */
     uint32_t resumed;         /* out: tasks restored from the state file */
     int state_ignored;        /* out: 1 when a state file was there but belongs to another bake */
+    int state_torn;           /* out: 1 when its end was cut short or damaged (those cells run again) */
 } cli_bake_run;
 
 /* cli_run_bake with a state file for resuming and per-task times. Returns 0 or -1 with err set. */

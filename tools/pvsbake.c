@@ -58,9 +58,10 @@ static const char *usage =
     "  --shard K/N       bake only shard K of N (cells K-1, K-1+N, ...) into a part file for merge\n"
     "  -j THREADS        worker threads (default: all CPUs; -j2 works too); the file is identical\n"
     "                    for any count\n"
-    "  --state FILE      resumable bake: the finished cells are saved to FILE (default OUT.pvs.state)\n"
-    "                    every --state-every N cells (default 32); rerunning the same command continues\n"
-    "                    from it; it is removed when the output is written\n"
+    "  --state FILE      resumable bake: each finished cell is appended to FILE (default OUT.pvs.state),\n"
+    "                    written out every --state-every N cells (default 32) or every second;\n"
+    "                    rerunning the same command continues from it; it is removed when the output\n"
+    "                    is written\n"
     "  --no-state        no state file\n"
     "  -q, --quiet       no progress bar and no summary\n"
     "  --help            this text\n"
@@ -601,8 +602,12 @@ int main(int argc, char **argv) {
     t_bake = cli_seconds();
     if (cli_run_bake_ex(bake, threads, quiet, "bake", &run, &te)) goto fail;
     t_bake = cli_seconds() - t_bake;
-    if (!quiet && run.state_ignored) fprintf(stderr, "warning: %s belongs to another bake (scene, cells or options differ): ignored\n", state_path);
+    if (!quiet && run.state_ignored)
+        fprintf(stderr, "warning: %s is not this bake's state (another scene, cells or options, or a damaged header): ignored\n", state_path);
     if (!quiet && run.resumed) fprintf(stderr, "resumed %u of %u cells from %s\n", run.resumed, pvs_bake_task_count(bake), state_path);
+    if (!quiet && run.state_torn)
+        fprintf(stderr, "note: %s ended in an unfinished or damaged record (an interrupted write): the cells after it were baked again\n",
+                state_path);
     if (cli_write_bake(bake, out_path, &size, &te)) goto fail;
     if (run.state_path) remove(run.state_path);
     if (!quiet) print_summary(out_path, scene, bake, &run, threads ? threads : cpu_count(), secs, t_bake, cli_seconds() - t0, size, shard_n > 1);
