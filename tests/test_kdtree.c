@@ -413,6 +413,9 @@ typedef struct sweep_log {
     int skip_at, stop_at;      /* visit index to SKIP / STOP at, -1 for none */
     pvs_box skipped;
     int skipped_set, skip_violations;
+    int all_at, all_stop_after; /* visit index to answer ALL at (-1: none); STOP after that many of its leaves */
+    pvs_box accepted;
+    int accepted_set, accepted_leaves, accepted_outside, all_index;
     pvs_box leaf_boxes[4096];  /* first leaves seen */
     int leaf_box_count;
     pvs_box all_boxes[16384];  /* every node box, in visit order */
@@ -422,7 +425,15 @@ typedef struct sweep_log {
 static pvs_visit sweep_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t item_count) {
     sweep_log *lg = (sweep_log *)user;
     uint32_t i;
-    int index = lg->visits++;
+    int index;
+    if (distance < 0.0f) { /* a leaf of the subtree answered ALL: no order, every item reached */
+        ++lg->accepted_leaves;
+        if (!lg->accepted_set || !box_inside(node_box, &lg->accepted) || !items) ++lg->accepted_outside;
+        for (i = 0; i < item_count; ++i)
+            if (items[i] < lg->count) lg->reached[items[i]] = 1;
+        return lg->accepted_leaves == lg->all_stop_after ? PVS_VISIT_STOP : PVS_VISIT_SKIP; /* answers but STOP are ignored */
+    }
+    index = lg->visits++;
     if (distance < lg->last) lg->order_ok = 0;
     lg->last = distance;
     if (fabsf(distance - box_dist(lg->source, node_box)) > 1e-4f * (1.0f + distance)) lg->dist_ok = 0;
@@ -447,6 +458,12 @@ static pvs_visit sweep_visit(void *user, const pvs_box *node_box, float distance
     }
     if (index == lg->stop_at) return PVS_VISIT_STOP;
     if (lg->all_count < 16384) lg->all_boxes[lg->all_count++] = *node_box;
+    if (lg->all_at >= 0 && index >= lg->all_at && !lg->accepted_set && !items) { /* the first inner node from there */
+        lg->accepted = *node_box;
+        lg->accepted_set = 1;
+        lg->all_index = index;
+        return PVS_VISIT_ALL;
+    }
     if (index >= lg->skip_at && lg->skip_at >= 0 && !lg->skipped_set && !items && distance > 0.0f) {
         lg->skipped = *node_box;
         lg->skipped_set = 1;
@@ -464,7 +481,7 @@ static void sweep_log_init(sweep_log *lg, const pvs_box *boxes, uint32_t count, 
     memset(reached, 0, count);
     lg->order_ok = lg->dist_ok = lg->leaf_ok = 1;
     lg->last = -1.0f;
-    lg->skip_at = lg->stop_at = -1;
+    lg->skip_at = lg->stop_at = lg->all_at = lg->all_stop_after = -1;
 }
 
 static void test_kdtree_sweep(void) {
@@ -525,6 +542,36 @@ static void test_kdtree_sweep(void) {
         lg.stop_at = 10 + trial * 7;
         CHECK(pvs_kdtree_sweep(t, &src, scratch, scratch_size, sweep_visit, &lg) == PVS_OK);
         CHECK(lg.visits == 11 + trial * 7);
+        /* ALL: the node's non-empty leaves come at once (distance -1, inside its cell), nothing below it
+           is visited in order, every item is still reached; STOP among them ends the sweep */
+        {
+            static pvs_box full[16384];
+            int full_count, inside = 0, j;
+            sweep_log_init(&lg, boxes, N, &src, reached);
+            CHECK(pvs_kdtree_sweep(t, &src, scratch, scratch_size, sweep_visit, &lg) == PVS_OK);
+            full_count = lg.all_count;
+            memcpy(full, lg.all_boxes, (size_t)full_count * sizeof(pvs_box));
+            sweep_log_init(&lg, boxes, N, &src, reached);
+            lg.all_at = 2 + trial;
+            CHECK(pvs_kdtree_sweep(t, &src, scratch, scratch_size, sweep_visit, &lg) == PVS_OK);
+            if (lg.accepted_set) {
+                for (j = 0; j < full_count; ++j) inside += box_inside(full + j, &lg.accepted);
+                CHECK(lg.accepted_outside == 0);
+                CHECK(lg.accepted_leaves > 0);
+                CHECK(lg.visits == full_count - (inside - 1)); /* the node itself was visited, nothing below it */
+                for (i = 0, all = 1; i < N; ++i)
+                    if (!box_empty(boxes + i) && !reached[i]) all = 0;
+                CHECK(all);
+                CHECK(lg.order_ok);
+                sweep_log_init(&lg, boxes, N, &src, reached);
+                lg.all_at = 2 + trial;
+                lg.all_stop_after = 1;
+                CHECK(pvs_kdtree_sweep(t, &src, scratch, scratch_size, sweep_visit, &lg) == PVS_OK);
+                CHECK(lg.accepted_leaves == 1 && lg.visits == lg.all_index + 1);
+            } else {
+                CHECK(0);
+            }
+        }
     }
     {
         pvs_box src = boxes[0];
