@@ -150,12 +150,17 @@ $(B)/bench_auto: tests/bench_auto.c $(TOOL_OBJ) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_auto.c $(TOOL_OBJ) $(LDLIBS)
 
+$(B)/bench_bounded: tests/bench_bounded.c $(TOOL_OBJ) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_bounded.c $(TOOL_OBJ) $(LDLIBS)
+
 $(B)/bench_vocc: tests/bench_vocc.c $(TOOL_OBJ) $(TOOL_HDR)
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_vocc.c $(TOOL_OBJ) $(LDLIBS)
 
 bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster $(B)/bench_otree $(B)/bench_extproj $(B)/bench_shrink \
-       $(B)/bench_auto $(B)/bench_vocc $(B)/pvswalkthrough
+       $(B)/bench_auto $(B)/bench_vocc $(B)/bench_bounded $(B)/pvswalkthrough tools
+	./$(B)/bench_bounded
 	./$(B)/bench_kdtree
 	./$(B)/bench_bake
 	./$(B)/bench_file

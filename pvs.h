@@ -11565,8 +11565,41 @@ PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
     return PVS_OK;
 }
 
+/* The finest voxel size of the components' own grids (pvs__vx_columns): eps, unless their boxes at
+   eps would hold more than PVS__VX_TOTAL_BUDGET voxels in all (or PVS__VX_COMPONENT_SHARE per
+   component, when that is more): then grown by 1.26 until they do not. The floods then cost of the
+   order of the scene, whatever eps: a cell 1e-45 wide (eps a millionth of the scene) would flood
+   every building at PVS__VX_BOX_BUDGET voxels. The generator's city holds 30M voxels at its eps. */
+#define PVS__VX_TOTAL_BUDGET (1u << 26)
+#define PVS__VX_COMPONENT_SHARE (1u << 16)
+PVS__STATIC double pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx_topo *tp, double eps, double m) {
+    double h = eps, budget = (double)PVS__VX_TOTAL_BUDGET, total;
+    uint32_t comp, t, q, k, n = 0;
+    for (comp = 0; comp < tp->comp_count; ++comp) n += tp->comp_first[comp + 1] - tp->comp_first[comp] >= 3;
+    budget = pvs__dmax(budget, (double)PVS__VX_COMPONENT_SHARE * n);
+    for (;;) {
+        total = 0.0;
+        for (comp = 0; comp < tp->comp_count && total <= budget; ++comp) {
+            double lo[3], hi[3], vol = 1.0;
+            if (tp->comp_first[comp + 1] - tp->comp_first[comp] < 3) continue;
+            for (k = 0; k < 3; ++k) { lo[k] = DBL_MAX; hi[k] = -DBL_MAX; }
+            for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t)
+                for (q = 0; q < 3; ++q)
+                    for (k = 0; k < 3; ++k) {
+                        double y = s->positions[3 * (size_t)s->indices[3 * (size_t)tp->tris[t] + q] + k];
+                        lo[k] = pvs__dmin(lo[k], y);
+                        hi[k] = pvs__dmax(hi[k], y);
+                    }
+            for (k = 0; k < 3; ++k) vol *= pvs__dmin((hi[k] - lo[k] + 2.0 * m) / h + 3.0, 1e18);
+            total += pvs__dmin(vol, (double)PVS__VX_BOX_BUDGET); /* a bigger box grows its own voxels */
+        }
+        if (total <= budget || !(h < 1e30)) return h;
+        h *= 1.26;
+    }
+}
+
 /* The column map and its chains: every component of three triangles or more flooded again on its own
-   grid of voxel size eps (grown when its box would exceed the budget). */
+   grid of voxel size eps (grown when the boxes would exceed the budgets: pvs__vx_component_voxel). */
 PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps, double m,
                                        pvs__vx_flood *fl) {
     const pvs_scene *s = o->scene;
@@ -11574,7 +11607,7 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
     pvs__vx_cols *cm = &o->cols;
     uint32_t up = s->up_axis, comp, k;
     int u, v;
-    double c, area, g = o->ground, margin, scale = 0.0;
+    double c, area, g = o->ground, margin, scale = 0.0, h0;
     size_t x, nmap;
     pvs_result res = PVS_OK;
     pvs__ground_axes(up, &u, &v);
@@ -11601,11 +11634,12 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
     cm->top = (float *)pvs__alloc_array(al, nmap, sizeof(float));
     if (!cm->solid || !cm->top) return PVS_ERROR_OUT_OF_MEMORY;
     for (x = 0; x < nmap; ++x) { cm->solid[x] = (float)g; cm->top[x] = -FLT_MAX; }
+    h0 = pvs__vx_component_voxel(s, tp, eps, m);
     for (comp = 0; comp < tp->comp_count && res == PVS_OK; ++comp) {
         pvs__vx_grid gk;
         uint32_t lo[3], hi[3], t;
         size_t vol, ncol;
-        double hk = eps;
+        double hk = h0;
         if (tp->comp_first[comp + 1] - tp->comp_first[comp] < 3) continue;
         for (;;) { /* the component's grid and box */
             gk.h = hk;
@@ -19179,28 +19213,34 @@ PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t c
 }
 
 /* The default eps of the shrink method: an eighth of the median of the cells' smallest ground-plane
-   extent (Wonka 2000 §4.1 used 1 m for cells of several metres: 6-8 samples per edge). */
-PVS__STATIC float pvs__cell_ground_extent(const pvs_box *c, int u, int v) {
-    float e = c->max[u] - c->min[u], f = c->max[v] - c->min[v];
+   extent (Wonka 2000 §4.1 used 1 m for cells of several metres: 6-8 samples per edge), in double
+   (a cell 6e38 wide has no float extent), kept within a millionth of the scene's diagonal and the
+   diagonal itself: a cell 1e-45 wide would give an eps that underflows to 0. Any eps > 0 is
+   conservative; these only bound the work. */
+PVS__STATIC double pvs__cell_ground_extent(const pvs_box *c, int u, int v) {
+    double e = (double)c->max[u] - c->min[u], f = (double)c->max[v] - c->min[v];
     return f < e ? f : e;
 }
-PVS__STATIC float pvs__shrink_default_eps(const pvs_box *cells, uint32_t n, uint32_t up) {
+PVS__STATIC float pvs__shrink_default_eps(const pvs_box *cells, uint32_t n, uint32_t up, const pvs_box *scene_bounds) {
     uint32_t i, j, below, equal, m = n < 2048u ? n : 2048u; /* the median of the first 2048 cells, by counting */
     int u, v;
-    float med = 0.0f;
+    double med = 0.0, diag = pvs__box_diagonal(scene_bounds), eps, lo, hi;
     pvs__ground_axes(up, &u, &v);
     for (i = 0; i < m; ++i) {
-        float e = pvs__cell_ground_extent(cells + i, u, v);
+        double e = pvs__cell_ground_extent(cells + i, u, v);
         below = equal = 0;
         for (j = 0; j < m; ++j) {
-            float f = pvs__cell_ground_extent(cells + j, u, v);
+            double f = pvs__cell_ground_extent(cells + j, u, v);
             below += f < e;
             equal += f == e;
         }
         if (2 * below <= m && 2 * (below + equal) > m) { med = e; break; }
     }
-    if (!(med > 0.0f)) med = 4.0f;
-    return 0.125f * med;
+    if (!(med > 0.0)) med = 4.0;
+    eps = 0.125 * med;
+    lo = pvs__dmax(1e-6 * diag, 1e-30);
+    hi = pvs__dmin(pvs__dmax(diag, lo), 1e30);
+    return (float)(eps < lo ? lo : eps > hi ? hi : eps);
 }
 
 /* ---- the driver's methods: preparation, applicability (AUTO), one cell ---- */
@@ -19237,7 +19277,8 @@ PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, pvs_method m, const pvs_ba
         if ((int)desc->shrink_mode < 0 || desc->shrink_mode >= PVS_SHRINK_MODE_COUNT)
             return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown shrink mode %d", (int)desc->shrink_mode);
         if (!(b->eps > 0.0f)) {
-            b->eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene));
+            pvs_box sb = pvs_scene_bounds(desc->scene);
+            b->eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene), &sb);
             if (b->flags & PVS_BAKE_PREVIEW) b->eps *= 2.0f;
         }
         memset(&od, 0, sizeof(od));

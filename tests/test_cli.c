@@ -211,22 +211,56 @@ void test_cli(void) {
     CHECK(run("./pvsgen forest --dense --cell-size 0.01 -o " DIR "/f.obj", &out) == 2 && strstr(out, "[0.1, 8]")); free(out);
     CHECK(run("./pvsgen forest --dense --leaves-per-tree 0 -o " DIR "/f.obj", &out) == 2); free(out);
     CHECK(run("./pvsgen forest --dense --leaves-per-tree 5000 --size 2 -o " DIR "/f.obj", &out) == 2 && strstr(out, "at most 10000")); free(out);
-    /* extproj's memory against the machine's (PVSBAKE_MEMORY stands in for it): one thread that does
-       not fit, or a -j that does not, is a usage error; without -j the threads that fit run */
-    CHECK(run("PVSBAKE_MEMORY=1000000000 ./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj "
+    /* the bake-wide memory limit (--memory, else PVSBAKE_MEMORY, else 90% of the machine's): every
+       method's allocations go through it, so at 1 byte each is refused at the scene, by name; a
+       thread that does not fit, or a -j that does not, is a usage error with the figures; without
+       -j the threads that fit run, after one cell measured alone */
+    {
+        static const char *const methods[] = {"sample", "otree", "extproj", "shrink", "vocc", "auto"};
+        size_t k;
+        for (k = 0; k < sizeof(methods) / sizeof(methods[0]); ++k) {
+            char cmd[512];
+            snprintf(cmd, sizeof(cmd), "PVSBAKE_MEMORY=1 ./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method %s",
+                     methods[k]);
+            CHECK(run(cmd, &out) == 1 && strstr(out, "scene.obj: out of memory") &&
+                  strstr(out, "the memory limit of 1 byte (PVSBAKE_MEMORY) was reached"));
+            free(out);
+        }
+    }
+    CHECK(!exists(DIR "/x.pvs"));
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj --memory 1G "
               "--resolution 4096 --sweep", &out) == 2 &&
-          strstr(out, "needs about 4.1 GiB per thread, more than 90% of this machine's 954 MiB"));
+          strstr(out, "extproj at 4096 pixels with 16 sweep planes needs about 4.1 GiB per thread, more than the") &&
+          strstr(out, "memory limit of 1.0 GiB (--memory)") && strstr(out, "lower --resolution or --sweep-planes"));
     free(out);
     CHECK(run("PVSBAKE_MEMORY=1000000000 ./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt "
-              "--resolution 1024 --sweep-planes 64 -j 2", &out) == 2 && strstr(out, "use -j 1 or fewer"));
+              "--resolution 1024 --sweep-planes 64 -j 2", &out) == 2 && strstr(out, "use -j 1 or fewer") && strstr(out, "(PVSBAKE_MEMORY)"));
     free(out);
-    rc = run("PVSBAKE_MEMORY=2000000 ./pvsbake " DIR "/scene.obj -o " DIR "/fit.pvs --cells " DIR "/cells.txt --method extproj "
-             "--sweep --resolution 64", &out);
+    rc = run("./pvsbake " DIR "/scene.obj -o " DIR "/fit.pvs --cells " DIR "/cells.txt --method extproj --sweep --resolution 512 "
+             "--memory 160M", &out);
     CHECK(rc == 0 && (sysconf(_SC_NPROCESSORS_ONLN) < 2 || (strstr(out, "pvsbake: 1 thread, not ") && strstr(out, "wall on 1 thread,"))));
     free(out);
-    CHECK(run("PVSBAKE_MEMORY=lots ./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj", &out) == 2 &&
-          strstr(out, "PVSBAKE_MEMORY takes a positive number of bytes, not 'lots'"));
+    CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/fit1.pvs --cells " DIR "/cells.txt --method extproj --sweep --resolution 512 -j 1", &out) == 0);
     free(out);
+    CHECK(same_bytes(DIR "/fit.pvs", DIR "/fit1.pvs"));
+    CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/fit2.pvs --cells " DIR "/cells.txt --method extproj --sweep --resolution 512 -j 2 "
+              "--memory 1G", &out) == 0);
+    free(out);
+    CHECK(same_bytes(DIR "/fit.pvs", DIR "/fit2.pvs"));
+    CHECK(run("PVSBAKE_MEMORY=lots ./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj", &out) == 2 &&
+          strstr(out, "PVSBAKE_MEMORY takes a size in bytes (e.g. 512M or 2G), not 'lots'"));
+    free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --memory 0", &out) == 2 && strstr(out, "--memory takes a size"));
+    free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --memory -5M", &out) == 2); free(out);
+    /* cells far bigger than the scene, or far smaller, are valid: shrink's derived eps stays within
+       the scene's scale (it overflowed, or underflowed to 0, before: "eps must be > 0") */
+    write_str(DIR "/huge.txt", "-3e38 0 -3e38 3e38 10 3e38\n");
+    write_str(DIR "/tiny.txt", "-3 1 0 -3 1.00001 1e-45\n");
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/huge.pvs --cells " DIR "/huge.txt", &out) == 0 && !strstr(out, "pvsbake: pvsbake")); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/tiny.pvs --cells " DIR "/tiny.txt", &out) == 0); free(out);
+    CHECK(run("./pvscheck -q " DIR "/scene.obj " DIR "/tiny.pvs --points 8 --rays 512", &out) == 0 && strstr(out, "misses 0")); free(out);
+    CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/e.pvs --cells " DIR "/cells.txt --method shrink --eps 1e-30", &out) == 0); free(out);
     /* threads beyond the cells to bake are not counted: -j 2 with one cell needs one thread's memory */
     write_str(DIR "/one.txt", "-3 0.5 -0.5 -2 1.5 0.5\n");
     CHECK(run("PVSBAKE_MEMORY=250000000 ./pvsbake -q " DIR "/scene.obj -o " DIR "/one.pvs --cells " DIR "/one.txt --method extproj "

@@ -153,6 +153,22 @@ static void tt_obj_accepts(void) {
     CHECK(m.positions[3] == 1.0f && m.positions[4] == 0.0f && m.positions[7] == 1.0f);
     mesh_free(&m);
 
+    /* CR line ends (old Mac files) read as lines, mixed with LF and CRLF; lines are counted the
+       same way for errors, in OBJ and cells files. */
+    CHECK(tt_obj_ok("# mac\ro wall\rv 0 0 0\rv 1 0 0\r\nv 0 1 0\nf 1 2 3\ro two\r\rf 3 2 1\r", &m));
+    CHECK(m.vertex_count == 3 && m.triangle_count == 2 && m.object_count == 2);
+    if (m.object_count == 2) CHECK(m.objects[0].line == 2 && m.objects[1].line == 7 && strcmp(m.objects[1].name, "two") == 0);
+    mesh_free(&m);
+    CHECK(tt_obj_fails("v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 9\r", 4, "face index 9 out of range"));
+    CHECK(tt_obj_fails("v 0 0 0\r\rv 1 x 0\r", 3, "bad number"));
+    CHECK(tt_cells_fails("# c\r0 0 0 1 1 1\r0 0 0 1 1\r", 3, "expected 6 numbers"));
+    {
+        mesh_cells c;
+        tool_error err;
+        CHECK(cells_parse("c.txt", "# c\r0 0 0 1 1 1\r\n2 2 2 3 3 3\r", 29, &c, &err) == 0 && c.count == 2 && mesh_cells_line(&c, 1) == 3);
+        mesh_cells_free(&c);
+    }
+
     /* Exact-enough numbers: signs, exponents, leading dot, trailing dot, huge/tiny exponents. */
     CHECK(tt_obj_ok("v -1.5 +2.25e1 .5\nv 3. 1E-3 -0\nv 1e-50 0.1 123456789\nf 1 2 3\n", &m));
     CHECK(m.positions[0] == -1.5f && m.positions[1] == 22.5f && m.positions[2] == 0.5f);
@@ -374,7 +390,7 @@ static void tt_files(const char *dir) {
     CHECK(err.line == 0 && strcmp(err.message, "a.obj: no faces") == 0);
     tool_error_set(NULL, "a.obj", 0, "ignored");
     {
-        char longname[400];
+        char longname[700];
         memset(longname, 'x', sizeof(longname) - 1);
         longname[sizeof(longname) - 1] = '\0';
         tool_error_set(&err, longname, 3, "problem");

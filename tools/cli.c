@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-int cli_make_scene(const char *name, const mesh *m, uint32_t up_axis, pvs_scene **scene, tool_error *err) {
+static int cli__make_scene(const char *name, const mesh *m, uint32_t up_axis, cli_memory *memory, pvs_scene **scene, tool_error *err) {
     pvs_scene_desc d;
     pvs_object_desc *obs;
     pvs_error pe;
@@ -37,6 +37,7 @@ int cli_make_scene(const char *name, const mesh *m, uint32_t up_axis, pvs_scene 
     d.object_count = m->object_count;
     d.up_axis = up_axis;
     d.flags = PVS_SCENE_ALLOW_EMPTY_OBJECTS;
+    if (memory) d.allocator = cli_memory_allocator(memory);
     if (pvs_scene_create(&d, scene, &pe) != PVS_OK) {
         /* name the source line of the offending object where the message is about an object */
         if (pe.index >= 0 && (uint64_t)pe.index < m->object_count &&
@@ -61,18 +62,28 @@ int cli_make_scene(const char *name, const mesh *m, uint32_t up_axis, pvs_scene 
     return 0;
 }
 
-int cli_load_scene(const char *path, uint32_t up_axis, mesh *m, pvs_scene **scene, tool_error *err) {
+int cli_make_scene(const char *name, const mesh *m, uint32_t up_axis, pvs_scene **scene, tool_error *err) {
+    return cli__make_scene(name, m, up_axis, NULL, scene, err);
+}
+
+int cli_load_scene_limited(const char *path, uint32_t up_axis, mesh *m, cli_memory *memory, pvs_scene **scene, tool_error *err) {
     tool_error warn;
     uint32_t empty;
     mesh_init(m);
     if (obj_load(path, m, err)) return -1;
     empty = obj_check_empty_objects(path, m, &warn);
     if (empty) fprintf(stderr, "warning: %s (%u object%s without faces, never visible)\n", warn.message, empty, empty == 1 ? "" : "s");
-    if (cli_make_scene(path, m, up_axis, scene, err)) {
+    if (memory) /* the mesh counts against the limit too */
+        cli_memory_add(memory, (size_t)m->vertex_cap * 12 + (size_t)m->triangle_cap * 12 + (size_t)m->object_cap * sizeof(mesh_object));
+    if (cli__make_scene(path, m, up_axis, memory, scene, err)) {
         mesh_free(m);
         return -1;
     }
     return 0;
+}
+
+int cli_load_scene(const char *path, uint32_t up_axis, mesh *m, pvs_scene **scene, tool_error *err) {
+    return cli_load_scene_limited(path, up_axis, m, NULL, scene, err);
 }
 
 int cli_grid_cells(const pvs_scene *scene, float size, uint32_t max_cells, mesh_cells *cells, tool_error *err) {
@@ -148,7 +159,7 @@ int cli_run_bake(pvs_bake *bake, uint32_t threads, int quiet, const char *label,
         job.bar = &bar;
     }
     parallel_for(threads, pvs_bake_task_count(bake), cli__bake_one, &job);
-    if (!quiet) progress_end(&bar);
+    if (job.bar) progress_end(&bar);
     pthread_mutex_destroy(&job.mutex);
     if (job.failed) {
         tool_error_set(err, NULL, 0, "cell %u: %s", pvs_bake_task_cell(bake, job.failed_task), job.error.message);
@@ -535,6 +546,94 @@ int cli_demo_city(mesh *m, mesh_cells *cells, pvs_scene **scene, tool_error *err
     return cli_make_scene("city", m, 1, scene, err);
 }
 
+/* ---- a bake-wide memory limit ---- */
+
+static void *cli__memory_alloc(size_t size, size_t align, void *user) {
+    cli_memory *m = (cli_memory *)user;
+    void *p = NULL;
+    int ok;
+    pthread_mutex_lock(&m->mutex);
+    ok = size <= m->limit - m->used && m->used <= m->limit;
+    if (ok) {
+        m->used += size;
+        if (m->used > m->peak) m->peak = m->used;
+    } else {
+        m->refused = 1;
+    }
+    pthread_mutex_unlock(&m->mutex);
+    if (!ok) return NULL;
+    if (align <= 16) p = malloc(size);
+    else if (posix_memalign(&p, align, size) != 0) p = NULL;
+    if (!p) {
+        pthread_mutex_lock(&m->mutex);
+        m->used -= size;
+        pthread_mutex_unlock(&m->mutex);
+    }
+    return p;
+}
+
+static void cli__memory_free(void *p, size_t size, void *user) {
+    cli_memory *m = (cli_memory *)user;
+    if (!p) return;
+    free(p);
+    pthread_mutex_lock(&m->mutex);
+    m->used -= size;
+    pthread_mutex_unlock(&m->mutex);
+}
+
+void cli_memory_init(cli_memory *m, size_t limit, const char *source) {
+    memset(m, 0, sizeof(*m));
+    pthread_mutex_init(&m->mutex, NULL);
+    m->limit = limit;
+    m->source = source;
+}
+void cli_memory_destroy(cli_memory *m) { pthread_mutex_destroy(&m->mutex); }
+pvs_allocator cli_memory_allocator(cli_memory *m) {
+    pvs_allocator a;
+    a.alloc = cli__memory_alloc;
+    a.free = cli__memory_free;
+    a.user = m;
+    return a;
+}
+void cli_memory_add(cli_memory *m, size_t bytes) {
+    pthread_mutex_lock(&m->mutex);
+    m->used += bytes;
+    if (m->used > m->peak) m->peak = m->used;
+    pthread_mutex_unlock(&m->mutex);
+}
+size_t cli_memory_used(cli_memory *m) {
+    size_t u;
+    pthread_mutex_lock(&m->mutex);
+    u = m->used;
+    pthread_mutex_unlock(&m->mutex);
+    return u;
+}
+
+const char *cli_size_text(double bytes, char *buf) {
+    if (bytes >= 1073741824.0) snprintf(buf, 32, "%.1f GiB", bytes / 1073741824.0);
+    else if (bytes >= 1048576.0) snprintf(buf, 32, "%.0f MiB", bytes / 1048576.0);
+    else snprintf(buf, 32, "%.0f byte%s", bytes, bytes == 1.0 ? "" : "s");
+    return buf;
+}
+
+int cli_parse_size(const char *s, size_t *out) {
+    char *end = NULL;
+    double v, scale = 1.0;
+    if (!s || !*s || *s == '-' || *s == '+') return -1;
+    errno = 0;
+    v = strtod(s, &end);
+    if (errno || end == s) return -1;
+    if (*end == 'K' || *end == 'k') scale = 1024.0, ++end;
+    else if (*end == 'M' || *end == 'm') scale = 1048576.0, ++end;
+    else if (*end == 'G' || *end == 'g') scale = 1073741824.0, ++end;
+    else if (*end == 'T' || *end == 't') scale = 1099511627776.0, ++end;
+    if (*end == 'B' || *end == 'b') ++end; /* 512MB, 2GiB are fine too */
+    else if (*end == 'i' && (end[1] == 'B' || end[1] == 'b') && scale > 1.0) end += 2;
+    if (*end || !(v * scale >= 1.0) || !(v * scale < 1.8e19)) return -1;
+    *out = (size_t)(v * scale) < (size_t)-1 ? (size_t)(v * scale) : (size_t)-1;
+    return 0;
+}
+
 /* ---- resumable bakes ---- */
 
 uint64_t cli_fingerprint(uint64_t h, const void *data, size_t size) {
@@ -765,18 +864,20 @@ typedef struct cli__run_job {
     pvs_bake *bake;
     progress *bar;
     pthread_mutex_t mutex;
-    const uint32_t *todo;      /* tasks to run */
+    const uint32_t *todo;      /* tasks to run, from index `first` */
+    uint32_t first;
     unsigned char *done;       /* per task, under the mutex */
     cli_bake_run *run;
     cli__journal journal;      /* under the mutex; journal.f NULL: no state file */
     int failed;
     uint32_t failed_task;
     pvs_error error;
+    uint32_t *retry, retry_count; /* tasks refused memory while others ran (NULL: fail them) */
 } cli__run_job;
 
 static void cli__run_one(void *user, uint32_t index, uint32_t thread) {
     cli__run_job *job = (cli__run_job *)user;
-    uint32_t task = job->todo[index];
+    uint32_t task = job->todo[job->first + index];
     pvs_error e;
     double t0 = cli_seconds();
     int ok = pvs_bake_run_task(job->bake, task, &e) == PVS_OK;
@@ -784,6 +885,11 @@ static void cli__run_one(void *user, uint32_t index, uint32_t thread) {
     (void)thread;
     pthread_mutex_lock(&job->mutex);
     if (job->run->task_seconds) job->run->task_seconds[task] = dt;
+    if (!ok && e.result == PVS_ERROR_OUT_OF_MEMORY && job->retry) { /* another thread held the memory: again, alone */
+        job->retry[job->retry_count++] = task;
+        pthread_mutex_unlock(&job->mutex);
+        return;
+    }
     if (!ok) {
         if (!job->failed || task < job->failed_task) { /* report the lowest failing task: deterministic */
             job->failed = 1;
@@ -796,6 +902,60 @@ static void cli__run_one(void *user, uint32_t index, uint32_t thread) {
     }
     pthread_mutex_unlock(&job->mutex);
     if (job->bar) progress_add(job->bar, 1);
+}
+
+/* The threads the memory limit fits for the n tasks in job->todo: the known task size first, then
+   one task run alone and measured (job->first becomes 1). Lowers *threads (0: every CPU), or returns
+   -2 with err set when not even one fits or -j asked for more. */
+static int cli__plan_threads(cli__run_job *job, uint32_t *threads, uint32_t n, tool_error *err) {
+    cli_bake_run *run = job->run;
+    cli_memory *m = run->memory;
+    uint32_t want = *threads ? *threads : cpu_count(), fit;
+    size_t used = cli_memory_used(m), left = used < m->limit ? m->limit - used : 0, per;
+    char a[32], b[32], c[32], d[32];
+    const char *what = run->task_what ? run->task_what : "a cell";
+    if (want > n) want = n; /* never more threads than tasks */
+    if (run->task_bytes > left) {
+        tool_error_set(err, NULL, 0, "%s needs about %s per thread, more than the %s that the memory limit of %s (%s) leaves after the scene "
+                       "and the methods' preparation (%s)%s%s", what, cli_size_text((double)run->task_bytes, a), cli_size_text((double)left, b),
+                       cli_size_text((double)m->limit, c), m->source, cli_size_text((double)used, d), run->task_hint ? ": " : "",
+                       run->task_hint ? run->task_hint : "");
+        return -2;
+    }
+    if (run->threads_given && run->task_bytes && (double)want * run->task_bytes > (double)left) {
+        fit = (uint32_t)(left / run->task_bytes);
+        tool_error_set(err, NULL, 0, "-j %u needs about %s (%s per thread for %s), more than the %s that the memory limit of %s (%s) leaves: "
+                       "use -j %u or fewer", want, cli_size_text((double)want * run->task_bytes, a), cli_size_text((double)run->task_bytes, b),
+                       what, cli_size_text((double)left, c), cli_size_text((double)m->limit, d), m->source, fit);
+        return -2;
+    }
+    if (want > 1) { /* a cell alone, measured: what one thread holds */
+        size_t base;
+        pthread_mutex_lock(&m->mutex);
+        base = m->used;
+        m->peak = m->used;
+        pthread_mutex_unlock(&m->mutex);
+        cli__run_one(job, 0, 0);
+        job->first = 1;
+        pthread_mutex_lock(&m->mutex);
+        per = m->peak - base;
+        used = m->used;
+        pthread_mutex_unlock(&m->mutex);
+        per += per / 4; /* cells differ: a margin; a refusal is run again alone anyway */
+        if (per < run->task_bytes) per = run->task_bytes;
+        left = used < m->limit ? m->limit - used : 0;
+        fit = per ? (uint32_t)(left / per < 1024 ? left / per : 1024) : want;
+        if (fit < 1) fit = 1;
+        if (want > fit) {
+            if (!run->quiet_plan)
+                fprintf(stderr, "pvsbake: %u thread%s, not %u: a cell holds about %s and the memory limit of %s (%s) leaves %s\n", fit,
+                        fit == 1 ? "" : "s", want, cli_size_text((double)per, a), cli_size_text((double)m->limit, b), m->source,
+                        cli_size_text((double)left, c));
+            want = fit;
+        }
+    }
+    *threads = want;
+    return 0;
 }
 
 int cli_run_bake_ex(pvs_bake *bake, uint32_t threads, int quiet, const char *label, cli_bake_run *run, tool_error *err) {
@@ -849,12 +1009,31 @@ int cli_run_bake_ex(pvs_bake *bake, uint32_t threads, int quiet, const char *lab
     job.done = done;
     job.run = run;
     pthread_mutex_init(&job.mutex, NULL);
-    if (!quiet) {
-        progress_begin(&bar, label, n);
+    run->threads_used = 0;
+    if (run->memory && n) rc = cli__plan_threads(&job, &threads, n, err); /* may run the first task, alone */
+    if (!quiet && rc == 0) {
+        progress_begin(&bar, label, n - job.first);
         job.bar = &bar;
     }
-    parallel_for(threads, n, cli__run_one, &job);
-    if (!quiet) progress_end(&bar);
+    if (rc == 0 && n > job.first) {
+        uint32_t i, k = threads ? threads : cpu_count();
+        run->threads_used = k < n ? k : n;
+        if (run->memory && k > 1) job.retry = (uint32_t *)malloc((size_t)n * sizeof(uint32_t));
+        parallel_for(threads, n - job.first, cli__run_one, &job);
+        if (job.retry) { /* the tasks refused memory while others ran, alone now (in task order) */
+            uint32_t *again = job.retry, count = job.retry_count;
+            job.retry = NULL;
+            for (i = 1; i < count; ++i) /* insertion sort: few */
+                for (k = i; k > 0 && again[k] < again[k - 1]; --k) { t = again[k]; again[k] = again[k - 1]; again[k - 1] = t; }
+            job.todo = again;
+            job.first = 0;
+            for (i = 0; i < count; ++i) cli__run_one(&job, i, 0);
+            free(again);
+        }
+    } else if (rc == 0 && n) {
+        run->threads_used = 1;
+    }
+    if (job.bar) progress_end(&bar);
     pthread_mutex_destroy(&job.mutex);
     if (job.failed && run->state_path && job.journal.rec) /* keep what is done, compacted */
         job.journal.failed = cli__journal_start(&job.journal, bake, run->fingerprint, done) != 0;
@@ -863,8 +1042,16 @@ int cli_run_bake_ex(pvs_bake *bake, uint32_t threads, int quiet, const char *lab
         job.journal.failed = 1;
     }
     free(job.journal.rec);
-    if (job.failed) {
-        tool_error_set(err, NULL, 0, "cell %u: %s", pvs_bake_task_cell(bake, job.failed_task), job.error.message);
+    if (rc) {
+        /* err is set */
+    } else if (job.failed) {
+        char a[32];
+        if (job.error.result == PVS_ERROR_OUT_OF_MEMORY && run->memory && run->memory->refused)
+            tool_error_set(err, NULL, 0, "cell %u: %s (the memory limit of %s (%s) was reached with the cell alone)",
+                           pvs_bake_task_cell(bake, job.failed_task), job.error.message, cli_size_text((double)run->memory->limit, a),
+                           run->memory->source);
+        else
+            tool_error_set(err, NULL, 0, "cell %u: %s", pvs_bake_task_cell(bake, job.failed_task), job.error.message);
         rc = -1;
     } else if (job.journal.failed) { /* the bake itself is fine: only resuming it would not be */
         fprintf(stderr, "warning: cannot save the bake's state: %s\n", job.journal.error.message);

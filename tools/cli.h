@@ -4,10 +4,32 @@
 #ifndef TOOL_CLI_H
 #define TOOL_CLI_H
 #include "../pvs.h"
+#include <pthread.h>
 #include "gen.h"
 #include "mesh.h"
 #include "obj.h"
 #include "toolutil.h"
+
+/* ---- a bake-wide memory limit ---- */
+
+/* A pvs_allocator that counts the bytes it holds and refuses (returns NULL) past `limit`; thread-safe.
+   Give it to the scene and the bake, and every method's allocations stay within the limit: a
+   refusal is the library's OUT_OF_MEMORY, never more memory. */
+typedef struct cli_memory {
+    pthread_mutex_t mutex;
+    size_t limit, used, peak;
+    int refused;              /* an allocation was refused */
+    const char *source;       /* where the limit came from, for messages ("--memory", ...) */
+} cli_memory;
+void cli_memory_init(cli_memory *m, size_t limit, const char *source);
+void cli_memory_destroy(cli_memory *m);
+pvs_allocator cli_memory_allocator(cli_memory *m);
+void cli_memory_add(cli_memory *m, size_t bytes); /* counts memory the tools hold outside the library (the mesh) */
+size_t cli_memory_used(cli_memory *m);
+/* "1.5 GiB", "300 MiB" or "512 bytes" into buf (32 bytes). */
+const char *cli_size_text(double bytes, char *buf);
+/* A size: bytes, or with a K, M, G or T suffix (powers of 1024), e.g. "512M", "1.5G". 0 or -1. */
+int cli_parse_size(const char *s, size_t *out);
 
 /* Builds a pvs_scene from a mesh. up_axis 1 = Y, 2 = Z. Objects without faces are kept (ids follow
    the file) and never visible; `name` is used in messages. Returns 0 or -1 with err set. */
@@ -19,6 +41,8 @@ int cli_demo_city(mesh *m, mesh_cells *cells, pvs_scene **scene, tool_error *err
 
 /* Loads an OBJ file and builds its scene; warns on stderr about objects without faces. */
 int cli_load_scene(const char *path, uint32_t up_axis, mesh *m, pvs_scene **scene, tool_error *err);
+/* The same with the scene's allocations through `memory` (a limit), which also counts the mesh. */
+int cli_load_scene_limited(const char *path, uint32_t up_axis, mesh *m, cli_memory *memory, pvs_scene **scene, tool_error *err);
 
 /* A 3D grid of cubes of edge `size` covering the scene bounds (at most max_cells cells). */
 int cli_grid_cells(const pvs_scene *scene, float size, uint32_t max_cells, mesh_cells *cells, tool_error *err);
@@ -74,7 +98,8 @@ int cli_parse_u32(const char *s, uint32_t lo, uint32_t hi, uint32_t *out);
 /* The arguments with every "-jN" (N starting with a digit) split into "-j" and "N", as make spells
    it, except where it is the value of one of `value_options` (a NULL-terminated list of the options
    that take a value: a file may be named -j2.txt): a new NULL-terminated array (the strings are
-   argv's) that lives until exit, or argv itself when there is none or no memory. *argc is updated. */
+   argv's; free() it when it is not argv), or argv itself when there is none or no memory. *argc is
+   updated. */
 char **cli_split_jobs(int *argc, char **argv, const char *const *value_options);
 /* 1 if `option` is in the NULL-terminated list. */
 int cli_is_option(const char *option, const char *const *list);
@@ -93,12 +118,22 @@ typedef struct cli_bake_run {
     uint64_t fingerprint;     /* identifies the bake's inputs (cli_fingerprint) */
     uint32_t object_count;    /* the scene's (needed with a state file) */
     double *task_seconds;     /* NULL, or task_count entries: each run task's time (restored: -1) */
+    cli_memory *memory;       /* NULL, or the bake's allocator: the threads are planned from what its limit
+                                 leaves, a task at a time being measured first; tasks refused memory
+                                 while others ran are run again one at a time */
+    size_t task_bytes;        /* a known least size of one task (0: none; the first task measures it), */
+    const char *task_what;    /*   what needs it ("extproj at 256 pixels"), and what lowers it, for messages */
+    const char *task_hint;
+    int threads_given;        /* -j was given: more threads than fit is an error (-2), not lowered */
+    int quiet_plan;           /* no note when the threads are lowered */
+    uint32_t threads_used;    /* out: the threads that ran (0 = none needed) */
     uint32_t resumed;         /* out: tasks restored from the state file */
     int state_ignored;        /* out: 1 when a state file was there but belongs to another bake */
     int state_torn;           /* out: 1 when its end was cut short or damaged (those cells run again) */
 } cli_bake_run;
 
-/* cli_run_bake with a state file for resuming and per-task times. Returns 0 or -1 with err set. */
+/* cli_run_bake with a state file for resuming and per-task times. Returns 0, -1 with err set, or -2
+   (err set) when the memory limit does not fit one task or the threads given. */
 int cli_run_bake_ex(pvs_bake *bake, uint32_t threads, int quiet, const char *label, cli_bake_run *run, tool_error *err);
 
 /* FNV-1a 64 over bytes, chained: start with h = CLI_FNV_START. */

@@ -81,13 +81,26 @@ int mesh_write_obj(const mesh *m, FILE *f) {
 }
 
 void mesh_cells_init(mesh_cells *c) { memset(c, 0, sizeof(*c)); }
-void mesh_cells_free(mesh_cells *c) { free(c->boxes); memset(c, 0, sizeof(*c)); }
+void mesh_cells_free(mesh_cells *c) {
+    free(c->boxes);
+    free(c->lines);
+    memset(c, 0, sizeof(*c));
+}
 
 int mesh_cells_add(mesh_cells *c, const float box[6]) {
     if (mesh__grow((void **)&c->boxes, &c->cap, c->count + 1, 6 * sizeof(float))) return -1;
     memcpy(c->boxes + 6 * (size_t)c->count++, box, 6 * sizeof(float));
     return 0;
 }
+
+int mesh_cells_add_line(mesh_cells *c, const float box[6], uint32_t line) {
+    if (mesh__grow((void **)&c->lines, &c->line_cap, c->count + 1, sizeof(uint32_t))) return -1;
+    if (mesh_cells_add(c, box)) return -1;
+    c->lines[c->count - 1] = line;
+    return 0;
+}
+
+uint32_t mesh_cells_line(const mesh_cells *c, uint32_t cell) { return c->lines && cell < c->count ? c->lines[cell] : 0; }
 
 int mesh_cells_write(const mesh_cells *c, FILE *f) {
     for (uint32_t i = 0; i < c->count; ++i) {

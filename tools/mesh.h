@@ -29,6 +29,8 @@ typedef struct mesh {
 typedef struct mesh_cells {
     float *boxes;            /* 6 floats per cell: minx miny minz maxx maxy maxz */
     uint32_t count, cap;
+    uint32_t *lines;         /* per cell, its source line (NULL when generated) */
+    uint32_t line_cap;
 } mesh_cells;
 
 /* All return 0 on success, -1 when out of memory (the mesh stays valid). */
@@ -45,6 +47,9 @@ int mesh_write_obj(const mesh *m, FILE *f);
 void mesh_cells_init(mesh_cells *c);
 void mesh_cells_free(mesh_cells *c);
 int mesh_cells_add(mesh_cells *c, const float box[6]);
+/* The same for a cell read from a file's line `line` (mesh_cells_line gives it back; 0 = unknown). */
+int mesh_cells_add_line(mesh_cells *c, const float box[6], uint32_t line);
+uint32_t mesh_cells_line(const mesh_cells *c, uint32_t cell);
 /* Write one "minx miny minz maxx maxy maxz" line per cell (%.9g). */
 int mesh_cells_write(const mesh_cells *c, FILE *f);
 

@@ -21,12 +21,25 @@ static int obj__starts(const char *s, const char *e, const char *w) {
     return 1;
 }
 
+/* The line starting at p (before end) ends at the returned pointer; *next is where the next begins.
+   LF, CRLF and a lone CR (old Mac files) all end a line. */
+static const char *obj__line(const char *p, const char *end, const char **next) {
+    const char *lf = (const char *)memchr(p, '\n', (size_t)(end - p)), *stop = lf ? lf : end;
+    const char *cr = (const char *)memchr(p, '\r', (size_t)(stop - p));
+    if (cr && cr + 1 != lf) { /* a lone CR ends this line */
+        *next = cr + 1;
+        return cr;
+    }
+    *next = lf ? lf + 1 : end;
+    return cr ? cr : stop;
+}
+
 /* Rejects NUL bytes and control characters other than tab, LF, CR, VT and FF (and DEL). */
 static int obj__check_binary(const char *name, const char *text, size_t len, tool_error *err) {
     int line = 1;
     for (size_t i = 0; i < len; ++i) {
         unsigned char c = (unsigned char)text[i];
-        if (c == '\n') {
+        if (c == '\n' || (c == '\r' && (i + 1 == len || text[i + 1] != '\n'))) { /* LF, CRLF, CR */
             if (line < INT_MAX) ++line;
         } else if ((c < 0x20 && c != '\t' && c != '\r' && c != '\v' && c != '\f') || c == 0x7f) {
             tool_error_set(err, name, line, "binary data at byte %llu (0x%02x): not a text file",
@@ -126,12 +139,11 @@ static int obj__number_error(const char *name, int line, int r, const char *s, c
 static int obj__has_o(const char *text, size_t len) {
     const char *p = text, *end = text + len;
     while (p < end) {
-        const char *le = (const char *)memchr(p, '\n', (size_t)(end - p));
-        if (!le) le = end;
+        const char *next, *le = obj__line(p, end, &next);
         const char *s = p;
         while (s < le && obj__ws(*s)) ++s;
         if (s < le && *s == 'o' && (s + 1 == le || obj__ws(s[1]) || s[1] == '#')) return 1;
-        p = le + 1;
+        p = next;
     }
     return 0;
 }
@@ -223,11 +235,10 @@ int obj_parse(const char *name, const char *text, size_t len, mesh *m, tool_erro
     int has_o = obj__has_o(p, (size_t)(end - p));
     int line = 0;
     while (p < end) {
-        const char *le = (const char *)memchr(p, '\n', (size_t)(end - p));
-        if (!le) le = end;
+        const char *next, *le = obj__line(p, end, &next);
         if (line < INT_MAX) ++line;
         const char *q = p, *ks, *ke;
-        p = le + 1;
+        p = next;
         if (!obj__token(&q, le, &ks, &ke)) continue;
         size_t kn = (size_t)(ke - ks);
         if (kn == 1 && ks[0] == 'v') {
@@ -334,11 +345,10 @@ int cells_parse(const char *name, const char *text, size_t len, mesh_cells *c, t
         p += 3;
     int line = 0;
     while (p < end) {
-        const char *le = (const char *)memchr(p, '\n', (size_t)(end - p));
-        if (!le) le = end;
+        const char *next, *le = obj__line(p, end, &next);
         if (line < INT_MAX) ++line;
         const char *q = p, *ts, *te;
-        p = le + 1;
+        p = next;
         float box[6];
         int n = 0;
         while (obj__token(&q, le, &ts, &te)) {
@@ -366,7 +376,7 @@ int cells_parse(const char *name, const char *text, size_t len, mesh_cells *c, t
             tool_error_set(err, name, line, "too many cells");
             return -1;
         }
-        if (mesh_cells_add(c, box)) {
+        if (mesh_cells_add_line(c, box, (uint32_t)line)) {
             mesh_cells_free(c);
             tool_error_set(err, name, line, "out of memory");
             return -1;

@@ -13,7 +13,8 @@
      not range-checked). Negative indices count back from the last vertex defined so far (-1 = the
      latest). Degenerate faces (a repeated index) are kept.
    - Ignored: vt, vn, vp, usemtl, mtllib, s, l, p, any unknown statement, comments, blank lines. A
-     `#` ends the data of a v / f line. CRLF line ends and a UTF-8 byte order mark are accepted.
+     `#` ends the data of a v / f line. LF, CRLF and CR (old Mac) line ends and a UTF-8 byte order
+     mark are accepted.
      Backslash line continuation is not supported.
    - Empty objects (no faces) are kept, so ids follow the file; see obj_check_empty_objects.
    - Numbers are read in the "C" locale.

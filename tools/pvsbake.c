@@ -41,8 +41,7 @@ static const char *usage =
     "                    sweep's planes spread them over the part of the plane the scene spans);\n"
     "                    foliage of small leaves needs 1024 and 64 sweep planes to fuse. extproj\n"
     "                    keeps about (128 + 8 x planes) x N^2 bytes per thread (0.65 GiB at 1024\n"
-    "                    and 64). Without -j, only as many threads run as fit in 90% of the\n"
-    "                    machine's memory (PVSBAKE_MEMORY=BYTES sets the memory assumed)\n"
+    "                    and 64): see --memory\n"
     "  --adaptive N      split a cell whose PVS holds more than N triangles in two, recursively\n"
     "                    (Durand 2000 §6.1); the file holds the leaf cells. Not with --shard,\n"
     "                    --method vocc, --state or --state-every (no state file: no resuming)\n"
@@ -58,6 +57,9 @@ static const char *usage =
     "  --shard K/N       bake only shard K of N (cells K-1, K-1+N, ...) into a part file for merge\n"
     "  -j THREADS        worker threads (default: all CPUs; -j2 works too); the file is identical\n"
     "                    for any count\n"
+    "  --memory SIZE     the most the whole bake may allocate (e.g. 512M, 4G; default PVSBAKE_MEMORY, else\n"
+    "                    90% of the machine's memory): threads are planned from it (a cell is measured\n"
+    "                    alone first), and a bake that cannot fit one thread is refused\n"
     "  --state FILE      resumable bake: each finished cell is appended to FILE (default OUT.pvs.state),\n"
     "                    written out every --state-every N cells (default 32) or every second;\n"
     "                    rerunning the same command continues from it; it is removed when the output\n"
@@ -113,45 +115,24 @@ static int check_method_options(uint32_t given, pvs_method method, uint32_t mask
     return 0;
 }
 
-/* "1.5 GiB", or "300 MiB" below a GiB, into buf (32 bytes). */
-static const char *size_text(double bytes, char *buf) {
-    if (bytes >= 1073741824.0) snprintf(buf, 32, "%.1f GiB", bytes / 1073741824.0);
-    else snprintf(buf, 32, "%.0f MiB", bytes / 1048576.0);
-    return buf;
-}
-
-/* Fits the threads to the machine's memory when extproj may hold much of it: 2 (after a message)
-   when one thread does not fit, or when -j asked for more than fit; else lowers *threads (0: all
-   CPUs) to what fits, with a note. Never counts more threads than `tasks` (the cells to bake).
-   PVSBAKE_MEMORY (bytes) stands in for the machine's memory; a task's bytes are pvs_extproj_task_bytes. */
-static int fit_threads_to_memory(uint32_t *threads, uint32_t tasks, uint32_t res, uint32_t sweep, int quiet) {
+/* The bake's memory limit: --memory, else PVSBAKE_MEMORY, else 90% of the machine's memory. 2 (after
+   a message) when the value is not a size. */
+static int memory_limit(const char *arg, size_t *limit, const char **source) {
     const char *env = getenv("PVSBAKE_MEMORY");
-    char *end = NULL, a[32], b[32], c[32];
-    double mem = env && *env ? strtod(env, &end) : memory_bytes(), task = (double)pvs_extproj_task_bytes(res, sweep), room = 0.9 * mem;
-    uint32_t want = *threads ? *threads : cpu_count(), fit;
-    if (env && *env && (*end || !(mem > 0.0) || !(mem < 1e300))) {
-        fprintf(stderr, "pvsbake: PVSBAKE_MEMORY takes a positive number of bytes, not '%s'\n(see pvsbake --help)\n", env);
-        return 2;
+    double mem;
+    if (arg) {
+        *source = "--memory";
+        if (cli_parse_size(arg, limit)) return usage_error("--memory takes a size in bytes (e.g. 512M or 2G), not '%s'", arg);
+        return 0;
     }
-    if (tasks && want > tasks) want = tasks;
-    if (!(mem > 0.0) || task * want <= room) return 0;
-    if (task > room) {
-        fprintf(stderr, "pvsbake: extproj at %u pixels with %u sweep planes needs about %s per thread, more than 90%% of "
-                        "this machine's %s: lower --resolution or --sweep-planes\n(see pvsbake --help)\n",
-                res, sweep, size_text(task, a), size_text(mem, b));
-        return 2;
+    if (env && *env) {
+        *source = "PVSBAKE_MEMORY";
+        if (cli_parse_size(env, limit)) return usage_error("PVSBAKE_MEMORY takes a size in bytes (e.g. 512M or 2G), not '%s'", env);
+        return 0;
     }
-    fit = (uint32_t)(room / task);
-    if (*threads) {
-        fprintf(stderr, "pvsbake: -j %u needs about %s for extproj (%s per thread), more than 90%% of this machine's %s: use "
-                        "-j %u or fewer\n(see pvsbake --help)\n",
-                want, size_text(task * want, a), size_text(task, b), size_text(mem, c), fit);
-        return 2;
-    }
-    if (!quiet)
-        fprintf(stderr, "pvsbake: %u thread%s, not %u: extproj holds about %s per thread and the machine has %s\n", fit,
-                fit == 1 ? "" : "s", want, size_text(task, a), size_text(mem, b));
-    *threads = fit;
+    *source = "90% of this machine's memory";
+    mem = 0.9 * memory_bytes();
+    *limit = mem >= 1.0 && mem < 1.8e19 ? (size_t)mem : (size_t)-1; /* unknown: no limit */
     return 0;
 }
 
@@ -248,11 +229,11 @@ static int cmp_str(const void *a, const void *b) { return strcmp(*(const char *c
 static const char *const value_options[] = {"-o", "--cells", "--grid", "--up", "--method", "--eps", "-j", "--points", "--rays",
                                             "--seed", "--chain", "--shard", "--voxel", "--max-distance", "--state",
                                             "--state-every", "--vocc-slices", "--vocc-max", "--adaptive", "--min-cell",
-                                            "--sweep-planes", "--resolution", "--otree-budget", NULL};
+                                            "--sweep-planes", "--resolution", "--otree-budget", "--memory", NULL};
 
 /* What identifies a bake for its state file: the scene's arrays, the cells, and every option that
    may change the result, as sorted "option=value" strings (value_options take the next argument,
-   the others none). Left out: -j, -q, -o, --state, --state-every, --no-state, and --cells
+   the others none). Left out: -j, -q, -o, --state, --state-every, --no-state, --memory, and --cells
    and the scene path, whose contents count instead. */
 static uint64_t bake_fingerprint(int argc, char **argv, const mesh *m, const mesh_cells *cells, uint32_t up) {
     char **pairs = (char **)calloc((size_t)argc + 1, sizeof(char *));
@@ -275,7 +256,7 @@ static uint64_t bake_fingerprint(int argc, char **argv, const mesh *m, const mes
         if (a[0] != '-') continue; /* the scene path */
         if (v) ++i;
         if (!strcmp(a, "-j") || !strcmp(a, "-o") || !strcmp(a, "--state") || !strcmp(a, "--state-every") || !strcmp(a, "--cells") ||
-            !strcmp(a, "-q") || !strcmp(a, "--quiet") || !strcmp(a, "--no-state"))
+            !strcmp(a, "-q") || !strcmp(a, "--quiet") || !strcmp(a, "--no-state") || !strcmp(a, "--memory"))
             continue;
         len = strlen(a) + (v ? strlen(v) : 0) + 2;
         if (!(pairs[n] = (char *)malloc(len))) break;
@@ -363,7 +344,7 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
     free(slow);
 }
 
-int main(int argc, char **argv) {
+static int bake_main(int argc, char **argv) {
     const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL, *state_path = NULL;
     float grid = 0.0f, eps = 0.0f, voxel = 0.0f, max_distance = 0.0f;
     pvs_shrink_mode shrink_mode = PVS_SHRINK_AUTO;
@@ -385,13 +366,14 @@ int main(int argc, char **argv) {
     tool_error te;
     cli_bake_run run;
     double *secs = NULL;
-    char *state_buf = NULL;
-    size_t size = 0;
+    char *state_buf = NULL, task_what[96];
+    const char *memory_arg = NULL, *limit_source = NULL;
+    size_t size = 0, limit = 0;
+    cli_memory mem;
+    int threads_given = 0;
     double t0, t_bake;
     int rc = 1;
 
-    if (argc > 1 && !strcmp(argv[1], "merge")) return merge_main(argc, argv);
-    argv = cli_split_jobs(&argc, argv, value_options); /* -j2 as well as -j 2 */
 
     for (i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -455,6 +437,9 @@ int main(int argc, char **argv) {
                 if (parse_float(v, &max_distance) || !(max_distance > 0.0f)) return usage_error("--max-distance needs a positive number, not '%s'", v);
             } else if (!strcmp(a, "-j")) {
                 if (parse_threads(v, &threads)) return usage_error("-j takes a thread count 0..1024, not '%s'", v);
+                threads_given = threads != 0;
+            } else if (!strcmp(a, "--memory")) {
+                memory_arg = v;
             } else if (!strcmp(a, "--points")) {
                 if (cli_parse_u32(v, 1, 1u << 20, &points)) return usage_error("--points takes 1..1048576, not '%s'", v);
             } else if (!strcmp(a, "--rays")) {
@@ -490,20 +475,14 @@ int main(int argc, char **argv) {
         return usage_error("%s", "--adaptive does not go with --shard, --method vocc, --state or --state-every");
     if (no_state && (state_path || state_every_given)) return usage_error("%s", "--state and --state-every contradict --no-state");
 
+    if (memory_limit(memory_arg, &limit, &limit_source)) return 2;
+    cli_memory_init(&mem, limit, limit_source);
     mesh_init(&m);
     mesh_cells_init(&cells);
     memset(&run, 0, sizeof(run));
     t0 = cli_seconds();
-    if (cli_load_scene(scene_path, up, &m, &scene, &te)) goto fail;
+    if (cli_load_scene_limited(scene_path, up, &m, &mem, &scene, &te)) goto fail;
     if (cells_path ? cells_load(cells_path, &cells, &te) : cli_grid_cells(scene, grid, 10000000u, &cells, &te)) goto fail;
-    if ((methods_run(method, methods) >> PVS_METHOD_EXTPROJ & 1u) &&
-        fit_threads_to_memory(&threads, shard_n > 1 && shard_k <= cells.count ? (cells.count - shard_k) / shard_n + 1 : cells.count,
-                              resolution ? resolution : preview ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS_EXTPROJ_RESOLUTION,
-                              /* the sweep planes pvs_bake_begin will use (AUTO's default: PVS_EXTPROJ_SWEEP_PLANES) */
-                              sweep ? sweep : method == PVS_METHOD_AUTO && !preview && !no_sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0, quiet)) {
-        rc = 2;
-        goto done;
-    }
 
     memset(&bd, 0, sizeof(bd));
     bd.scene = scene;
@@ -529,6 +508,7 @@ int main(int argc, char **argv) {
     bd.extproj_sweep_subcells = subcells ? 4u : 0u;
     bd.adaptive_budget = adaptive;
     bd.adaptive_min_size = min_cell;
+    bd.allocator = cli_memory_allocator(&mem);
     if (adaptive) no_state = 1; /* a cell's PVS alone does not restore its leaves */
     if (shard_n > 1) {
         if (shard_n > cells.count) {
@@ -539,10 +519,12 @@ int main(int argc, char **argv) {
         bd.shard_count = shard_n;
     }
     if (pvs_bake_begin(&bd, &bake, &pe) != PVS_OK) {
-        /* a bad cell is the cells file's; a method that cannot handle the input, the scene's */
+        /* a bad cell is the cells file's (at its line); a method that cannot handle the input, the
+           scene's; anything else is the options' (the message says which) */
         const char *where = pe.result == PVS_ERROR_BAD_CELL ? (cells_path ? cells_path : "--grid")
-                          : pe.result == PVS_ERROR_UNSUPPORTED ? scene_path : "pvsbake";
-        tool_error_set(&te, where, 0, "%s", pe.message);
+                          : pe.result == PVS_ERROR_UNSUPPORTED ? scene_path : NULL;
+        int line = pe.result == PVS_ERROR_BAD_CELL && pe.index >= 0 && pe.index < (int64_t)cells.count ? (int)mesh_cells_line(&cells, (uint32_t)pe.index) : 0;
+        tool_error_set(&te, where, line, "%s", pe.message);
         goto fail;
     }
     if (!quiet && pvs_bake_occluders(bake)) {
@@ -586,6 +568,22 @@ int main(int argc, char **argv) {
     secs = (double *)malloc((size_t)pvs_bake_task_count(bake) * sizeof(double) + 8);
     if (!secs) { tool_error_set(&te, NULL, 0, "out of memory"); goto fail; }
     run.task_seconds = secs;
+    run.memory = &mem;
+    run.threads_given = threads_given;
+    run.quiet_plan = quiet;
+    for (k = 0; k < pvs_bake_method_count(bake); ++k) { /* extproj's planes: what one thread needs at least */
+        pvs_bake_method_info mi;
+        if (pvs_bake_get_method_info(bake, (uint32_t)k, &mi) != PVS_OK || !mi.ran || mi.method != PVS_METHOD_EXTPROJ) continue;
+        {
+            /* the resolution and sweep planes pvs_bake_begin chose (AUTO's default: PVS_EXTPROJ_SWEEP_PLANES) */
+            uint32_t res = resolution ? resolution : preview ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS_EXTPROJ_RESOLUTION;
+            uint32_t sw = sweep ? sweep : method == PVS_METHOD_AUTO && !preview && !no_sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0;
+            run.task_bytes = pvs_extproj_task_bytes(res, sw);
+            snprintf(task_what, sizeof(task_what), "extproj at %u pixels with %u sweep planes", res, sw);
+            run.task_what = task_what;
+            run.task_hint = "lower --resolution or --sweep-planes, or raise --memory";
+        }
+    }
     run.object_count = pvs_scene_object_count(scene);
     run.state_every = state_every;
     if (!no_state) {
@@ -600,7 +598,13 @@ int main(int argc, char **argv) {
         run.fingerprint = bake_fingerprint(argc, argv, &m, &cells, up);
     }
     t_bake = cli_seconds();
-    if (cli_run_bake_ex(bake, threads, quiet, "bake", &run, &te)) goto fail;
+    i = cli_run_bake_ex(bake, threads, quiet, "bake", &run, &te);
+    if (i == -2) {
+        fprintf(stderr, "pvsbake: %s\n(see pvsbake --help)\n", te.message);
+        rc = 2;
+        goto done;
+    }
+    if (i) goto fail;
     t_bake = cli_seconds() - t_bake;
     if (!quiet && run.state_ignored)
         fprintf(stderr, "warning: %s is not this bake's state (another scene, cells or options, or a damaged header): ignored\n", state_path);
@@ -610,7 +614,7 @@ int main(int argc, char **argv) {
                 state_path);
     if (cli_write_bake(bake, out_path, &size, &te)) goto fail;
     if (run.state_path) remove(run.state_path);
-    if (!quiet) print_summary(out_path, scene, bake, &run, threads ? threads : cpu_count(), secs, t_bake, cli_seconds() - t0, size, shard_n > 1);
+    if (!quiet) print_summary(out_path, scene, bake, &run, run.threads_used ? run.threads_used : 1, secs, t_bake, cli_seconds() - t0, size, shard_n > 1);
     if (!quiet) {
         pvs_bake_report rep;
         pvs_bake_get_report(bake, &rep);
@@ -632,7 +636,12 @@ int main(int argc, char **argv) {
     rc = 0;
     goto done;
 fail:
-    fprintf(stderr, "pvsbake: %s\n", te.message);
+    if (mem.refused && !strstr(te.message, "memory limit")) {
+        char a[32];
+        fprintf(stderr, "pvsbake: %s (the memory limit of %s (%s) was reached)\n", te.message, cli_size_text((double)mem.limit, a), mem.source);
+    } else {
+        fprintf(stderr, "pvsbake: %s\n", te.message);
+    }
 done:
     free(secs);
     free(state_buf);
@@ -640,5 +649,16 @@ done:
     pvs_scene_destroy(scene);
     mesh_cells_free(&cells);
     mesh_free(&m);
+    cli_memory_destroy(&mem);
+    return rc;
+}
+
+int main(int argc, char **argv) {
+    char **args;
+    int rc;
+    if (argc > 1 && !strcmp(argv[1], "merge")) return merge_main(argc, argv);
+    args = cli_split_jobs(&argc, argv, value_options); /* -j2 as well as -j 2 */
+    rc = bake_main(argc, args);
+    if (args != argv) free(args);
     return rc;
 }

@@ -31,7 +31,7 @@ static int usage_error(const char *fmt, const char *arg) {
     return 2;
 }
 
-int main(int argc, char **argv) {
+static int check_main(int argc, char **argv) {
     const char *scene_path = NULL, *pvs_path = NULL;
     uint32_t up = 0, points = 32, rays = 4096, aim = 32, seed = 7, threads = 0;
     float max_distance = 0.0f;
@@ -45,7 +45,6 @@ int main(int argc, char **argv) {
     tool_error te;
     cli_check chk;
 
-    argv = cli_split_jobs(&argc, argv, value_options); /* -j2 as well as -j 2 */
     for (i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -105,5 +104,14 @@ done:
     pvs_scene_destroy(scene);
     mesh_free(&m);
     free(data);
+    return rc;
+}
+
+int main(int argc, char **argv) {
+    char **args;
+    int rc;
+    args = cli_split_jobs(&argc, argv, value_options); /* -j2 as well as -j 2 */
+    rc = check_main(argc, args);
+    if (args != argv) free(args);
     return rc;
 }

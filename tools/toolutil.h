@@ -21,7 +21,7 @@
 
 typedef struct tool_error {
     int line;            /* 1-based source line of the problem, 0 for file-level problems */
-    char message[256];   /* "PATH:LINE: problem" or "PATH: problem" (truncated if very long) */
+    char message[512];   /* "PATH:LINE: problem" or "PATH: problem" (truncated if very long) */
 } tool_error;
 
 /* Formats err->message as "PATH:LINE: <fmt...>" (line > 0) or "PATH: <fmt...>" (line <= 0) and sets
