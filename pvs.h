@@ -317,7 +317,10 @@
                       through them, improved occludee Projection, planes by distance band, the
                       occlusion sweep (pvsbake --sweep); adaptive cells (pvsbake --adaptive N);
                       coplanar triangles merged into one planar occluder, convex or concave (walls
-                      split into pieces, as in game maps, hide again).
+                      split into pieces, as in game maps, hide again). Bounded memory on any input:
+                      kD-tree reference and node pools (PVS_KDTREE_MAX_REFS_PER_BOX), scene memory
+                      bounds (PVS_SCENE_BYTES_PER_TRIANGLE); PVS_VISIT_ALL; the preview decides
+                      whole kD-tree nodes (a few milliseconds per cell at any scene size).
    0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps and per-frame culling;
                       bake methods shrink (with occluder synthesis), otree (c-LSS) and extproj.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set

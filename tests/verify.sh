@@ -159,5 +159,86 @@ case " $CONSERVATIVE_METHODS " in *" extproj "*)
     echo "forest-1000 $seed 0.4 extproj-sweep64-1024-subcells $line$note"
   done;;
 esac
+# bounded time and memory on any input (BOUNDED=0 skips): a 100,000-vertex single face (one OBJ `f`
+# line: a fan of 99,998 slivers) bakes with every method within 2 GB (--memory 2G and a 2.5 GB
+# address-space ulimit) and 60 s; the adversarial scenes at full size (a standing fan, slivers in every
+# direction, a huge triangle with 100,000 tiny ones, 100,000 copies of one triangle) bake with auto
+# and check with 0 misses; the resume journal costs at most 1.5 times --no-state at 10k, 40k and
+# 200,000 cells; the preview of 200,000 objects and 2,025 cells ends within 60 s on 2 threads; and the
+# sanitizer build of pvsbake ends 0 with the attached -j1 form
+if [ "${BOUNDED:-1}" != 0 ]; then
+  now() { date +%s.%N; }
+  four="$T/bounded-cells.txt"
+  printf '%s\n' "-10 1 -10 -5 3 -5" "20 1 20 25 3 25" "-40 10 30 -35 12 35" "0 30 -2 2 32 2" > "$four"
+  awk 'BEGIN { n = 100000; print "o fan"; for (i = 0; i < n; i++) { a = 6.283185307179586 * i / n; printf "v %.6f 5 %.6f\n", 50 * cos(a), 50 * sin(a) }
+               printf "f"; for (i = 1; i <= n; i++) printf " %d", i; print "" }' > "$T/fan100k.obj"
+  awk 'BEGIN { n = 100000; print "o fan"; for (i = 0; i < n; i++) { a = 6.283185307179586 * i / n; printf "v %.6f %.6f 0\n", 50 * cos(a), 50 + 50 * sin(a) }
+               printf "f"; for (i = 1; i <= n; i++) printf " %d", i; print "" }' > "$T/wallfan100k.obj"
+  awk 'BEGIN { srand(1); print "o slivers"; for (i = 0; i < 100000; i++) { a = 3.141592653589793 * rand(); y = 20 * rand(); c = 50 * cos(a); s = 50 * sin(a)
+               printf "v %.6f %.6f %.6f\nv %.6f %.6f %.6f\nv %.6f %.6f %.6f\nf %d %d %d\n", -c, y, -s, c, y, s, c, y + 0.001, s, 3*i+1, 3*i+2, 3*i+3 } }' > "$T/slivers100k.obj"
+  awk 'BEGIN { srand(2); print "o huge\nv -1e6 0 -1e6\nv 1e6 0 -1e6\nv 0 0 1e6\nf 1 2 3\no tiny"; for (i = 0; i < 100000; i++) { x = 100 * rand() - 50; y = 20 * rand(); z = 100 * rand() - 50
+               printf "v %.6f %.6f %.6f\nv %.6f %.6f %.6f\nv %.6f %.6f %.6f\nf %d %d %d\n", x, y, z, x + 0.001, y, z, x, y + 0.001, z, 3*i+4, 3*i+5, 3*i+6 } }' > "$T/hugetiny100k.obj"
+  awk 'BEGIN { print "v -10 0 -10\nv 10 0 -10\nv 0 10 10\no same"; for (i = 0; i < 100000; i++) print "f 1 2 3" }' > "$T/coincident100k.obj"
+  # and 24 small boxes around them (above, below and beside the fans), objects of their own that the
+  # adversarial occluders may hide: the checks then test what the methods cull
+  for scene in fan100k wallfan100k slivers100k hugetiny100k coincident100k; do
+    awk 'BEGIN { srand(5); for (b = 0; b < 24; b++) { x = 80 * rand() - 40; y = b % 3 == 0 ? 20 + 20 * rand() : b % 3 == 1 ? 6 + 4 * rand() : 0.5 * rand(); z = 80 * rand() - 40
+                 printf "o box%d\n", b; for (k = 0; k < 8; k++) printf "v %g %g %g\n", x + (k % 2), y + int(k / 2) % 2, z + (k >= 4)
+                 split("0 2 1 1 2 3 4 5 6 5 7 6 0 1 4 1 5 4 2 6 3 3 6 7 0 4 2 2 4 6 1 3 5 3 7 5", f, " ")
+                 for (t = 0; t < 12; t++) printf "f %d %d %d\n", f[3*t+1] - 8, f[3*t+2] - 8, f[3*t+3] - 8 } }' >> "$T/$scene.obj"
+  done
+  for method in sample shrink otree extproj vocc auto; do
+    t0=$(now)
+    ( ulimit -v 2621440; timeout 60 "$B/pvsbake" -q --no-state --memory 2G "$T/fan100k.obj" --cells "$four" --method "$method" -o "$T/fan.$method.pvs" ) > "$T/fan.$method.txt" 2>&1
+    rc=$?
+    dt=$(awk "BEGIN { printf \"%.1f\", $(now) - $t0 }")
+    note=""
+    if [ "$rc" -eq 124 ] || [ "$rc" -gt 1 ]; then fail=1; note=" FAIL"; fi  # 0: baked, 1: refused with a message (vocc: no walls)
+    echo "fan100k $method exit=$rc seconds=$dt$note $(head -c 160 "$T/fan.$method.txt" | tr '\n' ' ')"
+  done
+  for scene in fan100k wallfan100k slivers100k hugetiny100k coincident100k; do
+    t0=$(now)
+    ( ulimit -v 2621440; timeout 120 "$B/pvsbake" -q --no-state --memory 2G "$T/$scene.obj" --cells "$four" -o "$T/$scene.pvs" ) || { echo "$scene auto: bake failed FAIL"; fail=1; continue; }
+    dt=$(awk "BEGIN { printf \"%.1f\", $(now) - $t0 }")
+    line=$("$B/pvscheck" -q -j "$J" --seed 99 "$T/$scene.obj" "$T/$scene.pvs")
+    rc=$?
+    note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
+    echo "$scene auto seconds=$dt $line$note"
+  done
+  awk 'BEGIN { srand(3); v = 1; for (i = 0; i < 17; i++) { x = 90 * rand(); z = 90 * rand(); w = 2 + 6 * rand(); h = 3 + 12 * rand(); printf "o box%d\n", i
+               for (k = 0; k < 8; k++) printf "v %g %g %g\n", x + (k % 2 ? w : 0), (int(k / 2) % 2 ? h : 0), z + (k >= 4 ? w : 0)
+               split("0 2 1 1 2 3 4 5 6 5 7 6 0 1 4 1 5 4 2 6 3 3 6 7 0 4 2 2 4 6 1 3 5 3 7 5", f, " ")
+               for (t = 0; t < 12; t++) printf "f %d %d %d\n", v + f[3*t+1], v + f[3*t+2], v + f[3*t+3]; v += 8 } }' > "$T/small17.obj"
+  for cells in 10000 40000 200000; do
+    awk -v n="$cells" 'BEGIN { s = int(sqrt(n) + 0.999); c = 0; for (i = 0; i < s && c < n; i++) for (j = 0; j < s && c < n; j++) {
+               d = 100 / s; printf "%g 1 %g %g 2 %g\n", i * d, j * d, i * d + d, j * d + d; c++ } }' > "$T/small$cells.txt"
+    best_with=""; best_without=""
+    for run in 1 2; do
+      t0=$(now); "$B/pvsbake" -q --no-state "$T/small17.obj" --cells "$T/small$cells.txt" --method otree -j 2 -o "$T/small-a.pvs"; t1=$(now)
+      "$B/pvsbake" -q "$T/small17.obj" --cells "$T/small$cells.txt" --method otree -j 2 -o "$T/small-b.pvs"; t2=$(now)
+      a=$(awk "BEGIN { print $t1 - $t0 }"); b=$(awk "BEGIN { print $t2 - $t1 }")
+      if [ -z "$best_without" ] || awk "BEGIN { exit !($a < $best_without) }"; then best_without=$a; fi
+      if [ -z "$best_with" ] || awk "BEGIN { exit !($b < $best_with) }"; then best_with=$b; fi
+    done
+    cmp -s "$T/small-a.pvs" "$T/small-b.pvs" || { echo "state $cells: files differ"; fail=1; }
+    ratio=$(awk "BEGIN { printf \"%.2f\", $best_with / $best_without }")
+    note=""; awk "BEGIN { exit !($ratio > 1.5) }" && { fail=1; note=" FAIL"; }
+    echo "state $cells cells: ${best_with}s with the journal, ${best_without}s without, ratio $ratio$note"
+  done
+  awk 'BEGIN { srand(7); v = 1; side = 448; for (c = 0; c < 200000; c++) { x = (c % side) * 2 + 0.5 * rand(); z = int(c / side) * 2 + 0.5 * rand(); s = 0.3 + 0.9 * rand()
+               h = rand() < 0.3 ? 0.5 + 5.5 * rand() : 0.2 + 1.3 * rand(); printf "o b%d\n", c
+               for (k = 0; k < 8; k++) printf "v %.3f %.3f %.3f\n", x + (k % 2 ? s : 0), (int(k / 2) % 2 ? h : 0), z + (k >= 4 ? s : 0)
+               split("0 2 1 1 2 3 4 5 6 5 7 6 0 1 4 1 5 4 2 6 3 3 6 7 0 4 2 2 4 6 1 3 5 3 7 5", f, " ")
+               for (t = 0; t < 12; t++) printf "f %d %d %d\n", v + f[3*t+1], v + f[3*t+2], v + f[3*t+3]; v += 8 } }' > "$T/s200k.obj"
+  awk 'BEGIN { for (i = 0; i < 45; i++) for (j = 0; j < 45; j++) { x = (i + 0.5) * 896 / 45; z = (j + 0.5) * 896 / 45; printf "%.3f 0.1 %.3f %.3f 2 %.3f\n", x, z, x + 1.5, z + 1.5 } }' > "$T/s200k.txt"
+  t0=$(now)
+  "$B/pvsbake" -q "$T/s200k.obj" --cells "$T/s200k.txt" --preview -j 2 -o "$T/s200k.pvs" || { echo "preview 200k: bake failed"; fail=1; }
+  dt=$(awk "BEGIN { printf \"%.1f\", $(now) - $t0 }")
+  note=""; awk "BEGIN { exit !($dt > 60) }" && { fail=1; note=" FAIL"; }
+  echo "preview 200,000 objects 2,025 cells: ${dt}s$note"
+  make -s CONFIG=sanitize B="$B/san" "$B/san/pvsbake" >/dev/null 2>&1 || { echo "sanitize build failed"; fail=1; }
+  "$B/san/pvsbake" -q "$T/small17.obj" --cells "$T/small10000.txt" --method otree -j1 -o "$T/san.pvs" && echo "sanitizer pvsbake -j1: exit 0" ||
+    { echo "sanitizer pvsbake -j1: non-zero exit FAIL"; fail=1; }
+fi
 [ $fail -eq 0 ] && echo "verify: ok" || echo "verify: FAILED"
 exit $fail
