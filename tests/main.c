@@ -34,10 +34,10 @@ static const struct {
     int seconds;
 } groups[] = {
     {"core", test_core, 1},         {"format", test_format, 4},     {"noalloc", test_noalloc, 1},
-    {"kdtree", test_kdtree, 17},    {"gen", test_gen, 1},           {"tools", test_tools, 1},
-    {"cli", test_cli, 5},           {"raster", test_raster, 5},     {"otree", test_otree, 13},
-    {"extproj", test_extproj, 137}, {"shrink", test_shrink, 35},    {"auto", test_auto, 23},
-    {"examples", test_examples, 17}, {"vocc", test_vocc, 9},        {"bounded", test_bounded, 2},
+    {"kdtree", test_kdtree, 21},    {"gen", test_gen, 1},           {"tools", test_tools, 1},
+    {"cli", test_cli, 7},           {"raster", test_raster, 5},     {"otree", test_otree, 14},
+    {"extproj", test_extproj, 85},  {"shrink", test_shrink, 30},    {"auto", test_auto, 25},
+    {"examples", test_examples, 18}, {"vocc", test_vocc, 7},        {"bounded", test_bounded, 1},
 };
 #define GROUP_COUNT (sizeof(groups) / sizeof(groups[0]))
 
