@@ -17,8 +17,8 @@ TOOL_LIB := tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c to
 TOOL_HDR := pvs.h tools/mesh.h tools/obj.h tools/toolutil.h tools/gen.h tools/cli.h tools/render.h
 TOOL_OBJ := $(patsubst tools/%.c,$(B)/obj/%.o,$(TOOL_LIB))
 TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen $(B)/pvsview
-TEST_SRC := tests/main.c tests/impl.c tests/test_core.c tests/test_format.c tests/test_noalloc.c tests/test_kdtree.c \
-            tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c tests/test_extproj.c \
+TEST_SRC := tests/impl.c tests/test_extproj.c tests/test_noalloc.c tests/main.c tests/test_core.c tests/test_format.c tests/test_kdtree.c \
+            tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c \
             tests/test_shrink.c tests/test_auto.c tests/test_examples.c tests/test_vocc.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
 
 .PHONY: all tools test test-neon demo bench verify fuzz clean compile-checks readme-check examples cullmap-images
@@ -45,8 +45,8 @@ compile-checks: tests/compile_check.c pvs.h
 	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror -DPVS_NO_SIMD -DCHECK_HOOKS -c tests/compile_check.c -o $(B)/cc_hooks.o
 	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror -DPVS_NO_SIMD -DPVS_NO_STDIO -DCHECK_SORT -c tests/compile_check.c -o $(B)/cc_sort.o
 
-# one object per source, so that make -j compiles them side by side (three of them hold a private copy
-# of the implementation)
+# one object per source, so that make -j compiles them side by side (the three that hold a copy of the
+# implementation first: they take longest)
 TEST_OBJ := $(patsubst %.c,$(B)/tobj/%.o,$(TEST_SRC))
 $(B)/tobj/%.o: %.c tests/test.h $(TOOL_HDR)
 	@mkdir -p $(dir $@)
@@ -62,7 +62,7 @@ readme-check: README.md pvs.h
 	./$(B)/readme_example | grep -x 'object 0 visible, object 1 hidden'
 
 # the groups run side by side, one per CPU (the output does not depend on it)
-test: compile-checks readme-check tools $(B)/pvsruntime $(B)/pvstest
+test: $(B)/pvstest compile-checks readme-check tools $(B)/pvsruntime
 	cd $(B) && ./pvstest -j 0
 
 # NEON (not part of `make test`): the test binary built for aarch64, static, its raster group run under
