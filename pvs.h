@@ -2670,13 +2670,14 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
     if (best_axis < 0) return pvs__kd_make_leaf(b, node, base, n);
     axis = best_axis;
     split = b->planes[axis][best_k];
-    for (i = 0, nl = 0, nr = 0; i < n; ++i) { /* the exact sides, for the budget */
-        nl += b->refs[base + i].min[axis] <= split;
-        nr += b->refs[base + i].max[axis] >= split;
+    nr = n; /* a split adds at most n references: the pool has room unless it is nearly spent */
+    if (n > b->refs_left) { /* then the exact sides decide */
+        for (i = 0, nl = 0, nr = 0; i < n; ++i) {
+            nl += b->refs[base + i].min[axis] <= split;
+            nr += b->refs[base + i].max[axis] >= split;
+        }
+        if (nl + nr > n + b->refs_left) return pvs__kd_make_leaf(b, node, base, n);
     }
-    if (nl + nr > n + b->refs_left) return pvs__kd_make_leaf(b, node, base, n);
-    b->refs_left -= nl + nr - n;
-    b->nodes_left -= 2;
 
     /* distribute with closed intervals: a ref touching the plane goes to both sides, clipped. The
        left refs are compacted in place, the right ones written above the node's: right of base + n. */
@@ -2716,8 +2717,11 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
     rbox = *box;
     lbox.max[axis] = split;
     rbox.min[axis] = split;
+    nl = w - base;
+    nr = top - (base + n);
+    b->refs_left -= nl + nr - n;
+    b->nodes_left -= 2;
     /* the right refs are on top of the stack: build them first, then the left ones below */
-    PVS_ASSERT(w - base == nl && top - (base + n) == nr);
     r = pvs__kd_build(b, child + 1, base + n, nr, &rbox, depth + 1);
     if (r != PVS_OK) return r;
     return pvs__kd_build(b, child, base, nl, &lbox, depth + 1);
