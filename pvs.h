@@ -171,19 +171,19 @@
    MEMORY
    ======
    Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle kD-trees:
-   105 to 430 bytes per triangle on the generator's scenes, and never more than 2.4 KB per triangle
-   and per object whatever the triangles' shapes: PVS_SCENE_BYTES_PER_TRIANGLE), pvs_bake_begin (the cells and one bitset per cell: cell_count *
-   object_count / 8 bytes, and 40 bytes of statistics per cell), pvs_bake_run_task (AUTO: one bitset
-   per method it runs; EXTPROJ (128 + 8 x sweep planes) x N^2 bytes of depth maps and sweep masks of N
-   x N pixels each, plus the sweep's summed-area tables (4 (N^2 + N + 1 + min(16 N, 16384)) bytes per
-   plane of a direction up to 64 MiB, at least two; pvs_extproj_task_bytes): 8 MB at 256 pixels, 21 MB
-   with 16 sweep planes, 0.7 GB at 1024 and 64; all freed before returning; adaptive cells: a box and a
-   bitset per leaf, kept), pvs_file_encode (scratch about 40 bytes per cell plus one bitset),
-   pvs_raster_create (the depth map and pyramid, the cull map), pvs_otree_create (about 250 bytes per
-   tree node of its budget, 5 bytes per kD node and object). Allocates nothing: every pvs_file_* and
-   pvs_cursor_* call, kD-tree queries (caller scratch), pvs_raster_cull, pvs_raster_cull_map and
-   pvs_otree_cull per frame, pvs_vocc_cull (caller scratch: pvs_vocc_cull_scratch_size). A .pvs file is
-   used in place; it needs no copy.
+   105 to 430 bytes per triangle on the generator's scenes, and never more than 2.4 KB per triangle and
+   per object whatever the triangles' shapes: PVS_SCENE_BYTES_PER_TRIANGLE), pvs_bake_begin (the cells
+   and one bitset per cell: cell_count * object_count / 8 bytes, and 40 bytes of statistics per cell),
+   pvs_bake_run_task (AUTO: one bitset per method it runs; EXTPROJ (128 + 8 x sweep planes) x N^2 bytes
+   of depth maps and sweep masks of N x N pixels each, plus the sweep's summed-area tables (4 (N^2 + N
+   + 1 + min(16 N, 16384)) bytes per plane of a direction up to 64 MiB, at least two;
+   pvs_extproj_task_bytes): 8 MB at 256 pixels, 21 MB with 16 sweep planes, 0.7 GB at 1024 and 64; all
+   freed before returning; adaptive cells: a box and a bitset per leaf, kept), pvs_file_encode (scratch
+   about 40 bytes per cell plus one bitset), pvs_raster_create (the depth map and pyramid, the cull
+   map), pvs_otree_create (about 250 bytes per tree node of its budget, 5 bytes per kD node and
+   object). Allocates nothing: every pvs_file_* and pvs_cursor_* call, kD-tree queries (caller
+   scratch), pvs_raster_cull, pvs_raster_cull_map and pvs_otree_cull per frame, pvs_vocc_cull (caller
+   scratch: pvs_vocc_cull_scratch_size). A .pvs file is used in place; it needs no copy.
 
    PERFORMANCE (`make bench`, 2026-11-24, one core of a 2-core AMD EPYC VM, release build)
    ===========
@@ -2835,9 +2835,6 @@ PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *t) {
     return ((size_t)t->node_count + 1) / 2 * sizeof(pvs__kdsweep);
 }
 
-/* Bittner 2002 §3.2 (approximate occlusion sweep): a priority queue on the nodes' minimum distance
-   to the source. A child's cell lies inside its parent's, so its distance is never smaller and the
-   visit order is non-decreasing in distance. */
 /* PVS_VISIT_ALL: the non-empty leaves under inner node `node` (cell `box`), depth first, distance -1.
    Returns PVS_VISIT_STOP when the visitor said so. */
 PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, const pvs_box *box, pvs_kdtree_visit_fn visit, void *user) {
@@ -2872,6 +2869,9 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
     return PVS_VISIT_DESCEND;
 }
 
+/* Bittner 2002 §3.2 (approximate occlusion sweep): a priority queue on the nodes' minimum distance
+   to the source. A child's cell lies inside its parent's, so its distance is never smaller and the
+   visit order is non-decreasing in distance. */
 PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, void *scratch, size_t scratch_size,
                                     pvs_kdtree_visit_fn visit, void *user) {
     pvs__kdsweep *heap = (pvs__kdsweep *)scratch;
@@ -10655,11 +10655,6 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
     return ext;
 }
 
-/* The flood of one component K over grid `gr`: voxel box lo..hi (inclusive, lo[up] >= 1), its
-   triangles and open edges (see the argument above). Leaves in fl->bits, per box voxel, PVS__G_T/B/W
-   and the reached nodes; returns 0 when the outside of the box was never entered. With
-   mark_touched (gr is the occluders' own grid) it also sets PVS__VX_TOUCHED on the grid. */
-/* Step 1's test of one voxel of a component's box (pvs__vx_scan's visitor). */
 /* The voxels a triangle touches (separating axes, margin toward touched): pvs__vx_scan's visitor. */
 typedef struct pvs__vx_touch {
     pvs_occluders *o;          /* non-NULL: set PVS__VX_TOUCHED on its grid (gr is then its grid) */
@@ -10756,6 +10751,10 @@ PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
     }
 }
 
+/* The flood of one component K over grid `gr`: voxel box lo..hi (inclusive, lo[up] >= 1), its
+   triangles and open edges (see the argument above). Leaves in fl->bits, per box voxel, PVS__G_T/B/W
+   and the reached nodes; returns 0 when the outside of the box was never entered. With
+   mark_touched (gr is the occluders' own grid) it also sets PVS__VX_TOUCHED on the grid. */
 PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
                                         const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl, int mark_touched) {
     static const int xyz[3] = {0, 1, 2};
@@ -11579,30 +11578,42 @@ PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
    every building at PVS__VX_BOX_BUDGET voxels. The generator's city holds 30M voxels at its eps. */
 #define PVS__VX_TOTAL_BUDGET (1u << 26)
 #define PVS__VX_COMPONENT_SHARE (1u << 16)
-PVS__STATIC double pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx_topo *tp, double eps, double m) {
-    double h = eps, budget = (double)PVS__VX_TOTAL_BUDGET, total;
+PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx_topo *tp, const pvs_allocator *al, double eps, double m,
+                                               double *out) {
+    double h = eps, budget = (double)PVS__VX_TOTAL_BUDGET, total, *ext;
     uint32_t comp, t, q, k, n = 0;
+    *out = eps;
     for (comp = 0; comp < tp->comp_count; ++comp) n += tp->comp_first[comp + 1] - tp->comp_first[comp] >= 3;
+    if (!n) return PVS_OK;
+    ext = (double *)pvs__alloc_array(al, 3 * (size_t)n, sizeof(double)); /* the components' extents, grown by m */
+    if (!ext) return PVS_ERROR_OUT_OF_MEMORY;
+    for (comp = 0, n = 0; comp < tp->comp_count; ++comp) {
+        double lo[3], hi[3];
+        if (tp->comp_first[comp + 1] - tp->comp_first[comp] < 3) continue;
+        for (k = 0; k < 3; ++k) { lo[k] = DBL_MAX; hi[k] = -DBL_MAX; }
+        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t)
+            for (q = 0; q < 3; ++q)
+                for (k = 0; k < 3; ++k) {
+                    double y = s->positions[3 * (size_t)s->indices[3 * (size_t)tp->tris[t] + q] + k];
+                    lo[k] = pvs__dmin(lo[k], y);
+                    hi[k] = pvs__dmax(hi[k], y);
+                }
+        for (k = 0; k < 3; ++k) ext[3 * (size_t)n + k] = hi[k] - lo[k] + 2.0 * m;
+        ++n;
+    }
     budget = pvs__dmax(budget, (double)PVS__VX_COMPONENT_SHARE * n);
     for (;;) {
-        total = 0.0;
-        for (comp = 0; comp < tp->comp_count && total <= budget; ++comp) {
-            double lo[3], hi[3], vol = 1.0;
-            if (tp->comp_first[comp + 1] - tp->comp_first[comp] < 3) continue;
-            for (k = 0; k < 3; ++k) { lo[k] = DBL_MAX; hi[k] = -DBL_MAX; }
-            for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t)
-                for (q = 0; q < 3; ++q)
-                    for (k = 0; k < 3; ++k) {
-                        double y = s->positions[3 * (size_t)s->indices[3 * (size_t)tp->tris[t] + q] + k];
-                        lo[k] = pvs__dmin(lo[k], y);
-                        hi[k] = pvs__dmax(hi[k], y);
-                    }
-            for (k = 0; k < 3; ++k) vol *= pvs__dmin((hi[k] - lo[k] + 2.0 * m) / h + 3.0, 1e18);
+        for (comp = 0, total = 0.0; comp < n && total <= budget; ++comp) {
+            double vol = 1.0;
+            for (k = 0; k < 3; ++k) vol *= pvs__dmin(ext[3 * (size_t)comp + k] / h + 3.0, 1e18);
             total += pvs__dmin(vol, (double)PVS__VX_BOX_BUDGET); /* a bigger box grows its own voxels */
         }
-        if (total <= budget || !(h < 1e30)) return h;
+        if (total <= budget || !(h < 1e30)) break;
         h *= 1.26;
     }
+    pvs__free_array(al, ext, 3 * (size_t)n, sizeof(double));
+    *out = h;
+    return PVS_OK;
 }
 
 /* The column map and its chains: every component of three triangles or more flooded again on its own
@@ -11641,7 +11652,7 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
     cm->top = (float *)pvs__alloc_array(al, nmap, sizeof(float));
     if (!cm->solid || !cm->top) return PVS_ERROR_OUT_OF_MEMORY;
     for (x = 0; x < nmap; ++x) { cm->solid[x] = (float)g; cm->top[x] = -FLT_MAX; }
-    h0 = pvs__vx_component_voxel(s, tp, eps, m);
+    if (pvs__vx_component_voxel(s, tp, al, eps, m, &h0) != PVS_OK) return PVS_ERROR_OUT_OF_MEMORY;
     for (comp = 0; comp < tp->comp_count && res == PVS_OK; ++comp) {
         pvs__vx_grid gk;
         uint32_t lo[3], hi[3], t;

@@ -181,13 +181,7 @@ void test_noalloc(void) {
    boundary loop, through sorted edge ends) against the old walk that searched every unused edge. */
 
 static uint64_t bd_state = 0x5eed0b0d5ull;
-static double bd_rnd(void) {
-    uint64_t z = (bd_state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
+static double bd_rnd(void) { return (double)(pvs__splitmix64(&bd_state) >> 11) * (1.0 / 9007199254740992.0); } /* [0, 1) */
 
 typedef struct bd_scan_log {
     uint32_t n[3];

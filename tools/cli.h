@@ -124,7 +124,8 @@ typedef struct cli_bake_run {
     size_t task_bytes;        /* a known least size of one task (0: none; the first task measures it), */
     const char *task_what;    /*   what needs it ("extproj at 256 pixels"), and what lowers it, for messages */
     const char *task_hint;
-    int threads_given;        /* -j was given: more threads than fit is an error (-2), not lowered */
+    int threads_given;        /* -j was given: more threads than task_bytes fits is an error (-2); what the
+                                 first task measures only lowers them, with a note */
     int quiet_plan;           /* no note when the threads are lowered */
     uint32_t threads_used;    /* out: the threads that ran (0 = none needed) */
     uint32_t resumed;         /* out: tasks restored from the state file */
