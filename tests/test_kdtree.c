@@ -248,7 +248,7 @@ static void test_raycast_soup(void) {
     s = make_scene(&m, obj, 1);
     CHECK(s != NULL);
     if (s) {
-        compare_rays(&m, s, lo, hi, 12000);
+        compare_rays(&m, s, lo, hi, 5000);
         /* a ray straight at a zero-area triangle hits nothing when nothing else is there */
         {
             float o[3] = {-100, -100, -100}, d[3] = {-1, 0, 0};
@@ -295,7 +295,7 @@ static void test_raycast_city(void) {
     CHECK(s != NULL);
     if (s) {
         CHECK(pvs_scene_object_count(s) == n);
-        compare_rays(&m, s, lo, hi, 12000);
+        compare_rays(&m, s, lo, hi, 5000);
         pvs_scene_destroy(s);
     }
     tm_free(&m);

@@ -572,7 +572,7 @@ static int chains_block(const pvs_facade_chain *ch, uint32_t nch, const double *
 
 static void test_random_prisms(void) {
     int trial;
-    for (trial = 0; trial < 3; ++trial) {
+    for (trial = 0; trial < 2; ++trial) {
         mesh m;
         pvs_scene *s;
         pvs_bake_desc bd;
