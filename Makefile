@@ -196,6 +196,7 @@ $(B)/verify_otree: tests/verify_otree.c tests/test_otree.c tests/test.h tools/me
 	$(CC) -std=c99 $(WARN) -Werror -O2 -g -o $@ tests/verify_otree.c tests/test_otree.c tests/impl.c tools/mesh.c tools/gen.c $(LDLIBS)
 
 verify: tools $(B)/verify_raster $(B)/verify_otree
+	sh tests/bake_hashes.sh --check
 	./$(B)/verify_raster
 	./$(B)/verify_otree
 	sh tests/verify.sh
