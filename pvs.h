@@ -1964,6 +1964,75 @@ PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
     return ~crc;
 }
 
+/* ---- the bake's method table: what >>bake's driver knows of a method ---- */
+
+/* A bake method is one row of >>bake's table (pvs__bake_methods): a few functions over a per-bake
+   state of its own, which the driver holds behind one pointer. The driver checks every method's
+   parameters, prepares the methods the bake may run, keeps those that can cull something in the scene
+   (AUTO's policy), runs each on every cell and intersects their PVSs (an intersection of conservative
+   sets is conservative), and destroys them. A method's functions live in its module; adding a method
+   is its module and one row of the table. */
+
+/* What a method sees of the bake. `cells` are every cell of the bake, not only the shard's (what a
+   method prepares over them then agrees between shards); `task_cells` the shard's, one per task. */
+typedef struct pvs__bake_env {
+    const pvs_scene *scene;
+    pvs_allocator allocator;
+    const pvs_box *cells;
+    uint32_t cell_count;
+    const pvs_box *task_cells;
+    uint32_t task_count;
+    uint32_t object_count;
+    size_t words;              /* per PVS */
+    float eps;                 /* the bake's eps (stored in the file): a method's prepare may derive it */
+    uint32_t flags;            /* PVS_BAKE_* */
+    int is_auto;               /* 1: the bake's method is AUTO (a method's PVS may be one of several intersected) */
+} pvs__bake_env;
+
+/* What the run of a cell found (per task, for pvs_bake_report). */
+#define PVS__BAKE_ALL_VISIBLE 1u
+#define PVS__BAKE_NO_OCCLUDERS 2u
+#define PVS__BAKE_EXCLUDED 4u
+#define PVS__BAKE_OTREE_BUDGET 8u
+
+/* Traits of a method (pvs__bake_method.traits). */
+#define PVS__METHOD_CONSERVATIVE 1u /* AUTO may intersect it (never an estimate from below) */
+#define PVS__METHOD_AUTO_DEFAULT 2u /* AUTO considers it when pvs_bake_desc.methods is 0 */
+#define PVS__METHOD_APPROXIMATE 4u  /* its file is flagged PVS_FILE_APPROXIMATE */
+#define PVS__METHOD_WHOLE_CELLS 8u  /* run alone, it stores data of whole cells beyond their PVSs: no
+                                       adaptive cells, no resuming from PVSs */
+#define PVS__METHOD_SETS_OTHERS 16u /* it sets every object outside its candidates (pvs_bake_method_info's
+                                       kept_only when it runs after others) */
+
+typedef struct pvs__bake_method {
+    pvs_method method;
+    uint32_t traits;            /* PVS__METHOD_* */
+    int cost_rank;              /* AUTO runs the methods cheapest first (1..4); PREVIEW keeps the first
+                                   that applies */
+    /* Checks desc's parameters of this method, whichever method the bake runs. NULL: none. */
+    pvs_result (*check)(const pvs_bake_desc *desc, pvs_error *err);
+    /* Makes *state, read-only in the tasks but for per-task slots. UNSUPPORTED: the method cannot
+       run on this scene (AUTO then skips it). *state is destroyed even when this fails. */
+    pvs_result (*prepare)(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err);
+    /* 1 if the prepared method can leave anything out in this scene, with the reason in *why either
+       way. NULL: always ("conservative"). */
+    int (*applies)(const void *state, const char **why);
+    /* The method's PVS of a box of a task (its cell or, adaptive, a part of it) into `bits`, cleared
+       by the caller. `candidates`, when not NULL, are the objects the caller intersects with (an
+       adaptive sub-cell's parent PVS, the methods run before): a method may test only those. Adds
+       PVS__BAKE_* to *flags. Thread-safe for distinct tasks. */
+    pvs_result (*cell)(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
+                       const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err);
+    /* Fills the file's sections of the method's own when the bake runs it alone. NULL: none. */
+    void (*file)(const void *state, pvs_file_desc *fd);
+    /* Frees the state (NULL is fine). */
+    void (*destroy)(const pvs__bake_env *env, void *state);
+} pvs__bake_method;
+
+struct pvs_bake;
+/* The state of method m in a bake, NULL when the bake did not prepare it (>>bake). */
+PVS__STATIC void *pvs__bake_method_state(const struct pvs_bake *b, pvs_method m);
+
 // >>scene
 /* ---------------------------------------------------------------------------------------------- */
 /* scene: validated copies of the caller's arrays, object bounds, explicit occluders              */
@@ -9788,6 +9857,256 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
     return PVS_OK;
 }
 
+/* ---- the OTREE bake method (a row of >>bake's table) ---- */
+
+/* The OTREE method's per-bake state (pvs__otree_prepare). */
+typedef struct pvs__otree_bake {
+    pvs_allocator allocator;
+    uint32_t object_count;
+    uint32_t budget;           /* pvs_visibility_25d_desc.node_budget (0 = its default) */
+    float *facades;            /* facade_count x (u0 v0 u1 v1 top), by level */
+    uint32_t facade_count, facade_cap, vertical, level_count;
+    float level[PVS__OT25_LEVELS];        /* base heights, ascending */
+    uint32_t level_end[PVS__OT25_LEVELS]; /* the facades of levels <= k: [0, level_end[k]) */
+    float *objects;            /* object_count x (umin vmin umax vmax top) */
+    pvs_kdtree *tree[PVS__OT25_LEVELS];   /* per level, over pvs_visibility_25d_boxes */
+} pvs__otree_bake;
+
+/* Facades for c-LSS (§7.1) from the scene's vertical walls, any tessellation (pvs__facades_extract):
+   wall segments with the height interval [base, top] they fully cover over their length.
+   Base heights. c-LSS takes an occluder as standing on the ground: a ray over its 2D line passes it
+   only above its top. A facade with base b is such an occluder for every ray whose two ends are no
+   lower than b: the ray's height is linear, so it is at least b where it crosses the facade. From a
+   cell whose bottom is c, toward an object whose bottom is o, every ray starts no lower than c and
+   ends no lower than o: the facades with b <= min(c, o) may be used, the others not (a ray may pass
+   under them). The bases are gathered into at most PVS__OT25_LEVELS levels (a facade belongs to the
+   lowest level at or above its base: it is then used for fewer pairs, conservative), the facades
+   are sorted by level, and every level k gets a kD-tree over the facades of levels <= k and the
+   objects. A cell then runs pvs_visibility_25d once per level that some object needs (one run for a
+   scene whose walls all stand on the ground); objects below every level are visible. */
+PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *cells, uint32_t cell_count) {
+    int up = s->up_axis == 2 ? 2 : 1, u, v;
+    float *fac = NULL, maxc = -FLT_MAX;
+    size_t fac_floats = 0;
+    uint32_t n = 0, i, k, nl = 0, m = 0, total;
+    pvs__ot_order *ord = NULL;
+    pvs_result r;
+    pvs__ground_axes((uint32_t)up, &u, &v);
+    r = pvs__facades_extract(s, &ot->allocator, &fac, &fac_floats, &n, &ot->vertical);
+    if (r != PVS_OK) return r;
+    r = PVS_ERROR_OUT_OF_MEMORY;
+    total = n;
+    ot->facade_cap = n;
+    ot->facades = (float *)pvs__alloc_array(&ot->allocator, (size_t)n * 5 + 5, sizeof(float));
+    ot->objects = (float *)pvs__alloc_array(&ot->allocator, (size_t)ot->object_count * 5 + 5, sizeof(float));
+    ord = (pvs__ot_order *)pvs__alloc_array(&ot->allocator, (size_t)n + 1, sizeof(pvs__ot_order));
+    if (!ot->facades || !ot->objects || !ord) goto done;
+    /* only facades some cell can use: base no higher than the highest cell bottom (of the whole bake,
+       so that shards agree) */
+    for (i = 0; i < cell_count; ++i)
+        if (i == 0 || cells[i].min[up] > maxc) maxc = cells[i].min[up];
+    for (i = 0; i < n; ++i) {
+        const float *f = fac + 6 * (size_t)i;
+        if (!(f[5] <= maxc)) continue;
+        ord[m].key = f[5];
+        ord[m].index = i;
+        ++m;
+    }
+    pvs__ot_sort(ord, m); /* by base, then extraction order */
+    /* the levels: the PVS__OT25_LEVELS distinct bases holding the most wall area (ties: the lower) */
+    {
+        double area[PVS__OT25_LEVELS];
+        float cand[PVS__OT25_LEVELS];
+        uint32_t nc = 0, j;
+        for (i = 0; i < m;) {
+            float base = (float)ord[i].key;
+            double sum = 0.0;
+            for (j = i; j < m && (float)ord[j].key == base; ++j) {
+                const float *f = fac + 6 * (size_t)ord[j].index;
+                double dx = (double)f[2] - f[0], dy = (double)f[3] - f[1];
+                sum += sqrt(dx * dx + dy * dy) * ((double)f[4] - f[5]);
+            }
+            i = j;
+            if (nc < PVS__OT25_LEVELS) { cand[nc] = base; area[nc] = sum; ++nc; continue; }
+            for (j = 0, k = 1; k < nc; ++k) if (area[k] < area[j] || (area[k] == area[j] && cand[k] > cand[j])) j = k;
+            if (sum > area[j]) { cand[j] = base; area[j] = sum; }
+        }
+        for (i = 0; i < nc; ++i) { /* ascending */
+            for (j = i + 1; j < nc; ++j)
+                if (cand[j] < cand[i]) { float tf = cand[i]; double ta = area[i]; cand[i] = cand[j]; area[i] = area[j]; cand[j] = tf; area[j] = ta; }
+            ot->level[i] = cand[i];
+        }
+        nl = nc;
+    }
+    ot->level_count = nl;
+    /* facades by level (a facade joins the lowest level at or above its base; above the highest it is
+       left out), 5 floats each */
+    for (i = 0, k = 0, n = 0; i < m && k < nl; ++i) {
+        const float *f = fac + 6 * (size_t)ord[i].index;
+        while (k < nl && ot->level[k] < f[5]) ot->level_end[k++] = n;
+        if (k == nl) break;
+        memcpy(ot->facades + 5 * (size_t)n++, f, 5 * sizeof(float));
+    }
+    for (; k < nl; ++k) ot->level_end[k] = n;
+    ot->facade_count = n;
+    for (i = 0; i < ot->object_count; ++i) {
+        const pvs_box *bx = s->object_boxes + i;
+        float *o = ot->objects + 5 * (size_t)i;
+        o[0] = bx->min[u]; o[1] = bx->min[v]; o[2] = bx->max[u]; o[3] = bx->max[v]; o[4] = bx->max[up];
+        if (bx->min[0] > bx->max[0] || (s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)) { o[0] = 1.0f; o[2] = 0.0f; } /* never visible */
+    }
+    for (k = 0; k < nl; ++k) {
+        pvs_kdtree_desc kd;
+        uint32_t nk = ot->level_end[k];
+        pvs_box *boxes = (pvs_box *)pvs__alloc_array(&ot->allocator, (size_t)nk + ot->object_count + 1, sizeof(pvs_box));
+        if (!boxes) goto done;
+        pvs_visibility_25d_boxes(ot->facades, nk, ot->objects, ot->object_count, boxes);
+        memset(&kd, 0, sizeof(kd));
+        kd.boxes = boxes;
+        kd.count = nk + ot->object_count;
+        kd.allocator = ot->allocator;
+        r = pvs_kdtree_create(&kd, &ot->tree[k], NULL);
+        pvs__free_array(&ot->allocator, boxes, (size_t)nk + ot->object_count + 1, sizeof(pvs_box));
+        if (r != PVS_OK) goto done;
+        r = PVS_ERROR_OUT_OF_MEMORY;
+    }
+    r = PVS_OK;
+done:
+    pvs__free(&ot->allocator, fac, fac_floats * sizeof(float), 16);
+    pvs__free_array(&ot->allocator, ord, (size_t)total + 1, sizeof(pvs__ot_order));
+    return r;
+}
+
+/* One cell with pvs_visibility_25d, once per level some object needs (pvs__otree_prepare): the
+   objects whose min(cell bottom, object bottom) lies in [level k, level k + 1) are tested against
+   the facades of levels <= k; objects below the lowest level are visible. c: the task's cell or,
+   with adaptive cells, a part of it. Adds PVS__BAKE_NO_OCCLUDERS and PVS__BAKE_OTREE_BUDGET to
+   *flags where they hold. */
+PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *c, uint32_t cell, pvs_word *bits,
+                                        unsigned *flags, pvs_error *err) {
+    pvs_otree_stats st;
+    int up = s->up_axis == 2 ? 2 : 1, u, v;
+    pvs_visibility_25d_desc d;
+    float *own = NULL;
+    pvs_word *part = NULL;
+    unsigned char *grp = NULL;
+    uint32_t i, k, no = ot->object_count, used = 0, below = 0;
+    pvs_result r = PVS_OK;
+    pvs__ground_axes((uint32_t)up, &u, &v);
+    memset(&d, 0, sizeof(d));
+    d.cell_min[0] = c->min[u]; d.cell_min[1] = c->min[v];
+    d.cell_max[0] = c->max[u]; d.cell_max[1] = c->max[v];
+    d.cell_top = c->max[up];
+    d.allocator = ot->allocator;
+    d.node_budget = ot->budget;
+    grp = (unsigned char *)pvs__alloc_array(&ot->allocator, (size_t)no + 1, 1);
+    if (!grp) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u object levels", cell);
+    for (i = 0; i < no; ++i) { /* the level of each drawable object: the highest one at or below its floor */
+        float fl = s->object_boxes[i].min[up];
+        if (c->min[up] < fl) fl = c->min[up];
+        grp[i] = 0xff;
+        if (ot->objects[5 * (size_t)i] > ot->objects[5 * (size_t)i + 2]) continue; /* never visible */
+        for (k = ot->level_count; k-- > 0;)
+            if (ot->level[k] <= fl) { grp[i] = (unsigned char)k; used |= 1u << k; break; }
+        if (grp[i] == 0xff) { pvs_bitset_set(bits, i); below = 1; } /* below every facade's base: seen under them */
+    }
+    if (!used) *flags |= PVS__BAKE_NO_OCCLUDERS; /* no object had a facade to be hidden by */
+    for (k = 0; k < ot->level_count && r == PVS_OK; ++k) {
+        if (!(used & (1u << k))) continue;
+        d.facades = ot->facades;
+        d.facade_count = ot->level_end[k];
+        d.tree = ot->tree[k];
+        d.objects = ot->objects;
+        d.object_count = no;
+        if (used != 1u << k || below) { /* other levels' objects are left out of this run */
+            if (!own) {
+                own = (float *)pvs__alloc_array(&ot->allocator, (size_t)no * 5 + 5, sizeof(float));
+                part = (pvs_word *)pvs__alloc_array(&ot->allocator, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
+                if (!own || !part) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u objects", cell); break; }
+            }
+            memcpy(own, ot->objects, (size_t)no * 5 * sizeof(float));
+            for (i = 0; i < no; ++i)
+                if (grp[i] != k) { own[5 * (size_t)i] = 1.0f; own[5 * (size_t)i + 2] = 0.0f; }
+            d.objects = own;
+            r = pvs_visibility_25d(&d, part, &st, err);
+            if (r == PVS_OK)
+                for (i = 0; i < (uint32_t)PVS_BITSET_WORDS(no); ++i) bits[i] |= part[i];
+        } else {
+            r = pvs_visibility_25d(&d, bits, &st, err); /* the only run, every object: into bits directly */
+        }
+        if (r == PVS_OK && st.budget_exceeded) *flags |= PVS__BAKE_OTREE_BUDGET;
+    }
+    if (own) pvs__free_array(&ot->allocator, own, (size_t)no * 5 + 5, sizeof(float));
+    if (part) pvs__free_array(&ot->allocator, part, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
+    pvs__free_array(&ot->allocator, grp, (size_t)no + 1, 1);
+    if (r != PVS_OK) {
+        if (err) err->index = cell;
+        return r;
+    }
+    for (i = 0; i < no; ++i) /* occluder-only and empty objects never appear */
+        if (ot->objects[5 * (size_t)i] > ot->objects[5 * (size_t)i + 2]) pvs_bitset_clear(bits, i);
+    return PVS_OK;
+}
+
+
+PVS__STATIC void pvs__otree_bake_destroy(const pvs__bake_env *env, void *state) {
+    pvs__otree_bake *ot = (pvs__otree_bake *)state;
+    uint32_t k;
+    (void)env;
+    if (!ot) return;
+    pvs__free_array(&ot->allocator, ot->facades, (size_t)ot->facade_cap * 5 + 5, sizeof(float));
+    pvs__free_array(&ot->allocator, ot->objects, (size_t)ot->object_count * 5 + 5, sizeof(float));
+    for (k = 0; k < PVS__OT25_LEVELS; ++k) pvs_kdtree_destroy(ot->tree[k]);
+    pvs__free(&ot->allocator, ot, sizeof(*ot), 16);
+}
+
+PVS__STATIC pvs_result pvs__otree_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
+    if (desc->otree_node_budget && (desc->otree_node_budget < 64 || desc->otree_node_budget > (1u << 24)))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree_node_budget %u is not in 64..2^24", desc->otree_node_budget);
+    return PVS_OK;
+}
+
+PVS__STATIC pvs_result pvs__otree_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err) {
+    pvs__otree_bake *ot = (pvs__otree_bake *)pvs__alloc(&env->allocator, sizeof(pvs__otree_bake), 16);
+    *state = ot;
+    if (!ot) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
+    memset(ot, 0, sizeof(*ot));
+    ot->allocator = env->allocator;
+    ot->object_count = env->object_count;
+    ot->budget = desc->otree_node_budget;
+    if (pvs__otree_prepare(ot, env->scene, env->cells, env->cell_count) != PVS_OK)
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
+    return PVS_OK;
+}
+
+PVS__STATIC int pvs__otree_bake_applies(const void *state, const char **why) {
+    const pvs__otree_bake *ot = (const pvs__otree_bake *)state;
+    *why = ot->facade_count ? "2.5D: facades (vertical walls)" : "no vertical wall gives a facade (2.5D occluder)";
+    return ot->facade_count != 0;
+}
+
+PVS__STATIC pvs_result pvs__otree_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
+                                            const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err) {
+    (void)task;
+    (void)candidates;
+    return pvs__otree_cell((const pvs__otree_bake *)state, env->scene, box, cell, bits, flags, err);
+}
+
+PVS__STATIC const pvs__bake_method pvs__otree_method = {
+    PVS_METHOD_OTREE, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 2, pvs__otree_bake_check, pvs__otree_bake_prepare,
+    pvs__otree_bake_applies, pvs__otree_bake_cell, NULL, pvs__otree_bake_destroy};
+
+PVS_API void pvs_bake_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
+    const pvs__otree_bake *ot = b ? (const pvs__otree_bake *)pvs__bake_method_state(b, PVS_METHOD_OTREE) : NULL;
+    memset(info, 0, sizeof(*info));
+    if (!ot) return;
+    info->prepared = 1;
+    info->vertical_triangles = ot->vertical;
+    info->facades = ot->facade_count;
+    info->levels = ot->level_count;
+    info->lowest_level = ot->level_count ? ot->level[0] : 0.0f;
+}
+
 // >>occluders
 /* ---------------------------------------------------------------------------------------------- */
 /* occluders: synthesis of certainly-solid volumes (for Wonka 2000's shrinking, §2 and appendix)  */
@@ -14526,6 +14845,130 @@ done:
     return PVS_OK;
 }
 
+/* ---- the VOCC bake method (a row of >>bake's table) ---- */
+
+typedef struct pvs__vocc_bake {
+    pvs_allocator allocator;
+    pvs__vbake *vb;            /* facades and loops, read-only in tasks */
+    uint32_t task_count, keep, only;
+    uint8_t *bytes;            /* per task: keep x 5 bytes of virtual occluders, */
+    uint8_t *count, *scale;    /* their count and scale code */
+    pvs_vocc_stats *stats;     /* per task */
+} pvs__vocc_bake;
+
+PVS__STATIC pvs_result pvs__vocc_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
+    if (desc->vocc_only && (desc->method != PVS_METHOD_VOCC || desc->vocc_only > 1))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "vocc_only is 0 or 1, and 1 needs PVS_METHOD_VOCC");
+    return PVS_OK;
+}
+
+/* Facades and loops once (pvs__vbake_create), per-task occluder records. */
+PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err) {
+    uint32_t slices = desc->vocc_slices ? desc->vocc_slices : 5, keep = desc->vocc_max_occluders ? desc->vocc_max_occluders : 10;
+    pvs__vocc_bake *vo;
+    pvs_result r;
+    *state = NULL;
+    if (slices > 16 || keep > 255)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "vocc: slices %u (1..16), occluders per cell %u (1..255)", slices, keep);
+    vo = (pvs__vocc_bake *)pvs__alloc(&env->allocator, sizeof(pvs__vocc_bake), 16);
+    *state = vo;
+    if (!vo) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "vocc: facades");
+    memset(vo, 0, sizeof(*vo));
+    vo->allocator = env->allocator;
+    vo->task_count = env->task_count;
+    vo->keep = keep;
+    r = pvs__vbake_create(env->scene, &env->allocator, slices, keep, &vo->vb);
+    if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "vocc: facades");
+    if (!vo->vb->prep->nobj && !env->is_auto)
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
+                         "vocc: the scene has no vertical walls standing on the ground (2.5D occluders): virtual occluders cannot be built");
+    vo->only = desc->vocc_only;
+    vo->bytes = (uint8_t *)pvs__alloc_array(&env->allocator, (size_t)vo->task_count * keep * 5, 1);
+    vo->count = (uint8_t *)pvs__alloc_array(&env->allocator, vo->task_count, 1);
+    vo->scale = (uint8_t *)pvs__alloc_array(&env->allocator, vo->task_count, 1);
+    vo->stats = (pvs_vocc_stats *)pvs__alloc_array(&env->allocator, vo->task_count, sizeof(pvs_vocc_stats));
+    if (!vo->bytes || !vo->count || !vo->scale || !vo->stats)
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "vocc: per-cell occluders");
+    memset(vo->count, 0, vo->task_count);
+    memset(vo->scale, 0, vo->task_count);
+    memset(vo->stats, 0, vo->task_count * sizeof(pvs_vocc_stats));
+    return PVS_OK;
+}
+
+PVS__STATIC int pvs__vocc_bake_applies(const void *state, const char **why) {
+    const pvs__vocc_bake *vo = (const pvs__vocc_bake *)state;
+    int any = vo->vb && vo->vb->prep->nobj;
+    *why = any ? "2.5D: virtual occluders behind walls standing on the ground" : "not 2.5D: no vertical wall stands on the ground";
+    return any;
+}
+
+/* The task's whole cell (VOCC bakes no adaptive cells): its virtual occluders into the task's record
+   and the PVS they prove; with vocc_only, every drawable object instead (placeholder records). */
+PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
+                                           const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err) {
+    pvs__vocc_bake *vo = (pvs__vocc_bake *)state;
+    const pvs__vbake *vb = vo->vb;
+    pvs_result r;
+    (void)box;
+    (void)candidates;
+    (void)flags;
+    memset(vo->stats + task, 0, sizeof(pvs_vocc_stats));
+    r = pvs__vo_bake_cell(vb, env->task_cells + task, vo->bytes + (size_t)task * vb->max_keep * 5, vo->count + task, vo->scale + task,
+                          bits, vo->stats + task, err);
+    if (r != PVS_OK) {
+        if (err) err->index = cell;
+        return r;
+    }
+    if (vo->only) {
+        uint32_t i;
+        memset(bits, 0, env->words * sizeof(pvs_word));
+        for (i = 0; i < env->object_count; ++i)
+            if (pvs__vo_box_ok(vb->boxes + i)) pvs_bitset_set(bits, i);
+    }
+    return PVS_OK;
+}
+
+/* The file's VOCC section: the cells' virtual occluders. */
+PVS__STATIC void pvs__vocc_bake_file(const void *state, pvs_file_desc *fd) {
+    const pvs__vocc_bake *vo = (const pvs__vocc_bake *)state;
+    fd->vocc_counts = vo->count;
+    fd->vocc_scales = vo->scale;
+    fd->virtual_occluders = vo->bytes;
+    fd->vocc_stride = vo->vb->max_keep * 5;
+    fd->vocc_base = vo->vb->base;
+    fd->vocc_height_step = vo->vb->hstep;
+    fd->vocc_flags = vo->only ? PVS_VOCC_ONLY : 0u;
+}
+
+PVS__STATIC void pvs__vocc_bake_destroy(const pvs__bake_env *env, void *state) {
+    pvs__vocc_bake *vo = (pvs__vocc_bake *)state;
+    (void)env;
+    if (!vo) return;
+    pvs__free_array(&vo->allocator, vo->bytes, (size_t)vo->task_count * vo->keep * 5, 1);
+    pvs__free_array(&vo->allocator, vo->count, vo->task_count, 1);
+    pvs__free_array(&vo->allocator, vo->scale, vo->task_count, 1);
+    pvs__free_array(&vo->allocator, vo->stats, vo->task_count, sizeof(pvs_vocc_stats));
+    pvs__vbake_destroy(vo->vb);
+    pvs__free(&vo->allocator, vo, sizeof(*vo), 16);
+}
+
+/* Not in AUTO unless named (pvs_bake_desc.methods): it is for storage and the run-time rebuild, not
+   for tightness. */
+PVS__STATIC const pvs__bake_method pvs__vocc_method = {
+    PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, pvs__vocc_bake_check, pvs__vocc_bake_prepare,
+    pvs__vocc_bake_applies, pvs__vocc_bake_cell, pvs__vocc_bake_file, pvs__vocc_bake_destroy};
+
+PVS_API void pvs_bake_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
+    const pvs__vocc_bake *vo = b ? (const pvs__vocc_bake *)pvs__bake_method_state(b, PVS_METHOD_VOCC) : NULL;
+    uint32_t i;
+    memset(out, 0, sizeof(*out));
+    for (i = 0; vo && vo->stats && i < vo->task_count; ++i) {
+        const pvs_vocc_stats *t = vo->stats + i;
+        out->slices += t->slices; out->seeds += t->seeds; out->umbra += t->umbra; out->separating += t->separating;
+        out->dense += t->dense; out->dropped += t->dropped; out->selected += t->selected;
+    }
+}
+
 // >>methods
 /* ---------------------------------------------------------------------------------------------- */
 /* methods: region visibility: the ray-sampling estimator; extended projections (at the end)      */
@@ -14670,6 +15113,46 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
     }
     return rays;
 }
+
+/* ---- the SAMPLE bake method (a row of >>bake's table): an estimate from below, never intersected ---- */
+
+typedef struct pvs__sample_bake {
+    pvs_allocator allocator;
+    uint32_t points, rays;
+    uint64_t seed;
+} pvs__sample_bake;
+
+PVS__STATIC pvs_result pvs__sample_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err) {
+    pvs__sample_bake *sb = (pvs__sample_bake *)pvs__alloc(&env->allocator, sizeof(pvs__sample_bake), 16);
+    *state = sb;
+    if (!sb) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "sample");
+    sb->allocator = env->allocator;
+    sb->points = desc->sample_points ? desc->sample_points : 32;
+    sb->rays = desc->sample_rays ? desc->sample_rays : 2048;
+    sb->seed = desc->seed;
+    return PVS_OK;
+}
+
+PVS__STATIC pvs_result pvs__sample_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
+                                             const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err) {
+    const pvs__sample_bake *sb = (const pvs__sample_bake *)state;
+    uint64_t seed = sb->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull); /* per cell: independent of the run order */
+    (void)task;
+    (void)candidates;
+    (void)flags;
+    (void)err;
+    pvs_sample_visibility(env->scene, box, sb->points, sb->rays, pvs__splitmix64(&seed), bits);
+    return PVS_OK;
+}
+
+PVS__STATIC void pvs__sample_bake_destroy(const pvs__bake_env *env, void *state) {
+    (void)env;
+    if (state) pvs__free(&((pvs__sample_bake *)state)->allocator, state, sizeof(pvs__sample_bake), 16);
+}
+
+PVS__STATIC const pvs__bake_method pvs__sample_method = {
+    PVS_METHOD_SAMPLE, PVS__METHOD_APPROXIMATE, 4, NULL, pvs__sample_bake_prepare, NULL, pvs__sample_bake_cell, NULL,
+    pvs__sample_bake_destroy};
 
 /* ---- extended projections (Durand et al. 2000) ---- */
 
@@ -18201,6 +18684,77 @@ done:
     pvs__ep_scratch_free(al, &w, prm->res);
     return r;
 }
+/* ---- the EXTPROJ bake method (a row of >>bake's table) ---- */
+
+typedef struct pvs__extproj_bake {
+    pvs_allocator allocator;
+    pvs__extproj_prep *prep;  /* the scene's occluders, read-only in tasks */
+    pvs__epparams prm;
+} pvs__extproj_bake;
+
+PVS__STATIC pvs_result pvs__extproj_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
+    int preview = (desc->flags & PVS_BAKE_PREVIEW) != 0, is_auto = desc->method == PVS_METHOD_AUTO || desc->method == PVS_METHOD_DEFAULT;
+    if (desc->extproj_resolution && (desc->extproj_resolution < 16 || desc->extproj_resolution > 4096))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_resolution %u is not in 16..4096", desc->extproj_resolution);
+    if (desc->extproj_occluders > 65536)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_occluders %u > 65536", desc->extproj_occluders);
+    if (desc->extproj_sweep > 256 && desc->extproj_sweep != PVS_EXTPROJ_NO_SWEEP)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep %u > 256", desc->extproj_sweep);
+    if (desc->extproj_sweep_subcells > 1 && desc->extproj_sweep_subcells != 4)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep_subcells %u is not 0, 1 or 4", desc->extproj_sweep_subcells);
+    if (desc->extproj_sweep_subcells == 4 &&
+        (desc->extproj_sweep == PVS_EXTPROJ_NO_SWEEP || (!desc->extproj_sweep && (!is_auto || preview))))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep_subcells 4 needs the occlusion sweep (extproj_sweep)");
+    return PVS_OK;
+}
+
+/* The parameters: desc's, or the defaults (PREVIEW: coarse; AUTO: with the sweep). */
+PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err) {
+    pvs__extproj_bake *x = (pvs__extproj_bake *)pvs__alloc(&env->allocator, sizeof(pvs__extproj_bake), 16);
+    int preview = (env->flags & PVS_BAKE_PREVIEW) != 0;
+    *state = x;
+    if (!x) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj");
+    memset(x, 0, sizeof(*x));
+    x->allocator = env->allocator;
+    x->prm.res = desc->extproj_resolution ? desc->extproj_resolution : preview ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS__EP_DEFAULT_RES;
+    x->prm.max_occ = desc->extproj_occluders ? desc->extproj_occluders : preview ? 32u : PVS__EP_DEFAULT_OCC;
+    x->prm.sweep = desc->extproj_sweep == PVS_EXTPROJ_NO_SWEEP ? 0u : desc->extproj_sweep;
+    if (!desc->extproj_sweep && env->is_auto && !preview) x->prm.sweep = PVS_EXTPROJ_SWEEP_PLANES; /* AUTO's default */
+    x->prm.split = desc->extproj_sweep_subcells == 4;
+    x->prm.coarse = preview;
+    return pvs__extproj_prepare(env->scene, &env->allocator, &x->prep, err);
+}
+
+PVS__STATIC int pvs__extproj_bake_applies(const void *state, const char **why) {
+    const pvs__extproj_bake *x = (const pvs__extproj_bake *)state;
+    int any = x->prep && x->prep->occ_count;
+    *why = !any ? "no planar occluder or convex solid"
+           : x->prm.sweep ? "3D: planar occluders and convex solids, with the occlusion sweep"
+                          : "3D: planar occluders and convex solids";
+    return any;
+}
+
+/* Tests only the candidates (when given) and sets none of the other objects. */
+PVS__STATIC pvs_result pvs__extproj_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
+                                              const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err) {
+    const pvs__extproj_bake *x = (const pvs__extproj_bake *)state;
+    (void)task;
+    (void)flags;
+    return pvs__extproj_cell(env->scene, x->prep, box, &x->prm, candidates, &env->allocator, bits, cell, err);
+}
+
+PVS__STATIC void pvs__extproj_bake_destroy(const pvs__bake_env *env, void *state) {
+    pvs__extproj_bake *x = (pvs__extproj_bake *)state;
+    (void)env;
+    if (!x) return;
+    pvs__extproj_prep_destroy(x->prep);
+    pvs__free(&x->allocator, x, sizeof(*x), 16);
+}
+
+PVS__STATIC const pvs__bake_method pvs__extproj_method = {
+    PVS_METHOD_EXTPROJ, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, pvs__extproj_bake_check, pvs__extproj_bake_prepare,
+    pvs__extproj_bake_applies, pvs__extproj_bake_cell, NULL, pvs__extproj_bake_destroy};
+
 /* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
 
 /* ---- the 2.5D path: per-sample occlusion horizons ----
@@ -18933,302 +19487,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 }
 
 
-// >>bake
-/* ---------------------------------------------------------------------------------------------- */
-/* bake: validated cells, one task per cell, results in cell order whatever the run order         */
-/* ---------------------------------------------------------------------------------------------- */
-
-struct pvs_bake {
-    pvs_allocator allocator;
-    const pvs_scene *scene;
-    pvs_box *cells;            /* per task: the shard's cells in id order */
-    uint32_t cell_count;       /* the shard's (task_count) */
-    uint32_t total_cell_count, shard_index, shard_count;
-    uint32_t object_count;
-    size_t words;              /* per cell */
-    pvs_word *pvs;             /* cell_count * words */
-    unsigned char *done;       /* cell_count flags, each written by its own task only */
-    pvs_method method;
-    float eps;
-    uint32_t sample_points, sample_rays, max_chain;
-    uint64_t seed;
-    float *ot_facades;         /* OTREE: facade_count x (u0 v0 u1 v1 top), by level (pvs__otree_prepare) */
-    uint32_t ot_facade_count, ot_facade_cap, ot_vertical, ot_level_count, ot_prepared;
-    float ot_level[PVS__OT25_LEVELS];        /* OTREE: base heights, ascending */
-    uint32_t ot_level_end[PVS__OT25_LEVELS]; /* the facades of levels <= k: [0, ot_level_end[k]) */
-    float *ot_objects;         /* OTREE: object_count x (umin vmin umax vmax top) */
-    pvs_kdtree *ot_tree[PVS__OT25_LEVELS];   /* OTREE: per level, over pvs_visibility_25d_boxes */
-    struct pvs__extproj_prep *extproj;        /* EXTPROJ: the scene's occluders, read-only in tasks */
-    uint32_t extproj_resolution, extproj_occluders, extproj_sweep, extproj_split;
-    uint32_t otree_budget;     /* OTREE: pvs_visibility_25d_desc.node_budget (0 = its default) */
-    pvs_occluders *occluders;  /* SHRINK */
-    pvs_occluders *occluders_leak; /* SHRINK: made with every cell seeding, for the cells the first left out */
-    pvs_shrink_mode shrink_mode;
-    /* the methods considered (AUTO: every candidate, in run order) and those each task runs; a task's
-       PVS is the intersection of theirs (an intersection of conservative sets is conservative) */
-    pvs_method considered[PVS_METHOD_COUNT];
-    const char *reason[PVS_METHOD_COUNT];
-    unsigned char ran[PVS_METHOD_COUNT];
-    uint32_t considered_count;
-    pvs_method run[PVS_METHOD_COUNT];
-    uint32_t run_count;
-    uint32_t *stats;           /* per task: run_count own PVS sizes, then run_count sole-cull counts */
-    unsigned char *restored;   /* per task: done by pvs_bake_restore_task (no stats) */
-    float max_distance;
-    uint32_t flags;
-    struct pvs__vbake *vocc;   /* VOCC: prepared facades (>>vocc), read-only in tasks */
-    uint8_t *vocc_bytes;       /* VOCC: per task max_occluders x 5 bytes, */
-    uint8_t *vocc_count, *vocc_scale; /* its count and scale code */
-    pvs_vocc_stats *vocc_stats;/* per task */
-    uint32_t vocc_only;
-    unsigned char *cell_flags; /* per task, written by its own task: PVS__BAKE_* */
-    uint32_t drawable;         /* objects that can appear in a PVS */
-    uint32_t adaptive_budget;  /* adaptive cells (§6.1), 0 = off */
-    float adaptive_min_size;
-    uint32_t *object_triangles;/* adaptive: triangles per object */
-    struct pvs__bakeleaves *leaves; /* adaptive: per task, its leaf cells */
-};
-#define PVS__BAKE_ALL_VISIBLE 1u
-#define PVS__BAKE_NO_OCCLUDERS 2u
-#define PVS__BAKE_EXCLUDED 4u
-#define PVS__BAKE_OTREE_BUDGET 8u
-
-/* The leaf cells of one adaptive task and their PVSs. */
-typedef struct pvs__bakeleaves {
-    size_t count, capacity;
-    pvs_box *boxes;
-    pvs_word *pvs;             /* count * words */
-} pvs__bakeleaves;
-
-PVS_API void pvs_bake_destroy(pvs_bake *b) {
-    pvs_allocator a;
-    if (!b) return;
-    a = b->allocator;
-    pvs__free_array(&a, b->cells, b->cell_count, sizeof(pvs_box));
-    pvs__free_array(&a, b->pvs, (size_t)b->cell_count * b->words, sizeof(pvs_word));
-    pvs__free_array(&a, b->done, b->cell_count, 1);
-    pvs__free_array(&a, b->restored, b->cell_count, 1);
-    pvs__free_array(&a, b->stats, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
-    pvs__free_array(&a, b->cell_flags, b->cell_count, 1);
-    pvs__free_array(&a, b->ot_facades, (size_t)b->ot_facade_cap * 5 + 5, sizeof(float));
-    pvs__free_array(&a, b->ot_objects, (size_t)b->object_count * 5 + 5, sizeof(float));
-    {
-        uint32_t k;
-        for (k = 0; k < PVS__OT25_LEVELS; ++k) pvs_kdtree_destroy(b->ot_tree[k]);
-    }
-    pvs__extproj_prep_destroy(b->extproj);
-    pvs_occluders_destroy(b->occluders);
-    pvs_occluders_destroy(b->occluders_leak);
-    if (b->vocc) {
-        pvs__free_array(&a, b->vocc_bytes, (size_t)b->cell_count * b->vocc->max_keep * 5, 1);
-        pvs__free_array(&a, b->vocc_count, b->cell_count, 1);
-        pvs__free_array(&a, b->vocc_scale, b->cell_count, 1);
-        pvs__free_array(&a, b->vocc_stats, b->cell_count, sizeof(pvs_vocc_stats));
-        pvs__vbake_destroy(b->vocc);
-    }
-    pvs__free_array(&a, b->object_triangles, (size_t)b->object_count + 1, sizeof(uint32_t));
-    if (b->leaves) {
-        uint32_t i;
-        for (i = 0; i < b->cell_count; ++i) {
-            pvs__free_array(&a, b->leaves[i].boxes, b->leaves[i].capacity, sizeof(pvs_box));
-            pvs__free_array(&a, b->leaves[i].pvs, b->leaves[i].capacity * b->words, sizeof(pvs_word));
-        }
-        pvs__free_array(&a, b->leaves, b->cell_count, sizeof(pvs__bakeleaves));
-    }
-    pvs__free(&a, b, sizeof(*b), 16);
-}
-
-/* Checks a cell box: finite, min <= max. */
-PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *err) {
-    int k;
-    for (k = 0; k < 3; ++k) {
-        if (!pvs__finite(c->min[k]) || !pvs__finite(c->max[k]))
-            return pvs__fail(err, PVS_ERROR_BAD_CELL, i, 0, "cell %u has a coordinate that is not finite", i);
-        if (c->min[k] > c->max[k])
-            return pvs__fail(err, PVS_ERROR_BAD_CELL, i, 0, "cell %u has min > max on axis %d", i, k);
-    }
-    return PVS_OK;
-}
-
-/* ---- the OTREE bake method ---- */
-
-/* Facades for c-LSS (§7.1) from the scene's vertical walls, any tessellation (pvs__facades_extract):
-   wall segments with the height interval [base, top] they fully cover over their length.
-   Base heights. c-LSS takes an occluder as standing on the ground: a ray over its 2D line passes it
-   only above its top. A facade with base b is such an occluder for every ray whose two ends are no
-   lower than b: the ray's height is linear, so it is at least b where it crosses the facade. From a
-   cell whose bottom is c, toward an object whose bottom is o, every ray starts no lower than c and
-   ends no lower than o: the facades with b <= min(c, o) may be used, the others not (a ray may pass
-   under them). The bases are gathered into at most PVS__OT25_LEVELS levels (a facade belongs to the
-   lowest level at or above its base: it is then used for fewer pairs, conservative), the facades
-   are sorted by level, and every level k gets a kD-tree over the facades of levels <= k and the
-   objects. A cell then runs pvs_visibility_25d once per level that some object needs (one run for a
-   scene whose walls all stand on the ground); objects below every level are visible. */
-PVS__STATIC pvs_result pvs__otree_prepare(pvs_bake *b, const pvs_box *cells, uint32_t cell_count) {
-    const pvs_scene *s = b->scene;
-    int up = s->up_axis == 2 ? 2 : 1, u, v;
-    float *fac = NULL, maxc = -FLT_MAX;
-    size_t fac_floats = 0;
-    uint32_t n = 0, i, k, nl = 0, m = 0, total;
-    pvs__ot_order *ord = NULL;
-    pvs_result r;
-    pvs__ground_axes((uint32_t)up, &u, &v);
-    b->ot_prepared = 1;
-    r = pvs__facades_extract(s, &b->allocator, &fac, &fac_floats, &n, &b->ot_vertical);
-    if (r != PVS_OK) return r;
-    r = PVS_ERROR_OUT_OF_MEMORY;
-    total = n;
-    b->ot_facade_cap = n;
-    b->ot_facades = (float *)pvs__alloc_array(&b->allocator, (size_t)n * 5 + 5, sizeof(float));
-    b->ot_objects = (float *)pvs__alloc_array(&b->allocator, (size_t)b->object_count * 5 + 5, sizeof(float));
-    ord = (pvs__ot_order *)pvs__alloc_array(&b->allocator, (size_t)n + 1, sizeof(pvs__ot_order));
-    if (!b->ot_facades || !b->ot_objects || !ord) goto done;
-    /* only facades some cell can use: base no higher than the highest cell bottom (of the whole bake,
-       so that shards agree) */
-    for (i = 0; i < cell_count; ++i)
-        if (i == 0 || cells[i].min[up] > maxc) maxc = cells[i].min[up];
-    for (i = 0; i < n; ++i) {
-        const float *f = fac + 6 * (size_t)i;
-        if (!(f[5] <= maxc)) continue;
-        ord[m].key = f[5];
-        ord[m].index = i;
-        ++m;
-    }
-    pvs__ot_sort(ord, m); /* by base, then extraction order */
-    /* the levels: the PVS__OT25_LEVELS distinct bases holding the most wall area (ties: the lower) */
-    {
-        double area[PVS__OT25_LEVELS];
-        float cand[PVS__OT25_LEVELS];
-        uint32_t nc = 0, j;
-        for (i = 0; i < m;) {
-            float base = (float)ord[i].key;
-            double sum = 0.0;
-            for (j = i; j < m && (float)ord[j].key == base; ++j) {
-                const float *f = fac + 6 * (size_t)ord[j].index;
-                double dx = (double)f[2] - f[0], dy = (double)f[3] - f[1];
-                sum += sqrt(dx * dx + dy * dy) * ((double)f[4] - f[5]);
-            }
-            i = j;
-            if (nc < PVS__OT25_LEVELS) { cand[nc] = base; area[nc] = sum; ++nc; continue; }
-            for (j = 0, k = 1; k < nc; ++k) if (area[k] < area[j] || (area[k] == area[j] && cand[k] > cand[j])) j = k;
-            if (sum > area[j]) { cand[j] = base; area[j] = sum; }
-        }
-        for (i = 0; i < nc; ++i) { /* ascending */
-            for (j = i + 1; j < nc; ++j)
-                if (cand[j] < cand[i]) { float tf = cand[i]; double ta = area[i]; cand[i] = cand[j]; area[i] = area[j]; cand[j] = tf; area[j] = ta; }
-            b->ot_level[i] = cand[i];
-        }
-        nl = nc;
-    }
-    b->ot_level_count = nl;
-    /* facades by level (a facade joins the lowest level at or above its base; above the highest it is
-       left out), 5 floats each */
-    for (i = 0, k = 0, n = 0; i < m && k < nl; ++i) {
-        const float *f = fac + 6 * (size_t)ord[i].index;
-        while (k < nl && b->ot_level[k] < f[5]) b->ot_level_end[k++] = n;
-        if (k == nl) break;
-        memcpy(b->ot_facades + 5 * (size_t)n++, f, 5 * sizeof(float));
-    }
-    for (; k < nl; ++k) b->ot_level_end[k] = n;
-    b->ot_facade_count = n;
-    for (i = 0; i < b->object_count; ++i) {
-        const pvs_box *bx = s->object_boxes + i;
-        float *o = b->ot_objects + 5 * (size_t)i;
-        o[0] = bx->min[u]; o[1] = bx->min[v]; o[2] = bx->max[u]; o[3] = bx->max[v]; o[4] = bx->max[up];
-        if (bx->min[0] > bx->max[0] || (s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)) { o[0] = 1.0f; o[2] = 0.0f; } /* never visible */
-    }
-    for (k = 0; k < nl; ++k) {
-        pvs_kdtree_desc kd;
-        uint32_t nk = b->ot_level_end[k];
-        pvs_box *boxes = (pvs_box *)pvs__alloc_array(&b->allocator, (size_t)nk + b->object_count + 1, sizeof(pvs_box));
-        if (!boxes) goto done;
-        pvs_visibility_25d_boxes(b->ot_facades, nk, b->ot_objects, b->object_count, boxes);
-        memset(&kd, 0, sizeof(kd));
-        kd.boxes = boxes;
-        kd.count = nk + b->object_count;
-        kd.allocator = b->allocator;
-        r = pvs_kdtree_create(&kd, &b->ot_tree[k], NULL);
-        pvs__free_array(&b->allocator, boxes, (size_t)nk + b->object_count + 1, sizeof(pvs_box));
-        if (r != PVS_OK) goto done;
-        r = PVS_ERROR_OUT_OF_MEMORY;
-    }
-    r = PVS_OK;
-done:
-    pvs__free(&b->allocator, fac, fac_floats * sizeof(float), 16);
-    pvs__free_array(&b->allocator, ord, (size_t)total + 1, sizeof(pvs__ot_order));
-    return r;
-}
-
-/* One cell with pvs_visibility_25d, once per level some object needs (pvs__otree_prepare): the
-   objects whose min(cell bottom, object bottom) lies in [level k, level k + 1) are tested against
-   the facades of levels <= k; objects below the lowest level are visible. c: the task's cell or,
-   with adaptive cells, a part of it. Adds PVS__BAKE_NO_OCCLUDERS and PVS__BAKE_OTREE_BUDGET to
-   *flags where they hold. */
-PVS__STATIC pvs_result pvs__otree_cell(pvs_bake *b, const pvs_box *c, uint32_t cell, pvs_word *bits, unsigned *flags, pvs_error *err) {
-    const pvs_scene *s = b->scene;
-    pvs_otree_stats st;
-    int up = s->up_axis == 2 ? 2 : 1, u, v;
-    pvs_visibility_25d_desc d;
-    float *own = NULL;
-    pvs_word *part = NULL;
-    unsigned char *grp = NULL;
-    uint32_t i, k, no = b->object_count, used = 0, below = 0;
-    pvs_result r = PVS_OK;
-    pvs__ground_axes((uint32_t)up, &u, &v);
-    memset(&d, 0, sizeof(d));
-    d.cell_min[0] = c->min[u]; d.cell_min[1] = c->min[v];
-    d.cell_max[0] = c->max[u]; d.cell_max[1] = c->max[v];
-    d.cell_top = c->max[up];
-    d.allocator = b->allocator;
-    d.node_budget = b->otree_budget;
-    grp = (unsigned char *)pvs__alloc_array(&b->allocator, (size_t)no + 1, 1);
-    if (!grp) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u object levels", cell);
-    for (i = 0; i < no; ++i) { /* the level of each drawable object: the highest one at or below its floor */
-        float fl = s->object_boxes[i].min[up];
-        if (c->min[up] < fl) fl = c->min[up];
-        grp[i] = 0xff;
-        if (b->ot_objects[5 * (size_t)i] > b->ot_objects[5 * (size_t)i + 2]) continue; /* never visible */
-        for (k = b->ot_level_count; k-- > 0;)
-            if (b->ot_level[k] <= fl) { grp[i] = (unsigned char)k; used |= 1u << k; break; }
-        if (grp[i] == 0xff) { pvs_bitset_set(bits, i); below = 1; } /* below every facade's base: seen under them */
-    }
-    if (!used) *flags |= PVS__BAKE_NO_OCCLUDERS; /* no object had a facade to be hidden by */
-    for (k = 0; k < b->ot_level_count && r == PVS_OK; ++k) {
-        if (!(used & (1u << k))) continue;
-        d.facades = b->ot_facades;
-        d.facade_count = b->ot_level_end[k];
-        d.tree = b->ot_tree[k];
-        d.objects = b->ot_objects;
-        d.object_count = no;
-        if (used != 1u << k || below) { /* other levels' objects are left out of this run */
-            if (!own) {
-                own = (float *)pvs__alloc_array(&b->allocator, (size_t)no * 5 + 5, sizeof(float));
-                part = (pvs_word *)pvs__alloc_array(&b->allocator, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
-                if (!own || !part) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u objects", cell); break; }
-            }
-            memcpy(own, b->ot_objects, (size_t)no * 5 * sizeof(float));
-            for (i = 0; i < no; ++i)
-                if (grp[i] != k) { own[5 * (size_t)i] = 1.0f; own[5 * (size_t)i + 2] = 0.0f; }
-            d.objects = own;
-            r = pvs_visibility_25d(&d, part, &st, err);
-            if (r == PVS_OK)
-                for (i = 0; i < (uint32_t)PVS_BITSET_WORDS(no); ++i) bits[i] |= part[i];
-        } else {
-            r = pvs_visibility_25d(&d, bits, &st, err); /* the only run, every object: into bits directly */
-        }
-        if (r == PVS_OK && st.budget_exceeded) *flags |= PVS__BAKE_OTREE_BUDGET;
-    }
-    if (own) pvs__free_array(&b->allocator, own, (size_t)no * 5 + 5, sizeof(float));
-    if (part) pvs__free_array(&b->allocator, part, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
-    pvs__free_array(&b->allocator, grp, (size_t)no + 1, 1);
-    if (r != PVS_OK) {
-        if (err) err->index = cell;
-        return r;
-    }
-    for (i = 0; i < no; ++i) /* occluder-only and empty objects never appear */
-        if (b->ot_objects[5 * (size_t)i] > b->ot_objects[5 * (size_t)i + 2]) pvs_bitset_clear(bits, i);
-    return PVS_OK;
-}
+/* ---- the SHRINK bake method (a row of >>bake's table) ---- */
 
 /* The default eps of the shrink method: an eighth of the median of the cells' smallest ground-plane
    extent (Wonka 2000 §4.1 used 1 m for cells of several metres: 6-8 samples per edge), in double
@@ -19261,125 +19520,183 @@ PVS__STATIC float pvs__shrink_default_eps(const pvs_box *cells, uint32_t n, uint
     return (float)(eps < lo ? lo : eps > hi ? hi : eps);
 }
 
-/* ---- the driver's methods: preparation, applicability (AUTO), one cell ---- */
+typedef struct pvs__shrink_bake {
+    pvs_allocator allocator;
+    pvs_occluders *occluders;
+    pvs_occluders *occluders_leak; /* made with every cell seeding, for the cells the first left out */
+    pvs_shrink_mode mode;
+} pvs__shrink_bake;
 
-/* 1 for the conservative methods AUTO may intersect (never SAMPLE: an estimate from below). */
-PVS__STATIC int pvs__method_conservative(pvs_method m) {
-    return m > PVS_METHOD_DEFAULT && m < PVS_METHOD_COUNT && m != PVS_METHOD_SAMPLE && m != PVS_METHOD_AUTO;
-}
-/* Rough cost per cell on the demo city, cheapest first (the PERFORMANCE figures): AUTO runs the
-   methods in this order and PREVIEW keeps the first that applies. Methods not listed come last. */
-PVS__STATIC int pvs__method_cost_rank(pvs_method m) {
-    switch (m) {
-    case PVS_METHOD_EXTPROJ: return 1;
-    case PVS_METHOD_OTREE: return 2;
-    case PVS_METHOD_VOCC: return 2; /* about 60-90 ms per cell */
-    case PVS_METHOD_SHRINK: return 3;
-    default: return 4;
+/* Occluder synthesis over every cell of the bake (not only the shard's: shards agree). */
+PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err) {
+    pvs__shrink_bake *sh;
+    pvs_occluders_desc od;
+    pvs_result r;
+    *state = NULL;
+    if ((int)desc->shrink_mode < 0 || desc->shrink_mode >= PVS_SHRINK_MODE_COUNT)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown shrink mode %d", (int)desc->shrink_mode);
+    sh = (pvs__shrink_bake *)pvs__alloc(&env->allocator, sizeof(pvs__shrink_bake), 16);
+    *state = sh;
+    if (!sh) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink");
+    memset(sh, 0, sizeof(*sh));
+    sh->allocator = env->allocator;
+    if (!(env->eps > 0.0f)) {
+        pvs_box sb = pvs_scene_bounds(desc->scene);
+        env->eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene), &sb);
+        if (env->flags & PVS_BAKE_PREVIEW) env->eps *= 2.0f;
     }
-}
-
-/* Prepares method m's per-bake data (read-only in the tasks). UNSUPPORTED for a method the driver
-   has no cell function for. */
-PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, pvs_method m, const pvs_bake_desc *desc, pvs_error *err) {
-    switch (m) {
-    case PVS_METHOD_SAMPLE: return PVS_OK;
-    case PVS_METHOD_EXTPROJ: return pvs__extproj_prepare(b->scene, &b->allocator, &b->extproj, err);
-    case PVS_METHOD_OTREE:
-        if (pvs__otree_prepare(b, desc->cells, desc->cell_count) != PVS_OK) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
-        return PVS_OK;
-    case PVS_METHOD_SHRINK: {
-        /* occluder synthesis over every cell of the bake (not only the shard's): shards agree */
-        pvs_occluders_desc od;
-        pvs_result r;
-        if ((int)desc->shrink_mode < 0 || desc->shrink_mode >= PVS_SHRINK_MODE_COUNT)
-            return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown shrink mode %d", (int)desc->shrink_mode);
-        if (!(b->eps > 0.0f)) {
-            pvs_box sb = pvs_scene_bounds(desc->scene);
-            b->eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene), &sb);
-            if (b->flags & PVS_BAKE_PREVIEW) b->eps *= 2.0f;
-        }
-        memset(&od, 0, sizeof(od));
-        od.scene = desc->scene;
-        od.cells = desc->cells;
-        od.cell_count = desc->cell_count;
-        od.eps = b->eps;
-        od.voxel_size = desc->voxel_size;
-        od.allocator = b->allocator;
-        r = pvs_occluders_create(&od, &b->occluders, err);
+    memset(&od, 0, sizeof(od));
+    od.scene = desc->scene;
+    od.cells = desc->cells;
+    od.cell_count = desc->cell_count;
+    od.eps = env->eps;
+    od.voxel_size = desc->voxel_size;
+    od.allocator = env->allocator;
+    r = pvs_occluders_create(&od, &sh->occluders, err);
+    if (r != PVS_OK) return r;
+    if (sh->occluders->info.excluded_cells) {
+        /* leaking cells were left out of the proof: they bake with occluders every cell seeded */
+        od.flags = PVS_OCCLUDERS_KEEP_LEAKS;
+        r = pvs_occluders_create(&od, &sh->occluders_leak, err);
         if (r != PVS_OK) return r;
-        if (b->occluders->info.excluded_cells) {
-            /* leaking cells were left out of the proof: they bake with occluders every cell seeded */
-            od.flags = PVS_OCCLUDERS_KEEP_LEAKS;
-            r = pvs_occluders_create(&od, &b->occluders_leak, err);
-            if (r != PVS_OK) return r;
-        }
-        b->shrink_mode = desc->shrink_mode;
-        if (b->shrink_mode == PVS_SHRINK_AUTO) b->shrink_mode = b->occluders->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
-        return PVS_OK;
     }
-    case PVS_METHOD_VOCC: { /* >>vocc: facades and loops once, per-task occluder records */
-        uint32_t slices = desc->vocc_slices ? desc->vocc_slices : 5, keep = desc->vocc_max_occluders ? desc->vocc_max_occluders : 10;
-        pvs_result r;
-        if (slices > 16 || keep > 255)
-            return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "vocc: slices %u (1..16), occluders per cell %u (1..255)", slices, keep);
-        r = pvs__vbake_create(b->scene, &b->allocator, slices, keep, &b->vocc);
-        if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "vocc: facades");
-        if (!b->vocc->prep->nobj && b->method == PVS_METHOD_VOCC)
-            return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
-                             "vocc: the scene has no vertical walls standing on the ground (2.5D occluders): virtual occluders cannot be built");
-        b->vocc_only = desc->vocc_only;
-        b->vocc_bytes = (uint8_t *)pvs__alloc_array(&b->allocator, (size_t)b->cell_count * keep * 5, 1);
-        b->vocc_count = (uint8_t *)pvs__alloc_array(&b->allocator, b->cell_count, 1);
-        b->vocc_scale = (uint8_t *)pvs__alloc_array(&b->allocator, b->cell_count, 1);
-        b->vocc_stats = (pvs_vocc_stats *)pvs__alloc_array(&b->allocator, b->cell_count, sizeof(pvs_vocc_stats));
-        if (!b->vocc_bytes || !b->vocc_count || !b->vocc_scale || !b->vocc_stats)
-            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "vocc: per-cell occluders");
-        memset(b->vocc_count, 0, b->cell_count);
-        memset(b->vocc_scale, 0, b->cell_count);
-        memset(b->vocc_stats, 0, b->cell_count * sizeof(pvs_vocc_stats));
-        return PVS_OK;
-    }
-    default: return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "the bake driver cannot run method %s", pvs_method_name(m));
-    }
+    sh->mode = desc->shrink_mode;
+    if (sh->mode == PVS_SHRINK_AUTO) sh->mode = sh->occluders->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
+    return PVS_OK;
 }
 
-/* AUTO: 1 if the prepared method m can leave anything out in this scene (2.5D or not, planar
-   occluders or volumes), with the reason in *why either way. */
-PVS__STATIC int pvs__bake_applies(const pvs_bake *b, pvs_method m, const char **why) {
-    switch (m) {
-    case PVS_METHOD_EXTPROJ:
-        *why = !(b->extproj && b->extproj->occ_count) ? "no planar occluder or convex solid"
-               : b->extproj_sweep ? "3D: planar occluders and convex solids, with the occlusion sweep"
-                                  : "3D: planar occluders and convex solids";
-        return b->extproj && b->extproj->occ_count;
-    case PVS_METHOD_OTREE:
-        *why = b->ot_facade_count ? "2.5D: facades (vertical walls)" : "no vertical wall gives a facade (2.5D occluder)";
-        return b->ot_facade_count != 0;
-    case PVS_METHOD_SHRINK:
-        if (!b->occluders || !b->occluders->info.eroded) {
-            *why = "no occluder volume survives erosion by eps (thin walls or open geometry)";
-            return 0;
-        }
-        *why = b->shrink_mode == PVS_SHRINK_2D5 ? "volumes: 2.5D columns synthesized from closed geometry"
-                                                : "volumes: 3D boxes synthesized from closed geometry";
-        return 1;
-    case PVS_METHOD_VOCC:
-        *why = b->vocc && b->vocc->prep->nobj ? "2.5D: virtual occluders behind walls standing on the ground"
-                                              : "not 2.5D: no vertical wall stands on the ground";
-        return b->vocc && b->vocc->prep->nobj;
-    default: *why = "conservative"; return 1;
+PVS__STATIC int pvs__shrink_bake_applies(const void *state, const char **why) {
+    const pvs__shrink_bake *sh = (const pvs__shrink_bake *)state;
+    if (!sh->occluders || !sh->occluders->info.eroded) {
+        *why = "no occluder volume survives erosion by eps (thin walls or open geometry)";
+        return 0;
     }
+    *why = sh->mode == PVS_SHRINK_2D5 ? "volumes: 2.5D columns synthesized from closed geometry"
+                                      : "volumes: 3D boxes synthesized from closed geometry";
+    return 1;
 }
 
 /* SHRINK tests only the candidates: the other drawable objects are set in `bits` first (kept, until
    the caller's intersection leaves them out), and pvs_shrink_cell does not test what is set. */
-PVS__STATIC void pvs__bake_preset(const pvs_bake *b, const pvs_word *candidates, pvs_word *bits) {
+PVS__STATIC void pvs__shrink_bake_preset(const pvs__bake_env *env, const pvs_word *candidates, pvs_word *bits) {
     uint32_t i;
     if (!candidates) return;
-    for (i = 0; i < b->object_count; ++i)
-        if (!pvs_bitset_test(candidates, i) && !(b->scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(b->scene->object_boxes + i))
+    for (i = 0; i < env->object_count; ++i)
+        if (!pvs_bitset_test(candidates, i) && !(env->scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) &&
+            pvs__box_valid(env->scene->object_boxes + i))
             pvs_bitset_set(bits, i);
+}
+
+PVS__STATIC pvs_result pvs__shrink_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
+                                             const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err) {
+    const pvs__shrink_bake *sh = (const pvs__shrink_bake *)state;
+    pvs_shrink_stats st;
+    pvs_result r;
+    (void)task;
+    pvs__shrink_bake_preset(env, candidates, bits);
+    r = pvs_shrink_cell(env->scene, sh->occluders, box, sh->mode, bits, &st, err);
+    if (r == PVS_OK && st.excluded && sh->occluders_leak) {
+        memset(bits, 0, env->words * sizeof(pvs_word));
+        pvs__shrink_bake_preset(env, candidates, bits);
+        r = pvs_shrink_cell(env->scene, sh->occluders_leak, box, sh->mode, bits, &st, err);
+        st.excluded = 1;
+    }
+    if (r != PVS_OK) {
+        if (err) err->index = cell;
+        return r;
+    }
+    if (st.no_occluders) *flags |= PVS__BAKE_NO_OCCLUDERS;
+    if (st.excluded) *flags |= PVS__BAKE_EXCLUDED;
+    return PVS_OK;
+}
+
+PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state) {
+    pvs__shrink_bake *sh = (pvs__shrink_bake *)state;
+    (void)env;
+    if (!sh) return;
+    pvs_occluders_destroy(sh->occluders);
+    pvs_occluders_destroy(sh->occluders_leak);
+    pvs__free(&sh->allocator, sh, sizeof(*sh), 16);
+}
+
+PVS__STATIC const pvs__bake_method pvs__shrink_method = {
+    PVS_METHOD_SHRINK, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT | PVS__METHOD_SETS_OTHERS, 3, NULL, pvs__shrink_bake_prepare,
+    pvs__shrink_bake_applies, pvs__shrink_bake_cell, NULL, pvs__shrink_bake_destroy};
+
+PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *b) {
+    const pvs__shrink_bake *sh = (const pvs__shrink_bake *)pvs__bake_method_state(b, PVS_METHOD_SHRINK);
+    return sh ? sh->occluders : NULL;
+}
+PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) {
+    const pvs__shrink_bake *sh = (const pvs__shrink_bake *)pvs__bake_method_state(b, PVS_METHOD_SHRINK);
+    return sh && sh->occluders ? sh->mode : PVS_SHRINK_AUTO;
+}
+
+// >>bake
+/* ---------------------------------------------------------------------------------------------- */
+/* bake: validated cells, one task per cell, results in cell order whatever the run order         */
+/* ---------------------------------------------------------------------------------------------- */
+
+struct pvs_bake {
+    pvs__bake_env env;         /* what the methods see: scene, allocator, cells, eps, flags */
+    pvs_box *cells;            /* per task: the shard's cells in id order (env.task_cells) */
+    uint32_t cell_count;       /* the shard's (task_count) */
+    uint32_t total_cell_count, shard_index, shard_count;
+    uint32_t object_count;
+    size_t words;              /* per cell */
+    pvs_word *pvs;             /* cell_count * words */
+    unsigned char *done;       /* cell_count flags, each written by its own task only */
+    pvs_method method;
+    uint32_t max_chain;
+    /* the methods considered (AUTO: every candidate, in run order) and those each task runs; a task's
+       PVS is the intersection of theirs (an intersection of conservative sets is conservative) */
+    const pvs__bake_method *considered[PVS_METHOD_COUNT];
+    const char *reason[PVS_METHOD_COUNT];
+    unsigned char ran[PVS_METHOD_COUNT];
+    uint32_t considered_count;
+    const pvs__bake_method *run[PVS_METHOD_COUNT];
+    uint32_t run_count;
+    void *state[PVS_METHOD_COUNT]; /* by pvs_method: the prepared methods' states (pvs__bake_method) */
+    uint32_t *stats;           /* per task: run_count own PVS sizes, then run_count sole-cull counts */
+    unsigned char *restored;   /* per task: done by pvs_bake_restore_task (no stats) */
+    float max_distance;
+    unsigned char *cell_flags; /* per task, written by its own task: PVS__BAKE_* */
+    uint32_t drawable;         /* objects that can appear in a PVS */
+    uint32_t adaptive_budget;  /* adaptive cells (§6.1), 0 = off */
+    float adaptive_min_size;
+    uint32_t *object_triangles;/* adaptive: triangles per object */
+    struct pvs__bakeleaves *leaves; /* adaptive: per task, its leaf cells */
+};
+
+/* The leaf cells of one adaptive task and their PVSs. */
+typedef struct pvs__bakeleaves {
+    size_t count, capacity;
+    pvs_box *boxes;
+    pvs_word *pvs;             /* count * words */
+} pvs__bakeleaves;
+
+/* ---- the method table ---- */
+
+/* Every method the driver can run, in pvs_method order (AUTO's order among methods of one cost). */
+PVS__STATIC const pvs__bake_method *const pvs__bake_methods[] = {&pvs__sample_method, &pvs__otree_method, &pvs__extproj_method,
+                                                                 &pvs__shrink_method, &pvs__vocc_method};
+#define PVS__BAKE_METHOD_COUNT (sizeof(pvs__bake_methods) / sizeof(pvs__bake_methods[0]))
+
+/* The row of method m, NULL for AUTO, DEFAULT and unknown values. */
+PVS__STATIC const pvs__bake_method *pvs__bake_method_row(pvs_method m) {
+    uint32_t k;
+    for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k)
+        if (pvs__bake_methods[k]->method == m) return pvs__bake_methods[k];
+    return NULL;
+}
+
+PVS__STATIC void *pvs__bake_method_state(const pvs_bake *b, pvs_method m) {
+    return b && (int)m >= 0 && m < PVS_METHOD_COUNT ? b->state[m] : NULL;
+}
+
+/* Prepares method row's per-bake state (read-only in the tasks). */
+PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, const pvs__bake_method *row, const pvs_bake_desc *desc, pvs_error *err) {
+    return row->prepare(&b->env, desc, &b->state[row->method], err);
 }
 
 /* The candidates of method k of a box: those of the box (adaptive sub-cells: the parent's PVS, or
@@ -19398,77 +19715,48 @@ PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const
     return scratch;
 }
 
-/* One method's PVS of a box of a task (its cell or, adaptive, a part of it): sets bits (cleared by the
-   caller). `candidates` (the objects the caller will intersect with: an adaptive sub-cell's parent
-   PVS, the methods before this one) may be NULL; EXTPROJ tests only those objects and sets none of
-   the others, SHRINK tests only those and sets all the others (pvs__bake_preset), the other methods
-   test every object. */
-PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, pvs_method m, uint32_t task, uint32_t cell, const pvs_box *box,
+/* One method's PVS of a box of a task into `bits` (cleared by the caller), the cell's flags updated. */
+PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, const pvs__bake_method *row, uint32_t task, uint32_t cell, const pvs_box *box,
                                              const pvs_word *candidates, pvs_word *bits, pvs_error *err) {
-    switch (m) {
-    case PVS_METHOD_SAMPLE: {
-        /* per-cell seed: independent of the order and thread the tasks run in */
-        uint64_t state = b->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull);
-        pvs_sample_visibility(b->scene, box, b->sample_points, b->sample_rays, pvs__splitmix64(&state), bits);
-        break;
-    }
-    case PVS_METHOD_OTREE: {
-        unsigned flags = 0;
-        pvs_result r = pvs__otree_cell(b, box, cell, bits, &flags, err);
-        if (r != PVS_OK) return r;
-        b->cell_flags[task] |= (unsigned char)flags;
-        break;
-    }
-    case PVS_METHOD_EXTPROJ: {
-        pvs__epparams prm;
-        pvs_result r;
-        prm.res = b->extproj_resolution;
-        prm.max_occ = b->extproj_occluders;
-        prm.sweep = b->extproj_sweep;
-        prm.split = b->extproj_split;
-        prm.coarse = (b->flags & PVS_BAKE_PREVIEW) != 0;
-        r = pvs__extproj_cell(b->scene, b->extproj, box, &prm, candidates, &b->allocator, bits, cell, err);
-        if (r != PVS_OK) return r;
-        break;
-    }
-    case PVS_METHOD_SHRINK: {
-        pvs_shrink_stats st;
-        pvs_result r;
-        pvs__bake_preset(b, candidates, bits);
-        r = pvs_shrink_cell(b->scene, b->occluders, box, b->shrink_mode, bits, &st, err);
-        if (r == PVS_OK && st.excluded && b->occluders_leak) {
-            memset(bits, 0, b->words * sizeof(pvs_word));
-            pvs__bake_preset(b, candidates, bits);
-            r = pvs_shrink_cell(b->scene, b->occluders_leak, box, b->shrink_mode, bits, &st, err);
-            st.excluded = 1;
+    unsigned flags = 0;
+    pvs_result r = row->cell(&b->env, b->state[row->method], task, cell, box, candidates, bits, &flags, err);
+    b->cell_flags[task] |= (unsigned char)flags;
+    return r;
+}
+
+PVS_API void pvs_bake_destroy(pvs_bake *b) {
+    pvs_allocator a;
+    uint32_t k;
+    if (!b) return;
+    a = b->env.allocator;
+    pvs__free_array(&a, b->cells, b->cell_count, sizeof(pvs_box));
+    pvs__free_array(&a, b->pvs, (size_t)b->cell_count * b->words, sizeof(pvs_word));
+    pvs__free_array(&a, b->done, b->cell_count, 1);
+    pvs__free_array(&a, b->restored, b->cell_count, 1);
+    pvs__free_array(&a, b->stats, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
+    pvs__free_array(&a, b->cell_flags, b->cell_count, 1);
+    for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k)
+        if (b->state[pvs__bake_methods[k]->method]) pvs__bake_methods[k]->destroy(&b->env, b->state[pvs__bake_methods[k]->method]);
+    pvs__free_array(&a, b->object_triangles, (size_t)b->object_count + 1, sizeof(uint32_t));
+    if (b->leaves) {
+        uint32_t i;
+        for (i = 0; i < b->cell_count; ++i) {
+            pvs__free_array(&a, b->leaves[i].boxes, b->leaves[i].capacity, sizeof(pvs_box));
+            pvs__free_array(&a, b->leaves[i].pvs, b->leaves[i].capacity * b->words, sizeof(pvs_word));
         }
-        if (r != PVS_OK) {
-            if (err) err->index = cell;
-            return r;
-        }
-        if (st.no_occluders) b->cell_flags[task] |= PVS__BAKE_NO_OCCLUDERS;
-        if (st.excluded) b->cell_flags[task] |= PVS__BAKE_EXCLUDED;
-        break;
+        pvs__free_array(&a, b->leaves, b->cell_count, sizeof(pvs__bakeleaves));
     }
-    case PVS_METHOD_VOCC: {
-        const pvs__vbake *vb = b->vocc;
-        pvs_result r;
-        memset(b->vocc_stats + task, 0, sizeof(pvs_vocc_stats));
-        r = pvs__vo_bake_cell(vb, b->cells + task, b->vocc_bytes + (size_t)task * vb->max_keep * 5, b->vocc_count + task,
-                              b->vocc_scale + task, bits, b->vocc_stats + task, err);
-        if (r != PVS_OK) {
-            if (err) err->index = cell;
-            return r;
-        }
-        if (b->vocc_only) { /* placeholder records: every drawable object */
-            uint32_t i;
-            memset(bits, 0, b->words * sizeof(pvs_word));
-            for (i = 0; i < b->object_count; ++i)
-                if (pvs__vo_box_ok(vb->boxes + i)) pvs_bitset_set(bits, i);
-        }
-        break;
-    }
-    default: return pvs__fail(err, PVS_ERROR_UNSUPPORTED, cell, 0, "method %d", (int)m);
+    pvs__free(&a, b, sizeof(*b), 16);
+}
+
+/* Checks a cell box: finite, min <= max. */
+PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *err) {
+    int k;
+    for (k = 0; k < 3; ++k) {
+        if (!pvs__finite(c->min[k]) || !pvs__finite(c->max[k]))
+            return pvs__fail(err, PVS_ERROR_BAD_CELL, i, 0, "cell %u has a coordinate that is not finite", i);
+        if (c->min[k] > c->max[k])
+            return pvs__fail(err, PVS_ERROR_BAD_CELL, i, 0, "cell %u has min > max on axis %d", i, k);
     }
     return PVS_OK;
 }
@@ -19489,120 +19777,76 @@ PVS__STATIC int pvs__box_beyond(const pvs_box *a, const pvs_box *b, float d) {
     return sum > (double)d * (double)d * (1.0 + 1e-9);
 }
 
-PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs_error *err) {
-    pvs_bake *b;
-    pvs_allocator a;
-    size_t total, i;
-    pvs_result r;
+/* Checks a bake desc: the driver's parameters, then every method's (pvs__bake_method.check), then
+   the cells. *mask gets the methods AUTO considers. */
+PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask, pvs_error *err) {
+    const pvs__bake_method *row;
     pvs_method method;
-    uint32_t k, mask = 0;
-    if (out) *out = NULL;
-    if (!desc || !out || !desc->scene) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene and out_bake must not be NULL");
+    pvs_result r;
+    uint32_t k, conservative = 0, byauto = 0;
+    size_t i;
+    *mask = 0;
     if (!desc->cells || desc->cell_count == 0) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "no cells");
     if (desc->cell_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells");
     if (desc->shard_count == 1 || (desc->shard_count && desc->shard_index >= desc->shard_count) || desc->shard_count > desc->cell_count)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u for %u cells", desc->shard_index, desc->shard_count,
                          desc->cell_count);
     if (desc->max_chain > PVS_MAX_CHAIN) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", desc->max_chain, PVS_MAX_CHAIN);
-    if ((int)desc->method < 0 || desc->method >= PVS_METHOD_COUNT)
+    method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_AUTO : desc->method;
+    row = pvs__bake_method_row(method);
+    if (!row && method != PVS_METHOD_AUTO)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown method %d", (int)desc->method);
     if (!pvs__finite(desc->eps) || desc->eps < 0.0f)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and >= 0");
     if (!pvs__finite(desc->max_distance) || desc->max_distance < 0.0f)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_distance must be finite and >= 0");
     if (desc->flags & ~PVS_BAKE_PREVIEW) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown bake flags 0x%x", desc->flags);
-    if (desc->extproj_resolution && (desc->extproj_resolution < 16 || desc->extproj_resolution > 4096))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_resolution %u is not in 16..4096", desc->extproj_resolution);
-    if (desc->extproj_occluders > 65536)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_occluders %u > 65536", desc->extproj_occluders);
-    if (desc->extproj_sweep > 256 && desc->extproj_sweep != PVS_EXTPROJ_NO_SWEEP)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep %u > 256", desc->extproj_sweep);
-    if (desc->otree_node_budget && (desc->otree_node_budget < 64 || desc->otree_node_budget > (1u << 24)))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree_node_budget %u is not in 64..2^24", desc->otree_node_budget);
-    if (desc->extproj_sweep_subcells > 1 && desc->extproj_sweep_subcells != 4)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep_subcells %u is not 0, 1 or 4", desc->extproj_sweep_subcells);
-    if (desc->extproj_sweep_subcells == 4 &&
-        (desc->extproj_sweep == PVS_EXTPROJ_NO_SWEEP || (!desc->extproj_sweep && (desc->method != PVS_METHOD_AUTO || (desc->flags & PVS_BAKE_PREVIEW)))))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep_subcells 4 needs the occlusion sweep (extproj_sweep)");
+    for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) {
+        const pvs__bake_method *m = pvs__bake_methods[k];
+        if (m->check && (r = m->check(desc, err)) != PVS_OK) return r;
+        if (m->traits & PVS__METHOD_CONSERVATIVE) conservative |= 1u << m->method;
+        if (m->traits & PVS__METHOD_AUTO_DEFAULT) byauto |= 1u << m->method;
+    }
     if (!pvs__finite(desc->adaptive_min_size) || desc->adaptive_min_size < 0.0f)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "adaptive_min_size must be finite and >= 0");
     if (desc->adaptive_budget && desc->shard_count)
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells in a sharded bake (part files index whole cells)");
-    if (desc->adaptive_budget && desc->method == PVS_METHOD_VOCC)
-        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells with vocc (its records belong to whole cells)");
-    method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_AUTO : desc->method;
+    if (desc->adaptive_budget && row && (row->traits & PVS__METHOD_WHOLE_CELLS))
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells with %s (its records belong to whole cells)", pvs_method_name(method));
     if (method == PVS_METHOD_AUTO) {
-        for (k = 0; k < (uint32_t)PVS_METHOD_COUNT; ++k)
-            if (pvs__method_conservative((pvs_method)k)) mask |= 1u << k;
-        if (desc->methods & ~mask)
+        if (desc->methods & ~conservative)
             return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "methods mask 0x%x names a method that is not conservative or unknown "
                              "(auto never intersects sample)", desc->methods);
-        /* vocc is for storage and the runtime rebuild, not tightness (about 0.2% on the demo city for
-           20% more time): only when the mask names it */
-        if (desc->methods) mask = desc->methods;
-        else mask &= ~(1u << PVS_METHOD_VOCC);
+        *mask = desc->methods ? desc->methods : byauto;
     } else if (desc->methods) {
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "methods is for PVS_METHOD_AUTO only");
     }
-    if (desc->vocc_only && (method != PVS_METHOD_VOCC || desc->vocc_only > 1))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "vocc_only is 0 or 1, and 1 needs PVS_METHOD_VOCC");
     for (i = 0; i < desc->cell_count; ++i) {
         r = pvs__check_cell(desc->cells + i, (uint32_t)i, err);
         if (r != PVS_OK) return r;
     }
-    a = desc->allocator;
-    b = (pvs_bake *)pvs__alloc(&a, sizeof(pvs_bake), 16);
-    if (!b) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake");
-    memset(b, 0, sizeof(*b));
-    b->allocator = a;
-    b->scene = desc->scene;
-    b->total_cell_count = desc->cell_count;
-    b->shard_count = desc->shard_count;
-    b->shard_index = desc->shard_count ? desc->shard_index : 0;
-    b->cell_count = desc->shard_count ? (desc->cell_count - desc->shard_index + desc->shard_count - 1) / desc->shard_count : desc->cell_count;
-    b->max_chain = desc->max_chain;
-    b->object_count = pvs_scene_object_count(desc->scene);
-    b->words = PVS_BITSET_WORDS(b->object_count);
-    b->method = method;
-    b->eps = desc->eps;
-    b->max_distance = desc->max_distance;
-    b->flags = desc->flags;
-    b->sample_points = desc->sample_points ? desc->sample_points : 32;
-    b->sample_rays = desc->sample_rays ? desc->sample_rays : 2048;
-    b->seed = desc->seed;
-    if (!pvs__mul(b->words, b->cell_count, &total) || !pvs__mul(total, sizeof(pvs_word), &i)) {
-        pvs_bake_destroy(b);
-        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "%u cells x %u objects do not fit in memory", desc->cell_count,
-                         b->object_count);
-    }
-    b->cells = (pvs_box *)pvs__alloc_array(&a, b->cell_count, sizeof(pvs_box));
-    b->pvs = (pvs_word *)pvs__alloc_array(&a, total, sizeof(pvs_word));
-    b->done = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
-    b->restored = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
-    b->stats = (uint32_t *)pvs__alloc_array(&a, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
-    b->cell_flags = (unsigned char *)pvs__alloc_array(&a, b->cell_count, 1);
-    if (!b->cells || !b->pvs || !b->done || !b->restored || !b->stats || !b->cell_flags) {
-        pvs_bake_destroy(b);
+    return PVS_OK;
+}
+
+/* The bake's arrays: per task its cell, PVS, flags and statistics; adaptive cells' counts. */
+PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, pvs_error *err) {
+    const pvs_allocator *a = &b->env.allocator;
+    size_t total, bytes, i;
+    if (!pvs__mul(b->words, b->cell_count, &total) || !pvs__mul(total, sizeof(pvs_word), &bytes))
+        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "%u cells x %u objects do not fit in memory", desc->cell_count, b->object_count);
+    b->cells = (pvs_box *)pvs__alloc_array(a, b->cell_count, sizeof(pvs_box));
+    b->pvs = (pvs_word *)pvs__alloc_array(a, total, sizeof(pvs_word));
+    b->done = (unsigned char *)pvs__alloc_array(a, b->cell_count, 1);
+    b->restored = (unsigned char *)pvs__alloc_array(a, b->cell_count, 1);
+    b->stats = (uint32_t *)pvs__alloc_array(a, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
+    b->cell_flags = (unsigned char *)pvs__alloc_array(a, b->cell_count, 1);
+    if (!b->cells || !b->pvs || !b->done || !b->restored || !b->stats || !b->cell_flags)
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake arrays for %u cells", desc->cell_count);
-    }
     for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
-    b->extproj_resolution = desc->extproj_resolution ? desc->extproj_resolution
-                            : (b->flags & PVS_BAKE_PREVIEW) ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS__EP_DEFAULT_RES;
-    b->extproj_occluders = desc->extproj_occluders ? desc->extproj_occluders : (b->flags & PVS_BAKE_PREVIEW) ? 32u : PVS__EP_DEFAULT_OCC;
-    b->extproj_sweep = desc->extproj_sweep == PVS_EXTPROJ_NO_SWEEP ? 0u : desc->extproj_sweep;
-    if (!desc->extproj_sweep && method == PVS_METHOD_AUTO && !(b->flags & PVS_BAKE_PREVIEW))
-        b->extproj_sweep = PVS_EXTPROJ_SWEEP_PLANES; /* AUTO's default */
-    b->extproj_split = desc->extproj_sweep_subcells == 4;
-    b->otree_budget = desc->otree_node_budget;
-    b->adaptive_budget = desc->adaptive_budget;
-    b->adaptive_min_size = desc->adaptive_min_size;
     if (b->adaptive_budget) {
-        b->object_triangles = (uint32_t *)pvs__alloc_array(&a, (size_t)b->object_count + 1, sizeof(uint32_t));
-        b->leaves = (pvs__bakeleaves *)pvs__alloc_array(&a, b->cell_count, sizeof(pvs__bakeleaves));
-        if (!b->object_triangles || !b->leaves) {
-            pvs_bake_destroy(b);
-            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "adaptive cells");
-        }
+        b->object_triangles = (uint32_t *)pvs__alloc_array(a, (size_t)b->object_count + 1, sizeof(uint32_t));
+        b->leaves = (pvs__bakeleaves *)pvs__alloc_array(a, b->cell_count, sizeof(pvs__bakeleaves));
+        if (!b->object_triangles || !b->leaves) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "adaptive cells");
         memset(b->object_triangles, 0, ((size_t)b->object_count + 1) * sizeof(uint32_t));
         memset(b->leaves, 0, b->cell_count * sizeof(pvs__bakeleaves));
         for (i = 0; i < desc->scene->triangle_count; ++i)
@@ -19612,47 +19856,94 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     memset(b->done, 0, b->cell_count);
     memset(b->restored, 0, b->cell_count);
     memset(b->cell_flags, 0, b->cell_count);
+    memset(b->stats, 0, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT * sizeof(uint32_t));
     for (i = 0; i < b->object_count; ++i)
         b->drawable += !(desc->scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(desc->scene->object_boxes + i);
-    memset(b->stats, 0, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT * sizeof(uint32_t));
-    if (method != PVS_METHOD_AUTO) {
-        b->considered[0] = b->run[0] = method;
+    return PVS_OK;
+}
+
+/* AUTO's policy: the candidates in `mask`, cheapest first (pvs__bake_method.cost_rank, then table
+   order); each is prepared, then kept if it can cull anything in this scene; PREVIEW stops at the
+   first kept. A method the scene does not support (UNSUPPORTED) is skipped with its reason. */
+PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, uint32_t mask, pvs_error *err) {
+    int rank;
+    uint32_t k;
+    pvs_result r;
+    for (rank = 1; rank <= 4; ++rank)
+        for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) {
+            const pvs__bake_method *m = pvs__bake_methods[k];
+            const char *why = "preview runs only the cheapest method that applies";
+            if (!(mask & (1u << m->method)) || m->cost_rank != rank) continue;
+            b->considered[b->considered_count] = m;
+            if (!((b->env.flags & PVS_BAKE_PREVIEW) && b->run_count)) {
+                r = pvs__bake_prepare(b, m, desc, err);
+                if (r == PVS_ERROR_UNSUPPORTED) {
+                    why = "not available in the bake driver";
+                } else if (r != PVS_OK) {
+                    return r;
+                } else if (!m->applies) {
+                    why = "conservative";
+                    b->ran[b->considered_count] = 1;
+                    b->run[b->run_count++] = m;
+                } else if (m->applies(b->state[m->method], &why)) {
+                    b->ran[b->considered_count] = 1;
+                    b->run[b->run_count++] = m;
+                }
+            }
+            b->reason[b->considered_count++] = why;
+        }
+    if (!b->run_count) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "auto: no conservative method can cull anything in this scene");
+    return PVS_OK;
+}
+
+PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs_error *err) {
+    pvs_bake *b;
+    pvs_result r;
+    uint32_t mask;
+    if (out) *out = NULL;
+    if (!desc || !out || !desc->scene) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene and out_bake must not be NULL");
+    r = pvs__bake_check(desc, &mask, err);
+    if (r != PVS_OK) return r;
+    b = (pvs_bake *)pvs__alloc(&desc->allocator, sizeof(pvs_bake), 16);
+    if (!b) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake");
+    memset(b, 0, sizeof(*b));
+    b->total_cell_count = desc->cell_count;
+    b->shard_count = desc->shard_count;
+    b->shard_index = desc->shard_count ? desc->shard_index : 0;
+    b->cell_count = desc->shard_count ? (desc->cell_count - desc->shard_index + desc->shard_count - 1) / desc->shard_count : desc->cell_count;
+    b->max_chain = desc->max_chain;
+    b->object_count = pvs_scene_object_count(desc->scene);
+    b->words = PVS_BITSET_WORDS(b->object_count);
+    b->method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_AUTO : desc->method;
+    b->max_distance = desc->max_distance;
+    b->adaptive_budget = desc->adaptive_budget;
+    b->adaptive_min_size = desc->adaptive_min_size;
+    b->env.scene = desc->scene;
+    b->env.allocator = desc->allocator;
+    b->env.cells = desc->cells;
+    b->env.cell_count = desc->cell_count;
+    b->env.task_count = b->cell_count;
+    b->env.object_count = b->object_count;
+    b->env.words = b->words;
+    b->env.eps = desc->eps;
+    b->env.flags = desc->flags;
+    b->env.is_auto = b->method == PVS_METHOD_AUTO;
+    r = pvs__bake_arrays(b, desc, err);
+    b->env.task_cells = b->cells;
+    if (r == PVS_OK && b->method != PVS_METHOD_AUTO) {
+        const pvs__bake_method *row = pvs__bake_method_row(b->method);
+        b->considered[0] = b->run[0] = row;
         b->ran[0] = 1;
         b->reason[0] = "requested";
         b->considered_count = b->run_count = 1;
-        r = pvs__bake_prepare(b, method, desc, err);
-        if (r != PVS_OK) {
-            pvs_bake_destroy(b);
-            return r;
-        }
-    } else {
-        /* AUTO: the candidates cheapest first; each is prepared, then kept if it can cull anything
-           in this scene; PREVIEW stops at the first kept */
-        int rank;
-        for (rank = 1; rank <= 4; ++rank)
-            for (k = 0; k < (uint32_t)PVS_METHOD_COUNT; ++k) {
-                pvs_method m = (pvs_method)k;
-                const char *why = "preview runs only the cheapest method that applies";
-                if (!(mask & (1u << k)) || pvs__method_cost_rank(m) != rank) continue;
-                b->considered[b->considered_count] = m;
-                if (!((b->flags & PVS_BAKE_PREVIEW) && b->run_count)) {
-                    r = pvs__bake_prepare(b, m, desc, err);
-                    if (r == PVS_ERROR_UNSUPPORTED) {
-                        why = "not available in the bake driver";
-                    } else if (r != PVS_OK) {
-                        pvs_bake_destroy(b);
-                        return r;
-                    } else if (pvs__bake_applies(b, m, &why)) {
-                        b->ran[b->considered_count] = 1;
-                        b->run[b->run_count++] = m;
-                    }
-                }
-                b->reason[b->considered_count++] = why;
-            }
-        if (!b->run_count) {
-            pvs_bake_destroy(b);
-            return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "auto: no conservative method can cull anything in this scene");
-        }
+        r = pvs__bake_prepare(b, row, desc, err);
+    } else if (r == PVS_OK) {
+        r = pvs__bake_choose(b, desc, mask, err);
+    }
+    b->env.cells = NULL; /* desc's: gone after this call */
+    if (r != PVS_OK) {
+        pvs_bake_destroy(b);
+        return r;
     }
     *out = b;
     pvs__ok(err);
@@ -19665,28 +19956,7 @@ PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *b, uint32_t task) {
     return b->shard_count ? b->shard_index + task * b->shard_count : task;
 }
 PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
-PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->eps; }
-PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *b) { return b->occluders; }
-PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) { return b->occluders ? b->shrink_mode : PVS_SHRINK_AUTO; }
-PVS_API void pvs_bake_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
-    memset(info, 0, sizeof(*info));
-    if (!b || !b->ot_prepared) return;
-    info->prepared = 1;
-    info->vertical_triangles = b->ot_vertical;
-    info->facades = b->ot_facade_count;
-    info->levels = b->ot_level_count;
-    info->lowest_level = b->ot_level_count ? b->ot_level[0] : 0.0f;
-}
-PVS_API void pvs_bake_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
-    uint32_t i;
-    memset(out, 0, sizeof(*out));
-    for (i = 0; b && b->vocc && i < b->cell_count; ++i) {
-        const pvs_vocc_stats *t = b->vocc_stats + i;
-        out->slices += t->slices; out->seeds += t->seeds; out->umbra += t->umbra; out->separating += t->separating;
-        out->dense += t->dense; out->dropped += t->dropped; out->selected += t->selected;
-    }
-}
-
+PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->env.eps; }
 
 /* The draw distance (max_distance, if any): objects farther than it from every point of the box
    leave `bits` (box to box, rounded toward keeping: pvs__box_beyond). */
@@ -19694,7 +19964,7 @@ PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_w
     uint32_t i;
     if (!(b->max_distance > 0.0f)) return;
     for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
-        if (pvs__box_beyond(box, b->scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
+        if (pvs__box_beyond(box, b->env.scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
 }
 
 /* Every method the bake runs on one box of a task, intersected, within `candidates` when given,
@@ -19739,19 +20009,19 @@ PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell
         !(mid > box->min[axis] && mid < box->max[axis])) {
         if (L->count == L->capacity) {
             size_t cap = L->capacity ? 2 * L->capacity : 8;
-            pvs_box *nb = (pvs_box *)pvs__alloc_array(&b->allocator, cap, sizeof(pvs_box));
-            pvs_word *np = (pvs_word *)pvs__alloc_array(&b->allocator, cap * b->words, sizeof(pvs_word));
+            pvs_box *nb = (pvs_box *)pvs__alloc_array(&b->env.allocator, cap, sizeof(pvs_box));
+            pvs_word *np = (pvs_word *)pvs__alloc_array(&b->env.allocator, cap * b->words, sizeof(pvs_word));
             if (!nb || !np || cap > 0x3fffffffu) {
-                pvs__free_array(&b->allocator, nb, cap, sizeof(pvs_box));
-                pvs__free_array(&b->allocator, np, cap * b->words, sizeof(pvs_word));
+                pvs__free_array(&b->env.allocator, nb, cap, sizeof(pvs_box));
+                pvs__free_array(&b->env.allocator, np, cap * b->words, sizeof(pvs_word));
                 return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "adaptive leaves of cell %u", cell);
             }
             if (L->count) {
                 memcpy(nb, L->boxes, L->count * sizeof(pvs_box));
                 memcpy(np, L->pvs, L->count * b->words * sizeof(pvs_word));
             }
-            pvs__free_array(&b->allocator, L->boxes, L->capacity, sizeof(pvs_box));
-            pvs__free_array(&b->allocator, L->pvs, L->capacity * b->words, sizeof(pvs_word));
+            pvs__free_array(&b->env.allocator, L->boxes, L->capacity, sizeof(pvs_box));
+            pvs__free_array(&b->env.allocator, L->pvs, L->capacity * b->words, sizeof(pvs_word));
             L->boxes = nb;
             L->pvs = np;
             L->capacity = cap;
@@ -19776,7 +20046,7 @@ PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell
     const pvs_box *c = b->cells + task;
     float min_size = b->adaptive_min_size, longest = 0.0f;
     size_t nw = (49 + (size_t)b->run_count) * b->words;
-    pvs_word *work = (pvs_word *)pvs__alloc_array(&b->allocator, nw, sizeof(pvs_word));
+    pvs_word *work = (pvs_word *)pvs__alloc_array(&b->env.allocator, nw, sizeof(pvs_word));
     pvs_result r;
     int k;
     if (!work) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "adaptive cells of cell %u", cell);
@@ -19785,7 +20055,7 @@ PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell
     b->leaves[task].count = 0; /* a task run again starts over */
     memcpy(work, b->pvs + (size_t)task * b->words, b->words * sizeof(pvs_word));
     r = pvs__bake_split(b, task, cell, c, min_size, work, work + 48 * b->words, 0, err);
-    pvs__free_array(&b->allocator, work, nw, sizeof(pvs_word));
+    pvs__free_array(&b->env.allocator, work, nw, sizeof(pvs_word));
     return r;
 }
 
@@ -19811,7 +20081,7 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
     } else {
         /* AUTO: each method's PVS, then their intersection (pvs__bake_box); a method's contribution
            is what it alone leaves out */
-        each = (pvs_word *)pvs__alloc_array(&b->allocator, (size_t)(n + 1) * b->words, sizeof(pvs_word));
+        each = (pvs_word *)pvs__alloc_array(&b->env.allocator, (size_t)(n + 1) * b->words, sizeof(pvs_word));
         if (!each) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u: auto scratch", cell);
         r = pvs__bake_box(b, task, cell, b->cells + task, NULL, bits, each, err);
         if (r == PVS_OK) {
@@ -19827,7 +20097,7 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
                 sole[k] = c;
             }
         }
-        pvs__free_array(&b->allocator, each, (size_t)(n + 1) * b->words, sizeof(pvs_word));
+        pvs__free_array(&b->env.allocator, each, (size_t)(n + 1) * b->words, sizeof(pvs_word));
         if (r != PVS_OK) return r;
     }
     if (pvs_bitset_count(bits, b->object_count) >= b->drawable) b->cell_flags[task] |= PVS__BAKE_ALL_VISIBLE;
@@ -19870,14 +20140,15 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_w
     uint32_t i;
     if (!b || !bits || task >= b->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u out of range or NULL", task);
     if (word_count < b->words) return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, task, 0, "restore: %zu words < %zu", word_count, b->words);
-    if (b->method == PVS_METHOD_VOCC) /* the file stores the cell's virtual occluders too, which a PVS does not carry */
-        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0, "restore: a vocc bake cannot resume from PVSs: run task %u again", task);
+    if ((b->run[0]->traits & PVS__METHOD_WHOLE_CELLS) && b->method != PVS_METHOD_AUTO) /* its file stores more than the PVS */
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0, "restore: a %s bake cannot resume from PVSs: run task %u again",
+                         pvs_method_name(b->method), task);
     if (b->adaptive_budget) /* the file stores the cell's leaves, which its PVS does not carry */
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0, "restore: an adaptive bake cannot resume from PVSs: run task %u again", task);
     if ((b->object_count & 63u) && (bits[b->words - 1] >> (b->object_count & 63u)))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets a bit past the %u objects", task, b->object_count);
     for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
-        if (b->scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)
+        if (b->env.scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)
             return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets occluder-only object %u", task, i);
     memcpy(b->pvs + (size_t)task * b->words, bits, b->words * sizeof(pvs_word));
     b->restored[task] = 1;
@@ -19892,13 +20163,13 @@ PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *b, uint32_t i, pvs_b
     uint32_t t, k, slot = 0;
     if (!b || !info || i >= b->considered_count) return PVS_ERROR_INVALID_ARGUMENT;
     memset(info, 0, sizeof(*info));
-    info->method = b->considered[i];
+    info->method = b->considered[i]->method;
     info->ran = b->ran[i];
     info->reason = b->reason[i] ? b->reason[i] : "";
     if (!info->ran) return PVS_OK;
     for (k = 0; k < b->run_count; ++k)
-        if (b->run[k] == info->method) slot = k;
-    info->kept_only = slot > 0 && info->method == PVS_METHOD_SHRINK; /* pvs__bake_prior */
+        if (b->run[k] == b->considered[i]) slot = k;
+    info->kept_only = slot > 0 && (b->run[slot]->traits & PVS__METHOD_SETS_OTHERS); /* pvs__bake_prior */
     for (t = 0; t < b->cell_count; ++t) {
         const uint32_t *own = b->stats + (size_t)t * 2 * PVS_METHOD_COUNT;
         if (!b->done[t] || b->restored[t]) continue;
@@ -19926,23 +20197,16 @@ PVS__STATIC void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
     fd->object_count = b->object_count;
     fd->pvs = b->pvs;
     fd->method = b->method;
-    fd->eps = b->eps;
-    fd->up_axis = pvs_scene_up_axis(b->scene);
-    fd->flags = b->method == PVS_METHOD_SAMPLE ? PVS_FILE_APPROXIMATE : 0u;
+    fd->eps = b->env.eps;
+    fd->up_axis = pvs_scene_up_axis(b->env.scene);
+    fd->flags = b->run[0]->traits & PVS__METHOD_APPROXIMATE ? PVS_FILE_APPROXIMATE : 0u;
     fd->max_chain = b->max_chain;
     fd->shard_index = b->shard_index;
     fd->shard_count = b->shard_count;
     fd->total_cell_count = b->shard_count ? b->total_cell_count : 0;
-    fd->allocator = b->allocator;
-    if (b->vocc && b->method == PVS_METHOD_VOCC) { /* AUTO intersects vocc's PVS but stores no occluders */
-        fd->vocc_counts = b->vocc_count;
-        fd->vocc_scales = b->vocc_scale;
-        fd->virtual_occluders = b->vocc_bytes;
-        fd->vocc_stride = b->vocc->max_keep * 5;
-        fd->vocc_base = b->vocc->base;
-        fd->vocc_height_step = b->vocc->hstep;
-        fd->vocc_flags = b->vocc_only ? PVS_VOCC_ONLY : 0u;
-    }
+    fd->allocator = b->env.allocator;
+    if (b->method != PVS_METHOD_AUTO && b->run[0]->file) /* AUTO stores PVSs only */
+        b->run[0]->file(b->state[b->method], fd);
 }
 
 PVS__STATIC int pvs__bake_all_done(const pvs_bake *b) {
@@ -19963,8 +20227,8 @@ PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cell
     *count = n;
     if (n >= 0x3fffffffu) return PVS_ERROR_COUNT_OVERFLOW;
     if (!pvs__mul(n, b->words * sizeof(pvs_word), &bytes)) return PVS_ERROR_COUNT_OVERFLOW;
-    *cells = (pvs_box *)pvs__alloc_array(&b->allocator, n, sizeof(pvs_box));
-    *pvs = (pvs_word *)pvs__alloc_array(&b->allocator, n * b->words, sizeof(pvs_word));
+    *cells = (pvs_box *)pvs__alloc_array(&b->env.allocator, n, sizeof(pvs_box));
+    *pvs = (pvs_word *)pvs__alloc_array(&b->env.allocator, n * b->words, sizeof(pvs_word));
     if (!*cells || !*pvs) return PVS_ERROR_OUT_OF_MEMORY;
     for (i = 0; i < b->cell_count; ++i) {
         const pvs__bakeleaves *L = b->leaves + i;
@@ -19992,8 +20256,8 @@ PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t cap
         r = pvs_file_encode(&fd, out, capacity, out_size, err);
     } else
         r = pvs__fail(err, r, -1, 0, "%llu adaptive cells", (unsigned long long)n);
-    pvs__free_array(&b->allocator, cells, n, sizeof(pvs_box));
-    pvs__free_array(&b->allocator, pvs, n * b->words, sizeof(pvs_word));
+    pvs__free_array(&b->env.allocator, cells, n, sizeof(pvs_box));
+    pvs__free_array(&b->env.allocator, pvs, n * b->words, sizeof(pvs_word));
     return r;
 }
 
