@@ -1,4 +1,4 @@
-/* pvs.h - v0.3.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end of file)
+/* pvs.h - v0.3.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -101,16 +101,13 @@
    pvs_bake_desc.methods names it); it runs them cheapest first and intersects their PVSs (an
    intersection of conservative sets is conservative, and at least as tight as each). SHRINK, the
    costliest, runs last and samples only the objects the others kept: the intersection is the same, and
-   a cell where the others leave nothing for it to cull costs little (a Quake 3 arena with its brushes,
-   422 cells: 1.59 s per cell before, 0.11 s). EXTPROJ runs with the occlusion sweep of §5
-   (pvs_bake_desc.extproj_sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on indoor game maps it fuses walls
-   and floors that the planes of §6.1 do not (six Quake 3 maps with their brushes, 2026-11-25: AUTO's
-   PVS 1% to 29% smaller, 10% to 27% more time on the large ones (ons-reborn 2.4 -> 3.0 s per cell,
-   dieselpower 0.60 -> 0.74 s, oa_rpg3dm2 0.86 -> 0.94 s), up to 3 times on a small one, 12 to 38 ms
-   per cell; the generator's scenes: about 1% smaller for 40 to 120 ms more per cell).
-   pvs_bake_desc.extproj_sweep_subcells = 4 gives each sweep plane the umbrae of the cell's four
-   quarters (tighter, about 2.5 times the bake's time). pvs_bake_get_method_info says which ran, which
-   were skipped and why, and what each contributed; pvs_bake_desc.methods restricts the candidates.
+   a cell where the others leave nothing for it to cull costs little. EXTPROJ runs with the occlusion
+   sweep of §5 (pvs_bake_desc.extproj_sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on indoor game maps
+   it fuses walls and floors that the planes of §6.1 do not, a smaller PVS for more time per cell (see
+   tests/BENCHMARKS.md, bake). pvs_bake_desc.extproj_sweep_subcells = 4 gives each sweep plane the
+   umbrae of the cell's four quarters (tighter on foliage, for a few times the bake's time: see
+   tests/BENCHMARKS.md, extproj). pvs_bake_get_method_info says which ran, which were skipped and why,
+   and what each contributed; pvs_bake_desc.methods restricts the candidates.
    SAMPLE is never among them. PVS_BAKE_PREVIEW keeps only the cheapest with coarse settings.
    max_distance (a draw distance) drops objects whose box is farther than it from every point of the
    cell (box to box, rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake from
@@ -198,6 +195,8 @@
    synthesis per bake); extproj about 15 ms (its occluder preparation amortized), about 55 ms with
    the occlusion sweep; vocc about 60 ms (10 virtual occluders per cell, 52 bytes, 88% of the
    objects culled: 96% of what shrink culls; rebuilding a cell's PVS from them about 0.1 ms).
+   tests/BENCHMARKS.md names the bench line behind each figure and keeps the measurements behind the
+   design choices, module by module.
 
    ALGORITHMS (each cited again where it is implemented)
    ==========
@@ -789,11 +788,11 @@ typedef struct pvs_cull_params {
                                           pvs_raster_mesh (no cracks along shared edges) */
 #define PVS_CULL_SCENE_MESH 2u         /* the scene's selected triangles drawn as one welded mesh
                                           (pvs_raster_mesh): tighter where walls are made of many
-                                          triangles, but about 1.6 times the culling time on the demo
-                                          city's walkthrough; by default one triangle at a time */
+                                          triangles, but costlier per frame (tests/BENCHMARKS.md,
+                                          raster); by default one triangle at a time */
 #define PVS_CULL_SEPARATE_TRIANGLES 4u /* the scene's occluder volumes (scene_volumes) one triangle at a
-                                          time, as before 0.4 (by default each is drawn as a mesh: no
-                                          cracks along its faces' diagonals, a small cost) */
+                                          time (by default each is drawn as a mesh: no cracks along
+                                          its faces' diagonals, a small cost) */
 
 /* What a culling call did (for statistics and tests). */
 typedef struct pvs_cull_stats {
@@ -806,9 +805,10 @@ typedef struct pvs_cull_stats {
 /* From-point occlusion culling with the depth pyramid: clears the depth map, sets the camera's matrix
    (aspect width / height), rasterizes the caller's and the selected scene occluders (occluder mode;
    each box or extrusion volume as a mesh, the selected scene triangles as one mesh with
-   PVS_CULL_SCENE_MESH and the caller's with PVS_CULL_OCCLUDER_MESH: see pvs_raster_mesh), builds the pyramid, then sweeps the scene's object kD-tree front to back from the eye (Bittner 2002
-   §3.2), skipping subtrees whose box is hidden, and sets in `visible` (PVS_BITSET_WORDS(object_count)
-   words, cleared first) every object whose box may be visible. Occluder-only objects are never set.
+   PVS_CULL_SCENE_MESH and the caller's with PVS_CULL_OCCLUDER_MESH: see pvs_raster_mesh), builds the
+   pyramid, then sweeps the scene's object kD-tree front to back from the eye (Bittner 2002 §3.2),
+   skipping subtrees whose box is hidden, and sets in `visible` (PVS_BITSET_WORDS(object_count) words,
+   cleared first) every object whose box may be visible. Occluder-only objects are never set.
    Conservative: every object seen through the screen from the eye is set. `stats` may be NULL.
    Errors: INVALID_ARGUMENT, NOT_FINITE (camera), BUFFER_TOO_SMALL (a scene larger than the context
    was created for). Allocates nothing. */
@@ -885,11 +885,8 @@ typedef struct pvs_visibility_25d_desc {
    bakes: pvs_bake_desc.otree_node_budget). The budget spent, the remaining facades are not inserted
    (counted as not blocking: conservative) and the objects are still tested. The generator scenes
    never reach it. On the brush geometry of Quake 3 maps thousands of small facades split the tree
-   into slivers: measured (2026-11-25, OTREE alone, 2 threads) against the former 2^18, per cell:
-   ons-reborn 12.7 -> 2.6 s (PVS 702.2 -> 702.9 objects), oa_rpg3dm2 1.70 -> 1.20 s (1188.3 ->
-   1188.4), am_thornish 1.31 -> 0.75 s, aneurysm 0.48 -> 0.26 s, oa_thor 0.33 -> 0.23 s (2024.7 ->
-   2026.3), the others unchanged; under AUTO on ons-reborn 19.7 -> 1.8 s per cell with the same
-   file. */
+   into slivers; there this budget bounds the time per cell at almost no cost in tightness (see
+   tests/BENCHMARKS.md, otree). */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
 
 /* pvs_visibility_25d_desc.flags: every box test walks the tree, with no witness lines (a remembered
@@ -1178,9 +1175,8 @@ PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_o
    skipped: a subtree is hidden when one occluder hides its whole node box, so an object whose parts
    lie behind different occluders may be left out too (the walk's PVS is a subset of the flat one,
    still conservative); with tree NULL every box is tested. Objects with an empty box (min > max)
-   are never set. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. About 0.1 ms for 3,575
-   objects and 10 occluders. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. Allocates nothing;
-   thread-safe. */
+   are never set. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. Errors: INVALID_ARGUMENT,
+   BUFFER_TOO_SMALL. Allocates nothing; thread-safe. */
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders, uint32_t count,
                                            const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
                                            void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
@@ -1366,8 +1362,8 @@ typedef struct pvs_bake_desc {
     uint32_t extproj_sweep_subcells; /* EXTPROJ (also under AUTO) with the sweep: 0 or 1 = each sweep plane holds
                                     the cell's umbra; 4 = the union of the umbrae of the cell's four quarters
                                     across each direction, and an object must be hidden from every quarter
-                                    (tighter on foliage: the paper-density forest culls 83% instead of 78% on a
-                                    bench cell, for about 2.5 times the bake's time). Needs the sweep */
+                                    (tighter on foliage, for a few times the bake's time: tests/BENCHMARKS.md,
+                                    extproj). Needs the sweep */
     /* Adaptive cells (Durand 2000 §6.1): a cell whose PVS holds more than adaptive_budget triangles is
        split in two across its longest side, recursively, while the halves stay at least
        adaptive_min_size long (0 = an eighth of the cell's longest side); the children are baked from
@@ -1404,9 +1400,8 @@ typedef struct pvs_bake_desc {
                                  occluders per plane unless set, no sweep, and decides the object kD-tree's
                                  nodes whole once they subtend under a quarter radian or after 4,096 box
                                  tests per cell: a few milliseconds per cell whatever the scene's size
-                                 (3.4 ms on the demo city, 7 ms among 200,000 objects, marking them
-                                 included). Where only OTREE or SHRINK applies, the cost is theirs (SHRINK's
-                                 derived eps is doubled) */
+                                 (tests/BENCHMARKS.md, bake). Where only OTREE or SHRINK applies, the cost
+                                 is theirs (SHRINK's derived eps is doubled) */
 
 typedef struct pvs_bake pvs_bake;
 
@@ -1530,8 +1525,8 @@ typedef struct pvs_file_desc {
 /* Encodes the table into out[0..capacity). *out_size receives the exact size, also when the buffer
    is too small (BUFFER_TOO_SMALL). With out == NULL it only measures (returns PVS_OK): call once
    with NULL to learn the size. The output is a deterministic function of the desc; the encoder's
-   scratch comes from desc->allocator. Thread-safe for distinct outputs. Errors: INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL,
-   COUNT_OVERFLOW (a file over 4 GiB), OUT_OF_MEMORY. */
+   scratch comes from desc->allocator. Thread-safe for distinct outputs. Errors: INVALID_ARGUMENT,
+   BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (a file over 4 GiB), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size, pvs_error *err);
 
 /* An opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data,
