@@ -2405,8 +2405,9 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
    the lowest point of the scene, so it certainly blocks every height from the ground to its top.
    Anything else is left out (never blocks: conservative). The OTREE bake uses the general
    extraction (pvs__facades_extract, >>otree: any tessellation, base heights); vocc keeps this one,
-   as switching would change its results (it would find more and longer walls). Writes *count facades of 6 floats (u0 v0 u1 v1 top bottom) in triangle order into
-   a new array *out (6 * count + 6 floats, through allocator a; NULL on failure). */
+   as switching would change its results (it would find more and longer walls). Writes *count
+   facades of 6 floats (u0 v0 u1 v1 top bottom) in triangle order into a new array *out (6 * count +
+   6 floats, through allocator a; NULL on failure). */
 PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocator *a, float **out, uint32_t *count) {
     int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
     float ground = s->bounds.min[up];
@@ -3242,19 +3243,16 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
    triangles four at a time (behind the eye, no whole pixel, or behind every tile's base: dropping
    an occluder is always safe). Box tests then run in float on the eight corners with explicit
    error bounds (pvs__raster_box_f). A tile's depth is the farthest its occluders reach over it, so
-   tiles are coarser than pixels: about a tenth more objects pass on the test scenes at 1152 x 768,
-   a fifth at 384 x 256.
+   tiles are coarser than pixels: more objects pass, the more so on small maps (see
+   tests/BENCHMARKS.md, raster).
 
    Limits. Near-plane clipping cuts in double without a margin: an occludee may lose a sliver where it
    crosses the near plane (its depth there is the near plane's), as wide as the cut point's rounding
    along its edge, about 2^-51 |b - a| / near in normalized units for an edge ab: under 1e-8 pixels at
-   4K for edges up to 10^4 near distances long, more for longer ones. The
-   occluder selection uses the direction to the occluder as V in Bittner's measure (the solid angle),
-   not the view direction. The cull map needs facades standing on the ground and a perspective
-   camera (shadows are cast from a point). Speed (bench_raster, 2 shared cores under load,
-   2026-11-24, min of 7): 1080p frame of 50,000 city triangles, pyramid and 10,000 box tests about
-   1.0 ms with SSE2 and 2.0 ms scalar (Masked Occlusion Culling: about 1.06 ms on one 2013 desktop
-   core with AVX2); 1,000 facades into a 256 x 256 cull map and its scan about 0.8 ms (1.2 scalar). */
+   4K for edges up to 10^4 near distances long, more for longer ones. The occluder selection uses the
+   direction to the occluder as V in Bittner's measure (the solid angle), not the view direction. The
+   cull map needs facades standing on the ground and a perspective camera (shadows are cast from a
+   point). Speed: tests/BENCHMARKS.md, raster (bench_raster). */
 
 #if !defined(PVS_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
 #define PVS__SSE2 1
@@ -3766,8 +3764,9 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
    with inner coverage. Occluder-mode polygons go into tiles of 32 x 4 pixels (pvs__tile): per row of
    a tile the polygon's inner pixels are one run of columns, found from each edge's intercept with the
    row (the paper's per-scanline edge events turned into bit masks by shifts), and the tile keeps a
-   working layer (mask, z1) over a base depth z0, merged by the paper's layer heuristic. A tile costs about as much as one pixel
-   did, and a polygon drawn behind z0 costs one compare per tile. ---- */
+   working layer (mask, z1) over a base depth z0, merged by the paper's layer heuristic. A tile costs
+   about as much as one pixel of the per-pixel map, and a polygon drawn behind z0 costs one compare
+   per tile. ---- */
 
 #define PVS__TW_SHIFT 5
 #define PVS__TH_SHIFT 2
@@ -7994,36 +7993,15 @@ done:
 
 /* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
 
-/* Cost (bench_otree, demo city, 2026-11-24, shared machine): 88 M instructions per cell (callgrind,
-   8 cells), about 6.5-7 ms of CPU time under load; it was 112 M / 8.5-8.9 ms before the second round
-   and 550 M in the first version. First round: unit plane normals stored in the nodes (no square root
-   per classification), the work stack used in place, per-occluder umbra data computed once per tree,
-   an umbra covering the whole far edge ending the funnel test early, the hidden-height bound below
-   (most hidden queries stop high in the tree), clips of read-only tests paid only where the test
-   goes, and no box tests of kD nodes holding fewer than PVS__OT25_TEST_MIN items. Second round: lazy
-   funnel splitting (PVS__OT25_SPLIT_MIN), low boxes tested on their three exit edges, per-leaf
-   hidden-height bounds from the part of each member the leaf's lines cross (pvs__ot25_join), a
-   balanced top of the tree (pvs__ot25_presplit), blocker edge planes without a search, kD nodes
-   behind the source edge skipped. What remains: about three quarters of the inserted facades and
-   two thirds of the tested objects are hidden, and proving it walks the tree to its leaves (about
-   40 steps per query). Third round (82 M instructions per cell, -7%, byte-identical output): work
-   stack items reach their polygon through a slot permutation, so a clip writes into the free slot
-   above the top and trades places instead of copying; leaf polygons read in their slot; read-only
-   tests stop classifying at the first straddle; clips keep the inside flags. Tried and dropped:
-   classifying a polygon by a ball around its vertices first (the planes near a query pass close
-   to its vertices: almost never decisive, +12%), descending into the one unhidden child without
-   clipping (cheaper, but the PVS grows 8%), 32 or 64 presplit sectors (-1%, +5%), PVS__OT25_TEST_MIN
-   96 or 200 (+0.5%, +7%). Fourth round (63 M instructions per cell, 8 cells, -23%; byte-identical
-   bakes of the demo city and of three city seeds; bench_otree min of 6 on a loaded machine, load 3.6
-   on 2 cores, 4.48 ms beside 6.19 ms for the third round's build run alternately): witness lines (pvs__ot25_witnessed) answer about 40% of the
-   visible box tests without a traversal (kD node tests -40%); box tests skip the side no line of the
-   tree enters (tall box) or leaves (low box), one of the three for most boxes (-6%);
-   pvs__ot25_open takes the funnel range first, so a member whose umbra misses it skips the depth
-   order (-2%); inner-node steps go on down one-sided nodes in a loop (-5%); the bound test is called
-   only where a bound can apply (-2%); clip interpolation on locals, segment lines computed once in
-   the depth order (-3%). Tried and dropped: 64 witnesses (+0.4%), PVS__OT25_TEST_MIN 24 or 32 now
-   that visible tests are cheaper (+0.4%, the PVS 0.04% smaller), clipped vertices not renormalised
-   (no gain in time). What remains: insertion, 60% (insert_inner 28%, clips 15%), hidden box tests. */
+/* Cost. Most of the time goes to proving hidden things hidden: most inserted facades and most tested
+   objects are hidden, and proving it walks the tree to its leaves. The shortcuts of this section each
+   earned their place on the demo city's bake (bench_otree); among them unit plane normals in the
+   nodes, the work stack used in place through a slot permutation, the per-occluder umbra data once
+   per tree (pvs__ot25_prepare), the hidden-height bound and its per-leaf form (pvs__ot25_join), lazy
+   funnel splitting (PVS__OT25_SPLIT_MIN), a balanced top of the tree (pvs__ot25_presplit), witness
+   lines (pvs__ot25_witnessed), box tests on the box edges lines can enter or leave only
+   (pvs__ot25_box_visible), and no tests of kD nodes under PVS__OT25_TEST_MIN items. The rounds of
+   measurements, and the variants tried and dropped, are in tests/BENCHMARKS.md, otree. */
 
 #define PVS__OT25_MAX_UMBRAE 96
 #define PVS__OT25_JD 10 /* doubles of per-occluder data (pvs__ot25_prepare) */
@@ -8293,8 +8271,8 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
    the occluder, and its extended umbra is a property of its geometry, valid on every such line
    whether the occluder is seen there or not (the thesis keeps hidden occluders in S_L likewise,
    §7.5.2); the leaf only answers at least as tightly, with a longer sequence. Splitting (at most
-   three cells, §7.5.2) starts once the sequence is this long, to bound it. Demo city: 14% less CPU
-   per cell, a slightly smaller PVS. */
+   three cells, §7.5.2) starts once the sequence is this long, to bound it. It costs less than
+   splitting at once and culls no less (see tests/BENCHMARKS.md, otree). */
 #define PVS__OT25_SPLIT_MIN 16
 
 /* Inserts the blocker of occluder k (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an
@@ -8614,8 +8592,9 @@ PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source
    along it, which every later query walks down. Splitting the root region first by the planes of
    PVS__OT25_PRESPLIT far points spread over the directions (a balanced binary split, a plane through
    the origin of line space like any other, so the regions stay exact) cuts the chain into short
-   ones, one per direction sector. Demo city: 5% fewer instructions per cell. pts[lo..hi) are
-   reordered: the points whose representative line (from m) lies on a child's side go with it. */
+   ones, one per direction sector (fewer instructions per cell: tests/BENCHMARKS.md, otree).
+   pts[lo..hi) are reordered: the points whose representative line (from m) lies on a child's side go
+   with it. */
 #define PVS__OT25_PRESPLIT 16
 PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m[2], double (*pts)[2], int lo, int hi) {
     double l[3], tmp[PVS__OT25_PRESPLIT][2];
