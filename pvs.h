@@ -11218,10 +11218,9 @@ PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int
    inside: from each kept point, the farthest later point whose chord leaves every skipped point on
    its right or on it, at most one square away (the skipped corners lie outside the chord: the region
    between them and the chord is given up, never added) and meets no edge of the loop but the two it
-   joins. Staircases of
-   a slanted wall become a few long edges a square at most inside them (long facades rasterize their
-   shadows near the wall; a staircase of short ones covers no whole cull-map cell there). Returns the
-   number of points kept (in place). */
+   joins. Staircases of a slanted wall become a few long edges a square at most inside them (long
+   facades rasterize their shadows near the wall; a staircase of short ones covers no whole cull-map
+   cell there). Returns the number of points kept (in place). */
 PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
     uint32_t i = 0, kept = 0, j, k, start;
     int32_t *out;
@@ -11279,7 +11278,8 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
     /* direction d: 0 +i, 1 +j, 2 -i, 3 -j; the squares left and right of an edge leaving vertex (x, y) */
     static const int di[4] = {1, 0, -1, 0}, dj[4] = {0, 1, 0, -1};
     static const int lqi[4] = {0, -1, -1, 0}, lqj[4] = {0, 0, -1, -1}, rqi[4] = {0, 0, -1, -1}, rqj[4] = {-1, 0, 0, -1};
-    /* square (i, j)'s side toward neighbour n (below, right, above, left) leaves vertex (i, j) + v0[n] in direction n */
+    /* square (i, j)'s side toward neighbour n (below, right, above, left) leaves vertex (i, j) + v0[n] in
+       direction n */
     static const int ni[4] = {0, 1, 0, -1}, nj[4] = {-1, 0, 1, 0}, v0i[4] = {0, 1, 1, 0}, v0j[4] = {0, 0, 1, 1};
     uint32_t i, j;
     memset(used, 0, (size_t)(w + 1) * (h + 1) * 4);
@@ -11358,10 +11358,11 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
     return 1;
 }
 
-/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground: per 4-connected region of squares at or above a level that some
-   square of the region has, the region's boundary at that level (a level-set tree: a block of
-   buildings of several heights is one chain at its lowest height plus one per taller part, so no
-   crack opens where two heights meet). Quantum: a quarter of the square size. */
+/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground:
+   per 4-connected region of squares at or above a level that some square of the region has, the
+   region's boundary at that level (a level-set tree: a block of buildings of several heights is one
+   chain at its lowest height plus one per taller part, so no crack opens where two heights meet).
+   Quantum: a quarter of the square size. */
 PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
     pvs__vx_cols *cm = &o->cols;
     const pvs_allocator *al = &o->allocator;
@@ -14693,55 +14694,17 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
    back so this does not add up along it); scenes of sparse small occluders stay loose even with the
    sweep: the umbra of a plane's blocked region shrinks by the cell's size over the distance (C dD /
    D per plane), so small occluders fuse only where they add coverage faster than that, and a
-   region survives a reprojection only where it holds a whole kernel window. Measured on the
-   generator's forests (bench_extproj, 2026-11-24): the dense forest (3 m cells, about 100 leaves
-   of about 1 m per tree) culls nothing, with or without the sweep (16 planes at 256 pixels, 64 at
-   512); rays aimed at each object see a quarter of the objects from its cells. At the paper's
-   density (1,000 leaves per tree, bushes as dense, 1 m cells; rays see about 2% of the objects)
-   nothing is culled without the sweep, and with it 16% at 256 pixels and 16 planes (3 s per cell),
-   50% at 512 and 32 (4 s), 71% at 1024 and 64 (9 s), 76% at 2048 and 64 (25 s, 4.5 GB); with
-   objects tested by their boxes only these were 8%, 35%, 59% and 65%, and before the planes were
-   fitted to the scene's span (pvs__ep_fit_plane) 1%, 8%, 25% and 47% (4096 pixels: 60%, 71 s,
-   10 GiB). 128 planes at 1024 pixels add 3 points for twice the time. The planes 40 m ahead are
-   97% blocked, but the band just above the ground under the bushes stays open on them, and every
-   trunk's foot and the bushes' lowest leaves stand in it. Near the cell that band is open in
-   fact: rays from the lowest 10 cm of a cell to the points of an object below 0.7 m see 118 to 218
-   more objects per cell (of 115 to 227 the reference sees) among those the sweep keeps (4096 rays
-   per object; 165 instead of 118 with 32768), so the reference's 2% is well below the visible set.
-   Farther it is not: of the 464 objects kept 60 to 120 m from a cell, such rays (65,536 per
-   object) see 27; the sweep keeps 68% of the objects 60 to 75 m away, 46% at 90 to 105 m.
-   Experiments on square planes, not kept: the bushes lowered to the ground, 85%; at 1024 pixels,
-   the sweep planes' occluders covered at 4 x 4 sub-pixels (a pixel blocked when the union covers
-   it), 31%, and sub-pixel distances into the blocked region carried through the reprojections (a
-   kernel erodes by its true width, not by whole pixels), 28%; with cells of 0.25 m instead of 1 m,
-   65%, but the union of four horizontal slabs of a 1 m cell, 30%. Where the band is closed, bush
-   leaves and trunks close it together, in depth (the trunks alone, by an exact 2D from-region test
-   of their sections, hide about a fifth of the trunk sections), which one binary umbra per plane
-   does not capture; testing the triangles' parts further (boxes halved down to 1/64 of a
-   triangle's) adds 2 points. Where the tightness goes, measured (2026-11-25) with two experiments
-   that are not conservative: closing one-pixel gaps between the blocked regions of the sweep's
-   masks took dieselpower (a Quake 3 map with its brushes, 15 cells, 16 planes) from 323.6 to 248.9
-   objects (ray sampling sees 90.6) and the first forest1000 bench cell (1024 pixels, 64 planes)
-   from 78% to 87% culled; blocking a pixel when the union of the Projections covers its 4 x 4
-   sample points, 296.8 and 82%, and when each of its 4 x 4 sub-squares lies inside one Projection
-   (what a conservative version could reach), 315.7 and 81%. Most of what is lost lies in the
-   penumbra gaps between the Projections of adjacent occluders (each Projection is the umbra of one
-   occluder), the rest in pixels that two Projections cover only together. Moving every sweep plane
-   by a fraction of its spacing changes dieselpower's PVS by under 1%. Baking the cell as 4
-   horizontal slabs (2 x 2 x 2 sub-cells) and taking the union of their PVSs culls 81% (83%) on that
-   forest cell, at 4 (8) times the time. Sub-cells on the sweep's planes (extproj_sweep_subcells,
-   pvs__epmask) keep most of that for less: each pixel holds one bit per quarter of the cell (halved
-   across the direction on both axes), the Projections and reprojections are made per quarter, and
-   an object is hidden when hidden from each. Measured (2026-11-25, 1024 pixels, 64 planes): the six
-   forest1000 bench cells cull 76.9% instead of 71.0% (the first cell 83.6%, where halving on one
-   axis gave 81%, also in depth 84.1% for half again the time), at about 25 s instead of 6.5 s per
-   cell (the occluders projected four times); the generator's city, indoor and walls scenes (3
-   seeds, 100 cells, 16 planes): PVS 3% to 7% smaller, 0 misses, 2.5 times the bake's time. The share
-   culled grows with the forest's extent (the far objects are the hidden ones): on a forest of the
-   paper's extent (generator size 1.5: 7,339 trees of 1,000 leaves and 7,393 bushes, 10.6M
-   triangles, against the paper's 7,750 trees and 7.8M; rays see 0.8% of the objects) the sweep
-   culls 82.5% from six inner cells, 87.2% with sub-cells (bench_extproj's forest_paper lines,
-   2026-11-25; nothing without the sweep). */
+   region survives a reprojection only where it holds a whole kernel window. Foliage is the hard case:
+   the band just above the ground under the bushes stays open on far planes, and where it is closed,
+   bush leaves and trunks close it together, in depth, which one binary umbra per plane does not
+   capture. Most of what is lost lies in the penumbra gaps between the Projections of adjacent
+   occluders (each Projection is the umbra of one occluder), the rest in pixels that two Projections
+   cover only together. Sub-cells on the sweep's planes (extproj_sweep_subcells, pvs__epmask) win back
+   part of it: each pixel holds one bit per quarter of the cell (halved across the direction on both
+   axes), the Projections and reprojections are made per quarter (the occluders projected four times),
+   and an object is hidden when hidden from each. The forest measurements, the experiments (some not
+   conservative) that located the loss, and the sub-cells' gains and costs are in tests/BENCHMARKS.md,
+   extproj. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
@@ -17286,10 +17249,9 @@ PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
    skipped; visible, it is halved, down to single triangles. Each box holds its triangles' points
    inside b, so an object is kept whenever a point of it inside b may be seen. Used with the sweep
    (§5): a tree's box is mostly air between leaves and the band under its crown, its leaves and
-   trunk are not. On the planes of §6.1 alone it did not pay (demo city 2.80 -> 2.78 for 11% more
-   time, the forests unchanged). The work is bounded: an object of more than PVS__EP_PARTS_TRIS
-   triangles is kept on its box, and one whose parts take more than PVS__EP_PARTS_TESTS box tests
-   is kept (in the forest of 1,000 leaves per tree: 15 on average, at most 194, at 512 pixels). */
+   trunk are not. On the planes of §6.1 alone it does not pay for its time (see tests/BENCHMARKS.md,
+   extproj). The work is bounded: an object of more than PVS__EP_PARTS_TRIS triangles is kept on its
+   box, and one whose parts take more than PVS__EP_PARTS_TESTS box tests is kept. */
 #define PVS__EP_PARTS_TRIS 16384u
 #define PVS__EP_PARTS_TESTS 256u
 PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box *b) {
@@ -17472,13 +17434,10 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
    span. The occluders beyond the rectangle's edge are still skipped rightly (pvs__epslab): the cut
    rectangle holds the cell's span. The gain is on flat scenes: seen from a cell on the ground, the
    planes of the four horizontal directions reach 1.5 times their distance up and down, while the
-   scene may be a few metres high, so a square map spent most of its rows on sky and underground.
-   Measured (2026-11-24, bench_extproj): the demo city with the sweep, PVS over the ray-sampled sets
-   1.50 -> 1.38; the forest at the paper's density (1 m cells, 1024 pixels, 64 planes) culls 59.0%
-   instead of 25.6% (objects tested by their boxes only), its planes up to about 4300 x 250
-   pixels. §6.1's planes are not fitted: an occludee in front of one (§4) is often hidden by
-   pixels outside the span (a table, by the floor's Projection below the floor); fitted, extproj
-   without the sweep went 2.80 -> 2.56 on the city but 1.9 -> 2.14 indoors (bench_auto). */
+   scene may be a few metres high, so a square map spends most of its rows on sky and underground
+   (see tests/BENCHMARKS.md, extproj). §6.1's planes are not fitted: an occludee in front of one (§4)
+   is often hidden by pixels outside the span (a table, by the floor's Projection below the floor),
+   and fitting them made the city tighter but the indoor plans looser. */
 PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels, size_t room, pvs_extproj_plane *pl) {
     int a = (int)pl->axis, k;
     uint32_t side = pvs__ep_max_side(res);
@@ -17988,15 +17947,13 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
    Projections of all occluders between it and the previous plane (pvs__epslab), and the slices of
    the closed meshes it cuts. The planes run from one cell size C ahead of the cell (or the nearest
    selected occluder, if farther) to the far end of the scene, spaced geometrically. Departures
-   from §5.2, measured (2026-11-24):
+   from §5.2 (their measurements: tests/BENCHMARKS.md, extproj):
    - §5.2 spaces the planes for a kernel of K pixels, dD = D (K - 1) P / (C N), and stops wherever
      the planes run out. With P growing like D that puts most planes within a few cell sizes of the
      cell, where a small occluder's umbra is short anyway, and leaves few far out, where the gaps
-     between many small occluders close. The demo city's PVS over the ray-sampled sets went 1.65 ->
-     1.50 with geometric spacing (bench cells, 16 planes, 256 pixels); the generator's dense forest
-     at 1,000 leaves per tree with its bushes lowered to the ground (2 cells of 1 m, 1024 pixels,
-     64 planes) culled 59% with §5.2's spacing, 85% with geometric. The kernel need not be a whole
-     number of pixels here (pvs__ep_reproject_sat takes the true cell per row and column).
+     between many small occluders close; geometric spacing is tighter on the demo city and on the
+     dense forest alike. The kernel need not be a whole number of pixels here
+     (pvs__ep_reproject_sat takes the true cell per row and column).
    - Planes nearer than C add little: an occluder of width s < C / 2 at distance w casts an umbra
      ending before w C / (C - s) < 2 w, and the occluders in front of the first plane are still
      projected onto it; only their fusion on nearer planes is given up.
@@ -18197,10 +18154,9 @@ done:
 
 /* The bins are the horizon's angular resolution (0.23 degree at 1536; an object counts as visible
    when any bin its rectangle touches is open, so a bin partly covered at a building's silhouette
-   keeps everything behind that corner): on the demo city the mean PVS over ray-sampled sets went
-   1.305 -> 1.285 -> 1.276 -> 1.266 for 1024, 1536, 2048, 4096 bins (2026-11-24), cost growing with
-   the bins; a voxel grid of eps / 2 for the columns, more steps and per-triangle object tests
-   changed nothing measurable there. */
+   keeps everything behind that corner). Finer bins gain little tightness on the demo city for a cost
+   that grows with the bins; a voxel grid of eps / 2 for the columns, more steps and per-triangle
+   object tests changed nothing measurable there (see tests/BENCHMARKS.md, shrink). */
 #define PVS__HZ_BINS 1536
 #define PVS__HZ_STEPS 6
 
