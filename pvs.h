@@ -20686,9 +20686,9 @@ PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) 
 /* Bases: candidate edges from each cell to its nearest cells (the kD-tree sweep); a virtual root
    joined to every cell by its key size; then Prim's minimum spanning tree from the root, each edge
    weighed when it is reached by the coded size of the delta in that direction, and taken only while
-   the chain stays within K deltas (a greedy depth-bounded minimum arborescence). A cell whose cheapest admissible link is the root
-   becomes a key: "key cells where a delta does not pay". Ties break by (weight, cell, base), so the
-   result is a function of the table alone. */
+   the chain stays within K deltas (a greedy depth-bounded minimum arborescence). A cell whose
+   cheapest admissible link is the root becomes a key: "key cells where a delta does not pay". Ties
+   break by (weight, cell, base), so the result is a function of the table alone. */
 PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
     const pvs_allocator *a = &e->a;
     uint32_t i, c;
