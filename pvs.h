@@ -494,7 +494,7 @@ typedef struct pvs_scene pvs_scene;
    OVERLAPPING_OBJECTS, BAD_OCCLUDER, COUNT_OVERFLOW, OUT_OF_MEMORY; err->index names the element.
    Memory: at most PVS_SCENE_BYTES_PER_TRIANGLE per triangle, PVS_SCENE_BYTES_PER_OBJECT per object,
    12 per vertex and PVS_SCENE_BYTES_FIXED at once, for any triangle shapes (the kD-trees' bounds);
-   the generator's scenes hold 105 to 430 bytes per triangle after creation, 210 to 600 at its peak. */
+   ordinary scenes hold far less (MEMORY; tests/BENCHMARKS.md, scene). */
 #define PVS_SCENE_BYTES_PER_TRIANGLE 2432
 #define PVS_SCENE_BYTES_PER_OBJECT 2400
 #define PVS_SCENE_BYTES_FIXED 16384
@@ -550,8 +550,8 @@ typedef struct pvs_kdtree_desc {
 /* Memory, for any boxes however they overlap: a tree holds at most PVS_KDTREE_MAX_REFS_PER_BOX item
    references and PVS_KDTREE_MAX_NODES_PER_BOX nodes per box (4 and 8 bytes each), and building it
    holds at most PVS_KDTREE_BUILD_BYTES_PER_BOX bytes per box plus PVS_KDTREE_BUILD_BYTES_FIXED at
-   once. Ordinary sets stay far below (1 to 30 references, 1 to 18 nodes per box); boxes that
-   overlap everywhere (a fan of slivers around one vertex) get bigger leaves instead of more memory. */
+   once. Ordinary sets stay far below (tests/BENCHMARKS.md, kdtree); boxes that overlap everywhere
+   (a fan of slivers around one vertex) get bigger leaves instead of more memory. */
 #define PVS_KDTREE_MAX_REFS_PER_BOX 64
 #define PVS_KDTREE_MAX_NODES_PER_BOX 32
 #define PVS_KDTREE_BUILD_BYTES_PER_BOX 2336
