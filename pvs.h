@@ -103,7 +103,7 @@
    costliest, runs last and samples only the objects the others kept: the intersection is the same, and
    a cell where the others leave nothing for it to cull costs little. EXTPROJ runs with the occlusion
    sweep of §5 (pvs_bake_desc.extproj_sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on indoor game maps
-   it fuses walls and floors that the planes of §6.1 do not, a smaller PVS for more time per cell (see
+   it fuses walls and floors that the planes of §6.1 do not: a smaller PVS for more time per cell (see
    tests/BENCHMARKS.md, bake). pvs_bake_desc.extproj_sweep_subcells = 4 gives each sweep plane the
    umbrae of the cell's four quarters (tighter on foliage, for a few times the bake's time: see
    tests/BENCHMARKS.md, extproj). pvs_bake_get_method_info says which ran, which were skipped and why,
