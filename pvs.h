@@ -1,4 +1,4 @@
-/* pvs.h - v0.3.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end of file)
+/* pvs.h - v0.3.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -101,16 +101,13 @@
    pvs_bake_desc.methods names it); it runs them cheapest first and intersects their PVSs (an
    intersection of conservative sets is conservative, and at least as tight as each). SHRINK, the
    costliest, runs last and samples only the objects the others kept: the intersection is the same, and
-   a cell where the others leave nothing for it to cull costs little (a Quake 3 arena with its brushes,
-   422 cells: 1.59 s per cell before, 0.11 s). EXTPROJ runs with the occlusion sweep of §5
-   (pvs_bake_desc.extproj_sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on indoor game maps it fuses walls
-   and floors that the planes of §6.1 do not (six Quake 3 maps with their brushes, 2026-11-25: AUTO's
-   PVS 1% to 29% smaller, 10% to 27% more time on the large ones (ons-reborn 2.4 -> 3.0 s per cell,
-   dieselpower 0.60 -> 0.74 s, oa_rpg3dm2 0.86 -> 0.94 s), up to 3 times on a small one, 12 to 38 ms
-   per cell; the generator's scenes: about 1% smaller for 40 to 120 ms more per cell).
-   pvs_bake_desc.extproj_sweep_subcells = 4 gives each sweep plane the umbrae of the cell's four
-   quarters (tighter, about 2.5 times the bake's time). pvs_bake_get_method_info says which ran, which
-   were skipped and why, and what each contributed; pvs_bake_desc.methods restricts the candidates.
+   a cell where the others leave nothing for it to cull costs little. EXTPROJ runs with the occlusion
+   sweep of §5 (pvs_bake_desc.extproj_sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on indoor game maps
+   it fuses walls and floors that the planes of §6.1 do not: a smaller PVS for more time per cell (see
+   tests/BENCHMARKS.md, bake). pvs_bake_desc.extproj_sweep_subcells = 4 gives each sweep plane the
+   umbrae of the cell's four quarters (tighter on foliage, for a few times the bake's time: see
+   tests/BENCHMARKS.md, extproj). pvs_bake_get_method_info says which ran, which were skipped and why,
+   and what each contributed; pvs_bake_desc.methods restricts the candidates.
    SAMPLE is never among them. PVS_BAKE_PREVIEW keeps only the cheapest with coarse settings.
    max_distance (a draw distance) drops objects whose box is farther than it from every point of the
    cell (box to box, rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake from
@@ -198,6 +195,8 @@
    synthesis per bake); extproj about 15 ms (its occluder preparation amortized), about 55 ms with
    the occlusion sweep; vocc about 60 ms (10 virtual occluders per cell, 52 bytes, 88% of the
    objects culled: 96% of what shrink culls; rebuilding a cell's PVS from them about 0.1 ms).
+   tests/BENCHMARKS.md names the bench line behind each figure and keeps the measurements behind the
+   design choices, module by module.
 
    ALGORITHMS (each cited again where it is implemented)
    ==========
@@ -495,7 +494,7 @@ typedef struct pvs_scene pvs_scene;
    OVERLAPPING_OBJECTS, BAD_OCCLUDER, COUNT_OVERFLOW, OUT_OF_MEMORY; err->index names the element.
    Memory: at most PVS_SCENE_BYTES_PER_TRIANGLE per triangle, PVS_SCENE_BYTES_PER_OBJECT per object,
    12 per vertex and PVS_SCENE_BYTES_FIXED at once, for any triangle shapes (the kD-trees' bounds);
-   the generator's scenes hold 105 to 430 bytes per triangle after creation, 210 to 600 at its peak. */
+   ordinary scenes hold far less (MEMORY; tests/BENCHMARKS.md, scene). */
 #define PVS_SCENE_BYTES_PER_TRIANGLE 2432
 #define PVS_SCENE_BYTES_PER_OBJECT 2400
 #define PVS_SCENE_BYTES_FIXED 16384
@@ -551,8 +550,8 @@ typedef struct pvs_kdtree_desc {
 /* Memory, for any boxes however they overlap: a tree holds at most PVS_KDTREE_MAX_REFS_PER_BOX item
    references and PVS_KDTREE_MAX_NODES_PER_BOX nodes per box (4 and 8 bytes each), and building it
    holds at most PVS_KDTREE_BUILD_BYTES_PER_BOX bytes per box plus PVS_KDTREE_BUILD_BYTES_FIXED at
-   once. Ordinary sets stay far below (1 to 30 references, 1 to 18 nodes per box); boxes that
-   overlap everywhere (a fan of slivers around one vertex) get bigger leaves instead of more memory. */
+   once. Ordinary sets stay far below (tests/BENCHMARKS.md, kdtree); boxes that overlap everywhere
+   (a fan of slivers around one vertex) get bigger leaves instead of more memory. */
 #define PVS_KDTREE_MAX_REFS_PER_BOX 64
 #define PVS_KDTREE_MAX_NODES_PER_BOX 32
 #define PVS_KDTREE_BUILD_BYTES_PER_BOX 2336
@@ -789,11 +788,11 @@ typedef struct pvs_cull_params {
                                           pvs_raster_mesh (no cracks along shared edges) */
 #define PVS_CULL_SCENE_MESH 2u         /* the scene's selected triangles drawn as one welded mesh
                                           (pvs_raster_mesh): tighter where walls are made of many
-                                          triangles, but about 1.6 times the culling time on the demo
-                                          city's walkthrough; by default one triangle at a time */
+                                          triangles, but costlier per frame (tests/BENCHMARKS.md,
+                                          raster); by default one triangle at a time */
 #define PVS_CULL_SEPARATE_TRIANGLES 4u /* the scene's occluder volumes (scene_volumes) one triangle at a
-                                          time, as before 0.4 (by default each is drawn as a mesh: no
-                                          cracks along its faces' diagonals, a small cost) */
+                                          time (by default each is drawn as a mesh: no cracks along
+                                          its faces' diagonals, a small cost) */
 
 /* What a culling call did (for statistics and tests). */
 typedef struct pvs_cull_stats {
@@ -806,9 +805,10 @@ typedef struct pvs_cull_stats {
 /* From-point occlusion culling with the depth pyramid: clears the depth map, sets the camera's matrix
    (aspect width / height), rasterizes the caller's and the selected scene occluders (occluder mode;
    each box or extrusion volume as a mesh, the selected scene triangles as one mesh with
-   PVS_CULL_SCENE_MESH and the caller's with PVS_CULL_OCCLUDER_MESH: see pvs_raster_mesh), builds the pyramid, then sweeps the scene's object kD-tree front to back from the eye (Bittner 2002
-   §3.2), skipping subtrees whose box is hidden, and sets in `visible` (PVS_BITSET_WORDS(object_count)
-   words, cleared first) every object whose box may be visible. Occluder-only objects are never set.
+   PVS_CULL_SCENE_MESH and the caller's with PVS_CULL_OCCLUDER_MESH: see pvs_raster_mesh), builds the
+   pyramid, then sweeps the scene's object kD-tree front to back from the eye (Bittner 2002 §3.2),
+   skipping subtrees whose box is hidden, and sets in `visible` (PVS_BITSET_WORDS(object_count) words,
+   cleared first) every object whose box may be visible. Occluder-only objects are never set.
    Conservative: every object seen through the screen from the eye is set. `stats` may be NULL.
    Errors: INVALID_ARGUMENT, NOT_FINITE (camera), BUFFER_TOO_SMALL (a scene larger than the context
    was created for). Allocates nothing. */
@@ -885,11 +885,8 @@ typedef struct pvs_visibility_25d_desc {
    bakes: pvs_bake_desc.otree_node_budget). The budget spent, the remaining facades are not inserted
    (counted as not blocking: conservative) and the objects are still tested. The generator scenes
    never reach it. On the brush geometry of Quake 3 maps thousands of small facades split the tree
-   into slivers: measured (2026-11-25, OTREE alone, 2 threads) against the former 2^18, per cell:
-   ons-reborn 12.7 -> 2.6 s (PVS 702.2 -> 702.9 objects), oa_rpg3dm2 1.70 -> 1.20 s (1188.3 ->
-   1188.4), am_thornish 1.31 -> 0.75 s, aneurysm 0.48 -> 0.26 s, oa_thor 0.33 -> 0.23 s (2024.7 ->
-   2026.3), the others unchanged; under AUTO on ons-reborn 19.7 -> 1.8 s per cell with the same
-   file. */
+   into slivers; there this budget bounds the time per cell at almost no cost in tightness (see
+   tests/BENCHMARKS.md, otree). */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
 
 /* pvs_visibility_25d_desc.flags: every box test walks the tree, with no witness lines (a remembered
@@ -1178,9 +1175,8 @@ PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_o
    skipped: a subtree is hidden when one occluder hides its whole node box, so an object whose parts
    lie behind different occluders may be left out too (the walk's PVS is a subset of the flat one,
    still conservative); with tree NULL every box is tested. Objects with an empty box (min > max)
-   are never set. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. About 0.1 ms for 3,575
-   objects and 10 occluders. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. Allocates nothing;
-   thread-safe. */
+   are never set. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. Errors: INVALID_ARGUMENT,
+   BUFFER_TOO_SMALL. Allocates nothing; thread-safe. */
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders, uint32_t count,
                                            const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
                                            void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
@@ -1366,8 +1362,8 @@ typedef struct pvs_bake_desc {
     uint32_t extproj_sweep_subcells; /* EXTPROJ (also under AUTO) with the sweep: 0 or 1 = each sweep plane holds
                                     the cell's umbra; 4 = the union of the umbrae of the cell's four quarters
                                     across each direction, and an object must be hidden from every quarter
-                                    (tighter on foliage: the paper-density forest culls 83% instead of 78% on a
-                                    bench cell, for about 2.5 times the bake's time). Needs the sweep */
+                                    (tighter on foliage, for a few times the bake's time: tests/BENCHMARKS.md,
+                                    extproj). Needs the sweep */
     /* Adaptive cells (Durand 2000 §6.1): a cell whose PVS holds more than adaptive_budget triangles is
        split in two across its longest side, recursively, while the halves stay at least
        adaptive_min_size long (0 = an eighth of the cell's longest side); the children are baked from
@@ -1404,9 +1400,8 @@ typedef struct pvs_bake_desc {
                                  occluders per plane unless set, no sweep, and decides the object kD-tree's
                                  nodes whole once they subtend under a quarter radian or after 4,096 box
                                  tests per cell: a few milliseconds per cell whatever the scene's size
-                                 (3.4 ms on the demo city, 7 ms among 200,000 objects, marking them
-                                 included). Where only OTREE or SHRINK applies, the cost is theirs (SHRINK's
-                                 derived eps is doubled) */
+                                 (tests/BENCHMARKS.md, bake). Where only OTREE or SHRINK applies, the cost
+                                 is theirs (SHRINK's derived eps is doubled) */
 
 typedef struct pvs_bake pvs_bake;
 
@@ -1530,8 +1525,8 @@ typedef struct pvs_file_desc {
 /* Encodes the table into out[0..capacity). *out_size receives the exact size, also when the buffer
    is too small (BUFFER_TOO_SMALL). With out == NULL it only measures (returns PVS_OK): call once
    with NULL to learn the size. The output is a deterministic function of the desc; the encoder's
-   scratch comes from desc->allocator. Thread-safe for distinct outputs. Errors: INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL,
-   COUNT_OVERFLOW (a file over 4 GiB), OUT_OF_MEMORY. */
+   scratch comes from desc->allocator. Thread-safe for distinct outputs. Errors: INVALID_ARGUMENT,
+   BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (a file over 4 GiB), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size, pvs_error *err);
 
 /* An opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data,
@@ -2479,8 +2474,9 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
    the lowest point of the scene, so it certainly blocks every height from the ground to its top.
    Anything else is left out (never blocks: conservative). The OTREE bake uses the general
    extraction (pvs__facades_extract, >>otree: any tessellation, base heights); vocc keeps this one,
-   as switching would change its results (it would find more and longer walls). Writes *count facades of 6 floats (u0 v0 u1 v1 top bottom) in triangle order into
-   a new array *out (6 * count + 6 floats, through allocator a; NULL on failure). */
+   as switching would change its results (it would find more and longer walls). Writes *count
+   facades of 6 floats (u0 v0 u1 v1 top bottom) in triangle order into a new array *out (6 * count +
+   6 floats, through allocator a; NULL on failure). */
 PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocator *a, float **out, uint32_t *count) {
     int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
     float ground = s->bounds.min[up];
@@ -3316,19 +3312,16 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
    triangles four at a time (behind the eye, no whole pixel, or behind every tile's base: dropping
    an occluder is always safe). Box tests then run in float on the eight corners with explicit
    error bounds (pvs__raster_box_f). A tile's depth is the farthest its occluders reach over it, so
-   tiles are coarser than pixels: about a tenth more objects pass on the test scenes at 1152 x 768,
-   a fifth at 384 x 256.
+   tiles are coarser than pixels: more objects pass, the more so on small maps (see
+   tests/BENCHMARKS.md, raster).
 
    Limits. Near-plane clipping cuts in double without a margin: an occludee may lose a sliver where it
    crosses the near plane (its depth there is the near plane's), as wide as the cut point's rounding
    along its edge, about 2^-51 |b - a| / near in normalized units for an edge ab: under 1e-8 pixels at
-   4K for edges up to 10^4 near distances long, more for longer ones. The
-   occluder selection uses the direction to the occluder as V in Bittner's measure (the solid angle),
-   not the view direction. The cull map needs facades standing on the ground and a perspective
-   camera (shadows are cast from a point). Speed (bench_raster, 2 shared cores under load,
-   2026-11-24, min of 7): 1080p frame of 50,000 city triangles, pyramid and 10,000 box tests about
-   1.0 ms with SSE2 and 2.0 ms scalar (Masked Occlusion Culling: about 1.06 ms on one 2013 desktop
-   core with AVX2); 1,000 facades into a 256 x 256 cull map and its scan about 0.8 ms (1.2 scalar). */
+   4K for edges up to 10^4 near distances long, more for longer ones. The occluder selection uses the
+   direction to the occluder as V in Bittner's measure (the solid angle), not the view direction. The
+   cull map needs facades standing on the ground and a perspective camera (shadows are cast from a
+   point). Speed: tests/BENCHMARKS.md, raster (bench_raster). */
 
 #if !defined(PVS_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
 #define PVS__SSE2 1
@@ -3840,8 +3833,9 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
    with inner coverage. Occluder-mode polygons go into tiles of 32 x 4 pixels (pvs__tile): per row of
    a tile the polygon's inner pixels are one run of columns, found from each edge's intercept with the
    row (the paper's per-scanline edge events turned into bit masks by shifts), and the tile keeps a
-   working layer (mask, z1) over a base depth z0, merged by the paper's layer heuristic. A tile costs about as much as one pixel
-   did, and a polygon drawn behind z0 costs one compare per tile. ---- */
+   working layer (mask, z1) over a base depth z0, merged by the paper's layer heuristic. A tile costs
+   about as much as one pixel of the per-pixel map, and a polygon drawn behind z0 costs one compare
+   per tile. ---- */
 
 #define PVS__TW_SHIFT 5
 #define PVS__TH_SHIFT 2
@@ -8068,36 +8062,15 @@ done:
 
 /* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
 
-/* Cost (bench_otree, demo city, 2026-11-24, shared machine): 88 M instructions per cell (callgrind,
-   8 cells), about 6.5-7 ms of CPU time under load; it was 112 M / 8.5-8.9 ms before the second round
-   and 550 M in the first version. First round: unit plane normals stored in the nodes (no square root
-   per classification), the work stack used in place, per-occluder umbra data computed once per tree,
-   an umbra covering the whole far edge ending the funnel test early, the hidden-height bound below
-   (most hidden queries stop high in the tree), clips of read-only tests paid only where the test
-   goes, and no box tests of kD nodes holding fewer than PVS__OT25_TEST_MIN items. Second round: lazy
-   funnel splitting (PVS__OT25_SPLIT_MIN), low boxes tested on their three exit edges, per-leaf
-   hidden-height bounds from the part of each member the leaf's lines cross (pvs__ot25_join), a
-   balanced top of the tree (pvs__ot25_presplit), blocker edge planes without a search, kD nodes
-   behind the source edge skipped. What remains: about three quarters of the inserted facades and
-   two thirds of the tested objects are hidden, and proving it walks the tree to its leaves (about
-   40 steps per query). Third round (82 M instructions per cell, -7%, byte-identical output): work
-   stack items reach their polygon through a slot permutation, so a clip writes into the free slot
-   above the top and trades places instead of copying; leaf polygons read in their slot; read-only
-   tests stop classifying at the first straddle; clips keep the inside flags. Tried and dropped:
-   classifying a polygon by a ball around its vertices first (the planes near a query pass close
-   to its vertices: almost never decisive, +12%), descending into the one unhidden child without
-   clipping (cheaper, but the PVS grows 8%), 32 or 64 presplit sectors (-1%, +5%), PVS__OT25_TEST_MIN
-   96 or 200 (+0.5%, +7%). Fourth round (63 M instructions per cell, 8 cells, -23%; byte-identical
-   bakes of the demo city and of three city seeds; bench_otree min of 6 on a loaded machine, load 3.6
-   on 2 cores, 4.48 ms beside 6.19 ms for the third round's build run alternately): witness lines (pvs__ot25_witnessed) answer about 40% of the
-   visible box tests without a traversal (kD node tests -40%); box tests skip the side no line of the
-   tree enters (tall box) or leaves (low box), one of the three for most boxes (-6%);
-   pvs__ot25_open takes the funnel range first, so a member whose umbra misses it skips the depth
-   order (-2%); inner-node steps go on down one-sided nodes in a loop (-5%); the bound test is called
-   only where a bound can apply (-2%); clip interpolation on locals, segment lines computed once in
-   the depth order (-3%). Tried and dropped: 64 witnesses (+0.4%), PVS__OT25_TEST_MIN 24 or 32 now
-   that visible tests are cheaper (+0.4%, the PVS 0.04% smaller), clipped vertices not renormalised
-   (no gain in time). What remains: insertion, 60% (insert_inner 28%, clips 15%), hidden box tests. */
+/* Cost. Most of the time goes to proving hidden things hidden: most inserted facades and most tested
+   objects are hidden, and proving it walks the tree to its leaves. The shortcuts of this section each
+   earned their place on the demo city's bake (bench_otree); among them unit plane normals in the
+   nodes, the work stack used in place through a slot permutation, the per-occluder umbra data once
+   per tree (pvs__ot25_prepare), the hidden-height bound and its per-leaf form (pvs__ot25_join), lazy
+   funnel splitting (PVS__OT25_SPLIT_MIN), a balanced top of the tree (pvs__ot25_presplit), witness
+   lines (pvs__ot25_witnessed), box tests on the box edges lines can enter or leave only
+   (pvs__ot25_box_visible), and no tests of kD nodes under PVS__OT25_TEST_MIN items. The rounds of
+   measurements, and the variants tried and dropped, are in tests/BENCHMARKS.md, otree. */
 
 #define PVS__OT25_MAX_UMBRAE 96
 #define PVS__OT25_JD 10 /* doubles of per-occluder data (pvs__ot25_prepare) */
@@ -8367,8 +8340,8 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
    the occluder, and its extended umbra is a property of its geometry, valid on every such line
    whether the occluder is seen there or not (the thesis keeps hidden occluders in S_L likewise,
    §7.5.2); the leaf only answers at least as tightly, with a longer sequence. Splitting (at most
-   three cells, §7.5.2) starts once the sequence is this long, to bound it. Demo city: 14% less CPU
-   per cell, a slightly smaller PVS. */
+   three cells, §7.5.2) starts once the sequence is this long, to bound it. It costs less than
+   splitting at once and culls no less (see tests/BENCHMARKS.md, otree). */
 #define PVS__OT25_SPLIT_MIN 16
 
 /* Inserts the blocker of occluder k (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an
@@ -8688,8 +8661,9 @@ PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source
    along it, which every later query walks down. Splitting the root region first by the planes of
    PVS__OT25_PRESPLIT far points spread over the directions (a balanced binary split, a plane through
    the origin of line space like any other, so the regions stay exact) cuts the chain into short
-   ones, one per direction sector. Demo city: 5% fewer instructions per cell. pts[lo..hi) are
-   reordered: the points whose representative line (from m) lies on a child's side go with it. */
+   ones, one per direction sector (fewer instructions per cell: tests/BENCHMARKS.md, otree).
+   pts[lo..hi) are reordered: the points whose representative line (from m) lies on a child's side go
+   with it. */
 #define PVS__OT25_PRESPLIT 16
 PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m[2], double (*pts)[2], int lo, int hi) {
     double l[3], tmp[PVS__OT25_PRESPLIT][2];
@@ -11563,10 +11537,9 @@ PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int
    inside: from each kept point, the farthest later point whose chord leaves every skipped point on
    its right or on it, at most one square away (the skipped corners lie outside the chord: the region
    between them and the chord is given up, never added) and meets no edge of the loop but the two it
-   joins. Staircases of
-   a slanted wall become a few long edges a square at most inside them (long facades rasterize their
-   shadows near the wall; a staircase of short ones covers no whole cull-map cell there). Returns the
-   number of points kept (in place). */
+   joins. Staircases of a slanted wall become a few long edges a square at most inside them (long
+   facades rasterize their shadows near the wall; a staircase of short ones covers no whole cull-map
+   cell there). Returns the number of points kept (in place). */
 PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
     uint32_t i = 0, kept = 0, j, k, start;
     int32_t *out;
@@ -11624,7 +11597,8 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
     /* direction d: 0 +i, 1 +j, 2 -i, 3 -j; the squares left and right of an edge leaving vertex (x, y) */
     static const int di[4] = {1, 0, -1, 0}, dj[4] = {0, 1, 0, -1};
     static const int lqi[4] = {0, -1, -1, 0}, lqj[4] = {0, 0, -1, -1}, rqi[4] = {0, 0, -1, -1}, rqj[4] = {-1, 0, 0, -1};
-    /* square (i, j)'s side toward neighbour n (below, right, above, left) leaves vertex (i, j) + v0[n] in direction n */
+    /* square (i, j)'s side toward neighbour n (below, right, above, left) leaves vertex (i, j) + v0[n] in
+       direction n */
     static const int ni[4] = {0, 1, 0, -1}, nj[4] = {-1, 0, 1, 0}, v0i[4] = {0, 1, 1, 0}, v0j[4] = {0, 0, 1, 1};
     uint32_t i, j;
     memset(used, 0, (size_t)(w + 1) * (h + 1) * 4);
@@ -11703,10 +11677,11 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
     return 1;
 }
 
-/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground: per 4-connected region of squares at or above a level that some
-   square of the region has, the region's boundary at that level (a level-set tree: a block of
-   buildings of several heights is one chain at its lowest height plus one per taller part, so no
-   crack opens where two heights meet). Quantum: a quarter of the square size. */
+/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground:
+   per 4-connected region of squares at or above a level that some square of the region has, the
+   region's boundary at that level (a level-set tree: a block of buildings of several heights is one
+   chain at its lowest height plus one per taller part, so no crack opens where two heights meet).
+   Quantum: a quarter of the square size. */
 PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
     pvs__vx_cols *cm = &o->cols;
     const pvs_allocator *al = &o->allocator;
@@ -15202,55 +15177,17 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
    back so this does not add up along it); scenes of sparse small occluders stay loose even with the
    sweep: the umbra of a plane's blocked region shrinks by the cell's size over the distance (C dD /
    D per plane), so small occluders fuse only where they add coverage faster than that, and a
-   region survives a reprojection only where it holds a whole kernel window. Measured on the
-   generator's forests (bench_extproj, 2026-11-24): the dense forest (3 m cells, about 100 leaves
-   of about 1 m per tree) culls nothing, with or without the sweep (16 planes at 256 pixels, 64 at
-   512); rays aimed at each object see a quarter of the objects from its cells. At the paper's
-   density (1,000 leaves per tree, bushes as dense, 1 m cells; rays see about 2% of the objects)
-   nothing is culled without the sweep, and with it 16% at 256 pixels and 16 planes (3 s per cell),
-   50% at 512 and 32 (4 s), 71% at 1024 and 64 (9 s), 76% at 2048 and 64 (25 s, 4.5 GB); with
-   objects tested by their boxes only these were 8%, 35%, 59% and 65%, and before the planes were
-   fitted to the scene's span (pvs__ep_fit_plane) 1%, 8%, 25% and 47% (4096 pixels: 60%, 71 s,
-   10 GiB). 128 planes at 1024 pixels add 3 points for twice the time. The planes 40 m ahead are
-   97% blocked, but the band just above the ground under the bushes stays open on them, and every
-   trunk's foot and the bushes' lowest leaves stand in it. Near the cell that band is open in
-   fact: rays from the lowest 10 cm of a cell to the points of an object below 0.7 m see 118 to 218
-   more objects per cell (of 115 to 227 the reference sees) among those the sweep keeps (4096 rays
-   per object; 165 instead of 118 with 32768), so the reference's 2% is well below the visible set.
-   Farther it is not: of the 464 objects kept 60 to 120 m from a cell, such rays (65,536 per
-   object) see 27; the sweep keeps 68% of the objects 60 to 75 m away, 46% at 90 to 105 m.
-   Experiments on square planes, not kept: the bushes lowered to the ground, 85%; at 1024 pixels,
-   the sweep planes' occluders covered at 4 x 4 sub-pixels (a pixel blocked when the union covers
-   it), 31%, and sub-pixel distances into the blocked region carried through the reprojections (a
-   kernel erodes by its true width, not by whole pixels), 28%; with cells of 0.25 m instead of 1 m,
-   65%, but the union of four horizontal slabs of a 1 m cell, 30%. Where the band is closed, bush
-   leaves and trunks close it together, in depth (the trunks alone, by an exact 2D from-region test
-   of their sections, hide about a fifth of the trunk sections), which one binary umbra per plane
-   does not capture; testing the triangles' parts further (boxes halved down to 1/64 of a
-   triangle's) adds 2 points. Where the tightness goes, measured (2026-11-25) with two experiments
-   that are not conservative: closing one-pixel gaps between the blocked regions of the sweep's
-   masks took dieselpower (a Quake 3 map with its brushes, 15 cells, 16 planes) from 323.6 to 248.9
-   objects (ray sampling sees 90.6) and the first forest1000 bench cell (1024 pixels, 64 planes)
-   from 78% to 87% culled; blocking a pixel when the union of the Projections covers its 4 x 4
-   sample points, 296.8 and 82%, and when each of its 4 x 4 sub-squares lies inside one Projection
-   (what a conservative version could reach), 315.7 and 81%. Most of what is lost lies in the
-   penumbra gaps between the Projections of adjacent occluders (each Projection is the umbra of one
-   occluder), the rest in pixels that two Projections cover only together. Moving every sweep plane
-   by a fraction of its spacing changes dieselpower's PVS by under 1%. Baking the cell as 4
-   horizontal slabs (2 x 2 x 2 sub-cells) and taking the union of their PVSs culls 81% (83%) on that
-   forest cell, at 4 (8) times the time. Sub-cells on the sweep's planes (extproj_sweep_subcells,
-   pvs__epmask) keep most of that for less: each pixel holds one bit per quarter of the cell (halved
-   across the direction on both axes), the Projections and reprojections are made per quarter, and
-   an object is hidden when hidden from each. Measured (2026-11-25, 1024 pixels, 64 planes): the six
-   forest1000 bench cells cull 76.9% instead of 71.0% (the first cell 83.6%, where halving on one
-   axis gave 81%, also in depth 84.1% for half again the time), at about 25 s instead of 6.5 s per
-   cell (the occluders projected four times); the generator's city, indoor and walls scenes (3
-   seeds, 100 cells, 16 planes): PVS 3% to 7% smaller, 0 misses, 2.5 times the bake's time. The share
-   culled grows with the forest's extent (the far objects are the hidden ones): on a forest of the
-   paper's extent (generator size 1.5: 7,339 trees of 1,000 leaves and 7,393 bushes, 10.6M
-   triangles, against the paper's 7,750 trees and 7.8M; rays see 0.8% of the objects) the sweep
-   culls 82.5% from six inner cells, 87.2% with sub-cells (bench_extproj's forest_paper lines,
-   2026-11-25; nothing without the sweep). */
+   region survives a reprojection only where it holds a whole kernel window. Foliage is the hard case:
+   the band just above the ground under the bushes stays open on far planes, and where it is closed,
+   bush leaves and trunks close it together, in depth, which one binary umbra per plane does not
+   capture. Most of what is lost lies in the penumbra gaps between the Projections of adjacent
+   occluders (each Projection is the umbra of one occluder), the rest in pixels that two Projections
+   cover only together. Sub-cells on the sweep's planes (extproj_sweep_subcells, pvs__epmask) win back
+   part of it: each pixel holds one bit per quarter of the cell (halved across the direction on both
+   axes), the Projections and reprojections are made per quarter (the occluders projected four times),
+   and an object is hidden when hidden from each. The forest measurements, the experiments (some not
+   conservative) that located the loss, and the sub-cells' gains and costs are in tests/BENCHMARKS.md,
+   extproj. */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
@@ -17795,10 +17732,9 @@ PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
    skipped; visible, it is halved, down to single triangles. Each box holds its triangles' points
    inside b, so an object is kept whenever a point of it inside b may be seen. Used with the sweep
    (§5): a tree's box is mostly air between leaves and the band under its crown, its leaves and
-   trunk are not. On the planes of §6.1 alone it did not pay (demo city 2.80 -> 2.78 for 11% more
-   time, the forests unchanged). The work is bounded: an object of more than PVS__EP_PARTS_TRIS
-   triangles is kept on its box, and one whose parts take more than PVS__EP_PARTS_TESTS box tests
-   is kept (in the forest of 1,000 leaves per tree: 15 on average, at most 194, at 512 pixels). */
+   trunk are not. On the planes of §6.1 alone it does not pay for its time (see tests/BENCHMARKS.md,
+   extproj). The work is bounded: an object of more than PVS__EP_PARTS_TRIS triangles is kept on its
+   box, and one whose parts take more than PVS__EP_PARTS_TESTS box tests is kept. */
 #define PVS__EP_PARTS_TRIS 16384u
 #define PVS__EP_PARTS_TESTS 256u
 PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box *b) {
@@ -17981,13 +17917,10 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
    span. The occluders beyond the rectangle's edge are still skipped rightly (pvs__epslab): the cut
    rectangle holds the cell's span. The gain is on flat scenes: seen from a cell on the ground, the
    planes of the four horizontal directions reach 1.5 times their distance up and down, while the
-   scene may be a few metres high, so a square map spent most of its rows on sky and underground.
-   Measured (2026-11-24, bench_extproj): the demo city with the sweep, PVS over the ray-sampled sets
-   1.50 -> 1.38; the forest at the paper's density (1 m cells, 1024 pixels, 64 planes) culls 59.0%
-   instead of 25.6% (objects tested by their boxes only), its planes up to about 4300 x 250
-   pixels. §6.1's planes are not fitted: an occludee in front of one (§4) is often hidden by
-   pixels outside the span (a table, by the floor's Projection below the floor); fitted, extproj
-   without the sweep went 2.80 -> 2.56 on the city but 1.9 -> 2.14 indoors (bench_auto). */
+   scene may be a few metres high, so a square map spends most of its rows on sky and underground
+   (see tests/BENCHMARKS.md, extproj). §6.1's planes are not fitted: an occludee in front of one (§4)
+   is often hidden by pixels outside the span (a table, by the floor's Projection below the floor),
+   and fitting them made the city tighter but the indoor plans looser. */
 PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels, size_t room, pvs_extproj_plane *pl) {
     int a = (int)pl->axis, k;
     uint32_t side = pvs__ep_max_side(res);
@@ -18497,15 +18430,13 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
    Projections of all occluders between it and the previous plane (pvs__epslab), and the slices of
    the closed meshes it cuts. The planes run from one cell size C ahead of the cell (or the nearest
    selected occluder, if farther) to the far end of the scene, spaced geometrically. Departures
-   from §5.2, measured (2026-11-24):
+   from §5.2 (their measurements: tests/BENCHMARKS.md, extproj):
    - §5.2 spaces the planes for a kernel of K pixels, dD = D (K - 1) P / (C N), and stops wherever
      the planes run out. With P growing like D that puts most planes within a few cell sizes of the
      cell, where a small occluder's umbra is short anyway, and leaves few far out, where the gaps
-     between many small occluders close. The demo city's PVS over the ray-sampled sets went 1.65 ->
-     1.50 with geometric spacing (bench cells, 16 planes, 256 pixels); the generator's dense forest
-     at 1,000 leaves per tree with its bushes lowered to the ground (2 cells of 1 m, 1024 pixels,
-     64 planes) culled 59% with §5.2's spacing, 85% with geometric. The kernel need not be a whole
-     number of pixels here (pvs__ep_reproject_sat takes the true cell per row and column).
+     between many small occluders close; geometric spacing is tighter on the demo city and on the
+     dense forest alike. The kernel need not be a whole number of pixels here
+     (pvs__ep_reproject_sat takes the true cell per row and column).
    - Planes nearer than C add little: an occluder of width s < C / 2 at distance w casts an umbra
      ending before w C / (C - s) < 2 w, and the occluders in front of the first plane are still
      projected onto it; only their fusion on nearer planes is given up.
@@ -18777,10 +18708,9 @@ PVS__STATIC const pvs__bake_method pvs__extproj_method = {
 
 /* The bins are the horizon's angular resolution (0.23 degree at 1536; an object counts as visible
    when any bin its rectangle touches is open, so a bin partly covered at a building's silhouette
-   keeps everything behind that corner): on the demo city the mean PVS over ray-sampled sets went
-   1.305 -> 1.285 -> 1.276 -> 1.266 for 1024, 1536, 2048, 4096 bins (2026-11-24), cost growing with
-   the bins; a voxel grid of eps / 2 for the columns, more steps and per-triangle object tests
-   changed nothing measurable there. */
+   keeps everything behind that corner). Finer bins gain little tightness on the demo city for a cost
+   that grows with the bins; a voxel grid of eps / 2 for the columns, more steps and per-triangle
+   object tests changed nothing measurable there (see tests/BENCHMARKS.md, shrink). */
 #define PVS__HZ_BINS 1536
 #define PVS__HZ_STEPS 6
 
@@ -21020,9 +20950,9 @@ PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) 
 /* Bases: candidate edges from each cell to its nearest cells (the kD-tree sweep); a virtual root
    joined to every cell by its key size; then Prim's minimum spanning tree from the root, each edge
    weighed when it is reached by the coded size of the delta in that direction, and taken only while
-   the chain stays within K deltas (a greedy depth-bounded minimum arborescence). A cell whose cheapest admissible link is the root
-   becomes a key: "key cells where a delta does not pay". Ties break by (weight, cell, base), so the
-   result is a function of the table alone. */
+   the chain stays within K deltas (a greedy depth-bounded minimum arborescence). A cell whose
+   cheapest admissible link is the root becomes a key: "key cells where a delta does not pay". Ties
+   break by (weight, cell, base), so the result is a function of the table alone. */
 PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
     const pvs_allocator *a = &e->a;
     uint32_t i, c;
