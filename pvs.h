@@ -2936,22 +2936,17 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
 
 /* Bittner 2002 §3.2 (approximate occlusion sweep): a priority queue on the nodes' minimum distance
    to the source. A child's cell lies inside its parent's, so its distance is never smaller and the
-   visit order is non-decreasing in distance. */
-PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, void *scratch, size_t scratch_size,
-                                    pvs_kdtree_visit_fn visit, void *user) {
-    pvs__kdsweep *heap = (pvs__kdsweep *)scratch;
-    size_t n = 0, cap;
+   visit order is non-decreasing in distance. `heap` holds (node_count + 1) / 2 entries; when `node`
+   is not NULL, it holds the index of the node being visited during each call of `visit` (the otree
+   sweep keeps per-node counts). Serves pvs_kdtree_sweep and the otree bake (pvs__ot25_sweep_tree). */
+PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap, pvs_kdtree_visit_fn visit, void *user,
+                               uint32_t *node) {
+    size_t n = 1;
     int k;
-    if (!t || !source || !visit) return PVS_ERROR_INVALID_ARGUMENT;
-    for (k = 0; k < 3; ++k)
-        if (!pvs__finite(source->min[k]) || !pvs__finite(source->max[k])) return PVS_ERROR_NOT_FINITE;
-    if (t->bounds.min[0] > t->bounds.max[0]) return PVS_OK; /* no items: nothing to visit */
-    cap = scratch ? scratch_size / sizeof(pvs__kdsweep) : 0;
-    if (cap < ((size_t)t->node_count + 1) / 2) return PVS_ERROR_BUFFER_TOO_SMALL;
+    if (t->bounds.min[0] > t->bounds.max[0]) return; /* no items: nothing to visit */
     heap[0].d2 = pvs__box_distance2(source, &t->bounds);
     heap[0].node = 0;
     heap[0].box = t->bounds;
-    n = 1;
     while (n) {
         pvs__kdsweep top = heap[0];
         const pvs__kdnode *nd = t->nodes + top.node;
@@ -2971,6 +2966,7 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
             }
             heap[i] = last;
         }
+        if (node) *node = top.node;
         if (axis == PVS__KD_LEAF) {
             uint32_t count = nd->u.count;
             v = visit(user, &top.box, sqrtf(top.d2), count ? t->items + (nd->bits >> 2) : NULL, count);
@@ -2996,6 +2992,19 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
             heap[i] = e;
         }
     }
+}
+
+PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, void *scratch, size_t scratch_size,
+                                    pvs_kdtree_visit_fn visit, void *user) {
+    size_t cap;
+    int k;
+    if (!t || !source || !visit) return PVS_ERROR_INVALID_ARGUMENT;
+    for (k = 0; k < 3; ++k)
+        if (!pvs__finite(source->min[k]) || !pvs__finite(source->max[k])) return PVS_ERROR_NOT_FINITE;
+    if (t->bounds.min[0] > t->bounds.max[0]) return PVS_OK; /* no items: nothing to visit */
+    cap = scratch ? scratch_size / sizeof(pvs__kdsweep) : 0;
+    if (cap < ((size_t)t->node_count + 1) / 2) return PVS_ERROR_BUFFER_TOO_SMALL;
+    pvs__kd_sweep(t, source, (pvs__kdsweep *)scratch, visit, user, NULL);
     return PVS_OK;
 }
 
@@ -8608,52 +8617,10 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
     return PVS_VISIT_DESCEND;
 }
 
-/* The approximate occlusion sweep (§3.2) over the kD-tree, as pvs_kdtree_sweep, telling the visitor
+/* The approximate occlusion sweep (§3.2) over the kD-tree (pvs__kd_sweep), telling the visitor
    which node it visits (w->node). */
 PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap, pvs__ot25_sweep *w) {
-    size_t n = 1;
-    int k;
-    if (t->bounds.min[0] > t->bounds.max[0]) return;
-    heap[0].d2 = pvs__box_distance2(source, &t->bounds);
-    heap[0].node = 0;
-    heap[0].box = t->bounds;
-    while (n) {
-        pvs__kdsweep top = heap[0];
-        const pvs__kdnode *nd = t->nodes + top.node;
-        uint32_t axis = nd->bits & 3u;
-        pvs_visit v;
-        size_t i, c;
-        if (--n) {
-            pvs__kdsweep last = heap[n];
-            i = 0;
-            while ((c = 2 * i + 1) < n) {
-                if (c + 1 < n && pvs__kdsweep_before(heap + c + 1, heap + c)) ++c;
-                if (!pvs__kdsweep_before(heap + c, &last)) break;
-                heap[i] = heap[c];
-                i = c;
-            }
-            heap[i] = last;
-        }
-        w->node = top.node;
-        if (axis == PVS__KD_LEAF) v = pvs__ot25_visit(w, &top.box, 0.0f, nd->u.count ? t->items + (nd->bits >> 2) : NULL, nd->u.count);
-        else v = pvs__ot25_visit(w, &top.box, 0.0f, NULL, 0);
-        if (v == PVS_VISIT_STOP) break;
-        if (v != PVS_VISIT_DESCEND || axis == PVS__KD_LEAF) continue;
-        for (k = 0; k < 2; ++k) {
-            pvs__kdsweep e;
-            e.node = (nd->bits >> 2) + (uint32_t)k;
-            e.box = top.box;
-            if (k == 0) e.box.max[axis] = nd->u.split;
-            else e.box.min[axis] = nd->u.split;
-            e.d2 = pvs__box_distance2(source, &e.box);
-            i = n++;
-            while (i > 0 && pvs__kdsweep_before(&e, heap + (i - 1) / 2)) {
-                heap[i] = heap[(i - 1) / 2];
-                i = (i - 1) / 2;
-            }
-            heap[i] = e;
-        }
-    }
+    pvs__kd_sweep(t, source, heap, pvs__ot25_visit, w, &w->node);
 }
 
 /* A balanced top for the tree of a source edge. Insertion front to back carves the open region
