@@ -1883,6 +1883,33 @@ typedef struct pvs__plane {
 } pvs__plane;
 PVS__STATIC float pvs__plane_eval(pvs__plane pl, pvs__v3 p) { return pvs__v3_dot(pl.n, p) + pl.d; }
 
+/* Float bounds of a double from below / above (clamped to the finite floats). */
+PVS__STATIC float pvs__f_down(double v) {
+    float f;
+    if (!(v > -FLT_MAX)) return -FLT_MAX;
+    if (v >= FLT_MAX) return FLT_MAX;
+    f = (float)v;
+    if ((double)f > v) f = nextafterf(f, -FLT_MAX);
+    return f;
+}
+PVS__STATIC float pvs__f_up(double v) {
+    float f;
+    if (!(v < FLT_MAX)) return FLT_MAX;
+    if (v <= -FLT_MAX) return -FLT_MAX;
+    f = (float)v;
+    if ((double)f < v) f = nextafterf(f, FLT_MAX);
+    return f;
+}
+PVS__STATIC double pvs__dabs(double v) { return v < 0 ? -v : v; }
+PVS__STATIC double pvs__dmin(double a, double b) { return a < b ? a : b; }
+PVS__STATIC double pvs__dmax(double a, double b) { return a > b ? a : b; }
+/* Clamp a double to [lo, hi] and convert (NaN gives lo). */
+PVS__STATIC int32_t pvs__clampi(double v, int32_t lo, int32_t hi) {
+    if (!(v > (double)lo)) return lo;
+    if (v > (double)hi) return hi;
+    return (int32_t)v;
+}
+
 /* ---- bitsets ---- */
 
 PVS_API int pvs_bitset_test(const pvs_word *bits, uint32_t i) { return (int)((bits[i >> 6] >> (i & 63)) & 1u); }
@@ -1942,6 +1969,63 @@ PVS__STATIC uint64_t pvs__splitmix64(uint64_t *state) {
 }
 /* Uniform float in [0, 1). */
 PVS__STATIC float pvs__random01(uint64_t *state) { return (float)(pvs__splitmix64(state) >> 40) * (1.0f / 16777216.0f); }
+
+/* ---- sorting: one allocation-free heap sort for (key, index) pairs ---- */
+
+/* A sort key and the index of what it sorts. (key, index) is a total order for keys that are not NaN:
+   the result does not depend on the sort, so it is the same on every platform and libc. */
+typedef struct pvs__key_index {
+    double key;
+    uint32_t index;
+} pvs__key_index;
+
+PVS__STATIC int pvs__key_index_less(const pvs__key_index *a, const pvs__key_index *b) {
+    return a->key < b->key || (a->key == b->key && a->index < b->index);
+}
+PVS__STATIC void pvs__key_index_sift(pvs__key_index *o, uint32_t r, uint32_t n) {
+    for (;;) {
+        uint32_t c = 2 * r + 1;
+        pvs__key_index t;
+        if (c >= n) return;
+        if (c + 1 < n && pvs__key_index_less(o + c, o + c + 1)) ++c;
+        if (!pvs__key_index_less(o + r, o + c)) return;
+        t = o[r]; o[r] = o[c]; o[c] = t;
+        r = c;
+    }
+}
+/* Sorts o[0 .. n) ascending by (key, index): a heap sort (Williams 1964), O(n log n), no allocation
+   and no libc, so the per-frame and file paths may use it too. Sorts of larger records go through
+   PVS_QSORT with a comparator that breaks ties by index. */
+PVS__STATIC void pvs__key_index_sort(pvs__key_index *o, uint32_t n) {
+    uint32_t i;
+    if (n < 2) return;
+    for (i = n / 2; i-- > 0;) pvs__key_index_sift(o, i, n);
+    for (i = n - 1; i > 0; --i) {
+        pvs__key_index t = o[0];
+        o[0] = o[i]; o[i] = t;
+        pvs__key_index_sift(o, 0, i);
+    }
+}
+
+/* ---- little-endian bytes: the file format and the VOCC section ---- */
+
+PVS__STATIC void pvs__put32(uint8_t *p, uint32_t v) {
+    p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24);
+}
+PVS__STATIC uint32_t pvs__get32(const uint8_t *p) {
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+}
+PVS__STATIC void pvs__putf32(uint8_t *p, float f) {
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    pvs__put32(p, u);
+}
+PVS__STATIC float pvs__getf32(const uint8_t *p) {
+    uint32_t u = pvs__get32(p);
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
 
 /* CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), two nibble-table steps per byte: a 64-byte
    constant table keeps the code small; validation stays linear in the file size. */
@@ -3429,33 +3513,6 @@ struct pvs_raster {
     float *cm_bound;                            /* highest object top per cell (Wonka 1999 §4.3) */
     float ground;                               /* the scene's lowest point along the up axis */
 };
-
-/* Float bounds of a double from below / above (clamped to the finite floats). */
-PVS__STATIC float pvs__f_down(double v) {
-    float f;
-    if (!(v > -FLT_MAX)) return -FLT_MAX;
-    if (v >= FLT_MAX) return FLT_MAX;
-    f = (float)v;
-    if ((double)f > v) f = nextafterf(f, -FLT_MAX);
-    return f;
-}
-PVS__STATIC float pvs__f_up(double v) {
-    float f;
-    if (!(v < FLT_MAX)) return FLT_MAX;
-    if (v <= -FLT_MAX) return -FLT_MAX;
-    f = (float)v;
-    if ((double)f < v) f = nextafterf(f, FLT_MAX);
-    return f;
-}
-PVS__STATIC double pvs__dabs(double v) { return v < 0 ? -v : v; }
-PVS__STATIC double pvs__dmin(double a, double b) { return a < b ? a : b; }
-PVS__STATIC double pvs__dmax(double a, double b) { return a > b ? a : b; }
-/* Clamp a double to [lo, hi] and convert (NaN gives lo). */
-PVS__STATIC int32_t pvs__clampi(double v, int32_t lo, int32_t hi) {
-    if (!(v > (double)lo)) return lo;
-    if (v > (double)hi) return hi;
-    return (int32_t)v;
-}
 
 /* One prepared polygon: float edge and depth coefficients over the pixel range [i0, i1] x [j0, j1],
    relative to its corner (i0, j0). */
@@ -7533,45 +7590,6 @@ PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const dou
     return n;
 }
 
-typedef struct pvs__ot_order {
-    double key;
-    uint32_t index;
-} pvs__ot_order;
-PVS__STATIC int pvs__ot_order_less(const pvs__ot_order *a, const pvs__ot_order *b) {
-    return a->key < b->key || (a->key == b->key && a->index < b->index);
-}
-/* Heap sort by (key, index), a total order. */
-PVS__STATIC void pvs__ot_sort(pvs__ot_order *o, uint32_t n) {
-    uint32_t i, end;
-    for (end = n; end > 1; --end) {
-        if (end == n)
-            for (i = n / 2; i-- > 0;) { /* heapify */
-                uint32_t r = i;
-                for (;;) {
-                    uint32_t c = 2 * r + 1;
-                    pvs__ot_order tmp;
-                    if (c >= n) break;
-                    if (c + 1 < n && pvs__ot_order_less(o + c, o + c + 1)) ++c;
-                    if (!pvs__ot_order_less(o + r, o + c)) break;
-                    tmp = o[r]; o[r] = o[c]; o[c] = tmp;
-                    r = c;
-                }
-            }
-        {
-            pvs__ot_order tmp = o[0];
-            uint32_t r = 0, m = end - 1;
-            o[0] = o[m]; o[m] = tmp;
-            for (;;) {
-                uint32_t c = 2 * r + 1;
-                if (c >= m) break;
-                if (c + 1 < m && pvs__ot_order_less(o + c, o + c + 1)) ++c;
-                if (!pvs__ot_order_less(o + r, o + c)) break;
-                tmp = o[r]; o[r] = o[c]; o[c] = tmp;
-                r = c;
-            }
-        }
-    }
-}
 /* Squared distance from point p to segment s. */
 PVS__STATIC double pvs__ot_dist2(const double p[2], const double *s) {
     double dx = s[2] - s[0], dy = s[3] - s[1], l2 = dx * dx + dy * dy, u = 0.0, qx, qy;
@@ -7649,7 +7667,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
     pvs__otree t;
     pvs_allocator al;
     double *cell = NULL, *seg = NULL, *reach = NULL, *near = NULL, cx = 0.0, cy = 0.0, area = 0.0;
-    pvs__ot_order *order = NULL;
+    pvs__key_index *order = NULL;
     uint32_t n, i, k, budget, count;
     pvs_result r = PVS_OK;
     pvs_otree_stats st;
@@ -7672,7 +7690,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
     t.a = &al;
     cell = (double *)pvs__alloc_array(&al, 2 * (size_t)n, sizeof(double));
     seg = (double *)pvs__alloc_array(&al, 4 * (size_t)count + 4, sizeof(double));
-    order = (pvs__ot_order *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(pvs__ot_order));
+    order = (pvs__key_index *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(pvs__key_index));
     reach = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
     near = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
     if (!cell || !seg || !order || !reach || !near) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2D visibility arrays"); goto done; }
@@ -7712,7 +7730,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
             order[i].index = i;
         }
     }
-    pvs__ot_sort(order, count);
+    pvs__key_index_sort(order, count);
     for (i = 0; i < count; ++i) { /* distances for the MVD shortcut, rounded outward */
         const double *sg = seg + 4 * i;
         double far2 = 0.0, nr = DBL_MAX;
@@ -7787,7 +7805,7 @@ done:
     pvs__ot_free(&t);
     pvs__free_array(&al, cell, 2 * (size_t)n, sizeof(double));
     pvs__free_array(&al, seg, 4 * (size_t)count + 4, sizeof(double));
-    pvs__free_array(&al, order, (size_t)count + 1, sizeof(pvs__ot_order));
+    pvs__free_array(&al, order, (size_t)count + 1, sizeof(pvs__key_index));
     pvs__free_array(&al, reach, (size_t)count + 1, sizeof(double));
     pvs__free_array(&al, near, (size_t)count + 1, sizeof(double));
     return r;
@@ -7867,7 +7885,7 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
     int u, v, up;
     uint32_t t, nv = 0, i, k, g0, g1, c0, c1, nt = sc->triangle_count;
     double ext = 1.0, tol, tol_a = 1e-7;
-    pvs__ot_order *ord = NULL, *sord = NULL, *so = NULL;
+    pvs__key_index *ord = NULL, *sord = NULL, *so = NULL;
     double *tl = NULL, *sv = NULL, *sec = NULL;
     uint32_t *vt = NULL, *ins = NULL, *act = NULL, *comp = NULL, *que = NULL;
     pvs__fxopen *opn = NULL, *nxt = NULL;
@@ -7920,9 +7938,9 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
         vt[nv++] = t;
     }
     *vertical = nv;
-    ord = (pvs__ot_order *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__ot_order));
-    sord = (pvs__ot_order *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__ot_order));
-    so = (pvs__ot_order *)pvs__alloc_array(a, 3 * (size_t)nv + 3, sizeof(pvs__ot_order));
+    ord = (pvs__key_index *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__key_index));
+    sord = (pvs__key_index *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__key_index));
+    so = (pvs__key_index *)pvs__alloc_array(a, 3 * (size_t)nv + 3, sizeof(pvs__key_index));
     sv = (double *)pvs__alloc_array(a, 14 * (size_t)nv + 14, sizeof(double)); /* per member: s[3], h[3], smin, smax, ground[3][2] */
     sec = (double *)pvs__alloc_array(a, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
     ins = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
@@ -7933,11 +7951,11 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
     nxt = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
     if (!ord || !sord || !so || !sv || !sec || !ins || !act || !comp || !que || !opn || !nxt) goto done;
     for (i = 0; i < nv; ++i) { ord[i].key = tl[5 * (size_t)i]; ord[i].index = i; }
-    pvs__ot_sort(ord, nv); /* by direction (ties by slot: deterministic) */
+    pvs__key_index_sort(ord, nv); /* by direction (ties by slot: deterministic) */
     for (g0 = 0; g0 < nv; g0 = g1) {
         for (g1 = g0 + 1; g1 < nv && ord[g1].key - ord[g0].key <= tol_a; ++g1) ;
         for (i = g0; i < g1; ++i) { sord[i - g0].key = tl[5 * (size_t)ord[i].index + 1]; sord[i - g0].index = ord[i].index; }
-        pvs__ot_sort(sord, g1 - g0); /* then by offset */
+        pvs__key_index_sort(sord, g1 - g0); /* then by offset */
         for (c0 = 0; c0 < g1 - g0; c0 = c1) {
             uint32_t ref, nm = 0, ns = 0, nopen = 0, na = 0, next = 0, slab;
             double d[2], c;
@@ -7969,11 +7987,11 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
             }
             if (!nm) continue;
             for (i = 0; i < nm; ++i) { so[i].key = sv[14 * (size_t)i + 6]; so[i].index = i; }
-            pvs__ot_sort(so, nm);
+            pvs__key_index_sort(so, nm);
             for (i = 0; i < nm; ++i) ins[i] = so[i].index; /* members in order of their smallest s */
             for (i = 0; i < nm; ++i)
                 for (k = 0; k < 3; ++k) { so[ns].key = sv[14 * (size_t)i + k]; so[ns].index = 3 * i + k; ++ns; }
-            pvs__ot_sort(so, ns); /* every vertex s: the slab boundaries */
+            pvs__key_index_sort(so, ns); /* every vertex s: the slab boundaries */
             for (slab = 0; slab + 1 < ns; ++slab) {
                 double sa = so[slab].key, sb = so[slab + 1].key, ga[2], gb[2];
                 uint32_t m = 0, nn = 0, j, nc, seen, use;
@@ -8055,9 +8073,9 @@ done:
     if (r != PVS_OK && *out) { pvs__free(a, *out, cap * sizeof(float), 16); *out = NULL; *count = 0; }
     pvs__free_array(a, tl, 5 * (size_t)nt + 5, sizeof(double));
     pvs__free_array(a, vt, (size_t)nt + 1, sizeof(uint32_t));
-    pvs__free_array(a, ord, (size_t)nv + 1, sizeof(pvs__ot_order));
-    pvs__free_array(a, sord, (size_t)nv + 1, sizeof(pvs__ot_order));
-    pvs__free_array(a, so, 3 * (size_t)nv + 3, sizeof(pvs__ot_order));
+    pvs__free_array(a, ord, (size_t)nv + 1, sizeof(pvs__key_index));
+    pvs__free_array(a, sord, (size_t)nv + 1, sizeof(pvs__key_index));
+    pvs__free_array(a, so, 3 * (size_t)nv + 3, sizeof(pvs__key_index));
     pvs__free_array(a, sv, 14 * (size_t)nv + 14, sizeof(double));
     pvs__free_array(a, sec, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
     pvs__free_array(a, ins, (size_t)nv + 1, sizeof(uint32_t));
@@ -9830,7 +9848,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
     float *fac = NULL, maxc = -FLT_MAX;
     size_t fac_floats = 0;
     uint32_t n = 0, i, k, nl = 0, m = 0, total;
-    pvs__ot_order *ord = NULL;
+    pvs__key_index *ord = NULL;
     pvs_result r;
     pvs__ground_axes((uint32_t)up, &u, &v);
     r = pvs__facades_extract(s, &ot->allocator, &fac, &fac_floats, &n, &ot->vertical);
@@ -9840,7 +9858,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
     ot->facade_cap = n;
     ot->facades = (float *)pvs__alloc_array(&ot->allocator, (size_t)n * 5 + 5, sizeof(float));
     ot->objects = (float *)pvs__alloc_array(&ot->allocator, (size_t)ot->object_count * 5 + 5, sizeof(float));
-    ord = (pvs__ot_order *)pvs__alloc_array(&ot->allocator, (size_t)n + 1, sizeof(pvs__ot_order));
+    ord = (pvs__key_index *)pvs__alloc_array(&ot->allocator, (size_t)n + 1, sizeof(pvs__key_index));
     if (!ot->facades || !ot->objects || !ord) goto done;
     /* only facades some cell can use: base no higher than the highest cell bottom (of the whole bake,
        so that shards agree) */
@@ -9853,7 +9871,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
         ord[m].index = i;
         ++m;
     }
-    pvs__ot_sort(ord, m); /* by base, then extraction order */
+    pvs__key_index_sort(ord, m); /* by base, then extraction order */
     /* the levels: the PVS__OT25_LEVELS distinct bases holding the most wall area (ties: the lower) */
     {
         double area[PVS__OT25_LEVELS];
@@ -9914,7 +9932,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
     r = PVS_OK;
 done:
     pvs__free(&ot->allocator, fac, fac_floats * sizeof(float), 16);
-    pvs__free_array(&ot->allocator, ord, (size_t)total + 1, sizeof(pvs__ot_order));
+    pvs__free_array(&ot->allocator, ord, (size_t)total + 1, sizeof(pvs__key_index));
     return r;
 }
 
@@ -12417,35 +12435,6 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, ui
 #define PVS__VO_MAXG 64u        /* most objects in one aggregate */
 #define PVS__VO_MAXSTEP 96u     /* most candidates examined per seed */
 
-typedef struct pvs__vo_key {
-    double k;
-    uint32_t i;
-} pvs__vo_key;
-
-PVS__STATIC int pvs__vo_key_less(const pvs__vo_key *a, const pvs__vo_key *b) { return a->k < b->k || (a->k == b->k && a->i < b->i); }
-PVS__STATIC void pvs__vo_sift(pvs__vo_key *o, uint32_t r, uint32_t n) {
-    for (;;) {
-        uint32_t c = 2 * r + 1;
-        pvs__vo_key t;
-        if (c >= n) return;
-        if (c + 1 < n && pvs__vo_key_less(o + c, o + c + 1)) ++c;
-        if (!pvs__vo_key_less(o + r, o + c)) return;
-        t = o[r]; o[r] = o[c]; o[c] = t;
-        r = c;
-    }
-}
-/* Heap sort by (k, i): deterministic, no libc. */
-PVS__STATIC void pvs__vo_sort(pvs__vo_key *o, uint32_t n) {
-    uint32_t i;
-    if (n < 2) return;
-    for (i = n / 2; i-- > 0;) pvs__vo_sift(o, i, n);
-    for (i = n - 1; i > 0; --i) {
-        pvs__vo_key t = o[0];
-        o[0] = o[i]; o[i] = t;
-        pvs__vo_sift(o, 0, i);
-    }
-}
-
 /* Grows a caller array to hold `need` elements (doubling). */
 PVS__STATIC int pvs__vo_reserve(const pvs_allocator *a, void **p, uint32_t *cap, size_t need, size_t elem) {
     size_t ncap, bytes;
@@ -12548,29 +12537,29 @@ PVS__STATIC void pvs__vo_bb_add(double *bb, const double *p) {
 
 /* Convex hull (Andrew's monotone chain) of n points, counter-clockwise, collinear points dropped;
    idx receives the indices of the hull points. Returns the hull size. keys: n scratch. */
-PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__vo_key *keys, uint32_t *idx) {
+PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__key_index *keys, uint32_t *idx) {
     uint32_t i, k = 0, t;
-    for (i = 0; i < n; ++i) { keys[i].k = pts[2 * i]; keys[i].i = i; }
-    pvs__vo_sort(keys, n); /* by x, then y (ties in x: sort the run by y) */
+    for (i = 0; i < n; ++i) { keys[i].key = pts[2 * i]; keys[i].index = i; }
+    pvs__key_index_sort(keys, n); /* by x, then y (ties in x: sort the run by y) */
     for (i = 0; i < n;) {
         uint32_t j = i, m;
-        while (j < n && keys[j].k == keys[i].k) ++j;
-        for (m = i; m < j; ++m) keys[m].k = pts[2 * keys[m].i + 1];
-        pvs__vo_sort(keys + i, j - i);
-        for (m = i; m < j; ++m) keys[m].k = pts[2 * keys[m].i];
+        while (j < n && keys[j].key == keys[i].key) ++j;
+        for (m = i; m < j; ++m) keys[m].key = pts[2 * keys[m].index + 1];
+        pvs__key_index_sort(keys + i, j - i);
+        for (m = i; m < j; ++m) keys[m].key = pts[2 * keys[m].index];
         i = j;
     }
     if (n < 3) {
-        for (i = 0; i < n; ++i) idx[i] = keys[i].i;
+        for (i = 0; i < n; ++i) idx[i] = keys[i].index;
         return n;
     }
     for (i = 0; i < n; ++i) { /* lower hull */
-        while (k >= 2 && pvs__vo_cross(pts + 2 * idx[k - 2], pts + 2 * idx[k - 1], pts + 2 * keys[i].i) <= 0.0) --k;
-        idx[k++] = keys[i].i;
+        while (k >= 2 && pvs__vo_cross(pts + 2 * idx[k - 2], pts + 2 * idx[k - 1], pts + 2 * keys[i].index) <= 0.0) --k;
+        idx[k++] = keys[i].index;
     }
     for (i = n - 1, t = k + 1; i-- > 0;) { /* upper hull */
-        while (k >= t && pvs__vo_cross(pts + 2 * idx[k - 2], pts + 2 * idx[k - 1], pts + 2 * keys[i].i) <= 0.0) --k;
-        idx[k++] = keys[i].i;
+        while (k >= t && pvs__vo_cross(pts + 2 * idx[k - 2], pts + 2 * idx[k - 1], pts + 2 * keys[i].index) <= 0.0) --k;
+        idx[k++] = keys[i].index;
     }
     return k > 1 ? k - 1 : k;
 }
@@ -12580,7 +12569,7 @@ PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__vo_key *ke
    exactly two segments), loop hulls, objects and the grid. Zero-length segments are dropped. */
 PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *seg, const float *top, uint32_t n, pvs__vprep **out) {
     pvs__vprep *p;
-    pvs__vo_key *keys = NULL;
+    pvs__key_index *keys = NULL;
     uint32_t *deg = NULL, *adj = NULL, *uf = NULL, *idx = NULL, *hidx = NULL, i, nv = 0, m = 0;
     pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
     *out = NULL;
@@ -12605,7 +12594,7 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
     p->obj_ref = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
     p->obj_bb = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
     p->obj_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
-    keys = (pvs__vo_key *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(pvs__vo_key));
+    keys = (pvs__key_index *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(pvs__key_index));
     deg = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
     adj = (uint32_t *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(uint32_t));
     uf = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
@@ -12621,16 +12610,16 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
         p->seg_top[m++] = top[i];
     }
     /* vertex ids: sort the 2m end points by (x, y) */
-    for (i = 0; i < 2 * m; ++i) { keys[i].k = p->seg[2 * i]; keys[i].i = i; }
-    pvs__vo_sort(keys, 2 * m);
+    for (i = 0; i < 2 * m; ++i) { keys[i].key = p->seg[2 * i]; keys[i].index = i; }
+    pvs__key_index_sort(keys, 2 * m);
     for (i = 0; i < 2 * m;) {
         uint32_t j = i, t;
-        while (j < 2 * m && keys[j].k == keys[i].k) ++j;
-        for (t = i; t < j; ++t) keys[t].k = p->seg[2 * keys[t].i + 1];
-        pvs__vo_sort(keys + i, j - i);
+        while (j < 2 * m && keys[j].key == keys[i].key) ++j;
+        for (t = i; t < j; ++t) keys[t].key = p->seg[2 * keys[t].index + 1];
+        pvs__key_index_sort(keys + i, j - i);
         for (t = i; t < j; ++t) {
-            if (t > i && keys[t].k != keys[t - 1].k) ++nv;
-            p->seg_vid[keys[t].i] = nv;
+            if (t > i && keys[t].key != keys[t - 1].key) ++nv;
+            p->seg_vid[keys[t].index] = nv;
         }
         ++nv;
         i = j;
@@ -12802,7 +12791,7 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
     }
     r = PVS_OK;
 done:
-    pvs__free_array(al, keys, 2 * (size_t)m + 2, sizeof(pvs__vo_key));
+    pvs__free_array(al, keys, 2 * (size_t)m + 2, sizeof(pvs__key_index));
     pvs__free_array(al, deg, 2 * (size_t)m + 2, sizeof(uint32_t));
     pvs__free_array(al, adj, 4 * (size_t)m + 4, sizeof(uint32_t));
     pvs__free_array(al, uf, 2 * (size_t)m + 2, sizeof(uint32_t));
@@ -12873,14 +12862,14 @@ typedef struct pvs__vctx {
     uint32_t nlines, caplines;
     pvs__vo_span *span;
     uint32_t capspan;
-    pvs__vo_key *ev;
+    pvs__key_index *ev;
     uint32_t capev;
     uint32_t *sub, capsub;
     double *iv;
     uint32_t capiv;
     double *pts;
     uint32_t cappts;
-    pvs__vo_key *hkeys;
+    pvs__key_index *hkeys;
     uint32_t caphkeys;
     uint32_t *hidx, caphidx;
     /* output: the dense set */
@@ -12906,11 +12895,11 @@ PVS__STATIC void pvs__vctx_free(pvs__vctx *c) {
     PVS__VO_FREE(a, c->k, c->capk, uint32_t);
     PVS__VO_FREE(a, c->lines, c->caplines, double);
     PVS__VO_FREE(a, c->span, c->capspan, pvs__vo_span);
-    PVS__VO_FREE(a, c->ev, c->capev, pvs__vo_key);
+    PVS__VO_FREE(a, c->ev, c->capev, pvs__key_index);
     PVS__VO_FREE(a, c->sub, c->capsub, uint32_t);
     PVS__VO_FREE(a, c->iv, c->capiv, double);
     PVS__VO_FREE(a, c->pts, c->cappts, double);
-    PVS__VO_FREE(a, c->hkeys, c->caphkeys, pvs__vo_key);
+    PVS__VO_FREE(a, c->hkeys, c->caphkeys, pvs__key_index);
     PVS__VO_FREE(a, c->hidx, c->caphidx, uint32_t);
     PVS__VO_FREE(a, c->out, c->capout, pvs__vo_cand);
     memset(c, 0, sizeof(*c));
@@ -13349,12 +13338,12 @@ PVS__STATIC void pvs__vo_g_add(pvs__vctx *c, uint32_t o) {
 
 PVS__STATIC void pvs__vo_ev_push(pvs__vctx *c, uint32_t *n, double t, double t0, double t1) {
     if (!(t > t0 && t < t1)) return;
-    if (!pvs__vo_reserve(c->al, (void **)&c->ev, &c->capev, (size_t)*n + 1, sizeof(pvs__vo_key))) {
+    if (!pvs__vo_reserve(c->al, (void **)&c->ev, &c->capev, (size_t)*n + 1, sizeof(pvs__key_index))) {
         c->oom = 1;
         return;
     }
-    c->ev[*n].k = t;
-    c->ev[*n].i = *n;
+    c->ev[*n].key = t;
+    c->ev[*n].index = *n;
     ++*n;
 }
 /* Where segment a-b (infinite line when `line`) crosses the line p + t d. */
@@ -13420,26 +13409,26 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
     if (c->oom) return 0;
     pvs__vo_ev_push(c, &ne, t0, t0 - 1.0, t1 + 1.0);
     pvs__vo_ev_push(c, &ne, t1, t0 - 1.0, t1 + 1.0);
-    pvs__vo_sort(c->ev, ne);
+    pvs__key_index_sort(c->ev, ne);
     eps = 1e-12 * (span + c->scale / (fabs(d[0]) + fabs(d[1]) + 1e-300));
     for (i = 0, j = 0; i < ne; ++i) /* merge coincident events */
-        if (!j || c->ev[i].k - c->ev[j - 1].k > eps) c->ev[j++] = c->ev[i];
-    c->ev[j - 1].k = t1;
-    c->ev[0].k = t0;
+        if (!j || c->ev[i].key - c->ev[j - 1].key > eps) c->ev[j++] = c->ev[i];
+    c->ev[j - 1].key = t1;
+    c->ev[0].key = t0;
     ne = j;
     for (i = 0; i + 1 < ne; ++i) {
-        double m = 0.5 * (c->ev[i].k + c->ev[i + 1].k), x[2];
+        double m = 0.5 * (c->ev[i].key + c->ev[i + 1].key), x[2];
         int hid;
         x[0] = p[0] + m * d[0];
         x[1] = p[1] + m * d[1];
         hid = pvs__vo_hidden(c, c->sub, nsub, x);
-        if (hid && !run) { run = 1; run_start = c->ev[i].k; }
+        if (hid && !run) { run = 1; run_start = c->ev[i].key; }
         if (!hid && run) {
             run = 0;
-            if (nout < cap) { out[2 * nout] = run_start; out[2 * nout + 1] = c->ev[i].k; ++nout; }
+            if (nout < cap) { out[2 * nout] = run_start; out[2 * nout + 1] = c->ev[i].key; ++nout; }
         }
     }
-    if (run && nout < cap) { out[2 * nout] = run_start; out[2 * nout + 1] = c->ev[ne - 1].k; ++nout; }
+    if (run && nout < cap) { out[2 * nout] = run_start; out[2 * nout + 1] = c->ev[ne - 1].key; ++nout; }
     return c->oom ? 0 : nout;
 }
 
@@ -13540,7 +13529,7 @@ PVS__STATIC uint32_t pvs__vo_k_points(pvs__vctx *c, int with_cell) {
     uint32_t i, j, n = with_cell ? 4 : 0, total = n;
     for (i = 0; i < c->nk; ++i) total += c->obj[c->k[i]].n;
     if (!pvs__vo_reserve(c->al, (void **)&c->pts, &c->cappts, 2 * (size_t)total + 2, sizeof(double)) ||
-        !pvs__vo_reserve(c->al, (void **)&c->hkeys, &c->caphkeys, (size_t)total + 1, sizeof(pvs__vo_key)) ||
+        !pvs__vo_reserve(c->al, (void **)&c->hkeys, &c->caphkeys, (size_t)total + 1, sizeof(pvs__key_index)) ||
         !pvs__vo_reserve(c->al, (void **)&c->hidx, &c->caphidx, 2 * (size_t)total + 2, sizeof(uint32_t))) {
         c->oom = 1;
         return 0;
@@ -13984,25 +13973,25 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 
 /* Grows up to max_seeds seeds of the current slice, largest subtended angle first. */
 PVS__STATIC void pvs__vo_run_slice(pvs__vctx *c) {
-    pvs__vo_key *order;
+    pvs__key_index *order;
     uint32_t i, n = c->nobj, grown = 0;
-    order = (pvs__vo_key *)pvs__alloc_array(c->al, (size_t)n + 1, sizeof(pvs__vo_key));
+    order = (pvs__key_index *)pvs__alloc_array(c->al, (size_t)n + 1, sizeof(pvs__key_index));
     if (!order) { c->oom = 1; return; }
     for (i = 0; i < n; ++i) {
-        order[i].k = -c->obj[i].angle;
-        order[i].i = i;
+        order[i].key = -c->obj[i].angle;
+        order[i].index = i;
         c->obj[i].used = 0;
         c->obj[i].mark = 0;
     }
     c->epoch = 0;
-    pvs__vo_sort(order, n);
+    pvs__key_index_sort(order, n);
     for (i = 0; i < n && grown < c->max_seeds && !c->oom; ++i) {
-        uint32_t o = order[i].i;
+        uint32_t o = order[i].index;
         if (c->obj[o].used || !(c->obj[o].angle > 1e-4)) continue;
         pvs__vo_grow(c, o);
         ++grown;
     }
-    pvs__free_array(c->al, order, (size_t)n + 1, sizeof(pvs__vo_key));
+    pvs__free_array(c->al, order, (size_t)n + 1, sizeof(pvs__key_index));
 }
 
 /* A virtual occluder found by the growth: rounded as it will be stored, checked, then kept. */
@@ -14265,18 +14254,6 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
 #define PVS__VO_HEAD 16u
 #define PVS__VO_BLOCK 16u
 
-PVS__STATIC uint32_t pvs__vo_rd32(const uint8_t *p) {
-    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
-}
-PVS__STATIC void pvs__vo_wr32(uint8_t *p, uint32_t v) {
-    p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24);
-}
-PVS__STATIC float pvs__vo_rdf(const uint8_t *p) {
-    uint32_t u = pvs__vo_rd32(p);
-    float f;
-    memcpy(&f, &u, 4);
-    return f;
-}
 
 /* Bytes of a VOCC section for cells cells holding n occluders (0 when it does not fit 32 bits). */
 PVS__STATIC size_t pvs__vo_section_size(uint32_t cells, uint64_t n) {
@@ -14291,14 +14268,14 @@ PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, f
     uint32_t blocks = (cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK, b, i, n = 0;
     uint32_t bu, bh;
     for (i = 0; i < cells; ++i) n += counts[i];
-    pvs__vo_wr32(o, flags);
-    pvs__vo_wr32(o + 4, n);
+    pvs__put32(o, flags);
+    pvs__put32(o + 4, n);
     memcpy(&bu, &base, 4);
     memcpy(&bh, &hstep, 4);
-    pvs__vo_wr32(o + 8, bu);
-    pvs__vo_wr32(o + 12, bh);
+    pvs__put32(o + 8, bu);
+    pvs__put32(o + 12, bh);
     for (b = 0, n = 0; b <= blocks; ++b) {
-        pvs__vo_wr32(o + PVS__VO_HEAD + 4 * b, n);
+        pvs__put32(o + PVS__VO_HEAD + 4 * b, n);
         for (i = b * PVS__VO_BLOCK; b < blocks && i < cells && i < (b + 1) * PVS__VO_BLOCK; ++i) n += counts[i];
     }
     memcpy(o + PVS__VO_HEAD + 4 * ((size_t)blocks + 1), counts, cells);
@@ -14323,10 +14300,10 @@ PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, co
     float base, hstep;
     const uint8_t *counts;
     if (size < PVS__VO_HEAD) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "VOCC has %u bytes, fewer than its 16-byte header", size);
-    flags = pvs__vo_rd32(sec);
-    n = pvs__vo_rd32(sec + 4);
-    base = pvs__vo_rdf(sec + 8);
-    hstep = pvs__vo_rdf(sec + 12);
+    flags = pvs__get32(sec);
+    n = pvs__get32(sec + 4);
+    base = pvs__getf32(sec + 8);
+    hstep = pvs__getf32(sec + 12);
     if (flags & ~1u) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "VOCC: unknown flags 0x%x", flags);
     if ((uint64_t)n > 255ull * cells) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so + 4, "VOCC: %u occluders for %u cells", n, cells);
     if (!pvs__finite(base) || !pvs__finite(hstep) || !(hstep > 0.0f) || !pvs__finite(base + 255.0f * hstep))
@@ -14336,10 +14313,10 @@ PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, co
         return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "VOCC has %u bytes, %u cells and %u occluders need %llu", size, cells, n,
                          (unsigned long long)need);
     counts = sec + PVS__VO_HEAD + 4 * ((size_t)blocks + 1);
-    if (pvs__vo_rd32(sec + PVS__VO_HEAD) != 0 || pvs__vo_rd32(sec + PVS__VO_HEAD + 4 * (size_t)blocks) != n)
+    if (pvs__get32(sec + PVS__VO_HEAD) != 0 || pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)blocks) != n)
         return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so + PVS__VO_HEAD, "VOCC: block offsets must run from 0 to %u", n);
     for (b = 0; b < blocks; ++b) {
-        uint32_t sum = 0, lo = pvs__vo_rd32(sec + PVS__VO_HEAD + 4 * (size_t)b), hi = pvs__vo_rd32(sec + PVS__VO_HEAD + 4 * (size_t)b + 4);
+        uint32_t sum = 0, lo = pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)b), hi = pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)b + 4);
         for (i = b * PVS__VO_BLOCK; i < cells && i < (b + 1) * PVS__VO_BLOCK; ++i) sum += counts[i];
         if (hi < lo || hi - lo != sum)
             return pvs__fail(err, PVS_ERROR_BAD_SECTION, b * PVS__VO_BLOCK, so + PVS__VO_HEAD + 4 * (uint64_t)b,
@@ -14359,7 +14336,7 @@ PVS__STATIC uint32_t pvs__vo_file_cell(const pvs_file *f, uint32_t cell, const u
     const uint8_t *sec = f->private_.vocc;
     uint32_t cells = f->cell_count, blocks = (cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK, b = cell / PVS__VO_BLOCK, first, i;
     const uint8_t *counts = sec + PVS__VO_HEAD + 4 * ((size_t)blocks + 1);
-    first = pvs__vo_rd32(sec + PVS__VO_HEAD + 4 * (size_t)b);
+    first = pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)b);
     for (i = b * PVS__VO_BLOCK; i < cell; ++i) first += counts[i];
     *scale = counts[cells + cell];
     *bytes = counts + 2 * (size_t)cells + 5 * (size_t)first;
@@ -14555,13 +14532,13 @@ done:
    Ascending, distinct. Returns their number (<= n). */
 PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *centre, float ctop, uint32_t n, float *h, const pvs_allocator *al) {
     const pvs__vprep *p = vb->prep;
-    pvs__vo_key *key;
+    pvs__key_index *key;
     double *w, total = 0.0, acc = 0.0;
     uint32_t i, m = 0, j = 0, out = 0;
-    key = (pvs__vo_key *)pvs__alloc_array(al, (size_t)p->nobj + 1, sizeof(pvs__vo_key));
+    key = (pvs__key_index *)pvs__alloc_array(al, (size_t)p->nobj + 1, sizeof(pvs__key_index));
     w = (double *)pvs__alloc_array(al, (size_t)p->nobj + 1, sizeof(double));
     if (!key || !w) {
-        pvs__free_array(al, key, (size_t)p->nobj + 1, sizeof(pvs__vo_key));
+        pvs__free_array(al, key, (size_t)p->nobj + 1, sizeof(pvs__key_index));
         pvs__free_array(al, w, (size_t)p->nobj + 1, sizeof(double));
         return 0;
     }
@@ -14587,21 +14564,21 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
         }
         ang = atan2(loc[2 * lo] * loc[2 * hi + 1] - loc[2 * lo + 1] * loc[2 * hi], loc[2 * lo] * loc[2 * hi] + loc[2 * lo + 1] * loc[2 * hi + 1]);
         if (!(ang > 0.0)) continue;
-        key[m].k = p->obj_top[i];
-        key[m].i = m;
+        key[m].key = p->obj_top[i];
+        key[m].index = m;
         w[m] = ang;
         total += ang;
         ++m;
     }
-    pvs__vo_sort(key, m);
+    pvs__key_index_sort(key, m);
     for (i = 0; i < n && m; ++i) {
         double target = total * ((double)i + 0.2) / ((double)n + 0.2);
         float hh;
-        while (j + 1 < m && acc + w[key[j].i] < target) acc += w[key[j++].i];
-        hh = (float)key[j].k;
+        while (j + 1 < m && acc + w[key[j].index] < target) acc += w[key[j++].index];
+        hh = (float)key[j].key;
         if (!out || hh > h[out - 1]) h[out++] = hh;
     }
-    pvs__free_array(al, key, (size_t)p->nobj + 1, sizeof(pvs__vo_key));
+    pvs__free_array(al, key, (size_t)p->nobj + 1, sizeof(pvs__key_index));
     pvs__free_array(al, w, (size_t)p->nobj + 1, sizeof(double));
     return out;
 }
@@ -20199,23 +20176,6 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__TAG_SHRD PVS__TAG('S', 'H', 'R', 'D')
 enum { PVS__CODING_GAPS = 0, PVS__CODING_RUNS = 1, PVS__CODING_RICE = 2, PVS__CODING_BITMAP = 3 };
 
-PVS__STATIC void pvs__put32(uint8_t *p, uint32_t v) {
-    p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24);
-}
-PVS__STATIC uint32_t pvs__get32(const uint8_t *p) {
-    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
-}
-PVS__STATIC void pvs__putf32(uint8_t *p, float f) {
-    uint32_t u;
-    memcpy(&u, &f, 4);
-    pvs__put32(p, u);
-}
-PVS__STATIC float pvs__getf32(const uint8_t *p) {
-    uint32_t u = pvs__get32(p);
-    float f;
-    memcpy(&f, &u, 4);
-    return f;
-}
 PVS__STATIC size_t pvs__align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
 
 /* LEB128 varint, at most 5 bytes. */
