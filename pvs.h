@@ -1803,15 +1803,9 @@ PVS__STATIC pvs__v3 pvs__v3_make(float x, float y, float z) {
     return r;
 }
 PVS__STATIC pvs__v3 pvs__v3_load(const float *p) { return pvs__v3_make(p[0], p[1], p[2]); }
-PVS__STATIC pvs__v3 pvs__v3_add(pvs__v3 a, pvs__v3 b) { return pvs__v3_make(a.x + b.x, a.y + b.y, a.z + b.z); }
 PVS__STATIC pvs__v3 pvs__v3_sub(pvs__v3 a, pvs__v3 b) { return pvs__v3_make(a.x - b.x, a.y - b.y, a.z - b.z); }
-PVS__STATIC pvs__v3 pvs__v3_scale(pvs__v3 a, float s) { return pvs__v3_make(a.x * s, a.y * s, a.z * s); }
 PVS__STATIC float pvs__v3_dot(pvs__v3 a, pvs__v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-PVS__STATIC pvs__v3 pvs__v3_cross(pvs__v3 a, pvs__v3 b) {
-    return pvs__v3_make(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
-}
 PVS__STATIC float pvs__v3_length(pvs__v3 a) { return sqrtf(pvs__v3_dot(a, a)); }
-PVS__STATIC float pvs__v3_get(pvs__v3 a, int axis) { return axis == 0 ? a.x : axis == 1 ? a.y : a.z; }
 
 PVS__STATIC int pvs__finite(float f) { return f == f && f - f == 0.0f; }
 
@@ -1876,12 +1870,6 @@ PVS__STATIC float pvs__box_distance2(const pvs_box *a, const pvs_box *b) {
     return d2;
 }
 
-/* A plane n.p + d = 0; the positive side is n.p + d > 0. */
-typedef struct pvs__plane {
-    pvs__v3 n;
-    float d;
-} pvs__plane;
-PVS__STATIC float pvs__plane_eval(pvs__plane pl, pvs__v3 p) { return pvs__v3_dot(pl.n, p) + pl.d; }
 
 /* Float bounds of a double from below / above (clamped to the finite floats). */
 PVS__STATIC float pvs__f_down(double v) {
