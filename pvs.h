@@ -1958,42 +1958,77 @@ PVS__STATIC uint64_t pvs__splitmix64(uint64_t *state) {
 /* Uniform float in [0, 1). */
 PVS__STATIC float pvs__random01(uint64_t *state) { return (float)(pvs__splitmix64(state) >> 40) * (1.0f / 16777216.0f); }
 
-/* ---- sorting: one allocation-free heap sort for (key, index) pairs ---- */
+/* ---- heaps: sorting and top-k, allocation-free ---- */
 
-/* A sort key and the index of what it sorts. (key, index) is a total order for keys that are not NaN:
-   the result does not depend on the sort, so it is the same on every platform and libc. */
+/* 1 when a ranks before b: the order of a sort (ascending) or of a top-k selection (the best first). */
+typedef int (*pvs__before_fn)(const void *a, const void *b);
+
+/* Moves element r of the heap h (n elements of `size` bytes, at most 64) down until no child ranks
+   after it: the root of such a heap ranks last. */
+PVS__STATIC void pvs__heap_sift(unsigned char *h, size_t size, size_t r, size_t n, pvs__before_fn before) {
+    unsigned char t[64];
+    for (;;) {
+        size_t c = 2 * r + 1;
+        if (c >= n) return;
+        if (c + 1 < n && before(h + c * size, h + (c + 1) * size)) ++c;
+        if (!before(h + r * size, h + c * size)) return;
+        memcpy(t, h + r * size, size);
+        memcpy(h + r * size, h + c * size, size);
+        memcpy(h + c * size, t, size);
+        r = c;
+    }
+}
+
+/* Sorts base[0 .. n) (elements of `size` bytes, at most 64) in `before` order: a heap sort (Williams
+   1964), O(n log n), no allocation and no libc, so the per-frame and file paths use it too. With a
+   total order (ties broken by an index) the result does not depend on the sort: the same on every
+   platform and libc. Larger sorts at bake time go through PVS_QSORT with such comparators. */
+PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_fn before) {
+    unsigned char *h = (unsigned char *)base, t[64];
+    size_t i;
+    PVS_ASSERT(size <= sizeof(t));
+    if (n < 2) return;
+    for (i = n / 2; i-- > 0;) pvs__heap_sift(h, size, i, n, before);
+    for (i = n - 1; i > 0; --i) {
+        memcpy(t, h, size);
+        memcpy(h, h + i * size, size);
+        memcpy(h + i * size, t, size);
+        pvs__heap_sift(h, size, 0, i, before);
+    }
+}
+
+/* Top-k: `heap` holds *count <= k elements of `size` bytes (at most 64), its root the one that ranks
+   last. Offers e: it is kept when there is room, or when it ranks before the root, which it replaces.
+   Equal elements are not replaced: the first offered stays. */
+PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t size, const void *e, pvs__before_fn before) {
+    unsigned char *h = (unsigned char *)heap;
+    size_t i, c, n = *count;
+    if (n < k) {
+        for (i = (*count)++; i > 0 && before(h + (i - 1) / 2 * size, e); i = (i - 1) / 2) memcpy(h + i * size, h + (i - 1) / 2 * size, size);
+        memcpy(h + i * size, e, size);
+        return;
+    }
+    if (!k || !before(e, h)) return;
+    for (i = 0; (c = 2 * i + 1) < n; i = c) {
+        if (c + 1 < n && before(h + c * size, h + (c + 1) * size)) ++c; /* the child that ranks last */
+        if (!before(e, h + c * size)) break;
+        memcpy(h + i * size, h + c * size, size);
+    }
+    memcpy(h + i * size, e, size);
+}
+
+/* A sort key and the index of what it sorts. */
 typedef struct pvs__key_index {
     double key;
     uint32_t index;
 } pvs__key_index;
 
-PVS__STATIC int pvs__key_index_less(const pvs__key_index *a, const pvs__key_index *b) {
+/* (key, index) ascending: a total order for keys that are not NaN. */
+PVS__STATIC int pvs__key_index_before(const void *pa, const void *pb) {
+    const pvs__key_index *a = (const pvs__key_index *)pa, *b = (const pvs__key_index *)pb;
     return a->key < b->key || (a->key == b->key && a->index < b->index);
 }
-PVS__STATIC void pvs__key_index_sift(pvs__key_index *o, uint32_t r, uint32_t n) {
-    for (;;) {
-        uint32_t c = 2 * r + 1;
-        pvs__key_index t;
-        if (c >= n) return;
-        if (c + 1 < n && pvs__key_index_less(o + c, o + c + 1)) ++c;
-        if (!pvs__key_index_less(o + r, o + c)) return;
-        t = o[r]; o[r] = o[c]; o[c] = t;
-        r = c;
-    }
-}
-/* Sorts o[0 .. n) ascending by (key, index): a heap sort (Williams 1964), O(n log n), no allocation
-   and no libc, so the per-frame and file paths may use it too. Sorts of larger records go through
-   PVS_QSORT with a comparator that breaks ties by index. */
-PVS__STATIC void pvs__key_index_sort(pvs__key_index *o, uint32_t n) {
-    uint32_t i;
-    if (n < 2) return;
-    for (i = n / 2; i-- > 0;) pvs__key_index_sift(o, i, n);
-    for (i = n - 1; i > 0; --i) {
-        pvs__key_index t = o[0];
-        o[0] = o[i]; o[i] = t;
-        pvs__key_index_sift(o, 0, i);
-    }
-}
+PVS__STATIC void pvs__key_index_sort(pvs__key_index *o, uint32_t n) { pvs__heap_sort(o, n, sizeof(*o), pvs__key_index_before); }
 
 /* ---- little-endian bytes: the file format and the VOCC section ---- */
 
