@@ -76,26 +76,13 @@ test-neon:
 	  cd $(B) && $(QEMU_AARCH64) ./neon/pvstest raster; \
 	else echo "test-neon: $(AARCH64_CC) or $(QEMU_AARCH64) not found, skipped"; fi
 
-$(B)/pvsdemo: examples/demo.c $(TOOL_OBJ) $(TOOL_HDR)
+# The examples: examples/NAME.c -> build/pvsNAME on the tool objects (demo; cullmap: per-frame culling
+# of the city, images in build/cullmap/; walkthrough, forest, indoor: the demo's images). pvsruntime is
+# examples/runtime_minimal.c, the runtime alone: pvs.h and libc, no tool code, no allocation (its own
+# copy of the implementation, with a counting PVS_MALLOC).
+$(B)/pvs%: examples/%.c examples/methods_view.h $(TOOL_OBJ) $(TOOL_HDR)
 	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -Itools -o $@ examples/demo.c $(TOOL_OBJ) $(LDLIBS)
-
-# examples/cullmap.c: per-frame culling of the city, images in build/cullmap/
-$(B)/pvscullmap: examples/cullmap.c $(TOOL_OBJ) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -Itools -o $@ examples/cullmap.c $(TOOL_OBJ) $(LDLIBS)
-
-# examples/walkthrough.c, forest.c, indoor.c (the demo's images) and runtime_minimal.c (the
-# runtime alone: pvs.h and libc, no tool code, no allocation)
-$(B)/pvswalkthrough: examples/walkthrough.c $(TOOL_OBJ) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -Itools -o $@ examples/walkthrough.c $(TOOL_OBJ) $(LDLIBS)
-$(B)/pvsforest: examples/forest.c examples/methods_view.h $(TOOL_OBJ) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -Itools -o $@ examples/forest.c $(TOOL_OBJ) $(LDLIBS)
-$(B)/pvsindoor: examples/indoor.c examples/methods_view.h $(TOOL_OBJ) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -Itools -o $@ examples/indoor.c $(TOOL_OBJ) $(LDLIBS)
+	$(CC) $(CFLAGS) -Itools -o $@ $< $(TOOL_OBJ) $(LDLIBS)
 $(B)/pvsruntime: examples/runtime_minimal.c pvs.h
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -o $@ examples/runtime_minimal.c -lm
@@ -119,56 +106,19 @@ demo: $(B)/pvsdemo $(B)/pvswalkthrough $(B)/pvsview $(B)/pvsforest $(B)/pvsindoo
 	./$(B)/pvsindoor -o $(B)/demo
 	./$(B)/pvsruntime $(B)/demo/city.pvs
 
-$(B)/bench_kdtree: tests/bench_kdtree.c pvs.h
+# The benches: tests/bench_NAME.c -> build/bench_NAME on the tool objects, except bench_kdtree, which
+# times the library's internals and so holds its own copy of the implementation.
+BENCHES := bounded kdtree bake file raster otree extproj shrink auto vocc
+$(B)/bench_%: tests/bench_%.c tests/test.h $(TOOL_OBJ) $(TOOL_HDR)
+	@mkdir -p $(B)
+	$(CC) $(CFLAGS) -O2 -o $@ $< $(TOOL_OBJ) $(LDLIBS)
+$(B)/bench_kdtree: tests/bench_kdtree.c tests/test.h pvs.h
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_kdtree.c $(LDLIBS)
-$(B)/bench_bake: tests/bench_bake.c $(TOOL_LIB) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_bake.c $(TOOL_LIB) $(LDLIBS)
 
-$(B)/bench_file: tests/bench_file.c $(TOOL_LIB) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_file.c $(TOOL_LIB) $(LDLIBS)
-
-$(B)/bench_raster: tests/bench_raster.c $(TOOL_LIB) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_raster.c $(TOOL_LIB) $(LDLIBS)
-
-$(B)/bench_otree: tests/bench_otree.c $(TOOL_LIB) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_otree.c $(TOOL_LIB) $(LDLIBS)
-
-$(B)/bench_extproj: tests/bench_extproj.c $(TOOL_LIB) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_extproj.c $(TOOL_LIB) $(LDLIBS)
-
-$(B)/bench_shrink: tests/bench_shrink.c $(TOOL_LIB) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_shrink.c $(TOOL_LIB) $(LDLIBS)
-
-$(B)/bench_auto: tests/bench_auto.c $(TOOL_OBJ) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_auto.c $(TOOL_OBJ) $(LDLIBS)
-
-$(B)/bench_bounded: tests/bench_bounded.c $(TOOL_OBJ) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_bounded.c $(TOOL_OBJ) $(LDLIBS)
-
-$(B)/bench_vocc: tests/bench_vocc.c $(TOOL_OBJ) $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) $(CFLAGS) -O2 -o $@ tests/bench_vocc.c $(TOOL_OBJ) $(LDLIBS)
-
-bench: $(B)/bench_kdtree $(B)/bench_bake $(B)/bench_file $(B)/bench_raster $(B)/bench_otree $(B)/bench_extproj $(B)/bench_shrink \
-       $(B)/bench_auto $(B)/bench_vocc $(B)/bench_bounded $(B)/pvswalkthrough tools
-	./$(B)/bench_bounded
-	./$(B)/bench_kdtree
-	./$(B)/bench_bake
-	./$(B)/bench_file
-	./$(B)/bench_raster
-	./$(B)/bench_otree
-	./$(B)/bench_extproj
-	./$(B)/bench_shrink
-	./$(B)/bench_auto
+# every bench, in the order they always ran (the walkthrough's figures between bench_auto's and bench_vocc's)
+bench: $(patsubst %,$(B)/bench_%,$(BENCHES)) $(B)/pvswalkthrough tools
+	@set -e; for b in $(filter-out vocc,$(BENCHES)); do echo "./$(B)/bench_$$b"; ./$(B)/bench_$$b; done
 	./$(B)/pvswalkthrough --bench
 	./$(B)/bench_vocc
 
@@ -185,15 +135,11 @@ fuzz: $(B)/fuzz_replay
 	./$(B)/fuzz_file -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -artifact_prefix=$(B)/ $(B)/fuzz-corpus tests/corpus
 	./$(B)/fuzz_replay tests/corpus/*
 
-# The raster module's long run: >= 10,000 cameras against ray casting, optimised build.
-$(B)/verify_raster: tests/verify_raster.c tests/test_raster.c tests/test.h tools/mesh.c tools/gen.c $(TOOL_HDR)
+# The long runs of the raster module (cull maps and coverage) and of from-point culling with the
+# occlusion tree: >= 10,000 cameras each against ray casting, tests/test_NAME.c's checks optimised.
+$(B)/verify_%: tests/verify_%.c tests/test_%.c tests/test.h $(TOOL_OBJ) $(TOOL_HDR)
 	@mkdir -p $(B)
-	$(CC) -std=c99 $(WARN) -Werror -O2 -g -o $@ tests/verify_raster.c tests/test_raster.c tests/impl.c tools/mesh.c tools/gen.c $(LDLIBS)
-
-# From-point culling with the occlusion tree: >= 10,000 cameras against ray casting, optimised build.
-$(B)/verify_otree: tests/verify_otree.c tests/test_otree.c tests/test.h tools/mesh.c tools/gen.c $(TOOL_HDR)
-	@mkdir -p $(B)
-	$(CC) -std=c99 $(WARN) -Werror -O2 -g -o $@ tests/verify_otree.c tests/test_otree.c tests/impl.c tools/mesh.c tools/gen.c $(LDLIBS)
+	$(CC) -std=c99 $(WARN) -Werror -O2 -g -o $@ tests/verify_$*.c tests/test_$*.c $(TOOL_OBJ) $(LDLIBS)
 
 verify: tools $(B)/verify_raster $(B)/verify_otree
 	sh tests/bake_hashes.sh --check

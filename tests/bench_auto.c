@@ -9,12 +9,10 @@
    Every method is baked alone, also where AUTO skips it (it cannot cull there); auto_ms_per_cell
    names the methods AUTO ran. */
 #include "../tools/cli.h"
+#include "test.h"
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-/* CPU seconds of this (single-threaded) process: steadier than the wall clock on a shared machine. */
-static double cpu_seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
 
 static int bench_scene(gen_kind kind, float size, uint32_t n, const char *name) {
     gen_params gp;
@@ -28,13 +26,8 @@ static int bench_scene(gen_kind kind, float size, uint32_t n, const char *name) 
     double seen_sum = 0.0, best = -1.0, auto_sum = 0.0;
     pvs_method methods[PVS_METHOD_COUNT];
     uint32_t method_count = 0;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = kind;
-    gp.seed = 1;
-    gp.size = size;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    if (gen_scene(&gp, &m, &cells) || cli_make_scene(name, &m, 1, &scene, &te)) return 1;
+    gp = test_gen_params(kind, 1, size, 0);
+    if (test_generate(&gp, &m, &cells, NULL) || cli_make_scene(name, &m, 1, &scene, &te)) return 1;
     objects = pvs_scene_object_count(scene);
     if (n > cells.count) n = cells.count;
     sub = (pvs_box *)malloc(n * sizeof(pvs_box));
@@ -53,19 +46,15 @@ static int bench_scene(gen_kind kind, float size, uint32_t n, const char *name) 
         pvs_bake *b;
         pvs_error pe;
         double t, sum = 0.0;
-        memset(&bd, 0, sizeof(bd));
-        bd.scene = scene;
-        bd.cells = sub;
-        bd.cell_count = n;
-        bd.method = methods[k];
-        t = cpu_seconds();
+        test_bake_desc(&bd, scene, sub, n, methods[k]);
+        t = test_cpu_seconds();
         if (pvs_bake_begin(&bd, &b, &pe) != PVS_OK) {
             printf("BENCH methods_%s_tightness_%s 0 (not available: %s)\n", pvs_method_name(methods[k]), name, pe.message);
             continue;
         }
         for (c = 0; c < n; ++c)
             if (pvs_bake_run_task(b, c, &pe) != PVS_OK) { fprintf(stderr, "%s: %s\n", name, pe.message); return 1; }
-        t = cpu_seconds() - t;
+        t = test_cpu_seconds() - t;
         for (c = 0; c < n; ++c) sum += pvs_bitset_count(pvs_bake_cell_pvs(b, c), objects);
         if (methods[k] == PVS_METHOD_AUTO) {
             uint32_t i;

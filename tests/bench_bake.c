@@ -1,5 +1,6 @@
 /* bench_bake.c - `make bench` figures of the bake on the demo city: BENCH <name> <value> <unit>. */
 #include "../tools/cli.h"
+#include "test.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,14 +14,9 @@ int main(void) {
     uint32_t c, n = 100, objects;
     uint64_t rays = 0;
     double t, t_scene;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_CITY;
-    gp.seed = 1;
-    gp.size = 1.0f;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
+    gp = test_gen_params(GEN_CITY, 1, 1.0f, 0);
     t = cli_seconds();
-    if (gen_scene(&gp, &m, &cells)) return 1;
+    if (test_generate(&gp, &m, &cells, NULL)) return 1;
     printf("BENCH city_generate_ms %.1f ms\n", 1000.0 * (cli_seconds() - t));
     t = cli_seconds();
     if (cli_make_scene("city", &m, 1, &scene, &te)) { fprintf(stderr, "%s\n", te.message); return 1; }

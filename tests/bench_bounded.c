@@ -3,6 +3,7 @@
    Prints BENCH lines; asserts nothing. Runs build/pvsbake for the whole-tool figures (run it from the
    project root, after make tools). */
 #include "../tools/cli.h"
+#include "test.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,23 +11,6 @@
 #include <sys/stat.h>
 
 #define TMP "build/bench-bounded"
-
-typedef struct peak {
-    size_t now, max;
-} peak;
-static void *peak_alloc(size_t size, size_t align, void *user) {
-    peak *p = (peak *)user;
-    (void)align;
-    p->now += size;
-    if (p->now > p->max) p->max = p->now;
-    return malloc(size);
-}
-static void peak_free(void *ptr, size_t size, void *user) {
-    peak *p = (peak *)user;
-    if (!ptr) return;
-    p->now -= size;
-    free(ptr);
-}
 
 /* Peak bytes per triangle on one polygon of n sides around a vertex (an OBJ `f` line of n vertices,
    fan-triangulated: n - 2 slivers): of pvs_kdtree_create over the slivers' boxes (*tree) and of
@@ -40,10 +24,8 @@ static double fan_bytes_per_triangle(uint32_t n, double *tree) {
     pvs_kdtree_desc kd;
     pvs_scene *s = NULL;
     pvs_kdtree *t = NULL;
-    peak pk, pt;
+    test_peak pk, pt;
     double r = -1.0;
-    memset(&pk, 0, sizeof(pk));
-    memset(&pt, 0, sizeof(pt));
     for (i = 0; i < n; ++i) {
         double a = 6.283185307179586 * i / n;
         pos[3 * i] = (float)(50 * cos(a));
@@ -67,10 +49,8 @@ static double fan_bytes_per_triangle(uint32_t n, double *tree) {
     memset(&kd, 0, sizeof(kd));
     kd.boxes = bx;
     kd.count = n - 2;
-    kd.allocator.alloc = peak_alloc;
-    kd.allocator.free = peak_free;
-    kd.allocator.user = &pt;
-    *tree = pvs_kdtree_create(&kd, &t, NULL) == PVS_OK ? (double)pt.max / (n - 2) : -1.0;
+    kd.allocator = test_peak_allocator(&pt);
+    *tree = pvs_kdtree_create(&kd, &t, NULL) == PVS_OK ? (double)pt.peak / (n - 2) : -1.0;
     pvs_kdtree_destroy(t);
     od.first_triangle = 0;
     od.triangle_count = n - 2;
@@ -82,10 +62,8 @@ static double fan_bytes_per_triangle(uint32_t n, double *tree) {
     sd.triangle_count = n - 2;
     sd.objects = &od;
     sd.object_count = 1;
-    sd.allocator.alloc = peak_alloc;
-    sd.allocator.free = peak_free;
-    sd.allocator.user = &pk;
-    if (pvs_scene_create(&sd, &s, NULL) == PVS_OK) r = (double)pk.max / (n - 2);
+    sd.allocator = test_peak_allocator(&pk);
+    if (pvs_scene_create(&sd, &s, NULL) == PVS_OK) r = (double)pk.peak / (n - 2);
     pvs_scene_destroy(s);
     free(pos);
     free(idx);
@@ -111,16 +89,14 @@ static void boxes(mesh *m, uint32_t n, float pitch, uint64_t seed) {
     uint32_t side = (uint32_t)ceil(sqrt((double)n)), i;
     mesh_init(m);
     for (i = 0; i < n; ++i) {
-        float x = (float)(i % side) * pitch, z = (float)(i / side) * pitch, s, h;
-        uint32_t v = m->vertex_count, k;
-        static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                          {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+        float lo[3], hi[3], s, h;
         seed = seed * 6364136223846793005ull + 1442695040888963407ull;
         s = 0.3f + 0.9f * (float)((seed >> 33) % 1000) / 1000.0f;
         h = (seed >> 20) % 3 == 0 ? 0.5f + 5.5f * (float)((seed >> 40) % 1000) / 1000.0f : 0.2f + 1.3f * (float)((seed >> 45) % 1000) / 1000.0f;
+        lo[0] = (float)(i % side) * pitch; lo[1] = 0.0f; lo[2] = (float)(i / side) * pitch;
+        hi[0] = lo[0] + s; hi[1] = h; hi[2] = lo[2] + s;
         mesh_begin_object(m, "b", 0, 0);
-        for (k = 0; k < 8; ++k) mesh_add_vertex(m, x + (k & 1 ? s : 0.0f), k & 2 ? h : 0.0f, z + (k & 4 ? s : 0.0f));
-        for (k = 0; k < 12; ++k) mesh_add_triangle(m, v + f[k][0], v + f[k][1], v + f[k][2]);
+        test_mesh_box(m, lo, hi);
     }
 }
 

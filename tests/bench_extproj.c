@@ -29,12 +29,11 @@
    adaptive_cells / adaptive_bytes: the leaf cells and the file size of an adaptive bake (§6.1) of
    the city subset with a budget of ADAPTIVE_BUDGET triangles per cell. */
 #include "../tools/cli.h"
+#include "test.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double cpu_seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
 
 #define ADAPTIVE_BUDGET 50000u
 #define FOREST_AIMED_CELLS 3u
@@ -62,19 +61,14 @@ static int bench_load(bench_scene *bs, gen_kind kind, int dense, int paper, floa
     uint32_t c, k = 0;
     double S = 5.0 * floor(300.0 * size / 5.0); /* the forest's side (gen__forest_grid) */
     memset(bs, 0, sizeof(*bs));
-    memset(&gp, 0, sizeof(gp));
     bs->paper = paper;
-    gp.kind = kind;
-    gp.seed = 1;
-    gp.size = size;
+    gp = test_gen_params(kind, 1, size, 0);
     gp.dense = dense;
     if (paper) {
         gp.leaves_per_tree = 1000;
         gp.cell_size = 1.0f;
     }
-    mesh_init(&bs->m);
-    mesh_cells_init(&bs->cells);
-    if (gen_scene(&gp, &bs->m, &bs->cells)) return 1;
+    if (test_generate(&gp, &bs->m, &bs->cells, NULL)) return 1;
     if (cli_make_scene(name, &bs->m, 1, &bs->scene, &te)) { fprintf(stderr, "%s\n", te.message); return 1; }
     /* the candidate cells (the forest's inner ones), then n of them evenly spread */
     bs->sub = (pvs_box *)malloc(bs->cells.count * sizeof(pvs_box));
@@ -108,20 +102,16 @@ static int bench(const bench_scene *bs, const char *name, uint32_t sweep, uint32
     const pvs_box *sub = bs->sub;
     uint32_t c, n = bs->n, objects = pvs_scene_object_count(bs->scene);
     double t, pvs_sum = 0.0, seen_sum = 0.0;
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = bs->scene;
-    bd.cells = sub;
-    bd.cell_count = n;
-    bd.method = PVS_METHOD_EXTPROJ;
+    test_bake_desc(&bd, bs->scene, sub, n, PVS_METHOD_EXTPROJ);
     bd.extproj_sweep = sweep;
     bd.extproj_sweep_subcells = subcells;
     bd.adaptive_budget = adaptive;
     if (bs->paper) bd.extproj_resolution = 1024;
-    t = cpu_seconds();
+    t = test_cpu_seconds();
     if (pvs_bake_begin(&bd, &bake, &pe) != PVS_OK) { fprintf(stderr, "%s\n", pe.message); return 1; }
     for (c = 0; c < n; ++c)
         if (pvs_bake_run_task(bake, c, &pe) != PVS_OK) { fprintf(stderr, "%s\n", pe.message); return 1; }
-    t = cpu_seconds() - t;
+    t = test_cpu_seconds() - t;
     if (adaptive) {
         printf("BENCH adaptive_cells_%s %u cells (from %u, budget %u triangles)\n", name, pvs_bake_leaf_count(bake), n, adaptive);
         printf("BENCH adaptive_bytes_%s %zu bytes\n", name, pvs_bake_file_size(bake));

@@ -3,14 +3,12 @@
    Prints BENCH <name> <value> <unit>; asserts nothing. `bench_file --explore` also prints the size
    for other chain bounds. */
 #include "../tools/cli.h"
+#include "test.h"
 #include <stdlib.h>
 #include <string.h>
 
 static uint64_t rng = 99;
-static uint32_t rnd(void) {
-    rng = rng * 6364136223846793005ull + 1442695040888963407ull;
-    return (uint32_t)(rng >> 33);
-}
+static uint32_t rnd(void) { return test_lcg31(&rng); }
 
 /* Quake's PVS rows: every byte of the bit row, a zero byte followed by the count of zero bytes. */
 static size_t quake_rle_size(const pvs_word *bits, uint32_t n) {
@@ -57,11 +55,7 @@ int main(int argc, char **argv) {
     void *bytes;
     double t;
     if (cli_demo_city(&m, &cells, &scene, &te)) return 1;
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = scene;
-    bd.cells = (const pvs_box *)cells.boxes;
-    bd.cell_count = cells.count;
-    bd.method = PVS_METHOD_SAMPLE;
+    test_bake_desc(&bd, scene, (const pvs_box *)cells.boxes, cells.count, PVS_METHOD_SAMPLE);
     bd.sample_points = 16;
     bd.sample_rays = 1024;
     bd.seed = 1;

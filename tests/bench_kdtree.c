@@ -3,6 +3,7 @@
 #define _POSIX_C_SOURCE 199309L
 #define PVS_IMPLEMENTATION
 #include "../pvs.h"
+#include "test.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -15,25 +16,6 @@ static double now_ms(void) {
 
 static uint64_t rng_state = 12345;
 static float frand(void) { return pvs__random01(&rng_state); }
-
-/* Appends an axis-aligned box as 12 triangles (8 shared corners). */
-static void add_box(float *pos, uint32_t *vc, uint32_t *idx, uint32_t *tc, const float lo[3], const float hi[3]) {
-    static const uint32_t faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                          {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-    uint32_t i, base = *vc;
-    for (i = 0; i < 8; ++i) {
-        pos[3 * (*vc) + 0] = i & 1 ? hi[0] : lo[0];
-        pos[3 * (*vc) + 1] = i & 2 ? hi[1] : lo[1];
-        pos[3 * (*vc) + 2] = i & 4 ? hi[2] : lo[2];
-        ++*vc;
-    }
-    for (i = 0; i < 12; ++i) {
-        idx[3 * (*tc) + 0] = base + faces[i][0];
-        idx[3 * (*tc) + 1] = base + faces[i][1];
-        idx[3 * (*tc) + 2] = base + faces[i][2];
-        ++*tc;
-    }
-}
 
 int main(void) {
     const uint32_t n = 1000000;
@@ -80,7 +62,7 @@ int main(void) {
         float lo[3], hi[3], extent = (float)g * 10.0f;
         lo[0] = -1.0f; lo[1] = -1.0f; lo[2] = -1.0f;
         hi[0] = extent + 1.0f; hi[1] = 0.0f; hi[2] = extent + 1.0f;
-        add_box(pos, &vc, idx, &tc, lo, hi);
+        test_box_arrays(pos, &vc, idx, &tc, lo, hi);
         objs[0].first_triangle = 0; objs[0].triangle_count = 12; objs[0].flags = 0;
         for (z = 0; z < g; ++z)
             for (x = 0; x < g; ++x) {
@@ -88,7 +70,7 @@ int main(void) {
                 lo[0] = (float)x * 10.0f + 2.0f; lo[1] = 0.0f; lo[2] = (float)z * 10.0f + 2.0f;
                 hi[0] = lo[0] + 6.0f; hi[1] = 3.0f + 40.0f * frand() * frand(); hi[2] = lo[2] + 6.0f;
                 o->first_triangle = tc; o->triangle_count = 12; o->flags = 0;
-                add_box(pos, &vc, idx, &tc, lo, hi);
+                test_box_arrays(pos, &vc, idx, &tc, lo, hi);
             }
         memset(&sd, 0, sizeof(sd));
         sd.positions = pos; sd.vertex_count = vc; sd.indices = idx; sd.triangle_count = tc;

@@ -7,22 +7,14 @@
       the streets: ms per frame, tree nodes, kD node tests with and without hierarchy updating.
    Times are CPU time on one thread (clock()). */
 #include "../tools/cli.h"
+#include "test.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-/* CPU seconds of this (single-threaded) process: steadier than the wall clock on a shared machine. */
-static double cpu_seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
-
 static uint64_t rng = 0x0b7eeull;
-static double rnd(void) {
-    uint64_t z = (rng += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
+static double rnd(void) { return test_rnd(&rng); }
 
 static int in_cells(const mesh_cells *cells, const float p[3]) {
     uint32_t c;
@@ -62,16 +54,12 @@ static int bake_cells(pvs_scene *scene, const pvs_box *sub, uint32_t n, pvs_meth
     pvs_error pe;
     uint32_t c, objects = pvs_scene_object_count(scene);
     double t;
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = scene;
-    bd.cells = sub;
-    bd.cell_count = n;
-    bd.method = method;
+    test_bake_desc(&bd, scene, sub, n, method);
     if (pvs_bake_begin(&bd, &bake, &pe) != PVS_OK) { fprintf(stderr, "%s\n", pe.message); return 1; }
-    t = cpu_seconds();
+    t = test_cpu_seconds();
     for (c = 0; c < n; ++c)
         if (pvs_bake_run_task(bake, c, &pe) != PVS_OK) { fprintf(stderr, "%s\n", pe.message); return 1; }
-    *ms = 1000.0 * (cpu_seconds() - t) / n;
+    *ms = 1000.0 * (test_cpu_seconds() - t) / n;
     *sum_pvs = 0.0;
     for (c = 0; c < n; ++c) *sum_pvs += pvs_bitset_count(pvs_bake_cell_pvs(bake, c), objects);
     *out = bake;
@@ -143,7 +131,7 @@ int main(int argc, char **argv) {
             for (rep = 0; rep < (flags == 1 ? 1u : 3u); ++rep) { /* min of 3 runs (a shared, loaded machine) */
                 double t;
                 pvs_otree_reset(ot);
-                t = cpu_seconds();
+                t = test_cpu_seconds();
                 for (f = 0; f < frames; ++f) {
                     pvs_cull_stats st;
                     pvs_otree_frame fi;
@@ -159,7 +147,7 @@ int main(int argc, char **argv) {
                         else { tests += fi.node_tests; nodes += fi.tree_nodes; visible += st.visible; }
                     }
                 }
-                t = cpu_seconds() - t;
+                t = test_cpu_seconds() - t;
                 if (!flags && t < best) best = t;
                 if (flags == 2 && t < best_fmc) best_fmc = t;
             }

@@ -11,6 +11,7 @@
 #include "../pvs.h"
 #include "../tools/gen.h"
 #include "../tools/mesh.h"
+#include "test.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,11 +48,8 @@ int main(int argc, char **argv) {
     uint32_t i, n_occ = 50000, n_box = 10000, nf = 0, pass, nobj;
     double best_c = 1.0e30;
     (void)argv;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_CITY; gp.seed = 1; gp.size = 1.0f;
-    if (gen_scene(&gp, &m, &cells) != 0) { printf("gen failed\n"); return 1; }
+    gp = test_gen_params(GEN_CITY, 1, 1.0f, 0);
+    if (test_generate(&gp, &m, &cells, NULL) != 0) { printf("gen failed\n"); return 1; }
     obs = (pvs_object_desc *)malloc(m.object_count * sizeof(pvs_object_desc));
     for (i = 0; i < m.object_count; ++i) {
         obs[i].first_triangle = m.objects[i].first_triangle;

@@ -11,6 +11,7 @@
    Time and tightness over an evenly spread subset of BENCH_CELLS cells (default 60). Never asserts
    on time. */
 #include "../tools/cli.h"
+#include "test.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -28,13 +29,8 @@ static int run(const char *name, gen_kind kind, uint32_t n) {
     double sampled = 0.0;
     size_t words;
     int f;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = kind;
-    gp.seed = 1;
-    gp.size = 1.0f;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    if (gen_scene(&gp, &m, &cells)) return 1;
+    gp = test_gen_params(kind, 1, 1.0f, 0);
+    if (test_generate(&gp, &m, &cells, NULL)) return 1;
     if (cli_make_scene(name, &m, 1, &scene, &te)) { fprintf(stderr, "%s\n", te.message); return 1; }
     objects = pvs_scene_object_count(scene);
     words = PVS_BITSET_WORDS(objects);
@@ -52,11 +48,7 @@ static int run(const char *name, gen_kind kind, uint32_t n) {
         pvs_bake_report rep;
         double t, t_syn, in_pvs = 0.0;
         uint32_t misses = 0, i;
-        memset(&bd, 0, sizeof(bd));
-        bd.scene = scene;
-        bd.cells = (const pvs_box *)cells.boxes;
-        bd.cell_count = cells.count;
-        bd.method = PVS_METHOD_SHRINK;
+        test_bake_desc(&bd, scene, (const pvs_box *)cells.boxes, cells.count, PVS_METHOD_SHRINK);
         bd.eps = base_eps * factors[f];
         t = cli_seconds();
         if (pvs_bake_begin(&bd, &b, &e) != PVS_OK) { fprintf(stderr, "%s\n", e.message); return 1; }

@@ -14,12 +14,10 @@
    seconds of this (single-threaded) process, still noisy on a loaded shared machine. Never asserts
    on time. */
 #include "../tools/cli.h"
+#include "test.h"
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-/* CPU time of this process: steadier than the wall clock on a shared machine (one thread here). */
-static double cpu_seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
 
 typedef struct bench_run {
     void *file;
@@ -36,17 +34,13 @@ static int bake(pvs_scene *scene, const pvs_box *cells, uint32_t n, pvs_method m
     uint32_t c;
     double t;
     memset(out, 0, sizeof(*out));
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = scene;
-    bd.cells = cells;
-    bd.cell_count = n;
-    bd.method = method;
+    test_bake_desc(&bd, scene, cells, n, method);
     bd.vocc_slices = slices;
     if (pvs_bake_begin(&bd, &b, &e) != PVS_OK) { fprintf(stderr, "%s\n", e.message); return 1; }
-    t = cpu_seconds();
+    t = test_cpu_seconds();
     for (c = 0; c < n; ++c)
         if (pvs_bake_run_task(b, c, &e) != PVS_OK) { fprintf(stderr, "%s\n", e.message); return 1; }
-    out->ms_per_cell = 1000.0 * (cpu_seconds() - t) / n;
+    out->ms_per_cell = 1000.0 * (test_cpu_seconds() - t) / n;
     pvs_bake_vocc_stats(b, &out->st);
     out->size = pvs_bake_file_size(b);
     out->file = malloc(out->size);
@@ -145,13 +139,13 @@ int main(void) {
     {
         double best_flat = 1e30;
         for (k = 0; k < 5; ++k) { /* rebuild time: min over 5 passes of the mean per cell */
-            double t = cpu_seconds();
+            double t = test_cpu_seconds();
             for (c = 0; c < n; ++c) pvs_vocc_cull(&run.f, c, 0, boxes, objects, tree, scratch, scratch_size, bits, NULL);
-            t = 1e6 * (cpu_seconds() - t) / n;
+            t = 1e6 * (test_cpu_seconds() - t) / n;
             if (t < best_us) best_us = t;
-            t = cpu_seconds();
+            t = test_cpu_seconds();
             for (c = 0; c < n; ++c) pvs_vocc_cull(&run.f, c, 0, boxes, objects, NULL, scratch, scratch_size, bits, NULL);
-            t = 1e6 * (cpu_seconds() - t) / n;
+            t = 1e6 * (test_cpu_seconds() - t) / n;
             if (t < best_flat) best_flat = t;
         }
         printf("BENCH vocc_rebuild_us %.1f us (kD-tree walk, leaves of 16, %u objects; every box tested: %.1f us)\n", best_us, objects,

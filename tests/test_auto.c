@@ -15,14 +15,8 @@ static pvs_scene *gen_auto_scene(const char *name, gen_kind kind, uint64_t seed,
     gen_params gp;
     pvs_scene *s = NULL;
     tool_error te;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = kind;
-    gp.seed = seed;
-    gp.size = size;
-    gp.max_cells = max_cells;
-    mesh_init(m);
-    mesh_cells_init(cells);
-    CHECK(gen_scene(&gp, m, cells) == 0);
+    gp = test_gen_params(kind, seed, size, max_cells);
+    CHECK(test_generate(&gp, m, cells, NULL) == 0);
     CHECK(cli_make_scene(name, m, 1, &s, &te) == 0);
     return s;
 }
@@ -106,10 +100,8 @@ static void check_auto(gen_kind kind, float size, uint64_t seed, uint32_t max_ce
             if (n & 63u) and_bits[words - 1] &= ((pvs_word)1 << (n & 63u)) - 1;
             mismatches += memcmp(and_bits, pv, words * sizeof(pvs_word)) != 0;
             /* 0 misses against ray sampling */
-            memset(ref, 0, words * sizeof(pvs_word));
-            pvs_sample_visibility(s, (const pvs_box *)cells.boxes + c, 24, 512, 1234 + c, ref);
-            pvs_sample_visibility_toward(s, (const pvs_box *)cells.boxes + c, NULL, 8, 4321 + c, ref);
-            for (i = 0; i < n; ++i) misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pv, i);
+            test_sample(s, (const pvs_box *)cells.boxes + c, 24, 512, 1234 + c, 8, 4321 + c, ref);
+            misses += test_misses(ref, pv, n, "auto", c);
             in_auto += pvs_bitset_count(pv, n);
         }
         /* the statistics: each member's own sum and what it alone left out, recomputed. A member that
@@ -181,7 +173,7 @@ static void check_mask_preview(void) {
     pvs_bake_method_info mi;
     pvs_error e;
     pvs_word *ref;
-    uint32_t c, i, misses = 0, k, ran = 0;
+    uint32_t c, misses = 0, k, ran = 0;
     if (!s) return;
     b = bake_with(s, &cells, PVS_METHOD_AUTO, (1u << PVS_METHOD_OTREE) | (1u << PVS_METHOD_EXTPROJ), 0, 0.0f);
     CHECK(b && pvs_bake_method_count(b) == 2);
@@ -215,10 +207,8 @@ static void check_mask_preview(void) {
                 CHECK(ran == 1);
                 for (c = 0; c < (g ? gc.count : cells.count); ++c) {
                     const pvs_box *cb = (const pvs_box *)(g ? gc.boxes : cells.boxes) + c;
-                    memset(ref, 0, PVS_BITSET_WORDS(gn) * sizeof(pvs_word));
-                    pvs_sample_visibility(gs, cb, 24, 512, 77 + c, ref);
-                    pvs_sample_visibility_toward(gs, cb, NULL, 8, 7 + c, ref);
-                    for (i = 0; i < gn; ++i) misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pvs_bake_cell_pvs(b, c), i);
+                    test_sample(gs, cb, 24, 512, 77 + c, 8, 7 + c, ref);
+                    misses += test_misses(ref, pvs_bake_cell_pvs(b, c), gn, "auto preview", c);
                     kept += pvs_bitset_count(pvs_bake_cell_pvs(b, c), gn);
                 }
                 CHECK(misses == 0);
@@ -239,11 +229,7 @@ static void check_mask_preview(void) {
     CHECK(b && pvs_bake_method_count(b) == 1 && pvs_bake_get_method_info(b, 0, &mi) == PVS_OK && mi.method == PVS_METHOD_OTREE && mi.ran);
     pvs_bake_destroy(b);
     /* refused descs */
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = s;
-    bd.cells = (const pvs_box *)cells.boxes;
-    bd.cell_count = cells.count;
-    bd.method = PVS_METHOD_AUTO;
+    test_bake_desc(&bd, s, (const pvs_box *)cells.boxes, cells.count, PVS_METHOD_AUTO);
     bd.methods = 1u << PVS_METHOD_SAMPLE; /* never sample */
     CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "sample"));
     bd.methods = 1u << PVS_METHOD_COUNT;
@@ -352,8 +338,8 @@ static void check_max_distance(void) {
         CHECK(pvs_scene_create(&sd, &s, NULL) == PVS_OK);
         for (pass = 0; pass < 2; ++pass) {
             float d = pass == 0 ? x0 - 1.0f : 0.5f * (x0 - 1.0f);
-            memset(&bd, 0, sizeof(bd));
-            bd.scene = s; bd.cells = &cell; bd.cell_count = 1; bd.method = PVS_METHOD_SAMPLE; bd.max_distance = d;
+            test_bake_desc(&bd, s, &cell, 1, PVS_METHOD_SAMPLE);
+            bd.max_distance = d;
             bd.sample_points = 16; bd.sample_rays = 256;
             CHECK(pvs_bake_begin(&bd, &b, NULL) == PVS_OK);
             if (b) {
@@ -381,14 +367,8 @@ static void check_restore(void) {
     uint32_t n, words, t;
     size_t sa = 0, sb = 0;
     uint8_t *fa = NULL, *fb = NULL;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_WALLS;
-    gp.seed = 5;
-    gp.size = 0.3f;
-    gp.max_cells = 16;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    CHECK(gen_scene(&gp, &m, &cells) == 0);
+    gp = test_gen_params(GEN_WALLS, 5, 0.3f, 16);
+    CHECK(test_generate(&gp, &m, &cells, NULL) == 0);
     m.objects[3].flags |= MESH_OBJECT_OCCLUDER;
     CHECK(cli_make_scene("auto-restore", &m, 1, &s, &te) == 0);
     if (!s) return;

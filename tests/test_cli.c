@@ -21,49 +21,8 @@ static void write_text(const char *path, const char *text, size_t len) {
 
 static void write_str(const char *path, const char *text) { write_text(path, text, strlen(text)); }
 
-static char *slurp(const char *path) {
-    FILE *f = fopen(path, "rb");
-    char *buf;
-    long n;
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    buf = (char *)malloc((size_t)n + 1);
-    if (buf) {
-        n = (long)fread(buf, 1, (size_t)n, f);
-        buf[n] = 0;
-    }
-    fclose(f);
-    return buf;
-}
-
 /* Runs a shell command with stdout and stderr captured; returns the exit status, *out the text. */
-static int run(const char *cmd, char **out) {
-    char full[2048];
-    int status;
-    snprintf(full, sizeof(full), "%s >" DIR "/out.txt 2>&1", cmd);
-    status = system(full);
-    *out = slurp(DIR "/out.txt");
-    if (!*out) *out = (char *)calloc(1, 1);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-static int exists(const char *path) {
-    struct stat st;
-    return stat(path, &st) == 0;
-}
-
-/* 1 when both files exist and hold the same bytes. */
-static int same_bytes(const char *path_a, const char *path_b) {
-    char *a = slurp(path_a), *b = slurp(path_b);
-    struct stat sa, sb;
-    int same = a && b && stat(path_a, &sa) == 0 && stat(path_b, &sb) == 0 && sa.st_size == sb.st_size &&
-               memcmp(a, b, (size_t)sa.st_size) == 0;
-    free(a);
-    free(b);
-    return same;
-}
+static int run(const char *cmd, char **out) { return test_run(DIR, cmd, out); }
 
 /* A box of 12 triangles, as OBJ lines, with vertex offset base (1-based). */
 static void box_obj(char *dst, size_t cap, const char *name, float x0, float y0, float z0, float x1, float y1, float z1, int base) {
@@ -83,7 +42,7 @@ static void expect_bad(const char *cmd, const char *where, const char *phrase, c
     CHECK(strstr(out, where) != NULL);
     CHECK(strstr(out, phrase) != NULL);
     if (rc != 1 || !strstr(out, where) || !strstr(out, phrase)) fprintf(stderr, "  command: %s\n  output: %s\n", cmd, out);
-    CHECK(!exists(out_path));
+    CHECK(!test_exists(out_path));
     free(out);
 }
 
@@ -100,11 +59,7 @@ static void test_city_round_trip(void) {
     uint8_t *bytes = NULL;
     size_t size = 0;
     CHECK(cli_demo_city(&m, &cells, &scene, &te) == 0);
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = scene;
-    bd.cells = (const pvs_box *)cells.boxes;
-    bd.cell_count = cells.count;
-    bd.method = PVS_METHOD_SAMPLE;
+    test_bake_desc(&bd, scene, (const pvs_box *)cells.boxes, cells.count, PVS_METHOD_SAMPLE);
     bd.sample_points = 2;
     bd.sample_rays = 256;
     if (scene && pvs_bake_begin(&bd, &bake, NULL) == PVS_OK && cli_run_bake(bake, 2, 1, "bake", &te) == 0) {
@@ -227,7 +182,7 @@ void test_cli(void) {
             free(out);
         }
     }
-    CHECK(!exists(DIR "/x.pvs"));
+    CHECK(!test_exists(DIR "/x.pvs"));
     CHECK(run("./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj --memory 1G "
               "--resolution 4096 --sweep", &out) == 2 &&
           strstr(out, "extproj at 4096 pixels with 16 sweep planes needs about 4.1 GiB per thread, more than the") &&
@@ -242,11 +197,11 @@ void test_cli(void) {
     free(out);
     CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/fit1.pvs --cells " DIR "/cells.txt --method extproj --sweep --resolution 512 -j 1", &out) == 0);
     free(out);
-    CHECK(same_bytes(DIR "/fit.pvs", DIR "/fit1.pvs"));
+    CHECK(test_same_files(DIR "/fit.pvs", DIR "/fit1.pvs"));
     CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/fit2.pvs --cells " DIR "/cells.txt --method extproj --sweep --resolution 512 -j 2 "
               "--memory 1G", &out) == 0);
     free(out);
-    CHECK(same_bytes(DIR "/fit.pvs", DIR "/fit2.pvs"));
+    CHECK(test_same_files(DIR "/fit.pvs", DIR "/fit2.pvs"));
     CHECK(run("PVSBAKE_MEMORY=lots ./pvsbake " DIR "/scene.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method extproj", &out) == 2 &&
           strstr(out, "PVSBAKE_MEMORY takes a size in bytes (e.g. 512M or 2G), not 'lots'"));
     free(out);
@@ -269,12 +224,12 @@ void test_cli(void) {
     CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/fit1.pvs --cells " DIR "/cells.txt --method extproj --sweep "
               "--resolution 64 -j 1", &out) == 0);
     free(out);
-    CHECK(same_bytes(DIR "/fit.pvs", DIR "/fit1.pvs"));
+    CHECK(test_same_files(DIR "/fit.pvs", DIR "/fit1.pvs"));
     /* a method that cannot handle the scene names the scene file, not the cells file */
     write_str(DIR "/tri.obj", "o t\nv 0 0 0\nv 4 0 0\nv 0 4 0\nf 1 2 3\n");
     CHECK(run("./pvsbake " DIR "/tri.obj -o " DIR "/x.pvs --cells " DIR "/cells.txt --method vocc", &out) == 1 &&
           strstr(out, "tri.obj: unsupported: vocc")); free(out);
-    CHECK(!exists(DIR "/x.pvs"));
+    CHECK(!test_exists(DIR "/x.pvs"));
     /* --sweep is --sweep-planes 16 at the default resolution 256; other values bake another PVS */
     CHECK(run("./pvsgen walls --size 0.3 --max-cells 12 -o " DIR "/w.obj --cells " DIR "/w.txt", &out) == 0); free(out);
     CHECK(run("./pvsbake -q " DIR "/w.obj -o " DIR "/sw1.pvs --cells " DIR "/w.txt --method extproj --sweep", &out) == 0); free(out);
@@ -283,20 +238,20 @@ void test_cli(void) {
     CHECK(run("./pvsbake -q " DIR "/w.obj -o " DIR "/sw3.pvs --cells " DIR "/w.txt --method extproj --sweep --resolution 32 --sweep-planes 2", &out) == 0);
     free(out);
     CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/sw3.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
-    CHECK(same_bytes(DIR "/sw1.pvs", DIR "/sw2.pvs"));
-    CHECK(exists(DIR "/sw3.pvs") && !same_bytes(DIR "/sw1.pvs", DIR "/sw3.pvs")); /* the options reach the bake */
+    CHECK(test_same_files(DIR "/sw1.pvs", DIR "/sw2.pvs"));
+    CHECK(test_exists(DIR "/sw3.pvs") && !test_same_files(DIR "/sw1.pvs", DIR "/sw3.pvs")); /* the options reach the bake */
     /* --subcells reaches the bake: a different file, no miss */
     CHECK(run("./pvsbake -q " DIR "/w.obj -o " DIR "/sw4.pvs --cells " DIR "/w.txt --method extproj --sweep --subcells", &out) == 0);
     free(out);
     CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/sw4.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
-    CHECK(exists(DIR "/sw4.pvs") && !same_bytes(DIR "/sw1.pvs", DIR "/sw4.pvs"));
+    CHECK(test_exists(DIR "/sw4.pvs") && !test_same_files(DIR "/sw1.pvs", DIR "/sw4.pvs"));
     /* --otree-budget reaches the bake too: a tiny tree culls less, still with no miss */
     CHECK(run("./pvsbake " DIR "/w.obj -o " DIR "/ob1.pvs --cells " DIR "/w.txt --method otree", &out) == 0 && !strstr(out, "node budget"));
     free(out);
     CHECK(run("./pvsbake " DIR "/w.obj -o " DIR "/ob2.pvs --cells " DIR "/w.txt --method otree --otree-budget 64", &out) == 0 &&
           strstr(out, "a tree reached its node budget and took no more facades"));
     free(out);
-    CHECK(exists(DIR "/ob2.pvs") && !same_bytes(DIR "/ob1.pvs", DIR "/ob2.pvs"));
+    CHECK(test_exists(DIR "/ob2.pvs") && !test_same_files(DIR "/ob1.pvs", DIR "/ob2.pvs"));
     CHECK(run("./pvscheck -q " DIR "/w.obj " DIR "/ob2.pvs", &out) == 0 && strstr(out, "misses 0 ")); free(out);
 
     /* a good bake; options in any order; identical bytes for 1 and 2 threads (-j2 spelt as make does) */
@@ -321,14 +276,14 @@ void test_cli(void) {
     CHECK(rc == 0 && strstr(out, "mean PVS 3.0 objects (100.0% of the 3 drawable)"));
     if (rc != 0 || !strstr(out, "(100.0% of the 3 drawable)")) fprintf(stderr, "  output: %s\n", out);
     free(out);
-    CHECK(same_bytes(DIR "/a.pvs", DIR "/b.pvs"));
+    CHECK(test_same_files(DIR "/a.pvs", DIR "/b.pvs"));
     /* an option's value is never split as -jN: files named -j3.txt and -j4.pvs */
     CHECK(run("cp " DIR "/cells.txt " DIR "/-j3.txt", &out) == 0); free(out);
     rc = run("(cd " DIR " && ../pvsbake --method sample -q --cells -j3.txt -o -j4.pvs -j 1 scene.obj --rays 256 --points 16)", &out);
     CHECK(rc == 0);
     if (rc != 0) fprintf(stderr, "  output: %s\n", out);
     free(out);
-    CHECK(same_bytes(DIR "/-j4.pvs", DIR "/a.pvs"));
+    CHECK(test_same_files(DIR "/-j4.pvs", DIR "/a.pvs"));
     rc = run("./pvscheck -q --seed -j5 " DIR "/scene.obj " DIR "/a.pvs", &out);
     CHECK(rc == 2 && strstr(out, "bad --seed '-j5'"));
     if (rc != 2 || !strstr(out, "bad --seed '-j5'")) fprintf(stderr, "  output: %s\n", out);
@@ -338,13 +293,10 @@ void test_cli(void) {
     CHECK(run("./pvsbake --method sample -q " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/whole.pvs --rays 64 --points 4 -j 2", &out) == 0); free(out);
     {
         static const int ns[4] = {1, 2, 3, 7};
-        char *whole = slurp(DIR "/whole.pvs");
-        struct stat sw;
         int j, k;
-        CHECK(whole && stat(DIR "/whole.pvs", &sw) == 0);
+        CHECK(test_exists(DIR "/whole.pvs"));
         for (j = 0; j < 4; ++j) {
-            char cmd[4096], *merged;
-            struct stat sm;
+            char cmd[4096];
             int len = snprintf(cmd, sizeof(cmd), "./pvsbake merge -o " DIR "/merged.pvs");
             for (k = ns[j]; k >= 1; --k) { /* parts in any order */
                 char bake[512];
@@ -354,19 +306,16 @@ void test_cli(void) {
                 len += snprintf(cmd + len, sizeof(cmd) - (size_t)len, " " DIR "/part%d.pvs", k);
             }
             CHECK(run(cmd, &out) == 0); free(out);
-            merged = slurp(DIR "/merged.pvs");
-            CHECK(merged && whole && stat(DIR "/merged.pvs", &sm) == 0 && sm.st_size == sw.st_size && memcmp(merged, whole, (size_t)sw.st_size) == 0);
-            free(merged);
+            CHECK(test_same_files(DIR "/merged.pvs", DIR "/whole.pvs"));
             if (ns[j] == 3) {
                 CHECK(run("./pvsinfo " DIR "/part2.pvs", &out) == 0 && strstr(out, "shard 2 of 3")); free(out);
                 /* a missing shard, a repeated one, a part of another bake */
                 CHECK(run("./pvsbake merge -o " DIR "/m2.pvs " DIR "/part1.pvs " DIR "/part2.pvs", &out) == 1 && strstr(out, "shard 3/3 is missing")); free(out);
                 CHECK(run("./pvsbake merge -o " DIR "/m2.pvs " DIR "/part1.pvs " DIR "/part1.pvs " DIR "/part3.pvs", &out) == 1 && strstr(out, "also in")); free(out);
                 CHECK(run("./pvsbake merge -o " DIR "/m2.pvs " DIR "/part1.pvs " DIR "/whole.pvs", &out) == 1 && strstr(out, "not a part file")); free(out);
-                CHECK(!exists(DIR "/m2.pvs"));
+                CHECK(!test_exists(DIR "/m2.pvs"));
             }
         }
-        free(whole);
         CHECK(run("./pvsbake " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/x.pvs --shard 4/3", &out) == 2); free(out);
         CHECK(run("./pvsbake " DIR "/in.obj --cells " DIR "/in.txt -o " DIR "/x.pvs --shard 31/31", &out) == 1 && strstr(out, "only 30 cells")); free(out);
         CHECK(run("./pvsbake merge " DIR "/part1.pvs", &out) == 2); free(out);
@@ -384,11 +333,11 @@ void test_cli(void) {
     CHECK(run("./pvscheck -q -j2 " DIR "/scene.obj " DIR "/a.pvs", &out) == 0 && strstr(out, "misses 0")); free(out);
     /* a damaged file: --verify fails with the reason; a file of another scene is refused */
     {
-        char *fa = slurp(DIR "/a.pvs");
-        struct stat sa;
-        if (fa && stat(DIR "/a.pvs", &sa) == 0) {
-            fa[sa.st_size - 20] ^= 0x40;
-            write_text(DIR "/bad.pvs", fa, (size_t)sa.st_size);
+        size_t na = 0;
+        char *fa = test_slurp(DIR "/a.pvs", &na);
+        if (fa && na > 40) {
+            fa[na - 20] ^= 0x40;
+            write_text(DIR "/bad.pvs", fa, na);
             CHECK(run("./pvsinfo --verify " DIR "/bad.pvs", &out) == 1 && strstr(out, "checksum")); free(out);
             write_text(DIR "/short.pvs", fa, 40);
             CHECK(run("./pvsinfo " DIR "/short.pvs", &out) == 1 && strstr(out, "truncated")); free(out);
@@ -401,7 +350,7 @@ void test_cli(void) {
     CHECK(run("./pvsbake --method sample -q " DIR "/scene.obj -o " DIR "/g.pvs --grid 4 --rays 64 --points 4", &out) == 0); free(out);
     CHECK(run("./pvsinfo --verify " DIR "/g.pvs", &out) == 0); free(out);
     CHECK(run("./pvsbake -q " DIR "/scene.obj -o " DIR "/g2.pvs --grid 0.0001", &out) == 1 && strstr(out, "exceed")); free(out);
-    CHECK(!exists(DIR "/g2.pvs"));
+    CHECK(!test_exists(DIR "/g2.pvs"));
 
     /* malformed OBJ and cells files: exit 1, file:line, a specific phrase, no output file */
     {

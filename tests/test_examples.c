@@ -18,47 +18,12 @@
 
 #define EDIR "examples-test"
 
-static char *ex_slurp(const char *path, size_t *size) {
-    void *data = NULL;
-    size_t n = 0;
-    if (read_file(path, &data, &n, NULL)) return NULL;
-    if (size) *size = n;
-    return (char *)data;
-}
-
-static int ex_run(const char *cmd, char **out) {
-    char full[4096];
-    int status;
-    snprintf(full, sizeof(full), "%s >" EDIR "/out.txt 2>&1", cmd);
-    status = system(full);
-    *out = ex_slurp(EDIR "/out.txt", NULL);
-    if (!*out) *out = (char *)calloc(1, 1);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-static int ex_exists(const char *path) {
-    struct stat st;
-    return stat(path, &st) == 0;
-}
-
-static int same_files(const char *a, const char *b) {
-    size_t sa = 0, sb = 0;
-    char *fa = ex_slurp(a, &sa), *fb = ex_slurp(b, &sb);
-    int same = fa && fb && sa == sb && memcmp(fa, fb, sa) == 0;
-    free(fa);
-    free(fb);
-    return same;
-}
+static int ex_run(const char *cmd, char **out) { return test_run(EDIR, cmd, out); }
 
 /* ---- the renderer ---- */
 
 static uint64_t rs = 0x5eed;
-static double rnd(void) {
-    uint64_t z = (rs += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return (double)((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
-}
+static double rnd(void) { return test_rnd(&rs); }
 
 /* Random triangles, some crossing the near plane or behind the eye, drawn one per image and
    compared per pixel with a ray cast through the pixel centre (double): a pixel is drawn exactly
@@ -171,7 +136,7 @@ static int ex_bake_and_kill(const char *out, long bytes) {
     }
     kill(pid, SIGKILL);
     waitpid(pid, &status, 0);
-    return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL && !ex_exists(out) && ex_exists(state);
+    return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL && !test_exists(out) && test_exists(state);
 }
 
 static void test_resume(void) {
@@ -182,18 +147,18 @@ static void test_resume(void) {
     CHECK(ex_run("./pvsgen indoor --seed 4 -o " EDIR "/in.obj --cells " EDIR "/in.txt", &out) == 0); free(out);
     snprintf(cmd, sizeof(cmd), "%s -q --no-state -j 1 -o " EDIR "/whole.pvs", bake);
     CHECK(ex_run(cmd, &out) == 0); free(out);
-    free(ex_slurp(EDIR "/whole.pvs", &whole));
+    free(test_slurp(EDIR "/whole.pvs", &whole));
     /* a bake killed once its journal holds a few cells */
     CHECK(ex_bake_and_kill(EDIR "/resumed.pvs", 400));
-    st = ex_slurp(EDIR "/resumed.pvs.state", &n);
+    st = test_slurp(EDIR "/resumed.pvs.state", &n);
     /* rerun (another thread count: the fingerprint ignores -j): continues, same bytes */
     snprintf(cmd, sizeof(cmd), "%s -j 2 --state-every 2 -o " EDIR "/resumed.pvs", bake);
     CHECK(ex_run(cmd, &out) == 0);
     CHECK(strstr(out, "resumed") != NULL && !strstr(out, "damaged"));
     CHECK(strstr(out, "mean PVS") && strstr(out, "culled") && strstr(out, "slowest cells") && strstr(out, "time per cell"));
     free(out);
-    CHECK(same_files(EDIR "/whole.pvs", EDIR "/resumed.pvs"));
-    CHECK(!ex_exists(EDIR "/resumed.pvs.state")); /* removed once the output is written */
+    CHECK(test_same_files(EDIR "/whole.pvs", EDIR "/resumed.pvs"));
+    CHECK(!test_exists(EDIR "/resumed.pvs.state")); /* removed once the output is written */
     /* a torn journal (a write cut short at any byte): the whole records before the cut are used,
        the rest is baked again, the same bytes */
     if (st && n > 120) {
@@ -212,7 +177,7 @@ static void test_resume(void) {
             CHECK(c == 0 ? !strstr(out, "damaged") : strstr(out, "damaged") != NULL);
             CHECK(c < 2 ? !strstr(out, "resumed") : strstr(out, "resumed") != NULL);
             free(out);
-            CHECK(same_files(EDIR "/whole.pvs", EDIR "/torn.pvs"));
+            CHECK(test_same_files(EDIR "/whole.pvs", EDIR "/torn.pvs"));
         }
         /* a flipped bit in the last record: the CRC catches it; the records before it are used */
         {
@@ -221,14 +186,14 @@ static void test_resume(void) {
             if (f) { fwrite(st, 1, n, f); fclose(f); }
             snprintf(cmd, sizeof(cmd), "%s -j 1 -o " EDIR "/torn.pvs", bake);
             CHECK(ex_run(cmd, &out) == 0 && strstr(out, "damaged") && strstr(out, "resumed")); free(out);
-            CHECK(same_files(EDIR "/whole.pvs", EDIR "/torn.pvs"));
+            CHECK(test_same_files(EDIR "/whole.pvs", EDIR "/torn.pvs"));
             st[n - 6] ^= 0x10;
         }
         /* the journal's size is of the order of the file's: a record per cell, its PVS as runs */
         {
             uint32_t cells = 0, records = 0;
             size_t at = 32;
-            char *txt = ex_slurp(EDIR "/in.txt", NULL), *q;
+            char *txt = test_slurp(EDIR "/in.txt", NULL), *q;
             for (q = txt; q && *q; ++q) cells += *q == '\n';
             free(txt);
             while (at + 12 <= n) {
@@ -249,7 +214,7 @@ static void test_resume(void) {
             if (f) { fwrite(st, 1, n, f); fclose(f); }
             snprintf(cmd, sizeof(cmd), "%s -j 1 -o " EDIR "/torn.pvs", bake);
             CHECK(ex_run(cmd, &out) == 0 && strstr(out, "not this bake's state") && !strstr(out, "resumed")); free(out);
-            CHECK(same_files(EDIR "/whole.pvs", EDIR "/torn.pvs"));
+            CHECK(test_same_files(EDIR "/whole.pvs", EDIR "/torn.pvs"));
         }
     } else {
         CHECK(0);
@@ -261,8 +226,8 @@ static void test_resume(void) {
     CHECK(ex_run(cmd, &out) == 0 && strstr(out, "not this bake's state") && !strstr(out, "resumed")); free(out);
     snprintf(cmd, sizeof(cmd), "%s -q --no-state -j 1 --max-distance 20 -o " EDIR "/fresh.pvs", bake);
     CHECK(ex_run(cmd, &out) == 0); free(out);
-    CHECK(same_files(EDIR "/fresh.pvs", EDIR "/other.pvs"));
-    CHECK(!same_files(EDIR "/whole.pvs", EDIR "/other.pvs")); /* the distance did cut */
+    CHECK(test_same_files(EDIR "/fresh.pvs", EDIR "/other.pvs"));
+    CHECK(!test_same_files(EDIR "/whole.pvs", EDIR "/other.pvs")); /* the distance did cut */
 }
 
 static void test_bake_options(void) {
@@ -312,13 +277,13 @@ static void test_view_runtime(void) {
     {
         pvs_file f;
         size_t sz = 0;
-        char *bytes = ex_slurp(EDIR "/whole.pvs", &sz), cmd[512];
+        char *bytes = test_slurp(EDIR "/whole.pvs", &sz), cmd[512];
         if (bytes && pvs_file_open(bytes, sz, &f, NULL) == PVS_OK) {
             pvs_box b = pvs_file_cell_box(&f, 7);
             snprintf(cmd, sizeof(cmd), "./pvsview " EDIR "/in.obj " EDIR "/whole.pvs -o " EDIR "/v.png --size 300 --cell 7 --frame %g %g %g 1 0 0.3",
                      0.5 * (b.min[0] + b.max[0]), 0.5 * (b.min[1] + b.max[1]), 0.5 * (b.min[2] + b.max[2]));
             CHECK(ex_run(cmd, &out) == 0 && strstr(out, "0 pixels of objects outside the PVS") && strstr(out, "cell 7")); free(out);
-            png = ex_slurp(EDIR "/v.png", &n);
+            png = test_slurp(EDIR "/v.png", &n);
             CHECK(png && n > 100 && memcmp(png, "\x89PNG", 4) == 0);
             free(png);
             /* a PVS that misses: the same cells, every set empty: the frame shows red pixels, exit 3 */

@@ -18,14 +18,8 @@
 #include <string.h>
 
 static uint64_t ep_state = 0x7e57e97dull;
-static double ep_rnd(void) {
-    uint64_t z = (ep_state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
-static float ep_rndf(float lo, float hi) { return lo + (hi - lo) * (float)ep_rnd(); }
+static double ep_rnd(void) { return test_rnd(&ep_state); }
+static float ep_rndf(float lo, float hi) { return test_rndf(&ep_state, lo, hi); }
 
 /* A random plane of a random cell. */
 static void ep_random_plane(pvs_extproj_plane *pl, uint32_t res) {
@@ -286,34 +280,14 @@ static int ep_ray_mesh(const double *o, const double *d, const float *pos, const
     return 0;
 }
 
-/* A scene of one object from arrays. */
 /* The 12 triangles of a box whose corner c has coordinate k at max when bit k of c is set. */
 static const int ep_box_tris[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
                                        {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
 
-static pvs_scene *ep_scene_arrays(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t nt, const pvs_object_desc *obs, uint32_t no) {
-    pvs_scene_desc d;
-    pvs_scene *s = NULL;
-    pvs_error e;
-    memset(&d, 0, sizeof(d));
-    d.positions = pos;
-    d.vertex_count = nv;
-    d.indices = idx;
-    d.triangle_count = nt;
-    d.objects = obs;
-    d.object_count = no;
-    if (pvs_scene_create(&d, &s, &e) != PVS_OK) fprintf(stderr, "extproj scene: %s\n", e.message);
-    return s;
-}
-
 /* An extproj bake of `count` cells of the scene, with `sweep` planes per direction (0: none); the
    other fields zero (defaults). */
 static void ep_bake_desc(pvs_bake_desc *bd, const pvs_scene *s, const pvs_box *cells, uint32_t count, uint32_t sweep) {
-    memset(bd, 0, sizeof(*bd));
-    bd->scene = s;
-    bd->cells = cells;
-    bd->cell_count = count;
-    bd->method = PVS_METHOD_EXTPROJ;
+    test_bake_desc(bd, s, cells, count, PVS_METHOD_EXTPROJ);
     bd->extproj_sweep = sweep;
 }
 
@@ -386,7 +360,7 @@ static void test_slices(void) {
         ob.first_triangle = 0;
         ob.triangle_count = nt;
         ob.flags = 0;
-        s = ep_scene_arrays(pos, nv, idx, nt, &ob, 1);
+        s = test_scene_arrays(pos, nv, idx, nt, &ob, 1, 0);
         CHECK(s != NULL);
         if (!s) continue;
         memset(&al, 0, sizeof(al));
@@ -503,8 +477,6 @@ static void test_sheets(void) {
         nt += 2;
     }
     {
-        static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                          {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
         uint32_t b = nv, k;
         for (k = 0; k < 8; ++k) {
             float *v = pos + 3 * (nv + k);
@@ -513,17 +485,17 @@ static void test_sheets(void) {
             v[2] = k & 2 ? 5.0f : 4.0f;
         }
         nv += 8;
-        for (k = 0; k < 12; ++k) {
-            idx[3 * nt] = b + f[k][0];
-            idx[3 * nt + 1] = b + f[k][1];
-            idx[3 * nt + 2] = b + f[k][2];
+        for (k = 0; k < 12; ++k) { /* the corners' bits: x 1, z 2, y 4 */
+            idx[3 * nt] = b + test_box_tris[k][0];
+            idx[3 * nt + 1] = b + test_box_tris[k][1];
+            idx[3 * nt + 2] = b + test_box_tris[k][2];
             ++nt;
         }
         obs[17].first_triangle = nt - 12;
         obs[17].triangle_count = 12;
         obs[17].flags = 0;
     }
-    s = ep_scene_arrays(pos, nv, idx, nt, obs, 18);
+    s = test_scene_arrays(pos, nv, idx, nt, obs, 18, 0);
     CHECK(s != NULL);
     if (!s) return;
     memset(&al, 0, sizeof(al));
@@ -873,29 +845,6 @@ static void test_reprojection_chain(void) {
     free(ranges);
 }
 
-/* A mesh as a scene (every object drawable). */
-static pvs_scene *ep_scene(const mesh *m) {
-    pvs_scene_desc d;
-    pvs_object_desc *obs = (pvs_object_desc *)malloc(m->object_count * sizeof(pvs_object_desc));
-    pvs_scene *s = NULL;
-    pvs_error e;
-    uint32_t i;
-    for (i = 0; i < m->object_count; ++i) {
-        obs[i].first_triangle = m->objects[i].first_triangle;
-        obs[i].triangle_count = m->objects[i].triangle_count;
-        obs[i].flags = 0;
-    }
-    memset(&d, 0, sizeof(d));
-    d.positions = m->positions;
-    d.vertex_count = m->vertex_count;
-    d.indices = m->indices;
-    d.triangle_count = m->triangle_count;
-    d.objects = obs;
-    d.object_count = m->object_count;
-    if (pvs_scene_create(&d, &s, &e) != PVS_OK) fprintf(stderr, "extproj scene: %s\n", e.message);
-    free(obs);
-    return s;
-}
 
 /* Bake a generated scene with EXTPROJ and compare every cell with ray sampling: no misses. */
 static double ep_check_scene(gen_kind kind, int dense, uint64_t seed, float size, uint32_t max_cells, uint32_t points, uint32_t rays, uint32_t sweep,
@@ -910,16 +859,10 @@ static double ep_check_scene(gen_kind kind, int dense, uint64_t seed, float size
     uint32_t t, objects, misses = 0;
     double pvs_sum = 0.0, seen_sum = 0.0;
     pvs_word *seen;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = kind;
+    gp = test_gen_params(kind, seed, size, max_cells);
     gp.dense = dense;
-    gp.seed = seed;
-    gp.size = size;
-    gp.max_cells = max_cells;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    CHECK(gen_scene(&gp, &m, &cells) == 0);
-    s = ep_scene(&m);
+    CHECK(test_generate(&gp, &m, &cells, NULL) == 0);
+    s = test_scene(&m, 0);
     CHECK(s != NULL);
     if (!s) return 0.0;
     objects = pvs_scene_object_count(s);
@@ -929,16 +872,10 @@ static double ep_check_scene(gen_kind kind, int dense, uint64_t seed, float size
     seen = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
     for (t = 0; t < pvs_bake_task_count(bake); ++t) {
         const pvs_word *pvs;
-        uint32_t o;
         CHECK(pvs_bake_run_task(bake, t, &e) == PVS_OK);
         pvs = pvs_bake_cell_pvs(bake, t);
-        memset(seen, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
-        pvs_sample_visibility(s, (const pvs_box *)cells.boxes + t, points, rays, 1000 + t, seen);
-        for (o = pvs_bitset_next(seen, objects, 0); o < objects; o = pvs_bitset_next(seen, objects, o + 1))
-            if (!pvs_bitset_test(pvs, o)) {
-                if (misses < 5) fprintf(stderr, "extproj %s: cell %u misses object %u\n", gen_kind_name(kind), t, o);
-                ++misses;
-            }
+        test_sample(s, (const pvs_box *)cells.boxes + t, points, rays, 1000 + t, 0, 0, seen);
+        misses += test_misses(seen, pvs, objects, gen_kind_name(kind), t);
         pvs_sum += pvs_bitset_count(pvs, objects);
         seen_sum += pvs_bitset_count(seen, objects);
     }
@@ -1066,7 +1003,7 @@ static unsigned ep_wall_run(const double R[3][3], uint32_t nx, uint32_t ny, cons
     obs[1].first_triangle = obs[0].triangle_count;
     obs[1].triangle_count = 12;
     obs[1].flags = 0;
-    s = ep_scene_arrays(pos, nv, idx, nt, obs, 2);
+    s = test_scene_arrays(pos, nv, idx, nt, obs, 2, 0);
     CHECK(s != NULL);
     if (!s) return 0;
     for (c = 0; c < 4; ++c) { /* in front of the wall: the middle, then nearer its edges */
@@ -1084,8 +1021,7 @@ static unsigned ep_wall_run(const double R[3][3], uint32_t nx, uint32_t ny, cons
         const pvs_word *pv;
         CHECK(pvs_bake_run_task(bk, c, &e) == PVS_OK);
         pv = pvs_bake_cell_pvs(bk, c);
-        pvs_sample_visibility(s, cells + c, 16, 2048, 77 + c, seen);
-        pvs_sample_visibility_toward(s, cells + c, NULL, 256, 99 + c, seen);
+        test_sample(s, cells + c, 16, 2048, 77 + c, 256, 99 + c, seen);
         if ((seen[0] & 2u) && !pvs_bitset_test(pv, 1)) ++*misses;
         if (pvs_bitset_test(pv, 1)) in_pvs |= 1u << c;
     }
@@ -1225,7 +1161,7 @@ static void test_concave_projection(void) {
         ob.first_triangle = 0;
         ob.triangle_count = nt;
         ob.flags = 0;
-        s = ep_scene_arrays(pos, 25, idx, nt, &ob, 1);
+        s = test_scene_arrays(pos, 25, idx, nt, &ob, 1, 0);
         if (!s) { CHECK(0); continue; }
         memset(&al, 0, sizeof(al));
         CHECK(pvs__extproj_prepare(s, &al, &prep, &err) == PVS_OK);
@@ -1350,7 +1286,7 @@ static void test_random_walls(void) {
                 for (k = 0; k < 3; ++k) idx[3 * nt + k] = nv + (uint32_t)ep_box_tris[c][k];
             nv += 8;
         }
-        s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
+        s = test_scene_arrays(pos, nv, idx, nt, obs, no, 0);
         CHECK(s != NULL);
         if (!s) continue;
         for (c = 0; c < NC; ++c) {
@@ -1370,19 +1306,11 @@ static void test_random_walls(void) {
             CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
             for (c = 0; bk && c < NC; ++c) {
                 const pvs_word *pv;
-                uint32_t o;
                 CHECK(pvs_bake_run_task(bk, c, &e) == PVS_OK);
                 pv = pvs_bake_cell_pvs(bk, c);
-                memset(seen, 0, PVS_BITSET_WORDS(no) * sizeof(pvs_word));
-                pvs_sample_visibility(s, cells + c, 16, 1024, 500 + c, seen);
-                pvs_sample_visibility_toward(s, cells + c, NULL, 48, 900 + c, seen);
-                for (o = 0; o < no; ++o) {
-                    if (pvs_bitset_test(seen, o) && !pvs_bitset_test(pv, o)) {
-                        if (misses < 5) fprintf(stderr, "extproj random walls: scene %d cell %u misses object %u\n", scene, c, o);
-                        ++misses;
-                    }
-                    culled += !pvs_bitset_test(pv, o);
-                }
+                test_sample(s, cells + c, 16, 1024, 500 + c, 48, 900 + c, seen);
+                misses += test_misses(seen, pv, no, "extproj random walls", c);
+                culled += no - pvs_bitset_count(pv, no);
             }
             free(seen);
             pvs_bake_destroy(bk);
@@ -1413,15 +1341,9 @@ static void test_adaptive(void) {
     uint32_t t, c, objects, misses = 0, *tris, budget = 12000;
     pvs_word *seen, *bits;
     double vol_cells = 0.0, vol_leaves = 0.0;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_CITY;
-    gp.seed = 4;
-    gp.size = 0.3f;
-    gp.max_cells = 6;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    CHECK(gen_scene(&gp, &m, &cells) == 0);
-    s = ep_scene(&m);
+    gp = test_gen_params(GEN_CITY, 4, 0.3f, 6);
+    CHECK(test_generate(&gp, &m, &cells, NULL) == 0);
+    s = test_scene(&m, 0);
     CHECK(s != NULL);
     if (!s) return;
     objects = pvs_scene_object_count(s);
@@ -1494,13 +1416,8 @@ static void test_adaptive(void) {
             CHECK(found < file.cell_count && p[0] >= fb.min[0] && p[0] <= fb.max[0] && p[1] >= fb.min[1] && p[1] <= fb.max[1] && p[2] >= fb.min[2] &&
                   p[2] <= fb.max[2]);
         }
-        memset(seen, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
-        pvs_sample_visibility(s, &lb, 12, 768, 500 + c, seen);
-        for (o = pvs_bitset_next(seen, objects, 0); o < objects; o = pvs_bitset_next(seen, objects, o + 1))
-            if (!pvs_bitset_test(bits, o)) {
-                if (misses < 5) fprintf(stderr, "extproj adaptive: leaf %u misses object %u\n", c, o);
-                ++misses;
-            }
+        test_sample(s, &lb, 12, 768, 500 + c, 0, 0, seen);
+        misses += test_misses(seen, bits, objects, "extproj adaptive (leaf)", c);
     }
     CHECK(misses == 0);
     CHECK(fabs(vol_cells - vol_leaves) <= 1e-4 * vol_cells); /* the leaves tile the cells */
@@ -1543,7 +1460,6 @@ static pvs_bake *ep_bake_sampled(const pvs_scene *s, const pvs_box *cell, uint32
     pvs_bake_desc bd;
     pvs_bake *bk = NULL;
     pvs_error e;
-    uint32_t o, n = pvs_scene_object_count(s);
     ep_bake_desc(&bd, s, cell, 1, sweep);
     bd.extproj_occluders = occluders;
     CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
@@ -1553,9 +1469,8 @@ static pvs_bake *ep_bake_sampled(const pvs_scene *s, const pvs_box *cell, uint32
     }
     CHECK(bk != NULL);
     if (!bk) return NULL;
-    pvs_sample_visibility(s, cell, 16, 1024, seed, seen);
-    pvs_sample_visibility_toward(s, cell, NULL, 256, seed + 2, seen);
-    for (o = 0; o < n; ++o) *misses += pvs_bitset_test(seen, o) && !pvs_bitset_test(pvs_bake_cell_pvs(bk, 0), o);
+    test_sample(s, cell, 16, 1024, seed, 256, seed + 2, seen);
+    *misses += test_misses(seen, pvs_bake_cell_pvs(bk, 0), pvs_scene_object_count(s), "extproj sweep", 0);
     return bk;
 }
 
@@ -1584,7 +1499,7 @@ static void ep_sweep_hides_box(float *pos, uint32_t nv, uint32_t *idx, uint32_t 
         for (c = 0; c < 12; ++c, ++nt)
             for (i = 0; i < 3; ++i) idx[3 * nt + i] = nv - 8 + (uint32_t)ep_box_tris[c][i];
     }
-    s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
+    s = test_scene_arrays(pos, nv, idx, nt, obs, no, 0);
     CHECK(s != NULL);
     for (sweep = 0; s && sweep < 2; ++sweep) {
         pvs_word *seen = (pvs_word *)calloc(PVS_BITSET_WORDS(no), sizeof(pvs_word));
@@ -1713,7 +1628,7 @@ static void test_sweep_parts(void) {
             obs[2].triangle_count = nt - obs[2].first_triangle;
             for (f = 0; fill && f < FILL; ++f) /* 0.2 x 0.2 squares just above the object, over z in [-7, 7] */
                 ep_add_square(pos, &nv, idx, &nt, obs, &no, 20.0f + 0.05f * (float)(f % 3), 1.5f + 0.01f * (float)(f % 7), -7.0f + 14.0f * (float)f / FILL, 0.2f);
-            s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
+            s = test_scene_arrays(pos, nv, idx, nt, obs, no, 0);
             CHECK(s != NULL);
             for (sweep = 0; s && sweep < 2; ++sweep) {
                 pvs_word *seen = (pvs_word *)calloc(PVS_BITSET_WORDS(no), sizeof(pvs_word));
@@ -1737,18 +1652,6 @@ static void test_sweep_parts(void) {
 }
 
 /* A pvs_allocator that tracks the bytes it holds and their peak. */
-typedef struct ep_peak { size_t live, peak; } ep_peak;
-static void *ep_peak_alloc(size_t size, size_t align, void *user) {
-    ep_peak *k = (ep_peak *)user;
-    (void)align;
-    k->live += size;
-    if (k->live > k->peak) k->peak = k->live;
-    return malloc(size ? size : 1);
-}
-static void ep_peak_free(void *ptr, size_t size, void *user) {
-    ((ep_peak *)user)->live -= size;
-    free(ptr);
-}
 
 /* pvs_extproj_task_bytes against what one bake task really allocates (a peak-tracking allocator,
    a scene of a few squares, whose occluder-dependent scratch is small): at least the count, and
@@ -1761,23 +1664,21 @@ static void test_task_bytes(void) {
     pvs_box cell = {{-1.0f, -1.0f, -1.0f}, {1.0f, 1.0f, 1.0f}};
     pvs_scene *s;
     for (k = 0; k < 4; ++k) ep_add_square(pos, &nv, idx, &nt, obs, &no, 5.0f + 5.0f * (float)k, -2.0f, -2.0f, 4.0f);
-    s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
+    s = test_scene_arrays(pos, nv, idx, nt, obs, no, 0);
     CHECK(s != NULL);
     if (!s) return;
     for (k = 0; k < 4; ++k) {
-        ep_peak pk = {0, 0};
+        test_peak pk;
         pvs_bake_desc bd;
         pvs_bake *b = NULL;
         pvs_error e;
         size_t base, want = pvs_extproj_task_bytes(cfg[k][0], cfg[k][1]);
         ep_bake_desc(&bd, s, &cell, 1, cfg[k][1]);
         bd.extproj_resolution = cfg[k][0];
-        bd.allocator.alloc = ep_peak_alloc;
-        bd.allocator.free = ep_peak_free;
-        bd.allocator.user = &pk;
+        bd.allocator = test_peak_allocator(&pk);
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
         if (!b) continue;
-        base = pk.peak = pk.live;
+        base = pk.peak = pk.now;
         CHECK(pvs_bake_run_task(b, 0, &e) == PVS_OK);
         CHECK(want > 0 && pk.peak - base >= want && pk.peak - base <= want + 65536);
         if (!(want > 0 && pk.peak - base >= want && pk.peak - base <= want + 65536))
@@ -1896,7 +1797,7 @@ static void test_sweep_subcells(void) {
         uint32_t idx[2 * 3], nv = 0, nt = 0, no = 0;
         pvs_object_desc obs[1];
         ep_add_square(pos, &nv, idx, &nt, obs, &no, 5.0f, -2.0f, -2.0f, 4.0f);
-        s = ep_scene_arrays(pos, nv, idx, nt, obs, no);
+        s = test_scene_arrays(pos, nv, idx, nt, obs, no, 0);
         CHECK(s != NULL);
         if (!s) return;
         ep_bake_desc(&bd, s, &cell, 1, PVS_EXTPROJ_SWEEP_PLANES);

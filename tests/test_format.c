@@ -8,19 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-static uint32_t rd32(const uint8_t *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
-static void wr32(uint8_t *p, uint32_t v) { p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24); }
-
-/* Recomputes every checksum (with a reference CRC independent of the header's) so that a
-   corruption reaches the deeper checks; shared with the fuzz target. */
-void pvs_fuzz_fix_checksums(uint8_t *f, size_t size);
-#define fix_checksums pvs_fuzz_fix_checksums
-
 static uint64_t rng_state = 12345;
-static uint32_t rnd(void) {
-    rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
-    return (uint32_t)(rng_state >> 33);
-}
+static uint32_t rnd(void) { return test_lcg31(&rng_state); }
 
 /* A random table. Cells lie on a 3D grid (nx x ny x nz, unit size, optional overlap and gaps); each
    cell's PVS is its grid predecessor's with `change_pct` of the objects flipped (coherence), or a
@@ -353,9 +342,9 @@ static uint8_t *small_file(size_t *size) {
 
 /* Offset of the section with this tag (0 if none). */
 static uint32_t section(const uint8_t *b, const char *tag) {
-    uint32_t n = rd32(b + 12), i;
+    uint32_t n = test_rd32(b + 12), i;
     for (i = 0; i < n; ++i)
-        if (memcmp(b + 32 + 16 * i, tag, 4) == 0) return rd32(b + 32 + 16 * i + 4);
+        if (memcmp(b + 32 + 16 * i, tag, 4) == 0) return test_rd32(b + 32 + 16 * i + 4);
     return 0;
 }
 
@@ -370,48 +359,48 @@ static void test_corruptions(void) {
     CHECK(m && cl && tr && rc);
 #define RESET() memcpy(b, good, size)
     RESET(); b[0] = 'X';                       CHECK(expect_open(b, size, PVS_ERROR_BAD_MAGIC));
-    RESET(); wr32(b + 4, 2);                   CHECK(expect_open(b, size, PVS_ERROR_BAD_VERSION));
-    RESET(); wr32(b + 8, (uint32_t)size - 8); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + 4, 2);                   CHECK(expect_open(b, size, PVS_ERROR_BAD_VERSION));
+    RESET(); test_wr32(b + 8, (uint32_t)size - 8); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
     RESET(); b[16] ^= 0x80;                    CHECK(expect_open(b, size, PVS_ERROR_CHECKSUM));
-    RESET(); wr32(b + 12, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-    RESET(); wr32(b + 12, 65); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-    RESET(); wr32(b + 24, 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + 12, 0); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + 12, 65); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + 24, 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
     /* section table: misaligned, out of the file, overlapping, repeated tag, missing tag */
-    RESET(); wr32(b + 32 + 4, rd32(b + 32 + 4) + 4); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
-    RESET(); wr32(b + 32 + 8, (uint32_t)size); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_TRUNCATED));
-    RESET(); wr32(b + 48 + 4, rd32(b + 32 + 4)); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
-    RESET(); wr32(b + 48, rd32(b + 32)); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
-    RESET(); b[48] = 'Z'; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); test_wr32(b + 32 + 4, test_rd32(b + 32 + 4) + 4); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); test_wr32(b + 32 + 8, (uint32_t)size); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_TRUNCATED));
+    RESET(); test_wr32(b + 48 + 4, test_rd32(b + 32 + 4)); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); test_wr32(b + 48, test_rd32(b + 32)); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); b[48] = 'Z'; pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
     RESET(); b[m + 2] ^= 1;                    CHECK(expect_open(b, size, PVS_ERROR_CHECKSUM));
     /* META fields */
-    RESET(); wr32(b + m, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-    RESET(); wr32(b + m, rd32(b + m) + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_RECORD)); /* records are read first */
-    RESET(); wr32(b + m + 4, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-    RESET(); wr32(b + m, 0x40000000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_COUNT_OVERFLOW));
-    RESET(); wr32(b + m + 4, 0xffffffffu); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_COUNT_OVERFLOW));
-    RESET(); wr32(b + m + 4, 50); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_OBJECT_OUT_OF_RANGE));
-    RESET(); wr32(b + m + 8, 99); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-    RESET(); wr32(b + m + 12, 0x7fc00000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-    RESET(); wr32(b + m + 16, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-    RESET(); wr32(b + m + 20, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-    RESET(); wr32(b + m + 20, 65); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-    RESET(); wr32(b + m + 20, 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CHAIN)); /* K smaller than the chains */
-    RESET(); wr32(b + m + 24, rd32(b + m + 24) + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
-    RESET(); wr32(b + m + 28, 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + m, 0); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + m, test_rd32(b + m) + 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_RECORD)); /* records are read first */
+    RESET(); test_wr32(b + m + 4, 0); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + m, 0x40000000u); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_COUNT_OVERFLOW));
+    RESET(); test_wr32(b + m + 4, 0xffffffffu); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_COUNT_OVERFLOW));
+    RESET(); test_wr32(b + m + 4, 50); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_OBJECT_OUT_OF_RANGE));
+    RESET(); test_wr32(b + m + 8, 99); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + m + 12, 0x7fc00000u); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + m + 16, 0); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + m + 20, 0); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + m + 20, 65); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + m + 20, 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CHAIN)); /* K smaller than the chains */
+    RESET(); test_wr32(b + m + 24, test_rd32(b + m + 24) + 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
+    RESET(); test_wr32(b + m + 28, 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
     /* CELL: counts, widths, values (NaN, -0, not ascending), an index out of range */
-    RESET(); wr32(b + cl, 0); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
-    RESET(); b[cl + 12] += 1; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
-    RESET(); wr32(b + cl + 20, 0x7fc00000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
-    RESET(); wr32(b + cl + 20, 0x80000000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
-    RESET(); b[cl + 15] = 30; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
-    RESET(); b[cl + 18] = 1; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
-    RESET(); memcpy(b + cl + 24, b + cl + 20, 4); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
+    RESET(); test_wr32(b + cl, 0); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); b[cl + 12] += 1; pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); test_wr32(b + cl + 20, 0x7fc00000u); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
+    RESET(); test_wr32(b + cl + 20, 0x80000000u); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
+    RESET(); b[cl + 15] = 30; pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); b[cl + 18] = 1; pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    RESET(); memcpy(b + cl + 24, b + cl + 20, 4); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CELL));
     {
         /* set every index bit of cell 0 on axis 0: index 2^w - 1 is out of range unless the table
            is a power of two long; then min > max or in range; only a defined code is required */
-        uint32_t n0 = rd32(b + cl), n1 = rd32(b + cl + 4), n2 = rd32(b + cl + 8);
+        uint32_t n0 = test_rd32(b + cl), n1 = test_rd32(b + cl + 4), n2 = test_rd32(b + cl + 8);
         uint32_t at = cl + 20 + 4 * (n0 + n1 + n2);
-        RESET(); b[at] = 0xff; fix_checksums(b, size);
+        RESET(); b[at] = 0xff; pvs_fuzz_fix_checksums(b, size);
         {
             pvs_result r = pvs_file_open(b, size, &f0, NULL);
             CHECK(r == PVS_ERROR_BAD_CELL || r == PVS_OK);
@@ -419,19 +408,19 @@ static void test_corruptions(void) {
     }
     /* TREE: depth, reserved, a NaN split, a bad axis, leaf offsets, an item past the cells */
     {
-        uint32_t depth = rd32(b + tr), inner = (1u << depth) - 1, leaves = 1u << depth;
+        uint32_t depth = test_rd32(b + tr), inner = (1u << depth) - 1, leaves = 1u << depth;
         uint32_t starts = tr + 8 + 4 * inner, axes = starts + 4 * (leaves + 1), items = axes + inner;
         CHECK(depth >= 2); /* 40 cells */
-        RESET(); wr32(b + tr, depth + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
-        RESET(); wr32(b + tr, 25); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
-        RESET(); wr32(b + tr + 4, 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
-        RESET(); wr32(b + tr + 8, 0x7fc00000u); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
-        RESET(); b[axes] = 4; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
-        RESET(); wr32(b + starts, 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
-        RESET(); wr32(b + starts + 4, rd32(b + starts + 8) + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
-        RESET(); b[items] = 100; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); test_wr32(b + tr, depth + 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); test_wr32(b + tr, 25); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); test_wr32(b + tr + 4, 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); test_wr32(b + tr + 8, 0x7fc00000u); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); b[axes] = 4; pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); test_wr32(b + starts, 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); test_wr32(b + starts + 4, test_rd32(b + starts + 8) + 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
+        RESET(); b[items] = 100; pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_TREE));
         /* a changed split is still a well-formed tree: look-ups may then miss, never read out of bounds */
-        RESET(); wr32(b + tr + 8, 0x4f000000u); fix_checksums(b, size);
+        RESET(); test_wr32(b + tr + 8, 0x4f000000u); pvs_fuzz_fix_checksums(b, size);
         {
             pvs_file ft;
             float q[3] = {1, 1, 1};
@@ -441,12 +430,12 @@ static void test_corruptions(void) {
     }
     /* RECS: block offsets, lengths, chains, ids */
     {
-        uint32_t first = rd32(b + rc);
-        RESET(); wr32(b + rc, first + 1); fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_RECORD));
-        RESET(); wr32(b + rc + 4, rd32(b + rc + 4) - 1); fix_checksums(b, size); CHECK(pvs_file_open(b, size, &f0, NULL) < 0);
-        RESET(); b[rc + first] = 0xff; fix_checksums(b, size); CHECK(pvs_file_open(b, size, &f0, NULL) < 0);
+        uint32_t first = test_rd32(b + rc);
+        RESET(); test_wr32(b + rc, first + 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_RECORD));
+        RESET(); test_wr32(b + rc + 4, test_rd32(b + rc + 4) - 1); pvs_fuzz_fix_checksums(b, size); CHECK(pvs_file_open(b, size, &f0, NULL) < 0);
+        RESET(); b[rc + first] = 0xff; pvs_fuzz_fix_checksums(b, size); CHECK(pvs_file_open(b, size, &f0, NULL) < 0);
         /* record 0: L, head, [base], body. Make it a delta of depth 9 > K = 8 */
-        RESET(); b[rc + first + 1] = (uint8_t)((b[rc + first + 1] & 3u) | (9u << 2)); fix_checksums(b, size);
+        RESET(); b[rc + first + 1] = (uint8_t)((b[rc + first + 1] & 3u) | (9u << 2)); pvs_fuzz_fix_checksums(b, size);
         CHECK(expect_open(b, size, PVS_ERROR_BAD_CHAIN));
     }
     {
@@ -459,13 +448,13 @@ static void test_corruptions(void) {
             pvs_file_record_info(&f, c, &info);
             if (info.depth == 1 && info.bytes > 3) {
                 /* locate the record: block start, then skip records by their length varints */
-                const uint8_t *p = good + rc + rd32(good + rc + 4 * (c / 16));
+                const uint8_t *p = good + rc + test_rd32(good + rc + 4 * (c / 16));
                 uint32_t j, at;
                 for (j = c - c % 16; j < c; ++j) p += 1 + p[0]; /* small records: one-byte lengths */
                 at = (uint32_t)(p - good);
                 if (good[at] < 0x80 && good[at + 1] < 0x80 && good[at + 2] < 0x80) {
-                    RESET(); b[at + 2] = 0; fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CHAIN)); /* base = itself */
-                    RESET(); b[at + 1] = (uint8_t)((b[at + 1] & 3u) | (2u << 2)); fix_checksums(b, size);
+                    RESET(); b[at + 2] = 0; pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_CHAIN)); /* base = itself */
+                    RESET(); b[at + 1] = (uint8_t)((b[at + 1] & 3u) | (2u << 2)); pvs_fuzz_fix_checksums(b, size);
                     CHECK(expect_open(b, size, PVS_ERROR_BAD_CHAIN)); /* depth 2 on a key base */
                     break;
                 }
@@ -474,7 +463,7 @@ static void test_corruptions(void) {
         CHECK(c < f.cell_count);
     }
     /* a non-zero padding byte */
-    if (rd32(b + 32 + 16 * 3 + 4) + rd32(b + 32 + 16 * 3 + 8) < size) {
+    if (test_rd32(b + 32 + 16 * 3 + 4) + test_rd32(b + 32 + 16 * 3 + 8) < size) {
         RESET(); b[size - 1] = 1; CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
     }
     /* random corruptions with repaired checksums: never a crash, always a defined code, and an
@@ -490,7 +479,7 @@ static void test_corruptions(void) {
             if (rnd() % 4) b[at] ^= (uint8_t)(1u << (rnd() % 8));
             else b[at] = (uint8_t)rnd();
         }
-        if (rnd() % 8) fix_checksums(b, size);
+        if (rnd() % 8) pvs_fuzz_fix_checksums(b, size);
         res = pvs_file_open(b, size, &f, &e);
         CHECK(res <= 0 && res > PVS_RESULT_MIN && e.result == res);
         if (res == PVS_OK && PVS_BITSET_WORDS(f.object_count) <= 2) {
@@ -615,7 +604,6 @@ static void test_golden(void) {
 
 /* The fuzzing corpus (tests/corpus): files named ok-* open, bad-* are rejected, all run through
    the fuzz target (every runtime path on each file that opens). */
-int pvs_fuzz_one(const uint8_t *data, size_t size);
 static void test_corpus(void) {
     DIR *dir = opendir("../tests/corpus");
     struct dirent *ent;

@@ -117,15 +117,8 @@ static uint64_t tg_scene_hash(const mesh *m, const mesh_cells *cs) {
 }
 
 static int tg_make(gen_kind kind, uint64_t seed, float size, uint32_t max_cells, mesh *m, mesh_cells *cs, gen_info *info) {
-    gen_params p;
-    memset(&p, 0, sizeof p);
-    p.kind = kind;
-    p.seed = seed;
-    p.size = size;
-    p.max_cells = max_cells;
-    mesh_init(m);
-    mesh_cells_init(cs);
-    return gen_scene_ex(&p, m, cs, info);
+    gen_params p = test_gen_params(kind, seed, size, max_cells);
+    return test_generate(&p, m, cs, info);
 }
 
 /* Everything that must hold for any generated scene. */

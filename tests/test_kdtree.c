@@ -8,14 +8,8 @@
 /* ---- helpers ---- */
 
 static uint64_t kd_rng = 0x1234567ull;
-static double rnd(void) { /* [0, 1) */
-    uint64_t z = (kd_rng += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
-static float rndf(float lo, float hi) { return lo + (hi - lo) * (float)rnd(); }
+static double rnd(void) { return test_rnd(&kd_rng); }
+static float rndf(float lo, float hi) { return test_rndf(&kd_rng, lo, hi); }
 
 static void random_dir(float d[3]) {
     double len;
@@ -50,11 +44,9 @@ static void tm_tri(tmesh *m, uint32_t a, uint32_t b, uint32_t c) {
 }
 /* A closed box: 8 shared corners, 12 triangles. */
 static void tm_box(tmesh *m, const float lo[3], const float hi[3]) {
-    static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
     uint32_t base = m->vc, i;
     for (i = 0; i < 8; ++i) tm_vertex(m, i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]);
-    for (i = 0; i < 12; ++i) tm_tri(m, base + f[i][0], base + f[i][1], base + f[i][2]);
+    for (i = 0; i < 12; ++i) tm_tri(m, base + test_box_tris[i][0], base + test_box_tris[i][1], base + test_box_tris[i][2]);
 }
 static void tm_free(tmesh *m) {
     free(m->pos);
@@ -127,22 +119,8 @@ static int bf_raycast(const tmesh *m, const float o[3], const float d[3], double
     return ambiguous ? -1 : found;
 }
 
-static pvs_scene *make_scene(const tmesh *m, const pvs_object_desc *objs, uint32_t object_count) {
-    pvs_scene_desc sd;
-    pvs_scene *s = NULL;
-    pvs_error err;
-    memset(&sd, 0, sizeof(sd));
-    sd.positions = m->pos;
-    sd.vertex_count = m->vc;
-    sd.indices = m->idx;
-    sd.triangle_count = m->tc;
-    sd.objects = objs;
-    sd.object_count = object_count;
-    if (pvs_scene_create(&sd, &s, &err) != PVS_OK) {
-        fprintf(stderr, "scene: %s\n", err.message);
-        return NULL;
-    }
-    return s;
+static pvs_scene *make_scene(const tmesh *m, const pvs_object_desc *objs, uint32_t n) {
+    return test_scene_arrays(m->pos, m->vc, m->idx, m->tc, objs, n, 0);
 }
 
 /* Compares pvs_scene_raycast and pvs_scene_segment_blocked with brute force over `rays` random rays
@@ -845,37 +823,36 @@ static void test_kdtree_edge_cases(void) {
 
 /* ---- the ray sampler ---- */
 
+/* A scene of boxes, one object each: box i spans box[i] = {min x, y, z, max x, y, z}, its object
+   occluder-only when bit i of occluder_only is set. */
+static pvs_scene *box_scene(tmesh *m, const float (*box)[6], uint32_t n, uint32_t occluder_only, pvs_object_desc *obj) {
+    uint32_t i;
+    memset(m, 0, sizeof(*m));
+    for (i = 0; i < n; ++i) {
+        obj[i].first_triangle = m->tc;
+        obj[i].triangle_count = 12;
+        obj[i].flags = (occluder_only >> i & 1u) ? PVS_OBJECT_OCCLUDER_ONLY : 0u;
+        tm_box(m, box[i], box[i] + 3);
+    }
+    return make_scene(m, obj, n);
+}
+
 static void test_sample_visibility(void) {
     /* a cell at x in [0, 2]; a closed wall box at x in [4, 5]; object 2 behind it at x = 8; object 3
        in plain view beside the wall; object 4 in plain view but occluder-only */
+    static const float box[5][6] = {{-20, -1, -20, 20, 0, 20}, /* ground */
+                                    {4, 0, -10, 5, 30, 10},    /* wall */
+                                    {7, 0, -1, 8, 2, 1},       /* hidden */
+                                    {1, 0, 5, 2, 1, 6},        /* visible */
+                                    {1, 0, -6, 2, 1, -5}};     /* occluder only */
     tmesh m;
     pvs_object_desc obj[5];
-    pvs_scene *s;
-    float lo[3], hi[3];
-    memset(&m, 0, sizeof(m));
-    lo[0] = -20; lo[1] = -1; lo[2] = -20; hi[0] = 20; hi[1] = 0; hi[2] = 20; /* ground */
-    obj[0].first_triangle = m.tc; obj[0].triangle_count = 12; obj[0].flags = 0;
-    tm_box(&m, lo, hi);
-    lo[0] = 4; lo[1] = 0; lo[2] = -10; hi[0] = 5; hi[1] = 30; hi[2] = 10; /* wall */
-    obj[1].first_triangle = m.tc; obj[1].triangle_count = 12; obj[1].flags = 0;
-    tm_box(&m, lo, hi);
-    lo[0] = 7; lo[1] = 0; lo[2] = -1; hi[0] = 8; hi[1] = 2; hi[2] = 1; /* hidden */
-    obj[2].first_triangle = m.tc; obj[2].triangle_count = 12; obj[2].flags = 0;
-    tm_box(&m, lo, hi);
-    lo[0] = 1; lo[1] = 0; lo[2] = 5; hi[0] = 2; hi[1] = 1; hi[2] = 6; /* visible */
-    obj[3].first_triangle = m.tc; obj[3].triangle_count = 12; obj[3].flags = 0;
-    tm_box(&m, lo, hi);
-    lo[0] = 1; lo[1] = 0; lo[2] = -6; hi[0] = 2; hi[1] = 1; hi[2] = -5; /* occluder only */
-    obj[4].first_triangle = m.tc; obj[4].triangle_count = 12; obj[4].flags = PVS_OBJECT_OCCLUDER_ONLY;
-    tm_box(&m, lo, hi);
-    s = make_scene(&m, obj, 5);
+    pvs_box cell = {{0, 0.5f, -1}, {2, 2.0f, 1}};
+    pvs_scene *s = box_scene(&m, box, 5, 1u << 4, obj);
     CHECK(s != NULL);
     if (s) {
-        pvs_box cell;
         pvs_word a[1] = {0}, b[1] = {0}, c[1] = {0};
         uint64_t n;
-        cell.min[0] = 0; cell.min[1] = 0.5f; cell.min[2] = -1;
-        cell.max[0] = 2; cell.max[1] = 2.0f; cell.max[2] = 1;
         n = pvs_sample_visibility(s, &cell, 40, 500, 77, a);
         CHECK(n == 40u * 500u);
         CHECK(pvs_sample_visibility(s, &cell, 40, 500, 77, b) == n);
@@ -919,34 +896,19 @@ static void test_sample_visibility(void) {
 /* The aimed sampler: a small object seen only through a slit in a wall, which uniform directions
    almost never hit; an object behind the solid part of the wall is never set (a lower bound). */
 static void test_sample_visibility_toward(void) {
+    static const float box[5][6] = {{4, 0, -10, 5, 30, -0.05f},             /* wall, left of the slit */
+                                    {4, 0, 0.05f, 5, 30, 10},               /* wall, right of the slit */
+                                    {30, 0.9f, -0.1f, 30.2f, 1.1f, 0.1f},   /* seen through the slit */
+                                    {30, 0.9f, 5, 30.2f, 1.1f, 5.2f},       /* behind the wall */
+                                    {1, 0, 3, 2, 1, 4}};                    /* occluder only, in plain view */
     tmesh m;
     pvs_object_desc obj[5];
-    pvs_scene *s;
-    float lo[3], hi[3];
-    memset(&m, 0, sizeof(m));
-    lo[0] = 4; lo[1] = 0; lo[2] = -10; hi[0] = 5; hi[1] = 30; hi[2] = -0.05f; /* wall, left of the slit */
-    obj[0].first_triangle = m.tc; obj[0].triangle_count = 12; obj[0].flags = 0;
-    tm_box(&m, lo, hi);
-    lo[2] = 0.05f; hi[2] = 10; /* wall, right of the slit */
-    obj[1].first_triangle = m.tc; obj[1].triangle_count = 12; obj[1].flags = 0;
-    tm_box(&m, lo, hi);
-    lo[0] = 30; lo[1] = 0.9f; lo[2] = -0.1f; hi[0] = 30.2f; hi[1] = 1.1f; hi[2] = 0.1f; /* seen through the slit */
-    obj[2].first_triangle = m.tc; obj[2].triangle_count = 12; obj[2].flags = 0;
-    tm_box(&m, lo, hi);
-    lo[2] = 5; hi[2] = 5.2f; /* behind the wall */
-    obj[3].first_triangle = m.tc; obj[3].triangle_count = 12; obj[3].flags = 0;
-    tm_box(&m, lo, hi);
-    lo[0] = 1; lo[1] = 0; lo[2] = 3; hi[0] = 2; hi[1] = 1; hi[2] = 4; /* occluder only, in plain view */
-    obj[4].first_triangle = m.tc; obj[4].triangle_count = 12; obj[4].flags = PVS_OBJECT_OCCLUDER_ONLY;
-    tm_box(&m, lo, hi);
-    s = make_scene(&m, obj, 5);
+    pvs_box cell = {{0, 0.5f, -1}, {2, 1.5f, 1}};
+    pvs_scene *s = box_scene(&m, box, 5, 1u << 4, obj);
     CHECK(s != NULL);
     if (s) {
-        pvs_box cell;
         pvs_word a[1] = {0}, b[1] = {0}, t[1] = {0};
         uint64_t n;
-        cell.min[0] = 0; cell.min[1] = 0.5f; cell.min[2] = -1;
-        cell.max[0] = 2; cell.max[1] = 1.5f; cell.max[2] = 1;
         pvs_sample_visibility(s, &cell, 20, 300, 3, a);
         CHECK(!pvs_bitset_test(a, 2)); /* 6,000 uniform rays pass the slit by */
         n = pvs_sample_visibility_toward(s, &cell, NULL, 256, 11, a);
@@ -971,32 +933,6 @@ static void test_sample_visibility_toward(void) {
 }
 
 /* ---- bounded memory on adversarial input ---- */
-
-/* An allocator that tracks the bytes held and their peak. */
-typedef struct peak_counter {
-    size_t now, peak;
-} peak_counter;
-static void *peak_alloc(size_t size, size_t align, void *user) {
-    peak_counter *c = (peak_counter *)user;
-    (void)align;
-    c->now += size;
-    if (c->now > c->peak) c->peak = c->now;
-    return malloc(size);
-}
-static void peak_free(void *p, size_t size, void *user) {
-    peak_counter *c = (peak_counter *)user;
-    if (!p) return;
-    c->now -= size;
-    free(p);
-}
-static pvs_allocator peak_allocator(peak_counter *c) {
-    pvs_allocator a;
-    memset(c, 0, sizeof(*c));
-    a.alloc = peak_alloc;
-    a.free = peak_free;
-    a.user = c;
-    return a;
-}
 
 /* The adversarial scenes of the bounded-memory tests, n triangles each:
    0 a fan (one polygon around a vertex: long slivers all meeting at one point), 1 the same standing
@@ -1051,7 +987,7 @@ static void test_kdtree_pools(void) {
     for (si = 0; si < 4; ++si) {
         uint32_t n = sizes[si], i;
         pvs_box *boxes = (pvs_box *)malloc(n * sizeof(pvs_box));
-        peak_counter pc;
+        test_peak pc;
         pvs_kdtree_desc kd;
         pvs_kdtree *t = NULL;
         for (i = 0; i < n; ++i) { /* the triangle (0, 0, 0), rim i, rim i + 1 of a fan of radius 50 */
@@ -1064,7 +1000,7 @@ static void test_kdtree_pools(void) {
         memset(&kd, 0, sizeof(kd));
         kd.boxes = boxes;
         kd.count = n;
-        kd.allocator = peak_allocator(&pc);
+        kd.allocator = test_peak_allocator(&pc);
         CHECK(pvs_kdtree_create(&kd, &t, NULL) == PVS_OK);
         if (!t) { free(boxes); return; }
         per_box[si] = (double)pc.peak / n;
@@ -1112,7 +1048,7 @@ static void test_scene_adversarial(void) {
             pvs_object_desc *od;
             pvs_scene_desc sd;
             pvs_scene *s = NULL;
-            peak_counter pc;
+            test_peak pc;
             pvs_error err;
             size_t bound;
             adversarial_mesh(&m, kind, n);
@@ -1129,7 +1065,7 @@ static void test_scene_adversarial(void) {
             sd.objects = od;
             sd.object_count = nobj;
             sd.flags = PVS_SCENE_ALLOW_EMPTY_OBJECTS; /* the tiny triangles may round to zero area */
-            sd.allocator = peak_allocator(&pc);
+            sd.allocator = test_peak_allocator(&pc);
             CHECK(pvs_scene_create(&sd, &s, &err) == PVS_OK);
             bound = (size_t)PVS_SCENE_BYTES_PER_TRIANGLE * m.tc + (size_t)PVS_SCENE_BYTES_PER_OBJECT * nobj + 12 * (size_t)m.vc +
                     PVS_SCENE_BYTES_FIXED;

@@ -2,7 +2,6 @@
    proves that opening, looking up, decoding and walking a file with the cursor, rebuilding a cell's
    PVS from its virtual occluders and per-frame culling with the occlusion tree (pvs_otree_cull)
    allocate nothing. */
-#include "test.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,13 +13,12 @@ static void *noalloc_malloc(size_t n) { ++noalloc_mallocs; return malloc(n); }
 #define PVS_STATIC
 #define PVS_IMPLEMENTATION
 #include "../pvs.h"
+#include "test.h" /* after pvs.h: its helpers call this copy */
 
 /* A grid of boxes (12 triangles each) and walls; per-frame pvs_otree_cull with every occluder source
    along a walk: no allocation after pvs_otree_create. */
 static void noalloc_otree(void) {
     enum { NB = 64 };
-    static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
     static float pos[NB * 8 * 3];
     static uint32_t idx[NB * 12 * 3];
     static pvs_object_desc od[NB];
@@ -34,15 +32,12 @@ static void noalloc_otree(void) {
     pvs_otree *ot = NULL;
     pvs_cull_params cp;
     pvs_camera cam;
-    uint32_t b, k, frame, culled = 0;
+    uint32_t b, frame, culled = 0, vc = 0, tc = 0;
     for (b = 0; b < NB; ++b) {
-        float x = (float)(b % 8) * 6.0f - 20.0f, z = (float)(b / 8) * 6.0f - 20.0f, h = 2.0f + (float)(b % 5);
-        for (k = 0; k < 8; ++k) {
-            pos[3 * (8 * b + k)] = x + (k & 1 ? 3.0f : 0.0f);
-            pos[3 * (8 * b + k) + 1] = k & 2 ? h : 0.0f;
-            pos[3 * (8 * b + k) + 2] = z + (k & 4 ? 3.0f : 0.0f);
-        }
-        for (k = 0; k < 36; ++k) idx[36 * b + k] = 8 * b + f[k / 3][k % 3];
+        float lo[3], hi[3];
+        lo[0] = (float)(b % 8) * 6.0f - 20.0f; lo[1] = 0.0f; lo[2] = (float)(b / 8) * 6.0f - 20.0f;
+        hi[0] = lo[0] + 3.0f; hi[1] = 2.0f + (float)(b % 5); hi[2] = lo[2] + 3.0f;
+        test_box_arrays(pos, &vc, idx, &tc, lo, hi);
         od[b].first_triangle = 12 * b; od[b].triangle_count = 12; od[b].flags = 0;
     }
     memset(vol, 0, sizeof(vol));
@@ -181,7 +176,7 @@ void test_noalloc(void) {
    boundary loop, through sorted edge ends) against the old walk that searched every unused edge. */
 
 static uint64_t bd_state = 0x5eed0b0d5ull;
-static double bd_rnd(void) { return (double)(pvs__splitmix64(&bd_state) >> 11) * (1.0 / 9007199254740992.0); } /* [0, 1) */
+static double bd_rnd(void) { return test_rnd(&bd_state); }
 
 typedef struct bd_scan_log {
     uint32_t n[3];

@@ -9,14 +9,8 @@
 #include <string.h>
 
 static uint64_t ot_rng = 0x5eed0ull;
-static double rnd(void) {
-    uint64_t z = (ot_rng += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
-static float rndf(float lo, float hi) { return lo + (hi - lo) * (float)rnd(); }
+static double rnd(void) { return test_rnd(&ot_rng); }
+static float rndf(float lo, float hi) { return test_rndf(&ot_rng, lo, hi); }
 
 /* ---- brute-force 2D reference: rays from sample points of the cell, first segment hit ---- */
 
@@ -323,7 +317,6 @@ static void test_2d_budget(void) {
     CHECK(extra > 0);
 }
 
-
 /* ---- 2.5D: c-LSS against 3D ray sampling ---- */
 
 /* Ray o + t d against a vertical wall over segment (x0,y0,x1,y1) from height 0 to top. */
@@ -470,27 +463,6 @@ static void test_25d_random(void) {
 
 /* ---- the OTREE bake method on a small generated city ---- */
 
-static pvs_scene *scene_from_mesh(const mesh *m) {
-    pvs_object_desc *od = (pvs_object_desc *)calloc(m->object_count, sizeof(pvs_object_desc));
-    pvs_scene_desc sd;
-    pvs_scene *sc = NULL;
-    pvs_error e;
-    uint32_t i;
-    for (i = 0; i < m->object_count; ++i) {
-        od[i].first_triangle = m->objects[i].first_triangle;
-        od[i].triangle_count = m->objects[i].triangle_count;
-        od[i].flags = (m->objects[i].flags & MESH_OBJECT_OCCLUDER) ? PVS_OBJECT_OCCLUDER_ONLY : 0u;
-    }
-    memset(&sd, 0, sizeof(sd));
-    sd.positions = m->positions; sd.vertex_count = m->vertex_count;
-    sd.indices = m->indices; sd.triangle_count = m->triangle_count;
-    sd.objects = od; sd.object_count = m->object_count;
-    sd.up_axis = 1;
-    if (pvs_scene_create(&sd, &sc, &e) != PVS_OK) fprintf(stderr, "scene: %s\n", e.message);
-    free(od);
-    return sc;
-}
-
 static void test_bake_city(void) {
     gen_params gp;
     mesh m;
@@ -504,17 +476,13 @@ static void test_bake_city(void) {
     void *f1, *f2;
     pvs_word *bits;
     double sum_pvs = 0, sum_ref = 0;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_CITY; gp.seed = 3; gp.size = 0.3f; gp.max_cells = 24;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    CHECK(gen_scene(&gp, &m, &cells) == 0);
-    sc = scene_from_mesh(&m);
+    gp = test_gen_params(GEN_CITY, 3, 0.3f, 24);
+    CHECK(test_generate(&gp, &m, &cells, NULL) == 0);
+    sc = test_scene(&m, 1);
     CHECK(sc != NULL);
     if (!sc) return;
     objects = pvs_scene_object_count(sc);
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = sc; bd.cells = (const pvs_box *)cells.boxes; bd.cell_count = cells.count; bd.method = PVS_METHOD_OTREE;
+    test_bake_desc(&bd, sc, (const pvs_box *)cells.boxes, cells.count, PVS_METHOD_OTREE);
     CHECK(pvs_bake_begin(&bd, &b1, &e) == PVS_OK);
     CHECK(pvs_bake_begin(&bd, &b2, &e) == PVS_OK);
     CHECK(pvs_bake_method(b1) == PVS_METHOD_OTREE);
@@ -535,14 +503,8 @@ static void test_bake_city(void) {
     bits = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
     for (c = 0; c < cells.count; ++c) {
         const pvs_word *pvs = pvs_bake_cell_pvs(b1, c);
-        uint32_t i;
-        memset(bits, 0, PVS_BITSET_WORDS(objects) * sizeof(pvs_word));
-        pvs_sample_visibility(sc, (const pvs_box *)(cells.boxes + 6 * (size_t)c), 24, 1024, 7 + c, bits);
-        for (i = 0; i < objects; ++i)
-            if (pvs_bitset_test(bits, i) && !pvs_bitset_test(pvs, i)) {
-                ++miss;
-                fprintf(stderr, "otree bake: cell %u misses object %u (%s)\n", c, i, m.objects[i].name);
-            }
+        test_sample(sc, (const pvs_box *)(cells.boxes + 6 * (size_t)c), 24, 1024, 7 + c, 0, 0, bits);
+        miss += test_misses(bits, pvs, objects, "otree bake", c);
         sum_pvs += pvs_bitset_count(pvs, objects);
         sum_ref += pvs_bitset_count(bits, objects);
     }
@@ -681,7 +643,6 @@ static void test_bake_axes(void) {
         float pos[3 * 64];
         uint32_t idx[3 * 64], vc = 0, tc = 0, t;
         pvs_object_desc od[5];
-        pvs_scene_desc sd;
         pvs_scene *sc = NULL;
         pvs_bake_desc bd;
         pvs_bake *b = NULL;
@@ -704,16 +665,13 @@ static void test_bake_axes(void) {
         /* object 4: a wall raised off the ground between the cell and a box: blocks nothing here */
         add_wall(pos, &vc, idx, &tc, -5, -10, -5, 10, 1, 20, zup);
         od[4].first_triangle = 38; od[4].triangle_count = 2; od[4].flags = 0;
-        memset(&sd, 0, sizeof(sd));
-        sd.positions = pos; sd.vertex_count = vc; sd.indices = idx; sd.triangle_count = tc;
-        sd.objects = od; sd.object_count = 5; sd.up_axis = zup ? 2 : 1;
-        CHECK(pvs_scene_create(&sd, &sc, NULL) == PVS_OK);
+        sc = test_scene_arrays(pos, vc, idx, tc, od, 5, zup ? 2 : 1);
+        CHECK(sc != NULL);
         if (!sc) continue;
         cell.min[0] = -1; cell.max[0] = 1;
         cell.min[zup ? 1 : 2] = -1; cell.max[zup ? 1 : 2] = 1;
         cell.min[zup ? 2 : 1] = 0.5f; cell.max[zup ? 2 : 1] = 2;
-        memset(&bd, 0, sizeof(bd));
-        bd.scene = sc; bd.cells = &cell; bd.cell_count = 1; bd.method = PVS_METHOD_OTREE;
+        test_bake_desc(&bd, sc, &cell, 1, PVS_METHOD_OTREE);
         CHECK(pvs_bake_begin(&bd, &b, NULL) == PVS_OK);
         for (t = 0; t < pvs_bake_task_count(b); ++t) CHECK(pvs_bake_run_task(b, t, NULL) == PVS_OK);
         pvs = pvs_bake_cell_pvs(b, 0);
@@ -855,19 +813,14 @@ static void sv_free(svscene *t) {
 }
 static int sv_gen(svscene *t, gen_kind kind, float size, uint64_t seed) {
     gen_params gp;
-    mesh_init(&t->m);
-    mesh_cells_init(&t->cells);
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = kind; gp.seed = seed; gp.size = size;
-    if (gen_scene(&gp, &t->m, &t->cells) != 0) return 0;
-    t->scene = scene_from_mesh(&t->m);
+    gp = test_gen_params(kind, seed, size, 0);
+    if (test_generate(&gp, &t->m, &t->cells, NULL) != 0) return 0;
+    t->scene = test_scene(&t->m, 1);
     return t->scene != NULL;
 }
 /* Random boxes and thin random walls (two triangles) on a ground quad; no cells. */
 static int sv_random(svscene *t, uint32_t n) {
-    static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-    uint32_t i, k;
+    uint32_t i;
     mesh_init(&t->m);
     mesh_cells_init(&t->cells);
     mesh_begin_object(&t->m, "ground", 0, 0);
@@ -883,8 +836,7 @@ static int sv_random(svscene *t, uint32_t n) {
             float lo[3], hi[3];
             lo[0] = rndf(-50, 48); lo[2] = rndf(-50, 48); lo[1] = rnd() < 0.8 ? 0.0f : rndf(0, 3);
             hi[0] = lo[0] + rndf(0.2f, 8); hi[2] = lo[2] + rndf(0.2f, 8); hi[1] = lo[1] + rndf(0.3f, 12);
-            for (k = 0; k < 8; ++k) mesh_add_vertex(&t->m, k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]);
-            for (k = 0; k < 12; ++k) mesh_add_triangle(&t->m, base + f[k][0], base + f[k][1], base + f[k][2]);
+            test_mesh_box(&t->m, lo, hi);
         } else { /* a free-standing wall at any angle, maybe tilted */
             float x = rndf(-50, 50), z = rndf(-50, 50), a = rndf(0, 6.283f), l = rndf(1, 12), h0 = rnd() < 0.7 ? 0 : rndf(0, 2);
             float h1 = h0 + rndf(1, 10), dx = l * cosf(a), dz = l * sinf(a), tilt = rnd() < 0.3 ? rndf(-2, 2) : 0;
@@ -893,7 +845,7 @@ static int sv_random(svscene *t, uint32_t n) {
             mesh_add_quad(&t->m, base, base + 1, base + 2, base + 3);
         }
     }
-    t->scene = scene_from_mesh(&t->m);
+    t->scene = test_scene(&t->m, 1);
     return t->scene != NULL;
 }
 
@@ -927,22 +879,6 @@ static void sv_camera(const svscene *t, pvs_camera *cam) {
     cam->near_plane = rndf(0.05f, 0.3f);
 }
 
-/* The camera's frame: unit forward f, up u, right r and the screen half-extents at distance 1. */
-static void sv_frame(const pvs_camera *cam, float aspect, double f[3], double u[3], double r[3], double *sx, double *sy) {
-    double len, fu;
-    int k;
-    for (k = 0; k < 3; ++k) { f[k] = cam->forward[k]; u[k] = cam->up[k]; }
-    len = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-    for (k = 0; k < 3; ++k) f[k] /= len;
-    fu = f[0] * u[0] + f[1] * u[1] + f[2] * u[2];
-    for (k = 0; k < 3; ++k) u[k] -= fu * f[k];
-    len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    for (k = 0; k < 3; ++k) u[k] /= len;
-    r[0] = f[1] * u[2] - f[2] * u[1]; r[1] = f[2] * u[0] - f[0] * u[2]; r[2] = f[0] * u[1] - f[1] * u[0];
-    *sy = tan(0.5 * cam->fov_y);
-    *sx = *sy * aspect;
-}
-
 /* One reference ray from the near plane along direction d (forward component 1): the first object
    hit must be set in `vis` (unless it is not a candidate). Returns 1 on a miss. */
 static int sv_ray(const svscene *t, const pvs_camera *cam, const double d[3], const pvs_word *vis, const pvs_word *cand, uint32_t *hits) {
@@ -967,7 +903,7 @@ static uint32_t sv_check(const svscene *t, const pvs_camera *cam, float aspect, 
     double f[3], u[3], r[3], sx, sy;
     uint32_t i, misses = 0, n = pvs_scene_object_count(t->scene);
     int k;
-    sv_frame(cam, aspect, f, u, r, &sx, &sy);
+    test_camera_frame(cam, aspect, f, u, r, &sx, &sy);
     for (i = 0; i < rays; ++i) {
         double a = (2 * rnd() - 1) * sx, b = (2 * rnd() - 1) * sy, d[3];
         for (k = 0; k < 3; ++k) d[k] = f[k] + a * r[k] + b * u[k];
@@ -1179,7 +1115,7 @@ static void sv_caller_occluders(uint32_t rounds) {
         cp.occluder_vertex_count = 3 * NT;
         cp.occluder_triangle_count = NT;
         CHECK(pvs_otree_cull(o, t.scene, &cam, &cp, vis, NULL, NULL) == PVS_OK);
-        sv_frame(&cam, 1.0f, f, u, r, &sx, &sy);
+        test_camera_frame(&cam, 1.0f, f, u, r, &sx, &sy);
         for (i = 0; i < n; ++i) {
             pvs_box b = pvs_scene_object_box(t.scene, i);
             int s;
@@ -1221,7 +1157,6 @@ static void sv_basic(void) {
     float pos[3 * 64];
     uint32_t idx[3 * 64], vc = 0, tc = 0;
     pvs_object_desc obd[4];
-    pvs_scene_desc sd;
     pvs_scene *sc = NULL, *big = NULL;
     pvs_otree_desc od;
     pvs_otree *o = NULL;
@@ -1245,10 +1180,8 @@ static void sv_basic(void) {
     lo[0] = 20; hi[0] = 21; lo[1] = -0.5f; hi[1] = 0.5f;
     add_box(pos, &vc, idx, &tc, lo, hi, 0);
     obd[3].first_triangle = 28; obd[3].triangle_count = 12; obd[3].flags = 0;
-    memset(&sd, 0, sizeof(sd));
-    sd.positions = pos; sd.vertex_count = vc; sd.indices = idx; sd.triangle_count = tc;
-    sd.objects = obd; sd.object_count = 4; sd.up_axis = 1;
-    CHECK(pvs_scene_create(&sd, &sc, NULL) == PVS_OK);
+    sc = test_scene_arrays(pos, vc, idx, tc, obd, 4, 1);
+    CHECK(sc != NULL);
     if (!sc) return;
     memset(&od, 0, sizeof(od));
     od.scene = sc;
@@ -1352,7 +1285,6 @@ void otree_verify(int scale) {
     sv_free(&t);
 }
 
-
 /* ---- facades from real-world tessellations, base heights, scenes without facades ---- */
 
 /* A Y-up mesh under construction: (u, v, height) -> (x = u, y = height, z = v). */
@@ -1388,33 +1320,23 @@ static void fx_box(fx_mesh *m, float u0, float v0, float h0, float u1, float v1,
 }
 /* Bakes the cells with OTREE; checks no object seen by 3D ray sampling is missing; *info. */
 static pvs_bake *fx_bake(fx_mesh *m, const pvs_box *cells, uint32_t nc, pvs_otree_bake_info *info, pvs_scene **out_sc) {
-    pvs_scene_desc sd;
-    pvs_scene *sc = NULL;
+    pvs_scene *sc;
     pvs_bake_desc bd;
     pvs_bake *b = NULL;
-    uint32_t t, c, i, miss = 0;
+    uint32_t t, c, miss = 0;
     pvs_word bits[4];
-    memset(&sd, 0, sizeof(sd));
-    sd.positions = m->pos; sd.vertex_count = m->vc; sd.indices = m->idx; sd.triangle_count = m->tc;
-    sd.objects = m->od; sd.object_count = m->oc; sd.up_axis = 1;
-    CHECK(pvs_scene_create(&sd, &sc, NULL) == PVS_OK);
+    sc = test_scene_arrays(m->pos, m->vc, m->idx, m->tc, m->od, m->oc, 1);
+    CHECK(sc != NULL);
     *out_sc = sc;
     if (!sc) return NULL;
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = sc; bd.cells = cells; bd.cell_count = nc; bd.method = PVS_METHOD_OTREE;
+    test_bake_desc(&bd, sc, cells, nc, PVS_METHOD_OTREE);
     CHECK(pvs_bake_begin(&bd, &b, NULL) == PVS_OK);
     if (!b) return NULL;
     for (t = 0; t < pvs_bake_task_count(b); ++t) CHECK(pvs_bake_run_task(b, t, NULL) == PVS_OK);
     pvs_bake_otree_info(b, info);
     for (c = 0; c < nc; ++c) {
-        const pvs_word *pvs = pvs_bake_cell_pvs(b, c);
-        memset(bits, 0, sizeof(bits));
-        pvs_sample_visibility(sc, cells + c, 16, 2048, 11 + c, bits);
-        for (i = 0; i < m->oc; ++i)
-            if (pvs_bitset_test(bits, i) && !pvs_bitset_test(pvs, i)) {
-                ++miss;
-                fprintf(stderr, "otree facades: cell %u misses object %u\n", c, i);
-            }
+        test_sample(sc, cells + c, 16, 2048, 11 + c, 0, 0, bits);
+        miss += test_misses(bits, pvs_bake_cell_pvs(b, c), m->oc, "otree facades", c);
     }
     CHECK(miss == 0);
     return b;
@@ -1609,7 +1531,6 @@ static void test_facades_none(void) {
    from it and its PVS is not every object. */
 static void test_facades_none_auto(void) {
     static fx_mesh m;
-    pvs_scene_desc sd;
     pvs_scene *sc = NULL;
     pvs_box cells[2];
     uint32_t f0, f1, f2, f3, k;
@@ -1631,17 +1552,14 @@ static void test_facades_none_auto(void) {
     fx_tri(&m, f0, f1, f2);
     fx_tri(&m, f0, f2, f3);
     fx_end(&m);
-    memset(&sd, 0, sizeof(sd));
-    sd.positions = m.pos; sd.vertex_count = m.vc; sd.indices = m.idx; sd.triangle_count = m.tc;
-    sd.objects = m.od; sd.object_count = m.oc; sd.up_axis = 1;
-    CHECK(pvs_scene_create(&sd, &sc, NULL) == PVS_OK);
+    sc = test_scene_arrays(m.pos, m.vc, m.idx, m.tc, m.od, m.oc, 1);
+    CHECK(sc != NULL);
     for (k = 0; k < 2 && sc; ++k) {
         pvs_bake_desc bd;
         pvs_bake *b = NULL;
         pvs_bake_report rep;
         pvs_otree_bake_info info;
-        memset(&bd, 0, sizeof(bd));
-        bd.scene = sc; bd.cells = cells; bd.cell_count = 2; bd.method = k ? PVS_METHOD_AUTO : PVS_METHOD_OTREE;
+        test_bake_desc(&bd, sc, cells, 2, k ? PVS_METHOD_AUTO : PVS_METHOD_OTREE);
         CHECK(pvs_bake_begin(&bd, &b, NULL) == PVS_OK);
         if (!b) continue;
         CHECK(pvs_bake_run_task(b, 0, NULL) == PVS_OK);

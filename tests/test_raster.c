@@ -12,14 +12,8 @@
 #include <string.h>
 
 static uint64_t rs_state = 0x51ab3c9dull;
-static double rnd(void) {
-    uint64_t z = (rs_state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
-static float rndf(float lo, float hi) { return lo + (hi - lo) * (float)rnd(); }
+static double rnd(void) { return test_rnd(&rs_state); }
+static float rndf(float lo, float hi) { return test_rndf(&rs_state, lo, hi); }
 
 /* The occluder representation the tests below use: PVS_RASTER_PER_PIXEL or PVS_RASTER_TILED (the
    maps here are small, which would pick per pixel). raster_verify runs them with both. */
@@ -730,18 +724,13 @@ static void tscene_free(tscene *t) {
 }
 static int tscene_gen(tscene *t, gen_kind kind, float size, uint64_t seed) {
     gen_params gp;
-    mesh_init(&t->m);
-    mesh_cells_init(&t->cells);
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = kind; gp.seed = seed; gp.size = size;
-    if (gen_scene(&gp, &t->m, &t->cells) != 0) return 0;
+    gp = test_gen_params(kind, seed, size, 0);
+    if (test_generate(&gp, &t->m, &t->cells, NULL) != 0) return 0;
     return tscene_make(t, 1);
 }
 /* Random boxes (Z up when up == 2) on a ground quad. */
 static int tscene_boxes(tscene *t, uint32_t n, uint32_t up) {
     uint32_t i;
-    static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
     int v = up == 2 ? 1 : 2;
     mesh_init(&t->m);
     mesh_cells_init(&t->cells);
@@ -758,14 +747,12 @@ static int tscene_boxes(tscene *t, uint32_t n, uint32_t up) {
     }
     for (i = 0; i < n; ++i) {
         float lo[3], hi[3];
-        uint32_t base = t->m.vertex_count, k;
         char name[32];
         sprintf(name, "box_%u", i);
         mesh_begin_object(&t->m, name, 0, 0);
         lo[0] = rndf(-50, 48); lo[v] = rndf(-50, 48); lo[up] = rnd() < 0.8 ? 0.0f : rndf(0, 3);
         hi[0] = lo[0] + rndf(0.2f, 8); hi[v] = lo[v] + rndf(0.2f, 8); hi[up] = lo[up] + rndf(0.3f, 12);
-        for (k = 0; k < 8; ++k) mesh_add_vertex(&t->m, k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]);
-        for (k = 0; k < 12; ++k) mesh_add_triangle(&t->m, base + f[k][0], base + f[k][1], base + f[k][2]);
+        test_mesh_box(&t->m, lo, hi);
     }
     return tscene_make(t, up);
 }
@@ -800,19 +787,10 @@ unsigned long raster_cameras, raster_misses; /* totals for tests/verify_raster.c
    Returns misses. */
 static uint32_t check_rays(const tscene *t, const pvs_camera *cam, float aspect, const pvs_word *visible, const pvs_word *cand,
                            uint32_t rays, uint32_t *hits) {
-    double f[3], u[3], rt[3], len, fu, sy, sx;
+    double f[3], u[3], rt[3], sy, sx;
     uint32_t i, misses = 0;
     int k;
-    for (k = 0; k < 3; ++k) { f[k] = cam->forward[k]; u[k] = cam->up[k]; }
-    len = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-    for (k = 0; k < 3; ++k) f[k] /= len;
-    fu = f[0] * u[0] + f[1] * u[1] + f[2] * u[2];
-    for (k = 0; k < 3; ++k) u[k] -= fu * f[k];
-    len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    for (k = 0; k < 3; ++k) u[k] /= len;
-    rt[0] = f[1] * u[2] - f[2] * u[1]; rt[1] = f[2] * u[0] - f[0] * u[2]; rt[2] = f[0] * u[1] - f[1] * u[0];
-    sy = cam->fov_y > 0 ? tan(0.5 * cam->fov_y) : 0.5 * cam->ortho_height;
-    sx = sy * aspect;
+    test_camera_frame(cam, aspect, f, u, rt, &sx, &sy);
     for (i = 0; i < rays; ++i) {
         double a = (2 * rnd() - 1) * sx, b = (2 * rnd() - 1) * sy;
         float o[3], d[3];

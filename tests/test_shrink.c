@@ -12,13 +12,7 @@
 #include <string.h>
 
 static uint64_t sh_state = 0x7f4a7c159e3779b9ull;
-static double rnd(void) {
-    uint64_t z = (sh_state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
+static double rnd(void) { return test_rnd(&sh_state); }
 
 /* ---- the appendix theorem ---- */
 
@@ -101,28 +95,6 @@ static void add_box(mesh *m, const char *name, const float lo[3], const float hi
         if ((int)k != open_face) mesh_add_quad(m, base + f[k][0], base + f[k][1], base + f[k][2], base + f[k][3]);
 }
 
-/* A scene of every object of a mesh (any count). */
-static pvs_scene *make_scene(const mesh *m, uint32_t up) {
-    pvs_scene_desc d;
-    pvs_object_desc *obs = (pvs_object_desc *)malloc((m->object_count ? m->object_count : 1) * sizeof(pvs_object_desc));
-    pvs_scene *s = NULL;
-    pvs_error e;
-    uint32_t i;
-    for (i = 0; i < m->object_count; ++i) {
-        obs[i].first_triangle = m->objects[i].first_triangle;
-        obs[i].triangle_count = m->objects[i].triangle_count;
-        obs[i].flags = 0;
-    }
-    memset(&d, 0, sizeof(d));
-    d.positions = m->positions; d.vertex_count = m->vertex_count;
-    d.indices = m->indices; d.triangle_count = m->triangle_count;
-    d.objects = obs; d.object_count = m->object_count;
-    d.up_axis = up;
-    if (pvs_scene_create(&d, &s, &e) != PVS_OK) fprintf(stderr, "scene: %s\n", e.message);
-    free(obs);
-    return s;
-}
-
 /* Brute force for an axis-aligned closed box [lo, hi] (its six faces as triangles) and cells outside
    it: a voxel wholly inside the open box (away from the faces) is solid; one meeting a face is
    touched; one wholly outside is empty or ground. With a face left open, nothing is solid and the
@@ -150,7 +122,7 @@ static void test_synthesis(void) {
             mesh_add_vertex(&m, gh[0], 0, gh[2]); mesh_add_vertex(&m, gl[0], 0, gh[2]);
             mesh_add_quad(&m, b, b + 1, b + 2, b + 3);
         }
-        s = make_scene(&m, 1);
+        s = test_scene(&m, 1);
         CHECK(s != NULL);
         if (!s) { mesh_free(&m); continue; }
         memset(&od, 0, sizeof(od));
@@ -370,7 +342,7 @@ static void slit_room(int kind, double angle, double ox, double oz, int cell_ins
     mesh_add_quad(&m, gb, gb + 1, gb + 2, gb + 3);
     room_mesh(&m, &t, kind);
     room_box(&m, "object", &t, olo, ohi);
-    s = make_scene(&m, 1);
+    s = test_scene(&m, 1);
     CHECK(s != NULL);
     if (!s) { mesh_free(&m); return; }
     l[0] = cell_inside ? 0.2 : -1.5; l[1] = 1.0; l[2] = 1.45; /* inside: through the wall into the cavity */
@@ -424,8 +396,8 @@ static void slit_room(int kind, double angle, double ox, double oz, int cell_ins
     if (!cell_inside) CHECK(info.leak_cell == 0); /* the outside cell reaches the border: the diagnostic says so */
     pvs_occluders_destroy(o);
     for (mode = 0; kind == 1 && !cell_inside && mode < 3; ++mode) { /* the object is in the PVS on every path */
-        memset(&bd, 0, sizeof(bd));
-        bd.scene = s; bd.cells = &cell; bd.cell_count = 1; bd.method = PVS_METHOD_SHRINK; bd.eps = 0.3f; bd.voxel_size = 0.5f;
+        test_bake_desc(&bd, s, &cell, 1, PVS_METHOD_SHRINK);
+        bd.eps = 0.3f; bd.voxel_size = 0.5f;
         bd.shrink_mode = (pvs_shrink_mode)mode;
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
         if (!b) continue;
@@ -497,7 +469,7 @@ static void test_random_lattices(void) {
                     }
                 }
 #undef LV
-        s = make_scene(&m, 1);
+        s = test_scene(&m, 1);
         CHECK(s != NULL);
         if (!s) { mesh_free(&m); continue; }
         for (a = 0; a < 3; ++a) { /* cells around the blob (the last one close to it) */
@@ -631,11 +603,11 @@ static void test_random_prisms(void) {
             cells[nc].min[1] = 0.5f; cells[nc].max[1] = nc & 1 ? 0.5f + 2e-3f : 2.0f;
             ++nc;
         }
-        s = make_scene(&m, 1);
+        s = test_scene(&m, 1);
         CHECK(s != NULL);
         if (!s) { mesh_free(&m); continue; }
-        memset(&bd, 0, sizeof(bd));
-        bd.scene = s; bd.cells = cells; bd.cell_count = nc; bd.method = PVS_METHOD_SHRINK; bd.eps = 0.5f; bd.shrink_mode = PVS_SHRINK_2D5;
+        test_bake_desc(&bd, s, cells, nc, PVS_METHOD_SHRINK);
+        bd.eps = 0.5f; bd.shrink_mode = PVS_SHRINK_2D5;
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
         n = pvs_scene_object_count(s);
         ref = (pvs_word *)calloc(PVS_BITSET_WORDS(n), sizeof(pvs_word));
@@ -643,12 +615,10 @@ static void test_random_prisms(void) {
             const pvs_word *pv;
             CHECK(pvs_bake_run_task(b, c, &e) == PVS_OK);
             pv = pvs_bake_cell_pvs(b, c);
-            memset(ref, 0, PVS_BITSET_WORDS(n) * sizeof(pvs_word));
-            pvs_sample_visibility(s, cells + c, 8, 2048, 5 + c, ref);
-            pvs_sample_visibility_toward(s, cells + c, NULL, 48, 77 + c, ref);
-            for (i = 0; pv && i < n; ++i) {
-                misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pv, i);
-                culled += !pvs_bitset_test(pv, i);
+            test_sample(s, cells + c, 8, 2048, 5 + c, 48, 77 + c, ref);
+            if (pv) {
+                misses += test_misses(ref, pv, n, "shrink random prisms", c);
+                culled += n - pvs_bitset_count(pv, n);
             }
             if ((c & 1) && pv) { /* a point cell: every point of a culled box is behind the shrunk chains */
                 uint32_t nch;
@@ -730,37 +700,18 @@ static void check_scene(gen_kind kind, float size, uint64_t seed, uint32_t max_c
     gen_params gp;
     mesh m;
     mesh_cells cells;
-    pvs_scene_desc d;
-    pvs_object_desc *obs;
-    pvs_scene *s = NULL;
+    pvs_scene *s;
     pvs_bake *b = NULL;
     pvs_bake_desc bd;
     pvs_error e;
-    uint32_t i, c, n, misses = 0, words, preset_bad = 0, preset_culled = 0;
+    uint32_t c, n, misses = 0, words, preset_bad = 0, preset_culled = 0;
     uint64_t in_pvs = 0, total = 0;
     pvs_word *ref;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = kind; gp.seed = seed; gp.size = size; gp.max_cells = max_cells;
-    CHECK(gen_scene(&gp, &m, &cells) == 0);
-    obs = (pvs_object_desc *)malloc(m.object_count * sizeof(pvs_object_desc));
-    for (i = 0; i < m.object_count; ++i) {
-        obs[i].first_triangle = m.objects[i].first_triangle;
-        obs[i].triangle_count = m.objects[i].triangle_count;
-        obs[i].flags = 0;
-    }
-    memset(&d, 0, sizeof(d));
-    d.positions = m.positions; d.vertex_count = m.vertex_count;
-    d.indices = m.indices; d.triangle_count = m.triangle_count;
-    d.objects = obs; d.object_count = m.object_count;
-    d.up_axis = 1;
-    CHECK(pvs_scene_create(&d, &s, &e) == PVS_OK);
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = s;
-    bd.cells = (const pvs_box *)cells.boxes;
-    bd.cell_count = cells.count;
-    bd.method = PVS_METHOD_SHRINK;
+    gp = test_gen_params(kind, seed, size, max_cells);
+    CHECK(test_generate(&gp, &m, &cells, NULL) == 0);
+    s = test_scene(&m, 1);
+    CHECK(s != NULL);
+    test_bake_desc(&bd, s, (const pvs_box *)cells.boxes, cells.count, PVS_METHOD_SHRINK);
     bd.shrink_mode = mode;
     bd.eps = eps;
     CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
@@ -776,9 +727,8 @@ static void check_scene(gen_kind kind, float size, uint64_t seed, uint32_t max_c
         for (c = 0; c < pvs_bake_task_count(b); ++c) {
             const pvs_word *pv = pvs_bake_cell_pvs(b, c);
             if (!pv) continue;
-            memset(ref, 0, words * sizeof(pvs_word));
-            pvs_sample_visibility(s, (const pvs_box *)cells.boxes + c, 24, 512, 99 + c, ref);
-            for (i = 0; i < n; ++i) misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pv, i);
+            test_sample(s, (const pvs_box *)cells.boxes + c, 24, 512, 99 + c, 0, 0, ref);
+            misses += test_misses(ref, pv, n, "shrink", c);
             in_pvs += pvs_bitset_count(pv, n);
             total += n;
         }
@@ -796,7 +746,6 @@ static void check_scene(gen_kind kind, float size, uint64_t seed, uint32_t max_c
     free(ref);
     pvs_bake_destroy(b);
     pvs_scene_destroy(s);
-    free(obs);
     mesh_cells_free(&cells);
     mesh_free(&m);
 }
@@ -817,15 +766,11 @@ static void test_report(void) {
         pvs_error e;
         pvs_word *bits;
         uint32_t c;
-        mesh_init(&m);
-        mesh_cells_init(&cells);
-        memset(&gp, 0, sizeof(gp));
-        gp.kind = kind ? GEN_CITY : GEN_WALLS; gp.seed = 4; gp.size = 0.15f; gp.max_cells = 6;
-        CHECK(gen_scene(&gp, &m, &cells) == 0);
-        s = make_scene(&m, 1);
+        gp = test_gen_params(kind ? GEN_CITY : GEN_WALLS, 4, 0.15f, 6);
+        CHECK(test_generate(&gp, &m, &cells, NULL) == 0);
+        s = test_scene(&m, 1);
         CHECK(s != NULL);
-        memset(&bd, 0, sizeof(bd));
-        bd.scene = s; bd.cells = (const pvs_box *)cells.boxes; bd.cell_count = cells.count; bd.method = PVS_METHOD_SHRINK;
+        test_bake_desc(&bd, s, (const pvs_box *)cells.boxes, cells.count, PVS_METHOD_SHRINK);
         CHECK(s && pvs_bake_begin(&bd, &b, &e) == PVS_OK);
         if (!b) { pvs_scene_destroy(s); mesh_cells_free(&cells); mesh_free(&m); continue; }
         pvs_bake_get_report(b, &rep);
@@ -875,7 +820,7 @@ static void test_leak_cells(void) {
         add_box(&m, "objA", alo, ahi, -1);
         add_box(&m, "objB", blo, bhi, -1); /* in the void beyond the wall x = 20 */
         add_box(&m, "objC", clo, chi, -1);
-        s = make_scene(&m, 1);
+        s = test_scene(&m, 1);
         CHECK(s != NULL);
         if (!s) { mesh_free(&m); continue; }
         memset(&od, 0, sizeof(od));
@@ -922,8 +867,8 @@ static void test_leak_cells(void) {
             pvs_bake_desc bd;
             pvs_bake *b = NULL;
             pvs_bake_report rep;
-            memset(&bd, 0, sizeof(bd));
-            bd.scene = s; bd.cells = cells; bd.cell_count = 3; bd.method = PVS_METHOD_SHRINK; bd.eps = 0.5f; bd.voxel_size = 0.25f;
+            test_bake_desc(&bd, s, cells, 3, PVS_METHOD_SHRINK);
+            bd.eps = 0.5f; bd.voxel_size = 0.25f;
             CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
             for (c = 0; b && c < 3; ++c) CHECK(pvs_bake_run_task(b, c, &e) == PVS_OK);
             if (b) {
@@ -980,7 +925,7 @@ static void test_preset(void) {
         snprintf(name, sizeof(name), "thing_%u", i);
         add_box(&m, name, blo, bhi, -1);
     }
-    s = make_scene(&m, 1);
+    s = test_scene(&m, 1);
     CHECK(s != NULL);
     if (!s) { mesh_free(&m); return; }
     memset(&od, 0, sizeof(od));

@@ -66,11 +66,6 @@ static int tt_tri(const mesh *m, uint32_t t, uint32_t a, uint32_t b, uint32_t c)
     return v[0] == a && v[1] == b && v[2] == c;
 }
 
-static int tt_file_exists(const char *path) {
-    struct stat st;
-    return stat(path, &st) == 0;
-}
-
 /* Counts directory entries whose name contains ".tmp." */
 static int tt_temp_files(const char *dir) {
     DIR *d = opendir(dir);
@@ -368,7 +363,7 @@ static void tt_files(const char *dir) {
     snprintf(bad, sizeof(bad), "%s/no/such/dir/out.pvs", dir);
     CHECK(write_file_atomic(bad, "x", 1, &err) == -1 && err.line == 0 && strncmp(err.message, bad, strlen(bad)) == 0 &&
           tt_has(err.message, "cannot create"));
-    CHECK(!tt_file_exists(bad));
+    CHECK(!test_exists(bad));
     /* Failure at rename (the target is a directory): the temporary file must be removed. */
     snprintf(bad, sizeof(bad), "%s/adir", dir);
     CHECK(mkdir(bad, 0777) == 0);

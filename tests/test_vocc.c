@@ -14,13 +14,7 @@
 #include <string.h>
 
 static uint64_t vo_rng = 0x0cc1de5ull;
-static double rnd(void) {
-    uint64_t z = (vo_rng += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
+static double rnd(void) { return test_rnd(&vo_rng); }
 
 /* ---- 2D brute force ---- */
 
@@ -338,39 +332,13 @@ static void test_cull(void) {
 
 /* ---- the bake on a generated city ---- */
 
-static pvs_scene *scene_from_up(const mesh *m, uint32_t up) {
-    pvs_scene_desc d;
-    pvs_object_desc *obs = (pvs_object_desc *)malloc(m->object_count * sizeof(pvs_object_desc));
-    pvs_scene *s = NULL;
-    pvs_error e;
-    uint32_t i;
-    for (i = 0; i < m->object_count; ++i) {
-        obs[i].first_triangle = m->objects[i].first_triangle;
-        obs[i].triangle_count = m->objects[i].triangle_count;
-        obs[i].flags = 0;
-    }
-    memset(&d, 0, sizeof(d));
-    d.positions = m->positions; d.vertex_count = m->vertex_count;
-    d.indices = m->indices; d.triangle_count = m->triangle_count;
-    d.objects = obs; d.object_count = m->object_count;
-    d.up_axis = up;
-    if (pvs_scene_create(&d, &s, &e) != PVS_OK) fprintf(stderr, "scene: %s\n", e.message);
-    free(obs);
-    return s;
-}
-static pvs_scene *scene_from(const mesh *m) { return scene_from_up(m, 1); }
-
 static void *bake_file(pvs_scene *s, const pvs_box *cells, uint32_t n, uint32_t only, uint32_t slices, int reverse, size_t *size) {
     pvs_bake_desc bd;
     pvs_bake *b = NULL;
     pvs_error e;
     void *out = NULL;
     uint32_t t;
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = s;
-    bd.cells = cells;
-    bd.cell_count = n;
-    bd.method = PVS_METHOD_VOCC;
+    test_bake_desc(&bd, s, cells, n, PVS_METHOD_VOCC);
     bd.vocc_only = only;
     bd.vocc_slices = slices;
     if (pvs_bake_begin(&bd, &b, &e) != PVS_OK) { fprintf(stderr, "%s\n", e.message); return NULL; }
@@ -399,15 +367,9 @@ static void test_bake(void) {
     void *scratch;
     size_t ss;
     double culled = 0.0;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_CITY;
-    gp.seed = 2;
-    gp.size = 0.3f;
-    gp.max_cells = 24;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    CHECK(gen_scene(&gp, &m, &cells) == 0);
-    s = scene_from(&m);
+    gp = test_gen_params(GEN_CITY, 2, 0.3f, 24);
+    CHECK(test_generate(&gp, &m, &cells, NULL) == 0);
+    s = test_scene(&m, 1);
     CHECK(s != NULL);
     if (!s) return;
     n = cells.count;
@@ -460,10 +422,8 @@ static void test_bake(void) {
         CHECK(pvs_vocc_cull(&f, c, 0, boxes, objects, tree, scratch, ss, pvs, &e) == PVS_OK);
         for (i = 0; i < objects; ++i)
             if (pvs_bitset_test(pvs, i)) CHECK(pvs_bitset_test(dec, i));
-        memset(ref, 0, words * sizeof(pvs_word));
-        pvs_sample_visibility(s, cell, 16, 1024, 5 + c, ref);
-        pvs_sample_visibility_toward(s, cell, NULL, 8, 77 + c, ref);
-        for (i = 0; i < objects; ++i) misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pvs, i);
+        test_sample(s, cell, 16, 1024, 5 + c, 8, 77 + c, ref);
+        misses += test_misses(ref, pvs, objects, "vocc bake", c);
         culled += objects - pvs_bitset_count(pvs, objects);
         /* vocc-only: the same occluders, placeholder records (every object) */
         CHECK(pvs_file_vocc_record(&fo, c, NULL, NULL) <= 10);
@@ -483,11 +443,7 @@ static void test_bake(void) {
     {
         pvs_bake_desc bd;
         pvs_bake *b = NULL;
-        memset(&bd, 0, sizeof(bd));
-        bd.scene = s;
-        bd.cells = (const pvs_box *)cells.boxes;
-        bd.cell_count = n;
-        bd.method = PVS_METHOD_VOCC;
+        test_bake_desc(&bd, s, (const pvs_box *)cells.boxes, n, PVS_METHOD_VOCC);
         bd.vocc_slices = 17;
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
         bd.vocc_slices = 0;
@@ -511,11 +467,7 @@ static void test_bake(void) {
         pvs_bake_desc bd;
         pvs_bake *b = NULL;
         pvs_bake_method_info mi;
-        memset(&bd, 0, sizeof(bd));
-        bd.scene = s;
-        bd.cells = (const pvs_box *)cells.boxes;
-        bd.cell_count = n;
-        bd.method = PVS_METHOD_AUTO;
+        test_bake_desc(&bd, s, (const pvs_box *)cells.boxes, n, PVS_METHOD_AUTO);
         bd.methods = 1u << PVS_METHOD_VOCC;
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
         if (b) {
@@ -573,14 +525,8 @@ static void test_zup(void) {
     pvs_word *pvs, *ref;
     uint32_t c, i, objects, words, misses = 0, vos = 0;
     double culled = 0.0;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_CITY;
-    gp.seed = 3;
-    gp.size = 0.2f;
-    gp.max_cells = 10;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    CHECK(gen_scene(&gp, &m, &cells) == 0);
+    gp = test_gen_params(GEN_CITY, 3, 0.2f, 10);
+    CHECK(test_generate(&gp, &m, &cells, NULL) == 0);
     for (i = 0; i < m.vertex_count; ++i) {
         float y = m.positions[3 * i + 1], z = m.positions[3 * i + 2];
         m.positions[3 * i + 1] = -z;
@@ -593,7 +539,7 @@ static void test_zup(void) {
         cb[c].min[1] = -b[5]; cb[c].max[1] = -b[2];
         cb[c].min[2] = b[1]; cb[c].max[2] = b[4];
     }
-    s = scene_from_up(&m, 2);
+    s = test_scene(&m, 2);
     CHECK(s != NULL);
     if (!s) return;
     objects = pvs_scene_object_count(s);
@@ -609,10 +555,8 @@ static void test_zup(void) {
     for (c = 0; c < cells.count; ++c) {
         vos += pvs_file_virtual_occluders(&f, c, NULL, 0);
         CHECK(pvs_vocc_cull(&f, c, 0, boxes, objects, NULL, scratch, ss, pvs, &e) == PVS_OK);
-        memset(ref, 0, words * sizeof(pvs_word));
-        pvs_sample_visibility(s, cb + c, 16, 1024, 9 + c, ref);
-        pvs_sample_visibility_toward(s, cb + c, NULL, 8, 19 + c, ref);
-        for (i = 0; i < objects; ++i) misses += pvs_bitset_test(ref, i) && !pvs_bitset_test(pvs, i);
+        test_sample(s, cb + c, 16, 1024, 9 + c, 8, 19 + c, ref);
+        misses += test_misses(ref, pvs, objects, "vocc z-up", c);
         culled += objects - pvs_bitset_count(pvs, objects);
     }
     CHECK(misses == 0);
@@ -632,20 +576,10 @@ static void test_unsupported(void) {
     pvs_bake_desc bd;
     pvs_bake *b = NULL;
     pvs_error e;
-    memset(&gp, 0, sizeof(gp));
-    gp.kind = GEN_SOUP;
-    gp.seed = 1;
-    gp.size = 0.2f;
-    gp.max_cells = 4;
-    mesh_init(&m);
-    mesh_cells_init(&cells);
-    CHECK(gen_scene(&gp, &m, &cells) == 0);
-    s = scene_from(&m);
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = s;
-    bd.cells = (const pvs_box *)cells.boxes;
-    bd.cell_count = cells.count;
-    bd.method = PVS_METHOD_VOCC;
+    gp = test_gen_params(GEN_SOUP, 1, 0.2f, 4);
+    CHECK(test_generate(&gp, &m, &cells, NULL) == 0);
+    s = test_scene(&m, 1);
+    test_bake_desc(&bd, s, (const pvs_box *)cells.boxes, cells.count, PVS_METHOD_VOCC);
     CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_UNSUPPORTED);
     CHECK(b == NULL && strstr(e.message, "vertical walls") != NULL);
     pvs_scene_destroy(s);
@@ -654,9 +588,6 @@ static void test_unsupported(void) {
 }
 
 /* ---- the VOCC section ---- */
-
-static void fix_checksums(uint8_t *f, size_t size);
-static void wr32(uint8_t *p, uint32_t v);
 
 static void test_section(void) {
     enum { CELLS = 20, OBJECTS = 70 };
@@ -712,26 +643,26 @@ static void test_section(void) {
         static const uint32_t values[] = {2, 1000, 0x7fc00000u, 0xffffffffu, 0, 1, 0, 0};
         for (k = 0; k < sizeof(offsets) / sizeof(offsets[0]); ++k) {
             memcpy(copy, buf, size);
-            if (k < 5) wr32(copy + at + offsets[k], values[k]);
+            if (k < 5) test_wr32(copy + at + offsets[k], values[k]);
             else copy[at + offsets[k]] ^= 1;
-            fix_checksums(copy, size);
+            pvs_fuzz_fix_checksums(copy, size);
             CHECK(pvs_file_open(copy, size, &f, &e) == PVS_ERROR_BAD_SECTION);
         }
         for (k = 0; k + 1 < vsz; k += 7) { /* the section cut short: the file's sizes no longer add up */
             memcpy(copy, buf, size);
             for (j = 0; j < sections; ++j)
-                if (!memcmp(copy + 32 + 16 * j, "VOCC", 4)) wr32(copy + 32 + 16 * j + 8, (uint32_t)k);
-            fix_checksums(copy, size);
+                if (!memcmp(copy + 32 + 16 * j, "VOCC", 4)) test_wr32(copy + 32 + 16 * j + 8, (uint32_t)k);
+            pvs_fuzz_fix_checksums(copy, size);
             CHECK(pvs_file_open(copy, size, &f, &e) != PVS_OK);
         }
         memcpy(copy, buf, size); /* a count that no longer matches its block */
         copy[at + vsz - 5 * n - 2 * CELLS] ^= 1;
-        fix_checksums(copy, size);
+        pvs_fuzz_fix_checksums(copy, size);
         CHECK(pvs_file_open(copy, size, &f, &e) == PVS_ERROR_BAD_SECTION);
         memcpy(copy, buf, size); /* an unknown tag is skipped: the file opens without occluders */
         for (j = 0; j < sections; ++j)
             if (!memcmp(copy + 32 + 16 * j, "VOCC", 4)) copy[32 + 16 * j + 3] = 'X';
-        fix_checksums(copy, size);
+        pvs_fuzz_fix_checksums(copy, size);
         CHECK(pvs_file_open(copy, size, &f, &e) == PVS_OK && f.vocc_flags == 0);
         CHECK(pvs_file_virtual_occluders(&f, 0, NULL, 0) == 0);
         {
@@ -750,28 +681,6 @@ static void test_section(void) {
     CHECK(pvs_file_encode(&d, NULL, 0, &size, &e) == PVS_ERROR_INVALID_ARGUMENT);
     free(buf);
     free(copy);
-}
-
-/* CRC-32 (IEEE) and the checksum repair of tests/fuzz_target.c. */
-static uint32_t crc32_ref(const uint8_t *p, size_t n, uint32_t c) {
-    size_t i;
-    int k;
-    c = ~c;
-    for (i = 0; i < n; ++i) {
-        c ^= p[i];
-        for (k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
-    }
-    return ~c;
-}
-static uint32_t rd32(const uint8_t *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
-static void wr32(uint8_t *p, uint32_t v) { p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24); }
-static void fix_checksums(uint8_t *f, size_t size) {
-    uint32_t n = rd32(f + 12), i;
-    for (i = 0; i < n; ++i) {
-        uint8_t *en = f + 32 + 16 * i;
-        if ((uint64_t)rd32(en + 4) + rd32(en + 8) <= size) wr32(en + 12, crc32_ref(f + rd32(en + 4), rd32(en + 8), 0));
-    }
-    wr32(f + 20, crc32_ref(f + 32, 16 * (size_t)n, crc32_ref(f, 20, 0)));
 }
 
 void test_vocc(void) {

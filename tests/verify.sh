@@ -14,6 +14,13 @@ CONSERVATIVE_METHODS=${CONSERVATIVE_METHODS:-"shrink otree extproj vocc auto"}  
 CELLS=${CELLS:-500}
 J=${J:-0}
 fail=0
+# check LABEL SCENE.obj FILE.pvs: pvscheck's line after LABEL, and " FAIL" (failing the run) unless it ends 0
+check() {
+  line=$("$B/pvscheck" -q -j "$J" --seed 99 "$2" "$3")
+  rc=$?
+  note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
+  echo "$1 $line$note"
+}
 for kind in city forest indoor walls soup; do
   for seed in 1 2 3; do
     for size in 0.3 0.6; do
@@ -57,10 +64,7 @@ case " $CONSERVATIVE_METHODS " in *" otree "*)
       "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method otree -j 2 -o "$base.otree-j2.pvs" &&
         cmp -s "$base.otree.pvs" "$base.otree-j2.pvs" || { echo "city full $seed otree: -j1 and -j2 files differ"; fail=1; }
     fi
-    line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.otree.pvs")
-    rc=$?
-    note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
-    echo "city $seed 1 otree $line$note"
+    check "city $seed 1 otree" "$base.obj" "$base.otree.pvs"
   done;;
 esac
 # vocc on the full-size city: three seeds, 500 cells each; the PVS checked is the one rebuilt from the
@@ -80,15 +84,9 @@ case " $CONSERVATIVE_METHODS " in *" vocc "*)
       "$B/pvsbake" -q "$base.obj" --cells "$base.cells" --method vocc --vocc-only -j "$J" -o "$base.vocc-only.pvs" &&
         "$B/pvsinfo" --vocc "$base.vocc.pvs" > "$base.vocc.txt" && "$B/pvsinfo" --vocc "$base.vocc-only.pvs" > "$base.vocc-only.txt" &&
         cmp -s "$base.vocc.txt" "$base.vocc-only.txt" || { echo "city full $seed vocc: --vocc-only stores other occluders"; fail=1; }
-      line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.vocc-only.pvs")
-      rc=$?
-      note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
-      echo "city $seed 1 vocc-only $line$note"
+      check "city $seed 1 vocc-only" "$base.obj" "$base.vocc-only.pvs"
     fi
-    line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.vocc.pvs")
-    rc=$?
-    note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
-    echo "city $seed 1 vocc $line$note"
+    check "city $seed 1 vocc" "$base.obj" "$base.vocc.pvs"
   done;;
 esac
 # extproj with the occlusion sweep (§5), with its sub-cells and with adaptive cells (§6.1): every
@@ -111,10 +109,7 @@ case " $CONSERVATIVE_METHODS " in *" extproj "*)
           "$B/pvsbake" -q --no-state "$base.obj" --cells "$cf" --method extproj $opts -j 1 -o "$base.$variant-j1.pvs" &&
             cmp -s "$base.$variant.pvs" "$base.$variant-j1.pvs" || { echo "$kind $seed extproj $variant: files differ with the thread count"; fail=1; }
         fi
-        line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.$variant.pvs")
-        rc=$?
-        note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
-        echo "$kind $seed 0.6 extproj-$variant $line$note"
+        check "$kind $seed 0.6 extproj-$variant" "$base.obj" "$base.$variant.pvs"
       done
     done
   done;;
@@ -128,10 +123,7 @@ case " $CONSERVATIVE_METHODS " in *" extproj "*)
     for variant in sweep plain; do
       if [ "$variant" = sweep ]; then opts="--sweep"; else opts=""; fi
       "$B/pvsbake" -q --no-state "$base.obj" --cells "$base.cells" --method extproj $opts -j "$J" -o "$base.$variant.pvs" || { echo "forest --dense $seed extproj $variant: bake failed"; fail=1; continue; }
-      line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.$variant.pvs")
-      rc=$?
-      note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
-      echo "forest-dense $seed 0.6 extproj-$variant $line$note"
+      check "forest-dense $seed 0.6 extproj-$variant" "$base.obj" "$base.$variant.pvs"
     done
   done
   # the paper's density (1,000 leaves per tree, 1 m cells) with the sweep at 1024 pixels and 64
@@ -147,16 +139,10 @@ case " $CONSERVATIVE_METHODS " in *" extproj "*)
       "$B/pvsbake" -q --no-state "$base.obj" --cells "$base.cells" --method extproj --sweep-planes 64 --resolution 1024 -j 1 -o "$base-j1.pvs" &&
         cmp -s "$base.pvs" "$base-j1.pvs" || { echo "forest 1000 $seed extproj: files differ with the thread count"; fail=1; }
     fi
-    line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.pvs")
-    rc=$?
-    note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
-    echo "forest-1000 $seed 0.4 extproj-sweep64-1024 $line$note"
+    check "forest-1000 $seed 0.4 extproj-sweep64-1024" "$base.obj" "$base.pvs"
     "$B/pvsbake" -q --no-state "$base.obj" --cells "$base.cells" --method extproj --sweep-planes 64 --resolution 1024 --subcells -j "$J" -o "$base.sub.pvs" ||
       { echo "forest 1000 $seed extproj --subcells: bake failed"; fail=1; continue; }
-    line=$("$B/pvscheck" -q -j "$J" --seed 99 "$base.obj" "$base.sub.pvs")
-    rc=$?
-    note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
-    echo "forest-1000 $seed 0.4 extproj-sweep64-1024-subcells $line$note"
+    check "forest-1000 $seed 0.4 extproj-sweep64-1024-subcells" "$base.obj" "$base.sub.pvs"
   done;;
 esac
 # bounded time and memory on any input (BOUNDED=0 skips): a 100,000-vertex single face (one OBJ `f`
@@ -200,10 +186,7 @@ if [ "${BOUNDED:-1}" != 0 ]; then
     t0=$(now)
     ( ulimit -v 2621440; timeout 120 "$B/pvsbake" -q --no-state --memory 2G "$T/$scene.obj" --cells "$four" -o "$T/$scene.pvs" ) || { echo "$scene auto: bake failed FAIL"; fail=1; continue; }
     dt=$(awk "BEGIN { printf \"%.1f\", $(now) - $t0 }")
-    line=$("$B/pvscheck" -q -j "$J" --seed 99 "$T/$scene.obj" "$T/$scene.pvs")
-    rc=$?
-    note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
-    echo "$scene auto seconds=$dt $line$note"
+    check "$scene auto seconds=$dt" "$T/$scene.obj" "$T/$scene.pvs"
   done
   awk 'BEGIN { srand(3); v = 1; for (i = 0; i < 17; i++) { x = 90 * rand(); z = 90 * rand(); w = 2 + 6 * rand(); h = 3 + 12 * rand(); printf "o box%d\n", i
                for (k = 0; k < 8; k++) printf "v %g %g %g\n", x + (k % 2 ? w : 0), (int(k / 2) % 2 ? h : 0), z + (k >= 4 ? w : 0)

@@ -86,6 +86,18 @@ int cli_load_scene(const char *path, uint32_t up_axis, mesh *m, pvs_scene **scen
     return cli_load_scene_limited(path, up_axis, m, NULL, scene, err);
 }
 
+int cli_load_pvs_scene(const char *pvs_path, const char *scene_path, uint32_t up_axis, void **data, pvs_file *file, mesh *m, pvs_scene **scene,
+                       tool_error *err) {
+    size_t size = 0;
+    pvs_error pe;
+    if (read_file(pvs_path, data, &size, err)) return -1;
+    if (pvs_file_open(*data, size, file, &pe) != PVS_OK) {
+        tool_error_set(err, pvs_path, 0, "%s", pe.message);
+        return -1;
+    }
+    return cli_load_scene(scene_path, up_axis ? up_axis : file->up_axis, m, scene, err);
+}
+
 int cli_grid_cells(const pvs_scene *scene, float size, uint32_t max_cells, mesh_cells *cells, tool_error *err) {
     pvs_box b = pvs_scene_bounds(scene);
     double n[3], total = 1.0;
@@ -411,6 +423,56 @@ int cli_write_bake(const pvs_bake *bake, const char *path, size_t *size, tool_er
     return rc;
 }
 
+/* Reads and opens the part files of a merge; they must be parts (unless a single whole file) of one
+   bake: the same shard count, cells, objects, method and parameters. 0, or -1 with err set. */
+static int cli__open_parts(const char *const *paths, int count, void **data, pvs_file *files, tool_error *err) {
+    pvs_error pe;
+    int i;
+    for (i = 0; i < count; ++i) {
+        size_t size;
+        const pvs_file *f = files + i, *f0 = files;
+        if (read_file(paths[i], &data[i], &size, err)) return -1;
+        if (pvs_file_open(data[i], size, files + i, &pe) != PVS_OK) {
+            tool_error_set(err, paths[i], 0, "%s (byte %llu)", pe.message, (unsigned long long)pe.offset);
+            return -1;
+        }
+        if (f->shard_count < 2 && count > 1) {
+            tool_error_set(err, paths[i], 0, "not a part file (bake it with --shard K/N)");
+            return -1;
+        }
+        if (i && (f->shard_count != f0->shard_count || f->total_cell_count != f0->total_cell_count ||
+                  f->object_count != f0->object_count || f->method != f0->method || f->eps != f0->eps ||
+                  f->up_axis != f0->up_axis || f->flags != f0->flags || f->max_chain != f0->max_chain || f->vocc_flags != f0->vocc_flags ||
+                  f->vocc_base != f0->vocc_base || f->vocc_height_step != f0->vocc_height_step)) {
+            tool_error_set(err, paths[i], 0, "does not belong to the bake of %s (shard count, cells, objects, method, eps, "
+                                             "up axis, flags, chain bound or virtual occluders differ)", paths[0]);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* by_shard[k] = the part holding shard k of n: each once. 0, or -1 with err set. */
+static int cli__order_parts(const char *const *paths, int count, const pvs_file *files, uint32_t n, int *by_shard, tool_error *err) {
+    uint32_t c;
+    int i;
+    for (c = 0; c < n; ++c) by_shard[c] = -1;
+    for (i = 0; i < count; ++i) {
+        uint32_t k = files[i].shard_index;
+        if (by_shard[k] >= 0) {
+            tool_error_set(err, paths[i], 0, "shard %u/%u is also in %s", k + 1, n, paths[by_shard[k]]);
+            return -1;
+        }
+        by_shard[k] = i;
+    }
+    for (c = 0; c < n; ++c)
+        if (by_shard[c] < 0) {
+            tool_error_set(err, paths[0], 0, "shard %u/%u is missing", c + 1, n);
+            return -1;
+        }
+    return 0;
+}
+
 int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out_size, tool_error *err) {
     void **data = (void **)calloc((size_t)count, sizeof(void *));
     pvs_file *files = (pvs_file *)calloc((size_t)count, sizeof(pvs_file));
@@ -426,45 +488,12 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     *out = NULL;
     *out_size = 0;
     if (!data || !files) { tool_error_set(err, NULL, 0, "out of memory"); goto done; }
-    for (i = 0; i < count; ++i) {
-        size_t size;
-        const pvs_file *f = files + i, *f0 = files;
-        if (read_file(paths[i], &data[i], &size, err)) goto done;
-        if (pvs_file_open(data[i], size, files + i, &pe) != PVS_OK) {
-            tool_error_set(err, paths[i], 0, "%s (byte %llu)", pe.message, (unsigned long long)pe.offset);
-            goto done;
-        }
-        if (f->shard_count < 2 && count > 1) {
-            tool_error_set(err, paths[i], 0, "not a part file (bake it with --shard K/N)");
-            goto done;
-        }
-        if (i && (f->shard_count != f0->shard_count || f->total_cell_count != f0->total_cell_count ||
-                  f->object_count != f0->object_count || f->method != f0->method || f->eps != f0->eps ||
-                  f->up_axis != f0->up_axis || f->flags != f0->flags || f->max_chain != f0->max_chain || f->vocc_flags != f0->vocc_flags ||
-                  f->vocc_base != f0->vocc_base || f->vocc_height_step != f0->vocc_height_step)) {
-            tool_error_set(err, paths[i], 0, "does not belong to the bake of %s (shard count, cells, objects, method, eps, "
-                                             "up axis, flags, chain bound or virtual occluders differ)", paths[0]);
-            goto done;
-        }
-    }
+    if (cli__open_parts(paths, count, data, files, err)) goto done;
     n = files[0].shard_count ? files[0].shard_count : 1; /* one whole file merges into itself */
     total = files[0].shard_count ? files[0].total_cell_count : files[0].cell_count;
     by_shard = (int *)malloc(n * sizeof(int));
     if (!by_shard) { tool_error_set(err, NULL, 0, "out of memory"); goto done; }
-    for (c = 0; c < n; ++c) by_shard[c] = -1;
-    for (i = 0; i < count; ++i) {
-        uint32_t k = files[i].shard_index;
-        if (by_shard[k] >= 0) {
-            tool_error_set(err, paths[i], 0, "shard %u/%u is also in %s", k + 1, n, paths[by_shard[k]]);
-            goto done;
-        }
-        by_shard[k] = i;
-    }
-    for (c = 0; c < n; ++c)
-        if (by_shard[c] < 0) {
-            tool_error_set(err, paths[0], 0, "shard %u/%u is missing", c + 1, n);
-            goto done;
-        }
+    if (cli__order_parts(paths, count, files, n, by_shard, err)) goto done;
     words = (uint32_t)PVS_BITSET_WORDS(files[0].object_count);
     boxes = (pvs_box *)malloc((size_t)total * sizeof(pvs_box));
     table = (pvs_word *)malloc((size_t)total * words * sizeof(pvs_word));

@@ -44,6 +44,12 @@ int cli_load_scene(const char *path, uint32_t up_axis, mesh *m, pvs_scene **scen
 /* The same with the scene's allocations through `memory` (a limit), which also counts the mesh. */
 int cli_load_scene_limited(const char *path, uint32_t up_axis, mesh *m, cli_memory *memory, pvs_scene **scene, tool_error *err);
 
+/* pvscheck's and pvsview's inputs: reads and opens the .pvs file (*data gets its bytes, which the
+   file uses in place: free() them after it), then loads the OBJ scene with up_axis, or the file's
+   when it is 0. Returns 0, or -1 with err set ("PVS_PATH: reason" for the file). */
+int cli_load_pvs_scene(const char *pvs_path, const char *scene_path, uint32_t up_axis, void **data, pvs_file *file, mesh *m, pvs_scene **scene,
+                       tool_error *err);
+
 /* A 3D grid of cubes of edge `size` covering the scene bounds (at most max_cells cells). */
 int cli_grid_cells(const pvs_scene *scene, float size, uint32_t max_cells, mesh_cells *cells, tool_error *err);
 

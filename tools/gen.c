@@ -721,6 +721,144 @@ static int gen__city_special(gen__city *C, uint32_t ground_objects, gen_info *in
     return c->err ? -1 : 0;
 }
 
+/* Street furniture along block q's sides (street half-widths hw, inward normals nrm, directions od):
+   lamps every 22-34 m, and a kiosk on a side along the avenue (street line ja) now and then. */
+static void gen__block_furniture(gen__city *C, const gen__p2 q[4], const double hw[4], const gen__p2 nrm[4], const gen__p2 od[4], int j, int ja) {
+    gen__rng *r = &C->c->rng;
+    for (int k = 0; k < 4; ++k) {
+        if (hw[k] < 4.5) continue;
+        gen__p2 a = q[k], b = q[(k + 1) % 4], out = {-nrm[k].x, -nrm[k].z};
+        double len = gen__dist(a, b), kiosk_at = -100;
+        int avenue = (k == 2 && j + 1 == ja) || (k == 0 && j == ja);
+        if (avenue && gen__chance(r, 0.6)) {
+            kiosk_at = gen__rf(r, 0.3, 0.7) * len;
+            gen__p2 kp = {a.x + od[k].x * kiosk_at + out.x * 5.0, a.z + od[k].z * kiosk_at + out.z * 5.0};
+            gen__kiosk(C, kp);
+        }
+        for (double s = gen__rf(r, 3, 12); s < len - 3; s += gen__rf(r, 22, 34)) {
+            if (fabs(s - kiosk_at) < 3) continue;
+            gen__p2 lp = {a.x + od[k].x * s + out.x * 1.8, a.z + od[k].z * s + out.z * 1.8};
+            gen__lamp(C, lp, out);
+        }
+    }
+}
+
+/* The open square in block q: a monument and a few kiosks. */
+static void gen__city_square(gen__city *C, const gen__p2 q[4]) {
+    gen__ctx *c = C->c;
+    gen__rng *r = &c->rng;
+    gen__p2 m = gen__bilerp(q, 0.5, 0.5);
+    gen__obj(c, "monument_0");
+    gen__aabox(c, m.x - 2.5, 0, m.z - 2.5, m.x + 2.5, 1.5, m.z + 2.5);
+    gen__aabox(c, m.x - 0.6, 1.5, m.z - 0.6, m.x + 0.6, 10.5, m.z + 0.6);
+    gen__aabox(c, m.x - 1.0, 10.5, m.z - 1.0, m.x + 1.0, 13.0, m.z + 1.0);
+    if (gen__add_obst(C, m.x - 2.5, m.z - 2.5, m.x + 2.5, m.z + 2.5)) c->err = 1;
+    gen__p2 placed[8];
+    int nk = 0, want = 3 + (int)gen__ri(r, 3);
+    for (int tries = 0; tries < 60 && nk < want; ++tries) {
+        double ku = gen__rf(r, 0.12, 0.88), kv = gen__rf(r, 0.12, 0.88); /* one draw per statement: */
+        gen__p2 kp = gen__bilerp(q, ku, kv); /* argument order is unspecified in C */
+        int ok = fabs(kp.x - m.x) > 6 || fabs(kp.z - m.z) > 6;
+        for (int t = 0; t < nk && ok; ++t)
+            if (fabs(kp.x - placed[t].x) < 6 && fabs(kp.z - placed[t].z) < 6) ok = 0;
+        if (!ok) continue;
+        placed[nk++] = kp;
+        gen__kiosk(C, kp);
+    }
+}
+
+/* Block q's buildings (the block Wb x Db metres): now and then a Vienna perimeter block, else a grid
+   of up to 3 x 2 lots, some left empty (yards). 0, or -1 when out of memory. */
+static int gen__block_lots(gen__city *C, const gen__p2 q[4], double Wb, double Db) {
+    gen__rng *r = &C->c->rng;
+    double base = gen__rf(r, 12, 28);
+#define GEN__H() gen__clamp(gen__chance(r, 0.05) ? gen__rf(r, 30, 40) : base + gen__rf(r, -6, 8), 8, 40)
+    if (Wb >= 45 && Db >= 45 && gen__chance(r, 0.18)) /* Vienna perimeter block */
+        return gen__lot(C, q, 0, 0, 1, 1, Wb, Db, GEN__H(), 1) ? -1 : 0;
+    int nu = Wb > 62 ? 3 : Wb > 34 ? 2 : 1, nv = Db > 40 ? 2 : 1;
+    if (nu > 2 && gen__chance(r, 0.25)) --nu;
+    double us[4], vs[3];
+    us[0] = 0; us[nu] = 1;
+    vs[0] = 0; vs[nv] = 1;
+    for (int k = 1; k < nu; ++k) us[k] = (k + gen__rf(r, -0.2, 0.2)) / nu;
+    for (int k = 1; k < nv; ++k) vs[k] = (k + gen__rf(r, -0.15, 0.15)) / nv;
+    for (int lv = 0; lv < nv; ++lv)
+        for (int lu = 0; lu < nu; ++lu) {
+            if (nu * nv >= 3 && gen__chance(r, 0.06)) continue; /* an empty lot: a yard */
+            double g[4];                           /* inset in metres: setback at streets, gap inside */
+            g[0] = lu == 0 ? gen__rf(r, 0, 2) : (gen__chance(r, 0.4) ? 0.0 : gen__rf(r, 1, 2.5));
+            g[1] = lu == nu - 1 ? gen__rf(r, 0, 2) : (gen__chance(r, 0.4) ? 0.0 : gen__rf(r, 1, 2.5));
+            g[2] = lv == 0 ? gen__rf(r, 0, 2) : (gen__chance(r, 0.4) ? 0.0 : gen__rf(r, 1, 2.5));
+            g[3] = lv == nv - 1 ? gen__rf(r, 0, 2) : (gen__chance(r, 0.4) ? 0.0 : gen__rf(r, 1, 2.5));
+            double u0 = us[lu] + g[0] / Wb, u1 = us[lu + 1] - g[1] / Wb, v0 = vs[lv] + g[2] / Db, v1 = vs[lv + 1] - g[3] / Db;
+            if (u1 - u0 < 0.05 || v1 - v0 < 0.05) continue;
+            if (gen__lot(C, q, u0, v0, u1, v1, (u1 - u0) * Wb, (v1 - v0) * Db, GEN__H(), 0)) return -1;
+        }
+#undef GEN__H
+    return 0;
+}
+
+/* Block (i, j) between the jittered street crossings Pt ((nb + 1)^2 of them) and street widths wx, wz:
+   its outline inset by half the streets, the furniture along it, then the square (square != 0) or
+   the buildings. 0, or -1 when out of memory. */
+static int gen__city_block(gen__city *C, const gen__p2 *Pt, int nb, const double *wx, const double *wz, int i, int j, int ja, int square) {
+    gen__p2 A = Pt[(size_t)j * (nb + 1) + i], B = Pt[(size_t)j * (nb + 1) + i + 1];
+    gen__p2 Cc = Pt[(size_t)(j + 1) * (nb + 1) + i + 1], D = Pt[(size_t)(j + 1) * (nb + 1) + i];
+    gen__p2 cor[4] = {A, B, Cc, D};
+    double hw[4] = {wz[j] / 2, wx[i + 1] / 2, wz[j + 1] / 2, wx[i] / 2};
+    gen__p2 cen = {(A.x + B.x + Cc.x + D.x) / 4, (A.z + B.z + Cc.z + D.z) / 4}, op[4], od[4], q[4], nrm[4];
+    for (int k = 0; k < 4; ++k) {
+        gen__p2 a = cor[k], b = cor[(k + 1) % 4];
+        double len = gen__dist(a, b);
+        gen__p2 d = {(b.x - a.x) / len, (b.z - a.z) / len}, n = {-d.z, d.x};
+        if ((cen.x - a.x) * n.x + (cen.z - a.z) * n.z < 0) { n.x = -n.x; n.z = -n.z; }
+        nrm[k] = n;
+        od[k] = d;
+        op[k].x = a.x + n.x * hw[k];
+        op[k].z = a.z + n.z * hw[k];
+    }
+    for (int k = 0; k < 4; ++k) q[k] = gen__isect(op[(k + 3) % 4], od[(k + 3) % 4], op[k], od[k]);
+    double Wb = 0.5 * (gen__dist(q[0], q[1]) + gen__dist(q[3], q[2]));
+    double Db = 0.5 * (gen__dist(q[0], q[3]) + gen__dist(q[1], q[2]));
+    gen__block_furniture(C, q, hw, nrm, od, j, ja);
+    if (square) {
+        gen__city_square(C, q);
+        return 0;
+    }
+    if (gen__grow((void **)&C->quad, &C->capquad, 4 * (C->nquad + 1), sizeof(gen__p2))) return -1;
+    memcpy(C->quad + 4 * C->nquad++, q, sizeof q);
+    return gen__block_lots(C, q, Wb, Db);
+}
+
+/* The city's view cells: 24 m tiles over the free street area out to the ring road's outer edge
+   (split near buildings, merged along streets), thinned to max_cells, then the special cells. 0, or
+   -1 when out of memory. */
+static int gen__city_cells(gen__city *C, const gen_params *P, const gen__p2 *Pt, int nb, const double *wx, const double *wz, uint32_t ground,
+                           gen_info *info) {
+    gen__ctx *c = C->c;
+    double rx0 = 1e30, rz0 = 1e30, rx1 = -1e30, rz1 = -1e30;
+    for (int k = 0; k <= nb; ++k) {
+        rx0 = gen__min(rx0, Pt[(size_t)k * (nb + 1)].x - wx[0] / 2);
+        rx1 = gen__max(rx1, Pt[(size_t)k * (nb + 1) + nb].x + wx[nb] / 2);
+        rz0 = gen__min(rz0, Pt[k].z - wz[0] / 2);
+        rz1 = gen__max(rz1, Pt[(size_t)nb * (nb + 1) + k].z + wz[nb] / 2);
+    }
+    const double TC = 24.0;
+    if (gen__city_grid(C, rx0, rz0, rx1, rz1)) return -1;
+    for (double z = rz0; z < rz1 - 1e-9; z += TC)
+        for (double x = rx0; x < rx1 - 1e-9; x += TC) {
+            gen__r2 R = {x, z, gen__min(x + TC, rx1), gen__min(z + TC, rz1)};
+            gen__city_tile(C, R, 0);
+        }
+    gen__merge_cells(c->cells, TC + 1e-3);
+    if (c->err) return -1;
+    int special = P->max_cells == 0 || P->max_cells >= 16;
+    if (P->max_cells) gen__thin_cells(c->cells, 0, special ? P->max_cells - 4 : P->max_cells);
+    info->regular_count = info->touching_first = info->inside_first = c->cells->count;
+    if (special && gen__city_special(C, ground, info)) return -1;
+    return c->err ? -1 : 0;
+}
+
 static int gen__city_scene(gen__ctx *c, const gen_params *P, gen_info *info) {
     gen__rng *r = &c->rng;
     gen__city C;
@@ -761,118 +899,11 @@ static int gen__city_scene(gen__ctx *c, const gen_params *P, gen_info *info) {
             gen__hquad(c, ex0 + i * T, ez0 + j * T, ex0 + (i + 1) * T, ez0 + (j + 1) * T, 0, 0);
         }
     uint32_t ground = c->m->object_count;
-    /* blocks */
     for (int j = 0; j < nb && !c->err; ++j)
-        for (int i = 0; i < nb && !c->err; ++i) {
-            gen__p2 A = Pt[(size_t)j * (nb + 1) + i], B = Pt[(size_t)j * (nb + 1) + i + 1];
-            gen__p2 Cc = Pt[(size_t)(j + 1) * (nb + 1) + i + 1], D = Pt[(size_t)(j + 1) * (nb + 1) + i];
-            gen__p2 cor[4] = {A, B, Cc, D};
-            double hw[4] = {wz[j] / 2, wx[i + 1] / 2, wz[j + 1] / 2, wx[i] / 2};
-            gen__p2 cen = {(A.x + B.x + Cc.x + D.x) / 4, (A.z + B.z + Cc.z + D.z) / 4}, op[4], od[4], q[4], nrm[4];
-            for (int k = 0; k < 4; ++k) {
-                gen__p2 a = cor[k], b = cor[(k + 1) % 4];
-                double len = gen__dist(a, b);
-                gen__p2 d = {(b.x - a.x) / len, (b.z - a.z) / len}, n = {-d.z, d.x};
-                if ((cen.x - a.x) * n.x + (cen.z - a.z) * n.z < 0) { n.x = -n.x; n.z = -n.z; }
-                nrm[k] = n;
-                od[k] = d;
-                op[k].x = a.x + n.x * hw[k];
-                op[k].z = a.z + n.z * hw[k];
-            }
-            for (int k = 0; k < 4; ++k) q[k] = gen__isect(op[(k + 3) % 4], od[(k + 3) % 4], op[k], od[k]);
-            double Wb = 0.5 * (gen__dist(q[0], q[1]) + gen__dist(q[3], q[2]));
-            double Db = 0.5 * (gen__dist(q[0], q[3]) + gen__dist(q[1], q[2]));
-            /* street furniture along the block's sides */
-            for (int k = 0; k < 4; ++k) {
-                if (hw[k] < 4.5) continue;
-                gen__p2 a = q[k], b = q[(k + 1) % 4], out = {-nrm[k].x, -nrm[k].z};
-                double len = gen__dist(a, b), kiosk_at = -100;
-                int avenue = (k == 2 && j + 1 == ja) || (k == 0 && j == ja);
-                if (avenue && gen__chance(r, 0.6)) {
-                    kiosk_at = gen__rf(r, 0.3, 0.7) * len;
-                    gen__p2 kp = {a.x + od[k].x * kiosk_at + out.x * 5.0, a.z + od[k].z * kiosk_at + out.z * 5.0};
-                    gen__kiosk(&C, kp);
-                }
-                for (double s = gen__rf(r, 3, 12); s < len - 3; s += gen__rf(r, 22, 34)) {
-                    if (fabs(s - kiosk_at) < 3) continue;
-                    gen__p2 lp = {a.x + od[k].x * s + out.x * 1.8, a.z + od[k].z * s + out.z * 1.8};
-                    gen__lamp(&C, lp, out);
-                }
-            }
-            if (i == si && j == sj) { /* the open square: a monument and a few kiosks */
-                gen__p2 m = gen__bilerp(q, 0.5, 0.5);
-                gen__obj(c, "monument_0");
-                gen__aabox(c, m.x - 2.5, 0, m.z - 2.5, m.x + 2.5, 1.5, m.z + 2.5);
-                gen__aabox(c, m.x - 0.6, 1.5, m.z - 0.6, m.x + 0.6, 10.5, m.z + 0.6);
-                gen__aabox(c, m.x - 1.0, 10.5, m.z - 1.0, m.x + 1.0, 13.0, m.z + 1.0);
-                if (gen__add_obst(&C, m.x - 2.5, m.z - 2.5, m.x + 2.5, m.z + 2.5)) c->err = 1;
-                gen__p2 placed[8];
-                int nk = 0, want = 3 + (int)gen__ri(r, 3);
-                for (int tries = 0; tries < 60 && nk < want; ++tries) {
-                    double ku = gen__rf(r, 0.12, 0.88), kv = gen__rf(r, 0.12, 0.88); /* one draw per statement: */
-                    gen__p2 kp = gen__bilerp(q, ku, kv); /* argument order is unspecified in C */
-                    int ok = fabs(kp.x - m.x) > 6 || fabs(kp.z - m.z) > 6;
-                    for (int t = 0; t < nk && ok; ++t)
-                        if (fabs(kp.x - placed[t].x) < 6 && fabs(kp.z - placed[t].z) < 6) ok = 0;
-                    if (!ok) continue;
-                    placed[nk++] = kp;
-                    gen__kiosk(&C, kp);
-                }
-                continue;
-            }
-            if (gen__grow((void **)&C.quad, &C.capquad, 4 * (C.nquad + 1), sizeof(gen__p2))) goto done;
-            memcpy(C.quad + 4 * C.nquad++, q, sizeof q);
-            double base = gen__rf(r, 12, 28);
-#define GEN__H() gen__clamp(gen__chance(r, 0.05) ? gen__rf(r, 30, 40) : base + gen__rf(r, -6, 8), 8, 40)
-            if (Wb >= 45 && Db >= 45 && gen__chance(r, 0.18)) { /* Vienna perimeter block */
-                if (gen__lot(&C, q, 0, 0, 1, 1, Wb, Db, GEN__H(), 1)) goto done;
-                continue;
-            }
-            int nu = Wb > 62 ? 3 : Wb > 34 ? 2 : 1, nv = Db > 40 ? 2 : 1;
-            if (nu > 2 && gen__chance(r, 0.25)) --nu;
-            double us[4], vs[3];
-            us[0] = 0; us[nu] = 1;
-            vs[0] = 0; vs[nv] = 1;
-            for (int k = 1; k < nu; ++k) us[k] = (k + gen__rf(r, -0.2, 0.2)) / nu;
-            for (int k = 1; k < nv; ++k) vs[k] = (k + gen__rf(r, -0.15, 0.15)) / nv;
-            for (int lv = 0; lv < nv; ++lv)
-                for (int lu = 0; lu < nu; ++lu) {
-                    if (nu * nv >= 3 && gen__chance(r, 0.06)) continue; /* an empty lot: a yard */
-                    double g[4];                           /* inset in metres: setback at streets, gap inside */
-                    g[0] = lu == 0 ? gen__rf(r, 0, 2) : (gen__chance(r, 0.4) ? 0.0 : gen__rf(r, 1, 2.5));
-                    g[1] = lu == nu - 1 ? gen__rf(r, 0, 2) : (gen__chance(r, 0.4) ? 0.0 : gen__rf(r, 1, 2.5));
-                    g[2] = lv == 0 ? gen__rf(r, 0, 2) : (gen__chance(r, 0.4) ? 0.0 : gen__rf(r, 1, 2.5));
-                    g[3] = lv == nv - 1 ? gen__rf(r, 0, 2) : (gen__chance(r, 0.4) ? 0.0 : gen__rf(r, 1, 2.5));
-                    double u0 = us[lu] + g[0] / Wb, u1 = us[lu + 1] - g[1] / Wb, v0 = vs[lv] + g[2] / Db, v1 = vs[lv + 1] - g[3] / Db;
-                    if (u1 - u0 < 0.05 || v1 - v0 < 0.05) continue;
-                    if (gen__lot(&C, q, u0, v0, u1, v1, (u1 - u0) * Wb, (v1 - v0) * Db, GEN__H(), 0)) goto done;
-                }
-#undef GEN__H
-        }
+        for (int i = 0; i < nb && !c->err; ++i)
+            if (gen__city_block(&C, Pt, nb, wx, wz, i, j, ja, i == si && j == sj)) goto done;
     if (c->err) goto done;
-    /* view cells: 20 m tiles over the free street area (out to the ring road's outer edge), split
-       to 10 m tiles and 10 x 5 m strips near buildings */
-    double rx0 = 1e30, rz0 = 1e30, rx1 = -1e30, rz1 = -1e30;
-    for (int k = 0; k <= nb; ++k) {
-        rx0 = gen__min(rx0, Pt[(size_t)k * (nb + 1)].x - wx[0] / 2);
-        rx1 = gen__max(rx1, Pt[(size_t)k * (nb + 1) + nb].x + wx[nb] / 2);
-        rz0 = gen__min(rz0, Pt[k].z - wz[0] / 2);
-        rz1 = gen__max(rz1, Pt[(size_t)nb * (nb + 1) + k].z + wz[nb] / 2);
-    }
-    const double TC = 24.0;
-    if (gen__city_grid(&C, rx0, rz0, rx1, rz1)) goto done;
-    for (double z = rz0; z < rz1 - 1e-9; z += TC)
-        for (double x = rx0; x < rx1 - 1e-9; x += TC) {
-            gen__r2 R = {x, z, gen__min(x + TC, rx1), gen__min(z + TC, rz1)};
-            gen__city_tile(&C, R, 0);
-        }
-    gen__merge_cells(c->cells, TC + 1e-3);
-    if (c->err) goto done;
-    int special = P->max_cells == 0 || P->max_cells >= 16;
-    if (P->max_cells) gen__thin_cells(c->cells, 0, special ? P->max_cells - 4 : P->max_cells);
-    info->regular_count = info->touching_first = info->inside_first = c->cells->count;
-    if (special && gen__city_special(&C, ground, info)) goto done;
-    ret = c->err ? -1 : 0;
+    ret = gen__city_cells(&C, P, Pt, nb, wx, wz, ground, info);
 done:
     free(X);
     free(Pt);
@@ -1303,6 +1334,92 @@ static void gen__tile_space(gen__indoor *I, gen__r2 R, double target) {
         }
 }
 
+/* The doors of the rooms in the strips (sz: each strip's z range, cz: each band's corridor, first_room:
+   each strip's first room, cw: the west corridor's width): one or two into the band's corridor, now
+   and then one to the next room, through the wall between bands and from the west corridor. 0, or
+   -1 when out of memory. */
+static int gen__indoor_doors(gen__indoor *I, const double *sz, const double *cz, const size_t *first_room, int nstrips, double cw) {
+    gen__rng *r = &I->c->rng;
+    const double t = gen__T;
+    for (int s = 0; s < nstrips; ++s) {
+        int south = (s & 1) == 0; /* strip south of its band corridor: the corridor wall is its north side */
+        double wf0 = south ? sz[2 * s + 1] : cz[2 * (s / 2) + 1], wf1 = wf0 + t;
+        for (size_t k = first_room[s]; k < first_room[s + 1]; ++k) {
+            gen__r2 R = I->rm[k].r;
+            if (I->rm[k].kind == 2) {
+                double third = (R.x1 - R.x0) / 3;
+                double a0 = gen__rf(r, R.x0 + 0.5, R.x0 + third - 1.0), a1 = gen__rf(r, R.x0 + 2 * third, R.x1 - 1.5);
+                if (gen__add_door(I, 0, wf0, wf1, a0, a0 + 1.0) || gen__add_door(I, 0, wf0, wf1, a1, a1 + 1.0)) return -1;
+            } else {
+                double a = gen__rf(r, R.x0 + 0.3, R.x1 - 1.3);
+                if (gen__add_door(I, 0, wf0, wf1, a, a + 1.0)) return -1;
+            }
+            if (k + 1 < first_room[s + 1] && gen__chance(r, 0.35)) { /* to the next room in the strip */
+                double a = gen__rf(r, R.z0 + 0.3, R.z1 - 1.3);
+                if (gen__add_door(I, 1, R.x1, R.x1 + t, a, a + 1.0)) return -1;
+            }
+            if (!south && s + 1 < nstrips && gen__chance(r, 0.3)) { /* through the wall between bands */
+                for (int tries = 0; tries < 4; ++tries) {
+                    double a = gen__rf(r, R.x0 + 0.3, R.x1 - 1.3);
+                    int ok = 0;
+                    for (size_t q = first_room[s + 1]; q < first_room[s + 2]; ++q)
+                        if (a >= I->rm[q].r.x0 + 0.3 && a + 1.0 <= I->rm[q].r.x1 - 0.3) ok = 1;
+                    if (!ok) continue;
+                    if (gen__add_door(I, 0, R.z1, R.z1 + t, a, a + 1.0)) return -1;
+                    break;
+                }
+            }
+        }
+        if (gen__chance(r, 0.6)) { /* from the west corridor into the first room */
+            double a = gen__rf(r, sz[2 * s] + 0.3, sz[2 * s + 1] - 1.3);
+            if (gen__add_door(I, 1, cw, cw + t, a, a + 1.0)) return -1;
+        }
+    }
+    return 0;
+}
+
+/* The walls: the outline (W x D), along the corridors and between bands, the west corridor's and
+   the rooms' dividers. */
+static void gen__indoor_walls(gen__indoor *I, const double *sz, const double *cz, const size_t *first_room, int nbands, double W, double D,
+                              double cw) {
+    const double t = gen__T;
+    int nstrips = 2 * nbands;
+    gen__wall_line(I, 0, -t, 0, -t, W + t);
+    gen__wall_line(I, 0, D, D + t, -t, W + t);
+    gen__wall_line(I, 1, -t, 0, 0, D);
+    gen__wall_line(I, 1, W, W + t, 0, D);
+    for (int b = 0; b < nbands; ++b) {
+        gen__wall_line(I, 0, sz[4 * b + 1], sz[4 * b + 1] + t, cw, W);
+        gen__wall_line(I, 0, cz[2 * b + 1], cz[2 * b + 1] + t, cw, W);
+        if (b + 1 < nbands) gen__wall_line(I, 0, sz[4 * b + 3], sz[4 * b + 3] + t, cw, W);
+    }
+    for (int s = 0; s < nstrips; ++s) {
+        gen__wall_line(I, 1, cw, cw + t, sz[2 * s], sz[2 * s + 1]);
+        for (size_t k = first_room[s]; k + 1 < first_room[s + 1]; ++k)
+            gen__wall_line(I, 1, I->rm[k].r.x1, I->rm[k].r.x1 + t, sz[2 * s], sz[2 * s + 1]);
+    }
+}
+
+/* The columns of the hall (kind 2) and the furniture of the other rooms [0, nrooms). 0, or -1 when
+   out of memory. */
+static int gen__indoor_furnish(gen__indoor *I, size_t nrooms) {
+    gen__ctx *c = I->c;
+    for (size_t k = 0; k < nrooms && !c->err; ++k) {
+        gen__room *rm = &I->rm[k];
+        if (rm->kind == 2) {
+            for (double zc = rm->r.z0 + 2.0; zc <= rm->r.z1 - 2.0 + 1e-9; zc += 4.0)
+                for (double xc = rm->r.x0 + 2.5; xc <= rm->r.x1 - 2.5 + 1e-9; xc += 4.0) {
+                    gen__obj(c, "column_%u", I->n_column++);
+                    gen__aabox(c, xc - 0.25, 0, zc - 0.25, xc + 0.25, gen__H, zc + 0.25);
+                    gen__r2 F = {xc - 0.25, zc - 0.25, xc + 0.25, zc + 0.25};
+                    if (gen__grow((void **)&I->furn, &I->capf, I->nf + 1, sizeof(gen__r2))) return -1;
+                    I->furn[I->nf++] = F;
+                }
+        } else gen__furniture(I, rm);
+    }
+    return 0;
+}
+
 static int gen__indoor_scene(gen__ctx *c, const gen_params *P) {
     gen__rng *r = &c->rng;
     gen__indoor I;
@@ -1346,75 +1463,14 @@ static int gen__indoor_scene(gen__ctx *c, const gen_params *P) {
         }
     }
     first_room[nstrips] = I.nr;
-    /* doors */
-    for (int s = 0; s < nstrips; ++s) {
-        int south = (s & 1) == 0; /* strip south of its band corridor: the corridor wall is its north side */
-        double wf0 = south ? sz[2 * s + 1] : cz[2 * (s / 2) + 1], wf1 = wf0 + t;
-        for (size_t k = first_room[s]; k < first_room[s + 1]; ++k) {
-            gen__r2 R = I.rm[k].r;
-            if (I.rm[k].kind == 2) {
-                double third = (R.x1 - R.x0) / 3;
-                double a0 = gen__rf(r, R.x0 + 0.5, R.x0 + third - 1.0), a1 = gen__rf(r, R.x0 + 2 * third, R.x1 - 1.5);
-                if (gen__add_door(&I, 0, wf0, wf1, a0, a0 + 1.0) || gen__add_door(&I, 0, wf0, wf1, a1, a1 + 1.0)) goto done;
-            } else {
-                double a = gen__rf(r, R.x0 + 0.3, R.x1 - 1.3);
-                if (gen__add_door(&I, 0, wf0, wf1, a, a + 1.0)) goto done;
-            }
-            if (k + 1 < first_room[s + 1] && gen__chance(r, 0.35)) { /* to the next room in the strip */
-                double a = gen__rf(r, R.z0 + 0.3, R.z1 - 1.3);
-                if (gen__add_door(&I, 1, R.x1, R.x1 + t, a, a + 1.0)) goto done;
-            }
-            if (!south && s + 1 < nstrips && gen__chance(r, 0.3)) { /* through the wall between bands */
-                for (int tries = 0; tries < 4; ++tries) {
-                    double a = gen__rf(r, R.x0 + 0.3, R.x1 - 1.3);
-                    int ok = 0;
-                    for (size_t q = first_room[s + 1]; q < first_room[s + 2]; ++q)
-                        if (a >= I.rm[q].r.x0 + 0.3 && a + 1.0 <= I.rm[q].r.x1 - 0.3) ok = 1;
-                    if (!ok) continue;
-                    if (gen__add_door(&I, 0, R.z1, R.z1 + t, a, a + 1.0)) goto done;
-                    break;
-                }
-            }
-        }
-        if (gen__chance(r, 0.6)) { /* from the west corridor into the first room */
-            double a = gen__rf(r, sz[2 * s] + 0.3, sz[2 * s + 1] - 1.3);
-            if (gen__add_door(&I, 1, cw, cw + t, a, a + 1.0)) goto done;
-        }
-    }
-    /* walls */
-    gen__wall_line(&I, 0, -t, 0, -t, W + t);
-    gen__wall_line(&I, 0, D, D + t, -t, W + t);
-    gen__wall_line(&I, 1, -t, 0, 0, D);
-    gen__wall_line(&I, 1, W, W + t, 0, D);
-    for (int b = 0; b < nbands; ++b) {
-        gen__wall_line(&I, 0, sz[4 * b + 1], sz[4 * b + 1] + t, cw, W);
-        gen__wall_line(&I, 0, cz[2 * b + 1], cz[2 * b + 1] + t, cw, W);
-        if (b + 1 < nbands) gen__wall_line(&I, 0, sz[4 * b + 3], sz[4 * b + 3] + t, cw, W);
-    }
-    for (int s = 0; s < nstrips; ++s) {
-        gen__wall_line(&I, 1, cw, cw + t, sz[2 * s], sz[2 * s + 1]);
-        for (size_t k = first_room[s]; k + 1 < first_room[s + 1]; ++k)
-            gen__wall_line(&I, 1, I.rm[k].r.x1, I.rm[k].r.x1 + t, sz[2 * s], sz[2 * s + 1]);
-    }
+    if (gen__indoor_doors(&I, sz, cz, first_room, nstrips, cw)) goto done;
+    gen__indoor_walls(&I, sz, cz, first_room, nbands, W, D, cw);
     /* corridors as spaces */
     size_t nrooms = I.nr;
     if (gen__add_room(&I, 0, 0, cw, D, 1)) goto done;
     for (int b = 0; b < nbands; ++b)
         if (gen__add_room(&I, cw, cz[2 * b], W, cz[2 * b + 1], 1)) goto done;
-    /* columns and furniture */
-    for (size_t k = 0; k < nrooms && !c->err; ++k) {
-        gen__room *rm = &I.rm[k];
-        if (rm->kind == 2) {
-            for (double zc = rm->r.z0 + 2.0; zc <= rm->r.z1 - 2.0 + 1e-9; zc += 4.0)
-                for (double xc = rm->r.x0 + 2.5; xc <= rm->r.x1 - 2.5 + 1e-9; xc += 4.0) {
-                    gen__obj(c, "column_%u", I.n_column++);
-                    gen__aabox(c, xc - 0.25, 0, zc - 0.25, xc + 0.25, gen__H, zc + 0.25);
-                    gen__r2 F = {xc - 0.25, zc - 0.25, xc + 0.25, zc + 0.25};
-                    if (gen__grow((void **)&I.furn, &I.capf, I.nf + 1, sizeof(gen__r2))) goto done;
-                    I.furn[I.nf++] = F;
-                }
-        } else gen__furniture(&I, rm);
-    }
+    if (gen__indoor_furnish(&I, nrooms)) goto done;
     /* floor and ceiling tiles */
     {
         const double T = 4.0;
@@ -1449,20 +1505,10 @@ done:
 /* ------------------------------------------------------------------------------------------------
    Walls: a maze of zero-thickness quads */
 
-static int gen__walls(gen__ctx *c, const gen_params *P) {
-    gen__rng *r = &c->rng;
-    int M = gen__iround(24.0 * P->size);
-    if (M < 2) M = 2;
-    const double S = 4.0;
-    size_t nh = (size_t)(M + 1) * M, ncell = (size_t)M * M;
-    /* hw[j*M+i]: wall on z = j*S between x = i*S and (i+1)*S; vw[j*(M+1)+i]: wall on x = i*S, z in [j*S, (j+1)*S] */
-    unsigned char *hw = (unsigned char *)malloc(nh * 2 + ncell);
-    uint32_t *stack = (uint32_t *)malloc(sizeof(uint32_t) * ncell);
-    if (!hw || !stack) { free(hw); free(stack); return -1; }
-    unsigned char *vw = hw + nh, *seen = vw + nh;
-    memset(hw, 1, nh * 2);
-    memset(seen, 0, ncell);
-    /* perfect maze by randomized depth-first search */
+/* The maze: every wall segment standing at first (hw[j * M + i] on z = j * S between x = i * S and
+   (i + 1) * S, vw[j * (M + 1) + i] on x = i * S); a perfect maze by randomized depth-first search
+   from square 0 (seen and stack hold M * M), then a tenth of the inner walls opened (loops). */
+static void gen__walls_maze(gen__rng *r, int M, unsigned char *hw, unsigned char *vw, unsigned char *seen, uint32_t *stack) {
     size_t sp = 0;
     stack[sp++] = 0;
     seen[0] = 1;
@@ -1489,8 +1535,13 @@ static int gen__walls(gen__ctx *c, const gen_params *P) {
     for (int j = 0; j < M; ++j)
         for (int i = 1; i < M; ++i)
             if (gen__chance(r, 0.1)) vw[(size_t)j * (M + 1) + i] = 0;
-    uint32_t nwall = 0, npanel = 0, nbox = 0, npyr = 0;
-    /* runs of up to 4 segments, one quad each */
+}
+
+/* The walls left standing as runs of up to 4 segments, one quad each (wall_N): 8% low (seen over),
+   8% raised (seen under). */
+static void gen__walls_quads(gen__ctx *c, int M, double S, const unsigned char *hw, const unsigned char *vw) {
+    gen__rng *r = &c->rng;
+    uint32_t nwall = 0;
     for (int pass = 0; pass < 2; ++pass) {
         int lines = M + 1;
         for (int l = 0; l < lines; ++l) {
@@ -1517,6 +1568,24 @@ static int gen__walls(gen__ctx *c, const gen_params *P) {
             }
         }
     }
+}
+
+static int gen__walls(gen__ctx *c, const gen_params *P) {
+    gen__rng *r = &c->rng;
+    int M = gen__iround(24.0 * P->size);
+    if (M < 2) M = 2;
+    const double S = 4.0;
+    size_t nh = (size_t)(M + 1) * M, ncell = (size_t)M * M;
+    /* hw[j*M+i]: wall on z = j*S between x = i*S and (i+1)*S; vw[j*(M+1)+i]: wall on x = i*S, z in [j*S, (j+1)*S] */
+    unsigned char *hw = (unsigned char *)malloc(nh * 2 + ncell);
+    uint32_t *stack = (uint32_t *)malloc(sizeof(uint32_t) * ncell);
+    if (!hw || !stack) { free(hw); free(stack); return -1; }
+    unsigned char *vw = hw + nh, *seen = vw + nh;
+    memset(hw, 1, nh * 2);
+    memset(seen, 0, ncell);
+    gen__walls_maze(r, M, hw, vw, seen, stack);
+    gen__walls_quads(c, M, S, hw, vw);
+    uint32_t npanel = 0, nbox = 0, npyr = 0;
     /* contents of each square: a free-standing panel, a small object in a corner, or nothing */
     for (int j = 0; j < M && !c->err; ++j)
         for (int i = 0; i < M; ++i) {

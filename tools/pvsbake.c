@@ -72,12 +72,7 @@ static const char *usage =
     "--state-every with --no-state.\n"
     "exit status: 0 success, 1 bad input (message names file and line), 2 usage\n";
 
-static int usage_error(const char *fmt, const char *arg) {
-    fprintf(stderr, "pvsbake: ");
-    fprintf(stderr, fmt, arg);
-    fprintf(stderr, "\n(see pvsbake --help)\n");
-    return 2;
-}
+#define TOOL "pvsbake"
 
 /* Options that only one method reads: given with a --method that does not run it, they are usage
    errors rather than silently ignored. */
@@ -106,11 +101,10 @@ static int check_method_options(uint32_t given, pvs_method method, uint32_t mask
     for (k = 0; k < METHOD_OPTION_COUNT; ++k) {
         pvs_method m = method_options[k].method;
         if (!(given >> k & 1u) || (runs >> m & 1u)) continue;
-        fprintf(stderr, "pvsbake: %s applies only to method %s, which --method %s does not run%s\n(see pvsbake --help)\n",
-                method_options[k].option, pvs_method_name(m), method_arg,
-                m == PVS_METHOD_VOCC && method == PVS_METHOD_AUTO ? " (auto runs vocc only when a list names it, e.g. otree,vocc)"
-                : m == PVS_METHOD_SAMPLE ? " (sample is never part of auto: --method sample)" : "");
-        return 2;
+        return tool_usage_error(TOOL, "%s applies only to method %s, which --method %s does not run%s", method_options[k].option,
+                                pvs_method_name(m), method_arg,
+                                m == PVS_METHOD_VOCC && method == PVS_METHOD_AUTO ? " (auto runs vocc only when a list names it, e.g. otree,vocc)"
+                                : m == PVS_METHOD_SAMPLE ? " (sample is never part of auto: --method sample)" : "");
     }
     return 0;
 }
@@ -122,12 +116,12 @@ static int memory_limit(const char *arg, size_t *limit, const char **source) {
     double mem;
     if (arg) {
         *source = "--memory";
-        if (cli_parse_size(arg, limit)) return usage_error("--memory takes a size in bytes (e.g. 512M or 2G), not '%s'", arg);
+        if (cli_parse_size(arg, limit)) return tool_usage_error(TOOL, "--memory takes a size in bytes (e.g. 512M or 2G), not '%s'", arg);
         return 0;
     }
     if (env && *env) {
         *source = "PVSBAKE_MEMORY";
-        if (cli_parse_size(env, limit)) return usage_error("PVSBAKE_MEMORY takes a size in bytes (e.g. 512M or 2G), not '%s'", env);
+        if (cli_parse_size(env, limit)) return tool_usage_error(TOOL, "PVSBAKE_MEMORY takes a size in bytes (e.g. 512M or 2G), not '%s'", env);
         return 0;
     }
     *source = "90% of this machine's memory";
@@ -147,7 +141,7 @@ static int merge_main(int argc, char **argv) {
     if (!parts) return 1;
     for (i = 2; i < argc; ++i) {
         if (!strcmp(argv[i], "-o")) {
-            if (i + 1 >= argc) { free(parts); return usage_error("%s needs a value", "-o"); }
+            if (i + 1 >= argc) { free(parts); return tool_usage_error(TOOL, "%s needs a value", "-o"); }
             out_path = argv[++i];
         } else if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             fputs(usage, stdout);
@@ -155,14 +149,14 @@ static int merge_main(int argc, char **argv) {
             return 0;
         } else if (argv[i][0] == '-' && argv[i][1]) {
             free(parts);
-            return usage_error("unknown merge option '%s'", argv[i]);
+            return tool_usage_error(TOOL, "unknown merge option '%s'", argv[i]);
         } else {
             parts[n++] = argv[i];
         }
     }
     if (!out_path || !n) {
         free(parts);
-        return usage_error("%s", "merge needs -o OUT.pvs and at least one part file");
+        return tool_usage_error(TOOL, "merge needs -o OUT.pvs and at least one part file");
     }
     if (cli_merge_parts(parts, n, &bytes, &size, &te) == 0 && write_file_atomic(out_path, bytes, size, &te) == 0) {
         fprintf(stderr, "%s: merged %d parts, %zu bytes\n", out_path, n, size);
@@ -344,19 +338,271 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
     free(slow);
 }
 
-static int bake_main(int argc, char **argv) {
-    const char *scene_path = NULL, *out_path = NULL, *cells_path = NULL, *state_path = NULL;
-    float grid = 0.0f, eps = 0.0f, voxel = 0.0f, max_distance = 0.0f;
-    pvs_shrink_mode shrink_mode = PVS_SHRINK_AUTO;
-    uint32_t sweep = 0, adaptive = 0, resolution = 0, otree_budget = 0;
-    float min_cell = 0.0f;
-    uint32_t up = 1, threads = 0, points = 0, rays = 0, seed = 1, chain = 0, shard_k = 0, shard_n = 0, methods = 0, state_every = 0;
-    uint32_t vocc_slices = 0, vocc_max = 0;
-    int quiet = 0, i, preview = 0, no_state = 0, vocc_only = 0, no_sweep = 0, subcells = 0;
-    pvs_method method = PVS_METHOD_AUTO;
-    const char *method_arg = "auto";
-    uint32_t given = 0, state_every_given = 0;
+/* What the command line asks for. */
+typedef struct bake_options {
+    const char *scene_path, *out_path, *cells_path, *state_path, *memory_arg, *method_arg;
+    float grid, eps, voxel, max_distance, min_cell;
+    pvs_shrink_mode shrink_mode;
+    pvs_method method;
+    uint32_t methods, up, threads, points, rays, seed, chain, shard_k, shard_n, state_every;
+    uint32_t sweep, adaptive, resolution, otree_budget, vocc_slices, vocc_max;
+    uint32_t given; /* bits over method_options: the options given */
+    int quiet, preview, no_state, vocc_only, no_sweep, subcells, state_every_given, threads_given;
+} bake_options;
+
+/* One option of value_options with its value v. 0, or 2 after a usage error. */
+static int parse_value(bake_options *o, const char *a, const char *v) {
+    if (!strcmp(a, "-o")) o->out_path = v;
+    else if (!strcmp(a, "--cells")) o->cells_path = v;
+    else if (!strcmp(a, "--state")) o->state_path = v;
+    else if (!strcmp(a, "--memory")) o->memory_arg = v;
+    else if (!strcmp(a, "--grid")) {
+        if (parse_float(v, &o->grid) || !(o->grid > 0.0f)) return tool_usage_error(TOOL, "--grid needs a positive size, not '%s'", v);
+    } else if (!strcmp(a, "--up")) {
+        if (cli_parse_up(v, &o->up)) return tool_usage_error(TOOL, "--up takes y or z, not '%s'", v);
+    } else if (!strcmp(a, "--method")) {
+        if (parse_method(v, &o->method, &o->methods))
+            return tool_usage_error(TOOL, "unknown method '%s' (available: auto, sample, shrink, otree, extproj, vocc, or a list such as "
+                                          "otree,extproj)", v);
+        o->method_arg = v;
+    } else if (!strcmp(a, "--adaptive")) {
+        if (cli_parse_u32(v, 1, 0xffffffffu, &o->adaptive)) return tool_usage_error(TOOL, "--adaptive takes a triangle budget >= 1, not '%s'", v);
+    } else if (!strcmp(a, "--min-cell")) {
+        if (parse_float(v, &o->min_cell) || !(o->min_cell > 0.0f)) return tool_usage_error(TOOL, "--min-cell needs a positive size, not '%s'", v);
+    } else if (!strcmp(a, "--vocc-slices")) {
+        if (cli_parse_u32(v, 1, 16, &o->vocc_slices)) return tool_usage_error(TOOL, "--vocc-slices takes 1..16, not '%s'", v);
+    } else if (!strcmp(a, "--sweep-planes")) {
+        if (cli_parse_u32(v, 1, 256, &o->sweep)) return tool_usage_error(TOOL, "--sweep-planes takes 1..256, not '%s'", v);
+    } else if (!strcmp(a, "--otree-budget")) {
+        if (cli_parse_u32(v, 64, 1u << 24, &o->otree_budget)) return tool_usage_error(TOOL, "--otree-budget takes 64..16777216, not '%s'", v);
+    } else if (!strcmp(a, "--resolution")) {
+        if (cli_parse_u32(v, 16, 4096, &o->resolution)) return tool_usage_error(TOOL, "--resolution takes 16..4096, not '%s'", v);
+    } else if (!strcmp(a, "--vocc-max")) {
+        if (cli_parse_u32(v, 1, 255, &o->vocc_max)) return tool_usage_error(TOOL, "--vocc-max takes 1..255, not '%s'", v);
+    } else if (!strcmp(a, "--voxel")) {
+        if (parse_float(v, &o->voxel) || !(o->voxel > 0.0f)) return tool_usage_error(TOOL, "--voxel needs a positive size, not '%s'", v);
+    } else if (!strcmp(a, "--eps")) {
+        if (parse_float(v, &o->eps) || !(o->eps > 0.0f)) return tool_usage_error(TOOL, "--eps needs a positive number, not '%s'", v);
+    } else if (!strcmp(a, "--max-distance")) {
+        if (parse_float(v, &o->max_distance) || !(o->max_distance > 0.0f))
+            return tool_usage_error(TOOL, "--max-distance needs a positive number, not '%s'", v);
+    } else if (!strcmp(a, "-j")) {
+        if (parse_threads(v, &o->threads)) return tool_usage_error(TOOL, "-j takes a thread count 0..1024, not '%s'", v);
+        o->threads_given = o->threads != 0;
+    } else if (!strcmp(a, "--points")) {
+        if (cli_parse_u32(v, 1, 1u << 20, &o->points)) return tool_usage_error(TOOL, "--points takes 1..1048576, not '%s'", v);
+    } else if (!strcmp(a, "--rays")) {
+        if (cli_parse_u32(v, 1, 1u << 24, &o->rays)) return tool_usage_error(TOOL, "--rays takes 1..16777216, not '%s'", v);
+    } else if (!strcmp(a, "--chain")) {
+        if (cli_parse_u32(v, 1, PVS_MAX_CHAIN, &o->chain)) return tool_usage_error(TOOL, "--chain takes 1..64, not '%s'", v);
+    } else if (!strcmp(a, "--shard")) {
+        if (parse_shard(v, &o->shard_k, &o->shard_n)) return tool_usage_error(TOOL, "--shard takes K/N with 1 <= K <= N, not '%s'", v);
+    } else if (!strcmp(a, "--seed")) {
+        if (cli_parse_u32(v, 0, 0xffffffffu, &o->seed)) return tool_usage_error(TOOL, "--seed takes an unsigned integer, not '%s'", v);
+    } else if (!strcmp(a, "--state-every")) {
+        if (cli_parse_u32(v, 1, 1u << 30, &o->state_every)) return tool_usage_error(TOOL, "--state-every takes a cell count >= 1, not '%s'", v);
+        o->state_every_given = 1;
+    }
+    return 0;
+}
+
+/* The options that go together or not. 0, or 2 after a usage error. */
+static int check_options(const bake_options *o) {
+    if (!o->scene_path) return tool_usage_error(TOOL, "no scene given");
+    if (!o->out_path) return tool_usage_error(TOOL, "no output given (-o OUT.pvs)");
+    if (!o->cells_path == !(o->grid > 0.0f)) return tool_usage_error(TOOL, "give exactly one of --cells FILE or --grid SIZE");
+    if (o->vocc_only && o->method != PVS_METHOD_VOCC) return tool_usage_error(TOOL, "--vocc-only needs --method vocc");
+    if (check_method_options(o->given, o->method, o->methods, o->method_arg)) return 2;
+    if (o->min_cell > 0.0f && !o->adaptive) return tool_usage_error(TOOL, "--min-cell needs --adaptive");
+    if (o->no_sweep && o->sweep) return tool_usage_error(TOOL, "--no-sweep contradicts --sweep and --sweep-planes");
+    if (o->subcells && !o->sweep && (o->method != PVS_METHOD_AUTO || o->preview || o->no_sweep))
+        return tool_usage_error(TOOL, "--subcells needs the sweep (--sweep or --sweep-planes; auto runs it unless --preview or --no-sweep)");
+    if (o->adaptive && (o->shard_n > 1 || o->method == PVS_METHOD_VOCC || o->state_path || o->state_every_given))
+        return tool_usage_error(TOOL, "--adaptive does not go with --shard, --method vocc, --state or --state-every");
+    if (o->no_state && (o->state_path || o->state_every_given)) return tool_usage_error(TOOL, "--state and --state-every contradict --no-state");
+    return 0;
+}
+
+/* -1 to go on; otherwise the exit status (0 after --help, 2 after a usage error). */
+static int parse_options(int argc, char **argv, bake_options *o) {
+    int i, rc;
     size_t k;
+    memset(o, 0, sizeof(*o));
+    o->shrink_mode = PVS_SHRINK_AUTO;
+    o->method = PVS_METHOD_AUTO;
+    o->method_arg = "auto";
+    o->up = 1;
+    o->seed = 1;
+    for (i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        for (k = 0; k < METHOD_OPTION_COUNT; ++k)
+            if (!strcmp(a, method_options[k].option)) o->given |= 1u << k;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(usage, stdout);
+            return 0;
+        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
+            o->quiet = 1;
+        } else if (!strcmp(a, "--2d5")) {
+            o->shrink_mode = PVS_SHRINK_2D5;
+        } else if (!strcmp(a, "--3d")) {
+            o->shrink_mode = PVS_SHRINK_3D;
+        } else if (!strcmp(a, "--sweep")) {
+            if (!o->sweep) o->sweep = PVS_EXTPROJ_SWEEP_PLANES;
+        } else if (!strcmp(a, "--no-sweep")) {
+            o->no_sweep = 1;
+        } else if (!strcmp(a, "--subcells")) {
+            o->subcells = 1;
+        } else if (!strcmp(a, "--vocc-only")) {
+            o->vocc_only = 1;
+        } else if (!strcmp(a, "--preview")) {
+            o->preview = 1;
+        } else if (!strcmp(a, "--no-state")) {
+            o->no_state = 1;
+        } else if (cli_is_option(a, value_options)) {
+            if (!v) return tool_usage_error(TOOL, "%s needs a value", a);
+            ++i;
+            if ((rc = parse_value(o, a, v)) != 0) return rc;
+        } else if (a[0] == '-' && a[1]) {
+            return tool_usage_error(TOOL, "unknown option '%s'", a);
+        } else if (!o->scene_path) {
+            o->scene_path = a;
+        } else {
+            return tool_usage_error(TOOL, "unexpected argument '%s'", a);
+        }
+    }
+    return check_options(o) ? 2 : -1;
+}
+
+/* The bake's description from the options (scene, cells and allocator given). */
+static void bake_desc_init(pvs_bake_desc *bd, const bake_options *o, const pvs_scene *scene, const mesh_cells *cells, cli_memory *mem) {
+    memset(bd, 0, sizeof(*bd));
+    bd->scene = scene;
+    bd->cells = (const pvs_box *)cells->boxes;
+    bd->cell_count = cells->count;
+    bd->method = o->method;
+    bd->methods = o->methods;
+    bd->eps = o->eps;
+    bd->max_distance = o->max_distance;
+    bd->flags = o->preview ? PVS_BAKE_PREVIEW : 0u;
+    bd->sample_points = o->points;
+    bd->sample_rays = o->rays;
+    bd->seed = o->seed;
+    bd->max_chain = o->chain;
+    bd->shrink_mode = o->shrink_mode;
+    bd->voxel_size = o->voxel;
+    bd->vocc_slices = o->vocc_slices;
+    bd->vocc_max_occluders = o->vocc_max;
+    bd->vocc_only = (uint32_t)o->vocc_only;
+    bd->extproj_sweep = o->no_sweep ? PVS_EXTPROJ_NO_SWEEP : o->sweep; /* 0: auto's default, the sweep */
+    bd->extproj_resolution = o->resolution;
+    bd->otree_node_budget = o->otree_budget;
+    bd->extproj_sweep_subcells = o->subcells ? 4u : 0u;
+    bd->adaptive_budget = o->adaptive;
+    bd->adaptive_min_size = o->min_cell;
+    bd->allocator = cli_memory_allocator(mem);
+}
+
+/* What the shrink method's occluder synthesis made of the scene (before the bake). */
+static void print_shrink_info(const pvs_bake *bake, float eps) {
+    pvs_occluders_info oi;
+    pvs_occluders_get_info(pvs_bake_occluders(bake), &oi);
+    fprintf(stderr, "shrink: eps %g%s, %s path; voxels %u x %u x %u of %g: %llu solid, %llu after erosion, %u boxes, %u columns\n",
+            (double)pvs_bake_eps(bake), eps > 0.0f ? "" : " (default: an eighth of the median cell width)",
+            pvs_bake_shrink_mode(bake) == PVS_SHRINK_2D5 ? "2.5D" : "3D", oi.dims[0], oi.dims[1], oi.dims[2], (double)oi.voxel_size,
+            (unsigned long long)oi.solid, (unsigned long long)oi.eroded, oi.box_count, oi.rect_count);
+    fprintf(stderr, "  %u closed of %u meshes (edge-connected triangle sets), %llu open edges, %llu undecided columns\n", oi.closed_components,
+            oi.components, (unsigned long long)oi.open_edges, (unsigned long long)oi.undecided_columns);
+    if (oi.leak_cell != PVS_NO_CELL)
+        fprintf(stderr, "  %u cell%s reach%s the outside (open to the sky, or a leak), the first cell %u near %g %g %g\n", oi.leak_cells,
+                oi.leak_cells == 1 ? "" : "s", oi.leak_cells == 1 ? "es" : "", oi.leak_cell, (double)oi.leak_point[0], (double)oi.leak_point[1],
+                (double)oi.leak_point[2]);
+    if (oi.excluded_cells) {
+        uint32_t nex = 0, q;
+        const uint32_t *ex = pvs_occluders_excluded_cells(pvs_bake_occluders(bake), &nex);
+        fprintf(stderr, "  warning: %u leaking cell%s left out of the solid proof (baked with a second synthesis that every cell\n"
+                        "  seeds: little or no occlusion for them; fix the cells or seal the mesh):", nex, nex == 1 ? "" : "s");
+        for (q = 0; q < nex && q < 32; ++q) fprintf(stderr, " %u", ex[q]);
+        fprintf(stderr, "%s\n", nex > 32 ? " ..." : "");
+    }
+    fprintf(stderr, "  %u objects give no occluder volume (thin walls with open space on both sides, props)\n", oi.thin_objects);
+    if (oi.eroded == 0 && pvs_bake_method(bake) == PVS_METHOD_SHRINK)
+        fprintf(stderr, "  warning: no occluder volume survives erosion by eps: every object will be visible from every cell;\n"
+                        "  try a smaller --voxel or --eps, or --method extproj for thin walls\n");
+}
+
+/* What the otree method found in the scene (before the bake), when it runs. */
+static void print_otree_info(const pvs_bake *bake) {
+    pvs_otree_bake_info oti;
+    pvs_bake_otree_info(bake, &oti);
+    if (!oti.prepared) return;
+    fprintf(stderr, "otree: %u facades (2.5D occluders) from %u vertical triangles", oti.facades, oti.vertical_triangles);
+    if (oti.levels) fprintf(stderr, ", %u base level%s from %g", oti.levels, oti.levels > 1 ? "s" : "", (double)oti.lowest_level);
+    fprintf(stderr, "\n");
+    if (!oti.facades && pvs_bake_method(bake) == PVS_METHOD_OTREE)
+        fprintf(stderr, "  warning: no vertical wall gives a facade usable from the cells: every object will be visible from every cell;\n"
+                        "  try --method extproj or shrink\n");
+}
+
+/* When extproj runs: what one thread needs at least (its planes), for the thread plan. */
+static void plan_task_bytes(const pvs_bake *bake, const bake_options *o, cli_bake_run *run, char *task_what, size_t what_size) {
+    uint32_t k;
+    for (k = 0; k < pvs_bake_method_count(bake); ++k) {
+        pvs_bake_method_info mi;
+        /* the resolution and sweep planes pvs_bake_begin chose (AUTO's default: PVS_EXTPROJ_SWEEP_PLANES) */
+        uint32_t res = o->resolution ? o->resolution : o->preview ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS_EXTPROJ_RESOLUTION;
+        uint32_t sw = o->sweep ? o->sweep : o->method == PVS_METHOD_AUTO && !o->preview && !o->no_sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0;
+        if (pvs_bake_get_method_info(bake, k, &mi) != PVS_OK || !mi.ran || mi.method != PVS_METHOD_EXTPROJ) continue;
+        run->task_bytes = pvs_extproj_task_bytes(res, sw);
+        snprintf(task_what, what_size, "extproj at %u pixels with %u sweep planes", res, sw);
+        run->task_what = task_what;
+        run->task_hint = "lower --resolution or --sweep-planes, or raise --memory";
+    }
+}
+
+/* The notes after the summary: cells without occluders or seeing everything, otree budgets, adaptive
+   leaves, vocc-only placeholders. */
+static void print_notes(const pvs_bake *bake, const bake_options *o) {
+    pvs_bake_report rep;
+    pvs_bake_get_report(bake, &rep);
+    if (rep.cells_no_occluders)
+        fprintf(stderr, "  warning: %u of %u cells had no occluder (shrink volumes or otree facades): their PVS is every object\n",
+                rep.cells_no_occluders, rep.cells);
+    else if (rep.cells_all_visible)
+        fprintf(stderr, "  %u of %u cells see every object\n", rep.cells_all_visible, rep.cells);
+    if (rep.cells_otree_budget)
+        fprintf(stderr, "  otree: in %u of %u cells a tree reached its node budget and took no more facades (conservative;\n"
+                        "  --otree-budget raises it: it may cull more there, for more time)\n", rep.cells_otree_budget, rep.cells);
+    if (o->adaptive)
+        fprintf(stderr, "  adaptive: %u leaf cells in the file (budget %u triangles; the PVS figures above are of the whole cells)\n",
+                pvs_bake_leaf_count(bake), o->adaptive);
+    if (o->vocc_only)
+        fprintf(stderr, "  vocc-only: the PVS above is the placeholder the records store (every object); the runtime rebuilds\n"
+                        "  each cell's PVS from its virtual occluders (pvs_vocc_cull; pvscheck checks that one)\n");
+}
+
+/* The state file's messages after the bake ran. */
+static void print_state_notes(const pvs_bake *bake, const cli_bake_run *run, const char *state_path) {
+    if (run->state_ignored)
+        fprintf(stderr, "warning: %s is not this bake's state (another scene, cells or options, or a damaged header): ignored\n", state_path);
+    if (run->resumed) fprintf(stderr, "resumed %u of %u cells from %s\n", run->resumed, pvs_bake_task_count(bake), state_path);
+    if (run->state_torn)
+        fprintf(stderr, "note: %s ended in an unfinished or damaged record (an interrupted write): the cells after it were baked again\n",
+                state_path);
+}
+
+/* pvs_bake_begin's refusal as a message: a bad cell is the cells file's (at its line); a method that
+   cannot handle the input, the scene's; anything else is the options' (the message says which). */
+static void begin_error(const bake_options *o, const mesh_cells *cells, const pvs_error *pe, tool_error *te) {
+    const char *where = pe->result == PVS_ERROR_BAD_CELL ? (o->cells_path ? o->cells_path : "--grid")
+                      : pe->result == PVS_ERROR_UNSUPPORTED ? o->scene_path : NULL;
+    int bad_cell = pe->result == PVS_ERROR_BAD_CELL && pe->index >= 0 && pe->index < (int64_t)cells->count;
+    int line = bad_cell ? (int)mesh_cells_line(cells, (uint32_t)pe->index) : 0;
+    tool_error_set(te, where, line, "%s", pe->message);
+}
+
+static int bake_main(int argc, char **argv) {
+    bake_options o;
     mesh m;
     mesh_cells cells;
     pvs_scene *scene = NULL;
@@ -365,274 +611,74 @@ static int bake_main(int argc, char **argv) {
     pvs_error pe;
     tool_error te;
     cli_bake_run run;
-    double *secs = NULL;
+    double *secs = NULL, t0, t_bake;
     char *state_buf = NULL, task_what[96];
-    const char *memory_arg = NULL, *limit_source = NULL;
+    const char *limit_source = NULL;
     size_t size = 0, limit = 0;
     cli_memory mem;
-    int threads_given = 0;
-    double t0, t_bake;
-    int rc = 1;
+    int rc = parse_options(argc, argv, &o), r;
 
-
-    for (i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        for (k = 0; k < METHOD_OPTION_COUNT; ++k)
-            if (!strcmp(a, method_options[k].option)) given |= 1u << k;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(usage, stdout);
-            return 0;
-        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
-            quiet = 1;
-        } else if (!strcmp(a, "--2d5")) {
-            shrink_mode = PVS_SHRINK_2D5;
-        } else if (!strcmp(a, "--3d")) {
-            shrink_mode = PVS_SHRINK_3D;
-        } else if (!strcmp(a, "--sweep")) {
-            if (!sweep) sweep = PVS_EXTPROJ_SWEEP_PLANES;
-        } else if (!strcmp(a, "--no-sweep")) {
-            no_sweep = 1;
-        } else if (!strcmp(a, "--subcells")) {
-            subcells = 1;
-        } else if (!strcmp(a, "--vocc-only")) {
-            vocc_only = 1;
-        } else if (!strcmp(a, "--preview")) {
-            preview = 1;
-        } else if (!strcmp(a, "--no-state")) {
-            no_state = 1;
-        } else if (cli_is_option(a, value_options)) {
-            if (!v) return usage_error("%s needs a value", a);
-            ++i;
-            if (!strcmp(a, "-o")) out_path = v;
-            else if (!strcmp(a, "--cells")) cells_path = v;
-            else if (!strcmp(a, "--state")) state_path = v;
-            else if (!strcmp(a, "--grid")) {
-                if (parse_float(v, &grid) || !(grid > 0.0f)) return usage_error("--grid needs a positive size, not '%s'", v);
-            } else if (!strcmp(a, "--up")) {
-                if (cli_parse_up(v, &up)) return usage_error("--up takes y or z, not '%s'", v);
-            } else if (!strcmp(a, "--method")) {
-                if (parse_method(v, &method, &methods))
-                    return usage_error("unknown method '%s' (available: auto, sample, shrink, otree, extproj, vocc, or a list such as otree,extproj)", v);
-                method_arg = v;
-            } else if (!strcmp(a, "--adaptive")) {
-                if (cli_parse_u32(v, 1, 0xffffffffu, &adaptive)) return usage_error("--adaptive takes a triangle budget >= 1, not '%s'", v);
-            } else if (!strcmp(a, "--min-cell")) {
-                if (parse_float(v, &min_cell) || !(min_cell > 0.0f)) return usage_error("--min-cell needs a positive size, not '%s'", v);
-            } else if (!strcmp(a, "--vocc-slices")) {
-                if (cli_parse_u32(v, 1, 16, &vocc_slices)) return usage_error("--vocc-slices takes 1..16, not '%s'", v);
-            } else if (!strcmp(a, "--sweep-planes")) {
-                if (cli_parse_u32(v, 1, 256, &sweep)) return usage_error("--sweep-planes takes 1..256, not '%s'", v);
-            } else if (!strcmp(a, "--otree-budget")) {
-                if (cli_parse_u32(v, 64, 1u << 24, &otree_budget)) return usage_error("--otree-budget takes 64..16777216, not '%s'", v);
-            } else if (!strcmp(a, "--resolution")) {
-                if (cli_parse_u32(v, 16, 4096, &resolution)) return usage_error("--resolution takes 16..4096, not '%s'", v);
-            } else if (!strcmp(a, "--vocc-max")) {
-                if (cli_parse_u32(v, 1, 255, &vocc_max)) return usage_error("--vocc-max takes 1..255, not '%s'", v);
-            } else if (!strcmp(a, "--voxel")) {
-                if (parse_float(v, &voxel) || !(voxel > 0.0f)) return usage_error("--voxel needs a positive size, not '%s'", v);
-            } else if (!strcmp(a, "--eps")) {
-                if (parse_float(v, &eps) || !(eps > 0.0f)) return usage_error("--eps needs a positive number, not '%s'", v);
-            } else if (!strcmp(a, "--max-distance")) {
-                if (parse_float(v, &max_distance) || !(max_distance > 0.0f)) return usage_error("--max-distance needs a positive number, not '%s'", v);
-            } else if (!strcmp(a, "-j")) {
-                if (parse_threads(v, &threads)) return usage_error("-j takes a thread count 0..1024, not '%s'", v);
-                threads_given = threads != 0;
-            } else if (!strcmp(a, "--memory")) {
-                memory_arg = v;
-            } else if (!strcmp(a, "--points")) {
-                if (cli_parse_u32(v, 1, 1u << 20, &points)) return usage_error("--points takes 1..1048576, not '%s'", v);
-            } else if (!strcmp(a, "--rays")) {
-                if (cli_parse_u32(v, 1, 1u << 24, &rays)) return usage_error("--rays takes 1..16777216, not '%s'", v);
-            } else if (!strcmp(a, "--chain")) {
-                if (cli_parse_u32(v, 1, PVS_MAX_CHAIN, &chain)) return usage_error("--chain takes 1..64, not '%s'", v);
-            } else if (!strcmp(a, "--shard")) {
-                if (parse_shard(v, &shard_k, &shard_n)) return usage_error("--shard takes K/N with 1 <= K <= N, not '%s'", v);
-            } else if (!strcmp(a, "--seed")) {
-                if (cli_parse_u32(v, 0, 0xffffffffu, &seed)) return usage_error("--seed takes an unsigned integer, not '%s'", v);
-            } else if (!strcmp(a, "--state-every")) {
-                if (cli_parse_u32(v, 1, 1u << 30, &state_every)) return usage_error("--state-every takes a cell count >= 1, not '%s'", v);
-                state_every_given = 1;
-            }
-        } else if (a[0] == '-' && a[1]) {
-            return usage_error("unknown option '%s'", a);
-        } else if (!scene_path) {
-            scene_path = a;
-        } else {
-            return usage_error("unexpected argument '%s'", a);
-        }
-    }
-    if (!scene_path) return usage_error("%s", "no scene given");
-    if (!out_path) return usage_error("%s", "no output given (-o OUT.pvs)");
-    if (!cells_path == !(grid > 0.0f)) return usage_error("%s", "give exactly one of --cells FILE or --grid SIZE");
-    if (vocc_only && method != PVS_METHOD_VOCC) return usage_error("%s", "--vocc-only needs --method vocc");
-    if (check_method_options(given, method, methods, method_arg)) return 2;
-    if (min_cell > 0.0f && !adaptive) return usage_error("%s", "--min-cell needs --adaptive");
-    if (no_sweep && sweep) return usage_error("%s", "--no-sweep contradicts --sweep and --sweep-planes");
-    if (subcells && !sweep && (method != PVS_METHOD_AUTO || preview || no_sweep))
-        return usage_error("%s", "--subcells needs the sweep (--sweep or --sweep-planes; auto runs it unless --preview or --no-sweep)");
-    if (adaptive && (shard_n > 1 || method == PVS_METHOD_VOCC || state_path || state_every_given))
-        return usage_error("%s", "--adaptive does not go with --shard, --method vocc, --state or --state-every");
-    if (no_state && (state_path || state_every_given)) return usage_error("%s", "--state and --state-every contradict --no-state");
-
-    if (memory_limit(memory_arg, &limit, &limit_source)) return 2;
+    if (rc >= 0) return rc;
+    if (memory_limit(o.memory_arg, &limit, &limit_source)) return 2;
+    rc = 1;
     cli_memory_init(&mem, limit, limit_source);
     mesh_init(&m);
     mesh_cells_init(&cells);
     memset(&run, 0, sizeof(run));
     t0 = cli_seconds();
-    if (cli_load_scene_limited(scene_path, up, &m, &mem, &scene, &te)) goto fail;
-    if (cells_path ? cells_load(cells_path, &cells, &te) : cli_grid_cells(scene, grid, 10000000u, &cells, &te)) goto fail;
-
-    memset(&bd, 0, sizeof(bd));
-    bd.scene = scene;
-    bd.cells = (const pvs_box *)cells.boxes;
-    bd.cell_count = cells.count;
-    bd.method = method;
-    bd.methods = methods;
-    bd.eps = eps;
-    bd.max_distance = max_distance;
-    bd.flags = preview ? PVS_BAKE_PREVIEW : 0u;
-    bd.sample_points = points;
-    bd.sample_rays = rays;
-    bd.seed = seed;
-    bd.max_chain = chain;
-    bd.shrink_mode = shrink_mode;
-    bd.voxel_size = voxel;
-    bd.vocc_slices = vocc_slices;
-    bd.vocc_max_occluders = vocc_max;
-    bd.vocc_only = (uint32_t)vocc_only;
-    bd.extproj_sweep = no_sweep ? PVS_EXTPROJ_NO_SWEEP : sweep; /* 0: auto's default, the sweep */
-    bd.extproj_resolution = resolution;
-    bd.otree_node_budget = otree_budget;
-    bd.extproj_sweep_subcells = subcells ? 4u : 0u;
-    bd.adaptive_budget = adaptive;
-    bd.adaptive_min_size = min_cell;
-    bd.allocator = cli_memory_allocator(&mem);
-    if (adaptive) no_state = 1; /* a cell's PVS alone does not restore its leaves */
-    if (shard_n > 1) {
-        if (shard_n > cells.count) {
-            tool_error_set(&te, cells_path ? cells_path : "--grid", 0, "--shard %u/%u: only %u cells", shard_k, shard_n, cells.count);
+    if (cli_load_scene_limited(o.scene_path, o.up, &m, &mem, &scene, &te)) goto fail;
+    if (o.cells_path ? cells_load(o.cells_path, &cells, &te) : cli_grid_cells(scene, o.grid, 10000000u, &cells, &te)) goto fail;
+    bake_desc_init(&bd, &o, scene, &cells, &mem);
+    if (o.adaptive) o.no_state = 1; /* a cell's PVS alone does not restore its leaves */
+    if (o.shard_n > 1) {
+        if (o.shard_n > cells.count) {
+            tool_error_set(&te, o.cells_path ? o.cells_path : "--grid", 0, "--shard %u/%u: only %u cells", o.shard_k, o.shard_n, cells.count);
             goto fail;
         }
-        bd.shard_index = shard_k - 1;
-        bd.shard_count = shard_n;
+        bd.shard_index = o.shard_k - 1;
+        bd.shard_count = o.shard_n;
     }
     if (pvs_bake_begin(&bd, &bake, &pe) != PVS_OK) {
-        /* a bad cell is the cells file's (at its line); a method that cannot handle the input, the
-           scene's; anything else is the options' (the message says which) */
-        const char *where = pe.result == PVS_ERROR_BAD_CELL ? (cells_path ? cells_path : "--grid")
-                          : pe.result == PVS_ERROR_UNSUPPORTED ? scene_path : NULL;
-        int line = pe.result == PVS_ERROR_BAD_CELL && pe.index >= 0 && pe.index < (int64_t)cells.count ? (int)mesh_cells_line(&cells, (uint32_t)pe.index) : 0;
-        tool_error_set(&te, where, line, "%s", pe.message);
+        begin_error(&o, &cells, &pe, &te);
         goto fail;
     }
-    if (!quiet && pvs_bake_occluders(bake)) {
-        pvs_occluders_info oi;
-        pvs_occluders_get_info(pvs_bake_occluders(bake), &oi);
-        fprintf(stderr, "shrink: eps %g%s, %s path; voxels %u x %u x %u of %g: %llu solid, %llu after erosion, %u boxes, %u columns\n",
-                (double)pvs_bake_eps(bake), eps > 0.0f ? "" : " (default: an eighth of the median cell width)",
-                pvs_bake_shrink_mode(bake) == PVS_SHRINK_2D5 ? "2.5D" : "3D", oi.dims[0], oi.dims[1], oi.dims[2],
-                (double)oi.voxel_size, (unsigned long long)oi.solid, (unsigned long long)oi.eroded, oi.box_count, oi.rect_count);
-        fprintf(stderr, "  %u closed of %u meshes (edge-connected triangle sets), %llu open edges, %llu undecided columns\n",
-                oi.closed_components, oi.components, (unsigned long long)oi.open_edges, (unsigned long long)oi.undecided_columns);
-        if (oi.leak_cell != PVS_NO_CELL)
-            fprintf(stderr, "  %u cell%s reach%s the outside (open to the sky, or a leak), the first cell %u near %g %g %g\n", oi.leak_cells,
-                    oi.leak_cells == 1 ? "" : "s", oi.leak_cells == 1 ? "es" : "", oi.leak_cell, (double)oi.leak_point[0],
-                    (double)oi.leak_point[1], (double)oi.leak_point[2]);
-        if (oi.excluded_cells) {
-            uint32_t nex = 0, q;
-            const uint32_t *ex = pvs_occluders_excluded_cells(pvs_bake_occluders(bake), &nex);
-            fprintf(stderr, "  warning: %u leaking cell%s left out of the solid proof (baked with a second synthesis that every cell\n"
-                            "  seeds: little or no occlusion for them; fix the cells or seal the mesh):", nex, nex == 1 ? "" : "s");
-            for (q = 0; q < nex && q < 32; ++q) fprintf(stderr, " %u", ex[q]);
-            fprintf(stderr, "%s\n", nex > 32 ? " ..." : "");
-        }
-        fprintf(stderr, "  %u objects give no occluder volume (thin walls with open space on both sides, props)\n", oi.thin_objects);
-        if (oi.eroded == 0 && pvs_bake_method(bake) == PVS_METHOD_SHRINK)
-            fprintf(stderr, "  warning: no occluder volume survives erosion by eps: every object will be visible from every cell;\n"
-                            "  try a smaller --voxel or --eps, or --method extproj for thin walls\n");
-    }
-    if (!quiet) {
-        pvs_otree_bake_info oti;
-        pvs_bake_otree_info(bake, &oti);
-        if (oti.prepared) {
-            fprintf(stderr, "otree: %u facades (2.5D occluders) from %u vertical triangles", oti.facades, oti.vertical_triangles);
-            if (oti.levels) fprintf(stderr, ", %u base level%s from %g", oti.levels, oti.levels > 1 ? "s" : "", (double)oti.lowest_level);
-            fprintf(stderr, "\n");
-            if (!oti.facades && pvs_bake_method(bake) == PVS_METHOD_OTREE)
-                fprintf(stderr, "  warning: no vertical wall gives a facade usable from the cells: every object will be visible from every cell;\n"
-                                "  try --method extproj or shrink\n");
-        }
-    }
+    if (!o.quiet && pvs_bake_occluders(bake)) print_shrink_info(bake, o.eps);
+    if (!o.quiet) print_otree_info(bake);
     secs = (double *)malloc((size_t)pvs_bake_task_count(bake) * sizeof(double) + 8);
     if (!secs) { tool_error_set(&te, NULL, 0, "out of memory"); goto fail; }
     run.task_seconds = secs;
     run.memory = &mem;
-    run.threads_given = threads_given;
-    run.quiet_plan = quiet;
-    for (k = 0; k < pvs_bake_method_count(bake); ++k) { /* extproj's planes: what one thread needs at least */
-        pvs_bake_method_info mi;
-        if (pvs_bake_get_method_info(bake, (uint32_t)k, &mi) != PVS_OK || !mi.ran || mi.method != PVS_METHOD_EXTPROJ) continue;
-        {
-            /* the resolution and sweep planes pvs_bake_begin chose (AUTO's default: PVS_EXTPROJ_SWEEP_PLANES) */
-            uint32_t res = resolution ? resolution : preview ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS_EXTPROJ_RESOLUTION;
-            uint32_t sw = sweep ? sweep : method == PVS_METHOD_AUTO && !preview && !no_sweep ? PVS_EXTPROJ_SWEEP_PLANES : 0;
-            run.task_bytes = pvs_extproj_task_bytes(res, sw);
-            snprintf(task_what, sizeof(task_what), "extproj at %u pixels with %u sweep planes", res, sw);
-            run.task_what = task_what;
-            run.task_hint = "lower --resolution or --sweep-planes, or raise --memory";
-        }
-    }
+    run.threads_given = o.threads_given;
+    run.quiet_plan = o.quiet;
+    plan_task_bytes(bake, &o, &run, task_what, sizeof(task_what));
     run.object_count = pvs_scene_object_count(scene);
-    run.state_every = state_every;
-    if (!no_state) {
-        if (!state_path) {
-            size_t len = strlen(out_path) + 7;
+    run.state_every = o.state_every;
+    if (!o.no_state) {
+        if (!o.state_path) {
+            size_t len = strlen(o.out_path) + 7;
             state_buf = (char *)malloc(len);
             if (!state_buf) { tool_error_set(&te, NULL, 0, "out of memory"); goto fail; }
-            snprintf(state_buf, len, "%s.state", out_path);
-            state_path = state_buf;
+            snprintf(state_buf, len, "%s.state", o.out_path);
+            o.state_path = state_buf;
         }
-        run.state_path = state_path;
-        run.fingerprint = bake_fingerprint(argc, argv, &m, &cells, up);
+        run.state_path = o.state_path;
+        run.fingerprint = bake_fingerprint(argc, argv, &m, &cells, o.up);
     }
     t_bake = cli_seconds();
-    i = cli_run_bake_ex(bake, threads, quiet, "bake", &run, &te);
-    if (i == -2) {
-        fprintf(stderr, "pvsbake: %s\n(see pvsbake --help)\n", te.message);
-        rc = 2;
+    r = cli_run_bake_ex(bake, o.threads, o.quiet, "bake", &run, &te);
+    if (r == -2) {
+        rc = tool_usage_error(TOOL, "%s", te.message);
         goto done;
     }
-    if (i) goto fail;
+    if (r) goto fail;
     t_bake = cli_seconds() - t_bake;
-    if (!quiet && run.state_ignored)
-        fprintf(stderr, "warning: %s is not this bake's state (another scene, cells or options, or a damaged header): ignored\n", state_path);
-    if (!quiet && run.resumed) fprintf(stderr, "resumed %u of %u cells from %s\n", run.resumed, pvs_bake_task_count(bake), state_path);
-    if (!quiet && run.state_torn)
-        fprintf(stderr, "note: %s ended in an unfinished or damaged record (an interrupted write): the cells after it were baked again\n",
-                state_path);
-    if (cli_write_bake(bake, out_path, &size, &te)) goto fail;
+    if (!o.quiet) print_state_notes(bake, &run, o.state_path);
+    if (cli_write_bake(bake, o.out_path, &size, &te)) goto fail;
     if (run.state_path) remove(run.state_path);
-    if (!quiet) print_summary(out_path, scene, bake, &run, run.threads_used ? run.threads_used : 1, secs, t_bake, cli_seconds() - t0, size, shard_n > 1);
-    if (!quiet) {
-        pvs_bake_report rep;
-        pvs_bake_get_report(bake, &rep);
-        if (rep.cells_no_occluders)
-            fprintf(stderr, "  warning: %u of %u cells had no occluder (shrink volumes or otree facades): their PVS is every object\n",
-                    rep.cells_no_occluders, rep.cells);
-        else if (rep.cells_all_visible)
-            fprintf(stderr, "  %u of %u cells see every object\n", rep.cells_all_visible, rep.cells);
-        if (rep.cells_otree_budget)
-            fprintf(stderr, "  otree: in %u of %u cells a tree reached its node budget and took no more facades (conservative;\n"
-                            "  --otree-budget raises it: it may cull more there, for more time)\n", rep.cells_otree_budget, rep.cells);
+    if (!o.quiet) {
+        print_summary(o.out_path, scene, bake, &run, run.threads_used ? run.threads_used : 1, secs, t_bake, cli_seconds() - t0, size, o.shard_n > 1);
+        print_notes(bake, &o);
     }
-    if (!quiet && adaptive)
-        fprintf(stderr, "  adaptive: %u leaf cells in the file (budget %u triangles; the PVS figures above are of the whole cells)\n",
-                pvs_bake_leaf_count(bake), adaptive);
-    if (!quiet && vocc_only)
-        fprintf(stderr, "  vocc-only: the PVS above is the placeholder the records store (every object); the runtime rebuilds\n"
-                        "  each cell's PVS from its virtual occluders (pvs_vocc_cull; pvscheck checks that one)\n");
     rc = 0;
     goto done;
 fail:

@@ -24,65 +24,74 @@ static const char *usage =
 /* The options that take a value (the next argument, whatever it looks like). */
 static const char *const value_options[] = {"--max-distance", "--up", "--points", "--rays", "--aim", "--seed", "-j", NULL};
 
-static int usage_error(const char *fmt, const char *arg) {
-    fprintf(stderr, "pvscheck: ");
-    fprintf(stderr, fmt, arg);
-    fprintf(stderr, "\n(see pvscheck --help)\n");
-    return 2;
-}
+#define TOOL "pvscheck"
 
-static int check_main(int argc, char **argv) {
-    const char *scene_path = NULL, *pvs_path = NULL;
-    uint32_t up = 0, points = 32, rays = 4096, aim = 32, seed = 7, threads = 0;
-    float max_distance = 0.0f;
-    int quiet = 0, i, rc = 1;
-    mesh m;
-    pvs_scene *scene = NULL;
-    void *data = NULL;
-    size_t size;
-    pvs_file f;
-    pvs_error pe;
-    tool_error te;
-    cli_check chk;
+typedef struct check_options {
+    const char *scene_path, *pvs_path;
+    uint32_t up, points, rays, aim, seed, threads;
+    float max_distance;
+    int quiet;
+} check_options;
 
+/* -1 to go on; otherwise the exit status (0 after --help, 2 after a usage error). */
+static int parse_options(int argc, char **argv, check_options *o) {
+    int i;
+    memset(o, 0, sizeof(*o));
+    o->points = 32;
+    o->rays = 4096;
+    o->aim = 32;
+    o->seed = 7;
     for (i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             fputs(usage, stdout);
             return 0;
         } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
-            quiet = 1;
+            o->quiet = 1;
         } else if (!strcmp(a, "--max-distance")) {
-            if (!v || parse_float(v, &max_distance) || !(max_distance > 0.0f)) return usage_error("--max-distance needs a positive number%s", "");
+            if (!v || parse_float(v, &o->max_distance) || !(o->max_distance > 0.0f))
+                return tool_usage_error(TOOL, "--max-distance needs a positive number");
             ++i;
         } else if (cli_is_option(a, value_options)) {
-            if (!v) return usage_error("%s needs a value", a);
+            if (!v) return tool_usage_error(TOOL, "%s needs a value", a);
             ++i;
-            if (!strcmp(a, "--up") && cli_parse_up(v, &up)) return usage_error("--up takes y or z, not '%s'", v);
-            if (!strcmp(a, "--points") && cli_parse_u32(v, 1, 1u << 20, &points)) return usage_error("bad --points '%s'", v);
-            if (!strcmp(a, "--rays") && cli_parse_u32(v, 1, 1u << 24, &rays)) return usage_error("bad --rays '%s'", v);
-            if (!strcmp(a, "--aim") && cli_parse_u32(v, 0, 1u << 20, &aim)) return usage_error("bad --aim '%s'", v);
-            if (!strcmp(a, "--seed") && cli_parse_u32(v, 0, 0xffffffffu, &seed)) return usage_error("bad --seed '%s'", v);
-            if (!strcmp(a, "-j") && parse_threads(v, &threads)) return usage_error("bad -j '%s'", v);
+            if (!strcmp(a, "--up") && cli_parse_up(v, &o->up)) return tool_usage_error(TOOL, "--up takes y or z, not '%s'", v);
+            if (!strcmp(a, "--points") && cli_parse_u32(v, 1, 1u << 20, &o->points)) return tool_usage_error(TOOL, "bad --points '%s'", v);
+            if (!strcmp(a, "--rays") && cli_parse_u32(v, 1, 1u << 24, &o->rays)) return tool_usage_error(TOOL, "bad --rays '%s'", v);
+            if (!strcmp(a, "--aim") && cli_parse_u32(v, 0, 1u << 20, &o->aim)) return tool_usage_error(TOOL, "bad --aim '%s'", v);
+            if (!strcmp(a, "--seed") && cli_parse_u32(v, 0, 0xffffffffu, &o->seed)) return tool_usage_error(TOOL, "bad --seed '%s'", v);
+            if (!strcmp(a, "-j") && parse_threads(v, &o->threads)) return tool_usage_error(TOOL, "bad -j '%s'", v);
         } else if (a[0] == '-' && a[1]) {
-            return usage_error("unknown option '%s'", a);
-        } else if (!scene_path) {
-            scene_path = a;
-        } else if (!pvs_path) {
-            pvs_path = a;
+            return tool_usage_error(TOOL, "unknown option '%s'", a);
+        } else if (!o->scene_path) {
+            o->scene_path = a;
+        } else if (!o->pvs_path) {
+            o->pvs_path = a;
         } else {
-            return usage_error("unexpected argument '%s'", a);
+            return tool_usage_error(TOOL, "unexpected argument '%s'", a);
         }
     }
-    if (!scene_path || !pvs_path) return usage_error("%s", "give SCENE.obj and OUT.pvs");
+    if (!o->scene_path || !o->pvs_path) return tool_usage_error(TOOL, "give SCENE.obj and OUT.pvs");
+    return -1;
+}
+
+static int check_main(int argc, char **argv) {
+    check_options o;
+    int rc = parse_options(argc, argv, &o);
+    mesh m;
+    pvs_scene *scene = NULL;
+    void *data = NULL;
+    pvs_file f;
+    tool_error te;
+    cli_check chk;
+    if (rc >= 0) return rc;
     mesh_init(&m);
-    if (read_file(pvs_path, &data, &size, &te)) goto fail;
-    if (pvs_file_open(data, size, &f, &pe) != PVS_OK) {
-        tool_error_set(&te, pvs_path, 0, "%s", pe.message);
-        goto fail;
+    if (cli_load_pvs_scene(o.pvs_path, o.scene_path, o.up, &data, &f, &m, &scene, &te) ||
+        cli_check_file_ex(scene, &f, o.points, o.rays, o.aim, o.seed, o.threads, o.quiet, o.max_distance, &chk, &te)) {
+        fprintf(stderr, "pvscheck: %s\n", te.message);
+        rc = 1;
+        goto done;
     }
-    if (cli_load_scene(scene_path, up ? up : f.up_axis, &m, &scene, &te)) goto fail;
-    if (cli_check_file_ex(scene, &f, points, rays, aim, seed, threads, quiet, max_distance, &chk, &te)) goto fail;
     printf("cells %u  rays %llu  misses %llu in %u cells  mean pvs %.2f  mean sampled %.2f  tightness %.3f%s\n", chk.cells,
            (unsigned long long)chk.rays, (unsigned long long)chk.misses, chk.cells_with_misses, chk.pvs_sum / chk.cells,
            chk.seen_sum / chk.cells, chk.seen_sum > 0 ? chk.pvs_sum / chk.seen_sum : 1.0,
@@ -97,9 +106,6 @@ static int check_main(int argc, char **argv) {
     } else {
         rc = chk.stored_differs ? 3 : 0;
     }
-    goto done;
-fail:
-    fprintf(stderr, "pvscheck: %s\n", te.message);
 done:
     pvs_scene_destroy(scene);
     mesh_free(&m);

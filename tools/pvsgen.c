@@ -147,13 +147,20 @@ static int parse_u64(const char *s, unsigned long long *out) {
     return 0;
 }
 
-int main(int argc, char **argv) {
-    const char *kind_s = NULL, *out = NULL, *cells_out = NULL;
-    unsigned long long seed = 1, max_cells = 0;
-    unsigned long long leaves = 0;
-    const char *v_leaves = NULL;
-    int dense = 0;
-    double size = 1.0, cell_size = 0.0;
+/* What the command line asks for. */
+typedef struct pvsgen_options {
+    const char *kind_s, *out, *cells_out, *v_leaves;
+    unsigned long long seed, max_cells, leaves;
+    int dense;
+    double size, cell_size;
+    gen_params p;
+} pvsgen_options;
+
+/* -1 to go on; otherwise the exit status (0 after --help, 2 after a usage error). */
+static int parse_options(int argc, char **argv, pvsgen_options *o) {
+    memset(o, 0, sizeof(*o));
+    o->seed = 1;
+    o->size = 1.0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -161,84 +168,92 @@ int main(int argc, char **argv) {
             usage(stdout);
             return 0;
         } else if (!strcmp(a, "--seed")) {
-            if (parse_u64(v, &seed)) return bad_usage("--seed needs a non-negative integer", v);
+            if (parse_u64(v, &o->seed)) return bad_usage("--seed needs a non-negative integer", v);
             ++i;
         } else if (!strcmp(a, "--size")) {
             char *end;
             if (!v) return bad_usage("--size needs a number", NULL);
-            size = strtod(v, &end);
-            if (*end || !(size > 0 && size <= 8)) return bad_usage("--size must be in (0, 8]", v);
+            o->size = strtod(v, &end);
+            if (*end || !(o->size > 0 && o->size <= 8)) return bad_usage("--size must be in (0, 8]", v);
             ++i;
         } else if (!strcmp(a, "--max-cells")) {
-            if (parse_u64(v, &max_cells) || max_cells > 0xffffffffull) return bad_usage("--max-cells needs a non-negative integer", v);
+            if (parse_u64(v, &o->max_cells) || o->max_cells > 0xffffffffull) return bad_usage("--max-cells needs a non-negative integer", v);
             ++i;
         } else if (!strcmp(a, "--dense")) {
-            dense = 1;
+            o->dense = 1;
         } else if (!strcmp(a, "--leaves-per-tree")) {
-            if (parse_u64(v, &leaves) || leaves < 1 || leaves > 10000) return bad_usage("--leaves-per-tree needs an integer in [1, 10000]", v);
-            v_leaves = v;
+            if (parse_u64(v, &o->leaves) || o->leaves < 1 || o->leaves > 10000)
+                return bad_usage("--leaves-per-tree needs an integer in [1, 10000]", v);
+            o->v_leaves = v;
             ++i;
         } else if (!strcmp(a, "--cell-size")) {
             char *end;
             if (!v) return bad_usage("--cell-size needs a number", NULL);
-            cell_size = strtod(v, &end);
-            if (*end || !(cell_size >= 0.1 && cell_size <= 8)) return bad_usage("--cell-size must be in [0.1, 8]", v);
+            o->cell_size = strtod(v, &end);
+            if (*end || !(o->cell_size >= 0.1 && o->cell_size <= 8)) return bad_usage("--cell-size must be in [0.1, 8]", v);
             ++i;
         } else if (!strcmp(a, "-o")) {
             if (!v) return bad_usage("-o needs a file name", NULL);
-            out = v;
+            o->out = v;
             ++i;
         } else if (!strcmp(a, "--cells")) {
             if (!v) return bad_usage("--cells needs a file name", NULL);
-            cells_out = v;
+            o->cells_out = v;
             ++i;
         } else if (a[0] == '-' && a[1]) {
             return bad_usage("unknown option", a);
-        } else if (!kind_s) {
-            kind_s = a;
+        } else if (!o->kind_s) {
+            o->kind_s = a;
         } else {
             return bad_usage("more than one scene kind", a);
         }
     }
-    gen_params p;
-    memset(&p, 0, sizeof p);
-    if (!kind_s) return bad_usage("missing scene kind", NULL);
-    if (gen_kind_parse(kind_s, &p.kind)) return bad_usage("unknown scene kind", kind_s);
-    if (dense && p.kind != GEN_FOREST) return bad_usage("--dense is for the forest only", kind_s);
-    if ((leaves || cell_size != 0.0) && !dense) return bad_usage("--leaves-per-tree and --cell-size are for forest --dense only", kind_s);
-    if ((double)leaves * size * size > 10000.0) return bad_usage("--leaves-per-tree times --size squared must be at most 10000", v_leaves);
-    if (!out) return bad_usage("missing -o OUT.obj", NULL);
-    p.seed = seed;
-    p.size = (float)size;
-    p.max_cells = (uint32_t)max_cells;
-    p.dense = dense;
-    p.leaves_per_tree = (uint32_t)leaves;
-    p.cell_size = (float)cell_size;
+    gen_params *p = &o->p;
+    if (!o->kind_s) return bad_usage("missing scene kind", NULL);
+    if (gen_kind_parse(o->kind_s, &p->kind)) return bad_usage("unknown scene kind", o->kind_s);
+    if (o->dense && p->kind != GEN_FOREST) return bad_usage("--dense is for the forest only", o->kind_s);
+    if ((o->leaves || o->cell_size != 0.0) && !o->dense)
+        return bad_usage("--leaves-per-tree and --cell-size are for forest --dense only", o->kind_s);
+    if ((double)o->leaves * o->size * o->size > 10000.0)
+        return bad_usage("--leaves-per-tree times --size squared must be at most 10000", o->v_leaves);
+    if (!o->out) return bad_usage("missing -o OUT.obj", NULL);
+    p->seed = o->seed;
+    p->size = (float)o->size;
+    p->max_cells = (uint32_t)o->max_cells;
+    p->dense = o->dense;
+    p->leaves_per_tree = (uint32_t)o->leaves;
+    p->cell_size = (float)o->cell_size;
+    return -1;
+}
 
+int main(int argc, char **argv) {
+    pvsgen_options o;
+    int rc = parse_options(argc, argv, &o);
+    if (rc >= 0) return rc;
     mesh m;
     mesh_cells cells;
     gen_info info;
     mesh_init(&m);
     mesh_cells_init(&cells);
-    if (gen_scene_ex(&p, &m, &cells, &info)) {
-        fprintf(stderr, "pvsgen: %s: out of memory generating the scene\n", out);
+    if (gen_scene_ex(&o.p, &m, &cells, &info)) {
+        fprintf(stderr, "pvsgen: %s: out of memory generating the scene\n", o.out);
         return 1;
     }
-    int rc = 0;
-    if (write_atomic(out, write_obj, &m)) rc = 1;
-    if (!rc && cells_out) {
+    rc = 0;
+    if (write_atomic(o.out, write_obj, &m)) rc = 1;
+    if (!rc && o.cells_out) {
         cells_ctx cc;
         cc.cells = &cells;
         cc.info = &info;
-        cc.kind = kind_s;
-        cc.dense = dense;
-        cc.seed = seed;
-        cc.size = size;
-        if (write_atomic(cells_out, write_cells, &cc)) rc = 1;
+        cc.kind = o.kind_s;
+        cc.dense = o.dense;
+        cc.seed = o.seed;
+        cc.size = o.size;
+        if (write_atomic(o.cells_out, write_cells, &cc)) rc = 1;
     }
     if (!rc) {
-        fprintf(stderr, "pvsgen: %s%s seed %llu size %g: %u objects, %u triangles, %u vertices, %u cells", kind_s, dense ? " (dense)" : "", seed, size,
-                m.object_count, m.triangle_count, m.vertex_count, cells.count);
+        fprintf(stderr, "pvsgen: %s%s seed %llu size %g: %u objects, %u triangles, %u vertices, %u cells", o.kind_s, o.dense ? " (dense)" : "",
+                o.seed, o.size, m.object_count, m.triangle_count, m.vertex_count, cells.count);
         if (info.touching_count || info.inside_count)
             fprintf(stderr, " (%u touching a wall at %u, %u partly inside buildings at %u)", info.touching_count,
                     info.touching_first, info.inside_count, info.inside_first);

@@ -14,11 +14,44 @@ static const char *usage =
     "  those; the real PVS is rebuilt from the virtual occluders at run time (pvscheck checks it).\n"
     "exit status: 0 success, 1 bad input (or a point in no cell for --at), 2 usage\n";
 
-static int usage_error(const char *fmt, const char *arg) {
-    fprintf(stderr, "pvsinfo: ");
-    fprintf(stderr, fmt, arg);
-    fprintf(stderr, "\n(see pvsinfo --help)\n");
-    return 2;
+#define TOOL "pvsinfo"
+
+typedef struct info_options {
+    const char *path;
+    int dump, verify, at, vocc; /* at most one */
+    float p[3];                 /* --at */
+} info_options;
+
+/* -1 to go on; otherwise the exit status (0 after --help, 2 after a usage error). */
+static int parse_options(int argc, char **argv, info_options *o) {
+    int i;
+    memset(o, 0, sizeof(*o));
+    for (i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(usage, stdout);
+            return 0;
+        } else if (!strcmp(a, "--dump")) {
+            o->dump = 1;
+        } else if (!strcmp(a, "--verify")) {
+            o->verify = 1;
+        } else if (!strcmp(a, "--vocc")) {
+            o->vocc = 1;
+        } else if (!strcmp(a, "--at")) {
+            if (parse_floats(argv, i + 1, argc, 3, o->p)) return tool_usage_error(TOOL, "--at needs three numbers X Y Z");
+            i += 3;
+            o->at = 1;
+        } else if (a[0] == '-' && a[1] && !(a[1] >= '0' && a[1] <= '9')) {
+            return tool_usage_error(TOOL, "unknown option '%s'", a);
+        } else if (!o->path) {
+            o->path = a;
+        } else {
+            return tool_usage_error(TOOL, "unexpected argument '%s'", a);
+        }
+    }
+    if (!o->path) return tool_usage_error(TOOL, "no file given");
+    if (o->dump + o->verify + o->at + o->vocc > 1) return tool_usage_error(TOOL, "give at most one of --dump, --at, --verify, --vocc");
+    return -1;
 }
 
 static void print_cell(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t words) {
@@ -30,52 +63,139 @@ static void print_cell(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t 
     printf("\n");
 }
 
+/* --verify: pvs_file_open already validated every byte and chain; here decoding each cell exercises
+   the runtime path, and the look-up tree must find every cell at its centre and corners (a file can
+   be well formed and still have a tree that disagrees with its cells). 0, or 1 after the reason. */
+static int verify_file(const char *path, const pvs_file *f, size_t size, pvs_word *bits, size_t words) {
+    uint32_t c, k, j;
+    pvs_error pe;
+    for (c = 0; c < f->cell_count; ++c) {
+        pvs_box b = pvs_file_cell_box(f, c);
+        pvs_record_info info;
+        if (pvs_file_decode(f, c, bits, words, &pe) != PVS_OK) {
+            fprintf(stderr, "pvsinfo: %s: cell %u: %s\n", path, c, pe.message);
+            return 1;
+        }
+        pvs_file_record_info(f, c, &info);
+        if (info.base != PVS_NO_CELL) { /* the removal ranks must count in the base's PVS as it is */
+            uint32_t m;
+            pvs_file_decode(f, info.base, bits, words, NULL);
+            m = pvs_bitset_count(bits, f->object_count);
+            if (m != info.base_size) {
+                fprintf(stderr, "pvsinfo: %s: cell %u: its delta counts ranks in %u objects, its base %u has %u\n", path, c, info.base_size,
+                        info.base, m);
+                return 1;
+            }
+        }
+        for (j = 0; j < 9; ++j) {
+            float q[3];
+            for (k = 0; k < 3; ++k) q[k] = j == 8 ? b.min[k] + 0.5f * (b.max[k] - b.min[k]) : ((j >> k) & 1) ? b.max[k] : b.min[k];
+            if (pvs_file_find_cell(f, q) > c) {
+                fprintf(stderr, "pvsinfo: %s: cell %u: the look-up tree misses the point %g %g %g of its box\n", path, c, q[0], q[1], q[2]);
+                return 1;
+            }
+        }
+    }
+    printf("%s: ok (%u cells, %u objects, %zu bytes)\n", path, f->cell_count, f->object_count, size);
+    return 0;
+}
+
+/* --vocc: each cell's virtual occluders. 0, or 1 when the file stores none. */
+static int print_vocc(const char *path, const pvs_file *f) {
+    uint32_t c, k;
+    if (!(f->vocc_flags & PVS_VOCC_STORED)) {
+        fprintf(stderr, "pvsinfo: %s: the file stores no virtual occluders\n", path);
+        return 1;
+    }
+    for (c = 0; c < f->cell_count; ++c) {
+        pvs_virtual_occluder vo[255];
+        uint32_t n = pvs_file_virtual_occluders(f, c, vo, 255);
+        printf("%u:", c);
+        for (k = 0; k < n; ++k) printf("%s %g %g %g %g %g", k ? "," : "", vo[k].p0[0], vo[k].p0[1], vo[k].p1[0], vo[k].p1[1], vo[k].top);
+        printf("\n");
+    }
+    return 0;
+}
+
+/* The summary's lines on the records: codings, delta chains, shards, virtual occluders. */
+static void print_records(const pvs_file *f) {
+    static const char *names[PVS_CODING_COUNT] = {"gap varints", "run lengths", "Rice codes", "raw bitsets"};
+    uint32_t coding_count[PVS_CODING_COUNT] = {0}, c, k, deepest = 0;
+    uint64_t record_bytes = 0;
+    double depth_sum = 0.0;
+    for (c = 0; c < f->cell_count; ++c) {
+        pvs_record_info info;
+        pvs_file_record_info(f, c, &info);
+        ++coding_count[info.coding];
+        record_bytes += info.bytes;
+        depth_sum += info.depth;
+        if (info.depth > deepest) deepest = info.depth;
+    }
+    printf("records     %llu bytes (%.1f per cell): %u key cells, %u deltas; chain mean %.2f, max %u (bound %u)\n",
+           (unsigned long long)record_bytes, (double)record_bytes / f->cell_count, f->key_count, f->cell_count - f->key_count,
+           depth_sum / f->cell_count, deepest, f->max_chain);
+    printf("codings    ");
+    for (k = 0; k < PVS_CODING_COUNT; ++k) printf(" %s %u%s", names[k], coding_count[k], k + 1 < PVS_CODING_COUNT ? "," : "\n");
+    if (f->shard_count)
+        printf("part        shard %u of %u (%u cells in the whole bake): combine with pvsbake merge\n", f->shard_index + 1, f->shard_count,
+               f->total_cell_count);
+    if (f->vocc_flags & PVS_VOCC_STORED) {
+        uint32_t most = 0;
+        for (c = 0; c < f->cell_count; ++c) {
+            uint32_t n = pvs_file_vocc_record(f, c, NULL, NULL);
+            if (n > most) most = n;
+        }
+        printf("vocc        %u virtual occluders (%.2f per cell, at most %u; %.1f bytes per cell); base %g, height step %g\n",
+               f->virtual_occluder_count, (double)f->virtual_occluder_count / f->cell_count, most,
+               (5.0 * f->virtual_occluder_count + 2.0 * f->cell_count + 4.0 * ((f->cell_count + 15) / 16 + 1) + 16.0) / f->cell_count,
+               (double)f->vocc_base, (double)f->vocc_height_step);
+        if (f->vocc_flags & PVS_VOCC_ONLY)
+            printf("            vocc-only: the records are placeholders (every object); rebuild each PVS with pvs_vocc_cull\n");
+    }
+}
+
+/* No option: counts, sizes, PVS sizes, then the records. */
+static void print_summary(const char *path, const pvs_file *f, size_t size, pvs_word *bits, size_t words) {
+    uint32_t c, minp = 0xffffffffu, maxp = 0;
+    double sum = 0.0;
+    for (c = 0; c < f->cell_count; ++c) {
+        uint32_t n;
+        pvs_file_decode(f, c, bits, words, NULL);
+        n = pvs_bitset_count(bits, f->object_count);
+        sum += n;
+        if (n < minp) minp = n;
+        if (n > maxp) maxp = n;
+    }
+    printf("file        %s\n", path);
+    printf("format      version %u%s\n", f->version, (f->flags & PVS_FILE_APPROXIMATE) ? ", approximate (ray-sampled, not conservative)" : "");
+    printf("method      %s\n", pvs_method_name(f->method));
+    printf("eps         %g\n", f->eps);
+    printf("up axis     %s\n", f->up_axis == 2 ? "z" : "y");
+    printf("cells       %u\n", f->cell_count);
+    printf("objects     %u\n", f->object_count);
+    printf("pvs size    mean %.1f (%.1f%%), min %u, max %u\n", sum / f->cell_count, 100.0 * sum / f->cell_count / f->object_count, minp, maxp);
+    printf("bytes       %zu (%.1f per cell; raw bitsets would be %zu)\n", size, (double)size / f->cell_count,
+           (size_t)f->cell_count * ((f->object_count + 7) / 8));
+    print_records(f);
+}
+
 int main(int argc, char **argv) {
-    const char *path = NULL;
-    int dump = 0, verify = 0, at = 0, vocc = 0, i, rc = 1;
-    float p[3] = {0, 0, 0};
+    info_options o;
+    int rc = parse_options(argc, argv, &o);
     void *data = NULL;
     size_t size = 0, words;
     pvs_file f;
     pvs_error pe;
     tool_error te;
-    pvs_word *bits = NULL;
-
-    for (i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(usage, stdout);
-            return 0;
-        } else if (!strcmp(a, "--dump")) {
-            dump = 1;
-        } else if (!strcmp(a, "--verify")) {
-            verify = 1;
-        } else if (!strcmp(a, "--vocc")) {
-            vocc = 1;
-        } else if (!strcmp(a, "--at")) {
-            int k;
-            for (k = 0; k < 3; ++k)
-                if (i + 1 + k >= argc || parse_float(argv[i + 1 + k], &p[k]))
-                    return usage_error("--at needs three numbers X Y Z%s", "");
-            i += 3;
-            at = 1;
-        } else if (a[0] == '-' && a[1] && !(a[1] >= '0' && a[1] <= '9')) {
-            return usage_error("unknown option '%s'", a);
-        } else if (!path) {
-            path = a;
-        } else {
-            return usage_error("unexpected argument '%s'", a);
-        }
-    }
-    if (!path) return usage_error("%s", "no file given");
-    if (dump + verify + at + vocc > 1) return usage_error("%s", "give at most one of --dump, --at, --verify, --vocc");
-    if (read_file(path, &data, &size, &te)) {
+    pvs_word *bits;
+    if (rc >= 0) return rc;
+    if (read_file(o.path, &data, &size, &te)) {
         fprintf(stderr, "pvsinfo: %s\n", te.message);
         return 1;
     }
     if (pvs_file_open(data, size, &f, &pe) != PVS_OK) {
-        if (pe.offset) fprintf(stderr, "pvsinfo: %s: byte %llu: %s\n", path, (unsigned long long)pe.offset, pe.message);
-        else fprintf(stderr, "pvsinfo: %s: %s\n", path, pe.message);
+        if (pe.offset) fprintf(stderr, "pvsinfo: %s: byte %llu: %s\n", o.path, (unsigned long long)pe.offset, pe.message);
+        else fprintf(stderr, "pvsinfo: %s: %s\n", o.path, pe.message);
         free(data);
         return 1;
     }
@@ -86,129 +206,27 @@ int main(int argc, char **argv) {
         free(data);
         return 1;
     }
-    if (verify) {
-        /* pvs_file_open already validated every byte and chain; here decoding each cell exercises the
-           runtime path, and the look-up tree must find every cell at its centre and corners (a file
-           can be well formed and still have a tree that disagrees with its cells) */
-        uint32_t c, k, j;
-        for (c = 0; c < f.cell_count; ++c) {
-            pvs_box b = pvs_file_cell_box(&f, c);
-            pvs_record_info info;
-            if (pvs_file_decode(&f, c, bits, words, &pe) != PVS_OK) {
-                fprintf(stderr, "pvsinfo: %s: cell %u: %s\n", path, c, pe.message);
-                goto done;
-            }
-            pvs_file_record_info(&f, c, &info);
-            if (info.base != PVS_NO_CELL) { /* the removal ranks must count in the base's PVS as it is */
-                uint32_t m;
-                pvs_file_decode(&f, info.base, bits, words, NULL);
-                m = pvs_bitset_count(bits, f.object_count);
-                if (m != info.base_size) {
-                    fprintf(stderr, "pvsinfo: %s: cell %u: its delta counts ranks in %u objects, its base %u has %u\n", path, c,
-                            info.base_size, info.base, m);
-                    goto done;
-                }
-            }
-            for (j = 0; j < 9; ++j) {
-                float q[3];
-                uint32_t found;
-                for (k = 0; k < 3; ++k) q[k] = j == 8 ? b.min[k] + 0.5f * (b.max[k] - b.min[k]) : ((j >> k) & 1) ? b.max[k] : b.min[k];
-                found = pvs_file_find_cell(&f, q);
-                if (found > c) {
-                    fprintf(stderr, "pvsinfo: %s: cell %u: the look-up tree misses the point %g %g %g of its box\n", path, c, q[0], q[1], q[2]);
-                    goto done;
-                }
-            }
-        }
-        printf("%s: ok (%u cells, %u objects, %zu bytes)\n", path, f.cell_count, f.object_count, size);
-        rc = 0;
-    } else if (dump) {
+    rc = 0;
+    if (o.verify) {
+        rc = verify_file(o.path, &f, size, bits, words);
+    } else if (o.dump) {
         uint32_t c;
         if (f.vocc_flags & PVS_VOCC_ONLY)
-            fprintf(stderr, "pvsinfo: %s: placeholder records (vocc-only): the PVS is rebuilt from the virtual occluders at run time\n", path);
+            fprintf(stderr, "pvsinfo: %s: placeholder records (vocc-only): the PVS is rebuilt from the virtual occluders at run time\n", o.path);
         for (c = 0; c < f.cell_count; ++c) print_cell(&f, c, bits, words);
-        rc = 0;
-    } else if (vocc) {
-        uint32_t c, k;
-        if (!(f.vocc_flags & PVS_VOCC_STORED)) {
-            fprintf(stderr, "pvsinfo: %s: the file stores no virtual occluders\n", path);
-            goto done;
-        }
-        for (c = 0; c < f.cell_count; ++c) {
-            pvs_virtual_occluder vo[255];
-            uint32_t n = pvs_file_virtual_occluders(&f, c, vo, 255);
-            printf("%u:", c);
-            for (k = 0; k < n; ++k) printf("%s %g %g %g %g %g", k ? "," : "", vo[k].p0[0], vo[k].p0[1], vo[k].p1[0], vo[k].p1[1], vo[k].top);
-            printf("\n");
-        }
-        rc = 0;
-    } else if (at) {
-        uint32_t c = pvs_file_find_cell(&f, p);
+    } else if (o.vocc) {
+        rc = print_vocc(o.path, &f);
+    } else if (o.at) {
+        uint32_t c = pvs_file_find_cell(&f, o.p);
         if (c == PVS_NO_CELL) {
-            fprintf(stderr, "pvsinfo: %s: the point %g %g %g is in no cell\n", path, p[0], p[1], p[2]);
-            goto done;
+            fprintf(stderr, "pvsinfo: %s: the point %g %g %g is in no cell\n", o.path, o.p[0], o.p[1], o.p[2]);
+            rc = 1;
+        } else {
+            print_cell(&f, c, bits, words);
         }
-        print_cell(&f, c, bits, words);
-        rc = 0;
     } else {
-        uint32_t c, minp = 0xffffffffu, maxp = 0;
-        double sum = 0.0;
-        for (c = 0; c < f.cell_count; ++c) {
-            uint32_t n;
-            pvs_file_decode(&f, c, bits, words, NULL);
-            n = pvs_bitset_count(bits, f.object_count);
-            sum += n;
-            if (n < minp) minp = n;
-            if (n > maxp) maxp = n;
-        }
-        printf("file        %s\n", path);
-        printf("format      version %u%s\n", f.version, (f.flags & PVS_FILE_APPROXIMATE) ? ", approximate (ray-sampled, not conservative)" : "");
-        printf("method      %s\n", pvs_method_name(f.method));
-        printf("eps         %g\n", f.eps);
-        printf("up axis     %s\n", f.up_axis == 2 ? "z" : "y");
-        printf("cells       %u\n", f.cell_count);
-        printf("objects     %u\n", f.object_count);
-        printf("pvs size    mean %.1f (%.1f%%), min %u, max %u\n", sum / f.cell_count, 100.0 * sum / f.cell_count / f.object_count, minp, maxp);
-        printf("bytes       %zu (%.1f per cell; raw bitsets would be %zu)\n", size, (double)size / f.cell_count,
-               (size_t)f.cell_count * ((f.object_count + 7) / 8));
-        {
-            static const char *names[PVS_CODING_COUNT] = {"gap varints", "run lengths", "Rice codes", "raw bitsets"};
-            uint32_t coding_count[PVS_CODING_COUNT] = {0}, k, deepest = 0;
-            uint64_t record_bytes = 0;
-            double depth_sum = 0.0;
-            for (c = 0; c < f.cell_count; ++c) {
-                pvs_record_info info;
-                pvs_file_record_info(&f, c, &info);
-                ++coding_count[info.coding];
-                record_bytes += info.bytes;
-                depth_sum += info.depth;
-                if (info.depth > deepest) deepest = info.depth;
-            }
-            printf("records     %llu bytes (%.1f per cell): %u key cells, %u deltas; chain mean %.2f, max %u (bound %u)\n",
-                   (unsigned long long)record_bytes, (double)record_bytes / f.cell_count, f.key_count, f.cell_count - f.key_count,
-                   depth_sum / f.cell_count, deepest, f.max_chain);
-            printf("codings    ");
-            for (k = 0; k < PVS_CODING_COUNT; ++k) printf(" %s %u%s", names[k], coding_count[k], k + 1 < PVS_CODING_COUNT ? "," : "\n");
-            if (f.shard_count)
-                printf("part        shard %u of %u (%u cells in the whole bake): combine with pvsbake merge\n", f.shard_index + 1,
-                       f.shard_count, f.total_cell_count);
-            if (f.vocc_flags & PVS_VOCC_STORED) {
-                uint32_t most = 0;
-                for (c = 0; c < f.cell_count; ++c) {
-                    uint32_t n = pvs_file_vocc_record(&f, c, NULL, NULL);
-                    if (n > most) most = n;
-                }
-                printf("vocc        %u virtual occluders (%.2f per cell, at most %u; %.1f bytes per cell); base %g, height step %g\n",
-                       f.virtual_occluder_count, (double)f.virtual_occluder_count / f.cell_count, most,
-                       (5.0 * f.virtual_occluder_count + 2.0 * f.cell_count + 4.0 * ((f.cell_count + 15) / 16 + 1) + 16.0) / f.cell_count,
-                       (double)f.vocc_base, (double)f.vocc_height_step);
-                if (f.vocc_flags & PVS_VOCC_ONLY)
-                    printf("            vocc-only: the records are placeholders (every object); rebuild each PVS with pvs_vocc_cull\n");
-            }
-        }
-        rc = 0;
+        print_summary(o.path, &f, size, bits, words);
     }
-done:
     free(bits);
     free(data);
     return rc;

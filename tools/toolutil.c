@@ -369,6 +369,24 @@ int parse_float(const char *s, float *out) {
     return 0;
 }
 
+int parse_floats(char **argv, int at, int argc, int n, float *out) {
+    int k;
+    if (at < 0 || n < 0 || at + n > argc) return -1;
+    for (k = 0; k < n; ++k)
+        if (parse_float(argv[at + k], out + k)) return -1;
+    return 0;
+}
+
+int tool_usage_error(const char *tool, const char *fmt, ...) {
+    va_list ap;
+    fprintf(stderr, "%s: ", tool);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "\n(see %s --help)\n", tool);
+    return 2;
+}
+
 /* ---- PNG ------------------------------------------------------------------------------------- */
 
 uint32_t tool_crc32(uint32_t crc, const void *data, size_t size) {

@@ -98,6 +98,16 @@ int parse_threads(const char *s, uint32_t *out);
 /* Strict finite float: the whole string must be a number ("1", "-2.5", "1e-3"); rejects empty
    strings, spaces, trailing garbage, NaN, Inf, hex and values overflowing a float. */
 int parse_float(const char *s, float *out);
+/* The n arguments argv[at .. at + n) as strict floats into out (the values of an option such as
+   --at X Y Z). -1 when fewer than n remain or one is not a number. */
+int parse_floats(char **argv, int at, int argc, int n, float *out);
+/* A usage error: "TOOL: <fmt...>" and "(see TOOL --help)" on stderr. Returns 2, the tools' exit
+   status for usage errors. */
+int tool_usage_error(const char *tool, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
 
 /* ---- images ---------------------------------------------------------------------------------- */
 
