@@ -11780,10 +11780,12 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     line = (uint8_t *)pvs__alloc_array(&a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
     cols = (size_t)o->n[u] * o->n[v];
     if (!o->state || !o->eroded || !tmp || !line || total > 0x7fffffffu) {
+        uint32_t dims[3];
+        memcpy(dims, o->n, sizeof(dims)); /* the message names them after o is gone */
         pvs__free_array(&a, tmp, total, 1);
         pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
         pvs_occluders_destroy(o);
-        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "voxel grid %u x %u x %u", o->n[0], o->n[1], o->n[2]);
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "voxel grid %u x %u x %u", dims[0], dims[1], dims[2]);
     }
     memset(o->state, 0, total);
     for (k = 0; k < o->n[2]; ++k)
