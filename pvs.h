@@ -12002,6 +12002,8 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
     pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
     pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
+    fl.bits = fl.col = NULL; /* freed: the error path below must not free them again */
+    fl.queue = fl.bucket_first = fl.bucket_cells = fl.stamp = NULL;
     /* the leaking cells the floods left out (step 4 of pvs__vx_flood_component) */
     o->info.excluded_cells = fl.excluded_count;
     if (fl.excluded_count) {
