@@ -11711,82 +11711,110 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
     return res;
 }
 
-PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occluders **out, pvs_error *err) {
-    pvs_occluders *o;
-    pvs_allocator a;
+/* ---- pvs_occluders_create, step by step ---- */
+
+/* What the steps of pvs_occluders_create share: the description, the voxel grid's frame, and the
+   scratch that outlives a step (pvs__vx_build_free frees what is left on the error path; a step
+   that frees a buffer sets it to NULL). */
+typedef struct pvs__vx_build {
+    const pvs_occluders_desc *d;
     const pvs_scene *s;
-    pvs_box ext;
-    double g, h, m;
-    uint32_t up, i, j, k, c, r, *queue = NULL, qh, qt, *cbox = NULL, bpass, bucket_entries = 0;
-    size_t total, vi, cols, qcap = 0, nbuckets = 0;
+    pvs_allocator a;
+    pvs_occluders *o;
+    pvs_box ext;               /* the scene's bounds and the cells' */
+    double g, h, m;            /* ground level, voxel size, the margin every voxel test rounds toward "touched" by */
+    uint32_t up;
+    int u, v;
+    size_t total, qcap, nbuckets;
+    uint32_t bucket_entries;
+    uint32_t *queue;           /* qcap: the floods' queue in step 1, then the leak flood's */
+    uint32_t *cbox;            /* step 1: per component its voxel box, lo[3] then hi[3] */
+    uint8_t *tmp, *line;       /* total and 1 + n[0] + n[1] + n[2] bytes: the erosion's and the merge's scratch */
     pvs__vx_topo tp;
     pvs__vx_flood fl;
-    uint8_t *tmp = NULL, *line = NULL;
-    int u, v, kk;
-    static const int xyz[3] = {0, 1, 2};
-    uint32_t zero[3] = {0, 0, 0}, last[3];
-    pvs__vx_touch tv;
-    if (out) *out = NULL;
-    memset(&tp, 0, sizeof(tp));
-    memset(&fl, 0, sizeof(fl));
-    if (!d || !out || !d->scene || !d->cells || !d->cell_count)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene, cells and out must be given");
-    if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and > 0, voxel_size finite and >= 0");
-    if (d->flags & ~PVS_OCCLUDERS_KEEP_LEAKS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown occluders flags 0x%x", d->flags);
-    for (c = 0; c < d->cell_count; ++c)
-        if (!pvs__box_valid(d->cells + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "cell %u is not a valid box", c);
-    s = d->scene;
-    up = s->up_axis;
-    pvs__ground_axes(up, &u, &v);
-    ext = s->bounds;
+} pvs__vx_build;
+
+/* The error path of pvs_occluders_create: frees every scratch buffer the steps left allocated
+   (b->o stays: the caller destroys it). */
+PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
+    const pvs_allocator *a = &b->a;
+    pvs__vx_flood *fl = &b->fl;
+    uint32_t cells = b->d->cell_count;
+    pvs__free_array(a, fl->bucket_first, b->nbuckets + 1, sizeof(uint32_t));
+    pvs__free_array(a, fl->bucket_cells, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
+    pvs__free_array(a, fl->stamp, cells, sizeof(uint32_t));
+    pvs__free_array(a, fl->cellbuf, cells, 7);
+    if (fl->queue && fl->queue != b->queue) pvs__free_array(a, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
+    pvs__free_array(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
+    pvs__free_array(a, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
+    pvs__free_array(a, b->cbox, (size_t)(b->tp.comp_count ? b->tp.comp_count : 1) * 6, sizeof(uint32_t));
+    pvs__vx_topo_free(a, &b->tp, b->s->triangle_count);
+    pvs__free_array(a, b->tmp, b->total, 1);
+    pvs__free_array(a, b->queue, b->qcap, sizeof(uint32_t));
+    pvs__free_array(a, b->line, 1u + b->o->n[0] + b->o->n[1] + b->o->n[2], 1);
+}
+
+/* The voxel grid over the scene's bounds and the cells': voxels of size voxel_size, or eps / 1.5 (an
+   erosion by 2 voxels is then 1.33 eps), grown by 1.08 until the grid holds max_voxels; layer 0 lies
+   below the ground (PVS__VX_GROUND), layer 1 starts at it. Allocates the occluders (b->o) with their
+   state and eroded grids, and the scratch grids b->tmp and b->line. On failure nothing stays
+   allocated and err says why. */
+PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
+    const pvs_occluders_desc *d = b->d;
+    const pvs_allocator *a = &b->a;
+    pvs_occluders *o;
+    uint32_t up = b->up, c, i, j, k;
+    size_t total = 1;
+    double h;
+    int kk;
+    b->ext = b->s->bounds;
     for (c = 0; c < d->cell_count; ++c)
         for (kk = 0; kk < 3; ++kk) {
-            if (d->cells[c].min[kk] < ext.min[kk]) ext.min[kk] = d->cells[c].min[kk];
-            if (d->cells[c].max[kk] > ext.max[kk]) ext.max[kk] = d->cells[c].max[kk];
+            if (d->cells[c].min[kk] < b->ext.min[kk]) b->ext.min[kk] = d->cells[c].min[kk];
+            if (d->cells[c].max[kk] > b->ext.max[kk]) b->ext.max[kk] = d->cells[c].max[kk];
         }
-    g = ext.min[up];
+    b->g = b->ext.min[up];
     h = d->voxel_size > 0.0f ? d->voxel_size : d->eps / 1.5; /* erosion by 2 voxels = 1.33 eps */
     for (;;) { /* grow the voxel until the grid fits */
         double cnt = 1.0, lim = d->max_voxels ? (double)d->max_voxels : (double)(1u << 24);
-        for (kk = 0; kk < 3; ++kk) cnt *= floor(((double)ext.max[kk] - ext.min[kk]) / h) + 3.0;
+        for (kk = 0; kk < 3; ++kk) cnt *= floor(((double)b->ext.max[kk] - b->ext.min[kk]) / h) + 3.0;
         if (cnt <= lim) break;
         h *= 1.08;
     }
-    a = d->allocator;
-    o = (pvs_occluders *)pvs__alloc(&a, sizeof(*o), 16);
+    b->h = h;
+    o = (pvs_occluders *)pvs__alloc(a, sizeof(*o), 16);
     if (!o) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluders");
     memset(o, 0, sizeof(*o));
-    o->allocator = a;
-    o->scene = s;
+    o->allocator = *a;
+    o->scene = b->s;
     o->h = h;
-    o->ground = (float)g;
-    total = 1;
+    o->ground = (float)b->g;
     for (kk = 0; kk < 3; ++kk) {
-        o->n[kk] = (uint32_t)(floor(((double)ext.max[kk] - ext.min[kk]) / h) + 3.0);
-        o->origin[kk] = (double)ext.min[kk] - h;
+        o->n[kk] = (uint32_t)(floor(((double)b->ext.max[kk] - b->ext.min[kk]) / h) + 3.0);
+        o->origin[kk] = (double)b->ext.min[kk] - h;
         total *= o->n[kk];
     }
-    o->origin[up] = g - h; /* layer 0 lies below the ground, layer 1 starts at it */
-    o->total = total;
+    o->origin[up] = b->g - h; /* layer 0 lies below the ground, layer 1 starts at it */
+    o->total = b->total = total;
     for (kk = 0; kk < 3; ++kk) {
         o->grid.origin[kk] = o->origin[kk];
         o->grid.n[kk] = o->n[kk];
     }
     o->grid.h = h;
-    o->state = (uint8_t *)pvs__alloc_array(&a, total, 1);
-    o->eroded = (uint8_t *)pvs__alloc_array(&a, total, 1);
-    tmp = (uint8_t *)pvs__alloc_array(&a, total, 1);
-    line = (uint8_t *)pvs__alloc_array(&a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
-    cols = (size_t)o->n[u] * o->n[v];
-    if (!o->state || !o->eroded || !tmp || !line || total > 0x7fffffffu) {
+    o->state = (uint8_t *)pvs__alloc_array(a, total, 1);
+    o->eroded = (uint8_t *)pvs__alloc_array(a, total, 1);
+    b->tmp = (uint8_t *)pvs__alloc_array(a, total, 1);
+    b->line = (uint8_t *)pvs__alloc_array(a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+    if (!o->state || !o->eroded || !b->tmp || !b->line || total > 0x7fffffffu) {
         uint32_t dims[3];
         memcpy(dims, o->n, sizeof(dims)); /* the message names them after o is gone */
-        pvs__free_array(&a, tmp, total, 1);
-        pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+        pvs__free_array(a, b->tmp, total, 1);
+        pvs__free_array(a, b->line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
         pvs_occluders_destroy(o);
+        b->tmp = b->line = NULL;
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "voxel grid %u x %u x %u", dims[0], dims[1], dims[2]);
     }
+    b->o = o;
     memset(o->state, 0, total);
     for (k = 0; k < o->n[2]; ++k)
         for (j = 0; j < o->n[1]; ++j)
@@ -11795,61 +11823,86 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 idx[0] = i; idx[1] = j; idx[2] = k;
                 if (idx[up] == 0) o->state[pvs__vx_index(o, i, j, k)] = PVS__VX_GROUND;
             }
-    m = h * 1e-4 + 1e-6 * (pvs__dabs(g) + 1.0); /* the margin every voxel test rounds toward "touched" by */
-    /* a bucket grid over the cells in the ground plane, for the floods' sources */
-    fl.cells = d->cells;
-    fl.cell_count = d->cell_count;
-    fl.keep_leaks = (d->flags & PVS_OCCLUDERS_KEEP_LEAKS) != 0;
-    fl.bnu = (o->n[u] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
-    fl.bnv = (o->n[v] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
-    fl.bucket_grid = o->grid;
-    fl.bucket_grid.h = o->h * PVS__VX_BUCKET;
-    fl.bucket_grid.n[u] = fl.bnu;
-    fl.bucket_grid.n[v] = fl.bnv;
-    nbuckets = (size_t)fl.bnu * fl.bnv;
-    fl.bucket_first = (uint32_t *)pvs__alloc_array(&a, nbuckets + 1, sizeof(uint32_t));
-    fl.stamp = (uint32_t *)pvs__alloc_array(&a, d->cell_count, sizeof(uint32_t));
-    fl.cellbuf = (uint8_t *)pvs__alloc_array(&a, d->cell_count, 7);
-    if (!fl.bucket_first || !fl.stamp || !fl.cellbuf) goto oom;
-    memset(fl.bucket_first, 0, (nbuckets + 1) * sizeof(uint32_t));
-    memset(fl.stamp, 0, d->cell_count * sizeof(uint32_t));
-    memset(fl.cellbuf, 0, (size_t)d->cell_count * 7);
-    fl.near_cells = (uint32_t *)(void *)fl.cellbuf; /* the allocator aligns to 16 */
-    fl.excluded = fl.cellbuf + 4 * (size_t)d->cell_count;
-    fl.near_w = (signed char *)(fl.excluded + d->cell_count);
-    fl.near_flag = fl.excluded + 2 * (size_t)d->cell_count;
+    b->m = h * 1e-4 + 1e-6 * (pvs__dabs(b->g) + 1.0); /* the margin every voxel test rounds toward "touched" by */
+    return PVS_OK;
+}
+
+/* The floods' sources (pvs__vx_flood): the cells, their per-cell scratch, and a bucket grid over
+   them in the ground plane (PVS__VX_BUCKET voxel columns a side), each bucket listing the cells whose
+   box, grown by m, meets it (counted in a first pass, filled in a second). Returns OUT_OF_MEMORY
+   or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
+    const pvs_occluders_desc *d = b->d;
+    const pvs_allocator *a = &b->a;
+    const pvs_occluders *o = b->o;
+    pvs__vx_flood *fl = &b->fl;
+    int u = b->u, v = b->v;
+    uint32_t bpass, c;
+    size_t vi, nbuckets;
+    fl->cells = d->cells;
+    fl->cell_count = d->cell_count;
+    fl->keep_leaks = (d->flags & PVS_OCCLUDERS_KEEP_LEAKS) != 0;
+    fl->bnu = (o->n[u] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
+    fl->bnv = (o->n[v] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
+    fl->bucket_grid = o->grid;
+    fl->bucket_grid.h = o->h * PVS__VX_BUCKET;
+    fl->bucket_grid.n[u] = fl->bnu;
+    fl->bucket_grid.n[v] = fl->bnv;
+    b->nbuckets = nbuckets = (size_t)fl->bnu * fl->bnv;
+    fl->bucket_first = (uint32_t *)pvs__alloc_array(a, nbuckets + 1, sizeof(uint32_t));
+    fl->stamp = (uint32_t *)pvs__alloc_array(a, d->cell_count, sizeof(uint32_t));
+    fl->cellbuf = (uint8_t *)pvs__alloc_array(a, d->cell_count, 7);
+    if (!fl->bucket_first || !fl->stamp || !fl->cellbuf) return PVS_ERROR_OUT_OF_MEMORY;
+    memset(fl->bucket_first, 0, (nbuckets + 1) * sizeof(uint32_t));
+    memset(fl->stamp, 0, d->cell_count * sizeof(uint32_t));
+    memset(fl->cellbuf, 0, (size_t)d->cell_count * 7);
+    fl->near_cells = (uint32_t *)(void *)fl->cellbuf; /* the allocator aligns to 16 */
+    fl->excluded = fl->cellbuf + 4 * (size_t)d->cell_count;
+    fl->near_w = (signed char *)(fl->excluded + d->cell_count);
+    fl->near_flag = fl->excluded + 2 * (size_t)d->cell_count;
     for (bpass = 0; bpass < 2; ++bpass) {
         if (bpass) {
-            for (vi = 0; vi < nbuckets; ++vi) fl.bucket_first[vi + 1] += fl.bucket_first[vi];
-            bucket_entries = fl.bucket_first[nbuckets];
-            fl.bucket_cells = (uint32_t *)pvs__alloc_array(&a, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
-            if (!fl.bucket_cells) goto oom;
+            for (vi = 0; vi < nbuckets; ++vi) fl->bucket_first[vi + 1] += fl->bucket_first[vi];
+            b->bucket_entries = fl->bucket_first[nbuckets];
+            fl->bucket_cells = (uint32_t *)pvs__alloc_array(a, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
+            if (!fl->bucket_cells) return PVS_ERROR_OUT_OF_MEMORY;
         }
         for (c = 0; c < d->cell_count; ++c) {
             uint32_t r0[3], r1[3], bu, bv;
-            pvs__vx_grange(&fl.bucket_grid, u, d->cells[c].min[u], d->cells[c].max[u], m, r0 + u, r1 + u);
-            pvs__vx_grange(&fl.bucket_grid, v, d->cells[c].min[v], d->cells[c].max[v], m, r0 + v, r1 + v);
+            pvs__vx_grange(&fl->bucket_grid, u, d->cells[c].min[u], d->cells[c].max[u], b->m, r0 + u, r1 + u);
+            pvs__vx_grange(&fl->bucket_grid, v, d->cells[c].min[v], d->cells[c].max[v], b->m, r0 + v, r1 + v);
             if (r0[u] > r1[u] || r0[v] > r1[v]) continue;
             for (bv = r0[v]; bv <= r1[v]; ++bv)
                 for (bu = r0[u]; bu <= r1[u]; ++bu) {
-                    size_t bk = (size_t)bv * fl.bnu + bu;
-                    if (!bpass) ++fl.bucket_first[bk + 1];
-                    else fl.bucket_cells[--fl.bucket_first[bk + 1]] = c;
+                    size_t bk = (size_t)bv * fl->bnu + bu;
+                    if (!bpass) ++fl->bucket_first[bk + 1];
+                    else fl->bucket_cells[--fl->bucket_first[bk + 1]] = c;
                 }
         }
     }
-    for (vi = 0; vi < nbuckets; ++vi) fl.bucket_first[vi] = fl.bucket_first[vi + 1]; /* the fill moved each end to its start */
-    fl.bucket_first[nbuckets] = bucket_entries;
-    /* 1. solid proved per component (see the argument before pvs__vx_orient) */
-    if (pvs__vx_topology(s, (float)g, &a, &tp) != PVS_OK) goto oom;
-    cbox = (uint32_t *)pvs__alloc_array(&a, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
-    if (!cbox) goto oom;
-    for (c = 0; c < tp.comp_count; ++c) {
-        uint32_t *bx = cbox + 6 * (size_t)c, t;
+    for (vi = 0; vi < nbuckets; ++vi) fl->bucket_first[vi] = fl->bucket_first[vi + 1]; /* the fill moved each end to its start */
+    fl->bucket_first[nbuckets] = b->bucket_entries;
+    return PVS_OK;
+}
+
+/* Step 1's component boxes: per component of b->tp, the voxels its triangles touch (grown by m),
+   from layer 1 up when it has open edges (their sheets reach down to the ground), into b->cbox; and
+   the flood scratch sizes (fl.cap_vox, fl.cap_col) of the largest box of a component of three
+   triangles or more. Returns OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
+    const pvs_scene *s = b->s;
+    const pvs__vx_topo *tp = &b->tp;
+    pvs__vx_flood *fl = &b->fl;
+    uint32_t up = b->up, c;
+    int kk;
+    b->cbox = (uint32_t *)pvs__alloc_array(&b->a, (size_t)(tp->comp_count ? tp->comp_count : 1) * 6, sizeof(uint32_t));
+    if (!b->cbox) return PVS_ERROR_OUT_OF_MEMORY;
+    for (c = 0; c < tp->comp_count; ++c) {
+        uint32_t *bx = b->cbox + 6 * (size_t)c, t;
         size_t vol = 1, ncol;
         for (kk = 0; kk < 3; ++kk) { bx[kk] = 0xffffffffu; bx[3 + kk] = 0; }
-        for (t = tp.comp_first[c]; t < tp.comp_first[c + 1]; ++t) {
-            uint32_t tri = tp.tris[t], r0, r1, q;
+        for (t = tp->comp_first[c]; t < tp->comp_first[c + 1]; ++t) {
+            uint32_t tri = tp->tris[t], r0, r1, q;
             for (kk = 0; kk < 3; ++kk) {
                 double lo = DBL_MAX, hi = -DBL_MAX;
                 for (q = 0; q < 3; ++q) {
@@ -11857,53 +11910,83 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                     lo = pvs__dmin(lo, x);
                     hi = pvs__dmax(hi, x);
                 }
-                pvs__vx_range(o, kk, lo, hi, m, &r0, &r1);
+                pvs__vx_range(b->o, kk, lo, hi, b->m, &r0, &r1);
                 if (r0 < bx[kk]) bx[kk] = r0;
                 if (r1 > bx[3 + kk]) bx[3 + kk] = r1;
             }
         }
-        if (bx[up] < 1 || tp.open_first[c + 1] > tp.open_first[c]) bx[up] = 1; /* open edges: sheets to the ground */
+        if (bx[up] < 1 || tp->open_first[c + 1] > tp->open_first[c]) bx[up] = 1; /* open edges: sheets to the ground */
         if (bx[3 + up] < bx[up]) bx[3 + up] = bx[up];
         for (kk = 0; kk < 3; ++kk) vol *= (size_t)(bx[3 + kk] - bx[kk] + 1);
-        ncol = (size_t)(bx[3 + u] - bx[u] + 1) * (bx[3 + v] - bx[v] + 1);
-        if (tp.comp_first[c + 1] - tp.comp_first[c] < 3) continue; /* encloses nothing: touched only */
-        if (vol > fl.cap_vox) fl.cap_vox = vol;
-        if (ncol > fl.cap_col) fl.cap_col = ncol;
+        ncol = (size_t)(bx[3 + b->u] - bx[b->u] + 1) * (bx[3 + b->v] - bx[b->v] + 1);
+        if (tp->comp_first[c + 1] - tp->comp_first[c] < 3) continue; /* encloses nothing: touched only */
+        if (vol > fl->cap_vox) fl->cap_vox = vol;
+        if (ncol > fl->cap_col) fl->cap_col = ncol;
     }
-    qcap = total > 2 * fl.cap_vox ? total : 2 * fl.cap_vox;
-    fl.bits = (uint8_t *)pvs__alloc_array(&a, fl.cap_vox ? fl.cap_vox : 1, 1);
-    fl.col = (uint8_t *)pvs__alloc_array(&a, fl.cap_col ? fl.cap_col : 1, 1);
-    queue = (uint32_t *)pvs__alloc_array(&a, qcap, sizeof(uint32_t));
-    fl.queue = queue;
-    if (!fl.bits || !fl.col || !queue) goto oom;
+    return PVS_OK;
+}
+
+/* Step 1 of pvs_occluders_create, solid proved per component (see the argument before
+   pvs__vx_orient): the components (pvs__vx_topology) and their boxes; each component of three
+   triangles or more flooded and certified on the grid (pvs__vx_certify), the others, which enclose
+   nothing, only marked touched (for the summary and the leak flood); then the touched voxels
+   counted. Allocates b->queue (kept for the leak flood) and frees the rest of its scratch. Returns
+   OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
+    static const int xyz[3] = {0, 1, 2};
+    pvs_occluders *o = b->o;
+    const pvs_allocator *a = &b->a;
+    const pvs__vx_topo *tp = &b->tp;
+    pvs__vx_flood *fl = &b->fl;
+    uint32_t zero[3] = {0, 0, 0}, last[3], c;
+    pvs__vx_touch tv;
+    size_t vi;
+    int kk;
+    if (pvs__vx_topology(b->s, (float)b->g, a, &b->tp) != PVS_OK) return PVS_ERROR_OUT_OF_MEMORY;
+    if (pvs__vx_build_boxes(b) != PVS_OK) return PVS_ERROR_OUT_OF_MEMORY;
+    b->qcap = b->total > 2 * fl->cap_vox ? b->total : 2 * fl->cap_vox;
+    fl->bits = (uint8_t *)pvs__alloc_array(a, fl->cap_vox ? fl->cap_vox : 1, 1);
+    fl->col = (uint8_t *)pvs__alloc_array(a, fl->cap_col ? fl->cap_col : 1, 1);
+    b->queue = (uint32_t *)pvs__alloc_array(a, b->qcap, sizeof(uint32_t));
+    fl->queue = b->queue;
+    if (!fl->bits || !fl->col || !b->queue) return PVS_ERROR_OUT_OF_MEMORY;
     memset(&tv, 0, sizeof(tv));
     tv.o = o;
     tv.gr = &o->grid;
-    tv.hs = 0.5 * h + m;
+    tv.hs = 0.5 * b->h + b->m;
     for (kk = 0; kk < 3; ++kk) last[kk] = o->n[kk] - 1;
-    for (c = 0; c < tp.comp_count; ++c) {
+    for (c = 0; c < tp->comp_count; ++c) {
         uint32_t t;
-        if (tp.comp_first[c + 1] - tp.comp_first[c] >= 3) {
-            pvs__vx_certify(o, &tp, c, cbox + 6 * (size_t)c, cbox + 6 * (size_t)c + 3, m, &fl);
+        if (tp->comp_first[c + 1] - tp->comp_first[c] >= 3) {
+            pvs__vx_certify(o, tp, c, b->cbox + 6 * (size_t)c, b->cbox + 6 * (size_t)c + 3, b->m, fl);
             ++o->info.components;
-            o->info.closed_components += tp.open_first[c + 1] == tp.open_first[c];
+            o->info.closed_components += tp->open_first[c + 1] == tp->open_first[c];
             continue;
         }
-        for (t = tp.comp_first[c]; t < tp.comp_first[c + 1]; ++t) { /* touched, for the summary and the leak flood */
-            pvs__vx_tri_points(s, tp.tris[t], tv.p);
-            pvs__vx_scan(&o->grid, tv.p[0], 3, xyz, 3, m, zero, last, pvs__vx_touch_visit, &tv);
+        for (t = tp->comp_first[c]; t < tp->comp_first[c + 1]; ++t) { /* touched, for the summary and the leak flood */
+            pvs__vx_tri_points(b->s, tp->tris[t], tv.p);
+            pvs__vx_scan(&o->grid, tv.p[0], 3, xyz, 3, b->m, zero, last, pvs__vx_touch_visit, &tv);
         }
     }
-    o->info.open_edges = tp.open_count;
-    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
-    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
-    pvs__free_array(&a, cbox, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
-    fl.bits = fl.col = NULL;
-    fl.queue = NULL; /* `queue` keeps it for the leak flood */
-    fl.cap_vox = fl.cap_col = 0;
-    cbox = NULL;
-    for (vi = 0; vi < total; ++vi) o->info.touched += (o->state[vi] & PVS__VX_TOUCHED) != 0;
-    /* 2. explicit occluder volumes are solid: voxels wholly inside one */
+    o->info.open_edges = tp->open_count;
+    pvs__free_array(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
+    pvs__free_array(a, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
+    pvs__free_array(a, b->cbox, (size_t)(tp->comp_count ? tp->comp_count : 1) * 6, sizeof(uint32_t));
+    fl->bits = fl->col = NULL;
+    fl->queue = NULL; /* b->queue keeps it for the leak flood */
+    fl->cap_vox = fl->cap_col = 0;
+    b->cbox = NULL;
+    for (vi = 0; vi < b->total; ++vi) o->info.touched += (o->state[vi] & PVS__VX_TOUCHED) != 0;
+    return PVS_OK;
+}
+
+/* Step 2 of pvs_occluders_create: explicit occluder volumes are solid; every voxel above the ground
+   wholly inside one becomes PVS__VX_EXPLICIT | PVS__VX_SOLID. */
+PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
+    const pvs_scene *s = o->scene;
+    double h = o->h;
+    uint32_t up = s->up_axis, c, i, j, k;
+    int kk;
     for (c = 0; c < s->occluder_count; ++c) {
         const pvs_box *ob = s->occluder_boxes + c;
         uint32_t r0[3], r1[3];
@@ -11920,12 +12003,20 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                     if (pvs__vx_in_occluder(s->occluders + c, up, lo, hi)) o->state[x] |= PVS__VX_EXPLICIT | PVS__VX_SOLID;
                 }
     }
-    /* 3. the leak diagnostic: a 6-connected flood through untouched, unsolid voxels from the grid's
-       border (outside the scene); a chain of face-adjacent untouched voxels is a real path that meets
-       no triangle, so every cell with a voxel it reached truly reaches the outside. The lowest such
-       cell is reported, with one of its reached voxels. */
+}
+
+/* Step 3 of pvs_occluders_create, the leak diagnostic: a 6-connected flood through untouched,
+   unsolid voxels from the grid's border (outside the scene); a chain of face-adjacent untouched
+   voxels is a real path that meets no triangle, so every cell with a voxel it reached truly reaches
+   the outside. The lowest such cell is reported (info.leak_cell), with one of its reached voxels;
+   info.leak_cells counts them. Floods with b->queue (total entries). */
+PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
+    pvs_occluders *o = b->o;
+    const pvs_occluders_desc *d = b->d;
+    uint32_t *queue = b->queue, qh = 0, qt = 0, c, i, j, k;
+    double h = b->h;
+    int kk;
     o->info.leak_cell = PVS_NO_CELL;
-    qh = qt = 0;
     for (k = 0; k < o->n[2]; ++k)
         for (j = 0; j < o->n[1]; ++j)
             for (i = 0; i < o->n[0]; ++i) {
@@ -11952,7 +12043,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         uint32_t r0[3], r1[3];
         int found = 0;
         const pvs_box *cb = d->cells + c;
-        for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
+        for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, cb->min[kk], cb->max[kk], b->m, r0 + kk, r1 + kk);
         for (k = r0[2]; k <= r1[2] && !found; ++k)
             for (j = r0[1]; j <= r1[1] && !found; ++j)
                 for (i = r0[0]; i <= r1[0] && !found; ++i)
@@ -11967,7 +12058,16 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                     }
         o->info.leak_cells += (uint32_t)found;
     }
-    for (vi = 0; vi < total; ++vi) {
+}
+
+/* The solid after steps 1 to 3: o->eroded = the solid voxels (eroded in step 5), counted in
+   info.solid, and info.thin_objects, the drawable objects with no solid voxel inside their box. */
+PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
+    const pvs_scene *s = o->scene;
+    uint32_t c, i, j, k;
+    size_t vi;
+    int kk;
+    for (vi = 0; vi < o->total; ++vi) {
         o->eroded[vi] = (uint8_t)pvs__vx_solid_state(o->state[vi]);
         o->info.solid += o->eroded[vi];
     }
@@ -11983,8 +12083,19 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 for (i = r0[0]; i <= r1[0] && !found; ++i) found = o->eroded[pvs__vx_index(o, i, j, k)];
         o->info.thin_objects += !found;
     }
-    /* 4. the 2.5D occluders: is the solid mostly runs standing on the ground? then the column map */
-    r = (uint32_t)floor(d->eps / h) + 1u; /* strictly more than eps: rounding toward less solid */
+}
+
+/* Step 4 of pvs_occluders_create, the 2.5D occluders: the solid voxels in runs standing on the
+   ground (info.column_voxels; is_2d5 when they hold 90% of the solid), then the column map, its
+   chains and the hierarchies (pvs__vx_columns, pvs__occluders_hierarchies). Then frees the floods'
+   scratch, all but the per-cell bytes (the excluded flags). Returns OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_build_columns(pvs__vx_build *b) {
+    pvs_occluders *o = b->o;
+    const pvs_allocator *a = &b->a;
+    pvs__vx_flood *fl = &b->fl;
+    uint32_t up = b->up, cells = b->d->cell_count;
+    int u = b->u, v = b->v;
+    size_t vi, cols = (size_t)o->n[u] * o->n[v];
     for (vi = 0; vi < cols; ++vi) {
         uint32_t idx[3];
         idx[u] = (uint32_t)(vi % o->n[u]); idx[v] = (uint32_t)(vi / o->n[u]);
@@ -11994,49 +12105,107 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         }
     }
     o->info.is_2d5 = o->info.solid > 0 && (double)o->info.column_voxels >= 0.9 * (double)o->info.solid;
-    if (pvs__vx_columns(o, &tp, &ext, d->eps, m, &fl) != PVS_OK || pvs__occluders_hierarchies(o) != PVS_OK) goto oom;
+    if (pvs__vx_columns(o, &b->tp, &b->ext, b->d->eps, b->m, fl) != PVS_OK || pvs__occluders_hierarchies(o) != PVS_OK)
+        return PVS_ERROR_OUT_OF_MEMORY;
     o->info.rect_count = o->chain_count;
-    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
-    pvs__free_array(&a, fl.queue, fl.cap_vox ? 2 * fl.cap_vox : 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
-    pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
-    fl.bits = fl.col = NULL; /* freed: the error path below must not free them again */
-    fl.queue = fl.bucket_first = fl.bucket_cells = fl.stamp = NULL;
-    /* the leaking cells the floods left out (step 4 of pvs__vx_flood_component) */
-    o->info.excluded_cells = fl.excluded_count;
-    if (fl.excluded_count) {
+    pvs__free_array(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
+    pvs__free_array(a, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
+    pvs__free_array(a, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
+    pvs__free_array(a, fl->bucket_first, b->nbuckets + 1, sizeof(uint32_t));
+    pvs__free_array(a, fl->bucket_cells, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
+    pvs__free_array(a, fl->stamp, cells, sizeof(uint32_t));
+    fl->bits = fl->col = NULL; /* freed: the error path must not free them again */
+    fl->queue = fl->bucket_first = fl->bucket_cells = fl->stamp = NULL;
+    return PVS_OK;
+}
+
+/* The leaking cells the floods left out (step 4 of pvs__vx_flood_component): their ids and boxes
+   (o->excluded, o->excluded_boxes); then frees the floods' per-cell bytes and clears b->fl. Returns
+   OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_build_excluded(pvs__vx_build *b) {
+    pvs_occluders *o = b->o;
+    const pvs_occluders_desc *d = b->d;
+    const pvs_allocator *a = &b->a;
+    pvs__vx_flood *fl = &b->fl;
+    uint32_t c;
+    o->info.excluded_cells = fl->excluded_count;
+    if (fl->excluded_count) {
         uint32_t n = 0;
-        o->excluded = (uint32_t *)pvs__alloc_array(&a, fl.excluded_count, sizeof(uint32_t));
-        o->excluded_boxes = (pvs_box *)pvs__alloc_array(&a, fl.excluded_count, sizeof(pvs_box));
+        o->excluded = (uint32_t *)pvs__alloc_array(a, fl->excluded_count, sizeof(uint32_t));
+        o->excluded_boxes = (pvs_box *)pvs__alloc_array(a, fl->excluded_count, sizeof(pvs_box));
         if (!o->excluded || !o->excluded_boxes) {
-            pvs__free_array(&a, fl.cellbuf, d->cell_count, 7);
-            fl.cellbuf = NULL;
-            goto oom;
+            pvs__free_array(a, fl->cellbuf, d->cell_count, 7);
+            fl->cellbuf = NULL;
+            return PVS_ERROR_OUT_OF_MEMORY;
         }
         for (c = 0; c < d->cell_count; ++c)
-            if (fl.excluded[c]) { o->excluded[n] = c; o->excluded_boxes[n++] = d->cells[c]; }
+            if (fl->excluded[c]) { o->excluded[n] = c; o->excluded_boxes[n++] = d->cells[c]; }
     }
-    pvs__free_array(&a, fl.cellbuf, d->cell_count, 7);
-    memset(&fl, 0, sizeof(fl));
-    pvs__vx_topo_free(&a, &tp, s->triangle_count);
+    pvs__free_array(a, fl->cellbuf, d->cell_count, 7);
+    memset(fl, 0, sizeof(*fl));
+    return PVS_OK;
+}
+
+/* Step 5 of pvs_occluders_create, the occluders shrunk by eps (Wonka 2000 §2, appendix): the solid
+   eroded in 3D by r voxels (Chebyshev; outside the grid and the ground count as empty), then merged
+   greedily into boxes (o->boxes; left NULL when out of memory). */
+PVS__STATIC void pvs__vx_erode_merge(pvs__vx_build *b, uint32_t r) {
+    pvs_occluders *o = b->o;
+    size_t vi, total = b->total;
+    int kk;
+    for (kk = 0; kk < 3; ++kk) pvs__vx_erode_axis(o, o->eroded, b->line, kk, r);
+    for (vi = 0; vi < total; ++vi) o->info.eroded += o->eroded[vi];
+    memcpy(b->tmp, o->eroded, total);
+    o->box_count = pvs__vx_merge(o, b->tmp, NULL);
+    o->boxes = (pvs_box *)pvs__alloc_array(&b->a, o->box_count ? o->box_count : 1, sizeof(pvs_box));
+    if (o->boxes) {
+        memcpy(b->tmp, o->eroded, total);
+        pvs__vx_merge(o, b->tmp, o->boxes);
+    }
+    o->info.box_count = o->box_count;
+}
+
+PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occluders **out, pvs_error *err) {
+    pvs__vx_build b;
+    pvs_occluders *o;
+    pvs_result res;
+    uint32_t c, r;
+    int kk;
+    if (out) *out = NULL;
+    memset(&b, 0, sizeof(b));
+    if (!d || !out || !d->scene || !d->cells || !d->cell_count)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene, cells and out must be given");
+    if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and > 0, voxel_size finite and >= 0");
+    if (d->flags & ~PVS_OCCLUDERS_KEEP_LEAKS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown occluders flags 0x%x", d->flags);
+    for (c = 0; c < d->cell_count; ++c)
+        if (!pvs__box_valid(d->cells + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "cell %u is not a valid box", c);
+    b.d = d;
+    b.s = d->scene;
+    b.a = d->allocator;
+    b.up = b.s->up_axis;
+    pvs__ground_axes(b.up, &b.u, &b.v);
+    res = pvs__vx_build_grid(&b, err);
+    if (res != PVS_OK) return res;
+    o = b.o;
+    /* a bucket grid over the cells in the ground plane, for the floods' sources */
+    if (pvs__vx_build_buckets(&b) != PVS_OK) goto oom;
+    /* 1. solid proved per component (see the argument before pvs__vx_orient) */
+    if (pvs__vx_build_certify(&b) != PVS_OK) goto oom;
+    /* 2. explicit occluder volumes are solid: voxels wholly inside one */
+    pvs__vx_explicit_solid(o);
+    /* 3. the leak diagnostic: the cells that reach the grid's border through untouched voxels */
+    pvs__vx_leaks(&b);
+    pvs__vx_solid_summary(o);
+    /* 4. the 2.5D occluders: is the solid mostly runs standing on the ground? then the column map */
+    r = (uint32_t)floor(d->eps / b.h) + 1u; /* strictly more than eps: rounding toward less solid */
+    if (pvs__vx_build_columns(&b) != PVS_OK || pvs__vx_build_excluded(&b) != PVS_OK) goto oom;
+    pvs__vx_topo_free(&b.a, &b.tp, b.s->triangle_count);
     /* 5. 3D erosion by r voxels (Chebyshev; outside the grid and the ground count as empty), then boxes */
-    {
-        for (kk = 0; kk < 3; ++kk) pvs__vx_erode_axis(o, o->eroded, line, kk, r);
-        for (vi = 0; vi < total; ++vi) o->info.eroded += o->eroded[vi];
-        memcpy(tmp, o->eroded, total);
-        o->box_count = pvs__vx_merge(o, tmp, NULL);
-        o->boxes = (pvs_box *)pvs__alloc_array(&a, o->box_count ? o->box_count : 1, sizeof(pvs_box));
-        if (o->boxes) {
-            memcpy(tmp, o->eroded, total);
-            pvs__vx_merge(o, tmp, o->boxes);
-        }
-        o->info.box_count = o->box_count;
-    }
-    pvs__free_array(&a, tmp, total, 1);
-    pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
-    pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+    pvs__vx_erode_merge(&b, r);
+    pvs__free_array(&b.a, b.tmp, b.total, 1);
+    pvs__free_array(&b.a, b.queue, b.qcap, sizeof(uint32_t));
+    pvs__free_array(&b.a, b.line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
     if (!o->boxes) {
         pvs_occluders_destroy(o);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder boxes");
@@ -12045,24 +12214,13 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         o->info.dims[kk] = o->n[kk];
         o->info.origin[kk] = (float)o->origin[kk];
     }
-    o->info.voxel_size = (float)h;
+    o->info.voxel_size = (float)b.h;
     o->info.eps = d->eps;
     *out = o;
     pvs__ok(err);
     return PVS_OK;
 oom:
-    pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
-    pvs__free_array(&a, fl.cellbuf, d->cell_count, 7);
-    if (fl.queue && fl.queue != queue) pvs__free_array(&a, fl.queue, fl.cap_vox ? 2 * fl.cap_vox : 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
-    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
-    pvs__free_array(&a, cbox, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
-    pvs__vx_topo_free(&a, &tp, s->triangle_count);
-    pvs__free_array(&a, tmp, total, 1);
-    pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
-    pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+    pvs__vx_build_free(&b);
     pvs_occluders_destroy(o);
     return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder synthesis scratch");
 }
