@@ -10751,81 +10751,103 @@ PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
     }
 }
 
-/* The flood of one component K over grid `gr`: voxel box lo..hi (inclusive, lo[up] >= 1), its
-   triangles and open edges (see the argument above). Leaves in fl->bits, per box voxel, PVS__G_T/B/W
-   and the reached nodes; returns 0 when the outside of the box was never entered. With
-   mark_touched (gr is the occluders' own grid) it also sets PVS__VX_TOUCHED on the grid. */
-PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
-                                        const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl, int mark_touched) {
+/* A component's box during its flood (pvs__vx_flood_component), shared by the flood's steps. */
+typedef struct pvs__vx_fbox {
+    pvs_occluders *o;
+    const pvs_scene *s;
+    const pvs__vx_grid *gr;
+    const pvs__vx_topo *tp;
+    uint32_t comp;             /* component K */
+    const uint32_t *lo, *hi;   /* the box, voxels of gr (inclusive) */
+    uint32_t d[3], up;         /* its voxels per axis */
+    int u, v;
+    size_t stride[3], nvox, ncol; /* of fl->bits; its voxels, its columns */
+    double m;
+    pvs__vx_flood *fl;
+} pvs__vx_fbox;
+
+/* Step 1 of a component's flood: the voxels of the box that K touches (separating axes, margin
+   toward touched) get PVS__G_T; with mark_touched the occluders' grid PVS__VX_TOUCHED too. */
+PVS__STATIC void pvs__vx_flood_touched(const pvs__vx_fbox *fb, int mark_touched) {
     static const int xyz[3] = {0, 1, 2};
-    int axes[3];
     pvs__vx_touch tv;
-    pvs__vx_colvisit cv;
-    const pvs_scene *s = o->scene;
-    uint32_t up = s->up_axis, d[3], k, t, pass;
-    int u, v, ext, any;
-    size_t stride[3], nvox, vi, qh = 0, qt = 0, ncol;
-    double h = gr->h;
-    uint8_t *bits = fl->bits, *col = fl->col;
-    uint32_t *queue = fl->queue;
-    pvs__ground_axes(up, &u, &v);
-    for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
-    stride[0] = 1;
-    stride[1] = d[0];
-    stride[2] = (size_t)d[0] * d[1];
-    nvox = stride[2] * d[2];
-    ncol = (size_t)d[u] * d[v];
-    memset(bits, 0, nvox);
-    /* 1. touched by K (separating axes, margin toward touched) */
+    uint32_t t;
     memset(&tv, 0, sizeof(tv));
-    tv.o = mark_touched ? o : NULL;
-    tv.gr = gr;
-    tv.bits = bits;
-    tv.lo = lo;
-    tv.stride = stride;
-    tv.hs = 0.5 * h + m;
-    for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
-        pvs__vx_tri_points(s, tp->tris[t], tv.p);
-        pvs__vx_scan(gr, tv.p[0], 3, xyz, 3, m, lo, hi, pvs__vx_touch_visit, &tv);
+    tv.o = mark_touched ? fb->o : NULL;
+    tv.gr = fb->gr;
+    tv.bits = fb->fl->bits;
+    tv.lo = fb->lo;
+    tv.stride = fb->stride;
+    tv.hs = 0.5 * fb->gr->h + fb->m;
+    for (t = fb->tp->comp_first[fb->comp]; t < fb->tp->comp_first[fb->comp + 1]; ++t) {
+        pvs__vx_tri_points(fb->s, fb->tp->tris[t], tv.p);
+        pvs__vx_scan(fb->gr, tv.p[0], 3, xyz, 3, fb->m, fb->lo, fb->hi, pvs__vx_touch_visit, &tv);
     }
-    /* 2. bad: the vertical sheet below each open edge, from the edge (plus margin) down to the
-       ground; per column whose square (grown by m) the projected edge meets, over the part of the
-       edge inside it (Liang-Barsky clip: pvs__vx_sheet_visit) */
-    memset(&cv, 0, sizeof(cv));
-    cv.gr = gr;
-    cv.bits = bits;
-    cv.col = col;
-    cv.lo = lo;
-    cv.hi = hi;
-    cv.d = d;
-    cv.stride = stride;
-    cv.u = u;
-    cv.v = v;
-    cv.up = (int)up;
-    cv.m = m;
-    axes[0] = u;
-    axes[1] = v;
-    axes[2] = (int)up;
-    for (t = tp->open_first[comp]; t < tp->open_first[comp + 1]; ++t) {
+}
+
+/* The column visitor of steps 2 and 3 over the box, and the scan's axes (u, v, up). */
+PVS__STATIC void pvs__vx_flood_colvisit(const pvs__vx_fbox *fb, pvs__vx_colvisit *cv, int axes[3]) {
+    memset(cv, 0, sizeof(*cv));
+    cv->gr = fb->gr;
+    cv->bits = fb->fl->bits;
+    cv->col = fb->fl->col;
+    cv->lo = fb->lo;
+    cv->hi = fb->hi;
+    cv->d = fb->d;
+    cv->stride = fb->stride;
+    cv->u = fb->u;
+    cv->v = fb->v;
+    cv->up = (int)fb->up;
+    cv->m = fb->m;
+    axes[0] = fb->u;
+    axes[1] = fb->v;
+    axes[2] = (int)fb->up;
+}
+
+/* Step 2 of a component's flood, the bad voxels: the vertical sheet below each open edge, from the
+   edge (plus margin) down to the ground; per column whose square (grown by m) the projected edge
+   meets, over the part of the edge inside it (Liang-Barsky clip: pvs__vx_sheet_visit). */
+PVS__STATIC void pvs__vx_flood_sheets(const pvs__vx_fbox *fb) {
+    const pvs__vx_topo *tp = fb->tp;
+    pvs__vx_colvisit cv;
+    int axes[3];
+    uint32_t t, k;
+    pvs__vx_flood_colvisit(fb, &cv, axes);
+    for (t = tp->open_first[fb->comp]; t < tp->open_first[fb->comp + 1]; ++t) {
         double pe[2][3];
         for (k = 0; k < 6; ++k) pe[k / 3][k % 3] = tp->open_edges[6 * (size_t)t + k];
         cv.e = tp->open_edges + 6 * (size_t)t;
-        pvs__vx_scan(gr, pe[0], 2, axes, 2, m, lo, hi, pvs__vx_sheet_visit, &cv);
+        pvs__vx_scan(fb->gr, pe[0], 2, axes, 2, fb->m, fb->lo, fb->hi, pvs__vx_sheet_visit, &cv);
     }
-    /* 3. parity of the pure voxels: per column, the crossings of one vertical line (pvs__vx_cross)
-       toggle PVS__G_F at their layer; up to 8 positions of the line per column */
-    memset(col, 0, ncol);
+}
+
+/* Step 3 of a component's flood, the parity of the pure voxels: per column, the crossings of one
+   vertical line (pvs__vx_cross) toggle PVS__G_F at their layer; up to 8 positions of the line per
+   column (where all 8 fail, the column is bad: PVS__G_B, info.undecided_columns). Then w of a pure
+   voxel (PVS__G_W) = the parity of the crossings above it. */
+PVS__STATIC void pvs__vx_flood_parity(const pvs__vx_fbox *fb) {
+    const pvs_scene *s = fb->s;
+    const pvs__vx_topo *tp = fb->tp;
+    const uint32_t *d = fb->d;
+    const size_t *stride = fb->stride;
+    uint8_t *bits = fb->fl->bits, *col = fb->fl->col;
+    uint32_t up = fb->up, pass, t, k;
+    int u = fb->u, v = fb->v, axes[3], any;
+    size_t vi;
+    pvs__vx_colvisit cv;
+    pvs__vx_flood_colvisit(fb, &cv, axes);
+    memset(col, 0, fb->ncol);
     for (pass = 0, any = 1; any && pass < 8; ++pass) {
         cv.pass = pass;
-        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+        for (t = tp->comp_first[fb->comp]; t < tp->comp_first[fb->comp + 1]; ++t) {
             uint32_t tri = tp->tris[t];
             double pt[3][3];
             for (k = 0; k < 3; ++k) cv.tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + k];
             pvs__vx_tri_points(s, tri, pt);
-            pvs__vx_scan(gr, pt[0], 3, axes, 2, m, lo, hi, pvs__vx_cross_visit, &cv);
+            pvs__vx_scan(fb->gr, pt[0], 3, axes, 2, fb->m, fb->lo, fb->hi, pvs__vx_cross_visit, &cv);
         }
         any = 0;
-        for (vi = 0; vi < ncol; ++vi) {
+        for (vi = 0; vi < fb->ncol; ++vi) {
             uint32_t idx[3];
             if (!(col[vi] & 0x80)) continue;
             idx[u] = (uint32_t)(vi % d[u]); idx[v] = (uint32_t)(vi / d[u]);
@@ -10834,11 +10856,11 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
                 bits[x] &= (uint8_t)~PVS__G_F;
                 if (pass + 1 == 8) bits[x] |= PVS__G_B;
             }
-            if (pass + 1 == 8) { col[vi] = 0xff; ++o->info.undecided_columns; }
+            if (pass + 1 == 8) { col[vi] = 0xff; ++fb->o->info.undecided_columns; }
             else { col[vi] = (uint8_t)(pass + 1); any = 1; }
         }
     }
-    for (vi = 0; vi < ncol; ++vi) { /* w of a pure voxel = parity of the crossings above it */
+    for (vi = 0; vi < fb->ncol; ++vi) { /* w of a pure voxel = parity of the crossings above it */
         uint32_t idx[3], acc = 0;
         idx[u] = (uint32_t)(vi % d[u]); idx[v] = (uint32_t)(vi / d[u]);
         for (idx[up] = d[up]; idx[up]-- > 0;) {
@@ -10847,119 +10869,203 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
             acc ^= (bits[x] & PVS__G_F) != 0;
         }
     }
-    /* 4. the flood's sources: each cell meeting the box, and the outside of the box when a cell lies
-       (partly) outside it. A cell clear of K (by the margin) is convex and free, so all its points
-       share one w, read off a pure voxel it genuinely overlaps; its voxels get the node of that w. A
-       cell meeting K (partly inside a closed mesh, or touching it) gets every node of its voxels.
-       Leaking cells: when most cells lie inside the box (a closed level) but a few reach the outside
-       (a cell box poking through a wall into the void of a mesh with no faces there, as game levels
-       are), their nodes would join every wall's interior to the flood and no wall would be solid
-       for any cell. So when the cells outside the box are fewer than half of those in use, the
-       outside is flooded first; the cells lying partly outside or whose nodes it reached are then
-       excluded when they too are fewer than half, and the flood runs from the others only. An
-       excluded cell seeds no later flood and gets no occluder at all (pvs_shrink_cell sets every
-       object for it); every cell that keeps the occluders seeded every flood, so the argument above
-       holds for it unchanged. */
-    {
-        uint32_t bu, bv, nnear = 0, q, bu0, bu1, bv0, bv1, stamp, active = fl->cell_count - fl->excluded_count, nout, excl = 0;
-        fl->stamp_next += 2;
-        stamp = fl->stamp_next - 1; /* stamp: looked at for this component, stamp + 1: meets its box */
-        pvs__vx_grange(&fl->bucket_grid, u, gr->origin[u] + lo[u] * h, gr->origin[u] + (hi[u] + 1) * h, m, &bu0, &bu1);
-        pvs__vx_grange(&fl->bucket_grid, v, gr->origin[v] + lo[v] * h, gr->origin[v] + (hi[v] + 1) * h, m, &bv0, &bv1);
-        for (bv = bv0; bv <= bv1; ++bv)
-            for (bu = bu0; bu <= bu1; ++bu) {
-                size_t bk = (size_t)bv * fl->bnu + bu;
-                for (q = fl->bucket_first[bk]; q < fl->bucket_first[bk + 1]; ++q) {
-                    uint32_t cid = fl->bucket_cells[q], r0[3], r1[3], s0[3], s1[3], a, b, c;
-                    const pvs_box *cb = fl->cells + cid;
-                    int touches = 0, maybe = 0, wc = -1, kk, out_w0 = 0, stick = 0;
-                    if (fl->stamp[cid] >= stamp || fl->excluded[cid]) continue;
-                    fl->stamp[cid] = stamp;
-                    for (kk = 0; kk < 3; ++kk) {
-                        pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
-                        if (r0[kk] > r1[kk] || r1[kk] < lo[kk] || r0[kk] > hi[kk]) break;
-                    }
-                    if (kk < 3) continue;
-                    fl->stamp[cid] = stamp + 1;
-                    for (kk = 0; kk < 3; ++kk) {
-                        if (r0[kk] < lo[kk] || r1[kk] > hi[kk]) stick = 1; /* sticks out of the box */
-                        if (r1[kk] > hi[kk] || (r0[kk] < lo[kk] && ((uint32_t)kk != up || lo[up] > 1))) out_w0 = 1;
-                        if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
-                        if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
-                    }
-                    for (c = r0[2]; c <= r1[2] && !maybe; ++c)
-                        for (b = r0[1]; b <= r1[1] && !maybe; ++b)
-                            for (a = r0[0]; a <= r1[0] && !maybe; ++a)
-                                maybe = (bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])] & (PVS__G_T | PVS__G_B)) != 0;
-                    if (maybe) { /* does the cell, grown by m, meet a triangle of K? */
-                        double cc[3], hs[3];
-                        for (kk = 0; kk < 3; ++kk) {
-                            cc[kk] = 0.5 * ((double)cb->min[kk] + cb->max[kk]);
-                            hs[kk] = 0.5 * ((double)cb->max[kk] - cb->min[kk]) + m;
-                        }
-                        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1] && !touches; ++t) {
-                            uint32_t tri = tp->tris[t], e;
-                            double pt[3][3];
-                            int out = 0;
-                            for (e = 0; e < 3; ++e)
-                                for (kk = 0; kk < 3; ++kk) pt[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + e] + kk];
-                            for (kk = 0; kk < 3 && !out; ++kk)
-                                out = pvs__dmin(pt[0][kk], pvs__dmin(pt[1][kk], pt[2][kk])) > cc[kk] + hs[kk] ||
-                                      pvs__dmax(pt[0][kk], pvs__dmax(pt[1][kk], pt[2][kk])) < cc[kk] - hs[kk];
-                            if (!out) touches = pvs__tri_aabb(cc, hs, pt[0], pt[1], pt[2]);
-                        }
-                    }
-                    /* w of a cell clear of K: 0 when (grown by m) it reaches out of the box above the ground
-                       (w = 0 there), else that of a pure voxel it overlaps by more than m, else a ray of its own */
-                    if (!touches && out_w0) wc = 0;
-                    if (!touches && !out_w0) {
-                        for (kk = 0; kk < 3; ++kk) {
-                            pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], -m, s0 + kk, s1 + kk);
-                            if (s0[kk] < lo[kk]) s0[kk] = lo[kk];
-                            if (s1[kk] > hi[kk]) s1[kk] = hi[kk];
-                        }
-                        for (c = s0[2]; c <= s1[2] && wc < 0; ++c)
-                            for (b = s0[1]; b <= s1[1] && wc < 0; ++b)
-                                for (a = s0[0]; a <= s1[0] && wc < 0; ++a) {
-                                    uint8_t f = bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])];
-                                    if (!(f & (PVS__G_T | PVS__G_B))) wc = (f & PVS__G_W) != 0;
-                                }
-                        if (wc < 0) wc = pvs__vx_point_parity(s, tp, comp, cb);
-                    }
-                    fl->near_cells[nnear] = cid;
-                    fl->near_w[nnear] = (signed char)wc;
-                    fl->near_flag[nnear] = (uint8_t)stick;
-                    ++nnear;
-                }
-            }
-        if (!fl->keep_leaks && nnear && 2 * (active - nnear) < active) { /* mostly inside: which cells does the outside reach? */
-            qh = qt = 0;
-            pvs__vx_flood_run(bits, queue, &qh, &qt, d, stride, lo, up, 1);
-            nout = active - nnear;
-            for (q = 0; q < nnear; ++q) {
-                if (!fl->near_flag[q] && pvs__vx_seed(gr, fl->cells + fl->near_cells[q], lo, hi, stride, m, fl->near_w[q], bits, queue, &qt, 1))
-                    fl->near_flag[q] = 2;
-                nout += fl->near_flag[q] != 0;
-            }
-            if (nout && 2 * nout < active) {
-                excl = 1;
-                for (q = 0; q < nnear; ++q)
-                    if (fl->near_flag[q]) { fl->excluded[fl->near_cells[q]] = 1; ++fl->excluded_count; }
-                for (q = 0; q < fl->cell_count; ++q)
-                    if (!fl->excluded[q] && fl->stamp[q] != stamp + 1) { fl->excluded[q] = 1; ++fl->excluded_count; }
-            }
-            for (vi = 0; vi < nvox; ++vi) bits[vi] &= (uint8_t)~(PVS__G_R0 | PVS__G_R1);
-        }
-        qh = qt = 0;
-        ext = 0;
-        for (q = 0; q < nnear; ++q) {
-            if (excl && fl->near_flag[q]) continue;
-            if (fl->near_flag[q] & 1) ext = 1;
-            pvs__vx_seed(gr, fl->cells + fl->near_cells[q], lo, hi, stride, m, fl->near_w[q], bits, queue, &qt, 0);
-        }
-        if (!excl && nnear < active) ext = 1;
+}
+
+/* 1 if cell cb, grown by m, meets a triangle of component K (separating axes). */
+PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box *cb) {
+    const pvs_scene *s = fb->s;
+    const pvs__vx_topo *tp = fb->tp;
+    double cc[3], hs[3];
+    uint32_t t;
+    int kk, touches = 0;
+    for (kk = 0; kk < 3; ++kk) {
+        cc[kk] = 0.5 * ((double)cb->min[kk] + cb->max[kk]);
+        hs[kk] = 0.5 * ((double)cb->max[kk] - cb->min[kk]) + fb->m;
     }
-    return pvs__vx_flood_run(bits, queue, &qh, &qt, d, stride, lo, up, ext);
+    for (t = tp->comp_first[fb->comp]; t < tp->comp_first[fb->comp + 1] && !touches; ++t) {
+        uint32_t tri = tp->tris[t], e;
+        double pt[3][3];
+        int out = 0;
+        for (e = 0; e < 3; ++e)
+            for (kk = 0; kk < 3; ++kk) pt[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + e] + kk];
+        for (kk = 0; kk < 3 && !out; ++kk)
+            out = pvs__dmin(pt[0][kk], pvs__dmin(pt[1][kk], pt[2][kk])) > cc[kk] + hs[kk] ||
+                  pvs__dmax(pt[0][kk], pvs__dmax(pt[1][kk], pt[2][kk])) < cc[kk] - hs[kk];
+        if (!out) touches = pvs__tri_aabb(cc, hs, pt[0], pt[1], pt[2]);
+    }
+    return touches;
+}
+
+/* Step 4's w of cell cb, which meets the box in its voxels r0..r1 (clamped to the box): -1 (every
+   node) when the cell, grown by m, meets a triangle of K. Else the w of a cell clear of K: 0 when
+   (grown by m) it reaches out of the box above the ground (out_w0; w = 0 there), else that of a pure
+   voxel it overlaps by more than m, else a ray of its own (pvs__vx_point_parity). */
+PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, const uint32_t r0[3], const uint32_t r1[3], int out_w0) {
+    const uint8_t *bits = fb->fl->bits;
+    const uint32_t *lo = fb->lo, *hi = fb->hi;
+    const size_t *stride = fb->stride;
+    uint32_t s0[3], s1[3], a, b, c;
+    int touches = 0, maybe = 0, wc = -1, kk;
+    for (c = r0[2]; c <= r1[2] && !maybe; ++c)
+        for (b = r0[1]; b <= r1[1] && !maybe; ++b)
+            for (a = r0[0]; a <= r1[0] && !maybe; ++a)
+                maybe = (bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])] & (PVS__G_T | PVS__G_B)) != 0;
+    if (maybe) touches = pvs__vx_flood_cell_touches(fb, cb); /* does the cell, grown by m, meet a triangle of K? */
+    if (!touches && out_w0) wc = 0;
+    if (!touches && !out_w0) {
+        for (kk = 0; kk < 3; ++kk) {
+            pvs__vx_grange(fb->gr, kk, cb->min[kk], cb->max[kk], -fb->m, s0 + kk, s1 + kk);
+            if (s0[kk] < lo[kk]) s0[kk] = lo[kk];
+            if (s1[kk] > hi[kk]) s1[kk] = hi[kk];
+        }
+        for (c = s0[2]; c <= s1[2] && wc < 0; ++c)
+            for (b = s0[1]; b <= s1[1] && wc < 0; ++b)
+                for (a = s0[0]; a <= s1[0] && wc < 0; ++a) {
+                    uint8_t f = bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])];
+                    if (!(f & (PVS__G_T | PVS__G_B))) wc = (f & PVS__G_W) != 0;
+                }
+        if (wc < 0) wc = pvs__vx_point_parity(fb->s, fb->tp, fb->comp, cb);
+    }
+    return wc;
+}
+
+/* Step 4's cells: those of the buckets under the box that meet it (grown by m) and are not
+   excluded, each looked at once (fl->stamp: `stamp` when looked at, stamp + 1 when it meets the
+   box), listed in fl->near_cells with their w (pvs__vx_flood_cell_w) and near_flag 1 when they
+   stick out of the box. Returns their number. */
+PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) {
+    pvs__vx_flood *fl = fb->fl;
+    const pvs__vx_grid *gr = fb->gr;
+    const uint32_t *lo = fb->lo, *hi = fb->hi;
+    uint32_t up = fb->up, bu, bv, bu0, bu1, bv0, bv1, q, nnear = 0;
+    int u = fb->u, v = fb->v;
+    double h = gr->h, m = fb->m;
+    pvs__vx_grange(&fl->bucket_grid, u, gr->origin[u] + lo[u] * h, gr->origin[u] + (hi[u] + 1) * h, m, &bu0, &bu1);
+    pvs__vx_grange(&fl->bucket_grid, v, gr->origin[v] + lo[v] * h, gr->origin[v] + (hi[v] + 1) * h, m, &bv0, &bv1);
+    for (bv = bv0; bv <= bv1; ++bv)
+        for (bu = bu0; bu <= bu1; ++bu) {
+            size_t bk = (size_t)bv * fl->bnu + bu;
+            for (q = fl->bucket_first[bk]; q < fl->bucket_first[bk + 1]; ++q) {
+                uint32_t cid = fl->bucket_cells[q], r0[3], r1[3];
+                const pvs_box *cb = fl->cells + cid;
+                int kk, out_w0 = 0, stick = 0;
+                if (fl->stamp[cid] >= stamp || fl->excluded[cid]) continue;
+                fl->stamp[cid] = stamp;
+                for (kk = 0; kk < 3; ++kk) {
+                    pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
+                    if (r0[kk] > r1[kk] || r1[kk] < lo[kk] || r0[kk] > hi[kk]) break;
+                }
+                if (kk < 3) continue;
+                fl->stamp[cid] = stamp + 1;
+                for (kk = 0; kk < 3; ++kk) {
+                    if (r0[kk] < lo[kk] || r1[kk] > hi[kk]) stick = 1; /* sticks out of the box */
+                    if (r1[kk] > hi[kk] || (r0[kk] < lo[kk] && ((uint32_t)kk != up || lo[up] > 1))) out_w0 = 1;
+                    if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
+                    if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
+                }
+                fl->near_cells[nnear] = cid;
+                fl->near_w[nnear] = (signed char)pvs__vx_flood_cell_w(fb, cb, r0, r1, out_w0);
+                fl->near_flag[nnear] = (uint8_t)stick;
+                ++nnear;
+            }
+        }
+    return nnear;
+}
+
+/* Step 4 of a component's flood, its sources: each cell meeting the box, and the outside of the box
+   when a cell lies (partly) outside it. A cell clear of K (by the margin) is convex and free, so all
+   its points share one w, read off a pure voxel it genuinely overlaps; its voxels get the node of
+   that w. A cell meeting K (partly inside a closed mesh, or touching it) gets every node of its
+   voxels.
+   Leaking cells: when most cells lie inside the box (a closed level) but a few reach the outside (a
+   cell box poking through a wall into the void of a mesh with no faces there, as game levels are),
+   their nodes would join every wall's interior to the flood and no wall would be solid for any
+   cell. So when the cells outside the box are fewer than half of those in use, the outside is
+   flooded first; the cells lying partly outside or whose nodes it reached are then excluded when
+   they too are fewer than half, and the flood runs from the others only. An excluded cell seeds no
+   later flood and gets no occluder at all (pvs_shrink_cell sets every object for it); every cell
+   that keeps the occluders seeded every flood, so the argument above holds for it unchanged.
+   Leaves the sources in fl->queue (*qh_io, *qt_io); returns pvs__vx_flood_run's ext (1: enter
+   from the outside). */
+PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, size_t *qt_io) {
+    pvs__vx_flood *fl = fb->fl;
+    uint8_t *bits = fl->bits;
+    uint32_t *queue = fl->queue;
+    uint32_t nnear, q, stamp, active = fl->cell_count - fl->excluded_count, nout, excl = 0;
+    size_t qh = 0, qt = 0, vi;
+    int ext;
+    fl->stamp_next += 2;
+    stamp = fl->stamp_next - 1; /* stamp: looked at for this component, stamp + 1: meets its box */
+    nnear = pvs__vx_flood_near(fb, stamp);
+    if (!fl->keep_leaks && nnear && 2 * (active - nnear) < active) { /* mostly inside: which cells does the outside reach? */
+        pvs__vx_flood_run(bits, queue, &qh, &qt, fb->d, fb->stride, fb->lo, fb->up, 1);
+        nout = active - nnear;
+        for (q = 0; q < nnear; ++q) {
+            if (!fl->near_flag[q] &&
+                pvs__vx_seed(fb->gr, fl->cells + fl->near_cells[q], fb->lo, fb->hi, fb->stride, fb->m, fl->near_w[q], bits, queue, &qt, 1))
+                fl->near_flag[q] = 2;
+            nout += fl->near_flag[q] != 0;
+        }
+        if (nout && 2 * nout < active) {
+            excl = 1;
+            for (q = 0; q < nnear; ++q)
+                if (fl->near_flag[q]) { fl->excluded[fl->near_cells[q]] = 1; ++fl->excluded_count; }
+            for (q = 0; q < fl->cell_count; ++q)
+                if (!fl->excluded[q] && fl->stamp[q] != stamp + 1) { fl->excluded[q] = 1; ++fl->excluded_count; }
+        }
+        for (vi = 0; vi < fb->nvox; ++vi) bits[vi] &= (uint8_t)~(PVS__G_R0 | PVS__G_R1);
+    }
+    qh = qt = 0;
+    ext = 0;
+    for (q = 0; q < nnear; ++q) {
+        if (excl && fl->near_flag[q]) continue;
+        if (fl->near_flag[q] & 1) ext = 1;
+        pvs__vx_seed(fb->gr, fl->cells + fl->near_cells[q], fb->lo, fb->hi, fb->stride, fb->m, fl->near_w[q], bits, queue, &qt, 0);
+    }
+    if (!excl && nnear < active) ext = 1;
+    *qh_io = qh;
+    *qt_io = qt;
+    return ext;
+}
+
+/* The flood of one component K over grid `gr`: voxel box lo..hi (inclusive, lo[up] >= 1), its
+   triangles and open edges (see the argument above). Leaves in fl->bits, per box voxel, PVS__G_T/B/W
+   and the reached nodes; returns 0 when the outside of the box was never entered. With
+   mark_touched (gr is the occluders' own grid) it also sets PVS__VX_TOUCHED on the grid. */
+PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
+                                        const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl, int mark_touched) {
+    pvs__vx_fbox fb;
+    size_t qh = 0, qt = 0;
+    uint32_t k;
+    int ext;
+    memset(&fb, 0, sizeof(fb));
+    fb.o = o;
+    fb.s = o->scene;
+    fb.gr = gr;
+    fb.tp = tp;
+    fb.comp = comp;
+    fb.lo = lo;
+    fb.hi = hi;
+    fb.m = m;
+    fb.fl = fl;
+    fb.up = fb.s->up_axis;
+    pvs__ground_axes(fb.up, &fb.u, &fb.v);
+    for (k = 0; k < 3; ++k) fb.d[k] = hi[k] - lo[k] + 1;
+    fb.stride[0] = 1;
+    fb.stride[1] = fb.d[0];
+    fb.stride[2] = (size_t)fb.d[0] * fb.d[1];
+    fb.nvox = fb.stride[2] * fb.d[2];
+    fb.ncol = (size_t)fb.d[fb.u] * fb.d[fb.v];
+    memset(fl->bits, 0, fb.nvox);
+    /* 1. touched by K (separating axes, margin toward touched) */
+    pvs__vx_flood_touched(&fb, mark_touched);
+    /* 2. bad: the vertical sheet below each open edge, down to the ground */
+    pvs__vx_flood_sheets(&fb);
+    /* 3. parity of the pure voxels: the crossings of one vertical line per column */
+    pvs__vx_flood_parity(&fb);
+    /* 4. the flood's sources: the cells meeting the box, and its outside */
+    ext = pvs__vx_flood_sources(&fb, &qh, &qt);
+    return pvs__vx_flood_run(fl->bits, fl->queue, &qh, &qt, fb.d, fb.stride, lo, fb.up, ext);
 }
 
 /* The coarse grid's certification of component K: pure voxels no node of which the flood reached
