@@ -11201,17 +11201,49 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
     if (z < DBL_MAX && pvs__f_down(z - tv->margin) < tv->tmin[x]) tv->tmin[x] = pvs__f_down(z - tv->margin);
 }
 
+/* The least height of component K's triangles near each square of the column map's range sq0..sq1
+   (on its u and v axes; 0 on up): tmin, row-major over the range, FLT_MAX where no triangle comes
+   within e (each triangle clipped to the squares grown by e: pvs__vx_tmin_visit). */
+PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t sq0[3],
+                                      const uint32_t sq1[3], double e, double margin, float *tmin) {
+    const pvs__vx_cols *cm = &o->cols;
+    pvs__vx_tminvisit tv;
+    uint32_t up = o->scene->up_axis, t;
+    int u, v, axes[3];
+    size_t a, nsub;
+    pvs__ground_axes(up, &u, &v);
+    nsub = (size_t)(sq1[u] - sq0[u] + 1) * (sq1[v] - sq0[v] + 1);
+    for (a = 0; a < nsub; ++a) tmin[a] = FLT_MAX;
+    memset(&tv, 0, sizeof(tv));
+    tv.gr = &cm->grid;
+    tv.u = u;
+    tv.v = v;
+    tv.up = (int)up;
+    tv.e = e;
+    tv.margin = margin;
+    tv.tmin = tmin;
+    tv.su0 = sq0[u];
+    tv.sv0 = sq0[v];
+    tv.row = sq1[u] - sq0[u] + 1;
+    axes[0] = u;
+    axes[1] = v;
+    axes[2] = (int)up;
+    for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+        pvs__vx_tri_points(o->scene, tp->tris[t], tv.p);
+        pvs__vx_tmin_plane(&tv);
+        pvs__vx_scan(&cm->grid, tv.p[0], 3, axes, 2, e, sq0, sq1, pvs__vx_tmin_visit, &tv);
+    }
+}
+
 /* The column map's pass over one component: flood on its own grid, runs standing on the ground, the
    squares' solid and occluder heights. Returns OUT_OF_MEMORY or PVS_OK. */
 PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const pvs__vx_grid *gk,
                                                  const uint32_t lo[3], const uint32_t hi[3], double m, double eps, double margin,
                                                  pvs__vx_flood *fl) {
-    pvs__vx_tminvisit tv;
-    int axes[3];
     uint32_t sq0[3], sq1[3];
     const pvs_scene *s = o->scene;
     pvs__vx_cols *cm = &o->cols;
-    uint32_t up = s->up_axis, d[3], a, b, su0, su1, sv0, sv1, t, k;
+    uint32_t up = s->up_axis, d[3], a, b, su0, su1, sv0, sv1, k;
     int u, v, ext;
     size_t stride[3], nsub, ncol;
     double hk = gk->h, g = o->ground, e = eps + margin;
@@ -11248,28 +11280,9 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
             runh[(size_t)b * d[u] + a] = run ? (float)(gk->origin[up] + (lo[up] + run) * hk) : -FLT_MAX;
         }
     /* the least height of the component's triangles near each square */
-    for (a = 0; a < nsub; ++a) tmin[a] = FLT_MAX;
-    memset(&tv, 0, sizeof(tv));
-    tv.gr = &cm->grid;
-    tv.u = u;
-    tv.v = v;
-    tv.up = (int)up;
-    tv.e = e;
-    tv.margin = margin;
-    tv.tmin = tmin;
-    tv.su0 = su0;
-    tv.sv0 = sv0;
-    tv.row = su1 - su0 + 1;
-    axes[0] = u;
-    axes[1] = v;
-    axes[2] = (int)up;
     sq0[u] = su0; sq0[v] = sv0; sq0[up] = 0;
     sq1[u] = su1; sq1[v] = sv1; sq1[up] = 0;
-    for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
-        pvs__vx_tri_points(s, tp->tris[t], tv.p);
-        pvs__vx_tmin_plane(&tv);
-        pvs__vx_scan(&cm->grid, tv.p[0], 3, axes, 2, e, sq0, sq1, pvs__vx_tmin_visit, &tv);
-    }
+    pvs__vx_columns_tmin(o, tp, comp, sq0, sq1, e, margin, tmin);
     for (b = sv0; b <= sv1; ++b)
         for (a = su0; a <= su1; ++a) {
             size_t x = (size_t)b * cm->nu + a, xs = (size_t)(b - sv0) * (su1 - su0 + 1) + (a - su0);
