@@ -11503,126 +11503,140 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
     return 1;
 }
 
-/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground: per 4-connected region of squares at or above a level that some
-   square of the region has, the region's boundary at that level (a level-set tree: a block of
-   buildings of several heights is one chain at its lowest height plus one per taller part, so no
-   crack opens where two heights meet). Quantum: a quarter of the square size. */
-PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
-    pvs__vx_cols *cm = &o->cols;
-    const pvs_allocator *al = &o->allocator;
-    size_t n = (size_t)cm->nu * cm->nv, x, qh, qt, cap = 0;
-    uint32_t *label = NULL, *queue = NULL, *members = NULL, nlab = 0, u2 = 0;
-    float *lev = NULL;
-    uint8_t *mask = NULL, *used = NULL, *inl = NULL;
-    uint32_t *sub = NULL;
-    size_t mcap = 0, ucap = 0, lcap = 0, scap = 0, ipcap = 0;
-    int32_t *ipts = NULL;
-    double g = o->ground, qz = 0.25 * cm->grid.h;
-    int u, v;
+/* The scratch of pvs__vx_build_chains: per square of the column map a region label, a queue and a
+   member list; buffers grown per region over its frame; the chains traced so far. */
+typedef struct pvs__vx_chainwork {
+    pvs_occluders *o;
+    uint32_t *label, *queue, *members; /* per square of the map */
+    float *lev;                        /* the region's levels */
+    uint8_t *mask, *inl, *used;        /* per square of the frame: the sub-region, at or above the level; pvs__vx_trace's */
+    uint32_t *sub;                     /* per square of the frame: its sub-region */
+    int32_t *ipts;                     /* pvs__vx_trace's points */
+    size_t cap, mcap, ucap, lcap, scap, ipcap;
+    uint32_t i0, j0, bw, bh;           /* the region's frame: its rectangle and one square around it */
     pvs__vx_chainbuf cb;
-    pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
-    memset(&cb, 0, sizeof(cb));
-    pvs__ground_axes(o->scene->up_axis, &u, &v);
-    (void)u2;
-    label = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
-    queue = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
-    members = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
-    if (!label || !queue || !members) goto done;
-    for (x = 0; x < n; ++x) { /* quantize */
-        float t = cm->top[x];
-        if (t > (float)g) cm->top[x] = pvs__f_down(g + floor(((double)t - g) / qz) * qz);
-        if (!(cm->top[x] > (float)g)) cm->top[x] = -FLT_MAX;
-        label[x] = 0xffffffffu;
+} pvs__vx_chainwork;
+
+/* The region of square x: the 4-connected squares with an occluder height, labelled nlab; lists
+   them in w->members (returns their number) and sets the frame (w->i0, j0, bw, bh). */
+PVS__STATIC uint32_t pvs__vx_chain_region(pvs__vx_chainwork *w, size_t x, uint32_t nlab) {
+    const pvs__vx_cols *cm = &w->o->cols;
+    uint32_t *label = w->label, *queue = w->queue, i0, i1, j0, j1, nm = 0;
+    size_t qh = 0, qt = 0;
+    queue[qt++] = (uint32_t)x;
+    label[x] = nlab;
+    i0 = i1 = (uint32_t)(x % cm->nu);
+    j0 = j1 = (uint32_t)(x / cm->nu);
+    while (qh < qt) {
+        uint32_t y = queue[qh++], yi = y % cm->nu, yj = y / cm->nu, dd;
+        w->members[nm++] = y;
+        if (yi < i0) i0 = yi;
+        if (yi > i1) i1 = yi;
+        if (yj < j0) j0 = yj;
+        if (yj > j1) j1 = yj;
+        for (dd = 0; dd < 4; ++dd) {
+            int zi = (int)yi + (dd == 0) - (dd == 1), zj = (int)yj + (dd == 2) - (dd == 3);
+            size_t z;
+            if (zi < 0 || zj < 0 || (uint32_t)zi >= cm->nu || (uint32_t)zj >= cm->nv) continue;
+            z = (size_t)zj * cm->nu + (uint32_t)zi;
+            if (label[z] != 0xffffffffu || cm->top[z] == -FLT_MAX) continue;
+            label[z] = nlab;
+            queue[qt++] = (uint32_t)z;
+        }
     }
-    for (x = 0; x < n; ++x) {
-        uint32_t i0, i1, j0, j1, bw, bh, nm = 0, k, nl = 0, li;
-        if (label[x] != 0xffffffffu || cm->top[x] == -FLT_MAX) continue;
-        /* the region: 4-connected squares with an occluder height */
+    /* local frame of one square around the region's rectangle */
+    w->i0 = i0;
+    w->j0 = j0;
+    w->bw = i1 - i0 + 3;
+    w->bh = j1 - j0 + 3;
+    return nm;
+}
+
+/* The chains of level L of the region (w->members[0 .. nm)): per 4-connected sub-region of its
+   squares at or above L that has a square of exactly L, the sub-region's boundary at height L
+   (pvs__vx_trace). Returns 0 when out of memory. */
+PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) {
+    const pvs__vx_cols *cm = &w->o->cols;
+    uint32_t *queue = w->queue, *sub = w->sub, bw = w->bw, bh = w->bh, i0 = w->i0, j0 = w->j0, nsub = 0, k;
+    uint8_t *inl = w->inl, *mask = w->mask;
+    double g = w->o->ground;
+    size_t qh, qt;
+    int u, v;
+    pvs__ground_axes(w->o->scene->up_axis, &u, &v);
+    memset(inl, 0, (size_t)bw * bh);
+    for (k = 0; k < nm; ++k) {
+        uint32_t y = w->members[k];
+        if (cm->top[y] >= L) inl[(size_t)(y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1)] = 1;
+    }
+    for (k = 0; k < (size_t)bw * bh; ++k) sub[k] = 0xffffffffu;
+    for (k = 0; k < nm; ++k) { /* sub-regions at this level */
+        uint32_t y = w->members[k], s0 = (y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1), exact = 0;
+        if (!inl[s0] || sub[s0] != 0xffffffffu) continue;
         qh = qt = 0;
-        queue[qt++] = (uint32_t)x;
-        label[x] = nlab;
-        i0 = i1 = (uint32_t)(x % cm->nu);
-        j0 = j1 = (uint32_t)(x / cm->nu);
+        queue[qt++] = s0;
+        sub[s0] = nsub;
+        memset(mask, 0, (size_t)bw * bh);
         while (qh < qt) {
-            uint32_t y = queue[qh++], yi = y % cm->nu, yj = y / cm->nu, dd;
-            members[nm++] = y;
-            if (yi < i0) i0 = yi;
-            if (yi > i1) i1 = yi;
-            if (yj < j0) j0 = yj;
-            if (yj > j1) j1 = yj;
+            uint32_t z = queue[qh++], zi = z % bw, zj = z / bw, dd;
+            mask[z] = 1;
+            if (cm->top[(size_t)(zj + j0 - 1) * cm->nu + (zi + i0 - 1)] == L) exact = 1;
             for (dd = 0; dd < 4; ++dd) {
-                int zi = (int)yi + (dd == 0) - (dd == 1), zj = (int)yj + (dd == 2) - (dd == 3);
-                size_t z;
-                if (zi < 0 || zj < 0 || (uint32_t)zi >= cm->nu || (uint32_t)zj >= cm->nv) continue;
-                z = (size_t)zj * cm->nu + (uint32_t)zi;
-                if (label[z] != 0xffffffffu || cm->top[z] == -FLT_MAX) continue;
-                label[z] = nlab;
-                queue[qt++] = (uint32_t)z;
+                uint32_t w2 = dd == 0 ? z + 1 : dd == 1 ? z - 1 : dd == 2 ? z + bw : z - bw;
+                if (!inl[w2] || sub[w2] != 0xffffffffu) continue;
+                sub[w2] = nsub;
+                queue[qt++] = w2;
             }
         }
-        ++nlab;
-        /* its levels, ascending (distinct) */
-        if (!pvs__vx_grow(al, (void **)&lev, &lcap, nm, sizeof(float))) goto done;
-        for (k = 0; k < nm; ++k) lev[k] = cm->top[members[k]];
-        PVS_QSORT(lev, nm, sizeof(float), pvs__vx_float_cmp);
-        for (k = 0; k < nm; ++k)
-            if (k == 0 || lev[k] != lev[nl - 1]) lev[nl++] = lev[k];
-        /* local frame of one square around the region's rectangle */
-        bw = i1 - i0 + 3;
-        bh = j1 - j0 + 3;
-        if (!pvs__vx_grow(al, (void **)&mask, &mcap, (size_t)bw * bh, 1) || !pvs__vx_grow(al, (void **)&inl, &scap, (size_t)bw * bh, 1) ||
-            !pvs__vx_grow(al, (void **)&sub, &ucap, (size_t)bw * bh, sizeof(uint32_t)) ||
-            !pvs__vx_grow(al, (void **)&used, &cap, (size_t)(bw + 1) * (bh + 1) * 4, 1))
-            goto done;
-        for (li = 0; li < nl; ++li) {
-            float L = lev[li];
-            uint32_t nsub = 0;
-            memset(inl, 0, (size_t)bw * bh);
-            for (k = 0; k < nm; ++k) {
-                uint32_t y = members[k];
-                if (cm->top[y] >= L) inl[(size_t)(y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1)] = 1;
-            }
-            for (k = 0; k < (size_t)bw * bh; ++k) sub[k] = 0xffffffffu;
-            for (k = 0; k < nm; ++k) { /* sub-regions at this level */
-                uint32_t y = members[k], s0 = (y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1), exact = 0, q2;
-                if (!inl[s0] || sub[s0] != 0xffffffffu) continue;
-                qh = qt = 0;
-                queue[qt++] = s0;
-                sub[s0] = nsub;
-                memset(mask, 0, (size_t)bw * bh);
-                while (qh < qt) {
-                    uint32_t z = queue[qh++], zi = z % bw, zj = z / bw, dd;
-                    mask[z] = 1;
-                    if (cm->top[(size_t)(zj + j0 - 1) * cm->nu + (zi + i0 - 1)] == L) exact = 1;
-                    for (dd = 0; dd < 4; ++dd) {
-                        uint32_t w2 = dd == 0 ? z + 1 : dd == 1 ? z - 1 : dd == 2 ? z + bw : z - bw;
-                        if (!inl[w2] || sub[w2] != 0xffffffffu) continue;
-                        sub[w2] = nsub;
-                        queue[qt++] = w2;
-                    }
-                }
-                ++nsub;
-                (void)q2;
-                if (exact && !pvs__vx_trace(al, &cb, mask, bw, bh, cm->grid.origin[u] + ((double)i0 - 1.0) * cm->grid.h,
-                                            cm->grid.origin[v] + ((double)j0 - 1.0) * cm->grid.h, cm->grid.h, (float)g, L, used, &ipts, &ipcap))
-                    goto done;
-            }
-        }
+        ++nsub;
+        if (exact && !pvs__vx_trace(&w->o->allocator, &w->cb, mask, bw, bh, cm->grid.origin[u] + ((double)i0 - 1.0) * cm->grid.h,
+                                    cm->grid.origin[v] + ((double)j0 - 1.0) * cm->grid.h, cm->grid.h, (float)g, L, w->used, &w->ipts, &w->ipcap))
+            return 0;
     }
-    /* hand over: pointers into the final point buffer, bounding boxes */
-    o->chains = (pvs_facade_chain *)pvs__alloc_array(al, cb.count ? cb.count : 1, sizeof(pvs_facade_chain));
-    o->chain_boxes = (pvs_box *)pvs__alloc_array(al, cb.count ? cb.count : 1, sizeof(pvs_box));
-    o->chain_points = (float *)pvs__alloc_array(al, cb.npts ? 2 * cb.npts : 1, sizeof(float));
-    if (!o->chains || !o->chain_boxes || !o->chain_points) goto done;
-    o->chain_count = (uint32_t)cb.count;
-    o->chain_point_count = cb.npts;
-    if (cb.npts) memcpy(o->chain_points, cb.points, 2 * cb.npts * sizeof(float));
-    for (x = 0; x < cb.count; ++x) {
+    return 1;
+}
+
+/* The chains of the region just found (w->members[0 .. nm)): its distinct levels, ascending, each
+   traced by pvs__vx_chain_level over the region's frame. Returns 0 when out of memory. */
+PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
+    const pvs_allocator *al = &w->o->allocator;
+    const pvs__vx_cols *cm = &w->o->cols;
+    uint32_t bw = w->bw, bh = w->bh, k, nl = 0, li;
+    /* its levels, ascending (distinct) */
+    if (!pvs__vx_grow(al, (void **)&w->lev, &w->lcap, nm, sizeof(float))) return 0;
+    for (k = 0; k < nm; ++k) w->lev[k] = cm->top[w->members[k]];
+    PVS_QSORT(w->lev, nm, sizeof(float), pvs__vx_float_cmp);
+    for (k = 0; k < nm; ++k)
+        if (k == 0 || w->lev[k] != w->lev[nl - 1]) w->lev[nl++] = w->lev[k];
+    if (!pvs__vx_grow(al, (void **)&w->mask, &w->mcap, (size_t)bw * bh, 1) || !pvs__vx_grow(al, (void **)&w->inl, &w->scap, (size_t)bw * bh, 1) ||
+        !pvs__vx_grow(al, (void **)&w->sub, &w->ucap, (size_t)bw * bh, sizeof(uint32_t)) ||
+        !pvs__vx_grow(al, (void **)&w->used, &w->cap, (size_t)(bw + 1) * (bh + 1) * 4, 1))
+        return 0;
+    for (li = 0; li < nl; ++li)
+        if (!pvs__vx_chain_level(w, nm, w->lev[li])) return 0;
+    return 1;
+}
+
+/* Hands the traced chains over to the occluders: o->chains with pointers into their points, copied
+   to o->chain_points, and o->chain_boxes (the ground bounding rectangle x [base, top]). Returns
+   OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_chainbuf *cb) {
+    const pvs_allocator *al = &o->allocator;
+    size_t x;
+    int u, v;
+    pvs__ground_axes(o->scene->up_axis, &u, &v);
+    o->chains = (pvs_facade_chain *)pvs__alloc_array(al, cb->count ? cb->count : 1, sizeof(pvs_facade_chain));
+    o->chain_boxes = (pvs_box *)pvs__alloc_array(al, cb->count ? cb->count : 1, sizeof(pvs_box));
+    o->chain_points = (float *)pvs__alloc_array(al, cb->npts ? 2 * cb->npts : 1, sizeof(float));
+    if (!o->chains || !o->chain_boxes || !o->chain_points) return PVS_ERROR_OUT_OF_MEMORY;
+    o->chain_count = (uint32_t)cb->count;
+    o->chain_point_count = cb->npts;
+    if (cb->npts) memcpy(o->chain_points, cb->points, 2 * cb->npts * sizeof(float));
+    for (x = 0; x < cb->count; ++x) {
         pvs_facade_chain *ch = o->chains + x;
         pvs_box *bx = o->chain_boxes + x;
         uint32_t k;
-        *ch = cb.chains[x];
-        ch->points = o->chain_points + 2 * cb.first[x];
+        *ch = cb->chains[x];
+        ch->points = o->chain_points + 2 * cb->first[x];
         bx->min[u] = bx->max[u] = ch->points[0];
         bx->min[v] = bx->max[v] = ch->points[1];
         for (k = 1; k < ch->point_count; ++k) {
@@ -11634,20 +11648,54 @@ PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
         bx->min[o->scene->up_axis] = ch->base;
         bx->max[o->scene->up_axis] = ch->top;
     }
-    res = PVS_OK;
+    return PVS_OK;
+}
+
+/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground: per 4-connected region of squares at or above a level that some
+   square of the region has, the region's boundary at that level (a level-set tree: a block of
+   buildings of several heights is one chain at its lowest height plus one per taller part, so no
+   crack opens where two heights meet). Quantum: a quarter of the square size. */
+PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
+    pvs__vx_cols *cm = &o->cols;
+    const pvs_allocator *al = &o->allocator;
+    size_t n = (size_t)cm->nu * cm->nv, x;
+    uint32_t nlab = 0;
+    double g = o->ground, qz = 0.25 * cm->grid.h;
+    pvs__vx_chainwork w;
+    pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
+    memset(&w, 0, sizeof(w));
+    w.o = o;
+    w.label = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    w.queue = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    w.members = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    if (!w.label || !w.queue || !w.members) goto done;
+    for (x = 0; x < n; ++x) { /* quantize */
+        float t = cm->top[x];
+        if (t > (float)g) cm->top[x] = pvs__f_down(g + floor(((double)t - g) / qz) * qz);
+        if (!(cm->top[x] > (float)g)) cm->top[x] = -FLT_MAX;
+        w.label[x] = 0xffffffffu;
+    }
+    for (x = 0; x < n; ++x) {
+        uint32_t nm;
+        if (w.label[x] != 0xffffffffu || cm->top[x] == -FLT_MAX) continue;
+        nm = pvs__vx_chain_region(&w, x, nlab++); /* the region: 4-connected squares with an occluder height */
+        if (!pvs__vx_chain_levels(&w, nm)) goto done;
+    }
+    /* hand over: pointers into the final point buffer, bounding boxes */
+    res = pvs__vx_chains_hand_over(o, &w.cb);
 done:
-    pvs__free_array(al, label, n ? n : 1, sizeof(uint32_t));
-    pvs__free_array(al, queue, n ? n : 1, sizeof(uint32_t));
-    pvs__free_array(al, members, n ? n : 1, sizeof(uint32_t));
-    pvs__free_array(al, lev, lcap, sizeof(float));
-    pvs__free_array(al, mask, mcap, 1);
-    pvs__free_array(al, inl, scap, 1);
-    pvs__free_array(al, sub, ucap, sizeof(uint32_t));
-    pvs__free_array(al, used, cap, 1);
-    pvs__free_array(al, ipts, ipcap, 2 * sizeof(int32_t));
-    pvs__free_array(al, cb.chains, cb.cap, sizeof(pvs_facade_chain));
-    pvs__free_array(al, cb.first, cb.cap_first, sizeof(size_t));
-    pvs__free_array(al, cb.points, cb.cap_pts, 2 * sizeof(float));
+    pvs__free_array(al, w.label, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, w.queue, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, w.members, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, w.lev, w.lcap, sizeof(float));
+    pvs__free_array(al, w.mask, w.mcap, 1);
+    pvs__free_array(al, w.inl, w.scap, 1);
+    pvs__free_array(al, w.sub, w.ucap, sizeof(uint32_t));
+    pvs__free_array(al, w.used, w.cap, 1);
+    pvs__free_array(al, w.ipts, w.ipcap, 2 * sizeof(int32_t));
+    pvs__free_array(al, w.cb.chains, w.cb.cap, sizeof(pvs_facade_chain));
+    pvs__free_array(al, w.cb.first, w.cb.cap_first, sizeof(size_t));
+    pvs__free_array(al, w.cb.points, w.cb.cap_pts, 2 * sizeof(float));
     return res;
 }
 
