@@ -12643,52 +12643,18 @@ PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__vo_key *ke
     return k > 1 ? k - 1 : k;
 }
 
-/* Builds the prepared occluders from segments (4 doubles each, ground coordinates) with their
-   heights: vertex ids by exact coordinates, wall loops (components whose every vertex joins
-   exactly two segments), loop hulls, objects and the grid. Zero-length segments are dropped. */
-PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *seg, const float *top, uint32_t n, pvs__vprep **out) {
-    pvs__vprep *p;
-    pvs__vo_key *keys = NULL;
-    uint32_t *deg = NULL, *adj = NULL, *uf = NULL, *idx = NULL, *hidx = NULL, i, nv = 0, m = 0;
-    pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
-    *out = NULL;
-    p = (pvs__vprep *)pvs__alloc(al, sizeof(pvs__vprep), 16);
-    if (!p) return PVS_ERROR_OUT_OF_MEMORY;
-    memset(p, 0, sizeof(*p));
-    p->a = *al;
-    for (i = 0; i < n; ++i) m += !(seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]);
-    p->nseg = m;
-    p->seg = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
-    p->seg_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
-    p->seg_vid = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-    p->seg_loop = (int32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(int32_t));
-    p->loop_start = (uint32_t *)pvs__alloc_array(al, (size_t)m + 2, sizeof(uint32_t));
-    p->ring_seg = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
-    p->ring_pt = (double *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(double));
-    p->hull_start = (uint32_t *)pvs__alloc_array(al, (size_t)m + 2, sizeof(uint32_t));
-    p->hull_pt = (double *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(double));
-    p->hull_vid = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
-    p->loop_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
-    p->loop_bb = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
-    p->obj_ref = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
-    p->obj_bb = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
-    p->obj_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
-    keys = (pvs__vo_key *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(pvs__vo_key));
-    deg = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-    adj = (uint32_t *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(uint32_t));
-    uf = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-    idx = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-    hidx = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-    if (!p->seg || !p->seg_top || !p->seg_vid || !p->seg_loop || !p->loop_start || !p->ring_seg || !p->ring_pt || !p->hull_start ||
-        !p->hull_pt || !p->hull_vid || !p->loop_top || !p->loop_bb || !p->obj_ref || !p->obj_bb || !p->obj_top || !keys || !deg ||
-        !adj || !uf || !idx || !hidx)
-        goto done;
-    for (i = 0, m = 0; i < n; ++i) {
-        if (seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]) continue;
-        memcpy(p->seg + 4 * (size_t)m, seg + 4 * (size_t)i, 4 * sizeof(double));
-        p->seg_top[m++] = top[i];
-    }
-    /* vertex ids: sort the 2m end points by (x, y) */
+/* The scratch of pvs__vprep_create: keys, deg, uf, idx and hidx hold 2m + 2 entries (m segments),
+   adj 4m + 4. */
+typedef struct pvs__vprep_scratch {
+    pvs__vo_key *keys;
+    uint32_t *deg, *adj, *uf, *idx, *hidx;
+    uint32_t nv;          /* distinct vertices */
+} pvs__vprep_scratch;
+
+/* Vertex ids: the 2m end points sorted by (x, y); equal points get one id (p->seg_vid); sets w->nv. */
+PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
+    pvs__vo_key *keys = w->keys;
+    uint32_t m = p->nseg, i, nv = 0;
     for (i = 0; i < 2 * m; ++i) { keys[i].k = p->seg[2 * i]; keys[i].i = i; }
     pvs__vo_sort(keys, 2 * m);
     for (i = 0; i < 2 * m;) {
@@ -12703,6 +12669,14 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
         ++nv;
         i = j;
     }
+    w->nv = nv;
+}
+
+/* The segments' graph: per vertex its degree (w->deg) and first two segments (w->adj), its
+   component's root (w->uf), and per root whether the component has a vertex of degree other than 2
+   (w->idx: 1 = not a loop). Sets every p->seg_loop to -1. */
+PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
+    uint32_t *deg = w->deg, *adj = w->adj, *uf = w->uf, *idx = w->idx, m = p->nseg, nv = w->nv, i;
     for (i = 0; i < nv; ++i) { deg[i] = 0; uf[i] = i; }
     for (i = 0; i < m; ++i) {
         uint32_t e;
@@ -12728,56 +12702,66 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
     for (i = 0; i < nv; ++i) idx[i] = 0;
     for (i = 0; i < nv; ++i)
         if (deg[i] != 2) idx[uf[i]] = 1;
+}
+
+/* The wall loops (the header comment of >>vocc): each component whose every vertex joins exactly two
+   segments, walked from its lowest segment into ring order (p->ring_seg, ring_pt, loop_start), with
+   its lowest top, bounding box and convex hull (p->hull_pt, hull_vid, hull_start). Two segments
+   joining the same two points are no ring with an inside. */
+PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
+    uint32_t *adj = w->adj, *uf = w->uf, *idx = w->idx, *hidx = w->hidx, m = p->nseg, ring = 0, h = 0, i;
     p->nloop = 0;
     p->loop_start[0] = 0;
-    {
-        uint32_t ring = 0, h = 0;
-        for (i = 0; i < m; ++i) {
-            uint32_t root = uf[p->seg_vid[2 * i]], s, v, count = 0, l, hn, k;
-            if (idx[root] || p->seg_loop[i] >= 0) continue;
-            l = p->nloop;
-            s = i;
-            v = p->seg_vid[2 * i];
-            do { /* from vertex v along segment s */
-                uint32_t w = p->seg_vid[2 * s] == v ? p->seg_vid[2 * s + 1] : p->seg_vid[2 * s];
-                const double *pt = p->seg + 4 * (size_t)s + (p->seg_vid[2 * s] == v ? 0 : 2);
-                p->seg_loop[s] = (int32_t)l;
-                p->ring_seg[ring + count] = s;
-                p->ring_pt[2 * (ring + count)] = pt[0];
-                p->ring_pt[2 * (ring + count) + 1] = pt[1];
-                ++count;
-                v = w;
-                s = adj[2 * v] == s ? adj[2 * v + 1] : adj[2 * v];
-            } while (s != i && count <= m);
-            if (count < 3) { /* two segments joining the same two points: not a ring with an inside */
-                for (k = 0; k < count; ++k) p->seg_loop[p->ring_seg[ring + k]] = -1;
-                idx[root] = 1;
-                continue;
-            }
-            p->loop_top[l] = FLT_MAX;
-            p->loop_bb[4 * l] = p->loop_bb[4 * l + 1] = DBL_MAX;
-            p->loop_bb[4 * l + 2] = p->loop_bb[4 * l + 3] = -DBL_MAX;
-            for (k = 0; k < count; ++k) {
-                if (p->seg_top[p->ring_seg[ring + k]] < p->loop_top[l]) p->loop_top[l] = p->seg_top[p->ring_seg[ring + k]];
-                pvs__vo_bb_add(p->loop_bb + 4 * l, p->ring_pt + 2 * (ring + k));
-            }
-            hn = pvs__vo_hull(p->ring_pt + 2 * ring, count, keys, hidx);
-            p->hull_start[l] = h;
-            /* ring point q starts ring segment q: its id is the vertex q shares with segment q - 1 */
-            for (k = 0; k < hn; ++k) {
-                uint32_t q = hidx[k], sq = p->ring_seg[ring + q], sp = p->ring_seg[ring + (q + count - 1) % count];
-                uint32_t a0 = p->seg_vid[2 * sq], a1 = p->seg_vid[2 * sq + 1];
-                p->hull_pt[2 * (h + k)] = p->ring_pt[2 * (ring + q)];
-                p->hull_pt[2 * (h + k) + 1] = p->ring_pt[2 * (ring + q) + 1];
-                p->hull_vid[h + k] = (a0 == p->seg_vid[2 * sp] || a0 == p->seg_vid[2 * sp + 1]) ? a0 : a1;
-            }
-            h += hn;
-            ring += count;
-            p->loop_start[++p->nloop] = ring;
-            p->hull_start[p->nloop] = h;
+    for (i = 0; i < m; ++i) {
+        uint32_t root = uf[p->seg_vid[2 * i]], s, v, count = 0, l, hn, k;
+        if (idx[root] || p->seg_loop[i] >= 0) continue;
+        l = p->nloop;
+        s = i;
+        v = p->seg_vid[2 * i];
+        do { /* from vertex v along segment s */
+            uint32_t wv = p->seg_vid[2 * s] == v ? p->seg_vid[2 * s + 1] : p->seg_vid[2 * s];
+            const double *pt = p->seg + 4 * (size_t)s + (p->seg_vid[2 * s] == v ? 0 : 2);
+            p->seg_loop[s] = (int32_t)l;
+            p->ring_seg[ring + count] = s;
+            p->ring_pt[2 * (ring + count)] = pt[0];
+            p->ring_pt[2 * (ring + count) + 1] = pt[1];
+            ++count;
+            v = wv;
+            s = adj[2 * v] == s ? adj[2 * v + 1] : adj[2 * v];
+        } while (s != i && count <= m);
+        if (count < 3) { /* two segments joining the same two points: not a ring with an inside */
+            for (k = 0; k < count; ++k) p->seg_loop[p->ring_seg[ring + k]] = -1;
+            idx[root] = 1;
+            continue;
         }
+        p->loop_top[l] = FLT_MAX;
+        p->loop_bb[4 * l] = p->loop_bb[4 * l + 1] = DBL_MAX;
+        p->loop_bb[4 * l + 2] = p->loop_bb[4 * l + 3] = -DBL_MAX;
+        for (k = 0; k < count; ++k) {
+            if (p->seg_top[p->ring_seg[ring + k]] < p->loop_top[l]) p->loop_top[l] = p->seg_top[p->ring_seg[ring + k]];
+            pvs__vo_bb_add(p->loop_bb + 4 * l, p->ring_pt + 2 * (ring + k));
+        }
+        hn = pvs__vo_hull(p->ring_pt + 2 * ring, count, w->keys, hidx);
+        p->hull_start[l] = h;
+        /* ring point q starts ring segment q: its id is the vertex q shares with segment q - 1 */
+        for (k = 0; k < hn; ++k) {
+            uint32_t q = hidx[k], sq = p->ring_seg[ring + q], sp = p->ring_seg[ring + (q + count - 1) % count];
+            uint32_t a0 = p->seg_vid[2 * sq], a1 = p->seg_vid[2 * sq + 1];
+            p->hull_pt[2 * (h + k)] = p->ring_pt[2 * (ring + q)];
+            p->hull_pt[2 * (h + k) + 1] = p->ring_pt[2 * (ring + q) + 1];
+            p->hull_vid[h + k] = (a0 == p->seg_vid[2 * sp] || a0 == p->seg_vid[2 * sp + 1]) ? a0 : a1;
+        }
+        h += hn;
+        ring += count;
+        p->loop_start[++p->nloop] = ring;
+        p->hull_start[p->nloop] = h;
     }
-    /* objects: loops with a usable hull, then every segment of no such loop */
+}
+
+/* The objects of §3 (Koltun 2000): the loops with a usable hull (3 to PVS__VO_MAXH vertices), then
+   every segment of no such loop, each with its bounding box and top. */
+PVS__STATIC void pvs__vprep_objects(pvs__vprep *p) {
+    uint32_t i;
     p->nobj = 0;
     for (i = 0; i < p->nloop; ++i) {
         uint32_t hn = p->hull_start[i + 1] - p->hull_start[i];
@@ -12786,7 +12770,7 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
         memcpy(p->obj_bb + 4 * (size_t)p->nobj, p->loop_bb + 4 * (size_t)i, 4 * sizeof(double));
         p->obj_top[p->nobj++] = p->loop_top[i];
     }
-    for (i = 0; i < m; ++i) {
+    for (i = 0; i < p->nseg; ++i) {
         int32_t l = p->seg_loop[i];
         if (l >= 0) {
             uint32_t hn = p->hull_start[l + 1] - p->hull_start[l];
@@ -12799,7 +12783,15 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
         pvs__vo_bb_add(p->obj_bb + 4 * (size_t)p->nobj, p->seg + 4 * (size_t)i + 2);
         p->obj_top[p->nobj++] = p->seg_top[i];
     }
-    /* the bucket grid: about two objects per bucket, at most 1024 x 1024 */
+}
+
+/* The bucket grid over the objects: about two objects per bucket, at most 1024 x 1024; an object is
+   listed in the buckets its box covers, a long wall in those along it (counted in a first pass,
+   filled in a second: p->gstart, p->gitem). Returns OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
+    double w, hh, cs;
+    size_t total = 0, cells;
+    uint32_t i, j;
     p->bb[0] = p->bb[1] = DBL_MAX;
     p->bb[2] = p->bb[3] = -DBL_MAX;
     for (i = 0; i < p->nobj; ++i) {
@@ -12807,75 +12799,128 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
         pvs__vo_bb_add(p->bb, p->obj_bb + 4 * (size_t)i + 2);
     }
     if (!p->nobj) { p->bb[0] = p->bb[1] = 0.0; p->bb[2] = p->bb[3] = 1.0; }
-    {
-        double w = p->bb[2] - p->bb[0], hh = p->bb[3] - p->bb[1], cs = sqrt((w * hh > 0.0 ? w * hh : (w + hh) * (w + hh) + 1.0) / (0.5 * (p->nobj + 1)));
-        size_t total = 0, cells;
-        uint32_t j;
-        if (!(cs > 0.0)) cs = 1.0;
-        if (w / cs > 1024.0) cs = w / 1024.0;
-        if (hh / cs > 1024.0) cs = hh / 1024.0;
-        p->gcell = cs;
-        p->g0[0] = p->bb[0];
-        p->g0[1] = p->bb[1];
-        p->gw = (uint32_t)(w / cs) + 1;
-        p->gh = (uint32_t)(hh / cs) + 1;
-        cells = (size_t)p->gw * p->gh;
-        p->gstart = (uint32_t *)pvs__alloc_array(al, cells + 1, sizeof(uint32_t));
-        if (!p->gstart) goto done;
-        memset(p->gstart, 0, (cells + 1) * sizeof(uint32_t));
-        for (j = 0; j < 2; ++j) {
-            for (i = 0; i < p->nobj; ++i) {
-                const double *b = p->obj_bb + 4 * (size_t)i;
-                uint32_t x0 = (uint32_t)((b[0] - p->g0[0]) / cs), y0 = (uint32_t)((b[1] - p->g0[1]) / cs);
-                uint32_t x1 = (uint32_t)((b[2] - p->g0[0]) / cs), y1 = (uint32_t)((b[3] - p->g0[1]) / cs), x, y;
-                if (x1 >= p->gw) x1 = p->gw - 1;
-                if (y1 >= p->gh) y1 = p->gh - 1;
-                if (p->obj_ref[i] >= p->nloop && (uint64_t)(x1 - x0 + 1) * (y1 - y0 + 1) > 16) {
-                    /* a long wall: the buckets along it (samples a quarter bucket apart), not its box; a
-                       bucket missed only hides the wall from the growth's search (never from a check) */
-                    const double *sg = p->seg + 4 * (size_t)(p->obj_ref[i] - p->nloop);
-                    double len = sqrt((sg[2] - sg[0]) * (sg[2] - sg[0]) + (sg[3] - sg[1]) * (sg[3] - sg[1]));
-                    uint32_t steps = (uint32_t)(4.0 * len / cs) + 1, t, last = 0xffffffffu;
-                    for (t = 0; t <= steps; ++t) {
-                        double u = (double)t / steps;
-                        uint32_t bx = (uint32_t)((sg[0] + u * (sg[2] - sg[0]) - p->g0[0]) / cs), by = (uint32_t)((sg[1] + u * (sg[3] - sg[1]) - p->g0[1]) / cs), at;
-                        if (bx >= p->gw) bx = p->gw - 1;
-                        if (by >= p->gh) by = p->gh - 1;
-                        at = by * p->gw + bx;
-                        if (at == last) continue;
-                        last = at;
-                        if (j) p->gitem[--p->gstart[(size_t)at + 1]] = i;
-                        else ++total, ++p->gstart[(size_t)at + 1];
-                    }
-                    continue;
+    w = p->bb[2] - p->bb[0];
+    hh = p->bb[3] - p->bb[1];
+    cs = sqrt((w * hh > 0.0 ? w * hh : (w + hh) * (w + hh) + 1.0) / (0.5 * (p->nobj + 1)));
+    if (!(cs > 0.0)) cs = 1.0;
+    if (w / cs > 1024.0) cs = w / 1024.0;
+    if (hh / cs > 1024.0) cs = hh / 1024.0;
+    p->gcell = cs;
+    p->g0[0] = p->bb[0];
+    p->g0[1] = p->bb[1];
+    p->gw = (uint32_t)(w / cs) + 1;
+    p->gh = (uint32_t)(hh / cs) + 1;
+    cells = (size_t)p->gw * p->gh;
+    p->gstart = (uint32_t *)pvs__alloc_array(al, cells + 1, sizeof(uint32_t));
+    if (!p->gstart) return PVS_ERROR_OUT_OF_MEMORY;
+    memset(p->gstart, 0, (cells + 1) * sizeof(uint32_t));
+    for (j = 0; j < 2; ++j) {
+        for (i = 0; i < p->nobj; ++i) {
+            const double *b = p->obj_bb + 4 * (size_t)i;
+            uint32_t x0 = (uint32_t)((b[0] - p->g0[0]) / cs), y0 = (uint32_t)((b[1] - p->g0[1]) / cs);
+            uint32_t x1 = (uint32_t)((b[2] - p->g0[0]) / cs), y1 = (uint32_t)((b[3] - p->g0[1]) / cs), x, y;
+            if (x1 >= p->gw) x1 = p->gw - 1;
+            if (y1 >= p->gh) y1 = p->gh - 1;
+            if (p->obj_ref[i] >= p->nloop && (uint64_t)(x1 - x0 + 1) * (y1 - y0 + 1) > 16) {
+                /* a long wall: the buckets along it (samples a quarter bucket apart), not its box; a
+                   bucket missed only hides the wall from the growth's search (never from a check) */
+                const double *sg = p->seg + 4 * (size_t)(p->obj_ref[i] - p->nloop);
+                double len = sqrt((sg[2] - sg[0]) * (sg[2] - sg[0]) + (sg[3] - sg[1]) * (sg[3] - sg[1]));
+                uint32_t steps = (uint32_t)(4.0 * len / cs) + 1, t, last = 0xffffffffu;
+                for (t = 0; t <= steps; ++t) {
+                    double u = (double)t / steps;
+                    uint32_t bx = (uint32_t)((sg[0] + u * (sg[2] - sg[0]) - p->g0[0]) / cs), by = (uint32_t)((sg[1] + u * (sg[3] - sg[1]) - p->g0[1]) / cs), at;
+                    if (bx >= p->gw) bx = p->gw - 1;
+                    if (by >= p->gh) by = p->gh - 1;
+                    at = by * p->gw + bx;
+                    if (at == last) continue;
+                    last = at;
+                    if (j) p->gitem[--p->gstart[(size_t)at + 1]] = i;
+                    else ++total, ++p->gstart[(size_t)at + 1];
                 }
-                for (y = y0; y <= y1; ++y)
-                    for (x = x0; x <= x1; ++x) {
-                        if (j) p->gitem[--p->gstart[(size_t)y * p->gw + x + 1]] = i;
-                        else ++total, ++p->gstart[(size_t)y * p->gw + x + 1];
-                    }
+                continue;
             }
-            if (!j) {
-                size_t c2;
-                p->gitems = total;
-                p->gitem = (uint32_t *)pvs__alloc_array(al, total + 1, sizeof(uint32_t));
-                if (!p->gitem) goto done;
-                /* prefix sums: gstart[c + 1] is the end of bucket c; filling decrements it to its start */
-                for (c2 = 0; c2 < cells; ++c2) p->gstart[c2 + 1] += p->gstart[c2];
-            }
+            for (y = y0; y <= y1; ++y)
+                for (x = x0; x <= x1; ++x) {
+                    if (j) p->gitem[--p->gstart[(size_t)y * p->gw + x + 1]] = i;
+                    else ++total, ++p->gstart[(size_t)y * p->gw + x + 1];
+                }
         }
-        /* ... so after filling, gstart[c + 1] is the start of bucket c: shift back into place */
-        for (i = 0; i < (uint32_t)cells; ++i) p->gstart[i] = p->gstart[i + 1];
-        p->gstart[cells] = (uint32_t)total;
+        if (!j) {
+            size_t c2;
+            p->gitems = total;
+            p->gitem = (uint32_t *)pvs__alloc_array(al, total + 1, sizeof(uint32_t));
+            if (!p->gitem) return PVS_ERROR_OUT_OF_MEMORY;
+            /* prefix sums: gstart[c + 1] is the end of bucket c; filling decrements it to its start */
+            for (c2 = 0; c2 < cells; ++c2) p->gstart[c2 + 1] += p->gstart[c2];
+        }
     }
-    r = PVS_OK;
+    /* ... so after filling, gstart[c + 1] is the start of bucket c: shift back into place */
+    for (i = 0; i < (uint32_t)cells; ++i) p->gstart[i] = p->gstart[i + 1];
+    p->gstart[cells] = (uint32_t)total;
+    return PVS_OK;
+}
+
+/* Builds the prepared occluders from segments (4 doubles each, ground coordinates) with their
+   heights: vertex ids by exact coordinates, wall loops (components whose every vertex joins
+   exactly two segments), loop hulls, objects and the grid. Zero-length segments are dropped. */
+PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *seg, const float *top, uint32_t n, pvs__vprep **out) {
+    pvs__vprep *p;
+    pvs__vprep_scratch w;
+    uint32_t i, m = 0;
+    pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
+    *out = NULL;
+    p = (pvs__vprep *)pvs__alloc(al, sizeof(pvs__vprep), 16);
+    if (!p) return PVS_ERROR_OUT_OF_MEMORY;
+    memset(p, 0, sizeof(*p));
+    memset(&w, 0, sizeof(w));
+    p->a = *al;
+    for (i = 0; i < n; ++i) m += !(seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]);
+    p->nseg = m;
+    p->seg = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
+    p->seg_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
+    p->seg_vid = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
+    p->seg_loop = (int32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(int32_t));
+    p->loop_start = (uint32_t *)pvs__alloc_array(al, (size_t)m + 2, sizeof(uint32_t));
+    p->ring_seg = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
+    p->ring_pt = (double *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(double));
+    p->hull_start = (uint32_t *)pvs__alloc_array(al, (size_t)m + 2, sizeof(uint32_t));
+    p->hull_pt = (double *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(double));
+    p->hull_vid = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
+    p->loop_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
+    p->loop_bb = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
+    p->obj_ref = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
+    p->obj_bb = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
+    p->obj_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
+    w.keys = (pvs__vo_key *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(pvs__vo_key));
+    w.deg = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
+    w.adj = (uint32_t *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(uint32_t));
+    w.uf = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
+    w.idx = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
+    w.hidx = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
+    if (!p->seg || !p->seg_top || !p->seg_vid || !p->seg_loop || !p->loop_start || !p->ring_seg || !p->ring_pt || !p->hull_start ||
+        !p->hull_pt || !p->hull_vid || !p->loop_top || !p->loop_bb || !p->obj_ref || !p->obj_bb || !p->obj_top || !w.keys || !w.deg ||
+        !w.adj || !w.uf || !w.idx || !w.hidx)
+        goto done;
+    for (i = 0, m = 0; i < n; ++i) {
+        if (seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]) continue;
+        memcpy(p->seg + 4 * (size_t)m, seg + 4 * (size_t)i, 4 * sizeof(double));
+        p->seg_top[m++] = top[i];
+    }
+    pvs__vprep_vertex_ids(p, &w);
+    pvs__vprep_components(p, &w);
+    pvs__vprep_loops(p, &w);
+    /* objects: loops with a usable hull, then every segment of no such loop */
+    pvs__vprep_objects(p);
+    /* the bucket grid: about two objects per bucket, at most 1024 x 1024 */
+    r = pvs__vprep_grid(p, al);
 done:
-    pvs__free_array(al, keys, 2 * (size_t)m + 2, sizeof(pvs__vo_key));
-    pvs__free_array(al, deg, 2 * (size_t)m + 2, sizeof(uint32_t));
-    pvs__free_array(al, adj, 4 * (size_t)m + 4, sizeof(uint32_t));
-    pvs__free_array(al, uf, 2 * (size_t)m + 2, sizeof(uint32_t));
-    pvs__free_array(al, idx, 2 * (size_t)m + 2, sizeof(uint32_t));
-    pvs__free_array(al, hidx, 2 * (size_t)m + 2, sizeof(uint32_t));
+    pvs__free_array(al, w.keys, 2 * (size_t)m + 2, sizeof(pvs__vo_key));
+    pvs__free_array(al, w.deg, 2 * (size_t)m + 2, sizeof(uint32_t));
+    pvs__free_array(al, w.adj, 4 * (size_t)m + 4, sizeof(uint32_t));
+    pvs__free_array(al, w.uf, 2 * (size_t)m + 2, sizeof(uint32_t));
+    pvs__free_array(al, w.idx, 2 * (size_t)m + 2, sizeof(uint32_t));
+    pvs__free_array(al, w.hidx, 2 * (size_t)m + 2, sizeof(uint32_t));
     if (r != PVS_OK) {
         p->nseg = m; /* sizes for the frees */
         pvs__vprep_destroy(p);
