@@ -13275,97 +13275,116 @@ PVS__STATIC int pvs__vo_near_obj(const pvs__vctx *c, const pvs__vobj *o, const d
     return 1;
 }
 
-/* The from-point test of the header comment: 1 if every segment from the cell to x meets one of the
-   blockers set[0..n). Rounding only ever answers 0. */
-PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, const double *x) {
+/* The fan of the cell seen from a point x (pvs__vo_hidden): its extreme corners cl and ch (every
+   direction of the fan lies within a half-plane), the unit direction f halfway between them, the
+   pseudo-angles aL and aR of its edges about f, and the box of the cell and x grown by the
+   tolerance. */
+typedef struct pvs__vo_fan {
     const double *cl, *ch;
-    double f[2], len, aL, aR, bb[4], tol = c->tol, reach;
-    uint32_t i, k, ns = 0, rid;
-    if (x[0] > c->cmin[0] - tol && x[0] < c->cmax[0] + tol && x[1] > c->cmin[1] - tol && x[1] < c->cmax[1] + tol) return 0;
-    if (!pvs__vo_reserve(c->al, (void **)&c->span, &c->capspan, 2 * (size_t)n + 2, sizeof(pvs__vo_span))) {
-        c->oom = 1;
-        return 0;
-    }
+    double f[2], aL, aR, bb[4];
+} pvs__vo_fan;
+
+/* Sets up the fan of the cell from x (outside the cell); 0 when it has no direction. */
+PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fan *fn) {
+    const double *cl, *ch;
+    double tol = c->tol;
+    uint32_t k;
     cl = ch = c->corner;
     for (k = 1; k < 4; ++k) { /* the fan: its extreme corners (every direction within a half-plane) */
         const double *q = c->corner + 2 * k;
         if (pvs__vo_cross(x, cl, q) < 0.0) cl = q;
         if (pvs__vo_cross(x, ch, q) > 0.0) ch = q;
     }
+    fn->cl = cl;
+    fn->ch = ch;
     {
         double a0 = cl[0] - x[0], a1 = cl[1] - x[1], b0 = ch[0] - x[0], b1 = ch[1] - x[1];
-        double la = sqrt(a0 * a0 + a1 * a1), lb = sqrt(b0 * b0 + b1 * b1);
-        f[0] = a0 / la + b0 / lb;
-        f[1] = a1 / la + b1 / lb;
-        len = sqrt(f[0] * f[0] + f[1] * f[1]);
+        double la = sqrt(a0 * a0 + a1 * a1), lb = sqrt(b0 * b0 + b1 * b1), len;
+        fn->f[0] = a0 / la + b0 / lb;
+        fn->f[1] = a1 / la + b1 / lb;
+        len = sqrt(fn->f[0] * fn->f[0] + fn->f[1] * fn->f[1]);
         if (!(len > 0.0)) return 0;
-        f[0] /= len;
-        f[1] /= len;
-        aL = pvs__vo_pangle(f[0] * a0 + f[1] * a1, f[0] * a1 - f[1] * a0);
-        aR = pvs__vo_pangle(f[0] * b0 + f[1] * b1, f[0] * b1 - f[1] * b0);
+        fn->f[0] /= len;
+        fn->f[1] /= len;
+        fn->aL = pvs__vo_pangle(fn->f[0] * a0 + fn->f[1] * a1, fn->f[0] * a1 - fn->f[1] * a0);
+        fn->aR = pvs__vo_pangle(fn->f[0] * b0 + fn->f[1] * b1, fn->f[0] * b1 - fn->f[1] * b0);
     }
-    bb[0] = (x[0] < c->cmin[0] ? x[0] : c->cmin[0]) - tol;
-    bb[1] = (x[1] < c->cmin[1] ? x[1] : c->cmin[1]) - tol;
-    bb[2] = (x[0] > c->cmax[0] ? x[0] : c->cmax[0]) + tol;
-    bb[3] = (x[1] > c->cmax[1] ? x[1] : c->cmax[1]) + tol;
-    for (i = 0; i < n; ++i) {
-        const pvs__vobj *o = c->obj + set[i];
-        const double *v = c->vx + 2 * (size_t)o->first;
-        uint32_t lo = 0, hi = 0, j, pieces;
-        double plo, phi, sp[2][2];
-        int near_box;
-        if (o->loop >= 0 && x[0] >= o->bb[0] && x[0] <= o->bb[2] && x[1] >= o->bb[1] && x[1] <= o->bb[3] &&
-            pvs__vo_in_loop(c, (uint32_t)o->loop, x))
-            return 1;
-        if (o->bb[0] > bb[2] || o->bb[2] < bb[0] || o->bb[1] > bb[3] || o->bb[3] < bb[1]) continue;
-        { /* a box wholly outside the fan (beyond one of its edge lines) cannot help */
-            /* cross(x, q, p) = e0 p1 - e1 p0 - e0 x1 + e1 x0 with e = q - x: linear in p, so its extremes
-               over the box come from its corners (support functions) */
-            double e0 = cl[0] - x[0], e1 = cl[1] - x[1], g0 = ch[0] - x[0], g1 = ch[1] - x[1], mx, mn;
-            mx = (e0 > 0.0 ? e0 * o->bb[3] : e0 * o->bb[1]) + (e1 > 0.0 ? -e1 * o->bb[0] : -e1 * o->bb[2]) - e0 * x[1] + e1 * x[0];
-            if (mx < -tol * (fabs(e0) + fabs(e1))) continue; /* wholly clockwise of the fan's edge x -> cl */
-            mn = (g0 > 0.0 ? g0 * o->bb[1] : g0 * o->bb[3]) + (g1 > 0.0 ? -g1 * o->bb[2] : -g1 * o->bb[0]) - g0 * x[1] + g1 * x[0];
-            if (mn > tol * (fabs(g0) + fabs(g1))) continue; /* wholly counter-clockwise of x -> ch */
-        }
-        near_box = x[0] >= o->bb[0] - tol && x[0] <= o->bb[2] + tol && x[1] >= o->bb[1] - tol && x[1] <= o->bb[3] + tol;
-        if (near_box && pvs__vo_near_obj(c, o, x)) continue;
-        for (j = 1; j < o->n; ++j) {
-            if (pvs__vo_cross(x, v + 2 * lo, v + 2 * j) < 0.0) lo = j;
-            if (pvs__vo_cross(x, v + 2 * hi, v + 2 * j) > 0.0) hi = j;
-        }
-        {
-            double a0 = v[2 * lo] - x[0], a1 = v[2 * lo + 1] - x[1], b0 = v[2 * hi] - x[0], b1 = v[2 * hi + 1] - x[1];
-            plo = pvs__vo_pangle(f[0] * a0 + f[1] * a1, f[0] * a1 - f[1] * a0);
-            phi = pvs__vo_pangle(f[0] * b0 + f[1] * b1, f[0] * b1 - f[1] * b0);
-        }
-        if (plo <= phi) {
-            pieces = 1;
-            sp[0][0] = plo; sp[0][1] = phi;
-        } else { /* through the back direction */
-            pieces = 2;
-            sp[0][0] = plo; sp[0][1] = phi + 4.0;
-            sp[1][0] = plo - 4.0; sp[1][1] = phi;
-        }
-        for (j = 0; j < pieces; ++j) {
-            double os = sp[j][0] > aL ? sp[j][0] : aL, oe = sp[j][1] < aR ? sp[j][1] : aR, mid, w[2], wd, wc, so, sc;
-            if (oe - os <= PVS__VO_ATOL) continue;
-            mid = 0.5 * (os + oe);
-            pvs__vo_pangle_dir(mid, &wd, &wc);
-            w[0] = f[0] * wd - f[1] * wc;
-            w[1] = f[1] * wd + f[0] * wc;
-            len = sqrt(w[0] * w[0] + w[1] * w[1]);
-            w[0] /= len;
-            w[1] /= len;
-            so = pvs__vo_ray_obj(c, o, x, w);
-            sc = pvs__vo_ray_cell(c, x, w);
-            if (!(so >= 0.0 && sc >= 0.0 && so < sc - tol)) continue; /* behind the cell, or undecided */
-            c->span[ns].s = sp[j][0];
-            c->span[ns].e = sp[j][1];
-            c->span[ns].is = c->vid[o->first + lo];
-            c->span[ns].ie = c->vid[o->first + hi];
-            ++ns;
-        }
+    fn->bb[0] = (x[0] < c->cmin[0] ? x[0] : c->cmin[0]) - tol;
+    fn->bb[1] = (x[1] < c->cmin[1] ? x[1] : c->cmin[1]) - tol;
+    fn->bb[2] = (x[0] > c->cmax[0] ? x[0] : c->cmax[0]) + tol;
+    fn->bb[3] = (x[1] > c->cmax[1] ? x[1] : c->cmax[1]) + tol;
+    return 1;
+}
+
+/* Blocker o's share of the from-point test: appends to c->span (from *ns; room for two) the part of
+   the fan it covers before the cell, decided along one ray (two disjoint convex sets seen from x
+   never swap order), one interval or two when it spans the back direction. Returns 1 when x lies
+   inside o's wall loop (then x is hidden). */
+PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double *x, const pvs__vo_fan *fn, uint32_t *ns) {
+    const double *v = c->vx + 2 * (size_t)o->first, *cl = fn->cl, *ch = fn->ch, *f = fn->f;
+    double plo, phi, sp[2][2], tol = c->tol, len;
+    uint32_t lo = 0, hi = 0, j, pieces;
+    int near_box;
+    if (o->loop >= 0 && x[0] >= o->bb[0] && x[0] <= o->bb[2] && x[1] >= o->bb[1] && x[1] <= o->bb[3] &&
+        pvs__vo_in_loop(c, (uint32_t)o->loop, x))
+        return 1;
+    if (o->bb[0] > fn->bb[2] || o->bb[2] < fn->bb[0] || o->bb[1] > fn->bb[3] || o->bb[3] < fn->bb[1]) return 0;
+    { /* a box wholly outside the fan (beyond one of its edge lines) cannot help */
+        /* cross(x, q, p) = e0 p1 - e1 p0 - e0 x1 + e1 x0 with e = q - x: linear in p, so its extremes
+           over the box come from its corners (support functions) */
+        double e0 = cl[0] - x[0], e1 = cl[1] - x[1], g0 = ch[0] - x[0], g1 = ch[1] - x[1], mx, mn;
+        mx = (e0 > 0.0 ? e0 * o->bb[3] : e0 * o->bb[1]) + (e1 > 0.0 ? -e1 * o->bb[0] : -e1 * o->bb[2]) - e0 * x[1] + e1 * x[0];
+        if (mx < -tol * (fabs(e0) + fabs(e1))) return 0; /* wholly clockwise of the fan's edge x -> cl */
+        mn = (g0 > 0.0 ? g0 * o->bb[1] : g0 * o->bb[3]) + (g1 > 0.0 ? -g1 * o->bb[2] : -g1 * o->bb[0]) - g0 * x[1] + g1 * x[0];
+        if (mn > tol * (fabs(g0) + fabs(g1))) return 0; /* wholly counter-clockwise of x -> ch */
     }
+    near_box = x[0] >= o->bb[0] - tol && x[0] <= o->bb[2] + tol && x[1] >= o->bb[1] - tol && x[1] <= o->bb[3] + tol;
+    if (near_box && pvs__vo_near_obj(c, o, x)) return 0;
+    for (j = 1; j < o->n; ++j) {
+        if (pvs__vo_cross(x, v + 2 * lo, v + 2 * j) < 0.0) lo = j;
+        if (pvs__vo_cross(x, v + 2 * hi, v + 2 * j) > 0.0) hi = j;
+    }
+    {
+        double a0 = v[2 * lo] - x[0], a1 = v[2 * lo + 1] - x[1], b0 = v[2 * hi] - x[0], b1 = v[2 * hi + 1] - x[1];
+        plo = pvs__vo_pangle(f[0] * a0 + f[1] * a1, f[0] * a1 - f[1] * a0);
+        phi = pvs__vo_pangle(f[0] * b0 + f[1] * b1, f[0] * b1 - f[1] * b0);
+    }
+    if (plo <= phi) {
+        pieces = 1;
+        sp[0][0] = plo; sp[0][1] = phi;
+    } else { /* through the back direction */
+        pieces = 2;
+        sp[0][0] = plo; sp[0][1] = phi + 4.0;
+        sp[1][0] = plo - 4.0; sp[1][1] = phi;
+    }
+    for (j = 0; j < pieces; ++j) {
+        double os = sp[j][0] > fn->aL ? sp[j][0] : fn->aL, oe = sp[j][1] < fn->aR ? sp[j][1] : fn->aR, mid, w[2], wd, wc, so, sc;
+        if (oe - os <= PVS__VO_ATOL) continue;
+        mid = 0.5 * (os + oe);
+        pvs__vo_pangle_dir(mid, &wd, &wc);
+        w[0] = f[0] * wd - f[1] * wc;
+        w[1] = f[1] * wd + f[0] * wc;
+        len = sqrt(w[0] * w[0] + w[1] * w[1]);
+        w[0] /= len;
+        w[1] /= len;
+        so = pvs__vo_ray_obj(c, o, x, w);
+        sc = pvs__vo_ray_cell(c, x, w);
+        if (!(so >= 0.0 && sc >= 0.0 && so < sc - tol)) continue; /* behind the cell, or undecided */
+        c->span[*ns].s = sp[j][0];
+        c->span[*ns].e = sp[j][1];
+        c->span[*ns].is = c->vid[o->first + lo];
+        c->span[*ns].ie = c->vid[o->first + hi];
+        ++*ns;
+    }
+    return 0;
+}
+
+/* 1 when the spans c->span[0 .. ns) cover the fan [aL, aR] (sorted here by start): intervals that
+   end on the same vertex join exactly (walls of an open chain), other joins need an overlap beyond
+   PVS__VO_ATOL, so rounding only ever says "not hidden". */
+PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double aR) {
+    double reach;
+    uint32_t i, k, rid;
     for (i = 1; i < ns; ++i) { /* insertion sort by start */
         pvs__vo_span t = c->span[i];
         k = i;
@@ -13389,6 +13408,23 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
         }
     }
     return 0;
+}
+
+/* The from-point test of the header comment: 1 if every segment from the cell to x meets one of the
+   blockers set[0..n). Rounding only ever answers 0. */
+PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, const double *x) {
+    pvs__vo_fan fn;
+    double tol = c->tol;
+    uint32_t i, ns = 0;
+    if (x[0] > c->cmin[0] - tol && x[0] < c->cmax[0] + tol && x[1] > c->cmin[1] - tol && x[1] < c->cmax[1] + tol) return 0;
+    if (!pvs__vo_reserve(c->al, (void **)&c->span, &c->capspan, 2 * (size_t)n + 2, sizeof(pvs__vo_span))) {
+        c->oom = 1;
+        return 0;
+    }
+    if (!pvs__vo_fan_init(c, x, &fn)) return 0;
+    for (i = 0; i < n; ++i)
+        if (pvs__vo_obj_spans(c, c->obj + set[i], x, &fn, &ns)) return 1;
+    return pvs__vo_spans_cover(c, ns, fn.aL, fn.aR);
 }
 
 /* ---- the aggregate: blockers, and the lines where hidden answers can change ---- */
