@@ -14755,6 +14755,101 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
     return out;
 }
 
+/* The dense set of one cell (Koltun 2000 §3, §3.1): the virtual occluders of its height slices in
+   c->out, grown in the file's frame (centre `centre`, quantized at scale `code`). Leaves c untouched
+   when the cell cannot have any (below the occluders' base, no area, no object). Returns
+   OUT_OF_MEMORY or PVS_OK; c is freed by the caller either way. */
+PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *cell, const double centre[2], double reach, uint32_t code,
+                                         pvs__vctx *c) {
+    const pvs_allocator *al = &vb->a;
+    double cmin[2], cmax[2];
+    float h[16];
+    uint32_t ns, i;
+    int u, v, k;
+    pvs__ground_axes(vb->up, &u, &v);
+    cmin[0] = cell->min[u]; cmin[1] = cell->min[v];
+    cmax[0] = cell->max[u]; cmax[1] = cell->max[v];
+    /* virtual occluders need the cell above their base and within an occluder-free rectangle with area */
+    if (!(cell->min[vb->up] >= vb->base && cmax[0] > cmin[0] && cmax[1] > cmin[1] && vb->prep->nobj)) return PVS_OK;
+    if (!pvs__vctx_init(c, al, vb->prep, cmin, cmax, reach)) return PVS_ERROR_OUT_OF_MEMORY;
+    c->centre[0] = centre[0]; /* the file's frame (float centre) */
+    c->centre[1] = centre[1];
+    for (k = 0; k < 2; ++k) {
+        c->cmin[k] = cmin[k] - centre[k];
+        c->cmax[k] = cmax[k] - centre[k];
+    }
+    c->corner[0] = c->cmin[0]; c->corner[1] = c->cmin[1];
+    c->corner[2] = c->cmax[0]; c->corner[3] = c->cmin[1];
+    c->corner[4] = c->cmax[0]; c->corner[5] = c->cmax[1];
+    c->corner[6] = c->cmin[0]; c->corner[7] = c->cmax[1];
+    c->quantize = 1;
+    c->qscale = pvs__vo_scale(code);
+    c->qground = vb->base;
+    c->qhstep = vb->hstep;
+    c->max_seeds = vb->max_seeds;
+    ns = pvs__vo_slice_heights(vb, centre, cell->max[vb->up], vb->slices < 16 ? vb->slices : 16, h, al);
+    c->st.slices = ns;
+    for (i = 0; i < ns && !c->oom; ++i) {
+        if (!pvs__vctx_slice(c, h[i])) break;
+        pvs__vo_run_slice(c);
+    }
+    return c->oom ? PVS_ERROR_OUT_OF_MEMORY : PVS_OK;
+}
+
+/* The scratch of the selection (pvs__vo_select); pvs__vo_bake_cell frees it. */
+typedef struct pvs__vo_selwork {
+    pvs__vo_rt *rt, *sel;      /* c->nout: the dense set ready to test; max_keep + 1: the kept ones */
+    pvs_word *hid, *covered;   /* c->nout x words: the objects each one hides; words: those hidden so far */
+} pvs__vo_selwork;
+
+/* The selection (Koltun 2000, Fig. 6) from the dense set c->out: weights = objects each occluder
+   hides; take the heaviest, discount what it hides from the others, until the next one stops
+   paying (hides fewer than min_gain new objects) or max_keep are kept. Writes the kept occluders'
+   5 bytes to `bytes` and their tests to sw->sel; returns how many. *r = OUT_OF_MEMORY when the
+   scratch cannot be had. */
+PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, uint32_t code, const pvs__vctx *c, uint32_t words,
+                                    uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
+    const pvs_allocator *al = &vb->a;
+    uint32_t min_gain = vb->object_count / 1000u + 1u, keep = 0, i, j;
+    sw->rt = (pvs__vo_rt *)pvs__alloc_array(al, c->nout, sizeof(pvs__vo_rt));
+    sw->hid = (pvs_word *)pvs__alloc_array(al, (size_t)c->nout * words, sizeof(pvs_word));
+    sw->covered = (pvs_word *)pvs__alloc_array(al, words, sizeof(pvs_word));
+    sw->sel = (pvs__vo_rt *)pvs__alloc_array(al, (size_t)vb->max_keep + 1, sizeof(pvs__vo_rt));
+    if (!sw->rt || !sw->hid || !sw->covered || !sw->sel) { *r = PVS_ERROR_OUT_OF_MEMORY; return 0; }
+    memset(sw->hid, 0, (size_t)c->nout * words * sizeof(pvs_word));
+    memset(sw->covered, 0, words * sizeof(pvs_word));
+    for (i = 0; i < c->nout; ++i) {
+        double a[2], b[2], lo, hi;
+        for (j = 0; j < i; ++j)
+            if (!memcmp(c->out[j].q, c->out[i].q, 5)) break;
+        if (j < i) { /* the same bytes twice: hides nothing more */
+            memset(sw->rt + i, 0, sizeof(pvs__vo_rt));
+            continue;
+        }
+        pvs__vo_decode(cell, vb->up, code, c->out[i].q, vb->base, vb->hstep, a, b, &lo, &hi);
+        pvs__vo_rt_init(sw->rt + i, cell, vb->up, a, b, lo, hi);
+    }
+    for (j = 0; j < vb->object_count; ++j) {
+        if (!pvs__vo_box_ok(vb->boxes + j)) continue;
+        for (i = 0; i < c->nout; ++i)
+            if (pvs__vo_rt_hides(sw->rt + i, vb->boxes + j)) sw->hid[(size_t)i * words + (j >> 6)] |= (pvs_word)1 << (j & 63);
+    }
+    while (keep < vb->max_keep) {
+        uint32_t best = PVS__VO_NONE, best_gain = 0;
+        for (i = 0; i < c->nout; ++i) {
+            uint32_t gain = 0;
+            const pvs_word *hw = sw->hid + (size_t)i * words;
+            for (j = 0; j < words; ++j) gain += pvs__popcount64(hw[j] & ~sw->covered[j]);
+            if (gain > best_gain) { best_gain = gain; best = i; }
+        }
+        if (best == PVS__VO_NONE || best_gain < min_gain) break;
+        for (j = 0; j < words; ++j) sw->covered[j] |= sw->hid[(size_t)best * words + j];
+        memcpy(bytes + 5 * (size_t)keep, c->out[best].q, 5);
+        sw->sel[keep++] = sw->rt[best];
+    }
+    return keep;
+}
+
 /* One cell of a bake: the dense set over the slices, the greedy selection of Fig. 6, and the PVS
    rebuilt from the kept occluders exactly as pvs_vocc_cull will (object boxes of the scene, never-
    drawn objects empty). Writes *count occluders (<= max_keep) of 5 bytes to bytes, the scale code,
@@ -14763,19 +14858,15 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
                                          pvs_word *pvs, pvs_vocc_stats *stats, pvs_error *err) {
     const pvs_allocator *al = &vb->a;
     pvs__vctx c;
-    double centre[2], cmin[2], cmax[2], reach = 0.0;
-    float h[16];
-    uint32_t ns, i, j, keep = 0, words = (uint32_t)PVS_BITSET_WORDS(vb->object_count), code;
+    pvs__vo_selwork sw;
+    double centre[2], reach = 0.0;
+    uint32_t j, keep = 0, words = (uint32_t)PVS_BITSET_WORDS(vb->object_count), code;
     int u, v, k;
-    pvs__vo_rt *rt = NULL, *sel = NULL;
-    pvs_word *hid = NULL, *covered = NULL;
-    pvs_result r = PVS_OK;
+    pvs_result r;
     *count = 0;
     *scale = 128;
     pvs__ground_axes(vb->up, &u, &v);
     pvs__vo_cell_centre(cell, u, v, centre);
-    cmin[0] = cell->min[u]; cmin[1] = cell->min[v];
-    cmax[0] = cell->max[u]; cmax[1] = cell->max[v];
     for (k = 0; k < 4; ++k) { /* the analysis radius: every occluder */
         double dx = ((k & 1) ? vb->prep->bb[2] : vb->prep->bb[0]) - centre[0], dy = ((k & 2) ? vb->prep->bb[3] : vb->prep->bb[1]) - centre[1];
         double d = sqrt(dx * dx + dy * dy);
@@ -14785,78 +14876,17 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
     code = pvs__vo_scale_code(reach);
     *scale = (uint8_t)code;
     memset(&c, 0, sizeof(c));
-    /* virtual occluders need the cell above their base and within an occluder-free rectangle with area */
-    if (cell->min[vb->up] >= vb->base && cmax[0] > cmin[0] && cmax[1] > cmin[1] && vb->prep->nobj) {
-        if (!pvs__vctx_init(&c, al, vb->prep, cmin, cmax, reach)) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
-        c.centre[0] = centre[0]; /* the file's frame (float centre) */
-        c.centre[1] = centre[1];
-        for (k = 0; k < 2; ++k) {
-            c.cmin[k] = cmin[k] - centre[k];
-            c.cmax[k] = cmax[k] - centre[k];
-        }
-        c.corner[0] = c.cmin[0]; c.corner[1] = c.cmin[1];
-        c.corner[2] = c.cmax[0]; c.corner[3] = c.cmin[1];
-        c.corner[4] = c.cmax[0]; c.corner[5] = c.cmax[1];
-        c.corner[6] = c.cmin[0]; c.corner[7] = c.cmax[1];
-        c.quantize = 1;
-        c.qscale = pvs__vo_scale(code);
-        c.qground = vb->base;
-        c.qhstep = vb->hstep;
-        c.max_seeds = vb->max_seeds;
-        ns = pvs__vo_slice_heights(vb, centre, cell->max[vb->up], vb->slices < 16 ? vb->slices : 16, h, al);
-        c.st.slices = ns;
-        for (i = 0; i < ns && !c.oom; ++i) {
-            if (!pvs__vctx_slice(&c, h[i])) break;
-            pvs__vo_run_slice(&c);
-        }
-        if (c.oom) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
-    }
-    /* the selection (Fig. 6): weights = objects each occluder hides; take the heaviest, discount
-       what it hides from the others, until the next one stops paying (hides fewer than min_gain new
-       objects) or max_keep are kept */
+    memset(&sw, 0, sizeof(sw));
+    r = pvs__vo_dense_set(vb, cell, centre, reach, code, &c);
+    if (r != PVS_OK) goto done;
     if (c.nout) {
-        uint32_t min_gain = vb->object_count / 1000u + 1u;
-        rt = (pvs__vo_rt *)pvs__alloc_array(al, c.nout, sizeof(pvs__vo_rt));
-        hid = (pvs_word *)pvs__alloc_array(al, (size_t)c.nout * words, sizeof(pvs_word));
-        covered = (pvs_word *)pvs__alloc_array(al, words, sizeof(pvs_word));
-        sel = (pvs__vo_rt *)pvs__alloc_array(al, (size_t)vb->max_keep + 1, sizeof(pvs__vo_rt));
-        if (!rt || !hid || !covered || !sel) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
-        memset(hid, 0, (size_t)c.nout * words * sizeof(pvs_word));
-        memset(covered, 0, words * sizeof(pvs_word));
-        for (i = 0; i < c.nout; ++i) {
-            double a[2], b[2], lo, hi;
-            for (j = 0; j < i; ++j)
-                if (!memcmp(c.out[j].q, c.out[i].q, 5)) break;
-            if (j < i) { /* the same bytes twice: hides nothing more */
-                memset(rt + i, 0, sizeof(pvs__vo_rt));
-                continue;
-            }
-            pvs__vo_decode(cell, vb->up, code, c.out[i].q, vb->base, vb->hstep, a, b, &lo, &hi);
-            pvs__vo_rt_init(rt + i, cell, vb->up, a, b, lo, hi);
-        }
-        for (j = 0; j < vb->object_count; ++j) {
-            if (!pvs__vo_box_ok(vb->boxes + j)) continue;
-            for (i = 0; i < c.nout; ++i)
-                if (pvs__vo_rt_hides(rt + i, vb->boxes + j)) hid[(size_t)i * words + (j >> 6)] |= (pvs_word)1 << (j & 63);
-        }
-        while (keep < vb->max_keep) {
-            uint32_t best = PVS__VO_NONE, best_gain = 0;
-            for (i = 0; i < c.nout; ++i) {
-                uint32_t gain = 0;
-                const pvs_word *hw = hid + (size_t)i * words;
-                for (j = 0; j < words; ++j) gain += pvs__popcount64(hw[j] & ~covered[j]);
-                if (gain > best_gain) { best_gain = gain; best = i; }
-            }
-            if (best == PVS__VO_NONE || best_gain < min_gain) break;
-            for (j = 0; j < words; ++j) covered[j] |= hid[(size_t)best * words + j];
-            memcpy(bytes + 5 * (size_t)keep, c.out[best].q, 5);
-            sel[keep++] = rt[best];
-        }
+        keep = pvs__vo_select(vb, cell, code, &c, words, bytes, &sw, &r);
+        if (r != PVS_OK) goto done;
     }
     *count = (uint8_t)keep;
     {
         pvs__vo_walk w;
-        w.rt = sel;
+        w.rt = sw.sel;
         w.count = keep;
         w.boxes = vb->boxes;
         w.object_count = vb->object_count;
@@ -14876,10 +14906,10 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
         stats->selected += c.st.selected;
     }
 done:
-    if (rt) pvs__free_array(al, rt, c.nout, sizeof(pvs__vo_rt));
-    if (hid) pvs__free_array(al, hid, (size_t)c.nout * words, sizeof(pvs_word));
-    if (covered) pvs__free_array(al, covered, words, sizeof(pvs_word));
-    if (sel) pvs__free_array(al, sel, (size_t)vb->max_keep + 1, sizeof(pvs__vo_rt));
+    if (sw.rt) pvs__free_array(al, sw.rt, c.nout, sizeof(pvs__vo_rt));
+    if (sw.hid) pvs__free_array(al, sw.hid, (size_t)c.nout * words, sizeof(pvs_word));
+    if (sw.covered) pvs__free_array(al, sw.covered, words, sizeof(pvs_word));
+    if (sw.sel) pvs__free_array(al, sw.sel, (size_t)vb->max_keep + 1, sizeof(pvs__vo_rt));
     if (c.al) pvs__vctx_free(&c);
     if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "virtual occluders: out of memory");
     return PVS_OK;
