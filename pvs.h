@@ -20777,139 +20777,171 @@ PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
     }
 }
 
-/* Decodes one coded set of ids in [0, n) that starts at p (bytes up to end are available) and feeds
-   its ids, ascending, to the sink. *used receives the body's size: every coding is self-delimiting.
-   Returns PVS_OK, or BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at = the offending byte's offset. */
-PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint32_t coding, uint32_t n, pvs__sink *s, size_t *used_out,
-                                      size_t *bad_at) {
+/* The decoders of pvs__set_apply, one per coding (the file format's RECS table: 0 gaps, 1 runs,
+   2 Rice codes, 3 bitmap). Each has pvs__set_apply's contract for the body at p; on a bad byte it
+   sets *bad_at and returns the error. */
+
+/* Coding 0: varint count, then count varints: the first id, then the gaps minus one. */
+PVS__STATIC pvs_result pvs__set_gaps(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out, size_t *bad_at) {
     const uint8_t *q = p;
     uint32_t count, k;
     int act = s->action;
-    switch (coding) {
-    case PVS__CODING_GAPS: {
-        uint64_t id = 0;
-        size_t used = pvs__get_varint(q, end, &count);
+    uint64_t id = 0;
+    size_t used = pvs__get_varint(q, end, &count);
+    if (!used) goto bad;
+    q += used;
+    if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+    for (k = 0; k < count; ++k) {
+        uint32_t g;
+        used = pvs__get_varint(q, end, &g);
         if (!used) goto bad;
+        id = k ? id + 1u + g : g;
+        if (id >= n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+        if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63); /* the decode's hot path */
+        else if (act) pvs__sink_id(s, (uint32_t)id);
         q += used;
-        if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-        for (k = 0; k < count; ++k) {
-            uint32_t g;
-            used = pvs__get_varint(q, end, &g);
-            if (!used) goto bad;
-            id = k ? id + 1u + g : g;
-            if (id >= n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-            if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63); /* the decode's hot path */
-            else if (act) pvs__sink_id(s, (uint32_t)id);
-            q += used;
-        }
-        break;
-    }
-    case PVS__CODING_RUNS: {
-        uint64_t pos = 0;
-        size_t used = pvs__get_varint(q, end, &count);
-        if (!used) goto bad;
-        q += used;
-        for (k = 0; k < count; ++k) {
-            uint32_t z, o;
-            uint64_t i;
-            used = pvs__get_varint(q, end, &z);
-            if (!used) goto bad;
-            if (k && !z) goto bad; /* runs of ones are maximal */
-            q += used;
-            used = pvs__get_varint(q, end, &o);
-            if (!used) goto bad;
-            if (pos + z + o + 1u > n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-            q += used;
-            pos += z;
-            if (act == PVS__SET_ADD && !s->fn) { /* whole words at a time */
-                uint64_t e = pos + o + 1u;
-                while (pos < e && (pos & 63)) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
-                while (pos + 64 <= e) { s->bits[pos >> 6] = ~(pvs_word)0; pos += 64; }
-                while (pos < e) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
-            } else if (act == PVS__SET_REMOVE_RANKS) {
-                pvs__sink_remove_run(s, (uint32_t)pos, (uint64_t)o + 1u);
-                pos += (uint64_t)o + 1u;
-            } else {
-                if (act) /* validation must stay linear in the record's bytes */
-                    for (i = 0; i <= o; ++i) pvs__sink_id(s, (uint32_t)(pos + i));
-                pos += (uint64_t)o + 1u;
-            }
-        }
-        break;
-    }
-    case PVS__CODING_RICE: {
-        uint64_t bit = 0, nbits, id = 0, bytes;
-        size_t used;
-        uint32_t c;
-        if (q >= end) goto bad;
-        k = *q++;
-        if (k > PVS__RICE_MAX_K) goto bad;
-        used = pvs__get_varint(q, end, &count);
-        if (!used) goto bad;
-        q += used;
-        if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-        nbits = (uint64_t)(end - q) * 8u;
-        for (c = 0; c < count; ++c) {
-            uint64_t quot = 0, g, w = pvs__peek56(q, nbits, bit);
-            uint32_t ones;
-            if (~w & (((uint64_t)1 << 56) - 1u)) { /* the quotient's terminating zero is in the window */
-                ones = pvs__ctz64(~w);
-                quot = ones;
-                if (bit + ones + 1u + k > nbits) goto bad;
-                if (quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-                g = ones + 1u + k <= 56u ? (w >> (ones + 1u)) & (((uint64_t)1 << k) - 1u) : pvs__get_bits(q, bit + ones + 1u, k);
-                bit += ones + 1u + k;
-            } else {
-                for (;;) { /* a long unary run: bit by bit */
-                    uint32_t b1;
-                    if (bit >= nbits) goto bad;
-                    b1 = (q[bit >> 3] >> (bit & 7u)) & 1u;
-                    ++bit;
-                    if (!b1) break;
-                    if (++quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-                }
-                if (bit + k > nbits) goto bad;
-                g = pvs__get_bits(q, bit, k);
-                bit += k;
-            }
-            g |= quot << k;
-            id = c ? id + 1u + g : g;
-            if (id >= n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-            if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63); /* the decode's hot path */
-            else if (act) pvs__sink_id(s, (uint32_t)id);
-        }
-        /* the codes fill whole bytes; the unused high bits of the last one are zero */
-        bytes = (bit + 7) / 8;
-        if ((bit & 7u) && (q[bit >> 3] >> (bit & 7u))) { q += (size_t)(bit >> 3); goto bad; }
-        q += (size_t)bytes;
-        break;
-    }
-    case PVS__CODING_BITMAP: {
-        size_t nb = ((size_t)n + 7) / 8, i;
-        if ((size_t)(end - q) < nb) goto bad;
-        if ((n & 7u) && (q[nb - 1] >> (n & 7u))) { *bad_at = nb - 1; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-        if (act == PVS__SET_ADD && !s->fn) {
-            for (i = 0; i < nb; ++i) s->bits[i >> 3] |= (pvs_word)q[i] << (8 * (i & 7));
-        } else if (act) {
-            for (i = 0; i < nb; ++i) {
-                uint32_t b = q[i];
-                while (b) {
-                    uint32_t id = (uint32_t)(8 * i) + pvs__ctz64(b);
-                    b &= b - 1u;
-                    pvs__sink_id(s, id);
-                }
-            }
-        }
-        q += nb;
-        break;
-    }
-    default: goto bad;
     }
     *used_out = (size_t)(q - p);
     return PVS_OK;
 bad:
     *bad_at = (size_t)(q - p);
     return PVS_ERROR_BAD_RECORD;
+}
+
+/* Coding 1: varint pairs, then per pair varint zeros, varint ones - 1: alternating runs from id 0
+   (zero runs after the first are >= 1). */
+PVS__STATIC pvs_result pvs__set_runs(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out, size_t *bad_at) {
+    const uint8_t *q = p;
+    uint32_t count, k;
+    int act = s->action;
+    uint64_t pos = 0;
+    size_t used = pvs__get_varint(q, end, &count);
+    if (!used) goto bad;
+    q += used;
+    for (k = 0; k < count; ++k) {
+        uint32_t z, o;
+        uint64_t i;
+        used = pvs__get_varint(q, end, &z);
+        if (!used) goto bad;
+        if (k && !z) goto bad; /* runs of ones are maximal */
+        q += used;
+        used = pvs__get_varint(q, end, &o);
+        if (!used) goto bad;
+        if (pos + z + o + 1u > n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+        q += used;
+        pos += z;
+        if (act == PVS__SET_ADD && !s->fn) { /* whole words at a time */
+            uint64_t e = pos + o + 1u;
+            while (pos < e && (pos & 63)) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
+            while (pos + 64 <= e) { s->bits[pos >> 6] = ~(pvs_word)0; pos += 64; }
+            while (pos < e) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
+        } else if (act == PVS__SET_REMOVE_RANKS) {
+            pvs__sink_remove_run(s, (uint32_t)pos, (uint64_t)o + 1u);
+            pos += (uint64_t)o + 1u;
+        } else {
+            if (act) /* validation must stay linear in the record's bytes */
+                for (i = 0; i <= o; ++i) pvs__sink_id(s, (uint32_t)(pos + i));
+            pos += (uint64_t)o + 1u;
+        }
+    }
+    *used_out = (size_t)(q - p);
+    return PVS_OK;
+bad:
+    *bad_at = (size_t)(q - p);
+    return PVS_ERROR_BAD_RECORD;
+}
+
+/* Coding 2, Rice codes (Golomb 1966, Rice 1979): u8 k, varint count, then count codes, least
+   significant bit first: gap >> k in unary, then the k low bits of the gap; the codes end at a
+   byte boundary, the unused high bits are zero. */
+PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out, size_t *bad_at) {
+    const uint8_t *q = p;
+    uint32_t count, k, c;
+    int act = s->action;
+    uint64_t bit = 0, nbits, id = 0, bytes;
+    size_t used;
+    if (q >= end) goto bad;
+    k = *q++;
+    if (k > PVS__RICE_MAX_K) goto bad;
+    used = pvs__get_varint(q, end, &count);
+    if (!used) goto bad;
+    q += used;
+    if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+    nbits = (uint64_t)(end - q) * 8u;
+    for (c = 0; c < count; ++c) {
+        uint64_t quot = 0, g, w = pvs__peek56(q, nbits, bit);
+        uint32_t ones;
+        if (~w & (((uint64_t)1 << 56) - 1u)) { /* the quotient's terminating zero is in the window */
+            ones = pvs__ctz64(~w);
+            quot = ones;
+            if (bit + ones + 1u + k > nbits) goto bad;
+            if (quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+            g = ones + 1u + k <= 56u ? (w >> (ones + 1u)) & (((uint64_t)1 << k) - 1u) : pvs__get_bits(q, bit + ones + 1u, k);
+            bit += ones + 1u + k;
+        } else {
+            for (;;) { /* a long unary run: bit by bit */
+                uint32_t b1;
+                if (bit >= nbits) goto bad;
+                b1 = (q[bit >> 3] >> (bit & 7u)) & 1u;
+                ++bit;
+                if (!b1) break;
+                if (++quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+            }
+            if (bit + k > nbits) goto bad;
+            g = pvs__get_bits(q, bit, k);
+            bit += k;
+        }
+        g |= quot << k;
+        id = c ? id + 1u + g : g;
+        if (id >= n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+        if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63); /* the decode's hot path */
+        else if (act) pvs__sink_id(s, (uint32_t)id);
+    }
+    /* the codes fill whole bytes; the unused high bits of the last one are zero */
+    bytes = (bit + 7) / 8;
+    if ((bit & 7u) && (q[bit >> 3] >> (bit & 7u))) { q += (size_t)(bit >> 3); goto bad; }
+    q += (size_t)bytes;
+    *used_out = (size_t)(q - p);
+    return PVS_OK;
+bad:
+    *bad_at = (size_t)(q - p);
+    return PVS_ERROR_BAD_RECORD;
+}
+
+/* Coding 3: a raw bitset of ceil(n / 8) bytes, bit i of byte j = id 8j + i; bits past n are zero. */
+PVS__STATIC pvs_result pvs__set_bitmap(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out, size_t *bad_at) {
+    size_t nb = ((size_t)n + 7) / 8, i;
+    int act = s->action;
+    if ((size_t)(end - p) < nb) { *bad_at = 0; return PVS_ERROR_BAD_RECORD; }
+    if ((n & 7u) && (p[nb - 1] >> (n & 7u))) { *bad_at = nb - 1; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+    if (act == PVS__SET_ADD && !s->fn) {
+        for (i = 0; i < nb; ++i) s->bits[i >> 3] |= (pvs_word)p[i] << (8 * (i & 7));
+    } else if (act) {
+        for (i = 0; i < nb; ++i) {
+            uint32_t b = p[i];
+            while (b) {
+                uint32_t id = (uint32_t)(8 * i) + pvs__ctz64(b);
+                b &= b - 1u;
+                pvs__sink_id(s, id);
+            }
+        }
+    }
+    *used_out = nb;
+    return PVS_OK;
+}
+
+/* Decodes one coded set of ids in [0, n) that starts at p (bytes up to end are available) and feeds
+   its ids, ascending, to the sink. *used receives the body's size: every coding is self-delimiting.
+   Returns PVS_OK, or BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at = the offending byte's offset. */
+PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint32_t coding, uint32_t n, pvs__sink *s, size_t *used_out,
+                                      size_t *bad_at) {
+    switch (coding) {
+    case PVS__CODING_GAPS: return pvs__set_gaps(p, end, n, s, used_out, bad_at);
+    case PVS__CODING_RUNS: return pvs__set_runs(p, end, n, s, used_out, bad_at);
+    case PVS__CODING_RICE: return pvs__set_rice(p, end, n, s, used_out, bad_at);
+    case PVS__CODING_BITMAP: return pvs__set_bitmap(p, end, n, s, used_out, bad_at);
+    default: *bad_at = 0; return PVS_ERROR_BAD_RECORD;
+    }
 }
 
 /* ---- encoder ---- */
