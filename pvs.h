@@ -21354,14 +21354,11 @@ PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
     return pos;
 }
 
-PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
-    pvs__encoder e;
-    pvs_result r = PVS_OK;
-    uint32_t i, k, max_chain, sections, keys = 0;
-    size_t at[6], sz[6], total, cell_bytes, recs_size, index_bits_total, vocc_size = 0;
-    uint32_t tags[6];
-    uint8_t *o = (uint8_t *)out;
-    if (out_size) *out_size = 0;
+/* pvs_file_encode's checks of the description, each with its error; *max_chain receives the chain
+   bound K, *vocc_size the VOCC section's size (0 without one). */
+PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_chain, size_t *vocc_size, pvs_error *err) {
+    pvs_result r;
+    uint32_t i;
     if (!d || !d->cells || !d->pvs || !d->cell_count || !d->object_count)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, cells and pvs must not be NULL or empty");
     if (d->up_axis != 1 && d->up_axis != 2) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "up_axis must be 1 or 2");
@@ -21369,8 +21366,8 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bad method or eps");
     if (d->cell_count == PVS_NO_CELL || d->object_count == 0xffffffffu || d->cell_count > 0x3fffffffu)
         return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells or objects");
-    max_chain = d->max_chain ? d->max_chain : PVS_DEFAULT_CHAIN;
-    if (max_chain > PVS_MAX_CHAIN) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", max_chain, PVS_MAX_CHAIN);
+    *max_chain = d->max_chain ? d->max_chain : PVS_DEFAULT_CHAIN;
+    if (*max_chain > PVS_MAX_CHAIN) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", *max_chain, PVS_MAX_CHAIN);
     if (d->shard_count == 1 || (d->shard_count && (d->shard_index >= d->shard_count || d->total_cell_count > 0x3fffffffu ||
                                                    d->cell_count != (d->total_cell_count - d->shard_index + d->shard_count - 1) / d->shard_count)))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u does not hold %u of %u cells", d->shard_index,
@@ -21382,11 +21379,203 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
     if (d->vocc_counts) { /* the optional VOCC section (>>vocc) */
         uint64_t n = 0;
         for (i = 0; i < d->cell_count; ++i) n += d->vocc_counts[i];
-        vocc_size = pvs__vo_section_size(d->cell_count, n);
+        *vocc_size = pvs__vo_section_size(d->cell_count, n);
         if (!d->vocc_scales || (n && !d->virtual_occluders) || !pvs__finite(d->vocc_base) || !pvs__finite(d->vocc_height_step) ||
-            !(d->vocc_height_step > 0.0f) || (d->vocc_flags & ~PVS_VOCC_ONLY) || !vocc_size)
+            !(d->vocc_height_step > 0.0f) || (d->vocc_flags & ~PVS_VOCC_ONLY) || !*vocc_size)
             return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "virtual occluders: missing arrays, bad heights or flags");
     }
+    return PVS_OK;
+}
+
+/* CELL: the cells as stored (e->boxes, -0 replaced by +0), per axis the table of their distinct
+   coordinates (e->values) and the bit widths of the packed min indices and extents; *cell_bytes
+   receives the section's size. */
+PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_bytes, pvs_error *err) {
+    const pvs_file_desc *d = e->d;
+    size_t index_bits_total;
+    uint32_t i, k;
+    e->boxes = (pvs_box *)pvs__alloc_array(&e->a, e->cells, sizeof(pvs_box));
+    if (!e->boxes) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell boxes");
+    for (i = 0; i < e->cells; ++i)
+        for (k = 0; k < 3; ++k) {
+            e->boxes[i].min[k] = d->cells[i].min[k] + 0.0f;
+            e->boxes[i].max[k] = d->cells[i].max[k] + 0.0f;
+        }
+    for (k = 0; k < 3; ++k) {
+        float *v = (float *)pvs__alloc_array(&e->a, 2 * (size_t)e->cells, sizeof(float));
+        uint32_t n = 0, widest = 0;
+        if (!v) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell coordinate tables");
+        e->values[k] = v;
+        for (i = 0; i < e->cells; ++i) {
+            v[2 * i] = e->boxes[i].min[k];
+            v[2 * i + 1] = e->boxes[i].max[k];
+        }
+        PVS_QSORT(v, 2 * (size_t)e->cells, sizeof(float), pvs__float_cmp);
+        for (i = 0; i < 2 * e->cells; ++i)
+            if (!n || v[i] != v[n - 1]) v[n++] = v[i];
+        e->value_count[k] = n;
+        e->index_bits[k] = pvs__bits_for(n - 1);
+        for (i = 0; i < e->cells; ++i) {
+            uint32_t ext = pvs__value_index(v, n, e->boxes[i].max[k]) - pvs__value_index(v, n, e->boxes[i].min[k]);
+            if (ext > widest) widest = ext;
+        }
+        e->index_bits[3 + k] = pvs__bits_for(widest);
+    }
+    index_bits_total = (size_t)(e->index_bits[0] + e->index_bits[1] + e->index_bits[2] + e->index_bits[3] + e->index_bits[4] + e->index_bits[5]) * e->cells;
+    *cell_bytes = PVS__CELL_HEAD + 4 * ((size_t)e->value_count[0] + e->value_count[1] + e->value_count[2]) + (index_bits_total + 7) / 8;
+    return PVS_OK;
+}
+
+/* The library's kD-tree over the cells (e->tree), which finds the base candidates (touching cells
+   first); when big overlapping cells would be copied into too many leaves, a tree over the cells'
+   centres instead. (TREE is the compact look-up tree: pvs__encoder_lookup_tree.) */
+PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
+    pvs_kdtree_desc td;
+    pvs_result r = PVS_OK;
+    uint32_t long_cells = 0, i, k;
+    memset(&td, 0, sizeof(td));
+    td.boxes = e->boxes;
+    td.count = e->cells;
+    td.allocator = e->a;
+    { /* cells more than 16 times the lower-quartile extent on some axis cross many split planes */
+        float *ext = (float *)pvs__alloc_array(&e->a, e->cells, sizeof(float)), med[3];
+        if (!ext) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell extents");
+        for (k = 0; k < 3; ++k) {
+            for (i = 0; i < e->cells; ++i) ext[i] = e->boxes[i].max[k] - e->boxes[i].min[k];
+            PVS_QSORT(ext, e->cells, sizeof(float), pvs__float_cmp);
+            med[k] = ext[e->cells / 4]; /* the lower quartile: half the cells may be long */
+        }
+        for (i = 0; i < e->cells; ++i)
+            for (k = 0; k < 3; ++k)
+                if (e->boxes[i].max[k] - e->boxes[i].min[k] > 16.0f * med[k]) {
+                    ++long_cells;
+                    break;
+                }
+        pvs__free_array(&e->a, ext, e->cells, sizeof(float));
+    }
+    if (long_cells <= e->cells / 16) r = pvs_kdtree_create(&td, &e->tree, err);
+    if (r == PVS_OK && (!e->tree || e->tree->item_count > 16u * e->cells)) {
+        pvs_box *centres = (pvs_box *)pvs__alloc_array(&e->a, e->cells, sizeof(pvs_box));
+        pvs_kdtree_destroy(e->tree);
+        e->tree = NULL;
+        if (!centres) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell centres");
+        for (i = 0; i < e->cells; ++i)
+            for (k = 0; k < 3; ++k) centres[i].min[k] = centres[i].max[k] = 0.5f * e->boxes[i].min[k] + 0.5f * e->boxes[i].max[k]; /* no overflow */
+        td.boxes = centres;
+        r = pvs_kdtree_create(&td, &e->tree, err);
+        pvs__free_array(&e->a, centres, e->cells, sizeof(pvs_box));
+    }
+    return r;
+}
+
+/* TREE: the compact look-up tree (pvs__tree_node) of depth D, the smallest giving leaves of about
+   PVS__TREE_LEAF cells, laid out in e->tree_stream: split values, then leaf offsets, then axes, then
+   the leaves' items. */
+PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err) {
+    pvs__tbuild tb;
+    pvs_result r;
+    uint32_t *ids = (uint32_t *)pvs__alloc_array(&e->a, e->cells, sizeof(uint32_t)), leaves, i, k;
+    memset(&tb, 0, sizeof(tb));
+    tb.a = &e->a;
+    tb.boxes = e->boxes;
+    while (tb.depth < 20 && (e->cells >> tb.depth) > PVS__TREE_LEAF) ++tb.depth;
+    leaves = 1u << tb.depth;
+    tb.keys = (float *)pvs__alloc_array(&e->a, 2 * (size_t)e->cells, sizeof(float));
+    tb.nodes = (uint32_t *)pvs__alloc_array(&e->a, leaves, sizeof(uint32_t));
+    tb.leaf_start = (uint32_t *)pvs__alloc_array(&e->a, (size_t)leaves + 1, sizeof(uint32_t));
+    for (k = 0; k < 3; ++k) tb.values[k] = e->values[k];
+    tb.value_count = e->value_count;
+    if (ids && tb.keys && tb.nodes && tb.leaf_start) {
+        for (i = 0; i < e->cells; ++i) ids[i] = i;
+        r = pvs__tree_node(&tb, ids, e->cells, 0, 0);
+    } else {
+        r = PVS_ERROR_OUT_OF_MEMORY;
+    }
+    if (r == PVS_OK) {
+        uint8_t *t;
+        tb.leaf_start[leaves] = (uint32_t)tb.item_bytes;
+        e->tree_bytes = 5 * (size_t)(leaves - 1) + 4 * ((size_t)leaves + 1) + tb.item_bytes;
+        e->tree_depth = tb.depth;
+        e->tree_stream = t = (uint8_t *)pvs__alloc_array(&e->a, e->tree_bytes, 1);
+        if (!t) {
+            r = PVS_ERROR_OUT_OF_MEMORY;
+        } else {
+            /* split values, then leaf offsets, then axes; a node that passes everything left is
+               axis 0 at FLT_MAX (no finite point lies beyond it) */
+            for (i = 0; i + 1 < leaves; ++i, t += 4)
+                pvs__putf32(t, (tb.nodes[i] & 3u) == 3u ? FLT_MAX : tb.values[tb.nodes[i] & 3u][tb.nodes[i] >> 2]);
+            for (i = 0; i <= leaves; ++i, t += 4) pvs__put32(t, tb.leaf_start[i]);
+            for (i = 0; i + 1 < leaves; ++i) *t++ = (uint8_t)((tb.nodes[i] & 3u) == 3u ? 0u : tb.nodes[i] & 3u);
+            if (tb.item_bytes) memcpy(t, tb.items, tb.item_bytes);
+        }
+    }
+    pvs__free_array(&e->a, ids, e->cells, sizeof(uint32_t));
+    pvs__free_array(&e->a, tb.keys, 2 * (size_t)e->cells, sizeof(float));
+    pvs__free_array(&e->a, tb.nodes, leaves, sizeof(uint32_t));
+    pvs__free_array(&e->a, tb.leaf_start, (size_t)leaves + 1, sizeof(uint32_t));
+    pvs__free_array(&e->a, tb.items, tb.item_capacity, 1);
+    if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "cell look-up tree");
+    return PVS_OK;
+}
+
+/* Writes the CELL section at c: the coordinate counts and the widths, the coordinate tables, then
+   per cell its min indices and its extents, bit-packed. */
+PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
+    uint8_t *v, *bits;
+    uint64_t pos = 0;
+    uint32_t i, k;
+    for (k = 0; k < 3; ++k) pvs__put32(c + 4 * k, e->value_count[k]);
+    for (k = 0; k < 6; ++k) c[12 + k] = (uint8_t)e->index_bits[k];
+    v = c + PVS__CELL_HEAD;
+    for (k = 0; k < 3; ++k)
+        for (i = 0; i < e->value_count[k]; ++i, v += 4) pvs__putf32(v, e->values[k][i]);
+    bits = v;
+    for (i = 0; i < e->cells; ++i) {
+        uint32_t lo[3];
+        for (k = 0; k < 3; ++k) {
+            lo[k] = pvs__value_index(e->values[k], e->value_count[k], e->boxes[i].min[k]);
+            pvs__put_bits(bits, pos, lo[k], e->index_bits[k]);
+            pos += e->index_bits[k];
+        }
+        for (k = 0; k < 3; ++k) {
+            pvs__put_bits(bits, pos, pvs__value_index(e->values[k], e->value_count[k], e->boxes[i].max[k]) - lo[k], e->index_bits[3 + k]);
+            pos += e->index_bits[3 + k];
+        }
+    }
+}
+
+/* Writes the header and the section table of a file of `total` bytes whose sections (tags[k] at
+   at[k], sz[k] bytes) are written: each section's CRC-32, then the header's. */
+PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t flags, uint32_t sections, const uint32_t *tags, const size_t *at,
+                                           const size_t *sz) {
+    uint32_t k, crc;
+    memcpy(o, "PVS\x1a", 4);
+    pvs__put32(o + 4, PVS_FORMAT_VERSION);
+    pvs__put32(o + 8, (uint32_t)total);
+    pvs__put32(o + 12, sections);
+    pvs__put32(o + 16, flags);
+    for (k = 0; k < sections; ++k) {
+        uint8_t *en = o + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * k;
+        pvs__put32(en + 0, tags[k]);
+        pvs__put32(en + 4, (uint32_t)at[k]);
+        pvs__put32(en + 8, (uint32_t)sz[k]);
+        pvs__put32(en + 12, pvs__crc32(0, o + at[k], sz[k]));
+    }
+    crc = pvs__crc32(0, o, 20);
+    crc = pvs__crc32(crc, o + PVS__HEADER_SIZE, (size_t)sections * PVS__SECTION_ENTRY);
+    pvs__put32(o + 20, crc);
+}
+
+PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
+    pvs__encoder e;
+    pvs_result r;
+    uint32_t i, k, max_chain = 0, sections, keys = 0;
+    size_t at[6], sz[6], total, cell_bytes = 0, recs_size, vocc_size = 0;
+    uint32_t tags[6];
+    uint8_t *o = (uint8_t *)out;
+    if (out_size) *out_size = 0;
+    r = pvs__encode_check(d, &max_chain, &vocc_size, err);
+    if (r != PVS_OK) return r;
     memset(&e, 0, sizeof(e));
     e.a = d->allocator;
     e.d = d;
@@ -21395,123 +21584,13 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
     e.words = PVS_BITSET_WORDS(d->object_count);
 
     /* CELL: per-axis tables of the distinct coordinates (-0 stored as +0), bit-packed indices */
-    e.boxes = (pvs_box *)pvs__alloc_array(&e.a, e.cells, sizeof(pvs_box));
-    if (!e.boxes) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell boxes"); goto done; }
-    for (i = 0; i < e.cells; ++i)
-        for (k = 0; k < 3; ++k) {
-            e.boxes[i].min[k] = d->cells[i].min[k] + 0.0f;
-            e.boxes[i].max[k] = d->cells[i].max[k] + 0.0f;
-        }
-    for (k = 0; k < 3; ++k) {
-        float *v = (float *)pvs__alloc_array(&e.a, 2 * (size_t)e.cells, sizeof(float));
-        uint32_t n = 0;
-        if (!v) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell coordinate tables"); goto done; }
-        e.values[k] = v;
-        for (i = 0; i < e.cells; ++i) {
-            v[2 * i] = e.boxes[i].min[k];
-            v[2 * i + 1] = e.boxes[i].max[k];
-        }
-        PVS_QSORT(v, 2 * (size_t)e.cells, sizeof(float), pvs__float_cmp);
-        for (i = 0; i < 2 * e.cells; ++i)
-            if (!n || v[i] != v[n - 1]) v[n++] = v[i];
-        e.value_count[k] = n;
-        e.index_bits[k] = pvs__bits_for(n - 1);
-        {
-            uint32_t widest = 0;
-            for (i = 0; i < e.cells; ++i) {
-                uint32_t ext = pvs__value_index(v, n, e.boxes[i].max[k]) - pvs__value_index(v, n, e.boxes[i].min[k]);
-                if (ext > widest) widest = ext;
-            }
-            e.index_bits[3 + k] = pvs__bits_for(widest);
-        }
-    }
-    index_bits_total = (size_t)(e.index_bits[0] + e.index_bits[1] + e.index_bits[2] + e.index_bits[3] + e.index_bits[4] + e.index_bits[5]) * e.cells;
-    cell_bytes = PVS__CELL_HEAD + 4 * ((size_t)e.value_count[0] + e.value_count[1] + e.value_count[2]) + (index_bits_total + 7) / 8;
-
-    /* the library's kD-tree over the cells finds base candidates (touching cells first); when big
-       overlapping cells would be copied into too many leaves, a tree over the cells' centres instead.
-       TREE is the compact look-up tree built further down. */
-    {
-        pvs_kdtree_desc td;
-        uint32_t long_cells = 0;
-        memset(&td, 0, sizeof(td));
-        td.boxes = e.boxes;
-        td.count = e.cells;
-        td.allocator = e.a;
-        { /* cells more than 16 times the lower-quartile extent on some axis cross many split planes */
-            float *ext = (float *)pvs__alloc_array(&e.a, e.cells, sizeof(float)), med[3];
-            if (!ext) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell extents"); goto done; }
-            for (k = 0; k < 3; ++k) {
-                for (i = 0; i < e.cells; ++i) ext[i] = e.boxes[i].max[k] - e.boxes[i].min[k];
-                PVS_QSORT(ext, e.cells, sizeof(float), pvs__float_cmp);
-                med[k] = ext[e.cells / 4]; /* the lower quartile: half the cells may be long */
-            }
-            for (i = 0; i < e.cells; ++i)
-                for (k = 0; k < 3; ++k)
-                    if (e.boxes[i].max[k] - e.boxes[i].min[k] > 16.0f * med[k]) {
-                        ++long_cells;
-                        break;
-                    }
-            pvs__free_array(&e.a, ext, e.cells, sizeof(float));
-        }
-        if (long_cells <= e.cells / 16) r = pvs_kdtree_create(&td, &e.tree, err);
-        if (r == PVS_OK && (!e.tree || e.tree->item_count > 16u * e.cells)) {
-            pvs_box *centres = (pvs_box *)pvs__alloc_array(&e.a, e.cells, sizeof(pvs_box));
-            pvs_kdtree_destroy(e.tree);
-            e.tree = NULL;
-            if (!centres) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell centres"); goto done; }
-            for (i = 0; i < e.cells; ++i)
-                for (k = 0; k < 3; ++k) centres[i].min[k] = centres[i].max[k] = 0.5f * e.boxes[i].min[k] + 0.5f * e.boxes[i].max[k]; /* no overflow */
-            td.boxes = centres;
-            r = pvs_kdtree_create(&td, &e.tree, err);
-            pvs__free_array(&e.a, centres, e.cells, sizeof(pvs_box));
-        }
-        if (r != PVS_OK) goto done;
-    }
-    {
-        pvs__tbuild tb;
-        uint32_t *ids = (uint32_t *)pvs__alloc_array(&e.a, e.cells, sizeof(uint32_t)), leaves;
-        memset(&tb, 0, sizeof(tb));
-        tb.a = &e.a;
-        tb.boxes = e.boxes;
-        while (tb.depth < 20 && (e.cells >> tb.depth) > PVS__TREE_LEAF) ++tb.depth;
-        leaves = 1u << tb.depth;
-        tb.keys = (float *)pvs__alloc_array(&e.a, 2 * (size_t)e.cells, sizeof(float));
-        tb.nodes = (uint32_t *)pvs__alloc_array(&e.a, leaves, sizeof(uint32_t));
-        tb.leaf_start = (uint32_t *)pvs__alloc_array(&e.a, (size_t)leaves + 1, sizeof(uint32_t));
-        for (k = 0; k < 3; ++k) tb.values[k] = e.values[k];
-        tb.value_count = e.value_count;
-        if (ids && tb.keys && tb.nodes && tb.leaf_start) {
-            for (i = 0; i < e.cells; ++i) ids[i] = i;
-            r = pvs__tree_node(&tb, ids, e.cells, 0, 0);
-        } else {
-            r = PVS_ERROR_OUT_OF_MEMORY;
-        }
-        if (r == PVS_OK) {
-            uint8_t *t;
-            tb.leaf_start[leaves] = (uint32_t)tb.item_bytes;
-            e.tree_bytes = 5 * (size_t)(leaves - 1) + 4 * ((size_t)leaves + 1) + tb.item_bytes;
-            e.tree_depth = tb.depth;
-            e.tree_stream = t = (uint8_t *)pvs__alloc_array(&e.a, e.tree_bytes, 1);
-            if (!t) {
-                r = PVS_ERROR_OUT_OF_MEMORY;
-            } else {
-                /* split values, then leaf offsets, then axes; a node that passes everything left is
-                   axis 0 at FLT_MAX (no finite point lies beyond it) */
-                for (i = 0; i + 1 < leaves; ++i, t += 4)
-                    pvs__putf32(t, (tb.nodes[i] & 3u) == 3u ? FLT_MAX : tb.values[tb.nodes[i] & 3u][tb.nodes[i] >> 2]);
-                for (i = 0; i <= leaves; ++i, t += 4) pvs__put32(t, tb.leaf_start[i]);
-                for (i = 0; i + 1 < leaves; ++i) *t++ = (uint8_t)((tb.nodes[i] & 3u) == 3u ? 0u : tb.nodes[i] & 3u);
-                if (tb.item_bytes) memcpy(t, tb.items, tb.item_bytes);
-            }
-        }
-        pvs__free_array(&e.a, ids, e.cells, sizeof(uint32_t));
-        pvs__free_array(&e.a, tb.keys, 2 * (size_t)e.cells, sizeof(float));
-        pvs__free_array(&e.a, tb.nodes, leaves, sizeof(uint32_t));
-        pvs__free_array(&e.a, tb.leaf_start, (size_t)leaves + 1, sizeof(uint32_t));
-        pvs__free_array(&e.a, tb.items, tb.item_capacity, 1);
-        if (r != PVS_OK) { r = pvs__fail(err, r, -1, 0, "cell look-up tree"); goto done; }
-    }
+    r = pvs__encoder_cell_tables(&e, &cell_bytes, err);
+    if (r != PVS_OK) goto done;
+    /* the library's kD-tree over the cells finds base candidates; TREE is the compact look-up tree */
+    r = pvs__encoder_kdtree(&e, err);
+    if (r != PVS_OK) goto done;
+    r = pvs__encoder_lookup_tree(&e, err);
+    if (r != PVS_OK) goto done;
 
     /* RECS */
     e.tmp = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
@@ -21559,32 +21638,10 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         pvs__put32(m + 20, max_chain);
         pvs__put32(m + 24, keys);
     }
-    { /* CELL */
-        uint8_t *c = o + at[1], *v, *bits;
-        uint64_t pos = 0;
-        for (k = 0; k < 3; ++k) pvs__put32(c + 4 * k, e.value_count[k]);
-        for (k = 0; k < 6; ++k) c[12 + k] = (uint8_t)e.index_bits[k];
-        v = c + PVS__CELL_HEAD;
-        for (k = 0; k < 3; ++k)
-            for (i = 0; i < e.value_count[k]; ++i, v += 4) pvs__putf32(v, e.values[k][i]);
-        bits = v;
-        for (i = 0; i < e.cells; ++i) {
-            uint32_t lo[3];
-            for (k = 0; k < 3; ++k) {
-                lo[k] = pvs__value_index(e.values[k], e.value_count[k], e.boxes[i].min[k]);
-                pvs__put_bits(bits, pos, lo[k], e.index_bits[k]);
-                pos += e.index_bits[k];
-            }
-            for (k = 0; k < 3; ++k) {
-                pvs__put_bits(bits, pos, pvs__value_index(e.values[k], e.value_count[k], e.boxes[i].max[k]) - lo[k], e.index_bits[3 + k]);
-                pos += e.index_bits[3 + k];
-            }
-        }
-    }
-    { /* TREE */
-        pvs__put32(o + at[2], e.tree_depth);
-        memcpy(o + at[2] + PVS__TREE_HEAD, e.tree_stream, e.tree_bytes);
-    }
+    pvs__encoder_write_cells(&e, o + at[1]);
+    /* TREE */
+    pvs__put32(o + at[2], e.tree_depth);
+    memcpy(o + at[2] + PVS__TREE_HEAD, e.tree_stream, e.tree_bytes);
     (void)pvs__encoder_records(&e, o + at[3]);
     if (d->shard_count) {
         uint8_t *s = o + at[4];
@@ -21596,23 +21653,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         pvs__vo_section_write(o + at[sections - 1], (d->vocc_flags & PVS_VOCC_ONLY) ? 1u : 0u, d->vocc_base, d->vocc_height_step, d->cell_count,
                               d->vocc_counts, d->vocc_scales, d->virtual_occluders, d->vocc_stride);
     /* header and section table */
-    memcpy(o, "PVS\x1a", 4);
-    pvs__put32(o + 4, PVS_FORMAT_VERSION);
-    pvs__put32(o + 8, (uint32_t)total);
-    pvs__put32(o + 12, sections);
-    pvs__put32(o + 16, d->flags);
-    for (k = 0; k < sections; ++k) {
-        uint8_t *en = o + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * k;
-        pvs__put32(en + 0, tags[k]);
-        pvs__put32(en + 4, (uint32_t)at[k]);
-        pvs__put32(en + 8, (uint32_t)sz[k]);
-        pvs__put32(en + 12, pvs__crc32(0, o + at[k], sz[k]));
-    }
-    {
-        uint32_t crc = pvs__crc32(0, o, 20);
-        crc = pvs__crc32(crc, o + PVS__HEADER_SIZE, (size_t)sections * PVS__SECTION_ENTRY);
-        pvs__put32(o + 20, crc);
-    }
+    pvs__encoder_write_header(o, total, d->flags, sections, tags, at, sz);
     pvs__ok(err);
 done:
     pvs__encoder_free(&e);
