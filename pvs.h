@@ -21897,15 +21897,16 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
     return PVS_OK;
 }
 
-PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs_error *err) {
-    const uint8_t *p = (const uint8_t *)data;
-    uint32_t count, i, j, crc;
-    const uint8_t *meta = NULL, *cells = NULL, *tree = NULL, *recs = NULL, *shrd = NULL, *vocc = NULL;
-    uint32_t meta_size = 0, cells_size = 0, tree_size = 0, recs_size = 0, shrd_size = 0, vocc_size = 0;
-    pvs_result r;
-    if (!f) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file must not be NULL");
-    memset(f, 0, sizeof(*f));
-    if (!p && size) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "data is NULL");
+/* The sections pvs_file_open knows, as the section table places them (NULL: absent). */
+typedef struct pvs__open_sections {
+    const uint8_t *meta, *cells, *tree, *recs, *shrd, *vocc;
+    uint32_t meta_size, cells_size, tree_size, recs_size, shrd_size, vocc_size;
+} pvs__open_sections;
+
+/* The header, 32 bytes, in the order of the format table: magic, version, file size, section count
+   (and the table inside the file), checksum, reserved bytes. *count receives the section count. */
+PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t *count_out, pvs_error *err) {
+    uint32_t count, crc;
     if (size < 4 || memcmp(p, "PVS\x1a", 4) != 0)
         return pvs__fail(err, size < 4 ? PVS_ERROR_TRUNCATED : PVS_ERROR_BAD_MAGIC, -1, 0, "not a .pvs file (magic)");
     if (size < PVS__HEADER_SIZE) return pvs__fail(err, PVS_ERROR_TRUNCATED, -1, size, "the header needs 32 bytes, have %llu", (unsigned long long)size);
@@ -21924,6 +21925,14 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
     crc = pvs__crc32(crc, p + PVS__HEADER_SIZE, (size_t)count * PVS__SECTION_ENTRY);
     if (crc != pvs__get32(p + 20)) return pvs__fail(err, PVS_ERROR_CHECKSUM, -1, 20, "header checksum");
     if (pvs__get32(p + 24) || pvs__get32(p + 28)) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 24, "reserved header bytes are not zero");
+    *count_out = count;
+    return PVS_OK;
+}
+
+/* The section table: each section 8-aligned and after the table, inside the file, no tag repeated,
+   no overlap, its checksum; the known tags into *sec (unknown tags are skipped). */
+PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t count, pvs__open_sections *sec, pvs_error *err) {
+    uint32_t i, j;
     for (i = 0; i < count; ++i) {
         const uint8_t *e = p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)i;
         uint32_t tag = pvs__get32(e), off = pvs__get32(e + 4), sz = pvs__get32(e + 8);
@@ -21942,36 +21951,42 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
         }
         if (pvs__crc32(0, p + off, sz) != pvs__get32(e + 12))
             return pvs__fail(err, PVS_ERROR_CHECKSUM, i, off, "section %u checksum", i);
-        if (tag == PVS__TAG_META) { meta = p + off; meta_size = sz; }
-        else if (tag == PVS__TAG_CELL) { cells = p + off; cells_size = sz; }
-        else if (tag == PVS__TAG_TREE) { tree = p + off; tree_size = sz; }
-        else if (tag == PVS__TAG_RECS) { recs = p + off; recs_size = sz; }
-        else if (tag == PVS__TAG_SHRD) { shrd = p + off; shrd_size = sz; }
-        else if (tag == PVS__VO_TAG) { vocc = p + off; vocc_size = sz; }
+        if (tag == PVS__TAG_META) { sec->meta = p + off; sec->meta_size = sz; }
+        else if (tag == PVS__TAG_CELL) { sec->cells = p + off; sec->cells_size = sz; }
+        else if (tag == PVS__TAG_TREE) { sec->tree = p + off; sec->tree_size = sz; }
+        else if (tag == PVS__TAG_RECS) { sec->recs = p + off; sec->recs_size = sz; }
+        else if (tag == PVS__TAG_SHRD) { sec->shrd = p + off; sec->shrd_size = sz; }
+        else if (tag == PVS__VO_TAG) { sec->vocc = p + off; sec->vocc_size = sz; }
     }
-    {
-        /* bytes outside the header, the table and the sections (alignment padding) must be zero,
-           so that every byte of a valid file is either checksummed or fixed */
-        uint32_t order[PVS__MAX_SECTIONS], k;
-        size_t pos = PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY;
-        for (i = 0; i < count; ++i) { /* insertion sort by offset; count <= 64 */
-            uint32_t off = pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)i + 4);
-            for (j = i; j > 0 && pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[j - 1] + 4) > off; --j)
-                order[j] = order[j - 1];
-            order[j] = i;
-        }
-        for (k = 0; k <= count; ++k) {
-            const uint8_t *e = k < count ? p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[k] : NULL;
-            size_t next = e ? pvs__get32(e + 4) : size;
-            for (; pos < next; ++pos)
-                if (p[pos]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, pos, "padding byte %llu is not zero", (unsigned long long)pos);
-            if (e && (size_t)pvs__get32(e + 4) + pvs__get32(e + 8) > pos) pos = (size_t)pvs__get32(e + 4) + pvs__get32(e + 8);
-        }
+    return PVS_OK;
+}
+
+/* Bytes outside the header, the table and the sections (alignment padding) must be zero, so that
+   every byte of a valid file is either checksummed or fixed. */
+PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t count, pvs_error *err) {
+    uint32_t order[PVS__MAX_SECTIONS], i, j, k;
+    size_t pos = PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY;
+    for (i = 0; i < count; ++i) { /* insertion sort by offset; count <= 64 */
+        uint32_t off = pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)i + 4);
+        for (j = i; j > 0 && pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[j - 1] + 4) > off; --j)
+            order[j] = order[j - 1];
+        order[j] = i;
     }
-    if (!meta || !cells || !tree || !recs)
-        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, 0, "missing required section %s",
-                         !meta ? "META" : !cells ? "CELL" : !tree ? "TREE" : "RECS");
-    if (meta_size != PVS__META_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(meta - p), "META has %u bytes, not 32", meta_size);
+    for (k = 0; k <= count; ++k) {
+        const uint8_t *e = k < count ? p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[k] : NULL;
+        size_t next = e ? pvs__get32(e + 4) : size;
+        for (; pos < next; ++pos)
+            if (p[pos]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, pos, "padding byte %llu is not zero", (unsigned long long)pos);
+        if (e && (size_t)pvs__get32(e + 4) + pvs__get32(e + 8) > pos) pos = (size_t)pvs__get32(e + 4) + pvs__get32(e + 8);
+    }
+    return PVS_OK;
+}
+
+/* "META" (32 bytes) into f, then its rules in the order of the format table: cell count, object
+   count, method, eps, up axis, chain bound, key cells, reserved bytes. */
+PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8_t *meta, uint32_t meta_size, pvs_error *err) {
+    uint64_t mo = (uint64_t)(meta - p);
+    if (meta_size != PVS__META_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, mo, "META has %u bytes, not 32", meta_size);
     f->cell_count = pvs__get32(meta);
     f->object_count = pvs__get32(meta + 4);
     f->method = (pvs_method)pvs__get32(meta + 8);
@@ -21979,41 +21994,69 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
     f->up_axis = pvs__get32(meta + 16);
     f->max_chain = pvs__get32(meta + 20);
     f->key_count = pvs__get32(meta + 24);
-    {
-        uint64_t mo = (uint64_t)(meta - p);
-        if (f->cell_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo, "cell count 0");
-        if (f->cell_count > 0x3fffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo, "cell count %u > 2^30 - 1", f->cell_count);
-        if (f->object_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 4, "object count 0");
-        if (f->object_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo + 4, "object count 2^32 - 1");
-        if (pvs__get32(meta + 8) >= (uint32_t)PVS_METHOD_COUNT) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 8, "unknown method %u", pvs__get32(meta + 8));
-        if (!pvs__finite(f->eps) || f->eps < 0.0f) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 12, "eps is not a finite number >= 0");
-        if (f->up_axis != 1 && f->up_axis != 2) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 16, "up axis %u", f->up_axis);
-        if (f->max_chain == 0 || f->max_chain > PVS_MAX_CHAIN)
-            return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 20, "chain bound %u is not in 1..%u", f->max_chain, PVS_MAX_CHAIN);
-        if (f->key_count == 0 || f->key_count > f->cell_count)
-            return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 24, "%u key cells of %u", f->key_count, f->cell_count);
-        if (pvs__get32(meta + 28)) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 28, "reserved META bytes are not zero");
-    }
-    if (shrd) {
-        uint64_t so = (uint64_t)(shrd - p);
-        if (shrd_size != PVS__SHRD_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "SHRD has %u bytes, not 16", shrd_size);
-        f->shard_index = pvs__get32(shrd);
-        f->shard_count = pvs__get32(shrd + 4);
-        f->total_cell_count = pvs__get32(shrd + 8);
-        if (f->shard_count < 2 || f->shard_index >= f->shard_count || f->total_cell_count > 0x3fffffffu || pvs__get32(shrd + 12) ||
-            f->cell_count != (f->total_cell_count - f->shard_index + f->shard_count - 1) / f->shard_count)
-            return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, so, "SHRD: shard %u of %u cannot hold %u of %u cells", f->shard_index, f->shard_count,
-                             f->cell_count, f->total_cell_count);
+    if (f->cell_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo, "cell count 0");
+    if (f->cell_count > 0x3fffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo, "cell count %u > 2^30 - 1", f->cell_count);
+    if (f->object_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 4, "object count 0");
+    if (f->object_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo + 4, "object count 2^32 - 1");
+    if (pvs__get32(meta + 8) >= (uint32_t)PVS_METHOD_COUNT) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 8, "unknown method %u", pvs__get32(meta + 8));
+    if (!pvs__finite(f->eps) || f->eps < 0.0f) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 12, "eps is not a finite number >= 0");
+    if (f->up_axis != 1 && f->up_axis != 2) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 16, "up axis %u", f->up_axis);
+    if (f->max_chain == 0 || f->max_chain > PVS_MAX_CHAIN)
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 20, "chain bound %u is not in 1..%u", f->max_chain, PVS_MAX_CHAIN);
+    if (f->key_count == 0 || f->key_count > f->cell_count)
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 24, "%u key cells of %u", f->key_count, f->cell_count);
+    if (pvs__get32(meta + 28)) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 28, "reserved META bytes are not zero");
+    return PVS_OK;
+}
+
+/* "SHRD" (16 bytes) into f: a part of cell_count cells of a sharded bake. */
+PVS__STATIC pvs_result pvs__open_shard(pvs_file *f, const uint8_t *p, const uint8_t *shrd, uint32_t shrd_size, pvs_error *err) {
+    uint64_t so = (uint64_t)(shrd - p);
+    if (shrd_size != PVS__SHRD_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "SHRD has %u bytes, not 16", shrd_size);
+    f->shard_index = pvs__get32(shrd);
+    f->shard_count = pvs__get32(shrd + 4);
+    f->total_cell_count = pvs__get32(shrd + 8);
+    if (f->shard_count < 2 || f->shard_index >= f->shard_count || f->total_cell_count > 0x3fffffffu || pvs__get32(shrd + 12) ||
+        f->cell_count != (f->total_cell_count - f->shard_index + f->shard_count - 1) / f->shard_count)
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, so, "SHRD: shard %u of %u cannot hold %u of %u cells", f->shard_index, f->shard_count,
+                         f->cell_count, f->total_cell_count);
+    return PVS_OK;
+}
+
+PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs_error *err) {
+    const uint8_t *p = (const uint8_t *)data;
+    uint32_t count = 0;
+    pvs__open_sections sec;
+    pvs_result r;
+    if (!f) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file must not be NULL");
+    memset(f, 0, sizeof(*f));
+    if (!p && size) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "data is NULL");
+    /* header, then the section table, then the padding between the sections */
+    r = pvs__open_header(p, size, &count, err);
+    if (r != PVS_OK) return r;
+    memset(&sec, 0, sizeof(sec));
+    r = pvs__open_table(p, size, count, &sec, err);
+    if (r != PVS_OK) return r;
+    r = pvs__open_padding(p, size, count, err);
+    if (r != PVS_OK) return r;
+    if (!sec.meta || !sec.cells || !sec.tree || !sec.recs)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, 0, "missing required section %s",
+                         !sec.meta ? "META" : !sec.cells ? "CELL" : !sec.tree ? "TREE" : "RECS");
+    r = pvs__open_meta(f, p, sec.meta, sec.meta_size, err);
+    if (r != PVS_OK) return r;
+    if (sec.shrd) {
+        r = pvs__open_shard(f, p, sec.shrd, sec.shrd_size, err);
+        if (r != PVS_OK) return r;
     }
     /* records first: each takes at least 3 bytes, so a valid RECS bounds the cell count by the file
        size, and the cell checks after it stay linear in the file (a cell index can be 0 bits wide) */
-    f->private_.records = recs;
-    f->private_.records_size = recs_size;
+    f->private_.records = sec.recs;
+    f->private_.records_size = sec.recs_size;
     f->private_.block_count = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK;
-    r = pvs__open_records(f, p, recs, recs_size, err);
-    if (r == PVS_OK) r = pvs__open_cells(f, p, cells, cells_size, err);
-    if (r == PVS_OK) r = pvs__open_tree(f, p, tree, tree_size, err);
-    if (r == PVS_OK && vocc) r = pvs__vo_open_section(f, p, vocc, vocc_size, err);
+    r = pvs__open_records(f, p, sec.recs, sec.recs_size, err);
+    if (r == PVS_OK) r = pvs__open_cells(f, p, sec.cells, sec.cells_size, err);
+    if (r == PVS_OK) r = pvs__open_tree(f, p, sec.tree, sec.tree_size, err);
+    if (r == PVS_OK && sec.vocc) r = pvs__vo_open_section(f, p, sec.vocc, sec.vocc_size, err);
     if (r != PVS_OK) {
         memset(f, 0, sizeof(*f));
         return r;
