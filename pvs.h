@@ -2204,15 +2204,12 @@ PVS_API void pvs_scene_destroy(pvs_scene *s) {
     pvs__free(&a, s, sizeof(*s), 16);
 }
 
-PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out, pvs_error *err) {
-    pvs_scene *s;
-    pvs_allocator a;
-    pvs_result r;
-    size_t n3, i, floats = 0;
-    uint32_t t, o;
-    pvs_box *tri_boxes = NULL;
-    if (out) *out = NULL;
-    if (!desc || !out) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc and out_scene must not be NULL");
+/* pvs_scene_create's checks of the description before anything is allocated: pointers, counts,
+   then every vertex finite, every index in range, every object's triangle range; *floats receives
+   the floats the occluders' planes and footprints need. */
+PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t *floats, pvs_error *err) {
+    size_t n3, i;
+    uint32_t o;
     if (desc->object_count == 0 || !desc->objects)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the scene has no objects");
     if (desc->triangle_count && (!desc->indices || !desc->positions))
@@ -2244,12 +2241,113 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
         if (ob->triangle_count == 0 && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS))
             return pvs__fail(err, PVS_ERROR_EMPTY_OBJECT, o, 0, "object %u has no triangles", o);
     }
+    *floats = 0;
     for (o = 0; o < desc->occluder_count; ++o) {
         const pvs_occluder_desc *oc = desc->occluders + o;
-        if (oc->kind == PVS_OCCLUDER_CONVEX && oc->plane_count <= PVS_MAX_OCCLUDER_PLANES) floats += 4 * (size_t)oc->plane_count;
+        if (oc->kind == PVS_OCCLUDER_CONVEX && oc->plane_count <= PVS_MAX_OCCLUDER_PLANES) *floats += 4 * (size_t)oc->plane_count;
         if (oc->kind == PVS_OCCLUDER_EXTRUSION && oc->footprint_count <= PVS_MAX_FOOTPRINT_POINTS)
-            floats += 2 * (size_t)oc->footprint_count;
+            *floats += 2 * (size_t)oc->footprint_count;
     }
+    return PVS_OK;
+}
+
+/* The objects of the scene: their flags, triangle ranges and boxes (empty when every triangle has
+   zero area: never visible), each triangle claimed by one object only (s->triangle_object). */
+PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
+    uint32_t o, t;
+    for (o = 0; o < desc->object_count; ++o) {
+        const pvs_object_desc *ob = desc->objects + o;
+        int any_area = 0;
+        s->object_flags[o] = ob->flags;
+        s->object_triangles[2 * (size_t)o] = ob->first_triangle;
+        s->object_triangles[2 * (size_t)o + 1] = ob->triangle_count;
+        s->object_boxes[o] = pvs__box_empty();
+        for (t = ob->first_triangle; t < ob->first_triangle + ob->triangle_count; ++t) {
+            const uint32_t *tri = s->indices + 3 * (size_t)t;
+            pvs__v3 p0 = pvs__v3_load(s->positions + 3 * (size_t)tri[0]);
+            pvs__v3 p1 = pvs__v3_load(s->positions + 3 * (size_t)tri[1]);
+            pvs__v3 p2 = pvs__v3_load(s->positions + 3 * (size_t)tri[2]);
+            double e1[3], e2[3], c[3];
+            if (s->triangle_object[t] != PVS_NO_OBJECT)
+                return pvs__fail(err, PVS_ERROR_OVERLAPPING_OBJECTS, o, 0, "objects %u and %u both claim triangle %u", s->triangle_object[t], o, t);
+            s->triangle_object[t] = o;
+            e1[0] = (double)p1.x - p0.x; e1[1] = (double)p1.y - p0.y; e1[2] = (double)p1.z - p0.z;
+            e2[0] = (double)p2.x - p0.x; e2[1] = (double)p2.y - p0.y; e2[2] = (double)p2.z - p0.z;
+            c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+            c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+            c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+            if (c[0] != 0.0 || c[1] != 0.0 || c[2] != 0.0) any_area = 1;
+            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[0]);
+            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[1]);
+            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[2]);
+        }
+        if (!any_area && ob->triangle_count && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS))
+            return pvs__fail(err, PVS_ERROR_DEGENERATE_OBJECT, o, 0, "object %u: all %u triangles have zero area", o, ob->triangle_count);
+        if (!any_area) s->object_boxes[o] = pvs__box_empty(); /* never visible: nothing to see */
+    }
+    return PVS_OK;
+}
+
+/* The explicit occluders, validated (pvs__validate_occluder) and copied with their planes and
+   footprints into s->occluder_data; their boxes grow the scene's bounds. */
+PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
+    size_t floats = 0;
+    uint32_t o;
+    for (o = 0; o < desc->occluder_count; ++o) {
+        pvs_occluder_desc *dst = s->occluders + o;
+        pvs_result r = pvs__validate_occluder(desc->occluders + o, s->up_axis, o, &s->occluder_boxes[o], err);
+        if (r != PVS_OK) return r;
+        *dst = desc->occluders[o];
+        if (dst->kind == PVS_OCCLUDER_CONVEX) {
+            memcpy(s->occluder_data + floats, dst->planes, 4 * (size_t)dst->plane_count * sizeof(float));
+            dst->planes = s->occluder_data + floats;
+            floats += 4 * (size_t)dst->plane_count;
+        } else {
+            dst->planes = NULL;
+            dst->plane_count = 0;
+        }
+        if (dst->kind == PVS_OCCLUDER_EXTRUSION) {
+            memcpy(s->occluder_data + floats, dst->footprint, 2 * (size_t)dst->footprint_count * sizeof(float));
+            dst->footprint = s->occluder_data + floats;
+            floats += 2 * (size_t)dst->footprint_count;
+        } else {
+            dst->footprint = NULL;
+            dst->footprint_count = 0;
+        }
+        pvs__box_add_box(&s->bounds, &s->occluder_boxes[o]);
+    }
+    return PVS_OK;
+}
+
+/* The scene's two kD-trees: over the triangles' boxes (zero-area triangles emptied by
+   pvs__scene_prepare_rays) and over the objects' boxes. */
+PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, const pvs_box *tri_boxes, pvs_error *err) {
+    pvs_kdtree_desc kd;
+    pvs_result r;
+    memset(&kd, 0, sizeof(kd));
+    kd.allocator = s->allocator;
+    kd.boxes = tri_boxes;
+    kd.count = desc->triangle_count;
+    kd.leaf_size = desc->leaf_size;
+    r = pvs_kdtree_create(&kd, &s->triangle_tree, err);
+    if (r != PVS_OK) return r;
+    kd.boxes = s->object_boxes;
+    kd.count = desc->object_count;
+    kd.leaf_size = 0;
+    return pvs_kdtree_create(&kd, &s->object_tree, err);
+}
+
+PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out, pvs_error *err) {
+    pvs_scene *s;
+    pvs_allocator a;
+    pvs_result r;
+    size_t floats = 0;
+    uint32_t t;
+    pvs_box *tri_boxes = NULL;
+    if (out) *out = NULL;
+    if (!desc || !out) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc and out_scene must not be NULL");
+    r = pvs__scene_check_desc(desc, &floats, err);
+    if (r != PVS_OK) return r;
 
     a = desc->allocator;
     s = (pvs_scene *)pvs__alloc(&a, sizeof(pvs_scene), 16);
@@ -2283,41 +2381,8 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
     for (t = 0; t < desc->triangle_count; ++t) s->triangle_object[t] = PVS_NO_OBJECT;
     s->bounds = pvs__box_empty();
 
-    for (o = 0; o < desc->object_count; ++o) {
-        const pvs_object_desc *ob = desc->objects + o;
-        int any_area = 0;
-        s->object_flags[o] = ob->flags;
-        s->object_triangles[2 * (size_t)o] = ob->first_triangle;
-        s->object_triangles[2 * (size_t)o + 1] = ob->triangle_count;
-        s->object_boxes[o] = pvs__box_empty();
-        for (t = ob->first_triangle; t < ob->first_triangle + ob->triangle_count; ++t) {
-            const uint32_t *tri = s->indices + 3 * (size_t)t;
-            pvs__v3 p0 = pvs__v3_load(s->positions + 3 * (size_t)tri[0]);
-            pvs__v3 p1 = pvs__v3_load(s->positions + 3 * (size_t)tri[1]);
-            pvs__v3 p2 = pvs__v3_load(s->positions + 3 * (size_t)tri[2]);
-            double e1[3], e2[3], c[3];
-            if (s->triangle_object[t] != PVS_NO_OBJECT) {
-                r = pvs__fail(err, PVS_ERROR_OVERLAPPING_OBJECTS, o, 0, "objects %u and %u both claim triangle %u",
-                              s->triangle_object[t], o, t);
-                goto fail;
-            }
-            s->triangle_object[t] = o;
-            e1[0] = (double)p1.x - p0.x; e1[1] = (double)p1.y - p0.y; e1[2] = (double)p1.z - p0.z;
-            e2[0] = (double)p2.x - p0.x; e2[1] = (double)p2.y - p0.y; e2[2] = (double)p2.z - p0.z;
-            c[0] = e1[1] * e2[2] - e1[2] * e2[1];
-            c[1] = e1[2] * e2[0] - e1[0] * e2[2];
-            c[2] = e1[0] * e2[1] - e1[1] * e2[0];
-            if (c[0] != 0.0 || c[1] != 0.0 || c[2] != 0.0) any_area = 1;
-            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[0]);
-            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[1]);
-            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[2]);
-        }
-        if (!any_area && ob->triangle_count && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS)) {
-            r = pvs__fail(err, PVS_ERROR_DEGENERATE_OBJECT, o, 0, "object %u: all %u triangles have zero area", o, ob->triangle_count);
-            goto fail;
-        }
-        if (!any_area) s->object_boxes[o] = pvs__box_empty(); /* never visible: nothing to see */
-    }
+    r = pvs__scene_objects(s, desc, err);
+    if (r != PVS_OK) goto fail;
     for (t = 0; t < desc->triangle_count; ++t) {
         const uint32_t *tri = s->indices + 3 * (size_t)t;
         tri_boxes[t] = pvs__box_empty();
@@ -2326,53 +2391,16 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
         pvs__box_add_point(&tri_boxes[t], s->positions + 3 * (size_t)tri[2]);
         pvs__box_add_box(&s->bounds, &tri_boxes[t]);
     }
-
-    floats = 0;
-    for (o = 0; o < desc->occluder_count; ++o) {
-        pvs_occluder_desc *dst = s->occluders + o;
-        r = pvs__validate_occluder(desc->occluders + o, s->up_axis, o, &s->occluder_boxes[o], err);
-        if (r != PVS_OK) goto fail;
-        *dst = desc->occluders[o];
-        if (dst->kind == PVS_OCCLUDER_CONVEX) {
-            memcpy(s->occluder_data + floats, dst->planes, 4 * (size_t)dst->plane_count * sizeof(float));
-            dst->planes = s->occluder_data + floats;
-            floats += 4 * (size_t)dst->plane_count;
-        } else {
-            dst->planes = NULL;
-            dst->plane_count = 0;
-        }
-        if (dst->kind == PVS_OCCLUDER_EXTRUSION) {
-            memcpy(s->occluder_data + floats, dst->footprint, 2 * (size_t)dst->footprint_count * sizeof(float));
-            dst->footprint = s->occluder_data + floats;
-            floats += 2 * (size_t)dst->footprint_count;
-        } else {
-            dst->footprint = NULL;
-            dst->footprint_count = 0;
-        }
-        pvs__box_add_box(&s->bounds, &s->occluder_boxes[o]);
-    }
+    r = pvs__scene_occluders(s, desc, err);
+    if (r != PVS_OK) goto fail;
     if (s->bounds.min[0] > s->bounds.max[0]) {
         r = pvs__fail(err, PVS_ERROR_EMPTY_OBJECT, -1, 0, "the scene has no geometry");
         goto fail;
     }
 
     r = pvs__scene_prepare_rays(s, tri_boxes, err);
+    if (r == PVS_OK) r = pvs__scene_trees(s, desc, tri_boxes, err);
     if (r != PVS_OK) goto fail;
-    {
-        pvs_kdtree_desc kd;
-        memset(&kd, 0, sizeof(kd));
-        kd.allocator = a;
-        kd.boxes = tri_boxes;
-        kd.count = desc->triangle_count;
-        kd.leaf_size = desc->leaf_size;
-        r = pvs_kdtree_create(&kd, &s->triangle_tree, err);
-        if (r != PVS_OK) goto fail;
-        kd.boxes = s->object_boxes;
-        kd.count = desc->object_count;
-        kd.leaf_size = 0;
-        r = pvs_kdtree_create(&kd, &s->object_tree, err);
-        if (r != PVS_OK) goto fail;
-    }
     pvs__free_array(&a, tri_boxes, desc->triangle_count, sizeof(pvs_box));
     *out = s;
     pvs__ok(err);
