@@ -2375,15 +2375,12 @@ PVS_API void pvs_scene_destroy(pvs_scene *s) {
     pvs__free(&a, s, sizeof(*s), 16);
 }
 
-PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out, pvs_error *err) {
-    pvs_scene *s;
-    pvs_allocator a;
-    pvs_result r;
-    size_t n3, i, floats = 0;
-    uint32_t t, o;
-    pvs_box *tri_boxes = NULL;
-    if (out) *out = NULL;
-    if (!desc || !out) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc and out_scene must not be NULL");
+/* pvs_scene_create's checks of the description before anything is allocated: pointers, counts,
+   then every vertex finite, every index in range, every object's triangle range; *floats receives
+   the floats the occluders' planes and footprints need. */
+PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t *floats, pvs_error *err) {
+    size_t n3, i;
+    uint32_t o;
     if (desc->object_count == 0 || !desc->objects)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the scene has no objects");
     if (desc->triangle_count && (!desc->indices || !desc->positions))
@@ -2415,12 +2412,113 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
         if (ob->triangle_count == 0 && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS))
             return pvs__fail(err, PVS_ERROR_EMPTY_OBJECT, o, 0, "object %u has no triangles", o);
     }
+    *floats = 0;
     for (o = 0; o < desc->occluder_count; ++o) {
         const pvs_occluder_desc *oc = desc->occluders + o;
-        if (oc->kind == PVS_OCCLUDER_CONVEX && oc->plane_count <= PVS_MAX_OCCLUDER_PLANES) floats += 4 * (size_t)oc->plane_count;
+        if (oc->kind == PVS_OCCLUDER_CONVEX && oc->plane_count <= PVS_MAX_OCCLUDER_PLANES) *floats += 4 * (size_t)oc->plane_count;
         if (oc->kind == PVS_OCCLUDER_EXTRUSION && oc->footprint_count <= PVS_MAX_FOOTPRINT_POINTS)
-            floats += 2 * (size_t)oc->footprint_count;
+            *floats += 2 * (size_t)oc->footprint_count;
     }
+    return PVS_OK;
+}
+
+/* The objects of the scene: their flags, triangle ranges and boxes (empty when every triangle has
+   zero area: never visible), each triangle claimed by one object only (s->triangle_object). */
+PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
+    uint32_t o, t;
+    for (o = 0; o < desc->object_count; ++o) {
+        const pvs_object_desc *ob = desc->objects + o;
+        int any_area = 0;
+        s->object_flags[o] = ob->flags;
+        s->object_triangles[2 * (size_t)o] = ob->first_triangle;
+        s->object_triangles[2 * (size_t)o + 1] = ob->triangle_count;
+        s->object_boxes[o] = pvs__box_empty();
+        for (t = ob->first_triangle; t < ob->first_triangle + ob->triangle_count; ++t) {
+            const uint32_t *tri = s->indices + 3 * (size_t)t;
+            pvs__v3 p0 = pvs__v3_load(s->positions + 3 * (size_t)tri[0]);
+            pvs__v3 p1 = pvs__v3_load(s->positions + 3 * (size_t)tri[1]);
+            pvs__v3 p2 = pvs__v3_load(s->positions + 3 * (size_t)tri[2]);
+            double e1[3], e2[3], c[3];
+            if (s->triangle_object[t] != PVS_NO_OBJECT)
+                return pvs__fail(err, PVS_ERROR_OVERLAPPING_OBJECTS, o, 0, "objects %u and %u both claim triangle %u", s->triangle_object[t], o, t);
+            s->triangle_object[t] = o;
+            e1[0] = (double)p1.x - p0.x; e1[1] = (double)p1.y - p0.y; e1[2] = (double)p1.z - p0.z;
+            e2[0] = (double)p2.x - p0.x; e2[1] = (double)p2.y - p0.y; e2[2] = (double)p2.z - p0.z;
+            c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+            c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+            c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+            if (c[0] != 0.0 || c[1] != 0.0 || c[2] != 0.0) any_area = 1;
+            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[0]);
+            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[1]);
+            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[2]);
+        }
+        if (!any_area && ob->triangle_count && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS))
+            return pvs__fail(err, PVS_ERROR_DEGENERATE_OBJECT, o, 0, "object %u: all %u triangles have zero area", o, ob->triangle_count);
+        if (!any_area) s->object_boxes[o] = pvs__box_empty(); /* never visible: nothing to see */
+    }
+    return PVS_OK;
+}
+
+/* The explicit occluders, validated (pvs__validate_occluder) and copied with their planes and
+   footprints into s->occluder_data; their boxes grow the scene's bounds. */
+PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
+    size_t floats = 0;
+    uint32_t o;
+    for (o = 0; o < desc->occluder_count; ++o) {
+        pvs_occluder_desc *dst = s->occluders + o;
+        pvs_result r = pvs__validate_occluder(desc->occluders + o, s->up_axis, o, &s->occluder_boxes[o], err);
+        if (r != PVS_OK) return r;
+        *dst = desc->occluders[o];
+        if (dst->kind == PVS_OCCLUDER_CONVEX) {
+            memcpy(s->occluder_data + floats, dst->planes, 4 * (size_t)dst->plane_count * sizeof(float));
+            dst->planes = s->occluder_data + floats;
+            floats += 4 * (size_t)dst->plane_count;
+        } else {
+            dst->planes = NULL;
+            dst->plane_count = 0;
+        }
+        if (dst->kind == PVS_OCCLUDER_EXTRUSION) {
+            memcpy(s->occluder_data + floats, dst->footprint, 2 * (size_t)dst->footprint_count * sizeof(float));
+            dst->footprint = s->occluder_data + floats;
+            floats += 2 * (size_t)dst->footprint_count;
+        } else {
+            dst->footprint = NULL;
+            dst->footprint_count = 0;
+        }
+        pvs__box_add_box(&s->bounds, &s->occluder_boxes[o]);
+    }
+    return PVS_OK;
+}
+
+/* The scene's two kD-trees: over the triangles' boxes (zero-area triangles emptied by
+   pvs__scene_prepare_rays) and over the objects' boxes. */
+PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, const pvs_box *tri_boxes, pvs_error *err) {
+    pvs_kdtree_desc kd;
+    pvs_result r;
+    memset(&kd, 0, sizeof(kd));
+    kd.allocator = s->allocator;
+    kd.boxes = tri_boxes;
+    kd.count = desc->triangle_count;
+    kd.leaf_size = desc->leaf_size;
+    r = pvs_kdtree_create(&kd, &s->triangle_tree, err);
+    if (r != PVS_OK) return r;
+    kd.boxes = s->object_boxes;
+    kd.count = desc->object_count;
+    kd.leaf_size = 0;
+    return pvs_kdtree_create(&kd, &s->object_tree, err);
+}
+
+PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out, pvs_error *err) {
+    pvs_scene *s;
+    pvs_allocator a;
+    pvs_result r;
+    size_t floats = 0;
+    uint32_t t;
+    pvs_box *tri_boxes = NULL;
+    if (out) *out = NULL;
+    if (!desc || !out) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc and out_scene must not be NULL");
+    r = pvs__scene_check_desc(desc, &floats, err);
+    if (r != PVS_OK) return r;
 
     a = desc->allocator;
     s = (pvs_scene *)pvs__alloc(&a, sizeof(pvs_scene), 16);
@@ -2454,41 +2552,8 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
     for (t = 0; t < desc->triangle_count; ++t) s->triangle_object[t] = PVS_NO_OBJECT;
     s->bounds = pvs__box_empty();
 
-    for (o = 0; o < desc->object_count; ++o) {
-        const pvs_object_desc *ob = desc->objects + o;
-        int any_area = 0;
-        s->object_flags[o] = ob->flags;
-        s->object_triangles[2 * (size_t)o] = ob->first_triangle;
-        s->object_triangles[2 * (size_t)o + 1] = ob->triangle_count;
-        s->object_boxes[o] = pvs__box_empty();
-        for (t = ob->first_triangle; t < ob->first_triangle + ob->triangle_count; ++t) {
-            const uint32_t *tri = s->indices + 3 * (size_t)t;
-            pvs__v3 p0 = pvs__v3_load(s->positions + 3 * (size_t)tri[0]);
-            pvs__v3 p1 = pvs__v3_load(s->positions + 3 * (size_t)tri[1]);
-            pvs__v3 p2 = pvs__v3_load(s->positions + 3 * (size_t)tri[2]);
-            double e1[3], e2[3], c[3];
-            if (s->triangle_object[t] != PVS_NO_OBJECT) {
-                r = pvs__fail(err, PVS_ERROR_OVERLAPPING_OBJECTS, o, 0, "objects %u and %u both claim triangle %u",
-                              s->triangle_object[t], o, t);
-                goto fail;
-            }
-            s->triangle_object[t] = o;
-            e1[0] = (double)p1.x - p0.x; e1[1] = (double)p1.y - p0.y; e1[2] = (double)p1.z - p0.z;
-            e2[0] = (double)p2.x - p0.x; e2[1] = (double)p2.y - p0.y; e2[2] = (double)p2.z - p0.z;
-            c[0] = e1[1] * e2[2] - e1[2] * e2[1];
-            c[1] = e1[2] * e2[0] - e1[0] * e2[2];
-            c[2] = e1[0] * e2[1] - e1[1] * e2[0];
-            if (c[0] != 0.0 || c[1] != 0.0 || c[2] != 0.0) any_area = 1;
-            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[0]);
-            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[1]);
-            pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[2]);
-        }
-        if (!any_area && ob->triangle_count && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS)) {
-            r = pvs__fail(err, PVS_ERROR_DEGENERATE_OBJECT, o, 0, "object %u: all %u triangles have zero area", o, ob->triangle_count);
-            goto fail;
-        }
-        if (!any_area) s->object_boxes[o] = pvs__box_empty(); /* never visible: nothing to see */
-    }
+    r = pvs__scene_objects(s, desc, err);
+    if (r != PVS_OK) goto fail;
     for (t = 0; t < desc->triangle_count; ++t) {
         const uint32_t *tri = s->indices + 3 * (size_t)t;
         tri_boxes[t] = pvs__box_empty();
@@ -2497,53 +2562,16 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
         pvs__box_add_point(&tri_boxes[t], s->positions + 3 * (size_t)tri[2]);
         pvs__box_add_box(&s->bounds, &tri_boxes[t]);
     }
-
-    floats = 0;
-    for (o = 0; o < desc->occluder_count; ++o) {
-        pvs_occluder_desc *dst = s->occluders + o;
-        r = pvs__validate_occluder(desc->occluders + o, s->up_axis, o, &s->occluder_boxes[o], err);
-        if (r != PVS_OK) goto fail;
-        *dst = desc->occluders[o];
-        if (dst->kind == PVS_OCCLUDER_CONVEX) {
-            memcpy(s->occluder_data + floats, dst->planes, 4 * (size_t)dst->plane_count * sizeof(float));
-            dst->planes = s->occluder_data + floats;
-            floats += 4 * (size_t)dst->plane_count;
-        } else {
-            dst->planes = NULL;
-            dst->plane_count = 0;
-        }
-        if (dst->kind == PVS_OCCLUDER_EXTRUSION) {
-            memcpy(s->occluder_data + floats, dst->footprint, 2 * (size_t)dst->footprint_count * sizeof(float));
-            dst->footprint = s->occluder_data + floats;
-            floats += 2 * (size_t)dst->footprint_count;
-        } else {
-            dst->footprint = NULL;
-            dst->footprint_count = 0;
-        }
-        pvs__box_add_box(&s->bounds, &s->occluder_boxes[o]);
-    }
+    r = pvs__scene_occluders(s, desc, err);
+    if (r != PVS_OK) goto fail;
     if (s->bounds.min[0] > s->bounds.max[0]) {
         r = pvs__fail(err, PVS_ERROR_EMPTY_OBJECT, -1, 0, "the scene has no geometry");
         goto fail;
     }
 
     r = pvs__scene_prepare_rays(s, tri_boxes, err);
+    if (r == PVS_OK) r = pvs__scene_trees(s, desc, tri_boxes, err);
     if (r != PVS_OK) goto fail;
-    {
-        pvs_kdtree_desc kd;
-        memset(&kd, 0, sizeof(kd));
-        kd.allocator = a;
-        kd.boxes = tri_boxes;
-        kd.count = desc->triangle_count;
-        kd.leaf_size = desc->leaf_size;
-        r = pvs_kdtree_create(&kd, &s->triangle_tree, err);
-        if (r != PVS_OK) goto fail;
-        kd.boxes = s->object_boxes;
-        kd.count = desc->object_count;
-        kd.leaf_size = 0;
-        r = pvs_kdtree_create(&kd, &s->object_tree, err);
-        if (r != PVS_OK) goto fail;
-    }
     pvs__free_array(&a, tri_boxes, desc->triangle_count, sizeof(pvs_box));
     *out = s;
     pvs__ok(err);
@@ -11052,81 +11080,103 @@ PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
     }
 }
 
-/* The flood of one component K over grid `gr`: voxel box lo..hi (inclusive, lo[up] >= 1), its
-   triangles and open edges (see the argument above). Leaves in fl->bits, per box voxel, PVS__G_T/B/W
-   and the reached nodes; returns 0 when the outside of the box was never entered. With
-   mark_touched (gr is the occluders' own grid) it also sets PVS__VX_TOUCHED on the grid. */
-PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
-                                        const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl, int mark_touched) {
+/* A component's box during its flood (pvs__vx_flood_component), shared by the flood's steps. */
+typedef struct pvs__vx_fbox {
+    pvs_occluders *o;
+    const pvs_scene *s;
+    const pvs__vx_grid *gr;
+    const pvs__vx_topo *tp;
+    uint32_t comp;             /* component K */
+    const uint32_t *lo, *hi;   /* the box, voxels of gr (inclusive) */
+    uint32_t d[3], up;         /* its voxels per axis */
+    int u, v;
+    size_t stride[3], nvox, ncol; /* of fl->bits; its voxels, its columns */
+    double m;
+    pvs__vx_flood *fl;
+} pvs__vx_fbox;
+
+/* Step 1 of a component's flood: the voxels of the box that K touches (separating axes, margin
+   toward touched) get PVS__G_T; with mark_touched the occluders' grid PVS__VX_TOUCHED too. */
+PVS__STATIC void pvs__vx_flood_touched(const pvs__vx_fbox *fb, int mark_touched) {
     static const int xyz[3] = {0, 1, 2};
-    int axes[3];
     pvs__vx_touch tv;
-    pvs__vx_colvisit cv;
-    const pvs_scene *s = o->scene;
-    uint32_t up = s->up_axis, d[3], k, t, pass;
-    int u, v, ext, any;
-    size_t stride[3], nvox, vi, qh = 0, qt = 0, ncol;
-    double h = gr->h;
-    uint8_t *bits = fl->bits, *col = fl->col;
-    uint32_t *queue = fl->queue;
-    pvs__ground_axes(up, &u, &v);
-    for (k = 0; k < 3; ++k) d[k] = hi[k] - lo[k] + 1;
-    stride[0] = 1;
-    stride[1] = d[0];
-    stride[2] = (size_t)d[0] * d[1];
-    nvox = stride[2] * d[2];
-    ncol = (size_t)d[u] * d[v];
-    memset(bits, 0, nvox);
-    /* 1. touched by K (separating axes, margin toward touched) */
+    uint32_t t;
     memset(&tv, 0, sizeof(tv));
-    tv.o = mark_touched ? o : NULL;
-    tv.gr = gr;
-    tv.bits = bits;
-    tv.lo = lo;
-    tv.stride = stride;
-    tv.hs = 0.5 * h + m;
-    for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
-        pvs__vx_tri_points(s, tp->tris[t], tv.p);
-        pvs__vx_scan(gr, tv.p[0], 3, xyz, 3, m, lo, hi, pvs__vx_touch_visit, &tv);
+    tv.o = mark_touched ? fb->o : NULL;
+    tv.gr = fb->gr;
+    tv.bits = fb->fl->bits;
+    tv.lo = fb->lo;
+    tv.stride = fb->stride;
+    tv.hs = 0.5 * fb->gr->h + fb->m;
+    for (t = fb->tp->comp_first[fb->comp]; t < fb->tp->comp_first[fb->comp + 1]; ++t) {
+        pvs__vx_tri_points(fb->s, fb->tp->tris[t], tv.p);
+        pvs__vx_scan(fb->gr, tv.p[0], 3, xyz, 3, fb->m, fb->lo, fb->hi, pvs__vx_touch_visit, &tv);
     }
-    /* 2. bad: the vertical sheet below each open edge, from the edge (plus margin) down to the
-       ground; per column whose square (grown by m) the projected edge meets, over the part of the
-       edge inside it (Liang-Barsky clip: pvs__vx_sheet_visit) */
-    memset(&cv, 0, sizeof(cv));
-    cv.gr = gr;
-    cv.bits = bits;
-    cv.col = col;
-    cv.lo = lo;
-    cv.hi = hi;
-    cv.d = d;
-    cv.stride = stride;
-    cv.u = u;
-    cv.v = v;
-    cv.up = (int)up;
-    cv.m = m;
-    axes[0] = u;
-    axes[1] = v;
-    axes[2] = (int)up;
-    for (t = tp->open_first[comp]; t < tp->open_first[comp + 1]; ++t) {
+}
+
+/* The column visitor of steps 2 and 3 over the box, and the scan's axes (u, v, up). */
+PVS__STATIC void pvs__vx_flood_colvisit(const pvs__vx_fbox *fb, pvs__vx_colvisit *cv, int axes[3]) {
+    memset(cv, 0, sizeof(*cv));
+    cv->gr = fb->gr;
+    cv->bits = fb->fl->bits;
+    cv->col = fb->fl->col;
+    cv->lo = fb->lo;
+    cv->hi = fb->hi;
+    cv->d = fb->d;
+    cv->stride = fb->stride;
+    cv->u = fb->u;
+    cv->v = fb->v;
+    cv->up = (int)fb->up;
+    cv->m = fb->m;
+    axes[0] = fb->u;
+    axes[1] = fb->v;
+    axes[2] = (int)fb->up;
+}
+
+/* Step 2 of a component's flood, the bad voxels: the vertical sheet below each open edge, from the
+   edge (plus margin) down to the ground; per column whose square (grown by m) the projected edge
+   meets, over the part of the edge inside it (Liang-Barsky clip: pvs__vx_sheet_visit). */
+PVS__STATIC void pvs__vx_flood_sheets(const pvs__vx_fbox *fb) {
+    const pvs__vx_topo *tp = fb->tp;
+    pvs__vx_colvisit cv;
+    int axes[3];
+    uint32_t t, k;
+    pvs__vx_flood_colvisit(fb, &cv, axes);
+    for (t = tp->open_first[fb->comp]; t < tp->open_first[fb->comp + 1]; ++t) {
         double pe[2][3];
         for (k = 0; k < 6; ++k) pe[k / 3][k % 3] = tp->open_edges[6 * (size_t)t + k];
         cv.e = tp->open_edges + 6 * (size_t)t;
-        pvs__vx_scan(gr, pe[0], 2, axes, 2, m, lo, hi, pvs__vx_sheet_visit, &cv);
+        pvs__vx_scan(fb->gr, pe[0], 2, axes, 2, fb->m, fb->lo, fb->hi, pvs__vx_sheet_visit, &cv);
     }
-    /* 3. parity of the pure voxels: per column, the crossings of one vertical line (pvs__vx_cross)
-       toggle PVS__G_F at their layer; up to 8 positions of the line per column */
-    memset(col, 0, ncol);
+}
+
+/* Step 3 of a component's flood, the parity of the pure voxels: per column, the crossings of one
+   vertical line (pvs__vx_cross) toggle PVS__G_F at their layer; up to 8 positions of the line per
+   column (where all 8 fail, the column is bad: PVS__G_B, info.undecided_columns). Then w of a pure
+   voxel (PVS__G_W) = the parity of the crossings above it. */
+PVS__STATIC void pvs__vx_flood_parity(const pvs__vx_fbox *fb) {
+    const pvs_scene *s = fb->s;
+    const pvs__vx_topo *tp = fb->tp;
+    const uint32_t *d = fb->d;
+    const size_t *stride = fb->stride;
+    uint8_t *bits = fb->fl->bits, *col = fb->fl->col;
+    uint32_t up = fb->up, pass, t, k;
+    int u = fb->u, v = fb->v, axes[3], any;
+    size_t vi;
+    pvs__vx_colvisit cv;
+    pvs__vx_flood_colvisit(fb, &cv, axes);
+    memset(col, 0, fb->ncol);
     for (pass = 0, any = 1; any && pass < 8; ++pass) {
         cv.pass = pass;
-        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+        for (t = tp->comp_first[fb->comp]; t < tp->comp_first[fb->comp + 1]; ++t) {
             uint32_t tri = tp->tris[t];
             double pt[3][3];
             for (k = 0; k < 3; ++k) cv.tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + k];
             pvs__vx_tri_points(s, tri, pt);
-            pvs__vx_scan(gr, pt[0], 3, axes, 2, m, lo, hi, pvs__vx_cross_visit, &cv);
+            pvs__vx_scan(fb->gr, pt[0], 3, axes, 2, fb->m, fb->lo, fb->hi, pvs__vx_cross_visit, &cv);
         }
         any = 0;
-        for (vi = 0; vi < ncol; ++vi) {
+        for (vi = 0; vi < fb->ncol; ++vi) {
             uint32_t idx[3];
             if (!(col[vi] & 0x80)) continue;
             idx[u] = (uint32_t)(vi % d[u]); idx[v] = (uint32_t)(vi / d[u]);
@@ -11135,11 +11185,11 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
                 bits[x] &= (uint8_t)~PVS__G_F;
                 if (pass + 1 == 8) bits[x] |= PVS__G_B;
             }
-            if (pass + 1 == 8) { col[vi] = 0xff; ++o->info.undecided_columns; }
+            if (pass + 1 == 8) { col[vi] = 0xff; ++fb->o->info.undecided_columns; }
             else { col[vi] = (uint8_t)(pass + 1); any = 1; }
         }
     }
-    for (vi = 0; vi < ncol; ++vi) { /* w of a pure voxel = parity of the crossings above it */
+    for (vi = 0; vi < fb->ncol; ++vi) { /* w of a pure voxel = parity of the crossings above it */
         uint32_t idx[3], acc = 0;
         idx[u] = (uint32_t)(vi % d[u]); idx[v] = (uint32_t)(vi / d[u]);
         for (idx[up] = d[up]; idx[up]-- > 0;) {
@@ -11148,119 +11198,203 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
             acc ^= (bits[x] & PVS__G_F) != 0;
         }
     }
-    /* 4. the flood's sources: each cell meeting the box, and the outside of the box when a cell lies
-       (partly) outside it. A cell clear of K (by the margin) is convex and free, so all its points
-       share one w, read off a pure voxel it genuinely overlaps; its voxels get the node of that w. A
-       cell meeting K (partly inside a closed mesh, or touching it) gets every node of its voxels.
-       Leaking cells: when most cells lie inside the box (a closed level) but a few reach the outside
-       (a cell box poking through a wall into the void of a mesh with no faces there, as game levels
-       are), their nodes would join every wall's interior to the flood and no wall would be solid
-       for any cell. So when the cells outside the box are fewer than half of those in use, the
-       outside is flooded first; the cells lying partly outside or whose nodes it reached are then
-       excluded when they too are fewer than half, and the flood runs from the others only. An
-       excluded cell seeds no later flood and gets no occluder at all (pvs_shrink_cell sets every
-       object for it); every cell that keeps the occluders seeded every flood, so the argument above
-       holds for it unchanged. */
-    {
-        uint32_t bu, bv, nnear = 0, q, bu0, bu1, bv0, bv1, stamp, active = fl->cell_count - fl->excluded_count, nout, excl = 0;
-        fl->stamp_next += 2;
-        stamp = fl->stamp_next - 1; /* stamp: looked at for this component, stamp + 1: meets its box */
-        pvs__vx_grange(&fl->bucket_grid, u, gr->origin[u] + lo[u] * h, gr->origin[u] + (hi[u] + 1) * h, m, &bu0, &bu1);
-        pvs__vx_grange(&fl->bucket_grid, v, gr->origin[v] + lo[v] * h, gr->origin[v] + (hi[v] + 1) * h, m, &bv0, &bv1);
-        for (bv = bv0; bv <= bv1; ++bv)
-            for (bu = bu0; bu <= bu1; ++bu) {
-                size_t bk = (size_t)bv * fl->bnu + bu;
-                for (q = fl->bucket_first[bk]; q < fl->bucket_first[bk + 1]; ++q) {
-                    uint32_t cid = fl->bucket_cells[q], r0[3], r1[3], s0[3], s1[3], a, b, c;
-                    const pvs_box *cb = fl->cells + cid;
-                    int touches = 0, maybe = 0, wc = -1, kk, out_w0 = 0, stick = 0;
-                    if (fl->stamp[cid] >= stamp || fl->excluded[cid]) continue;
-                    fl->stamp[cid] = stamp;
-                    for (kk = 0; kk < 3; ++kk) {
-                        pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
-                        if (r0[kk] > r1[kk] || r1[kk] < lo[kk] || r0[kk] > hi[kk]) break;
-                    }
-                    if (kk < 3) continue;
-                    fl->stamp[cid] = stamp + 1;
-                    for (kk = 0; kk < 3; ++kk) {
-                        if (r0[kk] < lo[kk] || r1[kk] > hi[kk]) stick = 1; /* sticks out of the box */
-                        if (r1[kk] > hi[kk] || (r0[kk] < lo[kk] && ((uint32_t)kk != up || lo[up] > 1))) out_w0 = 1;
-                        if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
-                        if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
-                    }
-                    for (c = r0[2]; c <= r1[2] && !maybe; ++c)
-                        for (b = r0[1]; b <= r1[1] && !maybe; ++b)
-                            for (a = r0[0]; a <= r1[0] && !maybe; ++a)
-                                maybe = (bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])] & (PVS__G_T | PVS__G_B)) != 0;
-                    if (maybe) { /* does the cell, grown by m, meet a triangle of K? */
-                        double cc[3], hs[3];
-                        for (kk = 0; kk < 3; ++kk) {
-                            cc[kk] = 0.5 * ((double)cb->min[kk] + cb->max[kk]);
-                            hs[kk] = 0.5 * ((double)cb->max[kk] - cb->min[kk]) + m;
-                        }
-                        for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1] && !touches; ++t) {
-                            uint32_t tri = tp->tris[t], e;
-                            double pt[3][3];
-                            int out = 0;
-                            for (e = 0; e < 3; ++e)
-                                for (kk = 0; kk < 3; ++kk) pt[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + e] + kk];
-                            for (kk = 0; kk < 3 && !out; ++kk)
-                                out = pvs__dmin(pt[0][kk], pvs__dmin(pt[1][kk], pt[2][kk])) > cc[kk] + hs[kk] ||
-                                      pvs__dmax(pt[0][kk], pvs__dmax(pt[1][kk], pt[2][kk])) < cc[kk] - hs[kk];
-                            if (!out) touches = pvs__tri_aabb(cc, hs, pt[0], pt[1], pt[2]);
-                        }
-                    }
-                    /* w of a cell clear of K: 0 when (grown by m) it reaches out of the box above the ground
-                       (w = 0 there), else that of a pure voxel it overlaps by more than m, else a ray of its own */
-                    if (!touches && out_w0) wc = 0;
-                    if (!touches && !out_w0) {
-                        for (kk = 0; kk < 3; ++kk) {
-                            pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], -m, s0 + kk, s1 + kk);
-                            if (s0[kk] < lo[kk]) s0[kk] = lo[kk];
-                            if (s1[kk] > hi[kk]) s1[kk] = hi[kk];
-                        }
-                        for (c = s0[2]; c <= s1[2] && wc < 0; ++c)
-                            for (b = s0[1]; b <= s1[1] && wc < 0; ++b)
-                                for (a = s0[0]; a <= s1[0] && wc < 0; ++a) {
-                                    uint8_t f = bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])];
-                                    if (!(f & (PVS__G_T | PVS__G_B))) wc = (f & PVS__G_W) != 0;
-                                }
-                        if (wc < 0) wc = pvs__vx_point_parity(s, tp, comp, cb);
-                    }
-                    fl->near_cells[nnear] = cid;
-                    fl->near_w[nnear] = (signed char)wc;
-                    fl->near_flag[nnear] = (uint8_t)stick;
-                    ++nnear;
-                }
-            }
-        if (!fl->keep_leaks && nnear && 2 * (active - nnear) < active) { /* mostly inside: which cells does the outside reach? */
-            qh = qt = 0;
-            pvs__vx_flood_run(bits, queue, &qh, &qt, d, stride, lo, up, 1);
-            nout = active - nnear;
-            for (q = 0; q < nnear; ++q) {
-                if (!fl->near_flag[q] && pvs__vx_seed(gr, fl->cells + fl->near_cells[q], lo, hi, stride, m, fl->near_w[q], bits, queue, &qt, 1))
-                    fl->near_flag[q] = 2;
-                nout += fl->near_flag[q] != 0;
-            }
-            if (nout && 2 * nout < active) {
-                excl = 1;
-                for (q = 0; q < nnear; ++q)
-                    if (fl->near_flag[q]) { fl->excluded[fl->near_cells[q]] = 1; ++fl->excluded_count; }
-                for (q = 0; q < fl->cell_count; ++q)
-                    if (!fl->excluded[q] && fl->stamp[q] != stamp + 1) { fl->excluded[q] = 1; ++fl->excluded_count; }
-            }
-            for (vi = 0; vi < nvox; ++vi) bits[vi] &= (uint8_t)~(PVS__G_R0 | PVS__G_R1);
-        }
-        qh = qt = 0;
-        ext = 0;
-        for (q = 0; q < nnear; ++q) {
-            if (excl && fl->near_flag[q]) continue;
-            if (fl->near_flag[q] & 1) ext = 1;
-            pvs__vx_seed(gr, fl->cells + fl->near_cells[q], lo, hi, stride, m, fl->near_w[q], bits, queue, &qt, 0);
-        }
-        if (!excl && nnear < active) ext = 1;
+}
+
+/* 1 if cell cb, grown by m, meets a triangle of component K (separating axes). */
+PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box *cb) {
+    const pvs_scene *s = fb->s;
+    const pvs__vx_topo *tp = fb->tp;
+    double cc[3], hs[3];
+    uint32_t t;
+    int kk, touches = 0;
+    for (kk = 0; kk < 3; ++kk) {
+        cc[kk] = 0.5 * ((double)cb->min[kk] + cb->max[kk]);
+        hs[kk] = 0.5 * ((double)cb->max[kk] - cb->min[kk]) + fb->m;
     }
-    return pvs__vx_flood_run(bits, queue, &qh, &qt, d, stride, lo, up, ext);
+    for (t = tp->comp_first[fb->comp]; t < tp->comp_first[fb->comp + 1] && !touches; ++t) {
+        uint32_t tri = tp->tris[t], e;
+        double pt[3][3];
+        int out = 0;
+        for (e = 0; e < 3; ++e)
+            for (kk = 0; kk < 3; ++kk) pt[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + e] + kk];
+        for (kk = 0; kk < 3 && !out; ++kk)
+            out = pvs__dmin(pt[0][kk], pvs__dmin(pt[1][kk], pt[2][kk])) > cc[kk] + hs[kk] ||
+                  pvs__dmax(pt[0][kk], pvs__dmax(pt[1][kk], pt[2][kk])) < cc[kk] - hs[kk];
+        if (!out) touches = pvs__tri_aabb(cc, hs, pt[0], pt[1], pt[2]);
+    }
+    return touches;
+}
+
+/* Step 4's w of cell cb, which meets the box in its voxels r0..r1 (clamped to the box): -1 (every
+   node) when the cell, grown by m, meets a triangle of K. Else the w of a cell clear of K: 0 when
+   (grown by m) it reaches out of the box above the ground (out_w0; w = 0 there), else that of a pure
+   voxel it overlaps by more than m, else a ray of its own (pvs__vx_point_parity). */
+PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, const uint32_t r0[3], const uint32_t r1[3], int out_w0) {
+    const uint8_t *bits = fb->fl->bits;
+    const uint32_t *lo = fb->lo, *hi = fb->hi;
+    const size_t *stride = fb->stride;
+    uint32_t s0[3], s1[3], a, b, c;
+    int touches = 0, maybe = 0, wc = -1, kk;
+    for (c = r0[2]; c <= r1[2] && !maybe; ++c)
+        for (b = r0[1]; b <= r1[1] && !maybe; ++b)
+            for (a = r0[0]; a <= r1[0] && !maybe; ++a)
+                maybe = (bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])] & (PVS__G_T | PVS__G_B)) != 0;
+    if (maybe) touches = pvs__vx_flood_cell_touches(fb, cb); /* does the cell, grown by m, meet a triangle of K? */
+    if (!touches && out_w0) wc = 0;
+    if (!touches && !out_w0) {
+        for (kk = 0; kk < 3; ++kk) {
+            pvs__vx_grange(fb->gr, kk, cb->min[kk], cb->max[kk], -fb->m, s0 + kk, s1 + kk);
+            if (s0[kk] < lo[kk]) s0[kk] = lo[kk];
+            if (s1[kk] > hi[kk]) s1[kk] = hi[kk];
+        }
+        for (c = s0[2]; c <= s1[2] && wc < 0; ++c)
+            for (b = s0[1]; b <= s1[1] && wc < 0; ++b)
+                for (a = s0[0]; a <= s1[0] && wc < 0; ++a) {
+                    uint8_t f = bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])];
+                    if (!(f & (PVS__G_T | PVS__G_B))) wc = (f & PVS__G_W) != 0;
+                }
+        if (wc < 0) wc = pvs__vx_point_parity(fb->s, fb->tp, fb->comp, cb);
+    }
+    return wc;
+}
+
+/* Step 4's cells: those of the buckets under the box that meet it (grown by m) and are not
+   excluded, each looked at once (fl->stamp: `stamp` when looked at, stamp + 1 when it meets the
+   box), listed in fl->near_cells with their w (pvs__vx_flood_cell_w) and near_flag 1 when they
+   stick out of the box. Returns their number. */
+PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) {
+    pvs__vx_flood *fl = fb->fl;
+    const pvs__vx_grid *gr = fb->gr;
+    const uint32_t *lo = fb->lo, *hi = fb->hi;
+    uint32_t up = fb->up, bu, bv, bu0, bu1, bv0, bv1, q, nnear = 0;
+    int u = fb->u, v = fb->v;
+    double h = gr->h, m = fb->m;
+    pvs__vx_grange(&fl->bucket_grid, u, gr->origin[u] + lo[u] * h, gr->origin[u] + (hi[u] + 1) * h, m, &bu0, &bu1);
+    pvs__vx_grange(&fl->bucket_grid, v, gr->origin[v] + lo[v] * h, gr->origin[v] + (hi[v] + 1) * h, m, &bv0, &bv1);
+    for (bv = bv0; bv <= bv1; ++bv)
+        for (bu = bu0; bu <= bu1; ++bu) {
+            size_t bk = (size_t)bv * fl->bnu + bu;
+            for (q = fl->bucket_first[bk]; q < fl->bucket_first[bk + 1]; ++q) {
+                uint32_t cid = fl->bucket_cells[q], r0[3], r1[3];
+                const pvs_box *cb = fl->cells + cid;
+                int kk, out_w0 = 0, stick = 0;
+                if (fl->stamp[cid] >= stamp || fl->excluded[cid]) continue;
+                fl->stamp[cid] = stamp;
+                for (kk = 0; kk < 3; ++kk) {
+                    pvs__vx_grange(gr, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
+                    if (r0[kk] > r1[kk] || r1[kk] < lo[kk] || r0[kk] > hi[kk]) break;
+                }
+                if (kk < 3) continue;
+                fl->stamp[cid] = stamp + 1;
+                for (kk = 0; kk < 3; ++kk) {
+                    if (r0[kk] < lo[kk] || r1[kk] > hi[kk]) stick = 1; /* sticks out of the box */
+                    if (r1[kk] > hi[kk] || (r0[kk] < lo[kk] && ((uint32_t)kk != up || lo[up] > 1))) out_w0 = 1;
+                    if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
+                    if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
+                }
+                fl->near_cells[nnear] = cid;
+                fl->near_w[nnear] = (signed char)pvs__vx_flood_cell_w(fb, cb, r0, r1, out_w0);
+                fl->near_flag[nnear] = (uint8_t)stick;
+                ++nnear;
+            }
+        }
+    return nnear;
+}
+
+/* Step 4 of a component's flood, its sources: each cell meeting the box, and the outside of the box
+   when a cell lies (partly) outside it. A cell clear of K (by the margin) is convex and free, so all
+   its points share one w, read off a pure voxel it genuinely overlaps; its voxels get the node of
+   that w. A cell meeting K (partly inside a closed mesh, or touching it) gets every node of its
+   voxels.
+   Leaking cells: when most cells lie inside the box (a closed level) but a few reach the outside (a
+   cell box poking through a wall into the void of a mesh with no faces there, as game levels are),
+   their nodes would join every wall's interior to the flood and no wall would be solid for any
+   cell. So when the cells outside the box are fewer than half of those in use, the outside is
+   flooded first; the cells lying partly outside or whose nodes it reached are then excluded when
+   they too are fewer than half, and the flood runs from the others only. An excluded cell seeds no
+   later flood and gets no occluder at all (pvs_shrink_cell sets every object for it); every cell
+   that keeps the occluders seeded every flood, so the argument above holds for it unchanged.
+   Leaves the sources in fl->queue (*qh_io, *qt_io); returns pvs__vx_flood_run's ext (1: enter
+   from the outside). */
+PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, size_t *qt_io) {
+    pvs__vx_flood *fl = fb->fl;
+    uint8_t *bits = fl->bits;
+    uint32_t *queue = fl->queue;
+    uint32_t nnear, q, stamp, active = fl->cell_count - fl->excluded_count, nout, excl = 0;
+    size_t qh = 0, qt = 0, vi;
+    int ext;
+    fl->stamp_next += 2;
+    stamp = fl->stamp_next - 1; /* stamp: looked at for this component, stamp + 1: meets its box */
+    nnear = pvs__vx_flood_near(fb, stamp);
+    if (!fl->keep_leaks && nnear && 2 * (active - nnear) < active) { /* mostly inside: which cells does the outside reach? */
+        pvs__vx_flood_run(bits, queue, &qh, &qt, fb->d, fb->stride, fb->lo, fb->up, 1);
+        nout = active - nnear;
+        for (q = 0; q < nnear; ++q) {
+            if (!fl->near_flag[q] &&
+                pvs__vx_seed(fb->gr, fl->cells + fl->near_cells[q], fb->lo, fb->hi, fb->stride, fb->m, fl->near_w[q], bits, queue, &qt, 1))
+                fl->near_flag[q] = 2;
+            nout += fl->near_flag[q] != 0;
+        }
+        if (nout && 2 * nout < active) {
+            excl = 1;
+            for (q = 0; q < nnear; ++q)
+                if (fl->near_flag[q]) { fl->excluded[fl->near_cells[q]] = 1; ++fl->excluded_count; }
+            for (q = 0; q < fl->cell_count; ++q)
+                if (!fl->excluded[q] && fl->stamp[q] != stamp + 1) { fl->excluded[q] = 1; ++fl->excluded_count; }
+        }
+        for (vi = 0; vi < fb->nvox; ++vi) bits[vi] &= (uint8_t)~(PVS__G_R0 | PVS__G_R1);
+    }
+    qh = qt = 0;
+    ext = 0;
+    for (q = 0; q < nnear; ++q) {
+        if (excl && fl->near_flag[q]) continue;
+        if (fl->near_flag[q] & 1) ext = 1;
+        pvs__vx_seed(fb->gr, fl->cells + fl->near_cells[q], fb->lo, fb->hi, fb->stride, fb->m, fl->near_w[q], bits, queue, &qt, 0);
+    }
+    if (!excl && nnear < active) ext = 1;
+    *qh_io = qh;
+    *qt_io = qt;
+    return ext;
+}
+
+/* The flood of one component K over grid `gr`: voxel box lo..hi (inclusive, lo[up] >= 1), its
+   triangles and open edges (see the argument above). Leaves in fl->bits, per box voxel, PVS__G_T/B/W
+   and the reached nodes; returns 0 when the outside of the box was never entered. With
+   mark_touched (gr is the occluders' own grid) it also sets PVS__VX_TOUCHED on the grid. */
+PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
+                                        const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl, int mark_touched) {
+    pvs__vx_fbox fb;
+    size_t qh = 0, qt = 0;
+    uint32_t k;
+    int ext;
+    memset(&fb, 0, sizeof(fb));
+    fb.o = o;
+    fb.s = o->scene;
+    fb.gr = gr;
+    fb.tp = tp;
+    fb.comp = comp;
+    fb.lo = lo;
+    fb.hi = hi;
+    fb.m = m;
+    fb.fl = fl;
+    fb.up = fb.s->up_axis;
+    pvs__ground_axes(fb.up, &fb.u, &fb.v);
+    for (k = 0; k < 3; ++k) fb.d[k] = hi[k] - lo[k] + 1;
+    fb.stride[0] = 1;
+    fb.stride[1] = fb.d[0];
+    fb.stride[2] = (size_t)fb.d[0] * fb.d[1];
+    fb.nvox = fb.stride[2] * fb.d[2];
+    fb.ncol = (size_t)fb.d[fb.u] * fb.d[fb.v];
+    memset(fl->bits, 0, fb.nvox);
+    /* 1. touched by K (separating axes, margin toward touched) */
+    pvs__vx_flood_touched(&fb, mark_touched);
+    /* 2. bad: the vertical sheet below each open edge, down to the ground */
+    pvs__vx_flood_sheets(&fb);
+    /* 3. parity of the pure voxels: the crossings of one vertical line per column */
+    pvs__vx_flood_parity(&fb);
+    /* 4. the flood's sources: the cells meeting the box, and its outside */
+    ext = pvs__vx_flood_sources(&fb, &qh, &qt);
+    return pvs__vx_flood_run(fl->bits, fl->queue, &qh, &qt, fb.d, fb.stride, lo, fb.up, ext);
 }
 
 /* The coarse grid's certification of component K: pure voxels no node of which the flood reached
@@ -11396,17 +11530,49 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
     if (z < DBL_MAX && pvs__f_down(z - tv->margin) < tv->tmin[x]) tv->tmin[x] = pvs__f_down(z - tv->margin);
 }
 
+/* The least height of component K's triangles near each square of the column map's range sq0..sq1
+   (on its u and v axes; 0 on up): tmin, row-major over the range, FLT_MAX where no triangle comes
+   within e (each triangle clipped to the squares grown by e: pvs__vx_tmin_visit). */
+PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t sq0[3],
+                                      const uint32_t sq1[3], double e, double margin, float *tmin) {
+    const pvs__vx_cols *cm = &o->cols;
+    pvs__vx_tminvisit tv;
+    uint32_t up = o->scene->up_axis, t;
+    int u, v, axes[3];
+    size_t a, nsub;
+    pvs__ground_axes(up, &u, &v);
+    nsub = (size_t)(sq1[u] - sq0[u] + 1) * (sq1[v] - sq0[v] + 1);
+    for (a = 0; a < nsub; ++a) tmin[a] = FLT_MAX;
+    memset(&tv, 0, sizeof(tv));
+    tv.gr = &cm->grid;
+    tv.u = u;
+    tv.v = v;
+    tv.up = (int)up;
+    tv.e = e;
+    tv.margin = margin;
+    tv.tmin = tmin;
+    tv.su0 = sq0[u];
+    tv.sv0 = sq0[v];
+    tv.row = sq1[u] - sq0[u] + 1;
+    axes[0] = u;
+    axes[1] = v;
+    axes[2] = (int)up;
+    for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
+        pvs__vx_tri_points(o->scene, tp->tris[t], tv.p);
+        pvs__vx_tmin_plane(&tv);
+        pvs__vx_scan(&cm->grid, tv.p[0], 3, axes, 2, e, sq0, sq1, pvs__vx_tmin_visit, &tv);
+    }
+}
+
 /* The column map's pass over one component: flood on its own grid, runs standing on the ground, the
    squares' solid and occluder heights. Returns OUT_OF_MEMORY or PVS_OK. */
 PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const pvs__vx_grid *gk,
                                                  const uint32_t lo[3], const uint32_t hi[3], double m, double eps, double margin,
                                                  pvs__vx_flood *fl) {
-    pvs__vx_tminvisit tv;
-    int axes[3];
     uint32_t sq0[3], sq1[3];
     const pvs_scene *s = o->scene;
     pvs__vx_cols *cm = &o->cols;
-    uint32_t up = s->up_axis, d[3], a, b, su0, su1, sv0, sv1, t, k;
+    uint32_t up = s->up_axis, d[3], a, b, su0, su1, sv0, sv1, k;
     int u, v, ext;
     size_t stride[3], nsub, ncol;
     double hk = gk->h, g = o->ground, e = eps + margin;
@@ -11443,28 +11609,9 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
             runh[(size_t)b * d[u] + a] = run ? (float)(gk->origin[up] + (lo[up] + run) * hk) : -FLT_MAX;
         }
     /* the least height of the component's triangles near each square */
-    for (a = 0; a < nsub; ++a) tmin[a] = FLT_MAX;
-    memset(&tv, 0, sizeof(tv));
-    tv.gr = &cm->grid;
-    tv.u = u;
-    tv.v = v;
-    tv.up = (int)up;
-    tv.e = e;
-    tv.margin = margin;
-    tv.tmin = tmin;
-    tv.su0 = su0;
-    tv.sv0 = sv0;
-    tv.row = su1 - su0 + 1;
-    axes[0] = u;
-    axes[1] = v;
-    axes[2] = (int)up;
     sq0[u] = su0; sq0[v] = sv0; sq0[up] = 0;
     sq1[u] = su1; sq1[v] = sv1; sq1[up] = 0;
-    for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
-        pvs__vx_tri_points(s, tp->tris[t], tv.p);
-        pvs__vx_tmin_plane(&tv);
-        pvs__vx_scan(&cm->grid, tv.p[0], 3, axes, 2, e, sq0, sq1, pvs__vx_tmin_visit, &tv);
-    }
+    pvs__vx_columns_tmin(o, tp, comp, sq0, sq1, e, margin, tmin);
     for (b = sv0; b <= sv1; ++b)
         for (a = su0; a <= su1; ++a) {
             size_t x = (size_t)b * cm->nu + a, xs = (size_t)(b - sv0) * (su1 - su0 + 1) + (a - su0);
@@ -11685,127 +11832,140 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
     return 1;
 }
 
-/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground:
-   per 4-connected region of squares at or above a level that some square of the region has, the
-   region's boundary at that level (a level-set tree: a block of buildings of several heights is one
-   chain at its lowest height plus one per taller part, so no crack opens where two heights meet).
-   Quantum: a quarter of the square size. */
-PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
-    pvs__vx_cols *cm = &o->cols;
-    const pvs_allocator *al = &o->allocator;
-    size_t n = (size_t)cm->nu * cm->nv, x, qh, qt, cap = 0;
-    uint32_t *label = NULL, *queue = NULL, *members = NULL, nlab = 0, u2 = 0;
-    float *lev = NULL;
-    uint8_t *mask = NULL, *used = NULL, *inl = NULL;
-    uint32_t *sub = NULL;
-    size_t mcap = 0, ucap = 0, lcap = 0, scap = 0, ipcap = 0;
-    int32_t *ipts = NULL;
-    double g = o->ground, qz = 0.25 * cm->grid.h;
-    int u, v;
+/* The scratch of pvs__vx_build_chains: per square of the column map a region label, a queue and a
+   member list; buffers grown per region over its frame; the chains traced so far. */
+typedef struct pvs__vx_chainwork {
+    pvs_occluders *o;
+    uint32_t *label, *queue, *members; /* per square of the map */
+    float *lev;                        /* the region's levels */
+    uint8_t *mask, *inl, *used;        /* per square of the frame: the sub-region, at or above the level; pvs__vx_trace's */
+    uint32_t *sub;                     /* per square of the frame: its sub-region */
+    int32_t *ipts;                     /* pvs__vx_trace's points */
+    size_t cap, mcap, ucap, lcap, scap, ipcap;
+    uint32_t i0, j0, bw, bh;           /* the region's frame: its rectangle and one square around it */
     pvs__vx_chainbuf cb;
-    pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
-    memset(&cb, 0, sizeof(cb));
-    pvs__ground_axes(o->scene->up_axis, &u, &v);
-    (void)u2;
-    label = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
-    queue = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
-    members = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
-    if (!label || !queue || !members) goto done;
-    for (x = 0; x < n; ++x) { /* quantize */
-        float t = cm->top[x];
-        if (t > (float)g) cm->top[x] = pvs__f_down(g + floor(((double)t - g) / qz) * qz);
-        if (!(cm->top[x] > (float)g)) cm->top[x] = -FLT_MAX;
-        label[x] = 0xffffffffu;
+} pvs__vx_chainwork;
+
+/* The region of square x: the 4-connected squares with an occluder height, labelled nlab; lists
+   them in w->members (returns their number) and sets the frame (w->i0, j0, bw, bh). */
+PVS__STATIC uint32_t pvs__vx_chain_region(pvs__vx_chainwork *w, size_t x, uint32_t nlab) {
+    const pvs__vx_cols *cm = &w->o->cols;
+    uint32_t *label = w->label, *queue = w->queue, i0, i1, j0, j1, nm = 0;
+    size_t qh = 0, qt = 0;
+    queue[qt++] = (uint32_t)x;
+    label[x] = nlab;
+    i0 = i1 = (uint32_t)(x % cm->nu);
+    j0 = j1 = (uint32_t)(x / cm->nu);
+    while (qh < qt) {
+        uint32_t y = queue[qh++], yi = y % cm->nu, yj = y / cm->nu, dd;
+        w->members[nm++] = y;
+        if (yi < i0) i0 = yi;
+        if (yi > i1) i1 = yi;
+        if (yj < j0) j0 = yj;
+        if (yj > j1) j1 = yj;
+        for (dd = 0; dd < 4; ++dd) {
+            int zi = (int)yi + (dd == 0) - (dd == 1), zj = (int)yj + (dd == 2) - (dd == 3);
+            size_t z;
+            if (zi < 0 || zj < 0 || (uint32_t)zi >= cm->nu || (uint32_t)zj >= cm->nv) continue;
+            z = (size_t)zj * cm->nu + (uint32_t)zi;
+            if (label[z] != 0xffffffffu || cm->top[z] == -FLT_MAX) continue;
+            label[z] = nlab;
+            queue[qt++] = (uint32_t)z;
+        }
     }
-    for (x = 0; x < n; ++x) {
-        uint32_t i0, i1, j0, j1, bw, bh, nm = 0, k, nl = 0, li;
-        if (label[x] != 0xffffffffu || cm->top[x] == -FLT_MAX) continue;
-        /* the region: 4-connected squares with an occluder height */
+    /* local frame of one square around the region's rectangle */
+    w->i0 = i0;
+    w->j0 = j0;
+    w->bw = i1 - i0 + 3;
+    w->bh = j1 - j0 + 3;
+    return nm;
+}
+
+/* The chains of level L of the region (w->members[0 .. nm)): per 4-connected sub-region of its
+   squares at or above L that has a square of exactly L, the sub-region's boundary at height L
+   (pvs__vx_trace). Returns 0 when out of memory. */
+PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) {
+    const pvs__vx_cols *cm = &w->o->cols;
+    uint32_t *queue = w->queue, *sub = w->sub, bw = w->bw, bh = w->bh, i0 = w->i0, j0 = w->j0, nsub = 0, k;
+    uint8_t *inl = w->inl, *mask = w->mask;
+    double g = w->o->ground;
+    size_t qh, qt;
+    int u, v;
+    pvs__ground_axes(w->o->scene->up_axis, &u, &v);
+    memset(inl, 0, (size_t)bw * bh);
+    for (k = 0; k < nm; ++k) {
+        uint32_t y = w->members[k];
+        if (cm->top[y] >= L) inl[(size_t)(y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1)] = 1;
+    }
+    for (k = 0; k < (size_t)bw * bh; ++k) sub[k] = 0xffffffffu;
+    for (k = 0; k < nm; ++k) { /* sub-regions at this level */
+        uint32_t y = w->members[k], s0 = (y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1), exact = 0;
+        if (!inl[s0] || sub[s0] != 0xffffffffu) continue;
         qh = qt = 0;
-        queue[qt++] = (uint32_t)x;
-        label[x] = nlab;
-        i0 = i1 = (uint32_t)(x % cm->nu);
-        j0 = j1 = (uint32_t)(x / cm->nu);
+        queue[qt++] = s0;
+        sub[s0] = nsub;
+        memset(mask, 0, (size_t)bw * bh);
         while (qh < qt) {
-            uint32_t y = queue[qh++], yi = y % cm->nu, yj = y / cm->nu, dd;
-            members[nm++] = y;
-            if (yi < i0) i0 = yi;
-            if (yi > i1) i1 = yi;
-            if (yj < j0) j0 = yj;
-            if (yj > j1) j1 = yj;
+            uint32_t z = queue[qh++], zi = z % bw, zj = z / bw, dd;
+            mask[z] = 1;
+            if (cm->top[(size_t)(zj + j0 - 1) * cm->nu + (zi + i0 - 1)] == L) exact = 1;
             for (dd = 0; dd < 4; ++dd) {
-                int zi = (int)yi + (dd == 0) - (dd == 1), zj = (int)yj + (dd == 2) - (dd == 3);
-                size_t z;
-                if (zi < 0 || zj < 0 || (uint32_t)zi >= cm->nu || (uint32_t)zj >= cm->nv) continue;
-                z = (size_t)zj * cm->nu + (uint32_t)zi;
-                if (label[z] != 0xffffffffu || cm->top[z] == -FLT_MAX) continue;
-                label[z] = nlab;
-                queue[qt++] = (uint32_t)z;
+                uint32_t w2 = dd == 0 ? z + 1 : dd == 1 ? z - 1 : dd == 2 ? z + bw : z - bw;
+                if (!inl[w2] || sub[w2] != 0xffffffffu) continue;
+                sub[w2] = nsub;
+                queue[qt++] = w2;
             }
         }
-        ++nlab;
-        /* its levels, ascending (distinct) */
-        if (!pvs__vx_grow(al, (void **)&lev, &lcap, nm, sizeof(float))) goto done;
-        for (k = 0; k < nm; ++k) lev[k] = cm->top[members[k]];
-        PVS_QSORT(lev, nm, sizeof(float), pvs__vx_float_cmp);
-        for (k = 0; k < nm; ++k)
-            if (k == 0 || lev[k] != lev[nl - 1]) lev[nl++] = lev[k];
-        /* local frame of one square around the region's rectangle */
-        bw = i1 - i0 + 3;
-        bh = j1 - j0 + 3;
-        if (!pvs__vx_grow(al, (void **)&mask, &mcap, (size_t)bw * bh, 1) || !pvs__vx_grow(al, (void **)&inl, &scap, (size_t)bw * bh, 1) ||
-            !pvs__vx_grow(al, (void **)&sub, &ucap, (size_t)bw * bh, sizeof(uint32_t)) ||
-            !pvs__vx_grow(al, (void **)&used, &cap, (size_t)(bw + 1) * (bh + 1) * 4, 1))
-            goto done;
-        for (li = 0; li < nl; ++li) {
-            float L = lev[li];
-            uint32_t nsub = 0;
-            memset(inl, 0, (size_t)bw * bh);
-            for (k = 0; k < nm; ++k) {
-                uint32_t y = members[k];
-                if (cm->top[y] >= L) inl[(size_t)(y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1)] = 1;
-            }
-            for (k = 0; k < (size_t)bw * bh; ++k) sub[k] = 0xffffffffu;
-            for (k = 0; k < nm; ++k) { /* sub-regions at this level */
-                uint32_t y = members[k], s0 = (y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1), exact = 0, q2;
-                if (!inl[s0] || sub[s0] != 0xffffffffu) continue;
-                qh = qt = 0;
-                queue[qt++] = s0;
-                sub[s0] = nsub;
-                memset(mask, 0, (size_t)bw * bh);
-                while (qh < qt) {
-                    uint32_t z = queue[qh++], zi = z % bw, zj = z / bw, dd;
-                    mask[z] = 1;
-                    if (cm->top[(size_t)(zj + j0 - 1) * cm->nu + (zi + i0 - 1)] == L) exact = 1;
-                    for (dd = 0; dd < 4; ++dd) {
-                        uint32_t w2 = dd == 0 ? z + 1 : dd == 1 ? z - 1 : dd == 2 ? z + bw : z - bw;
-                        if (!inl[w2] || sub[w2] != 0xffffffffu) continue;
-                        sub[w2] = nsub;
-                        queue[qt++] = w2;
-                    }
-                }
-                ++nsub;
-                (void)q2;
-                if (exact && !pvs__vx_trace(al, &cb, mask, bw, bh, cm->grid.origin[u] + ((double)i0 - 1.0) * cm->grid.h,
-                                            cm->grid.origin[v] + ((double)j0 - 1.0) * cm->grid.h, cm->grid.h, (float)g, L, used, &ipts, &ipcap))
-                    goto done;
-            }
-        }
+        ++nsub;
+        if (exact && !pvs__vx_trace(&w->o->allocator, &w->cb, mask, bw, bh, cm->grid.origin[u] + ((double)i0 - 1.0) * cm->grid.h,
+                                    cm->grid.origin[v] + ((double)j0 - 1.0) * cm->grid.h, cm->grid.h, (float)g, L, w->used, &w->ipts, &w->ipcap))
+            return 0;
     }
-    /* hand over: pointers into the final point buffer, bounding boxes */
-    o->chains = (pvs_facade_chain *)pvs__alloc_array(al, cb.count ? cb.count : 1, sizeof(pvs_facade_chain));
-    o->chain_boxes = (pvs_box *)pvs__alloc_array(al, cb.count ? cb.count : 1, sizeof(pvs_box));
-    o->chain_points = (float *)pvs__alloc_array(al, cb.npts ? 2 * cb.npts : 1, sizeof(float));
-    if (!o->chains || !o->chain_boxes || !o->chain_points) goto done;
-    o->chain_count = (uint32_t)cb.count;
-    o->chain_point_count = cb.npts;
-    if (cb.npts) memcpy(o->chain_points, cb.points, 2 * cb.npts * sizeof(float));
-    for (x = 0; x < cb.count; ++x) {
+    return 1;
+}
+
+/* The chains of the region just found (w->members[0 .. nm)): its distinct levels, ascending, each
+   traced by pvs__vx_chain_level over the region's frame. Returns 0 when out of memory. */
+PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
+    const pvs_allocator *al = &w->o->allocator;
+    const pvs__vx_cols *cm = &w->o->cols;
+    uint32_t bw = w->bw, bh = w->bh, k, nl = 0, li;
+    /* its levels, ascending (distinct) */
+    if (!pvs__vx_grow(al, (void **)&w->lev, &w->lcap, nm, sizeof(float))) return 0;
+    for (k = 0; k < nm; ++k) w->lev[k] = cm->top[w->members[k]];
+    PVS_QSORT(w->lev, nm, sizeof(float), pvs__vx_float_cmp);
+    for (k = 0; k < nm; ++k)
+        if (k == 0 || w->lev[k] != w->lev[nl - 1]) w->lev[nl++] = w->lev[k];
+    if (!pvs__vx_grow(al, (void **)&w->mask, &w->mcap, (size_t)bw * bh, 1) || !pvs__vx_grow(al, (void **)&w->inl, &w->scap, (size_t)bw * bh, 1) ||
+        !pvs__vx_grow(al, (void **)&w->sub, &w->ucap, (size_t)bw * bh, sizeof(uint32_t)) ||
+        !pvs__vx_grow(al, (void **)&w->used, &w->cap, (size_t)(bw + 1) * (bh + 1) * 4, 1))
+        return 0;
+    for (li = 0; li < nl; ++li)
+        if (!pvs__vx_chain_level(w, nm, w->lev[li])) return 0;
+    return 1;
+}
+
+/* Hands the traced chains over to the occluders: o->chains with pointers into their points, copied
+   to o->chain_points, and o->chain_boxes (the ground bounding rectangle x [base, top]). Returns
+   OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_chainbuf *cb) {
+    const pvs_allocator *al = &o->allocator;
+    size_t x;
+    int u, v;
+    pvs__ground_axes(o->scene->up_axis, &u, &v);
+    o->chains = (pvs_facade_chain *)pvs__alloc_array(al, cb->count ? cb->count : 1, sizeof(pvs_facade_chain));
+    o->chain_boxes = (pvs_box *)pvs__alloc_array(al, cb->count ? cb->count : 1, sizeof(pvs_box));
+    o->chain_points = (float *)pvs__alloc_array(al, cb->npts ? 2 * cb->npts : 1, sizeof(float));
+    if (!o->chains || !o->chain_boxes || !o->chain_points) return PVS_ERROR_OUT_OF_MEMORY;
+    o->chain_count = (uint32_t)cb->count;
+    o->chain_point_count = cb->npts;
+    if (cb->npts) memcpy(o->chain_points, cb->points, 2 * cb->npts * sizeof(float));
+    for (x = 0; x < cb->count; ++x) {
         pvs_facade_chain *ch = o->chains + x;
         pvs_box *bx = o->chain_boxes + x;
         uint32_t k;
-        *ch = cb.chains[x];
-        ch->points = o->chain_points + 2 * cb.first[x];
+        *ch = cb->chains[x];
+        ch->points = o->chain_points + 2 * cb->first[x];
         bx->min[u] = bx->max[u] = ch->points[0];
         bx->min[v] = bx->max[v] = ch->points[1];
         for (k = 1; k < ch->point_count; ++k) {
@@ -11817,20 +11977,54 @@ PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
         bx->min[o->scene->up_axis] = ch->base;
         bx->max[o->scene->up_axis] = ch->top;
     }
-    res = PVS_OK;
+    return PVS_OK;
+}
+
+/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground: per 4-connected region of squares at or above a level that some
+   square of the region has, the region's boundary at that level (a level-set tree: a block of
+   buildings of several heights is one chain at its lowest height plus one per taller part, so no
+   crack opens where two heights meet). Quantum: a quarter of the square size. */
+PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
+    pvs__vx_cols *cm = &o->cols;
+    const pvs_allocator *al = &o->allocator;
+    size_t n = (size_t)cm->nu * cm->nv, x;
+    uint32_t nlab = 0;
+    double g = o->ground, qz = 0.25 * cm->grid.h;
+    pvs__vx_chainwork w;
+    pvs_result res = PVS_ERROR_OUT_OF_MEMORY;
+    memset(&w, 0, sizeof(w));
+    w.o = o;
+    w.label = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    w.queue = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    w.members = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
+    if (!w.label || !w.queue || !w.members) goto done;
+    for (x = 0; x < n; ++x) { /* quantize */
+        float t = cm->top[x];
+        if (t > (float)g) cm->top[x] = pvs__f_down(g + floor(((double)t - g) / qz) * qz);
+        if (!(cm->top[x] > (float)g)) cm->top[x] = -FLT_MAX;
+        w.label[x] = 0xffffffffu;
+    }
+    for (x = 0; x < n; ++x) {
+        uint32_t nm;
+        if (w.label[x] != 0xffffffffu || cm->top[x] == -FLT_MAX) continue;
+        nm = pvs__vx_chain_region(&w, x, nlab++); /* the region: 4-connected squares with an occluder height */
+        if (!pvs__vx_chain_levels(&w, nm)) goto done;
+    }
+    /* hand over: pointers into the final point buffer, bounding boxes */
+    res = pvs__vx_chains_hand_over(o, &w.cb);
 done:
-    pvs__free_array(al, label, n ? n : 1, sizeof(uint32_t));
-    pvs__free_array(al, queue, n ? n : 1, sizeof(uint32_t));
-    pvs__free_array(al, members, n ? n : 1, sizeof(uint32_t));
-    pvs__free_array(al, lev, lcap, sizeof(float));
-    pvs__free_array(al, mask, mcap, 1);
-    pvs__free_array(al, inl, scap, 1);
-    pvs__free_array(al, sub, ucap, sizeof(uint32_t));
-    pvs__free_array(al, used, cap, 1);
-    pvs__free_array(al, ipts, ipcap, 2 * sizeof(int32_t));
-    pvs__free_array(al, cb.chains, cb.cap, sizeof(pvs_facade_chain));
-    pvs__free_array(al, cb.first, cb.cap_first, sizeof(size_t));
-    pvs__free_array(al, cb.points, cb.cap_pts, 2 * sizeof(float));
+    pvs__free_array(al, w.label, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, w.queue, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, w.members, n ? n : 1, sizeof(uint32_t));
+    pvs__free_array(al, w.lev, w.lcap, sizeof(float));
+    pvs__free_array(al, w.mask, w.mcap, 1);
+    pvs__free_array(al, w.inl, w.scap, 1);
+    pvs__free_array(al, w.sub, w.ucap, sizeof(uint32_t));
+    pvs__free_array(al, w.used, w.cap, 1);
+    pvs__free_array(al, w.ipts, w.ipcap, 2 * sizeof(int32_t));
+    pvs__free_array(al, w.cb.chains, w.cb.cap, sizeof(pvs_facade_chain));
+    pvs__free_array(al, w.cb.first, w.cb.cap_first, sizeof(size_t));
+    pvs__free_array(al, w.cb.points, w.cb.cap_pts, 2 * sizeof(float));
     return res;
 }
 
@@ -12013,80 +12207,110 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
     return res;
 }
 
-PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occluders **out, pvs_error *err) {
-    pvs_occluders *o;
-    pvs_allocator a;
+/* ---- pvs_occluders_create, step by step ---- */
+
+/* What the steps of pvs_occluders_create share: the description, the voxel grid's frame, and the
+   scratch that outlives a step (pvs__vx_build_free frees what is left on the error path; a step
+   that frees a buffer sets it to NULL). */
+typedef struct pvs__vx_build {
+    const pvs_occluders_desc *d;
     const pvs_scene *s;
-    pvs_box ext;
-    double g, h, m;
-    uint32_t up, i, j, k, c, r, *queue = NULL, qh, qt, *cbox = NULL, bpass, bucket_entries = 0;
-    size_t total, vi, cols, qcap = 0, nbuckets = 0;
+    pvs_allocator a;
+    pvs_occluders *o;
+    pvs_box ext;               /* the scene's bounds and the cells' */
+    double g, h, m;            /* ground level, voxel size, the margin every voxel test rounds toward "touched" by */
+    uint32_t up;
+    int u, v;
+    size_t total, qcap, nbuckets;
+    uint32_t bucket_entries;
+    uint32_t *queue;           /* qcap: the floods' queue in step 1, then the leak flood's */
+    uint32_t *cbox;            /* step 1: per component its voxel box, lo[3] then hi[3] */
+    uint8_t *tmp, *line;       /* total and 1 + n[0] + n[1] + n[2] bytes: the erosion's and the merge's scratch */
     pvs__vx_topo tp;
     pvs__vx_flood fl;
-    uint8_t *tmp = NULL, *line = NULL;
-    int u, v, kk;
-    static const int xyz[3] = {0, 1, 2};
-    uint32_t zero[3] = {0, 0, 0}, last[3];
-    pvs__vx_touch tv;
-    if (out) *out = NULL;
-    memset(&tp, 0, sizeof(tp));
-    memset(&fl, 0, sizeof(fl));
-    if (!d || !out || !d->scene || !d->cells || !d->cell_count)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene, cells and out must be given");
-    if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and > 0, voxel_size finite and >= 0");
-    if (d->flags & ~PVS_OCCLUDERS_KEEP_LEAKS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown occluders flags 0x%x", d->flags);
-    for (c = 0; c < d->cell_count; ++c)
-        if (!pvs__box_valid(d->cells + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "cell %u is not a valid box", c);
-    s = d->scene;
-    up = s->up_axis;
-    pvs__ground_axes(up, &u, &v);
-    ext = s->bounds;
+} pvs__vx_build;
+
+/* The error path of pvs_occluders_create: frees every scratch buffer the steps left allocated
+   (b->o stays: the caller destroys it). */
+PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
+    const pvs_allocator *a = &b->a;
+    pvs__vx_flood *fl = &b->fl;
+    uint32_t cells = b->d->cell_count;
+    pvs__free_array(a, fl->bucket_first, b->nbuckets + 1, sizeof(uint32_t));
+    pvs__free_array(a, fl->bucket_cells, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
+    pvs__free_array(a, fl->stamp, cells, sizeof(uint32_t));
+    pvs__free_array(a, fl->cellbuf, cells, 7);
+    if (fl->queue && fl->queue != b->queue) pvs__free_array(a, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
+    pvs__free_array(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
+    pvs__free_array(a, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
+    pvs__free_array(a, b->cbox, (size_t)(b->tp.comp_count ? b->tp.comp_count : 1) * 6, sizeof(uint32_t));
+    pvs__vx_topo_free(a, &b->tp, b->s->triangle_count);
+    pvs__free_array(a, b->tmp, b->total, 1);
+    pvs__free_array(a, b->queue, b->qcap, sizeof(uint32_t));
+    pvs__free_array(a, b->line, 1u + b->o->n[0] + b->o->n[1] + b->o->n[2], 1);
+}
+
+/* The voxel grid over the scene's bounds and the cells': voxels of size voxel_size, or eps / 1.5 (an
+   erosion by 2 voxels is then 1.33 eps), grown by 1.08 until the grid holds max_voxels; layer 0 lies
+   below the ground (PVS__VX_GROUND), layer 1 starts at it. Allocates the occluders (b->o) with their
+   state and eroded grids, and the scratch grids b->tmp and b->line. On failure nothing stays
+   allocated and err says why. */
+PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
+    const pvs_occluders_desc *d = b->d;
+    const pvs_allocator *a = &b->a;
+    pvs_occluders *o;
+    uint32_t up = b->up, c, i, j, k;
+    size_t total = 1;
+    double h;
+    int kk;
+    b->ext = b->s->bounds;
     for (c = 0; c < d->cell_count; ++c)
         for (kk = 0; kk < 3; ++kk) {
-            if (d->cells[c].min[kk] < ext.min[kk]) ext.min[kk] = d->cells[c].min[kk];
-            if (d->cells[c].max[kk] > ext.max[kk]) ext.max[kk] = d->cells[c].max[kk];
+            if (d->cells[c].min[kk] < b->ext.min[kk]) b->ext.min[kk] = d->cells[c].min[kk];
+            if (d->cells[c].max[kk] > b->ext.max[kk]) b->ext.max[kk] = d->cells[c].max[kk];
         }
-    g = ext.min[up];
+    b->g = b->ext.min[up];
     h = d->voxel_size > 0.0f ? d->voxel_size : d->eps / 1.5; /* erosion by 2 voxels = 1.33 eps */
     for (;;) { /* grow the voxel until the grid fits */
         double cnt = 1.0, lim = d->max_voxels ? (double)d->max_voxels : (double)(1u << 24);
-        for (kk = 0; kk < 3; ++kk) cnt *= floor(((double)ext.max[kk] - ext.min[kk]) / h) + 3.0;
+        for (kk = 0; kk < 3; ++kk) cnt *= floor(((double)b->ext.max[kk] - b->ext.min[kk]) / h) + 3.0;
         if (cnt <= lim) break;
         h *= 1.08;
     }
-    a = d->allocator;
-    o = (pvs_occluders *)pvs__alloc(&a, sizeof(*o), 16);
+    b->h = h;
+    o = (pvs_occluders *)pvs__alloc(a, sizeof(*o), 16);
     if (!o) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluders");
     memset(o, 0, sizeof(*o));
-    o->allocator = a;
-    o->scene = s;
+    o->allocator = *a;
+    o->scene = b->s;
     o->h = h;
-    o->ground = (float)g;
-    total = 1;
+    o->ground = (float)b->g;
     for (kk = 0; kk < 3; ++kk) {
-        o->n[kk] = (uint32_t)(floor(((double)ext.max[kk] - ext.min[kk]) / h) + 3.0);
-        o->origin[kk] = (double)ext.min[kk] - h;
+        o->n[kk] = (uint32_t)(floor(((double)b->ext.max[kk] - b->ext.min[kk]) / h) + 3.0);
+        o->origin[kk] = (double)b->ext.min[kk] - h;
         total *= o->n[kk];
     }
-    o->origin[up] = g - h; /* layer 0 lies below the ground, layer 1 starts at it */
-    o->total = total;
+    o->origin[up] = b->g - h; /* layer 0 lies below the ground, layer 1 starts at it */
+    o->total = b->total = total;
     for (kk = 0; kk < 3; ++kk) {
         o->grid.origin[kk] = o->origin[kk];
         o->grid.n[kk] = o->n[kk];
     }
     o->grid.h = h;
-    o->state = (uint8_t *)pvs__alloc_array(&a, total, 1);
-    o->eroded = (uint8_t *)pvs__alloc_array(&a, total, 1);
-    tmp = (uint8_t *)pvs__alloc_array(&a, total, 1);
-    line = (uint8_t *)pvs__alloc_array(&a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
-    cols = (size_t)o->n[u] * o->n[v];
-    if (!o->state || !o->eroded || !tmp || !line || total > 0x7fffffffu) {
-        pvs__free_array(&a, tmp, total, 1);
-        pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+    o->state = (uint8_t *)pvs__alloc_array(a, total, 1);
+    o->eroded = (uint8_t *)pvs__alloc_array(a, total, 1);
+    b->tmp = (uint8_t *)pvs__alloc_array(a, total, 1);
+    b->line = (uint8_t *)pvs__alloc_array(a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+    if (!o->state || !o->eroded || !b->tmp || !b->line || total > 0x7fffffffu) {
+        uint32_t dims[3];
+        memcpy(dims, o->n, sizeof(dims)); /* the message names them after o is gone */
+        pvs__free_array(a, b->tmp, total, 1);
+        pvs__free_array(a, b->line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
         pvs_occluders_destroy(o);
-        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "voxel grid %u x %u x %u", o->n[0], o->n[1], o->n[2]);
+        b->tmp = b->line = NULL;
+        return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "voxel grid %u x %u x %u", dims[0], dims[1], dims[2]);
     }
+    b->o = o;
     memset(o->state, 0, total);
     for (k = 0; k < o->n[2]; ++k)
         for (j = 0; j < o->n[1]; ++j)
@@ -12095,61 +12319,86 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 idx[0] = i; idx[1] = j; idx[2] = k;
                 if (idx[up] == 0) o->state[pvs__vx_index(o, i, j, k)] = PVS__VX_GROUND;
             }
-    m = h * 1e-4 + 1e-6 * (pvs__dabs(g) + 1.0); /* the margin every voxel test rounds toward "touched" by */
-    /* a bucket grid over the cells in the ground plane, for the floods' sources */
-    fl.cells = d->cells;
-    fl.cell_count = d->cell_count;
-    fl.keep_leaks = (d->flags & PVS_OCCLUDERS_KEEP_LEAKS) != 0;
-    fl.bnu = (o->n[u] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
-    fl.bnv = (o->n[v] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
-    fl.bucket_grid = o->grid;
-    fl.bucket_grid.h = o->h * PVS__VX_BUCKET;
-    fl.bucket_grid.n[u] = fl.bnu;
-    fl.bucket_grid.n[v] = fl.bnv;
-    nbuckets = (size_t)fl.bnu * fl.bnv;
-    fl.bucket_first = (uint32_t *)pvs__alloc_array(&a, nbuckets + 1, sizeof(uint32_t));
-    fl.stamp = (uint32_t *)pvs__alloc_array(&a, d->cell_count, sizeof(uint32_t));
-    fl.cellbuf = (uint8_t *)pvs__alloc_array(&a, d->cell_count, 7);
-    if (!fl.bucket_first || !fl.stamp || !fl.cellbuf) goto oom;
-    memset(fl.bucket_first, 0, (nbuckets + 1) * sizeof(uint32_t));
-    memset(fl.stamp, 0, d->cell_count * sizeof(uint32_t));
-    memset(fl.cellbuf, 0, (size_t)d->cell_count * 7);
-    fl.near_cells = (uint32_t *)(void *)fl.cellbuf; /* the allocator aligns to 16 */
-    fl.excluded = fl.cellbuf + 4 * (size_t)d->cell_count;
-    fl.near_w = (signed char *)(fl.excluded + d->cell_count);
-    fl.near_flag = fl.excluded + 2 * (size_t)d->cell_count;
+    b->m = h * 1e-4 + 1e-6 * (pvs__dabs(b->g) + 1.0); /* the margin every voxel test rounds toward "touched" by */
+    return PVS_OK;
+}
+
+/* The floods' sources (pvs__vx_flood): the cells, their per-cell scratch, and a bucket grid over
+   them in the ground plane (PVS__VX_BUCKET voxel columns a side), each bucket listing the cells whose
+   box, grown by m, meets it (counted in a first pass, filled in a second). Returns OUT_OF_MEMORY
+   or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
+    const pvs_occluders_desc *d = b->d;
+    const pvs_allocator *a = &b->a;
+    const pvs_occluders *o = b->o;
+    pvs__vx_flood *fl = &b->fl;
+    int u = b->u, v = b->v;
+    uint32_t bpass, c;
+    size_t vi, nbuckets;
+    fl->cells = d->cells;
+    fl->cell_count = d->cell_count;
+    fl->keep_leaks = (d->flags & PVS_OCCLUDERS_KEEP_LEAKS) != 0;
+    fl->bnu = (o->n[u] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
+    fl->bnv = (o->n[v] + PVS__VX_BUCKET - 1) / PVS__VX_BUCKET;
+    fl->bucket_grid = o->grid;
+    fl->bucket_grid.h = o->h * PVS__VX_BUCKET;
+    fl->bucket_grid.n[u] = fl->bnu;
+    fl->bucket_grid.n[v] = fl->bnv;
+    b->nbuckets = nbuckets = (size_t)fl->bnu * fl->bnv;
+    fl->bucket_first = (uint32_t *)pvs__alloc_array(a, nbuckets + 1, sizeof(uint32_t));
+    fl->stamp = (uint32_t *)pvs__alloc_array(a, d->cell_count, sizeof(uint32_t));
+    fl->cellbuf = (uint8_t *)pvs__alloc_array(a, d->cell_count, 7);
+    if (!fl->bucket_first || !fl->stamp || !fl->cellbuf) return PVS_ERROR_OUT_OF_MEMORY;
+    memset(fl->bucket_first, 0, (nbuckets + 1) * sizeof(uint32_t));
+    memset(fl->stamp, 0, d->cell_count * sizeof(uint32_t));
+    memset(fl->cellbuf, 0, (size_t)d->cell_count * 7);
+    fl->near_cells = (uint32_t *)(void *)fl->cellbuf; /* the allocator aligns to 16 */
+    fl->excluded = fl->cellbuf + 4 * (size_t)d->cell_count;
+    fl->near_w = (signed char *)(fl->excluded + d->cell_count);
+    fl->near_flag = fl->excluded + 2 * (size_t)d->cell_count;
     for (bpass = 0; bpass < 2; ++bpass) {
         if (bpass) {
-            for (vi = 0; vi < nbuckets; ++vi) fl.bucket_first[vi + 1] += fl.bucket_first[vi];
-            bucket_entries = fl.bucket_first[nbuckets];
-            fl.bucket_cells = (uint32_t *)pvs__alloc_array(&a, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
-            if (!fl.bucket_cells) goto oom;
+            for (vi = 0; vi < nbuckets; ++vi) fl->bucket_first[vi + 1] += fl->bucket_first[vi];
+            b->bucket_entries = fl->bucket_first[nbuckets];
+            fl->bucket_cells = (uint32_t *)pvs__alloc_array(a, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
+            if (!fl->bucket_cells) return PVS_ERROR_OUT_OF_MEMORY;
         }
         for (c = 0; c < d->cell_count; ++c) {
             uint32_t r0[3], r1[3], bu, bv;
-            pvs__vx_grange(&fl.bucket_grid, u, d->cells[c].min[u], d->cells[c].max[u], m, r0 + u, r1 + u);
-            pvs__vx_grange(&fl.bucket_grid, v, d->cells[c].min[v], d->cells[c].max[v], m, r0 + v, r1 + v);
+            pvs__vx_grange(&fl->bucket_grid, u, d->cells[c].min[u], d->cells[c].max[u], b->m, r0 + u, r1 + u);
+            pvs__vx_grange(&fl->bucket_grid, v, d->cells[c].min[v], d->cells[c].max[v], b->m, r0 + v, r1 + v);
             if (r0[u] > r1[u] || r0[v] > r1[v]) continue;
             for (bv = r0[v]; bv <= r1[v]; ++bv)
                 for (bu = r0[u]; bu <= r1[u]; ++bu) {
-                    size_t bk = (size_t)bv * fl.bnu + bu;
-                    if (!bpass) ++fl.bucket_first[bk + 1];
-                    else fl.bucket_cells[--fl.bucket_first[bk + 1]] = c;
+                    size_t bk = (size_t)bv * fl->bnu + bu;
+                    if (!bpass) ++fl->bucket_first[bk + 1];
+                    else fl->bucket_cells[--fl->bucket_first[bk + 1]] = c;
                 }
         }
     }
-    for (vi = 0; vi < nbuckets; ++vi) fl.bucket_first[vi] = fl.bucket_first[vi + 1]; /* the fill moved each end to its start */
-    fl.bucket_first[nbuckets] = bucket_entries;
-    /* 1. solid proved per component (see the argument before pvs__vx_orient) */
-    if (pvs__vx_topology(s, (float)g, &a, &tp) != PVS_OK) goto oom;
-    cbox = (uint32_t *)pvs__alloc_array(&a, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
-    if (!cbox) goto oom;
-    for (c = 0; c < tp.comp_count; ++c) {
-        uint32_t *bx = cbox + 6 * (size_t)c, t;
+    for (vi = 0; vi < nbuckets; ++vi) fl->bucket_first[vi] = fl->bucket_first[vi + 1]; /* the fill moved each end to its start */
+    fl->bucket_first[nbuckets] = b->bucket_entries;
+    return PVS_OK;
+}
+
+/* Step 1's component boxes: per component of b->tp, the voxels its triangles touch (grown by m),
+   from layer 1 up when it has open edges (their sheets reach down to the ground), into b->cbox; and
+   the flood scratch sizes (fl.cap_vox, fl.cap_col) of the largest box of a component of three
+   triangles or more. Returns OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
+    const pvs_scene *s = b->s;
+    const pvs__vx_topo *tp = &b->tp;
+    pvs__vx_flood *fl = &b->fl;
+    uint32_t up = b->up, c;
+    int kk;
+    b->cbox = (uint32_t *)pvs__alloc_array(&b->a, (size_t)(tp->comp_count ? tp->comp_count : 1) * 6, sizeof(uint32_t));
+    if (!b->cbox) return PVS_ERROR_OUT_OF_MEMORY;
+    for (c = 0; c < tp->comp_count; ++c) {
+        uint32_t *bx = b->cbox + 6 * (size_t)c, t;
         size_t vol = 1, ncol;
         for (kk = 0; kk < 3; ++kk) { bx[kk] = 0xffffffffu; bx[3 + kk] = 0; }
-        for (t = tp.comp_first[c]; t < tp.comp_first[c + 1]; ++t) {
-            uint32_t tri = tp.tris[t], r0, r1, q;
+        for (t = tp->comp_first[c]; t < tp->comp_first[c + 1]; ++t) {
+            uint32_t tri = tp->tris[t], r0, r1, q;
             for (kk = 0; kk < 3; ++kk) {
                 double lo = DBL_MAX, hi = -DBL_MAX;
                 for (q = 0; q < 3; ++q) {
@@ -12157,53 +12406,83 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                     lo = pvs__dmin(lo, x);
                     hi = pvs__dmax(hi, x);
                 }
-                pvs__vx_range(o, kk, lo, hi, m, &r0, &r1);
+                pvs__vx_range(b->o, kk, lo, hi, b->m, &r0, &r1);
                 if (r0 < bx[kk]) bx[kk] = r0;
                 if (r1 > bx[3 + kk]) bx[3 + kk] = r1;
             }
         }
-        if (bx[up] < 1 || tp.open_first[c + 1] > tp.open_first[c]) bx[up] = 1; /* open edges: sheets to the ground */
+        if (bx[up] < 1 || tp->open_first[c + 1] > tp->open_first[c]) bx[up] = 1; /* open edges: sheets to the ground */
         if (bx[3 + up] < bx[up]) bx[3 + up] = bx[up];
         for (kk = 0; kk < 3; ++kk) vol *= (size_t)(bx[3 + kk] - bx[kk] + 1);
-        ncol = (size_t)(bx[3 + u] - bx[u] + 1) * (bx[3 + v] - bx[v] + 1);
-        if (tp.comp_first[c + 1] - tp.comp_first[c] < 3) continue; /* encloses nothing: touched only */
-        if (vol > fl.cap_vox) fl.cap_vox = vol;
-        if (ncol > fl.cap_col) fl.cap_col = ncol;
+        ncol = (size_t)(bx[3 + b->u] - bx[b->u] + 1) * (bx[3 + b->v] - bx[b->v] + 1);
+        if (tp->comp_first[c + 1] - tp->comp_first[c] < 3) continue; /* encloses nothing: touched only */
+        if (vol > fl->cap_vox) fl->cap_vox = vol;
+        if (ncol > fl->cap_col) fl->cap_col = ncol;
     }
-    qcap = total > 2 * fl.cap_vox ? total : 2 * fl.cap_vox;
-    fl.bits = (uint8_t *)pvs__alloc_array(&a, fl.cap_vox ? fl.cap_vox : 1, 1);
-    fl.col = (uint8_t *)pvs__alloc_array(&a, fl.cap_col ? fl.cap_col : 1, 1);
-    queue = (uint32_t *)pvs__alloc_array(&a, qcap, sizeof(uint32_t));
-    fl.queue = queue;
-    if (!fl.bits || !fl.col || !queue) goto oom;
+    return PVS_OK;
+}
+
+/* Step 1 of pvs_occluders_create, solid proved per component (see the argument before
+   pvs__vx_orient): the components (pvs__vx_topology) and their boxes; each component of three
+   triangles or more flooded and certified on the grid (pvs__vx_certify), the others, which enclose
+   nothing, only marked touched (for the summary and the leak flood); then the touched voxels
+   counted. Allocates b->queue (kept for the leak flood) and frees the rest of its scratch. Returns
+   OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
+    static const int xyz[3] = {0, 1, 2};
+    pvs_occluders *o = b->o;
+    const pvs_allocator *a = &b->a;
+    const pvs__vx_topo *tp = &b->tp;
+    pvs__vx_flood *fl = &b->fl;
+    uint32_t zero[3] = {0, 0, 0}, last[3], c;
+    pvs__vx_touch tv;
+    size_t vi;
+    int kk;
+    if (pvs__vx_topology(b->s, (float)b->g, a, &b->tp) != PVS_OK) return PVS_ERROR_OUT_OF_MEMORY;
+    if (pvs__vx_build_boxes(b) != PVS_OK) return PVS_ERROR_OUT_OF_MEMORY;
+    b->qcap = b->total > 2 * fl->cap_vox ? b->total : 2 * fl->cap_vox;
+    fl->bits = (uint8_t *)pvs__alloc_array(a, fl->cap_vox ? fl->cap_vox : 1, 1);
+    fl->col = (uint8_t *)pvs__alloc_array(a, fl->cap_col ? fl->cap_col : 1, 1);
+    b->queue = (uint32_t *)pvs__alloc_array(a, b->qcap, sizeof(uint32_t));
+    fl->queue = b->queue;
+    if (!fl->bits || !fl->col || !b->queue) return PVS_ERROR_OUT_OF_MEMORY;
     memset(&tv, 0, sizeof(tv));
     tv.o = o;
     tv.gr = &o->grid;
-    tv.hs = 0.5 * h + m;
+    tv.hs = 0.5 * b->h + b->m;
     for (kk = 0; kk < 3; ++kk) last[kk] = o->n[kk] - 1;
-    for (c = 0; c < tp.comp_count; ++c) {
+    for (c = 0; c < tp->comp_count; ++c) {
         uint32_t t;
-        if (tp.comp_first[c + 1] - tp.comp_first[c] >= 3) {
-            pvs__vx_certify(o, &tp, c, cbox + 6 * (size_t)c, cbox + 6 * (size_t)c + 3, m, &fl);
+        if (tp->comp_first[c + 1] - tp->comp_first[c] >= 3) {
+            pvs__vx_certify(o, tp, c, b->cbox + 6 * (size_t)c, b->cbox + 6 * (size_t)c + 3, b->m, fl);
             ++o->info.components;
-            o->info.closed_components += tp.open_first[c + 1] == tp.open_first[c];
+            o->info.closed_components += tp->open_first[c + 1] == tp->open_first[c];
             continue;
         }
-        for (t = tp.comp_first[c]; t < tp.comp_first[c + 1]; ++t) { /* touched, for the summary and the leak flood */
-            pvs__vx_tri_points(s, tp.tris[t], tv.p);
-            pvs__vx_scan(&o->grid, tv.p[0], 3, xyz, 3, m, zero, last, pvs__vx_touch_visit, &tv);
+        for (t = tp->comp_first[c]; t < tp->comp_first[c + 1]; ++t) { /* touched, for the summary and the leak flood */
+            pvs__vx_tri_points(b->s, tp->tris[t], tv.p);
+            pvs__vx_scan(&o->grid, tv.p[0], 3, xyz, 3, b->m, zero, last, pvs__vx_touch_visit, &tv);
         }
     }
-    o->info.open_edges = tp.open_count;
-    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
-    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
-    pvs__free_array(&a, cbox, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
-    fl.bits = fl.col = NULL;
-    fl.queue = NULL; /* `queue` keeps it for the leak flood */
-    fl.cap_vox = fl.cap_col = 0;
-    cbox = NULL;
-    for (vi = 0; vi < total; ++vi) o->info.touched += (o->state[vi] & PVS__VX_TOUCHED) != 0;
-    /* 2. explicit occluder volumes are solid: voxels wholly inside one */
+    o->info.open_edges = tp->open_count;
+    pvs__free_array(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
+    pvs__free_array(a, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
+    pvs__free_array(a, b->cbox, (size_t)(tp->comp_count ? tp->comp_count : 1) * 6, sizeof(uint32_t));
+    fl->bits = fl->col = NULL;
+    fl->queue = NULL; /* b->queue keeps it for the leak flood */
+    fl->cap_vox = fl->cap_col = 0;
+    b->cbox = NULL;
+    for (vi = 0; vi < b->total; ++vi) o->info.touched += (o->state[vi] & PVS__VX_TOUCHED) != 0;
+    return PVS_OK;
+}
+
+/* Step 2 of pvs_occluders_create: explicit occluder volumes are solid; every voxel above the ground
+   wholly inside one becomes PVS__VX_EXPLICIT | PVS__VX_SOLID. */
+PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
+    const pvs_scene *s = o->scene;
+    double h = o->h;
+    uint32_t up = s->up_axis, c, i, j, k;
+    int kk;
     for (c = 0; c < s->occluder_count; ++c) {
         const pvs_box *ob = s->occluder_boxes + c;
         uint32_t r0[3], r1[3];
@@ -12220,12 +12499,20 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                     if (pvs__vx_in_occluder(s->occluders + c, up, lo, hi)) o->state[x] |= PVS__VX_EXPLICIT | PVS__VX_SOLID;
                 }
     }
-    /* 3. the leak diagnostic: a 6-connected flood through untouched, unsolid voxels from the grid's
-       border (outside the scene); a chain of face-adjacent untouched voxels is a real path that meets
-       no triangle, so every cell with a voxel it reached truly reaches the outside. The lowest such
-       cell is reported, with one of its reached voxels. */
+}
+
+/* Step 3 of pvs_occluders_create, the leak diagnostic: a 6-connected flood through untouched,
+   unsolid voxels from the grid's border (outside the scene); a chain of face-adjacent untouched
+   voxels is a real path that meets no triangle, so every cell with a voxel it reached truly reaches
+   the outside. The lowest such cell is reported (info.leak_cell), with one of its reached voxels;
+   info.leak_cells counts them. Floods with b->queue (total entries). */
+PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
+    pvs_occluders *o = b->o;
+    const pvs_occluders_desc *d = b->d;
+    uint32_t *queue = b->queue, qh = 0, qt = 0, c, i, j, k;
+    double h = b->h;
+    int kk;
     o->info.leak_cell = PVS_NO_CELL;
-    qh = qt = 0;
     for (k = 0; k < o->n[2]; ++k)
         for (j = 0; j < o->n[1]; ++j)
             for (i = 0; i < o->n[0]; ++i) {
@@ -12252,7 +12539,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         uint32_t r0[3], r1[3];
         int found = 0;
         const pvs_box *cb = d->cells + c;
-        for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, cb->min[kk], cb->max[kk], m, r0 + kk, r1 + kk);
+        for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, cb->min[kk], cb->max[kk], b->m, r0 + kk, r1 + kk);
         for (k = r0[2]; k <= r1[2] && !found; ++k)
             for (j = r0[1]; j <= r1[1] && !found; ++j)
                 for (i = r0[0]; i <= r1[0] && !found; ++i)
@@ -12267,7 +12554,16 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                     }
         o->info.leak_cells += (uint32_t)found;
     }
-    for (vi = 0; vi < total; ++vi) {
+}
+
+/* The solid after steps 1 to 3: o->eroded = the solid voxels (eroded in step 5), counted in
+   info.solid, and info.thin_objects, the drawable objects with no solid voxel inside their box. */
+PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
+    const pvs_scene *s = o->scene;
+    uint32_t c, i, j, k;
+    size_t vi;
+    int kk;
+    for (vi = 0; vi < o->total; ++vi) {
         o->eroded[vi] = (uint8_t)pvs__vx_solid_state(o->state[vi]);
         o->info.solid += o->eroded[vi];
     }
@@ -12283,8 +12579,19 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
                 for (i = r0[0]; i <= r1[0] && !found; ++i) found = o->eroded[pvs__vx_index(o, i, j, k)];
         o->info.thin_objects += !found;
     }
-    /* 4. the 2.5D occluders: is the solid mostly runs standing on the ground? then the column map */
-    r = (uint32_t)floor(d->eps / h) + 1u; /* strictly more than eps: rounding toward less solid */
+}
+
+/* Step 4 of pvs_occluders_create, the 2.5D occluders: the solid voxels in runs standing on the
+   ground (info.column_voxels; is_2d5 when they hold 90% of the solid), then the column map, its
+   chains and the hierarchies (pvs__vx_columns, pvs__occluders_hierarchies). Then frees the floods'
+   scratch, all but the per-cell bytes (the excluded flags). Returns OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_build_columns(pvs__vx_build *b) {
+    pvs_occluders *o = b->o;
+    const pvs_allocator *a = &b->a;
+    pvs__vx_flood *fl = &b->fl;
+    uint32_t up = b->up, cells = b->d->cell_count;
+    int u = b->u, v = b->v;
+    size_t vi, cols = (size_t)o->n[u] * o->n[v];
     for (vi = 0; vi < cols; ++vi) {
         uint32_t idx[3];
         idx[u] = (uint32_t)(vi % o->n[u]); idx[v] = (uint32_t)(vi / o->n[u]);
@@ -12294,47 +12601,107 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         }
     }
     o->info.is_2d5 = o->info.solid > 0 && (double)o->info.column_voxels >= 0.9 * (double)o->info.solid;
-    if (pvs__vx_columns(o, &tp, &ext, d->eps, m, &fl) != PVS_OK || pvs__occluders_hierarchies(o) != PVS_OK) goto oom;
+    if (pvs__vx_columns(o, &b->tp, &b->ext, b->d->eps, b->m, fl) != PVS_OK || pvs__occluders_hierarchies(o) != PVS_OK)
+        return PVS_ERROR_OUT_OF_MEMORY;
     o->info.rect_count = o->chain_count;
-    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
-    pvs__free_array(&a, fl.queue, fl.cap_vox ? 2 * fl.cap_vox : 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
-    pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
-    /* the leaking cells the floods left out (step 4 of pvs__vx_flood_component) */
-    o->info.excluded_cells = fl.excluded_count;
-    if (fl.excluded_count) {
+    pvs__free_array(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
+    pvs__free_array(a, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
+    pvs__free_array(a, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
+    pvs__free_array(a, fl->bucket_first, b->nbuckets + 1, sizeof(uint32_t));
+    pvs__free_array(a, fl->bucket_cells, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
+    pvs__free_array(a, fl->stamp, cells, sizeof(uint32_t));
+    fl->bits = fl->col = NULL; /* freed: the error path must not free them again */
+    fl->queue = fl->bucket_first = fl->bucket_cells = fl->stamp = NULL;
+    return PVS_OK;
+}
+
+/* The leaking cells the floods left out (step 4 of pvs__vx_flood_component): their ids and boxes
+   (o->excluded, o->excluded_boxes); then frees the floods' per-cell bytes and clears b->fl. Returns
+   OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vx_build_excluded(pvs__vx_build *b) {
+    pvs_occluders *o = b->o;
+    const pvs_occluders_desc *d = b->d;
+    const pvs_allocator *a = &b->a;
+    pvs__vx_flood *fl = &b->fl;
+    uint32_t c;
+    o->info.excluded_cells = fl->excluded_count;
+    if (fl->excluded_count) {
         uint32_t n = 0;
-        o->excluded = (uint32_t *)pvs__alloc_array(&a, fl.excluded_count, sizeof(uint32_t));
-        o->excluded_boxes = (pvs_box *)pvs__alloc_array(&a, fl.excluded_count, sizeof(pvs_box));
+        o->excluded = (uint32_t *)pvs__alloc_array(a, fl->excluded_count, sizeof(uint32_t));
+        o->excluded_boxes = (pvs_box *)pvs__alloc_array(a, fl->excluded_count, sizeof(pvs_box));
         if (!o->excluded || !o->excluded_boxes) {
-            pvs__free_array(&a, fl.cellbuf, d->cell_count, 7);
-            fl.cellbuf = NULL;
-            goto oom;
+            pvs__free_array(a, fl->cellbuf, d->cell_count, 7);
+            fl->cellbuf = NULL;
+            return PVS_ERROR_OUT_OF_MEMORY;
         }
         for (c = 0; c < d->cell_count; ++c)
-            if (fl.excluded[c]) { o->excluded[n] = c; o->excluded_boxes[n++] = d->cells[c]; }
+            if (fl->excluded[c]) { o->excluded[n] = c; o->excluded_boxes[n++] = d->cells[c]; }
     }
-    pvs__free_array(&a, fl.cellbuf, d->cell_count, 7);
-    memset(&fl, 0, sizeof(fl));
-    pvs__vx_topo_free(&a, &tp, s->triangle_count);
+    pvs__free_array(a, fl->cellbuf, d->cell_count, 7);
+    memset(fl, 0, sizeof(*fl));
+    return PVS_OK;
+}
+
+/* Step 5 of pvs_occluders_create, the occluders shrunk by eps (Wonka 2000 §2, appendix): the solid
+   eroded in 3D by r voxels (Chebyshev; outside the grid and the ground count as empty), then merged
+   greedily into boxes (o->boxes; left NULL when out of memory). */
+PVS__STATIC void pvs__vx_erode_merge(pvs__vx_build *b, uint32_t r) {
+    pvs_occluders *o = b->o;
+    size_t vi, total = b->total;
+    int kk;
+    for (kk = 0; kk < 3; ++kk) pvs__vx_erode_axis(o, o->eroded, b->line, kk, r);
+    for (vi = 0; vi < total; ++vi) o->info.eroded += o->eroded[vi];
+    memcpy(b->tmp, o->eroded, total);
+    o->box_count = pvs__vx_merge(o, b->tmp, NULL);
+    o->boxes = (pvs_box *)pvs__alloc_array(&b->a, o->box_count ? o->box_count : 1, sizeof(pvs_box));
+    if (o->boxes) {
+        memcpy(b->tmp, o->eroded, total);
+        pvs__vx_merge(o, b->tmp, o->boxes);
+    }
+    o->info.box_count = o->box_count;
+}
+
+PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occluders **out, pvs_error *err) {
+    pvs__vx_build b;
+    pvs_occluders *o;
+    pvs_result res;
+    uint32_t c, r;
+    int kk;
+    if (out) *out = NULL;
+    memset(&b, 0, sizeof(b));
+    if (!d || !out || !d->scene || !d->cells || !d->cell_count)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene, cells and out must be given");
+    if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and > 0, voxel_size finite and >= 0");
+    if (d->flags & ~PVS_OCCLUDERS_KEEP_LEAKS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown occluders flags 0x%x", d->flags);
+    for (c = 0; c < d->cell_count; ++c)
+        if (!pvs__box_valid(d->cells + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "cell %u is not a valid box", c);
+    b.d = d;
+    b.s = d->scene;
+    b.a = d->allocator;
+    b.up = b.s->up_axis;
+    pvs__ground_axes(b.up, &b.u, &b.v);
+    res = pvs__vx_build_grid(&b, err);
+    if (res != PVS_OK) return res;
+    o = b.o;
+    /* a bucket grid over the cells in the ground plane, for the floods' sources */
+    if (pvs__vx_build_buckets(&b) != PVS_OK) goto oom;
+    /* 1. solid proved per component (see the argument before pvs__vx_orient) */
+    if (pvs__vx_build_certify(&b) != PVS_OK) goto oom;
+    /* 2. explicit occluder volumes are solid: voxels wholly inside one */
+    pvs__vx_explicit_solid(o);
+    /* 3. the leak diagnostic: the cells that reach the grid's border through untouched voxels */
+    pvs__vx_leaks(&b);
+    pvs__vx_solid_summary(o);
+    /* 4. the 2.5D occluders: is the solid mostly runs standing on the ground? then the column map */
+    r = (uint32_t)floor(d->eps / b.h) + 1u; /* strictly more than eps: rounding toward less solid */
+    if (pvs__vx_build_columns(&b) != PVS_OK || pvs__vx_build_excluded(&b) != PVS_OK) goto oom;
+    pvs__vx_topo_free(&b.a, &b.tp, b.s->triangle_count);
     /* 5. 3D erosion by r voxels (Chebyshev; outside the grid and the ground count as empty), then boxes */
-    {
-        for (kk = 0; kk < 3; ++kk) pvs__vx_erode_axis(o, o->eroded, line, kk, r);
-        for (vi = 0; vi < total; ++vi) o->info.eroded += o->eroded[vi];
-        memcpy(tmp, o->eroded, total);
-        o->box_count = pvs__vx_merge(o, tmp, NULL);
-        o->boxes = (pvs_box *)pvs__alloc_array(&a, o->box_count ? o->box_count : 1, sizeof(pvs_box));
-        if (o->boxes) {
-            memcpy(tmp, o->eroded, total);
-            pvs__vx_merge(o, tmp, o->boxes);
-        }
-        o->info.box_count = o->box_count;
-    }
-    pvs__free_array(&a, tmp, total, 1);
-    pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
-    pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+    pvs__vx_erode_merge(&b, r);
+    pvs__free_array(&b.a, b.tmp, b.total, 1);
+    pvs__free_array(&b.a, b.queue, b.qcap, sizeof(uint32_t));
+    pvs__free_array(&b.a, b.line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
     if (!o->boxes) {
         pvs_occluders_destroy(o);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder boxes");
@@ -12343,24 +12710,13 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
         o->info.dims[kk] = o->n[kk];
         o->info.origin[kk] = (float)o->origin[kk];
     }
-    o->info.voxel_size = (float)h;
+    o->info.voxel_size = (float)b.h;
     o->info.eps = d->eps;
     *out = o;
     pvs__ok(err);
     return PVS_OK;
 oom:
-    pvs__free_array(&a, fl.bucket_first, nbuckets + 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.bucket_cells, bucket_entries ? bucket_entries : 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.stamp, d->cell_count, sizeof(uint32_t));
-    pvs__free_array(&a, fl.cellbuf, d->cell_count, 7);
-    if (fl.queue && fl.queue != queue) pvs__free_array(&a, fl.queue, fl.cap_vox ? 2 * fl.cap_vox : 1, sizeof(uint32_t));
-    pvs__free_array(&a, fl.bits, fl.cap_vox ? fl.cap_vox : 1, 1);
-    pvs__free_array(&a, fl.col, fl.cap_col ? fl.cap_col : 1, 1);
-    pvs__free_array(&a, cbox, (size_t)(tp.comp_count ? tp.comp_count : 1) * 6, sizeof(uint32_t));
-    pvs__vx_topo_free(&a, &tp, s->triangle_count);
-    pvs__free_array(&a, tmp, total, 1);
-    pvs__free_array(&a, queue, qcap, sizeof(uint32_t));
-    pvs__free_array(&a, line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+    pvs__vx_build_free(&b);
     pvs_occluders_destroy(o);
     return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder synthesis scratch");
 }
@@ -12587,52 +12943,18 @@ PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__key_index 
     return k > 1 ? k - 1 : k;
 }
 
-/* Builds the prepared occluders from segments (4 doubles each, ground coordinates) with their
-   heights: vertex ids by exact coordinates, wall loops (components whose every vertex joins
-   exactly two segments), loop hulls, objects and the grid. Zero-length segments are dropped. */
-PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *seg, const float *top, uint32_t n, pvs__vprep **out) {
-    pvs__vprep *p;
-    pvs__key_index *keys = NULL;
-    uint32_t *deg = NULL, *adj = NULL, *uf = NULL, *idx = NULL, *hidx = NULL, i, nv = 0, m = 0;
-    pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
-    *out = NULL;
-    p = (pvs__vprep *)pvs__alloc(al, sizeof(pvs__vprep), 16);
-    if (!p) return PVS_ERROR_OUT_OF_MEMORY;
-    memset(p, 0, sizeof(*p));
-    p->a = *al;
-    for (i = 0; i < n; ++i) m += !(seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]);
-    p->nseg = m;
-    p->seg = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
-    p->seg_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
-    p->seg_vid = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-    p->seg_loop = (int32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(int32_t));
-    p->loop_start = (uint32_t *)pvs__alloc_array(al, (size_t)m + 2, sizeof(uint32_t));
-    p->ring_seg = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
-    p->ring_pt = (double *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(double));
-    p->hull_start = (uint32_t *)pvs__alloc_array(al, (size_t)m + 2, sizeof(uint32_t));
-    p->hull_pt = (double *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(double));
-    p->hull_vid = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
-    p->loop_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
-    p->loop_bb = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
-    p->obj_ref = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
-    p->obj_bb = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
-    p->obj_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
-    keys = (pvs__key_index *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(pvs__key_index));
-    deg = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-    adj = (uint32_t *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(uint32_t));
-    uf = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-    idx = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-    hidx = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-    if (!p->seg || !p->seg_top || !p->seg_vid || !p->seg_loop || !p->loop_start || !p->ring_seg || !p->ring_pt || !p->hull_start ||
-        !p->hull_pt || !p->hull_vid || !p->loop_top || !p->loop_bb || !p->obj_ref || !p->obj_bb || !p->obj_top || !keys || !deg ||
-        !adj || !uf || !idx || !hidx)
-        goto done;
-    for (i = 0, m = 0; i < n; ++i) {
-        if (seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]) continue;
-        memcpy(p->seg + 4 * (size_t)m, seg + 4 * (size_t)i, 4 * sizeof(double));
-        p->seg_top[m++] = top[i];
-    }
-    /* vertex ids: sort the 2m end points by (x, y) */
+/* The scratch of pvs__vprep_create: keys, deg, uf, idx and hidx hold 2m + 2 entries (m segments),
+   adj 4m + 4. */
+typedef struct pvs__vprep_scratch {
+    pvs__key_index *keys;
+    uint32_t *deg, *adj, *uf, *idx, *hidx;
+    uint32_t nv;          /* distinct vertices */
+} pvs__vprep_scratch;
+
+/* Vertex ids: the 2m end points sorted by (x, y); equal points get one id (p->seg_vid); sets w->nv. */
+PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
+    pvs__key_index *keys = w->keys;
+    uint32_t m = p->nseg, i, nv = 0;
     for (i = 0; i < 2 * m; ++i) { keys[i].key = p->seg[2 * i]; keys[i].index = i; }
     pvs__key_index_sort(keys, 2 * m);
     for (i = 0; i < 2 * m;) {
@@ -12647,6 +12969,14 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
         ++nv;
         i = j;
     }
+    w->nv = nv;
+}
+
+/* The segments' graph: per vertex its degree (w->deg) and first two segments (w->adj), its
+   component's root (w->uf), and per root whether the component has a vertex of degree other than 2
+   (w->idx: 1 = not a loop). Sets every p->seg_loop to -1. */
+PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
+    uint32_t *deg = w->deg, *adj = w->adj, *uf = w->uf, *idx = w->idx, m = p->nseg, nv = w->nv, i;
     for (i = 0; i < nv; ++i) { deg[i] = 0; uf[i] = i; }
     for (i = 0; i < m; ++i) {
         uint32_t e;
@@ -12672,56 +13002,66 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
     for (i = 0; i < nv; ++i) idx[i] = 0;
     for (i = 0; i < nv; ++i)
         if (deg[i] != 2) idx[uf[i]] = 1;
+}
+
+/* The wall loops (the header comment of >>vocc): each component whose every vertex joins exactly two
+   segments, walked from its lowest segment into ring order (p->ring_seg, ring_pt, loop_start), with
+   its lowest top, bounding box and convex hull (p->hull_pt, hull_vid, hull_start). Two segments
+   joining the same two points are no ring with an inside. */
+PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
+    uint32_t *adj = w->adj, *uf = w->uf, *idx = w->idx, *hidx = w->hidx, m = p->nseg, ring = 0, h = 0, i;
     p->nloop = 0;
     p->loop_start[0] = 0;
-    {
-        uint32_t ring = 0, h = 0;
-        for (i = 0; i < m; ++i) {
-            uint32_t root = uf[p->seg_vid[2 * i]], s, v, count = 0, l, hn, k;
-            if (idx[root] || p->seg_loop[i] >= 0) continue;
-            l = p->nloop;
-            s = i;
-            v = p->seg_vid[2 * i];
-            do { /* from vertex v along segment s */
-                uint32_t w = p->seg_vid[2 * s] == v ? p->seg_vid[2 * s + 1] : p->seg_vid[2 * s];
-                const double *pt = p->seg + 4 * (size_t)s + (p->seg_vid[2 * s] == v ? 0 : 2);
-                p->seg_loop[s] = (int32_t)l;
-                p->ring_seg[ring + count] = s;
-                p->ring_pt[2 * (ring + count)] = pt[0];
-                p->ring_pt[2 * (ring + count) + 1] = pt[1];
-                ++count;
-                v = w;
-                s = adj[2 * v] == s ? adj[2 * v + 1] : adj[2 * v];
-            } while (s != i && count <= m);
-            if (count < 3) { /* two segments joining the same two points: not a ring with an inside */
-                for (k = 0; k < count; ++k) p->seg_loop[p->ring_seg[ring + k]] = -1;
-                idx[root] = 1;
-                continue;
-            }
-            p->loop_top[l] = FLT_MAX;
-            p->loop_bb[4 * l] = p->loop_bb[4 * l + 1] = DBL_MAX;
-            p->loop_bb[4 * l + 2] = p->loop_bb[4 * l + 3] = -DBL_MAX;
-            for (k = 0; k < count; ++k) {
-                if (p->seg_top[p->ring_seg[ring + k]] < p->loop_top[l]) p->loop_top[l] = p->seg_top[p->ring_seg[ring + k]];
-                pvs__vo_bb_add(p->loop_bb + 4 * l, p->ring_pt + 2 * (ring + k));
-            }
-            hn = pvs__vo_hull(p->ring_pt + 2 * ring, count, keys, hidx);
-            p->hull_start[l] = h;
-            /* ring point q starts ring segment q: its id is the vertex q shares with segment q - 1 */
-            for (k = 0; k < hn; ++k) {
-                uint32_t q = hidx[k], sq = p->ring_seg[ring + q], sp = p->ring_seg[ring + (q + count - 1) % count];
-                uint32_t a0 = p->seg_vid[2 * sq], a1 = p->seg_vid[2 * sq + 1];
-                p->hull_pt[2 * (h + k)] = p->ring_pt[2 * (ring + q)];
-                p->hull_pt[2 * (h + k) + 1] = p->ring_pt[2 * (ring + q) + 1];
-                p->hull_vid[h + k] = (a0 == p->seg_vid[2 * sp] || a0 == p->seg_vid[2 * sp + 1]) ? a0 : a1;
-            }
-            h += hn;
-            ring += count;
-            p->loop_start[++p->nloop] = ring;
-            p->hull_start[p->nloop] = h;
+    for (i = 0; i < m; ++i) {
+        uint32_t root = uf[p->seg_vid[2 * i]], s, v, count = 0, l, hn, k;
+        if (idx[root] || p->seg_loop[i] >= 0) continue;
+        l = p->nloop;
+        s = i;
+        v = p->seg_vid[2 * i];
+        do { /* from vertex v along segment s */
+            uint32_t wv = p->seg_vid[2 * s] == v ? p->seg_vid[2 * s + 1] : p->seg_vid[2 * s];
+            const double *pt = p->seg + 4 * (size_t)s + (p->seg_vid[2 * s] == v ? 0 : 2);
+            p->seg_loop[s] = (int32_t)l;
+            p->ring_seg[ring + count] = s;
+            p->ring_pt[2 * (ring + count)] = pt[0];
+            p->ring_pt[2 * (ring + count) + 1] = pt[1];
+            ++count;
+            v = wv;
+            s = adj[2 * v] == s ? adj[2 * v + 1] : adj[2 * v];
+        } while (s != i && count <= m);
+        if (count < 3) { /* two segments joining the same two points: not a ring with an inside */
+            for (k = 0; k < count; ++k) p->seg_loop[p->ring_seg[ring + k]] = -1;
+            idx[root] = 1;
+            continue;
         }
+        p->loop_top[l] = FLT_MAX;
+        p->loop_bb[4 * l] = p->loop_bb[4 * l + 1] = DBL_MAX;
+        p->loop_bb[4 * l + 2] = p->loop_bb[4 * l + 3] = -DBL_MAX;
+        for (k = 0; k < count; ++k) {
+            if (p->seg_top[p->ring_seg[ring + k]] < p->loop_top[l]) p->loop_top[l] = p->seg_top[p->ring_seg[ring + k]];
+            pvs__vo_bb_add(p->loop_bb + 4 * l, p->ring_pt + 2 * (ring + k));
+        }
+        hn = pvs__vo_hull(p->ring_pt + 2 * ring, count, w->keys, hidx);
+        p->hull_start[l] = h;
+        /* ring point q starts ring segment q: its id is the vertex q shares with segment q - 1 */
+        for (k = 0; k < hn; ++k) {
+            uint32_t q = hidx[k], sq = p->ring_seg[ring + q], sp = p->ring_seg[ring + (q + count - 1) % count];
+            uint32_t a0 = p->seg_vid[2 * sq], a1 = p->seg_vid[2 * sq + 1];
+            p->hull_pt[2 * (h + k)] = p->ring_pt[2 * (ring + q)];
+            p->hull_pt[2 * (h + k) + 1] = p->ring_pt[2 * (ring + q) + 1];
+            p->hull_vid[h + k] = (a0 == p->seg_vid[2 * sp] || a0 == p->seg_vid[2 * sp + 1]) ? a0 : a1;
+        }
+        h += hn;
+        ring += count;
+        p->loop_start[++p->nloop] = ring;
+        p->hull_start[p->nloop] = h;
     }
-    /* objects: loops with a usable hull, then every segment of no such loop */
+}
+
+/* The objects of §3 (Koltun 2000): the loops with a usable hull (3 to PVS__VO_MAXH vertices), then
+   every segment of no such loop, each with its bounding box and top. */
+PVS__STATIC void pvs__vprep_objects(pvs__vprep *p) {
+    uint32_t i;
     p->nobj = 0;
     for (i = 0; i < p->nloop; ++i) {
         uint32_t hn = p->hull_start[i + 1] - p->hull_start[i];
@@ -12730,7 +13070,7 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
         memcpy(p->obj_bb + 4 * (size_t)p->nobj, p->loop_bb + 4 * (size_t)i, 4 * sizeof(double));
         p->obj_top[p->nobj++] = p->loop_top[i];
     }
-    for (i = 0; i < m; ++i) {
+    for (i = 0; i < p->nseg; ++i) {
         int32_t l = p->seg_loop[i];
         if (l >= 0) {
             uint32_t hn = p->hull_start[l + 1] - p->hull_start[l];
@@ -12743,7 +13083,15 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
         pvs__vo_bb_add(p->obj_bb + 4 * (size_t)p->nobj, p->seg + 4 * (size_t)i + 2);
         p->obj_top[p->nobj++] = p->seg_top[i];
     }
-    /* the bucket grid: about two objects per bucket, at most 1024 x 1024 */
+}
+
+/* The bucket grid over the objects: about two objects per bucket, at most 1024 x 1024; an object is
+   listed in the buckets its box covers, a long wall in those along it (counted in a first pass,
+   filled in a second: p->gstart, p->gitem). Returns OUT_OF_MEMORY or PVS_OK. */
+PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
+    double w, hh, cs;
+    size_t total = 0, cells;
+    uint32_t i, j;
     p->bb[0] = p->bb[1] = DBL_MAX;
     p->bb[2] = p->bb[3] = -DBL_MAX;
     for (i = 0; i < p->nobj; ++i) {
@@ -12751,75 +13099,128 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
         pvs__vo_bb_add(p->bb, p->obj_bb + 4 * (size_t)i + 2);
     }
     if (!p->nobj) { p->bb[0] = p->bb[1] = 0.0; p->bb[2] = p->bb[3] = 1.0; }
-    {
-        double w = p->bb[2] - p->bb[0], hh = p->bb[3] - p->bb[1], cs = sqrt((w * hh > 0.0 ? w * hh : (w + hh) * (w + hh) + 1.0) / (0.5 * (p->nobj + 1)));
-        size_t total = 0, cells;
-        uint32_t j;
-        if (!(cs > 0.0)) cs = 1.0;
-        if (w / cs > 1024.0) cs = w / 1024.0;
-        if (hh / cs > 1024.0) cs = hh / 1024.0;
-        p->gcell = cs;
-        p->g0[0] = p->bb[0];
-        p->g0[1] = p->bb[1];
-        p->gw = (uint32_t)(w / cs) + 1;
-        p->gh = (uint32_t)(hh / cs) + 1;
-        cells = (size_t)p->gw * p->gh;
-        p->gstart = (uint32_t *)pvs__alloc_array(al, cells + 1, sizeof(uint32_t));
-        if (!p->gstart) goto done;
-        memset(p->gstart, 0, (cells + 1) * sizeof(uint32_t));
-        for (j = 0; j < 2; ++j) {
-            for (i = 0; i < p->nobj; ++i) {
-                const double *b = p->obj_bb + 4 * (size_t)i;
-                uint32_t x0 = (uint32_t)((b[0] - p->g0[0]) / cs), y0 = (uint32_t)((b[1] - p->g0[1]) / cs);
-                uint32_t x1 = (uint32_t)((b[2] - p->g0[0]) / cs), y1 = (uint32_t)((b[3] - p->g0[1]) / cs), x, y;
-                if (x1 >= p->gw) x1 = p->gw - 1;
-                if (y1 >= p->gh) y1 = p->gh - 1;
-                if (p->obj_ref[i] >= p->nloop && (uint64_t)(x1 - x0 + 1) * (y1 - y0 + 1) > 16) {
-                    /* a long wall: the buckets along it (samples a quarter bucket apart), not its box; a
-                       bucket missed only hides the wall from the growth's search (never from a check) */
-                    const double *sg = p->seg + 4 * (size_t)(p->obj_ref[i] - p->nloop);
-                    double len = sqrt((sg[2] - sg[0]) * (sg[2] - sg[0]) + (sg[3] - sg[1]) * (sg[3] - sg[1]));
-                    uint32_t steps = (uint32_t)(4.0 * len / cs) + 1, t, last = 0xffffffffu;
-                    for (t = 0; t <= steps; ++t) {
-                        double u = (double)t / steps;
-                        uint32_t bx = (uint32_t)((sg[0] + u * (sg[2] - sg[0]) - p->g0[0]) / cs), by = (uint32_t)((sg[1] + u * (sg[3] - sg[1]) - p->g0[1]) / cs), at;
-                        if (bx >= p->gw) bx = p->gw - 1;
-                        if (by >= p->gh) by = p->gh - 1;
-                        at = by * p->gw + bx;
-                        if (at == last) continue;
-                        last = at;
-                        if (j) p->gitem[--p->gstart[(size_t)at + 1]] = i;
-                        else ++total, ++p->gstart[(size_t)at + 1];
-                    }
-                    continue;
+    w = p->bb[2] - p->bb[0];
+    hh = p->bb[3] - p->bb[1];
+    cs = sqrt((w * hh > 0.0 ? w * hh : (w + hh) * (w + hh) + 1.0) / (0.5 * (p->nobj + 1)));
+    if (!(cs > 0.0)) cs = 1.0;
+    if (w / cs > 1024.0) cs = w / 1024.0;
+    if (hh / cs > 1024.0) cs = hh / 1024.0;
+    p->gcell = cs;
+    p->g0[0] = p->bb[0];
+    p->g0[1] = p->bb[1];
+    p->gw = (uint32_t)(w / cs) + 1;
+    p->gh = (uint32_t)(hh / cs) + 1;
+    cells = (size_t)p->gw * p->gh;
+    p->gstart = (uint32_t *)pvs__alloc_array(al, cells + 1, sizeof(uint32_t));
+    if (!p->gstart) return PVS_ERROR_OUT_OF_MEMORY;
+    memset(p->gstart, 0, (cells + 1) * sizeof(uint32_t));
+    for (j = 0; j < 2; ++j) {
+        for (i = 0; i < p->nobj; ++i) {
+            const double *b = p->obj_bb + 4 * (size_t)i;
+            uint32_t x0 = (uint32_t)((b[0] - p->g0[0]) / cs), y0 = (uint32_t)((b[1] - p->g0[1]) / cs);
+            uint32_t x1 = (uint32_t)((b[2] - p->g0[0]) / cs), y1 = (uint32_t)((b[3] - p->g0[1]) / cs), x, y;
+            if (x1 >= p->gw) x1 = p->gw - 1;
+            if (y1 >= p->gh) y1 = p->gh - 1;
+            if (p->obj_ref[i] >= p->nloop && (uint64_t)(x1 - x0 + 1) * (y1 - y0 + 1) > 16) {
+                /* a long wall: the buckets along it (samples a quarter bucket apart), not its box; a
+                   bucket missed only hides the wall from the growth's search (never from a check) */
+                const double *sg = p->seg + 4 * (size_t)(p->obj_ref[i] - p->nloop);
+                double len = sqrt((sg[2] - sg[0]) * (sg[2] - sg[0]) + (sg[3] - sg[1]) * (sg[3] - sg[1]));
+                uint32_t steps = (uint32_t)(4.0 * len / cs) + 1, t, last = 0xffffffffu;
+                for (t = 0; t <= steps; ++t) {
+                    double u = (double)t / steps;
+                    uint32_t bx = (uint32_t)((sg[0] + u * (sg[2] - sg[0]) - p->g0[0]) / cs), by = (uint32_t)((sg[1] + u * (sg[3] - sg[1]) - p->g0[1]) / cs), at;
+                    if (bx >= p->gw) bx = p->gw - 1;
+                    if (by >= p->gh) by = p->gh - 1;
+                    at = by * p->gw + bx;
+                    if (at == last) continue;
+                    last = at;
+                    if (j) p->gitem[--p->gstart[(size_t)at + 1]] = i;
+                    else ++total, ++p->gstart[(size_t)at + 1];
                 }
-                for (y = y0; y <= y1; ++y)
-                    for (x = x0; x <= x1; ++x) {
-                        if (j) p->gitem[--p->gstart[(size_t)y * p->gw + x + 1]] = i;
-                        else ++total, ++p->gstart[(size_t)y * p->gw + x + 1];
-                    }
+                continue;
             }
-            if (!j) {
-                size_t c2;
-                p->gitems = total;
-                p->gitem = (uint32_t *)pvs__alloc_array(al, total + 1, sizeof(uint32_t));
-                if (!p->gitem) goto done;
-                /* prefix sums: gstart[c + 1] is the end of bucket c; filling decrements it to its start */
-                for (c2 = 0; c2 < cells; ++c2) p->gstart[c2 + 1] += p->gstart[c2];
-            }
+            for (y = y0; y <= y1; ++y)
+                for (x = x0; x <= x1; ++x) {
+                    if (j) p->gitem[--p->gstart[(size_t)y * p->gw + x + 1]] = i;
+                    else ++total, ++p->gstart[(size_t)y * p->gw + x + 1];
+                }
         }
-        /* ... so after filling, gstart[c + 1] is the start of bucket c: shift back into place */
-        for (i = 0; i < (uint32_t)cells; ++i) p->gstart[i] = p->gstart[i + 1];
-        p->gstart[cells] = (uint32_t)total;
+        if (!j) {
+            size_t c2;
+            p->gitems = total;
+            p->gitem = (uint32_t *)pvs__alloc_array(al, total + 1, sizeof(uint32_t));
+            if (!p->gitem) return PVS_ERROR_OUT_OF_MEMORY;
+            /* prefix sums: gstart[c + 1] is the end of bucket c; filling decrements it to its start */
+            for (c2 = 0; c2 < cells; ++c2) p->gstart[c2 + 1] += p->gstart[c2];
+        }
     }
-    r = PVS_OK;
+    /* ... so after filling, gstart[c + 1] is the start of bucket c: shift back into place */
+    for (i = 0; i < (uint32_t)cells; ++i) p->gstart[i] = p->gstart[i + 1];
+    p->gstart[cells] = (uint32_t)total;
+    return PVS_OK;
+}
+
+/* Builds the prepared occluders from segments (4 doubles each, ground coordinates) with their
+   heights: vertex ids by exact coordinates, wall loops (components whose every vertex joins
+   exactly two segments), loop hulls, objects and the grid. Zero-length segments are dropped. */
+PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *seg, const float *top, uint32_t n, pvs__vprep **out) {
+    pvs__vprep *p;
+    pvs__vprep_scratch w;
+    uint32_t i, m = 0;
+    pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
+    *out = NULL;
+    p = (pvs__vprep *)pvs__alloc(al, sizeof(pvs__vprep), 16);
+    if (!p) return PVS_ERROR_OUT_OF_MEMORY;
+    memset(p, 0, sizeof(*p));
+    memset(&w, 0, sizeof(w));
+    p->a = *al;
+    for (i = 0; i < n; ++i) m += !(seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]);
+    p->nseg = m;
+    p->seg = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
+    p->seg_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
+    p->seg_vid = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
+    p->seg_loop = (int32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(int32_t));
+    p->loop_start = (uint32_t *)pvs__alloc_array(al, (size_t)m + 2, sizeof(uint32_t));
+    p->ring_seg = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
+    p->ring_pt = (double *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(double));
+    p->hull_start = (uint32_t *)pvs__alloc_array(al, (size_t)m + 2, sizeof(uint32_t));
+    p->hull_pt = (double *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(double));
+    p->hull_vid = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
+    p->loop_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
+    p->loop_bb = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
+    p->obj_ref = (uint32_t *)pvs__alloc_array(al, (size_t)m + 1, sizeof(uint32_t));
+    p->obj_bb = (double *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(double));
+    p->obj_top = (float *)pvs__alloc_array(al, (size_t)m + 1, sizeof(float));
+    w.keys = (pvs__key_index *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(pvs__key_index));
+    w.deg = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
+    w.adj = (uint32_t *)pvs__alloc_array(al, 4 * (size_t)m + 4, sizeof(uint32_t));
+    w.uf = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
+    w.idx = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
+    w.hidx = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
+    if (!p->seg || !p->seg_top || !p->seg_vid || !p->seg_loop || !p->loop_start || !p->ring_seg || !p->ring_pt || !p->hull_start ||
+        !p->hull_pt || !p->hull_vid || !p->loop_top || !p->loop_bb || !p->obj_ref || !p->obj_bb || !p->obj_top || !w.keys || !w.deg ||
+        !w.adj || !w.uf || !w.idx || !w.hidx)
+        goto done;
+    for (i = 0, m = 0; i < n; ++i) {
+        if (seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]) continue;
+        memcpy(p->seg + 4 * (size_t)m, seg + 4 * (size_t)i, 4 * sizeof(double));
+        p->seg_top[m++] = top[i];
+    }
+    pvs__vprep_vertex_ids(p, &w);
+    pvs__vprep_components(p, &w);
+    pvs__vprep_loops(p, &w);
+    /* objects: loops with a usable hull, then every segment of no such loop */
+    pvs__vprep_objects(p);
+    /* the bucket grid: about two objects per bucket, at most 1024 x 1024 */
+    r = pvs__vprep_grid(p, al);
 done:
-    pvs__free_array(al, keys, 2 * (size_t)m + 2, sizeof(pvs__key_index));
-    pvs__free_array(al, deg, 2 * (size_t)m + 2, sizeof(uint32_t));
-    pvs__free_array(al, adj, 4 * (size_t)m + 4, sizeof(uint32_t));
-    pvs__free_array(al, uf, 2 * (size_t)m + 2, sizeof(uint32_t));
-    pvs__free_array(al, idx, 2 * (size_t)m + 2, sizeof(uint32_t));
-    pvs__free_array(al, hidx, 2 * (size_t)m + 2, sizeof(uint32_t));
+    pvs__free_array(al, w.keys, 2 * (size_t)m + 2, sizeof(pvs__key_index));
+    pvs__free_array(al, w.deg, 2 * (size_t)m + 2, sizeof(uint32_t));
+    pvs__free_array(al, w.adj, 4 * (size_t)m + 4, sizeof(uint32_t));
+    pvs__free_array(al, w.uf, 2 * (size_t)m + 2, sizeof(uint32_t));
+    pvs__free_array(al, w.idx, 2 * (size_t)m + 2, sizeof(uint32_t));
+    pvs__free_array(al, w.hidx, 2 * (size_t)m + 2, sizeof(uint32_t));
     if (r != PVS_OK) {
         p->nseg = m; /* sizes for the frees */
         pvs__vprep_destroy(p);
@@ -13174,97 +13575,116 @@ PVS__STATIC int pvs__vo_near_obj(const pvs__vctx *c, const pvs__vobj *o, const d
     return 1;
 }
 
-/* The from-point test of the header comment: 1 if every segment from the cell to x meets one of the
-   blockers set[0..n). Rounding only ever answers 0. */
-PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, const double *x) {
+/* The fan of the cell seen from a point x (pvs__vo_hidden): its extreme corners cl and ch (every
+   direction of the fan lies within a half-plane), the unit direction f halfway between them, the
+   pseudo-angles aL and aR of its edges about f, and the box of the cell and x grown by the
+   tolerance. */
+typedef struct pvs__vo_fan {
     const double *cl, *ch;
-    double f[2], len, aL, aR, bb[4], tol = c->tol, reach;
-    uint32_t i, k, ns = 0, rid;
-    if (x[0] > c->cmin[0] - tol && x[0] < c->cmax[0] + tol && x[1] > c->cmin[1] - tol && x[1] < c->cmax[1] + tol) return 0;
-    if (!pvs__vo_reserve(c->al, (void **)&c->span, &c->capspan, 2 * (size_t)n + 2, sizeof(pvs__vo_span))) {
-        c->oom = 1;
-        return 0;
-    }
+    double f[2], aL, aR, bb[4];
+} pvs__vo_fan;
+
+/* Sets up the fan of the cell from x (outside the cell); 0 when it has no direction. */
+PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fan *fn) {
+    const double *cl, *ch;
+    double tol = c->tol;
+    uint32_t k;
     cl = ch = c->corner;
     for (k = 1; k < 4; ++k) { /* the fan: its extreme corners (every direction within a half-plane) */
         const double *q = c->corner + 2 * k;
         if (pvs__vo_cross(x, cl, q) < 0.0) cl = q;
         if (pvs__vo_cross(x, ch, q) > 0.0) ch = q;
     }
+    fn->cl = cl;
+    fn->ch = ch;
     {
         double a0 = cl[0] - x[0], a1 = cl[1] - x[1], b0 = ch[0] - x[0], b1 = ch[1] - x[1];
-        double la = sqrt(a0 * a0 + a1 * a1), lb = sqrt(b0 * b0 + b1 * b1);
-        f[0] = a0 / la + b0 / lb;
-        f[1] = a1 / la + b1 / lb;
-        len = sqrt(f[0] * f[0] + f[1] * f[1]);
+        double la = sqrt(a0 * a0 + a1 * a1), lb = sqrt(b0 * b0 + b1 * b1), len;
+        fn->f[0] = a0 / la + b0 / lb;
+        fn->f[1] = a1 / la + b1 / lb;
+        len = sqrt(fn->f[0] * fn->f[0] + fn->f[1] * fn->f[1]);
         if (!(len > 0.0)) return 0;
-        f[0] /= len;
-        f[1] /= len;
-        aL = pvs__vo_pangle(f[0] * a0 + f[1] * a1, f[0] * a1 - f[1] * a0);
-        aR = pvs__vo_pangle(f[0] * b0 + f[1] * b1, f[0] * b1 - f[1] * b0);
+        fn->f[0] /= len;
+        fn->f[1] /= len;
+        fn->aL = pvs__vo_pangle(fn->f[0] * a0 + fn->f[1] * a1, fn->f[0] * a1 - fn->f[1] * a0);
+        fn->aR = pvs__vo_pangle(fn->f[0] * b0 + fn->f[1] * b1, fn->f[0] * b1 - fn->f[1] * b0);
     }
-    bb[0] = (x[0] < c->cmin[0] ? x[0] : c->cmin[0]) - tol;
-    bb[1] = (x[1] < c->cmin[1] ? x[1] : c->cmin[1]) - tol;
-    bb[2] = (x[0] > c->cmax[0] ? x[0] : c->cmax[0]) + tol;
-    bb[3] = (x[1] > c->cmax[1] ? x[1] : c->cmax[1]) + tol;
-    for (i = 0; i < n; ++i) {
-        const pvs__vobj *o = c->obj + set[i];
-        const double *v = c->vx + 2 * (size_t)o->first;
-        uint32_t lo = 0, hi = 0, j, pieces;
-        double plo, phi, sp[2][2];
-        int near_box;
-        if (o->loop >= 0 && x[0] >= o->bb[0] && x[0] <= o->bb[2] && x[1] >= o->bb[1] && x[1] <= o->bb[3] &&
-            pvs__vo_in_loop(c, (uint32_t)o->loop, x))
-            return 1;
-        if (o->bb[0] > bb[2] || o->bb[2] < bb[0] || o->bb[1] > bb[3] || o->bb[3] < bb[1]) continue;
-        { /* a box wholly outside the fan (beyond one of its edge lines) cannot help */
-            /* cross(x, q, p) = e0 p1 - e1 p0 - e0 x1 + e1 x0 with e = q - x: linear in p, so its extremes
-               over the box come from its corners (support functions) */
-            double e0 = cl[0] - x[0], e1 = cl[1] - x[1], g0 = ch[0] - x[0], g1 = ch[1] - x[1], mx, mn;
-            mx = (e0 > 0.0 ? e0 * o->bb[3] : e0 * o->bb[1]) + (e1 > 0.0 ? -e1 * o->bb[0] : -e1 * o->bb[2]) - e0 * x[1] + e1 * x[0];
-            if (mx < -tol * (fabs(e0) + fabs(e1))) continue; /* wholly clockwise of the fan's edge x -> cl */
-            mn = (g0 > 0.0 ? g0 * o->bb[1] : g0 * o->bb[3]) + (g1 > 0.0 ? -g1 * o->bb[2] : -g1 * o->bb[0]) - g0 * x[1] + g1 * x[0];
-            if (mn > tol * (fabs(g0) + fabs(g1))) continue; /* wholly counter-clockwise of x -> ch */
-        }
-        near_box = x[0] >= o->bb[0] - tol && x[0] <= o->bb[2] + tol && x[1] >= o->bb[1] - tol && x[1] <= o->bb[3] + tol;
-        if (near_box && pvs__vo_near_obj(c, o, x)) continue;
-        for (j = 1; j < o->n; ++j) {
-            if (pvs__vo_cross(x, v + 2 * lo, v + 2 * j) < 0.0) lo = j;
-            if (pvs__vo_cross(x, v + 2 * hi, v + 2 * j) > 0.0) hi = j;
-        }
-        {
-            double a0 = v[2 * lo] - x[0], a1 = v[2 * lo + 1] - x[1], b0 = v[2 * hi] - x[0], b1 = v[2 * hi + 1] - x[1];
-            plo = pvs__vo_pangle(f[0] * a0 + f[1] * a1, f[0] * a1 - f[1] * a0);
-            phi = pvs__vo_pangle(f[0] * b0 + f[1] * b1, f[0] * b1 - f[1] * b0);
-        }
-        if (plo <= phi) {
-            pieces = 1;
-            sp[0][0] = plo; sp[0][1] = phi;
-        } else { /* through the back direction */
-            pieces = 2;
-            sp[0][0] = plo; sp[0][1] = phi + 4.0;
-            sp[1][0] = plo - 4.0; sp[1][1] = phi;
-        }
-        for (j = 0; j < pieces; ++j) {
-            double os = sp[j][0] > aL ? sp[j][0] : aL, oe = sp[j][1] < aR ? sp[j][1] : aR, mid, w[2], wd, wc, so, sc;
-            if (oe - os <= PVS__VO_ATOL) continue;
-            mid = 0.5 * (os + oe);
-            pvs__vo_pangle_dir(mid, &wd, &wc);
-            w[0] = f[0] * wd - f[1] * wc;
-            w[1] = f[1] * wd + f[0] * wc;
-            len = sqrt(w[0] * w[0] + w[1] * w[1]);
-            w[0] /= len;
-            w[1] /= len;
-            so = pvs__vo_ray_obj(c, o, x, w);
-            sc = pvs__vo_ray_cell(c, x, w);
-            if (!(so >= 0.0 && sc >= 0.0 && so < sc - tol)) continue; /* behind the cell, or undecided */
-            c->span[ns].s = sp[j][0];
-            c->span[ns].e = sp[j][1];
-            c->span[ns].is = c->vid[o->first + lo];
-            c->span[ns].ie = c->vid[o->first + hi];
-            ++ns;
-        }
+    fn->bb[0] = (x[0] < c->cmin[0] ? x[0] : c->cmin[0]) - tol;
+    fn->bb[1] = (x[1] < c->cmin[1] ? x[1] : c->cmin[1]) - tol;
+    fn->bb[2] = (x[0] > c->cmax[0] ? x[0] : c->cmax[0]) + tol;
+    fn->bb[3] = (x[1] > c->cmax[1] ? x[1] : c->cmax[1]) + tol;
+    return 1;
+}
+
+/* Blocker o's share of the from-point test: appends to c->span (from *ns; room for two) the part of
+   the fan it covers before the cell, decided along one ray (two disjoint convex sets seen from x
+   never swap order), one interval or two when it spans the back direction. Returns 1 when x lies
+   inside o's wall loop (then x is hidden). */
+PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double *x, const pvs__vo_fan *fn, uint32_t *ns) {
+    const double *v = c->vx + 2 * (size_t)o->first, *cl = fn->cl, *ch = fn->ch, *f = fn->f;
+    double plo, phi, sp[2][2], tol = c->tol, len;
+    uint32_t lo = 0, hi = 0, j, pieces;
+    int near_box;
+    if (o->loop >= 0 && x[0] >= o->bb[0] && x[0] <= o->bb[2] && x[1] >= o->bb[1] && x[1] <= o->bb[3] &&
+        pvs__vo_in_loop(c, (uint32_t)o->loop, x))
+        return 1;
+    if (o->bb[0] > fn->bb[2] || o->bb[2] < fn->bb[0] || o->bb[1] > fn->bb[3] || o->bb[3] < fn->bb[1]) return 0;
+    { /* a box wholly outside the fan (beyond one of its edge lines) cannot help */
+        /* cross(x, q, p) = e0 p1 - e1 p0 - e0 x1 + e1 x0 with e = q - x: linear in p, so its extremes
+           over the box come from its corners (support functions) */
+        double e0 = cl[0] - x[0], e1 = cl[1] - x[1], g0 = ch[0] - x[0], g1 = ch[1] - x[1], mx, mn;
+        mx = (e0 > 0.0 ? e0 * o->bb[3] : e0 * o->bb[1]) + (e1 > 0.0 ? -e1 * o->bb[0] : -e1 * o->bb[2]) - e0 * x[1] + e1 * x[0];
+        if (mx < -tol * (fabs(e0) + fabs(e1))) return 0; /* wholly clockwise of the fan's edge x -> cl */
+        mn = (g0 > 0.0 ? g0 * o->bb[1] : g0 * o->bb[3]) + (g1 > 0.0 ? -g1 * o->bb[2] : -g1 * o->bb[0]) - g0 * x[1] + g1 * x[0];
+        if (mn > tol * (fabs(g0) + fabs(g1))) return 0; /* wholly counter-clockwise of x -> ch */
     }
+    near_box = x[0] >= o->bb[0] - tol && x[0] <= o->bb[2] + tol && x[1] >= o->bb[1] - tol && x[1] <= o->bb[3] + tol;
+    if (near_box && pvs__vo_near_obj(c, o, x)) return 0;
+    for (j = 1; j < o->n; ++j) {
+        if (pvs__vo_cross(x, v + 2 * lo, v + 2 * j) < 0.0) lo = j;
+        if (pvs__vo_cross(x, v + 2 * hi, v + 2 * j) > 0.0) hi = j;
+    }
+    {
+        double a0 = v[2 * lo] - x[0], a1 = v[2 * lo + 1] - x[1], b0 = v[2 * hi] - x[0], b1 = v[2 * hi + 1] - x[1];
+        plo = pvs__vo_pangle(f[0] * a0 + f[1] * a1, f[0] * a1 - f[1] * a0);
+        phi = pvs__vo_pangle(f[0] * b0 + f[1] * b1, f[0] * b1 - f[1] * b0);
+    }
+    if (plo <= phi) {
+        pieces = 1;
+        sp[0][0] = plo; sp[0][1] = phi;
+    } else { /* through the back direction */
+        pieces = 2;
+        sp[0][0] = plo; sp[0][1] = phi + 4.0;
+        sp[1][0] = plo - 4.0; sp[1][1] = phi;
+    }
+    for (j = 0; j < pieces; ++j) {
+        double os = sp[j][0] > fn->aL ? sp[j][0] : fn->aL, oe = sp[j][1] < fn->aR ? sp[j][1] : fn->aR, mid, w[2], wd, wc, so, sc;
+        if (oe - os <= PVS__VO_ATOL) continue;
+        mid = 0.5 * (os + oe);
+        pvs__vo_pangle_dir(mid, &wd, &wc);
+        w[0] = f[0] * wd - f[1] * wc;
+        w[1] = f[1] * wd + f[0] * wc;
+        len = sqrt(w[0] * w[0] + w[1] * w[1]);
+        w[0] /= len;
+        w[1] /= len;
+        so = pvs__vo_ray_obj(c, o, x, w);
+        sc = pvs__vo_ray_cell(c, x, w);
+        if (!(so >= 0.0 && sc >= 0.0 && so < sc - tol)) continue; /* behind the cell, or undecided */
+        c->span[*ns].s = sp[j][0];
+        c->span[*ns].e = sp[j][1];
+        c->span[*ns].is = c->vid[o->first + lo];
+        c->span[*ns].ie = c->vid[o->first + hi];
+        ++*ns;
+    }
+    return 0;
+}
+
+/* 1 when the spans c->span[0 .. ns) cover the fan [aL, aR] (sorted here by start): intervals that
+   end on the same vertex join exactly (walls of an open chain), other joins need an overlap beyond
+   PVS__VO_ATOL, so rounding only ever says "not hidden". */
+PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double aR) {
+    double reach;
+    uint32_t i, k, rid;
     for (i = 1; i < ns; ++i) { /* insertion sort by start */
         pvs__vo_span t = c->span[i];
         k = i;
@@ -13288,6 +13708,23 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
         }
     }
     return 0;
+}
+
+/* The from-point test of the header comment: 1 if every segment from the cell to x meets one of the
+   blockers set[0..n). Rounding only ever answers 0. */
+PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, const double *x) {
+    pvs__vo_fan fn;
+    double tol = c->tol;
+    uint32_t i, ns = 0;
+    if (x[0] > c->cmin[0] - tol && x[0] < c->cmax[0] + tol && x[1] > c->cmin[1] - tol && x[1] < c->cmax[1] + tol) return 0;
+    if (!pvs__vo_reserve(c->al, (void **)&c->span, &c->capspan, 2 * (size_t)n + 2, sizeof(pvs__vo_span))) {
+        c->oom = 1;
+        return 0;
+    }
+    if (!pvs__vo_fan_init(c, x, &fn)) return 0;
+    for (i = 0; i < n; ++i)
+        if (pvs__vo_obj_spans(c, c->obj + set[i], x, &fn, &ns)) return 1;
+    return pvs__vo_spans_cover(c, ns, fn.aL, fn.aR);
 }
 
 /* ---- the aggregate: blockers, and the lines where hidden answers can change ---- */
@@ -14606,6 +15043,101 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
     return out;
 }
 
+/* The dense set of one cell (Koltun 2000 §3, §3.1): the virtual occluders of its height slices in
+   c->out, grown in the file's frame (centre `centre`, quantized at scale `code`). Leaves c untouched
+   when the cell cannot have any (below the occluders' base, no area, no object). Returns
+   OUT_OF_MEMORY or PVS_OK; c is freed by the caller either way. */
+PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *cell, const double centre[2], double reach, uint32_t code,
+                                         pvs__vctx *c) {
+    const pvs_allocator *al = &vb->a;
+    double cmin[2], cmax[2];
+    float h[16];
+    uint32_t ns, i;
+    int u, v, k;
+    pvs__ground_axes(vb->up, &u, &v);
+    cmin[0] = cell->min[u]; cmin[1] = cell->min[v];
+    cmax[0] = cell->max[u]; cmax[1] = cell->max[v];
+    /* virtual occluders need the cell above their base and within an occluder-free rectangle with area */
+    if (!(cell->min[vb->up] >= vb->base && cmax[0] > cmin[0] && cmax[1] > cmin[1] && vb->prep->nobj)) return PVS_OK;
+    if (!pvs__vctx_init(c, al, vb->prep, cmin, cmax, reach)) return PVS_ERROR_OUT_OF_MEMORY;
+    c->centre[0] = centre[0]; /* the file's frame (float centre) */
+    c->centre[1] = centre[1];
+    for (k = 0; k < 2; ++k) {
+        c->cmin[k] = cmin[k] - centre[k];
+        c->cmax[k] = cmax[k] - centre[k];
+    }
+    c->corner[0] = c->cmin[0]; c->corner[1] = c->cmin[1];
+    c->corner[2] = c->cmax[0]; c->corner[3] = c->cmin[1];
+    c->corner[4] = c->cmax[0]; c->corner[5] = c->cmax[1];
+    c->corner[6] = c->cmin[0]; c->corner[7] = c->cmax[1];
+    c->quantize = 1;
+    c->qscale = pvs__vo_scale(code);
+    c->qground = vb->base;
+    c->qhstep = vb->hstep;
+    c->max_seeds = vb->max_seeds;
+    ns = pvs__vo_slice_heights(vb, centre, cell->max[vb->up], vb->slices < 16 ? vb->slices : 16, h, al);
+    c->st.slices = ns;
+    for (i = 0; i < ns && !c->oom; ++i) {
+        if (!pvs__vctx_slice(c, h[i])) break;
+        pvs__vo_run_slice(c);
+    }
+    return c->oom ? PVS_ERROR_OUT_OF_MEMORY : PVS_OK;
+}
+
+/* The scratch of the selection (pvs__vo_select); pvs__vo_bake_cell frees it. */
+typedef struct pvs__vo_selwork {
+    pvs__vo_rt *rt, *sel;      /* c->nout: the dense set ready to test; max_keep + 1: the kept ones */
+    pvs_word *hid, *covered;   /* c->nout x words: the objects each one hides; words: those hidden so far */
+} pvs__vo_selwork;
+
+/* The selection (Koltun 2000, Fig. 6) from the dense set c->out: weights = objects each occluder
+   hides; take the heaviest, discount what it hides from the others, until the next one stops
+   paying (hides fewer than min_gain new objects) or max_keep are kept. Writes the kept occluders'
+   5 bytes to `bytes` and their tests to sw->sel; returns how many. *r = OUT_OF_MEMORY when the
+   scratch cannot be had. */
+PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, uint32_t code, const pvs__vctx *c, uint32_t words,
+                                    uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
+    const pvs_allocator *al = &vb->a;
+    uint32_t min_gain = vb->object_count / 1000u + 1u, keep = 0, i, j;
+    sw->rt = (pvs__vo_rt *)pvs__alloc_array(al, c->nout, sizeof(pvs__vo_rt));
+    sw->hid = (pvs_word *)pvs__alloc_array(al, (size_t)c->nout * words, sizeof(pvs_word));
+    sw->covered = (pvs_word *)pvs__alloc_array(al, words, sizeof(pvs_word));
+    sw->sel = (pvs__vo_rt *)pvs__alloc_array(al, (size_t)vb->max_keep + 1, sizeof(pvs__vo_rt));
+    if (!sw->rt || !sw->hid || !sw->covered || !sw->sel) { *r = PVS_ERROR_OUT_OF_MEMORY; return 0; }
+    memset(sw->hid, 0, (size_t)c->nout * words * sizeof(pvs_word));
+    memset(sw->covered, 0, words * sizeof(pvs_word));
+    for (i = 0; i < c->nout; ++i) {
+        double a[2], b[2], lo, hi;
+        for (j = 0; j < i; ++j)
+            if (!memcmp(c->out[j].q, c->out[i].q, 5)) break;
+        if (j < i) { /* the same bytes twice: hides nothing more */
+            memset(sw->rt + i, 0, sizeof(pvs__vo_rt));
+            continue;
+        }
+        pvs__vo_decode(cell, vb->up, code, c->out[i].q, vb->base, vb->hstep, a, b, &lo, &hi);
+        pvs__vo_rt_init(sw->rt + i, cell, vb->up, a, b, lo, hi);
+    }
+    for (j = 0; j < vb->object_count; ++j) {
+        if (!pvs__vo_box_ok(vb->boxes + j)) continue;
+        for (i = 0; i < c->nout; ++i)
+            if (pvs__vo_rt_hides(sw->rt + i, vb->boxes + j)) sw->hid[(size_t)i * words + (j >> 6)] |= (pvs_word)1 << (j & 63);
+    }
+    while (keep < vb->max_keep) {
+        uint32_t best = PVS__VO_NONE, best_gain = 0;
+        for (i = 0; i < c->nout; ++i) {
+            uint32_t gain = 0;
+            const pvs_word *hw = sw->hid + (size_t)i * words;
+            for (j = 0; j < words; ++j) gain += pvs__popcount64(hw[j] & ~sw->covered[j]);
+            if (gain > best_gain) { best_gain = gain; best = i; }
+        }
+        if (best == PVS__VO_NONE || best_gain < min_gain) break;
+        for (j = 0; j < words; ++j) sw->covered[j] |= sw->hid[(size_t)best * words + j];
+        memcpy(bytes + 5 * (size_t)keep, c->out[best].q, 5);
+        sw->sel[keep++] = sw->rt[best];
+    }
+    return keep;
+}
+
 /* One cell of a bake: the dense set over the slices, the greedy selection of Fig. 6, and the PVS
    rebuilt from the kept occluders exactly as pvs_vocc_cull will (object boxes of the scene, never-
    drawn objects empty). Writes *count occluders (<= max_keep) of 5 bytes to bytes, the scale code,
@@ -14614,19 +15146,15 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
                                          pvs_word *pvs, pvs_vocc_stats *stats, pvs_error *err) {
     const pvs_allocator *al = &vb->a;
     pvs__vctx c;
-    double centre[2], cmin[2], cmax[2], reach = 0.0;
-    float h[16];
-    uint32_t ns, i, j, keep = 0, words = (uint32_t)PVS_BITSET_WORDS(vb->object_count), code;
+    pvs__vo_selwork sw;
+    double centre[2], reach = 0.0;
+    uint32_t j, keep = 0, words = (uint32_t)PVS_BITSET_WORDS(vb->object_count), code;
     int u, v, k;
-    pvs__vo_rt *rt = NULL, *sel = NULL;
-    pvs_word *hid = NULL, *covered = NULL;
-    pvs_result r = PVS_OK;
+    pvs_result r;
     *count = 0;
     *scale = 128;
     pvs__ground_axes(vb->up, &u, &v);
     pvs__vo_cell_centre(cell, u, v, centre);
-    cmin[0] = cell->min[u]; cmin[1] = cell->min[v];
-    cmax[0] = cell->max[u]; cmax[1] = cell->max[v];
     for (k = 0; k < 4; ++k) { /* the analysis radius: every occluder */
         double dx = ((k & 1) ? vb->prep->bb[2] : vb->prep->bb[0]) - centre[0], dy = ((k & 2) ? vb->prep->bb[3] : vb->prep->bb[1]) - centre[1];
         double d = sqrt(dx * dx + dy * dy);
@@ -14636,78 +15164,17 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
     code = pvs__vo_scale_code(reach);
     *scale = (uint8_t)code;
     memset(&c, 0, sizeof(c));
-    /* virtual occluders need the cell above their base and within an occluder-free rectangle with area */
-    if (cell->min[vb->up] >= vb->base && cmax[0] > cmin[0] && cmax[1] > cmin[1] && vb->prep->nobj) {
-        if (!pvs__vctx_init(&c, al, vb->prep, cmin, cmax, reach)) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
-        c.centre[0] = centre[0]; /* the file's frame (float centre) */
-        c.centre[1] = centre[1];
-        for (k = 0; k < 2; ++k) {
-            c.cmin[k] = cmin[k] - centre[k];
-            c.cmax[k] = cmax[k] - centre[k];
-        }
-        c.corner[0] = c.cmin[0]; c.corner[1] = c.cmin[1];
-        c.corner[2] = c.cmax[0]; c.corner[3] = c.cmin[1];
-        c.corner[4] = c.cmax[0]; c.corner[5] = c.cmax[1];
-        c.corner[6] = c.cmin[0]; c.corner[7] = c.cmax[1];
-        c.quantize = 1;
-        c.qscale = pvs__vo_scale(code);
-        c.qground = vb->base;
-        c.qhstep = vb->hstep;
-        c.max_seeds = vb->max_seeds;
-        ns = pvs__vo_slice_heights(vb, centre, cell->max[vb->up], vb->slices < 16 ? vb->slices : 16, h, al);
-        c.st.slices = ns;
-        for (i = 0; i < ns && !c.oom; ++i) {
-            if (!pvs__vctx_slice(&c, h[i])) break;
-            pvs__vo_run_slice(&c);
-        }
-        if (c.oom) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
-    }
-    /* the selection (Fig. 6): weights = objects each occluder hides; take the heaviest, discount
-       what it hides from the others, until the next one stops paying (hides fewer than min_gain new
-       objects) or max_keep are kept */
+    memset(&sw, 0, sizeof(sw));
+    r = pvs__vo_dense_set(vb, cell, centre, reach, code, &c);
+    if (r != PVS_OK) goto done;
     if (c.nout) {
-        uint32_t min_gain = vb->object_count / 1000u + 1u;
-        rt = (pvs__vo_rt *)pvs__alloc_array(al, c.nout, sizeof(pvs__vo_rt));
-        hid = (pvs_word *)pvs__alloc_array(al, (size_t)c.nout * words, sizeof(pvs_word));
-        covered = (pvs_word *)pvs__alloc_array(al, words, sizeof(pvs_word));
-        sel = (pvs__vo_rt *)pvs__alloc_array(al, (size_t)vb->max_keep + 1, sizeof(pvs__vo_rt));
-        if (!rt || !hid || !covered || !sel) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
-        memset(hid, 0, (size_t)c.nout * words * sizeof(pvs_word));
-        memset(covered, 0, words * sizeof(pvs_word));
-        for (i = 0; i < c.nout; ++i) {
-            double a[2], b[2], lo, hi;
-            for (j = 0; j < i; ++j)
-                if (!memcmp(c.out[j].q, c.out[i].q, 5)) break;
-            if (j < i) { /* the same bytes twice: hides nothing more */
-                memset(rt + i, 0, sizeof(pvs__vo_rt));
-                continue;
-            }
-            pvs__vo_decode(cell, vb->up, code, c.out[i].q, vb->base, vb->hstep, a, b, &lo, &hi);
-            pvs__vo_rt_init(rt + i, cell, vb->up, a, b, lo, hi);
-        }
-        for (j = 0; j < vb->object_count; ++j) {
-            if (!pvs__vo_box_ok(vb->boxes + j)) continue;
-            for (i = 0; i < c.nout; ++i)
-                if (pvs__vo_rt_hides(rt + i, vb->boxes + j)) hid[(size_t)i * words + (j >> 6)] |= (pvs_word)1 << (j & 63);
-        }
-        while (keep < vb->max_keep) {
-            uint32_t best = PVS__VO_NONE, best_gain = 0;
-            for (i = 0; i < c.nout; ++i) {
-                uint32_t gain = 0;
-                const pvs_word *hw = hid + (size_t)i * words;
-                for (j = 0; j < words; ++j) gain += pvs__popcount64(hw[j] & ~covered[j]);
-                if (gain > best_gain) { best_gain = gain; best = i; }
-            }
-            if (best == PVS__VO_NONE || best_gain < min_gain) break;
-            for (j = 0; j < words; ++j) covered[j] |= hid[(size_t)best * words + j];
-            memcpy(bytes + 5 * (size_t)keep, c.out[best].q, 5);
-            sel[keep++] = rt[best];
-        }
+        keep = pvs__vo_select(vb, cell, code, &c, words, bytes, &sw, &r);
+        if (r != PVS_OK) goto done;
     }
     *count = (uint8_t)keep;
     {
         pvs__vo_walk w;
-        w.rt = sel;
+        w.rt = sw.sel;
         w.count = keep;
         w.boxes = vb->boxes;
         w.object_count = vb->object_count;
@@ -14727,10 +15194,10 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
         stats->selected += c.st.selected;
     }
 done:
-    if (rt) pvs__free_array(al, rt, c.nout, sizeof(pvs__vo_rt));
-    if (hid) pvs__free_array(al, hid, (size_t)c.nout * words, sizeof(pvs_word));
-    if (covered) pvs__free_array(al, covered, words, sizeof(pvs_word));
-    if (sel) pvs__free_array(al, sel, (size_t)vb->max_keep + 1, sizeof(pvs__vo_rt));
+    if (sw.rt) pvs__free_array(al, sw.rt, c.nout, sizeof(pvs__vo_rt));
+    if (sw.hid) pvs__free_array(al, sw.hid, (size_t)c.nout * words, sizeof(pvs_word));
+    if (sw.covered) pvs__free_array(al, sw.covered, words, sizeof(pvs_word));
+    if (sw.sel) pvs__free_array(al, sw.sel, (size_t)vb->max_keep + 1, sizeof(pvs__vo_rt));
     if (c.al) pvs__vctx_free(&c);
     if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "virtual occluders: out of memory");
     return PVS_OK;
@@ -20481,139 +20948,171 @@ PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
     }
 }
 
-/* Decodes one coded set of ids in [0, n) that starts at p (bytes up to end are available) and feeds
-   its ids, ascending, to the sink. *used receives the body's size: every coding is self-delimiting.
-   Returns PVS_OK, or BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at = the offending byte's offset. */
-PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint32_t coding, uint32_t n, pvs__sink *s, size_t *used_out,
-                                      size_t *bad_at) {
+/* The decoders of pvs__set_apply, one per coding (the file format's RECS table: 0 gaps, 1 runs,
+   2 Rice codes, 3 bitmap). Each has pvs__set_apply's contract for the body at p; on a bad byte it
+   sets *bad_at and returns the error. */
+
+/* Coding 0: varint count, then count varints: the first id, then the gaps minus one. */
+PVS__STATIC pvs_result pvs__set_gaps(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out, size_t *bad_at) {
     const uint8_t *q = p;
     uint32_t count, k;
     int act = s->action;
-    switch (coding) {
-    case PVS__CODING_GAPS: {
-        uint64_t id = 0;
-        size_t used = pvs__get_varint(q, end, &count);
+    uint64_t id = 0;
+    size_t used = pvs__get_varint(q, end, &count);
+    if (!used) goto bad;
+    q += used;
+    if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+    for (k = 0; k < count; ++k) {
+        uint32_t g;
+        used = pvs__get_varint(q, end, &g);
         if (!used) goto bad;
+        id = k ? id + 1u + g : g;
+        if (id >= n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+        if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63); /* the decode's hot path */
+        else if (act) pvs__sink_id(s, (uint32_t)id);
         q += used;
-        if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-        for (k = 0; k < count; ++k) {
-            uint32_t g;
-            used = pvs__get_varint(q, end, &g);
-            if (!used) goto bad;
-            id = k ? id + 1u + g : g;
-            if (id >= n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-            if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63); /* the decode's hot path */
-            else if (act) pvs__sink_id(s, (uint32_t)id);
-            q += used;
-        }
-        break;
-    }
-    case PVS__CODING_RUNS: {
-        uint64_t pos = 0;
-        size_t used = pvs__get_varint(q, end, &count);
-        if (!used) goto bad;
-        q += used;
-        for (k = 0; k < count; ++k) {
-            uint32_t z, o;
-            uint64_t i;
-            used = pvs__get_varint(q, end, &z);
-            if (!used) goto bad;
-            if (k && !z) goto bad; /* runs of ones are maximal */
-            q += used;
-            used = pvs__get_varint(q, end, &o);
-            if (!used) goto bad;
-            if (pos + z + o + 1u > n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-            q += used;
-            pos += z;
-            if (act == PVS__SET_ADD && !s->fn) { /* whole words at a time */
-                uint64_t e = pos + o + 1u;
-                while (pos < e && (pos & 63)) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
-                while (pos + 64 <= e) { s->bits[pos >> 6] = ~(pvs_word)0; pos += 64; }
-                while (pos < e) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
-            } else if (act == PVS__SET_REMOVE_RANKS) {
-                pvs__sink_remove_run(s, (uint32_t)pos, (uint64_t)o + 1u);
-                pos += (uint64_t)o + 1u;
-            } else {
-                if (act) /* validation must stay linear in the record's bytes */
-                    for (i = 0; i <= o; ++i) pvs__sink_id(s, (uint32_t)(pos + i));
-                pos += (uint64_t)o + 1u;
-            }
-        }
-        break;
-    }
-    case PVS__CODING_RICE: {
-        uint64_t bit = 0, nbits, id = 0, bytes;
-        size_t used;
-        uint32_t c;
-        if (q >= end) goto bad;
-        k = *q++;
-        if (k > PVS__RICE_MAX_K) goto bad;
-        used = pvs__get_varint(q, end, &count);
-        if (!used) goto bad;
-        q += used;
-        if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-        nbits = (uint64_t)(end - q) * 8u;
-        for (c = 0; c < count; ++c) {
-            uint64_t quot = 0, g, w = pvs__peek56(q, nbits, bit);
-            uint32_t ones;
-            if (~w & (((uint64_t)1 << 56) - 1u)) { /* the quotient's terminating zero is in the window */
-                ones = pvs__ctz64(~w);
-                quot = ones;
-                if (bit + ones + 1u + k > nbits) goto bad;
-                if (quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-                g = ones + 1u + k <= 56u ? (w >> (ones + 1u)) & (((uint64_t)1 << k) - 1u) : pvs__get_bits(q, bit + ones + 1u, k);
-                bit += ones + 1u + k;
-            } else {
-                for (;;) { /* a long unary run: bit by bit */
-                    uint32_t b1;
-                    if (bit >= nbits) goto bad;
-                    b1 = (q[bit >> 3] >> (bit & 7u)) & 1u;
-                    ++bit;
-                    if (!b1) break;
-                    if (++quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-                }
-                if (bit + k > nbits) goto bad;
-                g = pvs__get_bits(q, bit, k);
-                bit += k;
-            }
-            g |= quot << k;
-            id = c ? id + 1u + g : g;
-            if (id >= n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-            if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63); /* the decode's hot path */
-            else if (act) pvs__sink_id(s, (uint32_t)id);
-        }
-        /* the codes fill whole bytes; the unused high bits of the last one are zero */
-        bytes = (bit + 7) / 8;
-        if ((bit & 7u) && (q[bit >> 3] >> (bit & 7u))) { q += (size_t)(bit >> 3); goto bad; }
-        q += (size_t)bytes;
-        break;
-    }
-    case PVS__CODING_BITMAP: {
-        size_t nb = ((size_t)n + 7) / 8, i;
-        if ((size_t)(end - q) < nb) goto bad;
-        if ((n & 7u) && (q[nb - 1] >> (n & 7u))) { *bad_at = nb - 1; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-        if (act == PVS__SET_ADD && !s->fn) {
-            for (i = 0; i < nb; ++i) s->bits[i >> 3] |= (pvs_word)q[i] << (8 * (i & 7));
-        } else if (act) {
-            for (i = 0; i < nb; ++i) {
-                uint32_t b = q[i];
-                while (b) {
-                    uint32_t id = (uint32_t)(8 * i) + pvs__ctz64(b);
-                    b &= b - 1u;
-                    pvs__sink_id(s, id);
-                }
-            }
-        }
-        q += nb;
-        break;
-    }
-    default: goto bad;
     }
     *used_out = (size_t)(q - p);
     return PVS_OK;
 bad:
     *bad_at = (size_t)(q - p);
     return PVS_ERROR_BAD_RECORD;
+}
+
+/* Coding 1: varint pairs, then per pair varint zeros, varint ones - 1: alternating runs from id 0
+   (zero runs after the first are >= 1). */
+PVS__STATIC pvs_result pvs__set_runs(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out, size_t *bad_at) {
+    const uint8_t *q = p;
+    uint32_t count, k;
+    int act = s->action;
+    uint64_t pos = 0;
+    size_t used = pvs__get_varint(q, end, &count);
+    if (!used) goto bad;
+    q += used;
+    for (k = 0; k < count; ++k) {
+        uint32_t z, o;
+        uint64_t i;
+        used = pvs__get_varint(q, end, &z);
+        if (!used) goto bad;
+        if (k && !z) goto bad; /* runs of ones are maximal */
+        q += used;
+        used = pvs__get_varint(q, end, &o);
+        if (!used) goto bad;
+        if (pos + z + o + 1u > n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+        q += used;
+        pos += z;
+        if (act == PVS__SET_ADD && !s->fn) { /* whole words at a time */
+            uint64_t e = pos + o + 1u;
+            while (pos < e && (pos & 63)) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
+            while (pos + 64 <= e) { s->bits[pos >> 6] = ~(pvs_word)0; pos += 64; }
+            while (pos < e) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
+        } else if (act == PVS__SET_REMOVE_RANKS) {
+            pvs__sink_remove_run(s, (uint32_t)pos, (uint64_t)o + 1u);
+            pos += (uint64_t)o + 1u;
+        } else {
+            if (act) /* validation must stay linear in the record's bytes */
+                for (i = 0; i <= o; ++i) pvs__sink_id(s, (uint32_t)(pos + i));
+            pos += (uint64_t)o + 1u;
+        }
+    }
+    *used_out = (size_t)(q - p);
+    return PVS_OK;
+bad:
+    *bad_at = (size_t)(q - p);
+    return PVS_ERROR_BAD_RECORD;
+}
+
+/* Coding 2, Rice codes (Golomb 1966, Rice 1979): u8 k, varint count, then count codes, least
+   significant bit first: gap >> k in unary, then the k low bits of the gap; the codes end at a
+   byte boundary, the unused high bits are zero. */
+PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out, size_t *bad_at) {
+    const uint8_t *q = p;
+    uint32_t count, k, c;
+    int act = s->action;
+    uint64_t bit = 0, nbits, id = 0, bytes;
+    size_t used;
+    if (q >= end) goto bad;
+    k = *q++;
+    if (k > PVS__RICE_MAX_K) goto bad;
+    used = pvs__get_varint(q, end, &count);
+    if (!used) goto bad;
+    q += used;
+    if (count > n) { *bad_at = 0; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+    nbits = (uint64_t)(end - q) * 8u;
+    for (c = 0; c < count; ++c) {
+        uint64_t quot = 0, g, w = pvs__peek56(q, nbits, bit);
+        uint32_t ones;
+        if (~w & (((uint64_t)1 << 56) - 1u)) { /* the quotient's terminating zero is in the window */
+            ones = pvs__ctz64(~w);
+            quot = ones;
+            if (bit + ones + 1u + k > nbits) goto bad;
+            if (quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+            g = ones + 1u + k <= 56u ? (w >> (ones + 1u)) & (((uint64_t)1 << k) - 1u) : pvs__get_bits(q, bit + ones + 1u, k);
+            bit += ones + 1u + k;
+        } else {
+            for (;;) { /* a long unary run: bit by bit */
+                uint32_t b1;
+                if (bit >= nbits) goto bad;
+                b1 = (q[bit >> 3] >> (bit & 7u)) & 1u;
+                ++bit;
+                if (!b1) break;
+                if (++quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+            }
+            if (bit + k > nbits) goto bad;
+            g = pvs__get_bits(q, bit, k);
+            bit += k;
+        }
+        g |= quot << k;
+        id = c ? id + 1u + g : g;
+        if (id >= n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+        if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63); /* the decode's hot path */
+        else if (act) pvs__sink_id(s, (uint32_t)id);
+    }
+    /* the codes fill whole bytes; the unused high bits of the last one are zero */
+    bytes = (bit + 7) / 8;
+    if ((bit & 7u) && (q[bit >> 3] >> (bit & 7u))) { q += (size_t)(bit >> 3); goto bad; }
+    q += (size_t)bytes;
+    *used_out = (size_t)(q - p);
+    return PVS_OK;
+bad:
+    *bad_at = (size_t)(q - p);
+    return PVS_ERROR_BAD_RECORD;
+}
+
+/* Coding 3: a raw bitset of ceil(n / 8) bytes, bit i of byte j = id 8j + i; bits past n are zero. */
+PVS__STATIC pvs_result pvs__set_bitmap(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out, size_t *bad_at) {
+    size_t nb = ((size_t)n + 7) / 8, i;
+    int act = s->action;
+    if ((size_t)(end - p) < nb) { *bad_at = 0; return PVS_ERROR_BAD_RECORD; }
+    if ((n & 7u) && (p[nb - 1] >> (n & 7u))) { *bad_at = nb - 1; return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+    if (act == PVS__SET_ADD && !s->fn) {
+        for (i = 0; i < nb; ++i) s->bits[i >> 3] |= (pvs_word)p[i] << (8 * (i & 7));
+    } else if (act) {
+        for (i = 0; i < nb; ++i) {
+            uint32_t b = p[i];
+            while (b) {
+                uint32_t id = (uint32_t)(8 * i) + pvs__ctz64(b);
+                b &= b - 1u;
+                pvs__sink_id(s, id);
+            }
+        }
+    }
+    *used_out = nb;
+    return PVS_OK;
+}
+
+/* Decodes one coded set of ids in [0, n) that starts at p (bytes up to end are available) and feeds
+   its ids, ascending, to the sink. *used receives the body's size: every coding is self-delimiting.
+   Returns PVS_OK, or BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at = the offending byte's offset. */
+PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint32_t coding, uint32_t n, pvs__sink *s, size_t *used_out,
+                                      size_t *bad_at) {
+    switch (coding) {
+    case PVS__CODING_GAPS: return pvs__set_gaps(p, end, n, s, used_out, bad_at);
+    case PVS__CODING_RUNS: return pvs__set_runs(p, end, n, s, used_out, bad_at);
+    case PVS__CODING_RICE: return pvs__set_rice(p, end, n, s, used_out, bad_at);
+    case PVS__CODING_BITMAP: return pvs__set_bitmap(p, end, n, s, used_out, bad_at);
+    default: *bad_at = 0; return PVS_ERROR_BAD_RECORD;
+    }
 }
 
 /* ---- encoder ---- */
@@ -21026,14 +21525,11 @@ PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
     return pos;
 }
 
-PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
-    pvs__encoder e;
-    pvs_result r = PVS_OK;
-    uint32_t i, k, max_chain, sections, keys = 0;
-    size_t at[6], sz[6], total, cell_bytes, recs_size, index_bits_total, vocc_size = 0;
-    uint32_t tags[6];
-    uint8_t *o = (uint8_t *)out;
-    if (out_size) *out_size = 0;
+/* pvs_file_encode's checks of the description, each with its error; *max_chain receives the chain
+   bound K, *vocc_size the VOCC section's size (0 without one). */
+PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_chain, size_t *vocc_size, pvs_error *err) {
+    pvs_result r;
+    uint32_t i;
     if (!d || !d->cells || !d->pvs || !d->cell_count || !d->object_count)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, cells and pvs must not be NULL or empty");
     if (d->up_axis != 1 && d->up_axis != 2) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "up_axis must be 1 or 2");
@@ -21041,8 +21537,8 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bad method or eps");
     if (d->cell_count == PVS_NO_CELL || d->object_count == 0xffffffffu || d->cell_count > 0x3fffffffu)
         return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells or objects");
-    max_chain = d->max_chain ? d->max_chain : PVS_DEFAULT_CHAIN;
-    if (max_chain > PVS_MAX_CHAIN) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", max_chain, PVS_MAX_CHAIN);
+    *max_chain = d->max_chain ? d->max_chain : PVS_DEFAULT_CHAIN;
+    if (*max_chain > PVS_MAX_CHAIN) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", *max_chain, PVS_MAX_CHAIN);
     if (d->shard_count == 1 || (d->shard_count && (d->shard_index >= d->shard_count || d->total_cell_count > 0x3fffffffu ||
                                                    d->cell_count != (d->total_cell_count - d->shard_index + d->shard_count - 1) / d->shard_count)))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u does not hold %u of %u cells", d->shard_index,
@@ -21054,11 +21550,203 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
     if (d->vocc_counts) { /* the optional VOCC section (>>vocc) */
         uint64_t n = 0;
         for (i = 0; i < d->cell_count; ++i) n += d->vocc_counts[i];
-        vocc_size = pvs__vo_section_size(d->cell_count, n);
+        *vocc_size = pvs__vo_section_size(d->cell_count, n);
         if (!d->vocc_scales || (n && !d->virtual_occluders) || !pvs__finite(d->vocc_base) || !pvs__finite(d->vocc_height_step) ||
-            !(d->vocc_height_step > 0.0f) || (d->vocc_flags & ~PVS_VOCC_ONLY) || !vocc_size)
+            !(d->vocc_height_step > 0.0f) || (d->vocc_flags & ~PVS_VOCC_ONLY) || !*vocc_size)
             return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "virtual occluders: missing arrays, bad heights or flags");
     }
+    return PVS_OK;
+}
+
+/* CELL: the cells as stored (e->boxes, -0 replaced by +0), per axis the table of their distinct
+   coordinates (e->values) and the bit widths of the packed min indices and extents; *cell_bytes
+   receives the section's size. */
+PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_bytes, pvs_error *err) {
+    const pvs_file_desc *d = e->d;
+    size_t index_bits_total;
+    uint32_t i, k;
+    e->boxes = (pvs_box *)pvs__alloc_array(&e->a, e->cells, sizeof(pvs_box));
+    if (!e->boxes) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell boxes");
+    for (i = 0; i < e->cells; ++i)
+        for (k = 0; k < 3; ++k) {
+            e->boxes[i].min[k] = d->cells[i].min[k] + 0.0f;
+            e->boxes[i].max[k] = d->cells[i].max[k] + 0.0f;
+        }
+    for (k = 0; k < 3; ++k) {
+        float *v = (float *)pvs__alloc_array(&e->a, 2 * (size_t)e->cells, sizeof(float));
+        uint32_t n = 0, widest = 0;
+        if (!v) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell coordinate tables");
+        e->values[k] = v;
+        for (i = 0; i < e->cells; ++i) {
+            v[2 * i] = e->boxes[i].min[k];
+            v[2 * i + 1] = e->boxes[i].max[k];
+        }
+        PVS_QSORT(v, 2 * (size_t)e->cells, sizeof(float), pvs__float_cmp);
+        for (i = 0; i < 2 * e->cells; ++i)
+            if (!n || v[i] != v[n - 1]) v[n++] = v[i];
+        e->value_count[k] = n;
+        e->index_bits[k] = pvs__bits_for(n - 1);
+        for (i = 0; i < e->cells; ++i) {
+            uint32_t ext = pvs__value_index(v, n, e->boxes[i].max[k]) - pvs__value_index(v, n, e->boxes[i].min[k]);
+            if (ext > widest) widest = ext;
+        }
+        e->index_bits[3 + k] = pvs__bits_for(widest);
+    }
+    index_bits_total = (size_t)(e->index_bits[0] + e->index_bits[1] + e->index_bits[2] + e->index_bits[3] + e->index_bits[4] + e->index_bits[5]) * e->cells;
+    *cell_bytes = PVS__CELL_HEAD + 4 * ((size_t)e->value_count[0] + e->value_count[1] + e->value_count[2]) + (index_bits_total + 7) / 8;
+    return PVS_OK;
+}
+
+/* The library's kD-tree over the cells (e->tree), which finds the base candidates (touching cells
+   first); when big overlapping cells would be copied into too many leaves, a tree over the cells'
+   centres instead. (TREE is the compact look-up tree: pvs__encoder_lookup_tree.) */
+PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
+    pvs_kdtree_desc td;
+    pvs_result r = PVS_OK;
+    uint32_t long_cells = 0, i, k;
+    memset(&td, 0, sizeof(td));
+    td.boxes = e->boxes;
+    td.count = e->cells;
+    td.allocator = e->a;
+    { /* cells more than 16 times the lower-quartile extent on some axis cross many split planes */
+        float *ext = (float *)pvs__alloc_array(&e->a, e->cells, sizeof(float)), med[3];
+        if (!ext) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell extents");
+        for (k = 0; k < 3; ++k) {
+            for (i = 0; i < e->cells; ++i) ext[i] = e->boxes[i].max[k] - e->boxes[i].min[k];
+            PVS_QSORT(ext, e->cells, sizeof(float), pvs__float_cmp);
+            med[k] = ext[e->cells / 4]; /* the lower quartile: half the cells may be long */
+        }
+        for (i = 0; i < e->cells; ++i)
+            for (k = 0; k < 3; ++k)
+                if (e->boxes[i].max[k] - e->boxes[i].min[k] > 16.0f * med[k]) {
+                    ++long_cells;
+                    break;
+                }
+        pvs__free_array(&e->a, ext, e->cells, sizeof(float));
+    }
+    if (long_cells <= e->cells / 16) r = pvs_kdtree_create(&td, &e->tree, err);
+    if (r == PVS_OK && (!e->tree || e->tree->item_count > 16u * e->cells)) {
+        pvs_box *centres = (pvs_box *)pvs__alloc_array(&e->a, e->cells, sizeof(pvs_box));
+        pvs_kdtree_destroy(e->tree);
+        e->tree = NULL;
+        if (!centres) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell centres");
+        for (i = 0; i < e->cells; ++i)
+            for (k = 0; k < 3; ++k) centres[i].min[k] = centres[i].max[k] = 0.5f * e->boxes[i].min[k] + 0.5f * e->boxes[i].max[k]; /* no overflow */
+        td.boxes = centres;
+        r = pvs_kdtree_create(&td, &e->tree, err);
+        pvs__free_array(&e->a, centres, e->cells, sizeof(pvs_box));
+    }
+    return r;
+}
+
+/* TREE: the compact look-up tree (pvs__tree_node) of depth D, the smallest giving leaves of about
+   PVS__TREE_LEAF cells, laid out in e->tree_stream: split values, then leaf offsets, then axes, then
+   the leaves' items. */
+PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err) {
+    pvs__tbuild tb;
+    pvs_result r;
+    uint32_t *ids = (uint32_t *)pvs__alloc_array(&e->a, e->cells, sizeof(uint32_t)), leaves, i, k;
+    memset(&tb, 0, sizeof(tb));
+    tb.a = &e->a;
+    tb.boxes = e->boxes;
+    while (tb.depth < 20 && (e->cells >> tb.depth) > PVS__TREE_LEAF) ++tb.depth;
+    leaves = 1u << tb.depth;
+    tb.keys = (float *)pvs__alloc_array(&e->a, 2 * (size_t)e->cells, sizeof(float));
+    tb.nodes = (uint32_t *)pvs__alloc_array(&e->a, leaves, sizeof(uint32_t));
+    tb.leaf_start = (uint32_t *)pvs__alloc_array(&e->a, (size_t)leaves + 1, sizeof(uint32_t));
+    for (k = 0; k < 3; ++k) tb.values[k] = e->values[k];
+    tb.value_count = e->value_count;
+    if (ids && tb.keys && tb.nodes && tb.leaf_start) {
+        for (i = 0; i < e->cells; ++i) ids[i] = i;
+        r = pvs__tree_node(&tb, ids, e->cells, 0, 0);
+    } else {
+        r = PVS_ERROR_OUT_OF_MEMORY;
+    }
+    if (r == PVS_OK) {
+        uint8_t *t;
+        tb.leaf_start[leaves] = (uint32_t)tb.item_bytes;
+        e->tree_bytes = 5 * (size_t)(leaves - 1) + 4 * ((size_t)leaves + 1) + tb.item_bytes;
+        e->tree_depth = tb.depth;
+        e->tree_stream = t = (uint8_t *)pvs__alloc_array(&e->a, e->tree_bytes, 1);
+        if (!t) {
+            r = PVS_ERROR_OUT_OF_MEMORY;
+        } else {
+            /* split values, then leaf offsets, then axes; a node that passes everything left is
+               axis 0 at FLT_MAX (no finite point lies beyond it) */
+            for (i = 0; i + 1 < leaves; ++i, t += 4)
+                pvs__putf32(t, (tb.nodes[i] & 3u) == 3u ? FLT_MAX : tb.values[tb.nodes[i] & 3u][tb.nodes[i] >> 2]);
+            for (i = 0; i <= leaves; ++i, t += 4) pvs__put32(t, tb.leaf_start[i]);
+            for (i = 0; i + 1 < leaves; ++i) *t++ = (uint8_t)((tb.nodes[i] & 3u) == 3u ? 0u : tb.nodes[i] & 3u);
+            if (tb.item_bytes) memcpy(t, tb.items, tb.item_bytes);
+        }
+    }
+    pvs__free_array(&e->a, ids, e->cells, sizeof(uint32_t));
+    pvs__free_array(&e->a, tb.keys, 2 * (size_t)e->cells, sizeof(float));
+    pvs__free_array(&e->a, tb.nodes, leaves, sizeof(uint32_t));
+    pvs__free_array(&e->a, tb.leaf_start, (size_t)leaves + 1, sizeof(uint32_t));
+    pvs__free_array(&e->a, tb.items, tb.item_capacity, 1);
+    if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "cell look-up tree");
+    return PVS_OK;
+}
+
+/* Writes the CELL section at c: the coordinate counts and the widths, the coordinate tables, then
+   per cell its min indices and its extents, bit-packed. */
+PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
+    uint8_t *v, *bits;
+    uint64_t pos = 0;
+    uint32_t i, k;
+    for (k = 0; k < 3; ++k) pvs__put32(c + 4 * k, e->value_count[k]);
+    for (k = 0; k < 6; ++k) c[12 + k] = (uint8_t)e->index_bits[k];
+    v = c + PVS__CELL_HEAD;
+    for (k = 0; k < 3; ++k)
+        for (i = 0; i < e->value_count[k]; ++i, v += 4) pvs__putf32(v, e->values[k][i]);
+    bits = v;
+    for (i = 0; i < e->cells; ++i) {
+        uint32_t lo[3];
+        for (k = 0; k < 3; ++k) {
+            lo[k] = pvs__value_index(e->values[k], e->value_count[k], e->boxes[i].min[k]);
+            pvs__put_bits(bits, pos, lo[k], e->index_bits[k]);
+            pos += e->index_bits[k];
+        }
+        for (k = 0; k < 3; ++k) {
+            pvs__put_bits(bits, pos, pvs__value_index(e->values[k], e->value_count[k], e->boxes[i].max[k]) - lo[k], e->index_bits[3 + k]);
+            pos += e->index_bits[3 + k];
+        }
+    }
+}
+
+/* Writes the header and the section table of a file of `total` bytes whose sections (tags[k] at
+   at[k], sz[k] bytes) are written: each section's CRC-32, then the header's. */
+PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t flags, uint32_t sections, const uint32_t *tags, const size_t *at,
+                                           const size_t *sz) {
+    uint32_t k, crc;
+    memcpy(o, "PVS\x1a", 4);
+    pvs__put32(o + 4, PVS_FORMAT_VERSION);
+    pvs__put32(o + 8, (uint32_t)total);
+    pvs__put32(o + 12, sections);
+    pvs__put32(o + 16, flags);
+    for (k = 0; k < sections; ++k) {
+        uint8_t *en = o + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * k;
+        pvs__put32(en + 0, tags[k]);
+        pvs__put32(en + 4, (uint32_t)at[k]);
+        pvs__put32(en + 8, (uint32_t)sz[k]);
+        pvs__put32(en + 12, pvs__crc32(0, o + at[k], sz[k]));
+    }
+    crc = pvs__crc32(0, o, 20);
+    crc = pvs__crc32(crc, o + PVS__HEADER_SIZE, (size_t)sections * PVS__SECTION_ENTRY);
+    pvs__put32(o + 20, crc);
+}
+
+PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
+    pvs__encoder e;
+    pvs_result r;
+    uint32_t i, k, max_chain = 0, sections, keys = 0;
+    size_t at[6], sz[6], total, cell_bytes = 0, recs_size, vocc_size = 0;
+    uint32_t tags[6];
+    uint8_t *o = (uint8_t *)out;
+    if (out_size) *out_size = 0;
+    r = pvs__encode_check(d, &max_chain, &vocc_size, err);
+    if (r != PVS_OK) return r;
     memset(&e, 0, sizeof(e));
     e.a = d->allocator;
     e.d = d;
@@ -21067,123 +21755,13 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
     e.words = PVS_BITSET_WORDS(d->object_count);
 
     /* CELL: per-axis tables of the distinct coordinates (-0 stored as +0), bit-packed indices */
-    e.boxes = (pvs_box *)pvs__alloc_array(&e.a, e.cells, sizeof(pvs_box));
-    if (!e.boxes) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell boxes"); goto done; }
-    for (i = 0; i < e.cells; ++i)
-        for (k = 0; k < 3; ++k) {
-            e.boxes[i].min[k] = d->cells[i].min[k] + 0.0f;
-            e.boxes[i].max[k] = d->cells[i].max[k] + 0.0f;
-        }
-    for (k = 0; k < 3; ++k) {
-        float *v = (float *)pvs__alloc_array(&e.a, 2 * (size_t)e.cells, sizeof(float));
-        uint32_t n = 0;
-        if (!v) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell coordinate tables"); goto done; }
-        e.values[k] = v;
-        for (i = 0; i < e.cells; ++i) {
-            v[2 * i] = e.boxes[i].min[k];
-            v[2 * i + 1] = e.boxes[i].max[k];
-        }
-        PVS_QSORT(v, 2 * (size_t)e.cells, sizeof(float), pvs__float_cmp);
-        for (i = 0; i < 2 * e.cells; ++i)
-            if (!n || v[i] != v[n - 1]) v[n++] = v[i];
-        e.value_count[k] = n;
-        e.index_bits[k] = pvs__bits_for(n - 1);
-        {
-            uint32_t widest = 0;
-            for (i = 0; i < e.cells; ++i) {
-                uint32_t ext = pvs__value_index(v, n, e.boxes[i].max[k]) - pvs__value_index(v, n, e.boxes[i].min[k]);
-                if (ext > widest) widest = ext;
-            }
-            e.index_bits[3 + k] = pvs__bits_for(widest);
-        }
-    }
-    index_bits_total = (size_t)(e.index_bits[0] + e.index_bits[1] + e.index_bits[2] + e.index_bits[3] + e.index_bits[4] + e.index_bits[5]) * e.cells;
-    cell_bytes = PVS__CELL_HEAD + 4 * ((size_t)e.value_count[0] + e.value_count[1] + e.value_count[2]) + (index_bits_total + 7) / 8;
-
-    /* the library's kD-tree over the cells finds base candidates (touching cells first); when big
-       overlapping cells would be copied into too many leaves, a tree over the cells' centres instead.
-       TREE is the compact look-up tree built further down. */
-    {
-        pvs_kdtree_desc td;
-        uint32_t long_cells = 0;
-        memset(&td, 0, sizeof(td));
-        td.boxes = e.boxes;
-        td.count = e.cells;
-        td.allocator = e.a;
-        { /* cells more than 16 times the lower-quartile extent on some axis cross many split planes */
-            float *ext = (float *)pvs__alloc_array(&e.a, e.cells, sizeof(float)), med[3];
-            if (!ext) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell extents"); goto done; }
-            for (k = 0; k < 3; ++k) {
-                for (i = 0; i < e.cells; ++i) ext[i] = e.boxes[i].max[k] - e.boxes[i].min[k];
-                PVS_QSORT(ext, e.cells, sizeof(float), pvs__float_cmp);
-                med[k] = ext[e.cells / 4]; /* the lower quartile: half the cells may be long */
-            }
-            for (i = 0; i < e.cells; ++i)
-                for (k = 0; k < 3; ++k)
-                    if (e.boxes[i].max[k] - e.boxes[i].min[k] > 16.0f * med[k]) {
-                        ++long_cells;
-                        break;
-                    }
-            pvs__free_array(&e.a, ext, e.cells, sizeof(float));
-        }
-        if (long_cells <= e.cells / 16) r = pvs_kdtree_create(&td, &e.tree, err);
-        if (r == PVS_OK && (!e.tree || e.tree->item_count > 16u * e.cells)) {
-            pvs_box *centres = (pvs_box *)pvs__alloc_array(&e.a, e.cells, sizeof(pvs_box));
-            pvs_kdtree_destroy(e.tree);
-            e.tree = NULL;
-            if (!centres) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell centres"); goto done; }
-            for (i = 0; i < e.cells; ++i)
-                for (k = 0; k < 3; ++k) centres[i].min[k] = centres[i].max[k] = 0.5f * e.boxes[i].min[k] + 0.5f * e.boxes[i].max[k]; /* no overflow */
-            td.boxes = centres;
-            r = pvs_kdtree_create(&td, &e.tree, err);
-            pvs__free_array(&e.a, centres, e.cells, sizeof(pvs_box));
-        }
-        if (r != PVS_OK) goto done;
-    }
-    {
-        pvs__tbuild tb;
-        uint32_t *ids = (uint32_t *)pvs__alloc_array(&e.a, e.cells, sizeof(uint32_t)), leaves;
-        memset(&tb, 0, sizeof(tb));
-        tb.a = &e.a;
-        tb.boxes = e.boxes;
-        while (tb.depth < 20 && (e.cells >> tb.depth) > PVS__TREE_LEAF) ++tb.depth;
-        leaves = 1u << tb.depth;
-        tb.keys = (float *)pvs__alloc_array(&e.a, 2 * (size_t)e.cells, sizeof(float));
-        tb.nodes = (uint32_t *)pvs__alloc_array(&e.a, leaves, sizeof(uint32_t));
-        tb.leaf_start = (uint32_t *)pvs__alloc_array(&e.a, (size_t)leaves + 1, sizeof(uint32_t));
-        for (k = 0; k < 3; ++k) tb.values[k] = e.values[k];
-        tb.value_count = e.value_count;
-        if (ids && tb.keys && tb.nodes && tb.leaf_start) {
-            for (i = 0; i < e.cells; ++i) ids[i] = i;
-            r = pvs__tree_node(&tb, ids, e.cells, 0, 0);
-        } else {
-            r = PVS_ERROR_OUT_OF_MEMORY;
-        }
-        if (r == PVS_OK) {
-            uint8_t *t;
-            tb.leaf_start[leaves] = (uint32_t)tb.item_bytes;
-            e.tree_bytes = 5 * (size_t)(leaves - 1) + 4 * ((size_t)leaves + 1) + tb.item_bytes;
-            e.tree_depth = tb.depth;
-            e.tree_stream = t = (uint8_t *)pvs__alloc_array(&e.a, e.tree_bytes, 1);
-            if (!t) {
-                r = PVS_ERROR_OUT_OF_MEMORY;
-            } else {
-                /* split values, then leaf offsets, then axes; a node that passes everything left is
-                   axis 0 at FLT_MAX (no finite point lies beyond it) */
-                for (i = 0; i + 1 < leaves; ++i, t += 4)
-                    pvs__putf32(t, (tb.nodes[i] & 3u) == 3u ? FLT_MAX : tb.values[tb.nodes[i] & 3u][tb.nodes[i] >> 2]);
-                for (i = 0; i <= leaves; ++i, t += 4) pvs__put32(t, tb.leaf_start[i]);
-                for (i = 0; i + 1 < leaves; ++i) *t++ = (uint8_t)((tb.nodes[i] & 3u) == 3u ? 0u : tb.nodes[i] & 3u);
-                if (tb.item_bytes) memcpy(t, tb.items, tb.item_bytes);
-            }
-        }
-        pvs__free_array(&e.a, ids, e.cells, sizeof(uint32_t));
-        pvs__free_array(&e.a, tb.keys, 2 * (size_t)e.cells, sizeof(float));
-        pvs__free_array(&e.a, tb.nodes, leaves, sizeof(uint32_t));
-        pvs__free_array(&e.a, tb.leaf_start, (size_t)leaves + 1, sizeof(uint32_t));
-        pvs__free_array(&e.a, tb.items, tb.item_capacity, 1);
-        if (r != PVS_OK) { r = pvs__fail(err, r, -1, 0, "cell look-up tree"); goto done; }
-    }
+    r = pvs__encoder_cell_tables(&e, &cell_bytes, err);
+    if (r != PVS_OK) goto done;
+    /* the library's kD-tree over the cells finds base candidates; TREE is the compact look-up tree */
+    r = pvs__encoder_kdtree(&e, err);
+    if (r != PVS_OK) goto done;
+    r = pvs__encoder_lookup_tree(&e, err);
+    if (r != PVS_OK) goto done;
 
     /* RECS */
     e.tmp = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
@@ -21231,32 +21809,10 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         pvs__put32(m + 20, max_chain);
         pvs__put32(m + 24, keys);
     }
-    { /* CELL */
-        uint8_t *c = o + at[1], *v, *bits;
-        uint64_t pos = 0;
-        for (k = 0; k < 3; ++k) pvs__put32(c + 4 * k, e.value_count[k]);
-        for (k = 0; k < 6; ++k) c[12 + k] = (uint8_t)e.index_bits[k];
-        v = c + PVS__CELL_HEAD;
-        for (k = 0; k < 3; ++k)
-            for (i = 0; i < e.value_count[k]; ++i, v += 4) pvs__putf32(v, e.values[k][i]);
-        bits = v;
-        for (i = 0; i < e.cells; ++i) {
-            uint32_t lo[3];
-            for (k = 0; k < 3; ++k) {
-                lo[k] = pvs__value_index(e.values[k], e.value_count[k], e.boxes[i].min[k]);
-                pvs__put_bits(bits, pos, lo[k], e.index_bits[k]);
-                pos += e.index_bits[k];
-            }
-            for (k = 0; k < 3; ++k) {
-                pvs__put_bits(bits, pos, pvs__value_index(e.values[k], e.value_count[k], e.boxes[i].max[k]) - lo[k], e.index_bits[3 + k]);
-                pos += e.index_bits[3 + k];
-            }
-        }
-    }
-    { /* TREE */
-        pvs__put32(o + at[2], e.tree_depth);
-        memcpy(o + at[2] + PVS__TREE_HEAD, e.tree_stream, e.tree_bytes);
-    }
+    pvs__encoder_write_cells(&e, o + at[1]);
+    /* TREE */
+    pvs__put32(o + at[2], e.tree_depth);
+    memcpy(o + at[2] + PVS__TREE_HEAD, e.tree_stream, e.tree_bytes);
     (void)pvs__encoder_records(&e, o + at[3]);
     if (d->shard_count) {
         uint8_t *s = o + at[4];
@@ -21268,23 +21824,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         pvs__vo_section_write(o + at[sections - 1], (d->vocc_flags & PVS_VOCC_ONLY) ? 1u : 0u, d->vocc_base, d->vocc_height_step, d->cell_count,
                               d->vocc_counts, d->vocc_scales, d->virtual_occluders, d->vocc_stride);
     /* header and section table */
-    memcpy(o, "PVS\x1a", 4);
-    pvs__put32(o + 4, PVS_FORMAT_VERSION);
-    pvs__put32(o + 8, (uint32_t)total);
-    pvs__put32(o + 12, sections);
-    pvs__put32(o + 16, d->flags);
-    for (k = 0; k < sections; ++k) {
-        uint8_t *en = o + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * k;
-        pvs__put32(en + 0, tags[k]);
-        pvs__put32(en + 4, (uint32_t)at[k]);
-        pvs__put32(en + 8, (uint32_t)sz[k]);
-        pvs__put32(en + 12, pvs__crc32(0, o + at[k], sz[k]));
-    }
-    {
-        uint32_t crc = pvs__crc32(0, o, 20);
-        crc = pvs__crc32(crc, o + PVS__HEADER_SIZE, (size_t)sections * PVS__SECTION_ENTRY);
-        pvs__put32(o + 20, crc);
-    }
+    pvs__encoder_write_header(o, total, d->flags, sections, tags, at, sz);
     pvs__ok(err);
 done:
     pvs__encoder_free(&e);
@@ -21528,15 +22068,16 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
     return PVS_OK;
 }
 
-PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs_error *err) {
-    const uint8_t *p = (const uint8_t *)data;
-    uint32_t count, i, j, crc;
-    const uint8_t *meta = NULL, *cells = NULL, *tree = NULL, *recs = NULL, *shrd = NULL, *vocc = NULL;
-    uint32_t meta_size = 0, cells_size = 0, tree_size = 0, recs_size = 0, shrd_size = 0, vocc_size = 0;
-    pvs_result r;
-    if (!f) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file must not be NULL");
-    memset(f, 0, sizeof(*f));
-    if (!p && size) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "data is NULL");
+/* The sections pvs_file_open knows, as the section table places them (NULL: absent). */
+typedef struct pvs__open_sections {
+    const uint8_t *meta, *cells, *tree, *recs, *shrd, *vocc;
+    uint32_t meta_size, cells_size, tree_size, recs_size, shrd_size, vocc_size;
+} pvs__open_sections;
+
+/* The header, 32 bytes, in the order of the format table: magic, version, file size, section count
+   (and the table inside the file), checksum, reserved bytes. *count receives the section count. */
+PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t *count_out, pvs_error *err) {
+    uint32_t count, crc;
     if (size < 4 || memcmp(p, "PVS\x1a", 4) != 0)
         return pvs__fail(err, size < 4 ? PVS_ERROR_TRUNCATED : PVS_ERROR_BAD_MAGIC, -1, 0, "not a .pvs file (magic)");
     if (size < PVS__HEADER_SIZE) return pvs__fail(err, PVS_ERROR_TRUNCATED, -1, size, "the header needs 32 bytes, have %llu", (unsigned long long)size);
@@ -21555,6 +22096,14 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
     crc = pvs__crc32(crc, p + PVS__HEADER_SIZE, (size_t)count * PVS__SECTION_ENTRY);
     if (crc != pvs__get32(p + 20)) return pvs__fail(err, PVS_ERROR_CHECKSUM, -1, 20, "header checksum");
     if (pvs__get32(p + 24) || pvs__get32(p + 28)) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 24, "reserved header bytes are not zero");
+    *count_out = count;
+    return PVS_OK;
+}
+
+/* The section table: each section 8-aligned and after the table, inside the file, no tag repeated,
+   no overlap, its checksum; the known tags into *sec (unknown tags are skipped). */
+PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t count, pvs__open_sections *sec, pvs_error *err) {
+    uint32_t i, j;
     for (i = 0; i < count; ++i) {
         const uint8_t *e = p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)i;
         uint32_t tag = pvs__get32(e), off = pvs__get32(e + 4), sz = pvs__get32(e + 8);
@@ -21573,36 +22122,42 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
         }
         if (pvs__crc32(0, p + off, sz) != pvs__get32(e + 12))
             return pvs__fail(err, PVS_ERROR_CHECKSUM, i, off, "section %u checksum", i);
-        if (tag == PVS__TAG_META) { meta = p + off; meta_size = sz; }
-        else if (tag == PVS__TAG_CELL) { cells = p + off; cells_size = sz; }
-        else if (tag == PVS__TAG_TREE) { tree = p + off; tree_size = sz; }
-        else if (tag == PVS__TAG_RECS) { recs = p + off; recs_size = sz; }
-        else if (tag == PVS__TAG_SHRD) { shrd = p + off; shrd_size = sz; }
-        else if (tag == PVS__VO_TAG) { vocc = p + off; vocc_size = sz; }
+        if (tag == PVS__TAG_META) { sec->meta = p + off; sec->meta_size = sz; }
+        else if (tag == PVS__TAG_CELL) { sec->cells = p + off; sec->cells_size = sz; }
+        else if (tag == PVS__TAG_TREE) { sec->tree = p + off; sec->tree_size = sz; }
+        else if (tag == PVS__TAG_RECS) { sec->recs = p + off; sec->recs_size = sz; }
+        else if (tag == PVS__TAG_SHRD) { sec->shrd = p + off; sec->shrd_size = sz; }
+        else if (tag == PVS__VO_TAG) { sec->vocc = p + off; sec->vocc_size = sz; }
     }
-    {
-        /* bytes outside the header, the table and the sections (alignment padding) must be zero,
-           so that every byte of a valid file is either checksummed or fixed */
-        uint32_t order[PVS__MAX_SECTIONS], k;
-        size_t pos = PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY;
-        for (i = 0; i < count; ++i) { /* insertion sort by offset; count <= 64 */
-            uint32_t off = pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)i + 4);
-            for (j = i; j > 0 && pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[j - 1] + 4) > off; --j)
-                order[j] = order[j - 1];
-            order[j] = i;
-        }
-        for (k = 0; k <= count; ++k) {
-            const uint8_t *e = k < count ? p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[k] : NULL;
-            size_t next = e ? pvs__get32(e + 4) : size;
-            for (; pos < next; ++pos)
-                if (p[pos]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, pos, "padding byte %llu is not zero", (unsigned long long)pos);
-            if (e && (size_t)pvs__get32(e + 4) + pvs__get32(e + 8) > pos) pos = (size_t)pvs__get32(e + 4) + pvs__get32(e + 8);
-        }
+    return PVS_OK;
+}
+
+/* Bytes outside the header, the table and the sections (alignment padding) must be zero, so that
+   every byte of a valid file is either checksummed or fixed. */
+PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t count, pvs_error *err) {
+    uint32_t order[PVS__MAX_SECTIONS], i, j, k;
+    size_t pos = PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY;
+    for (i = 0; i < count; ++i) { /* insertion sort by offset; count <= 64 */
+        uint32_t off = pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)i + 4);
+        for (j = i; j > 0 && pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[j - 1] + 4) > off; --j)
+            order[j] = order[j - 1];
+        order[j] = i;
     }
-    if (!meta || !cells || !tree || !recs)
-        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, 0, "missing required section %s",
-                         !meta ? "META" : !cells ? "CELL" : !tree ? "TREE" : "RECS");
-    if (meta_size != PVS__META_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(meta - p), "META has %u bytes, not 32", meta_size);
+    for (k = 0; k <= count; ++k) {
+        const uint8_t *e = k < count ? p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[k] : NULL;
+        size_t next = e ? pvs__get32(e + 4) : size;
+        for (; pos < next; ++pos)
+            if (p[pos]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, pos, "padding byte %llu is not zero", (unsigned long long)pos);
+        if (e && (size_t)pvs__get32(e + 4) + pvs__get32(e + 8) > pos) pos = (size_t)pvs__get32(e + 4) + pvs__get32(e + 8);
+    }
+    return PVS_OK;
+}
+
+/* "META" (32 bytes) into f, then its rules in the order of the format table: cell count, object
+   count, method, eps, up axis, chain bound, key cells, reserved bytes. */
+PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8_t *meta, uint32_t meta_size, pvs_error *err) {
+    uint64_t mo = (uint64_t)(meta - p);
+    if (meta_size != PVS__META_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, mo, "META has %u bytes, not 32", meta_size);
     f->cell_count = pvs__get32(meta);
     f->object_count = pvs__get32(meta + 4);
     f->method = (pvs_method)pvs__get32(meta + 8);
@@ -21610,41 +22165,69 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
     f->up_axis = pvs__get32(meta + 16);
     f->max_chain = pvs__get32(meta + 20);
     f->key_count = pvs__get32(meta + 24);
-    {
-        uint64_t mo = (uint64_t)(meta - p);
-        if (f->cell_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo, "cell count 0");
-        if (f->cell_count > 0x3fffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo, "cell count %u > 2^30 - 1", f->cell_count);
-        if (f->object_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 4, "object count 0");
-        if (f->object_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo + 4, "object count 2^32 - 1");
-        if (pvs__get32(meta + 8) >= (uint32_t)PVS_METHOD_COUNT) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 8, "unknown method %u", pvs__get32(meta + 8));
-        if (!pvs__finite(f->eps) || f->eps < 0.0f) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 12, "eps is not a finite number >= 0");
-        if (f->up_axis != 1 && f->up_axis != 2) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 16, "up axis %u", f->up_axis);
-        if (f->max_chain == 0 || f->max_chain > PVS_MAX_CHAIN)
-            return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 20, "chain bound %u is not in 1..%u", f->max_chain, PVS_MAX_CHAIN);
-        if (f->key_count == 0 || f->key_count > f->cell_count)
-            return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 24, "%u key cells of %u", f->key_count, f->cell_count);
-        if (pvs__get32(meta + 28)) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 28, "reserved META bytes are not zero");
-    }
-    if (shrd) {
-        uint64_t so = (uint64_t)(shrd - p);
-        if (shrd_size != PVS__SHRD_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "SHRD has %u bytes, not 16", shrd_size);
-        f->shard_index = pvs__get32(shrd);
-        f->shard_count = pvs__get32(shrd + 4);
-        f->total_cell_count = pvs__get32(shrd + 8);
-        if (f->shard_count < 2 || f->shard_index >= f->shard_count || f->total_cell_count > 0x3fffffffu || pvs__get32(shrd + 12) ||
-            f->cell_count != (f->total_cell_count - f->shard_index + f->shard_count - 1) / f->shard_count)
-            return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, so, "SHRD: shard %u of %u cannot hold %u of %u cells", f->shard_index, f->shard_count,
-                             f->cell_count, f->total_cell_count);
+    if (f->cell_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo, "cell count 0");
+    if (f->cell_count > 0x3fffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo, "cell count %u > 2^30 - 1", f->cell_count);
+    if (f->object_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 4, "object count 0");
+    if (f->object_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo + 4, "object count 2^32 - 1");
+    if (pvs__get32(meta + 8) >= (uint32_t)PVS_METHOD_COUNT) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 8, "unknown method %u", pvs__get32(meta + 8));
+    if (!pvs__finite(f->eps) || f->eps < 0.0f) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 12, "eps is not a finite number >= 0");
+    if (f->up_axis != 1 && f->up_axis != 2) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 16, "up axis %u", f->up_axis);
+    if (f->max_chain == 0 || f->max_chain > PVS_MAX_CHAIN)
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 20, "chain bound %u is not in 1..%u", f->max_chain, PVS_MAX_CHAIN);
+    if (f->key_count == 0 || f->key_count > f->cell_count)
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 24, "%u key cells of %u", f->key_count, f->cell_count);
+    if (pvs__get32(meta + 28)) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 28, "reserved META bytes are not zero");
+    return PVS_OK;
+}
+
+/* "SHRD" (16 bytes) into f: a part of cell_count cells of a sharded bake. */
+PVS__STATIC pvs_result pvs__open_shard(pvs_file *f, const uint8_t *p, const uint8_t *shrd, uint32_t shrd_size, pvs_error *err) {
+    uint64_t so = (uint64_t)(shrd - p);
+    if (shrd_size != PVS__SHRD_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "SHRD has %u bytes, not 16", shrd_size);
+    f->shard_index = pvs__get32(shrd);
+    f->shard_count = pvs__get32(shrd + 4);
+    f->total_cell_count = pvs__get32(shrd + 8);
+    if (f->shard_count < 2 || f->shard_index >= f->shard_count || f->total_cell_count > 0x3fffffffu || pvs__get32(shrd + 12) ||
+        f->cell_count != (f->total_cell_count - f->shard_index + f->shard_count - 1) / f->shard_count)
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, so, "SHRD: shard %u of %u cannot hold %u of %u cells", f->shard_index, f->shard_count,
+                         f->cell_count, f->total_cell_count);
+    return PVS_OK;
+}
+
+PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs_error *err) {
+    const uint8_t *p = (const uint8_t *)data;
+    uint32_t count = 0;
+    pvs__open_sections sec;
+    pvs_result r;
+    if (!f) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file must not be NULL");
+    memset(f, 0, sizeof(*f));
+    if (!p && size) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "data is NULL");
+    /* header, then the section table, then the padding between the sections */
+    r = pvs__open_header(p, size, &count, err);
+    if (r != PVS_OK) return r;
+    memset(&sec, 0, sizeof(sec));
+    r = pvs__open_table(p, size, count, &sec, err);
+    if (r != PVS_OK) return r;
+    r = pvs__open_padding(p, size, count, err);
+    if (r != PVS_OK) return r;
+    if (!sec.meta || !sec.cells || !sec.tree || !sec.recs)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, 0, "missing required section %s",
+                         !sec.meta ? "META" : !sec.cells ? "CELL" : !sec.tree ? "TREE" : "RECS");
+    r = pvs__open_meta(f, p, sec.meta, sec.meta_size, err);
+    if (r != PVS_OK) return r;
+    if (sec.shrd) {
+        r = pvs__open_shard(f, p, sec.shrd, sec.shrd_size, err);
+        if (r != PVS_OK) return r;
     }
     /* records first: each takes at least 3 bytes, so a valid RECS bounds the cell count by the file
        size, and the cell checks after it stay linear in the file (a cell index can be 0 bits wide) */
-    f->private_.records = recs;
-    f->private_.records_size = recs_size;
+    f->private_.records = sec.recs;
+    f->private_.records_size = sec.recs_size;
     f->private_.block_count = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK;
-    r = pvs__open_records(f, p, recs, recs_size, err);
-    if (r == PVS_OK) r = pvs__open_cells(f, p, cells, cells_size, err);
-    if (r == PVS_OK) r = pvs__open_tree(f, p, tree, tree_size, err);
-    if (r == PVS_OK && vocc) r = pvs__vo_open_section(f, p, vocc, vocc_size, err);
+    r = pvs__open_records(f, p, sec.recs, sec.recs_size, err);
+    if (r == PVS_OK) r = pvs__open_cells(f, p, sec.cells, sec.cells_size, err);
+    if (r == PVS_OK) r = pvs__open_tree(f, p, sec.tree, sec.tree_size, err);
+    if (r == PVS_OK && sec.vocc) r = pvs__vo_open_section(f, p, sec.vocc, sec.vocc_size, err);
     if (r != PVS_OK) {
         memset(f, 0, sizeof(*f));
         return r;
