@@ -4055,15 +4055,117 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
     }
 }
 
+/* The edges of an occluder polygon (pixel coordinates x, y, n vertices, signed doubled area area2,
+   largest |x| + |y| mag, the vertices' own error perr) for the tile loops over t's inner pixel range
+   [i0, i1] x [j0, j1] (set): inner coverage at each pixel's worst corner less the setup error, as in
+   pvs__raster_poly (see the comment at the top). Steep edges become the left edges [0, nl) and the
+   right edges [nl, ne) of t; near-horizontal ones narrow the rows [jlo, jhi]. Returns 0 when no pixel
+   passes some edge. */
+PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y, int n, double area2, double mag, double perr) {
+    double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0);
+    double rxi[PVS__RASTER_MAXV], rs[PVS__RASTER_MAXV], rcl[PVS__RASTER_MAXV];
+    float rsf[PVS__RASTER_MAXV], rm[PVS__RASTER_MAXV];
+    int i, nr = 0;
+    t->jlo = 0;
+    t->jhi = t->j1 - t->j0;
+    t->nl = 0;
+    for (i = 0; i < n; ++i) {
+        int j = i + 1 == n ? 0 : i + 1;
+        double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
+        if (area2 < 0) { a = -a; b = -b; }
+        len = pvs__dabs(a) + pvs__dabs(b);
+        if (len == 0.0) continue;
+        a /= len;
+        b /= len;
+        /* inner coverage: the edge function at the pixel's worst corner, less the setup error */
+        k = a * (ox - x[i]) + b * (oy - y[i]) + pvs__dmin(0.0, a) + pvs__dmin(0.0, b);
+        err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) * (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len);
+        lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
+        hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
+        if (lo - err >= 0.0) continue; /* every pixel passes this edge */
+        if (hi - err < 0.0) return 0;  /* no pixel does */
+        k -= err;
+        if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return 0;
+        if (pvs__dabs(a) > pvs__dabs(b) * PVS__U_2_20) {
+            /* pixel i of row j passes when a i + b j + k >= 0: i >= X(j) for a > 0, i <= X(j) for a < 0.
+               The loops clamp X(jrow) to +-cl (beyond it every row of the tile row falls on the same
+               side of the range) and evaluate X in float: at most 3 cl + 13 |s| units of 2^-24 and
+               the double part 2^-51 (|xi| + |s| |jrow|), below m. */
+            double xi = -k / a, sl = -b / a, sa = pvs__dabs(sl), cl = iw + 3.0 + 3.0 * sa;
+            float m = pvs__f_up(PVS__U_2_21 * cl + PVS__U_2_48 * (pvs__dabs(xi) + sa * (jh + 4.0)));
+            if (a > 0.0) {
+                t->xi[t->nl] = xi; t->s[t->nl] = sl; t->cl[t->nl] = cl; t->sf[t->nl] = (float)sl; t->m[t->nl] = m;
+                ++t->nl;
+            } else {
+                rxi[nr] = xi; rs[nr] = sl; rcl[nr] = cl; rsf[nr] = (float)sl; rm[nr] = m;
+                ++nr;
+            }
+        } else {
+            /* near-horizontal: the rows where the edge passes for every column of the range */
+            double wk = k + pvs__dmin(0.0, a * iw), tq = -wk / b, pad = PVS__U_2_44 * (pvs__dabs(k) + pvs__dabs(a) * iw + 1.0);
+            if (b > 0.0) {
+                int32_t jl = pvs__clampi(ceil(tq + pad), 0, t->jhi + 1);
+                if (jl > t->jlo) t->jlo = jl;
+            } else {
+                int32_t jm = pvs__clampi(floor(tq - pad), -1, t->jhi);
+                if (jm < t->jhi) t->jhi = jm;
+            }
+        }
+    }
+    if (t->jlo > t->jhi) return 0;
+    t->ne = t->nl + nr;
+    for (i = 0; i < nr; ++i) {
+        t->xi[t->nl + i] = rxi[i]; t->s[t->nl + i] = rs[i]; t->cl[t->nl + i] = rcl[i]; t->sf[t->nl + i] = rsf[i]; t->m[t->nl + i] = rm[i];
+    }
+    return 1;
+}
+
+/* The depth plane of an occluder polygon (x, y, z, n vertices; span, mag, zmag its extents; perr, zerr
+   its vertices' errors) for the tile loops over t's pixel range: from the largest fan triangle, at
+   pixel corner (i0, j0), lowered by its setup error, with zm the margin of the loops' float
+   evaluation; zlo (the vertices' farthest depth less its error) clamps it. Without a usable plane zk
+   is -FLT_MAX and za = zb = 0. */
+PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span, double mag,
+                                  double zmag, double perr, double zerr, double zlo) {
+    double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0), amax = 0.0;
+    int i, best = -1;
+    for (i = 1; i + 1 < n; ++i) {
+        double a2 = pvs__dabs((x[i] - x[0]) * (y[i + 1] - y[0]) - (x[i + 1] - x[0]) * (y[i] - y[0]));
+        if (a2 > amax) { amax = a2; best = i; }
+    }
+    t->zlo = pvs__f_down(zlo);
+    t->za = t->zb = t->zm = 0.0f;
+    t->zk = -FLT_MAX;
+    if (best > 0) {
+        double x1 = x[best] - x[0], y1 = y[best] - y[0], z1 = z[best] - z[0];
+        double x2 = x[best + 1] - x[0], y2 = y[best + 1] - y[0], z2 = z[best + 1] - z[0];
+        double det = x1 * y2 - x2 * y1;
+        double za = (z1 * y2 - z2 * y1) / det, zb = (x1 * z2 - x2 * z1) / det;
+        double zk = z[0] + za * (ox - x[0]) + zb * (oy - y[0]), err, size;
+        err = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
+              PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
+                  (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det));
+        zk -= err;
+        /* the loops' float evaluation zk + za x + zb y - zm over x <= iw + 1, y <= jh + 1: coefficient
+           rounding and four operations, at most 6 units of 2^-24 of `size` */
+        size = pvs__dabs(zk) + pvs__dabs(za) * (iw + 1.0) + pvs__dabs(zb) * (jh + 1.0);
+        if (size < 1e30 && err < 1e30) {
+            t->za = (float)za;
+            t->zb = (float)zb;
+            t->zk = (float)zk;
+            t->zm = pvs__f_up(PVS__U_2_20 * size);
+        }
+    }
+}
+
 /* Prepares an occluder polygon given in pixel coordinates (x, y), depth z, with the vertices' own
    error perr (pixels) and zerr (depth), and draws it into the tiles. The edge and plane setup and its
    margins are pvs__raster_poly's; see the comment at the top. */
 PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y, const double *z, int n, double perr, double zerr) {
     pvs__tpoly t;
     double xmin = x[0], xmax = x[0], ymin = y[0], ymax = y[0], zmin = z[0], zmax = z[0], area2 = 0.0, mag = 0.0, zmag = 0.0;
-    double span, dx, ox, oy, iw, jh, zlo, rxi[PVS__RASTER_MAXV], rs[PVS__RASTER_MAXV], rcl[PVS__RASTER_MAXV];
-    float rsf[PVS__RASTER_MAXV], rm[PVS__RASTER_MAXV];
-    int i, best = -1, nr = 0;
+    double span, dx, zlo;
+    int i;
     if (n < 3) return;
     for (i = 0; i < n; ++i) {
         int j = i + 1 == n ? 0 : i + 1;
@@ -4085,92 +4187,8 @@ PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y,
     if (!(mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) return;
     span = (xmax - xmin) + (ymax - ymin);
     if (!(pvs__dabs(area2) > 1e-9 * span * span) || !(pvs__dabs(area2) > 1e-300)) return; /* degenerate: covers nothing */
-    ox = (double)t.i0;
-    oy = (double)t.j0;
-    iw = (double)(t.i1 - t.i0);
-    jh = (double)(t.j1 - t.j0);
-    t.jlo = 0;
-    t.jhi = t.j1 - t.j0;
-    t.nl = 0;
-    for (i = 0; i < n; ++i) {
-        int j = i + 1 == n ? 0 : i + 1;
-        double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
-        if (area2 < 0) { a = -a; b = -b; }
-        len = pvs__dabs(a) + pvs__dabs(b);
-        if (len == 0.0) continue;
-        a /= len;
-        b /= len;
-        /* inner coverage: the edge function at the pixel's worst corner, less the setup error */
-        k = a * (ox - x[i]) + b * (oy - y[i]) + pvs__dmin(0.0, a) + pvs__dmin(0.0, b);
-        err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) * (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len);
-        lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
-        hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
-        if (lo - err >= 0.0) continue; /* every pixel passes this edge */
-        if (hi - err < 0.0) return;    /* no pixel does */
-        k -= err;
-        if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return;
-        if (pvs__dabs(a) > pvs__dabs(b) * PVS__U_2_20) {
-            /* pixel i of row j passes when a i + b j + k >= 0: i >= X(j) for a > 0, i <= X(j) for a < 0.
-               The loops clamp X(jrow) to +-cl (beyond it every row of the tile row falls on the same
-               side of the range) and evaluate X in float: at most 3 cl + 13 |s| units of 2^-24 and
-               the double part 2^-51 (|xi| + |s| |jrow|), below m. */
-            double xi = -k / a, sl = -b / a, sa = pvs__dabs(sl), cl = iw + 3.0 + 3.0 * sa;
-            float m = pvs__f_up(PVS__U_2_21 * cl + PVS__U_2_48 * (pvs__dabs(xi) + sa * (jh + 4.0)));
-            if (a > 0.0) {
-                t.xi[t.nl] = xi; t.s[t.nl] = sl; t.cl[t.nl] = cl; t.sf[t.nl] = (float)sl; t.m[t.nl] = m;
-                ++t.nl;
-            } else {
-                rxi[nr] = xi; rs[nr] = sl; rcl[nr] = cl; rsf[nr] = (float)sl; rm[nr] = m;
-                ++nr;
-            }
-        } else {
-            /* near-horizontal: the rows where the edge passes for every column of the range */
-            double wk = k + pvs__dmin(0.0, a * iw), tq = -wk / b, pad = PVS__U_2_44 * (pvs__dabs(k) + pvs__dabs(a) * iw + 1.0);
-            if (b > 0.0) {
-                int32_t jl = pvs__clampi(ceil(tq + pad), 0, t.jhi + 1);
-                if (jl > t.jlo) t.jlo = jl;
-            } else {
-                int32_t jm = pvs__clampi(floor(tq - pad), -1, t.jhi);
-                if (jm < t.jhi) t.jhi = jm;
-            }
-        }
-    }
-    if (t.jlo > t.jhi) return;
-    t.ne = t.nl + nr;
-    for (i = 0; i < nr; ++i) {
-        t.xi[t.nl + i] = rxi[i]; t.s[t.nl + i] = rs[i]; t.cl[t.nl + i] = rcl[i]; t.sf[t.nl + i] = rsf[i]; t.m[t.nl + i] = rm[i];
-    }
-    /* depth plane from the largest fan triangle, at pixel corner (i0, j0), lowered by its setup error */
-    {
-        double amax = 0.0;
-        for (i = 1; i + 1 < n; ++i) {
-            double a2 = pvs__dabs((x[i] - x[0]) * (y[i + 1] - y[0]) - (x[i + 1] - x[0]) * (y[i] - y[0]));
-            if (a2 > amax) { amax = a2; best = i; }
-        }
-    }
-    t.zlo = pvs__f_down(zlo);
-    t.za = t.zb = t.zm = 0.0f;
-    t.zk = -FLT_MAX;
-    if (best > 0) {
-        double x1 = x[best] - x[0], y1 = y[best] - y[0], z1 = z[best] - z[0];
-        double x2 = x[best + 1] - x[0], y2 = y[best + 1] - y[0], z2 = z[best + 1] - z[0];
-        double det = x1 * y2 - x2 * y1;
-        double za = (z1 * y2 - z2 * y1) / det, zb = (x1 * z2 - x2 * z1) / det;
-        double zk = z[0] + za * (ox - x[0]) + zb * (oy - y[0]), err, size;
-        err = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
-              PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
-                  (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det));
-        zk -= err;
-        /* the loops' float evaluation zk + za x + zb y - zm over x <= iw + 1, y <= jh + 1: coefficient
-           rounding and four operations, at most 6 units of 2^-24 of `size` */
-        size = pvs__dabs(zk) + pvs__dabs(za) * (iw + 1.0) + pvs__dabs(zb) * (jh + 1.0);
-        if (size < 1e30 && err < 1e30) {
-            t.za = (float)za;
-            t.zb = (float)zb;
-            t.zk = (float)zk;
-            t.zm = pvs__f_up(PVS__U_2_20 * size);
-        }
-    }
+    if (!pvs__tile_edges(&t, x, y, n, area2, mag, perr)) return;
+    pvs__tile_zplane(&t, x, y, z, n, span, mag, zmag, perr, zerr, zlo);
     pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR));
 }
 
@@ -5017,76 +5035,72 @@ PVS__STATIC uint32_t pvs__mesh_fbits(float f) {
     return u;
 }
 
-/* One piece of a mesh: triangles first .. first + n - 1 (n <= mesh_cap) of `indices` (NULL:
-   consecutive vertices) or of tris[]. */
-PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices, const pvs__occsel *tris,
-                                 uint32_t first, uint32_t n) {
-    uint32_t hs = 16, t, k, h, *tab = r->mtab, *cid = r->mcid, *part = r->mpart;
-    while (hs < 6 * n && hs < r->mesh_hash) hs <<= 1;
-    for (h = 0; h < hs; ++h) tab[h] = 0;
-    /* weld, transform, facing, clip and prepare */
-    for (t = 0; t < n; ++t) {
-        uint32_t q[3];
-        const float *p[3];
-        pvs__cv v[3];
-        int ok = 1, g;
-        r->mgrp[t] = 0;
-        if (tris || indices) {
-            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[first + t].triangle : indices + 3 * (size_t)(first + t);
-            q[0] = ix[0]; q[1] = ix[1]; q[2] = ix[2];
-        } else {
-            q[0] = 3 * (first + t); q[1] = q[0] + 1; q[2] = q[0] + 2;
+/* The first vertex of the piece at the same position as vertex q (at p), found or entered in tab: open
+   addressing over hs slots (a power of two; 0 an empty slot, else a vertex + 1). */
+PVS__STATIC uint32_t pvs__mesh_weld(uint32_t *tab, uint32_t hs, const float *pos, uint32_t q, const float *p) {
+    uint32_t x = pvs__mesh_fbits(p[0]), y = pvs__mesh_fbits(p[1]), z = pvs__mesh_fbits(p[2]), h;
+    h = (x * 0x9E3779B1u) ^ (y * 0x85EBCA77u) ^ (z * 0xC2B2AE3Du);
+    h = (h ^ (h >> 15)) & (hs - 1);
+    for (;;) {
+        if (!tab[h]) {
+            tab[h] = q + 1;
+            return q;
         }
-        for (k = 0; k < 3 && ok; ++k) {
-            ok = q[k] < vc;
-            if (ok) {
-                p[k] = pos + 3 * (size_t)q[k];
-                ok = pvs__finite(p[k][0]) && pvs__finite(p[k][1]) && pvs__finite(p[k][2]);
-            }
+        {
+            const float *o = pos + 3 * (size_t)(tab[h] - 1);
+            if (o[0] == p[0] && o[1] == p[1] && o[2] == p[2]) return tab[h] - 1;
         }
-        if (!ok) continue;
-        if (r->tiled) { /* hidden behind what earlier pieces drew: left out (its edges become boundary edges) */
-            const float *pv[4][3];
-            unsigned test, l;
-            int32_t box[4][4];
-            float zmax[4];
-            for (l = 0; l < 4; ++l) { pv[l][0] = p[0]; pv[l][1] = p[1]; pv[l][2] = p[2]; }
-            if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax) & test & 1u) && pvs__pf_hidden(r, box, 0, zmax[0])) continue;
-        }
-        for (k = 0; k < 3; ++k) { /* the first vertex with the same position (open addressing) */
-            uint32_t x = pvs__mesh_fbits(p[k][0]), y = pvs__mesh_fbits(p[k][1]), z = pvs__mesh_fbits(p[k][2]);
-            h = (x * 0x9E3779B1u) ^ (y * 0x85EBCA77u) ^ (z * 0xC2B2AE3Du);
-            h = (h ^ (h >> 15)) & (hs - 1);
-            for (;;) {
-                if (!tab[h]) {
-                    tab[h] = q[k] + 1;
-                    cid[3 * t + k] = q[k];
-                    break;
-                }
-                {
-                    const float *o = pos + 3 * (size_t)(tab[h] - 1);
-                    if (o[0] == p[k][0] && o[1] == p[k][1] && o[2] == p[k][2]) {
-                        cid[3 * t + k] = tab[h] - 1;
-                        break;
-                    }
-                }
-                h = (h + 1) & (hs - 1);
-            }
-        }
-        if (cid[3 * t] == cid[3 * t + 1] || cid[3 * t + 1] == cid[3 * t + 2] || cid[3 * t + 2] == cid[3 * t]) continue;
-        for (k = 0; k < 3; ++k) v[k] = pvs__raster_transform(r, p[k]);
-        if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) continue;
-        if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) continue;
-        g = pvs__mesh_facing(v);
-        if (!g || !pvs__mesh_setup(r, v, g, r->mt + t)) continue;
-        for (k = 0; k < 3; ++k) { /* 1: surely in front of both clip planes, 2: surely behind one, 0: neither */
-            double w = v[k].c[3], zc = v[k].c[2], e = v[k].e;
-            double m1 = 2.0 * e + 4.5e-16 * (pvs__dabs(w) + pvs__dabs(zc)), m2 = e + 4.5e-16 * pvs__dabs(w) + 1e-45;
-            r->mvst[3 * t + k] = (uint8_t)(w - zc > m1 && w - 1e-30 > m2 ? 1 : w - zc < -m1 || w - 1e-30 < -m2 ? 2 : 0);
-        }
-        r->mgrp[t] = (int8_t)g;
+        h = (h + 1) & (hs - 1);
     }
-    /* edges by their welded end points: the partner half-edge, NONE or MULTI */
+}
+
+/* Triangle t of the piece, vertices q[0..2] of pos (vc of them): welds its corners (r->mcid through
+   the hs-slot table r->mtab), transforms it, takes its facing, clips and prepares it (r->mt[t]) and
+   marks its corners against the clip planes (r->mvst). r->mgrp[t] ends as its facing, or 0 when it
+   joins no group: an index or a coordinate out of range, hidden behind earlier pieces (tiled), two
+   corners welded, outside a clip plane, facing uncertain or nothing usable left after clipping. */
+PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t q[3], uint32_t hs, uint32_t t) {
+    uint32_t k, *cid = r->mcid;
+    const float *p[3];
+    pvs__cv v[3];
+    int ok = 1, g;
+    r->mgrp[t] = 0;
+    for (k = 0; k < 3 && ok; ++k) {
+        ok = q[k] < vc;
+        if (ok) {
+            p[k] = pos + 3 * (size_t)q[k];
+            ok = pvs__finite(p[k][0]) && pvs__finite(p[k][1]) && pvs__finite(p[k][2]);
+        }
+    }
+    if (!ok) return;
+    if (r->tiled) { /* hidden behind what earlier pieces drew: left out (its edges become boundary edges) */
+        const float *pv[4][3];
+        unsigned test, l;
+        int32_t box[4][4];
+        float zmax[4];
+        for (l = 0; l < 4; ++l) { pv[l][0] = p[0]; pv[l][1] = p[1]; pv[l][2] = p[2]; }
+        if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax) & test & 1u) && pvs__pf_hidden(r, box, 0, zmax[0])) return;
+    }
+    for (k = 0; k < 3; ++k) cid[3 * t + k] = pvs__mesh_weld(r->mtab, hs, pos, q[k], p[k]);
+    if (cid[3 * t] == cid[3 * t + 1] || cid[3 * t + 1] == cid[3 * t + 2] || cid[3 * t + 2] == cid[3 * t]) return;
+    for (k = 0; k < 3; ++k) v[k] = pvs__raster_transform(r, p[k]);
+    if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) return;
+    if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
+    g = pvs__mesh_facing(v);
+    if (!g || !pvs__mesh_setup(r, v, g, r->mt + t)) return;
+    for (k = 0; k < 3; ++k) { /* 1: surely in front of both clip planes, 2: surely behind one, 0: neither */
+        double w = v[k].c[3], zc = v[k].c[2], e = v[k].e;
+        double m1 = 2.0 * e + 4.5e-16 * (pvs__dabs(w) + pvs__dabs(zc)), m2 = e + 4.5e-16 * pvs__dabs(w) + 1e-45;
+        r->mvst[3 * t + k] = (uint8_t)(w - zc > m1 && w - 1e-30 > m2 ? 1 : w - zc < -m1 || w - 1e-30 < -m2 ? 2 : 0);
+    }
+    r->mgrp[t] = (int8_t)g;
+}
+
+/* Pairs the half-edges of the piece's n grouped triangles by their welded end points: r->mpart[he] is
+   the partner half-edge, PVS__MESH_NONE or PVS__MESH_MULTI (three or more); r->mtab (hs slots) is the
+   scratch. */
+PVS__STATIC void pvs__mesh_partners(pvs_raster *r, uint32_t n, uint32_t hs) {
+    uint32_t t, k, h, *tab = r->mtab, *cid = r->mcid, *part = r->mpart;
     for (h = 0; h < hs; ++h) tab[h] = 0;
     for (t = 0; t < n; ++t) {
         if (!r->mgrp[t]) continue;
@@ -5118,7 +5132,12 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
             }
         }
     }
-    /* which polygon edges are boundary edges (conditions (i)-(iii) above) */
+}
+
+/* Clears the boundary flag of the polygon edges of the piece's n triangles that are internal
+   (conditions (i)-(iii) above), from their partners (r->mpart) and corner states (r->mvst). */
+PVS__STATIC void pvs__mesh_internal(pvs_raster *r, uint32_t n) {
+    uint32_t t, *cid = r->mcid, *part = r->mpart;
     for (t = 0; t < n; ++t) {
         pvs__mtri *p = r->mt + t;
         int e;
@@ -5137,6 +5156,27 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
             p->bnd[e] = 0;
         }
     }
+}
+
+/* One piece of a mesh: triangles first .. first + n - 1 (n <= mesh_cap) of `indices` (NULL:
+   consecutive vertices) or of tris[]. */
+PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices, const pvs__occsel *tris,
+                                 uint32_t first, uint32_t n) {
+    uint32_t hs = 16, t, h;
+    while (hs < 6 * n && hs < r->mesh_hash) hs <<= 1;
+    for (h = 0; h < hs; ++h) r->mtab[h] = 0;
+    for (t = 0; t < n; ++t) { /* weld, transform, facing, clip and prepare */
+        uint32_t q[3];
+        if (tris || indices) {
+            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[first + t].triangle : indices + 3 * (size_t)(first + t);
+            q[0] = ix[0]; q[1] = ix[1]; q[2] = ix[2];
+        } else {
+            q[0] = 3 * (first + t); q[1] = q[0] + 1; q[2] = q[0] + 2;
+        }
+        pvs__mesh_tri(r, pos, vc, q, hs, t);
+    }
+    pvs__mesh_partners(r, n, hs);
+    pvs__mesh_internal(r, n);
     pvs__mesh_draw(r, n, 1);
     pvs__mesh_draw(r, n, -1);
 }
@@ -5865,11 +5905,186 @@ PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int
     return b->min[u] >= r->region[0] && b->max[u] <= r->region[2] && b->min[v] >= r->region[1] && b->max[v] <= r->region[3];
 }
 
+/* Sizes and allocates the per-pixel depth map, its 8 x 8 tile minima and its depth pyramid (Durand 2000
+   §2.4): each level halves the one below, rounding up, until 1 x 1 (at most PVS__RASTER_MAX_LEVELS
+   levels), a min and a max plane per level; level 0 is the map itself. Returns 0 when out of memory
+   (what was allocated stays in r for pvs_raster_destroy). */
+PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
+    uint32_t l, w, h;
+    size_t floats = 0;
+    r->lw[0] = w = r->width;
+    r->lh[0] = h = r->height;
+    while ((w > 1 || h > 1) && r->levels < PVS__RASTER_MAX_LEVELS) {
+        w = (w + 1) / 2;
+        h = (h + 1) / 2;
+        ++r->levels;
+        r->lw[r->levels] = w;
+        r->lh[r->levels] = h;
+        floats += 2 * (size_t)w * h;
+    }
+    r->depth = (float *)pvs__alloc_array(&r->allocator, (size_t)r->width * r->height, sizeof(float));
+    r->pyramid_floats = floats;
+    r->pyramid = (float *)pvs__alloc_array(&r->allocator, floats, sizeof(float));
+    r->tiles = (size_t)((r->width + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->height + PVS__TILE - 1) >> PVS__TILE_SHIFT);
+    r->tile_min = (float *)pvs__alloc_array(&r->allocator, r->tiles, sizeof(float));
+    if (!r->depth || !r->pyramid || !r->tile_min) return 0;
+    floats = 0;
+    for (l = 1; l <= r->levels; ++l) {
+        r->lmin[l] = r->pyramid + floats;
+        floats += (size_t)r->lw[l] * r->lh[l];
+        r->lmax[l] = r->pyramid + floats;
+        floats += (size_t)r->lw[l] * r->lh[l];
+    }
+    r->lmin[0] = r->lmax[0] = r->depth;
+    return 1;
+}
+
+/* Sizes and allocates the occluder tiles (pvs__tile), their blocks of 8 x 8 tiles and the tile pyramid:
+   a level halves its texels along x, y or both, whichever keeps them closest to square in pixels
+   (a texel covers 1 << tsx by 1 << tsy tiles), until one texel covers the map. Returns 0 when out of
+   memory (what was allocated stays in r for pvs_raster_destroy). */
+PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
+    uint32_t l, w, h;
+    size_t floats;
+    r->tiled = (r->flags & PVS_RASTER_TILED) || (!(r->flags & PVS_RASTER_PER_PIXEL) && (size_t)r->width * r->height > 65536);
+    r->tw = (r->width + 31) >> PVS__TW_SHIFT;
+    r->th = (r->height + PVS__TH - 1) >> PVS__TH_SHIFT;
+    r->xpad = r->width & 31 ? ~0u << (r->width & 31) : 0u;
+    r->ypad = r->height & (PVS__TH - 1) ? r->height & (PVS__TH - 1) : PVS__TH;
+    r->tlw[0] = w = r->tw;
+    r->tlh[0] = h = r->th;
+    floats = 2 * (size_t)w * h;
+    while (w > 1 || h > 1) {
+        uint32_t pxw = 32u << r->tsx[r->tlevels], pxh = (uint32_t)PVS__TH << r->tsy[r->tlevels];
+        uint32_t mx = w > 1 && (pxw <= pxh || h == 1), my = h > 1 && (pxh <= pxw || w == 1);
+        if (mx) w = (w + 1) / 2;
+        if (my) h = (h + 1) / 2;
+        ++r->tlevels;
+        r->tlw[r->tlevels] = w;
+        r->tlh[r->tlevels] = h;
+        r->tsx[r->tlevels] = (uint8_t)(r->tsx[r->tlevels - 1] + mx);
+        r->tsy[r->tlevels] = (uint8_t)(r->tsy[r->tlevels - 1] + my);
+        floats += 2 * (size_t)w * h;
+    }
+    r->tile = (pvs__tile *)pvs__alloc_array(&r->allocator, (size_t)r->tw * r->th, sizeof(pvs__tile));
+    r->tpyramid_floats = floats;
+    r->tpyramid = (float *)pvs__alloc_array(&r->allocator, floats, sizeof(float));
+    r->bw = (r->tw + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
+    r->bh = (r->th + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
+    r->bmin = (float *)pvs__alloc_array(&r->allocator, (size_t)r->bw * r->bh, sizeof(float));
+    r->bdirty = (uint8_t *)pvs__alloc_array(&r->allocator, (size_t)r->bw * r->bh, 1);
+    if (!r->tile || !r->tpyramid || !r->bmin || !r->bdirty) return 0;
+    floats = 0;
+    for (l = 0; l <= r->tlevels; ++l) {
+        r->tlmin[l] = r->tpyramid + floats;
+        floats += (size_t)r->tlw[l] * r->tlh[l];
+        r->tlmax[l] = r->tpyramid + floats;
+        floats += (size_t)r->tlw[l] * r->tlh[l];
+    }
+    return 1;
+}
+
+/* Allocates the occluder mesh scratch (pvs_raster_mesh) for pieces of `max_triangles` triangles (0: the
+   default, at most 2^24): the prepared triangles, their hash (load <= 1/2), four rows of pixels. Returns
+   0 when out of memory (what was allocated stays in r for pvs_raster_destroy). */
+PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
+    const pvs_allocator *a = &r->allocator;
+    size_t i;
+    r->mesh_cap = max_triangles ? (max_triangles < (1u << 24) ? max_triangles : 1u << 24) : PVS__MESH_DEFAULT;
+    for (r->mesh_hash = 16; r->mesh_hash < 6 * r->mesh_cap; r->mesh_hash <<= 1) {}
+    r->mt = (pvs__mtri *)pvs__alloc_array(a, r->mesh_cap, sizeof(pvs__mtri));
+    r->mcid = (uint32_t *)pvs__alloc_array(a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
+    r->mpart = (uint32_t *)pvs__alloc_array(a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
+    r->mvst = (uint8_t *)pvs__alloc_array(a, 3 * (size_t)r->mesh_cap, 1);
+    r->mgrp = (int8_t *)pvs__alloc_array(a, r->mesh_cap, 1);
+    r->mtab = (uint32_t *)pvs__alloc_array(a, r->mesh_hash, sizeof(uint32_t));
+    r->morder = (uint32_t *)pvs__alloc_array(a, r->mesh_cap, sizeof(uint32_t));
+    r->mact = (uint32_t *)pvs__alloc_array(a, r->mesh_cap, sizeof(uint32_t));
+    r->mband = (uint32_t *)pvs__alloc_array(a, (size_t)r->th + 1, sizeof(uint32_t));
+    r->mzmin = (float *)pvs__alloc_array(a, (size_t)PVS__TH * r->width, sizeof(float));
+    r->mflag = (uint8_t *)pvs__alloc_array(a, (size_t)PVS__TH * r->width, 1);
+    r->mdirty = (uint8_t *)pvs__alloc_array(a, (size_t)PVS__TH * r->tw, 1);
+    if (!r->mdirty) return 0;
+    memset(r->mdirty, 0, (size_t)PVS__TH * r->tw);
+    if (!r->mt || !r->mcid || !r->mpart || !r->mvst || !r->mgrp || !r->mtab || !r->morder || !r->mact || !r->mband || !r->mzmin || !r->mflag)
+        return 0;
+    for (i = 0; i < (size_t)PVS__TH * r->width; ++i) {
+        r->mzmin[i] = FLT_MAX;
+        r->mflag[i] = 0;
+    }
+    return 1;
+}
+
+/* Builds the cull map's object grid over the scene's ground rectangle, w x h cells (Wonka 1999 §4.1:
+   every object entered into every cell it overlaps, with the highest object top per cell, §4.3).
+   Returns PVS_OK, or the error (in err) with what was allocated left in r for pvs_raster_destroy. */
+PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene *s, uint32_t w, uint32_t h, pvs_error *err) {
+    const pvs_allocator *a = &r->allocator;
+    int u, v, up = (int)s->up_axis;
+    size_t cells = (size_t)w * h, total = 0, i;
+    uint32_t o, l;
+    pvs__ground_axes(s->up_axis, &u, &v);
+    r->cm_w = w;
+    r->cm_h = h;
+    r->ground = s->bounds.min[up];
+    r->region[0] = s->bounds.min[u];
+    r->region[1] = s->bounds.min[v];
+    r->region[2] = s->bounds.max[u];
+    r->region[3] = s->bounds.max[v];
+    for (l = 0; l < 2; ++l) /* never a zero-size region */
+        if (!(r->region[2 + l] > r->region[l])) {
+            r->region[l] -= 0.5f;
+            r->region[2 + l] += 0.5f;
+        }
+    if (!(r->ground <= r->ground + 0.0f)) r->ground = 0.0f; /* empty scene bounds */
+    r->cm = (float *)pvs__alloc_array(a, cells, sizeof(float));
+    r->cm_tiles = (size_t)((r->cm_w + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->cm_h + PVS__TILE - 1) >> PVS__TILE_SHIFT);
+    r->cm_tile_min = (float *)pvs__alloc_array(a, r->cm_tiles, sizeof(float));
+    if (!r->cm_tile_min) goto oom;
+    r->cm_bound = (float *)pvs__alloc_array(a, cells, sizeof(float));
+    r->cm_start = (uint32_t *)pvs__alloc_array(a, cells + 1, sizeof(uint32_t));
+    if (!r->cm || !r->cm_bound || !r->cm_start) goto oom;
+    for (i = 0; i <= cells; ++i) r->cm_start[i] = 0;
+    for (i = 0; i < cells; ++i) { r->cm[i] = PVS_DEPTH_EMPTY; r->cm_bound[i] = PVS_DEPTH_EMPTY; }
+    for (o = 0; o < s->object_count; ++o) {
+        const pvs_box *b = s->object_boxes + o;
+        int32_t i0, j0, i1, j1, ii, jj;
+        if (b->min[0] > b->max[0]) continue;
+        pvs__cm_range(r, b, up, &i0, &j0, &i1, &j1);
+        total += (size_t)(i1 - i0 + 1) * (size_t)(j1 - j0 + 1);
+        if (total > 0xffffffffu)
+            return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the cull map grid holds more than 2^32 object entries");
+        for (jj = j0; jj <= j1; ++jj)
+            for (ii = i0; ii <= i1; ++ii) {
+                size_t c = (size_t)jj * r->cm_w + (size_t)ii;
+                r->cm_start[c + 1]++;
+                if (b->max[up] > r->cm_bound[c]) r->cm_bound[c] = b->max[up];
+            }
+    }
+    for (i = 0; i < cells; ++i) r->cm_start[i + 1] += r->cm_start[i];
+    r->cm_item_count = (uint32_t)total;
+    r->cm_items = (uint32_t *)pvs__alloc_array(a, total, sizeof(uint32_t));
+    if (!r->cm_items) goto oom;
+    for (o = 0; o < s->object_count; ++o) { /* fill, using cm_start[c] as the cursor, then shift back */
+        const pvs_box *b = s->object_boxes + o;
+        int32_t i0, j0, i1, j1, ii, jj;
+        if (b->min[0] > b->max[0]) continue;
+        pvs__cm_range(r, b, up, &i0, &j0, &i1, &j1);
+        for (jj = j0; jj <= j1; ++jj)
+            for (ii = i0; ii <= i1; ++ii) r->cm_items[r->cm_start[(size_t)jj * r->cm_w + (size_t)ii]++] = o;
+    }
+    for (i = cells; i > 0; --i) r->cm_start[i] = r->cm_start[i - 1];
+    r->cm_start[0] = 0;
+    return PVS_OK;
+oom:
+    return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "raster buffers");
+}
+
 PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **out, pvs_error *err) {
     pvs_raster *r;
     pvs_allocator a;
-    uint32_t l, w, h;
-    size_t floats = 0, i;
+    pvs_result res;
+    uint32_t l;
     if (out) *out = NULL;
     if (!desc || !out) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc and out_raster must not be NULL");
     if (desc->width < 1 || desc->height < 1 || desc->width > 16384 || desc->height > 16384)
@@ -5898,94 +6113,12 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
         r->rowt[l] = 0.0;
     }
     r->mabs[0] = 1.0;
-    r->lw[0] = w = r->width;
-    r->lh[0] = h = r->height;
-    while ((w > 1 || h > 1) && r->levels < PVS__RASTER_MAX_LEVELS) {
-        w = (w + 1) / 2;
-        h = (h + 1) / 2;
-        ++r->levels;
-        r->lw[r->levels] = w;
-        r->lh[r->levels] = h;
-        floats += 2 * (size_t)w * h;
-    }
-    r->depth = (float *)pvs__alloc_array(&a, (size_t)r->width * r->height, sizeof(float));
-    r->pyramid_floats = floats;
-    r->pyramid = (float *)pvs__alloc_array(&a, floats, sizeof(float));
-    r->tiles = (size_t)((r->width + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->height + PVS__TILE - 1) >> PVS__TILE_SHIFT);
-    r->tile_min = (float *)pvs__alloc_array(&a, r->tiles, sizeof(float));
-    if (!r->depth || !r->pyramid || !r->tile_min) goto oom;
-    /* the occluder tiles and their pyramid */
-    r->tiled = (r->flags & PVS_RASTER_TILED) || (!(r->flags & PVS_RASTER_PER_PIXEL) && (size_t)r->width * r->height > 65536);
-    r->tw = (r->width + 31) >> PVS__TW_SHIFT;
-    r->th = (r->height + PVS__TH - 1) >> PVS__TH_SHIFT;
-    r->xpad = r->width & 31 ? ~0u << (r->width & 31) : 0u;
-    r->ypad = r->height & (PVS__TH - 1) ? r->height & (PVS__TH - 1) : PVS__TH;
-    r->tlw[0] = w = r->tw;
-    r->tlh[0] = h = r->th;
-    floats = 2 * (size_t)w * h;
-    while (w > 1 || h > 1) {
-        uint32_t pxw = 32u << r->tsx[r->tlevels], pxh = (uint32_t)PVS__TH << r->tsy[r->tlevels];
-        uint32_t mx = w > 1 && (pxw <= pxh || h == 1), my = h > 1 && (pxh <= pxw || w == 1);
-        if (mx) w = (w + 1) / 2;
-        if (my) h = (h + 1) / 2;
-        ++r->tlevels;
-        r->tlw[r->tlevels] = w;
-        r->tlh[r->tlevels] = h;
-        r->tsx[r->tlevels] = (uint8_t)(r->tsx[r->tlevels - 1] + mx);
-        r->tsy[r->tlevels] = (uint8_t)(r->tsy[r->tlevels - 1] + my);
-        floats += 2 * (size_t)w * h;
-    }
-    r->tile = (pvs__tile *)pvs__alloc_array(&a, (size_t)r->tw * r->th, sizeof(pvs__tile));
-    r->tpyramid_floats = floats;
-    r->tpyramid = (float *)pvs__alloc_array(&a, floats, sizeof(float));
-    r->bw = (r->tw + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
-    r->bh = (r->th + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
-    r->bmin = (float *)pvs__alloc_array(&a, (size_t)r->bw * r->bh, sizeof(float));
-    r->bdirty = (uint8_t *)pvs__alloc_array(&a, (size_t)r->bw * r->bh, 1);
-    if (!r->tile || !r->tpyramid || !r->bmin || !r->bdirty) goto oom;
-    floats = 0;
-    for (l = 0; l <= r->tlevels; ++l) {
-        r->tlmin[l] = r->tpyramid + floats;
-        floats += (size_t)r->tlw[l] * r->tlh[l];
-        r->tlmax[l] = r->tpyramid + floats;
-        floats += (size_t)r->tlw[l] * r->tlh[l];
-    }
-    floats = 0;
-    for (l = 1; l <= r->levels; ++l) {
-        r->lmin[l] = r->pyramid + floats;
-        floats += (size_t)r->lw[l] * r->lh[l];
-        r->lmax[l] = r->pyramid + floats;
-        floats += (size_t)r->lw[l] * r->lh[l];
-    }
-    r->lmin[0] = r->lmax[0] = r->depth;
+    if (!pvs__raster_init_pixels(r) || !pvs__raster_init_tiles(r)) goto oom;
     pvs_raster_clear(r);
     r->max_occluders = desc->max_occluders ? desc->max_occluders : 1024;
     r->occ = (pvs__occsel *)pvs__alloc_array(&a, r->max_occluders, sizeof(pvs__occsel));
-    if (!r->occ) goto oom;
-    /* occluder meshes: a piece's triangles, its hash (load <= 1/2), four rows of pixels */
-    r->mesh_cap = desc->max_mesh_triangles ? (desc->max_mesh_triangles < (1u << 24) ? desc->max_mesh_triangles : 1u << 24) : PVS__MESH_DEFAULT;
-    for (r->mesh_hash = 16; r->mesh_hash < 6 * r->mesh_cap; r->mesh_hash <<= 1) {}
-    r->mt = (pvs__mtri *)pvs__alloc_array(&a, r->mesh_cap, sizeof(pvs__mtri));
-    r->mcid = (uint32_t *)pvs__alloc_array(&a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
-    r->mpart = (uint32_t *)pvs__alloc_array(&a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
-    r->mvst = (uint8_t *)pvs__alloc_array(&a, 3 * (size_t)r->mesh_cap, 1);
-    r->mgrp = (int8_t *)pvs__alloc_array(&a, r->mesh_cap, 1);
-    r->mtab = (uint32_t *)pvs__alloc_array(&a, r->mesh_hash, sizeof(uint32_t));
-    r->morder = (uint32_t *)pvs__alloc_array(&a, r->mesh_cap, sizeof(uint32_t));
-    r->mact = (uint32_t *)pvs__alloc_array(&a, r->mesh_cap, sizeof(uint32_t));
-    r->mband = (uint32_t *)pvs__alloc_array(&a, (size_t)r->th + 1, sizeof(uint32_t));
-    r->mzmin = (float *)pvs__alloc_array(&a, (size_t)PVS__TH * r->width, sizeof(float));
-    r->mflag = (uint8_t *)pvs__alloc_array(&a, (size_t)PVS__TH * r->width, 1);
-    r->mdirty = (uint8_t *)pvs__alloc_array(&a, (size_t)PVS__TH * r->tw, 1);
-    if (!r->mdirty) goto oom;
-    memset(r->mdirty, 0, (size_t)PVS__TH * r->tw);
-    if (!r->mt || !r->mcid || !r->mpart || !r->mvst || !r->mgrp || !r->mtab || !r->morder || !r->mact || !r->mband || !r->mzmin || !r->mflag)
-        goto oom;
-    for (i = 0; i < (size_t)PVS__TH * r->width; ++i) {
-        r->mzmin[i] = FLT_MAX;
-        r->mflag[i] = 0;
-    }
-    if (desc->scene) {
+    if (!r->occ || !pvs__raster_init_mesh(r, desc->max_mesh_triangles)) goto oom;
+    if (desc->scene) { /* the culling scratch: a sweep over either tree, a bit per triangle and object */
         const pvs_scene *s = desc->scene;
         size_t s1 = pvs_kdtree_sweep_scratch_size(s->object_tree), s2 = pvs_kdtree_sweep_scratch_size(s->triangle_tree);
         r->scene = s;
@@ -5998,65 +6131,11 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
         if (!r->sweep || !r->tri_seen || !r->obj_done) goto oom;
     }
     if (desc->cull_map_width) {
-        /* the object grid of Wonka 1999 §4.1: every object entered into every cell it overlaps */
-        const pvs_scene *s = desc->scene;
-        int u, v, up = (int)s->up_axis;
-        size_t cells = (size_t)desc->cull_map_width * desc->cull_map_height, total = 0;
-        uint32_t o;
-        pvs__ground_axes(s->up_axis, &u, &v);
-        r->cm_w = desc->cull_map_width;
-        r->cm_h = desc->cull_map_height;
-        r->ground = s->bounds.min[up];
-        r->region[0] = s->bounds.min[u];
-        r->region[1] = s->bounds.min[v];
-        r->region[2] = s->bounds.max[u];
-        r->region[3] = s->bounds.max[v];
-        for (l = 0; l < 2; ++l) /* never a zero-size region */
-            if (!(r->region[2 + l] > r->region[l])) {
-                r->region[l] -= 0.5f;
-                r->region[2 + l] += 0.5f;
-            }
-        if (!(r->ground <= r->ground + 0.0f)) r->ground = 0.0f; /* empty scene bounds */
-        r->cm = (float *)pvs__alloc_array(&a, cells, sizeof(float));
-        r->cm_tiles = (size_t)((r->cm_w + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->cm_h + PVS__TILE - 1) >> PVS__TILE_SHIFT);
-        r->cm_tile_min = (float *)pvs__alloc_array(&a, r->cm_tiles, sizeof(float));
-        if (!r->cm_tile_min) goto oom;
-        r->cm_bound = (float *)pvs__alloc_array(&a, cells, sizeof(float));
-        r->cm_start = (uint32_t *)pvs__alloc_array(&a, cells + 1, sizeof(uint32_t));
-        if (!r->cm || !r->cm_bound || !r->cm_start) goto oom;
-        for (i = 0; i <= cells; ++i) r->cm_start[i] = 0;
-        for (i = 0; i < cells; ++i) { r->cm[i] = PVS_DEPTH_EMPTY; r->cm_bound[i] = PVS_DEPTH_EMPTY; }
-        for (o = 0; o < s->object_count; ++o) {
-            const pvs_box *b = s->object_boxes + o;
-            int32_t i0, j0, i1, j1, ii, jj;
-            if (b->min[0] > b->max[0]) continue;
-            pvs__cm_range(r, b, up, &i0, &j0, &i1, &j1);
-            total += (size_t)(i1 - i0 + 1) * (size_t)(j1 - j0 + 1);
-            if (total > 0xffffffffu) {
-                pvs_raster_destroy(r);
-                return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the cull map grid holds more than 2^32 object entries");
-            }
-            for (jj = j0; jj <= j1; ++jj)
-                for (ii = i0; ii <= i1; ++ii) {
-                    size_t c = (size_t)jj * r->cm_w + (size_t)ii;
-                    r->cm_start[c + 1]++;
-                    if (b->max[up] > r->cm_bound[c]) r->cm_bound[c] = b->max[up];
-                }
+        res = pvs__raster_init_cull_map(r, desc->scene, desc->cull_map_width, desc->cull_map_height, err);
+        if (res != PVS_OK) {
+            pvs_raster_destroy(r);
+            return res;
         }
-        for (i = 0; i < cells; ++i) r->cm_start[i + 1] += r->cm_start[i];
-        r->cm_item_count = (uint32_t)total;
-        r->cm_items = (uint32_t *)pvs__alloc_array(&a, total, sizeof(uint32_t));
-        if (!r->cm_items) goto oom;
-        for (o = 0; o < s->object_count; ++o) { /* fill, using cm_start[c] as the cursor, then shift back */
-            const pvs_box *b = s->object_boxes + o;
-            int32_t i0, j0, i1, j1, ii, jj;
-            if (b->min[0] > b->max[0]) continue;
-            pvs__cm_range(r, b, up, &i0, &j0, &i1, &j1);
-            for (jj = j0; jj <= j1; ++jj)
-                for (ii = i0; ii <= i1; ++ii) r->cm_items[r->cm_start[(size_t)jj * r->cm_w + (size_t)ii]++] = o;
-        }
-        for (i = cells; i > 0; --i) r->cm_start[i] = r->cm_start[i - 1];
-        r->cm_start[0] = 0;
     }
     *out = r;
     pvs__ok(err);
@@ -6192,12 +6271,115 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
     return PVS_OK;
 }
 
+/* Selects up to p->scene_occluders triangles of the scene within p->occluder_distance of the eye by
+   Bittner 2002 §4.5's area-angle measure (a sweep of the triangle tree, nearest first) and draws them
+   as occluders: welded into meshes with PVS_CULL_SCENE_MESH, else one by one. Returns their count. */
+PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p) {
+    pvs__selctx sc;
+    pvs_box src;
+    double len;
+    uint32_t i;
+    int k;
+    sc.r = r;
+    sc.s = s;
+    sc.k = p->scene_occluders < r->max_occluders ? p->scene_occluders : r->max_occluders;
+    sc.n = 0;
+    sc.max_dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
+    sc.near_d = cam->near_plane;
+    for (k = 0; k < 3; ++k) { sc.eye[k] = cam->eye[k]; sc.fwd[k] = cam->forward[k]; }
+    len = sqrt(sc.fwd[0] * sc.fwd[0] + sc.fwd[1] * sc.fwd[1] + sc.fwd[2] * sc.fwd[2]);
+    for (k = 0; k < 3; ++k) sc.fwd[k] /= len;
+    if (cam->fov_y == 0.0f) sc.near_d = -DBL_MAX; /* orthographic: the near plane test is the matrix's */
+    memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
+    for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
+    pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
+    if (p->occluder_flags & PVS_CULL_SCENE_MESH) {
+        pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n); /* welded: walls fuse (Durand 2000 §3.3) */
+    } else if (r->tiled) {
+        pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
+    } else {
+        for (i = 0; i < sc.n; ++i) {
+            const uint32_t *t = s->indices + 3 * (size_t)r->occ[i].triangle;
+            pvs__raster_tri(r, s->positions + 3 * (size_t)t[0], s->positions + 3 * (size_t)t[1], s->positions + 3 * (size_t)t[2], 1);
+        }
+    }
+    return sc.n;
+}
+
+/* Draws the walls of the extrusion o (footprint in the ground axes u, v, up the up axis) as occluders:
+   meshes of up to 32 walls, two triangles each, neighbours sharing their vertical edge, or with
+   `separate` triangle by triangle. Returns the triangles drawn. */
+PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc *o, int u, int v, int up, int separate) {
+    uint32_t j, drawn = 0;
+    if (!separate) {
+        float wp[2 * 33][3];
+        uint32_t wi[32 * 6], c, nw;
+        for (j = 0; j < o->footprint_count; j += 32) {
+            nw = o->footprint_count - j < 32 ? o->footprint_count - j : 32;
+            for (c = 0; c <= nw; ++c) {
+                const float *a = o->footprint + 2 * ((j + c) % o->footprint_count);
+                wp[2 * c][u] = a[0]; wp[2 * c][v] = a[1]; wp[2 * c][up] = o->base;
+                wp[2 * c + 1][u] = a[0]; wp[2 * c + 1][v] = a[1]; wp[2 * c + 1][up] = o->top;
+            }
+            for (c = 0; c < nw; ++c) { /* (a0 b0 b1) (a0 b1 a1), as drawn one by one */
+                wi[6 * c] = 2 * c; wi[6 * c + 1] = 2 * c + 2; wi[6 * c + 2] = 2 * c + 3;
+                wi[6 * c + 3] = 2 * c; wi[6 * c + 4] = 2 * c + 3; wi[6 * c + 5] = 2 * c + 1;
+            }
+            pvs__mesh(r, &wp[0][0], 2 * (nw + 1), wi, NULL, 2 * nw);
+            drawn += 2 * nw;
+        }
+        return drawn;
+    }
+    for (j = 0; j < o->footprint_count; ++j) {
+        const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
+        float q[4][3];
+        q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
+        q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
+        q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
+        q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
+        pvs__raster_tri(r, q[0], q[1], q[2], 1);
+        pvs__raster_tri(r, q[0], q[2], q[3], 1);
+        drawn += 2;
+    }
+    return drawn;
+}
+
+/* Draws the scene's explicit occluder volumes within p->occluder_distance of the eye as occluder
+   triangles: a box's faces, an extrusion's walls (meshes unless PVS_CULL_SEPARATE_TRIANGLES).
+   Returns the triangles drawn. */
+PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p) {
+    static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                     {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    float dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
+    int u, v, k, up = (int)s->up_axis, separate = (p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES) != 0;
+    uint32_t i, j, drawn = 0;
+    pvs_box src;
+    pvs__ground_axes(s->up_axis, &u, &v);
+    for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
+    for (i = 0; i < s->occluder_count; ++i) {
+        const pvs_occluder_desc *o = s->occluders + i;
+        float q[8][3];
+        if (pvs__box_distance2(&src, s->occluder_boxes + i) > dist * dist) continue;
+        if (o->kind == PVS_OCCLUDER_BOX) {
+            for (j = 0; j < 8; ++j)
+                for (k = 0; k < 3; ++k) q[j][k] = (j >> k) & 1u ? o->box.max[k] : o->box.min[k];
+            if (separate)
+                for (j = 0; j < 12; ++j) pvs__raster_tri(r, q[f[j][0]], q[f[j][1]], q[f[j][2]], 1);
+            else
+                pvs__mesh(r, &q[0][0], 8, &f[0][0], NULL, 12);
+            drawn += 12;
+        } else if (o->kind == PVS_OCCLUDER_EXTRUSION) {
+            drawn += pvs__cull_extrusion(r, o, u, v, up, separate);
+        }
+    }
+    return drawn;
+}
+
 PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p,
                                    pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
     pvs__cullctx cc;
     pvs_box src;
     pvs_result res = pvs__cull_begin(r, s, cam, visible, err);
-    uint32_t i;
     int k;
     if (res != PVS_OK) return res;
     memset(&cc, 0, sizeof(cc));
@@ -6210,89 +6392,8 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
                                  PVS_RASTER_OCCLUDER);
         cc.st.occluder_triangles += p->occluder_triangle_count;
     }
-    if (p && p->scene_occluders) {
-        pvs__selctx sc;
-        double len;
-        sc.r = r;
-        sc.s = s;
-        sc.k = p->scene_occluders < r->max_occluders ? p->scene_occluders : r->max_occluders;
-        sc.n = 0;
-        sc.max_dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
-        sc.near_d = cam->near_plane;
-        for (k = 0; k < 3; ++k) { sc.eye[k] = cam->eye[k]; sc.fwd[k] = cam->forward[k]; }
-        len = sqrt(sc.fwd[0] * sc.fwd[0] + sc.fwd[1] * sc.fwd[1] + sc.fwd[2] * sc.fwd[2]);
-        for (k = 0; k < 3; ++k) sc.fwd[k] /= len;
-        if (cam->fov_y == 0.0f) sc.near_d = -DBL_MAX; /* orthographic: the near plane test is the matrix's */
-        memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
-        for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
-        pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
-        if (p->occluder_flags & PVS_CULL_SCENE_MESH) {
-            pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n); /* welded: walls fuse (Durand 2000 §3.3) */
-        } else if (r->tiled) {
-            pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
-        } else {
-            for (i = 0; i < sc.n; ++i) {
-                const uint32_t *t = s->indices + 3 * (size_t)r->occ[i].triangle;
-                pvs__raster_tri(r, s->positions + 3 * (size_t)t[0], s->positions + 3 * (size_t)t[1], s->positions + 3 * (size_t)t[2], 1);
-            }
-        }
-        cc.st.occluder_triangles += sc.n;
-    }
-    if (p && p->scene_volumes) { /* explicit occluder volumes as triangles: a box's faces, an extrusion's walls */
-        float dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
-        int u, v, up = (int)s->up_axis;
-        pvs__ground_axes(s->up_axis, &u, &v);
-        for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
-        for (i = 0; i < s->occluder_count; ++i) {
-            const pvs_occluder_desc *o = s->occluders + i;
-            float q[8][3];
-            uint32_t j;
-            if (pvs__box_distance2(&src, s->occluder_boxes + i) > dist * dist) continue;
-            if (o->kind == PVS_OCCLUDER_BOX) {
-                static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-                for (j = 0; j < 8; ++j)
-                    for (k = 0; k < 3; ++k) q[j][k] = (j >> k) & 1u ? o->box.max[k] : o->box.min[k];
-                if (p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES)
-                    for (j = 0; j < 12; ++j) pvs__raster_tri(r, q[f[j][0]], q[f[j][1]], q[f[j][2]], 1);
-                else
-                    pvs__mesh(r, &q[0][0], 8, &f[0][0], NULL, 12);
-                cc.st.occluder_triangles += 12;
-            } else if (o->kind == PVS_OCCLUDER_EXTRUSION) {
-                if (!(p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES)) {
-                    /* the walls as meshes of up to 32 walls (two triangles each, neighbours sharing
-                       their vertical edge) */
-                    float wp[2 * 33][3];
-                    uint32_t wi[32 * 6], c, nw;
-                    for (j = 0; j < o->footprint_count; j += 32) {
-                        nw = o->footprint_count - j < 32 ? o->footprint_count - j : 32;
-                        for (c = 0; c <= nw; ++c) {
-                            const float *a = o->footprint + 2 * ((j + c) % o->footprint_count);
-                            wp[2 * c][u] = a[0]; wp[2 * c][v] = a[1]; wp[2 * c][up] = o->base;
-                            wp[2 * c + 1][u] = a[0]; wp[2 * c + 1][v] = a[1]; wp[2 * c + 1][up] = o->top;
-                        }
-                        for (c = 0; c < nw; ++c) { /* (a0 b0 b1) (a0 b1 a1), as drawn one by one */
-                            wi[6 * c] = 2 * c; wi[6 * c + 1] = 2 * c + 2; wi[6 * c + 2] = 2 * c + 3;
-                            wi[6 * c + 3] = 2 * c; wi[6 * c + 4] = 2 * c + 3; wi[6 * c + 5] = 2 * c + 1;
-                        }
-                        pvs__mesh(r, &wp[0][0], 2 * (nw + 1), wi, NULL, 2 * nw);
-                        cc.st.occluder_triangles += 2 * nw;
-                    }
-                } else {
-                    for (j = 0; j < o->footprint_count; ++j) {
-                        const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
-                        q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
-                        q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
-                        q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
-                        q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
-                        pvs__raster_tri(r, q[0], q[1], q[2], 1);
-                        pvs__raster_tri(r, q[0], q[2], q[3], 1);
-                        cc.st.occluder_triangles += 2;
-                    }
-                }
-            }
-        }
-    }
+    if (p && p->scene_occluders) cc.st.occluder_triangles += pvs__cull_scene_occluders(r, s, cam, p);
+    if (p && p->scene_volumes) cc.st.occluder_triangles += pvs__cull_volumes(r, s, cam, p);
     pvs_raster_build_pyramid(r);
     cc.r = r;
     cc.s = s;
