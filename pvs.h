@@ -7673,11 +7673,88 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 
 /* ---- 2D from-region API (ch. 6) ---- */
 
+/* The cell polygon `in` (n >= 3 vertices) centred at its vertex mean (*cx, *cy) into `cell` (2 n
+   doubles) and made counter-clockwise. Returns PVS_OK, or PVS_ERROR_BAD_CELL (in err) when it has no
+   area or is not convex. */
+PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy, pvs_error *err) {
+    double area = 0.0;
+    uint32_t i;
+    *cx = *cy = 0.0;
+    for (i = 0; i < n; ++i) { *cx += in[2 * i]; *cy += in[2 * i + 1]; }
+    *cx /= n; *cy /= n;
+    for (i = 0; i < n; ++i) {
+        cell[2 * i] = (double)in[2 * i] - *cx;
+        cell[2 * i + 1] = (double)in[2 * i + 1] - *cy;
+    }
+    for (i = 0; i < n; ++i) {
+        const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n);
+        area += a[0] * b[1] - a[1] * b[0];
+    }
+    if (!(fabs(area) > 0.0)) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon has no area");
+    if (area < 0.0) /* make it counter-clockwise */
+        for (i = 0; i < n / 2; ++i) {
+            double tx = cell[2 * i], ty = cell[2 * i + 1];
+            cell[2 * i] = cell[2 * (n - 1 - i)]; cell[2 * i + 1] = cell[2 * (n - 1 - i) + 1];
+            cell[2 * (n - 1 - i)] = tx; cell[2 * (n - 1 - i) + 1] = ty;
+        }
+    for (i = 0; i < n; ++i) { /* convex: no right turn */
+        const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n), *c = cell + 2 * ((i + 2) % n);
+        if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) < 0.0)
+            return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon is not convex");
+    }
+    return PVS_OK;
+}
+
+/* The distances of the MVD shortcut (§6.5.5) for each of the `count` segments of seg against the cell
+   (n vertices), rounded outward by len_eps: reach[i] the largest distance from segment i to a cell
+   point, near[i] the least (0 when the segment meets the cell). */
+PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps, double *reach,
+                                    double *near) {
+    uint32_t i, k;
+    for (i = 0; i < count; ++i) {
+        const double *sg = seg + 4 * i;
+        double far2 = 0.0, nr = DBL_MAX;
+        for (k = 0; k < n; ++k) {
+            double e[4], d0, d1;
+            int m;
+            e[0] = cell[2 * k]; e[1] = cell[2 * k + 1]; e[2] = cell[2 * ((k + 1) % n)]; e[3] = cell[2 * ((k + 1) % n) + 1];
+            for (m = 0; m < 2; ++m) {
+                d0 = (sg[2 * m] - e[0]) * (sg[2 * m] - e[0]) + (sg[2 * m + 1] - e[1]) * (sg[2 * m + 1] - e[1]);
+                if (d0 > far2) far2 = d0;
+            }
+            d1 = pvs__ot_seg_dist(sg, e);
+            if (d1 < nr) nr = d1;
+        }
+        reach[i] = sqrt(far2) * (1.0 + 1e-9) + len_eps;
+        near[i] = pvs__ot_segment_meets_polygon(sg, cell, n) ? 0.0 : nr * (1.0 - 1e-9) - len_eps;
+    }
+}
+
+/* The exact re-test of segment i (s, distance `near` from the cell) against the final tree (§6.6):
+   1 when it meets the cell (n vertices), is a point, is degenerate as seen from an edge of the cell,
+   or some line from an edge reaches it past the occluders. */
+PVS__STATIC int pvs__ot2_segment_visible(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i, double near) {
+    uint32_t k;
+    int vis = 0;
+    if (pvs__ot_segment_meets_polygon(s, cell, n)) vis = 1;
+    else if (s[0] == s[2] && s[1] == s[3]) vis = 1; /* a point: no line set to test, count it visible */
+    for (k = 0; k < n && !vis; ++k) {
+        double o[4];
+        pvs__otpoly bl[2];
+        int on, nb, deg, m;
+        if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
+        nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
+        if (deg) vis = 1;
+        for (m = 0; m < nb && !vis; ++m) vis = pvs__ot2_visible(t, &bl[m], i, near);
+    }
+    return vis;
+}
+
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments, pvs_word *visible_objects,
                                      pvs_otree_stats *stats, pvs_error *err) {
     pvs__otree t;
     pvs_allocator al;
-    double *cell = NULL, *seg = NULL, *reach = NULL, *near = NULL, cx = 0.0, cy = 0.0, area = 0.0;
+    double *cell = NULL, *seg = NULL, *reach = NULL, *near = NULL, cx = 0.0, cy = 0.0;
     pvs__ot_order *order = NULL;
     uint32_t n, i, k, budget, count;
     pvs_result r = PVS_OK;
@@ -7705,30 +7782,8 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
     reach = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
     near = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
     if (!cell || !seg || !order || !reach || !near) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2D visibility arrays"); goto done; }
-    for (i = 0; i < n; ++i) { cx += desc->cell[2 * i]; cy += desc->cell[2 * i + 1]; }
-    cx /= n; cy /= n;
-    for (i = 0; i < n; ++i) {
-        cell[2 * i] = (double)desc->cell[2 * i] - cx;
-        cell[2 * i + 1] = (double)desc->cell[2 * i + 1] - cy;
-    }
-    for (i = 0; i < n; ++i) {
-        const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n);
-        area += a[0] * b[1] - a[1] * b[0];
-    }
-    if (!(fabs(area) > 0.0)) { r = pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon has no area"); goto done; }
-    if (area < 0.0) /* make it counter-clockwise */
-        for (i = 0; i < n / 2; ++i) {
-            double tx = cell[2 * i], ty = cell[2 * i + 1];
-            cell[2 * i] = cell[2 * (n - 1 - i)]; cell[2 * i + 1] = cell[2 * (n - 1 - i) + 1];
-            cell[2 * (n - 1 - i)] = tx; cell[2 * (n - 1 - i) + 1] = ty;
-        }
-    for (i = 0; i < n; ++i) { /* convex: no right turn */
-        const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n), *c = cell + 2 * ((i + 2) % n);
-        if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) < 0.0) {
-            r = pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon is not convex");
-            goto done;
-        }
-    }
+    r = pvs__ot2_cell(desc->cell, n, cell, &cx, &cy, err);
+    if (r != PVS_OK) goto done;
     {
         double ext = 1.0, o[2] = {0.0, 0.0};
         for (i = 0; i < 4 * count; ++i) {
@@ -7742,23 +7797,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
         }
     }
     pvs__ot_sort(order, count);
-    for (i = 0; i < count; ++i) { /* distances for the MVD shortcut, rounded outward */
-        const double *sg = seg + 4 * i;
-        double far2 = 0.0, nr = DBL_MAX;
-        for (k = 0; k < n; ++k) {
-            double e[4], d0, d1;
-            int m;
-            e[0] = cell[2 * k]; e[1] = cell[2 * k + 1]; e[2] = cell[2 * ((k + 1) % n)]; e[3] = cell[2 * ((k + 1) % n) + 1];
-            for (m = 0; m < 2; ++m) {
-                d0 = (sg[2 * m] - e[0]) * (sg[2 * m] - e[0]) + (sg[2 * m + 1] - e[1]) * (sg[2 * m + 1] - e[1]);
-                if (d0 > far2) far2 = d0;
-            }
-            d1 = pvs__ot_seg_dist(sg, e);
-            if (d1 < nr) nr = d1;
-        }
-        reach[i] = sqrt(far2) * (1.0 + 1e-9) + t.len_eps;
-        near[i] = pvs__ot_segment_meets_polygon(sg, cell, n) ? 0.0 : nr * (1.0 - 1e-9) - t.len_eps;
-    }
+    pvs__ot2_distances(seg, count, cell, n, t.len_eps, reach, near);
     t.reach = reach;
     t.seg = seg;
     budget = desc->node_budget ? desc->node_budget : 1u << 20;
@@ -7787,19 +7826,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
     if (visible_segments) memset(visible_segments, 0, PVS_BITSET_WORDS(count) * sizeof(pvs_word));
     if (visible_objects) memset(visible_objects, 0, PVS_BITSET_WORDS(desc->object_count) * sizeof(pvs_word));
     for (i = 0; i < count; ++i) {
-        const double *s = seg + 4 * i;
-        int vis = 0;
-        if (pvs__ot_segment_meets_polygon(s, cell, n)) vis = 1;
-        else if (s[0] == s[2] && s[1] == s[3]) vis = 1; /* a point: no line set to test, count it visible */
-        for (k = 0; k < n && !vis; ++k) {
-            double o[4];
-            pvs__otpoly bl[2];
-            int on, nb, deg, m;
-            if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
-            nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
-            if (deg) vis = 1;
-            for (m = 0; m < nb && !vis; ++m) vis = pvs__ot2_visible(&t, &bl[m], i, near[i]);
-        }
+        int vis = pvs__ot2_segment_visible(&t, cell, n, seg + 4 * i, i, near[i]);
         if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree test"); goto done; }
         if (!vis) continue;
         ++st.visible_segments;
@@ -7891,35 +7918,31 @@ PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, d
     }
 }
 
-PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_allocator *a, float **out, size_t *out_floats, uint32_t *count,
-                                            uint32_t *vertical) {
-    int u, v, up;
-    uint32_t t, nv = 0, i, k, g0, g1, c0, c1, nt = sc->triangle_count;
-    double ext = 1.0, tol, tol_a = 1e-7;
-    pvs__ot_order *ord = NULL, *sord = NULL, *so = NULL;
-    double *tl = NULL, *sv = NULL, *sec = NULL;
-    uint32_t *vt = NULL, *ins = NULL, *act = NULL, *comp = NULL, *que = NULL;
-    pvs__fxopen *opn = NULL, *nxt = NULL;
-    size_t cap = 0;
-    pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
-    *out = NULL;
-    *out_floats = 0;
-    *count = 0;
-    *vertical = 0;
-    up = sc->up_axis == 2 ? 2 : 1;
-    pvs__ground_axes((uint32_t)up, &u, &v);
-    if (nt)
-        for (k = 0; k < 3; ++k) {
-            if (fabs((double)sc->bounds.min[k]) > ext) ext = fabs((double)sc->bounds.min[k]);
-            if (fabs((double)sc->bounds.max[k]) > ext) ext = fabs((double)sc->bounds.max[k]);
-        }
-    tol = 8.0 * FLT_EPSILON * ext;
-    /* per vertical triangle (slot): tl = theta, c, d0, d1, ground length (direction d, offset
-       c = n . g with n = (-d1, d0)); vt its triangle */
-    tl = (double *)pvs__alloc_array(a, 5 * (size_t)nt + 5, sizeof(double));
-    vt = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 1, sizeof(uint32_t));
-    if (!tl || !vt) goto done;
-    for (t = 0; t < nt; ++t) {
+/* The extraction's scratch (sized for nv vertical triangles) and its output. */
+typedef struct pvs__fxwork {
+    const pvs_scene *sc;
+    const pvs_allocator *a;
+    int u, v, up;           /* ground axes, up axis */
+    double tol;
+    pvs__ot_order *so;      /* 3 nv: a line's members by smallest s, then its vertices by s */
+    double *sv;             /* 14 nv: per member s[3], h[3], smin, smax, ground[3][2] */
+    double *sec;            /* 4 PVS__FX_MAX_COVER: per slab member lo(sa), lo(sb), hi(sa), hi(sb) */
+    uint32_t *ins, *act;    /* nv: members in order of smallest s; the members over the slab */
+    uint32_t *comp, *que;   /* PVS__FX_MAX_COVER + 1: connected set per slab member; its queue */
+    pvs__fxopen *opn, *nxt; /* PVS__FX_MAX_COVER + 1: facades open at the slab's start; those it continues */
+    uint32_t nopen;
+    float **out;            /* the facades (6 floats each), cap floats allocated, *count written */
+    size_t cap;
+    uint32_t *count;
+} pvs__fxwork;
+
+/* Step 1's test: the vertical triangles of the scene (three ground points on one line within tol, a
+   ground length and a height above tol). Per vertical triangle, slot by slot: tl = theta, c, d0, d1,
+   ground length (direction d with theta in [0, pi), offset c = n . g with n = (-d1, d0)) and vt its
+   triangle. Returns the number of slots. */
+PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up, double tol, double *tl, uint32_t *vt) {
+    uint32_t t, k, nv = 0;
+    for (t = 0; t < sc->triangle_count; ++t) {
         double gx[3], gy[3], h[3], best = 0.0, dx, dy, len, hmin, hmax, *q;
         int bi = 0, bj = 1, m;
         for (k = 0; k < 3; ++k) {
@@ -7948,19 +7971,180 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
         q[4] = len;
         vt[nv++] = t;
     }
-    *vertical = nv;
+    return nv;
+}
+
+/* Step 1's group: the n slots of mem (one direction and offset within tolerance) on the reference
+   line of its member of longest ground extent (ties: the lower slot), as (s, h) triangles into w->sv;
+   a member farther than tol from that line is left out. Returns the members kept. */
+PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__ot_order *mem, uint32_t n) {
+    uint32_t ref = mem[0].index, nm = 0, i, k;
+    double d[2], c;
+    for (i = 1; i < n; ++i) {
+        uint32_t sl = mem[i].index;
+        if (tl[5 * (size_t)sl + 4] > tl[5 * (size_t)ref + 4] || (tl[5 * (size_t)sl + 4] == tl[5 * (size_t)ref + 4] && sl < ref)) ref = sl;
+    }
+    d[0] = tl[5 * (size_t)ref + 2]; d[1] = tl[5 * (size_t)ref + 3]; c = tl[5 * (size_t)ref + 1];
+    for (i = 0; i < n; ++i) {
+        uint32_t tri = vt[mem[i].index];
+        double *q = w->sv + 14 * (size_t)nm;
+        int ok = 1;
+        for (k = 0; k < 3; ++k) {
+            const float *p = w->sc->positions + 3 * (size_t)w->sc->indices[3 * (size_t)tri + k];
+            double gx = p[w->u], gy = p[w->v];
+            if (!(fabs(-d[1] * gx + d[0] * gy - c) <= w->tol)) ok = 0;
+            q[k] = d[0] * gx + d[1] * gy;
+            q[3 + k] = p[w->up];
+            q[8 + 2 * k] = gx;
+            q[9 + 2 * k] = gy;
+        }
+        if (!ok) continue;
+        q[6] = q[0] < q[1] ? (q[0] < q[2] ? q[0] : q[2]) : (q[1] < q[2] ? q[1] : q[2]);
+        q[7] = q[0] > q[1] ? (q[0] > q[2] ? q[0] : q[2]) : (q[1] > q[2] ? q[1] : q[2]);
+        ++nm;
+    }
+    return nm;
+}
+
+/* Steps 2 and 3 over one slab [sa, sb] (ground points ga, gb) of a line, its `use` members w->act:
+   their cross-sections at both ends, the connected sets (overlap within tol at both ends, breadth
+   first) and the interval each covers over the whole slab; an interval continues the open facade
+   that ends at sa with the same interval (within tol), else opens one. The open facades it does not
+   continue are emitted. Returns 0 when out of memory. */
+PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2], const double gb[2]) {
+    double tol = w->tol, *sec = w->sec;
+    uint32_t *comp = w->comp, *que = w->que, j, nc, seen, nn = 0;
+    pvs__fxopen *opn = w->opn, *nxt = w->nxt;
+    for (j = 0; j < use; ++j) {
+        const double *q = w->sv + 14 * (size_t)w->act[j];
+        pvs__fx_section(q, q + 3, sa, sec + 4 * j, sec + 4 * j + 2);
+        pvs__fx_section(q, q + 3, sb, sec + 4 * j + 1, sec + 4 * j + 3);
+        comp[j] = 0xffffffffu;
+    }
+    for (seen = 0, nc = 0; seen < use; ++seen) {
+        uint32_t qh = 0, qt = 1;
+        double bot = DBL_MAX, top = -DBL_MAX;
+        if (comp[seen] != 0xffffffffu) continue;
+        comp[seen] = nc;
+        que[0] = seen;
+        while (qh < qt) {
+            const double *x = sec + 4 * que[qh++];
+            double lo = x[0] > x[1] ? x[0] : x[1], hi = x[2] < x[3] ? x[2] : x[3];
+            if (lo < bot) bot = lo;
+            if (hi > top) top = hi;
+            for (j = seen + 1; j < use; ++j) {
+                const double *y = sec + 4 * j;
+                if (comp[j] != 0xffffffffu) continue;
+                if (y[0] <= x[2] + tol && y[1] <= x[3] + tol && x[0] <= y[2] + tol && x[1] <= y[3] + tol) {
+                    comp[j] = nc;
+                    que[qt++] = j;
+                }
+            }
+        }
+        ++nc;
+        if (top - bot > tol) {
+            /* continue an open facade with the same interval, else open a new one */
+            uint32_t f;
+            for (f = 0; f < w->nopen; ++f)
+                if (opn[f].s1 == sa && fabs(opn[f].bot - bot) <= tol && fabs(opn[f].top - top) <= tol) break;
+            if (f < w->nopen) {
+                nxt[nn] = opn[f];
+                nxt[nn].s1 = sb;
+                nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
+                if (bot > nxt[nn].bot) nxt[nn].bot = bot;
+                if (top < nxt[nn].top) nxt[nn].top = top;
+                opn[f] = opn[--w->nopen];
+            } else {
+                nxt[nn].s0 = sa; nxt[nn].s1 = sb; nxt[nn].bot = bot; nxt[nn].top = top;
+                nxt[nn].g0[0] = ga[0]; nxt[nn].g0[1] = ga[1];
+                nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
+            }
+            ++nn;
+        }
+    }
+    for (j = 0; j < w->nopen; ++j) /* not continued: done */
+        if (!pvs__fx_emit(w->a, w->out, &w->cap, w->count, opn + j)) return 0;
+    w->opn = nxt;
+    w->nxt = opn;
+    w->nopen = nn;
+    return 1;
+}
+
+/* Steps 2 and 3 along one line of nm members (w->sv): the slabs between consecutive vertex s, each with
+   the members whose s range spans it (at most PVS__FX_MAX_COVER, else the slab is left out), then the
+   facades still open at the line's end emitted. Returns 0 when out of memory. */
+PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
+    pvs__ot_order *so = w->so;
+    const double *sv = w->sv;
+    uint32_t i, k, ns = 0, na = 0, next = 0, slab;
+    w->nopen = 0;
+    for (i = 0; i < nm; ++i) { so[i].key = sv[14 * (size_t)i + 6]; so[i].index = i; }
+    pvs__ot_sort(so, nm);
+    for (i = 0; i < nm; ++i) w->ins[i] = so[i].index; /* members in order of their smallest s */
+    for (i = 0; i < nm; ++i)
+        for (k = 0; k < 3; ++k) { so[ns].key = sv[14 * (size_t)i + k]; so[ns].index = 3 * i + k; ++ns; }
+    pvs__ot_sort(so, ns); /* every vertex s: the slab boundaries */
+    for (slab = 0; slab + 1 < ns; ++slab) {
+        double sa = so[slab].key, sb = so[slab + 1].key, ga[2], gb[2];
+        uint32_t m = 0, j;
+        if (!(sb > sa)) continue;
+        ga[0] = sv[14 * (size_t)(so[slab].index / 3) + 8 + 2 * (so[slab].index % 3)];
+        ga[1] = sv[14 * (size_t)(so[slab].index / 3) + 9 + 2 * (so[slab].index % 3)];
+        gb[0] = sv[14 * (size_t)(so[slab + 1].index / 3) + 8 + 2 * (so[slab + 1].index % 3)];
+        gb[1] = sv[14 * (size_t)(so[slab + 1].index / 3) + 9 + 2 * (so[slab + 1].index % 3)];
+        while (next < nm && sv[14 * (size_t)w->ins[next] + 6] <= sa) w->act[na++] = w->ins[next++];
+        for (j = 0; j < na; ++j) /* members whose range ends before the slab leave */
+            if (sv[14 * (size_t)w->act[j] + 7] >= sb) w->act[m++] = w->act[j];
+        na = m;
+        /* too many to join: the slab is left out (conservative) */
+        if (!pvs__fx_slab(w, na > PVS__FX_MAX_COVER ? 0 : na, sa, sb, ga, gb)) return 0;
+    }
+    for (i = 0; i < w->nopen; ++i)
+        if (!pvs__fx_emit(w->a, w->out, &w->cap, w->count, w->opn + i)) return 0;
+    return 1;
+}
+
+PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_allocator *a, float **out, size_t *out_floats, uint32_t *count,
+                                            uint32_t *vertical) {
+    pvs__fxwork w;
+    uint32_t nv = 0, i, k, g0, g1, c0, c1, nt = sc->triangle_count;
+    double ext = 1.0, tol_a = 1e-7, *tl = NULL;
+    pvs__ot_order *ord = NULL, *sord = NULL;
+    uint32_t *vt = NULL;
+    pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
+    memset(&w, 0, sizeof(w));
+    w.sc = sc;
+    w.a = a;
+    w.out = out;
+    w.count = count;
+    *out = NULL;
+    *out_floats = 0;
+    *count = 0;
+    *vertical = 0;
+    w.up = sc->up_axis == 2 ? 2 : 1;
+    pvs__ground_axes((uint32_t)w.up, &w.u, &w.v);
+    if (nt)
+        for (k = 0; k < 3; ++k) {
+            if (fabs((double)sc->bounds.min[k]) > ext) ext = fabs((double)sc->bounds.min[k]);
+            if (fabs((double)sc->bounds.max[k]) > ext) ext = fabs((double)sc->bounds.max[k]);
+        }
+    w.tol = 8.0 * FLT_EPSILON * ext;
+    tl = (double *)pvs__alloc_array(a, 5 * (size_t)nt + 5, sizeof(double));
+    vt = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 1, sizeof(uint32_t));
+    if (!tl || !vt) goto done;
+    *vertical = nv = pvs__fx_vertical(sc, w.u, w.v, w.up, w.tol, tl, vt);
     ord = (pvs__ot_order *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__ot_order));
     sord = (pvs__ot_order *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__ot_order));
-    so = (pvs__ot_order *)pvs__alloc_array(a, 3 * (size_t)nv + 3, sizeof(pvs__ot_order));
-    sv = (double *)pvs__alloc_array(a, 14 * (size_t)nv + 14, sizeof(double)); /* per member: s[3], h[3], smin, smax, ground[3][2] */
-    sec = (double *)pvs__alloc_array(a, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
-    ins = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
-    act = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
-    comp = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-    que = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-    opn = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-    nxt = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-    if (!ord || !sord || !so || !sv || !sec || !ins || !act || !comp || !que || !opn || !nxt) goto done;
+    w.so = (pvs__ot_order *)pvs__alloc_array(a, 3 * (size_t)nv + 3, sizeof(pvs__ot_order));
+    w.sv = (double *)pvs__alloc_array(a, 14 * (size_t)nv + 14, sizeof(double));
+    w.sec = (double *)pvs__alloc_array(a, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
+    w.ins = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
+    w.act = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
+    w.comp = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+    w.que = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+    w.opn = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+    w.nxt = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+    if (!ord || !sord || !w.so || !w.sv || !w.sec || !w.ins || !w.act || !w.comp || !w.que || !w.opn || !w.nxt) goto done;
     for (i = 0; i < nv; ++i) { ord[i].key = tl[5 * (size_t)i]; ord[i].index = i; }
     pvs__ot_sort(ord, nv); /* by direction (ties by slot: deterministic) */
     for (g0 = 0; g0 < nv; g0 = g1) {
@@ -7968,133 +8152,30 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
         for (i = g0; i < g1; ++i) { sord[i - g0].key = tl[5 * (size_t)ord[i].index + 1]; sord[i - g0].index = ord[i].index; }
         pvs__ot_sort(sord, g1 - g0); /* then by offset */
         for (c0 = 0; c0 < g1 - g0; c0 = c1) {
-            uint32_t ref, nm = 0, ns = 0, nopen = 0, na = 0, next = 0, slab;
-            double d[2], c;
-            for (c1 = c0 + 1; c1 < g1 - g0 && sord[c1].key - sord[c0].key <= tol; ++c1) ;
-            ref = sord[c0].index;
-            for (i = c0 + 1; i < c1; ++i) {
-                uint32_t sl = sord[i].index;
-                if (tl[5 * (size_t)sl + 4] > tl[5 * (size_t)ref + 4] || (tl[5 * (size_t)sl + 4] == tl[5 * (size_t)ref + 4] && sl < ref)) ref = sl;
-            }
-            d[0] = tl[5 * (size_t)ref + 2]; d[1] = tl[5 * (size_t)ref + 3]; c = tl[5 * (size_t)ref + 1];
-            /* the members on the reference line as (s, h) triangles */
-            for (i = c0; i < c1; ++i) {
-                uint32_t tri = vt[sord[i].index];
-                double *q = sv + 14 * (size_t)nm;
-                int ok = 1;
-                for (k = 0; k < 3; ++k) {
-                    const float *p = sc->positions + 3 * (size_t)sc->indices[3 * (size_t)tri + k];
-                    double gx = p[u], gy = p[v];
-                    if (!(fabs(-d[1] * gx + d[0] * gy - c) <= tol)) ok = 0;
-                    q[k] = d[0] * gx + d[1] * gy;
-                    q[3 + k] = p[up];
-                    q[8 + 2 * k] = gx;
-                    q[9 + 2 * k] = gy;
-                }
-                if (!ok) continue;
-                q[6] = q[0] < q[1] ? (q[0] < q[2] ? q[0] : q[2]) : (q[1] < q[2] ? q[1] : q[2]);
-                q[7] = q[0] > q[1] ? (q[0] > q[2] ? q[0] : q[2]) : (q[1] > q[2] ? q[1] : q[2]);
-                ++nm;
-            }
-            if (!nm) continue;
-            for (i = 0; i < nm; ++i) { so[i].key = sv[14 * (size_t)i + 6]; so[i].index = i; }
-            pvs__ot_sort(so, nm);
-            for (i = 0; i < nm; ++i) ins[i] = so[i].index; /* members in order of their smallest s */
-            for (i = 0; i < nm; ++i)
-                for (k = 0; k < 3; ++k) { so[ns].key = sv[14 * (size_t)i + k]; so[ns].index = 3 * i + k; ++ns; }
-            pvs__ot_sort(so, ns); /* every vertex s: the slab boundaries */
-            for (slab = 0; slab + 1 < ns; ++slab) {
-                double sa = so[slab].key, sb = so[slab + 1].key, ga[2], gb[2];
-                uint32_t m = 0, nn = 0, j, nc, seen, use;
-                if (!(sb > sa)) continue;
-                ga[0] = sv[14 * (size_t)(so[slab].index / 3) + 8 + 2 * (so[slab].index % 3)];
-                ga[1] = sv[14 * (size_t)(so[slab].index / 3) + 9 + 2 * (so[slab].index % 3)];
-                gb[0] = sv[14 * (size_t)(so[slab + 1].index / 3) + 8 + 2 * (so[slab + 1].index % 3)];
-                gb[1] = sv[14 * (size_t)(so[slab + 1].index / 3) + 9 + 2 * (so[slab + 1].index % 3)];
-                while (next < nm && sv[14 * (size_t)ins[next] + 6] <= sa) act[na++] = ins[next++];
-                for (j = 0; j < na; ++j) /* members whose range ends before the slab leave */
-                    if (sv[14 * (size_t)act[j] + 7] >= sb) act[m++] = act[j];
-                na = m;
-                use = na > PVS__FX_MAX_COVER ? 0 : na; /* too many to join: the slab is left out (conservative) */
-                for (j = 0; j < use; ++j) {
-                    const double *q = sv + 14 * (size_t)act[j];
-                    pvs__fx_section(q, q + 3, sa, sec + 4 * j, sec + 4 * j + 2);
-                    pvs__fx_section(q, q + 3, sb, sec + 4 * j + 1, sec + 4 * j + 3);
-                    comp[j] = 0xffffffffu;
-                }
-                /* connected sets (overlap within tol at both ends), breadth first */
-                for (seen = 0, nc = 0; seen < use; ++seen) {
-                    uint32_t qh = 0, qt = 1;
-                    double bot = DBL_MAX, top = -DBL_MAX;
-                    if (comp[seen] != 0xffffffffu) continue;
-                    comp[seen] = nc;
-                    que[0] = seen;
-                    while (qh < qt) {
-                        const double *x = sec + 4 * que[qh++];
-                        double lo = x[0] > x[1] ? x[0] : x[1], hi = x[2] < x[3] ? x[2] : x[3];
-                        if (lo < bot) bot = lo;
-                        if (hi > top) top = hi;
-                        for (j = seen + 1; j < use; ++j) {
-                            const double *y = sec + 4 * j;
-                            if (comp[j] != 0xffffffffu) continue;
-                            if (y[0] <= x[2] + tol && y[1] <= x[3] + tol && x[0] <= y[2] + tol && x[1] <= y[3] + tol) {
-                                comp[j] = nc;
-                                que[qt++] = j;
-                            }
-                        }
-                    }
-                    ++nc;
-                    if (top - bot > tol) {
-                        /* continue an opn facade with the same interval, else opn a new one */
-                        uint32_t f;
-                        for (f = 0; f < nopen; ++f)
-                            if (opn[f].s1 == sa && fabs(opn[f].bot - bot) <= tol && fabs(opn[f].top - top) <= tol) break;
-                        if (f < nopen) {
-                            nxt[nn] = opn[f];
-                            nxt[nn].s1 = sb;
-                            nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
-                            if (bot > nxt[nn].bot) nxt[nn].bot = bot;
-                            if (top < nxt[nn].top) nxt[nn].top = top;
-                            opn[f] = opn[--nopen];
-                        } else {
-                            nxt[nn].s0 = sa; nxt[nn].s1 = sb; nxt[nn].bot = bot; nxt[nn].top = top;
-                            nxt[nn].g0[0] = ga[0]; nxt[nn].g0[1] = ga[1];
-                            nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
-                        }
-                        ++nn;
-                    }
-                }
-                for (j = 0; j < nopen; ++j) /* not continued: done */
-                    if (!pvs__fx_emit(a, out, &cap, count, opn + j)) goto done;
-                {
-                    pvs__fxopen *sw = opn;
-                    opn = nxt;
-                    nxt = sw;
-                    nopen = nn;
-                }
-            }
-            for (i = 0; i < nopen; ++i)
-                if (!pvs__fx_emit(a, out, &cap, count, opn + i)) goto done;
+            uint32_t nm;
+            for (c1 = c0 + 1; c1 < g1 - g0 && sord[c1].key - sord[c0].key <= w.tol; ++c1) ;
+            nm = pvs__fx_members(&w, tl, vt, sord + c0, c1 - c0);
+            if (nm && !pvs__fx_line(&w, nm)) goto done;
         }
     }
-    if (!*out && !pvs__ot_grow(a, (void **)out, &cap, 6, sizeof(float))) goto done;
-    *out_floats = cap;
+    if (!*out && !pvs__ot_grow(a, (void **)out, &w.cap, 6, sizeof(float))) goto done;
+    *out_floats = w.cap;
     r = PVS_OK;
 done:
-    if (r != PVS_OK && *out) { pvs__free(a, *out, cap * sizeof(float), 16); *out = NULL; *count = 0; }
+    if (r != PVS_OK && *out) { pvs__free(a, *out, w.cap * sizeof(float), 16); *out = NULL; *count = 0; }
     pvs__free_array(a, tl, 5 * (size_t)nt + 5, sizeof(double));
     pvs__free_array(a, vt, (size_t)nt + 1, sizeof(uint32_t));
     pvs__free_array(a, ord, (size_t)nv + 1, sizeof(pvs__ot_order));
     pvs__free_array(a, sord, (size_t)nv + 1, sizeof(pvs__ot_order));
-    pvs__free_array(a, so, 3 * (size_t)nv + 3, sizeof(pvs__ot_order));
-    pvs__free_array(a, sv, 14 * (size_t)nv + 14, sizeof(double));
-    pvs__free_array(a, sec, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
-    pvs__free_array(a, ins, (size_t)nv + 1, sizeof(uint32_t));
-    pvs__free_array(a, act, (size_t)nv + 1, sizeof(uint32_t));
-    pvs__free_array(a, comp, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-    pvs__free_array(a, que, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-    pvs__free_array(a, opn, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-    pvs__free_array(a, nxt, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+    pvs__free_array(a, w.so, 3 * (size_t)nv + 3, sizeof(pvs__ot_order));
+    pvs__free_array(a, w.sv, 14 * (size_t)nv + 14, sizeof(double));
+    pvs__free_array(a, w.sec, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
+    pvs__free_array(a, w.ins, (size_t)nv + 1, sizeof(uint32_t));
+    pvs__free_array(a, w.act, (size_t)nv + 1, sizeof(uint32_t));
+    pvs__free_array(a, w.comp, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+    pvs__free_array(a, w.que, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+    pvs__free_array(a, w.opn, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+    pvs__free_array(a, w.nxt, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
     return r;
 }
 
@@ -8750,25 +8831,10 @@ PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m
 
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
                                       pvs_box *boxes);
-PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
-                                      pvs_error *err) {
-    pvs__otree t;
-    pvs_allocator al;
-    double cell[8], cx, cy, ext = 1.0, margin;
-    double *all = NULL, *top = NULL, *seg = NULL, *box = NULL, *jd = NULL;
-    unsigned char *done = NULL, *state = NULL;
-    uint32_t *refs = NULL, kd_nodes = 0;
-    void *scratch = NULL;
-    size_t scratch_size = 0;
-    pvs_kdtree *own_tree = NULL;
-    const pvs_kdtree *tree;
-    uint32_t nf, no, i, k, side;
-    pvs_result r = PVS_OK;
-    pvs_otree_stats st;
-    pvs__ot25_sweep w;
-    memset(&st, 0, sizeof(st));
-    memset(&t, 0, sizeof(t));
-    if (stats) *stats = st;
+
+/* pvs_visibility_25d's argument checks: every error it returns but OUT_OF_MEMORY (in err). */
+PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, const pvs_word *visible_objects, pvs_error *err) {
+    uint32_t nf, no, i;
     if (!desc || !visible_objects || (desc->facade_count && !desc->facades) || (desc->object_count && !desc->objects))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, facades, objects and visible_objects are required");
     if (desc->flags & ~PVS_VISIBILITY_25D_FULL_TESTS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown 2.5D flags 0x%x", desc->flags);
@@ -8783,21 +8849,163 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
         if (!pvs__finite(desc->facades[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "facade %u is not finite", i / 5);
     for (i = 0; i < 5 * no; ++i)
         if (!pvs__finite(desc->objects[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "object %u is not finite", i / 5);
+    return PVS_OK;
+}
+
+/* A 2.5D query's input relative to the cell's centre (cx, cy): the facades' ground segments into all
+   (4 doubles each), the objects into box (u0 v0 u1 v1 top), and the cell's rectangle grown by
+   *margin into cell (four corners, counter-clockwise): a larger cell sees more (conservative) and is
+   never degenerate. Returns the largest magnitude of the facades' coordinates, at least 1. */
+PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box, double cell[8],
+                                   double *margin) {
+    double ext = 1.0, hx, hy;
+    uint32_t i, k;
+    for (i = 0; i < desc->facade_count; ++i) {
+        const float *f = desc->facades + 5 * (size_t)i;
+        double *o = all + 4 * (size_t)i;
+        o[0] = (double)f[0] - cx; o[1] = (double)f[1] - cy; o[2] = (double)f[2] - cx; o[3] = (double)f[3] - cy;
+        for (k = 0; k < 4; ++k) if (fabs(o[k]) > ext) ext = fabs(o[k]);
+    }
+    for (i = 0; i < desc->object_count; ++i) {
+        for (k = 0; k < 4; ++k) box[5 * i + k] = (double)desc->objects[5 * i + k] - (k & 1 ? cy : cx);
+        box[5 * i + 4] = desc->objects[5 * i + 4];
+    }
+    *margin = 1e-6 * ext + 1e-4;
+    hx = 0.5 * ((double)desc->cell_max[0] - desc->cell_min[0]) + *margin;
+    hy = 0.5 * ((double)desc->cell_max[1] - desc->cell_min[1]) + *margin;
+    cell[0] = -hx; cell[1] = -hy; cell[2] = hx; cell[3] = -hy; cell[4] = hx; cell[5] = hy; cell[6] = -hx; cell[7] = hy;
+    return ext;
+}
+
+/* The root region of a freshly reset tree for the source edge a-b of the cell (centred at the origin):
+   the lines crossing the edge, bounded by the planes of its end points (every blocker's edges on them
+   are then marked, §4.10.1, instead of adding the two planes again in every branch); the other sides
+   hold lines that miss the edge, never asked about. Its top is balanced by pvs__ot25_presplit. Out of
+   memory sets t->oom. */
+PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double a[2], const double b[2]) {
+    double m[2], m2[2], l[3], sa_, sb_;
+    uint32_t pos;
+    m[0] = 0.5 * (a[0] + b[0]); m[1] = 0.5 * (a[1] + b[1]);
+    m2[0] = 2.0 * m[0]; m2[1] = 2.0 * m[1]; /* the cell is centred at the origin: m points outward */
+    pvs__ot_line(m, m2, l);
+    sa_ = pvs__ot_side(l, a);
+    sb_ = pvs__ot_side(l, b);
+    pos = pvs__ot_split_leaf(t, 0, a, sa_ > 0 ? 1.0 : -1.0);
+    if (pos != PVS__OT_NONE) pos = pvs__ot_split_leaf(t, pos, b, sb_ > 0 ? 1.0 : -1.0);
+    if (pos != PVS__OT_NONE) { /* a balanced top (pvs__ot25_presplit) */
+        double pts[PVS__OT25_PRESPLIT][2], dd = 10.0 * (cell[4] - cell[0] + cell[5] - cell[1]) + 1.0;
+        double nx = m[0], ny = m[1], nl = sqrt(nx * nx + ny * ny);
+        int q;
+        nx /= nl; ny /= nl;
+        for (q = 0; q < PVS__OT25_PRESPLIT; ++q) {
+            double th = (-80.0 + 160.0 * (q + 0.5) / PVS__OT25_PRESPLIT) * (3.14159265358979323846 / 180.0), tt = dd * tan(th);
+            pts[q][0] = m[0] + nx * dd - ny * tt;
+            pts[q][1] = m[1] + ny * dd + nx * tt;
+        }
+        pvs__ot25_presplit(t, pos, m, pts, 0, PVS__OT25_PRESPLIT);
+    }
+    t->nodes[0].parent = PVS__OT_NONE;
+    t->root_in = pos;
+}
+
+/* One tree per top edge (§7.1): the tree of the lines that leave the cell through edge `side` (from
+   corner side + 1 to corner side), built by the sweep of w's kD-tree `tree` (scratch: its sweep
+   scratch), then the objects its visible leaves left as candidates tested after the sweep (§7.7) and
+   set in visible_objects. Returns 0 when no object is left to decide or the tree stopped (t->oom
+   set when out of memory). */
+PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side, pvs_word *visible_objects) {
+    pvs__otree *t = w->t;
+    const double *cell = w->cell, *a = cell + 2 * ((side + 1) & 3), *b = cell + 2 * side;
+    uint32_t i, live = 0, no = w->desc->object_count;
+    unsigned char *done = w->done;
+    pvs_box src;
+    for (i = 0; i < no; ++i) live += done[i] == 0 || done[i] >= 3;
+    if (!live) return 0;
+    t->sa[0] = a[0]; t->sa[1] = a[1]; t->sb[0] = b[0]; t->sb[1] = b[1];
+    if (!pvs__ot_reset(t)) return 0;
+    pvs__ot25_root(t, cell, a, b);
+    if (t->oom) return 0;
+    w->a = a;
+    w->b = b;
+    w->side = side;
+    src.min[0] = (float)(w->cx + cell[0]); src.min[1] = (float)(w->cy + cell[1]); src.min[2] = w->desc->cell_top;
+    src.max[0] = (float)(w->cx + cell[4]); src.max[1] = (float)(w->cy + cell[5]); src.max[2] = w->desc->cell_top;
+    pvs__ot25_sweep_tree(tree, &src, (pvs__kdsweep *)scratch, w);
+    if (t->node_count > w->st->nodes) w->st->nodes = (uint32_t)t->node_count;
+    if (t->oom) return 0;
+    for (i = 0; i < no; ++i) { /* objects of the visible leaves, after the sweep (§7.7) */
+        if (done[i] != 3 + side) continue;
+        if (pvs__ot25_box_visible(t, w->box + 5 * i, w->box[5 * i + 4], a, b, NULL)) {
+            done[i] = 1;
+            pvs_bitset_set(visible_objects, i);
+        } else {
+            done[i] = 0;
+        }
+    }
+    return 1;
+}
+
+/* A kD-tree over the facades and objects of a 2.5D query (the items of pvs_visibility_25d_boxes),
+   built through al into *out. Returns PVS_OK or the error (in err). */
+PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const pvs_allocator *al, pvs_kdtree **out, pvs_error *err) {
+    pvs_kdtree_desc kd;
+    uint32_t nf = desc->facade_count, no = desc->object_count;
+    pvs_box *boxes = (pvs_box *)pvs__alloc_array(al, (size_t)nf + no + 1, sizeof(pvs_box));
+    pvs_result r;
+    if (!boxes) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D boxes");
+    pvs_visibility_25d_boxes(desc->facades, nf, desc->objects, no, boxes);
+    memset(&kd, 0, sizeof(kd));
+    kd.boxes = boxes;
+    kd.count = nf + no;
+    kd.allocator = *al;
+    r = pvs_kdtree_create(&kd, out, err);
+    pvs__free_array(al, boxes, (size_t)nf + no + 1, sizeof(pvs_box));
+    return r;
+}
+
+/* Per node of `tree`: the item references in its subtree (0xffffffff where the children do not follow
+   their parent), so the sweep tests only nodes holding at least PVS__OT25_TEST_MIN of them. */
+PVS__STATIC void pvs__ot25_refs(const pvs_kdtree *tree, uint32_t *refs) {
+    uint32_t i;
+    for (i = tree->node_count; i-- > 0;) { /* children follow their parent */
+        const pvs__kdnode *kn = tree->nodes + i;
+        if ((kn->bits & 3u) == PVS__KD_LEAF) refs[i] = kn->u.count;
+        else {
+            uint32_t c = kn->bits >> 2;
+            refs[i] = c + 1 < tree->node_count && c > i ? refs[c] + refs[c + 1] : 0xffffffffu;
+        }
+    }
+}
+
+PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
+                                      pvs_error *err) {
+    pvs__otree t;
+    pvs_allocator al;
+    double cell[8], cx, cy, ext, margin;
+    double *all = NULL, *top = NULL, *seg = NULL, *box = NULL, *jd = NULL;
+    unsigned char *done = NULL, *state = NULL;
+    uint32_t *refs = NULL, kd_nodes = 0;
+    void *scratch = NULL;
+    size_t scratch_size = 0;
+    pvs_kdtree *own_tree = NULL;
+    const pvs_kdtree *tree;
+    uint32_t nf, no, i, side;
+    pvs_result r;
+    pvs_otree_stats st;
+    pvs__ot25_sweep w;
+    memset(&st, 0, sizeof(st));
+    memset(&t, 0, sizeof(t));
+    if (stats) *stats = st;
+    r = pvs__ot25_check(desc, visible_objects, err);
+    if (r != PVS_OK) return r;
+    nf = desc->facade_count;
+    no = desc->object_count;
     memset(visible_objects, 0, PVS_BITSET_WORDS(no) * sizeof(pvs_word));
     al = desc->allocator;
     t.a = &al;
     tree = desc->tree;
     if (!tree) { /* a kD-tree over the facades and objects for the sweep */
-        pvs_kdtree_desc kd;
-        pvs_box *boxes = (pvs_box *)pvs__alloc_array(&al, (size_t)nf + no + 1, sizeof(pvs_box));
-        if (!boxes) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D boxes"); goto done; }
-        pvs_visibility_25d_boxes(desc->facades, nf, desc->objects, no, boxes);
-        memset(&kd, 0, sizeof(kd));
-        kd.boxes = boxes;
-        kd.count = nf + no;
-        kd.allocator = al;
-        r = pvs_kdtree_create(&kd, &own_tree, err);
-        pvs__free_array(&al, boxes, (size_t)nf + no + 1, sizeof(pvs_box));
+        r = pvs__ot25_tree(desc, &al, &own_tree, err);
         if (r != PVS_OK) goto done;
         tree = own_tree;
     }
@@ -8816,23 +9024,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     memset(state, 0, (size_t)nf + 1);
     cx = 0.5 * ((double)desc->cell_min[0] + desc->cell_max[0]);
     cy = 0.5 * ((double)desc->cell_min[1] + desc->cell_max[1]);
-    for (i = 0; i < nf; ++i) {
-        const float *f = desc->facades + 5 * (size_t)i;
-        double *o = all + 4 * (size_t)i;
-        o[0] = (double)f[0] - cx; o[1] = (double)f[1] - cy; o[2] = (double)f[2] - cx; o[3] = (double)f[3] - cy;
-        for (k = 0; k < 4; ++k) if (fabs(o[k]) > ext) ext = fabs(o[k]);
-    }
-    for (i = 0; i < no; ++i) {
-        for (k = 0; k < 4; ++k) box[5 * i + k] = (double)desc->objects[5 * i + k] - (k & 1 ? cy : cx);
-        box[5 * i + 4] = desc->objects[5 * i + 4];
-    }
-    /* grow the cell a little: a larger cell sees more (conservative) and is never degenerate */
-    margin = 1e-6 * ext + 1e-4;
-    {
-        double hx = 0.5 * ((double)desc->cell_max[0] - desc->cell_min[0]) + margin;
-        double hy = 0.5 * ((double)desc->cell_max[1] - desc->cell_min[1]) + margin;
-        cell[0] = -hx; cell[1] = -hy; cell[2] = hx; cell[3] = -hy; cell[4] = hx; cell[5] = hy; cell[6] = -hx; cell[7] = hy;
-    }
+    ext = pvs__ot25_input(desc, cx, cy, all, box, cell, &margin);
     t.len_eps = 1e-9 * ext;
     t.full_tests = (desc->flags & PVS_VISIBILITY_25D_FULL_TESTS) != 0;
     t.eye = (double)desc->cell_top + margin;
@@ -8863,71 +9055,10 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     w.st = &st;
     w.refs = refs;
     w.test_min = PVS__OT25_TEST_MIN;
-    for (i = tree->node_count; i-- > 0;) { /* children follow their parent */
-        const pvs__kdnode *kn = tree->nodes + i;
-        if ((kn->bits & 3u) == PVS__KD_LEAF) refs[i] = kn->u.count;
-        else {
-            uint32_t c = kn->bits >> 2;
-            refs[i] = c + 1 < tree->node_count && c > i ? refs[c] + refs[c + 1] : 0xffffffffu;
-        }
-    }
-    /* one tree per top edge (§7.1), holding the lines that leave the cell through it */
+    pvs__ot25_refs(tree, refs);
     t.corners = cell;
-    for (side = 0; side < 4 && !t.oom; ++side) {
-        const double *a = cell + 2 * ((side + 1) & 3), *b = cell + 2 * side;
-        pvs_box src;
-        uint32_t live = 0;
-        for (i = 0; i < no; ++i) live += done[i] == 0 || done[i] >= 3;
-        if (!live) break;
-        t.sa[0] = a[0]; t.sa[1] = a[1]; t.sb[0] = b[0]; t.sb[1] = b[1];
-        if (!pvs__ot_reset(&t)) break;
-        {   /* the root region: the lines crossing the source edge, bounded by the planes of its end points
-               (every blocker's edges on them are then marked, §4.10.1, instead of adding the two planes
-               again in every branch); the other sides hold lines that miss the edge, never asked about */
-            double m[2], m2[2], l[3], sa_, sb_;
-            uint32_t pos;
-            m[0] = 0.5 * (a[0] + b[0]); m[1] = 0.5 * (a[1] + b[1]);
-            m2[0] = 2.0 * m[0]; m2[1] = 2.0 * m[1]; /* the cell is centred at the origin: m points outward */
-            pvs__ot_line(m, m2, l);
-            sa_ = pvs__ot_side(l, a);
-            sb_ = pvs__ot_side(l, b);
-            pos = pvs__ot_split_leaf(&t, 0, a, sa_ > 0 ? 1.0 : -1.0);
-            if (pos != PVS__OT_NONE) pos = pvs__ot_split_leaf(&t, pos, b, sb_ > 0 ? 1.0 : -1.0);
-            if (pos != PVS__OT_NONE) { /* a balanced top (pvs__ot25_presplit) */
-                double pts[PVS__OT25_PRESPLIT][2], dd = 10.0 * (cell[4] - cell[0] + cell[5] - cell[1]) + 1.0;
-                double nx = m[0], ny = m[1], nl = sqrt(nx * nx + ny * ny);
-                int q;
-                nx /= nl; ny /= nl;
-                for (q = 0; q < PVS__OT25_PRESPLIT; ++q) {
-                    double th = (-80.0 + 160.0 * (q + 0.5) / PVS__OT25_PRESPLIT) * (3.14159265358979323846 / 180.0), tt = dd * tan(th);
-                    pts[q][0] = m[0] + nx * dd - ny * tt;
-                    pts[q][1] = m[1] + ny * dd + nx * tt;
-                }
-                pvs__ot25_presplit(&t, pos, m, pts, 0, PVS__OT25_PRESPLIT);
-            }
-            t.nodes[0].parent = PVS__OT_NONE;
-            t.root_in = pos;
-            if (t.oom) break;
-        }
-        w.a = a;
-        w.b = b;
-        w.side = side;
-        src.min[0] = (float)(cx + cell[0]); src.min[1] = (float)(cy + cell[1]); src.min[2] = desc->cell_top;
-        src.max[0] = (float)(cx + cell[4]); src.max[1] = (float)(cy + cell[5]); src.max[2] = desc->cell_top;
-        pvs__ot25_sweep_tree(tree, &src, (pvs__kdsweep *)scratch, &w);
-        if (t.node_count > st.nodes) st.nodes = (uint32_t)t.node_count;
-        if (t.oom) break;
-        /* objects of the visible leaves, after the sweep (§7.7) */
-        for (i = 0; i < no; ++i) {
-            if (done[i] != 3 + side) continue;
-            if (pvs__ot25_box_visible(&t, box + 5 * i, box[5 * i + 4], a, b, NULL)) {
-                done[i] = 1;
-                pvs_bitset_set(visible_objects, i);
-            } else {
-                done[i] = 0;
-            }
-        }
-    }
+    for (side = 0; side < 4 && !t.oom; ++side)
+        if (!pvs__ot25_side(&w, tree, scratch, side, visible_objects)) break;
     if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree nodes"); goto done; }
     if (stats) *stats = st;
     pvs__ok(err);
@@ -9708,23 +9839,11 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *o, pvs_otree_frame *frame) {
     if (o && frame) *frame = o->info;
 }
 
-PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p,
-                                  pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
-    float m[16];
-    double u[3], r[3], len, ty, tx, size = 0.0;
-    uint32_t i, k, nocc = 0;
-    int j;
-    pvs_result res;
-    if (!o || !s || !cam || !visible) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree, scene, camera and visible must not be NULL");
-    if (s->object_count > o->max_objects || s->triangle_count > o->max_triangles || s->object_tree->node_count > o->max_kd_nodes ||
-        pvs_kdtree_sweep_scratch_size(s->triangle_tree) > o->sweep_size)
-        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "the context was created for a smaller scene");
-    res = pvs_camera_matrix(cam, o->aspect, m);
-    if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "unusable camera");
-    if (cam->fov_y == 0.0f) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "an orthographic camera: shadow volumes need an eye point");
-    memset(&o->info, 0, sizeof(o->info));
-    memset(&o->st, 0, sizeof(o->st));
-    memset(visible, 0, PVS_BITSET_WORDS(s->object_count) * sizeof(pvs_word));
+/* Starts a frame on scene s: when the scene changed (or the frame counter is about to wrap) every kD
+   node's state is made stale, and on a new scene the per-object triangle ranges are rebuilt (objects
+   are ranges of triangles) and the previous frame's occluders forgotten. */
+PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
+    uint32_t i;
     if (s != o->last_scene || o->frame > 0xfffffff0u) { /* stale states everywhere */
         memset(o->kd_frame, 0, ((size_t)o->max_kd_nodes + 1) * sizeof(uint32_t));
         o->frame = 2;
@@ -9743,7 +9862,15 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
     }
     ++o->frame;
     o->s = s;
-    /* the eye frame (as pvs_camera_matrix) and the frustum: near plane, then the four sides */
+}
+
+/* The eye frame of a perspective camera (as pvs_camera_matrix) and the frustum's planes (the near
+   plane, then the four sides, unit normals pointing inside), and the tolerance of the eye-relative
+   scene's size. */
+PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam) {
+    double u[3], r[3], len, ty, tx, size = 0.0;
+    uint32_t k;
+    int j;
     for (j = 0; j < 3; ++j) { o->eye[j] = cam->eye[j]; o->fw[j] = cam->forward[j]; u[j] = cam->up[j]; }
     pvs__sv_unit(o->fw);
     len = pvs__sv_dot(o->fw, u);
@@ -9768,6 +9895,124 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
         size += (a > b ? a : b);
     }
     o->tol = 1e-10 * (size + o->near_d + 1e-20);
+}
+
+/* Inserts the caller's occluder triangles (p->occluder_*) in the caller's order, those with an index
+   or a coordinate out of range left out. Returns the triangles offered to the tree. */
+PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_params *p) {
+    uint32_t i, nocc = 0;
+    int j;
+    for (i = 0; i < p->occluder_triangle_count; ++i) {
+        const float *pt[3];
+        pvs__svpoly q;
+        double plane[4];
+        int bad = 0;
+        for (j = 0; j < 3; ++j) {
+            uint32_t vi = p->occluder_indices ? p->occluder_indices[3 * (size_t)i + (uint32_t)j] : 3 * i + (uint32_t)j;
+            if (vi >= p->occluder_vertex_count) { bad = 1; break; }
+            pt[j] = p->occluder_positions + 3 * (size_t)vi;
+            if (!pvs__finite(pt[j][0]) || !pvs__finite(pt[j][1]) || !pvs__finite(pt[j][2])) bad = 1;
+        }
+        if (bad) continue;
+        ++nocc;
+        if (pvs__sv_polygon(o, pt, 3, &q, plane)) pvs__sv_insert(o, &q, plane);
+    }
+    return nocc;
+}
+
+/* The occluder selection of §4.5 and its insertion: the best polygons by the area-angle measure among
+   the triangles of the previous frame's selection (or, after a reset, the scene's triangles swept
+   from the eye) and, with p->scene_volumes, the faces of the occluder volumes within the distance;
+   inserted in order of distance from the eye (the approximate occlusion sweep, §3.2). Returns the
+   polygons offered to the tree. */
+PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p) {
+    uint32_t i, k, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
+    pvs_box src;
+    int j;
+    if (p->scene_volumes) kk = o->max_occluders;
+    for (j = 0; j < 3; ++j) src.min[j] = src.max[j] = cam->eye[j];
+    if (p->scene_occluders) {
+        if (o->have_prev) {
+            for (i = 0; i < o->prev_count; ++i)
+                if (o->prev[i] < s->triangle_count) pvs__sv_offer_triangle(o, kk, o->prev[i]);
+        } else {
+            pvs__svboot w;
+            w.o = o;
+            w.k = kk;
+            memset(o->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
+            pvs_kdtree_sweep(s->triangle_tree, &src, o->sweep, o->sweep_size, pvs__sv_boot_visit, &w);
+        }
+    }
+    if (p->scene_volumes)
+        for (i = 0; i < s->occluder_count; ++i) {
+            const pvs_occluder_desc *oc = s->occluders + i;
+            uint32_t faces = oc->kind == PVS_OCCLUDER_BOX ? 6u : oc->kind == PVS_OCCLUDER_EXTRUSION ? oc->footprint_count : 0u, f;
+            if (!faces || pvs__box_distance2(&src, s->occluder_boxes + i) > o->lambda * o->lambda) continue;
+            for (f = 0; f < faces; ++f) {
+                float q[4][3];
+                const float *pt[4];
+                int n = pvs__sv_points(s, i, f, q, pt);
+                double sc = pvs__sv_score(o, pt, n);
+                if (sc > 0.0) pvs__sv_offer(o, kk, sc, i, f);
+            }
+        }
+    for (i = 0; i < o->sel_count; ++i) {
+        float q[4][3];
+        const float *pt[4];
+        double c[3] = {0, 0, 0};
+        int n = pvs__sv_points(s, o->sel[i].a, o->sel[i].b, q, pt);
+        for (j = 0; j < n; ++j) for (k = 0; k < 3; ++k) c[k] += ((double)pt[j][k] - o->eye[k]) / n;
+        o->sel[i].key = pvs__sv_dot(c, c);
+    }
+    pvs__sv_sort(o->sel, o->sel_count);
+    for (i = 0; i < o->sel_count; ++i) {
+        float q4[4][3];
+        const float *pt[4];
+        pvs__svpoly q;
+        double plane[4];
+        int n = pvs__sv_points(s, o->sel[i].a, o->sel[i].b, q4, pt);
+        if (pvs__sv_polygon(o, pt, n, &q, plane)) pvs__sv_insert(o, &q, plane);
+    }
+    return o->sel_count;
+}
+
+/* The next frame's occluder candidates (§4.5): the triangles of the objects seen within the distance
+   this frame (occluder-only objects whose box may be seen), kept in o->prev. */
+PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const pvs_cull_params *p, const pvs_word *visible) {
+    uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
+    o->sel_count = 0;
+    for (i = 0; i < o->touched_count; ++i) {
+        uint32_t ob = o->touched[i], t;
+        if (!(o->obj_flag[ob] & 4u)) continue; /* not within the distance */
+        if (s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) {
+            if (!(o->obj_flag[ob] & 1u) && pvs__sv_box_test(o, s->object_boxes + ob) == PVS__SV_I) continue;
+        } else if (!pvs_bitset_test(visible, ob)) {
+            continue;
+        }
+        for (t = o->obj_first[ob]; t < o->obj_first[ob] + o->obj_tris[ob]; ++t) pvs__sv_offer_triangle(o, kk, t);
+    }
+    o->prev_count = o->sel_count;
+    for (i = 0; i < o->sel_count; ++i) o->prev[i] = o->sel[i].a;
+    o->have_prev = 1;
+}
+
+PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p,
+                                  pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
+    float m[16];
+    uint32_t i, nocc = 0;
+    pvs_result res;
+    if (!o || !s || !cam || !visible) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree, scene, camera and visible must not be NULL");
+    if (s->object_count > o->max_objects || s->triangle_count > o->max_triangles || s->object_tree->node_count > o->max_kd_nodes ||
+        pvs_kdtree_sweep_scratch_size(s->triangle_tree) > o->sweep_size)
+        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "the context was created for a smaller scene");
+    res = pvs_camera_matrix(cam, o->aspect, m);
+    if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "unusable camera");
+    if (cam->fov_y == 0.0f) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "an orthographic camera: shadow volumes need an eye point");
+    memset(&o->info, 0, sizeof(o->info));
+    memset(&o->st, 0, sizeof(o->st));
+    memset(visible, 0, PVS_BITSET_WORDS(s->object_count) * sizeof(pvs_word));
+    pvs__sv_frame_begin(o, s);
+    pvs__sv_frustum(o, s, cam);
     o->lambda = p && p->occluder_distance > 0.0f ? p->occluder_distance : 100.0;
     /* the tree: one out-leaf, then the occluders front to back (§4.3) */
     o->node_count = 1;
@@ -9775,77 +10020,9 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
     o->vert_count = 0;
     memset(o->nodes, 0, sizeof(pvs__svnode));
     o->nodes[0].kind = PVS__OT_OUT;
-    if (p && p->occluder_triangle_count && p->occluder_positions) { /* the caller's, in the caller's order */
-        for (i = 0; i < p->occluder_triangle_count; ++i) {
-            const float *pt[3];
-            pvs__svpoly q;
-            double plane[4];
-            int bad = 0;
-            for (j = 0; j < 3; ++j) {
-                uint32_t vi = p->occluder_indices ? p->occluder_indices[3 * (size_t)i + (uint32_t)j] : 3 * i + (uint32_t)j;
-                if (vi >= p->occluder_vertex_count) { bad = 1; break; }
-                pt[j] = p->occluder_positions + 3 * (size_t)vi;
-                if (!pvs__finite(pt[j][0]) || !pvs__finite(pt[j][1]) || !pvs__finite(pt[j][2])) bad = 1;
-            }
-            if (bad) continue;
-            ++nocc;
-            if (pvs__sv_polygon(o, pt, 3, &q, plane)) pvs__sv_insert(o, &q, plane);
-        }
-    }
+    if (p && p->occluder_triangle_count && p->occluder_positions) nocc += pvs__sv_caller_occluders(o, p);
     o->sel_count = 0;
-    if (p && (p->scene_occluders || p->scene_volumes)) {
-        uint32_t kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
-        if (p->scene_volumes) kk = o->max_occluders;
-        if (p->scene_occluders) {
-            if (o->have_prev) {
-                for (i = 0; i < o->prev_count; ++i)
-                    if (o->prev[i] < s->triangle_count) pvs__sv_offer_triangle(o, kk, o->prev[i]);
-            } else {
-                pvs__svboot w;
-                pvs_box src;
-                w.o = o;
-                w.k = kk;
-                memset(o->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
-                for (j = 0; j < 3; ++j) src.min[j] = src.max[j] = cam->eye[j];
-                pvs_kdtree_sweep(s->triangle_tree, &src, o->sweep, o->sweep_size, pvs__sv_boot_visit, &w);
-            }
-        }
-        if (p->scene_volumes) {
-            pvs_box src;
-            for (j = 0; j < 3; ++j) src.min[j] = src.max[j] = cam->eye[j];
-            for (i = 0; i < s->occluder_count; ++i) {
-                const pvs_occluder_desc *oc = s->occluders + i;
-                uint32_t faces = oc->kind == PVS_OCCLUDER_BOX ? 6u : oc->kind == PVS_OCCLUDER_EXTRUSION ? oc->footprint_count : 0u, f;
-                if (!faces || pvs__box_distance2(&src, s->occluder_boxes + i) > o->lambda * o->lambda) continue;
-                for (f = 0; f < faces; ++f) {
-                    float q[4][3];
-                    const float *pt[4];
-                    int n = pvs__sv_points(s, i, f, q, pt);
-                    double sc = pvs__sv_score(o, pt, n);
-                    if (sc > 0.0) pvs__sv_offer(o, kk, sc, i, f);
-                }
-            }
-        }
-        /* insert in order of distance from the eye (the approximate occlusion sweep, §3.2) */
-        for (i = 0; i < o->sel_count; ++i) {
-            float q[4][3];
-            const float *pt[4];
-            double c[3] = {0, 0, 0};
-            int n = pvs__sv_points(s, o->sel[i].a, o->sel[i].b, q, pt);
-            for (j = 0; j < n; ++j) for (k = 0; k < 3; ++k) c[k] += ((double)pt[j][k] - o->eye[k]) / n;
-            o->sel[i].key = pvs__sv_dot(c, c);
-        }
-        pvs__sv_sort(o->sel, o->sel_count);
-        for (i = 0; i < o->sel_count; ++i) {
-            float q4[4][3];
-            const float *pt[4];
-            pvs__svpoly q;
-            double plane[4];
-            int n = pvs__sv_points(s, o->sel[i].a, o->sel[i].b, q4, pt);
-            ++nocc;
-            if (pvs__sv_polygon(o, pt, n, &q, plane)) pvs__sv_insert(o, &q, plane);
-        }
-    }
+    if (p && (p->scene_occluders || p->scene_volumes)) nocc += pvs__sv_scene_occluders(o, s, cam, p);
     o->info.occluders = nocc;
     o->info.tree_nodes = o->node_count;
     o->info.fragments = o->frag_count;
@@ -9865,24 +10042,7 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
         pvs_bitset_set(visible, ob);
         ++o->st.visible;
     }
-    /* the next frame's occluders: the best triangles of the objects seen within the distance (§4.5) */
-    if (p && p->scene_occluders) {
-        uint32_t kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
-        o->sel_count = 0;
-        for (i = 0; i < o->touched_count; ++i) {
-            uint32_t ob = o->touched[i], t;
-            if (!(o->obj_flag[ob] & 4u)) continue; /* not within the distance */
-            if (s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) {
-                if (!(o->obj_flag[ob] & 1u) && pvs__sv_box_test(o, s->object_boxes + ob) == PVS__SV_I) continue;
-            } else if (!pvs_bitset_test(visible, ob)) {
-                continue;
-            }
-            for (t = o->obj_first[ob]; t < o->obj_first[ob] + o->obj_tris[ob]; ++t) pvs__sv_offer_triangle(o, kk, t);
-        }
-        o->prev_count = o->sel_count;
-        for (i = 0; i < o->sel_count; ++i) o->prev[i] = o->sel[i].a;
-        o->have_prev = 1;
-    }
+    if (p && p->scene_occluders) pvs__sv_next_occluders(o, s, p, visible);
     for (i = 0; i < o->touched_count; ++i) o->obj_flag[o->touched[i]] = 0;
     if (stats) *stats = o->st;
     pvs__ok(err);
