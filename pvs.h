@@ -4235,15 +4235,117 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
     }
 }
 
+/* The edges of an occluder polygon (pixel coordinates x, y, n vertices, signed doubled area area2,
+   largest |x| + |y| mag, the vertices' own error perr) for the tile loops over t's inner pixel range
+   [i0, i1] x [j0, j1] (set): inner coverage at each pixel's worst corner less the setup error, as in
+   pvs__raster_poly (see the comment at the top). Steep edges become the left edges [0, nl) and the
+   right edges [nl, ne) of t; near-horizontal ones narrow the rows [jlo, jhi]. Returns 0 when no pixel
+   passes some edge. */
+PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y, int n, double area2, double mag, double perr) {
+    double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0);
+    double rxi[PVS__RASTER_MAXV], rs[PVS__RASTER_MAXV], rcl[PVS__RASTER_MAXV];
+    float rsf[PVS__RASTER_MAXV], rm[PVS__RASTER_MAXV];
+    int i, nr = 0;
+    t->jlo = 0;
+    t->jhi = t->j1 - t->j0;
+    t->nl = 0;
+    for (i = 0; i < n; ++i) {
+        int j = i + 1 == n ? 0 : i + 1;
+        double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
+        if (area2 < 0) { a = -a; b = -b; }
+        len = pvs__dabs(a) + pvs__dabs(b);
+        if (len == 0.0) continue;
+        a /= len;
+        b /= len;
+        /* inner coverage: the edge function at the pixel's worst corner, less the setup error */
+        k = a * (ox - x[i]) + b * (oy - y[i]) + pvs__dmin(0.0, a) + pvs__dmin(0.0, b);
+        err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) * (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len);
+        lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
+        hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
+        if (lo - err >= 0.0) continue; /* every pixel passes this edge */
+        if (hi - err < 0.0) return 0;  /* no pixel does */
+        k -= err;
+        if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return 0;
+        if (pvs__dabs(a) > pvs__dabs(b) * PVS__U_2_20) {
+            /* pixel i of row j passes when a i + b j + k >= 0: i >= X(j) for a > 0, i <= X(j) for a < 0.
+               The loops clamp X(jrow) to +-cl (beyond it every row of the tile row falls on the same
+               side of the range) and evaluate X in float: at most 3 cl + 13 |s| units of 2^-24 and
+               the double part 2^-51 (|xi| + |s| |jrow|), below m. */
+            double xi = -k / a, sl = -b / a, sa = pvs__dabs(sl), cl = iw + 3.0 + 3.0 * sa;
+            float m = pvs__f_up(PVS__U_2_21 * cl + PVS__U_2_48 * (pvs__dabs(xi) + sa * (jh + 4.0)));
+            if (a > 0.0) {
+                t->xi[t->nl] = xi; t->s[t->nl] = sl; t->cl[t->nl] = cl; t->sf[t->nl] = (float)sl; t->m[t->nl] = m;
+                ++t->nl;
+            } else {
+                rxi[nr] = xi; rs[nr] = sl; rcl[nr] = cl; rsf[nr] = (float)sl; rm[nr] = m;
+                ++nr;
+            }
+        } else {
+            /* near-horizontal: the rows where the edge passes for every column of the range */
+            double wk = k + pvs__dmin(0.0, a * iw), tq = -wk / b, pad = PVS__U_2_44 * (pvs__dabs(k) + pvs__dabs(a) * iw + 1.0);
+            if (b > 0.0) {
+                int32_t jl = pvs__clampi(ceil(tq + pad), 0, t->jhi + 1);
+                if (jl > t->jlo) t->jlo = jl;
+            } else {
+                int32_t jm = pvs__clampi(floor(tq - pad), -1, t->jhi);
+                if (jm < t->jhi) t->jhi = jm;
+            }
+        }
+    }
+    if (t->jlo > t->jhi) return 0;
+    t->ne = t->nl + nr;
+    for (i = 0; i < nr; ++i) {
+        t->xi[t->nl + i] = rxi[i]; t->s[t->nl + i] = rs[i]; t->cl[t->nl + i] = rcl[i]; t->sf[t->nl + i] = rsf[i]; t->m[t->nl + i] = rm[i];
+    }
+    return 1;
+}
+
+/* The depth plane of an occluder polygon (x, y, z, n vertices; span, mag, zmag its extents; perr, zerr
+   its vertices' errors) for the tile loops over t's pixel range: from the largest fan triangle, at
+   pixel corner (i0, j0), lowered by its setup error, with zm the margin of the loops' float
+   evaluation; zlo (the vertices' farthest depth less its error) clamps it. Without a usable plane zk
+   is -FLT_MAX and za = zb = 0. */
+PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span, double mag,
+                                  double zmag, double perr, double zerr, double zlo) {
+    double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0), amax = 0.0;
+    int i, best = -1;
+    for (i = 1; i + 1 < n; ++i) {
+        double a2 = pvs__dabs((x[i] - x[0]) * (y[i + 1] - y[0]) - (x[i + 1] - x[0]) * (y[i] - y[0]));
+        if (a2 > amax) { amax = a2; best = i; }
+    }
+    t->zlo = pvs__f_down(zlo);
+    t->za = t->zb = t->zm = 0.0f;
+    t->zk = -FLT_MAX;
+    if (best > 0) {
+        double x1 = x[best] - x[0], y1 = y[best] - y[0], z1 = z[best] - z[0];
+        double x2 = x[best + 1] - x[0], y2 = y[best + 1] - y[0], z2 = z[best + 1] - z[0];
+        double det = x1 * y2 - x2 * y1;
+        double za = (z1 * y2 - z2 * y1) / det, zb = (x1 * z2 - x2 * z1) / det;
+        double zk = z[0] + za * (ox - x[0]) + zb * (oy - y[0]), err, size;
+        err = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
+              PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
+                  (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det));
+        zk -= err;
+        /* the loops' float evaluation zk + za x + zb y - zm over x <= iw + 1, y <= jh + 1: coefficient
+           rounding and four operations, at most 6 units of 2^-24 of `size` */
+        size = pvs__dabs(zk) + pvs__dabs(za) * (iw + 1.0) + pvs__dabs(zb) * (jh + 1.0);
+        if (size < 1e30 && err < 1e30) {
+            t->za = (float)za;
+            t->zb = (float)zb;
+            t->zk = (float)zk;
+            t->zm = pvs__f_up(PVS__U_2_20 * size);
+        }
+    }
+}
+
 /* Prepares an occluder polygon given in pixel coordinates (x, y), depth z, with the vertices' own
    error perr (pixels) and zerr (depth), and draws it into the tiles. The edge and plane setup and its
    margins are pvs__raster_poly's; see the comment at the top. */
 PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y, const double *z, int n, double perr, double zerr) {
     pvs__tpoly t;
     double xmin = x[0], xmax = x[0], ymin = y[0], ymax = y[0], zmin = z[0], zmax = z[0], area2 = 0.0, mag = 0.0, zmag = 0.0;
-    double span, dx, ox, oy, iw, jh, zlo, rxi[PVS__RASTER_MAXV], rs[PVS__RASTER_MAXV], rcl[PVS__RASTER_MAXV];
-    float rsf[PVS__RASTER_MAXV], rm[PVS__RASTER_MAXV];
-    int i, best = -1, nr = 0;
+    double span, dx, zlo;
+    int i;
     if (n < 3) return;
     for (i = 0; i < n; ++i) {
         int j = i + 1 == n ? 0 : i + 1;
@@ -4265,92 +4367,8 @@ PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y,
     if (!(mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) return;
     span = (xmax - xmin) + (ymax - ymin);
     if (!(pvs__dabs(area2) > 1e-9 * span * span) || !(pvs__dabs(area2) > 1e-300)) return; /* degenerate: covers nothing */
-    ox = (double)t.i0;
-    oy = (double)t.j0;
-    iw = (double)(t.i1 - t.i0);
-    jh = (double)(t.j1 - t.j0);
-    t.jlo = 0;
-    t.jhi = t.j1 - t.j0;
-    t.nl = 0;
-    for (i = 0; i < n; ++i) {
-        int j = i + 1 == n ? 0 : i + 1;
-        double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
-        if (area2 < 0) { a = -a; b = -b; }
-        len = pvs__dabs(a) + pvs__dabs(b);
-        if (len == 0.0) continue;
-        a /= len;
-        b /= len;
-        /* inner coverage: the edge function at the pixel's worst corner, less the setup error */
-        k = a * (ox - x[i]) + b * (oy - y[i]) + pvs__dmin(0.0, a) + pvs__dmin(0.0, b);
-        err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) * (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len);
-        lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
-        hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
-        if (lo - err >= 0.0) continue; /* every pixel passes this edge */
-        if (hi - err < 0.0) return;    /* no pixel does */
-        k -= err;
-        if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return;
-        if (pvs__dabs(a) > pvs__dabs(b) * PVS__U_2_20) {
-            /* pixel i of row j passes when a i + b j + k >= 0: i >= X(j) for a > 0, i <= X(j) for a < 0.
-               The loops clamp X(jrow) to +-cl (beyond it every row of the tile row falls on the same
-               side of the range) and evaluate X in float: at most 3 cl + 13 |s| units of 2^-24 and
-               the double part 2^-51 (|xi| + |s| |jrow|), below m. */
-            double xi = -k / a, sl = -b / a, sa = pvs__dabs(sl), cl = iw + 3.0 + 3.0 * sa;
-            float m = pvs__f_up(PVS__U_2_21 * cl + PVS__U_2_48 * (pvs__dabs(xi) + sa * (jh + 4.0)));
-            if (a > 0.0) {
-                t.xi[t.nl] = xi; t.s[t.nl] = sl; t.cl[t.nl] = cl; t.sf[t.nl] = (float)sl; t.m[t.nl] = m;
-                ++t.nl;
-            } else {
-                rxi[nr] = xi; rs[nr] = sl; rcl[nr] = cl; rsf[nr] = (float)sl; rm[nr] = m;
-                ++nr;
-            }
-        } else {
-            /* near-horizontal: the rows where the edge passes for every column of the range */
-            double wk = k + pvs__dmin(0.0, a * iw), tq = -wk / b, pad = PVS__U_2_44 * (pvs__dabs(k) + pvs__dabs(a) * iw + 1.0);
-            if (b > 0.0) {
-                int32_t jl = pvs__clampi(ceil(tq + pad), 0, t.jhi + 1);
-                if (jl > t.jlo) t.jlo = jl;
-            } else {
-                int32_t jm = pvs__clampi(floor(tq - pad), -1, t.jhi);
-                if (jm < t.jhi) t.jhi = jm;
-            }
-        }
-    }
-    if (t.jlo > t.jhi) return;
-    t.ne = t.nl + nr;
-    for (i = 0; i < nr; ++i) {
-        t.xi[t.nl + i] = rxi[i]; t.s[t.nl + i] = rs[i]; t.cl[t.nl + i] = rcl[i]; t.sf[t.nl + i] = rsf[i]; t.m[t.nl + i] = rm[i];
-    }
-    /* depth plane from the largest fan triangle, at pixel corner (i0, j0), lowered by its setup error */
-    {
-        double amax = 0.0;
-        for (i = 1; i + 1 < n; ++i) {
-            double a2 = pvs__dabs((x[i] - x[0]) * (y[i + 1] - y[0]) - (x[i + 1] - x[0]) * (y[i] - y[0]));
-            if (a2 > amax) { amax = a2; best = i; }
-        }
-    }
-    t.zlo = pvs__f_down(zlo);
-    t.za = t.zb = t.zm = 0.0f;
-    t.zk = -FLT_MAX;
-    if (best > 0) {
-        double x1 = x[best] - x[0], y1 = y[best] - y[0], z1 = z[best] - z[0];
-        double x2 = x[best + 1] - x[0], y2 = y[best + 1] - y[0], z2 = z[best + 1] - z[0];
-        double det = x1 * y2 - x2 * y1;
-        double za = (z1 * y2 - z2 * y1) / det, zb = (x1 * z2 - x2 * z1) / det;
-        double zk = z[0] + za * (ox - x[0]) + zb * (oy - y[0]), err, size;
-        err = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
-              PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
-                  (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det));
-        zk -= err;
-        /* the loops' float evaluation zk + za x + zb y - zm over x <= iw + 1, y <= jh + 1: coefficient
-           rounding and four operations, at most 6 units of 2^-24 of `size` */
-        size = pvs__dabs(zk) + pvs__dabs(za) * (iw + 1.0) + pvs__dabs(zb) * (jh + 1.0);
-        if (size < 1e30 && err < 1e30) {
-            t.za = (float)za;
-            t.zb = (float)zb;
-            t.zk = (float)zk;
-            t.zm = pvs__f_up(PVS__U_2_20 * size);
-        }
-    }
+    if (!pvs__tile_edges(&t, x, y, n, area2, mag, perr)) return;
+    pvs__tile_zplane(&t, x, y, z, n, span, mag, zmag, perr, zerr, zlo);
     pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR));
 }
 
@@ -5197,76 +5215,72 @@ PVS__STATIC uint32_t pvs__mesh_fbits(float f) {
     return u;
 }
 
-/* One piece of a mesh: triangles first .. first + n - 1 (n <= mesh_cap) of `indices` (NULL:
-   consecutive vertices) or of tris[]. */
-PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices, const pvs__occsel *tris,
-                                 uint32_t first, uint32_t n) {
-    uint32_t hs = 16, t, k, h, *tab = r->mtab, *cid = r->mcid, *part = r->mpart;
-    while (hs < 6 * n && hs < r->mesh_hash) hs <<= 1;
-    for (h = 0; h < hs; ++h) tab[h] = 0;
-    /* weld, transform, facing, clip and prepare */
-    for (t = 0; t < n; ++t) {
-        uint32_t q[3];
-        const float *p[3];
-        pvs__cv v[3];
-        int ok = 1, g;
-        r->mgrp[t] = 0;
-        if (tris || indices) {
-            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[first + t].triangle : indices + 3 * (size_t)(first + t);
-            q[0] = ix[0]; q[1] = ix[1]; q[2] = ix[2];
-        } else {
-            q[0] = 3 * (first + t); q[1] = q[0] + 1; q[2] = q[0] + 2;
+/* The first vertex of the piece at the same position as vertex q (at p), found or entered in tab: open
+   addressing over hs slots (a power of two; 0 an empty slot, else a vertex + 1). */
+PVS__STATIC uint32_t pvs__mesh_weld(uint32_t *tab, uint32_t hs, const float *pos, uint32_t q, const float *p) {
+    uint32_t x = pvs__mesh_fbits(p[0]), y = pvs__mesh_fbits(p[1]), z = pvs__mesh_fbits(p[2]), h;
+    h = (x * 0x9E3779B1u) ^ (y * 0x85EBCA77u) ^ (z * 0xC2B2AE3Du);
+    h = (h ^ (h >> 15)) & (hs - 1);
+    for (;;) {
+        if (!tab[h]) {
+            tab[h] = q + 1;
+            return q;
         }
-        for (k = 0; k < 3 && ok; ++k) {
-            ok = q[k] < vc;
-            if (ok) {
-                p[k] = pos + 3 * (size_t)q[k];
-                ok = pvs__finite(p[k][0]) && pvs__finite(p[k][1]) && pvs__finite(p[k][2]);
-            }
+        {
+            const float *o = pos + 3 * (size_t)(tab[h] - 1);
+            if (o[0] == p[0] && o[1] == p[1] && o[2] == p[2]) return tab[h] - 1;
         }
-        if (!ok) continue;
-        if (r->tiled) { /* hidden behind what earlier pieces drew: left out (its edges become boundary edges) */
-            const float *pv[4][3];
-            unsigned test, l;
-            int32_t box[4][4];
-            float zmax[4];
-            for (l = 0; l < 4; ++l) { pv[l][0] = p[0]; pv[l][1] = p[1]; pv[l][2] = p[2]; }
-            if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax) & test & 1u) && pvs__pf_hidden(r, box, 0, zmax[0])) continue;
-        }
-        for (k = 0; k < 3; ++k) { /* the first vertex with the same position (open addressing) */
-            uint32_t x = pvs__mesh_fbits(p[k][0]), y = pvs__mesh_fbits(p[k][1]), z = pvs__mesh_fbits(p[k][2]);
-            h = (x * 0x9E3779B1u) ^ (y * 0x85EBCA77u) ^ (z * 0xC2B2AE3Du);
-            h = (h ^ (h >> 15)) & (hs - 1);
-            for (;;) {
-                if (!tab[h]) {
-                    tab[h] = q[k] + 1;
-                    cid[3 * t + k] = q[k];
-                    break;
-                }
-                {
-                    const float *o = pos + 3 * (size_t)(tab[h] - 1);
-                    if (o[0] == p[k][0] && o[1] == p[k][1] && o[2] == p[k][2]) {
-                        cid[3 * t + k] = tab[h] - 1;
-                        break;
-                    }
-                }
-                h = (h + 1) & (hs - 1);
-            }
-        }
-        if (cid[3 * t] == cid[3 * t + 1] || cid[3 * t + 1] == cid[3 * t + 2] || cid[3 * t + 2] == cid[3 * t]) continue;
-        for (k = 0; k < 3; ++k) v[k] = pvs__raster_transform(r, p[k]);
-        if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) continue;
-        if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) continue;
-        g = pvs__mesh_facing(v);
-        if (!g || !pvs__mesh_setup(r, v, g, r->mt + t)) continue;
-        for (k = 0; k < 3; ++k) { /* 1: surely in front of both clip planes, 2: surely behind one, 0: neither */
-            double w = v[k].c[3], zc = v[k].c[2], e = v[k].e;
-            double m1 = 2.0 * e + 4.5e-16 * (pvs__dabs(w) + pvs__dabs(zc)), m2 = e + 4.5e-16 * pvs__dabs(w) + 1e-45;
-            r->mvst[3 * t + k] = (uint8_t)(w - zc > m1 && w - 1e-30 > m2 ? 1 : w - zc < -m1 || w - 1e-30 < -m2 ? 2 : 0);
-        }
-        r->mgrp[t] = (int8_t)g;
+        h = (h + 1) & (hs - 1);
     }
-    /* edges by their welded end points: the partner half-edge, NONE or MULTI */
+}
+
+/* Triangle t of the piece, vertices q[0..2] of pos (vc of them): welds its corners (r->mcid through
+   the hs-slot table r->mtab), transforms it, takes its facing, clips and prepares it (r->mt[t]) and
+   marks its corners against the clip planes (r->mvst). r->mgrp[t] ends as its facing, or 0 when it
+   joins no group: an index or a coordinate out of range, hidden behind earlier pieces (tiled), two
+   corners welded, outside a clip plane, facing uncertain or nothing usable left after clipping. */
+PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t q[3], uint32_t hs, uint32_t t) {
+    uint32_t k, *cid = r->mcid;
+    const float *p[3];
+    pvs__cv v[3];
+    int ok = 1, g;
+    r->mgrp[t] = 0;
+    for (k = 0; k < 3 && ok; ++k) {
+        ok = q[k] < vc;
+        if (ok) {
+            p[k] = pos + 3 * (size_t)q[k];
+            ok = pvs__finite(p[k][0]) && pvs__finite(p[k][1]) && pvs__finite(p[k][2]);
+        }
+    }
+    if (!ok) return;
+    if (r->tiled) { /* hidden behind what earlier pieces drew: left out (its edges become boundary edges) */
+        const float *pv[4][3];
+        unsigned test, l;
+        int32_t box[4][4];
+        float zmax[4];
+        for (l = 0; l < 4; ++l) { pv[l][0] = p[0]; pv[l][1] = p[1]; pv[l][2] = p[2]; }
+        if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax) & test & 1u) && pvs__pf_hidden(r, box, 0, zmax[0])) return;
+    }
+    for (k = 0; k < 3; ++k) cid[3 * t + k] = pvs__mesh_weld(r->mtab, hs, pos, q[k], p[k]);
+    if (cid[3 * t] == cid[3 * t + 1] || cid[3 * t + 1] == cid[3 * t + 2] || cid[3 * t + 2] == cid[3 * t]) return;
+    for (k = 0; k < 3; ++k) v[k] = pvs__raster_transform(r, p[k]);
+    if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) return;
+    if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
+    g = pvs__mesh_facing(v);
+    if (!g || !pvs__mesh_setup(r, v, g, r->mt + t)) return;
+    for (k = 0; k < 3; ++k) { /* 1: surely in front of both clip planes, 2: surely behind one, 0: neither */
+        double w = v[k].c[3], zc = v[k].c[2], e = v[k].e;
+        double m1 = 2.0 * e + 4.5e-16 * (pvs__dabs(w) + pvs__dabs(zc)), m2 = e + 4.5e-16 * pvs__dabs(w) + 1e-45;
+        r->mvst[3 * t + k] = (uint8_t)(w - zc > m1 && w - 1e-30 > m2 ? 1 : w - zc < -m1 || w - 1e-30 < -m2 ? 2 : 0);
+    }
+    r->mgrp[t] = (int8_t)g;
+}
+
+/* Pairs the half-edges of the piece's n grouped triangles by their welded end points: r->mpart[he] is
+   the partner half-edge, PVS__MESH_NONE or PVS__MESH_MULTI (three or more); r->mtab (hs slots) is the
+   scratch. */
+PVS__STATIC void pvs__mesh_partners(pvs_raster *r, uint32_t n, uint32_t hs) {
+    uint32_t t, k, h, *tab = r->mtab, *cid = r->mcid, *part = r->mpart;
     for (h = 0; h < hs; ++h) tab[h] = 0;
     for (t = 0; t < n; ++t) {
         if (!r->mgrp[t]) continue;
@@ -5298,7 +5312,12 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
             }
         }
     }
-    /* which polygon edges are boundary edges (conditions (i)-(iii) above) */
+}
+
+/* Clears the boundary flag of the polygon edges of the piece's n triangles that are internal
+   (conditions (i)-(iii) above), from their partners (r->mpart) and corner states (r->mvst). */
+PVS__STATIC void pvs__mesh_internal(pvs_raster *r, uint32_t n) {
+    uint32_t t, *cid = r->mcid, *part = r->mpart;
     for (t = 0; t < n; ++t) {
         pvs__mtri *p = r->mt + t;
         int e;
@@ -5317,6 +5336,27 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
             p->bnd[e] = 0;
         }
     }
+}
+
+/* One piece of a mesh: triangles first .. first + n - 1 (n <= mesh_cap) of `indices` (NULL:
+   consecutive vertices) or of tris[]. */
+PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices, const pvs__occsel *tris,
+                                 uint32_t first, uint32_t n) {
+    uint32_t hs = 16, t, h;
+    while (hs < 6 * n && hs < r->mesh_hash) hs <<= 1;
+    for (h = 0; h < hs; ++h) r->mtab[h] = 0;
+    for (t = 0; t < n; ++t) { /* weld, transform, facing, clip and prepare */
+        uint32_t q[3];
+        if (tris || indices) {
+            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[first + t].triangle : indices + 3 * (size_t)(first + t);
+            q[0] = ix[0]; q[1] = ix[1]; q[2] = ix[2];
+        } else {
+            q[0] = 3 * (first + t); q[1] = q[0] + 1; q[2] = q[0] + 2;
+        }
+        pvs__mesh_tri(r, pos, vc, q, hs, t);
+    }
+    pvs__mesh_partners(r, n, hs);
+    pvs__mesh_internal(r, n);
     pvs__mesh_draw(r, n, 1);
     pvs__mesh_draw(r, n, -1);
 }
@@ -6045,11 +6085,186 @@ PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int
     return b->min[u] >= r->region[0] && b->max[u] <= r->region[2] && b->min[v] >= r->region[1] && b->max[v] <= r->region[3];
 }
 
+/* Sizes and allocates the per-pixel depth map, its 8 x 8 tile minima and its depth pyramid (Durand 2000
+   §2.4): each level halves the one below, rounding up, until 1 x 1 (at most PVS__RASTER_MAX_LEVELS
+   levels), a min and a max plane per level; level 0 is the map itself. Returns 0 when out of memory
+   (what was allocated stays in r for pvs_raster_destroy). */
+PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
+    uint32_t l, w, h;
+    size_t floats = 0;
+    r->lw[0] = w = r->width;
+    r->lh[0] = h = r->height;
+    while ((w > 1 || h > 1) && r->levels < PVS__RASTER_MAX_LEVELS) {
+        w = (w + 1) / 2;
+        h = (h + 1) / 2;
+        ++r->levels;
+        r->lw[r->levels] = w;
+        r->lh[r->levels] = h;
+        floats += 2 * (size_t)w * h;
+    }
+    r->depth = (float *)pvs__alloc_array(&r->allocator, (size_t)r->width * r->height, sizeof(float));
+    r->pyramid_floats = floats;
+    r->pyramid = (float *)pvs__alloc_array(&r->allocator, floats, sizeof(float));
+    r->tiles = (size_t)((r->width + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->height + PVS__TILE - 1) >> PVS__TILE_SHIFT);
+    r->tile_min = (float *)pvs__alloc_array(&r->allocator, r->tiles, sizeof(float));
+    if (!r->depth || !r->pyramid || !r->tile_min) return 0;
+    floats = 0;
+    for (l = 1; l <= r->levels; ++l) {
+        r->lmin[l] = r->pyramid + floats;
+        floats += (size_t)r->lw[l] * r->lh[l];
+        r->lmax[l] = r->pyramid + floats;
+        floats += (size_t)r->lw[l] * r->lh[l];
+    }
+    r->lmin[0] = r->lmax[0] = r->depth;
+    return 1;
+}
+
+/* Sizes and allocates the occluder tiles (pvs__tile), their blocks of 8 x 8 tiles and the tile pyramid:
+   a level halves its texels along x, y or both, whichever keeps them closest to square in pixels
+   (a texel covers 1 << tsx by 1 << tsy tiles), until one texel covers the map. Returns 0 when out of
+   memory (what was allocated stays in r for pvs_raster_destroy). */
+PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
+    uint32_t l, w, h;
+    size_t floats;
+    r->tiled = (r->flags & PVS_RASTER_TILED) || (!(r->flags & PVS_RASTER_PER_PIXEL) && (size_t)r->width * r->height > 65536);
+    r->tw = (r->width + 31) >> PVS__TW_SHIFT;
+    r->th = (r->height + PVS__TH - 1) >> PVS__TH_SHIFT;
+    r->xpad = r->width & 31 ? ~0u << (r->width & 31) : 0u;
+    r->ypad = r->height & (PVS__TH - 1) ? r->height & (PVS__TH - 1) : PVS__TH;
+    r->tlw[0] = w = r->tw;
+    r->tlh[0] = h = r->th;
+    floats = 2 * (size_t)w * h;
+    while (w > 1 || h > 1) {
+        uint32_t pxw = 32u << r->tsx[r->tlevels], pxh = (uint32_t)PVS__TH << r->tsy[r->tlevels];
+        uint32_t mx = w > 1 && (pxw <= pxh || h == 1), my = h > 1 && (pxh <= pxw || w == 1);
+        if (mx) w = (w + 1) / 2;
+        if (my) h = (h + 1) / 2;
+        ++r->tlevels;
+        r->tlw[r->tlevels] = w;
+        r->tlh[r->tlevels] = h;
+        r->tsx[r->tlevels] = (uint8_t)(r->tsx[r->tlevels - 1] + mx);
+        r->tsy[r->tlevels] = (uint8_t)(r->tsy[r->tlevels - 1] + my);
+        floats += 2 * (size_t)w * h;
+    }
+    r->tile = (pvs__tile *)pvs__alloc_array(&r->allocator, (size_t)r->tw * r->th, sizeof(pvs__tile));
+    r->tpyramid_floats = floats;
+    r->tpyramid = (float *)pvs__alloc_array(&r->allocator, floats, sizeof(float));
+    r->bw = (r->tw + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
+    r->bh = (r->th + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
+    r->bmin = (float *)pvs__alloc_array(&r->allocator, (size_t)r->bw * r->bh, sizeof(float));
+    r->bdirty = (uint8_t *)pvs__alloc_array(&r->allocator, (size_t)r->bw * r->bh, 1);
+    if (!r->tile || !r->tpyramid || !r->bmin || !r->bdirty) return 0;
+    floats = 0;
+    for (l = 0; l <= r->tlevels; ++l) {
+        r->tlmin[l] = r->tpyramid + floats;
+        floats += (size_t)r->tlw[l] * r->tlh[l];
+        r->tlmax[l] = r->tpyramid + floats;
+        floats += (size_t)r->tlw[l] * r->tlh[l];
+    }
+    return 1;
+}
+
+/* Allocates the occluder mesh scratch (pvs_raster_mesh) for pieces of `max_triangles` triangles (0: the
+   default, at most 2^24): the prepared triangles, their hash (load <= 1/2), four rows of pixels. Returns
+   0 when out of memory (what was allocated stays in r for pvs_raster_destroy). */
+PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
+    const pvs_allocator *a = &r->allocator;
+    size_t i;
+    r->mesh_cap = max_triangles ? (max_triangles < (1u << 24) ? max_triangles : 1u << 24) : PVS__MESH_DEFAULT;
+    for (r->mesh_hash = 16; r->mesh_hash < 6 * r->mesh_cap; r->mesh_hash <<= 1) {}
+    r->mt = (pvs__mtri *)pvs__alloc_array(a, r->mesh_cap, sizeof(pvs__mtri));
+    r->mcid = (uint32_t *)pvs__alloc_array(a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
+    r->mpart = (uint32_t *)pvs__alloc_array(a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
+    r->mvst = (uint8_t *)pvs__alloc_array(a, 3 * (size_t)r->mesh_cap, 1);
+    r->mgrp = (int8_t *)pvs__alloc_array(a, r->mesh_cap, 1);
+    r->mtab = (uint32_t *)pvs__alloc_array(a, r->mesh_hash, sizeof(uint32_t));
+    r->morder = (uint32_t *)pvs__alloc_array(a, r->mesh_cap, sizeof(uint32_t));
+    r->mact = (uint32_t *)pvs__alloc_array(a, r->mesh_cap, sizeof(uint32_t));
+    r->mband = (uint32_t *)pvs__alloc_array(a, (size_t)r->th + 1, sizeof(uint32_t));
+    r->mzmin = (float *)pvs__alloc_array(a, (size_t)PVS__TH * r->width, sizeof(float));
+    r->mflag = (uint8_t *)pvs__alloc_array(a, (size_t)PVS__TH * r->width, 1);
+    r->mdirty = (uint8_t *)pvs__alloc_array(a, (size_t)PVS__TH * r->tw, 1);
+    if (!r->mdirty) return 0;
+    memset(r->mdirty, 0, (size_t)PVS__TH * r->tw);
+    if (!r->mt || !r->mcid || !r->mpart || !r->mvst || !r->mgrp || !r->mtab || !r->morder || !r->mact || !r->mband || !r->mzmin || !r->mflag)
+        return 0;
+    for (i = 0; i < (size_t)PVS__TH * r->width; ++i) {
+        r->mzmin[i] = FLT_MAX;
+        r->mflag[i] = 0;
+    }
+    return 1;
+}
+
+/* Builds the cull map's object grid over the scene's ground rectangle, w x h cells (Wonka 1999 §4.1:
+   every object entered into every cell it overlaps, with the highest object top per cell, §4.3).
+   Returns PVS_OK, or the error (in err) with what was allocated left in r for pvs_raster_destroy. */
+PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene *s, uint32_t w, uint32_t h, pvs_error *err) {
+    const pvs_allocator *a = &r->allocator;
+    int u, v, up = (int)s->up_axis;
+    size_t cells = (size_t)w * h, total = 0, i;
+    uint32_t o, l;
+    pvs__ground_axes(s->up_axis, &u, &v);
+    r->cm_w = w;
+    r->cm_h = h;
+    r->ground = s->bounds.min[up];
+    r->region[0] = s->bounds.min[u];
+    r->region[1] = s->bounds.min[v];
+    r->region[2] = s->bounds.max[u];
+    r->region[3] = s->bounds.max[v];
+    for (l = 0; l < 2; ++l) /* never a zero-size region */
+        if (!(r->region[2 + l] > r->region[l])) {
+            r->region[l] -= 0.5f;
+            r->region[2 + l] += 0.5f;
+        }
+    if (!(r->ground <= r->ground + 0.0f)) r->ground = 0.0f; /* empty scene bounds */
+    r->cm = (float *)pvs__alloc_array(a, cells, sizeof(float));
+    r->cm_tiles = (size_t)((r->cm_w + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->cm_h + PVS__TILE - 1) >> PVS__TILE_SHIFT);
+    r->cm_tile_min = (float *)pvs__alloc_array(a, r->cm_tiles, sizeof(float));
+    if (!r->cm_tile_min) goto oom;
+    r->cm_bound = (float *)pvs__alloc_array(a, cells, sizeof(float));
+    r->cm_start = (uint32_t *)pvs__alloc_array(a, cells + 1, sizeof(uint32_t));
+    if (!r->cm || !r->cm_bound || !r->cm_start) goto oom;
+    for (i = 0; i <= cells; ++i) r->cm_start[i] = 0;
+    for (i = 0; i < cells; ++i) { r->cm[i] = PVS_DEPTH_EMPTY; r->cm_bound[i] = PVS_DEPTH_EMPTY; }
+    for (o = 0; o < s->object_count; ++o) {
+        const pvs_box *b = s->object_boxes + o;
+        int32_t i0, j0, i1, j1, ii, jj;
+        if (b->min[0] > b->max[0]) continue;
+        pvs__cm_range(r, b, up, &i0, &j0, &i1, &j1);
+        total += (size_t)(i1 - i0 + 1) * (size_t)(j1 - j0 + 1);
+        if (total > 0xffffffffu)
+            return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the cull map grid holds more than 2^32 object entries");
+        for (jj = j0; jj <= j1; ++jj)
+            for (ii = i0; ii <= i1; ++ii) {
+                size_t c = (size_t)jj * r->cm_w + (size_t)ii;
+                r->cm_start[c + 1]++;
+                if (b->max[up] > r->cm_bound[c]) r->cm_bound[c] = b->max[up];
+            }
+    }
+    for (i = 0; i < cells; ++i) r->cm_start[i + 1] += r->cm_start[i];
+    r->cm_item_count = (uint32_t)total;
+    r->cm_items = (uint32_t *)pvs__alloc_array(a, total, sizeof(uint32_t));
+    if (!r->cm_items) goto oom;
+    for (o = 0; o < s->object_count; ++o) { /* fill, using cm_start[c] as the cursor, then shift back */
+        const pvs_box *b = s->object_boxes + o;
+        int32_t i0, j0, i1, j1, ii, jj;
+        if (b->min[0] > b->max[0]) continue;
+        pvs__cm_range(r, b, up, &i0, &j0, &i1, &j1);
+        for (jj = j0; jj <= j1; ++jj)
+            for (ii = i0; ii <= i1; ++ii) r->cm_items[r->cm_start[(size_t)jj * r->cm_w + (size_t)ii]++] = o;
+    }
+    for (i = cells; i > 0; --i) r->cm_start[i] = r->cm_start[i - 1];
+    r->cm_start[0] = 0;
+    return PVS_OK;
+oom:
+    return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "raster buffers");
+}
+
 PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **out, pvs_error *err) {
     pvs_raster *r;
     pvs_allocator a;
-    uint32_t l, w, h;
-    size_t floats = 0, i;
+    pvs_result res;
+    uint32_t l;
     if (out) *out = NULL;
     if (!desc || !out) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc and out_raster must not be NULL");
     if (desc->width < 1 || desc->height < 1 || desc->width > 16384 || desc->height > 16384)
@@ -6078,94 +6293,12 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
         r->rowt[l] = 0.0;
     }
     r->mabs[0] = 1.0;
-    r->lw[0] = w = r->width;
-    r->lh[0] = h = r->height;
-    while ((w > 1 || h > 1) && r->levels < PVS__RASTER_MAX_LEVELS) {
-        w = (w + 1) / 2;
-        h = (h + 1) / 2;
-        ++r->levels;
-        r->lw[r->levels] = w;
-        r->lh[r->levels] = h;
-        floats += 2 * (size_t)w * h;
-    }
-    r->depth = (float *)pvs__alloc_array(&a, (size_t)r->width * r->height, sizeof(float));
-    r->pyramid_floats = floats;
-    r->pyramid = (float *)pvs__alloc_array(&a, floats, sizeof(float));
-    r->tiles = (size_t)((r->width + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->height + PVS__TILE - 1) >> PVS__TILE_SHIFT);
-    r->tile_min = (float *)pvs__alloc_array(&a, r->tiles, sizeof(float));
-    if (!r->depth || !r->pyramid || !r->tile_min) goto oom;
-    /* the occluder tiles and their pyramid */
-    r->tiled = (r->flags & PVS_RASTER_TILED) || (!(r->flags & PVS_RASTER_PER_PIXEL) && (size_t)r->width * r->height > 65536);
-    r->tw = (r->width + 31) >> PVS__TW_SHIFT;
-    r->th = (r->height + PVS__TH - 1) >> PVS__TH_SHIFT;
-    r->xpad = r->width & 31 ? ~0u << (r->width & 31) : 0u;
-    r->ypad = r->height & (PVS__TH - 1) ? r->height & (PVS__TH - 1) : PVS__TH;
-    r->tlw[0] = w = r->tw;
-    r->tlh[0] = h = r->th;
-    floats = 2 * (size_t)w * h;
-    while (w > 1 || h > 1) {
-        uint32_t pxw = 32u << r->tsx[r->tlevels], pxh = (uint32_t)PVS__TH << r->tsy[r->tlevels];
-        uint32_t mx = w > 1 && (pxw <= pxh || h == 1), my = h > 1 && (pxh <= pxw || w == 1);
-        if (mx) w = (w + 1) / 2;
-        if (my) h = (h + 1) / 2;
-        ++r->tlevels;
-        r->tlw[r->tlevels] = w;
-        r->tlh[r->tlevels] = h;
-        r->tsx[r->tlevels] = (uint8_t)(r->tsx[r->tlevels - 1] + mx);
-        r->tsy[r->tlevels] = (uint8_t)(r->tsy[r->tlevels - 1] + my);
-        floats += 2 * (size_t)w * h;
-    }
-    r->tile = (pvs__tile *)pvs__alloc_array(&a, (size_t)r->tw * r->th, sizeof(pvs__tile));
-    r->tpyramid_floats = floats;
-    r->tpyramid = (float *)pvs__alloc_array(&a, floats, sizeof(float));
-    r->bw = (r->tw + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
-    r->bh = (r->th + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
-    r->bmin = (float *)pvs__alloc_array(&a, (size_t)r->bw * r->bh, sizeof(float));
-    r->bdirty = (uint8_t *)pvs__alloc_array(&a, (size_t)r->bw * r->bh, 1);
-    if (!r->tile || !r->tpyramid || !r->bmin || !r->bdirty) goto oom;
-    floats = 0;
-    for (l = 0; l <= r->tlevels; ++l) {
-        r->tlmin[l] = r->tpyramid + floats;
-        floats += (size_t)r->tlw[l] * r->tlh[l];
-        r->tlmax[l] = r->tpyramid + floats;
-        floats += (size_t)r->tlw[l] * r->tlh[l];
-    }
-    floats = 0;
-    for (l = 1; l <= r->levels; ++l) {
-        r->lmin[l] = r->pyramid + floats;
-        floats += (size_t)r->lw[l] * r->lh[l];
-        r->lmax[l] = r->pyramid + floats;
-        floats += (size_t)r->lw[l] * r->lh[l];
-    }
-    r->lmin[0] = r->lmax[0] = r->depth;
+    if (!pvs__raster_init_pixels(r) || !pvs__raster_init_tiles(r)) goto oom;
     pvs_raster_clear(r);
     r->max_occluders = desc->max_occluders ? desc->max_occluders : 1024;
     r->occ = (pvs__occsel *)pvs__alloc_array(&a, r->max_occluders, sizeof(pvs__occsel));
-    if (!r->occ) goto oom;
-    /* occluder meshes: a piece's triangles, its hash (load <= 1/2), four rows of pixels */
-    r->mesh_cap = desc->max_mesh_triangles ? (desc->max_mesh_triangles < (1u << 24) ? desc->max_mesh_triangles : 1u << 24) : PVS__MESH_DEFAULT;
-    for (r->mesh_hash = 16; r->mesh_hash < 6 * r->mesh_cap; r->mesh_hash <<= 1) {}
-    r->mt = (pvs__mtri *)pvs__alloc_array(&a, r->mesh_cap, sizeof(pvs__mtri));
-    r->mcid = (uint32_t *)pvs__alloc_array(&a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
-    r->mpart = (uint32_t *)pvs__alloc_array(&a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
-    r->mvst = (uint8_t *)pvs__alloc_array(&a, 3 * (size_t)r->mesh_cap, 1);
-    r->mgrp = (int8_t *)pvs__alloc_array(&a, r->mesh_cap, 1);
-    r->mtab = (uint32_t *)pvs__alloc_array(&a, r->mesh_hash, sizeof(uint32_t));
-    r->morder = (uint32_t *)pvs__alloc_array(&a, r->mesh_cap, sizeof(uint32_t));
-    r->mact = (uint32_t *)pvs__alloc_array(&a, r->mesh_cap, sizeof(uint32_t));
-    r->mband = (uint32_t *)pvs__alloc_array(&a, (size_t)r->th + 1, sizeof(uint32_t));
-    r->mzmin = (float *)pvs__alloc_array(&a, (size_t)PVS__TH * r->width, sizeof(float));
-    r->mflag = (uint8_t *)pvs__alloc_array(&a, (size_t)PVS__TH * r->width, 1);
-    r->mdirty = (uint8_t *)pvs__alloc_array(&a, (size_t)PVS__TH * r->tw, 1);
-    if (!r->mdirty) goto oom;
-    memset(r->mdirty, 0, (size_t)PVS__TH * r->tw);
-    if (!r->mt || !r->mcid || !r->mpart || !r->mvst || !r->mgrp || !r->mtab || !r->morder || !r->mact || !r->mband || !r->mzmin || !r->mflag)
-        goto oom;
-    for (i = 0; i < (size_t)PVS__TH * r->width; ++i) {
-        r->mzmin[i] = FLT_MAX;
-        r->mflag[i] = 0;
-    }
-    if (desc->scene) {
+    if (!r->occ || !pvs__raster_init_mesh(r, desc->max_mesh_triangles)) goto oom;
+    if (desc->scene) { /* the culling scratch: a sweep over either tree, a bit per triangle and object */
         const pvs_scene *s = desc->scene;
         size_t s1 = pvs_kdtree_sweep_scratch_size(s->object_tree), s2 = pvs_kdtree_sweep_scratch_size(s->triangle_tree);
         r->scene = s;
@@ -6178,65 +6311,11 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
         if (!r->sweep || !r->tri_seen || !r->obj_done) goto oom;
     }
     if (desc->cull_map_width) {
-        /* the object grid of Wonka 1999 §4.1: every object entered into every cell it overlaps */
-        const pvs_scene *s = desc->scene;
-        int u, v, up = (int)s->up_axis;
-        size_t cells = (size_t)desc->cull_map_width * desc->cull_map_height, total = 0;
-        uint32_t o;
-        pvs__ground_axes(s->up_axis, &u, &v);
-        r->cm_w = desc->cull_map_width;
-        r->cm_h = desc->cull_map_height;
-        r->ground = s->bounds.min[up];
-        r->region[0] = s->bounds.min[u];
-        r->region[1] = s->bounds.min[v];
-        r->region[2] = s->bounds.max[u];
-        r->region[3] = s->bounds.max[v];
-        for (l = 0; l < 2; ++l) /* never a zero-size region */
-            if (!(r->region[2 + l] > r->region[l])) {
-                r->region[l] -= 0.5f;
-                r->region[2 + l] += 0.5f;
-            }
-        if (!(r->ground <= r->ground + 0.0f)) r->ground = 0.0f; /* empty scene bounds */
-        r->cm = (float *)pvs__alloc_array(&a, cells, sizeof(float));
-        r->cm_tiles = (size_t)((r->cm_w + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->cm_h + PVS__TILE - 1) >> PVS__TILE_SHIFT);
-        r->cm_tile_min = (float *)pvs__alloc_array(&a, r->cm_tiles, sizeof(float));
-        if (!r->cm_tile_min) goto oom;
-        r->cm_bound = (float *)pvs__alloc_array(&a, cells, sizeof(float));
-        r->cm_start = (uint32_t *)pvs__alloc_array(&a, cells + 1, sizeof(uint32_t));
-        if (!r->cm || !r->cm_bound || !r->cm_start) goto oom;
-        for (i = 0; i <= cells; ++i) r->cm_start[i] = 0;
-        for (i = 0; i < cells; ++i) { r->cm[i] = PVS_DEPTH_EMPTY; r->cm_bound[i] = PVS_DEPTH_EMPTY; }
-        for (o = 0; o < s->object_count; ++o) {
-            const pvs_box *b = s->object_boxes + o;
-            int32_t i0, j0, i1, j1, ii, jj;
-            if (b->min[0] > b->max[0]) continue;
-            pvs__cm_range(r, b, up, &i0, &j0, &i1, &j1);
-            total += (size_t)(i1 - i0 + 1) * (size_t)(j1 - j0 + 1);
-            if (total > 0xffffffffu) {
-                pvs_raster_destroy(r);
-                return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the cull map grid holds more than 2^32 object entries");
-            }
-            for (jj = j0; jj <= j1; ++jj)
-                for (ii = i0; ii <= i1; ++ii) {
-                    size_t c = (size_t)jj * r->cm_w + (size_t)ii;
-                    r->cm_start[c + 1]++;
-                    if (b->max[up] > r->cm_bound[c]) r->cm_bound[c] = b->max[up];
-                }
+        res = pvs__raster_init_cull_map(r, desc->scene, desc->cull_map_width, desc->cull_map_height, err);
+        if (res != PVS_OK) {
+            pvs_raster_destroy(r);
+            return res;
         }
-        for (i = 0; i < cells; ++i) r->cm_start[i + 1] += r->cm_start[i];
-        r->cm_item_count = (uint32_t)total;
-        r->cm_items = (uint32_t *)pvs__alloc_array(&a, total, sizeof(uint32_t));
-        if (!r->cm_items) goto oom;
-        for (o = 0; o < s->object_count; ++o) { /* fill, using cm_start[c] as the cursor, then shift back */
-            const pvs_box *b = s->object_boxes + o;
-            int32_t i0, j0, i1, j1, ii, jj;
-            if (b->min[0] > b->max[0]) continue;
-            pvs__cm_range(r, b, up, &i0, &j0, &i1, &j1);
-            for (jj = j0; jj <= j1; ++jj)
-                for (ii = i0; ii <= i1; ++ii) r->cm_items[r->cm_start[(size_t)jj * r->cm_w + (size_t)ii]++] = o;
-        }
-        for (i = cells; i > 0; --i) r->cm_start[i] = r->cm_start[i - 1];
-        r->cm_start[0] = 0;
     }
     *out = r;
     pvs__ok(err);
@@ -6372,12 +6451,115 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
     return PVS_OK;
 }
 
+/* Selects up to p->scene_occluders triangles of the scene within p->occluder_distance of the eye by
+   Bittner 2002 §4.5's area-angle measure (a sweep of the triangle tree, nearest first) and draws them
+   as occluders: welded into meshes with PVS_CULL_SCENE_MESH, else one by one. Returns their count. */
+PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p) {
+    pvs__selctx sc;
+    pvs_box src;
+    double len;
+    uint32_t i;
+    int k;
+    sc.r = r;
+    sc.s = s;
+    sc.k = p->scene_occluders < r->max_occluders ? p->scene_occluders : r->max_occluders;
+    sc.n = 0;
+    sc.max_dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
+    sc.near_d = cam->near_plane;
+    for (k = 0; k < 3; ++k) { sc.eye[k] = cam->eye[k]; sc.fwd[k] = cam->forward[k]; }
+    len = sqrt(sc.fwd[0] * sc.fwd[0] + sc.fwd[1] * sc.fwd[1] + sc.fwd[2] * sc.fwd[2]);
+    for (k = 0; k < 3; ++k) sc.fwd[k] /= len;
+    if (cam->fov_y == 0.0f) sc.near_d = -DBL_MAX; /* orthographic: the near plane test is the matrix's */
+    memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
+    for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
+    pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
+    if (p->occluder_flags & PVS_CULL_SCENE_MESH) {
+        pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n); /* welded: walls fuse (Durand 2000 §3.3) */
+    } else if (r->tiled) {
+        pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
+    } else {
+        for (i = 0; i < sc.n; ++i) {
+            const uint32_t *t = s->indices + 3 * (size_t)r->occ[i].triangle;
+            pvs__raster_tri(r, s->positions + 3 * (size_t)t[0], s->positions + 3 * (size_t)t[1], s->positions + 3 * (size_t)t[2], 1);
+        }
+    }
+    return sc.n;
+}
+
+/* Draws the walls of the extrusion o (footprint in the ground axes u, v, up the up axis) as occluders:
+   meshes of up to 32 walls, two triangles each, neighbours sharing their vertical edge, or with
+   `separate` triangle by triangle. Returns the triangles drawn. */
+PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc *o, int u, int v, int up, int separate) {
+    uint32_t j, drawn = 0;
+    if (!separate) {
+        float wp[2 * 33][3];
+        uint32_t wi[32 * 6], c, nw;
+        for (j = 0; j < o->footprint_count; j += 32) {
+            nw = o->footprint_count - j < 32 ? o->footprint_count - j : 32;
+            for (c = 0; c <= nw; ++c) {
+                const float *a = o->footprint + 2 * ((j + c) % o->footprint_count);
+                wp[2 * c][u] = a[0]; wp[2 * c][v] = a[1]; wp[2 * c][up] = o->base;
+                wp[2 * c + 1][u] = a[0]; wp[2 * c + 1][v] = a[1]; wp[2 * c + 1][up] = o->top;
+            }
+            for (c = 0; c < nw; ++c) { /* (a0 b0 b1) (a0 b1 a1), as drawn one by one */
+                wi[6 * c] = 2 * c; wi[6 * c + 1] = 2 * c + 2; wi[6 * c + 2] = 2 * c + 3;
+                wi[6 * c + 3] = 2 * c; wi[6 * c + 4] = 2 * c + 3; wi[6 * c + 5] = 2 * c + 1;
+            }
+            pvs__mesh(r, &wp[0][0], 2 * (nw + 1), wi, NULL, 2 * nw);
+            drawn += 2 * nw;
+        }
+        return drawn;
+    }
+    for (j = 0; j < o->footprint_count; ++j) {
+        const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
+        float q[4][3];
+        q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
+        q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
+        q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
+        q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
+        pvs__raster_tri(r, q[0], q[1], q[2], 1);
+        pvs__raster_tri(r, q[0], q[2], q[3], 1);
+        drawn += 2;
+    }
+    return drawn;
+}
+
+/* Draws the scene's explicit occluder volumes within p->occluder_distance of the eye as occluder
+   triangles: a box's faces, an extrusion's walls (meshes unless PVS_CULL_SEPARATE_TRIANGLES).
+   Returns the triangles drawn. */
+PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p) {
+    static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                     {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    float dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
+    int u, v, k, up = (int)s->up_axis, separate = (p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES) != 0;
+    uint32_t i, j, drawn = 0;
+    pvs_box src;
+    pvs__ground_axes(s->up_axis, &u, &v);
+    for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
+    for (i = 0; i < s->occluder_count; ++i) {
+        const pvs_occluder_desc *o = s->occluders + i;
+        float q[8][3];
+        if (pvs__box_distance2(&src, s->occluder_boxes + i) > dist * dist) continue;
+        if (o->kind == PVS_OCCLUDER_BOX) {
+            for (j = 0; j < 8; ++j)
+                for (k = 0; k < 3; ++k) q[j][k] = (j >> k) & 1u ? o->box.max[k] : o->box.min[k];
+            if (separate)
+                for (j = 0; j < 12; ++j) pvs__raster_tri(r, q[f[j][0]], q[f[j][1]], q[f[j][2]], 1);
+            else
+                pvs__mesh(r, &q[0][0], 8, &f[0][0], NULL, 12);
+            drawn += 12;
+        } else if (o->kind == PVS_OCCLUDER_EXTRUSION) {
+            drawn += pvs__cull_extrusion(r, o, u, v, up, separate);
+        }
+    }
+    return drawn;
+}
+
 PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p,
                                    pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
     pvs__cullctx cc;
     pvs_box src;
     pvs_result res = pvs__cull_begin(r, s, cam, visible, err);
-    uint32_t i;
     int k;
     if (res != PVS_OK) return res;
     memset(&cc, 0, sizeof(cc));
@@ -6390,89 +6572,8 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
                                  PVS_RASTER_OCCLUDER);
         cc.st.occluder_triangles += p->occluder_triangle_count;
     }
-    if (p && p->scene_occluders) {
-        pvs__selctx sc;
-        double len;
-        sc.r = r;
-        sc.s = s;
-        sc.k = p->scene_occluders < r->max_occluders ? p->scene_occluders : r->max_occluders;
-        sc.n = 0;
-        sc.max_dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
-        sc.near_d = cam->near_plane;
-        for (k = 0; k < 3; ++k) { sc.eye[k] = cam->eye[k]; sc.fwd[k] = cam->forward[k]; }
-        len = sqrt(sc.fwd[0] * sc.fwd[0] + sc.fwd[1] * sc.fwd[1] + sc.fwd[2] * sc.fwd[2]);
-        for (k = 0; k < 3; ++k) sc.fwd[k] /= len;
-        if (cam->fov_y == 0.0f) sc.near_d = -DBL_MAX; /* orthographic: the near plane test is the matrix's */
-        memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
-        for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
-        pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
-        if (p->occluder_flags & PVS_CULL_SCENE_MESH) {
-            pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n); /* welded: walls fuse (Durand 2000 §3.3) */
-        } else if (r->tiled) {
-            pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
-        } else {
-            for (i = 0; i < sc.n; ++i) {
-                const uint32_t *t = s->indices + 3 * (size_t)r->occ[i].triangle;
-                pvs__raster_tri(r, s->positions + 3 * (size_t)t[0], s->positions + 3 * (size_t)t[1], s->positions + 3 * (size_t)t[2], 1);
-            }
-        }
-        cc.st.occluder_triangles += sc.n;
-    }
-    if (p && p->scene_volumes) { /* explicit occluder volumes as triangles: a box's faces, an extrusion's walls */
-        float dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
-        int u, v, up = (int)s->up_axis;
-        pvs__ground_axes(s->up_axis, &u, &v);
-        for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
-        for (i = 0; i < s->occluder_count; ++i) {
-            const pvs_occluder_desc *o = s->occluders + i;
-            float q[8][3];
-            uint32_t j;
-            if (pvs__box_distance2(&src, s->occluder_boxes + i) > dist * dist) continue;
-            if (o->kind == PVS_OCCLUDER_BOX) {
-                static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-                for (j = 0; j < 8; ++j)
-                    for (k = 0; k < 3; ++k) q[j][k] = (j >> k) & 1u ? o->box.max[k] : o->box.min[k];
-                if (p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES)
-                    for (j = 0; j < 12; ++j) pvs__raster_tri(r, q[f[j][0]], q[f[j][1]], q[f[j][2]], 1);
-                else
-                    pvs__mesh(r, &q[0][0], 8, &f[0][0], NULL, 12);
-                cc.st.occluder_triangles += 12;
-            } else if (o->kind == PVS_OCCLUDER_EXTRUSION) {
-                if (!(p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES)) {
-                    /* the walls as meshes of up to 32 walls (two triangles each, neighbours sharing
-                       their vertical edge) */
-                    float wp[2 * 33][3];
-                    uint32_t wi[32 * 6], c, nw;
-                    for (j = 0; j < o->footprint_count; j += 32) {
-                        nw = o->footprint_count - j < 32 ? o->footprint_count - j : 32;
-                        for (c = 0; c <= nw; ++c) {
-                            const float *a = o->footprint + 2 * ((j + c) % o->footprint_count);
-                            wp[2 * c][u] = a[0]; wp[2 * c][v] = a[1]; wp[2 * c][up] = o->base;
-                            wp[2 * c + 1][u] = a[0]; wp[2 * c + 1][v] = a[1]; wp[2 * c + 1][up] = o->top;
-                        }
-                        for (c = 0; c < nw; ++c) { /* (a0 b0 b1) (a0 b1 a1), as drawn one by one */
-                            wi[6 * c] = 2 * c; wi[6 * c + 1] = 2 * c + 2; wi[6 * c + 2] = 2 * c + 3;
-                            wi[6 * c + 3] = 2 * c; wi[6 * c + 4] = 2 * c + 3; wi[6 * c + 5] = 2 * c + 1;
-                        }
-                        pvs__mesh(r, &wp[0][0], 2 * (nw + 1), wi, NULL, 2 * nw);
-                        cc.st.occluder_triangles += 2 * nw;
-                    }
-                } else {
-                    for (j = 0; j < o->footprint_count; ++j) {
-                        const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
-                        q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
-                        q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
-                        q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
-                        q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
-                        pvs__raster_tri(r, q[0], q[1], q[2], 1);
-                        pvs__raster_tri(r, q[0], q[2], q[3], 1);
-                        cc.st.occluder_triangles += 2;
-                    }
-                }
-            }
-        }
-    }
+    if (p && p->scene_occluders) cc.st.occluder_triangles += pvs__cull_scene_occluders(r, s, cam, p);
+    if (p && p->scene_volumes) cc.st.occluder_triangles += pvs__cull_volumes(r, s, cam, p);
     pvs_raster_build_pyramid(r);
     cc.r = r;
     cc.s = s;
@@ -7713,11 +7814,88 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 
 /* ---- 2D from-region API (ch. 6) ---- */
 
+/* The cell polygon `in` (n >= 3 vertices) centred at its vertex mean (*cx, *cy) into `cell` (2 n
+   doubles) and made counter-clockwise. Returns PVS_OK, or PVS_ERROR_BAD_CELL (in err) when it has no
+   area or is not convex. */
+PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy, pvs_error *err) {
+    double area = 0.0;
+    uint32_t i;
+    *cx = *cy = 0.0;
+    for (i = 0; i < n; ++i) { *cx += in[2 * i]; *cy += in[2 * i + 1]; }
+    *cx /= n; *cy /= n;
+    for (i = 0; i < n; ++i) {
+        cell[2 * i] = (double)in[2 * i] - *cx;
+        cell[2 * i + 1] = (double)in[2 * i + 1] - *cy;
+    }
+    for (i = 0; i < n; ++i) {
+        const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n);
+        area += a[0] * b[1] - a[1] * b[0];
+    }
+    if (!(fabs(area) > 0.0)) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon has no area");
+    if (area < 0.0) /* make it counter-clockwise */
+        for (i = 0; i < n / 2; ++i) {
+            double tx = cell[2 * i], ty = cell[2 * i + 1];
+            cell[2 * i] = cell[2 * (n - 1 - i)]; cell[2 * i + 1] = cell[2 * (n - 1 - i) + 1];
+            cell[2 * (n - 1 - i)] = tx; cell[2 * (n - 1 - i) + 1] = ty;
+        }
+    for (i = 0; i < n; ++i) { /* convex: no right turn */
+        const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n), *c = cell + 2 * ((i + 2) % n);
+        if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) < 0.0)
+            return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon is not convex");
+    }
+    return PVS_OK;
+}
+
+/* The distances of the MVD shortcut (§6.5.5) for each of the `count` segments of seg against the cell
+   (n vertices), rounded outward by len_eps: reach[i] the largest distance from segment i to a cell
+   point, near[i] the least (0 when the segment meets the cell). */
+PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps, double *reach,
+                                    double *near) {
+    uint32_t i, k;
+    for (i = 0; i < count; ++i) {
+        const double *sg = seg + 4 * i;
+        double far2 = 0.0, nr = DBL_MAX;
+        for (k = 0; k < n; ++k) {
+            double e[4], d0, d1;
+            int m;
+            e[0] = cell[2 * k]; e[1] = cell[2 * k + 1]; e[2] = cell[2 * ((k + 1) % n)]; e[3] = cell[2 * ((k + 1) % n) + 1];
+            for (m = 0; m < 2; ++m) {
+                d0 = (sg[2 * m] - e[0]) * (sg[2 * m] - e[0]) + (sg[2 * m + 1] - e[1]) * (sg[2 * m + 1] - e[1]);
+                if (d0 > far2) far2 = d0;
+            }
+            d1 = pvs__ot_seg_dist(sg, e);
+            if (d1 < nr) nr = d1;
+        }
+        reach[i] = sqrt(far2) * (1.0 + 1e-9) + len_eps;
+        near[i] = pvs__ot_segment_meets_polygon(sg, cell, n) ? 0.0 : nr * (1.0 - 1e-9) - len_eps;
+    }
+}
+
+/* The exact re-test of segment i (s, distance `near` from the cell) against the final tree (§6.6):
+   1 when it meets the cell (n vertices), is a point, is degenerate as seen from an edge of the cell,
+   or some line from an edge reaches it past the occluders. */
+PVS__STATIC int pvs__ot2_segment_visible(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i, double near) {
+    uint32_t k;
+    int vis = 0;
+    if (pvs__ot_segment_meets_polygon(s, cell, n)) vis = 1;
+    else if (s[0] == s[2] && s[1] == s[3]) vis = 1; /* a point: no line set to test, count it visible */
+    for (k = 0; k < n && !vis; ++k) {
+        double o[4];
+        pvs__otpoly bl[2];
+        int on, nb, deg, m;
+        if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
+        nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
+        if (deg) vis = 1;
+        for (m = 0; m < nb && !vis; ++m) vis = pvs__ot2_visible(t, &bl[m], i, near);
+    }
+    return vis;
+}
+
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments, pvs_word *visible_objects,
                                      pvs_otree_stats *stats, pvs_error *err) {
     pvs__otree t;
     pvs_allocator al;
-    double *cell = NULL, *seg = NULL, *reach = NULL, *near = NULL, cx = 0.0, cy = 0.0, area = 0.0;
+    double *cell = NULL, *seg = NULL, *reach = NULL, *near = NULL, cx = 0.0, cy = 0.0;
     pvs__key_index *order = NULL;
     uint32_t n, i, k, budget, count;
     pvs_result r = PVS_OK;
@@ -7745,30 +7923,8 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
     reach = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
     near = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
     if (!cell || !seg || !order || !reach || !near) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2D visibility arrays"); goto done; }
-    for (i = 0; i < n; ++i) { cx += desc->cell[2 * i]; cy += desc->cell[2 * i + 1]; }
-    cx /= n; cy /= n;
-    for (i = 0; i < n; ++i) {
-        cell[2 * i] = (double)desc->cell[2 * i] - cx;
-        cell[2 * i + 1] = (double)desc->cell[2 * i + 1] - cy;
-    }
-    for (i = 0; i < n; ++i) {
-        const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n);
-        area += a[0] * b[1] - a[1] * b[0];
-    }
-    if (!(fabs(area) > 0.0)) { r = pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon has no area"); goto done; }
-    if (area < 0.0) /* make it counter-clockwise */
-        for (i = 0; i < n / 2; ++i) {
-            double tx = cell[2 * i], ty = cell[2 * i + 1];
-            cell[2 * i] = cell[2 * (n - 1 - i)]; cell[2 * i + 1] = cell[2 * (n - 1 - i) + 1];
-            cell[2 * (n - 1 - i)] = tx; cell[2 * (n - 1 - i) + 1] = ty;
-        }
-    for (i = 0; i < n; ++i) { /* convex: no right turn */
-        const double *a = cell + 2 * i, *b = cell + 2 * ((i + 1) % n), *c = cell + 2 * ((i + 2) % n);
-        if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) < 0.0) {
-            r = pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon is not convex");
-            goto done;
-        }
-    }
+    r = pvs__ot2_cell(desc->cell, n, cell, &cx, &cy, err);
+    if (r != PVS_OK) goto done;
     {
         double ext = 1.0, o[2] = {0.0, 0.0};
         for (i = 0; i < 4 * count; ++i) {
@@ -7782,23 +7938,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
         }
     }
     pvs__key_index_sort(order, count);
-    for (i = 0; i < count; ++i) { /* distances for the MVD shortcut, rounded outward */
-        const double *sg = seg + 4 * i;
-        double far2 = 0.0, nr = DBL_MAX;
-        for (k = 0; k < n; ++k) {
-            double e[4], d0, d1;
-            int m;
-            e[0] = cell[2 * k]; e[1] = cell[2 * k + 1]; e[2] = cell[2 * ((k + 1) % n)]; e[3] = cell[2 * ((k + 1) % n) + 1];
-            for (m = 0; m < 2; ++m) {
-                d0 = (sg[2 * m] - e[0]) * (sg[2 * m] - e[0]) + (sg[2 * m + 1] - e[1]) * (sg[2 * m + 1] - e[1]);
-                if (d0 > far2) far2 = d0;
-            }
-            d1 = pvs__ot_seg_dist(sg, e);
-            if (d1 < nr) nr = d1;
-        }
-        reach[i] = sqrt(far2) * (1.0 + 1e-9) + t.len_eps;
-        near[i] = pvs__ot_segment_meets_polygon(sg, cell, n) ? 0.0 : nr * (1.0 - 1e-9) - t.len_eps;
-    }
+    pvs__ot2_distances(seg, count, cell, n, t.len_eps, reach, near);
     t.reach = reach;
     t.seg = seg;
     budget = desc->node_budget ? desc->node_budget : 1u << 20;
@@ -7827,19 +7967,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
     if (visible_segments) memset(visible_segments, 0, PVS_BITSET_WORDS(count) * sizeof(pvs_word));
     if (visible_objects) memset(visible_objects, 0, PVS_BITSET_WORDS(desc->object_count) * sizeof(pvs_word));
     for (i = 0; i < count; ++i) {
-        const double *s = seg + 4 * i;
-        int vis = 0;
-        if (pvs__ot_segment_meets_polygon(s, cell, n)) vis = 1;
-        else if (s[0] == s[2] && s[1] == s[3]) vis = 1; /* a point: no line set to test, count it visible */
-        for (k = 0; k < n && !vis; ++k) {
-            double o[4];
-            pvs__otpoly bl[2];
-            int on, nb, deg, m;
-            if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
-            nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
-            if (deg) vis = 1;
-            for (m = 0; m < nb && !vis; ++m) vis = pvs__ot2_visible(&t, &bl[m], i, near[i]);
-        }
+        int vis = pvs__ot2_segment_visible(&t, cell, n, seg + 4 * i, i, near[i]);
         if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree test"); goto done; }
         if (!vis) continue;
         ++st.visible_segments;
@@ -7931,35 +8059,31 @@ PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, d
     }
 }
 
-PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_allocator *a, float **out, size_t *out_floats, uint32_t *count,
-                                            uint32_t *vertical) {
-    int u, v, up;
-    uint32_t t, nv = 0, i, k, g0, g1, c0, c1, nt = sc->triangle_count;
-    double ext = 1.0, tol, tol_a = 1e-7;
-    pvs__key_index *ord = NULL, *sord = NULL, *so = NULL;
-    double *tl = NULL, *sv = NULL, *sec = NULL;
-    uint32_t *vt = NULL, *ins = NULL, *act = NULL, *comp = NULL, *que = NULL;
-    pvs__fxopen *opn = NULL, *nxt = NULL;
-    size_t cap = 0;
-    pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
-    *out = NULL;
-    *out_floats = 0;
-    *count = 0;
-    *vertical = 0;
-    up = sc->up_axis == 2 ? 2 : 1;
-    pvs__ground_axes((uint32_t)up, &u, &v);
-    if (nt)
-        for (k = 0; k < 3; ++k) {
-            if (fabs((double)sc->bounds.min[k]) > ext) ext = fabs((double)sc->bounds.min[k]);
-            if (fabs((double)sc->bounds.max[k]) > ext) ext = fabs((double)sc->bounds.max[k]);
-        }
-    tol = 8.0 * FLT_EPSILON * ext;
-    /* per vertical triangle (slot): tl = theta, c, d0, d1, ground length (direction d, offset
-       c = n . g with n = (-d1, d0)); vt its triangle */
-    tl = (double *)pvs__alloc_array(a, 5 * (size_t)nt + 5, sizeof(double));
-    vt = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 1, sizeof(uint32_t));
-    if (!tl || !vt) goto done;
-    for (t = 0; t < nt; ++t) {
+/* The extraction's scratch (sized for nv vertical triangles) and its output. */
+typedef struct pvs__fxwork {
+    const pvs_scene *sc;
+    const pvs_allocator *a;
+    int u, v, up;           /* ground axes, up axis */
+    double tol;
+    pvs__key_index *so;      /* 3 nv: a line's members by smallest s, then its vertices by s */
+    double *sv;             /* 14 nv: per member s[3], h[3], smin, smax, ground[3][2] */
+    double *sec;            /* 4 PVS__FX_MAX_COVER: per slab member lo(sa), lo(sb), hi(sa), hi(sb) */
+    uint32_t *ins, *act;    /* nv: members in order of smallest s; the members over the slab */
+    uint32_t *comp, *que;   /* PVS__FX_MAX_COVER + 1: connected set per slab member; its queue */
+    pvs__fxopen *opn, *nxt; /* PVS__FX_MAX_COVER + 1: facades open at the slab's start; those it continues */
+    uint32_t nopen;
+    float **out;            /* the facades (6 floats each), cap floats allocated, *count written */
+    size_t cap;
+    uint32_t *count;
+} pvs__fxwork;
+
+/* Step 1's test: the vertical triangles of the scene (three ground points on one line within tol, a
+   ground length and a height above tol). Per vertical triangle, slot by slot: tl = theta, c, d0, d1,
+   ground length (direction d with theta in [0, pi), offset c = n . g with n = (-d1, d0)) and vt its
+   triangle. Returns the number of slots. */
+PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up, double tol, double *tl, uint32_t *vt) {
+    uint32_t t, k, nv = 0;
+    for (t = 0; t < sc->triangle_count; ++t) {
         double gx[3], gy[3], h[3], best = 0.0, dx, dy, len, hmin, hmax, *q;
         int bi = 0, bj = 1, m;
         for (k = 0; k < 3; ++k) {
@@ -7988,19 +8112,180 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
         q[4] = len;
         vt[nv++] = t;
     }
-    *vertical = nv;
+    return nv;
+}
+
+/* Step 1's group: the n slots of mem (one direction and offset within tolerance) on the reference
+   line of its member of longest ground extent (ties: the lower slot), as (s, h) triangles into w->sv;
+   a member farther than tol from that line is left out. Returns the members kept. */
+PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__key_index *mem, uint32_t n) {
+    uint32_t ref = mem[0].index, nm = 0, i, k;
+    double d[2], c;
+    for (i = 1; i < n; ++i) {
+        uint32_t sl = mem[i].index;
+        if (tl[5 * (size_t)sl + 4] > tl[5 * (size_t)ref + 4] || (tl[5 * (size_t)sl + 4] == tl[5 * (size_t)ref + 4] && sl < ref)) ref = sl;
+    }
+    d[0] = tl[5 * (size_t)ref + 2]; d[1] = tl[5 * (size_t)ref + 3]; c = tl[5 * (size_t)ref + 1];
+    for (i = 0; i < n; ++i) {
+        uint32_t tri = vt[mem[i].index];
+        double *q = w->sv + 14 * (size_t)nm;
+        int ok = 1;
+        for (k = 0; k < 3; ++k) {
+            const float *p = w->sc->positions + 3 * (size_t)w->sc->indices[3 * (size_t)tri + k];
+            double gx = p[w->u], gy = p[w->v];
+            if (!(fabs(-d[1] * gx + d[0] * gy - c) <= w->tol)) ok = 0;
+            q[k] = d[0] * gx + d[1] * gy;
+            q[3 + k] = p[w->up];
+            q[8 + 2 * k] = gx;
+            q[9 + 2 * k] = gy;
+        }
+        if (!ok) continue;
+        q[6] = q[0] < q[1] ? (q[0] < q[2] ? q[0] : q[2]) : (q[1] < q[2] ? q[1] : q[2]);
+        q[7] = q[0] > q[1] ? (q[0] > q[2] ? q[0] : q[2]) : (q[1] > q[2] ? q[1] : q[2]);
+        ++nm;
+    }
+    return nm;
+}
+
+/* Steps 2 and 3 over one slab [sa, sb] (ground points ga, gb) of a line, its `use` members w->act:
+   their cross-sections at both ends, the connected sets (overlap within tol at both ends, breadth
+   first) and the interval each covers over the whole slab; an interval continues the open facade
+   that ends at sa with the same interval (within tol), else opens one. The open facades it does not
+   continue are emitted. Returns 0 when out of memory. */
+PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2], const double gb[2]) {
+    double tol = w->tol, *sec = w->sec;
+    uint32_t *comp = w->comp, *que = w->que, j, nc, seen, nn = 0;
+    pvs__fxopen *opn = w->opn, *nxt = w->nxt;
+    for (j = 0; j < use; ++j) {
+        const double *q = w->sv + 14 * (size_t)w->act[j];
+        pvs__fx_section(q, q + 3, sa, sec + 4 * j, sec + 4 * j + 2);
+        pvs__fx_section(q, q + 3, sb, sec + 4 * j + 1, sec + 4 * j + 3);
+        comp[j] = 0xffffffffu;
+    }
+    for (seen = 0, nc = 0; seen < use; ++seen) {
+        uint32_t qh = 0, qt = 1;
+        double bot = DBL_MAX, top = -DBL_MAX;
+        if (comp[seen] != 0xffffffffu) continue;
+        comp[seen] = nc;
+        que[0] = seen;
+        while (qh < qt) {
+            const double *x = sec + 4 * que[qh++];
+            double lo = x[0] > x[1] ? x[0] : x[1], hi = x[2] < x[3] ? x[2] : x[3];
+            if (lo < bot) bot = lo;
+            if (hi > top) top = hi;
+            for (j = seen + 1; j < use; ++j) {
+                const double *y = sec + 4 * j;
+                if (comp[j] != 0xffffffffu) continue;
+                if (y[0] <= x[2] + tol && y[1] <= x[3] + tol && x[0] <= y[2] + tol && x[1] <= y[3] + tol) {
+                    comp[j] = nc;
+                    que[qt++] = j;
+                }
+            }
+        }
+        ++nc;
+        if (top - bot > tol) {
+            /* continue an open facade with the same interval, else open a new one */
+            uint32_t f;
+            for (f = 0; f < w->nopen; ++f)
+                if (opn[f].s1 == sa && fabs(opn[f].bot - bot) <= tol && fabs(opn[f].top - top) <= tol) break;
+            if (f < w->nopen) {
+                nxt[nn] = opn[f];
+                nxt[nn].s1 = sb;
+                nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
+                if (bot > nxt[nn].bot) nxt[nn].bot = bot;
+                if (top < nxt[nn].top) nxt[nn].top = top;
+                opn[f] = opn[--w->nopen];
+            } else {
+                nxt[nn].s0 = sa; nxt[nn].s1 = sb; nxt[nn].bot = bot; nxt[nn].top = top;
+                nxt[nn].g0[0] = ga[0]; nxt[nn].g0[1] = ga[1];
+                nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
+            }
+            ++nn;
+        }
+    }
+    for (j = 0; j < w->nopen; ++j) /* not continued: done */
+        if (!pvs__fx_emit(w->a, w->out, &w->cap, w->count, opn + j)) return 0;
+    w->opn = nxt;
+    w->nxt = opn;
+    w->nopen = nn;
+    return 1;
+}
+
+/* Steps 2 and 3 along one line of nm members (w->sv): the slabs between consecutive vertex s, each with
+   the members whose s range spans it (at most PVS__FX_MAX_COVER, else the slab is left out), then the
+   facades still open at the line's end emitted. Returns 0 when out of memory. */
+PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
+    pvs__key_index *so = w->so;
+    const double *sv = w->sv;
+    uint32_t i, k, ns = 0, na = 0, next = 0, slab;
+    w->nopen = 0;
+    for (i = 0; i < nm; ++i) { so[i].key = sv[14 * (size_t)i + 6]; so[i].index = i; }
+    pvs__key_index_sort(so, nm);
+    for (i = 0; i < nm; ++i) w->ins[i] = so[i].index; /* members in order of their smallest s */
+    for (i = 0; i < nm; ++i)
+        for (k = 0; k < 3; ++k) { so[ns].key = sv[14 * (size_t)i + k]; so[ns].index = 3 * i + k; ++ns; }
+    pvs__key_index_sort(so, ns); /* every vertex s: the slab boundaries */
+    for (slab = 0; slab + 1 < ns; ++slab) {
+        double sa = so[slab].key, sb = so[slab + 1].key, ga[2], gb[2];
+        uint32_t m = 0, j;
+        if (!(sb > sa)) continue;
+        ga[0] = sv[14 * (size_t)(so[slab].index / 3) + 8 + 2 * (so[slab].index % 3)];
+        ga[1] = sv[14 * (size_t)(so[slab].index / 3) + 9 + 2 * (so[slab].index % 3)];
+        gb[0] = sv[14 * (size_t)(so[slab + 1].index / 3) + 8 + 2 * (so[slab + 1].index % 3)];
+        gb[1] = sv[14 * (size_t)(so[slab + 1].index / 3) + 9 + 2 * (so[slab + 1].index % 3)];
+        while (next < nm && sv[14 * (size_t)w->ins[next] + 6] <= sa) w->act[na++] = w->ins[next++];
+        for (j = 0; j < na; ++j) /* members whose range ends before the slab leave */
+            if (sv[14 * (size_t)w->act[j] + 7] >= sb) w->act[m++] = w->act[j];
+        na = m;
+        /* too many to join: the slab is left out (conservative) */
+        if (!pvs__fx_slab(w, na > PVS__FX_MAX_COVER ? 0 : na, sa, sb, ga, gb)) return 0;
+    }
+    for (i = 0; i < w->nopen; ++i)
+        if (!pvs__fx_emit(w->a, w->out, &w->cap, w->count, w->opn + i)) return 0;
+    return 1;
+}
+
+PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_allocator *a, float **out, size_t *out_floats, uint32_t *count,
+                                            uint32_t *vertical) {
+    pvs__fxwork w;
+    uint32_t nv = 0, i, k, g0, g1, c0, c1, nt = sc->triangle_count;
+    double ext = 1.0, tol_a = 1e-7, *tl = NULL;
+    pvs__key_index *ord = NULL, *sord = NULL;
+    uint32_t *vt = NULL;
+    pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
+    memset(&w, 0, sizeof(w));
+    w.sc = sc;
+    w.a = a;
+    w.out = out;
+    w.count = count;
+    *out = NULL;
+    *out_floats = 0;
+    *count = 0;
+    *vertical = 0;
+    w.up = sc->up_axis == 2 ? 2 : 1;
+    pvs__ground_axes((uint32_t)w.up, &w.u, &w.v);
+    if (nt)
+        for (k = 0; k < 3; ++k) {
+            if (fabs((double)sc->bounds.min[k]) > ext) ext = fabs((double)sc->bounds.min[k]);
+            if (fabs((double)sc->bounds.max[k]) > ext) ext = fabs((double)sc->bounds.max[k]);
+        }
+    w.tol = 8.0 * FLT_EPSILON * ext;
+    tl = (double *)pvs__alloc_array(a, 5 * (size_t)nt + 5, sizeof(double));
+    vt = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 1, sizeof(uint32_t));
+    if (!tl || !vt) goto done;
+    *vertical = nv = pvs__fx_vertical(sc, w.u, w.v, w.up, w.tol, tl, vt);
     ord = (pvs__key_index *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__key_index));
     sord = (pvs__key_index *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__key_index));
-    so = (pvs__key_index *)pvs__alloc_array(a, 3 * (size_t)nv + 3, sizeof(pvs__key_index));
-    sv = (double *)pvs__alloc_array(a, 14 * (size_t)nv + 14, sizeof(double)); /* per member: s[3], h[3], smin, smax, ground[3][2] */
-    sec = (double *)pvs__alloc_array(a, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
-    ins = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
-    act = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
-    comp = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-    que = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-    opn = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-    nxt = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-    if (!ord || !sord || !so || !sv || !sec || !ins || !act || !comp || !que || !opn || !nxt) goto done;
+    w.so = (pvs__key_index *)pvs__alloc_array(a, 3 * (size_t)nv + 3, sizeof(pvs__key_index));
+    w.sv = (double *)pvs__alloc_array(a, 14 * (size_t)nv + 14, sizeof(double));
+    w.sec = (double *)pvs__alloc_array(a, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
+    w.ins = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
+    w.act = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
+    w.comp = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+    w.que = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+    w.opn = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+    w.nxt = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+    if (!ord || !sord || !w.so || !w.sv || !w.sec || !w.ins || !w.act || !w.comp || !w.que || !w.opn || !w.nxt) goto done;
     for (i = 0; i < nv; ++i) { ord[i].key = tl[5 * (size_t)i]; ord[i].index = i; }
     pvs__key_index_sort(ord, nv); /* by direction (ties by slot: deterministic) */
     for (g0 = 0; g0 < nv; g0 = g1) {
@@ -8008,133 +8293,30 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
         for (i = g0; i < g1; ++i) { sord[i - g0].key = tl[5 * (size_t)ord[i].index + 1]; sord[i - g0].index = ord[i].index; }
         pvs__key_index_sort(sord, g1 - g0); /* then by offset */
         for (c0 = 0; c0 < g1 - g0; c0 = c1) {
-            uint32_t ref, nm = 0, ns = 0, nopen = 0, na = 0, next = 0, slab;
-            double d[2], c;
-            for (c1 = c0 + 1; c1 < g1 - g0 && sord[c1].key - sord[c0].key <= tol; ++c1) ;
-            ref = sord[c0].index;
-            for (i = c0 + 1; i < c1; ++i) {
-                uint32_t sl = sord[i].index;
-                if (tl[5 * (size_t)sl + 4] > tl[5 * (size_t)ref + 4] || (tl[5 * (size_t)sl + 4] == tl[5 * (size_t)ref + 4] && sl < ref)) ref = sl;
-            }
-            d[0] = tl[5 * (size_t)ref + 2]; d[1] = tl[5 * (size_t)ref + 3]; c = tl[5 * (size_t)ref + 1];
-            /* the members on the reference line as (s, h) triangles */
-            for (i = c0; i < c1; ++i) {
-                uint32_t tri = vt[sord[i].index];
-                double *q = sv + 14 * (size_t)nm;
-                int ok = 1;
-                for (k = 0; k < 3; ++k) {
-                    const float *p = sc->positions + 3 * (size_t)sc->indices[3 * (size_t)tri + k];
-                    double gx = p[u], gy = p[v];
-                    if (!(fabs(-d[1] * gx + d[0] * gy - c) <= tol)) ok = 0;
-                    q[k] = d[0] * gx + d[1] * gy;
-                    q[3 + k] = p[up];
-                    q[8 + 2 * k] = gx;
-                    q[9 + 2 * k] = gy;
-                }
-                if (!ok) continue;
-                q[6] = q[0] < q[1] ? (q[0] < q[2] ? q[0] : q[2]) : (q[1] < q[2] ? q[1] : q[2]);
-                q[7] = q[0] > q[1] ? (q[0] > q[2] ? q[0] : q[2]) : (q[1] > q[2] ? q[1] : q[2]);
-                ++nm;
-            }
-            if (!nm) continue;
-            for (i = 0; i < nm; ++i) { so[i].key = sv[14 * (size_t)i + 6]; so[i].index = i; }
-            pvs__key_index_sort(so, nm);
-            for (i = 0; i < nm; ++i) ins[i] = so[i].index; /* members in order of their smallest s */
-            for (i = 0; i < nm; ++i)
-                for (k = 0; k < 3; ++k) { so[ns].key = sv[14 * (size_t)i + k]; so[ns].index = 3 * i + k; ++ns; }
-            pvs__key_index_sort(so, ns); /* every vertex s: the slab boundaries */
-            for (slab = 0; slab + 1 < ns; ++slab) {
-                double sa = so[slab].key, sb = so[slab + 1].key, ga[2], gb[2];
-                uint32_t m = 0, nn = 0, j, nc, seen, use;
-                if (!(sb > sa)) continue;
-                ga[0] = sv[14 * (size_t)(so[slab].index / 3) + 8 + 2 * (so[slab].index % 3)];
-                ga[1] = sv[14 * (size_t)(so[slab].index / 3) + 9 + 2 * (so[slab].index % 3)];
-                gb[0] = sv[14 * (size_t)(so[slab + 1].index / 3) + 8 + 2 * (so[slab + 1].index % 3)];
-                gb[1] = sv[14 * (size_t)(so[slab + 1].index / 3) + 9 + 2 * (so[slab + 1].index % 3)];
-                while (next < nm && sv[14 * (size_t)ins[next] + 6] <= sa) act[na++] = ins[next++];
-                for (j = 0; j < na; ++j) /* members whose range ends before the slab leave */
-                    if (sv[14 * (size_t)act[j] + 7] >= sb) act[m++] = act[j];
-                na = m;
-                use = na > PVS__FX_MAX_COVER ? 0 : na; /* too many to join: the slab is left out (conservative) */
-                for (j = 0; j < use; ++j) {
-                    const double *q = sv + 14 * (size_t)act[j];
-                    pvs__fx_section(q, q + 3, sa, sec + 4 * j, sec + 4 * j + 2);
-                    pvs__fx_section(q, q + 3, sb, sec + 4 * j + 1, sec + 4 * j + 3);
-                    comp[j] = 0xffffffffu;
-                }
-                /* connected sets (overlap within tol at both ends), breadth first */
-                for (seen = 0, nc = 0; seen < use; ++seen) {
-                    uint32_t qh = 0, qt = 1;
-                    double bot = DBL_MAX, top = -DBL_MAX;
-                    if (comp[seen] != 0xffffffffu) continue;
-                    comp[seen] = nc;
-                    que[0] = seen;
-                    while (qh < qt) {
-                        const double *x = sec + 4 * que[qh++];
-                        double lo = x[0] > x[1] ? x[0] : x[1], hi = x[2] < x[3] ? x[2] : x[3];
-                        if (lo < bot) bot = lo;
-                        if (hi > top) top = hi;
-                        for (j = seen + 1; j < use; ++j) {
-                            const double *y = sec + 4 * j;
-                            if (comp[j] != 0xffffffffu) continue;
-                            if (y[0] <= x[2] + tol && y[1] <= x[3] + tol && x[0] <= y[2] + tol && x[1] <= y[3] + tol) {
-                                comp[j] = nc;
-                                que[qt++] = j;
-                            }
-                        }
-                    }
-                    ++nc;
-                    if (top - bot > tol) {
-                        /* continue an opn facade with the same interval, else opn a new one */
-                        uint32_t f;
-                        for (f = 0; f < nopen; ++f)
-                            if (opn[f].s1 == sa && fabs(opn[f].bot - bot) <= tol && fabs(opn[f].top - top) <= tol) break;
-                        if (f < nopen) {
-                            nxt[nn] = opn[f];
-                            nxt[nn].s1 = sb;
-                            nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
-                            if (bot > nxt[nn].bot) nxt[nn].bot = bot;
-                            if (top < nxt[nn].top) nxt[nn].top = top;
-                            opn[f] = opn[--nopen];
-                        } else {
-                            nxt[nn].s0 = sa; nxt[nn].s1 = sb; nxt[nn].bot = bot; nxt[nn].top = top;
-                            nxt[nn].g0[0] = ga[0]; nxt[nn].g0[1] = ga[1];
-                            nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
-                        }
-                        ++nn;
-                    }
-                }
-                for (j = 0; j < nopen; ++j) /* not continued: done */
-                    if (!pvs__fx_emit(a, out, &cap, count, opn + j)) goto done;
-                {
-                    pvs__fxopen *sw = opn;
-                    opn = nxt;
-                    nxt = sw;
-                    nopen = nn;
-                }
-            }
-            for (i = 0; i < nopen; ++i)
-                if (!pvs__fx_emit(a, out, &cap, count, opn + i)) goto done;
+            uint32_t nm;
+            for (c1 = c0 + 1; c1 < g1 - g0 && sord[c1].key - sord[c0].key <= w.tol; ++c1) ;
+            nm = pvs__fx_members(&w, tl, vt, sord + c0, c1 - c0);
+            if (nm && !pvs__fx_line(&w, nm)) goto done;
         }
     }
-    if (!*out && !pvs__ot_grow(a, (void **)out, &cap, 6, sizeof(float))) goto done;
-    *out_floats = cap;
+    if (!*out && !pvs__ot_grow(a, (void **)out, &w.cap, 6, sizeof(float))) goto done;
+    *out_floats = w.cap;
     r = PVS_OK;
 done:
-    if (r != PVS_OK && *out) { pvs__free(a, *out, cap * sizeof(float), 16); *out = NULL; *count = 0; }
+    if (r != PVS_OK && *out) { pvs__free(a, *out, w.cap * sizeof(float), 16); *out = NULL; *count = 0; }
     pvs__free_array(a, tl, 5 * (size_t)nt + 5, sizeof(double));
     pvs__free_array(a, vt, (size_t)nt + 1, sizeof(uint32_t));
     pvs__free_array(a, ord, (size_t)nv + 1, sizeof(pvs__key_index));
     pvs__free_array(a, sord, (size_t)nv + 1, sizeof(pvs__key_index));
-    pvs__free_array(a, so, 3 * (size_t)nv + 3, sizeof(pvs__key_index));
-    pvs__free_array(a, sv, 14 * (size_t)nv + 14, sizeof(double));
-    pvs__free_array(a, sec, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
-    pvs__free_array(a, ins, (size_t)nv + 1, sizeof(uint32_t));
-    pvs__free_array(a, act, (size_t)nv + 1, sizeof(uint32_t));
-    pvs__free_array(a, comp, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-    pvs__free_array(a, que, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-    pvs__free_array(a, opn, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-    pvs__free_array(a, nxt, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+    pvs__free_array(a, w.so, 3 * (size_t)nv + 3, sizeof(pvs__key_index));
+    pvs__free_array(a, w.sv, 14 * (size_t)nv + 14, sizeof(double));
+    pvs__free_array(a, w.sec, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
+    pvs__free_array(a, w.ins, (size_t)nv + 1, sizeof(uint32_t));
+    pvs__free_array(a, w.act, (size_t)nv + 1, sizeof(uint32_t));
+    pvs__free_array(a, w.comp, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+    pvs__free_array(a, w.que, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+    pvs__free_array(a, w.opn, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+    pvs__free_array(a, w.nxt, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
     return r;
 }
 
@@ -8728,25 +8910,10 @@ PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m
 
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
                                       pvs_box *boxes);
-PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
-                                      pvs_error *err) {
-    pvs__otree t;
-    pvs_allocator al;
-    double cell[8], cx, cy, ext = 1.0, margin;
-    double *all = NULL, *top = NULL, *seg = NULL, *box = NULL, *jd = NULL;
-    unsigned char *done = NULL, *state = NULL;
-    uint32_t *refs = NULL, kd_nodes = 0;
-    void *scratch = NULL;
-    size_t scratch_size = 0;
-    pvs_kdtree *own_tree = NULL;
-    const pvs_kdtree *tree;
-    uint32_t nf, no, i, k, side;
-    pvs_result r = PVS_OK;
-    pvs_otree_stats st;
-    pvs__ot25_sweep w;
-    memset(&st, 0, sizeof(st));
-    memset(&t, 0, sizeof(t));
-    if (stats) *stats = st;
+
+/* pvs_visibility_25d's argument checks: every error it returns but OUT_OF_MEMORY (in err). */
+PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, const pvs_word *visible_objects, pvs_error *err) {
+    uint32_t nf, no, i;
     if (!desc || !visible_objects || (desc->facade_count && !desc->facades) || (desc->object_count && !desc->objects))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, facades, objects and visible_objects are required");
     if (desc->flags & ~PVS_VISIBILITY_25D_FULL_TESTS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown 2.5D flags 0x%x", desc->flags);
@@ -8761,21 +8928,163 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
         if (!pvs__finite(desc->facades[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "facade %u is not finite", i / 5);
     for (i = 0; i < 5 * no; ++i)
         if (!pvs__finite(desc->objects[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "object %u is not finite", i / 5);
+    return PVS_OK;
+}
+
+/* A 2.5D query's input relative to the cell's centre (cx, cy): the facades' ground segments into all
+   (4 doubles each), the objects into box (u0 v0 u1 v1 top), and the cell's rectangle grown by
+   *margin into cell (four corners, counter-clockwise): a larger cell sees more (conservative) and is
+   never degenerate. Returns the largest magnitude of the facades' coordinates, at least 1. */
+PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box, double cell[8],
+                                   double *margin) {
+    double ext = 1.0, hx, hy;
+    uint32_t i, k;
+    for (i = 0; i < desc->facade_count; ++i) {
+        const float *f = desc->facades + 5 * (size_t)i;
+        double *o = all + 4 * (size_t)i;
+        o[0] = (double)f[0] - cx; o[1] = (double)f[1] - cy; o[2] = (double)f[2] - cx; o[3] = (double)f[3] - cy;
+        for (k = 0; k < 4; ++k) if (fabs(o[k]) > ext) ext = fabs(o[k]);
+    }
+    for (i = 0; i < desc->object_count; ++i) {
+        for (k = 0; k < 4; ++k) box[5 * i + k] = (double)desc->objects[5 * i + k] - (k & 1 ? cy : cx);
+        box[5 * i + 4] = desc->objects[5 * i + 4];
+    }
+    *margin = 1e-6 * ext + 1e-4;
+    hx = 0.5 * ((double)desc->cell_max[0] - desc->cell_min[0]) + *margin;
+    hy = 0.5 * ((double)desc->cell_max[1] - desc->cell_min[1]) + *margin;
+    cell[0] = -hx; cell[1] = -hy; cell[2] = hx; cell[3] = -hy; cell[4] = hx; cell[5] = hy; cell[6] = -hx; cell[7] = hy;
+    return ext;
+}
+
+/* The root region of a freshly reset tree for the source edge a-b of the cell (centred at the origin):
+   the lines crossing the edge, bounded by the planes of its end points (every blocker's edges on them
+   are then marked, §4.10.1, instead of adding the two planes again in every branch); the other sides
+   hold lines that miss the edge, never asked about. Its top is balanced by pvs__ot25_presplit. Out of
+   memory sets t->oom. */
+PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double a[2], const double b[2]) {
+    double m[2], m2[2], l[3], sa_, sb_;
+    uint32_t pos;
+    m[0] = 0.5 * (a[0] + b[0]); m[1] = 0.5 * (a[1] + b[1]);
+    m2[0] = 2.0 * m[0]; m2[1] = 2.0 * m[1]; /* the cell is centred at the origin: m points outward */
+    pvs__ot_line(m, m2, l);
+    sa_ = pvs__ot_side(l, a);
+    sb_ = pvs__ot_side(l, b);
+    pos = pvs__ot_split_leaf(t, 0, a, sa_ > 0 ? 1.0 : -1.0);
+    if (pos != PVS__OT_NONE) pos = pvs__ot_split_leaf(t, pos, b, sb_ > 0 ? 1.0 : -1.0);
+    if (pos != PVS__OT_NONE) { /* a balanced top (pvs__ot25_presplit) */
+        double pts[PVS__OT25_PRESPLIT][2], dd = 10.0 * (cell[4] - cell[0] + cell[5] - cell[1]) + 1.0;
+        double nx = m[0], ny = m[1], nl = sqrt(nx * nx + ny * ny);
+        int q;
+        nx /= nl; ny /= nl;
+        for (q = 0; q < PVS__OT25_PRESPLIT; ++q) {
+            double th = (-80.0 + 160.0 * (q + 0.5) / PVS__OT25_PRESPLIT) * (3.14159265358979323846 / 180.0), tt = dd * tan(th);
+            pts[q][0] = m[0] + nx * dd - ny * tt;
+            pts[q][1] = m[1] + ny * dd + nx * tt;
+        }
+        pvs__ot25_presplit(t, pos, m, pts, 0, PVS__OT25_PRESPLIT);
+    }
+    t->nodes[0].parent = PVS__OT_NONE;
+    t->root_in = pos;
+}
+
+/* One tree per top edge (§7.1): the tree of the lines that leave the cell through edge `side` (from
+   corner side + 1 to corner side), built by the sweep of w's kD-tree `tree` (scratch: its sweep
+   scratch), then the objects its visible leaves left as candidates tested after the sweep (§7.7) and
+   set in visible_objects. Returns 0 when no object is left to decide or the tree stopped (t->oom
+   set when out of memory). */
+PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side, pvs_word *visible_objects) {
+    pvs__otree *t = w->t;
+    const double *cell = w->cell, *a = cell + 2 * ((side + 1) & 3), *b = cell + 2 * side;
+    uint32_t i, live = 0, no = w->desc->object_count;
+    unsigned char *done = w->done;
+    pvs_box src;
+    for (i = 0; i < no; ++i) live += done[i] == 0 || done[i] >= 3;
+    if (!live) return 0;
+    t->sa[0] = a[0]; t->sa[1] = a[1]; t->sb[0] = b[0]; t->sb[1] = b[1];
+    if (!pvs__ot_reset(t)) return 0;
+    pvs__ot25_root(t, cell, a, b);
+    if (t->oom) return 0;
+    w->a = a;
+    w->b = b;
+    w->side = side;
+    src.min[0] = (float)(w->cx + cell[0]); src.min[1] = (float)(w->cy + cell[1]); src.min[2] = w->desc->cell_top;
+    src.max[0] = (float)(w->cx + cell[4]); src.max[1] = (float)(w->cy + cell[5]); src.max[2] = w->desc->cell_top;
+    pvs__ot25_sweep_tree(tree, &src, (pvs__kdsweep *)scratch, w);
+    if (t->node_count > w->st->nodes) w->st->nodes = (uint32_t)t->node_count;
+    if (t->oom) return 0;
+    for (i = 0; i < no; ++i) { /* objects of the visible leaves, after the sweep (§7.7) */
+        if (done[i] != 3 + side) continue;
+        if (pvs__ot25_box_visible(t, w->box + 5 * i, w->box[5 * i + 4], a, b, NULL)) {
+            done[i] = 1;
+            pvs_bitset_set(visible_objects, i);
+        } else {
+            done[i] = 0;
+        }
+    }
+    return 1;
+}
+
+/* A kD-tree over the facades and objects of a 2.5D query (the items of pvs_visibility_25d_boxes),
+   built through al into *out. Returns PVS_OK or the error (in err). */
+PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const pvs_allocator *al, pvs_kdtree **out, pvs_error *err) {
+    pvs_kdtree_desc kd;
+    uint32_t nf = desc->facade_count, no = desc->object_count;
+    pvs_box *boxes = (pvs_box *)pvs__alloc_array(al, (size_t)nf + no + 1, sizeof(pvs_box));
+    pvs_result r;
+    if (!boxes) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D boxes");
+    pvs_visibility_25d_boxes(desc->facades, nf, desc->objects, no, boxes);
+    memset(&kd, 0, sizeof(kd));
+    kd.boxes = boxes;
+    kd.count = nf + no;
+    kd.allocator = *al;
+    r = pvs_kdtree_create(&kd, out, err);
+    pvs__free_array(al, boxes, (size_t)nf + no + 1, sizeof(pvs_box));
+    return r;
+}
+
+/* Per node of `tree`: the item references in its subtree (0xffffffff where the children do not follow
+   their parent), so the sweep tests only nodes holding at least PVS__OT25_TEST_MIN of them. */
+PVS__STATIC void pvs__ot25_refs(const pvs_kdtree *tree, uint32_t *refs) {
+    uint32_t i;
+    for (i = tree->node_count; i-- > 0;) { /* children follow their parent */
+        const pvs__kdnode *kn = tree->nodes + i;
+        if ((kn->bits & 3u) == PVS__KD_LEAF) refs[i] = kn->u.count;
+        else {
+            uint32_t c = kn->bits >> 2;
+            refs[i] = c + 1 < tree->node_count && c > i ? refs[c] + refs[c + 1] : 0xffffffffu;
+        }
+    }
+}
+
+PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
+                                      pvs_error *err) {
+    pvs__otree t;
+    pvs_allocator al;
+    double cell[8], cx, cy, ext, margin;
+    double *all = NULL, *top = NULL, *seg = NULL, *box = NULL, *jd = NULL;
+    unsigned char *done = NULL, *state = NULL;
+    uint32_t *refs = NULL, kd_nodes = 0;
+    void *scratch = NULL;
+    size_t scratch_size = 0;
+    pvs_kdtree *own_tree = NULL;
+    const pvs_kdtree *tree;
+    uint32_t nf, no, i, side;
+    pvs_result r;
+    pvs_otree_stats st;
+    pvs__ot25_sweep w;
+    memset(&st, 0, sizeof(st));
+    memset(&t, 0, sizeof(t));
+    if (stats) *stats = st;
+    r = pvs__ot25_check(desc, visible_objects, err);
+    if (r != PVS_OK) return r;
+    nf = desc->facade_count;
+    no = desc->object_count;
     memset(visible_objects, 0, PVS_BITSET_WORDS(no) * sizeof(pvs_word));
     al = desc->allocator;
     t.a = &al;
     tree = desc->tree;
     if (!tree) { /* a kD-tree over the facades and objects for the sweep */
-        pvs_kdtree_desc kd;
-        pvs_box *boxes = (pvs_box *)pvs__alloc_array(&al, (size_t)nf + no + 1, sizeof(pvs_box));
-        if (!boxes) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D boxes"); goto done; }
-        pvs_visibility_25d_boxes(desc->facades, nf, desc->objects, no, boxes);
-        memset(&kd, 0, sizeof(kd));
-        kd.boxes = boxes;
-        kd.count = nf + no;
-        kd.allocator = al;
-        r = pvs_kdtree_create(&kd, &own_tree, err);
-        pvs__free_array(&al, boxes, (size_t)nf + no + 1, sizeof(pvs_box));
+        r = pvs__ot25_tree(desc, &al, &own_tree, err);
         if (r != PVS_OK) goto done;
         tree = own_tree;
     }
@@ -8794,23 +9103,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     memset(state, 0, (size_t)nf + 1);
     cx = 0.5 * ((double)desc->cell_min[0] + desc->cell_max[0]);
     cy = 0.5 * ((double)desc->cell_min[1] + desc->cell_max[1]);
-    for (i = 0; i < nf; ++i) {
-        const float *f = desc->facades + 5 * (size_t)i;
-        double *o = all + 4 * (size_t)i;
-        o[0] = (double)f[0] - cx; o[1] = (double)f[1] - cy; o[2] = (double)f[2] - cx; o[3] = (double)f[3] - cy;
-        for (k = 0; k < 4; ++k) if (fabs(o[k]) > ext) ext = fabs(o[k]);
-    }
-    for (i = 0; i < no; ++i) {
-        for (k = 0; k < 4; ++k) box[5 * i + k] = (double)desc->objects[5 * i + k] - (k & 1 ? cy : cx);
-        box[5 * i + 4] = desc->objects[5 * i + 4];
-    }
-    /* grow the cell a little: a larger cell sees more (conservative) and is never degenerate */
-    margin = 1e-6 * ext + 1e-4;
-    {
-        double hx = 0.5 * ((double)desc->cell_max[0] - desc->cell_min[0]) + margin;
-        double hy = 0.5 * ((double)desc->cell_max[1] - desc->cell_min[1]) + margin;
-        cell[0] = -hx; cell[1] = -hy; cell[2] = hx; cell[3] = -hy; cell[4] = hx; cell[5] = hy; cell[6] = -hx; cell[7] = hy;
-    }
+    ext = pvs__ot25_input(desc, cx, cy, all, box, cell, &margin);
     t.len_eps = 1e-9 * ext;
     t.full_tests = (desc->flags & PVS_VISIBILITY_25D_FULL_TESTS) != 0;
     t.eye = (double)desc->cell_top + margin;
@@ -8841,71 +9134,10 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     w.st = &st;
     w.refs = refs;
     w.test_min = PVS__OT25_TEST_MIN;
-    for (i = tree->node_count; i-- > 0;) { /* children follow their parent */
-        const pvs__kdnode *kn = tree->nodes + i;
-        if ((kn->bits & 3u) == PVS__KD_LEAF) refs[i] = kn->u.count;
-        else {
-            uint32_t c = kn->bits >> 2;
-            refs[i] = c + 1 < tree->node_count && c > i ? refs[c] + refs[c + 1] : 0xffffffffu;
-        }
-    }
-    /* one tree per top edge (§7.1), holding the lines that leave the cell through it */
+    pvs__ot25_refs(tree, refs);
     t.corners = cell;
-    for (side = 0; side < 4 && !t.oom; ++side) {
-        const double *a = cell + 2 * ((side + 1) & 3), *b = cell + 2 * side;
-        pvs_box src;
-        uint32_t live = 0;
-        for (i = 0; i < no; ++i) live += done[i] == 0 || done[i] >= 3;
-        if (!live) break;
-        t.sa[0] = a[0]; t.sa[1] = a[1]; t.sb[0] = b[0]; t.sb[1] = b[1];
-        if (!pvs__ot_reset(&t)) break;
-        {   /* the root region: the lines crossing the source edge, bounded by the planes of its end points
-               (every blocker's edges on them are then marked, §4.10.1, instead of adding the two planes
-               again in every branch); the other sides hold lines that miss the edge, never asked about */
-            double m[2], m2[2], l[3], sa_, sb_;
-            uint32_t pos;
-            m[0] = 0.5 * (a[0] + b[0]); m[1] = 0.5 * (a[1] + b[1]);
-            m2[0] = 2.0 * m[0]; m2[1] = 2.0 * m[1]; /* the cell is centred at the origin: m points outward */
-            pvs__ot_line(m, m2, l);
-            sa_ = pvs__ot_side(l, a);
-            sb_ = pvs__ot_side(l, b);
-            pos = pvs__ot_split_leaf(&t, 0, a, sa_ > 0 ? 1.0 : -1.0);
-            if (pos != PVS__OT_NONE) pos = pvs__ot_split_leaf(&t, pos, b, sb_ > 0 ? 1.0 : -1.0);
-            if (pos != PVS__OT_NONE) { /* a balanced top (pvs__ot25_presplit) */
-                double pts[PVS__OT25_PRESPLIT][2], dd = 10.0 * (cell[4] - cell[0] + cell[5] - cell[1]) + 1.0;
-                double nx = m[0], ny = m[1], nl = sqrt(nx * nx + ny * ny);
-                int q;
-                nx /= nl; ny /= nl;
-                for (q = 0; q < PVS__OT25_PRESPLIT; ++q) {
-                    double th = (-80.0 + 160.0 * (q + 0.5) / PVS__OT25_PRESPLIT) * (3.14159265358979323846 / 180.0), tt = dd * tan(th);
-                    pts[q][0] = m[0] + nx * dd - ny * tt;
-                    pts[q][1] = m[1] + ny * dd + nx * tt;
-                }
-                pvs__ot25_presplit(&t, pos, m, pts, 0, PVS__OT25_PRESPLIT);
-            }
-            t.nodes[0].parent = PVS__OT_NONE;
-            t.root_in = pos;
-            if (t.oom) break;
-        }
-        w.a = a;
-        w.b = b;
-        w.side = side;
-        src.min[0] = (float)(cx + cell[0]); src.min[1] = (float)(cy + cell[1]); src.min[2] = desc->cell_top;
-        src.max[0] = (float)(cx + cell[4]); src.max[1] = (float)(cy + cell[5]); src.max[2] = desc->cell_top;
-        pvs__ot25_sweep_tree(tree, &src, (pvs__kdsweep *)scratch, &w);
-        if (t.node_count > st.nodes) st.nodes = (uint32_t)t.node_count;
-        if (t.oom) break;
-        /* objects of the visible leaves, after the sweep (§7.7) */
-        for (i = 0; i < no; ++i) {
-            if (done[i] != 3 + side) continue;
-            if (pvs__ot25_box_visible(&t, box + 5 * i, box[5 * i + 4], a, b, NULL)) {
-                done[i] = 1;
-                pvs_bitset_set(visible_objects, i);
-            } else {
-                done[i] = 0;
-            }
-        }
-    }
+    for (side = 0; side < 4 && !t.oom; ++side)
+        if (!pvs__ot25_side(&w, tree, scratch, side, visible_objects)) break;
     if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree nodes"); goto done; }
     if (stats) *stats = st;
     pvs__ok(err);
@@ -9686,23 +9918,11 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *o, pvs_otree_frame *frame) {
     if (o && frame) *frame = o->info;
 }
 
-PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p,
-                                  pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
-    float m[16];
-    double u[3], r[3], len, ty, tx, size = 0.0;
-    uint32_t i, k, nocc = 0;
-    int j;
-    pvs_result res;
-    if (!o || !s || !cam || !visible) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree, scene, camera and visible must not be NULL");
-    if (s->object_count > o->max_objects || s->triangle_count > o->max_triangles || s->object_tree->node_count > o->max_kd_nodes ||
-        pvs_kdtree_sweep_scratch_size(s->triangle_tree) > o->sweep_size)
-        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "the context was created for a smaller scene");
-    res = pvs_camera_matrix(cam, o->aspect, m);
-    if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "unusable camera");
-    if (cam->fov_y == 0.0f) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "an orthographic camera: shadow volumes need an eye point");
-    memset(&o->info, 0, sizeof(o->info));
-    memset(&o->st, 0, sizeof(o->st));
-    memset(visible, 0, PVS_BITSET_WORDS(s->object_count) * sizeof(pvs_word));
+/* Starts a frame on scene s: when the scene changed (or the frame counter is about to wrap) every kD
+   node's state is made stale, and on a new scene the per-object triangle ranges are rebuilt (objects
+   are ranges of triangles) and the previous frame's occluders forgotten. */
+PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
+    uint32_t i;
     if (s != o->last_scene || o->frame > 0xfffffff0u) { /* stale states everywhere */
         memset(o->kd_frame, 0, ((size_t)o->max_kd_nodes + 1) * sizeof(uint32_t));
         o->frame = 2;
@@ -9721,7 +9941,15 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
     }
     ++o->frame;
     o->s = s;
-    /* the eye frame (as pvs_camera_matrix) and the frustum: near plane, then the four sides */
+}
+
+/* The eye frame of a perspective camera (as pvs_camera_matrix) and the frustum's planes (the near
+   plane, then the four sides, unit normals pointing inside), and the tolerance of the eye-relative
+   scene's size. */
+PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam) {
+    double u[3], r[3], len, ty, tx, size = 0.0;
+    uint32_t k;
+    int j;
     for (j = 0; j < 3; ++j) { o->eye[j] = cam->eye[j]; o->fw[j] = cam->forward[j]; u[j] = cam->up[j]; }
     pvs__sv_unit(o->fw);
     len = pvs__sv_dot(o->fw, u);
@@ -9746,6 +9974,124 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
         size += (a > b ? a : b);
     }
     o->tol = 1e-10 * (size + o->near_d + 1e-20);
+}
+
+/* Inserts the caller's occluder triangles (p->occluder_*) in the caller's order, those with an index
+   or a coordinate out of range left out. Returns the triangles offered to the tree. */
+PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_params *p) {
+    uint32_t i, nocc = 0;
+    int j;
+    for (i = 0; i < p->occluder_triangle_count; ++i) {
+        const float *pt[3];
+        pvs__svpoly q;
+        double plane[4];
+        int bad = 0;
+        for (j = 0; j < 3; ++j) {
+            uint32_t vi = p->occluder_indices ? p->occluder_indices[3 * (size_t)i + (uint32_t)j] : 3 * i + (uint32_t)j;
+            if (vi >= p->occluder_vertex_count) { bad = 1; break; }
+            pt[j] = p->occluder_positions + 3 * (size_t)vi;
+            if (!pvs__finite(pt[j][0]) || !pvs__finite(pt[j][1]) || !pvs__finite(pt[j][2])) bad = 1;
+        }
+        if (bad) continue;
+        ++nocc;
+        if (pvs__sv_polygon(o, pt, 3, &q, plane)) pvs__sv_insert(o, &q, plane);
+    }
+    return nocc;
+}
+
+/* The occluder selection of §4.5 and its insertion: the best polygons by the area-angle measure among
+   the triangles of the previous frame's selection (or, after a reset, the scene's triangles swept
+   from the eye) and, with p->scene_volumes, the faces of the occluder volumes within the distance;
+   inserted in order of distance from the eye (the approximate occlusion sweep, §3.2). Returns the
+   polygons offered to the tree. */
+PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p) {
+    uint32_t i, k, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
+    pvs_box src;
+    int j;
+    if (p->scene_volumes) kk = o->max_occluders;
+    for (j = 0; j < 3; ++j) src.min[j] = src.max[j] = cam->eye[j];
+    if (p->scene_occluders) {
+        if (o->have_prev) {
+            for (i = 0; i < o->prev_count; ++i)
+                if (o->prev[i] < s->triangle_count) pvs__sv_offer_triangle(o, kk, o->prev[i]);
+        } else {
+            pvs__svboot w;
+            w.o = o;
+            w.k = kk;
+            memset(o->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
+            pvs_kdtree_sweep(s->triangle_tree, &src, o->sweep, o->sweep_size, pvs__sv_boot_visit, &w);
+        }
+    }
+    if (p->scene_volumes)
+        for (i = 0; i < s->occluder_count; ++i) {
+            const pvs_occluder_desc *oc = s->occluders + i;
+            uint32_t faces = oc->kind == PVS_OCCLUDER_BOX ? 6u : oc->kind == PVS_OCCLUDER_EXTRUSION ? oc->footprint_count : 0u, f;
+            if (!faces || pvs__box_distance2(&src, s->occluder_boxes + i) > o->lambda * o->lambda) continue;
+            for (f = 0; f < faces; ++f) {
+                float q[4][3];
+                const float *pt[4];
+                int n = pvs__sv_points(s, i, f, q, pt);
+                double sc = pvs__sv_score(o, pt, n);
+                if (sc > 0.0) pvs__sv_offer(o, kk, sc, i, f);
+            }
+        }
+    for (i = 0; i < o->sel_count; ++i) {
+        float q[4][3];
+        const float *pt[4];
+        double c[3] = {0, 0, 0};
+        int n = pvs__sv_points(s, o->sel[i].a, o->sel[i].b, q, pt);
+        for (j = 0; j < n; ++j) for (k = 0; k < 3; ++k) c[k] += ((double)pt[j][k] - o->eye[k]) / n;
+        o->sel[i].key = pvs__sv_dot(c, c);
+    }
+    pvs__sv_sort(o->sel, o->sel_count);
+    for (i = 0; i < o->sel_count; ++i) {
+        float q4[4][3];
+        const float *pt[4];
+        pvs__svpoly q;
+        double plane[4];
+        int n = pvs__sv_points(s, o->sel[i].a, o->sel[i].b, q4, pt);
+        if (pvs__sv_polygon(o, pt, n, &q, plane)) pvs__sv_insert(o, &q, plane);
+    }
+    return o->sel_count;
+}
+
+/* The next frame's occluder candidates (§4.5): the triangles of the objects seen within the distance
+   this frame (occluder-only objects whose box may be seen), kept in o->prev. */
+PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const pvs_cull_params *p, const pvs_word *visible) {
+    uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
+    o->sel_count = 0;
+    for (i = 0; i < o->touched_count; ++i) {
+        uint32_t ob = o->touched[i], t;
+        if (!(o->obj_flag[ob] & 4u)) continue; /* not within the distance */
+        if (s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) {
+            if (!(o->obj_flag[ob] & 1u) && pvs__sv_box_test(o, s->object_boxes + ob) == PVS__SV_I) continue;
+        } else if (!pvs_bitset_test(visible, ob)) {
+            continue;
+        }
+        for (t = o->obj_first[ob]; t < o->obj_first[ob] + o->obj_tris[ob]; ++t) pvs__sv_offer_triangle(o, kk, t);
+    }
+    o->prev_count = o->sel_count;
+    for (i = 0; i < o->sel_count; ++i) o->prev[i] = o->sel[i].a;
+    o->have_prev = 1;
+}
+
+PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p,
+                                  pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
+    float m[16];
+    uint32_t i, nocc = 0;
+    pvs_result res;
+    if (!o || !s || !cam || !visible) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree, scene, camera and visible must not be NULL");
+    if (s->object_count > o->max_objects || s->triangle_count > o->max_triangles || s->object_tree->node_count > o->max_kd_nodes ||
+        pvs_kdtree_sweep_scratch_size(s->triangle_tree) > o->sweep_size)
+        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "the context was created for a smaller scene");
+    res = pvs_camera_matrix(cam, o->aspect, m);
+    if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "unusable camera");
+    if (cam->fov_y == 0.0f) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "an orthographic camera: shadow volumes need an eye point");
+    memset(&o->info, 0, sizeof(o->info));
+    memset(&o->st, 0, sizeof(o->st));
+    memset(visible, 0, PVS_BITSET_WORDS(s->object_count) * sizeof(pvs_word));
+    pvs__sv_frame_begin(o, s);
+    pvs__sv_frustum(o, s, cam);
     o->lambda = p && p->occluder_distance > 0.0f ? p->occluder_distance : 100.0;
     /* the tree: one out-leaf, then the occluders front to back (§4.3) */
     o->node_count = 1;
@@ -9753,77 +10099,9 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
     o->vert_count = 0;
     memset(o->nodes, 0, sizeof(pvs__svnode));
     o->nodes[0].kind = PVS__OT_OUT;
-    if (p && p->occluder_triangle_count && p->occluder_positions) { /* the caller's, in the caller's order */
-        for (i = 0; i < p->occluder_triangle_count; ++i) {
-            const float *pt[3];
-            pvs__svpoly q;
-            double plane[4];
-            int bad = 0;
-            for (j = 0; j < 3; ++j) {
-                uint32_t vi = p->occluder_indices ? p->occluder_indices[3 * (size_t)i + (uint32_t)j] : 3 * i + (uint32_t)j;
-                if (vi >= p->occluder_vertex_count) { bad = 1; break; }
-                pt[j] = p->occluder_positions + 3 * (size_t)vi;
-                if (!pvs__finite(pt[j][0]) || !pvs__finite(pt[j][1]) || !pvs__finite(pt[j][2])) bad = 1;
-            }
-            if (bad) continue;
-            ++nocc;
-            if (pvs__sv_polygon(o, pt, 3, &q, plane)) pvs__sv_insert(o, &q, plane);
-        }
-    }
+    if (p && p->occluder_triangle_count && p->occluder_positions) nocc += pvs__sv_caller_occluders(o, p);
     o->sel_count = 0;
-    if (p && (p->scene_occluders || p->scene_volumes)) {
-        uint32_t kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
-        if (p->scene_volumes) kk = o->max_occluders;
-        if (p->scene_occluders) {
-            if (o->have_prev) {
-                for (i = 0; i < o->prev_count; ++i)
-                    if (o->prev[i] < s->triangle_count) pvs__sv_offer_triangle(o, kk, o->prev[i]);
-            } else {
-                pvs__svboot w;
-                pvs_box src;
-                w.o = o;
-                w.k = kk;
-                memset(o->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
-                for (j = 0; j < 3; ++j) src.min[j] = src.max[j] = cam->eye[j];
-                pvs_kdtree_sweep(s->triangle_tree, &src, o->sweep, o->sweep_size, pvs__sv_boot_visit, &w);
-            }
-        }
-        if (p->scene_volumes) {
-            pvs_box src;
-            for (j = 0; j < 3; ++j) src.min[j] = src.max[j] = cam->eye[j];
-            for (i = 0; i < s->occluder_count; ++i) {
-                const pvs_occluder_desc *oc = s->occluders + i;
-                uint32_t faces = oc->kind == PVS_OCCLUDER_BOX ? 6u : oc->kind == PVS_OCCLUDER_EXTRUSION ? oc->footprint_count : 0u, f;
-                if (!faces || pvs__box_distance2(&src, s->occluder_boxes + i) > o->lambda * o->lambda) continue;
-                for (f = 0; f < faces; ++f) {
-                    float q[4][3];
-                    const float *pt[4];
-                    int n = pvs__sv_points(s, i, f, q, pt);
-                    double sc = pvs__sv_score(o, pt, n);
-                    if (sc > 0.0) pvs__sv_offer(o, kk, sc, i, f);
-                }
-            }
-        }
-        /* insert in order of distance from the eye (the approximate occlusion sweep, §3.2) */
-        for (i = 0; i < o->sel_count; ++i) {
-            float q[4][3];
-            const float *pt[4];
-            double c[3] = {0, 0, 0};
-            int n = pvs__sv_points(s, o->sel[i].a, o->sel[i].b, q, pt);
-            for (j = 0; j < n; ++j) for (k = 0; k < 3; ++k) c[k] += ((double)pt[j][k] - o->eye[k]) / n;
-            o->sel[i].key = pvs__sv_dot(c, c);
-        }
-        pvs__sv_sort(o->sel, o->sel_count);
-        for (i = 0; i < o->sel_count; ++i) {
-            float q4[4][3];
-            const float *pt[4];
-            pvs__svpoly q;
-            double plane[4];
-            int n = pvs__sv_points(s, o->sel[i].a, o->sel[i].b, q4, pt);
-            ++nocc;
-            if (pvs__sv_polygon(o, pt, n, &q, plane)) pvs__sv_insert(o, &q, plane);
-        }
-    }
+    if (p && (p->scene_occluders || p->scene_volumes)) nocc += pvs__sv_scene_occluders(o, s, cam, p);
     o->info.occluders = nocc;
     o->info.tree_nodes = o->node_count;
     o->info.fragments = o->frag_count;
@@ -9843,24 +10121,7 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
         pvs_bitset_set(visible, ob);
         ++o->st.visible;
     }
-    /* the next frame's occluders: the best triangles of the objects seen within the distance (§4.5) */
-    if (p && p->scene_occluders) {
-        uint32_t kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
-        o->sel_count = 0;
-        for (i = 0; i < o->touched_count; ++i) {
-            uint32_t ob = o->touched[i], t;
-            if (!(o->obj_flag[ob] & 4u)) continue; /* not within the distance */
-            if (s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) {
-                if (!(o->obj_flag[ob] & 1u) && pvs__sv_box_test(o, s->object_boxes + ob) == PVS__SV_I) continue;
-            } else if (!pvs_bitset_test(visible, ob)) {
-                continue;
-            }
-            for (t = o->obj_first[ob]; t < o->obj_first[ob] + o->obj_tris[ob]; ++t) pvs__sv_offer_triangle(o, kk, t);
-        }
-        o->prev_count = o->sel_count;
-        for (i = 0; i < o->sel_count; ++i) o->prev[i] = o->sel[i].a;
-        o->have_prev = 1;
-    }
+    if (p && p->scene_occluders) pvs__sv_next_occluders(o, s, p, visible);
     for (i = 0; i < o->touched_count; ++i) o->obj_flag[o->touched[i]] = 0;
     if (stats) *stats = o->st;
     pvs__ok(err);
