@@ -1958,6 +1958,46 @@ PVS__STATIC uint64_t pvs__splitmix64(uint64_t *state) {
 /* Uniform float in [0, 1). */
 PVS__STATIC float pvs__random01(uint64_t *state) { return (float)(pvs__splitmix64(state) >> 40) * (1.0f / 16777216.0f); }
 
+/* ---- growable arrays ---- */
+
+/* Grows an array of `elem`-byte elements to hold at least `need` (doubling its capacity), keeping the
+   first `used`, but to no more than `limit` when limit >= need (a bound the caller has proved).
+   Returns the (possibly new) array, or NULL with *r set (the old array is then still owned by the
+   caller). */
+PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need, size_t limit, size_t elem,
+                                   pvs_result *r) {
+    size_t cap = *capacity ? *capacity : 64, bytes;
+    void *q;
+    if (need <= *capacity) return p;
+    while (cap < need) {
+        if (cap > (size_t)-1 / 2) { *r = PVS_ERROR_COUNT_OVERFLOW; return NULL; }
+        cap *= 2;
+    }
+    if (limit >= need && cap > limit) cap = limit;
+    if (!pvs__mul(cap, elem, &bytes)) { *r = PVS_ERROR_COUNT_OVERFLOW; return NULL; }
+    q = pvs__alloc_array(a, cap, elem);
+    if (!q) { *r = PVS_ERROR_OUT_OF_MEMORY; return NULL; }
+    if (used) memcpy(q, p, used * elem);
+    pvs__free_array(a, p, *capacity, elem);
+    *capacity = cap;
+    return q;
+}
+/* The same without a limit. */
+PVS__STATIC void *pvs__grow_array(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need, size_t elem, pvs_result *r) {
+    return pvs__grow_capped(a, p, capacity, used, need, 0, elem, r);
+}
+/* The same for an array whose whole capacity is in use (*p, *capacity elements): 1 when it holds at
+   least `need` elements, 0 on overflow or out of memory (*p unchanged, still the caller's). */
+PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, size_t need, size_t elem) {
+    pvs_result r;
+    void *q;
+    if (need <= *capacity) return 1;
+    q = pvs__grow_capped(a, *p, capacity, *capacity, need, 0, elem, &r);
+    if (!q) return 0;
+    *p = q;
+    return 1;
+}
+
 /* ---- heaps: sorting and top-k, allocation-free ---- */
 
 /* 1 when a ranks before b: the order of a sort (ascending) or of a top-k selection (the best first). */
@@ -2724,32 +2764,6 @@ typedef struct pvs__kdbuild {
     uint32_t ends[3][PVS__KD_BINS + 1];   /* [e]: refs whose max is >= planes[e] last */
 } pvs__kdbuild;
 
-/* Grows an array of `elem`-byte elements to hold at least `need` (doubling its capacity), keeping the
-   first `used`, but to no more than `limit` when limit >= need (a bound the caller has proved).
-   Returns the (possibly new) array, or NULL with *r set (the old array is then still owned by the
-   caller). */
-PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need, size_t limit, size_t elem,
-                                   pvs_result *r) {
-    size_t cap = *capacity ? *capacity : 64, bytes;
-    void *q;
-    if (need <= *capacity) return p;
-    while (cap < need) {
-        if (cap > (size_t)-1 / 2) { *r = PVS_ERROR_COUNT_OVERFLOW; return NULL; }
-        cap *= 2;
-    }
-    if (limit >= need && cap > limit) cap = limit;
-    if (!pvs__mul(cap, elem, &bytes)) { *r = PVS_ERROR_COUNT_OVERFLOW; return NULL; }
-    q = pvs__alloc_array(a, cap, elem);
-    if (!q) { *r = PVS_ERROR_OUT_OF_MEMORY; return NULL; }
-    if (used) memcpy(q, p, used * elem);
-    pvs__free_array(a, p, *capacity, elem);
-    *capacity = cap;
-    return q;
-}
-/* The same without a limit. */
-PVS__STATIC void *pvs__kd_grow(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need, size_t elem, pvs_result *r) {
-    return pvs__grow_capped(a, p, capacity, used, need, 0, elem, r);
-}
 
 PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t base, size_t n) {
     pvs_kdtree *t = b->tree;
@@ -6335,29 +6349,15 @@ typedef struct pvs__selctx {
     uint32_t k, n;
 } pvs__selctx;
 
-/* Min-heap on score: the root is the weakest of the k kept. */
+/* The k best-scoring triangles (pvs__topk_offer: a heap whose root is the weakest kept). */
+PVS__STATIC int pvs__occsel_before(const void *a, const void *b) {
+    return ((const pvs__occsel *)a)->score > ((const pvs__occsel *)b)->score;
+}
 PVS__STATIC void pvs__occ_push(pvs__occsel *h, uint32_t *n, uint32_t k, float score, uint32_t tri) {
-    uint32_t i, c;
-    if (*n < k) {
-        i = (*n)++;
-        while (i > 0 && h[(i - 1) / 2].score > score) {
-            h[i] = h[(i - 1) / 2];
-            i = (i - 1) / 2;
-        }
-        h[i].score = score;
-        h[i].triangle = tri;
-        return;
-    }
-    if (!(score > h[0].score)) return;
-    i = 0;
-    while ((c = 2 * i + 1) < *n) {
-        if (c + 1 < *n && h[c + 1].score < h[c].score) ++c;
-        if (!(h[c].score < score)) break;
-        h[i] = h[c];
-        i = c;
-    }
-    h[i].score = score;
-    h[i].triangle = tri;
+    pvs__occsel e;
+    e.score = score;
+    e.triangle = tri;
+    pvs__topk_offer(h, n, k, sizeof(e), &e, pvs__occsel_before);
 }
 
 /* Area-angle measure M = A |N . V| / |D|^2 (Bittner 2002 §4.5), with V the unit direction from the
@@ -6931,24 +6931,6 @@ typedef struct pvs__otree {
     double wit[PVS__OT25_WITNESSES][3];
 } pvs__otree;
 
-PVS__STATIC int pvs__ot_grow(const pvs_allocator *a, void **p, size_t *cap, size_t need, size_t elem) {
-    size_t ncap, bytes;
-    void *q;
-    if (need <= *cap) return 1;
-    ncap = *cap ? *cap * 2 : 64;
-    while (ncap < need) ncap *= 2;
-    if (!pvs__mul(ncap, elem, &bytes)) return 0;
-    q = pvs__alloc(a, bytes, 16);
-    if (!q) return 0;
-    if (*p) {
-        memcpy(q, *p, *cap * elem);
-        pvs__free(a, *p, *cap * elem, 16);
-    }
-    *p = q;
-    *cap = ncap;
-    return 1;
-}
-
 PVS__STATIC void pvs__ot_free(pvs__otree *t) {
     pvs__free(t->a, t->nodes, t->node_cap * sizeof(pvs__otnode), 16);
     pvs__free(t->a, t->seq, t->seq_cap * sizeof(uint32_t), 16);
@@ -6963,7 +6945,7 @@ PVS__STATIC void pvs__ot_free(pvs__otree *t) {
 /* Resets to the whole line set: a single out-leaf (§3.3.2). */
 PVS__STATIC int pvs__ot_reset(pvs__otree *t) {
     t->node_count = t->seq_count = t->stack_count = 0;
-    if (!pvs__ot_grow(t->a, (void **)&t->nodes, &t->node_cap, 1, sizeof(pvs__otnode))) { t->oom = 1; return 0; }
+    if (!pvs__grow(t->a, (void **)&t->nodes, &t->node_cap, 1, sizeof(pvs__otnode))) { t->oom = 1; return 0; }
     memset(t->nodes, 0, sizeof(pvs__otnode));
     t->nodes[0].kind = PVS__OT_OUT;
     t->nodes[0].mvd = DBL_MAX;
@@ -6977,7 +6959,7 @@ PVS__STATIC int pvs__ot_reset(pvs__otree *t) {
 }
 
 PVS__STATIC uint32_t pvs__ot_new_node(pvs__otree *t) {
-    if (!pvs__ot_grow(t->a, (void **)&t->nodes, &t->node_cap, t->node_count + 1, sizeof(pvs__otnode))) {
+    if (!pvs__grow(t->a, (void **)&t->nodes, &t->node_cap, t->node_count + 1, sizeof(pvs__otnode))) {
         t->oom = 1;
         return PVS__OT_NONE;
     }
@@ -7001,10 +6983,10 @@ PVS__STATIC void pvs__ot_copy(pvs__otpoly *d, const pvs__otpoly *s) {
 PVS__STATIC int pvs__ot_reserve(pvs__otree *t, size_t need) {
     size_t c1 = t->stack_cap, c2 = t->stack_cap, c3 = t->stack_cap, c4 = t->stack_cap, i;
     if (need <= t->stack_cap) return 1;
-    if (!pvs__ot_grow(t->a, (void **)&t->stack, &c1, need, sizeof(pvs__otpoly)) ||
-        !pvs__ot_grow(t->a, (void **)&t->stack_node, &c2, need, sizeof(uint32_t)) ||
-        !pvs__ot_grow(t->a, (void **)&t->stack_pend, &c3, need, sizeof(uint32_t)) ||
-        !pvs__ot_grow(t->a, (void **)&t->stack_slot, &c4, need, sizeof(uint32_t))) {
+    if (!pvs__grow(t->a, (void **)&t->stack, &c1, need, sizeof(pvs__otpoly)) ||
+        !pvs__grow(t->a, (void **)&t->stack_node, &c2, need, sizeof(uint32_t)) ||
+        !pvs__grow(t->a, (void **)&t->stack_pend, &c3, need, sizeof(uint32_t)) ||
+        !pvs__grow(t->a, (void **)&t->stack_slot, &c4, need, sizeof(uint32_t))) {
         t->oom = 1;
         return 0;
     }
@@ -7571,7 +7553,7 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
 /* Gives leaf `node` the payload seq[old_first .. + old_count) followed by `add`. */
 PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_first, uint32_t old_count, uint32_t add) {
     size_t first = t->seq_count;
-    if (!pvs__ot_grow(t->a, (void **)&t->seq, &t->seq_cap, t->seq_count + old_count + 1, sizeof(uint32_t))) return t->oom = 1, 0;
+    if (!pvs__grow(t->a, (void **)&t->seq, &t->seq_cap, t->seq_count + old_count + 1, sizeof(uint32_t))) return t->oom = 1, 0;
     if (old_count) memmove(t->seq + first, t->seq + old_first, old_count * sizeof(uint32_t));
     t->seq[first + old_count] = add;
     t->seq_count = first + old_count + 1;
@@ -8029,7 +8011,7 @@ PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, u
     top = (float)f->top;
     if ((double)top > f->top) top = nextafterf(top, -FLT_MAX);
     if (!(top > bot) || *count >= 0x7fffffffu) return 1;
-    if (!pvs__ot_grow(a, (void **)out, cap, 6 * ((size_t)*count + 2), sizeof(float))) return 0;
+    if (!pvs__grow(a, (void **)out, cap, 6 * ((size_t)*count + 2), sizeof(float))) return 0;
     o = *out + 6 * (size_t)*count;
     for (k = 0; k < 2; ++k) { o[k] = (float)f->g0[k]; o[2 + k] = (float)f->g1[k]; } /* the vertices' own floats */
     o[4] = top;
@@ -8299,7 +8281,7 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
             if (nm && !pvs__fx_line(&w, nm)) goto done;
         }
     }
-    if (!*out && !pvs__ot_grow(a, (void **)out, &w.cap, 6, sizeof(float))) goto done;
+    if (!*out && !pvs__grow(a, (void **)out, &w.cap, 6, sizeof(float))) goto done;
     *out_floats = w.cap;
     r = PVS_OK;
 done:
@@ -9626,27 +9608,14 @@ PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 
 /* ---- occluder selection (§4.5) ---- */
 
-/* Keeps the best max_occluders candidates in a min-heap on key. */
+/* Keeps the best max_occluders candidates (pvs__topk_offer: a heap whose root is the weakest kept). */
+PVS__STATIC int pvs__svsel_better(const void *a, const void *b) { return ((const pvs__svsel *)a)->key > ((const pvs__svsel *)b)->key; }
 PVS__STATIC void pvs__sv_offer(pvs_otree *o, uint32_t k, double key, uint32_t a, uint32_t b) {
-    pvs__svsel *h = o->sel, e;
-    uint32_t i, c, n;
-    e.key = key; e.a = a; e.b = b;
-    if (o->sel_count < k) {
-        i = o->sel_count++;
-        while (i > 0 && h[(i - 1) / 2].key > key) { h[i] = h[(i - 1) / 2]; i = (i - 1) / 2; }
-        h[i] = e;
-        return;
-    }
-    if (!k || !(key > h[0].key)) return;
-    n = o->sel_count;
-    i = 0;
-    while ((c = 2 * i + 1) < n) {
-        if (c + 1 < n && h[c + 1].key < h[c].key) ++c;
-        if (!(h[c].key < key)) break;
-        h[i] = h[c];
-        i = c;
-    }
-    h[i] = e;
+    pvs__svsel e;
+    e.key = key;
+    e.a = a;
+    e.b = b;
+    pvs__topk_offer(o->sel, &o->sel_count, k, sizeof(e), &e, pvs__svsel_better);
 }
 
 /* The world points of candidate (a, b): a triangle or a face of a BOX / wall of an EXTRUSION occluder. */
@@ -9698,33 +9667,10 @@ PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int 
     return 0.5 * fabs(pvs__sv_dot(area, c)) / (dd * sqrt(dd));
 }
 
-PVS__STATIC int pvs__sv_before(const pvs__svsel *x, const pvs__svsel *y) {
+/* (key, a, b) ascending: a deterministic order whatever the heap held. */
+PVS__STATIC int pvs__sv_before(const void *pa, const void *pb) {
+    const pvs__svsel *x = (const pvs__svsel *)pa, *y = (const pvs__svsel *)pb;
     return x->key < y->key || (x->key == y->key && (x->a < y->a || (x->a == y->a && x->b < y->b)));
-}
-/* Heap sort by (key, a, b): a deterministic order whatever the heap held. */
-PVS__STATIC void pvs__sv_sort(pvs__svsel *h, uint32_t n) {
-    uint32_t i, end;
-    for (i = n / 2; i-- > 0;) {
-        uint32_t r = i, c;
-        while ((c = 2 * r + 1) < n) {
-            pvs__svsel tmp;
-            if (c + 1 < n && pvs__sv_before(h + c, h + c + 1)) ++c;
-            if (!pvs__sv_before(h + r, h + c)) break;
-            tmp = h[r]; h[r] = h[c]; h[c] = tmp;
-            r = c;
-        }
-    }
-    for (end = n; end > 1; --end) {
-        pvs__svsel tmp = h[0];
-        uint32_t r = 0, c, m = end - 1;
-        h[0] = h[m]; h[m] = tmp;
-        while ((c = 2 * r + 1) < m) {
-            if (c + 1 < m && pvs__sv_before(h + c, h + c + 1)) ++c;
-            if (!pvs__sv_before(h + r, h + c)) break;
-            tmp = h[r]; h[r] = h[c]; h[c] = tmp;
-            r = c;
-        }
-    }
 }
 
 PVS__STATIC void pvs__sv_offer_triangle(pvs_otree *o, uint32_t k, uint32_t t) {
@@ -10043,7 +9989,7 @@ PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, c
         for (j = 0; j < n; ++j) for (k = 0; k < 3; ++k) c[k] += ((double)pt[j][k] - o->eye[k]) / n;
         o->sel[i].key = pvs__sv_dot(c, c);
     }
-    pvs__sv_sort(o->sel, o->sel_count);
+    pvs__heap_sort(o->sel, o->sel_count, sizeof(pvs__svsel), pvs__sv_before);
     for (i = 0; i < o->sel_count; ++i) {
         float q4[4][3];
         const float *pt[4];
@@ -16912,7 +16858,7 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
         if (!hit) return PVS_OK;
         q3[nh++] = hit;
     }
-    p->cedge = (float *)pvs__kd_grow(&p->allocator, p->cedge, &p->cedge_capacity, p->cedge_count, p->cedge_count + nb, 6 * sizeof(float), &r);
+    p->cedge = (float *)pvs__grow_array(&p->allocator, p->cedge, &p->cedge_capacity, p->cedge_count, p->cedge_count + nb, 6 * sizeof(float), &r);
     if (!p->cedge) return r;
     o = p->occ + p->occ_count;
     pvs__ep_add(p, q3, nh, 0, dev == 0.0 ? 0.0 : dev + 1e-12 * scale);
@@ -17223,13 +17169,13 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
         {
             /* closed or capped: kept for slicing */
             pvs__epslice *sl;
-            p->slc = (pvs__epslice *)pvs__kd_grow(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice), &r);
+            p->slc = (pvs__epslice *)pvs__grow_array(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice), &r);
             if (!p->slc) return r;
-            p->stri = (uint32_t *)pvs__kd_grow(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + (end - begin), sizeof(uint32_t), &r);
+            p->stri = (uint32_t *)pvs__grow_array(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + (end - begin), sizeof(uint32_t), &r);
             if (!p->stri) return r;
             if (capped) {
-                /* pvs__kd_grow counts elements of 6 floats */
-                p->bedge = (float *)pvs__kd_grow(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb, 6 * sizeof(float), &r);
+                /* pvs__grow_array counts elements of 6 floats */
+                p->bedge = (float *)pvs__grow_array(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb, 6 * sizeof(float), &r);
                 if (!p->bedge) return r;
             }
             sl = p->slc + p->slc_count++;
@@ -17395,7 +17341,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
                 if (p->sheet[x].area < p->sheet[slot].area) slot = x;
             if (!(area > p->sheet[slot].area)) continue;
         }
-        p->spoly = (float *)pvs__kd_grow(a, p->spoly, &p->spoly_capacity, p->spoly_count, p->spoly_count + m, 2 * sizeof(float), &r);
+        p->spoly = (float *)pvs__grow_array(a, p->spoly, &p->spoly_capacity, p->spoly_count, p->spoly_count + m, 2 * sizeof(float), &r);
         if (!p->spoly) goto done;
         p->sheet[slot].axis = k;
         p->sheet[slot].value = key[i].value;
@@ -17447,7 +17393,7 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
                 }
             }
             if (!ok) continue;
-            p->pts = (float *)pvs__kd_grow(a, p->pts, &p->pt_capacity, p->pt_count, p->pt_count + oc->count + on, 3 * sizeof(float), &r);
+            p->pts = (float *)pvs__grow_array(a, p->pts, &p->pt_capacity, p->pt_count, p->pt_count + oc->count + on, 3 * sizeof(float), &r);
             if (!p->pts) goto done;
             pts = p->pts + 3 * (size_t)oc->first;
             oc->xfirst = (uint32_t)p->pt_count;
@@ -21456,7 +21402,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
     uint32_t i, best_axis = 3, best_score = n, axis;
     float best_v = 0.0f;
     if (level == b->depth) { /* leaf */
-        b->items = (uint8_t *)pvs__kd_grow(b->a, b->items, &b->item_capacity, b->item_bytes, b->item_bytes + 5 * (size_t)n, 1, &r);
+        b->items = (uint8_t *)pvs__grow_array(b->a, b->items, &b->item_capacity, b->item_bytes, b->item_bytes + 5 * (size_t)n, 1, &r);
         if (!b->items) return r;
         b->leaf_start[b->leaves_done++] = (uint32_t)b->item_bytes;
         for (i = 0; i < n; ++i) b->item_bytes += pvs__put_varint(b->items + b->item_bytes, i ? ids[i] - ids[i - 1] - 1 : ids[0]);
