@@ -3868,39 +3868,52 @@ PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const doub
     }
 }
 
+/* The extent of a polygon (x, y, z), n >= 3 vertices: bounds, twice its signed area in (x, y), the
+   largest |x| + |y| and |z| (the rounding errors scale with them). 0 when n < 3 or a coordinate is NaN. */
+typedef struct pvs__polyext {
+    double xmin, xmax, ymin, ymax, zmin, zmax, area2, mag, zmag;
+} pvs__polyext;
+PVS__STATIC int pvs__poly_extent(const double *x, const double *y, const double *z, int n, pvs__polyext *e) {
+    int i;
+    if (n < 3) return 0;
+    e->xmin = e->xmax = x[0]; e->ymin = e->ymax = y[0]; e->zmin = e->zmax = z[0];
+    e->area2 = e->mag = e->zmag = 0.0;
+    for (i = 0; i < n; ++i) {
+        int j = i + 1 == n ? 0 : i + 1;
+        if (!(x[i] == x[i] && y[i] == y[i] && z[i] == z[i])) return 0; /* NaN */
+        e->xmin = pvs__dmin(e->xmin, x[i]); e->xmax = pvs__dmax(e->xmax, x[i]);
+        e->ymin = pvs__dmin(e->ymin, y[i]); e->ymax = pvs__dmax(e->ymax, y[i]);
+        e->zmin = pvs__dmin(e->zmin, z[i]); e->zmax = pvs__dmax(e->zmax, z[i]);
+        e->area2 += x[i] * y[j] - x[j] * y[i];
+        e->mag = pvs__dmax(e->mag, pvs__dabs(x[i]) + pvs__dabs(y[i]));
+        e->zmag = pvs__dmax(e->zmag, pvs__dabs(z[i]));
+    }
+    return 1;
+}
+
 /* Rasterizes a convex polygon given in pixel coordinates (x, y) with depth z (affine over it) into a
    W x H float buffer, keeping the larger (nearer) depth per pixel. See the comment at the top. */
 PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *tile_min, const double *x, const double *y,
                                   const double *z, int n, int occluder, int simd, double perr, double zerr) {
     pvs__rsetup s;
-    double xmin = x[0], xmax = x[0], ymin = y[0], ymax = y[0], zmin = z[0], zmax = z[0], area2 = 0.0, mag = 0.0, zmag = 0.0;
-    double span, dx, ox, oy, iw, jh, zlo, zhi;
+    pvs__polyext e;
     int i;
-    if (n < 3) return;
-    for (i = 0; i < n; ++i) {
-        int j = i + 1 == n ? 0 : i + 1;
-        if (!(x[i] == x[i] && y[i] == y[i] && z[i] == z[i])) return; /* NaN */
-        xmin = pvs__dmin(xmin, x[i]); xmax = pvs__dmax(xmax, x[i]);
-        ymin = pvs__dmin(ymin, y[i]); ymax = pvs__dmax(ymax, y[i]);
-        zmin = pvs__dmin(zmin, z[i]); zmax = pvs__dmax(zmax, z[i]);
-        area2 += x[i] * y[j] - x[j] * y[i];
-        mag = pvs__dmax(mag, pvs__dabs(x[i]) + pvs__dabs(y[i]));
-        zmag = pvs__dmax(zmag, pvs__dabs(z[i]));
-    }
-    dx = PVS__RASTER_ERR_D * (mag + 1.0) + perr; /* perr, zerr: the vertices' own error (projection) */
-    zlo = zmin - PVS__RASTER_ERR_D * zmag - zerr;
-    zhi = zmax + PVS__RASTER_ERR_D * zmag + zerr;
+    double span, dx, ox, oy, iw, jh, zlo, zhi;
+    if (!pvs__poly_extent(x, y, z, n, &e)) return;
+    dx = PVS__RASTER_ERR_D * (e.mag + 1.0) + perr; /* perr, zerr: the vertices' own error (projection) */
+    zlo = e.zmin - PVS__RASTER_ERR_D * e.zmag - zerr;
+    zhi = e.zmax + PVS__RASTER_ERR_D * e.zmag + zerr;
     /* pixel range: inner (pixels inside the bounding box) or outer (pixels touching it) */
     if (occluder) {
-        s.i0 = pvs__clampi(ceil(xmin + dx), 0, (int32_t)W);
-        s.i1 = pvs__clampi(floor(xmax - dx) - 1.0, -1, (int32_t)W - 1);
-        s.j0 = pvs__clampi(ceil(ymin + dx), 0, (int32_t)H);
-        s.j1 = pvs__clampi(floor(ymax - dx) - 1.0, -1, (int32_t)H - 1);
+        s.i0 = pvs__clampi(ceil(e.xmin + dx), 0, (int32_t)W);
+        s.i1 = pvs__clampi(floor(e.xmax - dx) - 1.0, -1, (int32_t)W - 1);
+        s.j0 = pvs__clampi(ceil(e.ymin + dx), 0, (int32_t)H);
+        s.j1 = pvs__clampi(floor(e.ymax - dx) - 1.0, -1, (int32_t)H - 1);
     } else {
-        s.i0 = pvs__clampi(floor(xmin - dx), 0, (int32_t)W);
-        s.i1 = pvs__clampi(floor(xmax + dx), -1, (int32_t)W - 1);
-        s.j0 = pvs__clampi(floor(ymin - dx), 0, (int32_t)H);
-        s.j1 = pvs__clampi(floor(ymax + dx), -1, (int32_t)H - 1);
+        s.i0 = pvs__clampi(floor(e.xmin - dx), 0, (int32_t)W);
+        s.i1 = pvs__clampi(floor(e.xmax + dx), -1, (int32_t)W - 1);
+        s.j0 = pvs__clampi(floor(e.ymin - dx), 0, (int32_t)H);
+        s.j1 = pvs__clampi(floor(e.ymax + dx), -1, (int32_t)H - 1);
     }
     if (s.i0 > s.i1 || s.j0 > s.j1) return;
     if (tile_min) { /* hidden behind everything already drawn in every tile it overlaps: done */
@@ -3911,12 +3924,12 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
                 if (tile_min[ty * tw + tx] < zb) { open = 1; break; }
         if (!open) return;
     }
-    if (!(mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) { /* beyond any useful precision */
+    if (!(e.mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) { /* beyond any useful precision */
         if (!occluder) pvs__raster_fill(buf, W, H, tile_min, s.i0, s.i1, s.j0, s.j1, pvs__f_up(zhi));
         return;
     }
-    span = (xmax - xmin) + (ymax - ymin);
-    if (!(pvs__dabs(area2) > 1e-9 * span * span) || !(pvs__dabs(area2) > 1e-300)) {
+    span = (e.xmax - e.xmin) + (e.ymax - e.ymin);
+    if (!(pvs__dabs(e.area2) > 1e-9 * span * span) || !(pvs__dabs(e.area2) > 1e-300)) {
         /* degenerate: nothing inside as an occluder, the whole box as an occludee */
         if (!occluder) pvs__raster_fill(buf, W, H, tile_min, s.i0, s.i1, s.j0, s.j1, pvs__f_up(zhi));
         return;
@@ -3929,14 +3942,14 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
     for (i = 0; i < n; ++i) {
         int j = i + 1 == n ? 0 : i + 1;
         double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
-        if (area2 < 0) { a = -a; b = -b; }
+        if (e.area2 < 0) { a = -a; b = -b; }
         len = pvs__dabs(a) + pvs__dabs(b);
         if (len == 0.0) continue;
         a /= len;
         b /= len;
         k = a * (ox - x[i]) + b * (oy - y[i]);
         k += occluder ? pvs__dmin(0.0, a) + pvs__dmin(0.0, b) : pvs__dmax(0.0, a) + pvs__dmax(0.0, b);
-        err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) * (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len) +
+        err = (PVS__RASTER_ERR_D * (1.0 + e.mag) + perr) * (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len) +
               PVS__RASTER_ERR_F * (pvs__dabs(k) + pvs__dabs(a) * iw + pvs__dabs(b) * jh + 1e-30);
         lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh); /* the extremes over the range */
         hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
@@ -3956,7 +3969,7 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
         ++s.edges;
     }
     s.zclamp = occluder ? pvs__f_down(zlo) : pvs__f_up(zhi);
-    pvs__raster_zplane(x, y, z, n, ox, oy, iw, jh, span, mag, zmag, perr, zerr, occluder, &s.za, &s.zb, &s.zk);
+    pvs__raster_zplane(x, y, z, n, ox, oy, iw, jh, span, e.mag, e.zmag, perr, zerr, occluder, &s.za, &s.zb, &s.zk);
     pvs__raster_run(&s, buf, W, H, tile_min, occluder, simd, pvs__f_up(zhi));
 }
 
@@ -4357,32 +4370,21 @@ PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *
    margins are pvs__raster_poly's; see the comment at the top. */
 PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y, const double *z, int n, double perr, double zerr) {
     pvs__tpoly t;
-    double xmin = x[0], xmax = x[0], ymin = y[0], ymax = y[0], zmin = z[0], zmax = z[0], area2 = 0.0, mag = 0.0, zmag = 0.0;
+    pvs__polyext e;
     double span, dx, zlo;
-    int i;
-    if (n < 3) return;
-    for (i = 0; i < n; ++i) {
-        int j = i + 1 == n ? 0 : i + 1;
-        if (!(x[i] == x[i] && y[i] == y[i] && z[i] == z[i])) return; /* NaN */
-        xmin = pvs__dmin(xmin, x[i]); xmax = pvs__dmax(xmax, x[i]);
-        ymin = pvs__dmin(ymin, y[i]); ymax = pvs__dmax(ymax, y[i]);
-        zmin = pvs__dmin(zmin, z[i]); zmax = pvs__dmax(zmax, z[i]);
-        area2 += x[i] * y[j] - x[j] * y[i];
-        mag = pvs__dmax(mag, pvs__dabs(x[i]) + pvs__dabs(y[i]));
-        zmag = pvs__dmax(zmag, pvs__dabs(z[i]));
-    }
-    dx = PVS__RASTER_ERR_D * (mag + 1.0) + perr;
-    zlo = zmin - PVS__RASTER_ERR_D * zmag - zerr;
-    t.i0 = pvs__clampi(ceil(xmin + dx), 0, (int32_t)r->width);
-    t.i1 = pvs__clampi(floor(xmax - dx) - 1.0, -1, (int32_t)r->width - 1);
-    t.j0 = pvs__clampi(ceil(ymin + dx), 0, (int32_t)r->height);
-    t.j1 = pvs__clampi(floor(ymax - dx) - 1.0, -1, (int32_t)r->height - 1);
+    if (!pvs__poly_extent(x, y, z, n, &e)) return;
+    dx = PVS__RASTER_ERR_D * (e.mag + 1.0) + perr;
+    zlo = e.zmin - PVS__RASTER_ERR_D * e.zmag - zerr;
+    t.i0 = pvs__clampi(ceil(e.xmin + dx), 0, (int32_t)r->width);
+    t.i1 = pvs__clampi(floor(e.xmax - dx) - 1.0, -1, (int32_t)r->width - 1);
+    t.j0 = pvs__clampi(ceil(e.ymin + dx), 0, (int32_t)r->height);
+    t.j1 = pvs__clampi(floor(e.ymax - dx) - 1.0, -1, (int32_t)r->height - 1);
     if (t.i0 > t.i1 || t.j0 > t.j1) return;
-    if (!(mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) return;
-    span = (xmax - xmin) + (ymax - ymin);
-    if (!(pvs__dabs(area2) > 1e-9 * span * span) || !(pvs__dabs(area2) > 1e-300)) return; /* degenerate: covers nothing */
-    if (!pvs__tile_edges(&t, x, y, n, area2, mag, perr)) return;
-    pvs__tile_zplane(&t, x, y, z, n, span, mag, zmag, perr, zerr, zlo);
+    if (!(e.mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) return;
+    span = (e.xmax - e.xmin) + (e.ymax - e.ymin);
+    if (!(pvs__dabs(e.area2) > 1e-9 * span * span) || !(pvs__dabs(e.area2) > 1e-300)) return; /* degenerate: covers nothing */
+    if (!pvs__tile_edges(&t, x, y, n, e.area2, e.mag, perr)) return;
+    pvs__tile_zplane(&t, x, y, z, n, span, e.mag, e.zmag, perr, zerr, zlo);
     pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR));
 }
 
