@@ -16886,6 +16886,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
     uint32_t t, i;
     pvs_result r;
     *out = NULL;
+    memset(&w, 0, sizeof(w)); /* freed below even when its allocation is never tried */
     for (i = 0; i < s->occluder_count; ++i) {
         const pvs_occluder_desc *d = s->occluders + i;
         if (d->kind == PVS_OCCLUDER_BOX) { occ_cap += 1; pt_cap += 8; }
