@@ -4061,7 +4061,8 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
    pvs__raster_poly (see the comment at the top). Steep edges become the left edges [0, nl) and the
    right edges [nl, ne) of t; near-horizontal ones narrow the rows [jlo, jhi]. Returns 0 when no pixel
    passes some edge. */
-PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y, int n, double area2, double mag, double perr) {
+PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y, int n, double area2, double mag,
+                                double perr) {
     double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0);
     double rxi[PVS__RASTER_MAXV], rs[PVS__RASTER_MAXV], rcl[PVS__RASTER_MAXV];
     float rsf[PVS__RASTER_MAXV], rm[PVS__RASTER_MAXV];
@@ -4125,8 +4126,8 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
    pixel corner (i0, j0), lowered by its setup error, with zm the margin of the loops' float
    evaluation; zlo (the vertices' farthest depth less its error) clamps it. Without a usable plane zk
    is -FLT_MAX and za = zb = 0. */
-PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span, double mag,
-                                  double zmag, double perr, double zerr, double zlo) {
+PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span,
+                                  double mag, double zmag, double perr, double zerr, double zlo) {
     double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0), amax = 0.0;
     int i, best = -1;
     for (i = 1; i + 1 < n; ++i) {
@@ -5059,7 +5060,8 @@ PVS__STATIC uint32_t pvs__mesh_weld(uint32_t *tab, uint32_t hs, const float *pos
    marks its corners against the clip planes (r->mvst). r->mgrp[t] ends as its facing, or 0 when it
    joins no group: an index or a coordinate out of range, hidden behind earlier pieces (tiled), two
    corners welded, outside a clip plane, facing uncertain or nothing usable left after clipping. */
-PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t q[3], uint32_t hs, uint32_t t) {
+PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t q[3], uint32_t hs,
+                               uint32_t t) {
     uint32_t k, *cid = r->mcid;
     const float *p[3];
     pvs__cv v[3];
@@ -6018,7 +6020,8 @@ PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
 /* Builds the cull map's object grid over the scene's ground rectangle, w x h cells (Wonka 1999 §4.1:
    every object entered into every cell it overlaps, with the highest object top per cell, §4.3).
    Returns PVS_OK, or the error (in err) with what was allocated left in r for pvs_raster_destroy. */
-PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene *s, uint32_t w, uint32_t h, pvs_error *err) {
+PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene *s, uint32_t w, uint32_t h,
+                                                 pvs_error *err) {
     const pvs_allocator *a = &r->allocator;
     int u, v, up = (int)s->up_axis;
     size_t cells = (size_t)w * h, total = 0, i;
@@ -6274,7 +6277,8 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
 /* Selects up to p->scene_occluders triangles of the scene within p->occluder_distance of the eye by
    Bittner 2002 §4.5's area-angle measure (a sweep of the triangle tree, nearest first) and draws them
    as occluders: welded into meshes with PVS_CULL_SCENE_MESH, else one by one. Returns their count. */
-PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p) {
+PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
+                                               const pvs_cull_params *p) {
     pvs__selctx sc;
     pvs_box src;
     double len;
@@ -6309,7 +6313,8 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 /* Draws the walls of the extrusion o (footprint in the ground axes u, v, up the up axis) as occluders:
    meshes of up to 32 walls, two triangles each, neighbours sharing their vertical edge, or with
    `separate` triangle by triangle. Returns the triangles drawn. */
-PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc *o, int u, int v, int up, int separate) {
+PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc *o, int u, int v, int up,
+                                         int separate) {
     uint32_t j, drawn = 0;
     if (!separate) {
         float wp[2 * 33][3];
@@ -6347,7 +6352,8 @@ PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc 
 /* Draws the scene's explicit occluder volumes within p->occluder_distance of the eye as occluder
    triangles: a box's faces, an extrusion's walls (meshes unless PVS_CULL_SEPARATE_TRIANGLES).
    Returns the triangles drawn. */
-PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p) {
+PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
+                                       const pvs_cull_params *p) {
     static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
     float dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
@@ -7676,7 +7682,8 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 /* The cell polygon `in` (n >= 3 vertices) centred at its vertex mean (*cx, *cy) into `cell` (2 n
    doubles) and made counter-clockwise. Returns PVS_OK, or PVS_ERROR_BAD_CELL (in err) when it has no
    area or is not convex. */
-PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy, pvs_error *err) {
+PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy,
+                                     pvs_error *err) {
     double area = 0.0;
     uint32_t i;
     *cx = *cy = 0.0;
@@ -7708,8 +7715,8 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
 /* The distances of the MVD shortcut (§6.5.5) for each of the `count` segments of seg against the cell
    (n vertices), rounded outward by len_eps: reach[i] the largest distance from segment i to a cell
    point, near[i] the least (0 when the segment meets the cell). */
-PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps, double *reach,
-                                    double *near) {
+PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps,
+                                    double *reach, double *near) {
     uint32_t i, k;
     for (i = 0; i < count; ++i) {
         const double *sg = seg + 4 * i;
@@ -7733,7 +7740,8 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 /* The exact re-test of segment i (s, distance `near` from the cell) against the final tree (§6.6):
    1 when it meets the cell (n vertices), is a point, is degenerate as seen from an edge of the cell,
    or some line from an edge reaches it past the occluders. */
-PVS__STATIC int pvs__ot2_segment_visible(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i, double near) {
+PVS__STATIC int pvs__ot2_segment_visible(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
+                                         double near) {
     uint32_t k;
     int vis = 0;
     if (pvs__ot_segment_meets_polygon(s, cell, n)) vis = 1;
@@ -7977,7 +7985,8 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 /* Step 1's group: the n slots of mem (one direction and offset within tolerance) on the reference
    line of its member of longest ground extent (ties: the lower slot), as (s, h) triangles into w->sv;
    a member farther than tol from that line is left out. Returns the members kept. */
-PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__ot_order *mem, uint32_t n) {
+PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__ot_order *mem,
+                                     uint32_t n) {
     uint32_t ref = mem[0].index, nm = 0, i, k;
     double d[2], c;
     for (i = 1; i < n; ++i) {
@@ -8011,7 +8020,8 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
    first) and the interval each covers over the whole slab; an interval continues the open facade
    that ends at sa with the same interval (within tol), else opens one. The open facades it does not
    continue are emitted. Returns 0 when out of memory. */
-PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2], const double gb[2]) {
+PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2],
+                             const double gb[2]) {
     double tol = w->tol, *sec = w->sec;
     uint32_t *comp = w->comp, *que = w->que, j, nc, seen, nn = 0;
     pvs__fxopen *opn = w->opn, *nxt = w->nxt;
@@ -8833,7 +8843,8 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
                                       pvs_box *boxes);
 
 /* pvs_visibility_25d's argument checks: every error it returns but OUT_OF_MEMORY (in err). */
-PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, const pvs_word *visible_objects, pvs_error *err) {
+PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, const pvs_word *visible_objects,
+                                       pvs_error *err) {
     uint32_t nf, no, i;
     if (!desc || !visible_objects || (desc->facade_count && !desc->facades) || (desc->object_count && !desc->objects))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, facades, objects and visible_objects are required");
@@ -8856,8 +8867,8 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
    (4 doubles each), the objects into box (u0 v0 u1 v1 top), and the cell's rectangle grown by
    *margin into cell (four corners, counter-clockwise): a larger cell sees more (conservative) and is
    never degenerate. Returns the largest magnitude of the facades' coordinates, at least 1. */
-PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box, double cell[8],
-                                   double *margin) {
+PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box,
+                                   double cell[8], double *margin) {
     double ext = 1.0, hx, hy;
     uint32_t i, k;
     for (i = 0; i < desc->facade_count; ++i) {
@@ -8913,7 +8924,8 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
    scratch), then the objects its visible leaves left as candidates tested after the sweep (§7.7) and
    set in visible_objects. Returns 0 when no object is left to decide or the tree stopped (t->oom
    set when out of memory). */
-PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side, pvs_word *visible_objects) {
+PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side,
+                               pvs_word *visible_objects) {
     pvs__otree *t = w->t;
     const double *cell = w->cell, *a = cell + 2 * ((side + 1) & 3), *b = cell + 2 * side;
     uint32_t i, live = 0, no = w->desc->object_count;
@@ -8947,7 +8959,8 @@ PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void 
 
 /* A kD-tree over the facades and objects of a 2.5D query (the items of pvs_visibility_25d_boxes),
    built through al into *out. Returns PVS_OK or the error (in err). */
-PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const pvs_allocator *al, pvs_kdtree **out, pvs_error *err) {
+PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const pvs_allocator *al, pvs_kdtree **out,
+                                      pvs_error *err) {
     pvs_kdtree_desc kd;
     uint32_t nf = desc->facade_count, no = desc->object_count;
     pvs_box *boxes = (pvs_box *)pvs__alloc_array(al, (size_t)nf + no + 1, sizeof(pvs_box));
@@ -9925,7 +9938,8 @@ PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_param
    from the eye) and, with p->scene_volumes, the faces of the occluder volumes within the distance;
    inserted in order of distance from the eye (the approximate occlusion sweep, §3.2). Returns the
    polygons offered to the tree. */
-PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p) {
+PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam,
+                                             const pvs_cull_params *p) {
     uint32_t i, k, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
     pvs_box src;
     int j;
@@ -9978,7 +9992,8 @@ PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, c
 
 /* The next frame's occluder candidates (§4.5): the triangles of the objects seen within the distance
    this frame (occluder-only objects whose box may be seen), kept in o->prev. */
-PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const pvs_cull_params *p, const pvs_word *visible) {
+PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const pvs_cull_params *p,
+                                        const pvs_word *visible) {
     uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
     o->sel_count = 0;
     for (i = 0; i < o->touched_count; ++i) {
@@ -15261,8 +15276,8 @@ PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, in
 /* Scan-converts the Projection E over the rows j0..j1, columns i0..i1 of the plane f: the pixel squares
    whose worst corner passes every edge by its margin get `depth` (where nearer) in map and f->bits in
    mask (either may be NULL). Returns the pixels covered. */
-PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0, int32_t j1,
-                                       float depth, float *map, unsigned char *mask) {
+PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0,
+                                       int32_t j1, float depth, float *map, unsigned char *mask) {
     int32_t row;
     uint32_t written = 0;
     for (row = j0; row <= j1; ++row) {
@@ -16121,7 +16136,8 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
    w->gparent (union-find, the smaller index the root): triangles sharing an edge (of distinct
    vertices), coplanar up to float precision (`scale`: twice the largest coordinate) and facing the
    same way. Needs 3 n < 2^21 (edges packed with their triangle in 21 bits each). */
-PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n, pvs__epprepwork *w, double scale) {
+PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
+                                       pvs__epprepwork *w, double scale) {
     uint32_t j, k, ne = 0, g;
     /* edges (distinct-vertex pairs) with their triangle: 21 bits each */
     for (j = 0; j < n; ++j)
@@ -16157,9 +16173,9 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
    into w->e2 (each with its end points in order and its triangle); *dev the largest distance of a
    vertex from the plane of normal nr (length lr) through A[0], *area the triangles' area in (u, v).
    Returns the number of edges. */
-PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w, uint32_t m, uint32_t cnt,
-                                         const float *const *A, const double *nr, double lr, uint32_t u, uint32_t v, double *dev,
-                                         double *area) {
+PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
+                                         uint32_t m, uint32_t cnt, const float *const *A, const double *nr, double lr,
+                                         uint32_t u, uint32_t v, double *dev, double *area) {
     uint32_t h, e = 0;
     for (h = m; h < m + cnt; ++h) {
         uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
@@ -16187,9 +16203,9 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
    k corners pvs__ep_sheet_polygon left in w->q2 (in the (u, v) plane of the dominant axis ax of the
    normal nr, length lr; dev, dent its deviation and dent) as one planar occluder, and marks its
    triangles in w->used; nothing when a corner is not one of the group's vertices. */
-PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
-                                    uint32_t m, uint32_t cnt, uint32_t k, const double *nr, double lr, uint32_t ax, double dev,
-                                    double dent, double scale) {
+PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
+                                    pvs__epprepwork *w, uint32_t m, uint32_t cnt, uint32_t k, const double *nr,
+                                    double lr, uint32_t ax, double dev, double dent, double scale) {
     const float *q3[PVS__EP_MAXP];
     uint32_t i, h, found = 0, u = (ax + 1) % 3, v = (ax + 2) % 3;
     for (i = 0; i < k; ++i) { /* the corners back in 3D: the group's vertices with those (u, v) */
@@ -16336,7 +16352,8 @@ PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn
 /* The boundary of component `comp` (triangles tl[0 .. n) of the object): its edges by distinct-vertex
    pairs used an odd number of times, into w->edges[0 .. nb) (returns nb), and its distinct vertices
    into w->uv[0 .. *nuv). */
-PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32_t *tl, uint32_t n, uint32_t comp, uint32_t *nuv) {
+PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32_t *tl, uint32_t n, uint32_t comp,
+                                                uint32_t *nuv) {
     uint32_t j, k, ne = 0, nb = 0;
     for (j = 0; j < n; ++j)
         for (k = 0; k < 3; ++k) {
@@ -16363,8 +16380,8 @@ PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32
 /* The component's triangles (tl[0 .. n), scene triangles t0 + tl[j]) as planar occluders: coplanar
    edge-connected triangles whose union is convex become one (pvs__ep_merge_planar), then consecutive
    coplanar triangles forming a convex quad, then each triangle left with a non-zero area. */
-PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
-                                            pvs__epprepwork *w) {
+PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
+                                            uint32_t n, pvs__epprepwork *w) {
     uint32_t j, k;
     pvs_result r = pvs__ep_merge_planar(p, s, t0, tl, n, w);
     if (r != PVS_OK) return r;
@@ -16391,9 +16408,9 @@ PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scen
 /* Keeps a closed or capped component (triangles tl[0 .. n), scene triangles t0 + tl[j]) for slicing
    (§3.3): its triangles and box, and when capped its nb boundary edges (distinct-vertex pairs in bnd)
    and the cap's plane. */
-PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
-                                         const pvs__epprepwork *w, const uint32_t *bnd, uint32_t nb, int capped, int cap_axis, int cap_side,
-                                         float cap_value) {
+PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
+                                         uint32_t n, const pvs__epprepwork *w, const uint32_t *bnd, uint32_t nb,
+                                         int capped, int cap_axis, int cap_side, float cap_value) {
     const pvs_allocator *a = &p->allocator;
     pvs__epslice *sl;
     pvs_result r = PVS_OK;
@@ -16436,8 +16453,9 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
 /* One component (triangles tl[0 .. n) of an object of tn triangles, root `comp`): a closed convex one
    becomes one solid (a capped one a solid for the cells on the cap's solid side); any other its
    polygons, and a closed or capped one is also kept for slicing. */
-PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
-                                                 uint32_t comp, uint32_t tn, pvs__epprepwork *w) {
+PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0,
+                                                 const uint32_t *tl, uint32_t n, uint32_t comp, uint32_t tn,
+                                                 pvs__epprepwork *w) {
     uint32_t nuv, j, k, closed, *bnd = w->owner; /* owner is done with */
     uint32_t nb = pvs__ep_component_boundary(w, tl, n, comp, &nuv), tris_local[2 * PVS__EP_MAXP];
     int capped = 0, cap_axis = 0, cap_side = 0;
@@ -16573,7 +16591,8 @@ PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwo
 
 /* Keeps the sheet polygon q (m vertices, area `area`) in the plane x_axis = value if it is among the
    PVS__EP_MAX_SHEETS largest so far (replacing the smallest). */
-PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float value, const float *q, uint32_t m, double area) {
+PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float value, const float *q, uint32_t m,
+                                          double area) {
     pvs_result r = PVS_OK;
     uint32_t slot;
     if (p->sheet_count < PVS__EP_MAX_SHEETS) slot = p->sheet_count++;
@@ -16599,7 +16618,8 @@ PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float 
 /* The sheets among n >= 2 triangles in one axis-aligned plane (key[0 .. n), one axis and value): the
    pieces joined by shared edges (a lamp's base lying on the ground is a piece of its own) whose union
    is one convex polygon (pvs__ep_sheet_polygon), kept by pvs__ep_keep_sheet. */
-PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene *s, const pvs__epskey *key, size_t n, pvs__epsheetwork *w) {
+PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene *s, const pvs__epskey *key, size_t n,
+                                           pvs__epsheetwork *w) {
     int k = (int)key[0].axis, u = (k + 1) % 3, v = (k + 2) % 3;
     uint32_t ne = (uint32_t)(3 * n), m;
     pvs__epedge2 *e;
@@ -16654,7 +16674,8 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
    plane, inside its polygon, the others on one side (*above: 1 above it, 0 below) and each exactly
    over one of those or strictly inside their hull F, the footprint; no concave occluder, and at most
    PVS__EP_MAXP points once extended. */
-PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *oc, const pvs__epsheet *S, uint32_t *on, int *above) {
+PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *oc, const pvs__epsheet *S, uint32_t *on,
+                                  int *above) {
     const float *pts = p->pts + 3 * (size_t)oc->first, *poly = p->spoly + 2 * (size_t)S->first;
     int k = S->axis, u = (k + 1) % 3, v = (k + 2) % 3, below = 0, ok = 1, hn;
     double fp[PVS__EP_MAXP][2], fh[PVS__EP_MAXP + 1][2];
@@ -16689,7 +16710,8 @@ PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *
 
 /* Gives occluder oc, standing on sheet sh with `on` vertices in its plane (pvs__ep_stands_on), its
    extended point set: its points plus those in the plane pushed through it by D, away from `above`. */
-PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint32_t sh, uint32_t on, int above, double D) {
+PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint32_t sh, uint32_t on, int above,
+                                      double D) {
     const pvs__epsheet *S = p->sheet + sh;
     const float *pts;
     pvs_result r = PVS_OK;
@@ -16978,8 +17000,8 @@ PVS__STATIC int pvs__ep_double_cmp(const void *a, const void *b) {
 /* The section of component c's triangles by the plane w = W of frame f: one segment (pixels) per
    triangle crossing it, into sc->seg from segment nseg on; vertices on the plane count as beyond it.
    *mag grows to the points' size (their rounding). Returns the new segment count. */
-PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
-                                          pvs__epslicer *sc, uint32_t nseg, double *mag) {
+PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
+                                          const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double *mag) {
     uint32_t i;
     for (i = 0; i < c->count; ++i) {
         const uint32_t *ix = s->indices + 3 * (size_t)p->stri[c->first + i];
@@ -17013,8 +17035,8 @@ PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj
    on it, paired in order along the line into segments of sc->seg from nseg on (*mag grows as in
    pvs__ep_section_tris). Returns the new segment count, or 0xffffffff for an odd number of points
    (cannot happen for a closed boundary; be safe). */
-PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f, pvs__epslicer *sc,
-                                         uint32_t nseg, double *mag) {
+PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
+                                         pvs__epslicer *sc, uint32_t nseg, double *mag) {
     double *pts = sc->xs;
     uint32_t i, ncap = 0, x, y;
     int key;
@@ -17051,8 +17073,8 @@ PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__
    parity crossings of its centre line (half-open in y), less the pixels a segment passes through in
    the row's band widened by m; those get `depth` (where nearer) in map and f->bits in mask (either
    may be NULL). Returns the pixels written. */
-PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double m, float depth, float *map,
-                                          unsigned char *mask) {
+PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double m,
+                                          float depth, float *map, unsigned char *mask) {
     double ylo = DBL_MAX, yhi = -DBL_MAX;
     int32_t j0, j1, j;
     uint32_t i, written = 0;
@@ -17285,8 +17307,8 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
    corners (their bounding box when the views are collinear), widened by the views' rounding and a
    thousandth of a pixel for the crossing test. `base` bounds the frame's terms. Returns 0 when the
    views are too far to bound: then every candidate pixel is marked. */
-PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, double base, unsigned char *cmark, int32_t i0, int32_t i1,
-                                      int32_t j0, int32_t j1) {
+PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, double base, unsigned char *cmark,
+                                      int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
     const pvs__epframe f = *fp;
     double pts[16][2], hull[17][2], err = 0.0, hy0 = DBL_MAX, hy1 = -DBL_MAX;
     int c, k = 0, hn, m;
@@ -17358,8 +17380,9 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
    dominant axis pax) in front of the plane (front) or behind it, inside its boundary (E, n edges) by
    parity, and farther from the boundary than the surface's slack allows (scale: the boundary's
    size). */
-PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *o, const double *E, uint32_t n, const double *world0,
-                                       const double *pn, int pax, int front, double scale, int32_t xm, int32_t row) {
+PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *o, const double *E, uint32_t n,
+                                       const double *world0, const double *pn, int pax, int front, double scale,
+                                       int32_t xm, int32_t row) {
     double X[3], dir[3], den, t, cp[3], best = DBL_MAX, tol, slack = o->slack;
     int c, inside = 0, pu = (pax + 1) % 3, pv = (pax + 2) % 3;
     uint32_t q;
@@ -19251,7 +19274,8 @@ typedef struct pvs__shrink3d {
    frustum's being tan(0.8) = 1.03), into w->cand. *far: the greatest distance ahead among them;
    crect: the union of their images (pvs__shrink_view_rect) when *bounded stays 1. Returns their
    count. */
-PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, int dax, int pos, double *far, double crect[4], int *bounded) {
+PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, int dax, int pos, double *far,
+                                            double crect[4], int *bounded) {
     const pvs_scene *s = w->s;
     uint32_t ob, ncand = 0;
     double brect[4];
@@ -19317,7 +19341,8 @@ PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir
 /* The samples of one face of the cell (face / 2 its axis, the max side when odd) on a grid with
    spacing <= `spacing`, its corners included, each looking in the six directions. UNSUPPORTED when a
    side needs more than 1024 samples. */
-PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, uint32_t face, float spacing, pvs_error *err) {
+PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, uint32_t face, float spacing,
+                                        pvs_error *err) {
     int ax = (int)face / 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
     uint32_t n1 = (uint32_t)ceil(((double)cell->max[a1] - cell->min[a1]) / spacing) + 1u;
     uint32_t n2 = (uint32_t)ceil(((double)cell->max[a2] - cell->min[a2]) / spacing) + 1u;
