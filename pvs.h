@@ -4268,7 +4268,8 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
    pvs__raster_poly (see the comment at the top). Steep edges become the left edges [0, nl) and the
    right edges [nl, ne) of t; near-horizontal ones narrow the rows [jlo, jhi]. Returns 0 when no pixel
    passes some edge. */
-PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y, int n, double area2, double mag, double perr) {
+PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y, int n, double area2, double mag,
+                                double perr) {
     double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0);
     double rxi[PVS__RASTER_MAXV], rs[PVS__RASTER_MAXV], rcl[PVS__RASTER_MAXV];
     float rsf[PVS__RASTER_MAXV], rm[PVS__RASTER_MAXV];
@@ -4332,8 +4333,8 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
    pixel corner (i0, j0), lowered by its setup error, with zm the margin of the loops' float
    evaluation; zlo (the vertices' farthest depth less its error) clamps it. Without a usable plane zk
    is -FLT_MAX and za = zb = 0. */
-PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span, double mag,
-                                  double zmag, double perr, double zerr, double zlo) {
+PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span,
+                                  double mag, double zmag, double perr, double zerr, double zlo) {
     double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0), amax = 0.0;
     int i, best = -1;
     for (i = 1; i + 1 < n; ++i) {
@@ -5255,7 +5256,8 @@ PVS__STATIC uint32_t pvs__mesh_weld(uint32_t *tab, uint32_t hs, const float *pos
    marks its corners against the clip planes (r->mvst). r->mgrp[t] ends as its facing, or 0 when it
    joins no group: an index or a coordinate out of range, hidden behind earlier pieces (tiled), two
    corners welded, outside a clip plane, facing uncertain or nothing usable left after clipping. */
-PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t q[3], uint32_t hs, uint32_t t) {
+PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t q[3], uint32_t hs,
+                               uint32_t t) {
     uint32_t k, *cid = r->mcid;
     const float *p[3];
     pvs__cv v[3];
@@ -6214,7 +6216,8 @@ PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
 /* Builds the cull map's object grid over the scene's ground rectangle, w x h cells (Wonka 1999 §4.1:
    every object entered into every cell it overlaps, with the highest object top per cell, §4.3).
    Returns PVS_OK, or the error (in err) with what was allocated left in r for pvs_raster_destroy. */
-PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene *s, uint32_t w, uint32_t h, pvs_error *err) {
+PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene *s, uint32_t w, uint32_t h,
+                                                 pvs_error *err) {
     const pvs_allocator *a = &r->allocator;
     int u, v, up = (int)s->up_axis;
     size_t cells = (size_t)w * h, total = 0, i;
@@ -6456,7 +6459,8 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
 /* Selects up to p->scene_occluders triangles of the scene within p->occluder_distance of the eye by
    Bittner 2002 §4.5's area-angle measure (a sweep of the triangle tree, nearest first) and draws them
    as occluders: welded into meshes with PVS_CULL_SCENE_MESH, else one by one. Returns their count. */
-PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p) {
+PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
+                                               const pvs_cull_params *p) {
     pvs__selctx sc;
     pvs_box src;
     double len;
@@ -6491,7 +6495,8 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 /* Draws the walls of the extrusion o (footprint in the ground axes u, v, up the up axis) as occluders:
    meshes of up to 32 walls, two triangles each, neighbours sharing their vertical edge, or with
    `separate` triangle by triangle. Returns the triangles drawn. */
-PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc *o, int u, int v, int up, int separate) {
+PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc *o, int u, int v, int up,
+                                         int separate) {
     uint32_t j, drawn = 0;
     if (!separate) {
         float wp[2 * 33][3];
@@ -6529,7 +6534,8 @@ PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc 
 /* Draws the scene's explicit occluder volumes within p->occluder_distance of the eye as occluder
    triangles: a box's faces, an extrusion's walls (meshes unless PVS_CULL_SEPARATE_TRIANGLES).
    Returns the triangles drawn. */
-PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p) {
+PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
+                                       const pvs_cull_params *p) {
     static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
     float dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
@@ -7801,7 +7807,8 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 /* The cell polygon `in` (n >= 3 vertices) centred at its vertex mean (*cx, *cy) into `cell` (2 n
    doubles) and made counter-clockwise. Returns PVS_OK, or PVS_ERROR_BAD_CELL (in err) when it has no
    area or is not convex. */
-PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy, pvs_error *err) {
+PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy,
+                                     pvs_error *err) {
     double area = 0.0;
     uint32_t i;
     *cx = *cy = 0.0;
@@ -7833,8 +7840,8 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
 /* The distances of the MVD shortcut (§6.5.5) for each of the `count` segments of seg against the cell
    (n vertices), rounded outward by len_eps: reach[i] the largest distance from segment i to a cell
    point, near[i] the least (0 when the segment meets the cell). */
-PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps, double *reach,
-                                    double *near) {
+PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps,
+                                    double *reach, double *near) {
     uint32_t i, k;
     for (i = 0; i < count; ++i) {
         const double *sg = seg + 4 * i;
@@ -7858,7 +7865,8 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 /* The exact re-test of segment i (s, distance `near` from the cell) against the final tree (§6.6):
    1 when it meets the cell (n vertices), is a point, is degenerate as seen from an edge of the cell,
    or some line from an edge reaches it past the occluders. */
-PVS__STATIC int pvs__ot2_segment_visible(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i, double near) {
+PVS__STATIC int pvs__ot2_segment_visible(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
+                                         double near) {
     uint32_t k;
     int vis = 0;
     if (pvs__ot_segment_meets_polygon(s, cell, n)) vis = 1;
@@ -8102,7 +8110,8 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 /* Step 1's group: the n slots of mem (one direction and offset within tolerance) on the reference
    line of its member of longest ground extent (ties: the lower slot), as (s, h) triangles into w->sv;
    a member farther than tol from that line is left out. Returns the members kept. */
-PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__key_index *mem, uint32_t n) {
+PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__key_index *mem,
+                                     uint32_t n) {
     uint32_t ref = mem[0].index, nm = 0, i, k;
     double d[2], c;
     for (i = 1; i < n; ++i) {
@@ -8136,7 +8145,8 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
    first) and the interval each covers over the whole slab; an interval continues the open facade
    that ends at sa with the same interval (within tol), else opens one. The open facades it does not
    continue are emitted. Returns 0 when out of memory. */
-PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2], const double gb[2]) {
+PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2],
+                             const double gb[2]) {
     double tol = w->tol, *sec = w->sec;
     uint32_t *comp = w->comp, *que = w->que, j, nc, seen, nn = 0;
     pvs__fxopen *opn = w->opn, *nxt = w->nxt;
@@ -8896,7 +8906,8 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
                                       pvs_box *boxes);
 
 /* pvs_visibility_25d's argument checks: every error it returns but OUT_OF_MEMORY (in err). */
-PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, const pvs_word *visible_objects, pvs_error *err) {
+PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, const pvs_word *visible_objects,
+                                       pvs_error *err) {
     uint32_t nf, no, i;
     if (!desc || !visible_objects || (desc->facade_count && !desc->facades) || (desc->object_count && !desc->objects))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, facades, objects and visible_objects are required");
@@ -8919,8 +8930,8 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
    (4 doubles each), the objects into box (u0 v0 u1 v1 top), and the cell's rectangle grown by
    *margin into cell (four corners, counter-clockwise): a larger cell sees more (conservative) and is
    never degenerate. Returns the largest magnitude of the facades' coordinates, at least 1. */
-PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box, double cell[8],
-                                   double *margin) {
+PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box,
+                                   double cell[8], double *margin) {
     double ext = 1.0, hx, hy;
     uint32_t i, k;
     for (i = 0; i < desc->facade_count; ++i) {
@@ -8976,7 +8987,8 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
    scratch), then the objects its visible leaves left as candidates tested after the sweep (§7.7) and
    set in visible_objects. Returns 0 when no object is left to decide or the tree stopped (t->oom
    set when out of memory). */
-PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side, pvs_word *visible_objects) {
+PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side,
+                               pvs_word *visible_objects) {
     pvs__otree *t = w->t;
     const double *cell = w->cell, *a = cell + 2 * ((side + 1) & 3), *b = cell + 2 * side;
     uint32_t i, live = 0, no = w->desc->object_count;
@@ -9010,7 +9022,8 @@ PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void 
 
 /* A kD-tree over the facades and objects of a 2.5D query (the items of pvs_visibility_25d_boxes),
    built through al into *out. Returns PVS_OK or the error (in err). */
-PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const pvs_allocator *al, pvs_kdtree **out, pvs_error *err) {
+PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const pvs_allocator *al, pvs_kdtree **out,
+                                      pvs_error *err) {
     pvs_kdtree_desc kd;
     uint32_t nf = desc->facade_count, no = desc->object_count;
     pvs_box *boxes = (pvs_box *)pvs__alloc_array(al, (size_t)nf + no + 1, sizeof(pvs_box));
@@ -9952,7 +9965,8 @@ PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_param
    from the eye) and, with p->scene_volumes, the faces of the occluder volumes within the distance;
    inserted in order of distance from the eye (the approximate occlusion sweep, §3.2). Returns the
    polygons offered to the tree. */
-PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p) {
+PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam,
+                                             const pvs_cull_params *p) {
     uint32_t i, k, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
     pvs_box src;
     int j;
@@ -10005,7 +10019,8 @@ PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, c
 
 /* The next frame's occluder candidates (§4.5): the triangles of the objects seen within the distance
    this frame (occluder-only objects whose box may be seen), kept in o->prev. */
-PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const pvs_cull_params *p, const pvs_word *visible) {
+PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const pvs_cull_params *p,
+                                        const pvs_word *visible) {
     uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
     o->sel_count = 0;
     for (i = 0; i < o->touched_count; ++i) {
@@ -15937,19 +15952,20 @@ PVS__STATIC void pvs__ep_mask_set(unsigned char *mask, unsigned char bits, size_
     for (i = 0; i < n; ++i) mask[i] = (unsigned char)(mask[i] | bits);
 }
 
-/* The Projection of the part of a convex occluder inside the depth slab [lo, hi]: the views are
-   convex hulls of the projected vertices of the clipped part. The clipped part's vertices are among
-   the points inside the slab and the ends of the clipped segments between any two points. */
-PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo, double whi, double slack,
-                                           float *map, unsigned char *mask) {
-    pvs__epframe f = *fp;
-    double P[PVS__EP_CLIPN][3], pts[PVS__EP_CLIPN][2], hull[PVS__EP_CLIPN + 1][2];
-    double ea[8 * PVS__EP_CLIPN], eb[8 * PVS__EP_CLIPN], ec[8 * PVS__EP_CLIPN], ee[8 * PVS__EP_CLIPN], ei[8 * PVS__EP_CLIPN];
-    double dmax = 0.0, xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, base;
-    int n = 0, i, j, c, edges = 0;
-    int32_t i0, i1, j0, j1, row;
-    uint32_t written = 0;
-    float depth;
+/* The edges of a Projection in pixel coordinates: a x + b y + c >= 0 inside, |a| + |b| = 1, e bounds
+   the error of the computed function, inv = 1 / a (0 for nearly horizontal edges); the intersection
+   of the views' bounding boxes [xlo, xhi] x [ylo, yhi]. */
+typedef struct pvs__epedges {
+    double a[8 * PVS__EP_CLIPN], b[8 * PVS__EP_CLIPN], c[8 * PVS__EP_CLIPN], e[8 * PVS__EP_CLIPN], inv[8 * PVS__EP_CLIPN];
+    int n;
+    double xlo, xhi, ylo, yhi;
+} pvs__epedges;
+
+/* The vertices of the part of a convex occluder (src, count points in frame coordinates) inside the
+   depth slab [wlo, whi] into P: the points inside the slab and the ends of the clipped segments
+   between any two points. Returns their count. */
+PVS__STATIC int pvs__ep_clip_slab(const double (*src)[3], int count, double wlo, double whi, double (*P)[3]) {
+    int n = 0, i, j;
     for (i = 0; i < count; ++i)
         if (src[i][2] >= wlo && src[i][2] <= whi) {
             P[n][0] = src[i][0]; P[n][1] = src[i][1]; P[n][2] = src[i][2];
@@ -15971,10 +15987,19 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
                 ++n;
             }
         }
-    if (n < 3) return 0;
-    for (i = 0; i < n; ++i) dmax = pvs__dmax(dmax, P[i][2]);
-    base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv;
-    /* the intersection of the views from the 8 corners of the cell (§3.2) */
+    return n;
+}
+
+/* The Projection of the convex point set P (n points, `slack` its shape's error) as the intersection
+   of its views from the 8 corners of the cell (§3.2): each view the convex hull of the projected
+   points, its edges with an error bound into E. Returns 0 when it certainly covers no whole pixel
+   (or lies beyond any useful precision). */
+PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int n, double slack, pvs__epedges *E) {
+    pvs__epframe f = *fp;
+    double pts[PVS__EP_CLIPN][2], hull[PVS__EP_CLIPN + 1][2], base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv;
+    int i, c;
+    E->n = 0;
+    E->xlo = -DBL_MAX; E->xhi = DBL_MAX; E->ylo = -DBL_MAX; E->yhi = DBL_MAX;
     for (c = 0; c < 8; ++c) {
         double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], h;
         double bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX, area2 = 0.0, mag = 0.0, verr, smax = 0.0;
@@ -15999,9 +16024,9 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
            convex solids, within float precision) */
         verr = 1e-12 * (mag + base + 1.0) + slack * smax * pvs__dmax(f.su, f.sv);
         if (!(bx1 - bx0 < 1e15) || !(by1 - by0 < 1e15)) return 0; /* beyond any useful precision */
-        xlo = pvs__dmax(xlo, bx0); xhi = pvs__dmin(xhi, bx1);
-        ylo = pvs__dmax(ylo, by0); yhi = pvs__dmin(yhi, by1);
-        if (xhi - xlo < 1.0 || yhi - ylo < 1.0) return 0; /* no whole pixel fits */
+        E->xlo = pvs__dmax(E->xlo, bx0); E->xhi = pvs__dmin(E->xhi, bx1);
+        E->ylo = pvs__dmax(E->ylo, by0); E->yhi = pvs__dmin(E->yhi, by1);
+        if (E->xhi - E->xlo < 1.0 || E->yhi - E->ylo < 1.0) return 0; /* no whole pixel fits */
         k = pvs__ep_hull(pts, n, hull);
         if (k < 3) return 0;
         for (i = 0; i < k; ++i) area2 += hull[i][0] * hull[i + 1 < k ? i + 1 : 0][1] - hull[i + 1 < k ? i + 1 : 0][0] * hull[i][1];
@@ -16010,60 +16035,67 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
         for (i = 0; i < k; ++i) {
             const double *p = hull[i], *q = hull[i + 1 < k ? i + 1 : 0];
             double a = -(q[1] - p[1]), b = q[0] - p[0], len = pvs__dabs(a) + pvs__dabs(b);
+            int m = E->n;
             if (!(len > 0.0)) continue;
-            ea[edges] = a / len;
-            eb[edges] = b / len;
-            ec[edges] = -(ea[edges] * p[0] + eb[edges] * p[1]);
+            E->a[m] = a / len;
+            E->b[m] = b / len;
+            E->c[m] = -(E->a[m] * p[0] + E->b[m] * p[1]);
             /* moving both ends by verr changes (a, b) by 2 verr each and the L1 norm by 4 verr: at
                a pixel at L1 distance D from p the normalized edge function moves by at most
                verr (1 + 6 D / len) */
-            ee[edges] = verr * (2.0 + 8.0 * (pvs__dabs(p[0]) + pvs__dabs(p[1]) + (double)f.width + (double)f.height + 2.0) / len);
-            ++edges;
+            E->e[m] = verr * (2.0 + 8.0 * (pvs__dabs(p[0]) + pvs__dabs(p[1]) + (double)f.width + (double)f.height + 2.0) / len);
+            ++E->n;
         }
     }
-    i0 = pvs__clampi(ceil(xlo), 0, (int32_t)f.width);
-    i1 = pvs__clampi(floor(xhi) - 1.0, -1, (int32_t)f.width - 1);
-    j0 = pvs__clampi(ceil(ylo), 0, (int32_t)f.height);
-    j1 = pvs__clampi(floor(yhi) - 1.0, -1, (int32_t)f.height - 1);
-    if (i0 > i1 || j0 > j1) return 0;
-    depth = pvs__f_up(dmax + 1e-12 * dmax);
-    {
-        /* edges that hold for every candidate pixel square ([i0, i1 + 1] x [j0, j1 + 1], where the
-           linear edge function is least at a corner) by more than the row loop's margins cannot
-           cut a row: drop them (most edges of the eight views lie outside their intersection) */
-        int e, m = 0;
-        double x0 = i0, x1 = (double)i1 + 1.0, y0 = j0, y1 = (double)j1 + 1.0;
-        for (e = 0; e < edges; ++e) {
-            double a = ea[e], b = eb[e], cc = ec[e];
-            double least = cc + pvs__dmin(a * x0, a * x1) + pvs__dmin(b * y0, b * y1);
-            double errmax = 1e-6 + ee[e] + 1e-12 * (pvs__dabs(cc) + pvs__dabs(b) * y1);
-            double room = 1e-6 + 1e-8 * (pvs__dabs(cc) + pvs__dabs(b) * y1 + pvs__dabs(a) * x1);
-            if (least - errmax > room) continue;
-            ea[m] = a;
-            eb[m] = b;
-            ec[m] = cc;
-            ee[m] = 1e-6 + ee[e] + 1e-12 * pvs__dabs(cc); /* the row loop's margin, less its row part */
-            /* 1 / a: a product by it is within two ulps of the quotient, far inside the row loop's
-               margin of 1e-9 |x| */
-            ei[m] = pvs__dabs(a) > 1e-12 ? 1.0 / a : 0.0;
-            ++m;
-        }
-        edges = m;
+    return 1;
+}
+
+/* Drops the edges of E that hold for every candidate pixel square ([i0, i1 + 1] x [j0, j1 + 1], where
+   the linear edge function is least at a corner) by more than the row loop's margins: they cannot cut
+   a row (most edges of the eight views lie outside their intersection). The kept ones get the row
+   loop's margin, less its row part, and 1 / a. */
+PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
+    int e, m = 0;
+    double x0 = i0, x1 = (double)i1 + 1.0, y0 = j0, y1 = (double)j1 + 1.0;
+    for (e = 0; e < E->n; ++e) {
+        double a = E->a[e], b = E->b[e], cc = E->c[e];
+        double least = cc + pvs__dmin(a * x0, a * x1) + pvs__dmin(b * y0, b * y1);
+        double errmax = 1e-6 + E->e[e] + 1e-12 * (pvs__dabs(cc) + pvs__dabs(b) * y1);
+        double room = 1e-6 + 1e-8 * (pvs__dabs(cc) + pvs__dabs(b) * y1 + pvs__dabs(a) * x1);
+        if (least - errmax > room) continue;
+        E->a[m] = a;
+        E->b[m] = b;
+        E->c[m] = cc;
+        E->e[m] = 1e-6 + E->e[e] + 1e-12 * pvs__dabs(cc); /* the row loop's margin, less its row part */
+        /* 1 / a: a product by it is within two ulps of the quotient, far inside the row loop's
+           margin of 1e-9 |x| */
+        E->inv[m] = pvs__dabs(a) > 1e-12 ? 1.0 / a : 0.0;
+        ++m;
     }
+    E->n = m;
+}
+
+/* Scan-converts the Projection E over the rows j0..j1, columns i0..i1 of the plane f: the pixel squares
+   whose worst corner passes every edge by its margin get `depth` (where nearer) in map and f->bits in
+   mask (either may be NULL). Returns the pixels covered. */
+PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0,
+                                       int32_t j1, float depth, float *map, unsigned char *mask) {
+    int32_t row;
+    uint32_t written = 0;
     for (row = j0; row <= j1; ++row) {
         double lo = i0, hi = i1, y = row;
         int e;
-        for (e = 0; e < edges && lo <= hi; ++e) {
-            double a = ea[e], b = eb[e];
+        for (e = 0; e < E->n && lo <= hi; ++e) {
+            double a = E->a[e], b = E->b[e];
             /* the pixel's worst corner: a (i + [a < 0]) + b (y + [b < 0]) + c >= err */
-            double r = ec[e] + b * y + (b < 0.0 ? b : 0.0) + (a < 0.0 ? a : 0.0);
-            r -= ee[e] + 1e-12 * pvs__dabs(b * y);
+            double r = E->c[e] + b * y + (b < 0.0 ? b : 0.0) + (a < 0.0 ? a : 0.0);
+            r -= E->e[e] + 1e-12 * pvs__dabs(b * y);
             if (a > 1e-12) {
-                double x = -r * ei[e];
+                double x = -r * E->inv[e];
                 x += 1e-9 * (1.0 + pvs__dabs(x));
                 if (x > lo) lo = x > hi ? hi + 1.0 : pvs__ceil_small(x);
             } else if (a < -1e-12) {
-                double x = -r * ei[e];
+                double x = -r * E->inv[e];
                 x -= 1e-9 * (1.0 + pvs__dabs(x));
                 if (x < hi) hi = x < lo ? lo - 1.0 : pvs__floor_small(x);
             } else {
@@ -16076,15 +16108,37 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
         {
             int32_t x0 = (int32_t)lo, x1 = (int32_t)hi, x;
             if (map) {
-                float *px = map + (size_t)row * f.width;
+                float *px = map + (size_t)row * f->width;
                 for (x = x0; x <= x1; ++x)
                     if (px[x] > depth) px[x] = depth;
             }
-            if (mask) pvs__ep_mask_set(mask + (size_t)row * f.width + x0, f.bits, (size_t)(x1 - x0 + 1));
+            if (mask) pvs__ep_mask_set(mask + (size_t)row * f->width + x0, f->bits, (size_t)(x1 - x0 + 1));
             written += (uint32_t)(x1 - x0 + 1);
         }
     }
     return written;
+}
+
+/* The Projection of the part of a convex occluder inside the depth slab [lo, hi]: the views are
+   convex hulls of the projected vertices of the clipped part. The clipped part's vertices are among
+   the points inside the slab and the ends of the clipped segments between any two points. */
+PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo, double whi, double slack,
+                                           float *map, unsigned char *mask) {
+    double P[PVS__EP_CLIPN][3], dmax = 0.0;
+    pvs__epedges E;
+    int n, i;
+    int32_t i0, i1, j0, j1;
+    n = pvs__ep_clip_slab(src, count, wlo, whi, P);
+    if (n < 3) return 0;
+    for (i = 0; i < n; ++i) dmax = pvs__dmax(dmax, P[i][2]);
+    if (!pvs__ep_views(fp, (const double (*)[3])P, n, slack, &E)) return 0;
+    i0 = pvs__clampi(ceil(E.xlo), 0, (int32_t)fp->width);
+    i1 = pvs__clampi(floor(E.xhi) - 1.0, -1, (int32_t)fp->width - 1);
+    j0 = pvs__clampi(ceil(E.ylo), 0, (int32_t)fp->height);
+    j1 = pvs__clampi(floor(E.yhi) - 1.0, -1, (int32_t)fp->height - 1);
+    if (i0 > i1 || j0 > j1) return 0;
+    pvs__ep_edges_prune(&E, i0, i1, j0, j1);
+    return pvs__ep_fill_rows(fp, &E, i0, i1, j0, j1, pvs__f_up(dmax + 1e-12 * dmax), map, mask);
 }
 
 /* 0 when the part of the occluder (points P in frame coordinates) in the depth slab [wlo, whi]
@@ -16880,28 +16934,13 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
     return PVS_OK;
 }
 
-/* Durand 2000 §3.3-3.4: a wall made of several triangles must act as one occluder, or every piece
-   alone loses a strip along each shared edge to that edge's penumbra and the wall hides nothing.
-   Groups the component's triangles (tl[0 .. n), scene triangles t0 + tl[j]) that are coplanar up
-   to float precision, face the same way and are joined by shared edges; a group of two or more
-   whose union is one convex polygon (pvs__ep_sheet_polygon: boundary edges forming one loop, one
-   turn, the loop's area equal to the triangles') of at most PVS__EP_MAXP corners becomes one planar
-   occluder, and its triangles are marked in w->used. The hull of the corners exceeds the surface by
-   at most the largest distance of a corner from the group's plane (the slack, doubled, and once
-   more for measuring along the dominant axis). */
-PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
-                                            pvs__epprepwork *w) {
+/* The planar groups of the component's triangles (tl[0 .. n), scene triangles t0 + tl[j]) into
+   w->gparent (union-find, the smaller index the root): triangles sharing an edge (of distinct
+   vertices), coplanar up to float precision (`scale`: twice the largest coordinate) and facing the
+   same way. Needs 3 n < 2^21 (edges packed with their triangle in 21 bits each). */
+PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
+                                       pvs__epprepwork *w, double scale) {
     uint32_t j, k, ne = 0, g;
-    double scale = 0.0;
-    pvs_result r = PVS_OK;
-    for (j = 0; j < n; ++j) { w->used[j] = 0; w->gparent[j] = j; }
-    if (n < 2 || 3 * (uint64_t)n >= (1u << 21)) return PVS_OK;
-    for (j = 0; j < n; ++j)
-        for (k = 0; k < 3; ++k) {
-            const float *x = PVS__EP_TRI(j, k);
-            int c;
-            for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, 2.0 * pvs__dabs((double)x[c]));
-        }
     /* edges (distinct-vertex pairs) with their triangle: 21 bits each */
     for (j = 0; j < n; ++j)
         for (k = 0; k < 3; ++k) {
@@ -16930,12 +16969,118 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
         }
         g = h;
     }
+}
+
+/* The edges of a planar group (triangles tl[w->edges[m .. m + cnt) & 0xffffffff]) in the (u, v) plane
+   into w->e2 (each with its end points in order and its triangle); *dev the largest distance of a
+   vertex from the plane of normal nr (length lr) through A[0], *area the triangles' area in (u, v).
+   Returns the number of edges. */
+PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
+                                         uint32_t m, uint32_t cnt, const float *const *A, const double *nr, double lr,
+                                         uint32_t u, uint32_t v, double *dev, double *area) {
+    uint32_t h, e = 0;
+    for (h = m; h < m + cnt; ++h) {
+        uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
+        const float *C[3];
+        for (c = 0; c < 3; ++c) {
+            const float *x = C[c] = PVS__EP_TRI(t, c);
+            *dev = pvs__dmax(*dev, pvs__dabs(nr[0] * ((double)x[0] - A[0][0]) + nr[1] * ((double)x[1] - A[0][1]) + nr[2] * ((double)x[2] - A[0][2])) / lr);
+        }
+        *area += 0.5 * pvs__dabs(((double)C[1][u] - C[0][u]) * ((double)C[2][v] - C[0][v]) - ((double)C[2][u] - C[0][u]) * ((double)C[1][v] - C[0][v]));
+        for (c = 0; c < 3; ++c) {
+            const float *x = C[c], *y = C[(c + 1) % 3];
+            float P0[2], P1[2];
+            pvs__epedge2 *ed = w->e2 + e++;
+            P0[0] = x[u]; P0[1] = x[v];
+            P1[0] = y[u]; P1[1] = y[v];
+            if (pvs__ep_p2_cmp(P0, P1) <= 0) { memcpy(ed->a, P0, sizeof(P0)); memcpy(ed->b, P1, sizeof(P1)); }
+            else { memcpy(ed->a, P1, sizeof(P1)); memcpy(ed->b, P0, sizeof(P0)); }
+            ed->tri = t;
+        }
+    }
+    return e;
+}
+
+/* Adds the convex polygon of a planar group (triangles tl[w->edges[m .. m + cnt) & 0xffffffff]) whose
+   k corners pvs__ep_sheet_polygon left in w->q2 (in the (u, v) plane of the dominant axis ax of the
+   normal nr, length lr; dev, dent its deviation and dent) as one planar occluder, and marks its
+   triangles in w->used; nothing when a corner is not one of the group's vertices. */
+PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
+                                    pvs__epprepwork *w, uint32_t m, uint32_t cnt, uint32_t k, const double *nr,
+                                    double lr, uint32_t ax, double dev, double dent, double scale) {
+    const float *q3[PVS__EP_MAXP];
+    uint32_t i, h, found = 0, u = (ax + 1) % 3, v = (ax + 2) % 3;
+    for (i = 0; i < k; ++i) { /* the corners back in 3D: the group's vertices with those (u, v) */
+        const float *hit = NULL;
+        for (h = m; h < m + cnt && !hit; ++h) {
+            uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
+            for (c = 0; c < 3 && !hit; ++c) {
+                const float *x = PVS__EP_TRI(t, c);
+                if (x[u] == w->q2[2 * i] && x[v] == w->q2[2 * i + 1]) hit = x;
+            }
+        }
+        if (!hit) break;
+        q3[found++] = hit;
+    }
+    if (found != k) return;
+    {
+        /* the slack: the vertices' distance from a plane through three corners far apart
+           (the first triangle's plane tilts with its rounding), measured both ways for the
+           hull and the surface, once more for the footprint, plus the dent (a point dent
+           inside the hull in the (u, v) plane lies |n| / |n_ax| dent inside it in the plane) */
+        double best = 0.0, nb[3], lb = 0.0, dev2 = 0.0;
+        uint32_t i1, i2, b1 = 1, b2 = 2;
+        for (i1 = 1; i1 < k; ++i1)
+            for (i2 = i1 + 1; i2 < k; ++i2) {
+                double l = pvs__ep_tri_normal(q3[0], q3[i1], q3[i2], nb);
+                if (l > best) { best = l; b1 = i1; b2 = i2; }
+            }
+        lb = pvs__ep_tri_normal(q3[0], q3[b1], q3[b2], nb);
+        if (lb > 0.0 && nb[0] * nr[0] + nb[1] * nr[1] + nb[2] * nr[2] > 0.0) {
+            for (h = m; h < m + cnt; ++h) {
+                uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
+                for (c = 0; c < 3; ++c) {
+                    const float *x = PVS__EP_TRI(t, c);
+                    dev2 = pvs__dmax(dev2, pvs__dabs(nb[0] * ((double)x[0] - q3[0][0]) + nb[1] * ((double)x[1] - q3[0][1]) + nb[2] * ((double)x[2] - q3[0][2])) / lb);
+                }
+            }
+            dev = pvs__dmin(dev, dev2);
+        }
+        dev = 4.0 * dev + 2.0 * dent * lr / pvs__dabs(nr[ax]);
+    }
+    pvs__ep_add(p, q3, k, 0, dev == 0.0 ? 0.0 : dev + 1e-12 * scale);
+    for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
+}
+
+/* Durand 2000 §3.3-3.4: a wall made of several triangles must act as one occluder, or every piece
+   alone loses a strip along each shared edge to that edge's penumbra and the wall hides nothing.
+   Groups the component's triangles (tl[0 .. n), scene triangles t0 + tl[j]) that are coplanar up
+   to float precision, face the same way and are joined by shared edges; a group of two or more
+   whose union is one convex polygon (pvs__ep_sheet_polygon: boundary edges forming one loop, one
+   turn, the loop's area equal to the triangles') of at most PVS__EP_MAXP corners becomes one planar
+   occluder, and its triangles are marked in w->used. The hull of the corners exceeds the surface by
+   at most the largest distance of a corner from the group's plane (the slack, doubled, and once
+   more for measuring along the dominant axis). */
+PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
+                                            pvs__epprepwork *w) {
+    uint32_t j, k, g;
+    double scale = 0.0;
+    pvs_result r = PVS_OK;
+    for (j = 0; j < n; ++j) { w->used[j] = 0; w->gparent[j] = j; }
+    if (n < 2 || 3 * (uint64_t)n >= (1u << 21)) return PVS_OK;
+    for (j = 0; j < n; ++j)
+        for (k = 0; k < 3; ++k) {
+            const float *x = PVS__EP_TRI(j, k);
+            int c;
+            for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, 2.0 * pvs__dabs((double)x[c]));
+        }
+    pvs__ep_planar_groups(s, t0, tl, n, w, scale);
     /* groups: (root, triangle) pairs sorted, the root being the group's first triangle */
     for (j = 0; j < n; ++j) w->edges[j] = ((uint64_t)pvs__ep_find(w->gparent, j) << 32) | j;
     PVS_QSORT(w->edges, n, sizeof(uint64_t), pvs__ep_u64_cmp);
     for (g = 0; g < n;) {
-        uint32_t h = g + 1, root = (uint32_t)(w->edges[g] >> 32), m, cnt, e = 0, ax = 0, u, v;
-        const float *A[3], *q3[PVS__EP_MAXP];
+        uint32_t h = g + 1, root = (uint32_t)(w->edges[g] >> 32), m, cnt, e, ax = 0, u, v;
+        const float *A[3];
         double nr[3], lr, dev = 0.0, area = 0.0, dent = 0.0;
         while (h < n && (uint32_t)(w->edges[h] >> 32) == root) ++h;
         cnt = h - g;
@@ -16949,25 +17094,7 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
             if (pvs__dabs(nr[k]) > pvs__dabs(nr[ax])) ax = k;
         u = (ax + 1) % 3;
         v = (ax + 2) % 3;
-        for (h = m; h < m + cnt; ++h) {
-            uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
-            const float *C[3];
-            for (c = 0; c < 3; ++c) {
-                const float *x = C[c] = PVS__EP_TRI(t, c);
-                dev = pvs__dmax(dev, pvs__dabs(nr[0] * ((double)x[0] - A[0][0]) + nr[1] * ((double)x[1] - A[0][1]) + nr[2] * ((double)x[2] - A[0][2])) / lr);
-            }
-            area += 0.5 * pvs__dabs(((double)C[1][u] - C[0][u]) * ((double)C[2][v] - C[0][v]) - ((double)C[2][u] - C[0][u]) * ((double)C[1][v] - C[0][v]));
-            for (c = 0; c < 3; ++c) {
-                const float *x = C[c], *y = C[(c + 1) % 3];
-                float P0[2], P1[2];
-                pvs__epedge2 *ed = w->e2 + e++;
-                P0[0] = x[u]; P0[1] = x[v];
-                P1[0] = y[u]; P1[1] = y[v];
-                if (pvs__ep_p2_cmp(P0, P1) <= 0) { memcpy(ed->a, P0, sizeof(P0)); memcpy(ed->b, P1, sizeof(P1)); }
-                else { memcpy(ed->a, P1, sizeof(P1)); memcpy(ed->b, P0, sizeof(P0)); }
-                ed->tri = t;
-            }
-        }
+        e = pvs__ep_group_edges(s, t0, tl, w, m, cnt, A, nr, lr, u, v, &dev, &area);
         if (dev > 1e-6 * scale || !(area > 0.0)) continue;
         k = pvs__ep_sheet_polygon(w->e2, e, area, w->q2, w->keep, e, w->ends, 1e-4, (double(*)[2])w->hp, (double(*)[2])w->hh, PVS__EP_MAXP,
                                   &dent);
@@ -16976,62 +17103,19 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
             if (r != PVS_OK) return r;
             continue;
         }
-        {
-            uint32_t i, found = 0;
-            for (i = 0; i < k; ++i) { /* the corners back in 3D: the group's vertices with those (u, v) */
-                const float *hit = NULL;
-                for (h = m; h < m + cnt && !hit; ++h) {
-                    uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
-                    for (c = 0; c < 3 && !hit; ++c) {
-                        const float *x = PVS__EP_TRI(t, c);
-                        if (x[u] == w->q2[2 * i] && x[v] == w->q2[2 * i + 1]) hit = x;
-                    }
-                }
-                if (!hit) break;
-                q3[found++] = hit;
-            }
-            if (found != k) continue;
-            {
-                /* the slack: the vertices' distance from a plane through three corners far apart
-                   (the first triangle's plane tilts with its rounding), measured both ways for the
-                   hull and the surface, once more for the footprint, plus the dent (a point dent
-                   inside the hull in the (u, v) plane lies |n| / |n_ax| dent inside it in the plane) */
-                double best = 0.0, nb[3], lb = 0.0, dev2 = 0.0;
-                uint32_t i1, i2, b1 = 1, b2 = 2;
-                for (i1 = 1; i1 < k; ++i1)
-                    for (i2 = i1 + 1; i2 < k; ++i2) {
-                        double l = pvs__ep_tri_normal(q3[0], q3[i1], q3[i2], nb);
-                        if (l > best) { best = l; b1 = i1; b2 = i2; }
-                    }
-                lb = pvs__ep_tri_normal(q3[0], q3[b1], q3[b2], nb);
-                if (lb > 0.0 && nb[0] * nr[0] + nb[1] * nr[1] + nb[2] * nr[2] > 0.0) {
-                    for (h = m; h < m + cnt; ++h) {
-                        uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
-                        for (c = 0; c < 3; ++c) {
-                            const float *x = PVS__EP_TRI(t, c);
-                            dev2 = pvs__dmax(dev2, pvs__dabs(nb[0] * ((double)x[0] - q3[0][0]) + nb[1] * ((double)x[1] - q3[0][1]) + nb[2] * ((double)x[2] - q3[0][2])) / lb);
-                        }
-                    }
-                    dev = pvs__dmin(dev, dev2);
-                }
-                dev = 4.0 * dev + 2.0 * dent * lr / pvs__dabs(nr[ax]);
-            }
-            pvs__ep_add(p, q3, k, 0, dev == 0.0 ? 0.0 : dev + 1e-12 * scale);
-            for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
-        }
+        pvs__ep_add_planar(p, s, t0, tl, w, m, cnt, k, nr, lr, ax, dev, dent, scale);
     }
     return r;
 }
 #undef PVS__EP_TRI
 
-/* Prepares one object's triangles t0 .. t0 + tn: connected components (by shared positions); a
-   closed convex component becomes one solid; any other component its polygons (coplanar
-   consecutive triangles merged into convex quads), and a closed or capped one is also kept for
-   slicing. */
-PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
-    const pvs_allocator *a = &p->allocator;
-    uint32_t i, nv = 0, comp;
-    pvs_result r = PVS_OK;
+/* The connected components (by shared positions) of one object's triangles t0 .. t0 + tn into w:
+   canon (each corner's distinct vertex), vpos (each distinct vertex's position), parent (each
+   triangle's component root, the smaller index rooting: deterministic) and order, the triangles
+   grouped by component in order of their first triangle, in order within each; start[root] ends as
+   the component's end in order. */
+PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
+    uint32_t i, nv = 0, sum = 0;
     for (i = 0; i < 3 * tn; ++i) {
         const float *q = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + i];
         memcpy(w->ref[i].p, q, 3 * sizeof(float));
@@ -17056,156 +17140,195 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
             if (x != y) w->parent[x > y ? x : y] = x < y ? x : y; /* the smaller index roots: deterministic */
         }
     }
-    /* components in order of their first triangle; triangles in order within each */
     for (i = 0; i < tn; ++i) w->start[i] = 0;
     for (i = 0; i < tn; ++i) ++w->start[pvs__ep_find(w->parent, i)];
-    {
-        uint32_t sum = 0;
-        for (i = 0; i < tn; ++i) {
-            uint32_t c = w->start[i];
-            w->start[i] = sum;
-            sum += c;
-        }
-        w->start[tn] = sum;
+    for (i = 0; i < tn; ++i) {
+        uint32_t c = w->start[i];
+        w->start[i] = sum;
+        sum += c;
     }
+    w->start[tn] = sum;
     for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__ep_find(w->parent, i)]++] = i;
-    /* start[root] now holds the component's end; components are the roots in increasing order */
-    for (comp = 0; comp < tn; ++comp) {
-        uint32_t root = comp, begin, end, ne = 0, nb = 0, nuv = 0, k, j, closed, *bnd = w->owner; /* owner is done with */
-        int capped, cap_axis = 0, cap_side = 0;
-        float cap_value = 0.0f;
-        const uint32_t *tl;
-        uint32_t tris_local[2 * PVS__EP_MAXP];
-        if (w->parent[comp] != comp) continue;
-        end = w->start[root];
-        begin = end;
-        while (begin > 0 && w->parent[w->order[begin - 1]] == root) --begin;
-        tl = w->order + begin;
-        /* edges by distinct-vertex pairs; boundary = edges used an odd number of times */
-        for (j = 0; j < end - begin; ++j)
-            for (k = 0; k < 3; ++k) {
-                uint32_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
-                if (x == y) continue;
-                w->edges[ne++] = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
-            }
-        PVS_QSORT(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
-        for (j = 0; j < ne;) {
-            uint32_t m = j;
-            while (m < ne && w->edges[m] == w->edges[j]) ++m;
-            if ((m - j) & 1u) w->edges[nb++] = w->edges[j]; /* compacted in place: nb <= j */
-            j = m;
+}
+
+/* The boundary of component `comp` (triangles tl[0 .. n) of the object): its edges by distinct-vertex
+   pairs used an odd number of times, into w->edges[0 .. nb) (returns nb), and its distinct vertices
+   into w->uv[0 .. *nuv). */
+PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32_t *tl, uint32_t n, uint32_t comp,
+                                                uint32_t *nuv) {
+    uint32_t j, k, ne = 0, nb = 0;
+    for (j = 0; j < n; ++j)
+        for (k = 0; k < 3; ++k) {
+            uint32_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
+            if (x == y) continue;
+            w->edges[ne++] = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
         }
-        for (j = 0; j < end - begin; ++j)
-            for (k = 0; k < 3; ++k) {
-                uint32_t v = w->canon[3 * tl[j] + k];
-                if (w->mark[v] != comp) { w->mark[v] = comp; w->uv[nuv++] = v; }
-            }
-        closed = nb == 0;
-        capped = 0;
-        if (!closed && 2 * nb <= 3 * tn) {
-            for (j = 0; j < nb; ++j) {
-                bnd[2 * j] = (uint32_t)(w->edges[j] >> 32);
-                bnd[2 * j + 1] = (uint32_t)(w->edges[j] & 0xffffffffu);
-            }
-            capped = pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side);
+    PVS_QSORT(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+    for (j = 0; j < ne;) {
+        uint32_t m = j;
+        while (m < ne && w->edges[m] == w->edges[j]) ++m;
+        if ((m - j) & 1u) w->edges[nb++] = w->edges[j]; /* compacted in place: nb <= j */
+        j = m;
+    }
+    *nuv = 0;
+    for (j = 0; j < n; ++j)
+        for (k = 0; k < 3; ++k) {
+            uint32_t v = w->canon[3 * tl[j] + k];
+            if (w->mark[v] != comp) { w->mark[v] = comp; w->uv[(*nuv)++] = v; }
         }
-        if (closed || capped) {
-            /* a flat closed or capped mesh bounds no volume */
-            const float **vq = (const float **)w->ref; /* ref is done with: room for 3 tn pointers */
-            for (j = 0; j < nuv; ++j) vq[j] = w->vpos[w->uv[j]];
-            {
-                uint32_t *tt = w->gparent; /* not in use until the polygons */
-                for (j = 0; j < end - begin; ++j) tt[j] = t0 + tl[j];
-                if (pvs__ep_flat_component(s, tt, end - begin, vq, nuv)) closed = capped = 0;
-            }
-        }
-        if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && end - begin <= 2 * PVS__EP_MAXP) {
-            /* a convex solid; a capped one (its hull includes the cap) is used only for cells
-               strictly on the solid's side of the cap: a ray from there meets the hull first on a
-               real face, since it crosses the cap's plane only once, going away from the cell */
-            const float *q[PVS__EP_MAXP];
-            for (j = 0; j < end - begin; ++j) tris_local[j] = t0 + tl[j];
-            for (j = 0; j < nuv; ++j) q[j] = w->vpos[w->uv[j]];
+    return nb;
+}
+
+/* The component's triangles (tl[0 .. n), scene triangles t0 + tl[j]) as planar occluders: coplanar
+   edge-connected triangles whose union is convex become one (pvs__ep_merge_planar), then consecutive
+   coplanar triangles forming a convex quad, then each triangle left with a non-zero area. */
+PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
+                                            uint32_t n, pvs__epprepwork *w) {
+    uint32_t j, k;
+    pvs_result r = pvs__ep_merge_planar(p, s, t0, tl, n, w);
+    if (r != PVS_OK) return r;
+    for (j = 0; j < n; ++j) {
+        const float *tri[3], *nxt[3], *q[4];
+        double nrm[3];
+        if (w->used[j]) continue;
+        for (k = 0; k < 3; ++k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
+        if (!(pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm) > 0.0)) continue;
+        if (j + 1 < n && !w->used[j + 1]) {
             double slack;
-            if (pvs__ep_convex_component(s, tris_local, end - begin, q, nuv, &slack)) {
-                pvs__epocc *o = p->occ + p->occ_count;
-                pvs__ep_add(p, q, nuv, 1, slack);
-                if (capped) {
-                    o->cap_side = cap_side;
-                    o->cap_axis = cap_axis;
-                    o->cap_value = cap_value;
-                }
+            for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j + 1]) + k];
+            if (pvs__ep_quad(tri, nxt, q, &slack)) {
+                pvs__ep_add(p, q, 4, 0, slack);
+                ++j;
                 continue;
             }
         }
-        /* polygons: coplanar edge-connected triangles whose union is convex become one
-           (pvs__ep_merge_planar), then consecutive coplanar triangles forming a convex quad */
-        r = pvs__ep_merge_planar(p, s, t0, tl, end - begin, w);
-        if (r != PVS_OK) return r;
-        for (j = 0; j < end - begin; ++j) {
-            const float *tri[3], *nxt[3], *q[4];
-            double nrm[3];
-            if (w->used[j]) continue;
-            for (k = 0; k < 3; ++k) tri[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
-            if (!(pvs__ep_tri_normal(tri[0], tri[1], tri[2], nrm) > 0.0)) continue;
-            if (j + 1 < end - begin && !w->used[j + 1]) {
-                for (k = 0; k < 3; ++k) nxt[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j + 1]) + k];
-                double slack;
-                if (pvs__ep_quad(tri, nxt, q, &slack)) {
-                    pvs__ep_add(p, q, 4, 0, slack);
-                    ++j;
-                    continue;
-                }
-            }
-            pvs__ep_add(p, tri, 3, 0, 0.0);
+        pvs__ep_add(p, tri, 3, 0, 0.0);
+    }
+    return PVS_OK;
+}
+
+/* Keeps a closed or capped component (triangles tl[0 .. n), scene triangles t0 + tl[j]) for slicing
+   (§3.3): its triangles and box, and when capped its nb boundary edges (distinct-vertex pairs in bnd)
+   and the cap's plane. */
+PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
+                                         uint32_t n, const pvs__epprepwork *w, const uint32_t *bnd, uint32_t nb,
+                                         int capped, int cap_axis, int cap_side, float cap_value) {
+    const pvs_allocator *a = &p->allocator;
+    pvs__epslice *sl;
+    pvs_result r = PVS_OK;
+    uint32_t j, k;
+    p->slc = (pvs__epslice *)pvs__grow_array(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice), &r);
+    if (!p->slc) return r;
+    p->stri = (uint32_t *)pvs__grow_array(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + n, sizeof(uint32_t), &r);
+    if (!p->stri) return r;
+    if (capped) {
+        /* pvs__grow_array counts elements of 6 floats */
+        p->bedge = (float *)pvs__grow_array(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb, 6 * sizeof(float), &r);
+        if (!p->bedge) return r;
+    }
+    sl = p->slc + p->slc_count++;
+    memset(sl, 0, sizeof(*sl));
+    sl->box = pvs__box_empty();
+    sl->first = (uint32_t)p->stri_count;
+    sl->count = n;
+    for (j = 0; j < n; ++j) {
+        p->stri[p->stri_count++] = t0 + tl[j];
+        for (k = 0; k < 3; ++k) pvs__box_add_point(&sl->box, s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k]);
+    }
+    sl->capped = capped;
+    if (capped) {
+        sl->bfirst = (uint32_t)p->bedge_count;
+        sl->bcount = nb;
+        for (j = 0; j < nb; ++j) {
+            memcpy(p->bedge + 6 * p->bedge_count, w->vpos[bnd[2 * j]], 3 * sizeof(float));
+            memcpy(p->bedge + 6 * p->bedge_count + 3, w->vpos[bnd[2 * j + 1]], 3 * sizeof(float));
+            ++p->bedge_count;
         }
-        if (end - begin < 4) continue;
-        for (j = 0; j < end - begin; ++j) { /* a zero-area triangle blocks no ray: not sliced */
-            const float *c3[3];
-            double nrm[3];
-            for (k = 0; k < 3; ++k) c3[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
-            if (!(pvs__ep_tri_normal(c3[0], c3[1], c3[2], nrm) > 0.0)) break;
+        sl->cap_axis = cap_axis;
+        sl->cap_side = cap_side;
+        sl->cap_value = cap_value;
+    }
+    if (sl->count + sl->bcount > p->max_slice_segments) p->max_slice_segments = sl->count + sl->bcount;
+    return PVS_OK;
+}
+
+/* One component (triangles tl[0 .. n) of an object of tn triangles, root `comp`): a closed convex one
+   becomes one solid (a capped one a solid for the cells on the cap's solid side); any other its
+   polygons, and a closed or capped one is also kept for slicing. */
+PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0,
+                                                 const uint32_t *tl, uint32_t n, uint32_t comp, uint32_t tn,
+                                                 pvs__epprepwork *w) {
+    uint32_t nuv, j, k, closed, *bnd = w->owner; /* owner is done with */
+    uint32_t nb = pvs__ep_component_boundary(w, tl, n, comp, &nuv), tris_local[2 * PVS__EP_MAXP];
+    int capped = 0, cap_axis = 0, cap_side = 0;
+    float cap_value = 0.0f;
+    pvs_result r;
+    closed = nb == 0;
+    if (!closed && 2 * nb <= 3 * tn) {
+        for (j = 0; j < nb; ++j) {
+            bnd[2 * j] = (uint32_t)(w->edges[j] >> 32);
+            bnd[2 * j + 1] = (uint32_t)(w->edges[j] & 0xffffffffu);
         }
-        if (j < end - begin) continue;
-        if (!closed && !capped) continue;
-        {
-            /* closed or capped: kept for slicing */
-            pvs__epslice *sl;
-            p->slc = (pvs__epslice *)pvs__grow_array(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice), &r);
-            if (!p->slc) return r;
-            p->stri = (uint32_t *)pvs__grow_array(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + (end - begin), sizeof(uint32_t), &r);
-            if (!p->stri) return r;
+        capped = pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side);
+    }
+    if (closed || capped) {
+        /* a flat closed or capped mesh bounds no volume */
+        const float **vq = (const float **)w->ref; /* ref is done with: room for 3 tn pointers */
+        uint32_t *tt = w->gparent;                 /* not in use until the polygons */
+        for (j = 0; j < nuv; ++j) vq[j] = w->vpos[w->uv[j]];
+        for (j = 0; j < n; ++j) tt[j] = t0 + tl[j];
+        if (pvs__ep_flat_component(s, tt, n, vq, nuv)) closed = capped = 0;
+    }
+    if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && n <= 2 * PVS__EP_MAXP) {
+        /* a convex solid; a capped one (its hull includes the cap) is used only for cells
+           strictly on the solid's side of the cap: a ray from there meets the hull first on a
+           real face, since it crosses the cap's plane only once, going away from the cell */
+        const float *q[PVS__EP_MAXP];
+        double slack;
+        for (j = 0; j < n; ++j) tris_local[j] = t0 + tl[j];
+        for (j = 0; j < nuv; ++j) q[j] = w->vpos[w->uv[j]];
+        if (pvs__ep_convex_component(s, tris_local, n, q, nuv, &slack)) {
+            pvs__epocc *o = p->occ + p->occ_count;
+            pvs__ep_add(p, q, nuv, 1, slack);
             if (capped) {
-                /* pvs__grow_array counts elements of 6 floats */
-                p->bedge = (float *)pvs__grow_array(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb, 6 * sizeof(float), &r);
-                if (!p->bedge) return r;
+                o->cap_side = cap_side;
+                o->cap_axis = cap_axis;
+                o->cap_value = cap_value;
             }
-            sl = p->slc + p->slc_count++;
-            memset(sl, 0, sizeof(*sl));
-            sl->box = pvs__box_empty();
-            sl->first = (uint32_t)p->stri_count;
-            sl->count = end - begin;
-            for (j = 0; j < end - begin; ++j) {
-                p->stri[p->stri_count++] = t0 + tl[j];
-                for (k = 0; k < 3; ++k) pvs__box_add_point(&sl->box, s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k]);
-            }
-            sl->capped = capped;
-            if (capped) {
-                sl->bfirst = (uint32_t)p->bedge_count;
-                sl->bcount = nb;
-                for (j = 0; j < nb; ++j) {
-                    memcpy(p->bedge + 6 * p->bedge_count, w->vpos[bnd[2 * j]], 3 * sizeof(float));
-                    memcpy(p->bedge + 6 * p->bedge_count + 3, w->vpos[bnd[2 * j + 1]], 3 * sizeof(float));
-                    ++p->bedge_count;
-                }
-                sl->cap_axis = cap_axis;
-                sl->cap_side = cap_side;
-                sl->cap_value = cap_value;
-            }
-            if (sl->count + sl->bcount > p->max_slice_segments) p->max_slice_segments = sl->count + sl->bcount;
+            return PVS_OK;
         }
     }
-    return r;
+    r = pvs__ep_add_polygons(p, s, t0, tl, n, w);
+    if (r != PVS_OK || n < 4) return r;
+    for (j = 0; j < n; ++j) { /* a zero-area triangle blocks no ray: not sliced */
+        const float *c3[3];
+        double nrm[3];
+        for (k = 0; k < 3; ++k) c3[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
+        if (!(pvs__ep_tri_normal(c3[0], c3[1], c3[2], nrm) > 0.0)) break;
+    }
+    if (j < n || (!closed && !capped)) return PVS_OK;
+    return pvs__ep_add_slice(p, s, t0, tl, n, w, bnd, nb, capped, cap_axis, cap_side, cap_value);
+}
+
+/* Prepares one object's triangles t0 .. t0 + tn: connected components (by shared positions); a
+   closed convex component becomes one solid; any other component its polygons (coplanar
+   consecutive triangles merged into convex quads), and a closed or capped one is also kept for
+   slicing. */
+PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
+    uint32_t comp;
+    pvs__ep_components(s, t0, tn, w);
+    /* start[root] holds the component's end; components are the roots in increasing order */
+    for (comp = 0; comp < tn; ++comp) {
+        uint32_t begin, end;
+        pvs_result r;
+        if (w->parent[comp] != comp) continue;
+        end = w->start[comp];
+        begin = end;
+        while (begin > 0 && w->parent[w->order[begin - 1]] == comp) --begin;
+        r = pvs__ep_prepare_component(p, s, t0, w->order + begin, end - begin, comp, tn, w);
+        if (r != PVS_OK) return r;
+    }
+    return PVS_OK;
 }
 
 
@@ -17223,6 +17346,198 @@ PVS__STATIC int pvs__ep_skey_cmp(const void *a, const void *b) {
     return x->tri < y->tri ? -1 : x->tri > y->tri;
 }
 
+/* The axis along which triangle t's three vertices have the same coordinate (the first such), or -1. */
+PVS__STATIC int pvs__ep_flat_axis(const pvs_scene *s, uint32_t t) {
+    const uint32_t *ix = s->indices + 3 * (size_t)t;
+    const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1], *v2 = s->positions + 3 * (size_t)ix[2];
+    int k;
+    for (k = 0; k < 3; ++k)
+        if (v0[k] == v1[k] && v1[k] == v2[k]) return k;
+    return -1;
+}
+
+/* The scratch of the sheets' search: the edges of a group of triangles in one axis-aligned plane,
+   sized for `cap` edges (3 per triangle). */
+typedef struct pvs__epsheetwork {
+    pvs__epedge2 *e;      /* cap */
+    float *q;             /* 2 (cap + 1): a piece's polygon */
+    unsigned char *keep;  /* cap + 1 */
+    pvs__epend *ends;     /* 2 cap */
+    uint32_t *uf;         /* cap: pieces (union-find over the group's triangles) */
+    double *tarea;        /* cap: area per triangle, then per piece at its root */
+    size_t cap;
+} pvs__epsheetwork;
+
+PVS__STATIC void pvs__ep_sheetwork_free(const pvs_allocator *a, pvs__epsheetwork *w) {
+    pvs__free_array(a, w->e, w->cap, sizeof(pvs__epedge2));
+    pvs__free_array(a, w->q, 2 * (w->cap + 1), sizeof(float));
+    pvs__free_array(a, w->keep, w->cap + 1, 1);
+    pvs__free_array(a, w->ends, 2 * w->cap, sizeof(pvs__epend));
+    pvs__free_array(a, w->uf, w->cap, sizeof(uint32_t));
+    pvs__free_array(a, w->tarea, w->cap, sizeof(double));
+}
+
+/* Grows the scratch to at least `cap` edges; 0 when out of memory (what was allocated stays in w). */
+PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwork *w, size_t cap) {
+    if (cap <= w->cap) return 1;
+    pvs__ep_sheetwork_free(a, w);
+    w->cap = cap;
+    w->e = (pvs__epedge2 *)pvs__alloc_array(a, cap, sizeof(pvs__epedge2));
+    w->q = (float *)pvs__alloc_array(a, 2 * (cap + 1), sizeof(float));
+    w->keep = (unsigned char *)pvs__alloc_array(a, cap + 1, 1);
+    w->ends = (pvs__epend *)pvs__alloc_array(a, 2 * cap, sizeof(pvs__epend));
+    w->uf = (uint32_t *)pvs__alloc_array(a, cap, sizeof(uint32_t));
+    w->tarea = (double *)pvs__alloc_array(a, cap, sizeof(double));
+    return w->e && w->q && w->keep && w->ends && w->uf && w->tarea;
+}
+
+/* Keeps the sheet polygon q (m vertices, area `area`) in the plane x_axis = value if it is among the
+   PVS__EP_MAX_SHEETS largest so far (replacing the smallest). */
+PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float value, const float *q, uint32_t m,
+                                          double area) {
+    pvs_result r = PVS_OK;
+    uint32_t slot;
+    if (p->sheet_count < PVS__EP_MAX_SHEETS) slot = p->sheet_count++;
+    else {
+        uint32_t x;
+        slot = 0;
+        for (x = 1; x < p->sheet_count; ++x)
+            if (p->sheet[x].area < p->sheet[slot].area) slot = x;
+        if (!(area > p->sheet[slot].area)) return PVS_OK;
+    }
+    p->spoly = (float *)pvs__grow_array(&p->allocator, p->spoly, &p->spoly_capacity, p->spoly_count, p->spoly_count + m, 2 * sizeof(float), &r);
+    if (!p->spoly) return r;
+    p->sheet[slot].axis = axis;
+    p->sheet[slot].value = value;
+    p->sheet[slot].first = (uint32_t)p->spoly_count;
+    p->sheet[slot].count = m;
+    p->sheet[slot].area = area;
+    memcpy(p->spoly + 2 * p->spoly_count, q, 2 * (size_t)m * sizeof(float));
+    p->spoly_count += m;
+    return PVS_OK;
+}
+
+/* The sheets among n >= 2 triangles in one axis-aligned plane (key[0 .. n), one axis and value): the
+   pieces joined by shared edges (a lamp's base lying on the ground is a piece of its own) whose union
+   is one convex polygon (pvs__ep_sheet_polygon), kept by pvs__ep_keep_sheet. */
+PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene *s, const pvs__epskey *key, size_t n,
+                                           pvs__epsheetwork *w) {
+    int k = (int)key[0].axis, u = (k + 1) % 3, v = (k + 2) % 3;
+    uint32_t ne = (uint32_t)(3 * n), m;
+    pvs__epedge2 *e;
+    size_t g;
+    pvs_result r;
+    if (!pvs__ep_sheetwork_reserve(&p->allocator, w, 3 * n)) return PVS_ERROR_OUT_OF_MEMORY;
+    e = w->e;
+    for (g = 0; g < n; ++g) {
+        const uint32_t *ix = s->indices + 3 * (size_t)key[g].tri;
+        const float *c[3];
+        int l;
+        for (l = 0; l < 3; ++l) c[l] = s->positions + 3 * (size_t)ix[l];
+        w->tarea[g] = 0.5 * pvs__dabs(((double)c[1][u] - c[0][u]) * ((double)c[2][v] - c[0][v]) - ((double)c[2][u] - c[0][u]) * ((double)c[1][v] - c[0][v]));
+        w->uf[g] = (uint32_t)g;
+        for (l = 0; l < 3; ++l) {
+            const float *x = c[l], *y = c[(l + 1) % 3];
+            float A[2], B[2];
+            pvs__epedge2 *ed = e + 3 * g + (size_t)l;
+            A[0] = x[u]; A[1] = x[v];
+            B[0] = y[u]; B[1] = y[v];
+            if (pvs__ep_p2_cmp(A, B) <= 0) { memcpy(ed->a, A, sizeof(A)); memcpy(ed->b, B, sizeof(B)); }
+            else { memcpy(ed->a, B, sizeof(B)); memcpy(ed->b, A, sizeof(A)); }
+            ed->tri = (uint32_t)g;
+        }
+    }
+    /* pieces joined by shared edges */
+    PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
+    for (g = 1; g < ne; ++g)
+        if (pvs__ep_edge2_cmp(e + g, e + g - 1) == 0) {
+            uint32_t x = pvs__ep_find(w->uf, e[g].tri), y = pvs__ep_find(w->uf, e[g - 1].tri);
+            if (x != y) w->uf[x > y ? x : y] = x < y ? x : y;
+        }
+    for (g = 0; g < ne; ++g) e[g].tri = pvs__ep_find(w->uf, e[g].tri);
+    for (g = 0; g < n; ++g) if (w->uf[g] != g) { w->tarea[pvs__ep_find(w->uf, (uint32_t)g)] += w->tarea[g]; w->tarea[g] = 0.0; }
+    PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_root_cmp);
+    for (g = 0; g < ne;) {
+        size_t h = g;
+        uint32_t root = e[g].tri;
+        double area;
+        while (h < ne && e[h].tri == root) ++h;
+        area = w->tarea[root];
+        m = pvs__ep_sheet_polygon(e + g, (uint32_t)(h - g), area, w->q, w->keep, (uint32_t)w->cap, w->ends, 0.0, NULL, NULL, 0, NULL);
+        g = h;
+        if (!m) continue;
+        r = pvs__ep_keep_sheet(p, k, key[0].value, w->q, m, area);
+        if (r != PVS_OK) return r;
+    }
+    return PVS_OK;
+}
+
+/* 1 when the convex occluder oc stands on sheet S: some vertices (*on of them) exactly in the sheet's
+   plane, inside its polygon, the others on one side (*above: 1 above it, 0 below) and each exactly
+   over one of those or strictly inside their hull F, the footprint; no concave occluder, and at most
+   PVS__EP_MAXP points once extended. */
+PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *oc, const pvs__epsheet *S, uint32_t *on,
+                                  int *above) {
+    const float *pts = p->pts + 3 * (size_t)oc->first, *poly = p->spoly + 2 * (size_t)S->first;
+    int k = S->axis, u = (k + 1) % 3, v = (k + 2) % 3, below = 0, ok = 1, hn;
+    double fp[PVS__EP_MAXP][2], fh[PVS__EP_MAXP + 1][2];
+    float fpoly[2 * PVS__EP_MAXP];
+    uint32_t x, y, nf = 0;
+    *on = 0;
+    *above = 0;
+    for (x = 0; x < oc->count; ++x) {
+        float c = pts[3 * x + k];
+        *on += c == S->value;
+        *above |= c > S->value;
+        below |= c < S->value;
+    }
+    if (!*on || *above == below || oc->count + *on > PVS__EP_MAXP || oc->ecount) return 0;
+    /* the footprint F: the hull of the vertices in the sheet's plane (counter-clockwise) */
+    for (x = 0; x < oc->count; ++x)
+        if (pts[3 * x + k] == S->value) { fp[nf][0] = pts[3 * x + u]; fp[nf][1] = pts[3 * x + v]; ++nf; }
+    hn = nf >= 3 ? pvs__ep_hull(fp, (int)nf, fh) : 0;
+    for (y = 0; y < (uint32_t)hn; ++y) { fpoly[2 * y] = (float)fh[y][0]; fpoly[2 * y + 1] = (float)fh[y][1]; }
+    for (x = 0; x < oc->count && ok; ++x) {
+        const float *P = pts + 3 * x;
+        if (P[k] == S->value) ok = pvs__ep_in_convex(poly, S->count, P[u], P[v]);
+        else {
+            /* over F: exactly over one of its vertices, or strictly inside it */
+            for (y = 0; y < oc->count; ++y)
+                if (pts[3 * y + k] == S->value && pts[3 * y + u] == P[u] && pts[3 * y + v] == P[v]) break;
+            ok = y < oc->count || (hn >= 3 && pvs__ep_in_convex(fpoly, (uint32_t)hn, P[u], P[v]));
+        }
+    }
+    return ok;
+}
+
+/* Gives occluder oc, standing on sheet sh with `on` vertices in its plane (pvs__ep_stands_on), its
+   extended point set: its points plus those in the plane pushed through it by D, away from `above`. */
+PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint32_t sh, uint32_t on, int above,
+                                      double D) {
+    const pvs__epsheet *S = p->sheet + sh;
+    const float *pts;
+    pvs_result r = PVS_OK;
+    int k = S->axis;
+    uint32_t x;
+    p->pts = (float *)pvs__grow_array(&p->allocator, p->pts, &p->pt_capacity, p->pt_count, p->pt_count + oc->count + on, 3 * sizeof(float), &r);
+    if (!p->pts) return r;
+    pts = p->pts + 3 * (size_t)oc->first;
+    oc->xfirst = (uint32_t)p->pt_count;
+    memcpy(p->pts + 3 * p->pt_count, pts, 3 * sizeof(float) * oc->count);
+    p->pt_count += oc->count;
+    for (x = 0; x < oc->count; ++x) {
+        float *P;
+        if (pts[3 * x + k] != S->value) continue;
+        P = p->pts + 3 * p->pt_count++;
+        memcpy(P, pts + 3 * x, 3 * sizeof(float));
+        P[k] = (float)(above ? (double)S->value - D : (double)S->value + D);
+    }
+    oc->xcount = oc->count + on;
+    oc->sheet = sh;
+    oc->xside = above ? 1 : -1;
+    return PVS_OK;
+}
+
 /* Finds the largest sheets (up to PVS__EP_MAX_SHEETS) and extends through them the occluders that
    stand on them: a convex occluder with some vertices exactly in the sheet's plane, inside its
    polygon, the others on one side and each exactly over one of those (a vertical wall, a box on the
@@ -17237,26 +17552,16 @@ PVS__STATIC int pvs__ep_skey_cmp(const void *a, const void *b) {
 PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) {
     const pvs_allocator *a = &p->allocator;
     pvs__epskey *key = NULL;
-    pvs__epedge2 *e = NULL;
-    float *q = NULL;
-    unsigned char *keep = NULL;
-    pvs__epend *ends = NULL;
-    uint32_t *uf = NULL, ne;
-    double *tarea = NULL;
-    size_t nkey = 0, i, ecap = 0;
+    pvs__epsheetwork w;
+    size_t nkey = 0, i;
     uint32_t t, o;
     pvs_result r = PVS_OK;
     double D;
-    for (t = 0; t < s->triangle_count; ++t) {
-        const uint32_t *ix = s->indices + 3 * (size_t)t;
-        const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1], *v2 = s->positions + 3 * (size_t)ix[2];
-        int k;
-        for (k = 0; k < 3; ++k)
-            if (v0[k] == v1[k] && v1[k] == v2[k]) { ++nkey; break; }
-    }
+    for (t = 0; t < s->triangle_count; ++t) nkey += pvs__ep_flat_axis(s, t) >= 0;
     if (!nkey) return PVS_OK;
     key = (pvs__epskey *)pvs__alloc_array(a, nkey, sizeof(pvs__epskey));
     if (!key) return PVS_ERROR_OUT_OF_MEMORY;
+    memset(&w, 0, sizeof(w));
     nkey = 0;
     for (t = 0; t < s->triangle_count; ++t) {
         const uint32_t *ix = s->indices + 3 * (size_t)t;
@@ -17264,94 +17569,20 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
         int k;
         double n[3];
         if (!(pvs__ep_tri_normal(v0, v1, v2, n) > 0.0)) continue;
-        for (k = 0; k < 3; ++k)
-            if (v0[k] == v1[k] && v1[k] == v2[k]) {
-                key[nkey].value = v0[k] == 0.0f ? 0.0f : v0[k]; /* -0 and +0 group together */
-                key[nkey].axis = (uint32_t)k;
-                key[nkey].tri = t;
-                ++nkey;
-                break;
-            }
+        k = pvs__ep_flat_axis(s, t);
+        if (k < 0) continue;
+        key[nkey].value = v0[k] == 0.0f ? 0.0f : v0[k]; /* -0 and +0 group together */
+        key[nkey].axis = (uint32_t)k;
+        key[nkey].tri = t;
+        ++nkey;
     }
     PVS_QSORT(key, nkey, sizeof(pvs__epskey), pvs__ep_skey_cmp);
     for (i = 0; i < nkey;) {
-        size_t j = i, g;
-        int k = (int)key[i].axis, u = (k + 1) % 3, v = (k + 2) % 3;
-        double area = 0.0;
-        uint32_t m, slot;
+        size_t j = i;
         while (j < nkey && key[j].axis == key[i].axis && key[j].value == key[i].value) ++j;
-        if (j - i < 2) { i = j; continue; }
-        if (3 * (j - i) > ecap) {
-            pvs__free_array(a, e, ecap, sizeof(pvs__epedge2));
-            pvs__free_array(a, q, 2 * (ecap + 1), sizeof(float));
-            pvs__free_array(a, keep, ecap + 1, 1);
-            pvs__free_array(a, ends, 2 * ecap, sizeof(pvs__epend));
-            pvs__free_array(a, uf, ecap, sizeof(uint32_t));
-            pvs__free_array(a, tarea, ecap, sizeof(double));
-            ecap = 3 * (j - i);
-            e = (pvs__epedge2 *)pvs__alloc_array(a, ecap, sizeof(pvs__epedge2));
-            q = (float *)pvs__alloc_array(a, 2 * (ecap + 1), sizeof(float));
-            keep = (unsigned char *)pvs__alloc_array(a, ecap + 1, 1);
-            ends = (pvs__epend *)pvs__alloc_array(a, 2 * ecap, sizeof(pvs__epend));
-            uf = (uint32_t *)pvs__alloc_array(a, ecap, sizeof(uint32_t));
-            tarea = (double *)pvs__alloc_array(a, ecap, sizeof(double));
-            if (!e || !q || !keep || !ends || !uf || !tarea) { r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
-        }
-        for (g = i; g < j; ++g) {
-            const uint32_t *ix = s->indices + 3 * (size_t)key[g].tri;
-            const float *c[3];
-            int l;
-            for (l = 0; l < 3; ++l) c[l] = s->positions + 3 * (size_t)ix[l];
-            tarea[g - i] = 0.5 * pvs__dabs(((double)c[1][u] - c[0][u]) * ((double)c[2][v] - c[0][v]) - ((double)c[2][u] - c[0][u]) * ((double)c[1][v] - c[0][v]));
-            uf[g - i] = (uint32_t)(g - i);
-            for (l = 0; l < 3; ++l) {
-                const float *x = c[l], *y = c[(l + 1) % 3];
-                float A[2], B[2];
-                pvs__epedge2 *ed = e + 3 * (g - i) + (size_t)l;
-                A[0] = x[u]; A[1] = x[v];
-                B[0] = y[u]; B[1] = y[v];
-                if (pvs__ep_p2_cmp(A, B) <= 0) { memcpy(ed->a, A, sizeof(A)); memcpy(ed->b, B, sizeof(B)); }
-                else { memcpy(ed->a, B, sizeof(B)); memcpy(ed->b, A, sizeof(A)); }
-                ed->tri = (uint32_t)(g - i);
-            }
-        }
-        /* pieces joined by shared edges (a lamp's base lying on the ground is a piece of its own) */
-        ne = (uint32_t)(3 * (j - i));
-        PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
-        for (g = 1; g < ne; ++g)
-            if (pvs__ep_edge2_cmp(e + g, e + g - 1) == 0) {
-                uint32_t x = pvs__ep_find(uf, e[g].tri), y = pvs__ep_find(uf, e[g - 1].tri);
-                if (x != y) uf[x > y ? x : y] = x < y ? x : y;
-            }
-        for (g = 0; g < ne; ++g) e[g].tri = pvs__ep_find(uf, e[g].tri);
-        for (g = 0; g < j - i; ++g) if (uf[g] != g) { tarea[pvs__ep_find(uf, (uint32_t)g)] += tarea[g]; tarea[g] = 0.0; }
-        PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_root_cmp);
-        for (g = 0; g < ne;) {
-            size_t h = g;
-            uint32_t root = e[g].tri;
-            while (h < ne && e[h].tri == root) ++h;
-            area = tarea[root];
-            m = pvs__ep_sheet_polygon(e + g, (uint32_t)(h - g), area, q, keep, (uint32_t)ecap, ends, 0.0, NULL, NULL, 0, NULL);
-            g = h;
-            if (!m) continue;
-        /* keep the largest sheets */
-        if (p->sheet_count < PVS__EP_MAX_SHEETS) slot = p->sheet_count++;
-        else {
-            uint32_t x;
-            slot = 0;
-            for (x = 1; x < p->sheet_count; ++x)
-                if (p->sheet[x].area < p->sheet[slot].area) slot = x;
-            if (!(area > p->sheet[slot].area)) continue;
-        }
-        p->spoly = (float *)pvs__grow_array(a, p->spoly, &p->spoly_capacity, p->spoly_count, p->spoly_count + m, 2 * sizeof(float), &r);
-        if (!p->spoly) goto done;
-        p->sheet[slot].axis = k;
-        p->sheet[slot].value = key[i].value;
-        p->sheet[slot].first = (uint32_t)p->spoly_count;
-        p->sheet[slot].count = m;
-        p->sheet[slot].area = area;
-        memcpy(p->spoly + 2 * p->spoly_count, q, 2 * (size_t)m * sizeof(float));
-        p->spoly_count += m;
+        if (j - i >= 2) {
+            r = pvs__ep_sheet_group(p, s, key + i, j - i, &w);
+            if (r != PVS_OK) goto done;
         }
         i = j;
     }
@@ -17362,65 +17593,16 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
         pvs__epocc *oc = p->occ + o;
         uint32_t sh;
         for (sh = 0; sh < p->sheet_count && !oc->xcount; ++sh) {
-            const pvs__epsheet *S = p->sheet + sh;
-            const float *pts = p->pts + 3 * (size_t)oc->first, *poly = p->spoly + 2 * (size_t)S->first;
-            int k = S->axis, u = (k + 1) % 3, v = (k + 2) % 3, above = 0, below = 0, ok = 1;
-            uint32_t on = 0, x, y;
-            for (x = 0; x < oc->count; ++x) {
-                float c = pts[3 * x + k];
-                on += c == S->value;
-                above |= c > S->value;
-                below |= c < S->value;
-            }
-            if (!on || above == below || oc->count + on > PVS__EP_MAXP || oc->ecount) continue;
-            {
-                /* the footprint F: the hull of the vertices in the sheet's plane (counter-clockwise) */
-                double fp[PVS__EP_MAXP][2], fh[PVS__EP_MAXP + 1][2];
-                float fpoly[2 * PVS__EP_MAXP];
-                uint32_t nf = 0;
-                int hn;
-                for (x = 0; x < oc->count; ++x)
-                    if (pts[3 * x + k] == S->value) { fp[nf][0] = pts[3 * x + u]; fp[nf][1] = pts[3 * x + v]; ++nf; }
-                hn = nf >= 3 ? pvs__ep_hull(fp, (int)nf, fh) : 0;
-                for (y = 0; y < (uint32_t)hn; ++y) { fpoly[2 * y] = (float)fh[y][0]; fpoly[2 * y + 1] = (float)fh[y][1]; }
-                for (x = 0; x < oc->count && ok; ++x) {
-                    const float *P = pts + 3 * x;
-                    if (P[k] == S->value) ok = pvs__ep_in_convex(poly, S->count, P[u], P[v]);
-                    else {
-                        /* over F: exactly over one of its vertices, or strictly inside it */
-                        for (y = 0; y < oc->count; ++y)
-                            if (pts[3 * y + k] == S->value && pts[3 * y + u] == P[u] && pts[3 * y + v] == P[v]) break;
-                        ok = y < oc->count || (hn >= 3 && pvs__ep_in_convex(fpoly, (uint32_t)hn, P[u], P[v]));
-                    }
-                }
-            }
-            if (!ok) continue;
-            p->pts = (float *)pvs__grow_array(a, p->pts, &p->pt_capacity, p->pt_count, p->pt_count + oc->count + on, 3 * sizeof(float), &r);
-            if (!p->pts) goto done;
-            pts = p->pts + 3 * (size_t)oc->first;
-            oc->xfirst = (uint32_t)p->pt_count;
-            memcpy(p->pts + 3 * p->pt_count, pts, 3 * sizeof(float) * oc->count);
-            p->pt_count += oc->count;
-            for (x = 0; x < oc->count; ++x) {
-                float *P;
-                if (pts[3 * x + k] != S->value) continue;
-                P = p->pts + 3 * p->pt_count++;
-                memcpy(P, pts + 3 * x, 3 * sizeof(float));
-                P[k] = (float)(above ? (double)S->value - D : (double)S->value + D);
-            }
-            oc->xcount = oc->count + on;
-            oc->sheet = sh;
-            oc->xside = above ? 1 : -1;
+            uint32_t on;
+            int above;
+            if (!pvs__ep_stands_on(p, oc, p->sheet + sh, &on, &above)) continue;
+            r = pvs__ep_extend(p, oc, sh, on, above, D);
+            if (r != PVS_OK) goto done;
         }
     }
 done:
     pvs__free_array(a, key, nkey, sizeof(pvs__epskey));
-    pvs__free_array(a, e, ecap, sizeof(pvs__epedge2));
-    pvs__free_array(a, q, 2 * (ecap + 1), sizeof(float));
-    pvs__free_array(a, keep, ecap + 1, 1);
-    pvs__free_array(a, ends, 2 * ecap, sizeof(pvs__epend));
-    pvs__free_array(a, uf, ecap, sizeof(uint32_t));
-    pvs__free_array(a, tarea, ecap, sizeof(double));
+    pvs__ep_sheetwork_free(a, &w);
     return r;
 }
 
@@ -17435,14 +17617,100 @@ PVS__STATIC int pvs__ep_area_class(float area) {
     return c;
 }
 
+/* The occluders of the scene's triangles, in object order, one run of an object's triangles at a time
+   (pvs__ep_prepare_object), each tagged with its object. */
+PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_scene *s, pvs__epprepwork *w) {
+    uint32_t t;
+    for (t = 0; t < s->triangle_count;) {
+        uint32_t end = t + 1;
+        size_t first = p->occ_count, q;
+        pvs_result r;
+        while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
+        r = pvs__ep_prepare_object(p, s, t, end - t, w);
+        for (q = first; q < p->occ_count; ++q) p->occ[q].object = s->triangle_object[t];
+        if (r != PVS_OK) return r;
+        t = end;
+    }
+    return PVS_OK;
+}
+
+/* The occluders of the scene's explicit volumes: a BOX a convex solid, an EXTRUSION its walls, each a
+   planar quad. CONVEX occluders are not used (leaving an occluder out is conservative). */
+PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *s) {
+    uint32_t o, i;
+    for (o = 0; o < s->occluder_count; ++o) {
+        const pvs_occluder_desc *d = s->occluders + o;
+        float c[8][3];
+        const float *q[8];
+        if (d->kind == PVS_OCCLUDER_BOX) {
+            for (i = 0; i < 8; ++i) {
+                c[i][0] = i & 1 ? d->box.max[0] : d->box.min[0];
+                c[i][1] = i & 2 ? d->box.max[1] : d->box.min[1];
+                c[i][2] = i & 4 ? d->box.max[2] : d->box.min[2];
+                q[i] = c[i];
+            }
+            pvs__ep_add(p, q, 8, 1, 0.0);
+        } else if (d->kind == PVS_OCCLUDER_EXTRUSION) {
+            int u, v, up = (int)s->up_axis;
+            pvs__ground_axes(s->up_axis, &u, &v);
+            for (i = 0; i < d->footprint_count; ++i) {
+                const float *f0 = d->footprint + 2 * i, *f1 = d->footprint + 2 * ((i + 1) % d->footprint_count);
+                int k;
+                for (k = 0; k < 4; ++k) {
+                    const float *f = k == 0 || k == 3 ? f0 : f1;
+                    c[k][u] = f[0];
+                    c[k][v] = f[1];
+                    c[k][up] = k < 2 ? d->base : d->top;
+                    q[k] = c[k];
+                }
+                pvs__ep_add(p, q, 4, 0, 0.0);
+            }
+        }
+    }
+}
+
+/* The occluders by size class (area bound < 1, 4, 16, ..., the last open-ended): per class the list,
+   the largest area and a kD-tree over their boxes, for the selection's sweeps (§6.1). */
+PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err) {
+    const pvs_allocator *a = &p->allocator;
+    pvs_kdtree_desc kd;
+    pvs_box *boxes = (pvs_box *)pvs__alloc_array(a, p->occ_count + 1, sizeof(pvs_box));
+    pvs_result r = PVS_OK;
+    size_t q;
+    int c;
+    if (!boxes) return PVS_ERROR_OUT_OF_MEMORY;
+    for (q = 0; q < p->occ_count; ++q) ++p->class_count[pvs__ep_area_class(p->occ[q].area)];
+    for (c = 0; c < PVS__EP_AREA_CLASSES; ++c) {
+        uint32_t m = 0;
+        p->class_occ[c] = (uint32_t *)pvs__alloc_array(a, (size_t)p->class_count[c] + 1, sizeof(uint32_t));
+        if (!p->class_occ[c]) r = PVS_ERROR_OUT_OF_MEMORY;
+        for (q = 0; q < p->occ_count && r == PVS_OK; ++q)
+            if (pvs__ep_area_class(p->occ[q].area) == c) {
+                p->class_occ[c][m] = (uint32_t)q;
+                boxes[m++] = p->occ[q].box;
+                if (p->occ[q].area > p->class_area[c]) p->class_area[c] = p->occ[q].area;
+            }
+        if (r != PVS_OK) break;
+        memset(&kd, 0, sizeof(kd));
+        kd.boxes = boxes;
+        kd.count = m;
+        kd.allocator = *a;
+        r = pvs_kdtree_create(&kd, &p->occ_tree[c], err);
+        if (r != PVS_OK) break;
+    }
+    pvs__free_array(a, boxes, p->occ_count + 1, sizeof(pvs_box));
+    return r;
+}
+
 /* Builds the occluder list of a scene (§6.1 picks among it per cell). */
 PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out, pvs_error *err) {
     pvs__extproj_prep *p;
     pvs__epprepwork w;
     size_t occ_cap = (size_t)s->triangle_count + 1, pt_cap = 3 * (size_t)s->triangle_count + 1, most = 1;
-    uint32_t o, t, i;
+    uint32_t t, i;
     pvs_result r;
     *out = NULL;
+    memset(&w, 0, sizeof(w)); /* freed below even when its allocation is never tried */
     for (i = 0; i < s->occluder_count; ++i) {
         const pvs_occluder_desc *d = s->occluders + i;
         if (d->kind == PVS_OCCLUDER_BOX) { occ_cap += 1; pt_cap += 8; }
@@ -17468,92 +17736,22 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
         pvs__extproj_prep_destroy(p);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj occluders (%llu)", (unsigned long long)occ_cap);
     }
-    /* triangles in object order, one run of an object's triangles at a time */
-    for (t = 0; t < s->triangle_count;) {
-        uint32_t end = t + 1;
-        while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
-        {
-            size_t first = p->occ_count, q;
-            r = pvs__ep_prepare_object(p, s, t, end - t, &w);
-            for (q = first; q < p->occ_count; ++q) p->occ[q].object = s->triangle_object[t];
-        }
-        if (r != PVS_OK) {
-            pvs__ep_work_free(a, &w);
-            pvs__extproj_prep_destroy(p);
-            return pvs__fail(err, r, -1, 0, "extproj: slices of the closed meshes");
-        }
-        t = end;
-    }
+    r = pvs__ep_prepare_meshes(p, s, &w);
     pvs__ep_work_free(a, &w);
-    for (o = 0; o < s->occluder_count; ++o) {
-        const pvs_occluder_desc *d = s->occluders + o;
-        float c[8][3];
-        const float *q[8];
-        if (d->kind == PVS_OCCLUDER_BOX) {
-            for (i = 0; i < 8; ++i) {
-                c[i][0] = i & 1 ? d->box.max[0] : d->box.min[0];
-                c[i][1] = i & 2 ? d->box.max[1] : d->box.min[1];
-                c[i][2] = i & 4 ? d->box.max[2] : d->box.min[2];
-                q[i] = c[i];
-            }
-            pvs__ep_add(p, q, 8, 1, 0.0);
-        } else if (d->kind == PVS_OCCLUDER_EXTRUSION) { /* its walls, each a planar quad */
-            int u, v, up = (int)s->up_axis;
-            pvs__ground_axes(s->up_axis, &u, &v);
-            for (i = 0; i < d->footprint_count; ++i) {
-                const float *f0 = d->footprint + 2 * i, *f1 = d->footprint + 2 * ((i + 1) % d->footprint_count);
-                int k;
-                for (k = 0; k < 4; ++k) {
-                    const float *f = k == 0 || k == 3 ? f0 : f1;
-                    c[k][u] = f[0];
-                    c[k][v] = f[1];
-                    c[k][up] = k < 2 ? d->base : d->top;
-                    q[k] = c[k];
-                }
-                pvs__ep_add(p, q, 4, 0, 0.0);
-            }
-        }
-        /* CONVEX occluders are not used (leaving an occluder out is conservative) */
+    if (r != PVS_OK) {
+        pvs__extproj_prep_destroy(p);
+        return pvs__fail(err, r, -1, 0, "extproj: slices of the closed meshes");
     }
+    pvs__ep_prepare_volumes(p, s);
     r = pvs__ep_sheets(p, s);
     if (r != PVS_OK) {
         pvs__extproj_prep_destroy(p);
         return pvs__fail(err, r, -1, 0, "extproj: sheets");
     }
-    {
-        /* size classes: area bound < 1, 4, 16, ..., the last open-ended */
-        pvs_kdtree_desc kd;
-        pvs_box *boxes = (pvs_box *)pvs__alloc_array(a, p->occ_count + 1, sizeof(pvs_box));
-        size_t q;
-        int c;
-        if (!boxes) {
-            pvs__extproj_prep_destroy(p);
-            return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj: occluder trees");
-        }
-        for (q = 0; q < p->occ_count; ++q) ++p->class_count[pvs__ep_area_class(p->occ[q].area)];
-        for (c = 0; c < PVS__EP_AREA_CLASSES; ++c) {
-            uint32_t m = 0;
-            p->class_occ[c] = (uint32_t *)pvs__alloc_array(a, (size_t)p->class_count[c] + 1, sizeof(uint32_t));
-            if (!p->class_occ[c]) r = PVS_ERROR_OUT_OF_MEMORY;
-            for (q = 0; q < p->occ_count && r == PVS_OK; ++q)
-                if (pvs__ep_area_class(p->occ[q].area) == c) {
-                    p->class_occ[c][m] = (uint32_t)q;
-                    boxes[m++] = p->occ[q].box;
-                    if (p->occ[q].area > p->class_area[c]) p->class_area[c] = p->occ[q].area;
-                }
-            if (r != PVS_OK) break;
-            memset(&kd, 0, sizeof(kd));
-            kd.boxes = boxes;
-            kd.count = m;
-            kd.allocator = *a;
-            r = pvs_kdtree_create(&kd, &p->occ_tree[c], err);
-            if (r != PVS_OK) break;
-        }
-        pvs__free_array(a, boxes, p->occ_count + 1, sizeof(pvs_box));
-        if (r != PVS_OK) {
-            pvs__extproj_prep_destroy(p);
-            return pvs__fail(err, r, -1, 0, "extproj: occluder trees");
-        }
+    r = pvs__ep_class_trees(p, err);
+    if (r != PVS_OK) {
+        pvs__extproj_prep_destroy(p);
+        return pvs__fail(err, r, -1, 0, "extproj: occluder trees");
     }
     *out = p;
     return PVS_OK;
@@ -17601,21 +17799,12 @@ PVS__STATIC int pvs__ep_double_cmp(const void *a, const void *b) {
     return x < y ? -1 : x > y;
 }
 
-/* Rasterizes the section of a closed (or capped) component by the plane w = W (Durand 2000 §3.3:
-   the Projection of a closed manifold lying in the plane is itself): only pixels at a margin from
-   every segment of the section and inside it by parity get Depth W (map) or 1 (mask). Why it is
-   conservative: the cell lies outside the component's box, so a point V of the cell is outside the
-   solid, and a point X inside the section is inside it; the segment V-X crosses the closed surface
-   (mesh plus cap) an odd number of times, and never the cap (V and X lie strictly on the solid's
-   side of the cap's plane), so it crosses a triangle before reaching X, at a depth below W. Vertices
-   on the plane count as beyond it (symbolic perturbation), so every triangle and boundary edge
-   crossing the plane gives a consistent segment or point. Returns the pixels written. */
-PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
-                                   pvs__epslicer *sc, float *map, unsigned char *mask) {
-    uint32_t i, nseg = 0, ncap = 0, written = 0;
-    double mag = 0.0, m, ylo = DBL_MAX, yhi = -DBL_MAX;
-    int32_t j0, j1, j;
-    float depth = pvs__f_up(f->W);
+/* The section of component c's triangles by the plane w = W of frame f: one segment (pixels) per
+   triangle crossing it, into sc->seg from segment nseg on; vertices on the plane count as beyond it.
+   *mag grows to the points' size (their rounding). Returns the new segment count. */
+PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
+                                          const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double *mag) {
+    uint32_t i;
     for (i = 0; i < c->count; ++i) {
         const uint32_t *ix = s->indices + 3 * (size_t)p->stri[c->first + i];
         const float *v[3];
@@ -17631,7 +17820,7 @@ PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *
         for (k = 0; k < 3; ++k) {
             int l = (k + 1) % 3;
             if (far[k] == far[l]) continue;
-            pvs__ep_cross(f, far[k] ? v[l] : v[k], far[k] ? v[k] : v[l], &pt[np][0], &pt[np][1], &mag);
+            pvs__ep_cross(f, far[k] ? v[l] : v[k], far[k] ? v[k] : v[l], &pt[np][0], &pt[np][1], mag);
             ++np;
         }
         sc->seg[4 * nseg] = pt[0][0];
@@ -17640,43 +17829,57 @@ PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *
         sc->seg[4 * nseg + 3] = pt[1][1];
         ++nseg;
     }
-    if (c->capped) {
-        /* the cap (the boundary's region in its plane) meets the slicing plane along a line: the
-           boundary edges crossing the plane give points on it, paired in order along the line */
-        double *pts = sc->xs;
-        for (i = 0; i < c->bcount; ++i) {
-            const float *a = p->bedge + 6 * (size_t)(c->bfirst + i), *b = a + 3;
-            int fa = f->s * ((double)a[f->a] - f->face) >= f->W, fb = f->s * ((double)b[f->a] - f->face) >= f->W;
-            if (fa == fb) continue;
-            pvs__ep_cross(f, fa ? b : a, fa ? a : b, &pts[2 * ncap], &pts[2 * ncap + 1], &mag);
-            ++ncap;
-        }
-        if (ncap & 1u) return 0; /* cannot happen for a closed boundary; be safe */
-        if (ncap) {
-            /* the line lies along the plane's u or v axis: the cap is axis-aligned and the
-               slicing plane is perpendicular to another axis */
-            int key = c->cap_axis == f->u ? 1 : 0; /* the cap fixes u: the line runs along v */
-            uint32_t x, y;
-            for (x = 1; x < ncap; ++x) /* insertion sort by the running coordinate */
-                for (y = x; y > 0 && pts[2 * y + key] < pts[2 * (y - 1) + key]; --y) {
-                    double t0 = pts[2 * y], t1 = pts[2 * y + 1];
-                    pts[2 * y] = pts[2 * (y - 1)];
-                    pts[2 * y + 1] = pts[2 * (y - 1) + 1];
-                    pts[2 * (y - 1)] = t0;
-                    pts[2 * (y - 1) + 1] = t1;
-                }
-            for (x = 0; x + 1 < ncap; x += 2) {
-                sc->seg[4 * nseg] = pts[2 * x];
-                sc->seg[4 * nseg + 1] = pts[2 * x + 1];
-                sc->seg[4 * nseg + 2] = pts[2 * x + 2];
-                sc->seg[4 * nseg + 3] = pts[2 * x + 3];
-                ++nseg;
-            }
-        }
+    return nseg;
+}
+
+/* The section of a capped component's cap by the plane w = W: the cap (the boundary's region in its
+   plane) meets the slicing plane along a line, and the boundary edges crossing the plane give points
+   on it, paired in order along the line into segments of sc->seg from nseg on (*mag grows as in
+   pvs__ep_section_tris). Returns the new segment count, or 0xffffffff for an odd number of points
+   (cannot happen for a closed boundary; be safe). */
+PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
+                                         pvs__epslicer *sc, uint32_t nseg, double *mag) {
+    double *pts = sc->xs;
+    uint32_t i, ncap = 0, x, y;
+    int key;
+    for (i = 0; i < c->bcount; ++i) {
+        const float *a = p->bedge + 6 * (size_t)(c->bfirst + i), *b = a + 3;
+        int fa = f->s * ((double)a[f->a] - f->face) >= f->W, fb = f->s * ((double)b[f->a] - f->face) >= f->W;
+        if (fa == fb) continue;
+        pvs__ep_cross(f, fa ? b : a, fa ? a : b, &pts[2 * ncap], &pts[2 * ncap + 1], mag);
+        ++ncap;
     }
-    if (nseg < 3) return 0;
-    /* margin: a bound on the points' rounding errors in pixels, widely */
-    m = 1e-6 + 1e-12 * mag;
+    if (ncap & 1u) return 0xffffffffu;
+    /* the line lies along the plane's u or v axis: the cap is axis-aligned and the slicing plane is
+       perpendicular to another axis */
+    key = c->cap_axis == f->u ? 1 : 0; /* the cap fixes u: the line runs along v */
+    for (x = 1; x < ncap; ++x) /* insertion sort by the running coordinate */
+        for (y = x; y > 0 && pts[2 * y + key] < pts[2 * (y - 1) + key]; --y) {
+            double t0 = pts[2 * y], t1 = pts[2 * y + 1];
+            pts[2 * y] = pts[2 * (y - 1)];
+            pts[2 * y + 1] = pts[2 * (y - 1) + 1];
+            pts[2 * (y - 1)] = t0;
+            pts[2 * (y - 1) + 1] = t1;
+        }
+    for (x = 0; x + 1 < ncap; x += 2) {
+        sc->seg[4 * nseg] = pts[2 * x];
+        sc->seg[4 * nseg + 1] = pts[2 * x + 1];
+        sc->seg[4 * nseg + 2] = pts[2 * x + 2];
+        sc->seg[4 * nseg + 3] = pts[2 * x + 3];
+        ++nseg;
+    }
+    return nseg;
+}
+
+/* Fills the section's inside (the nseg segments of sc->seg, margin m in pixels) on frame f: per row the
+   parity crossings of its centre line (half-open in y), less the pixels a segment passes through in
+   the row's band widened by m; those get `depth` (where nearer) in map and f->bits in mask (either
+   may be NULL). Returns the pixels written. */
+PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double m,
+                                          float depth, float *map, unsigned char *mask) {
+    double ylo = DBL_MAX, yhi = -DBL_MAX;
+    int32_t j0, j1, j;
+    uint32_t i, written = 0;
     for (i = 0; i < nseg; ++i) {
         ylo = pvs__dmin(ylo, pvs__dmin(sc->seg[4 * i + 1], sc->seg[4 * i + 3]));
         yhi = pvs__dmax(yhi, pvs__dmax(sc->seg[4 * i + 1], sc->seg[4 * i + 3]));
@@ -17728,6 +17931,28 @@ PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *
         }
     }
     return written;
+}
+
+/* Rasterizes the section of a closed (or capped) component by the plane w = W (Durand 2000 §3.3:
+   the Projection of a closed manifold lying in the plane is itself): only pixels at a margin from
+   every segment of the section and inside it by parity get Depth W (map) or 1 (mask). Why it is
+   conservative: the cell lies outside the component's box, so a point V of the cell is outside the
+   solid, and a point X inside the section is inside it; the segment V-X crosses the closed surface
+   (mesh plus cap) an odd number of times, and never the cap (V and X lie strictly on the solid's
+   side of the cap's plane), so it crosses a triangle before reaching X, at a depth below W. Vertices
+   on the plane count as beyond it (symbolic perturbation), so every triangle and boundary edge
+   crossing the plane gives a consistent segment or point. Returns the pixels written. */
+PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
+                                   pvs__epslicer *sc, float *map, unsigned char *mask) {
+    double mag = 0.0;
+    uint32_t nseg = pvs__ep_section_tris(s, p, c, f, sc, 0, &mag);
+    if (c->capped) {
+        nseg = pvs__ep_section_cap(p, c, f, sc, nseg, &mag);
+        if (nseg == 0xffffffffu) return 0;
+    }
+    if (nseg < 3) return 0;
+    /* margin: a bound on the points' rounding errors in pixels, widely */
+    return pvs__ep_fill_section(f, sc, nseg, 1e-6 + 1e-12 * mag, pvs__f_up(f->W), map, mask);
 }
 
 /* 1 if the component may be sliced for this cell: the cell is outside its box and strictly on the
@@ -17879,6 +18104,114 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
     return nc;
 }
 
+/* Marks in cmark (rows j0 .. j1, columns i0 .. i1 of frame fp) every pixel the penumbra of one boundary
+   edge (e: its two ends) may touch: the convex hull of the 16 views of its ends from the cell's
+   corners (their bounding box when the views are collinear), widened by the views' rounding and a
+   thousandth of a pixel for the crossing test. `base` bounds the frame's terms. Returns 0 when the
+   views are too far to bound: then every candidate pixel is marked. */
+PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, double base, unsigned char *cmark,
+                                      int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
+    const pvs__epframe f = *fp;
+    double pts[16][2], hull[17][2], err = 0.0, hy0 = DBL_MAX, hy1 = -DBL_MAX;
+    int c, k = 0, hn, m;
+    int32_t r0, r1, row;
+    for (c = 0; c < 8; ++c) {
+        double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1];
+        int end;
+        for (end = 0; end < 2; ++end) {
+            const double *x = e + 3 * end;
+            double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
+            pts[k][0] = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su;
+            pts[k][1] = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
+            /* rounding: a few ulps of the terms, with a wide factor (the ends are exact) */
+            err = pvs__dmax(err, 1e-12 * (pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
+                                          ((pvs__dabs(Vu) + pvs__dabs((double)x[f.u])) * f.su + (pvs__dabs(Vv) + pvs__dabs((double)x[f.v])) * f.sv) * t));
+            ++k;
+        }
+    }
+    err += 1e-3; /* and a thousandth of a pixel to spare for the crossing test (2) */
+    for (k = 0; k < 16; ++k) { hy0 = pvs__dmin(hy0, pts[k][1]); hy1 = pvs__dmax(hy1, pts[k][1]); }
+    hn = pvs__ep_hull(pts, 16, hull);
+    if (!(hy1 - hy0 < 1e9)) { /* too far to bound: everything is marked */
+        for (row = j0; row <= j1; ++row) memset(cmark + (size_t)row * f.width + i0, 1, (size_t)(i1 - i0 + 1));
+        return 0;
+    }
+    if (hn < 3) { /* collinear views: their bounding box */
+        hn = 0;
+        hull[0][0] = hull[3][0] = DBL_MAX; hull[1][0] = hull[2][0] = -DBL_MAX;
+        for (k = 0; k < 16; ++k) {
+            hull[0][0] = pvs__dmin(hull[0][0], pts[k][0]);
+            hull[1][0] = pvs__dmax(hull[1][0], pts[k][0]);
+        }
+        hull[3][0] = hull[0][0]; hull[2][0] = hull[1][0];
+        hull[0][1] = hull[1][1] = hy0;
+        hull[2][1] = hull[3][1] = hy1;
+        hn = 4;
+    }
+    r0 = pvs__clampi(floor(hy0 - err), j0 - 1, j1 + 1);
+    r1 = pvs__clampi(floor(hy1 + err), j0 - 1, j1 + 1);
+    for (row = r0 < j0 ? j0 : r0; row <= r1 && row <= j1; ++row) {
+        /* the hull's x extent over the band [row - err, row + 1 + err] */
+        double y0 = row - err, y1 = row + 1.0 + err, mn = DBL_MAX, mx = -DBL_MAX;
+        int32_t x0, x1;
+        for (m = 0; m < hn; ++m) {
+            const double *a = hull[m], *b = hull[m + 1 < hn ? m + 1 : 0];
+            double ta = 0.0, tb = 1.0, dy = b[1] - a[1];
+            if (dy != 0.0) {
+                double t0 = (y0 - a[1]) / dy, t1 = (y1 - a[1]) / dy;
+                if (t0 > t1) { double tt = t0; t0 = t1; t1 = tt; }
+                ta = pvs__dmax(ta, t0);
+                tb = pvs__dmin(tb, t1);
+            } else if (a[1] < y0 || a[1] > y1) continue;
+            if (ta > tb) continue;
+            mn = pvs__dmin(mn, pvs__dmin(a[0] + (b[0] - a[0]) * ta, a[0] + (b[0] - a[0]) * tb));
+            mx = pvs__dmax(mx, pvs__dmax(a[0] + (b[0] - a[0]) * ta, a[0] + (b[0] - a[0]) * tb));
+        }
+        if (mn > mx) continue;
+        x0 = pvs__clampi(floor(mn - err - 1e-9 * (1.0 + pvs__dabs(mn))), i0 - 1, i1 + 1);
+        x1 = pvs__clampi(floor(mx + err + 1e-9 * (1.0 + pvs__dabs(mx))), i0 - 1, i1 + 1);
+        if (x0 < i0) x0 = i0;
+        if (x1 > i1) x1 = i1;
+        if (x0 <= x1) memset(cmark + (size_t)row * f.width + x0, 1, (size_t)(x1 - x0 + 1));
+    }
+    return 1;
+}
+
+/* Test (2) for the run of pixel (xm, row) of frame f: 1 when the line from the cell's centre world0
+   through the pixel's centre on the plane crosses the plane of the concave occluder o (unit normal pn,
+   dominant axis pax) in front of the plane (front) or behind it, inside its boundary (E, n edges) by
+   parity, and farther from the boundary than the surface's slack allows (scale: the boundary's
+   size). */
+PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *o, const double *E, uint32_t n,
+                                       const double *world0, const double *pn, int pax, int front, double scale,
+                                       int32_t xm, int32_t row) {
+    double X[3], dir[3], den, t, cp[3], best = DBL_MAX, tol, slack = o->slack;
+    int c, inside = 0, pu = (pax + 1) % 3, pv = (pax + 2) % 3;
+    uint32_t q;
+    X[f->u] = f->u0 + ((double)xm + 0.5) / f->su;
+    X[f->v] = f->v0 + ((double)row + 0.5) / f->sv;
+    X[f->a] = f->face + f->s * f->W;
+    for (c = 0; c < 3; ++c) dir[c] = X[c] - world0[c];
+    den = pn[0] * dir[0] + pn[1] * dir[1] + pn[2] * dir[2];
+    if (!(pvs__dabs(den) > 1e-9 * sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]))) return 0;
+    t = ((double)o->pd - (pn[0] * world0[0] + pn[1] * world0[1] + pn[2] * world0[2])) / den;
+    if (front ? !(t > 0.0 && t <= 1.0) : !(t >= 1.0)) return 0;
+    for (c = 0; c < 3; ++c) cp[c] = world0[c] + dir[c] * t;
+    for (q = 0; q < n; ++q) { /* parity and distance against the boundary, in (pu, pv) */
+        const double *a = E + 6 * (size_t)q, *b = a + 3;
+        double ax = a[pu], ay = a[pv], bx = b[pu], by = b[pv], ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey, s2;
+        if ((ay > cp[pv]) != (by > cp[pv]) && cp[pu] < ax + ex * (cp[pv] - ay) / ey) inside = !inside;
+        s2 = l2 > 0.0 ? pvs__dmin(1.0, pvs__dmax(0.0, ((cp[pu] - ax) * ex + (cp[pv] - ay) * ey) / l2)) : 0.0;
+        best = pvs__dmin(best, sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) + (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
+    }
+    /* the surface lies within the slack of the plane: the segment crosses that slab over a
+       stretch of slack / sin(angle) (|dir| / |den|), measured in (pu, pv) a factor
+       1 / |n_pax| longer; a crossing that near the boundary is not trusted */
+    tol = 4.0 * slack / pvs__dabs(pn[pax]) * pvs__dmax(1.0, sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]) / pvs__dabs(den)) +
+          1e-9 * scale;
+    return inside && best > tol;
+}
+
 /* The Projection of a concave planar occluder P (Durand 2000 §3.4, Fig. 7: planar, possibly
    concave, with holes) lying wholly in front of the plane ([margin, W]) or, unless front_only,
    wholly behind it. A pixel X is in it when every line from the cell through X meets P. Let C(X) be
@@ -17900,7 +18233,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
     uint32_t e, written = 0, n = o->ecount;
     double wmin = DBL_MAX, wmax = -DBL_MAX, margin = 1e-4 * (f.W - f.cw[0]), slack = o->slack, base;
     double xlo = -DBL_MAX, xhi = DBL_MAX, ylo = -DBL_MAX, yhi = DBL_MAX, V0[3], world0[3], pn[3], scale = 0.0;
-    int c, front, pax = 0, pu, pv;
+    int c, front, pax = 0;
     int32_t i0, i1, j0, j1, row;
     float depth;
     if (n > PVS__EP_CONCAVE_EDGES) return 0;
@@ -17948,76 +18281,12 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
     if (i0 > i1 || j0 > j1) return 0;
     for (row = j0; row <= j1; ++row) memset(cmark + (size_t)row * f.width + i0, 0, (size_t)(i1 - i0 + 1));
     /* (1) the boundary's penumbrae */
-    for (e = 0; e < n; ++e) {
-        double pts[16][2], hull[17][2], err = 0.0, hy0 = DBL_MAX, hy1 = -DBL_MAX;
-        int k = 0, hn, m;
-        int32_t r0, r1;
-        for (c = 0; c < 8; ++c) {
-            double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1];
-            int end;
-            for (end = 0; end < 2; ++end) {
-                const double *x = E + 6 * (size_t)e + 3 * end;
-                double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
-                pts[k][0] = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su;
-                pts[k][1] = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
-                /* rounding: a few ulps of the terms, with a wide factor (the ends are exact) */
-                err = pvs__dmax(err, 1e-12 * (pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
-                                              ((pvs__dabs(Vu) + pvs__dabs((double)x[f.u])) * f.su + (pvs__dabs(Vv) + pvs__dabs((double)x[f.v])) * f.sv) * t));
-                ++k;
-            }
-        }
-        err += 1e-3; /* and a thousandth of a pixel to spare for the crossing test (2) */
-        for (k = 0; k < 16; ++k) { hy0 = pvs__dmin(hy0, pts[k][1]); hy1 = pvs__dmax(hy1, pts[k][1]); }
-        hn = pvs__ep_hull(pts, 16, hull);
-        if (!(hy1 - hy0 < 1e9)) { /* too far to bound: everything is marked */
-            for (row = j0; row <= j1; ++row) memset(cmark + (size_t)row * f.width + i0, 1, (size_t)(i1 - i0 + 1));
-            break;
-        }
-        if (hn < 3) { /* collinear views: their bounding box */
-            hn = 0;
-            hull[0][0] = hull[3][0] = DBL_MAX; hull[1][0] = hull[2][0] = -DBL_MAX;
-            for (k = 0; k < 16; ++k) {
-                hull[0][0] = pvs__dmin(hull[0][0], pts[k][0]);
-                hull[1][0] = pvs__dmax(hull[1][0], pts[k][0]);
-            }
-            hull[3][0] = hull[0][0]; hull[2][0] = hull[1][0];
-            hull[0][1] = hull[1][1] = hy0;
-            hull[2][1] = hull[3][1] = hy1;
-            hn = 4;
-        }
-        r0 = pvs__clampi(floor(hy0 - err), j0 - 1, j1 + 1);
-        r1 = pvs__clampi(floor(hy1 + err), j0 - 1, j1 + 1);
-        for (row = r0 < j0 ? j0 : r0; row <= r1 && row <= j1; ++row) {
-            /* the hull's x extent over the band [row - err, row + 1 + err] */
-            double y0 = row - err, y1 = row + 1.0 + err, mn = DBL_MAX, mx = -DBL_MAX;
-            int32_t x0, x1;
-            for (m = 0; m < hn; ++m) {
-                const double *a = hull[m], *b = hull[m + 1 < hn ? m + 1 : 0];
-                double ta = 0.0, tb = 1.0, dy = b[1] - a[1];
-                if (dy != 0.0) {
-                    double t0 = (y0 - a[1]) / dy, t1 = (y1 - a[1]) / dy;
-                    if (t0 > t1) { double tt = t0; t0 = t1; t1 = tt; }
-                    ta = pvs__dmax(ta, t0);
-                    tb = pvs__dmin(tb, t1);
-                } else if (a[1] < y0 || a[1] > y1) continue;
-                if (ta > tb) continue;
-                mn = pvs__dmin(mn, pvs__dmin(a[0] + (b[0] - a[0]) * ta, a[0] + (b[0] - a[0]) * tb));
-                mx = pvs__dmax(mx, pvs__dmax(a[0] + (b[0] - a[0]) * ta, a[0] + (b[0] - a[0]) * tb));
-            }
-            if (mn > mx) continue;
-            x0 = pvs__clampi(floor(mn - err - 1e-9 * (1.0 + pvs__dabs(mn))), i0 - 1, i1 + 1);
-            x1 = pvs__clampi(floor(mx + err + 1e-9 * (1.0 + pvs__dabs(mx))), i0 - 1, i1 + 1);
-            if (x0 < i0) x0 = i0;
-            if (x1 > i1) x1 = i1;
-            if (x0 <= x1) memset(cmark + (size_t)row * f.width + x0, 1, (size_t)(x1 - x0 + 1));
-        }
-    }
+    for (e = 0; e < n; ++e)
+        if (!pvs__ep_mark_penumbra(&f, E + 6 * (size_t)e, base, cmark, i0, i1, j0, j1)) break;
     /* (2) per run of unmarked pixels, the crossing of the line from the cell's centre */
     for (c = 0; c < 3; ++c) pn[c] = o->pn[c];
     for (c = 1; c < 3; ++c)
         if (pvs__dabs(pn[c]) > pvs__dabs(pn[pax])) pax = c;
-    pu = (pax + 1) % 3;
-    pv = (pax + 2) % 3;
     V0[0] = 0.5 * (f.cu[0] + f.cu[1]);
     V0[1] = 0.5 * (f.cv[0] + f.cv[1]);
     V0[2] = 0.5 * f.cw[0];
@@ -18029,37 +18298,12 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
         const unsigned char *mk = cmark + (size_t)row * f.width;
         int32_t x = i0;
         while (x <= i1) {
-            int32_t xs, xe, xm;
-            double X[3], dir[3], den, t, cp[3], best = DBL_MAX, tol;
-            int inside = 0;
-            uint32_t q;
+            int32_t xs, xe;
             if (mk[x]) { ++x; continue; }
             xs = x;
             while (x <= i1 && !mk[x]) ++x;
             xe = x - 1;
-            xm = (xs + xe) / 2;
-            X[f.u] = f.u0 + ((double)xm + 0.5) / f.su;
-            X[f.v] = f.v0 + ((double)row + 0.5) / f.sv;
-            X[f.a] = f.face + f.s * f.W;
-            for (c = 0; c < 3; ++c) dir[c] = X[c] - world0[c];
-            den = pn[0] * dir[0] + pn[1] * dir[1] + pn[2] * dir[2];
-            if (!(pvs__dabs(den) > 1e-9 * sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]))) continue;
-            t = ((double)o->pd - (pn[0] * world0[0] + pn[1] * world0[1] + pn[2] * world0[2])) / den;
-            if (front ? !(t > 0.0 && t <= 1.0) : !(t >= 1.0)) continue;
-            for (c = 0; c < 3; ++c) cp[c] = world0[c] + dir[c] * t;
-            for (q = 0; q < n; ++q) { /* parity and distance against the boundary, in (pu, pv) */
-                const double *a = E + 6 * (size_t)q, *b = a + 3;
-                double ax = a[pu], ay = a[pv], bx = b[pu], by = b[pv], ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey, s2;
-                if ((ay > cp[pv]) != (by > cp[pv]) && cp[pu] < ax + ex * (cp[pv] - ay) / ey) inside = !inside;
-                s2 = l2 > 0.0 ? pvs__dmin(1.0, pvs__dmax(0.0, ((cp[pu] - ax) * ex + (cp[pv] - ay) * ey) / l2)) : 0.0;
-                best = pvs__dmin(best, sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) + (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
-            }
-            /* the surface lies within the slack of the plane: the segment crosses that slab over a
-               stretch of slack / sin(angle) (|dir| / |den|), measured in (pu, pv) a factor
-               1 / |n_pax| longer; a crossing that near the boundary is not trusted */
-            tol = 4.0 * slack / pvs__dabs(pn[pax]) * pvs__dmax(1.0, sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]) / pvs__dabs(den)) +
-                  1e-9 * scale;
-            if (!inside || !(best > tol)) continue;
+            if (!pvs__ep_crosses_inside(&f, o, E, n, world0, pn, pax, front, scale, (xs + xe) / 2, row)) continue;
             if (map) {
                 float *px = map + (size_t)row * f.width;
                 int32_t xx;
@@ -19845,12 +20089,6 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 
 #define PVS__SHRINK_RES 64u
 
-/* The 3D path (§2.1, 2.3): samples on each of the cell's six faces, on a grid with spacing <= eps *
-   sqrt(2), so every boundary point is within eps of one (a sight line from inside the cell leaves
-   it through the boundary, so the boundary stands for the cell). Per sample a cube of six depth maps
-   of the eroded boxes (occluder mode: inner coverage, farthest depth), objects tested in occludee
-   mode against the depth pyramid; the PVS is the union over the samples. Objects within twice the
-   near distance of the cell are set outright (the cube does not see nearer than its near plane). */
 /* 1 when box bx may reach into the view from eye p along axis dax (positive when pos), a superset of
    the shrink 3D path's frustum (fov 1.6 rad, square): some point ahead with lateral offsets within
    1.1 x its distance ahead. *dn, *df: the box's least and greatest distance ahead. In double, from
@@ -19883,134 +20121,183 @@ PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax
     return 1;
 }
 
+/* The 3D path's scratch and state for one cell. */
+typedef struct pvs__shrink3d {
+    const pvs_scene *s;
+    const pvs_occluders *o;
+    pvs_raster *r;            /* PVS__SHRINK_RES square, the eroded boxes as one occluder mesh */
+    float *pos;               /* 24 per eroded box: its corners */
+    uint32_t *idx;            /* 36 per eroded box: its faces' triangles */
+    uint32_t *sel;            /* 36 per eroded box: the boxes a view draws */
+    uint32_t *cand;           /* per object: the objects a view tests */
+    pvs_word *seen;           /* objects found visible (or set on entry) */
+    float nearp;              /* the views' near plane */
+    pvs_shrink_stats *st;
+} pvs__shrink3d;
+
+/* The objects one view from p along axis dax (positive when pos) can change: not yet seen and
+   reaching into a superset of its frustum (lateral offsets within 1.1 x the distance ahead, the
+   frustum's being tan(0.8) = 1.03), into w->cand. *far: the greatest distance ahead among them;
+   crect: the union of their images (pvs__shrink_view_rect) when *bounded stays 1. Returns their
+   count. */
+PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, int dax, int pos, double *far,
+                                            double crect[4], int *bounded) {
+    const pvs_scene *s = w->s;
+    uint32_t ob, ncand = 0;
+    double brect[4];
+    int k;
+    for (ob = 0; ob < s->object_count; ++ob) {
+        double dn, df;
+        if (pvs_bitset_test(w->seen, ob) || !pvs__box_valid(s->object_boxes + ob)) continue;
+        if (!pvs__shrink_in_view(s->object_boxes + ob, p, dax, pos, &dn, &df)) continue;
+        w->cand[ncand++] = ob;
+        if (df > *far) *far = df;
+        if (*bounded && pvs__shrink_view_rect(s->object_boxes + ob, p, dax, dn, df, brect))
+            for (k = 0; k < 2; ++k) {
+                crect[k] = pvs__dmin(crect[k], brect[k]);
+                crect[2 + k] = pvs__dmax(crect[2 + k], brect[2 + k]);
+            }
+        else *bounded = 0;
+    }
+    return ncand;
+}
+
+/* One view of the cube at sample p (§2.3), direction dir (axis dir / 2, positive when odd): only what
+   it can change, the candidate objects (pvs__shrink_candidates) and the eroded boxes in the same
+   superset of the frustum that reach nearer than the farthest of them (a box wholly farther is nearer
+   at no pixel than any of them) and whose image meets theirs: leaving out the rest changes no test's
+   answer. The boxes are drawn as one occluder mesh, the candidates tested in occludee mode against
+   the depth pyramid; those that pass join w->seen. */
+PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir) {
+    const pvs_occluders *o = w->o;
+    uint32_t i, nb = o->box_count, nsel = 0, ncand;
+    int k, dax = (int)dir / 2, bounded = 1;
+    double far = -1.0, crect[4] = {DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX}, brect[4];
+    pvs_camera cam;
+    float m[16];
+    ncand = pvs__shrink_candidates(w, p, dax, dir & 1, &far, crect, &bounded);
+    if (!ncand) return;
+    for (i = 0; i < nb; ++i) {
+        double dn, df;
+        if (!pvs__shrink_in_view(o->boxes + i, p, dax, dir & 1, &dn, &df) || dn > far) continue;
+        /* a box whose image misses the candidates' (a margin of a few pixels around) covers none of
+           the pixels their tests read */
+        if (bounded && pvs__shrink_view_rect(o->boxes + i, p, dax, dn, df, brect) &&
+            (brect[0] > crect[2] + 0.1 || brect[2] < crect[0] - 0.1 || brect[1] > crect[3] + 0.1 || brect[3] < crect[1] - 0.1))
+            continue;
+        memcpy(w->sel + 36 * (size_t)nsel, w->idx + 36 * (size_t)i, 36 * sizeof(uint32_t));
+        ++nsel;
+    }
+    w->st->occluders_drawn += nsel;
+    memset(&cam, 0, sizeof(cam));
+    for (k = 0; k < 3; ++k) cam.eye[k] = p[k];
+    cam.forward[dax] = dir & 1 ? 1.0f : -1.0f;
+    cam.up[(dax + 1) % 3] = 1.0f;
+    cam.fov_y = 1.6f; /* a little over 90 degrees: the six frusta overlap */
+    cam.near_plane = w->nearp;
+    if (pvs_camera_matrix(&cam, 1.0f, m) != PVS_OK) return;
+    pvs_raster_clear(w->r);
+    pvs_raster_set_matrix(w->r, m);
+    if (nsel) pvs_raster_mesh(w->r, w->pos, 8 * nb, w->sel, 12 * nsel); /* no cracks along the faces' diagonals */
+    pvs_raster_build_pyramid(w->r);
+    for (i = 0; i < ncand; ++i)
+        if (pvs_raster_test_box(w->r, w->s->object_boxes + w->cand[i])) pvs_bitset_set(w->seen, w->cand[i]);
+}
+
+/* The samples of one face of the cell (face / 2 its axis, the max side when odd) on a grid with
+   spacing <= `spacing`, its corners included, each looking in the six directions. UNSUPPORTED when a
+   side needs more than 1024 samples. */
+PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, uint32_t face, float spacing,
+                                        pvs_error *err) {
+    int ax = (int)face / 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
+    uint32_t n1 = (uint32_t)ceil(((double)cell->max[a1] - cell->min[a1]) / spacing) + 1u;
+    uint32_t n2 = (uint32_t)ceil(((double)cell->max[a2] - cell->min[a2]) / spacing) + 1u;
+    uint32_t a, b, dir;
+    if (n1 > 1024u || n2 > 1024u)
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell face of %u x %u samples: eps too small for the cell", n1, n2);
+    for (a = 0; a < n1; ++a)
+        for (b = 0; b < n2; ++b) {
+            float p[3];
+            p[ax] = face & 1 ? cell->max[ax] : cell->min[ax];
+            p[a1] = n1 > 1 ? cell->min[a1] + (float)((double)a * ((double)cell->max[a1] - cell->min[a1]) / (n1 - 1)) : cell->min[a1];
+            p[a2] = n2 > 1 ? cell->min[a2] + (float)((double)b * ((double)cell->max[a2] - cell->min[a2]) / (n2 - 1)) : cell->min[a2];
+            if (a + 1 == n1) p[a1] = cell->max[a1];
+            if (b + 1 == n2) p[a2] = cell->max[a2];
+            ++w->st->samples;
+            for (dir = 0; dir < 6; ++dir) pvs__shrink_view(w, p, dir);
+        }
+    return PVS_OK;
+}
+
+/* The 3D path (§2.1, 2.3): samples on each of the cell's six faces, on a grid with spacing <= eps *
+   sqrt(2), so every boundary point is within eps of one (a sight line from inside the cell leaves
+   it through the boundary, so the boundary stands for the cell). Per sample a cube of six depth maps
+   of the eroded boxes (occluder mode: inner coverage, farthest depth), objects tested in occludee
+   mode against the depth pyramid; the PVS is the union over the samples. Objects within twice the
+   near distance of the cell are set outright (the cube does not see nearer than its near plane). */
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
                                       pvs_shrink_stats *st, pvs_error *err) {
     pvs_raster_desc rd;
-    pvs_raster *r = NULL;
+    pvs__shrink3d w;
     pvs_result res;
-    float *pos = NULL, eps = o->info.eps, spacing = 1.4f * eps, nearp = 0.05f * eps;
-    uint32_t *idx = NULL, *sel = NULL, *cand = NULL, nb = o->box_count, i, face, a, b, dir, ob, ncand;
-    pvs_word *seen = NULL;
+    float eps = o->info.eps, spacing = 1.4f * eps;
+    uint32_t nb = o->box_count, i, face, ob;
     size_t words = PVS_BITSET_WORDS(s->object_count);
     static const uint32_t quad[36] = {0, 1, 3, 0, 3, 2, 4, 6, 7, 4, 7, 5, 0, 4, 5, 0, 5, 1,
                                       2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
     pvs_box grown;
     int k;
+    memset(&w, 0, sizeof(w));
+    w.s = s;
+    w.o = o;
+    w.st = st;
+    w.nearp = 0.05f * eps;
     memset(&rd, 0, sizeof(rd));
     rd.width = rd.height = PVS__SHRINK_RES;
     rd.max_mesh_triangles = nb ? (nb < 4096u ? 12 * nb : 49152u) : 12u; /* the boxes as one occluder mesh */
     rd.allocator = o->allocator;
-    res = pvs_raster_create(&rd, &r, err);
+    res = pvs_raster_create(&rd, &w.r, err);
     if (res != PVS_OK) return res;
-    pos = (float *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 24, sizeof(float));
-    idx = (uint32_t *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
-    seen = (pvs_word *)pvs__alloc_array(&o->allocator, words ? words : 1, sizeof(pvs_word));
-    sel = (uint32_t *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
-    cand = (uint32_t *)pvs__alloc_array(&o->allocator, s->object_count ? s->object_count : 1, sizeof(uint32_t));
-    if (!pos || !idx || !seen || !sel || !cand) {
+    w.pos = (float *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 24, sizeof(float));
+    w.idx = (uint32_t *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
+    w.seen = (pvs_word *)pvs__alloc_array(&o->allocator, words ? words : 1, sizeof(pvs_word));
+    w.sel = (uint32_t *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
+    w.cand = (uint32_t *)pvs__alloc_array(&o->allocator, s->object_count ? s->object_count : 1, sizeof(uint32_t));
+    if (!w.pos || !w.idx || !w.seen || !w.sel || !w.cand) {
         res = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink 3D scratch");
         goto done;
     }
-    memset(seen, 0, (words ? words : 1) * sizeof(pvs_word));
-    memcpy(seen, visible, words * sizeof(pvs_word)); /* objects set on entry are not tested */
+    memset(w.seen, 0, (words ? words : 1) * sizeof(pvs_word));
+    memcpy(w.seen, visible, words * sizeof(pvs_word)); /* objects set on entry are not tested */
     for (i = 0; i < nb; ++i) {
         const pvs_box *bx = o->boxes + i;
         uint32_t c;
         for (c = 0; c < 8; ++c) {
-            pos[24 * i + 3 * c + 0] = c & 1 ? bx->max[0] : bx->min[0];
-            pos[24 * i + 3 * c + 1] = c & 2 ? bx->max[1] : bx->min[1];
-            pos[24 * i + 3 * c + 2] = c & 4 ? bx->max[2] : bx->min[2];
+            w.pos[24 * i + 3 * c + 0] = c & 1 ? bx->max[0] : bx->min[0];
+            w.pos[24 * i + 3 * c + 1] = c & 2 ? bx->max[1] : bx->min[1];
+            w.pos[24 * i + 3 * c + 2] = c & 4 ? bx->max[2] : bx->min[2];
         }
-        for (c = 0; c < 36; ++c) idx[36 * i + c] = 8 * i + quad[c];
+        for (c = 0; c < 36; ++c) w.idx[36 * i + c] = 8 * i + quad[c];
     }
     /* objects near or in the cell */
     grown = *cell;
-    for (k = 0; k < 3; ++k) { grown.min[k] -= 2.0f * nearp + 1e-4f * eps; grown.max[k] += 2.0f * nearp + 1e-4f * eps; }
+    for (k = 0; k < 3; ++k) { grown.min[k] -= 2.0f * w.nearp + 1e-4f * eps; grown.max[k] += 2.0f * w.nearp + 1e-4f * eps; }
     for (ob = 0; ob < s->object_count; ++ob)
-        if (pvs__box_valid(s->object_boxes + ob) && pvs__box_overlap(s->object_boxes + ob, &grown)) pvs_bitset_set(seen, ob);
+        if (pvs__box_valid(s->object_boxes + ob) && pvs__box_overlap(s->object_boxes + ob, &grown)) pvs_bitset_set(w.seen, ob);
     for (face = 0; face < 6; ++face) {
-        int ax = (int)face / 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
-        uint32_t n1 = (uint32_t)ceil(((double)cell->max[a1] - cell->min[a1]) / spacing) + 1u;
-        uint32_t n2 = (uint32_t)ceil(((double)cell->max[a2] - cell->min[a2]) / spacing) + 1u;
-        if (n1 > 1024u || n2 > 1024u) {
-            res = pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell face of %u x %u samples: eps too small for the cell", n1, n2);
-            goto done;
-        }
-        for (a = 0; a < n1; ++a)
-            for (b = 0; b < n2; ++b) {
-                float p[3];
-                p[ax] = face & 1 ? cell->max[ax] : cell->min[ax];
-                p[a1] = n1 > 1 ? cell->min[a1] + (float)((double)a * ((double)cell->max[a1] - cell->min[a1]) / (n1 - 1)) : cell->min[a1];
-                p[a2] = n2 > 1 ? cell->min[a2] + (float)((double)b * ((double)cell->max[a2] - cell->min[a2]) / (n2 - 1)) : cell->min[a2];
-                if (a + 1 == n1) p[a1] = cell->max[a1];
-                if (b + 1 == n2) p[a2] = cell->max[a2];
-                ++st->samples;
-                for (dir = 0; dir < 6; ++dir) {
-                    pvs_camera cam;
-                    float m[16];
-                    int dax = (int)dir / 2;
-                    uint32_t nsel = 0;
-                    double far = -1.0;
-                    /* Only what this view can change: the objects not yet seen that reach into a
-                       superset of its frustum (lateral offsets within 1.1 x the distance ahead, the
-                       frustum's being tan(0.8) = 1.03), and the boxes in that superset that reach
-                       nearer than the farthest of those objects (a box wholly farther is nearer at no
-                       pixel than any of them). Leaving out the rest changes no test's answer. */
-                    double crect[4] = {DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX}, brect[4];
-                    int bounded = 1;
-                    ncand = 0;
-                    for (ob = 0; ob < s->object_count; ++ob) {
-                        double dn, df;
-                        if (pvs_bitset_test(seen, ob) || !pvs__box_valid(s->object_boxes + ob)) continue;
-                        if (!pvs__shrink_in_view(s->object_boxes + ob, p, dax, dir & 1, &dn, &df)) continue;
-                        cand[ncand++] = ob;
-                        if (df > far) far = df;
-                        if (bounded && pvs__shrink_view_rect(s->object_boxes + ob, p, dax, dn, df, brect))
-                            for (k = 0; k < 2; ++k) {
-                                crect[k] = pvs__dmin(crect[k], brect[k]);
-                                crect[2 + k] = pvs__dmax(crect[2 + k], brect[2 + k]);
-                            }
-                        else bounded = 0;
-                    }
-                    if (!ncand) continue;
-                    for (i = 0; i < nb; ++i) {
-                        double dn, df;
-                        if (!pvs__shrink_in_view(o->boxes + i, p, dax, dir & 1, &dn, &df) || dn > far) continue;
-                        /* a box whose image misses the candidates' (a margin of a few pixels around)
-                           covers none of the pixels their tests read */
-                        if (bounded && pvs__shrink_view_rect(o->boxes + i, p, dax, dn, df, brect) &&
-                            (brect[0] > crect[2] + 0.1 || brect[2] < crect[0] - 0.1 || brect[1] > crect[3] + 0.1 || brect[3] < crect[1] - 0.1))
-                            continue;
-                        memcpy(sel + 36 * (size_t)nsel, idx + 36 * (size_t)i, 36 * sizeof(uint32_t));
-                        ++nsel;
-                    }
-                    st->occluders_drawn += nsel;
-                    memset(&cam, 0, sizeof(cam));
-                    for (k = 0; k < 3; ++k) cam.eye[k] = p[k];
-                    cam.forward[dax] = dir & 1 ? 1.0f : -1.0f;
-                    cam.up[(dax + 1) % 3] = 1.0f;
-                    cam.fov_y = 1.6f; /* a little over 90 degrees: the six frusta overlap */
-                    cam.near_plane = nearp;
-                    if (pvs_camera_matrix(&cam, 1.0f, m) != PVS_OK) continue;
-                    pvs_raster_clear(r);
-                    pvs_raster_set_matrix(r, m);
-                    if (nsel) pvs_raster_mesh(r, pos, 8 * nb, sel, 12 * nsel); /* no cracks along the faces' diagonals */
-                    pvs_raster_build_pyramid(r);
-                    for (i = 0; i < ncand; ++i)
-                        if (pvs_raster_test_box(r, s->object_boxes + cand[i])) pvs_bitset_set(seen, cand[i]);
-                }
-            }
+        res = pvs__shrink_face(&w, cell, face, spacing, err);
+        if (res != PVS_OK) goto done;
     }
     for (ob = 0; ob < s->object_count; ++ob)
-        if (pvs_bitset_test(seen, ob) && !(s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY)) pvs_bitset_set(visible, ob);
+        if (pvs_bitset_test(w.seen, ob) && !(s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY)) pvs_bitset_set(visible, ob);
     res = PVS_OK;
 done:
-    pvs__free_array(&o->allocator, pos, (size_t)(nb ? nb : 1) * 24, sizeof(float));
-    pvs__free_array(&o->allocator, idx, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
-    pvs__free_array(&o->allocator, seen, words ? words : 1, sizeof(pvs_word));
-    pvs__free_array(&o->allocator, sel, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
-    pvs__free_array(&o->allocator, cand, s->object_count ? s->object_count : 1, sizeof(uint32_t));
-    pvs_raster_destroy(r);
+    pvs__free_array(&o->allocator, w.pos, (size_t)(nb ? nb : 1) * 24, sizeof(float));
+    pvs__free_array(&o->allocator, w.idx, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
+    pvs__free_array(&o->allocator, w.seen, words ? words : 1, sizeof(pvs_word));
+    pvs__free_array(&o->allocator, w.sel, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
+    pvs__free_array(&o->allocator, w.cand, s->object_count ? s->object_count : 1, sizeof(uint32_t));
+    pvs_raster_destroy(w.r);
     return res;
 }
 
