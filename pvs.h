@@ -22571,7 +22571,7 @@ typedef struct pvs__open_sections {
 } pvs__open_sections;
 
 /* The header, 32 bytes, in the order of the format table: magic, version, file size, section count
-   (and the table inside the file), checksum, reserved bytes. *count receives the section count. */
+   (and the table inside the file), checksum, reserved bytes. *count_out receives the section count. */
 PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t *count_out, pvs_error *err) {
     uint32_t count, crc;
     if (size < 4 || memcmp(p, "PVS\x1a", 4) != 0)
