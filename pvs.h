@@ -102,9 +102,9 @@
    intersection of conservative sets is conservative, and at least as tight as each). SHRINK, the
    costliest, runs last and samples only the objects the others kept: the intersection is the same, and
    a cell where the others leave nothing for it to cull costs little. EXTPROJ runs with the occlusion
-   sweep of §5 (pvs_bake_desc.extproj_sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on indoor game maps
+   sweep of §5 (pvs_bake_desc.extproj.sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on indoor game maps
    it fuses walls and floors that the planes of §6.1 do not: a smaller PVS for more time per cell (see
-   tests/BENCHMARKS.md, bake). pvs_bake_desc.extproj_sweep_subcells = 4 gives each sweep plane the
+   tests/BENCHMARKS.md, bake). pvs_bake_desc.extproj.sweep_subcells = 4 gives each sweep plane the
    umbrae of the cell's four quarters (tighter on foliage, for a few times the bake's time: see
    tests/BENCHMARKS.md, extproj). pvs_bake_get_method_info says which ran, which were skipped and why,
    and what each contributed; pvs_bake_desc.methods restricts the candidates.
@@ -114,14 +114,14 @@
    the PVSs it had finished (not a VOCC bake: its virtual occluders are baked again). Only a VOCC bake
    stores virtual occluders; AUTO uses vocc's PVS in the intersection and stores none.
 
-   Adaptive cells. With pvs_bake_desc.adaptive_budget (Durand 2000 §6.1) a cell whose PVS holds more
+   Adaptive cells. With pvs_bake_desc.adaptive.budget (Durand 2000 §6.1) a cell whose PVS holds more
    triangles than the budget is split in two across its longest side, again and again down to
-   adaptive_min_size; each half is baked from its parent's PVS (with every method of the bake, the
+   adaptive.min_size; each half is baked from its parent's PVS (with every method of the bake, the
    result intersected with the parent's; EXTPROJ tests only the parent's objects and drops the
    occluders it hides). The file holds the leaf cells (pvs_bake_leaf_count), in cell order, each
    cell's leaves depth first, and its look-up tree covers them; pvs_bake_cell_pvs still gives a
    whole cell's PVS. Deterministic for any thread count; not with shards, VOCC or resuming. EXTPROJ
-   also takes extproj_sweep, the occlusion sweep of §5 (for many small occluders; slower).
+   also takes extproj.sweep, the occlusion sweep of §5 (for many small occluders; slower).
 
    Memory. Every desc struct has a `pvs_allocator`; left at zero, PVS_MALLOC/PVS_FREE are used. An object
    remembers its allocator. Size arithmetic is overflow-checked. The runtime (pvs_file_*) and the
@@ -882,7 +882,7 @@ typedef struct pvs_visibility_25d_desc {
 } pvs_visibility_25d_desc;
 
 /* The default node budget of a 2.5D occlusion tree (pvs_visibility_25d_desc.node_budget, and OTREE
-   bakes: pvs_bake_desc.otree_node_budget). The budget spent, the remaining facades are not inserted
+   bakes: pvs_bake_desc.otree.node_budget). The budget spent, the remaining facades are not inserted
    (counted as not blocking: conservative) and the objects are still tested. The generator scenes
    never reach it. On the brush geometry of Quake 3 maps thousands of small facades split the tree
    into slivers; there this budget bounds the time per cell at almost no cost in tightness (see
@@ -1299,8 +1299,8 @@ typedef struct pvs_extproj_plane {
 } pvs_extproj_plane;
 #define PVS_EXTPROJ_EMPTY 3.402823466e+38f
 #define PVS_EXTPROJ_SWEEP_PLANES 16u /* sweep planes per direction pvsbake --sweep asks for, and AUTO's default */
-#define PVS_EXTPROJ_NO_SWEEP 0xffffffffu /* pvs_bake_desc.extproj_sweep: AUTO without the sweep */
-#define PVS_EXTPROJ_RESOLUTION 256u /* pixels per plane side when pvs_bake_desc.extproj_resolution is 0 */
+#define PVS_EXTPROJ_NO_SWEEP 0xffffffffu /* pvs_bake_desc.extproj.sweep: AUTO without the sweep */
+#define PVS_EXTPROJ_RESOLUTION 256u /* pixels per plane side when pvs_bake_desc.extproj.resolution is 0 */
 #define PVS_EXTPROJ_PREVIEW_RESOLUTION 64u /* the same with PVS_BAKE_PREVIEW */
 
 /* Adds the extended Projection of one convex occluder (§3.2): `points` (count x (x, y, z), 1..16) are
@@ -1336,51 +1336,72 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep);
 
 /* ---- bake ------------------------------------------------------------------------------------ */
 
-/* What to bake. Left at zero, optional fields get defaults. */
+/* SAMPLE's parameters (pvs_bake_desc.sample). */
+typedef struct pvs_bake_sample_params {
+    uint32_t points;          /* points per cell, 0 = 32 */
+    uint32_t rays;            /* rays per point, 0 = 2048 */
+    uint64_t seed;            /* random seed */
+} pvs_bake_sample_params;
+
+/* EXTPROJ's parameters (pvs_bake_desc.extproj; also under AUTO). */
+typedef struct pvs_bake_extproj_params {
+    uint32_t resolution;      /* N x N pixels per plane, 0 = PVS_EXTPROJ_RESOLUTION (256; with PVS_BAKE_PREVIEW,
+                                 PVS_EXTPROJ_PREVIEW_RESOLUTION, 64); 16..4096 (the sweep's planes spread them
+                                 as square pixels over the part the cell and scene span) */
+    uint32_t occluders;       /* occluders projected on the planes of §6.1, 0 = 128; <= 65536 (the sweep's
+                                 planes take every occluder between them) */
+    uint32_t sweep;           /* occlusion sweep (Durand 2000 §5): at most this many planes per direction,
+                                 0 = no sweep (pvsbake --sweep: PVS_EXTPROJ_SWEEP_PLANES); <= 256.
+                                 AUTO: 0 = PVS_EXTPROJ_SWEEP_PLANES (none with PVS_BAKE_PREVIEW), and
+                                 PVS_EXTPROJ_NO_SWEEP turns it off (see AUTO above);
+                                 with it an object whose box is not hidden is tested by parts of its
+                                 triangles (foliage: a tree is kept only if a leaf or its trunk may be
+                                 seen; objects over 16,384 triangles by their box alone) */
+    uint32_t sweep_subcells;  /* with the sweep: 0 or 1 = each sweep plane holds the cell's umbra; 4 = the
+                                 union of the umbrae of the cell's four quarters across each direction, and
+                                 an object must be hidden from every quarter (tighter on foliage, for a few
+                                 times the bake's time: tests/BENCHMARKS.md, extproj). Needs the sweep */
+} pvs_bake_extproj_params;
+
+/* Adaptive cells (Durand 2000 §6.1; pvs_bake_desc.adaptive): a cell whose PVS holds more than `budget`
+   triangles is split in two across its longest side, recursively, while the halves stay at least
+   `min_size` long; the children are baked from the parent's PVS (only its objects are tested; EXTPROJ
+   also drops the occluders it hides). The file then holds the leaf cells, in cell order, each cell's
+   leaves depth first (low half first). Not with shards. */
+typedef struct pvs_bake_adaptive_params {
+    uint32_t budget;          /* triangles per leaf cell's PVS; 0 = off */
+    float min_size;           /* shortest half, 0 = an eighth of the cell's longest side */
+} pvs_bake_adaptive_params;
+
+/* SHRINK's parameters (pvs_bake_desc.shrink; also under AUTO). */
+typedef struct pvs_bake_shrink_params {
+    pvs_shrink_mode mode;     /* path, PVS_SHRINK_AUTO picks */
+    float voxel_size;         /* occluder synthesis voxel size, 0 = derived */
+} pvs_bake_shrink_params;
+
+/* VOCC's parameters (pvs_bake_desc.vocc). */
+typedef struct pvs_bake_vocc_params {
+    uint32_t slices;          /* height slices per cell (§3.1), 0 = 5; 1..16 */
+    uint32_t max_occluders;   /* virtual occluders kept per cell (Fig. 6), 0 = 10; 1..255 */
+    uint32_t only;            /* 1 = store only the occluders: the PVS records are placeholders (every
+                                 drawable object) and the runtime rebuilds each PVS with pvs_vocc_cull */
+} pvs_bake_vocc_params;
+
+/* OTREE's parameters (pvs_bake_desc.otree; also under AUTO). */
+typedef struct pvs_bake_otree_params {
+    uint32_t node_budget;     /* nodes per occlusion tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24. A larger budget
+                                 never hides less; on maps of many small facades the time grows faster than
+                                 the budget (see PVS_OTREE_25D_BUDGET) */
+} pvs_bake_otree_params;
+
+/* What to bake. Left at zero, optional fields get defaults; so do the per-method parameters. */
 typedef struct pvs_bake_desc {
     const pvs_scene *scene;   /* must outlive the bake */
     const pvs_box *cells;     /* cell_count view cells, copied */
     uint32_t cell_count;
     pvs_method method;        /* PVS_METHOD_DEFAULT = AUTO */
     float eps;                /* sampling / shrinking distance; 0 = derived from the cells */
-    uint32_t sample_points;   /* SAMPLE: points per cell, 0 = 32 */
-    uint32_t sample_rays;     /* SAMPLE: rays per point, 0 = 2048 */
-    uint64_t seed;            /* SAMPLE: random seed */
     uint32_t max_chain;       /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
-    uint32_t extproj_resolution; /* EXTPROJ: N x N pixels per plane, 0 = PVS_EXTPROJ_RESOLUTION (256; with
-                                    PVS_BAKE_PREVIEW, PVS_EXTPROJ_PREVIEW_RESOLUTION, 64); 16..4096 (the sweep's
-                                    planes spread them as square pixels over the part the cell and scene span) */
-    uint32_t extproj_occluders;  /* EXTPROJ: occluders projected on the planes of §6.1, 0 = 128; <= 65536 (the
-                                    sweep's planes take every occluder between them) */
-    uint32_t extproj_sweep;      /* EXTPROJ: occlusion sweep (Durand 2000 §5): at most this many planes per
-                                    direction, 0 = no sweep (pvsbake --sweep: PVS_EXTPROJ_SWEEP_PLANES); <= 256.
-                                    AUTO: 0 = PVS_EXTPROJ_SWEEP_PLANES (none with PVS_BAKE_PREVIEW), and
-                                    PVS_EXTPROJ_NO_SWEEP turns it off (see AUTO above);
-                                    with it an object whose box is not hidden is tested by parts of its
-                                    triangles (foliage: a tree is kept only if a leaf or its trunk may be
-                                    seen; objects over 16,384 triangles by their box alone) */
-    uint32_t extproj_sweep_subcells; /* EXTPROJ (also under AUTO) with the sweep: 0 or 1 = each sweep plane holds
-                                    the cell's umbra; 4 = the union of the umbrae of the cell's four quarters
-                                    across each direction, and an object must be hidden from every quarter
-                                    (tighter on foliage, for a few times the bake's time: tests/BENCHMARKS.md,
-                                    extproj). Needs the sweep */
-    /* Adaptive cells (Durand 2000 §6.1): a cell whose PVS holds more than adaptive_budget triangles is
-       split in two across its longest side, recursively, while the halves stay at least
-       adaptive_min_size long (0 = an eighth of the cell's longest side); the children are baked from
-       the parent's PVS (only its objects are tested; EXTPROJ also drops the occluders it hides). The
-       file then holds the leaf cells, in cell order, each cell's leaves depth first (low half first).
-       0 = off. Not with shards. */
-    uint32_t adaptive_budget;
-    float adaptive_min_size;
-    pvs_shrink_mode shrink_mode; /* SHRINK: path, AUTO picks */
-    uint32_t vocc_slices;     /* VOCC: height slices per cell (§3.1), 0 = 5; 1..16 */
-    uint32_t vocc_max_occluders; /* VOCC: virtual occluders kept per cell (Fig. 6), 0 = 10; 1..255 */
-    uint32_t vocc_only;       /* VOCC: 1 = store only the occluders: the PVS records are placeholders (every
-                                 drawable object) and the runtime rebuilds each PVS with pvs_vocc_cull */
-    float voxel_size;         /* SHRINK: occluder synthesis voxel size, 0 = derived */
-    uint32_t otree_node_budget; /* OTREE (also under AUTO): nodes per occlusion tree, 0 = PVS_OTREE_25D_BUDGET;
-                                 64..2^24. A larger budget never hides less; on maps of many small facades
-                                 the time grows faster than the budget (see PVS_OTREE_25D_BUDGET) */
     /* Sharded bakes (build farms): with shard_count >= 2 this bake runs only cells shard_index,
        shard_index + shard_count, ... and writes a part file; the parts of shard_index 0..shard_count-1
        merge (decode them, pvs_file_encode the whole table) into the file an unsharded bake writes. */
@@ -1391,6 +1412,12 @@ typedef struct pvs_bake_desc {
     float max_distance;       /* > 0: an object whose box is farther than this from every point of the cell
                                  box is left out (a draw distance); 0 = no limit */
     uint32_t flags;           /* PVS_BAKE_* */
+    pvs_bake_sample_params sample;
+    pvs_bake_extproj_params extproj;
+    pvs_bake_adaptive_params adaptive;
+    pvs_bake_shrink_params shrink;
+    pvs_bake_vocc_params vocc;
+    pvs_bake_otree_params otree;
     pvs_allocator allocator;
 } pvs_bake_desc;
 
@@ -1466,7 +1493,7 @@ typedef struct pvs_bake_report {
                                     (pvs_occluders_excluded_cells): baked with a second synthesis in
                                     which every cell seeds the floods */
     uint32_t cells_otree_budget; /* OTREE (also under AUTO): cells where an occlusion tree reached its node
-                                    budget (pvs_bake_desc.otree_node_budget) and took no more facades:
+                                    budget (pvs_bake_desc.otree.node_budget) and took no more facades:
                                     conservative; a larger budget may cull more there, for more time */
 } pvs_bake_report;
 /* Fills *report. Call after the tasks (not concurrently with them). */
@@ -10278,8 +10305,8 @@ PVS__STATIC void pvs__otree_bake_destroy(const pvs__bake_env *env, void *state) 
 }
 
 PVS__STATIC pvs_result pvs__otree_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
-    if (desc->otree_node_budget && (desc->otree_node_budget < 64 || desc->otree_node_budget > (1u << 24)))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree_node_budget %u is not in 64..2^24", desc->otree_node_budget);
+    if (desc->otree.node_budget && (desc->otree.node_budget < 64 || desc->otree.node_budget > (1u << 24)))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree.node_budget %u is not in 64..2^24", desc->otree.node_budget);
     return PVS_OK;
 }
 
@@ -10290,7 +10317,7 @@ PVS__STATIC pvs_result pvs__otree_bake_prepare(pvs__bake_env *env, const pvs_bak
     memset(ot, 0, sizeof(*ot));
     ot->allocator = env->allocator;
     ot->object_count = env->object_count;
-    ot->budget = desc->otree_node_budget;
+    ot->budget = desc->otree.node_budget;
     if (pvs__otree_prepare(ot, env->scene, env->cells, env->cell_count) != PVS_OK)
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
     return PVS_OK;
@@ -15473,14 +15500,14 @@ typedef struct pvs__vocc_bake {
 } pvs__vocc_bake;
 
 PVS__STATIC pvs_result pvs__vocc_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
-    if (desc->vocc_only && (desc->method != PVS_METHOD_VOCC || desc->vocc_only > 1))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "vocc_only is 0 or 1, and 1 needs PVS_METHOD_VOCC");
+    if (desc->vocc.only && (desc->method != PVS_METHOD_VOCC || desc->vocc.only > 1))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "vocc.only is 0 or 1, and 1 needs PVS_METHOD_VOCC");
     return PVS_OK;
 }
 
 /* Facades and loops once (pvs__vbake_create), per-task occluder records. */
 PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err) {
-    uint32_t slices = desc->vocc_slices ? desc->vocc_slices : 5, keep = desc->vocc_max_occluders ? desc->vocc_max_occluders : 10;
+    uint32_t slices = desc->vocc.slices ? desc->vocc.slices : 5, keep = desc->vocc.max_occluders ? desc->vocc.max_occluders : 10;
     pvs__vocc_bake *vo;
     pvs_result r;
     *state = NULL;
@@ -15498,7 +15525,7 @@ PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake
     if (!vo->vb->prep->nobj && !env->is_auto)
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
                          "vocc: the scene has no vertical walls standing on the ground (2.5D occluders): virtual occluders cannot be built");
-    vo->only = desc->vocc_only;
+    vo->only = desc->vocc.only;
     vo->bytes = (uint8_t *)pvs__alloc_array(&env->allocator, (size_t)vo->task_count * keep * 5, 1);
     vo->count = (uint8_t *)pvs__alloc_array(&env->allocator, vo->task_count, 1);
     vo->scale = (uint8_t *)pvs__alloc_array(&env->allocator, vo->task_count, 1);
@@ -15519,7 +15546,7 @@ PVS__STATIC int pvs__vocc_bake_applies(const void *state, const char **why) {
 }
 
 /* The task's whole cell (VOCC bakes no adaptive cells): its virtual occluders into the task's record
-   and the PVS they prove; with vocc_only, every drawable object instead (placeholder records). */
+   and the PVS they prove; with vocc.only, every drawable object instead (placeholder records). */
 PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
                                            const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err) {
     pvs__vocc_bake *vo = (pvs__vocc_bake *)state;
@@ -15743,9 +15770,9 @@ PVS__STATIC pvs_result pvs__sample_bake_prepare(pvs__bake_env *env, const pvs_ba
     *state = sb;
     if (!sb) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "sample");
     sb->allocator = env->allocator;
-    sb->points = desc->sample_points ? desc->sample_points : 32;
-    sb->rays = desc->sample_rays ? desc->sample_rays : 2048;
-    sb->seed = desc->seed;
+    sb->points = desc->sample.points ? desc->sample.points : 32;
+    sb->rays = desc->sample.rays ? desc->sample.rays : 2048;
+    sb->seed = desc->sample.seed;
     return PVS_OK;
 }
 
@@ -19266,17 +19293,17 @@ typedef struct pvs__extproj_bake {
 
 PVS__STATIC pvs_result pvs__extproj_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
     int preview = (desc->flags & PVS_BAKE_PREVIEW) != 0, is_auto = desc->method == PVS_METHOD_AUTO || desc->method == PVS_METHOD_DEFAULT;
-    if (desc->extproj_resolution && (desc->extproj_resolution < 16 || desc->extproj_resolution > 4096))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_resolution %u is not in 16..4096", desc->extproj_resolution);
-    if (desc->extproj_occluders > 65536)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_occluders %u > 65536", desc->extproj_occluders);
-    if (desc->extproj_sweep > 256 && desc->extproj_sweep != PVS_EXTPROJ_NO_SWEEP)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep %u > 256", desc->extproj_sweep);
-    if (desc->extproj_sweep_subcells > 1 && desc->extproj_sweep_subcells != 4)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep_subcells %u is not 0, 1 or 4", desc->extproj_sweep_subcells);
-    if (desc->extproj_sweep_subcells == 4 &&
-        (desc->extproj_sweep == PVS_EXTPROJ_NO_SWEEP || (!desc->extproj_sweep && (!is_auto || preview))))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep_subcells 4 needs the occlusion sweep (extproj_sweep)");
+    if (desc->extproj.resolution && (desc->extproj.resolution < 16 || desc->extproj.resolution > 4096))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.resolution %u is not in 16..4096", desc->extproj.resolution);
+    if (desc->extproj.occluders > 65536)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.occluders %u > 65536", desc->extproj.occluders);
+    if (desc->extproj.sweep > 256 && desc->extproj.sweep != PVS_EXTPROJ_NO_SWEEP)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep %u > 256", desc->extproj.sweep);
+    if (desc->extproj.sweep_subcells > 1 && desc->extproj.sweep_subcells != 4)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep_subcells %u is not 0, 1 or 4", desc->extproj.sweep_subcells);
+    if (desc->extproj.sweep_subcells == 4 &&
+        (desc->extproj.sweep == PVS_EXTPROJ_NO_SWEEP || (!desc->extproj.sweep && (!is_auto || preview))))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep_subcells 4 needs the occlusion sweep (extproj.sweep)");
     return PVS_OK;
 }
 
@@ -19288,11 +19315,11 @@ PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_b
     if (!x) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj");
     memset(x, 0, sizeof(*x));
     x->allocator = env->allocator;
-    x->prm.res = desc->extproj_resolution ? desc->extproj_resolution : preview ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS__EP_DEFAULT_RES;
-    x->prm.max_occ = desc->extproj_occluders ? desc->extproj_occluders : preview ? 32u : PVS__EP_DEFAULT_OCC;
-    x->prm.sweep = desc->extproj_sweep == PVS_EXTPROJ_NO_SWEEP ? 0u : desc->extproj_sweep;
-    if (!desc->extproj_sweep && env->is_auto && !preview) x->prm.sweep = PVS_EXTPROJ_SWEEP_PLANES; /* AUTO's default */
-    x->prm.split = desc->extproj_sweep_subcells == 4;
+    x->prm.res = desc->extproj.resolution ? desc->extproj.resolution : preview ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS__EP_DEFAULT_RES;
+    x->prm.max_occ = desc->extproj.occluders ? desc->extproj.occluders : preview ? 32u : PVS__EP_DEFAULT_OCC;
+    x->prm.sweep = desc->extproj.sweep == PVS_EXTPROJ_NO_SWEEP ? 0u : desc->extproj.sweep;
+    if (!desc->extproj.sweep && env->is_auto && !preview) x->prm.sweep = PVS_EXTPROJ_SWEEP_PLANES; /* AUTO's default */
+    x->prm.split = desc->extproj.sweep_subcells == 4;
     x->prm.coarse = preview;
     return pvs__extproj_prepare(env->scene, &env->allocator, &x->prep, err);
 }
@@ -20104,8 +20131,8 @@ PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_ba
     pvs_occluders_desc od;
     pvs_result r;
     *state = NULL;
-    if ((int)desc->shrink_mode < 0 || desc->shrink_mode >= PVS_SHRINK_MODE_COUNT)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown shrink mode %d", (int)desc->shrink_mode);
+    if ((int)desc->shrink.mode < 0 || desc->shrink.mode >= PVS_SHRINK_MODE_COUNT)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown shrink mode %d", (int)desc->shrink.mode);
     sh = (pvs__shrink_bake *)pvs__alloc(&env->allocator, sizeof(pvs__shrink_bake), 16);
     *state = sh;
     if (!sh) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink");
@@ -20121,7 +20148,7 @@ PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_ba
     od.cells = desc->cells;
     od.cell_count = desc->cell_count;
     od.eps = env->eps;
-    od.voxel_size = desc->voxel_size;
+    od.voxel_size = desc->shrink.voxel_size;
     od.allocator = env->allocator;
     r = pvs_occluders_create(&od, &sh->occluders, err);
     if (r != PVS_OK) return r;
@@ -20131,7 +20158,7 @@ PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_ba
         r = pvs_occluders_create(&od, &sh->occluders_leak, err);
         if (r != PVS_OK) return r;
     }
-    sh->mode = desc->shrink_mode;
+    sh->mode = desc->shrink.mode;
     if (sh->mode == PVS_SHRINK_AUTO) sh->mode = sh->occluders->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
     return PVS_OK;
 }
@@ -20378,11 +20405,11 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
         if (m->traits & PVS__METHOD_CONSERVATIVE) conservative |= 1u << m->method;
         if (m->traits & PVS__METHOD_AUTO_DEFAULT) byauto |= 1u << m->method;
     }
-    if (!pvs__finite(desc->adaptive_min_size) || desc->adaptive_min_size < 0.0f)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "adaptive_min_size must be finite and >= 0");
-    if (desc->adaptive_budget && desc->shard_count)
+    if (!pvs__finite(desc->adaptive.min_size) || desc->adaptive.min_size < 0.0f)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "adaptive.min_size must be finite and >= 0");
+    if (desc->adaptive.budget && desc->shard_count)
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells in a sharded bake (part files index whole cells)");
-    if (desc->adaptive_budget && row && (row->traits & PVS__METHOD_WHOLE_CELLS))
+    if (desc->adaptive.budget && row && (row->traits & PVS__METHOD_WHOLE_CELLS))
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells with %s (its records belong to whole cells)", pvs_method_name(method));
     if (method == PVS_METHOD_AUTO) {
         if (desc->methods & ~conservative)
@@ -20487,8 +20514,8 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     b->words = PVS_BITSET_WORDS(b->object_count);
     b->method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_AUTO : desc->method;
     b->max_distance = desc->max_distance;
-    b->adaptive_budget = desc->adaptive_budget;
-    b->adaptive_min_size = desc->adaptive_min_size;
+    b->adaptive_budget = desc->adaptive.budget;
+    b->adaptive_min_size = desc->adaptive.min_size;
     b->env.scene = desc->scene;
     b->env.allocator = desc->allocator;
     b->env.cells = desc->cells;

@@ -35,7 +35,7 @@ static int bake(pvs_scene *scene, const pvs_box *cells, uint32_t n, pvs_method m
     double t;
     memset(out, 0, sizeof(*out));
     test_bake_desc(&bd, scene, cells, n, method);
-    bd.vocc_slices = slices;
+    bd.vocc.slices = slices;
     if (pvs_bake_begin(&bd, &b, &e) != PVS_OK) { fprintf(stderr, "%s\n", e.message); return 1; }
     t = test_cpu_seconds();
     for (c = 0; c < n; ++c)

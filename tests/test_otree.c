@@ -559,11 +559,11 @@ static void test_bake_city(void) {
         if (not_contained) fprintf(stderr, "otree bake: %u objects of the exact 2D PVS missing\n", not_contained);
         free(seg); free(fl); free(ob); free(vis2d);
     }
-    {   /* pvs_bake_desc.otree_node_budget reaches the trees: a small one hides less, never more;
+    {   /* pvs_bake_desc.otree.node_budget reaches the trees: a small one hides less, never more;
            outside 64..2^24 it is refused */
         pvs_bake *b3 = NULL;
         uint32_t wider = 0, lost = 0, i;
-        bd.otree_node_budget = 64;
+        bd.otree.node_budget = 64;
         CHECK(pvs_bake_begin(&bd, &b3, &e) == PVS_OK);
         for (t = 0; b3 && t < pvs_bake_task_count(b3); ++t) CHECK(pvs_bake_run_task(b3, t, &e) == PVS_OK);
         for (c = 0; b3 && c < cells.count; ++c) {
@@ -584,11 +584,11 @@ static void test_bake_city(void) {
         }
         pvs_bake_destroy(b3);
         b3 = NULL;
-        bd.otree_node_budget = 63;
-        CHECK(pvs_bake_begin(&bd, &b3, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "otree_node_budget 63"));
-        bd.otree_node_budget = (1u << 24) + 1u;
+        bd.otree.node_budget = 63;
+        CHECK(pvs_bake_begin(&bd, &b3, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "otree.node_budget 63"));
+        bd.otree.node_budget = (1u << 24) + 1u;
         CHECK(pvs_bake_begin(&bd, &b3, &e) == PVS_ERROR_INVALID_ARGUMENT);
-        bd.otree_node_budget = 0;
+        bd.otree.node_budget = 0;
     }
     fprintf(stderr, "otree bake: %u cells, %u objects, mean PVS %.1f, mean sampled %.1f\n", cells.count, objects, sum_pvs / cells.count,
             sum_ref / cells.count);
