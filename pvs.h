@@ -94,7 +94,7 @@
    through must be wider.
 
    Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
-   vertical walls give facades (2.5D; pvs_bake_otree_info), EXTPROJ when there are planar occluders or
+   vertical walls give facades (2.5D; pvs_bake_get_otree_info), EXTPROJ when there are planar occluders or
    convex solids (3D; coplanar edge-connected triangles of an object act as one planar occluder, convex
    or not, so a wall split into many pieces hides what the whole wall hides), SHRINK when closed
    geometry leaves occluder volume after erosion by eps (VOCC, which adds little tightness, only when
@@ -924,7 +924,7 @@ typedef struct pvs_otree_bake_info {
     float lowest_level;          /* the lowest of them (when levels > 0) */
 } pvs_otree_bake_info;
 struct pvs_bake; /* >>bake */
-PVS_API void pvs_bake_otree_info(const struct pvs_bake *bake, pvs_otree_bake_info *info);
+PVS_API void pvs_bake_get_otree_info(const struct pvs_bake *bake, pvs_otree_bake_info *info);
 
 /* From-point occlusion culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), the
    object-space twin of pvs_raster_cull: same camera, parameters, outputs and errors. Each frame the
@@ -1188,7 +1188,7 @@ PVS_API uint32_t pvs_file_virtual_occluders(const struct pvs_file *file, uint32_
 
 struct pvs_bake; /* >>bake */
 /* A VOCC bake's statistics: sums over the cells baked so far (zeros for other methods). */
-PVS_API void pvs_bake_vocc_stats(const struct pvs_bake *bake, pvs_vocc_stats *out);
+PVS_API void pvs_bake_get_vocc_stats(const struct pvs_bake *bake, pvs_vocc_stats *out);
 
 /* A cell's stored record: returns its occluder count (0 without a VOCC section), *bytes their five
    bytes each (in the file), *scale_code the cell's coordinate scale (manual: "VOCC"). Either output
@@ -1211,7 +1211,7 @@ typedef enum pvs_method {
     PVS_METHOD_SAMPLE,       /* ray sampling: an estimate from below, NOT conservative */
     PVS_METHOD_OTREE,        /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7): conservative; occluders are
                                 facades made of the scene's vertical triangles, with base heights
-                                (pvs_bake_otree_info, pvs_visibility_25d) */
+                                (pvs_bake_get_otree_info, pvs_visibility_25d) */
     PVS_METHOD_EXTPROJ,      /* extended projections (Durand et al. 2000): conservative, 3D, planar occluders */
     PVS_METHOD_SHRINK,       /* occluder shrinking + point sampling (Wonka 2000): conservative */
     PVS_METHOD_AUTO,         /* the conservative methods that apply to the scene, their PVSs intersected (see
@@ -1487,7 +1487,7 @@ typedef struct pvs_bake_report {
     uint32_t cells_all_visible;  /* cells whose PVS holds every drawable object: nothing culled */
     uint32_t cells_no_occluders; /* SHRINK: cells baked with no occluder at all (nothing survived the
                                     erosion by eps: thin walls only, or eps too large for the volumes);
-                                    OTREE: cells with no usable facade (pvs_bake_otree_info); AUTO:
+                                    OTREE: cells with no usable facade (pvs_bake_get_otree_info); AUTO:
                                     cells where shrink or otree found none and nothing was culled */
     uint32_t cells_excluded;     /* SHRINK: leaking cells the occluder synthesis left out
                                     (pvs_occluders_excluded_cells): baked with a second synthesis in
@@ -1605,7 +1605,7 @@ typedef struct pvs_record_info {
 } pvs_record_info;
 #define PVS_CODING_COUNT 4
 /* Fills *info for cell < cell_count. No allocation. */
-PVS_API void pvs_file_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
+PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
 
 /* ---- runtime --------------------------------------------------------------------------------- */
 
@@ -10340,7 +10340,7 @@ PVS__STATIC const pvs__bake_method pvs__otree_method = {
     PVS_METHOD_OTREE, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 2, pvs__otree_bake_check, pvs__otree_bake_prepare,
     pvs__otree_bake_applies, pvs__otree_bake_cell, NULL, pvs__otree_bake_destroy};
 
-PVS_API void pvs_bake_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
+PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
     const pvs__otree_bake *ot = b ? (const pvs__otree_bake *)pvs__bake_method_state(b, PVS_METHOD_OTREE) : NULL;
     memset(info, 0, sizeof(*info));
     if (!ot) return;
@@ -15601,7 +15601,7 @@ PVS__STATIC const pvs__bake_method pvs__vocc_method = {
     PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, pvs__vocc_bake_check, pvs__vocc_bake_prepare,
     pvs__vocc_bake_applies, pvs__vocc_bake_cell, pvs__vocc_bake_file, pvs__vocc_bake_destroy};
 
-PVS_API void pvs_bake_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
+PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
     const pvs__vocc_bake *vo = b ? (const pvs__vocc_bake *)pvs__bake_method_state(b, PVS_METHOD_VOCC) : NULL;
     uint32_t i;
     memset(out, 0, sizeof(*out));
@@ -22474,7 +22474,7 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
     return PVS_OK;
 }
 
-PVS_API void pvs_file_record_info(const pvs_file *f, uint32_t cell, pvs_record_info *info) {
+PVS_API void pvs_file_get_record_info(const pvs_file *f, uint32_t cell, pvs_record_info *info) {
     pvs__rec r;
     PVS_ASSERT(f && info && cell < f->cell_count);
     pvs__record_at(f, cell, &r);

@@ -1333,7 +1333,7 @@ static pvs_bake *fx_bake(fx_mesh *m, const pvs_box *cells, uint32_t nc, pvs_otre
     CHECK(pvs_bake_begin(&bd, &b, NULL) == PVS_OK);
     if (!b) return NULL;
     for (t = 0; t < pvs_bake_task_count(b); ++t) CHECK(pvs_bake_run_task(b, t, NULL) == PVS_OK);
-    pvs_bake_otree_info(b, info);
+    pvs_bake_get_otree_info(b, info);
     for (c = 0; c < nc; ++c) {
         test_sample(sc, cells + c, 16, 2048, 11 + c, 0, 0, bits);
         miss += test_misses(bits, pvs_bake_cell_pvs(b, c), m->oc, "otree facades", c);
@@ -1488,7 +1488,7 @@ static void test_facades_levels(void) {
 }
 
 /* No usable facade (only floating boxes above the cells, and flat ground): the bake says so
-   (pvs_bake_otree_info: 0 facades) and every drawable object is in every PVS. */
+   (pvs_bake_get_otree_info: 0 facades) and every drawable object is in every PVS. */
 static void test_facades_none(void) {
     static fx_mesh m;
     pvs_otree_bake_info info;
@@ -1518,7 +1518,7 @@ static void test_facades_none(void) {
         pvs_bake_desc bd;
         pvs_bake *s = NULL;
         memset(&bd, 0, sizeof(bd));
-        pvs_bake_otree_info(NULL, &info);
+        pvs_bake_get_otree_info(NULL, &info);
         CHECK(info.prepared == 0 && info.facades == 0);
         (void)s;
     }
@@ -1565,7 +1565,7 @@ static void test_facades_none_auto(void) {
         CHECK(pvs_bake_run_task(b, 0, NULL) == PVS_OK);
         CHECK(pvs_bake_run_task(b, 1, NULL) == PVS_OK);
         pvs_bake_get_report(b, &rep);
-        pvs_bake_otree_info(b, &info);
+        pvs_bake_get_otree_info(b, &info);
         CHECK(info.prepared == 1 && info.facades > 0);
         if (k == 0) { /* otree: nothing for this cell, every object */
             CHECK(pvs_bitset_count(pvs_bake_cell_pvs(b, 0), 3) == 3);

@@ -329,7 +329,7 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
     fprintf(stderr, "  file %zu bytes (%.1f per cell)\n", size, (double)size / tasks);
     {
         pvs_vocc_stats vs;
-        pvs_bake_vocc_stats(bake, &vs);
+        pvs_bake_get_vocc_stats(bake, &vs);
         if (vs.slices)
             fprintf(stderr, "  vocc: %.2f virtual occluders per cell kept of %.1f found (%.1f slices, %.1f seeds per cell; %u dropped)%s\n",
                     (double)vs.selected / tasks, (double)vs.dense / tasks, (double)vs.slices / tasks, (double)vs.seeds / tasks, vs.dropped,
@@ -534,7 +534,7 @@ static void print_shrink_info(const pvs_bake *bake, float eps) {
 /* What the otree method found in the scene (before the bake), when it runs. */
 static void print_otree_info(const pvs_bake *bake) {
     pvs_otree_bake_info oti;
-    pvs_bake_otree_info(bake, &oti);
+    pvs_bake_get_otree_info(bake, &oti);
     if (!oti.prepared) return;
     fprintf(stderr, "otree: %u facades (2.5D occluders) from %u vertical triangles", oti.facades, oti.vertical_triangles);
     if (oti.levels) fprintf(stderr, ", %u base level%s from %g", oti.levels, oti.levels > 1 ? "s" : "", (double)oti.lowest_level);
