@@ -909,23 +909,6 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
                                       pvs_error *err);
 
-/* The 2.5D occluders an OTREE bake (or an AUTO bake that considered OTREE) found in its scene. The
-   facades are made of vertical triangles of any tessellation: coplanar pieces are merged, and a
-   facade is a wall segment with the height range [base, top] it fully covers over its whole length.
-   A cell uses a facade only toward objects whose bottom, like its own, is at or above the facade's
-   level (the lowest of at most eight base heights at or above its base; a ray could pass under it).
-   facades == 0: the bake culls nothing (every object is visible from every cell); the bake driver
-   says so. All zero when the bake did not prepare OTREE. */
-typedef struct pvs_otree_bake_info {
-    uint32_t prepared;           /* 1 when the bake prepared OTREE */
-    uint32_t vertical_triangles; /* triangles of the scene standing vertical */
-    uint32_t facades;            /* facades in use (base no higher than the highest cell bottom) */
-    uint32_t levels;             /* distinct base heights in use */
-    float lowest_level;          /* the lowest of them (when levels > 0) */
-} pvs_otree_bake_info;
-struct pvs_bake; /* >>bake */
-PVS_API void pvs_bake_get_otree_info(const struct pvs_bake *bake, pvs_otree_bake_info *info);
-
 /* From-point occlusion culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), the
    object-space twin of pvs_raster_cull: same camera, parameters, outputs and errors. Each frame the
    selected occluder polygons, in eye space, are merged front to back into a BSP tree whose planes
@@ -1180,20 +1163,6 @@ PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_o
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders, uint32_t count,
                                            const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
                                            void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
-
-/* The virtual occluders a file stores for a cell (< cell_count), decoded, most effective first:
-   returns their number (0 without a VOCC section) and writes up to `capacity` of them. The float
-   end points are the stored ones rounded to float; pvs_vocc_cull uses the exact stored values. */
-PVS_API uint32_t pvs_file_virtual_occluders(const struct pvs_file *file, uint32_t cell, pvs_virtual_occluder *out, uint32_t capacity);
-
-struct pvs_bake; /* >>bake */
-/* A VOCC bake's statistics: sums over the cells baked so far (zeros for other methods). */
-PVS_API void pvs_bake_get_vocc_stats(const struct pvs_bake *bake, pvs_vocc_stats *out);
-
-/* A cell's stored record: returns its occluder count (0 without a VOCC section), *bytes their five
-   bytes each (in the file), *scale_code the cell's coordinate scale (manual: "VOCC"). Either output
-   may be NULL. For tools that copy occluders between files (pvsbake merge). */
-PVS_API uint32_t pvs_file_vocc_record(const struct pvs_file *file, uint32_t cell, uint32_t *scale_code, const uint8_t **bytes);
 
 /* Rebuilds cell `cell`'s PVS on the fly from the file's virtual occluders (the first max_occluders of
    them; 0 = all), as pvs_vocc_cull_occluders does: object_boxes/tree are the engine's (the same scene
@@ -1480,6 +1449,23 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pv
    SHRINK was not prepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
+/* The 2.5D occluders an OTREE bake (or an AUTO bake that considered OTREE) found in its scene. The
+   facades are made of vertical triangles of any tessellation: coplanar pieces are merged, and a
+   facade is a wall segment with the height range [base, top] it fully covers over its whole length.
+   A cell uses a facade only toward objects whose bottom, like its own, is at or above the facade's
+   level (the lowest of at most eight base heights at or above its base; a ray could pass under it).
+   facades == 0: the bake culls nothing (every object is visible from every cell); the bake driver
+   says so. All zero when the bake did not prepare OTREE. */
+typedef struct pvs_otree_bake_info {
+    uint32_t prepared;           /* 1 when the bake prepared OTREE */
+    uint32_t vertical_triangles; /* triangles of the scene standing vertical */
+    uint32_t facades;            /* facades in use (base no higher than the highest cell bottom) */
+    uint32_t levels;             /* distinct base heights in use */
+    float lowest_level;          /* the lowest of them (when levels > 0) */
+} pvs_otree_bake_info;
+PVS_API void pvs_bake_get_otree_info(const pvs_bake *bake, pvs_otree_bake_info *info);
+/* A VOCC bake's statistics: sums over the cells baked so far (zeros for other methods). */
+PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *bake, pvs_vocc_stats *out);
 /* Counts over the tasks that have run, for the caller's summary: a bake that culls nothing is not an
    error (every object visible is conservative) but the caller should hear of it. */
 typedef struct pvs_bake_report {
@@ -1606,6 +1592,16 @@ typedef struct pvs_record_info {
 #define PVS_CODING_COUNT 4
 /* Fills *info for cell < cell_count. No allocation. */
 PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
+
+/* The virtual occluders a file stores for a cell (< cell_count), decoded, most effective first:
+   returns their number (0 without a VOCC section) and writes up to `capacity` of them. The float
+   end points are the stored ones rounded to float; pvs_vocc_cull uses the exact stored values. */
+PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell, pvs_virtual_occluder *out, uint32_t capacity);
+
+/* A cell's stored record: returns its occluder count (0 without a VOCC section), *bytes their five
+   bytes each (in the file), *scale_code the cell's coordinate scale (manual: "VOCC"). Either output
+   may be NULL. For tools that copy occluders between files (pvsbake merge). */
+PVS_API uint32_t pvs_file_vocc_record(const pvs_file *file, uint32_t cell, uint32_t *scale_code, const uint8_t **bytes);
 
 /* ---- runtime --------------------------------------------------------------------------------- */
 
