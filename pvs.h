@@ -78,6 +78,9 @@
    | PVS_ASSERT(x)         | assert(x)          | checks of programmer misuse only, never of input data    |
    | PVS_NO_STDIO          | undefined          | error messages without snprintf (reason strings only)    |
    | PVS_NO_SIMD           | undefined          | scalar code paths only (identical results)               |
+   | PVS_TEST_HOOKS        | undefined          | internal, for the library's own tests: declares their    |
+   |                       |                    |   flags (PVS_VISIBILITY_INPUT_ORDER,                     |
+   |                       |                    |   PVS_VISIBILITY_25D_FULL_TESTS); not part of the API    |
 
    CONCEPTS
    ========
@@ -851,10 +854,12 @@ typedef struct pvs_visibility_2d_desc {
     const uint32_t *segment_objects; /* NULL (segment i is object i) or the object of each segment, or PVS_NO_OBJECT */
     uint32_t object_count;           /* bits in visible_objects */
     uint32_t node_budget;            /* stop inserting past this many tree nodes (0 = 2^20); see pvs_otree_stats */
-    uint32_t flags;                  /* PVS_VISIBILITY_* */
+    uint32_t flags;                  /* 0 (the test hook PVS_VISIBILITY_INPUT_ORDER) */
     pvs_allocator allocator;
 } pvs_visibility_2d_desc;
+#ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
 #define PVS_VISIBILITY_INPUT_ORDER 1u /* insert occluders in input order, not front to back (tests order independence) */
+#endif
 
 /* Which segments (and objects) are visible from some point of the cell: a segment is visible when a
    line segment from a cell point reaches it without crossing another segment (touching an end point
@@ -878,7 +883,7 @@ typedef struct pvs_visibility_25d_desc {
     uint32_t node_budget;           /* per tree (0 = PVS_OTREE_25D_BUDGET); see pvs_otree_stats */
     const pvs_kdtree *tree;         /* NULL, or a kD-tree over pvs_visibility_25d_boxes (reused across cells) */
     pvs_allocator allocator;
-    uint32_t flags;                 /* 0, or PVS_VISIBILITY_25D_FULL_TESTS (other bits: INVALID_ARGUMENT) */
+    uint32_t flags;                 /* 0; other bits INVALID_ARGUMENT but the test hook PVS_VISIBILITY_25D_FULL_TESTS */
 } pvs_visibility_25d_desc;
 
 /* The default node budget of a 2.5D occlusion tree (pvs_visibility_25d_desc.node_budget, and OTREE
@@ -889,11 +894,13 @@ typedef struct pvs_visibility_25d_desc {
    tests/BENCHMARKS.md, otree). */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
 
+#ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
 /* pvs_visibility_25d_desc.flags: every box test walks the tree, with no witness lines (a remembered
    line in an out-leaf that crosses the box answers "visible" without a walk): the reference for that
    shortcut, slower, the same result (a witness answers only where the walk reaches the same
    out-leaf). */
 #define PVS_VISIBILITY_25D_FULL_TESTS 1u
+#endif
 
 /* Fills boxes[facade_count + object_count] for the kD-tree of pvs_visibility_25d_desc.tree: facade i
    is item i, object j is item facade_count + j; axes (u, v, height), the height range ending at the
@@ -1685,6 +1692,9 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 #define PVS__UNUSED
 #endif
 #define PVS__STATIC static PVS__UNUSED
+/* the test hooks' flags (PVS_TEST_HOOKS), under private names the implementation always knows */
+#define PVS__VISIBILITY_INPUT_ORDER 1u
+#define PVS__VISIBILITY_25D_FULL_TESTS 1u
 
 // >>core
 /* ---------------------------------------------------------------------------------------------- */
@@ -6949,7 +6959,7 @@ typedef struct pvs__otree {
     double *jd;                     /* 2.5D: per occluder, its line and umbra data in this tree (pvs__ot25_prepare) */
     double len_eps;                 /* distances below this are ties */
     uint32_t root_in;               /* 2.5D: the node whose region is the lines leaving through the source edge */
-    int full_tests;                 /* 2.5D: PVS_VISIBILITY_25D_FULL_TESTS (no witness lines) */
+    int full_tests;                 /* 2.5D: PVS__VISIBILITY_25D_FULL_TESTS (no witness lines) */
     int nwit;                       /* 2.5D: witness lines, most recently useful first (pvs__ot25_witnessed) */
     double wit[PVS__OT25_WITNESSES][3];
 } pvs__otree;
@@ -7938,7 +7948,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
         }
         t.len_eps = 1e-9 * ext;
         for (i = 0; i < count; ++i) {
-            order[i].key = desc->flags & PVS_VISIBILITY_INPUT_ORDER ? 0.0 : pvs__ot_dist2(o, seg + 4 * i);
+            order[i].key = desc->flags & PVS__VISIBILITY_INPUT_ORDER ? 0.0 : pvs__ot_dist2(o, seg + 4 * i);
             order[i].index = i;
         }
     }
@@ -8921,7 +8931,7 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
     uint32_t nf, no, i;
     if (!desc || !visible_objects || (desc->facade_count && !desc->facades) || (desc->object_count && !desc->objects))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, facades, objects and visible_objects are required");
-    if (desc->flags & ~PVS_VISIBILITY_25D_FULL_TESTS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown 2.5D flags 0x%x", desc->flags);
+    if (desc->flags & ~PVS__VISIBILITY_25D_FULL_TESTS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown 2.5D flags 0x%x", desc->flags);
     nf = desc->facade_count;
     no = desc->object_count;
     if ((uint64_t)nf + no >= 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many facades and objects");
@@ -9110,7 +9120,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     cy = 0.5 * ((double)desc->cell_min[1] + desc->cell_max[1]);
     ext = pvs__ot25_input(desc, cx, cy, all, box, cell, &margin);
     t.len_eps = 1e-9 * ext;
-    t.full_tests = (desc->flags & PVS_VISIBILITY_25D_FULL_TESTS) != 0;
+    t.full_tests = (desc->flags & PVS__VISIBILITY_25D_FULL_TESTS) != 0;
     t.eye = (double)desc->cell_top + margin;
     t.top = top;
     t.seg = seg;

@@ -1,6 +1,7 @@
 /* test_otree.c - occlusion trees: exact 2D from-region visibility against brute-force 2D ray
    sampling, order independence, closed rings, degenerate inputs; 2.5D c-LSS against 3D ray sampling
    and the bake method. */
+#define PVS_TEST_HOOKS /* PVS_VISIBILITY_INPUT_ORDER, PVS_VISIBILITY_25D_FULL_TESTS */
 #include "../pvs.h"
 #include "test.h"
 #include "../tools/gen.h"
