@@ -1,4 +1,4 @@
-/* pvs.h - v0.3.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.4.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -311,7 +311,17 @@
 
    RECENT HISTORY
    ==============
-   next               PVS_METHOD_AUTO, the default (the applicable conservative methods, intersected),
+   0.4.0 (2026-11-28) API: pvs_bake_desc groups each method's parameters in a nested struct (desc.sample,
+                      .extproj, .adaptive, .shrink, .vocc, .otree: pvs_bake_sample_params, ...) in place
+                      of the prefixed fields (extproj_sweep is now extproj.sweep); zero still means default.
+                      API: struct-filling getters are spelled pvs_*_get_*: pvs_bake_get_otree_info,
+                      pvs_bake_get_vocc_stats, pvs_file_get_record_info (were pvs_bake_otree_info,
+                      pvs_bake_vocc_stats, pvs_file_record_info).
+                      API: declarations sit in their module's block (bake getters in >>bake, file readers
+                      pvs_file_virtual_occluders and pvs_file_vocc_record in >>format).
+                      API: the test-only flags PVS_VISIBILITY_INPUT_ORDER and PVS_VISIBILITY_25D_FULL_TESTS
+                      need PVS_TEST_HOOKS (internal). File format unchanged (version 1).
+                      PVS_METHOD_AUTO, the default (the applicable conservative methods, intersected),
                       bake max_distance, PVS_BAKE_PREVIEW, resumable bakes (pvs_bake_restore_task);
                       virtual occluders (Koltun 2000): bake method vocc, the optional VOCC section,
                       pvs_vocc_cull rebuilds a cell's PVS from them; pvsbake --vocc-only.
@@ -337,7 +347,7 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 3
+#define PVS_VERSION_MINOR 4
 #define PVS_VERSION_PATCH 0
 /* (major << 16) | (minor << 8) | patch */
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
