@@ -1,4 +1,4 @@
-/* pvs.h - v0.3.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.4.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -78,6 +78,9 @@
    | PVS_ASSERT(x)         | assert(x)          | checks of programmer misuse only, never of input data    |
    | PVS_NO_STDIO          | undefined          | error messages without snprintf (reason strings only)    |
    | PVS_NO_SIMD           | undefined          | scalar code paths only (identical results)               |
+   | PVS_TEST_HOOKS        | undefined          | internal, for the library's own tests: declares their    |
+   |                       |                    |   flags (PVS_VISIBILITY_INPUT_ORDER,                     |
+   |                       |                    |   PVS_VISIBILITY_25D_FULL_TESTS); not part of the API    |
 
    CONCEPTS
    ========
@@ -94,7 +97,7 @@
    through must be wider.
 
    Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
-   vertical walls give facades (2.5D; pvs_bake_otree_info), EXTPROJ when there are planar occluders or
+   vertical walls give facades (2.5D; pvs_bake_get_otree_info), EXTPROJ when there are planar occluders or
    convex solids (3D; coplanar edge-connected triangles of an object act as one planar occluder, convex
    or not, so a wall split into many pieces hides what the whole wall hides), SHRINK when closed
    geometry leaves occluder volume after erosion by eps (VOCC, which adds little tightness, only when
@@ -102,9 +105,9 @@
    intersection of conservative sets is conservative, and at least as tight as each). SHRINK, the
    costliest, runs last and samples only the objects the others kept: the intersection is the same, and
    a cell where the others leave nothing for it to cull costs little. EXTPROJ runs with the occlusion
-   sweep of §5 (pvs_bake_desc.extproj_sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on indoor game maps
+   sweep of §5 (pvs_bake_desc.extproj.sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on indoor game maps
    it fuses walls and floors that the planes of §6.1 do not: a smaller PVS for more time per cell (see
-   tests/BENCHMARKS.md, bake). pvs_bake_desc.extproj_sweep_subcells = 4 gives each sweep plane the
+   tests/BENCHMARKS.md, bake). pvs_bake_desc.extproj.sweep_subcells = 4 gives each sweep plane the
    umbrae of the cell's four quarters (tighter on foliage, for a few times the bake's time: see
    tests/BENCHMARKS.md, extproj). pvs_bake_get_method_info says which ran, which were skipped and why,
    and what each contributed; pvs_bake_desc.methods restricts the candidates.
@@ -114,14 +117,14 @@
    the PVSs it had finished (not a VOCC bake: its virtual occluders are baked again). Only a VOCC bake
    stores virtual occluders; AUTO uses vocc's PVS in the intersection and stores none.
 
-   Adaptive cells. With pvs_bake_desc.adaptive_budget (Durand 2000 §6.1) a cell whose PVS holds more
+   Adaptive cells. With pvs_bake_desc.adaptive.budget (Durand 2000 §6.1) a cell whose PVS holds more
    triangles than the budget is split in two across its longest side, again and again down to
-   adaptive_min_size; each half is baked from its parent's PVS (with every method of the bake, the
+   adaptive.min_size; each half is baked from its parent's PVS (with every method of the bake, the
    result intersected with the parent's; EXTPROJ tests only the parent's objects and drops the
    occluders it hides). The file holds the leaf cells (pvs_bake_leaf_count), in cell order, each
    cell's leaves depth first, and its look-up tree covers them; pvs_bake_cell_pvs still gives a
    whole cell's PVS. Deterministic for any thread count; not with shards, VOCC or resuming. EXTPROJ
-   also takes extproj_sweep, the occlusion sweep of §5 (for many small occluders; slower).
+   also takes extproj.sweep, the occlusion sweep of §5 (for many small occluders; slower).
 
    Memory. Every desc struct has a `pvs_allocator`; left at zero, PVS_MALLOC/PVS_FREE are used. An object
    remembers its allocator. Size arithmetic is overflow-checked. The runtime (pvs_file_*) and the
@@ -308,7 +311,17 @@
 
    RECENT HISTORY
    ==============
-   next               PVS_METHOD_AUTO, the default (the applicable conservative methods, intersected),
+   0.4.0 (2026-11-28) API: pvs_bake_desc groups each method's parameters in a nested struct (desc.sample,
+                      .extproj, .adaptive, .shrink, .vocc, .otree: pvs_bake_sample_params, ...) in place
+                      of the prefixed fields (extproj_sweep is now extproj.sweep); zero still means default.
+                      API: struct-filling getters are spelled pvs_*_get_*: pvs_bake_get_otree_info,
+                      pvs_bake_get_vocc_stats, pvs_file_get_record_info (were pvs_bake_otree_info,
+                      pvs_bake_vocc_stats, pvs_file_record_info).
+                      API: declarations sit in their module's block (bake getters in >>bake, file readers
+                      pvs_file_virtual_occluders and pvs_file_vocc_record in >>format).
+                      API: the test-only flags PVS_VISIBILITY_INPUT_ORDER and PVS_VISIBILITY_25D_FULL_TESTS
+                      need PVS_TEST_HOOKS (internal). File format unchanged (version 1).
+                      PVS_METHOD_AUTO, the default (the applicable conservative methods, intersected),
                       bake max_distance, PVS_BAKE_PREVIEW, resumable bakes (pvs_bake_restore_task);
                       virtual occluders (Koltun 2000): bake method vocc, the optional VOCC section,
                       pvs_vocc_cull rebuilds a cell's PVS from them; pvsbake --vocc-only.
@@ -334,7 +347,7 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 3
+#define PVS_VERSION_MINOR 4
 #define PVS_VERSION_PATCH 0
 /* (major << 16) | (minor << 8) | patch */
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
@@ -851,10 +864,12 @@ typedef struct pvs_visibility_2d_desc {
     const uint32_t *segment_objects; /* NULL (segment i is object i) or the object of each segment, or PVS_NO_OBJECT */
     uint32_t object_count;           /* bits in visible_objects */
     uint32_t node_budget;            /* stop inserting past this many tree nodes (0 = 2^20); see pvs_otree_stats */
-    uint32_t flags;                  /* PVS_VISIBILITY_* */
+    uint32_t flags;                  /* 0 (the test hook PVS_VISIBILITY_INPUT_ORDER) */
     pvs_allocator allocator;
 } pvs_visibility_2d_desc;
+#ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
 #define PVS_VISIBILITY_INPUT_ORDER 1u /* insert occluders in input order, not front to back (tests order independence) */
+#endif
 
 /* Which segments (and objects) are visible from some point of the cell: a segment is visible when a
    line segment from a cell point reaches it without crossing another segment (touching an end point
@@ -878,22 +893,24 @@ typedef struct pvs_visibility_25d_desc {
     uint32_t node_budget;           /* per tree (0 = PVS_OTREE_25D_BUDGET); see pvs_otree_stats */
     const pvs_kdtree *tree;         /* NULL, or a kD-tree over pvs_visibility_25d_boxes (reused across cells) */
     pvs_allocator allocator;
-    uint32_t flags;                 /* 0, or PVS_VISIBILITY_25D_FULL_TESTS (other bits: INVALID_ARGUMENT) */
+    uint32_t flags;                 /* 0; other bits INVALID_ARGUMENT but the test hook PVS_VISIBILITY_25D_FULL_TESTS */
 } pvs_visibility_25d_desc;
 
 /* The default node budget of a 2.5D occlusion tree (pvs_visibility_25d_desc.node_budget, and OTREE
-   bakes: pvs_bake_desc.otree_node_budget). The budget spent, the remaining facades are not inserted
+   bakes: pvs_bake_desc.otree.node_budget). The budget spent, the remaining facades are not inserted
    (counted as not blocking: conservative) and the objects are still tested. The generator scenes
    never reach it. On the brush geometry of Quake 3 maps thousands of small facades split the tree
    into slivers; there this budget bounds the time per cell at almost no cost in tightness (see
    tests/BENCHMARKS.md, otree). */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
 
+#ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
 /* pvs_visibility_25d_desc.flags: every box test walks the tree, with no witness lines (a remembered
    line in an out-leaf that crosses the box answers "visible" without a walk): the reference for that
    shortcut, slower, the same result (a witness answers only where the walk reaches the same
    out-leaf). */
 #define PVS_VISIBILITY_25D_FULL_TESTS 1u
+#endif
 
 /* Fills boxes[facade_count + object_count] for the kD-tree of pvs_visibility_25d_desc.tree: facade i
    is item i, object j is item facade_count + j; axes (u, v, height), the height range ending at the
@@ -908,23 +925,6 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
    Thread-safe; allocates through desc->allocator. */
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
                                       pvs_error *err);
-
-/* The 2.5D occluders an OTREE bake (or an AUTO bake that considered OTREE) found in its scene. The
-   facades are made of vertical triangles of any tessellation: coplanar pieces are merged, and a
-   facade is a wall segment with the height range [base, top] it fully covers over its whole length.
-   A cell uses a facade only toward objects whose bottom, like its own, is at or above the facade's
-   level (the lowest of at most eight base heights at or above its base; a ray could pass under it).
-   facades == 0: the bake culls nothing (every object is visible from every cell); the bake driver
-   says so. All zero when the bake did not prepare OTREE. */
-typedef struct pvs_otree_bake_info {
-    uint32_t prepared;           /* 1 when the bake prepared OTREE */
-    uint32_t vertical_triangles; /* triangles of the scene standing vertical */
-    uint32_t facades;            /* facades in use (base no higher than the highest cell bottom) */
-    uint32_t levels;             /* distinct base heights in use */
-    float lowest_level;          /* the lowest of them (when levels > 0) */
-} pvs_otree_bake_info;
-struct pvs_bake; /* >>bake */
-PVS_API void pvs_bake_otree_info(const struct pvs_bake *bake, pvs_otree_bake_info *info);
 
 /* From-point occlusion culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), the
    object-space twin of pvs_raster_cull: same camera, parameters, outputs and errors. Each frame the
@@ -1181,20 +1181,6 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
                                            const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
                                            void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
 
-/* The virtual occluders a file stores for a cell (< cell_count), decoded, most effective first:
-   returns their number (0 without a VOCC section) and writes up to `capacity` of them. The float
-   end points are the stored ones rounded to float; pvs_vocc_cull uses the exact stored values. */
-PVS_API uint32_t pvs_file_virtual_occluders(const struct pvs_file *file, uint32_t cell, pvs_virtual_occluder *out, uint32_t capacity);
-
-struct pvs_bake; /* >>bake */
-/* A VOCC bake's statistics: sums over the cells baked so far (zeros for other methods). */
-PVS_API void pvs_bake_vocc_stats(const struct pvs_bake *bake, pvs_vocc_stats *out);
-
-/* A cell's stored record: returns its occluder count (0 without a VOCC section), *bytes their five
-   bytes each (in the file), *scale_code the cell's coordinate scale (manual: "VOCC"). Either output
-   may be NULL. For tools that copy occluders between files (pvsbake merge). */
-PVS_API uint32_t pvs_file_vocc_record(const struct pvs_file *file, uint32_t cell, uint32_t *scale_code, const uint8_t **bytes);
-
 /* Rebuilds cell `cell`'s PVS on the fly from the file's virtual occluders (the first max_occluders of
    them; 0 = all), as pvs_vocc_cull_occluders does: object_boxes/tree are the engine's (the same scene
    the file was baked for). A file without a VOCC section gives INVALID_ARGUMENT. Allocates nothing;
@@ -1211,7 +1197,7 @@ typedef enum pvs_method {
     PVS_METHOD_SAMPLE,       /* ray sampling: an estimate from below, NOT conservative */
     PVS_METHOD_OTREE,        /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7): conservative; occluders are
                                 facades made of the scene's vertical triangles, with base heights
-                                (pvs_bake_otree_info, pvs_visibility_25d) */
+                                (pvs_bake_get_otree_info, pvs_visibility_25d) */
     PVS_METHOD_EXTPROJ,      /* extended projections (Durand et al. 2000): conservative, 3D, planar occluders */
     PVS_METHOD_SHRINK,       /* occluder shrinking + point sampling (Wonka 2000): conservative */
     PVS_METHOD_AUTO,         /* the conservative methods that apply to the scene, their PVSs intersected (see
@@ -1299,8 +1285,8 @@ typedef struct pvs_extproj_plane {
 } pvs_extproj_plane;
 #define PVS_EXTPROJ_EMPTY 3.402823466e+38f
 #define PVS_EXTPROJ_SWEEP_PLANES 16u /* sweep planes per direction pvsbake --sweep asks for, and AUTO's default */
-#define PVS_EXTPROJ_NO_SWEEP 0xffffffffu /* pvs_bake_desc.extproj_sweep: AUTO without the sweep */
-#define PVS_EXTPROJ_RESOLUTION 256u /* pixels per plane side when pvs_bake_desc.extproj_resolution is 0 */
+#define PVS_EXTPROJ_NO_SWEEP 0xffffffffu /* pvs_bake_desc.extproj.sweep: AUTO without the sweep */
+#define PVS_EXTPROJ_RESOLUTION 256u /* pixels per plane side when pvs_bake_desc.extproj.resolution is 0 */
 #define PVS_EXTPROJ_PREVIEW_RESOLUTION 64u /* the same with PVS_BAKE_PREVIEW */
 
 /* Adds the extended Projection of one convex occluder (§3.2): `points` (count x (x, y, z), 1..16) are
@@ -1336,51 +1322,72 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep);
 
 /* ---- bake ------------------------------------------------------------------------------------ */
 
-/* What to bake. Left at zero, optional fields get defaults. */
+/* SAMPLE's parameters (pvs_bake_desc.sample). */
+typedef struct pvs_bake_sample_params {
+    uint32_t points;          /* points per cell, 0 = 32 */
+    uint32_t rays;            /* rays per point, 0 = 2048 */
+    uint64_t seed;            /* random seed */
+} pvs_bake_sample_params;
+
+/* EXTPROJ's parameters (pvs_bake_desc.extproj; also under AUTO). */
+typedef struct pvs_bake_extproj_params {
+    uint32_t resolution;      /* N x N pixels per plane, 0 = PVS_EXTPROJ_RESOLUTION (256; with PVS_BAKE_PREVIEW,
+                                 PVS_EXTPROJ_PREVIEW_RESOLUTION, 64); 16..4096 (the sweep's planes spread them
+                                 as square pixels over the part the cell and scene span) */
+    uint32_t occluders;       /* occluders projected on the planes of §6.1, 0 = 128; <= 65536 (the sweep's
+                                 planes take every occluder between them) */
+    uint32_t sweep;           /* occlusion sweep (Durand 2000 §5): at most this many planes per direction,
+                                 0 = no sweep (pvsbake --sweep: PVS_EXTPROJ_SWEEP_PLANES); <= 256.
+                                 AUTO: 0 = PVS_EXTPROJ_SWEEP_PLANES (none with PVS_BAKE_PREVIEW), and
+                                 PVS_EXTPROJ_NO_SWEEP turns it off (see AUTO above);
+                                 with it an object whose box is not hidden is tested by parts of its
+                                 triangles (foliage: a tree is kept only if a leaf or its trunk may be
+                                 seen; objects over 16,384 triangles by their box alone) */
+    uint32_t sweep_subcells;  /* with the sweep: 0 or 1 = each sweep plane holds the cell's umbra; 4 = the
+                                 union of the umbrae of the cell's four quarters across each direction, and
+                                 an object must be hidden from every quarter (tighter on foliage, for a few
+                                 times the bake's time: tests/BENCHMARKS.md, extproj). Needs the sweep */
+} pvs_bake_extproj_params;
+
+/* Adaptive cells (Durand 2000 §6.1; pvs_bake_desc.adaptive): a cell whose PVS holds more than `budget`
+   triangles is split in two across its longest side, recursively, while the halves stay at least
+   `min_size` long; the children are baked from the parent's PVS (only its objects are tested; EXTPROJ
+   also drops the occluders it hides). The file then holds the leaf cells, in cell order, each cell's
+   leaves depth first (low half first). Not with shards. */
+typedef struct pvs_bake_adaptive_params {
+    uint32_t budget;          /* triangles per leaf cell's PVS; 0 = off */
+    float min_size;           /* shortest half, 0 = an eighth of the cell's longest side */
+} pvs_bake_adaptive_params;
+
+/* SHRINK's parameters (pvs_bake_desc.shrink; also under AUTO). */
+typedef struct pvs_bake_shrink_params {
+    pvs_shrink_mode mode;     /* path, PVS_SHRINK_AUTO picks */
+    float voxel_size;         /* occluder synthesis voxel size, 0 = derived */
+} pvs_bake_shrink_params;
+
+/* VOCC's parameters (pvs_bake_desc.vocc). */
+typedef struct pvs_bake_vocc_params {
+    uint32_t slices;          /* height slices per cell (§3.1), 0 = 5; 1..16 */
+    uint32_t max_occluders;   /* virtual occluders kept per cell (Fig. 6), 0 = 10; 1..255 */
+    uint32_t only;            /* 1 = store only the occluders: the PVS records are placeholders (every
+                                 drawable object) and the runtime rebuilds each PVS with pvs_vocc_cull */
+} pvs_bake_vocc_params;
+
+/* OTREE's parameters (pvs_bake_desc.otree; also under AUTO). */
+typedef struct pvs_bake_otree_params {
+    uint32_t node_budget;     /* nodes per occlusion tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24. A larger budget
+                                 never hides less; on maps of many small facades the time grows faster than
+                                 the budget (see PVS_OTREE_25D_BUDGET) */
+} pvs_bake_otree_params;
+
+/* What to bake. Left at zero, optional fields get defaults; so do the per-method parameters. */
 typedef struct pvs_bake_desc {
     const pvs_scene *scene;   /* must outlive the bake */
     const pvs_box *cells;     /* cell_count view cells, copied */
     uint32_t cell_count;
     pvs_method method;        /* PVS_METHOD_DEFAULT = AUTO */
     float eps;                /* sampling / shrinking distance; 0 = derived from the cells */
-    uint32_t sample_points;   /* SAMPLE: points per cell, 0 = 32 */
-    uint32_t sample_rays;     /* SAMPLE: rays per point, 0 = 2048 */
-    uint64_t seed;            /* SAMPLE: random seed */
     uint32_t max_chain;       /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
-    uint32_t extproj_resolution; /* EXTPROJ: N x N pixels per plane, 0 = PVS_EXTPROJ_RESOLUTION (256; with
-                                    PVS_BAKE_PREVIEW, PVS_EXTPROJ_PREVIEW_RESOLUTION, 64); 16..4096 (the sweep's
-                                    planes spread them as square pixels over the part the cell and scene span) */
-    uint32_t extproj_occluders;  /* EXTPROJ: occluders projected on the planes of §6.1, 0 = 128; <= 65536 (the
-                                    sweep's planes take every occluder between them) */
-    uint32_t extproj_sweep;      /* EXTPROJ: occlusion sweep (Durand 2000 §5): at most this many planes per
-                                    direction, 0 = no sweep (pvsbake --sweep: PVS_EXTPROJ_SWEEP_PLANES); <= 256.
-                                    AUTO: 0 = PVS_EXTPROJ_SWEEP_PLANES (none with PVS_BAKE_PREVIEW), and
-                                    PVS_EXTPROJ_NO_SWEEP turns it off (see AUTO above);
-                                    with it an object whose box is not hidden is tested by parts of its
-                                    triangles (foliage: a tree is kept only if a leaf or its trunk may be
-                                    seen; objects over 16,384 triangles by their box alone) */
-    uint32_t extproj_sweep_subcells; /* EXTPROJ (also under AUTO) with the sweep: 0 or 1 = each sweep plane holds
-                                    the cell's umbra; 4 = the union of the umbrae of the cell's four quarters
-                                    across each direction, and an object must be hidden from every quarter
-                                    (tighter on foliage, for a few times the bake's time: tests/BENCHMARKS.md,
-                                    extproj). Needs the sweep */
-    /* Adaptive cells (Durand 2000 §6.1): a cell whose PVS holds more than adaptive_budget triangles is
-       split in two across its longest side, recursively, while the halves stay at least
-       adaptive_min_size long (0 = an eighth of the cell's longest side); the children are baked from
-       the parent's PVS (only its objects are tested; EXTPROJ also drops the occluders it hides). The
-       file then holds the leaf cells, in cell order, each cell's leaves depth first (low half first).
-       0 = off. Not with shards. */
-    uint32_t adaptive_budget;
-    float adaptive_min_size;
-    pvs_shrink_mode shrink_mode; /* SHRINK: path, AUTO picks */
-    uint32_t vocc_slices;     /* VOCC: height slices per cell (§3.1), 0 = 5; 1..16 */
-    uint32_t vocc_max_occluders; /* VOCC: virtual occluders kept per cell (Fig. 6), 0 = 10; 1..255 */
-    uint32_t vocc_only;       /* VOCC: 1 = store only the occluders: the PVS records are placeholders (every
-                                 drawable object) and the runtime rebuilds each PVS with pvs_vocc_cull */
-    float voxel_size;         /* SHRINK: occluder synthesis voxel size, 0 = derived */
-    uint32_t otree_node_budget; /* OTREE (also under AUTO): nodes per occlusion tree, 0 = PVS_OTREE_25D_BUDGET;
-                                 64..2^24. A larger budget never hides less; on maps of many small facades
-                                 the time grows faster than the budget (see PVS_OTREE_25D_BUDGET) */
     /* Sharded bakes (build farms): with shard_count >= 2 this bake runs only cells shard_index,
        shard_index + shard_count, ... and writes a part file; the parts of shard_index 0..shard_count-1
        merge (decode them, pvs_file_encode the whole table) into the file an unsharded bake writes. */
@@ -1391,6 +1398,12 @@ typedef struct pvs_bake_desc {
     float max_distance;       /* > 0: an object whose box is farther than this from every point of the cell
                                  box is left out (a draw distance); 0 = no limit */
     uint32_t flags;           /* PVS_BAKE_* */
+    pvs_bake_sample_params sample;
+    pvs_bake_extproj_params extproj;
+    pvs_bake_adaptive_params adaptive;
+    pvs_bake_shrink_params shrink;
+    pvs_bake_vocc_params vocc;
+    pvs_bake_otree_params otree;
     pvs_allocator allocator;
 } pvs_bake_desc;
 
@@ -1453,6 +1466,23 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pv
    SHRINK was not prepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
+/* The 2.5D occluders an OTREE bake (or an AUTO bake that considered OTREE) found in its scene. The
+   facades are made of vertical triangles of any tessellation: coplanar pieces are merged, and a
+   facade is a wall segment with the height range [base, top] it fully covers over its whole length.
+   A cell uses a facade only toward objects whose bottom, like its own, is at or above the facade's
+   level (the lowest of at most eight base heights at or above its base; a ray could pass under it).
+   facades == 0: the bake culls nothing (every object is visible from every cell); the bake driver
+   says so. All zero when the bake did not prepare OTREE. */
+typedef struct pvs_otree_bake_info {
+    uint32_t prepared;           /* 1 when the bake prepared OTREE */
+    uint32_t vertical_triangles; /* triangles of the scene standing vertical */
+    uint32_t facades;            /* facades in use (base no higher than the highest cell bottom) */
+    uint32_t levels;             /* distinct base heights in use */
+    float lowest_level;          /* the lowest of them (when levels > 0) */
+} pvs_otree_bake_info;
+PVS_API void pvs_bake_get_otree_info(const pvs_bake *bake, pvs_otree_bake_info *info);
+/* A VOCC bake's statistics: sums over the cells baked so far (zeros for other methods). */
+PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *bake, pvs_vocc_stats *out);
 /* Counts over the tasks that have run, for the caller's summary: a bake that culls nothing is not an
    error (every object visible is conservative) but the caller should hear of it. */
 typedef struct pvs_bake_report {
@@ -1460,13 +1490,13 @@ typedef struct pvs_bake_report {
     uint32_t cells_all_visible;  /* cells whose PVS holds every drawable object: nothing culled */
     uint32_t cells_no_occluders; /* SHRINK: cells baked with no occluder at all (nothing survived the
                                     erosion by eps: thin walls only, or eps too large for the volumes);
-                                    OTREE: cells with no usable facade (pvs_bake_otree_info); AUTO:
+                                    OTREE: cells with no usable facade (pvs_bake_get_otree_info); AUTO:
                                     cells where shrink or otree found none and nothing was culled */
     uint32_t cells_excluded;     /* SHRINK: leaking cells the occluder synthesis left out
                                     (pvs_occluders_excluded_cells): baked with a second synthesis in
                                     which every cell seeds the floods */
     uint32_t cells_otree_budget; /* OTREE (also under AUTO): cells where an occlusion tree reached its node
-                                    budget (pvs_bake_desc.otree_node_budget) and took no more facades:
+                                    budget (pvs_bake_desc.otree.node_budget) and took no more facades:
                                     conservative; a larger budget may cull more there, for more time */
 } pvs_bake_report;
 /* Fills *report. Call after the tasks (not concurrently with them). */
@@ -1578,7 +1608,17 @@ typedef struct pvs_record_info {
 } pvs_record_info;
 #define PVS_CODING_COUNT 4
 /* Fills *info for cell < cell_count. No allocation. */
-PVS_API void pvs_file_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
+PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
+
+/* The virtual occluders a file stores for a cell (< cell_count), decoded, most effective first:
+   returns their number (0 without a VOCC section) and writes up to `capacity` of them. The float
+   end points are the stored ones rounded to float; pvs_vocc_cull uses the exact stored values. */
+PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell, pvs_virtual_occluder *out, uint32_t capacity);
+
+/* A cell's stored record: returns its occluder count (0 without a VOCC section), *bytes their five
+   bytes each (in the file), *scale_code the cell's coordinate scale (manual: "VOCC"). Either output
+   may be NULL. For tools that copy occluders between files (pvsbake merge). */
+PVS_API uint32_t pvs_file_vocc_record(const pvs_file *file, uint32_t cell, uint32_t *scale_code, const uint8_t **bytes);
 
 /* ---- runtime --------------------------------------------------------------------------------- */
 
@@ -1662,6 +1702,9 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 #define PVS__UNUSED
 #endif
 #define PVS__STATIC static PVS__UNUSED
+/* the test hooks' flags (PVS_TEST_HOOKS), under private names the implementation always knows */
+#define PVS__VISIBILITY_INPUT_ORDER 1u
+#define PVS__VISIBILITY_25D_FULL_TESTS 1u
 
 // >>core
 /* ---------------------------------------------------------------------------------------------- */
@@ -6934,7 +6977,7 @@ typedef struct pvs__otree {
     double *jd;                     /* 2.5D: per occluder, its line and umbra data in this tree (pvs__ot25_prepare) */
     double len_eps;                 /* distances below this are ties */
     uint32_t root_in;               /* 2.5D: the node whose region is the lines leaving through the source edge */
-    int full_tests;                 /* 2.5D: PVS_VISIBILITY_25D_FULL_TESTS (no witness lines) */
+    int full_tests;                 /* 2.5D: PVS__VISIBILITY_25D_FULL_TESTS (no witness lines) */
     int nwit;                       /* 2.5D: witness lines, most recently useful first (pvs__ot25_witnessed) */
     double wit[PVS__OT25_WITNESSES][3];
 } pvs__otree;
@@ -7925,7 +7968,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
         }
         t.len_eps = 1e-9 * ext;
         for (i = 0; i < count; ++i) {
-            order[i].key = desc->flags & PVS_VISIBILITY_INPUT_ORDER ? 0.0 : pvs__ot_dist2(o, seg + 4 * i);
+            order[i].key = desc->flags & PVS__VISIBILITY_INPUT_ORDER ? 0.0 : pvs__ot_dist2(o, seg + 4 * i);
             order[i].index = i;
         }
     }
@@ -8911,7 +8954,7 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
     uint32_t nf, no, i;
     if (!desc || !visible_objects || (desc->facade_count && !desc->facades) || (desc->object_count && !desc->objects))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, facades, objects and visible_objects are required");
-    if (desc->flags & ~PVS_VISIBILITY_25D_FULL_TESTS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown 2.5D flags 0x%x", desc->flags);
+    if (desc->flags & ~PVS__VISIBILITY_25D_FULL_TESTS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown 2.5D flags 0x%x", desc->flags);
     nf = desc->facade_count;
     no = desc->object_count;
     if ((uint64_t)nf + no >= 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many facades and objects");
@@ -9102,7 +9145,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     cy = 0.5 * ((double)desc->cell_min[1] + desc->cell_max[1]);
     ext = pvs__ot25_input(desc, cx, cy, all, box, cell, &margin);
     t.len_eps = 1e-9 * ext;
-    t.full_tests = (desc->flags & PVS_VISIBILITY_25D_FULL_TESTS) != 0;
+    t.full_tests = (desc->flags & PVS__VISIBILITY_25D_FULL_TESTS) != 0;
     t.eye = (double)desc->cell_top + margin;
     t.top = top;
     t.seg = seg;
@@ -10295,8 +10338,8 @@ PVS__STATIC void pvs__otree_bake_destroy(const pvs__bake_env *env, void *state) 
 }
 
 PVS__STATIC pvs_result pvs__otree_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
-    if (desc->otree_node_budget && (desc->otree_node_budget < 64 || desc->otree_node_budget > (1u << 24)))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree_node_budget %u is not in 64..2^24", desc->otree_node_budget);
+    if (desc->otree.node_budget && (desc->otree.node_budget < 64 || desc->otree.node_budget > (1u << 24)))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree.node_budget %u is not in 64..2^24", desc->otree.node_budget);
     return PVS_OK;
 }
 
@@ -10307,7 +10350,7 @@ PVS__STATIC pvs_result pvs__otree_bake_prepare(pvs__bake_env *env, const pvs_bak
     memset(ot, 0, sizeof(*ot));
     ot->allocator = env->allocator;
     ot->object_count = env->object_count;
-    ot->budget = desc->otree_node_budget;
+    ot->budget = desc->otree.node_budget;
     if (pvs__otree_prepare(ot, env->scene, env->cells, env->cell_count) != PVS_OK)
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
     return PVS_OK;
@@ -10330,7 +10373,7 @@ PVS__STATIC const pvs__bake_method pvs__otree_method = {
     PVS_METHOD_OTREE, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 2, pvs__otree_bake_check, pvs__otree_bake_prepare,
     pvs__otree_bake_applies, pvs__otree_bake_cell, NULL, pvs__otree_bake_destroy};
 
-PVS_API void pvs_bake_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
+PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
     const pvs__otree_bake *ot = b ? (const pvs__otree_bake *)pvs__bake_method_state(b, PVS_METHOD_OTREE) : NULL;
     memset(info, 0, sizeof(*info));
     if (!ot) return;
@@ -15490,14 +15533,14 @@ typedef struct pvs__vocc_bake {
 } pvs__vocc_bake;
 
 PVS__STATIC pvs_result pvs__vocc_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
-    if (desc->vocc_only && (desc->method != PVS_METHOD_VOCC || desc->vocc_only > 1))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "vocc_only is 0 or 1, and 1 needs PVS_METHOD_VOCC");
+    if (desc->vocc.only && (desc->method != PVS_METHOD_VOCC || desc->vocc.only > 1))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "vocc.only is 0 or 1, and 1 needs PVS_METHOD_VOCC");
     return PVS_OK;
 }
 
 /* Facades and loops once (pvs__vbake_create), per-task occluder records. */
 PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err) {
-    uint32_t slices = desc->vocc_slices ? desc->vocc_slices : 5, keep = desc->vocc_max_occluders ? desc->vocc_max_occluders : 10;
+    uint32_t slices = desc->vocc.slices ? desc->vocc.slices : 5, keep = desc->vocc.max_occluders ? desc->vocc.max_occluders : 10;
     pvs__vocc_bake *vo;
     pvs_result r;
     *state = NULL;
@@ -15515,7 +15558,7 @@ PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake
     if (!vo->vb->prep->nobj && !env->is_auto)
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
                          "vocc: the scene has no vertical walls standing on the ground (2.5D occluders): virtual occluders cannot be built");
-    vo->only = desc->vocc_only;
+    vo->only = desc->vocc.only;
     vo->bytes = (uint8_t *)pvs__alloc_array(&env->allocator, (size_t)vo->task_count * keep * 5, 1);
     vo->count = (uint8_t *)pvs__alloc_array(&env->allocator, vo->task_count, 1);
     vo->scale = (uint8_t *)pvs__alloc_array(&env->allocator, vo->task_count, 1);
@@ -15536,7 +15579,7 @@ PVS__STATIC int pvs__vocc_bake_applies(const void *state, const char **why) {
 }
 
 /* The task's whole cell (VOCC bakes no adaptive cells): its virtual occluders into the task's record
-   and the PVS they prove; with vocc_only, every drawable object instead (placeholder records). */
+   and the PVS they prove; with vocc.only, every drawable object instead (placeholder records). */
 PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
                                            const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err) {
     pvs__vocc_bake *vo = (pvs__vocc_bake *)state;
@@ -15591,7 +15634,7 @@ PVS__STATIC const pvs__bake_method pvs__vocc_method = {
     PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, pvs__vocc_bake_check, pvs__vocc_bake_prepare,
     pvs__vocc_bake_applies, pvs__vocc_bake_cell, pvs__vocc_bake_file, pvs__vocc_bake_destroy};
 
-PVS_API void pvs_bake_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
+PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
     const pvs__vocc_bake *vo = b ? (const pvs__vocc_bake *)pvs__bake_method_state(b, PVS_METHOD_VOCC) : NULL;
     uint32_t i;
     memset(out, 0, sizeof(*out));
@@ -15760,9 +15803,9 @@ PVS__STATIC pvs_result pvs__sample_bake_prepare(pvs__bake_env *env, const pvs_ba
     *state = sb;
     if (!sb) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "sample");
     sb->allocator = env->allocator;
-    sb->points = desc->sample_points ? desc->sample_points : 32;
-    sb->rays = desc->sample_rays ? desc->sample_rays : 2048;
-    sb->seed = desc->seed;
+    sb->points = desc->sample.points ? desc->sample.points : 32;
+    sb->rays = desc->sample.rays ? desc->sample.rays : 2048;
+    sb->seed = desc->sample.seed;
     return PVS_OK;
 }
 
@@ -19512,17 +19555,17 @@ typedef struct pvs__extproj_bake {
 
 PVS__STATIC pvs_result pvs__extproj_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
     int preview = (desc->flags & PVS_BAKE_PREVIEW) != 0, is_auto = desc->method == PVS_METHOD_AUTO || desc->method == PVS_METHOD_DEFAULT;
-    if (desc->extproj_resolution && (desc->extproj_resolution < 16 || desc->extproj_resolution > 4096))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_resolution %u is not in 16..4096", desc->extproj_resolution);
-    if (desc->extproj_occluders > 65536)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_occluders %u > 65536", desc->extproj_occluders);
-    if (desc->extproj_sweep > 256 && desc->extproj_sweep != PVS_EXTPROJ_NO_SWEEP)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep %u > 256", desc->extproj_sweep);
-    if (desc->extproj_sweep_subcells > 1 && desc->extproj_sweep_subcells != 4)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep_subcells %u is not 0, 1 or 4", desc->extproj_sweep_subcells);
-    if (desc->extproj_sweep_subcells == 4 &&
-        (desc->extproj_sweep == PVS_EXTPROJ_NO_SWEEP || (!desc->extproj_sweep && (!is_auto || preview))))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj_sweep_subcells 4 needs the occlusion sweep (extproj_sweep)");
+    if (desc->extproj.resolution && (desc->extproj.resolution < 16 || desc->extproj.resolution > 4096))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.resolution %u is not in 16..4096", desc->extproj.resolution);
+    if (desc->extproj.occluders > 65536)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.occluders %u > 65536", desc->extproj.occluders);
+    if (desc->extproj.sweep > 256 && desc->extproj.sweep != PVS_EXTPROJ_NO_SWEEP)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep %u > 256", desc->extproj.sweep);
+    if (desc->extproj.sweep_subcells > 1 && desc->extproj.sweep_subcells != 4)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep_subcells %u is not 0, 1 or 4", desc->extproj.sweep_subcells);
+    if (desc->extproj.sweep_subcells == 4 &&
+        (desc->extproj.sweep == PVS_EXTPROJ_NO_SWEEP || (!desc->extproj.sweep && (!is_auto || preview))))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep_subcells 4 needs the occlusion sweep (extproj.sweep)");
     return PVS_OK;
 }
 
@@ -19534,11 +19577,11 @@ PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_b
     if (!x) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj");
     memset(x, 0, sizeof(*x));
     x->allocator = env->allocator;
-    x->prm.res = desc->extproj_resolution ? desc->extproj_resolution : preview ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS__EP_DEFAULT_RES;
-    x->prm.max_occ = desc->extproj_occluders ? desc->extproj_occluders : preview ? 32u : PVS__EP_DEFAULT_OCC;
-    x->prm.sweep = desc->extproj_sweep == PVS_EXTPROJ_NO_SWEEP ? 0u : desc->extproj_sweep;
-    if (!desc->extproj_sweep && env->is_auto && !preview) x->prm.sweep = PVS_EXTPROJ_SWEEP_PLANES; /* AUTO's default */
-    x->prm.split = desc->extproj_sweep_subcells == 4;
+    x->prm.res = desc->extproj.resolution ? desc->extproj.resolution : preview ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS__EP_DEFAULT_RES;
+    x->prm.max_occ = desc->extproj.occluders ? desc->extproj.occluders : preview ? 32u : PVS__EP_DEFAULT_OCC;
+    x->prm.sweep = desc->extproj.sweep == PVS_EXTPROJ_NO_SWEEP ? 0u : desc->extproj.sweep;
+    if (!desc->extproj.sweep && env->is_auto && !preview) x->prm.sweep = PVS_EXTPROJ_SWEEP_PLANES; /* AUTO's default */
+    x->prm.split = desc->extproj.sweep_subcells == 4;
     x->prm.coarse = preview;
     return pvs__extproj_prepare(env->scene, &env->allocator, &x->prep, err);
 }
@@ -20393,8 +20436,8 @@ PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_ba
     pvs_occluders_desc od;
     pvs_result r;
     *state = NULL;
-    if ((int)desc->shrink_mode < 0 || desc->shrink_mode >= PVS_SHRINK_MODE_COUNT)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown shrink mode %d", (int)desc->shrink_mode);
+    if ((int)desc->shrink.mode < 0 || desc->shrink.mode >= PVS_SHRINK_MODE_COUNT)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown shrink mode %d", (int)desc->shrink.mode);
     sh = (pvs__shrink_bake *)pvs__alloc(&env->allocator, sizeof(pvs__shrink_bake), 16);
     *state = sh;
     if (!sh) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink");
@@ -20410,7 +20453,7 @@ PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_ba
     od.cells = desc->cells;
     od.cell_count = desc->cell_count;
     od.eps = env->eps;
-    od.voxel_size = desc->voxel_size;
+    od.voxel_size = desc->shrink.voxel_size;
     od.allocator = env->allocator;
     r = pvs_occluders_create(&od, &sh->occluders, err);
     if (r != PVS_OK) return r;
@@ -20420,7 +20463,7 @@ PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_ba
         r = pvs_occluders_create(&od, &sh->occluders_leak, err);
         if (r != PVS_OK) return r;
     }
-    sh->mode = desc->shrink_mode;
+    sh->mode = desc->shrink.mode;
     if (sh->mode == PVS_SHRINK_AUTO) sh->mode = sh->occluders->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
     return PVS_OK;
 }
@@ -20667,11 +20710,11 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
         if (m->traits & PVS__METHOD_CONSERVATIVE) conservative |= 1u << m->method;
         if (m->traits & PVS__METHOD_AUTO_DEFAULT) byauto |= 1u << m->method;
     }
-    if (!pvs__finite(desc->adaptive_min_size) || desc->adaptive_min_size < 0.0f)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "adaptive_min_size must be finite and >= 0");
-    if (desc->adaptive_budget && desc->shard_count)
+    if (!pvs__finite(desc->adaptive.min_size) || desc->adaptive.min_size < 0.0f)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "adaptive.min_size must be finite and >= 0");
+    if (desc->adaptive.budget && desc->shard_count)
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells in a sharded bake (part files index whole cells)");
-    if (desc->adaptive_budget && row && (row->traits & PVS__METHOD_WHOLE_CELLS))
+    if (desc->adaptive.budget && row && (row->traits & PVS__METHOD_WHOLE_CELLS))
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells with %s (its records belong to whole cells)", pvs_method_name(method));
     if (method == PVS_METHOD_AUTO) {
         if (desc->methods & ~conservative)
@@ -20776,8 +20819,8 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     b->words = PVS_BITSET_WORDS(b->object_count);
     b->method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_AUTO : desc->method;
     b->max_distance = desc->max_distance;
-    b->adaptive_budget = desc->adaptive_budget;
-    b->adaptive_min_size = desc->adaptive_min_size;
+    b->adaptive_budget = desc->adaptive.budget;
+    b->adaptive_min_size = desc->adaptive.min_size;
     b->env.scene = desc->scene;
     b->env.allocator = desc->allocator;
     b->env.cells = desc->cells;
@@ -22736,7 +22779,7 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
     return PVS_OK;
 }
 
-PVS_API void pvs_file_record_info(const pvs_file *f, uint32_t cell, pvs_record_info *info) {
+PVS_API void pvs_file_get_record_info(const pvs_file *f, uint32_t cell, pvs_record_info *info) {
     pvs__rec r;
     PVS_ASSERT(f && info && cell < f->cell_count);
     pvs__record_at(f, cell, &r);

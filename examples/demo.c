@@ -47,9 +47,9 @@ int main(int argc, char **argv) {
     bd.cells = (const pvs_box *)cells.boxes;
     bd.cell_count = cells.count;
     bd.method = method;
-    bd.sample_points = 16;
-    bd.sample_rays = 1024;
-    bd.seed = 1;
+    bd.sample.points = 16;
+    bd.sample.rays = 1024;
+    bd.sample.seed = 1;
     if (pvs_bake_begin(&bd, &bake, &pe) != PVS_OK) { fprintf(stderr, "demo: %s\n", pe.message); return 1; }
     t_bake = cli_seconds();
     if (cli_run_bake(bake, threads, 0, "bake", &te)) { fprintf(stderr, "demo: %s\n", te.message); return 1; }

@@ -118,9 +118,9 @@ static int methods_view_main(const methods_view_opts *o, int argc, char **argv) 
         bd.cells = (const pvs_box *)cells.boxes;
         bd.cell_count = cells.count;
         bd.method = (pvs_method)k;
-        bd.sample_points = 64;
-        bd.sample_rays = 4096;
-        bd.seed = 99;
+        bd.sample.points = 64;
+        bd.sample.rays = 4096;
+        bd.sample.seed = 99;
         bd.max_distance = dist;
         if (pvs_bake_begin(&bd, &b, &pe) != PVS_OK || pvs_bake_run_task(b, cell, &pe) != PVS_OK) {
             snprintf(r->note, sizeof(r->note), "%s", pe.message);

@@ -13,7 +13,7 @@
    The forest1000 lines: the dense forest at the paper's density (gen leaves_per_tree 1000, bushes
    as dense, 4.6M triangles) with 1 m cells, baked at 1024 pixels and FOREST1000_PLANES sweep planes
    per direction (at the defaults, 256 and 16, the sweep culls about 8% there); the
-   forest1000_subcells lines add pvs_bake_desc.extproj_sweep_subcells = 4 (the sweep's planes hold
+   forest1000_subcells lines add pvs_bake_desc.extproj.sweep_subcells = 4 (the sweep's planes hold
    the umbrae of the cell's four quarters).
    The forest_paper lines: the same forest at the extent of the paper's (§7.2: about 7,750 trees of
    1,000 leaves, 7.8M triangles): FOREST_PAPER_SIZE times as wide, 7,339 trees (7.5M triangles)
@@ -103,10 +103,10 @@ static int bench(const bench_scene *bs, const char *name, uint32_t sweep, uint32
     uint32_t c, n = bs->n, objects = pvs_scene_object_count(bs->scene);
     double t, pvs_sum = 0.0, seen_sum = 0.0;
     test_bake_desc(&bd, bs->scene, sub, n, PVS_METHOD_EXTPROJ);
-    bd.extproj_sweep = sweep;
-    bd.extproj_sweep_subcells = subcells;
-    bd.adaptive_budget = adaptive;
-    if (bs->paper) bd.extproj_resolution = 1024;
+    bd.extproj.sweep = sweep;
+    bd.extproj.sweep_subcells = subcells;
+    bd.adaptive.budget = adaptive;
+    if (bs->paper) bd.extproj.resolution = 1024;
     t = test_cpu_seconds();
     if (pvs_bake_begin(&bd, &bake, &pe) != PVS_OK) { fprintf(stderr, "%s\n", pe.message); return 1; }
     for (c = 0; c < n; ++c)

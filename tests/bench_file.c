@@ -56,9 +56,9 @@ int main(int argc, char **argv) {
     double t;
     if (cli_demo_city(&m, &cells, &scene, &te)) return 1;
     test_bake_desc(&bd, scene, (const pvs_box *)cells.boxes, cells.count, PVS_METHOD_SAMPLE);
-    bd.sample_points = 16;
-    bd.sample_rays = 1024;
-    bd.seed = 1;
+    bd.sample.points = 16;
+    bd.sample.rays = 1024;
+    bd.sample.seed = 1;
     if (pvs_bake_begin(&bd, &bake, &pe) != PVS_OK || cli_run_bake(bake, 2, 1, "bake", &te)) return 1;
     objects = pvs_scene_object_count(scene);
     words = (uint32_t)PVS_BITSET_WORDS(objects);

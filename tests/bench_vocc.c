@@ -35,13 +35,13 @@ static int bake(pvs_scene *scene, const pvs_box *cells, uint32_t n, pvs_method m
     double t;
     memset(out, 0, sizeof(*out));
     test_bake_desc(&bd, scene, cells, n, method);
-    bd.vocc_slices = slices;
+    bd.vocc.slices = slices;
     if (pvs_bake_begin(&bd, &b, &e) != PVS_OK) { fprintf(stderr, "%s\n", e.message); return 1; }
     t = test_cpu_seconds();
     for (c = 0; c < n; ++c)
         if (pvs_bake_run_task(b, c, &e) != PVS_OK) { fprintf(stderr, "%s\n", e.message); return 1; }
     out->ms_per_cell = 1000.0 * (test_cpu_seconds() - t) / n;
-    pvs_bake_vocc_stats(b, &out->st);
+    pvs_bake_get_vocc_stats(b, &out->st);
     out->size = pvs_bake_file_size(b);
     out->file = malloc(out->size);
     if (!out->file || pvs_bake_write_file(b, out->file, out->size, &out->size, &e) != PVS_OK ||

@@ -75,7 +75,7 @@ static int fuzz_open(const uint8_t *data, size_t size) {
                 for (k = 0; k < 3; ++k) mid[k] = b.min[k] + 0.5f * (b.max[k] - b.min[k]);
                 (void)pvs_file_find_cell(&f, mid); /* a mutated tree may answer wrongly, never unsafely */
                 if (pvs_file_decode(&f, c, bits, words, NULL) != PVS_OK) abort();
-                pvs_file_record_info(&f, c, &info);
+                pvs_file_get_record_info(&f, c, &info);
                 if (info.depth > f.max_chain) abort();
                 if (pvs_cursor_move(&cursor, (c * 7919u) % f.cell_count, NULL, NULL) != PVS_OK) abort();
                 if (pvs_cursor_move(&cursor, c, NULL, NULL) != PVS_OK) abort();

@@ -10,6 +10,9 @@
 #ifndef TEST_H
 #define TEST_H
 #undef NDEBUG
+#ifndef PVS_TEST_HOOKS
+#define PVS_TEST_HOOKS /* the test-only flags (pvs.h, CONFIGURATION) */
+#endif
 #include "../pvs.h"
 #include "../tools/gen.h"
 #include "../tools/mesh.h"

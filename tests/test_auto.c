@@ -51,7 +51,7 @@ static pvs_bake *bake_with(const pvs_scene *s, const mesh_cells *cells, pvs_meth
     bd.flags = flags;
     bd.max_distance = max_distance;
     /* EXTPROJ as AUTO runs it: with the occlusion sweep, except in a preview */
-    if (method == PVS_METHOD_EXTPROJ && !(flags & PVS_BAKE_PREVIEW)) bd.extproj_sweep = PVS_EXTPROJ_SWEEP_PLANES;
+    if (method == PVS_METHOD_EXTPROJ && !(flags & PVS_BAKE_PREVIEW)) bd.extproj.sweep = PVS_EXTPROJ_SWEEP_PLANES;
     return bake_all(&bd, s, cells);
 }
 
@@ -340,7 +340,7 @@ static void check_max_distance(void) {
             float d = pass == 0 ? x0 - 1.0f : 0.5f * (x0 - 1.0f);
             test_bake_desc(&bd, s, &cell, 1, PVS_METHOD_SAMPLE);
             bd.max_distance = d;
-            bd.sample_points = 16; bd.sample_rays = 256;
+            bd.sample.points = 16; bd.sample.rays = 256;
             CHECK(pvs_bake_begin(&bd, &b, NULL) == PVS_OK);
             if (b) {
                 CHECK(pvs_bake_run_task(b, 0, NULL) == PVS_OK);
@@ -418,13 +418,13 @@ static void check_restore(void) {
 }
 
 /* AUTO's extproj runs the occlusion sweep unless told not to (PVS_EXTPROJ_NO_SWEEP) or previewing:
-   the default bake equals one with extproj_sweep = PVS_EXTPROJ_SWEEP_PLANES, and the method info says
+   the default bake equals one with extproj.sweep = PVS_EXTPROJ_SWEEP_PLANES, and the method info says
    so; PVS_EXTPROJ_NO_SWEEP equals the bake of before (EXTPROJ alone with 0: no sweep). */
 static pvs_bake *bake_sweep(const pvs_scene *s, const mesh_cells *cells, pvs_method method, uint32_t sweep, uint32_t flags) {
     pvs_bake_desc bd;
     memset(&bd, 0, sizeof(bd));
     bd.method = method;
-    bd.extproj_sweep = sweep;
+    bd.extproj.sweep = sweep;
     bd.flags = flags;
     return bake_all(&bd, s, cells);
 }

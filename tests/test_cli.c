@@ -60,8 +60,8 @@ static void test_city_round_trip(void) {
     size_t size = 0;
     CHECK(cli_demo_city(&m, &cells, &scene, &te) == 0);
     test_bake_desc(&bd, scene, (const pvs_box *)cells.boxes, cells.count, PVS_METHOD_SAMPLE);
-    bd.sample_points = 2;
-    bd.sample_rays = 256;
+    bd.sample.points = 2;
+    bd.sample.rays = 256;
     if (scene && pvs_bake_begin(&bd, &bake, NULL) == PVS_OK && cli_run_bake(bake, 2, 1, "bake", &te) == 0) {
         size = pvs_bake_file_size(bake);
         bytes = (uint8_t *)malloc(size);

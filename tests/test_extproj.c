@@ -288,7 +288,7 @@ static const int ep_box_tris[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6
    other fields zero (defaults). */
 static void ep_bake_desc(pvs_bake_desc *bd, const pvs_scene *s, const pvs_box *cells, uint32_t count, uint32_t sweep) {
     test_bake_desc(bd, s, cells, count, PVS_METHOD_EXTPROJ);
-    bd->extproj_sweep = sweep;
+    bd->extproj.sweep = sweep;
 }
 
 /* Extrudes a closed polygon (n points in x, z, counter-clockwise seen from +y) from y = 0 to y = h:
@@ -867,7 +867,7 @@ static double ep_check_scene(gen_kind kind, int dense, uint64_t seed, float size
     if (!s) return 0.0;
     objects = pvs_scene_object_count(s);
     ep_bake_desc(&bd, s, (const pvs_box *)cells.boxes, cells.count, sweep);
-    bd.extproj_sweep_subcells = subcells;
+    bd.extproj.sweep_subcells = subcells;
     CHECK(pvs_bake_begin(&bd, &bake, &e) == PVS_OK);
     seen = (pvs_word *)calloc(PVS_BITSET_WORDS(objects), sizeof(pvs_word));
     for (t = 0; t < pvs_bake_task_count(bake); ++t) {
@@ -1348,17 +1348,17 @@ static void test_adaptive(void) {
     if (!s) return;
     objects = pvs_scene_object_count(s);
     ep_bake_desc(&bd, s, (const pvs_box *)cells.boxes, cells.count, 0);
-    bd.adaptive_budget = budget;
+    bd.adaptive.budget = budget;
     /* refused: shards, a bad minimum size, too many sweep planes */
     bd.shard_count = 2;
     CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_UNSUPPORTED);
     bd.shard_count = 0;
-    bd.adaptive_min_size = -1.0f;
+    bd.adaptive.min_size = -1.0f;
     CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
-    bd.adaptive_min_size = 0.0f;
-    bd.extproj_sweep = 257;
+    bd.adaptive.min_size = 0.0f;
+    bd.extproj.sweep = 257;
     CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
-    bd.extproj_sweep = 0;
+    bd.extproj.sweep = 0;
     CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
     CHECK(pvs_bake_begin(&bd, &b2, &e) == PVS_OK);
     if (!b || !b2) return;
@@ -1461,7 +1461,7 @@ static pvs_bake *ep_bake_sampled(const pvs_scene *s, const pvs_box *cell, uint32
     pvs_bake *bk = NULL;
     pvs_error e;
     ep_bake_desc(&bd, s, cell, 1, sweep);
-    bd.extproj_occluders = occluders;
+    bd.extproj.occluders = occluders;
     CHECK(pvs_bake_begin(&bd, &bk, &e) == PVS_OK);
     if (bk && pvs_bake_run_task(bk, 0, &e) != PVS_OK) {
         pvs_bake_destroy(bk);
@@ -1544,7 +1544,7 @@ static void test_sweep_all_occluders(void) {
 
 /* The sweep runs to the far end of the scene, not only through the depths of the occluders the
    selection of §6.1 keeps (large solid angles, so near ones): four 10 x 10 panels 2 units from a
-   unit cell, off its axis, fill the selection (extproj_occluders 1: the sweep selects 4 x 1); a
+   unit cell, off its axis, fill the selection (extproj.occluders 1: the sweep selects 4 x 1); a
    curtain of 12 x 12 overlapping 2 x 2 shingles (separate objects, alternately 1 mm apart in depth)
    30 units away hides a wide box 60 units away. Only a sweep that reaches past the panels projects
    the curtain and hides the box; the rays see a box beside the curtain, and nothing the bake
@@ -1674,7 +1674,7 @@ static void test_task_bytes(void) {
         pvs_error e;
         size_t base, want = pvs_extproj_task_bytes(cfg[k][0], cfg[k][1]);
         ep_bake_desc(&bd, s, &cell, 1, cfg[k][1]);
-        bd.extproj_resolution = cfg[k][0];
+        bd.extproj.resolution = cfg[k][0];
         bd.allocator = test_peak_allocator(&pk);
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
         if (!b) continue;
@@ -1775,7 +1775,7 @@ static void test_reprojection_subcells(void) {
                 marked, gained);
 }
 
-/* Sub-cells on the sweep's planes (pvs_bake_desc.extproj_sweep_subcells = 4): no misses against ray
+/* Sub-cells on the sweep's planes (pvs_bake_desc.extproj.sweep_subcells = 4): no misses against ray
    sampling, never a larger PVS in total than the cell's own umbrae, a smaller one in the city; and
    the bad values refused. */
 static void test_sweep_subcells(void) {
@@ -1801,16 +1801,16 @@ static void test_sweep_subcells(void) {
         CHECK(s != NULL);
         if (!s) return;
         ep_bake_desc(&bd, s, &cell, 1, PVS_EXTPROJ_SWEEP_PLANES);
-        bd.extproj_sweep_subcells = 2;
-        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "extproj_sweep_subcells") != NULL);
-        bd.extproj_sweep_subcells = 4;
-        bd.extproj_sweep = 0; /* EXTPROJ without the sweep */
+        bd.extproj.sweep_subcells = 2;
+        CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "extproj.sweep_subcells") != NULL);
+        bd.extproj.sweep_subcells = 4;
+        bd.extproj.sweep = 0; /* EXTPROJ without the sweep */
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "needs the occlusion sweep") != NULL);
         bd.method = PVS_METHOD_AUTO; /* AUTO's sweep */
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
         pvs_bake_destroy(b);
         b = NULL;
-        bd.extproj_sweep = PVS_EXTPROJ_NO_SWEEP;
+        bd.extproj.sweep = PVS_EXTPROJ_NO_SWEEP;
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
         pvs_scene_destroy(s);
     }

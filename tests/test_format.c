@@ -129,12 +129,12 @@ static void check_table(uint32_t cells, uint32_t objects, uint32_t density, uint
         got[words] = 12345;
         CHECK(pvs_file_decode(&f, c, got, words + 1, &e) == PVS_OK);
         CHECK(memcmp(got, pvs + c * words, words * sizeof(pvs_word)) == 0 && got[words] == 0);
-        pvs_file_record_info(&f, c, &info);
+        pvs_file_get_record_info(&f, c, &info);
         CHECK(info.depth <= f.max_chain && info.coding < PVS_CODING_COUNT && info.bytes > 0);
         CHECK((info.depth == 0) == (info.base == PVS_NO_CELL));
         if (info.base != PVS_NO_CELL) {
             pvs_record_info bi;
-            pvs_file_record_info(&f, info.base, &bi);
+            pvs_file_get_record_info(&f, info.base, &bi);
             CHECK(bi.depth + 1 == info.depth);
         }
         keys += info.depth == 0;
@@ -257,7 +257,7 @@ static void test_special_tables(void) {
         for (c = 0; c < CELLS; ++c) {
             pvs_record_info info;
             CHECK(pvs_file_decode(&f, c, got, words, NULL) == PVS_OK && memcmp(got, pvs + c * words, sizeof(got)) == 0);
-            pvs_file_record_info(&f, c, &info);
+            pvs_file_get_record_info(&f, c, &info);
             if (info.base != PVS_NO_CELL) { /* base -> cell: one delta, with its runs of ranks */
                 ++deltas;
                 CHECK(pvs_cursor_move(&cursor, info.base, NULL, NULL) == PVS_OK);
@@ -298,7 +298,7 @@ static void test_chain_bound(void) {
         if (!buf) continue;
         for (c = 0; c < CELLS; ++c) {
             pvs_record_info info;
-            pvs_file_record_info(&f, c, &info);
+            pvs_file_get_record_info(&f, c, &info);
             if (info.depth > deepest) deepest = info.depth;
         }
         CHECK(deepest <= ks[j] && deepest >= 1);
@@ -445,7 +445,7 @@ static void test_corruptions(void) {
         CHECK(pvs_file_open(good, size, &f, NULL) == PVS_OK);
         for (c = 0; c < f.cell_count; ++c) {
             pvs_record_info info;
-            pvs_file_record_info(&f, c, &info);
+            pvs_file_get_record_info(&f, c, &info);
             if (info.depth == 1 && info.bytes > 3) {
                 /* locate the record: block start, then skip records by their length varints */
                 const uint8_t *p = good + rc + test_rd32(good + rc + 4 * (c / 16));

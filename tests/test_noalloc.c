@@ -114,7 +114,7 @@ void test_noalloc(void) {
         for (c = 0; c < 3 * CELLS; ++c) CHECK(pvs_cursor_move(&cursor, (c * 7) % CELLS, NULL, NULL) == PVS_OK);
         for (c = 0; c < CELLS; ++c) { /* from each cell's base into it: one delta */
             pvs_record_info info;
-            pvs_file_record_info(&f, c, &info);
+            pvs_file_get_record_info(&f, c, &info);
             if (info.base != PVS_NO_CELL) CHECK(pvs_cursor_move(&cursor, info.base, NULL, NULL) == PVS_OK);
             CHECK(pvs_cursor_move(&cursor, c, NULL, NULL) == PVS_OK);
         }

@@ -1,6 +1,7 @@
 /* test_otree.c - occlusion trees: exact 2D from-region visibility against brute-force 2D ray
    sampling, order independence, closed rings, degenerate inputs; 2.5D c-LSS against 3D ray sampling
    and the bake method. */
+#define PVS_TEST_HOOKS /* PVS_VISIBILITY_INPUT_ORDER, PVS_VISIBILITY_25D_FULL_TESTS */
 #include "../pvs.h"
 #include "test.h"
 #include "../tools/gen.h"
@@ -559,11 +560,11 @@ static void test_bake_city(void) {
         if (not_contained) fprintf(stderr, "otree bake: %u objects of the exact 2D PVS missing\n", not_contained);
         free(seg); free(fl); free(ob); free(vis2d);
     }
-    {   /* pvs_bake_desc.otree_node_budget reaches the trees: a small one hides less, never more;
+    {   /* pvs_bake_desc.otree.node_budget reaches the trees: a small one hides less, never more;
            outside 64..2^24 it is refused */
         pvs_bake *b3 = NULL;
         uint32_t wider = 0, lost = 0, i;
-        bd.otree_node_budget = 64;
+        bd.otree.node_budget = 64;
         CHECK(pvs_bake_begin(&bd, &b3, &e) == PVS_OK);
         for (t = 0; b3 && t < pvs_bake_task_count(b3); ++t) CHECK(pvs_bake_run_task(b3, t, &e) == PVS_OK);
         for (c = 0; b3 && c < cells.count; ++c) {
@@ -584,11 +585,11 @@ static void test_bake_city(void) {
         }
         pvs_bake_destroy(b3);
         b3 = NULL;
-        bd.otree_node_budget = 63;
-        CHECK(pvs_bake_begin(&bd, &b3, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "otree_node_budget 63"));
-        bd.otree_node_budget = (1u << 24) + 1u;
+        bd.otree.node_budget = 63;
+        CHECK(pvs_bake_begin(&bd, &b3, &e) == PVS_ERROR_INVALID_ARGUMENT && strstr(e.message, "otree.node_budget 63"));
+        bd.otree.node_budget = (1u << 24) + 1u;
         CHECK(pvs_bake_begin(&bd, &b3, &e) == PVS_ERROR_INVALID_ARGUMENT);
-        bd.otree_node_budget = 0;
+        bd.otree.node_budget = 0;
     }
     fprintf(stderr, "otree bake: %u cells, %u objects, mean PVS %.1f, mean sampled %.1f\n", cells.count, objects, sum_pvs / cells.count,
             sum_ref / cells.count);
@@ -1333,7 +1334,7 @@ static pvs_bake *fx_bake(fx_mesh *m, const pvs_box *cells, uint32_t nc, pvs_otre
     CHECK(pvs_bake_begin(&bd, &b, NULL) == PVS_OK);
     if (!b) return NULL;
     for (t = 0; t < pvs_bake_task_count(b); ++t) CHECK(pvs_bake_run_task(b, t, NULL) == PVS_OK);
-    pvs_bake_otree_info(b, info);
+    pvs_bake_get_otree_info(b, info);
     for (c = 0; c < nc; ++c) {
         test_sample(sc, cells + c, 16, 2048, 11 + c, 0, 0, bits);
         miss += test_misses(bits, pvs_bake_cell_pvs(b, c), m->oc, "otree facades", c);
@@ -1488,7 +1489,7 @@ static void test_facades_levels(void) {
 }
 
 /* No usable facade (only floating boxes above the cells, and flat ground): the bake says so
-   (pvs_bake_otree_info: 0 facades) and every drawable object is in every PVS. */
+   (pvs_bake_get_otree_info: 0 facades) and every drawable object is in every PVS. */
 static void test_facades_none(void) {
     static fx_mesh m;
     pvs_otree_bake_info info;
@@ -1518,7 +1519,7 @@ static void test_facades_none(void) {
         pvs_bake_desc bd;
         pvs_bake *s = NULL;
         memset(&bd, 0, sizeof(bd));
-        pvs_bake_otree_info(NULL, &info);
+        pvs_bake_get_otree_info(NULL, &info);
         CHECK(info.prepared == 0 && info.facades == 0);
         (void)s;
     }
@@ -1565,7 +1566,7 @@ static void test_facades_none_auto(void) {
         CHECK(pvs_bake_run_task(b, 0, NULL) == PVS_OK);
         CHECK(pvs_bake_run_task(b, 1, NULL) == PVS_OK);
         pvs_bake_get_report(b, &rep);
-        pvs_bake_otree_info(b, &info);
+        pvs_bake_get_otree_info(b, &info);
         CHECK(info.prepared == 1 && info.facades > 0);
         if (k == 0) { /* otree: nothing for this cell, every object */
             CHECK(pvs_bitset_count(pvs_bake_cell_pvs(b, 0), 3) == 3);

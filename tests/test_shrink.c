@@ -397,8 +397,8 @@ static void slit_room(int kind, double angle, double ox, double oz, int cell_ins
     pvs_occluders_destroy(o);
     for (mode = 0; kind == 1 && !cell_inside && mode < 3; ++mode) { /* the object is in the PVS on every path */
         test_bake_desc(&bd, s, &cell, 1, PVS_METHOD_SHRINK);
-        bd.eps = 0.3f; bd.voxel_size = 0.5f;
-        bd.shrink_mode = (pvs_shrink_mode)mode;
+        bd.eps = 0.3f; bd.shrink.voxel_size = 0.5f;
+        bd.shrink.mode = (pvs_shrink_mode)mode;
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
         if (!b) continue;
         CHECK(pvs_bake_run_task(b, 0, &e) == PVS_OK);
@@ -607,7 +607,7 @@ static void test_random_prisms(void) {
         CHECK(s != NULL);
         if (!s) { mesh_free(&m); continue; }
         test_bake_desc(&bd, s, cells, nc, PVS_METHOD_SHRINK);
-        bd.eps = 0.5f; bd.shrink_mode = PVS_SHRINK_2D5;
+        bd.eps = 0.5f; bd.shrink.mode = PVS_SHRINK_2D5;
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
         n = pvs_scene_object_count(s);
         ref = (pvs_word *)calloc(PVS_BITSET_WORDS(n), sizeof(pvs_word));
@@ -712,7 +712,7 @@ static void check_scene(gen_kind kind, float size, uint64_t seed, uint32_t max_c
     s = test_scene(&m, 1);
     CHECK(s != NULL);
     test_bake_desc(&bd, s, (const pvs_box *)cells.boxes, cells.count, PVS_METHOD_SHRINK);
-    bd.shrink_mode = mode;
+    bd.shrink.mode = mode;
     bd.eps = eps;
     CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
     n = pvs_scene_object_count(s);
@@ -868,7 +868,7 @@ static void test_leak_cells(void) {
             pvs_bake *b = NULL;
             pvs_bake_report rep;
             test_bake_desc(&bd, s, cells, 3, PVS_METHOD_SHRINK);
-            bd.eps = 0.5f; bd.voxel_size = 0.25f;
+            bd.eps = 0.5f; bd.shrink.voxel_size = 0.25f;
             CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
             for (c = 0; b && c < 3; ++c) CHECK(pvs_bake_run_task(b, c, &e) == PVS_OK);
             if (b) {

@@ -339,8 +339,8 @@ static void *bake_file(pvs_scene *s, const pvs_box *cells, uint32_t n, uint32_t 
     void *out = NULL;
     uint32_t t;
     test_bake_desc(&bd, s, cells, n, PVS_METHOD_VOCC);
-    bd.vocc_only = only;
-    bd.vocc_slices = slices;
+    bd.vocc.only = only;
+    bd.vocc.slices = slices;
     if (pvs_bake_begin(&bd, &b, &e) != PVS_OK) { fprintf(stderr, "%s\n", e.message); return NULL; }
     for (t = 0; t < n; ++t) CHECK(pvs_bake_run_task(b, reverse ? n - 1 - t : t, &e) == PVS_OK);
     *size = pvs_bake_file_size(b);
@@ -444,18 +444,18 @@ static void test_bake(void) {
         pvs_bake_desc bd;
         pvs_bake *b = NULL;
         test_bake_desc(&bd, s, (const pvs_box *)cells.boxes, n, PVS_METHOD_VOCC);
-        bd.vocc_slices = 17;
+        bd.vocc.slices = 17;
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
-        bd.vocc_slices = 0;
-        bd.vocc_max_occluders = 256;
+        bd.vocc.slices = 0;
+        bd.vocc.max_occluders = 256;
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
         CHECK(b == NULL);
-        bd.vocc_max_occluders = 0;
+        bd.vocc.max_occluders = 0;
         bd.method = PVS_METHOD_OTREE;
-        bd.vocc_only = 1; /* needs the vocc method */
+        bd.vocc.only = 1; /* needs the vocc method */
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_ERROR_INVALID_ARGUMENT);
         bd.method = PVS_METHOD_VOCC;
-        bd.vocc_only = 0;
+        bd.vocc.only = 0;
         CHECK(pvs_bake_begin(&bd, &b, &e) == PVS_OK);
         if (b) { /* a vocc bake cannot resume from a PVS: its occluders must be baked */
             pvs_file_decode(&f, 0, dec, words, NULL);

@@ -329,7 +329,7 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
     fprintf(stderr, "  file %zu bytes (%.1f per cell)\n", size, (double)size / tasks);
     {
         pvs_vocc_stats vs;
-        pvs_bake_vocc_stats(bake, &vs);
+        pvs_bake_get_vocc_stats(bake, &vs);
         if (vs.slices)
             fprintf(stderr, "  vocc: %.2f virtual occluders per cell kept of %.1f found (%.1f slices, %.1f seeds per cell; %u dropped)%s\n",
                     (double)vs.selected / tasks, (double)vs.dense / tasks, (double)vs.slices / tasks, (double)vs.seeds / tasks, vs.dropped,
@@ -485,21 +485,21 @@ static void bake_desc_init(pvs_bake_desc *bd, const bake_options *o, const pvs_s
     bd->eps = o->eps;
     bd->max_distance = o->max_distance;
     bd->flags = o->preview ? PVS_BAKE_PREVIEW : 0u;
-    bd->sample_points = o->points;
-    bd->sample_rays = o->rays;
-    bd->seed = o->seed;
+    bd->sample.points = o->points;
+    bd->sample.rays = o->rays;
+    bd->sample.seed = o->seed;
     bd->max_chain = o->chain;
-    bd->shrink_mode = o->shrink_mode;
-    bd->voxel_size = o->voxel;
-    bd->vocc_slices = o->vocc_slices;
-    bd->vocc_max_occluders = o->vocc_max;
-    bd->vocc_only = (uint32_t)o->vocc_only;
-    bd->extproj_sweep = o->no_sweep ? PVS_EXTPROJ_NO_SWEEP : o->sweep; /* 0: auto's default, the sweep */
-    bd->extproj_resolution = o->resolution;
-    bd->otree_node_budget = o->otree_budget;
-    bd->extproj_sweep_subcells = o->subcells ? 4u : 0u;
-    bd->adaptive_budget = o->adaptive;
-    bd->adaptive_min_size = o->min_cell;
+    bd->shrink.mode = o->shrink_mode;
+    bd->shrink.voxel_size = o->voxel;
+    bd->vocc.slices = o->vocc_slices;
+    bd->vocc.max_occluders = o->vocc_max;
+    bd->vocc.only = (uint32_t)o->vocc_only;
+    bd->extproj.sweep = o->no_sweep ? PVS_EXTPROJ_NO_SWEEP : o->sweep; /* 0: auto's default, the sweep */
+    bd->extproj.resolution = o->resolution;
+    bd->otree.node_budget = o->otree_budget;
+    bd->extproj.sweep_subcells = o->subcells ? 4u : 0u;
+    bd->adaptive.budget = o->adaptive;
+    bd->adaptive.min_size = o->min_cell;
     bd->allocator = cli_memory_allocator(mem);
 }
 
@@ -534,7 +534,7 @@ static void print_shrink_info(const pvs_bake *bake, float eps) {
 /* What the otree method found in the scene (before the bake), when it runs. */
 static void print_otree_info(const pvs_bake *bake) {
     pvs_otree_bake_info oti;
-    pvs_bake_otree_info(bake, &oti);
+    pvs_bake_get_otree_info(bake, &oti);
     if (!oti.prepared) return;
     fprintf(stderr, "otree: %u facades (2.5D occluders) from %u vertical triangles", oti.facades, oti.vertical_triangles);
     if (oti.levels) fprintf(stderr, ", %u base level%s from %g", oti.levels, oti.levels > 1 ? "s" : "", (double)oti.lowest_level);

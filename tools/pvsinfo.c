@@ -76,7 +76,7 @@ static int verify_file(const char *path, const pvs_file *f, size_t size, pvs_wor
             fprintf(stderr, "pvsinfo: %s: cell %u: %s\n", path, c, pe.message);
             return 1;
         }
-        pvs_file_record_info(f, c, &info);
+        pvs_file_get_record_info(f, c, &info);
         if (info.base != PVS_NO_CELL) { /* the removal ranks must count in the base's PVS as it is */
             uint32_t m;
             pvs_file_decode(f, info.base, bits, words, NULL);
@@ -125,7 +125,7 @@ static void print_records(const pvs_file *f) {
     double depth_sum = 0.0;
     for (c = 0; c < f->cell_count; ++c) {
         pvs_record_info info;
-        pvs_file_record_info(f, c, &info);
+        pvs_file_get_record_info(f, c, &info);
         ++coding_count[info.coding];
         record_bytes += info.bytes;
         depth_sum += info.depth;
