@@ -321,6 +321,9 @@
                       pvs_file_virtual_occluders and pvs_file_vocc_record in >>format).
                       API: the test-only flags PVS_VISIBILITY_INPUT_ORDER and PVS_VISIBILITY_25D_FULL_TESTS
                       need PVS_TEST_HOOKS (internal). File format unchanged (version 1).
+                      Inside: the bake driver runs its methods from one table (pvs__bake_method); the
+                      shared kernels (math, growable arrays, heaps, byte readers, the kD-tree sweep) live once
+                      in >>core and >>kdtree; measurements moved to tests/BENCHMARKS.md. Bakes unchanged.
                       PVS_METHOD_AUTO, the default (the applicable conservative methods, intersected),
                       bake max_distance, PVS_BAKE_PREVIEW, resumable bakes (pvs_bake_restore_task);
                       virtual occluders (Koltun 2000): bake method vocc, the optional VOCC section,
@@ -15863,7 +15866,7 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
    class), PVS__EP_PLANES planes (one just behind the farthest selected occluder, the others in
    distance bands, each just behind the occluder whose candidate plane fills the most pixels), each a
    256 x 256 depth map with the Projections, the slices of the closed meshes and of the sheets'
-   solids, and a max pyramid; with the sweep, extproj_sweep more planes per direction from one cell
+   solids, and a max pyramid; with the sweep, extproj.sweep more planes per direction from one cell
    size out to the scene's far end, each cut to the span of the cell and the scene with 256 x 256
    pixels spread over that as square pixels (pvs__ep_fit_plane), holding reprojected umbrae and the
    Projections of every occluder between them (§5). Then the
@@ -15883,7 +15886,7 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
    bush leaves and trunks close it together, in depth, which one binary umbra per plane does not
    capture. Most of what is lost lies in the penumbra gaps between the Projections of adjacent
    occluders (each Projection is the umbra of one occluder), the rest in pixels that two Projections
-   cover only together. Sub-cells on the sweep's planes (extproj_sweep_subcells, pvs__epmask) win back
+   cover only together. Sub-cells on the sweep's planes (extproj.sweep_subcells, pvs__epmask) win back
    part of it: each pixel holds one bit per quarter of the cell (halved across the direction on both
    axes), the Projections and reprojections are made per quarter (the occluders projected four times),
    and an object is hidden when hidden from each. The forest measurements, the experiments (some not
@@ -23003,6 +23006,9 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
+   0.4.0 (2026-11-28) AUTO (the default), max_distance, PREVIEW, resumable bakes, virtual occluders (vocc),
+                      extproj's slices, sheets and occlusion sweep, adaptive cells; bounded memory; the
+                      method table; per-method parameter structs in pvs_bake_desc, pvs_*_get_* getters.
    0.3.0 (2026-11-22) the raster module (conservative occluder/occludee rasterization, hierarchical
                       depth map, cull maps, pvs_raster_cull); occlusion trees (exact 2D, c-LSS 2.5D);
                       occluder synthesis; bake methods shrink, otree and extproj (all conservative).
