@@ -21,7 +21,7 @@ TEST_SRC := tests/impl.c tests/test_extproj.c tests/test_noalloc.c tests/main.c 
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c \
             tests/test_shrink.c tests/test_auto.c tests/test_examples.c tests/test_vocc.c tools/mesh.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
 
-.PHONY: all tools test test-neon demo bench verify fuzz clean compile-checks readme-check examples cullmap-images
+.PHONY: all tools test test-neon demo bench verify fuzz clean compile-checks readme-check examples cullmap-images lint
 all: tools
 tools: $(TOOLS)
 
@@ -62,7 +62,12 @@ readme-check: README.md pvs.h
 	./$(B)/readme_example | grep -x 'object 0 visible, object 1 hidden'
 
 # the groups run side by side, one per CPU (the output does not depend on it)
-test: $(B)/pvstest compile-checks readme-check tools $(B)/pvsruntime
+# The house rules a compiler does not check: pvs.h lines within 120 columns, functions in pvs.h and tools/
+# within 150 lines (tests/lint.sh).
+lint:
+	sh tests/lint.sh
+
+test: lint $(B)/pvstest compile-checks readme-check tools $(B)/pvsruntime
 	cd $(B) && ./pvstest -j 0
 
 # NEON (not part of `make test`): the test binary built for aarch64, static, its raster group run under

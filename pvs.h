@@ -544,7 +544,8 @@ typedef struct pvs_hit {
    Watertight (Woop, Benthin, Wald 2013, in double): a ray cannot pass between triangles sharing an
    edge or a corner. Zero-area triangles are never hit. Ties in t go to the lowest triangle index.
    Thread-safe, allocates nothing. */
-PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax, pvs_hit *hit);
+PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax,
+                              pvs_hit *hit);
 /* 1 if any triangle crosses the segment a-b (endpoints included), else 0; 0 when a == b. The test is
    watertight like pvs_scene_raycast. Thread-safe, no allocation. */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], const float b[3]);
@@ -728,8 +729,8 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positio
    non-finite coordinate. Returns INVALID_ARGUMENT for a NULL raster or NULL positions with count > 0,
    else PVS_OK. Conservative under rounding like pvs_raster_triangles (>>raster explains the
    argument). Allocates nothing; the same result with and without SIMD. */
-PVS_API pvs_result pvs_raster_mesh(pvs_raster *raster, const float *positions, uint32_t vertex_count, const uint32_t *indices,
-                                   uint32_t count);
+PVS_API pvs_result pvs_raster_mesh(pvs_raster *raster, const float *positions, uint32_t vertex_count,
+                                   const uint32_t *indices, uint32_t count);
 /* The depth map: width * height floats, row-major, row 0 first. Valid until the next raster call.
    A tiled context writes it from the tiles on this call (a pass over the map). */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
@@ -851,7 +852,8 @@ typedef struct pvs_otree_stats {
     uint32_t nodes;              /* tree nodes at the end (the largest tree for several trees) */
     uint32_t occluders_inserted; /* occluders merged into the tree(s) */
     uint32_t visible_segments;   /* 2D: segments found visible */
-    uint32_t budget_exceeded;    /* 1 when node_budget stopped insertion: the rest counted as not blocking (still conservative) */
+    uint32_t budget_exceeded; /* 1 when node_budget stopped insertion: the rest counted as not blocking (still
+                                 conservative) */
 } pvs_otree_stats;
 
 /* Segment flags for pvs_visibility_2d. */
@@ -871,7 +873,8 @@ typedef struct pvs_visibility_2d_desc {
     pvs_allocator allocator;
 } pvs_visibility_2d_desc;
 #ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
-#define PVS_VISIBILITY_INPUT_ORDER 1u /* insert occluders in input order, not front to back (tests order independence) */
+/* insert occluders in input order, not front to back (tests order independence) */
+#define PVS_VISIBILITY_INPUT_ORDER 1u
 #endif
 
 /* Which segments (and objects) are visible from some point of the cell: a segment is visible when a
@@ -881,8 +884,8 @@ typedef struct pvs_visibility_2d_desc {
    (PVS_BITSET_WORDS(object_count) words) may each be NULL; both are cleared first. stats may be
    NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex),
    OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
-PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments, pvs_word *visible_objects,
-                                     pvs_otree_stats *stats, pvs_error *err);
+PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments,
+                                     pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err);
 
 /* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7). Coordinates (u, v) are the
    ground plane, h the height. Left at zero, optional fields get defaults. */
@@ -891,7 +894,7 @@ typedef struct pvs_visibility_25d_desc {
     float cell_top;                 /* the highest eye height in the cell */
     const float *facades;           /* facade_count x (u0, v0, u1, v1, top): opaque vertical walls that */
     uint32_t facade_count;          /*   stand on the ground: they block every height below `top` */
-    const float *objects;           /* object_count x (umin, vmin, umax, vmax, top): object bounds; umin > umax = empty */
+    const float *objects; /* object_count x (umin, vmin, umax, vmax, top): object bounds; umin > umax = empty */
     uint32_t object_count;
     uint32_t node_budget;           /* per tree (0 = PVS_OTREE_25D_BUDGET); see pvs_otree_stats */
     const pvs_kdtree *tree;         /* NULL, or a kD-tree over pvs_visibility_25d_boxes (reused across cells) */
@@ -918,16 +921,16 @@ typedef struct pvs_visibility_25d_desc {
 /* Fills boxes[facade_count + object_count] for the kD-tree of pvs_visibility_25d_desc.tree: facade i
    is item i, object j is item facade_count + j; axes (u, v, height), the height range ending at the
    top. Build it once with pvs_kdtree_create and share it between cells (read-only, thread-safe). */
-PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
-                                      pvs_box *boxes);
+PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
+                                      uint32_t object_count, pvs_box *boxes);
 
 /* The objects that may be visible from the cell box (ground rectangle x heights up to cell_top), given
    that facades reach down below every cell and object. Conservative: never misses a visible object.
    Facades crossing the cell's rectangle are ignored. visible_objects: PVS_BITSET_WORDS(object_count)
    words, cleared first. stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY.
    Thread-safe; allocates through desc->allocator. */
-PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
-                                      pvs_error *err);
+PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects,
+                                      pvs_otree_stats *stats, pvs_error *err);
 
 /* From-point occlusion culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), the
    object-space twin of pvs_raster_cull: same camera, parameters, outputs and errors. Each frame the
@@ -986,7 +989,8 @@ PVS_API void pvs_otree_reset(pvs_otree *otree);
    NOT_FINITE (camera), UNSUPPORTED (an orthographic camera: shadow volumes need an eye point),
    BUFFER_TOO_SMALL (a scene larger than the context was created for). Allocates nothing. */
 PVS_API pvs_result pvs_otree_cull(pvs_otree *otree, const pvs_scene *scene, const pvs_camera *camera,
-                                  const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats, pvs_error *err);
+                                  const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
+                                  pvs_error *err);
 /* Fills *frame with the figures of the last pvs_otree_cull. */
 PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame);
 
@@ -1164,7 +1168,8 @@ PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, u
    heights use the crossing fraction t of those segments (perspective: a sight line crosses the
    occluder's plane at height (1 - t) eye + t target). Conservative under rounding; 0 for empty boxes
    or a degenerate occluder. */
-PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o, const pvs_box *box);
+PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
+                                const pvs_box *box);
 
 /* Bytes of scratch pvs_vocc_cull and pvs_vocc_cull_occluders need for up to max_occluders occluders
    (a file stores at most 255 per cell) and the object tree (may be NULL). */
@@ -1180,17 +1185,18 @@ PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_o
    still conservative); with tree NULL every box is tested. Objects with an empty box (min > max)
    are never set. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. Errors: INVALID_ARGUMENT,
    BUFFER_TOO_SMALL. Allocates nothing; thread-safe. */
-PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders, uint32_t count,
-                                           const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
-                                           void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
+PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders,
+                                           uint32_t count, const pvs_box *object_boxes, uint32_t object_count,
+                                           const pvs_kdtree *tree, void *scratch, size_t scratch_size,
+                                           pvs_word *visible, pvs_error *err);
 
 /* Rebuilds cell `cell`'s PVS on the fly from the file's virtual occluders (the first max_occluders of
    them; 0 = all), as pvs_vocc_cull_occluders does: object_boxes/tree are the engine's (the same scene
    the file was baked for). A file without a VOCC section gives INVALID_ARGUMENT. Allocates nothing;
    thread-safe. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. */
-PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uint32_t max_occluders, const pvs_box *object_boxes,
-                                 uint32_t object_count, const pvs_kdtree *tree, void *scratch, size_t scratch_size,
-                                 pvs_word *visible, pvs_error *err);
+PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uint32_t max_occluders,
+                                 const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
+                                 void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
 
 /* ---- methods --------------------------------------------------------------------------------- */
 
@@ -1301,7 +1307,8 @@ typedef struct pvs_extproj_plane {
    Depth being the part's greatest depth (no nearer than any of its points, §2.3). Returns the
    number of pixel writes (a pixel covered by both parts counts twice), 0 when nothing is covered or
    the arguments are bad. Thread-safe on distinct maps; no allocation. */
-PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *plane, const float *points, uint32_t count, float *depth_map);
+PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *plane, const float *points, uint32_t count,
+                                      float *depth_map);
 
 /* The extended Projection of an occludee box (§3.1): the bounding rectangle of its views from every
    point of the cell (from the supporting and separating lines, i.e. the extremes over the cell's and
@@ -1314,7 +1321,8 @@ PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *plane, const pvs_box *
 /* 1 if an occludee with Projection rect (pvs_extproj_occludee) and least Depth `depth` may be visible
    in the depth map: some pixel of the rectangle lies outside the map or stores a Depth >= depth.
    0 when every pixel holds an occluder strictly nearer: hidden from the whole cell (§2.2). */
-PVS_API int pvs_extproj_test(const pvs_extproj_plane *plane, const float *depth_map, const int32_t rect[4], float depth);
+PVS_API int pvs_extproj_test(const pvs_extproj_plane *plane, const float *depth_map, const int32_t rect[4],
+                             float depth);
 
 /* Bytes one EXTPROJ bake task (one cell) allocates for its planes at `resolution` (0 = 256) and
    `sweep` planes per direction (0 = no sweep): §6.1's depth maps, the sweep's masks and summed-area
@@ -1463,7 +1471,8 @@ PVS_API int pvs_bake_task_done(const pvs_bake *bake, uint32_t task);
    PVS_BITSET_WORDS(object_count) words; bits past object_count must be zero. Thread-safe like
    pvs_bake_run_task. Errors: INVALID_ARGUMENT (task out of range, NULL, a set bit past the objects or
    of an occluder-only object), BUFFER_TOO_SMALL, UNSUPPORTED (a VOCC bake: its occluders must be baked). */
-PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pvs_word *bits, size_t word_count, pvs_error *err);
+PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pvs_word *bits, size_t word_count,
+                                         pvs_error *err);
 /* SHRINK (alone or within AUTO): the occluders pvs_bake_begin synthesized (owned by the bake; for the
    summary: leaks, thin objects, 2.5D or 3D) and the path the tasks run; NULL / PVS_SHRINK_AUTO when
    SHRINK was not prepared. */
@@ -1515,7 +1524,8 @@ PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *bake);
 PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
 /* Writes the .pvs file (a part file for a shard) into out[0..capacity); *out_size receives the size,
    also with BUFFER_TOO_SMALL. Errors: NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
-PVS_API pvs_result pvs_bake_write_file(const pvs_bake *bake, void *out, size_t capacity, size_t *out_size, pvs_error *err);
+PVS_API pvs_result pvs_bake_write_file(const pvs_bake *bake, void *out, size_t capacity, size_t *out_size,
+                                       pvs_error *err);
 PVS_API void pvs_bake_destroy(pvs_bake *bake);
 
 /* ---- format ---------------------------------------------------------------------------------- */
@@ -1560,7 +1570,8 @@ typedef struct pvs_file_desc {
    with NULL to learn the size. The output is a deterministic function of the desc; the encoder's
    scratch comes from desc->allocator. Thread-safe for distinct outputs. Errors: INVALID_ARGUMENT,
    BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (a file over 4 GiB), OUT_OF_MEMORY. */
-PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size, pvs_error *err);
+PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size,
+                                   pvs_error *err);
 
 /* An opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data,
    no allocation; copy freely. Fields are read-only to the caller; those after `private_` are the
@@ -1616,7 +1627,8 @@ PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_r
 /* The virtual occluders a file stores for a cell (< cell_count), decoded, most effective first:
    returns their number (0 without a VOCC section) and writes up to `capacity` of them. The float
    end points are the stored ones rounded to float; pvs_vocc_cull uses the exact stored values. */
-PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell, pvs_virtual_occluder *out, uint32_t capacity);
+PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell, pvs_virtual_occluder *out,
+                                            uint32_t capacity);
 
 /* A cell's stored record: returns its occluder count (0 without a VOCC section), *bytes their five
    bytes each (in the file), *scale_code the cell's coordinate scale (manual: "VOCC"). Either output
@@ -1634,7 +1646,8 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
 /* Decodes a cell's PVS into bits[0..word_count), clearing it first: the key at the end of the cell's
    chain, then at most max_chain deltas. word_count must be at least PVS_BITSET_WORDS(object_count).
    Iterate the set ids with pvs_bitset_next. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
-PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word *bits, size_t word_count, pvs_error *err);
+PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word *bits, size_t word_count,
+                                   pvs_error *err);
 
 /* Called by the cursor for each object whose visibility changes: visible = 1 added, 0 removed. */
 typedef void (*pvs_change_fn)(void *user, uint32_t object, int visible);
@@ -1748,7 +1761,8 @@ PVS_API const char *pvs_result_string(pvs_result r) {
 PVS_API uint32_t pvs_version(void) { return PVS_VERSION; }
 
 /* Fills *err (if any) and returns `code`. The message is "<reason>: <formatted detail>". */
-PVS__STATIC pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index, uint64_t offset, const char *fmt, ...) {
+PVS__STATIC pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index, uint64_t offset, const char *fmt,
+                                 ...) {
     if (err) {
         err->result = code;
         err->index = index;
@@ -2002,7 +2016,9 @@ PVS__STATIC uint64_t pvs__splitmix64(uint64_t *state) {
     return z ^ (z >> 31);
 }
 /* Uniform float in [0, 1). */
-PVS__STATIC float pvs__random01(uint64_t *state) { return (float)(pvs__splitmix64(state) >> 40) * (1.0f / 16777216.0f); }
+PVS__STATIC float pvs__random01(uint64_t *state) {
+    return (float)(pvs__splitmix64(state) >> 40) * (1.0f / 16777216.0f);
+}
 
 /* ---- growable arrays ---- */
 
@@ -2010,8 +2026,8 @@ PVS__STATIC float pvs__random01(uint64_t *state) { return (float)(pvs__splitmix6
    first `used`, but to no more than `limit` when limit >= need (a bound the caller has proved).
    Returns the (possibly new) array, or NULL with *r set (the old array is then still owned by the
    caller). */
-PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need, size_t limit, size_t elem,
-                                   pvs_result *r) {
+PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need,
+                                   size_t limit, size_t elem, pvs_result *r) {
     size_t cap = *capacity ? *capacity : 64, bytes;
     void *q;
     if (need <= *capacity) return p;
@@ -2029,7 +2045,8 @@ PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capa
     return q;
 }
 /* The same without a limit. */
-PVS__STATIC void *pvs__grow_array(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need, size_t elem, pvs_result *r) {
+PVS__STATIC void *pvs__grow_array(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need,
+                                  size_t elem, pvs_result *r) {
     return pvs__grow_capped(a, p, capacity, used, need, 0, elem, r);
 }
 /* The same for an array whose whole capacity is in use (*p, *capacity elements): 1 when it holds at
@@ -2086,11 +2103,13 @@ PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_f
 /* Top-k: `heap` holds *count <= k elements of `size` bytes (at most 64), its root the one that ranks
    last. Offers e: it is kept when there is room, or when it ranks before the root, which it replaces.
    Equal elements are not replaced: the first offered stays. */
-PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t size, const void *e, pvs__before_fn before) {
+PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t size, const void *e,
+                                 pvs__before_fn before) {
     unsigned char *h = (unsigned char *)heap;
     size_t i, c, n = *count;
     if (n < k) {
-        for (i = (*count)++; i > 0 && before(h + (i - 1) / 2 * size, e); i = (i - 1) / 2) memcpy(h + i * size, h + (i - 1) / 2 * size, size);
+        for (i = (*count)++; i > 0 && before(h + (i - 1) / 2 * size, e); i = (i - 1) / 2)
+            memcpy(h + i * size, h + (i - 1) / 2 * size, size);
         memcpy(h + i * size, e, size);
         return;
     }
@@ -2114,7 +2133,9 @@ PVS__STATIC int pvs__key_index_before(const void *pa, const void *pb) {
     const pvs__key_index *a = (const pvs__key_index *)pa, *b = (const pvs__key_index *)pb;
     return a->key < b->key || (a->key == b->key && a->index < b->index);
 }
-PVS__STATIC void pvs__key_index_sort(pvs__key_index *o, uint32_t n) { pvs__heap_sort(o, n, sizeof(*o), pvs__key_index_before); }
+PVS__STATIC void pvs__key_index_sort(pvs__key_index *o, uint32_t n) {
+    pvs__heap_sort(o, n, sizeof(*o), pvs__key_index_before);
+}
 
 /* ---- little-endian bytes: the file format and the VOCC section ---- */
 
@@ -2283,7 +2304,8 @@ PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c
 
 /* Bounds of a convex occluder by vertex enumeration, clipped to a box far larger than any vertex:
    a vertex on that box means the half-spaces are unbounded; no vertex means empty. */
-PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_box *out, int64_t index, pvs_error *err) {
+PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_box *out, int64_t index,
+                                          pvs_error *err) {
     float all[(PVS_MAX_OCCLUDER_PLANES + 6) * 4];
     double reach = 1.0, tol;
     uint32_t i, j, k, m, total, found = 0, on_guard = 0;
@@ -2292,9 +2314,11 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
         const float *p = planes + 4 * i;
         double len = sqrt((double)p[0] * p[0] + (double)p[1] * p[1] + (double)p[2] * p[2]);
         if (!pvs__finite(p[0]) || !pvs__finite(p[1]) || !pvs__finite(p[2]) || !pvs__finite(p[3]))
-            return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: plane %u is not finite", (long long)index, i);
+            return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: plane %u is not finite",
+                             (long long)index, i);
         if (len == 0.0 || !(len < 1e30))
-            return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: plane %u has a zero normal", (long long)index, i);
+            return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: plane %u has a zero normal",
+                             (long long)index, i);
         for (k = 0; k < 4; ++k) all[4 * i + k] = (float)(p[k] / len);
         if (fabs(p[3] / len) + 1.0 > reach) reach = fabs(p[3] / len) + 1.0;
     }
@@ -2337,11 +2361,16 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
                     pvs__box_add_point(&b, f);
                 }
             }
-    if (!found) return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the half-spaces are empty", (long long)index);
-    if (on_guard) return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the half-spaces are unbounded", (long long)index);
+    if (!found)
+        return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the half-spaces are empty",
+                         (long long)index);
+    if (on_guard)
+        return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the half-spaces are unbounded",
+                         (long long)index);
     for (k = 0; k < 3; ++k)
         if (!(b.min[k] < b.max[k]))
-            return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the volume is flat", (long long)index);
+            return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: the volume is flat",
+                             (long long)index);
     *out = b;
     return PVS_OK;
 }
@@ -2376,16 +2405,19 @@ PVS__STATIC void pvs__ground_axes(uint32_t up, int *u, int *v) {
     *v = up == 2 ? 1 : 2;
 }
 
-PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32_t up, int64_t index, pvs_box *box, pvs_error *err) {
+PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32_t up, int64_t index, pvs_box *box,
+                                              pvs_error *err) {
     uint32_t i, j, n;
     switch (o->kind) {
     case PVS_OCCLUDER_BOX:
         for (i = 0; i < 3; ++i)
             if (!pvs__finite(o->box.min[i]) || !pvs__finite(o->box.max[i]))
-                return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: box is not finite", (long long)index);
+                return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: box is not finite",
+                                 (long long)index);
         for (i = 0; i < 3; ++i)
             if (!(o->box.min[i] < o->box.max[i]))
-                return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: box min >= max on axis %u", (long long)index, i);
+                return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: box min >= max on axis %u",
+                                 (long long)index, i);
         *box = o->box;
         return PVS_OK;
     case PVS_OCCLUDER_CONVEX:
@@ -2398,10 +2430,12 @@ PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32
         int u, v;
         n = o->footprint_count;
         if (!o->footprint || n < 3 || n > PVS_MAX_FOOTPRINT_POINTS)
-            return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: footprint needs 3..%d points, has %u",
-                             (long long)index, PVS_MAX_FOOTPRINT_POINTS, n);
+            return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0,
+                             "occluder %lld: footprint needs 3..%d points, has %u", (long long)index,
+                             PVS_MAX_FOOTPRINT_POINTS, n);
         if (!pvs__finite(o->base) || !pvs__finite(o->top))
-            return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: base or top is not finite", (long long)index);
+            return pvs__fail(err, PVS_ERROR_NOT_FINITE, index, 0, "occluder %lld: base or top is not finite",
+                             (long long)index);
         if (!(o->base < o->top))
             return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: base >= top", (long long)index);
         for (i = 0; i < 2 * n; ++i)
@@ -2412,17 +2446,20 @@ PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32
             const float *a = o->footprint + 2 * i, *b = o->footprint + 2 * ((i + 1) % n);
             area2 += (double)a[0] * b[1] - (double)b[0] * a[1];
             if (a[0] == b[0] && a[1] == b[1])
-                return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: footprint points %u and %u coincide",
-                                 (long long)index, i, (i + 1) % n);
+                return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0,
+                                 "occluder %lld: footprint points %u and %u coincide", (long long)index, i,
+                                 (i + 1) % n);
         }
-        if (area2 == 0.0) return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: footprint has zero area", (long long)index);
+        if (area2 == 0.0)
+            return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: footprint has zero area",
+                             (long long)index);
         for (i = 0; i < n; ++i)
             for (j = i + 2; j < n; ++j) {
                 if (i == 0 && j == n - 1) continue; /* adjacent through the wrap */
                 if (pvs__segments_meet_2d(o->footprint + 2 * i, o->footprint + 2 * ((i + 1) % n), o->footprint + 2 * j,
                                           o->footprint + 2 * ((j + 1) % n)))
-                    return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: footprint edges %u and %u cross",
-                                     (long long)index, i, j);
+                    return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0,
+                                     "occluder %lld: footprint edges %u and %u cross", (long long)index, i, j);
             }
         pvs__ground_axes(up, &u, &v);
         *box = pvs__box_empty();
@@ -2438,7 +2475,8 @@ PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32
         return PVS_OK;
     }
     default:
-        return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: unknown kind %d", (long long)index, (int)o->kind);
+        return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0, "occluder %lld: unknown kind %d", (long long)index,
+                         (int)o->kind);
     }
 }
 
@@ -2473,18 +2511,22 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "indices and positions must not be NULL");
     if (desc->occluder_count && !desc->occluders)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "occluders must not be NULL when occluder_count > 0");
-    if (desc->up_axis > 2) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "up_axis %u is not 0, 1 or 2", desc->up_axis);
-    if (desc->triangle_count > 0xfffffffeu / 3 || desc->vertex_count == 0xffffffffu || desc->object_count == 0xffffffffu)
-        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "more than 2^32 - 2 triangle indices, vertices or objects");
-    if (!pvs__mul(desc->vertex_count, 3 * sizeof(float), &n3) || !pvs__mul(desc->triangle_count, 3 * sizeof(uint32_t), &n3) ||
+    if (desc->up_axis > 2)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "up_axis %u is not 0, 1 or 2", desc->up_axis);
+    if (desc->triangle_count > 0xfffffffeu / 3 || desc->vertex_count == 0xffffffffu ||
+        desc->object_count == 0xffffffffu)
+        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0,
+                         "more than 2^32 - 2 triangle indices, vertices or objects");
+    if (!pvs__mul(desc->vertex_count, 3 * sizeof(float), &n3) ||
+        !pvs__mul(desc->triangle_count, 3 * sizeof(uint32_t), &n3) ||
         !pvs__mul(desc->triangle_count, sizeof(pvs_box), &n3))
         return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the arrays do not fit in memory");
 
     /* validate before allocating: vertices, indices, object ranges */
     for (i = 0; i < (size_t)desc->vertex_count * 3; ++i)
         if (!pvs__finite(desc->positions[i]))
-            return pvs__fail(err, PVS_ERROR_NOT_FINITE, (int64_t)(i / 3), 0, "vertex %llu has a coordinate that is not finite",
-                             (unsigned long long)(i / 3));
+            return pvs__fail(err, PVS_ERROR_NOT_FINITE, (int64_t)(i / 3), 0,
+                             "vertex %llu has a coordinate that is not finite", (unsigned long long)(i / 3));
     for (i = 0; i < (size_t)desc->triangle_count * 3; ++i)
         if (desc->indices[i] >= desc->vertex_count)
             return pvs__fail(err, PVS_ERROR_INDEX_OUT_OF_RANGE, (int64_t)(i / 3), 0,
@@ -2493,15 +2535,17 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
     for (o = 0; o < desc->object_count; ++o) {
         const pvs_object_desc *ob = desc->objects + o;
         if (ob->first_triangle > desc->triangle_count || ob->triangle_count > desc->triangle_count - ob->first_triangle)
-            return pvs__fail(err, PVS_ERROR_INDEX_OUT_OF_RANGE, o, 0, "object %u: triangles %u..%u are past the %u triangles", o,
-                             ob->first_triangle, ob->first_triangle + ob->triangle_count, desc->triangle_count);
+            return pvs__fail(err, PVS_ERROR_INDEX_OUT_OF_RANGE, o, 0,
+                             "object %u: triangles %u..%u are past the %u triangles", o, ob->first_triangle,
+                             ob->first_triangle + ob->triangle_count, desc->triangle_count);
         if (ob->triangle_count == 0 && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS))
             return pvs__fail(err, PVS_ERROR_EMPTY_OBJECT, o, 0, "object %u has no triangles", o);
     }
     *floats = 0;
     for (o = 0; o < desc->occluder_count; ++o) {
         const pvs_occluder_desc *oc = desc->occluders + o;
-        if (oc->kind == PVS_OCCLUDER_CONVEX && oc->plane_count <= PVS_MAX_OCCLUDER_PLANES) *floats += 4 * (size_t)oc->plane_count;
+        if (oc->kind == PVS_OCCLUDER_CONVEX && oc->plane_count <= PVS_MAX_OCCLUDER_PLANES)
+            *floats += 4 * (size_t)oc->plane_count;
         if (oc->kind == PVS_OCCLUDER_EXTRUSION && oc->footprint_count <= PVS_MAX_FOOTPRINT_POINTS)
             *floats += 2 * (size_t)oc->footprint_count;
     }
@@ -2526,7 +2570,8 @@ PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *de
             pvs__v3 p2 = pvs__v3_load(s->positions + 3 * (size_t)tri[2]);
             double e1[3], e2[3], c[3];
             if (s->triangle_object[t] != PVS_NO_OBJECT)
-                return pvs__fail(err, PVS_ERROR_OVERLAPPING_OBJECTS, o, 0, "objects %u and %u both claim triangle %u", s->triangle_object[t], o, t);
+                return pvs__fail(err, PVS_ERROR_OVERLAPPING_OBJECTS, o, 0, "objects %u and %u both claim triangle %u",
+                                 s->triangle_object[t], o, t);
             s->triangle_object[t] = o;
             e1[0] = (double)p1.x - p0.x; e1[1] = (double)p1.y - p0.y; e1[2] = (double)p1.z - p0.z;
             e2[0] = (double)p2.x - p0.x; e2[1] = (double)p2.y - p0.y; e2[2] = (double)p2.z - p0.z;
@@ -2539,7 +2584,8 @@ PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *de
             pvs__box_add_point(&s->object_boxes[o], s->positions + 3 * (size_t)tri[2]);
         }
         if (!any_area && ob->triangle_count && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS))
-            return pvs__fail(err, PVS_ERROR_DEGENERATE_OBJECT, o, 0, "object %u: all %u triangles have zero area", o, ob->triangle_count);
+            return pvs__fail(err, PVS_ERROR_DEGENERATE_OBJECT, o, 0, "object %u: all %u triangles have zero area", o,
+                             ob->triangle_count);
         if (!any_area) s->object_boxes[o] = pvs__box_empty(); /* never visible: nothing to see */
     }
     return PVS_OK;
@@ -2578,7 +2624,8 @@ PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *
 
 /* The scene's two kD-trees: over the triangles' boxes (zero-area triangles emptied by
    pvs__scene_prepare_rays) and over the objects' boxes. */
-PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, const pvs_box *tri_boxes, pvs_error *err) {
+PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, const pvs_box *tri_boxes,
+                                        pvs_error *err) {
     pvs_kdtree_desc kd;
     pvs_result r;
     memset(&kd, 0, sizeof(kd));
@@ -2628,8 +2675,8 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
     s->occluder_boxes = (pvs_box *)pvs__alloc_array(&a, desc->occluder_count, sizeof(pvs_box));
     s->occluder_data = (float *)pvs__alloc_array(&a, floats, sizeof(float));
     tri_boxes = (pvs_box *)pvs__alloc_array(&a, desc->triangle_count, sizeof(pvs_box));
-    if (!s->positions || !s->indices || !s->triangle_object || !s->object_boxes || !s->object_flags || !s->object_triangles || !s->occluders ||
-        !s->occluder_boxes || !s->occluder_data || !tri_boxes) {
+    if (!s->positions || !s->indices || !s->triangle_object || !s->object_boxes || !s->object_flags ||
+        !s->object_triangles || !s->occluders || !s->occluder_boxes || !s->occluder_data || !tri_boxes) {
         r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "scene arrays");
         goto fail;
     }
@@ -2710,7 +2757,8 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
             const float *c[6];
             float pu[2], pv[2], h[2];
             int np = 0, nh = 0, k, m, shared = 0, diag = 1;
-            for (k = 0; k < 6; ++k) c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t + (uint32_t)(k / 3)) + (uint32_t)(k % 3)];
+            for (k = 0; k < 6; ++k)
+                c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t + (uint32_t)(k / 3)) + (uint32_t)(k % 3)];
             for (k = 0; k < 6 && np <= 2 && nh <= 2; ++k) {
                 for (m = 0; m < np; ++m) if (pu[m] == c[k][u] && pv[m] == c[k][v]) break;
                 if (m == np) { if (np < 2) { pu[np] = c[k][u]; pv[np] = c[k][v]; } ++np; }
@@ -2818,9 +2866,10 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
     uint32_t *items;
     if (t->item_count > PVS__KD_MAX_INDEX || n > (size_t)0xffffffffu - t->item_count)
         return pvs__fail(b->err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "kD-tree: more than 2^30 item references");
-    items = (uint32_t *)pvs__grow_capped(&t->allocator, t->items, &t->item_capacity, t->item_count, t->item_count + n, b->item_limit,
-                                         sizeof(uint32_t), &r);
-    if (!items) return pvs__fail(b->err, r, -1, 0, "kD-tree leaf items (%llu)", (unsigned long long)(t->item_count + n));
+    items = (uint32_t *)pvs__grow_capped(&t->allocator, t->items, &t->item_capacity, t->item_count, t->item_count + n,
+                                         b->item_limit, sizeof(uint32_t), &r);
+    if (!items)
+        return pvs__fail(b->err, r, -1, 0, "kD-tree leaf items (%llu)", (unsigned long long)(t->item_count + n));
     t->items = items;
     for (i = 0; i < n; ++i) items[t->item_count + i] = b->refs[base + i].item;
     t->nodes[node].u.count = (uint32_t)n;
@@ -2844,7 +2893,8 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
    scenes (at most 30 references and 18 nodes per box on the generator's scenes, about half the
    pools) are unchanged, and an adversarial one gets big leaves where the pools ran out instead of
    more memory. */
-PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box, uint32_t depth) {
+PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box,
+                                     uint32_t depth) {
     pvs_kdtree *t = b->tree;
     float ext[3], k0[3], k1[3], scale[3], inv_measure, inv_nb, best_cost, count_scale, split;
     int axis, best_axis = -1, best_k = 0, area, nb, valid[3];
@@ -2942,8 +2992,8 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
     /* distribute with closed intervals: a ref touching the plane goes to both sides, clipped. The
        left refs are compacted in place, the right ones written above the node's: right of base + n. */
     { /* the loop below writes one slot past the right refs */
-        pvs__kdref *refs = (pvs__kdref *)pvs__grow_capped(&t->allocator, b->refs, &b->ref_capacity, base + n, base + n + nr + 1, b->ref_limit,
-                                                          sizeof(pvs__kdref), &r);
+        pvs__kdref *refs = (pvs__kdref *)pvs__grow_capped(&t->allocator, b->refs, &b->ref_capacity, base + n,
+                                                          base + n + nr + 1, b->ref_limit, sizeof(pvs__kdref), &r);
         if (!refs) return pvs__fail(b->err, r, -1, 0, "kD-tree build references");
         b->refs = refs;
     }
@@ -2964,8 +3014,9 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
     if (t->node_count > PVS__KD_MAX_INDEX - 1)
         return pvs__fail(b->err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "kD-tree: more than 2^30 nodes");
     {
-        pvs__kdnode *nodes = (pvs__kdnode *)pvs__grow_capped(&t->allocator, t->nodes, &t->node_capacity, t->node_count,
-                                                             (size_t)t->node_count + 2, b->node_limit, sizeof(pvs__kdnode), &r);
+        pvs__kdnode *nodes =
+            (pvs__kdnode *)pvs__grow_capped(&t->allocator, t->nodes, &t->node_capacity, t->node_count,
+                                            (size_t)t->node_count + 2, b->node_limit, sizeof(pvs__kdnode), &r);
         if (!nodes) return pvs__fail(b->err, r, -1, 0, "kD-tree nodes (%u)", t->node_count + 2);
         t->nodes = nodes;
     }
@@ -3010,7 +3061,8 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
         int k, empty = 0;
         for (k = 0; k < 3; ++k) {
             if (!pvs__finite(bx->min[k]) || !pvs__finite(bx->max[k]))
-                return pvs__fail(err, PVS_ERROR_NOT_FINITE, i, 0, "kD-tree box %u has a coordinate that is not finite", i);
+                return pvs__fail(err, PVS_ERROR_NOT_FINITE, i, 0, "kD-tree box %u has a coordinate that is not finite",
+                                 i);
             if (bx->min[k] > bx->max[k]) empty = 1;
         }
         m += !empty;
@@ -3042,11 +3094,14 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
     b->node_limit = (size_t)PVS_KDTREE_MAX_NODES_PER_BOX * m + 1;
     b->ref_limit = (size_t)(PVS_KDTREE_MAX_REFS_PER_BOX + 1) * m + 2;
     /* first guesses; everything grows on demand, within the limits */
-    t->nodes = (pvs__kdnode *)pvs__grow_capped(&a, NULL, &t->node_capacity, 0, 1 + (size_t)m / 2, b->node_limit, sizeof(pvs__kdnode), &r);
+    t->nodes = (pvs__kdnode *)pvs__grow_capped(&a, NULL, &t->node_capacity, 0, 1 + (size_t)m / 2, b->node_limit,
+                                               sizeof(pvs__kdnode), &r);
     if (t->nodes)
-        t->items = (uint32_t *)pvs__grow_capped(&a, NULL, &t->item_capacity, 0, 1 + (size_t)m + m / 2, b->item_limit, sizeof(uint32_t), &r);
+        t->items = (uint32_t *)pvs__grow_capped(&a, NULL, &t->item_capacity, 0, 1 + (size_t)m + m / 2, b->item_limit,
+                                                sizeof(uint32_t), &r);
     if (t->items)
-        b->refs = (pvs__kdref *)pvs__grow_capped(&a, NULL, &b->ref_capacity, 0, 1 + (size_t)m + m / 2, b->ref_limit, sizeof(pvs__kdref), &r);
+        b->refs = (pvs__kdref *)pvs__grow_capped(&a, NULL, &b->ref_capacity, 0, 1 + (size_t)m + m / 2, b->ref_limit,
+                                                 sizeof(pvs__kdref), &r);
     if (!b->refs) { r = pvs__fail(err, r, -1, 0, "kD-tree arrays for %u boxes", m); goto done; }
     m = 0;
     for (i = 0; i < desc->count; ++i) {
@@ -3097,7 +3152,8 @@ PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *t) {
 
 /* PVS_VISIT_ALL: the non-empty leaves under inner node `node` (cell `box`), depth first, distance -1.
    Returns PVS_VISIT_STOP when the visitor said so. */
-PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, const pvs_box *box, pvs_kdtree_visit_fn visit, void *user) {
+PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, const pvs_box *box,
+                                        pvs_kdtree_visit_fn visit, void *user) {
     struct {
         uint32_t node;
         pvs_box box;
@@ -3114,7 +3170,8 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
         b = stack[sp].box;
         axis = nd->bits & 3u;
         if (axis == PVS__KD_LEAF) {
-            if (nd->u.count && visit(user, &b, -1.0f, t->items + (nd->bits >> 2), nd->u.count) == PVS_VISIT_STOP) return PVS_VISIT_STOP;
+            if (nd->u.count && visit(user, &b, -1.0f, t->items + (nd->bits >> 2), nd->u.count) == PVS_VISIT_STOP)
+                return PVS_VISIT_STOP;
             continue;
         }
         child = nd->bits >> 2; /* the right child below the left: the left is taken first */
@@ -3134,8 +3191,8 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
    visit order is non-decreasing in distance. `heap` holds (node_count + 1) / 2 entries; when `node`
    is not NULL, it holds the index of the node being visited during each call of `visit` (the otree
    sweep keeps per-node counts). Serves pvs_kdtree_sweep and the otree bake (pvs__ot25_sweep_tree). */
-PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap, pvs_kdtree_visit_fn visit, void *user,
-                               uint32_t *node) {
+PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
+                               pvs_kdtree_visit_fn visit, void *user, uint32_t *node) {
     size_t n = 1;
     int k;
     if (t->bounds.min[0] > t->bounds.max[0]) return; /* no items: nothing to visit */
@@ -3169,7 +3226,9 @@ PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__
             v = visit(user, &top.box, sqrtf(top.d2), NULL, 0);
         }
         if (v == PVS_VISIT_STOP) break;
-        if (v == PVS_VISIT_ALL && axis != PVS__KD_LEAF && pvs__kd_visit_all(t, top.node, &top.box, visit, user) == PVS_VISIT_STOP) break;
+        if (v == PVS_VISIT_ALL && axis != PVS__KD_LEAF &&
+            pvs__kd_visit_all(t, top.node, &top.box, visit, user) == PVS_VISIT_STOP)
+            break;
         if (v != PVS_VISIT_DESCEND || axis == PVS__KD_LEAF) continue;
         for (k = 0; k < 2; ++k) {
             pvs__kdsweep e;
@@ -3339,10 +3398,12 @@ PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes,
             e1[k] = (double)c[1][k] - c[0][k];
             e2[k] = (double)c[2][k] - c[0][k];
         }
-        if (e1[1] * e2[2] - e1[2] * e2[1] == 0.0 && e1[2] * e2[0] - e1[0] * e2[2] == 0.0 && e1[0] * e2[1] - e1[1] * e2[0] == 0.0)
+        if (e1[1] * e2[2] - e1[2] * e2[1] == 0.0 && e1[2] * e2[0] - e1[0] * e2[2] == 0.0 &&
+            e1[0] * e2[1] - e1[1] * e2[0] == 0.0)
             tri_boxes[t] = pvs__box_empty(); /* zero area: never hit, left out of the tree */
         else {
-            double n0 = e1[1] * e2[2] - e1[2] * e2[1], n1 = e1[2] * e2[0] - e1[0] * e2[2], n2 = e1[0] * e2[1] - e1[1] * e2[0];
+            double n0 = e1[1] * e2[2] - e1[2] * e2[1], n1 = e1[2] * e2[0] - e1[0] * e2[2],
+                   n2 = e1[0] * e2[1] - e1[1] * e2[0];
             double area = 0.5 * sqrt(n0 * n0 + n1 * n1 + n2 * n2);
             if (area > s->max_triangle_area) s->max_triangle_area = area;
         }
@@ -3584,7 +3645,8 @@ struct pvs_raster {
     uint32_t bw, bh;                            /* block grid */
     uint32_t tlevels;                           /* tile pyramid levels above the tile grid */
     uint32_t tlw[PVS__RASTER_MAX_LEVELS * 2 + 1], tlh[PVS__RASTER_MAX_LEVELS * 2 + 1];
-    uint8_t tsx[PVS__RASTER_MAX_LEVELS * 2 + 1], tsy[PVS__RASTER_MAX_LEVELS * 2 + 1]; /* tiles per texel: 1 << tsx by 1 << tsy */
+    uint8_t tsx[PVS__RASTER_MAX_LEVELS * 2 + 1],
+        tsy[PVS__RASTER_MAX_LEVELS * 2 + 1]; /* tiles per texel: 1 << tsx by 1 << tsy */
     float *tlmin[PVS__RASTER_MAX_LEVELS * 2 + 1], *tlmax[PVS__RASTER_MAX_LEVELS * 2 + 1];
     float *tpyramid;
     size_t tpyramid_floats;
@@ -3601,7 +3663,7 @@ struct pvs_raster {
     int8_t *mgrp;                               /* mesh_cap: facing +1 / -1, 0 = left out */
     uint32_t *mtab, *morder, *mact, *mband;     /* hash slots; mesh_cap; mesh_cap; th + 1 */
     float *mzmin;                               /* 4 width: least bound of the touching triangles */
-    uint8_t *mflag;                             /* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
+    uint8_t *mflag; /* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
     uint8_t *mdirty;                            /* 4 tw: the 32-pixel words of the band's rows the scratch holds */
     /* culling */
     const pvs_scene *scene;
@@ -3639,7 +3701,8 @@ typedef struct pvs__rsetup {
 /* One pixel by the reference rule, shared by the scalar loop and the SIMD tails: inside every edge
    (rk: the edge values at the row's column i0), then the clamped plane depth, kept if nearer.
    Returns 1 when it wrote. */
-PVS__STATIC int pvs__raster_pixel(const pvs__rsetup *s, const float *rk, float rz, float *row, int32_t i, int occluder) {
+PVS__STATIC int pvs__raster_pixel(const pvs__rsetup *s, const float *rk, float rz, float *row, int32_t i,
+                                  int occluder) {
     float fi = (float)(i - s->i0), d;
     int e;
     for (e = 0; e < s->edges; ++e)
@@ -3682,10 +3745,12 @@ PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t
         for (i = s->li0; i + 3 <= s->li1; i += 4) {
             __m128 fi = _mm_add_ps(_mm_set1_ps((float)(i - s->i0)), step);
             __m128 mask = _mm_castsi128_ps(_mm_set1_epi32(-1)), d, old, gt;
-            for (e = 0; e < s->edges; ++e) mask = _mm_and_ps(mask, _mm_cmpge_ps(_mm_add_ps(rk[e], _mm_mul_ps(va[e], fi)), zero));
+            for (e = 0; e < s->edges; ++e)
+                mask = _mm_and_ps(mask, _mm_cmpge_ps(_mm_add_ps(rk[e], _mm_mul_ps(va[e], fi)), zero));
             if (!_mm_movemask_ps(mask)) continue;
             d = _mm_add_ps(vrz, _mm_mul_ps(vza, fi));
-            if (occluder) d = _mm_or_ps(_mm_and_ps(_mm_cmplt_ps(d, vclamp), vclamp), _mm_andnot_ps(_mm_cmplt_ps(d, vclamp), d));
+            if (occluder)
+                d = _mm_or_ps(_mm_and_ps(_mm_cmplt_ps(d, vclamp), vclamp), _mm_andnot_ps(_mm_cmplt_ps(d, vclamp), d));
             else d = _mm_or_ps(_mm_and_ps(_mm_cmpgt_ps(d, vclamp), vclamp), _mm_andnot_ps(_mm_cmpgt_ps(d, vclamp), d));
             old = _mm_loadu_ps(row + i);
             gt = _mm_and_ps(mask, _mm_cmpgt_ps(d, old));
@@ -3718,14 +3783,18 @@ PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t
         for (i = s->li0; i + 3 <= s->li1; i += 4) {
             float32x4_t fi = vaddq_f32(vdupq_n_f32((float)(i - s->i0)), step), d, old;
             uint32x4_t mask = vdupq_n_u32(0xffffffffu), gt;
-            for (e = 0; e < s->edges; ++e) mask = vandq_u32(mask, vcgeq_f32(vaddq_f32(rk[e], vmulq_f32(va[e], fi)), zero));
-            if ((vgetq_lane_u32(mask, 0) | vgetq_lane_u32(mask, 1) | vgetq_lane_u32(mask, 2) | vgetq_lane_u32(mask, 3)) == 0) continue;
+            for (e = 0; e < s->edges; ++e)
+                mask = vandq_u32(mask, vcgeq_f32(vaddq_f32(rk[e], vmulq_f32(va[e], fi)), zero));
+            if ((vgetq_lane_u32(mask, 0) | vgetq_lane_u32(mask, 1) | vgetq_lane_u32(mask, 2) |
+                 vgetq_lane_u32(mask, 3)) == 0)
+                continue;
             d = vaddq_f32(vrz, vmulq_f32(vza, fi));
             if (occluder) d = vbslq_f32(vcltq_f32(d, vclamp), vclamp, d);
             else d = vbslq_f32(vcgtq_f32(d, vclamp), vclamp, d);
             old = vld1q_f32(row + i);
             gt = vandq_u32(mask, vcgtq_f32(d, old));
-            wrote |= (vgetq_lane_u32(gt, 0) | vgetq_lane_u32(gt, 1) | vgetq_lane_u32(gt, 2) | vgetq_lane_u32(gt, 3)) != 0;
+            wrote |=
+                (vgetq_lane_u32(gt, 0) | vgetq_lane_u32(gt, 1) | vgetq_lane_u32(gt, 2) | vgetq_lane_u32(gt, 3)) != 0;
             vst1q_f32(row + i, vbslq_f32(gt, d, old));
         }
         for (; i <= s->li1; ++i) wrote |= pvs__raster_pixel(s, rkf, rz, row, i, occluder);
@@ -3773,7 +3842,8 @@ PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a
 /* The most the pixel loops can write over pixels [a0, a1] x [b0, b1] (relative to the polygon's
    corner): the plane's largest value there plus a slack above their float rounding, clamped as they
    clamp. */
-PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1, int occluder) {
+PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1,
+                                      int occluder) {
     double pa = s->za, pb = s->zb, hi = (double)s->zk + pvs__dmax(pa * a0, pa * a1) + pvs__dmax(pb * b0, pb * b1);
     hi += 3.814697265625e-06 * (pvs__dabs(s->zk) + pvs__dabs(pa) * a1 + pvs__dabs(pb) * b1) + 1e-30;
     return occluder ? pvs__dmax(hi, s->zclamp) : pvs__dmin(hi, s->zclamp);
@@ -3782,7 +3852,8 @@ PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t 
 /* Runs the pixel loops over the prepared polygon: blocks of 4 x 4 tiles, skipped when every tile
    already holds at least what the polygon could write there, classified against the edges; then
    tiles (skipped likewise or when outside, without edge tests when inside). */
-PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder, int simd, float zbound) {
+PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder,
+                                 int simd, float zbound) {
     uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, bx, by;
     int wrote, inside, edges, block;
     const int bs = PVS__TILE_SHIFT + 2; /* block = 4 x 4 tiles */
@@ -3797,7 +3868,8 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
     }
     for (by = (uint32_t)s->j0 >> bs; by <= (uint32_t)s->j1 >> bs; ++by)
         for (bx = (uint32_t)s->i0 >> bs; bx <= (uint32_t)s->i1 >> bs; ++bx) {
-            int32_t c0 = (int32_t)(bx << bs), c1 = c0 + (1 << bs) - 1, d0 = (int32_t)(by << bs), d1 = d0 + (1 << bs) - 1;
+            int32_t c0 = (int32_t)(bx << bs), c1 = c0 + (1 << bs) - 1, d0 = (int32_t)(by << bs),
+                    d1 = d0 + (1 << bs) - 1;
             uint32_t tx0, tx1, ty0, ty1;
             if (c0 < s->i0) c0 = s->i0;
             if (c1 > s->i1) c1 = s->i1;
@@ -3810,14 +3882,17 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
                 for (ty = ty0; ty <= ty1; ++ty) {
                     const float *t = tile_min + ty * tw;
                     if (tx1 - tx0 == 3) { /* a whole block row, without a loop */
-                        float a = t[tx0] < t[tx0 + 1] ? t[tx0] : t[tx0 + 1], b = t[tx0 + 2] < t[tx0 + 3] ? t[tx0 + 2] : t[tx0 + 3];
+                        float a = t[tx0] < t[tx0 + 1] ? t[tx0] : t[tx0 + 1],
+                              b = t[tx0 + 2] < t[tx0 + 3] ? t[tx0 + 2] : t[tx0 + 3];
                         a = a < b ? a : b;
                         lo = a < lo ? a : lo;
                     } else {
                         for (tx = tx0; tx <= tx1; ++tx) lo = t[tx] < lo ? t[tx] : lo;
                     }
                 }
-                if (lo >= zbound || (double)lo >= pvs__raster_zbound(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0, occluder)) continue;
+                if (lo >= zbound ||
+                    (double)lo >= pvs__raster_zbound(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0, occluder))
+                    continue;
             }
             block = pvs__raster_classify(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0);
             if (block < 0) continue;
@@ -3828,9 +3903,12 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
                     s->li1 = (int32_t)(tx << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->li1 > s->i1) s->li1 = s->i1;
                     s->lj0 = (int32_t)(ty << PVS__TILE_SHIFT); if (s->lj0 < s->j0) s->lj0 = s->j0;
                     s->lj1 = (int32_t)(ty << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->lj1 > s->j1) s->lj1 = s->j1;
-                    if ((double)tile_min[ty * tw + tx] >= pvs__raster_zbound(s, s->li0 - s->i0, s->li1 - s->i0, s->lj0 - s->j0, s->lj1 - s->j0, occluder))
+                    if ((double)tile_min[ty * tw + tx] >=
+                        pvs__raster_zbound(s, s->li0 - s->i0, s->li1 - s->i0, s->lj0 - s->j0, s->lj1 - s->j0, occluder))
                         continue;
-                    inside = block ? 1 : pvs__raster_classify(s, s->li0 - s->i0, s->li1 - s->i0, s->lj0 - s->j0, s->lj1 - s->j0);
+                    inside = block
+                        ? 1
+                        : pvs__raster_classify(s, s->li0 - s->i0, s->li1 - s->i0, s->lj0 - s->j0, s->lj1 - s->j0);
                     if (inside < 0) continue;
                     edges = s->edges;
                     if (inside) s->edges = 0; /* every pixel passes every edge: the same result without the tests */
@@ -3848,10 +3926,13 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
                         double lo = DBL_MAX, za = s->za, zb = s->zb, zk = s->zk, slack;
                         int ci;
                         for (ci = 0; ci < 4; ++ci) {
-                            double fi = (double)((ci & 1 ? s->li1 : s->li0) - s->i0), fj = (double)((ci & 2 ? s->lj1 : s->lj0) - s->j0);
+                            double fi = (double)((ci & 1 ? s->li1 : s->li0) - s->i0),
+                                   fj = (double)((ci & 2 ? s->lj1 : s->lj0) - s->j0);
                             lo = pvs__dmin(lo, zk + za * fi + zb * fj);
                         }
-                        slack = 3.814697265625e-06 * (pvs__dabs(zk) + pvs__dabs(za) * (s->li1 - s->i0) + pvs__dabs(zb) * (s->lj1 - s->j0)) + 1e-30;
+                        slack = 3.814697265625e-06 *
+                                (pvs__dabs(zk) + pvs__dabs(za) * (s->li1 - s->i0) + pvs__dabs(zb) * (s->lj1 - s->j0)) +
+                            1e-30;
                         lo -= slack;
                         if (occluder) lo = pvs__dmax(lo, s->zclamp);
                         else lo = pvs__dmin(lo, s->zclamp);
@@ -3864,7 +3945,8 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 }
 
 /* Fills the pixel rectangle with `d` where it is nearer (the degenerate occludee case). */
-PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *tile_min, int32_t i0, int32_t i1, int32_t j0, int32_t j1, float d) {
+PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *tile_min, int32_t i0, int32_t i1,
+                                  int32_t j0, int32_t j1, float d) {
     int32_t i, j;
     uint32_t tx, ty;
     for (j = j0; j <= j1; ++j) {
@@ -3874,7 +3956,8 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
     }
     if (tile_min)
         for (ty = (uint32_t)j0 >> PVS__TILE_SHIFT; ty <= (uint32_t)j1 >> PVS__TILE_SHIFT; ++ty)
-            for (tx = (uint32_t)i0 >> PVS__TILE_SHIFT; tx <= (uint32_t)i1 >> PVS__TILE_SHIFT; ++tx) pvs__tile_update(buf, W, H, tile_min, tx, ty);
+            for (tx = (uint32_t)i0 >> PVS__TILE_SHIFT; tx <= (uint32_t)i1 >> PVS__TILE_SHIFT; ++tx)
+                pvs__tile_update(buf, W, H, tile_min, tx, ty);
 }
 
 /* The depth plane bound of a polygon (pixel coordinates x, y, depth z, n vertices; span, mag, zmag its
@@ -3882,9 +3965,9 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
    [0, jh]: the float evaluation (zk + zb fj) + za fi is at most (occluder) or at least (occludee) the
    plane's extreme over the pixel [ox + fi, +1] x [oy + fj, +1]. The plane comes from the largest fan
    triangle; without one (or beyond float) zk is -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
-PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const double *z, int n, double ox, double oy, double iw,
-                                    double jh, double span, double mag, double zmag, double perr, double zerr, int occluder,
-                                    float *za_out, float *zb_out, float *zk_out) {
+PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const double *z, int n, double ox, double oy,
+                                    double iw, double jh, double span, double mag, double zmag, double perr,
+                                    double zerr, int occluder, float *za_out, float *zb_out, float *zk_out) {
     int i, best = -1;
     double amax = 0.0;
     for (i = 1; i + 1 < n; ++i) {
@@ -3995,8 +4078,9 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
         b /= len;
         k = a * (ox - x[i]) + b * (oy - y[i]);
         k += occluder ? pvs__dmin(0.0, a) + pvs__dmin(0.0, b) : pvs__dmax(0.0, a) + pvs__dmax(0.0, b);
-        err = (PVS__RASTER_ERR_D * (1.0 + e.mag) + perr) * (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len) +
-              PVS__RASTER_ERR_F * (pvs__dabs(k) + pvs__dabs(a) * iw + pvs__dabs(b) * jh + 1e-30);
+        err = (PVS__RASTER_ERR_D * (1.0 + e.mag) + perr) *
+                (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len) +
+            PVS__RASTER_ERR_F * (pvs__dabs(k) + pvs__dabs(a) * iw + pvs__dabs(b) * jh + 1e-30);
         lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh); /* the extremes over the range */
         hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
         if (occluder) {
@@ -4303,7 +4387,8 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
             } else {
                 pvs__tile_merge(tl, cov, zt, pad);
             }
-            if (tl->z0 != z0) r->bdirty[(size_t)(ty >> PVS__BLOCK_SHIFT) * r->bw + (uint32_t)(tx >> PVS__BLOCK_SHIFT)] = 1;
+            if (tl->z0 != z0)
+                r->bdirty[(size_t)(ty >> PVS__BLOCK_SHIFT) * r->bw + (uint32_t)(tx >> PVS__BLOCK_SHIFT)] = 1;
         }
     }
 }
@@ -4333,7 +4418,8 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
         b /= len;
         /* inner coverage: the edge function at the pixel's worst corner, less the setup error */
         k = a * (ox - x[i]) + b * (oy - y[i]) + pvs__dmin(0.0, a) + pvs__dmin(0.0, b);
-        err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) * (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len);
+        err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) *
+            (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len);
         lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
         hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
         if (lo - err >= 0.0) continue; /* every pixel passes this edge */
@@ -4356,7 +4442,8 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
             }
         } else {
             /* near-horizontal: the rows where the edge passes for every column of the range */
-            double wk = k + pvs__dmin(0.0, a * iw), tq = -wk / b, pad = PVS__U_2_44 * (pvs__dabs(k) + pvs__dabs(a) * iw + 1.0);
+            double wk = k + pvs__dmin(0.0, a * iw), tq = -wk / b,
+                   pad = PVS__U_2_44 * (pvs__dabs(k) + pvs__dabs(a) * iw + 1.0);
             if (b > 0.0) {
                 int32_t jl = pvs__clampi(ceil(tq + pad), 0, t->jhi + 1);
                 if (jl > t->jlo) t->jlo = jl;
@@ -4369,7 +4456,11 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
     if (t->jlo > t->jhi) return 0;
     t->ne = t->nl + nr;
     for (i = 0; i < nr; ++i) {
-        t->xi[t->nl + i] = rxi[i]; t->s[t->nl + i] = rs[i]; t->cl[t->nl + i] = rcl[i]; t->sf[t->nl + i] = rsf[i]; t->m[t->nl + i] = rm[i];
+        t->xi[t->nl + i] = rxi[i];
+        t->s[t->nl + i] = rs[i];
+        t->cl[t->nl + i] = rcl[i];
+        t->sf[t->nl + i] = rsf[i];
+        t->m[t->nl + i] = rm[i];
     }
     return 1;
 }
@@ -4381,7 +4472,8 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
    is -FLT_MAX and za = zb = 0. */
 PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span,
                                   double mag, double zmag, double perr, double zerr, double zlo) {
-    double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0), amax = 0.0;
+    double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0),
+           amax = 0.0;
     int i, best = -1;
     for (i = 1; i + 1 < n; ++i) {
         double a2 = pvs__dabs((x[i] - x[0]) * (y[i + 1] - y[0]) - (x[i + 1] - x[0]) * (y[i] - y[0]));
@@ -4415,7 +4507,8 @@ PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *
 /* Prepares an occluder polygon given in pixel coordinates (x, y), depth z, with the vertices' own
    error perr (pixels) and zerr (depth), and draws it into the tiles. The edge and plane setup and its
    margins are pvs__raster_poly's; see the comment at the top. */
-PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y, const double *z, int n, double perr, double zerr) {
+PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y, const double *z, int n, double perr,
+                                double zerr) {
     pvs__tpoly t;
     pvs__polyext e;
     double span, dx, zlo;
@@ -4429,7 +4522,8 @@ PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y,
     if (t.i0 > t.i1 || t.j0 > t.j1) return;
     if (!(e.mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) return;
     span = (e.xmax - e.xmin) + (e.ymax - e.ymin);
-    if (!(pvs__dabs(e.area2) > 1e-9 * span * span) || !(pvs__dabs(e.area2) > 1e-300)) return; /* degenerate: covers nothing */
+    if (!(pvs__dabs(e.area2) > 1e-9 * span * span) || !(pvs__dabs(e.area2) > 1e-300))
+        return; /* degenerate: covers nothing */
     if (!pvs__tile_edges(&t, x, y, n, e.area2, e.mag, perr)) return;
     pvs__tile_zplane(&t, x, y, z, n, span, e.mag, e.zmag, perr, zerr, zlo);
     pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR));
@@ -4545,14 +4639,16 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
         y[i] = (t[i].c[1] * iw + 1.0) * hh;
         z[i] = t[i].c[2] * iw;
         /* the coordinates' error after the division, in pixels and in depth */
-        perr = pvs__dmax(perr, 2.0 * e * (1.0 + pvs__dabs(t[i].c[0] * iw) + pvs__dabs(t[i].c[1] * iw)) * pvs__dmax(hw, hh));
+        perr = pvs__dmax(perr,
+                         2.0 * e * (1.0 + pvs__dabs(t[i].c[0] * iw) + pvs__dabs(t[i].c[1] * iw)) * pvs__dmax(hw, hh));
         zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z[i])));
     }
     if (occluder && r->tiled) {
         pvs__tile_poly(r, x, y, z, n, perr, zerr);
     } else {
         pvs__raster_occludee_begin(r);
-        pvs__raster_poly(r->depth, r->width, r->height, r->tile_min, x, y, z, n, occluder, !(r->flags & PVS_RASTER_SCALAR), perr, zerr);
+        pvs__raster_poly(r->depth, r->width, r->height, r->tile_min, x, y, z, n, occluder,
+                         !(r->flags & PVS_RASTER_SCALAR), perr, zerr);
     }
 }
 
@@ -4587,7 +4683,8 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
    eye plane are drawn untested (the exact path clips them) unless all three are behind one of them;
    lanes in front are dropped when their clamped box holds no whole pixel (which includes being off
    the map). */
-PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4], float *zmax) {
+PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
+                                    float *zmax) {
     const float *m = r->mf, hw = r->hwf, hh = r->hhf, fw = (float)r->width, fh = (float)r->height;
     int l, k;
     unsigned draw = 0;
@@ -4640,17 +4737,26 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 
 #if defined(PVS__SSE2)
 /* Each v[l][k] has 4 readable floats (the caller copies a last vertex); mb: the matrix broadcast. */
-PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const float *const v[4][3], unsigned *test, int32_t box[4][4], float *zmax) {
+PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const float *const v[4][3], unsigned *test,
+                                  int32_t box[4][4], float *zmax) {
     const __m128 zero = _mm_setzero_ps(), absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), big = _mm_set1_ps(1e30f);
     __m128 X0, Y0, Z0, X1, Y1, Z1, X2, Y2, Z2, cz0, cz1, cz2, cw0, cw1, cw2, t, anyb, allb, fin;
     __m128 x, y, z, xmin, xmax, ymin, ymax, zm, rw;
     __m128i i0, i1, j0, j1, empty;
     unsigned all, any, tst;
-#define PVS__LOAD3(k, X, Y, Z) do { /* four vertices (x, y, z, -) to X, Y, Z lanes */ \
-        __m128 a = _mm_loadu_ps(v[0][k]), b = _mm_loadu_ps(v[1][k]), c = _mm_loadu_ps(v[2][k]), d = _mm_loadu_ps(v[3][k]); \
-        __m128 ab0 = _mm_unpacklo_ps(a, b), cd0 = _mm_unpacklo_ps(c, d), ab1 = _mm_unpackhi_ps(a, b), cd1 = _mm_unpackhi_ps(c, d); \
-        X = _mm_movelh_ps(ab0, cd0); Y = _mm_movehl_ps(cd0, ab0); Z = _mm_movelh_ps(ab1, cd1); } while (0)
-#define PVS__ROW(o, X, Y, Z) _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(mb[o], X), _mm_mul_ps(mb[o + 1], Y)), _mm_mul_ps(mb[o + 2], Z)), mb[o + 3])
+#define PVS__LOAD3(k, X, Y, Z) \
+    do { /* four vertices (x, y, z, -) to X, Y, Z lanes */ \
+        __m128 a = _mm_loadu_ps(v[0][k]), b = _mm_loadu_ps(v[1][k]), c = _mm_loadu_ps(v[2][k]), \
+               d = _mm_loadu_ps(v[3][k]); \
+        __m128 ab0 = _mm_unpacklo_ps(a, b), cd0 = _mm_unpacklo_ps(c, d), ab1 = _mm_unpackhi_ps(a, b), \
+               cd1 = _mm_unpackhi_ps(c, d); \
+        X = _mm_movelh_ps(ab0, cd0); \
+        Y = _mm_movehl_ps(cd0, ab0); \
+        Z = _mm_movelh_ps(ab1, cd1); \
+    } while (0)
+#define PVS__ROW(o, X, Y, Z) \
+    _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(mb[o], X), _mm_mul_ps(mb[o + 1], Y)), _mm_mul_ps(mb[o + 2], Z)), \
+               mb[o + 3])
     PVS__LOAD3(0, X0, Y0, Z0);
     PVS__LOAD3(1, X1, Y1, Z1);
     PVS__LOAD3(2, X2, Y2, Z2);
@@ -4662,7 +4768,8 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const f
     t = _mm_cmpgt_ps(cz2, cw2); anyb = _mm_or_ps(anyb, t); allb = _mm_and_ps(allb, t);
     t = _mm_and_ps(_mm_and_ps(_mm_cmple_ps(cw0, zero), _mm_cmple_ps(cw1, zero)), _mm_cmple_ps(cw2, zero));
     allb = _mm_or_ps(allb, t);
-    anyb = _mm_or_ps(anyb, _mm_or_ps(_mm_or_ps(_mm_cmple_ps(cw0, zero), _mm_cmple_ps(cw1, zero)), _mm_cmple_ps(cw2, zero)));
+    anyb = _mm_or_ps(anyb,
+                     _mm_or_ps(_mm_or_ps(_mm_cmple_ps(cw0, zero), _mm_cmple_ps(cw1, zero)), _mm_cmple_ps(cw2, zero)));
     all = (unsigned)_mm_movemask_ps(allb);
     *test = 0;
     if (all == 15u) return 0; /* all four behind the near plane or the eye */
@@ -4676,16 +4783,25 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const f
     PVS__PROJ(X0, Y0, Z0, cz0, cw0);
     xmin = xmax = x; ymin = ymax = y; zm = z;
     PVS__PROJ(X1, Y1, Z1, cz1, cw1);
-    xmin = _mm_min_ps(x, xmin); xmax = _mm_max_ps(x, xmax); ymin = _mm_min_ps(y, ymin); ymax = _mm_max_ps(y, ymax); zm = _mm_max_ps(z, zm);
+    xmin = _mm_min_ps(x, xmin);
+    xmax = _mm_max_ps(x, xmax);
+    ymin = _mm_min_ps(y, ymin);
+    ymax = _mm_max_ps(y, ymax);
+    zm = _mm_max_ps(z, zm);
     PVS__PROJ(X2, Y2, Z2, cz2, cw2);
-    xmin = _mm_min_ps(x, xmin); xmax = _mm_max_ps(x, xmax); ymin = _mm_min_ps(y, ymin); ymax = _mm_max_ps(y, ymax); zm = _mm_max_ps(z, zm);
+    xmin = _mm_min_ps(x, xmin);
+    xmax = _mm_max_ps(x, xmax);
+    ymin = _mm_min_ps(y, ymin);
+    ymax = _mm_max_ps(y, ymax);
+    zm = _mm_max_ps(z, zm);
 #undef PVS__PROJ
 #undef PVS__ROW
 #undef PVS__LOAD3
     /* finite extremes (a NaN coordinate can drop out of the min and max: the triangle may be dropped,
        which the scalar loop does alike and which is conservative) */
     fin = _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(xmin, absm), big), _mm_cmplt_ps(_mm_and_ps(xmax, absm), big));
-    fin = _mm_and_ps(fin, _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(ymin, absm), big), _mm_cmplt_ps(_mm_and_ps(ymax, absm), big)));
+    fin = _mm_and_ps(fin,
+                     _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(ymin, absm), big), _mm_cmplt_ps(_mm_and_ps(ymax, absm), big)));
     fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(zm, absm), big));
     xmin = _mm_max_ps(xmin, zero); xmax = _mm_min_ps(xmax, _mm_set1_ps((float)r->width));
     ymin = _mm_max_ps(ymin, zero); ymax = _mm_min_ps(ymax, _mm_set1_ps((float)r->height));
@@ -4712,9 +4828,11 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const f
 }
 #define PVS__HAVE_PF_SIMD 1
 #elif defined(PVS__NEON) && defined(__aarch64__) /* vdivq_f32 */
-PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4], float *zmax) {
+PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
+                                  float *zmax) {
     const float *mf = r->mf;
-    const float32x4_t zero = vdupq_n_f32(0.0f), big = vdupq_n_f32(1e30f), hw = vdupq_n_f32(r->hwf), hh = vdupq_n_f32(r->hhf);
+    const float32x4_t zero = vdupq_n_f32(0.0f), big = vdupq_n_f32(1e30f), hw = vdupq_n_f32(r->hwf),
+                      hh = vdupq_n_f32(r->hhf);
     float32x4_t X[3], Y[3], Z[3], cz[3], cw[3], x, y, z, xmin, xmax, ymin, ymax, zm, rw, fv;
     uint32x4_t anyb = vdupq_n_u32(0), behind = vdupq_n_u32(~0u), nonpos = behind, allb, fin = behind, t, c, empty;
     int32x4_t i0, i1, j0, j1;
@@ -4726,8 +4844,10 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
         for (l = 0; l < 4; ++l) { xs[l] = v[l][k][0]; ys[l] = v[l][k][1]; zs[l] = v[l][k][2]; }
         X[k] = vld1q_f32(xs); Y[k] = vld1q_f32(ys); Z[k] = vld1q_f32(zs);
     }
-#define PVS__ROW(o, k) vaddq_f32(vaddq_f32(vaddq_f32(vmulq_f32(vdupq_n_f32(mf[o]), X[k]), vmulq_f32(vdupq_n_f32(mf[o + 1]), Y[k])), \
-                                           vmulq_f32(vdupq_n_f32(mf[o + 2]), Z[k])), vdupq_n_f32(mf[o + 3]))
+#define PVS__ROW(o, k) \
+    vaddq_f32(vaddq_f32(vaddq_f32(vmulq_f32(vdupq_n_f32(mf[o]), X[k]), vmulq_f32(vdupq_n_f32(mf[o + 1]), Y[k])), \
+                        vmulq_f32(vdupq_n_f32(mf[o + 2]), Z[k])), \
+              vdupq_n_f32(mf[o + 3]))
     for (k = 0; k < 3; ++k) {
         cz[k] = PVS__ROW(8, k);
         cw[k] = PVS__ROW(12, k);
@@ -4764,8 +4884,12 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
     fin = vandq_u32(vcltq_f32(vabsq_f32(xmin), big), vcltq_f32(vabsq_f32(xmax), big));
     fin = vandq_u32(fin, vandq_u32(vcltq_f32(vabsq_f32(ymin), big), vcltq_f32(vabsq_f32(ymax), big)));
     fin = vandq_u32(fin, vcltq_f32(vabsq_f32(zm), big));
-    xmin = vbslq_f32(vcgtq_f32(xmin, zero), xmin, zero); fv = vdupq_n_f32((float)r->width); xmax = vbslq_f32(vcltq_f32(xmax, fv), xmax, fv);
-    ymin = vbslq_f32(vcgtq_f32(ymin, zero), ymin, zero); fv = vdupq_n_f32((float)r->height); ymax = vbslq_f32(vcltq_f32(ymax, fv), ymax, fv);
+    xmin = vbslq_f32(vcgtq_f32(xmin, zero), xmin, zero);
+    fv = vdupq_n_f32((float)r->width);
+    xmax = vbslq_f32(vcltq_f32(xmax, fv), xmax, fv);
+    ymin = vbslq_f32(vcgtq_f32(ymin, zero), ymin, zero);
+    fv = vdupq_n_f32((float)r->height);
+    ymax = vbslq_f32(vcltq_f32(ymax, fv), ymax, fv);
     t = vbicq_u32(fin, anyb);
     xmin = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(xmin), t));
     xmax = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(xmax), t));
@@ -4820,7 +4944,8 @@ PVS__STATIC int pvs__pf_hidden(pvs_raster *r, int32_t box[4][4], int l, float zm
     for (by = ty0 >> PVS__BLOCK_SHIFT; by <= ty1 >> PVS__BLOCK_SHIFT; ++by)
         for (bx = tx0 >> PVS__BLOCK_SHIFT; bx <= tx1 >> PVS__BLOCK_SHIFT; ++bx) {
             size_t k = (size_t)by * r->bw + bx;
-            uint32_t x0 = bx << PVS__BLOCK_SHIFT, y0 = by << PVS__BLOCK_SHIFT, x1 = x0 + (1u << PVS__BLOCK_SHIFT) - 1, y1 = y0 + (1u << PVS__BLOCK_SHIFT) - 1;
+            uint32_t x0 = bx << PVS__BLOCK_SHIFT, y0 = by << PVS__BLOCK_SHIFT, x1 = x0 + (1u << PVS__BLOCK_SHIFT) - 1,
+                     y1 = y0 + (1u << PVS__BLOCK_SHIFT) - 1;
             if (x1 >= r->tw) x1 = r->tw - 1;
             if (y1 >= r->th) y1 = r->th - 1;
             if (!(r->bmin[k] >= zmax) && r->bdirty[k]) {
@@ -4835,15 +4960,17 @@ PVS__STATIC int pvs__pf_hidden(pvs_raster *r, int32_t box[4][4], int l, float zm
                 r->bdirty[k] = 0;
             }
             if (r->bmin[k] >= zmax) continue;
-            if (!pvs__pf_tiles(r, x0 > tx0 ? x0 : tx0, x1 < tx1 ? x1 : tx1, y0 > ty0 ? y0 : ty0, y1 < ty1 ? y1 : ty1, zmax)) return 0;
+            if (!pvs__pf_tiles(r, x0 > tx0 ? x0 : tx0, x1 < tx1 ? x1 : tx1, y0 > ty0 ? y0 : ty0, y1 < ty1 ? y1 : ty1,
+                               zmax))
+                return 0;
         }
     return 1;
 }
 
 /* Occluder-mode triangles: `count` triangles of vertices `positions` (indices 3 per triangle or NULL)
    or, with `tris`, the scene triangles tris[0 .. count). Four at a time through the prefilter. */
-PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count, const uint32_t *indices,
-                                       const pvs__occsel *tris, uint32_t count) {
+PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
+                                       const uint32_t *indices, const pvs__occsel *tris, uint32_t count) {
     uint32_t t, l, k;
     const float *v[4][3];
     float last[4], zmax[4];
@@ -4863,7 +4990,9 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
         n = 0;
         for (l = 0; l < 4 && t + l < count; ++l) {
             uint32_t q0, q1, q2;
-            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[t + l].triangle : indices ? indices + 3 * (size_t)(t + l) : NULL;
+            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[t + l].triangle
+                : indices             ? indices + 3 * (size_t)(t + l)
+                                      : NULL;
             if (ix) {
                 q0 = ix[0]; q1 = ix[1]; q2 = ix[2];
             } else {
@@ -4952,7 +5081,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 
 /* One triangle of a mesh piece, clipped, projected and prepared. */
 typedef struct pvs__mtri {
-    int32_t i0, i1, j0, j1;         /* pixels that may meet the polygon, clamped to the map (empty: i0 > i1 or j0 > j1) */
+    int32_t i0, i1, j0, j1; /* pixels that may meet the polygon, clamped to the map (empty: i0 > i1 or j0 > j1) */
     int n;                          /* polygon vertices, 3..5 */
     int full;                       /* edges of non-zero length (the inner test needs 3) */
     uint8_t lab[PVS__MESH_MAXV];    /* edge k (vertex k to k + 1): triangle edge 0..2 or PVS__MESH_CLIP */
@@ -4993,7 +5122,8 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
         t->y[i] = (p[i].c[1] * iwv + 1.0) * hh;
         z[i] = p[i].c[2] * iwv;
         if (!(t->x[i] == t->x[i] && t->y[i] == t->y[i] && z[i] == z[i])) return 0;
-        perr = pvs__dmax(perr, 2.0 * e * (1.0 + pvs__dabs(p[i].c[0] * iwv) + pvs__dabs(p[i].c[1] * iwv)) * pvs__dmax(hw, hh));
+        perr = pvs__dmax(perr,
+                         2.0 * e * (1.0 + pvs__dabs(p[i].c[0] * iwv) + pvs__dabs(p[i].c[1] * iwv)) * pvs__dmax(hw, hh));
         zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z[i])));
         t->lab[i] = lab[i];
         t->bnd[i] = 1;
@@ -5103,7 +5233,8 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
         chi = pvs__clampi(floor(t->xmax - t->dx), t->i0 - 1, t->i1);
         for (e = 0; e < t->n; ++e)
             if (t->a[e] != 0.0 || t->b[e] != 0.0)
-                pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), t->e[e], 0, &clo, &chi);
+                pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]),
+                              t->e[e], 0, &clo, &chi);
     }
     /* each edge: the pixels whose closed square the segment may meet (its extents and its line) */
     for (e = 0; e < t->n; ++e) {
@@ -5119,8 +5250,10 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
         hi = pvs__clampi(floor(sx1), t->i0 - 1, t->i1);
         if (t->a[e] != 0.0 || t->b[e] != 0.0) {
             double m = t->e[e] + t->wide;
-            pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), -m, 1, &lo, &hi);
-            pvs__mesh_cut(-t->a[e], -(t->b[e] * dj + t->k[e] + pvs__dmin(0.0, t->a[e]) + pvs__dmin(0.0, t->b[e])), -m, 1, &lo, &hi);
+            pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]), -m, 1,
+                          &lo, &hi);
+            pvs__mesh_cut(-t->a[e], -(t->b[e] * dj + t->k[e] + pvs__dmin(0.0, t->a[e]) + pvs__dmin(0.0, t->b[e])), -m,
+                          1, &lo, &hi);
         }
         if (lo > hi) continue;
         for (i = lo; i <= hi; ++i) {
@@ -5244,7 +5377,8 @@ PVS__STATIC void pvs__mesh_draw(pvs_raster *r, uint32_t n, int g) {
         for (d = 0; d < PVS__TH; ++d) { rlo[d] = INT32_MAX; rhi[d] = -1; }
         for (k = 0; k < na; ++k) {
             const pvs__mtri *p = r->mt + act[k];
-            int32_t jb = (int32_t)(b << PVS__TH_SHIFT), ja = p->j0 > jb ? p->j0 : jb, jz = p->j1 < jb + 3 ? p->j1 : jb + 3;
+            int32_t jb = (int32_t)(b << PVS__TH_SHIFT), ja = p->j0 > jb ? p->j0 : jb,
+                    jz = p->j1 < jb + 3 ? p->j1 : jb + 3;
             for (j = ja; j <= jz; ++j) pvs__mesh_row(r, p, j, jb, rlo, rhi);
         }
         pvs__mesh_claim(r, b, rlo, rhi);
@@ -5260,12 +5394,15 @@ PVS__STATIC void pvs__mesh_draw(pvs_raster *r, uint32_t n, int g) {
    (M + e)^3 covers the evaluation). */
 PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
     const double *p = v[0].c, *q = v[1].c, *s = v[2].c;
-    double d = p[0] * (q[1] * s[3] - s[1] * q[3]) - p[1] * (q[0] * s[3] - s[0] * q[3]) + p[3] * (q[0] * s[1] - s[0] * q[1]);
+    double d =
+        p[0] * (q[1] * s[3] - s[1] * q[3]) - p[1] * (q[0] * s[3] - s[0] * q[3]) + p[3] * (q[0] * s[1] - s[0] * q[1]);
     double M = 0.0, e = pvs__dmax(v[0].e, pvs__dmax(v[1].e, v[2].e)), bound;
     int i;
-    for (i = 0; i < 3; ++i) M = pvs__dmax(M, pvs__dmax(pvs__dabs(v[i].c[0]), pvs__dmax(pvs__dabs(v[i].c[1]), pvs__dabs(v[i].c[3]))));
+    for (i = 0; i < 3; ++i)
+        M = pvs__dmax(M, pvs__dmax(pvs__dabs(v[i].c[0]), pvs__dmax(pvs__dabs(v[i].c[1]), pvs__dabs(v[i].c[3]))));
     /* (M + e)^3 - M^3 = e (3 M^2 + 3 M e + e^2), without cancellation */
-    bound = 6.0 * e * (3.0 * M * M + 3.0 * M * e + e * e) * (1.0 + 1e-14) + 1e-14 * (M + e) * (M + e) * (M + e) + 1e-300;
+    bound =
+        6.0 * e * (3.0 * M * M + 3.0 * M * e + e * e) * (1.0 + 1e-14) + 1e-14 * (M + e) * (M + e) * (M + e) + 1e-300;
     if (d > bound) return 1;
     if (d < -bound) return -1;
     return 0;
@@ -5323,7 +5460,9 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
         int32_t box[4][4];
         float zmax[4];
         for (l = 0; l < 4; ++l) { pv[l][0] = p[0]; pv[l][1] = p[1]; pv[l][2] = p[2]; }
-        if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax) & test & 1u) && pvs__pf_hidden(r, box, 0, zmax[0])) return;
+        if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax) & test & 1u) &&
+            pvs__pf_hidden(r, box, 0, zmax[0]))
+            return;
     }
     for (k = 0; k < 3; ++k) cid[3 * t + k] = pvs__mesh_weld(r->mtab, hs, pos, q[k], p[k]);
     if (cid[3 * t] == cid[3 * t + 1] || cid[3 * t + 1] == cid[3 * t + 2] || cid[3 * t + 2] == cid[3 * t]) return;
@@ -5404,15 +5543,16 @@ PVS__STATIC void pvs__mesh_internal(pvs_raster *r, uint32_t n) {
 
 /* One piece of a mesh: triangles first .. first + n - 1 (n <= mesh_cap) of `indices` (NULL:
    consecutive vertices) or of tris[]. */
-PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices, const pvs__occsel *tris,
-                                 uint32_t first, uint32_t n) {
+PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
+                                 const pvs__occsel *tris, uint32_t first, uint32_t n) {
     uint32_t hs = 16, t, h;
     while (hs < 6 * n && hs < r->mesh_hash) hs <<= 1;
     for (h = 0; h < hs; ++h) r->mtab[h] = 0;
     for (t = 0; t < n; ++t) { /* weld, transform, facing, clip and prepare */
         uint32_t q[3];
         if (tris || indices) {
-            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[first + t].triangle : indices + 3 * (size_t)(first + t);
+            const uint32_t *ix =
+                tris ? indices + 3 * (size_t)tris[first + t].triangle : indices + 3 * (size_t)(first + t);
             q[0] = ix[0]; q[1] = ix[1]; q[2] = ix[2];
         } else {
             q[0] = 3 * (first + t); q[1] = q[0] + 1; q[2] = q[0] + 2;
@@ -5427,7 +5567,8 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
 
 /* Occluder meshes: `count` triangles of `indices` (NULL: consecutive vertices) or of tris[], in pieces
    of mesh_cap triangles. */
-PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices, const pvs__occsel *tris, uint32_t count) {
+PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
+                           const pvs__occsel *tris, uint32_t count) {
     uint32_t first;
     if (!count || !vc) return;
     /* the triangles' own inner pixels (the fast paths); then the pixels along their edges */
@@ -5435,9 +5576,12 @@ PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const u
         pvs__raster_occluders(r, pos, vc, indices, tris, count);
     } else {
         for (first = 0; first < count; ++first) {
-            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[first].triangle : indices ? indices + 3 * (size_t)first : NULL;
+            const uint32_t *ix = tris ? indices + 3 * (size_t)tris[first].triangle
+                : indices             ? indices + 3 * (size_t)first
+                                      : NULL;
             uint32_t q0 = ix ? ix[0] : 3 * first, q1 = ix ? ix[1] : 3 * first + 1, q2 = ix ? ix[2] : 3 * first + 2;
-            if (q0 < vc && q1 < vc && q2 < vc) pvs__raster_tri(r, pos + 3 * (size_t)q0, pos + 3 * (size_t)q1, pos + 3 * (size_t)q2, 1);
+            if (q0 < vc && q1 < vc && q2 < vc)
+                pvs__raster_tri(r, pos + 3 * (size_t)q0, pos + 3 * (size_t)q1, pos + 3 * (size_t)q2, 1);
         }
         pvs__raster_occludee_begin(r); /* the per-pixel map, cleared on first use */
     }
@@ -5451,9 +5595,10 @@ PVS_API pvs_result pvs_camera_matrix(const pvs_camera *c, float aspect, float m[
     int k;
     if (!c || !m) return PVS_ERROR_INVALID_ARGUMENT;
     for (k = 0; k < 3; ++k)
-        if (!pvs__finite(c->eye[k]) || !pvs__finite(c->forward[k]) || !pvs__finite(c->up[k])) return PVS_ERROR_NOT_FINITE;
-    if (!pvs__finite(c->fov_y) || !pvs__finite(c->near_plane) || !pvs__finite(aspect) || !pvs__finite(c->ortho_height) ||
-        !pvs__finite(c->far_plane))
+        if (!pvs__finite(c->eye[k]) || !pvs__finite(c->forward[k]) || !pvs__finite(c->up[k]))
+            return PVS_ERROR_NOT_FINITE;
+    if (!pvs__finite(c->fov_y) || !pvs__finite(c->near_plane) || !pvs__finite(aspect) ||
+        !pvs__finite(c->ortho_height) || !pvs__finite(c->far_plane))
         return PVS_ERROR_NOT_FINITE;
     if (!(aspect > 0.0f) || !(c->near_plane > 0.0f) || c->fov_y < 0.0f || !(c->fov_y < 3.14159f))
         return PVS_ERROR_INVALID_ARGUMENT;
@@ -5520,7 +5665,8 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *r, const float m[16]) {
         r->rowt[k] = pvs__dabs(r->m[4 * k + 3]);
     }
     for (k = 0; k < 4; ++k) { /* the largest row sums of |m|: bounds of the transform's terms */
-        r->mabs[0] = pvs__dmax(r->mabs[0], pvs__dabs(r->m[4 * k]) + pvs__dabs(r->m[4 * k + 1]) + pvs__dabs(r->m[4 * k + 2]));
+        r->mabs[0] =
+            pvs__dmax(r->mabs[0], pvs__dabs(r->m[4 * k]) + pvs__dabs(r->m[4 * k + 1]) + pvs__dabs(r->m[4 * k + 2]));
         r->mabs[1] = pvs__dmax(r->mabs[1], pvs__dabs(r->m[4 * k + 3]));
     }
     return PVS_OK;
@@ -5542,10 +5688,11 @@ PVS_API void pvs_raster_clear(pvs_raster *r) {
     r->pyramid_valid = 0;
 }
 
-PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, uint32_t vertex_count, const uint32_t *indices,
-                                        uint32_t count, pvs_raster_mode mode) {
+PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, uint32_t vertex_count,
+                                        const uint32_t *indices, uint32_t count, pvs_raster_mode mode) {
     uint32_t t;
-    if (!r || (!positions && count) || (int)mode < 0 || mode >= PVS_RASTER_MODE_COUNT) return PVS_ERROR_INVALID_ARGUMENT;
+    if (!r || (!positions && count) || (int)mode < 0 || mode >= PVS_RASTER_MODE_COUNT)
+        return PVS_ERROR_INVALID_ARGUMENT;
     if (mode == PVS_RASTER_OCCLUDER && r->tiled) {
         pvs__raster_occluders(r, positions, vertex_count, indices, NULL, count);
         return PVS_OK;
@@ -5561,8 +5708,8 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, u
     return PVS_OK;
 }
 
-PVS_API pvs_result pvs_raster_mesh(pvs_raster *r, const float *positions, uint32_t vertex_count, const uint32_t *indices,
-                                   uint32_t count) {
+PVS_API pvs_result pvs_raster_mesh(pvs_raster *r, const float *positions, uint32_t vertex_count,
+                                   const uint32_t *indices, uint32_t count) {
     if (!r || (!positions && count)) return PVS_ERROR_INVALID_ARGUMENT;
     pvs__mesh(r, positions, vertex_count, indices, NULL, count);
     return PVS_OK;
@@ -5579,8 +5726,8 @@ PVS_API const float *pvs_raster_depth(const pvs_raster *r, uint32_t *w, uint32_t
    queried top-down, stopping where a level decides hidden or visible (§6.1) ---- */
 
 /* One texel: the farthest and nearest of the (up to) 2 x 2 texels at (x0, y0) of the level below. */
-PVS__STATIC void pvs__pyramid_texel(const float *pmin, const float *pmax, uint32_t pw, uint32_t ph, uint32_t x0, uint32_t y0,
-                                    float *out_min, float *out_max) {
+PVS__STATIC void pvs__pyramid_texel(const float *pmin, const float *pmax, uint32_t pw, uint32_t ph, uint32_t x0,
+                                    uint32_t y0, float *out_min, float *out_max) {
     uint32_t x1 = x0 + 1 < pw ? x0 + 1 : x0, y1 = y0 + 1 < ph ? y0 + 1 : y0;
     float a = pmin[y0 * pw + x0], b = pmin[y0 * pw + x1], c = pmin[y1 * pw + x0], d = pmin[y1 * pw + x1];
     float lo = a < b ? a : b, lo2 = c < d ? c : d;
@@ -5643,10 +5790,16 @@ PVS_API void pvs_raster_build_pyramid(pvs_raster *r) {
                 if (!(r->flags & PVS_RASTER_SCALAR) && 2 * x + 8 <= pw) { /* four texels from a 2 x 8 block */
                     const float *a0 = pmin + (size_t)(2 * y) * pw + 2 * x, *b0 = pmax + (size_t)(2 * y) * pw + 2 * x;
                     const float *a1 = 2 * y + 1 < ph ? a0 + pw : a0, *b1 = 2 * y + 1 < ph ? b0 + pw : b0;
-                    __m128 v0 = _mm_min_ps(_mm_loadu_ps(a0), _mm_loadu_ps(a1)), v1 = _mm_min_ps(_mm_loadu_ps(a0 + 4), _mm_loadu_ps(a1 + 4));
-                    __m128 u0 = _mm_max_ps(_mm_loadu_ps(b0), _mm_loadu_ps(b1)), u1 = _mm_max_ps(_mm_loadu_ps(b0 + 4), _mm_loadu_ps(b1 + 4));
-                    _mm_storeu_ps(dmin + y * w + x, _mm_min_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0)), _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1))));
-                    _mm_storeu_ps(dmax + y * w + x, _mm_max_ps(_mm_shuffle_ps(u0, u1, _MM_SHUFFLE(2, 0, 2, 0)), _mm_shuffle_ps(u0, u1, _MM_SHUFFLE(3, 1, 3, 1))));
+                    __m128 v0 = _mm_min_ps(_mm_loadu_ps(a0), _mm_loadu_ps(a1)),
+                           v1 = _mm_min_ps(_mm_loadu_ps(a0 + 4), _mm_loadu_ps(a1 + 4));
+                    __m128 u0 = _mm_max_ps(_mm_loadu_ps(b0), _mm_loadu_ps(b1)),
+                           u1 = _mm_max_ps(_mm_loadu_ps(b0 + 4), _mm_loadu_ps(b1 + 4));
+                    _mm_storeu_ps(dmin + y * w + x,
+                                  _mm_min_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0)),
+                                             _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1))));
+                    _mm_storeu_ps(dmax + y * w + x,
+                                  _mm_max_ps(_mm_shuffle_ps(u0, u1, _MM_SHUFFLE(2, 0, 2, 0)),
+                                             _mm_shuffle_ps(u0, u1, _MM_SHUFFLE(3, 1, 3, 1))));
                     x += 3;
                     continue;
                 }
@@ -5683,7 +5836,8 @@ PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t t
 
 /* pvs__pyramid_visible over the tile pyramid; at a tile, the pixels of the rectangle in and out of the
    working layer decide exactly. px: the pixel rectangle, tr: its tile range. */
-PVS__STATIC int pvs__tpyr_visible(const pvs_raster *r, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *px, const uint32_t *tr, float d) {
+PVS__STATIC int pvs__tpyr_visible(const pvs_raster *r, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *px,
+                                  const uint32_t *tr, float d) {
     uint32_t w = r->tlw[l], cx, cy, cx0, cx1, cy0, cy1;
     float lo = r->tlmin[l][ty * w + tx], hi = r->tlmax[l][ty * w + tx];
     if (lo > d) return 0;  /* every pixel under the texel is nearer: hidden */
@@ -5711,7 +5865,9 @@ PVS__STATIC int pvs__tpyr_visible(const pvs_raster *r, uint32_t l, uint32_t tx, 
     for (cy = cy0; cy <= cy1; ++cy)
         for (cx = cx0; cx <= cx1; ++cx) {
             uint32_t sx = r->tsx[l - 1], sy = r->tsy[l - 1];
-            if (((cx + 1) << sx) - 1 < tr[0] || (cx << sx) > tr[2] || ((cy + 1) << sy) - 1 < tr[1] || (cy << sy) > tr[3]) continue;
+            if (((cx + 1) << sx) - 1 < tr[0] || (cx << sx) > tr[2] || ((cy + 1) << sy) - 1 < tr[1] ||
+                (cy << sy) > tr[3])
+                continue;
             if (pvs__tpyr_visible(r, l - 1, cx, cy, px, tr, d)) return 1;
         }
     return 0;
@@ -5732,14 +5888,18 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
         tr[0] = (uint32_t)x0 >> PVS__TW_SHIFT; tr[1] = (uint32_t)y0 >> PVS__TH_SHIFT;
         tr[2] = (uint32_t)x1 >> PVS__TW_SHIFT; tr[3] = (uint32_t)y1 >> PVS__TH_SHIFT;
         /* the finest level where the rectangle spans at most 2 x 2 texels */
-        while (l < r->tlevels && ((tr[2] >> r->tsx[l]) - (tr[0] >> r->tsx[l]) > 1 || (tr[3] >> r->tsy[l]) - (tr[1] >> r->tsy[l]) > 1)) ++l;
+        while (l < r->tlevels &&
+               ((tr[2] >> r->tsx[l]) - (tr[0] >> r->tsx[l]) > 1 || (tr[3] >> r->tsy[l]) - (tr[1] >> r->tsy[l]) > 1))
+            ++l;
         for (ty = tr[1] >> r->tsy[l]; ty <= tr[3] >> r->tsy[l]; ++ty)
             for (tx = tr[0] >> r->tsx[l]; tx <= tr[2] >> r->tsx[l]; ++tx)
                 if (pvs__tpyr_visible(r, l, tx, ty, px, tr, depth)) return 1;
         return 0;
     }
     /* the coarsest level where the rectangle spans at most 2 x 2 texels */
-    while (l < r->levels && (((uint32_t)x1 >> l) - ((uint32_t)x0 >> l) > 1 || ((uint32_t)y1 >> l) - ((uint32_t)y0 >> l) > 1)) ++l;
+    while (l < r->levels &&
+           (((uint32_t)x1 >> l) - ((uint32_t)x0 >> l) > 1 || ((uint32_t)y1 >> l) - ((uint32_t)y0 >> l) > 1))
+        ++l;
     for (ty = (uint32_t)y0 >> l; ty <= (uint32_t)y1 >> l; ++ty)
         for (tx = (uint32_t)x0 >> l; tx <= (uint32_t)x1 >> l; ++tx)
             if (pvs__pyramid_visible(r, l, tx, ty, x0, y0, x1, y1, depth)) return 1;
@@ -5823,15 +5983,21 @@ PVS__STATIC float pvs__hmax_sse2(__m128 v) {
     return _mm_cvtss_f32(_mm_max_ss(v, _mm_shuffle_ps(v, v, 1)));
 }
 PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__boxe *E, pvs__boxf *o) {
-    const __m128 X = _mm_setr_ps(b->min[0], b->max[0], b->min[0], b->max[0]), Y = _mm_setr_ps(b->min[1], b->min[1], b->max[1], b->max[1]);
+    const __m128 X = _mm_setr_ps(b->min[0], b->max[0], b->min[0], b->max[0]),
+                 Y = _mm_setr_ps(b->min[1], b->min[1], b->max[1], b->max[1]);
     const __m128 Z0 = _mm_set1_ps(b->min[2]), Z1 = _mm_set1_ps(b->max[2]), zero = _mm_setzero_ps();
     const __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
     __m128 c0[4], c1[4], t0, t1, q0, q1, v0, v1, rw0, rw1;
     int all, any;
-#define PVS__ROW(rr) do { \
-        __m128 a = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr]), X), _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 1]), Y)); \
-        c0[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z0)), _mm_loadu_ps(r->mb[4 * rr + 3])); \
-        c1[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z1)), _mm_loadu_ps(r->mb[4 * rr + 3])); } while (0)
+#define PVS__ROW(rr) \
+    do { \
+        __m128 a = \
+            _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr]), X), _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 1]), Y)); \
+        c0[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z0)), \
+                            _mm_loadu_ps(r->mb[4 * rr + 3])); \
+        c1[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z1)), \
+                            _mm_loadu_ps(r->mb[4 * rr + 3])); \
+    } while (0)
     PVS__ROW(0);
     PVS__ROW(1);
     PVS__ROW(2);
@@ -5844,19 +6010,24 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
     t0 = _mm_set1_ps(0.0f - E->e[3]);
     all |= _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(c0[3], t0), _mm_cmplt_ps(c1[3], t0))) << 4;
     t0 = _mm_set1_ps(E->xw);
-    all |= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(c0[0], c0[3]), t0), _mm_cmpgt_ps(_mm_sub_ps(c1[0], c1[3]), t0))) << 8;
+    all |= _mm_movemask_ps(
+               _mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(c0[0], c0[3]), t0), _mm_cmpgt_ps(_mm_sub_ps(c1[0], c1[3]), t0)))
+        << 8;
     all |= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c0[0]), c0[3]), t0),
                                       _mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c1[0]), c1[3]), t0))) << 12;
     t0 = _mm_set1_ps(E->yw);
-    all |= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(c0[1], c0[3]), t0), _mm_cmpgt_ps(_mm_sub_ps(c1[1], c1[3]), t0))) << 16;
+    all |= _mm_movemask_ps(
+               _mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(c0[1], c0[3]), t0), _mm_cmpgt_ps(_mm_sub_ps(c1[1], c1[3]), t0)))
+        << 16;
     all |= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c0[1]), c0[3]), t0),
                                       _mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c1[1]), c1[3]), t0))) << 20;
-    if ((all & 15) == 15 || (all & 0xf0) == 0xf0 || (all & 0xf00) == 0xf00 || (all & 0xf000) == 0xf000 || (all & 0xf0000) == 0xf0000 ||
-        (all & 0xf00000) == 0xf00000)
+    if ((all & 15) == 15 || (all & 0xf0) == 0xf0 || (all & 0xf00) == 0xf00 || (all & 0xf000) == 0xf000 ||
+        (all & 0xf0000) == 0xf0000 || (all & 0xf00000) == 0xf00000)
         return 0;
     t0 = _mm_set1_ps(E->nz);
     t1 = _mm_set1_ps(E->w2);
-    any = _mm_movemask_ps(_mm_or_ps(_mm_or_ps(_mm_cmplt_ps(q0, t0), _mm_cmple_ps(c0[3], t1)), _mm_or_ps(_mm_cmplt_ps(q1, t0), _mm_cmple_ps(c1[3], t1))));
+    any = _mm_movemask_ps(_mm_or_ps(_mm_or_ps(_mm_cmplt_ps(q0, t0), _mm_cmple_ps(c0[3], t1)),
+                                    _mm_or_ps(_mm_cmplt_ps(q1, t0), _mm_cmple_ps(c1[3], t1))));
     if (any) return 1;
     rw0 = _mm_div_ps(_mm_set1_ps(1.0f), c0[3]);
     rw1 = _mm_div_ps(_mm_set1_ps(1.0f), c1[3]);
@@ -5886,8 +6057,10 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 #define PVS__HAVE_BOX_SIMD 1
 #elif defined(PVS__NEON) && defined(__aarch64__)
 PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__boxe *E, pvs__boxf *o) {
-    const float xs[4] = {b->min[0], b->max[0], b->min[0], b->max[0]}, ys[4] = {b->min[1], b->min[1], b->max[1], b->max[1]};
-    const float32x4_t X = vld1q_f32(xs), Y = vld1q_f32(ys), Z0 = vdupq_n_f32(b->min[2]), Z1 = vdupq_n_f32(b->max[2]), zero = vdupq_n_f32(0.0f);
+    const float xs[4] = {b->min[0], b->max[0], b->min[0], b->max[0]},
+                ys[4] = {b->min[1], b->min[1], b->max[1], b->max[1]};
+    const float32x4_t X = vld1q_f32(xs), Y = vld1q_f32(ys), Z0 = vdupq_n_f32(b->min[2]), Z1 = vdupq_n_f32(b->max[2]),
+                      zero = vdupq_n_f32(0.0f);
     float32x4_t c0[4], c1[4], t0, t1, q0, q1, v0, v1, rw0, rw1, one = vdupq_n_f32(1.0f);
     const float *mf = r->mf;
     int rr;
@@ -5906,13 +6079,19 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
     if (PVS__ALL(vandq_u32(vcltq_f32(c0[3], t0), vcltq_f32(c1[3], t0)))) return 0;
     t0 = vdupq_n_f32(E->xw);
     if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(c0[0], c0[3]), t0), vcgtq_f32(vsubq_f32(c1[0], c1[3]), t0)))) return 0;
-    if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(vsubq_f32(zero, c0[0]), c0[3]), t0), vcgtq_f32(vsubq_f32(vsubq_f32(zero, c1[0]), c1[3]), t0)))) return 0;
+    if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(vsubq_f32(zero, c0[0]), c0[3]), t0),
+                           vcgtq_f32(vsubq_f32(vsubq_f32(zero, c1[0]), c1[3]), t0))))
+        return 0;
     t0 = vdupq_n_f32(E->yw);
     if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(c0[1], c0[3]), t0), vcgtq_f32(vsubq_f32(c1[1], c1[3]), t0)))) return 0;
-    if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(vsubq_f32(zero, c0[1]), c0[3]), t0), vcgtq_f32(vsubq_f32(vsubq_f32(zero, c1[1]), c1[3]), t0)))) return 0;
+    if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(vsubq_f32(zero, c0[1]), c0[3]), t0),
+                           vcgtq_f32(vsubq_f32(vsubq_f32(zero, c1[1]), c1[3]), t0))))
+        return 0;
     t0 = vdupq_n_f32(E->nz);
     t1 = vdupq_n_f32(E->w2);
-    if (PVS__ANY(vorrq_u32(vorrq_u32(vcltq_f32(q0, t0), vcleq_f32(c0[3], t1)), vorrq_u32(vcltq_f32(q1, t0), vcleq_f32(c1[3], t1))))) return 1;
+    if (PVS__ANY(vorrq_u32(vorrq_u32(vcltq_f32(q0, t0), vcleq_f32(c0[3], t1)),
+                           vorrq_u32(vcltq_f32(q1, t0), vcleq_f32(c1[3], t1)))))
+        return 1;
 #undef PVS__ALL
 #undef PVS__ANY
     rw0 = vdivq_f32(one, c0[3]);
@@ -5993,7 +6172,8 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
 #endif
         res = pvs__box_scalar(r, b, &E, &o);
     if (res != 2) return res;
-    if (!(o.rmax < 1e30f && o.nx < 1e30f && o.ny < 1e30f && o.nz < 1e30f && o.xmin > -1e30f && o.xmax < 1e30f && o.ymin > -1e30f && o.ymax < 1e30f))
+    if (!(o.rmax < 1e30f && o.nx < 1e30f && o.ny < 1e30f && o.nz < 1e30f && o.xmin > -1e30f && o.xmax < 1e30f &&
+          o.ymin > -1e30f && o.ymax < 1e30f))
         return -1;
     ex = hw * (0.7 * (e[0] + o.nx * e[3]) * o.rmax + 3e-7 * (o.nx + 1.0));
     ey = hh * (0.7 * (e[1] + o.ny * e[3]) * o.rmax + 3e-7 * (o.ny + 1.0));
@@ -6013,7 +6193,8 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
    a depth test (reaches behind the near plane), 2 = *rect and *dnear hold its pixel rectangle
    (clamped to the map) and nearest depth. */
 PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t rect[4], float *dnear) {
-    double xmin = DBL_MAX, xmax = -DBL_MAX, ymin = DBL_MAX, ymax = -DBL_MAX, dmax = -DBL_MAX, mag = 0.0, dx, perr = 0.0, zerr = 0.0;
+    double xmin = DBL_MAX, xmax = -DBL_MAX, ymin = DBL_MAX, ymax = -DBL_MAX, dmax = -DBL_MAX, mag = 0.0, dx, perr = 0.0,
+           zerr = 0.0;
     double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
     int k, behind_near = 0, behind_w = 0, maybe_behind = 0;
     pvs__cv v[8];
@@ -6060,9 +6241,11 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
     }
     if (maybe_behind) return 1;
     for (k = 0; k < 8; ++k) {
-        double iw = 1.0 / v[k].c[3], x = (v[k].c[0] * iw + 1.0) * hw, y = (v[k].c[1] * iw + 1.0) * hh, z = v[k].c[2] * iw;
+        double iw = 1.0 / v[k].c[3], x = (v[k].c[0] * iw + 1.0) * hw, y = (v[k].c[1] * iw + 1.0) * hh,
+               z = v[k].c[2] * iw;
         double e = v[k].e * iw;
-        perr = pvs__dmax(perr, 2.0 * e * (1.0 + pvs__dabs(v[k].c[0] * iw) + pvs__dabs(v[k].c[1] * iw)) * pvs__dmax(hw, hh));
+        perr = pvs__dmax(perr,
+                         2.0 * e * (1.0 + pvs__dabs(v[k].c[0] * iw) + pvs__dabs(v[k].c[1] * iw)) * pvs__dmax(hw, hh));
         zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z)));
         xmin = pvs__dmin(xmin, x); xmax = pvs__dmax(xmax, x);
         ymin = pvs__dmin(ymin, y); ymax = pvs__dmax(ymax, y);
@@ -6070,7 +6253,8 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
         mag = pvs__dmax(mag, pvs__dabs(x) + pvs__dabs(y) + pvs__dabs(z));
     }
     dx = PVS__RASTER_ERR_D * (mag + 1.0) + perr;
-    if (!(xmax + dx >= 0.0) || !(ymax + dx >= 0.0) || !(xmin - dx <= (double)r->width) || !(ymin - dx <= (double)r->height))
+    if (!(xmax + dx >= 0.0) || !(ymax + dx >= 0.0) || !(xmin - dx <= (double)r->width) ||
+        !(ymin - dx <= (double)r->height))
         return 0;
     rect[0] = pvs__clampi(floor(xmin - dx), 0, (int32_t)r->width - 1);
     rect[1] = pvs__clampi(floor(ymin - dx), 0, (int32_t)r->height - 1);
@@ -6130,7 +6314,8 @@ PVS_API void pvs_raster_destroy(pvs_raster *r) {
 
 /* Ground-plane cell range of a box in the cull map (clamped); returns 0 when the box is not entirely
    inside the region. */
-PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int32_t *i0, int32_t *j0, int32_t *i1, int32_t *j1) {
+PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int32_t *i0, int32_t *j0, int32_t *i1,
+                              int32_t *j1) {
     int u, v;
     double su, sv, a0, a1, b0, b1, eu, ev;
     pvs__ground_axes((uint32_t)up, &u, &v);
@@ -6146,7 +6331,8 @@ PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int
     *i1 = pvs__clampi(floor(a1 + eu), 0, (int32_t)r->cm_w - 1);
     *j0 = pvs__clampi(floor(b0 - ev), 0, (int32_t)r->cm_h - 1);
     *j1 = pvs__clampi(floor(b1 + ev), 0, (int32_t)r->cm_h - 1);
-    return b->min[u] >= r->region[0] && b->max[u] <= r->region[2] && b->min[v] >= r->region[1] && b->max[v] <= r->region[3];
+    return b->min[u] >= r->region[0] && b->max[u] <= r->region[2] && b->min[v] >= r->region[1] &&
+        b->max[v] <= r->region[3];
 }
 
 /* Sizes and allocates the per-pixel depth map, its 8 x 8 tile minima and its depth pyramid (Durand 2000
@@ -6169,7 +6355,8 @@ PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
     r->depth = (float *)pvs__alloc_array(&r->allocator, (size_t)r->width * r->height, sizeof(float));
     r->pyramid_floats = floats;
     r->pyramid = (float *)pvs__alloc_array(&r->allocator, floats, sizeof(float));
-    r->tiles = (size_t)((r->width + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->height + PVS__TILE - 1) >> PVS__TILE_SHIFT);
+    r->tiles =
+        (size_t)((r->width + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->height + PVS__TILE - 1) >> PVS__TILE_SHIFT);
     r->tile_min = (float *)pvs__alloc_array(&r->allocator, r->tiles, sizeof(float));
     if (!r->depth || !r->pyramid || !r->tile_min) return 0;
     floats = 0;
@@ -6190,7 +6377,8 @@ PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
 PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
     uint32_t l, w, h;
     size_t floats;
-    r->tiled = (r->flags & PVS_RASTER_TILED) || (!(r->flags & PVS_RASTER_PER_PIXEL) && (size_t)r->width * r->height > 65536);
+    r->tiled =
+        (r->flags & PVS_RASTER_TILED) || (!(r->flags & PVS_RASTER_PER_PIXEL) && (size_t)r->width * r->height > 65536);
     r->tw = (r->width + 31) >> PVS__TW_SHIFT;
     r->th = (r->height + PVS__TH - 1) >> PVS__TH_SHIFT;
     r->xpad = r->width & 31 ? ~0u << (r->width & 31) : 0u;
@@ -6250,7 +6438,8 @@ PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
     r->mdirty = (uint8_t *)pvs__alloc_array(a, (size_t)PVS__TH * r->tw, 1);
     if (!r->mdirty) return 0;
     memset(r->mdirty, 0, (size_t)PVS__TH * r->tw);
-    if (!r->mt || !r->mcid || !r->mpart || !r->mvst || !r->mgrp || !r->mtab || !r->morder || !r->mact || !r->mband || !r->mzmin || !r->mflag)
+    if (!r->mt || !r->mcid || !r->mpart || !r->mvst || !r->mgrp || !r->mtab || !r->morder || !r->mact || !r->mband ||
+        !r->mzmin || !r->mflag)
         return 0;
     for (i = 0; i < (size_t)PVS__TH * r->width; ++i) {
         r->mzmin[i] = FLT_MAX;
@@ -6283,7 +6472,8 @@ PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene 
         }
     if (!(r->ground <= r->ground + 0.0f)) r->ground = 0.0f; /* empty scene bounds */
     r->cm = (float *)pvs__alloc_array(a, cells, sizeof(float));
-    r->cm_tiles = (size_t)((r->cm_w + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->cm_h + PVS__TILE - 1) >> PVS__TILE_SHIFT);
+    r->cm_tiles =
+        (size_t)((r->cm_w + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->cm_h + PVS__TILE - 1) >> PVS__TILE_SHIFT);
     r->cm_tile_min = (float *)pvs__alloc_array(a, r->cm_tiles, sizeof(float));
     if (!r->cm_tile_min) goto oom;
     r->cm_bound = (float *)pvs__alloc_array(a, cells, sizeof(float));
@@ -6298,7 +6488,8 @@ PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene 
         pvs__cm_range(r, b, up, &i0, &j0, &i1, &j1);
         total += (size_t)(i1 - i0 + 1) * (size_t)(j1 - j0 + 1);
         if (total > 0xffffffffu)
-            return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the cull map grid holds more than 2^32 object entries");
+            return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0,
+                             "the cull map grid holds more than 2^32 object entries");
         for (jj = j0; jj <= j1; ++jj)
             for (ii = i0; ii <= i1; ++ii) {
                 size_t c = (size_t)jj * r->cm_w + (size_t)ii;
@@ -6333,8 +6524,10 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
     if (out) *out = NULL;
     if (!desc || !out) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc and out_raster must not be NULL");
     if (desc->width < 1 || desc->height < 1 || desc->width > 16384 || desc->height > 16384)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "depth map size %ux%u is not in 1..16384", desc->width, desc->height);
-    if ((desc->cull_map_width == 0) != (desc->cull_map_height == 0) || desc->cull_map_width > 4096 || desc->cull_map_height > 4096)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "depth map size %ux%u is not in 1..16384", desc->width,
+                         desc->height);
+    if ((desc->cull_map_width == 0) != (desc->cull_map_height == 0) || desc->cull_map_width > 4096 ||
+        desc->cull_map_height > 4096)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "cull map size %ux%u is not in 1..4096 (or 0x0)",
                          desc->cull_map_width, desc->cull_map_height);
     if (desc->cull_map_width && !desc->scene)
@@ -6414,7 +6607,8 @@ PVS__STATIC void pvs__occ_push(pvs__occsel *h, uint32_t *n, uint32_t k, float sc
 /* Area-angle measure M = A |N . V| / |D|^2 (Bittner 2002 §4.5), with V the unit direction from the
    eye to the triangle's centre D (two-sided triangles: the absolute value); A |N . V| / |D|^2 is the
    solid angle the triangle subtends, approximately. */
-PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
+                                        uint32_t count) {
     pvs__selctx *c = (pvs__selctx *)user;
     uint32_t i;
     if (distance > c->max_dist) return PVS_VISIT_STOP;
@@ -6439,8 +6633,9 @@ PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, flo
             e2[k] = (double)p[2][k] - p[0][k];
             d[k] = ((double)p[0][k] + p[1][k] + p[2][k]) / 3.0 - c->eye[k];
         }
-        for (k = 0; k < 3; ++k) fr[k] = c->fwd[0] * ((double)p[k][0] - c->eye[0]) + c->fwd[1] * ((double)p[k][1] - c->eye[1]) +
-                                        c->fwd[2] * ((double)p[k][2] - c->eye[2]);
+        for (k = 0; k < 3; ++k)
+            fr[k] = c->fwd[0] * ((double)p[k][0] - c->eye[0]) + c->fwd[1] * ((double)p[k][1] - c->eye[1]) +
+                c->fwd[2] * ((double)p[k][2] - c->eye[2]);
         front = pvs__dmax(fr[0], pvs__dmax(fr[1], fr[2]));
         if (front < c->near_d) continue; /* wholly behind the near plane */
         n[0] = e1[1] * e2[2] - e1[2] * e2[1];
@@ -6464,7 +6659,8 @@ typedef struct pvs__cullctx {
     pvs_cull_stats st;
 } pvs__cullctx;
 
-PVS__STATIC pvs_visit pvs__cull_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+PVS__STATIC pvs_visit pvs__cull_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
+                                      uint32_t count) {
     pvs__cullctx *c = (pvs__cullctx *)user;
     uint32_t i;
     (void)distance;
@@ -6487,13 +6683,17 @@ PVS__STATIC pvs_visit pvs__cull_visit(void *user, const pvs_box *node_box, float
 }
 
 /* Checks shared by both culling calls; sets the camera matrix. */
-PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, pvs_word *visible, pvs_error *err) {
+PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, pvs_word *visible,
+                                       pvs_error *err) {
     float m[16];
     pvs_result res;
-    if (!r || !s || !cam || !visible) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "raster, scene, camera and visible must not be NULL");
+    if (!r || !s || !cam || !visible)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "raster, scene, camera and visible must not be NULL");
     if (s->object_count > r->max_objects || s->triangle_count > r->max_triangles ||
-        pvs_kdtree_sweep_scratch_size(s->object_tree) > r->sweep_size || pvs_kdtree_sweep_scratch_size(s->triangle_tree) > r->sweep_size)
-        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "the context was created for a smaller scene (or none)");
+        pvs_kdtree_sweep_scratch_size(s->object_tree) > r->sweep_size ||
+        pvs_kdtree_sweep_scratch_size(s->triangle_tree) > r->sweep_size)
+        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0,
+                         "the context was created for a smaller scene (or none)");
     res = pvs_camera_matrix(cam, (float)r->width / (float)r->height, m);
     if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "unusable camera");
     pvs_raster_set_matrix(r, m);
@@ -6526,13 +6726,15 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
     for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
     pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
     if (p->occluder_flags & PVS_CULL_SCENE_MESH) {
-        pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n); /* welded: walls fuse (Durand 2000 §3.3) */
+        pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ,
+                  sc.n); /* welded: walls fuse (Durand 2000 §3.3) */
     } else if (r->tiled) {
         pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
     } else {
         for (i = 0; i < sc.n; ++i) {
             const uint32_t *t = s->indices + 3 * (size_t)r->occ[i].triangle;
-            pvs__raster_tri(r, s->positions + 3 * (size_t)t[0], s->positions + 3 * (size_t)t[1], s->positions + 3 * (size_t)t[2], 1);
+            pvs__raster_tri(r, s->positions + 3 * (size_t)t[0], s->positions + 3 * (size_t)t[1],
+                            s->positions + 3 * (size_t)t[2], 1);
         }
     }
     return sc.n;
@@ -6620,10 +6822,11 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
     pvs_raster_clear(r);
     if (p && p->occluder_triangle_count && p->occluder_positions) {
         if (p->occluder_flags & PVS_CULL_OCCLUDER_MESH)
-            pvs_raster_mesh(r, p->occluder_positions, p->occluder_vertex_count, p->occluder_indices, p->occluder_triangle_count);
+            pvs_raster_mesh(r, p->occluder_positions, p->occluder_vertex_count, p->occluder_indices,
+                            p->occluder_triangle_count);
         else
-            pvs_raster_triangles(r, p->occluder_positions, p->occluder_vertex_count, p->occluder_indices, p->occluder_triangle_count,
-                                 PVS_RASTER_OCCLUDER);
+            pvs_raster_triangles(r, p->occluder_positions, p->occluder_vertex_count, p->occluder_indices,
+                                 p->occluder_triangle_count, PVS_RASTER_OCCLUDER);
         cc.st.occluder_triangles += p->occluder_triangle_count;
     }
     if (p && p->scene_occluders) cc.st.occluder_triangles += pvs__cull_scene_occluders(r, s, cam, p);
@@ -6647,7 +6850,8 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
    eh) (§3.1): the quadrilateral a, b, b + t (b - o), a + t (a - o) in the ground plane, its height the
    plane through the eye and the top edge. The far edge lies outside the map (§4.2). Rasterized with
    inner coverage and the lowest height over each cell: §4.4's sampling correction (see the top). */
-PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, const float *a, const float *b, double top, int simd) {
+PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, const float *a, const float *b,
+                                double top, int simd) {
     double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
     double da[2], db[2], la, lb, reach, sa, sb, x[4], y[4], z[4];
     da[0] = (double)a[0] - ou; da[1] = (double)a[1] - ov;
@@ -6655,8 +6859,9 @@ PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, 
     la = sqrt(da[0] * da[0] + da[1] * da[1]);
     lb = sqrt(db[0] * db[0] + db[1] * db[1]);
     if (!(la > 0.0) || !(lb > 0.0)) return;
-    reach = 2.0 * ((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] + pvs__dabs(ou - r->region[0]) +
-                   pvs__dabs(ov - r->region[1]));
+    reach = 2.0 *
+        ((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] + pvs__dabs(ou - r->region[0]) +
+         pvs__dabs(ov - r->region[1]));
     sa = 1.0 + reach / la;
     sb = 1.0 + reach / lb;
     x[0] = a[0]; y[0] = a[1]; z[0] = top;
@@ -6675,7 +6880,8 @@ PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, 
 
 /* Height over ground point (x, y) of the plane through the eye (ou, ov, eh) and the horizontal edge
    a-b at height `top`; 0 when the plane is vertical (the eye on the edge's line). */
-PVS__STATIC int pvs__cm_plane(double ou, double ov, double eh, const double *a, const double *b, double top, double pl[3]) {
+PVS__STATIC int pvs__cm_plane(double ou, double ov, double eh, const double *a, const double *b, double top,
+                              double pl[3]) {
     double a0 = a[0] - ou, a1 = a[1] - ov, b0 = b[0] - ou, b1 = b[1] - ov, dh = top - eh;
     /* n = (a - o) x (b - o) with both at height dh above the eye */
     double nx = a1 * dh - dh * b1, ny = dh * b0 - a0 * dh, nz = a0 * b1 - a1 * b0;
@@ -6697,18 +6903,20 @@ PVS__STATIC double pvs__cm_height(const double pl[3], double ou, double ov, doub
    planes contain that ray, so their difference changes sign across it: when A >= B on A's side (a
    ridge), plane A is at most the true height on both sides; otherwise min(A, B) is concave and its
    least value at the wedge's corners bounds it from below. Rasterized like a shadow. */
-PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, const float *pf, const float *vf, const float *qf,
-                              double top, int simd) {
+PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, const float *pf, const float *vf,
+                              const float *qf, double top, int simd) {
     double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
-    double delta = 2.0 * sqrt(su * su + sv * sv), reach, x[5], y[5], z[5], pa[3], pb[3], pt[2], vt[2], qt[2], lp, lq, cross0 = 0.0;
+    double delta = 2.0 * sqrt(su * su + sv * sv), reach, x[5], y[5], z[5], pa[3], pb[3], pt[2], vt[2], qt[2], lp, lq,
+           cross0 = 0.0;
     int k;
     pt[0] = pf[0]; pt[1] = pf[1]; vt[0] = vf[0]; vt[1] = vf[1]; qt[0] = qf[0]; qt[1] = qf[1];
     lp = sqrt((pt[0] - vt[0]) * (pt[0] - vt[0]) + (pt[1] - vt[1]) * (pt[1] - vt[1]));
     lq = sqrt((qt[0] - vt[0]) * (qt[0] - vt[0]) + (qt[1] - vt[1]) * (qt[1] - vt[1]));
     if (!(lp > 0.0) || !(lq > 0.0)) return;
     if (!pvs__cm_plane(ou, ov, eh, pt, vt, top, pa) || !pvs__cm_plane(ou, ov, eh, vt, qt, top, pb)) return;
-    reach = 2.0 * ((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] + pvs__dabs(ou - r->region[0]) +
-                   pvs__dabs(ov - r->region[1]));
+    reach = 2.0 *
+        ((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] + pvs__dabs(ou - r->region[0]) +
+         pvs__dabs(ov - r->region[1]));
     x[0] = vt[0] + (pt[0] - vt[0]) * pvs__dmin(1.0, delta / lp);
     y[0] = vt[1] + (pt[1] - vt[1]) * pvs__dmin(1.0, delta / lp);
     x[1] = vt[0]; y[1] = vt[1];
@@ -6733,7 +6941,8 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
         for (k = 0; k < 5; ++k) z[k] = pvs__cm_height(pa, ou, ov, x[k], y[k]);
     } else {
         double c = DBL_MAX;
-        for (k = 0; k < 5; ++k) c = pvs__dmin(c, pvs__dmin(pvs__cm_height(pa, ou, ov, x[k], y[k]), pvs__cm_height(pb, ou, ov, x[k], y[k])));
+        for (k = 0; k < 5; ++k)
+            c = pvs__dmin(c, pvs__dmin(pvs__cm_height(pa, ou, ov, x[k], y[k]), pvs__cm_height(pb, ou, ov, x[k], y[k])));
         for (k = 0; k < 5; ++k) z[k] = c;
     }
     for (k = 0; k < 5; ++k) {
@@ -6744,7 +6953,8 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
 }
 
 /* 1 if facade a-b casts a shadow: front-facing for closed chains (§4.2), not nearer than min_dist. */
-PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *b, int closed, double area2, double min_dist) {
+PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *b, int closed, double area2,
+                              double min_dist) {
     if (closed) {
         /* outward normal: right of a->b for a counter-clockwise footprint */
         double nx = (double)b[1] - a[1], ny = -((double)b[0] - a[0]);
@@ -6763,8 +6973,8 @@ PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *
 }
 
 /* One chain: every casting facade's shadow, and the seams between consecutive casting facades. */
-PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *pts, uint32_t n, int closed, float base, float top,
-                                int simd, double min_dist) {
+PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *pts, uint32_t n, int closed, float base,
+                               float top, int simd, double min_dist) {
     double area2 = 0.0, limit = pvs__dmin(eye[2], r->ground);
     uint32_t i, segs;
     int first_casts = 0, prev_casts = 0;
@@ -6793,8 +7003,8 @@ PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *
 }
 
 /* The cull map build; facades nearer than min_dist to the eye (in the ground plane) are left out. */
-PVS__STATIC pvs_result pvs__cull_map_build(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains, uint32_t chain_count,
-                                           uint32_t flags, double min_dist) {
+PVS__STATIC pvs_result pvs__cull_map_build(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
+                                           uint32_t chain_count, uint32_t flags, double min_dist) {
     double e[3];
     size_t i, cells;
     uint32_t c;
@@ -6812,7 +7022,8 @@ PVS__STATIC pvs_result pvs__cull_map_build(pvs_raster *r, const float eye[3], co
     for (i = 0; i < cells; ++i) r->cm[i] = PVS_DEPTH_EMPTY;
     for (i = 0; i < r->cm_tiles; ++i) r->cm_tile_min[i] = PVS_DEPTH_EMPTY;
     for (c = 0; c < chain_count; ++c)
-        pvs__cm_chain(r, e, chains[c].points, chains[c].point_count, chains[c].closed != 0, chains[c].base, chains[c].top, simd, min_dist);
+        pvs__cm_chain(r, e, chains[c].points, chains[c].point_count, chains[c].closed != 0, chains[c].base,
+                      chains[c].top, simd, min_dist);
     if (flags & PVS_CULL_MAP_SCENE_OCCLUDERS) {
         for (c = 0; c < s->occluder_count; ++c) {
             const pvs_occluder_desc *o = s->occluders + c;
@@ -6831,8 +7042,8 @@ PVS__STATIC pvs_result pvs__cull_map_build(pvs_raster *r, const float eye[3], co
     return PVS_OK;
 }
 
-PVS_API pvs_result pvs_cull_map_build(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains, uint32_t chain_count,
-                                      uint32_t flags) {
+PVS_API pvs_result pvs_cull_map_build(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
+                                      uint32_t chain_count, uint32_t flags) {
     return pvs__cull_map_build(r, eye, chains, chain_count, flags, 0.0);
 }
 
@@ -6857,17 +7068,20 @@ PVS_API int pvs_cull_map_test_box(const pvs_raster *r, const pvs_box *b) {
     return 0;
 }
 
-PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p,
-                                       pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
+PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
+                                       const pvs_cull_params *p, pvs_word *visible, pvs_cull_stats *stats,
+                                       pvs_error *err) {
     pvs_cull_stats st;
     pvs_result res;
     size_t c, cells;
     int up;
-    if (r && s && r->scene != s) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the scene is not the context's scene");
+    if (r && s && r->scene != s)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the scene is not the context's scene");
     if (r && !r->cm) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the context has no cull map");
     res = pvs__cull_begin(r, s, cam, visible, err);
     if (res != PVS_OK) return res;
-    if (p && p->facade_count && !p->facades) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "facades must not be NULL");
+    if (p && p->facade_count && !p->facades)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "facades must not be NULL");
     memset(&st, 0, sizeof(st));
     if (cam->fov_y > 0.0f) {
         /* sight lines start at the near plane: facades nearer than it, at the frustum's widest angle,
@@ -6907,7 +7121,6 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
     pvs__ok(err);
     return PVS_OK;
 }
-
 
 // >>otree
 /* ---------------------------------------------------------------------------------------------- */
@@ -7111,7 +7324,8 @@ PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
 /* Keeps the part of `in` where n . l >= -slack (slack 0: the exact half), n the unit normal of the
    plane of p. New edges lie in the plane of p and get mark `mark`. Returns the vertex count of the
    result (0 = empty, -1 = too many vertices). */
-PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark, pvs__otpoly *out) {
+PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
+                               pvs__otpoly *out) {
     double d[PVS__OT_MAXV + 1];
     unsigned char ins[PVS__OT_MAXV + 1];
     int i, n = in->n, m = 0, any_in = 0;
@@ -7151,8 +7365,8 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 }
 /* Both halves at once: *pos = pvs__ot_clip_n(in, n, p, slack) and *neg = the same with -n. Returns
    the two vertex counts in r[0] (pos) and r[1] (neg), as pvs__ot_clip_n would. */
-PVS__STATIC void pvs__ot_split2(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark, pvs__otpoly *pos,
-                                pvs__otpoly *neg, int r[2]) {
+PVS__STATIC void pvs__ot_split2(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
+                                pvs__otpoly *pos, pvs__otpoly *neg, int r[2]) {
     double d[PVS__OT_MAXV];
     int i, n = in->n, m[2] = {0, 0}, any[2] = {0, 0}, side;
     for (i = 0; i < n; ++i) {
@@ -7196,7 +7410,8 @@ PVS__STATIC void pvs__ot_split2(const pvs__otpoly *in, const double nn[3], const
 }
 
 /* pvs__ot_clip_n for the plane sign * p*. */
-PVS__STATIC int pvs__ot_clip(const pvs__otpoly *in, const double p[2], double sign, double slack, int mark, pvs__otpoly *out) {
+PVS__STATIC int pvs__ot_clip(const pvs__otpoly *in, const double p[2], double sign, double slack, int mark,
+                             pvs__otpoly *out) {
     double n[3];
     pvs__ot_normal(p, sign, n);
     return pvs__ot_clip_n(in, n, p, slack, mark, out);
@@ -7231,7 +7446,8 @@ PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
    than h (the hidden-height bound, pvs__ot25_bound); near < 0: no bound (2D). */
 /* pvs__ot25_hidden_below_at without the call where neither bound can apply (most nodes); `nd` is
    evaluated twice */
-#define PVS__OT25_HIDDEN(t, nd, near, h) (((near) > (nd)->mr || (near) > (nd)->ml) && pvs__ot25_hidden_below_at(t, nd, near, h))
+#define PVS__OT25_HIDDEN(t, nd, near, h) \
+    (((near) > (nd)->mr || (near) > (nd)->ml) && pvs__ot25_hidden_below_at(t, nd, near, h))
 PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
     double x;
     if (!(near >= 0.0)) return 0;
@@ -7352,7 +7568,8 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
         /* keep a line of the part in the out-leaf as a witness (pvs__ot25_witnessed) */
         int out1 = t->nodes[c1].kind == PVS__OT_OUT;
         for (i = 0; i < 3; ++i) nf[i] = out1 ? nd->n[i] : -nd->n[i];
-        if (pvs__ot_clip_n(q, nf, nd->p, 0.0, 0, PVS__OT_ITEM(t, top + 1)) >= 3) pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top + 1));
+        if (pvs__ot_clip_n(q, nf, nd->p, 0.0, 0, PVS__OT_ITEM(t, top + 1)) >= 3)
+            pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top + 1));
         return 1;
     }
     {   /* a child whose subtree hides the query (2.5D bound) gets nothing */
@@ -7410,7 +7627,8 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
    point. Coincident vertices (O's supporting line through an end of S, O touching S) merge into
    the triangle of Fig. 6.5. Returns 0 when the polygon is degenerate (no line set of positive
    measure). */
-PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const double c[2], const double d[2], pvs__otpoly *q) {
+PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const double c[2], const double d[2],
+                                pvs__otpoly *q) {
     const double *from[4], *to[4], *pt[4];
     double v[4][3], len[4];
     int i, n = 0, k;
@@ -7484,7 +7702,9 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
             if (!(fabs(s) > 1e-12)) return 0;
             for (k = 0; k < n; ++k) /* the edge's own ends lie within 1e-9 of its plane (checked above) */
                 if (k != i && k != i1 &&
-                    (s > 0 ? 1.0 : -1.0) * (en[i][0] * q->v[k][0] + en[i][1] * q->v[k][1] + en[i][2] * q->v[k][2]) < -1e-9) return 0;
+                    (s > 0 ? 1.0 : -1.0) * (en[i][0] * q->v[k][0] + en[i][1] * q->v[k][1] + en[i][2] * q->v[k][2]) <
+                        -1e-9)
+                    return 0;
         }
     }
     return 1;
@@ -7534,7 +7754,8 @@ PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
    clearly in front of j, clearly behind; ties (the line through X or a shared end point) count as
    neither, and so do vertex lines that miss either segment: they lie outside the leaf's region by
    a rounding sliver (a polygon clipped with slack), where the order means nothing. */
-PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk, int *front, int *behind) {
+PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk,
+                               int *front, int *behind) {
     int i, have_x;
     double x[2], mj[4], mk[4];
     *front = *behind = 0;
@@ -7605,9 +7826,11 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
 }
 
 /* Gives leaf `node` the payload seq[old_first .. + old_count) followed by `add`. */
-PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_first, uint32_t old_count, uint32_t add) {
+PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_first, uint32_t old_count,
+                                    uint32_t add) {
     size_t first = t->seq_count;
-    if (!pvs__grow(t->a, (void **)&t->seq, &t->seq_cap, t->seq_count + old_count + 1, sizeof(uint32_t))) return t->oom = 1, 0;
+    if (!pvs__grow(t->a, (void **)&t->seq, &t->seq_cap, t->seq_count + old_count + 1, sizeof(uint32_t)))
+        return t->oom = 1, 0;
     if (old_count) memmove(t->seq + first, t->seq + old_first, old_count * sizeof(uint32_t));
     t->seq[first + old_count] = add;
     t->seq_count = first + old_count + 1;
@@ -7695,7 +7918,10 @@ PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint
         uint32_t node = t->stack_node[t->stack_count - 1];
         const pvs__otnode *nd = t->nodes + node;
         if (near > nd->mvd) { --t->stack_count; continue; } /* §6.5.5 */
-        if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) { --t->stack_count; continue; }
+        if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) {
+            --t->stack_count;
+            continue;
+        }
         if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1, -1.0, 0.0); continue; }
         pvs__ot_pop(t, &q);
         if (pvs__ot_thickness(&q) < PVS__OT_SLIVER) {
@@ -7728,7 +7954,8 @@ PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint
 /* Clips segment s (4 doubles) to the open half-plane right of a -> b (the outer side of a CCW
    edge). Returns 0 when nothing is left; *on_line tells which clipped end (1 = first, 2 = second)
    was moved onto the line. */
-PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const double *s, double out[4], int *on_line) {
+PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const double *s, double out[4],
+                                     int *on_line) {
     double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
     double f0 = (ex * (s[1] - a[1]) - ey * (s[0] - a[0])) / len;
     double f1 = (ex * (s[3] - a[1]) - ey * (s[2] - a[0])) / len;
@@ -7752,7 +7979,8 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 /* The blockers of source edge a -> b (lines leaving to its right) and the clipped segment o: one,
    or two when o's supporting line crosses the edge at x (Fig. 6.5). Returns how many were built
    (0..2); *degenerate is set when a non-empty line set could not be represented. */
-PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line, pvs__otpoly out[2], int *degenerate) {
+PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line,
+                                 pvs__otpoly out[2], int *degenerate) {
     double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
     int n = 0, have_x = 0;
     *degenerate = 0;
@@ -7895,7 +8123,10 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
         for (k = 0; k < n; ++k) {
             double e[4], d0, d1;
             int m;
-            e[0] = cell[2 * k]; e[1] = cell[2 * k + 1]; e[2] = cell[2 * ((k + 1) % n)]; e[3] = cell[2 * ((k + 1) % n) + 1];
+            e[0] = cell[2 * k];
+            e[1] = cell[2 * k + 1];
+            e[2] = cell[2 * ((k + 1) % n)];
+            e[3] = cell[2 * ((k + 1) % n) + 1];
             for (m = 0; m < 2; ++m) {
                 d0 = (sg[2 * m] - e[0]) * (sg[2 * m] - e[0]) + (sg[2 * m + 1] - e[1]) * (sg[2 * m + 1] - e[1]);
                 if (d0 > far2) far2 = d0;
@@ -7929,8 +8160,8 @@ PVS__STATIC int pvs__ot2_segment_visible(pvs__otree *t, const double *cell, uint
     return vis;
 }
 
-PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments, pvs_word *visible_objects,
-                                     pvs_otree_stats *stats, pvs_error *err) {
+PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments,
+                                     pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err) {
     pvs__otree t;
     pvs_allocator al;
     double *cell = NULL, *seg = NULL, *reach = NULL, *near = NULL, cx = 0.0, cy = 0.0;
@@ -7942,17 +8173,21 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
     memset(&t, 0, sizeof(t));
     if (stats) *stats = st;
     if (!desc || !desc->cell || desc->cell_vertex_count < 3 || (desc->segment_count && !desc->segments))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, a cell of >= 3 vertices and the segments are required");
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
+                         "desc, a cell of >= 3 vertices and the segments are required");
     n = desc->cell_vertex_count;
     count = desc->segment_count;
     for (i = 0; i < 2 * n; ++i)
-        if (!pvs__finite(desc->cell[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 2, 0, "cell vertex %u is not finite", i / 2);
+        if (!pvs__finite(desc->cell[i]))
+            return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 2, 0, "cell vertex %u is not finite", i / 2);
     for (i = 0; i < 4 * count; ++i)
-        if (!pvs__finite(desc->segments[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 4, 0, "segment %u is not finite", i / 4);
+        if (!pvs__finite(desc->segments[i]))
+            return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 4, 0, "segment %u is not finite", i / 4);
     if (desc->segment_objects)
         for (i = 0; i < count; ++i)
             if (desc->segment_objects[i] != PVS_NO_OBJECT && desc->segment_objects[i] >= desc->object_count)
-                return pvs__fail(err, PVS_ERROR_INDEX_OUT_OF_RANGE, i, 0, "segment %u names object %u of %u", i, desc->segment_objects[i], desc->object_count);
+                return pvs__fail(err, PVS_ERROR_INDEX_OUT_OF_RANGE, i, 0, "segment %u names object %u of %u", i,
+                                 desc->segment_objects[i], desc->object_count);
     al = desc->allocator;
     t.a = &al;
     cell = (double *)pvs__alloc_array(&al, 2 * (size_t)n, sizeof(double));
@@ -7960,7 +8195,10 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
     order = (pvs__key_index *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(pvs__key_index));
     reach = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
     near = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
-    if (!cell || !seg || !order || !reach || !near) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2D visibility arrays"); goto done; }
+    if (!cell || !seg || !order || !reach || !near) {
+        r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2D visibility arrays");
+        goto done;
+    }
     r = pvs__ot2_cell(desc->cell, n, cell, &cx, &cy, err);
     if (r != PVS_OK) goto done;
     {
@@ -8162,7 +8400,9 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
     double d[2], c;
     for (i = 1; i < n; ++i) {
         uint32_t sl = mem[i].index;
-        if (tl[5 * (size_t)sl + 4] > tl[5 * (size_t)ref + 4] || (tl[5 * (size_t)sl + 4] == tl[5 * (size_t)ref + 4] && sl < ref)) ref = sl;
+        if (tl[5 * (size_t)sl + 4] > tl[5 * (size_t)ref + 4] ||
+            (tl[5 * (size_t)sl + 4] == tl[5 * (size_t)ref + 4] && sl < ref))
+            ref = sl;
     }
     d[0] = tl[5 * (size_t)ref + 2]; d[1] = tl[5 * (size_t)ref + 3]; c = tl[5 * (size_t)ref + 1];
     for (i = 0; i < n; ++i) {
@@ -8285,8 +8525,8 @@ PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
     return 1;
 }
 
-PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_allocator *a, float **out, size_t *out_floats, uint32_t *count,
-                                            uint32_t *vertical) {
+PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_allocator *a, float **out,
+                                            size_t *out_floats, uint32_t *count, uint32_t *vertical) {
     pvs__fxwork w;
     uint32_t nv = 0, i, k, g0, g1, c0, c1, nt = sc->triangle_count;
     double ext = 1.0, tol_a = 1e-7, *tl = NULL;
@@ -8325,12 +8565,16 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
     w.que = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
     w.opn = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
     w.nxt = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-    if (!ord || !sord || !w.so || !w.sv || !w.sec || !w.ins || !w.act || !w.comp || !w.que || !w.opn || !w.nxt) goto done;
+    if (!ord || !sord || !w.so || !w.sv || !w.sec || !w.ins || !w.act || !w.comp || !w.que || !w.opn || !w.nxt)
+        goto done;
     for (i = 0; i < nv; ++i) { ord[i].key = tl[5 * (size_t)i]; ord[i].index = i; }
     pvs__key_index_sort(ord, nv); /* by direction (ties by slot: deterministic) */
     for (g0 = 0; g0 < nv; g0 = g1) {
         for (g1 = g0 + 1; g1 < nv && ord[g1].key - ord[g0].key <= tol_a; ++g1) ;
-        for (i = g0; i < g1; ++i) { sord[i - g0].key = tl[5 * (size_t)ord[i].index + 1]; sord[i - g0].index = ord[i].index; }
+        for (i = g0; i < g1; ++i) {
+            sord[i - g0].key = tl[5 * (size_t)ord[i].index + 1];
+            sord[i - g0].index = ord[i].index;
+        }
         pvs__key_index_sort(sord, g1 - g0); /* then by offset */
         for (c0 = 0; c0 < g1 - g0; c0 = c1) {
             uint32_t nm;
@@ -8374,7 +8618,8 @@ done:
 
 #define PVS__OT25_MAX_UMBRAE 96
 #define PVS__OT25_JD 10 /* doubles of per-occluder data (pvs__ot25_prepare) */
-#define PVS__OT25_TEST_MIN 48 /* kD nodes with fewer item references are not tested (cf. §4.12.1: none below 50 polygons) */
+/* kD nodes with fewer item references are not tested (cf. §4.12.1: none below 50 polygons) */
+#define PVS__OT25_TEST_MIN 48
 
 /* The hidden-height bound (a 2.5D form of the maximum visibility distance, §6.5.5, which alone
    is not valid in 2.5D: occluders are seen over). Every line of an in-leaf crosses each member j
@@ -8488,7 +8733,8 @@ PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
    extreme distances of the cell's corners (clamped at 0: eyes behind j's line do not look over j)
    cover every eye; this is the plane pair pi_o / pi_s of the thesis, taken over the whole cell so
    that one tree per edge serves both kinds of rays. Returns 0 when the umbra is empty. */
-PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0, double *u1) {
+PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0,
+                                double *u1) {
     double hj = jd[6], hn = h - t->eye, lo = -DBL_MAX, hi = DBL_MAX;
     int i;
     /* constraints alpha + beta u > margin; q0, q1: the distances D of e's ends */
@@ -8526,7 +8772,8 @@ PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0
    its shadow's floor when it is taller than the eyes, else 0 (pvs__ot25_bound). */
 PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
     const double *sg = t->seg + 4 * (size_t)j;
-    double *jd = t->jd + PVS__OT25_JD * (size_t)j, dx = sg[2] - sg[0], dy = sg[3] - sg[1], len = sqrt(dx * dx + dy * dy), sa, da, db;
+    double *jd = t->jd + PVS__OT25_JD * (size_t)j, dx = sg[2] - sg[0], dy = sg[3] - sg[1],
+           len = sqrt(dx * dx + dy * dy), sa, da, db;
     double far2 = 0.0;
     int i, k;
     memset(jd, 0, PVS__OT25_JD * sizeof(double));
@@ -8564,7 +8811,8 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
    funnel range [*f0, *f1]. Members that cross `skip_box` (a 2D box, or NULL) or that are not
    clearly in front are ignored (conservative). Returns 0 when nothing is left. */
 PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
-                               const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0, double *v1) {
+                               const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0,
+                               double *v1) {
     double flo = DBL_MAX, fhi = -DBL_MAX;
     double um[PVS__OT25_MAX_UMBRAE][2];
     int i, nu = 0, changed;
@@ -8603,7 +8851,8 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
         /* the umbra first (cheap): one that misses the open funnel range cannot change the answer
            below (it never moves v0 or v1), so the depth order is not needed; one that covers it
            hides e here once j is found in front */
-        if (!pvs__ot25_umbra(t, jd, s0, s1, h, &um[nu][0], &um[nu][1]) || um[nu][1] <= flo || um[nu][0] >= fhi) continue;
+        if (!pvs__ot25_umbra(t, jd, s0, s1, h, &um[nu][0], &um[nu][1]) || um[nu][1] <= flo || um[nu][0] >= fhi)
+            continue;
         if (jd[5]) { /* the whole source edge on one side */
             if (s0 >= -tol && s1 >= -tol) continue;       /* e on the source side: j is behind */
             if (!(s0 < -tol && s1 < -tol)) {               /* e crosses j's line: vertex test */
@@ -8674,11 +8923,13 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
             double f0, f1, v0, v1, cen[3] = {0, 0, 0};
             int i, c;
             if (count >= PVS__OT25_MAX_SEQ) continue; /* a full leaf keeps its members: conservative */
-            if (!pvs__ot25_open(t, q, first, count, k, sk, t->top[k], NULL, &f0, &f1, &v0, &v1)) continue; /* hidden here */
+            if (!pvs__ot25_open(t, q, first, count, k, sk, t->top[k], NULL, &f0, &f1, &v0, &v1))
+                continue; /* hidden here */
             leaf = pvs__ot_refine(t, node, q);
             if (leaf == PVS__OT_NONE) break;
             for (i = 0; i < q->n; ++i) for (c = 0; c < 3; ++c) cen[c] += q->v[i][c];
-            if (count >= PVS__OT25_SPLIT_MIN && v0 > f0 + 1e-9) { /* lines through k before v0 see only the old members */
+            if (count >= PVS__OT25_SPLIT_MIN &&
+                v0 > f0 + 1e-9) { /* lines through k before v0 see only the old members */
                 double x[2];
                 x[0] = sk[0] + v0 * (sk[2] - sk[0]); x[1] = sk[1] + v0 * (sk[3] - sk[1]);
                 /* the primary side (lines crossing k beyond x) has x on the side of k's first end */
@@ -8768,7 +9019,8 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
 
 /* Read-only c-LSS test of a far edge e (height h) of an object box `box` (umin, vmin, umax, vmax):
    1 when some part of it may be seen through the lines of the blocker. */
-PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, const double *e, double h, const double *box) {
+PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, const double *e, double h,
+                                  const double *box) {
     size_t base = t->stack_count;
     /* the hidden-height bound counts every member of a subtree, also those crossing the box that
        pvs__ot25_open ignores (a wall standing on a ground tile would hide the tile's far edge): with
@@ -8780,7 +9032,10 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
         uint32_t node = t->stack_node[t->stack_count - 1];
         const pvs__otnode *nd = t->nodes + node;
         if (PVS__OT25_HIDDEN(t, nd, near, h)) { --t->stack_count; continue; } /* hidden in this subtree */
-        if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) { --t->stack_count; continue; }
+        if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) {
+            --t->stack_count;
+            continue;
+        }
         if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1, near, h); continue; }
         --t->stack_count; /* the polygon stays readable in its slot until the next push */
         if (nd->kind == PVS__OT_OUT) {
@@ -8788,7 +9043,9 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
             pvs__ot25_witness_add(t, PVS__OT_ITEM(t, t->stack_count));
         } else {
             double f0, f1, v0, v1;
-            if (pvs__ot25_open(t, PVS__OT_ITEM(t, t->stack_count), nd->first, nd->count, PVS__OT_NONE, e, h, box, &f0, &f1, &v0, &v1)) vis = 1;
+            if (pvs__ot25_open(t, PVS__OT_ITEM(t, t->stack_count), nd->first, nd->count, PVS__OT_NONE, e, h, box, &f0,
+                               &f1, &v0, &v1))
+                vis = 1;
         }
     }
     t->stack_count = base;
@@ -8797,10 +9054,18 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
 
 /* 1 when some part of box bx (umin, vmin, umax, vmax in local coordinates, top) beyond the source
    edge a -> b may be seen through the tree: its top edges as far segments (§7.7). */
-PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2], int *any_far) {
+PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2],
+                                      int *any_far) {
     double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* the source edge's outward direction */
     int i, vis = 0, far_edge, order[3];
-    c4[0] = bx[0]; c4[1] = bx[1]; c4[2] = bx[2]; c4[3] = bx[1]; c4[4] = bx[2]; c4[5] = bx[3]; c4[6] = bx[0]; c4[7] = bx[3];
+    c4[0] = bx[0];
+    c4[1] = bx[1];
+    c4[2] = bx[2];
+    c4[3] = bx[1];
+    c4[4] = bx[2];
+    c4[5] = bx[3];
+    c4[6] = bx[0];
+    c4[7] = bx[3];
     if (any_far) *any_far = 0;
     if (!any_far && !t->full_tests && pvs__ot25_witnessed(t, bx, a, b)) return 1;
     /* A box taller than the eyes is seen (if at all) along a rising ray, at least as well at the
@@ -8859,7 +9124,8 @@ typedef struct pvs__ot25_sweep {
    it holds at least PVS__OT25_TEST_MIN item references, its box is tested as a virtual occluder (its
    footprint's edges at its top height) and culled when hidden; leaves insert their facades and mark
    their objects for the test after the sweep. */
-PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t item_count) {
+PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
+                                      uint32_t item_count) {
     pvs__ot25_sweep *w = (pvs__ot25_sweep *)user;
     pvs__otree *t = w->t;
     const pvs_visibility_25d_desc *d = w->desc;
@@ -8902,7 +9168,8 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
             ++w->st->occluders_inserted;
         } else if (it - d->facade_count < d->object_count) {
             uint32_t ob = it - d->facade_count;
-            if (w->done[ob] == 0 || (w->done[ob] >= 3 && w->done[ob] != 3 + w->side)) w->done[ob] = (unsigned char)(3 + w->side);
+            if (w->done[ob] == 0 || (w->done[ob] >= 3 && w->done[ob] != 3 + w->side))
+                w->done[ob] = (unsigned char)(3 + w->side);
         }
     }
     return PVS_VISIT_DESCEND;
@@ -8910,7 +9177,8 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 
 /* The approximate occlusion sweep (§3.2) over the kD-tree (pvs__kd_sweep), telling the visitor
    which node it visits (w->node). */
-PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap, pvs__ot25_sweep *w) {
+PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
+                                      pvs__ot25_sweep *w) {
     pvs__kd_sweep(t, source, heap, pvs__ot25_visit, w, &w->node);
 }
 
@@ -8948,27 +9216,32 @@ PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m
     pvs__ot25_presplit(t, neg, m, pts, lo + na, lo + na + nb);
 }
 
-PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
-                                      pvs_box *boxes);
+PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
+                                      uint32_t object_count, pvs_box *boxes);
 
 /* pvs_visibility_25d's argument checks: every error it returns but OUT_OF_MEMORY (in err). */
 PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, const pvs_word *visible_objects,
                                        pvs_error *err) {
     uint32_t nf, no, i;
     if (!desc || !visible_objects || (desc->facade_count && !desc->facades) || (desc->object_count && !desc->objects))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, facades, objects and visible_objects are required");
-    if (desc->flags & ~PVS__VISIBILITY_25D_FULL_TESTS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown 2.5D flags 0x%x", desc->flags);
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
+                         "desc, facades, objects and visible_objects are required");
+    if (desc->flags & ~PVS__VISIBILITY_25D_FULL_TESTS)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown 2.5D flags 0x%x", desc->flags);
     nf = desc->facade_count;
     no = desc->object_count;
-    if ((uint64_t)nf + no >= 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many facades and objects");
+    if ((uint64_t)nf + no >= 0xffffffffu)
+        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many facades and objects");
     for (i = 0; i < 2; ++i)
         if (!pvs__finite(desc->cell_min[i]) || !pvs__finite(desc->cell_max[i]) || desc->cell_min[i] > desc->cell_max[i])
             return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell rectangle is not finite or has min > max");
     if (!pvs__finite(desc->cell_top)) return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "cell_top is not finite");
     for (i = 0; i < 5 * nf; ++i)
-        if (!pvs__finite(desc->facades[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "facade %u is not finite", i / 5);
+        if (!pvs__finite(desc->facades[i]))
+            return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "facade %u is not finite", i / 5);
     for (i = 0; i < 5 * no; ++i)
-        if (!pvs__finite(desc->objects[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "object %u is not finite", i / 5);
+        if (!pvs__finite(desc->objects[i]))
+            return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 5, 0, "object %u is not finite", i / 5);
     return PVS_OK;
 }
 
@@ -9018,7 +9291,8 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
         int q;
         nx /= nl; ny /= nl;
         for (q = 0; q < PVS__OT25_PRESPLIT; ++q) {
-            double th = (-80.0 + 160.0 * (q + 0.5) / PVS__OT25_PRESPLIT) * (3.14159265358979323846 / 180.0), tt = dd * tan(th);
+            double th = (-80.0 + 160.0 * (q + 0.5) / PVS__OT25_PRESPLIT) * (3.14159265358979323846 / 180.0),
+                   tt = dd * tan(th);
             pts[q][0] = m[0] + nx * dd - ny * tt;
             pts[q][1] = m[1] + ny * dd + nx * tt;
         }
@@ -9099,8 +9373,8 @@ PVS__STATIC void pvs__ot25_refs(const pvs_kdtree *tree, uint32_t *refs) {
     }
 }
 
-PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects, pvs_otree_stats *stats,
-                                      pvs_error *err) {
+PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects,
+                                      pvs_otree_stats *stats, pvs_error *err) {
     pvs__otree t;
     pvs_allocator al;
     double cell[8], cx, cy, ext, margin;
@@ -9142,7 +9416,10 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     scratch = pvs__alloc(&al, scratch_size, 16);
     kd_nodes = tree->node_count;
     refs = (uint32_t *)pvs__alloc_array(&al, (size_t)kd_nodes + 1, sizeof(uint32_t));
-    if (!all || !seg || !top || !jd || !box || !done || !state || !scratch || !refs) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays"); goto done; }
+    if (!all || !seg || !top || !jd || !box || !done || !state || !scratch || !refs) {
+        r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays");
+        goto done;
+    }
     memset(state, 0, (size_t)nf + 1);
     cx = 0.5 * ((double)desc->cell_min[0] + desc->cell_max[0]);
     cy = 0.5 * ((double)desc->cell_min[1] + desc->cell_max[1]);
@@ -9199,8 +9476,8 @@ done:
     return r;
 }
 
-PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects, uint32_t object_count,
-                                      pvs_box *boxes) {
+PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
+                                      uint32_t object_count, pvs_box *boxes) {
     uint32_t i;
     float low = FLT_MAX;
     for (i = 0; i < facade_count; ++i) if (facades[5 * i + 4] < low) low = facades[5 * i + 4];
@@ -9334,16 +9611,19 @@ PVS__STATIC double pvs__sv_unit(double v[3]) {
 /* Largest / smallest of n.x over the box [lo, hi] (eye-relative): the corner the signs pick, always
    the same operations, so the value is monotone in the box. */
 PVS__STATIC double pvs__sv_hi(const double n[3], const double lo[3], const double hi[3]) {
-    return (n[0] * (n[0] >= 0.0 ? hi[0] : lo[0]) + n[1] * (n[1] >= 0.0 ? hi[1] : lo[1])) + n[2] * (n[2] >= 0.0 ? hi[2] : lo[2]);
+    return (n[0] * (n[0] >= 0.0 ? hi[0] : lo[0]) + n[1] * (n[1] >= 0.0 ? hi[1] : lo[1])) +
+        n[2] * (n[2] >= 0.0 ? hi[2] : lo[2]);
 }
 PVS__STATIC double pvs__sv_lo(const double n[3], const double lo[3], const double hi[3]) {
-    return (n[0] * (n[0] >= 0.0 ? lo[0] : hi[0]) + n[1] * (n[1] >= 0.0 ? lo[1] : hi[1])) + n[2] * (n[2] >= 0.0 ? lo[2] : hi[2]);
+    return (n[0] * (n[0] >= 0.0 ? lo[0] : hi[0]) + n[1] * (n[1] >= 0.0 ? lo[1] : hi[1])) +
+        n[2] * (n[2] >= 0.0 ? lo[2] : hi[2]);
 }
 
 /* Keeps the part of `in` where n.x + d >= 0. The new edge lies in the plane `en` (a plane through
    the eye; NULL: the plane through the eye and the new edge's end points) with mark `mark`.
    Returns the vertex count (0 = nothing left, -1 = too many vertices). */
-PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d, const double *en, int mark, pvs__svpoly *out) {
+PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d, const double *en, int mark,
+                             pvs__svpoly *out) {
     double s[PVS__SV_MAXV];
     int i, m = 0, any = 0, newedge = -1;
     for (i = 0; i < in->n; ++i) {
@@ -9389,7 +9669,9 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
     return m;
 }
 
-PVS__STATIC int pvs__sv_same(const double a[3], const double b[3]) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
+PVS__STATIC int pvs__sv_same(const double a[3], const double b[3]) {
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
 
 /* Builds the eye-space polygon of an occluder (n world points, planar, convex) with its plane and
    edge planes, clipped to the near plane and the frustum's sides (less occluder: conservative).
@@ -9548,7 +9830,12 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
             fr = pvs__sv_fragment(o, use, plane);
             if (fr == PVS__OT_NONE) { o->info.budget_exceeded = 1; continue; }
             leaf = pvs__sv_refine(o, node, use);
-            if (leaf == PVS__OT_NONE) { o->info.budget_exceeded = 1; --o->frag_count; o->vert_count -= (uint32_t)use->n; continue; }
+            if (leaf == PVS__OT_NONE) {
+                o->info.budget_exceeded = 1;
+                --o->frag_count;
+                o->vert_count -= (uint32_t)use->n;
+                continue;
+            }
             o->nodes[leaf].kind = PVS__OT_IN;
             o->nodes[leaf].frag = fr;
         }
@@ -9559,9 +9846,11 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
    behind the occluder's plane or (unless PLANE_ONLY) separated from the pyramid eye + fragment, the
    only place where a box can be seen through this leaf (exact box / fragment test, "E"); visible
    when wholly in front; partly visible otherwise. */
-PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f, const double lo[3], const double hi[3]) {
+PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f, const double lo[3],
+                                       const double hi[3]) {
     const pvs__svvert *v = o->verts + f->first;
-    double smin = pvs__sv_lo(f->plane, lo, hi) + f->plane[3], smax = pvs__sv_hi(f->plane, lo, hi) + f->plane[3], t = f->tol;
+    double smin = pvs__sv_lo(f->plane, lo, hi) + f->plane[3], smax = pvs__sv_hi(f->plane, lo, hi) + f->plane[3],
+           t = f->tol;
     uint32_t i, j;
     int k;
     if (smax < -t) return PVS__SV_I;
@@ -9670,7 +9959,9 @@ PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 /* ---- occluder selection (§4.5) ---- */
 
 /* Keeps the best max_occluders candidates (pvs__topk_offer: a heap whose root is the weakest kept). */
-PVS__STATIC int pvs__svsel_better(const void *a, const void *b) { return ((const pvs__svsel *)a)->key > ((const pvs__svsel *)b)->key; }
+PVS__STATIC int pvs__svsel_better(const void *a, const void *b) {
+    return ((const pvs__svsel *)a)->key > ((const pvs__svsel *)b)->key;
+}
 PVS__STATIC void pvs__sv_offer(pvs_otree *o, uint32_t k, double key, uint32_t a, uint32_t b) {
     pvs__svsel e;
     e.key = key;
@@ -9688,7 +9979,8 @@ PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float
     } else {
         const pvs_occluder_desc *oc = s->occluders + a;
         if (oc->kind == PVS_OCCLUDER_BOX) {
-            static const uint8_t f[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+            static const uint8_t f[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
+                                            {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
             for (n = 0; n < 4; ++n)
                 for (k = 0; k < 3; ++k) q[n][k] = (f[b][n] >> k) & 1u ? oc->box.max[k] : oc->box.min[k];
         } else {
@@ -9747,7 +10039,8 @@ typedef struct pvs__svboot {
     pvs_otree *o;
     uint32_t k;
 } pvs__svboot;
-PVS__STATIC pvs_visit pvs__sv_boot_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+PVS__STATIC pvs_visit pvs__sv_boot_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
+                                         uint32_t count) {
     pvs__svboot *w = (pvs__svboot *)user;
     uint32_t i;
     (void)node_box;
@@ -9800,7 +10093,8 @@ PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
     const pvs__kdnode *nd = t->nodes + node;
     uint32_t axis = nd->bits & 3u, st = o->kd_vis[node];
     ++o->st.nodes_visited;
-    if ((o->flags & PVS_OTREE_NO_COHERENCE) || axis == PVS__KD_LEAF || st != PVS__SV_P || o->kd_frame[node] + 1 < o->frame) {
+    if ((o->flags & PVS_OTREE_NO_COHERENCE) || axis == PVS__KD_LEAF || st != PVS__SV_P ||
+        o->kd_frame[node] + 1 < o->frame) {
         st = pvs__sv_box_test(o, box);
         ++o->info.node_tests;
         ++o->st.boxes_tested;
@@ -9869,11 +10163,15 @@ PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out,
     pvs_allocator a;
     const pvs_scene *s;
     if (out) *out = NULL;
-    if (!desc || !out || !desc->scene) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, desc->scene and out_otree must not be NULL");
-    if (!pvs__finite(desc->aspect) || desc->aspect < 0.0f) return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "aspect must be finite and >= 0");
-    if (desc->max_occluders > 65536) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_occluders %u is over 65536", desc->max_occluders);
+    if (!desc || !out || !desc->scene)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, desc->scene and out_otree must not be NULL");
+    if (!pvs__finite(desc->aspect) || desc->aspect < 0.0f)
+        return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "aspect must be finite and >= 0");
+    if (desc->max_occluders > 65536)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_occluders %u is over 65536", desc->max_occluders);
     if (desc->node_budget && (desc->node_budget < 64 || desc->node_budget > (1u << 24)))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "node_budget %u is not in 64..2^24", desc->node_budget);
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "node_budget %u is not in 64..2^24",
+                         desc->node_budget);
     s = desc->scene;
     a = desc->allocator;
     o = (pvs_otree *)pvs__alloc(&a, sizeof(*o), 16);
@@ -9907,8 +10205,9 @@ PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out,
     o->obj_flag = (uint8_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, 1);
     o->touched = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, sizeof(uint32_t));
     if (!o->sweep_size) o->sweep_size = 16;
-    if (!o->nodes || !o->frags || !o->verts || !o->stack || !o->stack_node || !o->tstack || !o->sel || !o->prev || !o->sweep ||
-        !o->tri_seen || !o->obj_first || !o->obj_tris || !o->kd_vis || !o->kd_frame || !o->obj_flag || !o->touched) {
+    if (!o->nodes || !o->frags || !o->verts || !o->stack || !o->stack_node || !o->tstack || !o->sel || !o->prev ||
+        !o->sweep || !o->tri_seen || !o->obj_first || !o->obj_tris || !o->kd_vis || !o->kd_frame || !o->obj_flag ||
+        !o->touched) {
         pvs_otree_destroy(o);
         return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree buffers");
     }
@@ -10033,7 +10332,10 @@ PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, c
     if (p->scene_volumes)
         for (i = 0; i < s->occluder_count; ++i) {
             const pvs_occluder_desc *oc = s->occluders + i;
-            uint32_t faces = oc->kind == PVS_OCCLUDER_BOX ? 6u : oc->kind == PVS_OCCLUDER_EXTRUSION ? oc->footprint_count : 0u, f;
+            uint32_t faces = oc->kind == PVS_OCCLUDER_BOX ? 6u
+                : oc->kind == PVS_OCCLUDER_EXTRUSION      ? oc->footprint_count
+                                                          : 0u,
+                     f;
             if (!faces || pvs__box_distance2(&src, s->occluder_boxes + i) > o->lambda * o->lambda) continue;
             for (f = 0; f < faces; ++f) {
                 float q[4][3];
@@ -10089,13 +10391,15 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
     float m[16];
     uint32_t i, nocc = 0;
     pvs_result res;
-    if (!o || !s || !cam || !visible) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree, scene, camera and visible must not be NULL");
-    if (s->object_count > o->max_objects || s->triangle_count > o->max_triangles || s->object_tree->node_count > o->max_kd_nodes ||
-        pvs_kdtree_sweep_scratch_size(s->triangle_tree) > o->sweep_size)
+    if (!o || !s || !cam || !visible)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree, scene, camera and visible must not be NULL");
+    if (s->object_count > o->max_objects || s->triangle_count > o->max_triangles ||
+        s->object_tree->node_count > o->max_kd_nodes || pvs_kdtree_sweep_scratch_size(s->triangle_tree) > o->sweep_size)
         return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "the context was created for a smaller scene");
     res = pvs_camera_matrix(cam, o->aspect, m);
     if (res != PVS_OK) return pvs__fail(err, res, -1, 0, "unusable camera");
-    if (cam->fov_y == 0.0f) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "an orthographic camera: shadow volumes need an eye point");
+    if (cam->fov_y == 0.0f)
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "an orthographic camera: shadow volumes need an eye point");
     memset(&o->info, 0, sizeof(o->info));
     memset(&o->st, 0, sizeof(o->st));
     memset(visible, 0, PVS_BITSET_WORDS(s->object_count) * sizeof(pvs_word));
@@ -10121,7 +10425,9 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
     /* objects: those of visible leaves, and those of partly visible leaves whose own box may be seen */
     for (i = 0; i < o->touched_count; ++i) {
         uint32_t ob = o->touched[i], fl = o->obj_flag[ob];
-        if ((s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) || (p && p->candidates && !pvs_bitset_test(p->candidates, ob))) continue;
+        if ((s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) ||
+            (p && p->candidates && !pvs_bitset_test(p->candidates, ob)))
+            continue;
         if (!(fl & 1u)) {
             ++o->info.object_tests;
             ++o->st.boxes_tested;
@@ -10164,7 +10470,8 @@ typedef struct pvs__otree_bake {
    are sorted by level, and every level k gets a kD-tree over the facades of levels <= k and the
    objects. A cell then runs pvs_visibility_25d once per level that some object needs (one run for a
    scene whose walls all stand on the ground); objects below every level are visible. */
-PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *cells, uint32_t cell_count) {
+PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *cells,
+                                          uint32_t cell_count) {
     int up = s->up_axis == 2 ? 2 : 1, u, v;
     float *fac = NULL, maxc = -FLT_MAX;
     size_t fac_floats = 0;
@@ -10213,7 +10520,14 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
         }
         for (i = 0; i < nc; ++i) { /* ascending */
             for (j = i + 1; j < nc; ++j)
-                if (cand[j] < cand[i]) { float tf = cand[i]; double ta = area[i]; cand[i] = cand[j]; area[i] = area[j]; cand[j] = tf; area[j] = ta; }
+                if (cand[j] < cand[i]) {
+                    float tf = cand[i];
+                    double ta = area[i];
+                    cand[i] = cand[j];
+                    area[i] = area[j];
+                    cand[j] = tf;
+                    area[j] = ta;
+                }
             ot->level[i] = cand[i];
         }
         nl = nc;
@@ -10233,12 +10547,16 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
         const pvs_box *bx = s->object_boxes + i;
         float *o = ot->objects + 5 * (size_t)i;
         o[0] = bx->min[u]; o[1] = bx->min[v]; o[2] = bx->max[u]; o[3] = bx->max[v]; o[4] = bx->max[up];
-        if (bx->min[0] > bx->max[0] || (s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)) { o[0] = 1.0f; o[2] = 0.0f; } /* never visible */
+        if (bx->min[0] > bx->max[0] || (s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)) {
+            o[0] = 1.0f;
+            o[2] = 0.0f;
+        } /* never visible */
     }
     for (k = 0; k < nl; ++k) {
         pvs_kdtree_desc kd;
         uint32_t nk = ot->level_end[k];
-        pvs_box *boxes = (pvs_box *)pvs__alloc_array(&ot->allocator, (size_t)nk + ot->object_count + 1, sizeof(pvs_box));
+        pvs_box *boxes =
+            (pvs_box *)pvs__alloc_array(&ot->allocator, (size_t)nk + ot->object_count + 1, sizeof(pvs_box));
         if (!boxes) goto done;
         pvs_visibility_25d_boxes(ot->facades, nk, ot->objects, ot->object_count, boxes);
         memset(&kd, 0, sizeof(kd));
@@ -10262,8 +10580,8 @@ done:
    the facades of levels <= k; objects below the lowest level are visible. c: the task's cell or,
    with adaptive cells, a part of it. Adds PVS__BAKE_NO_OCCLUDERS and PVS__BAKE_OTREE_BUDGET to
    *flags where they hold. */
-PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *c, uint32_t cell, pvs_word *bits,
-                                        unsigned *flags, pvs_error *err) {
+PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *c, uint32_t cell,
+                                       pvs_word *bits, unsigned *flags, pvs_error *err) {
     pvs_otree_stats st;
     int up = s->up_axis == 2 ? 2 : 1, u, v;
     pvs_visibility_25d_desc d;
@@ -10302,7 +10620,10 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
             if (!own) {
                 own = (float *)pvs__alloc_array(&ot->allocator, (size_t)no * 5 + 5, sizeof(float));
                 part = (pvs_word *)pvs__alloc_array(&ot->allocator, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
-                if (!own || !part) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u objects", cell); break; }
+                if (!own || !part) {
+                    r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u objects", cell);
+                    break;
+                }
             }
             memcpy(own, ot->objects, (size_t)no * 5 * sizeof(float));
             for (i = 0; i < no; ++i)
@@ -10328,7 +10649,6 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
     return PVS_OK;
 }
 
-
 PVS__STATIC void pvs__otree_bake_destroy(const pvs__bake_env *env, void *state) {
     pvs__otree_bake *ot = (pvs__otree_bake *)state;
     uint32_t k;
@@ -10342,11 +10662,13 @@ PVS__STATIC void pvs__otree_bake_destroy(const pvs__bake_env *env, void *state) 
 
 PVS__STATIC pvs_result pvs__otree_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
     if (desc->otree.node_budget && (desc->otree.node_budget < 64 || desc->otree.node_budget > (1u << 24)))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree.node_budget %u is not in 64..2^24", desc->otree.node_budget);
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree.node_budget %u is not in 64..2^24",
+                         desc->otree.node_budget);
     return PVS_OK;
 }
 
-PVS__STATIC pvs_result pvs__otree_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err) {
+PVS__STATIC pvs_result pvs__otree_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
+                                               pvs_error *err) {
     pvs__otree_bake *ot = (pvs__otree_bake *)pvs__alloc(&env->allocator, sizeof(pvs__otree_bake), 16);
     *state = ot;
     if (!ot) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
@@ -10365,16 +10687,23 @@ PVS__STATIC int pvs__otree_bake_applies(const void *state, const char **why) {
     return ot->facade_count != 0;
 }
 
-PVS__STATIC pvs_result pvs__otree_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
-                                            const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err) {
+PVS__STATIC pvs_result pvs__otree_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
+                                            const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+                                            unsigned *flags, pvs_error *err) {
     (void)task;
     (void)candidates;
     return pvs__otree_cell((const pvs__otree_bake *)state, env->scene, box, cell, bits, flags, err);
 }
 
-PVS__STATIC const pvs__bake_method pvs__otree_method = {
-    PVS_METHOD_OTREE, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 2, pvs__otree_bake_check, pvs__otree_bake_prepare,
-    pvs__otree_bake_applies, pvs__otree_bake_cell, NULL, pvs__otree_bake_destroy};
+PVS__STATIC const pvs__bake_method pvs__otree_method = {PVS_METHOD_OTREE,
+                                                        PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT,
+                                                        2,
+                                                        pvs__otree_bake_check,
+                                                        pvs__otree_bake_prepare,
+                                                        pvs__otree_bake_applies,
+                                                        pvs__otree_bake_cell,
+                                                        NULL,
+                                                        pvs__otree_bake_destroy};
 
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
     const pvs__otree_bake *ot = b ? (const pvs__otree_bake *)pvs__bake_method_state(b, PVS_METHOD_OTREE) : NULL;
@@ -10468,7 +10797,8 @@ PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return (s & PVS__VX_SOLID) != 0
 
 /* Triangle / box overlap by the separating axis theorem (Akenine-Moller 2001), in double, with the
    box half sizes `hs` already grown by a margin: rounding errs toward "touched". */
-PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const double *a, const double *b, const double *d) {
+PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const double *a, const double *b,
+                              const double *d) {
     double v[3][3], e[3][3], n[3], p, q, r, lo, hi, rad;
     int i, j;
     for (i = 0; i < 3; ++i) { v[0][i] = a[i] - c[i]; v[1][i] = b[i] - c[i]; v[2][i] = d[i] - c[i]; }
@@ -10554,7 +10884,8 @@ PVS__STATIC int pvs__vx_in_occluder(const pvs_occluder_desc *oc, uint32_t up, co
         pvs__ground_axes(up, &u, &v);
         if (lo[up] < oc->base || hi[up] > oc->top) return 0;
         for (j = 0; j < 4; ++j)
-            if (!pvs__point_in_poly(oc->footprint, oc->footprint_count, j & 1 ? hi[u] : lo[u], j & 2 ? hi[v] : lo[v])) return 0;
+            if (!pvs__point_in_poly(oc->footprint, oc->footprint_count, j & 1 ? hi[u] : lo[u], j & 2 ? hi[v] : lo[v]))
+                return 0;
         for (i = 0; i < oc->footprint_count; ++i) {
             const float *a = oc->footprint + 2 * i, *b = oc->footprint + 2 * ((i + 1) % oc->footprint_count);
             if (pvs__seg_meet(a[0], a[1], b[0], b[1], lo[u], lo[v], hi[u], lo[v]) ||
@@ -10579,7 +10910,8 @@ PVS__STATIC int pvs__obvh_key_cmp(const void *x, const void *y) {
 
 /* Builds a hierarchy over boxes[0 .. count) (those with `keep` set, or all when keep is NULL):
    median splits on the longest axis of the centres, leaves of at most 4. */
-PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *boxes, uint32_t count, const uint8_t *keep, pvs__obvh *h) {
+PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *boxes, uint32_t count,
+                                       const uint8_t *keep, pvs__obvh *h) {
     uint32_t i, n = 0, *stack = NULL, sp = 0;
     pvs__obvh_key *keys = NULL;
     memset(h, 0, sizeof(*h));
@@ -10670,7 +11002,8 @@ PVS__STATIC pvs_result pvs__occluders_hierarchies(pvs_occluders *o) {
     uint32_t i;
     pvs_result r;
     if (!keep) return PVS_ERROR_OUT_OF_MEMORY;
-    for (i = 0; i < s->object_count; ++i) keep[i] = !(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i);
+    for (i = 0; i < s->object_count; ++i)
+        keep[i] = !(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i);
     r = pvs__obvh_build(&o->allocator, s->object_boxes, s->object_count, keep, &o->bvh);
     pvs__free_array(&o->allocator, keep, s->object_count ? s->object_count : 1, 1);
     if (r == PVS_OK) r = pvs__obvh_build(&o->allocator, o->chain_boxes, o->chain_count, NULL, &o->chain_bvh);
@@ -10704,7 +11037,8 @@ PVS_API void pvs_occluders_destroy(pvs_occluders *o) {
 }
 
 /* Voxel index range [*i0, *i1] on axis k of the closed interval [lo, hi] grown by `m` (empty: 1, 0). */
-PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double hi, double m, uint32_t *i0, uint32_t *i1) {
+PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double hi, double m, uint32_t *i0,
+                                uint32_t *i1) {
     double a = floor((lo - m - gr->origin[k]) / gr->h), b = floor((hi + m - gr->origin[k]) / gr->h);
     if (a < 0) a = 0;
     if (b > (double)gr->n[k] - 1) b = (double)gr->n[k] - 1;
@@ -10712,7 +11046,8 @@ PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double
     *i0 = (uint32_t)a;
     *i1 = (uint32_t)b;
 }
-PVS__STATIC void pvs__vx_range(const pvs_occluders *o, int k, double lo, double hi, double m, uint32_t *i0, uint32_t *i1) {
+PVS__STATIC void pvs__vx_range(const pvs_occluders *o, int k, double lo, double hi, double m, uint32_t *i0,
+                               uint32_t *i1) {
     pvs__vx_grange(&o->grid, k, lo, hi, m, i0, i1);
 }
 
@@ -10738,8 +11073,8 @@ PVS__STATIC int pvs__vx_clip_half(const double *in, int n, int k, double c, doub
 
 /* The index range along axis k of the cells [origin + i h, origin + (i + 1) h] grown by g that meet
    the extent of polygon p (n points) on that axis, within [r0, r1]; empty when *i0 > *i1. */
-PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int n, int k, double g, uint32_t r0, uint32_t r1, uint32_t *i0,
-                                    uint32_t *i1) {
+PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int n, int k, double g, uint32_t r0,
+                                    uint32_t r1, uint32_t *i0, uint32_t *i1) {
     double lo = p[k], hi = p[k], a, b;
     int i;
     for (i = 1; i < n; ++i) {
@@ -10766,8 +11101,8 @@ typedef void (*pvs__vx_visit_fn)(void *user, const uint32_t idx[3]);
    quadratic). Candidates only: the caller tests each exactly. The slabs are widened by a thousandth
    of a cell beyond m, far more than the clip's rounding, so every cell an exact test with margin m
    accepts is visited. */
-PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, const int k[3], int dims, double m, const uint32_t r0[3],
-                              const uint32_t r1[3], pvs__vx_visit_fn visit, void *user) {
+PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, const int k[3], int dims, double m,
+                              const uint32_t r0[3], const uint32_t r1[3], pvs__vx_visit_fn visit, void *user) {
     double slab[3 * 8], tmp[3 * 8], row[3 * 8], g = m + 1e-3 * gr->h, h = gr->h;
     uint32_t idx[3], c, c0 = 0, c1 = 0, b, b0, b1, a, a0, a1;
     idx[0] = idx[1] = idx[2] = 0;
@@ -10900,8 +11235,8 @@ PVS__STATIC double pvs__vx_orient(double ax, double ay, double bx, double by, do
    0 when it certainly misses, 1 when it certainly crosses the interior at height *z (the true height
    within *dz), -1 when undecidable (the line passes within rounding of an edge or a vertex, or the
    height is too uncertain): the caller picks another line. */
-PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, int u, int v, int up, double pu, double pv,
-                              double *z, double *dz) {
+PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, int u, int v, int up, double pu,
+                              double pv, double *z, double *dz) {
     const float *p[3];
     double o[3], bd[3], r = 0.0, zlo, zhi, w0, w1, w2;
     int i, pos = 0, neg = 0, unsure = 0;
@@ -11023,7 +11358,8 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
         vk[i].i = i;
     }
     PVS_QSORT(vk, nv, sizeof(pvs__vx_vkey), pvs__vx_vkey_cmp);
-    for (i = 0; i < nv; ++i) canon[vk[i].i] = i > 0 && !pvs__vx_vkey_cmp_pos(vk + i - 1, vk + i) ? canon[vk[i - 1].i] : i;
+    for (i = 0; i < nv; ++i)
+        canon[vk[i].i] = i > 0 && !pvs__vx_vkey_cmp_pos(vk + i - 1, vk + i) ? canon[vk[i - 1].i] : i;
     for (i = 0; i < nt; ++i) {
         parent[i] = i;
         if (pvs__vx_flat_on_ground(s, i, g)) { parent[i] = 0xffffffffu; continue; }
@@ -11158,8 +11494,10 @@ PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp,
         for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1] && ok; ++t) {
             uint32_t tri = tp->tris[t];
             double z, dz;
-            int r = pvs__vx_cross(s->positions + 3 * (size_t)s->indices[3 * (size_t)tri], s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 1],
-                                  s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2], u, v, (int)up, pu, pv, &z, &dz);
+            int r = pvs__vx_cross(s->positions + 3 * (size_t)s->indices[3 * (size_t)tri],
+                                  s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 1],
+                                  s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2], u, v, (int)up, pu, pv, &z,
+                                  &dz);
             if (r < 0 || (r == 1 && pvs__dabs(z - z0) <= dz)) ok = 0;
             else if (r == 1 && z > z0) w ^= 1;
         }
@@ -11171,8 +11509,9 @@ PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp,
 /* A cell's sources in the flood of a component (box lo..hi of grid gr, strides of fl->bits): w = wc
    for the cell's voxels, every node where wc < 0. test = 0 pushes them; test = 1 pushes nothing and
    returns 1 when one of them is already reached. */
-PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const uint32_t lo[3], const uint32_t hi[3], const size_t stride[3],
-                             double m, int wc, uint8_t *bits, uint32_t *queue, size_t *qt, int test) {
+PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const uint32_t lo[3], const uint32_t hi[3],
+                             const size_t stride[3], double m, int wc, uint8_t *bits, uint32_t *queue, size_t *qt,
+                             int test) {
     uint32_t r0[3], r1[3], a, b, c;
     int kk;
     for (kk = 0; kk < 3; ++kk) {
@@ -11203,8 +11542,8 @@ PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const ui
 /* The flood over the nodes of a component's box (see the argument above) from the queue's nodes,
    entering from the outside when ext is 1 (or when the flood reaches a face of the box with a node
    that joins the outside). Returns 0 when the outside was never entered. */
-PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io, size_t *qt_io, const uint32_t d[3], const size_t stride[3],
-                                  const uint32_t lo[3], uint32_t up, int ext) {
+PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io, size_t *qt_io, const uint32_t d[3],
+                                  const size_t stride[3], const uint32_t lo[3], uint32_t up, int ext) {
     size_t qh = *qh_io, qt = *qt_io;
     uint32_t i, j, k;
     for (;;) {
@@ -11285,7 +11624,8 @@ PVS__STATIC void pvs__vx_touch_visit(void *user, const uint32_t idx[3]) {
 PVS__STATIC void pvs__vx_tri_points(const pvs_scene *s, uint32_t tri, double p[3][3]) {
     int e, kk;
     for (e = 0; e < 3; ++e)
-        for (kk = 0; kk < 3; ++kk) p[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (size_t)e] + (size_t)kk];
+        for (kk = 0; kk < 3; ++kk)
+            p[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (size_t)e] + (size_t)kk];
 }
 
 /* Steps 2 and 3 of a component's flood, one column of its box at a time (pvs__vx_scan's visitors). */
@@ -11327,7 +11667,8 @@ PVS__STATIC void pvs__vx_sheet_visit(void *user, const uint32_t at[3]) {
     idx[u] = a; idx[v] = b;
     for (c = cv->lo[up]; c <= top; ++c) {
         idx[up] = c;
-        cv->bits[(idx[0] - cv->lo[0]) + cv->stride[1] * (idx[1] - cv->lo[1]) + cv->stride[2] * (idx[2] - cv->lo[2])] |= PVS__G_B;
+        cv->bits[(idx[0] - cv->lo[0]) + cv->stride[1] * (idx[1] - cv->lo[1]) + cv->stride[2] * (idx[2] - cv->lo[2])] |=
+            PVS__G_B;
     }
 }
 
@@ -11339,13 +11680,15 @@ PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
     size_t ci = (a - cv->lo[u]) + (size_t)cv->d[u] * (b - cv->lo[v]);
     double z, dz, h = cv->gr->h;
     if (cv->col[ci] != cv->pass) return;
-    r = pvs__vx_cross(cv->tri[0], cv->tri[1], cv->tri[2], u, v, up, cv->gr->origin[u] + (a + pvs__vx_line_u[cv->pass]) * h,
+    r = pvs__vx_cross(cv->tri[0], cv->tri[1], cv->tri[2], u, v, up,
+                      cv->gr->origin[u] + (a + pvs__vx_line_u[cv->pass]) * h,
                       cv->gr->origin[v] + (b + pvs__vx_line_v[cv->pass]) * h, &z, &dz);
     if (r == 1 && dz >= 0.5 * cv->m) r = -1;
     if (r < 0) cv->col[ci] |= 0x80;
     if (r == 1) {
         idx[u] = a - cv->lo[u]; idx[v] = b - cv->lo[v];
-        idx[up] = (uint32_t)pvs__clampi(floor((z - cv->gr->origin[up]) / h) - (double)cv->lo[up], 0, (int32_t)cv->d[up] - 1);
+        idx[up] =
+            (uint32_t)pvs__clampi(floor((z - cv->gr->origin[up]) / h) - (double)cv->lo[up], 0, (int32_t)cv->d[up] - 1);
         cv->bits[idx[0] + cv->stride[1] * idx[1] + cv->stride[2] * idx[2]] ^= PVS__G_F;
     }
 }
@@ -11499,7 +11842,8 @@ PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box
    node) when the cell, grown by m, meets a triangle of K. Else the w of a cell clear of K: 0 when
    (grown by m) it reaches out of the box above the ground (out_w0; w = 0 there), else that of a pure
    voxel it overlaps by more than m, else a ray of its own (pvs__vx_point_parity). */
-PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, const uint32_t r0[3], const uint32_t r1[3], int out_w0) {
+PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, const uint32_t r0[3],
+                                     const uint32_t r1[3], int out_w0) {
     const uint8_t *bits = fb->fl->bits;
     const uint32_t *lo = fb->lo, *hi = fb->hi;
     const size_t *stride = fb->stride;
@@ -11508,7 +11852,8 @@ PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, 
     for (c = r0[2]; c <= r1[2] && !maybe; ++c)
         for (b = r0[1]; b <= r1[1] && !maybe; ++b)
             for (a = r0[0]; a <= r1[0] && !maybe; ++a)
-                maybe = (bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])] & (PVS__G_T | PVS__G_B)) != 0;
+                maybe = (bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])] &
+                         (PVS__G_T | PVS__G_B)) != 0;
     if (maybe) touches = pvs__vx_flood_cell_touches(fb, cb); /* does the cell, grown by m, meet a triangle of K? */
     if (!touches && out_w0) wc = 0;
     if (!touches && !out_w0) {
@@ -11596,12 +11941,14 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
     fl->stamp_next += 2;
     stamp = fl->stamp_next - 1; /* stamp: looked at for this component, stamp + 1: meets its box */
     nnear = pvs__vx_flood_near(fb, stamp);
-    if (!fl->keep_leaks && nnear && 2 * (active - nnear) < active) { /* mostly inside: which cells does the outside reach? */
+    if (!fl->keep_leaks && nnear &&
+        2 * (active - nnear) < active) { /* mostly inside: which cells does the outside reach? */
         pvs__vx_flood_run(bits, queue, &qh, &qt, fb->d, fb->stride, fb->lo, fb->up, 1);
         nout = active - nnear;
         for (q = 0; q < nnear; ++q) {
             if (!fl->near_flag[q] &&
-                pvs__vx_seed(fb->gr, fl->cells + fl->near_cells[q], fb->lo, fb->hi, fb->stride, fb->m, fl->near_w[q], bits, queue, &qt, 1))
+                pvs__vx_seed(fb->gr, fl->cells + fl->near_cells[q], fb->lo, fb->hi, fb->stride, fb->m, fl->near_w[q],
+                             bits, queue, &qt, 1))
                 fl->near_flag[q] = 2;
             nout += fl->near_flag[q] != 0;
         }
@@ -11619,7 +11966,8 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
     for (q = 0; q < nnear; ++q) {
         if (excl && fl->near_flag[q]) continue;
         if (fl->near_flag[q] & 1) ext = 1;
-        pvs__vx_seed(fb->gr, fl->cells + fl->near_cells[q], fb->lo, fb->hi, fb->stride, fb->m, fl->near_w[q], bits, queue, &qt, 0);
+        pvs__vx_seed(fb->gr, fl->cells + fl->near_cells[q], fb->lo, fb->hi, fb->stride, fb->m, fl->near_w[q], bits,
+                     queue, &qt, 0);
     }
     if (!excl && nnear < active) ext = 1;
     *qh_io = qh;
@@ -11632,7 +11980,8 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
    and the reached nodes; returns 0 when the outside of the box was never entered. With
    mark_touched (gr is the occluders' own grid) it also sets PVS__VX_TOUCHED on the grid. */
 PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
-                                        const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl, int mark_touched) {
+                                        const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl,
+                                        int mark_touched) {
     pvs__vx_fbox fb;
     size_t qh = 0, qt = 0;
     uint32_t k;
@@ -11731,7 +12080,8 @@ PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, i
         int m = 0;
         for (i = 0; i < n; ++i) {
             const double *c = a[i], *d = a[(i + 1) % n];
-            double fc = lim[side] - (nu[side] * c[u] + nv[side] * c[v]), fd = lim[side] - (nu[side] * d[u] + nv[side] * d[v]);
+            double fc = lim[side] - (nu[side] * c[u] + nv[side] * c[v]),
+                   fd = lim[side] - (nu[side] * d[u] + nv[side] * d[v]);
             if (fc >= 0.0) { for (k = 0; k < 3; ++k) b[m][k] = c[k]; ++m; }
             if ((fc >= 0.0) != (fd >= 0.0)) {
                 double t = fc / (fc - fd);
@@ -11777,8 +12127,11 @@ PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
     if (!tv->sloped) return;
     tv->gu = n[u] / n[up];
     tv->gv = n[v] / n[up];
-    tv->slack = 1e-9 * (pvs__dabs(a[up]) + pvs__dabs(b[up]) + pvs__dabs(c[up]) + (pvs__dabs(tv->gu) + pvs__dabs(tv->gv)) *
-                        (pvs__dabs(a[u]) + pvs__dabs(a[v]) + pvs__dabs(b[u]) + pvs__dabs(b[v]) + pvs__dabs(c[u]) + pvs__dabs(c[v]) + 1.0));
+    tv->slack = 1e-9 *
+        (pvs__dabs(a[up]) + pvs__dabs(b[up]) + pvs__dabs(c[up]) +
+         (pvs__dabs(tv->gu) + pvs__dabs(tv->gv)) *
+             (pvs__dabs(a[u]) + pvs__dabs(a[v]) + pvs__dabs(b[u]) + pvs__dabs(b[v]) + pvs__dabs(c[u]) +
+              pvs__dabs(c[v]) + 1.0));
 }
 PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
     const pvs__vx_tminvisit *tv = (const pvs__vx_tminvisit *)user;
@@ -11789,7 +12142,8 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
     /* the square grown by the octagon around the disc of radius e: holds every point within e */
     lim[0] = -(x0 - e); lim[1] = x1 + e; lim[2] = -(y0 - e); lim[3] = y1 + e;
     lim[4] = -(x0 + y0 - ed); lim[5] = x1 + y1 + ed; lim[6] = -(x0 - y1 - ed); lim[7] = x1 - y0 + ed;
-    z = tv->zlo; /* a lower bound of the clip's height: its lowest corner, or its plane's lowest over the grown square */
+    z = tv->zlo; /* a lower bound of the clip's height: its lowest corner, or its plane's lowest over the grown square
+                  */
     if (tv->sloped) {
         double zp = tv->p[0][tv->up] - tv->gu * ((tv->gu > 0.0 ? x0 - e : x1 + e) - tv->p[0][tv->u]) -
                     tv->gv * ((tv->gv > 0.0 ? y0 - e : y1 + e) - tv->p[0][tv->v]);
@@ -11803,8 +12157,9 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
 /* The least height of component K's triangles near each square of the column map's range sq0..sq1
    (on its u and v axes; 0 on up): tmin, row-major over the range, FLT_MAX where no triangle comes
    within e (each triangle clipped to the squares grown by e: pvs__vx_tmin_visit). */
-PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t sq0[3],
-                                      const uint32_t sq1[3], double e, double margin, float *tmin) {
+PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
+                                      const uint32_t sq0[3], const uint32_t sq1[3], double e, double margin,
+                                      float *tmin) {
     const pvs__vx_cols *cm = &o->cols;
     pvs__vx_tminvisit tv;
     uint32_t up = o->scene->up_axis, t;
@@ -11836,9 +12191,9 @@ PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo
 
 /* The column map's pass over one component: flood on its own grid, runs standing on the ground, the
    squares' solid and occluder heights. Returns OUT_OF_MEMORY or PVS_OK. */
-PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const pvs__vx_grid *gk,
-                                                 const uint32_t lo[3], const uint32_t hi[3], double m, double eps, double margin,
-                                                 pvs__vx_flood *fl) {
+PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
+                                                 const pvs__vx_grid *gk, const uint32_t lo[3], const uint32_t hi[3],
+                                                 double m, double eps, double margin, pvs__vx_flood *fl) {
     uint32_t sq0[3], sq1[3];
     const pvs_scene *s = o->scene;
     pvs__vx_cols *cm = &o->cols;
@@ -11885,7 +12240,8 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
     for (b = sv0; b <= sv1; ++b)
         for (a = su0; a <= su1; ++a) {
             size_t x = (size_t)b * cm->nu + a, xs = (size_t)(b - sv0) * (su1 - su0 + 1) + (a - su0);
-            double x0 = cm->grid.origin[u] + a * cm->grid.h, y0 = cm->grid.origin[v] + b * cm->grid.h, hsub = DBL_MAX, top;
+            double x0 = cm->grid.origin[u] + a * cm->grid.h, y0 = cm->grid.origin[v] + b * cm->grid.h, hsub = DBL_MAX,
+                   top;
             uint32_t c0, c1, r0, r1, cc, rr;
             /* the voxel columns the square overlaps (genuinely: a hair inside it) */
             pvs__vx_grange(gk, u, x0, x0 + cm->grid.h, -1e-9 * cm->grid.h, &c0, &c1);
@@ -11950,11 +12306,14 @@ PVS__STATIC int64_t pvs__vx_orient_i(const int32_t *a, const int32_t *b, const i
 }
 /* 1 if closed segments p-q and r-t meet (exact, integer points). */
 PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int32_t *r, const int32_t *t) {
-    int64_t d1 = pvs__vx_orient_i(p, q, r), d2 = pvs__vx_orient_i(p, q, t), d3 = pvs__vx_orient_i(r, t, p), d4 = pvs__vx_orient_i(r, t, q);
+    int64_t d1 = pvs__vx_orient_i(p, q, r), d2 = pvs__vx_orient_i(p, q, t), d3 = pvs__vx_orient_i(r, t, p),
+            d4 = pvs__vx_orient_i(r, t, q);
     if (((d1 > 0 && d2 > 0) || (d1 < 0 && d2 < 0)) || ((d3 > 0 && d4 > 0) || (d3 < 0 && d4 < 0))) return 0;
     if (d1 == 0 && d2 == 0) /* collinear: do the projections overlap? */
-        return (p[0] < q[0] ? p[0] : q[0]) <= (r[0] > t[0] ? r[0] : t[0]) && (r[0] < t[0] ? r[0] : t[0]) <= (p[0] > q[0] ? p[0] : q[0]) &&
-               (p[1] < q[1] ? p[1] : q[1]) <= (r[1] > t[1] ? r[1] : t[1]) && (r[1] < t[1] ? r[1] : t[1]) <= (p[1] > q[1] ? p[1] : q[1]);
+        return (p[0] < q[0] ? p[0] : q[0]) <= (r[0] > t[0] ? r[0] : t[0]) &&
+            (r[0] < t[0] ? r[0] : t[0]) <= (p[0] > q[0] ? p[0] : q[0]) &&
+            (p[1] < q[1] ? p[1] : q[1]) <= (r[1] > t[1] ? r[1] : t[1]) &&
+            (r[1] < t[1] ? r[1] : t[1]) <= (p[1] > q[1] ? p[1] : q[1]);
     return 1;
 }
 
@@ -11972,7 +12331,8 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
     /* start at a point that must stay: the lowest-leftmost is a convex corner */
     start = 0;
     for (k = 1; k < n; ++k)
-        if (pt[2 * k + 1] < pt[2 * start + 1] || (pt[2 * k + 1] == pt[2 * start + 1] && pt[2 * k] < pt[2 * start])) start = k;
+        if (pt[2 * k + 1] < pt[2 * start + 1] || (pt[2 * k + 1] == pt[2 * start + 1] && pt[2 * k] < pt[2 * start]))
+            start = k;
     out = pt + 2 * n; /* scratch: n more points after the loop */
     while (i < n) {
         uint32_t best = i + 1;
@@ -12017,8 +12377,9 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
    boundaries) closed chains, clockwise loops (holes) open chains that come back to their first point
    (two-sided: the inside of a hole is not solid). `used`: 4 (w + 1) (h + 1) bytes of scratch; `ip`,
    `ipcap`: a growable integer point buffer. Returns 0 when out of memory. */
-PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w, uint32_t h, double ox,
-                              double oy, double c, float base, float top, uint8_t *used, int32_t **ip, size_t *ipcap) {
+PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w,
+                              uint32_t h, double ox, double oy, double c, float base, float top, uint8_t *used,
+                              int32_t **ip, size_t *ipcap) {
     /* direction d: 0 +i, 1 +j, 2 -i, 3 -j; the squares left and right of an edge leaving vertex (x, y) */
     static const int di[4] = {1, 0, -1, 0}, dj[4] = {0, 1, 0, -1};
     static const int lqi[4] = {0, -1, -1, 0}, lqj[4] = {0, 0, -1, -1}, rqi[4] = {0, 0, -1, -1}, rqj[4] = {-1, 0, 0, -1};
@@ -12027,7 +12388,8 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
     static const int ni[4] = {0, 1, 0, -1}, nj[4] = {-1, 0, 1, 0}, v0i[4] = {0, 1, 1, 0}, v0j[4] = {0, 0, 1, 1};
     uint32_t i, j;
     memset(used, 0, (size_t)(w + 1) * (h + 1) * 4);
-#define PVS__IN(x, y) ((x) >= 0 && (y) >= 0 && (uint32_t)(x) < w && (uint32_t)(y) < h && mask[(size_t)(y) * w + (uint32_t)(x)])
+#define PVS__IN(x, y) \
+    ((x) >= 0 && (y) >= 0 && (uint32_t)(x) < w && (uint32_t)(y) < h && mask[(size_t)(y)*w + (uint32_t)(x)])
     for (j = 0; j < h; ++j)
         for (i = 0; i < w; ++i) {
             int side;
@@ -12055,7 +12417,9 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
                     vy = (uint32_t)((int)vy + dj[d]);
                     for (turn = 0; turn < 3 && nd < 0; ++turn) { /* left, straight, right */
                         int cand = turn == 0 ? (d + 1) & 3 : turn == 1 ? d : (d + 3) & 3;
-                        if (PVS__IN((int)vx + lqi[cand], (int)vy + lqj[cand]) && !PVS__IN((int)vx + rqi[cand], (int)vy + rqj[cand])) nd = cand;
+                        if (PVS__IN((int)vx + lqi[cand], (int)vy + lqj[cand]) &&
+                            !PVS__IN((int)vx + rqi[cand], (int)vy + rqj[cand]))
+                            nd = cand;
                     }
                     if (nd < 0) return 0; /* not a boundary: cannot happen */
                     d = nd;
@@ -12078,7 +12442,8 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
                 }
                 if (kept < 3 || area2 == 0) continue;
                 first = cb->npts;
-                if (!pvs__vx_grow(al, (void **)&cb->points, &cb->cap_pts, cb->npts + kept + 1, 2 * sizeof(float))) return 0;
+                if (!pvs__vx_grow(al, (void **)&cb->points, &cb->cap_pts, cb->npts + kept + 1, 2 * sizeof(float)))
+                    return 0;
                 pt = cb->points + 2 * first;
                 for (q = 0; q <= kept; ++q) {
                     if (q == kept && area2 > 0) break; /* only a hole repeats its first point */
@@ -12108,7 +12473,7 @@ typedef struct pvs__vx_chainwork {
     pvs_occluders *o;
     uint32_t *label, *queue, *members; /* per square of the map */
     float *lev;                        /* the region's levels */
-    uint8_t *mask, *inl, *used;        /* per square of the frame: the sub-region, at or above the level; pvs__vx_trace's */
+    uint8_t *mask, *inl, *used; /* per square of the frame: the sub-region, at or above the level; pvs__vx_trace's */
     uint32_t *sub;                     /* per square of the frame: its sub-region */
     int32_t *ipts;                     /* pvs__vx_trace's points */
     size_t cap, mcap, ucap, lcap, scap, ipcap;
@@ -12187,8 +12552,10 @@ PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) 
             }
         }
         ++nsub;
-        if (exact && !pvs__vx_trace(&w->o->allocator, &w->cb, mask, bw, bh, cm->grid.origin[u] + ((double)i0 - 1.0) * cm->grid.h,
-                                    cm->grid.origin[v] + ((double)j0 - 1.0) * cm->grid.h, cm->grid.h, (float)g, L, w->used, &w->ipts, &w->ipcap))
+        if (exact &&
+            !pvs__vx_trace(&w->o->allocator, &w->cb, mask, bw, bh, cm->grid.origin[u] + ((double)i0 - 1.0) * cm->grid.h,
+                           cm->grid.origin[v] + ((double)j0 - 1.0) * cm->grid.h, cm->grid.h, (float)g, L, w->used,
+                           &w->ipts, &w->ipcap))
             return 0;
     }
     return 1;
@@ -12206,7 +12573,8 @@ PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
     PVS_QSORT(w->lev, nm, sizeof(float), pvs__vx_float_cmp);
     for (k = 0; k < nm; ++k)
         if (k == 0 || w->lev[k] != w->lev[nl - 1]) w->lev[nl++] = w->lev[k];
-    if (!pvs__vx_grow(al, (void **)&w->mask, &w->mcap, (size_t)bw * bh, 1) || !pvs__vx_grow(al, (void **)&w->inl, &w->scap, (size_t)bw * bh, 1) ||
+    if (!pvs__vx_grow(al, (void **)&w->mask, &w->mcap, (size_t)bw * bh, 1) ||
+        !pvs__vx_grow(al, (void **)&w->inl, &w->scap, (size_t)bw * bh, 1) ||
         !pvs__vx_grow(al, (void **)&w->sub, &w->ucap, (size_t)bw * bh, sizeof(uint32_t)) ||
         !pvs__vx_grow(al, (void **)&w->used, &w->cap, (size_t)(bw + 1) * (bh + 1) * 4, 1))
         return 0;
@@ -12250,10 +12618,10 @@ PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_
     return PVS_OK;
 }
 
-/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground: per 4-connected region of squares at or above a level that some
-   square of the region has, the region's boundary at that level (a level-set tree: a block of
-   buildings of several heights is one chain at its lowest height plus one per taller part, so no
-   crack opens where two heights meet). Quantum: a quarter of the square size. */
+/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground: per 4-connected
+   region of squares at or above a level that some square of the region has, the region's boundary at that level (a
+   level-set tree: a block of buildings of several heights is one chain at its lowest height plus one per taller part,
+   so no crack opens where two heights meet). Quantum: a quarter of the square size. */
 PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
     pvs__vx_cols *cm = &o->cols;
     const pvs_allocator *al = &o->allocator;
@@ -12344,8 +12712,8 @@ PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
    every building at PVS__VX_BOX_BUDGET voxels. The generator's city holds 30M voxels at its eps. */
 #define PVS__VX_TOTAL_BUDGET (1u << 26)
 #define PVS__VX_COMPONENT_SHARE (1u << 16)
-PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx_topo *tp, const pvs_allocator *al, double eps, double m,
-                                               double *out) {
+PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx_topo *tp, const pvs_allocator *al,
+                                               double eps, double m, double *out) {
     double h = eps, budget = (double)PVS__VX_TOTAL_BUDGET, total, *ext;
     uint32_t comp, t, q, k, n = 0;
     *out = eps;
@@ -12384,8 +12752,8 @@ PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx
 
 /* The column map and its chains: every component of three triangles or more flooded again on its own
    grid of voxel size eps (grown when the boxes would exceed the budgets: pvs__vx_component_voxel). */
-PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps, double m,
-                                       pvs__vx_flood *fl) {
+PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps,
+                                       double m, pvs__vx_flood *fl) {
     const pvs_scene *s = o->scene;
     const pvs_allocator *al = &o->allocator;
     pvs__vx_cols *cm = &o->cols;
@@ -12510,7 +12878,8 @@ PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
     pvs__free_array(a, fl->bucket_cells, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
     pvs__free_array(a, fl->stamp, cells, sizeof(uint32_t));
     pvs__free_array(a, fl->cellbuf, cells, 7);
-    if (fl->queue && fl->queue != b->queue) pvs__free_array(a, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
+    if (fl->queue && fl->queue != b->queue)
+        pvs__free_array(a, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
     pvs__free_array(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
     pvs__free_array(a, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
     pvs__free_array(a, b->cbox, (size_t)(b->tp.comp_count ? b->tp.comp_count : 1) * 6, sizeof(uint32_t));
@@ -12630,7 +12999,8 @@ PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
         if (bpass) {
             for (vi = 0; vi < nbuckets; ++vi) fl->bucket_first[vi + 1] += fl->bucket_first[vi];
             b->bucket_entries = fl->bucket_first[nbuckets];
-            fl->bucket_cells = (uint32_t *)pvs__alloc_array(a, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
+            fl->bucket_cells =
+                (uint32_t *)pvs__alloc_array(a, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
             if (!fl->bucket_cells) return PVS_ERROR_OUT_OF_MEMORY;
         }
         for (c = 0; c < d->cell_count; ++c) {
@@ -12646,7 +13016,8 @@ PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
                 }
         }
     }
-    for (vi = 0; vi < nbuckets; ++vi) fl->bucket_first[vi] = fl->bucket_first[vi + 1]; /* the fill moved each end to its start */
+    for (vi = 0; vi < nbuckets; ++vi)
+        fl->bucket_first[vi] = fl->bucket_first[vi + 1]; /* the fill moved each end to its start */
     fl->bucket_first[nbuckets] = b->bucket_entries;
     return PVS_OK;
 }
@@ -12766,7 +13137,8 @@ PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
                     lo[0] = o->origin[0] + i * h; hi[0] = lo[0] + h;
                     lo[1] = o->origin[1] + j * h; hi[1] = lo[1] + h;
                     lo[2] = o->origin[2] + k * h; hi[2] = lo[2] + h;
-                    if (pvs__vx_in_occluder(s->occluders + c, up, lo, hi)) o->state[x] |= PVS__VX_EXPLICIT | PVS__VX_SOLID;
+                    if (pvs__vx_in_occluder(s->occluders + c, up, lo, hi))
+                        o->state[x] |= PVS__VX_EXPLICIT | PVS__VX_SOLID;
                 }
     }
 }
@@ -12942,10 +13314,13 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     if (!d || !out || !d->scene || !d->cells || !d->cell_count)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene, cells and out must be given");
     if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and > 0, voxel_size finite and >= 0");
-    if (d->flags & ~PVS_OCCLUDERS_KEEP_LEAKS) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown occluders flags 0x%x", d->flags);
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
+                         "eps must be finite and > 0, voxel_size finite and >= 0");
+    if (d->flags & ~PVS_OCCLUDERS_KEEP_LEAKS)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown occluders flags 0x%x", d->flags);
     for (c = 0; c < d->cell_count; ++c)
-        if (!pvs__box_valid(d->cells + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "cell %u is not a valid box", c);
+        if (!pvs__box_valid(d->cells + c))
+            return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "cell %u is not a valid box", c);
     b.d = d;
     b.s = d->scene;
     b.a = d->allocator;
@@ -13399,7 +13774,8 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
                 uint32_t steps = (uint32_t)(4.0 * len / cs) + 1, t, last = 0xffffffffu;
                 for (t = 0; t <= steps; ++t) {
                     double u = (double)t / steps;
-                    uint32_t bx = (uint32_t)((sg[0] + u * (sg[2] - sg[0]) - p->g0[0]) / cs), by = (uint32_t)((sg[1] + u * (sg[3] - sg[1]) - p->g0[1]) / cs), at;
+                    uint32_t bx = (uint32_t)((sg[0] + u * (sg[2] - sg[0]) - p->g0[0]) / cs),
+                             by = (uint32_t)((sg[1] + u * (sg[3] - sg[1]) - p->g0[1]) / cs), at;
                     if (bx >= p->gw) bx = p->gw - 1;
                     if (by >= p->gh) by = p->gh - 1;
                     at = by * p->gw + bx;
@@ -13434,7 +13810,8 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 /* Builds the prepared occluders from segments (4 doubles each, ground coordinates) with their
    heights: vertex ids by exact coordinates, wall loops (components whose every vertex joins
    exactly two segments), loop hulls, objects and the grid. Zero-length segments are dropped. */
-PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *seg, const float *top, uint32_t n, pvs__vprep **out) {
+PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *seg, const float *top, uint32_t n,
+                                         pvs__vprep **out) {
     pvs__vprep *p;
     pvs__vprep_scratch w;
     uint32_t i, m = 0;
@@ -13468,9 +13845,9 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
     w.uf = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
     w.idx = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
     w.hidx = (uint32_t *)pvs__alloc_array(al, 2 * (size_t)m + 2, sizeof(uint32_t));
-    if (!p->seg || !p->seg_top || !p->seg_vid || !p->seg_loop || !p->loop_start || !p->ring_seg || !p->ring_pt || !p->hull_start ||
-        !p->hull_pt || !p->hull_vid || !p->loop_top || !p->loop_bb || !p->obj_ref || !p->obj_bb || !p->obj_top || !w.keys || !w.deg ||
-        !w.adj || !w.uf || !w.idx || !w.hidx)
+    if (!p->seg || !p->seg_top || !p->seg_vid || !p->seg_loop || !p->loop_start || !p->ring_seg || !p->ring_pt ||
+        !p->hull_start || !p->hull_pt || !p->hull_vid || !p->loop_top || !p->loop_bb || !p->obj_ref || !p->obj_bb ||
+        !p->obj_top || !w.keys || !w.deg || !w.adj || !w.uf || !w.idx || !w.hidx)
         goto done;
     for (i = 0, m = 0; i < n; ++i) {
         if (seg[4 * i] == seg[4 * i + 2] && seg[4 * i + 1] == seg[4 * i + 3]) continue;
@@ -13600,8 +13977,8 @@ PVS__STATIC void pvs__vctx_free(pvs__vctx *c) {
 }
 
 /* Sets up the frame of a cell (ground rectangle, world coordinates) over prepared occluders. */
-PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs__vprep *p, const double cmin[2], const double cmax[2],
-                               double range) {
+PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs__vprep *p, const double cmin[2],
+                               const double cmax[2], double range) {
     int k;
     double ext = 1.0;
     memset(c, 0, sizeof(*c));
@@ -13783,7 +14160,8 @@ PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x)
 PVS__STATIC double pvs__vo_ray_obj(const pvs__vctx *c, const pvs__vobj *o, const double *x, const double *w) {
     const double *v = c->vx + 2 * (size_t)o->first;
     if (o->n == 2) {
-        double ex = v[2] - v[0], ey = v[3] - v[1], den = w[0] * ey - w[1] * ex, qx = v[0] - x[0], qy = v[1] - x[1], s, u;
+        double ex = v[2] - v[0], ey = v[3] - v[1], den = w[0] * ey - w[1] * ex, qx = v[0] - x[0], qy = v[1] - x[1], s,
+               u;
         if (den == 0.0) return -1.0;
         s = (qx * ey - qy * ex) / den;
         u = (qx * w[1] - qy * w[0]) / den;
@@ -13890,7 +14268,8 @@ PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fa
    the fan it covers before the cell, decided along one ray (two disjoint convex sets seen from x
    never swap order), one interval or two when it spans the back direction. Returns 1 when x lies
    inside o's wall loop (then x is hidden). */
-PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double *x, const pvs__vo_fan *fn, uint32_t *ns) {
+PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double *x, const pvs__vo_fan *fn,
+                                  uint32_t *ns) {
     const double *v = c->vx + 2 * (size_t)o->first, *cl = fn->cl, *ch = fn->ch, *f = fn->f;
     double plo, phi, sp[2][2], tol = c->tol, len;
     uint32_t lo = 0, hi = 0, j, pieces;
@@ -13903,9 +14282,11 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
         /* cross(x, q, p) = e0 p1 - e1 p0 - e0 x1 + e1 x0 with e = q - x: linear in p, so its extremes
            over the box come from its corners (support functions) */
         double e0 = cl[0] - x[0], e1 = cl[1] - x[1], g0 = ch[0] - x[0], g1 = ch[1] - x[1], mx, mn;
-        mx = (e0 > 0.0 ? e0 * o->bb[3] : e0 * o->bb[1]) + (e1 > 0.0 ? -e1 * o->bb[0] : -e1 * o->bb[2]) - e0 * x[1] + e1 * x[0];
+        mx = (e0 > 0.0 ? e0 * o->bb[3] : e0 * o->bb[1]) + (e1 > 0.0 ? -e1 * o->bb[0] : -e1 * o->bb[2]) - e0 * x[1] +
+            e1 * x[0];
         if (mx < -tol * (fabs(e0) + fabs(e1))) return 0; /* wholly clockwise of the fan's edge x -> cl */
-        mn = (g0 > 0.0 ? g0 * o->bb[1] : g0 * o->bb[3]) + (g1 > 0.0 ? -g1 * o->bb[2] : -g1 * o->bb[0]) - g0 * x[1] + g1 * x[0];
+        mn = (g0 > 0.0 ? g0 * o->bb[1] : g0 * o->bb[3]) + (g1 > 0.0 ? -g1 * o->bb[2] : -g1 * o->bb[0]) - g0 * x[1] +
+            g1 * x[0];
         if (mn > tol * (fabs(g0) + fabs(g1))) return 0; /* wholly counter-clockwise of x -> ch */
     }
     near_box = x[0] >= o->bb[0] - tol && x[0] <= o->bb[2] + tol && x[1] >= o->bb[1] - tol && x[1] <= o->bb[3] + tol;
@@ -13928,7 +14309,8 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
         sp[1][0] = plo - 4.0; sp[1][1] = phi;
     }
     for (j = 0; j < pieces; ++j) {
-        double os = sp[j][0] > fn->aL ? sp[j][0] : fn->aL, oe = sp[j][1] < fn->aR ? sp[j][1] : fn->aR, mid, w[2], wd, wc, so, sc;
+        double os = sp[j][0] > fn->aL ? sp[j][0] : fn->aL, oe = sp[j][1] < fn->aR ? sp[j][1] : fn->aR, mid, w[2], wd,
+               wc, so, sc;
         if (oe - os <= PVS__VO_ATOL) continue;
         mid = 0.5 * (os + oe);
         pvs__vo_pangle_dir(mid, &wd, &wc);
@@ -13986,7 +14368,8 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
     pvs__vo_fan fn;
     double tol = c->tol;
     uint32_t i, ns = 0;
-    if (x[0] > c->cmin[0] - tol && x[0] < c->cmax[0] + tol && x[1] > c->cmin[1] - tol && x[1] < c->cmax[1] + tol) return 0;
+    if (x[0] > c->cmin[0] - tol && x[0] < c->cmax[0] + tol && x[1] > c->cmin[1] - tol && x[1] < c->cmax[1] + tol)
+        return 0;
     if (!pvs__vo_reserve(c->al, (void **)&c->span, &c->capspan, 2 * (size_t)n + 2, sizeof(pvs__vo_span))) {
         c->oom = 1;
         return 0;
@@ -14001,7 +14384,8 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
 
 /* Common tangent lines of two convex vertex sets (a segment has two vertices) that pass through the
    cell (only those can change a hidden answer); `need_cell` 0 when one of the sets is the cell. */
-PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t na, const double *b, uint32_t nb, int need_cell) {
+PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t na, const double *b, uint32_t nb,
+                                       int need_cell) {
     uint32_t i, j, k;
     for (i = 0; i < na; ++i)
         for (j = 0; j < nb; ++j) {
@@ -14036,7 +14420,8 @@ PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t n
                 ok = mn <= t && mx >= -t;
             }
             if (!ok) continue;
-            if (!pvs__vo_reserve(c->al, (void **)&c->lines, &c->caplines, 4 * ((size_t)c->nlines + 1), sizeof(double))) {
+            if (!pvs__vo_reserve(c->al, (void **)&c->lines, &c->caplines, 4 * ((size_t)c->nlines + 1),
+                                 sizeof(double))) {
                 c->oom = 1;
                 return;
             }
@@ -14077,8 +14462,8 @@ PVS__STATIC void pvs__vo_ev_push(pvs__vctx *c, uint32_t *n, double t, double t0,
     ++*n;
 }
 /* Where segment a-b (infinite line when `line`) crosses the line p + t d. */
-PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, const double *d, const double *a, const double *b, int line,
-                                double t0, double t1) {
+PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, const double *d, const double *a,
+                                const double *b, int line, double t0, double t1) {
     double ex = b[0] - a[0], ey = b[1] - a[1], den = d[0] * ey - d[1] * ex, qx = a[0] - p[0], qy = a[1] - p[1], t, u;
     if (!(fabs(den) > 1e-15 * (fabs(ex) + fabs(ey)) * (fabs(d[0]) + fabs(d[1])))) return;
     t = (qx * ey - qy * ex) / den;
@@ -14091,7 +14476,8 @@ PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, cons
 
 /* The hidden parts of the segment p + t d, t in [t0, t1], for the aggregate's blockers: closed
    intervals written to out (2 doubles each, at most cap). Returns their number. */
-PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const double *d, double t0, double t1, double *out, uint32_t cap) {
+PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const double *d, double t0, double t1,
+                                         double *out, uint32_t cap) {
     double bb[4], a[2], b[2], span = t1 - t0, eps;
     uint32_t i, j, ne = 0, nsub = 0, nout = 0, run = 0;
     double run_start = 0.0;
@@ -14106,10 +14492,15 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
     if (c->cmin[1] < bb[1]) bb[1] = c->cmin[1];
     if (c->cmax[0] > bb[2]) bb[2] = c->cmax[0];
     if (c->cmax[1] > bb[3]) bb[3] = c->cmax[1];
-    if (!pvs__vo_reserve(c->al, (void **)&c->sub, &c->capsub, (size_t)c->ng + 1, sizeof(uint32_t))) { c->oom = 1; return 0; }
+    if (!pvs__vo_reserve(c->al, (void **)&c->sub, &c->capsub, (size_t)c->ng + 1, sizeof(uint32_t))) {
+        c->oom = 1;
+        return 0;
+    }
     for (i = 0; i < c->ng; ++i) { /* the blockers that can stand between the cell and the segment */
         const pvs__vobj *o = c->obj + c->g[i];
-        if (o->bb[0] > bb[2] + c->tol || o->bb[2] < bb[0] - c->tol || o->bb[1] > bb[3] + c->tol || o->bb[3] < bb[1] - c->tol) continue;
+        if (o->bb[0] > bb[2] + c->tol || o->bb[2] < bb[0] - c->tol || o->bb[1] > bb[3] + c->tol ||
+            o->bb[3] < bb[1] - c->tol)
+            continue;
         c->sub[nsub++] = c->g[i];
     }
     /* events: the cell's edges, the aggregate's tangent lines, the blockers' boundaries and loops */
@@ -14180,7 +14571,8 @@ PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const doub
    for 0 < s <= smax, walking the bucket grid; PVS__VO_NONE when none. *s_hit receives s. */
 PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const double *w, double smax, double *s_hit) {
     const pvs__vprep *p = c->p;
-    double ox = o[0] + c->centre[0] - p->g0[0], oy = o[1] + c->centre[1] - p->g0[1], cs = p->gcell, best = DBL_MAX, s = 0.0;
+    double ox = o[0] + c->centre[0] - p->g0[0], oy = o[1] + c->centre[1] - p->g0[1], cs = p->gcell, best = DBL_MAX,
+           s = 0.0;
     double tx, ty, dtx, dty, s_in = 0.0, s_out = smax;
     int32_t ix, iy, sx, sy, gw = (int32_t)p->gw, gh = (int32_t)p->gh;
     uint32_t hit = PVS__VO_NONE;
@@ -14308,7 +14700,8 @@ PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
         for (i = 0; i < 4; ++i)
             for (j = 0; j < hn; ++j) {
                 const double *cp = c->corner + 2 * i, *kp = c->pts + 2 * c->hidx[j];
-                double len = sqrt((kp[0] - cp[0]) * (kp[0] - cp[0]) + (kp[1] - cp[1]) * (kp[1] - cp[1])), t = c->tol * len;
+                double len = sqrt((kp[0] - cp[0]) * (kp[0] - cp[0]) + (kp[1] - cp[1]) * (kp[1] - cp[1])),
+                       t = c->tol * len;
                 int ok = len > c->tol;
                 for (k = 0; k < 4 && ok; ++k) ok = sign * pvs__vo_cross(cp, kp, c->corner + 2 * k) >= -t;
                 for (k = 0; k < hn && ok; ++k) ok = sign * pvs__vo_cross(cp, kp, c->pts + 2 * c->hidx[k]) <= t;
@@ -14381,8 +14774,8 @@ PVS__STATIC double pvs__vo_angle(const double *p, const double *d, double t0, do
    supporting lines, widened by a quarter, within the analysis radius): keeps in *cur the interval
    that subtends the largest angle from the cell (or, keep_t in range, the one around keep_t).
    Returns that angle, 0 when nothing is hidden. */
-PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const double *p, const double *d, double keep_t, int keep,
-                                    pvs__vo_cur *cur) {
+PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const double *p, const double *d,
+                                    double keep_t, int keep, pvs__vo_cur *cur) {
     double lo = DBL_MAX, hi = -DBL_MAX, iv[64], best = 0.0, b, cc, disc, w;
     uint32_t s, n, i;
     for (s = 0; s < 2; ++s) { /* where the line meets the supporting lines */
@@ -14454,7 +14847,10 @@ PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, 
         else if (k == 1) { nrm[0] = sd[1].po[1] - sd[0].po[1]; nrm[1] = sd[0].po[0] - sd[1].po[0]; }
         else { nrm[0] = cen[0]; nrm[1] = cen[1]; }
         if (!pvs__vo_unit(nrm)) continue;
-        if (k == 1 && nrm[0] * sd[0].po[0] + nrm[1] * sd[0].po[1] < 0.0) { nrm[0] = -nrm[0]; nrm[1] = -nrm[1]; } /* away from the cell */
+        if (k == 1 && nrm[0] * sd[0].po[0] + nrm[1] * sd[0].po[1] < 0.0) {
+            nrm[0] = -nrm[0];
+            nrm[1] = -nrm[1];
+        } /* away from the cell */
         if (k == 1) {
             depth = nrm[0] * sd[0].po[0] + nrm[1] * sd[0].po[1];
         } else {
@@ -14514,7 +14910,8 @@ PVS__STATIC void pvs__vo_cell_centre(const pvs_box *cell, int u, int v, double c
 PVS__STATIC uint32_t pvs__vo_scale_code(double reach) {
     uint32_t code;
     for (code = 0; code < 255; ++code)
-        if (pvs__vo_offset(pvs__vo_scale(code), 255) >= reach && pvs__vo_offset(pvs__vo_scale(code), 0) <= -reach) break;
+        if (pvs__vo_offset(pvs__vo_scale(code), 255) >= reach && pvs__vo_offset(pvs__vo_scale(code), 0) <= -reach)
+            break;
     return code;
 }
 
@@ -14548,7 +14945,10 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
     if (!pvs__vo_unit(u)) return 0;
     nrm[0] = -u[1];
     nrm[1] = u[0];
-    if (nrm[0] * (a[0] + b[0]) + nrm[1] * (a[1] + b[1]) < 0.0) { nrm[0] = -nrm[0]; nrm[1] = -nrm[1]; } /* away from the cell */
+    if (nrm[0] * (a[0] + b[0]) + nrm[1] * (a[1] + b[1]) < 0.0) {
+        nrm[0] = -nrm[0];
+        nrm[1] = -nrm[1];
+    } /* away from the cell */
     /* the height: rounded down */
     hq = ((double)c->h - c->qground) / c->qhstep;
     qh = hq >= 255.0 ? 255u : hq <= 0.0 ? 0u : (uint32_t)hq;
@@ -14771,7 +15171,8 @@ typedef struct pvs__vo_rt {
    occluder's line between a and b). Both rectangles are convex, so corners decide, and the box's
    corners are tested at once with support functions. Margins m (1e-7 of the frame's extent) make
    every rounding answer "not hidden". */
-PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const double *a, const double *b, double base, double top) {
+PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const double *a, const double *b,
+                                 double base, double top) {
     double la[2], lb[2], cc[4][2], u[2], len, ext = 1.0, dmin = DBL_MAX, dmax = -DBL_MAX;
     int k, e;
     memset(r, 0, sizeof(*r));
@@ -14858,8 +15259,10 @@ PVS__STATIC int pvs__vo_rt_hides(const pvs__vo_rt *r, const pvs_box *b) {
     tmax = r->dcmax / (r->dcmax + dbmin);
     btop = b->max[r->up];
     bbot = b->min[r->up];
-    if (r->ctop + tmin * (btop - r->ctop) > r->top - r->mh || r->ctop + tmax * (btop - r->ctop) > r->top - r->mh) return 0;
-    if (r->cbot + tmin * (bbot - r->cbot) < r->base + r->mh || r->cbot + tmax * (bbot - r->cbot) < r->base + r->mh) return 0;
+    if (r->ctop + tmin * (btop - r->ctop) > r->top - r->mh || r->ctop + tmax * (btop - r->ctop) > r->top - r->mh)
+        return 0;
+    if (r->cbot + tmin * (bbot - r->cbot) < r->base + r->mh || r->cbot + tmax * (bbot - r->cbot) < r->base + r->mh)
+        return 0;
     return 1;
 }
 
@@ -14870,7 +15273,8 @@ PVS__STATIC int pvs__vo_box_ok(const pvs_box *b) {
     return 1;
 }
 
-PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o, const pvs_box *box) {
+PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
+                                const pvs_box *box) {
     pvs__vo_rt r;
     double a[2], b[2];
     if (!cell || !o || !box || !pvs__vo_box_ok(cell) || !pvs__vo_box_ok(box)) return 0;
@@ -14897,7 +15301,8 @@ PVS__STATIC int pvs__vo_walk_hidden(const pvs__vo_walk *w, const pvs_box *b) {
         if (pvs__vo_rt_hides(w->rt + i, b)) return 1;
     return 0;
 }
-PVS__STATIC pvs_visit pvs__vo_walk_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+PVS__STATIC pvs_visit pvs__vo_walk_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
+                                         uint32_t count) {
     pvs__vo_walk *w = (pvs__vo_walk *)user;
     uint32_t i;
     (void)distance;
@@ -14916,8 +15321,9 @@ PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_o
 }
 
 /* The walk over prepared occluders (rt[0..count) in the scratch's front). */
-PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_t count, const pvs_box *boxes, uint32_t object_count,
-                                    const pvs_kdtree *tree, uint8_t *rest, size_t rest_size, pvs_word *visible, pvs_error *err) {
+PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_t count, const pvs_box *boxes,
+                                    uint32_t object_count, const pvs_kdtree *tree, uint8_t *rest, size_t rest_size,
+                                    pvs_word *visible, pvs_error *err) {
     pvs__vo_walk w;
     uint32_t i;
     memset(visible, 0, PVS_BITSET_WORDS(object_count) * sizeof(pvs_word));
@@ -14928,7 +15334,8 @@ PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_
     w.visible = visible;
     if (tree) {
         pvs_result r = pvs_kdtree_sweep(tree, cell, rest, rest_size, pvs__vo_walk_visit, &w);
-        if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "object tree walk (scratch %llu bytes)", (unsigned long long)rest_size);
+        if (r != PVS_OK)
+            return pvs__fail(err, r, -1, 0, "object tree walk (scratch %llu bytes)", (unsigned long long)rest_size);
     } else {
         for (i = 0; i < object_count; ++i)
             if (pvs__vo_box_ok(boxes + i) && !pvs__vo_walk_hidden(&w, boxes + i)) pvs_bitset_set(visible, i);
@@ -14938,15 +15345,17 @@ PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_
 }
 
 /* Splits caller scratch into the occluder array and the rest (8-aligned). */
-PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t count, const pvs_kdtree *tree, pvs__vo_rt **rt, uint8_t **rest,
-                                       size_t *rest_size, pvs_error *err) {
-    size_t need = pvs_vocc_cull_scratch_size(tree, count), head = ((size_t)count * sizeof(pvs__vo_rt) + 15u) / 16u * 16u;
+PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t count, const pvs_kdtree *tree,
+                                       pvs__vo_rt **rt, uint8_t **rest, size_t *rest_size, pvs_error *err) {
+    size_t need = pvs_vocc_cull_scratch_size(tree, count),
+           head = ((size_t)count * sizeof(pvs__vo_rt) + 15u) / 16u * 16u;
     uint8_t *p = (uint8_t *)scratch;
     size_t skew;
     if (!scratch) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "scratch is NULL");
     skew = (size_t)(-(intptr_t)p) & 15u; /* align to 16 */
     if (size < need || size - skew < need - 16u)
-        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "scratch of %llu bytes, need %llu", (unsigned long long)size, (unsigned long long)need);
+        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "scratch of %llu bytes, need %llu",
+                         (unsigned long long)size, (unsigned long long)need);
     p += skew;
     *rt = (pvs__vo_rt *)(void *)p;
     *rest = p + head;
@@ -14954,9 +15363,10 @@ PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t coun
     return PVS_OK;
 }
 
-PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occ, uint32_t count,
-                                           const pvs_box *boxes, uint32_t object_count, const pvs_kdtree *tree, void *scratch,
-                                           size_t scratch_size, pvs_word *visible, pvs_error *err) {
+PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occ,
+                                           uint32_t count, const pvs_box *boxes, uint32_t object_count,
+                                           const pvs_kdtree *tree, void *scratch, size_t scratch_size,
+                                           pvs_word *visible, pvs_error *err) {
     pvs__vo_rt *rt;
     uint8_t *rest;
     size_t rest_size;
@@ -14964,7 +15374,8 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
     pvs_result r;
     if (!cell || (count && !occ) || (object_count && !boxes) || !visible)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "cell, occluders, boxes and visible must not be NULL");
-    if (!pvs__vo_box_ok(cell)) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the cell box is empty or not finite");
+    if (!pvs__vo_box_ok(cell))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the cell box is empty or not finite");
     r = pvs__vo_scratch(scratch, scratch_size, count, tree, &rt, &rest, &rest_size, err);
     if (r != PVS_OK) return r;
     for (i = 0; i < count; ++i) {
@@ -14972,7 +15383,8 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
         a[0] = occ[i].p0[0]; a[1] = occ[i].p0[1];
         b[0] = occ[i].p1[0]; b[1] = occ[i].p1[1];
         pvs__vo_rt_init(rt + i, cell, up_axis, a, b, occ[i].base, occ[i].top);
-        if (!pvs__finite(occ[i].p0[0]) || !pvs__finite(occ[i].p0[1]) || !pvs__finite(occ[i].p1[0]) || !pvs__finite(occ[i].p1[1]))
+        if (!pvs__finite(occ[i].p0[0]) || !pvs__finite(occ[i].p0[1]) || !pvs__finite(occ[i].p1[0]) ||
+            !pvs__finite(occ[i].p1[1]))
             rt[i].ok = 0;
     }
     return pvs__vo_cull(cell, rt, count, boxes, object_count, tree, rest, rest_size, visible, err);
@@ -14987,14 +15399,16 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
 
 /* Bytes of a VOCC section for cells cells holding n occluders (0 when it does not fit 32 bits). */
 PVS__STATIC size_t pvs__vo_section_size(uint32_t cells, uint64_t n) {
-    uint64_t blocks = ((uint64_t)cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK, size = PVS__VO_HEAD + 4 * (blocks + 1) + 2 * (uint64_t)cells + 5 * n;
+    uint64_t blocks = ((uint64_t)cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK,
+             size = PVS__VO_HEAD + 4 * (blocks + 1) + 2 * (uint64_t)cells + 5 * n;
     return size > 0xfffffff0ull ? 0 : (size_t)size;
 }
 
 /* Writes the section (pvs__vo_section_size bytes) from per-cell counts and scale codes and the
    occluders' bytes in cell order. */
-PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, float hstep, uint32_t cells, const uint8_t *counts,
-                                       const uint8_t *scales, const uint8_t *bytes, uint32_t stride) {
+PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, float hstep, uint32_t cells,
+                                       const uint8_t *counts, const uint8_t *scales, const uint8_t *bytes,
+                                       uint32_t stride) {
     uint32_t blocks = (cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK, b, i, n = 0;
     uint32_t bu, bh;
     for (i = 0; i < cells; ++i) n += counts[i];
@@ -15023,30 +15437,36 @@ PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, f
 
 /* Validates a VOCC section for a file of f->cell_count cells (called by pvs_file_open once META is
    read) and records it in *f. Linear in the section's size; reads nothing outside it. */
-PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, const uint8_t *sec, uint32_t size, pvs_error *err) {
+PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, const uint8_t *sec, uint32_t size,
+                                            pvs_error *err) {
     uint64_t so = (uint64_t)(sec - file);
     uint32_t cells = f->cell_count, blocks = (cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK, flags, n, b, i;
     size_t need;
     float base, hstep;
     const uint8_t *counts;
-    if (size < PVS__VO_HEAD) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "VOCC has %u bytes, fewer than its 16-byte header", size);
+    if (size < PVS__VO_HEAD)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "VOCC has %u bytes, fewer than its 16-byte header", size);
     flags = pvs__get32(sec);
     n = pvs__get32(sec + 4);
     base = pvs__getf32(sec + 8);
     hstep = pvs__getf32(sec + 12);
     if (flags & ~1u) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "VOCC: unknown flags 0x%x", flags);
-    if ((uint64_t)n > 255ull * cells) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so + 4, "VOCC: %u occluders for %u cells", n, cells);
+    if ((uint64_t)n > 255ull * cells)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so + 4, "VOCC: %u occluders for %u cells", n, cells);
     if (!pvs__finite(base) || !pvs__finite(hstep) || !(hstep > 0.0f) || !pvs__finite(base + 255.0f * hstep))
-        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so + 8, "VOCC: base %g or height step %g is not usable", (double)base, (double)hstep);
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so + 8, "VOCC: base %g or height step %g is not usable",
+                         (double)base, (double)hstep);
     need = pvs__vo_section_size(cells, n);
     if (!need || need != size)
-        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "VOCC has %u bytes, %u cells and %u occluders need %llu", size, cells, n,
-                         (unsigned long long)need);
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "VOCC has %u bytes, %u cells and %u occluders need %llu",
+                         size, cells, n, (unsigned long long)need);
     counts = sec + PVS__VO_HEAD + 4 * ((size_t)blocks + 1);
     if (pvs__get32(sec + PVS__VO_HEAD) != 0 || pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)blocks) != n)
-        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so + PVS__VO_HEAD, "VOCC: block offsets must run from 0 to %u", n);
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so + PVS__VO_HEAD, "VOCC: block offsets must run from 0 to %u",
+                         n);
     for (b = 0; b < blocks; ++b) {
-        uint32_t sum = 0, lo = pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)b), hi = pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)b + 4);
+        uint32_t sum = 0, lo = pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)b),
+                 hi = pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)b + 4);
         for (i = b * PVS__VO_BLOCK; i < cells && i < (b + 1) * PVS__VO_BLOCK; ++i) sum += counts[i];
         if (hi < lo || hi - lo != sum)
             return pvs__fail(err, PVS_ERROR_BAD_SECTION, b * PVS__VO_BLOCK, so + PVS__VO_HEAD + 4 * (uint64_t)b,
@@ -15064,7 +15484,8 @@ PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, co
 /* A cell's stored occluders: returns the count, *bytes their 5-byte records, *scale its code. */
 PVS__STATIC uint32_t pvs__vo_file_cell(const pvs_file *f, uint32_t cell, const uint8_t **bytes, uint32_t *scale) {
     const uint8_t *sec = f->private_.vocc;
-    uint32_t cells = f->cell_count, blocks = (cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK, b = cell / PVS__VO_BLOCK, first, i;
+    uint32_t cells = f->cell_count, blocks = (cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK, b = cell / PVS__VO_BLOCK,
+             first, i;
     const uint8_t *counts = sec + PVS__VO_HEAD + 4 * ((size_t)blocks + 1);
     first = pvs__get32(sec + PVS__VO_HEAD + 4 * (size_t)b);
     for (i = b * PVS__VO_BLOCK; i < cell; ++i) first += counts[i];
@@ -15074,8 +15495,8 @@ PVS__STATIC uint32_t pvs__vo_file_cell(const pvs_file *f, uint32_t cell, const u
 }
 
 /* The stored geometry of one occluder: world ground end points and heights. */
-PVS__STATIC void pvs__vo_decode(const pvs_box *cell, uint32_t up, uint32_t scale_code, const uint8_t *q, float base, float hstep, double *a,
-                                double *b, double *vbase, double *vtop) {
+PVS__STATIC void pvs__vo_decode(const pvs_box *cell, uint32_t up, uint32_t scale_code, const uint8_t *q, float base,
+                                float hstep, double *a, double *b, double *vbase, double *vtop) {
     double centre[2], sc = pvs__vo_scale(scale_code);
     int u, v;
     pvs__ground_axes(up == 2 ? 2u : 1u, &u, &v);
@@ -15088,7 +15509,8 @@ PVS__STATIC void pvs__vo_decode(const pvs_box *cell, uint32_t up, uint32_t scale
     *vtop = (double)base + (double)q[4] * (double)hstep;
 }
 
-PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *f, uint32_t cell, pvs_virtual_occluder *out, uint32_t capacity) {
+PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *f, uint32_t cell, pvs_virtual_occluder *out,
+                                            uint32_t capacity) {
     const uint8_t *bytes;
     uint32_t scale, n, i;
     pvs_box box;
@@ -15097,7 +15519,8 @@ PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *f, uint32_t cell, pv
     box = pvs_file_cell_box(f, cell);
     for (i = 0; i < n && i < capacity && out; ++i) {
         double a[2], b[2], lo, hi;
-        pvs__vo_decode(&box, f->up_axis, scale, bytes + 5 * (size_t)i, f->vocc_base, f->vocc_height_step, a, b, &lo, &hi);
+        pvs__vo_decode(&box, f->up_axis, scale, bytes + 5 * (size_t)i, f->vocc_base, f->vocc_height_step, a, b, &lo,
+                       &hi);
         out[i].p0[0] = (float)a[0]; out[i].p0[1] = (float)a[1];
         out[i].p1[0] = (float)b[0]; out[i].p1[1] = (float)b[1];
         out[i].base = (float)lo;
@@ -15109,14 +15532,16 @@ PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *f, uint32_t cell, pv
 PVS_API uint32_t pvs_file_vocc_record(const pvs_file *f, uint32_t cell, uint32_t *scale_code, const uint8_t **bytes) {
     const uint8_t *p = NULL;
     uint32_t sc = 0, n = 0;
-    if (f && f->data && (f->vocc_flags & PVS_VOCC_STORED) && cell < f->cell_count) n = pvs__vo_file_cell(f, cell, &p, &sc);
+    if (f && f->data && (f->vocc_flags & PVS_VOCC_STORED) && cell < f->cell_count)
+        n = pvs__vo_file_cell(f, cell, &p, &sc);
     if (scale_code) *scale_code = sc;
     if (bytes) *bytes = p;
     return n;
 }
 
-PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_occluders, const pvs_box *boxes, uint32_t object_count,
-                                 const pvs_kdtree *tree, void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err) {
+PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_occluders, const pvs_box *boxes,
+                                 uint32_t object_count, const pvs_kdtree *tree, void *scratch, size_t scratch_size,
+                                 pvs_word *visible, pvs_error *err) {
     const uint8_t *bytes;
     uint32_t scale, n, i;
     pvs_box box;
@@ -15126,10 +15551,13 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
     pvs_result r;
     if (!f || !f->data || !visible || (object_count && !boxes))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file, boxes and visible must not be NULL");
-    if (!(f->vocc_flags & PVS_VOCC_STORED)) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the file stores no virtual occluders");
-    if (cell >= f->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, cell, 0, "cell %u of %u", cell, f->cell_count);
+    if (!(f->vocc_flags & PVS_VOCC_STORED))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the file stores no virtual occluders");
+    if (cell >= f->cell_count)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, cell, 0, "cell %u of %u", cell, f->cell_count);
     if (object_count != f->object_count)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "%u object boxes for a file of %u objects", object_count, f->object_count);
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "%u object boxes for a file of %u objects",
+                         object_count, f->object_count);
     n = pvs__vo_file_cell(f, cell, &bytes, &scale);
     if (max_occluders && n > max_occluders) n = max_occluders;
     r = pvs__vo_scratch(scratch, scratch_size, n, tree, &rt, &rest, &rest_size, err);
@@ -15137,7 +15565,8 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
     box = pvs_file_cell_box(f, cell);
     for (i = 0; i < n; ++i) {
         double a[2], b[2], lo, hi;
-        pvs__vo_decode(&box, f->up_axis, scale, bytes + 5 * (size_t)i, f->vocc_base, f->vocc_height_step, a, b, &lo, &hi);
+        pvs__vo_decode(&box, f->up_axis, scale, bytes + 5 * (size_t)i, f->vocc_base, f->vocc_height_step, a, b, &lo,
+                       &hi);
         pvs__vo_rt_init(rt + i, &box, f->up_axis, a, b, lo, hi);
     }
     return pvs__vo_cull(&box, rt, n, boxes, object_count, tree, rest, rest_size, visible, err);
@@ -15167,7 +15596,8 @@ PVS__STATIC void pvs__vbake_destroy(pvs__vbake *vb) {
 
 /* Facades of the scene (pvs__scene_facades) and walls of its EXTRUSION and BOX occluders standing
    on the ground, as prepared occluders; object boxes. */
-PVS__STATIC pvs_result pvs__vbake_create(const pvs_scene *s, const pvs_allocator *a, uint32_t slices, uint32_t max_keep, pvs__vbake **out) {
+PVS__STATIC pvs_result pvs__vbake_create(const pvs_scene *s, const pvs_allocator *a, uint32_t slices, uint32_t max_keep,
+                                         pvs__vbake **out) {
     pvs__vbake *vb;
     float *fac = NULL, *top = NULL, ground, tmax;
     double *seg = NULL;
@@ -15260,7 +15690,8 @@ done:
    snapped down to an occluder's top (so that occluder takes part). Low slices keep most occluders
    and fuse best, higher ones hide what stands behind lower walls; one slice sits at the 1/6 quantile.
    Ascending, distinct. Returns their number (<= n). */
-PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *centre, float ctop, uint32_t n, float *h, const pvs_allocator *al) {
+PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *centre, float ctop, uint32_t n, float *h,
+                                           const pvs_allocator *al) {
     const pvs__vprep *p = vb->prep;
     pvs__key_index *key;
     double *w, total = 0.0, acc = 0.0;
@@ -15292,7 +15723,8 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
             if (pvs__vo_cross(o, loc + 2 * lo, loc + 2 * k) < 0.0) lo = k;
             if (pvs__vo_cross(o, loc + 2 * hi, loc + 2 * k) > 0.0) hi = k;
         }
-        ang = atan2(loc[2 * lo] * loc[2 * hi + 1] - loc[2 * lo + 1] * loc[2 * hi], loc[2 * lo] * loc[2 * hi] + loc[2 * lo + 1] * loc[2 * hi + 1]);
+        ang = atan2(loc[2 * lo] * loc[2 * hi + 1] - loc[2 * lo + 1] * loc[2 * hi],
+                    loc[2 * lo] * loc[2 * hi] + loc[2 * lo + 1] * loc[2 * hi + 1]);
         if (!(ang > 0.0)) continue;
         key[m].key = p->obj_top[i];
         key[m].index = m;
@@ -15317,8 +15749,8 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
    c->out, grown in the file's frame (centre `centre`, quantized at scale `code`). Leaves c untouched
    when the cell cannot have any (below the occluders' base, no area, no object). Returns
    OUT_OF_MEMORY or PVS_OK; c is freed by the caller either way. */
-PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *cell, const double centre[2], double reach, uint32_t code,
-                                         pvs__vctx *c) {
+PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *cell, const double centre[2],
+                                         double reach, uint32_t code, pvs__vctx *c) {
     const pvs_allocator *al = &vb->a;
     double cmin[2], cmax[2];
     float h[16];
@@ -15365,8 +15797,8 @@ typedef struct pvs__vo_selwork {
    paying (hides fewer than min_gain new objects) or max_keep are kept. Writes the kept occluders'
    5 bytes to `bytes` and their tests to sw->sel; returns how many. *r = OUT_OF_MEMORY when the
    scratch cannot be had. */
-PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, uint32_t code, const pvs__vctx *c, uint32_t words,
-                                    uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
+PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, uint32_t code, const pvs__vctx *c,
+                                    uint32_t words, uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
     const pvs_allocator *al = &vb->a;
     uint32_t min_gain = vb->object_count / 1000u + 1u, keep = 0, i, j;
     sw->rt = (pvs__vo_rt *)pvs__alloc_array(al, c->nout, sizeof(pvs__vo_rt));
@@ -15390,7 +15822,8 @@ PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, u
     for (j = 0; j < vb->object_count; ++j) {
         if (!pvs__vo_box_ok(vb->boxes + j)) continue;
         for (i = 0; i < c->nout; ++i)
-            if (pvs__vo_rt_hides(sw->rt + i, vb->boxes + j)) sw->hid[(size_t)i * words + (j >> 6)] |= (pvs_word)1 << (j & 63);
+            if (pvs__vo_rt_hides(sw->rt + i, vb->boxes + j))
+                sw->hid[(size_t)i * words + (j >> 6)] |= (pvs_word)1 << (j & 63);
     }
     while (keep < vb->max_keep) {
         uint32_t best = PVS__VO_NONE, best_gain = 0;
@@ -15412,8 +15845,8 @@ PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, u
    rebuilt from the kept occluders exactly as pvs_vocc_cull will (object boxes of the scene, never-
    drawn objects empty). Writes *count occluders (<= max_keep) of 5 bytes to bytes, the scale code,
    and the PVS (cleared first). */
-PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *cell, uint8_t *bytes, uint8_t *count, uint8_t *scale,
-                                         pvs_word *pvs, pvs_vocc_stats *stats, pvs_error *err) {
+PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *cell, uint8_t *bytes, uint8_t *count,
+                                         uint8_t *scale, pvs_word *pvs, pvs_vocc_stats *stats, pvs_error *err) {
     const pvs_allocator *al = &vb->a;
     pvs__vctx c;
     pvs__vo_selwork sw;
@@ -15426,7 +15859,8 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
     pvs__ground_axes(vb->up, &u, &v);
     pvs__vo_cell_centre(cell, u, v, centre);
     for (k = 0; k < 4; ++k) { /* the analysis radius: every occluder */
-        double dx = ((k & 1) ? vb->prep->bb[2] : vb->prep->bb[0]) - centre[0], dy = ((k & 2) ? vb->prep->bb[3] : vb->prep->bb[1]) - centre[1];
+        double dx = ((k & 1) ? vb->prep->bb[2] : vb->prep->bb[0]) - centre[0],
+               dy = ((k & 2) ? vb->prep->bb[3] : vb->prep->bb[1]) - centre[1];
         double d = sqrt(dx * dx + dy * dy);
         if (d > reach) reach = d;
     }
@@ -15475,7 +15909,8 @@ done:
 
 /* ---- the 2D entry point ---- */
 
-PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t capacity, uint32_t *count, pvs_vocc_stats *stats, pvs_error *err) {
+PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t capacity, uint32_t *count,
+                               pvs_vocc_stats *stats, pvs_error *err) {
     pvs_allocator al;
     pvs__vprep *p = NULL;
     pvs__vctx c;
@@ -15488,12 +15923,16 @@ PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t c
     if (!d || !count || (d->segment_count && !d->segments))
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, count and the segments must not be NULL");
     for (k = 0; k < 2; ++k) {
-        if (!pvs__finite(d->cell_min[k]) || !pvs__finite(d->cell_max[k])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "the cell is not finite");
-        if (!(d->cell_min[k] < d->cell_max[k])) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell has no area (min >= max on axis %u)", k);
+        if (!pvs__finite(d->cell_min[k]) || !pvs__finite(d->cell_max[k]))
+            return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "the cell is not finite");
+        if (!(d->cell_min[k] < d->cell_max[k]))
+            return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell has no area (min >= max on axis %u)", k);
     }
-    if (!pvs__finite(d->range) || d->range < 0.0f) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "range must be finite and >= 0");
+    if (!pvs__finite(d->range) || d->range < 0.0f)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "range must be finite and >= 0");
     for (i = 0; i < 4 * d->segment_count; ++i)
-        if (!pvs__finite(d->segments[i])) return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 4, 0, "segment %u is not finite", i / 4);
+        if (!pvs__finite(d->segments[i]))
+            return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 4, 0, "segment %u is not finite", i / 4);
     al = d->allocator;
     seg = (double *)pvs__alloc_array(&al, 4 * (size_t)d->segment_count + 4, sizeof(double));
     top = (float *)pvs__alloc_array(&al, (size_t)d->segment_count + 1, sizeof(float));
@@ -15503,7 +15942,11 @@ PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t c
     r = pvs__vprep_create(&al, seg, top, d->segment_count, &p);
     if (r != PVS_OK) goto done;
     for (k = 0; k < 2; ++k) { cmin[k] = d->cell_min[k]; cmax[k] = d->cell_max[k]; }
-    if (!pvs__vctx_init(&c, &al, p, cmin, cmax, d->range)) { pvs__vctx_free(&c); r = PVS_ERROR_OUT_OF_MEMORY; goto done; }
+    if (!pvs__vctx_init(&c, &al, p, cmin, cmax, d->range)) {
+        pvs__vctx_free(&c);
+        r = PVS_ERROR_OUT_OF_MEMORY;
+        goto done;
+    }
     c.max_seeds = d->max_seeds ? d->max_seeds : 16;
     if (pvs__vctx_slice(&c, 0.5f)) pvs__vo_run_slice(&c);
     if (c.oom) {
@@ -15542,13 +15985,16 @@ PVS__STATIC pvs_result pvs__vocc_bake_check(const pvs_bake_desc *desc, pvs_error
 }
 
 /* Facades and loops once (pvs__vbake_create), per-task occluder records. */
-PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err) {
-    uint32_t slices = desc->vocc.slices ? desc->vocc.slices : 5, keep = desc->vocc.max_occluders ? desc->vocc.max_occluders : 10;
+PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
+                                              pvs_error *err) {
+    uint32_t slices = desc->vocc.slices ? desc->vocc.slices : 5,
+             keep = desc->vocc.max_occluders ? desc->vocc.max_occluders : 10;
     pvs__vocc_bake *vo;
     pvs_result r;
     *state = NULL;
     if (slices > 16 || keep > 255)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "vocc: slices %u (1..16), occluders per cell %u (1..255)", slices, keep);
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
+                         "vocc: slices %u (1..16), occluders per cell %u (1..255)", slices, keep);
     vo = (pvs__vocc_bake *)pvs__alloc(&env->allocator, sizeof(pvs__vocc_bake), 16);
     *state = vo;
     if (!vo) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "vocc: facades");
@@ -15560,7 +16006,8 @@ PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake
     if (r != PVS_OK) return pvs__fail(err, r, -1, 0, "vocc: facades");
     if (!vo->vb->prep->nobj && !env->is_auto)
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
-                         "vocc: the scene has no vertical walls standing on the ground (2.5D occluders): virtual occluders cannot be built");
+                         "vocc: the scene has no vertical walls standing on the ground (2.5D occluders): virtual "
+                         "occluders cannot be built");
     vo->only = desc->vocc.only;
     vo->bytes = (uint8_t *)pvs__alloc_array(&env->allocator, (size_t)vo->task_count * keep * 5, 1);
     vo->count = (uint8_t *)pvs__alloc_array(&env->allocator, vo->task_count, 1);
@@ -15577,14 +16024,16 @@ PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake
 PVS__STATIC int pvs__vocc_bake_applies(const void *state, const char **why) {
     const pvs__vocc_bake *vo = (const pvs__vocc_bake *)state;
     int any = vo->vb && vo->vb->prep->nobj;
-    *why = any ? "2.5D: virtual occluders behind walls standing on the ground" : "not 2.5D: no vertical wall stands on the ground";
+    *why = any ? "2.5D: virtual occluders behind walls standing on the ground"
+               : "not 2.5D: no vertical wall stands on the ground";
     return any;
 }
 
 /* The task's whole cell (VOCC bakes no adaptive cells): its virtual occluders into the task's record
    and the PVS they prove; with vocc.only, every drawable object instead (placeholder records). */
-PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
-                                           const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err) {
+PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
+                                           const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+                                           unsigned *flags, pvs_error *err) {
     pvs__vocc_bake *vo = (pvs__vocc_bake *)state;
     const pvs__vbake *vb = vo->vb;
     pvs_result r;
@@ -15592,8 +16041,8 @@ PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state
     (void)candidates;
     (void)flags;
     memset(vo->stats + task, 0, sizeof(pvs_vocc_stats));
-    r = pvs__vo_bake_cell(vb, env->task_cells + task, vo->bytes + (size_t)task * vb->max_keep * 5, vo->count + task, vo->scale + task,
-                          bits, vo->stats + task, err);
+    r = pvs__vo_bake_cell(vb, env->task_cells + task, vo->bytes + (size_t)task * vb->max_keep * 5, vo->count + task,
+                          vo->scale + task, bits, vo->stats + task, err);
     if (r != PVS_OK) {
         if (err) err->index = cell;
         return r;
@@ -15633,9 +16082,15 @@ PVS__STATIC void pvs__vocc_bake_destroy(const pvs__bake_env *env, void *state) {
 
 /* Not in AUTO unless named (pvs_bake_desc.methods): it is for storage and the run-time rebuild, not
    for tightness. */
-PVS__STATIC const pvs__bake_method pvs__vocc_method = {
-    PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, pvs__vocc_bake_check, pvs__vocc_bake_prepare,
-    pvs__vocc_bake_applies, pvs__vocc_bake_cell, pvs__vocc_bake_file, pvs__vocc_bake_destroy};
+PVS__STATIC const pvs__bake_method pvs__vocc_method = {PVS_METHOD_VOCC,
+                                                       PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS,
+                                                       2,
+                                                       pvs__vocc_bake_check,
+                                                       pvs__vocc_bake_prepare,
+                                                       pvs__vocc_bake_applies,
+                                                       pvs__vocc_bake_cell,
+                                                       pvs__vocc_bake_file,
+                                                       pvs__vocc_bake_destroy};
 
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
     const pvs__vocc_bake *vo = b ? (const pvs__vocc_bake *)pvs__bake_method_state(b, PVS_METHOD_VOCC) : NULL;
@@ -15701,8 +16156,8 @@ PVS__STATIC void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t poi
     }
 }
 
-PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points, uint32_t rays_per_point,
-                                       uint64_t seed, pvs_word *visible) {
+PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
+                                       uint32_t rays_per_point, uint64_t seed, pvs_word *visible) {
     uint64_t state = seed, rays = 0;
     pvs_box bounds;
     float diagonal;
@@ -15801,7 +16256,8 @@ typedef struct pvs__sample_bake {
     uint64_t seed;
 } pvs__sample_bake;
 
-PVS__STATIC pvs_result pvs__sample_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err) {
+PVS__STATIC pvs_result pvs__sample_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
+                                                pvs_error *err) {
     pvs__sample_bake *sb = (pvs__sample_bake *)pvs__alloc(&env->allocator, sizeof(pvs__sample_bake), 16);
     *state = sb;
     if (!sb) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "sample");
@@ -15812,8 +16268,9 @@ PVS__STATIC pvs_result pvs__sample_bake_prepare(pvs__bake_env *env, const pvs_ba
     return PVS_OK;
 }
 
-PVS__STATIC pvs_result pvs__sample_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
-                                             const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err) {
+PVS__STATIC pvs_result pvs__sample_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
+                                             const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+                                             unsigned *flags, pvs_error *err) {
     const pvs__sample_bake *sb = (const pvs__sample_bake *)state;
     uint64_t seed = sb->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull); /* per cell: independent of the run order */
     (void)task;
@@ -16002,7 +16459,8 @@ PVS__STATIC void pvs__ep_mask_set(unsigned char *mask, unsigned char bits, size_
    the error of the computed function, inv = 1 / a (0 for nearly horizontal edges); the intersection
    of the views' bounding boxes [xlo, xhi] x [ylo, yhi]. */
 typedef struct pvs__epedges {
-    double a[8 * PVS__EP_CLIPN], b[8 * PVS__EP_CLIPN], c[8 * PVS__EP_CLIPN], e[8 * PVS__EP_CLIPN], inv[8 * PVS__EP_CLIPN];
+    double a[8 * PVS__EP_CLIPN], b[8 * PVS__EP_CLIPN], c[8 * PVS__EP_CLIPN], e[8 * PVS__EP_CLIPN],
+        inv[8 * PVS__EP_CLIPN];
     int n;
     double xlo, xhi, ylo, yhi;
 } pvs__epedges;
@@ -16058,8 +16516,10 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
             pts[i][1] = (Vv + dv - f.v0) * f.sv;
             bx0 = pvs__dmin(bx0, pts[i][0]); bx1 = pvs__dmax(bx1, pts[i][0]);
             by0 = pvs__dmin(by0, pts[i][1]); by1 = pvs__dmax(by1, pts[i][1]);
-            mag = pvs__dmax(mag, pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) + (pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
-                                     (pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
+            mag = pvs__dmax(mag,
+                            pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) +
+                                (pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
+                                (pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
             /* a point moved by `slack` moves its view by at most slack (t + |view - V| / (Pw - Vw))
                per axis (the derivative of the projection) */
             smax = pvs__dmax(smax, t + (pvs__dabs(du) + pvs__dabs(dv)) / (P[i][2] - Vw));
@@ -16075,7 +16535,8 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
         if (E->xhi - E->xlo < 1.0 || E->yhi - E->ylo < 1.0) return 0; /* no whole pixel fits */
         k = pvs__ep_hull(pts, n, hull);
         if (k < 3) return 0;
-        for (i = 0; i < k; ++i) area2 += hull[i][0] * hull[i + 1 < k ? i + 1 : 0][1] - hull[i + 1 < k ? i + 1 : 0][0] * hull[i][1];
+        for (i = 0; i < k; ++i)
+            area2 += hull[i][0] * hull[i + 1 < k ? i + 1 : 0][1] - hull[i + 1 < k ? i + 1 : 0][0] * hull[i][1];
         h = (bx1 - bx0) + (by1 - by0);
         if (!(area2 > 1e-9 * h * h)) return 0; /* a sliver: covers no pixel */
         for (i = 0; i < k; ++i) {
@@ -16089,7 +16550,8 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
             /* moving both ends by verr changes (a, b) by 2 verr each and the L1 norm by 4 verr: at
                a pixel at L1 distance D from p the normalized edge function moves by at most
                verr (1 + 6 D / len) */
-            E->e[m] = verr * (2.0 + 8.0 * (pvs__dabs(p[0]) + pvs__dabs(p[1]) + (double)f.width + (double)f.height + 2.0) / len);
+            E->e[m] = verr *
+                (2.0 + 8.0 * (pvs__dabs(p[0]) + pvs__dabs(p[1]) + (double)f.width + (double)f.height + 2.0) / len);
             ++E->n;
         }
     }
@@ -16168,8 +16630,8 @@ PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges
 /* The Projection of the part of a convex occluder inside the depth slab [lo, hi]: the views are
    convex hulls of the projected vertices of the clipped part. The clipped part's vertices are among
    the points inside the slab and the ends of the clipped segments between any two points. */
-PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo, double whi, double slack,
-                                           float *map, unsigned char *mask) {
+PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo,
+                                           double whi, double slack, float *map, unsigned char *mask) {
     double P[PVS__EP_CLIPN][3], dmax = 0.0;
     pvs__epedges E;
     int n, i;
@@ -16204,7 +16666,8 @@ PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3
     if (!(hi[2] >= lo[2])) return 0;
     for (k = 0; k < 2; ++k) {
         const double *ck = k ? f->cv : f->cu;
-        double k0 = k ? f->v0 : f->u0, sk = k ? f->sv : f->su, a = -DBL_MAX, b = DBL_MAX, size = k ? (double)f->height : (double)f->width;
+        double k0 = k ? f->v0 : f->u0, sk = k ? f->sv : f->su, a = -DBL_MAX, b = DBL_MAX,
+               size = k ? (double)f->height : (double)f->width;
         int c, e;
         for (c = 0; c < 4; ++c) {
             double Vk = ck[c & 1], Vw = f->cw[c >> 1], mn = DBL_MAX, mx = -DBL_MAX;
@@ -16219,7 +16682,8 @@ PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3
         a = (a - k0) * sk;
         b = (b - k0) * sk;
         /* a margin far above the rounding of these few operations */
-        if (b - a < 1.0 - 1e-6 * (1.0 + pvs__dabs(a) + pvs__dabs(b)) || b < -1e-6 * (1.0 + pvs__dabs(b)) || a > size + 1e-6 * (1.0 + pvs__dabs(a)))
+        if (b - a < 1.0 - 1e-6 * (1.0 + pvs__dabs(a) + pvs__dabs(b)) || b < -1e-6 * (1.0 + pvs__dabs(b)) ||
+            a > size + 1e-6 * (1.0 + pvs__dabs(a)))
             return 0;
     }
     return 1;
@@ -16229,8 +16693,8 @@ PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3
    planar polygon, `slack` how far (world units) the true occluder may lie inside the hull of the
    points. Depths go to `map` (min), pixels to `mask` (set to 1), either may be NULL; only the part in
    front of the plane when front_only. */
-PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cell, const float *points, uint32_t count, int solid, double slack,
-                                      int front_only, float *map, unsigned char *mask) {
+PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cell, const float *points, uint32_t count,
+                                      int solid, double slack, int front_only, float *map, unsigned char *mask) {
     pvs__epframe f = *fp;
     double P[PVS__EP_MAXP][3], margin, wmax = -DBL_MAX;
     uint32_t i, written;
@@ -16285,8 +16749,8 @@ PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *
 
 /* Pixel bounds of the views of the box's (k, w) extent from the cell's (k, w) corners; t[c][b] =
    (W - cw[c]) / (bw[b] - cw[c]), shared by both axes. */
-PVS__STATIC void pvs__ep_occludee_axis(const double *cell_k, double bk0, double bk1, const double t[2][2], double k0, double sk,
-                                       uint32_t size, int32_t *lo, int32_t *hi) {
+PVS__STATIC void pvs__ep_occludee_axis(const double *cell_k, double bk0, double bk1, const double t[2][2], double k0,
+                                       double sk, uint32_t size, int32_t *lo, int32_t *hi) {
     double mn = DBL_MAX, mx = -DBL_MAX, mag = 0.0, err;
     int a, b, c;
     for (a = 0; a < 2; ++a)
@@ -16312,8 +16776,10 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
     if (!(bw[0] > 0.0)) return 0;
     for (c = 0; c < 2; ++c)
         for (b = 0; b < 2; ++b) t[c][b] = (f->W - f->cw[c]) / (bw[b] - f->cw[c]);
-    pvs__ep_occludee_axis(f->cu, box->min[f->u], box->max[f->u], (const double(*)[2])t, f->u0, f->su, f->width, &rect[0], &rect[2]);
-    pvs__ep_occludee_axis(f->cv, box->min[f->v], box->max[f->v], (const double(*)[2])t, f->v0, f->sv, f->height, &rect[1], &rect[3]);
+    pvs__ep_occludee_axis(f->cu, box->min[f->u], box->max[f->u], (const double(*)[2])t, f->u0, f->su, f->width,
+                          &rect[0], &rect[2]);
+    pvs__ep_occludee_axis(f->cv, box->min[f->v], box->max[f->v], (const double(*)[2])t, f->v0, f->sv, f->height,
+                          &rect[1], &rect[3]);
     *depth = pvs__f_down(bw[0] - 1e-12 * bw[0]);
     return 1;
 }
@@ -16328,8 +16794,8 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
    max L <= min R any single point between them serves (the "vanishing point" case: *any = 1, a
    pixel range of which one column must be hidden); else the segment [min R, max L] (*any = 0,
    every pixel of the range). Pixel indices may reach outside the map. */
-PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W, double k0,
-                                       double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
+PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W,
+                                       double k0, double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
     double maxL = -DBL_MAX, minR = DBL_MAX, mag = 0.0, err, a, b;
     int x, y;
     for (x = 0; x < 2; ++x)
@@ -16338,8 +16804,10 @@ PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double 
             double v0 = (cell_k[0] + (Xk - cell_k[0]) * t - k0) * sk, v1 = (cell_k[1] + (Xk - cell_k[1]) * t - k0) * sk;
             maxL = pvs__dmax(maxL, pvs__dmin(v0, v1));
             minR = pvs__dmin(minR, pvs__dmax(v0, v1));
-            mag = pvs__dmax(mag, (pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1]) + (pvs__dabs(Xk) + pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1])) * t +
-                                  pvs__dabs(k0)) * sk);
+            mag = pvs__dmax(mag,
+                            (pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1]) +
+                             (pvs__dabs(Xk) + pvs__dabs(cell_k[0]) + pvs__dabs(cell_k[1])) * t + pvs__dabs(k0)) *
+                                sk);
         }
     err = 1e-6 + 1e-12 * mag;
     a = maxL + err;
@@ -16492,14 +16960,18 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
         /* a bound on the area it shows (the solid angle it subtends from a point at distance d is at
            most that over d^2): a polygon's area; for a solid, the three faces of its box that
            pvs__ep_solid_angle measures */
-        double ex = (double)o->box.max[0] - o->box.min[0], ey = (double)o->box.max[1] - o->box.min[1], ez = (double)o->box.max[2] - o->box.min[2];
+        double ex = (double)o->box.max[0] - o->box.min[0], ey = (double)o->box.max[1] - o->box.min[1],
+               ez = (double)o->box.max[2] - o->box.min[2];
         double f = ex * ey + ey * ez + ez * ex;
         if (!solid) { /* the polygon's own area, by its fan */
             double a3[3] = {0.0, 0.0, 0.0};
             int k;
             for (i = 1; i + 1 < n; ++i) {
                 double e1[3], e2[3];
-                for (k = 0; k < 3; ++k) { e1[k] = (double)pts[i][k] - pts[0][k]; e2[k] = (double)pts[i + 1][k] - pts[0][k]; }
+                for (k = 0; k < 3; ++k) {
+                    e1[k] = (double)pts[i][k] - pts[0][k];
+                    e2[k] = (double)pts[i + 1][k] - pts[0][k];
+                }
                 a3[0] += e1[1] * e2[2] - e1[2] * e2[1];
                 a3[1] += e1[2] * e2[0] - e1[0] * e2[2];
                 a3[2] += e1[0] * e2[1] - e1[1] * e2[0];
@@ -16522,14 +16994,19 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
         for (j = 0; j < 3; ++j) {
             const float *a0 = A[i], *a1 = A[(i + 1) % 3], *x;
             double dev;
-            if (!(pvs__ep_same(a0, B[j]) && pvs__ep_same(a1, B[(j + 2) % 3])) && !(pvs__ep_same(a0, B[(j + 2) % 3]) && pvs__ep_same(a1, B[j])))
+            if (!(pvs__ep_same(a0, B[j]) && pvs__ep_same(a1, B[(j + 2) % 3])) &&
+                !(pvs__ep_same(a0, B[(j + 2) % 3]) && pvs__ep_same(a1, B[j])))
                 continue;
             x = B[(j + 1) % 3];
             q[0] = a0; q[1] = x; q[2] = a1; q[3] = A[(i + 2) % 3];
-            for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
+            for (k = 0; k < 3; ++k)
+                scale = pvs__dmax(scale,
+                                  pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
             /* coplanar up to float precision of the input: the hull of the four points then
                exceeds the two triangles by at most that distance, the occluder's slack */
-            dev = pvs__dabs(n[0] * ((double)x[0] - a0[0]) + n[1] * ((double)x[1] - a0[1]) + n[2] * ((double)x[2] - a0[2])) / len;
+            dev = pvs__dabs(n[0] * ((double)x[0] - a0[0]) + n[1] * ((double)x[1] - a0[1]) +
+                            n[2] * ((double)x[2] - a0[2])) /
+                len;
             if (dev > 1e-6 * scale) return 0;
             for (k = 0; k < 4; ++k) { /* strictly convex at every corner, turning like the triangle */
                 const float *p0 = q[k], *p1 = q[(k + 1) % 4], *p2 = q[(k + 2) % 4];
@@ -16631,8 +17108,9 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
    wrong way by less than tol (relative) is taken as straight: q is then the convex hull of the loop
    (hp, hh: scratch of qcap + 1 points) and *dent the farthest a loop point lies inside it; a hull of
    more than max_hull points gives 0 (the caller takes no more). ends: scratch of 2 qcap. */
-PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep, uint32_t qcap,
-                                           pvs__epend *ends, double tol, double (*hp)[2], double (*hh)[2], int max_hull, double *dent) {
+PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep,
+                                           uint32_t qcap, pvs__epend *ends, double tol, double (*hp)[2],
+                                           double (*hh)[2], int max_hull, double *dent) {
     uint32_t nb = 0, i, j, n = 0, m;
     double area = 0.0, turn = 0.0;
     PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
@@ -16665,7 +17143,8 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
         int hn;
         for (i = 0; i < n; ++i) {
             const float *a = q + 2 * ((i + n - 1) % n), *b = q + 2 * i, *c = q + 2 * ((i + 1) % n);
-            double ux = (double)b[0] - a[0], uy = (double)b[1] - a[1], vx = (double)c[0] - b[0], vy = (double)c[1] - b[1];
+            double ux = (double)b[0] - a[0], uy = (double)b[1] - a[1], vx = (double)c[0] - b[0],
+                   vy = (double)c[1] - b[1];
             double cr = ux * vy - uy * vx;
             if (cr < -tol * (pvs__dabs(ux) + pvs__dabs(uy)) * (pvs__dabs(vx) + pvs__dabs(vy))) return 0;
             turn += atan2(cr, ux * vx + uy * vy);
@@ -16808,18 +17287,20 @@ PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, s
     w->hp = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
     w->hh = (double *)pvs__alloc_array(a, 2 * (3 * n + 1), sizeof(double));
     w->bed = (uint64_t *)pvs__alloc_array(a, 3 * n, sizeof(uint64_t));
-    return w->hp && w->hh && w->bed && w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start && w->edges && w->mark && w->uv && w->e2 &&
-           w->q2 && w->keep && w->ends && w->gparent && w->used;
+    return w->hp && w->hh && w->bed && w->ref && w->canon && w->vpos && w->owner && w->parent && w->order && w->start &&
+        w->edges && w->mark && w->uv && w->e2 && w->q2 && w->keep && w->ends && w->gparent && w->used;
 }
 
 /* 1 if the component's distinct vertices (<= PVS__EP_MAXP) are in convex position with respect to
    every one of its triangles: all on one side of each triangle's plane, up to float precision; the
    largest violation (doubled) goes to *slack: the hull exceeds the surface by no more. */
-PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts, uint32_t n, double *slack) {
+PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
+                                         uint32_t n, double *slack) {
     uint32_t t, i, k;
     double scale = 0.0, worst = 0.0;
     for (i = 0; i < n; ++i)
-        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]) + pvs__dabs((double)pts[i][k]));
+        for (k = 0; k < 3; ++k)
+            scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - pts[0][k]) + pvs__dabs((double)pts[i][k]));
     for (t = 0; t < tn; ++t) {
         const float *c[3];
         double nrm[3], len, lo = 0.0, hi = 0.0;
@@ -16827,7 +17308,9 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
         len = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
         if (!(len > 0.0)) return 0;
         for (i = 0; i < n; ++i) {
-            double d = (nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) + nrm[2] * ((double)pts[i][2] - c[0][2])) / len;
+            double d = (nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) +
+                        nrm[2] * ((double)pts[i][2] - c[0][2])) /
+                len;
             lo = pvs__dmin(lo, d);
             hi = pvs__dmax(hi, d);
         }
@@ -16842,7 +17325,8 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
    within float precision of the plane of its largest triangle. A flat closed mesh (a two-sided wall)
    bounds no volume: it is neither a convex solid (its vertices' hull would fill its windows) nor
    sliced; its faces are planar occluders. */
-PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts, uint32_t n) {
+PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
+                                       uint32_t n) {
     uint32_t t, i, k, best = 0;
     double bl = 0.0, nrm[3], scale = 0.0;
     const float *c0 = NULL;
@@ -16861,9 +17345,12 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
         c0 = c[0];
     }
     for (i = 0; i < n; ++i)
-        for (k = 0; k < 3; ++k) scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - c0[k]) + pvs__dabs((double)pts[i][k]));
+        for (k = 0; k < 3; ++k)
+            scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - c0[k]) + pvs__dabs((double)pts[i][k]));
     for (i = 0; i < n; ++i) {
-        double d = (nrm[0] * ((double)pts[i][0] - c0[0]) + nrm[1] * ((double)pts[i][1] - c0[1]) + nrm[2] * ((double)pts[i][2] - c0[2])) / bl;
+        double d = (nrm[0] * ((double)pts[i][0] - c0[0]) + nrm[1] * ((double)pts[i][1] - c0[1]) +
+                    nrm[2] * ((double)pts[i][2] - c0[2])) /
+            bl;
         if (pvs__dabs(d) > 1e-6 * scale) return 0;
     }
     return 1;
@@ -16873,8 +17360,8 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
    one axis-aligned plane x_k = c, exactly (equal floats), with every vertex of the component on one
    side of it: *side = +1 when the solid lies where x_k >= c, -1 when x_k <= c. Exact comparisons
    keep the argument of pvs__ep_slice free of tolerances; tilted caps are not used. */
-PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv, uint32_t nuv, int *axis,
-                                 float *c, int *side) {
+PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv,
+                                 uint32_t nuv, int *axis, float *c, int *side) {
     int k;
     uint32_t i;
     for (k = 0; k < 3; ++k) {
@@ -16897,12 +17384,16 @@ PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, 
 
 /* 1 if triangle b (corners B) lies in the plane of triangle a (corners A, normal na of length la)
    up to float precision and faces the same way: the two may be merged into one planar occluder. */
-PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double la, const float *const *B, double scale) {
+PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double la, const float *const *B,
+                                 double scale) {
     double nb[3];
     int k;
-    if (!(pvs__ep_tri_normal(B[0], B[1], B[2], nb) > 0.0) || !(na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] > 0.0)) return 0;
+    if (!(pvs__ep_tri_normal(B[0], B[1], B[2], nb) > 0.0) || !(na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] > 0.0))
+        return 0;
     for (k = 0; k < 3; ++k) {
-        double d = (na[0] * ((double)B[k][0] - A[0][0]) + na[1] * ((double)B[k][1] - A[0][1]) + na[2] * ((double)B[k][2] - A[0][2])) / la;
+        double d = (na[0] * ((double)B[k][0] - A[0][0]) + na[1] * ((double)B[k][1] - A[0][1]) +
+                    na[2] * ((double)B[k][2] - A[0][2])) /
+            la;
         if (pvs__dabs(d) > 1e-6 * scale) return 0;
     }
     return 1;
@@ -16917,8 +17408,9 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
    normal nr / lr through the first triangle, the vertices within dev of it); its points, for the
    selection only, are the hull of its vertices. Left as pieces when it has more than
    PVS__EP_CONCAVE_EDGES boundary edges. */
-PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
-                                           uint32_t m, uint32_t cnt, const double *nr, double lr, double dev, double scale) {
+PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
+                                           pvs__epprepwork *w, uint32_t m, uint32_t cnt, const double *nr, double lr,
+                                           double dev, double scale) {
     uint32_t h, c, nb = 0, ne = 0, ax = 0, u, v, i, nh = 0;
     int k, hn;
     pvs_result r = PVS_OK;
@@ -16954,13 +17446,15 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
     for (k = 0; k < hn; ++k) {
         const float *hit = NULL;
         for (h = 0; h < 2 * nb && !hit; ++h) {
-            const float *x = w->vpos[h & 1u ? (uint32_t)(w->bed[h >> 1] & 0xffffffffu) : (uint32_t)(w->bed[h >> 1] >> 32)];
+            const float *x =
+                w->vpos[h & 1u ? (uint32_t)(w->bed[h >> 1] & 0xffffffffu) : (uint32_t)(w->bed[h >> 1] >> 32)];
             if ((double)x[u] == w->hh[2 * k] && (double)x[v] == w->hh[2 * k + 1]) hit = x;
         }
         if (!hit) return PVS_OK;
         q3[nh++] = hit;
     }
-    p->cedge = (float *)pvs__grow_array(&p->allocator, p->cedge, &p->cedge_capacity, p->cedge_count, p->cedge_count + nb, 6 * sizeof(float), &r);
+    p->cedge = (float *)pvs__grow_array(&p->allocator, p->cedge, &p->cedge_capacity, p->cedge_count,
+                                        p->cedge_count + nb, 6 * sizeof(float), &r);
     if (!p->cedge) return r;
     o = p->occ + p->occ_count;
     pvs__ep_add(p, q3, nh, 0, dev == 0.0 ? 0.0 : dev + 1e-12 * scale);
@@ -17006,7 +17500,8 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
                 double na[3], la;
                 for (m = 0; m < 3; ++m) { A[m] = PVS__EP_TRI(ja, m); B[m] = PVS__EP_TRI(jb, m); }
                 la = pvs__ep_tri_normal(A[0], A[1], A[2], na);
-                if (!(la > 0.0) || !pvs__ep_coplanar(A, na, la, B, scale) || !pvs__ep_coplanar(B, na, la, A, scale)) continue;
+                if (!(la > 0.0) || !pvs__ep_coplanar(A, na, la, B, scale) || !pvs__ep_coplanar(B, na, la, A, scale))
+                    continue;
                 {
                     uint32_t x = pvs__ep_find(w->gparent, ja), y = pvs__ep_find(w->gparent, jb);
                     if (x != y) w->gparent[x > y ? x : y] = x < y ? x : y;
@@ -17030,9 +17525,14 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
         const float *C[3];
         for (c = 0; c < 3; ++c) {
             const float *x = C[c] = PVS__EP_TRI(t, c);
-            *dev = pvs__dmax(*dev, pvs__dabs(nr[0] * ((double)x[0] - A[0][0]) + nr[1] * ((double)x[1] - A[0][1]) + nr[2] * ((double)x[2] - A[0][2])) / lr);
+            *dev = pvs__dmax(*dev,
+                             pvs__dabs(nr[0] * ((double)x[0] - A[0][0]) + nr[1] * ((double)x[1] - A[0][1]) +
+                                       nr[2] * ((double)x[2] - A[0][2])) /
+                                 lr);
         }
-        *area += 0.5 * pvs__dabs(((double)C[1][u] - C[0][u]) * ((double)C[2][v] - C[0][v]) - ((double)C[2][u] - C[0][u]) * ((double)C[1][v] - C[0][v]));
+        *area += 0.5 *
+            pvs__dabs(((double)C[1][u] - C[0][u]) * ((double)C[2][v] - C[0][v]) -
+                      ((double)C[2][u] - C[0][u]) * ((double)C[1][v] - C[0][v]));
         for (c = 0; c < 3; ++c) {
             const float *x = C[c], *y = C[(c + 1) % 3];
             float P0[2], P1[2];
@@ -17087,7 +17587,10 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
                 uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
                 for (c = 0; c < 3; ++c) {
                     const float *x = PVS__EP_TRI(t, c);
-                    dev2 = pvs__dmax(dev2, pvs__dabs(nb[0] * ((double)x[0] - q3[0][0]) + nb[1] * ((double)x[1] - q3[0][1]) + nb[2] * ((double)x[2] - q3[0][2])) / lb);
+                    dev2 = pvs__dmax(dev2,
+                                     pvs__dabs(nb[0] * ((double)x[0] - q3[0][0]) + nb[1] * ((double)x[1] - q3[0][1]) +
+                                               nb[2] * ((double)x[2] - q3[0][2])) /
+                                         lb);
                 }
             }
             dev = pvs__dmin(dev, dev2);
@@ -17107,8 +17610,8 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
    occluder, and its triangles are marked in w->used. The hull of the corners exceeds the surface by
    at most the largest distance of a corner from the group's plane (the slack, doubled, and once
    more for measuring along the dominant axis). */
-PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
-                                            pvs__epprepwork *w) {
+PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
+                                            uint32_t n, pvs__epprepwork *w) {
     uint32_t j, k, g;
     double scale = 0.0;
     pvs_result r = PVS_OK;
@@ -17142,8 +17645,8 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
         v = (ax + 2) % 3;
         e = pvs__ep_group_edges(s, t0, tl, w, m, cnt, A, nr, lr, u, v, &dev, &area);
         if (dev > 1e-6 * scale || !(area > 0.0)) continue;
-        k = pvs__ep_sheet_polygon(w->e2, e, area, w->q2, w->keep, e, w->ends, 1e-4, (double(*)[2])w->hp, (double(*)[2])w->hh, PVS__EP_MAXP,
-                                  &dent);
+        k = pvs__ep_sheet_polygon(w->e2, e, area, w->q2, w->keep, e, w->ends, 1e-4, (double(*)[2])w->hp,
+                                  (double(*)[2])w->hh, PVS__EP_MAXP, &dent);
         if (k < 3 || k > PVS__EP_MAXP || dent > 1e-6 * scale) {
             r = pvs__ep_add_concave(p, s, t0, tl, w, m, cnt, nr, lr, dev, scale);
             if (r != PVS_OK) return r;
@@ -17263,13 +17766,16 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
     pvs__epslice *sl;
     pvs_result r = PVS_OK;
     uint32_t j, k;
-    p->slc = (pvs__epslice *)pvs__grow_array(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1, sizeof(pvs__epslice), &r);
+    p->slc = (pvs__epslice *)pvs__grow_array(a, p->slc, &p->slc_capacity, p->slc_count, p->slc_count + 1,
+                                             sizeof(pvs__epslice), &r);
     if (!p->slc) return r;
-    p->stri = (uint32_t *)pvs__grow_array(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + n, sizeof(uint32_t), &r);
+    p->stri = (uint32_t *)pvs__grow_array(a, p->stri, &p->stri_capacity, p->stri_count, p->stri_count + n,
+                                          sizeof(uint32_t), &r);
     if (!p->stri) return r;
     if (capped) {
         /* pvs__grow_array counts elements of 6 floats */
-        p->bedge = (float *)pvs__grow_array(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb, 6 * sizeof(float), &r);
+        p->bedge = (float *)pvs__grow_array(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb,
+                                            6 * sizeof(float), &r);
         if (!p->bedge) return r;
     }
     sl = p->slc + p->slc_count++;
@@ -17279,7 +17785,8 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
     sl->count = n;
     for (j = 0; j < n; ++j) {
         p->stri[p->stri_count++] = t0 + tl[j];
-        for (k = 0; k < 3; ++k) pvs__box_add_point(&sl->box, s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k]);
+        for (k = 0; k < 3; ++k)
+            pvs__box_add_point(&sl->box, s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k]);
     }
     sl->capped = capped;
     if (capped) {
@@ -17360,7 +17867,8 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
    closed convex component becomes one solid; any other component its polygons (coplanar
    consecutive triangles merged into convex quads), and a closed or capped one is also kept for
    slicing. */
-PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
+PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn,
+                                              pvs__epprepwork *w) {
     uint32_t comp;
     pvs__ep_components(s, t0, tn, w);
     /* start[root] holds the component's end; components are the roots in increasing order */
@@ -17376,7 +17884,6 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
     }
     return PVS_OK;
 }
-
 
 /* ---- sheets (grounds, floors) and occluders extended through them ---- */
 
@@ -17395,7 +17902,8 @@ PVS__STATIC int pvs__ep_skey_cmp(const void *a, const void *b) {
 /* The axis along which triangle t's three vertices have the same coordinate (the first such), or -1. */
 PVS__STATIC int pvs__ep_flat_axis(const pvs_scene *s, uint32_t t) {
     const uint32_t *ix = s->indices + 3 * (size_t)t;
-    const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1], *v2 = s->positions + 3 * (size_t)ix[2];
+    const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1],
+                *v2 = s->positions + 3 * (size_t)ix[2];
     int k;
     for (k = 0; k < 3; ++k)
         if (v0[k] == v1[k] && v1[k] == v2[k]) return k;
@@ -17451,7 +17959,8 @@ PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float 
             if (p->sheet[x].area < p->sheet[slot].area) slot = x;
         if (!(area > p->sheet[slot].area)) return PVS_OK;
     }
-    p->spoly = (float *)pvs__grow_array(&p->allocator, p->spoly, &p->spoly_capacity, p->spoly_count, p->spoly_count + m, 2 * sizeof(float), &r);
+    p->spoly = (float *)pvs__grow_array(&p->allocator, p->spoly, &p->spoly_capacity, p->spoly_count, p->spoly_count + m,
+                                        2 * sizeof(float), &r);
     if (!p->spoly) return r;
     p->sheet[slot].axis = axis;
     p->sheet[slot].value = value;
@@ -17480,7 +17989,9 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
         const float *c[3];
         int l;
         for (l = 0; l < 3; ++l) c[l] = s->positions + 3 * (size_t)ix[l];
-        w->tarea[g] = 0.5 * pvs__dabs(((double)c[1][u] - c[0][u]) * ((double)c[2][v] - c[0][v]) - ((double)c[2][u] - c[0][u]) * ((double)c[1][v] - c[0][v]));
+        w->tarea[g] = 0.5 *
+            pvs__dabs(((double)c[1][u] - c[0][u]) * ((double)c[2][v] - c[0][v]) -
+                      ((double)c[2][u] - c[0][u]) * ((double)c[1][v] - c[0][v]));
         w->uf[g] = (uint32_t)g;
         for (l = 0; l < 3; ++l) {
             const float *x = c[l], *y = c[(l + 1) % 3];
@@ -17501,7 +18012,11 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
             if (x != y) w->uf[x > y ? x : y] = x < y ? x : y;
         }
     for (g = 0; g < ne; ++g) e[g].tri = pvs__ep_find(w->uf, e[g].tri);
-    for (g = 0; g < n; ++g) if (w->uf[g] != g) { w->tarea[pvs__ep_find(w->uf, (uint32_t)g)] += w->tarea[g]; w->tarea[g] = 0.0; }
+    for (g = 0; g < n; ++g)
+        if (w->uf[g] != g) {
+            w->tarea[pvs__ep_find(w->uf, (uint32_t)g)] += w->tarea[g];
+            w->tarea[g] = 0.0;
+        }
     PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_root_cmp);
     for (g = 0; g < ne;) {
         size_t h = g;
@@ -17509,7 +18024,8 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
         double area;
         while (h < ne && e[h].tri == root) ++h;
         area = w->tarea[root];
-        m = pvs__ep_sheet_polygon(e + g, (uint32_t)(h - g), area, w->q, w->keep, (uint32_t)w->cap, w->ends, 0.0, NULL, NULL, 0, NULL);
+        m = pvs__ep_sheet_polygon(e + g, (uint32_t)(h - g), area, w->q, w->keep, (uint32_t)w->cap, w->ends, 0.0, NULL,
+                                  NULL, 0, NULL);
         g = h;
         if (!m) continue;
         r = pvs__ep_keep_sheet(p, k, key[0].value, w->q, m, area);
@@ -17565,7 +18081,8 @@ PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint
     pvs_result r = PVS_OK;
     int k = S->axis;
     uint32_t x;
-    p->pts = (float *)pvs__grow_array(&p->allocator, p->pts, &p->pt_capacity, p->pt_count, p->pt_count + oc->count + on, 3 * sizeof(float), &r);
+    p->pts = (float *)pvs__grow_array(&p->allocator, p->pts, &p->pt_capacity, p->pt_count, p->pt_count + oc->count + on,
+                                      3 * sizeof(float), &r);
     if (!p->pts) return r;
     pts = p->pts + 3 * (size_t)oc->first;
     oc->xfirst = (uint32_t)p->pt_count;
@@ -17611,7 +18128,8 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
     nkey = 0;
     for (t = 0; t < s->triangle_count; ++t) {
         const uint32_t *ix = s->indices + 3 * (size_t)t;
-        const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1], *v2 = s->positions + 3 * (size_t)ix[2];
+        const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1],
+                    *v2 = s->positions + 3 * (size_t)ix[2];
         int k;
         double n[3];
         if (!(pvs__ep_tri_normal(v0, v1, v2, n) > 0.0)) continue;
@@ -17749,7 +18267,8 @@ PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err)
 }
 
 /* Builds the occluder list of a scene (§6.1 picks among it per cell). */
-PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out, pvs_error *err) {
+PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out,
+                                            pvs_error *err) {
     pvs__extproj_prep *p;
     pvs__epprepwork w;
     size_t occ_cap = (size_t)s->triangle_count + 1, pt_cap = 3 * (size_t)s->triangle_count + 1, most = 1;
@@ -17760,9 +18279,13 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
     for (i = 0; i < s->occluder_count; ++i) {
         const pvs_occluder_desc *d = s->occluders + i;
         if (d->kind == PVS_OCCLUDER_BOX) { occ_cap += 1; pt_cap += 8; }
-        if (d->kind == PVS_OCCLUDER_EXTRUSION) { occ_cap += d->footprint_count; pt_cap += 4 * (size_t)d->footprint_count; }
+        if (d->kind == PVS_OCCLUDER_EXTRUSION) {
+            occ_cap += d->footprint_count;
+            pt_cap += 4 * (size_t)d->footprint_count;
+        }
     }
-    if (occ_cap > 0xffffffffu || pt_cap > 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "extproj: too many occluders");
+    if (occ_cap > 0xffffffffu || pt_cap > 0xffffffffu)
+        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "extproj: too many occluders");
     p = (pvs__extproj_prep *)pvs__alloc(a, sizeof(*p), 16);
     if (!p) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj occluders");
     memset(p, 0, sizeof(*p));
@@ -17826,7 +18349,8 @@ PVS__STATIC int pvs__ep_vref_cmp_pts(const float *a, const float *b) {
     return 0;
 }
 
-PVS__STATIC void pvs__ep_cross(const pvs__epframe *f, const float *a, const float *b, double *x, double *y, double *mag) {
+PVS__STATIC void pvs__ep_cross(const pvs__epframe *f, const float *a, const float *b, double *x, double *y,
+                               double *mag) {
     const float *p = a, *q = b;
     double wp, wq, t, u, v;
     if (pvs__ep_vref_cmp_pts(a, b) > 0) { p = b; q = a; }
@@ -17837,7 +18361,9 @@ PVS__STATIC void pvs__ep_cross(const pvs__epframe *f, const float *a, const floa
     v = p[f->v] + ((double)q[f->v] - p[f->v]) * t;
     *x = (u - f->u0) * f->su;
     *y = (v - f->v0) * f->sv;
-    *mag = pvs__dmax(*mag, (pvs__dabs(p[f->u]) + pvs__dabs(q[f->u]) + pvs__dabs(f->u0)) * f->su + (pvs__dabs(p[f->v]) + pvs__dabs(q[f->v]) + pvs__dabs(f->v0)) * f->sv);
+    *mag = pvs__dmax(*mag,
+                     (pvs__dabs(p[f->u]) + pvs__dabs(q[f->u]) + pvs__dabs(f->u0)) * f->su +
+                         (pvs__dabs(p[f->v]) + pvs__dabs(q[f->v]) + pvs__dabs(f->v0)) * f->sv);
 }
 
 PVS__STATIC int pvs__ep_double_cmp(const void *a, const void *b) {
@@ -17964,7 +18490,8 @@ PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *
             if (q0 <= q1) memset(sc->row + q0, 1, (size_t)(q1 - q0 + 1));
         }
         for (x = 0; x + 1 < nx; x += 2) {
-            int32_t i0 = pvs__clampi(ceil(sc->xs[x]), 0, (int32_t)f->width), i1 = pvs__clampi(floor(sc->xs[x + 1]) - 1.0, -1, (int32_t)f->width - 1), q;
+            int32_t i0 = pvs__clampi(ceil(sc->xs[x]), 0, (int32_t)f->width),
+                    i1 = pvs__clampi(floor(sc->xs[x + 1]) - 1.0, -1, (int32_t)f->width - 1), q;
             for (q = i0; q <= i1; ++q) {
                 if (sc->row[q]) continue;
                 if (map) {
@@ -17988,8 +18515,8 @@ PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *
    side of the cap's plane), so it crosses a triangle before reaching X, at a depth below W. Vertices
    on the plane count as beyond it (symbolic perturbation), so every triangle and boundary edge
    crossing the plane gives a consistent segment or point. Returns the pixels written. */
-PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
-                                   pvs__epslicer *sc, float *map, unsigned char *mask) {
+PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
+                                   const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
     double mag = 0.0;
     uint32_t nseg = pvs__ep_section_tris(s, p, c, f, sc, 0, &mag);
     if (c->capped) {
@@ -18014,8 +18541,8 @@ PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
 
 /* The slice of a sheet's solid half-space (pvs__epsheet) by the plane: the points beyond the sheet
    (on the side away from the cell) over its polygon. Pixels inside it by a margin get Depth W. */
-PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__epsheet *S, int side, const pvs__epframe *f, float *map,
-                                         unsigned char *mask) {
+PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__epsheet *S, int side,
+                                         const pvs__epframe *f, float *map, unsigned char *mask) {
     int k = S->axis, su = (k + 1) % 3;
     const float *poly = p->spoly + 2 * (size_t)S->first;
     double pos = f->face + f->s * f->W, lo = DBL_MAX, hi = -DBL_MAX, x0, x1, y0, y1, m, mag;
@@ -18059,7 +18586,8 @@ PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__
             x1 = (hi - f->u0) * f->su;
         }
     }
-    mag = (pvs__dabs(lo) + pvs__dabs(hi) + pvs__dabs(S->value) + pvs__dabs(f->u0) + pvs__dabs(f->v0) + pvs__dabs(pos)) * (f->su + f->sv);
+    mag = (pvs__dabs(lo) + pvs__dabs(hi) + pvs__dabs(S->value) + pvs__dabs(f->u0) + pvs__dabs(f->v0) + pvs__dabs(pos)) *
+        (f->su + f->sv);
     m = 1e-6 + 1e-12 * mag;
     i0 = pvs__clampi(ceil(x0 + m), 0, (int32_t)f->width);
     i1 = pvs__clampi(floor(x1 - m) - 1.0, -1, (int32_t)f->width - 1);
@@ -18079,8 +18607,9 @@ PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__
 }
 
 /* Slices every component the plane cuts inside its rectangle. */
-PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs_extproj_plane *pl,
-                                    const pvs__epframe *f, pvs__epslicer *sc, const int *sheet_side, float *map, unsigned char *mask) {
+PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
+                                    const pvs_extproj_plane *pl, const pvs__epframe *f, pvs__epslicer *sc,
+                                    const int *sheet_side, float *map, unsigned char *mask) {
     uint32_t i, written = 0;
     double pos = f->face + f->s * f->W;
     for (i = 0; i < p->sheet_count; ++i)
@@ -18088,7 +18617,8 @@ PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep 
     for (i = 0; i < p->slc_count; ++i) {
         const pvs__epslice *c = p->slc + i;
         if (!(c->box.min[f->a] <= pos && c->box.max[f->a] >= pos)) continue;
-        if (c->box.max[f->u] < pl->rect[0] || c->box.min[f->u] > pl->rect[2] || c->box.max[f->v] < pl->rect[1] || c->box.min[f->v] > pl->rect[3])
+        if (c->box.max[f->u] < pl->rect[0] || c->box.min[f->u] > pl->rect[2] || c->box.max[f->v] < pl->rect[1] ||
+            c->box.min[f->v] > pl->rect[3])
             continue;
         if (!pvs__ep_slice_ok(c, cell)) continue;
         written += pvs__ep_slice(s, p, c, f, sc, map, mask);
@@ -18103,7 +18633,8 @@ PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep 
    double on the edges, exactly at depth c) plus the segments of the clipping line inside P, found
    between the crossings sorted along the line and paired by parity with the same half-open rule,
    so the two close up. E needs room for 1.5 n + 1 edges. Returns the new count (0 if none). */
-PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epocc *o, double *E, uint32_t n, double cdepth, int ge) {
+PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epocc *o, double *E, uint32_t n,
+                                          double cdepth, int ge) {
     const pvs__epframe f = *fp;
     uint32_t nc = 0, nx = 0, q;
     double xs[PVS__EP_CONCAVE_EDGES][4], dir[3], best = 0.0, ea[3] = {0.0, 0.0, 0.0};
@@ -18170,8 +18701,12 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
             pts[k][0] = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su;
             pts[k][1] = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
             /* rounding: a few ulps of the terms, with a wide factor (the ends are exact) */
-            err = pvs__dmax(err, 1e-12 * (pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
-                                          ((pvs__dabs(Vu) + pvs__dabs((double)x[f.u])) * f.su + (pvs__dabs(Vv) + pvs__dabs((double)x[f.v])) * f.sv) * t));
+            err = pvs__dmax(err,
+                            1e-12 *
+                                (pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
+                                 ((pvs__dabs(Vu) + pvs__dabs((double)x[f.u])) * f.su +
+                                  (pvs__dabs(Vv) + pvs__dabs((double)x[f.v])) * f.sv) *
+                                     t));
             ++k;
         }
     }
@@ -18248,13 +18783,16 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
         double ax = a[pu], ay = a[pv], bx = b[pu], by = b[pv], ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey, s2;
         if ((ay > cp[pv]) != (by > cp[pv]) && cp[pu] < ax + ex * (cp[pv] - ay) / ey) inside = !inside;
         s2 = l2 > 0.0 ? pvs__dmin(1.0, pvs__dmax(0.0, ((cp[pu] - ax) * ex + (cp[pv] - ay) * ey) / l2)) : 0.0;
-        best = pvs__dmin(best, sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) + (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
+        best = pvs__dmin(best,
+                         sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) +
+                              (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
     }
     /* the surface lies within the slack of the plane: the segment crosses that slab over a
        stretch of slack / sin(angle) (|dir| / |den|), measured in (pu, pv) a factor
        1 / |n_pax| longer; a crossing that near the boundary is not trusted */
-    tol = 4.0 * slack / pvs__dabs(pn[pax]) * pvs__dmax(1.0, sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]) / pvs__dabs(den)) +
-          1e-9 * scale;
+    tol = 4.0 * slack / pvs__dabs(pn[pax]) *
+            pvs__dmax(1.0, sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]) / pvs__dabs(den)) +
+        1e-9 * scale;
     return inside && best > tol;
 }
 
@@ -18272,8 +18810,8 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
    boundary, away from it by more than the slack) decides the whole run. Unlike the pieces' own
    Projections, which each lose a strip along every shared edge to its penumbra, the boundary's
    penumbra is the only loss. Depth: the farthest vertex, plus the slack. Returns the pixels set. */
-PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o, int front_only, unsigned char *cmark,
-                                     float *map, unsigned char *mask) {
+PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o,
+                                     int front_only, unsigned char *cmark, float *map, unsigned char *mask) {
     const pvs__epframe f = *fp;
     double E[6 * (PVS__EP_CONCAVE_EDGES + PVS__EP_CONCAVE_EDGES / 2 + 1)];
     uint32_t e, written = 0, n = o->ecount;
@@ -18308,11 +18846,13 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
     base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv + 1.0;
     /* candidate pixels: inside every corner's view of the boundary's bounding box */
     for (c = 0; c < 8; ++c) {
-        double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], bx0 = DBL_MAX, bx1 = -DBL_MAX, by0 = DBL_MAX, by1 = -DBL_MAX;
+        double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], bx0 = DBL_MAX, bx1 = -DBL_MAX,
+               by0 = DBL_MAX, by1 = -DBL_MAX;
         for (e = 0; e < 2 * n; ++e) {
             const double *x = E + 3 * (size_t)e;
             double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
-            double pu_ = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su, pv_ = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
+            double pu_ = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su,
+                   pv_ = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
             bx0 = pvs__dmin(bx0, pu_); bx1 = pvs__dmax(bx1, pu_);
             by0 = pvs__dmin(by0, pv_); by1 = pvs__dmax(by1, pv_);
         }
@@ -18393,7 +18933,8 @@ PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
 }
 
 /* 1 if some level-0 pixel of rect under texel (tx, ty) of level l holds a Depth >= d. */
-PVS__STATIC int pvs__ep_visible_at(const pvs__epmap *m, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *r, float d) {
+PVS__STATIC int pvs__ep_visible_at(const pvs__epmap *m, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *r,
+                                   float d) {
     uint32_t cx, cy;
     if (m->lv[l][ty * m->lw[l] + tx] < d) return 0;
     if (l == 0) return 1;
@@ -18410,7 +18951,9 @@ PVS__STATIC int pvs__ep_visible_at(const pvs__epmap *m, uint32_t l, uint32_t tx,
 PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) {
     uint32_t l = 0, tx, ty;
     if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)m->plane.width || r[3] >= (int32_t)m->plane.height) return 1;
-    while (l < m->levels && (((uint32_t)r[2] >> l) - ((uint32_t)r[0] >> l) > 1 || ((uint32_t)r[3] >> l) - ((uint32_t)r[1] >> l) > 1)) ++l;
+    while (l < m->levels &&
+           (((uint32_t)r[2] >> l) - ((uint32_t)r[0] >> l) > 1 || ((uint32_t)r[3] >> l) - ((uint32_t)r[1] >> l) > 1))
+        ++l;
     for (ty = (uint32_t)r[1] >> l; ty <= (uint32_t)r[3] >> l; ++ty)
         for (tx = (uint32_t)r[0] >> l; tx <= (uint32_t)r[2] >> l; ++tx)
             if (pvs__ep_visible_at(m, l, tx, ty, r, d)) return 1;
@@ -18438,7 +18981,9 @@ typedef struct pvs__epmask {
 
 /* The umbrae a mask holds (1 or 4) and the frame of the j-th. */
 PVS__STATIC uint32_t pvs__ep_nsub(const pvs__epmask *m) { return m->nsub ? m->nsub : 1u; }
-PVS__STATIC const pvs__epframe *pvs__ep_subframe(const pvs__epmask *m, uint32_t j) { return m->nsub ? m->sub + j : &m->frame; }
+PVS__STATIC const pvs__epframe *pvs__ep_subframe(const pvs__epmask *m, uint32_t j) {
+    return m->nsub ? m->sub + j : &m->frame;
+}
 
 /* Splits a mask's cell into its 4 sub-cells (pvs__epmask), the halves meeting at the same
    midpoint, so that they cover the cell. */
@@ -18465,12 +19010,14 @@ PVS__STATIC void pvs__ep_build_mask_pyramid(pvs__epmask *m) {
         for (y = 0; y < m->lh[l]; ++y)
             for (x = 0; x < m->lw[l]; ++x) {
                 uint32_t x0 = 2 * x, y0 = 2 * y, x1 = x0 + 1 < pw ? x0 + 1 : x0, y1 = y0 + 1 < ph ? y0 + 1 : y0;
-                dst[y * m->lw[l] + x] = (unsigned char)(src[y0 * pw + x0] & src[y0 * pw + x1] & src[y1 * pw + x0] & src[y1 * pw + x1]);
+                dst[y * m->lw[l] + x] =
+                    (unsigned char)(src[y0 * pw + x0] & src[y0 * pw + x1] & src[y1 * pw + x0] & src[y1 * pw + x1]);
             }
     }
 }
 
-PVS__STATIC int pvs__ep_mask_open_at(const pvs__epmask *m, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *r, unsigned char bit) {
+PVS__STATIC int pvs__ep_mask_open_at(const pvs__epmask *m, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *r,
+                                     unsigned char bit) {
     uint32_t cx, cy;
     if (m->lv[l][ty * m->lw[l] + tx] & bit) return 0;
     if (l == 0) return 1;
@@ -18488,7 +19035,9 @@ PVS__STATIC int pvs__ep_mask_open_at(const pvs__epmask *m, uint32_t l, uint32_t 
 PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r, unsigned char bit) {
     uint32_t l = 0, tx, ty;
     if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)m->plane.width || r[3] >= (int32_t)m->plane.height) return 1;
-    while (l < m->levels && (((uint32_t)r[2] >> l) - ((uint32_t)r[0] >> l) > 1 || ((uint32_t)r[3] >> l) - ((uint32_t)r[1] >> l) > 1)) ++l;
+    while (l < m->levels &&
+           (((uint32_t)r[2] >> l) - ((uint32_t)r[0] >> l) > 1 || ((uint32_t)r[3] >> l) - ((uint32_t)r[1] >> l) > 1))
+        ++l;
     for (ty = (uint32_t)r[1] >> l; ty <= (uint32_t)r[3] >> l; ++ty)
         for (tx = (uint32_t)r[0] >> l; tx <= (uint32_t)r[2] >> l; ++tx)
             if (pvs__ep_mask_open_at(m, l, tx, ty, r, bit)) return 1;
@@ -18500,8 +19049,9 @@ PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r, unsign
    cell (§5.1 reprojection). A ray from corner V through q crosses plane W_from at V + (q - V) a with
    a = (W_from - Vw) / (W_to - Vw); per axis the extremes are at the cell's corners and the pixel's
    edges. Ranges reaching outside `from` are marked lo = -1. */
-PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, double W_from, double W_to, double to_k0, double to_sk, uint32_t to_n,
-                                        double from_k0, double from_sk, uint32_t from_n, int32_t *lo, int32_t *hi) {
+PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, double W_from, double W_to, double to_k0,
+                                        double to_sk, uint32_t to_n, double from_k0, double from_sk, uint32_t from_n,
+                                        int32_t *lo, int32_t *hi) {
     uint32_t i;
     double a[2];
     int c;
@@ -18516,7 +19066,10 @@ PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, doub
                     mn = pvs__dmin(mn, x);
                     mx = pvs__dmax(mx, x);
                 }
-        err = 1e-6 + 1e-12 * (pvs__dabs(mn) + pvs__dabs(mx) + (pvs__dabs(from_k0) + pvs__dabs(q0) + pvs__dabs(q1) + pvs__dabs(ck[0]) + pvs__dabs(ck[1])) * from_sk);
+        err = 1e-6 +
+            1e-12 *
+                (pvs__dabs(mn) + pvs__dabs(mx) +
+                 (pvs__dabs(from_k0) + pvs__dabs(q0) + pvs__dabs(q1) + pvs__dabs(ck[0]) + pvs__dabs(ck[1])) * from_sk);
         lo[i] = pvs__clampi(floor(mn - err), -1, (int32_t)from_n);
         hi[i] = pvs__clampi(floor(mx + err), -1, (int32_t)from_n);
         if (lo[i] < 0 || hi[i] >= (int32_t)from_n) lo[i] = -1;
@@ -18683,7 +19236,8 @@ PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box 
         uint32_t hi = stack[--top], lo = stack[--top], mid;
         pvs_box pb = pvs__box_empty();
         size_t t;
-        for (t = 3 * (size_t)lo; t < 3 * (size_t)hi; ++t) pvs__box_add_point(&pb, s->positions + 3 * (size_t)s->indices[t]);
+        for (t = 3 * (size_t)lo; t < 3 * (size_t)hi; ++t)
+            pvs__box_add_point(&pb, s->positions + 3 * (size_t)s->indices[t]);
         if (!pvs__box_clip(&pb, b)) continue; /* no point inside b */
         if (++tests > PVS__EP_PARTS_TESTS) return 1;
         if (pvs__ep_box_hidden(c, &pb)) continue;
@@ -18707,7 +19261,8 @@ PVS__STATIC int pvs__ep_wanted(const pvs__epcell *c, uint32_t o) {
    object is visible when a part of its box (its box cut by a leaf's cell) is; with the sweep, when
    a part of it in that box is (pvs__ep_parts_visible). Coarse (the preview): nodes small in angle,
    and all nodes past the test budget, are decided whole (PVS__EP_COARSE_ANGLE). */
-PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
+                                    uint32_t count) {
     pvs__epcell *c = (pvs__epcell *)user;
     uint32_t i;
     if (distance < 0.0f || (c->coarse && items && c->tests >= PVS__EP_COARSE_TESTS)) { /* kept whole */
@@ -18719,7 +19274,9 @@ PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float d
         if (c->tests >= PVS__EP_COARSE_TESTS) return PVS_VISIT_ALL;
         ++c->tests;
         if (pvs__ep_box_hidden(c, node_box)) return PVS_VISIT_SKIP;
-        return pvs__box_diagonal(node_box) < PVS__EP_COARSE_ANGLE * ((double)distance + c->cell_diag) ? PVS_VISIT_ALL : PVS_VISIT_DESCEND;
+        return pvs__box_diagonal(node_box) < PVS__EP_COARSE_ANGLE * ((double)distance + c->cell_diag)
+            ? PVS_VISIT_ALL
+            : PVS_VISIT_DESCEND;
     }
     c->tests += 1 + count;
     if (pvs__ep_box_hidden(c, node_box)) return PVS_VISIT_SKIP;
@@ -18791,7 +19348,9 @@ PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32
 
 /* The sweep's masks cover only the part of their plane that matters, with the pixels of a res x res
    map spread over it as square pixels (pvs__ep_fit_plane). Their longest side: */
-PVS__STATIC uint32_t pvs__ep_max_side(uint32_t res) { return 16u * res < PVS__EP_MAX_SIDE ? 16u * res : PVS__EP_MAX_SIDE; }
+PVS__STATIC uint32_t pvs__ep_max_side(uint32_t res) {
+    return 16u * res < PVS__EP_MAX_SIDE ? 16u * res : PVS__EP_MAX_SIDE;
+}
 
 /* Pixels of a w x h map with `levels` pyramid levels above it. */
 PVS__STATIC size_t pvs__ep_pyramid_size(uint32_t w, uint32_t h, uint32_t levels) {
@@ -18835,8 +19394,10 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
     level_floats = pvs__ep_pyramid_size(res, res, levels);
     bytes = 6 * PVS__EP_PLANES * level_floats * sizeof(float) + (size_t)res * res + res; /* maps, cmark, row */
     if (sweep)
-        bytes += 6 * (size_t)sweep * (level_floats + sizeof(pvs__epmask)) + pvs__ep_sat_count(res, sweep) * pvs__ep_sat_table(res) * sizeof(uint32_t) +
-                 2 * ((size_t)pvs__ep_max_side(res) + res) * sizeof(int32_t) + pvs__ep_max_side(res) - res; /* masks, tables, ranges, longer row */
+        bytes += 6 * (size_t)sweep * (level_floats + sizeof(pvs__epmask)) +
+            pvs__ep_sat_count(res, sweep) * pvs__ep_sat_table(res) * sizeof(uint32_t) +
+            2 * ((size_t)pvs__ep_max_side(res) + res) * sizeof(int32_t) + pvs__ep_max_side(res) -
+            res; /* masks, tables, ranges, longer row */
     return bytes;
 }
 
@@ -18854,13 +19415,15 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
    (see tests/BENCHMARKS.md, extproj). §6.1's planes are not fitted: an occludee in front of one (§4)
    is often hidden by pixels outside the span (a table, by the floor's Projection below the floor),
    and fitting them made the city tighter but the indoor plans looser. */
-PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels, size_t room, pvs_extproj_plane *pl) {
+PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels,
+                                   size_t room, pvs_extproj_plane *pl) {
     int a = (int)pl->axis, k;
     uint32_t side = pvs__ep_max_side(res);
     double len[2], w, h, px = (double)res * res;
     for (k = 0; k < 2; ++k) {
         int ax = k ? (a + 2) % 3 : (a + 1) % 3;
-        double lo = pvs__dmin(cell->min[ax], bounds->min[ax]), hi = pvs__dmax(cell->max[ax], bounds->max[ax]), m = (hi - lo) / 512.0;
+        double lo = pvs__dmin(cell->min[ax], bounds->min[ax]), hi = pvs__dmax(cell->max[ax], bounds->max[ax]),
+               m = (hi - lo) / 512.0;
         float r0 = (double)pl->rect[k] < lo - m ? pvs__f_down(lo - m) : pl->rect[k];
         float r1 = (double)pl->rect[k + 2] > hi + m ? pvs__f_up(hi + m) : pl->rect[k + 2];
         if (r1 > r0) { /* else a flat cell in a flat scene: the plane stays as it was */
@@ -18930,8 +19493,8 @@ PVS__STATIC double pvs__ep_tri_solid_angle(const double *e, const float *a, cons
     lb = sqrt(B[0] * B[0] + B[1] * B[1] + B[2] * B[2]);
     lc = sqrt(C[0] * C[0] + C[1] * C[1] + C[2] * C[2]);
     num = A[0] * (B[1] * C[2] - B[2] * C[1]) + A[1] * (B[2] * C[0] - B[0] * C[2]) + A[2] * (B[0] * C[1] - B[1] * C[0]);
-    den = la * lb * lc + (A[0] * B[0] + A[1] * B[1] + A[2] * B[2]) * lc + (A[0] * C[0] + A[1] * C[1] + A[2] * C[2]) * lb +
-          (B[0] * C[0] + B[1] * C[1] + B[2] * C[2]) * la;
+    den = la * lb * lc + (A[0] * B[0] + A[1] * B[1] + A[2] * B[2]) * lc +
+        (A[0] * C[0] + A[1] * C[1] + A[2] * C[2]) * lb + (B[0] * C[0] + B[1] * C[1] + B[2] * C[2]) * la;
     return 2.0 * pvs__dabs(atan2(num, den));
 }
 
@@ -19000,7 +19563,9 @@ PVS__STATIC void pvs__ep_sel_push(pvs__epsel *h, uint32_t n, uint32_t *count, fl
         e.score = score;
         e.occ = occ;
         k = (*count)++;
-        while (k > 0 && pvs__ep_sel_better(h[(k - 1) / 2].score, h[(k - 1) / 2].occ, &e)) { /* the parent ranks before: move it down */
+        while (k > 0 &&
+               pvs__ep_sel_better(h[(k - 1) / 2].score, h[(k - 1) / 2].occ,
+                                  &e)) { /* the parent ranks before: move it down */
             h[k] = h[(k - 1) / 2];
             k = (k - 1) / 2;
         }
@@ -19021,12 +19586,15 @@ PVS__STATIC int pvs__ep_sel_wanted(const pvs__epselect *w, const pvs_box *box, d
     return 0;
 }
 
-PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
+                                        uint32_t count) {
     pvs__epselect *w = (pvs__epselect *)user;
     const pvs__extproj_prep *p = w->p;
     const pvs_box *cell = w->cell;
     uint32_t j, d;
-    if (distance > 0.0f && !pvs__ep_sel_wanted(w, node_box, (double)p->class_area[w->cls] / ((double)distance * distance))) return PVS_VISIT_SKIP;
+    if (distance > 0.0f &&
+        !pvs__ep_sel_wanted(w, node_box, (double)p->class_area[w->cls] / ((double)distance * distance)))
+        return PVS_VISIT_SKIP;
     for (j = 0; j < count; ++j) {
         uint32_t i = p->class_occ[w->cls][items[j]];
         const pvs__epocc *o = p->occ + i;
@@ -19034,13 +19602,17 @@ PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, flo
         double d2 = 0.0;
         if (pvs_bitset_test(w->seen, i)) continue;
         pvs_bitset_set(w->seen, i);
-        if ((o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) || (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)))
+        if ((o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) ||
+            (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)))
             continue; /* a capped solid this cell cannot use */
-        if (w->candidates && o->object != PVS_NO_OBJECT && !(w->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
+        if (w->candidates && o->object != PVS_NO_OBJECT &&
+            !(w->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
             !pvs_bitset_test(w->candidates, o->object))
             continue; /* §6.1: hidden from the parent cell, so redundant (and leaving it out is safe) */
         for (d = 0; d < 3; ++d) {
-            double g = w->centre[d] < o->box.min[d] ? o->box.min[d] - w->centre[d] : w->centre[d] > o->box.max[d] ? w->centre[d] - o->box.max[d] : 0.0;
+            double g = w->centre[d] < o->box.min[d] ? o->box.min[d] - w->centre[d]
+                : w->centre[d] > o->box.max[d]      ? w->centre[d] - o->box.max[d]
+                                                    : 0.0;
             d2 += g * g;
         }
         if (!pvs__ep_sel_wanted(w, &o->box, d2 > 0.0 ? (double)o->area / d2 : 1e30)) continue;
@@ -19055,8 +19627,9 @@ PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, flo
     return PVS_VISIT_DESCEND;
 }
 
-PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs_word *candidates,
-                                      pvs__epsel *sel, uint32_t n, uint32_t *nsel, pvs_word *seen, void *sweep, size_t sweep_size) {
+PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
+                                      const pvs_word *candidates, pvs__epsel *sel, uint32_t n, uint32_t *nsel,
+                                      pvs_word *seen, void *sweep, size_t sweep_size) {
     pvs__epselect w;
     uint32_t i, d;
     pvs_result r;
@@ -19090,7 +19663,8 @@ PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_pre
 }
 
 /* Sets up a map's pyramid levels over `base`. */
-PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_t *lw, uint32_t *lh, size_t elem, void *base, void **lv) {
+PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_t *lw, uint32_t *lh, size_t elem,
+                                void *base, void **lv) {
     uint32_t k;
     unsigned char *b = (unsigned char *)base;
     for (k = 0; k <= levels; ++k) {
@@ -19107,8 +19681,8 @@ PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_
    the cell stands over that sheet on the occluder's side (sheet_side[sheet]) and the extension runs
    across the plane's axis (along it, it would only push the occluder's Depth away). NULL for a
    capped solid the cell does not stand over. */
-PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell, const int *sheet_side, int axis,
-                                        uint32_t *count) {
+PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell,
+                                        const int *sheet_side, int axis, uint32_t *count) {
     if (o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) return NULL;
     if (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)) return NULL;
     if (o->xcount && sheet_side[o->sheet] == o->xside && p->sheet[o->sheet].axis != axis) {
@@ -19129,7 +19703,9 @@ PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *
         const float *poly = p->spoly + 2 * (size_t)S->first;
         side[i] = cell->min[k] > S->value ? 1 : cell->max[k] < S->value ? -1 : 0;
         for (c = 0; c < 4 && side[i]; ++c)
-            if (!pvs__ep_in_convex(poly, S->count, c & 1 ? cell->max[u] : cell->min[u], c & 2 ? cell->max[v] : cell->min[v])) side[i] = 0;
+            if (!pvs__ep_in_convex(poly, S->count, c & 1 ? cell->max[u] : cell->min[u],
+                                   c & 2 ? cell->max[v] : cell->min[v]))
+                side[i] = 0;
     }
 }
 
@@ -19139,9 +19715,10 @@ PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *
    others, one per band of distances (far / r^q, far / r^(q-1)], r = PVS__EP_PLANE_RATIO, each just
    behind the occluder of its band whose candidate plane fills the most pixels (§6.1), serve the
    occludees nearer the cell and the fusion of occluders at their distance (Fig. 16). */
-PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
-                                       uint32_t n, const pvs__epparams *prm, uint32_t levels, float *mem, size_t map_floats,
-                                       pvs__epslicer *sc, const int *sheet_side, pvs__epmap *maps) {
+PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
+                                       const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
+                                       float *mem, size_t map_floats, pvs__epslicer *sc, const int *sheet_side,
+                                       pvs__epmap *maps) {
     int a = d >> 1, q;
     double ext = (double)cell->max[a] - cell->min[a], far = 0.0, w0, w1;
     uint32_t k, j;
@@ -19152,7 +19729,8 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
     if (!(far > 0.0)) return;
     for (q = 0; q < PVS__EP_PLANES; ++q) {
         pvs__epmap *m = maps + q;
-        double W = far + 1e-3 * (far + ext), hi = far / pow(PVS__EP_PLANE_RATIO, (double)q), lo = hi / PVS__EP_PLANE_RATIO, bestFill = 0.0;
+        double W = far + 1e-3 * (far + ext), hi = far / pow(PVS__EP_PLANE_RATIO, (double)q),
+               lo = hi / PVS__EP_PLANE_RATIO, bestFill = 0.0;
         uint32_t tried = 0;
         if (q > 0) { /* the band (lo, hi]: candidates behind its occluders, best solid angle first */
             W = 0.0;
@@ -19172,14 +19750,17 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
         }
         pvs__ep_make_plane(cell, d, W, prm->res, &m->plane);
         m->levels = levels;
-        pvs__ep_levels(prm->res, prm->res, levels, m->lw, m->lh, sizeof(float), mem + (size_t)q * map_floats, (void **)m->lv);
+        pvs__ep_levels(prm->res, prm->res, levels, m->lw, m->lh, sizeof(float), mem + (size_t)q * map_floats,
+                       (void **)m->lv);
         for (k = 0; k < prm->res * prm->res; ++k) m->lv[0][k] = PVS_EXTPROJ_EMPTY;
         if (!pvs__ep_frame(&m->plane, &m->frame)) continue;
         for (k = 0; k < n; ++k) {
             uint32_t cnt;
             const float *pts = pvs__ep_points(p, p->occ + h[k].occ, cell, sheet_side, a, &cnt);
             if (p->occ[h[k].occ].ecount) pvs__ep_concave(&m->frame, p, p->occ + h[k].occ, 0, sc->cmark, m->lv[0], NULL);
-            else if (pts) pvs__ep_occluder(&m->frame, cell, pts, cnt, p->occ[h[k].occ].solid, p->occ[h[k].occ].slack, 0, m->lv[0], NULL);
+            else if (pts)
+                pvs__ep_occluder(&m->frame, cell, pts, cnt, p->occ[h[k].occ].solid, p->occ[h[k].occ].slack, 0, m->lv[0],
+                                 NULL);
         }
         pvs__ep_slices(s, p, cell, &m->plane, &m->frame, sc, sheet_side, m->lv[0], NULL);
         pvs__ep_build_pyramid(m);
@@ -19197,15 +19778,18 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
    With sub-cells, for sub-cell j of both planes with its own kernel, from the 16-bit lane j of the
    tables of pvs__ep_mask_sat_split (sat_split, else sat), a window of 2^16 pixels or more left open
    (conservative). */
-PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, const uint64_t *sat_split, pvs__epmask *to, int32_t *ranges,
-                                       uint32_t j) {
+PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, const uint64_t *sat_split,
+                                       pvs__epmask *to, int32_t *ranges, uint32_t j) {
     unsigned char *mask = to->lv[0];
     const pvs__epframe *tf = pvs__ep_subframe(to, j);
     unsigned char bit = tf->bits;
-    uint32_t fw = from->plane.width, fh = from->plane.height, tw = to->plane.width, th = to->plane.height, x, y, W1 = fw + 1;
+    uint32_t fw = from->plane.width, fh = from->plane.height, tw = to->plane.width, th = to->plane.height, x, y,
+             W1 = fw + 1;
     int32_t *clo = ranges, *chi = ranges + tw, *rlo = ranges + 2 * tw, *rhi = ranges + 2 * tw + th;
-    pvs__ep_reproject_axis(tf->cu, tf->cw, from->frame.W, tf->W, tf->u0, tf->su, tw, from->frame.u0, from->frame.su, fw, clo, chi);
-    pvs__ep_reproject_axis(tf->cv, tf->cw, from->frame.W, tf->W, tf->v0, tf->sv, th, from->frame.v0, from->frame.sv, fh, rlo, rhi);
+    pvs__ep_reproject_axis(tf->cu, tf->cw, from->frame.W, tf->W, tf->u0, tf->su, tw, from->frame.u0, from->frame.su, fw,
+                           clo, chi);
+    pvs__ep_reproject_axis(tf->cv, tf->cw, from->frame.W, tf->W, tf->v0, tf->sv, th, from->frame.v0, from->frame.sv, fh,
+                           rlo, rhi);
     for (y = 0; y < th; ++y) {
         size_t y0, y1;
         if (rlo[y] < 0) continue;
@@ -19219,7 +19803,8 @@ PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *
             x1 = (size_t)chi[x] + 1;
             if (sat_split) {
                 if ((x1 - x0) * (y1 - y0) >= 65536u) continue; /* a lane could overflow: left open */
-                open = sat_split[y1 * W1 + x1] - sat_split[y0 * W1 + x1] - sat_split[y1 * W1 + x0] + sat_split[y0 * W1 + x0];
+                open = sat_split[y1 * W1 + x1] - sat_split[y0 * W1 + x1] - sat_split[y1 * W1 + x0] +
+                    sat_split[y0 * W1 + x0];
                 open = (open >> (16u * j)) & 0xFFFFu;
             } else
                 open = sat[y1 * W1 + x1] - sat[y0 * W1 + x1] - sat[y1 * W1 + x0] + sat[y0 * W1 + x0];
@@ -19252,7 +19837,8 @@ PVS__STATIC void pvs__ep_mask_sat_split(const pvs__epmask *from, uint64_t *sat) 
     uint32_t fw = from->plane.width, fh = from->plane.height, x, y, W1 = fw + 1, b;
     uint64_t inc[16];
     for (b = 0; b < 16; ++b) /* the lanes of the bits clear in b */
-        inc[b] = (uint64_t)(~b & 1u) | (uint64_t)((~b >> 1) & 1u) << 16 | (uint64_t)((~b >> 2) & 1u) << 32 | (uint64_t)((~b >> 3) & 1u) << 48;
+        inc[b] = (uint64_t)(~b & 1u) | (uint64_t)((~b >> 1) & 1u) << 16 | (uint64_t)((~b >> 2) & 1u) << 32 |
+            (uint64_t)((~b >> 3) & 1u) << 48;
     for (x = 0; x <= fw; ++x) sat[x] = 0;
     for (y = 0; y < fh; ++y) {
         uint64_t run = 0;
@@ -19288,11 +19874,12 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
    the skips a region blocked on plane j reaches plane k in at most log2(k - j) + 1 steps. With
    `cached` (never with sub-cells), sat holds the tables of ms[0 ..] (pvs__ep_mask_sat), `stride`
    counts apart; else it is scratch for one (pvs__ep_reproject). */
-PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat, size_t stride, int cached,
-                                         int32_t *ranges) {
+PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat,
+                                         size_t stride, int cached, int32_t *ranges) {
     uint32_t back;
     for (back = 1; back <= count; back *= 2) {
-        if (cached) pvs__ep_reproject_sat(ms + count - back, sat + (size_t)(count - back) * stride, NULL, to, ranges, 0);
+        if (cached)
+            pvs__ep_reproject_sat(ms + count - back, sat + (size_t)(count - back) * stride, NULL, to, ranges, 0);
         else pvs__ep_reproject(ms + count - back, to, sat, ranges);
     }
 }
@@ -19332,7 +19919,8 @@ PVS__STATIC int pvs__ep_slab_wanted(const pvs__epslab *sl, const pvs_box *b) {
     return 1;
 }
 
-PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items, uint32_t count) {
+PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
+                                         uint32_t count) {
     pvs__epslab *sl = (pvs__epslab *)user;
     const pvs__extproj_prep *p = sl->p;
     uint32_t j, k;
@@ -19344,7 +19932,8 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
         const float *pts;
         if (sl->stamp[i] == sl->serial) continue;
         sl->stamp[i] = sl->serial;
-        if (sl->candidates && o->object != PVS_NO_OBJECT && !(sl->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
+        if (sl->candidates && o->object != PVS_NO_OBJECT &&
+            !(sl->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
             !pvs_bitset_test(sl->candidates, o->object))
             continue; /* §6.1: hidden from the parent cell */
         if (!pvs__ep_slab_wanted(sl, &o->box)) continue;
@@ -19378,11 +19967,13 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
      geometry far beyond the cells (a sky box) spreads the planes thinner. No plane is built at the
      far end itself: no object lies beyond it, so it would serve no occludee test.
    The number of planes goes to *planes. */
-PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d, const pvs__epsel *h,
-                                            uint32_t n, const pvs__epparams *prm, uint32_t levels, pvs__epscratch *w, const int *sheet_side,
-                                            const pvs_word *candidates, pvs__epmask *ms, uint32_t *planes) {
+PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
+                                            const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
+                                            pvs__epscratch *w, const int *sheet_side, const pvs_word *candidates,
+                                            pvs__epmask *ms, uint32_t *planes) {
     int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3, cls;
-    double ext = (double)cell->max[a] - cell->min[a], C = pvs__dmax((double)cell->max[u] - cell->min[u], (double)cell->max[v] - cell->min[v]);
+    double ext = (double)cell->max[a] - cell->min[a],
+           C = pvs__dmax((double)cell->max[u] - cell->min[u], (double)cell->max[v] - cell->min[v]);
     double W0 = DBL_MAX, Wend = 0.0, W, Wprev = 0.0, ratio;
     uint32_t k, count = 0, res = prm->res;
     int cached = !prm->split && w->sat_count == prm->sweep;
@@ -19463,8 +20054,9 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
    the planes of §6.1 and, with the sweep, the planes of §5; then the occludees front to back. With
    `candidates` (a sub-cell of the adaptive subdivision) only the parent's visible objects are
    tested, and the occluders of the others are left out. */
-PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, const pvs__epparams *prm,
-                                         const pvs_word *candidates, const pvs_allocator *al, pvs_word *bits, uint32_t cell_id, pvs_error *err) {
+PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
+                                         const pvs__epparams *prm, const pvs_word *candidates, const pvs_allocator *al,
+                                         pvs_word *bits, uint32_t cell_id, pvs_error *err) {
     pvs__epcell c;
     pvs__epscratch w;
     uint32_t nsel[6], d, levels = pvs__ep_level_count(prm->res), nper;
@@ -19532,10 +20124,11 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
         const pvs__epsel *h = w.sel + (size_t)d * nper;
         if (!nsel[d]) continue;
         pvs__ep_direct_planes(s, p, cell, (int)d, h, nsel[d] < prm->max_occ ? nsel[d] : prm->max_occ, prm, levels,
-                              w.maps + (size_t)PVS__EP_PLANES * d * w.map_floats, w.map_floats, &w.slicer, sheet_side, c.maps + PVS__EP_PLANES * d);
+                              w.maps + (size_t)PVS__EP_PLANES * d * w.map_floats, w.map_floats, &w.slicer, sheet_side,
+                              c.maps + PVS__EP_PLANES * d);
         if (prm->sweep) {
-            r = pvs__ep_sweep_planes(s, p, cell, (int)d, h, nsel[d], prm, levels, &w, sheet_side, candidates, w.mask_hdr + (size_t)d * prm->sweep,
-                                     &c.mask_count[d]);
+            r = pvs__ep_sweep_planes(s, p, cell, (int)d, h, nsel[d], prm, levels, &w, sheet_side, candidates,
+                                     w.mask_hdr + (size_t)d * prm->sweep, &c.mask_count[d]);
             if (r != PVS_OK) {
                 r = pvs__fail(err, r, cell_id, 0, "extproj: occlusion sweep of cell %u", cell_id);
                 goto done;
@@ -19557,30 +20150,38 @@ typedef struct pvs__extproj_bake {
 } pvs__extproj_bake;
 
 PVS__STATIC pvs_result pvs__extproj_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
-    int preview = (desc->flags & PVS_BAKE_PREVIEW) != 0, is_auto = desc->method == PVS_METHOD_AUTO || desc->method == PVS_METHOD_DEFAULT;
+    int preview = (desc->flags & PVS_BAKE_PREVIEW) != 0,
+        is_auto = desc->method == PVS_METHOD_AUTO || desc->method == PVS_METHOD_DEFAULT;
     if (desc->extproj.resolution && (desc->extproj.resolution < 16 || desc->extproj.resolution > 4096))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.resolution %u is not in 16..4096", desc->extproj.resolution);
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.resolution %u is not in 16..4096",
+                         desc->extproj.resolution);
     if (desc->extproj.occluders > 65536)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.occluders %u > 65536", desc->extproj.occluders);
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.occluders %u > 65536",
+                         desc->extproj.occluders);
     if (desc->extproj.sweep > 256 && desc->extproj.sweep != PVS_EXTPROJ_NO_SWEEP)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep %u > 256", desc->extproj.sweep);
     if (desc->extproj.sweep_subcells > 1 && desc->extproj.sweep_subcells != 4)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep_subcells %u is not 0, 1 or 4", desc->extproj.sweep_subcells);
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep_subcells %u is not 0, 1 or 4",
+                         desc->extproj.sweep_subcells);
     if (desc->extproj.sweep_subcells == 4 &&
         (desc->extproj.sweep == PVS_EXTPROJ_NO_SWEEP || (!desc->extproj.sweep && (!is_auto || preview))))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep_subcells 4 needs the occlusion sweep (extproj.sweep)");
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
+                         "extproj.sweep_subcells 4 needs the occlusion sweep (extproj.sweep)");
     return PVS_OK;
 }
 
 /* The parameters: desc's, or the defaults (PREVIEW: coarse; AUTO: with the sweep). */
-PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err) {
+PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
+                                                 pvs_error *err) {
     pvs__extproj_bake *x = (pvs__extproj_bake *)pvs__alloc(&env->allocator, sizeof(pvs__extproj_bake), 16);
     int preview = (env->flags & PVS_BAKE_PREVIEW) != 0;
     *state = x;
     if (!x) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj");
     memset(x, 0, sizeof(*x));
     x->allocator = env->allocator;
-    x->prm.res = desc->extproj.resolution ? desc->extproj.resolution : preview ? PVS_EXTPROJ_PREVIEW_RESOLUTION : PVS__EP_DEFAULT_RES;
+    x->prm.res = desc->extproj.resolution ? desc->extproj.resolution
+        : preview                         ? PVS_EXTPROJ_PREVIEW_RESOLUTION
+                                          : PVS__EP_DEFAULT_RES;
     x->prm.max_occ = desc->extproj.occluders ? desc->extproj.occluders : preview ? 32u : PVS__EP_DEFAULT_OCC;
     x->prm.sweep = desc->extproj.sweep == PVS_EXTPROJ_NO_SWEEP ? 0u : desc->extproj.sweep;
     if (!desc->extproj.sweep && env->is_auto && !preview) x->prm.sweep = PVS_EXTPROJ_SWEEP_PLANES; /* AUTO's default */
@@ -19599,8 +20200,9 @@ PVS__STATIC int pvs__extproj_bake_applies(const void *state, const char **why) {
 }
 
 /* Tests only the candidates (when given) and sets none of the other objects. */
-PVS__STATIC pvs_result pvs__extproj_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
-                                              const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err) {
+PVS__STATIC pvs_result pvs__extproj_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
+                                              const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+                                              unsigned *flags, pvs_error *err) {
     const pvs__extproj_bake *x = (const pvs__extproj_bake *)state;
     (void)task;
     (void)flags;
@@ -19615,9 +20217,15 @@ PVS__STATIC void pvs__extproj_bake_destroy(const pvs__bake_env *env, void *state
     pvs__free(&x->allocator, x, sizeof(*x), 16);
 }
 
-PVS__STATIC const pvs__bake_method pvs__extproj_method = {
-    PVS_METHOD_EXTPROJ, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, pvs__extproj_bake_check, pvs__extproj_bake_prepare,
-    pvs__extproj_bake_applies, pvs__extproj_bake_cell, NULL, pvs__extproj_bake_destroy};
+PVS__STATIC const pvs__bake_method pvs__extproj_method = {PVS_METHOD_EXTPROJ,
+                                                          PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT,
+                                                          1,
+                                                          pvs__extproj_bake_check,
+                                                          pvs__extproj_bake_prepare,
+                                                          pvs__extproj_bake_applies,
+                                                          pvs__extproj_bake_cell,
+                                                          NULL,
+                                                          pvs__extproj_bake_destroy};
 
 /* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
 
@@ -19708,7 +20316,8 @@ PVS__STATIC double pvs__hz_ray(const pvs__hz *z, int32_t k, const double p[2], c
 /* The part [a0, a1] of bin b covered by a facade, crossed at distances d0 (at a0) and d1 (at a1),
    the nearest point of its line at angle afoot, distance dfoot; `front`: the eye on the facade's
    outer side (a sight line entering the occluder crosses such a facade first). */
-PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot, double afoot, int front) {
+PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot,
+                               double afoot, int front) {
     double lo, hi;
     if (!(d0 > 0.0) || !(d1 > 0.0)) return;
     hi = pvs__dmax(d0, d1) * (1.0 + 1e-9);
@@ -19824,9 +20433,15 @@ PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
    greatest ground distance of the rectangle [u0, u1] x [v0, v1] seen from the eye; 0 when the eye is
    inside it (or on its border). The span runs counter-clockwise between the two silhouette corners,
    which the eye's position among the nine regions around the rectangle names. */
-PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1, double *dmin, double *dmax) {
+PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1,
+                             double *dmin, double *dmax) {
     double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, sx, sy, ex, ey, as, ae;
-    int rx = x0 > 0.0 ? 0 : x1 < 0.0 ? 2 : 1, ry = y0 > 0.0 ? 0 : y1 < 0.0 ? 2 : 1; /* rectangle right of / left of / around the eye */
+    int rx = x0 > 0.0 ? 0
+        : x1 < 0.0    ? 2
+                      : 1,
+        ry = y0 > 0.0 ? 0
+        : y1 < 0.0    ? 2
+                      : 1; /* rectangle right of / left of / around the eye */
     if (rx == 1 && ry == 1) return 0;
     nx = rx == 0 ? x0 : rx == 2 ? -x1 : 0.0;
     ny = ry == 0 ? y0 : ry == 2 ? -y1 : 0.0;
@@ -19891,7 +20506,10 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
     /* wide boxes: the least distance of the part of the rectangle inside each bin's wedge (at the
        wedge's rays, the corners inside it, or the rectangle's nearest point when inside it) */
     x0 = bx->min[u] - z->eu; x1 = bx->max[u] - z->eu; y0 = bx->min[v] - z->ev; y1 = bx->max[v] - z->ev;
-    ca[0] = pvs__hz_angle(x0, y0); ca[1] = pvs__hz_angle(x1, y0); ca[2] = pvs__hz_angle(x1, y1); ca[3] = pvs__hz_angle(x0, y1);
+    ca[0] = pvs__hz_angle(x0, y0);
+    ca[1] = pvs__hz_angle(x1, y0);
+    ca[2] = pvs__hz_angle(x1, y1);
+    ca[3] = pvs__hz_angle(x0, y1);
     {
         double nx = x0 > 0.0 ? x0 : x1 < 0.0 ? x1 : 0.0, ny = y0 > 0.0 ? y0 : y1 < 0.0 ? y1 : 0.0;
         near_a = pvs__hz_angle(nx, ny);
@@ -19957,19 +20575,21 @@ typedef struct pvs__shrink_walk {
 
 /* 1 if the box meets the cell or stands (partly) under its top face: always visible. */
 PVS__STATIC int pvs__shrink_near(const pvs__shrink_walk *w, const pvs_box *b) {
-    return b->min[w->u] <= w->cell->max[w->u] && b->max[w->u] >= w->cell->min[w->u] && b->min[w->v] <= w->cell->max[w->v] &&
-           b->max[w->v] >= w->cell->min[w->v];
+    return b->min[w->u] <= w->cell->max[w->u] && b->max[w->u] >= w->cell->min[w->u] &&
+        b->min[w->v] <= w->cell->max[w->v] && b->max[w->v] >= w->cell->min[w->v];
 }
 
 /* Distance (squared) from the eye to a box's ground rectangle. */
 PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int v) {
-    double du = pvs__dmax(0.0, pvs__dmax(b->min[u] - z->eu, z->eu - b->max[u])), dv = pvs__dmax(0.0, pvs__dmax(b->min[v] - z->ev, z->ev - b->max[v]));
+    double du = pvs__dmax(0.0, pvs__dmax(b->min[u] - z->eu, z->eu - b->max[u])),
+           dv = pvs__dmax(0.0, pvs__dmax(b->min[v] - z->ev, z->ev - b->max[v]));
     return du * du + dv * dv;
 }
 
 /* The sample's horizon: the chains' hierarchy walked nearer child first (front to back, roughly),
    a node or chain already hidden from the eye skipped (§3.4: occluded occluders add nothing). */
-PVS__STATIC void pvs__shrink_horizon(const pvs_occluders *o, pvs__hz *hz, uint32_t *stack, int u, int v, pvs_shrink_stats *st) {
+PVS__STATIC void pvs__shrink_horizon(const pvs_occluders *o, pvs__hz *hz, uint32_t *stack, int u, int v,
+                                     pvs_shrink_stats *st) {
     const pvs__obvh *h = &o->chain_bvh;
     uint32_t sp = 0, k, up = o->scene->up_axis;
     if (!h->node_count) return;
@@ -19985,7 +20605,8 @@ PVS__STATIC void pvs__shrink_horizon(const pvs_occluders *o, pvs__hz *hz, uint32
                 ++st->occluders_drawn;
             }
         } else {
-            int near0 = pvs__hz_dist2(hz, &h->nodes[nd->first].box, u, v) <= pvs__hz_dist2(hz, &h->nodes[nd->first + 1].box, u, v);
+            int near0 = pvs__hz_dist2(hz, &h->nodes[nd->first].box, u, v) <=
+                pvs__hz_dist2(hz, &h->nodes[nd->first + 1].box, u, v);
             stack[sp++] = near0 ? nd->first + 1 : nd->first;
             stack[sp++] = near0 ? nd->first : nd->first + 1;
         }
@@ -20000,7 +20621,8 @@ PVS__STATIC void pvs__shrink_found(const pvs_occluders *o, pvs__shrink_walk *w, 
 }
 
 /* The objects meeting the cell or standing under its top face: visible without sampling. */
-PVS__STATIC void pvs__shrink_walk_near(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t *stack) {
+PVS__STATIC void pvs__shrink_walk_near(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining,
+                                       uint32_t *stack) {
     uint32_t sp = 0, k;
     if (!o->bvh.node_count) return;
     stack[sp++] = 0;
@@ -20010,7 +20632,8 @@ PVS__STATIC void pvs__shrink_walk_near(const pvs_occluders *o, pvs__shrink_walk 
         if (nd->count) {
             for (k = nd->first; k < nd->first + nd->count; ++k) {
                 uint32_t ob = o->bvh.items[k];
-                if (!pvs_bitset_test(w->visible, ob) && pvs__shrink_near(w, w->scene->object_boxes + ob)) pvs__shrink_found(o, w, remaining, ob);
+                if (!pvs_bitset_test(w->visible, ob) && pvs__shrink_near(w, w->scene->object_boxes + ob))
+                    pvs__shrink_found(o, w, remaining, ob);
             }
         } else {
             stack[sp++] = nd->first;
@@ -20021,7 +20644,8 @@ PVS__STATIC void pvs__shrink_walk_near(const pvs_occluders *o, pvs__shrink_walk 
 
 /* One sample's walk over the object hierarchy: a node hidden from the sample (§3.4), or whose
    objects are all found already, is skipped with all it holds. */
-PVS__STATIC void pvs__shrink_walk_sample(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t *stack) {
+PVS__STATIC void pvs__shrink_walk_sample(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining,
+                                         uint32_t *stack) {
     uint32_t sp = 0, k, up = w->scene->up_axis;
     if (!o->bvh.node_count) return;
     stack[sp++] = 0;
@@ -20032,7 +20656,8 @@ PVS__STATIC void pvs__shrink_walk_sample(const pvs_occluders *o, pvs__shrink_wal
         if (nd->count) {
             for (k = nd->first; k < nd->first + nd->count; ++k) {
                 uint32_t ob = o->bvh.items[k];
-                if (!pvs_bitset_test(w->visible, ob) && pvs__hz_test_box(w->hz, w->scene->object_boxes + ob, w->u, w->v, up))
+                if (!pvs_bitset_test(w->visible, ob) &&
+                    pvs__hz_test_box(w->hz, w->scene->object_boxes + ob, w->u, w->v, up))
                     pvs__shrink_found(o, w, remaining, ob);
             }
         } else {
@@ -20072,8 +20697,8 @@ PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box 
    occluder chains, front to back from the cell, occluded occluders skipped (§3.4); the objects it may
    see, found through the kD-tree with hidden nodes skipped, join the PVS (§2.1: the cell's PVS is the
    union of its samples' PVSs). */
-PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
-                                       pvs_shrink_stats *st, pvs_error *err) {
+PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
+                                       pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
     pvs__shrink_walk w;
     pvs__hz *hz;
     float eps = o->info.eps;
@@ -20087,7 +20712,9 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
     spacing = edges ? 2.0 * eps * (1.0 - 1e-6) : 1.41 * eps;
     nu = (uint32_t)ceil(((double)cell->max[u] - cell->min[u]) / spacing) + 1u;
     nv = (uint32_t)ceil(((double)cell->max[v] - cell->min[v]) / spacing) + 1u;
-    if (nu > 4096u || nv > 4096u) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu, nv);
+    if (nu > 4096u || nv > 4096u)
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell of %u x %u samples: eps too small for the cell", nu,
+                         nv);
     hz = (pvs__hz *)pvs__alloc(&o->allocator, sizeof(pvs__hz), 16);
     remaining = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
     stack = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
@@ -20103,7 +20730,8 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
         uint32_t ob, nd;
         memcpy(remaining, o->bvh.count_below, o->bvh.node_count * sizeof(uint32_t));
         /* objects set on entry are not tested: off the counts, so nodes holding only them are skipped */
-        for (ob = pvs_bitset_next(visible, s->object_count, 0); ob < s->object_count; ob = pvs_bitset_next(visible, s->object_count, ob + 1))
+        for (ob = pvs_bitset_next(visible, s->object_count, 0); ob < s->object_count;
+             ob = pvs_bitset_next(visible, s->object_count, ob + 1))
             for (nd = o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = o->bvh.nodes[nd].parent) --remaining[nd];
     }
     memset(hz, 0, sizeof(*hz));
@@ -20119,8 +20747,12 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
     for (b = 0; b < nv; ++b)
         for (a = 0; a < nu; ++a) {
             if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue; /* interior: not sampled */
-            hz->eu = a + 1 == nu ? cell->max[u] : cell->min[u] + (double)a * ((double)cell->max[u] - cell->min[u]) / (nu > 1 ? nu - 1 : 1);
-            hz->ev = b + 1 == nv ? cell->max[v] : cell->min[v] + (double)b * ((double)cell->max[v] - cell->min[v]) / (nv > 1 ? nv - 1 : 1);
+            hz->eu = a + 1 == nu
+                ? cell->max[u]
+                : cell->min[u] + (double)a * ((double)cell->max[u] - cell->min[u]) / (nu > 1 ? nu - 1 : 1);
+            hz->ev = b + 1 == nv
+                ? cell->max[v]
+                : cell->min[v] + (double)b * ((double)cell->max[v] - cell->min[v]) / (nv > 1 ? nv - 1 : 1);
             memset(hz->nstep, 0, sizeof(hz->nstep));
             pvs__shrink_horizon(o, hz, cstack, u, v, st);
             ++st->samples;
@@ -20229,7 +20861,8 @@ PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir
         /* a box whose image misses the candidates' (a margin of a few pixels around) covers none of
            the pixels their tests read */
         if (bounded && pvs__shrink_view_rect(o->boxes + i, p, dax, dn, df, brect) &&
-            (brect[0] > crect[2] + 0.1 || brect[2] < crect[0] - 0.1 || brect[1] > crect[3] + 0.1 || brect[3] < crect[1] - 0.1))
+            (brect[0] > crect[2] + 0.1 || brect[2] < crect[0] - 0.1 || brect[1] > crect[3] + 0.1 ||
+             brect[3] < crect[1] - 0.1))
             continue;
         memcpy(w->sel + 36 * (size_t)nsel, w->idx + 36 * (size_t)i, 36 * sizeof(uint32_t));
         ++nsel;
@@ -20260,13 +20893,16 @@ PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, u
     uint32_t n2 = (uint32_t)ceil(((double)cell->max[a2] - cell->min[a2]) / spacing) + 1u;
     uint32_t a, b, dir;
     if (n1 > 1024u || n2 > 1024u)
-        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "a cell face of %u x %u samples: eps too small for the cell", n1, n2);
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
+                         "a cell face of %u x %u samples: eps too small for the cell", n1, n2);
     for (a = 0; a < n1; ++a)
         for (b = 0; b < n2; ++b) {
             float p[3];
             p[ax] = face & 1 ? cell->max[ax] : cell->min[ax];
-            p[a1] = n1 > 1 ? cell->min[a1] + (float)((double)a * ((double)cell->max[a1] - cell->min[a1]) / (n1 - 1)) : cell->min[a1];
-            p[a2] = n2 > 1 ? cell->min[a2] + (float)((double)b * ((double)cell->max[a2] - cell->min[a2]) / (n2 - 1)) : cell->min[a2];
+            p[a1] = n1 > 1 ? cell->min[a1] + (float)((double)a * ((double)cell->max[a1] - cell->min[a1]) / (n1 - 1))
+                           : cell->min[a1];
+            p[a2] = n2 > 1 ? cell->min[a2] + (float)((double)b * ((double)cell->max[a2] - cell->min[a2]) / (n2 - 1))
+                           : cell->min[a2];
             if (a + 1 == n1) p[a1] = cell->max[a1];
             if (b + 1 == n2) p[a2] = cell->max[a2];
             ++w->st->samples;
@@ -20281,8 +20917,8 @@ PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, u
    of the eroded boxes (occluder mode: inner coverage, farthest depth), objects tested in occludee
    mode against the depth pyramid; the PVS is the union over the samples. Objects within twice the
    near distance of the cell are set outright (the cube does not see nearer than its near plane). */
-PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_word *visible,
-                                      pvs_shrink_stats *st, pvs_error *err) {
+PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
+                                      pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
     pvs_raster_desc rd;
     pvs__shrink3d w;
     pvs_result res;
@@ -20327,15 +20963,20 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
     }
     /* objects near or in the cell */
     grown = *cell;
-    for (k = 0; k < 3; ++k) { grown.min[k] -= 2.0f * w.nearp + 1e-4f * eps; grown.max[k] += 2.0f * w.nearp + 1e-4f * eps; }
+    for (k = 0; k < 3; ++k) {
+        grown.min[k] -= 2.0f * w.nearp + 1e-4f * eps;
+        grown.max[k] += 2.0f * w.nearp + 1e-4f * eps;
+    }
     for (ob = 0; ob < s->object_count; ++ob)
-        if (pvs__box_valid(s->object_boxes + ob) && pvs__box_overlap(s->object_boxes + ob, &grown)) pvs_bitset_set(w.seen, ob);
+        if (pvs__box_valid(s->object_boxes + ob) && pvs__box_overlap(s->object_boxes + ob, &grown))
+            pvs_bitset_set(w.seen, ob);
     for (face = 0; face < 6; ++face) {
         res = pvs__shrink_face(&w, cell, face, spacing, err);
         if (res != PVS_OK) goto done;
     }
     for (ob = 0; ob < s->object_count; ++ob)
-        if (pvs_bitset_test(w.seen, ob) && !(s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY)) pvs_bitset_set(visible, ob);
+        if (pvs_bitset_test(w.seen, ob) && !(s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY))
+            pvs_bitset_set(visible, ob);
     res = PVS_OK;
 done:
     pvs__free_array(&o->allocator, w.pos, (size_t)(nb ? nb : 1) * 24, sizeof(float));
@@ -20347,15 +20988,17 @@ done:
     return res;
 }
 
-PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell, pvs_shrink_mode mode,
-                                   pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err) {
+PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
+                                   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err) {
     pvs_result res;
     pvs_shrink_stats st;
     memset(&st, 0, sizeof(st));
     if (stats) memset(stats, 0, sizeof(*stats));
-    if (!s || !o || !cell || !visible || o->scene != s) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "NULL argument or occluders of another scene");
+    if (!s || !o || !cell || !visible || o->scene != s)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "NULL argument or occluders of another scene");
     if (!pvs__box_valid(cell)) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "cell is not a valid box");
-    if ((int)mode < 0 || mode >= PVS_SHRINK_MODE_COUNT) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown mode %d", (int)mode);
+    if ((int)mode < 0 || mode >= PVS_SHRINK_MODE_COUNT)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown mode %d", (int)mode);
     if (mode == PVS_SHRINK_AUTO) mode = o->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
     st.mode = mode;
     st.occluders = mode == PVS_SHRINK_2D5 ? o->chain_count : o->box_count;
@@ -20374,7 +21017,8 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
         /* nothing survived the erosion, or a left-out cell: every drawable object is set */
         uint32_t i;
         for (i = 0; i < s->object_count; ++i)
-            if (!(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i)) pvs_bitset_set(visible, i);
+            if (!(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i))
+                pvs_bitset_set(visible, i);
         st.no_occluders = st.occluders == 0;
         if (stats) *stats = st;
         pvs__ok(err);
@@ -20385,13 +21029,13 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
     if (res == PVS_OK) {
         uint32_t i;
         for (i = 0; i < s->object_count; ++i)
-            st.hidden += !(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i) && !pvs_bitset_test(visible, i);
+            st.hidden += !(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i) &&
+                !pvs_bitset_test(visible, i);
         if (stats) *stats = st;
         pvs__ok(err);
     }
     return res;
 }
-
 
 /* ---- the SHRINK bake method (a row of >>bake's table) ---- */
 
@@ -20434,7 +21078,8 @@ typedef struct pvs__shrink_bake {
 } pvs__shrink_bake;
 
 /* Occluder synthesis over every cell of the bake (not only the shard's: shards agree). */
-PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err) {
+PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
+                                                pvs_error *err) {
     pvs__shrink_bake *sh;
     pvs_occluders_desc od;
     pvs_result r;
@@ -20493,8 +21138,9 @@ PVS__STATIC void pvs__shrink_bake_preset(const pvs__bake_env *env, const pvs_wor
             pvs_bitset_set(bits, i);
 }
 
-PVS__STATIC pvs_result pvs__shrink_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
-                                             const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err) {
+PVS__STATIC pvs_result pvs__shrink_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
+                                             const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+                                             unsigned *flags, pvs_error *err) {
     const pvs__shrink_bake *sh = (const pvs__shrink_bake *)state;
     pvs_shrink_stats st;
     pvs_result r;
@@ -20525,9 +21171,16 @@ PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state)
     pvs__free(&sh->allocator, sh, sizeof(*sh), 16);
 }
 
-PVS__STATIC const pvs__bake_method pvs__shrink_method = {
-    PVS_METHOD_SHRINK, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT | PVS__METHOD_SETS_OTHERS, 3, NULL, pvs__shrink_bake_prepare,
-    pvs__shrink_bake_applies, pvs__shrink_bake_cell, NULL, pvs__shrink_bake_destroy};
+PVS__STATIC const pvs__bake_method pvs__shrink_method = {PVS_METHOD_SHRINK,
+                                                         PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT |
+                                                             PVS__METHOD_SETS_OTHERS,
+                                                         3,
+                                                         NULL,
+                                                         pvs__shrink_bake_prepare,
+                                                         pvs__shrink_bake_applies,
+                                                         pvs__shrink_bake_cell,
+                                                         NULL,
+                                                         pvs__shrink_bake_destroy};
 
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *b) {
     const pvs__shrink_bake *sh = (const pvs__shrink_bake *)pvs__bake_method_state(b, PVS_METHOD_SHRINK);
@@ -20584,8 +21237,8 @@ typedef struct pvs__bakeleaves {
 /* ---- the method table ---- */
 
 /* Every method the driver can run, in pvs_method order (AUTO's order among methods of one cost). */
-PVS__STATIC const pvs__bake_method *const pvs__bake_methods[] = {&pvs__sample_method, &pvs__otree_method, &pvs__extproj_method,
-                                                                 &pvs__shrink_method, &pvs__vocc_method};
+PVS__STATIC const pvs__bake_method *const pvs__bake_methods[] = {
+    &pvs__sample_method, &pvs__otree_method, &pvs__extproj_method, &pvs__shrink_method, &pvs__vocc_method};
 #define PVS__BAKE_METHOD_COUNT (sizeof(pvs__bake_methods) / sizeof(pvs__bake_methods[0]))
 
 /* The row of method m, NULL for AUTO, DEFAULT and unknown values. */
@@ -20601,7 +21254,8 @@ PVS__STATIC void *pvs__bake_method_state(const pvs_bake *b, pvs_method m) {
 }
 
 /* Prepares method row's per-bake state (read-only in the tasks). */
-PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, const pvs__bake_method *row, const pvs_bake_desc *desc, pvs_error *err) {
+PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, const pvs__bake_method *row, const pvs_bake_desc *desc,
+                                         pvs_error *err) {
     return row->prepare(&b->env, desc, &b->state[row->method], err);
 }
 
@@ -20609,7 +21263,8 @@ PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, const pvs__bake_method *ro
    NULL) and, from the second method on, only what the methods before it kept (AUTO runs the costliest,
    SHRINK, last: it then tests only the objects the others could not cull). In *scratch when it must
    be computed. */
-PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const pvs_word *candidates, const pvs_word *each, pvs_word *scratch) {
+PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const pvs_word *candidates,
+                                            const pvs_word *each, pvs_word *scratch) {
     size_t w;
     uint32_t i;
     if (k == 0) return candidates;
@@ -20622,8 +21277,9 @@ PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const
 }
 
 /* One method's PVS of a box of a task into `bits` (cleared by the caller), the cell's flags updated. */
-PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, const pvs__bake_method *row, uint32_t task, uint32_t cell, const pvs_box *box,
-                                             const pvs_word *candidates, pvs_word *bits, pvs_error *err) {
+PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, const pvs__bake_method *row, uint32_t task, uint32_t cell,
+                                             const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+                                             pvs_error *err) {
     unsigned flags = 0;
     pvs_result r = row->cell(&b->env, b->state[row->method], task, cell, box, candidates, bits, &flags, err);
     b->cell_flags[task] |= (unsigned char)flags;
@@ -20642,7 +21298,8 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs__free_array(&a, b->stats, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
     pvs__free_array(&a, b->cell_flags, b->cell_count, 1);
     for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k)
-        if (b->state[pvs__bake_methods[k]->method]) pvs__bake_methods[k]->destroy(&b->env, b->state[pvs__bake_methods[k]->method]);
+        if (b->state[pvs__bake_methods[k]->method])
+            pvs__bake_methods[k]->destroy(&b->env, b->state[pvs__bake_methods[k]->method]);
     pvs__free_array(&a, b->object_triangles, (size_t)b->object_count + 1, sizeof(uint32_t));
     if (b->leaves) {
         uint32_t i;
@@ -20694,10 +21351,12 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
     *mask = 0;
     if (!desc->cells || desc->cell_count == 0) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "no cells");
     if (desc->cell_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells");
-    if (desc->shard_count == 1 || (desc->shard_count && desc->shard_index >= desc->shard_count) || desc->shard_count > desc->cell_count)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u for %u cells", desc->shard_index, desc->shard_count,
-                         desc->cell_count);
-    if (desc->max_chain > PVS_MAX_CHAIN) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", desc->max_chain, PVS_MAX_CHAIN);
+    if (desc->shard_count == 1 || (desc->shard_count && desc->shard_index >= desc->shard_count) ||
+        desc->shard_count > desc->cell_count)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u for %u cells", desc->shard_index,
+                         desc->shard_count, desc->cell_count);
+    if (desc->max_chain > PVS_MAX_CHAIN)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", desc->max_chain, PVS_MAX_CHAIN);
     method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_AUTO : desc->method;
     row = pvs__bake_method_row(method);
     if (!row && method != PVS_METHOD_AUTO)
@@ -20706,7 +21365,8 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and >= 0");
     if (!pvs__finite(desc->max_distance) || desc->max_distance < 0.0f)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_distance must be finite and >= 0");
-    if (desc->flags & ~PVS_BAKE_PREVIEW) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown bake flags 0x%x", desc->flags);
+    if (desc->flags & ~PVS_BAKE_PREVIEW)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown bake flags 0x%x", desc->flags);
     for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) {
         const pvs__bake_method *m = pvs__bake_methods[k];
         if (m->check && (r = m->check(desc, err)) != PVS_OK) return r;
@@ -20716,13 +21376,17 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
     if (!pvs__finite(desc->adaptive.min_size) || desc->adaptive.min_size < 0.0f)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "adaptive.min_size must be finite and >= 0");
     if (desc->adaptive.budget && desc->shard_count)
-        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells in a sharded bake (part files index whole cells)");
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
+                         "adaptive cells in a sharded bake (part files index whole cells)");
     if (desc->adaptive.budget && row && (row->traits & PVS__METHOD_WHOLE_CELLS))
-        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "adaptive cells with %s (its records belong to whole cells)", pvs_method_name(method));
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
+                         "adaptive cells with %s (its records belong to whole cells)", pvs_method_name(method));
     if (method == PVS_METHOD_AUTO) {
         if (desc->methods & ~conservative)
-            return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "methods mask 0x%x names a method that is not conservative or unknown "
-                             "(auto never intersects sample)", desc->methods);
+            return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
+                             "methods mask 0x%x names a method that is not conservative or unknown "
+                             "(auto never intersects sample)",
+                             desc->methods);
         *mask = desc->methods ? desc->methods : byauto;
     } else if (desc->methods) {
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "methods is for PVS_METHOD_AUTO only");
@@ -20739,7 +21403,8 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
     const pvs_allocator *a = &b->env.allocator;
     size_t total, bytes, i;
     if (!pvs__mul(b->words, b->cell_count, &total) || !pvs__mul(total, sizeof(pvs_word), &bytes))
-        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "%u cells x %u objects do not fit in memory", desc->cell_count, b->object_count);
+        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "%u cells x %u objects do not fit in memory",
+                         desc->cell_count, b->object_count);
     b->cells = (pvs_box *)pvs__alloc_array(a, b->cell_count, sizeof(pvs_box));
     b->pvs = (pvs_word *)pvs__alloc_array(a, total, sizeof(pvs_word));
     b->done = (unsigned char *)pvs__alloc_array(a, b->cell_count, 1);
@@ -20756,7 +21421,8 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
         memset(b->object_triangles, 0, ((size_t)b->object_count + 1) * sizeof(uint32_t));
         memset(b->leaves, 0, b->cell_count * sizeof(pvs__bakeleaves));
         for (i = 0; i < desc->scene->triangle_count; ++i)
-            if (desc->scene->triangle_object[i] != PVS_NO_OBJECT) ++b->object_triangles[desc->scene->triangle_object[i]];
+            if (desc->scene->triangle_object[i] != PVS_NO_OBJECT)
+                ++b->object_triangles[desc->scene->triangle_object[i]];
     }
     memset(b->pvs, 0, total * sizeof(pvs_word));
     memset(b->done, 0, b->cell_count);
@@ -20764,7 +21430,8 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
     memset(b->cell_flags, 0, b->cell_count);
     memset(b->stats, 0, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT * sizeof(uint32_t));
     for (i = 0; i < b->object_count; ++i)
-        b->drawable += !(desc->scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(desc->scene->object_boxes + i);
+        b->drawable +=
+            !(desc->scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(desc->scene->object_boxes + i);
     return PVS_OK;
 }
 
@@ -20798,7 +21465,9 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
             }
             b->reason[b->considered_count++] = why;
         }
-    if (!b->run_count) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "auto: no conservative method can cull anything in this scene");
+    if (!b->run_count)
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
+                         "auto: no conservative method can cull anything in this scene");
     return PVS_OK;
 }
 
@@ -20807,7 +21476,8 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     pvs_result r;
     uint32_t mask;
     if (out) *out = NULL;
-    if (!desc || !out || !desc->scene) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene and out_bake must not be NULL");
+    if (!desc || !out || !desc->scene)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene and out_bake must not be NULL");
     r = pvs__bake_check(desc, &mask, err);
     if (r != PVS_OK) return r;
     b = (pvs_bake *)pvs__alloc(&desc->allocator, sizeof(pvs_bake), 16);
@@ -20816,7 +21486,9 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
     b->total_cell_count = desc->cell_count;
     b->shard_count = desc->shard_count;
     b->shard_index = desc->shard_count ? desc->shard_index : 0;
-    b->cell_count = desc->shard_count ? (desc->cell_count - desc->shard_index + desc->shard_count - 1) / desc->shard_count : desc->cell_count;
+    b->cell_count = desc->shard_count
+        ? (desc->cell_count - desc->shard_index + desc->shard_count - 1) / desc->shard_count
+        : desc->cell_count;
     b->max_chain = desc->max_chain;
     b->object_count = pvs_scene_object_count(desc->scene);
     b->words = PVS_BITSET_WORDS(b->object_count);
@@ -20869,19 +21541,21 @@ PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->env.eps; }
 PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_word *bits) {
     uint32_t i;
     if (!(b->max_distance > 0.0f)) return;
-    for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
+    for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count;
+         i = pvs_bitset_next(bits, b->object_count, i + 1))
         if (pvs__box_beyond(box, b->env.scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
 }
 
 /* Every method the bake runs on one box of a task, intersected, within `candidates` when given,
    and the draw distance applied: the PVS of an adaptive sub-cell. `each` holds run_count + 1 bitsets. */
-PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
-                                     pvs_word *each, pvs_error *err) {
+PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box,
+                                     const pvs_word *candidates, pvs_word *bits, pvs_word *each, pvs_error *err) {
     uint32_t k;
     pvs_result r = PVS_OK;
     memset(each, 0, (size_t)b->run_count * b->words * sizeof(pvs_word));
     for (k = 0; k < b->run_count && r == PVS_OK; ++k)
-        r = pvs__bake_method_cell(b, b->run[k], task, cell, box, pvs__bake_prior(b, k, candidates, each, each + (size_t)b->run_count * b->words),
+        r = pvs__bake_method_cell(b, b->run[k], task, cell, box,
+                                  pvs__bake_prior(b, k, candidates, each, each + (size_t)b->run_count * b->words),
                                   each + (size_t)k * b->words, err);
     if (r != PVS_OK) return r;
     pvs__bake_prior(b, b->run_count, candidates, each, bits); /* all of them (run_count >= 1) */
@@ -20893,7 +21567,8 @@ PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, 
 PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits) {
     uint64_t n = 0;
     uint32_t o;
-    for (o = pvs_bitset_next(bits, b->object_count, 0); o < b->object_count; o = pvs_bitset_next(bits, b->object_count, o + 1))
+    for (o = pvs_bitset_next(bits, b->object_count, 0); o < b->object_count;
+         o = pvs_bitset_next(bits, b->object_count, o + 1))
         n += b->object_triangles[o];
     return n;
 }
@@ -20901,8 +21576,8 @@ PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits
 /* Adaptive subdivision (Durand 2000 §6.1) of a box whose PVS is work[depth]: a leaf when its PVS fits
    the budget or a half would be shorter than min_size, else its two halves across the longest side,
    baked from its PVS, low half first. work holds 48 bitsets, each run_count more. */
-PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, float min_size, pvs_word *work,
-                                       pvs_word *each, uint32_t depth, pvs_error *err) {
+PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, float min_size,
+                                       pvs_word *work, pvs_word *each, uint32_t depth, pvs_error *err) {
     pvs__bakeleaves *L = b->leaves + task;
     const pvs_word *bits = work + (size_t)depth * b->words;
     int k, axis = 0;
@@ -20911,8 +21586,8 @@ PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell
     for (k = 1; k < 3; ++k)
         if (box->max[k] - box->min[k] > box->max[axis] - box->min[axis]) axis = k;
     mid = box->min[axis] + 0.5f * (box->max[axis] - box->min[axis]);
-    if (pvs__bake_triangles(b, bits) <= b->adaptive_budget || 0.5f * (box->max[axis] - box->min[axis]) < min_size || depth + 1 >= 48 ||
-        !(mid > box->min[axis] && mid < box->max[axis])) {
+    if (pvs__bake_triangles(b, bits) <= b->adaptive_budget || 0.5f * (box->max[axis] - box->min[axis]) < min_size ||
+        depth + 1 >= 48 || !(mid > box->min[axis] && mid < box->max[axis])) {
         if (L->count == L->capacity) {
             size_t cap = L->capacity ? 2 * L->capacity : 8;
             pvs_box *nb = (pvs_box *)pvs__alloc_array(&b->env.allocator, cap, sizeof(pvs_box));
@@ -20970,7 +21645,8 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
     pvs_word *bits, *each = NULL;
     pvs_result r = PVS_OK;
     size_t w;
-    if (!b || task >= b->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "task %u out of range", task);
+    if (!b || task >= b->cell_count)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "task %u out of range", task);
     cell = pvs_bake_task_cell(b, task);
     bits = b->pvs + (size_t)task * b->words;
     n = b->run_count;
@@ -21024,7 +21700,8 @@ PVS_API void pvs_bake_get_report(const pvs_bake *b, pvs_bake_report *r) {
         ++r->cells;
         r->cells_all_visible += (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE) != 0;
         /* AUTO: a method without occluders for the cell (otree, shrink) says nothing when another culled */
-        r->cells_no_occluders += (b->cell_flags[i] & PVS__BAKE_NO_OCCLUDERS) && (b->run_count == 1 || (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE));
+        r->cells_no_occluders += (b->cell_flags[i] & PVS__BAKE_NO_OCCLUDERS) &&
+            (b->run_count == 1 || (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE));
         r->cells_otree_budget += (b->cell_flags[i] & PVS__BAKE_OTREE_BUDGET) != 0;
         r->cells_excluded += (b->cell_flags[i] & PVS__BAKE_EXCLUDED) != 0;
     }
@@ -21042,20 +21719,29 @@ PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *b) {
 
 PVS_API int pvs_bake_task_done(const pvs_bake *b, uint32_t task) { return b && task < b->cell_count && b->done[task]; }
 
-PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_word *bits, size_t word_count, pvs_error *err) {
+PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_word *bits, size_t word_count,
+                                         pvs_error *err) {
     uint32_t i;
-    if (!b || !bits || task >= b->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u out of range or NULL", task);
-    if (word_count < b->words) return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, task, 0, "restore: %zu words < %zu", word_count, b->words);
-    if ((b->run[0]->traits & PVS__METHOD_WHOLE_CELLS) && b->method != PVS_METHOD_AUTO) /* its file stores more than the PVS */
-        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0, "restore: a %s bake cannot resume from PVSs: run task %u again",
-                         pvs_method_name(b->method), task);
+    if (!b || !bits || task >= b->cell_count)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u out of range or NULL", task);
+    if (word_count < b->words)
+        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, task, 0, "restore: %zu words < %zu", word_count, b->words);
+    if ((b->run[0]->traits & PVS__METHOD_WHOLE_CELLS) &&
+        b->method != PVS_METHOD_AUTO) /* its file stores more than the PVS */
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0,
+                         "restore: a %s bake cannot resume from PVSs: run task %u again", pvs_method_name(b->method),
+                         task);
     if (b->adaptive_budget) /* the file stores the cell's leaves, which its PVS does not carry */
-        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0, "restore: an adaptive bake cannot resume from PVSs: run task %u again", task);
+        return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0,
+                         "restore: an adaptive bake cannot resume from PVSs: run task %u again", task);
     if ((b->object_count & 63u) && (bits[b->words - 1] >> (b->object_count & 63u)))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets a bit past the %u objects", task, b->object_count);
-    for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count; i = pvs_bitset_next(bits, b->object_count, i + 1))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets a bit past the %u objects",
+                         task, b->object_count);
+    for (i = pvs_bitset_next(bits, b->object_count, 0); i < b->object_count;
+         i = pvs_bitset_next(bits, b->object_count, i + 1))
         if (b->env.scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)
-            return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets occluder-only object %u", task, i);
+            return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets occluder-only object %u",
+                             task, i);
     memcpy(b->pvs + (size_t)task * b->words, bits, b->words * sizeof(pvs_word));
     b->restored[task] = 1;
     b->done[task] = 1;
@@ -21146,7 +21832,8 @@ PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cell
 }
 
 /* Encodes the bake (measure only when out is NULL). */
-PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
+PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t capacity, size_t *out_size,
+                                        pvs_error *err) {
     pvs_file_desc fd;
     pvs_box *cells = NULL;
     pvs_word *pvs = NULL;
@@ -21173,12 +21860,15 @@ PVS_API size_t pvs_bake_file_size(const pvs_bake *b) {
     return pvs__bake_encode(b, NULL, 0, &size, NULL) == PVS_OK ? size : 0;
 }
 
-PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
+PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capacity, size_t *out_size,
+                                       pvs_error *err) {
     uint32_t i;
     if (!b) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bake is NULL");
     if (out_size) *out_size = 0;
     for (i = 0; i < b->cell_count; ++i)
-        if (!b->done[i]) return pvs__fail(err, PVS_ERROR_NOT_DONE, pvs_bake_task_cell(b, i), 0, "cell %u has not been baked", pvs_bake_task_cell(b, i));
+        if (!b->done[i])
+            return pvs__fail(err, PVS_ERROR_NOT_DONE, pvs_bake_task_cell(b, i), 0, "cell %u has not been baked",
+                             pvs_bake_task_cell(b, i));
     return pvs__bake_encode(b, out, capacity, out_size, err);
 }
 
@@ -21220,7 +21910,9 @@ PVS__STATIC size_t pvs__put_varint(uint8_t *p, uint32_t v) {
     p[n++] = (uint8_t)v;
     return n;
 }
-PVS__STATIC size_t pvs__varint_size(uint32_t v) { return v < (1u << 7) ? 1 : v < (1u << 14) ? 2 : v < (1u << 21) ? 3 : v < (1u << 28) ? 4 : 5; }
+PVS__STATIC size_t pvs__varint_size(uint32_t v) {
+    return v < (1u << 7) ? 1 : v < (1u << 14) ? 2 : v < (1u << 21) ? 3 : v < (1u << 28) ? 4 : 5;
+}
 /* Reads a varint from p[0..end); returns bytes used, 0 if malformed (overlong, > 32 bits, cut off). */
 PVS__STATIC size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_t *v) {
     uint32_t r = 0;
@@ -21438,7 +22130,8 @@ typedef struct pvs__sink {
    word: work in words plus bits actually removed, whatever the run's length. */
 PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t count) {
     uint32_t target = first - s->removed;
-    while (s->w < s->words && s->before + pvs__popcount64(s->bits[s->w]) <= target) s->before += pvs__popcount64(s->bits[s->w++]);
+    while (s->w < s->words && s->before + pvs__popcount64(s->bits[s->w]) <= target)
+        s->before += pvs__popcount64(s->bits[s->w++]);
     while (count && s->w < s->words) {
         pvs_word x = s->bits[s->w], take;
         uint32_t skip = target - s->before, k;
@@ -21479,7 +22172,8 @@ PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
     } else if (s->action == PVS__SET_REMOVE_RANKS) {
         uint32_t target = id - s->removed, k;
         pvs_word x;
-        while (s->w < s->words && s->before + pvs__popcount64(s->bits[s->w]) <= target) s->before += pvs__popcount64(s->bits[s->w++]);
+        while (s->w < s->words && s->before + pvs__popcount64(s->bits[s->w]) <= target)
+            s->before += pvs__popcount64(s->bits[s->w++]);
         if (s->w == s->words) return; /* only in a damaged file: no such rank */
         x = s->bits[s->w];
         for (k = target - s->before; k; --k) x &= x - 1u;
@@ -21495,7 +22189,8 @@ PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
    sets *bad_at and returns the error. */
 
 /* Coding 0: varint count, then count varints: the first id, then the gaps minus one. */
-PVS__STATIC pvs_result pvs__set_gaps(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out, size_t *bad_at) {
+PVS__STATIC pvs_result pvs__set_gaps(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
+                                     size_t *bad_at) {
     const uint8_t *q = p;
     uint32_t count, k;
     int act = s->action;
@@ -21523,7 +22218,8 @@ bad:
 
 /* Coding 1: varint pairs, then per pair varint zeros, varint ones - 1: alternating runs from id 0
    (zero runs after the first are >= 1). */
-PVS__STATIC pvs_result pvs__set_runs(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out, size_t *bad_at) {
+PVS__STATIC pvs_result pvs__set_runs(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
+                                     size_t *bad_at) {
     const uint8_t *q = p;
     uint32_t count, k;
     int act = s->action;
@@ -21567,7 +22263,8 @@ bad:
 /* Coding 2, Rice codes (Golomb 1966, Rice 1979): u8 k, varint count, then count codes, least
    significant bit first: gap >> k in unary, then the k low bits of the gap; the codes end at a
    byte boundary, the unused high bits are zero. */
-PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out, size_t *bad_at) {
+PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
+                                     size_t *bad_at) {
     const uint8_t *q = p;
     uint32_t count, k, c;
     int act = s->action;
@@ -21589,7 +22286,8 @@ PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint3
             quot = ones;
             if (bit + ones + 1u + k > nbits) goto bad;
             if (quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-            g = ones + 1u + k <= 56u ? (w >> (ones + 1u)) & (((uint64_t)1 << k) - 1u) : pvs__get_bits(q, bit + ones + 1u, k);
+            g = ones + 1u + k <= 56u ? (w >> (ones + 1u)) & (((uint64_t)1 << k) - 1u)
+                                     : pvs__get_bits(q, bit + ones + 1u, k);
             bit += ones + 1u + k;
         } else {
             for (;;) { /* a long unary run: bit by bit */
@@ -21598,7 +22296,10 @@ PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint3
                 b1 = (q[bit >> 3] >> (bit & 7u)) & 1u;
                 ++bit;
                 if (!b1) break;
-                if (++quot > n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
+                if (++quot > n) {
+                    *bad_at = (size_t)(q - p) + (size_t)(bit >> 3);
+                    return PVS_ERROR_OBJECT_OUT_OF_RANGE;
+                }
             }
             if (bit + k > nbits) goto bad;
             g = pvs__get_bits(q, bit, k);
@@ -21622,7 +22323,8 @@ bad:
 }
 
 /* Coding 3: a raw bitset of ceil(n / 8) bytes, bit i of byte j = id 8j + i; bits past n are zero. */
-PVS__STATIC pvs_result pvs__set_bitmap(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out, size_t *bad_at) {
+PVS__STATIC pvs_result pvs__set_bitmap(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
+                                       size_t *bad_at) {
     size_t nb = ((size_t)n + 7) / 8, i;
     int act = s->action;
     if ((size_t)(end - p) < nb) { *bad_at = 0; return PVS_ERROR_BAD_RECORD; }
@@ -21646,8 +22348,8 @@ PVS__STATIC pvs_result pvs__set_bitmap(const uint8_t *p, const uint8_t *end, uin
 /* Decodes one coded set of ids in [0, n) that starts at p (bytes up to end are available) and feeds
    its ids, ascending, to the sink. *used receives the body's size: every coding is self-delimiting.
    Returns PVS_OK, or BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at = the offending byte's offset. */
-PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint32_t coding, uint32_t n, pvs__sink *s, size_t *used_out,
-                                      size_t *bad_at) {
+PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint32_t coding, uint32_t n, pvs__sink *s,
+                                      size_t *used_out, size_t *bad_at) {
     switch (coding) {
     case PVS__CODING_GAPS: return pvs__set_gaps(p, end, n, s, used_out, bad_at);
     case PVS__CODING_RUNS: return pvs__set_runs(p, end, n, s, used_out, bad_at);
@@ -21737,10 +22439,12 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
     uint32_t i, best_axis = 3, best_score = n, axis;
     float best_v = 0.0f;
     if (level == b->depth) { /* leaf */
-        b->items = (uint8_t *)pvs__grow_array(b->a, b->items, &b->item_capacity, b->item_bytes, b->item_bytes + 5 * (size_t)n, 1, &r);
+        b->items = (uint8_t *)pvs__grow_array(b->a, b->items, &b->item_capacity, b->item_bytes,
+                                              b->item_bytes + 5 * (size_t)n, 1, &r);
         if (!b->items) return r;
         b->leaf_start[b->leaves_done++] = (uint32_t)b->item_bytes;
-        for (i = 0; i < n; ++i) b->item_bytes += pvs__put_varint(b->items + b->item_bytes, i ? ids[i] - ids[i - 1] - 1 : ids[0]);
+        for (i = 0; i < n; ++i)
+            b->item_bytes += pvs__put_varint(b->items + b->item_bytes, i ? ids[i] - ids[i - 1] - 1 : ids[0]);
         return PVS_OK;
     }
     if (n > 1) {
@@ -21822,8 +22526,8 @@ typedef struct pvs__candidates {
     uint32_t self, count, list[PVS__CANDIDATES];
 } pvs__candidates;
 
-PVS__STATIC pvs_visit pvs__collect_candidates(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
-                                              uint32_t item_count) {
+PVS__STATIC pvs_visit pvs__collect_candidates(void *user, const pvs_box *node_box, float distance,
+                                              const uint32_t *items, uint32_t item_count) {
     pvs__candidates *c = (pvs__candidates *)user;
     uint32_t i, j;
     (void)node_box;
@@ -22069,22 +22773,27 @@ PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
 
 /* pvs_file_encode's checks of the description, each with its error; *max_chain receives the chain
    bound K, *vocc_size the VOCC section's size (0 without one). */
-PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_chain, size_t *vocc_size, pvs_error *err) {
+PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_chain, size_t *vocc_size,
+                                         pvs_error *err) {
     pvs_result r;
     uint32_t i;
     if (!d || !d->cells || !d->pvs || !d->cell_count || !d->object_count)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, cells and pvs must not be NULL or empty");
-    if (d->up_axis != 1 && d->up_axis != 2) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "up_axis must be 1 or 2");
+    if (d->up_axis != 1 && d->up_axis != 2)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "up_axis must be 1 or 2");
     if ((int)d->method < 0 || d->method >= PVS_METHOD_COUNT || !pvs__finite(d->eps) || d->eps < 0.0f)
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bad method or eps");
     if (d->cell_count == PVS_NO_CELL || d->object_count == 0xffffffffu || d->cell_count > 0x3fffffffu)
         return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells or objects");
     *max_chain = d->max_chain ? d->max_chain : PVS_DEFAULT_CHAIN;
-    if (*max_chain > PVS_MAX_CHAIN) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", *max_chain, PVS_MAX_CHAIN);
-    if (d->shard_count == 1 || (d->shard_count && (d->shard_index >= d->shard_count || d->total_cell_count > 0x3fffffffu ||
-                                                   d->cell_count != (d->total_cell_count - d->shard_index + d->shard_count - 1) / d->shard_count)))
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u does not hold %u of %u cells", d->shard_index,
-                         d->shard_count, d->cell_count, d->total_cell_count);
+    if (*max_chain > PVS_MAX_CHAIN)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", *max_chain, PVS_MAX_CHAIN);
+    if (d->shard_count == 1 ||
+        (d->shard_count &&
+         (d->shard_index >= d->shard_count || d->total_cell_count > 0x3fffffffu ||
+          d->cell_count != (d->total_cell_count - d->shard_index + d->shard_count - 1) / d->shard_count)))
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u does not hold %u of %u cells",
+                         d->shard_index, d->shard_count, d->cell_count, d->total_cell_count);
     for (i = 0; i < d->cell_count; ++i) {
         r = pvs__check_cell(d->cells + i, i, err);
         if (r != PVS_OK) return r;
@@ -22093,9 +22802,11 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
         uint64_t n = 0;
         for (i = 0; i < d->cell_count; ++i) n += d->vocc_counts[i];
         *vocc_size = pvs__vo_section_size(d->cell_count, n);
-        if (!d->vocc_scales || (n && !d->virtual_occluders) || !pvs__finite(d->vocc_base) || !pvs__finite(d->vocc_height_step) ||
-            !(d->vocc_height_step > 0.0f) || (d->vocc_flags & ~PVS_VOCC_ONLY) || !*vocc_size)
-            return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "virtual occluders: missing arrays, bad heights or flags");
+        if (!d->vocc_scales || (n && !d->virtual_occluders) || !pvs__finite(d->vocc_base) ||
+            !pvs__finite(d->vocc_height_step) || !(d->vocc_height_step > 0.0f) || (d->vocc_flags & ~PVS_VOCC_ONLY) ||
+            !*vocc_size)
+            return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
+                             "virtual occluders: missing arrays, bad heights or flags");
     }
     return PVS_OK;
 }
@@ -22134,8 +22845,11 @@ PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_by
         }
         e->index_bits[3 + k] = pvs__bits_for(widest);
     }
-    index_bits_total = (size_t)(e->index_bits[0] + e->index_bits[1] + e->index_bits[2] + e->index_bits[3] + e->index_bits[4] + e->index_bits[5]) * e->cells;
-    *cell_bytes = PVS__CELL_HEAD + 4 * ((size_t)e->value_count[0] + e->value_count[1] + e->value_count[2]) + (index_bits_total + 7) / 8;
+    index_bits_total = (size_t)(e->index_bits[0] + e->index_bits[1] + e->index_bits[2] + e->index_bits[3] +
+                                e->index_bits[4] + e->index_bits[5]) *
+        e->cells;
+    *cell_bytes = PVS__CELL_HEAD + 4 * ((size_t)e->value_count[0] + e->value_count[1] + e->value_count[2]) +
+        (index_bits_total + 7) / 8;
     return PVS_OK;
 }
 
@@ -22173,7 +22887,9 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
         e->tree = NULL;
         if (!centres) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell centres");
         for (i = 0; i < e->cells; ++i)
-            for (k = 0; k < 3; ++k) centres[i].min[k] = centres[i].max[k] = 0.5f * e->boxes[i].min[k] + 0.5f * e->boxes[i].max[k]; /* no overflow */
+            for (k = 0; k < 3; ++k)
+                centres[i].min[k] = centres[i].max[k] =
+                    0.5f * e->boxes[i].min[k] + 0.5f * e->boxes[i].max[k]; /* no overflow */
         td.boxes = centres;
         r = pvs_kdtree_create(&td, &e->tree, err);
         pvs__free_array(&e->a, centres, e->cells, sizeof(pvs_box));
@@ -22251,7 +22967,8 @@ PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
             pos += e->index_bits[k];
         }
         for (k = 0; k < 3; ++k) {
-            pvs__put_bits(bits, pos, pvs__value_index(e->values[k], e->value_count[k], e->boxes[i].max[k]) - lo[k], e->index_bits[3 + k]);
+            pvs__put_bits(bits, pos, pvs__value_index(e->values[k], e->value_count[k], e->boxes[i].max[k]) - lo[k],
+                          e->index_bits[3 + k]);
             pos += e->index_bits[3 + k];
         }
     }
@@ -22259,8 +22976,8 @@ PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
 
 /* Writes the header and the section table of a file of `total` bytes whose sections (tags[k] at
    at[k], sz[k] bytes) are written: each section's CRC-32, then the header's. */
-PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t flags, uint32_t sections, const uint32_t *tags, const size_t *at,
-                                           const size_t *sz) {
+PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t flags, uint32_t sections,
+                                           const uint32_t *tags, const size_t *at, const size_t *sz) {
     uint32_t k, crc;
     memcpy(o, "PVS\x1a", 4);
     pvs__put32(o + 4, PVS_FORMAT_VERSION);
@@ -22279,7 +22996,8 @@ PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t fl
     pvs__put32(o + 20, crc);
 }
 
-PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t capacity, size_t *out_size, pvs_error *err) {
+PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t capacity, size_t *out_size,
+                                   pvs_error *err) {
     pvs__encoder e;
     pvs_result r;
     uint32_t i, k, max_chain = 0, sections, keys = 0;
@@ -22330,14 +23048,18 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         at[k] = total;
         total = pvs__align8(total + sz[k]);
     }
-    if (total > 0xffffffffu) { r = pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the file would exceed 4 GiB"); goto done; }
+    if (total > 0xffffffffu) {
+        r = pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the file would exceed 4 GiB");
+        goto done;
+    }
     if (out_size) *out_size = total;
     if (!o) { /* a size query */
         pvs__ok(err);
         goto done;
     }
     if (capacity < total) {
-        r = pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "need %llu bytes, have %llu", (unsigned long long)total, (unsigned long long)capacity);
+        r = pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "need %llu bytes, have %llu", (unsigned long long)total,
+                      (unsigned long long)capacity);
         goto done;
     }
     memset(o, 0, total);
@@ -22363,8 +23085,9 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         pvs__put32(s + 8, d->total_cell_count);
     }
     if (d->vocc_counts)
-        pvs__vo_section_write(o + at[sections - 1], (d->vocc_flags & PVS_VOCC_ONLY) ? 1u : 0u, d->vocc_base, d->vocc_height_step, d->cell_count,
-                              d->vocc_counts, d->vocc_scales, d->virtual_occluders, d->vocc_stride);
+        pvs__vo_section_write(o + at[sections - 1], (d->vocc_flags & PVS_VOCC_ONLY) ? 1u : 0u, d->vocc_base,
+                              d->vocc_height_step, d->cell_count, d->vocc_counts, d->vocc_scales, d->virtual_occluders,
+                              d->vocc_stride);
     /* header and section table */
     pvs__encoder_write_header(o, total, d->flags, sections, tags, at, sz);
     pvs__ok(err);
@@ -22427,33 +23150,38 @@ PVS__STATIC void pvs__record_apply(const pvs_file *f, const pvs__rec *r, pvs_wor
     (void)pvs__set_apply(p, r->end, r->coding, f->object_count, &s, &used, &bad);
 }
 
-PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const uint8_t *c, uint32_t size, pvs_error *err) {
+PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const uint8_t *c, uint32_t size,
+                                       pvs_error *err) {
     uint64_t off = (uint64_t)(c - base), need, nbits, pos = 0;
     uint32_t k, i, total = 0;
     const uint8_t *v;
-    if (size < PVS__CELL_HEAD) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, fewer than its 20-byte head", size);
+    if (size < PVS__CELL_HEAD)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, fewer than its 20-byte head", size);
     for (k = 0; k < 3; ++k) {
         uint32_t n = pvs__get32(c + 4 * k);
         if (n == 0 || n > 2 * (uint64_t)f->cell_count)
-            return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 4 * k, "CELL: %u coordinates on axis %u for %u cells", n, k, f->cell_count);
+            return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 4 * k,
+                             "CELL: %u coordinates on axis %u for %u cells", n, k, f->cell_count);
         if (c[12 + k] != pvs__bits_for(n - 1))
-            return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 12 + k, "CELL: index width %u on axis %u, %u values need %u", c[12 + k], k, n,
+            return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 12 + k,
+                             "CELL: index width %u on axis %u, %u values need %u", c[12 + k], k, n,
                              pvs__bits_for(n - 1));
         if (c[15 + k] > pvs__bits_for(n - 1))
-            return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 15 + k, "CELL: extent width %u on axis %u exceeds %u", c[15 + k], k,
-                             pvs__bits_for(n - 1));
+            return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 15 + k,
+                             "CELL: extent width %u on axis %u exceeds %u", c[15 + k], k, pvs__bits_for(n - 1));
         f->private_.value_count[k] = n;
         f->private_.index_bits[k] = c[12 + k];
         f->private_.index_bits[3 + k] = c[15 + k];
         total += n;
     }
     if (c[18] || c[19]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off + 18, "CELL: reserved bytes are not zero");
-    f->private_.cell_bits = f->private_.index_bits[0] + f->private_.index_bits[1] + f->private_.index_bits[2] + f->private_.index_bits[3] +
-                            f->private_.index_bits[4] + f->private_.index_bits[5];
+    f->private_.cell_bits = f->private_.index_bits[0] + f->private_.index_bits[1] + f->private_.index_bits[2] +
+        f->private_.index_bits[3] + f->private_.index_bits[4] + f->private_.index_bits[5];
     nbits = (uint64_t)f->private_.cell_bits * f->cell_count;
     need = PVS__CELL_HEAD + 4 * (uint64_t)total + (nbits + 7) / 8;
     if (need != size)
-        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, its tables and indices need %llu", size, (unsigned long long)need);
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "CELL has %u bytes, its tables and indices need %llu",
+                         size, (unsigned long long)need);
     v = c + PVS__CELL_HEAD;
     for (k = 0; k < 3; ++k) {
         f->private_.values[k] = v;
@@ -22474,11 +23202,12 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
         }
         for (k = 0; k < 3; ++k)
             if ((uint64_t)idx[k] + idx[k + 3] >= f->private_.value_count[k])
-                return pvs__fail(err, PVS_ERROR_BAD_CELL, i, (uint64_t)(v - base) + pos / 8, "cell %u: coordinate index %u + %u out of range on axis %u",
-                                 i, idx[k], idx[k + 3], k);
+                return pvs__fail(err, PVS_ERROR_BAD_CELL, i, (uint64_t)(v - base) + pos / 8,
+                                 "cell %u: coordinate index %u + %u out of range on axis %u", i, idx[k], idx[k + 3], k);
     }
     if ((nbits & 7u) && (v[nbits / 8] >> (nbits & 7u)))
-        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(v - base) + nbits / 8, "CELL: unused index bits are not zero");
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(v - base) + nbits / 8,
+                         "CELL: unused index bits are not zero");
     return PVS_OK;
 }
 
@@ -22486,45 +23215,53 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
    into the items, u8 axes[2^D - 1] (0..2), then the items: per leaf its
    ascending cell ids, gap-coded varints, filling its offset range exactly. Splits and axes sit in
    separate arrays so a look-up level costs one dependent load. */
-PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const uint8_t *t, uint32_t size, pvs_error *err) {
+PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const uint8_t *t, uint32_t size,
+                                      pvs_error *err) {
     uint64_t off = (uint64_t)(t - base), need;
     uint32_t depth, inner, leaves, i;
     const uint8_t *nodes, *starts, *items;
-    if (size < PVS__TREE_HEAD) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE has %u bytes, fewer than its 8-byte head", size);
+    if (size < PVS__TREE_HEAD)
+        return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE has %u bytes, fewer than its 8-byte head", size);
     depth = pvs__get32(t);
-    if (depth > PVS__TREE_MAX_DEPTH) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE depth %u > %u", depth, PVS__TREE_MAX_DEPTH);
+    if (depth > PVS__TREE_MAX_DEPTH)
+        return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE depth %u > %u", depth, PVS__TREE_MAX_DEPTH);
     if (pvs__get32(t + 4)) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off + 4, "TREE reserved field is not zero");
     leaves = 1u << depth;
     inner = leaves - 1u;
     need = PVS__TREE_HEAD + 5 * (uint64_t)inner + 4 * ((uint64_t)leaves + 1);
-    if (need > size) return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE has %u bytes, depth %u needs %llu before its items", size, depth,
-                                      (unsigned long long)need);
+    if (need > size)
+        return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, off, "TREE has %u bytes, depth %u needs %llu before its items",
+                         size, depth, (unsigned long long)need);
     nodes = t + PVS__TREE_HEAD;
     starts = nodes + 4 * (size_t)inner;
     items = starts + 4 * ((size_t)leaves + 1) + inner;
     for (i = 0; i < inner; ++i) {
         uint8_t axis = starts[4 * ((size_t)leaves + 1) + i];
         if (axis > 2u || !pvs__finite(pvs__getf32(nodes + 4 * (size_t)i)))
-            return pvs__fail(err, PVS_ERROR_BAD_TREE, i, off + PVS__TREE_HEAD + 4 * (uint64_t)i, "TREE node %u: axis %u or split not finite", i, axis);
+            return pvs__fail(err, PVS_ERROR_BAD_TREE, i, off + PVS__TREE_HEAD + 4 * (uint64_t)i,
+                             "TREE node %u: axis %u or split not finite", i, axis);
     }
     if (pvs__get32(starts) != 0 || pvs__get32(starts + 4 * (size_t)leaves) != size - need)
-        return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(starts - base), "TREE leaf offsets do not span its items");
+        return pvs__fail(err, PVS_ERROR_BAD_TREE, -1, (uint64_t)(starts - base),
+                         "TREE leaf offsets do not span its items");
     for (i = 0; i < leaves; ++i) {
         uint32_t lo = pvs__get32(starts + 4 * (size_t)i), hi = pvs__get32(starts + 4 * (size_t)i + 4);
         const uint8_t *p = items + lo, *end = items + hi;
         uint64_t id = 0;
         int first = 1;
         if (hi < lo || hi > size - need)
-            return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(starts - base) + 4 * (uint64_t)i, "TREE leaf %u offsets do not ascend", i);
+            return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(starts - base) + 4 * (uint64_t)i,
+                             "TREE leaf %u offsets do not ascend", i);
         while (p < end) {
             uint32_t g;
             size_t used = pvs__get_varint(p, end, &g);
-            if (!used) return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(p - base), "TREE leaf %u: bad cell id", i);
+            if (!used)
+                return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(p - base), "TREE leaf %u: bad cell id", i);
             id = first ? g : id + 1u + g;
             first = 0;
             if (id >= f->cell_count)
-                return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(p - base), "TREE leaf %u names cell %llu of %u", i, (unsigned long long)id,
-                                 f->cell_count);
+                return pvs__fail(err, PVS_ERROR_BAD_TREE, i, (uint64_t)(p - base), "TREE leaf %u names cell %llu of %u",
+                                 i, (unsigned long long)id, f->cell_count);
             p += used;
         }
     }
@@ -22536,39 +23273,51 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
 /* Records: first every record's own structure, then, with every record known to be well formed, the
    chains: a delta's base must have depth one less, so depths fall strictly along a chain, which
    therefore ends at a key within max_chain steps and cannot cycle. Linear in the section size. */
-PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const uint8_t *rs, uint32_t size, pvs_error *err) {
+PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const uint8_t *rs, uint32_t size,
+                                         pvs_error *err) {
     uint64_t off = (uint64_t)(rs - base);
     uint32_t blocks = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK, b, keys = 0, i;
-    if ((uint64_t)4 * (blocks + 1) > size) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "RECS is too small for %u block offsets", blocks + 1);
-    if (pvs__get32(rs) != 4 * (blocks + 1)) return pvs__fail(err, PVS_ERROR_BAD_RECORD, 0, off, "block 0 does not start after the offset table");
+    if ((uint64_t)4 * (blocks + 1) > size)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, off, "RECS is too small for %u block offsets", blocks + 1);
+    if (pvs__get32(rs) != 4 * (blocks + 1))
+        return pvs__fail(err, PVS_ERROR_BAD_RECORD, 0, off, "block 0 does not start after the offset table");
     if (pvs__get32(rs + 4 * (size_t)blocks) != size)
-        return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, off + 4 * (uint64_t)blocks, "the last block offset is not the section size");
+        return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, off + 4 * (uint64_t)blocks,
+                         "the last block offset is not the section size");
     for (b = 0; b < blocks; ++b) {
         uint32_t lo = pvs__get32(rs + 4 * (size_t)b), hi = pvs__get32(rs + 4 * (size_t)b + 4), cell;
         const uint8_t *p = rs + lo, *end = rs + hi;
-        if (hi < lo || hi > size) return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, off + 4 * (uint64_t)b, "block %u offsets do not ascend", b);
+        if (hi < lo || hi > size)
+            return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, off + 4 * (uint64_t)b, "block %u offsets do not ascend", b);
         for (cell = b * PVS__BLOCK; cell < f->cell_count && cell < (b + 1) * PVS__BLOCK; ++cell) {
             uint32_t len, head, zz, depth;
             const uint8_t *rend;
             size_t used = pvs__get_varint(p, end, &len), bad = 0;
             pvs_result r;
             if (!used || len > (size_t)(end - p) - used)
-                return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad length", cell);
+                return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad length",
+                                 cell);
             p += used;
             rend = p + len;
             used = pvs__get_varint(p, rend, &head);
-            if (!used) return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad head", cell);
+            if (!used)
+                return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad head",
+                                 cell);
             p += used;
             depth = head >> 2;
             if (depth > f->max_chain)
-                return pvs__fail(err, PVS_ERROR_BAD_CHAIN, cell, (uint64_t)(p - base), "cell %u: chain depth %u > %u", cell, depth, f->max_chain);
+                return pvs__fail(err, PVS_ERROR_BAD_CHAIN, cell, (uint64_t)(p - base), "cell %u: chain depth %u > %u",
+                                 cell, depth, f->max_chain);
             if (depth) {
                 int64_t bc;
                 used = pvs__get_varint(p, rend, &zz);
-                if (!used) return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad base", cell);
+                if (!used)
+                    return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base),
+                                     "record of cell %u: bad base", cell);
                 bc = (int64_t)cell - pvs__unzigzag(zz);
                 if (bc < 0 || bc >= (int64_t)f->cell_count || bc == (int64_t)cell)
-                    return pvs__fail(err, PVS_ERROR_BAD_CHAIN, cell, (uint64_t)(p - base), "cell %u: base %lld is itself or no cell", cell, (long long)bc);
+                    return pvs__fail(err, PVS_ERROR_BAD_CHAIN, cell, (uint64_t)(p - base),
+                                     "cell %u: base %lld is itself or no cell", cell, (long long)bc);
                 p += used;
             } else {
                 ++keys;
@@ -22579,33 +23328,42 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
                 memset(&check, 0, sizeof(check));
                 if (depth) { /* the removed ranks: coding byte, base PVS size, ranks below it */
                     uint32_t m;
-                    if (p >= rend || *p > 3u) return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad coding", cell);
+                    if (p >= rend || *p > 3u)
+                        return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base),
+                                         "record of cell %u: bad coding", cell);
                     used = pvs__get_varint(p + 1, rend, &m);
                     if (!used || m > f->object_count)
-                        return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base), "record of cell %u: bad base size", cell);
+                        return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base),
+                                         "record of cell %u: bad base size", cell);
                     r = pvs__set_apply(p + 1 + used, rend, *p, m, &check, &body, &bad);
-                    if (r != PVS_OK) return pvs__fail(err, r, cell, (uint64_t)(p + 1 + used - base) + bad, "record of cell %u (removed)", cell);
+                    if (r != PVS_OK)
+                        return pvs__fail(err, r, cell, (uint64_t)(p + 1 + used - base) + bad,
+                                         "record of cell %u (removed)", cell);
                     p += 1 + used + body;
                 }
                 r = pvs__set_apply(p, rend, head & 3u, f->object_count, &check, &body, &bad);
                 if (r != PVS_OK) return pvs__fail(err, r, cell, (uint64_t)(p - base) + bad, "record of cell %u", cell);
                 if (p + body != rend)
-                    return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p + body - base), "record of cell %u: bytes after its sets", cell);
+                    return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p + body - base),
+                                     "record of cell %u: bytes after its sets", cell);
             }
             p = rend;
         }
-        if (p != end) return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, (uint64_t)(p - base), "block %u has bytes after its last record", b);
+        if (p != end)
+            return pvs__fail(err, PVS_ERROR_BAD_RECORD, -1, (uint64_t)(p - base),
+                             "block %u has bytes after its last record", b);
     }
     if (keys != f->key_count)
-        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 0, "META says %u key cells, the records have %u", f->key_count, keys);
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 0, "META says %u key cells, the records have %u", f->key_count,
+                         keys);
     for (i = 0; i < f->cell_count; ++i) {
         pvs__rec r, rb;
         pvs__record_at(f, i, &r);
         if (!r.depth) continue;
         pvs__record_at(f, r.base, &rb);
         if (rb.depth + 1 != r.depth)
-            return pvs__fail(err, PVS_ERROR_BAD_CHAIN, i, (uint64_t)(r.start - base), "cell %u: depth %u, its base %u has depth %u", i, r.depth,
-                             r.base, rb.depth);
+            return pvs__fail(err, PVS_ERROR_BAD_CHAIN, i, (uint64_t)(r.start - base),
+                             "cell %u: depth %u, its base %u has depth %u", i, r.depth, r.base, rb.depth);
     }
     return PVS_OK;
 }
@@ -22622,38 +23380,47 @@ PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t 
     uint32_t count, crc;
     if (size < 4 || memcmp(p, "PVS\x1a", 4) != 0)
         return pvs__fail(err, size < 4 ? PVS_ERROR_TRUNCATED : PVS_ERROR_BAD_MAGIC, -1, 0, "not a .pvs file (magic)");
-    if (size < PVS__HEADER_SIZE) return pvs__fail(err, PVS_ERROR_TRUNCATED, -1, size, "the header needs 32 bytes, have %llu", (unsigned long long)size);
+    if (size < PVS__HEADER_SIZE)
+        return pvs__fail(err, PVS_ERROR_TRUNCATED, -1, size, "the header needs 32 bytes, have %llu",
+                         (unsigned long long)size);
     if (pvs__get32(p + 4) != PVS_FORMAT_VERSION)
-        return pvs__fail(err, PVS_ERROR_BAD_VERSION, -1, 4, "format version %u, this reader knows %d", pvs__get32(p + 4), PVS_FORMAT_VERSION);
+        return pvs__fail(err, PVS_ERROR_BAD_VERSION, -1, 4, "format version %u, this reader knows %d",
+                         pvs__get32(p + 4), PVS_FORMAT_VERSION);
     if (pvs__get32(p + 8) != size) {
         pvs_result code = pvs__get32(p + 8) > size ? PVS_ERROR_TRUNCATED : PVS_ERROR_BAD_HEADER;
-        return pvs__fail(err, code, -1, 8, "the header says %u bytes, the buffer has %llu", pvs__get32(p + 8), (unsigned long long)size);
+        return pvs__fail(err, code, -1, 8, "the header says %u bytes, the buffer has %llu", pvs__get32(p + 8),
+                         (unsigned long long)size);
     }
     count = pvs__get32(p + 12);
     if (count == 0 || count > PVS__MAX_SECTIONS)
-        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 12, "section count %u is not in 1..%u", count, PVS__MAX_SECTIONS);
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 12, "section count %u is not in 1..%u", count,
+                         PVS__MAX_SECTIONS);
     if (PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY > size)
         return pvs__fail(err, PVS_ERROR_TRUNCATED, -1, PVS__HEADER_SIZE, "the section table runs past the end");
     crc = pvs__crc32(0, p, 20);
     crc = pvs__crc32(crc, p + PVS__HEADER_SIZE, (size_t)count * PVS__SECTION_ENTRY);
     if (crc != pvs__get32(p + 20)) return pvs__fail(err, PVS_ERROR_CHECKSUM, -1, 20, "header checksum");
-    if (pvs__get32(p + 24) || pvs__get32(p + 28)) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 24, "reserved header bytes are not zero");
+    if (pvs__get32(p + 24) || pvs__get32(p + 28))
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, 24, "reserved header bytes are not zero");
     *count_out = count;
     return PVS_OK;
 }
 
 /* The section table: each section 8-aligned and after the table, inside the file, no tag repeated,
    no overlap, its checksum; the known tags into *sec (unknown tags are skipped). */
-PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t count, pvs__open_sections *sec, pvs_error *err) {
+PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t count, pvs__open_sections *sec,
+                                       pvs_error *err) {
     uint32_t i, j;
     for (i = 0; i < count; ++i) {
         const uint8_t *e = p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)i;
         uint32_t tag = pvs__get32(e), off = pvs__get32(e + 4), sz = pvs__get32(e + 8);
         uint64_t at = PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (uint64_t)i;
         if ((off & 7u) || off < PVS__HEADER_SIZE + count * PVS__SECTION_ENTRY)
-            return pvs__fail(err, PVS_ERROR_BAD_SECTION, i, at, "section %u: offset %u is misaligned or inside the header", i, off);
+            return pvs__fail(err, PVS_ERROR_BAD_SECTION, i, at,
+                             "section %u: offset %u is misaligned or inside the header", i, off);
         if ((uint64_t)off + sz > size)
-            return pvs__fail(err, PVS_ERROR_TRUNCATED, i, at, "section %u: bytes %u..%llu run past the end", i, off, (unsigned long long)off + sz);
+            return pvs__fail(err, PVS_ERROR_TRUNCATED, i, at, "section %u: bytes %u..%llu run past the end", i, off,
+                             (unsigned long long)off + sz);
         for (j = 0; j < i; ++j) {
             const uint8_t *e2 = p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)j;
             uint32_t off2 = pvs__get32(e2 + 4), sz2 = pvs__get32(e2 + 8);
@@ -22681,7 +23448,8 @@ PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t
     size_t pos = PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY;
     for (i = 0; i < count; ++i) { /* insertion sort by offset; count <= 64 */
         uint32_t off = pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)i + 4);
-        for (j = i; j > 0 && pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[j - 1] + 4) > off; --j)
+        for (j = i; j > 0 && pvs__get32(p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[j - 1] + 4) > off;
+             --j)
             order[j] = order[j - 1];
         order[j] = i;
     }
@@ -22689,17 +23457,22 @@ PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t
         const uint8_t *e = k < count ? p + PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)order[k] : NULL;
         size_t next = e ? pvs__get32(e + 4) : size;
         for (; pos < next; ++pos)
-            if (p[pos]) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, pos, "padding byte %llu is not zero", (unsigned long long)pos);
-        if (e && (size_t)pvs__get32(e + 4) + pvs__get32(e + 8) > pos) pos = (size_t)pvs__get32(e + 4) + pvs__get32(e + 8);
+            if (p[pos])
+                return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, pos, "padding byte %llu is not zero",
+                                 (unsigned long long)pos);
+        if (e && (size_t)pvs__get32(e + 4) + pvs__get32(e + 8) > pos)
+            pos = (size_t)pvs__get32(e + 4) + pvs__get32(e + 8);
     }
     return PVS_OK;
 }
 
 /* "META" (32 bytes) into f, then its rules in the order of the format table: cell count, object
    count, method, eps, up axis, chain bound, key cells, reserved bytes. */
-PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8_t *meta, uint32_t meta_size, pvs_error *err) {
+PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8_t *meta, uint32_t meta_size,
+                                      pvs_error *err) {
     uint64_t mo = (uint64_t)(meta - p);
-    if (meta_size != PVS__META_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, mo, "META has %u bytes, not 32", meta_size);
+    if (meta_size != PVS__META_SIZE)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, mo, "META has %u bytes, not 32", meta_size);
     f->cell_count = pvs__get32(meta);
     f->object_count = pvs__get32(meta + 4);
     f->method = (pvs_method)pvs__get32(meta + 8);
@@ -22708,31 +23481,41 @@ PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8
     f->max_chain = pvs__get32(meta + 20);
     f->key_count = pvs__get32(meta + 24);
     if (f->cell_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo, "cell count 0");
-    if (f->cell_count > 0x3fffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo, "cell count %u > 2^30 - 1", f->cell_count);
+    if (f->cell_count > 0x3fffffffu)
+        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo, "cell count %u > 2^30 - 1", f->cell_count);
     if (f->object_count == 0) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 4, "object count 0");
-    if (f->object_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo + 4, "object count 2^32 - 1");
-    if (pvs__get32(meta + 8) >= (uint32_t)PVS_METHOD_COUNT) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 8, "unknown method %u", pvs__get32(meta + 8));
-    if (!pvs__finite(f->eps) || f->eps < 0.0f) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 12, "eps is not a finite number >= 0");
-    if (f->up_axis != 1 && f->up_axis != 2) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 16, "up axis %u", f->up_axis);
+    if (f->object_count == 0xffffffffu)
+        return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, mo + 4, "object count 2^32 - 1");
+    if (pvs__get32(meta + 8) >= (uint32_t)PVS_METHOD_COUNT)
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 8, "unknown method %u", pvs__get32(meta + 8));
+    if (!pvs__finite(f->eps) || f->eps < 0.0f)
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 12, "eps is not a finite number >= 0");
+    if (f->up_axis != 1 && f->up_axis != 2)
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 16, "up axis %u", f->up_axis);
     if (f->max_chain == 0 || f->max_chain > PVS_MAX_CHAIN)
-        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 20, "chain bound %u is not in 1..%u", f->max_chain, PVS_MAX_CHAIN);
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 20, "chain bound %u is not in 1..%u", f->max_chain,
+                         PVS_MAX_CHAIN);
     if (f->key_count == 0 || f->key_count > f->cell_count)
         return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 24, "%u key cells of %u", f->key_count, f->cell_count);
-    if (pvs__get32(meta + 28)) return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 28, "reserved META bytes are not zero");
+    if (pvs__get32(meta + 28))
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, mo + 28, "reserved META bytes are not zero");
     return PVS_OK;
 }
 
 /* "SHRD" (16 bytes) into f: a part of cell_count cells of a sharded bake. */
-PVS__STATIC pvs_result pvs__open_shard(pvs_file *f, const uint8_t *p, const uint8_t *shrd, uint32_t shrd_size, pvs_error *err) {
+PVS__STATIC pvs_result pvs__open_shard(pvs_file *f, const uint8_t *p, const uint8_t *shrd, uint32_t shrd_size,
+                                       pvs_error *err) {
     uint64_t so = (uint64_t)(shrd - p);
-    if (shrd_size != PVS__SHRD_SIZE) return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "SHRD has %u bytes, not 16", shrd_size);
+    if (shrd_size != PVS__SHRD_SIZE)
+        return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, so, "SHRD has %u bytes, not 16", shrd_size);
     f->shard_index = pvs__get32(shrd);
     f->shard_count = pvs__get32(shrd + 4);
     f->total_cell_count = pvs__get32(shrd + 8);
-    if (f->shard_count < 2 || f->shard_index >= f->shard_count || f->total_cell_count > 0x3fffffffu || pvs__get32(shrd + 12) ||
+    if (f->shard_count < 2 || f->shard_index >= f->shard_count || f->total_cell_count > 0x3fffffffu ||
+        pvs__get32(shrd + 12) ||
         f->cell_count != (f->total_cell_count - f->shard_index + f->shard_count - 1) / f->shard_count)
-        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, so, "SHRD: shard %u of %u cannot hold %u of %u cells", f->shard_index, f->shard_count,
-                         f->cell_count, f->total_cell_count);
+        return pvs__fail(err, PVS_ERROR_BAD_HEADER, -1, so, "SHRD: shard %u of %u cannot hold %u of %u cells",
+                         f->shard_index, f->shard_count, f->cell_count, f->total_cell_count);
     return PVS_OK;
 }
 
@@ -22846,15 +23629,21 @@ PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[
         lo1 = (uint32_t)(w & (((uint64_t)1 << wb[1]) - 1u)); w >>= wb[1];
         lo2 = (uint32_t)(w & (((uint64_t)1 << wb[2]) - 1u)); w >>= wb[2];
         e0 = (uint32_t)(w & (((uint64_t)1 << wb[3]) - 1u)); w >>= wb[3];
-        if (p[0] < pvs__getf32(f->private_.values[0] + 4 * (size_t)lo0) || p[0] > pvs__getf32(f->private_.values[0] + 4 * (size_t)(lo0 + e0))) return 0;
+        if (p[0] < pvs__getf32(f->private_.values[0] + 4 * (size_t)lo0) ||
+            p[0] > pvs__getf32(f->private_.values[0] + 4 * (size_t)(lo0 + e0)))
+            return 0;
         e1 = (uint32_t)(w & (((uint64_t)1 << wb[4]) - 1u)); w >>= wb[4];
-        if (p[1] < pvs__getf32(f->private_.values[1] + 4 * (size_t)lo1) || p[1] > pvs__getf32(f->private_.values[1] + 4 * (size_t)(lo1 + e1))) return 0;
+        if (p[1] < pvs__getf32(f->private_.values[1] + 4 * (size_t)lo1) ||
+            p[1] > pvs__getf32(f->private_.values[1] + 4 * (size_t)(lo1 + e1)))
+            return 0;
         e0 = (uint32_t)(w & (((uint64_t)1 << wb[5]) - 1u));
-        return !(p[2] < pvs__getf32(f->private_.values[2] + 4 * (size_t)lo2) || p[2] > pvs__getf32(f->private_.values[2] + 4 * (size_t)(lo2 + e0)));
+        return !(p[2] < pvs__getf32(f->private_.values[2] + 4 * (size_t)lo2) ||
+                 p[2] > pvs__getf32(f->private_.values[2] + 4 * (size_t)(lo2 + e0)));
     }
     pvs__cell_indices(f, c, idx);
     for (k = 0; k < 3; ++k)
-        if (p[k] < pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k]) || p[k] > pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k + 3]))
+        if (p[k] < pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k]) ||
+            p[k] > pvs__getf32(f->private_.values[k] + 4 * (size_t)idx[k + 3]))
             return 0;
     return 1;
 }
@@ -22900,7 +23689,8 @@ PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
             }
         }
         {
-            const uint8_t *q = items + pvs__get32(starts + 4 * (size_t)(k - inner)), *end = items + pvs__get32(starts + 4 * (size_t)(k - inner) + 4);
+            const uint8_t *q = items + pvs__get32(starts + 4 * (size_t)(k - inner)),
+                          *end = items + pvs__get32(starts + 4 * (size_t)(k - inner) + 4);
             uint32_t id = 0, g;
             int first = 1;
             while (q < end) {
@@ -22937,23 +23727,30 @@ PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bi
     }
 }
 
-PVS_API pvs_result pvs_file_decode(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t word_count, pvs_error *err) {
-    if (!f || !bits || !f->data) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file and bits must not be NULL");
-    if (cell >= f->cell_count) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, cell, 0, "cell %u of %u", cell, f->cell_count);
+PVS_API pvs_result pvs_file_decode(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t word_count,
+                                   pvs_error *err) {
+    if (!f || !bits || !f->data)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file and bits must not be NULL");
+    if (cell >= f->cell_count)
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, cell, 0, "cell %u of %u", cell, f->cell_count);
     if (word_count < PVS_BITSET_WORDS(f->object_count))
-        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "%llu words, %u objects need %llu", (unsigned long long)word_count,
-                         f->object_count, (unsigned long long)PVS_BITSET_WORDS(f->object_count));
+        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "%llu words, %u objects need %llu",
+                         (unsigned long long)word_count, f->object_count,
+                         (unsigned long long)PVS_BITSET_WORDS(f->object_count));
     pvs__file_decode(f, cell, bits, word_count);
     pvs__ok(err);
     return PVS_OK;
 }
 
-PVS_API pvs_result pvs_cursor_init(pvs_cursor *c, const pvs_file *f, pvs_word *bits, pvs_word *scratch, size_t word_count, pvs_error *err) {
+PVS_API pvs_result pvs_cursor_init(pvs_cursor *c, const pvs_file *f, pvs_word *bits, pvs_word *scratch,
+                                   size_t word_count, pvs_error *err) {
     if (!c || !f || !f->data || !bits || !scratch || bits == scratch)
-        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "cursor, file, bits and scratch must be given, bits != scratch");
+        return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
+                         "cursor, file, bits and scratch must be given, bits != scratch");
     if (word_count < PVS_BITSET_WORDS(f->object_count))
-        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "%llu words, %u objects need %llu", (unsigned long long)word_count,
-                         f->object_count, (unsigned long long)PVS_BITSET_WORDS(f->object_count));
+        return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "%llu words, %u objects need %llu",
+                         (unsigned long long)word_count, f->object_count,
+                         (unsigned long long)PVS_BITSET_WORDS(f->object_count));
     memset(c, 0, sizeof(*c));
     c->file = f;
     c->cell = PVS_NO_CELL;
