@@ -1727,6 +1727,19 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 /* core: result strings, allocator, errors, math, bitsets                                         */
 /* ---------------------------------------------------------------------------------------------- */
 
+/* The shared kernels, each written once here (or in >>kdtree) and used by every module that needs it:
+   - errors and sizes: pvs__fail, pvs__ok, overflow-checked pvs__mul / pvs__add;
+   - allocation through the hooks: pvs__alloc, pvs__free, pvs__alloc_array, pvs__free_array;
+   - math: pvs__v3_*, pvs__dabs, pvs__dmin, pvs__dmax, pvs__clampi, pvs__f_down / pvs__f_up (float bounds of
+     a double), boxes (pvs__box_*);
+   - bitsets (pvs_bitset_*), pvs__popcount64, pvs__ctz64; random numbers: pvs__splitmix64, pvs__random01;
+   - growable arrays: pvs__grow_capped, pvs__grow_array, pvs__grow;
+   - heaps: pvs__heap_sort and pvs__topk_offer (allocation-free, any record of up to 64 bytes), the
+     (key, index) pair pvs__key_index and its sort; larger bake-time sorts go through PVS_QSORT;
+   - little-endian bytes: pvs__get32, pvs__put32, pvs__getf32, pvs__putf32; pvs__crc32;
+   - the bake's method table interface (pvs__bake_env, pvs__bake_method; the table is in >>bake).
+   >>kdtree holds the one kD-tree and its one front-to-back sweep (pvs__kd_sweep). */
+
 PVS_API const char *pvs_result_string(pvs_result r) {
     switch (r) {
     case PVS_OK: return "success";
