@@ -2115,7 +2115,7 @@ PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_f
 
 /* Top-k: `heap` holds *count <= k elements of `size` bytes (at most 64), its root the one that ranks
    last. Offers e: it is kept when there is room, or when it ranks before the root, which it replaces.
-   Equal elements are not replaced: the first offered stays. */
+   An element equal to the root does not replace it. */
 PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t size, const void *e,
                                  pvs__before_fn before) {
     unsigned char *h = (unsigned char *)heap;

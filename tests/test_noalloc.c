@@ -438,7 +438,58 @@ static void bd_test_walk(void) {
     }
 }
 
+/* The core heaps against brute force: pvs__heap_sort gives the order of an insertion sort under the
+   same "ranks before" (24-byte records, many ties broken by index), and pvs__topk_offer keeps the k
+   best scores of a stream. */
+typedef struct bd_rec {
+    float score;
+    uint32_t id;
+    double pad[2];
+} bd_rec;
+static int bd_rec_before(const void *pa, const void *pb) {
+    const bd_rec *a = (const bd_rec *)pa, *b = (const bd_rec *)pb;
+    return a->score < b->score || (a->score == b->score && a->id < b->id);
+}
+static int bd_rec_better(const void *pa, const void *pb) { return ((const bd_rec *)pa)->score > ((const bd_rec *)pb)->score; }
+static void bd_test_heaps(void) {
+    enum { N = 300 };
+    static bd_rec a[N], ref[N], heap[N];
+    uint32_t trial, i, j;
+    for (trial = 0; trial < 200; ++trial) {
+        uint32_t n = (uint32_t)(N * bd_rnd()), k = (uint32_t)(40 * bd_rnd()), count = 0, levels = 1 + (uint32_t)(20 * bd_rnd());
+        for (i = 0; i < n; ++i) {
+            a[i].score = (float)(uint32_t)(levels * bd_rnd());
+            a[i].id = i;
+            a[i].pad[0] = a[i].pad[1] = 0.0;
+        }
+        memcpy(ref, a, n * sizeof(bd_rec));
+        for (i = 1; i < n; ++i) /* insertion sort: the reference order */
+            for (j = i; j > 0 && bd_rec_before(ref + j, ref + j - 1); --j) {
+                bd_rec t = ref[j];
+                ref[j] = ref[j - 1];
+                ref[j - 1] = t;
+            }
+        memcpy(heap, a, n * sizeof(bd_rec));
+        pvs__heap_sort(heap, n, sizeof(bd_rec), bd_rec_before);
+        CHECK(memcmp(heap, ref, n * sizeof(bd_rec)) == 0);
+        /* top-k by score alone: the kept scores are the k highest (which of the equal scores at the cut
+           stay depends on the heap, deterministically) */
+        for (i = 0; i < n; ++i) pvs__topk_offer(heap, &count, k, sizeof(bd_rec), a + i, bd_rec_better);
+        CHECK(count == (n < k ? n : k));
+        for (i = 0; i < count; ++i) {
+            uint32_t better = 0, kept_equal = 0, all_equal = 0;
+            for (j = 0; j < n; ++j) {
+                better += a[j].score > heap[i].score;
+                all_equal += a[j].score == heap[i].score;
+            }
+            for (j = 0; j < count; ++j) kept_equal += heap[j].score == heap[i].score;
+            CHECK(better < k && kept_equal <= all_equal && (better + all_equal > count || kept_equal == all_equal));
+        }
+    }
+}
+
 void test_bounded(void) {
     bd_test_scan();
     bd_test_walk();
+    bd_test_heaps();
 }
