@@ -2196,7 +2196,8 @@ PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
    is its module and one row of the table. */
 
 /* What a method sees of the bake. `cells` are every cell of the bake, not only the shard's (what a
-   method prepares over them then agrees between shards); `task_cells` the shard's, one per task. */
+   method prepares over them then agrees between shards; set during prepare only, the caller's);
+   `task_cells` the shard's, one per task. */
 typedef struct pvs__bake_env {
     const pvs_scene *scene;
     pvs_allocator allocator;
