@@ -5344,8 +5344,8 @@ PVS_API const float *pvs_raster_depth(const pvs_raster *r, uint32_t *w, uint32_t
    `simd` (SSE2, both axes halved) four texels at a time from a 2 x 8 block, pairing the four values
    in another order: the same values as the scalar loop unless the extreme is a tie between a zero
    of each sign (or a NaN). */
-PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32_t pw, uint32_t ph, float *dmin, float *dmax,
-                                    uint32_t w, uint32_t h, uint32_t mx, uint32_t my, int simd) {
+PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32_t pw, uint32_t ph, float *dmin,
+                                    float *dmax, uint32_t w, uint32_t h, uint32_t mx, uint32_t my, int simd) {
     uint32_t x, y;
     (void)simd;
     for (y = 0; y < h; ++y) {
@@ -5360,12 +5360,16 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
                 if (on) {
                     __m128 v0 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x), _mm_loadu_ps(n1 + 2 * x));
                     __m128 v1 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x + 4), _mm_loadu_ps(n1 + 2 * x + 4));
-                    _mm_storeu_ps(on + x, _mm_min_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0)), _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1))));
+                    __m128 ev = _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0));
+                    __m128 od = _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1));
+                    _mm_storeu_ps(on + x, _mm_min_ps(ev, od));
                 }
                 {
                     __m128 u0 = _mm_max_ps(_mm_loadu_ps(m0 + 2 * x), _mm_loadu_ps(m1 + 2 * x));
                     __m128 u1 = _mm_max_ps(_mm_loadu_ps(m0 + 2 * x + 4), _mm_loadu_ps(m1 + 2 * x + 4));
-                    _mm_storeu_ps(om + x, _mm_max_ps(_mm_shuffle_ps(u0, u1, _MM_SHUFFLE(2, 0, 2, 0)), _mm_shuffle_ps(u0, u1, _MM_SHUFFLE(3, 1, 3, 1))));
+                    __m128 ev = _mm_shuffle_ps(u0, u1, _MM_SHUFFLE(2, 0, 2, 0));
+                    __m128 od = _mm_shuffle_ps(u0, u1, _MM_SHUFFLE(3, 1, 3, 1));
+                    _mm_storeu_ps(om + x, _mm_max_ps(ev, od));
                 }
             }
 #endif
@@ -5399,8 +5403,8 @@ PVS__STATIC void pvs__tile_pyramid(pvs_raster *r) {
         hi[i] = (t->mask[0] | t->mask[1] | t->mask[2] | t->mask[3]) ? t->z1 : t->z0;
     }
     for (l = 1; l <= r->tlevels; ++l)
-        pvs__pyramid_level(r->tlmin[l - 1], r->tlmax[l - 1], r->tlw[l - 1], r->tlh[l - 1], r->tlmin[l], r->tlmax[l], r->tlw[l], r->tlh[l],
-                           r->tsx[l] != r->tsx[l - 1], r->tsy[l] != r->tsy[l - 1], 0);
+        pvs__pyramid_level(r->tlmin[l - 1], r->tlmax[l - 1], r->tlw[l - 1], r->tlh[l - 1], r->tlmin[l], r->tlmax[l],
+                           r->tlw[l], r->tlh[l], r->tsx[l] != r->tsx[l - 1], r->tsy[l] != r->tsy[l - 1], 0);
     r->pyramid_valid = 2;
 }
 
@@ -5413,8 +5417,8 @@ PVS_API void pvs_raster_build_pyramid(pvs_raster *r) {
     pvs__tile_resolve(r);
     r->lmin[0] = r->lmax[0] = r->depth;
     for (l = 1; l <= r->levels; ++l)
-        pvs__pyramid_level(r->lmin[l - 1], r->lmax[l - 1], r->lw[l - 1], r->lh[l - 1], r->lmin[l], r->lmax[l], r->lw[l], r->lh[l], 1, 1,
-                           !(r->flags & PVS_RASTER_SCALAR));
+        pvs__pyramid_level(r->lmin[l - 1], r->lmax[l - 1], r->lw[l - 1], r->lh[l - 1], r->lmin[l], r->lmax[l], r->lw[l],
+                           r->lh[l], 1, 1, !(r->flags & PVS_RASTER_SCALAR));
     r->pyramid_valid = 1;
 }
 
