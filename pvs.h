@@ -12765,6 +12765,18 @@ PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx
     return PVS_OK;
 }
 
+/* The least and greatest coordinate on axis k of triangle tri's vertices. */
+PVS__STATIC void pvs__tri_axis_range(const pvs_scene *s, uint32_t tri, uint32_t k, double *lo, double *hi) {
+    uint32_t q;
+    *lo = DBL_MAX;
+    *hi = -DBL_MAX;
+    for (q = 0; q < 3; ++q) {
+        double x = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + q] + k];
+        *lo = pvs__dmin(*lo, x);
+        *hi = pvs__dmax(*hi, x);
+    }
+}
+
 /* The column map and its chains: every component of three triangles or more flooded again on its own
    grid of voxel size eps (grown when the boxes would exceed the budgets: pvs__vx_component_voxel). */
 PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps,
@@ -12818,14 +12830,10 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
             }
             gk.origin[up] = g - hk;
             for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
-                uint32_t tri = tp->tris[t], r0, r1, q;
+                uint32_t tri = tp->tris[t], r0, r1;
                 for (k = 0; k < 3; ++k) {
-                    double tl = DBL_MAX, th = -DBL_MAX;
-                    for (q = 0; q < 3; ++q) {
-                        double y = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + q] + k];
-                        tl = pvs__dmin(tl, y);
-                        th = pvs__dmax(th, y);
-                    }
+                    double tl, th;
+                    pvs__tri_axis_range(s, tri, k, &tl, &th);
                     pvs__vx_grange(&gk, (int)k, tl, th, m, &r0, &r1);
                     if (r0 < lo[k]) lo[k] = r0;
                     if (r1 > hi[k]) hi[k] = r1;
@@ -13054,14 +13062,10 @@ PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
         size_t vol = 1, ncol;
         for (kk = 0; kk < 3; ++kk) { bx[kk] = 0xffffffffu; bx[3 + kk] = 0; }
         for (t = tp->comp_first[c]; t < tp->comp_first[c + 1]; ++t) {
-            uint32_t tri = tp->tris[t], r0, r1, q;
+            uint32_t tri = tp->tris[t], r0, r1;
             for (kk = 0; kk < 3; ++kk) {
-                double lo = DBL_MAX, hi = -DBL_MAX;
-                for (q = 0; q < 3; ++q) {
-                    double x = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + q] + kk];
-                    lo = pvs__dmin(lo, x);
-                    hi = pvs__dmax(hi, x);
-                }
+                double lo, hi;
+                pvs__tri_axis_range(s, tri, kk, &lo, &hi);
                 pvs__vx_range(b->o, kk, lo, hi, b->m, &r0, &r1);
                 if (r0 < bx[kk]) bx[kk] = r0;
                 if (r1 > bx[3 + kk]) bx[3 + kk] = r1;
