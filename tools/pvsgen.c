@@ -5,19 +5,12 @@
 #define _POSIX_C_SOURCE 200809L
 #endif
 #include "gen.h"
+#include "toolutil.h"
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#ifdef _WIN32
-#include <process.h>
-#define pvsgen_getpid() ((long)_getpid())
-#else
-#include <sys/stat.h>
-#include <unistd.h>
-#define pvsgen_getpid() ((long)getpid())
-#endif
 
 static void usage(FILE *f) {
     fprintf(f,
@@ -72,69 +65,12 @@ static int write_cells(FILE *f, const void *ctx) {
     return mesh_cells_write(c->cells, f);
 }
 
-/* Write straight into an existing non-regular file (/dev/null, a pipe): no temp file, no rename. */
-static int write_direct(const char *path, writer_fn fn, const void *ctx) {
-    FILE *f = fopen(path, "wb");
-    if (!f) {
-        fprintf(stderr, "pvsgen: %s: cannot open: %s\n", path, strerror(errno));
-        return -1;
-    }
-    int bad = fn(f, ctx) != 0;
-    if (fflush(f) != 0 || ferror(f)) bad = 1;
-    int err = errno;
-    if (fclose(f) != 0 && !bad) { bad = 1; err = errno; }
-    if (bad) fprintf(stderr, "pvsgen: %s: write error: %s\n", path, strerror(err));
-    return bad ? -1 : 0;
-}
-
-/* Write to PATH.tmp.PID, then rename over PATH; the temp file is removed on failure. */
+/* Writes through write_stream_atomic; prints the error. */
 static int write_atomic(const char *path, writer_fn fn, const void *ctx) {
-#ifndef _WIN32
-    struct stat st;
-    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
-        if (S_ISDIR(st.st_mode)) {
-            fprintf(stderr, "pvsgen: %s: is a directory\n", path);
-            return -1;
-        }
-        return write_direct(path, fn, ctx);
-    }
-#endif
-    size_t n = strlen(path) + 32;
-    char *tmp = (char *)malloc(n);
-    if (!tmp) {
-        fprintf(stderr, "pvsgen: %s: out of memory\n", path);
-        return -1;
-    }
-    snprintf(tmp, n, "%s.tmp.%ld", path, pvsgen_getpid());
-    FILE *f = fopen(tmp, "wb");
-    if (!f) {
-        fprintf(stderr, "pvsgen: %s: cannot create: %s\n", tmp, strerror(errno));
-        free(tmp);
-        return -1;
-    }
-    static char buf[1 << 16];
-    setvbuf(f, buf, _IOFBF, sizeof buf);
-    int bad = fn(f, ctx) != 0;
-    if (fflush(f) != 0 || ferror(f)) bad = 1;
-    int err = errno;
-    if (fclose(f) != 0 && !bad) { bad = 1; err = errno; }
-    if (bad) {
-        fprintf(stderr, "pvsgen: %s: write error: %s\n", tmp, strerror(err));
-        remove(tmp);
-        free(tmp);
-        return -1;
-    }
-#ifdef _WIN32
-    remove(path);
-#endif
-    if (rename(tmp, path) != 0) {
-        fprintf(stderr, "pvsgen: %s: cannot rename %s over it: %s\n", path, tmp, strerror(errno));
-        remove(tmp);
-        free(tmp);
-        return -1;
-    }
-    free(tmp);
-    return 0;
+    tool_error err;
+    if (write_stream_atomic(path, fn, ctx, &err) == 0) return 0;
+    fprintf(stderr, "pvsgen: %s\n", err.message);
+    return -1;
 }
 
 static int parse_u64(const char *s, unsigned long long *out) {

@@ -85,6 +85,58 @@ oom:
     return -1;
 }
 
+/* Runs fn on f and closes f: 0, or the errno of the failure (EIO when fn failed without one). */
+static int write_stream_close(FILE *f, int (*fn)(FILE *f, const void *ctx), const void *ctx) {
+    errno = 0;
+    int bad = fn(f, ctx) != 0;
+    if (fflush(f) != 0 || ferror(f)) bad = 1;
+    int e = bad ? (errno ? errno : EIO) : 0;
+    if (fclose(f) != 0 && !e) e = errno ? errno : EIO;
+    return e;
+}
+
+int write_stream_atomic(const char *path, int (*fn)(FILE *f, const void *ctx), const void *ctx, tool_error *err) {
+    struct stat st;
+    int e;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        tool_error_set(err, path, 0, "is a directory");
+        return -1;
+    }
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) { /* /dev/null, a pipe: written in place */
+        FILE *f = fopen(path, "wb");
+        e = f ? write_stream_close(f, fn, ctx) : errno;
+        if (e) tool_error_set(err, path, 0, "%s: %s", f ? "write error" : "cannot open", strerror(e));
+        return e ? -1 : 0;
+    }
+    size_t n = strlen(path) + 32;
+    char *tmp = (char *)malloc(n), *buf = (char *)malloc((size_t)1 << 16);
+    FILE *f = NULL;
+    if (!tmp || !buf) {
+        tool_error_set(err, path, 0, "out of memory");
+        goto fail;
+    }
+    snprintf(tmp, n, "%s.tmp.%ld", path, (long)getpid());
+    f = fopen(tmp, "wb");
+    if (!f) {
+        tool_error_set(err, path, 0, "cannot create %s: %s", tmp, strerror(errno));
+        goto fail;
+    }
+    setvbuf(f, buf, _IOFBF, (size_t)1 << 16);
+    e = write_stream_close(f, fn, ctx);
+    if (e || rename(tmp, path) != 0) {
+        tool_error_set(err, path, 0, "%s %s: %s", e ? "cannot write" : "cannot rename", tmp, strerror(e ? e : errno));
+        remove(tmp);
+        goto fail;
+    }
+    free(tmp);
+    free(buf);
+    return 0;
+fail:
+    free(tmp);
+    free(buf);
+    return -1;
+}
+
 int write_file_atomic(const char *path, const void *data, size_t size, tool_error *err) {
     size_t plen = strlen(path);
     char *tmp = (char *)malloc(plen + 32);

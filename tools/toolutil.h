@@ -45,6 +45,11 @@ int read_file(const char *path, void **data, size_t *size, tool_error *err);
    temporary name.) */
 int write_file_atomic(const char *path, const void *data, size_t size, tool_error *err);
 
+/* The same for a file written through a stream: fn(f, ctx) writes it (returns 0, or non-zero on
+   failure). An existing non-regular path (/dev/null, a pipe) is written in place; a directory is an
+   error. */
+int write_stream_atomic(const char *path, int (*fn)(FILE *f, const void *ctx), const void *ctx, tool_error *err);
+
 /* ---- progress -------------------------------------------------------------------------------- */
 
 #define PROGRESS_QUIET 1u /* draw nothing at all */

@@ -1,0 +1,257 @@
+/* test_bsp.c - the Quake 3 BSP reader (tools/bsp.c) on a level built here byte by byte: what it
+   makes of surfaces, patches, brushes, leaves and vis data, and every kind of malformed file. */
+#define _POSIX_C_SOURCE 200809L
+#include "test.h"
+#include "../tools/bsp.h"
+
+/* A tiny level: one solid box brush (the world), a quad, a 3 x 3 patch, a flare, three leaves (two
+   with clusters, one solid) and vis data in which cluster 0 sees only itself and cluster 1 sees both;
+   an inline model (a door) holds the flare, its bounds inside leaf 1. */
+typedef struct tb_level {
+    uint8_t bytes[4096];
+    uint32_t size;
+    uint32_t at[17], len[17];
+} tb_level;
+
+static void tb_put32(uint8_t *p, uint32_t v) {
+    p[0] = (uint8_t)v;
+    p[1] = (uint8_t)(v >> 8);
+    p[2] = (uint8_t)(v >> 16);
+    p[3] = (uint8_t)(v >> 24);
+}
+static void tb_putf(uint8_t *p, float f) {
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    tb_put32(p, u);
+}
+/* Appends lump `l` of n bytes (zeroed) and returns where it starts. */
+static uint8_t *tb_lump(tb_level *t, int l, uint32_t n) {
+    uint8_t *p = t->bytes + t->size;
+    t->at[l] = t->size;
+    t->len[l] = n;
+    memset(p, 0, n);
+    t->size += (n + 3) & ~3u;
+    return p;
+}
+static void tb_i32s(uint8_t *p, const int32_t *v, int n) {
+    for (int i = 0; i < n; ++i) tb_put32(p + 4 * i, (uint32_t)v[i]);
+}
+
+static void tb_build(tb_level *t) {
+    memset(t, 0, sizeof(*t));
+    t->size = 8 + 8 * 17;
+    uint8_t *p = tb_lump(t, 1, 2 * 72); /* shaders: 0 solid, 1 water */
+    memcpy(p, "textures/wall", 13);
+    tb_put32(p + 68, 1);
+    memcpy(p + 72, "textures/water", 14);
+    tb_put32(p + 72 + 68, 32);
+    p = tb_lump(t, 2, 6 * 16); /* planes of the box [0,64]^3 (Z up), normals outward */
+    for (int i = 0; i < 6; ++i) {
+        tb_putf(p + 16 * i + 4 * (i >> 1), (i & 1) ? 1.0f : -1.0f);
+        tb_putf(p + 16 * i + 12, (i & 1) ? 64.0f : 0.0f);
+    }
+    p = tb_lump(t, 4, 3 * 48); /* leaves: cluster, area, mins, maxs, surfaces */
+    int32_t leaves[3][12] = {{0, 0, -100, -100, 64, 0, 100, 200, 0, 2, 0, 0},
+                             {1, 0, 0, -100, 64, 100, 100, 200, 2, 1, 0, 0},
+                             {-1, 0, 0, 0, 0, 64, 64, 64, 0, 0, 0, 0}};
+    for (int i = 0; i < 3; ++i) tb_i32s(p + 48 * i, leaves[i], 12);
+    p = tb_lump(t, 5, 3 * 4); /* leaf surfaces: leaf 0 has surfaces 0 and 1, leaf 1 has 1 */
+    int32_t ls[3] = {0, 1, 1};
+    tb_i32s(p, ls, 3);
+    p = tb_lump(t, 7, 2 * 40); /* models: the world (surfaces 0..2, brush 0), a door (surface 2) */
+    int32_t world[4] = {0, 2, 0, 1}, door[4] = {2, 1, 0, 0};
+    float dmin[3] = {10, -50, 70}, dmax[3] = {20, -40, 80};
+    for (int k = 0; k < 3; ++k) {
+        tb_putf(p + 4 * k, -1000.0f);
+        tb_putf(p + 12 + 4 * k, 1000.0f);
+        tb_putf(p + 40 + 4 * k, dmin[k]);
+        tb_putf(p + 52 + 4 * k, dmax[k]);
+    }
+    tb_i32s(p + 24, world, 4);
+    tb_i32s(p + 40 + 24, door, 4);
+    p = tb_lump(t, 8, 12); /* one brush: sides 0..6, shader 0 */
+    int32_t brush[3] = {0, 6, 0};
+    tb_i32s(p, brush, 3);
+    p = tb_lump(t, 9, 6 * 8);
+    for (int i = 0; i < 6; ++i) tb_put32(p + 8 * i, (uint32_t)i);
+    p = tb_lump(t, 10, 14 * 44); /* a quad at z = 70, then the 3 x 3 patch, then the flare's vertex */
+    float quad[4][3] = {{0, -10, 70}, {50, -10, 70}, {50, -60, 70}, {0, -60, 70}};
+    for (int i = 0; i < 4; ++i)
+        for (int k = 0; k < 3; ++k) tb_putf(p + 44 * i + 4 * k, quad[i][k]);
+    for (int i = 0; i < 9; ++i) {
+        tb_putf(p + 44 * (4 + i), (float)(10 * (i % 3)));
+        tb_putf(p + 44 * (4 + i) + 4, 80.0f);
+        tb_putf(p + 44 * (4 + i) + 8, (float)(70 + 10 * (i / 3)));
+    }
+    p = tb_lump(t, 11, 6 * 4);
+    int32_t idx[6] = {0, 1, 2, 0, 2, 3};
+    tb_i32s(p, idx, 6);
+    p = tb_lump(t, 13, 3 * 104); /* surfaces: planar quad, patch, flare (shader 1: water) */
+    int32_t s0[7] = {0, -1, 1, 0, 4, 0, 6}, s1[7] = {0, -1, 2, 4, 9, 0, 0}, s2[7] = {1, -1, 4, 13, 1, 0, 0};
+    tb_i32s(p, s0, 7);
+    tb_i32s(p + 104, s1, 7);
+    tb_put32(p + 104 + 96, 3);
+    tb_put32(p + 104 + 100, 3);
+    tb_i32s(p + 208, s2, 7);
+    p = tb_lump(t, 16, 8 + 2); /* vis: 2 clusters of 1 byte */
+    tb_put32(p, 2);
+    tb_put32(p + 4, 1);
+    p[8] = 1;
+    p[9] = 3;
+    memcpy(t->bytes, "IBSP", 4);
+    tb_put32(t->bytes + 4, 46);
+    for (int l = 0; l < 17; ++l) {
+        if (!t->len[l]) t->at[l] = t->size;
+        tb_put32(t->bytes + 8 + 8 * l, t->at[l]);
+        tb_put32(t->bytes + 12 + 8 * l, t->len[l]);
+    }
+}
+
+static int tb_parse(const tb_level *t, size_t size, mesh *m, mesh_cells *c, bsp_pvs *pvs, bsp_stats *st,
+                    tool_error *err) {
+    /* a copy flush against the end of an allocation, so the sanitizer sees any overrun */
+    uint8_t *copy = (uint8_t *)malloc(size ? size : 1);
+    memcpy(copy, t->bytes, size);
+    int rc = bsp_parse("t.bsp", copy, size, NULL, m, c, pvs, st, err);
+    free(copy);
+    return rc;
+}
+
+static int tb_bit(const bsp_pvs *p, uint32_t cell, uint32_t o) { return (int)((p->bits[cell * p->words + o / 64] >> (o % 64)) & 1); }
+
+static void tb_reads(void) {
+    tb_level t;
+    mesh m;
+    mesh_cells c;
+    bsp_pvs pvs;
+    bsp_stats st;
+    tool_error err;
+    tb_build(&t);
+    CHECK(tb_parse(&t, t.size, &m, &c, &pvs, &st, &err) == 0);
+    CHECK(m.object_count == 4);                 /* three surfaces, then the brushes */
+    CHECK(m.objects[0].triangle_count == 2);    /* the quad */
+    CHECK(m.objects[1].triangle_count == 4 * 4 * 2); /* the patch, level 4 */
+    CHECK(m.objects[2].triangle_count == 0);    /* the flare */
+    CHECK(m.objects[3].flags == MESH_OBJECT_OCCLUDER && m.objects[3].triangle_count == 12); /* a box's hull */
+    CHECK(st.surfaces == 3 && st.patches == 1 && st.empty_surfaces == 1 && st.translucent_surfaces == 1);
+    CHECK(st.brushes == 1 && st.occluder_brushes == 1 && st.hull_triangles == 12);
+    CHECK(c.count == 2 && st.leaves == 2 && st.clusters == 2 && st.has_vis);
+    /* leaf 0 box: Quake (-100,-100,64)..(0,100,200) -> Y up (-100,64,-100)..(0,200,100) */
+    CHECK(c.boxes[0] == -100 && c.boxes[1] == 64 && c.boxes[2] == -100 && c.boxes[3] == 0 && c.boxes[4] == 200 &&
+          c.boxes[5] == 100);
+    /* the hull lies on the box [0,64]^3, Y up: y in [0, 64], z in [-64, 0] */
+    float lo[3] = {1e9f, 1e9f, 1e9f}, hi[3] = {-1e9f, -1e9f, -1e9f};
+    for (uint32_t i = 0; i < 36; ++i) {
+        const float *v = m.positions + 3 * m.indices[3 * m.objects[3].first_triangle + i];
+        for (int k = 0; k < 3; ++k) lo[k] = fminf(lo[k], v[k]), hi[k] = fmaxf(hi[k], v[k]);
+    }
+    CHECK(fabsf(lo[0]) < 1e-3f && fabsf(hi[0] - 64) < 1e-3f && fabsf(lo[1]) < 1e-3f && fabsf(hi[1] - 64) < 1e-3f &&
+          fabsf(lo[2] + 64) < 1e-3f && fabsf(hi[2]) < 1e-3f);
+    /* a patch vertex: the corner control point (0, 80, 70) -> (0, 70, -80) */
+    const float *pv = m.positions + 3 * m.indices[3 * m.objects[1].first_triangle];
+    CHECK(pv[0] == 0 && pv[1] == 70 && pv[2] == -80);
+    /* PVS: cell 0 (cluster 0) sees leaf 0's surfaces 0, 1; cell 1 (cluster 1) also leaf 1's and the
+       door's flare (its bounds meet leaf 1's box); nothing sees the brushes */
+    CHECK(pvs.cell_count == 2 && pvs.object_count == 4);
+    CHECK(tb_bit(&pvs, 0, 0) && tb_bit(&pvs, 0, 1) && !tb_bit(&pvs, 0, 2) && !tb_bit(&pvs, 0, 3));
+    CHECK(tb_bit(&pvs, 1, 0) && tb_bit(&pvs, 1, 1) && tb_bit(&pvs, 1, 2) && !tb_bit(&pvs, 1, 3));
+    mesh_free(&m);
+    mesh_cells_free(&c);
+    bsp_pvs_free(&pvs);
+    /* without vis data every cell sees everything; a water brush does not block */
+    t.len[16] = 0;
+    tb_put32(t.bytes + 12 + 8 * 16, 0);
+    tb_put32(t.bytes + t.at[8] + 8, 1);
+    CHECK(tb_parse(&t, t.size, &m, &c, &pvs, &st, &err) == 0);
+    CHECK(!st.has_vis && tb_bit(&pvs, 0, 2) && tb_bit(&pvs, 1, 0) && st.occluder_brushes == 0);
+    CHECK(m.objects[3].triangle_count == 0);
+    mesh_free(&m);
+    mesh_cells_free(&c);
+    bsp_pvs_free(&pvs);
+}
+
+/* One corruption: patch 4 bytes at offset `at` with `v`; the parse must fail naming `what`. */
+static void tb_bad(uint32_t at, uint32_t v, const char *what) {
+    tb_level t;
+    mesh m;
+    mesh_cells c;
+    bsp_pvs pvs;
+    tool_error err;
+    tb_build(&t);
+    tb_put32(t.bytes + at, v);
+    memset(&err, 0, sizeof(err));
+    int rc = tb_parse(&t, t.size, &m, &c, &pvs, NULL, &err);
+    CHECK(rc == -1);
+    CHECK(strstr(err.message, what) != NULL);
+    if (rc != -1 || !strstr(err.message, what)) fprintf(stderr, "  expected '%s', got '%s'\n", what, err.message);
+    mesh_free(&m);
+    mesh_cells_free(&c);
+    bsp_pvs_free(&pvs);
+}
+
+static void tb_errors(void) {
+    tb_level t;
+    tb_build(&t);
+    float nan = NAN;
+    uint32_t nan_bits;
+    memcpy(&nan_bits, &nan, 4);
+    tb_bad(0, 0x50534256u, "IBSP");                        /* magic */
+    tb_bad(4, 47, "version 47");
+    tb_bad(8 + 8 * 13, 4000, "lump 13 (surfaces): bytes");   /* past the end */
+    tb_bad(12 + 8 * 13, 100, "not a whole number");
+    tb_bad(t.at[13], 7, "surfaces[0]: shader 7");
+    tb_bad(t.at[13] + 8, 9, "unknown surface type 9");
+    tb_bad(t.at[13] + 16, 40, "surfaces[0]: vertex range 0+40");
+    tb_bad(t.at[11] + 8, 5, "index 5 not in [0, 4)");
+    tb_bad(t.at[13] + 104 + 96, 4, "patch of 4 x 3");
+    tb_bad(t.at[10], nan_bits, "drawverts[0]: position is not finite");
+    tb_bad(t.at[9], 99, "brushsides[0]: plane 99");
+    tb_bad(t.at[8] + 4, 60, "brushes[0]: side range");
+    tb_bad(t.at[4] + 48, 5, "leafs[1]: cluster 5");
+    tb_bad(t.at[4] + 32, 2, "leafs[0]: surface range 2+2");
+    tb_bad(t.at[5], 3, "leafsurfaces[0]: surface 3");
+    tb_bad(t.at[16], 9, "9 clusters of 1 bytes do not fit");
+    tb_bad(t.at[7] + 40 + 28, 5, "models[1]: surface range 2+5");
+    tb_bad(t.at[4] + 8, 500, "leafs[0]: bounds min > max");
+    /* every truncated prefix fails cleanly (no crash, no leak) */
+    for (uint32_t n = 0; n < t.size; n += n < 200 ? 1 : 7) {
+        mesh m;
+        tool_error err;
+        CHECK(tb_parse(&t, n, &m, NULL, NULL, NULL, &err) == -1);
+        mesh_free(&m);
+    }
+}
+
+/* pvsimport as a process: writes the scene, cells and the level's PVS; refuses bad input and usage. */
+static void tb_tool(void) {
+    tb_level t;
+    char *out;
+    FILE *f;
+    tb_build(&t);
+    mkdir("bsp-test", 0777);
+    f = fopen("bsp-test/t.bsp", "wb");
+    CHECK(f && fwrite(t.bytes, 1, t.size, f) == t.size);
+    if (f) fclose(f);
+    CHECK(test_run("bsp-test", "./pvsimport bsp-test/t.bsp -o bsp-test/t.obj --cells bsp-test/t.cells --pvs bsp-test/t.pvs",
+                   &out) == 0);
+    CHECK(strstr(out, "3 surfaces (1 patches") && strstr(out, "2 cells"));
+    free(out);
+    CHECK(test_run("bsp-test", "./pvsinfo --dump bsp-test/t.pvs", &out) == 0);
+    CHECK(strstr(out, "0: 0 1\n") && strstr(out, "1: 0 1 2\n"));
+    free(out);
+    CHECK(test_run("bsp-test", "./pvsinfo --verify bsp-test/t.pvs", &out) == 0);
+    free(out);
+    CHECK(test_run("bsp-test", "./pvsimport bsp-test/t.obj -o bsp-test/u.obj", &out) == 1 && strstr(out, "IBSP"));
+    free(out);
+    CHECK(!test_exists("bsp-test/u.obj"));
+    CHECK(test_run("bsp-test", "./pvsimport bsp-test/t.bsp", &out) == 2 && strstr(out, "missing -o"));
+    free(out);
+    CHECK(test_run("bsp-test", "./pvsimport bsp-test/t.bsp -o x.obj --patch-level 33", &out) == 2);
+    free(out);
+}
+
+void test_bsp(void) {
+    tb_reads();
+    tb_errors();
+    tb_tool();
+}

@@ -1,0 +1,563 @@
+/* bsp.c - Quake 3 BSP (IBSP 46) reader: surfaces, brush hulls, leaf cells, the level's PVS. See bsp.h.
+   The layout follows id Software's qfiles.h (GPL Quake III Arena source), read byte by byte here so
+   that the host's endianness and struct padding do not matter. */
+#include "bsp.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { L_SHADERS = 1, L_PLANES = 2, L_LEAFS = 4, L_LEAFSURFACES = 5, L_MODELS = 7, L_BRUSHES = 8,
+       L_BRUSHSIDES = 9, L_DRAWVERTS = 10, L_DRAWINDEXES = 11, L_SURFACES = 13, L_VISIBILITY = 16, L_COUNT = 17 };
+static const char *const lump_names[L_COUNT] = {"entities", "shaders", "planes", "nodes", "leafs", "leafsurfaces",
+                                                "leafbrushes", "models", "brushes", "brushsides", "drawverts",
+                                                "drawindexes", "fogs", "surfaces", "lightmaps", "lightgrid",
+                                                "visibility"};
+/* record sizes of the lumps read (0: not read as records) */
+static const uint32_t lump_sizes[L_COUNT] = {0, 72, 16, 36, 48, 4, 4, 40, 12, 8, 44, 4, 72, 104, 0, 0, 0};
+
+enum { MST_PLANAR = 1, MST_PATCH = 2, MST_TRIANGLE_SOUP = 3, MST_FLARE = 4 };
+#define CONTENTS_SOLID 1u
+#define CONTENTS_SEE_THROUGH (8u | 16u | 32u | 64u | 0x20000000u) /* lava slime water fog translucent */
+#define SURF_NODRAW 0x80u
+
+typedef struct bsp_lump {
+    const uint8_t *p;
+    uint32_t count;           /* records */
+} bsp_lump;
+
+typedef struct bsp_reader {
+    const char *path;
+    bsp_lump l[L_COUNT];
+    tool_error *err;
+} bsp_reader;
+
+static uint32_t rd_u32(const uint8_t *p) {
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+}
+static int32_t rd_i32(const uint8_t *p) {
+    uint32_t u = rd_u32(p);
+    return u <= 0x7fffffffu ? (int32_t)u : -(int32_t)(~u) - 1;
+}
+static float rd_f32(const uint8_t *p) {
+    uint32_t u = rd_u32(p);
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+static const uint8_t *rec(const bsp_reader *r, int lump, uint32_t i) {
+    return r->l[lump].p + (size_t)i * lump_sizes[lump];
+}
+
+/* first..first+count must lie in [0, limit): 0, or -1 with the message. */
+static int check_range(const bsp_reader *r, int lump, uint32_t i, const char *what, int32_t first, int32_t count,
+                       uint32_t limit, const char *of) {
+    if (first >= 0 && count >= 0 && (uint64_t)first + (uint64_t)count <= limit) return 0;
+    tool_error_set(r->err, r->path, 0, "%s[%u]: %s range %d+%d past the %u %s", lump_names[lump], i, what, first,
+                   count, limit, of);
+    return -1;
+}
+static int check_index(const bsp_reader *r, int lump, uint32_t i, const char *what, int32_t v, uint32_t limit) {
+    if (v >= 0 && (uint32_t)v < limit) return 0;
+    tool_error_set(r->err, r->path, 0, "%s[%u]: %s %d not in [0, %u)", lump_names[lump], i, what, v, limit);
+    return -1;
+}
+
+static int read_header(bsp_reader *r, const uint8_t *d, size_t size) {
+    if (size < 8 + 8 * L_COUNT) {
+        tool_error_set(r->err, r->path, 0, "%zu bytes: too short for a BSP header (%d)", size, 8 + 8 * L_COUNT);
+        return -1;
+    }
+    if (memcmp(d, "IBSP", 4)) {
+        tool_error_set(r->err, r->path, 0, "not a Quake 3 BSP file (magic \"%.4s\", expected \"IBSP\")", (const char *)d);
+        return -1;
+    }
+    if (rd_u32(d + 4) != 46) {
+        tool_error_set(r->err, r->path, 0, "BSP version %u: only version 46 (Quake III Arena) is read", rd_u32(d + 4));
+        return -1;
+    }
+    for (int i = 0; i < L_COUNT; ++i) {
+        uint32_t off = rd_u32(d + 8 + 8 * i), len = rd_u32(d + 12 + 8 * i);
+        if ((uint64_t)off + len > size) {
+            tool_error_set(r->err, r->path, 0, "lump %d (%s): bytes %u+%u past the end of the file (%zu bytes)", i,
+                           lump_names[i], off, len, size);
+            return -1;
+        }
+        if (lump_sizes[i] && len % lump_sizes[i]) {
+            tool_error_set(r->err, r->path, 0, "lump %d (%s): %u bytes, not a whole number of %u-byte records", i,
+                           lump_names[i], len, lump_sizes[i]);
+            return -1;
+        }
+        r->l[i].p = d + off;
+        r->l[i].count = lump_sizes[i] ? len / lump_sizes[i] : len;
+    }
+    if (r->l[L_MODELS].count == 0) {
+        tool_error_set(r->err, r->path, 0, "lump 7 (models): empty (a level has at least the world model)");
+        return -1;
+    }
+    return 0;
+}
+
+/* Quake Z-up to the tools' Y-up. */
+static void to_y_up(const float q[3], float out[3]) {
+    out[0] = q[0];
+    out[1] = q[2];
+    out[2] = -q[1];
+}
+
+static int finite3(const float v[3]) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
+
+static int add_vertex(const bsp_reader *r, mesh *m, uint32_t vertex, tool_error *err) {
+    const uint8_t *v = rec(r, L_DRAWVERTS, vertex);
+    float q[3] = {rd_f32(v), rd_f32(v + 4), rd_f32(v + 8)}, y[3];
+    if (!finite3(q)) {
+        tool_error_set(err, r->path, 0, "drawverts[%u]: position is not finite", vertex);
+        return -1;
+    }
+    to_y_up(q, y);
+    if (mesh_add_vertex(m, y[0], y[1], y[2])) {
+        tool_error_set(err, r->path, 0, "out of memory");
+        return -1;
+    }
+    return 0;
+}
+
+/* Planar surfaces and triangle soups: their vertices and index triples (Quake's winding). */
+static int add_triangles(const bsp_reader *r, uint32_t s, const uint8_t *f, mesh *m, tool_error *err) {
+    int32_t fv = rd_i32(f + 12), nv = rd_i32(f + 16), fi = rd_i32(f + 20), ni = rd_i32(f + 24);
+    if (check_range(r, L_SURFACES, s, "vertex", fv, nv, r->l[L_DRAWVERTS].count, "vertices") ||
+        check_range(r, L_SURFACES, s, "index", fi, ni, r->l[L_DRAWINDEXES].count, "indices"))
+        return -1;
+    if (ni % 3) {
+        tool_error_set(err, r->path, 0, "surfaces[%u]: %d indices, not a whole number of triangles", s, ni);
+        return -1;
+    }
+    uint32_t base = m->vertex_count;
+    for (int32_t i = 0; i < nv; ++i)
+        if (add_vertex(r, m, (uint32_t)(fv + i), err)) return -1;
+    for (int32_t i = 0; i < ni; i += 3) {
+        uint32_t t[3];
+        for (int k = 0; k < 3; ++k) {
+            int32_t v = rd_i32(rec(r, L_DRAWINDEXES, (uint32_t)(fi + i + k)));
+            if (v < 0 || v >= nv) {
+                tool_error_set(err, r->path, 0, "surfaces[%u]: index %d not in [0, %d)", s, v, nv);
+                return -1;
+            }
+            t[k] = base + (uint32_t)v;
+        }
+        if (mesh_add_triangle(m, t[0], t[1], t[2])) {
+            tool_error_set(err, r->path, 0, "out of memory");
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* A Bezier patch: a grid of w x h control points (both odd, at least 3) made of 3 x 3 blocks of
+   biquadratic patches; each block is tessellated into level x level quads. */
+static int add_patch(const bsp_reader *r, uint32_t s, const uint8_t *f, uint32_t level, mesh *m, tool_error *err) {
+    int32_t fv = rd_i32(f + 12), nv = rd_i32(f + 16), w = rd_i32(f + 96), h = rd_i32(f + 100);
+    if (check_range(r, L_SURFACES, s, "vertex", fv, nv, r->l[L_DRAWVERTS].count, "vertices")) return -1;
+    if (w < 3 || h < 3 || !(w & 1) || !(h & 1) || w > 1025 || h > 1025 || (int64_t)w * h != nv) {
+        tool_error_set(err, r->path, 0, "surfaces[%u]: patch of %d x %d control points with %d vertices", s, w, h, nv);
+        return -1;
+    }
+    for (int32_t by = 0; by + 2 < h; by += 2)
+        for (int32_t bx = 0; bx + 2 < w; bx += 2) {
+            float c[3][3][3];
+            for (int j = 0; j < 3; ++j)
+                for (int i = 0; i < 3; ++i) {
+                    const uint8_t *v = rec(r, L_DRAWVERTS, (uint32_t)(fv + (by + j) * w + bx + i));
+                    float q[3] = {rd_f32(v), rd_f32(v + 4), rd_f32(v + 8)};
+                    if (!finite3(q)) {
+                        tool_error_set(err, r->path, 0, "drawverts[%d]: position is not finite", fv + (by + j) * w + bx + i);
+                        return -1;
+                    }
+                    to_y_up(q, c[j][i]);
+                }
+            uint32_t base = m->vertex_count;
+            for (uint32_t y = 0; y <= level; ++y)
+                for (uint32_t x = 0; x <= level; ++x) {
+                    double u = (double)x / level, v = (double)y / level;
+                    double bu[3] = {(1 - u) * (1 - u), 2 * u * (1 - u), u * u}, bv[3] = {(1 - v) * (1 - v), 2 * v * (1 - v), v * v};
+                    double p[3] = {0, 0, 0};
+                    for (int j = 0; j < 3; ++j)
+                        for (int i = 0; i < 3; ++i)
+                            for (int k = 0; k < 3; ++k) p[k] += bv[j] * bu[i] * c[j][i][k];
+                    if (mesh_add_vertex(m, (float)p[0], (float)p[1], (float)p[2])) goto oom;
+                }
+            for (uint32_t y = 0; y < level; ++y)
+                for (uint32_t x = 0; x < level; ++x) {
+                    uint32_t a = base + y * (level + 1) + x;
+                    if (mesh_add_quad(m, a, a + 1, a + level + 2, a + level + 1)) goto oom;
+                }
+        }
+    return 0;
+oom:
+    tool_error_set(err, r->path, 0, "out of memory");
+    return -1;
+}
+
+static int read_surfaces(const bsp_reader *r, uint32_t level, mesh *m, bsp_stats *st, tool_error *err) {
+    char name[32];
+    for (uint32_t s = 0; s < r->l[L_SURFACES].count; ++s) {
+        const uint8_t *f = rec(r, L_SURFACES, s);
+        int32_t shader = rd_i32(f), type = rd_i32(f + 8);
+        if (check_index(r, L_SURFACES, s, "shader", shader, r->l[L_SHADERS].count)) return -1;
+        const uint8_t *sh = rec(r, L_SHADERS, (uint32_t)shader);
+        uint32_t surface_flags = rd_u32(sh + 64), contents = rd_u32(sh + 68);
+        snprintf(name, sizeof(name), "s%u", s);
+        if (mesh_begin_object(m, name, 0, 0)) {
+            tool_error_set(err, r->path, 0, "out of memory");
+            return -1;
+        }
+        if (contents & CONTENTS_SEE_THROUGH) ++st->translucent_surfaces;
+        int rc = 0;
+        if (surface_flags & SURF_NODRAW || type == MST_FLARE)
+            rc = 0;
+        else if (type == MST_PLANAR || type == MST_TRIANGLE_SOUP)
+            rc = add_triangles(r, s, f, m, err);
+        else if (type == MST_PATCH) {
+            rc = add_patch(r, s, f, level, m, err);
+            ++st->patches;
+        } else {
+            tool_error_set(err, r->path, 0, "surfaces[%u]: unknown surface type %d", s, type);
+            return -1;
+        }
+        if (rc) return -1;
+        if (m->objects[m->object_count - 1].triangle_count == 0) ++st->empty_surfaces;
+    }
+    st->surfaces = r->l[L_SURFACES].count;
+    return 0;
+}
+
+/* ---- brush hulls ---- */
+
+typedef struct bsp_winding {
+    uint32_t n;
+    double p[64][3];
+} bsp_winding;
+
+/* Keeps the part of w with n.x <= d (points within a hair of the plane stay). */
+static void clip_winding(bsp_winding *w, const double n[3], double d) {
+    bsp_winding o;
+    double dist[65];
+    o.n = 0;
+    for (uint32_t i = 0; i < w->n; ++i) dist[i] = n[0] * w->p[i][0] + n[1] * w->p[i][1] + n[2] * w->p[i][2] - d;
+    for (uint32_t i = 0; i < w->n && o.n < 63; ++i) {
+        uint32_t j = (i + 1) % w->n;
+        const double eps = 1e-6;
+        if (dist[i] <= eps) memcpy(o.p[o.n++], w->p[i], sizeof(w->p[i]));
+        if ((dist[i] < -eps && dist[j] > eps) || (dist[i] > eps && dist[j] < -eps)) {
+            double t = dist[i] / (dist[i] - dist[j]);
+            for (int k = 0; k < 3; ++k) o.p[o.n][k] = w->p[i][k] + t * (w->p[j][k] - w->p[i][k]);
+            ++o.n;
+        }
+    }
+    *w = o;
+}
+
+/* The polygon of plane (n, d) inside every other side of the brush. */
+static void side_winding(const double n[3], double d, bsp_winding *w) {
+    const double big = 262144.0; /* twice Quake 3's largest world coordinate */
+    int a = fabs(n[2]) >= fabs(n[0]) && fabs(n[2]) >= fabs(n[1]) ? 2 : (fabs(n[1]) >= fabs(n[0]) ? 1 : 0);
+    double up[3] = {0, 0, 0}, right[3], o[3];
+    up[a == 2 ? 0 : 2] = 1.0;
+    double dot = up[0] * n[0] + up[1] * n[1] + up[2] * n[2];
+    for (int k = 0; k < 3; ++k) up[k] -= dot * n[k];
+    double len = sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
+    for (int k = 0; k < 3; ++k) up[k] = up[k] / len * big;
+    right[0] = (up[1] * n[2] - up[2] * n[1]);
+    right[1] = (up[2] * n[0] - up[0] * n[2]);
+    right[2] = (up[0] * n[1] - up[1] * n[0]);
+    for (int k = 0; k < 3; ++k) o[k] = n[k] * d;
+    w->n = 4;
+    for (int k = 0; k < 3; ++k) {
+        w->p[0][k] = o[k] - right[k] + up[k];
+        w->p[1][k] = o[k] + right[k] + up[k];
+        w->p[2][k] = o[k] + right[k] - up[k];
+        w->p[3][k] = o[k] - right[k] - up[k];
+    }
+}
+
+static int read_plane(const bsp_reader *r, uint32_t side, double n[3], double *d, tool_error *err) {
+    int32_t pl = rd_i32(rec(r, L_BRUSHSIDES, side));
+    if (check_index(r, L_BRUSHSIDES, side, "plane", pl, r->l[L_PLANES].count)) return -1;
+    const uint8_t *p = rec(r, L_PLANES, (uint32_t)pl);
+    float f[4] = {rd_f32(p), rd_f32(p + 4), rd_f32(p + 8), rd_f32(p + 12)};
+    if (!finite3(f) || !isfinite(f[3]) || !(fabs(f[0]) + fabs(f[1]) + fabs(f[2]) > 0.5)) {
+        tool_error_set(err, r->path, 0, "planes[%d]: not a finite unit normal", pl);
+        return -1;
+    }
+    double len = sqrt((double)f[0] * f[0] + (double)f[1] * f[1] + (double)f[2] * f[2]);
+    for (int k = 0; k < 3; ++k) n[k] = f[k] / len;
+    *d = f[3] / len;
+    return 0;
+}
+
+/* 1 if the brush is solid and opaque: its contents and every side's shader. */
+static int brush_blocks(const bsp_reader *r, uint32_t b, int32_t fs, int32_t ns) {
+    int32_t shader = rd_i32(rec(r, L_BRUSHES, b) + 8);
+    if (check_index(r, L_BRUSHES, b, "shader", shader, r->l[L_SHADERS].count)) return -1;
+    uint32_t contents = rd_u32(rec(r, L_SHADERS, (uint32_t)shader) + 68);
+    if (!(contents & CONTENTS_SOLID) || (contents & CONTENTS_SEE_THROUGH)) return 0;
+    for (int32_t i = 0; i < ns; ++i) {
+        int32_t ss = rd_i32(rec(r, L_BRUSHSIDES, (uint32_t)(fs + i)) + 4);
+        if (check_index(r, L_BRUSHSIDES, (uint32_t)(fs + i), "shader", ss, r->l[L_SHADERS].count)) return -1;
+        if (rd_u32(rec(r, L_SHADERS, (uint32_t)ss) + 68) & CONTENTS_SEE_THROUGH) return 0;
+    }
+    return 1;
+}
+
+static int add_brush(const bsp_reader *r, uint32_t b, mesh *m, bsp_stats *st, tool_error *err) {
+    const uint8_t *br = rec(r, L_BRUSHES, b);
+    int32_t fs = rd_i32(br), ns = rd_i32(br + 4);
+    if (check_range(r, L_BRUSHES, b, "side", fs, ns, r->l[L_BRUSHSIDES].count, "brush sides")) return -1;
+    int blocks = brush_blocks(r, b, fs, ns);
+    if (blocks <= 0) return blocks;
+    if (ns < 4 || ns > 256) return 0; /* not a closed convex solid, or absurd: left out (never blocks) */
+    double n[256][3], d[256];
+    int32_t plane[256];
+    for (int32_t i = 0; i < ns; ++i) {
+        if (read_plane(r, (uint32_t)(fs + i), n[i], &d[i], err)) return -1;
+        plane[i] = rd_i32(rec(r, L_BRUSHSIDES, (uint32_t)(fs + i)));
+    }
+    ++st->occluder_brushes;
+    for (int32_t i = 0; i < ns; ++i) {
+        int dup = 0;
+        for (int32_t j = 0; j < i; ++j) dup |= plane[j] == plane[i];
+        if (dup) continue;
+        bsp_winding w;
+        side_winding(n[i], d[i], &w);
+        for (int32_t j = 0; j < ns && w.n >= 3; ++j)
+            if (plane[j] != plane[i]) clip_winding(&w, n[j], d[j]);
+        if (w.n < 3) continue;
+        uint32_t base = m->vertex_count;
+        for (uint32_t k = 0; k < w.n; ++k) {
+            float q[3] = {(float)w.p[k][0], (float)w.p[k][1], (float)w.p[k][2]}, y[3];
+            to_y_up(q, y);
+            if (mesh_add_vertex(m, y[0], y[1], y[2])) goto oom;
+        }
+        for (uint32_t k = 1; k + 1 < w.n; ++k) {
+            if (mesh_add_triangle(m, base, base + k, base + k + 1)) goto oom;
+            ++st->hull_triangles;
+        }
+    }
+    return 0;
+oom:
+    tool_error_set(err, r->path, 0, "out of memory");
+    return -1;
+}
+
+static int read_brushes(const bsp_reader *r, mesh *m, bsp_stats *st, tool_error *err) {
+    const uint8_t *world = rec(r, L_MODELS, 0);
+    int32_t fb = rd_i32(world + 32), nb = rd_i32(world + 36);
+    if (check_range(r, L_MODELS, 0, "brush", fb, nb, r->l[L_BRUSHES].count, "brushes")) return -1;
+    if (mesh_begin_object(m, "occluder_brushes", MESH_OBJECT_OCCLUDER, 0)) {
+        tool_error_set(err, r->path, 0, "out of memory");
+        return -1;
+    }
+    st->brushes = (uint32_t)nb;
+    for (int32_t b = 0; b < nb; ++b)
+        if (add_brush(r, (uint32_t)(fb + b), m, st, err)) return -1;
+    return 0;
+}
+
+/* ---- cells and the level's PVS ---- */
+
+static void leaf_box(const uint8_t *leaf, float box[6]) {
+    float lo[3] = {(float)rd_i32(leaf + 8), (float)rd_i32(leaf + 12), (float)rd_i32(leaf + 16)};
+    float hi[3] = {(float)rd_i32(leaf + 20), (float)rd_i32(leaf + 24), (float)rd_i32(leaf + 28)};
+    box[0] = lo[0];
+    box[1] = lo[2];
+    box[2] = -hi[1];
+    box[3] = hi[0];
+    box[4] = hi[2];
+    box[5] = -lo[1];
+}
+
+static int read_cells(const bsp_reader *r, mesh_cells *cells, bsp_stats *st, tool_error *err) {
+    for (uint32_t i = 0; i < r->l[L_LEAFS].count; ++i) {
+        const uint8_t *leaf = rec(r, L_LEAFS, i);
+        float box[6];
+        if (rd_i32(leaf) < 0) continue;
+        leaf_box(leaf, box);
+        if (!(box[0] <= box[3] && box[1] <= box[4] && box[2] <= box[5])) {
+            tool_error_set(err, r->path, 0, "leafs[%u]: bounds min > max", i);
+            return -1;
+        }
+        if (cells && mesh_cells_add(cells, box)) {
+            tool_error_set(err, r->path, 0, "out of memory");
+            return -1;
+        }
+        ++st->leaves;
+    }
+    return 0;
+}
+
+static int boxes_meet(const float a[6], const float b[6]) {
+    return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
+}
+
+/* Cluster visibility from the vis lump: vis[k] row of `bytes` bytes, or NULL (everything visible). */
+static int read_vis(const bsp_reader *r, const uint8_t **vis, uint32_t *clusters, uint32_t *bytes, tool_error *err) {
+    uint32_t len = r->l[L_VISIBILITY].count;
+    *vis = NULL;
+    *clusters = *bytes = 0;
+    if (len == 0) return 0;
+    if (len < 8) {
+        tool_error_set(err, r->path, 0, "lump 16 (visibility): %u bytes, shorter than its 8-byte header", len);
+        return -1;
+    }
+    uint32_t n = rd_u32(r->l[L_VISIBILITY].p), b = rd_u32(r->l[L_VISIBILITY].p + 4);
+    if (b < (n + 7) / 8 || (uint64_t)n * b > len - 8) {
+        tool_error_set(err, r->path, 0, "lump 16 (visibility): %u clusters of %u bytes do not fit in %u bytes", n, b, len);
+        return -1;
+    }
+    *vis = r->l[L_VISIBILITY].p + 8;
+    *clusters = n;
+    *bytes = b;
+    return 0;
+}
+
+/* For each inline model m >= 1, the leaves with a cluster whose box meets the model's bounds:
+   leaves[first[m - 1] .. first[m]) (malloc'd). Validates the models' surface ranges. */
+static int model_leaf_lists(const bsp_reader *r, uint32_t **first_out, uint32_t **leaves_out, tool_error *err) {
+    uint32_t nm = r->l[L_MODELS].count, nleaf = r->l[L_LEAFS].count, n = 0, cap = 64;
+    uint32_t *first = (uint32_t *)calloc(nm, sizeof(uint32_t)), *leaves = (uint32_t *)malloc(cap * sizeof(uint32_t));
+    if (!first || !leaves) goto oom;
+    for (uint32_t mdl = 1; mdl < nm; ++mdl) {
+        const uint8_t *md = rec(r, L_MODELS, mdl);
+        float q0[3] = {rd_f32(md), rd_f32(md + 4), rd_f32(md + 8)}, q1[3] = {rd_f32(md + 12), rd_f32(md + 16), rd_f32(md + 20)};
+        float mb[6] = {q0[0], q0[2], -q1[1], q1[0], q1[2], -q0[1]};
+        if (check_range(r, L_MODELS, mdl, "surface", rd_i32(md + 24), rd_i32(md + 28), r->l[L_SURFACES].count,
+                        "surfaces"))
+            goto fail;
+        for (uint32_t j = 0; j < nleaf; ++j) {
+            const uint8_t *leaf = rec(r, L_LEAFS, j);
+            float lb[6];
+            if (rd_i32(leaf) < 0) continue;
+            leaf_box(leaf, lb);
+            if (!boxes_meet(mb, lb)) continue;
+            if (n == cap) {
+                uint32_t *g = (uint32_t *)realloc(leaves, 2 * (size_t)cap * sizeof(uint32_t));
+                if (!g) goto oom;
+                leaves = g;
+                cap *= 2;
+            }
+            leaves[n++] = j;
+        }
+        first[mdl] = n;
+    }
+    *first_out = first;
+    *leaves_out = leaves;
+    return 0;
+oom:
+    tool_error_set(err, r->path, 0, "out of memory");
+fail:
+    free(first);
+    free(leaves);
+    return -1;
+}
+
+static int read_pvs(const bsp_reader *r, uint32_t object_count, uint32_t cell_count, bsp_pvs *pvs, bsp_stats *st,
+                    tool_error *err) {
+    const uint8_t *vis;
+    uint32_t *model_first = NULL, *model_leaves = NULL;
+    uint32_t clusters, bytes, nleaf = r->l[L_LEAFS].count, nsurf = r->l[L_SURFACES].count;
+    if (read_vis(r, &vis, &clusters, &bytes, err)) return -1;
+    st->has_vis = vis != NULL;
+    st->clusters = clusters;
+    pvs->cell_count = cell_count;
+    pvs->object_count = object_count;
+    pvs->words = (object_count + 63) / 64;
+    pvs->bits = (uint64_t *)calloc((size_t)cell_count * pvs->words + 1, sizeof(uint64_t));
+    uint8_t *seen = (uint8_t *)malloc(nleaf + 1);
+    if (!pvs->bits || !seen) {
+        free(seen);
+        tool_error_set(err, r->path, 0, "out of memory");
+        return -1;
+    }
+    for (uint32_t i = 0; i < nleaf; ++i) { /* every leaf's surfaces must be valid before use */
+        const uint8_t *leaf = rec(r, L_LEAFS, i);
+        int32_t c = rd_i32(leaf);
+        if (vis && c >= (int32_t)clusters) {
+            free(seen);
+            return check_index(r, L_LEAFS, i, "cluster", c, clusters);
+        }
+        if (check_range(r, L_LEAFS, i, "surface", rd_i32(leaf + 32), rd_i32(leaf + 36), r->l[L_LEAFSURFACES].count,
+                        "leaf surfaces"))
+            return free(seen), -1;
+    }
+    for (uint32_t i = 0; i < r->l[L_LEAFSURFACES].count; ++i)
+        if (check_index(r, L_LEAFSURFACES, i, "surface", rd_i32(rec(r, L_LEAFSURFACES, i)), nsurf)) return free(seen), -1;
+    if (model_leaf_lists(r, &model_first, &model_leaves, err)) return free(seen), -1;
+    uint32_t cell = 0;
+    for (uint32_t i = 0; i < nleaf; ++i) {
+        int32_t k = rd_i32(rec(r, L_LEAFS, i));
+        if (k < 0) continue;
+        uint64_t *row = pvs->bits + (size_t)cell++ * pvs->words;
+        for (uint32_t j = 0; j < nleaf; ++j) { /* the leaves whose cluster cluster k sees */
+            int32_t c = rd_i32(rec(r, L_LEAFS, j));
+            seen[j] = c >= 0 && (!vis || ((vis[(size_t)k * bytes + ((uint32_t)c >> 3)] >> (c & 7)) & 1));
+            if (!seen[j]) continue;
+            const uint8_t *leaf = rec(r, L_LEAFS, j);
+            int32_t first = rd_i32(leaf + 32), count = rd_i32(leaf + 36);
+            for (int32_t s = 0; s < count; ++s) {
+                uint32_t o = (uint32_t)rd_i32(rec(r, L_LEAFSURFACES, (uint32_t)(first + s)));
+                row[o >> 6] |= 1ull << (o & 63);
+            }
+        }
+        for (uint32_t mdl = 1; mdl < r->l[L_MODELS].count; ++mdl) { /* inline models: by the leaves they meet */
+            const uint8_t *md = rec(r, L_MODELS, mdl);
+            int32_t fsf = rd_i32(md + 24), nsf = rd_i32(md + 28);
+            int meets = !vis;
+            for (uint32_t j = model_first[mdl - 1]; j < model_first[mdl] && !meets; ++j) meets = seen[model_leaves[j]];
+            for (int32_t s = 0; meets && s < nsf; ++s) row[(uint32_t)(fsf + s) >> 6] |= 1ull << ((uint32_t)(fsf + s) & 63);
+        }
+    }
+    free(seen);
+    free(model_first);
+    free(model_leaves);
+    return 0;
+}
+
+void bsp_pvs_free(bsp_pvs *pvs) {
+    if (!pvs) return;
+    free(pvs->bits);
+    memset(pvs, 0, sizeof(*pvs));
+}
+
+int bsp_parse(const char *path, const void *data, size_t size, const bsp_options *opt, mesh *m, mesh_cells *cells,
+              bsp_pvs *pvs, bsp_stats *stats, tool_error *err) {
+    bsp_reader r;
+    bsp_stats st;
+    mesh local;
+    uint32_t level = opt && opt->patch_level ? opt->patch_level : 4;
+    memset(&r, 0, sizeof(r));
+    memset(&st, 0, sizeof(st));
+    r.path = path;
+    r.err = err;
+    if (!m) m = &local;
+    mesh_init(m);
+    if (cells) mesh_cells_init(cells);
+    if (pvs) memset(pvs, 0, sizeof(*pvs));
+    int rc = -1;
+    if (level > 32) {
+        tool_error_set(err, path, 0, "patch level %u: at most 32", level);
+        goto done;
+    }
+    if (read_header(&r, (const uint8_t *)data, size) || read_surfaces(&r, level, m, &st, err) ||
+        read_brushes(&r, m, &st, err) || read_cells(&r, cells, &st, err))
+        goto done;
+    if (pvs && read_pvs(&r, m->object_count, st.leaves, pvs, &st, err)) goto done;
+    if (st.leaves == 0) {
+        tool_error_set(err, path, 0, "no leaf with a cluster: no view cells (a level without vis leaves?)");
+        goto done;
+    }
+    rc = 0;
+done:
+    if (m == &local) mesh_free(m);
+    if (rc && pvs) bsp_pvs_free(pvs);
+    if (stats) *stats = st;
+    return rc;
+}

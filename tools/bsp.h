@@ -1,0 +1,57 @@
+/* bsp.h - a reader for Quake 3 BSP files (IBSP version 46: Quake III Arena, OpenArena, most
+   id Tech 3 games) that turns a compiled level into what the tools take: a mesh, view cells and the
+   level's own PVS. Not part of the library.
+
+   What it makes of a level (issue 28):
+   - Objects: one per drawn surface, in the file's surface order, so object i is surface i. Planar
+     surfaces and triangle meshes keep their triangles; Bezier patches are tessellated (each 3 x 3
+     control block into `patch_level` x `patch_level` quads); flares, and surfaces whose shader says
+     `nodraw`, are objects with no triangles (they keep their id and are never visible).
+   - One more object, last, named `occluder_brushes`: the hulls of the world's solid brushes (the
+     convex polyhedra of model 0's brushes whose contents are solid and not translucent, water,
+     lava, slime or fog). It blocks sight and is never drawn.
+   - View cells: one per BSP leaf with a cluster (leaves in solid space have none), in leaf order,
+     each the leaf's bounding box.
+   - The level's PVS (what q3map2's vis computed) expanded to objects: cell c sees every surface of
+     every leaf whose cluster is visible from c's cluster, and the surfaces of the inline models
+     (doors, platforms) whose bounds meet such a leaf's box. A level compiled without vis sees all.
+   Coordinates turn from Quake's Z-up into the tools' Y-up: (x, y, z) -> (x, z, -y).
+
+   Translucent and alpha-tested surfaces are drawn and occlude like any object (the library has no
+   see-through objects yet); `bsp_stats.translucent_surfaces` counts the ones whose shader says so.
+
+   The reader trusts nothing in the file: every lump, count, index and range is checked, and a bad
+   one is an error naming the lump and the record ("PATH: faces[12]: vertex range 90+12 past the 95
+   vertices"). */
+#ifndef TOOL_BSP_H
+#define TOOL_BSP_H
+#include <stddef.h>
+#include <stdint.h>
+#include "mesh.h"
+#include "toolutil.h"
+
+typedef struct bsp_options {
+    uint32_t patch_level;     /* quads per side of each 3 x 3 patch block: 0 = 4, at most 32 */
+} bsp_options;
+
+typedef struct bsp_stats {
+    uint32_t surfaces, patches, empty_surfaces, translucent_surfaces;
+    uint32_t brushes, occluder_brushes, hull_triangles;
+    uint32_t leaves, clusters;  /* leaves with a cluster (the cells), clusters in the vis data */
+    int has_vis;                /* the level has vis data (else its PVS is everything) */
+} bsp_stats;
+
+/* The level's own PVS, cell-major bitsets of `words` 64-bit words per cell (malloc'd). */
+typedef struct bsp_pvs {
+    uint64_t *bits;
+    uint32_t cell_count, object_count, words;
+} bsp_pvs;
+
+/* Reads the BSP file in data[0..size) (`path` names it in messages) into m, cells and pvs (each may
+   be NULL when not wanted; those given are initialised here and must be freed, also after a
+   failure). Returns 0, or -1 with err set. */
+int bsp_parse(const char *path, const void *data, size_t size, const bsp_options *opt, mesh *m, mesh_cells *cells,
+              bsp_pvs *pvs, bsp_stats *stats, tool_error *err);
+void bsp_pvs_free(bsp_pvs *pvs);
+
+#endif

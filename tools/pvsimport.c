@@ -1,0 +1,133 @@
+/* pvsimport - turn a Quake 3 level (IBSP 46) into a scene, view cells and the level's own PVS. See --help. */
+#include "bsp.h"
+#include "cli.h"
+#include <stdlib.h>
+#include <string.h>
+
+#define TOOL "pvsimport"
+
+static const char *usage =
+    "usage: pvsimport MAP.bsp -o OUT.obj [--cells OUT.cells] [--pvs OUT.pvs] [options]\n"
+    "  Reads a compiled Quake 3 level (IBSP version 46: Quake III Arena, OpenArena) and writes:\n"
+    "  -o OUT.obj        the scene, Y up: object i is the level's drawn surface i (patches tessellated;\n"
+    "                    flares and nodraw surfaces have no faces), then one object 'occluder_brushes',\n"
+    "                    the hulls of the world's solid opaque brushes (blocks sight, never drawn)\n"
+    "  --cells OUT.cells one view cell per BSP leaf with a cluster, its bounding box, in leaf order\n"
+    "  --pvs OUT.pvs     the level's own PVS (q3map2's vis) expanded to those objects, one record per\n"
+    "                    cell, as a .pvs file: compare it with a bake (pvsinfo, pvscheck, make bench)\n"
+    "  --patch-level N   quads per side of each 3x3 patch block (default 4, at most 32)\n"
+    "  -q, --quiet       no summary\n"
+    "  A .pk3 is a zip archive: extract the .bsp first (unzip -p PAK.pk3 maps/NAME.bsp > NAME.bsp).\n"
+    "exit status: 0 written, 1 bad input or I/O error, 2 usage\n";
+
+typedef struct import_options {
+    const char *bsp, *obj, *cells, *pvs;
+    uint32_t patch_level;
+    int quiet;
+} import_options;
+
+static int parse_options(int argc, char **argv, import_options *o) {
+    memset(o, 0, sizeof(*o));
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(usage, stdout);
+            return 0;
+        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
+            o->quiet = 1;
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--cells") || !strcmp(a, "--pvs")) {
+            if (!v) return tool_usage_error(TOOL, "%s needs a file name", a);
+            *(a[1] == 'o' ? &o->obj : a[2] == 'c' ? &o->cells : &o->pvs) = v;
+            ++i;
+        } else if (!strcmp(a, "--patch-level")) {
+            if (!v || cli_parse_u32(v, 1, 32, &o->patch_level))
+                return tool_usage_error(TOOL, "--patch-level takes a number from 1 to 32");
+            ++i;
+        } else if (a[0] == '-' && a[1]) {
+            return tool_usage_error(TOOL, "unknown option '%s'", a);
+        } else if (o->bsp) {
+            return tool_usage_error(TOOL, "more than one map ('%s' and '%s')", o->bsp, a);
+        } else {
+            o->bsp = a;
+        }
+    }
+    if (!o->bsp) return tool_usage_error(TOOL, "missing MAP.bsp");
+    if (!o->obj) return tool_usage_error(TOOL, "missing -o OUT.obj");
+    return -1;
+}
+
+static int write_obj(FILE *f, const void *ctx) { return mesh_write_obj((const mesh *)ctx, f); }
+static int write_cells(FILE *f, const void *ctx) {
+    const mesh_cells *c = (const mesh_cells *)ctx;
+    fprintf(f, "# pvsimport: %u cells, one per BSP leaf with a cluster, minx miny minz maxx maxy maxz, Y up\n", c->count);
+    return mesh_cells_write(c, f);
+}
+
+/* The level's PVS as a .pvs file (method "default": computed by no method of pvs.h). */
+static int write_pvs(const char *path, const mesh_cells *cells, const bsp_pvs *pvs, tool_error *err) {
+    pvs_file_desc d;
+    pvs_error pe;
+    size_t size = 0;
+    memset(&d, 0, sizeof(d));
+    d.cells = (const pvs_box *)cells->boxes;
+    d.cell_count = cells->count;
+    d.object_count = pvs->object_count;
+    d.pvs = pvs->bits;
+    d.up_axis = 1;
+    if (pvs_file_encode(&d, NULL, 0, &size, &pe) != PVS_OK) {
+        tool_error_set(err, path, 0, "%s", pe.message);
+        return -1;
+    }
+    void *bytes = malloc(size ? size : 1);
+    if (!bytes) {
+        tool_error_set(err, path, 0, "out of memory");
+        return -1;
+    }
+    int rc = 0;
+    if (pvs_file_encode(&d, bytes, size, &size, &pe) != PVS_OK) {
+        tool_error_set(err, path, 0, "%s", pe.message);
+        rc = -1;
+    } else {
+        rc = write_file_atomic(path, bytes, size, err);
+    }
+    free(bytes);
+    return rc;
+}
+
+int main(int argc, char **argv) {
+    import_options o;
+    int rc = parse_options(argc, argv, &o);
+    if (rc >= 0) return rc;
+    void *data = NULL;
+    size_t size = 0;
+    tool_error err;
+    mesh m;
+    mesh_cells cells;
+    bsp_pvs pvs;
+    bsp_stats st;
+    bsp_options bo;
+    memset(&bo, 0, sizeof(bo));
+    bo.patch_level = o.patch_level;
+    if (read_file(o.bsp, &data, &size, &err)) {
+        fprintf(stderr, "%s: %s\n", TOOL, err.message);
+        return 1;
+    }
+    rc = bsp_parse(o.bsp, data, size, &bo, &m, &cells, o.pvs ? &pvs : NULL, &st, &err);
+    free(data);
+    if (!rc) rc = write_stream_atomic(o.obj, write_obj, &m, &err);
+    if (!rc && o.cells) rc = write_stream_atomic(o.cells, write_cells, &cells, &err);
+    if (!rc && o.pvs) rc = write_pvs(o.pvs, &cells, &pvs, &err);
+    if (rc) fprintf(stderr, "%s: %s\n", TOOL, err.message);
+    else if (!o.quiet)
+        fprintf(stderr,
+                "%s: %s: %u surfaces (%u patches, %u without faces, %u translucent, drawn opaque), %u triangles; "
+                "%u of %u world brushes solid and opaque (%u hull triangles); %u cells (leaves with a cluster), "
+                "%u clusters, %s\n",
+                TOOL, o.bsp, st.surfaces, st.patches, st.empty_surfaces, st.translucent_surfaces, m.triangle_count,
+                st.occluder_brushes, st.brushes, st.hull_triangles, st.leaves, st.clusters,
+                st.has_vis ? "vis data" : "no vis data (its PVS is everything)");
+    mesh_free(&m);
+    mesh_cells_free(&cells);
+    if (o.pvs) bsp_pvs_free(&pvs);
+    return rc ? 1 : 0;
+}
