@@ -10738,36 +10738,35 @@ PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *inf
 
 /* Voxel state flags (pvs_occluders.state). */
 enum {
-    PVS__VX_TOUCHED = 1,   /* a triangle comes within the margin of the voxel */
-    PVS__VX_REACHED = 2,   /* the leak diagnostic's flood got here */
-    PVS__VX_GROUND = 4,    /* layer 0: below the lowest point of the scene and the cells */
-    PVS__VX_SOLID = 8,     /* certainly solid: proved by a component's parity flood, or explicit */
+    PVS__VX_TOUCHED = 1,   /* a triangle within the margin */
+    PVS__VX_REACHED = 2,   /* reached by the leak flood */
+    PVS__VX_GROUND = 4,    /* layer 0, below the scene and the cells */
+    PVS__VX_SOLID = 8,     /* certainly solid: proved by a parity flood, or explicit */
     PVS__VX_EXPLICIT = 16  /* inside an explicit occluder volume */
 };
 /* What stops the leak diagnostic's flood. */
 #define PVS__VX_LEAK_STOP (PVS__VX_TOUCHED | PVS__VX_REACHED | PVS__VX_GROUND | PVS__VX_EXPLICIT)
 
-/* A voxel grid: voxel (i, j, k) is origin + [i, i + 1] x [j, j + 1] x [k, k + 1] times h; n per axis. */
+/* Voxel (i, j, k) is origin + h ([i, i + 1] x [j, j + 1] x [k, k + 1]); n voxels per axis. */
 typedef struct pvs__vx_grid {
     double origin[3], h;
     uint32_t n[3];
 } pvs__vx_grid;
 
-/* The 2.5D column map: squares of side grid.h over the ground plane (grid's u, v axes; n[up] = 1),
-   and min-pyramids over it: level l has squares of side grid.h * 2^l, each holding the least value of
-   the squares it covers (level 0 is the map itself). */
+/* The 2.5D column map: squares of side grid.h on the ground (n[up] = 1) and min-pyramids (level l: squares of side
+   grid.h 2^l; level 0: the map). */
 #define PVS__VX_LEVELS 24
 typedef struct pvs__vx_cols {
     pvs__vx_grid grid;
     uint32_t nu, nv;
-    float *solid;               /* nu * nv: top of the proved-solid runs standing on the ground (ground: none) */
+    float *solid;               /* nu * nv: top of the proved-solid runs on the ground (ground: none) */
     float *top;                 /* nu * nv: occluder height, shrunk by eps (-FLT_MAX: none) */
     uint32_t levels;            /* pyramid levels (>= 1) */
     uint32_t lw[PVS__VX_LEVELS], lh[PVS__VX_LEVELS];
     float *ptop[PVS__VX_LEVELS], *psolid[PVS__VX_LEVELS]; /* level 0: top, solid; others allocated */
 } pvs__vx_cols;
 
-/* A bounding volume hierarchy over the drawable objects (each in one leaf), tight boxes. */
+/* A BVH with tight boxes over the drawable objects or the chains, each in one leaf. */
 typedef struct pvs__obvh_node {
     pvs_box box;
     uint32_t first, count;      /* leaf: items[first .. first + count); inner: count == 0, children first, first + 1 */
@@ -10785,23 +10784,23 @@ struct pvs_occluders {
     pvs__vx_grid grid;          /* the same as origin, h, n below */
     const pvs_scene *scene;
     pvs_occluders_info info;
-    double origin[3], h;        /* grid */
+    double origin[3], h;
     uint32_t n[3];
     size_t total;
     uint8_t *state;             /* total: PVS__VX_* flags */
     uint8_t *eroded;            /* total: 1 where solid survives the erosion */
     pvs_box *boxes;
     uint32_t box_count;
-    pvs_facade_chain *chains;   /* the 2.5D occluders (pvs__vx_build_chains) */
+    pvs_facade_chain *chains;   /* the 2.5D occluders */
     pvs_box *chain_boxes;       /* per chain: ground bounding rectangle x [base, top] */
     float *chain_points;        /* 2 floats per point */
     uint32_t chain_count;
     size_t chain_point_count;
     float ground;
     pvs__vx_cols cols;          /* the 2.5D column map */
-    pvs__obvh bvh;              /* the drawable objects, for the 2.5D path's walks */
+    pvs__obvh bvh;              /* drawable objects, for the 2.5D walks */
     pvs__obvh chain_bvh;        /* the chains' boxes */
-    uint32_t *excluded;         /* info.excluded_cells: the leaking cells left out of the floods, */
+    uint32_t *excluded;         /* info.excluded_cells: leaking cells left out, */
     pvs_box *excluded_boxes;    /* and their boxes */
 };
 
@@ -10810,8 +10809,8 @@ PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j,
 }
 PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return (s & PVS__VX_SOLID) != 0; }
 
-/* Triangle / box overlap by the separating axis theorem (Akenine-Moller 2001), in double, with the
-   box half sizes `hs` already grown by a margin: rounding errs toward "touched". */
+/* Triangle-box overlap by separating axes (Akenine-Moller 2001) in double; hs includes the margin, radii are scaled up
+   a hair: rounding errs toward "touched". */
 PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const double *a, const double *b,
                               const double *d) {
     double v[3][3], e[3][3], n[3], p, q, r, lo, hi, rad;
@@ -10835,7 +10834,6 @@ PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const doubl
             int k;
             ax[(j + 1) % 3] = -e[i][(j + 2) % 3];
             ax[(j + 2) % 3] = e[i][(j + 1) % 3];
-            /* axis = unit_j x e_i */
             lo = hi = ax[0] * v[0][0] + ax[1] * v[0][1] + ax[2] * v[0][2];
             for (k = 1; k < 3; ++k) {
                 q = ax[0] * v[k][0] + ax[1] * v[k][1] + ax[2] * v[k][2];
@@ -10848,7 +10846,6 @@ PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const doubl
         }
     return 1;
 }
-/* The same for a cube of half size hs. */
 PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, const double *b, const double *d) {
     double h3[3];
     h3[0] = h3[1] = h3[2] = hs;
@@ -10865,7 +10862,7 @@ PVS__STATIC int pvs__point_in_poly(const float *pts, uint32_t n, double x, doubl
     }
     return in;
 }
-/* 1 if segments p0-p1 and q0-q1 meet (touching counts). */
+/* 1 if segments a-b and c-d meet (touching counts). */
 PVS__STATIC int pvs__seg_meet(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
     double d1 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax), d2 = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax);
     double d3 = (dx - cx) * (ay - cy) - (dy - cy) * (ax - cx), d4 = (dx - cx) * (by - cy) - (dy - cy) * (bx - cx);
@@ -10923,8 +10920,8 @@ PVS__STATIC int pvs__obvh_key_cmp(const void *x, const void *y) {
     return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
 }
 
-/* Builds a hierarchy over boxes[0 .. count) (those with `keep` set, or all when keep is NULL):
-   median splits on the longest axis of the centres, leaves of at most 4. */
+/* A hierarchy over boxes[0 .. count) (keep NULL: all, else those kept): median splits on the centres' longest axis,
+   leaves of at most 4. */
 PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *boxes, uint32_t count,
                                        const uint8_t *keep, pvs__obvh *h) {
     uint32_t i, n = 0, *stack = NULL, sp = 0;
@@ -10977,7 +10974,6 @@ PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *b
         }
         for (kk = 1; kk < 3; ++kk)
             if (cb.max[kk] - cb.min[kk] > cb.max[ax] - cb.min[ax]) ax = (uint32_t)kk;
-        /* split at the median centre along that axis */
         for (k = 0; k < c; ++k) {
             const pvs_box *ob = boxes + h->items[f + k];
             keys[k].d = (double)ob->min[ax] + ob->max[ax];
@@ -11010,7 +11006,6 @@ PVS__STATIC void pvs__obvh_free(const pvs_allocator *a, pvs__obvh *h) {
     memset(h, 0, sizeof(*h));
 }
 
-/* The hierarchies of the 2.5D path: over the drawable objects and over the occluder chains. */
 PVS__STATIC pvs_result pvs__occluders_hierarchies(pvs_occluders *o) {
     const pvs_scene *s = o->scene;
     uint8_t *keep = (uint8_t *)pvs__alloc_array(&o->allocator, s->object_count ? s->object_count : 1, 1);
@@ -11051,7 +11046,7 @@ PVS_API void pvs_occluders_destroy(pvs_occluders *o) {
     pvs__free(&a, o, sizeof(*o), 16);
 }
 
-/* Voxel index range [*i0, *i1] on axis k of the closed interval [lo, hi] grown by `m` (empty: 1, 0). */
+/* Voxel range [*i0, *i1] on axis k of [lo - m, hi + m] (empty: 1, 0). */
 PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double hi, double m, uint32_t *i0,
                                 uint32_t *i1) {
     double a = floor((lo - m - gr->origin[k]) / gr->h), b = floor((hi + m - gr->origin[k]) / gr->h);
@@ -11066,9 +11061,8 @@ PVS__STATIC void pvs__vx_range(const pvs_occluders *o, int k, double lo, double 
     pvs__vx_grange(&o->grid, k, lo, hi, m, i0, i1);
 }
 
-/* Sutherland-Hodgman against one axis-aligned half-space: the points of convex polygon `in` (n points
-   of 3 doubles; n = 2 is a segment) with sign * (x[k] - c) >= 0, into out (room for n + 1 points).
-   Returns the count (0: nothing left). */
+/* Sutherland-Hodgman: convex polygon in (n points of 3 doubles; n = 2 a segment) clipped to sign (x[k] - c) >= 0 into
+   out (n + 1 points). Returns the count. */
 PVS__STATIC int pvs__vx_clip_half(const double *in, int n, int k, double c, double sign, double *out) {
     int i, r = 0;
     for (i = 0; i < n; ++i) {
@@ -11086,8 +11080,7 @@ PVS__STATIC int pvs__vx_clip_half(const double *in, int n, int k, double c, doub
     return r;
 }
 
-/* The index range along axis k of the cells [origin + i h, origin + (i + 1) h] grown by g that meet
-   the extent of polygon p (n points) on that axis, within [r0, r1]; empty when *i0 > *i1. */
+/* The cells along axis k within [r0, r1] whose extent grown by g meets polygon p's (n points); empty when *i0 > *i1. */
 PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int n, int k, double g, uint32_t r0,
                                     uint32_t r1, uint32_t *i0, uint32_t *i1) {
     double lo = p[k], hi = p[k], a, b;
@@ -11107,15 +11100,10 @@ PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int
 
 typedef void (*pvs__vx_visit_fn)(void *user, const uint32_t idx[3]);
 
-/* Calls visit for the cells of grid gr within the index ranges [r0, r1] (per axis) that convex
-   polygon p (n = 3: a triangle, n = 2: a segment; 3 doubles a point) grown by m may meet: over
-   axis k[2] (dims 3) slab by slab, the polygon clipped to each slab, then over axis k[1] row by row,
-   each row's range along k[0] read off the clipped part. dims 2 scans the (k[0], k[1]) plane only
-   (idx[k[2]] is then 0). The cost is the cells visited plus one clip per slab and row, where the
-   bounding box of a long diagonal sliver would cost its area (a fan of n slivers around one vertex:
-   quadratic). Candidates only: the caller tests each exactly. The slabs are widened by a thousandth
-   of a cell beyond m, far more than the clip's rounding, so every cell an exact test with margin m
-   accepts is visited. */
+/* Calls visit for the cells of gr within [r0, r1] that convex polygon p (3 points, or 2: a segment) grown by m may
+   meet: clipped to slabs along k[2] (dims 2: the k[0], k[1] plane only), then rows along k[1] whose clips give the k[0]
+   ranges, so a long sliver costs its cells, not its box. Candidates only; slabs grow by 1e-3 cell beyond m, far above
+   the clips' rounding, so every cell an exact test with margin m accepts is visited. */
 PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, const int k[3], int dims, double m,
                               const uint32_t r0[3], const uint32_t r1[3], pvs__vx_visit_fn visit, void *user) {
     double slab[3 * 8], tmp[3 * 8], row[3 * 8], g = m + 1e-3 * gr->h, h = gr->h;
@@ -11148,8 +11136,7 @@ PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, co
     }
 }
 
-/* One-dimensional min filter of radius r along axis k over a byte grid (outside counts as 0):
-   Chebyshev erosion is separable. */
+/* Min filter of radius r along axis k (outside counts as 0): Chebyshev erosion is separable. */
 PVS__STATIC void pvs__vx_erode_axis(const pvs_occluders *o, uint8_t *g, uint8_t *line, int k, uint32_t r) {
     uint32_t n = o->n[k], a, b, c, i;
     size_t stride = k == 0 ? 1 : k == 1 ? o->n[0] : (size_t)o->n[0] * o->n[1];
@@ -11169,7 +11156,8 @@ PVS__STATIC void pvs__vx_erode_axis(const pvs_occluders *o, uint8_t *g, uint8_t 
         }
 }
 
-/* Greedy merge of the set cells of a 3D byte grid into boxes (consumes the grid copy). */
+/* Greedy merge of the set voxels of g (cleared) into boxes rounded inward to float; out NULL: count only. Returns the
+   count. */
 PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *out) {
     uint32_t i, j, k, i1, j1, k1, a, b, count = 0;
     for (k = 0; k < o->n[2]; ++k)
@@ -11205,58 +11193,37 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
 
 /* ---- certified solid: crossing parity floods per edge-connected component ----
 
-   Why it is conservative (the argument the code relies on). Let K be a set of triangles, and for a
-   point x above the ground level g let w(x) be the parity of the number of triangles of K the ray
-   from x straight up crosses (for a ray that meets no edge or vertex of K). If every edge of K is
-   used by an even number of triangles of K (edges lying in the plane up = g excepted: only points
-   above g matter, and no sight line between such points goes below g), K is a closed surface modulo
-   2 above g and w is constant on every connected piece of space minus K: moving x changes the
-   crossing count only when x crosses a triangle or the ray sweeps over an edge, and an edge shared by
-   an even number of triangles changes it by an even number. An open edge (odd count) changes it along
-   the vertical sheet below that edge, so w is constant off K and off those sheets.
-   Now take voxels (closed boxes): "pure" when no triangle of K and no sheet comes within the margin
-   m of it (w is then one number on the whole voxel), "mixed" when a triangle of K does but no sheet
-   (its free space splits into parts, each with w = 0 or 1: merging the parts of equal w over-
-   approximates connectivity), "bad" when a sheet does (all of its free space is merged into one
-   region). A path avoiding K can be moved off voxel edges and corners (free space is open), so it
-   passes from voxel to voxel through faces; where it crosses a face it carries the w of the face
-   point, which is the w of the part it leaves and of the part it enters. So the graph whose nodes are
-   (pure voxel), (mixed voxel, 0), (mixed voxel, 1), (bad voxel) and whose links join two nodes of
-   face neighbours with equal w (any node of a bad voxel) contains every such path. Outside K's voxel
-   box there is no triangle and, below it, no sheet (sheets reach down to g, inside the box), so the
-   outside is one connected region with w = 0 on its faces. A flood over the graph from the voxels
-   meeting a cell, and from the outside when some cell lies outside the box, reaches every region a
-   viewer can walk to without touching K; a pure voxel it does not reach cannot be seen from any cell
-   (a sight line to it would be such a path), so a sight line through it has met a triangle first.
-   Solidity from any subset of the scene's triangles holds for all of them, so each component is
-   flooded on its own (two closed meshes that overlap, or an open mesh above a closed one, do not
-   spoil each other's parity). w is computed per voxel column along one vertical line, its position
-   in the column chosen so that the signs of every 2D orientation test are certain under a rigorous
-   rounding-error bound (pvs__vx_cross), and the crossing heights so accurate that no pure voxel can
-   be misplaced relative to them; a column where eight positions fail is treated as bad.
-   Slits, windows and doors narrower than a voxel: the voxels they pass through are mixed or bad and
-   keep both sides' regions of equal w joined, so the space behind them is reached. */
+   Why it is conservative. For triangles K and x above the ground level g, w(x) is the parity of K's triangles that the
+   upward ray from x crosses. If K's edges have even use counts (those at up = g excepted: no sight line between points
+   above g dips below it), w is constant on each connected piece of space minus K; an odd (open) edge flips w across the
+   vertical sheet below it. A voxel is pure if no triangle of K or sheet comes within the margin m (one w), mixed if
+   only a triangle does (nodes w = 0 and 1: joining parts of equal w over-approximates connectivity), bad if a sheet
+   does (one node). Free space is open, so a path avoiding K can be moved to pass between voxels through faces only,
+   carrying the face point's w: the graph linking face neighbours' nodes of equal w (any node of a bad voxel) holds
+   every such path, and outside K's voxel box (sheets end at g, inside it) is one region of w = 0. The flood from the
+   voxels meeting a cell, and from the outside when a cell lies outside the box, reaches all a viewer can walk to
+   without touching K: a pure voxel it misses is seen from no cell, so a sight line through it meets a triangle first.
+   Solid for some triangles is solid for all, so each component is flooded alone (overlapping meshes keep their parity).
+   w is read per column on a vertical line whose orientation signs are certain (pvs__vx_cross). A slit or door narrower
+   than a voxel makes mixed or bad voxels, which keep both sides joined. */
 
-/* orient2d (b - a) x (p - a) in double, with *bound a bound on its rounding error (each difference,
-   product and the final difference rounded once: <= 4.5e-16 (|t1| + |t2|)); its sign is certain when
-   |value| > *bound. Inputs are at most doubles; no underflow for float scene coordinates. */
+/* orient2d (b - a) x (p - a); *bound bounds its rounding (each difference and product rounded once: <=
+   4.5e-16 (|t1| + |t2|)), so its sign is certain when |value| > *bound. No underflow for floats. */
 PVS__STATIC double pvs__vx_orient(double ax, double ay, double bx, double by, double px, double py, double *bound) {
     double t1 = (bx - ax) * (py - ay), t2 = (by - ay) * (px - ax);
     *bound = 1e-15 * (pvs__dabs(t1) + pvs__dabs(t2));
     return t1 - t2;
 }
 
-/* The vertical line through (pu, pv) against triangle (a, b, c), up axis `up`, ground axes u, v:
-   0 when it certainly misses, 1 when it certainly crosses the interior at height *z (the true height
-   within *dz), -1 when undecidable (the line passes within rounding of an edge or a vertex, or the
-   height is too uncertain): the caller picks another line. */
+/* The vertical line through (pu, pv) against triangle a, b, c: 0 certainly misses, 1 certainly crosses inside at height
+   *z (within *dz), -1 undecidable (near an edge or vertex, or uncertain height). */
 PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, int u, int v, int up, double pu,
                               double pv, double *z, double *dz) {
     const float *p[3];
     double o[3], bd[3], r = 0.0, zlo, zhi, w0, w1, w2;
     int i, pos = 0, neg = 0, unsure = 0;
     p[0] = a; p[1] = b; p[2] = c;
-    for (i = 0; i < 3; ++i) { /* a zero-length projected edge: no projected area, a segment or a point */
+    for (i = 0; i < 3; ++i) { /* zero-length projected edge: no area, a segment or a point */
         const float *q = p[i], *s = p[(i + 1) % 3], *t = p[(i + 2) % 3];
         if (q[u] == s[u] && q[v] == s[v]) {
             if (t[u] == q[u] && t[v] == q[v]) return pu == (double)q[u] && pv == (double)q[v] ? -1 : 0;
@@ -11273,8 +11240,8 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
     }
     if (pos && neg) return 0;
     if (unsure) return -1;
-    /* inside: barycentric weights |o| (o[1] belongs to a, o[2] to b, o[0] to c), each known to a
-       relative error r; a weighted mean of the corner heights then errs by <= range * 2r / (1 - r) */
+    /* inside: barycentric weights |o| (o[1], o[2], o[0] for a, b, c), each within relative error r: the weighted mean
+       height errs by <= range 2r / (1 - r) */
     for (i = 0; i < 3; ++i) r = pvs__dmax(r, bd[i] / pvs__dabs(o[i]));
     if (r >= 0.25) return -1;
     w0 = pvs__dabs(o[1]); w1 = pvs__dabs(o[2]); w2 = pvs__dabs(o[0]);
@@ -11285,7 +11252,7 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
     return 1;
 }
 
-/* Per-voxel bits of a component's flood. */
+/* Flood voxel bits: T touched by K, B bad, F odd crossings in the layer, W w = 1 (pure), R0 / R1 node 0 / 1 reached. */
 enum { PVS__G_T = 1, PVS__G_B = 2, PVS__G_F = 4, PVS__G_W = 8, PVS__G_R0 = 16, PVS__G_R1 = 32 };
 
 typedef struct pvs__vx_vkey {
@@ -11321,7 +11288,6 @@ PVS__STATIC uint32_t pvs__vx_find(uint32_t *parent, uint32_t x) {
     return x;
 }
 
-/* What the synthesis knows about the triangles' topology. */
 typedef struct pvs__vx_topo {
     uint32_t *tris;          /* included triangles grouped by component: comp_first[c] .. comp_first[c + 1] */
     uint32_t *comp_first;    /* comp_count + 1 */
@@ -11341,7 +11307,7 @@ PVS__STATIC void pvs__vx_topo_free(const pvs_allocator *a, pvs__vx_topo *t, uint
     memset(t, 0, sizeof(*t));
 }
 
-/* 1 if the triangle lies flat on the ground level g (then it is left out: it bounds nothing above g). */
+/* 1 if the triangle lies flat on the ground level g (left out: it bounds nothing above g). */
 PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) {
     uint32_t up = s->up_axis, k;
     for (k = 0; k < 3; ++k)
@@ -11349,8 +11315,8 @@ PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) 
     return 1;
 }
 
-/* Components of the triangles (edge-connected, vertices matched by exact position) and their open
-   edges (odd use count, not both corners on the ground level g). */
+/* Edge-connected components of the triangles (vertices matched by exact position) and their open edges (odd use, not
+   both corners at ground level g). */
 PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_allocator *a, pvs__vx_topo *t) {
     uint32_t nv = s->vertex_count, nt = s->triangle_count, i, k, up = s->up_axis, ne = 0, c;
     pvs__vx_vkey *vk = NULL;
@@ -11406,12 +11372,12 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
     for (c = 0; c < t->comp_count; ++c) t->comp_first[c + 1] += t->comp_first[c];
     t->tri_count = t->comp_first[t->comp_count];
     {
-        uint32_t *fill = parent; /* reuse as cursors */
+        uint32_t *fill = parent;
         for (c = 0; c < t->comp_count; ++c) fill[c] = t->comp_first[c];
         for (i = 0; i < nt; ++i)
             if (cid[i] != 0xffffffffu) t->tris[fill[cid[i]]++] = i;
     }
-    /* open edges: odd runs; corners from the vertex keys (canon id = index into the sorted keys) */
+    /* open edges: odd runs; corners from vk (canon id = index into the sorted keys) */
     t->open_count = 0;
     for (e0 = 0; e0 < ne; e0 = e1) {
         const float *p0, *p1;
@@ -11420,7 +11386,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
         p0 = vk[(uint32_t)(ed[e0].key >> 32)].p;
         p1 = vk[(uint32_t)ed[e0].key].p;
         if (p0[up] == g && p1[up] == g) continue;
-        ed[t->open_count++] = ed[e0]; /* compacted in place (t->open_count <= e0) */
+        ed[t->open_count++] = ed[e0]; /* in place: open_count <= e0 */
     }
     t->open_edges = (float *)pvs__alloc_array(a, (size_t)(t->open_count ? t->open_count : 1) * 6, sizeof(float));
     if (!t->open_edges) goto done;
@@ -11447,22 +11413,22 @@ done:
     return res;
 }
 
-/* Scratch of the component floods, sized for the largest component box. */
+/* Scratch of the component floods, sized for the largest box. */
 typedef struct pvs__vx_flood {
     uint8_t *bits;           /* box voxels: PVS__G_* */
     uint8_t *col;            /* box columns: candidate line index, 0x80 = undecided in this pass, 0xff = failed */
     uint32_t *queue;         /* 2 nodes per box voxel */
     size_t cap_vox, cap_col;
-    const pvs_box *cells;    /* the view cells, and a bucket grid over them in the ground plane */
+    const pvs_box *cells;    /* the cells and a bucket grid over them (ground plane) */
     uint32_t cell_count;
     uint32_t *bucket_first;  /* bnu * bnv + 1 */
     uint32_t *bucket_cells;
     uint32_t *stamp;         /* per cell: 1 + the last component that looked at it */
     uint32_t bnu, bnv;
     uint32_t stamp_next;     /* the next stamp value */
-    pvs__vx_grid bucket_grid;/* the buckets as voxels of a grid (u, v axes) */
+    pvs__vx_grid bucket_grid;/* the buckets as a grid */
     uint8_t *cellbuf;        /* per cell 7 bytes, the four arrays below */
-    uint8_t *excluded;       /* per cell: 1 = left out of the floods (a leaking cell, see step 4) */
+    uint8_t *excluded;       /* per cell: 1 = left out of the floods (leaking) */
     uint32_t excluded_count;
     int keep_leaks;          /* PVS_OCCLUDERS_KEEP_LEAKS: never exclude */
     uint32_t *near_cells;    /* per component: the cells meeting its box, */
@@ -11471,7 +11437,7 @@ typedef struct pvs__vx_flood {
 } pvs__vx_flood;
 #define PVS__VX_BUCKET 8u    /* voxel columns per bucket side */
 
-/* Positions of the test line inside a column, as fractions of the voxel (no structure on purpose). */
+/* Test line positions in a column, as voxel fractions (no structure on purpose). */
 static const double pvs__vx_line_u[8] = {0.4142, 0.7071, 0.2360, 0.8660, 0.5773, 0.1547, 0.6458, 0.3183};
 static const double pvs__vx_line_v[8] = {0.6180, 0.2679, 0.7937, 0.4472, 0.1213, 0.8944, 0.3660, 0.5403};
 
@@ -11481,22 +11447,20 @@ PVS__STATIC void pvs__vx_push(uint8_t *bits, uint32_t *queue, size_t *qt, size_t
     bits[vi] |= f;
     queue[(*qt)++] = (uint32_t)(2 * vi + (size_t)x);
 }
-/* Every node of voxel vi. */
 PVS__STATIC void pvs__vx_push_all(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi) {
     uint8_t f = bits[vi];
     if (f & PVS__G_B) pvs__vx_push(bits, queue, qt, vi, 0);
     else if (f & PVS__G_T) { pvs__vx_push(bits, queue, qt, vi, 0); pvs__vx_push(bits, queue, qt, vi, 1); }
     else pvs__vx_push(bits, queue, qt, vi, (f & PVS__G_W) != 0);
 }
-/* The node of voxel vi that the outside (w = 0) enters. */
+/* The node of voxel vi the outside (w = 0) enters. */
 PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi) {
     uint8_t f = bits[vi];
     pvs__vx_push(bits, queue, qt, vi, (f & (PVS__G_B | PVS__G_T)) ? 0 : (f & PVS__G_W) != 0);
 }
 
-/* The parity w of the points of cell `cb` (which is clear of component K by the margin m, so they
-   all share it): the crossings with K of a vertical line through a point of the cell, above that
-   point (pvs__vx_cross; a crossing cannot lie within m of the point). -1 when eight lines fail. */
+/* w of cell cb, clear of K by m (its points share it): the parity of K's crossings above a point of cb on a vertical
+   line (none within m). -1 when eight lines fail. */
 PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
     uint32_t up = s->up_axis, t, line;
     int u, v;
@@ -11521,9 +11485,8 @@ PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp,
     return -1;
 }
 
-/* A cell's sources in the flood of a component (box lo..hi of grid gr, strides of fl->bits): w = wc
-   for the cell's voxels, every node where wc < 0. test = 0 pushes them; test = 1 pushes nothing and
-   returns 1 when one of them is already reached. */
+/* Pushes cell cb's sources in a flood: for its box voxels the node of w = wc (all where wc < 0); test = 1: pushes
+   nothing, returns 1 when one is already reached. */
 PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const uint32_t lo[3], const uint32_t hi[3],
                              const size_t stride[3], double m, int wc, uint8_t *bits, uint32_t *queue, size_t *qt,
                              int test) {
@@ -11554,9 +11517,8 @@ PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const ui
     return 0;
 }
 
-/* The flood over the nodes of a component's box (see the argument above) from the queue's nodes,
-   entering from the outside when ext is 1 (or when the flood reaches a face of the box with a node
-   that joins the outside). Returns 0 when the outside was never entered. */
+/* Floods a box's nodes from the queue, entering from the outside when ext is 1 or on reaching a box face through a node
+   joined to it. Returns 0 when the outside was never entered. */
 PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io, size_t *qt_io, const uint32_t d[3],
                                   const size_t stride[3], const uint32_t lo[3], uint32_t up, int ext) {
     size_t qh = *qh_io, qt = *qt_io;
@@ -11566,7 +11528,7 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
         size_t a;
         int x, dir;
         uint8_t fa;
-        if (ext == 1) { /* enter through every face of the box but the ground */
+        if (ext == 1) { /* enter through every box face but the ground */
             for (k = 0; k < d[2]; ++k)
                 for (j = 0; j < d[1]; ++j)
                     for (i = 0; i < d[0]; ++i) {
@@ -11608,14 +11570,14 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
     return ext;
 }
 
-/* The voxels a triangle touches (separating axes, margin toward touched): pvs__vx_scan's visitor. */
+/* pvs__vx_scan's visitor: the voxels a triangle touches (separating axes, margin toward touched). */
 typedef struct pvs__vx_touch {
-    pvs_occluders *o;          /* non-NULL: set PVS__VX_TOUCHED on its grid (gr is then its grid) */
+    pvs_occluders *o;          /* non-NULL: sets PVS__VX_TOUCHED (gr is its grid) */
     const pvs__vx_grid *gr;
-    uint8_t *bits;             /* non-NULL: a component's box from lo (strides `stride`): set PVS__G_T; */
-    const uint32_t *lo;        /*   NULL: the occluders' grid alone, where touched or ground voxels */
-    const size_t *stride;      /*   are skipped */
-    double p[3][3], hs;        /* the triangle, the voxel half size grown by the margin */
+    uint8_t *bits;             /* non-NULL: sets PVS__G_T in a component's box; */
+    const uint32_t *lo;        /* NULL: skips the grid's touched or ground voxels */
+    const size_t *stride;
+    double p[3][3], hs;        /* the triangle; voxel half size plus margin */
 } pvs__vx_touch;
 PVS__STATIC void pvs__vx_touch_visit(void *user, const uint32_t idx[3]) {
     pvs__vx_touch *tv = (pvs__vx_touch *)user;
@@ -11635,7 +11597,6 @@ PVS__STATIC void pvs__vx_touch_visit(void *user, const uint32_t idx[3]) {
     }
 }
 
-/* The corners of triangle `tri` of the scene, in double. */
 PVS__STATIC void pvs__vx_tri_points(const pvs_scene *s, uint32_t tri, double p[3][3]) {
     int e, kk;
     for (e = 0; e < 3; ++e)
@@ -11643,10 +11604,10 @@ PVS__STATIC void pvs__vx_tri_points(const pvs_scene *s, uint32_t tri, double p[3
             p[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (size_t)e] + (size_t)kk];
 }
 
-/* Steps 2 and 3 of a component's flood, one column of its box at a time (pvs__vx_scan's visitors). */
+/* pvs__vx_scan's visitors of steps 2 and 3: one column of the box at a time. */
 typedef struct pvs__vx_colvisit {
     const pvs__vx_grid *gr;
-    uint8_t *bits, *col;       /* the box's voxels from lo (strides `stride`), its columns (d[u] a row) */
+    uint8_t *bits, *col;       /* the box's voxels from lo, its columns (rows of d[u]) */
     const uint32_t *lo, *hi, *d;
     const size_t *stride;
     int u, v, up;
@@ -11656,7 +11617,7 @@ typedef struct pvs__vx_colvisit {
     uint32_t pass;             /* step 3: the line's position in the column */
 } pvs__vx_colvisit;
 
-/* Step 2 at column (a, b): the sheet below the part of the edge over the column's square grown by m. */
+/* Step 2 at column (a, b): the sheet below the part of the edge over the square grown by m. */
 PVS__STATIC void pvs__vx_sheet_visit(void *user, const uint32_t at[3]) {
     const pvs__vx_colvisit *cv = (const pvs__vx_colvisit *)user;
     const float *e = cv->e;
@@ -11687,7 +11648,7 @@ PVS__STATIC void pvs__vx_sheet_visit(void *user, const uint32_t at[3]) {
     }
 }
 
-/* Step 3 at column (a, b): the crossing of the column's line at position `pass` with the triangle. */
+/* Step 3 at column (a, b): the crossing of its line (position pass) with the triangle. */
 PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
     const pvs__vx_colvisit *cv = (const pvs__vx_colvisit *)user;
     int u = cv->u, v = cv->v, up = cv->up, r;
@@ -11708,23 +11669,23 @@ PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
     }
 }
 
-/* A component's box during its flood (pvs__vx_flood_component), shared by the flood's steps. */
+/* A component's box, shared by its flood's steps. */
 typedef struct pvs__vx_fbox {
     pvs_occluders *o;
     const pvs_scene *s;
     const pvs__vx_grid *gr;
     const pvs__vx_topo *tp;
     uint32_t comp;             /* component K */
-    const uint32_t *lo, *hi;   /* the box, voxels of gr (inclusive) */
+    const uint32_t *lo, *hi;   /* the box in voxels of gr (inclusive) */
     uint32_t d[3], up;         /* its voxels per axis */
     int u, v;
-    size_t stride[3], nvox, ncol; /* of fl->bits; its voxels, its columns */
+    size_t stride[3], nvox, ncol; /* of fl->bits; voxel and column counts */
     double m;
     pvs__vx_flood *fl;
 } pvs__vx_fbox;
 
-/* Step 1 of a component's flood: the voxels of the box that K touches (separating axes, margin
-   toward touched) get PVS__G_T; with mark_touched the occluders' grid PVS__VX_TOUCHED too. */
+/* Step 1: PVS__G_T on the box voxels K touches (margin toward touched); with mark_touched also PVS__VX_TOUCHED on the
+   occluders' grid. */
 PVS__STATIC void pvs__vx_flood_touched(const pvs__vx_fbox *fb, int mark_touched) {
     static const int xyz[3] = {0, 1, 2};
     pvs__vx_touch tv;
@@ -11742,7 +11703,6 @@ PVS__STATIC void pvs__vx_flood_touched(const pvs__vx_fbox *fb, int mark_touched)
     }
 }
 
-/* The column visitor of steps 2 and 3 over the box, and the scan's axes (u, v, up). */
 PVS__STATIC void pvs__vx_flood_colvisit(const pvs__vx_fbox *fb, pvs__vx_colvisit *cv, int axes[3]) {
     memset(cv, 0, sizeof(*cv));
     cv->gr = fb->gr;
@@ -11761,9 +11721,8 @@ PVS__STATIC void pvs__vx_flood_colvisit(const pvs__vx_fbox *fb, pvs__vx_colvisit
     axes[2] = (int)fb->up;
 }
 
-/* Step 2 of a component's flood, the bad voxels: the vertical sheet below each open edge, from the
-   edge (plus margin) down to the ground; per column whose square (grown by m) the projected edge
-   meets, over the part of the edge inside it (Liang-Barsky clip: pvs__vx_sheet_visit). */
+/* Step 2, the bad voxels: below each open edge, from it plus m to the ground, in the columns whose square grown by m
+   the projected edge meets (Liang-Barsky). */
 PVS__STATIC void pvs__vx_flood_sheets(const pvs__vx_fbox *fb) {
     const pvs__vx_topo *tp = fb->tp;
     pvs__vx_colvisit cv;
@@ -11778,10 +11737,8 @@ PVS__STATIC void pvs__vx_flood_sheets(const pvs__vx_fbox *fb) {
     }
 }
 
-/* Step 3 of a component's flood, the parity of the pure voxels: per column, the crossings of one
-   vertical line (pvs__vx_cross) toggle PVS__G_F at their layer; up to 8 positions of the line per
-   column (where all 8 fail, the column is bad: PVS__G_B, info.undecided_columns). Then w of a pure
-   voxel (PVS__G_W) = the parity of the crossings above it. */
+/* Step 3, pure voxels' w: a column's crossings with one vertical line toggle PVS__G_F at their layer; all 8 line
+   positions failing make it bad (info.undecided_columns). PVS__G_W where the crossings above are odd. */
 PVS__STATIC void pvs__vx_flood_parity(const pvs__vx_fbox *fb) {
     const pvs_scene *s = fb->s;
     const pvs__vx_topo *tp = fb->tp;
@@ -11817,7 +11774,7 @@ PVS__STATIC void pvs__vx_flood_parity(const pvs__vx_fbox *fb) {
             else { col[vi] = (uint8_t)(pass + 1); any = 1; }
         }
     }
-    for (vi = 0; vi < fb->ncol; ++vi) { /* w of a pure voxel = parity of the crossings above it */
+    for (vi = 0; vi < fb->ncol; ++vi) {
         uint32_t idx[3], acc = 0;
         idx[u] = (uint32_t)(vi % d[u]); idx[v] = (uint32_t)(vi / d[u]);
         for (idx[up] = d[up]; idx[up]-- > 0;) {
@@ -11828,7 +11785,7 @@ PVS__STATIC void pvs__vx_flood_parity(const pvs__vx_fbox *fb) {
     }
 }
 
-/* 1 if cell cb, grown by m, meets a triangle of component K (separating axes). */
+/* 1 if cell cb grown by m meets a triangle of K. */
 PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box *cb) {
     const pvs_scene *s = fb->s;
     const pvs__vx_topo *tp = fb->tp;
@@ -11853,10 +11810,8 @@ PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box
     return touches;
 }
 
-/* Step 4's w of cell cb, which meets the box in its voxels r0..r1 (clamped to the box): -1 (every
-   node) when the cell, grown by m, meets a triangle of K. Else the w of a cell clear of K: 0 when
-   (grown by m) it reaches out of the box above the ground (out_w0; w = 0 there), else that of a pure
-   voxel it overlaps by more than m, else a ray of its own (pvs__vx_point_parity). */
+/* Step 4's w of cell cb (box voxels r0..r1): -1 (all nodes) when cb grown by m meets K; else 0 with out_w0 (it leaves
+   the box above ground); else a pure voxel's it overlaps by over m, or its own ray's. */
 PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, const uint32_t r0[3],
                                      const uint32_t r1[3], int out_w0) {
     const uint8_t *bits = fb->fl->bits;
@@ -11869,7 +11824,7 @@ PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, 
             for (a = r0[0]; a <= r1[0] && !maybe; ++a)
                 maybe = (bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])] &
                          (PVS__G_T | PVS__G_B)) != 0;
-    if (maybe) touches = pvs__vx_flood_cell_touches(fb, cb); /* does the cell, grown by m, meet a triangle of K? */
+    if (maybe) touches = pvs__vx_flood_cell_touches(fb, cb);
     if (!touches && out_w0) wc = 0;
     if (!touches && !out_w0) {
         for (kk = 0; kk < 3; ++kk) {
@@ -11888,10 +11843,9 @@ PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, 
     return wc;
 }
 
-/* Step 4's cells: those of the buckets under the box that meet it (grown by m) and are not
-   excluded, each looked at once (fl->stamp: `stamp` when looked at, stamp + 1 when it meets the
-   box), listed in fl->near_cells with their w (pvs__vx_flood_cell_w) and near_flag 1 when they
-   stick out of the box. Returns their number. */
+/* Step 4's cells: the unexcluded ones of the buckets under the box that meet it (grown by m), each once (fl->stamp:
+   stamp; stamp + 1 if it meets), into fl->near_cells with their w, near_flag 1 when sticking out. Returns their
+   number. */
 PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) {
     pvs__vx_flood *fl = fb->fl;
     const pvs__vx_grid *gr = fb->gr;
@@ -11917,7 +11871,7 @@ PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) 
                 if (kk < 3) continue;
                 fl->stamp[cid] = stamp + 1;
                 for (kk = 0; kk < 3; ++kk) {
-                    if (r0[kk] < lo[kk] || r1[kk] > hi[kk]) stick = 1; /* sticks out of the box */
+                    if (r0[kk] < lo[kk] || r1[kk] > hi[kk]) stick = 1;
                     if (r1[kk] > hi[kk] || (r0[kk] < lo[kk] && ((uint32_t)kk != up || lo[up] > 1))) out_w0 = 1;
                     if (r0[kk] < lo[kk]) r0[kk] = lo[kk];
                     if (r1[kk] > hi[kk]) r1[kk] = hi[kk];
@@ -11931,21 +11885,13 @@ PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) 
     return nnear;
 }
 
-/* Step 4 of a component's flood, its sources: each cell meeting the box, and the outside of the box
-   when a cell lies (partly) outside it. A cell clear of K (by the margin) is convex and free, so all
-   its points share one w, read off a pure voxel it genuinely overlaps; its voxels get the node of
-   that w. A cell meeting K (partly inside a closed mesh, or touching it) gets every node of its
-   voxels.
-   Leaking cells: when most cells lie inside the box (a closed level) but a few reach the outside (a
-   cell box poking through a wall into the void of a mesh with no faces there, as game levels are),
-   their nodes would join every wall's interior to the flood and no wall would be solid for any
-   cell. So when the cells outside the box are fewer than half of those in use, the outside is
-   flooded first; the cells lying partly outside or whose nodes it reached are then excluded when
-   they too are fewer than half, and the flood runs from the others only. An excluded cell seeds no
-   later flood and gets no occluder at all (pvs_shrink_cell sets every object for it); every cell
-   that keeps the occluders seeded every flood, so the argument above holds for it unchanged.
-   Leaves the sources in fl->queue (*qh_io, *qt_io); returns pvs__vx_flood_run's ext (1: enter
-   from the outside). */
+/* Step 4, the sources: the cells meeting the box (one clear of K by m is convex and free: its voxels get the node of
+   its one w; else every node), and the outside when a cell lies partly outside. Leaking cells, boxes poking through
+   a wall of a closed level into a mesh's faceless void, would join every wall's interior to the flood. So when
+   under half the cells in use lie outside the box, the outside is flooded first, and the cells outside, partly
+   outside or reached are excluded if together under half. An excluded cell seeds no later flood and gets no
+   occluder (pvs_shrink_cell sets every object for it); for the others the argument holds unchanged. Leaves the
+   sources in fl->queue; returns pvs__vx_flood_run's ext. */
 PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, size_t *qt_io) {
     pvs__vx_flood *fl = fb->fl;
     uint8_t *bits = fl->bits;
@@ -11954,7 +11900,7 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
     size_t qh = 0, qt = 0, vi;
     int ext;
     fl->stamp_next += 2;
-    stamp = fl->stamp_next - 1; /* stamp: looked at for this component, stamp + 1: meets its box */
+    stamp = fl->stamp_next - 1;
     nnear = pvs__vx_flood_near(fb, stamp);
     if (!fl->keep_leaks && nnear &&
         2 * (active - nnear) < active) { /* mostly inside: which cells does the outside reach? */
@@ -11990,10 +11936,8 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
     return ext;
 }
 
-/* The flood of one component K over grid `gr`: voxel box lo..hi (inclusive, lo[up] >= 1), its
-   triangles and open edges (see the argument above). Leaves in fl->bits, per box voxel, PVS__G_T/B/W
-   and the reached nodes; returns 0 when the outside of the box was never entered. With
-   mark_touched (gr is the occluders' own grid) it also sets PVS__VX_TOUCHED on the grid. */
+/* Floods component K on grid gr, box lo..hi (inclusive, lo[up] >= 1): PVS__G_T/B/W and reached nodes into fl->bits;
+   returns 0 when the outside was never entered. mark_touched: PVS__VX_TOUCHED too (gr: the occluders' grid). */
 PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
                                         const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl,
                                         int mark_touched) {
@@ -12020,19 +11964,15 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
     fb.nvox = fb.stride[2] * fb.d[2];
     fb.ncol = (size_t)fb.d[fb.u] * fb.d[fb.v];
     memset(fl->bits, 0, fb.nvox);
-    /* 1. touched by K (separating axes, margin toward touched) */
     pvs__vx_flood_touched(&fb, mark_touched);
-    /* 2. bad: the vertical sheet below each open edge, down to the ground */
     pvs__vx_flood_sheets(&fb);
-    /* 3. parity of the pure voxels: the crossings of one vertical line per column */
     pvs__vx_flood_parity(&fb);
-    /* 4. the flood's sources: the cells meeting the box, and its outside */
     ext = pvs__vx_flood_sources(&fb, &qh, &qt);
     return pvs__vx_flood_run(fl->bits, fl->queue, &qh, &qt, fb.d, fb.stride, lo, fb.up, ext);
 }
 
-/* The coarse grid's certification of component K: pure voxels no node of which the flood reached
-   are solid; the whole outside of the box too when the flood never entered it. */
+/* Certifies K on the occluders' grid: pure voxels whose node the flood missed are solid, and all outside the box (but
+   the ground) when it never entered it. */
 PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
                                  const uint32_t hi[3], double m, pvs__vx_flood *fl) {
     uint32_t d[3], i, j, k;
@@ -12062,17 +12002,12 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
 
 /* ---- 2.5D occluders: proved-solid columns at a finer resolution, eroded by distance ----
 
-   Each component is flooded again on its own grid of voxel size eps (larger only where its box would
-   exceed PVS__VX_BOX_BUDGET voxels). Over a column map of squares of side c (half that, the map
-   capped at PVS__VX_MAP_BUDGET squares), a square's solid height is the least top of the runs of
-   proved-solid voxels standing on the ground over the voxel columns it overlaps; points of the
-   square below it cannot be seen from any cell. Its occluder height (Wonka 2000 §2, appendix: the
-   occluder shrunk by eps) is the solid height cut down to eps below every triangle of the component
-   that comes within eps of the square (the least height of the triangle clipped to the square grown
-   by eps): then the eps-ball of every point of the prism square x [ground, height] is free of the
-   component's triangles and joined to a proved-solid point, so it lies where no viewer reaches, and a
-   sight line through the ball meets a triangle first (as the theorem needs). Rounding: the squares
-   are grown by a margin above the coordinates' float precision. */
+   Each component is flooded again on its own grid (voxel eps, grown within budgets). A column-map square (side
+   eps / 2, larger past PVS__VX_MAP_BUDGET) has as solid height the least top of the proved-solid runs on the ground
+   in the voxel columns it overlaps, and as occluder height (Wonka 2000 §2, appendix: shrunk by eps) that, cut to eps
+   below the component's triangles within eps of it: the eps-ball of every point below is free of the component and
+   joined to proved solid, so a sight line through it meets a triangle first. Squares grow by a margin above the
+   coordinates' float precision. */
 
 #define PVS__VX_BOX_BUDGET (1u << 23)
 #define PVS__VX_MAP_BUDGET (1u << 22)
@@ -12082,9 +12017,8 @@ PVS__STATIC int pvs__vx_float_cmp(const void *x, const void *y) {
     return a < b ? -1 : a > b;
 }
 
-/* Least height (along `up`) of triangle p (3 points) clipped to the vertical prism over the ground
-   octagon {x0 <= u <= x1, y0 <= v <= y1, s0 <= u + v <= s1, d0 <= u - v <= d1}; DBL_MAX when they do
-   not meet. */
+/* Least height of triangle p clipped to the prism over the octagon {x0 <= u <= x1, y0 <= v <= y1,
+   s0 <= u + v <= s1, d0 <= u - v <= d1}; DBL_MAX if none. */
 PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, int up, const double lim[8]) {
     static const double nu[8] = {-1, 1, 0, 0, -1, 1, -1, 1}, nv[8] = {0, 0, -1, 1, -1, 1, 1, -1};
     double a[16][3], b[16][3], best = DBL_MAX;
@@ -12112,21 +12046,19 @@ PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, i
     return best;
 }
 
-/* The least height of a triangle near each square of the column map (pvs__vx_scan's visitor). */
+/* pvs__vx_scan's visitor: a triangle's least height near each square of the column map. */
 typedef struct pvs__vx_tminvisit {
-    const pvs__vx_grid *gr;    /* the column map's */
+    const pvs__vx_grid *gr;
     double p[3][3], e, margin; /* the triangle; near = within e */
     double zlo;                /* its lowest corner's height */
-    double gu, gv, slack;      /* sloped: its plane's height gradient along u and v, the rounding slack */
+    double gu, gv, slack;      /* sloped: the plane's height gradient along u, v; rounding slack */
     int sloped;
     int u, v, up;
-    float *tmin;               /* per square of [su0, su0 + row) x [sv0, ...) */
+    float *tmin;               /* per square from (su0, sv0), rows of row */
     uint32_t su0, sv0, row;
 } pvs__vx_tminvisit;
-/* The triangle's lowest corner and, when it is not steep, its plane as a height field: the bounds
-   that let pvs__vx_tmin_visit skip the clip (coincident or stacked triangles meet each square many
-   times). The slack covers the rounding of the plane's height, so the bound stays below the
-   exact least height. */
+/* Lower bounds letting pvs__vx_tmin_visit skip the clip (stacked triangles meet a square many times): the lowest corner
+   and, unless steep, the plane, with slack for rounding. */
 PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
     const double *a = tv->p[0], *b = tv->p[1], *c = tv->p[2];
     int u = tv->u, v = tv->v, up = tv->up;
@@ -12138,7 +12070,7 @@ PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
     mag = pvs__dabs(n[0]) + pvs__dabs(n[1]) + pvs__dabs(n[2]);
-    tv->sloped = pvs__dabs(n[up]) > 1e-3 * mag; /* slopes below 1000: the plane's bound is useful */
+    tv->sloped = pvs__dabs(n[up]) > 1e-3 * mag; /* slope below 1000: the plane's bound is useful */
     if (!tv->sloped) return;
     tv->gu = n[u] / n[up];
     tv->gv = n[v] / n[up];
@@ -12157,21 +12089,19 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
     /* the square grown by the octagon around the disc of radius e: holds every point within e */
     lim[0] = -(x0 - e); lim[1] = x1 + e; lim[2] = -(y0 - e); lim[3] = y1 + e;
     lim[4] = -(x0 + y0 - ed); lim[5] = x1 + y1 + ed; lim[6] = -(x0 - y1 - ed); lim[7] = x1 - y0 + ed;
-    z = tv->zlo; /* a lower bound of the clip's height: its lowest corner, or its plane's lowest over the grown square
-                  */
+    z = tv->zlo; /* lower bound of the clip's height: the lowest corner, or the plane's least over the square */
     if (tv->sloped) {
         double zp = tv->p[0][tv->up] - tv->gu * ((tv->gu > 0.0 ? x0 - e : x1 + e) - tv->p[0][tv->u]) -
                     tv->gv * ((tv->gv > 0.0 ? y0 - e : y1 + e) - tv->p[0][tv->v]);
         z = pvs__dmax(z, zp - tv->slack);
     }
-    if (pvs__f_down(z - tv->margin) >= tv->tmin[x]) return; /* the clip cannot lower it */
+    if (pvs__f_down(z - tv->margin) >= tv->tmin[x]) return;
     z = pvs__vx_clip_min_height((const double(*)[3])tv->p, tv->u, tv->v, tv->up, lim);
     if (z < DBL_MAX && pvs__f_down(z - tv->margin) < tv->tmin[x]) tv->tmin[x] = pvs__f_down(z - tv->margin);
 }
 
-/* The least height of component K's triangles near each square of the column map's range sq0..sq1
-   (on its u and v axes; 0 on up): tmin, row-major over the range, FLT_MAX where no triangle comes
-   within e (each triangle clipped to the squares grown by e: pvs__vx_tmin_visit). */
+/* tmin, row-major over map squares sq0..sq1: the least height of K's triangles within e of each (pvs__vx_tmin_visit),
+   FLT_MAX if none. */
 PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
                                       const uint32_t sq0[3], const uint32_t sq1[3], double e, double margin,
                                       float *tmin) {
@@ -12204,8 +12134,8 @@ PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo
     }
 }
 
-/* The column map's pass over one component: flood on its own grid, runs standing on the ground, the
-   squares' solid and occluder heights. Returns OUT_OF_MEMORY or PVS_OK. */
+/* One component's pass of the column map: its flood, runs on the ground, the squares' solid and occluder heights.
+   Returns OUT_OF_MEMORY or PVS_OK. */
 PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
                                                  const pvs__vx_grid *gk, const uint32_t lo[3], const uint32_t hi[3],
                                                  double m, double eps, double margin, pvs__vx_flood *fl) {
@@ -12224,7 +12154,6 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
     stride[1] = d[0];
     stride[2] = (size_t)d[0] * d[1];
     ncol = (size_t)d[u] * d[v];
-    /* the squares over the box's ground rectangle */
     pvs__vx_grange(&cm->grid, u, gk->origin[u] + lo[u] * hk, gk->origin[u] + (hi[u] + 1) * hk, 0.0, &su0, &su1);
     pvs__vx_grange(&cm->grid, v, gk->origin[v] + lo[v] * hk, gk->origin[v] + (hi[v] + 1) * hk, 0.0, &sv0, &sv1);
     if (su0 > su1 || sv0 > sv1) return PVS_OK;
@@ -12236,7 +12165,7 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
         pvs__free_array(&o->allocator, tmin, nsub, sizeof(float));
         return PVS_ERROR_OUT_OF_MEMORY;
     }
-    /* runs of proved-solid voxels from the ground (the box starts at layer 1 = the ground) */
+    /* runs of proved-solid voxels from the ground (layer 1 of the box) */
     for (b = 0; b < d[v]; ++b)
         for (a = 0; a < d[u]; ++a) {
             uint32_t idx[3], run = 0;
@@ -12248,7 +12177,6 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
                 }
             runh[(size_t)b * d[u] + a] = run ? (float)(gk->origin[up] + (lo[up] + run) * hk) : -FLT_MAX;
         }
-    /* the least height of the component's triangles near each square */
     sq0[u] = su0; sq0[v] = sv0; sq0[up] = 0;
     sq1[u] = su1; sq1[v] = sv1; sq1[up] = 0;
     pvs__vx_columns_tmin(o, tp, comp, sq0, sq1, e, margin, tmin);
@@ -12291,10 +12219,9 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
     return PVS_OK;
 }
 
-/* A growing array of chains and their points (through the occluders' allocator). */
 typedef struct pvs__vx_chainbuf {
     pvs_facade_chain *chains;
-    size_t *first;           /* per chain: its first point in `points` (pointers are set at the end) */
+    size_t *first;           /* per chain: its first point (pointers are set at the end) */
     float *points;           /* 2 floats per point */
     size_t count, cap, cap_first, npts, cap_pts;
 } pvs__vx_chainbuf;
@@ -12315,11 +12242,11 @@ PVS__STATIC int pvs__vx_grow(const pvs_allocator *a, void **p, size_t *cap, size
     return 1;
 }
 
-/* Orientation of (b - a) x (c - a) on integer grid points (exact). */
+/* (b - a) x (c - a) on integer points (exact). */
 PVS__STATIC int64_t pvs__vx_orient_i(const int32_t *a, const int32_t *b, const int32_t *c) {
     return (int64_t)(b[0] - a[0]) * (c[1] - a[1]) - (int64_t)(b[1] - a[1]) * (c[0] - a[0]);
 }
-/* 1 if closed segments p-q and r-t meet (exact, integer points). */
+/* 1 if closed segments p-q and r-t meet (exact). */
 PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int32_t *r, const int32_t *t) {
     int64_t d1 = pvs__vx_orient_i(p, q, r), d2 = pvs__vx_orient_i(p, q, t), d3 = pvs__vx_orient_i(r, t, p),
             d4 = pvs__vx_orient_i(r, t, q);
@@ -12332,23 +12259,20 @@ PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int
     return 1;
 }
 
-/* Simplifies a boundary loop (n integer grid points, the region on the left of each edge) from the
-   inside: from each kept point, the farthest later point whose chord leaves every skipped point on
-   its right or on it, at most one square away (the skipped corners lie outside the chord: the region
-   between them and the chord is given up, never added) and meets no edge of the loop but the two it
-   joins. Staircases of a slanted wall become a few long edges a square at most inside them (long
-   facades rasterize their shadows near the wall; a staircase of short ones covers no whole cull-map
-   cell there). Returns the number of points kept (in place). */
+/* Simplifies a loop of n integer points (region on the left) from the inside, in place (pt: room for 2n): from each
+   kept point to the farthest later one whose chord keeps the skipped points right of it or on it, at most a square off
+   (area lost, never added), meeting no other loop edge. A slanted wall's staircase becomes long edges, whose shadows
+   cover whole cull-map cells. Returns the count. */
 PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
     uint32_t i = 0, kept = 0, j, k, start;
     int32_t *out;
     if (n < 5) return n;
-    /* start at a point that must stay: the lowest-leftmost is a convex corner */
+    /* start at a point that stays: the lowest-leftmost is a convex corner */
     start = 0;
     for (k = 1; k < n; ++k)
         if (pt[2 * k + 1] < pt[2 * start + 1] || (pt[2 * k + 1] == pt[2 * start + 1] && pt[2 * k] < pt[2 * start]))
             start = k;
-    out = pt + 2 * n; /* scratch: n more points after the loop */
+    out = pt + 2 * n;
     while (i < n) {
         uint32_t best = i + 1;
         const int32_t *a = pt + 2 * ((start + i) % n);
@@ -12356,16 +12280,16 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
             const int32_t *b = pt + 2 * ((start + j) % n);
             int ok = 1;
             double len2 = (double)(b[0] - a[0]) * (b[0] - a[0]) + (double)(b[1] - a[1]) * (b[1] - a[1]);
-            for (k = i + 1; k < j && ok; ++k) { /* right of the chord or on it, and at most a square off it */
+            for (k = i + 1; k < j && ok; ++k) { /* right of the chord or on it, at most a square off */
                 int64_t o = pvs__vx_orient_i(a, b, pt + 2 * ((start + k) % n));
                 ok = o <= 0 && (double)o * (double)o <= len2;
             }
             if (!ok) break;
-            for (k = 0; k < n && ok; ++k) { /* no other edge of the loop touches the chord */
+            for (k = 0; k < n && ok; ++k) { /* no other loop edge touches the chord */
                 uint32_t e0 = (start + k) % n, e1 = (start + k + 1) % n;
                 if (k >= i && k < j) continue;                  /* edges the chord replaces */
                 if (k + 1 == i || (k == j % n && j < n) || (j == n && k == 0) || (i == 0 && k + 1 == n)) {
-                    /* edges sharing an endpoint with the chord: they may only touch it there */
+                    /* edges sharing an end with the chord may only touch it there */
                     const int32_t *c0 = pt + 2 * e0, *c1 = pt + 2 * e1;
                     int64_t o0 = pvs__vx_orient_i(a, b, c0), o1 = pvs__vx_orient_i(a, b, c1);
                     if (o0 == 0 && o1 == 0) ok = 0; /* collinear overlap */
@@ -12384,22 +12308,17 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
     return kept;
 }
 
-/* The boundary loops of the squares marked in `mask` (w x h, row-major, with a frame of empty squares
-   around the set): edges walked with the set on their left, joined at grid vertices (where two
-   diagonal squares of the set meet, the loop turns left and stays with the square it follows:
-   4-connected regions). Each loop is simplified (pvs__vx_simplify) and becomes a chain of heights
-   [base, top] at grid point (i, j) -> (ox + i c, oy + j c): counter-clockwise loops (outer
-   boundaries) closed chains, clockwise loops (holes) open chains that come back to their first point
-   (two-sided: the inside of a hole is not solid). `used`: 4 (w + 1) (h + 1) bytes of scratch; `ip`,
-   `ipcap`: a growable integer point buffer. Returns 0 when out of memory. */
+/* Traces the boundary loops of the squares set in mask (w x h, empty frame around) with the set on the left, turning
+   left where diagonal squares meet (4-connected). Each, simplified, becomes a chain of heights [base, top], point
+   (i, j) at (ox + i c, oy + j c): outer (counter-clockwise) loops closed, holes open, back to their first point (a
+   hole is not solid). used: 4 (w + 1) (h + 1) bytes. Returns 0 when out of memory. */
 PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w,
                               uint32_t h, double ox, double oy, double c, float base, float top, uint8_t *used,
                               int32_t **ip, size_t *ipcap) {
     /* direction d: 0 +i, 1 +j, 2 -i, 3 -j; the squares left and right of an edge leaving vertex (x, y) */
     static const int di[4] = {1, 0, -1, 0}, dj[4] = {0, 1, 0, -1};
     static const int lqi[4] = {0, -1, -1, 0}, lqj[4] = {0, 0, -1, -1}, rqi[4] = {0, 0, -1, -1}, rqj[4] = {-1, 0, 0, -1};
-    /* square (i, j)'s side toward neighbour n (below, right, above, left) leaves vertex (i, j) + v0[n] in
-       direction n */
+    /* square (i, j)'s side toward neighbour n (below, right, above, left) leaves vertex (i, j) + v0[n] along n */
     static const int ni[4] = {0, 1, 0, -1}, nj[4] = {-1, 0, 1, 0}, v0i[4] = {0, 1, 1, 0}, v0j[4] = {0, 0, 1, 1};
     uint32_t i, j;
     memset(used, 0, (size_t)(w + 1) * (h + 1) * 4);
@@ -12441,7 +12360,7 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
                     e = 4 * (vy * (w + 1) + vx) + (uint32_t)d;
                     if (e == start) break;
                 }
-                /* corners only, then the simplification (scratch: the buffer holds 2n points) */
+                /* corners only, then the simplification (the buffer holds 2n points) */
                 for (q = 0; q < n; ++q) {
                     const int32_t *pp = *ip + 2 * ((q + n - 1) % n), *pc = *ip + 2 * q, *pn = *ip + 2 * ((q + 1) % n);
                     if ((pp[0] == pc[0] && pc[0] == pn[0]) || (pp[1] == pc[1] && pc[1] == pn[1])) continue;
@@ -12482,22 +12401,22 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
     return 1;
 }
 
-/* The scratch of pvs__vx_build_chains: per square of the column map a region label, a queue and a
-   member list; buffers grown per region over its frame; the chains traced so far. */
+/* pvs__vx_build_chains's scratch: per map square a label, queue and member list; per-region buffers over its frame; the
+   chains so far. */
 typedef struct pvs__vx_chainwork {
     pvs_occluders *o;
     uint32_t *label, *queue, *members; /* per square of the map */
     float *lev;                        /* the region's levels */
-    uint8_t *mask, *inl, *used; /* per square of the frame: the sub-region, at or above the level; pvs__vx_trace's */
-    uint32_t *sub;                     /* per square of the frame: its sub-region */
+    uint8_t *mask, *inl, *used; /* per frame square: sub-region, at or above the level; trace's */
+    uint32_t *sub;                     /* per frame square: its sub-region */
     int32_t *ipts;                     /* pvs__vx_trace's points */
     size_t cap, mcap, ucap, lcap, scap, ipcap;
-    uint32_t i0, j0, bw, bh;           /* the region's frame: its rectangle and one square around it */
+    uint32_t i0, j0, bw, bh;           /* the region's frame: its rectangle plus a square around */
     pvs__vx_chainbuf cb;
 } pvs__vx_chainwork;
 
-/* The region of square x: the 4-connected squares with an occluder height, labelled nlab; lists
-   them in w->members (returns their number) and sets the frame (w->i0, j0, bw, bh). */
+/* Labels nlab the region of square x (4-connected squares with an occluder height), lists it in w->members, sets its
+   frame. Returns its size. */
 PVS__STATIC uint32_t pvs__vx_chain_region(pvs__vx_chainwork *w, size_t x, uint32_t nlab) {
     const pvs__vx_cols *cm = &w->o->cols;
     uint32_t *label = w->label, *queue = w->queue, i0, i1, j0, j1, nm = 0;
@@ -12523,7 +12442,6 @@ PVS__STATIC uint32_t pvs__vx_chain_region(pvs__vx_chainwork *w, size_t x, uint32
             queue[qt++] = (uint32_t)z;
         }
     }
-    /* local frame of one square around the region's rectangle */
     w->i0 = i0;
     w->j0 = j0;
     w->bw = i1 - i0 + 3;
@@ -12531,9 +12449,8 @@ PVS__STATIC uint32_t pvs__vx_chain_region(pvs__vx_chainwork *w, size_t x, uint32
     return nm;
 }
 
-/* The chains of level L of the region (w->members[0 .. nm)): per 4-connected sub-region of its
-   squares at or above L that has a square of exactly L, the sub-region's boundary at height L
-   (pvs__vx_trace). Returns 0 when out of memory. */
+/* Level L's chains: per 4-connected sub-region of the region's squares at or above L with a square at L, its boundary
+   at L. Returns 0 when out of memory. */
 PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) {
     const pvs__vx_cols *cm = &w->o->cols;
     uint32_t *queue = w->queue, *sub = w->sub, bw = w->bw, bh = w->bh, i0 = w->i0, j0 = w->j0, nsub = 0, k;
@@ -12548,7 +12465,7 @@ PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) 
         if (cm->top[y] >= L) inl[(size_t)(y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1)] = 1;
     }
     for (k = 0; k < (size_t)bw * bh; ++k) sub[k] = 0xffffffffu;
-    for (k = 0; k < nm; ++k) { /* sub-regions at this level */
+    for (k = 0; k < nm; ++k) {
         uint32_t y = w->members[k], s0 = (y / cm->nu - j0 + 1) * bw + (y % cm->nu - i0 + 1), exact = 0;
         if (!inl[s0] || sub[s0] != 0xffffffffu) continue;
         qh = qt = 0;
@@ -12576,13 +12493,11 @@ PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) 
     return 1;
 }
 
-/* The chains of the region just found (w->members[0 .. nm)): its distinct levels, ascending, each
-   traced by pvs__vx_chain_level over the region's frame. Returns 0 when out of memory. */
+/* The region's chains: pvs__vx_chain_level for each of its distinct levels, ascending. Returns 0 when out of memory. */
 PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
     const pvs_allocator *al = &w->o->allocator;
     const pvs__vx_cols *cm = &w->o->cols;
     uint32_t bw = w->bw, bh = w->bh, k, nl = 0, li;
-    /* its levels, ascending (distinct) */
     if (!pvs__vx_grow(al, (void **)&w->lev, &w->lcap, nm, sizeof(float))) return 0;
     for (k = 0; k < nm; ++k) w->lev[k] = cm->top[w->members[k]];
     PVS_QSORT(w->lev, nm, sizeof(float), pvs__vx_float_cmp);
@@ -12598,9 +12513,8 @@ PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
     return 1;
 }
 
-/* Hands the traced chains over to the occluders: o->chains with pointers into their points, copied
-   to o->chain_points, and o->chain_boxes (the ground bounding rectangle x [base, top]). Returns
-   OUT_OF_MEMORY or PVS_OK. */
+/* Hands the chains over: o->chains (points in o->chain_points), o->chain_boxes (ground rectangle x [base, top]).
+   Returns OUT_OF_MEMORY or PVS_OK. */
 PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_chainbuf *cb) {
     const pvs_allocator *al = &o->allocator;
     size_t x;
@@ -12633,10 +12547,9 @@ PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_
     return PVS_OK;
 }
 
-/* The 2.5D occluder chains from the column map's occluder heights, quantized down above the ground: per 4-connected
-   region of squares at or above a level that some square of the region has, the region's boundary at that level (a
-   level-set tree: a block of buildings of several heights is one chain at its lowest height plus one per taller part,
-   so no crack opens where two heights meet). Quantum: a quarter of the square size. */
+/* The 2.5D chains: occluder heights quantized down to quarter squares; per 4-connected region of squares at or above
+   one of its levels, its boundary at that level. A level-set tree: a block of several heights is one chain at its
+   lowest plus one per taller part, so no crack opens between heights. */
 PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
     pvs__vx_cols *cm = &o->cols;
     const pvs_allocator *al = &o->allocator;
@@ -12651,7 +12564,7 @@ PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
     w.queue = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
     w.members = (uint32_t *)pvs__alloc_array(al, n ? n : 1, sizeof(uint32_t));
     if (!w.label || !w.queue || !w.members) goto done;
-    for (x = 0; x < n; ++x) { /* quantize */
+    for (x = 0; x < n; ++x) {
         float t = cm->top[x];
         if (t > (float)g) cm->top[x] = pvs__f_down(g + floor(((double)t - g) / qz) * qz);
         if (!(cm->top[x] > (float)g)) cm->top[x] = -FLT_MAX;
@@ -12660,10 +12573,9 @@ PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
     for (x = 0; x < n; ++x) {
         uint32_t nm;
         if (w.label[x] != 0xffffffffu || cm->top[x] == -FLT_MAX) continue;
-        nm = pvs__vx_chain_region(&w, x, nlab++); /* the region: 4-connected squares with an occluder height */
+        nm = pvs__vx_chain_region(&w, x, nlab++);
         if (!pvs__vx_chain_levels(&w, nm)) goto done;
     }
-    /* hand over: pointers into the final point buffer, bounding boxes */
     res = pvs__vx_chains_hand_over(o, &w.cb);
 done:
     pvs__free_array(al, w.label, n ? n : 1, sizeof(uint32_t));
@@ -12681,8 +12593,6 @@ done:
     return res;
 }
 
-
-/* The min-pyramids of the column map (pvs__vx_cols). */
 PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
     pvs__vx_cols *cm = &o->cols;
     uint32_t l, i, j;
@@ -12720,11 +12630,8 @@ PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
     return PVS_OK;
 }
 
-/* The finest voxel size of the components' own grids (pvs__vx_columns): eps, unless their boxes at
-   eps would hold more than PVS__VX_TOTAL_BUDGET voxels in all (or PVS__VX_COMPONENT_SHARE per
-   component, when that is more): then grown by 1.26 until they do not. The floods then cost of the
-   order of the scene, whatever eps: a cell 1e-45 wide (eps a millionth of the scene) would flood
-   every building at PVS__VX_BOX_BUDGET voxels. The generator's city holds 30M voxels at its eps. */
+/* The components' grid voxel: eps, grown by 1.26 while their boxes exceed PVS__VX_TOTAL_BUDGET voxels (or
+   PVS__VX_COMPONENT_SHARE each, if more): the floods cost of the order of the scene, whatever eps. */
 #define PVS__VX_TOTAL_BUDGET (1u << 26)
 #define PVS__VX_COMPONENT_SHARE (1u << 16)
 PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx_topo *tp, const pvs_allocator *al,
@@ -12734,7 +12641,7 @@ PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx
     *out = eps;
     for (comp = 0; comp < tp->comp_count; ++comp) n += tp->comp_first[comp + 1] - tp->comp_first[comp] >= 3;
     if (!n) return PVS_OK;
-    ext = (double *)pvs__alloc_array(al, 3 * (size_t)n, sizeof(double)); /* the components' extents, grown by m */
+    ext = (double *)pvs__alloc_array(al, 3 * (size_t)n, sizeof(double));
     if (!ext) return PVS_ERROR_OUT_OF_MEMORY;
     for (comp = 0, n = 0; comp < tp->comp_count; ++comp) {
         double lo[3], hi[3];
@@ -12765,7 +12672,6 @@ PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx
     return PVS_OK;
 }
 
-/* The least and greatest coordinate on axis k of triangle tri's vertices. */
 PVS__STATIC void pvs__tri_axis_range(const pvs_scene *s, uint32_t tri, uint32_t k, double *lo, double *hi) {
     uint32_t q;
     *lo = DBL_MAX;
@@ -12777,8 +12683,7 @@ PVS__STATIC void pvs__tri_axis_range(const pvs_scene *s, uint32_t tri, uint32_t 
     }
 }
 
-/* The column map and its chains: every component of three triangles or more flooded again on its own
-   grid of voxel size eps (grown when the boxes would exceed the budgets: pvs__vx_component_voxel). */
+/* The column map, its chains and pyramids: each component of three or more triangles flooded again on its own grid. */
 PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps,
                                        double m, pvs__vx_flood *fl) {
     const pvs_scene *s = o->scene;
@@ -12807,7 +12712,7 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
     cm->nu = cm->grid.n[u];
     cm->nv = cm->grid.n[v];
     nmap = (size_t)cm->nu * cm->nv;
-    /* the margin: float precision of the chain points and of the heights, and the voxel margin */
+    /* margin: float precision of the chain points and heights, plus the voxel margin */
     margin = 8.0 * FLT_EPSILON * scale + m;
     cm->solid = (float *)pvs__alloc_array(al, nmap, sizeof(float));
     cm->top = (float *)pvs__alloc_array(al, nmap, sizeof(float));
@@ -12820,7 +12725,7 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
         size_t vol, ncol;
         double hk = h0;
         if (tp->comp_first[comp + 1] - tp->comp_first[comp] < 3) continue;
-        for (;;) { /* the component's grid and box */
+        for (;;) {
             gk.h = hk;
             for (k = 0; k < 3; ++k) {
                 gk.origin[k] = (double)ext->min[k] - hk;
@@ -12868,31 +12773,27 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
     return res;
 }
 
-/* ---- pvs_occluders_create, step by step ---- */
-
-/* What the steps of pvs_occluders_create share: the description, the voxel grid's frame, and the
-   scratch that outlives a step (pvs__vx_build_free frees what is left on the error path; a step
-   that frees a buffer sets it to NULL). */
+/* pvs_occluders_create step by step: what the steps share. A step returns PVS_OK or PVS_ERROR_OUT_OF_MEMORY;
+   pvs__vx_build_free frees the scratch left on the error path, and a step freeing a buffer sets it to NULL. */
 typedef struct pvs__vx_build {
     const pvs_occluders_desc *d;
     const pvs_scene *s;
     pvs_allocator a;
     pvs_occluders *o;
-    pvs_box ext;               /* the scene's bounds and the cells' */
-    double g, h, m;            /* ground level, voxel size, the margin every voxel test rounds toward "touched" by */
+    pvs_box ext;               /* the scene's and the cells' bounds */
+    double g, h, m;            /* ground level, voxel size, the margin voxel tests round toward "touched" by */
     uint32_t up;
     int u, v;
     size_t total, qcap, nbuckets;
     uint32_t bucket_entries;
-    uint32_t *queue;           /* qcap: the floods' queue in step 1, then the leak flood's */
-    uint32_t *cbox;            /* step 1: per component its voxel box, lo[3] then hi[3] */
-    uint8_t *tmp, *line;       /* total and 1 + n[0] + n[1] + n[2] bytes: the erosion's and the merge's scratch */
+    uint32_t *queue;           /* qcap: the floods' queue, then the leak flood's */
+    uint32_t *cbox;            /* step 1: per component its voxel box, lo[3] hi[3] */
+    uint8_t *tmp, *line;       /* total and 1 + n[0] + n[1] + n[2] bytes: erosion and merge scratch */
     pvs__vx_topo tp;
     pvs__vx_flood fl;
 } pvs__vx_build;
 
-/* The error path of pvs_occluders_create: frees every scratch buffer the steps left allocated
-   (b->o stays: the caller destroys it). */
+/* The error path: frees the scratch the steps left (b->o stays: the caller destroys it). */
 PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
     const pvs_allocator *a = &b->a;
     pvs__vx_flood *fl = &b->fl;
@@ -12912,11 +12813,9 @@ PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
     pvs__free_array(a, b->line, 1u + b->o->n[0] + b->o->n[1] + b->o->n[2], 1);
 }
 
-/* The voxel grid over the scene's bounds and the cells': voxels of size voxel_size, or eps / 1.5 (an
-   erosion by 2 voxels is then 1.33 eps), grown by 1.08 until the grid holds max_voxels; layer 0 lies
-   below the ground (PVS__VX_GROUND), layer 1 starts at it. Allocates the occluders (b->o) with their
-   state and eroded grids, and the scratch grids b->tmp and b->line. On failure nothing stays
-   allocated and err says why. */
+/* The voxel grid over the scene and the cells: voxels of voxel_size or eps / 1.5 (2 voxels of erosion = 1.33 eps),
+   grown by 1.08 to fit max_voxels; layer 0 below the ground. Allocates b->o, its state and eroded grids, b->tmp,
+   b->line. On failure nothing stays allocated; err says why. */
 PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
     const pvs_occluders_desc *d = b->d;
     const pvs_allocator *a = &b->a;
@@ -12932,8 +12831,8 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
             if (d->cells[c].max[kk] > b->ext.max[kk]) b->ext.max[kk] = d->cells[c].max[kk];
         }
     b->g = b->ext.min[up];
-    h = d->voxel_size > 0.0f ? d->voxel_size : d->eps / 1.5; /* erosion by 2 voxels = 1.33 eps */
-    for (;;) { /* grow the voxel until the grid fits */
+    h = d->voxel_size > 0.0f ? d->voxel_size : d->eps / 1.5;
+    for (;;) {
         double cnt = 1.0, lim = d->max_voxels ? (double)d->max_voxels : (double)(1u << 24);
         for (kk = 0; kk < 3; ++kk) cnt *= floor(((double)b->ext.max[kk] - b->ext.min[kk]) / h) + 3.0;
         if (cnt <= lim) break;
@@ -12952,7 +12851,7 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
         o->origin[kk] = (double)b->ext.min[kk] - h;
         total *= o->n[kk];
     }
-    o->origin[up] = b->g - h; /* layer 0 lies below the ground, layer 1 starts at it */
+    o->origin[up] = b->g - h;
     o->total = b->total = total;
     for (kk = 0; kk < 3; ++kk) {
         o->grid.origin[kk] = o->origin[kk];
@@ -12965,7 +12864,7 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
     b->line = (uint8_t *)pvs__alloc_array(a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
     if (!o->state || !o->eroded || !b->tmp || !b->line || total > 0x7fffffffu) {
         uint32_t dims[3];
-        memcpy(dims, o->n, sizeof(dims)); /* the message names them after o is gone */
+        memcpy(dims, o->n, sizeof(dims)); /* named after o is gone */
         pvs__free_array(a, b->tmp, total, 1);
         pvs__free_array(a, b->line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
         pvs_occluders_destroy(o);
@@ -12981,14 +12880,12 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
                 idx[0] = i; idx[1] = j; idx[2] = k;
                 if (idx[up] == 0) o->state[pvs__vx_index(o, i, j, k)] = PVS__VX_GROUND;
             }
-    b->m = h * 1e-4 + 1e-6 * (pvs__dabs(b->g) + 1.0); /* the margin every voxel test rounds toward "touched" by */
+    b->m = h * 1e-4 + 1e-6 * (pvs__dabs(b->g) + 1.0);
     return PVS_OK;
 }
 
-/* The floods' sources (pvs__vx_flood): the cells, their per-cell scratch, and a bucket grid over
-   them in the ground plane (PVS__VX_BUCKET voxel columns a side), each bucket listing the cells whose
-   box, grown by m, meets it (counted in a first pass, filled in a second). Returns OUT_OF_MEMORY
-   or PVS_OK. */
+/* The floods' cells, per-cell scratch and ground-plane buckets (PVS__VX_BUCKET voxel columns a side) listing the cells
+   whose box grown by m meets them. */
 PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
     const pvs_occluders_desc *d = b->d;
     const pvs_allocator *a = &b->a;
@@ -13045,10 +12942,8 @@ PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
     return PVS_OK;
 }
 
-/* Step 1's component boxes: per component of b->tp, the voxels its triangles touch (grown by m),
-   from layer 1 up when it has open edges (their sheets reach down to the ground), into b->cbox; and
-   the flood scratch sizes (fl.cap_vox, fl.cap_col) of the largest box of a component of three
-   triangles or more. Returns OUT_OF_MEMORY or PVS_OK. */
+/* Step 1's component boxes (b->cbox): voxels within m of the triangles' extents, from layer 1 up with open edges; the
+   flood scratch sizes of the largest box of 3+ triangles. */
 PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
     const pvs_scene *s = b->s;
     const pvs__vx_topo *tp = &b->tp;
@@ -13071,7 +12966,7 @@ PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
                 if (r1 > bx[3 + kk]) bx[3 + kk] = r1;
             }
         }
-        if (bx[up] < 1 || tp->open_first[c + 1] > tp->open_first[c]) bx[up] = 1; /* open edges: sheets to the ground */
+        if (bx[up] < 1 || tp->open_first[c + 1] > tp->open_first[c]) bx[up] = 1;
         if (bx[3 + up] < bx[up]) bx[3 + up] = bx[up];
         for (kk = 0; kk < 3; ++kk) vol *= (size_t)(bx[3 + kk] - bx[kk] + 1);
         ncol = (size_t)(bx[3 + b->u] - bx[b->u] + 1) * (bx[3 + b->v] - bx[b->v] + 1);
@@ -13082,12 +12977,8 @@ PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
     return PVS_OK;
 }
 
-/* Step 1 of pvs_occluders_create, solid proved per component (see the argument before
-   pvs__vx_orient): the components (pvs__vx_topology) and their boxes; each component of three
-   triangles or more flooded and certified on the grid (pvs__vx_certify), the others, which enclose
-   nothing, only marked touched (for the summary and the leak flood); then the touched voxels
-   counted. Allocates b->queue (kept for the leak flood) and frees the rest of its scratch. Returns
-   OUT_OF_MEMORY or PVS_OK. */
+/* Step 1, solid proved per component (see pvs__vx_orient): components of three or more triangles certified, the others
+   marked touched. Allocates b->queue (kept for the leak flood), frees its other scratch. */
 PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
     static const int xyz[3] = {0, 1, 2};
     pvs_occluders *o = b->o;
@@ -13119,7 +13010,7 @@ PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
             o->info.closed_components += tp->open_first[c + 1] == tp->open_first[c];
             continue;
         }
-        for (t = tp->comp_first[c]; t < tp->comp_first[c + 1]; ++t) { /* touched, for the summary and the leak flood */
+        for (t = tp->comp_first[c]; t < tp->comp_first[c + 1]; ++t) {
             pvs__vx_tri_points(b->s, tp->tris[t], tv.p);
             pvs__vx_scan(&o->grid, tv.p[0], 3, xyz, 3, b->m, zero, last, pvs__vx_touch_visit, &tv);
         }
@@ -13129,15 +13020,14 @@ PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
     pvs__free_array(a, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
     pvs__free_array(a, b->cbox, (size_t)(tp->comp_count ? tp->comp_count : 1) * 6, sizeof(uint32_t));
     fl->bits = fl->col = NULL;
-    fl->queue = NULL; /* b->queue keeps it for the leak flood */
+    fl->queue = NULL; /* b->queue keeps it */
     fl->cap_vox = fl->cap_col = 0;
     b->cbox = NULL;
     for (vi = 0; vi < b->total; ++vi) o->info.touched += (o->state[vi] & PVS__VX_TOUCHED) != 0;
     return PVS_OK;
 }
 
-/* Step 2 of pvs_occluders_create: explicit occluder volumes are solid; every voxel above the ground
-   wholly inside one becomes PVS__VX_EXPLICIT | PVS__VX_SOLID. */
+/* Step 2: voxels above the ground wholly inside an explicit occluder are PVS__VX_EXPLICIT | PVS__VX_SOLID. */
 PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
     const pvs_scene *s = o->scene;
     double h = o->h;
@@ -13162,11 +13052,9 @@ PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
     }
 }
 
-/* Step 3 of pvs_occluders_create, the leak diagnostic: a 6-connected flood through untouched,
-   unsolid voxels from the grid's border (outside the scene); a chain of face-adjacent untouched
-   voxels is a real path that meets no triangle, so every cell with a voxel it reached truly reaches
-   the outside. The lowest such cell is reported (info.leak_cell), with one of its reached voxels;
-   info.leak_cells counts them. Floods with b->queue (total entries). */
+/* Step 3, the leak diagnostic: a 6-connected flood from the grid's border through voxels neither touched, ground nor
+   explicit, a path meeting no triangle. info.leak_cells counts the cells reached, info.leak_cell and leak_point give
+   the lowest and a reached voxel. Floods with b->queue (total entries). */
 PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
     pvs_occluders *o = b->o;
     const pvs_occluders_desc *d = b->d;
@@ -13217,8 +13105,8 @@ PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
     }
 }
 
-/* The solid after steps 1 to 3: o->eroded = the solid voxels (eroded in step 5), counted in
-   info.solid, and info.thin_objects, the drawable objects with no solid voxel inside their box. */
+/* After steps 1 to 3: o->eroded = the solid (eroded in step 5), info.solid, info.thin_objects (drawable objects without
+   solid voxels in their box). */
 PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
     const pvs_scene *s = o->scene;
     uint32_t c, i, j, k;
@@ -13228,7 +13116,6 @@ PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
         o->eroded[vi] = (uint8_t)pvs__vx_solid_state(o->state[vi]);
         o->info.solid += o->eroded[vi];
     }
-    /* thin objects: no solid voxel inside their box */
     for (c = 0; c < s->object_count; ++c) {
         const pvs_box *ob = s->object_boxes + c;
         uint32_t r0[3], r1[3];
@@ -13242,10 +13129,8 @@ PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
     }
 }
 
-/* Step 4 of pvs_occluders_create, the 2.5D occluders: the solid voxels in runs standing on the
-   ground (info.column_voxels; is_2d5 when they hold 90% of the solid), then the column map, its
-   chains and the hierarchies (pvs__vx_columns, pvs__occluders_hierarchies). Then frees the floods'
-   scratch, all but the per-cell bytes (the excluded flags). Returns OUT_OF_MEMORY or PVS_OK. */
+/* Step 4, the 2.5D occluders: solid runs on the ground (info.column_voxels; is_2d5 at 90% of the solid), column map,
+   chains, hierarchies; frees the floods' scratch but the per-cell bytes. */
 PVS__STATIC pvs_result pvs__vx_build_columns(pvs__vx_build *b) {
     pvs_occluders *o = b->o;
     const pvs_allocator *a = &b->a;
@@ -13271,14 +13156,12 @@ PVS__STATIC pvs_result pvs__vx_build_columns(pvs__vx_build *b) {
     pvs__free_array(a, fl->bucket_first, b->nbuckets + 1, sizeof(uint32_t));
     pvs__free_array(a, fl->bucket_cells, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
     pvs__free_array(a, fl->stamp, cells, sizeof(uint32_t));
-    fl->bits = fl->col = NULL; /* freed: the error path must not free them again */
+    fl->bits = fl->col = NULL; /* the error path must not free them again */
     fl->queue = fl->bucket_first = fl->bucket_cells = fl->stamp = NULL;
     return PVS_OK;
 }
 
-/* The leaking cells the floods left out (step 4 of pvs__vx_flood_component): their ids and boxes
-   (o->excluded, o->excluded_boxes); then frees the floods' per-cell bytes and clears b->fl. Returns
-   OUT_OF_MEMORY or PVS_OK. */
+/* The cells the floods left out (o->excluded, o->excluded_boxes); frees the per-cell bytes, clears b->fl. */
 PVS__STATIC pvs_result pvs__vx_build_excluded(pvs__vx_build *b) {
     pvs_occluders *o = b->o;
     const pvs_occluders_desc *d = b->d;
@@ -13303,9 +13186,8 @@ PVS__STATIC pvs_result pvs__vx_build_excluded(pvs__vx_build *b) {
     return PVS_OK;
 }
 
-/* Step 5 of pvs_occluders_create, the occluders shrunk by eps (Wonka 2000 §2, appendix): the solid
-   eroded in 3D by r voxels (Chebyshev; outside the grid and the ground count as empty), then merged
-   greedily into boxes (o->boxes; left NULL when out of memory). */
+/* Step 5, the occluders shrunk by eps (Wonka 2000 §2, appendix): the solid eroded by r voxels (Chebyshev; outside and
+   ground empty), merged greedily into o->boxes (NULL when out of memory). */
 PVS__STATIC void pvs__vx_erode_merge(pvs__vx_build *b, uint32_t r) {
     pvs_occluders *o = b->o;
     size_t vi, total = b->total;
@@ -13348,20 +13230,14 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
     res = pvs__vx_build_grid(&b, err);
     if (res != PVS_OK) return res;
     o = b.o;
-    /* a bucket grid over the cells in the ground plane, for the floods' sources */
     if (pvs__vx_build_buckets(&b) != PVS_OK) goto oom;
-    /* 1. solid proved per component (see the argument before pvs__vx_orient) */
     if (pvs__vx_build_certify(&b) != PVS_OK) goto oom;
-    /* 2. explicit occluder volumes are solid: voxels wholly inside one */
     pvs__vx_explicit_solid(o);
-    /* 3. the leak diagnostic: the cells that reach the grid's border through untouched voxels */
     pvs__vx_leaks(&b);
     pvs__vx_solid_summary(o);
-    /* 4. the 2.5D occluders: is the solid mostly runs standing on the ground? then the column map */
     r = (uint32_t)floor(d->eps / b.h) + 1u; /* strictly more than eps: rounding toward less solid */
     if (pvs__vx_build_columns(&b) != PVS_OK || pvs__vx_build_excluded(&b) != PVS_OK) goto oom;
     pvs__vx_topo_free(&b.a, &b.tp, b.s->triangle_count);
-    /* 5. 3D erosion by r voxels (Chebyshev; outside the grid and the ground count as empty), then boxes */
     pvs__vx_erode_merge(&b, r);
     pvs__free_array(&b.a, b.tmp, b.total, 1);
     pvs__free_array(&b.a, b.queue, b.qcap, sizeof(uint32_t));
@@ -13439,46 +13315,33 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, ui
 /* along active supporting and separating lines (§3), 2.5D by height slices (§3.1), the greedy    */
 /* selection (Fig. 6), five quantized bytes per occluder, the PVS rebuilt on cell entry (§2, §4)  */
 /* ---------------------------------------------------------------------------------------------- */
-/* The 2D problem (§3). The view cell C is a rectangle; the occluders are opaque segments. Segments
-   whose end points coincide exactly and close a ring form a wall loop: a closed curve, so (i) a
-   point inside it (odd crossing number) is hidden from every point outside, and (ii) a segment that
-   runs from outside the loop's convex hull through the hull to outside it crosses the loop. So a
-   loop whose hull misses the cell acts as a solid convex blocker (its hull) for every point outside
-   the hull: the "objects" of §3 are these hulls (buildings) and the remaining single segments.
-
-   Conservativeness. A point x is hidden from the cell when every segment from C to x meets a
-   blocker. From x, the cell subtends an angular fan; a convex blocker O disjoint from C and not
-   containing x covers an angular interval, and along every ray of that interval it lies either
-   entirely before C or entirely behind it (two disjoint convex sets seen from one point never swap
-   order), so one ray decides. x is hidden when the union of the intervals of the blockers before C
-   covers the fan (pvs__vo_hidden). Intervals that end on the same vertex join exactly (walls of an
-   open chain); other joins need an overlap beyond a tolerance, so rounding only ever says "not
-   hidden". Along a line, the answer changes only where the order of the interval ends changes or
-   a blocker starts or stops counting: where the line crosses a common tangent of two objects (or of
-   an object and C) whose direction passes through C, or an object's boundary. Between two such
-   events one point decides the whole open interval, and the hidden set is closed, so the hidden
-   parts of any line are found exactly up to rounding (pvs__vo_line_hidden). Every virtual occluder
-   is checked this way, after its final rounding (float, or the file's quantization), against the
-   blockers of the aggregate that made it: a subset of the occluders, which is conservative.
-
-   The construction of §3 decides where to look: seeds by the angle they subtend from the cell's
-   centre; from a seed, the aggregate grows on both sides along the active supporting line P (the
-   outer common tangent of C and the aggregate) and the active separating polyline Q (starting as
-   the inner common tangent). An object B met by an active line is tested: (1) B meets the current
-   aggregate umbra U (a probe point of B is hidden by the aggregate without B): it augments U, P and
-   Q move to it, and a new virtual occluder is placed behind B (found on P), or (3) found on Q, the
-   furthest occluder is extended; (2) B meets only Q: it bends Q and joins the aggregate's blockers
-   so that later objects can fuse through it. The occluder in use is dumped into the dense set when
-   a new one is placed ("periodically dumped", §3). */
+/* The 2D problem (§3): the view cell C is a rectangle, the occluders opaque segments. Segments whose end points
+   coincide exactly and close a ring form a wall loop. A point inside it (odd crossings) is hidden from all outside,
+   and a segment crossing its convex hull from outside to outside crosses the loop, so a loop whose hull misses the
+   cell is a solid convex blocker (its hull) for points outside the hull. The "objects" of §3 are these hulls
+   (buildings) and the other segments.
+   Conservativeness: x is hidden when every segment from C to x meets a blocker. A convex blocker disjoint from C and
+   not containing x covers an interval of the fan C subtends from x, wholly before or behind C along each ray
+   (disjoint convex sets seen from a point never swap order), so one ray decides; x is hidden when the intervals
+   before C cover the fan (pvs__vo_hidden). Along a line the answer changes only at an object's boundary or a common
+   tangent of two objects (or an object and C) through C, and the hidden set is closed, so one point per interval
+   between such events finds a line's hidden parts up to rounding (pvs__vo_line_hidden). Every virtual occluder is
+   checked so after its final rounding, against its aggregate's blockers (a subset).
+   The construction (§3): seeds by subtended angle; each aggregate grows on both sides along the active supporting
+   line P (outer common tangent of C and the aggregate) and separating polyline Q (at first the inner tangent). An
+   object B met by an active line: (1) if it meets the umbra U (a probe point of B is hidden without B), it joins U,
+   P and Q move to it, and a new virtual occluder goes behind B or (3, found on Q) the furthest one extends; (2) if
+   it meets only Q, it bends Q and joins the blockers, so later objects fuse through it. A new occluder dumps the one
+   in use into the dense set ("periodically dumped", §3). */
 
 #define PVS__VO_NONE 0xffffffffu
-#define PVS__VO_MAXH 64u        /* most hull vertices of a loop used as a solid blocker */
-#define PVS__VO_ATOL 1e-11      /* pseudo-angle overlap needed to join intervals of different vertices */
+#define PVS__VO_MAXH 64u        /* most hull vertices of a loop blocker */
+#define PVS__VO_ATOL 1e-11      /* pseudo-angle overlap joining spans of different vertices */
 #define PVS__VO_RTOL 1e-9       /* lengths: times the context's scale */
 #define PVS__VO_MAXG 64u        /* most objects in one aggregate */
 #define PVS__VO_MAXSTEP 96u     /* most candidates examined per seed */
 
-/* Grows a caller array to hold `need` elements (doubling). */
+/* Grows *p to hold need elements (doubling). */
 PVS__STATIC int pvs__vo_reserve(const pvs_allocator *a, void **p, uint32_t *cap, size_t need, size_t elem) {
     size_t ncap, bytes;
     void *q;
@@ -13504,7 +13367,7 @@ PVS__STATIC double pvs__vo_cross(const double *o, const double *a, const double 
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
 
-/* A monotone stand-in for the angle of direction (cos-like d, sin-like c): (-2, 2], 0 along d. */
+/* Monotone pseudo-angle of direction (cos-like d, sin-like c): (-2, 2], 0 along d. */
 PVS__STATIC double pvs__vo_pangle(double d, double c) {
     double den = fabs(c) + fabs(d), p;
     if (!(den > 0.0)) return 0.0;
@@ -13528,16 +13391,16 @@ typedef struct pvs__vprep {
     uint32_t *seg_vid;    /* nseg x 2 vertex ids (equal ids = the same point exactly) */
     int32_t *seg_loop;    /* the loop of the segment, -1 */
     uint32_t nloop;
-    uint32_t *loop_start; /* nloop + 1: ring of loop l is ring_seg / ring_pt [loop_start[l], loop_start[l + 1]) */
+    uint32_t *loop_start; /* nloop + 1: loop l's ring in ring_seg / ring_pt */
     uint32_t *ring_seg;   /* segments in ring order */
-    double *ring_pt;      /* ring points (the start of each ring segment) */
+    double *ring_pt;      /* the start of each ring segment */
     uint32_t *hull_start; /* nloop + 1 into hull_pt, hull_vid (counter-clockwise) */
     double *hull_pt;
     uint32_t *hull_vid;
-    float *loop_top;      /* the lowest top of its walls */
+    float *loop_top;      /* lowest top of its walls */
     double *loop_bb;      /* 4 per loop */
-    uint32_t nobj;        /* objects: the usable loops, then the segments of no usable loop */
-    uint32_t *obj_ref;    /* obj < nloop: the loop; else the segment */
+    uint32_t nobj;        /* objects: the usable loops, then the other segments */
+    uint32_t *obj_ref;    /* < nloop: a loop; else nloop + segment */
     double *obj_bb;       /* 4 per object */
     float *obj_top;
     double bb[4];         /* of everything */
@@ -13578,12 +13441,12 @@ PVS__STATIC void pvs__vo_bb_add(double *bb, const double *p) {
     if (p[1] > bb[3]) bb[3] = p[1];
 }
 
-/* Convex hull (Andrew's monotone chain) of n points, counter-clockwise, collinear points dropped;
-   idx receives the indices of the hull points. Returns the hull size. keys: n scratch. */
+/* Convex hull (Andrew's monotone chain), counter-clockwise, collinear points dropped, into idx (point indices); keys: n
+   scratch. Returns its size. */
 PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__key_index *keys, uint32_t *idx) {
     uint32_t i, k = 0, t;
     for (i = 0; i < n; ++i) { keys[i].key = pts[2 * i]; keys[i].index = i; }
-    pvs__key_index_sort(keys, n); /* by x, then y (ties in x: sort the run by y) */
+    pvs__key_index_sort(keys, n); /* by x, then y within runs of equal x */
     for (i = 0; i < n;) {
         uint32_t j = i, m;
         while (j < n && keys[j].key == keys[i].key) ++j;
@@ -13596,26 +13459,25 @@ PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__key_index 
         for (i = 0; i < n; ++i) idx[i] = keys[i].index;
         return n;
     }
-    for (i = 0; i < n; ++i) { /* lower hull */
+    for (i = 0; i < n; ++i) {
         while (k >= 2 && pvs__vo_cross(pts + 2 * idx[k - 2], pts + 2 * idx[k - 1], pts + 2 * keys[i].index) <= 0.0) --k;
         idx[k++] = keys[i].index;
     }
-    for (i = n - 1, t = k + 1; i-- > 0;) { /* upper hull */
+    for (i = n - 1, t = k + 1; i-- > 0;) {
         while (k >= t && pvs__vo_cross(pts + 2 * idx[k - 2], pts + 2 * idx[k - 1], pts + 2 * keys[i].index) <= 0.0) --k;
         idx[k++] = keys[i].index;
     }
     return k > 1 ? k - 1 : k;
 }
 
-/* The scratch of pvs__vprep_create: keys, deg, uf, idx and hidx hold 2m + 2 entries (m segments),
-   adj 4m + 4. */
+/* pvs__vprep_create's scratch (m segments): keys, deg, uf, idx, hidx 2m + 2 entries, adj 4m + 4. */
 typedef struct pvs__vprep_scratch {
     pvs__key_index *keys;
     uint32_t *deg, *adj, *uf, *idx, *hidx;
     uint32_t nv;          /* distinct vertices */
 } pvs__vprep_scratch;
 
-/* Vertex ids: the 2m end points sorted by (x, y); equal points get one id (p->seg_vid); sets w->nv. */
+/* Vertex ids (p->seg_vid): end points sorted by (x, y), equal points one id; sets w->nv. */
 PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
     pvs__key_index *keys = w->keys;
     uint32_t m = p->nseg, i, nv = 0;
@@ -13636,9 +13498,8 @@ PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
     w->nv = nv;
 }
 
-/* The segments' graph: per vertex its degree (w->deg) and first two segments (w->adj), its
-   component's root (w->uf), and per root whether the component has a vertex of degree other than 2
-   (w->idx: 1 = not a loop). Sets every p->seg_loop to -1. */
+/* The segments' graph: per vertex its degree (w->deg), first two segments (w->adj), component root (w->uf); per root
+   w->idx = 1 when not a loop (a vertex of degree other than 2). Sets p->seg_loop to -1. */
 PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
     uint32_t *deg = w->deg, *adj = w->adj, *uf = w->uf, *idx = w->idx, m = p->nseg, nv = w->nv, i;
     for (i = 0; i < nv; ++i) { deg[i] = 0; uf[i] = i; }
@@ -13649,7 +13510,7 @@ PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
             if (deg[v] < 2) adj[2 * v + deg[v]] = i;
             ++deg[v];
         }
-        { /* union the two end vertices */
+        {
             uint32_t x = p->seg_vid[2 * i], y = p->seg_vid[2 * i + 1];
             while (uf[x] != x) x = uf[x] = uf[uf[x]];
             while (uf[y] != y) y = uf[y] = uf[uf[y]];
@@ -13657,8 +13518,7 @@ PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
         }
     }
     for (i = 0; i < m; ++i) p->seg_loop[i] = -1;
-    /* a component is a loop when all its vertices have degree 2: walk it from its lowest segment */
-    for (i = 0; i < nv; ++i) { /* component root -> bad flag in idx */
+    for (i = 0; i < nv; ++i) {
         uint32_t x = i;
         while (uf[x] != x) x = uf[x];
         uf[i] = x;
@@ -13668,10 +13528,8 @@ PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
         if (deg[i] != 2) idx[uf[i]] = 1;
 }
 
-/* The wall loops (the header comment of >>vocc): each component whose every vertex joins exactly two
-   segments, walked from its lowest segment into ring order (p->ring_seg, ring_pt, loop_start), with
-   its lowest top, bounding box and convex hull (p->hull_pt, hull_vid, hull_start). Two segments
-   joining the same two points are no ring with an inside. */
+/* The wall loops: components whose vertices each join two segments, walked from the lowest segment into ring order
+   (ring_seg, ring_pt, loop_start), with lowest top, box and convex hull (hull_pt, hull_vid, hull_start). */
 PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
     uint32_t *adj = w->adj, *uf = w->uf, *idx = w->idx, *hidx = w->hidx, m = p->nseg, ring = 0, h = 0, i;
     p->nloop = 0;
@@ -13682,7 +13540,7 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
         l = p->nloop;
         s = i;
         v = p->seg_vid[2 * i];
-        do { /* from vertex v along segment s */
+        do {
             uint32_t wv = p->seg_vid[2 * s] == v ? p->seg_vid[2 * s + 1] : p->seg_vid[2 * s];
             const double *pt = p->seg + 4 * (size_t)s + (p->seg_vid[2 * s] == v ? 0 : 2);
             p->seg_loop[s] = (int32_t)l;
@@ -13693,7 +13551,7 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
             v = wv;
             s = adj[2 * v] == s ? adj[2 * v + 1] : adj[2 * v];
         } while (s != i && count <= m);
-        if (count < 3) { /* two segments joining the same two points: not a ring with an inside */
+        if (count < 3) { /* two segments on the same two points: no inside */
             for (k = 0; k < count; ++k) p->seg_loop[p->ring_seg[ring + k]] = -1;
             idx[root] = 1;
             continue;
@@ -13707,7 +13565,7 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
         }
         hn = pvs__vo_hull(p->ring_pt + 2 * ring, count, w->keys, hidx);
         p->hull_start[l] = h;
-        /* ring point q starts ring segment q: its id is the vertex q shares with segment q - 1 */
+        /* ring point q starts ring segment q: its id is the vertex it shares with segment q - 1 */
         for (k = 0; k < hn; ++k) {
             uint32_t q = hidx[k], sq = p->ring_seg[ring + q], sp = p->ring_seg[ring + (q + count - 1) % count];
             uint32_t a0 = p->seg_vid[2 * sq], a1 = p->seg_vid[2 * sq + 1];
@@ -13722,8 +13580,8 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
     }
 }
 
-/* The objects of §3 (Koltun 2000): the loops with a usable hull (3 to PVS__VO_MAXH vertices), then
-   every segment of no such loop, each with its bounding box and top. */
+/* The objects of §3 (Koltun 2000): loops with a usable hull (3 to PVS__VO_MAXH vertices), then the segments of no such
+   loop; box, top. */
 PVS__STATIC void pvs__vprep_objects(pvs__vprep *p) {
     uint32_t i;
     p->nobj = 0;
@@ -13749,9 +13607,8 @@ PVS__STATIC void pvs__vprep_objects(pvs__vprep *p) {
     }
 }
 
-/* The bucket grid over the objects: about two objects per bucket, at most 1024 x 1024; an object is
-   listed in the buckets its box covers, a long wall in those along it (counted in a first pass,
-   filled in a second: p->gstart, p->gitem). Returns OUT_OF_MEMORY or PVS_OK. */
+/* The bucket grid: about two objects per bucket, at most 1024 x 1024; an object in the buckets its box covers, a long
+   wall in those along it. Returns OUT_OF_MEMORY or PVS_OK. */
 PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
     double w, hh, cs;
     size_t total = 0, cells;
@@ -13786,8 +13643,8 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
             if (x1 >= p->gw) x1 = p->gw - 1;
             if (y1 >= p->gh) y1 = p->gh - 1;
             if (p->obj_ref[i] >= p->nloop && (uint64_t)(x1 - x0 + 1) * (y1 - y0 + 1) > 16) {
-                /* a long wall: the buckets along it (samples a quarter bucket apart), not its box; a
-                   bucket missed only hides the wall from the growth's search (never from a check) */
+                /* a long wall: the buckets along it, sampled a quarter bucket apart (a missed bucket only hides it from
+                   the search, never from a check) */
                 const double *sg = p->seg + 4 * (size_t)(p->obj_ref[i] - p->nloop);
                 double len = sqrt((sg[2] - sg[0]) * (sg[2] - sg[0]) + (sg[3] - sg[1]) * (sg[3] - sg[1]));
                 uint32_t steps = (uint32_t)(4.0 * len / cs) + 1, t, last = 0xffffffffu;
@@ -13816,19 +13673,18 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
             p->gitems = total;
             p->gitem = (uint32_t *)pvs__alloc_array(al, total + 1, sizeof(uint32_t));
             if (!p->gitem) return PVS_ERROR_OUT_OF_MEMORY;
-            /* prefix sums: gstart[c + 1] is the end of bucket c; filling decrements it to its start */
+            /* prefix sums: gstart[c + 1] ends bucket c; filling moves it to the start */
             for (c2 = 0; c2 < cells; ++c2) p->gstart[c2 + 1] += p->gstart[c2];
         }
     }
-    /* ... so after filling, gstart[c + 1] is the start of bucket c: shift back into place */
+    /* gstart[c + 1] now starts bucket c: shift down */
     for (i = 0; i < (uint32_t)cells; ++i) p->gstart[i] = p->gstart[i + 1];
     p->gstart[cells] = (uint32_t)total;
     return PVS_OK;
 }
 
-/* Builds the prepared occluders from segments (4 doubles each, ground coordinates) with their
-   heights: vertex ids by exact coordinates, wall loops (components whose every vertex joins
-   exactly two segments), loop hulls, objects and the grid. Zero-length segments are dropped. */
+/* Prepares n segments (4 doubles, ground coordinates; zero-length ones dropped) and their tops: vertex ids by exact
+   coordinates, wall loops, hulls, objects, buckets. */
 PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *seg, const float *top, uint32_t n,
                                          pvs__vprep **out) {
     pvs__vprep *p;
@@ -13876,9 +13732,7 @@ PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *
     pvs__vprep_vertex_ids(p, &w);
     pvs__vprep_components(p, &w);
     pvs__vprep_loops(p, &w);
-    /* objects: loops with a usable hull, then every segment of no such loop */
     pvs__vprep_objects(p);
-    /* the bucket grid: about two objects per bucket, at most 1024 x 1024 */
     r = pvs__vprep_grid(p, al);
 done:
     pvs__free_array(al, w.keys, 2 * (size_t)m + 2, sizeof(pvs__key_index));
@@ -13899,21 +13753,20 @@ done:
 /* ---- one cell and one height slice: blockers in the cell's frame (centre at the origin) ---- */
 
 typedef struct pvs__vobj {
-    uint32_t first, n;      /* vertices vx[first .. first + n): n = 2 a segment, else a counter-clockwise hull */
-    int32_t loop;           /* the wall loop of a hull (inside test), -1 */
+    uint32_t first, n;      /* vx[first .. first + n): n = 2 a segment, else a counter-clockwise hull */
+    int32_t loop;           /* a hull's wall loop (inside test), -1 */
     uint32_t mark, visit;   /* growth and query stamps */
-    uint32_t used;          /* already in an aggregate of this slice (not a seed again) */
+    uint32_t used;          /* in an aggregate of this slice: no seed again */
     double bb[4];
-    double angle;           /* subtended from the cell's centre: the seed order */
+    double angle;           /* subtended from the cell's centre: seed order */
 } pvs__vobj;
 
 typedef struct pvs__vo_span {
     double s, e;            /* pseudo-angles */
-    uint32_t is, ie;        /* vertex ids of the ends (PVS__VO_NONE: none) */
+    uint32_t is, ie;        /* vertex ids of the ends (PVS__VO_NONE) */
 } pvs__vo_span;
 
-/* A virtual occluder of the dense set: end points in the cell's frame as rounded (exactly what was
-   checked), the stored bytes and heights. */
+/* A virtual occluder of the dense set: ends in the cell's frame exactly as checked after rounding, and as stored. */
 typedef struct pvs__vo_cand {
     double a[2], b[2];
     float f[4];             /* pvs_vocc_2d: the world end points */
@@ -13921,8 +13774,8 @@ typedef struct pvs__vo_cand {
 } pvs__vo_cand;
 
 typedef struct pvs__vo_side {
-    double po[2], pd[2];    /* active supporting line: the aggregate's vertex, direction away from the cell */
-    double qo[2], qd[2];    /* active separating line: the polyline's last vertex and direction */
+    double po[2], pd[2];    /* supporting line P: the aggregate's vertex, direction away from the cell */
+    double qo[2], qd[2];    /* separating polyline Q: its last vertex and direction */
     int done;
 } pvs__vo_side;
 
@@ -13944,11 +13797,11 @@ typedef struct pvs__vctx {
     double *vx;
     uint32_t *vid;
     uint32_t nvx, capvx, capvid;
-    uint32_t *pfirst, *pcount; /* per prep object: its blockers in this slice */
+    uint32_t *pfirst, *pcount; /* per prepared object: its blockers in this slice */
     uint32_t epoch, visit;
     uint32_t *g, ng, capg;     /* the aggregate's blockers */
     uint32_t *k, nk, capk;     /* the objects fused into its umbra (seed, cases 1 and 3) */
-    double *lines;             /* event lines of the aggregate: 4 doubles each */
+    double *lines;             /* the aggregate's event lines, 4 doubles each */
     uint32_t nlines, caplines;
     pvs__vo_span *span;
     uint32_t capspan;
@@ -13995,7 +13848,7 @@ PVS__STATIC void pvs__vctx_free(pvs__vctx *c) {
     memset(c, 0, sizeof(*c));
 }
 
-/* Sets up the frame of a cell (ground rectangle, world coordinates) over prepared occluders. */
+/* A cell's frame (ground rectangle, world coordinates) over the prepared occluders. */
 PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs__vprep *p, const double cmin[2],
                                const double cmax[2], double range) {
     int k;
@@ -14012,7 +13865,7 @@ PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs_
     c->corner[2] = c->cmax[0]; c->corner[3] = c->cmin[1];
     c->corner[4] = c->cmax[0]; c->corner[5] = c->cmax[1];
     c->corner[6] = c->cmin[0]; c->corner[7] = c->cmax[1];
-    for (k = 0; k < 4; ++k) { /* the frame's extent: the occluders and the cell */
+    for (k = 0; k < 4; ++k) {
         double v = fabs(p->bb[k] - c->centre[k & 1]);
         if (v > ext) ext = v;
     }
@@ -14047,7 +13900,7 @@ PVS__STATIC int pvs__vo_seg_meets_cell(const pvs__vctx *c, const double *a, cons
     }
     return 1;
 }
-/* 1 if the counter-clockwise convex polygon v (n >= 3) meets the cell grown by tol (separating axes). */
+/* 1 if counter-clockwise convex polygon v (n >= 3) meets the cell grown by tol (separating axes). */
 PVS__STATIC int pvs__vo_poly_meets_cell(const pvs__vctx *c, const double *v, uint32_t n) {
     double lo[2] = {DBL_MAX, DBL_MAX}, hi[2] = {-DBL_MAX, -DBL_MAX};
     uint32_t i, k;
@@ -14092,7 +13945,7 @@ PVS__STATIC uint32_t pvs__vo_add_obj(pvs__vctx *c, const double *pts, const uint
         c->vid[c->nvx + i] = ids[i];
         pvs__vo_bb_add(o->bb, q);
     }
-    for (i = 1; i < n; ++i) { /* the tangent vertices from the centre: the subtended angle */
+    for (i = 1; i < n; ++i) { /* tangent vertices from the centre: the subtended angle */
         const double *q = c->vx + 2 * ((size_t)c->nvx + i);
         if (pvs__vo_cross(origin, c->vx + 2 * ((size_t)c->nvx + lo), q) < 0.0) lo = i;
         if (pvs__vo_cross(origin, c->vx + 2 * ((size_t)c->nvx + hi), q) > 0.0) hi = i;
@@ -14106,8 +13959,8 @@ PVS__STATIC uint32_t pvs__vo_add_obj(pvs__vctx *c, const double *pts, const uint
     return c->nobj++;
 }
 
-/* The blockers of slice height h: loops reaching h whose hull misses the cell as hulls; every other
-   wall reaching h as a segment unless it meets the cell. */
+/* The blockers of slice height h: loops reaching h whose hull misses the cell as hulls, other walls reaching h as
+   segments unless they meet the cell. */
 PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
     const pvs__vprep *p = c->p;
     uint32_t i, j;
@@ -14131,7 +13984,7 @@ PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
                     continue;
                 }
             }
-            for (j = p->loop_start[ref]; j < p->loop_start[ref + 1]; ++j) { /* its walls one by one */
+            for (j = p->loop_start[ref]; j < p->loop_start[ref + 1]; ++j) {
                 uint32_t s = p->ring_seg[j];
                 double a[2], b[2];
                 if (p->seg_top[s] < h) continue;
@@ -14155,8 +14008,8 @@ PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 
 /* ---- exact hidden tests ---- */
 
-/* 1 if x lies inside wall loop l (odd crossing number) farther than tol from its walls. The cell is
-   outside every loop used this way (its hull misses the cell). */
+/* 1 if x lies inside wall loop l (odd crossings), farther than tol from its walls. Only for loops whose hull misses the
+   cell. */
 PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x) {
     const pvs__vprep *p = c->p;
     uint32_t s = p->loop_start[l], n = p->loop_start[l + 1] - s, i, odd = 0;
@@ -14175,7 +14028,7 @@ PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x)
     return (int)odd;
 }
 
-/* Entry distance of the ray x + s w into object o (convex polygon or segment), -1 when it misses. */
+/* Entry distance of ray x + s w into object o, -1 when it misses. */
 PVS__STATIC double pvs__vo_ray_obj(const pvs__vctx *c, const pvs__vobj *o, const double *x, const double *w) {
     const double *v = c->vx + 2 * (size_t)o->first;
     if (o->n == 2) {
@@ -14191,7 +14044,7 @@ PVS__STATIC double pvs__vo_ray_obj(const pvs__vctx *c, const pvs__vobj *o, const
         uint32_t i;
         for (i = 0; i < o->n; ++i) {
             const double *a = v + 2 * i, *b = v + 2 * ((i + 1) % o->n);
-            double nx = b[1] - a[1], ny = a[0] - b[0]; /* outward normal of a counter-clockwise edge */
+            double nx = b[1] - a[1], ny = a[0] - b[0]; /* outward normal (counter-clockwise edge) */
             double f = nx * (x[0] - a[0]) + ny * (x[1] - a[1]), g = nx * w[0] + ny * w[1];
             if (g == 0.0) {
                 if (f > 0.0) return -1.0;
@@ -14221,7 +14074,7 @@ PVS__STATIC double pvs__vo_ray_cell(const pvs__vctx *c, const double *x, const d
     return s0 <= s1 ? s0 : -1.0;
 }
 
-/* 1 if x is inside convex object o or within tol of it (then o cannot be used from x). */
+/* 1 if x is inside convex object o or within tol of it (o is then unusable from x). */
 PVS__STATIC int pvs__vo_near_obj(const pvs__vctx *c, const pvs__vobj *o, const double *x) {
     const double *v = c->vx + 2 * (size_t)o->first;
     uint32_t i;
@@ -14242,22 +14095,20 @@ PVS__STATIC int pvs__vo_near_obj(const pvs__vctx *c, const pvs__vobj *o, const d
     return 1;
 }
 
-/* The fan of the cell seen from a point x (pvs__vo_hidden): its extreme corners cl and ch (every
-   direction of the fan lies within a half-plane), the unit direction f halfway between them, the
-   pseudo-angles aL and aR of its edges about f, and the box of the cell and x grown by the
-   tolerance. */
+/* The cell's fan from x: extreme corners cl, ch (in a half-plane), unit bisector f, the edges' pseudo-angles aL, aR
+   about f, the box of cell and x grown by tol. */
 typedef struct pvs__vo_fan {
     const double *cl, *ch;
     double f[2], aL, aR, bb[4];
 } pvs__vo_fan;
 
-/* Sets up the fan of the cell from x (outside the cell); 0 when it has no direction. */
+/* The fan from x (outside the cell); 0 when it has no direction. */
 PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fan *fn) {
     const double *cl, *ch;
     double tol = c->tol;
     uint32_t k;
     cl = ch = c->corner;
-    for (k = 1; k < 4; ++k) { /* the fan: its extreme corners (every direction within a half-plane) */
+    for (k = 1; k < 4; ++k) {
         const double *q = c->corner + 2 * k;
         if (pvs__vo_cross(x, cl, q) < 0.0) cl = q;
         if (pvs__vo_cross(x, ch, q) > 0.0) ch = q;
@@ -14283,10 +14134,8 @@ PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fa
     return 1;
 }
 
-/* Blocker o's share of the from-point test: appends to c->span (from *ns; room for two) the part of
-   the fan it covers before the cell, decided along one ray (two disjoint convex sets seen from x
-   never swap order), one interval or two when it spans the back direction. Returns 1 when x lies
-   inside o's wall loop (then x is hidden). */
+/* Blocker o's share of the from-point test: appends to c->span at *ns (room for two) the part of the fan o covers
+   before the cell, two intervals across the back direction. Returns 1 when x is inside o's wall loop (hidden). */
 PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double *x, const pvs__vo_fan *fn,
                                   uint32_t *ns) {
     const double *v = c->vx + 2 * (size_t)o->first, *cl = fn->cl, *ch = fn->ch, *f = fn->f;
@@ -14297,16 +14146,15 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
         pvs__vo_in_loop(c, (uint32_t)o->loop, x))
         return 1;
     if (o->bb[0] > fn->bb[2] || o->bb[2] < fn->bb[0] || o->bb[1] > fn->bb[3] || o->bb[3] < fn->bb[1]) return 0;
-    { /* a box wholly outside the fan (beyond one of its edge lines) cannot help */
-        /* cross(x, q, p) = e0 p1 - e1 p0 - e0 x1 + e1 x0 with e = q - x: linear in p, so its extremes
-           over the box come from its corners (support functions) */
+    { /* a box wholly outside the fan (beyond an edge line) cannot help */
+        /* cross(x, q, p) = e0 p1 - e1 p0 - e0 x1 + e1 x0 (e = q - x) is linear in p: the box's corners bound it */
         double e0 = cl[0] - x[0], e1 = cl[1] - x[1], g0 = ch[0] - x[0], g1 = ch[1] - x[1], mx, mn;
         mx = (e0 > 0.0 ? e0 * o->bb[3] : e0 * o->bb[1]) + (e1 > 0.0 ? -e1 * o->bb[0] : -e1 * o->bb[2]) - e0 * x[1] +
             e1 * x[0];
-        if (mx < -tol * (fabs(e0) + fabs(e1))) return 0; /* wholly clockwise of the fan's edge x -> cl */
+        if (mx < -tol * (fabs(e0) + fabs(e1))) return 0; /* clockwise of the fan's edge x -> cl */
         mn = (g0 > 0.0 ? g0 * o->bb[1] : g0 * o->bb[3]) + (g1 > 0.0 ? -g1 * o->bb[2] : -g1 * o->bb[0]) - g0 * x[1] +
             g1 * x[0];
-        if (mn > tol * (fabs(g0) + fabs(g1))) return 0; /* wholly counter-clockwise of x -> ch */
+        if (mn > tol * (fabs(g0) + fabs(g1))) return 0; /* counter-clockwise of x -> ch */
     }
     near_box = x[0] >= o->bb[0] - tol && x[0] <= o->bb[2] + tol && x[1] >= o->bb[1] - tol && x[1] <= o->bb[3] + tol;
     if (near_box && pvs__vo_near_obj(c, o, x)) return 0;
@@ -14350,13 +14198,12 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
     return 0;
 }
 
-/* 1 when the spans c->span[0 .. ns) cover the fan [aL, aR] (sorted here by start): intervals that
-   end on the same vertex join exactly (walls of an open chain), other joins need an overlap beyond
-   PVS__VO_ATOL, so rounding only ever says "not hidden". */
+/* Returns 1 when c->span[0 .. ns) (sorted here) covers the fan [aL, aR]. Spans ending on the same vertex join exactly
+   (walls of an open chain), other joins need an overlap beyond PVS__VO_ATOL: rounding only ever says "not hidden". */
 PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double aR) {
     double reach;
     uint32_t i, k, rid;
-    for (i = 1; i < ns; ++i) { /* insertion sort by start */
+    for (i = 1; i < ns; ++i) {
         pvs__vo_span t = c->span[i];
         k = i;
         while (k > 0 && (c->span[k - 1].s > t.s || (c->span[k - 1].s == t.s && c->span[k - 1].e < t.e))) {
@@ -14381,8 +14228,8 @@ PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double
     return 0;
 }
 
-/* The from-point test of the header comment: 1 if every segment from the cell to x meets one of the
-   blockers set[0..n). Rounding only ever answers 0. */
+/* The from-point test of the header: 1 if every segment from the cell to x meets one of set[0..n). Rounding only ever
+   answers 0. */
 PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, const double *x) {
     pvs__vo_fan fn;
     double tol = c->tol;
@@ -14401,8 +14248,8 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
 
 /* ---- the aggregate: blockers, and the lines where hidden answers can change ---- */
 
-/* Common tangent lines of two convex vertex sets (a segment has two vertices) that pass through the
-   cell (only those can change a hidden answer); `need_cell` 0 when one of the sets is the cell. */
+/* Common tangents of two convex vertex sets through the cell (only those change a hidden answer); need_cell 0 when one
+   set is the cell. */
 PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t na, const double *b, uint32_t nb,
                                        int need_cell) {
     uint32_t i, j, k;
@@ -14452,7 +14299,7 @@ PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t n
         }
 }
 
-/* Adds object o to the aggregate's blockers (and its event lines). */
+/* Adds object o to the aggregate's blockers and event lines. */
 PVS__STATIC void pvs__vo_g_add(pvs__vctx *c, uint32_t o) {
     const pvs__vobj *b = c->obj + o;
     uint32_t i;
@@ -14480,7 +14327,7 @@ PVS__STATIC void pvs__vo_ev_push(pvs__vctx *c, uint32_t *n, double t, double t0,
     c->ev[*n].index = *n;
     ++*n;
 }
-/* Where segment a-b (infinite line when `line`) crosses the line p + t d. */
+/* Where segment a-b (a line when `line`) crosses line p + t d. */
 PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, const double *d, const double *a,
                                 const double *b, int line, double t0, double t1) {
     double ex = b[0] - a[0], ey = b[1] - a[1], den = d[0] * ey - d[1] * ex, qx = a[0] - p[0], qy = a[1] - p[1], t, u;
@@ -14493,8 +14340,8 @@ PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, cons
     pvs__vo_ev_push(c, n, t, t0, t1);
 }
 
-/* The hidden parts of the segment p + t d, t in [t0, t1], for the aggregate's blockers: closed
-   intervals written to out (2 doubles each, at most cap). Returns their number. */
+/* The hidden parts of p + t d, t in [t0, t1], for the aggregate's blockers: closed intervals into out (at most cap).
+   Returns their count. */
 PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const double *d, double t0, double t1,
                                          double *out, uint32_t cap) {
     double bb[4], a[2], b[2], span = t1 - t0, eps;
@@ -14515,14 +14362,14 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
         c->oom = 1;
         return 0;
     }
-    for (i = 0; i < c->ng; ++i) { /* the blockers that can stand between the cell and the segment */
+    for (i = 0; i < c->ng; ++i) { /* blockers that can stand between the cell and the segment */
         const pvs__vobj *o = c->obj + c->g[i];
         if (o->bb[0] > bb[2] + c->tol || o->bb[2] < bb[0] - c->tol || o->bb[1] > bb[3] + c->tol ||
             o->bb[3] < bb[1] - c->tol)
             continue;
         c->sub[nsub++] = c->g[i];
     }
-    /* events: the cell's edges, the aggregate's tangent lines, the blockers' boundaries and loops */
+    /* events: the cell's edges, the tangent lines, the blockers' boundaries and loops */
     for (i = 0; i < 4; ++i) pvs__vo_ev_seg(c, &ne, p, d, c->corner + 2 * i, c->corner + 2 * ((i + 1) % 4), 0, t0, t1);
     for (i = 0; i < c->nlines; ++i) pvs__vo_ev_seg(c, &ne, p, d, c->lines + 4 * i, c->lines + 4 * i + 2, 1, t0, t1);
     for (i = 0; i < nsub; ++i) {
@@ -14572,7 +14419,7 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
     return c->oom ? 0 : nout;
 }
 
-/* 1 if the whole segment a-b is hidden (checked with a small margin past both ends). */
+/* 1 if all of segment a-b is hidden (checked a little past both ends). */
 PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const double *b) {
     double d[2], iv[2], len, mu;
     d[0] = b[0] - a[0];
@@ -14586,8 +14433,8 @@ PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const doub
 
 /* ---- growth (§3) ---- */
 
-/* The first object (not yet in the aggregate nor refused by it) that the ray o + s w (w unit) meets
-   for 0 < s <= smax, walking the bucket grid; PVS__VO_NONE when none. *s_hit receives s. */
+/* The first object not in or refused by the aggregate on ray o + s w (w unit), 0 < s <= smax, walking the buckets
+   (*s_hit: its s); PVS__VO_NONE if none. */
 PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const double *w, double smax, double *s_hit) {
     const pvs__vprep *p = c->p;
     double ox = o[0] + c->centre[0] - p->g0[0], oy = o[1] + c->centre[1] - p->g0[1], cs = p->gcell, best = DBL_MAX,
@@ -14651,7 +14498,7 @@ PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const doub
     return hit;
 }
 
-/* How far a ray from o along w may go: to the analysis radius. */
+/* How far a ray from o along w may go: the analysis radius. */
 PVS__STATIC double pvs__vo_ray_len(const pvs__vctx *c, const double *o, const double *w) {
     double b = o[0] * w[0] + o[1] * w[1], cc = o[0] * o[0] + o[1] * o[1] - c->range * c->range, disc = b * b - cc;
     return disc > 0.0 ? -b + sqrt(disc) : 0.0;
@@ -14665,7 +14512,7 @@ PVS__STATIC int pvs__vo_unit(double *w) {
     return 1;
 }
 
-/* Collects the vertices of the fused objects (after the cell's 4 corners) into c->pts. */
+/* The fused objects' vertices into c->pts (after the cell's 4 corners with with_cell). */
 PVS__STATIC uint32_t pvs__vo_k_points(pvs__vctx *c, int with_cell) {
     uint32_t i, j, n = with_cell ? 4 : 0, total = n;
     for (i = 0; i < c->nk; ++i) total += c->obj[c->k[i]].n;
@@ -14687,10 +14534,9 @@ PVS__STATIC uint32_t pvs__vo_k_points(pvs__vctx *c, int with_cell) {
     return n;
 }
 
-/* The active lines of both sides from the fused objects: the supporting lines are the bridges of
-   the hull of the cell and the aggregate, the separating lines the inner common tangents. Side 0
-   is the left (counter-clockwise) side seen from the cell. `which`: bit s resets side s's
-   separating line. Returns 0 when the aggregate surrounds the cell. */
+/* The active lines from the fused objects: supporting lines bridge the hull of cell and aggregate, separating lines are
+   inner common tangents; side 0 is the left seen from the cell. Bit s of which resets side s's separating line.
+   Returns 0 when the aggregate surrounds the cell. */
 PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
     uint32_t n = pvs__vo_k_points(c, 1), hn, i, found = 0, s;
     if (!n) return 0;
@@ -14708,8 +14554,7 @@ PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
         }
     }
     if (found != 3u) return 0;
-    /* inner tangents: a cell corner and a vertex of the aggregate's hull, the cell on one side and
-       the aggregate on the other */
+    /* inner tangents: a cell corner and an aggregate hull vertex, the cell on one side, the aggregate on the other */
     n = pvs__vo_k_points(c, 0);
     hn = pvs__vo_hull(c->pts, n, c->hkeys, c->hidx);
     for (s = 0; s < 2; ++s) {
@@ -14738,8 +14583,7 @@ PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
     return 1;
 }
 
-/* Case 2: the separating polyline of side s bends around object b: from its last vertex to the
-   vertex of b that keeps all of b on the aggregate's side. */
+/* Case 2: side s's separating polyline bends around b, to b's vertex keeping all of b on the aggregate's side. */
 PVS__STATIC void pvs__vo_bend(pvs__vctx *c, pvs__vo_side *sd, uint32_t s, uint32_t b) {
     const pvs__vobj *o = c->obj + b;
     const double *v = c->vx + 2 * (size_t)o->first, *q = sd->qo;
@@ -14762,8 +14606,8 @@ PVS__STATIC void pvs__vo_bend(pvs__vctx *c, pvs__vo_side *sd, uint32_t s, uint32
     }
 }
 
-/* 1 if some probe point of object b (vertices, edge midpoints, `extra`) is hidden by the aggregate
-   (without b): b meets the aggregate umbra U (cases 1 and 3). */
+/* 1 if a probe point of b (vertices, edge midpoints, extra) is hidden by the aggregate without b: b meets the umbra
+   (cases 1, 3). */
 PVS__STATIC int pvs__vo_meets_umbra(pvs__vctx *c, uint32_t b, const double *extra, int nextra) {
     const pvs__vobj *o = c->obj + b;
     const double *v = c->vx + 2 * (size_t)o->first;
@@ -14783,21 +14627,20 @@ PVS__STATIC int pvs__vo_meets_umbra(pvs__vctx *c, uint32_t b, const double *extr
     return 0;
 }
 
-/* The angle the segment from p + t0 d to p + t1 d subtends from the cell's centre. */
+/* Angle of p + t d, t in [t0, t1], seen from the cell's centre. */
 PVS__STATIC double pvs__vo_angle(const double *p, const double *d, double t0, double t1) {
     double a0 = p[0] + t0 * d[0], a1 = p[1] + t0 * d[1], b0 = p[0] + t1 * d[0], b1 = p[1] + t1 * d[1];
     return fabs(atan2(a0 * b1 - a1 * b0, a0 * b0 + a1 * b1));
 }
 
-/* The hidden parts of the line p + t d (d unit) within the aggregate's wedge (between the two
-   supporting lines, widened by a quarter, within the analysis radius): keeps in *cur the interval
-   that subtends the largest angle from the cell (or, keep_t in range, the one around keep_t).
-   Returns that angle, 0 when nothing is hidden. */
+/* The hidden parts of line p + t d (d unit) in the aggregate's wedge (supporting lines widened by a quarter, within the
+   analysis radius): *cur gets the one of largest angle (keep: the one around keep_t). Returns that angle, 0 when
+   none. */
 PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const double *p, const double *d,
                                     double keep_t, int keep, pvs__vo_cur *cur) {
     double lo = DBL_MAX, hi = -DBL_MAX, iv[64], best = 0.0, b, cc, disc, w;
     uint32_t s, n, i;
-    for (s = 0; s < 2; ++s) { /* where the line meets the supporting lines */
+    for (s = 0; s < 2; ++s) {
         double den = d[0] * sd[s].pd[1] - d[1] * sd[s].pd[0], t;
         if (fabs(den) < 1e-9) continue;
         t = ((sd[s].po[0] - p[0]) * sd[s].pd[1] - (sd[s].po[1] - p[1]) * sd[s].pd[0]) / den;
@@ -14834,11 +14677,10 @@ PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const 
     return best;
 }
 
-/* Places a virtual occluder behind object b (§3) on the best of three lines: across the umbra
-   (perpendicular to the bisector of the supporting lines) just beyond b; along the aggregate's
-   silhouette chord (through the two supporting lines' contact points) just behind it; across the
-   view of b from the cell's centre just beyond b. Keeps the hidden interval that subtends the
-   largest angle. `keep`: case 3, the current occluder's line again, the interval around its middle. */
+/* Places a virtual occluder behind b (§3) on the best of three lines just beyond b: across the umbra (normal to the
+   supporting lines' bisector), on the silhouette chord through their contacts, across b's view from the cell's centre.
+   Keeps the hidden interval subtending the largest angle. keep (case 3): the current line, the interval around its
+   middle. */
 PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, pvs__vo_cur *cur, int keep) {
     const pvs__vobj *o = c->obj + b;
     const double *v = c->vx + 2 * (size_t)o->first;
@@ -14898,9 +14740,9 @@ PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, 
 
 /* ---- quantization: five bytes per occluder, relative to the cell (the VOCC section) ---- */
 
-/* A cell's coordinate scale S = 2^((code - 128) / 8) for code 0..255 (exact: a constant times a power
-   of two). An end point coordinate is centre + S (q - 128) |q - 128| / 16384 for its byte q, finer
-   near the cell (perspective: a metre matters more there), from -S to 0.98 S. */
+/* A cell's coordinate scale S = 2^((code - 128) / 8), code 0..255 (exact: a constant times a power of two). Byte q puts
+   a coordinate at centre + S (q - 128) |q - 128| / 16384, from -S to 0.98 S, finer near the cell where a metre matters
+   more. */
 PVS__STATIC double pvs__vo_scale(uint32_t code) {
     static const double mant[8] = {1.0, 1.0905077326652577, 1.189207115002721, 1.2968395546510096,
                                    1.4142135623730951, 1.5422108254079407, 1.681792830507429, 1.8340080864093424};
@@ -14910,7 +14752,7 @@ PVS__STATIC double pvs__vo_offset(double scale, uint32_t q) {
     int32_t d = (int32_t)q - 128;
     return scale * (double)(d * (d < 0 ? -d : d)) / 16384.0;
 }
-/* The largest byte whose offset is <= x (0 when x is below every offset). */
+/* Largest byte whose offset is <= x (0 when none). */
 PVS__STATIC uint32_t pvs__vo_floor_code(double scale, double x) {
     double r = x / scale * 16384.0, d = r < 0.0 ? -sqrt(-r) : sqrt(r);
     int32_t q = (int32_t)floor(d) + 128;
@@ -14920,12 +14762,12 @@ PVS__STATIC uint32_t pvs__vo_floor_code(double scale, double x) {
     while (q > 0 && pvs__vo_offset(scale, (uint32_t)q) > x) --q;
     return (uint32_t)q;
 }
-/* The cell's frame origin as the file reader computes it: float centre of the stored float box. */
+/* The frame origin as the file reader computes it: float centre of the stored float box. */
 PVS__STATIC void pvs__vo_cell_centre(const pvs_box *cell, int u, int v, double centre[2]) {
     centre[0] = (double)(0.5f * cell->min[u] + 0.5f * cell->max[u]);
     centre[1] = (double)(0.5f * cell->min[v] + 0.5f * cell->max[v]);
 }
-/* The smallest scale code whose range holds every point within `reach` of the centre. */
+/* Smallest scale code whose range holds every point within reach of the centre. */
 PVS__STATIC uint32_t pvs__vo_scale_code(double reach) {
     uint32_t code;
     for (code = 0; code < 255; ++code)
@@ -14934,9 +14776,9 @@ PVS__STATIC uint32_t pvs__vo_scale_code(double reach) {
     return code;
 }
 
-/* Rounds a found occluder a-b (cell frame) to the stored bytes, shrinking it and moving its ends
-   away from the cell ("toward smaller occluders", §4), and checks the rounded one exactly. Up to six
-   tries, each shrinking a little more. Returns 1 with *out filled. */
+/* Rounds occluder a-b (cell frame) to stored bytes, shrinking it and moving its ends away from the cell ("toward
+   smaller occluders", §4), and checks the rounded one exactly; six tries, each shrinking more. Returns 1 with *out
+   filled. */
 PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b0, pvs__vo_cand *out) {
     static const double shrink[6] = {0.0, 0.03, 0.08, 0.15, 0.25, 0.38};
     double a[2], b[2], u[2], nrm[2], len, lo = pvs__vo_offset(c->qscale, 0), hi = pvs__vo_offset(c->qscale, 255);
@@ -14968,7 +14810,7 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
         nrm[0] = -nrm[0];
         nrm[1] = -nrm[1];
     } /* away from the cell */
-    /* the height: rounded down */
+    /* height: rounded down */
     hq = ((double)c->h - c->qground) / c->qhstep;
     qh = hq >= 255.0 ? 255u : hq <= 0.0 ? 0u : (uint32_t)hq;
     while (qh > 0 && c->qground + (double)qh * c->qhstep > (double)c->h) --qh;
@@ -14980,7 +14822,7 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
             e[0][k] = a[k] + shrink[attempt] * len * u[k];
             e[1][k] = b[k] - shrink[attempt] * len * u[k];
         }
-        for (end = 0; end < 2; ++end) { /* the grid corner around the end: inward, then behind, then nearest */
+        for (end = 0; end < 2; ++end) { /* grid corner around the end: inward, then behind, then nearest */
             double best = DBL_MAX, inward = end ? -1.0 : 1.0;
             uint32_t f0 = pvs__vo_floor_code(c->qscale, e[end][0]), f1 = pvs__vo_floor_code(c->qscale, e[end][1]), m;
             for (m = 0; m < 4; ++m) {
@@ -15004,7 +14846,7 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
             if (best == DBL_MAX) return 0;
         }
         if (q[0][0] == q[1][0] && q[0][1] == q[1][1]) return 0;
-        /* the stored geometry: exactly as the reader decodes it */
+        /* the stored geometry, exactly as the reader decodes it */
         {
             double ca[2], cb[2];
             for (k = 0; k < 2; ++k) {
@@ -15027,7 +14869,6 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
 
 PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b);
 
-/* Puts the current virtual occluder into the dense set. */
 PVS__STATIC void pvs__vo_dump(pvs__vctx *c, pvs__vo_cur *cur) {
     double a[2], b[2], m;
     if (!cur->valid) return;
@@ -15040,7 +14881,7 @@ PVS__STATIC void pvs__vo_dump(pvs__vctx *c, pvs__vo_cur *cur) {
     cur->valid = 0;
 }
 
-/* Grows the aggregate umbra of one seed (§3, Fig. 3, Fig. 4: both sides at once). */
+/* Grows one seed's aggregate umbra (§3, Fig. 3, Fig. 4: both sides at once). */
 PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
     pvs__vo_side sd[2];
     pvs__vo_cur cur;
@@ -15089,38 +14930,38 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
                 probe[3] = hitp[1] + rd[1] * sz;
             }
             in_u = pvs__vo_meets_umbra(c, b, probe, 2);
-            if (in_u) { /* cases 1 and 3: B augments U; P and Q move to it */
+            if (in_u) { /* cases 1 and 3 */
                 pvs__vo_g_add(c, b);
                 if (c->nk < PVS__VO_MAXG) c->k[c->nk++] = b;
                 ++c->st.umbra;
                 if (!pvs__vo_tangents(c, sd, 1 << s)) break;
                 sd[0].done = sd[1].done = 0;
-                if (!via_q) { /* case 1: a new virtual occluder behind B; the old one is dumped */
+                if (!via_q) { /* case 1: the old one is dumped */
                     pvs__vo_cur next;
                     memset(&next, 0, sizeof(next));
                     if (pvs__vo_place(c, sd, b, &next, 0)) {
                         pvs__vo_dump(c, &cur);
                         cur = next;
                     }
-                } else if (!pvs__vo_place(c, sd, b, &cur, 1)) { /* case 3: the furthest one extends */
+                } else if (!pvs__vo_place(c, sd, b, &cur, 1)) { /* case 3 */
                     pvs__vo_place(c, sd, b, &cur, 0);
                 }
-            } else if (on_q) { /* case 2: B only meets the separating line: it bends it */
+            } else if (on_q) { /* case 2 */
                 pvs__vo_g_add(c, b);
                 ++c->st.separating;
                 pvs__vo_bend(c, sd + s, s, b);
             } else {
-                c->obj[b].mark = c->epoch; /* met by the supporting line only, outside U: no help */
+                c->obj[b].mark = c->epoch; /* on P only, outside U: no help */
             }
         }
         if (!progressed) break;
     }
     pvs__vo_dump(c, &cur);
-    /* the whole aggregate: one more occluder behind the seed, now that every object is in */
+    /* the whole aggregate: one more occluder behind the seed */
     if (c->ng > 1 && pvs__vo_place(c, sd, seed, &cur, 0)) pvs__vo_dump(c, &cur);
 }
 
-/* Grows up to max_seeds seeds of the current slice, largest subtended angle first. */
+/* Grows up to max_seeds seeds of the slice, largest subtended angle first. */
 PVS__STATIC void pvs__vo_run_slice(pvs__vctx *c) {
     pvs__key_index *order;
     uint32_t i, n = c->nobj, grown = 0;
@@ -15143,7 +14984,7 @@ PVS__STATIC void pvs__vo_run_slice(pvs__vctx *c) {
     pvs__free_array(c->al, order, (size_t)n + 1, sizeof(pvs__key_index));
 }
 
-/* A virtual occluder found by the growth: rounded as it will be stored, checked, then kept. */
+/* A virtual occluder from the growth: rounded as stored, checked, kept. */
 PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
     pvs__vo_cand cand;
     memset(&cand, 0, sizeof(cand));
@@ -15175,7 +15016,7 @@ PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
 
 typedef struct pvs__vo_rt {
     double o[2];              /* frame origin (world) */
-    double n[2], off;         /* the occluder's line n.x = off (frame, n unit), the cell on the side n.x < off */
+    double n[2], off;         /* the occluder's line n.x = off (n unit), the cell where n.x < off */
     double h[8][3];           /* the 2D umbra's other sides: h[0..8) . (x, y, 1) >= 0 (unit normals) */
     double dcmin, dcmax;      /* the cell's ground corners' distances from the line (> 0) */
     double base, top, cbot, ctop;
@@ -15183,13 +15024,10 @@ typedef struct pvs__vo_rt {
     int u_axis, v_axis, up, ok;
 } pvs__vo_rt;
 
-/* Prepares the test of occluder a-b (world ground coordinates, heights base..top) for a cell. The 2D
-   part: a box is hidden when every segment from the cell's ground rectangle to the box's crosses
-   a-b, i.e. the box lies in the occluder's umbra (§3 for one convex occluder): beyond its line, and
-   for every cell corner c, on the far side of the lines c-a and c-b (the segment from c crosses the
-   occluder's line between a and b). Both rectangles are convex, so corners decide, and the box's
-   corners are tested at once with support functions. Margins m (1e-7 of the frame's extent) make
-   every rounding answer "not hidden". */
+/* Prepares the test of occluder a-b (world ground coordinates, heights base..top) for a cell. In 2D a box is hidden
+   when it lies in the umbra (§3): beyond the line and, for each cell corner c, on b's side of line c-a and a's side of
+   c-b. Rectangles are convex: corners decide; support functions test the box's at once. Margins (1e-7 of the frame's
+   extent) make rounding answer "not hidden". */
 PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const double *a, const double *b,
                                  double base, double top) {
     double la[2], lb[2], cc[4][2], u[2], len, ext = 1.0, dmin = DBL_MAX, dmax = -DBL_MAX;
@@ -15225,7 +15063,7 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
         if (d < dmin) dmin = d;
         if (d > dmax) dmax = d;
     }
-    if (dmax < 0.0) { /* the cell on the other side: flip the normal */
+    if (dmax < 0.0) { /* the cell on the other side: flip */
         double t = dmin;
         r->n[0] = -r->n[0];
         r->n[1] = -r->n[1];
@@ -15233,8 +15071,8 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
         dmin = -dmax;
         dmax = -t;
     }
-    if (!(dmin > r->m)) return; /* the line meets the cell: it hides nothing */
-    for (e = 0; e < 2; ++e) { /* through each end, a line from each cell corner, the occluder's side kept */
+    if (!(dmin > r->m)) return; /* the line meets the cell: hides nothing */
+    for (e = 0; e < 2; ++e) { /* through each end from each cell corner, the occluder's side kept */
         const double *p = e ? lb : la;
         double inward[2];
         inward[0] = e ? -u[0] : u[0];
@@ -15257,22 +15095,22 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
     r->ok = 1;
 }
 
-/* 1 if every sight line from the cell box to box b crosses the occluder (see pvs_vocc_box_hidden). */
+/* 1 if every sight line from the cell box to box b crosses the occluder. */
 PVS__STATIC int pvs__vo_rt_hides(const pvs__vo_rt *r, const pvs_box *b) {
     double x0 = (double)b->min[r->u_axis] - r->o[0], x1 = (double)b->max[r->u_axis] - r->o[0];
     double y0 = (double)b->min[r->v_axis] - r->o[1], y1 = (double)b->max[r->v_axis] - r->o[1];
     double dbmin, dbmax, tmin, tmax, btop, bbot;
     int k;
     if (!r->ok) return 0;
-    /* beyond the line: the smallest n.x - off over the box (a support function) */
+    /* beyond the line: the least n.x - off over the box (support function) */
     dbmin = (r->n[0] > 0.0 ? r->n[0] * x0 : r->n[0] * x1) + (r->n[1] > 0.0 ? r->n[1] * y0 : r->n[1] * y1) - r->off;
     if (!(dbmin > r->m)) return 0;
     for (k = 0; k < 8; ++k) {
         const double *h = r->h[k];
         if (!((h[0] > 0.0 ? h[0] * x0 : h[0] * x1) + (h[1] > 0.0 ? h[1] * y0 : h[1] * y1) + h[2] > r->m)) return 0;
     }
-    /* heights: a sight line crosses the occluder's plane at (1 - t) eye + t target, where t = dc / (dc
-       + db) (distances of its ends from the line) lies in [tmin, tmax]; the bounds are linear in t */
+    /* heights: a sight line crosses the occluder's plane at (1 - t) eye + t target, t = dc / (dc + db) (its ends'
+       distances from the line) in [tmin, tmax]; the bounds are linear in t */
     dbmax = (r->n[0] > 0.0 ? r->n[0] * x1 : r->n[0] * x0) + (r->n[1] > 0.0 ? r->n[1] * y1 : r->n[1] * y0) - r->off;
     tmin = r->dcmin / (r->dcmin + dbmax);
     tmax = r->dcmax / (r->dcmax + dbmin);
@@ -15339,7 +15177,7 @@ PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_o
     return (rt + 15u) / 16u * 16u + (tree ? pvs_kdtree_sweep_scratch_size(tree) : 0) + 16u;
 }
 
-/* The walk over prepared occluders (rt[0..count) in the scratch's front). */
+/* The walk over prepared occluders rt[0..count) at the scratch's front. */
 PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_t count, const pvs_box *boxes,
                                     uint32_t object_count, const pvs_kdtree *tree, uint8_t *rest, size_t rest_size,
                                     pvs_word *visible, pvs_error *err) {
@@ -15363,7 +15201,7 @@ PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_
     return PVS_OK;
 }
 
-/* Splits caller scratch into the occluder array and the rest (8-aligned). */
+/* Splits the caller's scratch into the occluder array and the rest (16-aligned). */
 PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t count, const pvs_kdtree *tree,
                                        pvs__vo_rt **rt, uint8_t **rest, size_t *rest_size, pvs_error *err) {
     size_t need = pvs_vocc_cull_scratch_size(tree, count),
@@ -15371,7 +15209,7 @@ PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t coun
     uint8_t *p = (uint8_t *)scratch;
     size_t skew;
     if (!scratch) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "scratch is NULL");
-    skew = (size_t)(-(intptr_t)p) & 15u; /* align to 16 */
+    skew = (size_t)(-(intptr_t)p) & 15u;
     if (size < need || size - skew < need - 16u)
         return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "scratch of %llu bytes, need %llu",
                          (unsigned long long)size, (unsigned long long)need);
@@ -15415,16 +15253,15 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
 #define PVS__VO_HEAD 16u
 #define PVS__VO_BLOCK 16u
 
-
-/* Bytes of a VOCC section for cells cells holding n occluders (0 when it does not fit 32 bits). */
+/* Bytes of a VOCC section of cells cells and n occluders (0 past 32 bits). */
 PVS__STATIC size_t pvs__vo_section_size(uint32_t cells, uint64_t n) {
     uint64_t blocks = ((uint64_t)cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK,
              size = PVS__VO_HEAD + 4 * (blocks + 1) + 2 * (uint64_t)cells + 5 * n;
     return size > 0xfffffff0ull ? 0 : (size_t)size;
 }
 
-/* Writes the section (pvs__vo_section_size bytes) from per-cell counts and scale codes and the
-   occluders' bytes in cell order. */
+/* Writes the section (pvs__vo_section_size bytes) from per-cell counts, scale codes and occluder bytes in cell order
+   (stride 0: packed). */
 PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, float hstep, uint32_t cells,
                                        const uint8_t *counts, const uint8_t *scales, const uint8_t *bytes,
                                        uint32_t stride) {
@@ -15454,8 +15291,8 @@ PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, f
     }
 }
 
-/* Validates a VOCC section for a file of f->cell_count cells (called by pvs_file_open once META is
-   read) and records it in *f. Linear in the section's size; reads nothing outside it. */
+/* Validates a VOCC section of f->cell_count cells (pvs_file_open, after META) into *f. Linear in its size; reads
+   nothing outside it. */
 PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, const uint8_t *sec, uint32_t size,
                                             pvs_error *err) {
     uint64_t so = (uint64_t)(sec - file);
@@ -15513,7 +15350,7 @@ PVS__STATIC uint32_t pvs__vo_file_cell(const pvs_file *f, uint32_t cell, const u
     return counts[cell];
 }
 
-/* The stored geometry of one occluder: world ground end points and heights. */
+/* One occluder's stored geometry: world ground end points, heights. */
 PVS__STATIC void pvs__vo_decode(const pvs_box *cell, uint32_t up, uint32_t scale_code, const uint8_t *q, float base,
                                 float hstep, double *a, double *b, double *vbase, double *vtop) {
     double centre[2], sc = pvs__vo_scale(scale_code);
@@ -15593,7 +15430,7 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
 
 /* ---- 2.5D per cell (§3.1), the selection (Fig. 6), the bake's part ---- */
 
-/* What a bake shares between its cells: the prepared facades, quantization, object boxes. */
+/* What a bake's cells share: prepared facades, quantization, object boxes. */
 typedef struct pvs__vbake {
     pvs_allocator a;
     pvs__vprep *prep;
@@ -15613,8 +15450,8 @@ PVS__STATIC void pvs__vbake_destroy(pvs__vbake *vb) {
     pvs__free(&a, vb, sizeof(*vb), 16);
 }
 
-/* Facades of the scene (pvs__scene_facades) and walls of its EXTRUSION and BOX occluders standing
-   on the ground, as prepared occluders; object boxes. */
+/* The scene's facades (pvs__scene_facades) and the walls of its EXTRUSION and BOX occluders on the ground, prepared;
+   the object boxes. */
 PVS__STATIC pvs_result pvs__vbake_create(const pvs_scene *s, const pvs_allocator *a, uint32_t slices, uint32_t max_keep,
                                          pvs__vbake **out) {
     pvs__vbake *vb;
@@ -15703,12 +15540,9 @@ done:
     return PVS_OK;
 }
 
-/* The slice heights of a cell (§3.1): a histogram of the tops of the occluders that reach above the
-   cell, each weighted by the angle it subtends from the cell's centre (its perspective size: a near
-   wall counts more than a far one); n heights at the weighted quantiles (i + 0.2) / (n + 0.2), each
-   snapped down to an occluder's top (so that occluder takes part). Low slices keep most occluders
-   and fuse best, higher ones hide what stands behind lower walls; one slice sits at the 1/6 quantile.
-   Ascending, distinct. Returns their number (<= n). */
+/* The slice heights of a cell (§3.1): quantiles (i + 0.2) / (n + 0.2) of the tops of the occluders above the cell,
+   weighted by subtended angle (near walls count more), each an occluder's top (n = 1: the 1/6 quantile). Low slices
+   fuse best, high ones hide what stands behind low walls. Ascending, distinct; returns their number (<= n). */
 PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *centre, float ctop, uint32_t n, float *h,
                                            const pvs_allocator *al) {
     const pvs__vprep *p = vb->prep;
@@ -15764,10 +15598,9 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
     return out;
 }
 
-/* The dense set of one cell (Koltun 2000 §3, §3.1): the virtual occluders of its height slices in
-   c->out, grown in the file's frame (centre `centre`, quantized at scale `code`). Leaves c untouched
-   when the cell cannot have any (below the occluders' base, no area, no object). Returns
-   OUT_OF_MEMORY or PVS_OK; c is freed by the caller either way. */
+/* The dense set of one cell (Koltun 2000 §3, §3.1) in c->out: its slices' virtual occluders, in the file's frame.
+   Leaves c untouched when the cell can have none (below the base, no area, no occluder). Returns OUT_OF_MEMORY or
+   PVS_OK; the caller frees c. */
 PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *cell, const double centre[2],
                                          double reach, uint32_t code, pvs__vctx *c) {
     const pvs_allocator *al = &vb->a;
@@ -15778,7 +15611,6 @@ PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *ce
     pvs__ground_axes(vb->up, &u, &v);
     cmin[0] = cell->min[u]; cmin[1] = cell->min[v];
     cmax[0] = cell->max[u]; cmax[1] = cell->max[v];
-    /* virtual occluders need the cell above their base and within an occluder-free rectangle with area */
     if (!(cell->min[vb->up] >= vb->base && cmax[0] > cmin[0] && cmax[1] > cmin[1] && vb->prep->nobj)) return PVS_OK;
     if (!pvs__vctx_init(c, al, vb->prep, cmin, cmax, reach)) return PVS_ERROR_OUT_OF_MEMORY;
     c->centre[0] = centre[0]; /* the file's frame (float centre) */
@@ -15805,17 +15637,15 @@ PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *ce
     return c->oom ? PVS_ERROR_OUT_OF_MEMORY : PVS_OK;
 }
 
-/* The scratch of the selection (pvs__vo_select); pvs__vo_bake_cell frees it. */
+/* pvs__vo_select's scratch; pvs__vo_bake_cell frees it. */
 typedef struct pvs__vo_selwork {
-    pvs__vo_rt *rt, *sel;      /* c->nout: the dense set ready to test; max_keep + 1: the kept ones */
-    pvs_word *hid, *covered;   /* c->nout x words: the objects each one hides; words: those hidden so far */
+    pvs__vo_rt *rt, *sel;      /* c->nout: the dense set's tests; max_keep + 1: the kept ones */
+    pvs_word *hid, *covered;   /* c->nout x words: what each hides; words: hidden so far */
 } pvs__vo_selwork;
 
-/* The selection (Koltun 2000, Fig. 6) from the dense set c->out: weights = objects each occluder
-   hides; take the heaviest, discount what it hides from the others, until the next one stops
-   paying (hides fewer than min_gain new objects) or max_keep are kept. Writes the kept occluders'
-   5 bytes to `bytes` and their tests to sw->sel; returns how many. *r = OUT_OF_MEMORY when the
-   scratch cannot be had. */
+/* The greedy selection (Koltun 2000, Fig. 6) from c->out: the occluder hiding most objects not yet hidden, until
+   max_keep are kept or the best adds under min_gain. Writes their 5 bytes to bytes, tests to sw->sel; returns the
+   count. *r = OUT_OF_MEMORY without scratch. */
 PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, uint32_t code, const pvs__vctx *c,
                                     uint32_t words, uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
     const pvs_allocator *al = &vb->a;
@@ -15860,10 +15690,8 @@ PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, u
     return keep;
 }
 
-/* One cell of a bake: the dense set over the slices, the greedy selection of Fig. 6, and the PVS
-   rebuilt from the kept occluders exactly as pvs_vocc_cull will (object boxes of the scene, never-
-   drawn objects empty). Writes *count occluders (<= max_keep) of 5 bytes to bytes, the scale code,
-   and the PVS (cleared first). */
+/* One cell of a bake: the dense set, the selection (Fig. 6), the PVS rebuilt as pvs_vocc_cull will (never-drawn objects
+   empty). Writes *count (<= max_keep) occluders of 5 bytes, the scale code, the PVS (cleared first). */
 PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *cell, uint8_t *bytes, uint8_t *count,
                                          uint8_t *scale, pvs_word *pvs, pvs_vocc_stats *stats, pvs_error *err) {
     const pvs_allocator *al = &vb->a;
@@ -15877,7 +15705,7 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
     *scale = 128;
     pvs__ground_axes(vb->up, &u, &v);
     pvs__vo_cell_centre(cell, u, v, centre);
-    for (k = 0; k < 4; ++k) { /* the analysis radius: every occluder */
+    for (k = 0; k < 4; ++k) { /* analysis radius: every occluder */
         double dx = ((k & 1) ? vb->prep->bb[2] : vb->prep->bb[0]) - centre[0],
                dy = ((k & 2) ? vb->prep->bb[3] : vb->prep->bb[1]) - centre[1];
         double d = sqrt(dx * dx + dy * dy);
@@ -15990,9 +15818,9 @@ done:
 
 typedef struct pvs__vocc_bake {
     pvs_allocator allocator;
-    pvs__vbake *vb;            /* facades and loops, read-only in tasks */
+    pvs__vbake *vb;            /* read-only in tasks */
     uint32_t task_count, keep, only;
-    uint8_t *bytes;            /* per task: keep x 5 bytes of virtual occluders, */
+    uint8_t *bytes;            /* per task: keep x 5 bytes of occluders, */
     uint8_t *count, *scale;    /* their count and scale code */
     pvs_vocc_stats *stats;     /* per task */
 } pvs__vocc_bake;
@@ -16048,8 +15876,8 @@ PVS__STATIC int pvs__vocc_bake_applies(const void *state, const char **why) {
     return any;
 }
 
-/* The task's whole cell (VOCC bakes no adaptive cells): its virtual occluders into the task's record
-   and the PVS they prove; with vocc.only, every drawable object instead (placeholder records). */
+/* The task's whole cell (VOCC bakes no adaptive cells): its occluders into the task's record, the PVS they prove into
+   bits; with vocc.only, every drawable object instead (placeholder records). */
 PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
                                            const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
                                            unsigned *flags, pvs_error *err) {
@@ -16075,7 +15903,6 @@ PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state
     return PVS_OK;
 }
 
-/* The file's VOCC section: the cells' virtual occluders. */
 PVS__STATIC void pvs__vocc_bake_file(const void *state, pvs_file_desc *fd) {
     const pvs__vocc_bake *vo = (const pvs__vocc_bake *)state;
     fd->vocc_counts = vo->count;
@@ -16099,8 +15926,7 @@ PVS__STATIC void pvs__vocc_bake_destroy(const pvs__bake_env *env, void *state) {
     pvs__free(&vo->allocator, vo, sizeof(*vo), 16);
 }
 
-/* Not in AUTO unless named (pvs_bake_desc.methods): it is for storage and the run-time rebuild, not
-   for tightness. */
+/* Not in AUTO unless named (pvs_bake_desc.methods): it is for storage and the run-time rebuild, not tightness. */
 PVS__STATIC const pvs__bake_method pvs__vocc_method = {PVS_METHOD_VOCC,
                                                        PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS,
                                                        2,
