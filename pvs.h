@@ -11296,7 +11296,6 @@ typedef struct pvs__vx_topo {
     uint32_t *open_first;    /* comp_count + 1: ranges of open_edges per component */
     float *open_edges;       /* 6 floats per open edge (two corners), grouped by component */
     uint32_t open_count;
-    uint32_t *vcanon;        /* (freed early) */
 } pvs__vx_topo;
 
 PVS__STATIC void pvs__vx_topo_free(const pvs_allocator *a, pvs__vx_topo *t, uint32_t triangle_count) {
@@ -12226,21 +12225,6 @@ typedef struct pvs__vx_chainbuf {
     size_t count, cap, cap_first, npts, cap_pts;
 } pvs__vx_chainbuf;
 
-PVS__STATIC int pvs__vx_grow(const pvs_allocator *a, void **p, size_t *cap, size_t need, size_t elem) {
-    size_t n = *cap ? *cap : 64;
-    void *q;
-    if (need <= *cap) return 1;
-    while (n < need) n *= 2;
-    q = pvs__alloc_array(a, n, elem);
-    if (!q) return 0;
-    if (*p) {
-        memcpy(q, *p, *cap * elem);
-        pvs__free_array(a, *p, *cap, elem);
-    }
-    *p = q;
-    *cap = n;
-    return 1;
-}
 
 /* (b - a) x (c - a) on integer points (exact). */
 PVS__STATIC int64_t pvs__vx_orient_i(const int32_t *a, const int32_t *b, const int32_t *c) {
@@ -12343,7 +12327,7 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
                 for (;;) {
                     int turn, nd = -1;
                     used[e] = 1;
-                    if (!pvs__vx_grow(al, (void **)ip, ipcap, 2 * (size_t)n + 2, 2 * sizeof(int32_t))) return 0;
+                    if (!pvs__grow(al, (void **)ip, ipcap, 2 * (size_t)n + 2, 2 * sizeof(int32_t))) return 0;
                     (*ip)[2 * n] = (int32_t)vx;
                     (*ip)[2 * n + 1] = (int32_t)vy;
                     ++n;
@@ -12376,7 +12360,7 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
                 }
                 if (kept < 3 || area2 == 0) continue;
                 first = cb->npts;
-                if (!pvs__vx_grow(al, (void **)&cb->points, &cb->cap_pts, cb->npts + kept + 1, 2 * sizeof(float)))
+                if (!pvs__grow(al, (void **)&cb->points, &cb->cap_pts, cb->npts + kept + 1, 2 * sizeof(float)))
                     return 0;
                 pt = cb->points + 2 * first;
                 for (q = 0; q <= kept; ++q) {
@@ -12385,8 +12369,8 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
                     pt[2 * q + 1] = (float)(oy + (*ip)[2 * (q % kept) + 1] * c);
                 }
                 cb->npts += area2 > 0 ? kept : kept + 1;
-                if (!pvs__vx_grow(al, (void **)&cb->chains, &cb->cap, cb->count + 1, sizeof(pvs_facade_chain)) ||
-                    !pvs__vx_grow(al, (void **)&cb->first, &cb->cap_first, cb->count + 1, sizeof(size_t)))
+                if (!pvs__grow(al, (void **)&cb->chains, &cb->cap, cb->count + 1, sizeof(pvs_facade_chain)) ||
+                    !pvs__grow(al, (void **)&cb->first, &cb->cap_first, cb->count + 1, sizeof(size_t)))
                     return 0;
                 cb->first[cb->count] = first;
                 cb->chains[cb->count].points = NULL;
@@ -12498,15 +12482,15 @@ PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
     const pvs_allocator *al = &w->o->allocator;
     const pvs__vx_cols *cm = &w->o->cols;
     uint32_t bw = w->bw, bh = w->bh, k, nl = 0, li;
-    if (!pvs__vx_grow(al, (void **)&w->lev, &w->lcap, nm, sizeof(float))) return 0;
+    if (!pvs__grow(al, (void **)&w->lev, &w->lcap, nm, sizeof(float))) return 0;
     for (k = 0; k < nm; ++k) w->lev[k] = cm->top[w->members[k]];
     PVS_QSORT(w->lev, nm, sizeof(float), pvs__vx_float_cmp);
     for (k = 0; k < nm; ++k)
         if (k == 0 || w->lev[k] != w->lev[nl - 1]) w->lev[nl++] = w->lev[k];
-    if (!pvs__vx_grow(al, (void **)&w->mask, &w->mcap, (size_t)bw * bh, 1) ||
-        !pvs__vx_grow(al, (void **)&w->inl, &w->scap, (size_t)bw * bh, 1) ||
-        !pvs__vx_grow(al, (void **)&w->sub, &w->ucap, (size_t)bw * bh, sizeof(uint32_t)) ||
-        !pvs__vx_grow(al, (void **)&w->used, &w->cap, (size_t)(bw + 1) * (bh + 1) * 4, 1))
+    if (!pvs__grow(al, (void **)&w->mask, &w->mcap, (size_t)bw * bh, 1) ||
+        !pvs__grow(al, (void **)&w->inl, &w->scap, (size_t)bw * bh, 1) ||
+        !pvs__grow(al, (void **)&w->sub, &w->ucap, (size_t)bw * bh, sizeof(uint32_t)) ||
+        !pvs__grow(al, (void **)&w->used, &w->cap, (size_t)(bw + 1) * (bh + 1) * 4, 1))
         return 0;
     for (li = 0; li < nl; ++li)
         if (!pvs__vx_chain_level(w, nm, w->lev[li])) return 0;
@@ -13343,22 +13327,9 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, ui
 
 /* Grows *p to hold need elements (doubling). */
 PVS__STATIC int pvs__vo_reserve(const pvs_allocator *a, void **p, uint32_t *cap, size_t need, size_t elem) {
-    size_t ncap, bytes;
-    void *q;
-    if (need <= *cap) return 1;
-    if (need > 0x7fffffffu) return 0;
-    ncap = *cap ? (size_t)*cap * 2 : 16;
-    while (ncap < need) ncap *= 2;
-    if (ncap > 0x7fffffffu) ncap = 0x7fffffffu;
-    if (!pvs__mul(ncap, elem, &bytes)) return 0;
-    q = pvs__alloc(a, bytes, 16);
-    if (!q) return 0;
-    if (*p) {
-        memcpy(q, *p, (size_t)*cap * elem);
-        pvs__free(a, *p, (size_t)*cap * elem, 16);
-    }
-    *p = q;
-    *cap = (uint32_t)ncap;
+    size_t c = *cap;
+    if (need > 0x7fffffffu || !pvs__grow(a, p, &c, need, elem)) return 0;
+    *cap = (uint32_t)c;
     return 1;
 }
 #define PVS__VO_FREE(a, p, cap, T) pvs__free((a), (p), (size_t)(cap) * sizeof(T), 16)
@@ -13511,18 +13482,12 @@ PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
             ++deg[v];
         }
         {
-            uint32_t x = p->seg_vid[2 * i], y = p->seg_vid[2 * i + 1];
-            while (uf[x] != x) x = uf[x] = uf[uf[x]];
-            while (uf[y] != y) y = uf[y] = uf[uf[y]];
+            uint32_t x = pvs__vx_find(uf, p->seg_vid[2 * i]), y = pvs__vx_find(uf, p->seg_vid[2 * i + 1]);
             if (x != y) uf[x < y ? y : x] = x < y ? x : y;
         }
     }
     for (i = 0; i < m; ++i) p->seg_loop[i] = -1;
-    for (i = 0; i < nv; ++i) {
-        uint32_t x = i;
-        while (uf[x] != x) x = uf[x];
-        uf[i] = x;
-    }
+    for (i = 0; i < nv; ++i) uf[i] = pvs__vx_find(uf, i);
     for (i = 0; i < nv; ++i) idx[i] = 0;
     for (i = 0; i < nv; ++i)
         if (deg[i] != 2) idx[uf[i]] = 1;
@@ -15178,6 +15143,17 @@ PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_o
 }
 
 /* The walk over prepared occluders rt[0..count) at the scratch's front. */
+/* Adds the counts of b to a. */
+PVS__STATIC void pvs__vo_stats_add(pvs_vocc_stats *a, const pvs_vocc_stats *b) {
+    a->slices += b->slices;
+    a->seeds += b->seeds;
+    a->umbra += b->umbra;
+    a->separating += b->separating;
+    a->dense += b->dense;
+    a->dropped += b->dropped;
+    a->selected += b->selected;
+}
+
 PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_t count, const pvs_box *boxes,
                                     uint32_t object_count, const pvs_kdtree *tree, uint8_t *rest, size_t rest_size,
                                     pvs_word *visible, pvs_error *err) {
@@ -15698,7 +15674,7 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
     pvs__vctx c;
     pvs__vo_selwork sw;
     double centre[2], reach = 0.0;
-    uint32_t j, keep = 0, words = (uint32_t)PVS_BITSET_WORDS(vb->object_count), code;
+    uint32_t keep = 0, words = (uint32_t)PVS_BITSET_WORDS(vb->object_count), code;
     int u, v, k;
     pvs_result r;
     *count = 0;
@@ -15723,27 +15699,9 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
         if (r != PVS_OK) goto done;
     }
     *count = (uint8_t)keep;
-    {
-        pvs__vo_walk w;
-        w.rt = sw.sel;
-        w.count = keep;
-        w.boxes = vb->boxes;
-        w.object_count = vb->object_count;
-        w.visible = pvs;
-        memset(pvs, 0, words * sizeof(pvs_word));
-        for (j = 0; j < vb->object_count; ++j)
-            if (pvs__vo_box_ok(vb->boxes + j) && !pvs__vo_walk_hidden(&w, vb->boxes + j)) pvs_bitset_set(pvs, j);
-    }
+    pvs__vo_cull(cell, sw.sel, keep, vb->boxes, vb->object_count, NULL, NULL, 0, pvs, NULL);
     c.st.selected = keep;
-    if (stats) {
-        stats->slices += c.st.slices;
-        stats->seeds += c.st.seeds;
-        stats->umbra += c.st.umbra;
-        stats->separating += c.st.separating;
-        stats->dense += c.st.dense;
-        stats->dropped += c.st.dropped;
-        stats->selected += c.st.selected;
-    }
+    if (stats) pvs__vo_stats_add(stats, &c.st);
 done:
     if (sw.rt) pvs__free_array(al, sw.rt, c.nout, sizeof(pvs__vo_rt));
     if (sw.hid) pvs__free_array(al, sw.hid, (size_t)c.nout * words, sizeof(pvs_word));
@@ -15941,11 +15899,7 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
     const pvs__vocc_bake *vo = b ? (const pvs__vocc_bake *)pvs__bake_method_state(b, PVS_METHOD_VOCC) : NULL;
     uint32_t i;
     memset(out, 0, sizeof(*out));
-    for (i = 0; vo && vo->stats && i < vo->task_count; ++i) {
-        const pvs_vocc_stats *t = vo->stats + i;
-        out->slices += t->slices; out->seeds += t->seeds; out->umbra += t->umbra; out->separating += t->separating;
-        out->dense += t->dense; out->dropped += t->dropped; out->selected += t->selected;
-    }
+    for (i = 0; vo && vo->stats && i < vo->task_count; ++i) pvs__vo_stats_add(out, vo->stats + i);
 }
 
 // >>methods

@@ -158,6 +158,17 @@ static void tb_reads(void) {
     mesh_free(&m);
     mesh_cells_free(&c);
     bsp_pvs_free(&pvs);
+    /* every second cell: cell 0 only, its PVS row kept */
+    {
+        bsp_options o;
+        memset(&o, 0, sizeof(o));
+        o.cell_step = 2;
+        CHECK(bsp_parse("t.bsp", t.bytes, t.size, &o, &m, &c, &pvs, &st, &err) == 0);
+        CHECK(c.count == 1 && st.cells == 1 && st.leaves == 2 && pvs.cell_count == 1 && !tb_bit(&pvs, 0, 2));
+        mesh_free(&m);
+        mesh_cells_free(&c);
+        bsp_pvs_free(&pvs);
+    }
     /* without vis data every cell sees everything; a water brush does not block */
     t.len[16] = 0;
     tb_put32(t.bytes + 12 + 8 * 16, 0);

@@ -27,6 +27,7 @@ typedef struct bsp_lump {
 
 typedef struct bsp_reader {
     const char *path;
+    uint32_t cell_step;      /* >= 1 */
     bsp_lump l[L_COUNT];
     tool_error *err;
 } bsp_reader;
@@ -375,21 +376,29 @@ static void leaf_box(const uint8_t *leaf, float box[6]) {
     box[5] = -lo[1];
 }
 
+/* 1 if leaf i is a cell: it has a cluster and is the every cell_step-th such leaf (*k counts them). */
+static int leaf_is_cell(const bsp_reader *r, uint32_t i, uint32_t *k) {
+    if (rd_i32(rec(r, L_LEAFS, i)) < 0) return 0;
+    return (*k)++ % r->cell_step == 0;
+}
+
 static int read_cells(const bsp_reader *r, mesh_cells *cells, bsp_stats *st, tool_error *err) {
-    for (uint32_t i = 0; i < r->l[L_LEAFS].count; ++i) {
+    for (uint32_t i = 0, k = 0; i < r->l[L_LEAFS].count; ++i) {
         const uint8_t *leaf = rec(r, L_LEAFS, i);
         float box[6];
         if (rd_i32(leaf) < 0) continue;
+        ++st->leaves;
         leaf_box(leaf, box);
         if (!(box[0] <= box[3] && box[1] <= box[4] && box[2] <= box[5])) {
             tool_error_set(err, r->path, 0, "leafs[%u]: bounds min > max", i);
             return -1;
         }
+        if ((k++ % r->cell_step) != 0) continue;
         if (cells && mesh_cells_add(cells, box)) {
             tool_error_set(err, r->path, 0, "out of memory");
             return -1;
         }
-        ++st->leaves;
+        ++st->cells;
     }
     return 0;
 }
@@ -492,9 +501,9 @@ static int read_pvs(const bsp_reader *r, uint32_t object_count, uint32_t cell_co
         if (check_index(r, L_LEAFSURFACES, i, "surface", rd_i32(rec(r, L_LEAFSURFACES, i)), nsurf)) return free(seen), -1;
     if (model_leaf_lists(r, &model_first, &model_leaves, err)) return free(seen), -1;
     uint32_t cell = 0;
-    for (uint32_t i = 0; i < nleaf; ++i) {
+    for (uint32_t i = 0, nth = 0; i < nleaf; ++i) {
         int32_t k = rd_i32(rec(r, L_LEAFS, i));
-        if (k < 0) continue;
+        if (!leaf_is_cell(r, i, &nth)) continue;
         uint64_t *row = pvs->bits + (size_t)cell++ * pvs->words;
         for (uint32_t j = 0; j < nleaf; ++j) { /* the leaves whose cluster cluster k sees */
             int32_t c = rd_i32(rec(r, L_LEAFS, j));
@@ -537,6 +546,7 @@ int bsp_parse(const char *path, const void *data, size_t size, const bsp_options
     memset(&st, 0, sizeof(st));
     r.path = path;
     r.err = err;
+    r.cell_step = opt && opt->cell_step > 1 ? opt->cell_step : 1;
     if (!m) m = &local;
     mesh_init(m);
     if (cells) mesh_cells_init(cells);
@@ -549,7 +559,7 @@ int bsp_parse(const char *path, const void *data, size_t size, const bsp_options
     if (read_header(&r, (const uint8_t *)data, size) || read_surfaces(&r, level, m, &st, err) ||
         read_brushes(&r, m, &st, err) || read_cells(&r, cells, &st, err))
         goto done;
-    if (pvs && read_pvs(&r, m->object_count, st.leaves, pvs, &st, err)) goto done;
+    if (pvs && read_pvs(&r, m->object_count, st.cells, pvs, &st, err)) goto done;
     if (st.leaves == 0) {
         tool_error_set(err, path, 0, "no leaf with a cluster: no view cells (a level without vis leaves?)");
         goto done;

@@ -32,12 +32,14 @@
 
 typedef struct bsp_options {
     uint32_t patch_level;     /* quads per side of each 3 x 3 patch block: 0 = 4, at most 32 */
+    uint32_t cell_step;       /* keep every cell_step-th cell only (0 or 1: every cell), for quick measurements */
 } bsp_options;
 
 typedef struct bsp_stats {
     uint32_t surfaces, patches, empty_surfaces, translucent_surfaces;
     uint32_t brushes, occluder_brushes, hull_triangles;
-    uint32_t leaves, clusters;  /* leaves with a cluster (the cells), clusters in the vis data */
+    uint32_t leaves, clusters;  /* leaves with a cluster, clusters in the vis data */
+    uint32_t cells;             /* cells made: the leaves with a cluster, every cell_step-th */
     int has_vis;                /* the level has vis data (else its PVS is everything) */
 } bsp_stats;
 

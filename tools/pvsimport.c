@@ -16,13 +16,14 @@ static const char *usage =
     "  --pvs OUT.pvs     the level's own PVS (q3map2's vis) expanded to those objects, one record per\n"
     "                    cell, as a .pvs file: compare it with a bake (pvsinfo, pvscheck, make bench)\n"
     "  --patch-level N   quads per side of each 3x3 patch block (default 4, at most 32)\n"
+    "  --cell-step N     keep every N-th cell only (in --cells and --pvs alike), for quick measurements\n"
     "  -q, --quiet       no summary\n"
     "  A .pk3 is a zip archive: extract the .bsp first (unzip -p PAK.pk3 maps/NAME.bsp > NAME.bsp).\n"
     "exit status: 0 written, 1 bad input or I/O error, 2 usage\n";
 
 typedef struct import_options {
     const char *bsp, *obj, *cells, *pvs;
-    uint32_t patch_level;
+    uint32_t patch_level, cell_step;
     int quiet;
 } import_options;
 
@@ -42,6 +43,10 @@ static int parse_options(int argc, char **argv, import_options *o) {
         } else if (!strcmp(a, "--patch-level")) {
             if (!v || cli_parse_u32(v, 1, 32, &o->patch_level))
                 return tool_usage_error(TOOL, "--patch-level takes a number from 1 to 32");
+            ++i;
+        } else if (!strcmp(a, "--cell-step")) {
+            if (!v || cli_parse_u32(v, 1, 1u << 30, &o->cell_step))
+                return tool_usage_error(TOOL, "--cell-step takes a positive number");
             ++i;
         } else if (a[0] == '-' && a[1]) {
             return tool_usage_error(TOOL, "unknown option '%s'", a);
@@ -108,6 +113,7 @@ int main(int argc, char **argv) {
     bsp_options bo;
     memset(&bo, 0, sizeof(bo));
     bo.patch_level = o.patch_level;
+    bo.cell_step = o.cell_step;
     if (read_file(o.bsp, &data, &size, &err)) {
         fprintf(stderr, "%s: %s\n", TOOL, err.message);
         return 1;
@@ -121,10 +127,10 @@ int main(int argc, char **argv) {
     else if (!o.quiet)
         fprintf(stderr,
                 "%s: %s: %u surfaces (%u patches, %u without faces, %u translucent, drawn opaque), %u triangles; "
-                "%u of %u world brushes solid and opaque (%u hull triangles); %u cells (leaves with a cluster), "
+                "%u of %u world brushes solid and opaque (%u hull triangles); %u cells (of %u leaves with a cluster), "
                 "%u clusters, %s\n",
                 TOOL, o.bsp, st.surfaces, st.patches, st.empty_surfaces, st.translucent_surfaces, m.triangle_count,
-                st.occluder_brushes, st.brushes, st.hull_triangles, st.leaves, st.clusters,
+                st.occluder_brushes, st.brushes, st.hull_triangles, st.cells, st.leaves, st.clusters,
                 st.has_vis ? "vis data" : "no vis data (its PVS is everything)");
     mesh_free(&m);
     mesh_cells_free(&cells);
