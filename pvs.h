@@ -15904,7 +15904,7 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 
 // >>methods
 /* ---------------------------------------------------------------------------------------------- */
-/* methods: region visibility: the ray-sampling estimator; extended projections (at the end)      */
+/* methods: region visibility: ray sampling, extended projections, shrink (bake methods)          */
 /* ---------------------------------------------------------------------------------------------- */
 
 PVS_API const char *pvs_method_name(pvs_method m) {
@@ -15920,8 +15920,8 @@ PVS_API const char *pvs_method_name(pvs_method m) {
     }
 }
 
-/* Sample point i of `points` in the cell: the 8 corners, the 6 face centres, then one jittered point
-   in each of `points - 14` strata spread evenly over a g^k grid on the cell's k non-flat axes. */
+/* Sample point i of `points`: the cell's 8 corners, 6 face centres, then one jittered point per stratum of a g^k grid
+   on its k non-flat axes. */
 PVS__STATIC void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t points, uint64_t *state, float p[3]) {
     int k;
     if (i < 8) {
@@ -16091,63 +16091,21 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
 
 /* ---- extended projections (Durand et al. 2000) ---- */
 
-/* How the guarantee survives rounding. Everything runs in double from float inputs. A plane's frame
-   maps a point to (u, v, w): w is the Depth beyond the cell's face (§2.3, positive leaving the cell);
-   the cell spans w in [-extent, 0]. The view of a point P from a cell corner V on the plane w = W is
-   V + (P - V) (W - Vw) / (Pw - Vw), defined for Pw > Vw, which is why occluders are clipped to w >= a
-   small positive margin and occludees must lie entirely at w > 0. The Projection of a convex
-   occluder is the intersection of its views from the 8 corners (§3.2: by convexity of the cell and
-   the occluder the intersection over the corners is the one over the cell); each view is the convex
-   hull of the projected vertices, so the Projection is an intersection of half-planes. It is
-   scan-converted row by row: a pixel square is kept only when its worst corner passes every edge
-   function by a margin above every rounding error (the conservative rasterization of §3.2, exact
-   instead of shifted edges). The Depth written is the greatest w of the clipped occluder, rounded up:
-   flat, no nearer than any point of the occluder (§2.3). An occludee box's Projection is the bounding
-   rectangle of its views (§3.1); per axis its extremes are at a corner of the cell and a corner of
-   the box (the projection is linear-fractional in each, so extremes sit at vertices), widened by the
-   same kind of margin; its Depth is its least w, rounded down. A box is hidden when every pixel of
-   its rectangle holds an occluder strictly nearer (§2.2); pixels outside the plane count as visible.
+/* Rounding: all in double from float inputs. A plane's frame maps a point to (u, v, w), w its Depth beyond the cell's
+   face (§2.3; the cell spans w in [-extent, 0]). P's view from cell corner V on the plane w = W is V + (P - V)
+   (W - Vw) / (Pw - Vw), for Pw > Vw: occluders are clipped to w >= a small margin, occludees lie wholly at w > 0. A
+   convex occluder's Projection is the intersection of its views from the 8 corners (§3.2), a pixel kept when its worst
+   corner passes every edge by a margin above all rounding; Depth: its greatest w, rounded up (§2.3). An occludee box's
+   Projection is its views' bounding rectangle (§3.1), widened likewise; Depth: its least w, rounded down. It is hidden
+   when every pixel there holds an occluder strictly nearer (§2.2; pixels off the plane are visible).
 
-   The bake method (§6.1). Occluders are prepared once per bake from each object's connected
-   components (triangles sharing positions): a closed convex component becomes one convex solid, a
-   convex one closed by a planar cap (a trunk or a post standing on the ground, no bottom) a solid
-   for the cells on the cap's solid side, two consecutive coplanar triangles forming a convex quad
-   one polygon, any other triangle itself; explicit BOX occluders are solids, EXTRUSION walls quads.
-   Polygons coplanar and solids convex only up to float precision carry that slack into the
-   rasterizer's error bound. A closed non-convex component (or one capped by an axis-aligned plane:
-   a building with no floor) is also kept for slicing (§3.3). Coplanar triangles whose union is one
-   convex polygon form a sheet (a ground of tiles); occluders standing on it get a copy extended
-   through it, which closes the seam between a wall and the ground. Per cell and direction: the
-   occluders of largest solid angle (from the cell's centre, front to back over kD-trees by size
-   class), PVS__EP_PLANES planes (one just behind the farthest selected occluder, the others in
-   distance bands, each just behind the occluder whose candidate plane fills the most pixels), each a
-   256 x 256 depth map with the Projections, the slices of the closed meshes and of the sheets'
-   solids, and a max pyramid; with the sweep, extproj.sweep more planes per direction from one cell
-   size out to the scene's far end, each cut to the span of the cell and the scene with 256 x 256
-   pixels spread over that as square pixels (pvs__ep_fit_plane), holding reprojected umbrae and the
-   Projections of every occluder between them (§5). Then the
-   object kD-tree front to back, skipping hidden nodes, an object visible when a part of its box
-   cut by a leaf is (with the sweep, when a part of the object in that box is: the boxes of halves
-   of its triangles, top-down, pvs__ep_parts_visible); boxes in front of a plane use the improved
-   Projection (§4). Objects meeting the cell are always visible.
-   Limits: occluders fuse only through the depth maps and slices, so a pixel across the common edge
-   of two occluders that are not sliced is lost; a Depth is flat per occluder part, so long walls
-   running away from the cell hide only what lies beyond their far end on that plane; a reprojection
-   erodes by up to a pixel per side beyond the umbra (the sweep reprojects from planes 1, 2, 4, ...
-   back so this does not add up along it); scenes of sparse small occluders stay loose even with the
-   sweep: the umbra of a plane's blocked region shrinks by the cell's size over the distance (C dD /
-   D per plane), so small occluders fuse only where they add coverage faster than that, and a
-   region survives a reprojection only where it holds a whole kernel window. Foliage is the hard case:
-   the band just above the ground under the bushes stays open on far planes, and where it is closed,
-   bush leaves and trunks close it together, in depth, which one binary umbra per plane does not
-   capture. Most of what is lost lies in the penumbra gaps between the Projections of adjacent
-   occluders (each Projection is the umbra of one occluder), the rest in pixels that two Projections
-   cover only together. Sub-cells on the sweep's planes (extproj.sweep_subcells, pvs__epmask) win back
-   part of it: each pixel holds one bit per quarter of the cell (halved across the direction on both
-   axes), the Projections and reprojections are made per quarter (the occluders projected four times),
-   and an object is hidden when hidden from each. The forest measurements, the experiments (some not
-   conservative) that located the loss, and the sub-cells' gains and costs are in tests/BENCHMARKS.md,
-   extproj. */
+   The bake method (§6.1): occluders prepared once per bake; per cell and direction those of largest solid angle drawn
+   on PVS__EP_PLANES depth maps and, with the sweep, extproj.sweep masks out to the scene's far end (§5); then the
+   object kD-tree front to back, hidden nodes skipped. Objects meeting the cell are always visible.
+
+   Limits: occluders fuse only through maps and slices; Depths are flat per part; a plane's umbra shrinks by the cell's
+   size over the distance, so sparse small occluders (foliage) stay loose; sub-cells (extproj.sweep_subcells) win back
+   part (tests/BENCHMARKS.md). */
 
 #define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
@@ -16165,11 +16123,10 @@ typedef struct pvs__epframe {
     double s, face, W, u0, v0, su, sv;
     double cu[2], cv[2], cw[2];
     uint32_t width, height;
-    unsigned char bits; /* the bits a Projection sets in a sweep mask: 1, or one sub-cell's (pvs__epmask) */
+    unsigned char bits; /* the bits a Projection sets in a sweep mask: 1, or a sub-cell's */
 } pvs__epframe;
 
-/* The frame of a plane whose sides are at most max_side pixels (4096 for the public functions,
-   PVS__EP_MAX_SIDE for the sweep's fitted masks, pvs__ep_fit_plane); 0 if the plane is bad. */
+/* The frame of a plane of sides <= max_side pixels (4096 for the public functions); 0 if the plane is bad. */
 PVS__STATIC int pvs__ep_frame_max(const pvs_extproj_plane *pl, uint32_t max_side, pvs__epframe *f) {
     int k;
     if (!pl || pl->axis > 2 || (pl->side != 1 && pl->side != -1) || !pvs__box_valid(&pl->cell)) return 0;
@@ -16210,7 +16167,6 @@ PVS__STATIC double pvs__ep_tri_normal(const float *a, const float *b, const floa
     return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
-/* 2D cross product of (b - a) and (c - a). */
 PVS__STATIC double pvs__ep_orient(const double *a, const double *b, const double *c) {
     return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
 }
@@ -16220,8 +16176,8 @@ PVS__STATIC int pvs__ep_pt2_cmp(const void *x, const void *y) {
     if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
     return a[1] < b[1] ? -1 : a[1] > b[1];
 }
-/* Convex hull (Andrew's monotone chain), counter-clockwise, collinear points dropped. pts: n x 2,
-   sorted in place; hull receives up to n + 1 points. Returns the hull's size. */
+/* Convex hull (Andrew's monotone chain), counter-clockwise, collinear points dropped; sorts pts (n x 2), hull holds
+   n + 1 points. Returns its size. */
 PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
     int i, k = 0, lower;
     if (n > 1) PVS_QSORT(pts, (size_t)n, sizeof(pts[0]), pvs__ep_pt2_cmp); /* equal points are equal values */
@@ -16238,7 +16194,7 @@ PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
     return k - 1; /* the last point repeats the first */
 }
 
-/* ceil and floor of x in (-2^31, 2^31) by conversion (the callers clamp to the raster first). */
+/* ceil and floor by conversion, for |x| < 2^31 (callers clamp to the raster first). */
 PVS__STATIC double pvs__ceil_small(double x) {
     double t = (double)(int32_t)x;
     return t < x ? t + 1.0 : t;
@@ -16248,15 +16204,13 @@ PVS__STATIC double pvs__floor_small(double x) {
     return t > x ? t - 1.0 : t;
 }
 
-/* Sets `bits` in n mask pixels. */
 PVS__STATIC void pvs__ep_mask_set(unsigned char *mask, unsigned char bits, size_t n) {
     size_t i;
     for (i = 0; i < n; ++i) mask[i] = (unsigned char)(mask[i] | bits);
 }
 
-/* The edges of a Projection in pixel coordinates: a x + b y + c >= 0 inside, |a| + |b| = 1, e bounds
-   the error of the computed function, inv = 1 / a (0 for nearly horizontal edges); the intersection
-   of the views' bounding boxes [xlo, xhi] x [ylo, yhi]. */
+/* A Projection's edges in pixels: a x + b y + c >= 0 inside, |a| + |b| = 1, error bound e, inv = 1 / a (0 if nearly
+   horizontal); [xlo, xhi] x [ylo, yhi]: the views' common box. */
 typedef struct pvs__epedges {
     double a[8 * PVS__EP_CLIPN], b[8 * PVS__EP_CLIPN], c[8 * PVS__EP_CLIPN], e[8 * PVS__EP_CLIPN],
         inv[8 * PVS__EP_CLIPN];
@@ -16264,9 +16218,8 @@ typedef struct pvs__epedges {
     double xlo, xhi, ylo, yhi;
 } pvs__epedges;
 
-/* The vertices of the part of a convex occluder (src, count points in frame coordinates) inside the
-   depth slab [wlo, whi] into P: the points inside the slab and the ends of the clipped segments
-   between any two points. Returns their count. */
+/* Into P, the vertices of a convex occluder's part in the slab [wlo, whi]: points inside, and slab crossings of
+   segments between any two. Returns their count. */
 PVS__STATIC int pvs__ep_clip_slab(const double (*src)[3], int count, double wlo, double whi, double (*P)[3]) {
     int n = 0, i, j;
     for (i = 0; i < count; ++i)
@@ -16293,10 +16246,8 @@ PVS__STATIC int pvs__ep_clip_slab(const double (*src)[3], int count, double wlo,
     return n;
 }
 
-/* The Projection of the convex point set P (n points, `slack` its shape's error) as the intersection
-   of its views from the 8 corners of the cell (§3.2): each view the convex hull of the projected
-   points, its edges with an error bound into E. Returns 0 when it certainly covers no whole pixel
-   (or lies beyond any useful precision). */
+/* The Projection of convex point set P (shape error `slack`): the intersection of its views from the 8 corners (§3.2),
+   edges with error bounds into E. 0 if it surely covers no whole pixel. */
 PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int n, double slack, pvs__epedges *E) {
     pvs__epframe f = *fp;
     double pts[PVS__EP_CLIPN][2], hull[PVS__EP_CLIPN + 1][2], base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv;
@@ -16319,14 +16270,10 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
                             pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) +
                                 (pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
                                 (pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
-            /* a point moved by `slack` moves its view by at most slack (t + |view - V| / (Pw - Vw))
-               per axis (the derivative of the projection) */
+            /* a point moved by slack moves its view by at most slack (t + |view - V| / (Pw - Vw)) per axis */
             smax = pvs__dmax(smax, t + (pvs__dabs(du) + pvs__dabs(dv)) / (P[i][2] - Vw));
         }
-        /* a bound on each projected vertex's error, in pixels: a few ulps of the terms' size (the
-           projection, the frame change), with a wide safety factor, plus the occluder's slack (how
-           far its true shape may lie inside the hull of its points: non-planar quads, nearly
-           convex solids, within float precision) */
+        /* each projected vertex's error in pixels: a few ulps of the terms, widely, plus the slack */
         verr = 1e-12 * (mag + base + 1.0) + slack * smax * pvs__dmax(f.su, f.sv);
         if (!(bx1 - bx0 < 1e15) || !(by1 - by0 < 1e15)) return 0; /* beyond any useful precision */
         E->xlo = pvs__dmax(E->xlo, bx0); E->xhi = pvs__dmin(E->xhi, bx1);
@@ -16346,9 +16293,8 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
             E->a[m] = a / len;
             E->b[m] = b / len;
             E->c[m] = -(E->a[m] * p[0] + E->b[m] * p[1]);
-            /* moving both ends by verr changes (a, b) by 2 verr each and the L1 norm by 4 verr: at
-               a pixel at L1 distance D from p the normalized edge function moves by at most
-               verr (1 + 6 D / len) */
+            /* ends moved by verr move (a, b) by 2 verr each, the L1 norm by 4 verr: at L1 distance D from p the
+               normalized function moves by at most verr (1 + 6 D / len) */
             E->e[m] = verr *
                 (2.0 + 8.0 * (pvs__dabs(p[0]) + pvs__dabs(p[1]) + (double)f.width + (double)f.height + 2.0) / len);
             ++E->n;
@@ -16357,10 +16303,8 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
     return 1;
 }
 
-/* Drops the edges of E that hold for every candidate pixel square ([i0, i1 + 1] x [j0, j1 + 1], where
-   the linear edge function is least at a corner) by more than the row loop's margins: they cannot cut
-   a row (most edges of the eight views lie outside their intersection). The kept ones get the row
-   loop's margin, less its row part, and 1 / a. */
+/* Drops edges every candidate pixel passes by more than the row loop's margins (most of the eight views' edges); kept
+   ones get that margin, less its row part, and 1 / a. */
 PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
     int e, m = 0;
     double x0 = i0, x1 = (double)i1 + 1.0, y0 = j0, y1 = (double)j1 + 1.0;
@@ -16373,22 +16317,17 @@ PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, in
         E->a[m] = a;
         E->b[m] = b;
         E->c[m] = cc;
-        E->e[m] = 1e-6 + E->e[e] + 1e-12 * pvs__dabs(cc); /* the row loop's margin, less its row part */
-        /* 1 / a: a product by it is within two ulps of the quotient, far inside the row loop's
-           margin of 1e-9 |x| */
+        E->e[m] = 1e-6 + E->e[e] + 1e-12 * pvs__dabs(cc);
+        /* a product by 1 / a is within two ulps of the quotient, far inside the 1e-9 |x| margin */
         E->inv[m] = pvs__dabs(a) > 1e-12 ? 1.0 / a : 0.0;
         ++m;
     }
     E->n = m;
 }
 
-/* Scan-converts the Projection E over the rows j0..j1, columns i0..i1 of the plane f: the pixel squares
-   whose worst corner passes every edge by its margin get `depth` (where nearer) in map and f->bits in
-   mask (either may be NULL). Returns the pixels covered. Not the raster's pvs__raster_poly: a
-   Projection is a set of half-planes with a flat Depth, filled here as one span per row, about 3 times
-   faster than that per-pixel loop with an affine depth on the same polygon (a 100-pixel square at
-   256 x 256: 7 us against 24 us with SSE2), and its edges carry their own error bounds (the views'
-   rounding, the occluder's slack), which the raster's margins would not reproduce pixel for pixel. */
+/* Scan-converts Projection E over rows j0..j1, columns i0..i1: pixels whose worst corner passes every edge by its
+   margin get `depth` (where nearer) in map and f->bits in mask (either may be NULL). Returns the pixels covered. Not
+   pvs__raster_poly: flat-Depth spans are about 3x faster, and these edges carry their own error bounds. */
 PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0,
                                        int32_t j1, float depth, float *map, unsigned char *mask) {
     int32_t row;
@@ -16430,9 +16369,7 @@ PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges
     return written;
 }
 
-/* The Projection of the part of a convex occluder inside the depth slab [lo, hi]: the views are
-   convex hulls of the projected vertices of the clipped part. The clipped part's vertices are among
-   the points inside the slab and the ends of the clipped segments between any two points. */
+/* The Projection of the occluder's part in the slab [wlo, whi]. */
 PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo,
                                            double whi, double slack, float *map, unsigned char *mask) {
     double P[PVS__EP_CLIPN][3], dmax = 0.0;
@@ -16452,10 +16389,8 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
     return pvs__ep_fill_rows(fp, &E, i0, i1, j0, j1, pvs__f_up(dmax + 1e-12 * dmax), map, mask);
 }
 
-/* 0 when the part of the occluder (points P in frame coordinates) in the depth slab [wlo, whi]
-   certainly covers no pixel of the map: the Projection of its bounding box, axis by axis, holds no
-   whole pixel inside the map (the Projection of a subset lies in the Projection of the set). A cheap
-   test before the exact one; 1 means "maybe". */
+/* 0 when the occluder's part in the slab [wlo, whi] surely covers no pixel: its bounding box's Projection (which holds
+   the part's) holds no whole pixel. 1: maybe. */
 PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3], int count, double wlo, double whi) {
     double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
     int i, k;
@@ -16492,10 +16427,8 @@ PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3
     return 1;
 }
 
-/* pvs_extproj_occluder with a prepared frame and finite points: `solid` tells a convex solid from a
-   planar polygon, `slack` how far (world units) the true occluder may lie inside the hull of the
-   points. Depths go to `map` (min), pixels to `mask` (set to 1), either may be NULL; only the part in
-   front of the plane when front_only. */
+/* pvs_extproj_occluder with a prepared frame and finite points; solid, slack as in pvs__epocc. Depths to map (min),
+   f->bits to mask, either may be NULL; front_only: only the part before the plane. */
 PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cell, const float *points, uint32_t count,
                                       int solid, double slack, int front_only, float *map, unsigned char *mask) {
     pvs__epframe f = *fp;
@@ -16508,16 +16441,13 @@ PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cel
         wmax = pvs__dmax(wmax, P[i][2]);
     }
     if (solid) {
-        /* a solid that meets the cell could hold the viewer: its Depth would not bound the first
-           hit. Such occluders are left out (conservative); planar ones never hold a viewer. */
+        /* a solid meeting the cell could hold the viewer, its Depth bounding no first hit: left out */
         pvs_box b = pvs__box_empty();
         for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
         if (pvs__box_overlap(&b, cell)) return 0;
     }
-    /* clipped to depths >= a small margin (views are defined beyond the cell), and split at the
-       plane: the set of cell points that see a pixel through the part in front of the plane (or
-       through the part behind it) is convex, so the corners decide for the whole cell; for a part
-       straddling the plane it would not be */
+    /* clipped to w >= a small margin and split at the plane: the cell points seeing a pixel through the part on one
+       side form a convex set, so the corners decide; across the plane not */
     margin = 1e-4 * (f.W - f.cw[0]);
     written = 0;
     if (pvs__ep_box_may_cover(&f, (const double(*)[3])P, (int)count, margin, f.W))
@@ -16550,8 +16480,7 @@ PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *
     return pvs__ep_occluder(&f, &pl->cell, points, count, solid, 0.0, 0, map, NULL);
 }
 
-/* Pixel bounds of the views of the box's (k, w) extent from the cell's (k, w) corners; t[c][b] =
-   (W - cw[c]) / (bw[b] - cw[c]), shared by both axes. */
+/* Pixel bounds of the box's (k, w) views from the cell's (k, w) corners; t[c][b] = (W - cw[c]) / (bw[b] - cw[c]). */
 PVS__STATIC void pvs__ep_occludee_axis(const double *cell_k, double bk0, double bk1, const double t[2][2], double k0,
                                        double sk, uint32_t size, int32_t *lo, int32_t *hi) {
     double mn = DBL_MAX, mx = -DBL_MAX, mag = 0.0, err;
@@ -16587,16 +16516,11 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
     return 1;
 }
 
-/* The improved occludee Projection of Durand 2000 §4 on one axis k, for a box between the cell and
-   the plane (depths w0..w1 <= W; bk0..bk1 across). Cones are taken to the cell's near face (w = 0)
-   rather than the whole cell: cone(P, face) is inside cone(P, cell), so Property 2 still holds, and
-   because both axes cross w = 0 at once the 3D Projection is the Cartesian product of the two 2D
-   ones exactly. A point X of the box is in cone(P, face) iff P lies in X's views from the face,
-   [L(X), R(X)]; so I = [a, b] works iff a <= min_X R(X) and b >= max_X L(X). In front of the plane
-   L and R are linear in Xk and monotone in Xw, so the extremes sit at the box's corners. When
-   max L <= min R any single point between them serves (the "vanishing point" case: *any = 1, a
-   pixel range of which one column must be hidden); else the segment [min R, max L] (*any = 0,
-   every pixel of the range). Pixel indices may reach outside the map. */
+/* Durand 2000 §4's improved occludee Projection on axis k, for a box between cell and plane (depths w0..w1 <= W).
+   Cones go to the cell's near face (w = 0): inside cone(P, cell), so Property 2 holds, and the 3D Projection is exactly
+   the product of the 2D ones. With [L(X), R(X)] X's views from the face, I = [a, b] works iff a <= min R and b >= max L
+   (over the box's corners): if max L <= min R one point serves (*any = 1: one column must be hidden), else
+   [min R, max L] (*any = 0: all). Indices may leave the map. */
 PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W,
                                        double k0, double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
     double maxL = -DBL_MAX, minR = DBL_MAX, mag = 0.0, err, a, b;
@@ -16642,45 +16566,40 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
     return 0;
 }
 
-/* ---- the bake method: occluders prepared once per bake, then per cell six directions ---- */
+/* ---- the bake method: occluders per bake, planes per cell ---- */
 
-/* One convex occluder: a planar convex polygon (a triangle, or coplanar triangles merged) or a
-   closed convex solid (a connected component whose triangles bound their convex hull). */
+/* A convex occluder: a planar convex polygon (a triangle or merged triangles) or a closed convex solid. */
 typedef struct pvs__epocc {
     pvs_box box;
     uint32_t first, count;   /* points */
     int solid;
-    uint32_t xfirst, xcount; /* the occluder extended through a sheet (pvs__epsheet), xcount = 0 if none */
+    uint32_t xfirst, xcount; /* extended through a sheet (pvs__epsheet), xcount = 0 if none */
     uint32_t sheet;
-    int xside;               /* the side of the sheet the occluder stands on */
+    int xside;               /* the sheet's side it stands on */
     int cap_side, cap_axis;  /* a capped convex solid (cap_side != 0): used only for cells where */
     float cap_value;         /*   cap_side * (x[cap_axis] - cap_value) > 0 */
     float slack;             /* how far the true shape may lie inside the hull of the points */
-    uint32_t object;         /* the object the triangles belong to, PVS_NO_OBJECT for none */
-    float area;              /* a bound on the area it shows from any point: solid angle <= area / distance^2 */
-    uint32_t efirst, ecount; /* a concave planar occluder (ecount > 0): its boundary edges prep->cedge[6 * efirst ...];
-                                the points are then the hull of its vertices, for selection only */
+    uint32_t object;         /* its object, or PVS_NO_OBJECT */
+    float area;              /* area bound: solid angle <= area / distance^2 */
+    uint32_t efirst, ecount; /* concave planar (ecount > 0): edges prep->cedge[6 * efirst ...]; points: its vertices'
+                                hull, for selection */
     float pn[3], pd;         /*   its plane pn . x = pd (pn a unit normal) */
 } pvs__epocc;
 
-/* A sheet: coplanar triangles (of any objects) in an axis-aligned plane x[axis] = value whose union
-   is one convex polygon without holes, e.g. a ground or a floor made of tiles. For a cell strictly on
-   one side of it and over it (its footprint inside the polygon), the half-space beyond the sheet,
-   over the polygon, is solid: a segment from the cell to a point there crosses the plane inside the
-   polygon (both ends lie over the convex polygon), so it hits a triangle of the sheet. */
+/* A sheet: coplanar triangles (any objects') in the plane x[axis] = value forming one convex polygon without holes (a
+   tiled floor). For a cell strictly on one side and over it, the space beyond, over the polygon, is solid: a segment
+   there crosses the polygon. */
 #define PVS__EP_MAX_SHEETS 16
 #define PVS__EP_AREA_CLASSES 8
 typedef struct pvs__epsheet {
     int axis;
     float value;
-    uint32_t first, count;   /* polygon vertices prep->spoly[2 * first ...] in the (axis + 1, axis + 2) plane, convex */
+    uint32_t first, count;   /* convex polygon prep->spoly[2 * first ...] on axes (axis + 1, axis + 2) */
     double area;
 } pvs__epsheet;
 
-/* A closed non-convex component sliced by the planes (§3.3): a connected set of one object's
-   triangles in which every edge is shared by an even number of triangles, or whose odd edges (the
-   boundary) all lie in one plane with every vertex on one side of it ("capped": the boundary's
-   region in that plane closes it, e.g. a building standing on the ground with no floor). */
+/* A closed non-convex component sliced by the planes (§3.3): one object's connected triangles, each edge used an even
+   number of times, or "capped": the odd edges in one plane, every vertex on one side (a building with no floor). */
 typedef struct pvs__epslice {
     pvs_box box;
     uint32_t first, count;   /* scene triangles prep->stri[first .. first + count) */
@@ -16705,15 +16624,14 @@ typedef struct pvs__extproj_prep {
     uint32_t max_slice_segments; /* the most triangles plus boundary edges of one sliced component */
     pvs__epsheet sheet[PVS__EP_MAX_SHEETS];
     uint32_t sheet_count;
-    /* the occluders by size class (area bound < 4^c square units), a kD-tree over each class's
-       boxes for the selection, which prunes a node by the class's largest area */
+    /* per size class (area bound < 4^c): a kD-tree of the boxes, a node pruned by the largest area */
     pvs_kdtree *occ_tree[PVS__EP_AREA_CLASSES];
     uint32_t *class_occ[PVS__EP_AREA_CLASSES]; /* tree item -> occluder */
     uint32_t class_count[PVS__EP_AREA_CLASSES];
     float class_area[PVS__EP_AREA_CLASSES];
     float *spoly;            /* sheet polygons: 2 floats per vertex */
     size_t spoly_count, spoly_capacity;
-    float *cedge;            /* boundary edges of concave planar occluders: 6 floats per edge */
+    float *cedge;            /* concave occluders' boundary edges: 6 floats each */
     size_t cedge_count, cedge_capacity;
 } pvs__extproj_prep;
 
@@ -16760,13 +16678,11 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
         ++p->pt_count;
     }
     {
-        /* a bound on the area it shows (the solid angle it subtends from a point at distance d is at
-           most that over d^2): a polygon's area; for a solid, the three faces of its box that
-           pvs__ep_solid_angle measures */
+        /* area bound: a polygon's area; a solid's, its box's three faces */
         double ex = (double)o->box.max[0] - o->box.min[0], ey = (double)o->box.max[1] - o->box.min[1],
                ez = (double)o->box.max[2] - o->box.min[2];
         double f = ex * ey + ey * ez + ez * ex;
-        if (!solid) { /* the polygon's own area, by its fan */
+        if (!solid) {
             double a3[3] = {0.0, 0.0, 0.0};
             int k;
             for (i = 1; i + 1 < n; ++i) {
@@ -16787,8 +16703,8 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
 
 PVS__STATIC int pvs__ep_same(const float *a, const float *b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 
-/* Two triangles sharing an edge, coplanar up to float precision, whose union is a convex quad:
-   fills q[4] and *slack (the fourth point's distance from the first triangle's plane) and returns 1. */
+/* Two edge-sharing triangles, coplanar to float precision, forming a convex quad: fills q[4] and *slack (from the
+   fourth point's distance to the first's plane); returns 1. */
 PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q, double *slack) {
     int i, j, k;
     double n[3], len = pvs__ep_tri_normal(A[0], A[1], A[2], n), scale = 0.0;
@@ -16805,8 +16721,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
             for (k = 0; k < 3; ++k)
                 scale = pvs__dmax(scale,
                                   pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
-            /* coplanar up to float precision of the input: the hull of the four points then
-               exceeds the two triangles by at most that distance, the occluder's slack */
+            /* the hull exceeds the two triangles by at most this distance: the slack */
             dev = pvs__dabs(n[0] * ((double)x[0] - a0[0]) + n[1] * ((double)x[1] - a0[1]) +
                             n[2] * ((double)x[2] - a0[2])) /
                 len;
@@ -16847,7 +16762,7 @@ PVS__STATIC int pvs__ep_edge2_root_cmp(const void *x, const void *y) {
     return pvs__ep_edge2_cmp(x, y);
 }
 
-/* 1 if (x, y) lies inside the convex counter-clockwise polygon q (n points) by a margin. */
+/* 1 if (x, y) lies inside convex counter-clockwise polygon q by a margin. */
 PVS__STATIC int pvs__ep_in_convex(const float *q, uint32_t n, double x, double y) {
     uint32_t i;
     for (i = 0; i < n; ++i) {
@@ -16870,9 +16785,8 @@ PVS__STATIC int pvs__ep_end_cmp(const void *x, const void *y) {
     return c ? c : a->edge < b->edge ? -1 : a->edge > b->edge;
 }
 
-/* The boundary edges e[0 .. nb) (each point on exactly two of them) as one loop from e[0].a: its
-   points into q (n = nb). 0 when a point lies on more than two of them or they form more than one
-   loop. ends: scratch of 2 nb; sorted ends make the walk O(nb log nb). */
+/* Walks boundary edges e[0 .. nb) as one loop from e[0].a into q; 0 if a point is on more than two edges or they form
+   several loops. ends: scratch of 2 nb. */
 PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, pvs__epend *ends) {
     uint32_t i, m, edge = 0;
     float cur[2];
@@ -16896,7 +16810,7 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
         if (lo + 1 >= 2 * nb || pvs__ep_p2_cmp(ends[lo + 1].p, cur) != 0) return 0; /* a loose end */
         if (lo + 2 < 2 * nb && pvs__ep_p2_cmp(ends[lo + 2].p, cur) == 0) return 0; /* a point on more than two edges */
         next = ends[lo].edge == edge ? ends[lo + 1].edge : ends[lo].edge;
-        if (next == 0 || next == edge) return 0; /* back at the start before every edge was walked */
+        if (next == 0 || next == edge) return 0;
         edge = next;
         if (pvs__ep_p2_cmp(e[edge].a, cur) == 0) { cur[0] = e[edge].b[0]; cur[1] = e[edge].b[1]; }
         else { cur[0] = e[edge].a[0]; cur[1] = e[edge].a[1]; }
@@ -16904,13 +16818,10 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
     return pvs__ep_p2_cmp(cur, q) == 0; /* the loop must close at its start */
 }
 
-/* The union of a group's triangles as one convex polygon: boundary edges (used an odd number of
-   times) forming one loop that turns one way once, with the loop's area equal to the triangles'
-   (no overlap, no hole). Fills q (counter-clockwise, collinear points dropped) and returns its size.
-   With tol > 0 (points rounded to floats off an exact plane, pvs__ep_merge_planar), a turn the
-   wrong way by less than tol (relative) is taken as straight: q is then the convex hull of the loop
-   (hp, hh: scratch of qcap + 1 points) and *dent the farthest a loop point lies inside it; a hull of
-   more than max_hull points gives 0 (the caller takes no more). ends: scratch of 2 qcap. */
+/* The union of a group's triangles as one convex polygon: boundary edges (odd use counts) in one loop turning once,
+   with the triangles' area (no overlap, no hole). Fills q (counter-clockwise, collinear points dropped), returns its
+   size or 0. tol > 0: wrong turns under tol (relative) count as straight, q is the loop's hull (hp, hh: scratch of
+   qcap + 1; 0 past max_hull points), *dent the deepest loop point inside it. ends: 2 qcap. */
 PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep,
                                            uint32_t qcap, pvs__epend *ends, double tol, double (*hp)[2],
                                            double (*hh)[2], int max_hull, double *dent) {
@@ -16974,7 +16885,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
         }
         return (uint32_t)hn;
     }
-    /* convex: no right turn, one full turn; collinear points are dropped (marked in keep) */
+    /* no right turn, one full turn; collinear points dropped */
     for (i = 0, m = 0; i < n; ++i) {
         const float *a = q + 2 * ((i + n - 1) % n), *b = q + 2 * i, *c = q + 2 * ((i + 1) % n);
         double ux = (double)b[0] - a[0], uy = (double)b[1] - a[1], vx = (double)c[0] - b[0], vy = (double)c[1] - b[1];
@@ -16994,7 +16905,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
     return m;
 }
 
-/* A vertex reference of the preparation: its position and its slot (3 t + k of the object). */
+/* A corner of the object being prepared: position and slot 3 t + k. */
 typedef struct pvs__epvref {
     float p[3];
     uint32_t slot;
@@ -17094,9 +17005,8 @@ PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, s
         w->edges && w->mark && w->uv && w->e2 && w->q2 && w->keep && w->ends && w->gparent && w->used;
 }
 
-/* 1 if the component's distinct vertices (<= PVS__EP_MAXP) are in convex position with respect to
-   every one of its triangles: all on one side of each triangle's plane, up to float precision; the
-   largest violation (doubled) goes to *slack: the hull exceeds the surface by no more. */
+/* 1 if the component's distinct vertices (<= PVS__EP_MAXP) lie on one side of each of its triangles' planes, to float
+   precision; *slack: twice the largest violation (the hull exceeds the surface by no more). */
 PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
                                          uint32_t n, double *slack) {
     uint32_t t, i, k;
@@ -17124,10 +17034,8 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
     return 1;
 }
 
-/* 1 if the component (triangles tris[0 .. tn), distinct vertices pts[0 .. n)) is flat: every vertex
-   within float precision of the plane of its largest triangle. A flat closed mesh (a two-sided wall)
-   bounds no volume: it is neither a convex solid (its vertices' hull would fill its windows) nor
-   sliced; its faces are planar occluders. */
+/* 1 if every vertex lies within float precision of the component's largest triangle's plane. A flat closed mesh (a
+   two-sided wall) bounds no volume: neither a solid (its hull would fill windows) nor sliced. */
 PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
                                        uint32_t n) {
     uint32_t t, i, k, best = 0;
@@ -17159,10 +17067,9 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
     return 1;
 }
 
-/* The cap of a component whose boundary edges (pairs of distinct-vertex ids in bnd) all lie in
-   one axis-aligned plane x_k = c, exactly (equal floats), with every vertex of the component on one
-   side of it: *side = +1 when the solid lies where x_k >= c, -1 when x_k <= c. Exact comparisons
-   keep the argument of pvs__ep_slice free of tolerances; tilted caps are not used. */
+/* The cap of a component whose boundary edges (pairs in bnd) lie exactly in one axis-aligned plane x_k = c, every
+   vertex on one side: *side = +1 if the solid lies where x_k >= c, else -1. Exact, so pvs__ep_slice needs no
+   tolerance. */
 PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv,
                                  uint32_t nuv, int *axis, float *c, int *side) {
     int k;
@@ -17185,8 +17092,7 @@ PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, 
     return 0;
 }
 
-/* 1 if triangle b (corners B) lies in the plane of triangle a (corners A, normal na of length la)
-   up to float precision and faces the same way: the two may be merged into one planar occluder. */
+/* 1 if triangle B lies in A's plane (normal na, length la) to float precision, facing the same way. */
 PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double la, const float *const *B,
                                  double scale) {
     double nb[3];
@@ -17205,12 +17111,9 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
 #define PVS__EP_TRI(j, k) (s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + (k)])
 #define PVS__EP_CONCAVE_EDGES 256
 
-/* A planar group (triangles tl[w->edges[m .. m + cnt) & 0xffffffff]) whose union is not one convex
-   polygon becomes a concave planar occluder (Durand 2000 §3.4, Fig. 7: planar, possibly concave,
-   with holes): its boundary edges (used by an odd number of its triangles) and its plane (unit
-   normal nr / lr through the first triangle, the vertices within dev of it); its points, for the
-   selection only, are the hull of its vertices. Left as pieces when it has more than
-   PVS__EP_CONCAVE_EDGES boundary edges. */
+/* A planar group not forming one convex polygon becomes a concave planar occluder (Durand 2000 §3.4, Fig. 7): boundary
+   edges and plane (unit normal nr / lr, vertices within dev); its points, its vertices' hull, serve selection only.
+   Past PVS__EP_CONCAVE_EDGES edges it stays in pieces. */
 PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
                                            pvs__epprepwork *w, uint32_t m, uint32_t cnt, const double *nr, double lr,
                                            double dev, double scale) {
@@ -17238,7 +17141,7 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
         h = g;
     }
     if (nb < 3 || nb > PVS__EP_CONCAVE_EDGES) return PVS_OK;
-    /* the hull of the boundary's vertices (the interior ones lie inside it) */
+    /* the hull of the boundary's vertices (interior ones lie inside) */
     for (h = 0; h < 2 * nb; ++h) {
         const float *x = w->vpos[h & 1u ? (uint32_t)(w->bed[h >> 1] & 0xffffffffu) : (uint32_t)(w->bed[h >> 1] >> 32)];
         w->hp[2 * h] = x[u];
@@ -17277,14 +17180,11 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
     return PVS_OK;
 }
 
-/* The planar groups of the component's triangles (tl[0 .. n), scene triangles t0 + tl[j]) into
-   w->gparent (union-find, the smaller index the root): triangles sharing an edge (of distinct
-   vertices), coplanar up to float precision (`scale`: twice the largest coordinate) and facing the
-   same way. Needs 3 n < 2^21 (edges packed with their triangle in 21 bits each). */
+/* Union-finds into w->gparent (smaller index roots) triangles sharing an edge, coplanar to float precision (`scale`:
+   twice the largest coordinate) and facing alike. Needs 3 n < 2^21 (21-bit packing). */
 PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
                                        pvs__epprepwork *w, double scale) {
     uint32_t j, k, ne = 0, g;
-    /* edges (distinct-vertex pairs) with their triangle: 21 bits each */
     for (j = 0; j < n; ++j)
         for (k = 0; k < 3; ++k) {
             uint64_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
@@ -17315,10 +17215,8 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
     }
 }
 
-/* The edges of a planar group (triangles tl[w->edges[m .. m + cnt) & 0xffffffff]) in the (u, v) plane
-   into w->e2 (each with its end points in order and its triangle); *dev the largest distance of a
-   vertex from the plane of normal nr (length lr) through A[0], *area the triangles' area in (u, v).
-   Returns the number of edges. */
+/* A planar group's edges in (u, v) into w->e2 (ends ordered, with their triangle); *dev: the farthest vertex from the
+   plane (nr, lr) through A[0]; *area: its area in (u, v). Returns the count. */
 PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
                                          uint32_t m, uint32_t cnt, const float *const *A, const double *nr, double lr,
                                          uint32_t u, uint32_t v, double *dev, double *area) {
@@ -17350,16 +17248,14 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
     return e;
 }
 
-/* Adds the convex polygon of a planar group (triangles tl[w->edges[m .. m + cnt) & 0xffffffff]) whose
-   k corners pvs__ep_sheet_polygon left in w->q2 (in the (u, v) plane of the dominant axis ax of the
-   normal nr, length lr; dev, dent its deviation and dent) as one planar occluder, and marks its
-   triangles in w->used; nothing when a corner is not one of the group's vertices. */
+/* Adds a planar group's convex polygon (k corners in w->q2, in the (u, v) plane of nr's dominant axis ax) as a planar
+   occluder, marking its triangles in w->used; nothing if a corner is not a group vertex. */
 PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
                                     pvs__epprepwork *w, uint32_t m, uint32_t cnt, uint32_t k, const double *nr,
                                     double lr, uint32_t ax, double dev, double dent, double scale) {
     const float *q3[PVS__EP_MAXP];
     uint32_t i, h, found = 0, u = (ax + 1) % 3, v = (ax + 2) % 3;
-    for (i = 0; i < k; ++i) { /* the corners back in 3D: the group's vertices with those (u, v) */
+    for (i = 0; i < k; ++i) { /* the corners back in 3D */
         const float *hit = NULL;
         for (h = m; h < m + cnt && !hit; ++h) {
             uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
@@ -17373,10 +17269,9 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
     }
     if (found != k) return;
     {
-        /* the slack: the vertices' distance from a plane through three corners far apart
-           (the first triangle's plane tilts with its rounding), measured both ways for the
-           hull and the surface, once more for the footprint, plus the dent (a point dent
-           inside the hull in the (u, v) plane lies |n| / |n_ax| dent inside it in the plane) */
+        /* slack: the vertices' distance from a plane through three far-apart corners (the first triangle's plane tilts
+           with its rounding), doubled for hull and surface, again for the footprint, plus dent |n| / |n_ax| (dent in
+           (u, v)) */
         double best = 0.0, nb[3], lb = 0.0, dev2 = 0.0;
         uint32_t i1, i2, b1 = 1, b2 = 2;
         for (i1 = 1; i1 < k; ++i1)
@@ -17404,15 +17299,9 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
     for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
 }
 
-/* Durand 2000 §3.3-3.4: a wall made of several triangles must act as one occluder, or every piece
-   alone loses a strip along each shared edge to that edge's penumbra and the wall hides nothing.
-   Groups the component's triangles (tl[0 .. n), scene triangles t0 + tl[j]) that are coplanar up
-   to float precision, face the same way and are joined by shared edges; a group of two or more
-   whose union is one convex polygon (pvs__ep_sheet_polygon: boundary edges forming one loop, one
-   turn, the loop's area equal to the triangles') of at most PVS__EP_MAXP corners becomes one planar
-   occluder, and its triangles are marked in w->used. The hull of the corners exceeds the surface by
-   at most the largest distance of a corner from the group's plane (the slack, doubled, and once
-   more for measuring along the dominant axis). */
+/* Durand 2000 §3.3-3.4: a wall of several triangles must act as one occluder, or each piece loses a strip along every
+   shared edge to its penumbra. Edge-connected, coplanar, like-facing triangles forming one convex polygon of at most
+   PVS__EP_MAXP corners become one planar occluder (marked in w->used); other groups, concave ones. */
 PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
                                             uint32_t n, pvs__epprepwork *w) {
     uint32_t j, k, g;
@@ -17427,7 +17316,7 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
             for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, 2.0 * pvs__dabs((double)x[c]));
         }
     pvs__ep_planar_groups(s, t0, tl, n, w, scale);
-    /* groups: (root, triangle) pairs sorted, the root being the group's first triangle */
+    /* groups: sorted (root, triangle) pairs, the root the group's first triangle */
     for (j = 0; j < n; ++j) w->edges[j] = ((uint64_t)pvs__ep_find(w->gparent, j) << 32) | j;
     PVS_QSORT(w->edges, n, sizeof(uint64_t), pvs__ep_u64_cmp);
     for (g = 0; g < n;) {
@@ -17461,11 +17350,9 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
 }
 #undef PVS__EP_TRI
 
-/* The connected components (by shared positions) of one object's triangles t0 .. t0 + tn into w:
-   canon (each corner's distinct vertex), vpos (each distinct vertex's position), parent (each
-   triangle's component root, the smaller index rooting: deterministic) and order, the triangles
-   grouped by component in order of their first triangle, in order within each; start[root] ends as
-   the component's end in order. */
+/* Connected components (by shared positions) of an object's triangles into w: canon (corner -> distinct vertex), vpos
+   (its position), parent (root: the smaller index, deterministic), order (by component, in order); start[root] ends as
+   the component's end. */
 PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
     uint32_t i, nv = 0, sum = 0;
     for (i = 0; i < 3 * tn; ++i) {
@@ -17489,7 +17376,7 @@ PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn
         if (w->owner[v] == 0xffffffffu) w->owner[v] = t;
         else {
             uint32_t x = pvs__ep_find(w->parent, t), y = pvs__ep_find(w->parent, w->owner[v]);
-            if (x != y) w->parent[x > y ? x : y] = x < y ? x : y; /* the smaller index roots: deterministic */
+            if (x != y) w->parent[x > y ? x : y] = x < y ? x : y;
         }
     }
     for (i = 0; i < tn; ++i) w->start[i] = 0;
@@ -17503,9 +17390,8 @@ PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn
     for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__ep_find(w->parent, i)]++] = i;
 }
 
-/* The boundary of component `comp` (triangles tl[0 .. n) of the object): its edges by distinct-vertex
-   pairs used an odd number of times, into w->edges[0 .. nb) (returns nb), and its distinct vertices
-   into w->uv[0 .. *nuv). */
+/* Component `comp`'s boundary (edges of odd use count) into w->edges, returning their count; its vertices into
+   w->uv[0 .. *nuv). */
 PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32_t *tl, uint32_t n, uint32_t comp,
                                                 uint32_t *nuv) {
     uint32_t j, k, ne = 0, nb = 0;
@@ -17531,9 +17417,8 @@ PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32
     return nb;
 }
 
-/* The component's triangles (tl[0 .. n), scene triangles t0 + tl[j]) as planar occluders: coplanar
-   edge-connected triangles whose union is convex become one (pvs__ep_merge_planar), then consecutive
-   coplanar triangles forming a convex quad, then each triangle left with a non-zero area. */
+/* The component's triangles as planar occluders: merged groups, then consecutive coplanar pairs forming convex quads,
+   then lone triangles of non-zero area. */
 PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
                                             uint32_t n, pvs__epprepwork *w) {
     uint32_t j, k;
@@ -17559,9 +17444,8 @@ PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scen
     return PVS_OK;
 }
 
-/* Keeps a closed or capped component (triangles tl[0 .. n), scene triangles t0 + tl[j]) for slicing
-   (§3.3): its triangles and box, and when capped its nb boundary edges (distinct-vertex pairs in bnd)
-   and the cap's plane. */
+/* Keeps a closed or capped component for slicing (§3.3): triangles, box and, if capped, boundary edges and cap
+   plane. */
 PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
                                          uint32_t n, const pvs__epprepwork *w, const uint32_t *bnd, uint32_t nb,
                                          int capped, int cap_axis, int cap_side, float cap_value) {
@@ -17608,9 +17492,8 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
     return PVS_OK;
 }
 
-/* One component (triangles tl[0 .. n) of an object of tn triangles, root `comp`): a closed convex one
-   becomes one solid (a capped one a solid for the cells on the cap's solid side); any other its
-   polygons, and a closed or capped one is also kept for slicing. */
+/* One component (triangles tl[0 .. n), root `comp`): closed and convex, a solid (capped: only for cells on the cap's
+   solid side); else its polygons, kept for slicing if closed or capped. */
 PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0,
                                                  const uint32_t *tl, uint32_t n, uint32_t comp, uint32_t tn,
                                                  pvs__epprepwork *w) {
@@ -17636,9 +17519,8 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
         if (pvs__ep_flat_component(s, tt, n, vq, nuv)) closed = capped = 0;
     }
     if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && n <= 2 * PVS__EP_MAXP) {
-        /* a convex solid; a capped one (its hull includes the cap) is used only for cells
-           strictly on the solid's side of the cap: a ray from there meets the hull first on a
-           real face, since it crosses the cap's plane only once, going away from the cell */
+        /* a capped solid serves only cells strictly on its side of the cap: a ray from there crosses the cap's plane
+           once, going away, so it meets the hull (cap included) first on a real face */
         const float *q[PVS__EP_MAXP];
         double slack;
         for (j = 0; j < n; ++j) tris_local[j] = t0 + tl[j];
@@ -17666,15 +17548,12 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
     return pvs__ep_add_slice(p, s, t0, tl, n, w, bnd, nb, capped, cap_axis, cap_side, cap_value);
 }
 
-/* Prepares one object's triangles t0 .. t0 + tn: connected components (by shared positions); a
-   closed convex component becomes one solid; any other component its polygons (coplanar
-   consecutive triangles merged into convex quads), and a closed or capped one is also kept for
-   slicing. */
+/* Prepares one object's triangles t0 .. t0 + tn, component by component. */
 PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn,
                                               pvs__epprepwork *w) {
     uint32_t comp;
     pvs__ep_components(s, t0, tn, w);
-    /* start[root] holds the component's end; components are the roots in increasing order */
+    /* start[root] holds the component's end; components are the roots in order */
     for (comp = 0; comp < tn; ++comp) {
         uint32_t begin, end;
         pvs_result r;
@@ -17702,7 +17581,7 @@ PVS__STATIC int pvs__ep_skey_cmp(const void *a, const void *b) {
     return x->tri < y->tri ? -1 : x->tri > y->tri;
 }
 
-/* The axis along which triangle t's three vertices have the same coordinate (the first such), or -1. */
+/* The first axis on which triangle t is flat, or -1. */
 PVS__STATIC int pvs__ep_flat_axis(const pvs_scene *s, uint32_t t) {
     const uint32_t *ix = s->indices + 3 * (size_t)t;
     const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1],
@@ -17713,8 +17592,7 @@ PVS__STATIC int pvs__ep_flat_axis(const pvs_scene *s, uint32_t t) {
     return -1;
 }
 
-/* The scratch of the sheets' search: the edges of a group of triangles in one axis-aligned plane,
-   sized for `cap` edges (3 per triangle). */
+/* Scratch of the sheets' search: `cap` edges (3 per triangle of one plane). */
 typedef struct pvs__epsheetwork {
     pvs__epedge2 *e;      /* cap */
     float *q;             /* 2 (cap + 1): a piece's polygon */
@@ -17734,7 +17612,7 @@ PVS__STATIC void pvs__ep_sheetwork_free(const pvs_allocator *a, pvs__epsheetwork
     pvs__free_array(a, w->tarea, w->cap, sizeof(double));
 }
 
-/* Grows the scratch to at least `cap` edges; 0 when out of memory (what was allocated stays in w). */
+/* Grows the scratch to `cap` edges; 0 when out of memory (what was allocated stays in w). */
 PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwork *w, size_t cap) {
     if (cap <= w->cap) return 1;
     pvs__ep_sheetwork_free(a, w);
@@ -17748,8 +17626,7 @@ PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwo
     return w->e && w->q && w->keep && w->ends && w->uf && w->tarea;
 }
 
-/* Keeps the sheet polygon q (m vertices, area `area`) in the plane x_axis = value if it is among the
-   PVS__EP_MAX_SHEETS largest so far (replacing the smallest). */
+/* Keeps sheet polygon q (m vertices, plane x_axis = value) if among the PVS__EP_MAX_SHEETS largest. */
 PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float value, const float *q, uint32_t m,
                                           double area) {
     pvs_result r = PVS_OK;
@@ -17775,9 +17652,8 @@ PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float 
     return PVS_OK;
 }
 
-/* The sheets among n >= 2 triangles in one axis-aligned plane (key[0 .. n), one axis and value): the
-   pieces joined by shared edges (a lamp's base lying on the ground is a piece of its own) whose union
-   is one convex polygon (pvs__ep_sheet_polygon), kept by pvs__ep_keep_sheet. */
+/* Sheets among n >= 2 triangles in one axis-aligned plane: edge-joined pieces (a lamp's base on the ground is its own)
+   forming one convex polygon. */
 PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene *s, const pvs__epskey *key, size_t n,
                                            pvs__epsheetwork *w) {
     int k = (int)key[0].axis, u = (k + 1) % 3, v = (k + 2) % 3;
@@ -17807,7 +17683,6 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
             ed->tri = (uint32_t)g;
         }
     }
-    /* pieces joined by shared edges */
     PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
     for (g = 1; g < ne; ++g)
         if (pvs__ep_edge2_cmp(e + g, e + g - 1) == 0) {
@@ -17837,10 +17712,9 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
     return PVS_OK;
 }
 
-/* 1 when the convex occluder oc stands on sheet S: some vertices (*on of them) exactly in the sheet's
-   plane, inside its polygon, the others on one side (*above: 1 above it, 0 below) and each exactly
-   over one of those or strictly inside their hull F, the footprint; no concave occluder, and at most
-   PVS__EP_MAXP points once extended. */
+/* 1 when convex occluder oc stands on sheet S: *on vertices exactly in its plane inside its polygon, the rest on one
+   side (*above), each exactly over one of those or inside their hull; not concave, <= PVS__EP_MAXP points once
+   extended. */
 PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *oc, const pvs__epsheet *S, uint32_t *on,
                                   int *above) {
     const float *pts = p->pts + 3 * (size_t)oc->first, *poly = p->spoly + 2 * (size_t)S->first;
@@ -17857,7 +17731,6 @@ PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *
         below |= c < S->value;
     }
     if (!*on || *above == below || oc->count + *on > PVS__EP_MAXP || oc->ecount) return 0;
-    /* the footprint F: the hull of the vertices in the sheet's plane (counter-clockwise) */
     for (x = 0; x < oc->count; ++x)
         if (pts[3 * x + k] == S->value) { fp[nf][0] = pts[3 * x + u]; fp[nf][1] = pts[3 * x + v]; ++nf; }
     hn = nf >= 3 ? pvs__ep_hull(fp, (int)nf, fh) : 0;
@@ -17866,7 +17739,6 @@ PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *
         const float *P = pts + 3 * x;
         if (P[k] == S->value) ok = pvs__ep_in_convex(poly, S->count, P[u], P[v]);
         else {
-            /* over F: exactly over one of its vertices, or strictly inside it */
             for (y = 0; y < oc->count; ++y)
                 if (pts[3 * y + k] == S->value && pts[3 * y + u] == P[u] && pts[3 * y + v] == P[v]) break;
             ok = y < oc->count || (hn >= 3 && pvs__ep_in_convex(fpoly, (uint32_t)hn, P[u], P[v]));
@@ -17875,8 +17747,8 @@ PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *
     return ok;
 }
 
-/* Gives occluder oc, standing on sheet sh with `on` vertices in its plane (pvs__ep_stands_on), its
-   extended point set: its points plus those in the plane pushed through it by D, away from `above`. */
+/* oc's extended point set: its points plus its `on` points in sheet sh's plane pushed through it by D, away from
+   `above`. */
 PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint32_t sh, uint32_t on, int above,
                                       double D) {
     const pvs__epsheet *S = p->sheet + sh;
@@ -17904,17 +17776,9 @@ PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint
     return PVS_OK;
 }
 
-/* Finds the largest sheets (up to PVS__EP_MAX_SHEETS) and extends through them the occluders that
-   stand on them: a convex occluder with some vertices exactly in the sheet's plane, inside its
-   polygon, the others on one side and each exactly over one of those (a vertical wall, a box on the
-   floor), gets a second point set: its points plus those in the plane pushed through it by the
-   scene's size. The extended shape is the occluder joined with the prism under its footprint F (the
-   union is convex because the occluder lies over F), and that prism lies in the sheet's solid
-   half-space: for a cell over the sheet on the occluder's side, a ray hitting the extension first
-   crosses the sheet, at a nearer point, so the extended occluder blocks nothing the sheet and the
-   occluder do not. This closes the seam between a wall and the ground it stands on, which the
-   Projections of the two (each conservatively rasterized, and separated by the penumbra of their
-   common edge) leave open. */
+/* Finds the largest sheets and extends through them, by the scene's size, the occluders standing on them: the prism
+   under the footprint keeps the occluder convex and lies in the sheet's solid half-space, so from a cell over the sheet
+   on its side it blocks nothing new, and closes the wall-ground seam the two Projections leave open. */
 PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) {
     const pvs_allocator *a = &p->allocator;
     pvs__epskey *key = NULL;
@@ -17953,7 +17817,6 @@ PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) 
         }
         i = j;
     }
-    /* occluders standing on a sheet */
     D = 0.0;
     for (t = 0; t < 3; ++t) D = pvs__dmax(D, 2.0 * ((double)s->bounds.max[t] - s->bounds.min[t]) + 1.0);
     for (o = 0; o < p->occ_count; ++o) {
@@ -17973,7 +17836,7 @@ done:
     return r;
 }
 
-/* The size class of an occluder: area bound < 4^c square units (the last class open-ended). */
+/* An occluder's size class: area bound < 4^c (the last class open-ended). */
 PVS__STATIC int pvs__ep_area_class(float area) {
     int c = 0;
     float lim = 1.0f;
@@ -17984,8 +17847,7 @@ PVS__STATIC int pvs__ep_area_class(float area) {
     return c;
 }
 
-/* The occluders of the scene's triangles, in object order, one run of an object's triangles at a time
-   (pvs__ep_prepare_object), each tagged with its object. */
+/* The occluders of the scene's triangles, object by object, tagged with it. */
 PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_scene *s, pvs__epprepwork *w) {
     uint32_t t;
     for (t = 0; t < s->triangle_count;) {
@@ -18001,8 +17863,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_sc
     return PVS_OK;
 }
 
-/* The occluders of the scene's explicit volumes: a BOX a convex solid, an EXTRUSION its walls, each a
-   planar quad. CONVEX occluders are not used (leaving an occluder out is conservative). */
+/* The scene's volumes: a BOX is a convex solid, an EXTRUSION's walls quads; CONVEX ones are left out (conservative). */
 PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *s) {
     uint32_t o, i;
     for (o = 0; o < s->occluder_count; ++o) {
@@ -18036,8 +17897,7 @@ PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *
     }
 }
 
-/* The occluders by size class (area bound < 1, 4, 16, ..., the last open-ended): per class the list,
-   the largest area and a kD-tree over their boxes, for the selection's sweeps (§6.1). */
+/* Per size class: the occluders, the largest area and a kD-tree of the boxes (§6.1's sweeps). */
 PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err) {
     const pvs_allocator *a = &p->allocator;
     pvs_kdtree_desc kd;
@@ -18131,20 +17991,18 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 
 /* ---- slices of closed meshes (§3.3) ---- */
 
-/* Per-cell scratch of the slicer: segments (x0, y0, x1, y1 in pixels), crossings and a row buffer. */
+/* The slicer's per-cell scratch: segments (x0, y0, x1, y1 in pixels), crossings, a row. */
 typedef struct pvs__epslicer {
     double *seg;
     double *xs;
     unsigned char *row;
-    unsigned char *cmark;    /* res * res (no map or mask has more pixels): pixels in the penumbra of a
-                                concave occluder's boundary */
+    unsigned char *cmark;    /* res * res (no map or mask is larger): the penumbra of a concave occluder's boundary */
     size_t cap;          /* segments */
     uint32_t width;      /* row buffer: the longest side of a map or mask */
 } pvs__epslicer;
 
-/* The point where edge a-b (a on the near side of the plane, b on the far side) crosses w = W, in
-   pixels. The ends are taken in a fixed order (by position), so the two triangles sharing the edge
-   compute the same point and the section's segments close up exactly. */
+/* Edge-end order for pvs__ep_cross: fixed by position, so both triangles of an edge get the same crossing and the
+   section closes. */
 PVS__STATIC int pvs__ep_vref_cmp_pts(const float *a, const float *b) {
     int k;
     for (k = 0; k < 3; ++k)
@@ -18174,9 +18032,8 @@ PVS__STATIC int pvs__ep_double_cmp(const void *a, const void *b) {
     return x < y ? -1 : x > y;
 }
 
-/* The section of component c's triangles by the plane w = W of frame f: one segment (pixels) per
-   triangle crossing it, into sc->seg from segment nseg on; vertices on the plane count as beyond it.
-   *mag grows to the points' size (their rounding). Returns the new segment count. */
+/* Component c's section by w = W: a segment (pixels) per crossing triangle into sc->seg from nseg on; vertices on the
+   plane count as beyond it; *mag grows to the points' size. Returns the new count. */
 PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
                                           const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double *mag) {
     uint32_t i;
@@ -18207,11 +18064,8 @@ PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj
     return nseg;
 }
 
-/* The section of a capped component's cap by the plane w = W: the cap (the boundary's region in its
-   plane) meets the slicing plane along a line, and the boundary edges crossing the plane give points
-   on it, paired in order along the line into segments of sc->seg from nseg on (*mag grows as in
-   pvs__ep_section_tris). Returns the new segment count, or 0xffffffff for an odd number of points
-   (cannot happen for a closed boundary; be safe). */
+/* The cap's section by w = W: boundary edges crossing the plane give points on one line, paired in order into segments
+   from nseg on. Returns the new count, or 0xffffffff for an odd count (never when closed). */
 PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
                                          pvs__epslicer *sc, uint32_t nseg, double *mag) {
     double *pts = sc->xs;
@@ -18225,8 +18079,7 @@ PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__
         ++ncap;
     }
     if (ncap & 1u) return 0xffffffffu;
-    /* the line lies along the plane's u or v axis: the cap is axis-aligned and the slicing plane is
-       perpendicular to another axis */
+    /* the line runs along u or v: the cap is axis-aligned, the plane across another axis */
     key = c->cap_axis == f->u ? 1 : 0; /* the cap fixes u: the line runs along v */
     for (x = 1; x < ncap; ++x) /* insertion sort by the running coordinate */
         for (y = x; y > 0 && pts[2 * y + key] < pts[2 * (y - 1) + key]; --y) {
@@ -18246,10 +18099,9 @@ PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__
     return nseg;
 }
 
-/* Fills the section's inside (the nseg segments of sc->seg, margin m in pixels) on frame f: per row the
-   parity crossings of its centre line (half-open in y), less the pixels a segment passes through in
-   the row's band widened by m; those get `depth` (where nearer) in map and f->bits in mask (either
-   may be NULL). Returns the pixels written. */
+/* Fills the section's inside: per row the parity spans of its centre line (half-open in y), less pixels a segment
+   crosses in the row's band widened by m, get `depth` (where nearer) in map, f->bits in mask (either may be NULL).
+   Returns the count. */
 PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double m,
                                           float depth, float *map, unsigned char *mask) {
     double ylo = DBL_MAX, yhi = -DBL_MAX;
@@ -18264,14 +18116,12 @@ PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *
     for (j = j0; j <= j1; ++j) {
         double yc = (double)j + 0.5, b0 = (double)j - m, b1 = (double)j + 1.0 + m;
         uint32_t nx = 0, x;
-        /* parity crossings of the row's centre line (half-open in y) */
         for (i = 0; i < nseg; ++i) {
             const double *g = sc->seg + 4 * i;
             if ((g[1] <= yc) != (g[3] <= yc)) sc->xs[nx++] = g[0] + (yc - g[1]) * (g[2] - g[0]) / (g[3] - g[1]);
         }
         if (nx < 2) continue;
         PVS_QSORT(sc->xs, nx, sizeof(double), pvs__ep_double_cmp);
-        /* pixels a segment passes through (in the band widened by the margin) are excluded */
         memset(sc->row, 0, f->width);
         for (i = 0; i < nseg; ++i) {
             const double *g = sc->seg + 4 * i;
@@ -18309,15 +18159,11 @@ PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *
     return written;
 }
 
-/* Rasterizes the section of a closed (or capped) component by the plane w = W (Durand 2000 §3.3:
-   the Projection of a closed manifold lying in the plane is itself): only pixels at a margin from
-   every segment of the section and inside it by parity get Depth W (map) or 1 (mask). Why it is
-   conservative: the cell lies outside the component's box, so a point V of the cell is outside the
-   solid, and a point X inside the section is inside it; the segment V-X crosses the closed surface
-   (mesh plus cap) an odd number of times, and never the cap (V and X lie strictly on the solid's
-   side of the cap's plane), so it crosses a triangle before reaching X, at a depth below W. Vertices
-   on the plane count as beyond it (symbolic perturbation), so every triangle and boundary edge
-   crossing the plane gives a consistent segment or point. Returns the pixels written. */
+/* Rasterizes the section of a closed (or capped) component by the plane w = W (Durand 2000 §3.3): pixels inside by
+   parity, at a margin from every segment, get Depth W. Conservative: a cell point V is outside the solid (the cell is
+   outside its box), a section point X inside, so V-X crosses the surface an odd number of times, never the cap (both
+   lie strictly on its solid side): it hits a triangle nearer than W. Vertices on the plane count as beyond it (symbolic
+   perturbation), so segments agree. Returns the pixels written. */
 PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
                                    const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
     double mag = 0.0;
@@ -18327,12 +18173,11 @@ PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *
         if (nseg == 0xffffffffu) return 0;
     }
     if (nseg < 3) return 0;
-    /* margin: a bound on the points' rounding errors in pixels, widely */
+    /* margin: the points' rounding in pixels, widely bounded */
     return pvs__ep_fill_section(f, sc, nseg, 1e-6 + 1e-12 * mag, pvs__f_up(f->W), map, mask);
 }
 
-/* 1 if the component may be sliced for this cell: the cell is outside its box and strictly on the
-   solid's side of its cap. */
+/* 1 if the component may be sliced for this cell: outside its box, strictly on the cap's solid side. */
 PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
     if (pvs__box_overlap(&c->box, cell)) return 0;
     if (c->capped) {
@@ -18342,8 +18187,8 @@ PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
     return 1;
 }
 
-/* The slice of a sheet's solid half-space (pvs__epsheet) by the plane: the points beyond the sheet
-   (on the side away from the cell) over its polygon. Pixels inside it by a margin get Depth W. */
+/* The slice of a sheet's solid half-space (beyond it from the cell, over its polygon): pixels inside by a margin get
+   Depth W. */
 PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__epsheet *S, int side,
                                          const pvs__epframe *f, float *map, unsigned char *mask) {
     int k = S->axis, su = (k + 1) % 3;
@@ -18353,11 +18198,10 @@ PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__
     uint32_t written = 0, e;
     float depth = pvs__f_up(f->W);
     if (k == f->a) {
-        /* parallel: the plane must lie beyond the sheet; the region is the polygon */
         if (!(side > 0 ? pos < S->value : pos > S->value)) return 0;
-        return 0; /* a polygon fill would be needed; the planes along the sheet's axis gain little */
+        return 0; /* a parallel plane would need a polygon fill; such planes gain little */
     } else {
-        /* the polygon's extent along the line x[a] = pos: the other in-plane axis */
+        /* the polygon's extent along the line x[a] = pos */
         int along = f->a == su ? 0 : 1; /* polygon coordinate index of the plane's axis */
         for (e = 0; e < S->count; ++e) {
             const float *A = poly + 2 * e, *B = poly + 2 * ((e + 1) % S->count);
@@ -18374,7 +18218,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__
             hi = pvs__dmax(hi, x);
         }
         if (!(hi > lo)) return 0;
-        /* in plane pixels: the sheet's axis k is the plane's u or v; the interval is on the other */
+        /* to pixels: the sheet's axis k is the plane's u or v, the interval on the other */
         if (f->u == k) {
             double c = (S->value - f->u0) * f->su;
             x0 = side > 0 ? -DBL_MAX : c;
@@ -18431,11 +18275,9 @@ PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep 
 
 /* ---- concave planar occluders (§3.4) ---- */
 
-/* Clips a concave planar occluder's boundary edges (E, n, in double) to the depths w >= c (ge) or
-   w <= c: the boundary of P and the half-space is that of P clipped (the cut ends computed in
-   double on the edges, exactly at depth c) plus the segments of the clipping line inside P, found
-   between the crossings sorted along the line and paired by parity with the same half-open rule,
-   so the two close up. E needs room for 1.5 n + 1 edges. Returns the new count (0 if none). */
+/* Clips a concave occluder's boundary (E, n edges) to w >= c (ge) or w <= c: kept edges cut exactly at c, plus the
+   clipping line's parts inside P (crossings sorted, paired by parity). E needs room for 1.5 n + 1 edges. Returns the
+   new count. */
 PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epocc *o, double *E, uint32_t n,
                                           double cdepth, int ge) {
     const pvs__epframe f = *fp;
@@ -18443,7 +18285,7 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
     double xs[PVS__EP_CONCAVE_EDGES][4], dir[3], best = 0.0, ea[3] = {0.0, 0.0, 0.0};
     int c;
     if (n > PVS__EP_CONCAVE_EDGES) return 0;
-    ea[f.a] = 1.0; /* the clipping line's direction: pn x (the axis) */
+    ea[f.a] = 1.0; /* the clipping line's direction: pn x the axis */
     dir[0] = (double)o->pn[1] * ea[2] - (double)o->pn[2] * ea[1];
     dir[1] = (double)o->pn[2] * ea[0] - (double)o->pn[0] * ea[2];
     dir[2] = (double)o->pn[0] * ea[1] - (double)o->pn[1] * ea[0];
@@ -18484,11 +18326,8 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
     return nc;
 }
 
-/* Marks in cmark (rows j0 .. j1, columns i0 .. i1 of frame fp) every pixel the penumbra of one boundary
-   edge (e: its two ends) may touch: the convex hull of the 16 views of its ends from the cell's
-   corners (their bounding box when the views are collinear), widened by the views' rounding and a
-   thousandth of a pixel for the crossing test. `base` bounds the frame's terms. Returns 0 when the
-   views are too far to bound: then every candidate pixel is marked. */
+/* Marks in cmark (rows j0..j1, columns i0..i1) the pixels edge e's penumbra may touch: the hull of its ends' 16 views
+   from the corners, widened by rounding and 1e-3 pixel. 0 (all marked) if too far to bound. */
 PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, double base, unsigned char *cmark,
                                       int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
     const pvs__epframe f = *fp;
@@ -18503,7 +18342,7 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
             double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
             pts[k][0] = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su;
             pts[k][1] = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
-            /* rounding: a few ulps of the terms, with a wide factor (the ends are exact) */
+            /* rounding: a few ulps of the terms, widely (the ends are exact) */
             err = pvs__dmax(err,
                             1e-12 *
                                 (pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
@@ -18513,10 +18352,10 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
             ++k;
         }
     }
-    err += 1e-3; /* and a thousandth of a pixel to spare for the crossing test (2) */
+    err += 1e-3; /* to spare for the crossing test (2) */
     for (k = 0; k < 16; ++k) { hy0 = pvs__dmin(hy0, pts[k][1]); hy1 = pvs__dmax(hy1, pts[k][1]); }
     hn = pvs__ep_hull(pts, 16, hull);
-    if (!(hy1 - hy0 < 1e9)) { /* too far to bound: everything is marked */
+    if (!(hy1 - hy0 < 1e9)) { /* too far to bound */
         for (row = j0; row <= j1; ++row) memset(cmark + (size_t)row * f.width + i0, 1, (size_t)(i1 - i0 + 1));
         return 0;
     }
@@ -18535,7 +18374,6 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
     r0 = pvs__clampi(floor(hy0 - err), j0 - 1, j1 + 1);
     r1 = pvs__clampi(floor(hy1 + err), j0 - 1, j1 + 1);
     for (row = r0 < j0 ? j0 : r0; row <= r1 && row <= j1; ++row) {
-        /* the hull's x extent over the band [row - err, row + 1 + err] */
         double y0 = row - err, y1 = row + 1.0 + err, mn = DBL_MAX, mx = -DBL_MAX;
         int32_t x0, x1;
         for (m = 0; m < hn; ++m) {
@@ -18561,11 +18399,8 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
     return 1;
 }
 
-/* Test (2) for the run of pixel (xm, row) of frame f: 1 when the line from the cell's centre world0
-   through the pixel's centre on the plane crosses the plane of the concave occluder o (unit normal pn,
-   dominant axis pax) in front of the plane (front) or behind it, inside its boundary (E, n edges) by
-   parity, and farther from the boundary than the surface's slack allows (scale: the boundary's
-   size). */
+/* Test (2) for pixel (xm, row): 1 when the line from the cell's centre through the pixel's centre meets o's plane
+   before (front) or behind the plane, inside the boundary by parity, farther from it than the slack. */
 PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *o, const double *E, uint32_t n,
                                        const double *world0, const double *pn, int pax, int front, double scale,
                                        int32_t xm, int32_t row) {
@@ -18590,29 +18425,18 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
                          sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) +
                               (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
     }
-    /* the surface lies within the slack of the plane: the segment crosses that slab over a
-       stretch of slack / sin(angle) (|dir| / |den|), measured in (pu, pv) a factor
-       1 / |n_pax| longer; a crossing that near the boundary is not trusted */
+    /* the surface lies within slack of the plane: the line crosses that slab over slack |dir| / |den|, 1 / |n_pax|
+       longer in (pu, pv); nearer the boundary, not trusted */
     tol = 4.0 * slack / pvs__dabs(pn[pax]) *
             pvs__dmax(1.0, sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]) / pvs__dabs(den)) +
         1e-9 * scale;
     return inside && best > tol;
 }
 
-/* The Projection of a concave planar occluder P (Durand 2000 §3.4, Fig. 7: planar, possibly
-   concave, with holes) lying wholly in front of the plane ([margin, W]) or, unless front_only,
-   wholly behind it. A pixel X is in it when every line from the cell through X meets P. Let C(X) be
-   where those lines cross P's plane. As the cell point moves, the crossing can leave P only through
-   P's boundary, so X is covered when (1) no line from the cell through any point of the pixel meets a
-   boundary edge e, i.e. the pixel is outside the penumbra of every e, and (2) the line from one cell
-   point (the centre) through X crosses the plane inside P. The penumbra of a segment e = [a, b] on
-   the plane lies in the convex hull of the 16 views of a and b from the cell's corners (for a fixed
-   point of e the views from the cell are the hull of the corners' views; each corner's views of e
-   form a segment), rasterized here conservatively (every pixel the hull may touch, into cmark); then
-   per row each run of unmarked pixels is connected, so one crossing test (parity against the
-   boundary, away from it by more than the slack) decides the whole run. Unlike the pieces' own
-   Projections, which each lose a strip along every shared edge to its penumbra, the boundary's
-   penumbra is the only loss. Depth: the farthest vertex, plus the slack. Returns the pixels set. */
+/* The Projection of a concave planar occluder P (Durand 2000 §3.4, Fig. 7) wholly in front of the plane or, unless
+   front_only, behind it. As the cell point moves, a line's crossing with P's plane leaves P only through its boundary,
+   so pixel X is covered when (1) it is outside every boundary edge's penumbra (cmark) and (2) the line from the cell's
+   centre through X crosses P; one test per unmarked run of a row. Depth: the farthest vertex plus the slack. */
 PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o,
                                      int front_only, unsigned char *cmark, float *map, unsigned char *mask) {
     const pvs__epframe f = *fp;
@@ -18632,8 +18456,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
         for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, pvs__dabs(E[3 * e + c]));
     }
     if (!(wmin - slack > margin)) {
-        /* reaching past the cell's face (a wall beside the cell): its part at depths >= margin.
-           Exact input only (no slack) */
+        /* reaching past the cell's face (a wall beside the cell): its part at w >= margin, exact input only */
         if (slack > 0.0 || !(wmax > margin)) return 0;
         n = pvs__ep_clip_concave(&f, o, E, n, margin, 1);
         if (n < 3) return 0;
@@ -18647,7 +18470,6 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
         wmax = f.W;
     } else return 0;
     base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv + 1.0;
-    /* candidate pixels: inside every corner's view of the boundary's bounding box */
     for (c = 0; c < 8; ++c) {
         double Vu = f.cu[c & 1], Vv = f.cv[(c >> 1) & 1], Vw = f.cw[(c >> 2) & 1], bx0 = DBL_MAX, bx1 = -DBL_MAX,
                by0 = DBL_MAX, by1 = -DBL_MAX;
@@ -18672,7 +18494,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
     /* (1) the boundary's penumbrae */
     for (e = 0; e < n; ++e)
         if (!pvs__ep_mark_penumbra(&f, E + 6 * (size_t)e, base, cmark, i0, i1, j0, j1)) break;
-    /* (2) per run of unmarked pixels, the crossing of the line from the cell's centre */
+    /* (2) per run of unmarked pixels */
     for (c = 0; c < 3; ++c) pn[c] = o->pn[c];
     for (c = 1; c < 3; ++c)
         if (pvs__dabs(pn[c]) > pvs__dabs(pn[pax])) pax = c;
@@ -18708,7 +18530,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 
 /* ---- depth maps with their pyramids, sweep masks ---- */
 
-/* A depth map with its max pyramid (§2.4): level l texel = the greatest Depth of its 2 x 2 children. */
+/* A depth map and its max pyramid (§2.4): a texel is the greatest Depth of its 2 x 2 children. */
 typedef struct pvs__epmap {
     pvs_extproj_plane plane;
     pvs__epframe frame;
@@ -18718,8 +18540,7 @@ typedef struct pvs__epmap {
     float *lv[14];
 } pvs__epmap;
 
-/* The map's max pyramid, by the raster's kernel (pvs__pyramid_level; Depths are positive, so its SIMD
-   path gives the scalar loop's values). */
+/* The max pyramid by pvs__pyramid_level (positive Depths: its SIMD path matches the scalar one). */
 PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
     uint32_t l;
     for (l = 1; l <= m->levels; ++l)
@@ -18754,15 +18575,10 @@ PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) 
     return 0;
 }
 
-/* A plane of the occlusion sweep (§5): a mask (1 = every ray from the cell through the pixel is
-   blocked before the plane) with its pyramid, level l texel = AND of its 2 x 2 children. With
-   sub-cells (nsub = 4) bit j of a pixel says the same of the rays from sub-cell j: sub[j] is a frame
-   of the same plane whose cell is a quarter of the cell, halved across the plane's direction on its
-   u (bit 0 of j) and v (bit 1) axes, with frame bits 1 << j. A mask then holds the union of the
-   quarters' umbrae, which is wider than the cell's (§5: a pixel a quarter of the cell cannot see
-   through any gap is blocked for it even where rays from another quarter pass), and an object is
-   hidden when it is hidden from each quarter, each in its own umbra. frame.bits is then all four (a
-   slice blocks every ray). With nsub = 0 the mask holds the cell's umbra in bit 1. */
+/* A sweep plane (§5): a mask (1 = every ray from the cell through the pixel is blocked before the plane) and its AND
+   pyramid. With sub-cells (nsub = 4) bit j says so for quarter j of the cell (halved across the direction on u: bit 0,
+   v: bit 1; frame sub[j]): their umbrae together are wider than the cell's, and an object is hidden when hidden from
+   each; frame.bits is all four (slices block every ray). nsub = 0: bit 1. */
 #define PVS__EP_MAX_SUB 4
 typedef struct pvs__epmask {
     pvs_extproj_plane plane;
@@ -18779,8 +18595,7 @@ PVS__STATIC const pvs__epframe *pvs__ep_subframe(const pvs__epmask *m, uint32_t 
     return m->nsub ? m->sub + j : &m->frame;
 }
 
-/* Splits a mask's cell into its 4 sub-cells (pvs__epmask), the halves meeting at the same
-   midpoint, so that they cover the cell. */
+/* Splits a mask's cell into 4 sub-cells meeting at one midpoint, so they cover the cell. */
 PVS__STATIC void pvs__ep_split_mask(pvs__epmask *m) {
     uint32_t j;
     double mu = 0.5 * (m->frame.cu[0] + m->frame.cu[1]), mv = 0.5 * (m->frame.cv[0] + m->frame.cv[1]);
@@ -18795,10 +18610,7 @@ PVS__STATIC void pvs__ep_split_mask(pvs__epmask *m) {
     m->frame.bits = (unsigned char)((1u << PVS__EP_MAX_SUB) - 1u);
 }
 
-/* The mask's AND pyramid. Not pvs__pyramid_level: a pixel holds a bit per sub-cell and a texel keeps
-   each bit's AND over its children, which no minimum or maximum of the pixels' values gives, in a
-   quarter of a float pyramid's memory (it costs about 36 us per 256 x 256 mask, scalar, against 7 us
-   for a depth map's max pyramid with the kernel's SSE2 path). */
+/* The mask's AND pyramid. Not pvs__pyramid_level: no min or max of values gives each sub-cell bit's AND. */
 PVS__STATIC void pvs__ep_build_mask_pyramid(pvs__epmask *m) {
     uint32_t l, x, y;
     for (l = 1; l <= m->levels; ++l) {
@@ -18842,11 +18654,8 @@ PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r, unsign
     return 0;
 }
 
-/* Pixel ranges of plane `to` (per column: [lo, hi] on plane `from`'s u axis; per row likewise on
-   v) that the rays from the cell through each column (row) of `to` cross on `from`, nearer to the
-   cell (§5.1 reprojection). A ray from corner V through q crosses plane W_from at V + (q - V) a with
-   a = (W_from - Vw) / (W_to - Vw); per axis the extremes are at the cell's corners and the pixel's
-   edges. Ranges reaching outside `from` are marked lo = -1. */
+/* Reprojection (§5.1): per column of `to`, the range [lo, hi] of `from`'s pixels on u (per row, on v) that rays from
+   the cell through it cross, extremes at cell corners and pixel edges; lo = -1 outside `from`. */
 PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, double W_from, double W_to, double to_k0,
                                         double to_sk, uint32_t to_n, double from_k0, double from_sk, uint32_t from_n,
                                         int32_t *lo, int32_t *hi) {
@@ -18882,21 +18691,17 @@ typedef struct pvs__epsel {
 } pvs__epsel;
 
 typedef struct pvs__epparams {
-    uint32_t res;        /* pixels per plane: res x res (a sweep mask spreads them, pvs__ep_fit_plane) */
-    uint32_t max_occ;    /* occluders projected per direction onto the planes of §6.1 */
+    uint32_t res;        /* pixels per plane: res x res */
+    uint32_t max_occ;    /* occluders per direction on §6.1's planes */
     uint32_t sweep;      /* occlusion sweep planes per direction (§5), 0 = no sweep */
-    uint32_t split;      /* 1: the sweep's masks hold the umbrae of the cell's 4 quarters (pvs__epmask) */
-    uint32_t coarse;     /* 1 (PVS_BAKE_PREVIEW): the object tree's nodes decided whole (pvs__ep_visit) */
+    uint32_t split;      /* 1: sweep masks hold the cell's 4 quarters' umbrae (pvs__epmask) */
+    uint32_t coarse;     /* 1 (PVS_BAKE_PREVIEW): object nodes decided whole (pvs__ep_visit) */
 } pvs__epparams;
 
-/* The preview's coarse occludee test (PVS_BAKE_PREVIEW): a node of the object kD-tree whose box
-   subtends less than PVS__EP_COARSE_ANGLE (the box's diagonal over its distance from the cell plus
-   the cell's diagonal: radians, roughly; about 4 pixels of a 64-pixel plane) is decided whole,
-   hidden or kept with every object in it, and after PVS__EP_COARSE_TESTS box tests every node left
-   is kept whole (pvs_kdtree_sweep's PVS_VISIT_ALL). The nodes that big from a cell number about
-   log(scene / cell) / angle^2, whatever the object count, so the tests cost the same at any scene
-   size; keeping the objects costs a bit set each. The PVS stays conservative (a node is dropped only
-   when its box is hidden), only coarser (`make bench`: preview_*). */
+/* The preview's coarse test (PVS_BAKE_PREVIEW): a node subtending less than PVS__EP_COARSE_ANGLE (diagonal over
+   distance plus the cell's diagonal; about 4 pixels of a 64-pixel plane) is decided whole, past PVS__EP_COARSE_TESTS
+   box tests all are kept. Such nodes number about log(scene / cell) / angle^2 at any scene size. Only hidden boxes are
+   dropped. */
 #define PVS__EP_COARSE_ANGLE 0.25
 #define PVS__EP_COARSE_TESTS 4096u
 
@@ -18913,11 +18718,9 @@ typedef struct pvs__epcell {
     uint32_t tests;             /*   the box tests so far */
 } pvs__epcell;
 
-/* 1 if a box between the cell and the plane (depths w0 > 0 .. w1 <= W) is hidden by the improved
-   Projection (§4): some point of each "any" axis range and every point of each "all" range lie in
-   occluder pixels strictly nearer than w0. Property 1 needs the occluder at such a pixel to be convex
-   or planar: the Projections of convex occluders and reprojected (planar) maps are; slices (Depth
-   W) never pass the depth test of a box in front of the plane. */
+/* 1 if a box between cell and plane (depths w0 > 0 .. w1 <= W) is hidden by §4's improved Projection: some point of
+   each "any" axis range and all of each "all" range hold occluders strictly nearer than w0. Property 1 needs them
+   convex or planar: Projections and reprojected maps are; slices (Depth W) never pass a front box's depth test. */
 PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, double w0, double w1) {
     const pvs__epframe *f = &m->frame;
     int32_t ru[2], rv[2], r[4], i, j;
@@ -18945,9 +18748,7 @@ PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, doub
     return 0;
 }
 
-/* A box in front of a sweep plane's mask: the Projection of §3.1 (the box lies beyond the plane, so
-   every blocked pixel's occluder is nearer than it); with sub-cells, hidden from each of them in its
-   own umbra. */
+/* A box beyond a sweep plane: §3.1's Projection (every blocked pixel's occluder is nearer); per sub-cell. */
 PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
     int32_t r[4];
     float depth;
@@ -18959,10 +18760,8 @@ PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
     return 1;
 }
 
-/* 1 if the box is hidden from the whole cell on one of the planes. Boxes meeting the cell are
-   visible. On the planes of §6.1 a box behind a plane is tested with the Projection of §3.1, one in
-   front of it with the improved Projection of §4, one straddling it as the two parts cut at the
-   plane; on the sweep's planes (§5) a box is tested on the last two planes in front of it. */
+/* 1 if the box is hidden from the whole cell (never if meeting it): on §6.1's planes by §3.1 behind, §4 in front,
+   both parts if straddling; on the sweep's by the last two planes before it. */
 PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
     int d;
     if (pvs__box_overlap(b, &c->cell)) return 0;
@@ -18981,7 +18780,7 @@ PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
             continue;
         }
         if (w0 < f->W) {
-            /* straddling: the part in front by §4, the part behind by §3.1, cut at one float */
+            /* straddling: cut at one float */
             pvs_box back = *b;
             float cut = f->s > 0 ? pvs__f_down(f->face + f->W) : pvs__f_up(f->face - f->W);
             double cw = f->s > 0 ? (double)cut - f->face : f->face - (double)cut;
@@ -19002,31 +18801,24 @@ PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
         if (!n) continue;
         w0 = d & 1 ? (double)c->cell.min[a] - b->max[a] : (double)b->min[a] - c->cell.max[a];
         for (k = 0; k < n && ms[k].frame.W < w0; ++k) {}
-        /* planes k - 1 and k - 2 lie in front of the box */
         if (k >= 1 && pvs__ep_mask_hidden(ms + k - 1, b)) return 1;
         if (k >= 2 && pvs__ep_mask_hidden(ms + k - 2, b)) return 1;
     }
     return 0;
 }
 
-/* 1 if some part of object o inside box b (its box cut by a kD-tree leaf) is visible, the parts
-   tested top-down as a hierarchy of boxes over its triangles in file order (Durand 2000 §2.4 and
-   §6.1: the occludees are a hierarchy of axis-aligned bounding boxes, tested recursively; Fig. 1
-   shows the forest's culled nodes): a range of triangles, its box cut by b; hidden, the range is
-   skipped; visible, it is halved, down to single triangles. Each box holds its triangles' points
-   inside b, so an object is kept whenever a point of it inside b may be seen. Used with the sweep
-   (§5): a tree's box is mostly air between leaves and the band under its crown, its leaves and
-   trunk are not. On the planes of §6.1 alone it does not pay for its time (see tests/BENCHMARKS.md,
-   extproj). The work is bounded: an object of more than PVS__EP_PARTS_TRIS triangles is kept on its
-   box, and one whose parts take more than PVS__EP_PARTS_TESTS box tests is kept. */
+/* 1 if some part of object o inside b (its box cut by a leaf) may be seen: ranges of its triangles in file order, their
+   boxes (of their points inside b) tested top-down (Durand 2000 §2.4, §6.1), hidden ones skipped, visible ones
+   halved. It pays only with the sweep (a tree's box is mostly air). Large objects or runs (PVS__EP_PARTS_TRIS,
+   PVS__EP_PARTS_TESTS) are kept. */
 #define PVS__EP_PARTS_TRIS 16384u
 #define PVS__EP_PARTS_TESTS 256u
 PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box *b) {
     const pvs_scene *s = c->scene;
-    uint32_t stack[2 * 34], top = 0, tests = 0; /* ranges, a pending half per level: at most 33 */
+    uint32_t stack[2 * 34], top = 0, tests = 0; /* a pending half per level: at most 33 ranges */
     uint32_t t0 = s->object_triangles[2 * (size_t)o], tn = s->object_triangles[2 * (size_t)o + 1];
-    if (tn < 2 || tn > PVS__EP_PARTS_TRIS) return 1; /* the box test (of all its triangles) said so */
-    stack[top++] = t0 + tn / 2; /* the whole object's box was tested: start with its halves */
+    if (tn < 2 || tn > PVS__EP_PARTS_TRIS) return 1; /* as its box test said */
+    stack[top++] = t0 + tn / 2; /* the whole box was tested: start with the halves */
     stack[top++] = t0 + tn;
     stack[top++] = t0;
     stack[top++] = t0 + tn / 2;
@@ -19036,11 +18828,11 @@ PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box 
         size_t t;
         for (t = 3 * (size_t)lo; t < 3 * (size_t)hi; ++t)
             pvs__box_add_point(&pb, s->positions + 3 * (size_t)s->indices[t]);
-        if (!pvs__box_clip(&pb, b)) continue; /* no point inside b */
+        if (!pvs__box_clip(&pb, b)) continue;
         if (++tests > PVS__EP_PARTS_TESTS) return 1;
         if (pvs__ep_box_hidden(c, &pb)) continue;
         if (hi - lo == 1) return 1;
-        mid = lo + (hi - lo) / 2; /* the first half on top */
+        mid = lo + (hi - lo) / 2;
         stack[top++] = mid;
         stack[top++] = hi;
         stack[top++] = lo;
@@ -19049,21 +18841,19 @@ PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box 
     return 0;
 }
 
-/* The objects of a leaf that may be in the PVS: not occluder-only, and candidates. */
+/* A leaf's object that may be in the PVS: not occluder-only, and a candidate. */
 PVS__STATIC int pvs__ep_wanted(const pvs__epcell *c, uint32_t o) {
     if (c->scene->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY) return 0;
-    return !c->candidates || pvs_bitset_test(c->candidates, o); /* else hidden from the parent cell */
+    return !c->candidates || pvs_bitset_test(c->candidates, o);
 }
 
-/* §6.1: the occludees tested top-down through the object kD-tree, stopping at hidden nodes. An
-   object is visible when a part of its box (its box cut by a leaf's cell) is; with the sweep, when
-   a part of it in that box is (pvs__ep_parts_visible). Coarse (the preview): nodes small in angle,
-   and all nodes past the test budget, are decided whole (PVS__EP_COARSE_ANGLE). */
+/* §6.1: occludees top-down through the object kD-tree, hidden nodes skipped; an object is visible if its box cut by a
+   leaf is (sweep: pvs__ep_parts_visible). Coarse: PVS__EP_COARSE_ANGLE. */
 PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
                                     uint32_t count) {
     pvs__epcell *c = (pvs__epcell *)user;
     uint32_t i;
-    if (distance < 0.0f || (c->coarse && items && c->tests >= PVS__EP_COARSE_TESTS)) { /* kept whole */
+    if (distance < 0.0f || (c->coarse && items && c->tests >= PVS__EP_COARSE_TESTS)) {
         for (i = 0; i < count; ++i)
             if (pvs__ep_wanted(c, items[i])) pvs_bitset_set(c->bits, items[i]);
         return PVS_VISIT_ALL;
@@ -19082,21 +18872,20 @@ PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float d
         uint32_t o = items[i];
         pvs_box b = c->scene->object_boxes[o];
         if (pvs_bitset_test(c->bits, o) || !pvs__ep_wanted(c, o)) continue;
-        if (!pvs__box_clip(&b, node_box)) continue; /* not in this leaf */
+        if (!pvs__box_clip(&b, node_box)) continue;
         if (!pvs__ep_box_hidden(c, &b) && (!c->sweep || pvs__ep_parts_visible(c, o, &b))) pvs_bitset_set(c->bits, o);
     }
     return PVS_VISIT_DESCEND;
 }
 
-/* Local depth range of a box on plane direction d of the cell: w0, w1 (beyond the face). */
+/* A box's depths w0, w1 beyond the cell's face in direction d. */
 PVS__STATIC void pvs__ep_box_w(const pvs_box *cell, const pvs_box *b, int d, double *w0, double *w1) {
     int a = d >> 1;
     if (d & 1) { *w0 = (double)cell->min[a] - b->max[a]; *w1 = (double)cell->min[a] - b->min[a]; }
     else { *w0 = (double)b->min[a] - cell->max[a]; *w1 = (double)b->max[a] - cell->max[a]; }
 }
 
-/* §6.1 plane placement: an estimate of the pixels an occluder's box fills on the plane at distance
-   W (the Projection of the box, axis by axis). */
+/* §6.1 plane placement: the pixels an occluder's box fills on the plane at W, axis by axis. */
 PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, int d, double W) {
     int a = d >> 1, ax[2], k, i, j;
     double w0, w1, ext = (double)cell->max[a] - cell->min[a], len[2];
@@ -19121,14 +18910,14 @@ PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, 
         len[k] = hi - lo;
         if (!(len[k] > 0.0)) return 0.0;
     }
-    /* in pixels of that plane: its extent grows with W */
+    /* that plane's extent grows with W */
     return len[0] * len[1] /
            (((double)cell->max[ax[0]] - cell->min[ax[0]] + 2.0 * PVS__EP_EXTEND * (W + ext)) *
             ((double)cell->max[ax[1]] - cell->min[ax[1]] + 2.0 * PVS__EP_EXTEND * (W + ext)));
 }
 
-/* A plane of direction d at distance W: the rectangle reaches PVS__EP_EXTEND times as far sideways
-   as the plane lies from the cell's far side (§6.1: extended planes catch the corner directions). */
+/* Plane of direction d at W, reaching PVS__EP_EXTEND times its distance from the cell's far side sideways (§6.1: for
+   the corner directions). */
 PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32_t res, pvs_extproj_plane *pl) {
     int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3;
     double ext = (double)cell->max[a] - cell->min[a];
@@ -19144,8 +18933,7 @@ PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32
     pl->width = pl->height = res;
 }
 
-/* The sweep's masks cover only the part of their plane that matters, with the pixels of a res x res
-   map spread over it as square pixels (pvs__ep_fit_plane). Their longest side: */
+/* A sweep mask's longest side (its res^2 pixels spread over what matters, pvs__ep_fit_plane). */
 PVS__STATIC uint32_t pvs__ep_max_side(uint32_t res) {
     return 16u * res < PVS__EP_MAX_SIDE ? 16u * res : PVS__EP_MAX_SIDE;
 }
@@ -19172,19 +18960,16 @@ PVS__STATIC uint32_t pvs__ep_level_count(uint32_t res) {
     return levels;
 }
 
-/* Counts in one summed-area table of a mask: (w + 1) (h + 1) <= res^2 + w + h + 1, and with
-   w h <= res^2 and w, h <= side, w + h <= side + res. */
+/* Counts in a mask's summed-area table: (w + 1) (h + 1) <= res^2 + w + h + 1, and w + h <= side + res. */
 PVS__STATIC size_t pvs__ep_sat_table(uint32_t res) { return (size_t)res * res + pvs__ep_max_side(res) + res + 1; }
 
-/* The sweep's summed-area tables: one per plane of a direction (each is read by up to log2(sweep)
-   + 1 later planes), unless that is more than PVS__EP_SAT_CACHE bytes (or sweep < 2): then room for
-   two, one rebuilt for each use, or with sub-cells one table of 64-bit counts
-   (pvs__ep_mask_sat_split), never kept. */
+/* The sweep's summed-area tables: one per plane of a direction (each read by up to log2(sweep) + 1 later planes) within
+   PVS__EP_SAT_CACHE bytes and sweep >= 2; else two, rebuilt per use. */
 PVS__STATIC size_t pvs__ep_sat_count(uint32_t res, uint32_t sweep) {
     return (size_t)sweep * pvs__ep_sat_table(res) * sizeof(uint32_t) <= PVS__EP_SAT_CACHE && sweep >= 2 ? sweep : 2;
 }
 
-/* What pvs__extproj_cell allocates per pixel (pvs__ep_scratch_free frees the same). */
+/* The pixel-sized part of what pvs__extproj_cell allocates (as pvs__ep_scratch_free frees). */
 PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
     uint32_t res = resolution ? resolution : PVS__EP_DEFAULT_RES, levels = pvs__ep_level_count(res);
     size_t level_floats, bytes;
@@ -19199,20 +18984,11 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
     return bytes;
 }
 
-/* Fits a plane of the occlusion sweep (§5) to the part of it that can hide anything, and spreads a
-   res x res map's pixels over that part as (nearly) square pixels, in at most `room` pixels with
-   the pyramid's `levels`. On each axis the rectangle is cut to the span of the cell and the scene's
-   bounds (plus a sliver, as Projections are rounded outward); the pixels outside count as open,
-   which is conservative. Nothing that could hide is lost: a mask is read only by the occludees
-   beyond it (pvs__ep_box_hidden; §3.1) and by the reprojection onto farther planes (§5.1), and a
-   ray from a cell point to a point beyond the plane crosses it at a blend of the two, inside the
-   span. The occluders beyond the rectangle's edge are still skipped rightly (pvs__epslab): the cut
-   rectangle holds the cell's span. The gain is on flat scenes: seen from a cell on the ground, the
-   planes of the four horizontal directions reach 1.5 times their distance up and down, while the
-   scene may be a few metres high, so a square map spends most of its rows on sky and underground
-   (see tests/BENCHMARKS.md, extproj). §6.1's planes are not fitted: an occludee in front of one (§4)
-   is often hidden by pixels outside the span (a table, by the floor's Projection below the floor),
-   and fitting them made the city tighter but the indoor plans looser. */
+/* Fits a sweep plane (§5) to the span of the cell and the scene's bounds per axis (plus a sliver), spreading a
+   res x res map's pixels over it as (nearly) square pixels within `room` with `levels`; pixels outside count as open.
+   Nothing that could hide is lost: masks are read only by occludees beyond them (§3.1) and by reprojection farther out
+   (§5.1), and rays from the cell to points beyond cross the plane inside the span, which holds the cell's (as
+   pvs__epslab needs). §6.1's planes are not fitted: §4 often hides by pixels outside the span. */
 PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels,
                                    size_t room, pvs_extproj_plane *pl) {
     int a = (int)pl->axis, k;
@@ -19224,13 +19000,13 @@ PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, u
                m = (hi - lo) / 512.0;
         float r0 = (double)pl->rect[k] < lo - m ? pvs__f_down(lo - m) : pl->rect[k];
         float r1 = (double)pl->rect[k + 2] > hi + m ? pvs__f_up(hi + m) : pl->rect[k + 2];
-        if (r1 > r0) { /* else a flat cell in a flat scene: the plane stays as it was */
+        if (r1 > r0) { /* else (a flat cell in a flat scene) the plane stays */
             pl->rect[k] = r0;
             pl->rect[k + 2] = r1;
         }
         len[k] = (double)pl->rect[k + 2] - pl->rect[k];
     }
-    if (!(len[0] > 0.0) || !(len[1] > 0.0)) return; /* left for pvs__ep_frame_max to refuse */
+    if (!(len[0] > 0.0) || !(len[1] > 0.0)) return;
     w = floor((double)res * sqrt(len[0] / len[1]));
     w = w < 1.0 ? 1.0 : w > side ? side : w;
     h = floor(px / w);
@@ -19239,15 +19015,13 @@ PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, u
     w = w > side ? side : w;
     pl->width = (uint32_t)w;
     pl->height = (uint32_t)h;
-    /* w h <= res^2, but each pyramid level rounds its sides up: a long thin map may need a few
-       pixels more than a square one */
+    /* w h <= res^2, but levels round up: a thin map may need a few more pixels than a square one */
     while (pvs__ep_pyramid_size(pl->width, pl->height, levels) > room) {
         if (pl->width >= pl->height) --pl->width;
         else --pl->height;
     }
 }
 
-/* Per-cell scratch. */
 typedef struct pvs__epscratch {
     pvs__epsel *sel;
     float *maps;
@@ -19259,8 +19033,8 @@ typedef struct pvs__epscratch {
     void *sweep;
     pvs_word *seen;
     size_t nsel, map_floats, mask_bytes, sweep_size, nmask, seen_words;
-    size_t sat_count;    /* summed-area tables: the sweep's planes of one direction, or 1 (too big) */
-    size_t sat_table;    /* counts per table: enough for any mask (pvs__ep_fit_plane) */
+    size_t sat_count;    /* tables: one per plane of a direction, or 2 (pvs__ep_sat_count) */
+    size_t sat_table;    /* counts per table, enough for any mask */
     size_t range_count;  /* int32s in `ranges`: 2 x (width + height) of any mask */
     uint32_t *stamp;     /* the sweep: one per occluder (pvs__epslab) */
     size_t stamp_count;
@@ -19296,8 +19070,7 @@ PVS__STATIC double pvs__ep_tri_solid_angle(const double *e, const float *a, cons
     return 2.0 * pvs__dabs(atan2(num, den));
 }
 
-/* Solid angle of an occluder seen from e: a polygon's by a fan, a solid's by its box's faces
-   (at most three face e). */
+/* Solid angle of an occluder from e: a polygon's by a fan, a solid's by its box (at most three faces face e). */
 PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__epocc *o, const double *e) {
     double sum = 0.0;
     uint32_t i;
@@ -19321,11 +19094,9 @@ PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__ep
     return sum;
 }
 
-/* Selection by solid angle (§6.1): per direction the n best occluders reaching beyond the face, by
-   (score, lower index) - a total order, so the set does not depend on the order they are seen in;
-   the score is the solid angle the occluder subtends from the cell's centre. The occluders come
-   front to back from a kD-tree over their boxes; a node is skipped when no occluder in it could
-   enter a heap (solid angle <= largest area / distance^2), an occluder when its own bound says so. */
+/* Selection (§6.1): per direction the n occluders of largest solid angle from the cell's centre beyond the face, by
+   (score, lower index): a total order, independent of visiting order. What cannot enter a heap by its bound
+   (area / distance^2) is skipped. */
 typedef struct pvs__epselect {
     const pvs_scene *scene;
     const pvs__extproj_prep *p;
@@ -19372,8 +19143,7 @@ PVS__STATIC void pvs__ep_sel_push(pvs__epsel *h, uint32_t n, uint32_t *count, fl
     h[k].occ = occ;
 }
 
-/* 1 when an occluder of this box could enter the heap of some direction whose face it reaches
-   beyond, given a bound on its solid angle. */
+/* 1 when an occluder of this box could, by its solid angle bound, enter a heap of a direction it reaches. */
 PVS__STATIC int pvs__ep_sel_wanted(const pvs__epselect *w, const pvs_box *box, double bound) {
     uint32_t d;
     for (d = 0; d < 6; ++d) {
@@ -19406,7 +19176,7 @@ PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, flo
         if (w->candidates && o->object != PVS_NO_OBJECT &&
             !(w->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
             !pvs_bitset_test(w->candidates, o->object))
-            continue; /* §6.1: hidden from the parent cell, so redundant (and leaving it out is safe) */
+            continue; /* §6.1: hidden from the parent cell, so redundant (leaving it out is safe) */
         for (d = 0; d < 3; ++d) {
             double g = w->centre[d] < o->box.min[d] ? o->box.min[d] - w->centre[d]
                 : w->centre[d] > o->box.max[d]      ? w->centre[d] - o->box.max[d]
@@ -19443,7 +19213,7 @@ PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_pre
     for (i = 0; i < 3; ++i) w.centre[i] = 0.5 * ((double)cell->min[i] + cell->max[i]);
     for (d = 0; d < 6; ++d) nsel[d] = 0;
     memset(seen, 0, PVS_BITSET_WORDS(p->occ_count) * sizeof(pvs_word));
-    /* the largest occluders first: the heaps fill with high scores and prune the rest early */
+    /* largest first: the heaps fill with high scores and prune the rest early */
     for (w.cls = PVS__EP_AREA_CLASSES - 1; w.cls >= 0; --w.cls) {
         r = pvs_kdtree_sweep(p->occ_tree[w.cls], cell, sweep, sweep_size, pvs__ep_sel_visit, &w);
         if (r != PVS_OK) return r;
@@ -19475,10 +19245,9 @@ PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_
     }
 }
 
-/* The points an occluder is projected with on a plane of `axis`: extended through its sheet when
-   the cell stands over that sheet on the occluder's side (sheet_side[sheet]) and the extension runs
-   across the plane's axis (along it, it would only push the occluder's Depth away). NULL for a
-   capped solid the cell does not stand over. */
+/* An occluder's points for a plane of `axis`: extended through its sheet when the cell stands over it on the occluder's
+   side and the extension crosses the axis (along it, it would only push the Depth away); NULL for a capped solid not
+   over the cell. */
 PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell,
                                         const int *sheet_side, int axis, uint32_t *count) {
     if (o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) return NULL;
@@ -19491,8 +19260,7 @@ PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__e
     return p->pts + 3 * (size_t)o->first;
 }
 
-/* For each sheet: +1 (-1) when the cell lies strictly on its positive (negative) side and over its
-   polygon, else 0. */
+/* Per sheet: +1 (-1) when the cell lies strictly on its positive (negative) side over its polygon, else 0. */
 PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *cell, int *side) {
     uint32_t i;
     for (i = 0; i < p->sheet_count; ++i) {
@@ -19507,12 +19275,10 @@ PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *
     }
 }
 
-/* The planes of §6.1 for direction d. A plane just behind the farthest selected occluder keeps all
-   of them in front of it (for one occluder, planes anywhere behind it are equivalent, §7.3: its
-   Projection and the occludees' shrink alike; a plane in front of it loses it to its penumbra). The
-   others, one per band of distances (far / r^q, far / r^(q-1)], r = PVS__EP_PLANE_RATIO, each just
-   behind the occluder of its band whose candidate plane fills the most pixels (§6.1), serve the
-   occludees nearer the cell and the fusion of occluders at their distance (Fig. 16). */
+/* §6.1's planes for direction d: one just behind the farthest selected occluder (behind one occluder any plane is
+   equivalent, §7.3; in front it loses it to its penumbra), the others per distance band (far / r^q, far / r^(q-1)],
+   r = PVS__EP_PLANE_RATIO, behind the band's occluder filling most pixels, for nearer occludees and fusion
+   (Fig. 16). */
 PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
                                        const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
                                        float *mem, size_t map_floats, pvs__epslicer *sc, const int *sheet_side,
@@ -19530,7 +19296,7 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
         double W = far + 1e-3 * (far + ext), hi = far / pow(PVS__EP_PLANE_RATIO, (double)q),
                lo = hi / PVS__EP_PLANE_RATIO, bestFill = 0.0;
         uint32_t tried = 0;
-        if (q > 0) { /* the band (lo, hi]: candidates behind its occluders, best solid angle first */
+        if (q > 0) { /* candidates behind the band's occluders, best solid angle first */
             W = 0.0;
             for (k = 0; k < n && tried < PVS__EP_PLANE_CANDIDATES; ++k) {
                 double Wc, fill = 0.0;
@@ -19566,16 +19332,11 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
     }
 }
 
-/* §5.1 reprojection: marks in `to` (a plane of the same cell and direction, farther than `from`)
-   the pixels every ray from the cell through which crosses `from` in blocked pixels: the umbra of
-   from's blocked region (Appendix B: a subset of the umbra of the occluders in front of `from`, so a
-   conservative occluder itself). Equivalent to the convolution of §5.1 with the inverse image of the
-   cell as kernel, conservatively rasterized, keeping only fully black pixels; here the kernel is
-   taken per row and column from the true cell (pvs__ep_reproject_axis) and a summed-area table of
-   from's open pixels (pvs__ep_mask_sat) decides each pixel. `ranges` holds 2 (width + height) of `to`.
-   With sub-cells, for sub-cell j of both planes with its own kernel, from the 16-bit lane j of the
-   tables of pvs__ep_mask_sat_split (sat_split, else sat), a window of 2^16 pixels or more left open
-   (conservative). */
+/* §5.1 reprojection: marks in `to` (farther than `from`) the pixels whose every ray from the cell crosses blocked
+   pixels of `from`: an umbra inside that of the occluders before `from` (Appendix B), so conservative. The kernel is
+   the true cell's per row and column (pvs__ep_reproject_axis); a summed-area table of from's open pixels decides.
+   Sub-cell j: own kernel and lane of sat_split, windows of 2^16 pixels or more left open. `ranges`: 2 (width + height)
+   of `to`. */
 PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, const uint64_t *sat_split,
                                        pvs__epmask *to, int32_t *ranges, uint32_t j) {
     unsigned char *mask = to->lv[0];
@@ -19600,7 +19361,7 @@ PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *
             x0 = (size_t)clo[x];
             x1 = (size_t)chi[x] + 1;
             if (sat_split) {
-                if ((x1 - x0) * (y1 - y0) >= 65536u) continue; /* a lane could overflow: left open */
+                if ((x1 - x0) * (y1 - y0) >= 65536u) continue;
                 open = sat_split[y1 * W1 + x1] - sat_split[y0 * W1 + x1] - sat_split[y1 * W1 + x0] +
                     sat_split[y0 * W1 + x0];
                 open = (open >> (16u * j)) & 0xFFFFu;
@@ -19626,15 +19387,13 @@ PVS__STATIC void pvs__ep_mask_sat(const pvs__epmask *from, uint32_t *sat, unsign
     }
 }
 
-/* The sub-cells' summed-area tables at once: the count of pixels without bit j in 16-bit lane j of
-   each entry, summed modulo 2^64. A window's sum of four entries is exact modulo 2^64 and so gives
-   each lane's count exactly when every count is below 2^16 (the caller checks the window's area):
-   the carries between lanes cancel like any other part of the sum. */
+/* All sub-cells' summed-area tables at once: 16-bit lane j counts pixels without bit j, modulo 2^64. A window's sum is
+   exact modulo 2^64, so each lane is exact below 2^16 (the caller checks): carries between lanes cancel. */
 PVS__STATIC void pvs__ep_mask_sat_split(const pvs__epmask *from, uint64_t *sat) {
     const unsigned char *prev = from->lv[0];
     uint32_t fw = from->plane.width, fh = from->plane.height, x, y, W1 = fw + 1, b;
     uint64_t inc[16];
-    for (b = 0; b < 16; ++b) /* the lanes of the bits clear in b */
+    for (b = 0; b < 16; ++b) /* a 1 in the lanes of the bits clear in b */
         inc[b] = (uint64_t)(~b & 1u) | (uint64_t)((~b >> 1) & 1u) << 16 | (uint64_t)((~b >> 2) & 1u) << 32 |
             (uint64_t)((~b >> 3) & 1u) << 48;
     for (x = 0; x <= fw; ++x) sat[x] = 0;
@@ -19648,8 +19407,7 @@ PVS__STATIC void pvs__ep_mask_sat_split(const pvs__epmask *from, uint64_t *sat) 
     }
 }
 
-/* pvs__ep_reproject_sat with the table built in `sat` ((res + 1)^2 counts; with sub-cells, the
-   split tables of twice that many, 8-byte aligned). */
+/* pvs__ep_reproject_sat building the table in `sat` ((res + 1)^2 counts; with sub-cells twice that, 8-aligned). */
 PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
     uint32_t j;
     if (!to->nsub) {
@@ -19661,17 +19419,11 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
     for (j = 0; j < to->nsub; ++j) pvs__ep_reproject_sat(from, NULL, (const uint64_t *)(void *)sat, to, ranges, j);
 }
 
-/* §5.1 reprojection onto plane `count` of the sweep `ms` (planes ms[0 .. count - 1] done, farther
-   ones later): from the previous plane and from the planes 2, 4, 8, ... back. Every earlier plane's
-   blocked pixels lie in the umbra of the occluders in front of it (Appendix B), so the umbra of any
-   of them is blocked on this plane and the union is conservative. The skips keep the sweep tight:
-   each reprojection loses up to a pixel on each side of a blocked region to rounding (the kernel is
-   not a whole number of pixels: the cell is a box, not the paper's planar equivalent cell), and a
-   chain of one reprojection per plane would add that up plane after plane (32 planes lose two
-   thirds of a large blocked region), while the umbra itself does not depend on the spacing; with
-   the skips a region blocked on plane j reaches plane k in at most log2(k - j) + 1 steps. With
-   `cached` (never with sub-cells), sat holds the tables of ms[0 ..] (pvs__ep_mask_sat), `stride`
-   counts apart; else it is scratch for one (pvs__ep_reproject). */
+/* §5.1 reprojection onto plane `count` from the planes 1, 2, 4, 8, ... back (Appendix B: each one's blocked pixels lie
+   in the umbra of the occluders before it). Each reprojection loses up to a pixel per side to rounding (the cell is a
+   box, not the paper's planar equivalent cell), which a step per plane would add up; the skips take log2(k - j) + 1
+   steps from j to k. `cached` (never with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for
+   one. */
 PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat,
                                          size_t stride, int cached, int32_t *ranges) {
     uint32_t back;
@@ -19682,14 +19434,9 @@ PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, 
     }
 }
 
-/* The occluders a sweep plane takes (§5.2: "we project the occluders which lie in front of the
-   current projection plane P onto P"): every occluder, of any size class, with a part in front of
-   the plane and beyond the previous one (a part straddling planes is projected on each), found
-   through the occluders' kD-trees. A node is skipped when it lies wholly behind the plane, wholly in
-   front of the previous plane, sideways beyond the plane's rectangle (a point beyond the rectangle's
-   edge projects farther out from every point of the cell), or in the umbra of the previous plane's
-   blocked pixels: every ray from the cell to it crosses them, so what it hides is hidden already
-   (skipping occluders is always safe; this one only loses the reprojection's rounding). */
+/* The occluders a sweep plane takes (§5.2: "we project the occluders which lie in front of the current projection
+   plane P onto P"): those with a part since the previous plane (straddling ones go on each). Skipped: nodes outside
+   that slab, beyond the rectangle sideways (farther out from every cell point), or in the previous umbra. */
 typedef struct pvs__epslab {
     const pvs_scene *scene;
     const pvs__extproj_prep *p;
@@ -19699,13 +19446,13 @@ typedef struct pvs__epslab {
     const pvs__epmask *prev;  /* the previous plane, NULL for the first */
     pvs__epmask *m;           /* the plane being filled */
     unsigned char *cmark;
-    uint32_t *stamp, serial;  /* occluders met in this traversal (an item is passed once per leaf) */
+    uint32_t *stamp, serial;  /* occluders met in this traversal (an item comes once per leaf) */
     double W, Wprev, lo[2], hi[2];
     int d, cls, axis[2];
 } pvs__epslab;
 
-/* 1 if an occluder (or node) box can add to the plane: a part between the planes, inside the
-   rectangle sideways, not in the previous plane's umbra. */
+/* 1 if an occluder or node box can add to the plane: between the planes, in the rectangle, not in the previous
+   umbra. */
 PVS__STATIC int pvs__ep_slab_wanted(const pvs__epslab *sl, const pvs_box *b) {
     double w0, w1;
     int k;
@@ -19736,7 +19483,7 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
             continue; /* §6.1: hidden from the parent cell */
         if (!pvs__ep_slab_wanted(sl, &o->box)) continue;
         pts = pvs__ep_points(p, o, sl->cell, sl->sheet_side, sl->d >> 1, &cnt);
-        for (k = 0; k < pvs__ep_nsub(sl->m); ++k) { /* the Projection from each sub-cell into its bit */
+        for (k = 0; k < pvs__ep_nsub(sl->m); ++k) {
             const pvs__epframe *f = pvs__ep_subframe(sl->m, k);
             if (o->ecount) pvs__ep_concave(f, p, o, 1, sl->cmark, NULL, sl->m->lv[0]);
             else if (pts) pvs__ep_occluder(f, sl->cell, pts, cnt, o->solid, o->slack, 1, NULL, sl->m->lv[0]);
@@ -19745,26 +19492,13 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
     return PVS_VISIT_DESCEND;
 }
 
-/* The occlusion sweep of §5 for direction d: parallel planes leaving the cell, each holding the
-   reprojection of the earlier planes' blocked pixels (§5.1, pvs__ep_reproject_sweep), the
-   Projections of all occluders between it and the previous plane (pvs__epslab), and the slices of
-   the closed meshes it cuts. The planes run from one cell size C ahead of the cell (or the nearest
-   selected occluder, if farther) to the far end of the scene, spaced geometrically. Departures
-   from §5.2 (their measurements: tests/BENCHMARKS.md, extproj):
-   - §5.2 spaces the planes for a kernel of K pixels, dD = D (K - 1) P / (C N), and stops wherever
-     the planes run out. With P growing like D that puts most planes within a few cell sizes of the
-     cell, where a small occluder's umbra is short anyway, and leaves few far out, where the gaps
-     between many small occluders close; geometric spacing is tighter on the demo city and on the
-     dense forest alike. The kernel need not be a whole number of pixels here
-     (pvs__ep_reproject_sat takes the true cell per row and column).
-   - Planes nearer than C add little: an occluder of width s < C / 2 at distance w casts an umbra
-     ending before w C / (C - s) < 2 w, and the occluders in front of the first plane are still
-     projected onto it; only their fusion on nearer planes is given up.
-   - The far end is the scene's, not the farthest selected occluder's (the selection of §6.1 picks
-     large solid angles, i.e. near occluders, and objects beyond the last plane met only its mask):
-     geometry far beyond the cells (a sky box) spreads the planes thinner. No plane is built at the
-     far end itself: no object lies beyond it, so it would serve no occludee test.
-   The number of planes goes to *planes. */
+/* The occlusion sweep of §5 for direction d: planes from one cell size C ahead (or behind the nearest selected
+   occluder, if farther) to the scene's far end, each holding the reprojected earlier planes (§5.1), the Projections of
+   the occluders since the previous plane and the slices it cuts; their count to *planes. Unlike §5.2
+   (tests/BENCHMARKS.md, extproj): geometric spacing, as dD = D (K - 1) P / (C N) crowds planes near the cell, where
+   small umbrae are short, leaving few far out, where gaps between small occluders close; none nearer than C, as an
+   occluder of width s < C / 2 at w casts an umbra ending before w C / (C - s) < 2 w (nearer occluders still reach the
+   first plane); the far end is the scene's (§6.1 favours near occluders) and holds no plane. */
 PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
                                             const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
                                             pvs__epscratch *w, const int *sheet_side, const pvs_word *candidates,
@@ -19778,7 +19512,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
     pvs__epslab sl;
     pvs_result r = PVS_OK;
     *planes = 0;
-    for (k = 0; k < n; ++k) { /* the nearest and the farthest selected occluder (§6.1) */
+    for (k = 0; k < n; ++k) {
         double w0, w1;
         pvs__ep_box_w(cell, &p->occ[h[k].occ].box, d, &w0, &w1);
         W0 = pvs__dmin(W0, pvs__dmax(w1, 0.0));
@@ -19791,11 +19525,11 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
     }
     if (!(Wend > 0.0)) return PVS_OK;
     if (!(C > 0.0)) C = pvs__dmax(ext, 1e-6);
-    /* the first plane at C or just behind the nearest occluder (a flat occluder facing a plane lies
-       wholly in front of it only there), then `sweep` planes up to the scene's far end, exclusive */
+    /* the first plane at C or just behind the nearest occluder (only there does a flat occluder facing it lie wholly in
+       front), then `sweep` planes up to the far end, exclusive */
     W0 = pvs__dmax(W0 + 1e-3 * (W0 + ext), C);
     Wend += 1e-3 * (Wend + ext);
-    if (!(W0 < Wend)) return PVS_OK; /* nothing beyond the first plane */
+    if (!(W0 < Wend)) return PVS_OK;
     ratio = pow(Wend / W0, 1.0 / (double)prm->sweep);
     memset(&sl, 0, sizeof(sl));
     sl.scene = s;
@@ -19848,10 +19582,9 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
     return PVS_OK;
 }
 
-/* The PVS of one cell (Durand 2000 §6.1): per direction, the occluders with the largest solid angle,
-   the planes of §6.1 and, with the sweep, the planes of §5; then the occludees front to back. With
-   `candidates` (a sub-cell of the adaptive subdivision) only the parent's visible objects are
-   tested, and the occluders of the others are left out. */
+/* One cell's PVS (Durand 2000 §6.1): per direction the selected occluders on §6.1's planes and §5's sweep, then the
+   occludees front to back. `candidates` (adaptive sub-cell): only the parent's visible objects are tested, others'
+   occluders left out. */
 PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
                                          const pvs__epparams *prm, const pvs_word *candidates, const pvs_allocator *al,
                                          pvs_word *bits, uint32_t cell_id, pvs_error *err) {
@@ -19897,7 +19630,7 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
     if (prm->sweep) {
         w.masks = (unsigned char *)pvs__alloc_array(al, w.nmask * w.mask_bytes, 1);
         w.mask_hdr = (pvs__epmask *)pvs__alloc_array(al, w.nmask, sizeof(pvs__epmask));
-        w.sat_count = pvs__ep_sat_count(prm->res, prm->sweep); /* at least 2: the split tables (pvs__ep_reproject) */
+        w.sat_count = pvs__ep_sat_count(prm->res, prm->sweep); /* >= 2: room for the split tables */
         w.sat_table = pvs__ep_sat_table(prm->res);
         w.sat = (uint32_t *)pvs__alloc_array(al, w.sat_count * w.sat_table, sizeof(uint32_t));
         w.range_count = 2 * ((size_t)pvs__ep_max_side(prm->res) + prm->res);
@@ -19968,7 +19701,7 @@ PVS__STATIC pvs_result pvs__extproj_bake_check(const pvs_bake_desc *desc, pvs_er
     return PVS_OK;
 }
 
-/* The parameters: desc's, or the defaults (PREVIEW: coarse; AUTO: with the sweep). */
+/* The parameters: desc's, else the defaults (PREVIEW: coarse; AUTO: with the sweep). */
 PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
                                                  pvs_error *err) {
     pvs__extproj_bake *x = (pvs__extproj_bake *)pvs__alloc(&env->allocator, sizeof(pvs__extproj_bake), 16);
@@ -20029,32 +19762,22 @@ PVS__STATIC const pvs__bake_method pvs__extproj_method = {PVS_METHOD_EXTPROJ,
 
 /* ---- the 2.5D path: per-sample occlusion horizons ----
 
-   Wonka 2000 §2.1 allows two ways to fuse the samples: intersect their umbrae, or unite their PVSs.
-   Here each sample's visibility is an occlusion horizon over PVS__HZ_BINS angular bins around the
-   eye E (ground point e, height H): the sight line from E to (x, z) is blocked when it crosses an
-   occluder facade of height T at ground distance dc < |x - e| below T, i.e. when (z - H) / |x - e| <
-   (T - H) / dc. For one chain of shrunk occluder facades (a closed outline or a hole's), a bin whose
-   whole angular range the chain's facades cover (consecutive facades share their corners, so their
-   ranges join exactly) is crossed by every ray in it at a distance at most dmax (the farthest
-   crossing of those facades inside the bin) and at least dmin; so points of the bin beyond dmax are
-   hidden below slope sigma = (T - H) / dmax (T >= H) or (T - H) / dmin (T < H). Per bin, a short
-   staircase of (distance, slope) steps keeps the best slope from each distance on. A box is hidden
-   from the sample when every bin its ground rectangle touches has, at the box's least distance, a
-   slope above the box's steepest sight line. No crack opens inside a chain (coverage is per bin over
-   the whole chain), and occluders are processed front to back with occluded ones skipped (§3.4).
-   Rounding: angles bin-exact (a shared corner gives the same angle to both facades), distances and
-   slopes widened toward the safe side. */
+   Wonka 2000 §2.1: the cell's PVS is the union of its samples'. A sample's visibility is an occlusion horizon over
+   PVS__HZ_BINS angular bins around the eye (height H): a facade of height T at ground distance dc hides a point at
+   distance r > dc and height z when (z - H) / r < (T - H) / dc. A bin one chain of shrunk facades covers wholly
+   (shared corners: no crack) is crossed by all its rays between dmin and dmax, so beyond dmax it hides below slope
+   (T - H) / dmax (T >= H) or (T - H) / dmin (T < H); per bin a staircase of (distance, slope) steps keeps the best.
+   A box is hidden when every bin its ground rectangle touches has, at its least distance, a slope above its steepest
+   sight line. Occluders go front to back, occluded ones skipped (§3.4). Angles are bin-exact, the rest rounded
+   safe. */
 
-/* The bins are the horizon's angular resolution (0.23 degree at 1536; an object counts as visible
-   when any bin its rectangle touches is open, so a bin partly covered at a building's silhouette
-   keeps everything behind that corner). Finer bins gain little tightness on the demo city for a cost
-   that grows with the bins; a voxel grid of eps / 2 for the columns, more steps and per-triangle
-   object tests changed nothing measurable there (see tests/BENCHMARKS.md, shrink). */
+/* The horizon's angular resolution (0.23 degree at 1536); finer bins, an eps / 2 column grid, more steps and
+   per-triangle tests gained nothing (tests/BENCHMARKS.md, shrink). */
 #define PVS__HZ_BINS 1536
 #define PVS__HZ_STEPS 6
 
-/* Angles are pseudo-angles in [0, 4) (the "diamond angle": monotone in the true angle, a quarter
-   turn per unit, no trigonometry); bin b covers [4 b / BINS, 4 (b + 1) / BINS). */
+/* Angles are pseudo-angles in [0, 4) (the "diamond angle": monotone in the true angle, a quarter turn per unit, no
+   trigonometry); bin b covers [4 b / BINS, 4 (b + 1) / BINS). */
 typedef struct pvs__hz {
     double eu, ev, H, w;                         /* the eye; bin width (pseudo-angle) */
     double dir[PVS__HZ_BINS + 1][2];             /* ray direction at each bin boundary (unnormalized) */
@@ -20092,9 +19815,8 @@ PVS__STATIC void pvs__hz_init(pvs__hz *z) {
 }
 PVS__STATIC double pvs__hz_lo(const pvs__hz *z, int32_t b) { return b * z->w; }
 PVS__STATIC double pvs__hz_hi(const pvs__hz *z, int32_t b) { return b + 1 == PVS__HZ_BINS ? 4.0 : (b + 1) * z->w; }
-/* The bin holding pseudo-angle a, consistent with the boundaries pvs__hz_lo / pvs__hz_hi compute (w is
-   not a power of two, so floor(a / w) alone can put an angle just below b w into bin b: a facade
-   ending there would then claim bin b - 1 covered up to its upper boundary). */
+/* The bin of pseudo-angle a, consistent with pvs__hz_lo / pvs__hz_hi (w is no power of two: floor(a / w) can put an
+   angle just below b w in bin b, so a facade ending there would claim bin b - 1). */
 PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
     int32_t b = (int32_t)floor(a / z->w);
     b = b < 0 ? 0 : b >= PVS__HZ_BINS ? PVS__HZ_BINS - 1 : b;
@@ -20103,17 +19825,15 @@ PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
     return b;
 }
 
-/* Distance from the eye along the ray of bin boundary k to the line through p, q (relative ground
-   points); -1 when parallel. */
+/* Distance from the eye along bin boundary k's ray to line p-q (relative ground points); -1 if parallel. */
 PVS__STATIC double pvs__hz_ray(const pvs__hz *z, int32_t k, const double p[2], const double q[2]) {
     double dx = z->dir[k][0], dy = z->dir[k][1], ex = q[0] - p[0], ey = q[1] - p[1], den = dx * ey - dy * ex;
     if (den == 0.0) return -1.0;
     return (p[0] * ey - p[1] * ex) / den * z->dlen[k];
 }
 
-/* The part [a0, a1] of bin b covered by a facade, crossed at distances d0 (at a0) and d1 (at a1),
-   the nearest point of its line at angle afoot, distance dfoot; `front`: the eye on the facade's
-   outer side (a sight line entering the occluder crosses such a facade first). */
+/* Bin b's part [a0, a1] a facade covers, crossed at distances d0, d1, its line nearest at angle afoot, distance dfoot;
+   `front`: the eye on its outer side. */
 PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot,
                                double afoot, int front) {
     double lo, hi;
@@ -20134,11 +19854,11 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
         if (front && lo < z->dmin[b]) z->dmin[b] = lo;
     }
     if (a0 <= pvs__hz_lo(z, b) && a1 >= pvs__hz_hi(z, b)) z->full[b] = 1;
-    else if (!z->full[b]) { /* the covered parts: up to 4 disjoint intervals, merged where they meet */
+    else if (!z->full[b]) { /* covered parts: up to 4 disjoint intervals, merged where they meet */
         uint32_t i, n = z->npart[b];
         double *L = z->plo[b], *R = z->phi[b];
         for (i = 0; i < n;) {
-            if (a0 <= R[i] && a1 >= L[i]) { /* meets: absorb it and look again */
+            if (a0 <= R[i] && a1 >= L[i]) { /* absorb and look again */
                 a0 = pvs__dmin(a0, L[i]);
                 a1 = pvs__dmax(a1, R[i]);
                 L[i] = L[n - 1];
@@ -20147,7 +19867,7 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
             } else ++i;
         }
         if (n < 4) { L[n] = a0; R[n] = a1; ++n; }
-        else { /* full: keep the longest (less coverage, still conservative) */
+        else { /* full: keep the longest (less coverage: conservative) */
             uint32_t sh = 0;
             for (i = 1; i < 4; ++i)
                 if (R[i] - L[i] < R[sh] - L[sh]) sh = i;
@@ -20169,18 +19889,16 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
     cr = p[0] * q[1] - p[1] * q[0];
     len2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]);
     if (!(pvs__dabs(cr) > 1e-12 * (p[0] * p[0] + p[1] * p[1] + q[0] * q[0] + q[1] * q[1]))) return; /* seen edge-on */
-    /* the occluder lies left of p -> q: the eye sees the facade from outside when it is on the right.
-       Only such facades matter: every sight line into the occluder enters through one, so they alone
-       cover the chain's angular range (a back-facing one is always behind a front-facing one) */
+    /* the occluder lies left of p -> q; only facades seen from outside matter: a sight line enters through one */
     front = cr < 0.0;
     if (!front) return;
     if (cr < 0.0) { double tt[2]; tt[0] = p[0]; tt[1] = p[1]; p[0] = q[0]; p[1] = q[1]; q[0] = tt[0]; q[1] = tt[1]; }
-    /* counter-clockwise from p (angle a) to q (angle b), less than a half turn */
+    /* counter-clockwise from p (angle a) to q (angle b), under a half turn */
     a = pvs__hz_angle(p[0], p[1]);
     b = pvs__hz_angle(q[0], q[1]);
     da = sqrt(p[0] * p[0] + p[1] * p[1]);
     db = sqrt(q[0] * q[0] + q[1] * q[1]);
-    /* the foot of the perpendicular from the eye (nearest point of the line) */
+    /* the line's nearest point to the eye */
     t = -(p[0] * (q[0] - p[0]) + p[1] * (q[1] - p[1])) / len2;
     fx = p[0] + t * (q[0] - p[0]);
     fy = p[1] + t * (q[1] - p[1]);
@@ -20190,7 +19908,7 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
     b1 = pvs__hz_bin(z, b);
     if (b < a) b1 += PVS__HZ_BINS; /* across angle 0 */
     {
-        double d1 = da; /* the crossing at the previous bin's upper ray is this bin's lower one */
+        double d1 = da; /* the previous bin's upper crossing is this one's lower */
         for (k = b0; k <= b1; ++k) {
             int32_t bk = k % PVS__HZ_BINS, lo_at_start = k == b0, hi_at_end = k == b1;
             double s0 = lo_at_start ? a : pvs__hz_lo(z, bk), s1 = hi_at_end ? b : pvs__hz_hi(z, bk), d0 = d1;
@@ -20201,16 +19919,16 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
     }
 }
 
-/* Inserts step (r, s) into bin b: for distances >= r the slope is at least s. */
+/* Inserts step (r, s) into bin b: from distance r on the slope is at least s. */
 PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
     uint32_t n = z->nstep[b], i, j;
     float *R = z->step_r[b], *S = z->step_s[b];
     for (i = 0; i < n; ++i)
         if (R[i] <= r && S[i] >= s) return; /* dominated */
-    for (i = 0, j = 0; i < n; ++i) /* drop the steps it dominates */
+    for (i = 0, j = 0; i < n; ++i)
         if (!(R[i] >= r && S[i] <= s)) { R[j] = R[i]; S[j] = S[i]; ++j; }
     n = j;
-    if (n == PVS__HZ_STEPS) --n; /* full: forget the farthest step (less occlusion, still conservative) */
+    if (n == PVS__HZ_STEPS) --n; /* full: forget the farthest (still conservative) */
     for (i = n; i > 0 && R[i - 1] > r; --i) { R[i] = R[i - 1]; S[i] = S[i - 1]; }
     R[i] = r;
     S[i] = s;
@@ -20221,16 +19939,13 @@ PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
 PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
     uint32_t i, n = z->nstep[b];
     float best = -FLT_MAX;
-    /* steps ascend in distance and in slope: the last one not beyond d is the best (a loop without
-       data-dependent branches: faster than stopping early) */
+    /* steps ascend in distance and slope: the last one not beyond d is the best (branch-free: faster) */
     for (i = 0; i < n; ++i) best = (double)z->step_r[b][i] <= d ? z->step_s[b][i] : best;
     return best;
 }
 
-/* The angular bins [*b0, *b1] (b1 may wrap past the last bin: then b1 >= BINS) and the least and
-   greatest ground distance of the rectangle [u0, u1] x [v0, v1] seen from the eye; 0 when the eye is
-   inside it (or on its border). The span runs counter-clockwise between the two silhouette corners,
-   which the eye's position among the nine regions around the rectangle names. */
+/* Bins [*b0, *b1] (b1 >= BINS when wrapping) and least and greatest ground distance of rectangle u0..u1, v0..v1 from
+   the eye; 0 if the eye is inside or on it. The span runs counter-clockwise between silhouette corners. */
 PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1,
                              double *dmin, double *dmax) {
     double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, sx, sy, ex, ey, as, ae;
@@ -20239,7 +19954,7 @@ PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, 
                       : 1,
         ry = y0 > 0.0 ? 0
         : y1 < 0.0    ? 2
-                      : 1; /* rectangle right of / left of / around the eye */
+                      : 1;
     if (rx == 1 && ry == 1) return 0;
     nx = rx == 0 ? x0 : rx == 2 ? -x1 : 0.0;
     ny = ry == 0 ? y0 : ry == 2 ? -y1 : 0.0;
@@ -20247,7 +19962,6 @@ PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, 
     fy = pvs__dmax(pvs__dabs(y0), pvs__dabs(y1));
     *dmin = sqrt(nx * nx + ny * ny) * (1.0 - 1e-9);
     *dmax = sqrt(fx * fx + fy * fy) * (1.0 + 1e-9);
-    /* start and end corners (counter-clockwise) by the rectangle's side of the eye */
     if (rx == 0) {
         if (ry == 0) { sx = x1; sy = y0; ex = x0; ey = y1; }
         else if (ry == 1) { sx = x0; sy = y0; ex = x0; ey = y1; }
@@ -20270,8 +19984,7 @@ PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, 
     return 1;
 }
 
-/* Distance along boundary ray k from the eye into the rectangle (relative coordinates), DBL_MAX when
-   it misses. */
+/* Distance along boundary ray k from the eye into the rectangle (relative coordinates); DBL_MAX if none. */
 PVS__STATIC double pvs__hz_enter(const pvs__hz *z, int32_t k, double x0, double y0, double x1, double y1) {
     double dx = z->dir[k][0], dy = z->dir[k][1], t0 = 0.0, t1 = DBL_MAX;
     if (dx != 0.0) {
@@ -20287,22 +20000,21 @@ PVS__STATIC double pvs__hz_enter(const pvs__hz *z, int32_t k, double x0, double 
     return t1 >= t0 ? t0 * z->dlen[k] : DBL_MAX;
 }
 
-/* 1 if the box may be visible from the eye: some bin its ground rectangle touches lacks, from the
-   rectangle's least distance in that bin on, a slope above the box's steepest sight line. */
+/* 1 if the box may be visible: some bin its ground rectangle touches lacks, from its least distance there on, a slope
+   above the box's steepest sight line. */
 PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int v, uint32_t up) {
     int32_t b0, b1, k;
     double dmin, dmax, need, top = bx->max[up], x0, y0, x1, y1, ca[4], near_a;
     if (!pvs__hz_rect(z, bx->min[u], bx->min[v], bx->max[u], bx->max[v], &b0, &b1, &dmin, &dmax)) return 1;
     if (!(dmin > 0.0)) return 1;
-    need = top >= z->H ? (top - z->H) / dmin : (top - z->H) / dmax; /* the steepest sight line to the box */
+    need = top >= z->H ? (top - z->H) / dmin : (top - z->H) / dmax;
     need += 1e-9 * (pvs__dabs(need) + 1e-30);
     if (b1 - b0 < 3) {
         for (k = b0; k <= b1; ++k)
             if (!((double)pvs__hz_query(z, k % PVS__HZ_BINS, dmin) > need)) return 1;
         return 0;
     }
-    /* wide boxes: the least distance of the part of the rectangle inside each bin's wedge (at the
-       wedge's rays, the corners inside it, or the rectangle's nearest point when inside it) */
+    /* wide boxes: per bin the rectangle's least distance in its wedge (at the rays, inner corners, nearest point) */
     x0 = bx->min[u] - z->eu; x1 = bx->max[u] - z->eu; y0 = bx->min[v] - z->ev; y1 = bx->max[v] - z->ev;
     ca[0] = pvs__hz_angle(x0, y0);
     ca[1] = pvs__hz_angle(x1, y0);
@@ -20313,15 +20025,14 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
         near_a = pvs__hz_angle(nx, ny);
     }
     {
-        /* bins in an interleaved order (every 8th first, then the ones between): a visible box is
-           found after a few bins wherever its visible run of bins lies */
+        /* bins interleaved (every 8th first): a visible box's open run is found early */
         static const int32_t order[8] = {0, 4, 2, 6, 1, 5, 3, 7};
         int32_t o8;
         for (o8 = 0; o8 < 8; ++o8)
             for (k = b0 + order[o8]; k <= b1; k += 8) {
                 int32_t bk = k % PVS__HZ_BINS, c;
                 double lo, hi, d, need_b;
-                if ((double)pvs__hz_query(z, bk, dmin) > need) continue; /* hidden even from the box's least distance */
+                if ((double)pvs__hz_query(z, bk, dmin) > need) continue;
                 lo = pvs__hz_lo(z, bk);
                 hi = pvs__hz_hi(z, bk);
                 d = pvs__dmin(pvs__hz_enter(z, bk, x0, y0, x1, y1), pvs__hz_enter(z, bk + 1, x0, y0, x1, y1));
@@ -20341,7 +20052,7 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
     return 0;
 }
 
-/* Adds one chain (closed: its facades back to the first point) of height top. */
+/* Adds a chain of height top (closed: back to its first point). */
 PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
     uint32_t i, n = ch->point_count, segs = ch->closed ? n : n - 1;
     double T = ch->top;
@@ -20352,13 +20063,13 @@ PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
         int32_t b = z->touched[i];
         double sl;
         if (!z->full[b]) continue;
-        if (!(z->dmax[b] > 0.0)) continue; /* no facade seen from outside: cannot happen when covered */
+        if (!(z->dmax[b] > 0.0)) continue; /* cannot happen when full */
         if (T >= z->H) sl = (T - z->H) / z->dmax[b];
         else {
             if (!(z->dmin[b] > 0.0)) continue;
             sl = (T - z->H) / z->dmin[b];
         }
-        /* to float toward the safe side: a relative margin far above float's half ulp (6e-8) */
+        /* to float toward the safe side: a margin far above float's half ulp (6e-8) */
         pvs__hz_insert(z, b, (float)(z->dmax[b] * (1.0 + 1e-6)), (float)(sl - 1e-6 * pvs__dabs(sl) - 1e-30));
     }
 }
@@ -20371,21 +20082,19 @@ typedef struct pvs__shrink_walk {
     int u, v;
 } pvs__shrink_walk;
 
-/* 1 if the box meets the cell or stands (partly) under its top face: always visible. */
+/* 1 if the box's ground rectangle meets the cell's. */
 PVS__STATIC int pvs__shrink_near(const pvs__shrink_walk *w, const pvs_box *b) {
     return b->min[w->u] <= w->cell->max[w->u] && b->max[w->u] >= w->cell->min[w->u] &&
         b->min[w->v] <= w->cell->max[w->v] && b->max[w->v] >= w->cell->min[w->v];
 }
 
-/* Distance (squared) from the eye to a box's ground rectangle. */
 PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int v) {
     double du = pvs__dmax(0.0, pvs__dmax(b->min[u] - z->eu, z->eu - b->max[u])),
            dv = pvs__dmax(0.0, pvs__dmax(b->min[v] - z->ev, z->ev - b->max[v]));
     return du * du + dv * dv;
 }
 
-/* The sample's horizon: the chains' hierarchy walked nearer child first (front to back, roughly),
-   a node or chain already hidden from the eye skipped (§3.4: occluded occluders add nothing). */
+/* The sample's horizon: the chains' hierarchy nearer child first, hidden ones skipped (§3.4). */
 PVS__STATIC void pvs__shrink_horizon(const pvs_occluders *o, pvs__hz *hz, uint32_t *stack, int u, int v,
                                      pvs_shrink_stats *st) {
     const pvs__obvh *h = &o->chain_bvh;
@@ -20411,14 +20120,14 @@ PVS__STATIC void pvs__shrink_horizon(const pvs_occluders *o, pvs__hz *hz, uint32
     }
 }
 
-/* Marks object ob visible and takes it off the count of every node above it. */
+/* Marks ob visible, off the count of every node above it. */
 PVS__STATIC void pvs__shrink_found(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t ob) {
     uint32_t nd;
     pvs_bitset_set(w->visible, ob);
     for (nd = o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = o->bvh.nodes[nd].parent) --remaining[nd];
 }
 
-/* The objects meeting the cell or standing under its top face: visible without sampling. */
+/* Objects meeting the cell or under its top face: visible unsampled. */
 PVS__STATIC void pvs__shrink_walk_near(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining,
                                        uint32_t *stack) {
     uint32_t sp = 0, k;
@@ -20440,8 +20149,7 @@ PVS__STATIC void pvs__shrink_walk_near(const pvs_occluders *o, pvs__shrink_walk 
     }
 }
 
-/* One sample's walk over the object hierarchy: a node hidden from the sample (§3.4), or whose
-   objects are all found already, is skipped with all it holds. */
+/* A sample's walk over the object hierarchy, skipping nodes hidden from it (§3.4) or all found. */
 PVS__STATIC void pvs__shrink_walk_sample(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining,
                                          uint32_t *stack) {
     uint32_t sp = 0, k, up = w->scene->up_axis;
@@ -20465,17 +20173,12 @@ PVS__STATIC void pvs__shrink_walk_sample(const pvs_occluders *o, pvs__shrink_wal
     }
 }
 
-/* §3: "sample points need only be placed on the edges of the top of the view cells". Why, for a
-   heightfield occluder O standing on the ground and a point P whose ground position lies outside the
-   cell's footprint R (the others are set anyway): say V on the top face (height H) sees P. In the
-   vertical plane through P and V, the segment from P's ground position to V's crosses the boundary
-   of R at W'. If P is not above H, the segment P-W' lies above P-V at every ground distance from P,
-   so W' sees P. If P is above H, move V away from P to the boundary point W: P-W lies above P-V up to
-   V and above H after it, where no column of O inside R reaches. Either way a boundary point sees P.
-   Here O is the eps-neighbourhood of the shrunk occluder (a heightfield standing on the ground, and
-   where no viewer goes: a sight line V-P of the real scene avoids it), so the condition is that no
-   occluder column within eps of R rises above H - eps; with the theorem (appendix) the edge samples
-   decide. */
+/* §3: "sample points need only be placed on the edges of the top of the view cells". For a heightfield occluder O and
+   a point P outside the cell's footprint R, say V on the top face (height H) sees P. In the vertical plane through P
+   and V the ground segment crosses R's boundary at W'. If P is not above H, P-W' lies above P-V, so W' sees P; else
+   moving V away from P to the boundary point W keeps P-W above P-V up to V and above H beyond, where no column of O in
+   R reaches. O being the shrunk occluder's eps-neighbourhood (which no real sight line enters), the edges decide when
+   no column within eps of R rises above H - eps (with the appendix's theorem). */
 PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
     const pvs__vx_cols *cm = &o->cols;
     uint32_t i0, i1, j0, j1, i, j;
@@ -20488,13 +20191,9 @@ PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box 
     return 1;
 }
 
-/* The 2.5D path (§3): samples on the cell's top face (a 2.5D occluder hides from a point only what it
-   hides from every point above it, so the top face stands for the cell), on its edges every 2 eps
-   when pvs__shrink_edges_suffice allows, else on a grid over the whole face with spacing eps sqrt(2)
-   (every point of the face within eps of a sample). Per sample the occlusion horizon of the shrunk
-   occluder chains, front to back from the cell, occluded occluders skipped (§3.4); the objects it may
-   see, found through the kD-tree with hidden nodes skipped, join the PVS (§2.1: the cell's PVS is the
-   union of its samples' PVSs). */
+/* The 2.5D path (§3): samples on the cell's top face (a 2.5D occluder hides from a point only what it hides from all
+   points above it): on its edges every 2 eps when pvs__shrink_edges_suffice allows, else a grid of spacing eps sqrt(2);
+   per sample its horizon (§3.4) and the objects it may see. */
 PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
                                        pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
     pvs__shrink_walk w;
@@ -20527,7 +20226,7 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
     if (o->bvh.node_count) {
         uint32_t ob, nd;
         memcpy(remaining, o->bvh.count_below, o->bvh.node_count * sizeof(uint32_t));
-        /* objects set on entry are not tested: off the counts, so nodes holding only them are skipped */
+        /* objects set on entry: off the counts, so nodes holding only them are skipped */
         for (ob = pvs_bitset_next(visible, s->object_count, 0); ob < s->object_count;
              ob = pvs_bitset_next(visible, s->object_count, ob + 1))
             for (nd = o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = o->bvh.nodes[nd].parent) --remaining[nd];
@@ -20541,10 +20240,10 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
     w.u = u;
     w.v = v;
     hz->H = cell->max[up];
-    pvs__shrink_walk_near(o, &w, remaining, stack); /* objects meeting the cell, or under its top face */
+    pvs__shrink_walk_near(o, &w, remaining, stack);
     for (b = 0; b < nv; ++b)
         for (a = 0; a < nu; ++a) {
-            if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue; /* interior: not sampled */
+            if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue;
             hz->eu = a + 1 == nu
                 ? cell->max[u]
                 : cell->min[u] + (double)a * ((double)cell->max[u] - cell->min[u]) / (nu > 1 ? nu - 1 : 1);
@@ -20565,10 +20264,9 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 
 #define PVS__SHRINK_RES 64u
 
-/* 1 when box bx may reach into the view from eye p along axis dax (positive when pos), a superset of
-   the shrink 3D path's frustum (fov 1.6 rad, square): some point ahead with lateral offsets within
-   1.1 x its distance ahead. *dn, *df: the box's least and greatest distance ahead. In double, from
-   float coordinates: exact differences, the 1.1 covers the rounding. */
+/* 1 when box bx may reach into the view from p along axis dax (positive when pos): lateral offsets within 1.1 x the
+   distance ahead, a superset of the 1.6 rad square frustum with room for rounding. *dn, *df: its least and greatest
+   distance ahead. */
 PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, int pos, double *dn, double *df) {
     int l;
     double lim;
@@ -20581,10 +20279,8 @@ PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, 
     return 1;
 }
 
-/* The image of box bx (wholly ahead: dn > 0) seen from p along axis dax, as lateral offset / distance
-   ahead on the two other axes in increasing order: r[0..1] the least, r[2..3] the greatest (the
-   camera's image coordinates are these up to scale, sign and order). 0 when the box comes within
-   1e-3 of its own depth of the eye plane (no useful bound). */
+/* Box bx's image from p along dax, lateral offset / distance ahead on the other axes: r[0..1] least, r[2..3] greatest.
+   0 if within 1e-3 of its depth of the eye plane. */
 PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax, double dn, double df, double r[4]) {
     int k;
     if (!(dn > 1e-3 * df)) return 0;
@@ -20597,11 +20293,11 @@ PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax
     return 1;
 }
 
-/* The 3D path's scratch and state for one cell. */
+/* The 3D path's per-cell state. */
 typedef struct pvs__shrink3d {
     const pvs_scene *s;
     const pvs_occluders *o;
-    pvs_raster *r;            /* PVS__SHRINK_RES square, the eroded boxes as one occluder mesh */
+    pvs_raster *r;            /* PVS__SHRINK_RES square; the eroded boxes as one occluder mesh */
     float *pos;               /* 24 per eroded box: its corners */
     uint32_t *idx;            /* 36 per eroded box: its faces' triangles */
     uint32_t *sel;            /* 36 per eroded box: the boxes a view draws */
@@ -20611,11 +20307,8 @@ typedef struct pvs__shrink3d {
     pvs_shrink_stats *st;
 } pvs__shrink3d;
 
-/* The objects one view from p along axis dax (positive when pos) can change: not yet seen and
-   reaching into a superset of its frustum (lateral offsets within 1.1 x the distance ahead, the
-   frustum's being tan(0.8) = 1.03), into w->cand. *far: the greatest distance ahead among them;
-   crect: the union of their images (pvs__shrink_view_rect) when *bounded stays 1. Returns their
-   count. */
+/* Into w->cand, the objects a view from p along dax can change (unseen, pvs__shrink_in_view); *far: their farthest
+   distance ahead; crect: their images' union while *bounded stays 1. Returns the count. */
 PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, int dax, int pos, double *far,
                                             double crect[4], int *bounded) {
     const pvs_scene *s = w->s;
@@ -20638,12 +20331,9 @@ PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, in
     return ncand;
 }
 
-/* One view of the cube at sample p (§2.3), direction dir (axis dir / 2, positive when odd): only what
-   it can change, the candidate objects (pvs__shrink_candidates) and the eroded boxes in the same
-   superset of the frustum that reach nearer than the farthest of them (a box wholly farther is nearer
-   at no pixel than any of them) and whose image meets theirs: leaving out the rest changes no test's
-   answer. The boxes are drawn as one occluder mesh, the candidates tested in occludee mode against
-   the depth pyramid; those that pass join w->seen. */
+/* One view of the cube at sample p (§2.3), direction dir (axis dir / 2, positive if odd): candidates tested in
+   occludee mode against the eroded boxes as one occluder mesh, only boxes nearer than the farthest candidate whose
+   image meets theirs (no other changes a test); passing ones join w->seen. */
 PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir) {
     const pvs_occluders *o = w->o;
     uint32_t i, nb = o->box_count, nsel = 0, ncand;
@@ -20656,8 +20346,7 @@ PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir
     for (i = 0; i < nb; ++i) {
         double dn, df;
         if (!pvs__shrink_in_view(o->boxes + i, p, dax, dir & 1, &dn, &df) || dn > far) continue;
-        /* a box whose image misses the candidates' (a margin of a few pixels around) covers none of
-           the pixels their tests read */
+        /* a box whose image misses the candidates' (a few pixels' margin) covers no pixel they read */
         if (bounded && pvs__shrink_view_rect(o->boxes + i, p, dax, dn, df, brect) &&
             (brect[0] > crect[2] + 0.1 || brect[2] < crect[0] - 0.1 || brect[1] > crect[3] + 0.1 ||
              brect[3] < crect[1] - 0.1))
@@ -20681,9 +20370,8 @@ PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir
         if (pvs_raster_test_box(w->r, w->s->object_boxes + w->cand[i])) pvs_bitset_set(w->seen, w->cand[i]);
 }
 
-/* The samples of one face of the cell (face / 2 its axis, the max side when odd) on a grid with
-   spacing <= `spacing`, its corners included, each looking in the six directions. UNSUPPORTED when a
-   side needs more than 1024 samples. */
+/* Samples of cell face `face` (axis face / 2, max side if odd) at spacing <= `spacing`, corners included, each looking
+   six ways; UNSUPPORTED past 1024 a side. */
 PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, uint32_t face, float spacing,
                                         pvs_error *err) {
     int ax = (int)face / 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
@@ -20709,12 +20397,9 @@ PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, u
     return PVS_OK;
 }
 
-/* The 3D path (§2.1, 2.3): samples on each of the cell's six faces, on a grid with spacing <= eps *
-   sqrt(2), so every boundary point is within eps of one (a sight line from inside the cell leaves
-   it through the boundary, so the boundary stands for the cell). Per sample a cube of six depth maps
-   of the eroded boxes (occluder mode: inner coverage, farthest depth), objects tested in occludee
-   mode against the depth pyramid; the PVS is the union over the samples. Objects within twice the
-   near distance of the cell are set outright (the cube does not see nearer than its near plane). */
+/* The 3D path (§2.1, 2.3): samples on the cell's six faces at spacing <= eps sqrt(2) (sight lines from inside leave
+   through the boundary, all within eps of a sample), each a cube of six depth maps of the eroded boxes; the PVS is
+   their union. Objects within twice the near distance are set (the cube sees nothing nearer than its near plane). */
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
                                       pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
     pvs_raster_desc rd;
@@ -20759,7 +20444,6 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
         }
         for (c = 0; c < 36; ++c) w.idx[36 * i + c] = 8 * i + quad[c];
     }
-    /* objects near or in the cell */
     grown = *cell;
     for (k = 0; k < 3; ++k) {
         grown.min[k] -= 2.0f * w.nearp + 1e-4f * eps;
@@ -20801,8 +20485,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
     st.mode = mode;
     st.occluders = mode == PVS_SHRINK_2D5 ? o->chain_count : o->box_count;
     {
-        /* a leaking cell the synthesis left out (or a box inside one): the solid was proved for the
-           other cells only */
+        /* a leaking cell the synthesis left out (or a box in one): the solid is proved for the others only */
         uint32_t i;
         int k;
         for (i = 0; i < o->info.excluded_cells && !st.excluded; ++i) {
@@ -20837,17 +20520,15 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 
 /* ---- the SHRINK bake method (a row of >>bake's table) ---- */
 
-/* The default eps of the shrink method: an eighth of the median of the cells' smallest ground-plane
-   extent (Wonka 2000 §4.1 used 1 m for cells of several metres: 6-8 samples per edge), in double
-   (a cell 6e38 wide has no float extent), kept within a millionth of the scene's diagonal and the
-   diagonal itself: a cell 1e-45 wide would give an eps that underflows to 0. Any eps > 0 is
-   conservative; these only bound the work. */
+/* Default eps: an eighth of the cells' median smallest ground extent (Wonka 2000 §4.1: 1 m for cells of several
+   metres), in double (a cell 6e38 wide has no float extent), kept between a millionth of the scene's diagonal (no
+   underflow to 0) and the diagonal. Any eps > 0 is conservative. */
 PVS__STATIC double pvs__cell_ground_extent(const pvs_box *c, int u, int v) {
     double e = (double)c->max[u] - c->min[u], f = (double)c->max[v] - c->min[v];
     return f < e ? f : e;
 }
 PVS__STATIC float pvs__shrink_default_eps(const pvs_box *cells, uint32_t n, uint32_t up, const pvs_box *scene_bounds) {
-    uint32_t i, j, below, equal, m = n < 2048u ? n : 2048u; /* the median of the first 2048 cells, by counting */
+    uint32_t i, j, below, equal, m = n < 2048u ? n : 2048u; /* median of the first 2048 cells, by counting */
     int u, v;
     double med = 0.0, diag = pvs__box_diagonal(scene_bounds), eps, lo, hi;
     pvs__ground_axes(up, &u, &v);
@@ -20871,11 +20552,11 @@ PVS__STATIC float pvs__shrink_default_eps(const pvs_box *cells, uint32_t n, uint
 typedef struct pvs__shrink_bake {
     pvs_allocator allocator;
     pvs_occluders *occluders;
-    pvs_occluders *occluders_leak; /* made with every cell seeding, for the cells the first left out */
+    pvs_occluders *occluders_leak; /* built with every cell seeding, for the cells the first left out */
     pvs_shrink_mode mode;
 } pvs__shrink_bake;
 
-/* Occluder synthesis over every cell of the bake (not only the shard's: shards agree). */
+/* Occluder synthesis over every cell of the bake, not only the shard's, so shards agree. */
 PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
                                                 pvs_error *err) {
     pvs__shrink_bake *sh;
@@ -20904,7 +20585,7 @@ PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_ba
     r = pvs_occluders_create(&od, &sh->occluders, err);
     if (r != PVS_OK) return r;
     if (sh->occluders->info.excluded_cells) {
-        /* leaking cells were left out of the proof: they bake with occluders every cell seeded */
+        /* leaking cells, left out of the proof, bake with occluders every cell seeded */
         od.flags = PVS_OCCLUDERS_KEEP_LEAKS;
         r = pvs_occluders_create(&od, &sh->occluders_leak, err);
         if (r != PVS_OK) return r;
@@ -20925,8 +20606,8 @@ PVS__STATIC int pvs__shrink_bake_applies(const void *state, const char **why) {
     return 1;
 }
 
-/* SHRINK tests only the candidates: the other drawable objects are set in `bits` first (kept, until
-   the caller's intersection leaves them out), and pvs_shrink_cell does not test what is set. */
+/* SHRINK tests only the candidates: the other drawable objects are set in `bits` first (the caller's intersection
+   removes them); pvs_shrink_cell skips what is set. */
 PVS__STATIC void pvs__shrink_bake_preset(const pvs__bake_env *env, const pvs_word *candidates, pvs_word *bits) {
     uint32_t i;
     if (!candidates) return;
