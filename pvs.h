@@ -3557,50 +3557,21 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 }
 
 // >>raster
-/* ---------------------------------------------------------------------------------------------- */
-/* raster: conservative rasterizer (Durand 2000 §3.1-3.2), depth pyramid (Durand 2000 §2.4),     */
-/* cull map (Wonka & Schmalstieg 1999 §3-4), per-frame culling (Bittner 2002 §3.2, §4.5)          */
-/* ---------------------------------------------------------------------------------------------- */
+/* ==== raster: conservative rasterizer (Durand 2000 §3.1-3.2), depth pyramid (Durand 2000 §2.4), cull map (Wonka &
+   Schmalstieg 1999 §3-4), per-frame culling (Bittner 2002 §3.2, §4.5) ==== */
 
-/* How the guarantee survives rounding. Per polygon (a triangle clipped to the near plane), the setup
-   runs in double: vertices are projected to pixel coordinates, each edge function E(x, y) (>= 0
-   inside, normalised so |a| + |b| = 1) is evaluated at the corner of the pixel range, and the
-   per-pixel extreme over a pixel square is added exactly as min(0, a) + min(0, b) (inner coverage,
-   the occluder test: the whole pixel inside) or max(0, a) + max(0, b) (outer coverage, the occludee
-   test: some of the pixel inside). This is the sampling correction of Wonka 1999 §4.4 - edges moved
-   by (|nx| + |ny|) half-pixels and a pixel-centre sample - written at the pixel corner. Then a bound
-   on every rounding error is subtracted (occluder) or added (occludee) before the coefficients are
-   rounded to float: 2^-40 of the coordinates' size for the double setup and the projection (far
-   above double's 2^-53, with the edge's length in the denominator so short edges far off screen get
-   wide margins), and 2^-20 of the terms' size for the float evaluation c + a i + b j (four roundings
-   of 2^-24 each, i and j exact small integers). Depth is z/w, affine in screen space; over a pixel its
-   extremes are at the pixel's corners (inner coverage) or inside the pixel's corners and the
-   polygon's vertices (outer coverage), so the plane's corner extreme with the same kind of margin,
-   clamped by the vertices' extreme depth, bounds it from the safe side even when the plane is ill
-   conditioned. Degenerate polygons cover nothing as occluders and their whole bounding rectangle
-   (at their nearest vertex depth) as occludees. The scalar and the SIMD loops perform the same float
-   operations in the same order, so they agree bit for bit; that needs the compiler not to contract
-   a * b + c into fused multiply-adds (GCC's default with -std=c99; clang is told by the pragma
-   below). Contraction only removes roundings, so every margin still holds.
-
-   Two places keep occluder depth. Per pixel (above; exact per pixel, the default for maps of at
-   most 65,536 pixels, which the bake methods use) and, for larger maps, Masked Occlusion Culling's
-   tiles (Hasselgren, Andersson and Akenine-Moller 2016): 32 x 4 pixels with a coverage mask and two
-   depths (pvs__tile), filled row by row from the same double edge setup turned into per-row
-   column bounds with a float margin (pvs__tile_poly), after a float prefilter that drops whole
-   triangles four at a time (behind the eye, no whole pixel, or behind every tile's base: dropping
-   an occluder is always safe). Box tests then run in float on the eight corners with explicit
-   error bounds (pvs__raster_box_f). A tile's depth is the farthest its occluders reach over it, so
-   tiles are coarser than pixels: more objects pass, the more so on small maps (see
-   tests/BENCHMARKS.md, raster).
-
-   Limits. Near-plane clipping cuts in double without a margin: an occludee may lose a sliver where it
-   crosses the near plane (its depth there is the near plane's), as wide as the cut point's rounding
-   along its edge, about 2^-51 |b - a| / near in normalized units for an edge ab: under 1e-8 pixels at
-   4K for edges up to 10^4 near distances long, more for longer ones. The occluder selection uses the
-   direction to the occluder as V in Bittner's measure (the solid angle), not the view direction. The
-   cull map needs facades standing on the ground and a perspective camera (shadows are cast from a
-   point). Speed: tests/BENCHMARKS.md, raster (bench_raster). */
+/* Rounding. Per polygon (a triangle clipped to the near plane) the setup is in double: edge functions E (>= 0 inside,
+   |a| + |b| = 1) at the range's corner plus their exact extreme over a pixel, min(0, a) + min(0, b) for inner coverage
+   (occluders) or max(0, a) + max(0, b) for outer (occludees): Wonka 1999 §4.4's sampling correction. Every error bound
+   is then subtracted (occluder) or added (occludee) before rounding to float: 2^-40 of the coordinates' size for setup
+   and projection, over the edge length (short edges far off screen get wide margins), and 2^-20 of the terms for the
+   float c + a i + b j (four roundings of 2^-24; i, j exact). Depth z/w is affine: the plane's extreme at the pixel
+   corners (inner) or among corners and vertices (outer), plus margin and clamped by the vertices' extreme depth, is
+   safe even for an ill-conditioned plane. Degenerate polygons cover nothing as occluders, their rectangle at the
+   nearest depth as occludees. Scalar and SIMD do the same float operations in order: bit-identical without FMA
+   contraction (GCC's -std=c99 default; the pragma below for clang), which would only remove roundings. Limit: the
+   near-plane cut has no margin (an occludee may lose a sliver about 2^-51 |b - a| / near wide, under 1e-8 pixels at 4K
+   for edges below 10^4 near distances). */
 
 #if !defined(PVS_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
 #define PVS__SSE2 1
@@ -3613,16 +3584,14 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 #pragma STDC FP_CONTRACT OFF
 #endif
 
-#define PVS__RASTER_MAXV 8                   /* polygon vertices after clipping a triangle: 5 */
+#define PVS__RASTER_MAXV 8                   /* a clipped triangle has at most 5 */
 #define PVS__RASTER_ERR_D 9.094947017729282e-13 /* 2^-40 */
 #define PVS__RASTER_ERR_F 9.5367431640625e-07   /* 2^-20 */
 #define PVS__RASTER_MAX_LEVELS 16
 #define PVS__RASTER_BIG 1e30
 
-/* One tile of the occluder buffer: 32 x 4 pixels (Hasselgren, Andersson and Akenine-Moller 2016,
-   "Masked Software Occlusion Culling": a coverage mask and two depths per tile instead of a depth
-   per pixel). Reversed Z: every pixel of the tile has occluders at least as near as z0; the pixels of
-   the working layer `mask` have them at least as near as z1 (z1 > z0 while mask != 0). */
+/* Occluder tile (Hasselgren et al. 2016), reversed Z: occluders at least as near as z0 on every pixel, z1 on `mask` (z1
+   > z0 while mask != 0). */
 typedef struct pvs__tile {
     uint32_t mask[4]; /* bit k of mask[r]: pixel (32 tx + k, 4 ty + r) */
     float z0, z1;
@@ -3640,22 +3609,20 @@ struct pvs_raster {
     float *depth;                               /* width * height */
     float *tile_min;                            /* farthest depth per 8 x 8 tile */
     size_t tiles;
-    uint32_t levels;                            /* pyramid levels above the depth map */
+    uint32_t levels;                            /* pyramid levels above `depth` */
     uint32_t lw[PVS__RASTER_MAX_LEVELS + 1], lh[PVS__RASTER_MAX_LEVELS + 1];
     float *lmin[PVS__RASTER_MAX_LEVELS + 1], *lmax[PVS__RASTER_MAX_LEVELS + 1];
     float *pyramid;
     size_t pyramid_floats;
-    int pyramid_valid;                          /* 1: the per-pixel pyramid is current, 2: the tile pyramid */
-    /* the occluder buffer: tiles of 32 x 4 pixels (see pvs__tile) */
+    int pyramid_valid;                          /* 1: per-pixel pyramid current, 2: tile pyramid */
     pvs__tile *tile;
     uint32_t tw, th;                            /* tile grid */
-    uint32_t xpad;                              /* bits of the last tile column past the map's right side */
-    uint32_t ypad;                              /* rows of the last tile row inside the map (1..4) */
-    int tiled;                                  /* occluders go to the tiles (else to `depth`) */
-    int mixed;                                  /* `depth` holds pixels drawn since the clear (occludees, or all
-                                                   triangles when not tiled) */
-    float *bmin;                                /* per block of 8 x 8 tiles: at most the least base (z0) */
-    uint8_t *bdirty;                            /*   and 1 when a base grew since bmin was taken */
+    uint32_t xpad;                              /* bits of the last tile column past the map */
+    uint32_t ypad;                              /* rows of the last tile row in the map (1..4) */
+    int tiled;                                  /* occluders go to the tiles, else to `depth` */
+    int mixed;                                  /* `depth` holds occludees drawn since the clear (untiled: all) */
+    float *bmin;                                /* per block of 8 x 8 tiles: <= the least base z0 */
+    uint8_t *bdirty;                            /* 1: a base grew since bmin was taken */
     uint32_t bw, bh;                            /* block grid */
     uint32_t tlevels;                           /* tile pyramid levels above the tile grid */
     uint32_t tlw[PVS__RASTER_MAX_LEVELS * 2 + 1], tlh[PVS__RASTER_MAX_LEVELS * 2 + 1];
@@ -3665,21 +3632,20 @@ struct pvs_raster {
     float *tpyramid;
     size_t tpyramid_floats;
     double m[16];                               /* current projection */
-    double mabs[2];                             /* max row sum of |m| over x, y, z; max |translation| */
-    float mf[16], hwf, hhf;                     /* the projection as given, half the map's size (prefilter) */
+    double mabs[2];                             /* max row sum of |m| over x, y, z; max |m_r3| */
+    float mf[16], hwf, hhf;                     /* the projection as given; half the map size (prefilter) */
     float mb[16][4];                            /* mf broadcast to four lanes */
     double rowa[4], rowt[4];                    /* per row of m: |m_r0| + |m_r1| + |m_r2|, |m_r3| */
-    /* occluder meshes (pvs_raster_mesh): scratch for mesh_cap triangles and four rows of pixels */
+    /* occluder meshes (pvs_raster_mesh): scratch for mesh_cap triangles, four pixel rows */
     uint32_t mesh_cap, mesh_hash;               /* triangles per piece; hash slots (a power of two) */
     struct pvs__mtri *mt;                       /* mesh_cap prepared triangles */
-    uint32_t *mcid, *mpart;                     /* 3 mesh_cap: welded vertex per corner, partner half-edge */
-    uint8_t *mvst;                              /* 3 mesh_cap: corner in front of both clip planes / behind */
+    uint32_t *mcid, *mpart;                     /* 3 mesh_cap: welded vertex per corner; partner half-edge */
+    uint8_t *mvst;                              /* 3 mesh_cap: corner state against the clip planes */
     int8_t *mgrp;                               /* mesh_cap: facing +1 / -1, 0 = left out */
     uint32_t *mtab, *morder, *mact, *mband;     /* hash slots; mesh_cap; mesh_cap; th + 1 */
     float *mzmin;                               /* 4 width: least bound of the touching triangles */
     uint8_t *mflag; /* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
-    uint8_t *mdirty;                            /* 4 tw: the 32-pixel words of the band's rows the scratch holds */
-    /* culling */
+    uint8_t *mdirty;                            /* 4 tw: band words the scratch holds */
     const pvs_scene *scene;
     uint32_t max_objects, max_triangles;
     void *sweep;
@@ -3688,7 +3654,6 @@ struct pvs_raster {
     uint32_t max_occluders;
     pvs_word *tri_seen;                         /* max_triangles bits */
     pvs_word *obj_done;                         /* max_objects bits */
-    /* cull map */
     uint32_t cm_w, cm_h;
     float *cm;                                  /* cm_w * cm_h heights */
     float *cm_tile_min;                         /* lowest height per 8 x 8 tile */
@@ -3698,23 +3663,20 @@ struct pvs_raster {
     uint32_t *cm_items;
     uint32_t cm_item_count;
     float *cm_bound;                            /* highest object top per cell (Wonka 1999 §4.3) */
-    float ground;                               /* the scene's lowest point along the up axis */
+    float ground;                               /* the scene's lowest point on the up axis */
 };
 
-/* One prepared polygon: float edge and depth coefficients over the pixel range [i0, i1] x [j0, j1],
-   relative to its corner (i0, j0). */
 typedef struct pvs__rsetup {
-    int32_t i0, i1, j0, j1;   /* the polygon's pixel range; (i0, j0) is the coefficients' origin */
-    int32_t li0, li1, lj0, lj1; /* the part a loop covers (a tile of the range) */
+    int32_t i0, i1, j0, j1;   /* pixel range; (i0, j0) is the coefficients' origin */
+    int32_t li0, li1, lj0, lj1; /* the part a loop covers (one tile) */
     int edges;
     float a[PVS__RASTER_MAXV], b[PVS__RASTER_MAXV], k[PVS__RASTER_MAXV];
     float za, zb, zk;     /* depth plane bound */
     float zclamp;         /* occluder: max(plane, zclamp); occludee: min(plane, zclamp) */
 } pvs__rsetup;
 
-/* One pixel by the reference rule, shared by the scalar loop and the SIMD tails: inside every edge
-   (rk: the edge values at the row's column i0), then the clamped plane depth, kept if nearer.
-   Returns 1 when it wrote. */
+/* Reference pixel rule (scalar loop, SIMD tails): inside every edge (rk: at column i0), clamped plane depth if nearer.
+   1 when written. */
 PVS__STATIC int pvs__raster_pixel(const pvs__rsetup *s, const float *rk, float rz, float *row, int32_t i,
                                   int occluder) {
     float fi = (float)(i - s->i0), d;
@@ -3729,7 +3691,6 @@ PVS__STATIC int pvs__raster_pixel(const pvs__rsetup *s, const float *rk, float r
     return 1;
 }
 
-/* Scalar reference loop. */
 PVS__STATIC int pvs__raster_rows_scalar(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
     int32_t i, j;
     int e, wrote = 0;
@@ -3743,7 +3704,6 @@ PVS__STATIC int pvs__raster_rows_scalar(const pvs__rsetup *s, float *buf, uint32
 }
 
 #if defined(PVS__SSE2)
-/* Four pixels at a time; the same operations as the scalar loop, lane by lane. */
 PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
     int32_t i, j;
     int e, wrote = 0;
@@ -3771,7 +3731,7 @@ PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t
             wrote |= _mm_movemask_ps(gt);
             _mm_storeu_ps(row + i, _mm_or_ps(_mm_and_ps(gt, d), _mm_andnot_ps(gt, old)));
         }
-        if (i <= s->li1) { /* the tail, by the scalar rule */
+        if (i <= s->li1) {
             float rkf[PVS__RASTER_MAXV];
             for (e = 0; e < s->edges; ++e) rkf[e] = s->k[e] + s->b[e] * fj;
             for (; i <= s->li1; ++i) wrote |= pvs__raster_pixel(s, rkf, rz, row, i, occluder);
@@ -3818,10 +3778,8 @@ PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t
 #define PVS__HAVE_SIMD 1
 #endif
 
-/* Tiles of 8 x 8 pixels remember their farthest depth, so a polygon that cannot be nearer than
-   everything in a tile skips it (the occluders of a culling frame come roughly front to back), and
-   tiles outside one of the polygon's edges are skipped. Only the pixels visited change, never a
-   result. */
+/* 8 x 8 tiles keep their farthest depth: a polygon skips tiles it cannot be nearer than or lies outside (occluders come
+   roughly front to back). Skipping never changes a result. */
 #define PVS__TILE_SHIFT 3
 #define PVS__TILE (1 << PVS__TILE_SHIFT)
 
@@ -3837,9 +3795,8 @@ PVS__STATIC void pvs__tile_update(float *buf, uint32_t W, uint32_t H, float *til
     tile_min[ty * ((W + PVS__TILE - 1) >> PVS__TILE_SHIFT) + tx] = lo;
 }
 
-/* Where the pixels [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] stand against the polygon's edges as the
-   float loops will evaluate them: -1 all fail some edge, 1 all pass every edge, 0 undecided. The
-   bounds are exact in double with a slack above the loops' float rounding (2^-18 of the terms). */
+/* -1: all pixels of [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] fail an edge as the float loops see it, 1: all pass, 0:
+   undecided (in double with slack 2^-18 of the terms). */
 PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1) {
     int e, inside = 1;
     for (e = 0; e < s->edges; ++e) {
@@ -3853,9 +3810,7 @@ PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a
     return inside;
 }
 
-/* The most the pixel loops can write over pixels [a0, a1] x [b0, b1] (relative to the polygon's
-   corner): the plane's largest value there plus a slack above their float rounding, clamped as they
-   clamp. */
+/* The most the loops can write over pixels [a0, a1] x [b0, b1] (relative), slack included. */
 PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1,
                                       int occluder) {
     double pa = s->za, pb = s->zb, hi = (double)s->zk + pvs__dmax(pa * a0, pa * a1) + pvs__dmax(pb * b0, pb * b1);
@@ -3863,14 +3818,12 @@ PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t 
     return occluder ? pvs__dmax(hi, s->zclamp) : pvs__dmin(hi, s->zclamp);
 }
 
-/* Runs the pixel loops over the prepared polygon: blocks of 4 x 4 tiles, skipped when every tile
-   already holds at least what the polygon could write there, classified against the edges; then
-   tiles (skipped likewise or when outside, without edge tests when inside). */
+/* Pixel loops by 4 x 4 tile blocks, then tiles, skipping those as near as the polygon can write or outside an edge. */
 PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder,
                                  int simd, float zbound) {
     uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, bx, by;
     int wrote, inside, edges, block;
-    const int bs = PVS__TILE_SHIFT + 2; /* block = 4 x 4 tiles */
+    const int bs = PVS__TILE_SHIFT + 2;
     (void)simd;
     if (!tile_min) {
         s->li0 = s->i0; s->li1 = s->i1; s->lj0 = s->j0; s->lj1 = s->j1;
@@ -3895,7 +3848,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
                 float lo = FLT_MAX;
                 for (ty = ty0; ty <= ty1; ++ty) {
                     const float *t = tile_min + ty * tw;
-                    if (tx1 - tx0 == 3) { /* a whole block row, without a loop */
+                    if (tx1 - tx0 == 3) {
                         float a = t[tx0] < t[tx0 + 1] ? t[tx0] : t[tx0 + 1],
                               b = t[tx0 + 2] < t[tx0 + 3] ? t[tx0 + 2] : t[tx0 + 3];
                         a = a < b ? a : b;
@@ -3912,7 +3865,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
             if (block < 0) continue;
             for (ty = ty0; ty <= ty1; ++ty)
                 for (tx = tx0; tx <= tx1; ++tx) {
-                    if (tile_min[ty * tw + tx] >= zbound) continue; /* nothing here can get nearer */
+                    if (tile_min[ty * tw + tx] >= zbound) continue;
                     s->li0 = (int32_t)(tx << PVS__TILE_SHIFT); if (s->li0 < s->i0) s->li0 = s->i0;
                     s->li1 = (int32_t)(tx << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->li1 > s->i1) s->li1 = s->i1;
                     s->lj0 = (int32_t)(ty << PVS__TILE_SHIFT); if (s->lj0 < s->j0) s->lj0 = s->j0;
@@ -3925,7 +3878,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
                         : pvs__raster_classify(s, s->li0 - s->i0, s->li1 - s->i0, s->lj0 - s->j0, s->lj1 - s->j0);
                     if (inside < 0) continue;
                     edges = s->edges;
-                    if (inside) s->edges = 0; /* every pixel passes every edge: the same result without the tests */
+                    if (inside) s->edges = 0; /* inside: the same result without edge tests */
 #if defined(PVS__HAVE_SIMD)
                     if (simd) wrote = pvs__raster_rows_simd(s, buf, W, occluder);
                     else
@@ -3934,9 +3887,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
                     s->edges = edges;
                     if (!wrote) continue;
                     if (inside && s->li1 - s->li0 == PVS__TILE - 1 && s->lj1 - s->lj0 == PVS__TILE - 1) {
-                        /* the whole tile got at least the polygon's depth: its least value over the
-                           tile's corners (depth is affine), less a rounding slack, bounds the tile
-                           from below; a lower bound is all the skipping needs */
+                        /* full tile: least corner value (affine depth) less slack: a lower bound, all skipping needs */
                         double lo = DBL_MAX, za = s->za, zb = s->zb, zk = s->zk, slack;
                         int ci;
                         for (ci = 0; ci < 4; ++ci) {
@@ -3958,7 +3909,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
         }
 }
 
-/* Fills the pixel rectangle with `d` where it is nearer (the degenerate occludee case). */
+/* Fills the pixel rectangle with `d` where nearer (degenerate occludees). */
 PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *tile_min, int32_t i0, int32_t i1,
                                   int32_t j0, int32_t j1, float d) {
     int32_t i, j;
@@ -3974,11 +3925,9 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
                 pvs__tile_update(buf, W, H, tile_min, tx, ty);
 }
 
-/* The depth plane bound of a polygon (pixel coordinates x, y, depth z, n vertices; span, mag, zmag its
-   extents, perr, zerr its vertices' errors) over the pixels (ox + fi, oy + fj), fi in [0, iw], fj in
-   [0, jh]: the float evaluation (zk + zb fj) + za fi is at most (occluder) or at least (occludee) the
-   plane's extreme over the pixel [ox + fi, +1] x [oy + fj, +1]. The plane comes from the largest fan
-   triangle; without one (or beyond float) zk is -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
+/* Depth plane bound of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi, oy +
+   fj), fi <= iw, fj <= jh: (zk + zb fj) + za fi in float is at most (occluder) or at least (occludee) the plane's
+   extreme over the pixel. From the largest fan triangle; none: zk = -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
 PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const double *z, int n, double ox, double oy,
                                     double iw, double jh, double span, double mag, double zmag, double perr,
                                     double zerr, int occluder, float *za_out, float *zb_out, float *zk_out) {
@@ -4011,8 +3960,7 @@ PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const doub
     }
 }
 
-/* The extent of a polygon (x, y, z), n >= 3 vertices: bounds, twice its signed area in (x, y), the
-   largest |x| + |y| and |z| (the rounding errors scale with them). 0 when n < 3 or a coordinate is NaN. */
+/* Bounds, doubled signed area, largest |x| + |y| and |z|; 0 when n < 3 or NaN. */
 typedef struct pvs__polyext {
     double xmin, xmax, ymin, ymax, zmin, zmax, area2, mag, zmag;
 } pvs__polyext;
@@ -4034,8 +3982,7 @@ PVS__STATIC int pvs__poly_extent(const double *x, const double *y, const double 
     return 1;
 }
 
-/* Rasterizes a convex polygon given in pixel coordinates (x, y) with depth z (affine over it) into a
-   W x H float buffer, keeping the larger (nearer) depth per pixel. See the comment at the top. */
+/* Rasterizes a convex polygon (pixels x, y; affine depth z) into a W x H buffer, keeping the nearer depth. */
 PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *tile_min, const double *x, const double *y,
                                   const double *z, int n, int occluder, int simd, double perr, double zerr) {
     pvs__rsetup s;
@@ -4043,10 +3990,10 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
     int i;
     double span, dx, ox, oy, iw, jh, zlo, zhi;
     if (!pvs__poly_extent(x, y, z, n, &e)) return;
-    dx = PVS__RASTER_ERR_D * (e.mag + 1.0) + perr; /* perr, zerr: the vertices' own error (projection) */
+    dx = PVS__RASTER_ERR_D * (e.mag + 1.0) + perr; /* perr, zerr: the vertices' projection error */
     zlo = e.zmin - PVS__RASTER_ERR_D * e.zmag - zerr;
     zhi = e.zmax + PVS__RASTER_ERR_D * e.zmag + zerr;
-    /* pixel range: inner (pixels inside the bounding box) or outer (pixels touching it) */
+    /* inner pixels (inside the box) or outer (touching it) */
     if (occluder) {
         s.i0 = pvs__clampi(ceil(e.xmin + dx), 0, (int32_t)W);
         s.i1 = pvs__clampi(floor(e.xmax - dx) - 1.0, -1, (int32_t)W - 1);
@@ -4059,7 +4006,7 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
         s.j1 = pvs__clampi(floor(e.ymax + dx), -1, (int32_t)H - 1);
     }
     if (s.i0 > s.i1 || s.j0 > s.j1) return;
-    if (tile_min) { /* hidden behind everything already drawn in every tile it overlaps: done */
+    if (tile_min) { /* behind everything in every tile it overlaps */
         uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, open = 0;
         float zb = pvs__f_up(zhi);
         for (ty = (uint32_t)s.j0 >> PVS__TILE_SHIFT; ty <= (uint32_t)s.j1 >> PVS__TILE_SHIFT && !open; ++ty)
@@ -4067,13 +4014,13 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
                 if (tile_min[ty * tw + tx] < zb) { open = 1; break; }
         if (!open) return;
     }
-    if (!(e.mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) { /* beyond any useful precision */
+    if (!(e.mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) { /* beyond useful precision */
         if (!occluder) pvs__raster_fill(buf, W, H, tile_min, s.i0, s.i1, s.j0, s.j1, pvs__f_up(zhi));
         return;
     }
     span = (e.xmax - e.xmin) + (e.ymax - e.ymin);
     if (!(pvs__dabs(e.area2) > 1e-9 * span * span) || !(pvs__dabs(e.area2) > 1e-300)) {
-        /* degenerate: nothing inside as an occluder, the whole box as an occludee */
+        /* degenerate */
         if (!occluder) pvs__raster_fill(buf, W, H, tile_min, s.i0, s.i1, s.j0, s.j1, pvs__f_up(zhi));
         return;
     }
@@ -4095,7 +4042,7 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
         err = (PVS__RASTER_ERR_D * (1.0 + e.mag) + perr) *
                 (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len) +
             PVS__RASTER_ERR_F * (pvs__dabs(k) + pvs__dabs(a) * iw + pvs__dabs(b) * jh + 1e-30);
-        lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh); /* the extremes over the range */
+        lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
         hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
         if (occluder) {
             if (lo - err >= 0.0) continue;  /* every pixel passes this edge */
@@ -4106,7 +4053,7 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
             if (hi + err < 0.0) return;
             k += err;
         }
-        if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return; /* cannot happen once the trivial cases are gone */
+        if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return; /* impossible once the trivial cases are gone */
         s.a[s.edges] = (float)a;
         s.b[s.edges] = (float)b;
         s.k[s.edges] = (float)k;
@@ -4117,40 +4064,32 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
     pvs__raster_run(&s, buf, W, H, tile_min, occluder, simd, pvs__f_up(zhi));
 }
 
-/* ---- the occluder buffer: Masked Occlusion Culling (Hasselgren, Andersson and Akenine-Moller 2016)
-   with inner coverage. Occluder-mode polygons go into tiles of 32 x 4 pixels (pvs__tile): per row of
-   a tile the polygon's inner pixels are one run of columns, found from each edge's intercept with the
-   row (the paper's per-scanline edge events turned into bit masks by shifts), and the tile keeps a
-   working layer (mask, z1) over a base depth z0, merged by the paper's layer heuristic. A tile costs
-   about as much as one pixel of the per-pixel map, and a polygon drawn behind z0 costs one compare
-   per tile. ---- */
+/* ---- occluder buffer: Masked Occlusion Culling (Hasselgren, Andersson and Akenine-Moller 2016), inner coverage. A
+   polygon's inner pixels in a 32 x 4 tile row are one run of columns from the edges' intercepts (the paper's scanline
+   events, as shifted masks); the working layer merges over the base by the paper's heuristic. ---- */
 
 #define PVS__TW_SHIFT 5
 #define PVS__TH_SHIFT 2
 #define PVS__TH 4
-#define PVS__BLOCK_SHIFT 3 /* blocks of 8 x 8 tiles (256 x 32 pixels) for the prefilter's hidden test */
+#define PVS__BLOCK_SHIFT 3 /* blocks of 8 x 8 tiles (256 x 32 pixels): prefilter's hidden test */
 #define PVS__U_2_20 9.5367431640625e-07        /* 2^-20 */
 #define PVS__U_2_21 4.76837158203125e-07       /* 2^-21 */
 #define PVS__U_2_44 5.684341886080802e-14      /* 2^-44 */
 #define PVS__U_2_48 3.552713678800501e-15      /* 2^-48 */
 
-/* One occluder polygon prepared for the tile loops; columns i and rows j relative to (i0, j0).
-   Pixel i of row j is inside edge e when i >= X_e(j) (e < nl: a left edge) or i <= X_e(j) (a right
-   edge), X_e(j) = xi + s j: the exact line of the double edge function, pixel corner shift and
-   setup margin included. The loops compute X in float; m bounds that rounding. */
+/* Occluder polygon for the tile loops (i, j relative to (i0, j0)): pixel i of row j is inside edge e if i >= X_e(j)
+   (left) or i <= X_e(j) (right); X_e(j) = xi + s j is the double edge line with margins; m: its float error bound. */
 typedef struct pvs__tpoly {
     int32_t i0, i1, j0, j1;    /* inner pixel range (absolute) */
-    int32_t jlo, jhi;          /* rows (relative) left by the near-horizontal edges */
+    int32_t jlo, jhi;          /* rows (relative) the near-horizontal edges leave */
     int nl, ne;                /* edges [0, nl) bound from the left, [nl, ne) from the right */
     double xi[PVS__RASTER_MAXV], s[PVS__RASTER_MAXV], cl[PVS__RASTER_MAXV];
     float sf[PVS__RASTER_MAXV], m[PVS__RASTER_MAXV];
-    float zk, za, zb, zm, zlo; /* depth plane at pixel corner (i0, j0), less its float margin zm, no
-                                  farther than the vertices' farthest zlo */
+    float zk, za, zb, zm, zlo; /* plane at (i0, j0) less float margin zm, clamped to the farthest vertex zlo */
 } pvs__tpoly;
 
-/* Columns L[d] .. R[d] (absolute; L > R when empty) of rows jrow + d (d = 0..3, relative) inside
-   every edge, from xr[e] = X_e(jrow) in float. The reference loop; the SIMD ones do the same float
-   operations lane by lane. */
+/* Columns L[d] .. R[d] (absolute; L > R: empty) of rows jrow + d inside every edge, from xr = X(jrow); reference for
+   the SIMD versions. */
 PVS__STATIC void pvs__tile_rows_scalar(const pvs__tpoly *t, int32_t jrow, const float *xr, int32_t *L, int32_t *R) {
     const float fw = (float)(t->i1 - t->i0), fw1 = fw + 1.0f;
     int d, e;
@@ -4179,7 +4118,7 @@ PVS__STATIC void pvs__tile_rows_scalar(const pvs__tpoly *t, int32_t jrow, const 
     }
 }
 
-/* Mask bits of one tile row: columns L .. R of the tile starting at column x0 (bit k = column x0 + k). */
+/* Mask bits of columns L .. R in the tile row starting at column x0 (bit k: column x0 + k). */
 PVS__STATIC uint32_t pvs__tile_bits(int32_t L, int32_t R, int32_t x0) {
     int32_t lo = L - x0, hi = R - x0 + 1;
     uint32_t a, b;
@@ -4219,13 +4158,12 @@ PVS__STATIC void pvs__tile_rows_simd(const pvs__tpoly *t, int32_t jrow, const fl
     _mm_storeu_si128((__m128i *)L, _mm_add_epi32(l, _mm_set1_epi32(t->i0)));
     _mm_storeu_si128((__m128i *)R, _mm_add_epi32(r, _mm_set1_epi32(t->i0)));
 }
-/* ~0 << n per lane for n >= 0 (0 for n >= 32): 2^n built in a float's exponent, converted (2^31
-   converts to 0x80000000, which is 1 << 31), negated. */
+/* ~0 << n per lane, 0 for n >= 32: 2^n built in a float's exponent, converted (2^31 gives 1 << 31), negated. */
 PVS__STATIC __m128i pvs__sh_sse2(__m128i n) {
     __m128i p = _mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(n, _mm_set1_epi32(127)), 23)));
     return _mm_and_si128(_mm_sub_epi32(_mm_setzero_si128(), p), _mm_cmplt_epi32(n, _mm_set1_epi32(32)));
 }
-/* The four rows' bits of the tile at column x0; returns 0 when all are empty. */
+/* The four rows' bits of the tile at column x0; 0 when all are empty. */
 PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t x0, uint32_t *out) {
     __m128i vx = _mm_set1_epi32(x0), lo, hi, m;
     lo = _mm_sub_epi32(_mm_loadu_si128((const __m128i *)L), vx);
@@ -4276,7 +4214,7 @@ PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t 
     uint32x4_t ones = vdupq_n_u32(~0u), m;
     lo = vsubq_s32(vld1q_s32(L), vx);
     hi = vsubq_s32(vaddq_s32(vld1q_s32(R), vdupq_n_s32(1)), vx);
-    lo = vminq_s32(vmaxq_s32(lo, zero), top); /* a register shift by >= 32 gives 0 */
+    lo = vminq_s32(vmaxq_s32(lo, zero), top); /* a shift by >= 32 gives 0 */
     hi = vminq_s32(vmaxq_s32(hi, zero), top);
     m = vbicq_u32(vshlq_u32(ones, lo), vshlq_u32(ones, hi));
     vst1q_u32(out, m);
@@ -4285,12 +4223,10 @@ PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t 
 #define PVS__HAVE_TILE_SIMD 1
 #endif
 
-/* Merges polygon coverage T (at least as near as zt, zt > z0) into a tile (Hasselgren et al.'s
-   two-layer update, in reversed depth): a polygon covering the tile becomes its base; otherwise the
-   working layer takes the union at the farther of the two depths, unless the polygon is nearer than
-   the working layer by more than the working layer is nearer than the base, which drops the working
-   layer; a full working layer becomes the base. Every step keeps each pixel's value a lower bound of
-   its nearest occluder. `pad`: bits outside the map. */
+/* Merges coverage T (as near as zt > z0) into a tile, Hasselgren et al.'s two-layer update: T covering the tile becomes
+   the base; else the layer takes the union at the farther depth, or T replaces it if T leads it by more than it leads
+   the base; a full layer becomes the base. Each step keeps every pixel a lower bound of its nearest occluder. `pad`:
+   bits off the map. */
 PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, const uint32_t *pad) {
     uint32_t full = ~0u, any = 0, m;
     int k;
@@ -4322,17 +4258,15 @@ PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, con
     }
 }
 
-/* Walks the tile rows of a prepared polygon: per row the runs of the four pixel rows, then per tile
-   the polygon's farthest depth over the run's rectangle (the plane at its corners, less the margin,
-   clamped by the vertices); tiles whose base is already at least that near are skipped before any
-   coverage is computed. */
+/* Tile rows of a polygon: runs of its four pixel rows, then per tile its farthest depth over the run; skips tiles
+   already that near. */
 PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
     int32_t ty, ty0 = (t->j0 + t->jlo) >> PVS__TH_SHIFT, ty1 = (t->j0 + t->jhi) >> PVS__TH_SHIFT;
     float xr[PVS__RASTER_MAXV];
     (void)simd;
     for (ty = ty0; ty <= ty1; ++ty) {
         int32_t jr = ty << PVS__TH_SHIFT, jrow = jr - t->j0, L[PVS__TH], R[PVS__TH], lmin = INT32_MAX, rmax = -1, tx;
-        int32_t fl = -1, fr = INT32_MAX; /* columns every row of the tile row covers */
+        int32_t fl = -1, fr = INT32_MAX; /* columns all four rows cover */
         int d, e, da = -1, db = -1;
         uint32_t pad[PVS__TH], cov[PVS__TH];
         float ya, yb, zy, p, zt, z0;
@@ -4349,7 +4283,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
             pvs__tile_rows_scalar(t, jrow, xr, L, R);
         for (d = 0; d < PVS__TH; ++d) {
             if (L[d] > R[d]) {
-                if (jr + d < (int32_t)r->height) fr = -2; /* an empty row inside the map: no tile is full */
+                if (jr + d < (int32_t)r->height) fr = -2; /* an empty row in the map: no tile is full */
                 continue;
             }
             lmin = L[d] < lmin ? L[d] : lmin;
@@ -4374,9 +4308,9 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
             p = p + zy;
             p = p - t->zm;
             zt = p > t->zlo ? p : t->zlo;
-            if (!(zt > tl->z0)) continue; /* nothing nearer than the tile's base */
+            if (!(zt > tl->z0)) continue; /* not nearer than the base */
             if (x0 >= fl && (x0 + 31 < (int32_t)r->width ? x0 + 31 : (int32_t)r->width - 1) <= fr) {
-                /* the polygon covers the tile: pvs__tile_merge's first case */
+                /* covers the tile: pvs__tile_merge's first case */
                 if (!((tl->mask[0] | tl->mask[1] | tl->mask[2] | tl->mask[3]) && tl->z1 > zt))
                     tl->mask[0] = tl->mask[1] = tl->mask[2] = tl->mask[3] = 0;
                 tl->z0 = zt;
@@ -4407,12 +4341,8 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
     }
 }
 
-/* The edges of an occluder polygon (pixel coordinates x, y, n vertices, signed doubled area area2,
-   largest |x| + |y| mag, the vertices' own error perr) for the tile loops over t's inner pixel range
-   [i0, i1] x [j0, j1] (set): inner coverage at each pixel's worst corner less the setup error, as in
-   pvs__raster_poly (see the comment at the top). Steep edges become the left edges [0, nl) and the
-   right edges [nl, ne) of t; near-horizontal ones narrow the rows [jlo, jhi]. Returns 0 when no pixel
-   passes some edge. */
+/* Edges over t's inner range, as pvs__raster_poly: steep ones become left [0, nl) and right [nl, ne) edges,
+   near-horizontal ones narrow rows [jlo, jhi]. 0 when no pixel passes an edge. */
 PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y, int n, double area2, double mag,
                                 double perr) {
     double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0);
@@ -4430,21 +4360,18 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
         if (len == 0.0) continue;
         a /= len;
         b /= len;
-        /* inner coverage: the edge function at the pixel's worst corner, less the setup error */
         k = a * (ox - x[i]) + b * (oy - y[i]) + pvs__dmin(0.0, a) + pvs__dmin(0.0, b);
         err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) *
             (1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len);
         lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
         hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
-        if (lo - err >= 0.0) continue; /* every pixel passes this edge */
-        if (hi - err < 0.0) return 0;  /* no pixel does */
+        if (lo - err >= 0.0) continue;
+        if (hi - err < 0.0) return 0;
         k -= err;
         if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return 0;
         if (pvs__dabs(a) > pvs__dabs(b) * PVS__U_2_20) {
-            /* pixel i of row j passes when a i + b j + k >= 0: i >= X(j) for a > 0, i <= X(j) for a < 0.
-               The loops clamp X(jrow) to +-cl (beyond it every row of the tile row falls on the same
-               side of the range) and evaluate X in float: at most 3 cl + 13 |s| units of 2^-24 and
-               the double part 2^-51 (|xi| + |s| |jrow|), below m. */
+            /* i >= X(j) for a > 0, i <= X(j) for a < 0; X(jrow) is clamped to +-cl (beyond, all four rows fall on one
+               side); float error at most 3 cl + 13 |s| units of 2^-24 plus 2^-51 (|xi| + |s| |jrow|), below m */
             double xi = -k / a, sl = -b / a, sa = pvs__dabs(sl), cl = iw + 3.0 + 3.0 * sa;
             float m = pvs__f_up(PVS__U_2_21 * cl + PVS__U_2_48 * (pvs__dabs(xi) + sa * (jh + 4.0)));
             if (a > 0.0) {
@@ -4455,7 +4382,7 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
                 ++nr;
             }
         } else {
-            /* near-horizontal: the rows where the edge passes for every column of the range */
+            /* near-horizontal: the rows where every column of the range passes */
             double wk = k + pvs__dmin(0.0, a * iw), tq = -wk / b,
                    pad = PVS__U_2_44 * (pvs__dabs(k) + pvs__dabs(a) * iw + 1.0);
             if (b > 0.0) {
@@ -4479,11 +4406,8 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
     return 1;
 }
 
-/* The depth plane of an occluder polygon (x, y, z, n vertices; span, mag, zmag its extents; perr, zerr
-   its vertices' errors) for the tile loops over t's pixel range: from the largest fan triangle, at
-   pixel corner (i0, j0), lowered by its setup error, with zm the margin of the loops' float
-   evaluation; zlo (the vertices' farthest depth less its error) clamps it. Without a usable plane zk
-   is -FLT_MAX and za = zb = 0. */
+/* Depth plane over t's range (as pvs__raster_zplane) less its setup error, zm the loops' float margin, zlo the clamp;
+   unusable: zk = -FLT_MAX. */
 PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span,
                                   double mag, double zmag, double perr, double zerr, double zlo) {
     double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0),
@@ -4506,8 +4430,7 @@ PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *
               PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
                   (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det));
         zk -= err;
-        /* the loops' float evaluation zk + za x + zb y - zm over x <= iw + 1, y <= jh + 1: coefficient
-           rounding and four operations, at most 6 units of 2^-24 of `size` */
+        /* float zk + za x + zb y - zm, x <= iw + 1, y <= jh + 1: at most 6 units of 2^-24 of `size` */
         size = pvs__dabs(zk) + pvs__dabs(za) * (iw + 1.0) + pvs__dabs(zb) * (jh + 1.0);
         if (size < 1e30 && err < 1e30) {
             t->za = (float)za;
@@ -4518,9 +4441,7 @@ PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *
     }
 }
 
-/* Prepares an occluder polygon given in pixel coordinates (x, y), depth z, with the vertices' own
-   error perr (pixels) and zerr (depth), and draws it into the tiles. The edge and plane setup and its
-   margins are pvs__raster_poly's; see the comment at the top. */
+/* Draws an occluder polygon into the tiles; setup and margins as pvs__raster_poly's. */
 PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y, const double *z, int n, double perr,
                                 double zerr) {
     pvs__tpoly t;
@@ -4537,14 +4458,13 @@ PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y,
     if (!(e.mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) return;
     span = (e.xmax - e.xmin) + (e.ymax - e.ymin);
     if (!(pvs__dabs(e.area2) > 1e-9 * span * span) || !(pvs__dabs(e.area2) > 1e-300))
-        return; /* degenerate: covers nothing */
+        return; /* degenerate */
     if (!pvs__tile_edges(&t, x, y, n, e.area2, e.mag, perr)) return;
     pvs__tile_zplane(&t, x, y, z, n, span, e.mag, e.zmag, perr, zerr, zlo);
     pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR));
 }
 
-/* Occludee triangles (and all triangles when not tiled) go to the per-pixel map, cleared on the first
-   one after pvs_raster_clear. */
+/* Occludees go to the per-pixel map, cleared on first use (see `mixed`). */
 PVS__STATIC void pvs__raster_occludee_begin(pvs_raster *r) {
     size_t i, n = (size_t)r->width * r->height;
     if (r->mixed) return;
@@ -4553,8 +4473,7 @@ PVS__STATIC void pvs__raster_occludee_begin(pvs_raster *r) {
     r->mixed = 1;
 }
 
-/* The per-pixel depth map from the tiles: overwritten, or where occludee triangles were drawn into it
-   (r->mixed) the nearer of the two. */
+/* Per-pixel map from the tiles: overwritten, or the nearer where occludees were drawn. */
 PVS__STATIC void pvs__tile_resolve(pvs_raster *r) {
     uint32_t ty, tx, d, k;
     if (!r->tiled) {
@@ -4574,11 +4493,10 @@ PVS__STATIC void pvs__tile_resolve(pvs_raster *r) {
         }
 }
 
-
 /* Clip-space vertex (double). */
 typedef struct pvs__cv {
     double c[4];
-    double e;  /* a bound on the rounding error of each coordinate */
+    double e;  /* bound on each coordinate's rounding error */
 } pvs__cv;
 
 PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) {
@@ -4588,16 +4506,13 @@ PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) 
     double pm = pvs__dmax(pvs__dabs(p[0]), pvs__dmax(pvs__dabs(p[1]), pvs__dabs(p[2])));
     for (r = 0; r < 4; ++r)
         v.c[r] = m[4 * r] * (double)p[0] + m[4 * r + 1] * (double)p[1] + m[4 * r + 2] * (double)p[2] + m[4 * r + 3];
-    /* 2^-50 of the terms' size (four products summed in double need 2^-51): see pvs_raster_set_matrix */
+    /* 2^-50 of the terms' size (four products summed in double: 2^-51) */
     v.e = 8.881784197001252e-16 * (rs->mabs[0] * pm + rs->mabs[1]);
     return v;
 }
 
-/* Sutherland-Hodgman against f(v) >= 0 with f = w - z (near plane) or f = w - tiny (w > 0). With
-   labels (lin[i]: what the edge from vertex i to i + 1 is; NULL for none), lout gets the output edges'
-   labels: a part of input edge i keeps lin[i], an edge along the plane gets PVS__MESH_CLIP; and a cut
-   point is interpolated from the edge's inside vertex, so two polygons sharing an edge cut it at the
-   same point bit for bit. */
+/* Sutherland-Hodgman against w - z >= 0 (near) or w - tiny >= 0; lout gets lin's labels (edge i: vertex i to i + 1;
+   NULL: none), PVS__MESH_CLIP along the plane. Cutting from the inside vertex keeps shared edges' cuts identical. */
 #define PVS__MESH_CLIP 3
 PVS__STATIC int pvs__raster_clip(const pvs__cv *in, int n, pvs__cv *out, int plane, const uint8_t *lin, uint8_t *lout) {
     int i, m = 0;
@@ -4631,7 +4546,6 @@ PVS__STATIC int pvs__raster_clip(const pvs__cv *in, int n, pvs__cv *out, int pla
     return m;
 }
 
-/* Projects a clipped polygon to pixel coordinates and rasterizes it. */
 PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int occluder) {
     pvs__cv t1[PVS__RASTER_MAXV], t2[PVS__RASTER_MAXV];
     double x[PVS__RASTER_MAXV], y[PVS__RASTER_MAXV], z[PVS__RASTER_MAXV];
@@ -4640,7 +4554,7 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
     const pvs__cv *t = v;
     for (i = 0; i < n; ++i)
         if (!(v[i].c[3] - v[i].c[2] >= 0.0) || !(v[i].c[3] >= 1e-30)) break;
-    if (i < n) { /* something to clip */
+    if (i < n) {
         n = pvs__raster_clip(v, n, t1, 0, NULL, NULL);
         if (n < 3) return;
         n = pvs__raster_clip(t1, n, t2, 1, NULL, NULL);
@@ -4652,7 +4566,7 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
         x[i] = (t[i].c[0] * iw + 1.0) * hw;
         y[i] = (t[i].c[1] * iw + 1.0) * hh;
         z[i] = t[i].c[2] * iw;
-        /* the coordinates' error after the division, in pixels and in depth */
+        /* the error after the division, in pixels and in depth */
         perr = pvs__dmax(perr,
                          2.0 * e * (1.0 + pvs__dabs(t[i].c[0] * iw) + pvs__dabs(t[i].c[1] * iw)) * pvs__dmax(hw, hh));
         zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z[i])));
@@ -4674,29 +4588,21 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
     v[0] = pvs__raster_transform(r, p0);
     v[1] = pvs__raster_transform(r, p1);
     v[2] = pvs__raster_transform(r, p2);
-    /* all three behind the near plane or w <= 0: nothing to draw */
+    /* all behind the near plane, or all w <= 0 */
     if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) return;
     if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
     pvs__raster_clipped(r, v, 3, occluder);
     r->pyramid_valid = 0;
 }
 
-/* ---- occluder prefilter: four triangles at a time in float, as Masked Occlusion Culling sets up
-   triangles in SIMD lanes. It only drops triangles: ones behind the near plane, outside a side
-   of the screen, without a whole pixel in their bounding box, or no nearer than the base of every
-   tile under that box. Dropping an occluder is always conservative, so these tests need no error
-   margins; rounding at their borders drops at most a sliver the exact path might have drawn. The
-   rest go to the exact path (pvs__raster_tri). The scalar and SIMD loops do the same float
-   operations and decide the same. ---- */
+/* ---- occluder prefilter: four triangles at a time in float (as Masked Occlusion Culling fills SIMD lanes), dropping
+   those behind the near plane, off screen, without a whole pixel or behind every tile's base; the rest go to
+   pvs__raster_tri. Dropping an occluder is conservative, so no margins; scalar and SIMD decide alike. ---- */
 
-#define PVS__PF_TILES 16 /* the hidden test looks at tiles one by one in boxes up to this size */
+#define PVS__PF_TILES 16 /* hidden test: tiles one by one in boxes up to this size */
 
-/* Returns the lanes to draw (bit l); those in *test (a subset) only when their box is not hidden:
-   box[0..3][l] = i0, i1, j0, j1 hold the whole pixels of the float bounding box clamped to the map
-   (not empty) and zmax[l] the nearest vertex depth. Lanes with a vertex behind the near plane or the
-   eye plane are drawn untested (the exact path clips them) unless all three are behind one of them;
-   lanes in front are dropped when their clamped box holds no whole pixel (which includes being off
-   the map). */
+/* Lanes to draw (bit l), those in *test only if not hidden; box, zmax: their whole pixels in the map and nearest vertex
+   depth. Lanes partly behind the near or eye plane are drawn untested (clipped later) unless wholly behind one. */
 PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
                                     float *zmax) {
     const float *m = r->mf, hw = r->hwf, hh = r->hhf, fw = (float)r->width, fh = (float)r->height;
@@ -4750,7 +4656,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 }
 
 #if defined(PVS__SSE2)
-/* Each v[l][k] has 4 readable floats (the caller copies a last vertex); mb: the matrix broadcast. */
+/* v[l][k]: 4 readable floats (the caller copies the last vertex); mb: mf broadcast. */
 PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const float *const v[4][3], unsigned *test,
                                   int32_t box[4][4], float *zmax) {
     const __m128 zero = _mm_setzero_ps(), absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), big = _mm_set1_ps(1e30f);
@@ -4759,7 +4665,7 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const f
     __m128i i0, i1, j0, j1, empty;
     unsigned all, any, tst;
 #define PVS__LOAD3(k, X, Y, Z) \
-    do { /* four vertices (x, y, z, -) to X, Y, Z lanes */ \
+    do { /* four (x, y, z, -) vertices to X, Y, Z lanes */ \
         __m128 a = _mm_loadu_ps(v[0][k]), b = _mm_loadu_ps(v[1][k]), c = _mm_loadu_ps(v[2][k]), \
                d = _mm_loadu_ps(v[3][k]); \
         __m128 ab0 = _mm_unpacklo_ps(a, b), cd0 = _mm_unpacklo_ps(c, d), ab1 = _mm_unpackhi_ps(a, b), \
@@ -4811,15 +4717,14 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const f
 #undef PVS__PROJ
 #undef PVS__ROW
 #undef PVS__LOAD3
-    /* finite extremes (a NaN coordinate can drop out of the min and max: the triangle may be dropped,
-       which the scalar loop does alike and which is conservative) */
+    /* a NaN can drop out of min and max, dropping the triangle as the scalar loop does (conservative) */
     fin = _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(xmin, absm), big), _mm_cmplt_ps(_mm_and_ps(xmax, absm), big));
     fin = _mm_and_ps(fin,
                      _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(ymin, absm), big), _mm_cmplt_ps(_mm_and_ps(ymax, absm), big)));
     fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(zm, absm), big));
     xmin = _mm_max_ps(xmin, zero); xmax = _mm_min_ps(xmax, _mm_set1_ps((float)r->width));
     ymin = _mm_max_ps(ymin, zero); ymax = _mm_min_ps(ymax, _mm_set1_ps((float)r->height));
-    /* only the tested lanes matter: keep the others' conversions in range */
+    /* keep the untested lanes' conversions in range */
     t = _mm_andnot_ps(anyb, fin);
     xmin = _mm_and_ps(xmin, t); xmax = _mm_and_ps(xmax, t); ymin = _mm_and_ps(ymin, t); ymax = _mm_and_ps(ymax, t);
     i0 = _mm_cvttps_epi32(xmin);
@@ -4939,7 +4844,6 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
 #define PVS__HAVE_PF_SIMD 1
 #endif
 
-/* 1 when every tile of [tx0, tx1] x [ty0, ty1] has a base at least as near as zmax. */
 PVS__STATIC int pvs__pf_tiles(const pvs_raster *r, uint32_t tx0, uint32_t tx1, uint32_t ty0, uint32_t ty1, float zmax) {
     uint32_t tx, ty;
     for (ty = ty0; ty <= ty1; ++ty)
@@ -4948,9 +4852,8 @@ PVS__STATIC int pvs__pf_tiles(const pvs_raster *r, uint32_t tx0, uint32_t tx1, u
     return 1;
 }
 
-/* 1 when every tile under the pixel box [i0, i1] x [j0, j1] already has a base at least as near as
-   zmax (the triangle would change nothing). Large boxes look at the blocks first: bases only grow,
-   so a block's stale least base is still a lower bound; it is retaken when it fails the test. */
+/* 1 when every tile under box [i0, i1] x [j0, j1] has a base as near as zmax. Large boxes try blocks first (bases only
+   grow: a stale block minimum is a lower bound, retaken on failure). */
 PVS__STATIC int pvs__pf_hidden(pvs_raster *r, int32_t box[4][4], int l, float zmax) {
     uint32_t tx0 = (uint32_t)box[0][l] >> PVS__TW_SHIFT, tx1 = (uint32_t)box[1][l] >> PVS__TW_SHIFT;
     uint32_t ty0 = (uint32_t)box[2][l] >> PVS__TH_SHIFT, ty1 = (uint32_t)box[3][l] >> PVS__TH_SHIFT, bx, by;
@@ -4981,8 +4884,8 @@ PVS__STATIC int pvs__pf_hidden(pvs_raster *r, int32_t box[4][4], int l, float zm
     return 1;
 }
 
-/* Occluder-mode triangles: `count` triangles of vertices `positions` (indices 3 per triangle or NULL)
-   or, with `tris`, the scene triangles tris[0 .. count). Four at a time through the prefilter. */
+/* Occluder triangles through the prefilter, four at a time: `count` of `positions` (indices or NULL) or scene triangles
+   tris[0 .. count). */
 PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
                                        const uint32_t *indices, const pvs__occsel *tris, uint32_t count) {
     uint32_t t, l, k;
@@ -4996,7 +4899,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
     for (k = 0; k < 16; ++k) mb[k] = _mm_set1_ps(r->mf[k]);
 #endif
     if (!vertex_count) return;
-    last[0] = positions[3 * ((size_t)vertex_count - 1)]; /* the SIMD loads read 4 floats: a copy of the last vertex */
+    last[0] = positions[3 * ((size_t)vertex_count - 1)]; /* SIMD loads read 4 floats: copy the last vertex */
     last[1] = positions[3 * ((size_t)vertex_count - 1) + 1];
     last[2] = positions[3 * ((size_t)vertex_count - 1) + 2];
     last[3] = 0.0f;
@@ -5039,78 +4942,44 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
     }
 }
 
-/* ---- occluder meshes: the connectivity of occluders (Durand 2000 §3.3) ----
+/* ---- occluder meshes (Durand 2000 §3.3; contract: pvs_raster_mesh) ----
 
-   Inner coverage per triangle loses every pixel that an edge shared by two triangles of one occluder
-   crosses: neither triangle covers it alone, so a quad, a box or any game mesh has a crack along each
-   internal edge (§3.3 calls it the loss of the connectivity of occluders). pvs__mesh claims the pixels
-   the union of a mesh's triangles covers whole. The argument, on the exact projection (every computed
-   quantity used below is off by less than its margin, so each test below decides about the exact
-   geometry, with the near-plane cut's own limit stated at the top of >>raster):
+   An edge is internal when (i) exactly two triangles of the piece share it (welded by index and position), (ii) both
+   have the same certain facing (sign of det(x, y, w) in clip space) and run it in opposite directions, (iii) an end
+   is surely in front of both clip planes, neither within rounding of one; the others, and clip-plane edges, form the
+   group's boundary B. Then the boundary of the group's union U lies in B: along an internal edge the two triangles lie
+   on opposite sides (det(a, b, p) = gamma det(a, b, c), gamma > 0), each covering a half-disk by (iii); clipping
+   vertices end clip edges; at an original vertex with only internal edges the closed fans turn by positive multiples
+   of 2 pi, covering a neighbourhood by (iii). So a (connected) pixel that surely meets U and that no B edge may meet
+   (separating-axis tests with margins) lies in U, no nearer than the least plane minimum or vertex depth of the group
+   polygons that may touch it. Folds, back faces, non-manifold edges, bad winding, T-junctions and near-plane cuts
+   only add boundary edges.
 
-   Groups. A triangle's facing is the sign of D = det(x, y, w) of its three clip-space vertices, which
-   is the orientation of the visible (w > 0) part of its projection. A triangle whose sign is not
-   certain (|D| within its rounding bound), whose visible polygon is empty or beyond float joins no
-   group. An edge of a triangle is internal when (i) exactly two triangles of the piece have it
-   (vertices welded by index and by equal position), (ii) both are in one group and run it in opposite
-   directions (consistent winding), and (iii) an end point is surely in front of both clip planes and
-   neither end point is within rounding of one. Every other edge, and every edge of a visible polygon
-   that lies on a clip plane, is a boundary edge; B is their union, per group.
-   Claim: the boundary of a group's union U (of its visible polygons) lies in B. Take q on it; q is on
-   an edge or a vertex of some polygon P, since an interior point of P is interior to U. (a) q inside
-   the visible part of an internal edge ab: for points p of triangle abc near ab, det(a, b, p) =
-   gamma det(a, b, c) with gamma > 0, and one facing with opposite directions makes det(a, b, c1) and
-   det(a, b, c2) of opposite signs, so the two triangles lie on opposite sides of ab in projection; by
-   (iii) q is strictly in front of both planes, so each covers a half-disk at q: q is interior. (b) q a
-   vertex made by clipping: it ends a clip edge, in B. (c) q an original vertex v: if an edge at v is a
-   boundary edge, q is in B; else every edge at v is internal, v's triangles form closed fans whose
-   consecutive sectors lie on opposite sides of their shared edge (a), so each fan turns about v by a
-   positive multiple of 2 pi, and v is strictly in front (iii): a neighbourhood of q is covered.
-   So a closed pixel square that no boundary edge meets and that meets U lies inside U (it is
-   connected and U's boundary does not cross it): "meets" by separating-axis tests (the pixel's axes
-   and the edge normals) with the margins on the safe side, "may meet" for B, "surely meets" for U.
-   Depth: every point of such a pixel lies in a polygon of the group that touches the pixel, whose
-   depth there is at least its plane's least value over the pixel and at least its least vertex depth;
-   the least of these bounds over the group's polygons that may touch the pixel is no nearer than the
-   mesh there. Folds, back faces, non-manifold edges, inconsistent winding, T-junctions and near-plane
-   cuts only add boundary edges: the union is claimed in smaller pieces, never beyond itself.
-   Two passes: the triangles first, one at a time through the ordinary occluder path (its inner
-   pixels, its depth, SIMD; so a mesh never claims less than its triangles drawn alone), then the
-   mesh pass over the pixels some edge may meet only (a strip widened beyond the first pass's float
-   margins). A pixel of the strips that no edge meets lies inside one polygon P; P surely meets it, so
-   P's bound is in the minimum; otherwise every point of the pixel lies in a polygon with an edge
-   meeting it (the edges cut the pixel into regions, each on the inner side of one of them), whose
-   strip holds the pixel: the minimum over the strips' polygons is a lower bound there too. Tiled, a
-   band's claimed pixels join a tile's working layer only at no cost to it (at most as near as it, or
-   as the first layer; a full tile becomes the base). A triangle whose box the tiles already hide at
-   its nearest depth (the prefilter's test) is left out of the mesh pass: it changes nothing, and its
-   edges become boundary edges. Rows are processed four at a time over an active list of the group's
-   polygons, in double with the same float depth evaluation as the pixel loops; the mesh pass has one
-   code path, so SIMD and scalar builds agree bit for bit. ---- */
+   Two passes: the triangles through the ordinary occluder path, then the mesh pass over strips where an edge may
+   meet a pixel (wider than the first pass's float margins): a strip pixel no edge meets lies in one polygon that
+   surely meets it, else the edges split it among polygons whose strips hold it. One code path (double, the pixel
+   loops' float depth): SIMD and scalar agree. ---- */
 
 #define PVS__MESH_NONE 0xffffffffu
 #define PVS__MESH_MULTI 0xfffffffeu
 #define PVS__MESH_DEFAULT 4096u
 #define PVS__MESH_MAXV 5 /* a triangle clipped by two planes */
 
-/* One triangle of a mesh piece, clipped, projected and prepared. */
 typedef struct pvs__mtri {
-    int32_t i0, i1, j0, j1; /* pixels that may meet the polygon, clamped to the map (empty: i0 > i1 or j0 > j1) */
+    int32_t i0, i1, j0, j1; /* pixels that may meet it, clamped to the map (empty: i0 > i1 or j0 > j1) */
     int n;                          /* polygon vertices, 3..5 */
     int full;                       /* edges of non-zero length (the inner test needs 3) */
     uint8_t lab[PVS__MESH_MAXV];    /* edge k (vertex k to k + 1): triangle edge 0..2 or PVS__MESH_CLIP */
     uint8_t bnd[PVS__MESH_MAXV];    /* 1: a boundary edge */
     double x[PVS__MESH_MAXV], y[PVS__MESH_MAXV];
     double a[PVS__MESH_MAXV], b[PVS__MESH_MAXV], k[PVS__MESH_MAXV], e[PVS__MESH_MAXV]; /* E = a x + b y + k >= 0
-                                       inside, |a| + |b| = 1 (a = b = 0: a zero-length edge); |E - exact| < e */
-    double xmin, xmax, ymin, ymax, dx; /* extents; dx bounds the vertices' error */
-    double wide;                    /* the edge strips' extra width: far above the triangle pass's float
-                                       rounding, so a pixel it leaves out beside an edge is in the strip */
-    float za, zb, zk, zclamp;       /* depth bound over pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
+                                       inside, |a| + |b| = 1 (0, 0: zero length); |E - exact| < e */
+    double xmin, xmax, ymin, ymax, dx; /* dx bounds the vertices' error */
+    double wide;                    /* beyond the first pass's rounding: what it misses by an edge is in the strip */
+    float za, zb, zk, zclamp;       /* over pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
 } pvs__mtri;
 
-/* Clips, projects and prepares triangle v (clip space) of facing `orient` (+1 / -1, the orientation of
-   its projection); 0 when nothing usable is left. */
+/* Clips, projects and prepares clip-space triangle v of facing `orient` (+1 / -1); 0 when nothing is left. */
 PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orient, pvs__mtri *t) {
     pvs__cv t1[PVS__RASTER_MAXV], t2[PVS__RASTER_MAXV];
     uint8_t l0[PVS__RASTER_MAXV] = {0, 1, 2}, l1[PVS__RASTER_MAXV], l2[PVS__RASTER_MAXV];
@@ -5154,7 +5023,7 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
     if (!(mag < PVS__RASTER_BIG * PVS__RASTER_BIG) || !(perr < PVS__RASTER_BIG) || !(zerr < PVS__RASTER_BIG)) return 0;
     t->dx = PVS__RASTER_ERR_D * (mag + 1.0) + perr;
     t->wide = (mag + (double)r->width + (double)r->height + 1.0) * (1.0 / 16384.0);
-    /* pixels whose closed square meets [xmin - dx, xmax + dx] x [ymin - dx, ymax + dx] */
+    /* pixels whose closed square meets the box widened by dx */
     t->i0 = pvs__clampi(ceil(t->xmin - t->dx) - 1.0, 0, (int32_t)r->width);
     t->i1 = pvs__clampi(floor(t->xmax + t->dx), -1, (int32_t)r->width - 1);
     t->j0 = pvs__clampi(ceil(t->ymin - t->dx) - 1.0, 0, (int32_t)r->height);
@@ -5163,7 +5032,7 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
     oy = (double)t->j0;
     iw = pvs__dmax(0.0, (double)(t->i1 - t->i0));
     jh = pvs__dmax(0.0, (double)(t->j1 - t->j0));
-    /* the evaluation a X + b Y + k at pixel corners (X, Y <= mag + map size) in double: far below this */
+    /* double rounding at pixel corners (X, Y <= mag + map size) is far below this */
     noise = PVS__RASTER_ERR_D * (mag + (double)r->width + (double)r->height + 4.0);
     t->full = 0;
     for (i = 0; i < n; ++i) {
@@ -5180,8 +5049,7 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
         t->a[i] = a;
         t->b[i] = b;
         t->k[i] = -(a * t->x[i] + b * t->y[i]);
-        /* the line through vertices off by dx (pvs__raster_poly's bound, for every pixel corner of the
-           range), and the evaluation */
+        /* line through vertices off by dx (pvs__raster_poly's bound), plus evaluation */
         t->e[i] = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) *
                       (1.0 + (pvs__dabs(ox - t->x[i]) + pvs__dabs(oy - t->y[i]) + iw + jh + 2.0) / len) + noise;
         ++t->full;
@@ -5192,10 +5060,8 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
     return 1;
 }
 
-/* Restricts the columns [*lo, *hi] to those where a i + c >= t evaluated in double. outer: may keep
-   more, never drops a column that passes; else may keep fewer, never one that fails. The bound found
-   is checked against its neighbour, so with the threshold's margin it holds for the real-valued
-   a i + c, which is monotonic in i. */
+/* Narrows columns [*lo, *hi] to a i + c >= t (double). outer: may keep failing columns, never drops passing ones; else
+   the reverse. Bounds are checked against neighbours: with t's margin they hold for the exact a i + c. */
 PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t *lo, int32_t *hi) {
     int32_t i;
     int s;
@@ -5211,9 +5077,9 @@ PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t 
         for (s = 0; s < 3 && i > *lo && a * (double)(i - 1) + c >= t; ++s) --i;
         for (s = 0; s < 3 && i <= *hi && !(a * (double)i + c >= t); ++s) ++i;
         if (outer) {
-            if (i > *lo && !(a * (double)(i - 1) + c < t)) i = *lo; /* not settled: keep all */
+            if (i > *lo && !(a * (double)(i - 1) + c < t)) i = *lo; /* unsettled: keep all */
         } else if (i <= *hi && !(a * (double)i + c >= t)) {
-            i = *hi + 1; /* not settled: keep none */
+            i = *hi + 1; /* unsettled: keep none */
         }
         *lo = i;
     } else { /* keep i <= X */
@@ -5229,10 +5095,8 @@ PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t 
     }
 }
 
-/* One polygon over row j of the four-row band starting at row jb, along its edges only (its inner
-   pixels were drawn by the triangle pass): over the pixels an edge may meet, the polygon's least depth
-   bound, whether the polygon surely meets the pixel (1) and whether a boundary edge may meet it (2).
-   rlo, rhi: the columns touched per row of the band. */
+/* Polygon t on row j of band jb, along its edges: over pixels an edge may meet, its least depth bound; flag 1: surely
+   meets the pixel, 2: a boundary edge may. rlo, rhi: touched columns per row. */
 PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int32_t jb, int32_t *rlo, int32_t *rhi) {
     const uint32_t W = r->width;
     float *zm = r->mzmin + (size_t)(j - jb) * W;
@@ -5241,7 +5105,7 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
     double dj = (double)j;
     int32_t lo, hi, clo = 0, chi = -1, i;
     int e;
-    /* surely meets: the x and y extents overlap the pixel and no edge separates */
+    /* surely meets: extents overlap the pixel and no edge separates */
     if (dj + 1.0 >= t->ymin + t->dx && dj <= t->ymax - t->dx) {
         clo = pvs__clampi(ceil(t->xmin + t->dx) - 1.0, t->i0, t->i1 + 1);
         chi = pvs__clampi(floor(t->xmax - t->dx), t->i0 - 1, t->i1);
@@ -5250,7 +5114,7 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
                 pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]),
                               t->e[e], 0, &clo, &chi);
     }
-    /* each edge: the pixels whose closed square the segment may meet (its extents and its line) */
+    /* each edge: the pixels whose closed square it may meet (extents and line) */
     for (e = 0; e < t->n; ++e) {
         int f = e + 1 == t->n ? 0 : e + 1;
         double sx0, sx1, sy0, sy1;
@@ -5282,7 +5146,7 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
     }
 }
 
-/* The claimed depth of a band pixel (PVS_DEPTH_EMPTY: none), resetting its scratch. */
+/* A band pixel's claimed depth (PVS_DEPTH_EMPTY: none); resets its scratch. */
 PVS__STATIC float pvs__mesh_take(pvs_raster *r, size_t q) {
     float z = PVS_DEPTH_EMPTY;
     if (r->mflag[q] == 1u && r->mzmin[q] < FLT_MAX && r->mzmin[q] > z) z = r->mzmin[q];
@@ -5291,8 +5155,7 @@ PVS__STATIC float pvs__mesh_take(pvs_raster *r, size_t q) {
     return z;
 }
 
-/* Writes the claimed pixels of band b (rows 4 b .. 4 b + 3) into the depth map or, tiled, per tile as
-   a coverage mask at the least claimed depth (pvs__tile_merge). */
+/* Writes band b's claimed pixels to the depth map or, tiled, per tile as a mask at the least claimed depth. */
 PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, const int32_t *rhi) {
     const uint32_t W = r->width;
     int32_t lo = INT32_MAX, hi = -1, i, d, tx;
@@ -5307,7 +5170,7 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
             float *row = r->depth + (size_t)(PVS__TH * b + (uint32_t)d) * W;
             uint8_t *dw = r->mdirty + (size_t)d * r->tw;
             for (i = rlo[d]; i <= rhi[d]; ++i) {
-                if (!dw[i >> PVS__TW_SHIFT]) { /* nothing in this word: on to the next */
+                if (!dw[i >> PVS__TW_SHIFT]) { /* empty word: skip it */
                     i |= 31;
                     continue;
                 }
@@ -5340,17 +5203,14 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
             any |= cov[d];
         }
         if (!any || !(zt > tl->z0)) continue;
-        /* unlike pvs__tile_merge, hardly at the cost of the working layer (the pixels along edges are
-           a thin set, often farther than it): the union at the farther depth when zt is no farther, the
-           tile fills up or the layer loses at most 1/8 of its lead over the base; a new working layer
-           when there is none; else nothing */
+        /* unlike pvs__tile_merge, spare the layer (edge pixels are few, often farther): union at the farther depth if
+           zt is no farther, the tile fills or the layer loses at most 1/8 of its lead; a new layer if none */
         {
             uint32_t full = ~0u, have = 0;
             for (d = 0; d < PVS__TH; ++d) {
                 have |= tl->mask[d];
                 full &= tl->mask[d] | cov[d] | pad[d];
             }
-            /* farther than the working layer: only when the tile fills up or the layer loses little */
             if (have && zt < tl->z1 && full != ~0u && (double)tl->z1 - zt > 0.125 * ((double)tl->z1 - tl->z0)) continue;
             z0 = have && tl->z1 < zt ? tl->z1 : zt;
             if (full == ~0u) {
@@ -5365,8 +5225,7 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
     }
 }
 
-/* Draws the prepared polygons of facing g among the piece's n triangles: band by band (four rows, a
-   tile row) over an active list sorted by first band. */
+/* Draws the piece's polygons of facing g by bands of four rows over an active list sorted by first band. */
 PVS__STATIC void pvs__mesh_draw(pvs_raster *r, uint32_t n, int g) {
     uint32_t *cnt = r->mband, *order = r->morder, *act = r->mact, t, m = 0, pos = 0, na = 0, b = 0, k, keep;
     int32_t rlo[PVS__TH], rhi[PVS__TH], j;
@@ -5403,9 +5262,8 @@ PVS__STATIC void pvs__mesh_draw(pvs_raster *r, uint32_t n, int g) {
     }
 }
 
-/* Facing of a clip-space triangle: the sign of det(x, y, w), 0 when within its rounding bound (each
-   entry off by at most e moves the determinant by at most 6 ((M + e)^3 - M^3), for any e; 1e-14
-   (M + e)^3 covers the evaluation). */
+/* Facing: sign of det(x, y, w), 0 within rounding: entries off by e move it at most 6 ((M + e)^3 - M^3), evaluation
+   1e-14 (M + e)^3. */
 PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
     const double *p = v[0].c, *q = v[1].c, *s = v[2].c;
     double d =
@@ -5414,7 +5272,7 @@ PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
     int i;
     for (i = 0; i < 3; ++i)
         M = pvs__dmax(M, pvs__dmax(pvs__dabs(v[i].c[0]), pvs__dmax(pvs__dabs(v[i].c[1]), pvs__dabs(v[i].c[3]))));
-    /* (M + e)^3 - M^3 = e (3 M^2 + 3 M e + e^2), without cancellation */
+    /* = e (3 M^2 + 3 M e + e^2): no cancellation */
     bound =
         6.0 * e * (3.0 * M * M + 3.0 * M * e + e * e) * (1.0 + 1e-14) + 1e-14 * (M + e) * (M + e) * (M + e) + 1e-300;
     if (d > bound) return 1;
@@ -5429,8 +5287,7 @@ PVS__STATIC uint32_t pvs__mesh_fbits(float f) {
     return u;
 }
 
-/* The first vertex of the piece at the same position as vertex q (at p), found or entered in tab: open
-   addressing over hs slots (a power of two; 0 an empty slot, else a vertex + 1). */
+/* The piece's first vertex at position p, found or entered (open addressing in hs slots; 0 empty, else vertex + 1). */
 PVS__STATIC uint32_t pvs__mesh_weld(uint32_t *tab, uint32_t hs, const float *pos, uint32_t q, const float *p) {
     uint32_t x = pvs__mesh_fbits(p[0]), y = pvs__mesh_fbits(p[1]), z = pvs__mesh_fbits(p[2]), h;
     h = (x * 0x9E3779B1u) ^ (y * 0x85EBCA77u) ^ (z * 0xC2B2AE3Du);
@@ -5448,11 +5305,8 @@ PVS__STATIC uint32_t pvs__mesh_weld(uint32_t *tab, uint32_t hs, const float *pos
     }
 }
 
-/* Triangle t of the piece, vertices q[0..2] of pos (vc of them): welds its corners (r->mcid through
-   the hs-slot table r->mtab), transforms it, takes its facing, clips and prepares it (r->mt[t]) and
-   marks its corners against the clip planes (r->mvst). r->mgrp[t] ends as its facing, or 0 when it
-   joins no group: an index or a coordinate out of range, hidden behind earlier pieces (tiled), two
-   corners welded, outside a clip plane, facing uncertain or nothing usable left after clipping. */
+/* Triangle t (q: vertex indices): welds corners (r->mcid), transforms, clips and prepares (r->mt[t]), marks corners
+   against the clip planes (r->mvst). r->mgrp[t]: facing, or 0 (bad, hidden, degenerate, clipped, unsure). */
 PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t q[3], uint32_t hs,
                                uint32_t t) {
     uint32_t k, *cid = r->mcid;
@@ -5468,7 +5322,7 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
         }
     }
     if (!ok) return;
-    if (r->tiled) { /* hidden behind what earlier pieces drew: left out (its edges become boundary edges) */
+    if (r->tiled) { /* hidden behind earlier pieces: changes nothing; its edges become boundary edges */
         const float *pv[4][3];
         unsigned test, l;
         int32_t box[4][4];
@@ -5485,7 +5339,7 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
     if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
     g = pvs__mesh_facing(v);
     if (!g || !pvs__mesh_setup(r, v, g, r->mt + t)) return;
-    for (k = 0; k < 3; ++k) { /* 1: surely in front of both clip planes, 2: surely behind one, 0: neither */
+    for (k = 0; k < 3; ++k) { /* 1: surely in front of both clip planes, 2: surely behind one, 0: unsure */
         double w = v[k].c[3], zc = v[k].c[2], e = v[k].e;
         double m1 = 2.0 * e + 4.5e-16 * (pvs__dabs(w) + pvs__dabs(zc)), m2 = e + 4.5e-16 * pvs__dabs(w) + 1e-45;
         r->mvst[3 * t + k] = (uint8_t)(w - zc > m1 && w - 1e-30 > m2 ? 1 : w - zc < -m1 || w - 1e-30 < -m2 ? 2 : 0);
@@ -5493,9 +5347,7 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
     r->mgrp[t] = (int8_t)g;
 }
 
-/* Pairs the half-edges of the piece's n grouped triangles by their welded end points: r->mpart[he] is
-   the partner half-edge, PVS__MESH_NONE or PVS__MESH_MULTI (three or more); r->mtab (hs slots) is the
-   scratch. */
+/* Pairs half-edges by welded end points: r->mpart[he] = partner, PVS__MESH_NONE or PVS__MESH_MULTI (3 or more). */
 PVS__STATIC void pvs__mesh_partners(pvs_raster *r, uint32_t n, uint32_t hs) {
     uint32_t t, k, h, *tab = r->mtab, *cid = r->mcid, *part = r->mpart;
     for (h = 0; h < hs; ++h) tab[h] = 0;
@@ -5531,8 +5383,7 @@ PVS__STATIC void pvs__mesh_partners(pvs_raster *r, uint32_t n, uint32_t hs) {
     }
 }
 
-/* Clears the boundary flag of the polygon edges of the piece's n triangles that are internal
-   (conditions (i)-(iii) above), from their partners (r->mpart) and corner states (r->mvst). */
+/* Clears the boundary flag of internal edges (conditions (i)-(iii) above). */
 PVS__STATIC void pvs__mesh_internal(pvs_raster *r, uint32_t n) {
     uint32_t t, *cid = r->mcid, *part = r->mpart;
     for (t = 0; t < n; ++t) {
@@ -5548,21 +5399,20 @@ PVS__STATIC void pvs__mesh_internal(pvs_raster *r, uint32_t n) {
             sa = r->mvst[he];
             sb = r->mvst[3 * t + (L + 1) % 3];
             if (o >= PVS__MESH_MULTI || r->mgrp[o / 3] != r->mgrp[t]) continue;
-            if (cid[he] != cid[3 * (o / 3) + (o % 3 + 1) % 3]) continue; /* both run it the same way */
+            if (cid[he] != cid[3 * (o / 3) + (o % 3 + 1) % 3]) continue; /* same direction */
             if (!(sa == 1 || sb == 1) || !sa || !sb) continue;
             p->bnd[e] = 0;
         }
     }
 }
 
-/* One piece of a mesh: triangles first .. first + n - 1 (n <= mesh_cap) of `indices` (NULL:
-   consecutive vertices) or of tris[]. */
+/* One mesh piece: triangles first .. first + n - 1 (n <= mesh_cap). */
 PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
                                  const pvs__occsel *tris, uint32_t first, uint32_t n) {
     uint32_t hs = 16, t, h;
     while (hs < 6 * n && hs < r->mesh_hash) hs <<= 1;
     for (h = 0; h < hs; ++h) r->mtab[h] = 0;
-    for (t = 0; t < n; ++t) { /* weld, transform, facing, clip and prepare */
+    for (t = 0; t < n; ++t) {
         uint32_t q[3];
         if (tris || indices) {
             const uint32_t *ix =
@@ -5579,13 +5429,11 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
     pvs__mesh_draw(r, n, -1);
 }
 
-/* Occluder meshes: `count` triangles of `indices` (NULL: consecutive vertices) or of tris[], in pieces
-   of mesh_cap triangles. */
+/* Occluder meshes in pieces of mesh_cap triangles (`indices` NULL: consecutive vertices). */
 PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
                            const pvs__occsel *tris, uint32_t count) {
     uint32_t first;
     if (!count || !vc) return;
-    /* the triangles' own inner pixels (the fast paths); then the pixels along their edges */
     if (r->tiled) {
         pvs__raster_occluders(r, pos, vc, indices, tris, count);
     } else {
@@ -5597,7 +5445,7 @@ PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const u
             if (q0 < vc && q1 < vc && q2 < vc)
                 pvs__raster_tri(r, pos + 3 * (size_t)q0, pos + 3 * (size_t)q1, pos + 3 * (size_t)q2, 1);
         }
-        pvs__raster_occludee_begin(r); /* the per-pixel map, cleared on first use */
+        pvs__raster_occludee_begin(r);
     }
     for (first = 0; first < count; first += r->mesh_cap)
         pvs__mesh_piece(r, pos, vc, indices, tris, first, count - first < r->mesh_cap ? count - first : r->mesh_cap);
@@ -5678,7 +5526,7 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *r, const float m[16]) {
         r->rowa[k] = pvs__dabs(r->m[4 * k]) + pvs__dabs(r->m[4 * k + 1]) + pvs__dabs(r->m[4 * k + 2]);
         r->rowt[k] = pvs__dabs(r->m[4 * k + 3]);
     }
-    for (k = 0; k < 4; ++k) { /* the largest row sums of |m|: bounds of the transform's terms */
+    for (k = 0; k < 4; ++k) {
         r->mabs[0] =
             pvs__dmax(r->mabs[0], pvs__dabs(r->m[4 * k]) + pvs__dabs(r->m[4 * k + 1]) + pvs__dabs(r->m[4 * k + 2]));
         r->mabs[1] = pvs__dmax(r->mabs[1], pvs__dabs(r->m[4 * k + 3]));
@@ -5698,7 +5546,7 @@ PVS_API void pvs_raster_clear(pvs_raster *r) {
         r->bmin[i] = PVS_DEPTH_EMPTY;
         r->bdirty[i] = 0;
     }
-    r->mixed = 0; /* the per-pixel map is cleared by the first occludee triangle */
+    r->mixed = 0;
     r->pyramid_valid = 0;
 }
 
@@ -5732,21 +5580,16 @@ PVS_API pvs_result pvs_raster_mesh(pvs_raster *r, const float *positions, uint32
 PVS_API const float *pvs_raster_depth(const pvs_raster *r, uint32_t *w, uint32_t *h) {
     if (w) *w = r->width;
     if (h) *h = r->height;
-    pvs__tile_resolve((pvs_raster *)r); /* the map is a cache the context owns */
+    pvs__tile_resolve((pvs_raster *)r); /* a cache the context owns */
     return r->depth;
 }
 
-/* ---- depth pyramid: Durand 2000 §2.4 "Hierarchical Depth Map" (after Greene, Kass, Miller 1993),
-   queried top-down, stopping where a level decides hidden or visible (§6.1) ---- */
+/* ---- depth pyramid (Durand 2000 §2.4; Greene et al. 1993), queried top-down until a level decides (§6.1) ---- */
 
-/* One level of a depth pyramid, the kernel every pyramid of pvs.h is built with (the raster's
-   per-pixel and tile pyramids, the extended projections' depth maps): texel (x, y) of the w x h
-   level covers the texels [x << mx, (x << mx) + mx] x [y << my, (y << my) + my] of the pw x ph level
-   below (mx, my: 1 halves that axis, 0 keeps it), clamped at its edges, and gets their least value
-   (from smin into dmin, both may be NULL) and their greatest (from smax into dmax). With
-   `simd` (SSE2, both axes halved) four texels at a time from a 2 x 8 block, pairing the four values
-   in another order: the same values as the scalar loop unless the extreme is a tie between a zero
-   of each sign (or a NaN). */
+/* One pyramid level, the kernel of all pyramids in pvs.h: texel (x, y) gets the least smin (into dmin; both may be
+   NULL) and the greatest smax (into dmax) of texels [x << mx, (x << mx) + mx] x [y << my, (y << my) + my] of the pw x
+   ph level below, clamped (mx, my: 1 halves that axis). `simd` (SSE2, both halved) pairs in another order: equal
+   results but for ties of zeros of opposite sign (or NaN). */
 PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32_t pw, uint32_t ph, float *dmin,
                                     float *dmax, uint32_t w, uint32_t h, uint32_t mx, uint32_t my, int simd) {
     uint32_t x, y;
@@ -5759,7 +5602,7 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
         x = 0;
 #if defined(PVS__SSE2)
         if (simd && mx && my)
-            for (; 2 * x + 8 <= pw; x += 4) { /* four texels from a 2 x 8 block */
+            for (; 2 * x + 8 <= pw; x += 4) {
                 if (on) {
                     __m128 v0 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x), _mm_loadu_ps(n1 + 2 * x));
                     __m128 v1 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x + 4), _mm_loadu_ps(n1 + 2 * x + 4));
@@ -5794,9 +5637,8 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
     }
 }
 
-/* The pyramid over the tiles: level 0 holds per tile the farthest (its base) and the nearest value of
-   its pixels, each level above the extremes of 1 x 2, 2 x 1 or 2 x 2 texels below (texels kept about
-   square in pixels). */
+/* Tile pyramid: level 0 per tile its base and nearest value; each level above merges 1 x 2, 2 x 1 or 2 x 2 texels
+   (about square in pixels). */
 PVS__STATIC void pvs__tile_pyramid(pvs_raster *r) {
     uint32_t l, n = r->tw * r->th, i;
     float *lo = r->tlmin[0], *hi = r->tlmax[0];
@@ -5825,16 +5667,15 @@ PVS_API void pvs_raster_build_pyramid(pvs_raster *r) {
     r->pyramid_valid = 1;
 }
 
-/* 1 if some pixel of [x0, x1] x [y0, y1] (level-0 pixels, inside the map) under texel (tx, ty) of
-   level l stores a depth <= d. */
+/* 1 if a level-0 pixel of [x0, x1] x [y0, y1] under texel (tx, ty) of level l stores a depth <= d. */
 PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t tx, uint32_t ty, int32_t x0, int32_t y0,
                                      int32_t x1, int32_t y1, float d) {
     uint32_t w = r->lw[l];
     float lo = r->lmin[l][ty * w + tx], hi = r->lmax[l][ty * w + tx];
     uint32_t cx, cy, cx0, cx1, cy0, cy1, pw, ph;
-    if (lo > d) return 0;   /* everything under the texel is nearer: hidden */
-    if (hi <= d) return 1;  /* everything under the texel is farther: visible (the texel meets the rect) */
-    /* l > 0 here: a level-0 texel has lo == hi */
+    if (lo > d) return 0;   /* all nearer: hidden */
+    if (hi <= d) return 1;  /* all farther: visible (the texel meets the rect) */
+    /* l > 0 here: level-0 texels have lo == hi */
     pw = r->lw[l - 1];
     ph = r->lh[l - 1];
     cx0 = 2 * tx; cx1 = cx0 + 1 < pw ? cx0 + 1 : cx0;
@@ -5849,15 +5690,14 @@ PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t t
     return 0;
 }
 
-/* pvs__pyramid_visible over the tile pyramid; at a tile, the pixels of the rectangle in and out of the
-   working layer decide exactly. px: the pixel rectangle, tr: its tile range. */
+/* pvs__pyramid_visible on the tile pyramid; at a tile the layer mask decides exactly. px: pixels, tr: their tiles. */
 PVS__STATIC int pvs__tpyr_visible(const pvs_raster *r, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *px,
                                   const uint32_t *tr, float d) {
     uint32_t w = r->tlw[l], cx, cy, cx0, cx1, cy0, cy1;
     float lo = r->tlmin[l][ty * w + tx], hi = r->tlmax[l][ty * w + tx];
-    if (lo > d) return 0;  /* every pixel under the texel is nearer: hidden */
-    if (hi <= d) return 1; /* every pixel under it is farther (the texel meets the rectangle) */
-    if (l == 0) {          /* z0 <= d < z1: visible where the rectangle leaves the working layer */
+    if (lo > d) return 0;
+    if (hi <= d) return 1;
+    if (l == 0) { /* z0 <= d < z1: visible where the rectangle leaves the layer */
         const pvs__tile *t = r->tile + (size_t)ty * r->tw + tx;
         int32_t bx = (int32_t)(tx << PVS__TW_SHIFT), by = (int32_t)(ty << PVS__TH_SHIFT);
         int32_t a0 = (px[0] > bx ? px[0] : bx) - bx, a1 = (px[2] < bx + 31 ? px[2] : bx + 31) - bx;
@@ -5911,7 +5751,6 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
                 if (pvs__tpyr_visible(r, l, tx, ty, px, tr, depth)) return 1;
         return 0;
     }
-    /* the coarsest level where the rectangle spans at most 2 x 2 texels */
     while (l < r->levels &&
            (((uint32_t)x1 >> l) - ((uint32_t)x0 >> l) > 1 || ((uint32_t)y1 >> l) - ((uint32_t)y0 >> l) > 1))
         ++l;
@@ -5921,29 +5760,23 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
     return 0;
 }
 
-/* ---- box tests in float: the eight corners in two SIMD registers (Masked Occlusion Culling tests
-   boxes by their screen rectangle and nearest depth the same way), with error bounds. Each
-   clip coordinate c_r = m_r . (p, 1) is computed in float with four roundings, at most 4.01 u S_r
-   (u = 2^-24, S_r = |m_r0| + |m_r1| + |m_r2| times the box's largest |coordinate|, plus |m_r3|);
-   E_r = 8 u S_r is twice that, which also covers rounding the differences the tests compare
-   (|c| <= 1.01 S, so u |c_a - c_b| < (E_a + E_b) / 8). A corner with w > 2 E_w has a true w of at
-   least 3/4 of the computed one, so x/w is off by at most 2/3 (E_x + |x/w| E_w) / w plus the
-   division's rounding; the per-box maxima of those terms widen the rectangle and raise the depth.
-   Boxes too large for float (S_r > 1e30) take the double path. ---- */
+/* ---- float box tests: eight corners in two SIMD registers, with error bounds. A clip coordinate c_r = m_r . (p, 1)
+   errs by at most 4.01 u S_r (u = 2^-24, S_r = (|m_r0| + |m_r1| + |m_r2|) max |p| + |m_r3|); E_r = 8 u S_r also covers
+   the compared differences. A corner with w > 2 E_w has true w >= 3/4 of the computed one, so x/w errs by at most 2/3
+   (E_x + |x/w| E_w) / w plus the division; the per-box maxima widen the rectangle and raise the depth. S_r > 1e30: the
+   double path. ---- */
 
-/* What the corners give, all in front of the near plane: screen extremes, the nearest depth, the
-   largest 1 / w and |x / w|, |y / w|, |z / w|. */
+/* From the corners, all in front: screen extremes, nearest depth, largest 1 / w, |x / w|, |y / w|, |z / w|. */
 typedef struct pvs__boxf {
     float xmin, xmax, ymin, ymax, zmax, rmax, nx, ny, nz;
 } pvs__boxf;
 
-/* The thresholds of one box: E_x, E_y, E_z, E_w, E_w + E_z, E_x + E_w, E_y + E_w, 2 E_w. */
+/* One box's thresholds: E_x, E_y, E_z, E_w, E_w + E_z, E_x + E_w, E_y + E_w, 2 E_w. */
 typedef struct pvs__boxe {
     float e[4], nz, xw, yw, w2;
 } pvs__boxe;
 
-/* 0 = surely invisible, 1 = may reach behind the near plane (visible, no depth test), 2 = *o filled,
-   -1 = not finite (the caller falls back). */
+/* 0 surely invisible, 1 may reach behind the near plane (visible), 2 *o filled, -1 not finite (caller falls back). */
 PVS__STATIC int pvs__box_scalar(const pvs_raster *r, const pvs_box *b, const pvs__boxe *E, pvs__boxf *o) {
     const float *m = r->mf;
     float c[8][4];
@@ -6137,9 +5970,8 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 #define PVS__HAVE_BOX_SIMD 1
 #endif
 
-/* Double to a float at least as large without a library call: for margins (v >= 0, tiny slack) and
-   for a finite v (when rounding went down, one step up: |f| 2^-23 plus the least subnormal is at
-   least the gap to the next float, and rounding is monotonic). */
+/* Double to a float >= it, no libm: margins (v >= 0); any finite v (rounded down: up one step; |f| 2^-23 plus the least
+   subnormal covers the gap). */
 PVS__STATIC float pvs__f_up_pos(double v) { return (float)(v * (1.0 + 4.76837158203125e-07) + 1e-37); }
 PVS__STATIC float pvs__f_up_fast(double v) {
     float f = (float)v;
@@ -6147,14 +5979,14 @@ PVS__STATIC float pvs__f_up_fast(double v) {
     return f;
 }
 
-/* The float box test; returns -1 when the box needs the double path. */
+/* Float box test; -1 when the box needs the double path. */
 PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t rect[4], float *dnear) {
     pvs__boxe E;
     pvs__boxf o = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     double pm = 0.0, e[4], ex, ey, ez, hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
     int k, res, nan = 0;
     float pf = 0.0f;
-#if defined(PVS__SSE2) /* the largest |coordinate| (exact either way; min and max are the struct's six floats) */
+#if defined(PVS__SSE2) /* largest |coordinate| (exact; min and max are six floats in a row) */
     {
         const __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
         __m128 a = _mm_loadu_ps(b->min), c = _mm_loadu_ps(b->min + 2);
@@ -6204,21 +6036,20 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
     return 2;
 }
 
-/* Projects a box: 0 = invisible (behind the near plane or off the screen), 1 = may be visible without
-   a depth test (reaches behind the near plane), 2 = *rect and *dnear hold its pixel rectangle
-   (clamped to the map) and nearest depth. */
+/* Projects a box: 0 invisible, 1 maybe visible, no depth test (behind the near plane), 2 *rect (clamped pixels) and
+   *dnear (nearest depth) set. */
 PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t rect[4], float *dnear) {
     double xmin = DBL_MAX, xmax = -DBL_MAX, ymin = DBL_MAX, ymax = -DBL_MAX, dmax = -DBL_MAX, mag = 0.0, dx, perr = 0.0,
            zerr = 0.0;
     double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
     int k, behind_near = 0, behind_w = 0, maybe_behind = 0;
     pvs__cv v[8];
-    if (r->tiled) { /* float, the tiles' speed; the per-pixel mode keeps the double test */
+    if (r->tiled) { /* float at the tiles' speed; per-pixel keeps the double test */
         k = pvs__raster_box_f(r, b, rect, dnear);
         if (k >= 0) return k;
     }
     {
-        /* the corners as the min corner plus the transformed edges (the margins cover the rounding) */
+        /* corners as the min corner plus transformed edges (the margins cover the rounding) */
         pvs__cv base = pvs__raster_transform(r, b->min);
         double e[3][4];
         int ax, c;
@@ -6232,7 +6063,7 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
             for (c = 0; c < 4; ++c)
                 v[k].c[c] = base.c[c] + (k & 1 ? e[0][c] : 0.0) + (k & 2 ? e[1][c] : 0.0) + (k & 4 ? e[2][c] : 0.0);
             v[k].e = 2.0 * base.e + 8.881784197001252e-16 * ebig;
-            /* surely behind (beyond the rounding) / maybe behind */
+            /* surely behind / maybe behind */
             if (v[k].c[3] - v[k].c[2] < -2.0 * v[k].e) ++behind_near;
             if (v[k].c[3] < -v[k].e) ++behind_w;
             if (v[k].c[3] - v[k].c[2] < 2.0 * v[k].e || v[k].c[3] <= v[k].e) ++maybe_behind;
@@ -6240,8 +6071,7 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
     }
     if (behind_near == 8 || behind_w == 8) return 0;
     {
-        /* the screen's side planes in clip space (-w <= x <= w, -w <= y <= w): a box wholly outside one
-           is off the screen whatever its w (points with w <= 0 are invisible anyway) */
+        /* a box wholly outside a side plane (-w <= x, y <= w) is off screen, whatever its w */
         int side;
         for (side = 0; side < 4; ++side) {
             int out = 0, ax = side >> 1;
@@ -6327,8 +6157,7 @@ PVS_API void pvs_raster_destroy(pvs_raster *r) {
     pvs__free(&a, r, sizeof(*r), 16);
 }
 
-/* Ground-plane cell range of a box in the cull map (clamped); returns 0 when the box is not entirely
-   inside the region. */
+/* Cull map cell range of a box (clamped); 0 when the box is not wholly inside the region. */
 PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int32_t *i0, int32_t *j0, int32_t *i1,
                               int32_t *j1) {
     int u, v;
@@ -6350,10 +6179,8 @@ PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int
         b->max[v] <= r->region[3];
 }
 
-/* Sizes and allocates the per-pixel depth map, its 8 x 8 tile minima and its depth pyramid (Durand 2000
-   §2.4): each level halves the one below, rounding up, until 1 x 1 (at most PVS__RASTER_MAX_LEVELS
-   levels), a min and a max plane per level; level 0 is the map itself. Returns 0 when out of memory
-   (what was allocated stays in r for pvs_raster_destroy). */
+/* Per-pixel map, 8 x 8 tile minima, pyramid (Durand 2000 §2.4: levels halve to 1 x 1; min and max planes). 0 when out
+   of memory; pvs_raster_destroy frees the rest (also below). */
 PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
     uint32_t l, w, h;
     size_t floats = 0;
@@ -6385,10 +6212,7 @@ PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
     return 1;
 }
 
-/* Sizes and allocates the occluder tiles (pvs__tile), their blocks of 8 x 8 tiles and the tile pyramid:
-   a level halves its texels along x, y or both, whichever keeps them closest to square in pixels
-   (a texel covers 1 << tsx by 1 << tsy tiles), until one texel covers the map. Returns 0 when out of
-   memory (what was allocated stays in r for pvs_raster_destroy). */
+/* Tiles, their 8 x 8 blocks, the tile pyramid (levels halve x, y or both, texels about square in pixels). */
 PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
     uint32_t l, w, h;
     size_t floats;
@@ -6431,9 +6255,7 @@ PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
     return 1;
 }
 
-/* Allocates the occluder mesh scratch (pvs_raster_mesh) for pieces of `max_triangles` triangles (0: the
-   default, at most 2^24): the prepared triangles, their hash (load <= 1/2), four rows of pixels. Returns
-   0 when out of memory (what was allocated stays in r for pvs_raster_destroy). */
+/* Mesh scratch for pieces of `max_triangles` (0: default; at most 2^24); hash load <= 1/2. */
 PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
     const pvs_allocator *a = &r->allocator;
     size_t i;
@@ -6463,9 +6285,7 @@ PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
     return 1;
 }
 
-/* Builds the cull map's object grid over the scene's ground rectangle, w x h cells (Wonka 1999 §4.1:
-   every object entered into every cell it overlaps, with the highest object top per cell, §4.3).
-   Returns PVS_OK, or the error (in err) with what was allocated left in r for pvs_raster_destroy. */
+/* Cull map object grid: w x h ground cells (Wonka 1999 §4.1), highest top per cell (§4.3). */
 PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene *s, uint32_t w, uint32_t h,
                                                  pvs_error *err) {
     const pvs_allocator *a = &r->allocator;
@@ -6516,7 +6336,7 @@ PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene 
     r->cm_item_count = (uint32_t)total;
     r->cm_items = (uint32_t *)pvs__alloc_array(a, total, sizeof(uint32_t));
     if (!r->cm_items) goto oom;
-    for (o = 0; o < s->object_count; ++o) { /* fill, using cm_start[c] as the cursor, then shift back */
+    for (o = 0; o < s->object_count; ++o) { /* fill with cm_start[c] as cursor, then shift back */
         const pvs_box *b = s->object_boxes + o;
         int32_t i0, j0, i1, j1, ii, jj;
         if (b->min[0] > b->max[0]) continue;
@@ -6571,7 +6391,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
     r->max_occluders = desc->max_occluders ? desc->max_occluders : 1024;
     r->occ = (pvs__occsel *)pvs__alloc_array(&a, r->max_occluders, sizeof(pvs__occsel));
     if (!r->occ || !pvs__raster_init_mesh(r, desc->max_mesh_triangles)) goto oom;
-    if (desc->scene) { /* the culling scratch: a sweep over either tree, a bit per triangle and object */
+    if (desc->scene) {
         const pvs_scene *s = desc->scene;
         size_t s1 = pvs_kdtree_sweep_scratch_size(s->object_tree), s2 = pvs_kdtree_sweep_scratch_size(s->triangle_tree);
         r->scene = s;
@@ -6608,7 +6428,7 @@ typedef struct pvs__selctx {
     uint32_t k, n;
 } pvs__selctx;
 
-/* The k best-scoring triangles (pvs__topk_offer: a heap whose root is the weakest kept). */
+/* The k best triangles (pvs__topk_offer: the root is the weakest kept). */
 PVS__STATIC int pvs__occsel_before(const void *a, const void *b) {
     return ((const pvs__occsel *)a)->score > ((const pvs__occsel *)b)->score;
 }
@@ -6619,22 +6439,18 @@ PVS__STATIC void pvs__occ_push(pvs__occsel *h, uint32_t *n, uint32_t k, float sc
     pvs__topk_offer(h, n, k, sizeof(e), &e, pvs__occsel_before);
 }
 
-/* Area-angle measure M = A |N . V| / |D|^2 (Bittner 2002 §4.5), with V the unit direction from the
-   eye to the triangle's centre D (two-sided triangles: the absolute value); A |N . V| / |D|^2 is the
-   solid angle the triangle subtends, approximately. */
+/* Area-angle measure A |N . V| / |D|^2 (Bittner 2002 §4.5), V the unit direction to centre D, two-sided. */
 PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
                                         uint32_t count) {
     pvs__selctx *c = (pvs__selctx *)user;
     uint32_t i;
     if (distance > c->max_dist) return PVS_VISIT_STOP;
-    /* the heap full and no triangle left could enter it: every unseen triangle has its centre in a
-       node not yet reached (each leaf its box overlaps references it), so at least `distance` away,
-       and a score of at most area / distance^2 (rounded up: the same selection as without the stop) */
+    /* heap full and nothing unseen can enter: an unseen triangle's centre lies beyond `distance` (every leaf its box
+       overlaps lists it), so it scores at most area / distance^2 (rounded up) */
     if (c->n == c->k && distance > 0.0f &&
         c->s->max_triangle_area * 1.0001 / ((double)distance * distance * 0.9999) < (double)c->r->occ[0].score)
         return PVS_VISIT_STOP;
-    /* a node outside the view (or hidden behind the caller's occluders, already drawn) holds no
-       triangle part that could hide anything in view: skipped, the budget goes to what is seen */
+    /* outside the view or behind drawn occluders, a node hides nothing seen */
     if (!pvs_raster_test_box(c->r, node_box)) return PVS_VISIT_SKIP;
     for (i = 0; i < count; ++i) {
         uint32_t t = items[i], k;
@@ -6717,9 +6533,8 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
     return PVS_OK;
 }
 
-/* Selects up to p->scene_occluders triangles of the scene within p->occluder_distance of the eye by
-   Bittner 2002 §4.5's area-angle measure (a sweep of the triangle tree, nearest first) and draws them
-   as occluders: welded into meshes with PVS_CULL_SCENE_MESH, else one by one. Returns their count. */
+/* Draws up to p->scene_occluders triangles within p->occluder_distance, best first by Bittner 2002 §4.5's measure;
+   meshes with PVS_CULL_SCENE_MESH. Returns the count. */
 PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
                                                const pvs_cull_params *p) {
     pvs__selctx sc;
@@ -6736,7 +6551,7 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
     for (k = 0; k < 3; ++k) { sc.eye[k] = cam->eye[k]; sc.fwd[k] = cam->forward[k]; }
     len = sqrt(sc.fwd[0] * sc.fwd[0] + sc.fwd[1] * sc.fwd[1] + sc.fwd[2] * sc.fwd[2]);
     for (k = 0; k < 3; ++k) sc.fwd[k] /= len;
-    if (cam->fov_y == 0.0f) sc.near_d = -DBL_MAX; /* orthographic: the near plane test is the matrix's */
+    if (cam->fov_y == 0.0f) sc.near_d = -DBL_MAX; /* orthographic: the matrix does the near test */
     memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
     for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
     pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
@@ -6755,9 +6570,7 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
     return sc.n;
 }
 
-/* Draws the walls of the extrusion o (footprint in the ground axes u, v, up the up axis) as occluders:
-   meshes of up to 32 walls, two triangles each, neighbours sharing their vertical edge, or with
-   `separate` triangle by triangle. Returns the triangles drawn. */
+/* Extrusion walls as occluders: meshes of <= 32 walls sharing vertical edges, unless `separate`. Returns triangles. */
 PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc *o, int u, int v, int up,
                                          int separate) {
     uint32_t j, drawn = 0;
@@ -6794,9 +6607,7 @@ PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc 
     return drawn;
 }
 
-/* Draws the scene's explicit occluder volumes within p->occluder_distance of the eye as occluder
-   triangles: a box's faces, an extrusion's walls (meshes unless PVS_CULL_SEPARATE_TRIANGLES).
-   Returns the triangles drawn. */
+/* Occluder volumes within p->occluder_distance (meshes unless PVS_CULL_SEPARATE_TRIANGLES); returns triangles drawn. */
 PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
                                        const pvs_cull_params *p) {
     static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
@@ -6861,10 +6672,9 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
 
 /* ---- cull map (Wonka & Schmalstieg 1999) ---- */
 
-/* The occluder shadow of the facade a-b (ground points) with top height `top` from the eye (ou, ov,
-   eh) (§3.1): the quadrilateral a, b, b + t (b - o), a + t (a - o) in the ground plane, its height the
-   plane through the eye and the top edge. The far edge lies outside the map (§4.2). Rasterized with
-   inner coverage and the lowest height over each cell: §4.4's sampling correction (see the top). */
+/* Shadow of facade a-b (height `top`) from eye o = (ou, ov, eh) (§3.1): ground quadrilateral a, b, b + t (b - o), a +
+   t (a - o), far edge off the map (§4.2), height the plane through eye and top edge; inner coverage at each cell's
+   lowest height (§4.4). */
 PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, const float *a, const float *b,
                                 double top, int simd) {
     double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
@@ -6893,12 +6703,11 @@ PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, 
     pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 4, 1, simd, 0.0, 0.0);
 }
 
-/* Height over ground point (x, y) of the plane through the eye (ou, ov, eh) and the horizontal edge
-   a-b at height `top`; 0 when the plane is vertical (the eye on the edge's line). */
+/* Plane through the eye and horizontal edge a-b at height `top`, as heights over the ground; 0 when vertical. */
 PVS__STATIC int pvs__cm_plane(double ou, double ov, double eh, const double *a, const double *b, double top,
                               double pl[3]) {
     double a0 = a[0] - ou, a1 = a[1] - ov, b0 = b[0] - ou, b1 = b[1] - ov, dh = top - eh;
-    /* n = (a - o) x (b - o) with both at height dh above the eye */
+    /* n = (a - o) x (b - o), both dh above the eye */
     double nx = a1 * dh - dh * b1, ny = dh * b0 - a0 * dh, nz = a0 * b1 - a1 * b0;
     if (!(pvs__dabs(nz) > 1e-12 * (pvs__dabs(a0) + pvs__dabs(a1)) * (pvs__dabs(b0) + pvs__dabs(b1)))) return 0;
     pl[0] = -nx / nz; /* h(x, y) = eh + pl[0] (x - ou) + pl[1] (y - ov) */
@@ -6910,14 +6719,10 @@ PVS__STATIC double pvs__cm_height(const double pl[3], double ou, double ov, doub
     return pl[2] + pl[0] * (x - ou) + pl[1] * (y - ov);
 }
 
-/* The seam at a vertex v shared by two casting facades p-v and v-q. Each facade's shadow shrinks by
-   the sampling correction, so cells straddling the shadow ray through v would be covered by neither:
-   Wonka 1999 §5 extends the correction to connected occluders. The wedge between the rays through a'
-   on p-v and b' on v-q (about two cells from v) beyond the chain a'-v-b' lies in the union of both
-   shadows; its true height is plane A on A's side of the ray through v and plane B on B's side. Both
-   planes contain that ray, so their difference changes sign across it: when A >= B on A's side (a
-   ridge), plane A is at most the true height on both sides; otherwise min(A, B) is concave and its
-   least value at the wedge's corners bounds it from below. Rasterized like a shadow. */
+/* Seam at v between casting facades p-v, v-q: the sampling correction shrinks both shadows, uncovering cells along the
+   shadow ray through v (Wonka 1999 §5). The wedge between the rays through a' on p-v and b' on v-q (about two cells
+   from v), beyond a'-v-b', lies in the union, at height A on A's side of the ray, B on B's. A - B changes sign across
+   the ray: A bounds it from below if A >= B on A's side (a ridge), else the least corner value of concave min(A, B). */
 PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, const float *pf, const float *vf,
                               const float *qf, double top, int simd) {
     double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
@@ -6937,7 +6742,7 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
     x[1] = vt[0]; y[1] = vt[1];
     x[2] = vt[0] + (qt[0] - vt[0]) * pvs__dmin(1.0, delta / lq);
     y[2] = vt[1] + (qt[1] - vt[1]) * pvs__dmin(1.0, delta / lq);
-    for (k = 0; k < 2; ++k) { /* the far ends of the rays through b' and a' */
+    for (k = 0; k < 2; ++k) { /* far ends of the rays through b' and a' */
         int from = k == 0 ? 2 : 0;
         double dx = x[from] - ou, dy = y[from] - ov, l = sqrt(dx * dx + dy * dy), sc;
         if (!(l > 0.0)) return;
@@ -6967,16 +6772,16 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
     pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 5, 1, simd, 0.0, 0.0);
 }
 
-/* 1 if facade a-b casts a shadow: front-facing for closed chains (§4.2), not nearer than min_dist. */
+/* 1 if facade a-b casts: front-facing for closed chains (§4.2), not nearer than min_dist. */
 PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *b, int closed, double area2,
                               double min_dist) {
     if (closed) {
-        /* outward normal: right of a->b for a counter-clockwise footprint */
+        /* outward: right of a->b for a counter-clockwise footprint */
         double nx = (double)b[1] - a[1], ny = -((double)b[0] - a[0]);
         if (area2 < 0) { nx = -nx; ny = -ny; }
         if (!((eye[0] - a[0]) * nx + (eye[1] - a[1]) * ny > 0.0)) return 0; /* back-facing */
     }
-    if (min_dist > 0.0) { /* a facade nearer than the near plane is clipped away by the renderer */
+    if (min_dist > 0.0) { /* nearer than the near plane: the renderer clips it away */
         double ex = eye[0] - a[0], ey = eye[1] - a[1], sx = (double)b[0] - a[0], sy = (double)b[1] - a[1];
         double ss = sx * sx + sy * sy, t = ss > 0.0 ? (ex * sx + ey * sy) / ss : 0.0, qx, qy;
         t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
@@ -6987,14 +6792,14 @@ PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *
     return 1;
 }
 
-/* One chain: every casting facade's shadow, and the seams between consecutive casting facades. */
+/* One chain: each casting facade's shadow and the seams between consecutive ones. */
 PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *pts, uint32_t n, int closed, float base,
                                float top, int simd, double min_dist) {
     double area2 = 0.0, limit = pvs__dmin(eye[2], r->ground);
     uint32_t i, segs;
     int first_casts = 0, prev_casts = 0;
     if (!pts || n < 2 || !pvs__finite(base) || !pvs__finite(top) || !(base < top)) return;
-    if ((double)base > limit) return; /* the facade does not reach down to everything it would hide */
+    if ((double)base > limit) return; /* the facade does not reach down to all it would hide */
     for (i = 0; i < 2 * n; ++i)
         if (!pvs__finite(pts[i])) return;
     if (closed) {
@@ -7013,11 +6818,11 @@ PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *
         if (i == 0) first_casts = casts;
         prev_casts = casts;
     }
-    if (closed && prev_casts && first_casts) /* the seam where the loop closes */
+    if (closed && prev_casts && first_casts) /* the seam closing the loop */
         pvs__cm_seam(r, eye[0], eye[1], eye[2], pts + 2 * (n - 1), pts, pts + 2, top, simd);
 }
 
-/* The cull map build; facades nearer than min_dist to the eye (in the ground plane) are left out. */
+/* Builds the cull map without facades nearer than min_dist to the eye (ground plane). */
 PVS__STATIC pvs_result pvs__cull_map_build(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
                                            uint32_t chain_count, uint32_t flags, double min_dist) {
     double e[3];
@@ -7099,15 +6904,14 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
         return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "facades must not be NULL");
     memset(&st, 0, sizeof(st));
     if (cam->fov_y > 0.0f) {
-        /* sight lines start at the near plane: facades nearer than it, at the frustum's widest angle,
-           are clipped away by the renderer and must not hide anything */
+        /* facades nearer than the near plane (at the frustum's widest angle) are clipped: they hide nothing */
         double ty = tan(0.5 * (double)cam->fov_y), tx = ty * (double)r->width / (double)r->height;
         pvs__cull_map_build(r, cam->eye, p ? p->facades : NULL, p ? p->facade_count : 0, p ? p->cull_map_flags : 0,
                             (double)cam->near_plane * sqrt(1.0 + tx * tx + ty * ty) * (1.0 + 1e-6));
-    } else { /* shadows are cast from a point: an orthographic view gets the frustum test only */
+    } else { /* shadows are cast from a point: orthographic gets the frustum test only */
         for (c = 0; c < (size_t)r->cm_w * r->cm_h; ++c) r->cm[c] = PVS_DEPTH_EMPTY;
     }
-    pvs_raster_clear(r); /* the frustum test below sees an empty depth map */
+    pvs_raster_clear(r); /* the frustum test sees an empty depth map */
     up = (int)s->up_axis;
     cells = (size_t)r->cm_w * r->cm_h;
     /* §4.3: the cell's bounding height first, then each object's */
@@ -7121,7 +6925,7 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
             int32_t rect[4];
             float d;
             if (pvs_bitset_test(r->obj_done, o)) continue;
-            if (s->object_boxes[o].max[up] < h) continue; /* hidden in this cell; may show in another */
+            if (s->object_boxes[o].max[up] < h) continue; /* hidden here; may show in another cell */
             pvs_bitset_set(r->obj_done, o);
             if (s->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY) continue;
             if (p && p->candidates && !pvs_bitset_test(p->candidates, o)) continue;
@@ -20671,42 +20475,39 @@ PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) {
 }
 
 // >>bake
-/* ---------------------------------------------------------------------------------------------- */
-/* bake: validated cells, one task per cell, results in cell order whatever the run order         */
-/* ---------------------------------------------------------------------------------------------- */
+/* ==== bake: validated cells, one task per cell, results in cell order whatever the run order ==== */
 
 struct pvs_bake {
     pvs__bake_env env;         /* what the methods see: scene, allocator, cells, eps, flags */
-    pvs_box *cells;            /* per task: the shard's cells in id order (env.task_cells) */
+    pvs_box *cells;            /* per task: the shard's cells in id order */
     uint32_t cell_count;       /* the shard's (task_count) */
     uint32_t total_cell_count, shard_index, shard_count;
     uint32_t object_count;
     size_t words;              /* per cell */
     pvs_word *pvs;             /* cell_count * words */
-    unsigned char *done;       /* cell_count flags, each written by its own task only */
+    unsigned char *done;       /* cell_count flags, each written by its task only */
     pvs_method method;
     uint32_t max_chain;
-    /* the methods considered (AUTO: every candidate, in run order) and those each task runs; a task's
-       PVS is the intersection of theirs (an intersection of conservative sets is conservative) */
+    /* considered (AUTO: all candidates, in run order) and run methods; a task's PVS intersects theirs (conservative) */
     const pvs__bake_method *considered[PVS_METHOD_COUNT];
     const char *reason[PVS_METHOD_COUNT];
     unsigned char ran[PVS_METHOD_COUNT];
     uint32_t considered_count;
     const pvs__bake_method *run[PVS_METHOD_COUNT];
     uint32_t run_count;
-    void *state[PVS_METHOD_COUNT]; /* by pvs_method: the prepared methods' states (pvs__bake_method) */
+    void *state[PVS_METHOD_COUNT]; /* by pvs_method: prepared states */
     uint32_t *stats;           /* per task: run_count own PVS sizes, then run_count sole-cull counts */
-    unsigned char *restored;   /* per task: done by pvs_bake_restore_task (no stats) */
+    unsigned char *restored;   /* per task: restored (no stats) */
     float max_distance;
-    unsigned char *cell_flags; /* per task, written by its own task: PVS__BAKE_* */
+    unsigned char *cell_flags; /* per task, written by its task: PVS__BAKE_* */
     uint32_t drawable;         /* objects that can appear in a PVS */
-    uint32_t adaptive_budget;  /* adaptive cells (§6.1), 0 = off */
+    uint32_t adaptive_budget;  /* adaptive cells (§6.1); 0 = off */
     float adaptive_min_size;
     uint32_t *object_triangles;/* adaptive: triangles per object */
     struct pvs__bakeleaves *leaves; /* adaptive: per task, its leaf cells */
 };
 
-/* The leaf cells of one adaptive task and their PVSs. */
+/* An adaptive task's leaf cells and their PVSs. */
 typedef struct pvs__bakeleaves {
     size_t count, capacity;
     pvs_box *boxes;
@@ -20715,12 +20516,12 @@ typedef struct pvs__bakeleaves {
 
 /* ---- the method table ---- */
 
-/* Every method the driver can run, in pvs_method order (AUTO's order among methods of one cost). */
+/* Every method the driver runs, in pvs_method order (AUTO's order among equal costs). */
 PVS__STATIC const pvs__bake_method *const pvs__bake_methods[] = {
     &pvs__sample_method, &pvs__otree_method, &pvs__extproj_method, &pvs__shrink_method, &pvs__vocc_method};
 #define PVS__BAKE_METHOD_COUNT (sizeof(pvs__bake_methods) / sizeof(pvs__bake_methods[0]))
 
-/* The row of method m, NULL for AUTO, DEFAULT and unknown values. */
+/* NULL for AUTO, DEFAULT and unknown values. */
 PVS__STATIC const pvs__bake_method *pvs__bake_method_row(pvs_method m) {
     uint32_t k;
     for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k)
@@ -20732,16 +20533,14 @@ PVS__STATIC void *pvs__bake_method_state(const pvs_bake *b, pvs_method m) {
     return b && (int)m >= 0 && m < PVS_METHOD_COUNT ? b->state[m] : NULL;
 }
 
-/* Prepares method row's per-bake state (read-only in the tasks). */
+/* Prepares the method's per-bake state (read-only in the tasks). */
 PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, const pvs__bake_method *row, const pvs_bake_desc *desc,
                                          pvs_error *err) {
     return row->prepare(&b->env, desc, &b->state[row->method], err);
 }
 
-/* The candidates of method k of a box: those of the box (adaptive sub-cells: the parent's PVS, or
-   NULL) and, from the second method on, only what the methods before it kept (AUTO runs the costliest,
-   SHRINK, last: it then tests only the objects the others could not cull). In *scratch when it must
-   be computed. */
+/* Candidates of the box's k-th method: its own (a sub-cell's parent PVS, or NULL), from the second method on narrowed
+   to what earlier ones kept (AUTO runs SHRINK last). In *scratch when computed. */
 PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const pvs_word *candidates,
                                             const pvs_word *each, pvs_word *scratch) {
     size_t w;
@@ -20755,7 +20554,7 @@ PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const
     return scratch;
 }
 
-/* One method's PVS of a box of a task into `bits` (cleared by the caller), the cell's flags updated. */
+/* One method's PVS of a task's box into `bits` (cleared by the caller); updates the cell's flags. */
 PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, const pvs__bake_method *row, uint32_t task, uint32_t cell,
                                              const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
                                              pvs_error *err) {
@@ -20791,7 +20590,6 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
     pvs__free(&a, b, sizeof(*b), 16);
 }
 
-/* Checks a cell box: finite, min <= max. */
 PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *err) {
     int k;
     for (k = 0; k < 3; ++k) {
@@ -20803,10 +20601,8 @@ PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *
     return PVS_OK;
 }
 
-/* The squared distance between two boxes exceeds d^2, with a margin: 1 only when every point of a
-   is certainly farther than d from every point of b. The per-axis gaps of float coordinates are
-   exact in double, the sum rounds by a few 1e-16 relative; the 1e-9 margin covers it, so a box at
-   distance d or a rounding hair beyond stays (conservative). */
+/* 1 only when all of a is surely farther than d from all of b: exact gaps in double, their sum within a few 1e-16
+   relative, under the 1e-9 margin; boxes at d or a hair beyond stay. */
 PVS__STATIC int pvs__box_beyond(const pvs_box *a, const pvs_box *b, float d) {
     double sum = 0.0;
     int k;
@@ -20819,8 +20615,7 @@ PVS__STATIC int pvs__box_beyond(const pvs_box *a, const pvs_box *b, float d) {
     return sum > (double)d * (double)d * (1.0 + 1e-9);
 }
 
-/* Checks a bake desc: the driver's parameters, then every method's (pvs__bake_method.check), then
-   the cells. *mask gets the methods AUTO considers. */
+/* Checks a bake desc: the driver's parameters, each method's, the cells. *mask: the methods AUTO considers. */
 PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask, pvs_error *err) {
     const pvs__bake_method *row;
     pvs_method method;
@@ -20877,7 +20672,6 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
     return PVS_OK;
 }
 
-/* The bake's arrays: per task its cell, PVS, flags and statistics; adaptive cells' counts. */
 PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, pvs_error *err) {
     const pvs_allocator *a = &b->env.allocator;
     size_t total, bytes, i;
@@ -20914,9 +20708,8 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
     return PVS_OK;
 }
 
-/* AUTO's policy: the candidates in `mask`, cheapest first (pvs__bake_method.cost_rank, then table
-   order); each is prepared, then kept if it can cull anything in this scene; PREVIEW stops at the
-   first kept. A method the scene does not support (UNSUPPORTED) is skipped with its reason. */
+/* AUTO: `mask`'s methods, cheapest first (cost_rank, table order), each prepared and kept if it can cull here; PREVIEW
+   stops at the first kept; UNSUPPORTED ones are skipped, with their reason. */
 PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, uint32_t mask, pvs_error *err) {
     int rank;
     uint32_t k;
@@ -21015,8 +20808,7 @@ PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *b, uint32_t task) {
 PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
 PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->env.eps; }
 
-/* The draw distance (max_distance, if any): objects farther than it from every point of the box
-   leave `bits` (box to box, rounded toward keeping: pvs__box_beyond). */
+/* The draw distance (pvs_bake_desc.max_distance), rounded toward keeping. */
 PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_word *bits) {
     uint32_t i;
     if (!(b->max_distance > 0.0f)) return;
@@ -21025,8 +20817,7 @@ PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_w
         if (pvs__box_beyond(box, b->env.scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
 }
 
-/* Every method the bake runs on one box of a task, intersected, within `candidates` when given,
-   and the draw distance applied: the PVS of an adaptive sub-cell. `each` holds run_count + 1 bitsets. */
+/* All methods on a box, intersected, within `candidates` if given, then the draw distance. `each`: run_count + 1. */
 PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box,
                                      const pvs_word *candidates, pvs_word *bits, pvs_word *each, pvs_error *err) {
     uint32_t k;
@@ -21042,7 +20833,7 @@ PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, 
     return PVS_OK;
 }
 
-/* Triangles of the objects in a PVS (the polygon budget of §6.1). */
+/* Triangles of a PVS's objects (the polygon budget of §6.1). */
 PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits) {
     uint64_t n = 0;
     uint32_t o;
@@ -21052,9 +20843,9 @@ PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits
     return n;
 }
 
-/* Adaptive subdivision (Durand 2000 §6.1) of a box whose PVS is work[depth]: a leaf when its PVS fits
-   the budget or a half would be shorter than min_size, else its two halves across the longest side,
-   baked from its PVS, low half first. work holds 48 bitsets, each run_count more. */
+/* Adaptive subdivision (Durand 2000 §6.1) of a box with PVS work[depth]: a leaf if the PVS fits the budget or a half
+   would be under min_size, else its halves across the longest side, low first, baked from its PVS. work: 48 bitsets;
+   each: run_count + 1. */
 PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, float min_size,
                                        pvs_word *work, pvs_word *each, uint32_t depth, pvs_error *err) {
     pvs__bakeleaves *L = b->leaves + task;
@@ -21101,7 +20892,7 @@ PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell
     return PVS_OK;
 }
 
-/* Adaptive cells of a task whose whole cell's PVS is done: its leaves, from scratch. */
+/* A done task's adaptive leaves, from scratch. */
 PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell, pvs_error *err) {
     const pvs_box *c = b->cells + task;
     float min_size = b->adaptive_min_size, longest = 0.0f;
@@ -21140,8 +20931,7 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
         sole[0] = own[0] < b->drawable ? b->drawable - own[0] : 0; /* occluder-only objects are never in a PVS */
         pvs__bake_distance(b, b->cells + task, bits);
     } else {
-        /* AUTO: each method's PVS, then their intersection (pvs__bake_box); a method's contribution
-           is what it alone leaves out */
+        /* AUTO: a method's contribution is what it alone leaves out of the intersection */
         each = (pvs_word *)pvs__alloc_array(&b->env.allocator, (size_t)(n + 1) * b->words, sizeof(pvs_word));
         if (!each) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u: auto scratch", cell);
         r = pvs__bake_box(b, task, cell, b->cells + task, NULL, bits, each, err);
@@ -21178,7 +20968,7 @@ PVS_API void pvs_bake_get_report(const pvs_bake *b, pvs_bake_report *r) {
         if (!b->done[i] || b->restored[i]) continue;
         ++r->cells;
         r->cells_all_visible += (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE) != 0;
-        /* AUTO: a method without occluders for the cell (otree, shrink) says nothing when another culled */
+        /* AUTO: no occluders for a method (otree, shrink) means nothing when another culled */
         r->cells_no_occluders += (b->cell_flags[i] & PVS__BAKE_NO_OCCLUDERS) &&
             (b->run_count == 1 || (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE));
         r->cells_otree_budget += (b->cell_flags[i] & PVS__BAKE_OTREE_BUDGET) != 0;
@@ -21206,11 +20996,11 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_w
     if (word_count < b->words)
         return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, task, 0, "restore: %zu words < %zu", word_count, b->words);
     if ((b->run[0]->traits & PVS__METHOD_WHOLE_CELLS) &&
-        b->method != PVS_METHOD_AUTO) /* its file stores more than the PVS */
+        b->method != PVS_METHOD_AUTO) /* its file stores more than PVSs */
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0,
                          "restore: a %s bake cannot resume from PVSs: run task %u again", pvs_method_name(b->method),
                          task);
-    if (b->adaptive_budget) /* the file stores the cell's leaves, which its PVS does not carry */
+    if (b->adaptive_budget) /* the file stores the leaves, which the cell's PVS does not carry */
         return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0,
                          "restore: an adaptive bake cannot resume from PVSs: run task %u again", task);
     if ((b->object_count & 63u) && (bits[b->words - 1] >> (b->object_count & 63u)))
@@ -21240,7 +21030,7 @@ PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *b, uint32_t i, pvs_b
     if (!info->ran) return PVS_OK;
     for (k = 0; k < b->run_count; ++k)
         if (b->run[k] == b->considered[i]) slot = k;
-    info->kept_only = slot > 0 && (b->run[slot]->traits & PVS__METHOD_SETS_OTHERS); /* pvs__bake_prior */
+    info->kept_only = slot > 0 && (b->run[slot]->traits & PVS__METHOD_SETS_OTHERS);
     for (t = 0; t < b->cell_count; ++t) {
         const uint32_t *own = b->stats + (size_t)t * 2 * PVS_METHOD_COUNT;
         if (!b->done[t] || b->restored[t]) continue;
@@ -21287,8 +21077,7 @@ PVS__STATIC int pvs__bake_all_done(const pvs_bake *b) {
     return 1;
 }
 
-/* Adaptive cells: the leaves of every task in task order, gathered into one table for the encoder
-   (freed by the caller with the sizes returned). */
+/* All tasks' adaptive leaves in task order, as one table (the caller frees it with the sizes returned). */
 PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cells, pvs_word **pvs, size_t *count) {
     size_t n = 0, k = 0, bytes;
     uint32_t i;
@@ -21310,7 +21099,7 @@ PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cell
     return PVS_OK;
 }
 
-/* Encodes the bake (measure only when out is NULL). */
+/* Encodes the bake (measures only when out is NULL). */
 PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t capacity, size_t *out_size,
                                         pvs_error *err) {
     pvs_file_desc fd;
@@ -21352,10 +21141,8 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 }
 
 // >>format
-/* ---------------------------------------------------------------------------------------------- */
-/* format: the .pvs file (layout in the manual at the top): delta-PVS encoder (Durand et al. 2000,  */
-/* §6.2), set codings, validating zero-copy reader                                                */
-/* ---------------------------------------------------------------------------------------------- */
+/* ==== format: the .pvs file (layout: the manual): delta-PVS encoder (Durand et al. 2000, §6.2), set codings,
+   validating zero-copy reader ==== */
 
 #define PVS__HEADER_SIZE 32u
 #define PVS__SECTION_ENTRY 16u
@@ -21365,8 +21152,8 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__TREE_HEAD 8u
 #define PVS__TREE_MAX_DEPTH 24u        /* deepest look-up tree a reader accepts */
 #define PVS__SHRD_SIZE 16u
-#define PVS__BLOCK 16u                  /* records per block of the RECS offset table */
-#define PVS__CANDIDATES 8u              /* base candidates per cell: nearest cells by the sweep */
+#define PVS__BLOCK 16u                  /* records per RECS offset block */
+#define PVS__CANDIDATES 8u              /* base candidates per cell: the nearest by the sweep */
 #define PVS__TREE_LEAF 4u               /* most cells per look-up leaf */
 #define PVS__RICE_MAX_K 24u
 #define PVS__TAG(a, b, c, d) ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))
@@ -21392,7 +21179,7 @@ PVS__STATIC size_t pvs__put_varint(uint8_t *p, uint32_t v) {
 PVS__STATIC size_t pvs__varint_size(uint32_t v) {
     return v < (1u << 7) ? 1 : v < (1u << 14) ? 2 : v < (1u << 21) ? 3 : v < (1u << 28) ? 4 : 5;
 }
-/* Reads a varint from p[0..end); returns bytes used, 0 if malformed (overlong, > 32 bits, cut off). */
+/* Reads a varint from p[0..end): bytes used, 0 if overlong, over 32 bits or cut off. */
 PVS__STATIC size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_t *v) {
     uint32_t r = 0;
     size_t n;
@@ -21403,18 +21190,18 @@ PVS__STATIC size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_
         if (n == 4 && c > 0x0fu) return 0;
         r |= (uint32_t)(c & 0x7fu) << (7 * n);
         if (!(c & 0x80u)) {
-            if (n > 0 && c == 0) return 0; /* overlong: one canonical encoding per value */
+            if (n > 0 && c == 0) return 0; /* overlong: one encoding per value */
             *v = r;
             return n + 1;
         }
     }
     return 0;
 }
-/* A varint known to be well formed (validated by pvs_file_open). */
+/* A varint validated by pvs_file_open. */
 PVS__STATIC const uint8_t *pvs__skip_varint(const uint8_t *p, uint32_t *v) {
     uint32_t r = 0;
     int s = 0;
-    if (p[0] < 0x80u) { /* the common short forms first */
+    if (p[0] < 0x80u) {
         *v = p[0];
         return p + 1;
     }
@@ -21430,8 +21217,7 @@ PVS__STATIC const uint8_t *pvs__skip_varint(const uint8_t *p, uint32_t *v) {
     return p;
 }
 
-/* Bit fields, least significant bit first. w <= 32; the reader touches only the bytes that hold
-   bits [pos, pos + w). */
+/* Bit fields, LSB first, w <= 32; the reader touches only bytes holding bits [pos, pos + w). */
 PVS__STATIC void pvs__put_bits(uint8_t *s, uint64_t pos, uint32_t v, uint32_t w) {
     uint32_t i;
     for (i = 0; i < w; ++i)
@@ -21452,12 +21238,12 @@ PVS__STATIC uint32_t pvs__bits_for(uint32_t max_value) { /* bits to hold 0..max_
     return w;
 }
 
-PVS__STATIC uint64_t pvs__load64(const uint8_t *s) { /* little-endian; compilers make it one load */
+PVS__STATIC uint64_t pvs__load64(const uint8_t *s) { /* little-endian; one load once compiled */
     return (uint64_t)s[0] | (uint64_t)s[1] << 8 | (uint64_t)s[2] << 16 | (uint64_t)s[3] << 24 | (uint64_t)s[4] << 32 |
            (uint64_t)s[5] << 40 | (uint64_t)s[6] << 48 | (uint64_t)s[7] << 56;
 }
 
-/* Bits [bit, bit + 56) of a stream of nbits bits (zeros past its end), least significant first. */
+/* Bits [bit, bit + 56) of an nbits-bit stream, LSB first, zeros past its end. */
 PVS__STATIC uint64_t pvs__peek56(const uint8_t *s, uint64_t nbits, uint64_t bit) {
     size_t at = (size_t)(bit >> 3), n = (size_t)((nbits + 7) >> 3), i;
     uint64_t v = 0;
@@ -21469,7 +21255,7 @@ PVS__STATIC uint64_t pvs__peek56(const uint8_t *s, uint64_t nbits, uint64_t bit)
     return (v >> (bit & 7u)) & (((uint64_t)1 << 56) - 1u);
 }
 
-/* The first clear bit at or after `from`, or bit_count. */
+/* First clear bit at or after `from`, else bit_count. */
 PVS__STATIC uint32_t pvs__bitset_next_clear(const pvs_word *bits, uint32_t bit_count, uint32_t from) {
     uint32_t w;
     pvs_word x;
@@ -21486,10 +21272,8 @@ PVS__STATIC uint32_t pvs__bitset_next_clear(const pvs_word *bits, uint32_t bit_c
 
 /* ---- set codings ---- */
 
-/* A set of ids in [0, n) is coded four ways (the manual gives the bytes); the encoder keeps the
-   smallest, ties to the lowest coding. Rice codes (Golomb codes with a power-of-two divisor) suit the
-   geometric gaps of sparse random sets; run lengths suit the contiguous id ranges that spatially
-   ordered objects give; the raw bitset caps the worst case at n / 8 bytes. */
+/* Four codings (bytes: the manual): Rice codes (Golomb codes, power-of-two divisor) suit sparse random sets, runs the
+   ranges of spatially ordered objects; the bitset caps the worst case at n / 8 bytes. */
 typedef struct pvs__coded {
     uint32_t coding, rice_k;
     size_t bytes;              /* body size */
@@ -21501,16 +21285,15 @@ PVS__STATIC pvs__coded pvs__set_measure(const pvs_word *bits, uint32_t n) {
     uint32_t count = 0, pairs = 0, k, pos = 0;
     pvs__coded best;
     memset(shifted, 0, sizeof(shifted));
-    /* run by run: a run of L ids after z absent ones has the gaps z, 0, ..., 0, so the sizes of all
-       four codings are sums over runs, not ids (a set of 200,000 contiguous ids is one run) */
-    while (pos < n) { /* (zeros, ones) pairs */
+    /* a run of L ids after z absent ones gives gaps z, 0, ..., 0: sizes are sums over runs, not ids */
+    while (pos < n) {
         uint32_t one = pvs_bitset_next(bits, n, pos), zero, z, len;
         if (one >= n) break;
         zero = pvs__bitset_next_clear(bits, n, one);
         z = one - pos;
         len = zero - one;
         runs += pvs__varint_size(z) + pvs__varint_size(len - 1);
-        gaps += pvs__varint_size(z) + (len - 1); /* a gap of 0 takes one byte */
+        gaps += pvs__varint_size(z) + (len - 1); /* a gap of 0 takes a byte */
         for (k = 0; k <= PVS__RICE_MAX_K; ++k) shifted[k] += z >> k;
         count += len;
         ++pairs;
@@ -21597,16 +21380,14 @@ PVS__STATIC void pvs__set_write(const pvs_word *bits, uint32_t n, const pvs__cod
 enum { PVS__SET_CHECK = 0, PVS__SET_ADD = 1, PVS__SET_REMOVE_RANKS = 2 };
 typedef struct pvs__sink {
     int action;
-    pvs_word *bits;            /* the PVS being built (not for CHECK) */
+    pvs_word *bits;            /* the PVS being built (not CHECK) */
     uint32_t words;
     pvs_change_fn fn;          /* optional change reports */
     void *user;
-    uint32_t w, before, removed; /* REMOVE_RANKS: scan position, set bits before word w, ranks removed */
+    uint32_t w, before, removed; /* REMOVE_RANKS: scan word, set bits before it, ranks removed */
 } pvs__sink;
 
-/* Adds id, or removes the set bit of rank id in the PVS as it was before this set (ranks ascend). */
-/* Removes `count` consecutive ranks starting at rank `first` (of the PVS before this set), word by
-   word: work in words plus bits actually removed, whatever the run's length. */
+/* Removes `count` consecutive ranks from `first` (before this set) word by word: cost in words plus bits removed. */
 PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t count) {
     uint32_t target = first - s->removed;
     while (s->w < s->words && s->before + pvs__popcount64(s->bits[s->w]) <= target)
@@ -21614,9 +21395,9 @@ PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t cou
     while (count && s->w < s->words) {
         pvs_word x = s->bits[s->w], take;
         uint32_t skip = target - s->before, k;
-        for (k = 0; k < skip; ++k) x &= x - 1u; /* the set bits from the target on */
+        for (k = 0; k < skip; ++k) x &= x - 1u; /* set bits from the target on */
         take = x;
-        if (pvs__popcount64(take) > count) { /* only the lowest `count` of them */
+        if (pvs__popcount64(take) > count) { /* only the lowest `count` */
             pvs_word keep = take;
             uint64_t c;
             for (c = 0; c < count; ++c) keep &= keep - 1u;
@@ -21633,7 +21414,7 @@ PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t cou
         s->bits[s->w] &= ~take;
         s->removed += k;
         count -= k;
-        if (count) { /* the run goes on in the next words: nothing before them is left to skip */
+        if (count) { /* the run goes on: nothing before the next words is left to skip */
             s->before += pvs__popcount64(s->bits[s->w]);
             ++s->w;
             target = s->before;
@@ -21641,6 +21422,7 @@ PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t cou
     }
 }
 
+/* Adds id, or removes the set bit of rank id in the PVS as it was before this set (ranks ascend). */
 PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
     if (s->action == PVS__SET_ADD) {
         pvs_word m = (pvs_word)1 << (id & 63);
@@ -21653,7 +21435,7 @@ PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
         pvs_word x;
         while (s->w < s->words && s->before + pvs__popcount64(s->bits[s->w]) <= target)
             s->before += pvs__popcount64(s->bits[s->w++]);
-        if (s->w == s->words) return; /* only in a damaged file: no such rank */
+        if (s->w == s->words) return; /* damaged file: no such rank */
         x = s->bits[s->w];
         for (k = target - s->before; k; --k) x &= x - 1u;
         k = pvs__ctz64(x);
@@ -21663,11 +21445,10 @@ PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
     }
 }
 
-/* The decoders of pvs__set_apply, one per coding (the file format's RECS table: 0 gaps, 1 runs,
-   2 Rice codes, 3 bitmap). Each has pvs__set_apply's contract for the body at p; on a bad byte it
-   sets *bad_at and returns the error. */
+/* pvs__set_apply's decoders, one per coding (bytes: the manual's RECS), with its contract; on a bad byte they set
+   *bad_at and return the error. */
 
-/* Coding 0: varint count, then count varints: the first id, then the gaps minus one. */
+/* Coding 0: gap varints. */
 PVS__STATIC pvs_result pvs__set_gaps(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
                                      size_t *bad_at) {
     const uint8_t *q = p;
@@ -21684,7 +21465,7 @@ PVS__STATIC pvs_result pvs__set_gaps(const uint8_t *p, const uint8_t *end, uint3
         if (!used) goto bad;
         id = k ? id + 1u + g : g;
         if (id >= n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-        if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63); /* the decode's hot path */
+        if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63);
         else if (act) pvs__sink_id(s, (uint32_t)id);
         q += used;
     }
@@ -21695,8 +21476,7 @@ bad:
     return PVS_ERROR_BAD_RECORD;
 }
 
-/* Coding 1: varint pairs, then per pair varint zeros, varint ones - 1: alternating runs from id 0
-   (zero runs after the first are >= 1). */
+/* Coding 1: run lengths. */
 PVS__STATIC pvs_result pvs__set_runs(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
                                      size_t *bad_at) {
     const uint8_t *q = p;
@@ -21718,7 +21498,7 @@ PVS__STATIC pvs_result pvs__set_runs(const uint8_t *p, const uint8_t *end, uint3
         if (pos + z + o + 1u > n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
         q += used;
         pos += z;
-        if (act == PVS__SET_ADD && !s->fn) { /* whole words at a time */
+        if (act == PVS__SET_ADD && !s->fn) { /* whole words */
             uint64_t e = pos + o + 1u;
             while (pos < e && (pos & 63)) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
             while (pos + 64 <= e) { s->bits[pos >> 6] = ~(pvs_word)0; pos += 64; }
@@ -21727,7 +21507,7 @@ PVS__STATIC pvs_result pvs__set_runs(const uint8_t *p, const uint8_t *end, uint3
             pvs__sink_remove_run(s, (uint32_t)pos, (uint64_t)o + 1u);
             pos += (uint64_t)o + 1u;
         } else {
-            if (act) /* validation must stay linear in the record's bytes */
+            if (act) /* keeps validation linear in the record's bytes */
                 for (i = 0; i <= o; ++i) pvs__sink_id(s, (uint32_t)(pos + i));
             pos += (uint64_t)o + 1u;
         }
@@ -21739,9 +21519,7 @@ bad:
     return PVS_ERROR_BAD_RECORD;
 }
 
-/* Coding 2, Rice codes (Golomb 1966, Rice 1979): u8 k, varint count, then count codes, least
-   significant bit first: gap >> k in unary, then the k low bits of the gap; the codes end at a
-   byte boundary, the unused high bits are zero. */
+/* Coding 2: Rice codes (Golomb 1966, Rice 1979). */
 PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
                                      size_t *bad_at) {
     const uint8_t *q = p;
@@ -21760,7 +21538,7 @@ PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint3
     for (c = 0; c < count; ++c) {
         uint64_t quot = 0, g, w = pvs__peek56(q, nbits, bit);
         uint32_t ones;
-        if (~w & (((uint64_t)1 << 56) - 1u)) { /* the quotient's terminating zero is in the window */
+        if (~w & (((uint64_t)1 << 56) - 1u)) { /* the unary run ends in the window */
             ones = pvs__ctz64(~w);
             quot = ones;
             if (bit + ones + 1u + k > nbits) goto bad;
@@ -21769,7 +21547,7 @@ PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint3
                                      : pvs__get_bits(q, bit + ones + 1u, k);
             bit += ones + 1u + k;
         } else {
-            for (;;) { /* a long unary run: bit by bit */
+            for (;;) { /* long unary run: bit by bit */
                 uint32_t b1;
                 if (bit >= nbits) goto bad;
                 b1 = (q[bit >> 3] >> (bit & 7u)) & 1u;
@@ -21787,10 +21565,10 @@ PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint3
         g |= quot << k;
         id = c ? id + 1u + g : g;
         if (id >= n) { *bad_at = (size_t)(q - p) + (size_t)(bit >> 3); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
-        if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63); /* the decode's hot path */
+        if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63);
         else if (act) pvs__sink_id(s, (uint32_t)id);
     }
-    /* the codes fill whole bytes; the unused high bits of the last one are zero */
+    /* unused high bits of the last byte are zero */
     bytes = (bit + 7) / 8;
     if ((bit & 7u) && (q[bit >> 3] >> (bit & 7u))) { q += (size_t)(bit >> 3); goto bad; }
     q += (size_t)bytes;
@@ -21801,7 +21579,7 @@ bad:
     return PVS_ERROR_BAD_RECORD;
 }
 
-/* Coding 3: a raw bitset of ceil(n / 8) bytes, bit i of byte j = id 8j + i; bits past n are zero. */
+/* Coding 3: raw bitset. */
 PVS__STATIC pvs_result pvs__set_bitmap(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
                                        size_t *bad_at) {
     size_t nb = ((size_t)n + 7) / 8, i;
@@ -21824,9 +21602,8 @@ PVS__STATIC pvs_result pvs__set_bitmap(const uint8_t *p, const uint8_t *end, uin
     return PVS_OK;
 }
 
-/* Decodes one coded set of ids in [0, n) that starts at p (bytes up to end are available) and feeds
-   its ids, ascending, to the sink. *used receives the body's size: every coding is self-delimiting.
-   Returns PVS_OK, or BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at = the offending byte's offset. */
+/* Decodes the set of ids in [0, n) coded at p (readable to end) into the sink, ascending; *used: its size. PVS_OK, or
+   BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at the offending offset. */
 PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint32_t coding, uint32_t n, pvs__sink *s,
                                       size_t *used_out, size_t *bad_at) {
     switch (coding) {
@@ -21841,7 +21618,7 @@ PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint
 /* ---- encoder ---- */
 
 typedef struct pvs__heapent {
-    uint32_t weight, node, from; /* from: the base cell + 1, 0 for the virtual root (a key cell) */
+    uint32_t weight, node, from; /* from: base cell + 1; 0: the virtual root (a key) */
 } pvs__heapent;
 
 PVS__STATIC int pvs__heap_less(const pvs__heapent *a, const pvs__heapent *b) {
@@ -21891,14 +21668,8 @@ PVS__STATIC uint32_t pvs__value_index(const float *t, uint32_t n, float v) {
 
 /* ---- the stored cell look-up tree ---- */
 
-/* The file's look-up tree is a complete binary kD-tree of depth D over the cells, stored implicitly
-   (children of node k are 2k + 1 and 2k + 2, as in a binary heap) so that a look-up reads no
-   pointers: one split per level, then one leaf's cell list. Splits are cell coordinates (indices
-   into the CELL tables) and the split rule never copies touching neighbours: p < split goes left,
-   p > split right, p == split both ways; left holds the cells with min < split or max <= split, right
-   those with max > split. Each node splits at the median cell edge of the axis that halves its cells
-   best; a node no split can divide passes all its cells to the left. D is the smallest depth giving
-   leaves of about PVS__TREE_LEAF cells. */
+/* The file's look-up tree (the manual's TREE), implicit so a look-up reads one split per level, then one leaf; its
+   split rule never copies touching neighbours. */
 typedef struct pvs__tbuild {
     const pvs_allocator *a;
     const pvs_box *boxes;
@@ -21917,7 +21688,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
     pvs_result r = PVS_OK;
     uint32_t i, best_axis = 3, best_score = n, axis;
     float best_v = 0.0f;
-    if (level == b->depth) { /* leaf */
+    if (level == b->depth) {
         b->items = (uint8_t *)pvs__grow_array(b->a, b->items, &b->item_capacity, b->item_bytes,
                                               b->item_bytes + 5 * (size_t)n, 1, &r);
         if (!b->items) return r;
@@ -21927,10 +21698,9 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
         return PVS_OK;
     }
     if (n > 1) {
-        /* every cell edge is a candidate: with the sorted mins and maxes, the cells going left (min <
-           v; flat cells at v aside) and right (max > v) are counted by binary search; the candidate
-           with the smaller larger side wins, ties to the first. Crossing cells (long rows over long
-           columns) thus still split, where a median alone would not. */
+        /* each cell edge is a candidate: binary search on sorted mins and maxes counts cells going left (min < v, flat
+           cells at v aside) and right (max > v); the smaller larger side wins, first on ties. Unlike a median, this
+           splits crossing cells. */
         float *mins = b->keys, *maxs = b->keys + n;
         for (axis = 0; axis < 3; ++axis) {
             int side;
@@ -22041,11 +21811,11 @@ typedef struct pvs__encoder {
     const pvs_file_desc *d;
     uint32_t n, cells;
     size_t words;
-    pvs_box *boxes;            /* the cells with -0 replaced by +0 (what the file stores) */
+    pvs_box *boxes;            /* the cells as stored (-0 as +0) */
     float *values[3];
     uint32_t value_count[3], index_bits[6]; /* widths: min indices, then extents */
     pvs_kdtree *tree;          /* over the cells: base candidates */
-    uint8_t *tree_stream;      /* the TREE section's nodes */
+    uint8_t *tree_stream;      /* TREE nodes */
     size_t tree_bytes;
     uint32_t tree_depth;
     void *sweep;
@@ -22056,7 +21826,7 @@ typedef struct pvs__encoder {
     uint32_t *adj;             /* (neighbour, weight) pairs */
     pvs__heapent *heap;
     size_t heap_capacity;
-    uint32_t *base, *depth;    /* base = PVS_NO_CELL for keys */
+    uint32_t *base, *depth;    /* PVS_NO_CELL for keys */
     unsigned char *placed;
     pvs_word *tmp, *ranks;
     uint8_t *recs;
@@ -22083,11 +21853,9 @@ PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
     pvs__free_array(a, e->recs, e->recs_capacity, 1);
 }
 
-/* tmp = cell i's set (masked to n bits), XOR base j's when j != PVS_NO_CELL. */
-/* The sets of cell i's record against base j (PVS_NO_CELL: a key): e->tmp = the ids to add (all of
-   the PVS for a key); for a delta e->ranks = the ids to remove, as ranks in the base's PVS (Durand et
-   al. 2000, §6.2: a delta is the objects added and removed; removed ones are cheaper to name by
-   their position among the base's few visible objects). Returns the base's PVS size. */
+/* Cell i's record sets against base j (PVS_NO_CELL: a key): e->tmp = ids added (a key: the whole PVS); a delta's
+   e->ranks = ids removed, as ranks in the base's PVS (Durand et al. 2000, §6.2; ranks among the base's few visible
+   objects are cheaper). Returns the base's PVS size. */
 PVS__STATIC uint32_t pvs__encoder_sets(pvs__encoder *e, uint32_t i, uint32_t j) {
     const pvs_word *x = e->d->pvs + (size_t)i * e->words;
     pvs_word last = (e->n & 63) ? ((pvs_word)1 << (e->n & 63)) - 1u : ~(pvs_word)0;
@@ -22112,7 +21880,7 @@ PVS__STATIC uint32_t pvs__encoder_sets(pvs__encoder *e, uint32_t i, uint32_t j) 
     e->tmp[e->words - 1] &= last;
     return m;
 }
-/* The record's size of cell i against base j. */
+/* Record size of cell i against base j. */
 PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) {
     size_t b;
     uint32_t m = pvs__encoder_sets(e, i, j);
@@ -22121,12 +21889,10 @@ PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) 
     return b > 0xffffffffu ? 0xffffffffu : (uint32_t)b;
 }
 
-/* Bases: candidate edges from each cell to its nearest cells (the kD-tree sweep); a virtual root
-   joined to every cell by its key size; then Prim's minimum spanning tree from the root, each edge
-   weighed when it is reached by the coded size of the delta in that direction, and taken only while
-   the chain stays within K deltas (a greedy depth-bounded minimum arborescence). A cell whose
-   cheapest admissible link is the root becomes a key: "key cells where a delta does not pay". Ties
-   break by (weight, cell, base), so the result is a function of the table alone. */
+/* Bases: edges from each cell to its nearest cells (kD-tree sweep), a virtual root joined to all at their key size;
+   Prim's tree from the root, an edge weighed on reach by the delta's coded size that way and taken only while its chain
+   stays within K (a greedy depth-bounded minimum arborescence); cells linked to the root are keys. Ties break by
+   (weight, cell, base): deterministic. */
 PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
     const pvs_allocator *a = &e->a;
     uint32_t i, c;
@@ -22156,7 +21922,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
             ed->weight = 0;
         }
     }
-    /* unique undirected edges, weighted */
+    /* unique undirected edges */
     PVS_QSORT(e->edges, e->edge_count, sizeof(pvs__link), pvs__edge_cmp);
     for (k = 0, m = 0; k < e->edge_count; ++k)
         if (!m || e->edges[k].a != e->edges[m - 1].a || e->edges[k].b != e->edges[m - 1].b) e->edges[m++] = e->edges[k];
@@ -22168,7 +21934,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
     }
     for (i = 0; i < e->cells; ++i) e->adj_start[i + 1] += e->adj_start[i];
     {
-        /* fill: a second cursor per cell in depth[] (reused as scratch before Prim) */
+        /* second cursor per cell in depth[] (scratch until Prim) */
         for (i = 0; i < e->cells; ++i) e->depth[i] = e->adj_start[i];
         for (k = 0; k < m; ++k) {
             uint32_t x = e->edges[k].a, y = e->edges[k].b, w = e->edges[k].weight;
@@ -22195,7 +21961,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
         pvs__heapent h = pvs__heap_pop(e->heap, &heap_n);
         uint32_t v = h.node, j;
         if (e->placed[v]) continue;
-        if (h.from && e->depth[h.from - 1] >= max_chain) continue; /* the chain would grow past K */
+        if (h.from && e->depth[h.from - 1] >= max_chain) continue; /* the chain would exceed K */
         e->placed[v] = 1;
         e->base[v] = h.from ? h.from - 1 : PVS_NO_CELL;
         e->depth[v] = h.from ? e->depth[h.from - 1] + 1 : 0;
@@ -22213,7 +21979,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
     return PVS_OK;
 }
 
-/* Writes the RECS section body into e->recs (or measures it when e->recs is NULL). */
+/* Writes the RECS body to `out`, or measures it when out is NULL. */
 PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
     uint32_t blocks = (e->cells + PVS__BLOCK - 1) / PVS__BLOCK, i;
     size_t pos = 4 * ((size_t)blocks + 1);
@@ -22250,8 +22016,7 @@ PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
     return pos;
 }
 
-/* pvs_file_encode's checks of the description, each with its error; *max_chain receives the chain
-   bound K, *vocc_size the VOCC section's size (0 without one). */
+/* pvs_file_encode's checks, each with its error; *max_chain: K; *vocc_size: the VOCC section's size (0: none). */
 PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_chain, size_t *vocc_size,
                                          pvs_error *err) {
     pvs_result r;
@@ -22290,9 +22055,8 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
     return PVS_OK;
 }
 
-/* CELL: the cells as stored (e->boxes, -0 replaced by +0), per axis the table of their distinct
-   coordinates (e->values) and the bit widths of the packed min indices and extents; *cell_bytes
-   receives the section's size. */
+/* CELL: stored cells (-0 as +0), per axis the sorted distinct coordinates (e->values), packed field widths;
+   *cell_bytes: its size. */
 PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_bytes, pvs_error *err) {
     const pvs_file_desc *d = e->d;
     size_t index_bits_total;
@@ -22332,9 +22096,7 @@ PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_by
     return PVS_OK;
 }
 
-/* The library's kD-tree over the cells (e->tree), which finds the base candidates (touching cells
-   first); when big overlapping cells would be copied into too many leaves, a tree over the cells'
-   centres instead. (TREE is the compact look-up tree: pvs__encoder_lookup_tree.) */
+/* kD-tree over the cells for base candidates; over centres if big overlapping cells would fill too many leaves. */
 PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
     pvs_kdtree_desc td;
     pvs_result r = PVS_OK;
@@ -22343,13 +22105,13 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
     td.boxes = e->boxes;
     td.count = e->cells;
     td.allocator = e->a;
-    { /* cells more than 16 times the lower-quartile extent on some axis cross many split planes */
+    { /* cells over 16 times the lower-quartile extent on an axis cross many split planes */
         float *ext = (float *)pvs__alloc_array(&e->a, e->cells, sizeof(float)), med[3];
         if (!ext) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell extents");
         for (k = 0; k < 3; ++k) {
             for (i = 0; i < e->cells; ++i) ext[i] = e->boxes[i].max[k] - e->boxes[i].min[k];
             PVS_QSORT(ext, e->cells, sizeof(float), pvs__float_cmp);
-            med[k] = ext[e->cells / 4]; /* the lower quartile: half the cells may be long */
+            med[k] = ext[e->cells / 4]; /* lower quartile: half the cells may be long */
         }
         for (i = 0; i < e->cells; ++i)
             for (k = 0; k < 3; ++k)
@@ -22376,9 +22138,7 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
     return r;
 }
 
-/* TREE: the compact look-up tree (pvs__tree_node) of depth D, the smallest giving leaves of about
-   PVS__TREE_LEAF cells, laid out in e->tree_stream: split values, then leaf offsets, then axes, then
-   the leaves' items. */
+/* TREE: D is the smallest depth giving leaves of about PVS__TREE_LEAF cells. */
 PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err) {
     pvs__tbuild tb;
     pvs_result r;
@@ -22408,8 +22168,7 @@ PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err)
         if (!t) {
             r = PVS_ERROR_OUT_OF_MEMORY;
         } else {
-            /* split values, then leaf offsets, then axes; a node that passes everything left is
-               axis 0 at FLT_MAX (no finite point lies beyond it) */
+            /* splits, leaf offsets, axes; a node passing all left is axis 0 at FLT_MAX */
             for (i = 0; i + 1 < leaves; ++i, t += 4)
                 pvs__putf32(t, (tb.nodes[i] & 3u) == 3u ? FLT_MAX : tb.values[tb.nodes[i] & 3u][tb.nodes[i] >> 2]);
             for (i = 0; i <= leaves; ++i, t += 4) pvs__put32(t, tb.leaf_start[i]);
@@ -22426,8 +22185,7 @@ PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err)
     return PVS_OK;
 }
 
-/* Writes the CELL section at c: the coordinate counts and the widths, the coordinate tables, then
-   per cell its min indices and its extents, bit-packed. */
+/* Writes CELL at c (layout: the manual). */
 PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
     uint8_t *v, *bits;
     uint64_t pos = 0;
@@ -22453,8 +22211,7 @@ PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
     }
 }
 
-/* Writes the header and the section table of a file of `total` bytes whose sections (tags[k] at
-   at[k], sz[k] bytes) are written: each section's CRC-32, then the header's. */
+/* Header and section table for `total` bytes of written sections: section CRC-32s, then the header's. */
 PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t flags, uint32_t sections,
                                            const uint32_t *tags, const size_t *at, const size_t *sz) {
     uint32_t k, crc;
@@ -22493,16 +22250,13 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
     e.cells = d->cell_count;
     e.words = PVS_BITSET_WORDS(d->object_count);
 
-    /* CELL: per-axis tables of the distinct coordinates (-0 stored as +0), bit-packed indices */
     r = pvs__encoder_cell_tables(&e, &cell_bytes, err);
     if (r != PVS_OK) goto done;
-    /* the library's kD-tree over the cells finds base candidates; TREE is the compact look-up tree */
     r = pvs__encoder_kdtree(&e, err);
     if (r != PVS_OK) goto done;
     r = pvs__encoder_lookup_tree(&e, err);
     if (r != PVS_OK) goto done;
 
-    /* RECS */
     e.tmp = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
     e.ranks = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
     if (!e.tmp || !e.ranks) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "encoder bitset"); goto done; }
@@ -22511,14 +22265,14 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
     for (i = 0; i < e.cells; ++i) keys += e.base[i] == PVS_NO_CELL;
     recs_size = pvs__encoder_records(&e, NULL);
 
-    /* layout: header, table, META, CELL, TREE, RECS, [SHRD], [VOCC], each 8-aligned */
+    /* sections in the manual's order, each 8-aligned */
     sections = d->shard_count ? 5u : 4u;
     tags[0] = PVS__TAG_META; sz[0] = PVS__META_SIZE;
     tags[1] = PVS__TAG_CELL; sz[1] = cell_bytes;
     tags[2] = PVS__TAG_TREE; sz[2] = PVS__TREE_HEAD + e.tree_bytes;
     tags[3] = PVS__TAG_RECS; sz[3] = recs_size;
     tags[4] = PVS__TAG_SHRD; sz[4] = PVS__SHRD_SIZE;
-    if (d->vocc_counts) { /* then VOCC */
+    if (d->vocc_counts) {
         tags[sections] = PVS__VO_TAG;
         sz[sections++] = vocc_size;
     }
@@ -22532,7 +22286,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         goto done;
     }
     if (out_size) *out_size = total;
-    if (!o) { /* a size query */
+    if (!o) { /* size query */
         pvs__ok(err);
         goto done;
     }
@@ -22542,7 +22296,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         goto done;
     }
     memset(o, 0, total);
-    { /* META */
+    {
         uint8_t *m = o + at[0];
         pvs__put32(m + 0, e.cells);
         pvs__put32(m + 4, e.n);
@@ -22553,7 +22307,6 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         pvs__put32(m + 24, keys);
     }
     pvs__encoder_write_cells(&e, o + at[1]);
-    /* TREE */
     pvs__put32(o + at[2], e.tree_depth);
     memcpy(o + at[2] + PVS__TREE_HEAD, e.tree_stream, e.tree_bytes);
     (void)pvs__encoder_records(&e, o + at[3]);
@@ -22567,7 +22320,6 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
         pvs__vo_section_write(o + at[sections - 1], (d->vocc_flags & PVS_VOCC_ONLY) ? 1u : 0u, d->vocc_base,
                               d->vocc_height_step, d->cell_count, d->vocc_counts, d->vocc_scales, d->virtual_occluders,
                               d->vocc_stride);
-    /* header and section table */
     pvs__encoder_write_header(o, total, d->flags, sections, tags, at, sz);
     pvs__ok(err);
 done:
@@ -22577,9 +22329,9 @@ done:
 
 /* ---- reader ---- */
 
-/* A record located by the reader. Only for files that passed pvs_file_open. */
+/* A record located by the reader (files that passed pvs_file_open only). */
 typedef struct pvs__rec {
-    const uint8_t *start, *body, *end; /* body: the removed ranks of a delta, else the added ids */
+    const uint8_t *start, *body, *end; /* body: a delta's removed ranks, else the added ids */
     uint32_t coding, depth, base;      /* coding of the added ids */
     uint32_t removed_coding, base_size;
 } pvs__rec;
@@ -22608,9 +22360,8 @@ PVS__STATIC void pvs__record_at(const pvs_file *f, uint32_t cell, pvs__rec *r) {
     r->body = p;
 }
 
-/* Applies a record to bits: a key's ids are added (bits start empty); a delta first removes its
-   ranks (counted in the base's PVS, which bits holds), then adds its ids. Changes go to fn. Only for
-   records of an opened file. */
+/* Applies a record: a key adds its ids (bits start empty); a delta removes its ranks (in the base's PVS, in bits), then
+   adds. Changes go to fn. Opened files only. */
 PVS__STATIC void pvs__record_apply(const pvs_file *f, const pvs__rec *r, pvs_word *bits, pvs_change_fn fn, void *user) {
     pvs__sink s;
     size_t used = 0, bad;
@@ -22690,10 +22441,7 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
     return PVS_OK;
 }
 
-/* The TREE section: u32 depth D (0..24), u32 zero, f32 splits[2^D - 1], u32 leaf offsets[2^D + 1]
-   into the items, u8 axes[2^D - 1] (0..2), then the items: per leaf its
-   ascending cell ids, gap-coded varints, filling its offset range exactly. Splits and axes sit in
-   separate arrays so a look-up level costs one dependent load. */
+/* TREE, as the manual lays it out. Splits and axes lie apart so a level costs one dependent load. */
 PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const uint8_t *t, uint32_t size,
                                       pvs_error *err) {
     uint64_t off = (uint64_t)(t - base), need;
@@ -22749,9 +22497,8 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
     return PVS_OK;
 }
 
-/* Records: first every record's own structure, then, with every record known to be well formed, the
-   chains: a delta's base must have depth one less, so depths fall strictly along a chain, which
-   therefore ends at a key within max_chain steps and cannot cycle. Linear in the section size. */
+/* RECS: each record's structure, then the chains: depth falls by one per base, so a chain reaches a key within
+   max_chain steps and cannot cycle. Linear in the section. */
 PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const uint8_t *rs, uint32_t size,
                                          pvs_error *err) {
     uint64_t off = (uint64_t)(rs - base);
@@ -22805,7 +22552,7 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
                 pvs__sink check;
                 size_t body = 0;
                 memset(&check, 0, sizeof(check));
-                if (depth) { /* the removed ranks: coding byte, base PVS size, ranks below it */
+                if (depth) { /* removed ranks: coding byte, base PVS size, ranks below it */
                     uint32_t m;
                     if (p >= rend || *p > 3u)
                         return pvs__fail(err, PVS_ERROR_BAD_RECORD, cell, (uint64_t)(p - base),
@@ -22847,14 +22594,13 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
     return PVS_OK;
 }
 
-/* The sections pvs_file_open knows, as the section table places them (NULL: absent). */
+/* The sections pvs_file_open knows, as the table places them (NULL: absent). */
 typedef struct pvs__open_sections {
     const uint8_t *meta, *cells, *tree, *recs, *shrd, *vocc;
     uint32_t meta_size, cells_size, tree_size, recs_size, shrd_size, vocc_size;
 } pvs__open_sections;
 
-/* The header, 32 bytes, in the order of the format table: magic, version, file size, section count
-   (and the table inside the file), checksum, reserved bytes. *count_out receives the section count. */
+/* The header, in the format table's order. *count_out: the section count. */
 PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t *count_out, pvs_error *err) {
     uint32_t count, crc;
     if (size < 4 || memcmp(p, "PVS\x1a", 4) != 0)
@@ -22885,8 +22631,7 @@ PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t 
     return PVS_OK;
 }
 
-/* The section table: each section 8-aligned and after the table, inside the file, no tag repeated,
-   no overlap, its checksum; the known tags into *sec (unknown tags are skipped). */
+/* The section table, rules as in the manual; known tags into *sec. */
 PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t count, pvs__open_sections *sec,
                                        pvs_error *err) {
     uint32_t i, j;
@@ -22920,8 +22665,7 @@ PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t c
     return PVS_OK;
 }
 
-/* Bytes outside the header, the table and the sections (alignment padding) must be zero, so that
-   every byte of a valid file is either checksummed or fixed. */
+/* Bytes outside header, table and sections must be zero: each byte of a valid file is checksummed or fixed. */
 PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t count, pvs_error *err) {
     uint32_t order[PVS__MAX_SECTIONS], i, j, k;
     size_t pos = PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY;
@@ -22945,8 +22689,7 @@ PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t
     return PVS_OK;
 }
 
-/* "META" (32 bytes) into f, then its rules in the order of the format table: cell count, object
-   count, method, eps, up axis, chain bound, key cells, reserved bytes. */
+/* META (32 bytes) into f, checked in the format table's order. */
 PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8_t *meta, uint32_t meta_size,
                                       pvs_error *err) {
     uint64_t mo = (uint64_t)(meta - p);
@@ -22981,7 +22724,7 @@ PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8
     return PVS_OK;
 }
 
-/* "SHRD" (16 bytes) into f: a part of cell_count cells of a sharded bake. */
+/* SHRD (16 bytes) into f: a part of cell_count cells of a sharded bake. */
 PVS__STATIC pvs_result pvs__open_shard(pvs_file *f, const uint8_t *p, const uint8_t *shrd, uint32_t shrd_size,
                                        pvs_error *err) {
     uint64_t so = (uint64_t)(shrd - p);
@@ -23006,7 +22749,6 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
     if (!f) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file must not be NULL");
     memset(f, 0, sizeof(*f));
     if (!p && size) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "data is NULL");
-    /* header, then the section table, then the padding between the sections */
     r = pvs__open_header(p, size, &count, err);
     if (r != PVS_OK) return r;
     memset(&sec, 0, sizeof(sec));
@@ -23023,8 +22765,8 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
         r = pvs__open_shard(f, p, sec.shrd, sec.shrd_size, err);
         if (r != PVS_OK) return r;
     }
-    /* records first: each takes at least 3 bytes, so a valid RECS bounds the cell count by the file
-       size, and the cell checks after it stay linear in the file (a cell index can be 0 bits wide) */
+    /* records first: 3 bytes or more each, a valid RECS bounds the cell count by the file size and the cell checks stay
+       linear (indices can be 0 bits wide) */
     f->private_.records = sec.recs;
     f->private_.records_size = sec.recs_size;
     f->private_.block_count = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK;
@@ -23056,12 +22798,9 @@ PVS_API void pvs_file_get_record_info(const pvs_file *f, uint32_t cell, pvs_reco
 }
 
 // >>runtime
-/* ---------------------------------------------------------------------------------------------- */
-/* runtime: cell look-up through the stored kD-tree, decoding, the cursor; no allocation          */
-/* ---------------------------------------------------------------------------------------------- */
+/* ==== runtime: cell look-up through the stored kD-tree, decoding, the cursor; no allocation ==== */
 
-/* A cell's coordinate indices: min then max per axis. One 64-bit read holds all six fields when
-   they fit (the usual case). */
+/* Cell c's coordinate indices, min then max per axis (one 64-bit read when the six fit). */
 PVS__STATIC void pvs__cell_indices(const pvs_file *f, uint32_t c, uint32_t idx[6]) {
     uint64_t pos = (uint64_t)c * f->private_.cell_bits;
     int k;
@@ -23094,8 +22833,7 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
     return b;
 }
 
-/* Does cell `c` contain p? The fast path reads the six fields from one 64-bit word and compares
-   axis by axis (the look-up's inner loop). */
+/* Does cell c contain p? The look-up's inner loop, with pvs__cell_indices' fast path inlined. */
 PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[3]) {
     uint32_t idx[6];
     int k;
@@ -23127,8 +22865,7 @@ PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[
     return 1;
 }
 
-/* Point location in the stored tree: p < split left, p > split right, p == split both (pending
-   subtrees on a stack no deeper than the tree); in a leaf the first cell containing p is its lowest. */
+/* Point location, the manual's TREE rule (p == split: a stack no deeper than the tree); lowest containing cell wins. */
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
     uint32_t stack[PVS__TREE_MAX_DEPTH + 1], depth = 0, best = PVS_NO_CELL, k = 0, d, inner;
     const uint8_t *nodes, *starts, *axes, *items;
@@ -23145,8 +22882,7 @@ PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
     items = axes + inner;
     for (;;) {
         if (k < inner) {
-            /* the children of k sit side by side: both are loaded while k's comparison runs, so a
-               level costs one load latency, not a load plus a compare (a branch-free descent) */
+            /* k's children sit side by side, loaded while k compares: one load latency per level (branch-free) */
             float v = pvs__getf32(nodes + 4 * (size_t)k);
             uint32_t axis = axes[k];
             for (;;) {
@@ -23193,7 +22929,7 @@ PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bi
     uint32_t chain[PVS_MAX_CHAIN + 1], n = 0;
     pvs__rec r;
     memset(bits, 0, word_count * sizeof(pvs_word));
-    for (;;) { /* the chain from the cell to its key: at most max_chain + 1 records (checked by open) */
+    for (;;) { /* from the cell to its key: at most max_chain + 1 records (checked by open) */
         pvs__record_at(f, cell, &r);
         chain[n++] = cell;
         if (!r.depth) break;
