@@ -2,9 +2,7 @@
 
    QUICK START
    ===========
-   Do this:
-       #define PVS_IMPLEMENTATION
-   before you include this file in *one* C or C++ file to create the implementation.
+   Define PVS_IMPLEMENTATION before including this file in *one* C or C++ file:
 
        #define PVS_IMPLEMENTATION
        #include "pvs.h"
@@ -53,289 +51,205 @@
    >>scene      scene description, object bounds, triangle storage, explicit occluders
    >>kdtree     kD-tree over boxes: build, front-to-back sweep, ray cast, point location
    >>raster     conservative rasterizer, depth pyramid, cull map, per-frame culling
-   >>otree      occlusion trees: line-space BSP; exact 2D and conservative 2.5D (c-LSS) region visibility;
-                from-point shadow-volume tree culling (pvs_otree_cull)
+   >>otree      occlusion trees: exact 2D and conservative 2.5D (c-LSS) region visibility, from-point culling
    >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps, boxes / columns
-   >>vocc       virtual occluders (Koltun 2000): aggregate umbrae, height slices, selection, the VOCC
-                section, the PVS rebuilt on cell entry (pvs_vocc_cull)
+   >>vocc       virtual occluders (Koltun 2000): construction, VOCC section, PVS rebuilt on cell entry
    >>methods    region methods: `shrink` (Wonka 2000), `extproj` (Durand 2000), the estimator `sample`
-   >>bake       bake driver: tasks, AUTO (methods intersected), draw distance, resuming, adaptive
-                cells, determinism
+   >>bake       bake driver: tasks, AUTO, draw distance, resuming, adaptive cells, determinism
    >>format     the .pvs file: writer and validating zero-copy reader
    >>runtime    cell look-up and decoding
 
    CONFIGURATION (define before including the implementation)
    =============
-   | macro                 | default            | what it changes                                          |
-   |-----------------------|--------------------|----------------------------------------------------------|
-   | PVS_IMPLEMENTATION    | undefined          | emit the implementation in this translation unit         |
-   | PVS_STATIC            | undefined          | make every function static (private copy per unit)       |
-   | PVS_API               | extern / static    | decoration of every public function                     |
-   | PVS_MALLOC(sz)        | malloc(sz)         | fallback allocator when a desc's allocator is zero;     |
-   | PVS_FREE(p)           | free(p)            |   define both or neither                                 |
-   | PVS_QSORT(b, n, sz, f)| qsort(b, n, sz, f) | every sort, with qsort's contract; which of two equal    |
-   |                       |                    |   elements comes first changes no result                 |
-   | PVS_ASSERT(x)         | assert(x)          | checks of programmer misuse only, never of input data    |
-   | PVS_NO_STDIO          | undefined          | error messages without snprintf (reason strings only)    |
-   | PVS_NO_SIMD           | undefined          | scalar code paths only (identical results)               |
-   | PVS_TEST_HOOKS        | undefined          | internal, for the library's own tests: declares their    |
-   |                       |                    |   flags (PVS_VISIBILITY_INPUT_ORDER,                     |
-   |                       |                    |   PVS_VISIBILITY_25D_FULL_TESTS); not part of the API    |
+   macro                   default             what it changes
+   PVS_IMPLEMENTATION      undefined           emit the implementation in this translation unit
+   PVS_STATIC              undefined           make every function static (private copy per unit)
+   PVS_API                 extern / static     decoration of every public function
+   PVS_MALLOC(sz)          malloc(sz)          fallback allocator when a desc's allocator is zero; define both
+   PVS_FREE(p)             free(p)               or neither
+   PVS_QSORT(b, n, sz, f)  qsort(b, n, sz, f)  every sort, with qsort's contract; the order of equal elements
+                                                 changes no result
+   PVS_ASSERT(x)           assert(x)           checks of programmer misuse only, never of input data
+   PVS_NO_STDIO            undefined           error messages without snprintf (reason strings only)
+   PVS_NO_SIMD             undefined           scalar code paths only (identical results)
+   PVS_TEST_HOOKS          undefined           internal, the library's own tests: declares their flags
+                                                 (PVS_VISIBILITY_INPUT_ORDER, PVS_VISIBILITY_25D_FULL_TESTS)
 
    CONCEPTS
    ========
-   Coordinates. Any right- or left-handed frame; `up_axis` in the scene (1 = Y, the OBJ default, or
-   2 = Z) tells the 2.5D methods which axis is height. Cells are axis-aligned boxes in scene units.
+   Coordinates. Any right- or left-handed frame; the scene's `up_axis` (1 = Y, the OBJ default, or 2 = Z) is the
+   2.5D methods' height axis. Cells are axis-aligned boxes in scene units.
 
-   Conservative. A PVS lists every object visible from any point of its cell (a superset of the exact
-   set). Methods with a sampling or shrinking distance `eps` are conservative for every eps; smaller eps
-   is tighter and slower. The `sample` method (ray sampling) is the exception: it is an estimate from
-   below, the yardstick the tests measure the conservative methods against, and files baked with it
-   carry PVS_FILE_APPROXIMATE. One stated tolerance: OTREE's facade extraction treats cracks and
-   offsets of up to eight float epsilons of the scene's coordinates between pieces of one wall as
-   closed (the T-junction cracks of real meshes, about 1 mm at 1 km); an opening meant to be seen
-   through must be wider.
+   Conservative. A PVS lists every object visible from any point of its cell (a superset of the exact set),
+   for every eps (the sampling or shrinking distance; smaller is tighter and slower). The exception, `sample`
+   (ray sampling), estimates from below: the tests' yardstick; its files carry PVS_FILE_APPROXIMATE. One
+   stated tolerance: OTREE's facade extraction closes cracks and offsets of up to eight float epsilons of the
+   scene's coordinates between pieces of one wall (real meshes' T-junction cracks, about 1 mm at 1 km); an
+   opening meant to be seen through must be wider.
 
-   Methods. AUTO, the default, picks the conservative methods that can cull in the scene: OTREE when
-   vertical walls give facades (2.5D; pvs_bake_get_otree_info), EXTPROJ when there are planar occluders or
-   convex solids (3D; coplanar edge-connected triangles of an object act as one planar occluder, convex
-   or not, so a wall split into many pieces hides what the whole wall hides), SHRINK when closed
-   geometry leaves occluder volume after erosion by eps (VOCC, which adds little tightness, only when
-   pvs_bake_desc.methods names it); it runs them cheapest first and intersects their PVSs (an
-   intersection of conservative sets is conservative, and at least as tight as each). SHRINK, the
-   costliest, runs last and samples only the objects the others kept: the intersection is the same, and
-   a cell where the others leave nothing for it to cull costs little. EXTPROJ runs with the occlusion
-   sweep of §5 (pvs_bake_desc.extproj.sweep; PVS_EXTPROJ_NO_SWEEP turns it off): on indoor game maps
-   it fuses walls and floors that the planes of §6.1 do not: a smaller PVS for more time per cell (see
-   tests/BENCHMARKS.md, bake). pvs_bake_desc.extproj.sweep_subcells = 4 gives each sweep plane the
-   umbrae of the cell's four quarters (tighter on foliage, for a few times the bake's time: see
-   tests/BENCHMARKS.md, extproj). pvs_bake_get_method_info says which ran, which were skipped and why,
-   and what each contributed; pvs_bake_desc.methods restricts the candidates.
-   SAMPLE is never among them. PVS_BAKE_PREVIEW keeps only the cheapest with coarse settings.
-   max_distance (a draw distance) drops objects whose box is farther than it from every point of the
-   cell (box to box, rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake from
-   the PVSs it had finished (not a VOCC bake: its virtual occluders are baked again). Only a VOCC bake
-   stores virtual occluders; AUTO uses vocc's PVS in the intersection and stores none.
+   Methods. AUTO, the default, runs the conservative methods that can cull in the scene, cheapest first, and
+   intersects their PVSs (conservative, and at least as tight as each): OTREE when vertical walls give
+   facades (2.5D); EXTPROJ when there are planar occluders or convex solids (3D; an object's coplanar
+   edge-connected triangles act as one occluder, so a wall in pieces hides what the whole wall hides);
+   SHRINK when closed geometry leaves volume after erosion by eps. SHRINK, the costliest, runs last on what
+   the others kept: the same intersection, in little time. VOCC, adding little tightness, runs only when
+   pvs_bake_desc.methods names it. Under AUTO, EXTPROJ runs the occlusion sweep of Durand 2000 §5, fusing
+   walls and floors the planes of §6.1 do not: on indoor maps a smaller PVS for more time
+   (tests/BENCHMARKS.md, bake). max_distance, a draw distance, drops objects whose box is farther from every
+   point of the cell (box to box, rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake.
 
-   Adaptive cells. With pvs_bake_desc.adaptive.budget (Durand 2000 §6.1) a cell whose PVS holds more
-   triangles than the budget is split in two across its longest side, again and again down to
-   adaptive.min_size; each half is baked from its parent's PVS (with every method of the bake, the
-   result intersected with the parent's; EXTPROJ tests only the parent's objects and drops the
-   occluders it hides). The file holds the leaf cells (pvs_bake_leaf_count), in cell order, each
-   cell's leaves depth first, and its look-up tree covers them; pvs_bake_cell_pvs still gives a
-   whole cell's PVS. Deterministic for any thread count; not with shards, VOCC or resuming. EXTPROJ
-   also takes extproj.sweep, the occlusion sweep of §5 (for many small occluders; slower).
+   Adaptive cells (Durand 2000 §6.1). A cell whose PVS holds more than adaptive.budget triangles is split in
+   two across its longest side, recursively down to adaptive.min_size; each half is baked by the bake's
+   methods from its parent's PVS and intersected with it (EXTPROJ also drops the occluders it hides). The
+   file holds the leaf cells (pvs_bake_leaf_count) in cell order, each cell's leaves depth first;
+   pvs_bake_cell_pvs gives a whole cell's PVS. Deterministic for any thread count; not with shards, VOCC or
+   resuming.
 
-   Memory. Every desc struct has a `pvs_allocator`; left at zero, PVS_MALLOC/PVS_FREE are used. An object
-   remembers its allocator. Size arithmetic is overflow-checked. The runtime (pvs_file_*) and the
-   kD-tree queries allocate nothing: they use the caller's memory.
+   Memory. Each desc has a `pvs_allocator`; left at zero, PVS_MALLOC/PVS_FREE. Objects remember theirs. Size
+   arithmetic is overflow-checked.
 
-   Threads. pvs.h starts no thread and keeps no global mutable state. Read-only objects (a created
-   pvs_scene, pvs_kdtree, an opened pvs_file) may be used from any number of threads at once. A bake
-   is split into tasks: pvs_bake_run_task may run concurrently for distinct task indices (the allocator
-   must then be thread-safe; malloc is). Output is byte-identical whatever the order or thread count.
+   Threads. pvs.h starts no thread and keeps no global mutable state. Read-only objects (a created pvs_scene,
+   pvs_kdtree, an opened pvs_file) may be shared by any threads. pvs_bake_run_task may run concurrently for
+   distinct tasks (with a thread-safe allocator; malloc is); output is byte-identical for any order or
+   thread count.
 
-   Errors. Functions return pvs_result (0 = PVS_OK, negative = error); pvs_result_string() names it.
-   Most take an optional `pvs_error *` that receives the code, the index of the offending element
-   (object, triangle, vertex, cell, occluder, record) or byte offset, and a message. NULL is allowed.
-   PVS_ASSERT guards programmer misuse only; bad data is always a result code.
+   Errors. Functions return pvs_result (0 = PVS_OK, negative = error; pvs_result_string names it); most fill
+   an optional `pvs_error *` with the code, the offending index or byte offset, and a message. PVS_ASSERT
+   guards programmer misuse only; bad data is always a result code.
 
-   Trust. pvs_scene_create validates every index, count and coordinate. pvs_file_open is safe on
-   untrusted bytes: it checks every offset, size, count and checksum before use, never reads outside
-   the buffer, and later calls on an opened file cannot fail on the file's content.
+   Trust. pvs_scene_create validates every index, count and coordinate. pvs_file_open is safe on untrusted
+   bytes: it checks every offset, size, count and checksum before use, never reads outside the buffer, and
+   later calls on an opened file cannot fail on its content.
 
-   Culling. pvs_raster_create allocates a context once (depth map, pyramid, cull map, scratch); then
-   each frame pvs_raster_cull (3D: occluder triangles -> depth pyramid -> front-to-back kD-tree walk)
-   or pvs_raster_cull_map (2.5D: facade shadows -> cull map -> grid scan) sets the visible objects and
-   allocates nothing. Both are conservative: every object seen through the screen from the near
-   plane on is reported, whatever the rounding (>>raster explains the margins). Depth is reversed
-   (larger is nearer). Pass a cell's decoded PVS as `candidates` to cull inside it. Depth maps above
-   65,536 pixels keep occluders in Masked Occlusion Culling's tiles (fast, a little coarser); smaller
-   ones per pixel; PVS_RASTER_TILED / PVS_RASTER_PER_PIXEL choose. A triangle alone covers only the
-   pixels it covers entirely, so a wall of many triangles leaves cracks along their shared edges;
-   pvs_raster_mesh draws a connected mesh as one surface (a pixel counts when the union covers it),
-   which pvs_raster_cull does for occluder volumes by default, for the selected scene triangles with
-   PVS_CULL_SCENE_MESH and for the caller's with PVS_CULL_OCCLUDER_MESH; it costs more than the
-   triangles alone (bench_raster: raster_mesh_frame_ms_1080p), so those two are opt-in. The object-space twin,
-   pvs_otree_create / pvs_otree_cull (Bittner 2002 ch. 4), takes the same camera, parameters and
-   outputs: a shadow-volume occlusion tree of a few dozen occluder polygons instead of a depth map,
-   exact box tests, and temporal coherence (it remembers the last frame's occluders and node
-   states); it too allocates nothing per frame.
+   Culling. Per frame, from a context allocated once, pvs_raster_cull (3D: depth pyramid), pvs_raster_cull_map
+   (2.5D: cull map) or pvs_otree_cull (an occlusion tree of a few dozen occluders) report every object seen
+   through the screen from the near plane on, whatever the rounding. Depth is reversed (larger is nearer).
+   Pass a cell's PVS as `candidates` to cull inside it.
 
-   Virtual occluders. A file baked with the vocc method (Koltun 2000) also stores a few vertical
-   rectangles per cell (about 50 bytes) that are hidden from the whole cell; on cell entry
-   pvs_vocc_cull tests the engine's object boxes against them (top-down through a kD-tree, no
-   allocation) and sets the cell's PVS: a platform short of storage can bake --vocc-only and keep
-   only them.
+   Virtual occluders (Koltun 2000). A vocc bake also stores a few vertical rectangles per cell (about 50
+   bytes) from which pvs_vocc_cull rebuilds the PVS on cell entry; --vocc-only keeps only them.
 
    MEMORY
    ======
-   Allocates (through the desc's allocator): pvs_scene_create (triangles, object and triangle kD-trees:
-   105 to 430 bytes per triangle on the generator's scenes, and never more than 2.4 KB per triangle and
-   per object whatever the triangles' shapes: PVS_SCENE_BYTES_PER_TRIANGLE), pvs_bake_begin (the cells
-   and one bitset per cell: cell_count * object_count / 8 bytes, and 40 bytes of statistics per cell),
-   pvs_bake_run_task (AUTO: one bitset per method it runs; EXTPROJ (128 + 8 x sweep planes) x N^2 bytes
-   of depth maps and sweep masks of N x N pixels each, plus the sweep's summed-area tables (4 (N^2 + N
-   + 1 + min(16 N, 16384)) bytes per plane of a direction up to 64 MiB, at least two;
-   pvs_extproj_task_bytes): 8 MB at 256 pixels, 21 MB with 16 sweep planes, 0.7 GB at 1024 and 64; all
-   freed before returning; adaptive cells: a box and a bitset per leaf, kept), pvs_file_encode (scratch
-   about 40 bytes per cell plus one bitset), pvs_raster_create (the depth map and pyramid, the cull
-   map), pvs_otree_create (about 250 bytes per tree node of its budget, 5 bytes per kD node and
-   object). Allocates nothing: every pvs_file_* and pvs_cursor_* call, kD-tree queries (caller
-   scratch), pvs_raster_cull, pvs_raster_cull_map and pvs_otree_cull per frame, pvs_vocc_cull (caller
-   scratch: pvs_vocc_cull_scratch_size). A .pvs file is used in place; it needs no copy.
+   Allocates through the desc's allocator: pvs_scene_create (triangles, kD-trees: 105 to 430 bytes per
+   triangle on the generator's scenes, at most PVS_SCENE_BYTES_PER_TRIANGLE, 2.4 KB, per triangle and per
+   object); pvs_bake_begin (a bitset per cell: cell_count * object_count / 8 bytes, 40 of statistics per cell);
+   pvs_bake_run_task (AUTO: a bitset per method; EXTPROJ: (128 + 8 x sweep planes) x N^2 bytes of N x N
+   depth maps and sweep masks, plus summed-area tables of 4 (N^2 + N + 1 + min(16 N, 16384)) bytes per
+   plane of a direction up to 64 MiB, at least two (pvs_extproj_task_bytes): 8 MB at 256 pixels, 21 MB with
+   16 sweep planes, 0.7 GB at 1024 and 64, freed on return; adaptive cells: a box and a bitset per leaf,
+   kept); pvs_file_encode (about 40 bytes per cell plus a bitset); pvs_raster_create (depth map, pyramid,
+   cull map); pvs_otree_create (about 250 bytes per node of its budget, 5 per kD node and object). Allocate
+   nothing: the pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*, pvs_otree_cull,
+   pvs_vocc_cull. A .pvs file is used in place.
 
    PERFORMANCE (`make bench`, 2026-11-24, one core of a 2-core AMD EPYC VM, release build)
    ===========
-   kD-tree build 0.36 s per million triangles; 1.1 M closest-hit rays/s (200k-triangle boxes);
-   demo city (3,575 objects, 457k triangles, 1,211 cells): file 0.099 of raw bitsets, 44 bytes per
-   cell; a cursor move about 0.3 us; pvs_file_find_cell with 10,000 cells about 40 ns along a
-   camera path, 65 ns at random points; per-frame culling of 50,000 occluder triangles at 1920x1080
-   with 10,000 box tests about 0.9 ms (SSE2; 1.9 ms scalar), 1,000 facades into a 256 x 256 cull map
-   about 0.8 ms; from-point culling with the occlusion tree (pvs_otree_cull, 32 occluders) about
-   0.2 ms per frame along a street walk. Bake methods per cell on the demo city (60 cells spread
-   over it): otree about 4.3 ms; shrink about 4.5 ms at the default eps (plus about 4 s of occluder
-   synthesis per bake); extproj about 15 ms (its occluder preparation amortized), about 55 ms with
-   the occlusion sweep; vocc about 60 ms (10 virtual occluders per cell, 52 bytes, 88% of the
-   objects culled: 96% of what shrink culls; rebuilding a cell's PVS from them about 0.1 ms).
-   tests/BENCHMARKS.md names the bench line behind each figure and keeps the measurements behind the
-   design choices, module by module.
+   kD-tree build 0.36 s per million triangles; 1.1 M closest-hit rays/s (200k-triangle boxes). Demo city (3,575
+   objects, 457k triangles, 1,211 cells): file 0.099 of raw bitsets (44 bytes per cell); cursor move 0.3 us;
+   pvs_file_find_cell (10,000 cells) 40 to 65 ns. Per frame: 50,000 occluder triangles at 1920x1080 and 10,000 box
+   tests 0.9 ms (SSE2; scalar 1.9); pvs_otree_cull (32 occluders) 0.2 ms. Bake per cell (demo city): otree 4.3 ms;
+   shrink 4.5 ms (plus 4 s of synthesis per bake); extproj 15 ms, 55 ms with the sweep; vocc 60 ms (96% of
+   shrink's culling in 52 bytes). tests/BENCHMARKS.md gives each figure's bench and the measurements behind
+   the design choices.
 
    ALGORITHMS (each cited again where it is implemented)
    ==========
-   kD-tree, front-to-back sweep by priority queue, occlusion trees: Bittner 2002 (§3.2, §4.4,
-   ch. 4, 6, 7). Delta-PVS storage, extended projections, hierarchical depth map: Durand et al.
-   2000 (§2.4, §3, §5, §6). Cull maps and occluder shadows: Wonka and Schmalstieg 1999 (§3-4).
-   Occluder shrinking and point sampling: Wonka, Wimmer and Schmalstieg 2000. Virtual occluders:
-   Koltun, Chrysanthou and Cohen-Or 2000. Watertight ray-triangle test: Woop, Benthin and Wald
-   2013. Masked occlusion culling (tiles of coverage masks): Hasselgren, Andersson and Akenine-Moller
-   2016. Rice codes: Golomb 1966, Rice 1979.
+   kD-tree, front-to-back sweep by priority queue, occlusion trees: Bittner 2002 (§3.2, §4.4, ch. 4, 6, 7).
+   Delta-PVS storage, extended projections, hierarchical depth map: Durand et al. 2000 (§2.4, §3, §5, §6).
+   Cull maps and occluder shadows: Wonka and Schmalstieg 1999 (§3-4). Occluder shrinking and point sampling:
+   Wonka, Wimmer and Schmalstieg 2000. Virtual occluders: Koltun, Chrysanthou and Cohen-Or 2000. Watertight
+   ray-triangle test: Woop, Benthin and Wald 2013. Masked occlusion culling (tiles of coverage masks):
+   Hasselgren, Andersson and Akenine-Moller 2016. Rice codes: Golomb 1966, Rice 1979.
 
-   FILE FORMAT (version 1; all integers little-endian; offsets from the start of the file)
+   FILE FORMAT (version 1; integers little-endian; offsets from the start of the file)
    ===========
-   A .pvs file is the delta-PVS of Durand et al. 2000 (§6.2): a few key cells store their PVS whole,
-   every other cell stores the objects that differ from a base cell, with a bound K on chain length.
-   pvs_file_open checks every rule below and rejects a file that breaks any (the code in brackets);
-   it is safe on untrusted bytes.
+   The delta-PVS of Durand et al. 2000 (§6.2): a few key cells store their PVS whole, the others the objects
+   that differ from a base cell, chains bounded by K. pvs_file_open rejects a file breaking a rule below
+   with the code in brackets.
    header, 32 bytes:
      0  u8[4]  magic "PVS\x1a"                                             [BAD_MAGIC]
-     4  u32    format version (PVS_FORMAT_VERSION); a reader rejects any other [BAD_VERSION]. A
-               version changes only when a version-1 reader would misread a file; new optional
-               sections do not change it.
+     4  u32    format version (PVS_FORMAT_VERSION); any other is rejected     [BAD_VERSION]; it changes
+               only when a version-1 reader would misread a file, not for new optional sections
      8  u32    file size in bytes (must equal the buffer size)                [TRUNCATED, BAD_HEADER]
      12 u32    section count S (1..64)                                        [BAD_HEADER]
      16 u32    flags (PVS_FILE_APPROXIMATE = 1); unknown bits are ignored
      20 u32    CRC-32 (IEEE) of bytes 0..19 and of the section table          [CHECKSUM]
      24 u32[2] reserved, zero                                                 [BAD_HEADER]
-   section table at 32: S entries of 16 bytes: u32 tag, u32 offset, u32 size, u32 CRC-32 of the
-     section's bytes [CHECKSUM]. Sections start 8-byte aligned, lie inside the file, do not overlap
-     and no tag repeats [BAD_SECTION, TRUNCATED]; every byte outside the header, the table and the
-     sections is zero padding [BAD_SECTION]. Tags are four ASCII characters; a reader skips tags it
-     does not know (room for later optional sections: object names, ...). The writer emits META,
-     CELL, TREE, RECS, then SHRD for part files, then VOCC when the bake made virtual occluders.
-   "META" (required, 32 bytes; another size is BAD_SECTION) [BAD_HEADER; COUNT_OVERFLOW for counts
-     past the limits]:
+   section table at 32: S entries of u32 tag, offset, size, CRC-32 of the section's bytes [CHECKSUM].
+     Sections are 8-byte aligned, inside the file, disjoint, tags unique [BAD_SECTION, TRUNCATED]; other
+     bytes after the table are zero [BAD_SECTION]. Tags are four ASCII characters; readers skip unknown ones
+     (room for optional sections). The writer emits META, CELL, TREE, RECS, then SHRD (part files), VOCC.
+   "META" (required, 32 bytes, else BAD_SECTION) [BAD_HEADER; COUNT_OVERFLOW for counts past the limits]:
      0 u32 cell_count (1..2^30-1)   4 u32 object_count (1..2^32-2)   8 u32 method (pvs_method)
      12 f32 eps (finite, >= 0)      16 u32 up_axis (1 = Y, 2 = Z)    20 u32 K, the chain bound (1..64)
      24 u32 key cell count (1..cell_count, equal to the records' count)   28 u32 reserved zero
-   "CELL" (required): the cell boxes, as indices into per-axis coordinate tables [BAD_SECTION, BAD_CELL]:
+   "CELL" (required): cell boxes as indices into per-axis coordinate tables [BAD_SECTION, BAD_CELL]:
      0 u32 n[3]: distinct coordinates per axis (1..2 * cell_count)
-     12 u8 w[3]: min index widths in bits, w = the bits needed for n - 1 (0 when n = 1)
+     12 u8 w[3]: min index widths in bits, the bits needed for n - 1 (0 when n = 1)
      15 u8 x[3]: extent widths in bits (<= w)      18 u8[2] zero
-     20 f32 tables: n[0] values of axis 0, then axis 1, then axis 2; each finite, strictly
-        ascending, never -0 (the writer stores -0 as +0)
-     then the packed fields: per cell, in cell order, min0 min1 min2 of widths w0 w1 w2 and the
-        extents e0 e1 e2 of widths x0 x1 x2 (max index = min index + extent < n), least
-        significant bit first, back to back; the unused high bits of the last byte are zero. The
-        section ends there.
-   "TREE" (required): the cell look-up kD-tree, a complete binary tree of depth D stored implicitly
-     (the children of node k are 2k + 1 and 2k + 2; leaf j is node 2^D - 1 + j) [BAD_TREE]:
+     20 f32 tables: n[0] values of axis 0, n[1] of axis 1, n[2] of axis 2; finite, strictly ascending,
+        never -0 (written as +0)
+     then per cell, in cell order, min0 min1 min2 (widths w) and extents e0 e1 e2 (widths x; max index = min +
+        extent < n), packed least significant bit first; the last byte's unused high bits are zero; the section
+        ends there.
+   "TREE" (required): the cell look-up kD-tree, complete, depth D, implicit (node k's children 2k + 1 and
+     2k + 2; leaf j is node 2^D - 1 + j) [BAD_TREE]:
      0 u32 D (0..24)   4 u32 zero   8 f32 splits[2^D - 1] (finite)   then u32 leaf offsets[2^D + 1]
-     (offsets[0] = 0, ascending, the last = the item bytes' size)   then u8 axes[2^D - 1] (0..2; a
-     node whose cells all go left has split FLT_MAX)   then the item bytes: leaf j's cell ids in offsets[j] ..
-     offsets[j + 1], varints, the first id then the gaps minus one between ascending ids, each id
-     < cell_count. The section ends there.
-     Look-up of a point p: at an inner node p[axis] < split goes left, > split right, == split
-     both; in a leaf the lowest id whose closed box contains p. The writer puts a cell on the left
-     when min < split or max <= split and on the right when max > split, so every cell containing
-     p is found (pvsinfo --verify checks a file's tree against its cells).
+     (offsets[0] = 0, ascending, the last = the item bytes' size)   then u8 axes[2^D - 1] (0..2; a node
+     whose cells all go left has split FLT_MAX)   then the items: leaf j's cell ids in offsets[j] ..
+     offsets[j + 1], ascending ids < cell_count as varints of the first and the gaps minus one; the
+     section ends there.
+     Look-up of p: at an inner node p[axis] < split goes left, > split right, == split both; in a leaf the
+     lowest id whose closed box contains p. The writer puts a cell left when min < split or max <= split
+     and right when max > split, so every cell containing p is found (pvsinfo --verify checks this).
    "RECS" (required): the PVS records [BAD_SECTION, BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN]:
-     0 u32 block offsets[B + 1], B = ceil(cell_count / 16), from the section start: offsets[0] =
-       4 (B + 1), ascending, offsets[B] = the section size. Block b holds the records of cells
-       16b .. 16b + 15 back to back and nothing else.
-     A record: varint R, the byte count of the rest; varint head: coding = head & 3 (of the added
-       ids), depth = head >> 2 (0 = a key cell, else a delta, depth <= K). A key: the set of its
-       PVS's ids (universe object_count) in that coding. A delta: varint z, the base cell =
-       cell - (z even ? z / 2 : -(z + 1) / 2) (zigzag), another cell whose depth is one less (so
-       chains end at a key within K steps and cannot cycle); u8 coding of the removed objects (0..3);
-       varint m, the size of the base's PVS (<= object_count); the removed objects as a set of
-       ranks in the base's PVS (universe m: rank r = the base's (r+1)-th smallest id); then the
-       added ids (universe object_count, never in the base's PVS) in the head's coding. The sets
-       must fill the record exactly. A set is coded one of four ways, each self-delimiting:
-         0 gap varints: varint count, then count varints: the first id, then gaps minus one.
-         1 run lengths: varint pairs, then per pair varint zeros, varint ones - 1: alternating runs
-           from id 0 (zero runs after the first are >= 1); the set ends after the last ones run.
-         2 Rice codes: u8 k (0..24), varint count, then count codes, least significant bit first:
-           gap >> k as that many 1 bits and a 0 bit, then the k low bits of gap (gaps as in coding
-           0); the codes end at a byte boundary, the unused high bits are zero.
-         3 raw bitset: ceil(universe / 8) bytes, bit i of byte j = id 8j + i; bits past the
-           universe are zero.
-       The writer picks the smallest coding of each set, ties to the lower number. A decoder takes
-       the key at the end of the chain and applies the deltas from there (removals, then additions).
-       A reader cannot check that m matches the base's PVS without decoding; pvsinfo --verify does.
-       Ranks past the base's PVS in a damaged file are ignored, never read out of bounds.
-     Varints everywhere are LEB128, at most 5 bytes, the value fits 32 bits, no needless 0x80 bytes.
-   "SHRD" (optional, 16 bytes, else BAD_SECTION; part files of a sharded bake) [BAD_HEADER]: u32 shard index (0-based),
-     u32 shard count (>= 2), u32 total cell count, u32 zero. Cell j of the part is cell
-     index + j * count of the whole; cell_count must be the number of such cells.
-   "VOCC" (optional; virtual occluders, Koltun et al. 2000, >>vocc) [BAD_SECTION]: per cell a few
-     vertical rectangles, each hidden from every point of the cell, most effective first; the
-     runtime rebuilds the cell's PVS from them (pvs_vocc_cull).
-     0  u32 flags: bit 0 = the records are placeholders (pvsbake --vocc-only: every drawable
-        object); other bits zero
+     0 u32 block offsets[B + 1], B = ceil(cell_count / 16), from the section start: offsets[0] = 4 (B + 1),
+       ascending, offsets[B] = the section size; block b holds cells 16b .. 16b + 15's records back to back.
+     A record: varint R, the rest's byte count; varint head: coding = head & 3 (of the added ids), depth =
+       head >> 2 (0 = a key cell, else a delta, <= K). A key: its PVS's ids (universe object_count) so coded.
+       A delta: varint z, the base cell = cell - (z even ? z / 2 : -(z + 1) / 2) (zigzag), of depth one less (so
+       chains reach a key within K steps and cannot cycle); u8 coding of the removed objects (0..3); varint m, the
+       base's PVS size (<= object_count); the removed objects as ranks in the base's PVS (universe m: rank r = the
+       base's (r+1)-th smallest id); then the added ids (universe object_count, never in the base's PVS) in the
+       head's coding. The sets fill the record exactly. Set codings, each self-delimiting:
+         0 gap varints: varint count, then count varints: the first id, then the gaps minus one.
+         1 run lengths: varint pairs, then per pair varint zeros, varint ones - 1: alternating runs from
+           id 0 (zero runs after the first >= 1); the set ends after the last ones run.
+         2 Rice codes: u8 k (0..24), varint count, then count codes, least significant bit first, per gap
+           (as in 0): gap >> k 1 bits, a 0 bit, the k low bits; zero bits pad the last byte.
+         3 raw bitset: ceil(universe / 8) bytes, bit i of byte j = id 8j + i; bits past the universe zero.
+       The writer picks the smallest coding, ties to the lower. A decoder applies the deltas from the
+       chain's key (removals, then additions). Only decoding checks m against the base's PVS (pvsinfo
+       --verify); ranks past it in a damaged file are ignored, never read out of bounds.
+     Varints are LEB128: at most 5 bytes, the value fits 32 bits, no needless 0x80 bytes.
+   "SHRD" (optional, 16 bytes, else BAD_SECTION; part files of a sharded bake) [BAD_HEADER]: u32 shard
+     index (0-based), u32 shard count (>= 2), u32 total cell count, u32 zero. Part cell j is whole cell
+     index + j * count; cell_count must be the number of such cells.
+   "VOCC" (optional; virtual occluders, >>vocc) [BAD_SECTION]: per cell vertical rectangles, each hidden
+     from the whole cell, most effective first:
+     0  u32 flags: bit 0 = the records are placeholders (--vocc-only: every drawable object); others zero
      4  u32 N, the occluders of all cells (<= 255 * cell_count)
      8  f32 base, every occluder's bottom height    12 f32 step (> 0); both finite, base + 255 step too
-     16 u32 first[B + 1], B = ceil(cell_count / 16): first[b] = the index of the first occluder of
-        cell 16b; first[0] = 0, first[B] = N, first[b + 1] - first[b] = the sum of block b's counts
-     then u8 count[cell_count]: occluders per cell (0..255)
-     then u8 scale[cell_count]: the cell's coordinate scale S = 2^((scale - 128) / 8), exactly the
-        double nearest 2^(k / 8) for k = scale mod 8 times 2^(scale div 8 - 16)
+     16 u32 first[B + 1], B = ceil(cell_count / 16): index of cell 16b's first occluder; first[0] = 0,
+        first[B] = N, first[b + 1] - first[b] = block b's count sum
+     then u8 count[cell_count] (0..255), then u8 scale[cell_count]: the cell's coordinate scale
+        S = 2^((scale - 128) / 8), exactly the double nearest 2^(k / 8) for k = scale mod 8, times
+        2^(scale div 8 - 16)
      then N occluders of 5 bytes, cell by cell: u8 q0 q1 (end point 0), q2 q3 (end point 1), q4 (top).
-        Ground coordinate (u, v along the up axis' ground axes) = centre + S (q - 128) |q - 128| /
-        16384, in double, where centre = 0.5f min + 0.5f max of the cell's box computed in float
-        (finer steps near the cell: the perspective); top = base + q4 step (in double).
-     The section ends there: its size is exactly 16 + 4 (B + 1) + 2 cell_count + 5 N. The bake rounds
-     each occluder toward a smaller one (end points pulled inward and away from the cell, the top
-     down) and proves the rounded occluder hidden, so the stored bytes are conservative as they are.
-     A reader that does not know VOCC skips it; the records stay a valid PVS.
+        Ground coordinate (u, v) = centre + S (q - 128) |q - 128| / 16384 in double, centre = 0.5f min +
+        0.5f max of the cell's box in float (finer steps near the cell: the perspective); top = base +
+        q4 step in double.
+     The section is exactly 16 + 4 (B + 1) + 2 cell_count + 5 N bytes. The bake rounds each occluder
+     smaller (end points inward and away from the cell, top down) and proves the rounded one hidden, so
+     the stored bytes are conservative. Readers may skip VOCC; the records stay a valid PVS.
 
    RECENT HISTORY
    ==============
-   0.4.0 (2026-11-28) API: pvs_bake_desc groups each method's parameters in a nested struct (desc.sample,
-                      .extproj, .adaptive, .shrink, .vocc, .otree: pvs_bake_sample_params, ...) in place
-                      of the prefixed fields (extproj_sweep is now extproj.sweep); zero still means default.
-                      API: struct-filling getters are spelled pvs_*_get_*: pvs_bake_get_otree_info,
-                      pvs_bake_get_vocc_stats, pvs_file_get_record_info (were pvs_bake_otree_info,
-                      pvs_bake_vocc_stats, pvs_file_record_info).
-                      API: declarations sit in their module's block (bake getters in >>bake, file readers
-                      pvs_file_virtual_occluders and pvs_file_vocc_record in >>format).
-                      API: the test-only flags PVS_VISIBILITY_INPUT_ORDER and PVS_VISIBILITY_25D_FULL_TESTS
-                      need PVS_TEST_HOOKS (internal). File format unchanged (version 1).
-                      Inside: the bake driver runs its methods from one table (pvs__bake_method); the
-                      shared kernels (math, growable arrays, heaps, byte readers, the kD-tree sweep) live once
-                      in >>core and >>kdtree; measurements moved to tests/BENCHMARKS.md. Bakes unchanged.
-                      PVS_METHOD_AUTO, the default (the applicable conservative methods, intersected),
-                      bake max_distance, PVS_BAKE_PREVIEW, resumable bakes (pvs_bake_restore_task);
-                      virtual occluders (Koltun 2000): bake method vocc, the optional VOCC section,
-                      pvs_vocc_cull rebuilds a cell's PVS from them; pvsbake --vocc-only.
-                      extproj: slices of closed meshes, sheets (grounds) with occluders extended
-                      through them, improved occludee Projection, planes by distance band, the
-                      occlusion sweep (pvsbake --sweep); adaptive cells (pvsbake --adaptive N);
-                      coplanar triangles merged into one planar occluder, convex or concave (walls
-                      split into pieces, as in game maps, hide again). Bounded memory on any input:
-                      kD-tree reference and node pools (PVS_KDTREE_MAX_REFS_PER_BOX), scene memory
-                      bounds (PVS_SCENE_BYTES_PER_TRIANGLE); PVS_VISIT_ALL; the preview decides
-                      whole kD-tree nodes (a few milliseconds per cell at any scene size).
+   0.4.0 (2026-11-28) API: per-method parameter structs in pvs_bake_desc (extproj_sweep is now extproj.sweep);
+                      getters renamed pvs_*_get_* (pvs_bake_otree_info is now pvs_bake_get_otree_info, ...);
+                      test-only flags need PVS_TEST_HOOKS. New: AUTO, resuming, virtual occluders, adaptive
+                      cells, the sweep, bounded memory (FULL HISTORY). File format unchanged.
    0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps and per-frame culling;
                       bake methods shrink (with occluder synthesis), otree (c-LSS) and extproj.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
@@ -352,7 +266,6 @@
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 4
 #define PVS_VERSION_PATCH 0
-/* (major << 16) | (minor << 8) | patch */
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 /* The .pvs file format version this header writes and reads. */
 #define PVS_FORMAT_VERSION 1
@@ -373,9 +286,9 @@
 extern "C" {
 #endif
 
-/* ---- core ------------------------------------------------------------------------------------ */
+/* ---- core ---- */
 
-/* Result of every fallible call. 0 is success, errors are negative. */
+/* Result of every fallible call: 0 success, errors negative. */
 typedef enum pvs_result {
     PVS_OK = 0,
     PVS_ERROR_INVALID_ARGUMENT = -1,   /* NULL where not allowed, impossible parameter */
@@ -405,7 +318,7 @@ typedef enum pvs_result {
     PVS_RESULT_MIN = -25               /* sentinel: every result is > PVS_RESULT_MIN */
 } pvs_result;
 
-/* Where and why a call failed. Every fallible call takes an optional pvs_error* (NULL allowed). */
+/* Where and why a call failed, for calls whose last argument is a `pvs_error *` (NULL allowed). */
 typedef struct pvs_error {
     pvs_result result;   /* same as the return value */
     int64_t index;       /* offending object/triangle/vertex/cell/occluder/record index, or -1 */
@@ -413,54 +326,52 @@ typedef struct pvs_error {
     char message[200];   /* NUL-terminated, human-readable: what and where */
 } pvs_error;
 
-/* A short constant English description of a result code ("out of memory"). Never NULL. */
+/* A constant English description ("out of memory"), never NULL. */
 PVS_API const char *pvs_result_string(pvs_result result);
 
-/* The library version at run time: PVS_VERSION of the implementation. */
+/* The implementation's PVS_VERSION. */
 PVS_API uint32_t pvs_version(void);
 
-/* Allocation hooks. alloc returns memory aligned to `align` (a power of two <= 64) or NULL; free gets
-   the size given to alloc. Zero-initialised (both NULL) means PVS_MALLOC/PVS_FREE. Objects created with
-   an allocator keep a copy and free through it. Must be thread-safe when bake tasks run in parallel. */
+/* Allocation hooks: alloc returns memory aligned to `align` (a power of two <= 64) or NULL; free gets the
+   size given to alloc. All zero: PVS_MALLOC/PVS_FREE. Objects keep a copy. Thread-safe for parallel bakes. */
 typedef struct pvs_allocator {
     void *(*alloc)(size_t size, size_t align, void *user);
     void (*free)(void *ptr, size_t size, void *user);
     void *user;
 } pvs_allocator;
 
-/* An axis-aligned box. A box with min == max on some axis is flat, still valid. */
+/* An axis-aligned box; min == max on an axis (flat) is valid. */
 typedef struct pvs_box {
     float min[3];
     float max[3];
 } pvs_box;
 
-/* Bitsets: bit i of word i/64 stands for object id i. Size with PVS_BITSET_WORDS(object_count). */
+/* Bitsets: bit i of word i/64 is object id i; PVS_BITSET_WORDS(object_count) words. */
 typedef uint64_t pvs_word;
 #define PVS_BITSET_WORDS(bits) (((size_t)(bits) + 63u) / 64u)
-/* 1 if bit i is set. No bounds check: i < the bitset's bit count. */
+/* Test (1 if set), set, clear bit i; no bounds check. */
 PVS_API int pvs_bitset_test(const pvs_word *bits, uint32_t i);
-/* Set / clear bit i. */
 PVS_API void pvs_bitset_set(pvs_word *bits, uint32_t i);
 PVS_API void pvs_bitset_clear(pvs_word *bits, uint32_t i);
-/* Number of set bits among the first `bit_count` bits. */
+/* Set bits among the first `bit_count`. */
 PVS_API uint32_t pvs_bitset_count(const pvs_word *bits, uint32_t bit_count);
-/* The first set bit >= `from`, or `bit_count` when none: for (i = next(b,n,0); i < n; i = next(b,n,i+1)). */
+/* The first set bit >= `from`, or `bit_count`: for (i = next(b,n,0); i < n; i = next(b,n,i+1)). */
 PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint32_t from);
 
-/* ---- scene ----------------------------------------------------------------------------------- */
+/* ---- scene ---- */
 
 /* Object flags. */
 #define PVS_OBJECT_OCCLUDER_ONLY 1u /* blocks sight but is never drawn: never appears in a PVS */
 
-/* One object (a unit of visibility): a range of triangles. Ranges of distinct objects must not overlap;
-   triangles in no range block sight but belong to no object. */
+/* An object, the unit of visibility: a range of triangles overlapping no other object's. Triangles in no
+   range block sight only. */
 typedef struct pvs_object_desc {
     uint32_t first_triangle;
     uint32_t triangle_count;
     uint32_t flags;          /* PVS_OBJECT_* */
 } pvs_object_desc;
 
-/* Kinds of explicit occluder volume (geometry known to be solid). */
+/* Kinds of explicit occluder volume (geometry known solid). */
 typedef enum pvs_occluder_kind {
     PVS_OCCLUDER_INVALID = 0,
     PVS_OCCLUDER_BOX,        /* `box` */
@@ -469,14 +380,14 @@ typedef enum pvs_occluder_kind {
     PVS_OCCLUDER_KIND_COUNT
 } pvs_occluder_kind;
 
-/* An explicit occluder volume. The arrays are copied by pvs_scene_create. */
+/* An explicit occluder volume; pvs_scene_create copies the arrays. */
 typedef struct pvs_occluder_desc {
     pvs_occluder_kind kind;
     pvs_box box;                /* BOX: the volume */
     const float *planes;        /* CONVEX: plane_count x (nx, ny, nz, d); inside is n.p + d <= 0 */
     uint32_t plane_count;       /* CONVEX: 4..PVS_MAX_OCCLUDER_PLANES, bounded, non-empty */
-    const float *footprint;     /* EXTRUSION: footprint_count 2D points (u, v) in the ground plane, */
-    uint32_t footprint_count;   /*   either winding, simple (may be concave), 3..PVS_MAX_FOOTPRINT_POINTS */
+    const float *footprint;     /* EXTRUSION: footprint_count ground points (u, v), a simple polygon, */
+    uint32_t footprint_count;   /*   either winding, may be concave; 3..PVS_MAX_FOOTPRINT_POINTS */
     float base, top;            /* EXTRUSION: heights along the up axis, base < top */
 } pvs_occluder_desc;
 #define PVS_MAX_OCCLUDER_PLANES 64
@@ -485,8 +396,8 @@ typedef struct pvs_occluder_desc {
 /* Scene flags. */
 #define PVS_SCENE_ALLOW_EMPTY_OBJECTS 1u /* keep objects with no (or only zero-area) triangles: never visible */
 
-/* Everything pvs_scene_create needs. Left at zero, optional fields get defaults. The ground-plane
-   coordinates (u, v) of an extrusion are (x, z) for up_axis 1 and (x, y) for up_axis 2. */
+/* What pvs_scene_create needs; zero fields get defaults. Ground coordinates (u, v): (x, z) for up_axis 1,
+   (x, y) for 2. */
 typedef struct pvs_scene_desc {
     const float *positions;      /* vertex_count x (x, y, z) */
     uint32_t vertex_count;
@@ -502,23 +413,20 @@ typedef struct pvs_scene_desc {
     pvs_allocator allocator;
 } pvs_scene_desc;
 
-/* A validated, immutable scene with its kD-trees. Read-only after creation: thread-safe. */
+/* A validated scene with its kD-trees; immutable, so thread-safe. */
 typedef struct pvs_scene pvs_scene;
 
-/* Copies and validates the arrays, computes object bounds, builds the triangle and object kD-trees.
-   Errors: INVALID_ARGUMENT, INDEX_OUT_OF_RANGE, NOT_FINITE, EMPTY_OBJECT, DEGENERATE_OBJECT,
-   OVERLAPPING_OBJECTS, BAD_OCCLUDER, COUNT_OVERFLOW, OUT_OF_MEMORY; err->index names the element.
-   Memory: at most PVS_SCENE_BYTES_PER_TRIANGLE per triangle, PVS_SCENE_BYTES_PER_OBJECT per object,
-   12 per vertex and PVS_SCENE_BYTES_FIXED at once, for any triangle shapes (the kD-trees' bounds);
-   ordinary scenes hold far less (MEMORY; tests/BENCHMARKS.md, scene). */
+/* Copies and validates the arrays, builds object bounds and kD-trees. Errors: INVALID_ARGUMENT,
+   INDEX_OUT_OF_RANGE, NOT_FINITE, EMPTY_OBJECT, DEGENERATE_OBJECT, OVERLAPPING_OBJECTS, BAD_OCCLUDER,
+   COUNT_OVERFLOW, OUT_OF_MEMORY; err->index names the element. Holds at most these bytes per triangle and
+   object, 12 per vertex and _FIXED at once, whatever the shapes (MEMORY). */
 #define PVS_SCENE_BYTES_PER_TRIANGLE 2432
 #define PVS_SCENE_BYTES_PER_OBJECT 2400
 #define PVS_SCENE_BYTES_FIXED 16384
 PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out_scene, pvs_error *err);
-/* Frees the scene through its allocator. NULL is allowed. */
+/* Frees through its allocator; NULL allowed. */
 PVS_API void pvs_scene_destroy(pvs_scene *scene);
 
-/* Counts and bounds. */
 PVS_API uint32_t pvs_scene_object_count(const pvs_scene *scene);
 PVS_API uint32_t pvs_scene_triangle_count(const pvs_scene *scene);
 PVS_API uint32_t pvs_scene_occluder_count(const pvs_scene *scene);
@@ -529,31 +437,29 @@ PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *scene, uint32_t object)
 /* The object a triangle belongs to, or PVS_NO_OBJECT. */
 PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *scene, uint32_t triangle);
 #define PVS_NO_OBJECT 0xffffffffu
-/* The stored copy of explicit occluder i (its arrays point into the scene). */
+/* The scene's copy of explicit occluder i (arrays inside the scene). */
 PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *scene, uint32_t i);
 
-/* A ray hit. */
 typedef struct pvs_hit {
-    float t;             /* distance along dir (in units of |dir|) */
+    float t;             /* distance along dir, in units of |dir| */
     uint32_t triangle;
     uint32_t object;     /* PVS_NO_OBJECT for triangles in no object */
 } pvs_hit;
 
-/* Closest hit of the ray origin + t dir, 0 <= t <= tmax, with the scene's triangles (two-sided).
-   Returns 1 and fills *hit (NULL allowed), or 0. dir need not be normalised but must be non-zero.
-   Watertight (Woop, Benthin, Wald 2013, in double): a ray cannot pass between triangles sharing an
-   edge or a corner. Zero-area triangles are never hit. Ties in t go to the lowest triangle index.
+/* Closest hit of origin + t dir, 0 <= t <= tmax (dir non-zero), with the two-sided triangles: 1 and *hit
+   (may be NULL), or 0. Watertight (Woop, Benthin, Wald 2013, in double): no ray slips between triangles
+   sharing an edge or corner. Zero-area triangles are never hit; ties go to the lowest triangle index.
    Thread-safe, allocates nothing. */
 PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax,
                               pvs_hit *hit);
-/* 1 if any triangle crosses the segment a-b (endpoints included), else 0; 0 when a == b. The test is
-   watertight like pvs_scene_raycast. Thread-safe, no allocation. */
+/* 1 if a triangle crosses segment a-b (ends included), 0 when a == b; as watertight, thread-safe and
+   allocation-free as pvs_scene_raycast. */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], const float b[3]);
 
-/* ---- kdtree ---------------------------------------------------------------------------------- */
+/* ---- kdtree ---- */
 
-/* A kD-tree over a set of boxes (objects, triangles or cells): binned SAH build, items referenced
-   from every leaf they overlap. Immutable after creation: thread-safe. */
+/* A kD-tree over boxes (objects, triangles or cells): binned SAH, items in every leaf they overlap.
+   Immutable, so thread-safe. */
 typedef struct pvs_kdtree pvs_kdtree;
 
 typedef struct pvs_kdtree_desc {
@@ -564,25 +470,22 @@ typedef struct pvs_kdtree_desc {
     pvs_allocator allocator;
 } pvs_kdtree_desc;
 #define PVS_KDTREE_MAX_DEPTH 48
-/* Memory, for any boxes however they overlap: a tree holds at most PVS_KDTREE_MAX_REFS_PER_BOX item
-   references and PVS_KDTREE_MAX_NODES_PER_BOX nodes per box (4 and 8 bytes each), and building it
-   holds at most PVS_KDTREE_BUILD_BYTES_PER_BOX bytes per box plus PVS_KDTREE_BUILD_BYTES_FIXED at
-   once. Ordinary sets stay far below (tests/BENCHMARKS.md, kdtree); boxes that overlap everywhere
-   (a fan of slivers around one vertex) get bigger leaves instead of more memory. */
+/* Memory bounds per box, for any boxes: item references (4 bytes each), nodes (8 bytes each), build bytes
+   (plus _BUILD_BYTES_FIXED at once). Boxes overlapping everywhere (a fan of slivers) get bigger leaves
+   instead of more memory; ordinary sets stay far below (tests/BENCHMARKS.md, kdtree). */
 #define PVS_KDTREE_MAX_REFS_PER_BOX 64
 #define PVS_KDTREE_MAX_NODES_PER_BOX 32
 #define PVS_KDTREE_BUILD_BYTES_PER_BOX 2336
 #define PVS_KDTREE_BUILD_BYTES_FIXED 4096
 
-/* Builds the tree; deterministic (the same boxes give the same tree). Boxes with min > max on some
-   axis are left out; flat boxes (min == max) are fine; count 0 gives an empty tree. Errors:
-   INVALID_ARGUMENT, NOT_FINITE (err->index = the box), COUNT_OVERFLOW, OUT_OF_MEMORY. */
+/* Builds the tree, deterministically. Boxes with min > max are left out; count 0 gives an empty tree.
+   Errors: INVALID_ARGUMENT, NOT_FINITE (err->index = the box), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **out_tree, pvs_error *err);
-/* Frees the tree through its allocator. NULL is allowed. */
+/* Frees through its allocator; NULL allowed. */
 PVS_API void pvs_kdtree_destroy(pvs_kdtree *tree);
-/* The union of the non-empty item boxes; an empty box (min > max) when there are none. */
+/* The union of the non-empty item boxes, or an empty box (min > max). */
 PVS_API pvs_box pvs_kdtree_bounds(const pvs_kdtree *tree);
-/* Nodes, inner and leaves (every inner node has two children); at least 1. */
+/* Nodes, inner (two children each) and leaves; at least 1. */
 PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *tree);
 
 /* What a sweep visitor tells the traversal. */
@@ -590,67 +493,55 @@ typedef enum pvs_visit {
     PVS_VISIT_DESCEND = 0,   /* go on into this node's children */
     PVS_VISIT_SKIP,          /* cull this node's subtree */
     PVS_VISIT_STOP,          /* end the sweep */
-    PVS_VISIT_ALL,           /* take this node's subtree whole: its leaves are passed at once, with
-                                distance -1, and nothing below it is decided (only STOP is heeded) */
+    PVS_VISIT_ALL,           /* take the subtree whole (see below); only STOP is heeded below it */
     PVS_VISIT_COUNT
 } pvs_visit;
 
-/* Called once per node reached, in order of increasing `distance` (minimum distance from the
-   sweep's source box to the node box; 0 where they meet). `node_box` is the node's cell: the
-   tree's bounds cut by the split planes above it. Leaves pass their items, inner nodes (and empty
-   leaves) items == NULL and item_count == 0. An item overlapping several leaves is passed once per
-   leaf. After PVS_VISIT_ALL on an inner node, each non-empty leaf below it is passed right away
-   (depth first, with distance -1: no order among them), before the sweep goes on. */
+/* Called per node reached, by increasing `distance` from the source box (0 where they meet); `node_box`:
+   the bounds cut by the splits above. Leaves pass their items (an item once per leaf it is in), other
+   nodes NULL, 0. After PVS_VISIT_ALL, each non-empty leaf below comes at once, depth first, with distance
+   -1 (unordered), before the sweep goes on. */
 typedef pvs_visit (*pvs_kdtree_visit_fn)(void *user, const pvs_box *node_box, float distance,
                                          const uint32_t *items, uint32_t item_count);
 
-/* Bytes of scratch pvs_kdtree_sweep needs for this tree: 32 bytes per leaf ((node_count + 1) / 2). */
+/* Scratch bytes pvs_kdtree_sweep needs: 32 per leaf ((node_count + 1) / 2). */
 PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *tree);
-/* The approximate occlusion sweep (Bittner 2002, §3.2): nodes front to back from `source` (a box; a
-   point is a box with min == max) by a priority queue on minimum distance. `scratch` is caller memory
-   of at least pvs_kdtree_sweep_scratch_size bytes, aligned to 8. Ties are broken by node index, so
-   the order is deterministic. An empty tree visits nothing. Returns PVS_OK, BUFFER_TOO_SMALL,
-   INVALID_ARGUMENT (NULL tree, source or visit) or NOT_FINITE (source). Allocates nothing. */
+/* The approximate occlusion sweep (Bittner 2002, §3.2): nodes front to back from the box `source` (a
+   point: min == max) by a priority queue on minimum distance, ties by node index (deterministic).
+   `scratch`: pvs_kdtree_sweep_scratch_size bytes, 8-aligned. Errors: BUFFER_TOO_SMALL, INVALID_ARGUMENT
+   (NULL tree, source or visit), NOT_FINITE (source). Allocates nothing. */
 PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *tree, const pvs_box *source, void *scratch, size_t scratch_size,
                                     pvs_kdtree_visit_fn visit, void *user);
 
-/* Called for the non-empty leaves a ray passes, nearest first; [t_enter, t_exit] is the ray's interval
-   in the leaf, widened by a relative 1e-7 so that no leaf the ray touches is skipped. Return a new
-   tmax (larger values are ignored) to shorten the ray, or a negative value to stop. */
+/* Called per non-empty leaf a ray passes, nearest first; [t_enter, t_exit] is widened by a relative 1e-7
+   so no touched leaf is skipped. Returns a smaller tmax to shorten the ray (larger is ignored), < 0 to stop. */
 typedef float (*pvs_kdtree_ray_fn)(void *user, const uint32_t *items, uint32_t item_count, float t_enter, float t_exit);
-/* Walks the leaves the ray origin + t dir, 0 <= t <= tmax, passes, front to back. Any dir component
-   may be 0 or -0 (not all three); the origin may lie inside or outside the bounds. Non-finite input
-   walks nothing. Allocates nothing; thread-safe. */
+/* Walks the leaves origin + t dir, 0 <= t <= tmax, passes, front to back; dir may have 0 or -0 components
+   (not all three), the origin lie anywhere; non-finite input walks nothing. Thread-safe, no allocation. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const float dir[3], float tmax,
                             pvs_kdtree_ray_fn fn, void *user);
 
-/* The items of the leaf containing point p (their boxes may or may not contain p: test them), or
-   NULL with *count = 0 outside the tree's bounds or in an empty leaf. Every item whose box contains p
-   is listed, also for p on a split plane. Allocates nothing. */
+/* The items of p's leaf: all whose box contains p (also on a split plane) and maybe more, to test. NULL
+   and *count = 0 outside the bounds or in an empty leaf. No allocation. */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const float p[3], uint32_t *count);
 
-/* ---- raster ---------------------------------------------------------------------------------- */
+/* ---- raster ---- */
 
-/* Depth convention (reversed Z). A depth value is z_clip / w_clip of a 4x4 projection and LARGER IS
-   NEARER: pvs_camera_matrix maps the near plane to 1 and infinity to 0 (orthographic: 1 at the near
-   plane, decreasing linearly with distance, negative past `far`). A point is in front of the near
-   plane when z_clip <= w_clip and w_clip > 0; the rest of a triangle is clipped away. There is no far
-   clipping. Pixel (i, j) covers the screen square [i, i+1] x [j, j+1]; x = (x_ndc + 1) / 2 * width,
-   y = (y_ndc + 1) / 2 * height (row 0 at y_ndc = -1). A depth map pixel holds the nearest of what was
-   drawn into it, PVS_DEPTH_EMPTY when nothing was. */
+/* Depth (reversed Z): z_clip / w_clip, LARGER IS NEARER. pvs_camera_matrix maps the near plane to 1,
+   infinity to 0 (orthographic: 1 at near, falling linearly, negative past `far`). Points with z_clip <=
+   w_clip and w_clip > 0 are in front of the near plane, the rest is clipped; no far clipping. Pixel (i, j)
+   covers [i, i+1] x [j, j+1] for x = (x_ndc + 1) / 2 * width, y likewise (row 0 at y_ndc = -1), and holds
+   the nearest depth drawn, else PVS_DEPTH_EMPTY. */
 #define PVS_DEPTH_EMPTY (-3.402823466e+38f)
 
 /* How a triangle is rasterized (Durand 2000 §2.2, §3.1-3.2: occluders by intersection, occludees by union). */
 typedef enum pvs_raster_mode {
-    PVS_RASTER_OCCLUDER = 0,  /* inner coverage: only pixels the triangle covers entirely; each gets a
-                                 depth no nearer than the triangle's farthest point over the pixel */
-    PVS_RASTER_OCCLUDEE,      /* outer coverage: every pixel the triangle touches; each gets a depth no
-                                 farther than the triangle's nearest point over the pixel */
+    PVS_RASTER_OCCLUDER = 0,  /* pixels covered entirely, no nearer than the triangle's farthest over them */
+    PVS_RASTER_OCCLUDEE,      /* pixels touched, no farther than the triangle's nearest over them */
     PVS_RASTER_MODE_COUNT
 } pvs_raster_mode;
 
-/* A camera for the culling calls. `forward` and `up` need not be unit length nor orthogonal (up is
-   made orthogonal to forward); the image x axis is forward x up (right-handed: to the right). */
+/* A camera. `forward`, `up` need not be unit or orthogonal (up is orthogonalized); image x = forward x up. */
 typedef struct pvs_camera {
     float eye[3];
     float forward[3];
@@ -661,157 +552,122 @@ typedef struct pvs_camera {
     float far_plane;     /* orthographic: where depth reaches 0 (not a clip plane); 0 = near + 1e4 */
 } pvs_camera;
 
-/* The row-major 4x4 clip matrix of a camera for an image of aspect width / height (clip = m * (x, y,
-   z, 1), m[4 * row + col]). Perspective: z_clip = near, w_clip = distance along forward, so depth =
-   near / distance. Returns INVALID_ARGUMENT or NOT_FINITE for an unusable camera, else PVS_OK. */
+/* The row-major clip matrix (clip = m * (x, y, z, 1), m[4 * row + col]) for aspect width / height;
+   perspective depth = near / distance along forward. INVALID_ARGUMENT or NOT_FINITE for a bad camera. */
 PVS_API pvs_result pvs_camera_matrix(const pvs_camera *camera, float aspect, float m[16]);
 
-/* Raster flags. Occluder-mode depth is kept one of two ways: per pixel (exact per pixel; the default
-   for maps of at most 65,536 pixels) or per tile of 32 x 4 pixels as a coverage mask and two depths
-   (Masked Occlusion Culling: several times faster, each tile's depth the farthest of what covers it;
-   the default for larger maps). Both are conservative. */
+/* Raster flags. Occluder depth is kept per pixel (the default up to 65,536 pixels) or per 32 x 4 tile as
+   a coverage mask and two depths (Masked Occlusion Culling: several times faster, a tile's depth the
+   farthest of what covers it; the default above). Both are conservative. */
 #define PVS_RASTER_SCALAR 1u     /* use the scalar code even where SIMD is compiled in (identical results) */
 #define PVS_RASTER_PER_PIXEL 2u  /* occluders keep a depth per pixel */
 #define PVS_RASTER_TILED 4u      /* occluders go to tiles (wins over PVS_RASTER_PER_PIXEL) */
 
-/* What pvs_raster_create needs. Left at zero, optional fields get defaults. */
+/* What pvs_raster_create needs; zero fields get defaults. */
 typedef struct pvs_raster_desc {
     uint32_t width, height;       /* depth map size in pixels, 1..16384 each */
-    const pvs_scene *scene;       /* optional: sizes the culling buffers for this scene and builds the
-                                     cull map's object grid over it; pvs_raster_cull* then accept this
-                                     scene (or one with no more objects, triangles and kD-tree nodes) */
+    /* Optional: sizes the culling buffers and cull map grid; pvs_raster_cull* accept a scene no larger
+       (objects, triangles, kD-tree nodes). */
+    const pvs_scene *scene;
     uint32_t max_occluders;       /* scene triangles pvs_raster_cull may select per frame, 0 = 1024 */
     uint32_t cull_map_width;      /* cull map cells over the scene's ground rectangle, 0 = no cull map */
     uint32_t cull_map_height;     /*   (both or neither; 1..4096; needs `scene`) */
     uint32_t flags;               /* PVS_RASTER_* */
-    uint32_t max_mesh_triangles;  /* triangles pvs_raster_mesh connects in one piece, 0 = 4096 (scratch:
-                                     about 400 bytes each) */
+    uint32_t max_mesh_triangles;  /* pvs_raster_mesh's piece size, 0 = 4096 (about 400 bytes each) */
     pvs_allocator allocator;
 } pvs_raster_desc;
 
-/* A rasterizer context: depth map, depth pyramid, cull map and every per-frame buffer, allocated once.
-   Nothing after pvs_raster_create allocates. One context per thread (calls on one context are not
-   thread-safe; distinct contexts are independent). */
+/* A rasterizer context holding every buffer; nothing allocates after create. One per thread. */
 typedef struct pvs_raster pvs_raster;
 
-/* Allocates the context. Errors: INVALID_ARGUMENT (sizes), COUNT_OVERFLOW, OUT_OF_MEMORY. */
+/* Errors: INVALID_ARGUMENT (sizes), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **out_raster, pvs_error *err);
-/* Frees the context through its allocator. NULL is allowed. */
+/* Frees through its allocator; NULL allowed. */
 PVS_API void pvs_raster_destroy(pvs_raster *raster);
 
 /* Sets every depth map pixel to PVS_DEPTH_EMPTY. */
 PVS_API void pvs_raster_clear(pvs_raster *raster);
-/* Sets the projection used by the next pvs_raster_triangles and box tests (row-major, see
-   pvs_camera_matrix). Any 4x4 works: perspective, orthographic, off-axis (Durand 2000's projection
-   planes shared by every point of a cell). Returns NOT_FINITE for a non-finite entry. */
+/* Sets the row-major projection of the next draws and box tests: any 4x4 (perspective, orthographic,
+   off-axis as Durand 2000's planes shared by a cell). NOT_FINITE for a non-finite entry. */
 PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *raster, const float m[16]);
-/* Rasterizes `count` triangles (vertices: 3 floats each in `positions`; `indices` 3 per triangle, or
-   NULL for consecutive vertices) into the depth map, keeping per pixel the nearer of the stored and
-   the new depth (tiled occluders merge per tile: a pixel may keep a farther depth, never one nearer
-   than its nearest occluder). Conservative under floating-point rounding (see >>raster). Triangles
-   are two-sided;
-   ones with a non-finite coordinate are skipped. Returns INVALID_ARGUMENT for NULL positions or a bad
-   mode, else PVS_OK. `vertex_count` bounds the indices (an index >= it skips the triangle). */
+/* Draws `count` two-sided triangles (3 floats per vertex; 3 `indices` per triangle, NULL: consecutive),
+   keeping per pixel the nearer depth (tiles merge: a pixel may keep a farther depth, never one nearer than
+   its nearest occluder); conservative under rounding (>>raster). Skips triangles with a non-finite
+   coordinate or an index >= vertex_count. INVALID_ARGUMENT for NULL positions or a bad mode. */
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positions, uint32_t vertex_count,
                                         const uint32_t *indices, uint32_t count, pvs_raster_mode mode);
-/* Rasterizes `count` triangles as one connected occluder mesh (Durand 2000 §3.3: per-triangle inner
-   coverage loses the connectivity of occluders, leaving a crack of unclaimed pixels along every edge
-   two triangles share). The triangles are drawn as by pvs_raster_triangles (occluder mode), then
-   every pixel along their edges that the union of the mesh's triangles covers whole: a pixel that
-   no boundary edge of the union touches and that some triangle touches. Boundary edges are the edges
-   not shared by exactly two triangles, the silhouettes between a front- and a back-facing triangle,
-   the edges of triangles wound against their neighbour, the edges cut by the near plane and the cuts
-   themselves; a crack remains only along them. Such a pixel stores the farthest depth over the pixel
-   of every triangle of its facing that touches it, so never a depth nearer than the mesh's farthest
-   over it. Vertices are shared by index and by equal position (a triangle soup is welded). Meshes of
-   more than the context's max_mesh_triangles are drawn in consecutive pieces of that many triangles
-   (edges between pieces stay boundary edges). Skips triangles with an index >= vertex_count or a
-   non-finite coordinate. Returns INVALID_ARGUMENT for a NULL raster or NULL positions with count > 0,
-   else PVS_OK. Conservative under rounding like pvs_raster_triangles (>>raster explains the
-   argument). Allocates nothing; the same result with and without SIMD. */
+/* Draws `count` triangles as one occluder (Durand 2000 §3.3: per-triangle inner coverage leaves cracks
+   along shared edges): as pvs_raster_triangles, plus every pixel a triangle touches and no boundary edge
+   does, at the farthest depth over it of the touching triangles of its facing. Boundary edges, where
+   cracks remain: edges not shared by exactly two triangles, silhouettes, edges between triangles wound
+   against each other, near-plane cuts and the edges they cut. Vertices are shared by index or equal
+   position. Longer meshes go in pieces of max_mesh_triangles, edges between pieces staying boundary.
+   INVALID_ARGUMENT for a NULL raster, or NULL positions with count > 0; skips and rounding as
+   pvs_raster_triangles; same result with or without SIMD. */
 PVS_API pvs_result pvs_raster_mesh(pvs_raster *raster, const float *positions, uint32_t vertex_count,
                                    const uint32_t *indices, uint32_t count);
-/* The depth map: width * height floats, row-major, row 0 first. Valid until the next raster call.
-   A tiled context writes it from the tiles on this call (a pass over the map). */
+/* The depth map, width * height floats from row 0, valid until the next raster call (tiled: built here). */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
 
-/* Builds the hierarchical depth map (Durand 2000 §2.4, after Greene, Kass and Miller 1993): per
-   level each texel holds the farthest (smallest) and nearest (largest) depth of its 2 x 2 children
-   (tiled: above the tiles, whose two depths and mask decide per pixel). The tests below build it
-   when the depth map changed since the last build. */
+/* The hierarchical depth map (Durand 2000 §2.4, after Greene, Kass and Miller 1993): per texel the
+   farthest and nearest depth of its 2 x 2 children (tiled: above the tiles). The tests build it when the
+   map changed. */
 PVS_API void pvs_raster_build_pyramid(pvs_raster *raster);
-/* 1 if an occludee whose nearest depth is `depth` may be visible somewhere in the pixel rectangle
-   [x0, x1] x [y0, y1] (inclusive, clamped to the map): some pixel stores a depth <= `depth`. 0 when
-   every pixel holds something strictly nearer, or the rectangle misses the map. Descends the pyramid
-   from the coarsest level and stops where a level decides. */
+/* 1 if an occludee of nearest depth `depth` may be visible in pixels [x0, x1] x [y0, y1] (inclusive,
+   clamped): some pixel stores a depth <= `depth`; 0 if all are strictly nearer or the rectangle is off
+   the map. */
 PVS_API int pvs_raster_test_rect(pvs_raster *raster, int32_t x0, int32_t y0, int32_t x1, int32_t y1, float depth);
-/* 1 if the box may be visible under the current matrix: it reaches in front of the near plane, it
-   touches the screen and the depth pyramid does not hide its projection. Conservative. */
+/* 1 if the box may be visible under the matrix: in front of the near plane, on screen, not hidden. */
 PVS_API int pvs_raster_test_box(pvs_raster *raster, const pvs_box *box);
 
-/* A chain of connected facades for the cull map (Wonka 1999 §3.1, §4.1): vertical quads standing on
-   consecutive ground-plane segments, from `base` to `top` along the up axis. Ground-plane coordinates
-   (u, v) are (x, z) for up axis 1 (Y) and (x, y) for up axis 2 (Z). */
+/* Connected facades for the cull map (Wonka 1999 §3.1, §4.1): vertical quads on consecutive ground
+   segments (u, v), from `base` to `top`. */
 typedef struct pvs_facade_chain {
     const float *points;   /* point_count points (u, v) */
     uint32_t point_count;  /* >= 2 */
-    uint32_t closed;       /* 1: the last point joins the first and the facades are back-face culled
-                              (a closed footprint, either winding); 0: open and two-sided */
+    uint32_t closed;       /* 1: a closed footprint (either winding), back-face culled; 0: open, two-sided */
     float base, top;       /* heights, base < top; chains with base above the ground are ignored */
 } pvs_facade_chain;
 
 /* Cull map flags. */
 #define PVS_CULL_MAP_SCENE_OCCLUDERS 1u /* also the scene's EXTRUSION and BOX occluders as closed chains */
 
-/* Builds the cull map from the eye (Wonka & Schmalstieg 1999 §3-4): every front-facing facade casts
-   its occluder shadow, rasterized top-down into a height buffer over the scene's ground rectangle,
-   fused by keeping the highest shadow per cell. A cell holds a height below which everything in its
-   column is hidden from the eye (PVS_DEPTH_EMPTY when no shadow covers the whole cell). Facades count
-   only when base <= min(eye height, the scene's lowest point), so the sight line to any hidden point
-   crosses the facade. Needs a context created with a scene and a cull map size; INVALID_ARGUMENT
-   otherwise, NOT_FINITE for a non-finite eye. Skips malformed chains. No allocation. */
+/* Builds the cull map from the eye (Wonka & Schmalstieg 1999 §3-4): front-facing facades' occluder
+   shadows, rasterized top-down over the ground rectangle, the highest per cell; a cell hides its column
+   below that height (PVS_DEPTH_EMPTY: not wholly shadowed). Facades count only when base <= min(eye
+   height, the scene's lowest point), so sight lines to hidden points cross them. Skips malformed chains.
+   INVALID_ARGUMENT without a scene and cull map, NOT_FINITE (eye). */
 PVS_API pvs_result pvs_cull_map_build(pvs_raster *raster, const float eye[3], const pvs_facade_chain *chains,
                                       uint32_t chain_count, uint32_t flags);
-/* The cull map: width * height heights, row-major; cell (i, j) covers u in region[0] + [i, i+1] * (region[2]
-   - region[0]) / width, v likewise from region[1] to region[3]. NULL without a cull map. */
+/* The cull map, width * height heights, row-major; cell (i, j) covers u in region[0] + [i, i+1] * (region[2]
+   - region[0]) / width, v likewise. NULL without a cull map. */
 PVS_API const float *pvs_cull_map(const pvs_raster *raster, uint32_t *width, uint32_t *height, float region[4]);
-/* 1 if a box may be visible in the cull map: some cell it overlaps holds a height <= the box top
-   (Wonka 1999 §4.3). Boxes outside the region count as visible. */
+/* 1 if some cell the box overlaps holds a height <= its top (Wonka 1999 §4.3); outside the region: 1. */
 PVS_API int pvs_cull_map_test_box(const pvs_raster *raster, const pvs_box *box);
 
-/* Per-frame culling inputs. Left at zero: no occluders (a frustum cull). */
+/* Per-frame culling inputs. All zero: a frustum cull. */
 typedef struct pvs_cull_params {
-    const float *occluder_positions;  /* caller occluder triangles (dynamic occluders): 3 floats per */
-    uint32_t occluder_vertex_count;   /*   vertex; indices 3 per triangle, or NULL for consecutive */
-    const uint32_t *occluder_indices; /*   vertices */
+    const float *occluder_positions;  /* the caller's (dynamic) occluder triangles: 3 floats per vertex; */
+    uint32_t occluder_vertex_count;   /*   indices 3 per triangle, or NULL for consecutive vertices */
+    const uint32_t *occluder_indices;
     uint32_t occluder_triangle_count;
-    uint32_t scene_occluders;         /* also rasterize the best this many scene triangles (capped at the
-                                         context's max_occluders) ... */
-    float occluder_distance;          /*   ... within this distance of the eye (0 = 100 units), ranked
-                                         by Bittner's area-angle measure (2002 §4.5) */
-    uint32_t scene_volumes;           /* pvs_raster_cull: 1 = also the scene's explicit BOX occluders and
-                                         EXTRUSION occluders' walls within occluder_distance (CONVEX
-                                         occluders are not used) */
+    uint32_t scene_occluders;         /* also the best this many scene triangles (<= max_occluders) ... */
+    float occluder_distance;          /*   ... within this distance (0 = 100) by area-angle (Bittner 2002 §4.5) */
+    uint32_t scene_volumes;           /* 1: also BOX occluders and EXTRUSION walls within it (no CONVEX) */
     const pvs_facade_chain *facades;  /* pvs_raster_cull_map only: facade chains ... */
     uint32_t facade_count;
-    uint32_t cull_map_flags;          /*   ... and PVS_CULL_MAP_* flags for pvs_cull_map_build */
-    const pvs_word *candidates;       /* optional: only objects set here are tested and reported (inside
-                                         a cell's PVS); PVS_BITSET_WORDS(object_count) words */
-    uint32_t occluder_flags;          /* PVS_CULL_* below */
+    uint32_t cull_map_flags;          /*   ... and PVS_CULL_MAP_* flags */
+    const pvs_word *candidates;       /* optional, PVS_BITSET_WORDS(object_count): test only these (a cell's PVS) */
+    uint32_t occluder_flags;          /* PVS_CULL_* */
 } pvs_cull_params;
 
-/* Occluder flags of pvs_raster_cull. */
-#define PVS_CULL_OCCLUDER_MESH 1u      /* the caller's occluder triangles are connected meshes: drawn with
-                                          pvs_raster_mesh (no cracks along shared edges) */
-#define PVS_CULL_SCENE_MESH 2u         /* the scene's selected triangles drawn as one welded mesh
-                                          (pvs_raster_mesh): tighter where walls are made of many
-                                          triangles, but costlier per frame (tests/BENCHMARKS.md,
-                                          raster); by default one triangle at a time */
-#define PVS_CULL_SEPARATE_TRIANGLES 4u /* the scene's occluder volumes (scene_volumes) one triangle at a
-                                          time (by default each is drawn as a mesh: no cracks along
-                                          its faces' diagonals, a small cost) */
+/* pvs_raster_cull: occluders drawn as meshes (pvs_raster_mesh: no cracks, a cost per frame;
+   tests/BENCHMARKS.md, raster). */
+#define PVS_CULL_OCCLUDER_MESH 1u      /* the caller's triangles, as connected meshes */
+#define PVS_CULL_SCENE_MESH 2u         /* the selected scene triangles, welded (tighter on many-triangle walls) */
+#define PVS_CULL_SEPARATE_TRIANGLES 4u /* scene_volumes per triangle; by default each is a mesh (small cost) */
 
-/* What a culling call did (for statistics and tests). */
+/* What a culling call did. */
 typedef struct pvs_cull_stats {
     uint32_t occluder_triangles;  /* triangles rasterized (caller + selected scene triangles) */
     uint32_t nodes_visited;       /* kD-tree nodes reached by the sweep */
@@ -819,56 +675,47 @@ typedef struct pvs_cull_stats {
     uint32_t visible;             /* objects reported */
 } pvs_cull_stats;
 
-/* From-point occlusion culling with the depth pyramid: clears the depth map, sets the camera's matrix
-   (aspect width / height), rasterizes the caller's and the selected scene occluders (occluder mode;
-   each box or extrusion volume as a mesh, the selected scene triangles as one mesh with
-   PVS_CULL_SCENE_MESH and the caller's with PVS_CULL_OCCLUDER_MESH: see pvs_raster_mesh), builds the
-   pyramid, then sweeps the scene's object kD-tree front to back from the eye (Bittner 2002 §3.2),
-   skipping subtrees whose box is hidden, and sets in `visible` (PVS_BITSET_WORDS(object_count) words,
-   cleared first) every object whose box may be visible. Occluder-only objects are never set.
-   Conservative: every object seen through the screen from the eye is set. `stats` may be NULL.
-   Errors: INVALID_ARGUMENT, NOT_FINITE (camera), BUFFER_TOO_SMALL (a scene larger than the context
-   was created for). Allocates nothing. */
+/* From-point culling with the depth pyramid: clears, sets the camera (aspect width / height), draws the
+   occluders, builds the pyramid, sweeps the object kD-tree front to back (Bittner 2002 §3.2) skipping
+   hidden subtrees. Sets in `visible` (PVS_BITSET_WORDS(object_count) words, cleared first) every object
+   whose box may be seen through the screen from the eye, never occluder-only ones. `stats` may be NULL.
+   Errors: INVALID_ARGUMENT, NOT_FINITE (camera), BUFFER_TOO_SMALL (a scene larger than the context's). */
 PVS_API pvs_result pvs_raster_cull(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
                                    const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
                                    pvs_error *err);
-/* The 2.5D entry point (Wonka 1999): builds the cull map from the camera's eye with params->facades
-   (and the scene's occluders with PVS_CULL_MAP_SCENE_OCCLUDERS), then scans the object grid with the
-   two-level bounding-height test of §4.3 and sets every object that is inside the camera's frustum
-   and not under the shadows. Shadows are cast from a point: an orthographic camera gets the frustum
-   test only. `scene` must be the context's scene. Same outputs and errors as
-   pvs_raster_cull. Allocates nothing. */
+/* The 2.5D twin (Wonka 1999): builds the cull map from the eye with params->facades (and, per flag, the
+   scene's occluders), scans the object grid with §4.3's two-level bounding-height test and sets every
+   object in the frustum not under the shadows; orthographic cameras (no eye point) get the frustum test.
+   `scene`: the context's. Outputs and errors as pvs_raster_cull. */
 PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
                                        const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
                                        pvs_error *err);
-/* ---- otree ---------------------------------------------------------------------------------- */
+/* ---- otree ---- */
 
-/* Occlusion trees (Bittner 2002): a BSP over oriented 2D line space whose leaves are "out" (lines
-   that reach nothing yet) or "in" (lines blocked by a stored occluder). Built front to back by an
-   occlusion sweep; conservative everywhere floating point has to decide. */
+/* Occlusion trees (Bittner 2002): BSPs over line space built front to back; every floating-point
+   decision is conservative. */
 
 /* What an occlusion-tree computation reports. */
 typedef struct pvs_otree_stats {
     uint32_t nodes;              /* tree nodes at the end (the largest tree for several trees) */
     uint32_t occluders_inserted; /* occluders merged into the tree(s) */
     uint32_t visible_segments;   /* 2D: segments found visible */
-    uint32_t budget_exceeded; /* 1 when node_budget stopped insertion: the rest counted as not blocking (still
-                                 conservative) */
+    uint32_t budget_exceeded; /* 1: node_budget stopped insertion, the rest counted as not blocking */
 } pvs_otree_stats;
 
 /* Segment flags for pvs_visibility_2d. */
 #define PVS_SEGMENT_NO_OCCLUSION 1u /* tested for visibility but never blocks sight */
 
-/* Exact 2D from-region visibility (Bittner 2002, ch. 6). Left at zero, optional fields get defaults. */
+/* Exact 2D from-region visibility (Bittner 2002, ch. 6). Zero fields get defaults. */
 typedef struct pvs_visibility_2d_desc {
     const float *cell;               /* cell_vertex_count x (x, y): a convex polygon, either winding */
     uint32_t cell_vertex_count;      /* >= 3 */
     const float *segments;           /* segment_count x (x0, y0, x1, y1): occluders, opaque from both sides */
     uint32_t segment_count;
     const uint8_t *segment_flags;    /* NULL or segment_count PVS_SEGMENT_* flags */
-    const uint32_t *segment_objects; /* NULL (segment i is object i) or the object of each segment, or PVS_NO_OBJECT */
+    const uint32_t *segment_objects; /* NULL (segment i is object i) or each segment's object or PVS_NO_OBJECT */
     uint32_t object_count;           /* bits in visible_objects */
-    uint32_t node_budget;            /* stop inserting past this many tree nodes (0 = 2^20); see pvs_otree_stats */
+    uint32_t node_budget;            /* stop inserting past this many tree nodes (0 = 2^20) */
     uint32_t flags;                  /* 0 (the test hook PVS_VISIBILITY_INPUT_ORDER) */
     pvs_allocator allocator;
 } pvs_visibility_2d_desc;
@@ -877,88 +724,73 @@ typedef struct pvs_visibility_2d_desc {
 #define PVS_VISIBILITY_INPUT_ORDER 1u
 #endif
 
-/* Which segments (and objects) are visible from some point of the cell: a segment is visible when a
-   line segment from a cell point reaches it without crossing another segment (touching an end point
-   does not block; segments crossing the cell are visible). Exact up to floating point, rounded
-   toward visible. visible_segments (PVS_BITSET_WORDS(segment_count) words) and visible_objects
-   (PVS_BITSET_WORDS(object_count) words) may each be NULL; both are cleared first. stats may be
-   NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex),
-   OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
+/* The segments (and objects) reached from some cell point by a line segment crossing no other segment
+   (touching an end point does not block; segments crossing the cell are visible): exact, rounding toward
+   visible. visible_segments, visible_objects (PVS_BITSET_WORDS of segment_count, object_count words) are
+   cleared first; they and stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, INDEX_OUT_OF_RANGE,
+   BAD_CELL (no area, not convex), OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments,
                                      pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err);
 
-/* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7). Coordinates (u, v) are the
-   ground plane, h the height. Left at zero, optional fields get defaults. */
+/* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7), over ground (u, v) and height.
+   Zero fields get defaults. */
 typedef struct pvs_visibility_25d_desc {
     float cell_min[2], cell_max[2]; /* the cell's ground rectangle */
     float cell_top;                 /* the highest eye height in the cell */
-    const float *facades;           /* facade_count x (u0, v0, u1, v1, top): opaque vertical walls that */
-    uint32_t facade_count;          /*   stand on the ground: they block every height below `top` */
+    const float *facades;           /* facade_count x (u0, v0, u1, v1, top): opaque walls standing on the */
+    uint32_t facade_count;          /*   ground, blocking every height below `top` */
     const float *objects; /* object_count x (umin, vmin, umax, vmax, top): object bounds; umin > umax = empty */
     uint32_t object_count;
-    uint32_t node_budget;           /* per tree (0 = PVS_OTREE_25D_BUDGET); see pvs_otree_stats */
+    uint32_t node_budget;           /* per tree (0 = PVS_OTREE_25D_BUDGET) */
     const pvs_kdtree *tree;         /* NULL, or a kD-tree over pvs_visibility_25d_boxes (reused across cells) */
     pvs_allocator allocator;
     uint32_t flags;                 /* 0; other bits INVALID_ARGUMENT but the test hook PVS_VISIBILITY_25D_FULL_TESTS */
 } pvs_visibility_25d_desc;
 
-/* The default node budget of a 2.5D occlusion tree (pvs_visibility_25d_desc.node_budget, and OTREE
-   bakes: pvs_bake_desc.otree.node_budget). The budget spent, the remaining facades are not inserted
-   (counted as not blocking: conservative) and the objects are still tested. The generator scenes
-   never reach it. On the brush geometry of Quake 3 maps thousands of small facades split the tree
-   into slivers; there this budget bounds the time per cell at almost no cost in tightness (see
-   tests/BENCHMARKS.md, otree). */
+/* The default node budget of a 2.5D occlusion tree. Once spent, the remaining facades are not inserted
+   (conservative); objects are still tested. It bounds the time per cell on maps of thousands of small
+   facades (Quake 3 brushes) at almost no cost in tightness (tests/BENCHMARKS.md, otree). */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
 
 #ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
-/* pvs_visibility_25d_desc.flags: every box test walks the tree, with no witness lines (a remembered
-   line in an out-leaf that crosses the box answers "visible" without a walk): the reference for that
-   shortcut, slower, the same result (a witness answers only where the walk reaches the same
-   out-leaf). */
+/* pvs_visibility_25d_desc.flags: box tests always walk the tree, without the witness-line shortcut (a
+   remembered out-leaf line crossing the box): its slower reference, with the same result. */
 #define PVS_VISIBILITY_25D_FULL_TESTS 1u
 #endif
 
-/* Fills boxes[facade_count + object_count] for the kD-tree of pvs_visibility_25d_desc.tree: facade i
-   is item i, object j is item facade_count + j; axes (u, v, height), the height range ending at the
-   top. Build it once with pvs_kdtree_create and share it between cells (read-only, thread-safe). */
+/* Fills boxes[facade_count + object_count] for pvs_visibility_25d_desc.tree: facade i is item i, object j
+   item facade_count + j; axes (u, v, height up to the top). Build the tree once and share it between cells. */
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
                                       uint32_t object_count, pvs_box *boxes);
 
-/* The objects that may be visible from the cell box (ground rectangle x heights up to cell_top), given
-   that facades reach down below every cell and object. Conservative: never misses a visible object.
-   Facades crossing the cell's rectangle are ignored. visible_objects: PVS_BITSET_WORDS(object_count)
-   words, cleared first. stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY.
-   Thread-safe; allocates through desc->allocator. */
+/* The objects possibly visible from the cell (ground rectangle x heights up to cell_top), facades reaching
+   down below every cell and object; never misses one. Facades crossing the cell are ignored.
+   visible_objects: PVS_BITSET_WORDS(object_count) words, cleared first; stats may be NULL. Errors:
+   INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects,
                                       pvs_otree_stats *stats, pvs_error *err);
 
-/* From-point occlusion culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), the
-   object-space twin of pvs_raster_cull: same camera, parameters, outputs and errors. Each frame the
-   selected occluder polygons, in eye space, are merged front to back into a BSP tree whose planes
-   pass through the eye and an occluder edge (in-leaves keep the occluder fragment); then the scene's
-   object kD-tree is walked front to back with frustum culling and the conservative no-split box test
-   of §4.10.2 refined by an exact box / fragment-pyramid test at the in-leaves ("FME", Table 4.1);
-   temporal coherence by hierarchy updating with pull-up (§4.11.4) gives exactly the result of testing
-   every node. Occluders (§4.5): the caller's triangles, then the best `scene_occluders` polygons by
-   the area-angle measure among the triangles of the objects seen within `occluder_distance` in the
-   previous frame (after pvs_otree_create or pvs_otree_reset: the scene's triangles within that
-   distance), plus, with `scene_volumes`, the faces of BOX occluders and the walls of EXTRUSION
-   occluders within that distance. */
+/* From-point culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), pvs_raster_cull's
+   object-space twin: each frame the occluders are merged front to back into a BSP of planes through the eye;
+   the object kD-tree is walked front to back against it (§4.10.2's conservative box test, refined at
+   in-leaves by the exact "FME" test, Table 4.1), with hierarchy updating (§4.11.4) giving exactly the result
+   of testing every node. Occluders (§4.5): the caller's triangles, the best `scene_occluders` by area-angle
+   among the triangles of objects seen within `occluder_distance` last frame (after create or reset: all
+   within it), and per `scene_volumes` BOX faces and EXTRUSION walls within it. */
 typedef struct pvs_otree_desc {
-    const pvs_scene *scene;       /* required: sizes the per-node state; pvs_otree_cull then accepts this
-                                     scene (or one with no more objects, triangles and kD-tree nodes) */
+    /* Required: sizes the per-node state; pvs_otree_cull accepts a scene no larger (objects, triangles,
+       kD-tree nodes). */
+    const pvs_scene *scene;
     float aspect;                 /* image width / height for the frustum's side planes, 0 = 1 */
     uint32_t max_occluders;       /* scene polygons inserted per frame at most, 0 = 64; <= 65536 */
-    uint32_t node_budget;         /* occlusion tree nodes per frame, 0 = 8192; 64..2^24 (see pvs_otree_frame) */
+    uint32_t node_budget;         /* occlusion tree nodes per frame, 0 = 8192; 64..2^24 */
     uint32_t flags;               /* PVS_OTREE_* */
     pvs_allocator allocator;
 } pvs_otree_desc;
 #define PVS_OTREE_NO_COHERENCE 1u /* test every reached kD node every frame (the classical traversal, §4.11.2) */
 #define PVS_OTREE_PLANE_ONLY 2u   /* in-leaves test the fragment's plane only ("FMC"), no box / fragment test */
 
-/* A from-point culling context: the tree's node pool, the kD nodes' visibility states of the last
-   frame, the occluder selection. Allocated once; pvs_otree_cull allocates nothing. One context per
-   thread (calls on one context are not thread-safe; distinct contexts are independent). */
+/* A from-point culling context (node pool, last frame's kD node states), allocated once. One per thread. */
 typedef struct pvs_otree pvs_otree;
 
 /* What the last pvs_otree_cull did, beyond pvs_cull_stats. */
@@ -969,66 +801,43 @@ typedef struct pvs_otree_frame {
     uint32_t node_tests;          /* kD nodes whose visibility was tested (frustum + tree) */
     uint32_t nodes_skipped;       /* opened kD nodes whose test hierarchy updating skipped */
     uint32_t object_tests;        /* object boxes tested in partly visible leaves */
-    uint32_t budget_exceeded;     /* 1 when the node budget or the polygon size stopped an insertion: the
-                                     rest counted as not blocking (still conservative) */
+    uint32_t budget_exceeded;     /* 1: the budget or a polygon's size stopped an insertion (conservative) */
 } pvs_otree_frame;
 
-/* Allocates the context for desc->scene. Errors: INVALID_ARGUMENT, NOT_FINITE (aspect), COUNT_OVERFLOW,
-   OUT_OF_MEMORY. */
+/* Errors: INVALID_ARGUMENT, NOT_FINITE (aspect), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out_otree, pvs_error *err);
-/* Frees the context through its allocator. NULL is allowed. */
+/* Frees through its allocator; NULL allowed. */
 PVS_API void pvs_otree_destroy(pvs_otree *otree);
-/* Forgets the previous frame (a camera cut): the next frame selects its occluders by distance and
-   tests every node it reaches. */
+/* Forgets the last frame (a camera cut): the next selects occluders by distance, tests every node. */
 PVS_API void pvs_otree_reset(pvs_otree *otree);
-/* From-point occlusion culling (see pvs_otree_desc): sets in `visible` (PVS_BITSET_WORDS(object_count)
-   words, cleared first) every object whose box may be seen from the eye through the screen from the
-   near plane on; occluder-only objects are never set; params->candidates restricts the objects.
-   Conservative whatever the rounding: every plane test leans toward "visible". `params` may be NULL
-   (a frustum cull); params->facades are ignored. `stats` may be NULL. Errors: INVALID_ARGUMENT,
-   NOT_FINITE (camera), UNSUPPORTED (an orthographic camera: shadow volumes need an eye point),
-   BUFFER_TOO_SMALL (a scene larger than the context was created for). Allocates nothing. */
+/* Outputs as pvs_raster_cull (every plane test leans toward "visible"); `params` may be NULL, facades are
+   ignored. Errors: INVALID_ARGUMENT, NOT_FINITE (camera), UNSUPPORTED (orthographic: shadow volumes need
+   an eye point), BUFFER_TOO_SMALL (a scene larger than the context's). Allocates nothing. */
 PVS_API pvs_result pvs_otree_cull(pvs_otree *otree, const pvs_scene *scene, const pvs_camera *camera,
                                   const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
                                   pvs_error *err);
 /* Fills *frame with the figures of the last pvs_otree_cull. */
 PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame);
 
-/* ---- occluders ------------------------------------------------------------------------------- */
+/* ---- occluders ---- */
 
-/* Occluder synthesis: volumes that are certainly solid, for the shrink method (Wonka 2000 §2: the
-   theorem of its appendix needs volumetric occluders). A voxel is solid only when no viewer in any
-   cell can reach it along a path that touches no triangle, so a sight line through it always meets a
-   triangle first; solid is proved, never guessed from voxel connectivity (a triangle-touched voxel
-   may hide a slit narrower than itself, so touched voxels are never taken as walls):
-   - the triangles (minus those lying flat on the lowest ground level) are split into edge-connected
-     components, vertices matched by exact position; an edge used by an odd number of triangles and
-     not lying on the ground level is open;
-   - per component K, a ray straight up from a point has a crossing parity with K that stays constant
-     along any path avoiding K and the vertical sheets below K's open edges (a closed surface's inside
-     is odd, the ground closes meshes standing on it). Per voxel: untouched by K and clear of those
-     sheets = one free region of known parity (computed with error-bounded predicates; a column no
-     ray can decide counts as open), touched by K = up to two regions (odd and even), near an open
-     edge or its sheet = one region joined to everything. A 6-connected flood over these regions from
-     the cells (and from the outside of K's box) over-approximates where a viewer can go; untouched
-     voxels it does not reach are solid. Thin slits, windows and doors narrower than a voxel keep
-     their regions joined, so the space behind them is reached; a mesh with a crack or a T-junction
-     gives no volume where the crack's sheet runs (conservative). An enclosure formed only by several
-     separate meshes together is not recognised.
-   - voxels inside an explicit occluder volume are solid.
-   Below the lowest point of the scene and of the cells lies the ground (no sight line between points
-   above it passes below it). The solid set is eroded by eps (rounding toward less solid), then merged
-   into boxes (3D) and into per-column solid heights standing on the ground (2.5D), returned as
-   rectangles. Leaks: when most cells lie inside a component's box but a few reach its outside from
-   their own regions (a cell box poking through a wall into the void of a level whose walls have no
-   faces on the void side), those few are left out of every later flood (pvs_occluders_excluded_cells)
-   so that the others keep their solid walls; pvs_shrink_cell gives a left-out cell every object, and
-   the bake bakes those cells with a second synthesis that every cell seeds (PVS_OCCLUDERS_KEEP_LEAKS).
-   A separate 6-connected flood through untouched voxels from the grid's border reports the cells that
-   reach it (the leak diagnostic: a path of face-adjacent untouched voxels is a real free path). */
+/* Occluder synthesis: certainly-solid volumes for the shrink method (Wonka 2000 §2: its appendix theorem
+   needs volumetric occluders). A voxel is solid only when no viewer in any cell reaches it by a path
+   touching no triangle, so sight lines through it meet a triangle first. This is proved per edge-connected
+   component by crossing-parity floods from the cells (>>occluders, "certified solid"), never guessed from
+   connectivity (a touched voxel may hide a narrower slit); voxels inside explicit occluder volumes are
+   solid too. Openings narrower than a voxel stay open; a crack or T-junction (an open edge, used by an odd
+   number of triangles) gives no volume along the vertical sheet below it; an enclosure made only by
+   several meshes together is not recognised. The ground lies below the lowest point of scene and cells (no
+   sight line between points above passes below). The solid set is eroded by eps (rounding toward less
+   solid) into boxes (3D) and per-column heights on the ground (2.5D rectangles). Leaks: the few cells
+   reaching the outside of a component's box that most cells lie in (poking through a wall into a faceless
+   void) are left out of later floods, so the others keep their walls (pvs_occluders_excluded_cells). A
+   flood of untouched voxels from the grid's border reports the cells it reaches (face-adjacent untouched
+   voxels are a real free path). */
 typedef struct pvs_occluders_desc {
     const pvs_scene *scene;   /* required; must outlive the occluders */
-    const pvs_box *cells;     /* cell_count view cells: the flood starts from them (required, >= 1) */
+    const pvs_box *cells;     /* cell_count >= 1 view cells, the flood's sources (required) */
     uint32_t cell_count;
     float eps;                /* erosion distance, > 0 */
     float voxel_size;         /* 0 = derived: eps / 1.5, grown until the grid fits max_voxels */
@@ -1037,11 +846,11 @@ typedef struct pvs_occluders_desc {
     pvs_allocator allocator;
 } pvs_occluders_desc;
 
-/* pvs_occluders_desc.flags: seed the floods from every cell, leaking ones included (no cell is left
-   out: a leak then costs every cell the walls it opens, as in a single flood). */
+/* Flag: every cell seeds the floods, leaking ones too (a leak then costs every cell the walls it opens).
+   The bake uses it for a second synthesis that bakes the left-out cells. */
 #define PVS_OCCLUDERS_KEEP_LEAKS 1u
 
-/* The synthesized occluders: immutable after creation, thread-safe to read. */
+/* The synthesized occluders: immutable, thread-safe to read. */
 typedef struct pvs_occluders pvs_occluders;
 
 /* What the synthesis found. */
@@ -1056,16 +865,12 @@ typedef struct pvs_occluders_info {
     uint64_t column_voxels;   /* solid voxels in runs standing on the ground (the 2.5D part) */
     uint32_t box_count;       /* eroded 3D boxes */
     uint32_t rect_count;      /* eroded 2.5D column rectangles */
-    int is_2d5;               /* 1 when the column runs hold the solid voxels (>= 90%): use the 2.5D path */
-    uint32_t leak_cell;       /* the lowest cell that reaches the grid's border by a path of untouched
-                                 voxels (outside the scene: open to the sky, or a leak), PVS_NO_CELL if none */
-    float leak_point[3];      /* the centre of a voxel of that cell on such a path (when leak_cell is set) */
-    uint32_t leak_cells;      /* cells that reach the grid's border so */
-    uint32_t excluded_cells;  /* leaking cells left out of the solid proof (pvs_occluders_excluded_cells):
-                                 a few cells, fewer than half of those inside a component's box, whose
-                                 own sources reach the outside of it; they get no occluder */
-    uint32_t thin_objects;    /* drawable objects with no solid voxel in their box: thin walls with open
-                                 space on both sides and small props give no volume */
+    int is_2d5;               /* 1 when column runs hold >= 90% of the solid voxels: use the 2.5D path */
+    uint32_t leak_cell;       /* lowest cell reaching the grid's border (sky or leak), or PVS_NO_CELL */
+    float leak_point[3];      /* a voxel centre of that cell on such a path */
+    uint32_t leak_cells;      /* cells reaching the border */
+    uint32_t excluded_cells;  /* leaking cells left out, with no occluder (< half of those in a component's box) */
+    uint32_t thin_objects;    /* drawable objects with no solid voxel in their box (thin walls, props) */
     uint32_t components;      /* edge-connected triangle sets flooded (3 triangles or more) */
     uint32_t closed_components; /* of them, those without an open edge */
     uint64_t open_edges;      /* edges used by an odd number of triangles, off the ground level */
@@ -1078,57 +883,49 @@ typedef struct pvs_occluders_info {
 #define PVS_VOXEL_SOLID 2u    /* solid (before erosion); may hold triangles of another component */
 #define PVS_VOXEL_GROUND 3u   /* the padding layer below the ground */
 
-/* Runs the synthesis. Errors: INVALID_ARGUMENT (NULL, no cells, eps <= 0 or not finite), BAD_CELL,
-   COUNT_OVERFLOW, OUT_OF_MEMORY. Deterministic; not thread-safe on one desc only in the sense that it
-   allocates: concurrent calls on distinct outputs are fine. */
+/* Deterministic; concurrent calls on distinct outputs are fine. Errors: INVALID_ARGUMENT (NULL, no cells,
+   eps <= 0 or not finite), BAD_CELL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *desc, pvs_occluders **out_occluders, pvs_error *err);
-/* Frees through the allocator. NULL is allowed. */
+/* Frees through its allocator; NULL allowed. */
 PVS_API void pvs_occluders_destroy(pvs_occluders *occluders);
 /* Fills *info. */
 PVS_API void pvs_occluders_get_info(const pvs_occluders *occluders, pvs_occluders_info *info);
-/* The class of voxel (i, j, k) (i along x, j along y, k along z; each < dims), PVS_VOXEL_*. */
+/* The PVS_VOXEL_* class of voxel (i, j, k) along x, y, z (each < dims). */
 PVS_API uint32_t pvs_occluders_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
 /* 1 if voxel (i, j, k) survived the erosion. */
 PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
-/* The eroded 3D boxes (*count of them); every point within eps of a box is solid. Owned by occluders. */
+/* The eroded 3D boxes (*count), owned by occluders; every point within eps of one is solid. */
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *occluders, uint32_t *count);
-/* The shrunk 2.5D occluders as facade chains (base = the ground, top already lowered by eps): the
-   outer boundaries of regions of the column map at or above a height as closed chains, the boundaries
-   of holes as open chains back to their first point. Every point within eps of such a prism (the
-   region x [ground, top]) lies where no viewer can reach it or is below the ground. Owned by
-   occluders. */
+/* The shrunk 2.5D occluders as facade chains owned by occluders (base the ground, top lowered by eps):
+   boundaries of the column map's regions at or above a height, closed, and of their holes, open back to
+   the first point. Every point within eps of such a prism is unreachable or below the ground. */
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occluders, uint32_t *count);
-/* The column map at ground point (u, v) (x, z for up axis Y; x, y for Z): *solid receives the height
-   below which the column is proved solid (the ground where it is not), the return value the shrunk
-   occluder height (-FLT_MAX where there is none). Outside the map: the ground and -FLT_MAX.
-   On a square's edge the lower of the neighbours counts. */
+/* The column map at ground point (u, v): *solid the height below which the column is proved solid (else
+   the ground), returns the shrunk occluder height (else -FLT_MAX); outside the map the ground and
+   -FLT_MAX. On a square's edge the lower neighbour counts. */
 PVS_API float pvs_occluders_column_height(const pvs_occluders *occluders, float u, float v, float *solid);
-/* The leaking cells the synthesis left out (indices into desc->cells, increasing; *count of them,
-   info.excluded_cells): pvs_shrink_cell sets every object for them and for boxes inside them.
-   Owned by occluders; NULL when there are none. */
+/* The left-out leaking cells (increasing indices into desc->cells) or NULL, owned by occluders:
+   pvs_shrink_cell sets every object for them and boxes inside them. */
 PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occluders, uint32_t *count);
 
-/* ---- vocc ------------------------------------------------------------------------------------ */
+/* ---- vocc ---- */
 
-/* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles,
-   each hidden from every point of the cell (it lies in the umbra of the real occluders), that
-   together represent the cell's aggregate occlusion. They are stored in five bytes each (the VOCC
-   section of a .pvs file) and the cell's PVS is rebuilt from them on cell entry (pvs_vocc_cull). */
+/* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in the
+   umbra of the real occluders from the whole cell, together standing for its aggregate occlusion; five
+   bytes each in the VOCC section, from which pvs_vocc_cull rebuilds the PVS on cell entry. */
 struct pvs_file; /* >>format */
 
 /* pvs_file.vocc_flags */
-#define PVS_VOCC_STORED 1u /* the file has a VOCC section (virtual occluders per cell) */
-#define PVS_VOCC_ONLY 2u   /* ... and its PVS records are placeholders (every drawable object): rebuild
-                              each cell's PVS with pvs_vocc_cull (pvsbake --vocc-only) */
+#define PVS_VOCC_STORED 1u /* the file has a VOCC section */
+#define PVS_VOCC_ONLY 2u   /* ... and its records are placeholders (every drawable object): use pvs_vocc_cull */
 
-/* A virtual occluder: the vertical rectangle over the ground segment p0-p1, from `base` to `top`
-   along the up axis. Ground coordinates (u, v) are (x, z) for up axis 1 (Y) and (x, y) for 2 (Z). */
+/* The vertical rectangle over the ground segment p0-p1 (u, v as in pvs_scene_desc), from `base` to `top`. */
 typedef struct pvs_virtual_occluder {
     float p0[2], p1[2];
     float base, top;
 } pvs_virtual_occluder;
 
-/* What a virtual-occluder construction did (sums over cells and slices where several ran). */
+/* What a virtual-occluder construction did (sums over cells and slices). */
 typedef struct pvs_vocc_stats {
     uint32_t slices;        /* height slices (§3.1) */
     uint32_t seeds;         /* seed objects grown (§3) */
@@ -1139,80 +936,67 @@ typedef struct pvs_vocc_stats {
     uint32_t selected;      /* kept by the greedy selection (Fig. 6) */
 } pvs_vocc_stats;
 
-/* The 2D construction of §3 on its own. Left at zero, optional fields get defaults. */
+/* The 2D construction of §3 on its own. Zero fields get defaults. */
 typedef struct pvs_vocc_2d_desc {
     float cell_min[2], cell_max[2]; /* the view cell: an axis-aligned rectangle with area */
-    const float *segments;          /* segment_count x (x0, y0, x1, y1): opaque occluders. Segments whose end
-                                       points coincide exactly and close a ring (every point of it on two
-                                       segments) form a wall loop: a closed curve of walls */
+    /* segment_count x (x0, y0, x1, y1): opaque occluders; segments whose end points coincide exactly in a
+       ring (every point on two) are a wall loop. */
+    const float *segments;
     uint32_t segment_count;
     uint32_t max_seeds;             /* seed objects grown, 0 = 16 */
     float range;                    /* analysis radius from the cell centre, 0 = reach every segment */
     pvs_allocator allocator;
 } pvs_vocc_2d_desc;
 
-/* Builds the dense set of 2D virtual occluders of the cell (§3): seeds by the angle they subtend
-   from the cell's centre; from each, an aggregate umbra grown along active supporting and separating
-   lines on both sides; virtual occluders placed behind it and dumped as it grows. Every segment
-   written is hidden from every point of the cell by the input segments: each is checked exactly
-   (up to a relative 1e-9 of rounding, toward "not hidden") before it is kept. Writes up to
-   `capacity` segments (x0, y0, x1, y1) to `occluders` (NULL to count), *count the number found.
-   Segments meeting the cell are ignored. stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE,
-   BAD_CELL, OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
+/* The cell's dense set of 2D virtual occluders (§3: aggregate umbrae grown from seeds along supporting
+   and separating lines), each kept only once checked exactly hidden from the whole cell (rounding up to a
+   relative 1e-9, toward "not hidden"). Writes up to `capacity` (x0, y0, x1, y1) to `occluders` (NULL:
+   count only), *count the number found. Segments meeting the cell are ignored; stats may be NULL.
+   Errors: INVALID_ARGUMENT, NOT_FINITE, BAD_CELL, OUT_OF_MEMORY. Thread-safe; allocates through
+   desc->allocator. */
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, uint32_t capacity, uint32_t *count,
                                pvs_vocc_stats *stats, pvs_error *err);
 
-/* 1 if the box is hidden from every point of the cell by the single virtual occluder `o` (the test of
-   the runtime rebuild): every sight line from the cell box to the box crosses the rectangle. The 2D
-   part needs every segment between the cell's and the box's ground rectangles to cross p0-p1; the
-   heights use the crossing fraction t of those segments (perspective: a sight line crosses the
-   occluder's plane at height (1 - t) eye + t target). Conservative under rounding; 0 for empty boxes
+/* 1 if `o` alone hides the box from the whole cell (the runtime's test): every segment between the
+   ground rectangles crosses p0-p1, and the heights hold at each crossing fraction t (a sight line meets
+   the occluder's plane at height (1 - t) eye + t target). Conservative under rounding; 0 for an empty box
    or a degenerate occluder. */
 PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
                                 const pvs_box *box);
 
-/* Bytes of scratch pvs_vocc_cull and pvs_vocc_cull_occluders need for up to max_occluders occluders
-   (a file stores at most 255 per cell) and the object tree (may be NULL). */
+/* Scratch bytes of pvs_vocc_cull* for up to max_occluders (a file stores <= 255 per cell) and the tree
+   (may be NULL). */
 PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_occluders);
 
-/* Rebuilds a PVS from virtual occluders (Koltun 2000 §2, §4): sets in `visible`
-   (PVS_BITSET_WORDS(object_count) words, cleared first) every object whose box is not hidden by a
-   single occluder (pvs_vocc_box_hidden; the occluders are tried in order, so put the most effective
-   first). With a `tree` over the same object boxes (pvs_kdtree_create, item i = object i; leaves of
-   16 or more items keep the walk short) the scene is traversed top-down and hidden subtrees are
-   skipped: a subtree is hidden when one occluder hides its whole node box, so an object whose parts
-   lie behind different occluders may be left out too (the walk's PVS is a subset of the flat one,
-   still conservative); with tree NULL every box is tested. Objects with an empty box (min > max)
-   are never set. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. Errors: INVALID_ARGUMENT,
-   BUFFER_TOO_SMALL. Allocates nothing; thread-safe. */
+/* Rebuilds a PVS (Koltun 2000 §2, §4): sets in `visible` (PVS_BITSET_WORDS(object_count) words, cleared
+   first) every object with a non-empty box no single occluder hides (tried in order: most effective
+   first). With a `tree` over the same boxes (item i = object i; leaves of 16+ items keep the walk short)
+   a subtree is skipped when one occluder hides its node box, so an object whose parts lie behind
+   different occluders may drop out too (still conservative); tree NULL tests every box. scratch:
+   pvs_vocc_cull_scratch_size bytes, any alignment. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. Allocates
+   nothing; thread-safe. */
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders,
                                            uint32_t count, const pvs_box *object_boxes, uint32_t object_count,
                                            const pvs_kdtree *tree, void *scratch, size_t scratch_size,
                                            pvs_word *visible, pvs_error *err);
 
-/* Rebuilds cell `cell`'s PVS on the fly from the file's virtual occluders (the first max_occluders of
-   them; 0 = all), as pvs_vocc_cull_occluders does: object_boxes/tree are the engine's (the same scene
-   the file was baked for). A file without a VOCC section gives INVALID_ARGUMENT. Allocates nothing;
-   thread-safe. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. */
+/* pvs_vocc_cull_occluders on the file's first max_occluders (0 = all) of `cell`, with the engine's boxes
+   and tree of the scene baked. INVALID_ARGUMENT also without a VOCC section. */
 PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uint32_t max_occluders,
                                  const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
                                  void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
 
-/* ---- methods --------------------------------------------------------------------------------- */
+/* ---- methods ---- */
 
-/* Region methods. 0 is the default: AUTO. */
+/* Region methods (CONCEPTS, Methods); all but SAMPLE are conservative. 0 is the default: AUTO. */
 typedef enum pvs_method {
     PVS_METHOD_DEFAULT = 0,
     PVS_METHOD_SAMPLE,       /* ray sampling: an estimate from below, NOT conservative */
-    PVS_METHOD_OTREE,        /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7): conservative; occluders are
-                                facades made of the scene's vertical triangles, with base heights
-                                (pvs_bake_get_otree_info, pvs_visibility_25d) */
-    PVS_METHOD_EXTPROJ,      /* extended projections (Durand et al. 2000): conservative, 3D, planar occluders */
-    PVS_METHOD_SHRINK,       /* occluder shrinking + point sampling (Wonka 2000): conservative */
-    PVS_METHOD_AUTO,         /* the conservative methods that apply to the scene, their PVSs intersected (see
-                                pvs_bake_desc.methods and pvs_bake_method_info); never SAMPLE */
-    PVS_METHOD_VOCC,         /* virtual occluders (Koltun 2000): conservative, 2.5D (vertical walls on the ground);
-                                stores the occluders too, the PVS is what they rebuild (pvs_vocc_cull) */
+    PVS_METHOD_OTREE,        /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7) on facades of vertical triangles */
+    PVS_METHOD_EXTPROJ,      /* extended projections (Durand et al. 2000): 3D, planar occluders */
+    PVS_METHOD_SHRINK,       /* occluder shrinking + point sampling (Wonka 2000) */
+    PVS_METHOD_AUTO,         /* the conservative methods that apply, their PVSs intersected */
+    PVS_METHOD_VOCC,         /* virtual occluders (Koltun 2000), 2.5D: stored, the PVS is what they rebuild */
     PVS_METHOD_COUNT
 } pvs_method;
 
@@ -1221,7 +1005,7 @@ PVS_API const char *pvs_method_name(pvs_method method);
 
 /* The shrink method's paths. */
 typedef enum pvs_shrink_mode {
-    PVS_SHRINK_AUTO = 0,     /* 2.5D when the occluders are 2.5D (pvs_occluders_info.is_2d5), else 3D */
+    PVS_SHRINK_AUTO = 0,     /* 2.5D when the occluders are (pvs_occluders_info.is_2d5), else 3D */
     PVS_SHRINK_2D5,          /* Wonka 2000 §3: column occluders, samples on the cell's top face, cull maps */
     PVS_SHRINK_3D,           /* samples on the six faces, from-point depth maps of the eroded boxes */
     PVS_SHRINK_MODE_COUNT
@@ -1231,59 +1015,45 @@ typedef enum pvs_shrink_mode {
 typedef struct pvs_shrink_stats {
     pvs_shrink_mode mode;     /* the path that ran */
     uint32_t occluders;       /* occluders of that path: column prisms (2.5D) or boxes (3D) */
-    int no_occluders;         /* 1 when there are none (nothing survived erosion): every drawable object
-                                 was set without sampling, the PVS culls nothing */
-    int excluded;             /* 1 when the cell lies inside a leaking cell the synthesis left out
-                                 (pvs_occluders_excluded_cells): every drawable object was set */
+    int no_occluders;         /* 1: none survived erosion, every drawable object set without sampling */
+    int excluded;             /* 1: the cell lies in a left-out leaking cell, every drawable object set */
     uint32_t samples;         /* sample points */
     uint64_t occluders_drawn; /* occluders rasterized, summed over the samples (after §3.4's rejection) */
     uint32_t hidden;          /* drawable objects left out of the PVS */
 } pvs_shrink_stats;
 
-/* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): the occluders, eroded by their
-   eps, are point-sampled from the cell every eps; an object is left out only when every sample sees
-   it hidden (appendix theorem: then every point of the cell does). Objects meeting the cell, or
-   standing under its top face, are always set. Sets bits in `visible` (PVS_BITSET_WORDS(object_count)
-   words, not cleared first); occluder-only objects are never set. Objects already set on entry are
-   not tested (AUTO sets the objects other methods culled, so that only the rest are sampled: the
-   other objects' answers do not depend on them). `occluders` must have been made
-   for this scene. `stats` may be NULL; when the occluders are empty, stats->no_occluders says so (the
-   call still succeeds: the PVS is every object, which is conservative). Scratch is allocated through
-   the occluders' allocator and freed before returning: thread-safe. Errors: INVALID_ARGUMENT,
-   BAD_CELL, UNSUPPORTED (a path this build cannot run, with the reason), OUT_OF_MEMORY. */
+/* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): occluders eroded by eps, sampled from
+   the cell every eps; an object is left out only when every sample sees it hidden (appendix theorem: then
+   every point of the cell does). Objects meeting the cell or under its top face stay. Sets bits in
+   `visible` (PVS_BITSET_WORDS(object_count) words, not cleared), never occluder-only ones; objects set on
+   entry are not tested (AUTO presets what the others culled). `occluders` must be this scene's; `stats`
+   may be NULL; no occluders is no error. Scratch from the occluders' allocator, freed on return:
+   thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (a path this build cannot run, with the
+   reason), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
                                    pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
-/* The ray-sampling estimator: `points` stratified points in `cell` (its 8 corners and 6 face centres
-   first, then a jittered grid), `rays_per_point` uniformly distributed directions from each, and the
-   first object each ray hits is set in `visible` (PVS_BITSET_WORDS(object_count) words, not cleared
-   first; occluder-only objects are never set). A lower bound of the exact visible set: the yardstick
-   of the tests and pvscheck, never a conservative PVS. Deterministic in `seed`. Thread-safe, no
-   allocation. Returns the number of rays cast. */
+/* The estimator: `points` stratified points in `cell` (corners and face centres, then a jittered grid),
+   `rays_per_point` uniform directions each; sets the first object each ray hits in `visible`
+   (PVS_BITSET_WORDS(object_count) words, not cleared; never occluder-only ones). A lower bound, the
+   tests' and pvscheck's yardstick. Deterministic in `seed`; thread-safe, no allocation. Returns the rays. */
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
                                        uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
 
-/* Object-directed ray sampling, a stronger lower bound than pvs_sample_visibility for small and far
-   objects (uniform directions pass them by): for each object set in `targets` (NULL: every object)
-   and not yet set in `visible`, up to `rays_per_object` segments from a uniformly random point of
-   `cell` to a random point of one of the object's triangles (chosen uniformly among its triangles,
-   the point pulled 1% toward the triangle's centroid). The first object each segment hits is set in
-   `visible` (it is seen from that point, whichever object it is); the object's rays stop at the first
-   that reaches it. Occluder-only objects are never set nor aimed at. Still a lower bound of the exact
-   visible set, never a PVS. Deterministic in `seed`. Thread-safe, no allocation. Returns the number
-   of rays cast. */
+/* Aimed sampling, a better lower bound for small and far objects: for each object of `targets` (NULL: all)
+   not in `visible`, up to `rays_per_object` segments from a uniform point of `cell` to a point of one of
+   its triangles (uniform, pulled 1% toward the centroid) until one reaches it; each sets the first object
+   it hits. Occluder-only objects are neither set nor aimed at. Otherwise as pvs_sample_visibility. */
 PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_box *cell, const pvs_word *targets,
                                               uint32_t rays_per_object, uint64_t seed, pvs_word *visible);
 
 /* ---- extended projections (Durand, Drettakis, Thollot, Puech 2000) ---- */
 
-/* A projection plane of a cell (Durand 2000 §2.4, §6.1): perpendicular to `axis` (0..2), on the
-   cell's side `side` (+1 beyond cell.max[axis], -1 below cell.min[axis]), at `distance` > 0 from that
-   face of the cell. Depth (§2.3) is the distance beyond the face, along the axis away from the cell.
-   The plane is the rectangle rect = (u0, v0, u1, v1) over the other two axes u = (axis + 1) % 3 and
-   v = (axis + 2) % 3, split into width x height pixels: pixel (i, j) covers u in u0 + [i, i + 1] *
-   (u1 - u0) / width and v likewise. A depth map is width * height floats, row j first, holding per
-   pixel the Depth of the nearest occluder Projection, PVS_EXTPROJ_EMPTY where there is none. */
+/* A projection plane (Durand 2000 §2.4, §6.1) perpendicular to `axis`, `distance` > 0 beyond the cell's
+   face on `side` (+1: max, -1: min); Depth (§2.3) is the distance past that face. rect = (u0, v0, u1, v1)
+   over u = (axis + 1) % 3, v = (axis + 2) % 3 in width x height pixels (pixel (i, j): u0 + [i, i + 1] *
+   (u1 - u0) / width, v likewise). A depth map: width * height floats, row j first, per pixel the nearest
+   occluder Projection's Depth or PVS_EXTPROJ_EMPTY. */
 typedef struct pvs_extproj_plane {
     pvs_box cell;
     uint32_t axis;
@@ -1298,40 +1068,30 @@ typedef struct pvs_extproj_plane {
 #define PVS_EXTPROJ_RESOLUTION 256u /* pixels per plane side when pvs_bake_desc.extproj.resolution is 0 */
 #define PVS_EXTPROJ_PREVIEW_RESOLUTION 64u /* the same with PVS_BAKE_PREVIEW */
 
-/* Adds the extended Projection of one convex occluder (§3.2): `points` (count x (x, y, z), 1..16) are
-   the vertices of a planar convex polygon or of a closed convex solid (a solid whose bounding box
-   meets the cell is left out: it could hold the viewer). The occluder is clipped to the depths > 0
-   (beyond the cell's face) and split at the plane; the Projection of each part is the intersection
-   of its views from the cell's 8 corners, rasterized conservatively: a pixel is written only when
-   the part covers it entirely from every point of the cell. Such pixels get min(stored, Depth),
-   Depth being the part's greatest depth (no nearer than any of its points, §2.3). Returns the
-   number of pixel writes (a pixel covered by both parts counts twice), 0 when nothing is covered or
-   the arguments are bad. Thread-safe on distinct maps; no allocation. */
+/* Adds one convex occluder's extended Projection (§3.2): `points` (1..16 x (x, y, z)), a planar convex
+   polygon or a closed convex solid (skipped if its box meets the cell: it could hold the viewer); clipped
+   to depths > 0 and split at the plane. Only pixels a part covers from every point of the cell (its views
+   from the 8 corners intersected) get min(stored, the part's greatest depth, §2.3). Returns the pixel
+   writes per part, 0 if none or on bad arguments. Thread-safe on distinct maps; no allocation. */
 PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *plane, const float *points, uint32_t count,
                                       float *depth_map);
 
-/* The extended Projection of an occludee box (§3.1): the bounding rectangle of its views from every
-   point of the cell (from the supporting and separating lines, i.e. the extremes over the cell's and
-   the box's corners) as inclusive pixel bounds rect = (i0, j0, i1, j1), which may reach outside the
-   map, and its least Depth in *depth. Returns 1, or 0 when the box is not entirely beyond the cell's
-   face (depth <= 0 somewhere: this plane cannot decide it). Conservative: the rectangle holds every
-   pixel the box touches from any point of the cell. No allocation. */
+/* An occludee box's extended Projection (§3.1): the bounding rectangle of its views from the whole cell,
+   holding every pixel the box touches from any cell point, as inclusive pixel bounds rect = (i0, j0, i1, j1),
+   maybe off the map, and its least Depth. Returns 0 when the box is not wholly beyond the face (this plane
+   cannot decide it), else 1. No allocation. */
 PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *plane, const pvs_box *box, int32_t rect[4], float *depth);
 
-/* 1 if an occludee with Projection rect (pvs_extproj_occludee) and least Depth `depth` may be visible
-   in the depth map: some pixel of the rectangle lies outside the map or stores a Depth >= depth.
-   0 when every pixel holds an occluder strictly nearer: hidden from the whole cell (§2.2). */
+/* 1 if some pixel of the occludee's rect is off the map or stores a Depth >= depth; 0: hidden (§2.2). */
 PVS_API int pvs_extproj_test(const pvs_extproj_plane *plane, const float *depth_map, const int32_t rect[4],
                              float depth);
 
-/* Bytes one EXTPROJ bake task (one cell) allocates for its planes at `resolution` (0 = 256) and
-   `sweep` planes per direction (0 = no sweep): §6.1's depth maps, the sweep's masks and summed-area
-   tables and the per-pixel scratch (see MEMORY). Scratch that grows with the scene's occluders is
-   not counted. 0 for a resolution outside 16..4096 or more than 256 sweep planes. For tools that
-   fit their threads to the machine's memory. */
+/* Bytes an EXTPROJ task allocates for its planes at `resolution` (0 = 256) and `sweep` planes per direction
+   (0: none; MEMORY), not counting scratch that grows with the occluders; 0 outside 16..4096 or past 256 planes. For
+   tools fitting their threads to the memory. */
 PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep);
 
-/* ---- bake ------------------------------------------------------------------------------------ */
+/* ---- bake ---- */
 
 /* SAMPLE's parameters (pvs_bake_desc.sample). */
 typedef struct pvs_bake_sample_params {
@@ -1340,58 +1100,49 @@ typedef struct pvs_bake_sample_params {
     uint64_t seed;            /* random seed */
 } pvs_bake_sample_params;
 
-/* EXTPROJ's parameters (pvs_bake_desc.extproj; also under AUTO). */
+/* EXTPROJ's parameters (also under AUTO). */
 typedef struct pvs_bake_extproj_params {
-    uint32_t resolution;      /* N x N pixels per plane, 0 = PVS_EXTPROJ_RESOLUTION (256; with PVS_BAKE_PREVIEW,
-                                 PVS_EXTPROJ_PREVIEW_RESOLUTION, 64); 16..4096 (the sweep's planes spread them
-                                 as square pixels over the part the cell and scene span) */
-    uint32_t occluders;       /* occluders projected on the planes of §6.1, 0 = 128; <= 65536 (the sweep's
-                                 planes take every occluder between them) */
-    uint32_t sweep;           /* occlusion sweep (Durand 2000 §5): at most this many planes per direction,
-                                 0 = no sweep (pvsbake --sweep: PVS_EXTPROJ_SWEEP_PLANES); <= 256.
-                                 AUTO: 0 = PVS_EXTPROJ_SWEEP_PLANES (none with PVS_BAKE_PREVIEW), and
-                                 PVS_EXTPROJ_NO_SWEEP turns it off (see AUTO above);
-                                 with it an object whose box is not hidden is tested by parts of its
-                                 triangles (foliage: a tree is kept only if a leaf or its trunk may be
-                                 seen; objects over 16,384 triangles by their box alone) */
-    uint32_t sweep_subcells;  /* with the sweep: 0 or 1 = each sweep plane holds the cell's umbra; 4 = the
-                                 union of the umbrae of the cell's four quarters across each direction, and
-                                 an object must be hidden from every quarter (tighter on foliage, for a few
-                                 times the bake's time: tests/BENCHMARKS.md, extproj). Needs the sweep */
+    /* Pixels per plane side, 16..4096; 0 = PVS_EXTPROJ_RESOLUTION, with PREVIEW PVS_EXTPROJ_PREVIEW_RESOLUTION.
+       Sweep planes spread them square over what cell and scene span. */
+    uint32_t resolution;
+    uint32_t occluders;       /* occluders on the planes of §6.1, 0 = 128; <= 65536 (sweep planes take all) */
+    /* Occlusion sweep (Durand 2000 §5) planes per direction, <= 256, 0 = none; under AUTO 0 =
+       PVS_EXTPROJ_SWEEP_PLANES (PREVIEW: none), PVS_EXTPROJ_NO_SWEEP = none. An object whose box is not
+       hidden is then kept only if a part of its triangles may be seen (over 16,384 triangles: by box). */
+    uint32_t sweep;
+    /* With the sweep, 4: each plane holds the union of the umbrae of the cell's four quarters, and an object
+       must be hidden from each (tighter on foliage, for a few times the time: tests/BENCHMARKS.md,
+       extproj); 0 or 1: the cell's umbra. */
+    uint32_t sweep_subcells;
 } pvs_bake_extproj_params;
 
-/* Adaptive cells (Durand 2000 §6.1; pvs_bake_desc.adaptive): a cell whose PVS holds more than `budget`
-   triangles is split in two across its longest side, recursively, while the halves stay at least
-   `min_size` long; the children are baked from the parent's PVS (only its objects are tested; EXTPROJ
-   also drops the occluders it hides). The file then holds the leaf cells, in cell order, each cell's
-   leaves depth first (low half first). Not with shards. */
+/* Adaptive cells (CONCEPTS): split while a PVS holds more than `budget` triangles and the halves are at
+   least `min_size`; leaves low half first. Not with shards. */
 typedef struct pvs_bake_adaptive_params {
     uint32_t budget;          /* triangles per leaf cell's PVS; 0 = off */
     float min_size;           /* shortest half, 0 = an eighth of the cell's longest side */
 } pvs_bake_adaptive_params;
 
-/* SHRINK's parameters (pvs_bake_desc.shrink; also under AUTO). */
+/* SHRINK's parameters (also under AUTO). */
 typedef struct pvs_bake_shrink_params {
     pvs_shrink_mode mode;     /* path, PVS_SHRINK_AUTO picks */
     float voxel_size;         /* occluder synthesis voxel size, 0 = derived */
 } pvs_bake_shrink_params;
 
-/* VOCC's parameters (pvs_bake_desc.vocc). */
+/* VOCC's parameters. */
 typedef struct pvs_bake_vocc_params {
     uint32_t slices;          /* height slices per cell (§3.1), 0 = 5; 1..16 */
     uint32_t max_occluders;   /* virtual occluders kept per cell (Fig. 6), 0 = 10; 1..255 */
-    uint32_t only;            /* 1 = store only the occluders: the PVS records are placeholders (every
-                                 drawable object) and the runtime rebuilds each PVS with pvs_vocc_cull */
+    uint32_t only;            /* 1 = store only the occluders (PVS_VOCC_ONLY) */
 } pvs_bake_vocc_params;
 
-/* OTREE's parameters (pvs_bake_desc.otree; also under AUTO). */
+/* OTREE's parameters (also under AUTO). */
 typedef struct pvs_bake_otree_params {
-    uint32_t node_budget;     /* nodes per occlusion tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24. A larger budget
-                                 never hides less; on maps of many small facades the time grows faster than
-                                 the budget (see PVS_OTREE_25D_BUDGET) */
+    uint32_t node_budget;     /* per tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24. More never hides less; with
+                                 many small facades time grows faster than it */
 } pvs_bake_otree_params;
 
-/* What to bake. Left at zero, optional fields get defaults; so do the per-method parameters. */
+/* What to bake. Zero fields and per-method parameters get defaults. */
 typedef struct pvs_bake_desc {
     const pvs_scene *scene;   /* must outlive the bake */
     const pvs_box *cells;     /* cell_count view cells, copied */
@@ -1399,15 +1150,11 @@ typedef struct pvs_bake_desc {
     pvs_method method;        /* PVS_METHOD_DEFAULT = AUTO */
     float eps;                /* sampling / shrinking distance; 0 = derived from the cells */
     uint32_t max_chain;       /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
-    /* Sharded bakes (build farms): with shard_count >= 2 this bake runs only cells shard_index,
-       shard_index + shard_count, ... and writes a part file; the parts of shard_index 0..shard_count-1
-       merge (decode them, pvs_file_encode the whole table) into the file an unsharded bake writes. */
+    /* Shards (build farms), shard_count >= 2: bakes cells shard_index, shard_index + shard_count, ... into a
+       part file; parts 0..shard_count-1 decoded and encoded whole (pvs_file_encode) give the unsharded file. */
     uint32_t shard_index, shard_count;
-    uint32_t methods;         /* AUTO: the methods to consider, a mask of (1u << PVS_METHOD_*) of conservative
-                                 methods (not SAMPLE, DEFAULT or AUTO); 0 = every conservative method but
-                                 VOCC (name it to intersect its PVS too) */
-    float max_distance;       /* > 0: an object whose box is farther than this from every point of the cell
-                                 box is left out (a draw distance); 0 = no limit */
+    uint32_t methods;         /* AUTO's candidates: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC */
+    float max_distance;       /* draw distance: drop objects whose box is farther from every cell point; 0: none */
     uint32_t flags;           /* PVS_BAKE_* */
     pvs_bake_sample_params sample;
     pvs_bake_extproj_params extproj;
@@ -1418,73 +1165,61 @@ typedef struct pvs_bake_desc {
     pvs_allocator allocator;
 } pvs_bake_desc;
 
-/* Bake flags. */
-#define PVS_BAKE_PREVIEW 1u   /* fast and coarse, still conservative: AUTO runs only the cheapest method that
-                                 applies. EXTPROJ (the cheapest wherever it applies) uses 64 pixels and 32
-                                 occluders per plane unless set, no sweep, and decides the object kD-tree's
-                                 nodes whole once they subtend under a quarter radian or after 4,096 box
-                                 tests per cell: a few milliseconds per cell whatever the scene's size
-                                 (tests/BENCHMARKS.md, bake). Where only OTREE or SHRINK applies, the cost
-                                 is theirs (SHRINK's derived eps is doubled) */
+/* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only the cheapest applicable method. EXTPROJ
+   uses 64 pixels and 32 occluders per plane unless set, no sweep, and decides object kD-tree nodes whole
+   once under a quarter radian or past 4,096 box tests: a few milliseconds per cell at any scene size
+   (tests/BENCHMARKS.md, bake). SHRINK doubles its derived eps. */
+#define PVS_BAKE_PREVIEW 1u
 
 typedef struct pvs_bake pvs_bake;
 
 /* Validates the desc and prepares the tasks. Errors: INVALID_ARGUMENT, BAD_CELL (err->index = cell),
    NOT_FINITE, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out_bake, pvs_error *err);
-/* Number of tasks (today one per cell of the shard). */
+/* Tasks: today one per cell of the shard. */
 PVS_API uint32_t pvs_bake_task_count(const pvs_bake *bake);
 /* The cell a task bakes. */
 PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *bake, uint32_t task);
-/* Runs one task. Thread-safe for distinct task indices; each task uses its own scratch. */
+/* Runs one task. Thread-safe for distinct tasks; each has its own scratch. */
 PVS_API pvs_result pvs_bake_run_task(pvs_bake *bake, uint32_t task, pvs_error *err);
-/* The resolved parameters (method, eps). */
+/* The resolved method and eps. */
 PVS_API pvs_method pvs_bake_method(const pvs_bake *bake);
 PVS_API float pvs_bake_eps(const pvs_bake *bake);
-/* The methods a bake considered, in the order it runs them: one for a single-method bake; for AUTO
-   every candidate, also those it skipped (ran = 0) because they cannot cull anything in this scene. */
+/* The methods considered, in run order; AUTO lists those skipped (ran = 0) as unable to cull here. */
 PVS_API uint32_t pvs_bake_method_count(const pvs_bake *bake);
-/* What method i (< pvs_bake_method_count) did (pvs_bake_get_method_info). The sums cover the tasks
-   run so far (not the restored ones). */
+/* What method i did, summed over the tasks run (not restored). */
 typedef struct pvs_bake_method_info {
     pvs_method method;
     int ran;                  /* 1: every task runs it; 0: skipped */
     const char *reason;       /* why it runs or was skipped (a constant string, never NULL) */
     uint32_t cells;           /* tasks that ran it */
     uint64_t pvs_sum;         /* sum over those cells of the PVS size this method found alone */
-    uint64_t sole_culls;      /* (cell, object) pairs this method alone left out of the intersection: its
-                                 contribution (for one method: every drawable object it left out; objects
-                                 flagged PVS_OBJECT_OCCLUDER_ONLY are in no PVS and count for none). An
-                                 object a method run later did not test (kept_only below) counts for the
-                                 methods that culled it */
-    int kept_only;            /* 1: it tested only the objects the methods run before it kept (AUTO runs
-                                 SHRINK, the costliest, last; the intersection is the same, the time far
-                                 less): pvs_sum counts the objects they culled as kept */
+    /* (cell, drawable object) pairs only it left out of the intersection; one a later method did not test
+       (kept_only) counts for those that culled it. */
+    uint64_t sole_culls;
+    /* 1: it tested only what earlier methods kept (AUTO runs SHRINK last: the same intersection, far less
+       time); pvs_sum counts their culls as kept. */
+    int kept_only;
 } pvs_bake_method_info;
-/* Fills *info. Errors: INVALID_ARGUMENT (i out of range, NULL). Call after the tasks ran (not
-   concurrently with pvs_bake_run_task). */
+/* Fills *info for i < pvs_bake_method_count, else INVALID_ARGUMENT (also for NULL). Not concurrently with
+   pvs_bake_run_task. */
 PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *bake, uint32_t i, pvs_bake_method_info *info);
 /* 1 if the task has run (or was restored). */
 PVS_API int pvs_bake_task_done(const pvs_bake *bake, uint32_t task);
-/* Resumable bakes: marks a task done with a PVS kept from an earlier run of the same bake (same scene,
-   cells and parameters), e.g. read back from a state file. `bits` has word_count >=
-   PVS_BITSET_WORDS(object_count) words; bits past object_count must be zero. Thread-safe like
-   pvs_bake_run_task. Errors: INVALID_ARGUMENT (task out of range, NULL, a set bit past the objects or
-   of an occluder-only object), BUFFER_TOO_SMALL, UNSUPPORTED (a VOCC bake: its occluders must be baked). */
+/* Resumes: marks a task done with its PVS from an earlier run of the same scene, cells and parameters;
+   `bits`: word_count >= PVS_BITSET_WORDS(object_count), zero past object_count. Thread-safe like
+   pvs_bake_run_task. Errors: INVALID_ARGUMENT (task out of range, NULL, a bit past the objects or of an
+   occluder-only object), BUFFER_TOO_SMALL, UNSUPPORTED (VOCC bakes its occluders). */
 PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pvs_word *bits, size_t word_count,
                                          pvs_error *err);
-/* SHRINK (alone or within AUTO): the occluders pvs_bake_begin synthesized (owned by the bake; for the
-   summary: leaks, thin objects, 2.5D or 3D) and the path the tasks run; NULL / PVS_SHRINK_AUTO when
-   SHRINK was not prepared. */
+/* SHRINK (alone or in AUTO): the synthesized occluders (the bake's) and the tasks' path; NULL /
+   PVS_SHRINK_AUTO when SHRINK was not prepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
-/* The 2.5D occluders an OTREE bake (or an AUTO bake that considered OTREE) found in its scene. The
-   facades are made of vertical triangles of any tessellation: coplanar pieces are merged, and a
-   facade is a wall segment with the height range [base, top] it fully covers over its whole length.
-   A cell uses a facade only toward objects whose bottom, like its own, is at or above the facade's
-   level (the lowest of at most eight base heights at or above its base; a ray could pass under it).
-   facades == 0: the bake culls nothing (every object is visible from every cell); the bake driver
-   says so. All zero when the bake did not prepare OTREE. */
+/* The facades OTREE found: merged coplanar vertical triangles, each a wall segment with the height range
+   [base, top] it covers along its length. A cell uses a facade only toward objects whose bottom, like its
+   own, is at or above the facade's level (the lowest of at most eight base heights at or above its base):
+   a ray could pass under it. facades == 0: nothing is culled. All zero when OTREE was not prepared. */
 typedef struct pvs_otree_bake_info {
     uint32_t prepared;           /* 1 when the bake prepared OTREE */
     uint32_t vertical_triangles; /* triangles of the scene standing vertical */
@@ -1493,42 +1228,34 @@ typedef struct pvs_otree_bake_info {
     float lowest_level;          /* the lowest of them (when levels > 0) */
 } pvs_otree_bake_info;
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *bake, pvs_otree_bake_info *info);
-/* A VOCC bake's statistics: sums over the cells baked so far (zeros for other methods). */
+/* A VOCC bake's statistics summed over the cells baked so far (zeros for other methods). */
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *bake, pvs_vocc_stats *out);
-/* Counts over the tasks that have run, for the caller's summary: a bake that culls nothing is not an
-   error (every object visible is conservative) but the caller should hear of it. */
+/* Counts over the tasks run: culling nothing is conservative, not an error, but worth reporting. */
 typedef struct pvs_bake_report {
     uint32_t cells;              /* tasks run so far */
-    uint32_t cells_all_visible;  /* cells whose PVS holds every drawable object: nothing culled */
-    uint32_t cells_no_occluders; /* SHRINK: cells baked with no occluder at all (nothing survived the
-                                    erosion by eps: thin walls only, or eps too large for the volumes);
-                                    OTREE: cells with no usable facade (pvs_bake_get_otree_info); AUTO:
-                                    cells where shrink or otree found none and nothing was culled */
-    uint32_t cells_excluded;     /* SHRINK: leaking cells the occluder synthesis left out
-                                    (pvs_occluders_excluded_cells): baked with a second synthesis in
-                                    which every cell seeds the floods */
-    uint32_t cells_otree_budget; /* OTREE (also under AUTO): cells where an occlusion tree reached its node
-                                    budget (pvs_bake_desc.otree.node_budget) and took no more facades:
-                                    conservative; a larger budget may cull more there, for more time */
+    uint32_t cells_all_visible;  /* cells whose PVS holds every drawable object */
+    /* Cells without occluders: SHRINK, none survived erosion (thin walls, or eps too large); OTREE, no usable
+       facade; AUTO, neither and nothing culled. */
+    uint32_t cells_no_occluders;
+    uint32_t cells_excluded;     /* SHRINK: leaking cells left out, baked with a second synthesis */
+    uint32_t cells_otree_budget; /* OTREE: cells whose tree hit otree.node_budget (more may cull more) */
 } pvs_bake_report;
-/* Fills *report. Call after the tasks (not concurrently with them). */
+/* Fills *report. Not concurrently with the tasks. */
 PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
-/* The PVS of a cell whose task has run, or NULL (also for cells of other shards).
-   PVS_BITSET_WORDS(object_count) words. With adaptive cells, the PVS of the whole (unsplit) cell. */
+/* A run cell's PVS (PVS_BITSET_WORDS(object_count) words; adaptive: the whole cell's), else NULL. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
-/* The cells the file will hold: the cell count, or with adaptive cells the leaves of the tasks run so
-   far (all of them once every task has run). */
+/* The cells the file will hold: cell_count, or the adaptive leaves of the tasks run so far. */
 PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *bake);
-/* The exact size of the file (0 if not every task has run or on error). Encodes to measure: keep
-   the number rather than calling it twice. */
+/* The exact file size, 0 before every task has run or on error. It encodes to measure: keep the number. */
 PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
-/* Writes the .pvs file (a part file for a shard) into out[0..capacity); *out_size receives the size,
-   also with BUFFER_TOO_SMALL. Errors: NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
+/* Writes the file (a part file for a shard) into out[0..capacity); *out_size gets the size, also with
+   BUFFER_TOO_SMALL. Errors: NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *bake, void *out, size_t capacity, size_t *out_size,
                                        pvs_error *err);
+/* Frees through its allocator; NULL allowed. */
 PVS_API void pvs_bake_destroy(pvs_bake *bake);
 
-/* ---- format ---------------------------------------------------------------------------------- */
+/* ---- format ---- */
 
 /* File flags. */
 #define PVS_FILE_APPROXIMATE 1u /* baked by an estimator (SAMPLE): not conservative */
@@ -1536,11 +1263,9 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 #define PVS_DEFAULT_CHAIN 8u    /* default bound K on a cell's delta chain */
 #define PVS_MAX_CHAIN 64u       /* largest K a file may declare */
 
-/* A PVS table to encode: cell_count bitsets of PVS_BITSET_WORDS(object_count) words each.
-   The encoder (Durand et al. 2000, §6.2, delta-PVS) stores a few key cells whole and every other cell
-   as the ids that differ from a base cell; bases come from a depth-bounded minimum spanning tree over
-   the cells' nearest neighbours weighted by the coded delta size, each record in the smallest of four
-   codings. */
+/* A PVS table to encode: cell_count bitsets of PVS_BITSET_WORDS(object_count) words. The encoder (Durand
+   et al. 2000, §6.2; FILE FORMAT) picks bases by a depth-bounded minimum spanning tree over nearest
+   neighbours weighted by coded delta size. */
 typedef struct pvs_file_desc {
     const pvs_box *cells;
     uint32_t cell_count;
@@ -1551,13 +1276,12 @@ typedef struct pvs_file_desc {
     uint32_t up_axis;          /* 1 or 2 */
     uint32_t flags;            /* PVS_FILE_* */
     uint32_t max_chain;        /* K, the most deltas a decode applies: 0 = PVS_DEFAULT_CHAIN, else 1..PVS_MAX_CHAIN */
-    /* A part file of a sharded bake (shard_count >= 2): the table holds cells shard_index,
-       shard_index + shard_count, ... of total_cell_count, in that order. Zero for a whole file. */
+    /* A part file (shard_count >= 2) holds cells shard_index, shard_index + shard_count, ... of
+       total_cell_count, in order. Zero for a whole file. */
     uint32_t shard_index, shard_count, total_cell_count;
-    /* Optional virtual occluders (the VOCC section, >>vocc), NULL vocc_counts for none: per cell (in
-       table order) vocc_counts[c] occluders of five bytes, back to back in virtual_occluders, and the
-       coordinate scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step (finite,
-       step > 0); vocc_flags PVS_VOCC_ONLY when the table is placeholders. */
+    /* Optional VOCC section (NULL vocc_counts: none): per cell, in table order, vocc_counts[c] five-byte
+       occluders in virtual_occluders, scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step
+       (finite, step > 0); vocc_flags PVS_VOCC_ONLY for a placeholder table. */
     const uint8_t *vocc_counts, *vocc_scales, *virtual_occluders;
     uint32_t vocc_stride;      /* bytes from one cell's occluders to the next; 0 = back to back */
     float vocc_base, vocc_height_step;
@@ -1565,17 +1289,14 @@ typedef struct pvs_file_desc {
     pvs_allocator allocator;   /* the encoder's scratch */
 } pvs_file_desc;
 
-/* Encodes the table into out[0..capacity). *out_size receives the exact size, also when the buffer
-   is too small (BUFFER_TOO_SMALL). With out == NULL it only measures (returns PVS_OK): call once
-   with NULL to learn the size. The output is a deterministic function of the desc; the encoder's
-   scratch comes from desc->allocator. Thread-safe for distinct outputs. Errors: INVALID_ARGUMENT,
-   BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (a file over 4 GiB), OUT_OF_MEMORY. */
+/* Encodes the table into out[0..capacity), deterministically; *out_size gets the exact size, also with
+   BUFFER_TOO_SMALL; out == NULL only measures. Scratch from desc->allocator; thread-safe for distinct
+   outputs. Errors: INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (over 4 GiB), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size,
                                    pvs_error *err);
 
-/* An opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data,
-   no allocation; copy freely. Fields are read-only to the caller; those after `private_` are the
-   reader's own. */
+/* An opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data, copy
+   freely; read-only to the caller, `private_` the reader's. */
 typedef struct pvs_file {
     const uint8_t *data;
     size_t size;
@@ -1587,9 +1308,9 @@ typedef struct pvs_file {
     uint32_t max_chain;        /* K: no decode applies more deltas */
     uint32_t key_count;        /* cells stored whole */
     uint32_t shard_index, shard_count, total_cell_count; /* a part file when shard_count >= 2 */
-    uint32_t vocc_flags;       /* PVS_VOCC_*: 0 when the file has no virtual occluders (>>vocc) */
+    uint32_t vocc_flags;       /* PVS_VOCC_*: 0 when the file has no virtual occluders */
     uint32_t virtual_occluder_count;     /* VOCC: occluders stored, all cells */
-    float vocc_base, vocc_height_step;   /* VOCC: the occluders' base height, top = base + byte * step */
+    float vocc_base, vocc_height_step;   /* VOCC: top = base + byte * step */
     struct {
         const uint8_t *values[3];   /* CELL: per-axis coordinate tables */
         const uint8_t *indices;     /* CELL: packed per-cell indices */
@@ -1604,12 +1325,10 @@ typedef struct pvs_file {
     } private_;
 } pvs_file;
 
-/* Validates everything (time linear in the size, no allocation, never reads outside data[0..size))
-   and fills *file. Safe on untrusted input: every offset, size, count, checksum, coordinate, tree
-   link, record and base chain is checked, and later calls on an opened file cannot fail on the
-   file's content. Errors: INVALID_ARGUMENT, BAD_MAGIC, BAD_VERSION, TRUNCATED, BAD_HEADER,
-   BAD_SECTION, CHECKSUM, BAD_CELL, BAD_TREE, BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN; err->offset
-   is the offending byte and err->index the cell or section where one applies. */
+/* Checks every FILE FORMAT rule (Trust; linear time, no allocation, no read outside data[0..size)), fills
+   *file. Errors: INVALID_ARGUMENT, BAD_MAGIC, BAD_VERSION, TRUNCATED, BAD_HEADER, BAD_SECTION, CHECKSUM,
+   BAD_CELL, BAD_TREE, BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN; err->offset the offending byte,
+   err->index the cell or section. */
 PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, pvs_error *err);
 
 /* How a cell's record is stored (pvsinfo prints these). */
@@ -1624,38 +1343,33 @@ typedef struct pvs_record_info {
 /* Fills *info for cell < cell_count. No allocation. */
 PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
 
-/* The virtual occluders a file stores for a cell (< cell_count), decoded, most effective first:
-   returns their number (0 without a VOCC section) and writes up to `capacity` of them. The float
-   end points are the stored ones rounded to float; pvs_vocc_cull uses the exact stored values. */
+/* A cell's virtual occluders, most effective first: returns their number (0 without VOCC), writes up to
+   `capacity`. End points rounded to float; pvs_vocc_cull uses the exact ones. */
 PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell, pvs_virtual_occluder *out,
                                             uint32_t capacity);
 
-/* A cell's stored record: returns its occluder count (0 without a VOCC section), *bytes their five
-   bytes each (in the file), *scale_code the cell's coordinate scale (manual: "VOCC"). Either output
-   may be NULL. For tools that copy occluders between files (pvsbake merge). */
+/* A cell's raw VOCC record: returns its occluder count (0 without VOCC), *bytes their five bytes each in
+   the file, *scale_code its scale (FILE FORMAT); either output may be NULL. For pvsbake merge. */
 PVS_API uint32_t pvs_file_vocc_record(const pvs_file *file, uint32_t cell, uint32_t *scale_code, const uint8_t **bytes);
 
-/* ---- runtime --------------------------------------------------------------------------------- */
+/* ---- runtime ---- */
 
 #define PVS_NO_CELL 0xffffffffu
-/* The cell containing point p (boundaries included), found through the file's look-up kD-tree. Of
-   overlapping cells the lowest id; PVS_NO_CELL when p is in no cell or not finite. No allocation. */
+/* The lowest cell whose closed box contains p, or PVS_NO_CELL (also for non-finite p). No allocation. */
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *file, const float p[3]);
 /* The box of a cell (< cell_count). */
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
-/* Decodes a cell's PVS into bits[0..word_count), clearing it first: the key at the end of the cell's
-   chain, then at most max_chain deltas. word_count must be at least PVS_BITSET_WORDS(object_count).
-   Iterate the set ids with pvs_bitset_next. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
+/* Decodes a cell's PVS into bits[0..word_count) (>= PVS_BITSET_WORDS(object_count), cleared first): the
+   chain's key, then at most max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
 PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word *bits, size_t word_count,
                                    pvs_error *err);
 
-/* Called by the cursor for each object whose visibility changes: visible = 1 added, 0 removed. */
+/* Called per object whose visibility changes: visible = 1 added, 0 removed. */
 typedef void (*pvs_change_fn)(void *user, uint32_t object, int visible);
 
-/* Follows a viewer from cell to cell and reports only the objects that change (Durand et al. 2000,
-   §6.2). Moving to a cell whose base is the current cell applies that one delta; any other move
-   decodes the new cell into the scratch bitset and compares. Plain data over caller memory; no
-   allocation. */
+/* Follows a viewer, reporting only the objects that change (Durand et al. 2000, §6.2): moving to a cell
+   whose base is the current one applies that delta; other moves decode into scratch and compare. Plain
+   data over caller memory; no allocation. */
 typedef struct pvs_cursor {
     const pvs_file *file;
     uint32_t cell;             /* current cell, PVS_NO_CELL before the first move */
@@ -1665,13 +1379,13 @@ typedef struct pvs_cursor {
     uint64_t delta_moves, full_moves; /* statistics: moves by one delta, by a full decode */
 } pvs_cursor;
 
-/* Starts a cursor with an empty set. bits and scratch: word_count >= PVS_BITSET_WORDS(object_count)
-   words each, distinct. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. */
+/* Starts with an empty set. bits, scratch: distinct, word_count >= PVS_BITSET_WORDS(object_count) words
+   each. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. */
 PVS_API pvs_result pvs_cursor_init(pvs_cursor *cursor, const pvs_file *file, pvs_word *bits, pvs_word *scratch,
                                    size_t word_count, pvs_error *err);
-/* Moves to `cell` (PVS_NO_CELL empties the set), calling on_change (may be NULL) once per object that
-   enters or leaves the set: in ascending id order after a full decode, removals (ascending) then
-   additions (ascending) after one delta. Errors: INVALID_ARGUMENT (cell out of range). */
+/* Moves to `cell` (PVS_NO_CELL empties the set), calling on_change (may be NULL) once per object entering
+   or leaving: ascending ids after a full decode, removals then additions (each ascending) after a delta.
+   INVALID_ARGUMENT for a cell out of range. */
 PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change_fn on_change, void *user);
 
 #ifdef __cplusplus
@@ -1679,9 +1393,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 #endif
 #endif /* PVS_H */
 
-/* ============================================================================================== */
-/* Stop reading here if you only use the API.                                                     */
-/* ============================================================================================== */
+/* ======== Stop reading here if you only use the API. ======== */
 
 #ifdef PVS_IMPLEMENTATION
 #ifndef PVS_IMPLEMENTATION_ONCE
