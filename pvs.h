@@ -18063,32 +18063,54 @@ PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
         pvs__pyramid_level(NULL, m->lv[l - 1], m->lw[l - 1], m->lh[l - 1], NULL, m->lv[l], m->lw[l], m->lh[l], 1, 1, 1);
 }
 
-/* 1 if some level-0 pixel of rect under texel (tx, ty) of level l holds a Depth >= d. */
-PVS__STATIC int pvs__ep_visible_at(const pvs__epmap *m, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *r,
-                                   float d) {
-    uint32_t cx, cy;
-    if (m->lv[l][ty * m->lw[l] + tx] < d) return 0;
+/* The top-down query of extproj's two pyramids: depth maps (max pyramids: a pixel is open where its Depth >= d) and
+   sweep masks (AND pyramids: open where `bit` is clear). 1 if some level-0 pixel of rect r (x0 y0 x1 y1) under texel
+   (tx, ty) of level l is open. */
+typedef struct pvs__ep_pyr {
+    float *const *depth;           /* the depth map's levels, or NULL for a mask */
+    unsigned char *const *mask;
+    const uint32_t *lw, *lh;
+    float d;
+    unsigned char bit;
+} pvs__ep_pyr;
+
+PVS__STATIC int pvs__ep_open_at(const pvs__ep_pyr *p, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *r) {
+    uint32_t cx, cy, i = ty * p->lw[l] + tx;
+    if (p->depth ? p->depth[l][i] < p->d : (p->mask[l][i] & p->bit) != 0) return 0;
     if (l == 0) return 1;
-    for (cy = 2 * ty; cy <= 2 * ty + 1 && cy < m->lh[l - 1]; ++cy)
-        for (cx = 2 * tx; cx <= 2 * tx + 1 && cx < m->lw[l - 1]; ++cx) {
+    for (cy = 2 * ty; cy <= 2 * ty + 1 && cy < p->lh[l - 1]; ++cy)
+        for (cx = 2 * tx; cx <= 2 * tx + 1 && cx < p->lw[l - 1]; ++cx) {
             int32_t px0 = (int32_t)(cx << (l - 1)), py0 = (int32_t)(cy << (l - 1));
             int32_t px1 = px0 + (int32_t)(1u << (l - 1)) - 1, py1 = py0 + (int32_t)(1u << (l - 1)) - 1;
             if (px1 < r[0] || px0 > r[2] || py1 < r[1] || py0 > r[3]) continue;
-            if (pvs__ep_visible_at(m, l - 1, cx, cy, r, d)) return 1;
+            if (pvs__ep_open_at(p, l - 1, cx, cy, r)) return 1;
         }
     return 0;
 }
 
-PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) {
+/* 1 if some pixel of rect r is open or lies outside the plane: from the finest level where r spans 2 x 2 texels. */
+PVS__STATIC int pvs__ep_open(const pvs__ep_pyr *p, const pvs_extproj_plane *plane, uint32_t levels, const int32_t *r) {
     uint32_t l = 0, tx, ty;
-    if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)m->plane.width || r[3] >= (int32_t)m->plane.height) return 1;
-    while (l < m->levels &&
+    if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)plane->width || r[3] >= (int32_t)plane->height) return 1;
+    while (l < levels &&
            (((uint32_t)r[2] >> l) - ((uint32_t)r[0] >> l) > 1 || ((uint32_t)r[3] >> l) - ((uint32_t)r[1] >> l) > 1))
         ++l;
     for (ty = (uint32_t)r[1] >> l; ty <= (uint32_t)r[3] >> l; ++ty)
         for (tx = (uint32_t)r[0] >> l; tx <= (uint32_t)r[2] >> l; ++tx)
-            if (pvs__ep_visible_at(m, l, tx, ty, r, d)) return 1;
+            if (pvs__ep_open_at(p, l, tx, ty, r)) return 1;
     return 0;
+}
+
+/* 1 if some pixel of rect r holds a Depth >= d, or lies outside the plane. */
+PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) {
+    pvs__ep_pyr p;
+    p.depth = m->lv;
+    p.mask = NULL;
+    p.lw = m->lw;
+    p.lh = m->lh;
+    p.d = d;
+    p.bit = 0;
+    return pvs__ep_open(&p, &m->plane, m->levels, r);
 }
 
 /* A sweep plane (§5): a mask (1 = every ray from the cell through the pixel is blocked before the plane) and its AND
@@ -18142,32 +18164,16 @@ PVS__STATIC void pvs__ep_build_mask_pyramid(pvs__epmask *m) {
     }
 }
 
-PVS__STATIC int pvs__ep_mask_open_at(const pvs__epmask *m, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *r,
-                                     unsigned char bit) {
-    uint32_t cx, cy;
-    if (m->lv[l][ty * m->lw[l] + tx] & bit) return 0;
-    if (l == 0) return 1;
-    for (cy = 2 * ty; cy <= 2 * ty + 1 && cy < m->lh[l - 1]; ++cy)
-        for (cx = 2 * tx; cx <= 2 * tx + 1 && cx < m->lw[l - 1]; ++cx) {
-            int32_t px0 = (int32_t)(cx << (l - 1)), py0 = (int32_t)(cy << (l - 1));
-            int32_t px1 = px0 + (int32_t)(1u << (l - 1)) - 1, py1 = py0 + (int32_t)(1u << (l - 1)) - 1;
-            if (px1 < r[0] || px0 > r[2] || py1 < r[1] || py0 > r[3]) continue;
-            if (pvs__ep_mask_open_at(m, l - 1, cx, cy, r, bit)) return 1;
-        }
-    return 0;
-}
-
 /* 1 if some pixel of the rectangle does not have `bit` (or lies outside the plane). */
 PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r, unsigned char bit) {
-    uint32_t l = 0, tx, ty;
-    if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)m->plane.width || r[3] >= (int32_t)m->plane.height) return 1;
-    while (l < m->levels &&
-           (((uint32_t)r[2] >> l) - ((uint32_t)r[0] >> l) > 1 || ((uint32_t)r[3] >> l) - ((uint32_t)r[1] >> l) > 1))
-        ++l;
-    for (ty = (uint32_t)r[1] >> l; ty <= (uint32_t)r[3] >> l; ++ty)
-        for (tx = (uint32_t)r[0] >> l; tx <= (uint32_t)r[2] >> l; ++tx)
-            if (pvs__ep_mask_open_at(m, l, tx, ty, r, bit)) return 1;
-    return 0;
+    pvs__ep_pyr p;
+    p.depth = NULL;
+    p.mask = m->lv;
+    p.lw = m->lw;
+    p.lh = m->lh;
+    p.d = 0.0f;
+    p.bit = bit;
+    return pvs__ep_open(&p, &m->plane, m->levels, r);
 }
 
 /* Reprojection (§5.1): per column of `to`, the range [lo, hi] of `from`'s pixels on u (per row, on v) that rays from
