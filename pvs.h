@@ -1439,18 +1439,10 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 /* core: result strings, allocator, errors, math, bitsets                                         */
 /* ---------------------------------------------------------------------------------------------- */
 
-/* The shared kernels, each written once here (or in >>kdtree) and used by every module that needs it:
-   - errors and sizes: pvs__fail, pvs__ok, overflow-checked pvs__mul / pvs__add;
-   - allocation through the hooks: pvs__alloc, pvs__free, pvs__alloc_array, pvs__free_array;
-   - math: pvs__v3_*, pvs__dabs, pvs__dmin, pvs__dmax, pvs__clampi, pvs__f_down / pvs__f_up (float bounds of
-     a double), boxes (pvs__box_*);
-   - bitsets (pvs_bitset_*), pvs__popcount64, pvs__ctz64; random numbers: pvs__splitmix64, pvs__random01;
-   - growable arrays: pvs__grow_capped, pvs__grow_array, pvs__grow;
-   - heaps: pvs__heap_sort and pvs__topk_offer (allocation-free, any record of up to 64 bytes), the
-     (key, index) pair pvs__key_index and its sort; larger bake-time sorts go through PVS_QSORT;
-   - little-endian bytes: pvs__get32, pvs__put32, pvs__getf32, pvs__putf32; pvs__crc32;
-   - the bake's method table interface (pvs__bake_env, pvs__bake_method; the table is in >>bake).
-   >>kdtree holds the one kD-tree and its one front-to-back sweep (pvs__kd_sweep). */
+/* The shared kernels, written once for every module: errors, checked sizes, allocation through the hooks, math and
+   boxes, bitsets, splitmix64, growable arrays, allocation-free heaps (big bake-time sorts use PVS_QSORT),
+   little-endian bytes, CRC-32, the bake's method-table interface (table in >>bake). >>kdtree holds the one kD-tree
+   and sweep. */
 
 PVS_API const char *pvs_result_string(pvs_result r) {
     switch (r) {
@@ -1637,7 +1629,6 @@ PVS__STATIC int pvs__box_clip(pvs_box *b, const pvs_box *by) {
     }
     return b->min[0] <= b->max[0] && b->min[1] <= b->max[1] && b->min[2] <= b->max[2];
 }
-/* The length of a box's diagonal, in double. */
 PVS__STATIC double pvs__box_diagonal(const pvs_box *b) {
     double dx = (double)b->max[0] - b->min[0], dy = (double)b->max[1] - b->min[1], dz = (double)b->max[2] - b->min[2];
     return sqrt(dx * dx + dy * dy + dz * dz);
@@ -1654,7 +1645,6 @@ PVS__STATIC float pvs__box_distance2(const pvs_box *a, const pvs_box *b) {
     }
     return d2;
 }
-
 
 /* Float bounds of a double from below / above (clamped to the finite floats). */
 PVS__STATIC float pvs__f_down(double v) {
@@ -1733,7 +1723,7 @@ PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint3
     }
 }
 
-/* Deterministic random numbers: splitmix64 (Steele et al. 2014). Used by the samplers. */
+/* splitmix64 (Steele et al. 2014): deterministic random numbers for the samplers. */
 PVS__STATIC uint64_t pvs__splitmix64(uint64_t *state) {
     uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
@@ -1747,10 +1737,9 @@ PVS__STATIC float pvs__random01(uint64_t *state) {
 
 /* ---- growable arrays ---- */
 
-/* Grows an array of `elem`-byte elements to hold at least `need` (doubling its capacity), keeping the
-   first `used`, but to no more than `limit` when limit >= need (a bound the caller has proved).
-   Returns the (possibly new) array, or NULL with *r set (the old array is then still owned by the
-   caller). */
+/* Grows an array of `elem`-byte elements to hold `need` (doubling), keeping the first `used`, capped at `limit`
+   when limit >= need (a bound the caller proved). Returns the array, or NULL with *r set (the old one still the
+   caller's). */
 PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need,
                                    size_t limit, size_t elem, pvs_result *r) {
     size_t cap = *capacity ? *capacity : 64, bytes;
@@ -1774,8 +1763,8 @@ PVS__STATIC void *pvs__grow_array(const pvs_allocator *a, void *p, size_t *capac
                                   size_t elem, pvs_result *r) {
     return pvs__grow_capped(a, p, capacity, used, need, 0, elem, r);
 }
-/* The same for an array whose whole capacity is in use (*p, *capacity elements): 1 when it holds at
-   least `need` elements, 0 on overflow or out of memory (*p unchanged, still the caller's). */
+/* The same for a fully used array (*p, *capacity elements): 1 when it holds `need`, 0 on overflow or out of memory
+   (*p unchanged, still the caller's). */
 PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, size_t need, size_t elem) {
     pvs_result r;
     void *q;
@@ -1791,8 +1780,7 @@ PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, si
 /* 1 when a ranks before b: the order of a sort (ascending) or of a top-k selection (the best first). */
 typedef int (*pvs__before_fn)(const void *a, const void *b);
 
-/* Moves element r of the heap h (n elements of `size` bytes, at most 64) down until no child ranks
-   after it: the root of such a heap ranks last. */
+/* Sifts element r of heap h (n elements of `size` <= 64 bytes) down: the root ranks last. */
 PVS__STATIC void pvs__heap_sift(unsigned char *h, size_t size, size_t r, size_t n, pvs__before_fn before) {
     unsigned char t[64];
     for (;;) {
@@ -1807,10 +1795,9 @@ PVS__STATIC void pvs__heap_sift(unsigned char *h, size_t size, size_t r, size_t 
     }
 }
 
-/* Sorts base[0 .. n) (elements of `size` bytes, at most 64) in `before` order: a heap sort (Williams
-   1964), O(n log n), no allocation and no libc, so the per-frame and file paths use it too. With a
-   total order (ties broken by an index) the result does not depend on the sort: the same on every
-   platform and libc. Larger sorts at bake time go through PVS_QSORT with such comparators. */
+/* Heap sort (Williams 1964) of base[0 .. n) (elements of `size` <= 64 bytes) in `before` order: no allocation and
+   no libc, so the per-frame and file paths use it too. With a total order (ties broken by an index) the result is
+   the same on every platform. */
 PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_fn before) {
     unsigned char *h = (unsigned char *)base, t[64];
     size_t i;
@@ -1825,9 +1812,8 @@ PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_f
     }
 }
 
-/* Top-k: `heap` holds *count <= k elements of `size` bytes (at most 64), its root the one that ranks
-   last. Offers e: it is kept when there is room, or when it ranks before the root, which it replaces.
-   An element equal to the root does not replace it. */
+/* Top-k: `heap` holds *count <= k elements of `size` <= 64 bytes, its root ranking last. e is kept when there is
+   room, or when it ranks before the root, which it replaces (an equal one does not). */
 PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t size, const void *e,
                                  pvs__before_fn before) {
     unsigned char *h = (unsigned char *)heap;
@@ -1882,8 +1868,8 @@ PVS__STATIC float pvs__getf32(const uint8_t *p) {
     return f;
 }
 
-/* CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), two nibble-table steps per byte: a 64-byte
-   constant table keeps the code small; validation stays linear in the file size. */
+/* CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), two nibble-table steps per byte: a 64-byte table
+   keeps the code small. */
 PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
     static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu, 0x76dc4190u, 0x6b6b51f4u,
                                    0x4db26158u, 0x5005713cu, 0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
@@ -1900,16 +1886,14 @@ PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
 
 /* ---- the bake's method table: what >>bake's driver knows of a method ---- */
 
-/* A bake method is one row of >>bake's table (pvs__bake_methods): a few functions over a per-bake
-   state of its own, which the driver holds behind one pointer. The driver checks every method's
-   parameters, prepares the methods the bake may run, keeps those that can cull something in the scene
-   (AUTO's policy), runs each on every cell and intersects their PVSs (an intersection of conservative
-   sets is conservative), and destroys them. A method's functions live in its module; adding a method
-   is its module and one row of the table. */
+/* A bake method is one row of >>bake's table (pvs__bake_methods): functions over a per-bake state the driver holds
+   behind one pointer. The driver checks every method's parameters, prepares those the bake may run, keeps those
+   that can cull something in the scene (AUTO), runs each on every cell and intersects their PVSs (an intersection
+   of conservative sets is conservative). Adding a method is its module plus one table row. */
 
-/* What a method sees of the bake. `cells` are every cell of the bake, not only the shard's (what a
-   method prepares over them then agrees between shards; set during prepare only, the caller's);
-   `task_cells` the shard's, one per task. */
+/* What a method sees of the bake: `cells` every cell of the bake, not only the shard's (so what prepare
+   derives agrees between shards; the caller's, set during prepare only); `task_cells` the shard's, one per
+   task. */
 typedef struct pvs__bake_env {
     const pvs_scene *scene;
     pvs_allocator allocator;
@@ -1921,7 +1905,7 @@ typedef struct pvs__bake_env {
     size_t words;              /* per PVS */
     float eps;                 /* the bake's eps (stored in the file): a method's prepare may derive it */
     uint32_t flags;            /* PVS_BAKE_* */
-    int is_auto;               /* 1: the bake's method is AUTO (a method's PVS may be one of several intersected) */
+    int is_auto;               /* 1: AUTO (this method's PVS may be intersected with others) */
 } pvs__bake_env;
 
 /* What the run of a cell found (per task, for pvs_bake_report). */
@@ -1952,10 +1936,10 @@ typedef struct pvs__bake_method {
     /* 1 if the prepared method can leave anything out in this scene, with the reason in *why either
        way. NULL: always ("conservative"). */
     int (*applies)(const void *state, const char **why);
-    /* The method's PVS of a box of a task (its cell or, adaptive, a part of it) into `bits`, cleared
-       by the caller. `candidates`, when not NULL, are the objects the caller intersects with (an
-       adaptive sub-cell's parent PVS, the methods run before): a method may test only those. Adds
-       PVS__BAKE_* to *flags. Thread-safe for distinct tasks. */
+    /* The method's PVS of a task's box (its cell or an adaptive part) into `bits`, cleared by the caller.
+       `candidates`, when not NULL, are the objects the caller intersects with (an adaptive sub-cell's
+       parent PVS, earlier methods): a method may test only those. Adds PVS__BAKE_* to *flags.
+       Thread-safe for distinct tasks. */
     pvs_result (*cell)(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
                        const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err);
     /* Fills the file's sections of the method's own when the bake runs it alone. NULL: none. */
@@ -2003,7 +1987,6 @@ PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c
     double n1[3], n2[3], n3[3], x[3], det;
     int i;
     for (i = 0; i < 3; ++i) { n1[i] = a[i]; n2[i] = b[i]; n3[i] = c[i]; }
-    /* x = n2 x n3 */
     x[0] = n2[1] * n3[2] - n2[2] * n3[1];
     x[1] = n2[2] * n3[0] - n2[0] * n3[2];
     x[2] = n2[0] * n3[1] - n2[1] * n3[0];
@@ -2048,7 +2031,7 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
         for (k = 0; k < 4; ++k) all[4 * i + k] = (float)(p[k] / len);
         if (fabs(p[3] / len) + 1.0 > reach) reach = fabs(p[3] / len) + 1.0;
     }
-    /* Every vertex of a bounded polyhedron lies within sum of |d| ... bound it generously. */
+    /* every vertex is some triple's intersection: reach bounds them all, generously */
     for (i = 0; i + 2 < n; ++i)
         for (j = i + 1; j + 1 < n; ++j)
             for (k = j + 1; k < n; ++k) {
@@ -2225,9 +2208,8 @@ PVS_API void pvs_scene_destroy(pvs_scene *s) {
     pvs__free(&a, s, sizeof(*s), 16);
 }
 
-/* pvs_scene_create's checks of the description before anything is allocated: pointers, counts,
-   then every vertex finite, every index in range, every object's triangle range; *floats receives
-   the floats the occluders' planes and footprints need. */
+/* pvs_scene_create's checks, before anything is allocated; *floats gets the floats the occluders' planes and
+   footprints need. */
 PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t *floats, pvs_error *err) {
     size_t n3, i;
     uint32_t o;
@@ -2248,7 +2230,6 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
         !pvs__mul(desc->triangle_count, sizeof(pvs_box), &n3))
         return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "the arrays do not fit in memory");
 
-    /* validate before allocating: vertices, indices, object ranges */
     for (i = 0; i < (size_t)desc->vertex_count * 3; ++i)
         if (!pvs__finite(desc->positions[i]))
             return pvs__fail(err, PVS_ERROR_NOT_FINITE, (int64_t)(i / 3), 0,
@@ -2278,8 +2259,8 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
     return PVS_OK;
 }
 
-/* The objects of the scene: their flags, triangle ranges and boxes (empty when every triangle has
-   zero area: never visible), each triangle claimed by one object only (s->triangle_object). */
+/* The objects' flags, triangle ranges and boxes (empty when every triangle has zero area: never visible); each
+   triangle is claimed by one object only (s->triangle_object). */
 PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
     uint32_t o, t;
     for (o = 0; o < desc->object_count; ++o) {
@@ -2312,7 +2293,7 @@ PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *de
         if (!any_area && ob->triangle_count && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS))
             return pvs__fail(err, PVS_ERROR_DEGENERATE_OBJECT, o, 0, "object %u: all %u triangles have zero area", o,
                              ob->triangle_count);
-        if (!any_area) s->object_boxes[o] = pvs__box_empty(); /* never visible: nothing to see */
+        if (!any_area) s->object_boxes[o] = pvs__box_empty();
     }
     return PVS_OK;
 }
@@ -2348,8 +2329,7 @@ PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *
     return PVS_OK;
 }
 
-/* The scene's two kD-trees: over the triangles' boxes (zero-area triangles emptied by
-   pvs__scene_prepare_rays) and over the objects' boxes. */
+/* The scene's kD-trees over the triangles' boxes (zero-area ones emptied) and the objects' boxes. */
 PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, const pvs_box *tri_boxes,
                                         pvs_error *err) {
     pvs_kdtree_desc kd;
@@ -2463,14 +2443,11 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
     return s->occluders + i;
 }
 
-/* The scene's 2.5D facades for >>vocc: pairs of consecutive triangles that form a vertical
-   rectangle (two ground positions x two heights, split along a diagonal) whose bottom is at or below
-   the lowest point of the scene, so it certainly blocks every height from the ground to its top.
-   Anything else is left out (never blocks: conservative). The OTREE bake uses the general
-   extraction (pvs__facades_extract, >>otree: any tessellation, base heights); vocc keeps this one,
-   as switching would change its results (it would find more and longer walls). Writes *count
-   facades of 6 floats (u0 v0 u1 v1 top bottom) in triangle order into a new array *out (6 * count +
-   6 floats, through allocator a; NULL on failure). */
+/* The scene's 2.5D facades for >>vocc: pairs of consecutive triangles forming a vertical rectangle (two ground
+   positions x two heights, split along a diagonal) whose bottom is at or below the scene's lowest point, so it
+   blocks every height from the ground to its top; anything else is left out (conservative). vocc keeps this rather
+   than pvs__facades_extract (>>otree), which would change its results. Writes *count facades of 6 floats (u0 v0 u1
+   v1 top bottom), in triangle order, into a new array *out (6 count + 6 floats, allocator a; NULL on failure). */
 PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocator *a, float **out, uint32_t *count) {
     int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
     float ground = s->bounds.min[up];
@@ -2533,12 +2510,11 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 /* scene ray casts                                                                                */
 /* ---------------------------------------------------------------------------------------------- */
 
-/* Layout. A node is 8 bytes: `bits` holds the axis in its low 2 bits (3 = leaf) and an index above
-   them; an inner node's index is its left child (the right child follows it), a leaf's index is the
-   offset of its item list in `items`, and the union holds the split plane or the leaf's item count.
-   Node 0 is the root. Every inner node has two children, so a tree of N nodes has (N + 1) / 2 leaves.
-   Items are referenced from every leaf whose closed cell box overlaps their closed box: a point on a
-   split plane finds every box touching it on either side. */
+/* Layout: a node is 8 bytes; `bits` holds the axis in its low 2 bits (3 = leaf) and above them an index: an
+   inner node's left child (the right one follows) or a leaf's item list offset in `items`; the union holds
+   the split plane or the leaf's item count. Node 0 is the root; inner nodes have two children, so N nodes
+   have (N + 1) / 2 leaves. Items are referenced from every leaf whose closed cell overlaps their closed box:
+   a point on a split plane finds every box touching it on either side. */
 #define PVS__KD_BINS 32                 /* SAH candidate planes per axis: PVS__KD_BINS - 1 */
 #define PVS__KD_SAMPLE 256            /* most refs binned per node (an even stride through bigger ones) */
 #define PVS__KD_LEAF 3u                 /* axis value of a leaf */
@@ -2565,7 +2541,7 @@ struct pvs_kdtree {
     size_t node_capacity, item_capacity;
 };
 
-/* An item reference during the build: the item's box clipped to the node's cell. */
+/* An item reference during the build: its box clipped to the node's cell. */
 typedef struct pvs__kdref {
     float min[3], max[3];
     uint32_t item;
@@ -2583,7 +2559,6 @@ typedef struct pvs__kdbuild {
     uint32_t starts[3][PVS__KD_BINS + 1]; /* [s]: refs whose min is <= planes[s] first */
     uint32_t ends[3][PVS__KD_BINS + 1];   /* [e]: refs whose max is >= planes[e] last */
 } pvs__kdbuild;
-
 
 PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t base, size_t n) {
     pvs_kdtree *t = b->tree;
@@ -2604,21 +2579,17 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
     return PVS_OK;
 }
 
-/* Splits node `node` (its refs are refs[base .. base + n), on top of the stack, its cell is `box`) or
-   makes it a leaf. Binned SAH over all three axes (Bittner 2002 §4.4 uses SAH or fewest cut objects;
-   binning after Wald 2007): up to 31 planes per axis, fewer in small nodes. The counts are exact for
-   the closed-interval distribution below (up to sampling in big nodes), so straddlers and boxes
-   lying in a plane are costed as they will be stored.
+/* Splits node `node` (refs[base .. base + n) on top of the stack, cell `box`) or makes it a leaf. Binned SAH
+   over all three axes (Bittner 2002 §4.4 uses SAH or fewest cut objects; binning after Wald 2007): up to 31
+   planes per axis, fewer in small nodes. The counts are exact for the closed-interval distribution below (up
+   to sampling in big nodes): straddlers and boxes in a plane are costed as they will be stored.
 
-   Budgets. A box straddling a plane goes to both sides, so a split can add references, and boxes
-   that overlap everywhere (a fan of long slivers around one vertex) would multiply them at every
-   level: memory quadratic in the count. The build therefore draws from two pools set by
-   pvs_kdtree_create: the references a split adds (l + r - n) and the nodes (two per split). A split
-   that the pools cannot pay for is not taken (the node stays a leaf, a bigger one). The pools are
-   spent in build order, so a tree that stays inside them is the tree built without them: ordinary
-   scenes (at most 30 references and 18 nodes per box on the generator's scenes, about half the
-   pools) are unchanged, and an adversarial one gets big leaves where the pools ran out instead of
-   more memory. */
+   Budgets. A straddling box goes to both sides, so boxes that overlap everywhere (a fan of slivers around
+   one vertex) would multiply references at every level: memory quadratic in the count. So the build draws
+   from two pools set by pvs_kdtree_create, the references a split adds (l + r - n) and the nodes (two per
+   split); a split the pools cannot pay for is not taken (a bigger leaf). Pools are spent in build order, so
+   a tree within them is the tree built without them: ordinary scenes use about half (tests/BENCHMARKS.md,
+   kdtree), adversarial ones get big leaves instead of more memory. */
 PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box,
                                      uint32_t depth) {
     pvs_kdtree *t = b->tree;
@@ -2630,8 +2601,8 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
     pvs_box lbox, rbox;
     if (n <= b->leaf_size || depth >= b->max_depth || b->nodes_left < 2) return pvs__kd_make_leaf(b, node, base, n);
 
-    /* the SAH measure of a box is linear in its extent along one axis: k1[axis] * extent + k0[axis];
-       half the surface area, or the edge sum for boxes with no area */
+    /* a box's SAH measure is linear in its extent along one axis, k1[axis] * extent + k0[axis]: half the
+       surface area, or the edge sum for boxes with no area */
     for (axis = 0; axis < 3; ++axis) ext[axis] = box->max[axis] - box->min[axis];
     area = ext[0] * ext[1] + ext[1] * ext[2] + ext[2] * ext[0] > 0.0f;
     for (axis = 0; axis < 3; ++axis) {
@@ -2656,7 +2627,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
         b->planes[axis][0] = -INFINITY;
         b->planes[axis][nb] = INFINITY;
     }
-    /* big nodes bin an evenly strided sample of PVS__KD_SAMPLE refs: the plane barely changes */
+    /* big nodes bin an even stride of PVS__KD_SAMPLE refs: the plane barely changes */
     sampled = n > PVS__KD_SAMPLE ? PVS__KD_SAMPLE : n;
     for (j = 0; j < sampled; ++j) {
         const pvs__kdref *ref = b->refs + base + (sampled == n ? j : (size_t)((uint64_t)j * n / sampled));
@@ -2664,9 +2635,9 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
             const float *pl = b->planes[axis];
             float lo = box->min[axis], mn = ref->min[axis], mx = ref->max[axis];
             int s, e;
-            /* s = the first k in 1..nb with mn <= planes[k]; e = the last k in 0..nb-1 with mx >= planes[k].
-               The refs lie in the cell, so the bin estimates are in [0, nb] and off by at most one
-               near a plane: one exact comparison each way fixes them. */
+            /* s = the first k in 1..nb with mn <= planes[k], e = the last k in 0..nb-1 with mx >= planes[k].
+               The refs lie in the cell, so the estimates are in [0, nb] and off by at most one near a
+               plane: one exact comparison each way fixes them. */
             s = (int)((mn - lo) * scale[axis]);
             e = (int)((mx - lo) * scale[axis]);
             s = s < nb - 1 ? s : nb - 1;
@@ -2678,7 +2649,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
         }
     }
 
-    /* cost of each inner plane; ties keep the first (lowest axis, then lowest plane): deterministic */
+    /* cost of each inner plane; ties keep the first (lowest axis, then plane): deterministic */
     best_cost = PVS__KD_COST_ITEM * (float)n;
     count_scale = (float)n / (float)sampled;
     for (axis = 0; axis < 3; ++axis) {
@@ -2706,7 +2677,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
     if (best_axis < 0) return pvs__kd_make_leaf(b, node, base, n);
     axis = best_axis;
     split = b->planes[axis][best_k];
-    nr = n; /* a split adds at most n references: the pool has room unless it is nearly spent */
+    nr = n; /* a split adds at most n references: room unless the pool is nearly spent */
     if (n > b->refs_left) { /* then the exact sides decide */
         for (i = 0, nl = 0, nr = 0; i < n; ++i) {
             nl += b->refs[base + i].min[axis] <= split;
@@ -2715,9 +2686,9 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
         if (nl + nr > n + b->refs_left) return pvs__kd_make_leaf(b, node, base, n);
     }
 
-    /* distribute with closed intervals: a ref touching the plane goes to both sides, clipped. The
-       left refs are compacted in place, the right ones written above the node's: right of base + n. */
-    { /* the loop below writes one slot past the right refs */
+    /* distribute with closed intervals: a ref touching the plane goes to both sides, clipped; left refs are
+       compacted in place, right ones written above base + n (the loop writes one slot past them) */
+    {
         pvs__kdref *refs = (pvs__kdref *)pvs__grow_capped(&t->allocator, b->refs, &b->ref_capacity, base + n,
                                                           base + n + nr + 1, b->ref_limit, sizeof(pvs__kdref), &r);
         if (!refs) return pvs__fail(b->err, r, -1, 0, "kD-tree build references");
@@ -2727,8 +2698,8 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
         const pvs__kdref *src = b->refs + base + i;
         float mn = src->min[axis], mx = src->max[axis];
         int to_left = mn <= split, to_right = mx >= split;
-        /* both slots are free whether or not they are kept: write, then advance (no branches; the
-           clipped coordinate is stored last, so no wide load waits on a narrow store) */
+        /* both slots are free: write, then advance (no branches; the clipped coordinate is stored last,
+           so no wide load waits on a narrow store) */
         b->refs[top] = *src;
         b->refs[top].min[axis] = mn < split ? split : mn;
         top += (size_t)to_right;
@@ -2758,7 +2729,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
     nr = top - (base + n);
     b->refs_left -= nl + nr - n;
     b->nodes_left -= 2;
-    /* the right refs are on top of the stack: build them first, then the left ones below */
+    /* the right refs are on top of the stack: build them first */
     r = pvs__kd_build(b, child + 1, base + n, nr, &rbox, depth + 1);
     if (r != PVS_OK) return r;
     return pvs__kd_build(b, child, base, nl, &lbox, depth + 1);
@@ -2809,17 +2780,16 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
     b->max_depth = desc->max_depth ? desc->max_depth : 8 + (13 * lg + 9) / 10;
     if (b->max_depth > PVS_KDTREE_MAX_DEPTH) b->max_depth = PVS_KDTREE_MAX_DEPTH;
 
-    /* the pools: at most PVS_KDTREE_MAX_REFS_PER_BOX references and PVS_KDTREE_MAX_NODES_PER_BOX
-       nodes per box in the tree. The stack holds the refs of leaves still to build, and a node being
-       split holds its own n and its right side above: at most the pool's total plus one node's count
-       (and a slot). So the build holds at most 4 K + 8 N + 28 (K + 1) bytes per box (K, N: the
-       limits per box), PVS_KDTREE_BUILD_BYTES_PER_BOX. */
+    /* The pools: PVS_KDTREE_MAX_REFS_PER_BOX references and PVS_KDTREE_MAX_NODES_PER_BOX nodes per box (K, N). The
+       stack holds the refs of leaves still to build, plus a node being split: its n and its right side above, at
+       most the pool's total plus one node's count and a slot. So the build holds at most 4 K + 8 N + 28 (K + 1)
+       bytes per box, PVS_KDTREE_BUILD_BYTES_PER_BOX. */
     b->refs_left = (size_t)(PVS_KDTREE_MAX_REFS_PER_BOX - 1) * m;
     b->nodes_left = (size_t)PVS_KDTREE_MAX_NODES_PER_BOX * m;
     b->item_limit = (size_t)PVS_KDTREE_MAX_REFS_PER_BOX * m;
     b->node_limit = (size_t)PVS_KDTREE_MAX_NODES_PER_BOX * m + 1;
     b->ref_limit = (size_t)(PVS_KDTREE_MAX_REFS_PER_BOX + 1) * m + 2;
-    /* first guesses; everything grows on demand, within the limits */
+    /* first guesses; all grow on demand, within the limits */
     t->nodes = (pvs__kdnode *)pvs__grow_capped(&a, NULL, &t->node_capacity, 0, 1 + (size_t)m / 2, b->node_limit,
                                                sizeof(pvs__kdnode), &r);
     if (t->nodes)
@@ -2870,14 +2840,13 @@ PVS__STATIC int pvs__kdsweep_before(const pvs__kdsweep *a, const pvs__kdsweep *b
     return a->d2 < b->d2 || (a->d2 == b->d2 && a->node < b->node);
 }
 
-/* The heap only ever holds nodes none of which is an ancestor of another (popping a node pushes its
-   children), and such a set has at most as many nodes as the tree has leaves. */
+/* The heap holds nodes none of which is another's ancestor (a pop pushes the children): at most the leaves. */
 PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *t) {
     return ((size_t)t->node_count + 1) / 2 * sizeof(pvs__kdsweep);
 }
 
 /* PVS_VISIT_ALL: the non-empty leaves under inner node `node` (cell `box`), depth first, distance -1.
-   Returns PVS_VISIT_STOP when the visitor said so. */
+   PVS_VISIT_STOP when the visitor said so. */
 PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, const pvs_box *box,
                                         pvs_kdtree_visit_fn visit, void *user) {
     struct {
@@ -2912,11 +2881,10 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
     return PVS_VISIT_DESCEND;
 }
 
-/* Bittner 2002 §3.2 (approximate occlusion sweep): a priority queue on the nodes' minimum distance
-   to the source. A child's cell lies inside its parent's, so its distance is never smaller and the
-   visit order is non-decreasing in distance. `heap` holds (node_count + 1) / 2 entries; when `node`
-   is not NULL, it holds the index of the node being visited during each call of `visit` (the otree
-   sweep keeps per-node counts). Serves pvs_kdtree_sweep and the otree bake (pvs__ot25_sweep_tree). */
+/* The approximate occlusion sweep (Bittner 2002 §3.2): a priority queue on the nodes' minimum distance to the
+   source. A child's cell lies in its parent's, so its distance is never smaller: the visit order is non-decreasing.
+   `heap` holds (node_count + 1) / 2 entries; `node`, when not NULL, receives the visited node's index during each
+   `visit` (the otree bake keeps per-node counts). */
 PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
                                pvs_kdtree_visit_fn visit, void *user, uint32_t *node) {
     size_t n = 1;
@@ -2981,7 +2949,7 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
     if (!t || !source || !visit) return PVS_ERROR_INVALID_ARGUMENT;
     for (k = 0; k < 3; ++k)
         if (!pvs__finite(source->min[k]) || !pvs__finite(source->max[k])) return PVS_ERROR_NOT_FINITE;
-    if (t->bounds.min[0] > t->bounds.max[0]) return PVS_OK; /* no items: nothing to visit */
+    if (t->bounds.min[0] > t->bounds.max[0]) return PVS_OK;
     cap = scratch ? scratch_size / sizeof(pvs__kdsweep) : 0;
     if (cap < ((size_t)t->node_count + 1) / 2) return PVS_ERROR_BUFFER_TOO_SMALL;
     pvs__kd_sweep(t, source, (pvs__kdsweep *)scratch, visit, user, NULL);
@@ -2990,9 +2958,9 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
 
 /* ---- ray walk ---- */
 
-/* Front-to-back stack traversal (the classic recursive ray traversal, Havran's TA_rec_B family) in
-   double. Leaf intervals are widened by PVS__KD_RAY_TOL of the coordinates' size, so a leaf the ray
-   touches is never skipped: only visiting an extra neighbour can happen. */
+/* Front-to-back stack traversal (the classic recursive ray traversal, Havran's TA_rec_B family) in double. Leaf
+   intervals widen by PVS__KD_RAY_TOL of the coordinates' size: a touched leaf is never skipped, at worst an extra
+   neighbour is visited. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const float dir[3], float tmax_f,
                             pvs_kdtree_ray_fn fn, void *user) {
     struct {
@@ -3083,8 +3051,8 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const fl
 
 /* ---- point location ---- */
 
-/* A point on a split plane goes left. That leaf holds every item whose box contains the point: the
-   build stored each box touching the plane on both sides. */
+/* A point on a split plane goes left; that leaf holds every item whose box contains it, as the build stores a box
+   touching the plane on both sides. */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *t, const float p[3], uint32_t *count) {
     const pvs__kdnode *nd;
     uint32_t axis;
@@ -3137,8 +3105,8 @@ PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes,
     return PVS_OK;
 }
 
-/* A ray prepared for the watertight test of Woop, Benthin and Wald (JCGT 2013): the axis kz of the
-   largest direction component, the shear taking dir to +-z, in double. */
+/* A ray prepared for the watertight test of Woop, Benthin and Wald (JCGT 2013), in double: kz the axis of the
+   largest direction component, the shear taking dir to +-z. */
 typedef struct pvs__ray {
     double o[3];
     double sx, sy, sz;
@@ -3158,9 +3126,8 @@ PVS__STATIC int pvs__ray_setup(pvs__ray *r, const double o[3], const double d[3]
     return 1;
 }
 
-/* 2D edge function of the sheared corners p, q: its sign says on which side of p-q the ray passes.
-   Triangles store their corners sorted, so a shared edge is always evaluated as (p, q) in the same
-   order, bit for bit the same in both triangles: a ray cannot slip between them. */
+/* 2D edge function of sheared corners p, q: its sign tells the side of p-q the ray passes. Corners are stored
+   sorted, so a shared edge is evaluated as the same (p, q), bit for bit, in both triangles: no ray slips between. */
 PVS__STATIC double pvs__edge(const double *p, const double *q) { return p[0] * q[1] - p[1] * q[0]; }
 
 /* Two-sided watertight ray-triangle test: 1 and *t when the ray meets the triangle at 0 <= t <= tmax. */
@@ -3243,8 +3210,7 @@ PVS_API int pvs_scene_raycast(const pvs_scene *s, const float origin[3], const f
     return 1;
 }
 
-/* The segment is the ray a + t (b - a), 0 <= t <= 1, with b - a in double. A zero-length segment
-   is never blocked. */
+/* The segment is the ray a + t (b - a), 0 <= t <= 1, b - a in double; a zero-length one is never blocked. */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], const float b[3]) {
     pvs__raycast rc;
     double o[3], d[3];
@@ -3263,7 +3229,7 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
     rc.tmax = 1.0;
     rc.triangle = 0xffffffffu;
     rc.any = 1;
-    /* the walk goes a little past b: its float direction may fall short; the test itself stops at 1 */
+    /* the float direction may fall short of b: walk a little past; the test itself stops at 1 */
     pvs_kdtree_ray(s->triangle_tree, a, df, 1.0f + 1e-6f, pvs__raycast_leaf, &rc);
     return rc.triangle != 0xffffffffu;
 }
@@ -6657,24 +6623,18 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 /* ---------------------------------------------------------------------------------------------- */
 /* otree: occlusion trees over oriented 2D line space (Bittner 2002, ch. 3, 6, 7)                 */
 /* ---------------------------------------------------------------------------------------------- */
-/* One BSP kernel (§3.3, §6.8): a tree whose interior nodes are planes through the origin of R^3,
-   each the image p* of a primal point p (§6.4: the oriented line l* = (u,1) x (v,1) has
-   l*.(p,1) = orient(u, v, p), > 0 when p lies left of the line), and whose leaves are out (rays not
-   blocked) or in (blocked; the payload names the nearest occluder in 2D, or the set of occluders
-   that may be seen over in 2.5D). Sets of lines are convex polygons of unit vectors (vertices =
-   extremal lines); every polygon edge remembers the primal point whose plane carries it and whether
-   that plane is already on the path (edge marking, §4.10.1), so an out-leaf becomes the elementary
-   tree e-OT of only the unmarked edges (§3.3.3).
+/* One BSP kernel (§3.3, §6.8) over oriented 2D lines: inner nodes are planes through the origin of R^3, the images
+   p* of primal points p (§6.4: l* = (u,1) x (v,1) has l*.(p,1) = orient(u, v, p), > 0 when p is left of the line);
+   leaves are out (unblocked) or in (blocked by the payload: the nearest occluder in 2D, those that may be seen over
+   in 2.5D). Line sets are convex polygons of unit vectors (vertices: extremal lines); each edge keeps the point
+   whose plane carries it and a mark when that plane is on the path (§4.10.1), so an out-leaf becomes the e-OT of
+   the unmarked edges (§3.3.3).
 
-   Conservative rounding. Regions of the tree are defined by exact planes through stored points, so
-   an in-leaf never claims lines outside the blocker that created it; insertion classifies with a
-   tolerance that can only drop blocked slivers; read-only tests split with slack so both sides see
-   a little more than their share; ambiguous depth orders count as "in front" (visible). All
-   geometry is in double, relative to the cell's centre.
-
-   Users: pvs_visibility_2d (exact 2D from-region, ch. 6), pvs_visibility_25d (conservative 2.5D,
-   c-LSS, ch. 7) and the OTREE bake method. The from-point shadow-volume tree (ch. 4, pvs_otree_cull)
-   at the end of this section has its own 3D kernel (planes through the eye). */
+   Conservative rounding: regions are bounded by exact planes through stored points, so an in-leaf never claims
+   lines outside its blocker; insertion's tolerance can only drop blocked slivers; read-only tests split with slack
+   (both sides see a little more); ambiguous depth orders count as visible. Geometry is double, relative to the
+   cell's centre. Users: pvs_visibility_2d (exact, ch. 6), pvs_visibility_25d (c-LSS, ch. 7), the OTREE bake;
+   pvs_otree_cull (ch. 4, at the end) has its own 3D kernel. */
 
 #define PVS__OT_MAXV 16
 #define PVS__OT25_WITNESSES 16
@@ -6709,23 +6669,23 @@ typedef struct pvs__otree {
     size_t node_count, node_cap;
     uint32_t *seq;
     size_t seq_count, seq_cap;
-    pvs__otpoly *stack;             /* work stack of polygons: item i is stack[stack_slot[i]] (PVS__OT_ITEM) */
-    uint32_t *stack_slot;           /* a permutation of the storage: a clip writes into a free slot, then swaps */
+    pvs__otpoly *stack;             /* work stack: item i is stack[stack_slot[i]] (PVS__OT_ITEM) */
+    uint32_t *stack_slot;           /* a permutation: a clip writes into a free slot, then swaps */
     uint32_t *stack_node;
-    uint32_t *stack_pend;           /* read-only tests: a clip still owed, (node << 1) | side, or PVS__OT_NONE */
+    uint32_t *stack_pend;           /* read-only tests: the clip owed, (node << 1) | side, or PVS__OT_NONE */
     size_t stack_count, stack_cap;
     int oom;
-    const double *seg;              /* occluder segments, 4 doubles each (local coordinates) */
+    const double *seg;              /* occluder segments, 4 local doubles each */
     const double *top;              /* 2.5D: occluder top heights; NULL in 2D */
-    const double *reach;            /* 2D: per occluder, the largest distance between it and a cell point */
+    const double *reach;            /* 2D: per occluder, its largest distance to a cell point */
     double sa[2], sb[2];            /* the source edge (cell edge or top edge) */
     double eye;                     /* 2.5D: height of the source edge */
-    const double *corners;          /* 2.5D: the cell's 4 ground corners (every possible eye position) */
-    double *jd;                     /* 2.5D: per occluder, its line and umbra data in this tree (pvs__ot25_prepare) */
+    const double *corners;          /* 2.5D: the cell's 4 ground corners (every eye position) */
+    double *jd;                     /* 2.5D: per occluder, PVS__OT25_JD doubles (pvs__ot25_prepare) */
     double len_eps;                 /* distances below this are ties */
-    uint32_t root_in;               /* 2.5D: the node whose region is the lines leaving through the source edge */
+    uint32_t root_in;               /* 2.5D: the node of the lines leaving through the source edge */
     int full_tests;                 /* 2.5D: PVS__VISIBILITY_25D_FULL_TESTS (no witness lines) */
-    int nwit;                       /* 2.5D: witness lines, most recently useful first (pvs__ot25_witnessed) */
+    int nwit;                       /* 2.5D: witness lines, most recently useful first */
     double wit[PVS__OT25_WITNESSES][3];
 } pvs__otree;
 
@@ -6765,19 +6725,18 @@ PVS__STATIC uint32_t pvs__ot_new_node(pvs__otree *t) {
     return (uint32_t)t->node_count++;
 }
 
-/* Copies the live part of a polygon. */
 PVS__STATIC void pvs__ot_copy(pvs__otpoly *d, const pvs__otpoly *s) {
     int n = s->n, i;
     d->n = n;
     d->xsplit = s->xsplit;
-    for (i = 0; i < n; ++i) { /* a loop: n is small, a library call costs more */
+    for (i = 0; i < n; ++i) { /* n is small: a loop beats a library call */
         d->v[i][0] = s->v[i][0]; d->v[i][1] = s->v[i][1]; d->v[i][2] = s->v[i][2];
         d->e[i][0] = s->e[i][0]; d->e[i][1] = s->e[i][1];
         d->mark[i] = s->mark[i];
     }
 }
 
-/* Makes room for `need` work items (the four stack arrays grow together; new items get new slots). */
+/* Room for `need` work items (all four arrays; new items get new slots). */
 PVS__STATIC int pvs__ot_reserve(pvs__otree *t, size_t need) {
     size_t c1 = t->stack_cap, c2 = t->stack_cap, c3 = t->stack_cap, c4 = t->stack_cap, i;
     if (need <= t->stack_cap) return 1;
@@ -6809,7 +6768,7 @@ PVS__STATIC int pvs__ot_push(pvs__otree *t, uint32_t node, const pvs__otpoly *po
     t->stack_node[t->stack_count++] = node;
     return 1;
 }
-/* Pops the top of the work stack into *q; returns its node. */
+/* Pops the top item into *q; returns its node. */
 PVS__STATIC uint32_t pvs__ot_pop(pvs__otree *t, pvs__otpoly *q) {
     --t->stack_count;
     pvs__ot_copy(q, PVS__OT_ITEM(t, t->stack_count));
@@ -6828,15 +6787,14 @@ PVS__STATIC double pvs__ot_line(const double u[2], const double v[2], double l[3
     if (len > 0.0) { l[0] /= len; l[1] /= len; l[2] /= len; }
     return len;
 }
-/* Signed "side" of primal point p for line l, scaled so that unit lines give comparable values. */
+/* Signed side of point p for line l, scaled so that unit lines give comparable values. */
 PVS__STATIC double pvs__ot_side(const double l[3], const double p[2]) {
     return (l[0] * p[0] + l[1] * p[1] + l[2]) / sqrt(p[0] * p[0] + p[1] * p[1] + 1.0);
 }
 
 #define PVS__OT_EPS 1e-12
 
-/* out = (a + t (b - a)) normalised (left as is when zero): a clipped line's vertex. Computed in
-   locals and stored last (out may alias a or b as far as the compiler knows). */
+/* out = normalised a + t (b - a), stored last: out may alias a or b. */
 PVS__STATIC void pvs__ot_lerp_unit(const double *a, const double *b, double t, double *out) {
     double x0 = a[0] + t * (b[0] - a[0]), x1 = a[1] + t * (b[1] - a[1]), x2 = a[2] + t * (b[2] - a[2]);
     double len = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
@@ -6852,9 +6810,8 @@ PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
     n[2] = f;
 }
 
-/* Keeps the part of `in` where n . l >= -slack (slack 0: the exact half), n the unit normal of the
-   plane of p. New edges lie in the plane of p and get mark `mark`. Returns the vertex count of the
-   result (0 = empty, -1 = too many vertices). */
+/* Keeps the part of `in` where n . l >= -slack (slack 0: the exact half), n the unit normal of p's plane; new edges
+   lie in that plane, with mark `mark`. Returns the vertex count (0 empty, -1 too many). */
 PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
                                pvs__otpoly *out) {
     double d[PVS__OT_MAXV + 1];
@@ -6894,8 +6851,7 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
     out->n = m;
     return m;
 }
-/* Both halves at once: *pos = pvs__ot_clip_n(in, n, p, slack) and *neg = the same with -n. Returns
-   the two vertex counts in r[0] (pos) and r[1] (neg), as pvs__ot_clip_n would. */
+/* Both halves at once: *pos and *neg as pvs__ot_clip_n with n and -n; their counts in r[0] and r[1]. */
 PVS__STATIC void pvs__ot_split2(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
                                 pvs__otpoly *pos, pvs__otpoly *neg, int r[2]) {
     double d[PVS__OT_MAXV];
@@ -6925,10 +6881,10 @@ PVS__STATIC void pvs__ot_split2(const pvs__otpoly *in, const double nn[3], const
             if (in_i != in_j) {
                 if (m[side] >= PVS__OT_MAXV) { m[side] = -1; break; }
                 pvs__ot_lerp_unit(in->v[i], in->v[j], di / (di - dj), out->v[m[side]]);
-                if (in_i) { /* leaving: the new edge runs along p's plane */
+                if (in_i) {
                     out->e[m[side]][0] = p[0]; out->e[m[side]][1] = p[1];
                     out->mark[m[side]] = (unsigned char)mark;
-                } else {    /* entering: the rest of edge i */
+                } else {
                     out->e[m[side]][0] = in->e[i][0]; out->e[m[side]][1] = in->e[i][1];
                     out->mark[m[side]] = in->mark[i];
                 }
@@ -6959,9 +6915,8 @@ PVS__STATIC void pvs__ot_range(const pvs__otpoly *q, const double p[2], double *
     }
 }
 
-/* 2.5D witness lines. A read-only test that finds an out-leaf keeps a line of the polygon part it
-   reached there (the normalised sum of its vertices, inside it). Out-leaves only ever turn into
-   in-leaves, so a witness found in an in-leaf later is dropped for good. */
+/* 2.5D witness lines: a read-only test reaching an out-leaf keeps a line inside its polygon there (the normalised
+   vertex sum); out-leaves only become in-leaves, so a witness later found in an in-leaf is dropped. */
 PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
     double w[3] = {0, 0, 0}, len;
     int i;
@@ -6973,10 +6928,9 @@ PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
     t->wit[0][0] = w[0] / len; t->wit[0][1] = w[1] / len; t->wit[0][2] = w[2] / len;
 }
 
-/* 2.5D: 1 when the subtree of nd hides every point no nearer than `near` to the cell and no higher
-   than h (the hidden-height bound, pvs__ot25_bound); near < 0: no bound (2D). */
-/* pvs__ot25_hidden_below_at without the call where neither bound can apply (most nodes); `nd` is
-   evaluated twice */
+/* 2.5D: 1 when nd's subtree hides every point no nearer than `near` to the cell and no higher than h
+   (pvs__ot25_bound); near < 0 (2D): 0. The macro skips the call where neither bound applies (most nodes);
+   it evaluates nd twice. */
 #define PVS__OT25_HIDDEN(t, nd, near, h) \
     (((near) > (nd)->mr || (near) > (nd)->ml) && pvs__ot25_hidden_below_at(t, nd, near, h))
 PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
@@ -6994,11 +6948,9 @@ PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode
     return 0;
 }
 
-/* Insertion at an inner node (§3.3.3), on the top of the work stack in place: the polygon's edges
-   lying on the node's line are marked (§4.10.1), then it goes to the child it lies in, or is split
-   between both; a child whose subtree hides the occluder (2.5D bound, near >= 0) gets nothing.
-   2.5D: a polygon that goes to one inner child goes on down here, as the caller's loop would take it
-   (it stops at leaves and at subtrees the bound hides, which the caller then handles). */
+/* Insertion at an inner node (§3.3.3) on the top item, in place: edges on the node's plane are marked (§4.10.1),
+   the polygon goes to its child or is split; a child whose subtree hides the occluder (2.5D, near >= 0) gets
+   nothing. 2.5D goes on down one-sided nodes here, to a leaf or a hidden subtree. */
 PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, double h) {
     pvs__otpoly *q = PVS__OT_ITEM(t, top);
     const pvs__otnode *nd;
@@ -7028,7 +6980,7 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
         uint32_t s0, s1, s2;
         size_t m = top;
         if (h0 && h1) { t->stack_count = top; return; }
-        /* the parts are written into the free slots above the top, which then trade places */
+        /* the parts go into the free slots above the top, which then trade places */
         if (!pvs__ot_reserve(t, top + 3)) { t->stack_count = top; return; }
         q = PVS__OT_ITEM(t, top);
         if (h0 || h1) { /* only one side matters */
@@ -7046,8 +6998,8 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
         }
         pvs__ot_split2(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1), PVS__OT_ITEM(t, top + 2), r);
         na = r[0]; nb = r[1];
-        /* items top.. become the positive part (c1), then the negative one (c0), as two pushes
-           would leave them; the unused slots go above (the slots stay a permutation) */
+        /* items top.. become the positive part (c1), then the negative (c0), as two pushes would leave
+           them; unused slots go above (the slots stay a permutation) */
         s0 = t->stack_slot[top]; s1 = t->stack_slot[top + 1]; s2 = t->stack_slot[top + 2];
         if (na >= 3) { t->stack_slot[m] = s1; t->stack_node[m] = c1; t->stack_pend[m] = PVS__OT_NONE; ++m; }
         if (nb >= 3) { t->stack_slot[m] = s2; t->stack_node[m] = c0; t->stack_pend[m] = PVS__OT_NONE; ++m; }
@@ -7058,11 +7010,9 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
     }
 }
 
-/* A read-only test at an inner node (§3.3.4), on the top of the work stack in place: the polygon,
-   or its parts, go on to the children. A polygon whose vertices sit on the plane within 1e-12 (an
-   edge on the plane) goes to one side; otherwise both sides get their part widened by the same
-   1e-12. Returns 1 when the query is visible for sure (2.5D: a straddled child is an out-leaf) or a
-   push failed (out of memory): the caller then counts it as visible. */
+/* Read-only test at an inner node (§3.3.4) on the top item, in place: a polygon within 1e-12 of the plane on one
+   side (an edge on it) goes to that side, else both sides get their part widened by 1e-12. 1 when the query is
+   visible for sure (2.5D: a straddled child is an out-leaf) or out of memory: the caller counts it visible. */
 PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, double h) {
     pvs__otpoly *q;
     const pvs__otnode *nd;
@@ -7085,7 +7035,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
             double d = n0 * v[0] + n1 * v[1] + n2 * v[2];
             if (d < lo) lo = d;
             if (d > hi) hi = d;
-            if (lo < -1e-12 && hi > 1e-12) break; /* straddles: the other vertices cannot change the answer */
+            if (lo < -1e-12 && hi > 1e-12) break; /* straddles: the rest cannot change the answer */
         }
         if (lo >= -1e-12) c = c1;
         else if (hi <= 1e-12) c = c0;
@@ -7093,10 +7043,9 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
         t->stack_node[top] = c;
         if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return 0;
     }
-    /* 2.5D (no sliver rule): both parts hold a vertex strictly off the plane, so an out-leaf child
-       answers at once */
+    /* 2.5D (no sliver rule): both parts hold a vertex strictly off the plane, so an out-leaf child answers at
+       once; that part's line is kept as a witness (pvs__ot25_witnessed) */
     if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) {
-        /* keep a line of the part in the out-leaf as a witness (pvs__ot25_witnessed) */
         int out1 = t->nodes[c1].kind == PVS__OT_OUT;
         for (i = 0; i < 3; ++i) nf[i] = out1 ? nd->n[i] : -nd->n[i];
         if (pvs__ot_clip_n(q, nf, nd->p, 0.0, 0, PVS__OT_ITEM(t, top + 1)) >= 3)
@@ -7115,8 +7064,8 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
             return 0;
         }
     }
-    /* the child without a hidden-height bound (out-leaves below, likely visible) goes first; the
-       other keeps the polygon as it is and clips it only if the test gets there (pvs__ot_owed) */
+    /* the child without a hidden-height bound (likely visible) goes first; the other keeps the polygon
+       unclipped and clips it only if the test gets there (pvs__ot_owed) */
     first = t->nodes[c1].mr == DBL_MAX && t->nodes[c0].mr != DBL_MAX ? 1 : 0;
     for (i = 0; i < 3; ++i) nf[i] = first ? nd->n[i] : -nd->n[i];
     r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
@@ -7131,8 +7080,8 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
     return 0;
 }
 
-/* Pays the clip owed by the work item at `top` (pvs__ot_test_inner): its part on side `side` of the
-   node's plane, widened by 1e-12. Returns 0 when nothing is left (the caller pops it). */
+/* Pays the clip owed by item `top` (pvs__ot_test_inner): its part on side `side` of the node's plane, widened by
+   1e-12. 0 when nothing is left (the caller pops it). */
 PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
     uint32_t pend = t->stack_pend[top];
     const pvs__otnode *nd = t->nodes + (pend >> 1);
@@ -7141,7 +7090,7 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
     int i, r;
     t->stack_pend[top] = PVS__OT_NONE;
     for (i = 0; i < 3; ++i) nf[i] = (pend & 1u) ? nd->n[i] : -nd->n[i];
-    if (top + 2 <= t->stack_cap) { /* into the free slot above, which then trades places */
+    if (top + 2 <= t->stack_cap) { /* into the free slot above, then trade places */
         r = pvs__ot_clip_n(PVS__OT_ITEM(t, top), nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
         if (r > 0) pvs__ot_swap(t, top, top + 1);
         return r != 0;
@@ -7152,12 +7101,9 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
     return 1;
 }
 
-
-/* The blocker polygon B(S, O) (§6.4.3): oriented lines through S = a b and then O = c d, vertices in
-   the cyclic order a->c, a->d, b->d, b->c; each edge lies in the plane of the two lines' shared
-   point. Coincident vertices (O's supporting line through an end of S, O touching S) merge into
-   the triangle of Fig. 6.5. Returns 0 when the polygon is degenerate (no line set of positive
-   measure). */
+/* The blocker polygon B(S, O) (§6.4.3): lines through S = a b, then O = c d; vertices a->c, a->d, b->d, b->c, each
+   edge in the plane of its lines' shared point. Coincident vertices (O's line through an end of S, O touching S)
+   merge into the triangle of Fig. 6.5. 0 when degenerate (no line set of positive measure). */
 PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const double c[2], const double d[2],
                                 pvs__otpoly *q) {
     const double *from[4], *to[4], *pt[4];
@@ -7260,8 +7206,7 @@ PVS__STATIC int pvs__ot_hit_m(const double l[3], const double m[4], double *t) {
     return 1;
 }
 
-/* Parameter on segment s (4 doubles, 0 at the first end, 1 at the second) where line l crosses its
-   supporting line; 0 when parallel. */
+/* Parameter on segment s (0 at its first end, 1 at its second) where line l crosses its line; 0 when parallel. */
 PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
     double dx = s[2] - s[0], dy = s[3] - s[1];
     double a = l[0] * s[0] + l[1] * s[1] + l[2], b = l[0] * dx + l[1] * dy;
@@ -7281,10 +7226,9 @@ PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
     return 1;
 }
 
-/* Depth order of occluders j and k along the lines of q (§6.5.1): counts vertices where k is
-   clearly in front of j, clearly behind; ties (the line through X or a shared end point) count as
-   neither, and so do vertex lines that miss either segment: they lie outside the leaf's region by
-   a rounding sliver (a polygon clipped with slack), where the order means nothing. */
+/* Depth order of occluders j, k along q's lines (§6.5.1): counts vertices where k is clearly in front of j, and
+   clearly behind. Ties (lines through X or a shared end) count as neither, as do vertex lines missing either
+   segment: they lie outside the leaf by a rounding sliver (q clipped with slack). */
 PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk,
                                int *front, int *behind) {
     int i, have_x;
@@ -7305,9 +7249,8 @@ PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const 
     }
 }
 
-/* Turns leaf `node` into the chain of the polygon's unmarked edges (the e-OT, §3.3.3): the sides
-   away from the polygon keep the leaf's old kind and payload; returns the node whose region is the
-   polygon (the old leaf payload is still on it), or PVS__OT_NONE when out of memory. */
+/* Turns leaf `node` into the chain of q's unmarked edges (the e-OT, §3.3.3); the sides away from q keep the leaf's
+   kind and payload. Returns the node of q's region (old payload still on), PVS__OT_NONE when out of memory. */
 PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
     double cen[3] = {0, 0, 0};
     int i, k;
@@ -7382,8 +7325,7 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
         pvs__otpoly q, part;
         uint32_t node = t->stack_node[t->stack_count - 1];
         pvs__otnode *nd = t->nodes + node;
-        /* the maximum visibility distance shortcut (§6.5.5): every line of this subtree meets a
-           stored occluder closer to any cell point than k is to the cell: k is hidden here */
+        /* §6.5.5: every line of this subtree meets a stored occluder nearer to any cell point than k is */
         if (near > nd->mvd) { --t->stack_count; continue; }
         if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1, -1.0, 0.0); continue; }
         pvs__ot_pop(t, &q);
@@ -7416,9 +7358,9 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
     t->stack_count = base;
 }
 
-/* Thickness of a line-space polygon: the smallest over its edges of the largest vertex distance
-   from the edge's plane. Insertion leaves slivers about 1e-12 thick where it rounded; line sets
-   thinner than PVS__OT_SLIVER (radians, at unit distance) are below the resolution of the method. */
+/* Thickness of a line-space polygon: the least over its edges of the largest vertex distance from the edge's plane.
+   Insertion leaves slivers about 1e-12 thick where it rounded; line sets thinner than PVS__OT_SLIVER (radians at
+   unit distance) are below the method's resolution. */
 #define PVS__OT_SLIVER 1e-10
 PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
     double th = DBL_MAX;
@@ -7435,10 +7377,9 @@ PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
     return th;
 }
 
-/* Read-only test (§3.3.4, §6.5.3): 1 when some line of q reaches occluder k before any stored
-   occluder. Splits with slack (both sides see a little more), stops at the first visible leaf;
-   slivers (see pvs__ot_thickness) do not count, so the answer does not depend on where insertion
-   rounded, i.e. on the insertion order. */
+/* Read-only test (§3.3.4, §6.5.3): 1 when a line of q reaches occluder k before any stored one. Splits with slack,
+   stops at the first visible leaf; slivers (pvs__ot_thickness) do not count, so the answer does not depend on where
+   insertion rounded, i.e. on the insertion order. */
 PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
     size_t base = t->stack_count;
     const double *sk = t->seg + 4 * (size_t)k;
@@ -7482,9 +7423,8 @@ PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint
 
 /* ---- shared driver pieces ---- */
 
-/* Clips segment s (4 doubles) to the open half-plane right of a -> b (the outer side of a CCW
-   edge). Returns 0 when nothing is left; *on_line tells which clipped end (1 = first, 2 = second)
-   was moved onto the line. */
+/* Clips segment s to the open half-plane right of a -> b (outside a CCW edge). 0 when nothing is left; *on_line:
+   which end (1 first, 2 second) was moved onto the line. */
 PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const double *s, double out[4],
                                      int *on_line) {
     double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
@@ -7507,9 +7447,8 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
     return !(out[0] == out[2] && out[1] == out[3]);
 }
 
-/* The blockers of source edge a -> b (lines leaving to its right) and the clipped segment o: one,
-   or two when o's supporting line crosses the edge at x (Fig. 6.5). Returns how many were built
-   (0..2); *degenerate is set when a non-empty line set could not be represented. */
+/* The blockers of source edge a -> b (lines leaving to its right) and clipped segment o: one, or two when o's line
+   crosses the edge at x (Fig. 6.5). Returns how many; *degenerate: a non-empty line set was not representable. */
 PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line,
                                  pvs__otpoly out[2], int *degenerate) {
     double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
@@ -7537,7 +7476,6 @@ PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const dou
     return n;
 }
 
-/* Squared distance from point p to segment s. */
 PVS__STATIC double pvs__ot_dist2(const double p[2], const double *s) {
     double dx = s[2] - s[0], dy = s[3] - s[1], l2 = dx * dx + dy * dy, u = 0.0, qx, qy;
     if (l2 > 0.0) {
@@ -7570,10 +7508,9 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
     return 1;
 }
 
-/* Recomputes the maximum visibility distances bottom-up (§6.5.5): children always have larger
-   indices than their parent, so one backward pass suffices. Out-leaves: unbounded; in-leaves: the
-   largest distance between the stored occluder and a cell point (so along any line the stored
-   occluder is at most that far from where the line leaves the cell). */
+/* Maximum visibility distances (§6.5.5), bottom-up in one backward pass (children follow their parent): out-leaves
+   unbounded, in-leaves the stored occluder's largest distance to a cell point (along any line, at most that far
+   from where the line leaves the cell). */
 PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
     size_t i;
     for (i = t->node_count; i-- > 0;) {
@@ -7587,7 +7524,6 @@ PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
     }
 }
 
-/* Distance between segments s and r (0 when they meet). */
 PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
     double x[2], d, best;
     int i;
@@ -7609,9 +7545,8 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 
 /* ---- 2D from-region API (ch. 6) ---- */
 
-/* The cell polygon `in` (n >= 3 vertices) centred at its vertex mean (*cx, *cy) into `cell` (2 n
-   doubles) and made counter-clockwise. Returns PVS_OK, or PVS_ERROR_BAD_CELL (in err) when it has no
-   area or is not convex. */
+/* The cell polygon `in` (n >= 3 vertices) centred at its vertex mean (*cx, *cy), made CCW, into `cell` (2 n
+   doubles). PVS_OK, or PVS_ERROR_BAD_CELL (in err) when it has no area or is not convex. */
 PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy,
                                      pvs_error *err) {
     double area = 0.0;
@@ -7628,7 +7563,7 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
         area += a[0] * b[1] - a[1] * b[0];
     }
     if (!(fabs(area) > 0.0)) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell polygon has no area");
-    if (area < 0.0) /* make it counter-clockwise */
+    if (area < 0.0)
         for (i = 0; i < n / 2; ++i) {
             double tx = cell[2 * i], ty = cell[2 * i + 1];
             cell[2 * i] = cell[2 * (n - 1 - i)]; cell[2 * i + 1] = cell[2 * (n - 1 - i) + 1];
@@ -7642,9 +7577,8 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
     return PVS_OK;
 }
 
-/* The distances of the MVD shortcut (§6.5.5) for each of the `count` segments of seg against the cell
-   (n vertices), rounded outward by len_eps: reach[i] the largest distance from segment i to a cell
-   point, near[i] the least (0 when the segment meets the cell). */
+/* The MVD shortcut's distances (§6.5.5) of the `count` segments to the cell (n vertices), rounded outward by
+   len_eps: reach[i] the largest distance from segment i to a cell point, near[i] the least (0 when they meet). */
 PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps,
                                     double *reach, double *near) {
     uint32_t i, k;
@@ -7670,9 +7604,8 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
     }
 }
 
-/* The exact re-test of segment i (s, distance `near` from the cell) against the final tree (§6.6):
-   1 when it meets the cell (n vertices), is a point, is degenerate as seen from an edge of the cell,
-   or some line from an edge reaches it past the occluders. */
+/* Exact re-test (§6.6) of segment i (s, `near` from the cell): 1 when it meets the cell, is a point, is degenerate
+   as seen from a cell edge, or a line from an edge reaches it past the occluders. */
 PVS__STATIC int pvs__ot2_segment_visible(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
                                          double near) {
     uint32_t k;
@@ -7799,26 +7732,17 @@ done:
 
 /* ---- facades: the scene's vertical walls as 2.5D occluders (§7.1, the input of c-LSS) ---- */
 
-/* Extraction from a triangle mesh of any tessellation (real maps split a wall at T-junctions, per
-   brush, into strips and fans; floors lie at several heights).
-   1. Vertical triangles (the three ground points on one line within `tol`, a positive ground length
-      and height) are grouped by their supporting ground line: direction, then offset, each within a
-      tolerance; a member farther than tol from the group's reference line (that of its member of
-      longest ground extent) is left out.
-   2. In a group every triangle is a polygon of the (s, h) plane, s along the line. The distinct s of
-      the vertices cut the line into slabs; no vertex lies inside a slab, so the lower and the upper
-      boundary of each triangle's cross-section are linear there. Two triangles whose cross-sections
-      overlap (within tol) at both slab ends overlap all across it, so a connected set of them covers
-      at every s of the slab one interval containing [min_j max(lo_j), max_j min(hi_j)] (lo_j, hi_j:
-      member j's bounds at the two ends): the heights the union covers over the whole slab.
-   3. Consecutive slabs with the same interval (within tol) make one facade: a segment of the line
-      with the height interval [bottom, top] it fully covers over its whole length. A wall with a door
-      gives the pieces beside the door at full height and the lintel as a facade of its own.
-   Conservative: a facade is covered by the scene's triangles up to cracks and offsets of tol (eight
-   float epsilons of the scene's coordinates: the T-junction cracks of real meshes); its ends and
-   heights are rounded inward to floats. Writes *count facades of 6 floats (u0 v0 u1 v1 top bottom)
-   into a new array *out (through allocator a; *out_floats floats), *vertical the number of vertical
-   triangles. OUT_OF_MEMORY on failure (*out NULL). */
+/* Facade extraction, any tessellation (T-junction splits, strips, fans; floors at several heights):
+   1. vertical triangles are grouped by ground line (direction, then offset, within tolerances), dropping members
+      farther than tol from the longest member's line;
+   2. in (s, h), s along the line, the vertices' s cut slabs with no vertex inside, where cross-section bounds are
+      linear: triangles overlapping (within tol) at both slab ends overlap across it, so a connected set covers
+      [min_j max(lo_j), max_j min(hi_j)] (member bounds at the ends) all over the slab;
+   3. consecutive slabs with the same interval (within tol) make a facade: a segment and the heights [bottom, top]
+      it fully covers.
+   Conservative up to cracks and offsets of tol (8 float epsilons of the scene's coordinates: T-junction cracks);
+   heights round inward, ends are vertex floats. Writes *count facades (u0 v0 u1 v1 top bottom) into a new *out
+   (allocator a, *out_floats floats), *vertical the vertical triangles; OUT_OF_MEMORY leaves *out NULL. */
 #define PVS__FX_MAX_COVER 512 /* a slab covered by more triangles is left out (conservative) */
 #define PVS__OT25_LEVELS 8    /* base heights of facades the OTREE bake tells apart (pvs__otree_prepare) */
 
@@ -7845,8 +7769,8 @@ PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, u
     return 1;
 }
 
-/* The cross-section [lo, hi] at s of triangle (ts[3], th[3]), s within its range. Each edge is
-   evaluated from its end of smaller s, so a shared edge gives both its triangles the same values. */
+/* Cross-section [lo, hi] at s of triangle (ts, th). Edges are evaluated from their smaller-s end, so both
+   triangles of a shared edge get the same values. */
 PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, double *lo, double *hi) {
     int i;
     *lo = DBL_MAX; *hi = -DBL_MAX;
@@ -7884,10 +7808,9 @@ typedef struct pvs__fxwork {
     uint32_t *count;
 } pvs__fxwork;
 
-/* Step 1's test: the vertical triangles of the scene (three ground points on one line within tol, a
-   ground length and a height above tol). Per vertical triangle, slot by slot: tl = theta, c, d0, d1,
-   ground length (direction d with theta in [0, pi), offset c = n . g with n = (-d1, d0)) and vt its
-   triangle. Returns the number of slots. */
+/* Step 1's test, vertical: ground points collinear within tol, ground length and height > tol. Per vertical
+   triangle a slot tl = (theta in [0, pi), offset n . g with n = (-d1, d0), d0, d1, ground length), vt = the
+   triangle. Returns the slot count. */
 PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up, double tol, double *tl, uint32_t *vt) {
     uint32_t t, k, nv = 0;
     for (t = 0; t < sc->triangle_count; ++t) {
@@ -7922,9 +7845,8 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
     return nv;
 }
 
-/* Step 1's group: the n slots of mem (one direction and offset within tolerance) on the reference
-   line of its member of longest ground extent (ties: the lower slot), as (s, h) triangles into w->sv;
-   a member farther than tol from that line is left out. Returns the members kept. */
+/* Step 1's group: mem's slots as (s, h) triangles into w->sv on the line of the longest member (ties: lower slot),
+   less those farther than tol from it. Returns the count kept. */
 PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__key_index *mem,
                                      uint32_t n) {
     uint32_t ref = mem[0].index, nm = 0, i, k;
@@ -7957,11 +7879,9 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
     return nm;
 }
 
-/* Steps 2 and 3 over one slab [sa, sb] (ground points ga, gb) of a line, its `use` members w->act:
-   their cross-sections at both ends, the connected sets (overlap within tol at both ends, breadth
-   first) and the interval each covers over the whole slab; an interval continues the open facade
-   that ends at sa with the same interval (within tol), else opens one. The open facades it does not
-   continue are emitted. Returns 0 when out of memory. */
+/* Steps 2-3 on slab [sa, sb] (ground points ga, gb) with members w->act[0..use): the connected sets (overlap within
+   tol at both ends, breadth first) and their intervals, each continuing the open facade ending at sa with the same
+   interval (within tol) or opening one; those not continued are emitted. 0 when out of memory. */
 PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2],
                              const double gb[2]) {
     double tol = w->tol, *sec = w->sec;
@@ -7995,7 +7915,6 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
         }
         ++nc;
         if (top - bot > tol) {
-            /* continue an open facade with the same interval, else open a new one */
             uint32_t f;
             for (f = 0; f < w->nopen; ++f)
                 if (opn[f].s1 == sa && fabs(opn[f].bot - bot) <= tol && fabs(opn[f].top - top) <= tol) break;
@@ -8022,9 +7941,8 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
     return 1;
 }
 
-/* Steps 2 and 3 along one line of nm members (w->sv): the slabs between consecutive vertex s, each with
-   the members whose s range spans it (at most PVS__FX_MAX_COVER, else the slab is left out), then the
-   facades still open at the line's end emitted. Returns 0 when out of memory. */
+/* Steps 2 and 3 along a line of nm members (w->sv): the slabs between consecutive vertex s, each with the members
+   spanning it (more than PVS__FX_MAX_COVER: left out), then the facades still open emitted. 0 when out of memory. */
 PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
     pvs__key_index *so = w->so;
     const double *sv = w->sv;
@@ -8048,7 +7966,6 @@ PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
         for (j = 0; j < na; ++j) /* members whose range ends before the slab leave */
             if (sv[14 * (size_t)w->act[j] + 7] >= sb) w->act[m++] = w->act[j];
         na = m;
-        /* too many to join: the slab is left out (conservative) */
         if (!pvs__fx_slab(w, na > PVS__FX_MAX_COVER ? 0 : na, sa, sb, ga, gb)) return 0;
     }
     for (i = 0; i < w->nopen; ++i)
@@ -8137,41 +8054,29 @@ done:
 
 /* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
 
-/* Cost. Most of the time goes to proving hidden things hidden: most inserted facades and most tested
-   objects are hidden, and proving it walks the tree to its leaves. The shortcuts of this section each
-   earned their place on the demo city's bake (bench_otree); among them unit plane normals in the
-   nodes, the work stack used in place through a slot permutation, the per-occluder umbra data once
-   per tree (pvs__ot25_prepare), the hidden-height bound and its per-leaf form (pvs__ot25_join), lazy
-   funnel splitting (PVS__OT25_SPLIT_MIN), a balanced top of the tree (pvs__ot25_presplit), witness
-   lines (pvs__ot25_witnessed), box tests on the box edges lines can enter or leave only
-   (pvs__ot25_box_visible), and no tests of kD nodes under PVS__OT25_TEST_MIN items. The rounds of
-   measurements, and the variants tried and dropped, are in tests/BENCHMARKS.md, otree. */
+/* Proving hidden things hidden dominates the cost; each shortcut below paid for itself (bench_otree;
+   tests/BENCHMARKS.md, otree). */
 
 #define PVS__OT25_MAX_UMBRAE 96
 #define PVS__OT25_JD 10 /* doubles of per-occluder data (pvs__ot25_prepare) */
 /* kD nodes with fewer item references are not tested (cf. §4.12.1: none below 50 polygons) */
 #define PVS__OT25_TEST_MIN 48
 
-/* The hidden-height bound (a 2.5D form of the maximum visibility distance, §6.5.5, which alone
-   is not valid in 2.5D: occluders are seen over). Every line of an in-leaf crosses each member j
-   (its region lies in j's blocker). A ray from an eye no higher than H = t->eye over such a line
-   that passes over j (top h_j > H) is, at a point q with |pq| >= n > reach_j >= |pc| (p the eye's
-   ground point, c the crossing with j), at least H + (h_j - H) n / reach_j high: rising, it climbs
-   at least that slope. So a query point no nearer than n to the cell and lower than H + s n, s =
-   (h_j - H) / reach_j, is hidden in the leaf. A leaf keeps its steepest member (mr = reach, ms =
-   slope); an inner node the largest reach and the least slope of its children, so the bound holds
-   for its whole subtree. Out-leaves and leaves without a member taller than the eyes have none. */
+/* Hidden-height bound (§6.5.5's maximum visibility distance, made valid in 2.5D where occluders are seen over):
+   each line of an in-leaf crosses every member j. A ray on it from an eye p no higher than H = t->eye passing over
+   j (top h_j > H) rises at slope >= s = (h_j - H) / reach_j (|pc| <= reach_j, c the crossing), so points no nearer
+   than n > reach_j to the cell and lower than H + s n are hidden. Leaves keep the steepest member (mr = reach, ms =
+   s), inner nodes the children's largest reach and least slope; none (DBL_MAX) above out-leaves and members no
+   taller than the eyes. */
 PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
     (void)t;
     if (nd->kind == PVS__OT_IN) return; /* set as members join (pvs__ot25_join), inherited by parts */
     nd->mr = nd->ml = DBL_MAX;
     nd->ms = nd->mls = 0.0;
 }
-/* Member k joins in-leaf `node` whose lines cross k only within parameters [f0, f1] of its (clipped)
-   segment: its reach in this leaf is the largest distance between a cell point and that part of k
-   (a cell corner and an end of the part), at most jd[8], so the slope of its shadow's floor is at
-   least jd[9]. The leaf keeps the steepest member (mr, ms) and the one of least reach (ml, mls);
-   both stay valid for the parts a later split makes (fewer lines). */
+/* Member k joins in-leaf `node` whose lines cross k within [f0, f1] only: its reach there (a cell corner to an end
+   of that part) is <= jd[8], its slope >= jd[9]. The leaf keeps the steepest member (mr, ms) and the one of least
+   reach (ml, mls), valid for later splits' parts too. */
 PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double f0, double f1) {
     const double *sg = t->seg + 4 * (size_t)k, *jd = t->jd + PVS__OT25_JD * (size_t)k;
     pvs__otnode *nd = t->nodes + node;
@@ -8240,8 +8145,8 @@ PVS__STATIC void pvs__ot25_bound(pvs__otree *t, uint32_t node) {
         nd->mls = mls;
     }
 }
-/* A lower bound of the distance between the (grown) cell rectangle and segment e: the distance
-   between the rectangle and e's bounding box (exact for axis-parallel segments), rounded down. */
+/* Lower bound of the distance from the grown cell rectangle to segment e: to e's bounding box (exact when
+   axis-parallel), rounded down. */
 PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
     double dx = 0.0, dy = 0.0, d;
     double lx = e[0] < e[2] ? e[0] : e[2], hx = e[0] < e[2] ? e[2] : e[0];
@@ -8254,16 +8159,13 @@ PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
     return d > 0.0 ? d : 0.0;
 }
 
-/* Extended umbra (§7.5.1) of occluder j on the top edge of a far segment e (height h) for 3D rays
-   from eyes at height H = t->eye anywhere over the cell (§7.1: a descending ray is seen at least as
-   well from where its 2D line leaves the cell, an ascending one from where it enters; both lie on
-   the cell's top edges) over j's top edge: the parameters u on e where every such ray passes below
-   j's top, as an open interval (u0, u1). For one eye p the rays over j's top line form a plane; a
-   point q of e lies below it when (h - H) D(p) < (h_j - H) (D(p) - D(q)), D the signed distance to
-   j's supporting line (> 0 on the side the lines come from). The bound is monotone in D(p), so the
-   extreme distances of the cell's corners (clamped at 0: eyes behind j's line do not look over j)
-   cover every eye; this is the plane pair pi_o / pi_s of the thesis, taken over the whole cell so
-   that one tree per edge serves both kinds of rays. Returns 0 when the umbra is empty. */
+/* Extended umbra (§7.5.1) of occluder j on far segment e's top edge (height h), for rays over j's top edge from
+   eyes at height H = t->eye anywhere over the cell (§7.1: a falling ray is seen at least as well from where its 2D
+   line leaves the cell, a rising one from where it enters; both on top edges): the open interval (u0, u1) of
+   parameters on e where every such ray passes below j's top. For eye p, q is below when (h - H) D(p) < (h_j - H)
+   (D(p) - D(q)), D the signed distance to j's line (> 0 where the lines come from); monotone in D(p), so the
+   corners' extreme D (clamped at 0: eyes behind j's line do not look over it) cover every eye: the thesis's pi_o /
+   pi_s over the whole cell, so one tree per edge serves both kinds of rays. 0 when empty. */
 PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0,
                                 double *u1) {
     double hj = jd[6], hn = h - t->eye, lo = -DBL_MAX, hi = DBL_MAX;
@@ -8294,13 +8196,10 @@ PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0
     return 1;
 }
 
-/* What pvs__ot25_umbra and the depth order need of occluder j in the current tree, once per tree:
-   jd[0..2] its line as D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on the source edge's
-   side), jd[3..4] the least and largest D of the cell's corners (clamped at 0), jd[5] 1 when the
-   whole source edge lies on one side, jd[6] its top above the eyes, jd[7] 0 when no umbra exists
-   (the source edge's midpoint on its line, or a point segment); jd[8] its reach (the largest
-   distance between a cell point and it, rounded up) and jd[9] the slope (top - eyes) / reach of
-   its shadow's floor when it is taller than the eyes, else 0 (pvs__ot25_bound). */
+/* Occluder j's per-tree data: jd[0..2] its line D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on the source
+   edge's side); jd[3..4] the cell corners' least and largest D (clamped at 0); jd[5] 1 when the source edge lies on
+   one side; jd[6] top - eyes; jd[7] 0: no umbra (source edge midpoint on its line, or a point); jd[8] reach
+   (largest distance to a cell point, rounded up); jd[9] (top - eyes) / reach when taller than the eyes, else 0. */
 PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
     const double *sg = t->seg + 4 * (size_t)j;
     double *jd = t->jd + PVS__OT25_JD * (size_t)j, dx = sg[2] - sg[0], dy = sg[3] - sg[1],
@@ -8337,10 +8236,9 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
     jd[7] = 1.0;
 }
 
-/* The part of far segment e (height h) seen over the front members of leaf payload
-   seq[first..+count) within the funnel of polygon q: its parameter hull [*v0, *v1] inside the
-   funnel range [*f0, *f1]. Members that cross `skip_box` (a 2D box, or NULL) or that are not
-   clearly in front are ignored (conservative). Returns 0 when nothing is left. */
+/* Part of far segment e (height h) seen over the front members of payload seq[first..+count) within q's funnel: its
+   parameter hull [*v0, *v1] in the funnel range [*f0, *f1]. Members crossing `skip_box` (2D, or NULL) or not
+   clearly in front are ignored (conservative). 0 when nothing is left. */
 PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
                                const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0,
                                double *v1) {
@@ -8349,7 +8247,7 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
     int i, nu = 0, changed;
     uint32_t m;
     *f0 = *v0 = 0.0; *f1 = *v1 = 1.0;
-    for (i = 0; i < q->n; ++i) { /* the funnel: the parameters on e of the polygon's lines */
+    for (i = 0; i < q->n; ++i) { /* the funnel: the parameters on e of q's lines */
         double u;
         if (pvs__ot_param(q->v[i], e, &u)) { if (u < flo) flo = u; if (u > fhi) fhi = u; }
         else { flo = -DBL_MAX; fhi = DBL_MAX; }
@@ -8375,13 +8273,12 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
                 if (pvs__ot_segment_meets_polygon(sj, poly, 4)) continue;
             }
         }
-        /* quick order: e wholly beyond j's line (seen from the source) puts j in front on every
-           line that crosses both; e wholly on the source side puts j behind */
+        /* quick order: e wholly beyond j's line puts j in front on every line crossing both; wholly on the
+           source side, behind */
         s0 = jd[0] * e[0] + jd[1] * e[1] + jd[2];
         s1 = jd[0] * e[2] + jd[1] * e[3] + jd[2];
-        /* the umbra first (cheap): one that misses the open funnel range cannot change the answer
-           below (it never moves v0 or v1), so the depth order is not needed; one that covers it
-           hides e here once j is found in front */
+        /* the umbra first (cheap): one missing the open funnel range never moves v0 or v1, so needs no
+           depth order; one covering it hides e here once j is found in front */
         if (!pvs__ot25_umbra(t, jd, s0, s1, h, &um[nu][0], &um[nu][1]) || um[nu][1] <= flo || um[nu][0] >= fhi)
             continue;
         if (jd[5]) { /* the whole source edge on one side */
@@ -8415,20 +8312,17 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 }
 
 #define PVS__OT25_MAX_SEQ 32
-/* Lazy funnel splitting: a leaf with fewer members than this takes a partly visible occluder whole
-   (no split at the ends of its visible part). Conservative: every line of the refined leaf crosses
-   the occluder, and its extended umbra is a property of its geometry, valid on every such line
-   whether the occluder is seen there or not (the thesis keeps hidden occluders in S_L likewise,
-   §7.5.2); the leaf only answers at least as tightly, with a longer sequence. Splitting (at most
-   three cells, §7.5.2) starts once the sequence is this long, to bound it. It costs less than
-   splitting at once and culls no less (see tests/BENCHMARKS.md, otree). */
+/* Lazy funnel splitting: below this many members a leaf takes a partly visible occluder whole. Conservative: each
+   line of the leaf crosses the occluder, whose extended umbra holds there, seen or not (the thesis keeps hidden
+   occluders in S_L too, §7.5.2); the leaf answers at least as tightly, with a longer sequence. From this length
+   splitting (at most three, §7.5.2) bounds it; cheaper than splitting at once, and culls as much
+   (tests/BENCHMARKS.md, otree). */
 #define PVS__OT25_SPLIT_MIN 16
 
-/* Inserts the blocker of occluder k (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an
-   in-leaf the funnel test clips k's top edge by the extended umbrae of the members in front and,
-   when a part stays visible, splits the leaf into at most three: the primary funnel (rays through
-   the visible part) gets the members and k, the secondary funnels keep the members (only once the
-   leaf holds PVS__OT25_SPLIT_MIN members; before that the whole leaf gets k). */
+/* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an in-leaf the funnel
+   test clips k's top edge by the front members' extended umbrae and, if a part stays visible, the leaf gets k,
+   split (from PVS__OT25_SPLIT_MIN members) into at most three: the primary funnel (rays through the visible part)
+   with members and k, the secondary ones with the members. */
 PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
     size_t base = t->stack_count;
     const double *sk = t->seg + 4 * (size_t)k;
@@ -8504,12 +8398,10 @@ PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
     return in_root ? t->nodes[node].kind : 0;
 }
 
-/* A shortcut of pvs__ot25_box_visible for visible boxes (an early exit, §3.3.4): 1 when a witness
-   line crosses the interior of box bx (umin, vmin, umax, vmax), which lies wholly beyond the source
-   edge a -> b, and is still in an out-leaf. Such a line leaves the cell through the source edge,
-   meets no occluder of the tree and then two sides of the box, one of the three that
-   pvs__ot25_box_visible tests, so that test would reach the same out-leaf; margins of 1e-6 of the
-   scene size keep rounding out of it (else 0: the caller runs the full test). */
+/* Early exit of pvs__ot25_box_visible (§3.3.4): 1 when a witness line still in an out-leaf crosses the interior of
+   box bx (wholly beyond source edge a -> b): it leaves through the source edge, meets no occluder, then two box
+   sides, one of which pvs__ot25_box_visible tests and would reach that out-leaf. Margins of 1e-6 of the scene size
+   keep rounding out; 0: run the full test. */
 PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const double a[2], const double b[2]) {
     double nx = a[1] - b[1], ny = b[0] - a[0], mg = 1e3 * t->len_eps, near;
     int i, k;
@@ -8548,14 +8440,14 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
     return 0;
 }
 
-/* Read-only c-LSS test of a far edge e (height h) of an object box `box` (umin, vmin, umax, vmax):
-   1 when some part of it may be seen through the lines of the blocker. */
+/* Read-only c-LSS test of far edge e (height h) of object box `box`: 1 when part of it may be seen through the
+   blocker's lines. */
 PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, const double *e, double h,
                                   const double *box) {
     size_t base = t->stack_count;
-    /* the hidden-height bound counts every member of a subtree, also those crossing the box that
-       pvs__ot25_open ignores (a wall standing on a ground tile would hide the tile's far edge): with
-       the nearness of the whole box, a member of smaller reach lies wholly nearer than the box */
+    /* the bound counts every member, also those crossing the box that pvs__ot25_open ignores (a wall on a ground
+       tile would hide the tile's far edge): with the whole box's nearness, a member of smaller reach lies wholly
+       nearer */
     double near = pvs__ot25_near(t, box ? box : e);
     int vis = 0;
     if (!pvs__ot_push(t, 0, blocker)) return 1;
@@ -8583,8 +8475,8 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
     return vis || t->oom;
 }
 
-/* 1 when some part of box bx (umin, vmin, umax, vmax in local coordinates, top) beyond the source
-   edge a -> b may be seen through the tree: its top edges as far segments (§7.7). */
+/* 1 when part of box bx (local umin, vmin, umax, vmax; top) beyond source edge a -> b may be seen: its top edges
+   as far segments (§7.7). */
 PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2],
                                       int *any_far) {
     double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* the source edge's outward direction */
@@ -8599,14 +8491,11 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
     c4[7] = bx[3];
     if (any_far) *any_far = 0;
     if (!any_far && !t->full_tests && pvs__ot25_witnessed(t, bx, a, b)) return 1;
-    /* A box taller than the eyes is seen (if at all) along a rising ray, at least as well at the
-       point where the ray's 2D line enters the box; no line of this tree enters through the box
-       edge that faces the same way as the source edge (edges 0..3: -v, +u, +v, -u). A box no taller
-       than the eyes is seen along a falling ray, at least as well where its 2D line leaves the box
-       (a ray to a farther point at the same height is higher over every occluder in front; the
-       members crossing the box are ignored, pvs__ot25_open), and no line leaves through the edge
-       facing the source. So three edges: the entry (or exit) edge facing the source (or away from
-       it) first, the likeliest to be seen (a visible box ends the test), then the two sides. */
+    /* A box taller than the eyes is seen, if at all, along a rising ray, at least as well where its 2D line enters
+       the box; a lower one along a falling ray, where the line leaves it (a farther point at equal height is higher
+       over every occluder in front; members crossing the box are ignored, pvs__ot25_open). No line enters through
+       the box edge facing the source edge's way or leaves through the one facing the source (edges 0..3: -v, +u,
+       +v, -u): test the entry (exit) edge first, the likeliest seen, then the two sides. */
     if (fabs(nx) > fabs(ny)) far_edge = nx > 0 ? 1 : 3;
     else far_edge = ny > 0 ? 2 : 0;
     order[0] = top > t->eye ? (far_edge + 2) & 3 : far_edge;
@@ -8616,9 +8505,8 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
         int edge = order[i], on, nb, deg, m;
         double sg[4], o[4], pa, pb, c;
         pvs__otpoly bl[2];
-        /* an edge no line of the tree enters (tall box) or leaves (low box) is not needed: every line
-           through the box is tested where it enters (leaves) it. With outward normal m and m.x = c on
-           the edge, a line from p enters it when m.p > c, leaves it when m.p < c (exact compares) */
+        /* an edge no line enters (tall box) or leaves (low box) is skipped: with outward normal m and
+           m.x = c on it, a line from p enters when m.p > c, leaves when m.p < c (exact compares) */
         if (edge & 1) { pa = a[0]; pb = b[0]; c = edge == 1 ? bx[2] : bx[0]; }
         else { pa = a[1]; pb = b[1]; c = edge == 2 ? bx[3] : bx[1]; }
         if (edge == 0 || edge == 3) { pa = -pa; pb = -pb; c = -c; }
@@ -8640,7 +8528,7 @@ typedef struct pvs__ot25_sweep {
     const double *all;       /* facades, local, 4 doubles each */
     const double *box;       /* objects, local, 5 doubles each */
     const double *cell;      /* the grown cell, CCW */
-    unsigned char *state;    /* facades: 1 + side when handled in this tree; objects: see done */
+    unsigned char *state;    /* per facade: 1 + side once handled in this side's tree */
     unsigned char *done;     /* objects: 0 unknown, 1 visible, 2 never, 3 + side: candidate in this tree */
     const double *a, *b;
     double cx, cy;
@@ -8651,10 +8539,9 @@ typedef struct pvs__ot25_sweep {
     uint32_t test_min;       /* inner nodes with fewer references are not tested */
 } pvs__ot25_sweep;
 
-/* The sweep visitor (§7.7): nodes front to back; a node whose box meets the cell is visible; else, if
-   it holds at least PVS__OT25_TEST_MIN item references, its box is tested as a virtual occluder (its
-   footprint's edges at its top height) and culled when hidden; leaves insert their facades and mark
-   their objects for the test after the sweep. */
+/* Sweep visitor (§7.7), front to back: a node meeting the cell is visible; an inner node with >= w->test_min item
+   references has its box (footprint edges at its top) tested like an object's and is culled when hidden; leaves
+   insert their facades and mark their objects for the test after the sweep. */
 PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
                                       uint32_t item_count) {
     pvs__ot25_sweep *w = (pvs__ot25_sweep *)user;
@@ -8666,14 +8553,13 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
     if (t->oom) return PVS_VISIT_STOP;
     bx[0] = (double)node_box->min[0] - w->cx; bx[1] = (double)node_box->min[1] - w->cy;
     bx[2] = (double)node_box->max[0] - w->cx; bx[3] = (double)node_box->max[1] - w->cy;
-    { /* a node wholly behind the source edge's line: no line of this tree reaches it */
-        /* a -> b runs clockwise round the cell: (-ey, ex) points outward; the farthest box corner along it */
+    { /* a node wholly behind the source edge's line is skipped; a -> b runs clockwise: (-ey, ex) outward */
         double ex = w->b[0] - w->a[0], ey = w->b[1] - w->a[1], nx = -ey, ny = ex, far;
         far = nx * (nx > 0 ? bx[2] : bx[0]) + ny * (ny > 0 ? bx[3] : bx[1]) - (nx * w->a[0] + ny * w->a[1]);
         if (far < -t->len_eps * (fabs(nx) + fabs(ny) + 1.0)) return PVS_VISIT_SKIP;
     }
-    /* leaves are not tested: inserting their facades and testing their objects after the sweep
-       costs less than the box test (the thesis likewise skips tests of small nodes, §4.12.1) */
+    /* leaves are not tested: inserting their facades and testing their objects after the sweep costs
+       less (the thesis likewise skips small nodes, §4.12.1) */
     if (!items && w->refs[w->node] >= w->test_min &&
         !(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
         if (!pvs__ot25_box_visible(t, bx, (double)node_box->max[2], w->a, w->b, NULL)) return PVS_VISIT_SKIP;
@@ -8706,21 +8592,17 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
     return PVS_VISIT_DESCEND;
 }
 
-/* The approximate occlusion sweep (§3.2) over the kD-tree (pvs__kd_sweep), telling the visitor
-   which node it visits (w->node). */
+/* The approximate occlusion sweep (§3.2, pvs__kd_sweep), telling the visitor its node (w->node). */
 PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
                                       pvs__ot25_sweep *w) {
     pvs__kd_sweep(t, source, heap, pvs__ot25_visit, w, &w->node);
 }
 
-/* A balanced top for the tree of a source edge. Insertion front to back carves the open region
-   (the lines down a street) by one occluder after the other: a chain as deep as the occluders seen
-   along it, which every later query walks down. Splitting the root region first by the planes of
-   PVS__OT25_PRESPLIT far points spread over the directions (a balanced binary split, a plane through
-   the origin of line space like any other, so the regions stay exact) cuts the chain into short
-   ones, one per direction sector (fewer instructions per cell: tests/BENCHMARKS.md, otree).
-   pts[lo..hi) are reordered: the points whose representative line (from m) lies on a child's side go
-   with it. */
+/* A balanced top for a source edge's tree: front-to-back insertion carves the open region (lines down a street)
+   into a chain as deep as the occluders along it, walked by every later query. Splitting the root first by the
+   planes of PVS__OT25_PRESPLIT far points spread over the directions (exact planes like any other) leaves short
+   chains, one per direction sector (tests/BENCHMARKS.md, otree). Reorders pts[lo..hi): each point goes with the
+   child holding its line from m. */
 #define PVS__OT25_PRESPLIT 16
 PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m[2], double (*pts)[2], int lo, int hi) {
     double l[3], tmp[PVS__OT25_PRESPLIT][2];
@@ -8776,10 +8658,9 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
     return PVS_OK;
 }
 
-/* A 2.5D query's input relative to the cell's centre (cx, cy): the facades' ground segments into all
-   (4 doubles each), the objects into box (u0 v0 u1 v1 top), and the cell's rectangle grown by
-   *margin into cell (four corners, counter-clockwise): a larger cell sees more (conservative) and is
-   never degenerate. Returns the largest magnitude of the facades' coordinates, at least 1. */
+/* A 2.5D query's input relative to the cell centre (cx, cy): facade segments into all (4 doubles), objects into box
+   (u0 v0 u1 v1 top), the cell rectangle grown by *margin into cell (4 CCW corners; a larger cell sees more,
+   conservative, and is never degenerate). Returns the facades' largest coordinate magnitude, at least 1. */
 PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box,
                                    double cell[8], double *margin) {
     double ext = 1.0, hx, hy;
@@ -8801,11 +8682,9 @@ PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double c
     return ext;
 }
 
-/* The root region of a freshly reset tree for the source edge a-b of the cell (centred at the origin):
-   the lines crossing the edge, bounded by the planes of its end points (every blocker's edges on them
-   are then marked, §4.10.1, instead of adding the two planes again in every branch); the other sides
-   hold lines that miss the edge, never asked about. Its top is balanced by pvs__ot25_presplit. Out of
-   memory sets t->oom. */
+/* Root region of a fresh tree for source edge a-b (cell centred at the origin): the lines crossing the edge,
+   bounded by its ends' planes (blockers' edges on them are then marked, §4.10.1, not re-added per branch), then
+   pvs__ot25_presplit. Lines missing the edge are never asked about. Out of memory sets t->oom. */
 PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double a[2], const double b[2]) {
     double m[2], m2[2], l[3], sa_, sb_;
     uint32_t pos;
@@ -8816,7 +8695,7 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
     sb_ = pvs__ot_side(l, b);
     pos = pvs__ot_split_leaf(t, 0, a, sa_ > 0 ? 1.0 : -1.0);
     if (pos != PVS__OT_NONE) pos = pvs__ot_split_leaf(t, pos, b, sb_ > 0 ? 1.0 : -1.0);
-    if (pos != PVS__OT_NONE) { /* a balanced top (pvs__ot25_presplit) */
+    if (pos != PVS__OT_NONE) {
         double pts[PVS__OT25_PRESPLIT][2], dd = 10.0 * (cell[4] - cell[0] + cell[5] - cell[1]) + 1.0;
         double nx = m[0], ny = m[1], nl = sqrt(nx * nx + ny * ny);
         int q;
@@ -8833,11 +8712,9 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
     t->root_in = pos;
 }
 
-/* One tree per top edge (§7.1): the tree of the lines that leave the cell through edge `side` (from
-   corner side + 1 to corner side), built by the sweep of w's kD-tree `tree` (scratch: its sweep
-   scratch), then the objects its visible leaves left as candidates tested after the sweep (§7.7) and
-   set in visible_objects. Returns 0 when no object is left to decide or the tree stopped (t->oom
-   set when out of memory). */
+/* One tree per top edge (§7.1): the lines leaving the cell through edge `side` (corner side + 1 to corner side),
+   built by sweeping `tree` (scratch: its sweep scratch); then the candidates its visible leaves left are tested
+   (§7.7) into visible_objects. 0 when no object is left to decide or the tree stopped (t->oom on out of memory). */
 PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side,
                                pvs_word *visible_objects) {
     pvs__otree *t = w->t;
@@ -8859,7 +8736,7 @@ PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void 
     pvs__ot25_sweep_tree(tree, &src, (pvs__kdsweep *)scratch, w);
     if (t->node_count > w->st->nodes) w->st->nodes = (uint32_t)t->node_count;
     if (t->oom) return 0;
-    for (i = 0; i < no; ++i) { /* objects of the visible leaves, after the sweep (§7.7) */
+    for (i = 0; i < no; ++i) {
         if (done[i] != 3 + side) continue;
         if (pvs__ot25_box_visible(t, w->box + 5 * i, w->box[5 * i + 4], a, b, NULL)) {
             done[i] = 1;
@@ -8871,8 +8748,7 @@ PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void 
     return 1;
 }
 
-/* A kD-tree over the facades and objects of a 2.5D query (the items of pvs_visibility_25d_boxes),
-   built through al into *out. Returns PVS_OK or the error (in err). */
+/* The 2.5D query's kD-tree over pvs_visibility_25d_boxes, through al into *out. PVS_OK or the error (in err). */
 PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const pvs_allocator *al, pvs_kdtree **out,
                                       pvs_error *err) {
     pvs_kdtree_desc kd;
@@ -8890,8 +8766,8 @@ PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const
     return r;
 }
 
-/* Per node of `tree`: the item references in its subtree (0xffffffff where the children do not follow
-   their parent), so the sweep tests only nodes holding at least PVS__OT25_TEST_MIN of them. */
+/* Per kD node: item references in its subtree (0xffffffff where children do not follow their parent); the sweep
+   tests only nodes with at least PVS__OT25_TEST_MIN. */
 PVS__STATIC void pvs__ot25_refs(const pvs_kdtree *tree, uint32_t *refs) {
     uint32_t i;
     for (i = tree->node_count; i-- > 0;) { /* children follow their parent */
@@ -8931,7 +8807,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
     al = desc->allocator;
     t.a = &al;
     tree = desc->tree;
-    if (!tree) { /* a kD-tree over the facades and objects for the sweep */
+    if (!tree) {
         r = pvs__ot25_tree(desc, &al, &own_tree, err);
         if (r != PVS_OK) goto done;
         tree = own_tree;
@@ -9029,22 +8905,17 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 
 /* ---- from-point culling: the shadow-volume occlusion tree (ch. 4) ---- */
 
-/* The tree of §4.7 (Chin and Feiner's SVBSP, App. C.1.4) in eye space: every inner node is a plane
-   through the eye (unit normal, child[1] on the positive side), built from an occluder edge; an
-   in-leaf keeps the fragment of the occluder that blocks its pyramid of rays. Every polygon edge
-   carries the unit normal of the plane through the eye it lies in (the polygon on the positive
-   side) and a mark (§4.10.1): the edge lies in a plane already on the path, so the e-OT of an
-   out-leaf is made of the unmarked edges only.
+/* The tree of §4.7 (Chin and Feiner's SVBSP, App. C.1.4) in eye space: inner nodes are planes through the eye (unit
+   normal, child[1] positive) from occluder edges; an in-leaf keeps the occluder fragment blocking its pyramid of
+   rays. Polygon edges carry their plane's unit normal (polygon on the positive side) and a mark (§4.10.1).
 
-   Conservative rounding. An in-leaf's region is the intersection of exact planes (stored doubles)
-   built from the occluder's own edges or from planes on the path, so every ray in it meets the
-   occluder polygon: insertion may drop slivers thinner than its tolerance (less occlusion) but never
-   claims more. Tests widen: a box goes down every side it reaches within `tol` (1e-10 of the
-   eye-relative scene size, far above the error of a unit-normal dot product), is "behind" a fragment
-   only beyond its tolerance, and is separated from a fragment's pyramid only by a gap above it.
-   Every box test evaluates a plane at the box corner the normal's signs pick, with the same
-   operations for every box: the result is monotone in the box, so a child is never found more
-   visible than its parent would be hidden; that makes hierarchy updating exact (§4.11.4). */
+   Conservative rounding: an in-leaf's region is an intersection of exact stored planes from the occluder's edges or
+   the path, so each of its rays meets the occluder; insertion may drop slivers below its tolerance, never claim
+   more. Tests widen: a box descends every side it reaches within `tol` (1e-10 of the eye-relative scene size, far
+   above a unit-normal dot product's error), and is behind a fragment or apart from its pyramid only beyond the
+   fragment's tolerance. A box test takes each plane at the corner its normal's signs pick, with the same operations
+   for every box: monotone in the box, so a hidden node's child never tests visible and hierarchy updating is exact
+   (§4.11.4). */
 
 #define PVS__SV_MAXV 16
 #define PVS__SV_STACK 256
@@ -9067,8 +8938,8 @@ typedef struct pvs__svnode {
     uint32_t frag;      /* in-leaf: its fragment */
 } pvs__svnode;
 
-/* A fragment: the occluder's plane (n.x + d > 0 on the eye's side) and the polygon's vertices f with
-   the inward normals m of the pyramid faces (0, f_i, f_i+1), for the box / fragment test. */
+/* A fragment: the occluder's plane (n.x + d > 0 on the eye's side), its vertices f and the inward normals m of the
+   pyramid faces (0, f_i, f_i+1). */
 typedef struct pvs__svfrag {
     double plane[4];
     double tol;          /* depth and separation tolerance for this fragment */
@@ -9139,8 +9010,7 @@ PVS__STATIC double pvs__sv_unit(double v[3]) {
     if (len > 0.0) { v[0] /= len; v[1] /= len; v[2] /= len; }
     return len;
 }
-/* Largest / smallest of n.x over the box [lo, hi] (eye-relative): the corner the signs pick, always
-   the same operations, so the value is monotone in the box. */
+/* Largest / smallest n.x over box [lo, hi], at the corner the signs pick: monotone in the box. */
 PVS__STATIC double pvs__sv_hi(const double n[3], const double lo[3], const double hi[3]) {
     return (n[0] * (n[0] >= 0.0 ? hi[0] : lo[0]) + n[1] * (n[1] >= 0.0 ? hi[1] : lo[1])) +
         n[2] * (n[2] >= 0.0 ? hi[2] : lo[2]);
@@ -9150,9 +9020,8 @@ PVS__STATIC double pvs__sv_lo(const double n[3], const double lo[3], const doubl
         n[2] * (n[2] >= 0.0 ? lo[2] : hi[2]);
 }
 
-/* Keeps the part of `in` where n.x + d >= 0. The new edge lies in the plane `en` (a plane through
-   the eye; NULL: the plane through the eye and the new edge's end points) with mark `mark`.
-   Returns the vertex count (0 = nothing left, -1 = too many vertices). */
+/* Keeps the part of `in` where n.x + d >= 0; the new edge gets plane `en` (through the eye; NULL: the
+   plane through the eye and the new edge) and `mark`. Returns the vertex count (0 empty, -1 too many). */
 PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d, const double *en, int mark,
                              pvs__svpoly *out) {
     double s[PVS__SV_MAXV];
@@ -9204,9 +9073,8 @@ PVS__STATIC int pvs__sv_same(const double a[3], const double b[3]) {
     return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
-/* Builds the eye-space polygon of an occluder (n world points, planar, convex) with its plane and
-   edge planes, clipped to the near plane and the frustum's sides (less occluder: conservative).
-   Returns 0 when nothing usable is left (seen edge-on, behind the eye, outside the frustum). */
+/* The eye-space polygon of occluder points p (planar, convex) with its plane and edge planes, clipped to the
+   frustum (less occluder: conservative); 0 when nothing usable is left (edge-on, behind the eye, outside). */
 PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs__svpoly *q, double plane[4]) {
     pvs__svpoly a, b;
     double c[3] = {0, 0, 0}, nrm[3] = {0, 0, 0}, len, size = 0.0;
@@ -9270,9 +9138,8 @@ PVS__STATIC uint32_t pvs__sv_fragment(pvs_otree *o, const pvs__svpoly *q, const 
     return o->frag_count++;
 }
 
-/* Turns leaf `node` into the chain of q's unmarked edges (the e-OT, §3.3.3, §4.10.1); the sides away
-   from q keep the leaf's kind and fragment. Returns the node whose region is q's pyramid, or
-   PVS__OT_NONE when the node budget is spent (the leaf is then unchanged). */
+/* As pvs__ot_refine, for q's pyramid (§4.10.1). PVS__OT_NONE when the node budget is spent (the leaf
+   unchanged). */
 PVS__STATIC uint32_t pvs__sv_refine(pvs_otree *o, uint32_t node, const pvs__svpoly *q) {
     uint32_t need = 0;
     int i;
@@ -9293,10 +9160,9 @@ PVS__STATIC uint32_t pvs__sv_refine(pvs_otree *o, uint32_t node, const pvs__svpo
     return node;
 }
 
-/* Merges occluder polygon q (plane `plane`) into the tree (§3.3.3, App. C.1.4): filtered down with
-   splitting and edge marking; out-leaves become its e-OT; at an in-leaf it replaces the stored
-   fragment where it lies in front (a late nearer occluder of the approximate sweep), split along the
-   stored occluder's plane when it crosses it. */
+/* Merges occluder polygon q into the tree (§3.3.3, App. C.1.4): filtered down with splitting and edge marking;
+   out-leaves become its e-OT; at an in-leaf it replaces the stored fragment where it lies in front (the approximate
+   sweep may insert a nearer occluder late). */
 PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const double plane[4]) {
     uint32_t sp = 0;
     o->stack[0] = *poly;
@@ -9373,10 +9239,9 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
     }
 }
 
-/* Box [lo, hi] (eye-relative) against fragment f at an in-leaf (§4.10.2): invisible when wholly
-   behind the occluder's plane or (unless PLANE_ONLY) separated from the pyramid eye + fragment, the
-   only place where a box can be seen through this leaf (exact box / fragment test, "E"); visible
-   when wholly in front; partly visible otherwise. */
+/* Box [lo, hi] (eye-relative) against in-leaf fragment f (§4.10.2): invisible when wholly behind the
+   occluder's plane or (unless PLANE_ONLY) apart from the pyramid eye + fragment, the only place it can
+   be seen through this leaf (exact test "E"); visible when wholly in front; else partly visible. */
 PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f, const double lo[3],
                                        const double hi[3]) {
     const pvs__svvert *v = o->verts + f->first;
@@ -9445,9 +9310,8 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
     return smin > t ? PVS__SV_V : PVS__SV_P;
 }
 
-/* The conservative visibility of box [lo, hi] in the tree (§4.10.2): descends, without splitting,
-   every side the box reaches; combines the leaves by Table 3.1 and stops at the first partly
-   visible result. */
+/* Box [lo, hi] in the tree (§4.10.2): descends, without splitting, every side it reaches; leaves
+   combine by Table 3.1, stopping at the first partly visible result. */
 PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], const double hi[3]) {
     uint32_t sp = 1, *stk = o->tstack;
     int vis = 0, inv = 0;
@@ -9469,8 +9333,8 @@ PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], c
     return vis ? PVS__SV_V : PVS__SV_I;
 }
 
-/* A box's visibility: frustum culling first (outside any plane: invisible; crossing one: at most
-   partly visible), then the tree. */
+/* A box's visibility: the frustum first (outside a plane: invisible; crossing one: at most partly
+   visible), then the tree. */
 PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
     double lo[3], hi[3];
     int k, cross = 0;
@@ -9489,7 +9353,7 @@ PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 
 /* ---- occluder selection (§4.5) ---- */
 
-/* Keeps the best max_occluders candidates (pvs__topk_offer: a heap whose root is the weakest kept). */
+/* Top-k by key (pvs__topk_offer: the root is the weakest kept). */
 PVS__STATIC int pvs__svsel_better(const void *a, const void *b) {
     return ((const pvs__svsel *)a)->key > ((const pvs__svsel *)b)->key;
 }
@@ -9528,9 +9392,8 @@ PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float
     }
 }
 
-/* Bittner's area-angle measure M = A |N . V| / |D|^2 (§4.5) of a polygon, with V the unit direction
-   from the eye to its centre D (the solid angle it subtends, approximately; the thesis uses the view
-   direction), or -1 when it lies wholly outside the frustum. */
+/* Area-angle measure M = A |N . V| / |D|^2 (§4.5), V the unit direction from the eye to the centre D
+   (about the solid angle; the thesis uses the view direction); -1 when wholly outside the frustum. */
 PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int n) {
     double v[4][3], c[3] = {0, 0, 0}, area[3] = {0, 0, 0}, dd;
     int i, k;
@@ -9616,9 +9479,9 @@ PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, u
     }
 }
 
-/* Fig. 4.5: termination nodes of the last frame (leaves, nodes not partly visible, nodes not visited
-   in the last frame) are tested; opened nodes are skipped and their children visited, near child
-   first; a node whose children all agree takes their state (pull-up). */
+/* Fig. 4.5: last frame's termination nodes (leaves, nodes not partly visible or not visited last
+   frame) are tested; opened nodes are skipped and their children visited, near child first; a node
+   whose children agree takes their state (pull-up). */
 PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
     const pvs_kdtree *t = o->s->object_tree;
     const pvs__kdnode *nd = t->nodes + node;
@@ -9652,7 +9515,7 @@ PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
             pvs__sv_walk(o, ch + (1u - first), c + (1u - first));
             v0 = o->kd_vis[ch];
             v1 = o->kd_vis[ch + 1];
-            if (v0 == v1 && v0 != PVS__SV_P) o->kd_vis[node] = (uint8_t)v0; /* pull-up */
+            if (v0 == v1 && v0 != PVS__SV_P) o->kd_vis[node] = (uint8_t)v0;
         }
     }
 }
@@ -9755,19 +9618,18 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *o, pvs_otree_frame *frame) {
     if (o && frame) *frame = o->info;
 }
 
-/* Starts a frame on scene s: when the scene changed (or the frame counter is about to wrap) every kD
-   node's state is made stale, and on a new scene the per-object triangle ranges are rebuilt (objects
-   are ranges of triangles) and the previous frame's occluders forgotten. */
+/* Starts a frame on s. A new scene, or a frame counter about to wrap, makes every kD node's state
+   stale; a new scene also rebuilds the per-object triangle ranges and forgets last frame's occluders. */
 PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
     uint32_t i;
-    if (s != o->last_scene || o->frame > 0xfffffff0u) { /* stale states everywhere */
+    if (s != o->last_scene || o->frame > 0xfffffff0u) {
         memset(o->kd_frame, 0, ((size_t)o->max_kd_nodes + 1) * sizeof(uint32_t));
         o->frame = 2;
         if (s != o->last_scene) o->have_prev = 0;
         if (s != o->ranges_scene) {
             o->ranges_scene = s;
             for (i = 0; i < s->object_count; ++i) { o->obj_first[i] = 0; o->obj_tris[i] = 0; }
-            for (i = s->triangle_count; i-- > 0;) { /* objects are ranges of triangles */
+            for (i = s->triangle_count; i-- > 0;) {
                 uint32_t ob = s->triangle_object[i];
                 if (ob == PVS_NO_OBJECT) continue;
                 o->obj_first[ob] = i;
@@ -9780,9 +9642,8 @@ PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
     o->s = s;
 }
 
-/* The eye frame of a perspective camera (as pvs_camera_matrix) and the frustum's planes (the near
-   plane, then the four sides, unit normals pointing inside), and the tolerance of the eye-relative
-   scene's size. */
+/* The eye frame (as pvs_camera_matrix), the frustum's planes (near, then the four sides; unit normals
+   inward) and o->tol from the eye-relative scene size. */
 PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam) {
     double u[3], r[3], len, ty, tx, size = 0.0;
     uint32_t k;
@@ -9805,7 +9666,7 @@ PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_cam
     }
     o->fr[0][3] = -o->near_d;
     for (k = 1; k < 5; ++k) { pvs__sv_unit(o->fr[k]); o->fr[k][3] = 0.0; }
-    for (j = 0; j < 3; ++j) { /* the size of the eye-relative scene */
+    for (j = 0; j < 3; ++j) {
         double a = fabs((double)s->bounds.min[j] - o->eye[j]), b = fabs((double)s->bounds.max[j] - o->eye[j]);
         if (s->bounds.min[j] > s->bounds.max[j]) a = b = 0.0;
         size += (a > b ? a : b);
@@ -9813,8 +9674,8 @@ PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_cam
     o->tol = 1e-10 * (size + o->near_d + 1e-20);
 }
 
-/* Inserts the caller's occluder triangles (p->occluder_*) in the caller's order, those with an index
-   or a coordinate out of range left out. Returns the triangles offered to the tree. */
+/* Inserts the caller's triangles (p->occluder_*) in their order, skipping those with an index or a
+   coordinate out of range. Returns the triangles offered. */
 PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_params *p) {
     uint32_t i, nocc = 0;
     int j;
@@ -9836,11 +9697,9 @@ PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_param
     return nocc;
 }
 
-/* The occluder selection of §4.5 and its insertion: the best polygons by the area-angle measure among
-   the triangles of the previous frame's selection (or, after a reset, the scene's triangles swept
-   from the eye) and, with p->scene_volumes, the faces of the occluder volumes within the distance;
-   inserted in order of distance from the eye (the approximate occlusion sweep, §3.2). Returns the
-   polygons offered to the tree. */
+/* Occluder selection (§4.5) and insertion: the best polygons by area-angle among last frame's triangles (after a
+   reset: the scene's, swept from the eye) and, with p->scene_volumes, occluder-volume faces within the distance,
+   inserted nearest first (the approximate occlusion sweep, §3.2). Returns the polygons offered. */
 PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam,
                                              const pvs_cull_params *p) {
     uint32_t i, k, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
@@ -9896,8 +9755,8 @@ PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, c
     return o->sel_count;
 }
 
-/* The next frame's occluder candidates (§4.5): the triangles of the objects seen within the distance
-   this frame (occluder-only objects whose box may be seen), kept in o->prev. */
+/* The next frame's occluder candidates (§4.5), into o->prev: the triangles of the objects seen within
+   the distance this frame (occluder-only objects: whose box may be seen). */
 PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const pvs_cull_params *p,
                                         const pvs_word *visible) {
     uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
@@ -9976,7 +9835,7 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 
 /* ---- the OTREE bake method (a row of >>bake's table) ---- */
 
-/* The OTREE method's per-bake state (pvs__otree_prepare). */
+/* The OTREE method's per-bake state. */
 typedef struct pvs__otree_bake {
     pvs_allocator allocator;
     uint32_t object_count;
@@ -9989,18 +9848,11 @@ typedef struct pvs__otree_bake {
     pvs_kdtree *tree[PVS__OT25_LEVELS];   /* per level, over pvs_visibility_25d_boxes */
 } pvs__otree_bake;
 
-/* Facades for c-LSS (§7.1) from the scene's vertical walls, any tessellation (pvs__facades_extract):
-   wall segments with the height interval [base, top] they fully cover over their length.
-   Base heights. c-LSS takes an occluder as standing on the ground: a ray over its 2D line passes it
-   only above its top. A facade with base b is such an occluder for every ray whose two ends are no
-   lower than b: the ray's height is linear, so it is at least b where it crosses the facade. From a
-   cell whose bottom is c, toward an object whose bottom is o, every ray starts no lower than c and
-   ends no lower than o: the facades with b <= min(c, o) may be used, the others not (a ray may pass
-   under them). The bases are gathered into at most PVS__OT25_LEVELS levels (a facade belongs to the
-   lowest level at or above its base: it is then used for fewer pairs, conservative), the facades
-   are sorted by level, and every level k gets a kD-tree over the facades of levels <= k and the
-   objects. A cell then runs pvs_visibility_25d once per level that some object needs (one run for a
-   scene whose walls all stand on the ground); objects below every level are visible. */
+/* Facades for c-LSS (§7.1) from the scene's walls (pvs__facades_extract). c-LSS takes occluders as standing on the
+   ground (a ray over one's 2D line passes it only above its top); a ray's height being linear, a facade of base b
+   is one for rays whose ends are no lower than b: from a cell of bottom c to an object of bottom o, those with b <=
+   min(c, o). Bases merge into at most PVS__OT25_LEVELS levels (a facade joins the lowest at or above its base:
+   conservative); level k's kD-tree holds the objects and the facades of levels <= k. */
 PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *cells,
                                           uint32_t cell_count) {
     int up = s->up_axis == 2 ? 2 : 1, u, v;
@@ -10019,8 +9871,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
     ot->objects = (float *)pvs__alloc_array(&ot->allocator, (size_t)ot->object_count * 5 + 5, sizeof(float));
     ord = (pvs__key_index *)pvs__alloc_array(&ot->allocator, (size_t)n + 1, sizeof(pvs__key_index));
     if (!ot->facades || !ot->objects || !ord) goto done;
-    /* only facades some cell can use: base no higher than the highest cell bottom (of the whole bake,
-       so that shards agree) */
+    /* only facades some cell can use: base <= the highest cell bottom of the whole bake (shards agree) */
     for (i = 0; i < cell_count; ++i)
         if (i == 0 || cells[i].min[up] > maxc) maxc = cells[i].min[up];
     for (i = 0; i < n; ++i) {
@@ -10064,8 +9915,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
         nl = nc;
     }
     ot->level_count = nl;
-    /* facades by level (a facade joins the lowest level at or above its base; above the highest it is
-       left out), 5 floats each */
+    /* facades by level, 5 floats each; those above the highest level are left out */
     for (i = 0, k = 0, n = 0; i < m && k < nl; ++i) {
         const float *f = fac + 6 * (size_t)ord[i].index;
         while (k < nl && ot->level[k] < f[5]) ot->level_end[k++] = n;
@@ -10106,11 +9956,9 @@ done:
     return r;
 }
 
-/* One cell with pvs_visibility_25d, once per level some object needs (pvs__otree_prepare): the
-   objects whose min(cell bottom, object bottom) lies in [level k, level k + 1) are tested against
-   the facades of levels <= k; objects below the lowest level are visible. c: the task's cell or,
-   with adaptive cells, a part of it. Adds PVS__BAKE_NO_OCCLUDERS and PVS__BAKE_OTREE_BUDGET to
-   *flags where they hold. */
+/* A cell (or its adaptive part c): pvs_visibility_25d once per level some object needs, testing the objects with
+   min(cell bottom, object bottom) in [level k, level k + 1) against the facades of levels <= k; objects below the
+   lowest level are visible. May add PVS__BAKE_NO_OCCLUDERS and PVS__BAKE_OTREE_BUDGET to *flags. */
 PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *c, uint32_t cell,
                                        pvs_word *bits, unsigned *flags, pvs_error *err) {
     pvs_otree_stats st;
