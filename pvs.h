@@ -1439,10 +1439,17 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 /* core: result strings, allocator, errors, math, bitsets                                         */
 /* ---------------------------------------------------------------------------------------------- */
 
-/* The shared kernels, written once for every module: errors, checked sizes, allocation through the hooks, math and
-   boxes, bitsets, splitmix64, growable arrays, allocation-free heaps (big bake-time sorts use PVS_QSORT),
-   little-endian bytes, CRC-32, the bake's method-table interface (table in >>bake). >>kdtree holds the one kD-tree
-   and sweep. */
+/* The shared kernels, written once for every module:
+   - errors and checked sizes: pvs__fail, pvs__ok, pvs__mul; allocation through the hooks: pvs__alloc, pvs__free,
+	 pvs__alloc_array, pvs__free_array; growable arrays: pvs__grow_capped, pvs__grow_array, pvs__grow;
+   - math and boxes (pvs__dmin, pvs__clampi, pvs__finite, pvs__box_distance2, ...), bitsets, random numbers
+	 (pvs__splitmix64, pvs__random01);
+   - allocation-free heaps: pvs__heap_sort, pvs__topk_offer, pvs__pq_push / pvs__pq_pop, pvs__key_index_sort (big
+	 bake-time sorts use PVS_QSORT); union-find: pvs__uf_find;
+   - little-endian bytes (pvs__get32, pvs__put32, pvs__getf32, pvs__putf32) and pvs__crc32;
+   - the bake's method-table interface (pvs__bake_method; the table is in >>bake).
+   One kD-tree and its front-to-back sweep (pvs__kd_sweep) live in >>kdtree; one depth-pyramid level builder
+   (pvs__pyramid_level) in >>raster. */
 
 PVS_API const char *pvs_result_string(pvs_result r) {
 	switch (r) {
@@ -1831,6 +1838,39 @@ PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t
 		memcpy(h + i * size, h + c * size, size);
 	}
 	memcpy(h + i * size, e, size);
+}
+
+/* Priority queue: a binary heap of *n elements of `size` <= 64 bytes with the one ranking first at the root. push adds
+   e; pop removes the root into *top. Equal elements leave in an order fixed by the pushes, the same everywhere. */
+PVS__STATIC void pvs__pq_push(void *heap, size_t *n, size_t size, const void *e, pvs__before_fn before) {
+	unsigned char *h = (unsigned char *)heap;
+	size_t i;
+	for (i = (*n)++; i > 0 && before(e, h + (i - 1) / 2 * size); i = (i - 1) / 2)
+		memcpy(h + i * size, h + (i - 1) / 2 * size, size);
+	memcpy(h + i * size, e, size);
+}
+PVS__STATIC void pvs__pq_pop(void *heap, size_t *n, size_t size, void *top, pvs__before_fn before) {
+	unsigned char *h = (unsigned char *)heap, *last;
+	size_t i = 0, c;
+	memcpy(top, h, size);
+	if (!--*n) return;
+	last = h + *n * size;
+	while ((c = 2 * i + 1) < *n) {
+		if (c + 1 < *n && before(h + (c + 1) * size, h + c * size)) ++c;
+		if (!before(h + c * size, last)) break;
+		memcpy(h + i * size, h + c * size, size);
+		i = c;
+	}
+	memcpy(h + i * size, last, size);
+}
+
+/* Union-find: the root of x's set, halving the path on the way (Tarjan and van Leeuwen 1984). */
+PVS__STATIC uint32_t pvs__uf_find(uint32_t *parent, uint32_t x) {
+	while (parent[x] != x) {
+		parent[x] = parent[parent[x]];
+		x = parent[x];
+	}
+	return x;
 }
 
 /* A sort key and the index of what it sorts. */
@@ -2836,7 +2876,8 @@ typedef struct pvs__kdsweep {
 	pvs_box box;      /* the node's cell */
 } pvs__kdsweep;
 
-PVS__STATIC int pvs__kdsweep_before(const pvs__kdsweep *a, const pvs__kdsweep *b) {
+PVS__STATIC int pvs__kdsweep_before(const void *pa, const void *pb) {
+	const pvs__kdsweep *a = (const pvs__kdsweep *)pa, *b = (const pvs__kdsweep *)pb;
 	return a->d2 < b->d2 || (a->d2 == b->d2 && a->node < b->node);
 }
 
@@ -2894,24 +2935,13 @@ PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__
 	heap[0].node = 0;
 	heap[0].box = t->bounds;
 	while (n) {
-		pvs__kdsweep top = heap[0];
-		const pvs__kdnode *nd = t->nodes + top.node;
-		uint32_t axis = nd->bits & 3u;
+		pvs__kdsweep top;
+		const pvs__kdnode *nd;
+		uint32_t axis;
 		pvs_visit v;
-		size_t i, c;
-		/* pop: move the last entry down from the root */
-		--n;
-		if (n) {
-			pvs__kdsweep last = heap[n];
-			i = 0;
-			while ((c = 2 * i + 1) < n) {
-				if (c + 1 < n && pvs__kdsweep_before(heap + c + 1, heap + c)) ++c;
-				if (!pvs__kdsweep_before(heap + c, &last)) break;
-				heap[i] = heap[c];
-				i = c;
-			}
-			heap[i] = last;
-		}
+		pvs__pq_pop(heap, &n, sizeof(top), &top, pvs__kdsweep_before);
+		nd = t->nodes + top.node;
+		axis = nd->bits & 3u;
 		if (node) *node = top.node;
 		if (axis == PVS__KD_LEAF) {
 			uint32_t count = nd->u.count;
@@ -2931,13 +2961,7 @@ PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__
 			if (k == 0) e.box.max[axis] = nd->u.split;
 			else e.box.min[axis] = nd->u.split;
 			e.d2 = pvs__box_distance2(source, &e.box);
-			/* push: sift up */
-			i = n++;
-			while (i > 0 && pvs__kdsweep_before(&e, heap + (i - 1) / 2)) {
-				heap[i] = heap[(i - 1) / 2];
-				i = (i - 1) / 2;
-			}
-			heap[i] = e;
+			pvs__pq_push(heap, &n, sizeof(e), &e, pvs__kdsweep_before);
 		}
 	}
 }
@@ -10644,13 +10668,6 @@ PVS__STATIC int pvs__vx_edge_cmp(const void *x, const void *y) {
 	if (a->key != b->key) return a->key < b->key ? -1 : 1;
 	return a->tri < b->tri ? -1 : a->tri > b->tri;
 }
-PVS__STATIC uint32_t pvs__vx_find(uint32_t *parent, uint32_t x) {
-	while (parent[x] != x) {
-		parent[x] = parent[parent[x]];
-		x = parent[x];
-	}
-	return x;
-}
 
 typedef struct pvs__vx_topo {
 	uint32_t *tris;          /* included triangles grouped by component: comp_first[c] .. comp_first[c + 1] */
@@ -10718,7 +10735,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 	PVS_QSORT(ed, ne, sizeof(pvs__vx_edge), pvs__vx_edge_cmp);
 	for (e0 = 0; e0 < ne; e0 = e1) {
 		for (e1 = e0 + 1; e1 < ne && ed[e1].key == ed[e0].key; ++e1) {
-			uint32_t ra = pvs__vx_find(parent, ed[e0].tri), rb = pvs__vx_find(parent, ed[e1].tri);
+			uint32_t ra = pvs__uf_find(parent, ed[e0].tri), rb = pvs__uf_find(parent, ed[e1].tri);
 			if (ra != rb) parent[ra > rb ? ra : rb] = ra < rb ? ra : rb; /* the smaller root wins: deterministic */
 		}
 	}
@@ -10726,7 +10743,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 	t->comp_count = 0;
 	for (i = 0; i < nt; ++i) {
 		if (parent[i] == 0xffffffffu) { cid[i] = 0xffffffffu; continue; }
-		k = pvs__vx_find(parent, i);
+		k = pvs__uf_find(parent, i);
 		cid[i] = k == i ? t->comp_count++ : cid[k];
 	}
 	memset(t->comp_first, 0, ((size_t)t->comp_count + 2) * sizeof(uint32_t));
@@ -12846,12 +12863,12 @@ PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
 			++deg[v];
 		}
 		{
-			uint32_t x = pvs__vx_find(uf, p->seg_vid[2 * i]), y = pvs__vx_find(uf, p->seg_vid[2 * i + 1]);
+			uint32_t x = pvs__uf_find(uf, p->seg_vid[2 * i]), y = pvs__uf_find(uf, p->seg_vid[2 * i + 1]);
 			if (x != y) uf[x < y ? y : x] = x < y ? x : y;
 		}
 	}
 	for (i = 0; i < m; ++i) p->seg_loop[i] = -1;
-	for (i = 0; i < nv; ++i) uf[i] = pvs__vx_find(uf, i);
+	for (i = 0; i < nv; ++i) uf[i] = pvs__uf_find(uf, i);
 	for (i = 0; i < nv; ++i) idx[i] = 0;
 	for (i = 0; i < nv; ++i)
 		if (deg[i] != 2) idx[uf[i]] = 1;
@@ -16288,13 +16305,6 @@ PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
 	return x < y ? -1 : x > y;
 }
 
-PVS__STATIC uint32_t pvs__ep_find(uint32_t *parent, uint32_t i) {
-	while (parent[i] != i) {
-		parent[i] = parent[parent[i]];
-		i = parent[i];
-	}
-	return i;
-}
 
 /* Scratch of the preparation, sized for the largest object. */
 typedef struct pvs__epprepwork {
@@ -16570,7 +16580,7 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
 				if (!(la > 0.0) || !pvs__ep_coplanar(A, na, la, B, scale) || !pvs__ep_coplanar(B, na, la, A, scale))
 					continue;
 				{
-					uint32_t x = pvs__ep_find(w->gparent, ja), y = pvs__ep_find(w->gparent, jb);
+					uint32_t x = pvs__uf_find(w->gparent, ja), y = pvs__uf_find(w->gparent, jb);
 					if (x != y) w->gparent[x > y ? x : y] = x < y ? x : y;
 				}
 			}
@@ -16681,7 +16691,7 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
 		}
 	pvs__ep_planar_groups(s, t0, tl, n, w, scale);
 	/* groups: sorted (root, triangle) pairs, the root the group's first triangle */
-	for (j = 0; j < n; ++j) w->edges[j] = ((uint64_t)pvs__ep_find(w->gparent, j) << 32) | j;
+	for (j = 0; j < n; ++j) w->edges[j] = ((uint64_t)pvs__uf_find(w->gparent, j) << 32) | j;
 	PVS_QSORT(w->edges, n, sizeof(uint64_t), pvs__ep_u64_cmp);
 	for (g = 0; g < n;) {
 		uint32_t h = g + 1, root = (uint32_t)(w->edges[g] >> 32), m, cnt, e, ax = 0, u, v;
@@ -16739,19 +16749,19 @@ PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn
 		uint32_t v = w->canon[i], t = i / 3;
 		if (w->owner[v] == 0xffffffffu) w->owner[v] = t;
 		else {
-			uint32_t x = pvs__ep_find(w->parent, t), y = pvs__ep_find(w->parent, w->owner[v]);
+			uint32_t x = pvs__uf_find(w->parent, t), y = pvs__uf_find(w->parent, w->owner[v]);
 			if (x != y) w->parent[x > y ? x : y] = x < y ? x : y;
 		}
 	}
 	for (i = 0; i < tn; ++i) w->start[i] = 0;
-	for (i = 0; i < tn; ++i) ++w->start[pvs__ep_find(w->parent, i)];
+	for (i = 0; i < tn; ++i) ++w->start[pvs__uf_find(w->parent, i)];
 	for (i = 0; i < tn; ++i) {
 		uint32_t c = w->start[i];
 		w->start[i] = sum;
 		sum += c;
 	}
 	w->start[tn] = sum;
-	for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__ep_find(w->parent, i)]++] = i;
+	for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__uf_find(w->parent, i)]++] = i;
 }
 
 /* Component `comp`'s boundary (edges of odd use count) into w->edges, returning their count; its vertices into
@@ -17050,13 +17060,13 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
 	PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
 	for (g = 1; g < ne; ++g)
 		if (pvs__ep_edge2_cmp(e + g, e + g - 1) == 0) {
-			uint32_t x = pvs__ep_find(w->uf, e[g].tri), y = pvs__ep_find(w->uf, e[g - 1].tri);
+			uint32_t x = pvs__uf_find(w->uf, e[g].tri), y = pvs__uf_find(w->uf, e[g - 1].tri);
 			if (x != y) w->uf[x > y ? x : y] = x < y ? x : y;
 		}
-	for (g = 0; g < ne; ++g) e[g].tri = pvs__ep_find(w->uf, e[g].tri);
+	for (g = 0; g < ne; ++g) e[g].tri = pvs__uf_find(w->uf, e[g].tri);
 	for (g = 0; g < n; ++g)
 		if (w->uf[g] != g) {
-			w->tarea[pvs__ep_find(w->uf, (uint32_t)g)] += w->tarea[g];
+			w->tarea[pvs__uf_find(w->uf, (uint32_t)g)] += w->tarea[g];
 			w->tarea[g] = 0.0;
 		}
 	PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_root_cmp);
@@ -18484,33 +18494,17 @@ PVS__STATIC int pvs__ep_sel_better(float score, uint32_t occ, const pvs__epsel *
 	return score > h->score || (score == h->score && occ < h->occ);
 }
 
+/* pvs__topk_offer's order: the larger score first, ties to the smaller occluder id. */
+PVS__STATIC int pvs__ep_sel_before(const void *a, const void *b) {
+	const pvs__epsel *x = (const pvs__epsel *)a;
+	return pvs__ep_sel_better(x->score, x->occ, (const pvs__epsel *)b);
+}
+
 PVS__STATIC void pvs__ep_sel_push(pvs__epsel *h, uint32_t n, uint32_t *count, float score, uint32_t occ) {
-	uint32_t k, ch;
-	if (*count == n) {
-		if (!pvs__ep_sel_better(score, occ, h)) return;
-		k = 0; /* replace the root (the worst), sift down */
-		for (;;) {
-			ch = 2 * k + 1;
-			if (ch >= n) break;
-			if (ch + 1 < n && pvs__ep_sel_better(h[ch].score, h[ch].occ, h + ch + 1)) ++ch; /* the worse child */
-			if (!pvs__ep_sel_better(score, occ, h + ch)) break;
-			h[k] = h[ch];
-			k = ch;
-		}
-	} else {
-		pvs__epsel e;
-		e.score = score;
-		e.occ = occ;
-		k = (*count)++;
-		while (k > 0 &&
-			   pvs__ep_sel_better(h[(k - 1) / 2].score, h[(k - 1) / 2].occ,
-								  &e)) { /* the parent ranks before: move it down */
-			h[k] = h[(k - 1) / 2];
-			k = (k - 1) / 2;
-		}
-	}
-	h[k].score = score;
-	h[k].occ = occ;
+	pvs__epsel e;
+	e.score = score;
+	e.occ = occ;
+	pvs__topk_offer(h, count, n, sizeof(e), &e, pvs__ep_sel_before);
 }
 
 /* 1 when an occluder of this box could, by its solid angle bound, enter a heap of a direction it reaches. */
@@ -21187,34 +21181,11 @@ typedef struct pvs__heapent {
 	uint32_t weight, node, from; /* from: base cell + 1; 0: the virtual root (a key) */
 } pvs__heapent;
 
-PVS__STATIC int pvs__heap_less(const pvs__heapent *a, const pvs__heapent *b) {
+PVS__STATIC int pvs__heap_less(const void *pa, const void *pb) {
+	const pvs__heapent *a = (const pvs__heapent *)pa, *b = (const pvs__heapent *)pb;
 	if (a->weight != b->weight) return a->weight < b->weight;
 	if (a->node != b->node) return a->node < b->node;
 	return a->from < b->from;
-}
-PVS__STATIC void pvs__heap_push(pvs__heapent *h, size_t *n, pvs__heapent e) {
-	size_t i = (*n)++;
-	while (i > 0) {
-		size_t parent = (i - 1) / 2;
-		if (!pvs__heap_less(&e, h + parent)) break;
-		h[i] = h[parent];
-		i = parent;
-	}
-	h[i] = e;
-}
-PVS__STATIC pvs__heapent pvs__heap_pop(pvs__heapent *h, size_t *n) {
-	pvs__heapent top = h[0], last = h[--*n];
-	size_t i = 0;
-	for (;;) {
-		size_t c = 2 * i + 1;
-		if (c >= *n) break;
-		if (c + 1 < *n && pvs__heap_less(h + c + 1, h + c)) ++c;
-		if (!pvs__heap_less(h + c, &last)) break;
-		h[i] = h[c];
-		i = c;
-	}
-	if (*n) h[i] = last;
-	return top;
 }
 
 PVS__STATIC int pvs__float_cmp(const void *a, const void *b) {
@@ -21521,11 +21492,13 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 		h.weight = pvs__encoder_cost(e, i, PVS_NO_CELL);
 		h.node = i;
 		h.from = 0;
-		pvs__heap_push(e->heap, &heap_n, h);
+		pvs__pq_push(e->heap, &heap_n, sizeof(h), &h, pvs__heap_less);
 	}
 	while (heap_n) {
-		pvs__heapent h = pvs__heap_pop(e->heap, &heap_n);
-		uint32_t v = h.node, j;
+		pvs__heapent h;
+		uint32_t v, j;
+		pvs__pq_pop(e->heap, &heap_n, sizeof(h), &h, pvs__heap_less);
+		v = h.node;
 		if (e->placed[v]) continue;
 		if (h.from && e->depth[h.from - 1] >= max_chain) continue; /* the chain would exceed K */
 		e->placed[v] = 1;
@@ -21538,7 +21511,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 				g.weight = pvs__encoder_cost(e, u, v);
 				g.node = u;
 				g.from = v + 1;
-				pvs__heap_push(e->heap, &heap_n, g);
+				pvs__pq_push(e->heap, &heap_n, sizeof(g), &g, pvs__heap_less);
 			}
 		}
 	}
