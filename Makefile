@@ -126,6 +126,7 @@ bench: $(patsubst %,$(B)/bench_%,$(BENCHES)) $(B)/pvswalkthrough tools
 	@set -e; for b in $(filter-out vocc,$(BENCHES)); do echo "./$(B)/bench_$$b"; ./$(B)/bench_$$b; done
 	./$(B)/pvswalkthrough --bench
 	./$(B)/bench_vocc
+	sh tests/bench_maps.sh
 
 # Fuzzing the file reader: a libFuzzer build (clang) seeded with tests/corpus, FUZZ_SECONDS long, and
 # a plain replay binary (any compiler) that runs files through the same target.

@@ -88,11 +88,15 @@
    opening meant to be seen through must be wider.
 
    Methods. AUTO, the default, runs the conservative methods that can cull in the scene, cheapest first, and
-   intersects their PVSs (conservative, and at least as tight as each): OTREE when vertical walls give
+   intersects their PVSs (conservative, and at least as tight as each of them): OTREE when vertical walls give
    facades (2.5D); EXTPROJ when there are planar occluders or convex solids (3D; an object's coplanar
    edge-connected triangles act as one occluder, so a wall in pieces hides what the whole wall hides);
    SHRINK when closed geometry leaves volume after erosion by eps. SHRINK, the costliest, runs last on what
-   the others kept: the same intersection, in little time. VOCC, adding little tightness, runs only when
+   the others kept: the same intersection, in little time. AUTO pays only for what culls: with the default set
+   and at least 4 x PVS_AUTO_SAMPLE_CELLS cells, pvs_bake_begin bakes PVS_AUTO_SAMPLE_CELLS cells spread over all
+   cells with each method and keeps, greedily, those that cull at least PVS_AUTO_MIN_GAIN of what the others kept
+   (pvs_bake_method_info says which and why; counts decide, so every thread count and shard decides alike). A
+   named set (pvs_bake_desc.methods) runs in full. VOCC, adding little tightness, runs only when
    pvs_bake_desc.methods names it. Under AUTO, EXTPROJ runs the occlusion sweep of Durand 2000 §5, fusing
    walls and floors the planes of §6.1 do not: on indoor maps a smaller PVS for more time
    (tests/BENCHMARKS.md, bake). max_distance, a draw distance, drops objects whose box is farther from every
@@ -1165,6 +1169,11 @@ typedef struct pvs_bake_desc {
 	pvs_allocator allocator;
 } pvs_bake_desc;
 
+/* AUTO's sample (pvs_bake_begin): cells baked with every applicable method to choose those worth running, and the
+   least share of the kept PVS a method must cull beyond the methods kept to be run on every cell. */
+#define PVS_AUTO_SAMPLE_CELLS 8u
+#define PVS_AUTO_MIN_GAIN 0.02
+
 /* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only the cheapest applicable method. EXTPROJ
    uses 64 pixels and 32 occluders per plane unless set, no sweep, and decides object kD-tree nodes whole
    once under a quarter radian or past 4,096 box tests: a few milliseconds per cell at any scene size
@@ -1200,6 +1209,9 @@ typedef struct pvs_bake_method_info {
 	/* 1: it tested only what earlier methods kept (AUTO runs SHRINK last: the same intersection, far less
 	   time); pvs_sum counts their culls as kept. */
 	int kept_only;
+	/* AUTO's sample (sample_cells > 0): objects per sample cell it culled beyond the methods kept before it */
+	uint32_t sample_cells;
+	float sample_gain;
 } pvs_bake_method_info;
 /* Fills *info for i < pvs_bake_method_count, else INVALID_ARGUMENT (also for NULL). Not concurrently with
    pvs_bake_run_task. */
@@ -20051,6 +20063,8 @@ struct pvs_bake {
 	/* considered (AUTO: all candidates, in run order) and run methods; a task's PVS intersects theirs (conservative) */
 	const pvs__bake_method *considered[PVS_METHOD_COUNT];
 	const char *reason[PVS_METHOD_COUNT];
+	float sample_gain[PVS_METHOD_COUNT]; /* by considered index: AUTO's sample (pvs__bake_auto_sample) */
+	uint32_t sample_cells;
 	unsigned char ran[PVS_METHOD_COUNT];
 	uint32_t considered_count;
 	const pvs__bake_method *run[PVS_METHOD_COUNT];
@@ -20303,6 +20317,127 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 	return PVS_OK;
 }
 
+/* AUTO pays for what culls (Deliver of issue 28): the methods that apply are prepared for PVS_AUTO_SAMPLE_CELLS cells
+   spread evenly over all the bake's cells (a shard's too, so every shard decides alike), and each is baked alone on
+   them. Greedily, the method with the smallest PVS is kept, then the others in the order of what they cull beyond
+   those kept, while that gain is at least PVS_AUTO_MIN_GAIN of the kept PVS. Only the kept methods are then prepared
+   for every cell (the sample's preparations, seeded by its cells only, are cheap) and run. Only for the default set
+   (desc->methods 0), at least 4 times as many cells as the sample, without PREVIEW or a method that stores whole
+   cells. Deterministic: counts decide, never time. The sample's PVSs only choose; the bake's come from the full
+   preparations. */
+PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
+	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
+}
+
+/* The greedy choice over the S sample cells of sd (prepared for them): b->run keeps the chosen methods. */
+PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *sd, pvs_error *err) {
+	uint32_t n = b->run_count, S = sd->cell_count, s, k, i, keep[PVS_METHOD_COUNT], kept = 0;
+	size_t w, words = b->words, total = (size_t)S * (n + 1) * words;
+	double base = 0.0;
+	pvs_word *bits;
+	pvs_result r = PVS_OK;
+	if (n < 2) return PVS_OK;
+	bits = (pvs_word *)pvs__alloc_array(&b->env.allocator, total, sizeof(pvs_word));
+	if (!bits) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "auto: sample cells");
+	memset(bits, 0, total * sizeof(pvs_word));
+	for (s = 0; s < S && r == PVS_OK; ++s) /* per sample cell: n methods' PVSs, then the kept intersection */
+		for (k = 0; k < n && r == PVS_OK; ++k) {
+			unsigned flags = 0;
+			r = b->run[k]->cell(&b->env, b->state[b->run[k]->method], 0, s, sd->cells + s, NULL,
+								bits + ((size_t)s * (n + 1) + k) * words, &flags, err);
+		}
+	for (k = 0; k < n; ++k) keep[k] = 0;
+	while (r == PVS_OK && kept < n) { /* the next method: the largest gain over the kept intersection */
+		uint32_t best = n;
+		double best_gain = -1.0, sum;
+		for (k = 0; k < n; ++k) {
+			if (keep[k]) continue;
+			for (sum = 0.0, s = 0; s < S; ++s) {
+				const pvs_word *cur = bits + ((size_t)s * (n + 1) + n) * words;
+				const pvs_word *own = bits + ((size_t)s * (n + 1) + k) * words;
+				for (w = 0; w < words; ++w) sum += (double)pvs__popcount64((kept ? cur[w] : ~(pvs_word)0) & ~own[w]);
+			}
+			if (sum > best_gain) {
+				best_gain = sum;
+				best = k;
+			}
+		}
+		if (kept && best_gain < PVS_AUTO_MIN_GAIN * base) break;
+		keep[best] = 1;
+		for (i = 0; i < b->considered_count; ++i)
+			if (b->considered[i] == b->run[best]) b->sample_gain[i] = (float)(best_gain / S);
+		for (base = 0.0, s = 0; s < S; ++s) {
+			pvs_word *cur = bits + ((size_t)s * (n + 1) + n) * words;
+			const pvs_word *own = bits + ((size_t)s * (n + 1) + best) * words;
+			for (w = 0; w < words; ++w) cur[w] = kept ? cur[w] & own[w] : own[w];
+			base += (double)pvs_bitset_count(cur, b->object_count);
+		}
+		++kept;
+	}
+	pvs__free_array(&b->env.allocator, bits, total, sizeof(pvs_word));
+	if (r != PVS_OK) return r;
+	b->sample_cells = S;
+	for (k = 0, kept = 0; k < n; ++k) {
+		if (keep[k]) {
+			b->run[kept++] = b->run[k];
+			continue;
+		}
+		for (i = 0; i < b->considered_count; ++i)
+			if (b->considered[i] == b->run[k]) {
+				b->ran[i] = 0;
+				b->reason[i] = "negligible: on the sample cells it culled under 2% of what the others kept";
+			}
+	}
+	b->run_count = kept;
+	return PVS_OK;
+}
+
+/* AUTO with the sample (pvs__bake_wants_sample): choose on the sample's preparations, then prepare the kept methods
+   for every cell. */
+PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc *desc, uint32_t mask,
+												pvs_error *err) {
+	pvs_box sample[PVS_AUTO_SAMPLE_CELLS];
+	pvs_bake_desc sd = *desc;
+	uint32_t s, k, i, kept = 0, S = PVS_AUTO_SAMPLE_CELLS;
+	pvs_result r;
+	for (s = 0; s < S; ++s) sample[s] = desc->cells[((2 * (uint64_t)s + 1) * desc->cell_count) / (2 * (uint64_t)S)];
+	sd.cells = sample;
+	sd.cell_count = S;
+	b->env.cells = sample;
+	b->env.cell_count = S;
+	r = pvs__bake_choose(b, &sd, mask, err);
+	for (k = 0; r == PVS_OK && k < b->run_count; ++k)
+		if (b->run[k]->traits & PVS__METHOD_WHOLE_CELLS) r = PVS_ERROR_UNSUPPORTED; /* not expected under AUTO */
+	if (r == PVS_OK) r = pvs__bake_auto_sample(b, &sd, err);
+	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) { /* the sample's preparations */
+		const pvs__bake_method *m = pvs__bake_methods[k];
+		if (b->state[m->method]) m->destroy(&b->env, b->state[m->method]);
+		b->state[m->method] = NULL;
+	}
+	b->env.cells = desc->cells;
+	b->env.cell_count = desc->cell_count;
+	b->env.eps = desc->eps;
+	if (r != PVS_OK) return r;
+	for (k = 0; k < b->run_count; ++k) { /* the kept methods, for every cell */
+		const char *why = "conservative";
+		const pvs__bake_method *m = b->run[k];
+		r = pvs__bake_prepare(b, m, desc, err);
+		if (r != PVS_OK && r != PVS_ERROR_UNSUPPORTED) return r;
+		if (r == PVS_OK && (!m->applies || m->applies(b->state[m->method], &why))) {
+			b->run[kept++] = m;
+			continue;
+		}
+		for (i = 0; i < b->considered_count; ++i)
+			if (b->considered[i] == m) {
+				b->ran[i] = 0;
+				b->reason[i] = r == PVS_OK ? why : "not available in the bake driver";
+			}
+	}
+	b->run_count = kept;
+	if (!kept) return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "auto: no conservative method can cull here");
+	return PVS_OK;
+}
+
 PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs_error *err) {
 	pvs_bake *b;
 	pvs_result r;
@@ -20348,7 +20483,8 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
 		b->considered_count = b->run_count = 1;
 		r = pvs__bake_prepare(b, row, desc, err);
 	} else if (r == PVS_OK) {
-		r = pvs__bake_choose(b, desc, mask, err);
+		r = pvs__bake_wants_sample(desc) ? pvs__bake_choose_sampled(b, desc, mask, err)
+									   : pvs__bake_choose(b, desc, mask, err);
 	}
 	b->env.cells = NULL; /* desc's: gone after this call */
 	if (r != PVS_OK) {
@@ -20587,6 +20723,8 @@ PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *b, uint32_t i, pvs_b
 	info->method = b->considered[i]->method;
 	info->ran = b->ran[i];
 	info->reason = b->reason[i] ? b->reason[i] : "";
+	info->sample_cells = b->sample_cells;
+	info->sample_gain = b->sample_gain[i];
 	if (!info->ran) return PVS_OK;
 	for (k = 0; k < b->run_count; ++k)
 		if (b->run[k] == b->considered[i]) slot = k;

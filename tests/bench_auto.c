@@ -23,7 +23,7 @@ static int bench_scene(gen_kind kind, float size, uint32_t n, const char *name) 
     pvs_box *sub;
     pvs_word *seen;
     uint32_t c, objects, k;
-    double seen_sum = 0.0, best = -1.0, auto_sum = 0.0;
+    double seen_sum = 0.0, best = -1.0, auto_sum = 0.0, otree_t = 0.0, otree_sum = 0.0;
     pvs_method methods[PVS_METHOD_COUNT];
     uint32_t method_count = 0;
     gp = test_gen_params(kind, 1, size, 0);
@@ -69,10 +69,15 @@ static int bench_scene(gen_kind kind, float size, uint32_t n, const char *name) 
             printf("BENCH auto_tightness_%s %.3f ratio\n", name, seen_sum > 0.0 ? sum / seen_sum : 0.0);
             printf("BENCH auto_culled_pct_%s %.1f %%\n", name, 100.0 * (1.0 - sum / n / objects));
             printf("BENCH auto_vs_best_%s %.3f ratio\n", name, best > 0.0 ? auto_sum / best : 1.0);
+            if (otree_t > 0.0) {
+                printf("BENCH auto_vs_otree_cost_%s %.2f ratio\n", name, t / otree_t);
+                printf("BENCH auto_vs_otree_pvs_%s %.3f ratio\n", name, otree_sum > 0.0 ? auto_sum / otree_sum : 1.0);
+            }
         } else {
             printf("BENCH methods_%s_ms_per_cell_%s %.2f ms\n", pvs_method_name(methods[k]), name, 1000.0 * t / n);
             printf("BENCH methods_%s_tightness_%s %.3f ratio\n", pvs_method_name(methods[k]), name, seen_sum > 0.0 ? sum / seen_sum : 0.0);
             if (best < 0.0 || sum < best) best = sum;
+            if (methods[k] == PVS_METHOD_OTREE) otree_t = t, otree_sum = sum;
         }
         pvs_bake_destroy(b);
     }
@@ -84,7 +89,43 @@ static int bench_scene(gen_kind kind, float size, uint32_t n, const char *name) 
     return 0;
 }
 
+/* The whole demo city (1,211 cells), one thread, CPU time with preparation: what AUTO costs over OTREE alone when
+   its sample finds the other methods negligible (issue 28: at most 1.3 times, a PVS no larger). */
+static int bench_full_city(void) {
+    gen_params gp;
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *scene;
+    tool_error te;
+    double t[2], sum[2] = {0.0, 0.0};
+    uint32_t k, c;
+    gp = test_gen_params(GEN_CITY, 1, 1.0f, 0);
+    if (test_generate(&gp, &m, &cells, NULL) || cli_make_scene("city", &m, 1, &scene, &te)) return 1;
+    for (k = 0; k < 2; ++k) {
+        pvs_bake_desc bd;
+        pvs_bake *b;
+        pvs_error pe;
+        test_bake_desc(&bd, scene, (const pvs_box *)cells.boxes, cells.count, k ? PVS_METHOD_AUTO : PVS_METHOD_OTREE);
+        t[k] = test_cpu_seconds();
+        if (pvs_bake_begin(&bd, &b, &pe) != PVS_OK) { fprintf(stderr, "city: %s\n", pe.message); return 1; }
+        for (c = 0; c < cells.count; ++c)
+            if (pvs_bake_run_task(b, c, &pe) != PVS_OK) { fprintf(stderr, "city: %s\n", pe.message); return 1; }
+        t[k] = test_cpu_seconds() - t[k];
+        for (c = 0; c < cells.count; ++c) sum[k] += pvs_bitset_count(pvs_bake_cell_pvs(b, c), pvs_scene_object_count(scene));
+        pvs_bake_destroy(b);
+    }
+    printf("BENCH otree_seconds_city_full %.2f s\n", t[0]);
+    printf("BENCH auto_seconds_city_full %.2f s\n", t[1]);
+    printf("BENCH auto_vs_otree_cost_city_full %.2f ratio\n", t[1] / t[0]);
+    printf("BENCH auto_vs_otree_pvs_city_full %.3f ratio\n", sum[0] > 0.0 ? sum[1] / sum[0] : 1.0);
+    pvs_scene_destroy(scene);
+    mesh_cells_free(&cells);
+    mesh_free(&m);
+    return 0;
+}
+
 int main(void) {
+    if (bench_full_city()) return 1;
     if (bench_scene(GEN_CITY, 1.0f, 40, "city")) return 1;
     if (bench_scene(GEN_INDOOR, 1.0f, 40, "indoor")) return 1;
     if (bench_scene(GEN_FOREST, 0.5f, 20, "forest")) return 1;

@@ -478,12 +478,90 @@ static void check_sweep_default(void) {
     mesh_free(&m);
 }
 
+/* AUTO pays for what culls: on a city of 40 cells (over 4 times PVS_AUTO_SAMPLE_CELLS) every method that runs was
+   kept by the sample; each skipped one says so; the PVS is the kept methods' intersection (brute force: each kept
+   method baked alone), never larger than the best kept method alone; shards decide alike (two shards give the same
+   PVSs); an explicit method set and a small bake run every method that applies. */
+static void check_sample_policy(void) {
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *s = gen_auto_scene("sample-policy", GEN_CITY, 2, 0.3f, 40, &m, &cells);
+    pvs_bake *a, *alone[PVS_METHOD_COUNT], *part[2];
+    uint32_t n, words, c, k, w, skipped = 0, ran = 0, differ = 0, wrong = 0;
+    memset(alone, 0, sizeof(alone));
+    if (!s) return;
+    CHECK(cells.count >= 4 * PVS_AUTO_SAMPLE_CELLS);
+    n = pvs_scene_object_count(s);
+    words = (uint32_t)PVS_BITSET_WORDS(n);
+    a = bake_with(s, &cells, PVS_METHOD_AUTO, 0, 0, 0.0f);
+    CHECK(a != NULL);
+    if (!a) return;
+    for (k = 0; k < pvs_bake_method_count(a); ++k) {
+        pvs_bake_method_info mi;
+        CHECK(pvs_bake_get_method_info(a, k, &mi) == PVS_OK);
+        if (mi.ran) {
+            ++ran;
+            CHECK(mi.sample_cells == PVS_AUTO_SAMPLE_CELLS);
+            alone[mi.method] = bake_with(s, &cells, mi.method, 0, 0, 0.0f);
+            CHECK(alone[mi.method] != NULL);
+        } else if (strstr(mi.reason, "negligible")) {
+            ++skipped;
+        }
+    }
+    CHECK(ran >= 1);
+    for (c = 0; c < cells.count; ++c) {
+        const pvs_word *got = pvs_bake_cell_pvs(a, c);
+        for (w = 0; w < words; ++w) {
+            pvs_word want = ~(pvs_word)0;
+            for (k = 0; k < PVS_METHOD_COUNT; ++k)
+                if (alone[k]) want &= pvs_bake_cell_pvs(alone[k], c)[w];
+            wrong += got[w] != want;
+        }
+    }
+    CHECK(wrong == 0);
+    for (k = 0; k < 2; ++k) { /* shards: the same sample, the same decision */
+        pvs_bake_desc bd;
+        memset(&bd, 0, sizeof(bd));
+        bd.shard_index = k;
+        bd.shard_count = 2;
+        part[k] = bake_all(&bd, s, &cells);
+        CHECK(part[k] != NULL);
+    }
+    for (c = 0; c < cells.count && part[0] && part[1]; ++c)
+        differ += memcmp(pvs_bake_cell_pvs(part[c % 2], c), pvs_bake_cell_pvs(a, c), words * sizeof(pvs_word)) != 0;
+    CHECK(differ == 0);
+    fprintf(stderr, "  sample policy on %u cells: %u methods ran, %u skipped as negligible\n", cells.count, ran, skipped);
+    for (k = 0; k < 2; ++k) pvs_bake_destroy(part[k]);
+    for (k = 0; k < PVS_METHOD_COUNT; ++k) pvs_bake_destroy(alone[k]);
+    pvs_bake_destroy(a);
+    /* an explicit set runs every method in it that applies (only begin: the choice is made there) */
+    {
+        pvs_bake_desc bd;
+        pvs_error e;
+        memset(&bd, 0, sizeof(bd));
+        bd.scene = s;
+        bd.cells = (const pvs_box *)cells.boxes;
+        bd.cell_count = cells.count;
+        bd.methods = (1u << PVS_METHOD_OTREE) | (1u << PVS_METHOD_EXTPROJ);
+        CHECK(pvs_bake_begin(&bd, &a, &e) == PVS_OK);
+        for (k = 0; k < pvs_bake_method_count(a); ++k) {
+            pvs_bake_method_info mi;
+            CHECK(pvs_bake_get_method_info(a, k, &mi) == PVS_OK && mi.ran && mi.sample_cells == 0);
+        }
+        pvs_bake_destroy(a);
+    }
+    pvs_scene_destroy(s);
+    mesh_free(&m);
+    mesh_cells_free(&cells);
+}
+
 void test_auto(void) {
     check_sweep_default();
     check_mask_preview();
     check_nothing_applies();
     check_max_distance();
     check_restore();
+    check_sample_policy();
     check_auto(GEN_CITY, 0.15f, 1, 10, 1);
     check_auto(GEN_INDOOR, 0.3f, 2, 10, 1);
     check_auto(GEN_WALLS, 0.3f, 3, 10, 1);

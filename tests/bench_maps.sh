@@ -1,0 +1,35 @@
+#!/bin/sh
+# make bench: real Quake 3 levels (issue 28), the OpenArena maps of the package openarena-081-maps
+# (tests/maps.sh; skipped with a message when it is absent). Per map, on an evenly spaced sample of
+# about MAP_CELLS of its BSP-leaf cells (every N-th leaf), one thread:
+#   BENCH auto_ms_per_cell_MAP        auto's time per cell (pvsbake's figure: the cells alone)
+#   BENCH auto_prepare_s_MAP          auto's set-up before the cells (occluder synthesis, trees)
+#   BENCH auto_pvs_vs_q3map2_MAP      auto's mean PVS over the map's own PVS (q3map2's vis) on the same cells
+#   BENCH auto_tightness_MAP          auto's mean PVS over the ray-sampled visible set (pvscheck)
+#   BENCH q3map2_tightness_MAP        the same for the map's own PVS
+#   BENCH auto_misses_MAP             pvscheck's misses for auto (a conservative PVS has 0)
+set -u
+B=${B:-build}
+T=$B/maps
+MAP_CELLS=${MAP_CELLS:-24}
+mkdir -p "$T"
+maps=$(sh tests/maps.sh "$T/all" 1) || { echo "bench_maps: skipped (no OpenArena maps)"; exit 0; }
+for m in $maps; do
+  n=$(grep -vc '^#' "$T/all/$m.cells")
+  step=$(( (n + MAP_CELLS - 1) / MAP_CELLS ))
+  PVS_MAPS=$m sh tests/maps.sh "$T" "$step" >/dev/null || continue
+  out=$("$B/pvsbake" "$T/$m.obj" --cells "$T/$m.cells" -o "$T/$m.auto.pvs" -j 1 --no-state 2>&1 | tr '\r' '\n')
+  per=$(echo "$out" | sed -n 's/.*time per cell \([0-9.]*\) ms.*/\1/p' | tail -1)
+  prep=$(echo "$out" | sed -n 's/.*bake \([0-9.]*\) s wall on 1 thread, \([0-9.]*\) s total.*/\1 \2/p' | tail -1 |
+         awk '{ printf "%.2f", $2 - $1 }')
+  a=$("$B/pvsinfo" "$T/$m.auto.pvs" | awk '/^pvs size/ { print $4 }')
+  q=$("$B/pvsinfo" "$T/$m.q3.pvs" | awk '/^pvs size/ { print $4 }')
+  ca=$("$B/pvscheck" -q "$T/$m.obj" "$T/$m.auto.pvs")
+  cq=$("$B/pvscheck" -q "$T/$m.obj" "$T/$m.q3.pvs")
+  echo "BENCH auto_ms_per_cell_$m $per ms"
+  echo "BENCH auto_prepare_s_$m $prep s"
+  echo "BENCH auto_pvs_vs_q3map2_$m $(awk "BEGIN { printf \"%.2f\", $a / $q }") x"
+  echo "BENCH auto_tightness_$m $(echo "$ca" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p') x"
+  echo "BENCH q3map2_tightness_$m $(echo "$cq" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p') x"
+  echo "BENCH auto_misses_$m $(echo "$ca" | sed -n 's/.*misses \([0-9]*\).*/\1/p') pairs"
+done
