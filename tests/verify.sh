@@ -4,8 +4,8 @@
 #   SCENE SEED SIZE METHOD cells=N misses=N tightness=T
 # Exits non-zero on any miss of a conservative method. The `sample` method is an estimate from below
 # (not conservative): its misses are printed for information and never fail the run. `auto` (the
-# intersection of the conservative methods that apply) must also be at least as tight as the best of
-# the other conservative methods on each scene (its mean PVS no larger).
+# intersection of the conservative methods that cull on its sample) must also be within 2% of the best
+# of the other conservative methods on each scene (its mean PVS at most 1.02 times theirs).
 set -u
 B=${B:-build}
 T=$B/verify
@@ -48,8 +48,10 @@ for kind in city forest indoor walls soup; do
         elif [ "$rc" -ne 0 ]; then fail=1; note=" FAIL"; fi
         echo "$kind $seed $size $method cells=$cells misses=$misses tightness=$tight$note"
       done
-      if [ -n "$auto_pvs" ] && [ -n "$best" ] && awk "BEGIN { exit !($auto_pvs > $best) }"; then
-        echo "$kind $seed $size auto: mean PVS $auto_pvs is larger than the best single method's $best FAIL"; fail=1
+      # auto skips the methods that cull under 2% of what the others keep on its 8 sample cells
+      # (PVS_AUTO_MIN_GAIN): it must be within that of the best single method
+      if [ -n "$auto_pvs" ] && [ -n "$best" ] && awk "BEGIN { exit !($auto_pvs > 1.02 * $best) }"; then
+        echo "$kind $seed $size auto: mean PVS $auto_pvs is over 1.02 times the best single method's $best FAIL"; fail=1
       fi
     done
   done
