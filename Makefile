@@ -147,10 +147,11 @@ $(B)/verify_%: tests/verify_%.c tests/test_%.c tests/test.h $(TOOL_OBJ) $(TOOL_H
 	@mkdir -p $(B)
 	$(CC) -std=c99 $(WARN) -Werror -O2 -g -o $@ tests/verify_$*.c tests/test_$*.c $(TOOL_OBJ) $(LDLIBS)
 
-verify: tools $(B)/verify_raster $(B)/verify_otree
+verify: tools $(B)/verify_raster $(B)/verify_otree $(B)/verify_extproj
 	sh tests/bake_hashes.sh --check
 	./$(B)/verify_raster
 	./$(B)/verify_otree
+	./$(B)/verify_extproj
 	sh tests/verify.sh
 
 clean:

@@ -37,7 +37,7 @@ static const struct {
     {"core", test_core, 1},         {"format", test_format, 4},     {"noalloc", test_noalloc, 1},
     {"kdtree", test_kdtree, 21},    {"gen", test_gen, 1},           {"tools", test_tools, 1},      {"bsp", test_bsp, 1},
     {"cli", test_cli, 7},           {"raster", test_raster, 5},     {"otree", test_otree, 14},
-    {"extproj", test_extproj, 85},  {"shrink", test_shrink, 30},    {"auto", test_auto, 35},
+    {"extproj", test_extproj, 65},  {"shrink", test_shrink, 30},    {"auto", test_auto, 35},
     {"examples", test_examples, 18}, {"vocc", test_vocc, 7},        {"bounded", test_bounded, 1},
 };
 #define GROUP_COUNT (sizeof(groups) / sizeof(groups[0]))

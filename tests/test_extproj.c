@@ -1816,6 +1816,15 @@ static void test_sweep_subcells(void) {
     }
 }
 
+/* The longest scene checks (about 20 s of make test under the sanitizer): make verify runs them
+   (tests/verify_extproj.c). */
+void extproj_verify(void);
+void test_extproj(void);
+void extproj_verify(void) {
+    test_sweep_subcells();
+    test_adaptive();
+}
+
 void test_extproj(void) {
     test_occluder_projection();
     test_occludee_projection();
@@ -1834,8 +1843,6 @@ void test_extproj(void) {
     test_sweep_all_occluders();
     test_sweep_depth();
     test_sweep_parts();
-    test_adaptive();
-    test_sweep_subcells();
     ep_check_scene(GEN_CITY, 0, 1, 0.3f, 24, 16, 1024, 0, 0);
     ep_check_scene(GEN_WALLS, 0, 2, 0.4f, 30, 16, 1024, 0, 0);
     ep_check_scene(GEN_WALLS, 0, 3, 0.3f, 16, 16, 1024, PVS_EXTPROJ_SWEEP_PLANES, 0);
