@@ -1,5 +1,5 @@
 #!/bin/sh
-# make bench: real Quake 3 levels (issue 28), the OpenArena maps of the package openarena-081-maps
+# make bench: the building generator and real Quake 3 levels (issue 28), the OpenArena maps of the package openarena-081-maps
 # (tests/maps.sh; skipped with a message when it is absent). Per map, on an evenly spaced sample of
 # about MAP_CELLS of its BSP-leaf cells (every N-th leaf), one thread:
 #   BENCH auto_ms_per_cell_MAP        auto's time per cell (pvsbake's figure: the cells alone)
@@ -13,6 +13,13 @@ B=${B:-build}
 T=$B/maps
 MAP_CELLS=${MAP_CELLS:-24}
 mkdir -p "$T"
+# the indoor generator's building (pvsgen building, 6 storeys, ~15,000 objects), MAP_CELLS cells
+"$B/pvsgen" building --max-cells "$MAP_CELLS" -o "$T/building.obj" --cells "$T/building.cells" 2>/dev/null
+out=$("$B/pvsbake" "$T/building.obj" --cells "$T/building.cells" -o "$T/building.auto.pvs" -j 1 --no-state 2>&1 | tr '\r' '\n')
+echo "BENCH auto_ms_per_cell_building $(echo "$out" | sed -n 's/.*time per cell \([0-9.]*\) ms.*/\1/p' | tail -1) ms"
+cb=$("$B/pvscheck" -q "$T/building.obj" "$T/building.auto.pvs")
+echo "BENCH auto_tightness_building $(echo "$cb" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p') x"
+echo "BENCH auto_misses_building $(echo "$cb" | sed -n 's/.*misses \([0-9]*\).*/\1/p') pairs"
 maps=$(sh tests/maps.sh "$T/all" 1) || { echo "bench_maps: skipped (no OpenArena maps)"; exit 0; }
 for m in $maps; do
   n=$(grep -vc '^#' "$T/all/$m.cells")

@@ -215,7 +215,7 @@ static void tg_validate(const char *what, const mesh *m, const mesh_cells *cs, c
 static void tg_names(void) {
     gen_kind k = (gen_kind)0;
     int i;
-    for (i = GEN_CITY; i <= GEN_SOUP; ++i) {
+    for (i = GEN_CITY; i <= GEN_BUILDING; ++i) {
         const char *n = gen_kind_name((gen_kind)i);
         CHECK(n != NULL);
         CHECK(n && gen_kind_parse(n, &k) == 0 && k == (gen_kind)i);
@@ -251,7 +251,7 @@ static void tg_bad_params(void) {
     p.size = 0.2f;
     p.kind = (gen_kind)0;
     CHECK(gen_scene(&p, &m, &cs) == -1);
-    p.kind = (gen_kind)6;
+    p.kind = (gen_kind)(GEN_BUILDING + 1);
     CHECK(gen_scene(&p, &m, &cs) == -1);
     CHECK(m.object_count == 0 && m.vertex_count == 0 && cs.count == 0);
     p.kind = GEN_WALLS;
@@ -520,8 +520,37 @@ static void tg_leaves_per_tree(void) {
     CHECK(a.object_count == 0 && ca.count == 0);
 }
 
+/* The building: valid (cells clear of every triangle, names unique) on a small one; storeys, slabs, stairs; the
+   same scene twice; over 10,000 objects at size 1 (issue 28). */
+static void tg_building(void) {
+    mesh a, b;
+    mesh_cells ca, cb;
+    gen_info ia, ib;
+    uint32_t o, storey1 = 0, slab = 0, stairs = 0;
+    CHECK(tg_make(GEN_BUILDING, 3, 0.3f, 0, &a, &ca, &ia) == 0);
+    tg_validate("building", &a, &ca, &ia);
+    for (o = 0; o < a.object_count; ++o) {
+        storey1 += strncmp(a.objects[o].name, "s1_", 3) == 0;
+        slab += strncmp(a.objects[o].name, "slab_1_", 7) == 0;
+        stairs += strstr(a.objects[o].name, "_stair_") != NULL;
+    }
+    CHECK(storey1 >= 50 && slab >= 10 && stairs == 16);
+    if (!(storey1 >= 50 && slab >= 10 && stairs == 16)) fprintf(stderr, "  building: %u %u %u\n", storey1, slab, stairs);
+    CHECK(tg_make(GEN_BUILDING, 3, 0.3f, 0, &b, &cb, &ib) == 0);
+    CHECK(tg_scene_hash(&a, &ca) == tg_scene_hash(&b, &cb));
+    mesh_free(&a);
+    mesh_free(&b);
+    mesh_cells_free(&ca);
+    mesh_cells_free(&cb);
+    CHECK(tg_make(GEN_BUILDING, 1, 1.0f, 0, &a, &ca, &ia) == 0);
+    CHECK(a.object_count >= 10000 && ca.count >= 1000);
+    mesh_free(&a);
+    mesh_cells_free(&ca);
+}
+
 void test_gen(void);
 void test_gen(void) {
+    tg_building();
     tg_names();
     tg_bad_params();
     tg_determinism();

@@ -1503,6 +1503,110 @@ done:
 }
 
 /* ------------------------------------------------------------------------------------------------
+   Building: storeys of the office floor joined by a stair well and a shaft, closed slabs between */
+
+static const double gen__SLAB = 0.4;
+
+/* Box [x0,x1] x [y0,y1] x [z0,z1] cut into 4 m tiles (closed boxes, one object each), except where a tile meets a
+   hole (holes: nh rectangles x0 z0 x1 z1); the tiles are clipped to the holes' x or z range so the opening is the
+   hole itself. */
+static void gen__slab(gen__ctx *c, int level, double x0, double z0, double x1, double z1, double y0, double y1,
+                      const gen__r2 *holes, int nh) {
+    /* cut lines: 4 m steps plus every hole edge, on both axes */
+    double xs[128], zs[128];
+    int nx = 0, nz = 0;
+    for (double x = x0; x < x1 - 1e-9 && nx < 100; x += 4.0) xs[nx++] = x;
+    for (double z = z0; z < z1 - 1e-9 && nz < 100; z += 4.0) zs[nz++] = z;
+    for (int h = 0; h < nh; ++h) {
+        xs[nx++] = holes[h].x0; xs[nx++] = holes[h].x1;
+        zs[nz++] = holes[h].z0; zs[nz++] = holes[h].z1;
+    }
+    xs[nx++] = x1;
+    zs[nz++] = z1;
+    for (int i = 1; i < nx; ++i) /* sort, drop duplicates */
+        for (int j = i; j > 0 && xs[j] < xs[j - 1]; --j) { double t = xs[j]; xs[j] = xs[j - 1]; xs[j - 1] = t; }
+    for (int i = 1; i < nz; ++i)
+        for (int j = i; j > 0 && zs[j] < zs[j - 1]; --j) { double t = zs[j]; zs[j] = zs[j - 1]; zs[j - 1] = t; }
+    for (int j = 0; j + 1 < nz; ++j)
+        for (int i = 0; i + 1 < nx; ++i) {
+            double a = xs[i], b = xs[i + 1], d = zs[j], e = zs[j + 1];
+            int open = 0;
+            if (b - a < 1e-6 || e - d < 1e-6) continue;
+            for (int h = 0; h < nh; ++h)
+                open |= a >= holes[h].x0 - 1e-9 && b <= holes[h].x1 + 1e-9 && d >= holes[h].z0 - 1e-9 && e <= holes[h].z1 + 1e-9;
+            if (open) continue;
+            gen__obj(c, "slab_%d_%d_%d", level, i, j);
+            gen__aabox(c, a, y0, d, b, y1, e);
+        }
+}
+
+static int gen__building_scene(gen__ctx *c, const gen_params *P) {
+    mesh plan;
+    mesh_cells fcells;
+    gen__ctx fc;
+    gen_params fp = *P;
+    const double t = gen__T, cw = 2.8, storey = gen__H + gen__SLAB;
+    int storeys = (int)floor(6.0 * P->size + 0.5), ret = -1;
+    if (storeys < 2) storeys = 2;
+    mesh_init(&plan);
+    mesh_cells_init(&fcells);
+    memset(&fc, 0, sizeof fc);
+    fc.m = &plan;
+    fc.cells = &fcells;
+    fc.rng = c->rng;
+    fp.size = 2.0f * P->size > 8.0f ? 8.0f : 2.0f * P->size;
+    fp.max_cells = 0;
+    if (gen__indoor_scene(&fc, &fp) || fc.err) goto done;
+    double W = -1e300, D = -1e300;
+    for (uint32_t v = 0; v < plan.vertex_count; ++v) {
+        W = gen__max(W, plan.positions[3 * v] - t);
+        D = gen__max(D, plan.positions[3 * v + 2] - t);
+    }
+    /* the stair well at the north end of the west corridor, the shaft at its south end */
+    gen__r2 holes[2] = {{0.0, D - 7.6, cw, D - 0.6}, {0.4, 1.0, cw - 0.4, 3.0}};
+    for (int k = 0; k < storeys && !c->err; ++k) {
+        double y = k * storey;
+        for (uint32_t o = 0; o < plan.object_count; ++o) { /* the floor plan without its floor and ceiling tiles */
+            const mesh_object *ob = &plan.objects[o];
+            if (!strncmp(ob->name, "floor_", 6) || !strncmp(ob->name, "ceiling_", 8)) continue;
+            gen__obj(c, "s%d_%s", k, ob->name);
+            for (uint32_t tr = ob->first_triangle; tr < ob->first_triangle + ob->triangle_count; ++tr) {
+                uint32_t id[3];
+                for (int q = 0; q < 3; ++q) {
+                    const float *pv = plan.positions + 3 * plan.indices[3 * tr + q];
+                    id[q] = gen__v(c, pv[0], pv[1] + y, pv[2]);
+                }
+                gen__tri(c, id[0], id[1], id[2]);
+            }
+        }
+        if (k + 1 < storeys) /* a flight of 16 steps from this floor to the next, rising northward */
+            for (int st = 0; st < 16; ++st) {
+                double z0 = holes[0].z0 + st * (holes[0].z1 - holes[0].z0 - 0.4) / 16.0;
+                gen__obj(c, "s%d_stair_%d", k, st);
+                gen__aabox(c, 0.2, y, z0, cw - 0.2, y + (st + 1) * storey / 16.0, z0 + (holes[0].z1 - holes[0].z0 - 0.4) / 16.0);
+            }
+        for (uint32_t i = 0; i < fcells.count; ++i) { /* the cells, but not over the stairs or the shaft */
+            const float *b = fcells.boxes + 6 * (size_t)i;
+            int clear = 1;
+            for (int h = 0; h < 2; ++h)
+                clear &= b[3] < holes[h].x0 - 0.2 || b[0] > holes[h].x1 + 0.2 || b[5] < holes[h].z0 - 0.2 || b[2] > holes[h].z1 + 0.2;
+            if (clear) gen__cell(c, b[0], b[1] + y, b[2], b[3], b[4] + y, b[5]);
+        }
+    }
+    /* slabs: the ground floor's, one between storeys (with the well and the shaft), the roof */
+    for (int k = 0; k <= storeys && !c->err; ++k) {
+        double y0 = k == 0 ? -gen__SLAB : (k - 1) * storey + gen__H; /* under storey k, or the roof */
+        gen__slab(c, k, -t, -t, W + t, D + t, y0, y0 + gen__SLAB, holes, k == 0 || k == storeys ? 0 : 2);
+    }
+    if (P->max_cells) gen__thin_cells(c->cells, 0, P->max_cells);
+    ret = c->err ? -1 : 0;
+done:
+    mesh_free(&plan);
+    mesh_cells_free(&fcells);
+    return ret;
+}
+
+/* ------------------------------------------------------------------------------------------------
    Walls: a maze of zero-thickness quads */
 
 /* The maze: every wall segment standing at first (hw[j * M + i] on z = j * S between x = i * S and
@@ -1748,12 +1852,13 @@ const char *gen_kind_name(gen_kind k) {
     case GEN_INDOOR: return "indoor";
     case GEN_WALLS: return "walls";
     case GEN_SOUP: return "soup";
+    case GEN_BUILDING: return "building";
     }
     return NULL;
 }
 
 int gen_kind_parse(const char *s, gen_kind *out) {
-    for (int k = GEN_CITY; k <= GEN_SOUP && s; ++k) {
+    for (int k = GEN_CITY; k <= GEN_BUILDING && s; ++k) {
         const char *n = gen_kind_name((gen_kind)k);
         if (n && strcmp(n, s) == 0) {
             if (out) *out = (gen_kind)k;
@@ -1786,6 +1891,7 @@ int gen_scene_ex(const gen_params *p, mesh *m, mesh_cells *cells, gen_info *info
     case GEN_CITY: rc = gen__city_scene(&c, p, info); break;
     case GEN_FOREST: rc = p->dense ? gen__forest_dense(&c, p) : gen__forest(&c, p); break;
     case GEN_INDOOR: rc = gen__indoor_scene(&c, p); break;
+    case GEN_BUILDING: rc = gen__building_scene(&c, p); break;
     case GEN_WALLS: rc = gen__walls(&c, p); break;
     default: rc = gen__soup(&c, p); break;
     }

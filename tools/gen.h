@@ -55,6 +55,13 @@
            seen over), 8% raised 0.8-1.2 m above the ground (seen under)), panel_N (free-standing
            quads at random angles), box_N and pyramid_N (small objects in corners). No ground.
            Cells: y 0.5..2.0, one per maze square without a panel.
+   building  ~13k objects at size 1. round(6 size) storeys (at least 2) of the indoor floor plan at twice
+           the size (160 m x ~90 m at size 1), 3 m high, on closed 0.4 m slabs cut into 4 m tiles
+           (slab_L_I_J); a stair well at the north end of the west corridor (16 closed steps per
+           flight, s<K>_stair_N) and an open shaft at its south end go through every slab between
+           storeys; the storeys' objects are the floor plan's, named s<K>_NAME, without its floor and
+           ceiling tiles. No windows yet. Cells: the floor plan's on every storey, but none over the
+           stairs or the shaft.
    soup    2000 / 50k / 880, ~0.015 s. Objects soup_N of 10-40 random triangles (edges 0.15-3 m,
            random orientations) in a 100 m cube; cells are 3 m cubes that touch no triangle.
 
@@ -71,7 +78,7 @@
 #include <stdint.h>
 #include "mesh.h"
 
-typedef enum gen_kind { GEN_CITY = 1, GEN_FOREST, GEN_INDOOR, GEN_WALLS, GEN_SOUP } gen_kind;
+typedef enum gen_kind { GEN_CITY = 1, GEN_FOREST, GEN_INDOOR, GEN_WALLS, GEN_SOUP, GEN_BUILDING } gen_kind;
 
 typedef struct gen_params {
     gen_kind kind;

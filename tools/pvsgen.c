@@ -1,5 +1,5 @@
 /* pvsgen - write a procedural test scene (OBJ) and its view cells.
-   usage: pvsgen city|forest|indoor|walls|soup [--seed N] [--size S] [--max-cells N] [--dense] -o OUT.obj [--cells OUT_CELLS.txt]
+   usage: pvsgen city|forest|indoor|walls|soup|building [--seed N] [--size S] [--max-cells N] [--dense] -o OUT.obj [--cells OUT_CELLS.txt]
    Exit codes: 0 ok, 1 I/O error or out of memory, 2 usage. */
 #if !defined(_WIN32) && !defined(_POSIX_C_SOURCE)
 #define _POSIX_C_SOURCE 200809L
@@ -14,7 +14,7 @@
 
 static void usage(FILE *f) {
     fprintf(f,
-            "usage: pvsgen city|forest|indoor|walls|soup [--seed N] [--size S] [--max-cells N] [--dense]\n"
+            "usage: pvsgen city|forest|indoor|walls|soup|building [--seed N] [--size S] [--max-cells N] [--dense]\n"
             "              [--leaves-per-tree N] [--cell-size M] -o OUT.obj [--cells OUT_CELLS.txt]\n"
             "\n"
             "Writes a deterministic procedural test scene as OBJ (Y up, metres, ground at y = 0) and its\n"
