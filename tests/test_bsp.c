@@ -215,6 +215,7 @@ static void tb_errors(void) {
     tb_bad(t.at[13] + 16, 40, "surfaces[0]: vertex range 0+40");
     tb_bad(t.at[11] + 8, 5, "index 5 not in [0, 4)");
     tb_bad(t.at[13] + 104 + 96, 4, "patch of 4 x 3");
+    tb_bad(t.at[13] + 104 + 96, 67, "patch of 67 x 3");
     tb_bad(t.at[10], nan_bits, "drawverts[0]: position is not finite");
     tb_bad(t.at[9], 99, "brushsides[0]: plane 99");
     tb_bad(t.at[8] + 4, 60, "brushes[0]: side range");

@@ -19,6 +19,7 @@ enum { MST_PLANAR = 1, MST_PATCH = 2, MST_TRIANGLE_SOUP = 3, MST_FLARE = 4 };
 #define CONTENTS_SOLID 1u
 #define CONTENTS_SEE_THROUGH (8u | 16u | 32u | 64u | 0x20000000u) /* lava slime water fog translucent */
 #define SURF_NODRAW 0x80u
+#define BSP_MAX_VERTICES (1u << 26) /* the scene's vertices: a bound on what patches may expand to */
 
 typedef struct bsp_lump {
     const uint8_t *p;
@@ -158,7 +159,7 @@ static int add_triangles(const bsp_reader *r, uint32_t s, const uint8_t *f, mesh
 static int add_patch(const bsp_reader *r, uint32_t s, const uint8_t *f, uint32_t level, mesh *m, tool_error *err) {
     int32_t fv = rd_i32(f + 12), nv = rd_i32(f + 16), w = rd_i32(f + 96), h = rd_i32(f + 100);
     if (check_range(r, L_SURFACES, s, "vertex", fv, nv, r->l[L_DRAWVERTS].count, "vertices")) return -1;
-    if (w < 3 || h < 3 || !(w & 1) || !(h & 1) || w > 1025 || h > 1025 || (int64_t)w * h != nv) {
+    if (w < 3 || h < 3 || !(w & 1) || !(h & 1) || w > 65 || h > 65 || (int64_t)w * h != nv) {
         tool_error_set(err, r->path, 0, "surfaces[%u]: patch of %d x %d control points with %d vertices", s, w, h, nv);
         return -1;
     }
@@ -176,6 +177,11 @@ static int add_patch(const bsp_reader *r, uint32_t s, const uint8_t *f, uint32_t
                     to_y_up(q, c[j][i]);
                 }
             uint32_t base = m->vertex_count;
+            if (base > BSP_MAX_VERTICES) {
+                tool_error_set(err, r->path, 0, "surfaces[%u]: over %u vertices after tessellating the patches", s,
+                               BSP_MAX_VERTICES);
+                return -1;
+            }
             for (uint32_t y = 0; y <= level; ++y)
                 for (uint32_t x = 0; x <= level; ++x) {
                     double u = (double)x / level, v = (double)y / level;

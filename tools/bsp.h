@@ -6,7 +6,8 @@
    - Objects: one per drawn surface, in the file's surface order, so object i is surface i. Planar
      surfaces and triangle meshes keep their triangles; Bezier patches are tessellated (each 3 x 3
      control block into `patch_level` x `patch_level` quads); flares, and surfaces whose shader says
-     `nodraw`, are objects with no triangles (they keep their id and are never visible).
+     `nodraw`, are objects with no triangles (they keep their id and are never visible). A patch has at most
+     65 x 65 control points and the scene at most 2^26 vertices: bounded memory on any input.
    - One more object, last, named `occluder_brushes`: the hulls of the world's solid brushes (the
      convex polyhedra of model 0's brushes whose contents are solid and not translucent, water,
      lava, slime or fog). It blocks sight and is never drawn.
