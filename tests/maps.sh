@@ -32,7 +32,7 @@ for m in $MAPS; do
     if [ ! -s "$bsp.tmp" ]; then rm -f "$bsp.tmp"; echo "maps: $m not in $PK3, skipped" >&2; continue; fi
     mv "$bsp.tmp" "$bsp"
   fi
-  if ./build/pvsimport -q "$bsp" -o "$out/$m.obj" --cells "$out/$m.cells" --pvs "$out/$m.q3.pvs" --cell-step "$step"; then
+  if "${B:-build}/pvsimport" -q "$bsp" -o "$out/$m.obj" --cells "$out/$m.cells" --pvs "$out/$m.q3.pvs" --cell-step "$step"; then
     echo "$m"
   else
     echo "maps: $m: import failed" >&2
