@@ -1,4 +1,4 @@
-/* pvs.h - v0.4.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.5.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -250,6 +250,8 @@
 
    RECENT HISTORY
    ==============
+   0.5.0 (2026-11-28) AUTO keeps only the methods that cull on a sample of cells (PVS_AUTO_SAMPLE_CELLS,
+					  PVS_AUTO_MIN_GAIN; pvs_bake_method_info.sample_cells, sample_gain). File format unchanged.
    0.4.0 (2026-11-28) API: per-method parameter structs in pvs_bake_desc (extproj_sweep is now extproj.sweep);
 					  getters renamed pvs_*_get_* (pvs_bake_otree_info is now pvs_bake_get_otree_info, ...);
 					  test-only flags need PVS_TEST_HOOKS. New: AUTO, resuming, virtual occluders, adaptive
@@ -268,7 +270,7 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 4
+#define PVS_VERSION_MINOR 5
 #define PVS_VERSION_PATCH 0
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 /* The .pvs file format version this header writes and reads. */
@@ -22695,6 +22697,8 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
+   0.5.0 (2026-11-28) AUTO pays for what culls (a sample of cells chooses the methods it runs); shared
+					  kernels (priority queue, union-find); the header indented with tabs.
    0.4.0 (2026-11-28) AUTO (the default), max_distance, PREVIEW, resumable bakes, virtual occluders (vocc),
 					  extproj's slices, sheets and occlusion sweep, adaptive cells; bounded memory; the
 					  method table; per-method parameter structs in pvs_bake_desc, pvs_*_get_* getters.
