@@ -19,6 +19,7 @@ enum { MST_PLANAR = 1, MST_PATCH = 2, MST_TRIANGLE_SOUP = 3, MST_FLARE = 4 };
 #define CONTENTS_SOLID 1u
 #define CONTENTS_SEE_THROUGH (8u | 16u | 32u | 64u | 0x20000000u) /* lava slime water fog translucent */
 #define SURF_NODRAW 0x80u
+#define BSP_SHRINK 0.01 /* game units a brush hull is pulled inward: conservative rounding */
 #define BSP_MAX_VERTICES (1u << 26) /* the scene's vertices: a bound on what patches may expand to */
 
 typedef struct bsp_lump {
@@ -315,6 +316,30 @@ static int brush_blocks(const bsp_reader *r, uint32_t b, int32_t fs, int32_t ns)
     return 1;
 }
 
+/* One face of a brush hull, its vertices moved BSP_SHRINK toward the hull's centroid c (inside a convex solid, so
+   still inside it; float rounding, far smaller, cannot push them out), fan-triangulated. -1 when out of memory. */
+static int add_hull_face(const bsp_winding *w, const double c[3], mesh *m, bsp_stats *st) {
+    uint32_t base = m->vertex_count;
+    for (uint32_t k = 0; k < w->n; ++k) {
+        double v[3], len = 0.0;
+        float q[3], y[3];
+        for (int a = 0; a < 3; ++a) {
+            v[a] = w->p[k][a] - c[a];
+            len += v[a] * v[a];
+        }
+        len = sqrt(len);
+        double f = len > 2 * BSP_SHRINK ? 1.0 - BSP_SHRINK / len : 0.5;
+        for (int a = 0; a < 3; ++a) q[a] = (float)(c[a] + f * v[a]);
+        to_y_up(q, y);
+        if (mesh_add_vertex(m, y[0], y[1], y[2])) return -1;
+    }
+    for (uint32_t k = 1; k + 1 < w->n; ++k) {
+        if (mesh_add_triangle(m, base, base + k, base + k + 1)) return -1;
+        ++st->hull_triangles;
+    }
+    return 0;
+}
+
 static int add_brush(const bsp_reader *r, uint32_t b, mesh *m, bsp_stats *st, tool_error *err) {
     const uint8_t *br = rec(r, L_BRUSHES, b);
     int32_t fs = rd_i32(br), ns = rd_i32(br + 4);
@@ -328,31 +353,34 @@ static int add_brush(const bsp_reader *r, uint32_t b, mesh *m, bsp_stats *st, to
         if (read_plane(r, (uint32_t)(fs + i), n[i], &d[i], err)) return -1;
         plane[i] = rd_i32(rec(r, L_BRUSHSIDES, (uint32_t)(fs + i)));
     }
-    ++st->occluder_brushes;
-    for (int32_t i = 0; i < ns; ++i) {
-        int dup = 0;
-        for (int32_t j = 0; j < i; ++j) dup |= plane[j] == plane[i];
-        if (dup) continue;
-        bsp_winding w;
-        side_winding(n[i], d[i], &w);
-        for (int32_t j = 0; j < ns && w.n >= 3; ++j)
-            if (plane[j] != plane[i]) clip_winding(&w, n[j], d[j]);
-        if (w.n < 3) continue;
-        uint32_t base = m->vertex_count;
-        for (uint32_t k = 0; k < w.n; ++k) {
-            float q[3] = {(float)w.p[k][0], (float)w.p[k][1], (float)w.p[k][2]}, y[3];
-            to_y_up(q, y);
-            if (mesh_add_vertex(m, y[0], y[1], y[2])) goto oom;
+    /* two passes: the hull's vertex centroid c, then the faces pulled toward c by BSP_SHRINK, so that the float
+       hull lies strictly inside the brush (a hair less occlusion, never more) */
+    double c[3] = {0, 0, 0}, cn = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1) {
+            if (cn == 0) return 0; /* an empty hull */
+            for (int a = 0; a < 3; ++a) c[a] /= cn;
+            ++st->occluder_brushes;
         }
-        for (uint32_t k = 1; k + 1 < w.n; ++k) {
-            if (mesh_add_triangle(m, base, base + k, base + k + 1)) goto oom;
-            ++st->hull_triangles;
+        for (int32_t i = 0; i < ns; ++i) {
+            int dup = 0;
+            for (int32_t j = 0; j < i; ++j) dup |= plane[j] == plane[i];
+            if (dup) continue;
+            bsp_winding w;
+            side_winding(n[i], d[i], &w);
+            for (int32_t j = 0; j < ns && w.n >= 3; ++j)
+                if (plane[j] != plane[i]) clip_winding(&w, n[j], d[j]);
+            if (w.n < 3) continue;
+            if (pass == 0) {
+                for (uint32_t k = 0; k < w.n; ++k, ++cn)
+                    for (int a = 0; a < 3; ++a) c[a] += w.p[k][a];
+            } else if (add_hull_face(&w, c, m, st)) {
+                tool_error_set(err, r->path, 0, "out of memory");
+                return -1;
+            }
         }
     }
     return 0;
-oom:
-    tool_error_set(err, r->path, 0, "out of memory");
-    return -1;
 }
 
 static int read_brushes(const bsp_reader *r, mesh *m, bsp_stats *st, tool_error *err) {
