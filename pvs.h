@@ -1211,7 +1211,8 @@ typedef struct pvs_bake_method_info {
 	/* 1: it tested only what earlier methods kept (AUTO runs SHRINK last: the same intersection, far less
 	   time); pvs_sum counts their culls as kept. */
 	int kept_only;
-	/* AUTO's sample (sample_cells > 0): objects per sample cell it culled beyond the methods kept before it */
+	/* AUTO's sample (sample_cells > 0): objects per sample cell it culled beyond the methods kept before it (a
+	   skipped one: beyond all those kept) */
 	uint32_t sample_cells;
 	float sample_gain;
 } pvs_bake_method_info;
@@ -20359,6 +20360,8 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 				const pvs_word *own = bits + ((size_t)s * (n + 1) + k) * words;
 				for (w = 0; w < words; ++w) sum += (double)pvs__popcount64((kept ? cur[w] : ~(pvs_word)0) & ~own[w]);
 			}
+			for (i = 0; i < b->considered_count; ++i) /* kept: its gain when chosen; skipped: its last */
+				if (b->considered[i] == b->run[k]) b->sample_gain[i] = (float)(sum / S);
 			if (sum > best_gain) {
 				best_gain = sum;
 				best = k;
@@ -20366,8 +20369,6 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 		}
 		if (kept && best_gain < PVS_AUTO_MIN_GAIN * base) break;
 		keep[best] = 1;
-		for (i = 0; i < b->considered_count; ++i)
-			if (b->considered[i] == b->run[best]) b->sample_gain[i] = (float)(best_gain / S);
 		for (base = 0.0, s = 0; s < S; ++s) {
 			pvs_word *cur = bits + ((size_t)s * (n + 1) + n) * words;
 			const pvs_word *own = bits + ((size_t)s * (n + 1) + best) * words;

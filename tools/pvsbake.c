@@ -298,7 +298,9 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
             pvs_bake_method_info mi;
             if (pvs_bake_get_method_info(bake, i, &mi) != PVS_OK) continue;
             if (!mi.ran) {
-                fprintf(stderr, "  %-8s skipped: %s\n", pvs_method_name(mi.method), mi.reason);
+                fprintf(stderr, "  %-8s skipped: %s", pvs_method_name(mi.method), mi.reason);
+                if (mi.sample_cells) fprintf(stderr, " (%.1f objects per cell on %u sample cells)", (double)mi.sample_gain, mi.sample_cells);
+                fprintf(stderr, "\n");
             } else if (mi.cells && mi.kept_only) {
                 fprintf(stderr, "  %-8s ran (%s) on the objects the others kept: it alone culled %.1f per cell\n", pvs_method_name(mi.method),
                         mi.reason, (double)mi.sole_culls / mi.cells);
