@@ -427,7 +427,7 @@ static int read_cells(const bsp_reader *r, mesh_cells *cells, bsp_stats *st, too
             tool_error_set(err, r->path, 0, "leafs[%u]: bounds min > max", i);
             return -1;
         }
-        if ((k++ % r->cell_step) != 0) continue;
+        if (!leaf_is_cell(r, i, &k)) continue;
         if (cells && mesh_cells_add(cells, box)) {
             tool_error_set(err, r->path, 0, "out of memory");
             return -1;

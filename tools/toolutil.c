@@ -97,12 +97,12 @@ static int write_stream_close(FILE *f, int (*fn)(FILE *f, const void *ctx), cons
 
 int write_stream_atomic(const char *path, int (*fn)(FILE *f, const void *ctx), const void *ctx, tool_error *err) {
     struct stat st;
-    int e;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+    int e, exists = stat(path, &st) == 0;
+    if (exists && S_ISDIR(st.st_mode)) {
         tool_error_set(err, path, 0, "is a directory");
         return -1;
     }
-    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) { /* /dev/null, a pipe: written in place */
+    if (exists && !S_ISREG(st.st_mode)) { /* /dev/null, a pipe: written in place */
         FILE *f = fopen(path, "wb");
         e = f ? write_stream_close(f, fn, ctx) : errno;
         if (e) tool_error_set(err, path, 0, "%s: %s", f ? "write error" : "cannot open", strerror(e));
