@@ -89,6 +89,7 @@ static void tb_build(tb_level *t) {
     p = tb_lump(t, 13, 3 * 104); /* surfaces: planar quad, patch, flare (shader 1: water) */
     int32_t s0[7] = {0, -1, 1, 0, 4, 0, 6}, s1[7] = {0, -1, 2, 4, 9, 0, 0}, s2[7] = {1, -1, 4, 13, 1, 0, 0};
     tb_i32s(p, s0, 7);
+    tb_putf(p + 92, 1.0f); /* the quad's normal: Quake +z */
     tb_i32s(p + 104, s1, 7);
     tb_put32(p + 104 + 96, 3);
     tb_put32(p + 104 + 100, 3);
@@ -139,15 +140,20 @@ static void tb_reads(void) {
     /* leaf 0 box: Quake (-100,-100,64)..(0,100,200) -> Y up (-100,64,-100)..(0,200,100) */
     CHECK(c.boxes[0] == -100 && c.boxes[1] == 64 && c.boxes[2] == -100 && c.boxes[3] == 0 && c.boxes[4] == 200 &&
           c.boxes[5] == 100);
-    /* the hull lies on the box [0,64]^3, Y up: y in [0, 64], z in [-64, 0] ... */
+    /* the hull is the box [0,64]^3 exactly (Y up: y in [0, 64], z in [-64, 0]), its 6 faces sharing 8 corners */
     float lo[3] = {1e9f, 1e9f, 1e9f}, hi[3] = {-1e9f, -1e9f, -1e9f};
+    uint32_t vlo = UINT32_MAX, vhi = 0;
     for (uint32_t i = 0; i < 36; ++i) {
-        const float *v = m.positions + 3 * m.indices[3 * m.objects[3].first_triangle + i];
+        uint32_t vi = m.indices[3 * m.objects[3].first_triangle + i];
+        const float *v = m.positions + 3 * vi;
         for (int k = 0; k < 3; ++k) lo[k] = fminf(lo[k], v[k]), hi[k] = fmaxf(hi[k], v[k]);
+        vlo = vi < vlo ? vi : vlo;
+        vhi = vi > vhi ? vi : vhi;
     }
-    /* ... pulled inward by a hair (BSP_SHRINK, 0.01), never outward */
-    CHECK(lo[0] > 0 && lo[0] < 0.02f && hi[0] < 64 && hi[0] > 63.98f && lo[1] > 0 && lo[1] < 0.02f && hi[1] < 64 &&
-          hi[1] > 63.98f && lo[2] > -64 && lo[2] < -63.98f && hi[2] < 0 && hi[2] > -0.02f);
+    CHECK(lo[0] == 0 && hi[0] == 64 && lo[1] == 0 && hi[1] == 64 && lo[2] == -64 && hi[2] == 0 && vhi - vlo == 7);
+    /* the planar quad is lifted BSP_LIFT (0.01) along its normal, Quake +z (Y up +y) */
+    for (uint32_t i = 0; i < 6; ++i)
+        CHECK(fabsf(m.positions[3 * m.indices[3 * m.objects[0].first_triangle + i] + 1] - 70.01f) < 1e-4f);
     /* a patch vertex: the corner control point (0, 80, 70) -> (0, 70, -80) */
     const float *pv = m.positions + 3 * m.indices[3 * m.objects[1].first_triangle];
     CHECK(pv[0] == 0 && pv[1] == 70 && pv[2] == -80);

@@ -19,7 +19,9 @@ enum { MST_PLANAR = 1, MST_PATCH = 2, MST_TRIANGLE_SOUP = 3, MST_FLARE = 4 };
 #define CONTENTS_SOLID 1u
 #define CONTENTS_SEE_THROUGH (8u | 16u | 32u | 64u | 0x20000000u) /* lava slime water fog translucent */
 #define SURF_NODRAW 0x80u
-#define BSP_SHRINK 0.01 /* game units a brush hull is pulled inward: conservative rounding */
+#define BSP_LIFT 0.01 /* game units a planar surface is lifted off its brush face, along its normal: the hulls stay
+                        exact (touching brushes leave no crack) and never hide the surface drawn on them */
+#define BSP_WELD 1e-3 /* a brush's corners closer than this are one vertex (one plane triple, rounded apart) */
 #define BSP_MAX_VERTICES (1u << 26) /* the scene's vertices: a bound on what patches may expand to */
 
 typedef struct bsp_lump {
@@ -109,13 +111,16 @@ static void to_y_up(const float q[3], float out[3]) {
 
 static int finite3(const float v[3]) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
 
-static int add_vertex(const bsp_reader *r, mesh *m, uint32_t vertex, tool_error *err) {
+/* Adds drawvert `vertex`, moved by `lift` (NULL: not moved). */
+static int add_vertex(const bsp_reader *r, mesh *m, uint32_t vertex, const double *lift, tool_error *err) {
     const uint8_t *v = rec(r, L_DRAWVERTS, vertex);
     float q[3] = {rd_f32(v), rd_f32(v + 4), rd_f32(v + 8)}, y[3];
     if (!finite3(q)) {
         tool_error_set(err, r->path, 0, "drawverts[%u]: position is not finite", vertex);
         return -1;
     }
+    if (lift)
+        for (int k = 0; k < 3; ++k) q[k] = (float)(q[k] + lift[k]);
     to_y_up(q, y);
     if (mesh_add_vertex(m, y[0], y[1], y[2])) {
         tool_error_set(err, r->path, 0, "out of memory");
@@ -124,8 +129,13 @@ static int add_vertex(const bsp_reader *r, mesh *m, uint32_t vertex, tool_error 
     return 0;
 }
 
-/* Planar surfaces and triangle soups: their vertices and index triples (Quake's winding). */
+/* Planar surfaces and triangle soups: their vertices and index triples (Quake's winding). A planar surface lies
+   on a brush face: it is lifted BSP_LIFT along its normal (the record's lightmap normal, when a unit vector). */
 static int add_triangles(const bsp_reader *r, uint32_t s, const uint8_t *f, mesh *m, tool_error *err) {
+    float nf[3] = {rd_f32(f + 84), rd_f32(f + 88), rd_f32(f + 92)};
+    double lift[3], len = finite3(nf) ? sqrt((double)nf[0] * nf[0] + (double)nf[1] * nf[1] + (double)nf[2] * nf[2]) : 0;
+    int lifted = rd_i32(f + 8) == MST_PLANAR && len > 0.99 && len < 1.01;
+    for (int k = 0; k < 3; ++k) lift[k] = lifted ? BSP_LIFT * nf[k] / len : 0.0;
     int32_t fv = rd_i32(f + 12), nv = rd_i32(f + 16), fi = rd_i32(f + 20), ni = rd_i32(f + 24);
     if (check_range(r, L_SURFACES, s, "vertex", fv, nv, r->l[L_DRAWVERTS].count, "vertices") ||
         check_range(r, L_SURFACES, s, "index", fi, ni, r->l[L_DRAWINDEXES].count, "indices"))
@@ -136,7 +146,7 @@ static int add_triangles(const bsp_reader *r, uint32_t s, const uint8_t *f, mesh
     }
     uint32_t base = m->vertex_count;
     for (int32_t i = 0; i < nv; ++i)
-        if (add_vertex(r, m, (uint32_t)(fv + i), err)) return -1;
+        if (add_vertex(r, m, (uint32_t)(fv + i), lifted ? lift : NULL, err)) return -1;
     for (int32_t i = 0; i < ni; i += 3) {
         uint32_t t[3];
         for (int k = 0; k < 3; ++k) {
@@ -316,28 +326,14 @@ static int brush_blocks(const bsp_reader *r, uint32_t b, int32_t fs, int32_t ns)
     return 1;
 }
 
-/* One face of a brush hull, its vertices moved BSP_SHRINK toward the hull's centroid c (inside a convex solid, so
-   still inside it; float rounding, far smaller, cannot push them out), fan-triangulated. -1 when out of memory. */
-static int add_hull_face(const bsp_winding *w, const double c[3], mesh *m, bsp_stats *st) {
-    uint32_t base = m->vertex_count;
-    for (uint32_t k = 0; k < w->n; ++k) {
-        double v[3], len = 0.0;
-        float q[3], y[3];
-        for (int a = 0; a < 3; ++a) {
-            v[a] = w->p[k][a] - c[a];
-            len += v[a] * v[a];
-        }
-        len = sqrt(len);
-        double f = len > 2 * BSP_SHRINK ? 1.0 - BSP_SHRINK / len : 0.5;
-        for (int a = 0; a < 3; ++a) q[a] = (float)(c[a] + f * v[a]);
-        to_y_up(q, y);
-        if (mesh_add_vertex(m, y[0], y[1], y[2])) return -1;
-    }
-    for (uint32_t k = 1; k + 1 < w->n; ++k) {
-        if (mesh_add_triangle(m, base, base + k, base + k + 1)) return -1;
-        ++st->hull_triangles;
-    }
-    return 0;
+/* The index of corner x among the brush's welded corners (added when new); -1 when there are too many. */
+static int32_t weld_corner(double (*c)[3], uint32_t *n, uint32_t cap, const double x[3]) {
+    for (uint32_t i = 0; i < *n; ++i)
+        if (fabs(c[i][0] - x[0]) < BSP_WELD && fabs(c[i][1] - x[1]) < BSP_WELD && fabs(c[i][2] - x[2]) < BSP_WELD)
+            return (int32_t)i;
+    if (*n == cap) return -1;
+    memcpy(c[*n], x, sizeof(c[0]));
+    return (int32_t)(*n)++;
 }
 
 static int add_brush(const bsp_reader *r, uint32_t b, mesh *m, bsp_stats *st, tool_error *err) {
@@ -353,34 +349,52 @@ static int add_brush(const bsp_reader *r, uint32_t b, mesh *m, bsp_stats *st, to
         if (read_plane(r, (uint32_t)(fs + i), n[i], &d[i], err)) return -1;
         plane[i] = rd_i32(rec(r, L_BRUSHSIDES, (uint32_t)(fs + i)));
     }
-    /* two passes: the hull's vertex centroid c, then the faces pulled toward c by BSP_SHRINK, so that the float
-       hull lies strictly inside the brush (a hair less occlusion, never more) */
-    double c[3] = {0, 0, 0}, cn = 0;
-    for (int pass = 0; pass < 2; ++pass) {
-        if (pass == 1) {
-            if (cn == 0) return 0; /* an empty hull */
-            for (int a = 0; a < 3; ++a) c[a] /= cn;
-            ++st->occluder_brushes;
+    /* the hull exact (rounded to nearest once per corner) and closed: faces share the welded corners, so a
+       brush is one connected closed convex mesh (what the portal method's rooms are built from) */
+    enum { CORNERS = 1024, FACE_CORNERS = 8192 };
+    double (*corner)[3] = malloc(CORNERS * sizeof(*corner));
+    int32_t *face = malloc(FACE_CORNERS * sizeof(*face));
+    uint32_t corners = 0, used = 0, faces_at[257], face_count = 0;
+    int rc = 0;
+    if (!corner || !face) rc = -1;
+    for (int32_t i = 0; i < ns && rc == 0; ++i) {
+        int dup = 0;
+        for (int32_t j = 0; j < i; ++j) dup |= plane[j] == plane[i];
+        if (dup) continue;
+        bsp_winding w;
+        side_winding(n[i], d[i], &w);
+        for (int32_t j = 0; j < ns && w.n >= 3; ++j)
+            if (plane[j] != plane[i]) clip_winding(&w, n[j], d[j]);
+        if (w.n < 3) continue;
+        faces_at[face_count++] = used;
+        for (uint32_t k = 0; k < w.n && rc == 0; ++k) {
+            int32_t v = used < FACE_CORNERS ? weld_corner(corner, &corners, CORNERS, w.p[k]) : -1;
+            if (v < 0) rc = 1; /* absurd: left out (never blocks) */
+            else if (used == faces_at[face_count - 1] || face[used - 1] != v) face[used++] = v;
         }
-        for (int32_t i = 0; i < ns; ++i) {
-            int dup = 0;
-            for (int32_t j = 0; j < i; ++j) dup |= plane[j] == plane[i];
-            if (dup) continue;
-            bsp_winding w;
-            side_winding(n[i], d[i], &w);
-            for (int32_t j = 0; j < ns && w.n >= 3; ++j)
-                if (plane[j] != plane[i]) clip_winding(&w, n[j], d[j]);
-            if (w.n < 3) continue;
-            if (pass == 0) {
-                for (uint32_t k = 0; k < w.n; ++k, ++cn)
-                    for (int a = 0; a < 3; ++a) c[a] += w.p[k][a];
-            } else if (add_hull_face(&w, c, m, st)) {
-                tool_error_set(err, r->path, 0, "out of memory");
-                return -1;
-            }
-        }
+        if (rc == 0 && used - faces_at[face_count - 1] > 1 && face[used - 1] == face[faces_at[face_count - 1]]) --used;
+        if (used - faces_at[face_count - 1] < 3) used = faces_at[--face_count]; /* welded to a sliver */
     }
-    return 0;
+    faces_at[face_count] = used;
+    if (rc == 0 && face_count >= 4) {
+        uint32_t base = m->vertex_count;
+        ++st->occluder_brushes;
+        for (uint32_t v = 0; v < corners && rc == 0; ++v) {
+            float q[3] = {(float)corner[v][0], (float)corner[v][1], (float)corner[v][2]}, y[3];
+            to_y_up(q, y);
+            rc = mesh_add_vertex(m, y[0], y[1], y[2]) ? -1 : 0;
+        }
+        for (uint32_t f = 0; f < face_count && rc == 0; ++f)
+            for (uint32_t k = faces_at[f] + 1; k + 1 < faces_at[f + 1] && rc == 0; ++k) {
+                rc = mesh_add_triangle(m, base + (uint32_t)face[faces_at[f]], base + (uint32_t)face[k],
+                                       base + (uint32_t)face[k + 1]) ? -1 : 0;
+                ++st->hull_triangles;
+            }
+    }
+    free(corner);
+    free(face);
+    if (rc < 0) tool_error_set(err, r->path, 0, "out of memory");
+    return rc < 0 ? -1 : 0;
 }
 
 static int read_brushes(const bsp_reader *r, mesh *m, bsp_stats *st, tool_error *err) {
