@@ -10,8 +10,9 @@
      65 x 65 control points and the scene at most 2^26 vertices: bounded memory on any input.
    - One more object, last, named `occluder_brushes`: the hulls of the world's solid brushes (the
      convex polyhedra of model 0's brushes whose contents are solid and not translucent, water,
-     lava, slime or fog), each pulled 0.01 units inward so that the float hull stays inside the brush. It
-     blocks sight and is never drawn.
+     lava, slime or fog), each a closed mesh whose faces share its corners (rounded to float once), so
+     brushes that touch leave no crack. It blocks sight and is never drawn. Planar surfaces lie on brush
+     faces: they are lifted 0.01 units along their normal, so a hull never hides the surface drawn on it.
    - View cells: one per BSP leaf with a cluster (leaves in solid space have none), in leaf order,
      each the leaf's bounding box.
    - The level's PVS (what q3map2's vis computed) expanded to objects: cell c sees every surface of
