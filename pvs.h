@@ -15563,6 +15563,11 @@ PVS__STATIC double pvs__ep_tri_normal(const float *a, const float *b, const floa
 	return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
+/* n . (x - a) in double: the distance of x from the plane through a (times |n|). */
+PVS__STATIC double pvs__ep_plane_dist(const double *n, const float *x, const float *a) {
+	return n[0] * ((double)x[0] - a[0]) + n[1] * ((double)x[1] - a[1]) + n[2] * ((double)x[2] - a[2]);
+}
+
 PVS__STATIC double pvs__ep_orient(const double *a, const double *b, const double *c) {
 	return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
 }
@@ -15598,11 +15603,6 @@ PVS__STATIC double pvs__ceil_small(double x) {
 PVS__STATIC double pvs__floor_small(double x) {
 	double t = (double)(int32_t)x;
 	return t > x ? t - 1.0 : t;
-}
-
-PVS__STATIC void pvs__ep_mask_set(unsigned char *mask, unsigned char bits, size_t n) {
-	size_t i;
-	for (i = 0; i < n; ++i) mask[i] = (unsigned char)(mask[i] | bits);
 }
 
 /* A Projection's edges in pixels: a x + b y + c >= 0 inside, |a| + |b| = 1, error bound e, inv = 1 / a (0 if nearly
@@ -15721,6 +15721,19 @@ PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, in
 	E->n = m;
 }
 
+/* Pixels x0..x1 of row j get `depth` (where nearer) in map and f->bits in mask (either may be NULL). Returns their
+   count. */
+PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, int32_t x1, float depth, float *map,
+								  unsigned char *mask) {
+	size_t row = (size_t)j * f->width;
+	int32_t x;
+	for (x = x0; x <= x1; ++x) {
+		if (map && map[row + (size_t)x] > depth) map[row + (size_t)x] = depth;
+		if (mask) mask[row + (size_t)x] = (unsigned char)(mask[row + (size_t)x] | f->bits);
+	}
+	return (uint32_t)(x1 - x0 + 1);
+}
+
 /* Scan-converts Projection E over rows j0..j1, columns i0..i1: pixels whose worst corner passes every edge by its
    margin get `depth` (where nearer) in map and f->bits in mask (either may be NULL). Returns the pixels covered. Not
    pvs__raster_poly: flat-Depth spans are about 3x faster, and these edges carry their own error bounds. */
@@ -15750,17 +15763,7 @@ PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges
 				if (worst < 0.0) hi = lo - 1.0;
 			}
 		}
-		if (lo > hi) continue;
-		{
-			int32_t x0 = (int32_t)lo, x1 = (int32_t)hi, x;
-			if (map) {
-				float *px = map + (size_t)row * f->width;
-				for (x = x0; x <= x1; ++x)
-					if (px[x] > depth) px[x] = depth;
-			}
-			if (mask) pvs__ep_mask_set(mask + (size_t)row * f->width + x0, f->bits, (size_t)(x1 - x0 + 1));
-			written += (uint32_t)(x1 - x0 + 1);
-		}
+		if (lo <= hi) written += pvs__ep_span(f, row, (int32_t)lo, (int32_t)hi, depth, map, mask);
 	}
 	return written;
 }
@@ -15868,8 +15871,7 @@ PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *
 		for (i = 0; i < 3; ++i) scale = pvs__dmax(scale, (double)b.max[i] - b.min[i]);
 		if (!(len > 0.0)) return 0;
 		for (i = 0; i < count && !solid; ++i) {
-			double d = n[0] * ((double)points[3 * i] - points[0]) + n[1] * ((double)points[3 * i + 1] - points[1]) +
-					   n[2] * ((double)points[3 * i + 2] - points[2]);
+			double d = pvs__ep_plane_dist(n, points + 3 * i, points);
 			solid = pvs__dabs(d) > 1e-7 * len * scale;
 		}
 	}
@@ -16118,9 +16120,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 				scale = pvs__dmax(scale,
 								  pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
 			/* the hull exceeds the two triangles by at most this distance: the slack */
-			dev = pvs__dabs(n[0] * ((double)x[0] - a0[0]) + n[1] * ((double)x[1] - a0[1]) +
-							n[2] * ((double)x[2] - a0[2])) /
-				len;
+			dev = pvs__dabs(pvs__ep_plane_dist(n, x, a0)) / len;
 			if (dev > 1e-6 * scale) return 0;
 			for (k = 0; k < 4; ++k) { /* strictly convex at every corner, turning like the triangle */
 				const float *p0 = q[k], *p1 = q[(k + 1) % 4], *p2 = q[(k + 2) % 4];
@@ -16410,9 +16410,7 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
 		len = pvs__ep_tri_normal(c[0], c[1], c[2], nrm);
 		if (!(len > 0.0)) return 0;
 		for (i = 0; i < n; ++i) {
-			double d = (nrm[0] * ((double)pts[i][0] - c[0][0]) + nrm[1] * ((double)pts[i][1] - c[0][1]) +
-						nrm[2] * ((double)pts[i][2] - c[0][2])) /
-				len;
+			double d = pvs__ep_plane_dist(nrm, pts[i], c[0]) / len;
 			lo = pvs__dmin(lo, d);
 			hi = pvs__dmax(hi, d);
 		}
@@ -16448,9 +16446,7 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
 		for (k = 0; k < 3; ++k)
 			scale = pvs__dmax(scale, pvs__dabs((double)pts[i][k] - c0[k]) + pvs__dabs((double)pts[i][k]));
 	for (i = 0; i < n; ++i) {
-		double d = (nrm[0] * ((double)pts[i][0] - c0[0]) + nrm[1] * ((double)pts[i][1] - c0[1]) +
-					nrm[2] * ((double)pts[i][2] - c0[2])) /
-			bl;
+		double d = pvs__ep_plane_dist(nrm, pts[i], c0) / bl;
 		if (pvs__dabs(d) > 1e-6 * scale) return 0;
 	}
 	return 1;
@@ -16489,9 +16485,7 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
 	if (!(pvs__ep_tri_normal(B[0], B[1], B[2], nb) > 0.0) || !(na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] > 0.0))
 		return 0;
 	for (k = 0; k < 3; ++k) {
-		double d = (na[0] * ((double)B[k][0] - A[0][0]) + na[1] * ((double)B[k][1] - A[0][1]) +
-					na[2] * ((double)B[k][2] - A[0][2])) /
-			la;
+		double d = pvs__ep_plane_dist(na, B[k], A[0]) / la;
 		if (pvs__dabs(d) > 1e-6 * scale) return 0;
 	}
 	return 1;
@@ -16615,10 +16609,7 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
 		const float *C[3];
 		for (c = 0; c < 3; ++c) {
 			const float *x = C[c] = PVS__EP_TRI(t, c);
-			*dev = pvs__dmax(*dev,
-							 pvs__dabs(nr[0] * ((double)x[0] - A[0][0]) + nr[1] * ((double)x[1] - A[0][1]) +
-									   nr[2] * ((double)x[2] - A[0][2])) /
-								 lr);
+			*dev = pvs__dmax(*dev, pvs__dabs(pvs__ep_plane_dist(nr, x, A[0])) / lr);
 		}
 		*area += 0.5 *
 			pvs__dabs(((double)C[1][u] - C[0][u]) * ((double)C[2][v] - C[0][v]) -
@@ -16674,10 +16665,7 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
 				uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
 				for (c = 0; c < 3; ++c) {
 					const float *x = PVS__EP_TRI(t, c);
-					dev2 = pvs__dmax(dev2,
-									 pvs__dabs(nb[0] * ((double)x[0] - q3[0][0]) + nb[1] * ((double)x[1] - q3[0][1]) +
-											   nb[2] * ((double)x[2] - q3[0][2])) /
-										 lb);
+					dev2 = pvs__dmax(dev2, pvs__dabs(pvs__ep_plane_dist(nb, x, q3[0])) / lb);
 				}
 			}
 			dev = pvs__dmin(dev, dev2);
@@ -17580,47 +17568,42 @@ PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
    Depth W. */
 PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__epsheet *S, int side,
 										 const pvs__epframe *f, float *map, unsigned char *mask) {
-	int k = S->axis, su = (k + 1) % 3;
+	int k = S->axis, along = f->a == (k + 1) % 3 ? 0 : 1; /* along: polygon coordinate index of the plane's axis */
 	const float *poly = p->spoly + 2 * (size_t)S->first;
 	double pos = f->face + f->s * f->W, lo = DBL_MAX, hi = -DBL_MAX, x0, x1, y0, y1, m, mag;
-	int32_t i0, i1, j0, j1, j, i;
+	int32_t i0, i1, j0, j1, j;
 	uint32_t written = 0, e;
 	float depth = pvs__f_up(f->W);
-	if (k == f->a) {
-		if (!(side > 0 ? pos < S->value : pos > S->value)) return 0;
-		return 0; /* a parallel plane would need a polygon fill; such planes gain little */
+	if (k == f->a) return 0; /* a parallel plane would need a polygon fill; such planes gain little */
+	/* the polygon's extent along the line x[a] = pos */
+	for (e = 0; e < S->count; ++e) {
+		const float *A = poly + 2 * e, *B = poly + 2 * ((e + 1) % S->count);
+		double a0 = A[along], a1 = B[along], t, x;
+		if ((a0 < pos && a1 < pos) || (a0 > pos && a1 > pos)) continue;
+		if (a0 == a1) {
+			lo = pvs__dmin(lo, pvs__dmin(A[1 - along], B[1 - along]));
+			hi = pvs__dmax(hi, pvs__dmax(A[1 - along], B[1 - along]));
+			continue;
+		}
+		t = (pos - a0) / (a1 - a0);
+		x = A[1 - along] + ((double)B[1 - along] - A[1 - along]) * t;
+		lo = pvs__dmin(lo, x);
+		hi = pvs__dmax(hi, x);
+	}
+	if (!(hi > lo)) return 0;
+	/* to pixels: the sheet's axis k is the plane's u or v, the interval on the other */
+	if (f->u == k) {
+		double c = (S->value - f->u0) * f->su;
+		x0 = side > 0 ? -DBL_MAX : c;
+		x1 = side > 0 ? c : DBL_MAX;
+		y0 = (lo - f->v0) * f->sv;
+		y1 = (hi - f->v0) * f->sv;
 	} else {
-		/* the polygon's extent along the line x[a] = pos */
-		int along = f->a == su ? 0 : 1; /* polygon coordinate index of the plane's axis */
-		for (e = 0; e < S->count; ++e) {
-			const float *A = poly + 2 * e, *B = poly + 2 * ((e + 1) % S->count);
-			double a0 = A[along], a1 = B[along], t, x;
-			if ((a0 < pos && a1 < pos) || (a0 > pos && a1 > pos)) continue;
-			if (a0 == a1) {
-				lo = pvs__dmin(lo, pvs__dmin(A[1 - along], B[1 - along]));
-				hi = pvs__dmax(hi, pvs__dmax(A[1 - along], B[1 - along]));
-				continue;
-			}
-			t = (pos - a0) / (a1 - a0);
-			x = A[1 - along] + ((double)B[1 - along] - A[1 - along]) * t;
-			lo = pvs__dmin(lo, x);
-			hi = pvs__dmax(hi, x);
-		}
-		if (!(hi > lo)) return 0;
-		/* to pixels: the sheet's axis k is the plane's u or v, the interval on the other */
-		if (f->u == k) {
-			double c = (S->value - f->u0) * f->su;
-			x0 = side > 0 ? -DBL_MAX : c;
-			x1 = side > 0 ? c : DBL_MAX;
-			y0 = (lo - f->v0) * f->sv;
-			y1 = (hi - f->v0) * f->sv;
-		} else {
-			double c = (S->value - f->v0) * f->sv;
-			y0 = side > 0 ? -DBL_MAX : c;
-			y1 = side > 0 ? c : DBL_MAX;
-			x0 = (lo - f->u0) * f->su;
-			x1 = (hi - f->u0) * f->su;
-		}
+		double c = (S->value - f->v0) * f->sv;
+		y0 = side > 0 ? -DBL_MAX : c;
+		y1 = side > 0 ? c : DBL_MAX;
+		x0 = (lo - f->u0) * f->su;
+		x1 = (hi - f->u0) * f->su;
 	}
 	mag = (pvs__dabs(lo) + pvs__dabs(hi) + pvs__dabs(S->value) + pvs__dabs(f->u0) + pvs__dabs(f->v0) + pvs__dabs(pos)) *
 		(f->su + f->sv);
@@ -17629,16 +17612,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__
 	i1 = pvs__clampi(floor(x1 - m) - 1.0, -1, (int32_t)f->width - 1);
 	j0 = pvs__clampi(ceil(y0 + m), 0, (int32_t)f->height);
 	j1 = pvs__clampi(floor(y1 - m) - 1.0, -1, (int32_t)f->height - 1);
-	for (j = j0; j <= j1; ++j) {
-		if (i0 > i1) break;
-		if (map)
-			for (i = i0; i <= i1; ++i) {
-				float *px = map + (size_t)j * f->width + (size_t)i;
-				if (*px > depth) *px = depth;
-			}
-		if (mask) pvs__ep_mask_set(mask + (size_t)j * f->width + (size_t)i0, f->bits, (size_t)(i1 - i0 + 1));
-		written += (uint32_t)(i1 - i0 + 1);
-	}
+	for (j = j0; j <= j1 && i0 <= i1; ++j) written += pvs__ep_span(f, j, i0, i1, depth, map, mask);
 	return written;
 }
 
@@ -17903,15 +17877,8 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 			xs = x;
 			while (x <= i1 && !mk[x]) ++x;
 			xe = x - 1;
-			if (!pvs__ep_crosses_inside(&f, o, E, n, world0, pn, pax, front, scale, (xs + xe) / 2, row)) continue;
-			if (map) {
-				float *px = map + (size_t)row * f.width;
-				int32_t xx;
-				for (xx = xs; xx <= xe; ++xx)
-					if (px[xx] > depth) px[xx] = depth;
-			}
-			if (mask) pvs__ep_mask_set(mask + (size_t)row * f.width + xs, f.bits, (size_t)(xe - xs + 1));
-			written += (uint32_t)(xe - xs + 1);
+			if (pvs__ep_crosses_inside(&f, o, E, n, world0, pn, pax, front, scale, (xs + xe) / 2, row))
+				written += pvs__ep_span(&f, row, xs, xe, depth, map, mask);
 		}
 	}
 	return written;
@@ -19211,10 +19178,10 @@ PVS__STATIC double pvs__hz_ray(const pvs__hz *z, int32_t k, const double p[2], c
 	return (p[0] * ey - p[1] * ex) / den * z->dlen[k];
 }
 
-/* Bin b's part [a0, a1] a facade covers, crossed at distances d0, d1, its line nearest at angle afoot, distance dfoot;
-   `front`: the eye on its outer side. */
+/* Bin b's part [a0, a1] a facade seen from its outer side covers, crossed at distances d0, d1, its line nearest at
+   angle afoot, distance dfoot. */
 PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot,
-							   double afoot, int front) {
+							   double afoot) {
 	double lo, hi;
 	if (!(d0 > 0.0) || !(d1 > 0.0)) return;
 	hi = pvs__dmax(d0, d1) * (1.0 + 1e-9);
@@ -19225,12 +19192,12 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 		z->stamp[b] = z->cur;
 		z->full[b] = 0;
 		z->npart[b] = 0;
-		z->dmax[b] = front ? hi : 0.0;
-		z->dmin[b] = front ? lo : DBL_MAX;
+		z->dmax[b] = hi;
+		z->dmin[b] = lo;
 		z->touched[z->ntouched++] = (uint16_t)b;
 	} else {
-		if (front && hi > z->dmax[b]) z->dmax[b] = hi;
-		if (front && lo < z->dmin[b]) z->dmin[b] = lo;
+		if (hi > z->dmax[b]) z->dmax[b] = hi;
+		if (lo < z->dmin[b]) z->dmin[b] = lo;
 	}
 	if (a0 <= pvs__hz_lo(z, b) && a1 >= pvs__hz_hi(z, b)) z->full[b] = 1;
 	else if (!z->full[b]) { /* covered parts: up to 4 disjoint intervals, merged where they meet */
@@ -19260,23 +19227,19 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 
 /* Adds facade p-q (world ground points) of the current chain. */
 PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
-	double p[2], q[2], cr, a, b, fx, fy, t, afoot, dfoot, len2, da, db;
+	double p[2], q[2], cr, a, b, fx, fy, t, afoot, dfoot, len2, d1;
 	int32_t b0, b1, k;
-	int front;
-	p[0] = pf[0] - z->eu; p[1] = pf[1] - z->ev;
-	q[0] = qf[0] - z->eu; q[1] = qf[1] - z->ev;
-	cr = p[0] * q[1] - p[1] * q[0];
+	/* relative to the eye, swapped (counter-clockwise from p to q if seen from outside) */
+	q[0] = pf[0] - z->eu; q[1] = pf[1] - z->ev;
+	p[0] = qf[0] - z->eu; p[1] = qf[1] - z->ev;
+	cr = q[0] * p[1] - q[1] * p[0];
 	len2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]);
-	if (!(pvs__dabs(cr) > 1e-12 * (p[0] * p[0] + p[1] * p[1] + q[0] * q[0] + q[1] * q[1]))) return; /* seen edge-on */
-	/* the occluder lies left of p -> q; only facades seen from outside matter: a sight line enters through one */
-	front = cr < 0.0;
-	if (!front) return;
-	if (cr < 0.0) { double tt[2]; tt[0] = p[0]; tt[1] = p[1]; p[0] = q[0]; p[1] = q[1]; q[0] = tt[0]; q[1] = tt[1]; }
+	if (!(pvs__dabs(cr) > 1e-12 * (q[0] * q[0] + q[1] * q[1] + p[0] * p[0] + p[1] * p[1]))) return; /* seen edge-on */
+	/* the occluder lies left of pf -> qf; only facades seen from outside matter: a sight line enters through one */
+	if (!(cr < 0.0)) return;
 	/* counter-clockwise from p (angle a) to q (angle b), under a half turn */
 	a = pvs__hz_angle(p[0], p[1]);
 	b = pvs__hz_angle(q[0], q[1]);
-	da = sqrt(p[0] * p[0] + p[1] * p[1]);
-	db = sqrt(q[0] * q[0] + q[1] * q[1]);
 	/* the line's nearest point to the eye */
 	t = -(p[0] * (q[0] - p[0]) + p[1] * (q[1] - p[1])) / len2;
 	fx = p[0] + t * (q[0] - p[0]);
@@ -19286,15 +19249,12 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	b0 = pvs__hz_bin(z, a);
 	b1 = pvs__hz_bin(z, b);
 	if (b < a) b1 += PVS__HZ_BINS; /* across angle 0 */
-	{
-		double d1 = da; /* the previous bin's upper crossing is this one's lower */
-		for (k = b0; k <= b1; ++k) {
-			int32_t bk = k % PVS__HZ_BINS, lo_at_start = k == b0, hi_at_end = k == b1;
-			double s0 = lo_at_start ? a : pvs__hz_lo(z, bk), s1 = hi_at_end ? b : pvs__hz_hi(z, bk), d0 = d1;
-			d1 = hi_at_end ? db : pvs__hz_ray(z, bk + 1, p, q);
-			if (k == b0 && k == b1 && b < a) continue; /* cannot happen: a half turn at most */
-			pvs__hz_piece(z, bk, s0, s1, d0, d1, dfoot, afoot, front);
-		}
+	d1 = sqrt(p[0] * p[0] + p[1] * p[1]); /* the previous bin's upper crossing is this one's lower */
+	for (k = b0; k <= b1; ++k) {
+		int32_t bk = k % PVS__HZ_BINS;
+		double s0 = k == b0 ? a : pvs__hz_lo(z, bk), s1 = k == b1 ? b : pvs__hz_hi(z, bk), d0 = d1;
+		d1 = k == b1 ? sqrt(q[0] * q[0] + q[1] * q[1]) : pvs__hz_ray(z, bk + 1, p, q);
+		pvs__hz_piece(z, bk, s0, s1, d0, d1, dfoot, afoot);
 	}
 }
 
@@ -21507,8 +21467,6 @@ typedef struct pvs__encoder {
 	uint32_t *base, *depth;    /* PVS_NO_CELL for keys */
 	unsigned char *placed;
 	pvs_word *tmp, *ranks;
-	uint8_t *recs;
-	size_t recs_capacity;
 } pvs__encoder;
 
 PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
@@ -21528,7 +21486,6 @@ PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
 	pvs__free_array(a, e->placed, e->cells, 1);
 	pvs__free_array(a, e->tmp, e->words, sizeof(pvs_word));
 	pvs__free_array(a, e->ranks, e->words, sizeof(pvs_word));
-	pvs__free_array(a, e->recs, e->recs_capacity, 1);
 }
 
 /* Cell i's record sets against base j (PVS_NO_CELL: a key): e->tmp = ids added (a key: the whole PVS); a delta's
