@@ -19413,19 +19413,19 @@ PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
 	}
 }
 
+/* The three walks of a cell (pvs_shrink_cell checks o->scene is the cell's scene). */
 typedef struct pvs__shrink_walk {
-	const pvs_scene *scene;
-	const pvs__hz *hz;
+	const pvs_occluders *o;
+	pvs__hz *hz;
 	const pvs_box *cell;
 	pvs_word *visible;
+	uint32_t *remaining;       /* per object hierarchy node: its objects not yet found */
+	pvs_shrink_stats *st;
 	int u, v;
 } pvs__shrink_walk;
-
-/* 1 if the box's ground rectangle meets the cell's. */
-PVS__STATIC int pvs__shrink_near(const pvs__shrink_walk *w, const pvs_box *b) {
-	return b->min[w->u] <= w->cell->max[w->u] && b->max[w->u] >= w->cell->min[w->u] &&
-		b->min[w->v] <= w->cell->max[w->v] && b->max[w->v] >= w->cell->min[w->v];
-}
+#define PVS__SHRINK_NEAR 0     /* objects meeting the cell or under its top face: visible unsampled */
+#define PVS__SHRINK_SAMPLE 1   /* a sample's objects, nodes hidden from it (§3.4) or all found skipped */
+#define PVS__SHRINK_HORIZON 2  /* the sample's horizon: the chains, nearer child first, hidden ones skipped (§3.4) */
 
 PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int v) {
 	double du = pvs__dmax(0.0, pvs__dmax(b->min[u] - z->eu, z->eu - b->max[u])),
@@ -19433,81 +19433,47 @@ PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int 
 	return du * du + dv * dv;
 }
 
-/* The sample's horizon: the chains' hierarchy nearer child first, hidden ones skipped (§3.4). */
-PVS__STATIC void pvs__shrink_horizon(const pvs_occluders *o, pvs__hz *hz, uint32_t *stack, int u, int v,
-									 pvs_shrink_stats *st) {
-	const pvs__obvh *h = &o->chain_bvh;
-	uint32_t sp = 0, k, up = o->scene->up_axis;
-	if (!h->node_count) return;
-	stack[sp++] = 0;
-	while (sp) {
-		const pvs__obvh_node *nd = h->nodes + stack[--sp];
-		if (!pvs__hz_test_box(hz, &nd->box, u, v, up)) continue;
-		if (nd->count) {
-			for (k = nd->first; k < nd->first + nd->count; ++k) {
-				uint32_t c = h->items[k];
-				if (!pvs__hz_test_box(hz, o->chain_boxes + c, u, v, up)) continue;
-				pvs__hz_chain(hz, o->chains + c);
-				++st->occluders_drawn;
-			}
-		} else {
-			int near0 = pvs__hz_dist2(hz, &h->nodes[nd->first].box, u, v) <=
-				pvs__hz_dist2(hz, &h->nodes[nd->first + 1].box, u, v);
-			stack[sp++] = near0 ? nd->first + 1 : nd->first;
-			stack[sp++] = near0 ? nd->first : nd->first + 1;
-		}
-	}
+/* NEAR: 1 if the box's ground rectangle meets the cell's; else 1 if the sample may see it. */
+PVS__STATIC int pvs__shrink_test(const pvs__shrink_walk *w, const pvs_box *b, int mode) {
+	if (mode != PVS__SHRINK_NEAR) return pvs__hz_test_box(w->hz, b, w->u, w->v, w->o->scene->up_axis);
+	return b->min[w->u] <= w->cell->max[w->u] && b->max[w->u] >= w->cell->min[w->u] &&
+		b->min[w->v] <= w->cell->max[w->v] && b->max[w->v] >= w->cell->min[w->v];
 }
 
 /* Marks ob visible, off the count of every node above it. */
-PVS__STATIC void pvs__shrink_found(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining, uint32_t ob) {
+PVS__STATIC void pvs__shrink_found(pvs__shrink_walk *w, uint32_t ob) {
 	uint32_t nd;
 	pvs_bitset_set(w->visible, ob);
-	for (nd = o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = o->bvh.nodes[nd].parent) --remaining[nd];
+	for (nd = w->o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = w->o->bvh.nodes[nd].parent) --w->remaining[nd];
 }
 
-/* Objects meeting the cell or under its top face: visible unsampled. */
-PVS__STATIC void pvs__shrink_walk_near(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining,
-									   uint32_t *stack) {
+/* A walk (PVS__SHRINK_*) over the object hierarchy, or the chains' for HORIZON; stack: a slot per node. */
+PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *stack) {
+	const pvs__obvh *h = mode == PVS__SHRINK_HORIZON ? &w->o->chain_bvh : &w->o->bvh;
 	uint32_t sp = 0, k;
-	if (!o->bvh.node_count) return;
-	stack[sp++] = 0;
-	while (sp) {
-		const pvs__obvh_node *nd = o->bvh.nodes + stack[--sp];
-		if (!pvs__shrink_near(w, &nd->box)) continue;
-		if (nd->count) {
-			for (k = nd->first; k < nd->first + nd->count; ++k) {
-				uint32_t ob = o->bvh.items[k];
-				if (!pvs_bitset_test(w->visible, ob) && pvs__shrink_near(w, w->scene->object_boxes + ob))
-					pvs__shrink_found(o, w, remaining, ob);
-			}
-		} else {
-			stack[sp++] = nd->first;
-			stack[sp++] = nd->first + 1;
-		}
-	}
-}
-
-/* A sample's walk over the object hierarchy, skipping nodes hidden from it (§3.4) or all found. */
-PVS__STATIC void pvs__shrink_walk_sample(const pvs_occluders *o, pvs__shrink_walk *w, uint32_t *remaining,
-										 uint32_t *stack) {
-	uint32_t sp = 0, k, up = w->scene->up_axis;
-	if (!o->bvh.node_count) return;
+	if (!h->node_count) return;
 	stack[sp++] = 0;
 	while (sp) {
 		uint32_t id = stack[--sp];
-		const pvs__obvh_node *nd = o->bvh.nodes + id;
-		if (!remaining[id] || !pvs__hz_test_box(w->hz, &nd->box, w->u, w->v, up)) continue;
+		const pvs__obvh_node *nd = h->nodes + id;
+		if ((mode == PVS__SHRINK_SAMPLE && !w->remaining[id]) || !pvs__shrink_test(w, &nd->box, mode)) continue;
 		if (nd->count) {
 			for (k = nd->first; k < nd->first + nd->count; ++k) {
-				uint32_t ob = o->bvh.items[k];
-				if (!pvs_bitset_test(w->visible, ob) &&
-					pvs__hz_test_box(w->hz, w->scene->object_boxes + ob, w->u, w->v, up))
-					pvs__shrink_found(o, w, remaining, ob);
+				uint32_t it = h->items[k];
+				if (mode == PVS__SHRINK_HORIZON) {
+					if (!pvs__shrink_test(w, w->o->chain_boxes + it, mode)) continue;
+					pvs__hz_chain(w->hz, w->o->chains + it);
+					++w->st->occluders_drawn;
+				} else if (!pvs_bitset_test(w->visible, it) &&
+						   pvs__shrink_test(w, w->o->scene->object_boxes + it, mode))
+					pvs__shrink_found(w, it);
 			}
 		} else {
-			stack[sp++] = nd->first;
-			stack[sp++] = nd->first + 1;
+			int near0 = mode == PVS__SHRINK_HORIZON &&
+				pvs__hz_dist2(w->hz, &h->nodes[nd->first].box, w->u, w->v) <=
+					pvs__hz_dist2(w->hz, &h->nodes[nd->first + 1].box, w->u, w->v);
+			stack[sp++] = near0 ? nd->first + 1 : nd->first;
+			stack[sp++] = near0 ? nd->first : nd->first + 1;
 		}
 	}
 }
@@ -19562,24 +19528,26 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 		pvs__free_array(&o->allocator, cstack, ncnodes, sizeof(uint32_t));
 		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
 	}
+	w.o = o;
+	w.hz = hz;
+	w.cell = cell;
+	w.visible = visible;
+	w.remaining = remaining;
+	w.st = st;
+	w.u = u;
+	w.v = v;
 	if (o->bvh.node_count) {
-		uint32_t ob, nd;
+		uint32_t ob;
 		memcpy(remaining, o->bvh.count_below, o->bvh.node_count * sizeof(uint32_t));
 		/* objects set on entry: off the counts, so nodes holding only them are skipped */
 		for (ob = pvs_bitset_next(visible, s->object_count, 0); ob < s->object_count;
 			 ob = pvs_bitset_next(visible, s->object_count, ob + 1))
-			for (nd = o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = o->bvh.nodes[nd].parent) --remaining[nd];
+			pvs__shrink_found(&w, ob);
 	}
 	memset(hz, 0, sizeof(*hz));
 	pvs__hz_init(hz);
-	w.scene = s;
-	w.hz = hz;
-	w.cell = cell;
-	w.visible = visible;
-	w.u = u;
-	w.v = v;
 	hz->H = cell->max[up];
-	pvs__shrink_walk_near(o, &w, remaining, stack);
+	pvs__shrink_walk_tree(&w, PVS__SHRINK_NEAR, stack);
 	for (b = 0; b < nv; ++b)
 		for (a = 0; a < nu; ++a) {
 			if (edges && a > 0 && a + 1 < nu && b > 0 && b + 1 < nv) continue;
@@ -19590,9 +19558,9 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 				? cell->max[v]
 				: cell->min[v] + (double)b * ((double)cell->max[v] - cell->min[v]) / (nv > 1 ? nv - 1 : 1);
 			memset(hz->nstep, 0, sizeof(hz->nstep));
-			pvs__shrink_horizon(o, hz, cstack, u, v, st);
+			pvs__shrink_walk_tree(&w, PVS__SHRINK_HORIZON, cstack);
 			++st->samples;
-			pvs__shrink_walk_sample(o, &w, remaining, stack);
+			pvs__shrink_walk_tree(&w, PVS__SHRINK_SAMPLE, stack);
 		}
 	pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
 	pvs__free_array(&o->allocator, remaining, nnodes, sizeof(uint32_t));
