@@ -10658,21 +10658,22 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
 /* Flood voxel bits: T touched by K, B bad, F odd crossings in the layer, W w = 1 (pure), R0 / R1 node 0 / 1 reached. */
 enum { PVS__G_T = 1, PVS__G_B = 2, PVS__G_F = 4, PVS__G_W = 8, PVS__G_R0 = 16, PVS__G_R1 = 32 };
 
+/* Points a, b of n float coordinates (finite: the scene's) in lexicographic order: -1, 0 or 1. */
+PVS__STATIC int pvs__fpoint_cmp(const float *a, const float *b, int n) {
+	int k;
+	for (k = 0; k < n; ++k)
+		if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
+	return 0;
+}
+/* A position with an index (a vertex; >>methods: a triangle corner 3 t + k), sorted by position, then index. */
 typedef struct pvs__vx_vkey {
 	float p[3];
 	uint32_t i;
 } pvs__vx_vkey;
 PVS__STATIC int pvs__vx_vkey_cmp(const void *x, const void *y) {
 	const pvs__vx_vkey *a = (const pvs__vx_vkey *)x, *b = (const pvs__vx_vkey *)y;
-	int k;
-	for (k = 0; k < 3; ++k) {
-		if (a->p[k] < b->p[k]) return -1;
-		if (a->p[k] > b->p[k]) return 1;
-	}
-	return a->i < b->i ? -1 : a->i > b->i;
-}
-PVS__STATIC int pvs__vx_vkey_cmp_pos(const pvs__vx_vkey *a, const pvs__vx_vkey *b) {
-	return a->p[0] != b->p[0] || a->p[1] != b->p[1] || a->p[2] != b->p[2];
+	int c = pvs__fpoint_cmp(a->p, b->p, 3);
+	return c ? c : a->i < b->i ? -1 : a->i > b->i;
 }
 typedef struct pvs__vx_edge {
 	uint64_t key;  /* canonical vertex ids, smaller first */
@@ -10735,7 +10736,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 	}
 	PVS_QSORT(vk, nv, sizeof(pvs__vx_vkey), pvs__vx_vkey_cmp);
 	for (i = 0; i < nv; ++i)
-		canon[vk[i].i] = i > 0 && !pvs__vx_vkey_cmp_pos(vk + i - 1, vk + i) ? canon[vk[i - 1].i] : i;
+		canon[vk[i].i] = i > 0 && !pvs__fpoint_cmp(vk[i - 1].p, vk[i].p, 3) ? canon[vk[i - 1].i] : i;
 	for (i = 0; i < nt; ++i) {
 		parent[i] = i;
 		if (pvs__vx_flat_on_ground(s, i, g)) { parent[i] = 0xffffffffu; continue; }
@@ -11407,9 +11408,9 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
 #define PVS__VX_BOX_BUDGET (1u << 23)
 #define PVS__VX_MAP_BUDGET (1u << 22)
 
-PVS__STATIC int pvs__vx_float_cmp(const void *x, const void *y) {
-	float a = *(const float *)x, b = *(const float *)y;
-	return a < b ? -1 : a > b;
+PVS__STATIC int pvs__float_cmp(const void *a, const void *b) {
+	float x = *(const float *)a, y = *(const float *)b;
+	return x < y ? -1 : x > y;
 }
 
 /* Least height of triangle p clipped to the prism over the octagon {x0 <= u <= x1, y0 <= v <= y1,
@@ -11880,7 +11881,7 @@ PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
 	uint32_t bw = w->bw, bh = w->bh, k, nl = 0, li;
 	if (!pvs__grow(al, (void **)&w->lev, &w->lcap, nm, sizeof(float))) return 0;
 	for (k = 0; k < nm; ++k) w->lev[k] = cm->top[w->members[k]];
-	PVS_QSORT(w->lev, nm, sizeof(float), pvs__vx_float_cmp);
+	PVS_QSORT(w->lev, nm, sizeof(float), pvs__float_cmp);
 	for (k = 0; k < nm; ++k)
 		if (k == 0 || w->lev[k] != w->lev[nl - 1]) w->lev[nl++] = w->lev[k];
 	if (!pvs__grow(al, (void **)&w->mask, &w->mcap, (size_t)bw * bh, 1) ||
@@ -16140,16 +16141,11 @@ typedef struct pvs__epedge2 {
 	uint32_t tri;            /* the triangle's index in its group, then its component's root */
 } pvs__epedge2;
 
-PVS__STATIC int pvs__ep_p2_cmp(const float *a, const float *b) {
-	if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
-	if (a[1] != b[1]) return a[1] < b[1] ? -1 : 1;
-	return 0;
-}
 
 PVS__STATIC int pvs__ep_edge2_cmp(const void *x, const void *y) {
 	const pvs__epedge2 *a = (const pvs__epedge2 *)x, *b = (const pvs__epedge2 *)y;
-	int c = pvs__ep_p2_cmp(a->a, b->a);
-	return c ? c : pvs__ep_p2_cmp(a->b, b->b);
+	int c = pvs__fpoint_cmp(a->a, b->a, 2);
+	return c ? c : pvs__fpoint_cmp(a->b, b->b, 2);
 }
 
 PVS__STATIC int pvs__ep_edge2_root_cmp(const void *x, const void *y) {
@@ -16177,7 +16173,7 @@ typedef struct pvs__epend {
 } pvs__epend;
 PVS__STATIC int pvs__ep_end_cmp(const void *x, const void *y) {
 	const pvs__epend *a = (const pvs__epend *)x, *b = (const pvs__epend *)y;
-	int c = pvs__ep_p2_cmp(a->p, b->p);
+	int c = pvs__fpoint_cmp(a->p, b->p, 2);
 	return c ? c : a->edge < b->edge ? -1 : a->edge > b->edge;
 }
 
@@ -16200,18 +16196,18 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
 		q[2 * m + 1] = cur[1];
 		while (lo < hi) { /* the first end at cur */
 			uint32_t mid = lo + (hi - lo) / 2;
-			if (pvs__ep_p2_cmp(ends[mid].p, cur) < 0) lo = mid + 1;
+			if (pvs__fpoint_cmp(ends[mid].p, cur, 2) < 0) lo = mid + 1;
 			else hi = mid;
 		}
-		if (lo + 1 >= 2 * nb || pvs__ep_p2_cmp(ends[lo + 1].p, cur) != 0) return 0; /* a loose end */
-		if (lo + 2 < 2 * nb && pvs__ep_p2_cmp(ends[lo + 2].p, cur) == 0) return 0; /* a point on more than two edges */
+		if (lo + 1 >= 2 * nb || pvs__fpoint_cmp(ends[lo + 1].p, cur, 2) != 0) return 0; /* a loose end */
+		if (lo + 2 < 2 * nb && pvs__fpoint_cmp(ends[lo + 2].p, cur, 2) == 0) return 0; /* a point on 3+ edges */
 		next = ends[lo].edge == edge ? ends[lo + 1].edge : ends[lo].edge;
 		if (next == 0 || next == edge) return 0;
 		edge = next;
-		if (pvs__ep_p2_cmp(e[edge].a, cur) == 0) { cur[0] = e[edge].b[0]; cur[1] = e[edge].b[1]; }
+		if (pvs__fpoint_cmp(e[edge].a, cur, 2) == 0) { cur[0] = e[edge].b[0]; cur[1] = e[edge].b[1]; }
 		else { cur[0] = e[edge].a[0]; cur[1] = e[edge].a[1]; }
 	}
-	return pvs__ep_p2_cmp(cur, q) == 0; /* the loop must close at its start */
+	return pvs__fpoint_cmp(cur, q, 2) == 0; /* the loop must close at its start */
 }
 
 /* The union of a group's triangles as one convex polygon: boundary edges (odd use counts) in one loop turning once,
@@ -16227,7 +16223,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
 	for (i = 0; i < ne;) { /* a zero-area triangle leaves a zero-length edge: a point, not a side */
 		j = i;
 		while (j < ne && pvs__ep_edge2_cmp(e + j, e + i) == 0) ++j;
-		if (((j - i) & 1u) && pvs__ep_p2_cmp(e[i].a, e[i].b) != 0) e[nb++] = e[i];
+		if (((j - i) & 1u) && pvs__fpoint_cmp(e[i].a, e[i].b, 2) != 0) e[nb++] = e[i];
 		i = j;
 	}
 	if (nb < 3 || nb > qcap) return 0;
@@ -16301,20 +16297,6 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
 	return m;
 }
 
-/* A corner of the object being prepared: position and slot 3 t + k. */
-typedef struct pvs__epvref {
-	float p[3];
-	uint32_t slot;
-} pvs__epvref;
-
-PVS__STATIC int pvs__ep_vref_cmp(const void *a, const void *b) {
-	const pvs__epvref *x = (const pvs__epvref *)a, *y = (const pvs__epvref *)b;
-	int k;
-	for (k = 0; k < 3; ++k)
-		if (x->p[k] != y->p[k]) return x->p[k] < y->p[k] ? -1 : 1;
-	return x->slot < y->slot ? -1 : x->slot > y->slot;
-}
-
 PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
 	uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
 	return x < y ? -1 : x > y;
@@ -16323,7 +16305,7 @@ PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
 
 /* Scratch of the preparation, sized for the largest object. */
 typedef struct pvs__epprepwork {
-	pvs__epvref *ref;     /* 3 per triangle */
+	pvs__vx_vkey *ref;    /* 3 per triangle: the corners, i = 3 t + k */
 	uint32_t *canon;      /* 3 per triangle: the vertex's id among the object's distinct positions */
 	const float **vpos;   /* per distinct position */
 	uint32_t *owner;      /* per distinct position: a triangle using it */
@@ -16346,7 +16328,7 @@ typedef struct pvs__epprepwork {
 
 PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
 	size_t n = w->cap;
-	pvs__free_array(a, w->ref, 3 * n, sizeof(pvs__epvref));
+	pvs__free_array(a, w->ref, 3 * n, sizeof(pvs__vx_vkey));
 	pvs__free_array(a, w->canon, 3 * n, sizeof(uint32_t));
 	pvs__free_array(a, (void *)w->vpos, 3 * n, sizeof(const float *));
 	pvs__free_array(a, w->owner, 3 * n, sizeof(uint32_t));
@@ -16371,7 +16353,7 @@ PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
 PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, size_t n) {
 	memset(w, 0, sizeof(*w));
 	w->cap = n;
-	w->ref = (pvs__epvref *)pvs__alloc_array(a, 3 * n, sizeof(pvs__epvref));
+	w->ref = (pvs__vx_vkey *)pvs__alloc_array(a, 3 * n, sizeof(pvs__vx_vkey));
 	w->canon = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
 	w->vpos = (const float **)pvs__alloc_array(a, 3 * n, sizeof(const float *));
 	w->owner = (uint32_t *)pvs__alloc_array(a, 3 * n, sizeof(uint32_t));
@@ -16620,7 +16602,7 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
 			pvs__epedge2 *ed = w->e2 + e++;
 			P0[0] = x[u]; P0[1] = x[v];
 			P1[0] = y[u]; P1[1] = y[v];
-			if (pvs__ep_p2_cmp(P0, P1) <= 0) { memcpy(ed->a, P0, sizeof(P0)); memcpy(ed->b, P1, sizeof(P1)); }
+			if (pvs__fpoint_cmp(P0, P1, 2) <= 0) { memcpy(ed->a, P0, sizeof(P0)); memcpy(ed->b, P1, sizeof(P1)); }
 			else { memcpy(ed->a, P1, sizeof(P1)); memcpy(ed->b, P0, sizeof(P0)); }
 			ed->tri = t;
 		}
@@ -16735,17 +16717,17 @@ PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn
 	for (i = 0; i < 3 * tn; ++i) {
 		const float *q = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + i];
 		memcpy(w->ref[i].p, q, 3 * sizeof(float));
-		w->ref[i].slot = i;
+		w->ref[i].i = i;
 	}
-	PVS_QSORT(w->ref, 3 * (size_t)tn, sizeof(pvs__epvref), pvs__ep_vref_cmp);
+	PVS_QSORT(w->ref, 3 * (size_t)tn, sizeof(pvs__vx_vkey), pvs__vx_vkey_cmp);
 	for (i = 0; i < 3 * tn; ++i) {
 		if (i == 0 || !pvs__ep_same(w->ref[i].p, w->ref[i - 1].p)) {
-			w->vpos[nv] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + w->ref[i].slot];
+			w->vpos[nv] = s->positions + 3 * (size_t)s->indices[3 * (size_t)t0 + w->ref[i].i];
 			w->owner[nv] = 0xffffffffu;
 			w->mark[nv] = 0xffffffffu;
 			++nv;
 		}
-		w->canon[w->ref[i].slot] = nv - 1;
+		w->canon[w->ref[i].i] = nv - 1;
 	}
 	for (i = 0; i < tn; ++i) w->parent[i] = i;
 	for (i = 0; i < 3 * tn; ++i) {
@@ -17055,7 +17037,7 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
 			pvs__epedge2 *ed = e + 3 * g + (size_t)l;
 			A[0] = x[u]; A[1] = x[v];
 			B[0] = y[u]; B[1] = y[v];
-			if (pvs__ep_p2_cmp(A, B) <= 0) { memcpy(ed->a, A, sizeof(A)); memcpy(ed->b, B, sizeof(B)); }
+			if (pvs__fpoint_cmp(A, B, 2) <= 0) { memcpy(ed->a, A, sizeof(A)); memcpy(ed->b, B, sizeof(B)); }
 			else { memcpy(ed->a, B, sizeof(B)); memcpy(ed->b, A, sizeof(A)); }
 			ed->tri = (uint32_t)g;
 		}
@@ -17380,18 +17362,11 @@ typedef struct pvs__epslicer {
 
 /* Edge-end order for pvs__ep_cross: fixed by position, so both triangles of an edge get the same crossing and the
    section closes. */
-PVS__STATIC int pvs__ep_vref_cmp_pts(const float *a, const float *b) {
-	int k;
-	for (k = 0; k < 3; ++k)
-		if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
-	return 0;
-}
-
 PVS__STATIC void pvs__ep_cross(const pvs__epframe *f, const float *a, const float *b, double *x, double *y,
 							   double *mag) {
 	const float *p = a, *q = b;
 	double wp, wq, t, u, v;
-	if (pvs__ep_vref_cmp_pts(a, b) > 0) { p = b; q = a; }
+	if (pvs__fpoint_cmp(a, b, 3) > 0) { p = b; q = a; }
 	wp = f->s * ((double)p[f->a] - f->face);
 	wq = f->s * ((double)q[f->a] - f->face);
 	t = (f->W - wp) / (wq - wp);
@@ -21257,10 +21232,6 @@ PVS__STATIC int pvs__heap_less(const void *pa, const void *pb) {
 	return a->from < b->from;
 }
 
-PVS__STATIC int pvs__float_cmp(const void *a, const void *b) {
-	float x = *(const float *)a, y = *(const float *)b;
-	return x < y ? -1 : x > y;
-}
 /* Index of v in the sorted unique table t[0..n). */
 PVS__STATIC uint32_t pvs__value_index(const float *t, uint32_t n, float v) {
 	uint32_t lo = 0, hi = n - 1;

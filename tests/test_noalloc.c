@@ -318,7 +318,7 @@ static int bd_old_walk(pvs__epedge2 *e, uint32_t nb, float *q) {
         q[2 * n + 1] = cur[1];
         ++n;
         for (k = m; k < nb; ++k) {
-            int ea = pvs__ep_p2_cmp(e[k].a, cur) == 0, eb = pvs__ep_p2_cmp(e[k].b, cur) == 0;
+            int ea = pvs__fpoint_cmp(e[k].a, cur, 2) == 0, eb = pvs__fpoint_cmp(e[k].b, cur, 2) == 0;
             if (!ea && !eb) continue;
             if (found != nb) return 0;
             found = k;
@@ -331,7 +331,7 @@ static int bd_old_walk(pvs__epedge2 *e, uint32_t nb, float *q) {
         e[m] = e[found];
         e[found] = tmp;
     }
-    return pvs__ep_p2_cmp(cur, q) == 0;
+    return pvs__fpoint_cmp(cur, q, 2) == 0;
 }
 
 static void bd_test_walk(void) {
@@ -352,7 +352,7 @@ static void bd_test_walk(void) {
             const float *p0 = pts + 2 * i, *p1 = pts + 2 * ((i + 1) % n);
             if (kind == 1 && i == n / 2) continue;                       /* a loose end */
             if (kind == 2 && i + 1 == n) p1 = pts + 2 * (n / 2);         /* a point on three edges */
-            if (pvs__ep_p2_cmp(p0, p1) <= 0) { memcpy(e[nb].a, p0, 8); memcpy(e[nb].b, p1, 8); }
+            if (pvs__fpoint_cmp(p0, p1, 2) <= 0) { memcpy(e[nb].a, p0, 8); memcpy(e[nb].b, p1, 8); }
             else { memcpy(e[nb].a, p1, 8); memcpy(e[nb].b, p0, 8); }
             e[nb++].tri = i;
         }
@@ -360,7 +360,7 @@ static void bd_test_walk(void) {
             float t[3][2] = {{20, 20}, {21, 20}, {20, 22}};
             for (i = 0; i < 3; ++i) {
                 const float *p0 = t[i], *p1 = t[(i + 1) % 3];
-                if (pvs__ep_p2_cmp(p0, p1) <= 0) { memcpy(e[nb].a, p0, 8); memcpy(e[nb].b, p1, 8); }
+                if (pvs__fpoint_cmp(p0, p1, 2) <= 0) { memcpy(e[nb].a, p0, 8); memcpy(e[nb].b, p1, 8); }
                 else { memcpy(e[nb].a, p1, 8); memcpy(e[nb].b, p0, 8); }
                 e[nb++].tri = 0;
             }
@@ -377,7 +377,7 @@ static void bd_test_walk(void) {
                             walk took them only when it happened to reach them last) */
             uint32_t w = 0;
             for (i = 0; i < nb; ++i)
-                if (pvs__ep_p2_cmp(e[i].a, e[i].b) != 0) e[w++] = e[i];
+                if (pvs__fpoint_cmp(e[i].a, e[i].b, 2) != 0) e[w++] = e[i];
             nb = w;
             memcpy(e2, e, nb * sizeof(e[0]));
         }
@@ -420,7 +420,7 @@ static void bd_test_walk(void) {
                 area += 0.5 * ((double)p[0][0] * p[1][1] - (double)p[1][0] * p[0][1]);
                 for (k = 0; k < 3; ++k) {
                     const float *x = tri[k], *y = tri[(k + 1) % 3];
-                    if (pvs__ep_p2_cmp(x, y) <= 0) { memcpy(big[ne].a, x, 8); memcpy(big[ne].b, y, 8); }
+                    if (pvs__fpoint_cmp(x, y, 2) <= 0) { memcpy(big[ne].a, x, 8); memcpy(big[ne].b, y, 8); }
                     else { memcpy(big[ne].a, y, 8); memcpy(big[ne].b, x, 8); }
                     big[ne++].tri = i;
                 }
