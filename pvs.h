@@ -10689,7 +10689,6 @@ typedef struct pvs__vx_topo {
 	uint32_t *tris;          /* included triangles grouped by component: comp_first[c] .. comp_first[c + 1] */
 	uint32_t *comp_first;    /* comp_count + 1 */
 	uint32_t comp_count;
-	uint32_t tri_count;      /* included triangles */
 	uint32_t *open_first;    /* comp_count + 1: ranges of open_edges per component */
 	float *open_edges;       /* 6 floats per open edge (two corners), grouped by component */
 	uint32_t open_count;
@@ -10766,7 +10765,6 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 	for (i = 0; i < nt; ++i)
 		if (cid[i] != 0xffffffffu) ++t->comp_first[cid[i] + 1];
 	for (c = 0; c < t->comp_count; ++c) t->comp_first[c + 1] += t->comp_first[c];
-	t->tri_count = t->comp_first[t->comp_count];
 	{
 		uint32_t *fill = parent;
 		for (c = 0; c < t->comp_count; ++c) fill[c] = t->comp_first[c];
@@ -13170,8 +13168,6 @@ typedef struct pvs__vctx {
 	pvs__key_index *ev;
 	uint32_t capev;
 	uint32_t *sub, capsub;
-	double *iv;
-	uint32_t capiv;
 	double *pts;
 	uint32_t cappts;
 	pvs__key_index *hkeys;
@@ -13202,7 +13198,6 @@ PVS__STATIC void pvs__vctx_free(pvs__vctx *c) {
 	PVS__VO_FREE(a, c->span, c->capspan, pvs__vo_span);
 	PVS__VO_FREE(a, c->ev, c->capev, pvs__key_index);
 	PVS__VO_FREE(a, c->sub, c->capsub, uint32_t);
-	PVS__VO_FREE(a, c->iv, c->capiv, double);
 	PVS__VO_FREE(a, c->pts, c->cappts, double);
 	PVS__VO_FREE(a, c->hkeys, c->caphkeys, pvs__key_index);
 	PVS__VO_FREE(a, c->hidx, c->caphidx, uint32_t);
@@ -15985,6 +15980,11 @@ typedef struct pvs__epocc {
 	float pn[3], pd;         /*   its plane pn . x = pd (pn a unit normal) */
 } pvs__epocc;
 
+/* 0 if a capped solid (cap_side != 0) cannot serve the cell: the cell is not strictly on its solid side. */
+PVS__STATIC int pvs__ep_cap_ok(int side, int axis, float value, const pvs_box *cell) {
+	return !(side > 0 && !(cell->min[axis] > value)) && !(side < 0 && !(cell->max[axis] < value));
+}
+
 /* A sheet: coplanar triangles (any objects') in the plane x[axis] = value forming one convex polygon without holes (a
    tiled floor). For a cell strictly on one side and over it, the space beyond, over the polygon, is solid: a segment
    there crosses the polygon. */
@@ -17532,11 +17532,7 @@ PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *
 /* 1 if the component may be sliced for this cell: outside its box, strictly on the cap's solid side. */
 PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
 	if (pvs__box_overlap(&c->box, cell)) return 0;
-	if (c->capped) {
-		if (c->cap_side > 0 && !(cell->min[c->cap_axis] > c->cap_value)) return 0;
-		if (c->cap_side < 0 && !(cell->max[c->cap_axis] < c->cap_value)) return 0;
-	}
-	return 1;
+	return !c->capped || pvs__ep_cap_ok(c->cap_side, c->cap_axis, c->cap_value, cell);
 }
 
 /* The slice of a sheet's solid half-space (beyond it from the cell, over its polygon): pixels inside by a margin get
@@ -18491,9 +18487,7 @@ PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, flo
 		double d2 = 0.0;
 		if (pvs_bitset_test(w->seen, i)) continue;
 		pvs_bitset_set(w->seen, i);
-		if ((o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) ||
-			(o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)))
-			continue; /* a capped solid this cell cannot use */
+		if (!pvs__ep_cap_ok(o->cap_side, o->cap_axis, o->cap_value, cell)) continue;
 		if (w->candidates && o->object != PVS_NO_OBJECT &&
 			!(w->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
 			!pvs_bitset_test(w->candidates, o->object))
@@ -18571,8 +18565,7 @@ PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_
    over the cell. */
 PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell,
 										const int *sheet_side, int axis, uint32_t *count) {
-	if (o->cap_side > 0 && !(cell->min[o->cap_axis] > o->cap_value)) return NULL;
-	if (o->cap_side < 0 && !(cell->max[o->cap_axis] < o->cap_value)) return NULL;
+	if (!pvs__ep_cap_ok(o->cap_side, o->cap_axis, o->cap_value, cell)) return NULL;
 	if (o->xcount && sheet_side[o->sheet] == o->xside && p->sheet[o->sheet].axis != axis) {
 		*count = o->xcount;
 		return p->pts + 3 * (size_t)o->xfirst;
