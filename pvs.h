@@ -13605,44 +13605,37 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
 
 /* ---- the aggregate: blockers, and the lines where hidden answers can change ---- */
 
+/* The least and greatest pvs__vo_cross(p, q, .) over the n points x. */
+PVS__STATIC void pvs__vo_sides(const double *p, const double *q, const double *x, uint32_t n, double *mn, double *mx) {
+	uint32_t k;
+	*mn = DBL_MAX;
+	*mx = -DBL_MAX;
+	for (k = 0; k < n; ++k) {
+		double s = pvs__vo_cross(p, q, x + 2 * k);
+		if (s < *mn) *mn = s;
+		if (s > *mx) *mx = s;
+	}
+}
+
 /* Common tangents of two convex vertex sets through the cell (only those change a hidden answer); need_cell 0 when one
    set is the cell. */
 PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t na, const double *b, uint32_t nb,
 									   int need_cell) {
-	uint32_t i, j, k;
+	uint32_t i, j;
 	for (i = 0; i < na; ++i)
 		for (j = 0; j < nb; ++j) {
 			const double *p = a + 2 * i, *q = b + 2 * j;
 			double ex = q[0] - p[0], ey = q[1] - p[1], len = sqrt(ex * ex + ey * ey), t, mn, mx;
-			int ok = 1;
 			if (!(len > c->tol)) continue;
 			t = c->tol * len;
-			mn = DBL_MAX; mx = -DBL_MAX;
-			for (k = 0; k < na; ++k) {
-				double s = pvs__vo_cross(p, q, a + 2 * k);
-				if (s < mn) mn = s;
-				if (s > mx) mx = s;
+			pvs__vo_sides(p, q, a, na, &mn, &mx);
+			if (mn < -t && mx > t) continue;
+			pvs__vo_sides(p, q, b, nb, &mn, &mx);
+			if (mn < -t && mx > t) continue;
+			if (need_cell) {
+				pvs__vo_sides(p, q, c->corner, 4, &mn, &mx);
+				if (!(mn <= t && mx >= -t)) continue;
 			}
-			if (mn < -t && mx > t) ok = 0;
-			if (ok) {
-				mn = DBL_MAX; mx = -DBL_MAX;
-				for (k = 0; k < nb; ++k) {
-					double s = pvs__vo_cross(p, q, b + 2 * k);
-					if (s < mn) mn = s;
-					if (s > mx) mx = s;
-				}
-				if (mn < -t && mx > t) ok = 0;
-			}
-			if (ok && need_cell) {
-				mn = DBL_MAX; mx = -DBL_MAX;
-				for (k = 0; k < 4; ++k) {
-					double s = pvs__vo_cross(p, q, c->corner + 2 * k);
-					if (s < mn) mn = s;
-					if (s > mx) mx = s;
-				}
-				ok = mn <= t && mx >= -t;
-			}
-			if (!ok) continue;
 			if (!pvs__vo_reserve(c->al, (void **)&c->lines, &c->caplines, 4 * ((size_t)c->nlines + 1),
 								 sizeof(double))) {
 				c->oom = 1;
