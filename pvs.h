@@ -10459,10 +10459,6 @@ PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double
 	*i0 = (uint32_t)a;
 	*i1 = (uint32_t)b;
 }
-PVS__STATIC void pvs__vx_range(const pvs_occluders *o, int k, double lo, double hi, double m, uint32_t *i0,
-							   uint32_t *i1) {
-	pvs__vx_grange(&o->grid, k, lo, hi, m, i0, i1);
-}
 
 /* Sutherland-Hodgman: convex polygon in (n points of 3 doubles; n = 2 a segment) clipped to sign (x[k] - c) >= 0 into
    out (n + 1 points). Returns the count. */
@@ -12062,6 +12058,30 @@ PVS__STATIC void pvs__tri_axis_range(const pvs_scene *s, uint32_t tri, uint32_t 
 	}
 }
 
+/* Component comp's voxel box lo..hi in grid gr: the voxels within m of its triangles' extents, from layer 1 up with
+   open edges. Returns its voxel count. */
+PVS__STATIC size_t pvs__vx_comp_box(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs__vx_grid *gr,
+									double m, uint32_t lo[3], uint32_t hi[3]) {
+	uint32_t t, k, r0, r1, up = s->up_axis;
+	size_t vol = 1;
+	for (k = 0; k < 3; ++k) {
+		lo[k] = 0xffffffffu;
+		hi[k] = 0;
+	}
+	for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t)
+		for (k = 0; k < 3; ++k) {
+			double tl, th;
+			pvs__tri_axis_range(s, tp->tris[t], k, &tl, &th);
+			pvs__vx_grange(gr, (int)k, tl, th, m, &r0, &r1);
+			if (r0 < lo[k]) lo[k] = r0;
+			if (r1 > hi[k]) hi[k] = r1;
+		}
+	if (lo[up] < 1 || tp->open_first[comp + 1] > tp->open_first[comp]) lo[up] = 1;
+	if (hi[up] < lo[up]) hi[up] = lo[up];
+	for (k = 0; k < 3; ++k) vol *= (size_t)(hi[k] - lo[k] + 1);
+	return vol;
+}
+
 /* The column map, its chains and pyramids: each component of three or more triangles flooded again on its own grid. */
 PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps,
 									   double m, pvs__vx_flood *fl) {
@@ -12100,7 +12120,7 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 	if (pvs__vx_component_voxel(s, tp, al, eps, m, &h0) != PVS_OK) return PVS_ERROR_OUT_OF_MEMORY;
 	for (comp = 0; comp < tp->comp_count && res == PVS_OK; ++comp) {
 		pvs__vx_grid gk;
-		uint32_t lo[3], hi[3], t;
+		uint32_t lo[3], hi[3];
 		size_t vol, ncol;
 		double hk = h0;
 		if (tp->comp_first[comp + 1] - tp->comp_first[comp] < 3) continue;
@@ -12109,24 +12129,9 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 			for (k = 0; k < 3; ++k) {
 				gk.origin[k] = (double)ext->min[k] - hk;
 				gk.n[k] = (uint32_t)(floor(((double)ext->max[k] - ext->min[k]) / hk) + 3.0);
-				lo[k] = 0xffffffffu;
-				hi[k] = 0;
 			}
 			gk.origin[up] = g - hk;
-			for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1]; ++t) {
-				uint32_t tri = tp->tris[t], r0, r1;
-				for (k = 0; k < 3; ++k) {
-					double tl, th;
-					pvs__tri_axis_range(s, tri, k, &tl, &th);
-					pvs__vx_grange(&gk, (int)k, tl, th, m, &r0, &r1);
-					if (r0 < lo[k]) lo[k] = r0;
-					if (r1 > hi[k]) hi[k] = r1;
-				}
-			}
-			if (lo[up] < 1 || tp->open_first[comp + 1] > tp->open_first[comp]) lo[up] = 1;
-			if (hi[up] < lo[up]) hi[up] = lo[up];
-			vol = 1;
-			for (k = 0; k < 3; ++k) vol *= (size_t)(hi[k] - lo[k] + 1);
+			vol = pvs__vx_comp_box(s, tp, comp, &gk, m, lo, hi);
 			if (vol <= PVS__VX_BOX_BUDGET) break;
 			hk *= 1.26;
 		}
@@ -12327,27 +12332,12 @@ PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
 	const pvs_scene *s = b->s;
 	const pvs__vx_topo *tp = &b->tp;
 	pvs__vx_flood *fl = &b->fl;
-	uint32_t up = b->up, c;
-	int kk;
+	uint32_t c;
 	b->cbox = (uint32_t *)pvs__alloc_array(&b->a, (size_t)(tp->comp_count ? tp->comp_count : 1) * 6, sizeof(uint32_t));
 	if (!b->cbox) return PVS_ERROR_OUT_OF_MEMORY;
 	for (c = 0; c < tp->comp_count; ++c) {
-		uint32_t *bx = b->cbox + 6 * (size_t)c, t;
-		size_t vol = 1, ncol;
-		for (kk = 0; kk < 3; ++kk) { bx[kk] = 0xffffffffu; bx[3 + kk] = 0; }
-		for (t = tp->comp_first[c]; t < tp->comp_first[c + 1]; ++t) {
-			uint32_t tri = tp->tris[t], r0, r1;
-			for (kk = 0; kk < 3; ++kk) {
-				double lo, hi;
-				pvs__tri_axis_range(s, tri, kk, &lo, &hi);
-				pvs__vx_range(b->o, kk, lo, hi, b->m, &r0, &r1);
-				if (r0 < bx[kk]) bx[kk] = r0;
-				if (r1 > bx[3 + kk]) bx[3 + kk] = r1;
-			}
-		}
-		if (bx[up] < 1 || tp->open_first[c + 1] > tp->open_first[c]) bx[up] = 1;
-		if (bx[3 + up] < bx[up]) bx[3 + up] = bx[up];
-		for (kk = 0; kk < 3; ++kk) vol *= (size_t)(bx[3 + kk] - bx[kk] + 1);
+		uint32_t *bx = b->cbox + 6 * (size_t)c;
+		size_t vol = pvs__vx_comp_box(s, tp, c, &b->o->grid, b->m, bx, bx + 3), ncol;
 		ncol = (size_t)(bx[3 + b->u] - bx[b->u] + 1) * (bx[3 + b->v] - bx[b->v] + 1);
 		if (tp->comp_first[c + 1] - tp->comp_first[c] < 3) continue; /* encloses nothing: touched only */
 		if (vol > fl->cap_vox) fl->cap_vox = vol;
@@ -12415,7 +12405,7 @@ PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
 	for (c = 0; c < s->occluder_count; ++c) {
 		const pvs_box *ob = s->occluder_boxes + c;
 		uint32_t r0[3], r1[3];
-		for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, ob->min[kk], ob->max[kk], 0.0, r0 + kk, r1 + kk);
+		for (kk = 0; kk < 3; ++kk) pvs__vx_grange(&o->grid, kk, ob->min[kk], ob->max[kk], 0.0, r0 + kk, r1 + kk);
 		for (k = r0[2]; k <= r1[2]; ++k)
 			for (j = r0[1]; j <= r1[1]; ++j)
 				for (i = r0[0]; i <= r1[0]; ++i) {
@@ -12467,7 +12457,7 @@ PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
 		uint32_t r0[3], r1[3];
 		int found = 0;
 		const pvs_box *cb = d->cells + c;
-		for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, cb->min[kk], cb->max[kk], b->m, r0 + kk, r1 + kk);
+		for (kk = 0; kk < 3; ++kk) pvs__vx_grange(&o->grid, kk, cb->min[kk], cb->max[kk], b->m, r0 + kk, r1 + kk);
 		for (k = r0[2]; k <= r1[2] && !found; ++k)
 			for (j = r0[1]; j <= r1[1] && !found; ++j)
 				for (i = r0[0]; i <= r1[0] && !found; ++i)
@@ -12500,7 +12490,7 @@ PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
 		uint32_t r0[3], r1[3];
 		int found = 0;
 		if ((s->object_flags[c] & PVS_OBJECT_OCCLUDER_ONLY) || !pvs__box_valid(ob)) continue;
-		for (kk = 0; kk < 3; ++kk) pvs__vx_range(o, kk, ob->min[kk], ob->max[kk], 0.0, r0 + kk, r1 + kk);
+		for (kk = 0; kk < 3; ++kk) pvs__vx_grange(&o->grid, kk, ob->min[kk], ob->max[kk], 0.0, r0 + kk, r1 + kk);
 		for (k = r0[2]; k <= r1[2] && !found; ++k)
 			for (j = r0[1]; j <= r1[1] && !found; ++j)
 				for (i = r0[0]; i <= r1[0] && !found; ++i) found = o->eroded[pvs__vx_index(o, i, j, k)];
