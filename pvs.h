@@ -15547,10 +15547,6 @@ PVS__STATIC double pvs__ep_plane_dist(const double *n, const float *x, const flo
 	return n[0] * ((double)x[0] - a[0]) + n[1] * ((double)x[1] - a[1]) + n[2] * ((double)x[2] - a[2]);
 }
 
-PVS__STATIC double pvs__ep_orient(const double *a, const double *b, const double *c) {
-	return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
-
 PVS__STATIC int pvs__ep_pt2_cmp(const void *x, const void *y) {
 	const double *a = (const double *)x, *b = (const double *)y;
 	if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
@@ -15563,12 +15559,12 @@ PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
 	if (n > 1) PVS_QSORT(pts, (size_t)n, sizeof(pts[0]), pvs__ep_pt2_cmp); /* equal points are equal values */
 	if (n < 3) return 0;
 	for (i = 0; i < n; ++i) {
-		while (k >= 2 && pvs__ep_orient(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+		while (k >= 2 && pvs__vo_cross(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
 		hull[k][0] = pts[i][0]; hull[k][1] = pts[i][1]; ++k;
 	}
 	lower = k + 1;
 	for (i = n - 2; i >= 0; --i) {
-		while (k >= lower && pvs__ep_orient(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+		while (k >= lower && pvs__vo_cross(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
 		hull[k][0] = pts[i][0]; hull[k][1] = pts[i][1]; ++k;
 	}
 	return k - 1; /* the last point repeats the first */
@@ -19460,6 +19456,7 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 	uint32_t ncnodes = o->chain_bvh.node_count ? o->chain_bvh.node_count : 1;
 	uint32_t nu, nv, a, b, up = s->up_axis;
 	int edges, u, v;
+	pvs_result res = PVS_OK;
 	pvs__ground_axes(up, &u, &v);
 	edges = pvs__shrink_edges_suffice(o, cell, u, v, up);
 	spacing = edges ? 2.0 * eps * (1.0 - 1e-6) : 1.41 * eps;
@@ -19473,11 +19470,8 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 	stack = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
 	cstack = (uint32_t *)pvs__alloc_array(&o->allocator, ncnodes, sizeof(uint32_t));
 	if (!hz || !remaining || !stack || !cstack) {
-		pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
-		pvs__free_array(&o->allocator, remaining, nnodes, sizeof(uint32_t));
-		pvs__free_array(&o->allocator, stack, nnodes, sizeof(uint32_t));
-		pvs__free_array(&o->allocator, cstack, ncnodes, sizeof(uint32_t));
-		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
+		res = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
+		goto done;
 	}
 	w.o = o;
 	w.hz = hz;
@@ -19513,11 +19507,12 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 			++st->samples;
 			pvs__shrink_walk_tree(&w, PVS__SHRINK_SAMPLE, stack);
 		}
+done:
 	pvs__free(&o->allocator, hz, sizeof(pvs__hz), 16);
 	pvs__free_array(&o->allocator, remaining, nnodes, sizeof(uint32_t));
 	pvs__free_array(&o->allocator, stack, nnodes, sizeof(uint32_t));
 	pvs__free_array(&o->allocator, cstack, ncnodes, sizeof(uint32_t));
-	return PVS_OK;
+	return res;
 }
 
 #define PVS__SHRINK_RES 64u
