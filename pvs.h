@@ -13227,26 +13227,24 @@ PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs_
 	return 1;
 }
 
-/* 1 if segment a-b meets the cell grown by tol. */
-PVS__STATIC int pvs__vo_seg_meets_cell(const pvs__vctx *c, const double *a, const double *b) {
-	double t0 = 0.0, t1 = 1.0, d[2];
+/* Where ray x + t w, t in [0, tmax], enters the cell grown by g: the least such t, -1 when it misses (the slabs). */
+PVS__STATIC double pvs__vo_ray_cell(const pvs__vctx *c, const double *x, const double *w, double g, double tmax) {
+	double s0 = 0.0, s1 = tmax;
 	int k;
-	d[0] = b[0] - a[0];
-	d[1] = b[1] - a[1];
 	for (k = 0; k < 2; ++k) {
-		double lo = c->cmin[k] - c->tol, hi = c->cmax[k] + c->tol;
-		if (d[k] == 0.0) {
-			if (a[k] < lo || a[k] > hi) return 0;
+		double lo = c->cmin[k] - g, hi = c->cmax[k] + g;
+		if (w[k] == 0.0) {
+			if (x[k] < lo || x[k] > hi) return -1.0;
 		} else {
-			double u0 = (lo - a[k]) / d[k], u1 = (hi - a[k]) / d[k];
+			double u0 = (lo - x[k]) / w[k], u1 = (hi - x[k]) / w[k];
 			if (u0 > u1) { double t = u0; u0 = u1; u1 = t; }
-			if (u0 > t0) t0 = u0;
-			if (u1 < t1) t1 = u1;
-			if (t0 > t1) return 0;
+			if (u0 > s0) s0 = u0;
+			if (u1 < s1) s1 = u1;
 		}
 	}
-	return 1;
+	return s0 <= s1 ? s0 : -1.0;
 }
+
 /* 1 if counter-clockwise convex polygon v (n >= 3) meets the cell grown by tol (separating axes). */
 PVS__STATIC int pvs__vo_poly_meets_cell(const pvs__vctx *c, const double *v, uint32_t n) {
 	double lo[2] = {DBL_MAX, DBL_MAX}, hi[2] = {-DBL_MAX, -DBL_MAX};
@@ -13306,6 +13304,16 @@ PVS__STATIC uint32_t pvs__vo_add_obj(pvs__vctx *c, const double *pts, const uint
 	return c->nobj++;
 }
 
+/* Wall segment s as a blocker when it reaches height h and misses the cell grown by tol. */
+PVS__STATIC void pvs__vo_add_seg(pvs__vctx *c, uint32_t s, float h) {
+	const pvs__vprep *p = c->p;
+	double a[2], d[2];
+	if (p->seg_top[s] < h) return;
+	a[0] = p->seg[4 * s] - c->centre[0]; a[1] = p->seg[4 * s + 1] - c->centre[1];
+	d[0] = (p->seg[4 * s + 2] - c->centre[0]) - a[0]; d[1] = (p->seg[4 * s + 3] - c->centre[1]) - a[1];
+	if (pvs__vo_ray_cell(c, a, d, c->tol, 1.0) < 0.0) pvs__vo_add_obj(c, p->seg + 4 * s, p->seg_vid + 2 * s, 2, -1);
+}
+
 /* The blockers of slice height h: loops reaching h whose hull misses the cell as hulls, other walls reaching h as
    segments unless they meet the cell. */
 PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
@@ -13331,23 +13339,9 @@ PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 					continue;
 				}
 			}
-			for (j = p->loop_start[ref]; j < p->loop_start[ref + 1]; ++j) {
-				uint32_t s = p->ring_seg[j];
-				double a[2], b[2];
-				if (p->seg_top[s] < h) continue;
-				a[0] = p->seg[4 * s] - c->centre[0]; a[1] = p->seg[4 * s + 1] - c->centre[1];
-				b[0] = p->seg[4 * s + 2] - c->centre[0]; b[1] = p->seg[4 * s + 3] - c->centre[1];
-				if (!pvs__vo_seg_meets_cell(c, a, b)) pvs__vo_add_obj(c, p->seg + 4 * s, p->seg_vid + 2 * s, 2, -1);
-			}
-		} else {
-			uint32_t s = ref - p->nloop;
-			double a[2], b[2];
-			if (p->seg_top[s] >= h) {
-				a[0] = p->seg[4 * s] - c->centre[0]; a[1] = p->seg[4 * s + 1] - c->centre[1];
-				b[0] = p->seg[4 * s + 2] - c->centre[0]; b[1] = p->seg[4 * s + 3] - c->centre[1];
-				if (!pvs__vo_seg_meets_cell(c, a, b)) pvs__vo_add_obj(c, p->seg + 4 * s, p->seg_vid + 2 * s, 2, -1);
-			}
-		}
+			for (j = p->loop_start[ref]; j < p->loop_start[ref + 1]; ++j) pvs__vo_add_seg(c, p->ring_seg[j], h);
+		} else
+			pvs__vo_add_seg(c, ref - p->nloop, h);
 		c->pcount[i] = c->nobj - c->pfirst[i];
 	}
 	return !c->oom;
@@ -13403,22 +13397,6 @@ PVS__STATIC double pvs__vo_ray_obj(const pvs__vctx *c, const pvs__vobj *o, const
 		}
 		return s0 <= s1 ? s0 : -1.0;
 	}
-}
-/* Entry distance of the ray into the cell, -1 when it misses. */
-PVS__STATIC double pvs__vo_ray_cell(const pvs__vctx *c, const double *x, const double *w) {
-	double s0 = 0.0, s1 = DBL_MAX;
-	int k;
-	for (k = 0; k < 2; ++k) {
-		if (w[k] == 0.0) {
-			if (x[k] < c->cmin[k] || x[k] > c->cmax[k]) return -1.0;
-		} else {
-			double u0 = (c->cmin[k] - x[k]) / w[k], u1 = (c->cmax[k] - x[k]) / w[k];
-			if (u0 > u1) { double t = u0; u0 = u1; u1 = t; }
-			if (u0 > s0) s0 = u0;
-			if (u1 < s1) s1 = u1;
-		}
-	}
-	return s0 <= s1 ? s0 : -1.0;
 }
 
 /* 1 if x is inside convex object o or within tol of it (o is then unusable from x). */
@@ -13534,7 +13512,7 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 		w[0] /= len;
 		w[1] /= len;
 		so = pvs__vo_ray_obj(c, o, x, w);
-		sc = pvs__vo_ray_cell(c, x, w);
+		sc = pvs__vo_ray_cell(c, x, w, 0.0, DBL_MAX);
 		if (!(so >= 0.0 && sc >= 0.0 && so < sc - tol)) continue; /* behind the cell, or undecided */
 		c->span[*ns].s = sp[j][0];
 		c->span[*ns].e = sp[j][1];
