@@ -13195,23 +13195,30 @@ PVS__STATIC void pvs__vctx_free(pvs__vctx *c) {
 	memset(c, 0, sizeof(*c));
 }
 
-/* A cell's frame (ground rectangle, world coordinates) over the prepared occluders. */
-PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs__vprep *p, const double cmin[2],
-							   const double cmax[2], double range) {
+/* c's cell relative to centre: cmin, cmax and the corners, counter-clockwise from cmin. */
+PVS__STATIC void pvs__vo_cell_frame(pvs__vctx *c, const double *cmin, const double *cmax, const double *centre) {
 	int k;
-	double ext = 1.0;
-	memset(c, 0, sizeof(*c));
-	c->al = al;
-	c->p = p;
 	for (k = 0; k < 2; ++k) {
-		c->centre[k] = 0.5 * cmin[k] + 0.5 * cmax[k];
-		c->cmin[k] = cmin[k] - c->centre[k];
-		c->cmax[k] = cmax[k] - c->centre[k];
+		c->centre[k] = centre[k];
+		c->cmin[k] = cmin[k] - centre[k];
+		c->cmax[k] = cmax[k] - centre[k];
 	}
 	c->corner[0] = c->cmin[0]; c->corner[1] = c->cmin[1];
 	c->corner[2] = c->cmax[0]; c->corner[3] = c->cmin[1];
 	c->corner[4] = c->cmax[0]; c->corner[5] = c->cmax[1];
 	c->corner[6] = c->cmin[0]; c->corner[7] = c->cmax[1];
+}
+
+/* A cell's frame (ground rectangle, world coordinates) over the prepared occluders. */
+PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs__vprep *p, const double cmin[2],
+							   const double cmax[2], double range) {
+	int k;
+	double ext = 1.0, mid[2];
+	memset(c, 0, sizeof(*c));
+	c->al = al;
+	c->p = p;
+	for (k = 0; k < 2; ++k) mid[k] = 0.5 * cmin[k] + 0.5 * cmax[k];
+	pvs__vo_cell_frame(c, cmin, cmax, mid);
 	for (k = 0; k < 4; ++k) {
 		double v = fabs(p->bb[k] - c->centre[k & 1]);
 		if (v > ext) ext = v;
@@ -14936,22 +14943,13 @@ PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *ce
 	double cmin[2], cmax[2];
 	float h[16];
 	uint32_t ns, i;
-	int u, v, k;
+	int u, v;
 	pvs__ground_axes(vb->up, &u, &v);
 	cmin[0] = cell->min[u]; cmin[1] = cell->min[v];
 	cmax[0] = cell->max[u]; cmax[1] = cell->max[v];
 	if (!(cell->min[vb->up] >= vb->base && cmax[0] > cmin[0] && cmax[1] > cmin[1] && vb->prep->nobj)) return PVS_OK;
 	if (!pvs__vctx_init(c, al, vb->prep, cmin, cmax, reach)) return PVS_ERROR_OUT_OF_MEMORY;
-	c->centre[0] = centre[0]; /* the file's frame (float centre) */
-	c->centre[1] = centre[1];
-	for (k = 0; k < 2; ++k) {
-		c->cmin[k] = cmin[k] - centre[k];
-		c->cmax[k] = cmax[k] - centre[k];
-	}
-	c->corner[0] = c->cmin[0]; c->corner[1] = c->cmin[1];
-	c->corner[2] = c->cmax[0]; c->corner[3] = c->cmin[1];
-	c->corner[4] = c->cmax[0]; c->corner[5] = c->cmax[1];
-	c->corner[6] = c->cmin[0]; c->corner[7] = c->cmax[1];
+	pvs__vo_cell_frame(c, cmin, cmax, centre); /* the file's frame (float centre) */
 	c->quantize = 1;
 	c->qscale = pvs__vo_scale(code);
 	c->qground = vb->base;
