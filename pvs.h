@@ -12177,19 +12177,25 @@ typedef struct pvs__vx_build {
 	pvs__vx_flood fl;
 } pvs__vx_build;
 
-/* The error path: frees the scratch the steps left (b->o stays: the caller destroys it). */
-PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
+/* Frees the floods' scratch but the per-cell buffer, and forgets it (step 5 and the error path). */
+PVS__STATIC void pvs__vx_flood_free(pvs__vx_build *b) {
 	const pvs_allocator *a = &b->a;
 	pvs__vx_flood *fl = &b->fl;
-	uint32_t cells = b->d->cell_count;
 	pvs__free_array(a, fl->bucket_first, b->nbuckets + 1, sizeof(uint32_t));
 	pvs__free_array(a, fl->bucket_cells, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
-	pvs__free_array(a, fl->stamp, cells, sizeof(uint32_t));
-	pvs__free_array(a, fl->cellbuf, cells, 7);
-	if (fl->queue && fl->queue != b->queue)
-		pvs__free_array(a, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
+	pvs__free_array(a, fl->stamp, b->d->cell_count, sizeof(uint32_t));
+	if (fl->queue != b->queue) pvs__free_array(a, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
 	pvs__free_array(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
 	pvs__free_array(a, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
+	fl->bits = fl->col = NULL;
+	fl->queue = fl->bucket_first = fl->bucket_cells = fl->stamp = NULL;
+}
+
+/* Frees the scratch the steps left (b->o stays: the caller destroys it). */
+PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
+	const pvs_allocator *a = &b->a;
+	pvs__vx_flood_free(b);
+	pvs__free_array(a, b->fl.cellbuf, b->d->cell_count, 7);
 	pvs__free_array(a, b->cbox, (size_t)(b->tp.comp_count ? b->tp.comp_count : 1) * 6, sizeof(uint32_t));
 	pvs__vx_topo_free(a, &b->tp, b->s->triangle_count);
 	pvs__free_array(a, b->tmp, b->total, 1);
@@ -12502,9 +12508,7 @@ PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
    chains, hierarchies; frees the floods' scratch but the per-cell bytes. */
 PVS__STATIC pvs_result pvs__vx_build_columns(pvs__vx_build *b) {
 	pvs_occluders *o = b->o;
-	const pvs_allocator *a = &b->a;
-	pvs__vx_flood *fl = &b->fl;
-	uint32_t up = b->up, cells = b->d->cell_count;
+	uint32_t up = b->up;
 	int u = b->u, v = b->v;
 	size_t vi, cols = (size_t)o->n[u] * o->n[v];
 	for (vi = 0; vi < cols; ++vi) {
@@ -12516,17 +12520,11 @@ PVS__STATIC pvs_result pvs__vx_build_columns(pvs__vx_build *b) {
 		}
 	}
 	o->info.is_2d5 = o->info.solid > 0 && (double)o->info.column_voxels >= 0.9 * (double)o->info.solid;
-	if (pvs__vx_columns(o, &b->tp, &b->ext, b->d->eps, b->m, fl) != PVS_OK || pvs__occluders_hierarchies(o) != PVS_OK)
+	if (pvs__vx_columns(o, &b->tp, &b->ext, b->d->eps, b->m, &b->fl) != PVS_OK ||
+		pvs__occluders_hierarchies(o) != PVS_OK)
 		return PVS_ERROR_OUT_OF_MEMORY;
 	o->info.rect_count = o->chain_count;
-	pvs__free_array(a, fl->bits, fl->cap_vox ? fl->cap_vox : 1, 1);
-	pvs__free_array(a, fl->queue, fl->cap_vox ? 2 * fl->cap_vox : 1, sizeof(uint32_t));
-	pvs__free_array(a, fl->col, fl->cap_col ? fl->cap_col : 1, 1);
-	pvs__free_array(a, fl->bucket_first, b->nbuckets + 1, sizeof(uint32_t));
-	pvs__free_array(a, fl->bucket_cells, b->bucket_entries ? b->bucket_entries : 1, sizeof(uint32_t));
-	pvs__free_array(a, fl->stamp, cells, sizeof(uint32_t));
-	fl->bits = fl->col = NULL; /* the error path must not free them again */
-	fl->queue = fl->bucket_first = fl->bucket_cells = fl->stamp = NULL;
+	pvs__vx_flood_free(b);
 	return PVS_OK;
 }
 
@@ -12608,9 +12606,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
 	if (pvs__vx_build_columns(&b) != PVS_OK || pvs__vx_build_excluded(&b) != PVS_OK) goto oom;
 	pvs__vx_topo_free(&b.a, &b.tp, b.s->triangle_count);
 	pvs__vx_erode_merge(&b, r);
-	pvs__free_array(&b.a, b.tmp, b.total, 1);
-	pvs__free_array(&b.a, b.queue, b.qcap, sizeof(uint32_t));
-	pvs__free_array(&b.a, b.line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
+	pvs__vx_build_free(&b); /* what is left: b.tmp, b.queue, b.line */
 	if (!o->boxes) {
 		pvs_occluders_destroy(o);
 		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder boxes");
