@@ -19206,8 +19206,11 @@ PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
    the eye; 0 if the eye is inside or on it. The span runs counter-clockwise between silhouette corners. */
 PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1,
 							 double *dmin, double *dmax) {
-	double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, sx, sy, ex, ey, as, ae;
-	int rx = x0 > 0.0 ? 0
+	/* the corners where the rectangle starts and ends counter-clockwise, by region 3 rx + ry: bits 3, 2 (start) and
+	   1, 0 (end) pick x1 over x0, y1 over y0 */
+	static const unsigned char ends[9] = {9, 1, 3, 8, 0, 7, 12, 14, 6};
+	double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, as, ae, xs[2], ys[2];
+	int e, rx = x0 > 0.0 ? 0
 		: x1 < 0.0    ? 2
 					  : 1,
 		ry = y0 > 0.0 ? 0
@@ -19220,20 +19223,10 @@ PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, 
 	fy = pvs__dmax(pvs__dabs(y0), pvs__dabs(y1));
 	*dmin = sqrt(nx * nx + ny * ny) * (1.0 - 1e-9);
 	*dmax = sqrt(fx * fx + fy * fy) * (1.0 + 1e-9);
-	if (rx == 0) {
-		if (ry == 0) { sx = x1; sy = y0; ex = x0; ey = y1; }
-		else if (ry == 1) { sx = x0; sy = y0; ex = x0; ey = y1; }
-		else { sx = x0; sy = y0; ex = x1; ey = y1; }
-	} else if (rx == 1) {
-		if (ry == 0) { sx = x1; sy = y0; ex = x0; ey = y0; }
-		else { sx = x0; sy = y1; ex = x1; ey = y1; }
-	} else {
-		if (ry == 0) { sx = x1; sy = y1; ex = x0; ey = y0; }
-		else if (ry == 1) { sx = x1; sy = y1; ex = x1; ey = y0; }
-		else { sx = x0; sy = y1; ex = x1; ey = y0; }
-	}
-	as = pvs__hz_angle(sx, sy) - 1e-12;
-	ae = pvs__hz_angle(ex, ey) + 1e-12;
+	xs[0] = x0; xs[1] = x1; ys[0] = y0; ys[1] = y1;
+	e = ends[3 * rx + ry];
+	as = pvs__hz_angle(xs[e >> 3], ys[(e >> 2) & 1]) - 1e-12;
+	ae = pvs__hz_angle(xs[(e >> 1) & 1], ys[e & 1]) + 1e-12;
 	if (as < 0.0) as += 4.0;
 	if (ae < as) ae += 4.0;
 	*b0 = pvs__hz_bin(z, as);
