@@ -16427,13 +16427,34 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
 #define PVS__EP_TRI(j, k) (s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + (k)])
 #define PVS__EP_CONCAVE_EDGES 256
 
+/* Edges of odd use count (sorted keys, the smaller canonical id high) of triangles tl[ids[i] & 0xffffffff] (ids NULL:
+   tl[i]), i < n, into out (not ids). Returns their count. */
+PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t *tl, const uint64_t *ids, uint32_t n,
+									   uint64_t *out) {
+	uint32_t i, k, ne = 0, nb = 0;
+	for (i = 0; i < n; ++i)
+		for (k = 0; k < 3; ++k) {
+			uint32_t t = tl[ids ? (uint32_t)(ids[i] & 0xffffffffu) : i];
+			uint64_t x = w->canon[3 * t + k], y = w->canon[3 * t + (k + 1) % 3];
+			if (x != y) out[ne++] = x < y ? (x << 32) | y : (y << 32) | x;
+		}
+	PVS_QSORT(out, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
+	for (i = 0; i < ne;) {
+		uint32_t m = i;
+		while (m < ne && out[m] == out[i]) ++m;
+		if ((m - i) & 1u) out[nb++] = out[i]; /* compacted in place: nb <= i */
+		i = m;
+	}
+	return nb;
+}
+
 /* A planar group not forming one convex polygon becomes a concave planar occluder (Durand 2000 §3.4, Fig. 7): boundary
    edges and plane (unit normal nr / lr, vertices within dev); its points, its vertices' hull, serve selection only.
    Past PVS__EP_CONCAVE_EDGES edges it stays in pieces. */
 PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 										   pvs__epprepwork *w, uint32_t m, uint32_t cnt, const double *nr, double lr,
 										   double dev, double scale) {
-	uint32_t h, c, nb = 0, ne = 0, ax = 0, u, v, i, nh = 0;
+	uint32_t h, nb, ax = 0, u, v, i, nh = 0;
 	int k, hn;
 	pvs_result r = PVS_OK;
 	const float *q3[3 * PVS__EP_CONCAVE_EDGES];
@@ -16442,20 +16463,7 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
 		if (pvs__dabs(nr[k]) > pvs__dabs(nr[ax])) ax = (uint32_t)k;
 	u = (ax + 1) % 3;
 	v = (ax + 2) % 3;
-	for (h = m; h < m + cnt; ++h) {
-		uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu);
-		for (c = 0; c < 3; ++c) {
-			uint64_t x = w->canon[3 * tl[t] + c], y = w->canon[3 * tl[t] + (c + 1) % 3];
-			if (x != y) w->bed[ne++] = x < y ? (x << 32) | y : (y << 32) | x;
-		}
-	}
-	PVS_QSORT(w->bed, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
-	for (h = 0; h < ne;) {
-		uint32_t g = h;
-		while (g < ne && w->bed[g] == w->bed[h]) ++g;
-		if ((g - h) & 1u) w->bed[nb++] = w->bed[h];
-		h = g;
-	}
+	nb = pvs__ep_odd_edges(w, tl, w->edges + m, cnt, w->bed);
 	if (nb < 3 || nb > PVS__EP_CONCAVE_EDGES) return PVS_OK;
 	/* the hull of the boundary's vertices (interior ones lie inside) */
 	for (h = 0; h < 2 * nb; ++h) {
@@ -16704,20 +16712,7 @@ PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn
    w->uv[0 .. *nuv). */
 PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32_t *tl, uint32_t n, uint32_t comp,
 												uint32_t *nuv) {
-	uint32_t j, k, ne = 0, nb = 0;
-	for (j = 0; j < n; ++j)
-		for (k = 0; k < 3; ++k) {
-			uint32_t x = w->canon[3 * tl[j] + k], y = w->canon[3 * tl[j] + (k + 1) % 3];
-			if (x == y) continue;
-			w->edges[ne++] = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
-		}
-	PVS_QSORT(w->edges, ne, sizeof(uint64_t), pvs__ep_u64_cmp);
-	for (j = 0; j < ne;) {
-		uint32_t m = j;
-		while (m < ne && w->edges[m] == w->edges[j]) ++m;
-		if ((m - j) & 1u) w->edges[nb++] = w->edges[j]; /* compacted in place: nb <= j */
-		j = m;
-	}
+	uint32_t j, k, nb = pvs__ep_odd_edges(w, tl, NULL, n, w->edges);
 	*nuv = 0;
 	for (j = 0; j < n; ++j)
 		for (k = 0; k < 3; ++k) {
