@@ -14451,16 +14451,19 @@ PVS__STATIC int pvs__vo_box_ok(const pvs_box *b) {
 	return 1;
 }
 
+/* r from a caller's occluder; 0 (r unusable) if its ends are not finite. */
+PVS__STATIC int pvs__vo_rt_user(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const pvs_virtual_occluder *o) {
+	double a[2], b[2];
+	a[0] = o->p0[0]; a[1] = o->p0[1];
+	b[0] = o->p1[0]; b[1] = o->p1[1];
+	pvs__vo_rt_init(r, cell, up, a, b, o->base, o->top);
+	return pvs__finite(o->p0[0]) && pvs__finite(o->p0[1]) && pvs__finite(o->p1[0]) && pvs__finite(o->p1[1]);
+}
 PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
 								const pvs_box *box) {
 	pvs__vo_rt r;
-	double a[2], b[2];
 	if (!cell || !o || !box || !pvs__vo_box_ok(cell) || !pvs__vo_box_ok(box)) return 0;
-	if (!pvs__finite(o->p0[0]) || !pvs__finite(o->p0[1]) || !pvs__finite(o->p1[0]) || !pvs__finite(o->p1[1])) return 0;
-	a[0] = o->p0[0]; a[1] = o->p0[1];
-	b[0] = o->p1[0]; b[1] = o->p1[1];
-	pvs__vo_rt_init(&r, cell, up_axis, a, b, o->base, o->top);
-	return pvs__vo_rt_hides(&r, box);
+	return pvs__vo_rt_user(&r, cell, up_axis, o) && pvs__vo_rt_hides(&r, box);
 }
 
 /* ---- the rebuild: a top-down walk of the object kD-tree ---- */
@@ -14567,15 +14570,8 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the cell box is empty or not finite");
 	r = pvs__vo_scratch(scratch, scratch_size, count, tree, &rt, &rest, &rest_size, err);
 	if (r != PVS_OK) return r;
-	for (i = 0; i < count; ++i) {
-		double a[2], b[2];
-		a[0] = occ[i].p0[0]; a[1] = occ[i].p0[1];
-		b[0] = occ[i].p1[0]; b[1] = occ[i].p1[1];
-		pvs__vo_rt_init(rt + i, cell, up_axis, a, b, occ[i].base, occ[i].top);
-		if (!pvs__finite(occ[i].p0[0]) || !pvs__finite(occ[i].p0[1]) || !pvs__finite(occ[i].p1[0]) ||
-			!pvs__finite(occ[i].p1[1]))
-			rt[i].ok = 0;
-	}
+	for (i = 0; i < count; ++i)
+		if (!pvs__vo_rt_user(rt + i, cell, up_axis, occ + i)) rt[i].ok = 0;
 	return pvs__vo_cull(cell, rt, count, boxes, object_count, tree, rest, rest_size, visible, err);
 }
 
