@@ -15670,10 +15670,11 @@ PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, 
 								  unsigned char *mask) {
 	size_t row = (size_t)j * f->width;
 	int32_t x;
-	for (x = x0; x <= x1; ++x) {
-		if (map && map[row + (size_t)x] > depth) map[row + (size_t)x] = depth;
-		if (mask) mask[row + (size_t)x] = (unsigned char)(mask[row + (size_t)x] | f->bits);
-	}
+	if (map)
+		for (x = x0; x <= x1; ++x)
+			if (map[row + (size_t)x] > depth) map[row + (size_t)x] = depth;
+	if (mask)
+		for (x = x0; x <= x1; ++x) mask[row + (size_t)x] = (unsigned char)(mask[row + (size_t)x] | f->bits);
 	return (uint32_t)(x1 - x0 + 1);
 }
 
