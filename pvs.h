@@ -21160,12 +21160,12 @@ PVS__STATIC int pvs__heap_less(const void *pa, const void *pb) {
 	return a->from < b->from;
 }
 
-/* Index of v in the sorted unique table t[0..n). */
-PVS__STATIC uint32_t pvs__value_index(const float *t, uint32_t n, float v) {
-	uint32_t lo = 0, hi = n - 1;
+/* How many of the ascending t[0..n) lie below v (or_equal: not above it): v's index when t holds it once. */
+PVS__STATIC uint32_t pvs__count_below(const float *t, uint32_t n, float v, int or_equal) {
+	uint32_t lo = 0, hi = n;
 	while (lo < hi) {
 		uint32_t mid = lo + (hi - lo) / 2;
-		if (t[mid] < v) lo = mid + 1;
+		if (t[mid] < v || (or_equal && t[mid] == v)) lo = mid + 1;
 		else hi = mid;
 	}
 	return lo;
@@ -21218,22 +21218,10 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 			for (side = 0; side < 2; ++side)
 				for (i = 0; i < n; ++i) {
 					float v = side ? maxs[i] : mins[i];
-					uint32_t lo = 0, hi = n, left, right, score;
+					uint32_t left, right, score;
 					if (i && v == (side ? maxs[i - 1] : mins[i - 1])) continue;
-					while (lo < hi) { /* mins < v */
-						uint32_t mid = lo + (hi - lo) / 2;
-						if (mins[mid] < v) lo = mid + 1;
-						else hi = mid;
-					}
-					left = lo;
-					lo = 0;
-					hi = n;
-					while (lo < hi) { /* maxs <= v */
-						uint32_t mid = lo + (hi - lo) / 2;
-						if (maxs[mid] <= v) lo = mid + 1;
-						else hi = mid;
-					}
-					right = n - lo;
+					left = pvs__count_below(mins, n, v, 0);
+					right = n - pvs__count_below(maxs, n, v, 1);
 					score = left > right ? left : right;
 					if (left > 0 && right > 0 && left < n && right < n && score < best_score) {
 						best_score = score;
@@ -21260,7 +21248,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 	{
 		uint32_t *sub = (uint32_t *)pvs__alloc_array(b->a, n, sizeof(uint32_t)), m = 0;
 		if (!sub) return PVS_ERROR_OUT_OF_MEMORY;
-		b->nodes[k] = best_axis | (pvs__value_index(b->values[best_axis], b->value_count[best_axis], best_v) << 2);
+		b->nodes[k] = best_axis | (pvs__count_below(b->values[best_axis], b->value_count[best_axis], best_v, 0) << 2);
 		for (i = 0; i < n; ++i) {
 			const pvs_box *c = b->boxes + ids[i];
 			if (c->min[best_axis] < best_v || c->max[best_axis] <= best_v) sub[m++] = ids[i];
@@ -21587,7 +21575,8 @@ PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_by
 		e->value_count[k] = n;
 		e->index_bits[k] = pvs__bits_for(n - 1);
 		for (i = 0; i < e->cells; ++i) {
-			uint32_t ext = pvs__value_index(v, n, e->boxes[i].max[k]) - pvs__value_index(v, n, e->boxes[i].min[k]);
+			uint32_t ext =
+				pvs__count_below(v, n, e->boxes[i].max[k], 0) - pvs__count_below(v, n, e->boxes[i].min[k], 0);
 			if (ext > widest) widest = ext;
 		}
 		e->index_bits[3 + k] = pvs__bits_for(widest);
@@ -21703,12 +21692,12 @@ PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
 	for (i = 0; i < e->cells; ++i) {
 		uint32_t lo[3];
 		for (k = 0; k < 3; ++k) {
-			lo[k] = pvs__value_index(e->values[k], e->value_count[k], e->boxes[i].min[k]);
+			lo[k] = pvs__count_below(e->values[k], e->value_count[k], e->boxes[i].min[k], 0);
 			pvs__put_bits(bits, pos, lo[k], e->index_bits[k]);
 			pos += e->index_bits[k];
 		}
 		for (k = 0; k < 3; ++k) {
-			pvs__put_bits(bits, pos, pvs__value_index(e->values[k], e->value_count[k], e->boxes[i].max[k]) - lo[k],
+			pvs__put_bits(bits, pos, pvs__count_below(e->values[k], e->value_count[k], e->boxes[i].max[k], 0) - lo[k],
 						  e->index_bits[3 + k]);
 			pos += e->index_bits[3 + k];
 		}
