@@ -827,20 +827,16 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame)
 
 /* ---- occluders ---- */
 
-/* Occluder synthesis: certainly-solid volumes for the shrink method (Wonka 2000 §2: its appendix theorem
-   needs volumetric occluders). A voxel is solid only when no viewer in any cell reaches it by a path
-   touching no triangle, so sight lines through it meet a triangle first. This is proved per edge-connected
-   component by crossing-parity floods from the cells (>>occluders, "certified solid"), never guessed from
-   connectivity (a touched voxel may hide a narrower slit); voxels inside explicit occluder volumes are
-   solid too. Openings narrower than a voxel stay open; a crack or T-junction (an open edge, used by an odd
-   number of triangles) gives no volume along the vertical sheet below it; an enclosure made only by
-   several meshes together is not recognised. The ground lies below the lowest point of scene and cells (no
-   sight line between points above passes below). The solid set is eroded by eps (rounding toward less
-   solid) into boxes (3D) and per-column heights on the ground (2.5D rectangles). Leaks: the few cells
-   reaching the outside of a component's box that most cells lie in (poking through a wall into a faceless
-   void) are left out of later floods, so the others keep their walls (pvs_occluders_excluded_cells). A
-   flood of untouched voxels from the grid's border reports the cells it reaches (face-adjacent untouched
-   voxels are a real free path). */
+/* Occluder synthesis: certainly-solid volumes for the shrink method (Wonka 2000 §2: its appendix theorem needs
+   volumetric occluders). A voxel is solid only when crossing-parity floods from the cells prove that no viewer reaches
+   it by a path touching no triangle (>>occluders, "certified solid"), or when it lies inside an explicit occluder
+   volume. Openings narrower than a voxel stay open; a crack or T-junction (an edge used by an odd number of triangles)
+   gives no volume along the vertical sheet below it; an enclosure made only by several meshes together is not
+   recognised. The ground lies below the lowest point of scene and cells. The solid set is eroded by eps (rounding
+   toward less solid) into boxes (3D) and per-column heights on the ground (2.5D rectangles). Leaks: the few cells
+   reaching the outside of a component's box that most cells lie in (poking through a wall into a faceless void) are
+   left out of later floods, so the others keep their walls (pvs_occluders_excluded_cells). A flood of untouched voxels
+   from the grid's border reports the cells it reaches. */
 typedef struct pvs_occluders_desc {
 	const pvs_scene *scene;   /* required; must outlive the occluders */
 	const pvs_box *cells;     /* cell_count >= 1 view cells, the flood's sources (required) */
@@ -954,12 +950,10 @@ typedef struct pvs_vocc_2d_desc {
 	pvs_allocator allocator;
 } pvs_vocc_2d_desc;
 
-/* The cell's dense set of 2D virtual occluders (§3: aggregate umbrae grown from seeds along supporting
-   and separating lines), each kept only once checked exactly hidden from the whole cell (rounding up to a
-   relative 1e-9, toward "not hidden"). Writes up to `capacity` (x0, y0, x1, y1) to `occluders` (NULL:
-   count only), *count the number found. Segments meeting the cell are ignored; stats may be NULL.
-   Errors: INVALID_ARGUMENT, NOT_FINITE, BAD_CELL, OUT_OF_MEMORY. Thread-safe; allocates through
-   desc->allocator. */
+/* The cell's dense set of 2D virtual occluders (§3), each kept only once checked exactly hidden from the whole cell
+   (rounding up to a relative 1e-9, toward "not hidden"). Writes up to `capacity` (x0, y0, x1, y1) to `occluders` (NULL:
+   count only), *count the number found. Segments meeting the cell are ignored; stats may be NULL. Errors:
+   INVALID_ARGUMENT, NOT_FINITE, BAD_CELL, OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, uint32_t capacity, uint32_t *count,
 							   pvs_vocc_stats *stats, pvs_error *err);
 
@@ -974,13 +968,12 @@ PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs
    (may be NULL). */
 PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_occluders);
 
-/* Rebuilds a PVS (Koltun 2000 §2, §4): sets in `visible` (PVS_BITSET_WORDS(object_count) words, cleared
-   first) every object with a non-empty box no single occluder hides (tried in order: most effective
-   first). With a `tree` over the same boxes (item i = object i; leaves of 16+ items keep the walk short)
-   a subtree is skipped when one occluder hides its node box, so an object whose parts lie behind
-   different occluders may drop out too (still conservative); tree NULL tests every box. scratch:
-   pvs_vocc_cull_scratch_size bytes, any alignment. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. Allocates
-   nothing; thread-safe. */
+/* Rebuilds a PVS (Koltun 2000 §2, §4): sets in `visible` (PVS_BITSET_WORDS(object_count) words, cleared first) every
+   object with a non-empty box no single occluder hides (tried in order, most effective first). With a `tree` over the
+   same boxes (item i = object i; leaves of 16+ items keep the walk short) a subtree is skipped when one occluder hides
+   its node box, so an object whose parts lie behind different occluders may drop out too (still conservative); tree
+   NULL tests every box. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. Errors: INVALID_ARGUMENT,
+   BUFFER_TOO_SMALL. Allocates nothing; thread-safe. */
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders,
 										   uint32_t count, const pvs_box *object_boxes, uint32_t object_count,
 										   const pvs_kdtree *tree, void *scratch, size_t scratch_size,
@@ -1028,14 +1021,13 @@ typedef struct pvs_shrink_stats {
 	uint32_t hidden;          /* drawable objects left out of the PVS */
 } pvs_shrink_stats;
 
-/* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): occluders eroded by eps, sampled from
-   the cell every eps; an object is left out only when every sample sees it hidden (appendix theorem: then
-   every point of the cell does). Objects meeting the cell or under its top face stay. Sets bits in
-   `visible` (PVS_BITSET_WORDS(object_count) words, not cleared), never occluder-only ones; objects set on
-   entry are not tested (AUTO presets what the others culled). `occluders` must be this scene's; `stats`
-   may be NULL; no occluders is no error. Scratch from the occluders' allocator, freed on return:
-   thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (a path this build cannot run, with the
-   reason), OUT_OF_MEMORY. */
+/* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): occluders eroded by eps, sampled from the cell
+   every eps; an object is left out only when every sample sees it hidden (appendix theorem: then every point of the
+   cell does). Objects meeting the cell or under its top face stay. Sets bits in `visible`
+   (PVS_BITSET_WORDS(object_count) words, not cleared), never occluder-only ones; objects set on entry are not tested
+   (AUTO presets what the others culled). `occluders` must be this scene's; `stats` may be NULL; no occluders is no
+   error. Scratch from the occluders' allocator, freed on return: thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL,
+   UNSUPPORTED (a path this build cannot run, with the reason), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
 								   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
@@ -1046,10 +1038,10 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
 									   uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
 
-/* Aimed sampling, a better lower bound for small and far objects: for each object of `targets` (NULL: all)
-   not in `visible`, up to `rays_per_object` segments from a uniform point of `cell` to a point of one of
-   its triangles (uniform, pulled 1% toward the centroid) until one reaches it; each sets the first object
-   it hits. Occluder-only objects are neither set nor aimed at. Otherwise as pvs_sample_visibility. */
+/* Aimed sampling, a better lower bound for small and far objects: for each object of `targets` (NULL: all) not in
+   `visible`, up to `rays_per_object` segments from a uniform point of `cell` to a point of one of its triangles
+   (uniform, pulled 1% toward the centroid) until one reaches it; each sets the first object it hits. Occluder-only
+   objects are neither set nor aimed at. Otherwise as pvs_sample_visibility. */
 PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_box *cell, const pvs_word *targets,
 											  uint32_t rays_per_object, uint64_t seed, pvs_word *visible);
 
@@ -1176,10 +1168,10 @@ typedef struct pvs_bake_desc {
 #define PVS_AUTO_SAMPLE_CELLS 8u
 #define PVS_AUTO_MIN_GAIN 0.02
 
-/* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only the cheapest applicable method. EXTPROJ
-   uses 64 pixels and 32 occluders per plane unless set, no sweep, and decides object kD-tree nodes whole
-   once under a quarter radian or past 4,096 box tests: a few milliseconds per cell at any scene size
-   (tests/BENCHMARKS.md, bake). SHRINK doubles its derived eps. */
+/* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only the cheapest applicable method. EXTPROJ uses 64 pixels
+   and 32 occluders per plane unless set, no sweep, and decides object kD-tree nodes whole once under a quarter radian
+   or past 4,096 box tests: a few milliseconds per cell at any scene size (tests/BENCHMARKS.md, bake). SHRINK doubles
+   its derived eps. */
 #define PVS_BAKE_PREVIEW 1u
 
 typedef struct pvs_bake pvs_bake;
@@ -1221,20 +1213,20 @@ typedef struct pvs_bake_method_info {
 PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *bake, uint32_t i, pvs_bake_method_info *info);
 /* 1 if the task has run (or was restored). */
 PVS_API int pvs_bake_task_done(const pvs_bake *bake, uint32_t task);
-/* Resumes: marks a task done with its PVS from an earlier run of the same scene, cells and parameters;
-   `bits`: word_count >= PVS_BITSET_WORDS(object_count), zero past object_count. Thread-safe like
-   pvs_bake_run_task. Errors: INVALID_ARGUMENT (task out of range, NULL, a bit past the objects or of an
-   occluder-only object), BUFFER_TOO_SMALL, UNSUPPORTED (VOCC bakes its occluders). */
+/* Resumes: marks a task done with its PVS from an earlier run of the same scene, cells and parameters; `bits`:
+   word_count >= PVS_BITSET_WORDS(object_count), zero past object_count. Thread-safe like pvs_bake_run_task. Errors:
+   INVALID_ARGUMENT (task out of range, NULL, a bit past the objects or of an occluder-only object), BUFFER_TOO_SMALL,
+   UNSUPPORTED (VOCC bakes its occluders). */
 PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pvs_word *bits, size_t word_count,
 										 pvs_error *err);
 /* SHRINK (alone or in AUTO): the synthesized occluders (the bake's) and the tasks' path; NULL /
    PVS_SHRINK_AUTO when SHRINK was not prepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
-/* The facades OTREE found: merged coplanar vertical triangles, each a wall segment with the height range
-   [base, top] it covers along its length. A cell uses a facade only toward objects whose bottom, like its
-   own, is at or above the facade's level (the lowest of at most eight base heights at or above its base):
-   a ray could pass under it. facades == 0: nothing is culled. All zero when OTREE was not prepared. */
+/* The facades OTREE found: merged coplanar vertical triangles, each a wall segment with the height range [base, top] it
+   covers along its length. A cell uses a facade only toward objects whose bottom, like its own, is at or above the
+   facade's level (the lowest of at most eight base heights at or above its base): a ray could pass under it. facades ==
+   0: nothing is culled. All zero when OTREE was not prepared. */
 typedef struct pvs_otree_bake_info {
 	uint32_t prepared;           /* 1 when the bake prepared OTREE */
 	uint32_t vertical_triangles; /* triangles of the scene standing vertical */
@@ -20151,14 +20143,13 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 	return PVS_OK;
 }
 
-/* AUTO pays for what culls (Deliver of issue 28): the methods that apply are prepared for PVS_AUTO_SAMPLE_CELLS cells
-   spread evenly over all the bake's cells (a shard's too, so every shard decides alike), and each is baked alone on
-   them. Greedily, the method with the smallest PVS is kept, then the others in the order of what they cull beyond
-   those kept, while that gain is at least PVS_AUTO_MIN_GAIN of the kept PVS. Only the kept methods are then prepared
-   for every cell (the sample's preparations, seeded by its cells only, are cheap) and run. Only for the default set
-   (desc->methods 0), at least 4 times as many cells as the sample, without PREVIEW or a method that stores whole
-   cells. Deterministic: counts decide, never time. The sample's PVSs only choose; the bake's come from the full
-   preparations. */
+/* AUTO's sample (CONCEPTS, Methods): the methods that apply are prepared for PVS_AUTO_SAMPLE_CELLS cells spread evenly
+   over all the bake's cells (a shard's too, so every shard decides alike), and each is baked alone on them. Greedily,
+   the method with the smallest PVS is kept, then the others in the order of what they cull beyond those kept, while
+   that gain is at least PVS_AUTO_MIN_GAIN of the kept PVS. Only the kept methods are then prepared for every cell (the
+   sample's preparations, seeded by its cells only, are cheap) and run. Only for the default set (desc->methods 0), at
+   least 4 times as many cells as the sample, without PREVIEW or a method that stores whole cells. Counts decide, never
+   time. The sample's PVSs only choose; the bake's come from the full preparations. */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
 }
