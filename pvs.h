@@ -6890,51 +6890,6 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 	out->n = m;
 	return m;
 }
-/* Both halves at once: *pos and *neg as pvs__ot_clip_n with n and -n; their counts in r[0] and r[1]. */
-PVS__STATIC void pvs__ot_split2(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
-								pvs__otpoly *pos, pvs__otpoly *neg, int r[2]) {
-	double d[PVS__OT_MAXV];
-	int i, n = in->n, m[2] = {0, 0}, any[2] = {0, 0}, side;
-	for (i = 0; i < n; ++i) {
-		d[i] = nn[0] * in->v[i][0] + nn[1] * in->v[i][1] + nn[2] * in->v[i][2];
-		if (d[i] + slack > PVS__OT_EPS) any[0] = 1;
-		if (-d[i] + slack > PVS__OT_EPS) any[1] = 1;
-	}
-	pos->xsplit = neg->xsplit = in->xsplit;
-	r[0] = r[1] = 0;
-	for (side = 0; side < 2; ++side) {
-		pvs__otpoly *out = side ? neg : pos;
-		double sg = side ? -1.0 : 1.0;
-		if (!any[side]) { out->n = 0; continue; }
-		for (i = 0; i < n; ++i) {
-			int j = i + 1 == n ? 0 : i + 1;
-			double di = sg * d[i] + slack, dj = sg * d[j] + slack;
-			int in_i = di >= 0.0, in_j = dj >= 0.0;
-			if (in_i) {
-				if (m[side] >= PVS__OT_MAXV) { m[side] = -1; break; }
-				memcpy(out->v[m[side]], in->v[i], sizeof(out->v[0]));
-				out->e[m[side]][0] = in->e[i][0]; out->e[m[side]][1] = in->e[i][1];
-				out->mark[m[side]] = in->mark[i];
-				++m[side];
-			}
-			if (in_i != in_j) {
-				if (m[side] >= PVS__OT_MAXV) { m[side] = -1; break; }
-				pvs__ot_lerp_unit(in->v[i], in->v[j], di / (di - dj), out->v[m[side]]);
-				if (in_i) {
-					out->e[m[side]][0] = p[0]; out->e[m[side]][1] = p[1];
-					out->mark[m[side]] = (unsigned char)mark;
-				} else {
-					out->e[m[side]][0] = in->e[i][0]; out->e[m[side]][1] = in->e[i][1];
-					out->mark[m[side]] = in->mark[i];
-				}
-				++m[side];
-			}
-		}
-		if (m[side] < 0) { out->n = 0; r[side] = -1; }
-		else { out->n = m[side]; r[side] = m[side]; }
-	}
-}
-
 /* pvs__ot_clip_n for the plane sign * p*. */
 PVS__STATIC int pvs__ot_clip(const pvs__otpoly *in, const double p[2], double sign, double slack, int mark,
 							 pvs__otpoly *out) {
@@ -7015,28 +6970,19 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 		if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return;
 	}
 	{
-		int r[2], h0 = PVS__OT25_HIDDEN(t, t->nodes + c0, near, h), h1 = PVS__OT25_HIDDEN(t, t->nodes + c1, near, h);
+		int h0 = PVS__OT25_HIDDEN(t, t->nodes + c0, near, h), h1 = PVS__OT25_HIDDEN(t, t->nodes + c1, near, h);
+		double nf[3];
 		uint32_t s0, s1, s2;
 		size_t m = top;
 		if (h0 && h1) { t->stack_count = top; return; }
 		/* the parts go into the free slots above the top, which then trade places */
 		if (!pvs__ot_reserve(t, top + 3)) { t->stack_count = top; return; }
 		q = PVS__OT_ITEM(t, top);
-		if (h0 || h1) { /* only one side matters */
-			double nf[3];
-			for (i = 0; i < 3; ++i) nf[i] = h0 ? nd->n[i] : -nd->n[i];
-			na = pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
-			t->stack_count = top;
-			if (na >= 3) {
-				pvs__ot_swap(t, top, top + 1);
-				t->stack_pend[top] = PVS__OT_NONE;
-				t->stack_node[top] = h0 ? c1 : c0;
-				t->stack_count = top + 1;
-			}
-			return;
-		}
-		pvs__ot_split2(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1), PVS__OT_ITEM(t, top + 2), r);
-		na = r[0]; nb = r[1];
+		/* the positive part unless c1 hides, the negative one (the normal negated: each distance exactly so) unless c0
+		   hides */
+		for (i = 0; i < 3; ++i) nf[i] = -nd->n[i];
+		na = h1 ? 0 : pvs__ot_clip_n(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
+		nb = h0 ? 0 : pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 2));
 		/* items top.. become the positive part (c1), then the negative (c0), as two pushes would leave
 		   them; unused slots go above (the slots stay a permutation) */
 		s0 = t->stack_slot[top]; s1 = t->stack_slot[top + 1]; s2 = t->stack_slot[top + 2];
@@ -7288,37 +7234,6 @@ PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const 
 	}
 }
 
-/* Turns leaf `node` into the chain of q's unmarked edges (the e-OT, §3.3.3); the sides away from q keep the leaf's
-   kind and payload. Returns the node of q's region (old payload still on), PVS__OT_NONE when out of memory. */
-PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
-	double cen[3] = {0, 0, 0};
-	int i, k;
-	for (i = 0; i < q->n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
-	for (i = 0; i < q->n; ++i) {
-		pvs__otnode old;
-		uint32_t outside, inside;
-		double s;
-		if (q->mark[i]) continue;
-		s = pvs__ot_side(cen, q->e[i]);
-		outside = pvs__ot_new_node(t);
-		inside = pvs__ot_new_node(t);
-		if (outside == PVS__OT_NONE || inside == PVS__OT_NONE) return PVS__OT_NONE;
-		old = t->nodes[node];
-		t->nodes[outside] = old;
-		t->nodes[inside] = old;
-		t->nodes[outside].parent = t->nodes[inside].parent = node;
-		t->nodes[node].kind = 0;
-		t->nodes[node].p[0] = q->e[i][0];
-		t->nodes[node].p[1] = q->e[i][1];
-		t->nodes[node].sign = s > 0 ? 1 : -1;
-		pvs__ot_normal(q->e[i], (double)t->nodes[node].sign, t->nodes[node].n);
-		t->nodes[node].child[0] = outside;
-		t->nodes[node].child[1] = inside;
-		node = inside;
-	}
-	return node;
-}
-
 /* Splits leaf `node` by the plane of p; the side `sign * side(p) > 0` continues. Returns that child. */
 PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const double p[2], double sign) {
 	uint32_t neg = pvs__ot_new_node(t), pos = pvs__ot_new_node(t);
@@ -7338,6 +7253,18 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
 	return pos;
 }
 
+/* Turns leaf `node` into the chain of q's unmarked edges (the e-OT, §3.3.3): split by each edge's plane, q's side
+   continuing; the sides away from q keep the leaf's kind and payload. Returns the node of q's region (old payload
+   still on), PVS__OT_NONE when out of memory. */
+PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
+	double cen[3] = {0, 0, 0};
+	int i, k;
+	for (i = 0; i < q->n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
+	for (i = 0; i < q->n && node != PVS__OT_NONE; ++i)
+		if (!q->mark[i]) node = pvs__ot_split_leaf(t, node, q->e[i], pvs__ot_side(cen, q->e[i]));
+	return node;
+}
+
 /* Gives leaf `node` the payload seq[old_first .. + old_count) followed by `add`. */
 PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_first, uint32_t old_count,
 									uint32_t add) {
@@ -7355,13 +7282,24 @@ PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_f
 
 /* ---- 2D from-region (ch. 6): insertion with the four depth cases of §6.5.1 ---- */
 
+/* §6.5.1 case 3: q, split at the crossing X = x (marked so), goes back on the stack at `node` as its two halves. 0
+   when out of memory. */
+PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, const double x[2]) {
+	pvs__otpoly part;
+	int ok = 1;
+	q->xsplit = 1;
+	if (pvs__ot_clip(q, x, 1.0, 0.0, 0, &part) >= 3) ok &= pvs__ot_push(t, node, &part);
+	if (pvs__ot_clip(q, x, -1.0, 0.0, 0, &part) >= 3) ok &= pvs__ot_push(t, node, &part);
+	return ok;
+}
+
 /* Inserts blocker polygon q of occluder k (§3.3.3 with the 2D in-leaf cases). */
 PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
 	size_t base = t->stack_count;
 	const double *sk = t->seg + 4 * (size_t)k;
 	if (!pvs__ot_push(t, 0, blocker)) return;
 	while (t->stack_count > base && !t->oom) {
-		pvs__otpoly q, part;
+		pvs__otpoly q;
 		uint32_t node = t->stack_node[t->stack_count - 1];
 		pvs__otnode *nd = t->nodes + node;
 		/* §6.5.5: every line of this subtree meets a stored occluder nearer to any cell point than k is */
@@ -7381,9 +7319,7 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 			if (behind && !q.xsplit) {                   /* case 3: split at the crossing X */
 				double x[2];
 				if (pvs__ot_cross(sj, sk, x)) {
-					q.xsplit = 1;
-					if (pvs__ot_clip(&q, x, 1.0, 0.0, 0, &part) >= 3) pvs__ot_push(t, node, &part);
-					if (pvs__ot_clip(&q, x, -1.0, 0.0, 0, &part) >= 3) pvs__ot_push(t, node, &part);
+					(void)pvs__ot2_xsplit(t, node, &q, x);
 					continue;
 				}
 			}
@@ -7425,7 +7361,7 @@ PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint
 	int vis = 0;
 	if (!pvs__ot_push(t, 0, blocker)) return 1;
 	while (t->stack_count > base && !vis) {
-		pvs__otpoly q, part;
+		pvs__otpoly q;
 		uint32_t node = t->stack_node[t->stack_count - 1];
 		const pvs__otnode *nd = t->nodes + node;
 		if (near > nd->mvd) { --t->stack_count; continue; } /* §6.5.5 */
@@ -7447,9 +7383,7 @@ PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint
 			if (front && behind && !q.xsplit) { /* the exact test splits at the crossing X (§6.5.1 case 3) */
 				double x[2];
 				if (pvs__ot_cross(t->seg + 4 * (size_t)j, sk, x)) {
-					q.xsplit = 1;
-					if (pvs__ot_clip(&q, x, 1.0, 0.0, 0, &part) >= 3) vis |= !pvs__ot_push(t, node, &part);
-					if (pvs__ot_clip(&q, x, -1.0, 0.0, 0, &part) >= 3) vis |= !pvs__ot_push(t, node, &part);
+					vis |= !pvs__ot2_xsplit(t, node, &q, x);
 					continue;
 				}
 			}
@@ -7525,6 +7459,22 @@ PVS__STATIC double pvs__ot_dist2(const double p[2], const double *s) {
 	qx = s[0] + u * dx - p[0];
 	qy = s[1] + u * dy - p[1];
 	return qx * qx + qy * qy;
+}
+/* The largest squared distance from the n points pts (2 doubles each) to an end of segment s. */
+PVS__STATIC double pvs__ot_far2(const double *pts, uint32_t n, const double *s) {
+	double far2 = 0.0;
+	uint32_t i, m;
+	for (i = 0; i < n; ++i)
+		for (m = 0; m < 2; ++m) {
+			double ex = s[2 * m] - pts[2 * i], ey = s[2 * m + 1] - pts[2 * i + 1];
+			if (ex * ex + ey * ey > far2) far2 = ex * ex + ey * ey;
+		}
+	return far2;
+}
+/* The CCW corners of rectangle b (umin vmin umax vmax) grown by g > 0 on each side. */
+PVS__STATIC void pvs__ot_rect(const double *b, double g, double c[8]) {
+	c[0] = b[0] - g; c[1] = b[1] - g; c[2] = b[2] + g; c[3] = b[1] - g;
+	c[4] = b[2] + g; c[5] = b[3] + g; c[6] = b[0] - g; c[7] = b[3] + g;
 }
 /* 1 when segment s meets the closed convex CCW polygon poly (n vertices). */
 PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *poly, uint32_t n) {
@@ -7623,22 +7573,17 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 	uint32_t i, k;
 	for (i = 0; i < count; ++i) {
 		const double *sg = seg + 4 * i;
-		double far2 = 0.0, nr = DBL_MAX;
+		double nr = DBL_MAX;
 		for (k = 0; k < n; ++k) {
-			double e[4], d0, d1;
-			int m;
+			double e[4], d1;
 			e[0] = cell[2 * k];
 			e[1] = cell[2 * k + 1];
 			e[2] = cell[2 * ((k + 1) % n)];
 			e[3] = cell[2 * ((k + 1) % n) + 1];
-			for (m = 0; m < 2; ++m) {
-				d0 = (sg[2 * m] - e[0]) * (sg[2 * m] - e[0]) + (sg[2 * m + 1] - e[1]) * (sg[2 * m + 1] - e[1]);
-				if (d0 > far2) far2 = d0;
-			}
 			d1 = pvs__ot_seg_dist(sg, e);
 			if (d1 < nr) nr = d1;
 		}
-		reach[i] = sqrt(far2) * (1.0 + 1e-9) + len_eps;
+		reach[i] = sqrt(pvs__ot_far2(cell, n, sg)) * (1.0 + 1e-9) + len_eps;
 		near[i] = pvs__ot_segment_meets_polygon(sg, cell, n) ? 0.0 : nr * (1.0 - 1e-9) - len_eps;
 	}
 }
@@ -8119,8 +8064,7 @@ PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double f0, double f1) {
 	const double *sg = t->seg + 4 * (size_t)k, *jd = t->jd + PVS__OT25_JD * (size_t)k;
 	pvs__otnode *nd = t->nodes + node;
-	double r = jd[8], sl = jd[9], far2 = 0.0, e[4];
-	int i, m;
+	double r = jd[8], sl = jd[9], far2, e[4];
 	if (!(sl > 0.0)) return; /* not taller than the eyes: no bound */
 	f0 -= 1e-9; f1 += 1e-9;
 	if (f0 < 0.0) f0 = 0.0;
@@ -8128,12 +8072,7 @@ PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double
 	if (f0 <= f1) {
 		e[0] = sg[0] + f0 * (sg[2] - sg[0]); e[1] = sg[1] + f0 * (sg[3] - sg[1]);
 		e[2] = sg[0] + f1 * (sg[2] - sg[0]); e[3] = sg[1] + f1 * (sg[3] - sg[1]);
-		for (i = 0; i < 4; ++i)
-			for (m = 0; m < 2; ++m) {
-				double ex = e[2 * m] - t->corners[2 * i], ey = e[2 * m + 1] - t->corners[2 * i + 1];
-				if (ex * ex + ey * ey > far2) far2 = ex * ex + ey * ey;
-			}
-		far2 = sqrt(far2) * (1.0 + 1e-9) + 2.0 * t->len_eps;
+		far2 = sqrt(pvs__ot_far2(t->corners, 4, e)) * (1.0 + 1e-9) + 2.0 * t->len_eps;
 		if (far2 < r) {
 			sl = (t->top[k] - t->eye) / far2 * (1.0 - 1e-9);
 			r = far2;
@@ -8153,6 +8092,19 @@ PVS__STATIC void pvs__ot25_funnel(const pvs__otpoly *q, const double *e, double 
 	*f0 = lo < 0.0 ? 0.0 : lo;
 	*f1 = hi > 1.0 ? 1.0 : hi;
 }
+/* Inner node `node`'s bound from its children's; 0 when it did not change. */
+PVS__STATIC int pvs__ot25_inner_bound(pvs__otree *t, uint32_t node) {
+	pvs__otnode *nd = t->nodes + node;
+	const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
+	double mr = a->mr > b->mr ? a->mr : b->mr, ms = a->ms < b->ms ? a->ms : b->ms;
+	double ml = a->ml > b->ml ? a->ml : b->ml, mls = a->mls < b->mls ? a->mls : b->mls;
+	if (mr == nd->mr && ms == nd->ms && ml == nd->ml && mls == nd->mls) return 0;
+	nd->mr = mr;
+	nd->ms = ms;
+	nd->ml = ml;
+	nd->mls = mls;
+	return 1;
+}
 /* Recomputes the bound of the subtree at `node` (just rebuilt from a leaf: a short chain) and of its
    ancestors while they change. */
 PVS__STATIC void pvs__ot25_bound_subtree(pvs__otree *t, uint32_t node) {
@@ -8160,29 +8112,12 @@ PVS__STATIC void pvs__ot25_bound_subtree(pvs__otree *t, uint32_t node) {
 	if (nd->kind) { pvs__ot25_leaf_bound(t, nd); return; }
 	pvs__ot25_bound_subtree(t, nd->child[0]);
 	pvs__ot25_bound_subtree(t, nd->child[1]);
-	nd = t->nodes + node;
-	{
-		const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
-		nd->mr = a->mr > b->mr ? a->mr : b->mr;
-		nd->ms = a->ms < b->ms ? a->ms : b->ms;
-		nd->ml = a->ml > b->ml ? a->ml : b->ml;
-		nd->mls = a->mls < b->mls ? a->mls : b->mls;
-	}
+	(void)pvs__ot25_inner_bound(t, node);
 }
 PVS__STATIC void pvs__ot25_bound(pvs__otree *t, uint32_t node) {
 	uint32_t p;
 	pvs__ot25_bound_subtree(t, node);
-	for (p = t->nodes[node].parent; p != PVS__OT_NONE; p = t->nodes[p].parent) {
-		pvs__otnode *nd = t->nodes + p;
-		const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
-		double mr = a->mr > b->mr ? a->mr : b->mr, ms = a->ms < b->ms ? a->ms : b->ms;
-		double ml = a->ml > b->ml ? a->ml : b->ml, mls = a->mls < b->mls ? a->mls : b->mls;
-		if (mr == nd->mr && ms == nd->ms && ml == nd->ml && mls == nd->mls) break;
-		nd->mr = mr;
-		nd->ms = ms;
-		nd->ml = ml;
-		nd->mls = mls;
-	}
+	for (p = t->nodes[node].parent; p != PVS__OT_NONE && pvs__ot25_inner_bound(t, p); p = t->nodes[p].parent) {}
 }
 /* Lower bound of the distance from the grown cell rectangle to segment e: to e's bounding box (exact when
    axis-parallel), rounded down. */
@@ -8243,15 +8178,9 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	const double *sg = t->seg + 4 * (size_t)j;
 	double *jd = t->jd + PVS__OT25_JD * (size_t)j, dx = sg[2] - sg[0], dy = sg[3] - sg[1],
 		   len = sqrt(dx * dx + dy * dy), sa, da, db;
-	double far2 = 0.0;
-	int i, k;
+	int i;
 	memset(jd, 0, PVS__OT25_JD * sizeof(double));
-	for (i = 0; i < 4; ++i)
-		for (k = 0; k < 2; ++k) {
-			double ex = sg[2 * k] - t->corners[2 * i], ey = sg[2 * k + 1] - t->corners[2 * i + 1];
-			if (ex * ex + ey * ey > far2) far2 = ex * ex + ey * ey;
-		}
-	jd[8] = sqrt(far2) * (1.0 + 1e-9) + t->len_eps;
+	jd[8] = sqrt(pvs__ot_far2(t->corners, 4, sg)) * (1.0 + 1e-9) + t->len_eps;
 	if (t->top[j] > t->eye) jd[9] = (t->top[j] - t->eye) / jd[8] * (1.0 - 1e-9);
 	if (!(len > 0.0)) return;
 	sa = dx * (0.5 * (t->sa[1] + t->sb[1]) - sg[1]) - dy * (0.5 * (t->sa[0] + t->sb[0]) - sg[0]);
@@ -8281,18 +8210,12 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
 							   const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0,
 							   double *v1) {
-	double flo = DBL_MAX, fhi = -DBL_MAX;
+	double flo, fhi;
 	double um[PVS__OT25_MAX_UMBRAE][2];
 	int i, nu = 0, changed;
 	uint32_t m;
 	*f0 = *v0 = 0.0; *f1 = *v1 = 1.0;
-	for (i = 0; i < q->n; ++i) { /* the funnel: the parameters on e of q's lines */
-		double u;
-		if (pvs__ot_param(q->v[i], e, &u)) { if (u < flo) flo = u; if (u > fhi) fhi = u; }
-		else { flo = -DBL_MAX; fhi = DBL_MAX; }
-	}
-	if (flo < 0.0) flo = 0.0;
-	if (fhi > 1.0) fhi = 1.0;
+	pvs__ot25_funnel(q, e, &flo, &fhi);
 	for (m = 0; m < count && nu < PVS__OT25_MAX_UMBRAE; ++m) {
 		uint32_t j = t->seq[first + m];
 		const double *sj = t->seg + 4 * (size_t)j, *jd = t->jd + PVS__OT25_JD * (size_t)j;
@@ -8300,17 +8223,11 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 		int front, behind;
 		if (j == self || !jd[7]) continue;
 		if (skip_box) {
-			double sb4[4];
-			sb4[0] = skip_box[0]; sb4[1] = skip_box[1]; sb4[2] = skip_box[2]; sb4[3] = skip_box[3];
-			if (fmin(sj[0], sj[2]) <= sb4[2] + t->len_eps && fmax(sj[0], sj[2]) >= sb4[0] - t->len_eps &&
-				fmin(sj[1], sj[3]) <= sb4[3] + t->len_eps && fmax(sj[1], sj[3]) >= sb4[1] - t->len_eps) {
-				double poly[8];
-				poly[0] = sb4[0] - t->len_eps; poly[1] = sb4[1] - t->len_eps;
-				poly[2] = sb4[2] + t->len_eps; poly[3] = sb4[1] - t->len_eps;
-				poly[4] = sb4[2] + t->len_eps; poly[5] = sb4[3] + t->len_eps;
-				poly[6] = sb4[0] - t->len_eps; poly[7] = sb4[3] + t->len_eps;
-				if (pvs__ot_segment_meets_polygon(sj, poly, 4)) continue;
-			}
+			double poly[8];
+			pvs__ot_rect(skip_box, t->len_eps, poly);
+			if (fmin(sj[0], sj[2]) <= poly[2] && fmax(sj[0], sj[2]) >= poly[0] && fmin(sj[1], sj[3]) <= poly[5] &&
+				fmax(sj[1], sj[3]) >= poly[1] && pvs__ot_segment_meets_polygon(sj, poly, 4))
+				continue;
 		}
 		/* quick order: e wholly beyond j's line puts j in front on every line crossing both; wholly on the
 		   source side, behind */
@@ -8392,28 +8309,18 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 			leaf = pvs__ot_refine(t, node, q);
 			if (leaf == PVS__OT_NONE) break;
 			for (i = 0; i < q->n; ++i) for (c = 0; c < 3; ++c) cen[c] += q->v[i][c];
-			if (count >= PVS__OT25_SPLIT_MIN &&
-				v0 > f0 + 1e-9) { /* lines through k before v0 see only the old members */
-				double x[2];
-				x[0] = sk[0] + v0 * (sk[2] - sk[0]); x[1] = sk[1] + v0 * (sk[3] - sk[1]);
-				/* the primary side (lines crossing k beyond x) has x on the side of k's first end */
-				double sgn = pvs__ot_side(cen, sk);
-				if (sgn != 0.0) {
-					uint32_t nx = pvs__ot_split_leaf(t, leaf, x, sgn > 0 ? 1.0 : -1.0);
-					if (nx == PVS__OT_NONE) break;
-					leaf = nx;
-				}
+			/* lines through k before v0 (after v1) see only the old members: the primary side (lines crossing k
+			   beyond x, the point at v0) has x on the side of k's first end (at v1: of its second) */
+			for (c = 0; c < 2 && count >= PVS__OT25_SPLIT_MIN; ++c) {
+				double x[2], u = c ? v1 : v0, sgn;
+				if (c ? !(v1 < f1 - 1e-9) : !(v0 > f0 + 1e-9)) continue;
+				x[0] = sk[0] + u * (sk[2] - sk[0]); x[1] = sk[1] + u * (sk[3] - sk[1]);
+				sgn = pvs__ot_side(cen, sk + 2 * c);
+				if (sgn == 0.0) continue;
+				leaf = pvs__ot_split_leaf(t, leaf, x, sgn);
+				if (leaf == PVS__OT_NONE) break;
 			}
-			if (count >= PVS__OT25_SPLIT_MIN && v1 < f1 - 1e-9) {
-				double x[2], sgn;
-				x[0] = sk[0] + v1 * (sk[2] - sk[0]); x[1] = sk[1] + v1 * (sk[3] - sk[1]);
-				sgn = pvs__ot_side(cen, sk + 2);
-				if (sgn != 0.0) {
-					uint32_t nx = pvs__ot_split_leaf(t, leaf, x, sgn > 0 ? 1.0 : -1.0);
-					if (nx == PVS__OT_NONE) break;
-					leaf = nx;
-				}
-			}
+			if (leaf == PVS__OT_NONE) break;
 			if (pvs__ot_set_payload(t, leaf, first, count, k)) pvs__ot25_join(t, leaf, k, f0, f1);
 			pvs__ot25_bound(t, node);
 		}
@@ -8520,14 +8427,10 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 									  int *any_far) {
 	double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* the source edge's outward direction */
 	int i, vis = 0, far_edge, order[3];
-	c4[0] = bx[0];
-	c4[1] = bx[1];
-	c4[2] = bx[2];
-	c4[3] = bx[1];
-	c4[4] = bx[2];
-	c4[5] = bx[3];
-	c4[6] = bx[0];
-	c4[7] = bx[3];
+	c4[0] = c4[6] = bx[0];
+	c4[1] = c4[3] = bx[1];
+	c4[2] = c4[4] = bx[2];
+	c4[5] = c4[7] = bx[3];
 	if (any_far) *any_far = 0;
 	if (!any_far && !t->full_tests && pvs__ot25_witnessed(t, bx, a, b)) return 1;
 	/* A box taller than the eyes is seen, if at all, along a rising ray, at least as well where its 2D line enters
@@ -8732,8 +8635,8 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
 	pvs__ot_line(m, m2, l);
 	sa_ = pvs__ot_side(l, a);
 	sb_ = pvs__ot_side(l, b);
-	pos = pvs__ot_split_leaf(t, 0, a, sa_ > 0 ? 1.0 : -1.0);
-	if (pos != PVS__OT_NONE) pos = pvs__ot_split_leaf(t, pos, b, sb_ > 0 ? 1.0 : -1.0);
+	pos = pvs__ot_split_leaf(t, 0, a, sa_);
+	if (pos != PVS__OT_NONE) pos = pvs__ot_split_leaf(t, pos, b, sb_);
 	if (pos != PVS__OT_NONE) {
 		double pts[PVS__OT25_PRESPLIT][2], dd = 10.0 * (cell[4] - cell[0] + cell[5] - cell[1]) + 1.0;
 		double nx = m[0], ny = m[1], nl = sqrt(nx * nx + ny * ny);
