@@ -6287,6 +6287,15 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 	return sc.n;
 }
 
+/* Wall j of extrusion o (footprint edge j to j + 1, base to top) as the quad a0 b0 b1 a1 (u, v ground axes). */
+PVS__STATIC void pvs__wall_quad(const pvs_occluder_desc *o, uint32_t j, int u, int v, int up, float q[4][3]) {
+	const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
+	q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
+	q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
+	q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
+	q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
+}
+
 /* Extrusion walls as occluders: meshes of <= 32 walls sharing vertical edges, unless `separate`. Returns triangles. */
 PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc *o, int u, int v, int up,
 										 int separate) {
@@ -6311,12 +6320,8 @@ PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc 
 		return drawn;
 	}
 	for (j = 0; j < o->footprint_count; ++j) {
-		const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
 		float q[4][3];
-		q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
-		q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
-		q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
-		q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
+		pvs__wall_quad(o, j, u, v, up, q);
 		pvs__raster_tri(r, q[0], q[1], q[2], 1);
 		pvs__raster_tri(r, q[0], q[2], q[3], 1);
 		drawn += 2;
@@ -9011,6 +9016,22 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 	return m;
 }
 
+/* Points p (n <= PVS__SV_MAXV) relative to the eye into v, their mean into c, Newell's normal (twice the area
+   vector) into nrm. */
+PVS__STATIC void pvs__sv_eye_points(const pvs_otree *o, const float *const *p, int n, double (*v)[3], double c[3],
+									double nrm[3]) {
+	int i, k;
+	for (k = 0; k < 3; ++k) c[k] = nrm[k] = 0.0;
+	for (i = 0; i < n; ++i)
+		for (k = 0; k < 3; ++k) { v[i][k] = (double)p[i][k] - o->eye[k]; c[k] += v[i][k] / n; }
+	for (i = 0; i < n; ++i) {
+		const double *u = v[i], *w = v[(i + 1) % n];
+		nrm[0] += (u[1] - w[1]) * (u[2] + w[2]);
+		nrm[1] += (u[2] - w[2]) * (u[0] + w[0]);
+		nrm[2] += (u[0] - w[0]) * (u[1] + w[1]);
+	}
+}
+
 PVS__STATIC int pvs__sv_same(const double a[3], const double b[3]) {
 	return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
@@ -9019,21 +9040,13 @@ PVS__STATIC int pvs__sv_same(const double a[3], const double b[3]) {
    frustum (less occluder: conservative); 0 when nothing usable is left (edge-on, behind the eye, outside). */
 PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs__svpoly *q, double plane[4]) {
 	pvs__svpoly a, b;
-	double c[3] = {0, 0, 0}, nrm[3] = {0, 0, 0}, len, size = 0.0;
+	double c[3], nrm[3], len, size = 0.0;
 	int i, k;
 	a.n = n;
+	pvs__sv_eye_points(o, p, n, a.v, c, nrm);
 	for (i = 0; i < n; ++i)
-		for (k = 0; k < 3; ++k) {
-			a.v[i][k] = (double)p[i][k] - o->eye[k];
-			c[k] += a.v[i][k] / n;
+		for (k = 0; k < 3; ++k)
 			if (fabs(a.v[i][k]) > size) size = fabs(a.v[i][k]);
-		}
-	for (i = 0; i < n; ++i) { /* Newell's normal */
-		const double *u = a.v[i], *w = a.v[(i + 1) % n];
-		nrm[0] += (u[1] - w[1]) * (u[2] + w[2]);
-		nrm[1] += (u[2] - w[2]) * (u[0] + w[0]);
-		nrm[2] += (u[0] - w[0]) * (u[1] + w[1]);
-	}
 	len = pvs__sv_unit(nrm);
 	if (!(len > 1e-12 * size * size)) return 0;                    /* no area */
 	plane[0] = nrm[0]; plane[1] = nrm[1]; plane[2] = nrm[2];
@@ -9321,13 +9334,9 @@ PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float
 			for (n = 0; n < 4; ++n)
 				for (k = 0; k < 3; ++k) q[n][k] = (f[b][n] >> k) & 1u ? oc->box.max[k] : oc->box.min[k];
 		} else {
-			int u, v, up = (int)s->up_axis;
-			const float *f0 = oc->footprint + 2 * b, *f1 = oc->footprint + 2 * ((b + 1) % oc->footprint_count);
+			int u, v;
 			pvs__ground_axes(s->up_axis, &u, &v);
-			q[0][u] = f0[0]; q[0][v] = f0[1]; q[0][up] = oc->base;
-			q[1][u] = f1[0]; q[1][v] = f1[1]; q[1][up] = oc->base;
-			q[2][u] = f1[0]; q[2][v] = f1[1]; q[2][up] = oc->top;
-			q[3][u] = f0[0]; q[3][v] = f0[1]; q[3][up] = oc->top;
+			pvs__wall_quad(oc, b, u, v, (int)s->up_axis, q);
 		}
 		for (n = 0; n < 4; ++n) p[n] = q[n];
 		return 4;
@@ -9337,19 +9346,12 @@ PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float
 /* Area-angle measure M = A |N . V| / |D|^2 (§4.5), V the unit direction from the eye to the centre D
    (about the solid angle; the thesis uses the view direction); -1 when wholly outside the frustum. */
 PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int n) {
-	double v[4][3], c[3] = {0, 0, 0}, area[3] = {0, 0, 0}, dd;
+	double v[4][3], c[3], area[3], dd;
 	int i, k;
-	for (i = 0; i < n; ++i)
-		for (k = 0; k < 3; ++k) { v[i][k] = (double)p[i][k] - o->eye[k]; c[k] += v[i][k] / n; }
+	pvs__sv_eye_points(o, p, n, v, c, area);
 	for (k = 0; k < 5; ++k) {
 		for (i = 0; i < n; ++i) if (pvs__sv_dot(o->fr[k], v[i]) + o->fr[k][3] >= 0.0) break;
 		if (i == n) return -1.0;
-	}
-	for (i = 0; i < n; ++i) {
-		const double *u = v[i], *w = v[(i + 1) % n];
-		area[0] += (u[1] - w[1]) * (u[2] + w[2]);
-		area[1] += (u[2] - w[2]) * (u[0] + w[0]);
-		area[2] += (u[0] - w[0]) * (u[1] + w[1]);
 	}
 	dd = pvs__sv_dot(c, c);
 	if (!(dd > 0.0)) return -1.0;
@@ -9396,6 +9398,16 @@ PVS__STATIC void pvs__sv_touch(pvs_otree *o, uint32_t obj, uint8_t flag) {
 	o->obj_flag[obj] |= flag;
 }
 
+/* The boxes of kD node nd's children within its box (the split clamped to it). */
+PVS__STATIC void pvs__sv_child_boxes(const pvs__kdnode *nd, const pvs_box *box, pvs_box c[2]) {
+	uint32_t axis = nd->bits & 3u;
+	float sp = nd->u.split;
+	c[0] = *box;
+	c[1] = *box;
+	c[0].max[axis] = sp < box->max[axis] ? (sp > box->min[axis] ? sp : box->min[axis]) : box->max[axis];
+	c[1].min[axis] = sp > box->min[axis] ? (sp < box->max[axis] ? sp : box->max[axis]) : box->min[axis];
+}
+
 /* Marks the objects of every leaf below `node` with `flag` (a visible subtree: no tests). */
 PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, uint8_t flag) {
 	const pvs_kdtree *t = o->s->object_tree;
@@ -9412,12 +9424,10 @@ PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, u
 		for (i = 0; i < nd->u.count; ++i) pvs__sv_touch(o, items[i], (uint8_t)(flag | near));
 		return;
 	} else {
-		pvs_box c0 = *box, c1 = *box;
-		float sp = nd->u.split;
-		c0.max[axis] = sp < box->max[axis] ? (sp > box->min[axis] ? sp : box->min[axis]) : box->max[axis];
-		c1.min[axis] = sp > box->min[axis] ? (sp < box->max[axis] ? sp : box->max[axis]) : box->min[axis];
-		pvs__sv_emit(o, nd->bits >> 2, &c0, flag);
-		pvs__sv_emit(o, (nd->bits >> 2) + 1, &c1, flag);
+		pvs_box c[2];
+		pvs__sv_child_boxes(nd, box, c);
+		pvs__sv_emit(o, nd->bits >> 2, c, flag);
+		pvs__sv_emit(o, (nd->bits >> 2) + 1, c + 1, flag);
 	}
 }
 
@@ -9448,11 +9458,8 @@ PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
 			pvs__sv_emit(o, node, box, 2);
 		} else {
 			pvs_box c[2];
-			float sp = nd->u.split;
-			uint32_t first = o->eye[axis] < (double)sp ? 0u : 1u, ch = nd->bits >> 2, v0, v1;
-			c[0] = *box; c[1] = *box;
-			c[0].max[axis] = sp < box->max[axis] ? (sp > box->min[axis] ? sp : box->min[axis]) : box->max[axis];
-			c[1].min[axis] = sp > box->min[axis] ? (sp < box->max[axis] ? sp : box->max[axis]) : box->min[axis];
+			uint32_t first = o->eye[axis] < (double)nd->u.split ? 0u : 1u, ch = nd->bits >> 2, v0, v1;
+			pvs__sv_child_boxes(nd, box, c);
 			pvs__sv_walk(o, ch + first, c + first); /* front to back */
 			pvs__sv_walk(o, ch + (1u - first), c + (1u - first));
 			v0 = o->kd_vis[ch];
@@ -9644,7 +9651,7 @@ PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_param
    inserted nearest first (the approximate occlusion sweep, §3.2). Returns the polygons offered. */
 PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam,
 											 const pvs_cull_params *p) {
-	uint32_t i, k, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
+	uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
 	pvs_box src;
 	int j;
 	if (p->scene_volumes) kk = o->max_occluders;
@@ -9680,9 +9687,9 @@ PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, c
 	for (i = 0; i < o->sel_count; ++i) {
 		float q[4][3];
 		const float *pt[4];
-		double c[3] = {0, 0, 0};
+		double v[4][3], c[3], nrm[3];
 		int n = pvs__sv_points(s, o->sel[i].a, o->sel[i].b, q, pt);
-		for (j = 0; j < n; ++j) for (k = 0; k < 3; ++k) c[k] += ((double)pt[j][k] - o->eye[k]) / n;
+		pvs__sv_eye_points(o, pt, n, v, c, nrm);
 		o->sel[i].key = pvs__sv_dot(c, c);
 	}
 	pvs__heap_sort(o->sel, o->sel_count, sizeof(pvs__svsel), pvs__sv_before);
