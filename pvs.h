@@ -3527,18 +3527,22 @@ PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a
 	return inside;
 }
 
-/* The most the loops can write over pixels [a0, a1] x [b0, b1] (relative), slack included. */
+/* The most (least: the least) the loops can write over pixels [a0, a1] x [b0, b1] (relative), slack included: the
+   affine depth's extreme corner (rounding is monotone, so the corner of the extreme terms). */
 PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1,
-									  int occluder) {
-	double pa = s->za, pb = s->zb, hi = (double)s->zk + pvs__dmax(pa * a0, pa * a1) + pvs__dmax(pb * b0, pb * b1);
-	hi += 3.814697265625e-06 * (pvs__dabs(s->zk) + pvs__dabs(pa) * a1 + pvs__dabs(pb) * b1) + 1e-30;
-	return occluder ? pvs__dmax(hi, s->zclamp) : pvs__dmin(hi, s->zclamp);
+									  int occluder, int least) {
+	double pa = s->za, pb = s->zb, z,
+		   sl = 3.814697265625e-06 * (pvs__dabs(s->zk) + pvs__dabs(pa) * a1 + pvs__dabs(pb) * b1) + 1e-30;
+	if (least) z = (double)s->zk + pvs__dmin(pa * a0, pa * a1) + pvs__dmin(pb * b0, pb * b1) - sl;
+	else z = (double)s->zk + pvs__dmax(pa * a0, pa * a1) + pvs__dmax(pb * b0, pb * b1) + sl;
+	return occluder ? pvs__dmax(z, s->zclamp) : pvs__dmin(z, s->zclamp);
 }
 
 /* Pixel loops by 4 x 4 tile blocks, then tiles, skipping those as near as the polygon can write or outside an edge. */
 PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder,
 								 int simd, float zbound) {
 	uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, bx, by;
+	int32_t a0, a1, b0, b1;
 	int wrote, inside, edges, block;
 	const int bs = PVS__TILE_SHIFT + 2;
 	(void)simd;
@@ -3575,7 +3579,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 					}
 				}
 				if (lo >= zbound ||
-					(double)lo >= pvs__raster_zbound(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0, occluder))
+					(double)lo >= pvs__raster_zbound(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0, occluder, 0))
 					continue;
 			}
 			block = pvs__raster_classify(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0);
@@ -3587,12 +3591,9 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 					s->li1 = (int32_t)(tx << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->li1 > s->i1) s->li1 = s->i1;
 					s->lj0 = (int32_t)(ty << PVS__TILE_SHIFT); if (s->lj0 < s->j0) s->lj0 = s->j0;
 					s->lj1 = (int32_t)(ty << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->lj1 > s->j1) s->lj1 = s->j1;
-					if ((double)tile_min[ty * tw + tx] >=
-						pvs__raster_zbound(s, s->li0 - s->i0, s->li1 - s->i0, s->lj0 - s->j0, s->lj1 - s->j0, occluder))
-						continue;
-					inside = block
-						? 1
-						: pvs__raster_classify(s, s->li0 - s->i0, s->li1 - s->i0, s->lj0 - s->j0, s->lj1 - s->j0);
+					a0 = s->li0 - s->i0; a1 = s->li1 - s->i0; b0 = s->lj0 - s->j0; b1 = s->lj1 - s->j0;
+					if ((double)tile_min[ty * tw + tx] >= pvs__raster_zbound(s, a0, a1, b0, b1, occluder, 0)) continue;
+					inside = block ? 1 : pvs__raster_classify(s, a0, a1, b0, b1);
 					if (inside < 0) continue;
 					edges = s->edges;
 					if (inside) s->edges = 0; /* inside: the same result without edge tests */
@@ -3603,21 +3604,9 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 						wrote = pvs__raster_rows_scalar(s, buf, W, occluder);
 					s->edges = edges;
 					if (!wrote) continue;
-					if (inside && s->li1 - s->li0 == PVS__TILE - 1 && s->lj1 - s->lj0 == PVS__TILE - 1) {
-						/* full tile: least corner value (affine depth) less slack: a lower bound, all skipping needs */
-						double lo = DBL_MAX, za = s->za, zb = s->zb, zk = s->zk, slack;
-						int ci;
-						for (ci = 0; ci < 4; ++ci) {
-							double fi = (double)((ci & 1 ? s->li1 : s->li0) - s->i0),
-								   fj = (double)((ci & 2 ? s->lj1 : s->lj0) - s->j0);
-							lo = pvs__dmin(lo, zk + za * fi + zb * fj);
-						}
-						slack = 3.814697265625e-06 *
-								(pvs__dabs(zk) + pvs__dabs(za) * (s->li1 - s->i0) + pvs__dabs(zb) * (s->lj1 - s->j0)) +
-							1e-30;
-						lo -= slack;
-						if (occluder) lo = pvs__dmax(lo, s->zclamp);
-						else lo = pvs__dmin(lo, s->zclamp);
+					if (inside && a1 - a0 == PVS__TILE - 1 && b1 - b0 == PVS__TILE - 1) {
+						/* full tile: the least depth written, a lower bound, all skipping needs */
+						double lo = pvs__raster_zbound(s, a0, a1, b0, b1, occluder, 1);
 						if (lo > tile_min[ty * tw + tx]) tile_min[ty * tw + tx] = pvs__f_down(lo);
 					} else {
 						pvs__tile_update(buf, W, H, tile_min, tx, ty);
@@ -3642,31 +3631,43 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
 				pvs__tile_update(buf, W, H, tile_min, tx, ty);
 }
 
-/* Depth plane bound of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi, oy +
-   fj), fi <= iw, fj <= jh: (zk + zb fj) + za fi in float is at most (occluder) or at least (occludee) the plane's
-   extreme over the pixel. From the largest fan triangle; none: zk = -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
-PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const double *z, int n, double ox, double oy,
-									double iw, double jh, double span, double mag, double zmag, double perr,
-									double zerr, int occluder, float *za_out, float *zb_out, float *zk_out) {
+/* The depth plane of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi, oy +
+   fj), fi <= iw, fj <= jh, from its largest fan triangle: p = za, zb, zk with z = zk + za fi + zb fj, and the bound
+   on the setup error. 0 when no fan triangle has an area. */
+PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double *z, int n, double ox, double oy,
+								  double iw, double jh, double span, double mag, double zmag, double perr, double zerr,
+								  double p[4]) {
 	int i, best = -1;
-	double amax = 0.0;
+	double amax = 0.0, x1, y1, z1, x2, y2, z2, det, za, zb;
 	for (i = 1; i + 1 < n; ++i) {
 		double a2 = pvs__dabs((x[i] - x[0]) * (y[i + 1] - y[0]) - (x[i + 1] - x[0]) * (y[i] - y[0]));
 		if (a2 > amax) { amax = a2; best = i; }
 	}
+	if (best <= 0) return 0;
+	x1 = x[best] - x[0]; y1 = y[best] - y[0]; z1 = z[best] - z[0];
+	x2 = x[best + 1] - x[0]; y2 = y[best + 1] - y[0]; z2 = z[best + 1] - z[0];
+	det = x1 * y2 - x2 * y1;
+	p[0] = za = (z1 * y2 - z2 * y1) / det;
+	p[1] = zb = (x1 * z2 - x2 * z1) / det;
+	p[2] = z[0] + za * (ox - x[0]) + zb * (oy - y[0]);
+	p[3] = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
+		   PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
+			   (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det));
+	return 1;
+}
+
+/* Depth plane bound over those pixels (pvs__raster_plane): (zk + zb fj) + za fi in float is at most (occluder) or
+   at least (occludee) the plane's extreme over the pixel. None: zk = -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
+PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const double *z, int n, double ox, double oy,
+									double iw, double jh, double span, double mag, double zmag, double perr,
+									double zerr, int occluder, float *za_out, float *zb_out, float *zk_out) {
+	double p[4];
 	*za_out = *zb_out = 0.0f;
 	*zk_out = occluder ? -FLT_MAX : FLT_MAX;
-	if (best > 0) {
-		double x1 = x[best] - x[0], y1 = y[best] - y[0], z1 = z[best] - z[0];
-		double x2 = x[best + 1] - x[0], y2 = y[best + 1] - y[0], z2 = z[best + 1] - z[0];
-		double det = x1 * y2 - x2 * y1;
-		double za = (z1 * y2 - z2 * y1) / det, zb = (x1 * z2 - x2 * z1) / det;
-		double zk = z[0] + za * (ox - x[0]) + zb * (oy - y[0]), err, dy;
+	if (pvs__raster_plane(x, y, z, n, ox, oy, iw, jh, span, mag, zmag, perr, zerr, p)) {
+		double za = p[0], zb = p[1], zk = p[2], err = p[3], dy;
 		zk += occluder ? pvs__dmin(0.0, za) + pvs__dmin(0.0, zb) : pvs__dmax(0.0, za) + pvs__dmax(0.0, zb);
-		err = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
-			  PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
-				  (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det)) +
-			  PVS__RASTER_ERR_F * (pvs__dabs(zk) + pvs__dabs(za) * iw + pvs__dabs(zb) * jh + 1e-30);
+		err += PVS__RASTER_ERR_F * (pvs__dabs(zk) + pvs__dabs(za) * iw + pvs__dabs(zb) * jh + 1e-30);
 		zk += occluder ? -err : err;
 		dy = pvs__dabs(zk) + pvs__dabs(za) * iw + pvs__dabs(zb) * jh;
 		if (dy < 1e30 && err < 1e30) {
@@ -3696,6 +3697,35 @@ PVS__STATIC int pvs__poly_extent(const double *x, const double *y, const double 
 		e->mag = pvs__dmax(e->mag, pvs__dabs(x[i]) + pvs__dabs(y[i]));
 		e->zmag = pvs__dmax(e->zmag, pvs__dabs(z[i]));
 	}
+	return 1;
+}
+
+/* Edge i of polygon x, y (flip: clockwise) over pixels (ox + fi, oy + fj), fi <= iw, fj <= jh, as the rounding argument
+   says: e = a, b, k, E = a fi + b fj + k. Mode 0 occludee, 1 occluder, 2 tile loops (their own float margin). 1: an
+   edge to test, 0: every pixel passes it (or no length), -1: none does. */
+PVS__STATIC int pvs__raster_edge(const double *x, const double *y, int i, int n, int flip, double ox, double oy,
+								 double iw, double jh, double mag, double perr, int mode, double e[3]) {
+	int j = i + 1 == n ? 0 : i + 1;
+	double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
+	if (flip) { a = -a; b = -b; }
+	len = pvs__dabs(a) + pvs__dabs(b);
+	if (len == 0.0) return 0;
+	a /= len;
+	b /= len;
+	k = a * (ox - x[i]) + b * (oy - y[i]);
+	if (mode == 2) k = k + pvs__dmin(0.0, a) + pvs__dmin(0.0, b);
+	else k += mode ? pvs__dmin(0.0, a) + pvs__dmin(0.0, b) : pvs__dmax(0.0, a) + pvs__dmax(0.0, b);
+	err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) *
+		(1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len);
+	if (mode != 2) err += PVS__RASTER_ERR_F * (pvs__dabs(k) + pvs__dabs(a) * iw + pvs__dabs(b) * jh + 1e-30);
+	if (mode) err = -err; /* x - err == x + -err */
+	lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
+	hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
+	if (lo + err >= 0.0) return 0; /* every pixel passes this edge */
+	if (hi + err < 0.0) return -1; /* no pixel does */
+	k += err;
+	if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return -1; /* impossible once the trivial cases are gone */
+	e[0] = a; e[1] = b; e[2] = k;
 	return 1;
 }
 
@@ -3747,33 +3777,13 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 	jh = (double)(s.j1 - s.j0);
 	s.edges = 0;
 	for (i = 0; i < n; ++i) {
-		int j = i + 1 == n ? 0 : i + 1;
-		double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
-		if (e.area2 < 0) { a = -a; b = -b; }
-		len = pvs__dabs(a) + pvs__dabs(b);
-		if (len == 0.0) continue;
-		a /= len;
-		b /= len;
-		k = a * (ox - x[i]) + b * (oy - y[i]);
-		k += occluder ? pvs__dmin(0.0, a) + pvs__dmin(0.0, b) : pvs__dmax(0.0, a) + pvs__dmax(0.0, b);
-		err = (PVS__RASTER_ERR_D * (1.0 + e.mag) + perr) *
-				(1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len) +
-			PVS__RASTER_ERR_F * (pvs__dabs(k) + pvs__dabs(a) * iw + pvs__dabs(b) * jh + 1e-30);
-		lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
-		hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
-		if (occluder) {
-			if (lo - err >= 0.0) continue;  /* every pixel passes this edge */
-			if (hi - err < 0.0) return;     /* no pixel does */
-			k -= err;
-		} else {
-			if (lo + err >= 0.0) continue;
-			if (hi + err < 0.0) return;
-			k += err;
-		}
-		if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return; /* impossible once the trivial cases are gone */
-		s.a[s.edges] = (float)a;
-		s.b[s.edges] = (float)b;
-		s.k[s.edges] = (float)k;
+		double ed[3];
+		int r = pvs__raster_edge(x, y, i, n, e.area2 < 0, ox, oy, iw, jh, e.mag, perr, occluder, ed);
+		if (r < 0) return;
+		if (!r) continue;
+		s.a[s.edges] = (float)ed[0];
+		s.b[s.edges] = (float)ed[1];
+		s.k[s.edges] = (float)ed[2];
 		++s.edges;
 	}
 	s.zclamp = occluder ? pvs__f_down(zlo) : pvs__f_up(zhi);
@@ -4070,22 +4080,11 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
 	t->jhi = t->j1 - t->j0;
 	t->nl = 0;
 	for (i = 0; i < n; ++i) {
-		int j = i + 1 == n ? 0 : i + 1;
-		double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
-		if (area2 < 0) { a = -a; b = -b; }
-		len = pvs__dabs(a) + pvs__dabs(b);
-		if (len == 0.0) continue;
-		a /= len;
-		b /= len;
-		k = a * (ox - x[i]) + b * (oy - y[i]) + pvs__dmin(0.0, a) + pvs__dmin(0.0, b);
-		err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) *
-			(1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len);
-		lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
-		hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
-		if (lo - err >= 0.0) continue;
-		if (hi - err < 0.0) return 0;
-		k -= err;
-		if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return 0;
+		double ed[3], a, b, k;
+		int r = pvs__raster_edge(x, y, i, n, area2 < 0, ox, oy, iw, jh, mag, perr, 2, ed);
+		if (r < 0) return 0;
+		if (!r) continue;
+		a = ed[0]; b = ed[1]; k = ed[2];
 		if (pvs__dabs(a) > pvs__dabs(b) * PVS__U_2_20) {
 			/* i >= X(j) for a > 0, i <= X(j) for a < 0; X(jrow) is clamped to +-cl (beyond, all four rows fall on one
 			   side); float error at most 3 cl + 13 |s| units of 2^-24 plus 2^-51 (|xi| + |s| |jrow|), below m */
@@ -4127,26 +4126,12 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
    unusable: zk = -FLT_MAX. */
 PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span,
 								  double mag, double zmag, double perr, double zerr, double zlo) {
-	double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0),
-		   amax = 0.0;
-	int i, best = -1;
-	for (i = 1; i + 1 < n; ++i) {
-		double a2 = pvs__dabs((x[i] - x[0]) * (y[i + 1] - y[0]) - (x[i + 1] - x[0]) * (y[i] - y[0]));
-		if (a2 > amax) { amax = a2; best = i; }
-	}
+	double iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0), p[4];
 	t->zlo = pvs__f_down(zlo);
 	t->za = t->zb = t->zm = 0.0f;
 	t->zk = -FLT_MAX;
-	if (best > 0) {
-		double x1 = x[best] - x[0], y1 = y[best] - y[0], z1 = z[best] - z[0];
-		double x2 = x[best + 1] - x[0], y2 = y[best + 1] - y[0], z2 = z[best + 1] - z[0];
-		double det = x1 * y2 - x2 * y1;
-		double za = (z1 * y2 - z2 * y1) / det, zb = (x1 * z2 - x2 * z1) / det;
-		double zk = z[0] + za * (ox - x[0]) + zb * (oy - y[0]), err, size;
-		err = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
-			  PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
-				  (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det));
-		zk -= err;
+	if (pvs__raster_plane(x, y, z, n, (double)t->i0, (double)t->j0, iw, jh, span, mag, zmag, perr, zerr, p)) {
+		double za = p[0], zb = p[1], zk = p[2] - p[3], err = p[3], size;
 		/* float zk + za x + zb y - zm, x <= iw + 1, y <= jh + 1: at most 6 units of 2^-24 of `size` */
 		size = pvs__dabs(zk) + pvs__dabs(za) * (iw + 1.0) + pvs__dabs(zb) * (jh + 1.0);
 		if (size < 1e30 && err < 1e30) {
@@ -4228,6 +4213,18 @@ PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) 
 	return v;
 }
 
+/* Clip-space vertex v to pixels *x, *y (map half sizes hw, hh) and depth *z; *perr, *zerr grow to its error after the
+   division, in pixels and in depth. */
+PVS__STATIC void pvs__raster_project(const pvs__cv *v, double hw, double hh, double *x, double *y, double *z,
+									 double *perr, double *zerr) {
+	double iw = 1.0 / v->c[3], e = v->e * iw;
+	*x = (v->c[0] * iw + 1.0) * hw;
+	*y = (v->c[1] * iw + 1.0) * hh;
+	*z = v->c[2] * iw;
+	*perr = pvs__dmax(*perr, 2.0 * e * (1.0 + pvs__dabs(v->c[0] * iw) + pvs__dabs(v->c[1] * iw)) * pvs__dmax(hw, hh));
+	*zerr = pvs__dmax(*zerr, 2.0 * e * (1.0 + pvs__dabs(*z)));
+}
+
 /* Sutherland-Hodgman against w - z >= 0 (near) or w - tiny >= 0; lout gets lin's labels (edge i: vertex i to i + 1;
    NULL: none), PVS__MESH_CLIP along the plane. Cutting from the inside vertex keeps shared edges' cuts identical. */
 #define PVS__MESH_CLIP 3
@@ -4278,16 +4275,7 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
 		if (n < 3) return;
 		t = t2;
 	}
-	for (i = 0; i < n; ++i) {
-		double iw = 1.0 / t[i].c[3], e = t[i].e * iw;
-		x[i] = (t[i].c[0] * iw + 1.0) * hw;
-		y[i] = (t[i].c[1] * iw + 1.0) * hh;
-		z[i] = t[i].c[2] * iw;
-		/* the error after the division, in pixels and in depth */
-		perr = pvs__dmax(perr,
-						 2.0 * e * (1.0 + pvs__dabs(t[i].c[0] * iw) + pvs__dabs(t[i].c[1] * iw)) * pvs__dmax(hw, hh));
-		zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z[i])));
-	}
+	for (i = 0; i < n; ++i) pvs__raster_project(t + i, hw, hh, x + i, y + i, z + i, &perr, &zerr);
 	if (occluder && r->tiled) {
 		pvs__tile_poly(r, x, y, z, n, perr, zerr);
 	} else {
@@ -4601,6 +4589,14 @@ PVS__STATIC int pvs__pf_hidden(pvs_raster *r, int32_t box[4][4], int l, float zm
 	return 1;
 }
 
+/* Triangle t's vertices: those of scene triangle tris[t].triangle (tris not NULL), indices[3 t ..] or 3 t ... */
+PVS__STATIC void pvs__tri_corners(const uint32_t *indices, const pvs__occsel *tris, uint32_t t, uint32_t q[3]) {
+	const uint32_t *ix = tris ? indices + 3 * (size_t)tris[t].triangle : indices ? indices + 3 * (size_t)t : NULL;
+	q[0] = ix ? ix[0] : 3 * t;
+	q[1] = ix ? ix[1] : 3 * t + 1;
+	q[2] = ix ? ix[2] : 3 * t + 2;
+}
+
 /* Occluder triangles through the prefilter, four at a time: `count` of `positions` (indices or NULL) or scene triangles
    tris[0 .. count). */
 PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
@@ -4623,19 +4619,10 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 	for (t = 0; t < count; t += 4) {
 		n = 0;
 		for (l = 0; l < 4 && t + l < count; ++l) {
-			uint32_t q0, q1, q2;
-			const uint32_t *ix = tris ? indices + 3 * (size_t)tris[t + l].triangle
-				: indices             ? indices + 3 * (size_t)(t + l)
-									  : NULL;
-			if (ix) {
-				q0 = ix[0]; q1 = ix[1]; q2 = ix[2];
-			} else {
-				q0 = 3 * (t + l); q1 = q0 + 1; q2 = q0 + 2;
-			}
-			if (q0 >= vertex_count || q1 >= vertex_count || q2 >= vertex_count) continue;
-			v[n][0] = q0 + 1 == vertex_count ? last : positions + 3 * (size_t)q0;
-			v[n][1] = q1 + 1 == vertex_count ? last : positions + 3 * (size_t)q1;
-			v[n][2] = q2 + 1 == vertex_count ? last : positions + 3 * (size_t)q2;
+			uint32_t q[3];
+			pvs__tri_corners(indices, tris, t + l, q);
+			if (q[0] >= vertex_count || q[1] >= vertex_count || q[2] >= vertex_count) continue;
+			for (k = 0; k < 3; ++k) v[n][k] = q[k] + 1 == vertex_count ? last : positions + 3 * (size_t)q[k];
 			++n;
 		}
 		if (!n) continue;
@@ -4656,6 +4643,22 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 			if ((test >> l) & 1u && pvs__pf_hidden(r, box, (int)l, zmax[l])) continue;
 			pvs__raster_tri(r, v[l][0], v[l][1], v[l][2], 1);
 		}
+	}
+}
+
+/* Triangles one by one (pvs__tri_corners; those with a vertex out of range are left out); tiled occluders through the
+   prefilter. */
+PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
+								  const pvs__occsel *tris, uint32_t count, int occluder) {
+	uint32_t t, q[3];
+	if (occluder && r->tiled) {
+		pvs__raster_occluders(r, pos, vc, indices, tris, count);
+		return;
+	}
+	for (t = 0; t < count; ++t) {
+		pvs__tri_corners(indices, tris, t, q);
+		if (q[0] < vc && q[1] < vc && q[2] < vc)
+			pvs__raster_tri(r, pos + 3 * (size_t)q[0], pos + 3 * (size_t)q[1], pos + 3 * (size_t)q[2], occluder);
 	}
 }
 
@@ -4717,14 +4720,8 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 	}
 	t->n = n;
 	for (i = 0; i < n; ++i) {
-		double iwv = 1.0 / p[i].c[3], e = p[i].e * iwv;
-		t->x[i] = (p[i].c[0] * iwv + 1.0) * hw;
-		t->y[i] = (p[i].c[1] * iwv + 1.0) * hh;
-		z[i] = p[i].c[2] * iwv;
+		pvs__raster_project(p + i, hw, hh, t->x + i, t->y + i, z + i, &perr, &zerr);
 		if (!(t->x[i] == t->x[i] && t->y[i] == t->y[i] && z[i] == z[i])) return 0;
-		perr = pvs__dmax(perr,
-						 2.0 * e * (1.0 + pvs__dabs(p[i].c[0] * iwv) + pvs__dabs(p[i].c[1] * iwv)) * pvs__dmax(hw, hh));
-		zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z[i])));
 		t->lab[i] = lab[i];
 		t->bnd[i] = 1;
 		if (i == 0) {
@@ -5131,13 +5128,7 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
 	for (h = 0; h < hs; ++h) r->mtab[h] = 0;
 	for (t = 0; t < n; ++t) {
 		uint32_t q[3];
-		if (tris || indices) {
-			const uint32_t *ix =
-				tris ? indices + 3 * (size_t)tris[first + t].triangle : indices + 3 * (size_t)(first + t);
-			q[0] = ix[0]; q[1] = ix[1]; q[2] = ix[2];
-		} else {
-			q[0] = 3 * (first + t); q[1] = q[0] + 1; q[2] = q[0] + 2;
-		}
+		pvs__tri_corners(indices, tris, first + t, q);
 		pvs__mesh_tri(r, pos, vc, q, hs, t);
 	}
 	pvs__mesh_partners(r, n, hs);
@@ -5151,19 +5142,8 @@ PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const u
 						   const pvs__occsel *tris, uint32_t count) {
 	uint32_t first;
 	if (!count || !vc) return;
-	if (r->tiled) {
-		pvs__raster_occluders(r, pos, vc, indices, tris, count);
-	} else {
-		for (first = 0; first < count; ++first) {
-			const uint32_t *ix = tris ? indices + 3 * (size_t)tris[first].triangle
-				: indices             ? indices + 3 * (size_t)first
-									  : NULL;
-			uint32_t q0 = ix ? ix[0] : 3 * first, q1 = ix ? ix[1] : 3 * first + 1, q2 = ix ? ix[2] : 3 * first + 2;
-			if (q0 < vc && q1 < vc && q2 < vc)
-				pvs__raster_tri(r, pos + 3 * (size_t)q0, pos + 3 * (size_t)q1, pos + 3 * (size_t)q2, 1);
-		}
-		pvs__raster_occludee_begin(r);
-	}
+	pvs__raster_tris(r, pos, vc, indices, tris, count, 1);
+	if (!r->tiled) pvs__raster_occludee_begin(r);
 	for (first = 0; first < count; first += r->mesh_cap)
 		pvs__mesh_piece(r, pos, vc, indices, tris, first, count - first < r->mesh_cap ? count - first : r->mesh_cap);
 	r->pyramid_valid = 0;
@@ -5269,21 +5249,9 @@ PVS_API void pvs_raster_clear(pvs_raster *r) {
 
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, uint32_t vertex_count,
 										const uint32_t *indices, uint32_t count, pvs_raster_mode mode) {
-	uint32_t t;
 	if (!r || (!positions && count) || (int)mode < 0 || mode >= PVS_RASTER_MODE_COUNT)
 		return PVS_ERROR_INVALID_ARGUMENT;
-	if (mode == PVS_RASTER_OCCLUDER && r->tiled) {
-		pvs__raster_occluders(r, positions, vertex_count, indices, NULL, count);
-		return PVS_OK;
-	}
-	for (t = 0; t < count; ++t) {
-		uint32_t a, b, c;
-		if (indices) { a = indices[3 * t]; b = indices[3 * t + 1]; c = indices[3 * t + 2]; }
-		else { a = 3 * t; b = a + 1; c = a + 2; }
-		if (a >= vertex_count || b >= vertex_count || c >= vertex_count) continue;
-		pvs__raster_tri(r, positions + 3 * (size_t)a, positions + 3 * (size_t)b, positions + 3 * (size_t)c,
-						mode == PVS_RASTER_OCCLUDER);
-	}
+	pvs__raster_tris(r, positions, vertex_count, indices, NULL, count, mode == PVS_RASTER_OCCLUDER);
 	return PVS_OK;
 }
 
@@ -5803,12 +5771,8 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 	}
 	if (maybe_behind) return 1;
 	for (k = 0; k < 8; ++k) {
-		double iw = 1.0 / v[k].c[3], x = (v[k].c[0] * iw + 1.0) * hw, y = (v[k].c[1] * iw + 1.0) * hh,
-			   z = v[k].c[2] * iw;
-		double e = v[k].e * iw;
-		perr = pvs__dmax(perr,
-						 2.0 * e * (1.0 + pvs__dabs(v[k].c[0] * iw) + pvs__dabs(v[k].c[1] * iw)) * pvs__dmax(hw, hh));
-		zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z)));
+		double x, y, z;
+		pvs__raster_project(v + k, hw, hh, &x, &y, &z, &perr, &zerr);
 		xmin = pvs__dmin(xmin, x); xmax = pvs__dmax(xmax, x);
 		ymin = pvs__dmin(ymin, y); ymax = pvs__dmax(ymax, y);
 		dmax = pvs__dmax(dmax, z);
@@ -6257,7 +6221,6 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 	pvs__selctx sc;
 	pvs_box src;
 	double len;
-	uint32_t i;
 	int k;
 	sc.r = r;
 	sc.s = s;
@@ -6272,18 +6235,10 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 	memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
 	for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
 	pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
-	if (p->occluder_flags & PVS_CULL_SCENE_MESH) {
-		pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ,
-				  sc.n); /* welded: walls fuse (Durand 2000 §3.3) */
-	} else if (r->tiled) {
-		pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
-	} else {
-		for (i = 0; i < sc.n; ++i) {
-			const uint32_t *t = s->indices + 3 * (size_t)r->occ[i].triangle;
-			pvs__raster_tri(r, s->positions + 3 * (size_t)t[0], s->positions + 3 * (size_t)t[1],
-							s->positions + 3 * (size_t)t[2], 1);
-		}
-	}
+	if (p->occluder_flags & PVS_CULL_SCENE_MESH) /* welded: walls fuse (Durand 2000 §3.3) */
+		pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
+	else
+		pvs__raster_tris(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n, 1);
 	return sc.n;
 }
 
