@@ -5174,32 +5174,28 @@ PVS_API pvs_result pvs_camera_matrix(const pvs_camera *c, float aspect, float m[
 	rt[0] = f[1] * u[2] - f[2] * u[1];
 	rt[1] = f[2] * u[0] - f[0] * u[2];
 	rt[2] = f[0] * u[1] - f[1] * u[0];
+	sy = c->fov_y > 0.0f ? 1.0 / tan(0.5 * (double)c->fov_y) : 2.0 / c->ortho_height;
+	sx = sy / (double)aspect;
+	for (k = 0; k < 3; ++k) {
+		m[k] = (float)(sx * rt[k]);
+		m[4 + k] = (float)(sy * u[k]);
+	}
+	m[3] = (float)(-sx * (rt[0] * e[0] + rt[1] * e[1] + rt[2] * e[2]));
+	m[7] = (float)(-sy * (u[0] * e[0] + u[1] * e[1] + u[2] * e[2]));
 	if (c->fov_y > 0.0f) {
-		sy = 1.0 / tan(0.5 * (double)c->fov_y);
-		sx = sy / (double)aspect;
 		for (k = 0; k < 3; ++k) {
-			m[k] = (float)(sx * rt[k]);
-			m[4 + k] = (float)(sy * u[k]);
 			m[8 + k] = 0.0f;
 			m[12 + k] = (float)f[k];
 		}
-		m[3] = (float)(-sx * (rt[0] * e[0] + rt[1] * e[1] + rt[2] * e[2]));
-		m[7] = (float)(-sy * (u[0] * e[0] + u[1] * e[1] + u[2] * e[2]));
 		m[11] = c->near_plane;
 		m[15] = (float)-(f[0] * e[0] + f[1] * e[1] + f[2] * e[2]);
 	} else {
 		double far_d = c->far_plane > c->near_plane ? c->far_plane : (double)c->near_plane + 1e4;
 		double range = far_d - c->near_plane;
-		sy = 2.0 / c->ortho_height;
-		sx = sy / (double)aspect;
 		for (k = 0; k < 3; ++k) {
-			m[k] = (float)(sx * rt[k]);
-			m[4 + k] = (float)(sy * u[k]);
 			m[8 + k] = (float)(-f[k] / range);
 			m[12 + k] = 0.0f;
 		}
-		m[3] = (float)(-sx * (rt[0] * e[0] + rt[1] * e[1] + rt[2] * e[2]));
-		m[7] = (float)(-sy * (u[0] * e[0] + u[1] * e[1] + u[2] * e[2]));
 		/* depth = 1 - (distance - near) / range */
 		m[11] = (float)(1.0 + ((f[0] * e[0] + f[1] * e[1] + f[2] * e[2]) + c->near_plane) / range);
 		m[15] = 1.0f;
@@ -5222,11 +5218,8 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *r, const float m[16]) {
 	for (k = 0; k < 4; ++k) {
 		r->rowa[k] = pvs__dabs(r->m[4 * k]) + pvs__dabs(r->m[4 * k + 1]) + pvs__dabs(r->m[4 * k + 2]);
 		r->rowt[k] = pvs__dabs(r->m[4 * k + 3]);
-	}
-	for (k = 0; k < 4; ++k) {
-		r->mabs[0] =
-			pvs__dmax(r->mabs[0], pvs__dabs(r->m[4 * k]) + pvs__dabs(r->m[4 * k + 1]) + pvs__dabs(r->m[4 * k + 2]));
-		r->mabs[1] = pvs__dmax(r->mabs[1], pvs__dabs(r->m[4 * k + 3]));
+		r->mabs[0] = pvs__dmax(r->mabs[0], r->rowa[k]);
+		r->mabs[1] = pvs__dmax(r->mabs[1], r->rowt[k]);
 	}
 	return PVS_OK;
 }
@@ -6349,35 +6342,41 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
 
 /* ---- cull map (Wonka & Schmalstieg 1999) ---- */
 
+/* Ground polygon x, y (scene units, overwritten) at heights z into the cull map, inner coverage (§4.4). */
+PVS__STATIC void pvs__cm_draw(pvs_raster *r, double *x, double *y, const double *z, int n, int simd) {
+	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
+	int k;
+	for (k = 0; k < n; ++k) {
+		x[k] = (x[k] - r->region[0]) / su;
+		y[k] = (y[k] - r->region[1]) / sv;
+	}
+	pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, n, 1, simd, 0.0, 0.0);
+}
+/* Farther from eye (ou, ov) than any map point (§4.2). */
+PVS__STATIC double pvs__cm_reach(const pvs_raster *r, double ou, double ov) {
+	return 2.0 * ((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] +
+				  pvs__dabs(ou - r->region[0]) + pvs__dabs(ov - r->region[1]));
+}
+
 /* Shadow of facade a-b (height `top`) from eye o = (ou, ov, eh) (§3.1): ground quadrilateral a, b, b + t (b - o), a +
    t (a - o), far edge off the map (§4.2), height the plane through eye and top edge; inner coverage at each cell's
    lowest height (§4.4). */
 PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, const float *a, const float *b,
 								double top, int simd) {
-	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
 	double da[2], db[2], la, lb, reach, sa, sb, x[4], y[4], z[4];
 	da[0] = (double)a[0] - ou; da[1] = (double)a[1] - ov;
 	db[0] = (double)b[0] - ou; db[1] = (double)b[1] - ov;
 	la = sqrt(da[0] * da[0] + da[1] * da[1]);
 	lb = sqrt(db[0] * db[0] + db[1] * db[1]);
 	if (!(la > 0.0) || !(lb > 0.0)) return;
-	reach = 2.0 *
-		((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] + pvs__dabs(ou - r->region[0]) +
-		 pvs__dabs(ov - r->region[1]));
+	reach = pvs__cm_reach(r, ou, ov);
 	sa = 1.0 + reach / la;
 	sb = 1.0 + reach / lb;
 	x[0] = a[0]; y[0] = a[1]; z[0] = top;
 	x[1] = b[0]; y[1] = b[1]; z[1] = top;
 	x[2] = ou + db[0] * sb; y[2] = ov + db[1] * sb; z[2] = eh + (top - eh) * sb;
 	x[3] = ou + da[0] * sa; y[3] = ov + da[1] * sa; z[3] = eh + (top - eh) * sa;
-	{
-		int k;
-		for (k = 0; k < 4; ++k) {
-			x[k] = (x[k] - r->region[0]) / su;
-			y[k] = (y[k] - r->region[1]) / sv;
-		}
-	}
-	pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 4, 1, simd, 0.0, 0.0);
+	pvs__cm_draw(r, x, y, z, 4, simd);
 }
 
 /* Plane through the eye and horizontal edge a-b at height `top`, as heights over the ground; 0 when vertical. */
@@ -6411,9 +6410,7 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
 	lq = sqrt((qt[0] - vt[0]) * (qt[0] - vt[0]) + (qt[1] - vt[1]) * (qt[1] - vt[1]));
 	if (!(lp > 0.0) || !(lq > 0.0)) return;
 	if (!pvs__cm_plane(ou, ov, eh, pt, vt, top, pa) || !pvs__cm_plane(ou, ov, eh, vt, qt, top, pb)) return;
-	reach = 2.0 *
-		((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] + pvs__dabs(ou - r->region[0]) +
-		 pvs__dabs(ov - r->region[1]));
+	reach = pvs__cm_reach(r, ou, ov);
 	x[0] = vt[0] + (pt[0] - vt[0]) * pvs__dmin(1.0, delta / lp);
 	y[0] = vt[1] + (pt[1] - vt[1]) * pvs__dmin(1.0, delta / lp);
 	x[1] = vt[0]; y[1] = vt[1];
@@ -6442,11 +6439,7 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
 			c = pvs__dmin(c, pvs__dmin(pvs__cm_height(pa, ou, ov, x[k], y[k]), pvs__cm_height(pb, ou, ov, x[k], y[k])));
 		for (k = 0; k < 5; ++k) z[k] = c;
 	}
-	for (k = 0; k < 5; ++k) {
-		x[k] = (x[k] - r->region[0]) / su;
-		y[k] = (y[k] - r->region[1]) / sv;
-	}
-	pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 5, 1, simd, 0.0, 0.0);
+	pvs__cm_draw(r, x, y, z, 5, simd);
 }
 
 /* 1 if facade a-b casts: front-facing for closed chains (§4.2), not nearer than min_dist. */
