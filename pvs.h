@@ -3307,6 +3307,24 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 #define PVS__RASTER_MAX_LEVELS 16
 #define PVS__RASTER_BIG 1e30
 
+/* A context's buffers listed once, for both its creation and its destruction: entry k's *p gets n elements of `size`
+   bytes (pvs__bufs_alloc, in order and on past a failure, as one call each would; 0 when one failed) or is freed
+   (pvs__bufs_free; NULL entries are skipped). PVS__BUF appends an entry. */
+typedef struct pvs__buf {
+	void **p;
+	size_t n, size;
+} pvs__buf;
+#define PVS__BUF(b, k, ptr, count, elem) ((b)[k].p = (void **)&(ptr), (b)[k].n = (count), (b)[k].size = (elem), ++(k))
+PVS__STATIC int pvs__bufs_alloc(const pvs_allocator *a, const pvs__buf *b, int k) {
+	int i, ok = 1;
+	for (i = 0; i < k; ++i) ok &= (*b[i].p = pvs__alloc_array(a, b[i].n, b[i].size)) != NULL;
+	return ok;
+}
+PVS__STATIC void pvs__bufs_free(const pvs_allocator *a, const pvs__buf *b, int k) {
+	int i;
+	for (i = 0; i < k; ++i) pvs__free_array(a, *b[i].p, b[i].n, b[i].size);
+}
+
 /* Occluder tile (Hasselgren et al. 2016), reversed Z: occluders at least as near as z0 on every pixel, z1 on `mask` (z1
    > z0 while mask != 0). */
 typedef struct pvs__tile {
@@ -5794,40 +5812,63 @@ PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
 
 /* ---- context ---- */
 
+/* The context's buffers (pvs__buf) of the `groups` (bits): 1 pixels, 2 tiles, 4 occluder selection, 8 meshes, 16 scene
+   sweeps, 32 cull map, 64 its items; sized by the fields the creation sets before each group. */
+#define PVS__RASTER_BUFS 28
+PVS__STATIC int pvs__raster_bufs(pvs_raster *r, pvs__buf *b, unsigned groups) {
+	int k = 0;
+	size_t cells = (size_t)r->cm_w * r->cm_h, mc = r->mesh_cap, band = (size_t)PVS__TH * r->width;
+	if (groups & 1u) {
+		PVS__BUF(b, k, r->depth, (size_t)r->width * r->height, sizeof(float));
+		PVS__BUF(b, k, r->pyramid, r->pyramid_floats, sizeof(float));
+		PVS__BUF(b, k, r->tile_min, r->tiles, sizeof(float));
+	}
+	if (groups & 2u) {
+		PVS__BUF(b, k, r->tile, (size_t)r->tw * r->th, sizeof(pvs__tile));
+		PVS__BUF(b, k, r->tpyramid, r->tpyramid_floats, sizeof(float));
+		PVS__BUF(b, k, r->bmin, (size_t)r->bw * r->bh, sizeof(float));
+		PVS__BUF(b, k, r->bdirty, (size_t)r->bw * r->bh, 1);
+	}
+	if (groups & 4u) PVS__BUF(b, k, r->occ, r->max_occluders, sizeof(pvs__occsel));
+	if (groups & 8u) {
+		PVS__BUF(b, k, r->mt, mc, sizeof(pvs__mtri));
+		PVS__BUF(b, k, r->mcid, 3 * mc, sizeof(uint32_t));
+		PVS__BUF(b, k, r->mpart, 3 * mc, sizeof(uint32_t));
+		PVS__BUF(b, k, r->mvst, 3 * mc, 1);
+		PVS__BUF(b, k, r->mgrp, mc, 1);
+		PVS__BUF(b, k, r->mtab, r->mesh_hash, sizeof(uint32_t));
+		PVS__BUF(b, k, r->morder, mc, sizeof(uint32_t));
+		PVS__BUF(b, k, r->mact, mc, sizeof(uint32_t));
+		PVS__BUF(b, k, r->mband, (size_t)r->th + 1, sizeof(uint32_t));
+		PVS__BUF(b, k, r->mzmin, band, sizeof(float));
+		PVS__BUF(b, k, r->mflag, band, 1);
+		PVS__BUF(b, k, r->mdirty, (size_t)PVS__TH * r->tw, 1);
+	}
+	if (groups & 16u) {
+		PVS__BUF(b, k, r->sweep, r->sweep_size, 1);
+		PVS__BUF(b, k, r->tri_seen, PVS_BITSET_WORDS(r->max_triangles), sizeof(pvs_word));
+		PVS__BUF(b, k, r->obj_done, PVS_BITSET_WORDS(r->max_objects), sizeof(pvs_word));
+	}
+	if (groups & 32u) {
+		PVS__BUF(b, k, r->cm, cells, sizeof(float));
+		PVS__BUF(b, k, r->cm_tile_min, r->cm_tiles, sizeof(float));
+		PVS__BUF(b, k, r->cm_bound, cells, sizeof(float));
+		PVS__BUF(b, k, r->cm_start, cells + 1, sizeof(uint32_t));
+	}
+	if (groups & 64u) PVS__BUF(b, k, r->cm_items, r->cm_item_count, sizeof(uint32_t));
+	return k;
+}
+PVS__STATIC int pvs__raster_alloc(pvs_raster *r, unsigned groups) {
+	pvs__buf b[PVS__RASTER_BUFS];
+	return pvs__bufs_alloc(&r->allocator, b, pvs__raster_bufs(r, b, groups));
+}
+
 PVS_API void pvs_raster_destroy(pvs_raster *r) {
 	pvs_allocator a;
-	size_t cells;
+	pvs__buf b[PVS__RASTER_BUFS];
 	if (!r) return;
 	a = r->allocator;
-	cells = (size_t)r->cm_w * r->cm_h;
-	pvs__free_array(&a, r->depth, (size_t)r->width * r->height, sizeof(float));
-	pvs__free_array(&a, r->pyramid, r->pyramid_floats, sizeof(float));
-	pvs__free_array(&a, r->tile_min, r->tiles, sizeof(float));
-	pvs__free_array(&a, r->tile, (size_t)r->tw * r->th, sizeof(pvs__tile));
-	pvs__free_array(&a, r->tpyramid, r->tpyramid_floats, sizeof(float));
-	pvs__free_array(&a, r->bmin, (size_t)r->bw * r->bh, sizeof(float));
-	pvs__free_array(&a, r->bdirty, (size_t)r->bw * r->bh, 1);
-	pvs__free(&a, r->sweep, r->sweep_size, 16);
-	pvs__free_array(&a, r->occ, r->max_occluders, sizeof(pvs__occsel));
-	pvs__free_array(&a, r->tri_seen, PVS_BITSET_WORDS(r->max_triangles), sizeof(pvs_word));
-	pvs__free_array(&a, r->obj_done, PVS_BITSET_WORDS(r->max_objects), sizeof(pvs_word));
-	pvs__free_array(&a, r->cm, cells, sizeof(float));
-	pvs__free_array(&a, r->cm_tile_min, r->cm_tiles, sizeof(float));
-	pvs__free_array(&a, r->cm_bound, cells, sizeof(float));
-	pvs__free_array(&a, r->cm_start, cells + (r->cm_start ? 1 : 0), sizeof(uint32_t));
-	pvs__free_array(&a, r->cm_items, r->cm_item_count, sizeof(uint32_t));
-	pvs__free_array(&a, r->mt, r->mesh_cap, sizeof(pvs__mtri));
-	pvs__free_array(&a, r->mcid, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
-	pvs__free_array(&a, r->mpart, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
-	pvs__free_array(&a, r->mvst, 3 * (size_t)r->mesh_cap, 1);
-	pvs__free_array(&a, r->mgrp, r->mesh_cap, 1);
-	pvs__free_array(&a, r->mtab, r->mesh_hash, sizeof(uint32_t));
-	pvs__free_array(&a, r->morder, r->mesh_cap, sizeof(uint32_t));
-	pvs__free_array(&a, r->mact, r->mesh_cap, sizeof(uint32_t));
-	pvs__free_array(&a, r->mband, (size_t)r->th + 1, sizeof(uint32_t));
-	pvs__free_array(&a, r->mzmin, (size_t)PVS__TH * r->width, sizeof(float));
-	pvs__free_array(&a, r->mflag, (size_t)PVS__TH * r->width, 1);
-	pvs__free_array(&a, r->mdirty, (size_t)PVS__TH * r->tw, 1);
+	pvs__bufs_free(&a, b, pvs__raster_bufs(r, b, 127u));
 	pvs__free(&a, r, sizeof(*r), 16);
 }
 
@@ -5868,13 +5909,10 @@ PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
 		r->lh[r->levels] = h;
 		floats += 2 * (size_t)w * h;
 	}
-	r->depth = (float *)pvs__alloc_array(&r->allocator, (size_t)r->width * r->height, sizeof(float));
 	r->pyramid_floats = floats;
-	r->pyramid = (float *)pvs__alloc_array(&r->allocator, floats, sizeof(float));
 	r->tiles =
 		(size_t)((r->width + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->height + PVS__TILE - 1) >> PVS__TILE_SHIFT);
-	r->tile_min = (float *)pvs__alloc_array(&r->allocator, r->tiles, sizeof(float));
-	if (!r->depth || !r->pyramid || !r->tile_min) return 0;
+	if (!pvs__raster_alloc(r, 1u)) return 0;
 	floats = 0;
 	for (l = 1; l <= r->levels; ++l) {
 		r->lmin[l] = r->pyramid + floats;
@@ -5911,14 +5949,10 @@ PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
 		r->tsy[r->tlevels] = (uint8_t)(r->tsy[r->tlevels - 1] + my);
 		floats += 2 * (size_t)w * h;
 	}
-	r->tile = (pvs__tile *)pvs__alloc_array(&r->allocator, (size_t)r->tw * r->th, sizeof(pvs__tile));
 	r->tpyramid_floats = floats;
-	r->tpyramid = (float *)pvs__alloc_array(&r->allocator, floats, sizeof(float));
 	r->bw = (r->tw + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
 	r->bh = (r->th + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
-	r->bmin = (float *)pvs__alloc_array(&r->allocator, (size_t)r->bw * r->bh, sizeof(float));
-	r->bdirty = (uint8_t *)pvs__alloc_array(&r->allocator, (size_t)r->bw * r->bh, 1);
-	if (!r->tile || !r->tpyramid || !r->bmin || !r->bdirty) return 0;
+	if (!pvs__raster_alloc(r, 2u)) return 0;
 	floats = 0;
 	for (l = 0; l <= r->tlevels; ++l) {
 		r->tlmin[l] = r->tpyramid + floats;
@@ -5931,27 +5965,11 @@ PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
 
 /* Mesh scratch for pieces of `max_triangles` (0: default; at most 2^24); hash load <= 1/2. */
 PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
-	const pvs_allocator *a = &r->allocator;
 	size_t i;
 	r->mesh_cap = max_triangles ? (max_triangles < (1u << 24) ? max_triangles : 1u << 24) : PVS__MESH_DEFAULT;
 	for (r->mesh_hash = 16; r->mesh_hash < 6 * r->mesh_cap; r->mesh_hash <<= 1) {}
-	r->mt = (pvs__mtri *)pvs__alloc_array(a, r->mesh_cap, sizeof(pvs__mtri));
-	r->mcid = (uint32_t *)pvs__alloc_array(a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
-	r->mpart = (uint32_t *)pvs__alloc_array(a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
-	r->mvst = (uint8_t *)pvs__alloc_array(a, 3 * (size_t)r->mesh_cap, 1);
-	r->mgrp = (int8_t *)pvs__alloc_array(a, r->mesh_cap, 1);
-	r->mtab = (uint32_t *)pvs__alloc_array(a, r->mesh_hash, sizeof(uint32_t));
-	r->morder = (uint32_t *)pvs__alloc_array(a, r->mesh_cap, sizeof(uint32_t));
-	r->mact = (uint32_t *)pvs__alloc_array(a, r->mesh_cap, sizeof(uint32_t));
-	r->mband = (uint32_t *)pvs__alloc_array(a, (size_t)r->th + 1, sizeof(uint32_t));
-	r->mzmin = (float *)pvs__alloc_array(a, (size_t)PVS__TH * r->width, sizeof(float));
-	r->mflag = (uint8_t *)pvs__alloc_array(a, (size_t)PVS__TH * r->width, 1);
-	r->mdirty = (uint8_t *)pvs__alloc_array(a, (size_t)PVS__TH * r->tw, 1);
-	if (!r->mdirty) return 0;
+	if (!pvs__raster_alloc(r, 8u)) return 0;
 	memset(r->mdirty, 0, (size_t)PVS__TH * r->tw);
-	if (!r->mt || !r->mcid || !r->mpart || !r->mvst || !r->mgrp || !r->mtab || !r->morder || !r->mact || !r->mband ||
-		!r->mzmin || !r->mflag)
-		return 0;
 	for (i = 0; i < (size_t)PVS__TH * r->width; ++i) {
 		r->mzmin[i] = FLT_MAX;
 		r->mflag[i] = 0;
@@ -5962,7 +5980,6 @@ PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
 /* Cull map object grid: w x h ground cells (Wonka 1999 §4.1), highest top per cell (§4.3). */
 PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene *s, uint32_t w, uint32_t h,
 												 pvs_error *err) {
-	const pvs_allocator *a = &r->allocator;
 	int u, v, up = (int)s->up_axis;
 	size_t cells = (size_t)w * h, total = 0, i;
 	uint32_t o, l;
@@ -5980,14 +5997,9 @@ PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene 
 			r->region[2 + l] += 0.5f;
 		}
 	if (!(r->ground <= r->ground + 0.0f)) r->ground = 0.0f; /* empty scene bounds */
-	r->cm = (float *)pvs__alloc_array(a, cells, sizeof(float));
 	r->cm_tiles =
 		(size_t)((r->cm_w + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->cm_h + PVS__TILE - 1) >> PVS__TILE_SHIFT);
-	r->cm_tile_min = (float *)pvs__alloc_array(a, r->cm_tiles, sizeof(float));
-	if (!r->cm_tile_min) goto oom;
-	r->cm_bound = (float *)pvs__alloc_array(a, cells, sizeof(float));
-	r->cm_start = (uint32_t *)pvs__alloc_array(a, cells + 1, sizeof(uint32_t));
-	if (!r->cm || !r->cm_bound || !r->cm_start) goto oom;
+	if (!pvs__raster_alloc(r, 32u)) goto oom;
 	for (i = 0; i <= cells; ++i) r->cm_start[i] = 0;
 	for (i = 0; i < cells; ++i) { r->cm[i] = PVS_DEPTH_EMPTY; r->cm_bound[i] = PVS_DEPTH_EMPTY; }
 	for (o = 0; o < s->object_count; ++o) {
@@ -6008,8 +6020,7 @@ PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene 
 	}
 	for (i = 0; i < cells; ++i) r->cm_start[i + 1] += r->cm_start[i];
 	r->cm_item_count = (uint32_t)total;
-	r->cm_items = (uint32_t *)pvs__alloc_array(a, total, sizeof(uint32_t));
-	if (!r->cm_items) goto oom;
+	if (!pvs__raster_alloc(r, 64u)) goto oom;
 	for (o = 0; o < s->object_count; ++o) { /* fill with cm_start[c] as cursor, then shift back */
 		const pvs_box *b = s->object_boxes + o;
 		int32_t i0, j0, i1, j1, ii, jj;
@@ -6063,8 +6074,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 	if (!pvs__raster_init_pixels(r) || !pvs__raster_init_tiles(r)) goto oom;
 	pvs_raster_clear(r);
 	r->max_occluders = desc->max_occluders ? desc->max_occluders : 1024;
-	r->occ = (pvs__occsel *)pvs__alloc_array(&a, r->max_occluders, sizeof(pvs__occsel));
-	if (!r->occ || !pvs__raster_init_mesh(r, desc->max_mesh_triangles)) goto oom;
+	if (!pvs__raster_alloc(r, 4u) || !pvs__raster_init_mesh(r, desc->max_mesh_triangles)) goto oom;
 	if (desc->scene) {
 		const pvs_scene *s = desc->scene;
 		size_t s1 = pvs_kdtree_sweep_scratch_size(s->object_tree), s2 = pvs_kdtree_sweep_scratch_size(s->triangle_tree);
@@ -6072,10 +6082,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 		r->max_objects = s->object_count;
 		r->max_triangles = s->triangle_count;
 		r->sweep_size = s1 > s2 ? s1 : s2;
-		r->sweep = pvs__alloc(&a, r->sweep_size, 16);
-		r->tri_seen = (pvs_word *)pvs__alloc_array(&a, PVS_BITSET_WORDS(r->max_triangles), sizeof(pvs_word));
-		r->obj_done = (pvs_word *)pvs__alloc_array(&a, PVS_BITSET_WORDS(r->max_objects), sizeof(pvs_word));
-		if (!r->sweep || !r->tri_seen || !r->obj_done) goto oom;
+		if (!pvs__raster_alloc(r, 16u)) goto oom;
 	}
 	if (desc->cull_map_width) {
 		res = pvs__raster_init_cull_map(r, desc->scene, desc->cull_map_width, desc->cull_map_height, err);
@@ -7570,6 +7577,8 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	uint32_t n, i, k, budget, count;
 	pvs_result r = PVS_OK;
 	pvs_otree_stats st;
+	pvs__buf b[5];
+	int nbuf = 0;
 	memset(&st, 0, sizeof(st));
 	memset(&t, 0, sizeof(t));
 	if (stats) *stats = st;
@@ -7591,12 +7600,12 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 								 desc->segment_objects[i], desc->object_count);
 	al = desc->allocator;
 	t.a = &al;
-	cell = (double *)pvs__alloc_array(&al, 2 * (size_t)n, sizeof(double));
-	seg = (double *)pvs__alloc_array(&al, 4 * (size_t)count + 4, sizeof(double));
-	order = (pvs__key_index *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(pvs__key_index));
-	reach = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
-	near = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
-	if (!cell || !seg || !order || !reach || !near) {
+	PVS__BUF(b, nbuf, cell, 2 * (size_t)n, sizeof(double));
+	PVS__BUF(b, nbuf, seg, 4 * (size_t)count + 4, sizeof(double));
+	PVS__BUF(b, nbuf, order, (size_t)count + 1, sizeof(pvs__key_index));
+	PVS__BUF(b, nbuf, reach, (size_t)count + 1, sizeof(double));
+	PVS__BUF(b, nbuf, near, (size_t)count + 1, sizeof(double));
+	if (!pvs__bufs_alloc(&al, b, nbuf)) {
 		r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2D visibility arrays");
 		goto done;
 	}
@@ -7659,11 +7668,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	pvs__ok(err);
 done:
 	pvs__ot_free(&t);
-	pvs__free_array(&al, cell, 2 * (size_t)n, sizeof(double));
-	pvs__free_array(&al, seg, 4 * (size_t)count + 4, sizeof(double));
-	pvs__free_array(&al, order, (size_t)count + 1, sizeof(pvs__key_index));
-	pvs__free_array(&al, reach, (size_t)count + 1, sizeof(double));
-	pvs__free_array(&al, near, (size_t)count + 1, sizeof(double));
+	pvs__bufs_free(&al, b, nbuf);
 	return r;
 }
 
@@ -7918,6 +7923,8 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
 	pvs__key_index *ord = NULL, *sord = NULL;
 	uint32_t *vt = NULL;
 	pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
+	pvs__buf b[13];
+	int nb = 0;
 	memset(&w, 0, sizeof(w));
 	w.sc = sc;
 	w.a = a;
@@ -7935,23 +7942,22 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
 			if (fabs((double)sc->bounds.max[k]) > ext) ext = fabs((double)sc->bounds.max[k]);
 		}
 	w.tol = 8.0 * FLT_EPSILON * ext;
-	tl = (double *)pvs__alloc_array(a, 5 * (size_t)nt + 5, sizeof(double));
-	vt = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 1, sizeof(uint32_t));
-	if (!tl || !vt) goto done;
+	PVS__BUF(b, nb, tl, 5 * (size_t)nt + 5, sizeof(double));
+	PVS__BUF(b, nb, vt, (size_t)nt + 1, sizeof(uint32_t));
+	if (!pvs__bufs_alloc(a, b, nb)) goto done;
 	*vertical = nv = pvs__fx_vertical(sc, w.u, w.v, w.up, w.tol, tl, vt);
-	ord = (pvs__key_index *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__key_index));
-	sord = (pvs__key_index *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__key_index));
-	w.so = (pvs__key_index *)pvs__alloc_array(a, 3 * (size_t)nv + 3, sizeof(pvs__key_index));
-	w.sv = (double *)pvs__alloc_array(a, 14 * (size_t)nv + 14, sizeof(double));
-	w.sec = (double *)pvs__alloc_array(a, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
-	w.ins = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
-	w.act = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
-	w.comp = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-	w.que = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-	w.opn = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-	w.nxt = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-	if (!ord || !sord || !w.so || !w.sv || !w.sec || !w.ins || !w.act || !w.comp || !w.que || !w.opn || !w.nxt)
-		goto done;
+	PVS__BUF(b, nb, ord, (size_t)nv + 1, sizeof(pvs__key_index));
+	PVS__BUF(b, nb, sord, (size_t)nv + 1, sizeof(pvs__key_index));
+	PVS__BUF(b, nb, w.so, 3 * (size_t)nv + 3, sizeof(pvs__key_index));
+	PVS__BUF(b, nb, w.sv, 14 * (size_t)nv + 14, sizeof(double));
+	PVS__BUF(b, nb, w.sec, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
+	PVS__BUF(b, nb, w.ins, (size_t)nv + 1, sizeof(uint32_t));
+	PVS__BUF(b, nb, w.act, (size_t)nv + 1, sizeof(uint32_t));
+	PVS__BUF(b, nb, w.comp, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+	PVS__BUF(b, nb, w.que, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+	PVS__BUF(b, nb, w.opn, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+	PVS__BUF(b, nb, w.nxt, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+	if (!pvs__bufs_alloc(a, b + 2, nb - 2)) goto done;
 	for (i = 0; i < nv; ++i) { ord[i].key = tl[5 * (size_t)i]; ord[i].index = i; }
 	pvs__key_index_sort(ord, nv); /* by direction (ties by slot: deterministic) */
 	for (g0 = 0; g0 < nv; g0 = g1) {
@@ -7973,19 +7979,7 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
 	r = PVS_OK;
 done:
 	if (r != PVS_OK && *out) { pvs__free(a, *out, w.cap * sizeof(float), 16); *out = NULL; *count = 0; }
-	pvs__free_array(a, tl, 5 * (size_t)nt + 5, sizeof(double));
-	pvs__free_array(a, vt, (size_t)nt + 1, sizeof(uint32_t));
-	pvs__free_array(a, ord, (size_t)nv + 1, sizeof(pvs__key_index));
-	pvs__free_array(a, sord, (size_t)nv + 1, sizeof(pvs__key_index));
-	pvs__free_array(a, w.so, 3 * (size_t)nv + 3, sizeof(pvs__key_index));
-	pvs__free_array(a, w.sv, 14 * (size_t)nv + 14, sizeof(double));
-	pvs__free_array(a, w.sec, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
-	pvs__free_array(a, w.ins, (size_t)nv + 1, sizeof(uint32_t));
-	pvs__free_array(a, w.act, (size_t)nv + 1, sizeof(uint32_t));
-	pvs__free_array(a, w.comp, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-	pvs__free_array(a, w.que, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-	pvs__free_array(a, w.opn, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-	pvs__free_array(a, w.nxt, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+	pvs__bufs_free(a, b, nb);
 	return r;
 }
 
@@ -8682,9 +8676,10 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 	double cell[8], cx, cy, ext, margin;
 	double *all = NULL, *top = NULL, *seg = NULL, *box = NULL, *jd = NULL;
 	unsigned char *done = NULL, *state = NULL;
-	uint32_t *refs = NULL, kd_nodes = 0;
+	uint32_t *refs = NULL;
 	void *scratch = NULL;
-	size_t scratch_size = 0;
+	pvs__buf b[9];
+	int nb = 0;
 	pvs_kdtree *own_tree = NULL;
 	const pvs_kdtree *tree;
 	uint32_t nf, no, i, side;
@@ -8707,18 +8702,16 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 		if (r != PVS_OK) goto done;
 		tree = own_tree;
 	}
-	all = (double *)pvs__alloc_array(&al, 4 * (size_t)nf + 4, sizeof(double));
-	seg = (double *)pvs__alloc_array(&al, 4 * (size_t)nf + 4, sizeof(double));
-	top = (double *)pvs__alloc_array(&al, (size_t)nf + 1, sizeof(double));
-	jd = (double *)pvs__alloc_array(&al, PVS__OT25_JD * ((size_t)nf + 1), sizeof(double));
-	box = (double *)pvs__alloc_array(&al, 5 * (size_t)no + 5, sizeof(double));
-	done = (unsigned char *)pvs__alloc_array(&al, (size_t)no + 1, 1);
-	state = (unsigned char *)pvs__alloc_array(&al, (size_t)nf + 1, 1);
-	scratch_size = pvs_kdtree_sweep_scratch_size(tree);
-	scratch = pvs__alloc(&al, scratch_size, 16);
-	kd_nodes = tree->node_count;
-	refs = (uint32_t *)pvs__alloc_array(&al, (size_t)kd_nodes + 1, sizeof(uint32_t));
-	if (!all || !seg || !top || !jd || !box || !done || !state || !scratch || !refs) {
+	PVS__BUF(b, nb, all, 4 * (size_t)nf + 4, sizeof(double));
+	PVS__BUF(b, nb, seg, 4 * (size_t)nf + 4, sizeof(double));
+	PVS__BUF(b, nb, top, (size_t)nf + 1, sizeof(double));
+	PVS__BUF(b, nb, jd, PVS__OT25_JD * ((size_t)nf + 1), sizeof(double));
+	PVS__BUF(b, nb, box, 5 * (size_t)no + 5, sizeof(double));
+	PVS__BUF(b, nb, done, (size_t)no + 1, 1);
+	PVS__BUF(b, nb, state, (size_t)nf + 1, 1);
+	PVS__BUF(b, nb, scratch, pvs_kdtree_sweep_scratch_size(tree), 1);
+	PVS__BUF(b, nb, refs, (size_t)tree->node_count + 1, sizeof(uint32_t));
+	if (!pvs__bufs_alloc(&al, b, nb)) {
 		r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays");
 		goto done;
 	}
@@ -8765,16 +8758,8 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 	pvs__ok(err);
 done:
 	pvs__ot_free(&t);
+	pvs__bufs_free(&al, b, nb);
 	pvs_kdtree_destroy(own_tree);
-	pvs__free(&al, scratch, scratch_size, 16);
-	pvs__free_array(&al, refs, (size_t)kd_nodes + 1, sizeof(uint32_t));
-	pvs__free_array(&al, all, 4 * (size_t)nf + 4, sizeof(double));
-	pvs__free_array(&al, seg, 4 * (size_t)nf + 4, sizeof(double));
-	pvs__free_array(&al, top, (size_t)nf + 1, sizeof(double));
-	pvs__free_array(&al, jd, PVS__OT25_JD * ((size_t)nf + 1), sizeof(double));
-	pvs__free_array(&al, box, 5 * (size_t)no + 5, sizeof(double));
-	pvs__free_array(&al, done, (size_t)no + 1, 1);
-	pvs__free_array(&al, state, (size_t)nf + 1, 1);
 	return r;
 }
 
@@ -9419,26 +9404,35 @@ PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
 
 /* ---- context and per-frame API ---- */
 
+/* The context's buffers (pvs__buf), sized by its budgets. */
+PVS__STATIC int pvs__sv_bufs(pvs_otree *o, pvs__buf *b) {
+	int k = 0;
+	size_t no = (size_t)o->max_objects + 1, nk = (size_t)o->max_kd_nodes + 1;
+	PVS__BUF(b, k, o->nodes, o->node_budget, sizeof(pvs__svnode));
+	PVS__BUF(b, k, o->frags, o->frag_budget, sizeof(pvs__svfrag));
+	PVS__BUF(b, k, o->verts, o->vert_budget, sizeof(pvs__svvert));
+	PVS__BUF(b, k, o->stack, PVS__SV_STACK, sizeof(pvs__svpoly));
+	PVS__BUF(b, k, o->stack_node, PVS__SV_STACK, sizeof(uint32_t));
+	PVS__BUF(b, k, o->tstack, (size_t)o->node_budget + 2, sizeof(uint32_t));
+	PVS__BUF(b, k, o->sel, o->max_occluders, sizeof(pvs__svsel));
+	PVS__BUF(b, k, o->prev, o->max_occluders, sizeof(uint32_t));
+	PVS__BUF(b, k, o->sweep, o->sweep_size, 1);
+	PVS__BUF(b, k, o->tri_seen, PVS_BITSET_WORDS(o->max_triangles) + 1, sizeof(pvs_word));
+	PVS__BUF(b, k, o->obj_first, no, sizeof(uint32_t));
+	PVS__BUF(b, k, o->obj_tris, no, sizeof(uint32_t));
+	PVS__BUF(b, k, o->kd_vis, nk, 1);
+	PVS__BUF(b, k, o->kd_frame, nk, sizeof(uint32_t));
+	PVS__BUF(b, k, o->obj_flag, no, 1);
+	PVS__BUF(b, k, o->touched, no, sizeof(uint32_t));
+	return k;
+}
+
 PVS_API void pvs_otree_destroy(pvs_otree *o) {
 	pvs_allocator a;
+	pvs__buf b[16];
 	if (!o) return;
 	a = o->allocator;
-	pvs__free_array(&a, o->nodes, o->node_budget, sizeof(pvs__svnode));
-	pvs__free_array(&a, o->frags, o->frag_budget, sizeof(pvs__svfrag));
-	pvs__free_array(&a, o->verts, o->vert_budget, sizeof(pvs__svvert));
-	pvs__free_array(&a, o->stack, PVS__SV_STACK, sizeof(pvs__svpoly));
-	pvs__free_array(&a, o->stack_node, PVS__SV_STACK, sizeof(uint32_t));
-	pvs__free_array(&a, o->tstack, (size_t)o->node_budget + 2, sizeof(uint32_t));
-	pvs__free_array(&a, o->sel, o->max_occluders, sizeof(pvs__svsel));
-	pvs__free_array(&a, o->prev, o->max_occluders, sizeof(uint32_t));
-	pvs__free(&a, o->sweep, o->sweep_size, 16);
-	pvs__free_array(&a, o->tri_seen, PVS_BITSET_WORDS(o->max_triangles) + 1, sizeof(pvs_word));
-	pvs__free_array(&a, o->obj_first, (size_t)o->max_objects + 1, sizeof(uint32_t));
-	pvs__free_array(&a, o->obj_tris, (size_t)o->max_objects + 1, sizeof(uint32_t));
-	pvs__free_array(&a, o->kd_vis, (size_t)o->max_kd_nodes + 1, 1);
-	pvs__free_array(&a, o->kd_frame, (size_t)o->max_kd_nodes + 1, sizeof(uint32_t));
-	pvs__free_array(&a, o->obj_flag, (size_t)o->max_objects + 1, 1);
-	pvs__free_array(&a, o->touched, (size_t)o->max_objects + 1, sizeof(uint32_t));
+	pvs__bufs_free(&a, b, pvs__sv_bufs(o, b));
 	pvs__free(&a, o, sizeof(*o), 16);
 }
 
@@ -9479,28 +9473,13 @@ PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out,
 	o->max_triangles = s->triangle_count;
 	o->max_kd_nodes = s->object_tree->node_count;
 	o->sweep_size = pvs_kdtree_sweep_scratch_size(s->triangle_tree);
-	o->nodes = (pvs__svnode *)pvs__alloc_array(&a, o->node_budget, sizeof(pvs__svnode));
-	o->frags = (pvs__svfrag *)pvs__alloc_array(&a, o->frag_budget, sizeof(pvs__svfrag));
-	o->verts = (pvs__svvert *)pvs__alloc_array(&a, o->vert_budget, sizeof(pvs__svvert));
-	o->stack = (pvs__svpoly *)pvs__alloc_array(&a, PVS__SV_STACK, sizeof(pvs__svpoly));
-	o->stack_node = (uint32_t *)pvs__alloc_array(&a, PVS__SV_STACK, sizeof(uint32_t));
-	o->tstack = (uint32_t *)pvs__alloc_array(&a, (size_t)o->node_budget + 2, sizeof(uint32_t));
-	o->sel = (pvs__svsel *)pvs__alloc_array(&a, o->max_occluders, sizeof(pvs__svsel));
-	o->prev = (uint32_t *)pvs__alloc_array(&a, o->max_occluders, sizeof(uint32_t));
-	o->sweep = pvs__alloc(&a, o->sweep_size ? o->sweep_size : 16, 16);
-	o->tri_seen = (pvs_word *)pvs__alloc_array(&a, PVS_BITSET_WORDS(o->max_triangles) + 1, sizeof(pvs_word));
-	o->obj_first = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, sizeof(uint32_t));
-	o->obj_tris = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, sizeof(uint32_t));
-	o->kd_vis = (uint8_t *)pvs__alloc_array(&a, (size_t)o->max_kd_nodes + 1, 1);
-	o->kd_frame = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_kd_nodes + 1, sizeof(uint32_t));
-	o->obj_flag = (uint8_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, 1);
-	o->touched = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, sizeof(uint32_t));
 	if (!o->sweep_size) o->sweep_size = 16;
-	if (!o->nodes || !o->frags || !o->verts || !o->stack || !o->stack_node || !o->tstack || !o->sel || !o->prev ||
-		!o->sweep || !o->tri_seen || !o->obj_first || !o->obj_tris || !o->kd_vis || !o->kd_frame || !o->obj_flag ||
-		!o->touched) {
-		pvs_otree_destroy(o);
-		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree buffers");
+	{
+		pvs__buf b[16];
+		if (!pvs__bufs_alloc(&a, b, pvs__sv_bufs(o, b))) {
+			pvs_otree_destroy(o);
+			return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree buffers");
+		}
 	}
 	memset(o->obj_flag, 0, (size_t)o->max_objects + 1);
 	memset(o->kd_vis, 0, (size_t)o->max_kd_nodes + 1);
