@@ -3718,6 +3718,12 @@ PVS__STATIC int pvs__poly_extent(const double *x, const double *y, const double 
 	return 1;
 }
 
+/* 0 when the polygon (extent e, span its width plus height) is beyond useful precision or degenerate. */
+PVS__STATIC int pvs__poly_usable(const pvs__polyext *e, double span) {
+	return e->mag < PVS__RASTER_BIG * PVS__RASTER_BIG && pvs__dabs(e->area2) > 1e-9 * span * span &&
+		pvs__dabs(e->area2) > 1e-300;
+}
+
 /* Edge i of polygon x, y (flip: clockwise) over pixels (ox + fi, oy + fj), fi <= iw, fj <= jh, as the rounding argument
    says: e = a, b, k, E = a fi + b fj + k. Mode 0 occludee, 1 occluder, 2 tile loops (their own float margin). 1: an
    edge to test, 0: every pixel passes it (or no length), -1: none does. */
@@ -3779,13 +3785,8 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 				if (tile_min[ty * tw + tx] < zb) { open = 1; break; }
 		if (!open) return;
 	}
-	if (!(e.mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) { /* beyond useful precision */
-		if (!occluder) pvs__raster_fill(buf, W, H, tile_min, s.i0, s.i1, s.j0, s.j1, pvs__f_up(zhi));
-		return;
-	}
 	span = (e.xmax - e.xmin) + (e.ymax - e.ymin);
-	if (!(pvs__dabs(e.area2) > 1e-9 * span * span) || !(pvs__dabs(e.area2) > 1e-300)) {
-		/* degenerate */
+	if (!pvs__poly_usable(&e, span)) {
 		if (!occluder) pvs__raster_fill(buf, W, H, tile_min, s.i0, s.i1, s.j0, s.j1, pvs__f_up(zhi));
 		return;
 	}
@@ -4175,10 +4176,8 @@ PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y,
 	t.j0 = pvs__clampi(ceil(e.ymin + dx), 0, (int32_t)r->height);
 	t.j1 = pvs__clampi(floor(e.ymax - dx) - 1.0, -1, (int32_t)r->height - 1);
 	if (t.i0 > t.i1 || t.j0 > t.j1) return;
-	if (!(e.mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) return;
 	span = (e.xmax - e.xmin) + (e.ymax - e.ymin);
-	if (!(pvs__dabs(e.area2) > 1e-9 * span * span) || !(pvs__dabs(e.area2) > 1e-300))
-		return; /* degenerate */
+	if (!pvs__poly_usable(&e, span)) return;
 	if (!pvs__tile_edges(&t, x, y, n, e.area2, e.mag, perr)) return;
 	pvs__tile_zplane(&t, x, y, z, n, span, e.mag, e.zmag, perr, zerr, zlo);
 	pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR));
@@ -5315,21 +5314,18 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 				}
 			}
 #endif
-		if (on)
-			for (; x < w; ++x) {
-				uint32_t x0 = x << mx, x1 = x0 + mx < pw ? x0 + mx : x0;
-				float a = n0[x0] < n0[x1] ? n0[x0] : n0[x1], c = n1[x0] < n1[x1] ? n1[x0] : n1[x1];
+		for (; x < w; ++x) {
+			uint32_t x0 = x << mx, x1 = x0 + mx < pw ? x0 + mx : x0;
+			float a, c;
+			if (on) {
+				a = n0[x0] < n0[x1] ? n0[x0] : n0[x1];
+				c = n1[x0] < n1[x1] ? n1[x0] : n1[x1];
 				on[x] = a < c ? a : c;
-				a = m0[x0] > m0[x1] ? m0[x0] : m0[x1];
-				c = m1[x0] > m1[x1] ? m1[x0] : m1[x1];
-				om[x] = a > c ? a : c;
 			}
-		else
-			for (; x < w; ++x) {
-				uint32_t x0 = x << mx, x1 = x0 + mx < pw ? x0 + mx : x0;
-				float a = m0[x0] > m0[x1] ? m0[x0] : m0[x1], c = m1[x0] > m1[x1] ? m1[x0] : m1[x1];
-				om[x] = a > c ? a : c;
-			}
+			a = m0[x0] > m0[x1] ? m0[x0] : m0[x1];
+			c = m1[x0] > m1[x1] ? m1[x0] : m1[x1];
+			om[x] = a > c ? a : c;
+		}
 	}
 }
 
@@ -5576,22 +5572,20 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 	rw0 = _mm_div_ps(_mm_set1_ps(1.0f), c0[3]);
 	rw1 = _mm_div_ps(_mm_set1_ps(1.0f), c1[3]);
 	o->rmax = pvs__hmax_sse2(_mm_max_ps(rw1, rw0));
-	v0 = _mm_mul_ps(c0[0], rw0); /* x / w */
-	v1 = _mm_mul_ps(c1[0], rw1);
-	o->nx = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm)));
-	t0 = _mm_set1_ps(r->hwf);
-	v0 = _mm_add_ps(_mm_mul_ps(v0, t0), t0);
-	v1 = _mm_add_ps(_mm_mul_ps(v1, t0), t0);
-	o->xmin = pvs__hmin_sse2(_mm_min_ps(v1, v0));
-	o->xmax = pvs__hmax_sse2(_mm_max_ps(v1, v0));
-	v0 = _mm_mul_ps(c0[1], rw0);
-	v1 = _mm_mul_ps(c1[1], rw1);
-	o->ny = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm)));
-	t0 = _mm_set1_ps(r->hhf);
-	v0 = _mm_add_ps(_mm_mul_ps(v0, t0), t0);
-	v1 = _mm_add_ps(_mm_mul_ps(v1, t0), t0);
-	o->ymin = pvs__hmin_sse2(_mm_min_ps(v1, v0));
-	o->ymax = pvs__hmax_sse2(_mm_max_ps(v1, v0));
+#define PVS__AXIS(k, half, n, lo, hi) /* x / w (y / w): its largest |.|, then in pixels */ \
+	do { \
+		v0 = _mm_mul_ps(c0[k], rw0); \
+		v1 = _mm_mul_ps(c1[k], rw1); \
+		o->n = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm))); \
+		t0 = _mm_set1_ps(half); \
+		v0 = _mm_add_ps(_mm_mul_ps(v0, t0), t0); \
+		v1 = _mm_add_ps(_mm_mul_ps(v1, t0), t0); \
+		o->lo = pvs__hmin_sse2(_mm_min_ps(v1, v0)); \
+		o->hi = pvs__hmax_sse2(_mm_max_ps(v1, v0)); \
+	} while (0)
+	PVS__AXIS(0, r->hwf, nx, xmin, xmax);
+	PVS__AXIS(1, r->hhf, ny, ymin, ymax);
+#undef PVS__AXIS
 	v0 = _mm_mul_ps(c0[2], rw0);
 	v1 = _mm_mul_ps(c1[2], rw1);
 	o->zmax = pvs__hmax_sse2(_mm_max_ps(v1, v0));
@@ -5641,22 +5635,20 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 	rw0 = vdivq_f32(one, c0[3]);
 	rw1 = vdivq_f32(one, c1[3]);
 	o->rmax = vmaxvq_f32(vmaxq_f32(rw1, rw0));
-	v0 = vmulq_f32(c0[0], rw0);
-	v1 = vmulq_f32(c1[0], rw1);
-	o->nx = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0)));
-	t0 = vdupq_n_f32(r->hwf);
-	v0 = vaddq_f32(vmulq_f32(v0, t0), t0);
-	v1 = vaddq_f32(vmulq_f32(v1, t0), t0);
-	o->xmin = vminvq_f32(vminq_f32(v1, v0));
-	o->xmax = vmaxvq_f32(vmaxq_f32(v1, v0));
-	v0 = vmulq_f32(c0[1], rw0);
-	v1 = vmulq_f32(c1[1], rw1);
-	o->ny = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0)));
-	t0 = vdupq_n_f32(r->hhf);
-	v0 = vaddq_f32(vmulq_f32(v0, t0), t0);
-	v1 = vaddq_f32(vmulq_f32(v1, t0), t0);
-	o->ymin = vminvq_f32(vminq_f32(v1, v0));
-	o->ymax = vmaxvq_f32(vmaxq_f32(v1, v0));
+#define PVS__AXIS(k, half, n, lo, hi) /* as in the SSE2 version */ \
+	do { \
+		v0 = vmulq_f32(c0[k], rw0); \
+		v1 = vmulq_f32(c1[k], rw1); \
+		o->n = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0))); \
+		t0 = vdupq_n_f32(half); \
+		v0 = vaddq_f32(vmulq_f32(v0, t0), t0); \
+		v1 = vaddq_f32(vmulq_f32(v1, t0), t0); \
+		o->lo = vminvq_f32(vminq_f32(v1, v0)); \
+		o->hi = vmaxvq_f32(vmaxq_f32(v1, v0)); \
+	} while (0)
+	PVS__AXIS(0, r->hwf, nx, xmin, xmax);
+	PVS__AXIS(1, r->hhf, ny, ymin, ymax);
+#undef PVS__AXIS
 	v0 = vmulq_f32(c0[2], rw0);
 	v1 = vmulq_f32(c1[2], rw1);
 	o->zmax = vmaxvq_f32(vmaxq_f32(v1, v0));
@@ -9127,6 +9119,17 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 	}
 }
 
+/* The least and the largest of 0 (the eye) and n . f over the count points v. */
+PVS__STATIC void pvs__sv_extent(const pvs__svvert *v, uint32_t count, const double n[3], double *plo, double *phi) {
+	uint32_t m;
+	*plo = *phi = 0.0;
+	for (m = 0; m < count; ++m) {
+		double d = pvs__sv_dot(n, v[m].f);
+		if (d < *plo) *plo = d;
+		if (d > *phi) *phi = d;
+	}
+}
+
 /* Box [lo, hi] (eye-relative) against in-leaf fragment f (§4.10.2): invisible when wholly behind the
    occluder's plane or (unless PLANE_ONLY) apart from the pyramid eye + fragment, the only place it can
    be seen through this leaf (exact test "E"); visible when wholly in front; else partly visible. */
@@ -9135,7 +9138,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 	const pvs__svvert *v = o->verts + f->first;
 	double smin = pvs__sv_lo(f->plane, lo, hi) + f->plane[3], smax = pvs__sv_hi(f->plane, lo, hi) + f->plane[3],
 		   t = f->tol;
-	uint32_t i, j;
+	uint32_t i;
 	int k;
 	if (smax < -t) return PVS__SV_I;
 	if (!(o->flags & PVS_OTREE_PLANE_ONLY)) {
@@ -9149,20 +9152,9 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 			if (hi[k] < plo - t || lo[k] > phi + t) return PVS__SV_I;
 		}
 		for (i = 0; i < f->count; ++i) { /* the pyramid's extent is taken over its points: valid for any axis */
-			double plo = 0.0, phi = 0.0, bh = pvs__sv_hi(v[i].m, lo, hi);
-			if (bh < -t) {
-				for (j = 0; j < f->count; ++j) {
-					double d = pvs__sv_dot(v[i].m, v[j].f);
-					if (d < plo) plo = d;
-				}
-				if (bh < plo - t) return PVS__SV_I;
-			} else {
-				for (j = 0; j < f->count; ++j) {
-					double d = pvs__sv_dot(v[i].m, v[j].f);
-					if (d > phi) phi = d;
-				}
-				if (pvs__sv_lo(v[i].m, lo, hi) > phi + t) return PVS__SV_I;
-			}
+			double plo, phi, bh = pvs__sv_hi(v[i].m, lo, hi);
+			pvs__sv_extent(v, f->count, v[i].m, &plo, &phi);
+			if (bh < -t ? bh < plo - t : pvs__sv_lo(v[i].m, lo, hi) > phi + t) return PVS__SV_I;
 		}
 		{   /* the base's plane: the pyramid spans from the eye (d) to its base (about 0) */
 			double plo = f->plane[3], phi = f->plane[3];
@@ -9175,8 +9167,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 		}
 		for (k = 0; k < 3; ++k)
 			for (i = 0; i < 2 * f->count; ++i) {
-				double edge[3], ax[3], plo = 0.0, phi = 0.0, len;
-				uint32_t m;
+				double edge[3], ax[3], plo, phi, len;
 				if (i < f->count) memcpy(edge, v[i].f, sizeof(edge));
 				else {
 					const double *p0 = v[i - f->count].f, *p1 = v[(i - f->count + 1) % f->count].f;
@@ -9187,11 +9178,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 				ax[(k + 2) % 3] = edge[(k + 1) % 3];
 				len = pvs__sv_unit(ax);
 				if (!(len > 1e-12 * (fabs(edge[0]) + fabs(edge[1]) + fabs(edge[2])))) continue;
-				for (m = 0; m < f->count; ++m) {
-					double d = pvs__sv_dot(ax, v[m].f);
-					if (d < plo) plo = d;
-					if (d > phi) phi = d;
-				}
+				pvs__sv_extent(v, f->count, ax, &plo, &phi);
 				if (pvs__sv_hi(ax, lo, hi) < plo - t || pvs__sv_lo(ax, lo, hi) > phi + t) return PVS__SV_I;
 			}
 	}
@@ -9809,21 +9796,15 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 			o[2] = 0.0f;
 		} /* never visible */
 	}
-	for (k = 0; k < nl; ++k) {
-		pvs_kdtree_desc kd;
-		uint32_t nk = ot->level_end[k];
-		pvs_box *boxes =
-			(pvs_box *)pvs__alloc_array(&ot->allocator, (size_t)nk + ot->object_count + 1, sizeof(pvs_box));
-		if (!boxes) goto done;
-		pvs_visibility_25d_boxes(ot->facades, nk, ot->objects, ot->object_count, boxes);
-		memset(&kd, 0, sizeof(kd));
-		kd.boxes = boxes;
-		kd.count = nk + ot->object_count;
-		kd.allocator = ot->allocator;
-		r = pvs_kdtree_create(&kd, &ot->tree[k], NULL);
-		pvs__free_array(&ot->allocator, boxes, (size_t)nk + ot->object_count + 1, sizeof(pvs_box));
+	for (k = 0; k < nl; ++k) { /* level k's tree, as pvs_visibility_25d would build it */
+		pvs_visibility_25d_desc d;
+		memset(&d, 0, sizeof(d));
+		d.facades = ot->facades;
+		d.facade_count = ot->level_end[k];
+		d.objects = ot->objects;
+		d.object_count = ot->object_count;
+		r = pvs__ot25_tree(&d, &ot->allocator, &ot->tree[k], NULL);
 		if (r != PVS_OK) goto done;
-		r = PVS_ERROR_OUT_OF_MEMORY;
 	}
 	r = PVS_OK;
 done:
