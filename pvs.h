@@ -4378,9 +4378,9 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 }
 
 #if defined(PVS__SSE2)
-/* v[l][k]: 4 readable floats (the caller copies the last vertex); mb: mf broadcast. */
-PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const float *const v[4][3], unsigned *test,
-								  int32_t box[4][4], float *zmax) {
+/* v[l][k]: 4 readable floats (the caller copies the last vertex). */
+PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
+								  float *zmax) {
 	const __m128 zero = _mm_setzero_ps(), absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), big = _mm_set1_ps(1e30f);
 	__m128 X0, Y0, Z0, X1, Y1, Z1, X2, Y2, Z2, cz0, cz1, cz2, cw0, cw1, cw2, t, anyb, allb, fin;
 	__m128 x, y, z, xmin, xmax, ymin, ymax, zm, rw;
@@ -4396,9 +4396,11 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const f
 		Y = _mm_movehl_ps(cd0, ab0); \
 		Z = _mm_movelh_ps(ab1, cd1); \
 	} while (0)
+#define PVS__MB(o) _mm_loadu_ps(r->mb[o]) /* mf broadcast */
 #define PVS__ROW(o, X, Y, Z) \
-	_mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(mb[o], X), _mm_mul_ps(mb[o + 1], Y)), _mm_mul_ps(mb[o + 2], Z)), \
-			   mb[o + 3])
+	_mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(PVS__MB(o), X), _mm_mul_ps(PVS__MB(o + 1), Y)), \
+						  _mm_mul_ps(PVS__MB(o + 2), Z)), \
+			   PVS__MB(o + 3))
 	PVS__LOAD3(0, X0, Y0, Z0);
 	PVS__LOAD3(1, X1, Y1, Z1);
 	PVS__LOAD3(2, X2, Y2, Z2);
@@ -4438,6 +4440,7 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const f
 	zm = _mm_max_ps(z, zm);
 #undef PVS__PROJ
 #undef PVS__ROW
+#undef PVS__MB
 #undef PVS__LOAD3
 	/* a NaN can drop out of min and max, dropping the triangle as the scalar loop does (conservative) */
 	fin = _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(xmin, absm), big), _mm_cmplt_ps(_mm_and_ps(xmax, absm), big));
@@ -4624,10 +4627,6 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 	unsigned draw, test;
 	int n;
 	int32_t box[4][4];
-#if defined(PVS__SSE2)
-	__m128 mb[16];
-	for (k = 0; k < 16; ++k) mb[k] = _mm_set1_ps(r->mf[k]);
-#endif
 	if (!vertex_count) return;
 	last[0] = positions[3 * ((size_t)vertex_count - 1)]; /* SIMD loads read 4 floats: copy the last vertex */
 	last[1] = positions[3 * ((size_t)vertex_count - 1) + 1];
@@ -4646,11 +4645,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 		for (l = (uint32_t)n; l < 4; ++l)
 			for (k = 0; k < 3; ++k) v[l][k] = v[0][k];
 #if defined(PVS__HAVE_PF_SIMD)
-#if defined(PVS__SSE2)
-		if (!(r->flags & PVS_RASTER_SCALAR)) draw = pvs__pf_simd(r, mb, (const float *const(*)[3])v, &test, box, zmax);
-#else
 		if (!(r->flags & PVS_RASTER_SCALAR)) draw = pvs__pf_simd(r, (const float *const(*)[3])v, &test, box, zmax);
-#endif
 		else
 #endif
 			draw = pvs__pf_scalar(r, (const float *const(*)[3])v, &test, box, zmax);
@@ -7304,47 +7299,9 @@ PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
 	return th;
 }
 
-/* Read-only test (§3.3.4, §6.5.3): 1 when a line of q reaches occluder k before any stored one. Splits with slack,
-   stops at the first visible leaf; slivers (pvs__ot_thickness) do not count, so the answer does not depend on where
-   insertion rounded, i.e. on the insertion order. */
-PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
-	size_t base = t->stack_count;
-	const double *sk = t->seg + 4 * (size_t)k;
-	int vis = 0;
-	if (!pvs__ot_push(t, 0, blocker)) return 1;
-	while (t->stack_count > base && !vis) {
-		pvs__otpoly q;
-		uint32_t node = t->stack_node[t->stack_count - 1];
-		const pvs__otnode *nd = t->nodes + node;
-		if (near > nd->mvd) { --t->stack_count; continue; } /* §6.5.5 */
-		if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) {
-			--t->stack_count;
-			continue;
-		}
-		if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1, -1.0, 0.0); continue; }
-		pvs__ot_pop(t, &q);
-		if (pvs__ot_thickness(&q) < PVS__OT_SLIVER) {
-			continue;
-		} else if (nd->kind == PVS__OT_OUT) {
-			vis = 1;
-		} else {
-			uint32_t j = t->seq[nd->first];
-			int front, behind;
-			if (j == k) { vis = 1; break; }
-			pvs__ot_depth(t, &q, t->seg + 4 * (size_t)j, sk, &front, &behind);
-			if (front && behind && !q.xsplit) { /* the exact test splits at the crossing X (§6.5.1 case 3) */
-				double x[2];
-				if (pvs__ot_cross(t->seg + 4 * (size_t)j, sk, x)) {
-					vis |= !pvs__ot2_xsplit(t, node, &q, x);
-					continue;
-				}
-			}
-			if (front || !behind) vis = 1; /* in front somewhere, or all ties (collinear): visible */
-		}
-	}
-	t->stack_count = base;
-	return vis || t->oom;
-}
+/* The read-only test (§3.3.4), after the 2.5D pieces (pvs__ot25_open). */
+PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
+								const double *e, const double *box);
 
 /* ---- shared driver pieces ---- */
 
@@ -7555,7 +7512,7 @@ PVS__STATIC int pvs__ot2_segment_visible(pvs__otree *t, const double *cell, uint
 		if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
 		nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
 		if (deg) vis = 1;
-		for (m = 0; m < nb && !vis; ++m) vis = pvs__ot2_visible(t, &bl[m], i, near);
+		for (m = 0; m < nb && !vis; ++m) vis = pvs__ot_visible(t, &bl[m], i, near, 0.0, NULL, NULL);
 	}
 	return vis;
 }
@@ -8325,36 +8282,46 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
 	return 0;
 }
 
-/* Read-only c-LSS test of far edge e (height h) of object box `box`: 1 when part of it may be seen through the
-   blocker's lines. */
-PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, const double *e, double h,
-								  const double *box) {
-	size_t base = t->stack_count;
-	/* the bound counts every member, also those crossing the box that pvs__ot25_open ignores (a wall on a ground
-	   tile would hide the tile's far edge): with the whole box's nearness, a member of smaller reach lies wholly
-	   nearer */
-	double near = pvs__ot25_near(t, box ? box : e);
+/* Read-only test (§3.3.4): 1 when a line of the blocker may get past the stored occluders (or out of memory). Splits
+   with slack, stops at the first visible leaf. 2D (§6.5.3; e NULL, h unused): a line reaches occluder k before any
+   stored one; slivers (pvs__ot_thickness) do not count, so the answer does not depend on where insertion rounded,
+   i.e. on the insertion order. 2.5D (c-LSS): part of far edge e (height h) of object box `box` may be seen. near:
+   the subtree bounds' distance (§6.5.5; 2.5D pvs__ot25_near). */
+PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
+								const double *e, const double *box) {
+	size_t base = t->stack_count, top;
+	const double *sk = e ? NULL : t->seg + 4 * (size_t)k;
 	int vis = 0;
 	if (!pvs__ot_push(t, 0, blocker)) return 1;
-	while (t->stack_count > base && !vis) {
-		uint32_t node = t->stack_node[t->stack_count - 1];
+	while ((top = t->stack_count) > base && !vis) {
+		uint32_t node = t->stack_node[--top], j;
 		const pvs__otnode *nd = t->nodes + node;
-		if (PVS__OT25_HIDDEN(t, nd, near, h)) { --t->stack_count; continue; } /* hidden in this subtree */
-		if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) {
-			--t->stack_count;
+		pvs__otpoly q;
+		double x[2], f0, f1, v0, v1;
+		int front, behind;
+		if ((e ? PVS__OT25_HIDDEN(t, nd, near, h) : near > nd->mvd) || /* hidden in this subtree */
+			(t->stack_pend[top] != PVS__OT_NONE && !pvs__ot_owed(t, top))) {
+			t->stack_count = top;
 			continue;
 		}
-		if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1, near, h); continue; }
-		--t->stack_count; /* the polygon stays readable in its slot until the next push */
-		if (nd->kind == PVS__OT_OUT) {
-			vis = 1;
-			pvs__ot25_witness_add(t, PVS__OT_ITEM(t, t->stack_count));
-		} else {
-			double f0, f1, v0, v1;
-			if (pvs__ot25_open(t, PVS__OT_ITEM(t, t->stack_count), nd->first, nd->count, PVS__OT_NONE, e, h, box, &f0,
-							   &f1, &v0, &v1))
-				vis = 1;
+		if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, top, e ? near : -1.0, h); continue; }
+		t->stack_count = top; /* the polygon stays readable in its slot until the next push */
+		if (e) {
+			if (nd->kind == PVS__OT_OUT) pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top));
+			vis = nd->kind == PVS__OT_OUT || pvs__ot25_open(t, PVS__OT_ITEM(t, top), nd->first, nd->count, PVS__OT_NONE,
+															 e, h, box, &f0, &f1, &v0, &v1);
+			continue;
 		}
+		pvs__ot_copy(&q, PVS__OT_ITEM(t, top));
+		if (pvs__ot_thickness(&q) < PVS__OT_SLIVER) continue;
+		if (nd->kind == PVS__OT_OUT || (j = t->seq[nd->first]) == k) { vis = 1; break; }
+		pvs__ot_depth(t, &q, t->seg + 4 * (size_t)j, sk, &front, &behind);
+		/* the exact test splits at the crossing X (§6.5.1 case 3) */
+		if (front && behind && !q.xsplit && pvs__ot_cross(t->seg + 4 * (size_t)j, sk, x)) {
+			vis |= !pvs__ot2_xsplit(t, node, &q, x);
+			continue;
+		}
+		if (front || !behind) vis = 1; /* in front somewhere, or all ties (collinear): visible */
 	}
 	t->stack_count = base;
 	return vis || t->oom;
@@ -8365,6 +8332,10 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
 PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2],
 									  int *any_far) {
 	double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* the source edge's outward direction */
+	/* the bound counts every member, also those crossing the box that pvs__ot25_open ignores (a wall on a ground
+	   tile would hide the tile's far edge): with the whole box's nearness, a member of smaller reach lies wholly
+	   nearer */
+	double near = pvs__ot25_near(t, bx);
 	int i, vis = 0, far_edge, order[3];
 	c4[0] = c4[6] = bx[0];
 	c4[1] = c4[3] = bx[1];
@@ -8398,7 +8369,7 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 		if (any_far) *any_far = 1;
 		nb = pvs__ot_blockers(a, b, o, on, bl, &deg);
 		if (deg) vis = 1;
-		for (m = 0; m < nb && !vis; ++m) vis = pvs__ot25_visible(t, &bl[m], o, top, bx);
+		for (m = 0; m < nb && !vis; ++m) vis = pvs__ot_visible(t, &bl[m], PVS__OT_NONE, near, top, o, bx);
 	}
 	return vis;
 }
