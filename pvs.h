@@ -4014,7 +4014,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 		int32_t jr = ty << PVS__TH_SHIFT, jrow = jr - t->j0, L[PVS__TH], R[PVS__TH], lmin = INT32_MAX, rmax = -1, tx;
 		int32_t fl = -1, fr = INT32_MAX; /* columns all four rows cover */
 		int d, e, da = -1, db = -1;
-		uint32_t pad[PVS__TH], cov[PVS__TH];
+		uint32_t pad[PVS__TH], cov[PVS__TH], q[PVS__TH];
 		float ya, yb, zy, p, zt, z0;
 		pvs__tile *row = r->tile + (size_t)ty * r->tw;
 		for (e = 0; e < t->ne; ++e) {
@@ -4056,13 +4056,8 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 			zt = p > t->zlo ? p : t->zlo;
 			if (!(zt > tl->z0)) continue; /* not nearer than the base */
 			if (x0 >= fl && (x0 + 31 < (int32_t)r->width ? x0 + 31 : (int32_t)r->width - 1) <= fr) {
-				/* covers the tile: pvs__tile_merge's first case */
-				if (!((tl->mask[0] | tl->mask[1] | tl->mask[2] | tl->mask[3]) && tl->z1 > zt))
-					tl->mask[0] = tl->mask[1] = tl->mask[2] = tl->mask[3] = 0;
-				tl->z0 = zt;
-				r->bdirty[(size_t)(ty >> PVS__BLOCK_SHIFT) * r->bw + (uint32_t)(tx >> PVS__BLOCK_SHIFT)] = 1;
-				continue;
-			}
+				cov[0] = cov[1] = cov[2] = cov[3] = ~0u; /* covers the tile: pvs__tile_merge's first case */
+			} else
 #if defined(PVS__HAVE_TILE_SIMD)
 			if (simd) {
 				if (!pvs__tile_mask_simd(L, R, x0, cov)) continue;
@@ -4074,13 +4069,8 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 				if (!any) continue;
 			}
 			z0 = tl->z0;
-			if ((uint32_t)tx == r->tw - 1) {
-				uint32_t q[PVS__TH];
-				for (d = 0; d < PVS__TH; ++d) q[d] = pad[d] | r->xpad;
-				pvs__tile_merge(tl, cov, zt, q);
-			} else {
-				pvs__tile_merge(tl, cov, zt, pad);
-			}
+			for (d = 0; d < PVS__TH; ++d) q[d] = pad[d] | ((uint32_t)tx == r->tw - 1 ? r->xpad : 0u);
+			pvs__tile_merge(tl, cov, zt, q);
 			if (tl->z0 != z0)
 				r->bdirty[(size_t)(ty >> PVS__BLOCK_SHIFT) * r->bw + (uint32_t)(tx >> PVS__BLOCK_SHIFT)] = 1;
 		}
@@ -7497,22 +7487,24 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 	}
 }
 
-/* Exact re-test (§6.6) of segment i (s, `near` from the cell): 1 when it meets the cell, is a point, is degenerate
-   as seen from a cell edge, or a line from an edge reaches it past the occluders. */
-PVS__STATIC int pvs__ot2_segment_visible(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
-										 double near) {
+/* Segment i (s, `near` from the cell) through the blockers of each cell edge (§6.6). test 0: inserted (an occluder
+   crossing the cell is visible anyway; its outside parts still block). test 1, the exact re-test: 1 when it meets the
+   cell, is a point, is degenerate as seen from a cell edge, or a line from an edge reaches it past the occluders. */
+PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
+								 double near, int test) {
 	uint32_t k;
-	int vis = 0;
-	if (pvs__ot_segment_meets_polygon(s, cell, n)) vis = 1;
-	else if (s[0] == s[2] && s[1] == s[3]) vis = 1; /* a point: no line set to test, count it visible */
+	/* a point: no line set to test, count it visible */
+	int vis = test && (pvs__ot_segment_meets_polygon(s, cell, n) || (s[0] == s[2] && s[1] == s[3]));
 	for (k = 0; k < n && !vis; ++k) {
 		double o[4];
 		pvs__otpoly bl[2];
 		int on, nb, deg, m;
 		if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
 		nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
-		if (deg) vis = 1;
-		for (m = 0; m < nb && !vis; ++m) vis = pvs__ot_visible(t, &bl[m], i, near, 0.0, NULL, NULL);
+		vis = test && deg;
+		for (m = 0; m < nb && !vis; ++m)
+			if (test) vis = pvs__ot_visible(t, &bl[m], i, near, 0.0, NULL, NULL);
+			else pvs__ot2_insert(t, &bl[m], i, near);
 	}
 	return vis;
 }
@@ -7523,7 +7515,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	pvs_allocator al;
 	double *cell = NULL, *seg = NULL, *reach = NULL, *near = NULL, cx = 0.0, cy = 0.0;
 	pvs__key_index *order = NULL;
-	uint32_t n, i, k, budget, count;
+	uint32_t n, i, budget, count;
 	pvs_result r = PVS_OK;
 	pvs_otree_stats st;
 	pvs__buf b[5];
@@ -7586,15 +7578,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 		if (s[0] == s[2] && s[1] == s[3]) continue;
 		if (t.node_count >= budget) { st.budget_exceeded = 1; break; }
 		++st.occluders_inserted;
-		for (k = 0; k < n; ++k) {
-			double o[4];
-			pvs__otpoly bl[2];
-			int on, nb, deg, m;
-			if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
-			/* an occluder crossing the cell is visible anyway; its outside parts still block */
-			nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
-			for (m = 0; m < nb; ++m) pvs__ot2_insert(&t, &bl[m], j, near[j]);
-		}
+		(void)pvs__ot2_segment(&t, cell, n, s, j, near[j], 0);
 		pvs__ot2_update_mvd(&t);
 	}
 	if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree nodes"); goto done; }
@@ -7602,7 +7586,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	if (visible_segments) memset(visible_segments, 0, PVS_BITSET_WORDS(count) * sizeof(pvs_word));
 	if (visible_objects) memset(visible_objects, 0, PVS_BITSET_WORDS(desc->object_count) * sizeof(pvs_word));
 	for (i = 0; i < count; ++i) {
-		int vis = pvs__ot2_segment_visible(&t, cell, n, seg + 4 * i, i, near[i]);
+		int vis = pvs__ot2_segment(&t, cell, n, seg + 4 * i, i, near[i], 1);
 		if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree test"); goto done; }
 		if (!vis) continue;
 		++st.visible_segments;
@@ -7721,8 +7705,8 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 		dx = (gx[bj] - gx[bi]) / len; dy = (gy[bj] - gy[bi]) / len;
 		m = 3 - bi - bj;
 		if (!(fabs(-dy * (gx[m] - gx[bi]) + dx * (gy[m] - gy[bi])) <= tol)) continue; /* not vertical */
-		hmin = h[0] < h[1] ? (h[0] < h[2] ? h[0] : h[2]) : (h[1] < h[2] ? h[1] : h[2]);
-		hmax = h[0] > h[1] ? (h[0] > h[2] ? h[0] : h[2]) : (h[1] > h[2] ? h[1] : h[2]);
+		hmin = pvs__dmin(pvs__dmin(h[0], h[1]), h[2]);
+		hmax = pvs__dmax(pvs__dmax(h[0], h[1]), h[2]);
 		if (!(hmax - hmin > tol)) continue;
 		if (dy < 0.0 || (dy == 0.0 && dx < 0.0)) { dx = -dx; dy = -dy; } /* one direction per line: theta in [0, pi) */
 		q = tl + 5 * (size_t)nv;
@@ -7763,8 +7747,8 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
 			q[9 + 2 * k] = gy;
 		}
 		if (!ok) continue;
-		q[6] = q[0] < q[1] ? (q[0] < q[2] ? q[0] : q[2]) : (q[1] < q[2] ? q[1] : q[2]);
-		q[7] = q[0] > q[1] ? (q[0] > q[2] ? q[0] : q[2]) : (q[1] > q[2] ? q[1] : q[2]);
+		q[6] = pvs__dmin(pvs__dmin(q[0], q[1]), q[2]);
+		q[7] = pvs__dmax(pvs__dmax(q[0], q[1]), q[2]);
 		++nm;
 	}
 	return nm;
@@ -7809,18 +7793,16 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
 			uint32_t f;
 			for (f = 0; f < w->nopen; ++f)
 				if (opn[f].s1 == sa && fabs(opn[f].bot - bot) <= tol && fabs(opn[f].top - top) <= tol) break;
-			if (f < w->nopen) {
+			if (f < w->nopen) { /* continued: the common interval */
 				nxt[nn] = opn[f];
-				nxt[nn].s1 = sb;
-				nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
-				if (bot > nxt[nn].bot) nxt[nn].bot = bot;
-				if (top < nxt[nn].top) nxt[nn].top = top;
+				bot = bot > nxt[nn].bot ? bot : nxt[nn].bot;
+				top = top < nxt[nn].top ? top : nxt[nn].top;
 				opn[f] = opn[--w->nopen];
 			} else {
-				nxt[nn].s0 = sa; nxt[nn].s1 = sb; nxt[nn].bot = bot; nxt[nn].top = top;
-				nxt[nn].g0[0] = ga[0]; nxt[nn].g0[1] = ga[1];
-				nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
+				nxt[nn].s0 = sa; nxt[nn].g0[0] = ga[0]; nxt[nn].g0[1] = ga[1];
 			}
+			nxt[nn].s1 = sb; nxt[nn].bot = bot; nxt[nn].top = top;
+			nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
 			++nn;
 		}
 	}
@@ -9038,20 +9020,14 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 							 : (q->e[i][0] == -nd->n[0] && q->e[i][1] == -nd->n[1] && q->e[i][2] == -nd->n[2]))
 						q->mark[i] = 1;
 				o->stack_node[sp++] = nd->child[side]; /* q stays in place */
-			} else {
-				double neg[3];
-				uint32_t c0 = nd->child[0], c1 = nd->child[1];
-				int r1, r0;
+			} else { /* the positive part, then the negative one */
+				double nf[2][3];
 				pvs__svpoly qq = *q;
-				neg[0] = -nd->n[0]; neg[1] = -nd->n[1]; neg[2] = -nd->n[2];
-				r1 = pvs__sv_clip(&qq, nd->n, 0.0, nd->n, 1, &part);
-				if (r1 < 0) o->info.budget_exceeded = 1;
-				if (r1 >= 3) { o->stack[sp] = part; o->stack_node[sp++] = c1; }
-				r0 = pvs__sv_clip(&qq, neg, 0.0, neg, 1, &part);
-				if (r0 < 0) o->info.budget_exceeded = 1;
-				if (r0 >= 3) {
-					if (sp >= PVS__SV_STACK) { o->info.budget_exceeded = 1; continue; }
-					o->stack[sp] = part; o->stack_node[sp++] = c0;
+				for (i = 0; i < 3; ++i) { nf[1][i] = nd->n[i]; nf[0][i] = -nd->n[i]; }
+				for (i = 1; i >= 0; --i) {
+					int r = pvs__sv_clip(&qq, nf[i], 0.0, nf[i], 1, &part);
+					if (r < 0 || (r >= 3 && sp >= PVS__SV_STACK)) o->info.budget_exceeded = 1;
+					if (r >= 3 && sp < PVS__SV_STACK) { o->stack[sp] = part; o->stack_node[sp++] = nd->child[i]; }
 				}
 			}
 			if (sp >= PVS__SV_STACK - 1) { /* no room for the next split: drop the deepest work (conservative) */
