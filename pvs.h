@@ -3585,17 +3585,8 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 			ty0 = (uint32_t)d0 >> PVS__TILE_SHIFT; ty1 = (uint32_t)d1 >> PVS__TILE_SHIFT;
 			{
 				float lo = FLT_MAX;
-				for (ty = ty0; ty <= ty1; ++ty) {
-					const float *t = tile_min + ty * tw;
-					if (tx1 - tx0 == 3) {
-						float a = t[tx0] < t[tx0 + 1] ? t[tx0] : t[tx0 + 1],
-							  b = t[tx0 + 2] < t[tx0 + 3] ? t[tx0 + 2] : t[tx0 + 3];
-						a = a < b ? a : b;
-						lo = a < lo ? a : lo;
-					} else {
-						for (tx = tx0; tx <= tx1; ++tx) lo = t[tx] < lo ? t[tx] : lo;
-					}
-				}
+				for (ty = ty0; ty <= ty1; ++ty)
+					for (tx = tx0; tx <= tx1; ++tx) lo = tile_min[ty * tw + tx] < lo ? tile_min[ty * tw + tx] : lo;
 				if (lo >= zbound ||
 					(double)lo >= pvs__raster_zbound(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0, occluder, 0))
 					continue;
@@ -6827,25 +6818,6 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 	out->n = m;
 	return m;
 }
-/* pvs__ot_clip_n for the plane sign * p*. */
-PVS__STATIC int pvs__ot_clip(const pvs__otpoly *in, const double p[2], double sign, double slack, int mark,
-							 pvs__otpoly *out) {
-	double n[3];
-	pvs__ot_normal(p, sign, n);
-	return pvs__ot_clip_n(in, n, p, slack, mark, out);
-}
-
-/* Min and max of side(p) over the polygon's vertices. */
-PVS__STATIC void pvs__ot_range(const pvs__otpoly *q, const double p[2], double *lo, double *hi) {
-	int i;
-	*lo = DBL_MAX; *hi = -DBL_MAX;
-	for (i = 0; i < q->n; ++i) {
-		double s = pvs__ot_side(q->v[i], p);
-		if (s < *lo) *lo = s;
-		if (s > *hi) *hi = s;
-	}
-}
-
 /* 2.5D witness lines: a read-only test reaching an out-leaf keeps a line inside its polygon there (the normalised
    vertex sum); out-leaves only become in-leaves, so a witness later found in an in-leaf is dropped. */
 PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
@@ -7223,10 +7195,13 @@ PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_f
    when out of memory. */
 PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, const double x[2]) {
 	pvs__otpoly part;
-	int ok = 1;
+	double n[3];
+	int ok = 1, side;
 	q->xsplit = 1;
-	if (pvs__ot_clip(q, x, 1.0, 0.0, 0, &part) >= 3) ok &= pvs__ot_push(t, node, &part);
-	if (pvs__ot_clip(q, x, -1.0, 0.0, 0, &part) >= 3) ok &= pvs__ot_push(t, node, &part);
+	for (side = 0; side < 2; ++side) { /* the planes x* and -x* */
+		pvs__ot_normal(x, side ? -1.0 : 1.0, n);
+		if (pvs__ot_clip_n(q, n, x, 0.0, 0, &part) >= 3) ok &= pvs__ot_push(t, node, &part);
+	}
 	return ok;
 }
 
@@ -7305,16 +7280,12 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 	*on_line = 0;
 	memcpy(out, s, 4 * sizeof(double));
 	if (f0 >= 0.0 && f1 >= 0.0) return 0;
-	if (f0 >= 0.0) {
-		double u = f0 / (f0 - f1);
-		out[0] = s[0] + u * (s[2] - s[0]);
-		out[1] = s[1] + u * (s[3] - s[1]);
-		*on_line = 1;
-	} else if (f1 >= 0.0) {
-		double u = f1 / (f1 - f0);
-		out[2] = s[2] + u * (s[0] - s[2]);
-		out[3] = s[3] + u * (s[1] - s[3]);
-		*on_line = 2;
+	if (f0 >= 0.0 || f1 >= 0.0) { /* the end outside the half-plane moves onto the line */
+		int e = f0 >= 0.0 ? 0 : 2, g = 2 - e;
+		double u = e ? f1 / (f1 - f0) : f0 / (f0 - f1);
+		out[e] = s[e] + u * (s[g] - s[e]);
+		out[e + 1] = s[e + 1] + u * (s[g + 1] - s[e + 1]);
+		*on_line = 1 + e / 2;
 	}
 	return !(out[0] == out[2] && out[1] == out[3]);
 }
@@ -7329,16 +7300,13 @@ PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const dou
 	if (on_line) {
 		x[0] = on_line == 1 ? o[0] : o[2];
 		x[1] = on_line == 1 ? o[1] : o[3];
-		u = ((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / (ex * ex + ey * ey);
 		have_x = 1;
 	} else {
 		double seg[4];
 		seg[0] = a[0]; seg[1] = a[1]; seg[2] = b[0]; seg[3] = b[1];
-		if (pvs__ot_cross(seg, o, x)) {
-			u = ((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / (ex * ex + ey * ey);
-			have_x = 1;
-		}
+		have_x = pvs__ot_cross(seg, o, x);
 	}
+	if (have_x) u = ((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / (ex * ex + ey * ey);
 	if (have_x && u > 1e-12 && u < 1.0 - 1e-12) {
 		if (pvs__ot_blocker(a, x, o, o + 2, &out[n])) ++n; else *degenerate = 1;
 		if (pvs__ot_blocker(x, b, o, o + 2, &out[n])) ++n; else *degenerate = 1;
