@@ -5772,8 +5772,7 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
 	int32_t rect[4];
 	float d;
-	int k = r->tiled ? pvs__raster_box_f(r, b, rect, &d) : -1;
-	if (k < 0) k = pvs__raster_box(r, b, rect, &d);
+	int k = pvs__raster_box(r, b, rect, &d); /* the float test first when tiled */
 	if (k != 2) return k;
 	return pvs_raster_test_rect(r, rect[0], rect[1], rect[2], rect[3], d);
 }
