@@ -3299,6 +3299,24 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 #define PVS__RASTER_MAX_LEVELS 16
 #define PVS__RASTER_BIG 1e30
 
+/* A context's buffers listed once, for both its creation and its destruction: entry k's *p gets n elements of `size`
+   bytes (pvs__bufs_alloc, in order and on past a failure, as one call each would; 0 when one failed) or is freed
+   (pvs__bufs_free; NULL entries are skipped). PVS__BUF appends an entry. */
+typedef struct pvs__buf {
+	void **p;
+	size_t n, size;
+} pvs__buf;
+#define PVS__BUF(b, k, ptr, count, elem) ((b)[k].p = (void **)&(ptr), (b)[k].n = (count), (b)[k].size = (elem), ++(k))
+PVS__STATIC int pvs__bufs_alloc(const pvs_allocator *a, const pvs__buf *b, int k) {
+	int i, ok = 1;
+	for (i = 0; i < k; ++i) ok &= (*b[i].p = pvs__alloc_array(a, b[i].n, b[i].size)) != NULL;
+	return ok;
+}
+PVS__STATIC void pvs__bufs_free(const pvs_allocator *a, const pvs__buf *b, int k) {
+	int i;
+	for (i = 0; i < k; ++i) pvs__free_array(a, *b[i].p, b[i].n, b[i].size);
+}
+
 /* Occluder tile (Hasselgren et al. 2016), reversed Z: occluders at least as near as z0 on every pixel, z1 on `mask` (z1
    > z0 while mask != 0). */
 typedef struct pvs__tile {
@@ -3519,18 +3537,22 @@ PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a
 	return inside;
 }
 
-/* The most the loops can write over pixels [a0, a1] x [b0, b1] (relative), slack included. */
+/* The most (least: the least) the loops can write over pixels [a0, a1] x [b0, b1] (relative), slack included: the
+   affine depth's extreme corner (rounding is monotone, so the corner of the extreme terms). */
 PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1,
-									  int occluder) {
-	double pa = s->za, pb = s->zb, hi = (double)s->zk + pvs__dmax(pa * a0, pa * a1) + pvs__dmax(pb * b0, pb * b1);
-	hi += 3.814697265625e-06 * (pvs__dabs(s->zk) + pvs__dabs(pa) * a1 + pvs__dabs(pb) * b1) + 1e-30;
-	return occluder ? pvs__dmax(hi, s->zclamp) : pvs__dmin(hi, s->zclamp);
+									  int occluder, int least) {
+	double pa = s->za, pb = s->zb, z,
+		   sl = 3.814697265625e-06 * (pvs__dabs(s->zk) + pvs__dabs(pa) * a1 + pvs__dabs(pb) * b1) + 1e-30;
+	if (least) z = (double)s->zk + pvs__dmin(pa * a0, pa * a1) + pvs__dmin(pb * b0, pb * b1) - sl;
+	else z = (double)s->zk + pvs__dmax(pa * a0, pa * a1) + pvs__dmax(pb * b0, pb * b1) + sl;
+	return occluder ? pvs__dmax(z, s->zclamp) : pvs__dmin(z, s->zclamp);
 }
 
 /* Pixel loops by 4 x 4 tile blocks, then tiles, skipping those as near as the polygon can write or outside an edge. */
 PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder,
 								 int simd, float zbound) {
 	uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, bx, by;
+	int32_t a0, a1, b0, b1;
 	int wrote, inside, edges, block;
 	const int bs = PVS__TILE_SHIFT + 2;
 	(void)simd;
@@ -3555,19 +3577,10 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 			ty0 = (uint32_t)d0 >> PVS__TILE_SHIFT; ty1 = (uint32_t)d1 >> PVS__TILE_SHIFT;
 			{
 				float lo = FLT_MAX;
-				for (ty = ty0; ty <= ty1; ++ty) {
-					const float *t = tile_min + ty * tw;
-					if (tx1 - tx0 == 3) {
-						float a = t[tx0] < t[tx0 + 1] ? t[tx0] : t[tx0 + 1],
-							  b = t[tx0 + 2] < t[tx0 + 3] ? t[tx0 + 2] : t[tx0 + 3];
-						a = a < b ? a : b;
-						lo = a < lo ? a : lo;
-					} else {
-						for (tx = tx0; tx <= tx1; ++tx) lo = t[tx] < lo ? t[tx] : lo;
-					}
-				}
+				for (ty = ty0; ty <= ty1; ++ty)
+					for (tx = tx0; tx <= tx1; ++tx) lo = tile_min[ty * tw + tx] < lo ? tile_min[ty * tw + tx] : lo;
 				if (lo >= zbound ||
-					(double)lo >= pvs__raster_zbound(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0, occluder))
+					(double)lo >= pvs__raster_zbound(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0, occluder, 0))
 					continue;
 			}
 			block = pvs__raster_classify(s, c0 - s->i0, c1 - s->i0, d0 - s->j0, d1 - s->j0);
@@ -3579,12 +3592,9 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 					s->li1 = (int32_t)(tx << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->li1 > s->i1) s->li1 = s->i1;
 					s->lj0 = (int32_t)(ty << PVS__TILE_SHIFT); if (s->lj0 < s->j0) s->lj0 = s->j0;
 					s->lj1 = (int32_t)(ty << PVS__TILE_SHIFT) + PVS__TILE - 1; if (s->lj1 > s->j1) s->lj1 = s->j1;
-					if ((double)tile_min[ty * tw + tx] >=
-						pvs__raster_zbound(s, s->li0 - s->i0, s->li1 - s->i0, s->lj0 - s->j0, s->lj1 - s->j0, occluder))
-						continue;
-					inside = block
-						? 1
-						: pvs__raster_classify(s, s->li0 - s->i0, s->li1 - s->i0, s->lj0 - s->j0, s->lj1 - s->j0);
+					a0 = s->li0 - s->i0; a1 = s->li1 - s->i0; b0 = s->lj0 - s->j0; b1 = s->lj1 - s->j0;
+					if ((double)tile_min[ty * tw + tx] >= pvs__raster_zbound(s, a0, a1, b0, b1, occluder, 0)) continue;
+					inside = block ? 1 : pvs__raster_classify(s, a0, a1, b0, b1);
 					if (inside < 0) continue;
 					edges = s->edges;
 					if (inside) s->edges = 0; /* inside: the same result without edge tests */
@@ -3595,21 +3605,9 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 						wrote = pvs__raster_rows_scalar(s, buf, W, occluder);
 					s->edges = edges;
 					if (!wrote) continue;
-					if (inside && s->li1 - s->li0 == PVS__TILE - 1 && s->lj1 - s->lj0 == PVS__TILE - 1) {
-						/* full tile: least corner value (affine depth) less slack: a lower bound, all skipping needs */
-						double lo = DBL_MAX, za = s->za, zb = s->zb, zk = s->zk, slack;
-						int ci;
-						for (ci = 0; ci < 4; ++ci) {
-							double fi = (double)((ci & 1 ? s->li1 : s->li0) - s->i0),
-								   fj = (double)((ci & 2 ? s->lj1 : s->lj0) - s->j0);
-							lo = pvs__dmin(lo, zk + za * fi + zb * fj);
-						}
-						slack = 3.814697265625e-06 *
-								(pvs__dabs(zk) + pvs__dabs(za) * (s->li1 - s->i0) + pvs__dabs(zb) * (s->lj1 - s->j0)) +
-							1e-30;
-						lo -= slack;
-						if (occluder) lo = pvs__dmax(lo, s->zclamp);
-						else lo = pvs__dmin(lo, s->zclamp);
+					if (inside && a1 - a0 == PVS__TILE - 1 && b1 - b0 == PVS__TILE - 1) {
+						/* full tile: the least depth written, a lower bound, all skipping needs */
+						double lo = pvs__raster_zbound(s, a0, a1, b0, b1, occluder, 1);
 						if (lo > tile_min[ty * tw + tx]) tile_min[ty * tw + tx] = pvs__f_down(lo);
 					} else {
 						pvs__tile_update(buf, W, H, tile_min, tx, ty);
@@ -3634,31 +3632,43 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
 				pvs__tile_update(buf, W, H, tile_min, tx, ty);
 }
 
-/* Depth plane bound of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi, oy +
-   fj), fi <= iw, fj <= jh: (zk + zb fj) + za fi in float is at most (occluder) or at least (occludee) the plane's
-   extreme over the pixel. From the largest fan triangle; none: zk = -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
-PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const double *z, int n, double ox, double oy,
-									double iw, double jh, double span, double mag, double zmag, double perr,
-									double zerr, int occluder, float *za_out, float *zb_out, float *zk_out) {
+/* The depth plane of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi, oy +
+   fj), fi <= iw, fj <= jh, from its largest fan triangle: p = za, zb, zk with z = zk + za fi + zb fj, and the bound
+   on the setup error. 0 when no fan triangle has an area. */
+PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double *z, int n, double ox, double oy,
+								  double iw, double jh, double span, double mag, double zmag, double perr, double zerr,
+								  double p[4]) {
 	int i, best = -1;
-	double amax = 0.0;
+	double amax = 0.0, x1, y1, z1, x2, y2, z2, det, za, zb;
 	for (i = 1; i + 1 < n; ++i) {
 		double a2 = pvs__dabs((x[i] - x[0]) * (y[i + 1] - y[0]) - (x[i + 1] - x[0]) * (y[i] - y[0]));
 		if (a2 > amax) { amax = a2; best = i; }
 	}
+	if (best <= 0) return 0;
+	x1 = x[best] - x[0]; y1 = y[best] - y[0]; z1 = z[best] - z[0];
+	x2 = x[best + 1] - x[0]; y2 = y[best + 1] - y[0]; z2 = z[best + 1] - z[0];
+	det = x1 * y2 - x2 * y1;
+	p[0] = za = (z1 * y2 - z2 * y1) / det;
+	p[1] = zb = (x1 * z2 - x2 * z1) / det;
+	p[2] = z[0] + za * (ox - x[0]) + zb * (oy - y[0]);
+	p[3] = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
+		   PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
+			   (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det));
+	return 1;
+}
+
+/* Depth plane bound over those pixels (pvs__raster_plane): (zk + zb fj) + za fi in float is at most (occluder) or
+   at least (occludee) the plane's extreme over the pixel. None: zk = -FLT_MAX (occluder) or FLT_MAX, za = zb = 0. */
+PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const double *z, int n, double ox, double oy,
+									double iw, double jh, double span, double mag, double zmag, double perr,
+									double zerr, int occluder, float *za_out, float *zb_out, float *zk_out) {
+	double p[4];
 	*za_out = *zb_out = 0.0f;
 	*zk_out = occluder ? -FLT_MAX : FLT_MAX;
-	if (best > 0) {
-		double x1 = x[best] - x[0], y1 = y[best] - y[0], z1 = z[best] - z[0];
-		double x2 = x[best + 1] - x[0], y2 = y[best + 1] - y[0], z2 = z[best + 1] - z[0];
-		double det = x1 * y2 - x2 * y1;
-		double za = (z1 * y2 - z2 * y1) / det, zb = (x1 * z2 - x2 * z1) / det;
-		double zk = z[0] + za * (ox - x[0]) + zb * (oy - y[0]), err, dy;
+	if (pvs__raster_plane(x, y, z, n, ox, oy, iw, jh, span, mag, zmag, perr, zerr, p)) {
+		double za = p[0], zb = p[1], zk = p[2], err = p[3], dy;
 		zk += occluder ? pvs__dmin(0.0, za) + pvs__dmin(0.0, zb) : pvs__dmax(0.0, za) + pvs__dmax(0.0, zb);
-		err = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
-			  PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
-				  (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det)) +
-			  PVS__RASTER_ERR_F * (pvs__dabs(zk) + pvs__dabs(za) * iw + pvs__dabs(zb) * jh + 1e-30);
+		err += PVS__RASTER_ERR_F * (pvs__dabs(zk) + pvs__dabs(za) * iw + pvs__dabs(zb) * jh + 1e-30);
 		zk += occluder ? -err : err;
 		dy = pvs__dabs(zk) + pvs__dabs(za) * iw + pvs__dabs(zb) * jh;
 		if (dy < 1e30 && err < 1e30) {
@@ -3688,6 +3698,41 @@ PVS__STATIC int pvs__poly_extent(const double *x, const double *y, const double 
 		e->mag = pvs__dmax(e->mag, pvs__dabs(x[i]) + pvs__dabs(y[i]));
 		e->zmag = pvs__dmax(e->zmag, pvs__dabs(z[i]));
 	}
+	return 1;
+}
+
+/* 0 when the polygon (extent e, span its width plus height) is beyond useful precision or degenerate. */
+PVS__STATIC int pvs__poly_usable(const pvs__polyext *e, double span) {
+	return e->mag < PVS__RASTER_BIG * PVS__RASTER_BIG && pvs__dabs(e->area2) > 1e-9 * span * span &&
+		pvs__dabs(e->area2) > 1e-300;
+}
+
+/* Edge i of polygon x, y (flip: clockwise) over pixels (ox + fi, oy + fj), fi <= iw, fj <= jh, as the rounding argument
+   says: e = a, b, k, E = a fi + b fj + k. Mode 0 occludee, 1 occluder, 2 tile loops (their own float margin). 1: an
+   edge to test, 0: every pixel passes it (or no length), -1: none does. */
+PVS__STATIC int pvs__raster_edge(const double *x, const double *y, int i, int n, int flip, double ox, double oy,
+								 double iw, double jh, double mag, double perr, int mode, double e[3]) {
+	int j = i + 1 == n ? 0 : i + 1;
+	double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
+	if (flip) { a = -a; b = -b; }
+	len = pvs__dabs(a) + pvs__dabs(b);
+	if (len == 0.0) return 0;
+	a /= len;
+	b /= len;
+	k = a * (ox - x[i]) + b * (oy - y[i]);
+	if (mode == 2) k = k + pvs__dmin(0.0, a) + pvs__dmin(0.0, b);
+	else k += mode ? pvs__dmin(0.0, a) + pvs__dmin(0.0, b) : pvs__dmax(0.0, a) + pvs__dmax(0.0, b);
+	err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) *
+		(1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len);
+	if (mode != 2) err += PVS__RASTER_ERR_F * (pvs__dabs(k) + pvs__dabs(a) * iw + pvs__dabs(b) * jh + 1e-30);
+	if (mode) err = -err; /* x - err == x + -err */
+	lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
+	hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
+	if (lo + err >= 0.0) return 0; /* every pixel passes this edge */
+	if (hi + err < 0.0) return -1; /* no pixel does */
+	k += err;
+	if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return -1; /* impossible once the trivial cases are gone */
+	e[0] = a; e[1] = b; e[2] = k;
 	return 1;
 }
 
@@ -3723,13 +3768,8 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 				if (tile_min[ty * tw + tx] < zb) { open = 1; break; }
 		if (!open) return;
 	}
-	if (!(e.mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) { /* beyond useful precision */
-		if (!occluder) pvs__raster_fill(buf, W, H, tile_min, s.i0, s.i1, s.j0, s.j1, pvs__f_up(zhi));
-		return;
-	}
 	span = (e.xmax - e.xmin) + (e.ymax - e.ymin);
-	if (!(pvs__dabs(e.area2) > 1e-9 * span * span) || !(pvs__dabs(e.area2) > 1e-300)) {
-		/* degenerate */
+	if (!pvs__poly_usable(&e, span)) {
 		if (!occluder) pvs__raster_fill(buf, W, H, tile_min, s.i0, s.i1, s.j0, s.j1, pvs__f_up(zhi));
 		return;
 	}
@@ -3739,33 +3779,13 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 	jh = (double)(s.j1 - s.j0);
 	s.edges = 0;
 	for (i = 0; i < n; ++i) {
-		int j = i + 1 == n ? 0 : i + 1;
-		double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
-		if (e.area2 < 0) { a = -a; b = -b; }
-		len = pvs__dabs(a) + pvs__dabs(b);
-		if (len == 0.0) continue;
-		a /= len;
-		b /= len;
-		k = a * (ox - x[i]) + b * (oy - y[i]);
-		k += occluder ? pvs__dmin(0.0, a) + pvs__dmin(0.0, b) : pvs__dmax(0.0, a) + pvs__dmax(0.0, b);
-		err = (PVS__RASTER_ERR_D * (1.0 + e.mag) + perr) *
-				(1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len) +
-			PVS__RASTER_ERR_F * (pvs__dabs(k) + pvs__dabs(a) * iw + pvs__dabs(b) * jh + 1e-30);
-		lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
-		hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
-		if (occluder) {
-			if (lo - err >= 0.0) continue;  /* every pixel passes this edge */
-			if (hi - err < 0.0) return;     /* no pixel does */
-			k -= err;
-		} else {
-			if (lo + err >= 0.0) continue;
-			if (hi + err < 0.0) return;
-			k += err;
-		}
-		if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return; /* impossible once the trivial cases are gone */
-		s.a[s.edges] = (float)a;
-		s.b[s.edges] = (float)b;
-		s.k[s.edges] = (float)k;
+		double ed[3];
+		int r = pvs__raster_edge(x, y, i, n, e.area2 < 0, ox, oy, iw, jh, e.mag, perr, occluder, ed);
+		if (r < 0) return;
+		if (!r) continue;
+		s.a[s.edges] = (float)ed[0];
+		s.b[s.edges] = (float)ed[1];
+		s.k[s.edges] = (float)ed[2];
 		++s.edges;
 	}
 	s.zclamp = occluder ? pvs__f_down(zlo) : pvs__f_up(zhi);
@@ -3977,7 +3997,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 		int32_t jr = ty << PVS__TH_SHIFT, jrow = jr - t->j0, L[PVS__TH], R[PVS__TH], lmin = INT32_MAX, rmax = -1, tx;
 		int32_t fl = -1, fr = INT32_MAX; /* columns all four rows cover */
 		int d, e, da = -1, db = -1;
-		uint32_t pad[PVS__TH], cov[PVS__TH];
+		uint32_t pad[PVS__TH], cov[PVS__TH], q[PVS__TH];
 		float ya, yb, zy, p, zt, z0;
 		pvs__tile *row = r->tile + (size_t)ty * r->tw;
 		for (e = 0; e < t->ne; ++e) {
@@ -4019,13 +4039,8 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 			zt = p > t->zlo ? p : t->zlo;
 			if (!(zt > tl->z0)) continue; /* not nearer than the base */
 			if (x0 >= fl && (x0 + 31 < (int32_t)r->width ? x0 + 31 : (int32_t)r->width - 1) <= fr) {
-				/* covers the tile: pvs__tile_merge's first case */
-				if (!((tl->mask[0] | tl->mask[1] | tl->mask[2] | tl->mask[3]) && tl->z1 > zt))
-					tl->mask[0] = tl->mask[1] = tl->mask[2] = tl->mask[3] = 0;
-				tl->z0 = zt;
-				r->bdirty[(size_t)(ty >> PVS__BLOCK_SHIFT) * r->bw + (uint32_t)(tx >> PVS__BLOCK_SHIFT)] = 1;
-				continue;
-			}
+				cov[0] = cov[1] = cov[2] = cov[3] = ~0u; /* covers the tile: pvs__tile_merge's first case */
+			} else
 #if defined(PVS__HAVE_TILE_SIMD)
 			if (simd) {
 				if (!pvs__tile_mask_simd(L, R, x0, cov)) continue;
@@ -4037,13 +4052,8 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 				if (!any) continue;
 			}
 			z0 = tl->z0;
-			if ((uint32_t)tx == r->tw - 1) {
-				uint32_t q[PVS__TH];
-				for (d = 0; d < PVS__TH; ++d) q[d] = pad[d] | r->xpad;
-				pvs__tile_merge(tl, cov, zt, q);
-			} else {
-				pvs__tile_merge(tl, cov, zt, pad);
-			}
+			for (d = 0; d < PVS__TH; ++d) q[d] = pad[d] | ((uint32_t)tx == r->tw - 1 ? r->xpad : 0u);
+			pvs__tile_merge(tl, cov, zt, q);
 			if (tl->z0 != z0)
 				r->bdirty[(size_t)(ty >> PVS__BLOCK_SHIFT) * r->bw + (uint32_t)(tx >> PVS__BLOCK_SHIFT)] = 1;
 		}
@@ -4062,22 +4072,11 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
 	t->jhi = t->j1 - t->j0;
 	t->nl = 0;
 	for (i = 0; i < n; ++i) {
-		int j = i + 1 == n ? 0 : i + 1;
-		double a = y[i] - y[j], b = x[j] - x[i], len, k, err, lo, hi;
-		if (area2 < 0) { a = -a; b = -b; }
-		len = pvs__dabs(a) + pvs__dabs(b);
-		if (len == 0.0) continue;
-		a /= len;
-		b /= len;
-		k = a * (ox - x[i]) + b * (oy - y[i]) + pvs__dmin(0.0, a) + pvs__dmin(0.0, b);
-		err = (PVS__RASTER_ERR_D * (1.0 + mag) + perr) *
-			(1.0 + (pvs__dabs(ox - x[i]) + pvs__dabs(oy - y[i]) + iw + jh + 2.0) / len);
-		lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
-		hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
-		if (lo - err >= 0.0) continue;
-		if (hi - err < 0.0) return 0;
-		k -= err;
-		if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return 0;
+		double ed[3], a, b, k;
+		int r = pvs__raster_edge(x, y, i, n, area2 < 0, ox, oy, iw, jh, mag, perr, 2, ed);
+		if (r < 0) return 0;
+		if (!r) continue;
+		a = ed[0]; b = ed[1]; k = ed[2];
 		if (pvs__dabs(a) > pvs__dabs(b) * PVS__U_2_20) {
 			/* i >= X(j) for a > 0, i <= X(j) for a < 0; X(jrow) is clamped to +-cl (beyond, all four rows fall on one
 			   side); float error at most 3 cl + 13 |s| units of 2^-24 plus 2^-51 (|xi| + |s| |jrow|), below m */
@@ -4119,26 +4118,12 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
    unusable: zk = -FLT_MAX. */
 PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span,
 								  double mag, double zmag, double perr, double zerr, double zlo) {
-	double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0),
-		   amax = 0.0;
-	int i, best = -1;
-	for (i = 1; i + 1 < n; ++i) {
-		double a2 = pvs__dabs((x[i] - x[0]) * (y[i + 1] - y[0]) - (x[i + 1] - x[0]) * (y[i] - y[0]));
-		if (a2 > amax) { amax = a2; best = i; }
-	}
+	double iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0), p[4];
 	t->zlo = pvs__f_down(zlo);
 	t->za = t->zb = t->zm = 0.0f;
 	t->zk = -FLT_MAX;
-	if (best > 0) {
-		double x1 = x[best] - x[0], y1 = y[best] - y[0], z1 = z[best] - z[0];
-		double x2 = x[best + 1] - x[0], y2 = y[best + 1] - y[0], z2 = z[best + 1] - z[0];
-		double det = x1 * y2 - x2 * y1;
-		double za = (z1 * y2 - z2 * y1) / det, zb = (x1 * z2 - x2 * z1) / det;
-		double zk = z[0] + za * (ox - x[0]) + zb * (oy - y[0]), err, size;
-		err = zerr + (pvs__dabs(za) + pvs__dabs(zb)) * perr * (1.0 + (span + iw + jh + 2.0) * span / pvs__dabs(det)) +
-			  PVS__RASTER_ERR_D * (zmag + (pvs__dabs(za) + pvs__dabs(zb)) * (mag + ox + oy + iw + jh + 2.0)) *
-				  (1.0 + (span + ox + oy + iw + jh + 2.0) * span / pvs__dabs(det));
-		zk -= err;
+	if (pvs__raster_plane(x, y, z, n, (double)t->i0, (double)t->j0, iw, jh, span, mag, zmag, perr, zerr, p)) {
+		double za = p[0], zb = p[1], zk = p[2] - p[3], err = p[3], size;
 		/* float zk + za x + zb y - zm, x <= iw + 1, y <= jh + 1: at most 6 units of 2^-24 of `size` */
 		size = pvs__dabs(zk) + pvs__dabs(za) * (iw + 1.0) + pvs__dabs(zb) * (jh + 1.0);
 		if (size < 1e30 && err < 1e30) {
@@ -4164,10 +4149,8 @@ PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y,
 	t.j0 = pvs__clampi(ceil(e.ymin + dx), 0, (int32_t)r->height);
 	t.j1 = pvs__clampi(floor(e.ymax - dx) - 1.0, -1, (int32_t)r->height - 1);
 	if (t.i0 > t.i1 || t.j0 > t.j1) return;
-	if (!(e.mag < PVS__RASTER_BIG * PVS__RASTER_BIG)) return;
 	span = (e.xmax - e.xmin) + (e.ymax - e.ymin);
-	if (!(pvs__dabs(e.area2) > 1e-9 * span * span) || !(pvs__dabs(e.area2) > 1e-300))
-		return; /* degenerate */
+	if (!pvs__poly_usable(&e, span)) return;
 	if (!pvs__tile_edges(&t, x, y, n, e.area2, e.mag, perr)) return;
 	pvs__tile_zplane(&t, x, y, z, n, span, e.mag, e.zmag, perr, zerr, zlo);
 	pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR));
@@ -4220,6 +4203,18 @@ PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) 
 	return v;
 }
 
+/* Clip-space vertex v to pixels *x, *y (map half sizes hw, hh) and depth *z; *perr, *zerr grow to its error after the
+   division, in pixels and in depth. */
+PVS__STATIC void pvs__raster_project(const pvs__cv *v, double hw, double hh, double *x, double *y, double *z,
+									 double *perr, double *zerr) {
+	double iw = 1.0 / v->c[3], e = v->e * iw;
+	*x = (v->c[0] * iw + 1.0) * hw;
+	*y = (v->c[1] * iw + 1.0) * hh;
+	*z = v->c[2] * iw;
+	*perr = pvs__dmax(*perr, 2.0 * e * (1.0 + pvs__dabs(v->c[0] * iw) + pvs__dabs(v->c[1] * iw)) * pvs__dmax(hw, hh));
+	*zerr = pvs__dmax(*zerr, 2.0 * e * (1.0 + pvs__dabs(*z)));
+}
+
 /* Sutherland-Hodgman against w - z >= 0 (near) or w - tiny >= 0; lout gets lin's labels (edge i: vertex i to i + 1;
    NULL: none), PVS__MESH_CLIP along the plane. Cutting from the inside vertex keeps shared edges' cuts identical. */
 #define PVS__MESH_CLIP 3
@@ -4270,16 +4265,7 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
 		if (n < 3) return;
 		t = t2;
 	}
-	for (i = 0; i < n; ++i) {
-		double iw = 1.0 / t[i].c[3], e = t[i].e * iw;
-		x[i] = (t[i].c[0] * iw + 1.0) * hw;
-		y[i] = (t[i].c[1] * iw + 1.0) * hh;
-		z[i] = t[i].c[2] * iw;
-		/* the error after the division, in pixels and in depth */
-		perr = pvs__dmax(perr,
-						 2.0 * e * (1.0 + pvs__dabs(t[i].c[0] * iw) + pvs__dabs(t[i].c[1] * iw)) * pvs__dmax(hw, hh));
-		zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z[i])));
-	}
+	for (i = 0; i < n; ++i) pvs__raster_project(t + i, hw, hh, x + i, y + i, z + i, &perr, &zerr);
 	if (occluder && r->tiled) {
 		pvs__tile_poly(r, x, y, z, n, perr, zerr);
 	} else {
@@ -4365,9 +4351,9 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 }
 
 #if defined(PVS__SSE2)
-/* v[l][k]: 4 readable floats (the caller copies the last vertex); mb: mf broadcast. */
-PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const float *const v[4][3], unsigned *test,
-								  int32_t box[4][4], float *zmax) {
+/* v[l][k]: 4 readable floats (the caller copies the last vertex). */
+PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
+								  float *zmax) {
 	const __m128 zero = _mm_setzero_ps(), absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), big = _mm_set1_ps(1e30f);
 	__m128 X0, Y0, Z0, X1, Y1, Z1, X2, Y2, Z2, cz0, cz1, cz2, cw0, cw1, cw2, t, anyb, allb, fin;
 	__m128 x, y, z, xmin, xmax, ymin, ymax, zm, rw;
@@ -4383,9 +4369,11 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const f
 		Y = _mm_movehl_ps(cd0, ab0); \
 		Z = _mm_movelh_ps(ab1, cd1); \
 	} while (0)
+#define PVS__MB(o) _mm_loadu_ps(r->mb[o]) /* mf broadcast */
 #define PVS__ROW(o, X, Y, Z) \
-	_mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(mb[o], X), _mm_mul_ps(mb[o + 1], Y)), _mm_mul_ps(mb[o + 2], Z)), \
-			   mb[o + 3])
+	_mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(PVS__MB(o), X), _mm_mul_ps(PVS__MB(o + 1), Y)), \
+						  _mm_mul_ps(PVS__MB(o + 2), Z)), \
+			   PVS__MB(o + 3))
 	PVS__LOAD3(0, X0, Y0, Z0);
 	PVS__LOAD3(1, X1, Y1, Z1);
 	PVS__LOAD3(2, X2, Y2, Z2);
@@ -4425,6 +4413,7 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const __m128 *mb, const f
 	zm = _mm_max_ps(z, zm);
 #undef PVS__PROJ
 #undef PVS__ROW
+#undef PVS__MB
 #undef PVS__LOAD3
 	/* a NaN can drop out of min and max, dropping the triangle as the scalar loop does (conservative) */
 	fin = _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(xmin, absm), big), _mm_cmplt_ps(_mm_and_ps(xmax, absm), big));
@@ -4593,6 +4582,14 @@ PVS__STATIC int pvs__pf_hidden(pvs_raster *r, int32_t box[4][4], int l, float zm
 	return 1;
 }
 
+/* Triangle t's vertices: those of scene triangle tris[t].triangle (tris not NULL), indices[3 t ..] or 3 t ... */
+PVS__STATIC void pvs__tri_corners(const uint32_t *indices, const pvs__occsel *tris, uint32_t t, uint32_t q[3]) {
+	const uint32_t *ix = tris ? indices + 3 * (size_t)tris[t].triangle : indices ? indices + 3 * (size_t)t : NULL;
+	q[0] = ix ? ix[0] : 3 * t;
+	q[1] = ix ? ix[1] : 3 * t + 1;
+	q[2] = ix ? ix[2] : 3 * t + 2;
+}
+
 /* Occluder triangles through the prefilter, four at a time: `count` of `positions` (indices or NULL) or scene triangles
    tris[0 .. count). */
 PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
@@ -4603,10 +4600,6 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 	unsigned draw, test;
 	int n;
 	int32_t box[4][4];
-#if defined(PVS__SSE2)
-	__m128 mb[16];
-	for (k = 0; k < 16; ++k) mb[k] = _mm_set1_ps(r->mf[k]);
-#endif
 	if (!vertex_count) return;
 	last[0] = positions[3 * ((size_t)vertex_count - 1)]; /* SIMD loads read 4 floats: copy the last vertex */
 	last[1] = positions[3 * ((size_t)vertex_count - 1) + 1];
@@ -4615,30 +4608,17 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 	for (t = 0; t < count; t += 4) {
 		n = 0;
 		for (l = 0; l < 4 && t + l < count; ++l) {
-			uint32_t q0, q1, q2;
-			const uint32_t *ix = tris ? indices + 3 * (size_t)tris[t + l].triangle
-				: indices             ? indices + 3 * (size_t)(t + l)
-									  : NULL;
-			if (ix) {
-				q0 = ix[0]; q1 = ix[1]; q2 = ix[2];
-			} else {
-				q0 = 3 * (t + l); q1 = q0 + 1; q2 = q0 + 2;
-			}
-			if (q0 >= vertex_count || q1 >= vertex_count || q2 >= vertex_count) continue;
-			v[n][0] = q0 + 1 == vertex_count ? last : positions + 3 * (size_t)q0;
-			v[n][1] = q1 + 1 == vertex_count ? last : positions + 3 * (size_t)q1;
-			v[n][2] = q2 + 1 == vertex_count ? last : positions + 3 * (size_t)q2;
+			uint32_t q[3];
+			pvs__tri_corners(indices, tris, t + l, q);
+			if (q[0] >= vertex_count || q[1] >= vertex_count || q[2] >= vertex_count) continue;
+			for (k = 0; k < 3; ++k) v[n][k] = q[k] + 1 == vertex_count ? last : positions + 3 * (size_t)q[k];
 			++n;
 		}
 		if (!n) continue;
 		for (l = (uint32_t)n; l < 4; ++l)
 			for (k = 0; k < 3; ++k) v[l][k] = v[0][k];
 #if defined(PVS__HAVE_PF_SIMD)
-#if defined(PVS__SSE2)
-		if (!(r->flags & PVS_RASTER_SCALAR)) draw = pvs__pf_simd(r, mb, (const float *const(*)[3])v, &test, box, zmax);
-#else
 		if (!(r->flags & PVS_RASTER_SCALAR)) draw = pvs__pf_simd(r, (const float *const(*)[3])v, &test, box, zmax);
-#endif
 		else
 #endif
 			draw = pvs__pf_scalar(r, (const float *const(*)[3])v, &test, box, zmax);
@@ -4648,6 +4628,22 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 			if ((test >> l) & 1u && pvs__pf_hidden(r, box, (int)l, zmax[l])) continue;
 			pvs__raster_tri(r, v[l][0], v[l][1], v[l][2], 1);
 		}
+	}
+}
+
+/* Triangles one by one (pvs__tri_corners; those with a vertex out of range are left out); tiled occluders through the
+   prefilter. */
+PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
+								  const pvs__occsel *tris, uint32_t count, int occluder) {
+	uint32_t t, q[3];
+	if (occluder && r->tiled) {
+		pvs__raster_occluders(r, pos, vc, indices, tris, count);
+		return;
+	}
+	for (t = 0; t < count; ++t) {
+		pvs__tri_corners(indices, tris, t, q);
+		if (q[0] < vc && q[1] < vc && q[2] < vc)
+			pvs__raster_tri(r, pos + 3 * (size_t)q[0], pos + 3 * (size_t)q[1], pos + 3 * (size_t)q[2], occluder);
 	}
 }
 
@@ -4709,14 +4705,8 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 	}
 	t->n = n;
 	for (i = 0; i < n; ++i) {
-		double iwv = 1.0 / p[i].c[3], e = p[i].e * iwv;
-		t->x[i] = (p[i].c[0] * iwv + 1.0) * hw;
-		t->y[i] = (p[i].c[1] * iwv + 1.0) * hh;
-		z[i] = p[i].c[2] * iwv;
+		pvs__raster_project(p + i, hw, hh, t->x + i, t->y + i, z + i, &perr, &zerr);
 		if (!(t->x[i] == t->x[i] && t->y[i] == t->y[i] && z[i] == z[i])) return 0;
-		perr = pvs__dmax(perr,
-						 2.0 * e * (1.0 + pvs__dabs(p[i].c[0] * iwv) + pvs__dabs(p[i].c[1] * iwv)) * pvs__dmax(hw, hh));
-		zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z[i])));
 		t->lab[i] = lab[i];
 		t->bnd[i] = 1;
 		if (i == 0) {
@@ -5123,13 +5113,7 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
 	for (h = 0; h < hs; ++h) r->mtab[h] = 0;
 	for (t = 0; t < n; ++t) {
 		uint32_t q[3];
-		if (tris || indices) {
-			const uint32_t *ix =
-				tris ? indices + 3 * (size_t)tris[first + t].triangle : indices + 3 * (size_t)(first + t);
-			q[0] = ix[0]; q[1] = ix[1]; q[2] = ix[2];
-		} else {
-			q[0] = 3 * (first + t); q[1] = q[0] + 1; q[2] = q[0] + 2;
-		}
+		pvs__tri_corners(indices, tris, first + t, q);
 		pvs__mesh_tri(r, pos, vc, q, hs, t);
 	}
 	pvs__mesh_partners(r, n, hs);
@@ -5143,19 +5127,8 @@ PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const u
 						   const pvs__occsel *tris, uint32_t count) {
 	uint32_t first;
 	if (!count || !vc) return;
-	if (r->tiled) {
-		pvs__raster_occluders(r, pos, vc, indices, tris, count);
-	} else {
-		for (first = 0; first < count; ++first) {
-			const uint32_t *ix = tris ? indices + 3 * (size_t)tris[first].triangle
-				: indices             ? indices + 3 * (size_t)first
-									  : NULL;
-			uint32_t q0 = ix ? ix[0] : 3 * first, q1 = ix ? ix[1] : 3 * first + 1, q2 = ix ? ix[2] : 3 * first + 2;
-			if (q0 < vc && q1 < vc && q2 < vc)
-				pvs__raster_tri(r, pos + 3 * (size_t)q0, pos + 3 * (size_t)q1, pos + 3 * (size_t)q2, 1);
-		}
-		pvs__raster_occludee_begin(r);
-	}
+	pvs__raster_tris(r, pos, vc, indices, tris, count, 1);
+	if (!r->tiled) pvs__raster_occludee_begin(r);
 	for (first = 0; first < count; first += r->mesh_cap)
 		pvs__mesh_piece(r, pos, vc, indices, tris, first, count - first < r->mesh_cap ? count - first : r->mesh_cap);
 	r->pyramid_valid = 0;
@@ -5186,32 +5159,28 @@ PVS_API pvs_result pvs_camera_matrix(const pvs_camera *c, float aspect, float m[
 	rt[0] = f[1] * u[2] - f[2] * u[1];
 	rt[1] = f[2] * u[0] - f[0] * u[2];
 	rt[2] = f[0] * u[1] - f[1] * u[0];
+	sy = c->fov_y > 0.0f ? 1.0 / tan(0.5 * (double)c->fov_y) : 2.0 / c->ortho_height;
+	sx = sy / (double)aspect;
+	for (k = 0; k < 3; ++k) {
+		m[k] = (float)(sx * rt[k]);
+		m[4 + k] = (float)(sy * u[k]);
+	}
+	m[3] = (float)(-sx * (rt[0] * e[0] + rt[1] * e[1] + rt[2] * e[2]));
+	m[7] = (float)(-sy * (u[0] * e[0] + u[1] * e[1] + u[2] * e[2]));
 	if (c->fov_y > 0.0f) {
-		sy = 1.0 / tan(0.5 * (double)c->fov_y);
-		sx = sy / (double)aspect;
 		for (k = 0; k < 3; ++k) {
-			m[k] = (float)(sx * rt[k]);
-			m[4 + k] = (float)(sy * u[k]);
 			m[8 + k] = 0.0f;
 			m[12 + k] = (float)f[k];
 		}
-		m[3] = (float)(-sx * (rt[0] * e[0] + rt[1] * e[1] + rt[2] * e[2]));
-		m[7] = (float)(-sy * (u[0] * e[0] + u[1] * e[1] + u[2] * e[2]));
 		m[11] = c->near_plane;
 		m[15] = (float)-(f[0] * e[0] + f[1] * e[1] + f[2] * e[2]);
 	} else {
 		double far_d = c->far_plane > c->near_plane ? c->far_plane : (double)c->near_plane + 1e4;
 		double range = far_d - c->near_plane;
-		sy = 2.0 / c->ortho_height;
-		sx = sy / (double)aspect;
 		for (k = 0; k < 3; ++k) {
-			m[k] = (float)(sx * rt[k]);
-			m[4 + k] = (float)(sy * u[k]);
 			m[8 + k] = (float)(-f[k] / range);
 			m[12 + k] = 0.0f;
 		}
-		m[3] = (float)(-sx * (rt[0] * e[0] + rt[1] * e[1] + rt[2] * e[2]));
-		m[7] = (float)(-sy * (u[0] * e[0] + u[1] * e[1] + u[2] * e[2]));
 		/* depth = 1 - (distance - near) / range */
 		m[11] = (float)(1.0 + ((f[0] * e[0] + f[1] * e[1] + f[2] * e[2]) + c->near_plane) / range);
 		m[15] = 1.0f;
@@ -5234,11 +5203,8 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *r, const float m[16]) {
 	for (k = 0; k < 4; ++k) {
 		r->rowa[k] = pvs__dabs(r->m[4 * k]) + pvs__dabs(r->m[4 * k + 1]) + pvs__dabs(r->m[4 * k + 2]);
 		r->rowt[k] = pvs__dabs(r->m[4 * k + 3]);
-	}
-	for (k = 0; k < 4; ++k) {
-		r->mabs[0] =
-			pvs__dmax(r->mabs[0], pvs__dabs(r->m[4 * k]) + pvs__dabs(r->m[4 * k + 1]) + pvs__dabs(r->m[4 * k + 2]));
-		r->mabs[1] = pvs__dmax(r->mabs[1], pvs__dabs(r->m[4 * k + 3]));
+		r->mabs[0] = pvs__dmax(r->mabs[0], r->rowa[k]);
+		r->mabs[1] = pvs__dmax(r->mabs[1], r->rowt[k]);
 	}
 	return PVS_OK;
 }
@@ -5261,21 +5227,9 @@ PVS_API void pvs_raster_clear(pvs_raster *r) {
 
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, uint32_t vertex_count,
 										const uint32_t *indices, uint32_t count, pvs_raster_mode mode) {
-	uint32_t t;
 	if (!r || (!positions && count) || (int)mode < 0 || mode >= PVS_RASTER_MODE_COUNT)
 		return PVS_ERROR_INVALID_ARGUMENT;
-	if (mode == PVS_RASTER_OCCLUDER && r->tiled) {
-		pvs__raster_occluders(r, positions, vertex_count, indices, NULL, count);
-		return PVS_OK;
-	}
-	for (t = 0; t < count; ++t) {
-		uint32_t a, b, c;
-		if (indices) { a = indices[3 * t]; b = indices[3 * t + 1]; c = indices[3 * t + 2]; }
-		else { a = 3 * t; b = a + 1; c = a + 2; }
-		if (a >= vertex_count || b >= vertex_count || c >= vertex_count) continue;
-		pvs__raster_tri(r, positions + 3 * (size_t)a, positions + 3 * (size_t)b, positions + 3 * (size_t)c,
-						mode == PVS_RASTER_OCCLUDER);
-	}
+	pvs__raster_tris(r, positions, vertex_count, indices, NULL, count, mode == PVS_RASTER_OCCLUDER);
 	return PVS_OK;
 }
 
@@ -5328,21 +5282,18 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 				}
 			}
 #endif
-		if (on)
-			for (; x < w; ++x) {
-				uint32_t x0 = x << mx, x1 = x0 + mx < pw ? x0 + mx : x0;
-				float a = n0[x0] < n0[x1] ? n0[x0] : n0[x1], c = n1[x0] < n1[x1] ? n1[x0] : n1[x1];
+		for (; x < w; ++x) {
+			uint32_t x0 = x << mx, x1 = x0 + mx < pw ? x0 + mx : x0;
+			float a, c;
+			if (on) {
+				a = n0[x0] < n0[x1] ? n0[x0] : n0[x1];
+				c = n1[x0] < n1[x1] ? n1[x0] : n1[x1];
 				on[x] = a < c ? a : c;
-				a = m0[x0] > m0[x1] ? m0[x0] : m0[x1];
-				c = m1[x0] > m1[x1] ? m1[x0] : m1[x1];
-				om[x] = a > c ? a : c;
 			}
-		else
-			for (; x < w; ++x) {
-				uint32_t x0 = x << mx, x1 = x0 + mx < pw ? x0 + mx : x0;
-				float a = m0[x0] > m0[x1] ? m0[x0] : m0[x1], c = m1[x0] > m1[x1] ? m1[x0] : m1[x1];
-				om[x] = a > c ? a : c;
-			}
+			a = m0[x0] > m0[x1] ? m0[x0] : m0[x1];
+			c = m1[x0] > m1[x1] ? m1[x0] : m1[x1];
+			om[x] = a > c ? a : c;
+		}
 	}
 }
 
@@ -5589,22 +5540,20 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 	rw0 = _mm_div_ps(_mm_set1_ps(1.0f), c0[3]);
 	rw1 = _mm_div_ps(_mm_set1_ps(1.0f), c1[3]);
 	o->rmax = pvs__hmax_sse2(_mm_max_ps(rw1, rw0));
-	v0 = _mm_mul_ps(c0[0], rw0); /* x / w */
-	v1 = _mm_mul_ps(c1[0], rw1);
-	o->nx = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm)));
-	t0 = _mm_set1_ps(r->hwf);
-	v0 = _mm_add_ps(_mm_mul_ps(v0, t0), t0);
-	v1 = _mm_add_ps(_mm_mul_ps(v1, t0), t0);
-	o->xmin = pvs__hmin_sse2(_mm_min_ps(v1, v0));
-	o->xmax = pvs__hmax_sse2(_mm_max_ps(v1, v0));
-	v0 = _mm_mul_ps(c0[1], rw0);
-	v1 = _mm_mul_ps(c1[1], rw1);
-	o->ny = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm)));
-	t0 = _mm_set1_ps(r->hhf);
-	v0 = _mm_add_ps(_mm_mul_ps(v0, t0), t0);
-	v1 = _mm_add_ps(_mm_mul_ps(v1, t0), t0);
-	o->ymin = pvs__hmin_sse2(_mm_min_ps(v1, v0));
-	o->ymax = pvs__hmax_sse2(_mm_max_ps(v1, v0));
+#define PVS__AXIS(k, half, n, lo, hi) /* x / w (y / w): its largest |.|, then in pixels */ \
+	do { \
+		v0 = _mm_mul_ps(c0[k], rw0); \
+		v1 = _mm_mul_ps(c1[k], rw1); \
+		o->n = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm))); \
+		t0 = _mm_set1_ps(half); \
+		v0 = _mm_add_ps(_mm_mul_ps(v0, t0), t0); \
+		v1 = _mm_add_ps(_mm_mul_ps(v1, t0), t0); \
+		o->lo = pvs__hmin_sse2(_mm_min_ps(v1, v0)); \
+		o->hi = pvs__hmax_sse2(_mm_max_ps(v1, v0)); \
+	} while (0)
+	PVS__AXIS(0, r->hwf, nx, xmin, xmax);
+	PVS__AXIS(1, r->hhf, ny, ymin, ymax);
+#undef PVS__AXIS
 	v0 = _mm_mul_ps(c0[2], rw0);
 	v1 = _mm_mul_ps(c1[2], rw1);
 	o->zmax = pvs__hmax_sse2(_mm_max_ps(v1, v0));
@@ -5654,22 +5603,20 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 	rw0 = vdivq_f32(one, c0[3]);
 	rw1 = vdivq_f32(one, c1[3]);
 	o->rmax = vmaxvq_f32(vmaxq_f32(rw1, rw0));
-	v0 = vmulq_f32(c0[0], rw0);
-	v1 = vmulq_f32(c1[0], rw1);
-	o->nx = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0)));
-	t0 = vdupq_n_f32(r->hwf);
-	v0 = vaddq_f32(vmulq_f32(v0, t0), t0);
-	v1 = vaddq_f32(vmulq_f32(v1, t0), t0);
-	o->xmin = vminvq_f32(vminq_f32(v1, v0));
-	o->xmax = vmaxvq_f32(vmaxq_f32(v1, v0));
-	v0 = vmulq_f32(c0[1], rw0);
-	v1 = vmulq_f32(c1[1], rw1);
-	o->ny = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0)));
-	t0 = vdupq_n_f32(r->hhf);
-	v0 = vaddq_f32(vmulq_f32(v0, t0), t0);
-	v1 = vaddq_f32(vmulq_f32(v1, t0), t0);
-	o->ymin = vminvq_f32(vminq_f32(v1, v0));
-	o->ymax = vmaxvq_f32(vmaxq_f32(v1, v0));
+#define PVS__AXIS(k, half, n, lo, hi) /* as in the SSE2 version */ \
+	do { \
+		v0 = vmulq_f32(c0[k], rw0); \
+		v1 = vmulq_f32(c1[k], rw1); \
+		o->n = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0))); \
+		t0 = vdupq_n_f32(half); \
+		v0 = vaddq_f32(vmulq_f32(v0, t0), t0); \
+		v1 = vaddq_f32(vmulq_f32(v1, t0), t0); \
+		o->lo = vminvq_f32(vminq_f32(v1, v0)); \
+		o->hi = vmaxvq_f32(vmaxq_f32(v1, v0)); \
+	} while (0)
+	PVS__AXIS(0, r->hwf, nx, xmin, xmax);
+	PVS__AXIS(1, r->hhf, ny, ymin, ymax);
+#undef PVS__AXIS
 	v0 = vmulq_f32(c0[2], rw0);
 	v1 = vmulq_f32(c1[2], rw1);
 	o->zmax = vmaxvq_f32(vmaxq_f32(v1, v0));
@@ -5795,12 +5742,8 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 	}
 	if (maybe_behind) return 1;
 	for (k = 0; k < 8; ++k) {
-		double iw = 1.0 / v[k].c[3], x = (v[k].c[0] * iw + 1.0) * hw, y = (v[k].c[1] * iw + 1.0) * hh,
-			   z = v[k].c[2] * iw;
-		double e = v[k].e * iw;
-		perr = pvs__dmax(perr,
-						 2.0 * e * (1.0 + pvs__dabs(v[k].c[0] * iw) + pvs__dabs(v[k].c[1] * iw)) * pvs__dmax(hw, hh));
-		zerr = pvs__dmax(zerr, 2.0 * e * (1.0 + pvs__dabs(z)));
+		double x, y, z;
+		pvs__raster_project(v + k, hw, hh, &x, &y, &z, &perr, &zerr);
 		xmin = pvs__dmin(xmin, x); xmax = pvs__dmax(xmax, x);
 		ymin = pvs__dmin(ymin, y); ymax = pvs__dmax(ymax, y);
 		dmax = pvs__dmax(dmax, z);
@@ -5821,48 +5764,70 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
 	int32_t rect[4];
 	float d;
-	int k = r->tiled ? pvs__raster_box_f(r, b, rect, &d) : -1;
-	if (k < 0) k = pvs__raster_box(r, b, rect, &d);
+	int k = pvs__raster_box(r, b, rect, &d); /* the float test first when tiled */
 	if (k != 2) return k;
 	return pvs_raster_test_rect(r, rect[0], rect[1], rect[2], rect[3], d);
 }
 
 /* ---- context ---- */
 
+/* The context's buffers (pvs__buf) of the `groups` (bits): 1 pixels, 2 tiles, 4 occluder selection, 8 meshes, 16 scene
+   sweeps, 32 cull map, 64 its items; sized by the fields the creation sets before each group. */
+#define PVS__RASTER_BUFS 28
+PVS__STATIC int pvs__raster_bufs(pvs_raster *r, pvs__buf *b, unsigned groups) {
+	int k = 0;
+	size_t cells = (size_t)r->cm_w * r->cm_h, mc = r->mesh_cap, band = (size_t)PVS__TH * r->width;
+	if (groups & 1u) {
+		PVS__BUF(b, k, r->depth, (size_t)r->width * r->height, sizeof(float));
+		PVS__BUF(b, k, r->pyramid, r->pyramid_floats, sizeof(float));
+		PVS__BUF(b, k, r->tile_min, r->tiles, sizeof(float));
+	}
+	if (groups & 2u) {
+		PVS__BUF(b, k, r->tile, (size_t)r->tw * r->th, sizeof(pvs__tile));
+		PVS__BUF(b, k, r->tpyramid, r->tpyramid_floats, sizeof(float));
+		PVS__BUF(b, k, r->bmin, (size_t)r->bw * r->bh, sizeof(float));
+		PVS__BUF(b, k, r->bdirty, (size_t)r->bw * r->bh, 1);
+	}
+	if (groups & 4u) PVS__BUF(b, k, r->occ, r->max_occluders, sizeof(pvs__occsel));
+	if (groups & 8u) {
+		PVS__BUF(b, k, r->mt, mc, sizeof(pvs__mtri));
+		PVS__BUF(b, k, r->mcid, 3 * mc, sizeof(uint32_t));
+		PVS__BUF(b, k, r->mpart, 3 * mc, sizeof(uint32_t));
+		PVS__BUF(b, k, r->mvst, 3 * mc, 1);
+		PVS__BUF(b, k, r->mgrp, mc, 1);
+		PVS__BUF(b, k, r->mtab, r->mesh_hash, sizeof(uint32_t));
+		PVS__BUF(b, k, r->morder, mc, sizeof(uint32_t));
+		PVS__BUF(b, k, r->mact, mc, sizeof(uint32_t));
+		PVS__BUF(b, k, r->mband, (size_t)r->th + 1, sizeof(uint32_t));
+		PVS__BUF(b, k, r->mzmin, band, sizeof(float));
+		PVS__BUF(b, k, r->mflag, band, 1);
+		PVS__BUF(b, k, r->mdirty, (size_t)PVS__TH * r->tw, 1);
+	}
+	if (groups & 16u) {
+		PVS__BUF(b, k, r->sweep, r->sweep_size, 1);
+		PVS__BUF(b, k, r->tri_seen, PVS_BITSET_WORDS(r->max_triangles), sizeof(pvs_word));
+		PVS__BUF(b, k, r->obj_done, PVS_BITSET_WORDS(r->max_objects), sizeof(pvs_word));
+	}
+	if (groups & 32u) {
+		PVS__BUF(b, k, r->cm, cells, sizeof(float));
+		PVS__BUF(b, k, r->cm_tile_min, r->cm_tiles, sizeof(float));
+		PVS__BUF(b, k, r->cm_bound, cells, sizeof(float));
+		PVS__BUF(b, k, r->cm_start, cells + 1, sizeof(uint32_t));
+	}
+	if (groups & 64u) PVS__BUF(b, k, r->cm_items, r->cm_item_count, sizeof(uint32_t));
+	return k;
+}
+PVS__STATIC int pvs__raster_alloc(pvs_raster *r, unsigned groups) {
+	pvs__buf b[PVS__RASTER_BUFS];
+	return pvs__bufs_alloc(&r->allocator, b, pvs__raster_bufs(r, b, groups));
+}
+
 PVS_API void pvs_raster_destroy(pvs_raster *r) {
 	pvs_allocator a;
-	size_t cells;
+	pvs__buf b[PVS__RASTER_BUFS];
 	if (!r) return;
 	a = r->allocator;
-	cells = (size_t)r->cm_w * r->cm_h;
-	pvs__free_array(&a, r->depth, (size_t)r->width * r->height, sizeof(float));
-	pvs__free_array(&a, r->pyramid, r->pyramid_floats, sizeof(float));
-	pvs__free_array(&a, r->tile_min, r->tiles, sizeof(float));
-	pvs__free_array(&a, r->tile, (size_t)r->tw * r->th, sizeof(pvs__tile));
-	pvs__free_array(&a, r->tpyramid, r->tpyramid_floats, sizeof(float));
-	pvs__free_array(&a, r->bmin, (size_t)r->bw * r->bh, sizeof(float));
-	pvs__free_array(&a, r->bdirty, (size_t)r->bw * r->bh, 1);
-	pvs__free(&a, r->sweep, r->sweep_size, 16);
-	pvs__free_array(&a, r->occ, r->max_occluders, sizeof(pvs__occsel));
-	pvs__free_array(&a, r->tri_seen, PVS_BITSET_WORDS(r->max_triangles), sizeof(pvs_word));
-	pvs__free_array(&a, r->obj_done, PVS_BITSET_WORDS(r->max_objects), sizeof(pvs_word));
-	pvs__free_array(&a, r->cm, cells, sizeof(float));
-	pvs__free_array(&a, r->cm_tile_min, r->cm_tiles, sizeof(float));
-	pvs__free_array(&a, r->cm_bound, cells, sizeof(float));
-	pvs__free_array(&a, r->cm_start, cells + (r->cm_start ? 1 : 0), sizeof(uint32_t));
-	pvs__free_array(&a, r->cm_items, r->cm_item_count, sizeof(uint32_t));
-	pvs__free_array(&a, r->mt, r->mesh_cap, sizeof(pvs__mtri));
-	pvs__free_array(&a, r->mcid, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
-	pvs__free_array(&a, r->mpart, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
-	pvs__free_array(&a, r->mvst, 3 * (size_t)r->mesh_cap, 1);
-	pvs__free_array(&a, r->mgrp, r->mesh_cap, 1);
-	pvs__free_array(&a, r->mtab, r->mesh_hash, sizeof(uint32_t));
-	pvs__free_array(&a, r->morder, r->mesh_cap, sizeof(uint32_t));
-	pvs__free_array(&a, r->mact, r->mesh_cap, sizeof(uint32_t));
-	pvs__free_array(&a, r->mband, (size_t)r->th + 1, sizeof(uint32_t));
-	pvs__free_array(&a, r->mzmin, (size_t)PVS__TH * r->width, sizeof(float));
-	pvs__free_array(&a, r->mflag, (size_t)PVS__TH * r->width, 1);
-	pvs__free_array(&a, r->mdirty, (size_t)PVS__TH * r->tw, 1);
+	pvs__bufs_free(&a, b, pvs__raster_bufs(r, b, 127u));
 	pvs__free(&a, r, sizeof(*r), 16);
 }
 
@@ -5903,13 +5868,10 @@ PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
 		r->lh[r->levels] = h;
 		floats += 2 * (size_t)w * h;
 	}
-	r->depth = (float *)pvs__alloc_array(&r->allocator, (size_t)r->width * r->height, sizeof(float));
 	r->pyramid_floats = floats;
-	r->pyramid = (float *)pvs__alloc_array(&r->allocator, floats, sizeof(float));
 	r->tiles =
 		(size_t)((r->width + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->height + PVS__TILE - 1) >> PVS__TILE_SHIFT);
-	r->tile_min = (float *)pvs__alloc_array(&r->allocator, r->tiles, sizeof(float));
-	if (!r->depth || !r->pyramid || !r->tile_min) return 0;
+	if (!pvs__raster_alloc(r, 1u)) return 0;
 	floats = 0;
 	for (l = 1; l <= r->levels; ++l) {
 		r->lmin[l] = r->pyramid + floats;
@@ -5946,14 +5908,10 @@ PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
 		r->tsy[r->tlevels] = (uint8_t)(r->tsy[r->tlevels - 1] + my);
 		floats += 2 * (size_t)w * h;
 	}
-	r->tile = (pvs__tile *)pvs__alloc_array(&r->allocator, (size_t)r->tw * r->th, sizeof(pvs__tile));
 	r->tpyramid_floats = floats;
-	r->tpyramid = (float *)pvs__alloc_array(&r->allocator, floats, sizeof(float));
 	r->bw = (r->tw + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
 	r->bh = (r->th + (1u << PVS__BLOCK_SHIFT) - 1) >> PVS__BLOCK_SHIFT;
-	r->bmin = (float *)pvs__alloc_array(&r->allocator, (size_t)r->bw * r->bh, sizeof(float));
-	r->bdirty = (uint8_t *)pvs__alloc_array(&r->allocator, (size_t)r->bw * r->bh, 1);
-	if (!r->tile || !r->tpyramid || !r->bmin || !r->bdirty) return 0;
+	if (!pvs__raster_alloc(r, 2u)) return 0;
 	floats = 0;
 	for (l = 0; l <= r->tlevels; ++l) {
 		r->tlmin[l] = r->tpyramid + floats;
@@ -5966,27 +5924,11 @@ PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
 
 /* Mesh scratch for pieces of `max_triangles` (0: default; at most 2^24); hash load <= 1/2. */
 PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
-	const pvs_allocator *a = &r->allocator;
 	size_t i;
 	r->mesh_cap = max_triangles ? (max_triangles < (1u << 24) ? max_triangles : 1u << 24) : PVS__MESH_DEFAULT;
 	for (r->mesh_hash = 16; r->mesh_hash < 6 * r->mesh_cap; r->mesh_hash <<= 1) {}
-	r->mt = (pvs__mtri *)pvs__alloc_array(a, r->mesh_cap, sizeof(pvs__mtri));
-	r->mcid = (uint32_t *)pvs__alloc_array(a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
-	r->mpart = (uint32_t *)pvs__alloc_array(a, 3 * (size_t)r->mesh_cap, sizeof(uint32_t));
-	r->mvst = (uint8_t *)pvs__alloc_array(a, 3 * (size_t)r->mesh_cap, 1);
-	r->mgrp = (int8_t *)pvs__alloc_array(a, r->mesh_cap, 1);
-	r->mtab = (uint32_t *)pvs__alloc_array(a, r->mesh_hash, sizeof(uint32_t));
-	r->morder = (uint32_t *)pvs__alloc_array(a, r->mesh_cap, sizeof(uint32_t));
-	r->mact = (uint32_t *)pvs__alloc_array(a, r->mesh_cap, sizeof(uint32_t));
-	r->mband = (uint32_t *)pvs__alloc_array(a, (size_t)r->th + 1, sizeof(uint32_t));
-	r->mzmin = (float *)pvs__alloc_array(a, (size_t)PVS__TH * r->width, sizeof(float));
-	r->mflag = (uint8_t *)pvs__alloc_array(a, (size_t)PVS__TH * r->width, 1);
-	r->mdirty = (uint8_t *)pvs__alloc_array(a, (size_t)PVS__TH * r->tw, 1);
-	if (!r->mdirty) return 0;
+	if (!pvs__raster_alloc(r, 8u)) return 0;
 	memset(r->mdirty, 0, (size_t)PVS__TH * r->tw);
-	if (!r->mt || !r->mcid || !r->mpart || !r->mvst || !r->mgrp || !r->mtab || !r->morder || !r->mact || !r->mband ||
-		!r->mzmin || !r->mflag)
-		return 0;
 	for (i = 0; i < (size_t)PVS__TH * r->width; ++i) {
 		r->mzmin[i] = FLT_MAX;
 		r->mflag[i] = 0;
@@ -5997,7 +5939,6 @@ PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
 /* Cull map object grid: w x h ground cells (Wonka 1999 §4.1), highest top per cell (§4.3). */
 PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene *s, uint32_t w, uint32_t h,
 												 pvs_error *err) {
-	const pvs_allocator *a = &r->allocator;
 	int u, v, up = (int)s->up_axis;
 	size_t cells = (size_t)w * h, total = 0, i;
 	uint32_t o, l;
@@ -6015,14 +5956,9 @@ PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene 
 			r->region[2 + l] += 0.5f;
 		}
 	if (!(r->ground <= r->ground + 0.0f)) r->ground = 0.0f; /* empty scene bounds */
-	r->cm = (float *)pvs__alloc_array(a, cells, sizeof(float));
 	r->cm_tiles =
 		(size_t)((r->cm_w + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->cm_h + PVS__TILE - 1) >> PVS__TILE_SHIFT);
-	r->cm_tile_min = (float *)pvs__alloc_array(a, r->cm_tiles, sizeof(float));
-	if (!r->cm_tile_min) goto oom;
-	r->cm_bound = (float *)pvs__alloc_array(a, cells, sizeof(float));
-	r->cm_start = (uint32_t *)pvs__alloc_array(a, cells + 1, sizeof(uint32_t));
-	if (!r->cm || !r->cm_bound || !r->cm_start) goto oom;
+	if (!pvs__raster_alloc(r, 32u)) goto oom;
 	for (i = 0; i <= cells; ++i) r->cm_start[i] = 0;
 	for (i = 0; i < cells; ++i) { r->cm[i] = PVS_DEPTH_EMPTY; r->cm_bound[i] = PVS_DEPTH_EMPTY; }
 	for (o = 0; o < s->object_count; ++o) {
@@ -6043,8 +5979,7 @@ PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene 
 	}
 	for (i = 0; i < cells; ++i) r->cm_start[i + 1] += r->cm_start[i];
 	r->cm_item_count = (uint32_t)total;
-	r->cm_items = (uint32_t *)pvs__alloc_array(a, total, sizeof(uint32_t));
-	if (!r->cm_items) goto oom;
+	if (!pvs__raster_alloc(r, 64u)) goto oom;
 	for (o = 0; o < s->object_count; ++o) { /* fill with cm_start[c] as cursor, then shift back */
 		const pvs_box *b = s->object_boxes + o;
 		int32_t i0, j0, i1, j1, ii, jj;
@@ -6098,8 +6033,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 	if (!pvs__raster_init_pixels(r) || !pvs__raster_init_tiles(r)) goto oom;
 	pvs_raster_clear(r);
 	r->max_occluders = desc->max_occluders ? desc->max_occluders : 1024;
-	r->occ = (pvs__occsel *)pvs__alloc_array(&a, r->max_occluders, sizeof(pvs__occsel));
-	if (!r->occ || !pvs__raster_init_mesh(r, desc->max_mesh_triangles)) goto oom;
+	if (!pvs__raster_alloc(r, 4u) || !pvs__raster_init_mesh(r, desc->max_mesh_triangles)) goto oom;
 	if (desc->scene) {
 		const pvs_scene *s = desc->scene;
 		size_t s1 = pvs_kdtree_sweep_scratch_size(s->object_tree), s2 = pvs_kdtree_sweep_scratch_size(s->triangle_tree);
@@ -6107,10 +6041,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 		r->max_objects = s->object_count;
 		r->max_triangles = s->triangle_count;
 		r->sweep_size = s1 > s2 ? s1 : s2;
-		r->sweep = pvs__alloc(&a, r->sweep_size, 16);
-		r->tri_seen = (pvs_word *)pvs__alloc_array(&a, PVS_BITSET_WORDS(r->max_triangles), sizeof(pvs_word));
-		r->obj_done = (pvs_word *)pvs__alloc_array(&a, PVS_BITSET_WORDS(r->max_objects), sizeof(pvs_word));
-		if (!r->sweep || !r->tri_seen || !r->obj_done) goto oom;
+		if (!pvs__raster_alloc(r, 16u)) goto oom;
 	}
 	if (desc->cull_map_width) {
 		res = pvs__raster_init_cull_map(r, desc->scene, desc->cull_map_width, desc->cull_map_height, err);
@@ -6249,7 +6180,6 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 	pvs__selctx sc;
 	pvs_box src;
 	double len;
-	uint32_t i;
 	int k;
 	sc.r = r;
 	sc.s = s;
@@ -6264,19 +6194,20 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 	memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
 	for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
 	pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
-	if (p->occluder_flags & PVS_CULL_SCENE_MESH) {
-		pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ,
-				  sc.n); /* welded: walls fuse (Durand 2000 §3.3) */
-	} else if (r->tiled) {
-		pvs__raster_occluders(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
-	} else {
-		for (i = 0; i < sc.n; ++i) {
-			const uint32_t *t = s->indices + 3 * (size_t)r->occ[i].triangle;
-			pvs__raster_tri(r, s->positions + 3 * (size_t)t[0], s->positions + 3 * (size_t)t[1],
-							s->positions + 3 * (size_t)t[2], 1);
-		}
-	}
+	if (p->occluder_flags & PVS_CULL_SCENE_MESH) /* welded: walls fuse (Durand 2000 §3.3) */
+		pvs__mesh(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n);
+	else
+		pvs__raster_tris(r, s->positions, s->vertex_count, s->indices, r->occ, sc.n, 1);
 	return sc.n;
+}
+
+/* Wall j of extrusion o (footprint edge j to j + 1, base to top) as the quad a0 b0 b1 a1 (u, v ground axes). */
+PVS__STATIC void pvs__wall_quad(const pvs_occluder_desc *o, uint32_t j, int u, int v, int up, float q[4][3]) {
+	const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
+	q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
+	q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
+	q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
+	q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
 }
 
 /* Extrusion walls as occluders: meshes of <= 32 walls sharing vertical edges, unless `separate`. Returns triangles. */
@@ -6303,12 +6234,8 @@ PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc 
 		return drawn;
 	}
 	for (j = 0; j < o->footprint_count; ++j) {
-		const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
 		float q[4][3];
-		q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
-		q[1][u] = b[0]; q[1][v] = b[1]; q[1][up] = o->base;
-		q[2][u] = b[0]; q[2][v] = b[1]; q[2][up] = o->top;
-		q[3][u] = a[0]; q[3][v] = a[1]; q[3][up] = o->top;
+		pvs__wall_quad(o, j, u, v, up, q);
 		pvs__raster_tri(r, q[0], q[1], q[2], 1);
 		pvs__raster_tri(r, q[0], q[2], q[3], 1);
 		drawn += 2;
@@ -6381,35 +6308,41 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
 
 /* ---- cull map (Wonka & Schmalstieg 1999) ---- */
 
+/* Ground polygon x, y (scene units, overwritten) at heights z into the cull map, inner coverage (§4.4). */
+PVS__STATIC void pvs__cm_draw(pvs_raster *r, double *x, double *y, const double *z, int n, int simd) {
+	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
+	int k;
+	for (k = 0; k < n; ++k) {
+		x[k] = (x[k] - r->region[0]) / su;
+		y[k] = (y[k] - r->region[1]) / sv;
+	}
+	pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, n, 1, simd, 0.0, 0.0);
+}
+/* Farther from eye (ou, ov) than any map point (§4.2). */
+PVS__STATIC double pvs__cm_reach(const pvs_raster *r, double ou, double ov) {
+	return 2.0 * ((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] +
+				  pvs__dabs(ou - r->region[0]) + pvs__dabs(ov - r->region[1]));
+}
+
 /* Shadow of facade a-b (height `top`) from eye o = (ou, ov, eh) (§3.1): ground quadrilateral a, b, b + t (b - o), a +
    t (a - o), far edge off the map (§4.2), height the plane through eye and top edge; inner coverage at each cell's
    lowest height (§4.4). */
 PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, const float *a, const float *b,
 								double top, int simd) {
-	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
 	double da[2], db[2], la, lb, reach, sa, sb, x[4], y[4], z[4];
 	da[0] = (double)a[0] - ou; da[1] = (double)a[1] - ov;
 	db[0] = (double)b[0] - ou; db[1] = (double)b[1] - ov;
 	la = sqrt(da[0] * da[0] + da[1] * da[1]);
 	lb = sqrt(db[0] * db[0] + db[1] * db[1]);
 	if (!(la > 0.0) || !(lb > 0.0)) return;
-	reach = 2.0 *
-		((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] + pvs__dabs(ou - r->region[0]) +
-		 pvs__dabs(ov - r->region[1]));
+	reach = pvs__cm_reach(r, ou, ov);
 	sa = 1.0 + reach / la;
 	sb = 1.0 + reach / lb;
 	x[0] = a[0]; y[0] = a[1]; z[0] = top;
 	x[1] = b[0]; y[1] = b[1]; z[1] = top;
 	x[2] = ou + db[0] * sb; y[2] = ov + db[1] * sb; z[2] = eh + (top - eh) * sb;
 	x[3] = ou + da[0] * sa; y[3] = ov + da[1] * sa; z[3] = eh + (top - eh) * sa;
-	{
-		int k;
-		for (k = 0; k < 4; ++k) {
-			x[k] = (x[k] - r->region[0]) / su;
-			y[k] = (y[k] - r->region[1]) / sv;
-		}
-	}
-	pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 4, 1, simd, 0.0, 0.0);
+	pvs__cm_draw(r, x, y, z, 4, simd);
 }
 
 /* Plane through the eye and horizontal edge a-b at height `top`, as heights over the ground; 0 when vertical. */
@@ -6443,9 +6376,7 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
 	lq = sqrt((qt[0] - vt[0]) * (qt[0] - vt[0]) + (qt[1] - vt[1]) * (qt[1] - vt[1]));
 	if (!(lp > 0.0) || !(lq > 0.0)) return;
 	if (!pvs__cm_plane(ou, ov, eh, pt, vt, top, pa) || !pvs__cm_plane(ou, ov, eh, vt, qt, top, pb)) return;
-	reach = 2.0 *
-		((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] + pvs__dabs(ou - r->region[0]) +
-		 pvs__dabs(ov - r->region[1]));
+	reach = pvs__cm_reach(r, ou, ov);
 	x[0] = vt[0] + (pt[0] - vt[0]) * pvs__dmin(1.0, delta / lp);
 	y[0] = vt[1] + (pt[1] - vt[1]) * pvs__dmin(1.0, delta / lp);
 	x[1] = vt[0]; y[1] = vt[1];
@@ -6474,11 +6405,7 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
 			c = pvs__dmin(c, pvs__dmin(pvs__cm_height(pa, ou, ov, x[k], y[k]), pvs__cm_height(pb, ou, ov, x[k], y[k])));
 		for (k = 0; k < 5; ++k) z[k] = c;
 	}
-	for (k = 0; k < 5; ++k) {
-		x[k] = (x[k] - r->region[0]) / su;
-		y[k] = (y[k] - r->region[1]) / sv;
-	}
-	pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, 5, 1, simd, 0.0, 0.0);
+	pvs__cm_draw(r, x, y, z, 5, simd);
 }
 
 /* 1 if facade a-b casts: front-facing for closed chains (§4.2), not nearer than min_dist. */
@@ -6882,70 +6809,6 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 	out->n = m;
 	return m;
 }
-/* Both halves at once: *pos and *neg as pvs__ot_clip_n with n and -n; their counts in r[0] and r[1]. */
-PVS__STATIC void pvs__ot_split2(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
-								pvs__otpoly *pos, pvs__otpoly *neg, int r[2]) {
-	double d[PVS__OT_MAXV];
-	int i, n = in->n, m[2] = {0, 0}, any[2] = {0, 0}, side;
-	for (i = 0; i < n; ++i) {
-		d[i] = nn[0] * in->v[i][0] + nn[1] * in->v[i][1] + nn[2] * in->v[i][2];
-		if (d[i] + slack > PVS__OT_EPS) any[0] = 1;
-		if (-d[i] + slack > PVS__OT_EPS) any[1] = 1;
-	}
-	pos->xsplit = neg->xsplit = in->xsplit;
-	r[0] = r[1] = 0;
-	for (side = 0; side < 2; ++side) {
-		pvs__otpoly *out = side ? neg : pos;
-		double sg = side ? -1.0 : 1.0;
-		if (!any[side]) { out->n = 0; continue; }
-		for (i = 0; i < n; ++i) {
-			int j = i + 1 == n ? 0 : i + 1;
-			double di = sg * d[i] + slack, dj = sg * d[j] + slack;
-			int in_i = di >= 0.0, in_j = dj >= 0.0;
-			if (in_i) {
-				if (m[side] >= PVS__OT_MAXV) { m[side] = -1; break; }
-				memcpy(out->v[m[side]], in->v[i], sizeof(out->v[0]));
-				out->e[m[side]][0] = in->e[i][0]; out->e[m[side]][1] = in->e[i][1];
-				out->mark[m[side]] = in->mark[i];
-				++m[side];
-			}
-			if (in_i != in_j) {
-				if (m[side] >= PVS__OT_MAXV) { m[side] = -1; break; }
-				pvs__ot_lerp_unit(in->v[i], in->v[j], di / (di - dj), out->v[m[side]]);
-				if (in_i) {
-					out->e[m[side]][0] = p[0]; out->e[m[side]][1] = p[1];
-					out->mark[m[side]] = (unsigned char)mark;
-				} else {
-					out->e[m[side]][0] = in->e[i][0]; out->e[m[side]][1] = in->e[i][1];
-					out->mark[m[side]] = in->mark[i];
-				}
-				++m[side];
-			}
-		}
-		if (m[side] < 0) { out->n = 0; r[side] = -1; }
-		else { out->n = m[side]; r[side] = m[side]; }
-	}
-}
-
-/* pvs__ot_clip_n for the plane sign * p*. */
-PVS__STATIC int pvs__ot_clip(const pvs__otpoly *in, const double p[2], double sign, double slack, int mark,
-							 pvs__otpoly *out) {
-	double n[3];
-	pvs__ot_normal(p, sign, n);
-	return pvs__ot_clip_n(in, n, p, slack, mark, out);
-}
-
-/* Min and max of side(p) over the polygon's vertices. */
-PVS__STATIC void pvs__ot_range(const pvs__otpoly *q, const double p[2], double *lo, double *hi) {
-	int i;
-	*lo = DBL_MAX; *hi = -DBL_MAX;
-	for (i = 0; i < q->n; ++i) {
-		double s = pvs__ot_side(q->v[i], p);
-		if (s < *lo) *lo = s;
-		if (s > *hi) *hi = s;
-	}
-}
-
 /* 2.5D witness lines: a read-only test reaching an out-leaf keeps a line inside its polygon there (the normalised
    vertex sum); out-leaves only become in-leaves, so a witness later found in an in-leaf is dropped. */
 PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
@@ -7007,28 +6870,19 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 		if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return;
 	}
 	{
-		int r[2], h0 = PVS__OT25_HIDDEN(t, t->nodes + c0, near, h), h1 = PVS__OT25_HIDDEN(t, t->nodes + c1, near, h);
+		int h0 = PVS__OT25_HIDDEN(t, t->nodes + c0, near, h), h1 = PVS__OT25_HIDDEN(t, t->nodes + c1, near, h);
+		double nf[3];
 		uint32_t s0, s1, s2;
 		size_t m = top;
 		if (h0 && h1) { t->stack_count = top; return; }
 		/* the parts go into the free slots above the top, which then trade places */
 		if (!pvs__ot_reserve(t, top + 3)) { t->stack_count = top; return; }
 		q = PVS__OT_ITEM(t, top);
-		if (h0 || h1) { /* only one side matters */
-			double nf[3];
-			for (i = 0; i < 3; ++i) nf[i] = h0 ? nd->n[i] : -nd->n[i];
-			na = pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
-			t->stack_count = top;
-			if (na >= 3) {
-				pvs__ot_swap(t, top, top + 1);
-				t->stack_pend[top] = PVS__OT_NONE;
-				t->stack_node[top] = h0 ? c1 : c0;
-				t->stack_count = top + 1;
-			}
-			return;
-		}
-		pvs__ot_split2(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1), PVS__OT_ITEM(t, top + 2), r);
-		na = r[0]; nb = r[1];
+		/* the positive part unless c1 hides, the negative one (the normal negated: each distance exactly so) unless c0
+		   hides */
+		for (i = 0; i < 3; ++i) nf[i] = -nd->n[i];
+		na = h1 ? 0 : pvs__ot_clip_n(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
+		nb = h0 ? 0 : pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 2));
 		/* items top.. become the positive part (c1), then the negative (c0), as two pushes would leave
 		   them; unused slots go above (the slots stay a permutation) */
 		s0 = t->stack_slot[top]; s1 = t->stack_slot[top + 1]; s2 = t->stack_slot[top + 2];
@@ -7280,37 +7134,6 @@ PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const 
 	}
 }
 
-/* Turns leaf `node` into the chain of q's unmarked edges (the e-OT, §3.3.3); the sides away from q keep the leaf's
-   kind and payload. Returns the node of q's region (old payload still on), PVS__OT_NONE when out of memory. */
-PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
-	double cen[3] = {0, 0, 0};
-	int i, k;
-	for (i = 0; i < q->n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
-	for (i = 0; i < q->n; ++i) {
-		pvs__otnode old;
-		uint32_t outside, inside;
-		double s;
-		if (q->mark[i]) continue;
-		s = pvs__ot_side(cen, q->e[i]);
-		outside = pvs__ot_new_node(t);
-		inside = pvs__ot_new_node(t);
-		if (outside == PVS__OT_NONE || inside == PVS__OT_NONE) return PVS__OT_NONE;
-		old = t->nodes[node];
-		t->nodes[outside] = old;
-		t->nodes[inside] = old;
-		t->nodes[outside].parent = t->nodes[inside].parent = node;
-		t->nodes[node].kind = 0;
-		t->nodes[node].p[0] = q->e[i][0];
-		t->nodes[node].p[1] = q->e[i][1];
-		t->nodes[node].sign = s > 0 ? 1 : -1;
-		pvs__ot_normal(q->e[i], (double)t->nodes[node].sign, t->nodes[node].n);
-		t->nodes[node].child[0] = outside;
-		t->nodes[node].child[1] = inside;
-		node = inside;
-	}
-	return node;
-}
-
 /* Splits leaf `node` by the plane of p; the side `sign * side(p) > 0` continues. Returns that child. */
 PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const double p[2], double sign) {
 	uint32_t neg = pvs__ot_new_node(t), pos = pvs__ot_new_node(t);
@@ -7330,6 +7153,18 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
 	return pos;
 }
 
+/* Turns leaf `node` into the chain of q's unmarked edges (the e-OT, §3.3.3): split by each edge's plane, q's side
+   continuing; the sides away from q keep the leaf's kind and payload. Returns the node of q's region (old payload
+   still on), PVS__OT_NONE when out of memory. */
+PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
+	double cen[3] = {0, 0, 0};
+	int i, k;
+	for (i = 0; i < q->n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
+	for (i = 0; i < q->n && node != PVS__OT_NONE; ++i)
+		if (!q->mark[i]) node = pvs__ot_split_leaf(t, node, q->e[i], pvs__ot_side(cen, q->e[i]));
+	return node;
+}
+
 /* Gives leaf `node` the payload seq[old_first .. + old_count) followed by `add`. */
 PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_first, uint32_t old_count,
 									uint32_t add) {
@@ -7347,13 +7182,27 @@ PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_f
 
 /* ---- 2D from-region (ch. 6): insertion with the four depth cases of §6.5.1 ---- */
 
+/* §6.5.1 case 3: q, split at the crossing X = x (marked so), goes back on the stack at `node` as its two halves. 0
+   when out of memory. */
+PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, const double x[2]) {
+	pvs__otpoly part;
+	double n[3];
+	int ok = 1, side;
+	q->xsplit = 1;
+	for (side = 0; side < 2; ++side) { /* the planes x* and -x* */
+		pvs__ot_normal(x, side ? -1.0 : 1.0, n);
+		if (pvs__ot_clip_n(q, n, x, 0.0, 0, &part) >= 3) ok &= pvs__ot_push(t, node, &part);
+	}
+	return ok;
+}
+
 /* Inserts blocker polygon q of occluder k (§3.3.3 with the 2D in-leaf cases). */
 PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
 	size_t base = t->stack_count;
 	const double *sk = t->seg + 4 * (size_t)k;
 	if (!pvs__ot_push(t, 0, blocker)) return;
 	while (t->stack_count > base && !t->oom) {
-		pvs__otpoly q, part;
+		pvs__otpoly q;
 		uint32_t node = t->stack_node[t->stack_count - 1];
 		pvs__otnode *nd = t->nodes + node;
 		/* §6.5.5: every line of this subtree meets a stored occluder nearer to any cell point than k is */
@@ -7373,9 +7222,7 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 			if (behind && !q.xsplit) {                   /* case 3: split at the crossing X */
 				double x[2];
 				if (pvs__ot_cross(sj, sk, x)) {
-					q.xsplit = 1;
-					if (pvs__ot_clip(&q, x, 1.0, 0.0, 0, &part) >= 3) pvs__ot_push(t, node, &part);
-					if (pvs__ot_clip(&q, x, -1.0, 0.0, 0, &part) >= 3) pvs__ot_push(t, node, &part);
+					(void)pvs__ot2_xsplit(t, node, &q, x);
 					continue;
 				}
 			}
@@ -7408,49 +7255,9 @@ PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
 	return th;
 }
 
-/* Read-only test (§3.3.4, §6.5.3): 1 when a line of q reaches occluder k before any stored one. Splits with slack,
-   stops at the first visible leaf; slivers (pvs__ot_thickness) do not count, so the answer does not depend on where
-   insertion rounded, i.e. on the insertion order. */
-PVS__STATIC int pvs__ot2_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
-	size_t base = t->stack_count;
-	const double *sk = t->seg + 4 * (size_t)k;
-	int vis = 0;
-	if (!pvs__ot_push(t, 0, blocker)) return 1;
-	while (t->stack_count > base && !vis) {
-		pvs__otpoly q, part;
-		uint32_t node = t->stack_node[t->stack_count - 1];
-		const pvs__otnode *nd = t->nodes + node;
-		if (near > nd->mvd) { --t->stack_count; continue; } /* §6.5.5 */
-		if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) {
-			--t->stack_count;
-			continue;
-		}
-		if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1, -1.0, 0.0); continue; }
-		pvs__ot_pop(t, &q);
-		if (pvs__ot_thickness(&q) < PVS__OT_SLIVER) {
-			continue;
-		} else if (nd->kind == PVS__OT_OUT) {
-			vis = 1;
-		} else {
-			uint32_t j = t->seq[nd->first];
-			int front, behind;
-			if (j == k) { vis = 1; break; }
-			pvs__ot_depth(t, &q, t->seg + 4 * (size_t)j, sk, &front, &behind);
-			if (front && behind && !q.xsplit) { /* the exact test splits at the crossing X (§6.5.1 case 3) */
-				double x[2];
-				if (pvs__ot_cross(t->seg + 4 * (size_t)j, sk, x)) {
-					q.xsplit = 1;
-					if (pvs__ot_clip(&q, x, 1.0, 0.0, 0, &part) >= 3) vis |= !pvs__ot_push(t, node, &part);
-					if (pvs__ot_clip(&q, x, -1.0, 0.0, 0, &part) >= 3) vis |= !pvs__ot_push(t, node, &part);
-					continue;
-				}
-			}
-			if (front || !behind) vis = 1; /* in front somewhere, or all ties (collinear): visible */
-		}
-	}
-	t->stack_count = base;
-	return vis || t->oom;
-}
+/* The read-only test (§3.3.4), after the 2.5D pieces (pvs__ot25_open). */
+PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
+								const double *e, const double *box);
 
 /* ---- shared driver pieces ---- */
 
@@ -7464,16 +7271,12 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 	*on_line = 0;
 	memcpy(out, s, 4 * sizeof(double));
 	if (f0 >= 0.0 && f1 >= 0.0) return 0;
-	if (f0 >= 0.0) {
-		double u = f0 / (f0 - f1);
-		out[0] = s[0] + u * (s[2] - s[0]);
-		out[1] = s[1] + u * (s[3] - s[1]);
-		*on_line = 1;
-	} else if (f1 >= 0.0) {
-		double u = f1 / (f1 - f0);
-		out[2] = s[2] + u * (s[0] - s[2]);
-		out[3] = s[3] + u * (s[1] - s[3]);
-		*on_line = 2;
+	if (f0 >= 0.0 || f1 >= 0.0) { /* the end outside the half-plane moves onto the line */
+		int e = f0 >= 0.0 ? 0 : 2, g = 2 - e;
+		double u = e ? f1 / (f1 - f0) : f0 / (f0 - f1);
+		out[e] = s[e] + u * (s[g] - s[e]);
+		out[e + 1] = s[e + 1] + u * (s[g + 1] - s[e + 1]);
+		*on_line = 1 + e / 2;
 	}
 	return !(out[0] == out[2] && out[1] == out[3]);
 }
@@ -7488,16 +7291,13 @@ PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const dou
 	if (on_line) {
 		x[0] = on_line == 1 ? o[0] : o[2];
 		x[1] = on_line == 1 ? o[1] : o[3];
-		u = ((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / (ex * ex + ey * ey);
 		have_x = 1;
 	} else {
 		double seg[4];
 		seg[0] = a[0]; seg[1] = a[1]; seg[2] = b[0]; seg[3] = b[1];
-		if (pvs__ot_cross(seg, o, x)) {
-			u = ((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / (ex * ex + ey * ey);
-			have_x = 1;
-		}
+		have_x = pvs__ot_cross(seg, o, x);
 	}
+	if (have_x) u = ((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / (ex * ex + ey * ey);
 	if (have_x && u > 1e-12 && u < 1.0 - 1e-12) {
 		if (pvs__ot_blocker(a, x, o, o + 2, &out[n])) ++n; else *degenerate = 1;
 		if (pvs__ot_blocker(x, b, o, o + 2, &out[n])) ++n; else *degenerate = 1;
@@ -7517,6 +7317,22 @@ PVS__STATIC double pvs__ot_dist2(const double p[2], const double *s) {
 	qx = s[0] + u * dx - p[0];
 	qy = s[1] + u * dy - p[1];
 	return qx * qx + qy * qy;
+}
+/* The largest squared distance from the n points pts (2 doubles each) to an end of segment s. */
+PVS__STATIC double pvs__ot_far2(const double *pts, uint32_t n, const double *s) {
+	double far2 = 0.0;
+	uint32_t i, m;
+	for (i = 0; i < n; ++i)
+		for (m = 0; m < 2; ++m) {
+			double ex = s[2 * m] - pts[2 * i], ey = s[2 * m + 1] - pts[2 * i + 1];
+			if (ex * ex + ey * ey > far2) far2 = ex * ex + ey * ey;
+		}
+	return far2;
+}
+/* The CCW corners of rectangle b (umin vmin umax vmax) grown by g > 0 on each side. */
+PVS__STATIC void pvs__ot_rect(const double *b, double g, double c[8]) {
+	c[0] = b[0] - g; c[1] = b[1] - g; c[2] = b[2] + g; c[3] = b[1] - g;
+	c[4] = b[2] + g; c[5] = b[3] + g; c[6] = b[0] - g; c[7] = b[3] + g;
 }
 /* 1 when segment s meets the closed convex CCW polygon poly (n vertices). */
 PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *poly, uint32_t n) {
@@ -7615,42 +7431,39 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 	uint32_t i, k;
 	for (i = 0; i < count; ++i) {
 		const double *sg = seg + 4 * i;
-		double far2 = 0.0, nr = DBL_MAX;
+		double nr = DBL_MAX;
 		for (k = 0; k < n; ++k) {
-			double e[4], d0, d1;
-			int m;
+			double e[4], d1;
 			e[0] = cell[2 * k];
 			e[1] = cell[2 * k + 1];
 			e[2] = cell[2 * ((k + 1) % n)];
 			e[3] = cell[2 * ((k + 1) % n) + 1];
-			for (m = 0; m < 2; ++m) {
-				d0 = (sg[2 * m] - e[0]) * (sg[2 * m] - e[0]) + (sg[2 * m + 1] - e[1]) * (sg[2 * m + 1] - e[1]);
-				if (d0 > far2) far2 = d0;
-			}
 			d1 = pvs__ot_seg_dist(sg, e);
 			if (d1 < nr) nr = d1;
 		}
-		reach[i] = sqrt(far2) * (1.0 + 1e-9) + len_eps;
+		reach[i] = sqrt(pvs__ot_far2(cell, n, sg)) * (1.0 + 1e-9) + len_eps;
 		near[i] = pvs__ot_segment_meets_polygon(sg, cell, n) ? 0.0 : nr * (1.0 - 1e-9) - len_eps;
 	}
 }
 
-/* Exact re-test (§6.6) of segment i (s, `near` from the cell): 1 when it meets the cell, is a point, is degenerate
-   as seen from a cell edge, or a line from an edge reaches it past the occluders. */
-PVS__STATIC int pvs__ot2_segment_visible(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
-										 double near) {
+/* Segment i (s, `near` from the cell) through the blockers of each cell edge (§6.6). test 0: inserted (an occluder
+   crossing the cell is visible anyway; its outside parts still block). test 1, the exact re-test: 1 when it meets the
+   cell, is a point, is degenerate as seen from a cell edge, or a line from an edge reaches it past the occluders. */
+PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
+								 double near, int test) {
 	uint32_t k;
-	int vis = 0;
-	if (pvs__ot_segment_meets_polygon(s, cell, n)) vis = 1;
-	else if (s[0] == s[2] && s[1] == s[3]) vis = 1; /* a point: no line set to test, count it visible */
+	/* a point: no line set to test, count it visible */
+	int vis = test && (pvs__ot_segment_meets_polygon(s, cell, n) || (s[0] == s[2] && s[1] == s[3]));
 	for (k = 0; k < n && !vis; ++k) {
 		double o[4];
 		pvs__otpoly bl[2];
 		int on, nb, deg, m;
 		if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
 		nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
-		if (deg) vis = 1;
-		for (m = 0; m < nb && !vis; ++m) vis = pvs__ot2_visible(t, &bl[m], i, near);
+		vis = test && deg;
+		for (m = 0; m < nb && !vis; ++m)
+			if (test) vis = pvs__ot_visible(t, &bl[m], i, near, 0.0, NULL, NULL);
+			else pvs__ot2_insert(t, &bl[m], i, near);
 	}
 	return vis;
 }
@@ -7661,9 +7474,11 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	pvs_allocator al;
 	double *cell = NULL, *seg = NULL, *reach = NULL, *near = NULL, cx = 0.0, cy = 0.0;
 	pvs__key_index *order = NULL;
-	uint32_t n, i, k, budget, count;
+	uint32_t n, i, budget, count;
 	pvs_result r = PVS_OK;
 	pvs_otree_stats st;
+	pvs__buf b[5];
+	int nbuf = 0;
 	memset(&st, 0, sizeof(st));
 	memset(&t, 0, sizeof(t));
 	if (stats) *stats = st;
@@ -7685,12 +7500,12 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 								 desc->segment_objects[i], desc->object_count);
 	al = desc->allocator;
 	t.a = &al;
-	cell = (double *)pvs__alloc_array(&al, 2 * (size_t)n, sizeof(double));
-	seg = (double *)pvs__alloc_array(&al, 4 * (size_t)count + 4, sizeof(double));
-	order = (pvs__key_index *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(pvs__key_index));
-	reach = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
-	near = (double *)pvs__alloc_array(&al, (size_t)count + 1, sizeof(double));
-	if (!cell || !seg || !order || !reach || !near) {
+	PVS__BUF(b, nbuf, cell, 2 * (size_t)n, sizeof(double));
+	PVS__BUF(b, nbuf, seg, 4 * (size_t)count + 4, sizeof(double));
+	PVS__BUF(b, nbuf, order, (size_t)count + 1, sizeof(pvs__key_index));
+	PVS__BUF(b, nbuf, reach, (size_t)count + 1, sizeof(double));
+	PVS__BUF(b, nbuf, near, (size_t)count + 1, sizeof(double));
+	if (!pvs__bufs_alloc(&al, b, nbuf)) {
 		r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2D visibility arrays");
 		goto done;
 	}
@@ -7722,15 +7537,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 		if (s[0] == s[2] && s[1] == s[3]) continue;
 		if (t.node_count >= budget) { st.budget_exceeded = 1; break; }
 		++st.occluders_inserted;
-		for (k = 0; k < n; ++k) {
-			double o[4];
-			pvs__otpoly bl[2];
-			int on, nb, deg, m;
-			if (!pvs__ot_clip_segment(cell + 2 * k, cell + 2 * ((k + 1) % n), s, o, &on)) continue;
-			/* an occluder crossing the cell is visible anyway; its outside parts still block */
-			nb = pvs__ot_blockers(cell + 2 * ((k + 1) % n), cell + 2 * k, o, on, bl, &deg);
-			for (m = 0; m < nb; ++m) pvs__ot2_insert(&t, &bl[m], j, near[j]);
-		}
+		(void)pvs__ot2_segment(&t, cell, n, s, j, near[j], 0);
 		pvs__ot2_update_mvd(&t);
 	}
 	if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree nodes"); goto done; }
@@ -7738,7 +7545,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	if (visible_segments) memset(visible_segments, 0, PVS_BITSET_WORDS(count) * sizeof(pvs_word));
 	if (visible_objects) memset(visible_objects, 0, PVS_BITSET_WORDS(desc->object_count) * sizeof(pvs_word));
 	for (i = 0; i < count; ++i) {
-		int vis = pvs__ot2_segment_visible(&t, cell, n, seg + 4 * i, i, near[i]);
+		int vis = pvs__ot2_segment(&t, cell, n, seg + 4 * i, i, near[i], 1);
 		if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree test"); goto done; }
 		if (!vis) continue;
 		++st.visible_segments;
@@ -7753,11 +7560,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	pvs__ok(err);
 done:
 	pvs__ot_free(&t);
-	pvs__free_array(&al, cell, 2 * (size_t)n, sizeof(double));
-	pvs__free_array(&al, seg, 4 * (size_t)count + 4, sizeof(double));
-	pvs__free_array(&al, order, (size_t)count + 1, sizeof(pvs__key_index));
-	pvs__free_array(&al, reach, (size_t)count + 1, sizeof(double));
-	pvs__free_array(&al, near, (size_t)count + 1, sizeof(double));
+	pvs__bufs_free(&al, b, nbuf);
 	return r;
 }
 
@@ -7861,8 +7664,8 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 		dx = (gx[bj] - gx[bi]) / len; dy = (gy[bj] - gy[bi]) / len;
 		m = 3 - bi - bj;
 		if (!(fabs(-dy * (gx[m] - gx[bi]) + dx * (gy[m] - gy[bi])) <= tol)) continue; /* not vertical */
-		hmin = h[0] < h[1] ? (h[0] < h[2] ? h[0] : h[2]) : (h[1] < h[2] ? h[1] : h[2]);
-		hmax = h[0] > h[1] ? (h[0] > h[2] ? h[0] : h[2]) : (h[1] > h[2] ? h[1] : h[2]);
+		hmin = pvs__dmin(pvs__dmin(h[0], h[1]), h[2]);
+		hmax = pvs__dmax(pvs__dmax(h[0], h[1]), h[2]);
 		if (!(hmax - hmin > tol)) continue;
 		if (dy < 0.0 || (dy == 0.0 && dx < 0.0)) { dx = -dx; dy = -dy; } /* one direction per line: theta in [0, pi) */
 		q = tl + 5 * (size_t)nv;
@@ -7903,8 +7706,8 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
 			q[9 + 2 * k] = gy;
 		}
 		if (!ok) continue;
-		q[6] = q[0] < q[1] ? (q[0] < q[2] ? q[0] : q[2]) : (q[1] < q[2] ? q[1] : q[2]);
-		q[7] = q[0] > q[1] ? (q[0] > q[2] ? q[0] : q[2]) : (q[1] > q[2] ? q[1] : q[2]);
+		q[6] = pvs__dmin(pvs__dmin(q[0], q[1]), q[2]);
+		q[7] = pvs__dmax(pvs__dmax(q[0], q[1]), q[2]);
 		++nm;
 	}
 	return nm;
@@ -7949,18 +7752,16 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
 			uint32_t f;
 			for (f = 0; f < w->nopen; ++f)
 				if (opn[f].s1 == sa && fabs(opn[f].bot - bot) <= tol && fabs(opn[f].top - top) <= tol) break;
-			if (f < w->nopen) {
+			if (f < w->nopen) { /* continued: the common interval */
 				nxt[nn] = opn[f];
-				nxt[nn].s1 = sb;
-				nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
-				if (bot > nxt[nn].bot) nxt[nn].bot = bot;
-				if (top < nxt[nn].top) nxt[nn].top = top;
+				bot = bot > nxt[nn].bot ? bot : nxt[nn].bot;
+				top = top < nxt[nn].top ? top : nxt[nn].top;
 				opn[f] = opn[--w->nopen];
 			} else {
-				nxt[nn].s0 = sa; nxt[nn].s1 = sb; nxt[nn].bot = bot; nxt[nn].top = top;
-				nxt[nn].g0[0] = ga[0]; nxt[nn].g0[1] = ga[1];
-				nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
+				nxt[nn].s0 = sa; nxt[nn].g0[0] = ga[0]; nxt[nn].g0[1] = ga[1];
 			}
+			nxt[nn].s1 = sb; nxt[nn].bot = bot; nxt[nn].top = top;
+			nxt[nn].g1[0] = gb[0]; nxt[nn].g1[1] = gb[1];
 			++nn;
 		}
 	}
@@ -8012,6 +7813,8 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
 	pvs__key_index *ord = NULL, *sord = NULL;
 	uint32_t *vt = NULL;
 	pvs_result r = PVS_ERROR_OUT_OF_MEMORY;
+	pvs__buf b[13];
+	int nb = 0;
 	memset(&w, 0, sizeof(w));
 	w.sc = sc;
 	w.a = a;
@@ -8029,23 +7832,22 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
 			if (fabs((double)sc->bounds.max[k]) > ext) ext = fabs((double)sc->bounds.max[k]);
 		}
 	w.tol = 8.0 * FLT_EPSILON * ext;
-	tl = (double *)pvs__alloc_array(a, 5 * (size_t)nt + 5, sizeof(double));
-	vt = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 1, sizeof(uint32_t));
-	if (!tl || !vt) goto done;
+	PVS__BUF(b, nb, tl, 5 * (size_t)nt + 5, sizeof(double));
+	PVS__BUF(b, nb, vt, (size_t)nt + 1, sizeof(uint32_t));
+	if (!pvs__bufs_alloc(a, b, nb)) goto done;
 	*vertical = nv = pvs__fx_vertical(sc, w.u, w.v, w.up, w.tol, tl, vt);
-	ord = (pvs__key_index *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__key_index));
-	sord = (pvs__key_index *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(pvs__key_index));
-	w.so = (pvs__key_index *)pvs__alloc_array(a, 3 * (size_t)nv + 3, sizeof(pvs__key_index));
-	w.sv = (double *)pvs__alloc_array(a, 14 * (size_t)nv + 14, sizeof(double));
-	w.sec = (double *)pvs__alloc_array(a, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
-	w.ins = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
-	w.act = (uint32_t *)pvs__alloc_array(a, (size_t)nv + 1, sizeof(uint32_t));
-	w.comp = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-	w.que = (uint32_t *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-	w.opn = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-	w.nxt = (pvs__fxopen *)pvs__alloc_array(a, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-	if (!ord || !sord || !w.so || !w.sv || !w.sec || !w.ins || !w.act || !w.comp || !w.que || !w.opn || !w.nxt)
-		goto done;
+	PVS__BUF(b, nb, ord, (size_t)nv + 1, sizeof(pvs__key_index));
+	PVS__BUF(b, nb, sord, (size_t)nv + 1, sizeof(pvs__key_index));
+	PVS__BUF(b, nb, w.so, 3 * (size_t)nv + 3, sizeof(pvs__key_index));
+	PVS__BUF(b, nb, w.sv, 14 * (size_t)nv + 14, sizeof(double));
+	PVS__BUF(b, nb, w.sec, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
+	PVS__BUF(b, nb, w.ins, (size_t)nv + 1, sizeof(uint32_t));
+	PVS__BUF(b, nb, w.act, (size_t)nv + 1, sizeof(uint32_t));
+	PVS__BUF(b, nb, w.comp, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+	PVS__BUF(b, nb, w.que, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
+	PVS__BUF(b, nb, w.opn, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+	PVS__BUF(b, nb, w.nxt, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+	if (!pvs__bufs_alloc(a, b + 2, nb - 2)) goto done;
 	for (i = 0; i < nv; ++i) { ord[i].key = tl[5 * (size_t)i]; ord[i].index = i; }
 	pvs__key_index_sort(ord, nv); /* by direction (ties by slot: deterministic) */
 	for (g0 = 0; g0 < nv; g0 = g1) {
@@ -8067,19 +7869,7 @@ PVS__STATIC pvs_result pvs__facades_extract(const pvs_scene *sc, const pvs_alloc
 	r = PVS_OK;
 done:
 	if (r != PVS_OK && *out) { pvs__free(a, *out, w.cap * sizeof(float), 16); *out = NULL; *count = 0; }
-	pvs__free_array(a, tl, 5 * (size_t)nt + 5, sizeof(double));
-	pvs__free_array(a, vt, (size_t)nt + 1, sizeof(uint32_t));
-	pvs__free_array(a, ord, (size_t)nv + 1, sizeof(pvs__key_index));
-	pvs__free_array(a, sord, (size_t)nv + 1, sizeof(pvs__key_index));
-	pvs__free_array(a, w.so, 3 * (size_t)nv + 3, sizeof(pvs__key_index));
-	pvs__free_array(a, w.sv, 14 * (size_t)nv + 14, sizeof(double));
-	pvs__free_array(a, w.sec, 4 * (size_t)PVS__FX_MAX_COVER, sizeof(double));
-	pvs__free_array(a, w.ins, (size_t)nv + 1, sizeof(uint32_t));
-	pvs__free_array(a, w.act, (size_t)nv + 1, sizeof(uint32_t));
-	pvs__free_array(a, w.comp, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-	pvs__free_array(a, w.que, (size_t)PVS__FX_MAX_COVER + 1, sizeof(uint32_t));
-	pvs__free_array(a, w.opn, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
-	pvs__free_array(a, w.nxt, (size_t)PVS__FX_MAX_COVER + 1, sizeof(pvs__fxopen));
+	pvs__bufs_free(a, b, nb);
 	return r;
 }
 
@@ -8111,8 +7901,7 @@ PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double f0, double f1) {
 	const double *sg = t->seg + 4 * (size_t)k, *jd = t->jd + PVS__OT25_JD * (size_t)k;
 	pvs__otnode *nd = t->nodes + node;
-	double r = jd[8], sl = jd[9], far2 = 0.0, e[4];
-	int i, m;
+	double r = jd[8], sl = jd[9], far2, e[4];
 	if (!(sl > 0.0)) return; /* not taller than the eyes: no bound */
 	f0 -= 1e-9; f1 += 1e-9;
 	if (f0 < 0.0) f0 = 0.0;
@@ -8120,12 +7909,7 @@ PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double
 	if (f0 <= f1) {
 		e[0] = sg[0] + f0 * (sg[2] - sg[0]); e[1] = sg[1] + f0 * (sg[3] - sg[1]);
 		e[2] = sg[0] + f1 * (sg[2] - sg[0]); e[3] = sg[1] + f1 * (sg[3] - sg[1]);
-		for (i = 0; i < 4; ++i)
-			for (m = 0; m < 2; ++m) {
-				double ex = e[2 * m] - t->corners[2 * i], ey = e[2 * m + 1] - t->corners[2 * i + 1];
-				if (ex * ex + ey * ey > far2) far2 = ex * ex + ey * ey;
-			}
-		far2 = sqrt(far2) * (1.0 + 1e-9) + 2.0 * t->len_eps;
+		far2 = sqrt(pvs__ot_far2(t->corners, 4, e)) * (1.0 + 1e-9) + 2.0 * t->len_eps;
 		if (far2 < r) {
 			sl = (t->top[k] - t->eye) / far2 * (1.0 - 1e-9);
 			r = far2;
@@ -8145,6 +7929,19 @@ PVS__STATIC void pvs__ot25_funnel(const pvs__otpoly *q, const double *e, double 
 	*f0 = lo < 0.0 ? 0.0 : lo;
 	*f1 = hi > 1.0 ? 1.0 : hi;
 }
+/* Inner node `node`'s bound from its children's; 0 when it did not change. */
+PVS__STATIC int pvs__ot25_inner_bound(pvs__otree *t, uint32_t node) {
+	pvs__otnode *nd = t->nodes + node;
+	const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
+	double mr = a->mr > b->mr ? a->mr : b->mr, ms = a->ms < b->ms ? a->ms : b->ms;
+	double ml = a->ml > b->ml ? a->ml : b->ml, mls = a->mls < b->mls ? a->mls : b->mls;
+	if (mr == nd->mr && ms == nd->ms && ml == nd->ml && mls == nd->mls) return 0;
+	nd->mr = mr;
+	nd->ms = ms;
+	nd->ml = ml;
+	nd->mls = mls;
+	return 1;
+}
 /* Recomputes the bound of the subtree at `node` (just rebuilt from a leaf: a short chain) and of its
    ancestors while they change. */
 PVS__STATIC void pvs__ot25_bound_subtree(pvs__otree *t, uint32_t node) {
@@ -8152,29 +7949,12 @@ PVS__STATIC void pvs__ot25_bound_subtree(pvs__otree *t, uint32_t node) {
 	if (nd->kind) { pvs__ot25_leaf_bound(t, nd); return; }
 	pvs__ot25_bound_subtree(t, nd->child[0]);
 	pvs__ot25_bound_subtree(t, nd->child[1]);
-	nd = t->nodes + node;
-	{
-		const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
-		nd->mr = a->mr > b->mr ? a->mr : b->mr;
-		nd->ms = a->ms < b->ms ? a->ms : b->ms;
-		nd->ml = a->ml > b->ml ? a->ml : b->ml;
-		nd->mls = a->mls < b->mls ? a->mls : b->mls;
-	}
+	(void)pvs__ot25_inner_bound(t, node);
 }
 PVS__STATIC void pvs__ot25_bound(pvs__otree *t, uint32_t node) {
 	uint32_t p;
 	pvs__ot25_bound_subtree(t, node);
-	for (p = t->nodes[node].parent; p != PVS__OT_NONE; p = t->nodes[p].parent) {
-		pvs__otnode *nd = t->nodes + p;
-		const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
-		double mr = a->mr > b->mr ? a->mr : b->mr, ms = a->ms < b->ms ? a->ms : b->ms;
-		double ml = a->ml > b->ml ? a->ml : b->ml, mls = a->mls < b->mls ? a->mls : b->mls;
-		if (mr == nd->mr && ms == nd->ms && ml == nd->ml && mls == nd->mls) break;
-		nd->mr = mr;
-		nd->ms = ms;
-		nd->ml = ml;
-		nd->mls = mls;
-	}
+	for (p = t->nodes[node].parent; p != PVS__OT_NONE && pvs__ot25_inner_bound(t, p); p = t->nodes[p].parent) {}
 }
 /* Lower bound of the distance from the grown cell rectangle to segment e: to e's bounding box (exact when
    axis-parallel), rounded down. */
@@ -8235,15 +8015,9 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	const double *sg = t->seg + 4 * (size_t)j;
 	double *jd = t->jd + PVS__OT25_JD * (size_t)j, dx = sg[2] - sg[0], dy = sg[3] - sg[1],
 		   len = sqrt(dx * dx + dy * dy), sa, da, db;
-	double far2 = 0.0;
-	int i, k;
+	int i;
 	memset(jd, 0, PVS__OT25_JD * sizeof(double));
-	for (i = 0; i < 4; ++i)
-		for (k = 0; k < 2; ++k) {
-			double ex = sg[2 * k] - t->corners[2 * i], ey = sg[2 * k + 1] - t->corners[2 * i + 1];
-			if (ex * ex + ey * ey > far2) far2 = ex * ex + ey * ey;
-		}
-	jd[8] = sqrt(far2) * (1.0 + 1e-9) + t->len_eps;
+	jd[8] = sqrt(pvs__ot_far2(t->corners, 4, sg)) * (1.0 + 1e-9) + t->len_eps;
 	if (t->top[j] > t->eye) jd[9] = (t->top[j] - t->eye) / jd[8] * (1.0 - 1e-9);
 	if (!(len > 0.0)) return;
 	sa = dx * (0.5 * (t->sa[1] + t->sb[1]) - sg[1]) - dy * (0.5 * (t->sa[0] + t->sb[0]) - sg[0]);
@@ -8273,18 +8047,12 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
 							   const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0,
 							   double *v1) {
-	double flo = DBL_MAX, fhi = -DBL_MAX;
+	double flo, fhi;
 	double um[PVS__OT25_MAX_UMBRAE][2];
 	int i, nu = 0, changed;
 	uint32_t m;
 	*f0 = *v0 = 0.0; *f1 = *v1 = 1.0;
-	for (i = 0; i < q->n; ++i) { /* the funnel: the parameters on e of q's lines */
-		double u;
-		if (pvs__ot_param(q->v[i], e, &u)) { if (u < flo) flo = u; if (u > fhi) fhi = u; }
-		else { flo = -DBL_MAX; fhi = DBL_MAX; }
-	}
-	if (flo < 0.0) flo = 0.0;
-	if (fhi > 1.0) fhi = 1.0;
+	pvs__ot25_funnel(q, e, &flo, &fhi);
 	for (m = 0; m < count && nu < PVS__OT25_MAX_UMBRAE; ++m) {
 		uint32_t j = t->seq[first + m];
 		const double *sj = t->seg + 4 * (size_t)j, *jd = t->jd + PVS__OT25_JD * (size_t)j;
@@ -8292,17 +8060,11 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 		int front, behind;
 		if (j == self || !jd[7]) continue;
 		if (skip_box) {
-			double sb4[4];
-			sb4[0] = skip_box[0]; sb4[1] = skip_box[1]; sb4[2] = skip_box[2]; sb4[3] = skip_box[3];
-			if (fmin(sj[0], sj[2]) <= sb4[2] + t->len_eps && fmax(sj[0], sj[2]) >= sb4[0] - t->len_eps &&
-				fmin(sj[1], sj[3]) <= sb4[3] + t->len_eps && fmax(sj[1], sj[3]) >= sb4[1] - t->len_eps) {
-				double poly[8];
-				poly[0] = sb4[0] - t->len_eps; poly[1] = sb4[1] - t->len_eps;
-				poly[2] = sb4[2] + t->len_eps; poly[3] = sb4[1] - t->len_eps;
-				poly[4] = sb4[2] + t->len_eps; poly[5] = sb4[3] + t->len_eps;
-				poly[6] = sb4[0] - t->len_eps; poly[7] = sb4[3] + t->len_eps;
-				if (pvs__ot_segment_meets_polygon(sj, poly, 4)) continue;
-			}
+			double poly[8];
+			pvs__ot_rect(skip_box, t->len_eps, poly);
+			if (fmin(sj[0], sj[2]) <= poly[2] && fmax(sj[0], sj[2]) >= poly[0] && fmin(sj[1], sj[3]) <= poly[5] &&
+				fmax(sj[1], sj[3]) >= poly[1] && pvs__ot_segment_meets_polygon(sj, poly, 4))
+				continue;
 		}
 		/* quick order: e wholly beyond j's line puts j in front on every line crossing both; wholly on the
 		   source side, behind */
@@ -8384,28 +8146,18 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 			leaf = pvs__ot_refine(t, node, q);
 			if (leaf == PVS__OT_NONE) break;
 			for (i = 0; i < q->n; ++i) for (c = 0; c < 3; ++c) cen[c] += q->v[i][c];
-			if (count >= PVS__OT25_SPLIT_MIN &&
-				v0 > f0 + 1e-9) { /* lines through k before v0 see only the old members */
-				double x[2];
-				x[0] = sk[0] + v0 * (sk[2] - sk[0]); x[1] = sk[1] + v0 * (sk[3] - sk[1]);
-				/* the primary side (lines crossing k beyond x) has x on the side of k's first end */
-				double sgn = pvs__ot_side(cen, sk);
-				if (sgn != 0.0) {
-					uint32_t nx = pvs__ot_split_leaf(t, leaf, x, sgn > 0 ? 1.0 : -1.0);
-					if (nx == PVS__OT_NONE) break;
-					leaf = nx;
-				}
+			/* lines through k before v0 (after v1) see only the old members: the primary side (lines crossing k
+			   beyond x, the point at v0) has x on the side of k's first end (at v1: of its second) */
+			for (c = 0; c < 2 && count >= PVS__OT25_SPLIT_MIN; ++c) {
+				double x[2], u = c ? v1 : v0, sgn;
+				if (c ? !(v1 < f1 - 1e-9) : !(v0 > f0 + 1e-9)) continue;
+				x[0] = sk[0] + u * (sk[2] - sk[0]); x[1] = sk[1] + u * (sk[3] - sk[1]);
+				sgn = pvs__ot_side(cen, sk + 2 * c);
+				if (sgn == 0.0) continue;
+				leaf = pvs__ot_split_leaf(t, leaf, x, sgn);
+				if (leaf == PVS__OT_NONE) break;
 			}
-			if (count >= PVS__OT25_SPLIT_MIN && v1 < f1 - 1e-9) {
-				double x[2], sgn;
-				x[0] = sk[0] + v1 * (sk[2] - sk[0]); x[1] = sk[1] + v1 * (sk[3] - sk[1]);
-				sgn = pvs__ot_side(cen, sk + 2);
-				if (sgn != 0.0) {
-					uint32_t nx = pvs__ot_split_leaf(t, leaf, x, sgn > 0 ? 1.0 : -1.0);
-					if (nx == PVS__OT_NONE) break;
-					leaf = nx;
-				}
-			}
+			if (leaf == PVS__OT_NONE) break;
 			if (pvs__ot_set_payload(t, leaf, first, count, k)) pvs__ot25_join(t, leaf, k, f0, f1);
 			pvs__ot25_bound(t, node);
 		}
@@ -8471,36 +8223,46 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
 	return 0;
 }
 
-/* Read-only c-LSS test of far edge e (height h) of object box `box`: 1 when part of it may be seen through the
-   blocker's lines. */
-PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, const double *e, double h,
-								  const double *box) {
-	size_t base = t->stack_count;
-	/* the bound counts every member, also those crossing the box that pvs__ot25_open ignores (a wall on a ground
-	   tile would hide the tile's far edge): with the whole box's nearness, a member of smaller reach lies wholly
-	   nearer */
-	double near = pvs__ot25_near(t, box ? box : e);
+/* Read-only test (§3.3.4): 1 when a line of the blocker may get past the stored occluders (or out of memory). Splits
+   with slack, stops at the first visible leaf. 2D (§6.5.3; e NULL, h unused): a line reaches occluder k before any
+   stored one; slivers (pvs__ot_thickness) do not count, so the answer does not depend on where insertion rounded,
+   i.e. on the insertion order. 2.5D (c-LSS): part of far edge e (height h) of object box `box` may be seen. near:
+   the subtree bounds' distance (§6.5.5; 2.5D pvs__ot25_near). */
+PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
+								const double *e, const double *box) {
+	size_t base = t->stack_count, top;
+	const double *sk = e ? NULL : t->seg + 4 * (size_t)k;
 	int vis = 0;
 	if (!pvs__ot_push(t, 0, blocker)) return 1;
-	while (t->stack_count > base && !vis) {
-		uint32_t node = t->stack_node[t->stack_count - 1];
+	while ((top = t->stack_count) > base && !vis) {
+		uint32_t node = t->stack_node[--top], j;
 		const pvs__otnode *nd = t->nodes + node;
-		if (PVS__OT25_HIDDEN(t, nd, near, h)) { --t->stack_count; continue; } /* hidden in this subtree */
-		if (t->stack_pend[t->stack_count - 1] != PVS__OT_NONE && !pvs__ot_owed(t, t->stack_count - 1)) {
-			--t->stack_count;
+		pvs__otpoly q;
+		double x[2], f0, f1, v0, v1;
+		int front, behind;
+		if ((e ? PVS__OT25_HIDDEN(t, nd, near, h) : near > nd->mvd) || /* hidden in this subtree */
+			(t->stack_pend[top] != PVS__OT_NONE && !pvs__ot_owed(t, top))) {
+			t->stack_count = top;
 			continue;
 		}
-		if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, t->stack_count - 1, near, h); continue; }
-		--t->stack_count; /* the polygon stays readable in its slot until the next push */
-		if (nd->kind == PVS__OT_OUT) {
-			vis = 1;
-			pvs__ot25_witness_add(t, PVS__OT_ITEM(t, t->stack_count));
-		} else {
-			double f0, f1, v0, v1;
-			if (pvs__ot25_open(t, PVS__OT_ITEM(t, t->stack_count), nd->first, nd->count, PVS__OT_NONE, e, h, box, &f0,
-							   &f1, &v0, &v1))
-				vis = 1;
+		if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, top, e ? near : -1.0, h); continue; }
+		t->stack_count = top; /* the polygon stays readable in its slot until the next push */
+		if (e) {
+			if (nd->kind == PVS__OT_OUT) pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top));
+			vis = nd->kind == PVS__OT_OUT || pvs__ot25_open(t, PVS__OT_ITEM(t, top), nd->first, nd->count, PVS__OT_NONE,
+															 e, h, box, &f0, &f1, &v0, &v1);
+			continue;
 		}
+		pvs__ot_copy(&q, PVS__OT_ITEM(t, top));
+		if (pvs__ot_thickness(&q) < PVS__OT_SLIVER) continue;
+		if (nd->kind == PVS__OT_OUT || (j = t->seq[nd->first]) == k) { vis = 1; break; }
+		pvs__ot_depth(t, &q, t->seg + 4 * (size_t)j, sk, &front, &behind);
+		/* the exact test splits at the crossing X (§6.5.1 case 3) */
+		if (front && behind && !q.xsplit && pvs__ot_cross(t->seg + 4 * (size_t)j, sk, x)) {
+			vis |= !pvs__ot2_xsplit(t, node, &q, x);
+			continue;
+		}
+		if (front || !behind) vis = 1; /* in front somewhere, or all ties (collinear): visible */
 	}
 	t->stack_count = base;
 	return vis || t->oom;
@@ -8511,15 +8273,15 @@ PVS__STATIC int pvs__ot25_visible(pvs__otree *t, const pvs__otpoly *blocker, con
 PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2],
 									  int *any_far) {
 	double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* the source edge's outward direction */
+	/* the bound counts every member, also those crossing the box that pvs__ot25_open ignores (a wall on a ground
+	   tile would hide the tile's far edge): with the whole box's nearness, a member of smaller reach lies wholly
+	   nearer */
+	double near = pvs__ot25_near(t, bx);
 	int i, vis = 0, far_edge, order[3];
-	c4[0] = bx[0];
-	c4[1] = bx[1];
-	c4[2] = bx[2];
-	c4[3] = bx[1];
-	c4[4] = bx[2];
-	c4[5] = bx[3];
-	c4[6] = bx[0];
-	c4[7] = bx[3];
+	c4[0] = c4[6] = bx[0];
+	c4[1] = c4[3] = bx[1];
+	c4[2] = c4[4] = bx[2];
+	c4[5] = c4[7] = bx[3];
 	if (any_far) *any_far = 0;
 	if (!any_far && !t->full_tests && pvs__ot25_witnessed(t, bx, a, b)) return 1;
 	/* A box taller than the eyes is seen, if at all, along a rising ray, at least as well where its 2D line enters
@@ -8548,7 +8310,7 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 		if (any_far) *any_far = 1;
 		nb = pvs__ot_blockers(a, b, o, on, bl, &deg);
 		if (deg) vis = 1;
-		for (m = 0; m < nb && !vis; ++m) vis = pvs__ot25_visible(t, &bl[m], o, top, bx);
+		for (m = 0; m < nb && !vis; ++m) vis = pvs__ot_visible(t, &bl[m], PVS__OT_NONE, near, top, o, bx);
 	}
 	return vis;
 }
@@ -8724,8 +8486,8 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
 	pvs__ot_line(m, m2, l);
 	sa_ = pvs__ot_side(l, a);
 	sb_ = pvs__ot_side(l, b);
-	pos = pvs__ot_split_leaf(t, 0, a, sa_ > 0 ? 1.0 : -1.0);
-	if (pos != PVS__OT_NONE) pos = pvs__ot_split_leaf(t, pos, b, sb_ > 0 ? 1.0 : -1.0);
+	pos = pvs__ot_split_leaf(t, 0, a, sa_);
+	if (pos != PVS__OT_NONE) pos = pvs__ot_split_leaf(t, pos, b, sb_);
 	if (pos != PVS__OT_NONE) {
 		double pts[PVS__OT25_PRESPLIT][2], dd = 10.0 * (cell[4] - cell[0] + cell[5] - cell[1]) + 1.0;
 		double nx = m[0], ny = m[1], nl = sqrt(nx * nx + ny * ny);
@@ -8818,9 +8580,10 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 	double cell[8], cx, cy, ext, margin;
 	double *all = NULL, *top = NULL, *seg = NULL, *box = NULL, *jd = NULL;
 	unsigned char *done = NULL, *state = NULL;
-	uint32_t *refs = NULL, kd_nodes = 0;
+	uint32_t *refs = NULL;
 	void *scratch = NULL;
-	size_t scratch_size = 0;
+	pvs__buf b[9];
+	int nb = 0;
 	pvs_kdtree *own_tree = NULL;
 	const pvs_kdtree *tree;
 	uint32_t nf, no, i, side;
@@ -8843,18 +8606,16 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 		if (r != PVS_OK) goto done;
 		tree = own_tree;
 	}
-	all = (double *)pvs__alloc_array(&al, 4 * (size_t)nf + 4, sizeof(double));
-	seg = (double *)pvs__alloc_array(&al, 4 * (size_t)nf + 4, sizeof(double));
-	top = (double *)pvs__alloc_array(&al, (size_t)nf + 1, sizeof(double));
-	jd = (double *)pvs__alloc_array(&al, PVS__OT25_JD * ((size_t)nf + 1), sizeof(double));
-	box = (double *)pvs__alloc_array(&al, 5 * (size_t)no + 5, sizeof(double));
-	done = (unsigned char *)pvs__alloc_array(&al, (size_t)no + 1, 1);
-	state = (unsigned char *)pvs__alloc_array(&al, (size_t)nf + 1, 1);
-	scratch_size = pvs_kdtree_sweep_scratch_size(tree);
-	scratch = pvs__alloc(&al, scratch_size, 16);
-	kd_nodes = tree->node_count;
-	refs = (uint32_t *)pvs__alloc_array(&al, (size_t)kd_nodes + 1, sizeof(uint32_t));
-	if (!all || !seg || !top || !jd || !box || !done || !state || !scratch || !refs) {
+	PVS__BUF(b, nb, all, 4 * (size_t)nf + 4, sizeof(double));
+	PVS__BUF(b, nb, seg, 4 * (size_t)nf + 4, sizeof(double));
+	PVS__BUF(b, nb, top, (size_t)nf + 1, sizeof(double));
+	PVS__BUF(b, nb, jd, PVS__OT25_JD * ((size_t)nf + 1), sizeof(double));
+	PVS__BUF(b, nb, box, 5 * (size_t)no + 5, sizeof(double));
+	PVS__BUF(b, nb, done, (size_t)no + 1, 1);
+	PVS__BUF(b, nb, state, (size_t)nf + 1, 1);
+	PVS__BUF(b, nb, scratch, pvs_kdtree_sweep_scratch_size(tree), 1);
+	PVS__BUF(b, nb, refs, (size_t)tree->node_count + 1, sizeof(uint32_t));
+	if (!pvs__bufs_alloc(&al, b, nb)) {
 		r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays");
 		goto done;
 	}
@@ -8901,16 +8662,8 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 	pvs__ok(err);
 done:
 	pvs__ot_free(&t);
+	pvs__bufs_free(&al, b, nb);
 	pvs_kdtree_destroy(own_tree);
-	pvs__free(&al, scratch, scratch_size, 16);
-	pvs__free_array(&al, refs, (size_t)kd_nodes + 1, sizeof(uint32_t));
-	pvs__free_array(&al, all, 4 * (size_t)nf + 4, sizeof(double));
-	pvs__free_array(&al, seg, 4 * (size_t)nf + 4, sizeof(double));
-	pvs__free_array(&al, top, (size_t)nf + 1, sizeof(double));
-	pvs__free_array(&al, jd, PVS__OT25_JD * ((size_t)nf + 1), sizeof(double));
-	pvs__free_array(&al, box, 5 * (size_t)no + 5, sizeof(double));
-	pvs__free_array(&al, done, (size_t)no + 1, 1);
-	pvs__free_array(&al, state, (size_t)nf + 1, 1);
 	return r;
 }
 
@@ -9100,6 +8853,22 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 	return m;
 }
 
+/* Points p (n <= PVS__SV_MAXV) relative to the eye into v, their mean into c, Newell's normal (twice the area
+   vector) into nrm. */
+PVS__STATIC void pvs__sv_eye_points(const pvs_otree *o, const float *const *p, int n, double (*v)[3], double c[3],
+									double nrm[3]) {
+	int i, k;
+	for (k = 0; k < 3; ++k) c[k] = nrm[k] = 0.0;
+	for (i = 0; i < n; ++i)
+		for (k = 0; k < 3; ++k) { v[i][k] = (double)p[i][k] - o->eye[k]; c[k] += v[i][k] / n; }
+	for (i = 0; i < n; ++i) {
+		const double *u = v[i], *w = v[(i + 1) % n];
+		nrm[0] += (u[1] - w[1]) * (u[2] + w[2]);
+		nrm[1] += (u[2] - w[2]) * (u[0] + w[0]);
+		nrm[2] += (u[0] - w[0]) * (u[1] + w[1]);
+	}
+}
+
 PVS__STATIC int pvs__sv_same(const double a[3], const double b[3]) {
 	return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
@@ -9108,21 +8877,13 @@ PVS__STATIC int pvs__sv_same(const double a[3], const double b[3]) {
    frustum (less occluder: conservative); 0 when nothing usable is left (edge-on, behind the eye, outside). */
 PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs__svpoly *q, double plane[4]) {
 	pvs__svpoly a, b;
-	double c[3] = {0, 0, 0}, nrm[3] = {0, 0, 0}, len, size = 0.0;
+	double c[3], nrm[3], len, size = 0.0;
 	int i, k;
 	a.n = n;
+	pvs__sv_eye_points(o, p, n, a.v, c, nrm);
 	for (i = 0; i < n; ++i)
-		for (k = 0; k < 3; ++k) {
-			a.v[i][k] = (double)p[i][k] - o->eye[k];
-			c[k] += a.v[i][k] / n;
+		for (k = 0; k < 3; ++k)
 			if (fabs(a.v[i][k]) > size) size = fabs(a.v[i][k]);
-		}
-	for (i = 0; i < n; ++i) { /* Newell's normal */
-		const double *u = a.v[i], *w = a.v[(i + 1) % n];
-		nrm[0] += (u[1] - w[1]) * (u[2] + w[2]);
-		nrm[1] += (u[2] - w[2]) * (u[0] + w[0]);
-		nrm[2] += (u[0] - w[0]) * (u[1] + w[1]);
-	}
 	len = pvs__sv_unit(nrm);
 	if (!(len > 1e-12 * size * size)) return 0;                    /* no area */
 	plane[0] = nrm[0]; plane[1] = nrm[1]; plane[2] = nrm[2];
@@ -9218,20 +8979,14 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 							 : (q->e[i][0] == -nd->n[0] && q->e[i][1] == -nd->n[1] && q->e[i][2] == -nd->n[2]))
 						q->mark[i] = 1;
 				o->stack_node[sp++] = nd->child[side]; /* q stays in place */
-			} else {
-				double neg[3];
-				uint32_t c0 = nd->child[0], c1 = nd->child[1];
-				int r1, r0;
+			} else { /* the positive part, then the negative one */
+				double nf[2][3];
 				pvs__svpoly qq = *q;
-				neg[0] = -nd->n[0]; neg[1] = -nd->n[1]; neg[2] = -nd->n[2];
-				r1 = pvs__sv_clip(&qq, nd->n, 0.0, nd->n, 1, &part);
-				if (r1 < 0) o->info.budget_exceeded = 1;
-				if (r1 >= 3) { o->stack[sp] = part; o->stack_node[sp++] = c1; }
-				r0 = pvs__sv_clip(&qq, neg, 0.0, neg, 1, &part);
-				if (r0 < 0) o->info.budget_exceeded = 1;
-				if (r0 >= 3) {
-					if (sp >= PVS__SV_STACK) { o->info.budget_exceeded = 1; continue; }
-					o->stack[sp] = part; o->stack_node[sp++] = c0;
+				for (i = 0; i < 3; ++i) { nf[1][i] = nd->n[i]; nf[0][i] = -nd->n[i]; }
+				for (i = 1; i >= 0; --i) {
+					int r = pvs__sv_clip(&qq, nf[i], 0.0, nf[i], 1, &part);
+					if (r < 0 || (r >= 3 && sp >= PVS__SV_STACK)) o->info.budget_exceeded = 1;
+					if (r >= 3 && sp < PVS__SV_STACK) { o->stack[sp] = part; o->stack_node[sp++] = nd->child[i]; }
 				}
 			}
 			if (sp >= PVS__SV_STACK - 1) { /* no room for the next split: drop the deepest work (conservative) */
@@ -9270,6 +9025,17 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 	}
 }
 
+/* The least and the largest of 0 (the eye) and n . f over the count points v. */
+PVS__STATIC void pvs__sv_extent(const pvs__svvert *v, uint32_t count, const double n[3], double *plo, double *phi) {
+	uint32_t m;
+	*plo = *phi = 0.0;
+	for (m = 0; m < count; ++m) {
+		double d = pvs__sv_dot(n, v[m].f);
+		if (d < *plo) *plo = d;
+		if (d > *phi) *phi = d;
+	}
+}
+
 /* Box [lo, hi] (eye-relative) against in-leaf fragment f (§4.10.2): invisible when wholly behind the
    occluder's plane or (unless PLANE_ONLY) apart from the pyramid eye + fragment, the only place it can
    be seen through this leaf (exact test "E"); visible when wholly in front; else partly visible. */
@@ -9278,7 +9044,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 	const pvs__svvert *v = o->verts + f->first;
 	double smin = pvs__sv_lo(f->plane, lo, hi) + f->plane[3], smax = pvs__sv_hi(f->plane, lo, hi) + f->plane[3],
 		   t = f->tol;
-	uint32_t i, j;
+	uint32_t i;
 	int k;
 	if (smax < -t) return PVS__SV_I;
 	if (!(o->flags & PVS_OTREE_PLANE_ONLY)) {
@@ -9292,20 +9058,9 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 			if (hi[k] < plo - t || lo[k] > phi + t) return PVS__SV_I;
 		}
 		for (i = 0; i < f->count; ++i) { /* the pyramid's extent is taken over its points: valid for any axis */
-			double plo = 0.0, phi = 0.0, bh = pvs__sv_hi(v[i].m, lo, hi);
-			if (bh < -t) {
-				for (j = 0; j < f->count; ++j) {
-					double d = pvs__sv_dot(v[i].m, v[j].f);
-					if (d < plo) plo = d;
-				}
-				if (bh < plo - t) return PVS__SV_I;
-			} else {
-				for (j = 0; j < f->count; ++j) {
-					double d = pvs__sv_dot(v[i].m, v[j].f);
-					if (d > phi) phi = d;
-				}
-				if (pvs__sv_lo(v[i].m, lo, hi) > phi + t) return PVS__SV_I;
-			}
+			double plo, phi, bh = pvs__sv_hi(v[i].m, lo, hi);
+			pvs__sv_extent(v, f->count, v[i].m, &plo, &phi);
+			if (bh < -t ? bh < plo - t : pvs__sv_lo(v[i].m, lo, hi) > phi + t) return PVS__SV_I;
 		}
 		{   /* the base's plane: the pyramid spans from the eye (d) to its base (about 0) */
 			double plo = f->plane[3], phi = f->plane[3];
@@ -9318,8 +9073,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 		}
 		for (k = 0; k < 3; ++k)
 			for (i = 0; i < 2 * f->count; ++i) {
-				double edge[3], ax[3], plo = 0.0, phi = 0.0, len;
-				uint32_t m;
+				double edge[3], ax[3], plo, phi, len;
 				if (i < f->count) memcpy(edge, v[i].f, sizeof(edge));
 				else {
 					const double *p0 = v[i - f->count].f, *p1 = v[(i - f->count + 1) % f->count].f;
@@ -9330,11 +9084,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 				ax[(k + 2) % 3] = edge[(k + 1) % 3];
 				len = pvs__sv_unit(ax);
 				if (!(len > 1e-12 * (fabs(edge[0]) + fabs(edge[1]) + fabs(edge[2])))) continue;
-				for (m = 0; m < f->count; ++m) {
-					double d = pvs__sv_dot(ax, v[m].f);
-					if (d < plo) plo = d;
-					if (d > phi) phi = d;
-				}
+				pvs__sv_extent(v, f->count, ax, &plo, &phi);
 				if (pvs__sv_hi(ax, lo, hi) < plo - t || pvs__sv_lo(ax, lo, hi) > phi + t) return PVS__SV_I;
 			}
 	}
@@ -9410,13 +9160,9 @@ PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float
 			for (n = 0; n < 4; ++n)
 				for (k = 0; k < 3; ++k) q[n][k] = (f[b][n] >> k) & 1u ? oc->box.max[k] : oc->box.min[k];
 		} else {
-			int u, v, up = (int)s->up_axis;
-			const float *f0 = oc->footprint + 2 * b, *f1 = oc->footprint + 2 * ((b + 1) % oc->footprint_count);
+			int u, v;
 			pvs__ground_axes(s->up_axis, &u, &v);
-			q[0][u] = f0[0]; q[0][v] = f0[1]; q[0][up] = oc->base;
-			q[1][u] = f1[0]; q[1][v] = f1[1]; q[1][up] = oc->base;
-			q[2][u] = f1[0]; q[2][v] = f1[1]; q[2][up] = oc->top;
-			q[3][u] = f0[0]; q[3][v] = f0[1]; q[3][up] = oc->top;
+			pvs__wall_quad(oc, b, u, v, (int)s->up_axis, q);
 		}
 		for (n = 0; n < 4; ++n) p[n] = q[n];
 		return 4;
@@ -9426,19 +9172,12 @@ PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float
 /* Area-angle measure M = A |N . V| / |D|^2 (§4.5), V the unit direction from the eye to the centre D
    (about the solid angle; the thesis uses the view direction); -1 when wholly outside the frustum. */
 PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int n) {
-	double v[4][3], c[3] = {0, 0, 0}, area[3] = {0, 0, 0}, dd;
+	double v[4][3], c[3], area[3], dd;
 	int i, k;
-	for (i = 0; i < n; ++i)
-		for (k = 0; k < 3; ++k) { v[i][k] = (double)p[i][k] - o->eye[k]; c[k] += v[i][k] / n; }
+	pvs__sv_eye_points(o, p, n, v, c, area);
 	for (k = 0; k < 5; ++k) {
 		for (i = 0; i < n; ++i) if (pvs__sv_dot(o->fr[k], v[i]) + o->fr[k][3] >= 0.0) break;
 		if (i == n) return -1.0;
-	}
-	for (i = 0; i < n; ++i) {
-		const double *u = v[i], *w = v[(i + 1) % n];
-		area[0] += (u[1] - w[1]) * (u[2] + w[2]);
-		area[1] += (u[2] - w[2]) * (u[0] + w[0]);
-		area[2] += (u[0] - w[0]) * (u[1] + w[1]);
 	}
 	dd = pvs__sv_dot(c, c);
 	if (!(dd > 0.0)) return -1.0;
@@ -9485,6 +9224,16 @@ PVS__STATIC void pvs__sv_touch(pvs_otree *o, uint32_t obj, uint8_t flag) {
 	o->obj_flag[obj] |= flag;
 }
 
+/* The boxes of kD node nd's children within its box (the split clamped to it). */
+PVS__STATIC void pvs__sv_child_boxes(const pvs__kdnode *nd, const pvs_box *box, pvs_box c[2]) {
+	uint32_t axis = nd->bits & 3u;
+	float sp = nd->u.split;
+	c[0] = *box;
+	c[1] = *box;
+	c[0].max[axis] = sp < box->max[axis] ? (sp > box->min[axis] ? sp : box->min[axis]) : box->max[axis];
+	c[1].min[axis] = sp > box->min[axis] ? (sp < box->max[axis] ? sp : box->max[axis]) : box->min[axis];
+}
+
 /* Marks the objects of every leaf below `node` with `flag` (a visible subtree: no tests). */
 PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, uint8_t flag) {
 	const pvs_kdtree *t = o->s->object_tree;
@@ -9501,12 +9250,10 @@ PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, u
 		for (i = 0; i < nd->u.count; ++i) pvs__sv_touch(o, items[i], (uint8_t)(flag | near));
 		return;
 	} else {
-		pvs_box c0 = *box, c1 = *box;
-		float sp = nd->u.split;
-		c0.max[axis] = sp < box->max[axis] ? (sp > box->min[axis] ? sp : box->min[axis]) : box->max[axis];
-		c1.min[axis] = sp > box->min[axis] ? (sp < box->max[axis] ? sp : box->max[axis]) : box->min[axis];
-		pvs__sv_emit(o, nd->bits >> 2, &c0, flag);
-		pvs__sv_emit(o, (nd->bits >> 2) + 1, &c1, flag);
+		pvs_box c[2];
+		pvs__sv_child_boxes(nd, box, c);
+		pvs__sv_emit(o, nd->bits >> 2, c, flag);
+		pvs__sv_emit(o, (nd->bits >> 2) + 1, c + 1, flag);
 	}
 }
 
@@ -9537,11 +9284,8 @@ PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
 			pvs__sv_emit(o, node, box, 2);
 		} else {
 			pvs_box c[2];
-			float sp = nd->u.split;
-			uint32_t first = o->eye[axis] < (double)sp ? 0u : 1u, ch = nd->bits >> 2, v0, v1;
-			c[0] = *box; c[1] = *box;
-			c[0].max[axis] = sp < box->max[axis] ? (sp > box->min[axis] ? sp : box->min[axis]) : box->max[axis];
-			c[1].min[axis] = sp > box->min[axis] ? (sp < box->max[axis] ? sp : box->max[axis]) : box->min[axis];
+			uint32_t first = o->eye[axis] < (double)nd->u.split ? 0u : 1u, ch = nd->bits >> 2, v0, v1;
+			pvs__sv_child_boxes(nd, box, c);
 			pvs__sv_walk(o, ch + first, c + first); /* front to back */
 			pvs__sv_walk(o, ch + (1u - first), c + (1u - first));
 			v0 = o->kd_vis[ch];
@@ -9553,26 +9297,35 @@ PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
 
 /* ---- context and per-frame API ---- */
 
+/* The context's buffers (pvs__buf), sized by its budgets. */
+PVS__STATIC int pvs__sv_bufs(pvs_otree *o, pvs__buf *b) {
+	int k = 0;
+	size_t no = (size_t)o->max_objects + 1, nk = (size_t)o->max_kd_nodes + 1;
+	PVS__BUF(b, k, o->nodes, o->node_budget, sizeof(pvs__svnode));
+	PVS__BUF(b, k, o->frags, o->frag_budget, sizeof(pvs__svfrag));
+	PVS__BUF(b, k, o->verts, o->vert_budget, sizeof(pvs__svvert));
+	PVS__BUF(b, k, o->stack, PVS__SV_STACK, sizeof(pvs__svpoly));
+	PVS__BUF(b, k, o->stack_node, PVS__SV_STACK, sizeof(uint32_t));
+	PVS__BUF(b, k, o->tstack, (size_t)o->node_budget + 2, sizeof(uint32_t));
+	PVS__BUF(b, k, o->sel, o->max_occluders, sizeof(pvs__svsel));
+	PVS__BUF(b, k, o->prev, o->max_occluders, sizeof(uint32_t));
+	PVS__BUF(b, k, o->sweep, o->sweep_size, 1);
+	PVS__BUF(b, k, o->tri_seen, PVS_BITSET_WORDS(o->max_triangles) + 1, sizeof(pvs_word));
+	PVS__BUF(b, k, o->obj_first, no, sizeof(uint32_t));
+	PVS__BUF(b, k, o->obj_tris, no, sizeof(uint32_t));
+	PVS__BUF(b, k, o->kd_vis, nk, 1);
+	PVS__BUF(b, k, o->kd_frame, nk, sizeof(uint32_t));
+	PVS__BUF(b, k, o->obj_flag, no, 1);
+	PVS__BUF(b, k, o->touched, no, sizeof(uint32_t));
+	return k;
+}
+
 PVS_API void pvs_otree_destroy(pvs_otree *o) {
 	pvs_allocator a;
+	pvs__buf b[16];
 	if (!o) return;
 	a = o->allocator;
-	pvs__free_array(&a, o->nodes, o->node_budget, sizeof(pvs__svnode));
-	pvs__free_array(&a, o->frags, o->frag_budget, sizeof(pvs__svfrag));
-	pvs__free_array(&a, o->verts, o->vert_budget, sizeof(pvs__svvert));
-	pvs__free_array(&a, o->stack, PVS__SV_STACK, sizeof(pvs__svpoly));
-	pvs__free_array(&a, o->stack_node, PVS__SV_STACK, sizeof(uint32_t));
-	pvs__free_array(&a, o->tstack, (size_t)o->node_budget + 2, sizeof(uint32_t));
-	pvs__free_array(&a, o->sel, o->max_occluders, sizeof(pvs__svsel));
-	pvs__free_array(&a, o->prev, o->max_occluders, sizeof(uint32_t));
-	pvs__free(&a, o->sweep, o->sweep_size, 16);
-	pvs__free_array(&a, o->tri_seen, PVS_BITSET_WORDS(o->max_triangles) + 1, sizeof(pvs_word));
-	pvs__free_array(&a, o->obj_first, (size_t)o->max_objects + 1, sizeof(uint32_t));
-	pvs__free_array(&a, o->obj_tris, (size_t)o->max_objects + 1, sizeof(uint32_t));
-	pvs__free_array(&a, o->kd_vis, (size_t)o->max_kd_nodes + 1, 1);
-	pvs__free_array(&a, o->kd_frame, (size_t)o->max_kd_nodes + 1, sizeof(uint32_t));
-	pvs__free_array(&a, o->obj_flag, (size_t)o->max_objects + 1, 1);
-	pvs__free_array(&a, o->touched, (size_t)o->max_objects + 1, sizeof(uint32_t));
+	pvs__bufs_free(&a, b, pvs__sv_bufs(o, b));
 	pvs__free(&a, o, sizeof(*o), 16);
 }
 
@@ -9613,28 +9366,13 @@ PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out,
 	o->max_triangles = s->triangle_count;
 	o->max_kd_nodes = s->object_tree->node_count;
 	o->sweep_size = pvs_kdtree_sweep_scratch_size(s->triangle_tree);
-	o->nodes = (pvs__svnode *)pvs__alloc_array(&a, o->node_budget, sizeof(pvs__svnode));
-	o->frags = (pvs__svfrag *)pvs__alloc_array(&a, o->frag_budget, sizeof(pvs__svfrag));
-	o->verts = (pvs__svvert *)pvs__alloc_array(&a, o->vert_budget, sizeof(pvs__svvert));
-	o->stack = (pvs__svpoly *)pvs__alloc_array(&a, PVS__SV_STACK, sizeof(pvs__svpoly));
-	o->stack_node = (uint32_t *)pvs__alloc_array(&a, PVS__SV_STACK, sizeof(uint32_t));
-	o->tstack = (uint32_t *)pvs__alloc_array(&a, (size_t)o->node_budget + 2, sizeof(uint32_t));
-	o->sel = (pvs__svsel *)pvs__alloc_array(&a, o->max_occluders, sizeof(pvs__svsel));
-	o->prev = (uint32_t *)pvs__alloc_array(&a, o->max_occluders, sizeof(uint32_t));
-	o->sweep = pvs__alloc(&a, o->sweep_size ? o->sweep_size : 16, 16);
-	o->tri_seen = (pvs_word *)pvs__alloc_array(&a, PVS_BITSET_WORDS(o->max_triangles) + 1, sizeof(pvs_word));
-	o->obj_first = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, sizeof(uint32_t));
-	o->obj_tris = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, sizeof(uint32_t));
-	o->kd_vis = (uint8_t *)pvs__alloc_array(&a, (size_t)o->max_kd_nodes + 1, 1);
-	o->kd_frame = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_kd_nodes + 1, sizeof(uint32_t));
-	o->obj_flag = (uint8_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, 1);
-	o->touched = (uint32_t *)pvs__alloc_array(&a, (size_t)o->max_objects + 1, sizeof(uint32_t));
 	if (!o->sweep_size) o->sweep_size = 16;
-	if (!o->nodes || !o->frags || !o->verts || !o->stack || !o->stack_node || !o->tstack || !o->sel || !o->prev ||
-		!o->sweep || !o->tri_seen || !o->obj_first || !o->obj_tris || !o->kd_vis || !o->kd_frame || !o->obj_flag ||
-		!o->touched) {
-		pvs_otree_destroy(o);
-		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree buffers");
+	{
+		pvs__buf b[16];
+		if (!pvs__bufs_alloc(&a, b, pvs__sv_bufs(o, b))) {
+			pvs_otree_destroy(o);
+			return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree buffers");
+		}
 	}
 	memset(o->obj_flag, 0, (size_t)o->max_objects + 1);
 	memset(o->kd_vis, 0, (size_t)o->max_kd_nodes + 1);
@@ -9733,7 +9471,7 @@ PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_param
    inserted nearest first (the approximate occlusion sweep, §3.2). Returns the polygons offered. */
 PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam,
 											 const pvs_cull_params *p) {
-	uint32_t i, k, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
+	uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
 	pvs_box src;
 	int j;
 	if (p->scene_volumes) kk = o->max_occluders;
@@ -9769,9 +9507,9 @@ PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, c
 	for (i = 0; i < o->sel_count; ++i) {
 		float q[4][3];
 		const float *pt[4];
-		double c[3] = {0, 0, 0};
+		double v[4][3], c[3], nrm[3];
 		int n = pvs__sv_points(s, o->sel[i].a, o->sel[i].b, q, pt);
-		for (j = 0; j < n; ++j) for (k = 0; k < 3; ++k) c[k] += ((double)pt[j][k] - o->eye[k]) / n;
+		pvs__sv_eye_points(o, pt, n, v, c, nrm);
 		o->sel[i].key = pvs__sv_dot(c, c);
 	}
 	pvs__heap_sort(o->sel, o->sel_count, sizeof(pvs__svsel), pvs__sv_before);
@@ -9964,21 +9702,15 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 			o[2] = 0.0f;
 		} /* never visible */
 	}
-	for (k = 0; k < nl; ++k) {
-		pvs_kdtree_desc kd;
-		uint32_t nk = ot->level_end[k];
-		pvs_box *boxes =
-			(pvs_box *)pvs__alloc_array(&ot->allocator, (size_t)nk + ot->object_count + 1, sizeof(pvs_box));
-		if (!boxes) goto done;
-		pvs_visibility_25d_boxes(ot->facades, nk, ot->objects, ot->object_count, boxes);
-		memset(&kd, 0, sizeof(kd));
-		kd.boxes = boxes;
-		kd.count = nk + ot->object_count;
-		kd.allocator = ot->allocator;
-		r = pvs_kdtree_create(&kd, &ot->tree[k], NULL);
-		pvs__free_array(&ot->allocator, boxes, (size_t)nk + ot->object_count + 1, sizeof(pvs_box));
+	for (k = 0; k < nl; ++k) { /* level k's tree, as pvs_visibility_25d would build it */
+		pvs_visibility_25d_desc d;
+		memset(&d, 0, sizeof(d));
+		d.facades = ot->facades;
+		d.facade_count = ot->level_end[k];
+		d.objects = ot->objects;
+		d.object_count = ot->object_count;
+		r = pvs__ot25_tree(&d, &ot->allocator, &ot->tree[k], NULL);
 		if (r != PVS_OK) goto done;
-		r = PVS_ERROR_OUT_OF_MEMORY;
 	}
 	r = PVS_OK;
 done:
