@@ -1167,7 +1167,8 @@ typedef struct pvs_bake_desc {
 	/* Shards (build farms), shard_count >= 2: bakes cells shard_index, shard_index + shard_count, ... into a
 	   part file; parts 0..shard_count-1 decoded and encoded whole (pvs_file_encode) give the unsharded file. */
 	uint32_t shard_index, shard_count;
-	uint32_t methods;         /* AUTO's candidates: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC, PORTAL */
+	uint32_t methods;         /* AUTO's candidates: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC and
+								 PORTAL */
 	float max_distance;       /* draw distance: drop objects whose box is farther from every cell point; 0: none */
 	uint32_t flags;           /* PVS_BAKE_* */
 	pvs_bake_sample_params sample;
@@ -15317,16 +15318,17 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 // >>portal
 /* ==== portal: rooms and portals from the scene's closed convex solids, conservative portal flow per cell ==== */
 /* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds its vis portals from brushes): the solids are the
-   scene's explicit BOX and CONVEX occluders and every connected closed convex mesh among its triangles (a component
-   of triangles sharing vertex indices, each directed edge matched by its reverse, every vertex behind every face
-   plane; at most PVS__PO_MAX_FACES triangles). A BSP whose splitting planes are the solids' face planes (q3map2's
-   BuildTree: a brush fragment is split by each plane it straddles) ends in leaves that lie wholly inside a solid or
-   wholly outside all of them: the solid leaves block, the empty ones are the rooms. Planes closer than the input's
-   float resolution are one plane (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS times the scene's size), so solids that
-   touch leave no crack. A portal is a face of an empty leaf where another empty leaf lies beyond: the face pushed
-   down the tree from the root, split by every plane it straddles (Teller 1992 §3.3's portal enumeration). A
-   segment between points of two rooms that meets no solid crosses the portals of the leaves it passes, in order.
-   Triangles that are not closed convex solids do not block here (other methods use them).
+   connected closed convex meshes among the scene's triangles (a component of triangles sharing vertex indices, each
+   directed edge matched by its reverse, every vertex behind every face plane; at most PVS__PO_MAX_FACES triangles).
+   Explicit occluder volumes are not solids: rays pass through them, and a cell may lie inside one. A BSP whose
+   splitting planes are the solids' face planes (q3map2's BuildTree: a brush fragment is split by each plane it
+   straddles) ends in leaves that lie wholly inside a solid or wholly outside all of them: the solid leaves block, the
+   empty ones are the rooms. Planes closer than the input's float resolution are one plane (PVS__PO_NORMAL_EPS,
+   PVS__PO_DIST_EPS times the scene's size), so solids that touch leave no crack. A portal is a face of an empty leaf
+   where another empty leaf lies beyond: the face pushed down the tree from the root, split by every plane it
+   straddles (Teller 1992 §3.3's portal enumeration). A segment between points of two rooms that meets no solid
+   crosses the portals of the leaves it passes, in order. Triangles that are not closed convex solids do not block
+   here (other methods use them); a cell point inside a solid sees the objects meeting that solid.
 
    Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3 indoors): a line from view cell C through
    portals P1 .. Pk meets each in order and beyond Pj stays behind every separating plane of C and its crossing
@@ -15339,11 +15341,11 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
    object-level test. A cell keeps every object of the empty leaves it overlaps. Past `budget` portal clips the cell
    keeps every object of every empty leaf reachable from its leaves (the conservative cut-off). */
 
-#define PVS__PO_MAXV 32u          /* vertices of a portal region (a larger hull: the whole portal) */
 #define PVS__PO_MAXW 64u          /* vertices of a clipped winding */
 #define PVS__PO_MAXS 64u          /* separating planes per region */
 #define PVS__PO_MAX_FACES 256u    /* triangles of a mesh taken as a convex solid */
 #define PVS__PO_DEPTH 200u        /* BSP depth (deeper: an empty leaf, conservative) */
+#define PVS__PO_SCRATCH (PVS__PO_MAX_FACES + PVS__PO_DEPTH + 8u) /* faces of a fragment: its solid's, one per split */
 #define PVS__PO_CANDIDATES 48u    /* splitting planes scored per node */
 #define PVS__PO_GROWS 6u          /* growths of a portal's region before it is the whole portal */
 #define PVS__PO_NORMAL_EPS 1e-6
@@ -15391,11 +15393,10 @@ typedef struct pvs__poprep {
 	/* tree */
 	pvs__po_node *nodes;
 	size_t node_count, node_cap;
-	uint8_t *leaf_solid;
-	pvs_box *leaf_box;
-	pvs__po_poly *leaf_poly;   /* empty leaves */
+	pvs__po_poly *leaf;        /* per leaf its polytope; no faces: a solid leaf */
 	size_t leaf_count, leaf_cap;
 	uint32_t root, solids, deep_leaves;
+	int lost;                  /* a polygon of more than PVS__PO_MAXW vertices: the method cannot bake this scene */
 	/* portals */
 	pvs__po_portal *portals;
 	size_t portal_count, portal_cap;
@@ -15419,14 +15420,19 @@ PVS__STATIC int pvs__po_plane_match(const double *a, const double n[3], double d
 		   fabs(a[2] - n[2]) < PVS__PO_NORMAL_EPS && fabs(a[3] - d) < de;
 }
 
-PVS__STATIC uint32_t pvs__po_hash_key(const pvs__poprep *p, double d) {
-	double k = floor(fabs(d) / (1e-3 * p->ext));
-	uint64_t u = (uint64_t)(k < 1e18 ? k : 1e18);
+/* The bucket of key, the plane's |d| in thousandths of the scene's size (rounded down). */
+PVS__STATIC uint32_t pvs__po_hash(const pvs__poprep *p, double key) {
+	uint64_t u = (uint64_t)(key < 1e18 ? key : 1e18);
 	return (uint32_t)((u * 0x9E3779B97F4A7C15ull) >> 40) & (p->hash_size - 1);
 }
 
+/* The dominant axis of n (the first of equal ones). */
+PVS__STATIC int pvs__po_axis(const double *n) {
+	return fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : (fabs(n[1]) >= fabs(n[2]) ? 1 : 2);
+}
+
 PVS__STATIC void pvs__po_hash_insert(pvs__poprep *p, uint32_t pair) {
-	uint32_t h = pvs__po_hash_key(p, p->pl[2 * pair][3]);
+	uint32_t h = pvs__po_hash(p, floor(fabs(p->pl[2 * pair][3]) / (1e-3 * p->ext)));
 	p->hash_next[pair] = p->hash_head[h];
 	p->hash_head[h] = pair;
 }
@@ -15440,12 +15446,8 @@ PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) 
 	int b;
 	for (b = -1; b <= 1; ++b) {
 		double key = floor(q) + b;
-		uint32_t h;
-		uint64_t u;
 		if (key < 0) continue;
-		u = (uint64_t)(key < 1e18 ? key : 1e18);
-		h = (uint32_t)((u * 0x9E3779B97F4A7C15ull) >> 40) & (p->hash_size - 1);
-		for (pair = p->hash_head[h]; pair != PVS__PO_NONE; pair = p->hash_next[pair]) {
+		for (pair = p->hash_head[pvs__po_hash(p, key)]; pair != PVS__PO_NONE; pair = p->hash_next[pair]) {
 			if (pvs__po_plane_match(p->pl[2 * pair], n, d, de)) return 2 * pair;
 			if (pvs__po_plane_match(p->pl[2 * pair + 1], n, d, de)) return 2 * pair + 1;
 		}
@@ -15454,7 +15456,7 @@ PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) 
 		!pvs__grow(&p->allocator, (void **)&p->hash_next, &p->hash_next_cap, p->plane_count / 2 + 1, sizeof(uint32_t)))
 		return PVS__PO_NONE;
 	/* the canonical orientation: the largest normal component positive */
-	a = fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : (fabs(n[1]) >= fabs(n[2]) ? 1 : 2);
+	a = (uint32_t)pvs__po_axis(n);
 	b = n[a] < 0.0;
 	for (k = 0; k < 3; ++k) nn[k] = b ? -n[k] : n[k];
 	pair = (uint32_t)(p->plane_count / 2);
@@ -15509,26 +15511,55 @@ PVS__STATIC void pvs__po_base(const double *pl, double big, pvs__po_wind *w) {
 	}
 }
 
+/* Appends x as vertex *n of w; 1 when w is full (x lost). */
+PVS__STATIC int pvs__po_put(pvs__po_wind *w, uint32_t *n, const double *x) {
+	if (*n == PVS__PO_MAXW) return 1;
+	memcpy(w->p[(*n)++], x, sizeof(w->p[0]));
+	return 0;
+}
+
 /* Splits w by plane pl: the part with dist <= eps into *back, >= -eps into *front (either may be NULL). Points
-   within eps of the plane go to both. */
-PVS__STATIC void pvs__po_split(const pvs__po_wind *w, const double *pl, double eps, pvs__po_wind *front,
+   within eps of the plane go to both. 1 when a part would have more than PVS__PO_MAXW vertices (it lost some). */
+PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double eps, pvs__po_wind *front,
 							   pvs__po_wind *back) {
 	double dist[PVS__PO_MAXW];
 	uint32_t i, nf = 0, nb = 0;
+	int lost = 0;
 	for (i = 0; i < w->n; ++i) dist[i] = pvs__po_dist(pl, w->p[i]);
 	for (i = 0; i < w->n; ++i) {
 		uint32_t j = (i + 1) % w->n, k;
-		if (dist[i] >= -eps && front && nf < PVS__PO_MAXW) memcpy(front->p[nf++], w->p[i], sizeof(w->p[i]));
-		if (dist[i] <= eps && back && nb < PVS__PO_MAXW) memcpy(back->p[nb++], w->p[i], sizeof(w->p[i]));
-		if ((dist[i] < -eps && dist[j] > eps) || (dist[i] > eps && dist[j] < -eps)) {
-			double t = dist[i] / (dist[i] - dist[j]), x[3];
+		int cross = (dist[i] < -eps && dist[j] > eps) || (dist[i] > eps && dist[j] < -eps);
+		double x[3];
+		if (cross) {
+			double t = dist[i] / (dist[i] - dist[j]);
 			for (k = 0; k < 3; ++k) x[k] = w->p[i][k] + t * (w->p[j][k] - w->p[i][k]);
-			if (front && nf < PVS__PO_MAXW) memcpy(front->p[nf++], x, sizeof(x));
-			if (back && nb < PVS__PO_MAXW) memcpy(back->p[nb++], x, sizeof(x));
 		}
+		if (front && dist[i] >= -eps) lost |= pvs__po_put(front, &nf, w->p[i]);
+		if (back && dist[i] <= eps) lost |= pvs__po_put(back, &nb, w->p[i]);
+		if (front && cross) lost |= pvs__po_put(front, &nf, x);
+		if (back && cross) lost |= pvs__po_put(back, &nb, x);
 	}
 	if (front) front->n = nf;
 	if (back) back->n = nb;
+	return lost;
+}
+
+/* w clipped to the part behind pl (within eps); 1 when vertices were lost (pvs__po_split). */
+PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps) {
+	pvs__po_wind t;
+	int lost = pvs__po_split(w, pl, eps, NULL, &t);
+	*w = t;
+	return lost;
+}
+
+/* The base square of table plane id clipped by planes[0..count) (those of pair `skip` left out); p->lost set when
+   vertices were lost. */
+PVS__STATIC void pvs__po_clip_base(pvs__poprep *p, uint32_t id, const uint32_t *planes, uint32_t count, uint32_t skip,
+								   pvs__po_wind *w) {
+	uint32_t j;
+	pvs__po_base(p->pl[id], 4.0 * p->ext, w);
+	for (j = 0; j < count && w->n >= 3; ++j)
+		if ((planes[j] >> 1) != skip) p->lost |= pvs__po_clip(w, p->pl[planes[j]], p->eps);
 }
 
 PVS__STATIC void pvs__po_poly_free(const pvs_allocator *a, pvs__po_poly *q) {
@@ -15559,6 +15590,18 @@ PVS__STATIC int pvs__po_poly_make(const pvs_allocator *a, pvs__po_poly *q, const
 	return 1;
 }
 
+/* The box of q's vertices, rounded outward to floats. */
+PVS__STATIC pvs_box pvs__po_poly_box(const pvs__po_poly *q) {
+	pvs_box b = pvs__box_empty();
+	uint32_t i, k;
+	for (i = 0; i < q->vert_count; ++i)
+		for (k = 0; k < 3; ++k) {
+			b.min[k] = pvs__f_down(pvs__dmin(q->v[i][k], b.min[k]));
+			b.max[k] = pvs__f_up(pvs__dmax(q->v[i][k], b.max[k]));
+		}
+	return b;
+}
+
 PVS__STATIC void pvs__po_face(const pvs__po_poly *q, uint32_t f, pvs__po_wind *w) {
 	w->n = q->first[f + 1] - q->first[f];
 	memcpy(w->p, q->v[q->first[f]], w->n * sizeof(w->p[0]));
@@ -15568,17 +15611,11 @@ PVS__STATIC void pvs__po_face(const pvs__po_poly *q, uint32_t f, pvs__po_wind *w
    away are dropped; fewer than 4 left: an empty *q (face_count 0). 0 when out of memory. */
 PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes, uint32_t count, pvs__po_poly *q,
 										 pvs__po_wind *scratch, uint32_t *kept) {
-	uint32_t i, j, faces = 0;
+	uint32_t i, faces = 0;
 	memset(q, 0, sizeof(*q));
 	for (i = 0; i < count; ++i) {
-		pvs__po_wind *w = scratch + faces, t;
-		pvs__po_base(p->pl[planes[i]], 4.0 * p->ext, w);
-		for (j = 0; j < count && w->n >= 3; ++j)
-			if (j != i && (planes[j] >> 1) != (planes[i] >> 1)) {
-				pvs__po_split(w, p->pl[planes[j]], p->eps, NULL, &t);
-				*w = t;
-			}
-		if (w->n >= 3) kept[faces++] = planes[i];
+		pvs__po_clip_base(p, planes[i], planes, count, planes[i] >> 1, scratch + faces);
+		if (scratch[faces].n >= 3) kept[faces++] = planes[i];
 	}
 	if (faces < 4) return 1;
 	return pvs__po_poly_make(&p->allocator, q, kept, scratch, faces);
@@ -15612,18 +15649,14 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 		n = 0;
 		for (f = 0; f < q->face_count; ++f) {
 			pvs__po_face(q, f, &w);
-			pvs__po_split(&w, pl, p->eps, &a, &b);
+			p->lost |= pvs__po_split(&w, pl, p->eps, &a, &b);
 			if ((side == 0 ? a.n : b.n) >= 3) {
 				scratch[n] = side == 0 ? a : b;
 				planes[n++] = q->plane[f];
 			}
 		}
 		/* the cap, outward: -n for the front part, +n for the back part */
-		pvs__po_base(pl, 4.0 * p->ext, &w);
-		for (f = 0; f < q->face_count && w.n >= 3; ++f) {
-			pvs__po_split(&w, p->pl[q->plane[f]], p->eps, NULL, &b);
-			w = b;
-		}
+		pvs__po_clip_base(p, id, q->plane, q->face_count, PVS__PO_NONE, &w);
 		if (w.n >= 3) {
 			uint32_t i;
 			scratch[n] = w;
@@ -15795,7 +15828,7 @@ done:
 
 typedef struct pvs__po_build {
 	pvs__poprep *p;
-	pvs__po_wind *scratch;     /* PVS__PO_MAX_FACES + PVS_MAX_OCCLUDER_PLANES + 8 */
+	pvs__po_wind *scratch;     /* PVS__PO_SCRATCH windings */
 	uint32_t *planes;
 	int oom;
 } pvs__po_build;
@@ -15803,32 +15836,15 @@ typedef struct pvs__po_build {
 /* A new leaf; takes region (kept when empty). */
 PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *region) {
 	pvs__poprep *p = b->p;
-	size_t c = p->leaf_cap;
-	uint32_t id = (uint32_t)p->leaf_count, i, k;
-	if (!pvs__grow(&p->allocator, (void **)&p->leaf_solid, &c, p->leaf_count + 1, 1) ||
-		(c = p->leaf_cap, !pvs__grow(&p->allocator, (void **)&p->leaf_box, &c, p->leaf_count + 1, sizeof(pvs_box))) ||
-		(c = p->leaf_cap, !pvs__grow(&p->allocator, (void **)&p->leaf_poly, &c, p->leaf_count + 1, sizeof(pvs__po_poly)))) {
+	uint32_t id = (uint32_t)p->leaf_count;
+	if (!pvs__grow(&p->allocator, (void **)&p->leaf, &p->leaf_cap, p->leaf_count + 1, sizeof(pvs__po_poly))) {
 		b->oom = 1;
 		pvs__po_poly_free(&p->allocator, region);
 		return PVS__PO_LEAF;
 	}
-	p->leaf_cap = c;
-	p->leaf_solid[id] = (uint8_t)(solid || region->face_count == 0);
-	memset(p->leaf_poly + id, 0, sizeof(pvs__po_poly));
-	for (k = 0; k < 3; ++k) {
-		p->leaf_box[id].min[k] = FLT_MAX;
-		p->leaf_box[id].max[k] = -FLT_MAX;
-	}
-	if (!p->leaf_solid[id]) {
-		p->leaf_poly[id] = *region;
-		for (i = 0; i < region->vert_count; ++i)
-			for (k = 0; k < 3; ++k) { /* rounded outward */
-				float lo = (float)region->v[i][k], hi = lo;
-				if ((double)lo > region->v[i][k]) lo = nextafterf(lo, -FLT_MAX);
-				if ((double)hi < region->v[i][k]) hi = nextafterf(hi, FLT_MAX);
-				p->leaf_box[id].min[k] = lo < p->leaf_box[id].min[k] ? lo : p->leaf_box[id].min[k];
-				p->leaf_box[id].max[k] = hi > p->leaf_box[id].max[k] ? hi : p->leaf_box[id].max[k];
-			}
+	memset(p->leaf + id, 0, sizeof(pvs__po_poly));
+	if (!solid && region->face_count) {
+		p->leaf[id] = *region;
 		++p->empty_leaves;
 	} else {
 		pvs__po_poly_free(&p->allocator, region);
@@ -15917,7 +15933,7 @@ PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint3
 	}
 	pvs__free_array(al, f, n, sizeof(pvs__po_poly));
 	pvs__po_poly_free(al, region);
-	if (!pvs__grow(&p->allocator, (void **)&p->nodes, &p->node_cap, p->node_count + 1, sizeof(pvs__po_node))) b->oom = 1;
+	if (!pvs__grow(al, (void **)&p->nodes, &p->node_cap, p->node_count + 1, sizeof(pvs__po_node))) b->oom = 1;
 	id = b->oom ? PVS__PO_NONE : (uint32_t)p->node_count++;
 	p->on_path[pair] = 1;
 	for (i = 0; i < 2; ++i) child[i] = pvs__po_build_node(b, part[i], count[i], &rpart[i], depth + 1);
@@ -15937,11 +15953,13 @@ leaf:
 /* ---- portals and objects per leaf ---- */
 
 /* Adds the portal w from leaf `from` into leaf `to`. */
-PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to, uint32_t plane, const pvs__po_wind *w) {
+PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to, uint32_t plane,
+									const pvs__po_wind *w) {
 	pvs__poprep *p = b->p;
+	const pvs_allocator *al = &p->allocator;
 	pvs__po_portal *q;
-	if (!pvs__grow(&p->allocator, (void **)&p->portals, &p->portal_cap, p->portal_count + 1, sizeof(pvs__po_portal)) ||
-		!pvs__grow(&p->allocator, (void **)&p->portal_v, &p->portal_v_cap, p->portal_v_count + w->n, sizeof(p->portal_v[0]))) {
+	if (!pvs__grow(al, (void **)&p->portals, &p->portal_cap, p->portal_count + 1, sizeof(pvs__po_portal)) ||
+		!pvs__grow(al, (void **)&p->portal_v, &p->portal_v_cap, p->portal_v_count + w->n, sizeof(p->portal_v[0]))) {
 		b->oom = 1;
 		return;
 	}
@@ -15959,7 +15977,7 @@ PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to
    that a part of it reaches (Teller 1992 §3.3). Straddled planes split it; a coplanar node sends it to the side its
    normal points to; a face within eps of a node plane of another pair goes both ways. */
 PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t plane, uint32_t node, uint32_t from) {
-	const pvs__poprep *p = b->p;
+	pvs__poprep *p = b->p;
 	while (!(node & PVS__PO_LEAF)) {
 		const pvs__po_node *nd = p->nodes + node;
 		double lo = 0.0, hi = 0.0;
@@ -15981,7 +15999,7 @@ PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t 
 				b->oom = 1;
 				return;
 			}
-			if (hi > p->eps) pvs__po_split(w, p->pl[nd->plane], p->eps, parts, parts + 1);
+			if (hi > p->eps) p->lost |= pvs__po_split(w, p->pl[nd->plane], p->eps, parts, parts + 1);
 			else parts[0] = parts[1] = *w; /* within eps of the plane: both ways */
 			for (i = 0; i < 2; ++i)
 				if (parts[i].n >= 3) pvs__po_push(b, parts + i, plane, nd->child[i], from);
@@ -15990,37 +16008,47 @@ PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t 
 		}
 	}
 	node &= ~PVS__PO_LEAF;
-	if (!p->leaf_solid[node] && node != from) pvs__po_add_portal(b, from, node, plane, w);
+	if (p->leaf[node].face_count && node != from) pvs__po_add_portal(b, from, node, plane, w);
 }
 
-/* Leaves a box meets (within eps), pushed down from `node`, into out (grown); the box of object `o`. */
-PVS__STATIC void pvs__po_box_leaves(pvs__po_build *b, const pvs_box *box, uint32_t node, uint32_t o) {
-	pvs__poprep *p = b->p;
+/* Calls leaf(ctx, l) for every empty leaf l that box b meets (within eps), b pushed down from `node`. */
+PVS__STATIC void pvs__po_box_down(const pvs__poprep *p, const pvs_box *b, uint32_t node,
+								  void (*leaf)(void *ctx, uint32_t l), void *ctx) {
 	while (!(node & PVS__PO_LEAF)) {
 		const pvs__po_node *nd = p->nodes + node;
 		const double *pl = p->pl[nd->plane];
 		double c = 0.0, r = 0.0;
 		uint32_t k;
 		for (k = 0; k < 3; ++k) {
-			c += pl[k] * 0.5 * ((double)box->min[k] + box->max[k]);
-			r += fabs(pl[k]) * 0.5 * ((double)box->max[k] - box->min[k]);
+			c += pl[k] * 0.5 * ((double)b->min[k] + b->max[k]);
+			r += fabs(pl[k]) * 0.5 * ((double)b->max[k] - b->min[k]);
 		}
 		c -= pl[3];
 		if (c - r > p->eps) node = nd->child[0];
 		else if (c + r < -p->eps) node = nd->child[1];
 		else {
-			pvs__po_box_leaves(b, box, nd->child[0], o);
+			pvs__po_box_down(p, b, nd->child[0], leaf, ctx);
 			node = nd->child[1];
 		}
 	}
-	node &= ~PVS__PO_LEAF;
-	if (p->leaf_solid[node]) return;
+	if (p->leaf[node & ~PVS__PO_LEAF].face_count) leaf(ctx, node & ~PVS__PO_LEAF);
+}
+
+typedef struct pvs__po_object {
+	pvs__po_build *b;
+	uint32_t o;
+} pvs__po_object;
+
+/* pvs__po_box_down's visitor: object o lies in leaf l (a pair appended to p->lo). */
+PVS__STATIC void pvs__po_object_leaf(void *ctx, uint32_t l) {
+	const pvs__po_object *x = (const pvs__po_object *)ctx;
+	pvs__poprep *p = x->b->p;
 	if (!pvs__grow(&p->allocator, (void **)&p->lo, &p->lo_cap, 2 * (p->lo_count + 1), sizeof(uint32_t))) {
-		b->oom = 1;
+		x->b->oom = 1;
 		return;
 	}
-	p->lo[2 * p->lo_count] = node;
-	p->lo[2 * p->lo_count + 1] = o;
+	p->lo[2 * p->lo_count] = l;
+	p->lo[2 * p->lo_count + 1] = x->o;
 	++p->lo_count;
 }
 
@@ -16042,8 +16070,8 @@ PVS__STATIC int pvs__po_csr(const pvs_allocator *a, const uint32_t *pairs, size_
 
 /* ---- portal flow ---- */
 
-/* A portal's region seen from the cell and the planes bounding the lines from the cell through it (n, d: kept where
-   n.x + d <= tol). */
+/* A portal's region seen from the cell and the planes bounding the lines from the cell through it (as the table's:
+   kept where pvs__po_dist <= tol). */
 typedef struct pvs__po_win {
 	uint32_t nv, np;
 	double v[PVS__PO_MAXW][3];
@@ -16065,6 +16093,7 @@ typedef struct pvs__po_flow {
 	pvs__po_region *reg;
 	size_t reg_count, reg_cap;
 	uint32_t *queue;           /* a ring of portal_count */
+	uint32_t head, tail, size;
 	uint8_t *queued;           /* per portal */
 	uint8_t *start;            /* per leaf: the cell overlaps it (2: reached by the cut-off's flood) */
 	uint32_t *leaves;          /* start leaves, then the flood's */
@@ -16073,19 +16102,19 @@ typedef struct pvs__po_flow {
 	int cut, oom;
 } pvs__po_flow;
 
-/* Adds plane (n, d) to w unless w has it (normalised); dropped when w is full (fewer planes: more lines). */
+/* Adds plane n.x + d <= 0 to w unless w has it (normalised); dropped when w is full (fewer planes: more lines). */
 PVS__STATIC void pvs__po_add_plane(pvs__po_win *w, const double n[3], double d) {
 	double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 	uint32_t i;
 	if (!(len > 0.0) || w->np >= PVS__PO_MAXS) return;
 	for (i = 0; i < w->np; ++i)
 		if (fabs(w->pl[i][0] - n[0] / len) < 1e-12 && fabs(w->pl[i][1] - n[1] / len) < 1e-12 &&
-			fabs(w->pl[i][2] - n[2] / len) < 1e-12 && fabs(w->pl[i][3] - d / len) < 1e-9)
+			fabs(w->pl[i][2] - n[2] / len) < 1e-12 && fabs(-w->pl[i][3] - d / len) < 1e-9)
 			return;
 	w->pl[w->np][0] = n[0] / len;
 	w->pl[w->np][1] = n[1] / len;
 	w->pl[w->np][2] = n[2] / len;
-	w->pl[w->np][3] = d / len;
+	w->pl[w->np][3] = -(d / len);
 	++w->np;
 }
 
@@ -16150,15 +16179,11 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const double (*c)[3], dou
 		hi = s > hi ? s : hi;
 	}
 	if (!(lo >= near || hi <= -near)) return;
-	if (lo >= near) {
-		pvs__po_add_plane(w, n, d);
-	} else {
-		double m[3];
-		m[0] = -n[0];
-		m[1] = -n[1];
-		m[2] = -n[2];
-		pvs__po_add_plane(w, m, -d);
+	if (hi <= -near) { /* the cell behind: keep the front */
+		for (k = 0; k < 3; ++k) n[k] = -n[k];
+		d = -d;
 	}
+	pvs__po_add_plane(w, n, d);
 	for (i = 0; i < w->nv; ++i) {
 		const double *a = w->v[i], *b = w->v[(i + 1) % w->nv];
 		for (j = 0; j < 8; ++j) pvs__po_try_plane(w, a, b, c[j], c, 8, (const double(*)[3])w->v, w->nv, eps);
@@ -16175,7 +16200,7 @@ PVS__STATIC int pvs__po_box_passes(const pvs__po_win *w, const pvs_box *b, doubl
 		const double *pl = w->pl[i];
 		double x[3];
 		for (k = 0; k < 3; ++k) x[k] = pl[k] > 0.0 ? b->min[k] : b->max[k]; /* the corner lowest along pl */
-		if (pl[0] * x[0] + pl[1] * x[1] + pl[2] * x[2] + pl[3] > tol) return 0;
+		if (pvs__po_dist(pl, x) > tol) return 0;
 	}
 	return 1;
 }
@@ -16266,30 +16291,12 @@ PVS__STATIC int pvs__po_hull(pvs__po_region *r, const pvs__po_wind *w, int a) {
 	return 1;
 }
 
-/* The empty leaves box b meets into f->leaves, marked 1 in f->start. */
-PVS__STATIC void pvs__po_start_leaves(pvs__po_flow *f, const pvs_box *b, uint32_t node) {
-	const pvs__poprep *p = f->p;
-	while (!(node & PVS__PO_LEAF)) {
-		const pvs__po_node *nd = p->nodes + node;
-		const double *pl = p->pl[nd->plane];
-		double c = 0.0, r = 0.0;
-		uint32_t k;
-		for (k = 0; k < 3; ++k) {
-			c += pl[k] * 0.5 * ((double)b->min[k] + b->max[k]);
-			r += fabs(pl[k]) * 0.5 * ((double)b->max[k] - b->min[k]);
-		}
-		c -= pl[3];
-		if (c - r > p->eps) node = nd->child[0];
-		else if (c + r < -p->eps) node = nd->child[1];
-		else {
-			pvs__po_start_leaves(f, b, nd->child[0]);
-			node = nd->child[1];
-		}
-	}
-	node &= ~PVS__PO_LEAF;
-	if (p->leaf_solid[node] || f->start[node]) return;
-	f->start[node] = 1;
-	f->leaves[f->leaf_count++] = node;
+/* pvs__po_box_down's visitor: the cell's box meets leaf l (appended to f->leaves once, marked 1 in f->start). */
+PVS__STATIC void pvs__po_start_leaf(void *ctx, uint32_t l) {
+	pvs__po_flow *f = (pvs__po_flow *)ctx;
+	if (f->start[l]) return;
+	f->start[l] = 1;
+	f->leaves[f->leaf_count++] = l;
 }
 
 /* Merges region w (of portal q) into q's region; 1 when it grew (q must be queued). */
@@ -16297,7 +16304,7 @@ PVS__STATIC int pvs__po_merge(pvs__po_flow *f, uint32_t q, const pvs__po_wind *w
 	const pvs__poprep *p = f->p;
 	const pvs__po_portal *pt = p->portals + q;
 	const double *pl = p->pl[pt->plane];
-	int a = fabs(pl[0]) >= fabs(pl[1]) && fabs(pl[0]) >= fabs(pl[2]) ? 0 : (fabs(pl[1]) >= fabs(pl[2]) ? 1 : 2);
+	int a = pvs__po_axis(pl);
 	pvs__po_region *r;
 	if (f->slot[q] == PVS__PO_NONE) {
 		if (!pvs__grow(&p->allocator, (void **)&f->reg, &f->reg_cap, f->reg_count + 1, sizeof(pvs__po_region))) {
@@ -16321,12 +16328,22 @@ PVS__STATIC int pvs__po_merge(pvs__po_flow *f, uint32_t q, const pvs__po_wind *w
 	return 1;
 }
 
+/* Merges region w into portal q's; queues q when it grew. */
+PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t q, const pvs__po_wind *w) {
+	if (pvs__po_merge(f, q, w) && !f->queued[q]) {
+		f->queued[q] = 1;
+		f->queue[f->tail] = q;
+		f->tail = f->tail + 1 == f->p->portal_count ? 0 : f->tail + 1;
+		++f->size;
+	}
+}
+
 /* The flow from the start leaves (Teller 1992 §5 as a monotone fixed point, see the module comment). */
 PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	const pvs__poprep *p = f->p;
-	uint32_t head = 0, tail = 0, size = 0, n = (uint32_t)p->portal_count, i, j;
+	uint32_t i, j;
 	pvs__po_win win;
-	pvs__po_wind w, t;
+	pvs__po_wind w;
 	for (i = 0; i < f->leaf_count; ++i) {
 		uint32_t leaf = f->leaves[i];
 		pvs__po_keep(f, leaf, NULL);
@@ -16336,21 +16353,16 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 			if (f->start[pt->to]) continue;
 			w.n = pt->n;
 			memcpy(w.p, p->portal_v[pt->first], pt->n * sizeof(w.p[0]));
-			if (pvs__po_merge(f, q, &w) && !f->queued[q]) {
-				f->queued[q] = 1;
-				f->queue[tail] = q;
-				tail = tail + 1 == n ? 0 : tail + 1;
-				++size;
-			}
+			pvs__po_offer(f, q, &w);
 		}
 	}
-	while (size && !f->cut && !f->oom) {
-		uint32_t q = f->queue[head];
+	while (f->size && !f->cut && !f->oom) {
+		uint32_t q = f->queue[f->head];
 		const pvs__po_portal *pt = p->portals + q;
 		const pvs__po_region *r = f->reg + f->slot[q];
 		f->queued[q] = 0;
-		head = head + 1 == n ? 0 : head + 1;
-		--size;
+		f->head = f->head + 1 == p->portal_count ? 0 : f->head + 1;
+		--f->size;
 		win.nv = r->n;
 		memcpy(win.v, r->v, r->n * sizeof(r->v[0]));
 		pvs__po_window_planes(&win, (const double(*)[3])f->c, 1e-4 * p->tol, 10.0 * p->tol);
@@ -16365,22 +16377,8 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 			}
 			w.n = p2->n;
 			memcpy(w.p, p->portal_v[p2->first], p2->n * sizeof(w.p[0]));
-			for (k = 0; k < win.np && w.n >= 3; ++k) { /* keep n.x + d <= tol */
-				double pl[4];
-				pl[0] = win.pl[k][0];
-				pl[1] = win.pl[k][1];
-				pl[2] = win.pl[k][2];
-				pl[3] = -win.pl[k][3];
-				pvs__po_split(&w, pl, p->tol, NULL, &t);
-				w = t;
-			}
-			if (w.n < 3) continue;
-			if (pvs__po_merge(f, q2, &w) && !f->queued[q2]) {
-				f->queued[q2] = 1;
-				f->queue[tail] = q2;
-				tail = tail + 1 == n ? 0 : tail + 1;
-				++size;
-			}
+			for (k = 0; k < win.np && w.n >= 3; ++k) f->cut |= pvs__po_clip(&w, win.pl[k], p->tol);
+			if (w.n >= 3) pvs__po_offer(f, q2, &w);
 		}
 	}
 }
@@ -16414,10 +16412,8 @@ PVS__STATIC void pvs__po_destroy(pvs__poprep *p) {
 	pvs__free_array(a, p->on_path, p->flag_cap, 1);
 	pvs__free_array(a, p->stamp, p->flag_cap, sizeof(uint32_t));
 	pvs__free_array(a, p->nodes, p->node_cap, sizeof(pvs__po_node));
-	for (i = 0; i < p->leaf_count; ++i) pvs__po_poly_free(a, p->leaf_poly + i);
-	pvs__free_array(a, p->leaf_solid, p->leaf_cap, 1);
-	pvs__free_array(a, p->leaf_box, p->leaf_cap, sizeof(pvs_box));
-	pvs__free_array(a, p->leaf_poly, p->leaf_cap, sizeof(pvs__po_poly));
+	for (i = 0; i < p->leaf_count; ++i) pvs__po_poly_free(a, p->leaf + i);
+	pvs__free_array(a, p->leaf, p->leaf_cap, sizeof(pvs__po_poly));
 	pvs__free_array(a, p->portals, p->portal_cap, sizeof(pvs__po_portal));
 	pvs__free_array(a, p->portal_v, p->portal_v_cap, sizeof(p->portal_v[0]));
 	pvs__free_array(a, p->lp_first, p->leaf_count + 1, sizeof(uint32_t));
@@ -16434,26 +16430,14 @@ PVS__STATIC void pvs__po_destroy(pvs__poprep *p) {
 /* The solids' boxes (rounded outward) and per solid the drawable objects whose box meets it. 0 when out of memory. */
 PVS__STATIC int pvs__po_solid_objects(pvs__poprep *p, const pvs_scene *s, const pvs__po_poly *frags) {
 	const pvs_allocator *al = &p->allocator;
-	uint32_t i, o, k, *pairs = NULL;
+	uint32_t i, o, *pairs = NULL;
 	size_t cap = 0;
 	int ok;
 	p->solid_box = (pvs_box *)pvs__alloc_array(al, (size_t)p->solids + 1, sizeof(pvs_box));
 	if (!p->solid_box) return 0;
 	for (i = 0; i < p->solids; ++i) {
-		pvs_box *b = p->solid_box + i;
-		for (k = 0; k < 3; ++k) {
-			b->min[k] = FLT_MAX;
-			b->max[k] = -FLT_MAX;
-		}
-		for (o = 0; o < frags[i].vert_count; ++o)
-			for (k = 0; k < 3; ++k) {
-				double x = frags[i].v[o][k];
-				float lo = (float)x, hi = lo;
-				if ((double)lo > x) lo = nextafterf(lo, -FLT_MAX);
-				if ((double)hi < x) hi = nextafterf(hi, FLT_MAX);
-				b->min[k] = lo < b->min[k] ? lo : b->min[k];
-				b->max[k] = hi > b->max[k] ? hi : b->max[k];
-			}
+		const pvs_box *b = p->solid_box + i;
+		p->solid_box[i] = pvs__po_poly_box(frags + i);
 		for (o = 0; o < s->object_count; ++o) {
 			const pvs_box *ob = s->object_boxes + o;
 			if ((s->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY) || !pvs__box_valid(ob) ||
@@ -16484,6 +16468,7 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	const pvs_scene *s = env->scene;
 	const pvs_allocator *al = &p->allocator;
 	pvs__po_build b;
+	pvs__po_object ob;
 	pvs__po_poly *frags = NULL, root;
 	size_t cap = 0, count = 0, i;
 	uint32_t k, bound[6], *pairs = NULL, *kept;
@@ -16491,12 +16476,12 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	int ok = 0;
 	memset(&b, 0, sizeof(b));
 	b.p = p;
-	b.scratch = (pvs__po_wind *)pvs__alloc_array(al, PVS__PO_MAX_FACES + PVS_MAX_OCCLUDER_PLANES + 8, sizeof(pvs__po_wind));
-	b.planes = (uint32_t *)pvs__alloc_array(al, 2 * (PVS__PO_MAX_FACES + PVS_MAX_OCCLUDER_PLANES + 8), sizeof(uint32_t));
+	b.scratch = (pvs__po_wind *)pvs__alloc_array(al, PVS__PO_SCRATCH, sizeof(pvs__po_wind));
+	b.planes = (uint32_t *)pvs__alloc_array(al, 2 * PVS__PO_SCRATCH, sizeof(uint32_t));
 	p->hash_size = 1024;
 	p->hash_head = (uint32_t *)pvs__alloc_array(al, p->hash_size, sizeof(uint32_t));
 	if (!b.scratch || !b.planes || !p->hash_head) goto done;
-	kept = b.planes + PVS__PO_MAX_FACES + PVS_MAX_OCCLUDER_PLANES + 8;
+	kept = b.planes + PVS__PO_SCRATCH;
 	for (k = 0; k < p->hash_size; ++k) p->hash_head[k] = PVS__PO_NONE;
 	for (i = 0; i < env->cell_count; ++i) pvs__box_add_box(&box, env->cells + i);
 	for (k = 0; k < 3; ++k) p->ext = pvs__dmax(p->ext, (double)box.max[k] - box.min[k]);
@@ -16506,7 +16491,7 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	for (k = 0; k < 6; ++k) { /* the root box, a hundredth of the size beyond scene and cells */
 		double n[3] = {0, 0, 0};
 		n[k % 3] = k < 3 ? -1.0 : 1.0;
-		bound[k] = pvs__po_plane(p, n, k < 3 ? -((double)box.min[k] - 0.01 * p->ext) : (double)box.max[k % 3] + 0.01 * p->ext);
+		bound[k] = pvs__po_plane(p, n, k < 3 ? 0.01 * p->ext - box.min[k] : box.max[k - 3] + 0.01 * p->ext);
 		if (bound[k] == PVS__PO_NONE) goto done;
 	}
 	p->bound_pairs = (uint32_t)(p->plane_count / 2);
@@ -16524,7 +16509,7 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	frags = NULL;
 	if (b.oom) goto done;
 	for (i = 0; i < p->leaf_count && !b.oom; ++i) {
-		const pvs__po_poly *q = p->leaf_poly + i;
+		const pvs__po_poly *q = p->leaf + i;
 		for (k = 0; k < q->face_count && !b.oom; ++k) {
 			pvs__po_wind w;
 			if ((q->plane[k] >> 1) < p->bound_pairs) continue;
@@ -16539,9 +16524,9 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 		pairs[2 * i + 1] = (uint32_t)i;
 	}
 	if (!pvs__po_csr(al, pairs, p->portal_count, (uint32_t)p->leaf_count, &p->lp_first, &p->lp)) goto done;
-	for (k = 0; k < s->object_count && !b.oom; ++k)
-		if (!(s->object_flags[k] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + k))
-			pvs__po_box_leaves(&b, s->object_boxes + k, p->root, k);
+	for (ob.b = &b, ob.o = 0; ob.o < s->object_count && !b.oom; ++ob.o)
+		if (!(s->object_flags[ob.o] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + ob.o))
+			pvs__po_box_down(p, s->object_boxes + ob.o, p->root, pvs__po_object_leaf, &ob);
 	if (b.oom) goto done;
 	{
 		uint32_t *first = NULL, *values = NULL;
@@ -16557,8 +16542,8 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	ok = 1;
 done:
 	pvs__free_array(al, pairs, 2 * p->portal_count + 2, sizeof(uint32_t));
-	pvs__free_array(al, b.scratch, PVS__PO_MAX_FACES + PVS_MAX_OCCLUDER_PLANES + 8, sizeof(pvs__po_wind));
-	pvs__free_array(al, b.planes, 2 * (PVS__PO_MAX_FACES + PVS_MAX_OCCLUDER_PLANES + 8), sizeof(uint32_t));
+	pvs__free_array(al, b.scratch, PVS__PO_SCRATCH, sizeof(pvs__po_wind));
+	pvs__free_array(al, b.planes, 2 * PVS__PO_SCRATCH, sizeof(uint32_t));
 	for (i = 0; i < count && frags; ++i) pvs__po_poly_free(al, frags + i);
 	pvs__free_array(al, frags, cap, sizeof(pvs__po_poly));
 	return ok ? PVS_OK : PVS_ERROR_OUT_OF_MEMORY;
@@ -16576,6 +16561,9 @@ PVS__STATIC pvs_result pvs__portal_bake_prepare(pvs__bake_env *env, const pvs_ba
 	p->task_cut = (uint32_t *)pvs__alloc_array(&p->allocator, p->task_count + 1, sizeof(uint32_t));
 	if (!p->task_cut || pvs__po_prepare(p, env) != PVS_OK)
 		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "portal: rooms and portals");
+	if (p->lost)
+		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "portal: a room or portal polygon has more than %u vertices",
+						 PVS__PO_MAXW);
 	memset(p->task_cut, 0, (p->task_count + 1) * sizeof(uint32_t));
 	return PVS_OK;
 }
@@ -16583,7 +16571,7 @@ PVS__STATIC pvs_result pvs__portal_bake_prepare(pvs__bake_env *env, const pvs_ba
 PVS__STATIC int pvs__portal_bake_applies(const void *state, const char **why) {
 	const pvs__poprep *p = (const pvs__poprep *)state;
 	if (!p || p->solids == 0 || p->portal_count == 0) {
-		*why = "no closed convex solids (explicit occluders or closed convex meshes) split the empty space";
+		*why = "no closed convex meshes split the empty space";
 		return 0;
 	}
 	*why = "rooms and portals from the closed convex solids";
@@ -16616,7 +16604,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	f.start = f.queued + np;
 	for (i = 0; i < np; ++i) f.slot[i] = PVS__PO_NONE;
 	memset(f.queued, 0, np + nl);
-	pvs__po_start_leaves(&f, box, p->root);
+	pvs__po_box_down(p, box, p->root, pvs__po_start_leaf, &f);
 	for (k = 0; k < p->solids; ++k) /* points of the cell inside a solid */
 		if (pvs__box_overlap(box, p->solid_box + k))
 			for (i = p->so_first[k]; i < p->so_first[k + 1]; ++i) {
@@ -21681,6 +21669,9 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 			}
 			b->reason[b->considered_count++] = why;
 		}
+	if (!b->run_count && b->considered_count == 1)
+		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "auto: %s: %s", pvs_method_name(b->considered[0]->method),
+						 b->reason[0]);
 	if (!b->run_count)
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
 						 "auto: no conservative method can cull anything in this scene");

@@ -192,10 +192,53 @@ static void tp_generators(void) {
         }
 }
 
+/* A solid face of more than 64 vertices (a cone on a 65-gon) cannot be bounded: the method says so (UNSUPPORTED,
+   naming why) instead of losing vertices. */
+static void tp_many_vertices(void) {
+    static float pos[3 * 67];
+    static uint32_t idx[3 * 130];
+    uint32_t vc = 0, tc = 0, i, n = 65;
+    pvs_object_desc obj = {0, 128, 0};
+    pvs_box cell = {{-5, 3, -5}, {-4, 4, -4}};
+    pvs_bake_desc bd;
+    pvs_bake *b = NULL;
+    pvs_error err;
+    pvs_scene *s;
+    for (i = 0; i < n; ++i) { /* the base ring, then the apex */
+        pos[3 * vc] = 2.0f * (float)cos(6.283185307 * i / n);
+        pos[3 * vc + 1] = 0.0f;
+        pos[3 * vc + 2] = 2.0f * (float)sin(6.283185307 * i / n);
+        ++vc;
+    }
+    pos[3 * vc + 1] = 2.0f;
+    ++vc;
+    for (i = 0; i < n; ++i) { /* sides, outward */
+        idx[3 * tc] = i;
+        idx[3 * tc + 1] = n;
+        idx[3 * tc + 2] = (i + 1) % n;
+        ++tc;
+    }
+    for (i = 1; i + 1 < n; ++i) { /* the base, a fan facing down */
+        idx[3 * tc] = 0;
+        idx[3 * tc + 1] = i;
+        idx[3 * tc + 2] = i + 1;
+        ++tc;
+    }
+    s = test_scene_arrays(pos, vc, idx, tc, &obj, 1, 1);
+    CHECK(s != NULL && tc == 128);
+    if (!s) return;
+    test_bake_desc(&bd, s, &cell, 1, PVS_METHOD_PORTAL);
+    CHECK(pvs_bake_begin(&bd, &b, &err) == PVS_ERROR_UNSUPPORTED);
+    CHECK(b == NULL && strstr(err.message, "more than 64 vertices") != NULL);
+    pvs_bake_destroy(b);
+    pvs_scene_destroy(s);
+}
+
 void test_portal(void) {
     tp_rooms();
     tp_solids();
     tp_inside();
+    tp_many_vertices();
     tp_generators();
     CHECK(strcmp(pvs_method_name(PVS_METHOD_PORTAL), "portal") == 0);
 }
