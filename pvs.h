@@ -15394,6 +15394,8 @@ typedef struct pvs__poprep {
 	pvs__po_node *nodes;
 	size_t node_count, node_cap;
 	pvs__po_poly *leaf;        /* per leaf its polytope; no faces: a solid leaf */
+	pvs_box *leaf_box;         /* per leaf its polytope's box (rounded outward) */
+	size_t leaf_box_cap;
 	size_t leaf_count, leaf_cap;
 	uint32_t root, solids, deep_leaves;
 	int lost;                  /* a polygon of more than PVS__PO_MAXW vertices: the method cannot bake this scene */
@@ -15837,12 +15839,14 @@ typedef struct pvs__po_build {
 PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *region) {
 	pvs__poprep *p = b->p;
 	uint32_t id = (uint32_t)p->leaf_count;
-	if (!pvs__grow(&p->allocator, (void **)&p->leaf, &p->leaf_cap, p->leaf_count + 1, sizeof(pvs__po_poly))) {
+	if (!pvs__grow(&p->allocator, (void **)&p->leaf_box, &p->leaf_box_cap, p->leaf_count + 1, sizeof(pvs_box)) ||
+		!pvs__grow(&p->allocator, (void **)&p->leaf, &p->leaf_cap, p->leaf_count + 1, sizeof(pvs__po_poly))) {
 		b->oom = 1;
 		pvs__po_poly_free(&p->allocator, region);
 		return PVS__PO_LEAF;
 	}
 	memset(p->leaf + id, 0, sizeof(pvs__po_poly));
+	p->leaf_box[id] = pvs__po_poly_box(region);
 	if (!solid && region->face_count) {
 		p->leaf[id] = *region;
 		++p->empty_leaves;
@@ -16211,8 +16215,10 @@ PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win 
 	uint32_t i;
 	for (i = p->lo_first[leaf]; i < p->lo_first[leaf + 1]; ++i) {
 		uint32_t o = p->lo[i];
+		pvs_box part = f->scene->object_boxes[o]; /* the object's part in the leaf */
 		if (pvs_bitset_test(f->bits, o) || (f->candidates && !pvs_bitset_test(f->candidates, o))) continue;
-		if (!w || pvs__po_box_passes(w, f->scene->object_boxes + o, p->tol)) pvs_bitset_set(f->bits, o);
+		if (!w || !pvs__box_clip(&part, p->leaf_box + leaf) || pvs__po_box_passes(w, &part, p->tol))
+			pvs_bitset_set(f->bits, o);
 	}
 }
 
@@ -16414,6 +16420,7 @@ PVS__STATIC void pvs__po_destroy(pvs__poprep *p) {
 	pvs__free_array(a, p->nodes, p->node_cap, sizeof(pvs__po_node));
 	for (i = 0; i < p->leaf_count; ++i) pvs__po_poly_free(a, p->leaf + i);
 	pvs__free_array(a, p->leaf, p->leaf_cap, sizeof(pvs__po_poly));
+	pvs__free_array(a, p->leaf_box, p->leaf_box_cap, sizeof(pvs_box));
 	pvs__free_array(a, p->portals, p->portal_cap, sizeof(pvs__po_portal));
 	pvs__free_array(a, p->portal_v, p->portal_v_cap, sizeof(p->portal_v[0]));
 	pvs__free_array(a, p->lp_first, p->leaf_count + 1, sizeof(uint32_t));
