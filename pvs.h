@@ -15405,6 +15405,7 @@ typedef struct pvs__poprep {
 	double (*portal_v)[3];
 	size_t portal_v_count, portal_v_cap;
 	uint32_t *lp_first, *lp;   /* per leaf its portals out (leaf_count + 1, portal_count) */
+	uint32_t *ep_first;        /* per portal P its first step P -> Q, Q out of P's leaf `to` (portal_count + 1) */
 	/* objects per empty leaf */
 	uint32_t *lo_first, *lo;
 	size_t lo_count, lo_cap;
@@ -16082,9 +16083,11 @@ typedef struct pvs__po_win {
 	double pl[PVS__PO_MAXS][4];
 } pvs__po_win;
 
+/* A step's state: where lines from the cell that cross portal `src` within s then cross portal q (within v). */
 typedef struct pvs__po_region {
-	uint32_t n, grows;
+	uint32_t q, src, n, ns, grows;  /* src PVS__PO_NONE (ns 0): a portal of a start leaf, crossed anywhere */
 	double v[PVS__PO_MAXW][3];
+	double s[PVS__PO_MAXW][3];
 } pvs__po_region;
 
 typedef struct pvs__po_flow {
@@ -16093,12 +16096,12 @@ typedef struct pvs__po_flow {
 	double c[8][3];            /* the cell's corners */
 	pvs_word *bits;
 	const pvs_word *candidates;
-	uint32_t *slot;            /* per portal: its region in reg, PVS__PO_NONE */
+	uint32_t *slot;            /* per step (ep_first), then per start portal: its region in reg, PVS__PO_NONE */
 	pvs__po_region *reg;
 	size_t reg_count, reg_cap;
-	uint32_t *queue;           /* a ring of portal_count */
-	uint32_t head, tail, size;
-	uint8_t *queued;           /* per portal */
+	uint32_t *queue;           /* a ring of regions (states) */
+	uint32_t states, head, tail, size;
+	uint8_t *queued;           /* per region */
 	uint8_t *start;            /* per leaf: the cell overlaps it (2: reached by the cut-off's flood) */
 	uint32_t *leaves;          /* start leaves, then the flood's */
 	uint32_t leaf_count;
@@ -16157,16 +16160,20 @@ PVS__STATIC void pvs__po_try_plane(pvs__po_win *w, const double *a, const double
 	pvs__po_add_plane(w, n, -d);
 }
 
-/* The planes bounding lines from cell corners c through region w->v: w's own plane when the cell lies beyond `near`
-   on one side, and the separating planes through an edge of one and a vertex of the other. None when the cell comes
-   within `near` of w's plane (every line through w may come from the cell). */
-PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const double (*c)[3], double eps, double near) {
-	static const uint8_t edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
-										 {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+/* A convex source of lines: its vertices and edges (index pairs). */
+typedef struct pvs__po_set {
+	uint32_t n, ne;
+	double v[PVS__PO_MAXW][3];
+	uint8_t e[PVS__PO_MAXW][2];
+} pvs__po_set;
+
+/* Appends to w->pl the planes bounding lines from convex set c through region w->v: w's own plane when c lies
+   beyond `near` on one side, and the separating planes through an edge of one and a vertex of the other, c wholly
+   on one side and w on the other (Teller 1992 §5.2). A set that meets w has none (no plane has it on one side). */
+PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, double eps, double near) {
 	double n[3] = {0, 0, 0}, d, lo = DBL_MAX, hi = -DBL_MAX, len;
 	uint32_t i, j, k;
-	w->np = 0;
-	if (w->nv < 3) return;
+	if (w->nv < 3 || c->n == 0) return;
 	for (i = 0; i < w->nv; ++i) { /* Newell's normal */
 		const double *a = w->v[i], *b = w->v[(i + 1) % w->nv];
 		n[0] += (a[1] - b[1]) * (a[2] + b[2]);
@@ -16177,24 +16184,72 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const double (*c)[3], dou
 	if (!(len > 0.0)) return;
 	for (k = 0; k < 3; ++k) n[k] /= len;
 	d = -(n[0] * w->v[0][0] + n[1] * w->v[0][1] + n[2] * w->v[0][2]);
-	for (i = 0; i < 8; ++i) {
-		double s = n[0] * c[i][0] + n[1] * c[i][1] + n[2] * c[i][2] + d;
-		lo = s < lo ? s : lo;
-		hi = s > hi ? s : hi;
+	for (i = 0; i < c->n; ++i) {
+		double t = n[0] * c->v[i][0] + n[1] * c->v[i][1] + n[2] * c->v[i][2] + d;
+		lo = t < lo ? t : lo;
+		hi = t > hi ? t : hi;
 	}
-	if (!(lo >= near || hi <= -near)) return;
-	if (hi <= -near) { /* the cell behind: keep the front */
-		for (k = 0; k < 3; ++k) n[k] = -n[k];
-		d = -d;
+	if (lo >= near || hi <= -near) {
+		if (hi <= -near) { /* c behind: keep the front */
+			for (k = 0; k < 3; ++k) n[k] = -n[k];
+			d = -d;
+		}
+		pvs__po_add_plane(w, n, d);
 	}
-	pvs__po_add_plane(w, n, d);
 	for (i = 0; i < w->nv; ++i) {
 		const double *a = w->v[i], *b = w->v[(i + 1) % w->nv];
-		for (j = 0; j < 8; ++j) pvs__po_try_plane(w, a, b, c[j], c, 8, (const double(*)[3])w->v, w->nv, eps);
+		for (j = 0; j < c->n; ++j)
+			pvs__po_try_plane(w, a, b, c->v[j], (const double(*)[3])c->v, c->n, (const double(*)[3])w->v, w->nv, eps);
 	}
-	for (i = 0; i < 12; ++i)
+	for (i = 0; i < c->ne; ++i)
 		for (j = 0; j < w->nv; ++j)
-			pvs__po_try_plane(w, c[edges[i][0]], c[edges[i][1]], w->v[j], c, 8, (const double(*)[3])w->v, w->nv, eps);
+			pvs__po_try_plane(w, c->v[c->e[i][0]], c->v[c->e[i][1]], w->v[j], (const double(*)[3])c->v, c->n,
+							  (const double(*)[3])w->v, w->nv, eps);
+}
+
+/* Vertex x of set c: an existing one within eps, or a new one (PVS__PO_MAXW when c is full; pvs__po_source's sets
+   never are: a box clipped twice has at most 6 faces of 6 vertices). */
+PVS__STATIC uint32_t pvs__po_set_vertex(pvs__po_set *c, const double *x, double eps) {
+	uint32_t i;
+	for (i = 0; i < c->n; ++i)
+		if (fabs(c->v[i][0] - x[0]) <= eps && fabs(c->v[i][1] - x[1]) <= eps && fabs(c->v[i][2] - x[2]) <= eps)
+			return i;
+	if (c->n == PVS__PO_MAXW) return PVS__PO_MAXW;
+	memcpy(c->v[c->n], x, sizeof(c->v[0]));
+	return c->n++;
+}
+
+/* The source of lines that cross portal q (and before it portal src, PVS__PO_NONE: none) from their leaf `from`:
+   the cell's box clipped to the side of each portal's plane its leaf `from` lies on (a line crossing a portal
+   starts on that side). Every vertex of the clipped box lies on a clipped face of the box. 0 when the box lies
+   wholly on the other side: no line from the cell crosses q that way. */
+PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, uint32_t src, pvs__po_set *c) {
+	static const uint8_t faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
+										{2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+	const pvs__poprep *p = f->p;
+	uint32_t i, k, first, prev;
+	c->n = c->ne = 0;
+	for (i = 0; i < 6; ++i) {
+		pvs__po_wind w;
+		w.n = 4;
+		for (k = 0; k < 4; ++k) memcpy(w.p[k], f->c[faces[i][k]], sizeof(w.p[0]));
+		pvs__po_clip(&w, p->pl[p->portals[q].plane], p->eps);
+		if (src != PVS__PO_NONE && w.n) pvs__po_clip(&w, p->pl[p->portals[src].plane], p->eps);
+		for (k = 0, first = prev = PVS__PO_MAXW; k < w.n; ++k) {
+			uint32_t v = pvs__po_set_vertex(c, w.p[k], p->eps);
+			if (k == 0) first = v;
+			else if (v != prev && v < PVS__PO_MAXW && prev < PVS__PO_MAXW && c->ne < PVS__PO_MAXW) {
+				c->e[c->ne][0] = (uint8_t)prev;
+				c->e[c->ne++][1] = (uint8_t)v;
+			}
+			prev = v;
+		}
+		if (w.n > 2 && first != prev && first < PVS__PO_MAXW && prev < PVS__PO_MAXW && c->ne < PVS__PO_MAXW) {
+			c->e[c->ne][0] = (uint8_t)prev;
+			c->e[c->ne++][1] = (uint8_t)first;
+		}
+	}
+	return c->n > 0;
 }
 
 /* 1 if box b is not wholly beyond a plane of w (tol). */
@@ -16228,25 +16283,25 @@ PVS__STATIC void pvs__po_uv(const double *x, int a, double *u, double *v) {
 	*v = x[a == 2 ? 1 : 2];
 }
 
-/* 1 if every point of w lies inside convex polygon r (tol), both on a plane of dominant axis a. */
-PVS__STATIC int pvs__po_inside(const pvs__po_region *r, const pvs__po_wind *w, int a, double tol) {
+/* 1 if every point of w (wn) lies inside convex polygon r (n, tol), both on a plane of dominant axis a. */
+PVS__STATIC int pvs__po_inside(const double (*r)[3], uint32_t n, const double (*w)[3], uint32_t wn, int a, double tol) {
 	double orient = 0.0;
 	uint32_t i, j;
-	for (i = 0; i < r->n; ++i) { /* r's orientation in (u, v): the sign of its area */
+	for (i = 0; i < n; ++i) { /* r's orientation in (u, v): the sign of its area */
 		double u0, v0, u1, v1;
-		pvs__po_uv(r->v[i], a, &u0, &v0);
-		pvs__po_uv(r->v[(i + 1) % r->n], a, &u1, &v1);
+		pvs__po_uv(r[i], a, &u0, &v0);
+		pvs__po_uv(r[(i + 1) % n], a, &u1, &v1);
 		orient += u0 * v1 - u1 * v0;
 	}
 	orient = orient >= 0.0 ? 1.0 : -1.0;
-	for (i = 0; i < r->n; ++i) {
+	for (i = 0; i < n; ++i) {
 		double u0, v0, u1, v1, len;
-		pvs__po_uv(r->v[i], a, &u0, &v0);
-		pvs__po_uv(r->v[(i + 1) % r->n], a, &u1, &v1);
+		pvs__po_uv(r[i], a, &u0, &v0);
+		pvs__po_uv(r[(i + 1) % n], a, &u1, &v1);
 		len = sqrt((u1 - u0) * (u1 - u0) + (v1 - v0) * (v1 - v0));
-		for (j = 0; j < w->n; ++j) {
+		for (j = 0; j < wn; ++j) {
 			double u, v;
-			pvs__po_uv(w->p[j], a, &u, &v);
+			pvs__po_uv(w[j], a, &u, &v);
 			if (orient * ((u1 - u0) * (v - v0) - (v1 - v0) * (u - u0)) < -tol * len) return 0;
 		}
 	}
@@ -16269,14 +16324,14 @@ PVS__STATIC double pvs__po_cross(const pvs__po_hp *o, const pvs__po_hp *a, const
 	return (a->u - o->u) * (b->v - o->v) - (a->v - o->v) * (b->u - o->u);
 }
 
-/* r = the convex hull of r and w (Andrew's monotone chain in the plane's 2D coordinates); 0 when it would have more
-   than PVS__PO_MAXW vertices (r unchanged). */
-PVS__STATIC int pvs__po_hull(pvs__po_region *r, const pvs__po_wind *w, int a) {
+/* Polygon r (*rn) = the convex hull of r and w (wn) (Andrew's monotone chain in the plane's 2D coordinates); 0 when
+   it would have more than PVS__PO_MAXW vertices (r unchanged). */
+PVS__STATIC int pvs__po_hull(double (*r)[3], uint32_t *rn, const double (*w)[3], uint32_t wn, int a) {
 	pvs__po_hp pt[2 * PVS__PO_MAXW], h[4 * PVS__PO_MAXW];
 	double all[2 * PVS__PO_MAXW][3];
 	uint32_t n = 0, i, k = 0, lower;
-	for (i = 0; i < r->n; ++i) memcpy(all[n++], r->v[i], sizeof(all[0]));
-	for (i = 0; i < w->n; ++i) memcpy(all[n++], w->p[i], sizeof(all[0]));
+	for (i = 0; i < *rn; ++i) memcpy(all[n++], r[i], sizeof(all[0]));
+	for (i = 0; i < wn; ++i) memcpy(all[n++], w[i], sizeof(all[0]));
 	for (i = 0; i < n; ++i) {
 		pvs__po_uv(all[i], a, &pt[i].u, &pt[i].v);
 		pt[i].i = i;
@@ -16292,8 +16347,8 @@ PVS__STATIC int pvs__po_hull(pvs__po_region *r, const pvs__po_wind *w, int a) {
 	}
 	if (k > 1) --k; /* the first point again */
 	if (k > PVS__PO_MAXW || k < 3) return 0;
-	for (i = 0; i < k; ++i) memcpy(r->v[i], all[h[i].i], sizeof(r->v[0]));
-	r->n = k;
+	for (i = 0; i < k; ++i) memcpy(r[i], all[h[i].i], sizeof(r[0]));
+	*rn = k;
 	return 1;
 }
 
@@ -16305,51 +16360,68 @@ PVS__STATIC void pvs__po_start_leaf(void *ctx, uint32_t l) {
 	f->leaves[f->leaf_count++] = l;
 }
 
-/* Merges region w (of portal q) into q's region; 1 when it grew (q must be queued). */
-PVS__STATIC int pvs__po_merge(pvs__po_flow *f, uint32_t q, const pvs__po_wind *w) {
-	const pvs__poprep *p = f->p;
+/* r's polygon v (n) grown to hold w, on portal q: 1 when it grew. Past PVS__PO_GROWS growths, or a hull of more
+   than PVS__PO_MAXW vertices: the whole portal (nothing grows it again). */
+PVS__STATIC int pvs__po_grow(const pvs__poprep *p, pvs__po_region *r, double (*v)[3], uint32_t *n, uint32_t q,
+							 const double (*w)[3], uint32_t wn) {
 	const pvs__po_portal *pt = p->portals + q;
-	const double *pl = p->pl[pt->plane];
-	int a = pvs__po_axis(pl);
-	pvs__po_region *r;
-	if (f->slot[q] == PVS__PO_NONE) {
-		if (!pvs__grow(&p->allocator, (void **)&f->reg, &f->reg_cap, f->reg_count + 1, sizeof(pvs__po_region))) {
-			f->oom = 1;
-			return 0;
-		}
-		f->slot[q] = (uint32_t)f->reg_count++;
-		r = f->reg + f->slot[q];
-		r->n = w->n;
-		r->grows = 0;
-		memcpy(r->v, w->p, w->n * sizeof(w->p[0]));
-		return 1;
-	}
-	r = f->reg + f->slot[q];
-	if (pvs__po_inside(r, w, a, p->tol)) return 0;
-	if (++r->grows > PVS__PO_GROWS || !pvs__po_hull(r, w, a)) { /* the whole portal: nothing can grow it */
-		r->n = pt->n;
-		r->grows = PVS__PO_GROWS + 1;
-		memcpy(r->v, p->portal_v[pt->first], pt->n * sizeof(r->v[0]));
+	int a = pvs__po_axis(p->pl[pt->plane]);
+	if (pvs__po_inside((const double(*)[3])v, *n, w, wn, a, p->tol)) return 0;
+	if (r->grows >= PVS__PO_GROWS || !pvs__po_hull(v, n, w, wn, a)) {
+		*n = pt->n;
+		memcpy(v, p->portal_v[pt->first], pt->n * sizeof(v[0]));
 	}
 	return 1;
 }
 
-/* Merges region w into portal q's; queues q when it grew. */
-PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t q, const pvs__po_wind *w) {
-	if (pvs__po_merge(f, q, w) && !f->queued[q]) {
-		f->queued[q] = 1;
-		f->queue[f->tail] = q;
-		f->tail = f->tail + 1 == f->p->portal_count ? 0 : f->tail + 1;
+/* Offers state `state` (step src -> q, or start portal q with src PVS__PO_NONE): lines crossing src within s (ns)
+   then q within w. A new state, or one that grew to hold them, is queued. */
+PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t src, uint32_t q, const double (*s)[3],
+							   uint32_t ns, const pvs__po_wind *w) {
+	const pvs__poprep *p = f->p;
+	pvs__po_region *r;
+	uint32_t id = f->slot[state];
+	int grew;
+	if (id == PVS__PO_NONE) {
+		if (!pvs__grow(&p->allocator, (void **)&f->reg, &f->reg_cap, f->reg_count + 1, sizeof(pvs__po_region))) {
+			f->oom = 1;
+			return;
+		}
+		id = f->slot[state] = (uint32_t)f->reg_count++;
+		r = f->reg + id;
+		r->q = q;
+		r->src = src;
+		r->n = w->n;
+		r->ns = ns;
+		r->grows = 0;
+		memcpy(r->v, w->p, w->n * sizeof(w->p[0]));
+		if (ns) memcpy(r->s, s, ns * sizeof(s[0]));
+		grew = 1;
+	} else {
+		r = f->reg + id;
+		grew = pvs__po_grow(p, r, r->v, &r->n, q, (const double(*)[3])w->p, w->n);
+		if (src != PVS__PO_NONE) grew |= pvs__po_grow(p, r, r->s, &r->ns, src, s, ns);
+		if (!grew) return;
+		++r->grows;
+	}
+	if (!f->queued[id]) {
+		f->queued[id] = 1;
+		f->queue[f->tail] = id;
+		f->tail = f->tail + 1 == f->states ? 0 : f->tail + 1;
 		++f->size;
 	}
 }
 
-/* The flow from the start leaves (Teller 1992 §5 as a monotone fixed point, see the module comment). */
+/* The flow from the start leaves (Teller 1992 §5 as a monotone fixed point, see the module comment): a state
+   (src -> q; s on src, v on q) sends lines into q's leaf `to` between the planes of the cell and v and those of s
+   and v (q3map2's separators of source and pass); they keep that leaf's objects and offer each portal out of it,
+   clipped by those planes, as the state (q -> next; v on q). */
 PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j;
 	pvs__po_win win;
 	pvs__po_wind w;
+	pvs__po_set src;
 	for (i = 0; i < f->leaf_count; ++i) {
 		uint32_t leaf = f->leaves[i];
 		pvs__po_keep(f, leaf, NULL);
@@ -16359,22 +16431,32 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 			if (f->start[pt->to]) continue;
 			w.n = pt->n;
 			memcpy(w.p, p->portal_v[pt->first], pt->n * sizeof(w.p[0]));
-			pvs__po_offer(f, q, &w);
+			pvs__po_offer(f, p->ep_first[p->portal_count] + q, PVS__PO_NONE, q, NULL, 0, &w);
 		}
 	}
 	while (f->size && !f->cut && !f->oom) {
-		uint32_t q = f->queue[f->head];
-		const pvs__po_portal *pt = p->portals + q;
-		const pvs__po_region *r = f->reg + f->slot[q];
-		f->queued[q] = 0;
-		f->head = f->head + 1 == p->portal_count ? 0 : f->head + 1;
+		uint32_t id = f->queue[f->head], q, k;
+		const pvs__po_portal *pt;
+		f->queued[id] = 0;
+		f->head = f->head + 1 == f->states ? 0 : f->head + 1;
 		--f->size;
-		win.nv = r->n;
-		memcpy(win.v, r->v, r->n * sizeof(r->v[0]));
-		pvs__po_window_planes(&win, (const double(*)[3])f->c, 1e-4 * p->tol, 10.0 * p->tol);
+		q = f->reg[id].q;
+		pt = p->portals + q;
+		if (!pvs__po_source(f, q, f->reg[id].src, &src)) continue; /* no line from the cell crosses q this way */
+		win.nv = f->reg[id].n;
+		win.np = 0;
+		memcpy(win.v, f->reg[id].v, win.nv * sizeof(win.v[0]));
+		pvs__po_window_planes(&win, &src, 1e-4 * p->tol, 10.0 * p->tol);
+		src.n = src.ne = f->reg[id].ns; /* the lines also crossed portal src within s */
+		memcpy(src.v, f->reg[id].s, src.n * sizeof(src.v[0]));
+		for (k = 0; k < src.n; ++k) {
+			src.e[k][0] = (uint8_t)k;
+			src.e[k][1] = (uint8_t)((k + 1) % src.n);
+		}
+		pvs__po_window_planes(&win, &src, 1e-4 * p->tol, 10.0 * p->tol);
 		pvs__po_keep(f, pt->to, &win);
 		for (j = p->lp_first[pt->to]; j < p->lp_first[pt->to + 1]; ++j) {
-			uint32_t q2 = p->lp[j], k;
+			uint32_t q2 = p->lp[j];
 			const pvs__po_portal *p2 = p->portals + q2;
 			if (f->start[p2->to] || p2->to == pt->from) continue;
 			if (++f->clips > p->budget) {
@@ -16384,7 +16466,9 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 			w.n = p2->n;
 			memcpy(w.p, p->portal_v[p2->first], p2->n * sizeof(w.p[0]));
 			for (k = 0; k < win.np && w.n >= 3; ++k) f->cut |= pvs__po_clip(&w, win.pl[k], p->tol);
-			if (w.n >= 3) pvs__po_offer(f, q2, &w);
+			if (w.n >= 3)
+				pvs__po_offer(f, p->ep_first[q] + (j - p->lp_first[pt->to]), q, q2, (const double(*)[3])win.v, win.nv,
+							  &w);
 		}
 	}
 }
@@ -16425,6 +16509,7 @@ PVS__STATIC void pvs__po_destroy(pvs__poprep *p) {
 	pvs__free_array(a, p->portal_v, p->portal_v_cap, sizeof(p->portal_v[0]));
 	pvs__free_array(a, p->lp_first, p->leaf_count + 1, sizeof(uint32_t));
 	pvs__free_array(a, p->lp, p->portal_count + 1, sizeof(uint32_t));
+	pvs__free_array(a, p->ep_first, p->portal_count + 1, sizeof(uint32_t));
 	pvs__free_array(a, p->lo_first, p->leaf_count + 1, sizeof(uint32_t));
 	pvs__free_array(a, p->lo, p->lo_cap, sizeof(uint32_t));
 	pvs__free_array(a, p->task_cut, p->task_count + 1, sizeof(uint32_t));
@@ -16531,6 +16616,13 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 		pairs[2 * i + 1] = (uint32_t)i;
 	}
 	if (!pvs__po_csr(al, pairs, p->portal_count, (uint32_t)p->leaf_count, &p->lp_first, &p->lp)) goto done;
+	p->ep_first = (uint32_t *)pvs__alloc_array(al, p->portal_count + 1, sizeof(uint32_t));
+	if (!p->ep_first) goto done;
+	for (p->ep_first[0] = 0, i = 0; i < p->portal_count; ++i) { /* steps counted in 64 bits: at most 2^32 - 1 */
+		uint64_t next = (uint64_t)p->ep_first[i] + p->lp_first[p->portals[i].to + 1] - p->lp_first[p->portals[i].to];
+		if (next + p->portal_count >= PVS__PO_NONE) goto done;
+		p->ep_first[i + 1] = (uint32_t)next;
+	}
 	for (ob.b = &b, ob.o = 0; ob.o < s->object_count && !b.oom; ++ob.o)
 		if (!(s->object_flags[ob.o] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + ob.o))
 			pvs__po_box_down(p, s->object_boxes + ob.o, p->root, pvs__po_object_leaf, &ob);
@@ -16590,7 +16682,8 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 											 unsigned *flags, pvs_error *err) {
 	const pvs__poprep *p = (const pvs__poprep *)state;
 	const pvs_allocator *al = &p->allocator;
-	size_t np = p->portal_count, nl = p->leaf_count, bytes = 8 * np + np + nl + 4 * nl + 16, i;
+	size_t ns = (size_t)p->ep_first[p->portal_count] + p->portal_count, nl = p->leaf_count;
+	size_t bytes = 9 * ns + 5 * nl + 16, i;
 	unsigned char *mem;
 	pvs__po_flow f;
 	uint32_t k;
@@ -16604,13 +16697,14 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 		for (k = 0; k < 3; ++k) f.c[i][k] = ((i >> k) & 1) ? box->max[k] : box->min[k];
 	mem = (unsigned char *)pvs__alloc(al, bytes, 16);
 	if (!mem) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, (int64_t)cell, 0, "portal flow of cell %u", cell);
+	f.states = (uint32_t)ns;
 	f.slot = (uint32_t *)(void *)mem;
-	f.queue = f.slot + np;
-	f.leaves = f.queue + np;
+	f.queue = f.slot + ns;
+	f.leaves = f.queue + ns;
 	f.queued = (uint8_t *)(f.leaves + nl);
-	f.start = f.queued + np;
-	for (i = 0; i < np; ++i) f.slot[i] = PVS__PO_NONE;
-	memset(f.queued, 0, np + nl);
+	f.start = f.queued + ns;
+	for (i = 0; i < ns; ++i) f.slot[i] = PVS__PO_NONE;
+	memset(f.queued, 0, ns + nl);
 	pvs__po_box_down(p, box, p->root, pvs__po_start_leaf, &f);
 	for (k = 0; k < p->solids; ++k) /* points of the cell inside a solid */
 		if (pvs__box_overlap(box, p->solid_box + k))
