@@ -15330,16 +15330,18 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
    crosses the portals of the leaves it passes, in order. Triangles that are not closed convex solids do not block
    here (other methods use them); a cell point inside a solid sees the objects meeting that solid.
 
-   Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3 indoors): a line from view cell C through
-   portals P1 .. Pk meets each in order and beyond Pj stays behind every separating plane of C and its crossing
-   region on Pj (planes through an edge of one and a vertex of the other, with C and the region on opposite sides)
-   and beyond Pj's plane. Each portal Q keeps the convex hull R(Q) of every region found on it; a region W of Q
-   (Q clipped by the planes of C and R(P), P the portal before) not inside R(Q) grows R(Q) to hull(R(Q), W) and
-   queues Q, so the flow is a fixed point that grows monotonically (q3map2's might-see pruning has the same aim: a
-   path that adds nothing is not followed). Every crossing point of a line lies in its portal's R by induction.
-   An object of a leaf entered through P is kept when its box is not wholly beyond one plane of C and R(P): the
-   object-level test. A cell keeps every object of the empty leaves it overlaps. Past `budget` portal clips the cell
-   keeps every object of every empty leaf reachable from its leaves (the conservative cut-off). */
+   Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3 indoors): a segment from a point x of view cell C
+   through portals P1 .. Pk crosses each from its leaf `from`, so x lies on that side of Pj's plane: the source of
+   the lines through Pj is C_j, C clipped to that side (none: no such line). Beyond Pj the segment stays behind every
+   separating plane of C_j and its crossing region on Pj (planes through an edge of one and a vertex of the other,
+   with C_j and the region on opposite sides). Each step P -> Q (P the portal before, or none from a start leaf)
+   keeps the convex hull R of every region found on Q that way; a region W (Q clipped by the planes of the step
+   into P) not inside R grows R to hull(R, W) and queues the step, so the flow is a fixed point that grows
+   monotonically (q3map2's might-see pruning has the same aim: a path that adds nothing is not followed). Every
+   crossing point of a segment lies in its step's R by induction. An object of a leaf entered through Q is kept when
+   its part in the leaf (box clipped to the leaf's box) is not wholly beyond one plane of the step: the object-level
+   test. A cell keeps every object of the empty leaves it overlaps. Past `budget` portal clips the cell keeps every
+   object of every empty leaf reachable from its leaves (the conservative cut-off). */
 
 #define PVS__PO_MAXW 64u          /* vertices of a clipped winding */
 #define PVS__PO_MAXS 64u          /* separating planes per region */
@@ -16083,11 +16085,11 @@ typedef struct pvs__po_win {
 	double pl[PVS__PO_MAXS][4];
 } pvs__po_win;
 
-/* A step's state: where lines from the cell that cross portal `src` within s then cross portal q (within v). */
+/* A step's state (a portal q of a start leaf, or a step src -> q): where lines from the cell that crossed the portals
+   before cross q. */
 typedef struct pvs__po_region {
-	uint32_t q, src, n, ns, grows;  /* src PVS__PO_NONE (ns 0): a portal of a start leaf, crossed anywhere */
+	uint32_t q, n, grows;
 	double v[PVS__PO_MAXW][3];
-	double s[PVS__PO_MAXW][3];
 } pvs__po_region;
 
 typedef struct pvs__po_flow {
@@ -16208,7 +16210,7 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, dou
 }
 
 /* Vertex x of set c: an existing one within eps, or a new one (PVS__PO_MAXW when c is full; pvs__po_source's sets
-   never are: a box clipped twice has at most 6 faces of 6 vertices). */
+   never are: a box clipped once has at most 7 faces of 5 vertices). */
 PVS__STATIC uint32_t pvs__po_set_vertex(pvs__po_set *c, const double *x, double eps) {
 	uint32_t i;
 	for (i = 0; i < c->n; ++i)
@@ -16219,11 +16221,10 @@ PVS__STATIC uint32_t pvs__po_set_vertex(pvs__po_set *c, const double *x, double 
 	return c->n++;
 }
 
-/* The source of lines that cross portal q (and before it portal src, PVS__PO_NONE: none) from their leaf `from`:
-   the cell's box clipped to the side of each portal's plane its leaf `from` lies on (a line crossing a portal
-   starts on that side). Every vertex of the clipped box lies on a clipped face of the box. 0 when the box lies
-   wholly on the other side: no line from the cell crosses q that way. */
-PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, uint32_t src, pvs__po_set *c) {
+/* The source of lines that cross portal q from its leaf `from`: the cell's box clipped to the side of q's plane that
+   leaf lies on (a line crossing q that way starts there). Every vertex of the clipped box lies on a clipped face of
+   the box. 0 when the box lies wholly on the other side: no line from the cell crosses q that way. */
+PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, pvs__po_set *c) {
 	static const uint8_t faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
 										{2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
 	const pvs__poprep *p = f->p;
@@ -16234,7 +16235,6 @@ PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, uint32_t src, 
 		w.n = 4;
 		for (k = 0; k < 4; ++k) memcpy(w.p[k], f->c[faces[i][k]], sizeof(w.p[0]));
 		pvs__po_clip(&w, p->pl[p->portals[q].plane], p->eps);
-		if (src != PVS__PO_NONE && w.n) pvs__po_clip(&w, p->pl[p->portals[src].plane], p->eps);
 		for (k = 0, first = prev = PVS__PO_MAXW; k < w.n; ++k) {
 			uint32_t v = pvs__po_set_vertex(c, w.p[k], p->eps);
 			if (k == 0) first = v;
@@ -16283,25 +16283,25 @@ PVS__STATIC void pvs__po_uv(const double *x, int a, double *u, double *v) {
 	*v = x[a == 2 ? 1 : 2];
 }
 
-/* 1 if every point of w (wn) lies inside convex polygon r (n, tol), both on a plane of dominant axis a. */
-PVS__STATIC int pvs__po_inside(const double (*r)[3], uint32_t n, const double (*w)[3], uint32_t wn, int a, double tol) {
+/* 1 if every point of w lies inside convex polygon r (tol), both on a plane of dominant axis a. */
+PVS__STATIC int pvs__po_inside(const pvs__po_region *r, const pvs__po_wind *w, int a, double tol) {
 	double orient = 0.0;
 	uint32_t i, j;
-	for (i = 0; i < n; ++i) { /* r's orientation in (u, v): the sign of its area */
+	for (i = 0; i < r->n; ++i) { /* r's orientation in (u, v): the sign of its area */
 		double u0, v0, u1, v1;
-		pvs__po_uv(r[i], a, &u0, &v0);
-		pvs__po_uv(r[(i + 1) % n], a, &u1, &v1);
+		pvs__po_uv(r->v[i], a, &u0, &v0);
+		pvs__po_uv(r->v[(i + 1) % r->n], a, &u1, &v1);
 		orient += u0 * v1 - u1 * v0;
 	}
 	orient = orient >= 0.0 ? 1.0 : -1.0;
-	for (i = 0; i < n; ++i) {
+	for (i = 0; i < r->n; ++i) {
 		double u0, v0, u1, v1, len;
-		pvs__po_uv(r[i], a, &u0, &v0);
-		pvs__po_uv(r[(i + 1) % n], a, &u1, &v1);
+		pvs__po_uv(r->v[i], a, &u0, &v0);
+		pvs__po_uv(r->v[(i + 1) % r->n], a, &u1, &v1);
 		len = sqrt((u1 - u0) * (u1 - u0) + (v1 - v0) * (v1 - v0));
-		for (j = 0; j < wn; ++j) {
+		for (j = 0; j < w->n; ++j) {
 			double u, v;
-			pvs__po_uv(w[j], a, &u, &v);
+			pvs__po_uv(w->p[j], a, &u, &v);
 			if (orient * ((u1 - u0) * (v - v0) - (v1 - v0) * (u - u0)) < -tol * len) return 0;
 		}
 	}
@@ -16324,14 +16324,14 @@ PVS__STATIC double pvs__po_cross(const pvs__po_hp *o, const pvs__po_hp *a, const
 	return (a->u - o->u) * (b->v - o->v) - (a->v - o->v) * (b->u - o->u);
 }
 
-/* Polygon r (*rn) = the convex hull of r and w (wn) (Andrew's monotone chain in the plane's 2D coordinates); 0 when
-   it would have more than PVS__PO_MAXW vertices (r unchanged). */
-PVS__STATIC int pvs__po_hull(double (*r)[3], uint32_t *rn, const double (*w)[3], uint32_t wn, int a) {
+/* r = the convex hull of r and w (Andrew's monotone chain in the plane's 2D coordinates); 0 when it would have more
+   than PVS__PO_MAXW vertices (r unchanged). */
+PVS__STATIC int pvs__po_hull(pvs__po_region *r, const pvs__po_wind *w, int a) {
 	pvs__po_hp pt[2 * PVS__PO_MAXW], h[4 * PVS__PO_MAXW];
 	double all[2 * PVS__PO_MAXW][3];
 	uint32_t n = 0, i, k = 0, lower;
-	for (i = 0; i < *rn; ++i) memcpy(all[n++], r[i], sizeof(all[0]));
-	for (i = 0; i < wn; ++i) memcpy(all[n++], w[i], sizeof(all[0]));
+	for (i = 0; i < r->n; ++i) memcpy(all[n++], r->v[i], sizeof(all[0]));
+	for (i = 0; i < w->n; ++i) memcpy(all[n++], w->p[i], sizeof(all[0]));
 	for (i = 0; i < n; ++i) {
 		pvs__po_uv(all[i], a, &pt[i].u, &pt[i].v);
 		pt[i].i = i;
@@ -16347,8 +16347,8 @@ PVS__STATIC int pvs__po_hull(double (*r)[3], uint32_t *rn, const double (*w)[3],
 	}
 	if (k > 1) --k; /* the first point again */
 	if (k > PVS__PO_MAXW || k < 3) return 0;
-	for (i = 0; i < k; ++i) memcpy(r[i], all[h[i].i], sizeof(r[0]));
-	*rn = k;
+	for (i = 0; i < k; ++i) memcpy(r->v[i], all[h[i].i], sizeof(r->v[0]));
+	r->n = k;
 	return 1;
 }
 
@@ -16360,28 +16360,26 @@ PVS__STATIC void pvs__po_start_leaf(void *ctx, uint32_t l) {
 	f->leaves[f->leaf_count++] = l;
 }
 
-/* r's polygon v (n) grown to hold w, on portal q: 1 when it grew. Past PVS__PO_GROWS growths, or a hull of more
-   than PVS__PO_MAXW vertices: the whole portal (nothing grows it again). */
-PVS__STATIC int pvs__po_grow(const pvs__poprep *p, pvs__po_region *r, double (*v)[3], uint32_t *n, uint32_t q,
-							 const double (*w)[3], uint32_t wn) {
-	const pvs__po_portal *pt = p->portals + q;
+/* r's polygon grown to hold w (on r's portal): 1 when it grew. Past PVS__PO_GROWS growths, or a hull of more than
+   PVS__PO_MAXW vertices: the whole portal (nothing grows it again). */
+PVS__STATIC int pvs__po_grow(const pvs__poprep *p, pvs__po_region *r, const pvs__po_wind *w) {
+	const pvs__po_portal *pt = p->portals + r->q;
 	int a = pvs__po_axis(p->pl[pt->plane]);
-	if (pvs__po_inside((const double(*)[3])v, *n, w, wn, a, p->tol)) return 0;
-	if (r->grows >= PVS__PO_GROWS || !pvs__po_hull(v, n, w, wn, a)) {
-		*n = pt->n;
-		memcpy(v, p->portal_v[pt->first], pt->n * sizeof(v[0]));
+	if (pvs__po_inside(r, w, a, p->tol)) return 0;
+	if (++r->grows > PVS__PO_GROWS || !pvs__po_hull(r, w, a)) {
+		r->n = pt->n;
+		r->grows = PVS__PO_GROWS;
+		memcpy(r->v, p->portal_v[pt->first], pt->n * sizeof(r->v[0]));
 	}
 	return 1;
 }
 
-/* Offers state `state` (step src -> q, or start portal q with src PVS__PO_NONE): lines crossing src within s (ns)
-   then q within w. A new state, or one that grew to hold them, is queued. */
-PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t src, uint32_t q, const double (*s)[3],
-							   uint32_t ns, const pvs__po_wind *w) {
+/* Offers state `state` (a step into portal q): lines crossing q within w. A new state, or one that grew to hold
+   them, is queued. */
+PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t q, const pvs__po_wind *w) {
 	const pvs__poprep *p = f->p;
 	pvs__po_region *r;
 	uint32_t id = f->slot[state];
-	int grew;
 	if (id == PVS__PO_NONE) {
 		if (!pvs__grow(&p->allocator, (void **)&f->reg, &f->reg_cap, f->reg_count + 1, sizeof(pvs__po_region))) {
 			f->oom = 1;
@@ -16390,19 +16388,11 @@ PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t src, ui
 		id = f->slot[state] = (uint32_t)f->reg_count++;
 		r = f->reg + id;
 		r->q = q;
-		r->src = src;
 		r->n = w->n;
-		r->ns = ns;
 		r->grows = 0;
 		memcpy(r->v, w->p, w->n * sizeof(w->p[0]));
-		if (ns) memcpy(r->s, s, ns * sizeof(s[0]));
-		grew = 1;
-	} else {
-		r = f->reg + id;
-		grew = pvs__po_grow(p, r, r->v, &r->n, q, (const double(*)[3])w->p, w->n);
-		if (src != PVS__PO_NONE) grew |= pvs__po_grow(p, r, r->s, &r->ns, src, s, ns);
-		if (!grew) return;
-		++r->grows;
+	} else if (!pvs__po_grow(p, f->reg + id, w)) {
+		return;
 	}
 	if (!f->queued[id]) {
 		f->queued[id] = 1;
@@ -16412,10 +16402,9 @@ PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t src, ui
 	}
 }
 
-/* The flow from the start leaves (Teller 1992 §5 as a monotone fixed point, see the module comment): a state
-   (src -> q; s on src, v on q) sends lines into q's leaf `to` between the planes of the cell and v and those of s
-   and v (q3map2's separators of source and pass); they keep that leaf's objects and offer each portal out of it,
-   clipped by those planes, as the state (q -> next; v on q). */
+/* The flow from the start leaves (Teller 1992 §5 as a monotone fixed point, see the module comment): a state (a
+   step into q, region v on q) sends the lines from the cell's source for q through v into q's leaf `to`; they keep
+   that leaf's objects and offer each portal out of it, clipped by their planes, as the step (q -> next). */
 PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j;
@@ -16431,7 +16420,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 			if (f->start[pt->to]) continue;
 			w.n = pt->n;
 			memcpy(w.p, p->portal_v[pt->first], pt->n * sizeof(w.p[0]));
-			pvs__po_offer(f, p->ep_first[p->portal_count] + q, PVS__PO_NONE, q, NULL, 0, &w);
+			pvs__po_offer(f, p->ep_first[p->portal_count] + q, q, &w);
 		}
 	}
 	while (f->size && !f->cut && !f->oom) {
@@ -16442,17 +16431,10 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 		--f->size;
 		q = f->reg[id].q;
 		pt = p->portals + q;
-		if (!pvs__po_source(f, q, f->reg[id].src, &src)) continue; /* no line from the cell crosses q this way */
+		if (!pvs__po_source(f, q, &src)) continue; /* no line from the cell crosses q this way */
 		win.nv = f->reg[id].n;
 		win.np = 0;
 		memcpy(win.v, f->reg[id].v, win.nv * sizeof(win.v[0]));
-		pvs__po_window_planes(&win, &src, 1e-4 * p->tol, 10.0 * p->tol);
-		src.n = src.ne = f->reg[id].ns; /* the lines also crossed portal src within s */
-		memcpy(src.v, f->reg[id].s, src.n * sizeof(src.v[0]));
-		for (k = 0; k < src.n; ++k) {
-			src.e[k][0] = (uint8_t)k;
-			src.e[k][1] = (uint8_t)((k + 1) % src.n);
-		}
 		pvs__po_window_planes(&win, &src, 1e-4 * p->tol, 10.0 * p->tol);
 		pvs__po_keep(f, pt->to, &win);
 		for (j = p->lp_first[pt->to]; j < p->lp_first[pt->to + 1]; ++j) {
@@ -16466,9 +16448,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 			w.n = p2->n;
 			memcpy(w.p, p->portal_v[p2->first], p2->n * sizeof(w.p[0]));
 			for (k = 0; k < win.np && w.n >= 3; ++k) f->cut |= pvs__po_clip(&w, win.pl[k], p->tol);
-			if (w.n >= 3)
-				pvs__po_offer(f, p->ep_first[q] + (j - p->lp_first[pt->to]), q, q2, (const double(*)[3])win.v, win.nv,
-							  &w);
+			if (w.n >= 3) pvs__po_offer(f, p->ep_first[q] + (j - p->lp_first[pt->to]), q2, &w);
 		}
 	}
 }
@@ -16661,7 +16641,7 @@ PVS__STATIC pvs_result pvs__portal_bake_prepare(pvs__bake_env *env, const pvs_ba
 	if (!p->task_cut || pvs__po_prepare(p, env) != PVS_OK)
 		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "portal: rooms and portals");
 	if (p->lost)
-		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "portal: a room or portal polygon has more than %u vertices",
+		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "portal: a room or portal polygon of more than %u vertices",
 						 PVS__PO_MAXW);
 	memset(p->task_cut, 0, (p->task_count + 1) * sizeof(uint32_t));
 	return PVS_OK;
