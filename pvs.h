@@ -1154,7 +1154,7 @@ typedef struct pvs_bake_otree_params {
 typedef struct pvs_bake_portal_params {
 	uint32_t budget;          /* portal clips per cell before the conservative cut-off, 0 = PVS_PORTAL_BUDGET */
 } pvs_bake_portal_params;
-#define PVS_PORTAL_BUDGET 2000000u
+#define PVS_PORTAL_BUDGET 200000u
 
 /* What to bake. Zero fields and per-method parameters get defaults. */
 typedef struct pvs_bake_desc {
@@ -16089,6 +16089,7 @@ typedef struct pvs__po_win {
    before cross q. */
 typedef struct pvs__po_region {
 	uint32_t q, n, grows;
+	uint32_t next, queued;     /* the queue, a list through the regions */
 	double v[PVS__PO_MAXW][3];
 } pvs__po_region;
 
@@ -16098,12 +16099,12 @@ typedef struct pvs__po_flow {
 	double c[8][3];            /* the cell's corners */
 	pvs_word *bits;
 	const pvs_word *candidates;
-	uint32_t *slot;            /* per step (ep_first), then per start portal: its region in reg, PVS__PO_NONE */
+	uint32_t *slot;            /* a hash table of (state, region) pairs, PVS__PO_NONE: free (states: ep_first, then
+								  the start portals) */
+	size_t slot_cap;           /* pairs, a power of two */
 	pvs__po_region *reg;
 	size_t reg_count, reg_cap;
-	uint32_t *queue;           /* a ring of regions (states) */
-	uint32_t states, head, tail, size;
-	uint8_t *queued;           /* per region */
+	uint32_t head, tail;       /* the queue's first and last region, PVS__PO_NONE: empty */
 	uint8_t *start;            /* per leaf: the cell overlaps it (2: reached by the cut-off's flood) */
 	uint32_t *leaves;          /* start leaves, then the flood's */
 	uint32_t leaf_count;
@@ -16374,18 +16375,51 @@ PVS__STATIC int pvs__po_grow(const pvs__poprep *p, pvs__po_region *r, const pvs_
 	return 1;
 }
 
+/* The slot of state in f's hash table: its pair, or the free pair where it goes. */
+PVS__STATIC uint32_t *pvs__po_slot(const pvs__po_flow *f, uint32_t state) {
+	size_t h = (size_t)((state * 0x9E3779B97F4A7C15ull) >> 32) & (f->slot_cap - 1);
+	while (f->slot[2 * h] != PVS__PO_NONE && f->slot[2 * h] != state) h = (h + 1) & (f->slot_cap - 1);
+	return f->slot + 2 * h;
+}
+
+/* A new region for state; PVS__PO_NONE when out of memory (the table grows at half load). */
+PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
+	const pvs_allocator *al = &f->p->allocator;
+	uint32_t *e;
+	if (2 * (f->reg_count + 1) > f->slot_cap) {
+		uint32_t *old = f->slot;
+		size_t cap = f->slot_cap, i;
+		f->slot = (uint32_t *)pvs__alloc_array(al, 4 * cap, sizeof(uint32_t));
+		if (!f->slot) {
+			f->slot = old;
+			return PVS__PO_NONE;
+		}
+		f->slot_cap = 2 * cap;
+		memset(f->slot, 0xff, 4 * cap * sizeof(uint32_t));
+		for (i = 0; i < cap; ++i)
+			if (old[2 * i] != PVS__PO_NONE) memcpy(pvs__po_slot(f, old[2 * i]), old + 2 * i, 2 * sizeof(uint32_t));
+		pvs__free_array(al, old, 2 * cap, sizeof(uint32_t));
+	}
+	if (!pvs__grow(al, (void **)&f->reg, &f->reg_cap, f->reg_count + 1, sizeof(pvs__po_region))) return PVS__PO_NONE;
+	e = pvs__po_slot(f, state);
+	e[0] = state;
+	e[1] = (uint32_t)f->reg_count;
+	f->reg[f->reg_count].queued = 0;
+	return (uint32_t)f->reg_count++;
+}
+
 /* Offers state `state` (a step into portal q): lines crossing q within w. A new state, or one that grew to hold
    them, is queued. */
 PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t q, const pvs__po_wind *w) {
 	const pvs__poprep *p = f->p;
 	pvs__po_region *r;
-	uint32_t id = f->slot[state];
+	uint32_t id = pvs__po_slot(f, state)[1];
 	if (id == PVS__PO_NONE) {
-		if (!pvs__grow(&p->allocator, (void **)&f->reg, &f->reg_cap, f->reg_count + 1, sizeof(pvs__po_region))) {
+		id = pvs__po_new_region(f, state);
+		if (id == PVS__PO_NONE) {
 			f->oom = 1;
 			return;
 		}
-		id = f->slot[state] = (uint32_t)f->reg_count++;
 		r = f->reg + id;
 		r->q = q;
 		r->n = w->n;
@@ -16394,11 +16428,12 @@ PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t q, cons
 	} else if (!pvs__po_grow(p, f->reg + id, w)) {
 		return;
 	}
-	if (!f->queued[id]) {
-		f->queued[id] = 1;
-		f->queue[f->tail] = id;
-		f->tail = f->tail + 1 == f->states ? 0 : f->tail + 1;
-		++f->size;
+	if (!f->reg[id].queued) {
+		f->reg[id].queued = 1;
+		f->reg[id].next = PVS__PO_NONE;
+		if (f->tail != PVS__PO_NONE) f->reg[f->tail].next = id;
+		else f->head = id;
+		f->tail = id;
 	}
 }
 
@@ -16423,12 +16458,12 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 			pvs__po_offer(f, p->ep_first[p->portal_count] + q, q, &w);
 		}
 	}
-	while (f->size && !f->cut && !f->oom) {
-		uint32_t id = f->queue[f->head], q, k;
+	while (f->head != PVS__PO_NONE && !f->cut && !f->oom) {
+		uint32_t id = f->head, q, k;
 		const pvs__po_portal *pt;
-		f->queued[id] = 0;
-		f->head = f->head + 1 == f->states ? 0 : f->head + 1;
-		--f->size;
+		f->reg[id].queued = 0;
+		f->head = f->reg[id].next;
+		if (f->head == PVS__PO_NONE) f->tail = PVS__PO_NONE;
 		q = f->reg[id].q;
 		pt = p->portals + q;
 		if (!pvs__po_source(f, q, &src)) continue; /* no line from the cell crosses q this way */
@@ -16662,8 +16697,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 											 unsigned *flags, pvs_error *err) {
 	const pvs__poprep *p = (const pvs__poprep *)state;
 	const pvs_allocator *al = &p->allocator;
-	size_t ns = (size_t)p->ep_first[p->portal_count] + p->portal_count, nl = p->leaf_count;
-	size_t bytes = 9 * ns + 5 * nl + 16, i;
+	size_t nl = p->leaf_count, bytes = 5 * nl + 16, i;
 	unsigned char *mem;
 	pvs__po_flow f;
 	uint32_t k;
@@ -16677,14 +16711,17 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 		for (k = 0; k < 3; ++k) f.c[i][k] = ((i >> k) & 1) ? box->max[k] : box->min[k];
 	mem = (unsigned char *)pvs__alloc(al, bytes, 16);
 	if (!mem) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, (int64_t)cell, 0, "portal flow of cell %u", cell);
-	f.states = (uint32_t)ns;
-	f.slot = (uint32_t *)(void *)mem;
-	f.queue = f.slot + ns;
-	f.leaves = f.queue + ns;
-	f.queued = (uint8_t *)(f.leaves + nl);
-	f.start = f.queued + ns;
-	for (i = 0; i < ns; ++i) f.slot[i] = PVS__PO_NONE;
-	memset(f.queued, 0, ns + nl);
+	f.slot_cap = 64;
+	f.slot = (uint32_t *)pvs__alloc_array(al, 2 * f.slot_cap, sizeof(uint32_t));
+	f.head = f.tail = PVS__PO_NONE;
+	f.leaves = (uint32_t *)(void *)mem;
+	f.start = (uint8_t *)(f.leaves + nl);
+	memset(f.start, 0, nl);
+	if (!f.slot) {
+		pvs__free(al, mem, bytes, 16);
+		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, (int64_t)cell, 0, "portal flow of cell %u", cell);
+	}
+	memset(f.slot, 0xff, 2 * f.slot_cap * sizeof(uint32_t));
 	pvs__po_box_down(p, box, p->root, pvs__po_start_leaf, &f);
 	for (k = 0; k < p->solids; ++k) /* points of the cell inside a solid */
 		if (pvs__box_overlap(box, p->solid_box + k))
@@ -16698,6 +16735,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 		if (task < p->task_count) ++p->task_cut[task];
 	}
 	pvs__free_array(al, f.reg, f.reg_cap, sizeof(pvs__po_region));
+	pvs__free_array(al, f.slot, 2 * f.slot_cap, sizeof(uint32_t));
 	pvs__free(al, mem, bytes, 16);
 	return PVS_OK;
 }

@@ -582,6 +582,13 @@ static void print_notes(const pvs_bake *bake, const bake_options *o) {
                 rep.cells_no_occluders, rep.cells);
     else if (rep.cells_all_visible)
         fprintf(stderr, "  %u of %u cells see every object\n", rep.cells_all_visible, rep.cells);
+    {
+        pvs_portal_info pi;
+        pvs_bake_get_portal_info(bake, &pi);
+        if (pi.cut_cells)
+            fprintf(stderr, "  portal: in %u of %u cells the flow reached its budget and took every room it reaches (conservative)\n",
+                    pi.cut_cells, rep.cells);
+    }
     if (rep.cells_otree_budget)
         fprintf(stderr, "  otree: in %u of %u cells a tree reached its node budget and took no more facades (conservative;\n"
                         "  --otree-budget raises it: it may cull more there, for more time)\n", rep.cells_otree_budget, rep.cells);
