@@ -16129,8 +16129,8 @@ PVS__STATIC void pvs__po_add_plane(pvs__po_win *w, const double n[3], double d) 
 }
 
 /* The plane through a, b, c when it separates point sets A (na) and B (nb) (A behind within eps, B in front): added
-   to w oriented to keep B's side (Teller 1992 §5.2's separating planes). */
-PVS__STATIC void pvs__po_try_plane(pvs__po_win *w, const double *a, const double *b, const double *c,
+   to w oriented to keep B's side (Teller 1992 §5.2's separating planes); 1 when it does. */
+PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double *b, const double *c,
 								   const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps) {
 	double e1[3], e2[3], n[3], d, len, lo = 0.0, hi = 0.0;
 	uint32_t i, k;
@@ -16142,25 +16142,27 @@ PVS__STATIC void pvs__po_try_plane(pvs__po_win *w, const double *a, const double
 	n[1] = e1[2] * e2[0] - e1[0] * e2[2];
 	n[2] = e1[0] * e2[1] - e1[1] * e2[0];
 	len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-	if (!(len > 1e-12 * (fabs(e1[0]) + fabs(e1[1]) + fabs(e1[2])) * (fabs(e2[0]) + fabs(e2[1]) + fabs(e2[2])))) return;
+	if (!(len > 1e-12 * (fabs(e1[0]) + fabs(e1[1]) + fabs(e1[2])) * (fabs(e2[0]) + fabs(e2[1]) + fabs(e2[2]))))
+		return 0;
 	for (k = 0; k < 3; ++k) n[k] /= len;
 	d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
 	for (i = 0; i < na; ++i) {
 		double s = n[0] * A[i][0] + n[1] * A[i][1] + n[2] * A[i][2] + d;
 		lo = s < lo ? s : lo;
 		hi = s > hi ? s : hi;
+		if (lo < -eps && hi > eps) return 0; /* A on both sides */
 	}
-	if (lo < -eps && hi > eps) return; /* A on both sides */
 	if (hi > eps) { /* A in front: flip */
 		for (k = 0; k < 3; ++k) n[k] = -n[k];
 		d = -d;
 	}
 	for (i = 0; i < nb; ++i)
-		if (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d < -eps) return; /* B not wholly in front */
+		if (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d < -eps) return 0; /* B not wholly in front */
 	n[0] = -n[0];
 	n[1] = -n[1];
 	n[2] = -n[2];
 	pvs__po_add_plane(w, n, -d);
+	return 1;
 }
 
 /* A convex source of lines: its vertices and edges (index pairs). */
@@ -16201,13 +16203,16 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, dou
 	}
 	for (i = 0; i < w->nv; ++i) {
 		const double *a = w->v[i], *b = w->v[(i + 1) % w->nv];
-		for (j = 0; j < c->n; ++j)
-			pvs__po_try_plane(w, a, b, c->v[j], (const double(*)[3])c->v, c->n, (const double(*)[3])w->v, w->nv, eps);
+		for (j = 0; j < c->n; ++j) /* one plane an edge: the other tangent has c and w on one side */
+			if (pvs__po_try_plane(w, a, b, c->v[j], (const double(*)[3])c->v, c->n, (const double(*)[3])w->v, w->nv,
+								  eps))
+				break;
 	}
 	for (i = 0; i < c->ne; ++i)
 		for (j = 0; j < w->nv; ++j)
-			pvs__po_try_plane(w, c->v[c->e[i][0]], c->v[c->e[i][1]], w->v[j], (const double(*)[3])c->v, c->n,
-							  (const double(*)[3])w->v, w->nv, eps);
+			if (pvs__po_try_plane(w, c->v[c->e[i][0]], c->v[c->e[i][1]], w->v[j], (const double(*)[3])c->v, c->n,
+								  (const double(*)[3])w->v, w->nv, eps))
+				break;
 }
 
 /* Vertex x of set c: an existing one within eps, or a new one (PVS__PO_MAXW when c is full; pvs__po_source's sets
