@@ -1184,7 +1184,7 @@ typedef struct pvs_bake_desc {
 /* AUTO's sample (pvs_bake_begin): cells baked with every applicable method to choose those worth running, and the
    least share of the kept PVS a method must cull beyond the methods kept to be run on every cell. */
 #define PVS_AUTO_SAMPLE_CELLS 8u
-#define PVS_AUTO_MIN_GAIN 0.02
+#define PVS_AUTO_MIN_GAIN 0.05
 
 /* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only the cheapest applicable method. EXTPROJ
    uses 64 pixels and 32 occluders per plane unless set, no sweep, and decides object kD-tree nodes whole
@@ -16751,8 +16751,8 @@ PVS__STATIC void pvs__portal_bake_destroy(const pvs__bake_env *env, void *state)
 }
 
 PVS__STATIC const pvs__bake_method pvs__portal_method = {PVS_METHOD_PORTAL,
-														 PVS__METHOD_CONSERVATIVE,
-														 2,
+														 PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT,
+														 1,
 														 pvs__portal_bake_check,
 														 pvs__portal_bake_prepare,
 														 pvs__portal_bake_applies,
@@ -21870,7 +21870,8 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 		for (i = 0; i < b->considered_count; ++i)
 			if (b->considered[i] == b->run[k]) {
 				b->ran[i] = 0;
-				b->reason[i] = "negligible: on the sample cells it culled under 2% of what the others kept";
+				b->reason[i] = "negligible: on the sample cells it culled under 5% (PVS_AUTO_MIN_GAIN) of what the "
+							   "others kept";
 			}
 	}
 	b->run_count = kept;
