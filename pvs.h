@@ -16172,23 +16172,16 @@ typedef struct pvs__po_set {
 	uint8_t e[PVS__PO_MAXW][2];
 } pvs__po_set;
 
-/* Appends to w->pl the planes bounding lines from convex set c through region w->v: w's own plane when c lies
-   beyond `near` on one side, and the separating planes through an edge of one and a vertex of the other, c wholly
-   on one side and w on the other (Teller 1992 §5.2). A set that meets w has none (no plane has it on one side). */
-PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, double eps, double near) {
-	double n[3] = {0, 0, 0}, d, lo = DBL_MAX, hi = -DBL_MAX, len;
+/* Appends to w->pl the planes bounding lines from convex set c through region w->v (on table plane pl): w's own
+   plane when c lies beyond `near` on one side, and the separating planes through an edge of one and a vertex of the
+   other, c wholly on one side and w on the other (Teller 1992 §5.2). A set that meets w has none (no plane has it
+   on one side). */
+PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const double *pl, const pvs__po_set *c, double eps,
+									   double near) {
+	double n[3], d = -pl[3], lo = DBL_MAX, hi = -DBL_MAX;
 	uint32_t i, j, k;
 	if (w->nv < 3 || c->n == 0) return;
-	for (i = 0; i < w->nv; ++i) { /* Newell's normal */
-		const double *a = w->v[i], *b = w->v[(i + 1) % w->nv];
-		n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-		n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-		n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-	}
-	len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-	if (!(len > 0.0)) return;
-	for (k = 0; k < 3; ++k) n[k] /= len;
-	d = -(n[0] * w->v[0][0] + n[1] * w->v[0][1] + n[2] * w->v[0][2]);
+	memcpy(n, pl, sizeof(n));
 	for (i = 0; i < c->n; ++i) {
 		double t = n[0] * c->v[i][0] + n[1] * c->v[i][1] + n[2] * c->v[i][2] + d;
 		lo = t < lo ? t : lo;
@@ -16475,7 +16468,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 		win.nv = f->reg[id].n;
 		win.np = 0;
 		memcpy(win.v, f->reg[id].v, win.nv * sizeof(win.v[0]));
-		pvs__po_window_planes(&win, &src, 1e-4 * p->tol, 10.0 * p->tol);
+		pvs__po_window_planes(&win, p->pl[pt->plane], &src, 1e-4 * p->tol, 10.0 * p->tol);
 		pvs__po_keep(f, pt->to, &win);
 		for (j = p->lp_first[pt->to]; j < p->lp_first[pt->to + 1]; ++j) {
 			uint32_t q2 = p->lp[j];
