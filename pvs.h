@@ -16098,7 +16098,6 @@ typedef struct pvs__po_flow {
 	const pvs_scene *scene;
 	double c[8][3];            /* the cell's corners */
 	pvs_word *bits;
-	const pvs_word *candidates;
 	uint32_t *slot;            /* a hash table of (state, region) pairs, PVS__PO_NONE: free (states: ep_first, then
 								  the start portals) */
 	size_t slot_cap;           /* pairs, a power of two */
@@ -16270,7 +16269,7 @@ PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win 
 	for (i = p->lo_first[leaf]; i < p->lo_first[leaf + 1]; ++i) {
 		uint32_t o = p->lo[i];
 		pvs_box part = f->scene->object_boxes[o]; /* the object's part in the leaf */
-		if (pvs_bitset_test(f->bits, o) || (f->candidates && !pvs_bitset_test(f->candidates, o))) continue;
+		if (pvs_bitset_test(f->bits, o)) continue;
 		if (!w || !pvs__box_clip(&part, p->leaf_box + leaf) || pvs__po_box_passes(w, &part, p->tol))
 			pvs_bitset_set(f->bits, o);
 	}
@@ -16700,11 +16699,11 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	pvs__po_flow f;
 	uint32_t k;
 	(void)flags;
+	(void)candidates; /* every object is tested: its own PVS in AUTO's statistics is its single bake's */
 	memset(&f, 0, sizeof(f));
 	f.p = p;
 	f.scene = env->scene;
 	f.bits = bits;
-	f.candidates = candidates;
 	for (i = 0; i < 8; ++i)
 		for (k = 0; k < 3; ++k) f.c[i][k] = ((i >> k) & 1) ? box->max[k] : box->min[k];
 	mem = (unsigned char *)pvs__alloc(al, bytes, 16);
@@ -16725,7 +16724,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 		if (pvs__box_overlap(box, p->solid_box + k))
 			for (i = p->so_first[k]; i < p->so_first[k + 1]; ++i) {
 				uint32_t o = p->so[i];
-				if (!candidates || pvs_bitset_test(candidates, o)) pvs_bitset_set(bits, o);
+				pvs_bitset_set(bits, o);
 			}
 	pvs__po_flow_run(&f);
 	if (f.cut || f.oom) {
