@@ -15865,13 +15865,13 @@ PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *reg
    PVS__PO_CANDIDATES), the best of q3map2's score: faces it lies on, minus splits, minus imbalance, axial bonus.
    PVS__PO_NONE when every face lies on a splitter above (the fragments fill the node: a solid leaf). */
 PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint32_t n) {
-	uint32_t cand[PVS__PO_CANDIDATES], nc = 0, pass, i, j, best = PVS__PO_NONE;
+	uint32_t cand[PVS__PO_CANDIDATES], nc = 0, pass, i, j, best = PVS__PO_NONE, most = PVS__PO_CANDIDATES;
 	long best_score = 0;
 	int have = 0;
 	++p->stamp_now;
-	for (pass = 0; pass < 2 && nc < PVS__PO_CANDIDATES; ++pass)
-		for (i = 0; i < n && nc < PVS__PO_CANDIDATES; ++i)
-			for (j = 0; j < f[i].face_count && nc < PVS__PO_CANDIDATES; ++j) {
+	for (pass = 0; pass < 2 && nc < most; ++pass)
+		for (i = 0; i < n && nc < most; ++i)
+			for (j = 0; j < f[i].face_count && nc < most; ++j) {
 				uint32_t pair = f[i].plane[j] >> 1;
 				const double *pl = p->pl[2 * pair];
 				int axial = pl[0] == 1.0 || pl[1] == 1.0 || pl[2] == 1.0;
@@ -16531,33 +16531,51 @@ PVS__STATIC void pvs__po_destroy(pvs__poprep *p) {
 	pvs__free(a, p, sizeof(*p), 16);
 }
 
-/* The solids' boxes (rounded outward) and per solid the drawable objects whose box meets it. 0 when out of memory. */
+/* The solids' boxes (rounded outward) and per solid the drawable objects whose box meets it (found through a BVH
+   over the objects). 0 when out of memory. */
 PVS__STATIC int pvs__po_solid_objects(pvs__poprep *p, const pvs_scene *s, const pvs__po_poly *frags) {
 	const pvs_allocator *al = &p->allocator;
-	uint32_t i, o, *pairs = NULL;
+	uint32_t i, o, *pairs = NULL, *stack = NULL, sp;
+	uint8_t *keep = (uint8_t *)pvs__alloc_array(al, s->object_count + 1, 1);
 	size_t cap = 0;
-	int ok;
+	pvs__obvh h;
+	int ok = 0;
+	memset(&h, 0, sizeof(h));
 	p->solid_box = (pvs_box *)pvs__alloc_array(al, (size_t)p->solids + 1, sizeof(pvs_box));
-	if (!p->solid_box) return 0;
+	if (!p->solid_box || !keep) goto done;
+	for (o = 0; o < s->object_count; ++o)
+		keep[o] = !(s->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + o);
+	if (pvs__obvh_build(al, s->object_boxes, s->object_count, keep, &h) != PVS_OK) goto done;
+	stack = (uint32_t *)pvs__alloc_array(al, (size_t)h.node_count + 1, sizeof(uint32_t));
+	if (!stack) goto done;
 	for (i = 0; i < p->solids; ++i) {
 		const pvs_box *b = p->solid_box + i;
 		p->solid_box[i] = pvs__po_poly_box(frags + i);
-		for (o = 0; o < s->object_count; ++o) {
-			const pvs_box *ob = s->object_boxes + o;
-			if ((s->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY) || !pvs__box_valid(ob) ||
-				!pvs__box_overlap(ob, b))
+		sp = 0;
+		if (h.node_count) stack[sp++] = 0;
+		while (sp) {
+			const pvs__obvh_node *nd = h.nodes + stack[--sp];
+			if (!pvs__box_overlap(&nd->box, b)) continue;
+			if (!nd->count) {
+				stack[sp++] = nd->first + 1;
+				stack[sp++] = nd->first;
 				continue;
-			if (!pvs__grow(al, (void **)&pairs, &cap, 2 * p->so_count + 2, sizeof(uint32_t))) {
-				pvs__free_array(al, pairs, cap, sizeof(uint32_t));
-				return 0;
 			}
-			pairs[2 * p->so_count] = i;
-			pairs[2 * p->so_count + 1] = o;
-			++p->so_count;
+			for (o = nd->first; o < nd->first + nd->count; ++o) {
+				if (!pvs__box_overlap(s->object_boxes + h.items[o], b)) continue;
+				if (!pvs__grow(al, (void **)&pairs, &cap, 2 * p->so_count + 2, sizeof(uint32_t))) goto done;
+				pairs[2 * p->so_count] = i;
+				pairs[2 * p->so_count + 1] = h.items[o];
+				++p->so_count;
+			}
 		}
 	}
 	ok = pvs__po_csr(al, pairs, p->so_count, p->solids, &p->so_first, &p->so);
+done:
 	pvs__free_array(al, pairs, cap, sizeof(uint32_t));
+	pvs__free_array(al, stack, (size_t)h.node_count + 1, sizeof(uint32_t));
+	pvs__free_array(al, keep, s->object_count + 1, 1);
+	pvs__obvh_free(al, &h);
 	return ok;
 }
 
