@@ -16306,46 +16306,18 @@ PVS__STATIC int pvs__po_inside(const pvs__po_region *r, const pvs__po_wind *w, i
 	return 1;
 }
 
-typedef struct pvs__po_hp {
-	double u, v;
-	uint32_t i;
-} pvs__po_hp;
-
-PVS__STATIC int pvs__po_hp_cmp(const void *a, const void *b) {
-	const pvs__po_hp *x = (const pvs__po_hp *)a, *y = (const pvs__po_hp *)b;
-	if (x->u != y->u) return x->u < y->u ? -1 : 1;
-	if (x->v != y->v) return x->v < y->v ? -1 : 1;
-	return x->i < y->i ? -1 : (x->i > y->i);
-}
-
-PVS__STATIC double pvs__po_cross(const pvs__po_hp *o, const pvs__po_hp *a, const pvs__po_hp *b) {
-	return (a->u - o->u) * (b->v - o->v) - (a->v - o->v) * (b->u - o->u);
-}
-
-/* r = the convex hull of r and w (Andrew's monotone chain in the plane's 2D coordinates); 0 when it would have more
+/* r = the convex hull of r and w in the plane's 2D coordinates (>>vocc's pvs__vo_hull); 0 when it would have more
    than PVS__PO_MAXW vertices (r unchanged). */
 PVS__STATIC int pvs__po_hull(pvs__po_region *r, const pvs__po_wind *w, int a) {
-	pvs__po_hp pt[2 * PVS__PO_MAXW], h[4 * PVS__PO_MAXW];
-	double all[2 * PVS__PO_MAXW][3];
-	uint32_t n = 0, i, k = 0, lower;
+	double all[2 * PVS__PO_MAXW][3], uv[4 * PVS__PO_MAXW];
+	pvs__key_index keys[2 * PVS__PO_MAXW];
+	uint32_t idx[2 * PVS__PO_MAXW + 1], n = 0, i, k;
 	for (i = 0; i < r->n; ++i) memcpy(all[n++], r->v[i], sizeof(all[0]));
 	for (i = 0; i < w->n; ++i) memcpy(all[n++], w->p[i], sizeof(all[0]));
-	for (i = 0; i < n; ++i) {
-		pvs__po_uv(all[i], a, &pt[i].u, &pt[i].v);
-		pt[i].i = i;
-	}
-	PVS_QSORT(pt, n, sizeof(pt[0]), pvs__po_hp_cmp);
-	for (i = 0; i < n; ++i) {
-		while (k >= 2 && pvs__po_cross(h + k - 2, h + k - 1, pt + i) <= 0.0) --k;
-		h[k++] = pt[i];
-	}
-	for (i = n - 1, lower = k + 1; i-- > 0;) {
-		while (k >= lower && pvs__po_cross(h + k - 2, h + k - 1, pt + i) <= 0.0) --k;
-		h[k++] = pt[i];
-	}
-	if (k > 1) --k; /* the first point again */
+	for (i = 0; i < n; ++i) pvs__po_uv(all[i], a, uv + 2 * i, uv + 2 * i + 1);
+	k = pvs__vo_hull(uv, n, keys, idx);
 	if (k > PVS__PO_MAXW || k < 3) return 0;
-	for (i = 0; i < k; ++i) memcpy(r->v[i], all[h[i].i], sizeof(r->v[0]));
+	for (i = 0; i < k; ++i) memcpy(r->v[i], all[idx[i]], sizeof(r->v[0]));
 	r->n = k;
 	return 1;
 }
