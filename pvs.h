@@ -54,6 +54,7 @@
    >>otree      occlusion trees: exact 2D and conservative 2.5D (c-LSS) region visibility, from-point culling
    >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps, boxes / columns
    >>vocc       virtual occluders (Koltun 2000): construction, VOCC section, PVS rebuilt on cell entry
+   >>portal     rooms and portals from the closed convex solids (a BSP), portal flow per cell (method PORTAL)
    >>methods    region methods: `shrink` (Wonka 2000), `extproj` (Durand 2000), the estimator `sample`
    >>bake       bake driver: tasks, AUTO, draw distance, resuming, adaptive cells, determinism
    >>format     the .pvs file: writer and validating zero-copy reader
@@ -996,6 +997,7 @@ typedef enum pvs_method {
 	PVS_METHOD_SHRINK,       /* occluder shrinking + point sampling (Wonka 2000) */
 	PVS_METHOD_AUTO,         /* the conservative methods that apply, their PVSs intersected */
 	PVS_METHOD_VOCC,         /* virtual occluders (Koltun 2000), 2.5D: stored, the PVS is what they rebuild */
+	PVS_METHOD_PORTAL,       /* rooms and portals from closed convex solids, portal flow (Teller 1992): indoors */
 	PVS_METHOD_COUNT
 } pvs_method;
 
@@ -1140,6 +1142,12 @@ typedef struct pvs_bake_otree_params {
 								 many small facades time grows faster than it */
 } pvs_bake_otree_params;
 
+/* PORTAL's parameters (>>portal). */
+typedef struct pvs_bake_portal_params {
+	uint32_t budget;          /* portal clips per cell before the conservative cut-off, 0 = PVS_PORTAL_BUDGET */
+} pvs_bake_portal_params;
+#define PVS_PORTAL_BUDGET 200000u
+
 /* What to bake. Zero fields and per-method parameters get defaults. */
 typedef struct pvs_bake_desc {
 	const pvs_scene *scene;   /* must outlive the bake */
@@ -1151,7 +1159,8 @@ typedef struct pvs_bake_desc {
 	/* Shards (build farms), shard_count >= 2: bakes cells shard_index, shard_index + shard_count, ... into a
 	   part file; parts 0..shard_count-1 decoded and encoded whole (pvs_file_encode) give the unsharded file. */
 	uint32_t shard_index, shard_count;
-	uint32_t methods;         /* AUTO's candidates: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC */
+	uint32_t methods;         /* AUTO's candidates: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC and
+								 PORTAL */
 	float max_distance;       /* draw distance: drop objects whose box is farther from every cell point; 0: none */
 	uint32_t flags;           /* PVS_BAKE_* */
 	pvs_bake_sample_params sample;
@@ -1160,13 +1169,14 @@ typedef struct pvs_bake_desc {
 	pvs_bake_shrink_params shrink;
 	pvs_bake_vocc_params vocc;
 	pvs_bake_otree_params otree;
+	pvs_bake_portal_params portal;
 	pvs_allocator allocator;
 } pvs_bake_desc;
 
 /* AUTO's sample (pvs_bake_begin): cells baked with every applicable method to choose those worth running, and the
    least share of the kept PVS a method must cull beyond the methods kept to be run on every cell. */
 #define PVS_AUTO_SAMPLE_CELLS 8u
-#define PVS_AUTO_MIN_GAIN 0.02
+#define PVS_AUTO_MIN_GAIN 0.05
 
 /* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only the cheapest applicable method. EXTPROJ uses 64 pixels
    and 32 occluders per plane unless set, no sweep, and decides object kD-tree nodes whole once under a quarter radian
@@ -1235,6 +1245,13 @@ typedef struct pvs_otree_bake_info {
 	float lowest_level;          /* the lowest of them (when levels > 0) */
 } pvs_otree_bake_info;
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *bake, pvs_otree_bake_info *info);
+/* What PORTAL built (zeros when the bake did not prepare it): the closed convex solids, the distinct planes of
+   their faces, the BSP's nodes and leaves, its empty leaves (rooms) and the portals between them (each way), the
+   leaves left empty at the depth limit, and the cells baked so far that hit the budget. */
+typedef struct pvs_portal_info {
+	uint32_t solids, planes, nodes, leaves, rooms, portals, deep_leaves, cut_cells;
+} pvs_portal_info;
+PVS_API void pvs_bake_get_portal_info(const pvs_bake *bake, pvs_portal_info *info);
 /* A VOCC bake's statistics summed over the cells baked so far (zeros for other methods). */
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *bake, pvs_vocc_stats *out);
 /* Counts over the tasks run: culling nothing is conservative, not an error, but worth reporting. */
@@ -14969,6 +14986,1448 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 	for (i = 0; vo && vo->stats && i < vo->task_count; ++i) pvs__vo_stats_add(out, vo->stats + i);
 }
 
+// >>portal
+/* ==== portal: rooms and portals from the scene's closed convex solids, conservative portal flow per cell ==== */
+/* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds its vis portals from brushes): the solids are the
+   connected closed convex meshes among the scene's triangles (a component of triangles sharing vertex indices, each
+   directed edge matched by its reverse, every vertex behind every face plane; at most PVS__PO_MAX_FACES triangles).
+   Explicit occluder volumes are not solids: rays pass through them, and a cell may lie inside one. A BSP whose
+   splitting planes are the solids' face planes (q3map2's BuildTree: a brush fragment is split by each plane it
+   straddles) ends in leaves that lie wholly inside a solid or wholly outside all of them: the solid leaves block, the
+   empty ones are the rooms. Planes closer than the input's float resolution are one plane (PVS__PO_NORMAL_EPS,
+   PVS__PO_DIST_EPS times the scene's size), so solids that touch leave no crack. A portal is a face of an empty leaf
+   where another empty leaf lies beyond: the face pushed down the tree from the root, split by every plane it
+   straddles (Teller 1992 §3.3's portal enumeration). A segment between points of two rooms that meets no solid
+   crosses the portals of the leaves it passes, in order. Triangles that are not closed convex solids do not block
+   here (other methods use them); a cell point inside a solid sees the objects meeting that solid.
+
+   Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3 indoors): a segment from a point x of view cell C
+   through portals P1 .. Pk crosses each from its leaf `from`, so x lies on that side of Pj's plane: the source of
+   the lines through Pj is C_j, C clipped to that side (none: no such line). Beyond Pj the segment stays behind every
+   separating plane of C_j and its crossing region on Pj (planes through an edge of one and a vertex of the other,
+   with C_j and the region on opposite sides). Each step P -> Q (P the portal before, or none from a start leaf)
+   keeps the convex hull R of every region found on Q that way; a region W (Q clipped by the planes of the step
+   into P) not inside R grows R to hull(R, W) and queues the step, so the flow is a fixed point that grows
+   monotonically (q3map2's might-see pruning has the same aim: a path that adds nothing is not followed). Every
+   crossing point of a segment lies in its step's R by induction. An object of a leaf entered through Q is kept when
+   its part in the leaf (box clipped to the leaf's box) is not wholly beyond one plane of the step: the object-level
+   test. A cell keeps every object of the empty leaves it overlaps. Past `budget` portal clips the cell keeps every
+   object of every empty leaf reachable from its leaves (the conservative cut-off). */
+
+#define PVS__PO_MAXW 64u          /* vertices of a clipped winding */
+#define PVS__PO_MAXS 64u          /* separating planes per region */
+#define PVS__PO_MAX_FACES 256u    /* triangles of a mesh taken as a convex solid */
+#define PVS__PO_DEPTH 200u        /* BSP depth (deeper: an empty leaf, conservative) */
+#define PVS__PO_SCRATCH (PVS__PO_MAX_FACES + PVS__PO_DEPTH + 8u) /* faces of a fragment: its solid's, one per split */
+#define PVS__PO_CANDIDATES 48u    /* splitting planes scored per node */
+#define PVS__PO_GROWS 6u          /* growths of a portal's region before it is the whole portal */
+#define PVS__PO_NORMAL_EPS 1e-6
+#define PVS__PO_DIST_EPS 1e-7     /* times the scene's size */
+#define PVS__PO_LEAF 0x80000000u  /* child id bit: a leaf */
+#define PVS__PO_NONE 0xffffffffu
+
+/* A convex polygon. */
+typedef struct pvs__po_wind {
+	uint32_t n;
+	double p[PVS__PO_MAXW][3];
+} pvs__po_wind;
+
+/* A convex polytope: faces on plane-table planes (outward), their windings back to back. */
+typedef struct pvs__po_poly {
+	uint32_t face_count, vert_count;
+	uint32_t *plane;           /* face_count */
+	uint32_t *first;           /* face_count + 1 */
+	double (*v)[3];            /* vert_count */
+} pvs__po_poly;
+
+typedef struct pvs__po_node {
+	uint32_t plane;            /* front: n.x > d */
+	uint32_t child[2];         /* front, back; PVS__PO_LEAF | leaf */
+} pvs__po_node;
+
+typedef struct pvs__po_portal {
+	uint32_t from, to;         /* empty leaves */
+	uint32_t plane;            /* the face's table plane, outward from `from` */
+	uint32_t first, n;         /* vertices in portal_v */
+} pvs__po_portal;
+
+typedef struct pvs__poprep {
+	pvs_allocator allocator;
+	double ext, tol, eps;
+	/* plane table: pairs 2k, 2k + 1 opposite; n.x = d */
+	double (*pl)[4];
+	size_t plane_count, plane_cap;
+	uint32_t *hash_head, hash_size, *hash_next;
+	size_t hash_next_cap;
+	uint8_t *on_path;          /* per pair: a splitter above the node being built */
+	uint32_t *stamp, stamp_now; /* per pair: a candidate of the node being scored */
+	size_t flag_cap;
+	uint32_t bound_pairs;      /* pairs 0 .. bound_pairs - 1: the root box (no portal across) */
+	/* tree */
+	pvs__po_node *nodes;
+	size_t node_count, node_cap;
+	pvs__po_poly *leaf;        /* per leaf its polytope; no faces: a solid leaf */
+	pvs_box *leaf_box;         /* per leaf its polytope's box (rounded outward) */
+	size_t leaf_box_cap;
+	size_t leaf_count, leaf_cap;
+	uint32_t root, solids, deep_leaves;
+	int lost;                  /* a polygon of more than PVS__PO_MAXW vertices: the method cannot bake this scene */
+	/* portals */
+	pvs__po_portal *portals;
+	size_t portal_count, portal_cap;
+	double (*portal_v)[3];
+	size_t portal_v_count, portal_v_cap;
+	uint32_t *lp_first, *lp;   /* per leaf its portals out (leaf_count + 1, portal_count) */
+	uint32_t *ep_first;        /* per portal P its first step P -> Q, Q out of P's leaf `to` (portal_count + 1) */
+	/* objects per empty leaf */
+	uint32_t *lo_first, *lo;
+	size_t lo_count, lo_cap;
+	uint32_t budget, empty_leaves;
+	uint32_t *task_cut, task_count; /* per task: cells cut off (the task's own slot) */
+	pvs_box *solid_box;        /* solids: a point inside one sees the objects meeting it (its hull blocks the rest) */
+	uint32_t *so_first, *so;   /* per solid the drawable objects whose box meets its box */
+	size_t so_count;
+} pvs__poprep;
+
+/* ---- plane table ---- */
+
+PVS__STATIC int pvs__po_plane_match(const double *a, const double n[3], double d, double de) {
+	return fabs(a[0] - n[0]) < PVS__PO_NORMAL_EPS && fabs(a[1] - n[1]) < PVS__PO_NORMAL_EPS &&
+		   fabs(a[2] - n[2]) < PVS__PO_NORMAL_EPS && fabs(a[3] - d) < de;
+}
+
+/* The bucket of key, the plane's |d| in thousandths of the scene's size (rounded down). */
+PVS__STATIC uint32_t pvs__po_hash(const pvs__poprep *p, double key) {
+	uint64_t u = (uint64_t)(key < 1e18 ? key : 1e18);
+	return (uint32_t)((u * 0x9E3779B97F4A7C15ull) >> 40) & (p->hash_size - 1);
+}
+
+/* The dominant axis of n (the first of equal ones). */
+PVS__STATIC int pvs__po_axis(const double *n) {
+	return fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : (fabs(n[1]) >= fabs(n[2]) ? 1 : 2);
+}
+
+PVS__STATIC void pvs__po_hash_insert(pvs__poprep *p, uint32_t pair) {
+	uint32_t h = pvs__po_hash(p, floor(fabs(p->pl[2 * pair][3]) / (1e-3 * p->ext)));
+	p->hash_next[pair] = p->hash_head[h];
+	p->hash_head[h] = pair;
+}
+
+/* The table id of plane n.x = d (n unit): an existing plane within the epsilons, or a new pair. PVS__PO_NONE when
+   out of memory. */
+PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) {
+	double de = PVS__PO_DIST_EPS * p->ext, nn[3];
+	double q = fabs(d) / (1e-3 * p->ext);
+	uint32_t pair, k, a;
+	int b;
+	for (b = -1; b <= 1; ++b) {
+		double key = floor(q) + b;
+		if (key < 0) continue;
+		for (pair = p->hash_head[pvs__po_hash(p, key)]; pair != PVS__PO_NONE; pair = p->hash_next[pair]) {
+			if (pvs__po_plane_match(p->pl[2 * pair], n, d, de)) return 2 * pair;
+			if (pvs__po_plane_match(p->pl[2 * pair + 1], n, d, de)) return 2 * pair + 1;
+		}
+	}
+	if (!pvs__grow(&p->allocator, (void **)&p->pl, &p->plane_cap, p->plane_count + 2, sizeof(p->pl[0])) ||
+		!pvs__grow(&p->allocator, (void **)&p->hash_next, &p->hash_next_cap, p->plane_count / 2 + 1, sizeof(uint32_t)))
+		return PVS__PO_NONE;
+	/* the canonical orientation: the largest normal component positive */
+	a = (uint32_t)pvs__po_axis(n);
+	b = n[a] < 0.0;
+	for (k = 0; k < 3; ++k) nn[k] = b ? -n[k] : n[k];
+	pair = (uint32_t)(p->plane_count / 2);
+	for (k = 0; k < 3; ++k) {
+		p->pl[2 * pair][k] = nn[k];
+		p->pl[2 * pair + 1][k] = -nn[k];
+	}
+	p->pl[2 * pair][3] = b ? -d : d;
+	p->pl[2 * pair + 1][3] = b ? d : -d;
+	p->plane_count += 2;
+	if (p->plane_count / 2 > p->hash_size) { /* rehash at load 1 */
+		uint32_t size = p->hash_size * 4, i;
+		uint32_t *head = (uint32_t *)pvs__alloc_array(&p->allocator, size, sizeof(uint32_t));
+		if (!head) return PVS__PO_NONE;
+		pvs__free_array(&p->allocator, p->hash_head, p->hash_size, sizeof(uint32_t));
+		p->hash_head = head;
+		p->hash_size = size;
+		for (i = 0; i < size; ++i) head[i] = PVS__PO_NONE;
+		for (i = 0; i < p->plane_count / 2; ++i) pvs__po_hash_insert(p, i);
+	} else {
+		pvs__po_hash_insert(p, pair);
+	}
+	return 2 * pair + (uint32_t)b;
+}
+
+/* ---- windings and polytopes ---- */
+
+PVS__STATIC double pvs__po_dist(const double *pl, const double *x) {
+	return pl[0] * x[0] + pl[1] * x[1] + pl[2] * x[2] - pl[3];
+}
+
+/* A square of half-size big on plane pl, centred on the point of the plane nearest the origin. */
+PVS__STATIC void pvs__po_base(const double *pl, double big, pvs__po_wind *w) {
+	int a = fabs(pl[2]) >= fabs(pl[0]) && fabs(pl[2]) >= fabs(pl[1]) ? 2 : (fabs(pl[1]) >= fabs(pl[0]) ? 1 : 0);
+	double up[3] = {0, 0, 0}, right[3], o[3], dot, len;
+	int k;
+	up[a == 2 ? 0 : 2] = 1.0;
+	dot = up[0] * pl[0] + up[1] * pl[1] + up[2] * pl[2];
+	for (k = 0; k < 3; ++k) up[k] -= dot * pl[k];
+	len = sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
+	for (k = 0; k < 3; ++k) up[k] = up[k] / len * big;
+	right[0] = up[1] * pl[2] - up[2] * pl[1];
+	right[1] = up[2] * pl[0] - up[0] * pl[2];
+	right[2] = up[0] * pl[1] - up[1] * pl[0];
+	for (k = 0; k < 3; ++k) o[k] = pl[k] * pl[3];
+	w->n = 4;
+	for (k = 0; k < 3; ++k) {
+		w->p[0][k] = o[k] - right[k] + up[k];
+		w->p[1][k] = o[k] + right[k] + up[k];
+		w->p[2][k] = o[k] + right[k] - up[k];
+		w->p[3][k] = o[k] - right[k] - up[k];
+	}
+}
+
+/* Appends x as vertex *n of w; 1 when w is full (x lost). */
+PVS__STATIC int pvs__po_put(pvs__po_wind *w, uint32_t *n, const double *x) {
+	if (*n == PVS__PO_MAXW) return 1;
+	memcpy(w->p[(*n)++], x, sizeof(w->p[0]));
+	return 0;
+}
+
+/* Splits w by plane pl: the part with dist <= eps into *back, >= -eps into *front (either may be NULL). Points
+   within eps of the plane go to both. 1 when a part would have more than PVS__PO_MAXW vertices (it lost some). */
+PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double eps, pvs__po_wind *front,
+							   pvs__po_wind *back) {
+	double dist[PVS__PO_MAXW];
+	uint32_t i, nf = 0, nb = 0;
+	int lost = 0;
+	for (i = 0; i < w->n; ++i) dist[i] = pvs__po_dist(pl, w->p[i]);
+	for (i = 0; i < w->n; ++i) {
+		uint32_t j = (i + 1) % w->n, k;
+		int cross = (dist[i] < -eps && dist[j] > eps) || (dist[i] > eps && dist[j] < -eps);
+		double x[3];
+		if (cross) {
+			double t = dist[i] / (dist[i] - dist[j]);
+			for (k = 0; k < 3; ++k) x[k] = w->p[i][k] + t * (w->p[j][k] - w->p[i][k]);
+		}
+		if (front && dist[i] >= -eps) lost |= pvs__po_put(front, &nf, w->p[i]);
+		if (back && dist[i] <= eps) lost |= pvs__po_put(back, &nb, w->p[i]);
+		if (front && cross) lost |= pvs__po_put(front, &nf, x);
+		if (back && cross) lost |= pvs__po_put(back, &nb, x);
+	}
+	if (front) front->n = nf;
+	if (back) back->n = nb;
+	return lost;
+}
+
+/* w clipped to the part behind pl (within eps); 1 when vertices were lost (pvs__po_split). */
+PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps) {
+	pvs__po_wind t;
+	int lost = pvs__po_split(w, pl, eps, NULL, &t);
+	*w = t;
+	return lost;
+}
+
+/* The base square of table plane id clipped by planes[0..count) (those of pair `skip` left out); p->lost set when
+   vertices were lost. */
+PVS__STATIC void pvs__po_clip_base(pvs__poprep *p, uint32_t id, const uint32_t *planes, uint32_t count, uint32_t skip,
+								   pvs__po_wind *w) {
+	uint32_t j;
+	pvs__po_base(p->pl[id], 4.0 * p->ext, w);
+	for (j = 0; j < count && w->n >= 3; ++j)
+		if ((planes[j] >> 1) != skip) p->lost |= pvs__po_clip(w, p->pl[planes[j]], p->eps);
+}
+
+PVS__STATIC void pvs__po_poly_free(const pvs_allocator *a, pvs__po_poly *q) {
+	if (!q->plane) return;
+	pvs__free(a, (void *)q->v, (size_t)q->face_count * 8 + 4 + (size_t)q->vert_count * 24, 8);
+	memset(q, 0, sizeof(*q));
+}
+
+/* Copies the faces (planes and windings) into one block. 0 when out of memory. */
+PVS__STATIC int pvs__po_poly_make(const pvs_allocator *a, pvs__po_poly *q, const uint32_t *planes,
+								  const pvs__po_wind *w, uint32_t faces) {
+	uint32_t i, verts = 0;
+	unsigned char *m;
+	for (i = 0; i < faces; ++i) verts += w[i].n;
+	m = (unsigned char *)pvs__alloc(a, (size_t)faces * 8 + 4 + (size_t)verts * 24, 8);
+	if (!m) return 0;
+	q->face_count = faces;
+	q->vert_count = verts;
+	q->v = (double(*)[3])(void *)m;
+	q->plane = (uint32_t *)(void *)(m + (size_t)verts * 24);
+	q->first = q->plane + faces;
+	q->first[0] = 0;
+	for (i = 0; i < faces; ++i) {
+		q->plane[i] = planes[i];
+		memcpy(q->v[q->first[i]], w[i].p, w[i].n * sizeof(w[i].p[0]));
+		q->first[i + 1] = q->first[i] + w[i].n;
+	}
+	return 1;
+}
+
+/* The box of q's vertices, rounded outward to floats. */
+PVS__STATIC pvs_box pvs__po_poly_box(const pvs__po_poly *q) {
+	pvs_box b = pvs__box_empty();
+	uint32_t i, k;
+	for (i = 0; i < q->vert_count; ++i)
+		for (k = 0; k < 3; ++k) {
+			b.min[k] = pvs__f_down(pvs__dmin(q->v[i][k], b.min[k]));
+			b.max[k] = pvs__f_up(pvs__dmax(q->v[i][k], b.max[k]));
+		}
+	return b;
+}
+
+PVS__STATIC void pvs__po_face(const pvs__po_poly *q, uint32_t f, pvs__po_wind *w) {
+	w->n = q->first[f + 1] - q->first[f];
+	memcpy(w->p, q->v[q->first[f]], w->n * sizeof(w->p[0]));
+}
+
+/* The polytope of planes[0..count) (outward): each face is its base square clipped by the others. Faces clipped
+   away are dropped; fewer than 4 left: an empty *q (face_count 0). 0 when out of memory. */
+PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes, uint32_t count, pvs__po_poly *q,
+										 pvs__po_wind *scratch, uint32_t *kept) {
+	uint32_t i, faces = 0;
+	memset(q, 0, sizeof(*q));
+	for (i = 0; i < count; ++i) {
+		pvs__po_clip_base(p, planes[i], planes, count, planes[i] >> 1, scratch + faces);
+		if (scratch[faces].n >= 3) kept[faces++] = planes[i];
+	}
+	if (faces < 4) return 1;
+	return pvs__po_poly_make(&p->allocator, q, kept, scratch, faces);
+}
+
+/* -1, 0, 1: polytope wholly behind, straddling, wholly in front of pl (within eps); 2: on it (degenerate). */
+PVS__STATIC int pvs__po_side(const pvs__po_poly *q, const double *pl, double eps) {
+	double lo = 0.0, hi = 0.0;
+	uint32_t i;
+	for (i = 0; i < q->vert_count; ++i) {
+		double s = pvs__po_dist(pl, q->v[i]);
+		lo = s < lo ? s : lo;
+		hi = s > hi ? s : hi;
+	}
+	if (hi > eps && lo < -eps) return 0;
+	if (hi > eps) return 1;
+	if (lo < -eps) return -1;
+	return 2;
+}
+
+/* Splits q by table plane id into *front and *back (either empty when nothing of q lies there); q untouched. The
+   cap is the plane's base square clipped by q's faces. 0 when out of memory. */
+PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32_t id, pvs__po_poly *front,
+								   pvs__po_poly *back, pvs__po_wind *scratch, uint32_t *planes) {
+	const double *pl = p->pl[id];
+	uint32_t f, side, n;
+	pvs__po_wind w, a, b;
+	memset(front, 0, sizeof(*front));
+	memset(back, 0, sizeof(*back));
+	for (side = 0; side < 2; ++side) {
+		n = 0;
+		for (f = 0; f < q->face_count; ++f) {
+			pvs__po_face(q, f, &w);
+			p->lost |= pvs__po_split(&w, pl, p->eps, &a, &b);
+			if ((side == 0 ? a.n : b.n) >= 3) {
+				scratch[n] = side == 0 ? a : b;
+				planes[n++] = q->plane[f];
+			}
+		}
+		/* the cap, outward: -n for the front part, +n for the back part */
+		pvs__po_clip_base(p, id, q->plane, q->face_count, PVS__PO_NONE, &w);
+		if (w.n >= 3) {
+			uint32_t i;
+			scratch[n] = w;
+			if (side == 0) /* reversed winding for the flipped plane */
+				for (i = 0; i < w.n; ++i) memcpy(scratch[n].p[i], w.p[w.n - 1 - i], sizeof(w.p[0]));
+			planes[n++] = side == 0 ? (id ^ 1u) : id;
+		}
+		if (n >= 4 && !pvs__po_poly_make(&p->allocator, side == 0 ? front : back, planes, scratch, n)) return 0;
+	}
+	return 1;
+}
+
+/* ---- solids ---- */
+
+/* Adds the polytope of planes[0..count) as a solid fragment. 0 when out of memory. */
+PVS__STATIC int pvs__po_add_solid(pvs__poprep *p, pvs__po_poly **frags, size_t *cap, size_t *count,
+								  const uint32_t *planes, uint32_t n, pvs__po_wind *scratch, uint32_t *kept) {
+	pvs__po_poly q;
+	if (!pvs__po_poly_from_planes(p, planes, n, &q, scratch, kept)) return 0;
+	if (q.face_count == 0) return 1;
+	if (!pvs__grow(&p->allocator, (void **)frags, cap, *count + 1, sizeof(pvs__po_poly))) {
+		pvs__po_poly_free(&p->allocator, &q);
+		return 0;
+	}
+	(*frags)[(*count)++] = q;
+	return 1;
+}
+
+/* The table plane of n.x <= -d (n not unit): PVS__PO_NONE when degenerate or out of memory. */
+PVS__STATIC uint32_t pvs__po_plane_nd(pvs__poprep *p, const double n[3], double d) {
+	double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), u[3];
+	int k;
+	if (!(len > 0.0) || !isfinite(d / len)) return PVS__PO_NONE;
+	for (k = 0; k < 3; ++k) u[k] = n[k] / len;
+	return pvs__po_plane(p, u, -d / len);
+}
+
+PVS__STATIC int pvs__po_edge_cmp(const void *a, const void *b) {
+	const uint32_t *x = (const uint32_t *)a, *y = (const uint32_t *)b;
+	if (x[0] != y[0]) return x[0] < y[0] ? -1 : 1;
+	return x[1] < y[1] ? -1 : (x[1] > y[1]);
+}
+
+/* The face planes of component tris[0..n) when it is a closed convex mesh (each directed edge once, its reverse
+   once; every vertex within tolc behind every triangle's plane, or every one in front: inside out): the count, 0
+   when it is not. planes: n entries. */
+PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const uint32_t *tris, uint32_t n,
+									uint32_t (*edges)[2], uint32_t *planes) {
+	uint32_t i, j, k, np = 0;
+	double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX}, tolc, sign = 0.0;
+	if (n < 4) return 0;
+	for (i = 0; i < n; ++i)
+		for (k = 0; k < 3; ++k) {
+			const uint32_t *t = s->indices + 3 * (size_t)tris[i];
+			edges[3 * i + k][0] = t[k];
+			edges[3 * i + k][1] = t[(k + 1) % 3];
+			for (j = 0; j < 3; ++j) {
+				double x = s->positions[3 * (size_t)t[k] + j];
+				lo[j] = x < lo[j] ? x : lo[j];
+				hi[j] = x > hi[j] ? x : hi[j];
+			}
+		}
+	PVS_QSORT(edges, 3 * (size_t)n, sizeof(edges[0]), pvs__po_edge_cmp);
+	for (i = 0; i < 3 * n; ++i) {
+		uint32_t key[2], lo_i = 0, hi_i = 3 * n;
+		if (i + 1 < 3 * n && edges[i][0] == edges[i + 1][0] && edges[i][1] == edges[i + 1][1]) return 0;
+		key[0] = edges[i][1];
+		key[1] = edges[i][0];
+		while (lo_i < hi_i) {
+			uint32_t mid = lo_i + (hi_i - lo_i) / 2;
+			if (pvs__po_edge_cmp(edges[mid], key) < 0) lo_i = mid + 1;
+			else hi_i = mid;
+		}
+		if (lo_i == 3 * n || pvs__po_edge_cmp(edges[lo_i], key) != 0) return 0; /* an open edge */
+	}
+	tolc = 1e-6 * ((hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]));
+	for (i = 0; i < n; ++i) { /* the orientation: the signed volume */
+		const uint32_t *t = s->indices + 3 * (size_t)tris[i];
+		const float *a = s->positions + 3 * (size_t)t[0], *b = s->positions + 3 * (size_t)t[1],
+					*c = s->positions + 3 * (size_t)t[2];
+		sign += (double)a[0] * ((double)b[1] * c[2] - (double)b[2] * c[1]) +
+				(double)a[1] * ((double)b[2] * c[0] - (double)b[0] * c[2]) +
+				(double)a[2] * ((double)b[0] * c[1] - (double)b[1] * c[0]);
+	}
+	if (!(fabs(sign) > 1e-9 * tolc * tolc * tolc * 1e18)) return 0; /* flat */
+	sign = sign > 0.0 ? 1.0 : -1.0;
+	for (i = 0; i < n; ++i) {
+		const uint32_t *t = s->indices + 3 * (size_t)tris[i];
+		const float *a = s->positions + 3 * (size_t)t[0], *b = s->positions + 3 * (size_t)t[1],
+					*c = s->positions + 3 * (size_t)t[2];
+		double e1[3], e2[3], nn[3], d, len, size = 1e6 * tolc;
+		for (k = 0; k < 3; ++k) {
+			e1[k] = (double)b[k] - a[k];
+			e2[k] = (double)c[k] - a[k];
+		}
+		nn[0] = sign * (e1[1] * e2[2] - e1[2] * e2[1]);
+		nn[1] = sign * (e1[2] * e2[0] - e1[0] * e2[2]);
+		nn[2] = sign * (e1[0] * e2[1] - e1[1] * e2[0]);
+		len = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+		if (!(len > 1e-12 * size * size)) continue; /* a sliver: its edges still counted */
+		for (k = 0; k < 3; ++k) nn[k] /= len;
+		d = -(nn[0] * a[0] + nn[1] * a[1] + nn[2] * a[2]);
+		for (j = 0; j < n; ++j)
+			for (k = 0; k < 3; ++k) {
+				const float *v = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[j] + k];
+				if (nn[0] * v[0] + nn[1] * v[1] + nn[2] * v[2] + d > tolc) return 0; /* not convex */
+			}
+		planes[np] = pvs__po_plane_nd(p, nn, d);
+		if (planes[np] == PVS__PO_NONE) return 0;
+		for (j = 0; j < np && planes[j] != planes[np]; ++j) {
+		}
+		np += j == np;
+	}
+	return np >= 4 ? np : 0;
+}
+
+/* The solids of scene s as fragments: the closed convex meshes among the triangles in the order of their lowest
+   triangle (explicit occluder volumes are not taken: rays pass through them, a cell may lie inside one). 0 when out
+   of memory. */
+PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly **frags, size_t *cap, size_t *count,
+							   pvs__po_wind *scratch, uint32_t *kept) {
+	const pvs_allocator *al = &p->allocator;
+	uint32_t planes[PVS__PO_MAX_FACES], i, k, t;
+	uint32_t *parent = NULL, *head = NULL, *next = NULL, (*edges)[2] = NULL;
+	int ok = 0;
+	if (s->triangle_count == 0) return 1;
+	parent = (uint32_t *)pvs__alloc_array(al, s->vertex_count, sizeof(uint32_t));
+	head = (uint32_t *)pvs__alloc_array(al, s->vertex_count, sizeof(uint32_t));
+	next = (uint32_t *)pvs__alloc_array(al, s->triangle_count, sizeof(uint32_t));
+	edges = (uint32_t(*)[2])pvs__alloc_array(al, 3 * PVS__PO_MAX_FACES, sizeof(edges[0]));
+	if (!parent || !head || !next || !edges) goto done;
+	for (i = 0; i < s->vertex_count; ++i) {
+		parent[i] = i;
+		head[i] = PVS__PO_NONE;
+	}
+	for (t = 0; t < s->triangle_count; ++t)
+		for (k = 1; k < 3; ++k) {
+			uint32_t a = pvs__uf_find(parent, s->indices[3 * (size_t)t]);
+			uint32_t b = pvs__uf_find(parent, s->indices[3 * (size_t)t + k]);
+			if (a != b) parent[a < b ? b : a] = a < b ? a : b;
+		}
+	/* per component (its root) the triangles, linked in decreasing order: reversed when read */
+	for (t = s->triangle_count; t-- > 0;) {
+		uint32_t r = pvs__uf_find(parent, s->indices[3 * (size_t)t]);
+		next[t] = head[r];
+		head[r] = t;
+	}
+	for (t = 0; t < s->triangle_count; ++t) {
+		uint32_t r = pvs__uf_find(parent, s->indices[3 * (size_t)t]), n = 0, u, np;
+		uint32_t tris[PVS__PO_MAX_FACES];
+		if (head[r] != t) continue; /* not the component's first triangle */
+		for (u = t; u != PVS__PO_NONE && n <= PVS__PO_MAX_FACES; u = next[u])
+			if (n < PVS__PO_MAX_FACES) tris[n++] = u;
+			else ++n;
+		if (n > PVS__PO_MAX_FACES || n < 4) continue;
+		np = pvs__po_convex(p, s, tris, n, edges, planes);
+		if (np && !pvs__po_add_solid(p, frags, cap, count, planes, np, scratch, kept)) goto done;
+	}
+	ok = 1;
+done:
+	pvs__free_array(al, parent, s->vertex_count, sizeof(uint32_t));
+	pvs__free_array(al, head, s->vertex_count, sizeof(uint32_t));
+	pvs__free_array(al, next, s->triangle_count, sizeof(uint32_t));
+	pvs__free_array(al, edges, 3 * PVS__PO_MAX_FACES, sizeof(edges[0]));
+	return ok;
+}
+
+/* ---- the tree ---- */
+
+typedef struct pvs__po_build {
+	pvs__poprep *p;
+	pvs__po_wind *scratch;     /* PVS__PO_SCRATCH windings */
+	uint32_t *planes;
+	int oom;
+} pvs__po_build;
+
+/* A new leaf; takes region (kept when empty). */
+PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *region) {
+	pvs__poprep *p = b->p;
+	uint32_t id = (uint32_t)p->leaf_count;
+	if (!pvs__grow(&p->allocator, (void **)&p->leaf_box, &p->leaf_box_cap, p->leaf_count + 1, sizeof(pvs_box)) ||
+		!pvs__grow(&p->allocator, (void **)&p->leaf, &p->leaf_cap, p->leaf_count + 1, sizeof(pvs__po_poly))) {
+		b->oom = 1;
+		pvs__po_poly_free(&p->allocator, region);
+		return PVS__PO_LEAF;
+	}
+	memset(p->leaf + id, 0, sizeof(pvs__po_poly));
+	p->leaf_box[id] = pvs__po_poly_box(region);
+	if (!solid && region->face_count) {
+		p->leaf[id] = *region;
+		++p->empty_leaves;
+	} else {
+		pvs__po_poly_free(&p->allocator, region);
+	}
+	memset(region, 0, sizeof(*region));
+	++p->leaf_count;
+	return PVS__PO_LEAF | id;
+}
+
+/* The splitting plane for fragments f[0..n): among the unused face planes (axial ones first, at most
+   PVS__PO_CANDIDATES), the best of q3map2's score: faces it lies on, minus splits, minus imbalance, axial bonus.
+   PVS__PO_NONE when every face lies on a splitter above (the fragments fill the node: a solid leaf). */
+PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint32_t n) {
+	uint32_t cand[PVS__PO_CANDIDATES], nc = 0, pass, i, j, best = PVS__PO_NONE, most = PVS__PO_CANDIDATES;
+	long best_score = 0;
+	int have = 0;
+	++p->stamp_now;
+	for (pass = 0; pass < 2 && nc < most; ++pass)
+		for (i = 0; i < n && nc < most; ++i)
+			for (j = 0; j < f[i].face_count && nc < most; ++j) {
+				uint32_t pair = f[i].plane[j] >> 1;
+				const double *pl = p->pl[2 * pair];
+				int axial = pl[0] == 1.0 || pl[1] == 1.0 || pl[2] == 1.0;
+				if (p->on_path[pair] || p->stamp[pair] == p->stamp_now || axial != (pass == 0)) continue;
+				p->stamp[pair] = p->stamp_now;
+				cand[nc++] = pair;
+			}
+	for (i = 0; i < nc; ++i) {
+		const double *pl = p->pl[2 * cand[i]];
+		long front = 0, back = 0, split = 0, facing = 0, score;
+		for (j = 0; j < n; ++j) {
+			int side = pvs__po_side(f + j, pl, p->eps);
+			uint32_t k;
+			front += side == 1;
+			back += side == -1;
+			split += side == 0;
+			for (k = 0; k < f[j].face_count; ++k) facing += (f[j].plane[k] >> 1) == cand[i];
+		}
+		score = 5 * facing - 5 * split - (front > back ? front - back : back - front);
+		if (pl[0] == 1.0 || pl[1] == 1.0 || pl[2] == 1.0) score += 5;
+		if (!have || score > best_score) {
+			have = 1;
+			best_score = score;
+			best = cand[i];
+		}
+	}
+	return best;
+}
+
+/* The subtree of fragments f[0..n) (taken and freed) in region (taken): its node or leaf id. */
+PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint32_t n, pvs__po_poly *region,
+										uint32_t depth) {
+	pvs__poprep *p = b->p;
+	const pvs_allocator *al = &p->allocator;
+	pvs__po_poly *part[2] = {NULL, NULL}, rpart[2];
+	uint32_t count[2] = {0, 0}, pair, i, id, child[2];
+	if (b->oom) goto leaf;
+	pair = depth < PVS__PO_DEPTH ? pvs__po_choose(p, f, n) : PVS__PO_NONE;
+	if (pair == PVS__PO_NONE) {
+		if (n && depth >= PVS__PO_DEPTH) { /* too deep: left empty (sight passes) */
+			++p->deep_leaves;
+			for (i = 0; i < n; ++i) pvs__po_poly_free(al, f + i);
+			n = 0;
+		}
+		goto leaf;
+	}
+	part[0] = n ? (pvs__po_poly *)pvs__alloc_array(al, n, sizeof(pvs__po_poly)) : NULL;
+	part[1] = n ? (pvs__po_poly *)pvs__alloc_array(al, n, sizeof(pvs__po_poly)) : NULL;
+	if (!part[0] || !part[1] || !pvs__po_poly_split(p, region, 2 * pair, &rpart[0], &rpart[1], b->scratch, b->planes)) {
+		b->oom = 1;
+		pvs__free_array(al, part[0], n, sizeof(pvs__po_poly));
+		pvs__free_array(al, part[1], n, sizeof(pvs__po_poly));
+		goto leaf;
+	}
+	for (i = 0; i < n; ++i) {
+		int side = pvs__po_side(f + i, p->pl[2 * pair], p->eps);
+		if (side == 1) part[0][count[0]++] = f[i];
+		else if (side == -1) part[1][count[1]++] = f[i];
+		else {
+			pvs__po_poly a, c;
+			if (side == 0 && !pvs__po_poly_split(p, f + i, 2 * pair, &a, &c, b->scratch, b->planes)) b->oom = 1;
+			if (side == 0 && a.face_count) part[0][count[0]++] = a;
+			if (side == 0 && c.face_count) part[1][count[1]++] = c;
+			pvs__po_poly_free(al, f + i);
+		}
+	}
+	pvs__free_array(al, f, n, sizeof(pvs__po_poly));
+	pvs__po_poly_free(al, region);
+	if (!pvs__grow(al, (void **)&p->nodes, &p->node_cap, p->node_count + 1, sizeof(pvs__po_node))) b->oom = 1;
+	id = b->oom ? PVS__PO_NONE : (uint32_t)p->node_count++;
+	p->on_path[pair] = 1;
+	for (i = 0; i < 2; ++i) child[i] = pvs__po_build_node(b, part[i], count[i], &rpart[i], depth + 1);
+	p->on_path[pair] = 0;
+	if (id == PVS__PO_NONE) return PVS__PO_LEAF;
+	p->nodes[id].plane = 2 * pair;
+	p->nodes[id].child[0] = child[0];
+	p->nodes[id].child[1] = child[1];
+	return id;
+leaf:
+	id = pvs__po_leaf(b, n > 0, region);
+	for (i = 0; i < n; ++i) pvs__po_poly_free(al, f + i);
+	pvs__free_array(al, f, n, sizeof(pvs__po_poly));
+	return id;
+}
+
+/* ---- portals and objects per leaf ---- */
+
+/* Adds the portal w from leaf `from` into leaf `to`. */
+PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to, uint32_t plane,
+									const pvs__po_wind *w) {
+	pvs__poprep *p = b->p;
+	const pvs_allocator *al = &p->allocator;
+	pvs__po_portal *q;
+	if (!pvs__grow(al, (void **)&p->portals, &p->portal_cap, p->portal_count + 1, sizeof(pvs__po_portal)) ||
+		!pvs__grow(al, (void **)&p->portal_v, &p->portal_v_cap, p->portal_v_count + w->n, sizeof(p->portal_v[0]))) {
+		b->oom = 1;
+		return;
+	}
+	q = p->portals + p->portal_count++;
+	q->from = from;
+	q->to = to;
+	q->plane = plane;
+	q->first = (uint32_t)p->portal_v_count;
+	q->n = w->n;
+	memcpy(p->portal_v[q->first], w->p, w->n * sizeof(w->p[0]));
+	p->portal_v_count += w->n;
+}
+
+/* Face w of leaf `from` on table plane `plane` (outward) pushed down from `node`: a portal into every empty leaf
+   that a part of it reaches (Teller 1992 §3.3). Straddled planes split it; a coplanar node sends it to the side its
+   normal points to; a face within eps of a node plane of another pair goes both ways. */
+PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t plane, uint32_t node, uint32_t from) {
+	pvs__poprep *p = b->p;
+	while (!(node & PVS__PO_LEAF)) {
+		const pvs__po_node *nd = p->nodes + node;
+		double lo = 0.0, hi = 0.0;
+		uint32_t i;
+		if ((nd->plane >> 1) == (plane >> 1)) {
+			node = nd->child[nd->plane == plane ? 0 : 1];
+			continue;
+		}
+		for (i = 0; i < w->n; ++i) {
+			double s = pvs__po_dist(p->pl[nd->plane], w->p[i]);
+			lo = s < lo ? s : lo;
+			hi = s > hi ? s : hi;
+		}
+		if (lo >= -p->eps && hi > p->eps) node = nd->child[0];
+		else if (hi <= p->eps && lo < -p->eps) node = nd->child[1];
+		else {
+			pvs__po_wind *parts = (pvs__po_wind *)pvs__alloc_array(&p->allocator, 2, sizeof(pvs__po_wind));
+			if (!parts) {
+				b->oom = 1;
+				return;
+			}
+			if (hi > p->eps) p->lost |= pvs__po_split(w, p->pl[nd->plane], p->eps, parts, parts + 1);
+			else parts[0] = parts[1] = *w; /* within eps of the plane: both ways */
+			for (i = 0; i < 2; ++i)
+				if (parts[i].n >= 3) pvs__po_push(b, parts + i, plane, nd->child[i], from);
+			pvs__free_array(&p->allocator, parts, 2, sizeof(pvs__po_wind));
+			return;
+		}
+	}
+	node &= ~PVS__PO_LEAF;
+	if (p->leaf[node].face_count && node != from) pvs__po_add_portal(b, from, node, plane, w);
+}
+
+/* Calls leaf(ctx, l) for every empty leaf l that box b meets (within eps), b pushed down from `node`. */
+PVS__STATIC void pvs__po_box_down(const pvs__poprep *p, const pvs_box *b, uint32_t node,
+								  void (*leaf)(void *ctx, uint32_t l), void *ctx) {
+	while (!(node & PVS__PO_LEAF)) {
+		const pvs__po_node *nd = p->nodes + node;
+		const double *pl = p->pl[nd->plane];
+		double c = 0.0, r = 0.0;
+		uint32_t k;
+		for (k = 0; k < 3; ++k) {
+			c += pl[k] * 0.5 * ((double)b->min[k] + b->max[k]);
+			r += fabs(pl[k]) * 0.5 * ((double)b->max[k] - b->min[k]);
+		}
+		c -= pl[3];
+		if (c - r > p->eps) node = nd->child[0];
+		else if (c + r < -p->eps) node = nd->child[1];
+		else {
+			pvs__po_box_down(p, b, nd->child[0], leaf, ctx);
+			node = nd->child[1];
+		}
+	}
+	if (p->leaf[node & ~PVS__PO_LEAF].face_count) leaf(ctx, node & ~PVS__PO_LEAF);
+}
+
+typedef struct pvs__po_object {
+	pvs__po_build *b;
+	uint32_t o;
+} pvs__po_object;
+
+/* pvs__po_box_down's visitor: object o lies in leaf l (a pair appended to p->lo). */
+PVS__STATIC void pvs__po_object_leaf(void *ctx, uint32_t l) {
+	const pvs__po_object *x = (const pvs__po_object *)ctx;
+	pvs__poprep *p = x->b->p;
+	if (!pvs__grow(&p->allocator, (void **)&p->lo, &p->lo_cap, 2 * (p->lo_count + 1), sizeof(uint32_t))) {
+		x->b->oom = 1;
+		return;
+	}
+	p->lo[2 * p->lo_count] = l;
+	p->lo[2 * p->lo_count + 1] = x->o;
+	++p->lo_count;
+}
+
+/* Pairs (key, value) of count entries sorted stably by key into per-key lists: first (keys + 1) and values. */
+PVS__STATIC int pvs__po_csr(const pvs_allocator *a, const uint32_t *pairs, size_t count, uint32_t keys,
+							uint32_t **first, uint32_t **values) {
+	size_t i;
+	*first = (uint32_t *)pvs__alloc_array(a, (size_t)keys + 1, sizeof(uint32_t));
+	*values = (uint32_t *)pvs__alloc_array(a, count + 1, sizeof(uint32_t));
+	if (!*first || !*values) return 0;
+	memset(*first, 0, ((size_t)keys + 1) * sizeof(uint32_t));
+	for (i = 0; i < count; ++i) ++(*first)[pairs[2 * i] + 1];
+	for (i = 0; i < keys; ++i) (*first)[i + 1] += (*first)[i];
+	for (i = 0; i < count; ++i) (*values)[(*first)[pairs[2 * i]]++] = pairs[2 * i + 1];
+	for (i = keys; i > 0; --i) (*first)[i] = (*first)[i - 1];
+	(*first)[0] = 0;
+	return 1;
+}
+
+/* ---- portal flow ---- */
+
+/* A portal's region seen from the cell and the planes bounding the lines from the cell through it (as the table's:
+   kept where pvs__po_dist <= tol). */
+typedef struct pvs__po_win {
+	uint32_t nv, np;
+	double v[PVS__PO_MAXW][3];
+	double pl[PVS__PO_MAXS][4];
+} pvs__po_win;
+
+/* A step's state (a portal q of a start leaf, or a step src -> q): where lines from the cell that crossed the portals
+   before cross q. */
+typedef struct pvs__po_region {
+	uint32_t q, n, grows;
+	uint32_t next, queued;     /* the queue, a list through the regions */
+	double v[PVS__PO_MAXW][3];
+} pvs__po_region;
+
+typedef struct pvs__po_flow {
+	const pvs__poprep *p;
+	const pvs_scene *scene;
+	double c[8][3];            /* the cell's corners */
+	pvs_word *bits;
+	uint32_t *slot;            /* a hash table of (state, region) pairs, PVS__PO_NONE: free (states: ep_first, then
+								  the start portals) */
+	size_t slot_cap;           /* pairs, a power of two */
+	pvs__po_region *reg;
+	size_t reg_count, reg_cap;
+	uint32_t head, tail;       /* the queue's first and last region, PVS__PO_NONE: empty */
+	uint8_t *start;            /* per leaf: the cell overlaps it (2: reached by the cut-off's flood) */
+	uint32_t *leaves;          /* start leaves, then the flood's */
+	uint32_t leaf_count;
+	uint32_t clips;
+	int cut, oom;
+} pvs__po_flow;
+
+/* Adds plane n.x + d <= 0 to w unless w has it (normalised); dropped when w is full (fewer planes: more lines). */
+PVS__STATIC void pvs__po_add_plane(pvs__po_win *w, const double n[3], double d) {
+	double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+	uint32_t i;
+	if (!(len > 0.0) || w->np >= PVS__PO_MAXS) return;
+	for (i = 0; i < w->np; ++i)
+		if (fabs(w->pl[i][0] - n[0] / len) < 1e-12 && fabs(w->pl[i][1] - n[1] / len) < 1e-12 &&
+			fabs(w->pl[i][2] - n[2] / len) < 1e-12 && fabs(-w->pl[i][3] - d / len) < 1e-9)
+			return;
+	w->pl[w->np][0] = n[0] / len;
+	w->pl[w->np][1] = n[1] / len;
+	w->pl[w->np][2] = n[2] / len;
+	w->pl[w->np][3] = -(d / len);
+	++w->np;
+}
+
+/* The plane through a, b, c when it separates point sets A (na) and B (nb) (A behind within eps, B in front): added
+   to w oriented to keep B's side (Teller 1992 §5.2's separating planes); 1 when it does. */
+PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double *b, const double *c,
+								   const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps) {
+	double e1[3], e2[3], n[3], d, len, lo = 0.0, hi = 0.0;
+	uint32_t i, k;
+	for (k = 0; k < 3; ++k) {
+		e1[k] = b[k] - a[k];
+		e2[k] = c[k] - a[k];
+	}
+	n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+	n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+	n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+	len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+	if (!(len > 1e-12 * (fabs(e1[0]) + fabs(e1[1]) + fabs(e1[2])) * (fabs(e2[0]) + fabs(e2[1]) + fabs(e2[2]))))
+		return 0;
+	for (k = 0; k < 3; ++k) n[k] /= len;
+	d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
+	for (i = 0; i < na; ++i) {
+		double s = n[0] * A[i][0] + n[1] * A[i][1] + n[2] * A[i][2] + d;
+		lo = s < lo ? s : lo;
+		hi = s > hi ? s : hi;
+		if (lo < -eps && hi > eps) return 0; /* A on both sides */
+	}
+	if (hi > eps) { /* A in front: flip */
+		for (k = 0; k < 3; ++k) n[k] = -n[k];
+		d = -d;
+	}
+	for (i = 0; i < nb; ++i)
+		if (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d < -eps) return 0; /* B not wholly in front */
+	n[0] = -n[0];
+	n[1] = -n[1];
+	n[2] = -n[2];
+	pvs__po_add_plane(w, n, -d);
+	return 1;
+}
+
+/* A convex source of lines: its vertices and edges (index pairs). */
+typedef struct pvs__po_set {
+	uint32_t n, ne;
+	double v[PVS__PO_MAXW][3];
+	uint8_t e[PVS__PO_MAXW][2];
+} pvs__po_set;
+
+/* Appends to w->pl the planes bounding lines from convex set c through region w->v (on table plane pl): w's own
+   plane when c lies beyond `near` on one side, and the separating planes through an edge of one and a vertex of the
+   other, c wholly on one side and w on the other (Teller 1992 §5.2). A set that meets w has none (no plane has it
+   on one side). */
+PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const double *pl, const pvs__po_set *c, double eps,
+									   double near) {
+	double n[3], d = -pl[3], lo = DBL_MAX, hi = -DBL_MAX;
+	uint32_t i, j, k;
+	if (w->nv < 3 || c->n == 0) return;
+	memcpy(n, pl, sizeof(n));
+	for (i = 0; i < c->n; ++i) {
+		double t = n[0] * c->v[i][0] + n[1] * c->v[i][1] + n[2] * c->v[i][2] + d;
+		lo = t < lo ? t : lo;
+		hi = t > hi ? t : hi;
+	}
+	if (lo >= near || hi <= -near) {
+		if (hi <= -near) { /* c behind: keep the front */
+			for (k = 0; k < 3; ++k) n[k] = -n[k];
+			d = -d;
+		}
+		pvs__po_add_plane(w, n, d);
+	}
+	for (i = 0; i < w->nv; ++i) {
+		const double *a = w->v[i], *b = w->v[(i + 1) % w->nv];
+		for (j = 0; j < c->n; ++j) /* one plane an edge: the other tangent has c and w on one side */
+			if (pvs__po_try_plane(w, a, b, c->v[j], (const double(*)[3])c->v, c->n, (const double(*)[3])w->v, w->nv,
+								  eps))
+				break;
+	}
+	for (i = 0; i < c->ne; ++i)
+		for (j = 0; j < w->nv; ++j)
+			if (pvs__po_try_plane(w, c->v[c->e[i][0]], c->v[c->e[i][1]], w->v[j], (const double(*)[3])c->v, c->n,
+								  (const double(*)[3])w->v, w->nv, eps))
+				break;
+}
+
+/* Vertex x of set c: an existing one within eps, or a new one (PVS__PO_MAXW when c is full; pvs__po_source's sets
+   never are: a box clipped once has at most 7 faces of 5 vertices). */
+PVS__STATIC uint32_t pvs__po_set_vertex(pvs__po_set *c, const double *x, double eps) {
+	uint32_t i;
+	for (i = 0; i < c->n; ++i)
+		if (fabs(c->v[i][0] - x[0]) <= eps && fabs(c->v[i][1] - x[1]) <= eps && fabs(c->v[i][2] - x[2]) <= eps)
+			return i;
+	if (c->n == PVS__PO_MAXW) return PVS__PO_MAXW;
+	memcpy(c->v[c->n], x, sizeof(c->v[0]));
+	return c->n++;
+}
+
+/* The source of lines that cross portal q from its leaf `from`: the cell's box clipped to the side of q's plane that
+   leaf lies on (a line crossing q that way starts there). Every vertex of the clipped box lies on a clipped face of
+   the box. 0 when the box lies wholly on the other side: no line from the cell crosses q that way. */
+PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, pvs__po_set *c) {
+	static const uint8_t faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
+										{2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+	const pvs__poprep *p = f->p;
+	uint32_t i, k, first, prev;
+	c->n = c->ne = 0;
+	for (i = 0; i < 6; ++i) {
+		pvs__po_wind w;
+		w.n = 4;
+		for (k = 0; k < 4; ++k) memcpy(w.p[k], f->c[faces[i][k]], sizeof(w.p[0]));
+		pvs__po_clip(&w, p->pl[p->portals[q].plane], p->eps);
+		for (k = 0, first = prev = PVS__PO_MAXW; k < w.n; ++k) {
+			uint32_t v = pvs__po_set_vertex(c, w.p[k], p->eps);
+			if (k == 0) first = v;
+			else if (v != prev && v < PVS__PO_MAXW && prev < PVS__PO_MAXW && c->ne < PVS__PO_MAXW) {
+				c->e[c->ne][0] = (uint8_t)prev;
+				c->e[c->ne++][1] = (uint8_t)v;
+			}
+			prev = v;
+		}
+		if (w.n > 2 && first != prev && first < PVS__PO_MAXW && prev < PVS__PO_MAXW && c->ne < PVS__PO_MAXW) {
+			c->e[c->ne][0] = (uint8_t)prev;
+			c->e[c->ne++][1] = (uint8_t)first;
+		}
+	}
+	return c->n > 0;
+}
+
+/* 1 if box b is not wholly beyond a plane of w (tol). */
+PVS__STATIC int pvs__po_box_passes(const pvs__po_win *w, const pvs_box *b, double tol) {
+	uint32_t i, k;
+	for (i = 0; i < w->np; ++i) {
+		const double *pl = w->pl[i];
+		double x[3];
+		for (k = 0; k < 3; ++k) x[k] = pl[k] > 0.0 ? b->min[k] : b->max[k]; /* the corner lowest along pl */
+		if (pvs__po_dist(pl, x) > tol) return 0;
+	}
+	return 1;
+}
+
+/* Keeps the objects of empty leaf `leaf` whose box passes w (NULL: all of them). */
+PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win *w) {
+	const pvs__poprep *p = f->p;
+	uint32_t i;
+	for (i = p->lo_first[leaf]; i < p->lo_first[leaf + 1]; ++i) {
+		uint32_t o = p->lo[i];
+		pvs_box part = f->scene->object_boxes[o]; /* the object's part in the leaf */
+		if (pvs_bitset_test(f->bits, o)) continue;
+		if (!w || !pvs__box_clip(&part, p->leaf_box + leaf) || pvs__po_box_passes(w, &part, p->tol))
+			pvs_bitset_set(f->bits, o);
+	}
+}
+
+/* The 2D coordinates of x on a plane whose normal's largest component is axis a. */
+PVS__STATIC void pvs__po_uv(const double *x, int a, double *u, double *v) {
+	*u = x[a == 0 ? 1 : 0];
+	*v = x[a == 2 ? 1 : 2];
+}
+
+/* 1 if every point of w lies inside convex polygon r (tol), both on a plane of dominant axis a. */
+PVS__STATIC int pvs__po_inside(const pvs__po_region *r, const pvs__po_wind *w, int a, double tol) {
+	double orient = 0.0;
+	uint32_t i, j;
+	for (i = 0; i < r->n; ++i) { /* r's orientation in (u, v): the sign of its area */
+		double u0, v0, u1, v1;
+		pvs__po_uv(r->v[i], a, &u0, &v0);
+		pvs__po_uv(r->v[(i + 1) % r->n], a, &u1, &v1);
+		orient += u0 * v1 - u1 * v0;
+	}
+	orient = orient >= 0.0 ? 1.0 : -1.0;
+	for (i = 0; i < r->n; ++i) {
+		double u0, v0, u1, v1, len;
+		pvs__po_uv(r->v[i], a, &u0, &v0);
+		pvs__po_uv(r->v[(i + 1) % r->n], a, &u1, &v1);
+		len = sqrt((u1 - u0) * (u1 - u0) + (v1 - v0) * (v1 - v0));
+		for (j = 0; j < w->n; ++j) {
+			double u, v;
+			pvs__po_uv(w->p[j], a, &u, &v);
+			if (orient * ((u1 - u0) * (v - v0) - (v1 - v0) * (u - u0)) < -tol * len) return 0;
+		}
+	}
+	return 1;
+}
+
+/* r = the convex hull of r and w in the plane's 2D coordinates (>>vocc's pvs__vo_hull); 0 when it would have more
+   than PVS__PO_MAXW vertices (r unchanged). */
+PVS__STATIC int pvs__po_hull(pvs__po_region *r, const pvs__po_wind *w, int a) {
+	double all[2 * PVS__PO_MAXW][3], uv[4 * PVS__PO_MAXW];
+	pvs__key_index keys[2 * PVS__PO_MAXW];
+	uint32_t idx[2 * PVS__PO_MAXW + 1], n = 0, i, k;
+	for (i = 0; i < r->n; ++i) memcpy(all[n++], r->v[i], sizeof(all[0]));
+	for (i = 0; i < w->n; ++i) memcpy(all[n++], w->p[i], sizeof(all[0]));
+	for (i = 0; i < n; ++i) pvs__po_uv(all[i], a, uv + 2 * i, uv + 2 * i + 1);
+	k = pvs__vo_hull(uv, n, keys, idx);
+	if (k > PVS__PO_MAXW || k < 3) return 0;
+	for (i = 0; i < k; ++i) memcpy(r->v[i], all[idx[i]], sizeof(r->v[0]));
+	r->n = k;
+	return 1;
+}
+
+/* pvs__po_box_down's visitor: the cell's box meets leaf l (appended to f->leaves once, marked 1 in f->start). */
+PVS__STATIC void pvs__po_start_leaf(void *ctx, uint32_t l) {
+	pvs__po_flow *f = (pvs__po_flow *)ctx;
+	if (f->start[l]) return;
+	f->start[l] = 1;
+	f->leaves[f->leaf_count++] = l;
+}
+
+/* r's polygon grown to hold w (on r's portal): 1 when it grew. Past PVS__PO_GROWS growths, or a hull of more than
+   PVS__PO_MAXW vertices: the whole portal (nothing grows it again). */
+PVS__STATIC int pvs__po_grow(const pvs__poprep *p, pvs__po_region *r, const pvs__po_wind *w) {
+	const pvs__po_portal *pt = p->portals + r->q;
+	int a = pvs__po_axis(p->pl[pt->plane]);
+	if (pvs__po_inside(r, w, a, p->tol)) return 0;
+	if (++r->grows > PVS__PO_GROWS || !pvs__po_hull(r, w, a)) {
+		r->n = pt->n;
+		r->grows = PVS__PO_GROWS;
+		memcpy(r->v, p->portal_v[pt->first], pt->n * sizeof(r->v[0]));
+	}
+	return 1;
+}
+
+/* The slot of state in f's hash table: its pair, or the free pair where it goes. */
+PVS__STATIC uint32_t *pvs__po_slot(const pvs__po_flow *f, uint32_t state) {
+	size_t h = (size_t)((state * 0x9E3779B97F4A7C15ull) >> 32) & (f->slot_cap - 1);
+	while (f->slot[2 * h] != PVS__PO_NONE && f->slot[2 * h] != state) h = (h + 1) & (f->slot_cap - 1);
+	return f->slot + 2 * h;
+}
+
+/* A new region for state; PVS__PO_NONE when out of memory (the table grows at half load). */
+PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
+	const pvs_allocator *al = &f->p->allocator;
+	uint32_t *e;
+	if (2 * (f->reg_count + 1) > f->slot_cap) {
+		uint32_t *old = f->slot;
+		size_t cap = f->slot_cap, i;
+		f->slot = (uint32_t *)pvs__alloc_array(al, 4 * cap, sizeof(uint32_t));
+		if (!f->slot) {
+			f->slot = old;
+			return PVS__PO_NONE;
+		}
+		f->slot_cap = 2 * cap;
+		memset(f->slot, 0xff, 4 * cap * sizeof(uint32_t));
+		for (i = 0; i < cap; ++i)
+			if (old[2 * i] != PVS__PO_NONE) memcpy(pvs__po_slot(f, old[2 * i]), old + 2 * i, 2 * sizeof(uint32_t));
+		pvs__free_array(al, old, 2 * cap, sizeof(uint32_t));
+	}
+	if (!pvs__grow(al, (void **)&f->reg, &f->reg_cap, f->reg_count + 1, sizeof(pvs__po_region))) return PVS__PO_NONE;
+	e = pvs__po_slot(f, state);
+	e[0] = state;
+	e[1] = (uint32_t)f->reg_count;
+	f->reg[f->reg_count].queued = 0;
+	return (uint32_t)f->reg_count++;
+}
+
+/* Offers state `state` (a step into portal q): lines crossing q within w. A new state, or one that grew to hold
+   them, is queued. */
+PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t q, const pvs__po_wind *w) {
+	const pvs__poprep *p = f->p;
+	pvs__po_region *r;
+	uint32_t id = pvs__po_slot(f, state)[1];
+	if (id == PVS__PO_NONE) {
+		id = pvs__po_new_region(f, state);
+		if (id == PVS__PO_NONE) {
+			f->oom = 1;
+			return;
+		}
+		r = f->reg + id;
+		r->q = q;
+		r->n = w->n;
+		r->grows = 0;
+		memcpy(r->v, w->p, w->n * sizeof(w->p[0]));
+	} else if (!pvs__po_grow(p, f->reg + id, w)) {
+		return;
+	}
+	if (!f->reg[id].queued) {
+		f->reg[id].queued = 1;
+		f->reg[id].next = PVS__PO_NONE;
+		if (f->tail != PVS__PO_NONE) f->reg[f->tail].next = id;
+		else f->head = id;
+		f->tail = id;
+	}
+}
+
+/* The flow from the start leaves (Teller 1992 §5 as a monotone fixed point, see the module comment): a state (a
+   step into q, region v on q) sends the lines from the cell's source for q through v into q's leaf `to`; they keep
+   that leaf's objects and offer each portal out of it, clipped by their planes, as the step (q -> next). */
+PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
+	const pvs__poprep *p = f->p;
+	uint32_t i, j;
+	pvs__po_win win;
+	pvs__po_wind w;
+	pvs__po_set src;
+	for (i = 0; i < f->leaf_count; ++i) {
+		uint32_t leaf = f->leaves[i];
+		pvs__po_keep(f, leaf, NULL);
+		for (j = p->lp_first[leaf]; j < p->lp_first[leaf + 1]; ++j) {
+			uint32_t q = p->lp[j];
+			const pvs__po_portal *pt = p->portals + q;
+			if (f->start[pt->to]) continue;
+			w.n = pt->n;
+			memcpy(w.p, p->portal_v[pt->first], pt->n * sizeof(w.p[0]));
+			pvs__po_offer(f, p->ep_first[p->portal_count] + q, q, &w);
+		}
+	}
+	while (f->head != PVS__PO_NONE && !f->cut && !f->oom) {
+		uint32_t id = f->head, q, k;
+		const pvs__po_portal *pt;
+		f->reg[id].queued = 0;
+		f->head = f->reg[id].next;
+		if (f->head == PVS__PO_NONE) f->tail = PVS__PO_NONE;
+		q = f->reg[id].q;
+		pt = p->portals + q;
+		if (!pvs__po_source(f, q, &src)) continue; /* no line from the cell crosses q this way */
+		win.nv = f->reg[id].n;
+		win.np = 0;
+		memcpy(win.v, f->reg[id].v, win.nv * sizeof(win.v[0]));
+		pvs__po_window_planes(&win, p->pl[pt->plane], &src, 1e-4 * p->tol, 10.0 * p->tol);
+		pvs__po_keep(f, pt->to, &win);
+		for (j = p->lp_first[pt->to]; j < p->lp_first[pt->to + 1]; ++j) {
+			uint32_t q2 = p->lp[j];
+			const pvs__po_portal *p2 = p->portals + q2;
+			if (f->start[p2->to] || p2->to == pt->from) continue;
+			if (++f->clips > p->budget) {
+				f->cut = 1;
+				break;
+			}
+			w.n = p2->n;
+			memcpy(w.p, p->portal_v[p2->first], p2->n * sizeof(w.p[0]));
+			for (k = 0; k < win.np && w.n >= 3; ++k) f->cut |= pvs__po_clip(&w, win.pl[k], p->tol);
+			if (w.n >= 3) pvs__po_offer(f, p->ep_first[q] + (j - p->lp_first[pt->to]), q2, &w);
+		}
+	}
+}
+
+/* The cut-off: every object of every empty leaf reachable from the start leaves through any portals. */
+PVS__STATIC void pvs__po_flood(pvs__po_flow *f) {
+	const pvs__poprep *p = f->p;
+	uint32_t i, j;
+	for (i = 0; i < f->leaf_count; ++i) { /* f->leaves grows as the flood goes */
+		uint32_t leaf = f->leaves[i];
+		pvs__po_keep(f, leaf, NULL);
+		for (j = p->lp_first[leaf]; j < p->lp_first[leaf + 1]; ++j) {
+			uint32_t to = p->portals[p->lp[j]].to;
+			if (f->start[to]) continue;
+			f->start[to] = 2;
+			f->leaves[f->leaf_count++] = to;
+		}
+	}
+}
+
+/* ---- the method ---- */
+
+PVS__STATIC void pvs__po_destroy(pvs__poprep *p) {
+	const pvs_allocator *a;
+	size_t i;
+	if (!p) return;
+	a = &p->allocator;
+	pvs__free_array(a, p->pl, p->plane_cap, sizeof(p->pl[0]));
+	pvs__free_array(a, p->hash_head, p->hash_size, sizeof(uint32_t));
+	pvs__free_array(a, p->hash_next, p->hash_next_cap, sizeof(uint32_t));
+	pvs__free_array(a, p->on_path, p->flag_cap, 1);
+	pvs__free_array(a, p->stamp, p->flag_cap, sizeof(uint32_t));
+	pvs__free_array(a, p->nodes, p->node_cap, sizeof(pvs__po_node));
+	for (i = 0; i < p->leaf_count; ++i) pvs__po_poly_free(a, p->leaf + i);
+	pvs__free_array(a, p->leaf, p->leaf_cap, sizeof(pvs__po_poly));
+	pvs__free_array(a, p->leaf_box, p->leaf_box_cap, sizeof(pvs_box));
+	pvs__free_array(a, p->portals, p->portal_cap, sizeof(pvs__po_portal));
+	pvs__free_array(a, p->portal_v, p->portal_v_cap, sizeof(p->portal_v[0]));
+	pvs__free_array(a, p->lp_first, p->leaf_count + 1, sizeof(uint32_t));
+	pvs__free_array(a, p->lp, p->portal_count + 1, sizeof(uint32_t));
+	pvs__free_array(a, p->ep_first, p->portal_count + 1, sizeof(uint32_t));
+	pvs__free_array(a, p->lo_first, p->leaf_count + 1, sizeof(uint32_t));
+	pvs__free_array(a, p->lo, p->lo_cap, sizeof(uint32_t));
+	pvs__free_array(a, p->task_cut, p->task_count + 1, sizeof(uint32_t));
+	pvs__free_array(a, p->solid_box, (size_t)p->solids + 1, sizeof(pvs_box));
+	pvs__free_array(a, p->so_first, (size_t)p->solids + 1, sizeof(uint32_t));
+	pvs__free_array(a, p->so, p->so_count + 1, sizeof(uint32_t));
+	pvs__free(a, p, sizeof(*p), 16);
+}
+
+/* The solids' boxes (rounded outward) and per solid the drawable objects whose box meets it (found through a BVH
+   over the objects). 0 when out of memory. */
+PVS__STATIC int pvs__po_solid_objects(pvs__poprep *p, const pvs_scene *s, const pvs__po_poly *frags) {
+	const pvs_allocator *al = &p->allocator;
+	uint32_t i, o, *pairs = NULL, *stack = NULL, sp;
+	uint8_t *keep = (uint8_t *)pvs__alloc_array(al, s->object_count + 1, 1);
+	size_t cap = 0;
+	pvs__obvh h;
+	int ok = 0;
+	memset(&h, 0, sizeof(h));
+	p->solid_box = (pvs_box *)pvs__alloc_array(al, (size_t)p->solids + 1, sizeof(pvs_box));
+	if (!p->solid_box || !keep) goto done;
+	for (o = 0; o < s->object_count; ++o)
+		keep[o] = !(s->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + o);
+	if (pvs__obvh_build(al, s->object_boxes, s->object_count, keep, &h) != PVS_OK) goto done;
+	stack = (uint32_t *)pvs__alloc_array(al, (size_t)h.node_count + 1, sizeof(uint32_t));
+	if (!stack) goto done;
+	for (i = 0; i < p->solids; ++i) {
+		const pvs_box *b = p->solid_box + i;
+		p->solid_box[i] = pvs__po_poly_box(frags + i);
+		sp = 0;
+		if (h.node_count) stack[sp++] = 0;
+		while (sp) {
+			const pvs__obvh_node *nd = h.nodes + stack[--sp];
+			if (!pvs__box_overlap(&nd->box, b)) continue;
+			if (!nd->count) {
+				stack[sp++] = nd->first + 1;
+				stack[sp++] = nd->first;
+				continue;
+			}
+			for (o = nd->first; o < nd->first + nd->count; ++o) {
+				if (!pvs__box_overlap(s->object_boxes + h.items[o], b)) continue;
+				if (!pvs__grow(al, (void **)&pairs, &cap, 2 * p->so_count + 2, sizeof(uint32_t))) goto done;
+				pairs[2 * p->so_count] = i;
+				pairs[2 * p->so_count + 1] = h.items[o];
+				++p->so_count;
+			}
+		}
+	}
+	ok = pvs__po_csr(al, pairs, p->so_count, p->solids, &p->so_first, &p->so);
+done:
+	pvs__free_array(al, pairs, cap, sizeof(uint32_t));
+	pvs__free_array(al, stack, (size_t)h.node_count + 1, sizeof(uint32_t));
+	pvs__free_array(al, keep, s->object_count + 1, 1);
+	pvs__obvh_free(al, &h);
+	return ok;
+}
+
+PVS__STATIC pvs_result pvs__portal_bake_check(const pvs_bake_desc *d, pvs_error *err) {
+	(void)d;
+	(void)err;
+	return PVS_OK;
+}
+
+/* Builds the solids' tree, its portals and the objects of every empty leaf. */
+PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env) {
+	const pvs_scene *s = env->scene;
+	const pvs_allocator *al = &p->allocator;
+	pvs__po_build b;
+	pvs__po_object ob;
+	pvs__po_poly *frags = NULL, root;
+	size_t cap = 0, count = 0, i;
+	uint32_t k, bound[6], *pairs = NULL, *kept;
+	pvs_box box = s->bounds;
+	int ok = 0;
+	memset(&b, 0, sizeof(b));
+	b.p = p;
+	b.scratch = (pvs__po_wind *)pvs__alloc_array(al, PVS__PO_SCRATCH, sizeof(pvs__po_wind));
+	b.planes = (uint32_t *)pvs__alloc_array(al, 2 * PVS__PO_SCRATCH, sizeof(uint32_t));
+	p->hash_size = 1024;
+	p->hash_head = (uint32_t *)pvs__alloc_array(al, p->hash_size, sizeof(uint32_t));
+	if (!b.scratch || !b.planes || !p->hash_head) goto done;
+	kept = b.planes + PVS__PO_SCRATCH;
+	for (k = 0; k < p->hash_size; ++k) p->hash_head[k] = PVS__PO_NONE;
+	for (i = 0; i < env->cell_count; ++i) pvs__box_add_box(&box, env->cells + i);
+	for (k = 0; k < 3; ++k) p->ext = pvs__dmax(p->ext, (double)box.max[k] - box.min[k]);
+	if (!(p->ext > 0.0)) p->ext = 1.0;
+	p->eps = 1e-9 * p->ext;
+	p->tol = 1e-6 * p->ext;
+	for (k = 0; k < 6; ++k) { /* the root box, a hundredth of the size beyond scene and cells */
+		double n[3] = {0, 0, 0};
+		n[k % 3] = k < 3 ? -1.0 : 1.0;
+		bound[k] = pvs__po_plane(p, n, k < 3 ? 0.01 * p->ext - box.min[k] : box.max[k - 3] + 0.01 * p->ext);
+		if (bound[k] == PVS__PO_NONE) goto done;
+	}
+	p->bound_pairs = (uint32_t)(p->plane_count / 2);
+	if (!pvs__po_solids(p, s, &frags, &cap, &count, b.scratch, kept)) goto done;
+	p->solids = (uint32_t)count;
+	if (!pvs__po_solid_objects(p, s, frags)) goto done;
+	p->flag_cap = p->plane_count / 2;
+	p->on_path = (uint8_t *)pvs__alloc_array(al, p->flag_cap, 1);
+	p->stamp = (uint32_t *)pvs__alloc_array(al, p->flag_cap, sizeof(uint32_t));
+	if (!p->on_path || !p->stamp) goto done;
+	memset(p->on_path, 0, p->flag_cap);
+	memset(p->stamp, 0, p->flag_cap * sizeof(uint32_t));
+	if (!pvs__po_poly_from_planes(p, bound, 6, &root, b.scratch, kept) || root.face_count == 0) goto done;
+	p->root = pvs__po_build_node(&b, frags, (uint32_t)count, &root, 0);
+	frags = NULL;
+	if (b.oom) goto done;
+	for (i = 0; i < p->leaf_count && !b.oom; ++i) {
+		const pvs__po_poly *q = p->leaf + i;
+		for (k = 0; k < q->face_count && !b.oom; ++k) {
+			pvs__po_wind w;
+			if ((q->plane[k] >> 1) < p->bound_pairs) continue;
+			pvs__po_face(q, k, &w);
+			pvs__po_push(&b, &w, q->plane[k], p->root, (uint32_t)i);
+		}
+	}
+	pairs = (uint32_t *)pvs__alloc_array(al, 2 * p->portal_count + 2, sizeof(uint32_t));
+	if (b.oom || !pairs) goto done;
+	for (i = 0; i < p->portal_count; ++i) {
+		pairs[2 * i] = p->portals[i].from;
+		pairs[2 * i + 1] = (uint32_t)i;
+	}
+	if (!pvs__po_csr(al, pairs, p->portal_count, (uint32_t)p->leaf_count, &p->lp_first, &p->lp)) goto done;
+	p->ep_first = (uint32_t *)pvs__alloc_array(al, p->portal_count + 1, sizeof(uint32_t));
+	if (!p->ep_first) goto done;
+	for (p->ep_first[0] = 0, i = 0; i < p->portal_count; ++i) { /* steps counted in 64 bits: at most 2^32 - 1 */
+		uint64_t next = (uint64_t)p->ep_first[i] + p->lp_first[p->portals[i].to + 1] - p->lp_first[p->portals[i].to];
+		if (next + p->portal_count >= PVS__PO_NONE) goto done;
+		p->ep_first[i + 1] = (uint32_t)next;
+	}
+	for (ob.b = &b, ob.o = 0; ob.o < s->object_count && !b.oom; ++ob.o)
+		if (!(s->object_flags[ob.o] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + ob.o))
+			pvs__po_box_down(p, s->object_boxes + ob.o, p->root, pvs__po_object_leaf, &ob);
+	if (b.oom) goto done;
+	{
+		uint32_t *first = NULL, *values = NULL;
+		if (!pvs__po_csr(al, p->lo, p->lo_count, (uint32_t)p->leaf_count, &first, &values)) {
+			pvs__free_array(al, first, p->leaf_count + 1, sizeof(uint32_t));
+			goto done;
+		}
+		pvs__free_array(al, p->lo, p->lo_cap, sizeof(uint32_t));
+		p->lo = values;
+		p->lo_cap = p->lo_count + 1;
+		p->lo_first = first;
+	}
+	ok = 1;
+done:
+	pvs__free_array(al, pairs, 2 * p->portal_count + 2, sizeof(uint32_t));
+	pvs__free_array(al, b.scratch, PVS__PO_SCRATCH, sizeof(pvs__po_wind));
+	pvs__free_array(al, b.planes, 2 * PVS__PO_SCRATCH, sizeof(uint32_t));
+	for (i = 0; i < count && frags; ++i) pvs__po_poly_free(al, frags + i);
+	pvs__free_array(al, frags, cap, sizeof(pvs__po_poly));
+	return ok ? PVS_OK : PVS_ERROR_OUT_OF_MEMORY;
+}
+
+PVS__STATIC pvs_result pvs__portal_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
+												pvs_error *err) {
+	pvs__poprep *p = (pvs__poprep *)pvs__alloc(&env->allocator, sizeof(pvs__poprep), 16);
+	*state = p;
+	if (!p) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "portal");
+	memset(p, 0, sizeof(*p));
+	p->allocator = env->allocator;
+	p->budget = desc->portal.budget ? desc->portal.budget : PVS_PORTAL_BUDGET;
+	p->task_count = env->task_count;
+	p->task_cut = (uint32_t *)pvs__alloc_array(&p->allocator, p->task_count + 1, sizeof(uint32_t));
+	if (!p->task_cut || pvs__po_prepare(p, env) != PVS_OK)
+		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "portal: rooms and portals");
+	if (p->lost)
+		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "portal: a room or portal polygon of more than %u vertices",
+						 PVS__PO_MAXW);
+	memset(p->task_cut, 0, (p->task_count + 1) * sizeof(uint32_t));
+	return PVS_OK;
+}
+
+PVS__STATIC int pvs__portal_bake_applies(const void *state, const char **why) {
+	const pvs__poprep *p = (const pvs__poprep *)state;
+	if (!p || p->solids == 0 || p->portal_count == 0) {
+		*why = "no closed convex meshes split the empty space";
+		return 0;
+	}
+	*why = "rooms and portals from the closed convex solids";
+	return 1;
+}
+
+PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
+											 const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
+											 unsigned *flags, pvs_error *err) {
+	const pvs__poprep *p = (const pvs__poprep *)state;
+	const pvs_allocator *al = &p->allocator;
+	size_t nl = p->leaf_count, bytes = 5 * nl + 16, i;
+	unsigned char *mem;
+	pvs__po_flow f;
+	uint32_t k;
+	(void)flags;
+	(void)candidates; /* every object is tested: its own PVS in AUTO's statistics is its single bake's */
+	memset(&f, 0, sizeof(f));
+	f.p = p;
+	f.scene = env->scene;
+	f.bits = bits;
+	for (i = 0; i < 8; ++i)
+		for (k = 0; k < 3; ++k) f.c[i][k] = ((i >> k) & 1) ? box->max[k] : box->min[k];
+	mem = (unsigned char *)pvs__alloc(al, bytes, 16);
+	if (!mem) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, (int64_t)cell, 0, "portal flow of cell %u", cell);
+	f.slot_cap = 64;
+	f.slot = (uint32_t *)pvs__alloc_array(al, 2 * f.slot_cap, sizeof(uint32_t));
+	f.head = f.tail = PVS__PO_NONE;
+	f.leaves = (uint32_t *)(void *)mem;
+	f.start = (uint8_t *)(f.leaves + nl);
+	memset(f.start, 0, nl);
+	if (!f.slot) {
+		pvs__free(al, mem, bytes, 16);
+		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, (int64_t)cell, 0, "portal flow of cell %u", cell);
+	}
+	memset(f.slot, 0xff, 2 * f.slot_cap * sizeof(uint32_t));
+	pvs__po_box_down(p, box, p->root, pvs__po_start_leaf, &f);
+	for (k = 0; k < p->solids; ++k) /* points of the cell inside a solid */
+		if (pvs__box_overlap(box, p->solid_box + k))
+			for (i = p->so_first[k]; i < p->so_first[k + 1]; ++i) {
+				uint32_t o = p->so[i];
+				pvs_bitset_set(bits, o);
+			}
+	pvs__po_flow_run(&f);
+	if (f.cut || f.oom) {
+		pvs__po_flood(&f);
+		if (task < p->task_count) ++p->task_cut[task];
+	}
+	pvs__free_array(al, f.reg, f.reg_cap, sizeof(pvs__po_region));
+	pvs__free_array(al, f.slot, 2 * f.slot_cap, sizeof(uint32_t));
+	pvs__free(al, mem, bytes, 16);
+	return PVS_OK;
+}
+
+PVS__STATIC void pvs__portal_bake_destroy(const pvs__bake_env *env, void *state) {
+	(void)env;
+	pvs__po_destroy((pvs__poprep *)state);
+}
+
+PVS__STATIC const pvs__bake_method pvs__portal_method = {PVS_METHOD_PORTAL,
+														 PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT,
+														 1,
+														 pvs__portal_bake_check,
+														 pvs__portal_bake_prepare,
+														 pvs__portal_bake_applies,
+														 pvs__portal_bake_cell,
+														 NULL,
+														 pvs__portal_bake_destroy};
+
+PVS_API void pvs_bake_get_portal_info(const pvs_bake *b, pvs_portal_info *info) {
+	const pvs__poprep *p = b ? (const pvs__poprep *)pvs__bake_method_state(b, PVS_METHOD_PORTAL) : NULL;
+	uint32_t i;
+	memset(info, 0, sizeof(*info));
+	if (!p) return;
+	info->solids = p->solids;
+	info->planes = (uint32_t)(p->plane_count / 2);
+	info->nodes = (uint32_t)p->node_count;
+	info->leaves = (uint32_t)p->leaf_count;
+	info->rooms = p->empty_leaves;
+	info->portals = (uint32_t)p->portal_count;
+	info->deep_leaves = p->deep_leaves;
+	for (i = 0; i < p->task_count; ++i) info->cut_cells += p->task_cut[i];
+}
+
 // >>methods
 /* ---------------------------------------------------------------------------------------------- */
 /* methods: region visibility: ray sampling, extended projections, shrink (bake methods)          */
@@ -14983,6 +16442,7 @@ PVS_API const char *pvs_method_name(pvs_method m) {
 	case PVS_METHOD_SHRINK: return "shrink";
 	case PVS_METHOD_AUTO: return "auto";
 	case PVS_METHOD_VOCC: return "vocc";
+	case PVS_METHOD_PORTAL: return "portal";
 	default: return "unknown";
 	}
 }
@@ -19650,7 +21110,8 @@ typedef struct pvs__bakeleaves {
 
 /* Every method the driver runs, in pvs_method order (AUTO's order among equal costs). */
 PVS__STATIC const pvs__bake_method *const pvs__bake_methods[] = {
-	&pvs__sample_method, &pvs__otree_method, &pvs__extproj_method, &pvs__shrink_method, &pvs__vocc_method};
+	&pvs__sample_method, &pvs__otree_method, &pvs__extproj_method, &pvs__shrink_method, &pvs__vocc_method,
+	&pvs__portal_method};
 #define PVS__BAKE_METHOD_COUNT (sizeof(pvs__bake_methods) / sizeof(pvs__bake_methods[0]))
 
 /* NULL for AUTO, DEFAULT and unknown values. */
@@ -19869,6 +21330,9 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 			}
 			b->reason[b->considered_count++] = why;
 		}
+	if (!b->run_count && b->considered_count == 1)
+		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "auto: %s: %s", pvs_method_name(b->considered[0]->method),
+						 b->reason[0]);
 	if (!b->run_count)
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
 						 "auto: no conservative method can cull anything in this scene");
@@ -19942,7 +21406,8 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 		for (i = 0; i < b->considered_count; ++i)
 			if (b->considered[i] == b->run[k]) {
 				b->ran[i] = 0;
-				b->reason[i] = "negligible: on the sample cells it culled under 2% of what the others kept";
+				b->reason[i] = "negligible: on the sample cells it culled under 5% (PVS_AUTO_MIN_GAIN) of what the "
+							   "others kept";
 			}
 	}
 	b->run_count = kept;

@@ -8,6 +8,8 @@
 #   BENCH auto_tightness_MAP          auto's mean PVS over the ray-sampled visible set (pvscheck)
 #   BENCH q3map2_tightness_MAP        the same for the map's own PVS
 #   BENCH auto_misses_MAP             pvscheck's misses for auto (a conservative PVS has 0)
+#   BENCH portal_ms_per_cell_MAP, portal_pvs_vs_q3map2_MAP, portal_tightness_MAP, portal_misses_MAP: the same for
+#                                     the portal method alone (the building: all but the q3map2 figure)
 set -u
 B=${B:-build}
 T=$B/maps
@@ -20,6 +22,12 @@ echo "BENCH auto_ms_per_cell_building $(echo "$out" | sed -n 's/.*time per cell 
 cb=$("$B/pvscheck" -q "$T/building.obj" "$T/building.auto.pvs")
 echo "BENCH auto_tightness_building $(echo "$cb" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p') x"
 echo "BENCH auto_misses_building $(echo "$cb" | sed -n 's/.*misses \([0-9]*\).*/\1/p') pairs"
+out=$("$B/pvsbake" "$T/building.obj" --cells "$T/building.cells" -o "$T/building.portal.pvs" -j 1 --no-state --method portal 2>&1 |
+      tr '\r' '\n')
+echo "BENCH portal_ms_per_cell_building $(echo "$out" | sed -n 's/.*time per cell \([0-9.]*\) ms.*/\1/p' | tail -1) ms"
+cb=$("$B/pvscheck" -q "$T/building.obj" "$T/building.portal.pvs")
+echo "BENCH portal_tightness_building $(echo "$cb" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p') x"
+echo "BENCH portal_misses_building $(echo "$cb" | sed -n 's/.*misses \([0-9]*\).*/\1/p') pairs"
 maps=$(sh tests/maps.sh "$T/all" 1) || { echo "bench_maps: skipped (no OpenArena maps)"; exit 0; }
 for m in $maps; do
   n=$(grep -vc '^#' "$T/all/$m.cells")
@@ -39,4 +47,12 @@ for m in $maps; do
   echo "BENCH auto_tightness_$m $(echo "$ca" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p') x"
   echo "BENCH q3map2_tightness_$m $(echo "$cq" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p') x"
   echo "BENCH auto_misses_$m $(echo "$ca" | sed -n 's/.*misses \([0-9]*\).*/\1/p') pairs"
+  out=$("$B/pvsbake" "$T/$m.obj" --cells "$T/$m.cells" -o "$T/$m.portal.pvs" -j 1 --no-state --method portal 2>&1 |
+        tr '\r' '\n')
+  p=$("$B/pvsinfo" "$T/$m.portal.pvs" | awk '/^pvs size/ { print $4 }')
+  cp=$("$B/pvscheck" -q "$T/$m.obj" "$T/$m.portal.pvs")
+  echo "BENCH portal_ms_per_cell_$m $(echo "$out" | sed -n 's/.*time per cell \([0-9.]*\) ms.*/\1/p' | tail -1) ms"
+  echo "BENCH portal_pvs_vs_q3map2_$m $(awk "BEGIN { printf \"%.2f\", $p / $q }") x"
+  echo "BENCH portal_tightness_$m $(echo "$cp" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p') x"
+  echo "BENCH portal_misses_$m $(echo "$cp" | sed -n 's/.*misses \([0-9]*\).*/\1/p') pairs"
 done

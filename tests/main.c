@@ -18,6 +18,7 @@ void test_kdtree(void);
 void test_gen(void);
 void test_tools(void);
 void test_bsp(void);
+void test_portal(void);
 void test_cli(void);
 void test_raster(void);
 void test_otree(void);
@@ -35,7 +36,7 @@ static const struct {
     int seconds;
 } groups[] = {
     {"core", test_core, 1},         {"format", test_format, 4},     {"noalloc", test_noalloc, 1},
-    {"kdtree", test_kdtree, 21},    {"gen", test_gen, 1},           {"tools", test_tools, 1},      {"bsp", test_bsp, 1},
+    {"kdtree", test_kdtree, 21},    {"gen", test_gen, 1},           {"tools", test_tools, 1},      {"bsp", test_bsp, 1},      {"portal", test_portal, 1},
     {"cli", test_cli, 7},           {"raster", test_raster, 5},     {"otree", test_otree, 14},
     {"extproj", test_extproj, 65},  {"shrink", test_shrink, 30},    {"auto", test_auto, 35},
     {"examples", test_examples, 18}, {"vocc", test_vocc, 7},        {"bounded", test_bounded, 1},

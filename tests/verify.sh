@@ -10,7 +10,7 @@ set -u
 B=${B:-build}
 T=$B/verify
 mkdir -p "$T"
-CONSERVATIVE_METHODS=${CONSERVATIVE_METHODS:-"shrink otree extproj vocc auto"}   # filled in as conservative methods land
+CONSERVATIVE_METHODS=${CONSERVATIVE_METHODS:-"shrink otree extproj vocc portal auto"}   # filled in as conservative methods land
 CELLS=${CELLS:-500}
 J=${J:-0}
 fail=0
@@ -21,7 +21,7 @@ check() {
   note=""; [ "$rc" -ne 0 ] && { fail=1; note=" FAIL"; }
   echo "$1 $line$note"
 }
-for kind in city forest indoor walls soup; do
+for kind in city forest indoor walls soup building; do
   for seed in 1 2 3; do
     for size in 0.3 0.6; do
       base="$T/$kind-$seed-$size"
@@ -48,10 +48,10 @@ for kind in city forest indoor walls soup; do
         elif [ "$rc" -ne 0 ]; then fail=1; note=" FAIL"; fi
         echo "$kind $seed $size $method cells=$cells misses=$misses tightness=$tight$note"
       done
-      # auto skips the methods that cull under 2% of what the others keep on its 8 sample cells
+      # auto skips the methods that cull under 5% of what the others keep on its 8 sample cells
       # (PVS_AUTO_MIN_GAIN): it must be within that of the best single method
-      if [ -n "$auto_pvs" ] && [ -n "$best" ] && awk "BEGIN { exit !($auto_pvs > 1.02 * $best) }"; then
-        echo "$kind $seed $size auto: mean PVS $auto_pvs is over 1.02 times the best single method's $best FAIL"; fail=1
+      if [ -n "$auto_pvs" ] && [ -n "$best" ] && awk "BEGIN { exit !($auto_pvs > 1.05 * $best) }"; then
+        echo "$kind $seed $size auto: mean PVS $auto_pvs is over 1.05 times the best single method's $best FAIL"; fail=1
       fi
     done
   done
@@ -226,16 +226,19 @@ if [ "${BOUNDED:-1}" != 0 ]; then
     { echo "sanitizer pvsbake -j1: non-zero exit FAIL"; fail=1; }
 fi
 # real Quake 3 levels (issue 28; MAPS=0 skips): the OpenArena maps of the package openarena-081-maps
-# (tests/maps.sh, skipped with a message when absent), every BSP leaf with a cluster a cell: auto with 0
-# misses; the map's own PVS (q3map2's vis, expanded to objects) checked the same way, for information
+# (tests/maps.sh, skipped with a message when absent), every BSP leaf with a cluster a cell: portal and auto
+# with 0 misses; the map's own PVS (q3map2's vis, expanded to objects) checked the same way, for information
 if [ "${MAPS:-1}" != 0 ]; then
   if maps=$(sh tests/maps.sh "$T/maps" 1); then
     for m in $maps; do
-      if "$B/pvsbake" -q "$T/maps/$m.obj" --cells "$T/maps/$m.cells" -j "$J" --no-state -o "$T/maps/$m.auto.pvs"; then
-        check "map $m auto" "$T/maps/$m.obj" "$T/maps/$m.auto.pvs"
-      else
-        echo "map $m auto: bake failed FAIL"; fail=1
-      fi
+      for method in portal auto; do
+        if "$B/pvsbake" -q "$T/maps/$m.obj" --cells "$T/maps/$m.cells" -j "$J" --no-state --method "$method" \
+             -o "$T/maps/$m.$method.pvs"; then
+          check "map $m $method" "$T/maps/$m.obj" "$T/maps/$m.$method.pvs"
+        else
+          echo "map $m $method: bake failed FAIL"; fail=1
+        fi
+      done
       echo "map $m q3map2 (not counted) $("$B/pvscheck" -q -j "$J" --seed 99 "$T/maps/$m.obj" "$T/maps/$m.q3.pvs")"
     done
   fi

@@ -533,6 +533,16 @@ static void print_shrink_info(const pvs_bake *bake, float eps) {
                         "  try a smaller --voxel or --eps, or --method extproj for thin walls\n");
 }
 
+/* What the portal method built (before the bake), when it runs. */
+static void print_portal_info(const pvs_bake *bake) {
+    pvs_portal_info pi;
+    pvs_bake_get_portal_info(bake, &pi);
+    if (!pi.leaves) return;
+    fprintf(stderr, "portal: %u closed convex solids, %u planes: %u rooms (empty BSP leaves of %u), %u portals\n",
+            pi.solids, pi.planes, pi.rooms, pi.leaves, pi.portals);
+    if (pi.deep_leaves) fprintf(stderr, "  %u leaves left open at the depth limit\n", pi.deep_leaves);
+}
+
 /* What the otree method found in the scene (before the bake), when it runs. */
 static void print_otree_info(const pvs_bake *bake) {
     pvs_otree_bake_info oti;
@@ -572,6 +582,13 @@ static void print_notes(const pvs_bake *bake, const bake_options *o) {
                 rep.cells_no_occluders, rep.cells);
     else if (rep.cells_all_visible)
         fprintf(stderr, "  %u of %u cells see every object\n", rep.cells_all_visible, rep.cells);
+    {
+        pvs_portal_info pi;
+        pvs_bake_get_portal_info(bake, &pi);
+        if (pi.cut_cells)
+            fprintf(stderr, "  portal: in %u of %u cells the flow reached its budget and took every room it reaches (conservative)\n",
+                    pi.cut_cells, rep.cells);
+    }
     if (rep.cells_otree_budget)
         fprintf(stderr, "  otree: in %u of %u cells a tree reached its node budget and took no more facades (conservative;\n"
                         "  --otree-budget raises it: it may cull more there, for more time)\n", rep.cells_otree_budget, rep.cells);
@@ -646,6 +663,7 @@ static int bake_main(int argc, char **argv) {
     }
     if (!o.quiet && pvs_bake_occluders(bake)) print_shrink_info(bake, o.eps);
     if (!o.quiet) print_otree_info(bake);
+    if (!o.quiet) print_portal_info(bake);
     secs = (double *)malloc((size_t)pvs_bake_task_count(bake) * sizeof(double) + 8);
     if (!secs) { tool_error_set(&te, NULL, 0, "out of memory"); goto fail; }
     run.task_seconds = secs;
