@@ -1,4 +1,4 @@
-/* pvs.h - v0.5.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.6.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -251,6 +251,9 @@
 
    RECENT HISTORY
    ==============
+   0.6.0 (2026-11-28) method PORTAL (cells and portals: rooms from closed convex meshes, portal flow per cell;
+					  pvs_bake_portal_params, pvs_portal_info), in AUTO's default set; PVS_AUTO_MIN_GAIN 5%.
+					  File format unchanged.
    0.5.0 (2026-11-28) AUTO keeps only the methods that cull on a sample of cells (PVS_AUTO_SAMPLE_CELLS,
 					  PVS_AUTO_MIN_GAIN; pvs_bake_method_info.sample_cells, sample_gain). File format unchanged.
    0.4.0 (2026-11-28) API: per-method parameter structs in pvs_bake_desc (extproj_sweep is now extproj.sweep);
@@ -271,7 +274,7 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 5
+#define PVS_VERSION_MINOR 6
 #define PVS_VERSION_PATCH 0
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 /* The .pvs file format version this header writes and reads. */
@@ -23699,6 +23702,9 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
+   0.6.0 (2026-11-28) PORTAL: a BSP on the closed convex meshes' face planes, its empty leaves as rooms and
+					  their shared faces as portals, a conservative portal flow per cell with object-level
+					  tests; AUTO runs it; kernels written once across otree, raster, extproj and vocc.
    0.5.0 (2026-11-28) AUTO pays for what culls (a sample of cells chooses the methods it runs); shared
 					  kernels (priority queue, union-find); the header indented with tabs.
    0.4.0 (2026-11-28) AUTO (the default), max_distance, PREVIEW, resumable bakes, virtual occluders (vocc),
