@@ -3297,6 +3297,155 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 #define PVS__NEON 1
 #include <arm_neon.h>
 #endif
+
+/* Lanes: four floats (pvs__f4), four int32 (pvs__i4) and a mask (pvs__m4: each lane all ones or zero) with the few
+   operations the SIMD kernels below are written on once, each the instruction they used before per set: min and max
+   are a < b ? a : b and a > b ? a : b (SSE2's minps and maxps; NEON compares and selects, vminq differs on NaN and
+   signed zeros); float to int truncates (NEON saturates where SSE2 gives INT_MIN: kernels keep lanes in range);
+   shl_ones is ~0 << clamp(n, 0, 32). PVS__LANES_DIV adds div, hmin2 and hmax2 (over two vectors' eight lanes). */
+#if defined(PVS__SSE2)
+#define PVS__LANES 1
+#define PVS__LANES_DIV 1
+typedef __m128 pvs__f4;
+typedef __m128i pvs__i4;
+typedef __m128 pvs__m4;
+#define pvs__f4_load _mm_loadu_ps
+#define pvs__f4_store _mm_storeu_ps
+#define pvs__f4_set1 _mm_set1_ps
+#define pvs__f4_set4 _mm_setr_ps
+#define pvs__f4_add _mm_add_ps
+#define pvs__f4_sub _mm_sub_ps
+#define pvs__f4_mul _mm_mul_ps
+#define pvs__f4_div _mm_div_ps
+#define pvs__f4_min _mm_min_ps
+#define pvs__f4_max _mm_max_ps
+#define pvs__f4_lt _mm_cmplt_ps
+#define pvs__f4_le _mm_cmple_ps
+#define pvs__f4_gt _mm_cmpgt_ps
+#define pvs__f4_ge _mm_cmpge_ps
+#define pvs__f4_abs(a) _mm_and_ps(a, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)))
+#define pvs__f4_trunc _mm_cvttps_epi32
+#define pvs__f4_from_i4 _mm_cvtepi32_ps
+#define pvs__i4_load(p) _mm_loadu_si128((const __m128i *)(p))
+#define pvs__i4_store(p, a) _mm_storeu_si128((__m128i *)(p), a)
+#define pvs__i4_set1 _mm_set1_epi32
+#define pvs__i4_add _mm_add_epi32
+#define pvs__i4_sub _mm_sub_epi32
+#define pvs__i4_andn(a, b) _mm_andnot_si128(b, a) /* a & ~b */
+#define pvs__i4_lt(a, b) _mm_castsi128_ps(_mm_cmplt_epi32(a, b))
+#define pvs__i4_gt(a, b) _mm_castsi128_ps(_mm_cmpgt_epi32(a, b))
+#define pvs__i4_eq(a, b) _mm_castsi128_ps(_mm_cmpeq_epi32(a, b))
+#define pvs__i4_from_m4 _mm_castps_si128
+#define pvs__m4_true() _mm_castsi128_ps(_mm_set1_epi32(-1))
+#define pvs__m4_and _mm_and_ps
+#define pvs__m4_or _mm_or_ps
+#define pvs__m4_andn(a, b) _mm_andnot_ps(b, a) /* a & ~b */
+#define pvs__m4_bits _mm_movemask_ps
+PVS__STATIC __m128 pvs__f4_sel(__m128 m, __m128 a, __m128 b) {
+	return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b));
+}
+PVS__STATIC __m128i pvs__i4_sel(__m128 m, __m128i a, __m128i b) {
+	__m128i k = _mm_castps_si128(m);
+	return _mm_or_si128(_mm_and_si128(k, a), _mm_andnot_si128(k, b));
+}
+/* 2^n built in a float's exponent, converted (2^31 gives 1 << 31), negated; 0 for n >= 32 */
+PVS__STATIC __m128i pvs__i4_shl_ones(__m128i n) {
+	__m128i p;
+	n = _mm_andnot_si128(_mm_srai_epi32(n, 31), n);
+	p = _mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(n, _mm_set1_epi32(127)), 23)));
+	return _mm_and_si128(_mm_sub_epi32(_mm_setzero_si128(), p), _mm_cmplt_epi32(n, _mm_set1_epi32(32)));
+}
+PVS__STATIC float pvs__f4_hmin2(__m128 a, __m128 b) {
+	__m128 v = _mm_min_ps(a, b);
+	v = _mm_min_ps(v, _mm_movehl_ps(v, v));
+	return _mm_cvtss_f32(_mm_min_ss(v, _mm_shuffle_ps(v, v, 1)));
+}
+PVS__STATIC float pvs__f4_hmax2(__m128 a, __m128 b) {
+	__m128 v = _mm_max_ps(a, b);
+	v = _mm_max_ps(v, _mm_movehl_ps(v, v));
+	return _mm_cvtss_f32(_mm_max_ss(v, _mm_shuffle_ps(v, v, 1)));
+}
+/* four (x, y, z, -) vertices, each with 4 readable floats, to X, Y, Z lanes */
+PVS__STATIC void pvs__f4_xyz(const float *a, const float *b, const float *c, const float *d, __m128 *X, __m128 *Y,
+							 __m128 *Z) {
+	__m128 va = _mm_loadu_ps(a), vb = _mm_loadu_ps(b), vc = _mm_loadu_ps(c), vd = _mm_loadu_ps(d);
+	__m128 ab0 = _mm_unpacklo_ps(va, vb), cd0 = _mm_unpacklo_ps(vc, vd);
+	*X = _mm_movelh_ps(ab0, cd0);
+	*Y = _mm_movehl_ps(cd0, ab0);
+	*Z = _mm_movelh_ps(_mm_unpackhi_ps(va, vb), _mm_unpackhi_ps(vc, vd));
+}
+#elif defined(PVS__NEON)
+#define PVS__LANES 1
+typedef float32x4_t pvs__f4;
+typedef int32x4_t pvs__i4;
+typedef uint32x4_t pvs__m4;
+#define pvs__f4_load vld1q_f32
+#define pvs__f4_store vst1q_f32
+#define pvs__f4_set1 vdupq_n_f32
+#define pvs__f4_add vaddq_f32
+#define pvs__f4_sub vsubq_f32
+#define pvs__f4_mul vmulq_f32
+#define pvs__f4_lt vcltq_f32
+#define pvs__f4_le vcleq_f32
+#define pvs__f4_gt vcgtq_f32
+#define pvs__f4_ge vcgeq_f32
+#define pvs__f4_abs vabsq_f32
+#define pvs__f4_sel vbslq_f32
+#define pvs__f4_trunc vcvtq_s32_f32
+#define pvs__f4_from_i4 vcvtq_f32_s32
+#define pvs__i4_load(p) vld1q_s32((const int32_t *)(p))
+#define pvs__i4_store(p, a) vst1q_s32((int32_t *)(p), a)
+#define pvs__i4_set1 vdupq_n_s32
+#define pvs__i4_add vaddq_s32
+#define pvs__i4_sub vsubq_s32
+#define pvs__i4_andn vbicq_s32
+#define pvs__i4_lt vcltq_s32
+#define pvs__i4_gt vcgtq_s32
+#define pvs__i4_eq vceqq_s32
+#define pvs__i4_sel vbslq_s32
+#define pvs__i4_from_m4 vreinterpretq_s32_u32
+#define pvs__m4_true() vdupq_n_u32(~0u)
+#define pvs__m4_and vandq_u32
+#define pvs__m4_or vorrq_u32
+#define pvs__m4_andn vbicq_u32
+PVS__STATIC float32x4_t pvs__f4_set4(float a, float b, float c, float d) {
+	const float v[4] = {a, b, c, d};
+	return vld1q_f32(v);
+}
+PVS__STATIC float32x4_t pvs__f4_min(float32x4_t a, float32x4_t b) { return vbslq_f32(vcltq_f32(a, b), a, b); }
+PVS__STATIC float32x4_t pvs__f4_max(float32x4_t a, float32x4_t b) { return vbslq_f32(vcgtq_f32(a, b), a, b); }
+PVS__STATIC int pvs__m4_bits(uint32x4_t m) {
+	return (int)((vgetq_lane_u32(m, 0) & 1u) | (vgetq_lane_u32(m, 1) & 2u) | (vgetq_lane_u32(m, 2) & 4u) |
+				 (vgetq_lane_u32(m, 3) & 8u));
+}
+PVS__STATIC int32x4_t pvs__i4_shl_ones(int32x4_t n) { /* a shift by >= 32 gives 0 */
+	n = vminq_s32(vmaxq_s32(n, vdupq_n_s32(0)), vdupq_n_s32(32));
+	return vreinterpretq_s32_u32(vshlq_u32(vdupq_n_u32(~0u), n));
+}
+PVS__STATIC void pvs__f4_xyz(const float *a, const float *b, const float *c, const float *d, float32x4_t *X,
+							 float32x4_t *Y, float32x4_t *Z) {
+	*X = pvs__f4_set4(a[0], b[0], c[0], d[0]);
+	*Y = pvs__f4_set4(a[1], b[1], c[1], d[1]);
+	*Z = pvs__f4_set4(a[2], b[2], c[2], d[2]);
+}
+#if defined(__aarch64__)
+#define PVS__LANES_DIV 1
+#define pvs__f4_div vdivq_f32
+#define pvs__f4_hmin2(a, b) vminvq_f32(vminq_f32(a, b))
+#define pvs__f4_hmax2(a, b) vmaxvq_f32(vmaxq_f32(a, b))
+#endif
+#endif
+#if defined(PVS__LANES)
+/* ceil and floor to int, as the scalar (float)(int32_t)f < f tests */
+PVS__STATIC pvs__i4 pvs__f4_ceili(pvs__f4 f) {
+	pvs__i4 i = pvs__f4_trunc(f);
+	return pvs__i4_sub(i, pvs__i4_from_m4(pvs__f4_lt(pvs__f4_from_i4(i), f)));
+}
+PVS__STATIC pvs__i4 pvs__f4_floori(pvs__f4 f) {
+	pvs__i4 i = pvs__f4_trunc(f);
+	return pvs__i4_add(i, pvs__i4_from_m4(pvs__f4_gt(pvs__f4_from_i4(i), f)));
+}
+#endif
 #if defined(__clang__)
 #pragma STDC FP_CONTRACT OFF
 #endif
@@ -5498,149 +5647,63 @@ PVS__STATIC int pvs__box_scalar(const pvs_raster *r, const pvs_box *b, const pvs
 	return 2;
 }
 
-#if defined(PVS__SSE2)
-PVS__STATIC float pvs__hmin_sse2(__m128 v) {
-	v = _mm_min_ps(v, _mm_movehl_ps(v, v));
-	return _mm_cvtss_f32(_mm_min_ss(v, _mm_shuffle_ps(v, v, 1)));
-}
-PVS__STATIC float pvs__hmax_sse2(__m128 v) {
-	v = _mm_max_ps(v, _mm_movehl_ps(v, v));
-	return _mm_cvtss_f32(_mm_max_ss(v, _mm_shuffle_ps(v, v, 1)));
-}
+#if defined(PVS__LANES_DIV)
 PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__boxe *E, pvs__boxf *o) {
-	const __m128 X = _mm_setr_ps(b->min[0], b->max[0], b->min[0], b->max[0]),
-				 Y = _mm_setr_ps(b->min[1], b->min[1], b->max[1], b->max[1]);
-	const __m128 Z0 = _mm_set1_ps(b->min[2]), Z1 = _mm_set1_ps(b->max[2]), zero = _mm_setzero_ps();
-	const __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-	__m128 c0[4], c1[4], t0, t1, q0, q1, v0, v1, rw0, rw1;
-	int all, any;
-#define PVS__ROW(rr) \
-	do { \
-		__m128 a = \
-			_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr]), X), _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 1]), Y)); \
-		c0[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z0)), \
-							_mm_loadu_ps(r->mb[4 * rr + 3])); \
-		c1[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z1)), \
-							_mm_loadu_ps(r->mb[4 * rr + 3])); \
-	} while (0)
-	PVS__ROW(0);
-	PVS__ROW(1);
-	PVS__ROW(2);
-	PVS__ROW(3);
-#undef PVS__ROW
-	q0 = _mm_sub_ps(c0[3], c0[2]);
-	q1 = _mm_sub_ps(c1[3], c1[2]);
-	t0 = _mm_set1_ps(0.0f - E->nz);
-	all = _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(q0, t0), _mm_cmplt_ps(q1, t0)));
-	t0 = _mm_set1_ps(0.0f - E->e[3]);
-	all |= _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(c0[3], t0), _mm_cmplt_ps(c1[3], t0))) << 4;
-	t0 = _mm_set1_ps(E->xw);
-	all |= _mm_movemask_ps(
-			   _mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(c0[0], c0[3]), t0), _mm_cmpgt_ps(_mm_sub_ps(c1[0], c1[3]), t0)))
-		<< 8;
-	all |= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c0[0]), c0[3]), t0),
-									  _mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c1[0]), c1[3]), t0))) << 12;
-	t0 = _mm_set1_ps(E->yw);
-	all |= _mm_movemask_ps(
-			   _mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(c0[1], c0[3]), t0), _mm_cmpgt_ps(_mm_sub_ps(c1[1], c1[3]), t0)))
-		<< 16;
-	all |= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c0[1]), c0[3]), t0),
-									  _mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c1[1]), c1[3]), t0))) << 20;
-	if ((all & 15) == 15 || (all & 0xf0) == 0xf0 || (all & 0xf00) == 0xf00 || (all & 0xf000) == 0xf000 ||
-		(all & 0xf0000) == 0xf0000 || (all & 0xf00000) == 0xf00000)
-		return 0;
-	t0 = _mm_set1_ps(E->nz);
-	t1 = _mm_set1_ps(E->w2);
-	any = _mm_movemask_ps(_mm_or_ps(_mm_or_ps(_mm_cmplt_ps(q0, t0), _mm_cmple_ps(c0[3], t1)),
-									_mm_or_ps(_mm_cmplt_ps(q1, t0), _mm_cmple_ps(c1[3], t1))));
-	if (any) return 1;
-	rw0 = _mm_div_ps(_mm_set1_ps(1.0f), c0[3]);
-	rw1 = _mm_div_ps(_mm_set1_ps(1.0f), c1[3]);
-	o->rmax = pvs__hmax_sse2(_mm_max_ps(rw1, rw0));
+	const pvs__f4 X = pvs__f4_set4(b->min[0], b->max[0], b->min[0], b->max[0]),
+				  Y = pvs__f4_set4(b->min[1], b->min[1], b->max[1], b->max[1]);
+	const pvs__f4 Z0 = pvs__f4_set1(b->min[2]), Z1 = pvs__f4_set1(b->max[2]), zero = pvs__f4_set1(0.0f);
+	pvs__f4 c0[4], c1[4], t0, t1, q0, q1, v0, v1, rw0, rw1;
+	int k;
+	for (k = 0; k < 4; ++k) { /* mb: mf broadcast */
+		const float(*m)[4] = r->mb + 4 * k;
+		pvs__f4 a = pvs__f4_add(pvs__f4_mul(pvs__f4_load(m[0]), X), pvs__f4_mul(pvs__f4_load(m[1]), Y));
+		c0[k] = pvs__f4_add(pvs__f4_add(a, pvs__f4_mul(pvs__f4_load(m[2]), Z0)), pvs__f4_load(m[3]));
+		c1[k] = pvs__f4_add(pvs__f4_add(a, pvs__f4_mul(pvs__f4_load(m[2]), Z1)), pvs__f4_load(m[3]));
+	}
+	q0 = pvs__f4_sub(c0[3], c0[2]);
+	q1 = pvs__f4_sub(c1[3], c1[2]);
+#define PVS__ALL(m0, m1) (pvs__m4_bits(pvs__m4_and(m0, m1)) == 15) /* all eight corners */
+#define PVS__OUT(a0, a1) PVS__ALL(pvs__f4_gt(a0, t0), pvs__f4_gt(a1, t0))
+	t0 = pvs__f4_set1(0.0f - E->nz);
+	if (PVS__ALL(pvs__f4_lt(q0, t0), pvs__f4_lt(q1, t0))) return 0;
+	t0 = pvs__f4_set1(0.0f - E->e[3]);
+	if (PVS__ALL(pvs__f4_lt(c0[3], t0), pvs__f4_lt(c1[3], t0))) return 0;
+	t0 = pvs__f4_set1(E->xw);
+	if (PVS__OUT(pvs__f4_sub(c0[0], c0[3]), pvs__f4_sub(c1[0], c1[3]))) return 0;
+	if (PVS__OUT(pvs__f4_sub(pvs__f4_sub(zero, c0[0]), c0[3]), pvs__f4_sub(pvs__f4_sub(zero, c1[0]), c1[3]))) return 0;
+	t0 = pvs__f4_set1(E->yw);
+	if (PVS__OUT(pvs__f4_sub(c0[1], c0[3]), pvs__f4_sub(c1[1], c1[3]))) return 0;
+	if (PVS__OUT(pvs__f4_sub(pvs__f4_sub(zero, c0[1]), c0[3]), pvs__f4_sub(pvs__f4_sub(zero, c1[1]), c1[3]))) return 0;
+#undef PVS__OUT
+#undef PVS__ALL
+	t0 = pvs__f4_set1(E->nz);
+	t1 = pvs__f4_set1(E->w2);
+	if (pvs__m4_bits(pvs__m4_or(pvs__m4_or(pvs__f4_lt(q0, t0), pvs__f4_le(c0[3], t1)),
+								pvs__m4_or(pvs__f4_lt(q1, t0), pvs__f4_le(c1[3], t1)))))
+		return 1;
+	rw0 = pvs__f4_div(pvs__f4_set1(1.0f), c0[3]);
+	rw1 = pvs__f4_div(pvs__f4_set1(1.0f), c1[3]);
+	o->rmax = pvs__f4_hmax2(rw1, rw0);
 #define PVS__AXIS(k, half, n, lo, hi) /* x / w (y / w): its largest |.|, then in pixels */ \
 	do { \
-		v0 = _mm_mul_ps(c0[k], rw0); \
-		v1 = _mm_mul_ps(c1[k], rw1); \
-		o->n = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm))); \
-		t0 = _mm_set1_ps(half); \
-		v0 = _mm_add_ps(_mm_mul_ps(v0, t0), t0); \
-		v1 = _mm_add_ps(_mm_mul_ps(v1, t0), t0); \
-		o->lo = pvs__hmin_sse2(_mm_min_ps(v1, v0)); \
-		o->hi = pvs__hmax_sse2(_mm_max_ps(v1, v0)); \
+		v0 = pvs__f4_mul(c0[k], rw0); \
+		v1 = pvs__f4_mul(c1[k], rw1); \
+		o->n = pvs__f4_hmax2(pvs__f4_abs(v1), pvs__f4_abs(v0)); \
+		t0 = pvs__f4_set1(half); \
+		v0 = pvs__f4_add(pvs__f4_mul(v0, t0), t0); \
+		v1 = pvs__f4_add(pvs__f4_mul(v1, t0), t0); \
+		o->lo = pvs__f4_hmin2(v1, v0); \
+		o->hi = pvs__f4_hmax2(v1, v0); \
 	} while (0)
 	PVS__AXIS(0, r->hwf, nx, xmin, xmax);
 	PVS__AXIS(1, r->hhf, ny, ymin, ymax);
 #undef PVS__AXIS
-	v0 = _mm_mul_ps(c0[2], rw0);
-	v1 = _mm_mul_ps(c1[2], rw1);
-	o->zmax = pvs__hmax_sse2(_mm_max_ps(v1, v0));
-	o->nz = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm)));
+	v0 = pvs__f4_mul(c0[2], rw0);
+	v1 = pvs__f4_mul(c1[2], rw1);
+	o->zmax = pvs__f4_hmax2(v1, v0);
+	o->nz = pvs__f4_hmax2(pvs__f4_abs(v1), pvs__f4_abs(v0));
 	return 2;
 }
-#define PVS__HAVE_BOX_SIMD 1
-#elif defined(PVS__NEON) && defined(__aarch64__)
-PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__boxe *E, pvs__boxf *o) {
-	const float xs[4] = {b->min[0], b->max[0], b->min[0], b->max[0]},
-				ys[4] = {b->min[1], b->min[1], b->max[1], b->max[1]};
-	const float32x4_t X = vld1q_f32(xs), Y = vld1q_f32(ys), Z0 = vdupq_n_f32(b->min[2]), Z1 = vdupq_n_f32(b->max[2]),
-					  zero = vdupq_n_f32(0.0f);
-	float32x4_t c0[4], c1[4], t0, t1, q0, q1, v0, v1, rw0, rw1, one = vdupq_n_f32(1.0f);
-	const float *mf = r->mf;
-	int rr;
-	for (rr = 0; rr < 4; ++rr) {
-		float32x4_t a = vaddq_f32(vmulq_f32(vdupq_n_f32(mf[4 * rr]), X), vmulq_f32(vdupq_n_f32(mf[4 * rr + 1]), Y));
-		c0[rr] = vaddq_f32(vaddq_f32(a, vmulq_f32(vdupq_n_f32(mf[4 * rr + 2]), Z0)), vdupq_n_f32(mf[4 * rr + 3]));
-		c1[rr] = vaddq_f32(vaddq_f32(a, vmulq_f32(vdupq_n_f32(mf[4 * rr + 2]), Z1)), vdupq_n_f32(mf[4 * rr + 3]));
-	}
-	q0 = vsubq_f32(c0[3], c0[2]);
-	q1 = vsubq_f32(c1[3], c1[2]);
-#define PVS__ALL(m) (vminvq_u32(m) != 0)
-#define PVS__ANY(m) (vmaxvq_u32(m) != 0)
-	t0 = vdupq_n_f32(0.0f - E->nz);
-	if (PVS__ALL(vandq_u32(vcltq_f32(q0, t0), vcltq_f32(q1, t0)))) return 0;
-	t0 = vdupq_n_f32(0.0f - E->e[3]);
-	if (PVS__ALL(vandq_u32(vcltq_f32(c0[3], t0), vcltq_f32(c1[3], t0)))) return 0;
-	t0 = vdupq_n_f32(E->xw);
-	if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(c0[0], c0[3]), t0), vcgtq_f32(vsubq_f32(c1[0], c1[3]), t0)))) return 0;
-	if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(vsubq_f32(zero, c0[0]), c0[3]), t0),
-						   vcgtq_f32(vsubq_f32(vsubq_f32(zero, c1[0]), c1[3]), t0))))
-		return 0;
-	t0 = vdupq_n_f32(E->yw);
-	if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(c0[1], c0[3]), t0), vcgtq_f32(vsubq_f32(c1[1], c1[3]), t0)))) return 0;
-	if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(vsubq_f32(zero, c0[1]), c0[3]), t0),
-						   vcgtq_f32(vsubq_f32(vsubq_f32(zero, c1[1]), c1[3]), t0))))
-		return 0;
-	t0 = vdupq_n_f32(E->nz);
-	t1 = vdupq_n_f32(E->w2);
-	if (PVS__ANY(vorrq_u32(vorrq_u32(vcltq_f32(q0, t0), vcleq_f32(c0[3], t1)),
-						   vorrq_u32(vcltq_f32(q1, t0), vcleq_f32(c1[3], t1)))))
-		return 1;
-#undef PVS__ALL
-#undef PVS__ANY
-	rw0 = vdivq_f32(one, c0[3]);
-	rw1 = vdivq_f32(one, c1[3]);
-	o->rmax = vmaxvq_f32(vmaxq_f32(rw1, rw0));
-#define PVS__AXIS(k, half, n, lo, hi) /* as in the SSE2 version */ \
-	do { \
-		v0 = vmulq_f32(c0[k], rw0); \
-		v1 = vmulq_f32(c1[k], rw1); \
-		o->n = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0))); \
-		t0 = vdupq_n_f32(half); \
-		v0 = vaddq_f32(vmulq_f32(v0, t0), t0); \
-		v1 = vaddq_f32(vmulq_f32(v1, t0), t0); \
-		o->lo = vminvq_f32(vminq_f32(v1, v0)); \
-		o->hi = vmaxvq_f32(vmaxq_f32(v1, v0)); \
-	} while (0)
-	PVS__AXIS(0, r->hwf, nx, xmin, xmax);
-	PVS__AXIS(1, r->hhf, ny, ymin, ymax);
-#undef PVS__AXIS
-	v0 = vmulq_f32(c0[2], rw0);
-	v1 = vmulq_f32(c1[2], rw1);
-	o->zmax = vmaxvq_f32(vmaxq_f32(v1, v0));
-	o->nz = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0)));
-	return 2;
-}
-#define PVS__HAVE_BOX_SIMD 1
 #endif
 
 /* Double to a float >= it, no libm: margins (v >= 0); any finite v (rounded down: up one step; |f| 2^-23 plus the least
@@ -5661,10 +5724,9 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
 	float pf = 0.0f;
 #if defined(PVS__SSE2) /* largest |coordinate| (exact; min and max are six floats in a row) */
 	{
-		const __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
 		__m128 a = _mm_loadu_ps(b->min), c = _mm_loadu_ps(b->min + 2);
 		nan = _mm_movemask_ps(_mm_or_ps(_mm_cmpunord_ps(a, a), _mm_cmpunord_ps(c, c)));
-		pf = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(a, absm), _mm_and_ps(c, absm)));
+		pf = pvs__f4_hmax2(pvs__f4_abs(a), pvs__f4_abs(c));
 	}
 #else
 	for (k = 0; k < 3; ++k) {
@@ -5686,7 +5748,7 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
 	E.xw = pvs__f_up_pos(e[0] + e[3]);
 	E.yw = pvs__f_up_pos(e[1] + e[3]);
 	E.w2 = pvs__f_up_pos(2.0 * e[3]);
-#if defined(PVS__HAVE_BOX_SIMD)
+#if defined(PVS__LANES_DIV)
 	if (!(r->flags & PVS_RASTER_SCALAR)) res = pvs__box_simd(r, b, &E, &o);
 	else
 #endif
