@@ -4516,196 +4516,79 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 	return draw;
 }
 
-#if defined(PVS__SSE2)
+#if defined(PVS__LANES_DIV)
 /* v[l][k]: 4 readable floats (the caller copies the last vertex). */
 PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
 								  float *zmax) {
-	const __m128 zero = _mm_setzero_ps(), absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), big = _mm_set1_ps(1e30f);
-	__m128 X0, Y0, Z0, X1, Y1, Z1, X2, Y2, Z2, cz0, cz1, cz2, cw0, cw1, cw2, t, anyb, allb, fin;
-	__m128 x, y, z, xmin, xmax, ymin, ymax, zm, rw;
-	__m128i i0, i1, j0, j1, empty;
-	unsigned all, any, tst;
-#define PVS__LOAD3(k, X, Y, Z) \
-	do { /* four (x, y, z, -) vertices to X, Y, Z lanes */ \
-		__m128 a = _mm_loadu_ps(v[0][k]), b = _mm_loadu_ps(v[1][k]), c = _mm_loadu_ps(v[2][k]), \
-			   d = _mm_loadu_ps(v[3][k]); \
-		__m128 ab0 = _mm_unpacklo_ps(a, b), cd0 = _mm_unpacklo_ps(c, d), ab1 = _mm_unpackhi_ps(a, b), \
-			   cd1 = _mm_unpackhi_ps(c, d); \
-		X = _mm_movelh_ps(ab0, cd0); \
-		Y = _mm_movehl_ps(cd0, ab0); \
-		Z = _mm_movelh_ps(ab1, cd1); \
-	} while (0)
-#define PVS__MB(o) _mm_loadu_ps(r->mb[o]) /* mf broadcast */
-#define PVS__ROW(o, X, Y, Z) \
-	_mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(PVS__MB(o), X), _mm_mul_ps(PVS__MB(o + 1), Y)), \
-						  _mm_mul_ps(PVS__MB(o + 2), Z)), \
-			   PVS__MB(o + 3))
-	PVS__LOAD3(0, X0, Y0, Z0);
-	PVS__LOAD3(1, X1, Y1, Z1);
-	PVS__LOAD3(2, X2, Y2, Z2);
-	cz0 = PVS__ROW(8, X0, Y0, Z0); cw0 = PVS__ROW(12, X0, Y0, Z0);
-	cz1 = PVS__ROW(8, X1, Y1, Z1); cw1 = PVS__ROW(12, X1, Y1, Z1);
-	cz2 = PVS__ROW(8, X2, Y2, Z2); cw2 = PVS__ROW(12, X2, Y2, Z2);
-	t = _mm_cmpgt_ps(cz0, cw0); anyb = t; allb = t;
-	t = _mm_cmpgt_ps(cz1, cw1); anyb = _mm_or_ps(anyb, t); allb = _mm_and_ps(allb, t);
-	t = _mm_cmpgt_ps(cz2, cw2); anyb = _mm_or_ps(anyb, t); allb = _mm_and_ps(allb, t);
-	t = _mm_and_ps(_mm_and_ps(_mm_cmple_ps(cw0, zero), _mm_cmple_ps(cw1, zero)), _mm_cmple_ps(cw2, zero));
-	allb = _mm_or_ps(allb, t);
-	anyb = _mm_or_ps(anyb,
-					 _mm_or_ps(_mm_or_ps(_mm_cmple_ps(cw0, zero), _mm_cmple_ps(cw1, zero)), _mm_cmple_ps(cw2, zero)));
-	all = (unsigned)_mm_movemask_ps(allb);
-	*test = 0;
-	if (all == 15u) return 0; /* all four behind the near plane or the eye */
-	any = (unsigned)_mm_movemask_ps(anyb);
-	if (any == 15u) return all ^ 15u;
-#define PVS__PROJ(X, Y, Z, cz, cw) do { \
-		rw = _mm_div_ps(_mm_set1_ps(1.0f), cw); \
-		x = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(PVS__ROW(0, X, Y, Z), rw), _mm_set1_ps(r->hwf)), _mm_set1_ps(r->hwf)); \
-		y = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(PVS__ROW(4, X, Y, Z), rw), _mm_set1_ps(r->hhf)), _mm_set1_ps(r->hhf)); \
-		z = _mm_mul_ps(cz, rw); } while (0)
-	PVS__PROJ(X0, Y0, Z0, cz0, cw0);
-	xmin = xmax = x; ymin = ymax = y; zm = z;
-	PVS__PROJ(X1, Y1, Z1, cz1, cw1);
-	xmin = _mm_min_ps(x, xmin);
-	xmax = _mm_max_ps(x, xmax);
-	ymin = _mm_min_ps(y, ymin);
-	ymax = _mm_max_ps(y, ymax);
-	zm = _mm_max_ps(z, zm);
-	PVS__PROJ(X2, Y2, Z2, cz2, cw2);
-	xmin = _mm_min_ps(x, xmin);
-	xmax = _mm_max_ps(x, xmax);
-	ymin = _mm_min_ps(y, ymin);
-	ymax = _mm_max_ps(y, ymax);
-	zm = _mm_max_ps(z, zm);
-#undef PVS__PROJ
-#undef PVS__ROW
-#undef PVS__MB
-#undef PVS__LOAD3
-	/* a NaN can drop out of min and max, dropping the triangle as the scalar loop does (conservative) */
-	fin = _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(xmin, absm), big), _mm_cmplt_ps(_mm_and_ps(xmax, absm), big));
-	fin = _mm_and_ps(fin,
-					 _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(ymin, absm), big), _mm_cmplt_ps(_mm_and_ps(ymax, absm), big)));
-	fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(zm, absm), big));
-	xmin = _mm_max_ps(xmin, zero); xmax = _mm_min_ps(xmax, _mm_set1_ps((float)r->width));
-	ymin = _mm_max_ps(ymin, zero); ymax = _mm_min_ps(ymax, _mm_set1_ps((float)r->height));
-	/* keep the untested lanes' conversions in range */
-	t = _mm_andnot_ps(anyb, fin);
-	xmin = _mm_and_ps(xmin, t); xmax = _mm_and_ps(xmax, t); ymin = _mm_and_ps(ymin, t); ymax = _mm_and_ps(ymax, t);
-	i0 = _mm_cvttps_epi32(xmin);
-	i0 = _mm_sub_epi32(i0, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(i0), xmin)));
-	i1 = _mm_cvttps_epi32(xmax);
-	i1 = _mm_sub_epi32(_mm_add_epi32(i1, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(i1), xmax))), _mm_set1_epi32(1));
-	j0 = _mm_cvttps_epi32(ymin);
-	j0 = _mm_sub_epi32(j0, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(j0), ymin)));
-	j1 = _mm_cvttps_epi32(ymax);
-	j1 = _mm_sub_epi32(_mm_add_epi32(j1, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(j1), ymax))), _mm_set1_epi32(1));
-	empty = _mm_or_si128(_mm_cmpgt_epi32(i0, i1), _mm_cmpgt_epi32(j0, j1));
-	_mm_storeu_si128((__m128i *)box[0], i0);
-	_mm_storeu_si128((__m128i *)box[1], i1);
-	_mm_storeu_si128((__m128i *)box[2], j0);
-	_mm_storeu_si128((__m128i *)box[3], j1);
-	_mm_storeu_ps(zmax, zm);
-	tst = (unsigned)_mm_movemask_ps(t);
-	*test = tst & ~(unsigned)_mm_movemask_ps(_mm_castsi128_ps(empty));
-	return (all ^ 15u) & ~(tst & ~*test);
-}
-#define PVS__HAVE_PF_SIMD 1
-#elif defined(PVS__NEON) && defined(__aarch64__) /* vdivq_f32 */
-PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
-								  float *zmax) {
-	const float *mf = r->mf;
-	const float32x4_t zero = vdupq_n_f32(0.0f), big = vdupq_n_f32(1e30f), hw = vdupq_n_f32(r->hwf),
-					  hh = vdupq_n_f32(r->hhf);
-	float32x4_t X[3], Y[3], Z[3], cz[3], cw[3], x, y, z, xmin, xmax, ymin, ymax, zm, rw, fv;
-	uint32x4_t anyb = vdupq_n_u32(0), behind = vdupq_n_u32(~0u), nonpos = behind, allb, fin = behind, t, c, empty;
-	int32x4_t i0, i1, j0, j1;
-	uint32_t lanes[4], tl[4], el[4];
-	unsigned all = 0, any = 0, tst = 0, emp = 0;
-	int k, l;
+	const pvs__f4 zero = pvs__f4_set1(0.0f), big = pvs__f4_set1(1e30f), one = pvs__f4_set1(1.0f);
+	const pvs__f4 hw = pvs__f4_set1(r->hwf), hh = pvs__f4_set1(r->hhf);
+	pvs__f4 X[3], Y[3], Z[3], cz[3], cw[3], x, y, z, xmin, xmax, ymin, ymax, zm, rw;
+	pvs__m4 anyb, allb, nonpos, t, fin;
+	pvs__i4 i0, i1, j0, j1;
+	unsigned all, tst;
+	int k;
+#define PVS__ROW(o, k) /* mf's row o on vertex k (mb: mf broadcast) */ \
+	pvs__f4_add(pvs__f4_add(pvs__f4_add(pvs__f4_mul(pvs__f4_load(r->mb[o]), X[k]), \
+										pvs__f4_mul(pvs__f4_load(r->mb[o + 1]), Y[k])), \
+							pvs__f4_mul(pvs__f4_load(r->mb[o + 2]), Z[k])), \
+				pvs__f4_load(r->mb[o + 3]))
 	for (k = 0; k < 3; ++k) {
-		float xs[4], ys[4], zs[4];
-		for (l = 0; l < 4; ++l) { xs[l] = v[l][k][0]; ys[l] = v[l][k][1]; zs[l] = v[l][k][2]; }
-		X[k] = vld1q_f32(xs); Y[k] = vld1q_f32(ys); Z[k] = vld1q_f32(zs);
-	}
-#define PVS__ROW(o, k) \
-	vaddq_f32(vaddq_f32(vaddq_f32(vmulq_f32(vdupq_n_f32(mf[o]), X[k]), vmulq_f32(vdupq_n_f32(mf[o + 1]), Y[k])), \
-						vmulq_f32(vdupq_n_f32(mf[o + 2]), Z[k])), \
-			  vdupq_n_f32(mf[o + 3]))
-	for (k = 0; k < 3; ++k) {
+		pvs__f4_xyz(v[0][k], v[1][k], v[2][k], v[3][k], &X[k], &Y[k], &Z[k]);
 		cz[k] = PVS__ROW(8, k);
 		cw[k] = PVS__ROW(12, k);
-		t = vcgtq_f32(cz[k], cw[k]);
-		behind = vandq_u32(behind, t);
-		anyb = vorrq_u32(anyb, t);
-		t = vcleq_f32(cw[k], zero);
-		nonpos = vandq_u32(nonpos, t);
-		anyb = vorrq_u32(anyb, t);
 	}
-	allb = vorrq_u32(behind, nonpos);
-	vst1q_u32(lanes, allb);
-	for (l = 0; l < 4; ++l) all |= (lanes[l] & 1u) << l;
+	allb = pvs__f4_gt(cz[0], cw[0]);
+	nonpos = pvs__f4_le(cw[0], zero);
+	anyb = pvs__m4_or(allb, nonpos);
+	for (k = 1; k < 3; ++k) {
+		t = pvs__f4_gt(cz[k], cw[k]);
+		fin = pvs__f4_le(cw[k], zero);
+		allb = pvs__m4_and(allb, t);
+		nonpos = pvs__m4_and(nonpos, fin);
+		anyb = pvs__m4_or(anyb, pvs__m4_or(t, fin));
+	}
+	all = (unsigned)pvs__m4_bits(pvs__m4_or(allb, nonpos));
 	*test = 0;
-	if (all == 15u) return 0;
-	vst1q_u32(lanes, anyb);
-	for (l = 0; l < 4; ++l) any |= (lanes[l] & 1u) << l;
-	if (any == 15u) return all ^ 15u;
+	if (all == 15u) return 0; /* all four behind the near plane or the eye */
+	if ((unsigned)pvs__m4_bits(anyb) == 15u) return all ^ 15u;
 	xmin = xmax = ymin = ymax = zm = zero;
 	for (k = 0; k < 3; ++k) {
-		rw = vdivq_f32(vdupq_n_f32(1.0f), cw[k]);
-		x = vaddq_f32(vmulq_f32(vmulq_f32(PVS__ROW(0, k), rw), hw), hw);
-		y = vaddq_f32(vmulq_f32(vmulq_f32(PVS__ROW(4, k), rw), hh), hh);
-		z = vmulq_f32(cz[k], rw);
+		rw = pvs__f4_div(one, cw[k]);
+		x = pvs__f4_add(pvs__f4_mul(pvs__f4_mul(PVS__ROW(0, k), rw), hw), hw);
+		y = pvs__f4_add(pvs__f4_mul(pvs__f4_mul(PVS__ROW(4, k), rw), hh), hh);
+		z = pvs__f4_mul(cz[k], rw);
 		if (k == 0) {
 			xmin = xmax = x; ymin = ymax = y; zm = z;
 		} else {
-			xmin = vbslq_f32(vcltq_f32(x, xmin), x, xmin); xmax = vbslq_f32(vcgtq_f32(x, xmax), x, xmax);
-			ymin = vbslq_f32(vcltq_f32(y, ymin), y, ymin); ymax = vbslq_f32(vcgtq_f32(y, ymax), y, ymax);
-			zm = vbslq_f32(vcgtq_f32(z, zm), z, zm);
+			xmin = pvs__f4_min(x, xmin); xmax = pvs__f4_max(x, xmax);
+			ymin = pvs__f4_min(y, ymin); ymax = pvs__f4_max(y, ymax);
+			zm = pvs__f4_max(z, zm);
 		}
 	}
 #undef PVS__ROW
-	fin = vandq_u32(vcltq_f32(vabsq_f32(xmin), big), vcltq_f32(vabsq_f32(xmax), big));
-	fin = vandq_u32(fin, vandq_u32(vcltq_f32(vabsq_f32(ymin), big), vcltq_f32(vabsq_f32(ymax), big)));
-	fin = vandq_u32(fin, vcltq_f32(vabsq_f32(zm), big));
-	xmin = vbslq_f32(vcgtq_f32(xmin, zero), xmin, zero);
-	fv = vdupq_n_f32((float)r->width);
-	xmax = vbslq_f32(vcltq_f32(xmax, fv), xmax, fv);
-	ymin = vbslq_f32(vcgtq_f32(ymin, zero), ymin, zero);
-	fv = vdupq_n_f32((float)r->height);
-	ymax = vbslq_f32(vcltq_f32(ymax, fv), ymax, fv);
-	t = vbicq_u32(fin, anyb);
-	xmin = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(xmin), t));
-	xmax = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(xmax), t));
-	ymin = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(ymin), t));
-	ymax = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(ymax), t));
-	i0 = vcvtq_s32_f32(xmin);
-	c = vcltq_f32(vcvtq_f32_s32(i0), xmin);
-	i0 = vsubq_s32(i0, vreinterpretq_s32_u32(c));
-	i1 = vcvtq_s32_f32(xmax);
-	c = vcgtq_f32(vcvtq_f32_s32(i1), xmax);
-	i1 = vsubq_s32(vaddq_s32(i1, vreinterpretq_s32_u32(c)), vdupq_n_s32(1));
-	j0 = vcvtq_s32_f32(ymin);
-	c = vcltq_f32(vcvtq_f32_s32(j0), ymin);
-	j0 = vsubq_s32(j0, vreinterpretq_s32_u32(c));
-	j1 = vcvtq_s32_f32(ymax);
-	c = vcgtq_f32(vcvtq_f32_s32(j1), ymax);
-	j1 = vsubq_s32(vaddq_s32(j1, vreinterpretq_s32_u32(c)), vdupq_n_s32(1));
-	empty = vorrq_u32(vcgtq_s32(i0, i1), vcgtq_s32(j0, j1));
-	vst1q_s32(box[0], i0);
-	vst1q_s32(box[1], i1);
-	vst1q_s32(box[2], j0);
-	vst1q_s32(box[3], j1);
-	vst1q_f32(zmax, zm);
-	vst1q_u32(tl, t);
-	vst1q_u32(el, empty);
-	for (l = 0; l < 4; ++l) {
-		tst |= (tl[l] & 1u) << l;
-		emp |= (el[l] & 1u) << l;
-	}
-	*test = tst & ~emp;
-	return (all ^ 15u) & ~(tst & emp);
+	/* a NaN can drop out of min and max, dropping the triangle as the scalar loop does (conservative) */
+	fin = pvs__m4_and(pvs__f4_lt(pvs__f4_abs(xmin), big), pvs__f4_lt(pvs__f4_abs(xmax), big));
+	fin = pvs__m4_and(fin, pvs__m4_and(pvs__f4_lt(pvs__f4_abs(ymin), big), pvs__f4_lt(pvs__f4_abs(ymax), big)));
+	fin = pvs__m4_and(fin, pvs__f4_lt(pvs__f4_abs(zm), big));
+	/* clamped to the map; the untested lanes zeroed to keep their conversions in range */
+	t = pvs__m4_andn(fin, anyb);
+	xmin = pvs__f4_sel(t, pvs__f4_max(xmin, zero), zero);
+	xmax = pvs__f4_sel(t, pvs__f4_min(xmax, pvs__f4_set1((float)r->width)), zero);
+	ymin = pvs__f4_sel(t, pvs__f4_max(ymin, zero), zero);
+	ymax = pvs__f4_sel(t, pvs__f4_min(ymax, pvs__f4_set1((float)r->height)), zero);
+	i0 = pvs__f4_ceili(xmin);
+	i1 = pvs__i4_sub(pvs__f4_floori(xmax), pvs__i4_set1(1));
+	j0 = pvs__f4_ceili(ymin);
+	j1 = pvs__i4_sub(pvs__f4_floori(ymax), pvs__i4_set1(1));
+	pvs__i4_store(box[0], i0);
+	pvs__i4_store(box[1], i1);
+	pvs__i4_store(box[2], j0);
+	pvs__i4_store(box[3], j1);
+	pvs__f4_store(zmax, zm);
+	tst = (unsigned)pvs__m4_bits(t);
+	*test = tst & ~(unsigned)pvs__m4_bits(pvs__m4_or(pvs__i4_gt(i0, i1), pvs__i4_gt(j0, j1)));
+	return (all ^ 15u) & ~(tst & ~*test);
 }
-#define PVS__HAVE_PF_SIMD 1
 #endif
 
 PVS__STATIC int pvs__pf_tiles(const pvs_raster *r, uint32_t tx0, uint32_t tx1, uint32_t ty0, uint32_t ty1, float zmax) {
@@ -4783,7 +4666,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 		if (!n) continue;
 		for (l = (uint32_t)n; l < 4; ++l)
 			for (k = 0; k < 3; ++k) v[l][k] = v[0][k];
-#if defined(PVS__HAVE_PF_SIMD)
+#if defined(PVS__LANES_DIV)
 		if (!(r->flags & PVS_RASTER_SCALAR)) draw = pvs__pf_simd(r, (const float *const(*)[3])v, &test, box, zmax);
 		else
 #endif
