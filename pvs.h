@@ -4024,98 +4024,36 @@ PVS__STATIC uint32_t pvs__tile_bits(int32_t L, int32_t R, int32_t x0) {
 	return a & ~b;
 }
 
-#if defined(PVS__SSE2)
+#if defined(PVS__LANES)
 PVS__STATIC void pvs__tile_rows_simd(const pvs__tpoly *t, int32_t jrow, const float *xr, int32_t *L, int32_t *R) {
-	const __m128 d = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), fw = _mm_set1_ps((float)(t->i1 - t->i0));
-	__m128 lf = _mm_setzero_ps(), rf = fw, v;
-	__m128i l, r, j, bad;
+	const pvs__f4 d = pvs__f4_set4(0.0f, 1.0f, 2.0f, 3.0f), fw = pvs__f4_set1((float)(t->i1 - t->i0));
+	pvs__f4 lf = pvs__f4_set1(0.0f), rf = fw, v;
+	pvs__i4 l, r, j;
+	pvs__m4 bad;
 	int e;
 	for (e = 0; e < t->nl; ++e) {
-		v = _mm_add_ps(_mm_set1_ps(xr[e]), _mm_mul_ps(_mm_set1_ps(t->sf[e]), d));
-		v = _mm_add_ps(v, _mm_set1_ps(t->m[e]));
-		lf = _mm_max_ps(v, lf);
+		v = pvs__f4_add(pvs__f4_set1(xr[e]), pvs__f4_mul(pvs__f4_set1(t->sf[e]), d));
+		lf = pvs__f4_max(pvs__f4_add(v, pvs__f4_set1(t->m[e])), lf);
 	}
 	for (; e < t->ne; ++e) {
-		v = _mm_add_ps(_mm_set1_ps(xr[e]), _mm_mul_ps(_mm_set1_ps(t->sf[e]), d));
-		v = _mm_sub_ps(v, _mm_set1_ps(t->m[e]));
-		rf = _mm_min_ps(v, rf);
+		v = pvs__f4_add(pvs__f4_set1(xr[e]), pvs__f4_mul(pvs__f4_set1(t->sf[e]), d));
+		rf = pvs__f4_min(pvs__f4_sub(v, pvs__f4_set1(t->m[e])), rf);
 	}
-	lf = _mm_min_ps(lf, _mm_add_ps(fw, _mm_set1_ps(1.0f)));
-	rf = _mm_max_ps(rf, _mm_set1_ps(-1.0f));
-	l = _mm_cvttps_epi32(lf);
-	l = _mm_sub_epi32(l, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(l), lf)));
-	r = _mm_cvttps_epi32(rf);
-	r = _mm_add_epi32(r, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(r), rf)));
-	j = _mm_add_epi32(_mm_set1_epi32(jrow), _mm_set_epi32(3, 2, 1, 0));
-	bad = _mm_or_si128(_mm_cmplt_epi32(j, _mm_set1_epi32(t->jlo)), _mm_cmpgt_epi32(j, _mm_set1_epi32(t->jhi)));
-	l = _mm_or_si128(_mm_andnot_si128(bad, l), _mm_and_si128(bad, _mm_set1_epi32(1)));
-	r = _mm_andnot_si128(bad, r);
-	_mm_storeu_si128((__m128i *)L, _mm_add_epi32(l, _mm_set1_epi32(t->i0)));
-	_mm_storeu_si128((__m128i *)R, _mm_add_epi32(r, _mm_set1_epi32(t->i0)));
-}
-/* ~0 << n per lane, 0 for n >= 32: 2^n built in a float's exponent, converted (2^31 gives 1 << 31), negated. */
-PVS__STATIC __m128i pvs__sh_sse2(__m128i n) {
-	__m128i p = _mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(n, _mm_set1_epi32(127)), 23)));
-	return _mm_and_si128(_mm_sub_epi32(_mm_setzero_si128(), p), _mm_cmplt_epi32(n, _mm_set1_epi32(32)));
+	l = pvs__f4_ceili(pvs__f4_min(lf, pvs__f4_add(fw, pvs__f4_set1(1.0f))));
+	r = pvs__f4_floori(pvs__f4_max(rf, pvs__f4_set1(-1.0f)));
+	j = pvs__i4_add(pvs__i4_set1(jrow), pvs__f4_trunc(d));
+	bad = pvs__m4_or(pvs__i4_lt(j, pvs__i4_set1(t->jlo)), pvs__i4_gt(j, pvs__i4_set1(t->jhi)));
+	pvs__i4_store(L, pvs__i4_add(pvs__i4_sel(bad, pvs__i4_set1(1), l), pvs__i4_set1(t->i0)));
+	pvs__i4_store(R, pvs__i4_add(pvs__i4_sel(bad, pvs__i4_set1(0), r), pvs__i4_set1(t->i0)));
 }
 /* The four rows' bits of the tile at column x0; 0 when all are empty. */
 PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t x0, uint32_t *out) {
-	__m128i vx = _mm_set1_epi32(x0), lo, hi, m;
-	lo = _mm_sub_epi32(_mm_loadu_si128((const __m128i *)L), vx);
-	hi = _mm_sub_epi32(_mm_add_epi32(_mm_loadu_si128((const __m128i *)R), _mm_set1_epi32(1)), vx);
-	lo = _mm_andnot_si128(_mm_srai_epi32(lo, 31), lo);
-	hi = _mm_andnot_si128(_mm_srai_epi32(hi, 31), hi);
-	m = _mm_andnot_si128(pvs__sh_sse2(hi), pvs__sh_sse2(lo));
-	_mm_storeu_si128((__m128i *)out, m);
-	return _mm_movemask_epi8(_mm_cmpeq_epi32(m, _mm_setzero_si128())) != 0xffff;
+	pvs__i4 vx = pvs__i4_set1(x0), m;
+	m = pvs__i4_andn(pvs__i4_shl_ones(pvs__i4_sub(pvs__i4_load(L), vx)),
+					 pvs__i4_shl_ones(pvs__i4_sub(pvs__i4_add(pvs__i4_load(R), pvs__i4_set1(1)), vx)));
+	pvs__i4_store(out, m);
+	return pvs__m4_bits(pvs__i4_eq(m, pvs__i4_set1(0))) != 15;
 }
-#define PVS__HAVE_TILE_SIMD 1
-#elif defined(PVS__NEON)
-PVS__STATIC void pvs__tile_rows_simd(const pvs__tpoly *t, int32_t jrow, const float *xr, int32_t *L, int32_t *R) {
-	static const float df[4] = {0.0f, 1.0f, 2.0f, 3.0f};
-	static const int32_t di[4] = {0, 1, 2, 3};
-	const float32x4_t d = vld1q_f32(df), fw = vdupq_n_f32((float)(t->i1 - t->i0));
-	float32x4_t lf = vdupq_n_f32(0.0f), rf = fw, v;
-	int32x4_t l, r, j;
-	uint32x4_t bad;
-	int e;
-	for (e = 0; e < t->nl; ++e) {
-		v = vaddq_f32(vdupq_n_f32(xr[e]), vmulq_f32(vdupq_n_f32(t->sf[e]), d));
-		v = vaddq_f32(v, vdupq_n_f32(t->m[e]));
-		lf = vbslq_f32(vcgtq_f32(v, lf), v, lf);
-	}
-	for (; e < t->ne; ++e) {
-		v = vaddq_f32(vdupq_n_f32(xr[e]), vmulq_f32(vdupq_n_f32(t->sf[e]), d));
-		v = vsubq_f32(v, vdupq_n_f32(t->m[e]));
-		rf = vbslq_f32(vcltq_f32(v, rf), v, rf);
-	}
-	v = vaddq_f32(fw, vdupq_n_f32(1.0f));
-	lf = vbslq_f32(vcltq_f32(lf, v), lf, v);
-	v = vdupq_n_f32(-1.0f);
-	rf = vbslq_f32(vcgtq_f32(rf, v), rf, v);
-	l = vcvtq_s32_f32(lf);
-	l = vsubq_s32(l, vreinterpretq_s32_u32(vcltq_f32(vcvtq_f32_s32(l), lf)));
-	r = vcvtq_s32_f32(rf);
-	r = vaddq_s32(r, vreinterpretq_s32_u32(vcgtq_f32(vcvtq_f32_s32(r), rf)));
-	j = vaddq_s32(vdupq_n_s32(jrow), vld1q_s32(di));
-	bad = vorrq_u32(vcltq_s32(j, vdupq_n_s32(t->jlo)), vcgtq_s32(j, vdupq_n_s32(t->jhi)));
-	l = vbslq_s32(bad, vdupq_n_s32(1), l);
-	r = vbslq_s32(bad, vdupq_n_s32(0), r);
-	vst1q_s32(L, vaddq_s32(l, vdupq_n_s32(t->i0)));
-	vst1q_s32(R, vaddq_s32(r, vdupq_n_s32(t->i0)));
-}
-PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t x0, uint32_t *out) {
-	int32x4_t vx = vdupq_n_s32(x0), zero = vdupq_n_s32(0), top = vdupq_n_s32(32), lo, hi;
-	uint32x4_t ones = vdupq_n_u32(~0u), m;
-	lo = vsubq_s32(vld1q_s32(L), vx);
-	hi = vsubq_s32(vaddq_s32(vld1q_s32(R), vdupq_n_s32(1)), vx);
-	lo = vminq_s32(vmaxq_s32(lo, zero), top); /* a shift by >= 32 gives 0 */
-	hi = vminq_s32(vmaxq_s32(hi, zero), top);
-	m = vbicq_u32(vshlq_u32(ones, lo), vshlq_u32(ones, hi));
-	vst1q_u32(out, m);
-	return (vgetq_lane_u32(m, 0) | vgetq_lane_u32(m, 1) | vgetq_lane_u32(m, 2) | vgetq_lane_u32(m, 3)) != 0;
-}
-#define PVS__HAVE_TILE_SIMD 1
 #endif
 
 /* Merges coverage T (as near as zt > z0) into a tile, Hasselgren et al.'s two-layer update: T covering the tile becomes
@@ -4171,7 +4109,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 			X = X < -t->cl[e] ? -t->cl[e] : X > t->cl[e] ? t->cl[e] : X;
 			xr[e] = (float)X;
 		}
-#if defined(PVS__HAVE_TILE_SIMD)
+#if defined(PVS__LANES)
 		if (simd) pvs__tile_rows_simd(t, jrow, xr, L, R);
 		else
 #endif
@@ -4207,7 +4145,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 			if (x0 >= fl && (x0 + 31 < (int32_t)r->width ? x0 + 31 : (int32_t)r->width - 1) <= fr) {
 				cov[0] = cov[1] = cov[2] = cov[3] = ~0u; /* covers the tile: pvs__tile_merge's first case */
 			} else
-#if defined(PVS__HAVE_TILE_SIMD)
+#if defined(PVS__LANES)
 			if (simd) {
 				if (!pvs__tile_mask_simd(L, R, x0, cov)) continue;
 			} else
