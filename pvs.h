@@ -3587,79 +3587,36 @@ PVS__STATIC int pvs__raster_rows_scalar(const pvs__rsetup *s, float *buf, uint32
 	return wrote;
 }
 
-#if defined(PVS__SSE2)
+#if defined(PVS__LANES)
 PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
 	int32_t i, j;
 	int e, wrote = 0;
-	const __m128 step = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), zero = _mm_setzero_ps();
-	__m128 va[PVS__RASTER_MAXV];
-	const __m128 vza = _mm_set1_ps(s->za), vclamp = _mm_set1_ps(s->zclamp);
-	for (e = 0; e < s->edges; ++e) va[e] = _mm_set1_ps(s->a[e]);
-	for (j = s->lj0; j <= s->lj1; ++j) {
-		float fj = (float)(j - s->j0), rz = s->zk + s->zb * fj;
-		__m128 rk[PVS__RASTER_MAXV], vrz = _mm_set1_ps(rz);
-		float *row = buf + (size_t)j * stride;
-		for (e = 0; e < s->edges; ++e) rk[e] = _mm_set1_ps(s->k[e] + s->b[e] * fj);
-		for (i = s->li0; i + 3 <= s->li1; i += 4) {
-			__m128 fi = _mm_add_ps(_mm_set1_ps((float)(i - s->i0)), step);
-			__m128 mask = _mm_castsi128_ps(_mm_set1_epi32(-1)), d, old, gt;
-			for (e = 0; e < s->edges; ++e)
-				mask = _mm_and_ps(mask, _mm_cmpge_ps(_mm_add_ps(rk[e], _mm_mul_ps(va[e], fi)), zero));
-			if (!_mm_movemask_ps(mask)) continue;
-			d = _mm_add_ps(vrz, _mm_mul_ps(vza, fi));
-			if (occluder)
-				d = _mm_or_ps(_mm_and_ps(_mm_cmplt_ps(d, vclamp), vclamp), _mm_andnot_ps(_mm_cmplt_ps(d, vclamp), d));
-			else d = _mm_or_ps(_mm_and_ps(_mm_cmpgt_ps(d, vclamp), vclamp), _mm_andnot_ps(_mm_cmpgt_ps(d, vclamp), d));
-			old = _mm_loadu_ps(row + i);
-			gt = _mm_and_ps(mask, _mm_cmpgt_ps(d, old));
-			wrote |= _mm_movemask_ps(gt);
-			_mm_storeu_ps(row + i, _mm_or_ps(_mm_and_ps(gt, d), _mm_andnot_ps(gt, old)));
-		}
-		if (i <= s->li1) {
-			float rkf[PVS__RASTER_MAXV];
-			for (e = 0; e < s->edges; ++e) rkf[e] = s->k[e] + s->b[e] * fj;
-			for (; i <= s->li1; ++i) wrote |= pvs__raster_pixel(s, rkf, rz, row, i, occluder);
-		}
-	}
-	return wrote;
-}
-#define PVS__HAVE_SIMD 1
-#elif defined(PVS__NEON)
-PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
-	int32_t i, j;
-	int e, wrote = 0;
-	static const float stepf[4] = {0.0f, 1.0f, 2.0f, 3.0f};
-	const float32x4_t step = vld1q_f32(stepf), zero = vdupq_n_f32(0.0f);
-	float32x4_t va[PVS__RASTER_MAXV];
-	const float32x4_t vza = vdupq_n_f32(s->za), vclamp = vdupq_n_f32(s->zclamp);
-	for (e = 0; e < s->edges; ++e) va[e] = vdupq_n_f32(s->a[e]);
+	const pvs__f4 step = pvs__f4_set4(0.0f, 1.0f, 2.0f, 3.0f), zero = pvs__f4_set1(0.0f);
+	const pvs__f4 vza = pvs__f4_set1(s->za), vclamp = pvs__f4_set1(s->zclamp);
+	pvs__f4 va[PVS__RASTER_MAXV];
+	for (e = 0; e < s->edges; ++e) va[e] = pvs__f4_set1(s->a[e]);
 	for (j = s->lj0; j <= s->lj1; ++j) {
 		float fj = (float)(j - s->j0), rz = s->zk + s->zb * fj, rkf[PVS__RASTER_MAXV];
-		float32x4_t rk[PVS__RASTER_MAXV], vrz = vdupq_n_f32(rz);
+		pvs__f4 rk[PVS__RASTER_MAXV], vrz = pvs__f4_set1(rz);
 		float *row = buf + (size_t)j * stride;
-		for (e = 0; e < s->edges; ++e) { rkf[e] = s->k[e] + s->b[e] * fj; rk[e] = vdupq_n_f32(rkf[e]); }
+		for (e = 0; e < s->edges; ++e) { rkf[e] = s->k[e] + s->b[e] * fj; rk[e] = pvs__f4_set1(rkf[e]); }
 		for (i = s->li0; i + 3 <= s->li1; i += 4) {
-			float32x4_t fi = vaddq_f32(vdupq_n_f32((float)(i - s->i0)), step), d, old;
-			uint32x4_t mask = vdupq_n_u32(0xffffffffu), gt;
+			pvs__f4 fi = pvs__f4_add(pvs__f4_set1((float)(i - s->i0)), step), d, old;
+			pvs__m4 mask = pvs__m4_true(), gt;
 			for (e = 0; e < s->edges; ++e)
-				mask = vandq_u32(mask, vcgeq_f32(vaddq_f32(rk[e], vmulq_f32(va[e], fi)), zero));
-			if ((vgetq_lane_u32(mask, 0) | vgetq_lane_u32(mask, 1) | vgetq_lane_u32(mask, 2) |
-				 vgetq_lane_u32(mask, 3)) == 0)
-				continue;
-			d = vaddq_f32(vrz, vmulq_f32(vza, fi));
-			if (occluder) d = vbslq_f32(vcltq_f32(d, vclamp), vclamp, d);
-			else d = vbslq_f32(vcgtq_f32(d, vclamp), vclamp, d);
-			old = vld1q_f32(row + i);
-			gt = vandq_u32(mask, vcgtq_f32(d, old));
-			wrote |=
-				(vgetq_lane_u32(gt, 0) | vgetq_lane_u32(gt, 1) | vgetq_lane_u32(gt, 2) | vgetq_lane_u32(gt, 3)) != 0;
-			vst1q_f32(row + i, vbslq_f32(gt, d, old));
+				mask = pvs__m4_and(mask, pvs__f4_ge(pvs__f4_add(rk[e], pvs__f4_mul(va[e], fi)), zero));
+			if (!pvs__m4_bits(mask)) continue;
+			d = pvs__f4_add(vrz, pvs__f4_mul(vza, fi));
+			d = pvs__f4_sel(occluder ? pvs__f4_lt(d, vclamp) : pvs__f4_gt(d, vclamp), vclamp, d);
+			old = pvs__f4_load(row + i);
+			gt = pvs__m4_and(mask, pvs__f4_gt(d, old));
+			wrote |= pvs__m4_bits(gt);
+			pvs__f4_store(row + i, pvs__f4_sel(gt, d, old));
 		}
 		for (; i <= s->li1; ++i) wrote |= pvs__raster_pixel(s, rkf, rz, row, i, occluder);
 	}
 	return wrote;
 }
-#define PVS__HAVE_SIMD 1
 #endif
 
 /* 8 x 8 tiles keep their farthest depth: a polygon skips tiles it cannot be nearer than or lies outside (occluders come
@@ -3715,7 +3672,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 	(void)simd;
 	if (!tile_min) {
 		s->li0 = s->i0; s->li1 = s->i1; s->lj0 = s->j0; s->lj1 = s->j1;
-#if defined(PVS__HAVE_SIMD)
+#if defined(PVS__LANES)
 		if (simd) { pvs__raster_rows_simd(s, buf, W, occluder); return; }
 #endif
 		(void)pvs__raster_rows_scalar(s, buf, W, occluder);
@@ -3764,7 +3721,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 					if (inside < 0) continue;
 					edges = s->edges;
 					if (inside) s->edges = 0; /* inside: the same result without edge tests */
-#if defined(PVS__HAVE_SIMD)
+#if defined(PVS__LANES)
 					if (simd) wrote = pvs__raster_rows_simd(s, buf, W, occluder);
 					else
 #endif
