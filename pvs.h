@@ -5209,21 +5209,18 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 		x = 0;
 #if defined(PVS__SSE2)
 		if (simd && mx && my)
-			for (; 2 * x + 8 <= pw; x += 4) {
+			for (; 2 * x + 8 <= pw; x += 4) { /* the two rows, then even and odd columns */
+				__m128 v0, v1;
 				if (on) {
-					__m128 v0 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x), _mm_loadu_ps(n1 + 2 * x));
-					__m128 v1 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x + 4), _mm_loadu_ps(n1 + 2 * x + 4));
-					__m128 ev = _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0));
-					__m128 od = _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1));
-					_mm_storeu_ps(on + x, _mm_min_ps(ev, od));
+					v0 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x), _mm_loadu_ps(n1 + 2 * x));
+					v1 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x + 4), _mm_loadu_ps(n1 + 2 * x + 4));
+					_mm_storeu_ps(on + x, _mm_min_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0)),
+													 _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1))));
 				}
-				{
-					__m128 u0 = _mm_max_ps(_mm_loadu_ps(m0 + 2 * x), _mm_loadu_ps(m1 + 2 * x));
-					__m128 u1 = _mm_max_ps(_mm_loadu_ps(m0 + 2 * x + 4), _mm_loadu_ps(m1 + 2 * x + 4));
-					__m128 ev = _mm_shuffle_ps(u0, u1, _MM_SHUFFLE(2, 0, 2, 0));
-					__m128 od = _mm_shuffle_ps(u0, u1, _MM_SHUFFLE(3, 1, 3, 1));
-					_mm_storeu_ps(om + x, _mm_max_ps(ev, od));
-				}
+				v0 = _mm_max_ps(_mm_loadu_ps(m0 + 2 * x), _mm_loadu_ps(m1 + 2 * x));
+				v1 = _mm_max_ps(_mm_loadu_ps(m0 + 2 * x + 4), _mm_loadu_ps(m1 + 2 * x + 4));
+				_mm_storeu_ps(om + x, _mm_max_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0)),
+												 _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1))));
 			}
 #endif
 		for (; x < w; ++x) {
