@@ -3309,6 +3309,155 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 #define PVS__NEON 1
 #include <arm_neon.h>
 #endif
+
+/* Lanes: four floats (pvs__f4), four int32 (pvs__i4) and a mask (pvs__m4: each lane all ones or zero) with the few
+   operations the SIMD kernels below are written on once, each the instruction they used before per set: min and max
+   are a < b ? a : b and a > b ? a : b (SSE2's minps and maxps; NEON compares and selects, vminq differs on NaN and
+   signed zeros); float to int truncates (NEON saturates where SSE2 gives INT_MIN: kernels keep lanes in range);
+   shl_ones is ~0 << clamp(n, 0, 32). PVS__LANES_DIV adds div, hmin2 and hmax2 (over two vectors' eight lanes). */
+#if defined(PVS__SSE2)
+#define PVS__LANES 1
+#define PVS__LANES_DIV 1
+typedef __m128 pvs__f4;
+typedef __m128i pvs__i4;
+typedef __m128 pvs__m4;
+#define pvs__f4_load _mm_loadu_ps
+#define pvs__f4_store _mm_storeu_ps
+#define pvs__f4_set1 _mm_set1_ps
+#define pvs__f4_set4 _mm_setr_ps
+#define pvs__f4_add _mm_add_ps
+#define pvs__f4_sub _mm_sub_ps
+#define pvs__f4_mul _mm_mul_ps
+#define pvs__f4_div _mm_div_ps
+#define pvs__f4_min _mm_min_ps
+#define pvs__f4_max _mm_max_ps
+#define pvs__f4_lt _mm_cmplt_ps
+#define pvs__f4_le _mm_cmple_ps
+#define pvs__f4_gt _mm_cmpgt_ps
+#define pvs__f4_ge _mm_cmpge_ps
+#define pvs__f4_abs(a) _mm_and_ps(a, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)))
+#define pvs__f4_trunc _mm_cvttps_epi32
+#define pvs__f4_from_i4 _mm_cvtepi32_ps
+#define pvs__i4_load(p) _mm_loadu_si128((const __m128i *)(p))
+#define pvs__i4_store(p, a) _mm_storeu_si128((__m128i *)(p), a)
+#define pvs__i4_set1 _mm_set1_epi32
+#define pvs__i4_add _mm_add_epi32
+#define pvs__i4_sub _mm_sub_epi32
+#define pvs__i4_andn(a, b) _mm_andnot_si128(b, a) /* a & ~b */
+#define pvs__i4_lt(a, b) _mm_castsi128_ps(_mm_cmplt_epi32(a, b))
+#define pvs__i4_gt(a, b) _mm_castsi128_ps(_mm_cmpgt_epi32(a, b))
+#define pvs__i4_eq(a, b) _mm_castsi128_ps(_mm_cmpeq_epi32(a, b))
+#define pvs__i4_from_m4 _mm_castps_si128
+#define pvs__m4_true() _mm_castsi128_ps(_mm_set1_epi32(-1))
+#define pvs__m4_and _mm_and_ps
+#define pvs__m4_or _mm_or_ps
+#define pvs__m4_andn(a, b) _mm_andnot_ps(b, a) /* a & ~b */
+#define pvs__m4_bits _mm_movemask_ps
+PVS__STATIC __m128 pvs__f4_sel(__m128 m, __m128 a, __m128 b) {
+	return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b));
+}
+PVS__STATIC __m128i pvs__i4_sel(__m128 m, __m128i a, __m128i b) {
+	__m128i k = _mm_castps_si128(m);
+	return _mm_or_si128(_mm_and_si128(k, a), _mm_andnot_si128(k, b));
+}
+/* 2^n built in a float's exponent, converted (2^31 gives 1 << 31), negated; 0 for n >= 32 */
+PVS__STATIC __m128i pvs__i4_shl_ones(__m128i n) {
+	__m128i p;
+	n = _mm_andnot_si128(_mm_srai_epi32(n, 31), n);
+	p = _mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(n, _mm_set1_epi32(127)), 23)));
+	return _mm_and_si128(_mm_sub_epi32(_mm_setzero_si128(), p), _mm_cmplt_epi32(n, _mm_set1_epi32(32)));
+}
+PVS__STATIC float pvs__f4_hmin2(__m128 a, __m128 b) {
+	__m128 v = _mm_min_ps(a, b);
+	v = _mm_min_ps(v, _mm_movehl_ps(v, v));
+	return _mm_cvtss_f32(_mm_min_ss(v, _mm_shuffle_ps(v, v, 1)));
+}
+PVS__STATIC float pvs__f4_hmax2(__m128 a, __m128 b) {
+	__m128 v = _mm_max_ps(a, b);
+	v = _mm_max_ps(v, _mm_movehl_ps(v, v));
+	return _mm_cvtss_f32(_mm_max_ss(v, _mm_shuffle_ps(v, v, 1)));
+}
+/* four (x, y, z, -) vertices, each with 4 readable floats, to X, Y, Z lanes */
+PVS__STATIC void pvs__f4_xyz(const float *a, const float *b, const float *c, const float *d, __m128 *X, __m128 *Y,
+							 __m128 *Z) {
+	__m128 va = _mm_loadu_ps(a), vb = _mm_loadu_ps(b), vc = _mm_loadu_ps(c), vd = _mm_loadu_ps(d);
+	__m128 ab0 = _mm_unpacklo_ps(va, vb), cd0 = _mm_unpacklo_ps(vc, vd);
+	*X = _mm_movelh_ps(ab0, cd0);
+	*Y = _mm_movehl_ps(cd0, ab0);
+	*Z = _mm_movelh_ps(_mm_unpackhi_ps(va, vb), _mm_unpackhi_ps(vc, vd));
+}
+#elif defined(PVS__NEON)
+#define PVS__LANES 1
+typedef float32x4_t pvs__f4;
+typedef int32x4_t pvs__i4;
+typedef uint32x4_t pvs__m4;
+#define pvs__f4_load vld1q_f32
+#define pvs__f4_store vst1q_f32
+#define pvs__f4_set1 vdupq_n_f32
+#define pvs__f4_add vaddq_f32
+#define pvs__f4_sub vsubq_f32
+#define pvs__f4_mul vmulq_f32
+#define pvs__f4_lt vcltq_f32
+#define pvs__f4_le vcleq_f32
+#define pvs__f4_gt vcgtq_f32
+#define pvs__f4_ge vcgeq_f32
+#define pvs__f4_abs vabsq_f32
+#define pvs__f4_sel vbslq_f32
+#define pvs__f4_trunc vcvtq_s32_f32
+#define pvs__f4_from_i4 vcvtq_f32_s32
+#define pvs__i4_load(p) vld1q_s32((const int32_t *)(p))
+#define pvs__i4_store(p, a) vst1q_s32((int32_t *)(p), a)
+#define pvs__i4_set1 vdupq_n_s32
+#define pvs__i4_add vaddq_s32
+#define pvs__i4_sub vsubq_s32
+#define pvs__i4_andn vbicq_s32
+#define pvs__i4_lt vcltq_s32
+#define pvs__i4_gt vcgtq_s32
+#define pvs__i4_eq vceqq_s32
+#define pvs__i4_sel vbslq_s32
+#define pvs__i4_from_m4 vreinterpretq_s32_u32
+#define pvs__m4_true() vdupq_n_u32(~0u)
+#define pvs__m4_and vandq_u32
+#define pvs__m4_or vorrq_u32
+#define pvs__m4_andn vbicq_u32
+PVS__STATIC float32x4_t pvs__f4_set4(float a, float b, float c, float d) {
+	const float v[4] = {a, b, c, d};
+	return vld1q_f32(v);
+}
+PVS__STATIC float32x4_t pvs__f4_min(float32x4_t a, float32x4_t b) { return vbslq_f32(vcltq_f32(a, b), a, b); }
+PVS__STATIC float32x4_t pvs__f4_max(float32x4_t a, float32x4_t b) { return vbslq_f32(vcgtq_f32(a, b), a, b); }
+PVS__STATIC int pvs__m4_bits(uint32x4_t m) {
+	return (int)((vgetq_lane_u32(m, 0) & 1u) | (vgetq_lane_u32(m, 1) & 2u) | (vgetq_lane_u32(m, 2) & 4u) |
+				 (vgetq_lane_u32(m, 3) & 8u));
+}
+PVS__STATIC int32x4_t pvs__i4_shl_ones(int32x4_t n) { /* a shift by >= 32 gives 0 */
+	n = vminq_s32(vmaxq_s32(n, vdupq_n_s32(0)), vdupq_n_s32(32));
+	return vreinterpretq_s32_u32(vshlq_u32(vdupq_n_u32(~0u), n));
+}
+PVS__STATIC void pvs__f4_xyz(const float *a, const float *b, const float *c, const float *d, float32x4_t *X,
+							 float32x4_t *Y, float32x4_t *Z) {
+	*X = pvs__f4_set4(a[0], b[0], c[0], d[0]);
+	*Y = pvs__f4_set4(a[1], b[1], c[1], d[1]);
+	*Z = pvs__f4_set4(a[2], b[2], c[2], d[2]);
+}
+#if defined(__aarch64__)
+#define PVS__LANES_DIV 1
+#define pvs__f4_div vdivq_f32
+#define pvs__f4_hmin2(a, b) vminvq_f32(vminq_f32(a, b))
+#define pvs__f4_hmax2(a, b) vmaxvq_f32(vmaxq_f32(a, b))
+#endif
+#endif
+#if defined(PVS__LANES)
+/* ceil and floor to int, as the scalar (float)(int32_t)f < f tests */
+PVS__STATIC pvs__i4 pvs__f4_ceili(pvs__f4 f) {
+	pvs__i4 i = pvs__f4_trunc(f);
+	return pvs__i4_sub(i, pvs__i4_from_m4(pvs__f4_lt(pvs__f4_from_i4(i), f)));
+}
+PVS__STATIC pvs__i4 pvs__f4_floori(pvs__f4 f) {
+	pvs__i4 i = pvs__f4_trunc(f);
+	return pvs__i4_add(i, pvs__i4_from_m4(pvs__f4_gt(pvs__f4_from_i4(i), f)));
+}
+#endif
 #if defined(__clang__)
 #pragma STDC FP_CONTRACT OFF
 #endif
@@ -3450,79 +3599,36 @@ PVS__STATIC int pvs__raster_rows_scalar(const pvs__rsetup *s, float *buf, uint32
 	return wrote;
 }
 
-#if defined(PVS__SSE2)
+#if defined(PVS__LANES)
 PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
 	int32_t i, j;
 	int e, wrote = 0;
-	const __m128 step = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), zero = _mm_setzero_ps();
-	__m128 va[PVS__RASTER_MAXV];
-	const __m128 vza = _mm_set1_ps(s->za), vclamp = _mm_set1_ps(s->zclamp);
-	for (e = 0; e < s->edges; ++e) va[e] = _mm_set1_ps(s->a[e]);
-	for (j = s->lj0; j <= s->lj1; ++j) {
-		float fj = (float)(j - s->j0), rz = s->zk + s->zb * fj;
-		__m128 rk[PVS__RASTER_MAXV], vrz = _mm_set1_ps(rz);
-		float *row = buf + (size_t)j * stride;
-		for (e = 0; e < s->edges; ++e) rk[e] = _mm_set1_ps(s->k[e] + s->b[e] * fj);
-		for (i = s->li0; i + 3 <= s->li1; i += 4) {
-			__m128 fi = _mm_add_ps(_mm_set1_ps((float)(i - s->i0)), step);
-			__m128 mask = _mm_castsi128_ps(_mm_set1_epi32(-1)), d, old, gt;
-			for (e = 0; e < s->edges; ++e)
-				mask = _mm_and_ps(mask, _mm_cmpge_ps(_mm_add_ps(rk[e], _mm_mul_ps(va[e], fi)), zero));
-			if (!_mm_movemask_ps(mask)) continue;
-			d = _mm_add_ps(vrz, _mm_mul_ps(vza, fi));
-			if (occluder)
-				d = _mm_or_ps(_mm_and_ps(_mm_cmplt_ps(d, vclamp), vclamp), _mm_andnot_ps(_mm_cmplt_ps(d, vclamp), d));
-			else d = _mm_or_ps(_mm_and_ps(_mm_cmpgt_ps(d, vclamp), vclamp), _mm_andnot_ps(_mm_cmpgt_ps(d, vclamp), d));
-			old = _mm_loadu_ps(row + i);
-			gt = _mm_and_ps(mask, _mm_cmpgt_ps(d, old));
-			wrote |= _mm_movemask_ps(gt);
-			_mm_storeu_ps(row + i, _mm_or_ps(_mm_and_ps(gt, d), _mm_andnot_ps(gt, old)));
-		}
-		if (i <= s->li1) {
-			float rkf[PVS__RASTER_MAXV];
-			for (e = 0; e < s->edges; ++e) rkf[e] = s->k[e] + s->b[e] * fj;
-			for (; i <= s->li1; ++i) wrote |= pvs__raster_pixel(s, rkf, rz, row, i, occluder);
-		}
-	}
-	return wrote;
-}
-#define PVS__HAVE_SIMD 1
-#elif defined(PVS__NEON)
-PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t stride, int occluder) {
-	int32_t i, j;
-	int e, wrote = 0;
-	static const float stepf[4] = {0.0f, 1.0f, 2.0f, 3.0f};
-	const float32x4_t step = vld1q_f32(stepf), zero = vdupq_n_f32(0.0f);
-	float32x4_t va[PVS__RASTER_MAXV];
-	const float32x4_t vza = vdupq_n_f32(s->za), vclamp = vdupq_n_f32(s->zclamp);
-	for (e = 0; e < s->edges; ++e) va[e] = vdupq_n_f32(s->a[e]);
+	const pvs__f4 step = pvs__f4_set4(0.0f, 1.0f, 2.0f, 3.0f), zero = pvs__f4_set1(0.0f);
+	const pvs__f4 vza = pvs__f4_set1(s->za), vclamp = pvs__f4_set1(s->zclamp);
+	pvs__f4 va[PVS__RASTER_MAXV];
+	for (e = 0; e < s->edges; ++e) va[e] = pvs__f4_set1(s->a[e]);
 	for (j = s->lj0; j <= s->lj1; ++j) {
 		float fj = (float)(j - s->j0), rz = s->zk + s->zb * fj, rkf[PVS__RASTER_MAXV];
-		float32x4_t rk[PVS__RASTER_MAXV], vrz = vdupq_n_f32(rz);
+		pvs__f4 rk[PVS__RASTER_MAXV], vrz = pvs__f4_set1(rz);
 		float *row = buf + (size_t)j * stride;
-		for (e = 0; e < s->edges; ++e) { rkf[e] = s->k[e] + s->b[e] * fj; rk[e] = vdupq_n_f32(rkf[e]); }
+		for (e = 0; e < s->edges; ++e) { rkf[e] = s->k[e] + s->b[e] * fj; rk[e] = pvs__f4_set1(rkf[e]); }
 		for (i = s->li0; i + 3 <= s->li1; i += 4) {
-			float32x4_t fi = vaddq_f32(vdupq_n_f32((float)(i - s->i0)), step), d, old;
-			uint32x4_t mask = vdupq_n_u32(0xffffffffu), gt;
+			pvs__f4 fi = pvs__f4_add(pvs__f4_set1((float)(i - s->i0)), step), d, old;
+			pvs__m4 mask = pvs__m4_true(), gt;
 			for (e = 0; e < s->edges; ++e)
-				mask = vandq_u32(mask, vcgeq_f32(vaddq_f32(rk[e], vmulq_f32(va[e], fi)), zero));
-			if ((vgetq_lane_u32(mask, 0) | vgetq_lane_u32(mask, 1) | vgetq_lane_u32(mask, 2) |
-				 vgetq_lane_u32(mask, 3)) == 0)
-				continue;
-			d = vaddq_f32(vrz, vmulq_f32(vza, fi));
-			if (occluder) d = vbslq_f32(vcltq_f32(d, vclamp), vclamp, d);
-			else d = vbslq_f32(vcgtq_f32(d, vclamp), vclamp, d);
-			old = vld1q_f32(row + i);
-			gt = vandq_u32(mask, vcgtq_f32(d, old));
-			wrote |=
-				(vgetq_lane_u32(gt, 0) | vgetq_lane_u32(gt, 1) | vgetq_lane_u32(gt, 2) | vgetq_lane_u32(gt, 3)) != 0;
-			vst1q_f32(row + i, vbslq_f32(gt, d, old));
+				mask = pvs__m4_and(mask, pvs__f4_ge(pvs__f4_add(rk[e], pvs__f4_mul(va[e], fi)), zero));
+			if (!pvs__m4_bits(mask)) continue;
+			d = pvs__f4_add(vrz, pvs__f4_mul(vza, fi));
+			d = pvs__f4_sel(occluder ? pvs__f4_lt(d, vclamp) : pvs__f4_gt(d, vclamp), vclamp, d);
+			old = pvs__f4_load(row + i);
+			gt = pvs__m4_and(mask, pvs__f4_gt(d, old));
+			wrote |= pvs__m4_bits(gt);
+			pvs__f4_store(row + i, pvs__f4_sel(gt, d, old));
 		}
 		for (; i <= s->li1; ++i) wrote |= pvs__raster_pixel(s, rkf, rz, row, i, occluder);
 	}
 	return wrote;
 }
-#define PVS__HAVE_SIMD 1
 #endif
 
 /* 8 x 8 tiles keep their farthest depth: a polygon skips tiles it cannot be nearer than or lies outside (occluders come
@@ -3578,7 +3684,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 	(void)simd;
 	if (!tile_min) {
 		s->li0 = s->i0; s->li1 = s->i1; s->lj0 = s->j0; s->lj1 = s->j1;
-#if defined(PVS__HAVE_SIMD)
+#if defined(PVS__LANES)
 		if (simd) { pvs__raster_rows_simd(s, buf, W, occluder); return; }
 #endif
 		(void)pvs__raster_rows_scalar(s, buf, W, occluder);
@@ -3618,7 +3724,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 					if (inside < 0) continue;
 					edges = s->edges;
 					if (inside) s->edges = 0; /* inside: the same result without edge tests */
-#if defined(PVS__HAVE_SIMD)
+#if defined(PVS__LANES)
 					if (simd) wrote = pvs__raster_rows_simd(s, buf, W, occluder);
 					else
 #endif
@@ -3878,98 +3984,36 @@ PVS__STATIC uint32_t pvs__tile_bits(int32_t L, int32_t R, int32_t x0) {
 	return a & ~b;
 }
 
-#if defined(PVS__SSE2)
+#if defined(PVS__LANES)
 PVS__STATIC void pvs__tile_rows_simd(const pvs__tpoly *t, int32_t jrow, const float *xr, int32_t *L, int32_t *R) {
-	const __m128 d = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), fw = _mm_set1_ps((float)(t->i1 - t->i0));
-	__m128 lf = _mm_setzero_ps(), rf = fw, v;
-	__m128i l, r, j, bad;
+	const pvs__f4 d = pvs__f4_set4(0.0f, 1.0f, 2.0f, 3.0f), fw = pvs__f4_set1((float)(t->i1 - t->i0));
+	pvs__f4 lf = pvs__f4_set1(0.0f), rf = fw, v;
+	pvs__i4 l, r, j;
+	pvs__m4 bad;
 	int e;
 	for (e = 0; e < t->nl; ++e) {
-		v = _mm_add_ps(_mm_set1_ps(xr[e]), _mm_mul_ps(_mm_set1_ps(t->sf[e]), d));
-		v = _mm_add_ps(v, _mm_set1_ps(t->m[e]));
-		lf = _mm_max_ps(v, lf);
+		v = pvs__f4_add(pvs__f4_set1(xr[e]), pvs__f4_mul(pvs__f4_set1(t->sf[e]), d));
+		lf = pvs__f4_max(pvs__f4_add(v, pvs__f4_set1(t->m[e])), lf);
 	}
 	for (; e < t->ne; ++e) {
-		v = _mm_add_ps(_mm_set1_ps(xr[e]), _mm_mul_ps(_mm_set1_ps(t->sf[e]), d));
-		v = _mm_sub_ps(v, _mm_set1_ps(t->m[e]));
-		rf = _mm_min_ps(v, rf);
+		v = pvs__f4_add(pvs__f4_set1(xr[e]), pvs__f4_mul(pvs__f4_set1(t->sf[e]), d));
+		rf = pvs__f4_min(pvs__f4_sub(v, pvs__f4_set1(t->m[e])), rf);
 	}
-	lf = _mm_min_ps(lf, _mm_add_ps(fw, _mm_set1_ps(1.0f)));
-	rf = _mm_max_ps(rf, _mm_set1_ps(-1.0f));
-	l = _mm_cvttps_epi32(lf);
-	l = _mm_sub_epi32(l, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(l), lf)));
-	r = _mm_cvttps_epi32(rf);
-	r = _mm_add_epi32(r, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(r), rf)));
-	j = _mm_add_epi32(_mm_set1_epi32(jrow), _mm_set_epi32(3, 2, 1, 0));
-	bad = _mm_or_si128(_mm_cmplt_epi32(j, _mm_set1_epi32(t->jlo)), _mm_cmpgt_epi32(j, _mm_set1_epi32(t->jhi)));
-	l = _mm_or_si128(_mm_andnot_si128(bad, l), _mm_and_si128(bad, _mm_set1_epi32(1)));
-	r = _mm_andnot_si128(bad, r);
-	_mm_storeu_si128((__m128i *)L, _mm_add_epi32(l, _mm_set1_epi32(t->i0)));
-	_mm_storeu_si128((__m128i *)R, _mm_add_epi32(r, _mm_set1_epi32(t->i0)));
-}
-/* ~0 << n per lane, 0 for n >= 32: 2^n built in a float's exponent, converted (2^31 gives 1 << 31), negated. */
-PVS__STATIC __m128i pvs__sh_sse2(__m128i n) {
-	__m128i p = _mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(n, _mm_set1_epi32(127)), 23)));
-	return _mm_and_si128(_mm_sub_epi32(_mm_setzero_si128(), p), _mm_cmplt_epi32(n, _mm_set1_epi32(32)));
+	l = pvs__f4_ceili(pvs__f4_min(lf, pvs__f4_add(fw, pvs__f4_set1(1.0f))));
+	r = pvs__f4_floori(pvs__f4_max(rf, pvs__f4_set1(-1.0f)));
+	j = pvs__i4_add(pvs__i4_set1(jrow), pvs__f4_trunc(d));
+	bad = pvs__m4_or(pvs__i4_lt(j, pvs__i4_set1(t->jlo)), pvs__i4_gt(j, pvs__i4_set1(t->jhi)));
+	pvs__i4_store(L, pvs__i4_add(pvs__i4_sel(bad, pvs__i4_set1(1), l), pvs__i4_set1(t->i0)));
+	pvs__i4_store(R, pvs__i4_add(pvs__i4_sel(bad, pvs__i4_set1(0), r), pvs__i4_set1(t->i0)));
 }
 /* The four rows' bits of the tile at column x0; 0 when all are empty. */
 PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t x0, uint32_t *out) {
-	__m128i vx = _mm_set1_epi32(x0), lo, hi, m;
-	lo = _mm_sub_epi32(_mm_loadu_si128((const __m128i *)L), vx);
-	hi = _mm_sub_epi32(_mm_add_epi32(_mm_loadu_si128((const __m128i *)R), _mm_set1_epi32(1)), vx);
-	lo = _mm_andnot_si128(_mm_srai_epi32(lo, 31), lo);
-	hi = _mm_andnot_si128(_mm_srai_epi32(hi, 31), hi);
-	m = _mm_andnot_si128(pvs__sh_sse2(hi), pvs__sh_sse2(lo));
-	_mm_storeu_si128((__m128i *)out, m);
-	return _mm_movemask_epi8(_mm_cmpeq_epi32(m, _mm_setzero_si128())) != 0xffff;
+	pvs__i4 vx = pvs__i4_set1(x0), m;
+	m = pvs__i4_andn(pvs__i4_shl_ones(pvs__i4_sub(pvs__i4_load(L), vx)),
+					 pvs__i4_shl_ones(pvs__i4_sub(pvs__i4_add(pvs__i4_load(R), pvs__i4_set1(1)), vx)));
+	pvs__i4_store(out, m);
+	return pvs__m4_bits(pvs__i4_eq(m, pvs__i4_set1(0))) != 15;
 }
-#define PVS__HAVE_TILE_SIMD 1
-#elif defined(PVS__NEON)
-PVS__STATIC void pvs__tile_rows_simd(const pvs__tpoly *t, int32_t jrow, const float *xr, int32_t *L, int32_t *R) {
-	static const float df[4] = {0.0f, 1.0f, 2.0f, 3.0f};
-	static const int32_t di[4] = {0, 1, 2, 3};
-	const float32x4_t d = vld1q_f32(df), fw = vdupq_n_f32((float)(t->i1 - t->i0));
-	float32x4_t lf = vdupq_n_f32(0.0f), rf = fw, v;
-	int32x4_t l, r, j;
-	uint32x4_t bad;
-	int e;
-	for (e = 0; e < t->nl; ++e) {
-		v = vaddq_f32(vdupq_n_f32(xr[e]), vmulq_f32(vdupq_n_f32(t->sf[e]), d));
-		v = vaddq_f32(v, vdupq_n_f32(t->m[e]));
-		lf = vbslq_f32(vcgtq_f32(v, lf), v, lf);
-	}
-	for (; e < t->ne; ++e) {
-		v = vaddq_f32(vdupq_n_f32(xr[e]), vmulq_f32(vdupq_n_f32(t->sf[e]), d));
-		v = vsubq_f32(v, vdupq_n_f32(t->m[e]));
-		rf = vbslq_f32(vcltq_f32(v, rf), v, rf);
-	}
-	v = vaddq_f32(fw, vdupq_n_f32(1.0f));
-	lf = vbslq_f32(vcltq_f32(lf, v), lf, v);
-	v = vdupq_n_f32(-1.0f);
-	rf = vbslq_f32(vcgtq_f32(rf, v), rf, v);
-	l = vcvtq_s32_f32(lf);
-	l = vsubq_s32(l, vreinterpretq_s32_u32(vcltq_f32(vcvtq_f32_s32(l), lf)));
-	r = vcvtq_s32_f32(rf);
-	r = vaddq_s32(r, vreinterpretq_s32_u32(vcgtq_f32(vcvtq_f32_s32(r), rf)));
-	j = vaddq_s32(vdupq_n_s32(jrow), vld1q_s32(di));
-	bad = vorrq_u32(vcltq_s32(j, vdupq_n_s32(t->jlo)), vcgtq_s32(j, vdupq_n_s32(t->jhi)));
-	l = vbslq_s32(bad, vdupq_n_s32(1), l);
-	r = vbslq_s32(bad, vdupq_n_s32(0), r);
-	vst1q_s32(L, vaddq_s32(l, vdupq_n_s32(t->i0)));
-	vst1q_s32(R, vaddq_s32(r, vdupq_n_s32(t->i0)));
-}
-PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t x0, uint32_t *out) {
-	int32x4_t vx = vdupq_n_s32(x0), zero = vdupq_n_s32(0), top = vdupq_n_s32(32), lo, hi;
-	uint32x4_t ones = vdupq_n_u32(~0u), m;
-	lo = vsubq_s32(vld1q_s32(L), vx);
-	hi = vsubq_s32(vaddq_s32(vld1q_s32(R), vdupq_n_s32(1)), vx);
-	lo = vminq_s32(vmaxq_s32(lo, zero), top); /* a shift by >= 32 gives 0 */
-	hi = vminq_s32(vmaxq_s32(hi, zero), top);
-	m = vbicq_u32(vshlq_u32(ones, lo), vshlq_u32(ones, hi));
-	vst1q_u32(out, m);
-	return (vgetq_lane_u32(m, 0) | vgetq_lane_u32(m, 1) | vgetq_lane_u32(m, 2) | vgetq_lane_u32(m, 3)) != 0;
-}
-#define PVS__HAVE_TILE_SIMD 1
 #endif
 
 /* Merges coverage T (as near as zt > z0) into a tile, Hasselgren et al.'s two-layer update: T covering the tile becomes
@@ -4025,7 +4069,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 			X = X < -t->cl[e] ? -t->cl[e] : X > t->cl[e] ? t->cl[e] : X;
 			xr[e] = (float)X;
 		}
-#if defined(PVS__HAVE_TILE_SIMD)
+#if defined(PVS__LANES)
 		if (simd) pvs__tile_rows_simd(t, jrow, xr, L, R);
 		else
 #endif
@@ -4061,7 +4105,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 			if (x0 >= fl && (x0 + 31 < (int32_t)r->width ? x0 + 31 : (int32_t)r->width - 1) <= fr) {
 				cov[0] = cov[1] = cov[2] = cov[3] = ~0u; /* covers the tile: pvs__tile_merge's first case */
 			} else
-#if defined(PVS__HAVE_TILE_SIMD)
+#if defined(PVS__LANES)
 			if (simd) {
 				if (!pvs__tile_mask_simd(L, R, x0, cov)) continue;
 			} else
@@ -4370,196 +4414,79 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 	return draw;
 }
 
-#if defined(PVS__SSE2)
+#if defined(PVS__LANES_DIV)
 /* v[l][k]: 4 readable floats (the caller copies the last vertex). */
 PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
 								  float *zmax) {
-	const __m128 zero = _mm_setzero_ps(), absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), big = _mm_set1_ps(1e30f);
-	__m128 X0, Y0, Z0, X1, Y1, Z1, X2, Y2, Z2, cz0, cz1, cz2, cw0, cw1, cw2, t, anyb, allb, fin;
-	__m128 x, y, z, xmin, xmax, ymin, ymax, zm, rw;
-	__m128i i0, i1, j0, j1, empty;
-	unsigned all, any, tst;
-#define PVS__LOAD3(k, X, Y, Z) \
-	do { /* four (x, y, z, -) vertices to X, Y, Z lanes */ \
-		__m128 a = _mm_loadu_ps(v[0][k]), b = _mm_loadu_ps(v[1][k]), c = _mm_loadu_ps(v[2][k]), \
-			   d = _mm_loadu_ps(v[3][k]); \
-		__m128 ab0 = _mm_unpacklo_ps(a, b), cd0 = _mm_unpacklo_ps(c, d), ab1 = _mm_unpackhi_ps(a, b), \
-			   cd1 = _mm_unpackhi_ps(c, d); \
-		X = _mm_movelh_ps(ab0, cd0); \
-		Y = _mm_movehl_ps(cd0, ab0); \
-		Z = _mm_movelh_ps(ab1, cd1); \
-	} while (0)
-#define PVS__MB(o) _mm_loadu_ps(r->mb[o]) /* mf broadcast */
-#define PVS__ROW(o, X, Y, Z) \
-	_mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(PVS__MB(o), X), _mm_mul_ps(PVS__MB(o + 1), Y)), \
-						  _mm_mul_ps(PVS__MB(o + 2), Z)), \
-			   PVS__MB(o + 3))
-	PVS__LOAD3(0, X0, Y0, Z0);
-	PVS__LOAD3(1, X1, Y1, Z1);
-	PVS__LOAD3(2, X2, Y2, Z2);
-	cz0 = PVS__ROW(8, X0, Y0, Z0); cw0 = PVS__ROW(12, X0, Y0, Z0);
-	cz1 = PVS__ROW(8, X1, Y1, Z1); cw1 = PVS__ROW(12, X1, Y1, Z1);
-	cz2 = PVS__ROW(8, X2, Y2, Z2); cw2 = PVS__ROW(12, X2, Y2, Z2);
-	t = _mm_cmpgt_ps(cz0, cw0); anyb = t; allb = t;
-	t = _mm_cmpgt_ps(cz1, cw1); anyb = _mm_or_ps(anyb, t); allb = _mm_and_ps(allb, t);
-	t = _mm_cmpgt_ps(cz2, cw2); anyb = _mm_or_ps(anyb, t); allb = _mm_and_ps(allb, t);
-	t = _mm_and_ps(_mm_and_ps(_mm_cmple_ps(cw0, zero), _mm_cmple_ps(cw1, zero)), _mm_cmple_ps(cw2, zero));
-	allb = _mm_or_ps(allb, t);
-	anyb = _mm_or_ps(anyb,
-					 _mm_or_ps(_mm_or_ps(_mm_cmple_ps(cw0, zero), _mm_cmple_ps(cw1, zero)), _mm_cmple_ps(cw2, zero)));
-	all = (unsigned)_mm_movemask_ps(allb);
-	*test = 0;
-	if (all == 15u) return 0; /* all four behind the near plane or the eye */
-	any = (unsigned)_mm_movemask_ps(anyb);
-	if (any == 15u) return all ^ 15u;
-#define PVS__PROJ(X, Y, Z, cz, cw) do { \
-		rw = _mm_div_ps(_mm_set1_ps(1.0f), cw); \
-		x = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(PVS__ROW(0, X, Y, Z), rw), _mm_set1_ps(r->hwf)), _mm_set1_ps(r->hwf)); \
-		y = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(PVS__ROW(4, X, Y, Z), rw), _mm_set1_ps(r->hhf)), _mm_set1_ps(r->hhf)); \
-		z = _mm_mul_ps(cz, rw); } while (0)
-	PVS__PROJ(X0, Y0, Z0, cz0, cw0);
-	xmin = xmax = x; ymin = ymax = y; zm = z;
-	PVS__PROJ(X1, Y1, Z1, cz1, cw1);
-	xmin = _mm_min_ps(x, xmin);
-	xmax = _mm_max_ps(x, xmax);
-	ymin = _mm_min_ps(y, ymin);
-	ymax = _mm_max_ps(y, ymax);
-	zm = _mm_max_ps(z, zm);
-	PVS__PROJ(X2, Y2, Z2, cz2, cw2);
-	xmin = _mm_min_ps(x, xmin);
-	xmax = _mm_max_ps(x, xmax);
-	ymin = _mm_min_ps(y, ymin);
-	ymax = _mm_max_ps(y, ymax);
-	zm = _mm_max_ps(z, zm);
-#undef PVS__PROJ
-#undef PVS__ROW
-#undef PVS__MB
-#undef PVS__LOAD3
-	/* a NaN can drop out of min and max, dropping the triangle as the scalar loop does (conservative) */
-	fin = _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(xmin, absm), big), _mm_cmplt_ps(_mm_and_ps(xmax, absm), big));
-	fin = _mm_and_ps(fin,
-					 _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(ymin, absm), big), _mm_cmplt_ps(_mm_and_ps(ymax, absm), big)));
-	fin = _mm_and_ps(fin, _mm_cmplt_ps(_mm_and_ps(zm, absm), big));
-	xmin = _mm_max_ps(xmin, zero); xmax = _mm_min_ps(xmax, _mm_set1_ps((float)r->width));
-	ymin = _mm_max_ps(ymin, zero); ymax = _mm_min_ps(ymax, _mm_set1_ps((float)r->height));
-	/* keep the untested lanes' conversions in range */
-	t = _mm_andnot_ps(anyb, fin);
-	xmin = _mm_and_ps(xmin, t); xmax = _mm_and_ps(xmax, t); ymin = _mm_and_ps(ymin, t); ymax = _mm_and_ps(ymax, t);
-	i0 = _mm_cvttps_epi32(xmin);
-	i0 = _mm_sub_epi32(i0, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(i0), xmin)));
-	i1 = _mm_cvttps_epi32(xmax);
-	i1 = _mm_sub_epi32(_mm_add_epi32(i1, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(i1), xmax))), _mm_set1_epi32(1));
-	j0 = _mm_cvttps_epi32(ymin);
-	j0 = _mm_sub_epi32(j0, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(j0), ymin)));
-	j1 = _mm_cvttps_epi32(ymax);
-	j1 = _mm_sub_epi32(_mm_add_epi32(j1, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(j1), ymax))), _mm_set1_epi32(1));
-	empty = _mm_or_si128(_mm_cmpgt_epi32(i0, i1), _mm_cmpgt_epi32(j0, j1));
-	_mm_storeu_si128((__m128i *)box[0], i0);
-	_mm_storeu_si128((__m128i *)box[1], i1);
-	_mm_storeu_si128((__m128i *)box[2], j0);
-	_mm_storeu_si128((__m128i *)box[3], j1);
-	_mm_storeu_ps(zmax, zm);
-	tst = (unsigned)_mm_movemask_ps(t);
-	*test = tst & ~(unsigned)_mm_movemask_ps(_mm_castsi128_ps(empty));
-	return (all ^ 15u) & ~(tst & ~*test);
-}
-#define PVS__HAVE_PF_SIMD 1
-#elif defined(PVS__NEON) && defined(__aarch64__) /* vdivq_f32 */
-PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
-								  float *zmax) {
-	const float *mf = r->mf;
-	const float32x4_t zero = vdupq_n_f32(0.0f), big = vdupq_n_f32(1e30f), hw = vdupq_n_f32(r->hwf),
-					  hh = vdupq_n_f32(r->hhf);
-	float32x4_t X[3], Y[3], Z[3], cz[3], cw[3], x, y, z, xmin, xmax, ymin, ymax, zm, rw, fv;
-	uint32x4_t anyb = vdupq_n_u32(0), behind = vdupq_n_u32(~0u), nonpos = behind, allb, fin = behind, t, c, empty;
-	int32x4_t i0, i1, j0, j1;
-	uint32_t lanes[4], tl[4], el[4];
-	unsigned all = 0, any = 0, tst = 0, emp = 0;
-	int k, l;
+	const pvs__f4 zero = pvs__f4_set1(0.0f), big = pvs__f4_set1(1e30f), one = pvs__f4_set1(1.0f);
+	const pvs__f4 hw = pvs__f4_set1(r->hwf), hh = pvs__f4_set1(r->hhf);
+	pvs__f4 X[3], Y[3], Z[3], cz[3], cw[3], x, y, z, xmin, xmax, ymin, ymax, zm, rw;
+	pvs__m4 anyb, allb, nonpos, t, fin;
+	pvs__i4 i0, i1, j0, j1;
+	unsigned all, tst;
+	int k;
+#define PVS__ROW(o, k) /* mf's row o on vertex k (mb: mf broadcast) */ \
+	pvs__f4_add(pvs__f4_add(pvs__f4_add(pvs__f4_mul(pvs__f4_load(r->mb[o]), X[k]), \
+										pvs__f4_mul(pvs__f4_load(r->mb[o + 1]), Y[k])), \
+							pvs__f4_mul(pvs__f4_load(r->mb[o + 2]), Z[k])), \
+				pvs__f4_load(r->mb[o + 3]))
 	for (k = 0; k < 3; ++k) {
-		float xs[4], ys[4], zs[4];
-		for (l = 0; l < 4; ++l) { xs[l] = v[l][k][0]; ys[l] = v[l][k][1]; zs[l] = v[l][k][2]; }
-		X[k] = vld1q_f32(xs); Y[k] = vld1q_f32(ys); Z[k] = vld1q_f32(zs);
-	}
-#define PVS__ROW(o, k) \
-	vaddq_f32(vaddq_f32(vaddq_f32(vmulq_f32(vdupq_n_f32(mf[o]), X[k]), vmulq_f32(vdupq_n_f32(mf[o + 1]), Y[k])), \
-						vmulq_f32(vdupq_n_f32(mf[o + 2]), Z[k])), \
-			  vdupq_n_f32(mf[o + 3]))
-	for (k = 0; k < 3; ++k) {
+		pvs__f4_xyz(v[0][k], v[1][k], v[2][k], v[3][k], &X[k], &Y[k], &Z[k]);
 		cz[k] = PVS__ROW(8, k);
 		cw[k] = PVS__ROW(12, k);
-		t = vcgtq_f32(cz[k], cw[k]);
-		behind = vandq_u32(behind, t);
-		anyb = vorrq_u32(anyb, t);
-		t = vcleq_f32(cw[k], zero);
-		nonpos = vandq_u32(nonpos, t);
-		anyb = vorrq_u32(anyb, t);
 	}
-	allb = vorrq_u32(behind, nonpos);
-	vst1q_u32(lanes, allb);
-	for (l = 0; l < 4; ++l) all |= (lanes[l] & 1u) << l;
+	allb = pvs__f4_gt(cz[0], cw[0]);
+	nonpos = pvs__f4_le(cw[0], zero);
+	anyb = pvs__m4_or(allb, nonpos);
+	for (k = 1; k < 3; ++k) {
+		t = pvs__f4_gt(cz[k], cw[k]);
+		fin = pvs__f4_le(cw[k], zero);
+		allb = pvs__m4_and(allb, t);
+		nonpos = pvs__m4_and(nonpos, fin);
+		anyb = pvs__m4_or(anyb, pvs__m4_or(t, fin));
+	}
+	all = (unsigned)pvs__m4_bits(pvs__m4_or(allb, nonpos));
 	*test = 0;
-	if (all == 15u) return 0;
-	vst1q_u32(lanes, anyb);
-	for (l = 0; l < 4; ++l) any |= (lanes[l] & 1u) << l;
-	if (any == 15u) return all ^ 15u;
+	if (all == 15u) return 0; /* all four behind the near plane or the eye */
+	if ((unsigned)pvs__m4_bits(anyb) == 15u) return all ^ 15u;
 	xmin = xmax = ymin = ymax = zm = zero;
 	for (k = 0; k < 3; ++k) {
-		rw = vdivq_f32(vdupq_n_f32(1.0f), cw[k]);
-		x = vaddq_f32(vmulq_f32(vmulq_f32(PVS__ROW(0, k), rw), hw), hw);
-		y = vaddq_f32(vmulq_f32(vmulq_f32(PVS__ROW(4, k), rw), hh), hh);
-		z = vmulq_f32(cz[k], rw);
+		rw = pvs__f4_div(one, cw[k]);
+		x = pvs__f4_add(pvs__f4_mul(pvs__f4_mul(PVS__ROW(0, k), rw), hw), hw);
+		y = pvs__f4_add(pvs__f4_mul(pvs__f4_mul(PVS__ROW(4, k), rw), hh), hh);
+		z = pvs__f4_mul(cz[k], rw);
 		if (k == 0) {
 			xmin = xmax = x; ymin = ymax = y; zm = z;
 		} else {
-			xmin = vbslq_f32(vcltq_f32(x, xmin), x, xmin); xmax = vbslq_f32(vcgtq_f32(x, xmax), x, xmax);
-			ymin = vbslq_f32(vcltq_f32(y, ymin), y, ymin); ymax = vbslq_f32(vcgtq_f32(y, ymax), y, ymax);
-			zm = vbslq_f32(vcgtq_f32(z, zm), z, zm);
+			xmin = pvs__f4_min(x, xmin); xmax = pvs__f4_max(x, xmax);
+			ymin = pvs__f4_min(y, ymin); ymax = pvs__f4_max(y, ymax);
+			zm = pvs__f4_max(z, zm);
 		}
 	}
 #undef PVS__ROW
-	fin = vandq_u32(vcltq_f32(vabsq_f32(xmin), big), vcltq_f32(vabsq_f32(xmax), big));
-	fin = vandq_u32(fin, vandq_u32(vcltq_f32(vabsq_f32(ymin), big), vcltq_f32(vabsq_f32(ymax), big)));
-	fin = vandq_u32(fin, vcltq_f32(vabsq_f32(zm), big));
-	xmin = vbslq_f32(vcgtq_f32(xmin, zero), xmin, zero);
-	fv = vdupq_n_f32((float)r->width);
-	xmax = vbslq_f32(vcltq_f32(xmax, fv), xmax, fv);
-	ymin = vbslq_f32(vcgtq_f32(ymin, zero), ymin, zero);
-	fv = vdupq_n_f32((float)r->height);
-	ymax = vbslq_f32(vcltq_f32(ymax, fv), ymax, fv);
-	t = vbicq_u32(fin, anyb);
-	xmin = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(xmin), t));
-	xmax = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(xmax), t));
-	ymin = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(ymin), t));
-	ymax = vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(ymax), t));
-	i0 = vcvtq_s32_f32(xmin);
-	c = vcltq_f32(vcvtq_f32_s32(i0), xmin);
-	i0 = vsubq_s32(i0, vreinterpretq_s32_u32(c));
-	i1 = vcvtq_s32_f32(xmax);
-	c = vcgtq_f32(vcvtq_f32_s32(i1), xmax);
-	i1 = vsubq_s32(vaddq_s32(i1, vreinterpretq_s32_u32(c)), vdupq_n_s32(1));
-	j0 = vcvtq_s32_f32(ymin);
-	c = vcltq_f32(vcvtq_f32_s32(j0), ymin);
-	j0 = vsubq_s32(j0, vreinterpretq_s32_u32(c));
-	j1 = vcvtq_s32_f32(ymax);
-	c = vcgtq_f32(vcvtq_f32_s32(j1), ymax);
-	j1 = vsubq_s32(vaddq_s32(j1, vreinterpretq_s32_u32(c)), vdupq_n_s32(1));
-	empty = vorrq_u32(vcgtq_s32(i0, i1), vcgtq_s32(j0, j1));
-	vst1q_s32(box[0], i0);
-	vst1q_s32(box[1], i1);
-	vst1q_s32(box[2], j0);
-	vst1q_s32(box[3], j1);
-	vst1q_f32(zmax, zm);
-	vst1q_u32(tl, t);
-	vst1q_u32(el, empty);
-	for (l = 0; l < 4; ++l) {
-		tst |= (tl[l] & 1u) << l;
-		emp |= (el[l] & 1u) << l;
-	}
-	*test = tst & ~emp;
-	return (all ^ 15u) & ~(tst & emp);
+	/* a NaN can drop out of min and max, dropping the triangle as the scalar loop does (conservative) */
+	fin = pvs__m4_and(pvs__f4_lt(pvs__f4_abs(xmin), big), pvs__f4_lt(pvs__f4_abs(xmax), big));
+	fin = pvs__m4_and(fin, pvs__m4_and(pvs__f4_lt(pvs__f4_abs(ymin), big), pvs__f4_lt(pvs__f4_abs(ymax), big)));
+	fin = pvs__m4_and(fin, pvs__f4_lt(pvs__f4_abs(zm), big));
+	/* clamped to the map; the untested lanes zeroed to keep their conversions in range */
+	t = pvs__m4_andn(fin, anyb);
+	xmin = pvs__f4_sel(t, pvs__f4_max(xmin, zero), zero);
+	xmax = pvs__f4_sel(t, pvs__f4_min(xmax, pvs__f4_set1((float)r->width)), zero);
+	ymin = pvs__f4_sel(t, pvs__f4_max(ymin, zero), zero);
+	ymax = pvs__f4_sel(t, pvs__f4_min(ymax, pvs__f4_set1((float)r->height)), zero);
+	i0 = pvs__f4_ceili(xmin);
+	i1 = pvs__i4_sub(pvs__f4_floori(xmax), pvs__i4_set1(1));
+	j0 = pvs__f4_ceili(ymin);
+	j1 = pvs__i4_sub(pvs__f4_floori(ymax), pvs__i4_set1(1));
+	pvs__i4_store(box[0], i0);
+	pvs__i4_store(box[1], i1);
+	pvs__i4_store(box[2], j0);
+	pvs__i4_store(box[3], j1);
+	pvs__f4_store(zmax, zm);
+	tst = (unsigned)pvs__m4_bits(t);
+	*test = tst & ~(unsigned)pvs__m4_bits(pvs__m4_or(pvs__i4_gt(i0, i1), pvs__i4_gt(j0, j1)));
+	return (all ^ 15u) & ~(tst & ~*test);
 }
-#define PVS__HAVE_PF_SIMD 1
 #endif
 
 PVS__STATIC int pvs__pf_tiles(const pvs_raster *r, uint32_t tx0, uint32_t tx1, uint32_t ty0, uint32_t ty1, float zmax) {
@@ -4637,7 +4564,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 		if (!n) continue;
 		for (l = (uint32_t)n; l < 4; ++l)
 			for (k = 0; k < 3; ++k) v[l][k] = v[0][k];
-#if defined(PVS__HAVE_PF_SIMD)
+#if defined(PVS__LANES_DIV)
 		if (!(r->flags & PVS_RASTER_SCALAR)) draw = pvs__pf_simd(r, (const float *const(*)[3])v, &test, box, zmax);
 		else
 #endif
@@ -5285,21 +5212,18 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 		x = 0;
 #if defined(PVS__SSE2)
 		if (simd && mx && my)
-			for (; 2 * x + 8 <= pw; x += 4) {
+			for (; 2 * x + 8 <= pw; x += 4) { /* the two rows, then even and odd columns */
+				__m128 v0, v1;
 				if (on) {
-					__m128 v0 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x), _mm_loadu_ps(n1 + 2 * x));
-					__m128 v1 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x + 4), _mm_loadu_ps(n1 + 2 * x + 4));
-					__m128 ev = _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0));
-					__m128 od = _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1));
-					_mm_storeu_ps(on + x, _mm_min_ps(ev, od));
+					v0 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x), _mm_loadu_ps(n1 + 2 * x));
+					v1 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x + 4), _mm_loadu_ps(n1 + 2 * x + 4));
+					_mm_storeu_ps(on + x, _mm_min_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0)),
+													 _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1))));
 				}
-				{
-					__m128 u0 = _mm_max_ps(_mm_loadu_ps(m0 + 2 * x), _mm_loadu_ps(m1 + 2 * x));
-					__m128 u1 = _mm_max_ps(_mm_loadu_ps(m0 + 2 * x + 4), _mm_loadu_ps(m1 + 2 * x + 4));
-					__m128 ev = _mm_shuffle_ps(u0, u1, _MM_SHUFFLE(2, 0, 2, 0));
-					__m128 od = _mm_shuffle_ps(u0, u1, _MM_SHUFFLE(3, 1, 3, 1));
-					_mm_storeu_ps(om + x, _mm_max_ps(ev, od));
-				}
+				v0 = _mm_max_ps(_mm_loadu_ps(m0 + 2 * x), _mm_loadu_ps(m1 + 2 * x));
+				v1 = _mm_max_ps(_mm_loadu_ps(m0 + 2 * x + 4), _mm_loadu_ps(m1 + 2 * x + 4));
+				_mm_storeu_ps(om + x, _mm_max_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 0, 2, 0)),
+												 _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(3, 1, 3, 1))));
 			}
 #endif
 		for (; x < w; ++x) {
@@ -5501,149 +5425,63 @@ PVS__STATIC int pvs__box_scalar(const pvs_raster *r, const pvs_box *b, const pvs
 	return 2;
 }
 
-#if defined(PVS__SSE2)
-PVS__STATIC float pvs__hmin_sse2(__m128 v) {
-	v = _mm_min_ps(v, _mm_movehl_ps(v, v));
-	return _mm_cvtss_f32(_mm_min_ss(v, _mm_shuffle_ps(v, v, 1)));
-}
-PVS__STATIC float pvs__hmax_sse2(__m128 v) {
-	v = _mm_max_ps(v, _mm_movehl_ps(v, v));
-	return _mm_cvtss_f32(_mm_max_ss(v, _mm_shuffle_ps(v, v, 1)));
-}
+#if defined(PVS__LANES_DIV)
 PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__boxe *E, pvs__boxf *o) {
-	const __m128 X = _mm_setr_ps(b->min[0], b->max[0], b->min[0], b->max[0]),
-				 Y = _mm_setr_ps(b->min[1], b->min[1], b->max[1], b->max[1]);
-	const __m128 Z0 = _mm_set1_ps(b->min[2]), Z1 = _mm_set1_ps(b->max[2]), zero = _mm_setzero_ps();
-	const __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-	__m128 c0[4], c1[4], t0, t1, q0, q1, v0, v1, rw0, rw1;
-	int all, any;
-#define PVS__ROW(rr) \
-	do { \
-		__m128 a = \
-			_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr]), X), _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 1]), Y)); \
-		c0[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z0)), \
-							_mm_loadu_ps(r->mb[4 * rr + 3])); \
-		c1[rr] = _mm_add_ps(_mm_add_ps(a, _mm_mul_ps(_mm_loadu_ps(r->mb[4 * rr + 2]), Z1)), \
-							_mm_loadu_ps(r->mb[4 * rr + 3])); \
-	} while (0)
-	PVS__ROW(0);
-	PVS__ROW(1);
-	PVS__ROW(2);
-	PVS__ROW(3);
-#undef PVS__ROW
-	q0 = _mm_sub_ps(c0[3], c0[2]);
-	q1 = _mm_sub_ps(c1[3], c1[2]);
-	t0 = _mm_set1_ps(0.0f - E->nz);
-	all = _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(q0, t0), _mm_cmplt_ps(q1, t0)));
-	t0 = _mm_set1_ps(0.0f - E->e[3]);
-	all |= _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(c0[3], t0), _mm_cmplt_ps(c1[3], t0))) << 4;
-	t0 = _mm_set1_ps(E->xw);
-	all |= _mm_movemask_ps(
-			   _mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(c0[0], c0[3]), t0), _mm_cmpgt_ps(_mm_sub_ps(c1[0], c1[3]), t0)))
-		<< 8;
-	all |= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c0[0]), c0[3]), t0),
-									  _mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c1[0]), c1[3]), t0))) << 12;
-	t0 = _mm_set1_ps(E->yw);
-	all |= _mm_movemask_ps(
-			   _mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(c0[1], c0[3]), t0), _mm_cmpgt_ps(_mm_sub_ps(c1[1], c1[3]), t0)))
-		<< 16;
-	all |= _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c0[1]), c0[3]), t0),
-									  _mm_cmpgt_ps(_mm_sub_ps(_mm_sub_ps(zero, c1[1]), c1[3]), t0))) << 20;
-	if ((all & 15) == 15 || (all & 0xf0) == 0xf0 || (all & 0xf00) == 0xf00 || (all & 0xf000) == 0xf000 ||
-		(all & 0xf0000) == 0xf0000 || (all & 0xf00000) == 0xf00000)
-		return 0;
-	t0 = _mm_set1_ps(E->nz);
-	t1 = _mm_set1_ps(E->w2);
-	any = _mm_movemask_ps(_mm_or_ps(_mm_or_ps(_mm_cmplt_ps(q0, t0), _mm_cmple_ps(c0[3], t1)),
-									_mm_or_ps(_mm_cmplt_ps(q1, t0), _mm_cmple_ps(c1[3], t1))));
-	if (any) return 1;
-	rw0 = _mm_div_ps(_mm_set1_ps(1.0f), c0[3]);
-	rw1 = _mm_div_ps(_mm_set1_ps(1.0f), c1[3]);
-	o->rmax = pvs__hmax_sse2(_mm_max_ps(rw1, rw0));
+	const pvs__f4 X = pvs__f4_set4(b->min[0], b->max[0], b->min[0], b->max[0]),
+				  Y = pvs__f4_set4(b->min[1], b->min[1], b->max[1], b->max[1]);
+	const pvs__f4 Z0 = pvs__f4_set1(b->min[2]), Z1 = pvs__f4_set1(b->max[2]), zero = pvs__f4_set1(0.0f);
+	pvs__f4 c0[4], c1[4], t0, t1, q0, q1, v0, v1, rw0, rw1;
+	int k;
+	for (k = 0; k < 4; ++k) { /* mb: mf broadcast */
+		const float(*m)[4] = r->mb + 4 * k;
+		pvs__f4 a = pvs__f4_add(pvs__f4_mul(pvs__f4_load(m[0]), X), pvs__f4_mul(pvs__f4_load(m[1]), Y));
+		c0[k] = pvs__f4_add(pvs__f4_add(a, pvs__f4_mul(pvs__f4_load(m[2]), Z0)), pvs__f4_load(m[3]));
+		c1[k] = pvs__f4_add(pvs__f4_add(a, pvs__f4_mul(pvs__f4_load(m[2]), Z1)), pvs__f4_load(m[3]));
+	}
+	q0 = pvs__f4_sub(c0[3], c0[2]);
+	q1 = pvs__f4_sub(c1[3], c1[2]);
+#define PVS__ALL(m0, m1) (pvs__m4_bits(pvs__m4_and(m0, m1)) == 15) /* all eight corners */
+#define PVS__OUT(a0, a1) PVS__ALL(pvs__f4_gt(a0, t0), pvs__f4_gt(a1, t0))
+	t0 = pvs__f4_set1(0.0f - E->nz);
+	if (PVS__ALL(pvs__f4_lt(q0, t0), pvs__f4_lt(q1, t0))) return 0;
+	t0 = pvs__f4_set1(0.0f - E->e[3]);
+	if (PVS__ALL(pvs__f4_lt(c0[3], t0), pvs__f4_lt(c1[3], t0))) return 0;
+	t0 = pvs__f4_set1(E->xw);
+	if (PVS__OUT(pvs__f4_sub(c0[0], c0[3]), pvs__f4_sub(c1[0], c1[3]))) return 0;
+	if (PVS__OUT(pvs__f4_sub(pvs__f4_sub(zero, c0[0]), c0[3]), pvs__f4_sub(pvs__f4_sub(zero, c1[0]), c1[3]))) return 0;
+	t0 = pvs__f4_set1(E->yw);
+	if (PVS__OUT(pvs__f4_sub(c0[1], c0[3]), pvs__f4_sub(c1[1], c1[3]))) return 0;
+	if (PVS__OUT(pvs__f4_sub(pvs__f4_sub(zero, c0[1]), c0[3]), pvs__f4_sub(pvs__f4_sub(zero, c1[1]), c1[3]))) return 0;
+#undef PVS__OUT
+#undef PVS__ALL
+	t0 = pvs__f4_set1(E->nz);
+	t1 = pvs__f4_set1(E->w2);
+	if (pvs__m4_bits(pvs__m4_or(pvs__m4_or(pvs__f4_lt(q0, t0), pvs__f4_le(c0[3], t1)),
+								pvs__m4_or(pvs__f4_lt(q1, t0), pvs__f4_le(c1[3], t1)))))
+		return 1;
+	rw0 = pvs__f4_div(pvs__f4_set1(1.0f), c0[3]);
+	rw1 = pvs__f4_div(pvs__f4_set1(1.0f), c1[3]);
+	o->rmax = pvs__f4_hmax2(rw1, rw0);
 #define PVS__AXIS(k, half, n, lo, hi) /* x / w (y / w): its largest |.|, then in pixels */ \
 	do { \
-		v0 = _mm_mul_ps(c0[k], rw0); \
-		v1 = _mm_mul_ps(c1[k], rw1); \
-		o->n = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm))); \
-		t0 = _mm_set1_ps(half); \
-		v0 = _mm_add_ps(_mm_mul_ps(v0, t0), t0); \
-		v1 = _mm_add_ps(_mm_mul_ps(v1, t0), t0); \
-		o->lo = pvs__hmin_sse2(_mm_min_ps(v1, v0)); \
-		o->hi = pvs__hmax_sse2(_mm_max_ps(v1, v0)); \
+		v0 = pvs__f4_mul(c0[k], rw0); \
+		v1 = pvs__f4_mul(c1[k], rw1); \
+		o->n = pvs__f4_hmax2(pvs__f4_abs(v1), pvs__f4_abs(v0)); \
+		t0 = pvs__f4_set1(half); \
+		v0 = pvs__f4_add(pvs__f4_mul(v0, t0), t0); \
+		v1 = pvs__f4_add(pvs__f4_mul(v1, t0), t0); \
+		o->lo = pvs__f4_hmin2(v1, v0); \
+		o->hi = pvs__f4_hmax2(v1, v0); \
 	} while (0)
 	PVS__AXIS(0, r->hwf, nx, xmin, xmax);
 	PVS__AXIS(1, r->hhf, ny, ymin, ymax);
 #undef PVS__AXIS
-	v0 = _mm_mul_ps(c0[2], rw0);
-	v1 = _mm_mul_ps(c1[2], rw1);
-	o->zmax = pvs__hmax_sse2(_mm_max_ps(v1, v0));
-	o->nz = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(v1, absm), _mm_and_ps(v0, absm)));
+	v0 = pvs__f4_mul(c0[2], rw0);
+	v1 = pvs__f4_mul(c1[2], rw1);
+	o->zmax = pvs__f4_hmax2(v1, v0);
+	o->nz = pvs__f4_hmax2(pvs__f4_abs(v1), pvs__f4_abs(v0));
 	return 2;
 }
-#define PVS__HAVE_BOX_SIMD 1
-#elif defined(PVS__NEON) && defined(__aarch64__)
-PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__boxe *E, pvs__boxf *o) {
-	const float xs[4] = {b->min[0], b->max[0], b->min[0], b->max[0]},
-				ys[4] = {b->min[1], b->min[1], b->max[1], b->max[1]};
-	const float32x4_t X = vld1q_f32(xs), Y = vld1q_f32(ys), Z0 = vdupq_n_f32(b->min[2]), Z1 = vdupq_n_f32(b->max[2]),
-					  zero = vdupq_n_f32(0.0f);
-	float32x4_t c0[4], c1[4], t0, t1, q0, q1, v0, v1, rw0, rw1, one = vdupq_n_f32(1.0f);
-	const float *mf = r->mf;
-	int rr;
-	for (rr = 0; rr < 4; ++rr) {
-		float32x4_t a = vaddq_f32(vmulq_f32(vdupq_n_f32(mf[4 * rr]), X), vmulq_f32(vdupq_n_f32(mf[4 * rr + 1]), Y));
-		c0[rr] = vaddq_f32(vaddq_f32(a, vmulq_f32(vdupq_n_f32(mf[4 * rr + 2]), Z0)), vdupq_n_f32(mf[4 * rr + 3]));
-		c1[rr] = vaddq_f32(vaddq_f32(a, vmulq_f32(vdupq_n_f32(mf[4 * rr + 2]), Z1)), vdupq_n_f32(mf[4 * rr + 3]));
-	}
-	q0 = vsubq_f32(c0[3], c0[2]);
-	q1 = vsubq_f32(c1[3], c1[2]);
-#define PVS__ALL(m) (vminvq_u32(m) != 0)
-#define PVS__ANY(m) (vmaxvq_u32(m) != 0)
-	t0 = vdupq_n_f32(0.0f - E->nz);
-	if (PVS__ALL(vandq_u32(vcltq_f32(q0, t0), vcltq_f32(q1, t0)))) return 0;
-	t0 = vdupq_n_f32(0.0f - E->e[3]);
-	if (PVS__ALL(vandq_u32(vcltq_f32(c0[3], t0), vcltq_f32(c1[3], t0)))) return 0;
-	t0 = vdupq_n_f32(E->xw);
-	if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(c0[0], c0[3]), t0), vcgtq_f32(vsubq_f32(c1[0], c1[3]), t0)))) return 0;
-	if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(vsubq_f32(zero, c0[0]), c0[3]), t0),
-						   vcgtq_f32(vsubq_f32(vsubq_f32(zero, c1[0]), c1[3]), t0))))
-		return 0;
-	t0 = vdupq_n_f32(E->yw);
-	if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(c0[1], c0[3]), t0), vcgtq_f32(vsubq_f32(c1[1], c1[3]), t0)))) return 0;
-	if (PVS__ALL(vandq_u32(vcgtq_f32(vsubq_f32(vsubq_f32(zero, c0[1]), c0[3]), t0),
-						   vcgtq_f32(vsubq_f32(vsubq_f32(zero, c1[1]), c1[3]), t0))))
-		return 0;
-	t0 = vdupq_n_f32(E->nz);
-	t1 = vdupq_n_f32(E->w2);
-	if (PVS__ANY(vorrq_u32(vorrq_u32(vcltq_f32(q0, t0), vcleq_f32(c0[3], t1)),
-						   vorrq_u32(vcltq_f32(q1, t0), vcleq_f32(c1[3], t1)))))
-		return 1;
-#undef PVS__ALL
-#undef PVS__ANY
-	rw0 = vdivq_f32(one, c0[3]);
-	rw1 = vdivq_f32(one, c1[3]);
-	o->rmax = vmaxvq_f32(vmaxq_f32(rw1, rw0));
-#define PVS__AXIS(k, half, n, lo, hi) /* as in the SSE2 version */ \
-	do { \
-		v0 = vmulq_f32(c0[k], rw0); \
-		v1 = vmulq_f32(c1[k], rw1); \
-		o->n = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0))); \
-		t0 = vdupq_n_f32(half); \
-		v0 = vaddq_f32(vmulq_f32(v0, t0), t0); \
-		v1 = vaddq_f32(vmulq_f32(v1, t0), t0); \
-		o->lo = vminvq_f32(vminq_f32(v1, v0)); \
-		o->hi = vmaxvq_f32(vmaxq_f32(v1, v0)); \
-	} while (0)
-	PVS__AXIS(0, r->hwf, nx, xmin, xmax);
-	PVS__AXIS(1, r->hhf, ny, ymin, ymax);
-#undef PVS__AXIS
-	v0 = vmulq_f32(c0[2], rw0);
-	v1 = vmulq_f32(c1[2], rw1);
-	o->zmax = vmaxvq_f32(vmaxq_f32(v1, v0));
-	o->nz = vmaxvq_f32(vmaxq_f32(vabsq_f32(v1), vabsq_f32(v0)));
-	return 2;
-}
-#define PVS__HAVE_BOX_SIMD 1
 #endif
 
 /* Double to a float >= it, no libm: margins (v >= 0); any finite v (rounded down: up one step; |f| 2^-23 plus the least
@@ -5664,10 +5502,9 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
 	float pf = 0.0f;
 #if defined(PVS__SSE2) /* largest |coordinate| (exact; min and max are six floats in a row) */
 	{
-		const __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
 		__m128 a = _mm_loadu_ps(b->min), c = _mm_loadu_ps(b->min + 2);
 		nan = _mm_movemask_ps(_mm_or_ps(_mm_cmpunord_ps(a, a), _mm_cmpunord_ps(c, c)));
-		pf = pvs__hmax_sse2(_mm_max_ps(_mm_and_ps(a, absm), _mm_and_ps(c, absm)));
+		pf = pvs__f4_hmax2(pvs__f4_abs(a), pvs__f4_abs(c));
 	}
 #else
 	for (k = 0; k < 3; ++k) {
@@ -5689,7 +5526,7 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
 	E.xw = pvs__f_up_pos(e[0] + e[3]);
 	E.yw = pvs__f_up_pos(e[1] + e[3]);
 	E.w2 = pvs__f_up_pos(2.0 * e[3]);
-#if defined(PVS__HAVE_BOX_SIMD)
+#if defined(PVS__LANES_DIV)
 	if (!(r->flags & PVS_RASTER_SCALAR)) res = pvs__box_simd(r, b, &E, &o);
 	else
 #endif
