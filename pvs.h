@@ -9694,15 +9694,9 @@ PVS__STATIC pvs_result pvs__otree_bake_cell(const pvs__bake_env *env, void *stat
 	return pvs__otree_cell((const pvs__otree_bake *)state, env->scene, box, cell, bits, flags, err);
 }
 
-PVS__STATIC const pvs__bake_method pvs__otree_method = {PVS_METHOD_OTREE,
-														PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT,
-														2,
-														pvs__otree_bake_check,
-														pvs__otree_bake_prepare,
-														pvs__otree_bake_applies,
-														pvs__otree_bake_cell,
-														NULL,
-														pvs__otree_bake_destroy};
+PVS__STATIC const pvs__bake_method pvs__otree_method = {
+	PVS_METHOD_OTREE, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 2, pvs__otree_bake_check,
+	pvs__otree_bake_prepare, pvs__otree_bake_applies, pvs__otree_bake_cell, NULL, pvs__otree_bake_destroy};
 
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
 	const pvs__otree_bake *ot = b ? (const pvs__otree_bake *)pvs__bake_method_state(b, PVS_METHOD_OTREE) : NULL;
@@ -14809,15 +14803,9 @@ PVS__STATIC void pvs__vocc_bake_destroy(const pvs__bake_env *env, void *state) {
 }
 
 /* Not in AUTO unless named (pvs_bake_desc.methods): it is for storage and the run-time rebuild, not tightness. */
-PVS__STATIC const pvs__bake_method pvs__vocc_method = {PVS_METHOD_VOCC,
-													   PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS,
-													   2,
-													   pvs__vocc_bake_check,
-													   pvs__vocc_bake_prepare,
-													   pvs__vocc_bake_applies,
-													   pvs__vocc_bake_cell,
-													   pvs__vocc_bake_file,
-													   pvs__vocc_bake_destroy};
+PVS__STATIC const pvs__bake_method pvs__vocc_method = {
+	PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, pvs__vocc_bake_check,
+	pvs__vocc_bake_prepare, pvs__vocc_bake_applies, pvs__vocc_bake_cell, pvs__vocc_bake_file, pvs__vocc_bake_destroy};
 
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 	const pvs__vocc_bake *vo = b ? (const pvs__vocc_bake *)pvs__bake_method_state(b, PVS_METHOD_VOCC) : NULL;
@@ -14829,30 +14817,26 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 // >>portal
 /* ==== portal: rooms and portals from the scene's closed convex solids, conservative portal flow per cell ==== */
 /* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds its vis portals from brushes): the solids are the
-   connected closed convex meshes among the scene's triangles (a component of triangles sharing vertex indices, each
-   directed edge matched by its reverse, every vertex behind every face plane; at most PVS__PO_MAX_FACES triangles).
-   Explicit occluder volumes are not solids: rays pass through them, and a cell may lie inside one. A BSP whose
-   splitting planes are the solids' face planes (q3map2's BuildTree: a brush fragment is split by each plane it
-   straddles) ends in leaves that lie wholly inside a solid or wholly outside all of them: the solid leaves block, the
-   empty ones are the rooms. Planes closer than the input's float resolution are one plane (PVS__PO_NORMAL_EPS,
-   PVS__PO_DIST_EPS times the scene's size), so solids that touch leave no crack. A portal is a face of an empty leaf
-   where another empty leaf lies beyond: the face pushed down the tree from the root, split by every plane it
-   straddles (Teller 1992 §3.3's portal enumeration). A segment between points of two rooms that meets no solid
-   crosses the portals of the leaves it passes, in order. Triangles that are not closed convex solids do not block
-   here (other methods use them); a cell point inside a solid sees the objects meeting that solid.
+   connected closed convex meshes among the scene's triangles (triangles sharing vertex indices, each directed edge
+   matched by its reverse, every vertex behind every face plane; at most PVS__PO_MAX_FACES triangles); not explicit
+   occluder volumes (rays pass through them). A BSP on the solids' face planes (q3map2's BuildTree: a fragment is
+   split by each plane it straddles) ends in leaves wholly inside a solid or outside all: the empty ones are the
+   rooms. Planes closer than the input's float resolution are one (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS times the
+   scene's size), so touching solids leave no crack. A portal is a face of an empty leaf where another empty leaf
+   lies beyond: the face pushed down the tree, split by every plane it straddles (Teller 1992 §3.3). A segment
+   between points of two rooms that meets no solid crosses the portals of the leaves it passes, in order. Other
+   triangles do not block here; a cell point inside a solid sees the objects meeting that solid.
 
-   Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3 indoors): a segment from a point x of view cell C
-   through portals P1 .. Pk crosses each from its leaf `from`, so x lies on that side of Pj's plane: the source of
-   the lines through Pj is C_j, C clipped to that side (none: no such line). Beyond Pj the segment stays behind every
-   separating plane of C_j and its crossing region on Pj (planes through an edge of one and a vertex of the other,
-   with C_j and the region on opposite sides). Each step P -> Q (P the portal before, or none from a start leaf)
-   keeps the convex hull R of every region found on Q that way; a region W (Q clipped by the planes of the step
-   into P) not inside R grows R to hull(R, W) and queues the step, so the flow is a fixed point that grows
-   monotonically (q3map2's might-see pruning has the same aim: a path that adds nothing is not followed). Every
-   crossing point of a segment lies in its step's R by induction. An object of a leaf entered through Q is kept when
-   its part in the leaf (box clipped to the leaf's box) is not wholly beyond one plane of the step: the object-level
-   test. A cell keeps every object of the empty leaves it overlaps. Past `budget` portal clips the cell keeps every
-   object of every empty leaf reachable from its leaves (the conservative cut-off). */
+   Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): a segment from a point x of view cell C through
+   portals P1 .. Pk crosses each from its leaf `from`, so x lies on that side of Pj's plane: the lines' source is
+   C_j, C clipped to that side (empty: no such line). Beyond Pj the segment stays behind every separating plane of
+   C_j and its crossing region on Pj. Each step P -> Q (or a start leaf's portal Q) keeps the convex hull R of the
+   regions found on Q that way; a region W (Q clipped by the planes of the step into P) not inside R grows R to
+   hull(R, W) and queues the step: a fixed point that grows monotonically (as q3map2's might-see pruning, a path that
+   adds nothing is not followed), and every crossing point lies in its step's R by induction. An object of a leaf
+   entered through Q is kept when its part in the leaf is not wholly beyond one plane of the step (the object-level
+   test). A cell keeps every object of the empty leaves it overlaps; past `budget` portal clips, every object of
+   every empty leaf reachable from them (the conservative cut-off). */
 
 #define PVS__PO_MAXW 64u          /* vertices of a clipped winding */
 #define PVS__PO_MAXS 64u          /* separating planes per region */
@@ -14920,7 +14904,7 @@ typedef struct pvs__poprep {
 	uint32_t *lp_first, *lp;   /* per leaf its portals out (leaf_count + 1, portal_count) */
 	uint32_t *ep_first;        /* per portal P its first step P -> Q, Q out of P's leaf `to` (portal_count + 1) */
 	/* objects per empty leaf */
-	uint32_t *lo_first, *lo;
+	uint32_t *lo_first, *lo, *lo_pairs; /* lo_pairs: (leaf, object) while building */
 	size_t lo_count, lo_cap;
 	uint32_t budget, empty_leaves;
 	uint32_t *task_cut, task_count; /* per task: cells cut off (the task's own slot) */
@@ -14945,12 +14929,6 @@ PVS__STATIC uint32_t pvs__po_hash(const pvs__poprep *p, double key) {
 /* The dominant axis of n (the first of equal ones). */
 PVS__STATIC int pvs__po_axis(const double *n) {
 	return fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : (fabs(n[1]) >= fabs(n[2]) ? 1 : 2);
-}
-
-PVS__STATIC void pvs__po_hash_insert(pvs__poprep *p, uint32_t pair) {
-	uint32_t h = pvs__po_hash(p, floor(fabs(p->pl[2 * pair][3]) / (1e-3 * p->ext)));
-	p->hash_next[pair] = p->hash_head[h];
-	p->hash_head[h] = pair;
 }
 
 /* The table id of plane n.x = d (n unit): an existing plane within the epsilons, or a new pair. PVS__PO_NONE when
@@ -14983,18 +14961,9 @@ PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) 
 	p->pl[2 * pair][3] = b ? -d : d;
 	p->pl[2 * pair + 1][3] = b ? d : -d;
 	p->plane_count += 2;
-	if (p->plane_count / 2 > p->hash_size) { /* rehash at load 1 */
-		uint32_t size = p->hash_size * 4, i;
-		uint32_t *head = (uint32_t *)pvs__alloc_array(&p->allocator, size, sizeof(uint32_t));
-		if (!head) return PVS__PO_NONE;
-		pvs__free_array(&p->allocator, p->hash_head, p->hash_size, sizeof(uint32_t));
-		p->hash_head = head;
-		p->hash_size = size;
-		for (i = 0; i < size; ++i) head[i] = PVS__PO_NONE;
-		for (i = 0; i < p->plane_count / 2; ++i) pvs__po_hash_insert(p, i);
-	} else {
-		pvs__po_hash_insert(p, pair);
-	}
+	k = pvs__po_hash(p, floor(q));
+	p->hash_next[pair] = p->hash_head[k];
+	p->hash_head[k] = pair;
 	return 2 * pair + (uint32_t)b;
 }
 
@@ -15187,29 +15156,6 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 
 /* ---- solids ---- */
 
-/* Adds the polytope of planes[0..count) as a solid fragment. 0 when out of memory. */
-PVS__STATIC int pvs__po_add_solid(pvs__poprep *p, pvs__po_poly **frags, size_t *cap, size_t *count,
-								  const uint32_t *planes, uint32_t n, pvs__po_wind *scratch, uint32_t *kept) {
-	pvs__po_poly q;
-	if (!pvs__po_poly_from_planes(p, planes, n, &q, scratch, kept)) return 0;
-	if (q.face_count == 0) return 1;
-	if (!pvs__grow(&p->allocator, (void **)frags, cap, *count + 1, sizeof(pvs__po_poly))) {
-		pvs__po_poly_free(&p->allocator, &q);
-		return 0;
-	}
-	(*frags)[(*count)++] = q;
-	return 1;
-}
-
-/* The table plane of n.x <= -d (n not unit): PVS__PO_NONE when degenerate or out of memory. */
-PVS__STATIC uint32_t pvs__po_plane_nd(pvs__poprep *p, const double n[3], double d) {
-	double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), u[3];
-	int k;
-	if (!(len > 0.0) || !isfinite(d / len)) return PVS__PO_NONE;
-	for (k = 0; k < 3; ++k) u[k] = n[k] / len;
-	return pvs__po_plane(p, u, -d / len);
-}
-
 PVS__STATIC int pvs__po_edge_cmp(const void *a, const void *b) {
 	const uint32_t *x = (const uint32_t *)a, *y = (const uint32_t *)b;
 	if (x[0] != y[0]) return x[0] < y[0] ? -1 : 1;
@@ -15218,7 +15164,7 @@ PVS__STATIC int pvs__po_edge_cmp(const void *a, const void *b) {
 
 /* The face planes of component tris[0..n) when it is a closed convex mesh (each directed edge once, its reverse
    once; every vertex within tolc behind every triangle's plane, or every one in front: inside out): the count, 0
-   when it is not. planes: n entries. */
+   when it is not. edges: 6n scratch; planes: n entries. */
 PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const uint32_t *tris, uint32_t n,
 									uint32_t (*edges)[2], uint32_t *planes) {
 	uint32_t i, j, k, np = 0;
@@ -15227,27 +15173,19 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 	for (i = 0; i < n; ++i)
 		for (k = 0; k < 3; ++k) {
 			const uint32_t *t = s->indices + 3 * (size_t)tris[i];
-			edges[3 * i + k][0] = t[k];
-			edges[3 * i + k][1] = t[(k + 1) % 3];
+			edges[3 * i + k][0] = edges[3 * (n + i) + k][1] = t[k];
+			edges[3 * i + k][1] = edges[3 * (n + i) + k][0] = t[(k + 1) % 3];
 			for (j = 0; j < 3; ++j) {
 				double x = s->positions[3 * (size_t)t[k] + j];
 				lo[j] = x < lo[j] ? x : lo[j];
 				hi[j] = x > hi[j] ? x : hi[j];
 			}
 		}
-	PVS_QSORT(edges, 3 * (size_t)n, sizeof(edges[0]), pvs__po_edge_cmp);
-	for (i = 0; i < 3 * n; ++i) {
-		uint32_t key[2], lo_i = 0, hi_i = 3 * n;
-		if (i + 1 < 3 * n && edges[i][0] == edges[i + 1][0] && edges[i][1] == edges[i + 1][1]) return 0;
-		key[0] = edges[i][1];
-		key[1] = edges[i][0];
-		while (lo_i < hi_i) {
-			uint32_t mid = lo_i + (hi_i - lo_i) / 2;
-			if (pvs__po_edge_cmp(edges[mid], key) < 0) lo_i = mid + 1;
-			else hi_i = mid;
-		}
-		if (lo_i == 3 * n || pvs__po_edge_cmp(edges[lo_i], key) != 0) return 0; /* an open edge */
-	}
+	PVS_QSORT(edges, 3 * (size_t)n, sizeof(edges[0]), pvs__po_edge_cmp); /* the edges, then reversed */
+	PVS_QSORT(edges + 3 * n, 3 * (size_t)n, sizeof(edges[0]), pvs__po_edge_cmp);
+	for (i = 0; i + 1 < 3 * n; ++i)
+		if (edges[i][0] == edges[i + 1][0] && edges[i][1] == edges[i + 1][1]) return 0; /* an edge twice */
+	if (memcmp(edges, edges + 3 * n, 3 * (size_t)n * sizeof(edges[0]))) return 0;      /* an open edge */
 	tolc = 1e-6 * ((hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]));
 	for (i = 0; i < n; ++i) { /* the orientation: the signed volume */
 		const uint32_t *t = s->indices + 3 * (size_t)tris[i];
@@ -15280,7 +15218,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 				const float *v = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[j] + k];
 				if (nn[0] * v[0] + nn[1] * v[1] + nn[2] * v[2] + d > tolc) return 0; /* not convex */
 			}
-		planes[np] = pvs__po_plane_nd(p, nn, d);
+		planes[np] = pvs__po_plane(p, nn, -d);
 		if (planes[np] == PVS__PO_NONE) return 0;
 		for (j = 0; j < np && planes[j] != planes[np]; ++j) {
 		}
@@ -15302,7 +15240,7 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 	parent = (uint32_t *)pvs__alloc_array(al, s->vertex_count, sizeof(uint32_t));
 	head = (uint32_t *)pvs__alloc_array(al, s->vertex_count, sizeof(uint32_t));
 	next = (uint32_t *)pvs__alloc_array(al, s->triangle_count, sizeof(uint32_t));
-	edges = (uint32_t(*)[2])pvs__alloc_array(al, 3 * PVS__PO_MAX_FACES, sizeof(edges[0]));
+	edges = (uint32_t(*)[2])pvs__alloc_array(al, 6 * PVS__PO_MAX_FACES, sizeof(edges[0]));
 	if (!parent || !head || !next || !edges) goto done;
 	for (i = 0; i < s->vertex_count; ++i) {
 		parent[i] = i;
@@ -15323,20 +15261,27 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 	for (t = 0; t < s->triangle_count; ++t) {
 		uint32_t r = pvs__uf_find(parent, s->indices[3 * (size_t)t]), n = 0, u, np;
 		uint32_t tris[PVS__PO_MAX_FACES];
+		pvs__po_poly q;
 		if (head[r] != t) continue; /* not the component's first triangle */
 		for (u = t; u != PVS__PO_NONE && n <= PVS__PO_MAX_FACES; u = next[u])
 			if (n < PVS__PO_MAX_FACES) tris[n++] = u;
 			else ++n;
 		if (n > PVS__PO_MAX_FACES || n < 4) continue;
 		np = pvs__po_convex(p, s, tris, n, edges, planes);
-		if (np && !pvs__po_add_solid(p, frags, cap, count, planes, np, scratch, kept)) goto done;
+		if (!np) continue;
+		if (!pvs__po_poly_from_planes(p, planes, np, &q, scratch, kept) ||
+			(q.face_count && !pvs__grow(al, (void **)frags, cap, *count + 1, sizeof(pvs__po_poly)))) {
+			pvs__po_poly_free(al, &q);
+			goto done;
+		}
+		if (q.face_count) (*frags)[(*count)++] = q;
 	}
 	ok = 1;
 done:
 	pvs__free_array(al, parent, s->vertex_count, sizeof(uint32_t));
 	pvs__free_array(al, head, s->vertex_count, sizeof(uint32_t));
 	pvs__free_array(al, next, s->triangle_count, sizeof(uint32_t));
-	pvs__free_array(al, edges, 3 * PVS__PO_MAX_FACES, sizeof(edges[0]));
+	pvs__free_array(al, edges, 6 * PVS__PO_MAX_FACES, sizeof(edges[0]));
 	return ok;
 }
 
@@ -15561,12 +15506,12 @@ typedef struct pvs__po_object {
 PVS__STATIC void pvs__po_object_leaf(void *ctx, uint32_t l) {
 	const pvs__po_object *x = (const pvs__po_object *)ctx;
 	pvs__poprep *p = x->b->p;
-	if (!pvs__grow(&p->allocator, (void **)&p->lo, &p->lo_cap, 2 * (p->lo_count + 1), sizeof(uint32_t))) {
+	if (!pvs__grow(&p->allocator, (void **)&p->lo_pairs, &p->lo_cap, 2 * (p->lo_count + 1), sizeof(uint32_t))) {
 		x->b->oom = 1;
 		return;
 	}
-	p->lo[2 * p->lo_count] = l;
-	p->lo[2 * p->lo_count + 1] = x->o;
+	p->lo_pairs[2 * p->lo_count] = l;
+	p->lo_pairs[2 * p->lo_count + 1] = x->o;
 	++p->lo_count;
 }
 
@@ -15622,27 +15567,12 @@ typedef struct pvs__po_flow {
 	int cut, oom;
 } pvs__po_flow;
 
-/* Adds plane n.x + d <= 0 to w unless w has it (normalised); dropped when w is full (fewer planes: more lines). */
-PVS__STATIC void pvs__po_add_plane(pvs__po_win *w, const double n[3], double d) {
-	double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-	uint32_t i;
-	if (!(len > 0.0) || w->np >= PVS__PO_MAXS) return;
-	for (i = 0; i < w->np; ++i)
-		if (fabs(w->pl[i][0] - n[0] / len) < 1e-12 && fabs(w->pl[i][1] - n[1] / len) < 1e-12 &&
-			fabs(w->pl[i][2] - n[2] / len) < 1e-12 && fabs(-w->pl[i][3] - d / len) < 1e-9)
-			return;
-	w->pl[w->np][0] = n[0] / len;
-	w->pl[w->np][1] = n[1] / len;
-	w->pl[w->np][2] = n[2] / len;
-	w->pl[w->np][3] = -(d / len);
-	++w->np;
-}
-
-/* The plane through a, b, c when it separates point sets A (na) and B (nb) (A behind within eps, B in front): added
-   to w oriented to keep B's side (Teller 1992 §5.2's separating planes); 1 when it does. */
+/* The plane through a, b, c when it separates point sets A (na) and B (nb), A on one side within eps and B on the
+   other: added to w (dropped when w is full: fewer planes, more lines) keeping B's side (Teller 1992 §5.2's
+   separating planes); 1 when it does. */
 PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double *b, const double *c,
 								   const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps) {
-	double e1[3], e2[3], n[3], d, len, lo = 0.0, hi = 0.0;
+	double e1[3], e2[3], n[3], d, len, lo = 0.0, hi = 0.0, sg;
 	uint32_t i, k;
 	for (k = 0; k < 3; ++k) {
 		e1[k] = b[k] - a[k];
@@ -15657,21 +15587,18 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 	for (k = 0; k < 3; ++k) n[k] /= len;
 	d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
 	for (i = 0; i < na; ++i) {
-		double s = n[0] * A[i][0] + n[1] * A[i][1] + n[2] * A[i][2] + d;
-		lo = s < lo ? s : lo;
-		hi = s > hi ? s : hi;
+		double t = n[0] * A[i][0] + n[1] * A[i][1] + n[2] * A[i][2] + d;
+		lo = t < lo ? t : lo;
+		hi = t > hi ? t : hi;
 		if (lo < -eps && hi > eps) return 0; /* A on both sides */
 	}
-	if (hi > eps) { /* A in front: flip */
-		for (k = 0; k < 3; ++k) n[k] = -n[k];
-		d = -d;
-	}
+	sg = hi > eps ? 1.0 : -1.0; /* the kept side, as the table's planes: sg (n.x + d) <= 0 */
 	for (i = 0; i < nb; ++i)
-		if (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d < -eps) return 0; /* B not wholly in front */
-	n[0] = -n[0];
-	n[1] = -n[1];
-	n[2] = -n[2];
-	pvs__po_add_plane(w, n, -d);
+		if (sg * (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d) > eps) return 0; /* B not wholly there */
+	if (w->np < PVS__PO_MAXS) {
+		for (k = 0; k < 3; ++k) w->pl[w->np][k] = sg * n[k];
+		w->pl[w->np++][3] = -sg * d;
+	}
 	return 1;
 }
 
@@ -15682,35 +15609,16 @@ typedef struct pvs__po_set {
 	uint8_t e[PVS__PO_MAXW][2];
 } pvs__po_set;
 
-/* Appends to w->pl the planes bounding lines from convex set c through region w->v (on table plane pl): w's own
-   plane when c lies beyond `near` on one side, and the separating planes through an edge of one and a vertex of the
-   other, c wholly on one side and w on the other (Teller 1992 §5.2). A set that meets w has none (no plane has it
-   on one side). */
-PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const double *pl, const pvs__po_set *c, double eps,
-									   double near) {
-	double n[3], d = -pl[3], lo = DBL_MAX, hi = -DBL_MAX;
-	uint32_t i, j, k;
-	if (w->nv < 3 || c->n == 0) return;
-	memcpy(n, pl, sizeof(n));
-	for (i = 0; i < c->n; ++i) {
-		double t = n[0] * c->v[i][0] + n[1] * c->v[i][1] + n[2] * c->v[i][2] + d;
-		lo = t < lo ? t : lo;
-		hi = t > hi ? t : hi;
-	}
-	if (lo >= near || hi <= -near) {
-		if (hi <= -near) { /* c behind: keep the front */
-			for (k = 0; k < 3; ++k) n[k] = -n[k];
-			d = -d;
-		}
-		pvs__po_add_plane(w, n, d);
-	}
-	for (i = 0; i < w->nv; ++i) {
-		const double *a = w->v[i], *b = w->v[(i + 1) % w->nv];
-		for (j = 0; j < c->n; ++j) /* one plane an edge: the other tangent has c and w on one side */
-			if (pvs__po_try_plane(w, a, b, c->v[j], (const double(*)[3])c->v, c->n, (const double(*)[3])w->v, w->nv,
-								  eps))
+/* Appends to w->pl the separating planes of convex set c and region w->v that bound the lines from c through w:
+   through an edge of one and a vertex of the other, c wholly on one side and w on the other (Teller 1992 §5.2), one
+   an edge (the other tangent plane has both on one side). A set that meets w has none. */
+PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, double eps) {
+	uint32_t i, j;
+	for (i = 0; i < w->nv; ++i)
+		for (j = 0; j < c->n; ++j)
+			if (pvs__po_try_plane(w, w->v[i], w->v[(i + 1) % w->nv], c->v[j], (const double(*)[3])c->v, c->n,
+								  (const double(*)[3])w->v, w->nv, eps))
 				break;
-	}
 	for (i = 0; i < c->ne; ++i)
 		for (j = 0; j < w->nv; ++j)
 			if (pvs__po_try_plane(w, c->v[c->e[i][0]], c->v[c->e[i][1]], w->v[j], (const double(*)[3])c->v, c->n,
@@ -15761,28 +15669,22 @@ PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, pvs__po_set *c
 	return c->n > 0;
 }
 
-/* 1 if box b is not wholly beyond a plane of w (tol). */
-PVS__STATIC int pvs__po_box_passes(const pvs__po_win *w, const pvs_box *b, double tol) {
-	uint32_t i, k;
-	for (i = 0; i < w->np; ++i) {
-		const double *pl = w->pl[i];
-		double x[3];
-		for (k = 0; k < 3; ++k) x[k] = pl[k] > 0.0 ? b->min[k] : b->max[k]; /* the corner lowest along pl */
-		if (pvs__po_dist(pl, x) > tol) return 0;
-	}
-	return 1;
-}
-
-/* Keeps the objects of empty leaf `leaf` whose box passes w (NULL: all of them). */
+/* Keeps the objects of empty leaf `leaf` whose part in it (box clipped to the leaf's) is not wholly beyond a plane
+   of w (tol; w NULL: all of them). */
 PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win *w) {
 	const pvs__poprep *p = f->p;
-	uint32_t i;
+	uint32_t i, j, k;
 	for (i = p->lo_first[leaf]; i < p->lo_first[leaf + 1]; ++i) {
 		uint32_t o = p->lo[i];
-		pvs_box part = f->scene->object_boxes[o]; /* the object's part in the leaf */
-		if (pvs_bitset_test(f->bits, o)) continue;
-		if (!w || !pvs__box_clip(&part, p->leaf_box + leaf) || pvs__po_box_passes(w, &part, p->tol))
-			pvs_bitset_set(f->bits, o);
+		pvs_box b = f->scene->object_boxes[o];
+		int keep = 1;
+		if (w && pvs__box_clip(&b, p->leaf_box + leaf))
+			for (j = 0; j < w->np && keep; ++j) {
+				double x[3];
+				for (k = 0; k < 3; ++k) x[k] = w->pl[j][k] > 0.0 ? b.min[k] : b.max[k]; /* the lowest corner */
+				keep = pvs__po_dist(w->pl[j], x) <= p->tol;
+			}
+		if (keep) pvs_bitset_set(f->bits, o);
 	}
 }
 
@@ -15950,7 +15852,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 		win.nv = f->reg[id].n;
 		win.np = 0;
 		memcpy(win.v, f->reg[id].v, win.nv * sizeof(win.v[0]));
-		pvs__po_window_planes(&win, p->pl[pt->plane], &src, 1e-4 * p->tol, 10.0 * p->tol);
+		pvs__po_window_planes(&win, &src, 1e-4 * p->tol);
 		pvs__po_keep(f, pt->to, &win);
 		for (j = p->lp_first[pt->to]; j < p->lp_first[pt->to + 1]; ++j) {
 			uint32_t q2 = p->lp[j];
@@ -15986,9 +15888,11 @@ PVS__STATIC void pvs__po_flood(pvs__po_flow *f) {
 
 /* ---- the method ---- */
 
-PVS__STATIC void pvs__po_destroy(pvs__poprep *p) {
+PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
+	pvs__poprep *p = (pvs__poprep *)state;
 	const pvs_allocator *a;
 	size_t i;
+	(void)env;
 	if (!p) return;
 	a = &p->allocator;
 	pvs__free_array(a, p->pl, p->plane_cap, sizeof(p->pl[0]));
@@ -16006,7 +15910,7 @@ PVS__STATIC void pvs__po_destroy(pvs__poprep *p) {
 	pvs__free_array(a, p->lp, p->portal_count + 1, sizeof(uint32_t));
 	pvs__free_array(a, p->ep_first, p->portal_count + 1, sizeof(uint32_t));
 	pvs__free_array(a, p->lo_first, p->leaf_count + 1, sizeof(uint32_t));
-	pvs__free_array(a, p->lo, p->lo_cap, sizeof(uint32_t));
+	pvs__free_array(a, p->lo, p->lo_count + 1, sizeof(uint32_t));
 	pvs__free_array(a, p->task_cut, p->task_count + 1, sizeof(uint32_t));
 	pvs__free_array(a, p->solid_box, (size_t)p->solids + 1, sizeof(pvs_box));
 	pvs__free_array(a, p->so_first, (size_t)p->solids + 1, sizeof(uint32_t));
@@ -16062,12 +15966,6 @@ done:
 	return ok;
 }
 
-PVS__STATIC pvs_result pvs__portal_bake_check(const pvs_bake_desc *d, pvs_error *err) {
-	(void)d;
-	(void)err;
-	return PVS_OK;
-}
-
 /* Builds the solids' tree, its portals and the objects of every empty leaf. */
 PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env) {
 	const pvs_scene *s = env->scene;
@@ -16083,7 +15981,8 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	b.p = p;
 	b.scratch = (pvs__po_wind *)pvs__alloc_array(al, PVS__PO_SCRATCH, sizeof(pvs__po_wind));
 	b.planes = (uint32_t *)pvs__alloc_array(al, 2 * PVS__PO_SCRATCH, sizeof(uint32_t));
-	p->hash_size = 1024;
+	for (p->hash_size = 64; p->hash_size < (1u << 22) && p->hash_size < s->triangle_count / 2; p->hash_size *= 2) {
+	} /* about a bucket a face plane (at most one a triangle) */
 	p->hash_head = (uint32_t *)pvs__alloc_array(al, p->hash_size, sizeof(uint32_t));
 	if (!b.scratch || !b.planes || !p->hash_head) goto done;
 	kept = b.planes + PVS__PO_SCRATCH;
@@ -16139,23 +16038,13 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	for (ob.b = &b, ob.o = 0; ob.o < s->object_count && !b.oom; ++ob.o)
 		if (!(s->object_flags[ob.o] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + ob.o))
 			pvs__po_box_down(p, s->object_boxes + ob.o, p->root, pvs__po_object_leaf, &ob);
-	if (b.oom) goto done;
-	{
-		uint32_t *first = NULL, *values = NULL;
-		if (!pvs__po_csr(al, p->lo, p->lo_count, (uint32_t)p->leaf_count, &first, &values)) {
-			pvs__free_array(al, first, p->leaf_count + 1, sizeof(uint32_t));
-			goto done;
-		}
-		pvs__free_array(al, p->lo, p->lo_cap, sizeof(uint32_t));
-		p->lo = values;
-		p->lo_cap = p->lo_count + 1;
-		p->lo_first = first;
-	}
-	ok = 1;
+	ok = !b.oom && pvs__po_csr(al, p->lo_pairs, p->lo_count, (uint32_t)p->leaf_count, &p->lo_first, &p->lo);
 done:
 	pvs__free_array(al, pairs, 2 * p->portal_count + 2, sizeof(uint32_t));
 	pvs__free_array(al, b.scratch, PVS__PO_SCRATCH, sizeof(pvs__po_wind));
 	pvs__free_array(al, b.planes, 2 * PVS__PO_SCRATCH, sizeof(uint32_t));
+	pvs__free_array(al, p->lo_pairs, p->lo_cap, sizeof(uint32_t));
+	p->lo_pairs = NULL;
 	for (i = 0; i < count && frags; ++i) pvs__po_poly_free(al, frags + i);
 	pvs__free_array(al, frags, cap, sizeof(pvs__po_poly));
 	return ok ? PVS_OK : PVS_ERROR_OUT_OF_MEMORY;
@@ -16200,7 +16089,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	pvs__po_flow f;
 	uint32_t k;
 	(void)flags;
-	(void)candidates; /* every object is tested: its own PVS in AUTO's statistics is its single bake's */
+	(void)candidates; /* all tested: AUTO's statistics take its own PVS as its single bake's */
 	memset(&f, 0, sizeof(f));
 	f.p = p;
 	f.scene = env->scene;
@@ -16238,20 +16127,9 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	return PVS_OK;
 }
 
-PVS__STATIC void pvs__portal_bake_destroy(const pvs__bake_env *env, void *state) {
-	(void)env;
-	pvs__po_destroy((pvs__poprep *)state);
-}
-
-PVS__STATIC const pvs__bake_method pvs__portal_method = {PVS_METHOD_PORTAL,
-														 PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT,
-														 1,
-														 pvs__portal_bake_check,
-														 pvs__portal_bake_prepare,
-														 pvs__portal_bake_applies,
-														 pvs__portal_bake_cell,
-														 NULL,
-														 pvs__portal_bake_destroy};
+PVS__STATIC const pvs__bake_method pvs__portal_method = {
+	PVS_METHOD_PORTAL, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, NULL,
+	pvs__portal_bake_prepare, pvs__portal_bake_applies, pvs__portal_bake_cell, NULL, pvs__po_destroy};
 
 PVS_API void pvs_bake_get_portal_info(const pvs_bake *b, pvs_portal_info *info) {
 	const pvs__poprep *p = b ? (const pvs__poprep *)pvs__bake_method_state(b, PVS_METHOD_PORTAL) : NULL;
@@ -20029,15 +19907,9 @@ PVS__STATIC void pvs__extproj_bake_destroy(const pvs__bake_env *env, void *state
 	pvs__free(&x->allocator, x, sizeof(*x), 16);
 }
 
-PVS__STATIC const pvs__bake_method pvs__extproj_method = {PVS_METHOD_EXTPROJ,
-														  PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT,
-														  1,
-														  pvs__extproj_bake_check,
-														  pvs__extproj_bake_prepare,
-														  pvs__extproj_bake_applies,
-														  pvs__extproj_bake_cell,
-														  NULL,
-														  pvs__extproj_bake_destroy};
+PVS__STATIC const pvs__bake_method pvs__extproj_method = {
+	PVS_METHOD_EXTPROJ, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, pvs__extproj_bake_check,
+	pvs__extproj_bake_prepare, pvs__extproj_bake_applies, pvs__extproj_bake_cell, NULL, pvs__extproj_bake_destroy};
 
 /* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
 
@@ -20884,16 +20756,9 @@ PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state)
 	pvs__free(&sh->allocator, sh, sizeof(*sh), 16);
 }
 
-PVS__STATIC const pvs__bake_method pvs__shrink_method = {PVS_METHOD_SHRINK,
-														 PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT |
-															 PVS__METHOD_SETS_OTHERS,
-														 3,
-														 NULL,
-														 pvs__shrink_bake_prepare,
-														 pvs__shrink_bake_applies,
-														 pvs__shrink_bake_cell,
-														 NULL,
-														 pvs__shrink_bake_destroy};
+PVS__STATIC const pvs__bake_method pvs__shrink_method = {
+	PVS_METHOD_SHRINK, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT | PVS__METHOD_SETS_OTHERS, 3, NULL,
+	pvs__shrink_bake_prepare, pvs__shrink_bake_applies, pvs__shrink_bake_cell, NULL, pvs__shrink_bake_destroy};
 
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *b) {
 	const pvs__shrink_bake *sh = (const pvs__shrink_bake *)pvs__bake_method_state(b, PVS_METHOD_SHRINK);
