@@ -18,7 +18,7 @@ for kind in city forest indoor walls soup; do
       { echo "$kind $seed: pvsgen failed" >&2; exit 1; }
     more='"auto --adaptive 20000"'
     case $kind in forest|soup) more="";; esac   # adaptive cells: slow where little is culled
-    eval "set -- auto sample shrink otree extproj vocc \"auto --preview\" \"extproj --sweep --subcells\" \
+    eval "set -- auto sample shrink otree extproj vocc portal \"auto --preview\" \"extproj --sweep --subcells\" \
       otree,extproj \"vocc --vocc-only\" \"auto --max-distance 40\" $more"
     for m in "$@"; do
       name=$(echo "$m" | tr ' ' '_')
