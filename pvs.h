@@ -5619,8 +5619,8 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 }
 
 PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
-	int32_t rect[4];
-	float d;
+	int32_t rect[4] = {0, 0, 0, 0};
+	float d = 0.0f;
 	int k = pvs__raster_box(r, b, rect, &d); /* the float test first when tiled */
 	if (k != 2) return k;
 	return pvs_raster_test_rect(r, rect[0], rect[1], rect[2], rect[3], d);
@@ -14134,9 +14134,9 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
 										   uint32_t count, const pvs_box *boxes, uint32_t object_count,
 										   const pvs_kdtree *tree, void *scratch, size_t scratch_size,
 										   pvs_word *visible, pvs_error *err) {
-	pvs__vo_rt *rt;
-	uint8_t *rest;
-	size_t rest_size;
+	pvs__vo_rt *rt = NULL;
+	uint8_t *rest = NULL;
+	size_t rest_size = 0;
 	uint32_t i;
 	pvs_result r;
 	if (!cell || (count && !occ) || (object_count && !boxes) || !visible)
@@ -14304,9 +14304,9 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
 	const uint8_t *bytes;
 	uint32_t scale, n, i;
 	pvs_box box;
-	pvs__vo_rt *rt;
-	uint8_t *rest;
-	size_t rest_size;
+	pvs__vo_rt *rt = NULL;
+	uint8_t *rest = NULL;
+	size_t rest_size = 0;
 	pvs_result r;
 	if (!f || !f->data || !visible || (object_count && !boxes))
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file, boxes and visible must not be NULL");

@@ -64,6 +64,7 @@ static void noalloc_otree(void) {
     noalloc_mallocs = 0;
     for (frame = 0; frame < 60; ++frame) {
         pvs_cull_stats st;
+        memset(&st, 0, sizeof(st)); /* aarch64 gcc -O1 cannot see it set */
         cam.eye[0] = -30.0f + (float)frame; cam.eye[1] = 1.5f; cam.eye[2] = -23.0f + 0.1f * (float)frame;
         cam.forward[0] = 1.0f; cam.forward[2] = 0.02f * (float)(frame % 20);
         if (frame == 30) pvs_otree_reset(ot);
