@@ -3,6 +3,11 @@
    building generators (three seeds) and for a cell inside a solid; culling where the doors hide. */
 #include "test.h"
 
+static int test_boxes_meet(const pvs_box *a, const pvs_box *b) {
+    return a->min[0] <= b->max[0] && b->min[0] <= a->max[0] && a->min[1] <= b->max[1] && b->min[1] <= a->max[1] &&
+           a->min[2] <= b->max[2] && b->min[2] <= a->max[2];
+}
+
 /* The box [lo, hi] as a closed mesh (12 triangles over 8 corners), or with its first triangle left out (open), or
    inside out (every triangle reversed). */
 static void tp_box(float *pos, uint32_t *vc, uint32_t *idx, uint32_t *tc, const float lo[3], const float hi[3], int kind) {
@@ -234,11 +239,68 @@ static void tp_many_vertices(void) {
     pvs_scene_destroy(s);
 }
 
+/* The solids' object lists (a BVH query) against the brute-force rule: a cell that meets a solid's box keeps every
+   drawable object whose box meets that box. Random boxes, some solids overlapping, cells inside and across them. */
+static void tp_solid_objects(void) {
+    enum { NS = 24, NO = 40, NC = 16 };
+    static float pos[3 * 8 * (NS + NO)];
+    static uint32_t idx[3 * 12 * (NS + NO)];
+    float lo[NS + NO][3], hi[NS + NO][3];
+    pvs_object_desc obj[NO];
+    pvs_box cells[NC];
+    uint32_t vc = 0, tc = 0, i, j, c, k, missing = 0;
+    uint64_t rng = 77;
+    pvs_bake_desc bd;
+    pvs_bake *b = NULL;
+    pvs_error err;
+    pvs_scene *s;
+    for (i = 0; i < NO + NS; ++i) /* objects first (their triangle ranges), then the solids */
+        for (k = 0; k < 3; ++k) {
+            lo[i][k] = test_rndf(&rng, 0.0f, 40.0f);
+            hi[i][k] = lo[i][k] + (i < NO ? test_rndf(&rng, 0.2f, 3.0f) : test_rndf(&rng, 2.0f, 9.0f));
+        }
+    for (i = 0; i < NO + NS; ++i) {
+        if (i < NO) {
+            obj[i].first_triangle = tc;
+            obj[i].triangle_count = 12;
+            obj[i].flags = 0;
+        }
+        tp_box(pos, &vc, idx, &tc, lo[i], hi[i], 0);
+    }
+    for (c = 0; c < NC; ++c) /* half inside a solid, half anywhere */
+        for (k = 0; k < 3; ++k) {
+            float a = c % 2 ? test_rndf(&rng, lo[NO + c][k], hi[NO + c][k] - 1.0f) : test_rndf(&rng, 0.0f, 45.0f);
+            cells[c].min[k] = a;
+            cells[c].max[k] = a + 1.0f;
+        }
+    s = test_scene_arrays(pos, vc, idx, tc, obj, NO, 1);
+    CHECK(s != NULL);
+    if (!s) return;
+    test_bake_desc(&bd, s, cells, NC, PVS_METHOD_PORTAL);
+    CHECK(pvs_bake_begin(&bd, &b, &err) == PVS_OK);
+    for (c = 0; b && c < pvs_bake_task_count(b); ++c) CHECK(pvs_bake_run_task(b, c, &err) == PVS_OK);
+    for (c = 0; b && c < NC; ++c) {
+        const pvs_word *p = pvs_bake_cell_pvs(b, c);
+        for (i = NO; i < NO + NS; ++i) {
+            pvs_box sb = {{lo[i][0], lo[i][1], lo[i][2]}, {hi[i][0], hi[i][1], hi[i][2]}};
+            if (!test_boxes_meet(&sb, cells + c)) continue;
+            for (j = 0; j < NO; ++j) {
+                pvs_box ob = {{lo[j][0], lo[j][1], lo[j][2]}, {hi[j][0], hi[j][1], hi[j][2]}};
+                missing += test_boxes_meet(&sb, &ob) && !pvs_bitset_test(p, j);
+            }
+        }
+    }
+    CHECK(missing == 0);
+    pvs_bake_destroy(b);
+    pvs_scene_destroy(s);
+}
+
 void test_portal(void) {
     tp_rooms();
     tp_solids();
     tp_inside();
     tp_many_vertices();
+    tp_solid_objects();
     tp_generators();
     CHECK(strcmp(pvs_method_name(PVS_METHOD_PORTAL), "portal") == 0);
 }
