@@ -1,4 +1,4 @@
-/* pvs.h - v0.6.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.7.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -89,19 +89,17 @@
    opening meant to be seen through must be wider.
 
    Methods. AUTO, the default, runs the conservative methods that can cull in the scene, cheapest first, and
-   intersects their PVSs (conservative, and at least as tight as each of them): OTREE when vertical walls give
-   facades (2.5D); EXTPROJ when there are planar occluders or convex solids (3D; an object's coplanar
-   edge-connected triangles act as one occluder, so a wall in pieces hides what the whole wall hides);
-   SHRINK when closed geometry leaves volume after erosion by eps. SHRINK, the costliest, runs last on what
-   the others kept: the same intersection, in little time. AUTO pays only for what culls: with the default set
-   and at least 4 x PVS_AUTO_SAMPLE_CELLS cells, pvs_bake_begin bakes PVS_AUTO_SAMPLE_CELLS cells spread over all
-   cells with each method and keeps, greedily, those that cull at least PVS_AUTO_MIN_GAIN of what the others kept
-   (pvs_bake_method_info says which and why; counts decide, so every thread count and shard decides alike). A
-   named set (pvs_bake_desc.methods) runs in full. VOCC, adding little tightness, runs only when
-   pvs_bake_desc.methods names it. Under AUTO, EXTPROJ runs the occlusion sweep of Durand 2000 §5, fusing
-   walls and floors the planes of §6.1 do not: on indoor maps a smaller PVS for more time
-   (tests/BENCHMARKS.md, bake). max_distance, a draw distance, drops objects whose box is farther from every
-   point of the cell (box to box, rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake.
+   intersects their PVSs (conservative, and as tight as each): PORTAL when closed convex meshes bound rooms;
+   OTREE when vertical walls give facades (2.5D); EXTPROJ when there are planar occluders or convex solids (3D;
+   an object's coplanar edge-connected triangles act as one occluder); SHRINK, the costliest, last on what the
+   others kept, when closed geometry leaves volume after erosion by eps. AUTO pays only for what culls: with the
+   default set and at least 4 x PVS_AUTO_SAMPLE_CELLS cells, pvs_bake_begin bakes PVS_AUTO_SAMPLE_CELLS cells
+   spread over all cells with each method, keeps the smallest PVS's, then greedily those that cull at least
+   PVS_AUTO_MIN_GAIN of what is kept, times 2 per cost class over the first kept (PORTAL; OTREE; EXTPROJ and
+   SHRINK). pvs_bake_method_info says which and why; counts decide, so every thread count and shard decides
+   alike. A named set (pvs_bake_desc.methods) runs in full; VOCC only when named. AUTO's EXTPROJ sweeps (§5).
+   max_distance, a draw distance, drops objects whose box is farther from every point of the cell (box to box,
+   rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake.
 
    Adaptive cells (Durand 2000 §6.1). A cell whose PVS holds more than adaptive.budget triangles is split in
    two across its longest side, recursively down to adaptive.min_size; each half is baked by the bake's
@@ -251,15 +249,10 @@
 
    RECENT HISTORY
    ==============
-   0.6.0 (2026-11-28) method PORTAL (cells and portals: rooms from closed convex meshes, portal flow per cell;
-					  pvs_bake_portal_params, pvs_portal_info), in AUTO's default set; PVS_AUTO_MIN_GAIN 5%.
-					  File format unchanged.
-   0.5.0 (2026-11-28) AUTO keeps only the methods that cull on a sample of cells (PVS_AUTO_SAMPLE_CELLS,
-					  PVS_AUTO_MIN_GAIN; pvs_bake_method_info.sample_cells, sample_gain). File format unchanged.
-   0.4.0 (2026-11-28) API: per-method parameter structs in pvs_bake_desc (extproj_sweep is now extproj.sweep);
-					  getters renamed pvs_*_get_* (pvs_bake_otree_info is now pvs_bake_get_otree_info, ...);
-					  test-only flags need PVS_TEST_HOOKS. New: AUTO, resuming, virtual occluders, adaptive
-					  cells, the sweep, bounded memory (FULL HISTORY). File format unchanged.
+   0.7.0 (2026-11-28) AUTO prices its methods: cost classes, PVS_AUTO_MIN_GAIN 10%. File format unchanged.
+   0.6.0 (2026-11-28) method PORTAL (cells and portals), in AUTO's default set. File format unchanged.
+   0.5.0 (2026-11-28) AUTO keeps only the methods that cull on a sample of cells. File format unchanged.
+   0.4.0 (2026-11-28) API: per-method parameter structs, pvs_*_get_* getters (FULL HISTORY).
    0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps and per-frame culling;
 					  bake methods shrink (with occluder synthesis), otree (c-LSS) and extproj.
    0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
@@ -274,7 +267,7 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 6
+#define PVS_VERSION_MINOR 7
 #define PVS_VERSION_PATCH 0
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 /* The .pvs file format version this header writes and reads. */
@@ -1179,7 +1172,7 @@ typedef struct pvs_bake_desc {
 /* AUTO's sample (pvs_bake_begin): cells baked with every applicable method to choose those worth running, and the
    least share of the kept PVS a method must cull beyond the methods kept to be run on every cell. */
 #define PVS_AUTO_SAMPLE_CELLS 8u
-#define PVS_AUTO_MIN_GAIN 0.05
+#define PVS_AUTO_MIN_GAIN 0.10
 
 /* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only the cheapest applicable method. EXTPROJ uses 64 pixels
    and 32 occluders per plane unless set, no sweep, and decides object kD-tree nodes whole once under a quarter radian
@@ -1995,6 +1988,7 @@ typedef struct pvs__bake_method {
 	uint32_t traits;            /* PVS__METHOD_* */
 	int cost_rank;              /* AUTO runs the methods cheapest first (1..4); PREVIEW keeps the first
 								   that applies */
+	int cost_class;             /* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
 	/* Checks desc's parameters of this method, whichever method the bake runs. NULL: none. */
 	pvs_result (*check)(const pvs_bake_desc *desc, pvs_error *err);
 	/* Makes *state, read-only in the tasks but for per-task slots. UNSUPPORTED: the method cannot
@@ -9695,7 +9689,7 @@ PVS__STATIC pvs_result pvs__otree_bake_cell(const pvs__bake_env *env, void *stat
 }
 
 PVS__STATIC const pvs__bake_method pvs__otree_method = {
-	PVS_METHOD_OTREE, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 2, pvs__otree_bake_check,
+	PVS_METHOD_OTREE, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 2, 1, pvs__otree_bake_check,
 	pvs__otree_bake_prepare, pvs__otree_bake_applies, pvs__otree_bake_cell, NULL, pvs__otree_bake_destroy};
 
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
@@ -14804,7 +14798,7 @@ PVS__STATIC void pvs__vocc_bake_destroy(const pvs__bake_env *env, void *state) {
 
 /* Not in AUTO unless named (pvs_bake_desc.methods): it is for storage and the run-time rebuild, not tightness. */
 PVS__STATIC const pvs__bake_method pvs__vocc_method = {
-	PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, pvs__vocc_bake_check,
+	PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, 1, pvs__vocc_bake_check,
 	pvs__vocc_bake_prepare, pvs__vocc_bake_applies, pvs__vocc_bake_cell, pvs__vocc_bake_file, pvs__vocc_bake_destroy};
 
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
@@ -16128,7 +16122,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 }
 
 PVS__STATIC const pvs__bake_method pvs__portal_method = {
-	PVS_METHOD_PORTAL, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, NULL,
+	PVS_METHOD_PORTAL, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, 0, NULL,
 	pvs__portal_bake_prepare, pvs__portal_bake_applies, pvs__portal_bake_cell, NULL, pvs__po_destroy};
 
 PVS_API void pvs_bake_get_portal_info(const pvs_bake *b, pvs_portal_info *info) {
@@ -16331,7 +16325,7 @@ PVS__STATIC void pvs__sample_bake_destroy(const pvs__bake_env *env, void *state)
 }
 
 PVS__STATIC const pvs__bake_method pvs__sample_method = {
-	PVS_METHOD_SAMPLE, PVS__METHOD_APPROXIMATE, 4, NULL, pvs__sample_bake_prepare, NULL, pvs__sample_bake_cell, NULL,
+	PVS_METHOD_SAMPLE, PVS__METHOD_APPROXIMATE, 4, 3, NULL, pvs__sample_bake_prepare, NULL, pvs__sample_bake_cell, NULL,
 	pvs__sample_bake_destroy};
 
 /* ---- extended projections (Durand et al. 2000) ---- */
@@ -19908,7 +19902,7 @@ PVS__STATIC void pvs__extproj_bake_destroy(const pvs__bake_env *env, void *state
 }
 
 PVS__STATIC const pvs__bake_method pvs__extproj_method = {
-	PVS_METHOD_EXTPROJ, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, pvs__extproj_bake_check,
+	PVS_METHOD_EXTPROJ, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, 2, pvs__extproj_bake_check,
 	pvs__extproj_bake_prepare, pvs__extproj_bake_applies, pvs__extproj_bake_cell, NULL, pvs__extproj_bake_destroy};
 
 /* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
@@ -20757,7 +20751,7 @@ PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state)
 }
 
 PVS__STATIC const pvs__bake_method pvs__shrink_method = {
-	PVS_METHOD_SHRINK, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT | PVS__METHOD_SETS_OTHERS, 3, NULL,
+	PVS_METHOD_SHRINK, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT | PVS__METHOD_SETS_OTHERS, 3, 2, NULL,
 	pvs__shrink_bake_prepare, pvs__shrink_bake_applies, pvs__shrink_bake_cell, NULL, pvs__shrink_bake_destroy};
 
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *b) {
@@ -21044,13 +21038,15 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 	return PVS_OK;
 }
 
-/* AUTO's sample (CONCEPTS, Methods): the methods that apply are prepared for PVS_AUTO_SAMPLE_CELLS cells spread evenly
-   over all the bake's cells (a shard's too, so every shard decides alike), and each is baked alone on them. Greedily,
-   the method with the smallest PVS is kept, then the others in the order of what they cull beyond those kept, while
-   that gain is at least PVS_AUTO_MIN_GAIN of the kept PVS. Only the kept methods are then prepared for every cell (the
-   sample's preparations, seeded by its cells only, are cheap) and run. Only for the default set (desc->methods 0), at
-   least 4 times as many cells as the sample, without PREVIEW or a method that stores whole cells. Counts decide, never
-   time. The sample's PVSs only choose; the bake's come from the full preparations. */
+/* AUTO's sample (CONCEPTS, Methods): the methods that apply are prepared for PVS_AUTO_SAMPLE_CELLS cells spread
+   evenly over all the bake's cells (a shard's too, so every shard decides alike), and each is baked alone on them.
+   Greedily, the method with the smallest PVS is kept, then, best ratio first, those that cull beyond the kept at
+   least PVS_AUTO_MIN_GAIN of the kept PVS, doubled per cost class above the first kept's, halved below (on indoor
+   maps a cell of OTREE costs 4 to 8 portal flows; of the sweep's EXTPROJ, 10 to 20). Only the kept methods are then
+   prepared for every cell (the sample's PORTAL and SHRINK prepare the whole scene too) and run. Only for the
+   default set (desc->methods 0), at least 4 times as many cells as the sample, without PREVIEW or a method that
+   stores whole cells. Counts decide, never time. The sample's PVSs only choose; the bake's come from the full
+   preparations. */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
 }
@@ -21058,6 +21054,7 @@ PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 /* The greedy choice over the S sample cells of sd (prepared for them): b->run keeps the chosen methods. */
 PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *sd, pvs_error *err) {
 	uint32_t n = b->run_count, S = sd->cell_count, s, k, i, keep[PVS_METHOD_COUNT], kept = 0;
+	int c0 = 0;
 	size_t w, words = b->words, total = (size_t)S * (n + 1) * words;
 	double base = 0.0;
 	pvs_word *bits;
@@ -21073,9 +21070,9 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 								bits + ((size_t)s * (n + 1) + k) * words, &flags, err);
 		}
 	for (k = 0; k < n; ++k) keep[k] = 0;
-	while (r == PVS_OK && kept < n) { /* the next method: the largest gain over the kept intersection */
+	while (r == PVS_OK && kept < n) { /* the next method: the largest gain over the kept intersection, by its price */
 		uint32_t best = n;
-		double best_gain = -1.0, sum;
+		double best_gain = -1.0, sum, need;
 		for (k = 0; k < n; ++k) {
 			if (keep[k]) continue;
 			for (sum = 0.0, s = 0; s < S; ++s) {
@@ -21085,12 +21082,14 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 			}
 			for (i = 0; i < b->considered_count; ++i) /* kept: its gain when chosen; skipped: its last */
 				if (b->considered[i] == b->run[k]) b->sample_gain[i] = (float)(sum / S);
-			if (sum > best_gain) {
-				best_gain = sum;
+			need = kept ? ldexp(PVS_AUTO_MIN_GAIN * base, b->run[k]->cost_class - c0) : 1.0;
+			if (sum / need > best_gain) {
+				best_gain = sum / need;
 				best = k;
 			}
 		}
-		if (kept && best_gain < PVS_AUTO_MIN_GAIN * base) break;
+		if (kept && best_gain < 1.0) break;
+		if (!kept) c0 = b->run[best]->cost_class;
 		keep[best] = 1;
 		for (base = 0.0, s = 0; s < S; ++s) {
 			pvs_word *cur = bits + ((size_t)s * (n + 1) + n) * words;
@@ -21111,8 +21110,8 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 		for (i = 0; i < b->considered_count; ++i)
 			if (b->considered[i] == b->run[k]) {
 				b->ran[i] = 0;
-				b->reason[i] = "negligible: on the sample cells it culled under 5% (PVS_AUTO_MIN_GAIN) of what the "
-							   "others kept";
+				b->reason[i] = "negligible: on the sample cells it culled under 10% of what was kept "
+							   "(PVS_AUTO_MIN_GAIN, times 2 per cost class over the first kept)";
 			}
 	}
 	b->run_count = kept;
@@ -23404,6 +23403,8 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
+   0.7.0 (2026-11-28) AUTO's sample weighs a method's gain by its cost class (portal, otree, then extproj and
+					  shrink: each class doubles the share of the kept PVS it must cull); PVS_AUTO_MIN_GAIN 10%.
    0.6.0 (2026-11-28) PORTAL: a BSP on the closed convex meshes' face planes, its empty leaves as rooms and
 					  their shared faces as portals, a conservative portal flow per cell with object-level
 					  tests; AUTO runs it; kernels written once across otree, raster, extproj and vocc.

@@ -1,7 +1,7 @@
 #!/bin/sh
 # make bench: the building generator and real Quake 3 levels (issue 28), the OpenArena maps of the package openarena-081-maps
 # (tests/maps.sh; skipped with a message when it is absent). Per map, on an evenly spaced sample of
-# about MAP_CELLS of its BSP-leaf cells (every N-th leaf), one thread:
+# about MAP_CELLS (40: enough for AUTO's sample) of its BSP-leaf cells (every N-th leaf), one thread:
 #   BENCH auto_ms_per_cell_MAP        auto's time per cell (pvsbake's figure: the cells alone)
 #   BENCH auto_prepare_s_MAP          auto's set-up before the cells (occluder synthesis, trees)
 #   BENCH auto_pvs_vs_q3map2_MAP      auto's mean PVS over the map's own PVS (q3map2's vis) on the same cells
@@ -13,7 +13,7 @@
 set -u
 B=${B:-build}
 T=$B/maps
-MAP_CELLS=${MAP_CELLS:-24}
+MAP_CELLS=${MAP_CELLS:-40}
 mkdir -p "$T"
 # the indoor generator's building (pvsgen building, 6 storeys, ~15,000 objects), MAP_CELLS cells
 "$B/pvsgen" building --max-cells "$MAP_CELLS" -o "$T/building.obj" --cells "$T/building.cells" 2>/dev/null
