@@ -1170,7 +1170,8 @@ typedef struct pvs_bake_desc {
 } pvs_bake_desc;
 
 /* AUTO's sample (pvs_bake_begin): cells baked with every applicable method to choose those worth running, and the
-   least share of the kept PVS a method must cull beyond the methods kept to be run on every cell. */
+   least share of the kept PVS a method must cull beyond them to run on every cell (x2 per cost class over the first
+   kept's). */
 #define PVS_AUTO_SAMPLE_CELLS 8u
 #define PVS_AUTO_MIN_GAIN 0.10
 
