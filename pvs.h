@@ -1,4 +1,4 @@
-/* pvs.h - v0.7.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.7.1 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -24,14 +24,14 @@
 	   for (uint32_t t = 0; t < pvs_bake_task_count(bake); ++t)   // any order, any thread
 		   pvs_bake_run_task(bake, t, &err);
 	   size_t size = pvs_bake_file_size(bake);
-	   void *file_bytes = my_alloc(size);                        // your memory
+	   void *file_bytes = my_alloc(size);						 // your memory
 	   pvs_bake_write_file(bake, file_bytes, size, &size, &err);  // the .pvs file, ready to save
 	   pvs_bake_destroy(bake);
 
 	   // runtime: no allocation, safe on untrusted bytes
 	   pvs_file file;
 	   pvs_file_open(file_bytes, size, &file, &err);
-	   uint32_t cell = pvs_file_find_cell(&file, eye);           // PVS_NO_CELL outside every cell
+	   uint32_t cell = pvs_file_find_cell(&file, eye);			 // PVS_NO_CELL outside every cell
 	   pvs_word visible[PVS_BITSET_WORDS(2)];
 	   pvs_file_decode(&file, cell, visible, PVS_BITSET_WORDS(2), &err);
 	   if (pvs_bitset_test(visible, 1)) draw(1);
@@ -96,8 +96,10 @@
    default set and at least 4 x PVS_AUTO_SAMPLE_CELLS cells, pvs_bake_begin bakes PVS_AUTO_SAMPLE_CELLS cells
    spread over all cells with each method, keeps the smallest PVS's, then greedily those that cull at least
    PVS_AUTO_MIN_GAIN of what is kept, times 2 per cost class over the first kept (PORTAL; OTREE; EXTPROJ and
-   SHRINK). pvs_bake_method_info says which and why; counts decide, so every thread count and shard decides
-   alike. A named set (pvs_bake_desc.methods) runs in full; VOCC only when named. AUTO's EXTPROJ sweeps (§5).
+   SHRINK, one more per doubling of SHRINK's sample points over a cube cell of side 8 eps); one priced 4 classes
+   above the cheapest kept is not even prepared. pvs_bake_method_info says which and why; counts decide, so every
+   thread count and shard decides alike. A named set (pvs_bake_desc.methods) runs in full; VOCC only when named.
+   AUTO's EXTPROJ sweeps (§5).
    max_distance, a draw distance, drops objects whose box is farther from every point of the cell (box to box,
    rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake.
 
@@ -134,27 +136,20 @@
 
    MEMORY
    ======
-   Allocates through the desc's allocator: pvs_scene_create (triangles, kD-trees: 105 to 430 bytes per
-   triangle on the generator's scenes, at most PVS_SCENE_BYTES_PER_TRIANGLE, 2.4 KB, per triangle and per
-   object); pvs_bake_begin (a bitset per cell: cell_count * object_count / 8 bytes, 40 of statistics per cell);
-   pvs_bake_run_task (AUTO: a bitset per method; EXTPROJ: (128 + 8 x sweep planes) x N^2 bytes of N x N
-   depth maps and sweep masks, plus summed-area tables of 4 (N^2 + N + 1 + min(16 N, 16384)) bytes per
-   plane of a direction up to 64 MiB, at least two (pvs_extproj_task_bytes): 8 MB at 256 pixels, 21 MB with
-   16 sweep planes, 0.7 GB at 1024 and 64, freed on return; adaptive cells: a box and a bitset per leaf,
-   kept); pvs_file_encode (about 40 bytes per cell plus a bitset); pvs_raster_create (depth map, pyramid,
-   cull map); pvs_otree_create (about 250 bytes per node of its budget, 5 per kD node and object). Allocate
-   nothing: the pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*, pvs_otree_cull,
-   pvs_vocc_cull. A .pvs file is used in place.
+   Allocates through the desc's allocator: pvs_scene_create (triangles, kD-trees: at most
+   PVS_SCENE_BYTES_PER_TRIANGLE, 2.4 KB, per triangle and per object; tests/BENCHMARKS.md, scene); pvs_bake_begin (a
+   bitset per cell: cell_count * object_count / 8 bytes, 40 of statistics per cell); pvs_bake_run_task (AUTO: a
+   bitset per method; EXTPROJ: (128 + 8 x sweep planes) x N^2 bytes of N x N depth maps and sweep masks, plus
+   summed-area tables of 4 (N^2 + N + 1 + min(16 N, 16384)) bytes per plane of a direction up to 64 MiB, at least two
+   (pvs_extproj_task_bytes): 8 MB at 256 pixels, 21 MB with 16 sweep planes, 0.7 GB at 1024 and 64, freed on return;
+   adaptive cells: a box and a bitset per leaf, kept); pvs_file_encode (about 40 bytes per cell plus a bitset);
+   pvs_raster_create (depth map, pyramid, cull map); pvs_otree_create (about 250 bytes per node of its budget, 5 per
+   kD node and object). Allocate nothing: the pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*,
+   pvs_otree_cull, pvs_vocc_cull. A .pvs file is used in place.
 
-   PERFORMANCE (`make bench`, 2026-11-24, one core of a 2-core AMD EPYC VM, release build)
+   PERFORMANCE
    ===========
-   kD-tree build 0.36 s per million triangles; 1.1 M closest-hit rays/s (200k-triangle boxes). Demo city (3,575
-   objects, 457k triangles, 1,211 cells): file 0.099 of raw bitsets (44 bytes per cell); cursor move 0.3 us;
-   pvs_file_find_cell (10,000 cells) 40 to 65 ns. Per frame: 50,000 occluder triangles at 1920x1080 and 10,000 box
-   tests 0.9 ms (SSE2; scalar 1.9); pvs_otree_cull (32 occluders) 0.2 ms. Bake per cell (demo city): otree 4.3 ms;
-   shrink 4.5 ms (plus 4 s of synthesis per bake); extproj 15 ms, 55 ms with the sweep; vocc 60 ms (96% of
-   shrink's culling in 52 bytes). tests/BENCHMARKS.md gives each figure's bench and the measurements behind
-   the design choices.
+   `make bench` prints every figure; tests/BENCHMARKS.md says what each measures, with dated results.
 
    ALGORITHMS (each cited again where it is implemented)
    ==========
@@ -247,17 +242,11 @@
 	 smaller (end points inward and away from the cell, top down) and proves the rounded one hidden, so
 	 the stored bytes are conservative. Readers may skip VOCC; the records stay a valid PVS.
 
-   RECENT HISTORY
+   RECENT HISTORY (older: FULL HISTORY at the end)
    ==============
+   0.7.1 (2026-11-28) AUTO's sample prices SHRINK by its sample points and skips methods priced past any gain.
    0.7.0 (2026-11-28) AUTO prices its methods: cost classes, PVS_AUTO_MIN_GAIN 10%. File format unchanged.
    0.6.0 (2026-11-28) method PORTAL (cells and portals), in AUTO's default set. File format unchanged.
-   0.5.0 (2026-11-28) AUTO keeps only the methods that cull on a sample of cells. File format unchanged.
-   0.4.0 (2026-11-28) API: per-method parameter structs, pvs_*_get_* getters (FULL HISTORY).
-   0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps and per-frame culling;
-					  bake methods shrink (with occluder synthesis), otree (c-LSS) and extproj.
-   0.2.0 (2026-11-22) the delta-PVS file (format 1): key cells and depth-bounded deltas, four set
-					  codings, compact cell tables and look-up tree, cursor, sharded bakes.
-   0.1.0 (2026-11-22) scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container.
 */
 // >>api
 #ifndef PVS_H
@@ -268,7 +257,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 7
-#define PVS_VERSION_PATCH 0
+#define PVS_VERSION_PATCH 1
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 /* The .pvs file format version this header writes and reads. */
 #define PVS_FORMAT_VERSION 1
@@ -295,38 +284,38 @@ extern "C" {
 typedef enum pvs_result {
 	PVS_OK = 0,
 	PVS_ERROR_INVALID_ARGUMENT = -1,   /* NULL where not allowed, impossible parameter */
-	PVS_ERROR_OUT_OF_MEMORY = -2,      /* the allocator returned NULL */
-	PVS_ERROR_COUNT_OVERFLOW = -3,     /* a count or size does not fit the index or size type */
+	PVS_ERROR_OUT_OF_MEMORY = -2,	   /* the allocator returned NULL */
+	PVS_ERROR_COUNT_OVERFLOW = -3,	   /* a count or size does not fit the index or size type */
 	PVS_ERROR_INDEX_OUT_OF_RANGE = -4, /* a vertex, triangle or object index past its array */
-	PVS_ERROR_NOT_FINITE = -5,         /* NaN or infinity in a coordinate or parameter */
-	PVS_ERROR_EMPTY_OBJECT = -6,       /* an object with no triangles */
+	PVS_ERROR_NOT_FINITE = -5,		   /* NaN or infinity in a coordinate or parameter */
+	PVS_ERROR_EMPTY_OBJECT = -6,	   /* an object with no triangles */
 	PVS_ERROR_DEGENERATE_OBJECT = -7,  /* an object whose triangles all have zero area */
 	PVS_ERROR_OVERLAPPING_OBJECTS = -8,/* two objects claim the same triangle */
-	PVS_ERROR_BAD_OCCLUDER = -9,       /* an explicit occluder volume that is empty, unbounded or malformed */
-	PVS_ERROR_BAD_CELL = -10,          /* a cell box with NaN or min > max */
+	PVS_ERROR_BAD_OCCLUDER = -9,	   /* an explicit occluder volume that is empty, unbounded or malformed */
+	PVS_ERROR_BAD_CELL = -10,		   /* a cell box with NaN or min > max */
 	PVS_ERROR_BUFFER_TOO_SMALL = -11,  /* the caller's output buffer is smaller than needed */
-	PVS_ERROR_BAD_MAGIC = -12,         /* not a .pvs file */
-	PVS_ERROR_BAD_VERSION = -13,       /* a .pvs file of another format version */
-	PVS_ERROR_TRUNCATED = -14,         /* the buffer ends before the data it declares */
-	PVS_ERROR_BAD_SECTION = -15,       /* a section missing, repeated, misaligned, overlapping or outside the file */
-	PVS_ERROR_CHECKSUM = -16,          /* stored and computed checksums differ */
-	PVS_ERROR_BAD_RECORD = -17,        /* a malformed PVS record (varint, order, length) */
+	PVS_ERROR_BAD_MAGIC = -12,		   /* not a .pvs file */
+	PVS_ERROR_BAD_VERSION = -13,	   /* a .pvs file of another format version */
+	PVS_ERROR_TRUNCATED = -14,		   /* the buffer ends before the data it declares */
+	PVS_ERROR_BAD_SECTION = -15,	   /* a section missing, repeated, misaligned, overlapping or outside the file */
+	PVS_ERROR_CHECKSUM = -16,		   /* stored and computed checksums differ */
+	PVS_ERROR_BAD_RECORD = -17,		   /* a malformed PVS record (varint, order, length) */
 	PVS_ERROR_OBJECT_OUT_OF_RANGE = -18,/* a record names an object id >= object count */
-	PVS_ERROR_BAD_HEADER = -19,        /* a header or META field with an impossible value */
-	PVS_ERROR_NOT_DONE = -20,          /* a bake result asked for before every task ran */
-	PVS_ERROR_UNSUPPORTED = -21,       /* the method cannot handle this input (the message says why) */
-	PVS_ERROR_BAD_CHAIN = -22,         /* a delta record whose base chain is cyclic, too long or inconsistent */
-	PVS_ERROR_BAD_TREE = -23,          /* a malformed cell look-up tree in a .pvs file */
+	PVS_ERROR_BAD_HEADER = -19,		   /* a header or META field with an impossible value */
+	PVS_ERROR_NOT_DONE = -20,		   /* a bake result asked for before every task ran */
+	PVS_ERROR_UNSUPPORTED = -21,	   /* the method cannot handle this input (the message says why) */
+	PVS_ERROR_BAD_CHAIN = -22,		   /* a delta record whose base chain is cyclic, too long or inconsistent */
+	PVS_ERROR_BAD_TREE = -23,		   /* a malformed cell look-up tree in a .pvs file */
 	PVS_ERROR_SHARD_MISMATCH = -24,    /* part files that do not make up one bake (missing, repeated, different) */
-	PVS_RESULT_MIN = -25               /* sentinel: every result is > PVS_RESULT_MIN */
+	PVS_RESULT_MIN = -25			   /* sentinel: every result is > PVS_RESULT_MIN */
 } pvs_result;
 
 /* Where and why a call failed, for calls whose last argument is a `pvs_error *` (NULL allowed). */
 typedef struct pvs_error {
-	pvs_result result;   /* same as the return value */
-	int64_t index;       /* offending object/triangle/vertex/cell/occluder/record index, or -1 */
-	uint64_t offset;     /* byte offset into a file for format errors, else 0 */
-	char message[200];   /* NUL-terminated, human-readable: what and where */
+	pvs_result result;	 /* same as the return value */
+	int64_t index;		 /* offending object/triangle/vertex/cell/occluder/record index, or -1 */
+	uint64_t offset;	 /* byte offset into a file for format errors, else 0 */
+	char message[200];	 /* NUL-terminated, human-readable: what and where */
 } pvs_error;
 
 /* A constant English description ("out of memory"), never NULL. */
@@ -371,14 +360,14 @@ PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint3
 typedef struct pvs_object_desc {
 	uint32_t first_triangle;
 	uint32_t triangle_count;
-	uint32_t flags;          /* PVS_OBJECT_* */
+	uint32_t flags;			 /* PVS_OBJECT_* */
 } pvs_object_desc;
 
 /* Kinds of explicit occluder volume (geometry known solid). */
 typedef enum pvs_occluder_kind {
 	PVS_OCCLUDER_INVALID = 0,
-	PVS_OCCLUDER_BOX,        /* `box` */
-	PVS_OCCLUDER_CONVEX,     /* intersection of half-spaces: `planes` */
+	PVS_OCCLUDER_BOX,		 /* `box` */
+	PVS_OCCLUDER_CONVEX,	 /* intersection of half-spaces: `planes` */
 	PVS_OCCLUDER_EXTRUSION,  /* a simple polygon in the ground plane extruded along the up axis */
 	PVS_OCCLUDER_KIND_COUNT
 } pvs_occluder_kind;
@@ -386,12 +375,12 @@ typedef enum pvs_occluder_kind {
 /* An explicit occluder volume; pvs_scene_create copies the arrays. */
 typedef struct pvs_occluder_desc {
 	pvs_occluder_kind kind;
-	pvs_box box;                /* BOX: the volume */
-	const float *planes;        /* CONVEX: plane_count x (nx, ny, nz, d); inside is n.p + d <= 0 */
-	uint32_t plane_count;       /* CONVEX: 4..PVS_MAX_OCCLUDER_PLANES, bounded, non-empty */
-	const float *footprint;     /* EXTRUSION: footprint_count ground points (u, v), a simple polygon, */
-	uint32_t footprint_count;   /*   either winding, may be concave; 3..PVS_MAX_FOOTPRINT_POINTS */
-	float base, top;            /* EXTRUSION: heights along the up axis, base < top */
+	pvs_box box;				/* BOX: the volume */
+	const float *planes;		/* CONVEX: plane_count x (nx, ny, nz, d); inside is n.p + d <= 0 */
+	uint32_t plane_count;		/* CONVEX: 4..PVS_MAX_OCCLUDER_PLANES, bounded, non-empty */
+	const float *footprint;		/* EXTRUSION: footprint_count ground points (u, v), a simple polygon, */
+	uint32_t footprint_count;	/*   either winding, may be concave; 3..PVS_MAX_FOOTPRINT_POINTS */
+	float base, top;			/* EXTRUSION: heights along the up axis, base < top */
 } pvs_occluder_desc;
 #define PVS_MAX_OCCLUDER_PLANES 64
 #define PVS_MAX_FOOTPRINT_POINTS 4096
@@ -402,17 +391,17 @@ typedef struct pvs_occluder_desc {
 /* What pvs_scene_create needs; zero fields get defaults. Ground coordinates (u, v): (x, z) for up_axis 1,
    (x, y) for 2. */
 typedef struct pvs_scene_desc {
-	const float *positions;      /* vertex_count x (x, y, z) */
+	const float *positions;		 /* vertex_count x (x, y, z) */
 	uint32_t vertex_count;
-	const uint32_t *indices;     /* triangle_count x 3 vertex indices */
+	const uint32_t *indices;	 /* triangle_count x 3 vertex indices */
 	uint32_t triangle_count;
 	const pvs_object_desc *objects;
-	uint32_t object_count;       /* >= 1 */
+	uint32_t object_count;		 /* >= 1 */
 	const pvs_occluder_desc *occluders; /* may be NULL when occluder_count is 0 */
 	uint32_t occluder_count;
-	uint32_t up_axis;            /* 0 or 1: Y up (default); 2: Z up */
-	uint32_t flags;              /* PVS_SCENE_* */
-	uint32_t leaf_size;          /* kD-tree leaf size for triangles, 0 = default (4) */
+	uint32_t up_axis;			 /* 0 or 1: Y up (default); 2: Z up */
+	uint32_t flags;				 /* PVS_SCENE_* */
+	uint32_t leaf_size;			 /* kD-tree leaf size for triangles, 0 = default (4) */
 	pvs_allocator allocator;
 } pvs_scene_desc;
 
@@ -433,8 +422,8 @@ PVS_API void pvs_scene_destroy(pvs_scene *scene);
 PVS_API uint32_t pvs_scene_object_count(const pvs_scene *scene);
 PVS_API uint32_t pvs_scene_triangle_count(const pvs_scene *scene);
 PVS_API uint32_t pvs_scene_occluder_count(const pvs_scene *scene);
-PVS_API uint32_t pvs_scene_up_axis(const pvs_scene *scene);         /* 1 or 2 */
-PVS_API pvs_box pvs_scene_bounds(const pvs_scene *scene);           /* of all triangles and occluders */
+PVS_API uint32_t pvs_scene_up_axis(const pvs_scene *scene);			/* 1 or 2 */
+PVS_API pvs_box pvs_scene_bounds(const pvs_scene *scene);			/* of all triangles and occluders */
 PVS_API pvs_box pvs_scene_object_box(const pvs_scene *scene, uint32_t object); /* object < count */
 PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *scene, uint32_t object);
 /* The object a triangle belongs to, or PVS_NO_OBJECT. */
@@ -444,9 +433,9 @@ PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *scene, uint32_t tria
 PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *scene, uint32_t i);
 
 typedef struct pvs_hit {
-	float t;             /* distance along dir, in units of |dir| */
+	float t;			 /* distance along dir, in units of |dir| */
 	uint32_t triangle;
-	uint32_t object;     /* PVS_NO_OBJECT for triangles in no object */
+	uint32_t object;	 /* PVS_NO_OBJECT for triangles in no object */
 } pvs_hit;
 
 /* Closest hit of origin + t dir, 0 <= t <= tmax (dir non-zero), with the two-sided triangles: 1 and *hit
@@ -466,10 +455,10 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], 
 typedef struct pvs_kdtree pvs_kdtree;
 
 typedef struct pvs_kdtree_desc {
-	const pvs_box *boxes;    /* count item boxes; item i is box i */
+	const pvs_box *boxes;	 /* count item boxes; item i is box i */
 	uint32_t count;
-	uint32_t leaf_size;      /* stop splitting at this many items, 0 = default (4) */
-	uint32_t max_depth;      /* 0 = automatic (about 1.3 log2 count + 8), capped at PVS_KDTREE_MAX_DEPTH */
+	uint32_t leaf_size;		 /* stop splitting at this many items, 0 = default (4) */
+	uint32_t max_depth;		 /* 0 = automatic (about 1.3 log2 count + 8), capped at PVS_KDTREE_MAX_DEPTH */
 	pvs_allocator allocator;
 } pvs_kdtree_desc;
 #define PVS_KDTREE_MAX_DEPTH 48
@@ -493,10 +482,10 @@ PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *tree);
 
 /* What a sweep visitor tells the traversal. */
 typedef enum pvs_visit {
-	PVS_VISIT_DESCEND = 0,   /* go on into this node's children */
-	PVS_VISIT_SKIP,          /* cull this node's subtree */
-	PVS_VISIT_STOP,          /* end the sweep */
-	PVS_VISIT_ALL,           /* take the subtree whole (see below); only STOP is heeded below it */
+	PVS_VISIT_DESCEND = 0,	 /* go on into this node's children */
+	PVS_VISIT_SKIP,			 /* cull this node's subtree */
+	PVS_VISIT_STOP,			 /* end the sweep */
+	PVS_VISIT_ALL,			 /* take the subtree whole (see below); only STOP is heeded below it */
 	PVS_VISIT_COUNT
 } pvs_visit;
 
@@ -540,7 +529,7 @@ PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const floa
 /* How a triangle is rasterized (Durand 2000 §2.2, §3.1-3.2: occluders by intersection, occludees by union). */
 typedef enum pvs_raster_mode {
 	PVS_RASTER_OCCLUDER = 0,  /* pixels covered entirely, no nearer than the triangle's farthest over them */
-	PVS_RASTER_OCCLUDEE,      /* pixels touched, no farther than the triangle's nearest over them */
+	PVS_RASTER_OCCLUDEE,	  /* pixels touched, no farther than the triangle's nearest over them */
 	PVS_RASTER_MODE_COUNT
 } pvs_raster_mode;
 
@@ -549,10 +538,10 @@ typedef struct pvs_camera {
 	float eye[3];
 	float forward[3];
 	float up[3];
-	float fov_y;         /* vertical field of view in radians, in (0, pi); 0 = orthographic */
-	float near_plane;    /* distance of the near plane, > 0 */
+	float fov_y;		 /* vertical field of view in radians, in (0, pi); 0 = orthographic */
+	float near_plane;	 /* distance of the near plane, > 0 */
 	float ortho_height;  /* orthographic: height of the view volume, > 0 */
-	float far_plane;     /* orthographic: where depth reaches 0 (not a clip plane); 0 = near + 1e4 */
+	float far_plane;	 /* orthographic: where depth reaches 0 (not a clip plane); 0 = near + 1e4 */
 } pvs_camera;
 
 /* The row-major clip matrix (clip = m * (x, y, z, 1), m[4 * row + col]) for aspect width / height;
@@ -562,20 +551,20 @@ PVS_API pvs_result pvs_camera_matrix(const pvs_camera *camera, float aspect, flo
 /* Raster flags. Occluder depth is kept per pixel (the default up to 65,536 pixels) or per 32 x 4 tile as
    a coverage mask and two depths (Masked Occlusion Culling: several times faster, a tile's depth the
    farthest of what covers it; the default above). Both are conservative. */
-#define PVS_RASTER_SCALAR 1u     /* use the scalar code even where SIMD is compiled in (identical results) */
+#define PVS_RASTER_SCALAR 1u	 /* use the scalar code even where SIMD is compiled in (identical results) */
 #define PVS_RASTER_PER_PIXEL 2u  /* occluders keep a depth per pixel */
-#define PVS_RASTER_TILED 4u      /* occluders go to tiles (wins over PVS_RASTER_PER_PIXEL) */
+#define PVS_RASTER_TILED 4u		 /* occluders go to tiles (wins over PVS_RASTER_PER_PIXEL) */
 
 /* What pvs_raster_create needs; zero fields get defaults. */
 typedef struct pvs_raster_desc {
-	uint32_t width, height;       /* depth map size in pixels, 1..16384 each */
+	uint32_t width, height;		  /* depth map size in pixels, 1..16384 each */
 	/* Optional: sizes the culling buffers and cull map grid; pvs_raster_cull* accept a scene no larger
 	   (objects, triangles, kD-tree nodes). */
 	const pvs_scene *scene;
-	uint32_t max_occluders;       /* scene triangles pvs_raster_cull may select per frame, 0 = 1024 */
-	uint32_t cull_map_width;      /* cull map cells over the scene's ground rectangle, 0 = no cull map */
-	uint32_t cull_map_height;     /*   (both or neither; 1..4096; needs `scene`) */
-	uint32_t flags;               /* PVS_RASTER_* */
+	uint32_t max_occluders;		  /* scene triangles pvs_raster_cull may select per frame, 0 = 1024 */
+	uint32_t cull_map_width;	  /* cull map cells over the scene's ground rectangle, 0 = no cull map */
+	uint32_t cull_map_height;	  /*   (both or neither; 1..4096; needs `scene`) */
+	uint32_t flags;				  /* PVS_RASTER_* */
 	uint32_t max_mesh_triangles;  /* pvs_raster_mesh's piece size, 0 = 4096 (about 400 bytes each) */
 	pvs_allocator allocator;
 } pvs_raster_desc;
@@ -628,8 +617,8 @@ PVS_API int pvs_raster_test_box(pvs_raster *raster, const pvs_box *box);
 typedef struct pvs_facade_chain {
 	const float *points;   /* point_count points (u, v) */
 	uint32_t point_count;  /* >= 2 */
-	uint32_t closed;       /* 1: a closed footprint (either winding), back-face culled; 0: open, two-sided */
-	float base, top;       /* heights, base < top; chains with base above the ground are ignored */
+	uint32_t closed;	   /* 1: a closed footprint (either winding), back-face culled; 0: open, two-sided */
+	float base, top;	   /* heights, base < top; chains with base above the ground are ignored */
 } pvs_facade_chain;
 
 /* Cull map flags. */
@@ -654,28 +643,28 @@ typedef struct pvs_cull_params {
 	uint32_t occluder_vertex_count;   /*   indices 3 per triangle, or NULL for consecutive vertices */
 	const uint32_t *occluder_indices;
 	uint32_t occluder_triangle_count;
-	uint32_t scene_occluders;         /* also the best this many scene triangles (<= max_occluders) ... */
-	float occluder_distance;          /*   ... within this distance (0 = 100) by area-angle (Bittner 2002 §4.5) */
-	uint32_t scene_volumes;           /* 1: also BOX occluders and EXTRUSION walls within it (no CONVEX) */
+	uint32_t scene_occluders;		  /* also the best this many scene triangles (<= max_occluders) ... */
+	float occluder_distance;		  /*   ... within this distance (0 = 100) by area-angle (Bittner 2002 §4.5) */
+	uint32_t scene_volumes;			  /* 1: also BOX occluders and EXTRUSION walls within it (no CONVEX) */
 	const pvs_facade_chain *facades;  /* pvs_raster_cull_map only: facade chains ... */
 	uint32_t facade_count;
-	uint32_t cull_map_flags;          /*   ... and PVS_CULL_MAP_* flags */
-	const pvs_word *candidates;       /* optional, PVS_BITSET_WORDS(object_count): test only these (a cell's PVS) */
-	uint32_t occluder_flags;          /* PVS_CULL_* */
+	uint32_t cull_map_flags;		  /*   ... and PVS_CULL_MAP_* flags */
+	const pvs_word *candidates;		  /* optional, PVS_BITSET_WORDS(object_count): test only these (a cell's PVS) */
+	uint32_t occluder_flags;		  /* PVS_CULL_* */
 } pvs_cull_params;
 
 /* pvs_raster_cull: occluders drawn as meshes (pvs_raster_mesh: no cracks, a cost per frame;
    tests/BENCHMARKS.md, raster). */
-#define PVS_CULL_OCCLUDER_MESH 1u      /* the caller's triangles, as connected meshes */
-#define PVS_CULL_SCENE_MESH 2u         /* the selected scene triangles, welded (tighter on many-triangle walls) */
+#define PVS_CULL_OCCLUDER_MESH 1u	   /* the caller's triangles, as connected meshes */
+#define PVS_CULL_SCENE_MESH 2u		   /* the selected scene triangles, welded (tighter on many-triangle walls) */
 #define PVS_CULL_SEPARATE_TRIANGLES 4u /* scene_volumes per triangle; by default each is a mesh (small cost) */
 
 /* What a culling call did. */
 typedef struct pvs_cull_stats {
 	uint32_t occluder_triangles;  /* triangles rasterized (caller + selected scene triangles) */
-	uint32_t nodes_visited;       /* kD-tree nodes reached by the sweep */
-	uint32_t boxes_tested;        /* node and object boxes tested */
-	uint32_t visible;             /* objects reported */
+	uint32_t nodes_visited;		  /* kD-tree nodes reached by the sweep */
+	uint32_t boxes_tested;		  /* node and object boxes tested */
+	uint32_t visible;			  /* objects reported */
 } pvs_cull_stats;
 
 /* From-point culling with the depth pyramid: clears, sets the camera (aspect width / height), draws the
@@ -700,9 +689,9 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scen
 
 /* What an occlusion-tree computation reports. */
 typedef struct pvs_otree_stats {
-	uint32_t nodes;              /* tree nodes at the end (the largest tree for several trees) */
+	uint32_t nodes;				 /* tree nodes at the end (the largest tree for several trees) */
 	uint32_t occluders_inserted; /* occluders merged into the tree(s) */
-	uint32_t visible_segments;   /* 2D: segments found visible */
+	uint32_t visible_segments;	 /* 2D: segments found visible */
 	uint32_t budget_exceeded; /* 1: node_budget stopped insertion, the rest counted as not blocking */
 } pvs_otree_stats;
 
@@ -711,15 +700,15 @@ typedef struct pvs_otree_stats {
 
 /* Exact 2D from-region visibility (Bittner 2002, ch. 6). Zero fields get defaults. */
 typedef struct pvs_visibility_2d_desc {
-	const float *cell;               /* cell_vertex_count x (x, y): a convex polygon, either winding */
-	uint32_t cell_vertex_count;      /* >= 3 */
-	const float *segments;           /* segment_count x (x0, y0, x1, y1): occluders, opaque from both sides */
+	const float *cell;				 /* cell_vertex_count x (x, y): a convex polygon, either winding */
+	uint32_t cell_vertex_count;		 /* >= 3 */
+	const float *segments;			 /* segment_count x (x0, y0, x1, y1): occluders, opaque from both sides */
 	uint32_t segment_count;
-	const uint8_t *segment_flags;    /* NULL or segment_count PVS_SEGMENT_* flags */
+	const uint8_t *segment_flags;	 /* NULL or segment_count PVS_SEGMENT_* flags */
 	const uint32_t *segment_objects; /* NULL (segment i is object i) or each segment's object or PVS_NO_OBJECT */
-	uint32_t object_count;           /* bits in visible_objects */
-	uint32_t node_budget;            /* stop inserting past this many tree nodes (0 = 2^20) */
-	uint32_t flags;                  /* 0 (the test hook PVS_VISIBILITY_INPUT_ORDER) */
+	uint32_t object_count;			 /* bits in visible_objects */
+	uint32_t node_budget;			 /* stop inserting past this many tree nodes (0 = 2^20) */
+	uint32_t flags;					 /* 0 (the test hook PVS_VISIBILITY_INPUT_ORDER) */
 	pvs_allocator allocator;
 } pvs_visibility_2d_desc;
 #ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
@@ -739,15 +728,15 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
    Zero fields get defaults. */
 typedef struct pvs_visibility_25d_desc {
 	float cell_min[2], cell_max[2]; /* the cell's ground rectangle */
-	float cell_top;                 /* the highest eye height in the cell */
-	const float *facades;           /* facade_count x (u0, v0, u1, v1, top): opaque walls standing on the */
-	uint32_t facade_count;          /*   ground, blocking every height below `top` */
+	float cell_top;					/* the highest eye height in the cell */
+	const float *facades;			/* facade_count x (u0, v0, u1, v1, top): opaque walls standing on the */
+	uint32_t facade_count;			/*   ground, blocking every height below `top` */
 	const float *objects; /* object_count x (umin, vmin, umax, vmax, top): object bounds; umin > umax = empty */
 	uint32_t object_count;
-	uint32_t node_budget;           /* per tree (0 = PVS_OTREE_25D_BUDGET) */
-	const pvs_kdtree *tree;         /* NULL, or a kD-tree over pvs_visibility_25d_boxes (reused across cells) */
+	uint32_t node_budget;			/* per tree (0 = PVS_OTREE_25D_BUDGET) */
+	const pvs_kdtree *tree;			/* NULL, or a kD-tree over pvs_visibility_25d_boxes (reused across cells) */
 	pvs_allocator allocator;
-	uint32_t flags;                 /* 0; other bits INVALID_ARGUMENT but the test hook PVS_VISIBILITY_25D_FULL_TESTS */
+	uint32_t flags;					/* 0; other bits INVALID_ARGUMENT but the test hook PVS_VISIBILITY_25D_FULL_TESTS */
 } pvs_visibility_25d_desc;
 
 /* The default node budget of a 2.5D occlusion tree. Once spent, the remaining facades are not inserted
@@ -784,10 +773,10 @@ typedef struct pvs_otree_desc {
 	/* Required: sizes the per-node state; pvs_otree_cull accepts a scene no larger (objects, triangles,
 	   kD-tree nodes). */
 	const pvs_scene *scene;
-	float aspect;                 /* image width / height for the frustum's side planes, 0 = 1 */
-	uint32_t max_occluders;       /* scene polygons inserted per frame at most, 0 = 64; <= 65536 */
-	uint32_t node_budget;         /* occlusion tree nodes per frame, 0 = 8192; 64..2^24 */
-	uint32_t flags;               /* PVS_OTREE_* */
+	float aspect;				  /* image width / height for the frustum's side planes, 0 = 1 */
+	uint32_t max_occluders;		  /* scene polygons inserted per frame at most, 0 = 64; <= 65536 */
+	uint32_t node_budget;		  /* occlusion tree nodes per frame, 0 = 8192; 64..2^24 */
+	uint32_t flags;				  /* PVS_OTREE_* */
 	pvs_allocator allocator;
 } pvs_otree_desc;
 #define PVS_OTREE_NO_COHERENCE 1u /* test every reached kD node every frame (the classical traversal, §4.11.2) */
@@ -798,13 +787,13 @@ typedef struct pvs_otree pvs_otree;
 
 /* What the last pvs_otree_cull did, beyond pvs_cull_stats. */
 typedef struct pvs_otree_frame {
-	uint32_t tree_nodes;          /* occlusion tree nodes (inner and leaves) */
-	uint32_t fragments;           /* occluder fragments stored at in-leaves */
-	uint32_t occluders;           /* polygons offered to the tree (caller triangles + scene polygons) */
-	uint32_t node_tests;          /* kD nodes whose visibility was tested (frustum + tree) */
-	uint32_t nodes_skipped;       /* opened kD nodes whose test hierarchy updating skipped */
-	uint32_t object_tests;        /* object boxes tested in partly visible leaves */
-	uint32_t budget_exceeded;     /* 1: the budget or a polygon's size stopped an insertion (conservative) */
+	uint32_t tree_nodes;		  /* occlusion tree nodes (inner and leaves) */
+	uint32_t fragments;			  /* occluder fragments stored at in-leaves */
+	uint32_t occluders;			  /* polygons offered to the tree (caller triangles + scene polygons) */
+	uint32_t node_tests;		  /* kD nodes whose visibility was tested (frustum + tree) */
+	uint32_t nodes_skipped;		  /* opened kD nodes whose test hierarchy updating skipped */
+	uint32_t object_tests;		  /* object boxes tested in partly visible leaves */
+	uint32_t budget_exceeded;	  /* 1: the budget or a polygon's size stopped an insertion (conservative) */
 } pvs_otree_frame;
 
 /* Errors: INVALID_ARGUMENT, NOT_FINITE (aspect), COUNT_OVERFLOW, OUT_OF_MEMORY. */
@@ -836,12 +825,12 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame)
    from the grid's border reports the cells it reaches. */
 typedef struct pvs_occluders_desc {
 	const pvs_scene *scene;   /* required; must outlive the occluders */
-	const pvs_box *cells;     /* cell_count >= 1 view cells, the flood's sources (required) */
+	const pvs_box *cells;	  /* cell_count >= 1 view cells, the flood's sources (required) */
 	uint32_t cell_count;
-	float eps;                /* erosion distance, > 0 */
-	float voxel_size;         /* 0 = derived: eps / 1.5, grown until the grid fits max_voxels */
-	uint32_t max_voxels;      /* 0 = 1 << 24 */
-	uint32_t flags;           /* PVS_OCCLUDERS_* */
+	float eps;				  /* erosion distance, > 0 */
+	float voxel_size;		  /* 0 = derived: eps / 1.5, grown until the grid fits max_voxels */
+	uint32_t max_voxels;	  /* 0 = 1 << 24 */
+	uint32_t flags;			  /* PVS_OCCLUDERS_* */
 	pvs_allocator allocator;
 } pvs_occluders_desc;
 
@@ -854,32 +843,32 @@ typedef struct pvs_occluders pvs_occluders;
 
 /* What the synthesis found. */
 typedef struct pvs_occluders_info {
-	uint32_t dims[3];         /* voxels per axis (one voxel of padding around the scene and cells) */
-	float origin[3];          /* the grid's min corner */
+	uint32_t dims[3];		  /* voxels per axis (one voxel of padding around the scene and cells) */
+	float origin[3];		  /* the grid's min corner */
 	float voxel_size;
 	float eps;
-	uint64_t touched;         /* voxels a triangle touches */
-	uint64_t solid;           /* solid voxels before erosion (explicit volumes included) */
-	uint64_t eroded;          /* solid voxels after erosion */
+	uint64_t touched;		  /* voxels a triangle touches */
+	uint64_t solid;			  /* solid voxels before erosion (explicit volumes included) */
+	uint64_t eroded;		  /* solid voxels after erosion */
 	uint64_t column_voxels;   /* solid voxels in runs standing on the ground (the 2.5D part) */
-	uint32_t box_count;       /* eroded 3D boxes */
-	uint32_t rect_count;      /* eroded 2.5D column rectangles */
-	int is_2d5;               /* 1 when column runs hold >= 90% of the solid voxels: use the 2.5D path */
-	uint32_t leak_cell;       /* lowest cell reaching the grid's border (sky or leak), or PVS_NO_CELL */
-	float leak_point[3];      /* a voxel centre of that cell on such a path */
-	uint32_t leak_cells;      /* cells reaching the border */
+	uint32_t box_count;		  /* eroded 3D boxes */
+	uint32_t rect_count;	  /* eroded 2.5D column rectangles */
+	int is_2d5;				  /* 1 when column runs hold >= 90% of the solid voxels: use the 2.5D path */
+	uint32_t leak_cell;		  /* lowest cell reaching the grid's border (sky or leak), or PVS_NO_CELL */
+	float leak_point[3];	  /* a voxel centre of that cell on such a path */
+	uint32_t leak_cells;	  /* cells reaching the border */
 	uint32_t excluded_cells;  /* leaking cells left out, with no occluder (< half of those in a component's box) */
-	uint32_t thin_objects;    /* drawable objects with no solid voxel in their box (thin walls, props) */
-	uint32_t components;      /* edge-connected triangle sets flooded (3 triangles or more) */
+	uint32_t thin_objects;	  /* drawable objects with no solid voxel in their box (thin walls, props) */
+	uint32_t components;	  /* edge-connected triangle sets flooded (3 triangles or more) */
 	uint32_t closed_components; /* of them, those without an open edge */
-	uint64_t open_edges;      /* edges used by an odd number of triangles, off the ground level */
+	uint64_t open_edges;	  /* edges used by an odd number of triangles, off the ground level */
 	uint64_t undecided_columns; /* voxel columns of a component where no test ray gave a certain parity */
 } pvs_occluders_info;
 
 /* Voxel classes pvs_occluders_voxel returns. */
-#define PVS_VOXEL_EMPTY 0u    /* untouched and not solid */
+#define PVS_VOXEL_EMPTY 0u	  /* untouched and not solid */
 #define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it (and it is not solid) */
-#define PVS_VOXEL_SOLID 2u    /* solid (before erosion); may hold triangles of another component */
+#define PVS_VOXEL_SOLID 2u	  /* solid (before erosion); may hold triangles of another component */
 #define PVS_VOXEL_GROUND 3u   /* the padding layer below the ground */
 
 /* Deterministic; concurrent calls on distinct outputs are fine. Errors: INVALID_ARGUMENT (NULL, no cells,
@@ -926,13 +915,13 @@ typedef struct pvs_virtual_occluder {
 
 /* What a virtual-occluder construction did (sums over cells and slices). */
 typedef struct pvs_vocc_stats {
-	uint32_t slices;        /* height slices (§3.1) */
-	uint32_t seeds;         /* seed objects grown (§3) */
-	uint32_t umbra;         /* objects that augmented an aggregate umbra (cases 1 and 3 of §3) */
-	uint32_t separating;    /* objects that only bent a separating line (case 2) */
-	uint32_t dense;         /* certified virtual occluders put into the dense set */
-	uint32_t dropped;       /* candidates that failed the final check (e.g. after quantization) */
-	uint32_t selected;      /* kept by the greedy selection (Fig. 6) */
+	uint32_t slices;		/* height slices (§3.1) */
+	uint32_t seeds;			/* seed objects grown (§3) */
+	uint32_t umbra;			/* objects that augmented an aggregate umbra (cases 1 and 3 of §3) */
+	uint32_t separating;	/* objects that only bent a separating line (case 2) */
+	uint32_t dense;			/* certified virtual occluders put into the dense set */
+	uint32_t dropped;		/* candidates that failed the final check (e.g. after quantization) */
+	uint32_t selected;		/* kept by the greedy selection (Fig. 6) */
 } pvs_vocc_stats;
 
 /* The 2D construction of §3 on its own. Zero fields get defaults. */
@@ -942,8 +931,8 @@ typedef struct pvs_vocc_2d_desc {
 	   ring (every point on two) are a wall loop. */
 	const float *segments;
 	uint32_t segment_count;
-	uint32_t max_seeds;             /* seed objects grown, 0 = 16 */
-	float range;                    /* analysis radius from the cell centre, 0 = reach every segment */
+	uint32_t max_seeds;				/* seed objects grown, 0 = 16 */
+	float range;					/* analysis radius from the cell centre, 0 = reach every segment */
 	pvs_allocator allocator;
 } pvs_vocc_2d_desc;
 
@@ -987,13 +976,13 @@ PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uin
 /* Region methods (CONCEPTS, Methods); all but SAMPLE are conservative. 0 is the default: AUTO. */
 typedef enum pvs_method {
 	PVS_METHOD_DEFAULT = 0,
-	PVS_METHOD_SAMPLE,       /* ray sampling: an estimate from below, NOT conservative */
-	PVS_METHOD_OTREE,        /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7) on facades of vertical triangles */
-	PVS_METHOD_EXTPROJ,      /* extended projections (Durand et al. 2000): 3D, planar occluders */
-	PVS_METHOD_SHRINK,       /* occluder shrinking + point sampling (Wonka 2000) */
-	PVS_METHOD_AUTO,         /* the conservative methods that apply, their PVSs intersected */
-	PVS_METHOD_VOCC,         /* virtual occluders (Koltun 2000), 2.5D: stored, the PVS is what they rebuild */
-	PVS_METHOD_PORTAL,       /* rooms and portals from closed convex solids, portal flow (Teller 1992): indoors */
+	PVS_METHOD_SAMPLE,		 /* ray sampling: an estimate from below, NOT conservative */
+	PVS_METHOD_OTREE,		 /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7) on facades of vertical triangles */
+	PVS_METHOD_EXTPROJ,		 /* extended projections (Durand et al. 2000): 3D, planar occluders */
+	PVS_METHOD_SHRINK,		 /* occluder shrinking + point sampling (Wonka 2000) */
+	PVS_METHOD_AUTO,		 /* the conservative methods that apply, their PVSs intersected */
+	PVS_METHOD_VOCC,		 /* virtual occluders (Koltun 2000), 2.5D: stored, the PVS is what they rebuild */
+	PVS_METHOD_PORTAL,		 /* rooms and portals from closed convex solids, portal flow (Teller 1992): indoors */
 	PVS_METHOD_COUNT
 } pvs_method;
 
@@ -1002,21 +991,21 @@ PVS_API const char *pvs_method_name(pvs_method method);
 
 /* The shrink method's paths. */
 typedef enum pvs_shrink_mode {
-	PVS_SHRINK_AUTO = 0,     /* 2.5D when the occluders are (pvs_occluders_info.is_2d5), else 3D */
-	PVS_SHRINK_2D5,          /* Wonka 2000 §3: column occluders, samples on the cell's top face, cull maps */
-	PVS_SHRINK_3D,           /* samples on the six faces, from-point depth maps of the eroded boxes */
+	PVS_SHRINK_AUTO = 0,	 /* 2.5D when the occluders are (pvs_occluders_info.is_2d5), else 3D */
+	PVS_SHRINK_2D5,			 /* Wonka 2000 §3: column occluders, samples on the cell's top face, cull maps */
+	PVS_SHRINK_3D,			 /* samples on the six faces, from-point depth maps of the eroded boxes */
 	PVS_SHRINK_MODE_COUNT
 } pvs_shrink_mode;
 
 /* What one pvs_shrink_cell call did. */
 typedef struct pvs_shrink_stats {
-	pvs_shrink_mode mode;     /* the path that ran */
-	uint32_t occluders;       /* occluders of that path: column prisms (2.5D) or boxes (3D) */
-	int no_occluders;         /* 1: none survived erosion, every drawable object set without sampling */
-	int excluded;             /* 1: the cell lies in a left-out leaking cell, every drawable object set */
-	uint32_t samples;         /* sample points */
+	pvs_shrink_mode mode;	  /* the path that ran */
+	uint32_t occluders;		  /* occluders of that path: column prisms (2.5D) or boxes (3D) */
+	int no_occluders;		  /* 1: none survived erosion, every drawable object set without sampling */
+	int excluded;			  /* 1: the cell lies in a left-out leaking cell, every drawable object set */
+	uint32_t samples;		  /* sample points */
 	uint64_t occluders_drawn; /* occluders rasterized, summed over the samples (after §3.4's rejection) */
-	uint32_t hidden;          /* drawable objects left out of the PVS */
+	uint32_t hidden;		  /* drawable objects left out of the PVS */
 } pvs_shrink_stats;
 
 /* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): occluders eroded by eps, sampled from the cell
@@ -1091,9 +1080,9 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep);
 
 /* SAMPLE's parameters (pvs_bake_desc.sample). */
 typedef struct pvs_bake_sample_params {
-	uint32_t points;          /* points per cell, 0 = 32 */
-	uint32_t rays;            /* rays per point, 0 = 2048 */
-	uint64_t seed;            /* random seed */
+	uint32_t points;		  /* points per cell, 0 = 32 */
+	uint32_t rays;			  /* rays per point, 0 = 2048 */
+	uint64_t seed;			  /* random seed */
 } pvs_bake_sample_params;
 
 /* EXTPROJ's parameters (also under AUTO). */
@@ -1101,7 +1090,7 @@ typedef struct pvs_bake_extproj_params {
 	/* Pixels per plane side, 16..4096; 0 = PVS_EXTPROJ_RESOLUTION, with PREVIEW PVS_EXTPROJ_PREVIEW_RESOLUTION.
 	   Sweep planes spread them square over what cell and scene span. */
 	uint32_t resolution;
-	uint32_t occluders;       /* occluders on the planes of §6.1, 0 = 128; <= 65536 (sweep planes take all) */
+	uint32_t occluders;		  /* occluders on the planes of §6.1, 0 = 128; <= 65536 (sweep planes take all) */
 	/* Occlusion sweep (Durand 2000 §5) planes per direction, <= 256, 0 = none; under AUTO 0 =
 	   PVS_EXTPROJ_SWEEP_PLANES (PREVIEW: none), PVS_EXTPROJ_NO_SWEEP = none. An object whose box is not
 	   hidden is then kept only if a part of its triangles may be seen (over 16,384 triangles: by box). */
@@ -1115,50 +1104,50 @@ typedef struct pvs_bake_extproj_params {
 /* Adaptive cells (CONCEPTS): split while a PVS holds more than `budget` triangles and the halves are at
    least `min_size`; leaves low half first. Not with shards. */
 typedef struct pvs_bake_adaptive_params {
-	uint32_t budget;          /* triangles per leaf cell's PVS; 0 = off */
-	float min_size;           /* shortest half, 0 = an eighth of the cell's longest side */
+	uint32_t budget;		  /* triangles per leaf cell's PVS; 0 = off */
+	float min_size;			  /* shortest half, 0 = an eighth of the cell's longest side */
 } pvs_bake_adaptive_params;
 
 /* SHRINK's parameters (also under AUTO). */
 typedef struct pvs_bake_shrink_params {
-	pvs_shrink_mode mode;     /* path, PVS_SHRINK_AUTO picks */
-	float voxel_size;         /* occluder synthesis voxel size, 0 = derived */
+	pvs_shrink_mode mode;	  /* path, PVS_SHRINK_AUTO picks */
+	float voxel_size;		  /* occluder synthesis voxel size, 0 = derived */
 } pvs_bake_shrink_params;
 
 /* VOCC's parameters. */
 typedef struct pvs_bake_vocc_params {
-	uint32_t slices;          /* height slices per cell (§3.1), 0 = 5; 1..16 */
+	uint32_t slices;		  /* height slices per cell (§3.1), 0 = 5; 1..16 */
 	uint32_t max_occluders;   /* virtual occluders kept per cell (Fig. 6), 0 = 10; 1..255 */
-	uint32_t only;            /* 1 = store only the occluders (PVS_VOCC_ONLY) */
+	uint32_t only;			  /* 1 = store only the occluders (PVS_VOCC_ONLY) */
 } pvs_bake_vocc_params;
 
 /* OTREE's parameters (also under AUTO). */
 typedef struct pvs_bake_otree_params {
-	uint32_t node_budget;     /* per tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24. More never hides less; with
+	uint32_t node_budget;	  /* per tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24. More never hides less; with
 								 many small facades time grows faster than it */
 } pvs_bake_otree_params;
 
 /* PORTAL's parameters (>>portal). */
 typedef struct pvs_bake_portal_params {
-	uint32_t budget;          /* portal clips per cell before the conservative cut-off, 0 = PVS_PORTAL_BUDGET */
+	uint32_t budget;		  /* portal clips per cell before the conservative cut-off, 0 = PVS_PORTAL_BUDGET */
 } pvs_bake_portal_params;
 #define PVS_PORTAL_BUDGET 200000u
 
 /* What to bake. Zero fields and per-method parameters get defaults. */
 typedef struct pvs_bake_desc {
 	const pvs_scene *scene;   /* must outlive the bake */
-	const pvs_box *cells;     /* cell_count view cells, copied */
+	const pvs_box *cells;	  /* cell_count view cells, copied */
 	uint32_t cell_count;
-	pvs_method method;        /* PVS_METHOD_DEFAULT = AUTO */
-	float eps;                /* sampling / shrinking distance; 0 = derived from the cells */
-	uint32_t max_chain;       /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
+	pvs_method method;		  /* PVS_METHOD_DEFAULT = AUTO */
+	float eps;				  /* sampling / shrinking distance; 0 = derived from the cells */
+	uint32_t max_chain;		  /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
 	/* Shards (build farms), shard_count >= 2: bakes cells shard_index, shard_index + shard_count, ... into a
 	   part file; parts 0..shard_count-1 decoded and encoded whole (pvs_file_encode) give the unsharded file. */
 	uint32_t shard_index, shard_count;
-	uint32_t methods;         /* AUTO's candidates: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC and
+	uint32_t methods;		  /* AUTO's candidates: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC and
 								 PORTAL */
-	float max_distance;       /* draw distance: drop objects whose box is farther from every cell point; 0: none */
-	uint32_t flags;           /* PVS_BAKE_* */
+	float max_distance;		  /* draw distance: drop objects whose box is farther from every cell point; 0: none */
+	uint32_t flags;			  /* PVS_BAKE_* */
 	pvs_bake_sample_params sample;
 	pvs_bake_extproj_params extproj;
 	pvs_bake_adaptive_params adaptive;
@@ -1200,10 +1189,10 @@ PVS_API uint32_t pvs_bake_method_count(const pvs_bake *bake);
 /* What method i did, summed over the tasks run (not restored). */
 typedef struct pvs_bake_method_info {
 	pvs_method method;
-	int ran;                  /* 1: every task runs it; 0: skipped */
-	const char *reason;       /* why it runs or was skipped (a constant string, never NULL) */
-	uint32_t cells;           /* tasks that ran it */
-	uint64_t pvs_sum;         /* sum over those cells of the PVS size this method found alone */
+	int ran;				  /* 1: every task runs it; 0: skipped */
+	const char *reason;		  /* why it runs or was skipped (a constant string, never NULL) */
+	uint32_t cells;			  /* tasks that ran it */
+	uint64_t pvs_sum;		  /* sum over those cells of the PVS size this method found alone */
 	/* (cell, drawable object) pairs only it left out of the intersection; one a later method did not test
 	   (kept_only) counts for those that culled it. */
 	uint64_t sole_culls;
@@ -1211,7 +1200,7 @@ typedef struct pvs_bake_method_info {
 	   time); pvs_sum counts their culls as kept. */
 	int kept_only;
 	/* AUTO's sample (sample_cells > 0): objects per sample cell it culled beyond the methods kept before it (a
-	   skipped one: beyond all those kept) */
+	   skipped one: beyond all those kept; 0 cells: one too costly to sample) */
 	uint32_t sample_cells;
 	float sample_gain;
 } pvs_bake_method_info;
@@ -1235,11 +1224,11 @@ PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
    facade's level (the lowest of at most eight base heights at or above its base): a ray could pass under it. facades ==
    0: nothing is culled. All zero when OTREE was not prepared. */
 typedef struct pvs_otree_bake_info {
-	uint32_t prepared;           /* 1 when the bake prepared OTREE */
+	uint32_t prepared;			 /* 1 when the bake prepared OTREE */
 	uint32_t vertical_triangles; /* triangles of the scene standing vertical */
-	uint32_t facades;            /* facades in use (base no higher than the highest cell bottom) */
-	uint32_t levels;             /* distinct base heights in use */
-	float lowest_level;          /* the lowest of them (when levels > 0) */
+	uint32_t facades;			 /* facades in use (base no higher than the highest cell bottom) */
+	uint32_t levels;			 /* distinct base heights in use */
+	float lowest_level;			 /* the lowest of them (when levels > 0) */
 } pvs_otree_bake_info;
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *bake, pvs_otree_bake_info *info);
 /* What PORTAL built (zeros when the bake did not prepare it): the closed convex solids, the distinct planes of
@@ -1253,12 +1242,12 @@ PVS_API void pvs_bake_get_portal_info(const pvs_bake *bake, pvs_portal_info *inf
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *bake, pvs_vocc_stats *out);
 /* Counts over the tasks run: culling nothing is conservative, not an error, but worth reporting. */
 typedef struct pvs_bake_report {
-	uint32_t cells;              /* tasks run so far */
+	uint32_t cells;				 /* tasks run so far */
 	uint32_t cells_all_visible;  /* cells whose PVS holds every drawable object */
 	/* Cells without occluders: SHRINK, none survived erosion (thin walls, or eps too large); OTREE, no usable
 	   facade; AUTO, neither and nothing culled. */
 	uint32_t cells_no_occluders;
-	uint32_t cells_excluded;     /* SHRINK: leaking cells left out, baked with a second synthesis */
+	uint32_t cells_excluded;	 /* SHRINK: leaking cells left out, baked with a second synthesis */
 	uint32_t cells_otree_budget; /* OTREE: cells whose tree hit otree.node_budget (more may cull more) */
 } pvs_bake_report;
 /* Fills *report. Not concurrently with the tasks. */
@@ -1281,8 +1270,8 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 /* File flags. */
 #define PVS_FILE_APPROXIMATE 1u /* baked by an estimator (SAMPLE): not conservative */
 
-#define PVS_DEFAULT_CHAIN 8u    /* default bound K on a cell's delta chain */
-#define PVS_MAX_CHAIN 64u       /* largest K a file may declare */
+#define PVS_DEFAULT_CHAIN 8u	/* default bound K on a cell's delta chain */
+#define PVS_MAX_CHAIN 64u		/* largest K a file may declare */
 
 /* A PVS table to encode: cell_count bitsets of PVS_BITSET_WORDS(object_count) words. The encoder (Durand
    et al. 2000, §6.2; FILE FORMAT) picks bases by a depth-bounded minimum spanning tree over nearest
@@ -1291,12 +1280,12 @@ typedef struct pvs_file_desc {
 	const pvs_box *cells;
 	uint32_t cell_count;
 	uint32_t object_count;
-	const pvs_word *pvs;       /* cell-major */
+	const pvs_word *pvs;	   /* cell-major */
 	pvs_method method;
 	float eps;
-	uint32_t up_axis;          /* 1 or 2 */
-	uint32_t flags;            /* PVS_FILE_* */
-	uint32_t max_chain;        /* K, the most deltas a decode applies: 0 = PVS_DEFAULT_CHAIN, else 1..PVS_MAX_CHAIN */
+	uint32_t up_axis;		   /* 1 or 2 */
+	uint32_t flags;			   /* PVS_FILE_* */
+	uint32_t max_chain;		   /* K, the most deltas a decode applies: 0 = PVS_DEFAULT_CHAIN, else 1..PVS_MAX_CHAIN */
 	/* A part file (shard_count >= 2) holds cells shard_index, shard_index + shard_count, ... of
 	   total_cell_count, in order. Zero for a whole file. */
 	uint32_t shard_index, shard_count, total_cell_count;
@@ -1304,7 +1293,7 @@ typedef struct pvs_file_desc {
 	   occluders in virtual_occluders, scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step
 	   (finite, step > 0); vocc_flags PVS_VOCC_ONLY for a placeholder table. */
 	const uint8_t *vocc_counts, *vocc_scales, *virtual_occluders;
-	uint32_t vocc_stride;      /* bytes from one cell's occluders to the next; 0 = back to back */
+	uint32_t vocc_stride;	   /* bytes from one cell's occluders to the next; 0 = back to back */
 	float vocc_base, vocc_height_step;
 	uint32_t vocc_flags;
 	pvs_allocator allocator;   /* the encoder's scratch */
@@ -1326,22 +1315,22 @@ typedef struct pvs_file {
 	pvs_method method;
 	float eps;
 	uint32_t up_axis;
-	uint32_t max_chain;        /* K: no decode applies more deltas */
-	uint32_t key_count;        /* cells stored whole */
+	uint32_t max_chain;		   /* K: no decode applies more deltas */
+	uint32_t key_count;		   /* cells stored whole */
 	uint32_t shard_index, shard_count, total_cell_count; /* a part file when shard_count >= 2 */
-	uint32_t vocc_flags;       /* PVS_VOCC_*: 0 when the file has no virtual occluders */
-	uint32_t virtual_occluder_count;     /* VOCC: occluders stored, all cells */
-	float vocc_base, vocc_height_step;   /* VOCC: top = base + byte * step */
+	uint32_t vocc_flags;	   /* PVS_VOCC_*: 0 when the file has no virtual occluders */
+	uint32_t virtual_occluder_count;	 /* VOCC: occluders stored, all cells */
+	float vocc_base, vocc_height_step;	 /* VOCC: top = base + byte * step */
 	struct {
-		const uint8_t *values[3];   /* CELL: per-axis coordinate tables */
-		const uint8_t *indices;     /* CELL: packed per-cell indices */
+		const uint8_t *values[3];	/* CELL: per-axis coordinate tables */
+		const uint8_t *indices;		/* CELL: packed per-cell indices */
 		uint32_t value_count[3], index_bits[6], cell_bits; /* widths: min indices, then extents */
 		size_t index_bytes;
-		const uint8_t *tree;        /* TREE: nodes, leaf offsets, items */
+		const uint8_t *tree;		/* TREE: nodes, leaf offsets, items */
 		uint32_t tree_depth;
-		const uint8_t *records;     /* RECS */
+		const uint8_t *records;		/* RECS */
 		uint32_t records_size, block_count;
-		const uint8_t *vocc;        /* VOCC */
+		const uint8_t *vocc;		/* VOCC */
 		uint32_t vocc_size;
 	} private_;
 } pvs_file;
@@ -1354,11 +1343,11 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, 
 
 /* How a cell's record is stored (pvsinfo prints these). */
 typedef struct pvs_record_info {
-	uint32_t base;             /* the cell the delta applies to, PVS_NO_CELL for a key cell */
-	uint32_t depth;            /* deltas applied to decode this cell (0 for a key cell) */
-	uint32_t coding;           /* of the (added) ids: 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
-	uint32_t bytes;            /* size of the record */
-	uint32_t base_size;        /* a delta: the size of the base's PVS its removal ranks count in */
+	uint32_t base;			   /* the cell the delta applies to, PVS_NO_CELL for a key cell */
+	uint32_t depth;			   /* deltas applied to decode this cell (0 for a key cell) */
+	uint32_t coding;		   /* of the (added) ids: 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
+	uint32_t bytes;			   /* size of the record */
+	uint32_t base_size;		   /* a delta: the size of the base's PVS its removal ranks count in */
 } pvs_record_info;
 #define PVS_CODING_COUNT 4
 /* Fills *info for cell < cell_count. No allocation. */
@@ -1393,8 +1382,8 @@ typedef void (*pvs_change_fn)(void *user, uint32_t object, int visible);
    data over caller memory; no allocation. */
 typedef struct pvs_cursor {
 	const pvs_file *file;
-	uint32_t cell;             /* current cell, PVS_NO_CELL before the first move */
-	pvs_word *bits;            /* the current PVS (read it, do not write it) */
+	uint32_t cell;			   /* current cell, PVS_NO_CELL before the first move */
+	pvs_word *bits;			   /* the current PVS (read it, do not write it) */
 	pvs_word *scratch;
 	size_t word_count;
 	uint64_t delta_moves, full_moves; /* statistics: moves by one delta, by a full decode */
@@ -1963,10 +1952,10 @@ typedef struct pvs__bake_env {
 	const pvs_box *task_cells;
 	uint32_t task_count;
 	uint32_t object_count;
-	size_t words;              /* per PVS */
-	float eps;                 /* the bake's eps (stored in the file): a method's prepare may derive it */
-	uint32_t flags;            /* PVS_BAKE_* */
-	int is_auto;               /* 1: AUTO (this method's PVS may be intersected with others) */
+	size_t words;			   /* per PVS */
+	float eps;				   /* the bake's eps (stored in the file): a method's prepare may derive it */
+	uint32_t flags;			   /* PVS_BAKE_* */
+	int is_auto;			   /* 1: AUTO (this method's PVS may be intersected with others) */
 } pvs__bake_env;
 
 /* What the run of a cell found (per task, for pvs_bake_report). */
@@ -1978,18 +1967,18 @@ typedef struct pvs__bake_env {
 /* Traits of a method (pvs__bake_method.traits). */
 #define PVS__METHOD_CONSERVATIVE 1u /* AUTO may intersect it (never an estimate from below) */
 #define PVS__METHOD_AUTO_DEFAULT 2u /* AUTO considers it when pvs_bake_desc.methods is 0 */
-#define PVS__METHOD_APPROXIMATE 4u  /* its file is flagged PVS_FILE_APPROXIMATE */
-#define PVS__METHOD_WHOLE_CELLS 8u  /* run alone, it stores data of whole cells beyond their PVSs: no
+#define PVS__METHOD_APPROXIMATE 4u	/* its file is flagged PVS_FILE_APPROXIMATE */
+#define PVS__METHOD_WHOLE_CELLS 8u	/* run alone, it stores data of whole cells beyond their PVSs: no
 									   adaptive cells, no resuming from PVSs */
 #define PVS__METHOD_SETS_OTHERS 16u /* it sets every object outside its candidates (pvs_bake_method_info's
 									   kept_only when it runs after others) */
 
 typedef struct pvs__bake_method {
 	pvs_method method;
-	uint32_t traits;            /* PVS__METHOD_* */
-	int cost_rank;              /* AUTO runs the methods cheapest first (1..4); PREVIEW keeps the first
+	uint32_t traits;			/* PVS__METHOD_* */
+	int cost_rank;				/* AUTO runs the methods cheapest first (1..4); PREVIEW keeps the first
 								   that applies */
-	int cost_class;             /* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
+	int cost_class;				/* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
 	/* Checks desc's parameters of this method, whichever method the bake runs. NULL: none. */
 	pvs_result (*check)(const pvs_bake_desc *desc, pvs_error *err);
 	/* Makes *state, read-only in the tasks but for per-task slots. UNSUPPORTED: the method cannot
@@ -2008,6 +1997,8 @@ typedef struct pvs__bake_method {
 	void (*file)(const void *state, pvs_file_desc *fd);
 	/* Frees the state (NULL is fine). */
 	void (*destroy)(const pvs__bake_env *env, void *state);
+	/* AUTO's cost class of a bake of desc's cells when it depends on them, before preparing. NULL: cost_class. */
+	int (*price)(const pvs_bake_desc *desc);
 } pvs__bake_method;
 
 struct pvs_bake;
@@ -2022,23 +2013,23 @@ PVS__STATIC void *pvs__bake_method_state(const struct pvs_bake *b, pvs_method m)
 struct pvs_scene {
 	pvs_allocator allocator;
 	uint32_t vertex_count, triangle_count, object_count, occluder_count;
-	uint32_t up_axis;            /* 1 or 2 */
+	uint32_t up_axis;			 /* 1 or 2 */
 	uint32_t flags;
-	float *positions;            /* vertex_count * 3 */
-	uint32_t *indices;           /* triangle_count * 3 */
-	uint32_t *triangle_object;   /* triangle_count: object id or PVS_NO_OBJECT */
-	pvs_box *object_boxes;       /* object_count; empty box (min > max) for empty objects */
-	uint32_t *object_flags;      /* object_count */
+	float *positions;			 /* vertex_count * 3 */
+	uint32_t *indices;			 /* triangle_count * 3 */
+	uint32_t *triangle_object;	 /* triangle_count: object id or PVS_NO_OBJECT */
+	pvs_box *object_boxes;		 /* object_count; empty box (min > max) for empty objects */
+	uint32_t *object_flags;		 /* object_count */
 	uint32_t *object_triangles;  /* object_count * 2: first triangle, triangle count */
 	pvs_box bounds;
 	pvs_occluder_desc *occluders;/* occluder_count, arrays pointing into occluder_data */
-	pvs_box *occluder_boxes;     /* occluder_count */
-	float *occluder_data;        /* planes and footprints of all occluders */
+	pvs_box *occluder_boxes;	 /* occluder_count */
+	float *occluder_data;		 /* planes and footprints of all occluders */
 	size_t occluder_data_count;  /* floats in occluder_data */
-	pvs_kdtree *triangle_tree;   /* over triangle boxes (zero-area triangles left out) */
-	pvs_kdtree *object_tree;     /* over object boxes (empty objects left out) */
-	float *triangle_corners;     /* triangle_count * 9: corners sorted lexicographically, for ray casts */
-	double max_triangle_area;    /* the largest triangle's area (occluder selection's bound) */
+	pvs_kdtree *triangle_tree;	 /* over triangle boxes (zero-area triangles left out) */
+	pvs_kdtree *object_tree;	 /* over object boxes (empty objects left out) */
+	float *triangle_corners;	 /* triangle_count * 9: corners sorted lexicographically, for ray casts */
+	double max_triangle_area;	 /* the largest triangle's area (occluder selection's bound) */
 };
 
 /* Fills s->triangle_corners and empties the boxes of zero-area triangles (>>kdtree). */
@@ -2577,28 +2568,28 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
    the split plane or the leaf's item count. Node 0 is the root; inner nodes have two children, so N nodes
    have (N + 1) / 2 leaves. Items are referenced from every leaf whose closed cell overlaps their closed box:
    a point on a split plane finds every box touching it on either side. */
-#define PVS__KD_BINS 32                 /* SAH candidate planes per axis: PVS__KD_BINS - 1 */
-#define PVS__KD_SAMPLE 256            /* most refs binned per node (an even stride through bigger ones) */
-#define PVS__KD_LEAF 3u                 /* axis value of a leaf */
-#define PVS__KD_MAX_INDEX 0x3fffffffu   /* largest child index or item offset in 30 bits */
-#define PVS__KD_COST_TRAVERSE 1.0f      /* SAH cost of one inner node ... */
-#define PVS__KD_COST_ITEM 1.5f          /* ... and of one item test */
-#define PVS__KD_EMPTY_BONUS 0.8f        /* factor for splits that cut off empty space */
-#define PVS__KD_RAY_TOL 1e-7            /* leaf t-intervals widen by this fraction of coordinate size */
+#define PVS__KD_BINS 32					/* SAH candidate planes per axis: PVS__KD_BINS - 1 */
+#define PVS__KD_SAMPLE 256			  /* most refs binned per node (an even stride through bigger ones) */
+#define PVS__KD_LEAF 3u					/* axis value of a leaf */
+#define PVS__KD_MAX_INDEX 0x3fffffffu	/* largest child index or item offset in 30 bits */
+#define PVS__KD_COST_TRAVERSE 1.0f		/* SAH cost of one inner node ... */
+#define PVS__KD_COST_ITEM 1.5f			/* ... and of one item test */
+#define PVS__KD_EMPTY_BONUS 0.8f		/* factor for splits that cut off empty space */
+#define PVS__KD_RAY_TOL 1e-7			/* leaf t-intervals widen by this fraction of coordinate size */
 
 typedef struct pvs__kdnode {
 	union {
-		float split;     /* inner node */
+		float split;	 /* inner node */
 		uint32_t count;  /* leaf: number of items */
 	} u;
-	uint32_t bits;       /* (index << 2) | axis */
+	uint32_t bits;		 /* (index << 2) | axis */
 } pvs__kdnode;
 
 struct pvs_kdtree {
 	pvs_allocator allocator;
-	pvs_box bounds;          /* of the non-empty item boxes; the empty box when there are none */
+	pvs_box bounds;			 /* of the non-empty item boxes; the empty box when there are none */
 	pvs__kdnode *nodes;
-	uint32_t *items;         /* leaf item lists, one after another */
+	uint32_t *items;		 /* leaf item lists, one after another */
 	uint32_t node_count, item_count;
 	size_t node_capacity, item_capacity;
 };
@@ -2611,13 +2602,13 @@ typedef struct pvs__kdref {
 
 typedef struct pvs__kdbuild {
 	pvs_kdtree *tree;
-	pvs__kdref *refs;        /* a stack: the node being split is on top, pending left children below */
+	pvs__kdref *refs;		 /* a stack: the node being split is on top, pending left children below */
 	size_t ref_capacity;
-	size_t refs_left, nodes_left;   /* the pools (pvs__kd_build) */
+	size_t refs_left, nodes_left;	/* the pools (pvs__kd_build) */
 	size_t ref_limit, item_limit, node_limit; /* the most the arrays can need (pvs_kdtree_create) */
 	uint32_t leaf_size, max_depth;
 	pvs_error *err;
-	float planes[3][PVS__KD_BINS + 1];    /* candidate planes of the node being split */
+	float planes[3][PVS__KD_BINS + 1];	  /* candidate planes of the node being split */
 	uint32_t starts[3][PVS__KD_BINS + 1]; /* [s]: refs whose min is <= planes[s] first */
 	uint32_t ends[3][PVS__KD_BINS + 1];   /* [e]: refs whose max is >= planes[e] last */
 } pvs__kdbuild;
@@ -2893,9 +2884,9 @@ PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *t) { return t->node_cou
 /* ---- sweep ---- */
 
 typedef struct pvs__kdsweep {
-	float d2;         /* squared minimum distance from the source */
+	float d2;		  /* squared minimum distance from the source */
 	uint32_t node;
-	pvs_box box;      /* the node's cell */
+	pvs_box box;	  /* the node's cell */
 } pvs__kdsweep;
 
 PVS__STATIC int pvs__kdsweep_before(const void *pa, const void *pb) {
@@ -3203,9 +3194,9 @@ PVS__STATIC int pvs__ray_triangle(const pvs__ray *r, const float *c, double tmax
 typedef struct pvs__raycast {
 	const pvs_scene *scene;
 	pvs__ray ray;
-	double tmax;        /* closest hit so far, or the ray's end */
-	uint32_t triangle;  /* of the closest hit, or 0xffffffff */
-	int any;            /* stop at the first hit */
+	double tmax;		/* closest hit so far, or the ray's end */
+	uint32_t triangle;	/* of the closest hit, or 0xffffffff */
+	int any;			/* stop at the first hit */
 } pvs__raycast;
 
 PVS__STATIC float pvs__raycast_leaf(void *user, const uint32_t *items, uint32_t count, float t_enter, float t_exit) {
@@ -3457,9 +3448,9 @@ PVS__STATIC pvs__i4 pvs__f4_floori(pvs__f4 f) {
 #pragma STDC FP_CONTRACT OFF
 #endif
 
-#define PVS__RASTER_MAXV 8                   /* a clipped triangle has at most 5 */
+#define PVS__RASTER_MAXV 8					 /* a clipped triangle has at most 5 */
 #define PVS__RASTER_ERR_D 9.094947017729282e-13 /* 2^-40 */
-#define PVS__RASTER_ERR_F 9.5367431640625e-07   /* 2^-20 */
+#define PVS__RASTER_ERR_F 9.5367431640625e-07	/* 2^-20 */
 #define PVS__RASTER_MAX_LEVELS 16
 #define PVS__RASTER_BIG 1e30
 
@@ -3497,64 +3488,64 @@ typedef struct pvs__occsel {
 struct pvs_raster {
 	pvs_allocator allocator;
 	uint32_t width, height, flags;
-	float *depth;                               /* width * height */
-	float *tile_min;                            /* farthest depth per 8 x 8 tile */
+	float *depth;								/* width * height */
+	float *tile_min;							/* farthest depth per 8 x 8 tile */
 	size_t tiles;
-	uint32_t levels;                            /* pyramid levels above `depth` */
+	uint32_t levels;							/* pyramid levels above `depth` */
 	uint32_t lw[PVS__RASTER_MAX_LEVELS + 1], lh[PVS__RASTER_MAX_LEVELS + 1];
 	float *lmin[PVS__RASTER_MAX_LEVELS + 1], *lmax[PVS__RASTER_MAX_LEVELS + 1];
 	float *pyramid;
 	size_t pyramid_floats;
-	int pyramid_valid;                          /* 1: per-pixel pyramid current, 2: tile pyramid */
+	int pyramid_valid;							/* 1: per-pixel pyramid current, 2: tile pyramid */
 	pvs__tile *tile;
-	uint32_t tw, th;                            /* tile grid */
-	uint32_t xpad;                              /* bits of the last tile column past the map */
-	uint32_t ypad;                              /* rows of the last tile row in the map (1..4) */
-	int tiled;                                  /* occluders go to the tiles, else to `depth` */
-	int mixed;                                  /* `depth` holds occludees drawn since the clear (untiled: all) */
-	float *bmin;                                /* per block of 8 x 8 tiles: <= the least base z0 */
-	uint8_t *bdirty;                            /* 1: a base grew since bmin was taken */
-	uint32_t bw, bh;                            /* block grid */
-	uint32_t tlevels;                           /* tile pyramid levels above the tile grid */
+	uint32_t tw, th;							/* tile grid */
+	uint32_t xpad;								/* bits of the last tile column past the map */
+	uint32_t ypad;								/* rows of the last tile row in the map (1..4) */
+	int tiled;									/* occluders go to the tiles, else to `depth` */
+	int mixed;									/* `depth` holds occludees drawn since the clear (untiled: all) */
+	float *bmin;								/* per block of 8 x 8 tiles: <= the least base z0 */
+	uint8_t *bdirty;							/* 1: a base grew since bmin was taken */
+	uint32_t bw, bh;							/* block grid */
+	uint32_t tlevels;							/* tile pyramid levels above the tile grid */
 	uint32_t tlw[PVS__RASTER_MAX_LEVELS * 2 + 1], tlh[PVS__RASTER_MAX_LEVELS * 2 + 1];
 	uint8_t tsx[PVS__RASTER_MAX_LEVELS * 2 + 1],
 		tsy[PVS__RASTER_MAX_LEVELS * 2 + 1]; /* tiles per texel: 1 << tsx by 1 << tsy */
 	float *tlmin[PVS__RASTER_MAX_LEVELS * 2 + 1], *tlmax[PVS__RASTER_MAX_LEVELS * 2 + 1];
 	float *tpyramid;
 	size_t tpyramid_floats;
-	double m[16];                               /* current projection */
-	double mabs[2];                             /* max row sum of |m| over x, y, z; max |m_r3| */
-	float mf[16], hwf, hhf;                     /* the projection as given; half the map size (prefilter) */
-	float mb[16][4];                            /* mf broadcast to four lanes */
-	double rowa[4], rowt[4];                    /* per row of m: |m_r0| + |m_r1| + |m_r2|, |m_r3| */
+	double m[16];								/* current projection */
+	double mabs[2];								/* max row sum of |m| over x, y, z; max |m_r3| */
+	float mf[16], hwf, hhf;						/* the projection as given; half the map size (prefilter) */
+	float mb[16][4];							/* mf broadcast to four lanes */
+	double rowa[4], rowt[4];					/* per row of m: |m_r0| + |m_r1| + |m_r2|, |m_r3| */
 	/* occluder meshes (pvs_raster_mesh): scratch for mesh_cap triangles, four pixel rows */
-	uint32_t mesh_cap, mesh_hash;               /* triangles per piece; hash slots (a power of two) */
-	struct pvs__mtri *mt;                       /* mesh_cap prepared triangles */
-	uint32_t *mcid, *mpart;                     /* 3 mesh_cap: welded vertex per corner; partner half-edge */
-	uint8_t *mvst;                              /* 3 mesh_cap: corner state against the clip planes */
-	int8_t *mgrp;                               /* mesh_cap: facing +1 / -1, 0 = left out */
-	uint32_t *mtab, *morder, *mact, *mband;     /* hash slots; mesh_cap; mesh_cap; th + 1 */
-	float *mzmin;                               /* 4 width: least bound of the touching triangles */
+	uint32_t mesh_cap, mesh_hash;				/* triangles per piece; hash slots (a power of two) */
+	struct pvs__mtri *mt;						/* mesh_cap prepared triangles */
+	uint32_t *mcid, *mpart;						/* 3 mesh_cap: welded vertex per corner; partner half-edge */
+	uint8_t *mvst;								/* 3 mesh_cap: corner state against the clip planes */
+	int8_t *mgrp;								/* mesh_cap: facing +1 / -1, 0 = left out */
+	uint32_t *mtab, *morder, *mact, *mband;		/* hash slots; mesh_cap; mesh_cap; th + 1 */
+	float *mzmin;								/* 4 width: least bound of the touching triangles */
 	uint8_t *mflag; /* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
-	uint8_t *mdirty;                            /* 4 tw: band words the scratch holds */
+	uint8_t *mdirty;							/* 4 tw: band words the scratch holds */
 	const pvs_scene *scene;
 	uint32_t max_objects, max_triangles;
 	void *sweep;
 	size_t sweep_size;
 	pvs__occsel *occ;
 	uint32_t max_occluders;
-	pvs_word *tri_seen;                         /* max_triangles bits */
-	pvs_word *obj_done;                         /* max_objects bits */
+	pvs_word *tri_seen;							/* max_triangles bits */
+	pvs_word *obj_done;							/* max_objects bits */
 	uint32_t cm_w, cm_h;
-	float *cm;                                  /* cm_w * cm_h heights */
-	float *cm_tile_min;                         /* lowest height per 8 x 8 tile */
+	float *cm;									/* cm_w * cm_h heights */
+	float *cm_tile_min;							/* lowest height per 8 x 8 tile */
 	size_t cm_tiles;
-	float region[4];                            /* u0, v0, u1, v1 */
-	uint32_t *cm_start;                         /* cm_w * cm_h + 1 */
+	float region[4];							/* u0, v0, u1, v1 */
+	uint32_t *cm_start;							/* cm_w * cm_h + 1 */
 	uint32_t *cm_items;
 	uint32_t cm_item_count;
-	float *cm_bound;                            /* highest object top per cell (Wonka 1999 §4.3) */
-	float ground;                               /* the scene's lowest point on the up axis */
+	float *cm_bound;							/* highest object top per cell (Wonka 1999 §4.3) */
+	float ground;								/* the scene's lowest point on the up axis */
 };
 
 typedef struct pvs__rsetup {
@@ -3562,8 +3553,8 @@ typedef struct pvs__rsetup {
 	int32_t li0, li1, lj0, lj1; /* the part a loop covers (one tile) */
 	int edges;
 	float a[PVS__RASTER_MAXV], b[PVS__RASTER_MAXV], k[PVS__RASTER_MAXV];
-	float za, zb, zk;     /* depth plane bound */
-	float zclamp;         /* occluder: max(plane, zclamp); occludee: min(plane, zclamp) */
+	float za, zb, zk;	  /* depth plane bound */
+	float zclamp;		  /* occluder: max(plane, zclamp); occludee: min(plane, zclamp) */
 } pvs__rsetup;
 
 /* Reference pixel rule (scalar loop, SIMD tails): inside every edge (rk: at column i0), clamped plane depth if nearer.
@@ -3922,17 +3913,17 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 #define PVS__TH_SHIFT 2
 #define PVS__TH 4
 #define PVS__BLOCK_SHIFT 3 /* blocks of 8 x 8 tiles (256 x 32 pixels): prefilter's hidden test */
-#define PVS__U_2_20 9.5367431640625e-07        /* 2^-20 */
-#define PVS__U_2_21 4.76837158203125e-07       /* 2^-21 */
-#define PVS__U_2_44 5.684341886080802e-14      /* 2^-44 */
-#define PVS__U_2_48 3.552713678800501e-15      /* 2^-48 */
+#define PVS__U_2_20 9.5367431640625e-07		   /* 2^-20 */
+#define PVS__U_2_21 4.76837158203125e-07	   /* 2^-21 */
+#define PVS__U_2_44 5.684341886080802e-14	   /* 2^-44 */
+#define PVS__U_2_48 3.552713678800501e-15	   /* 2^-48 */
 
 /* Occluder polygon for the tile loops (i, j relative to (i0, j0)): pixel i of row j is inside edge e if i >= X_e(j)
    (left) or i <= X_e(j) (right); X_e(j) = xi + s j is the double edge line with margins; m: its float error bound. */
 typedef struct pvs__tpoly {
 	int32_t i0, i1, j0, j1;    /* inner pixel range (absolute) */
-	int32_t jlo, jhi;          /* rows (relative) the near-horizontal edges leave */
-	int nl, ne;                /* edges [0, nl) bound from the left, [nl, ne) from the right */
+	int32_t jlo, jhi;		   /* rows (relative) the near-horizontal edges leave */
+	int nl, ne;				   /* edges [0, nl) bound from the left, [nl, ne) from the right */
 	double xi[PVS__RASTER_MAXV], s[PVS__RASTER_MAXV], cl[PVS__RASTER_MAXV];
 	float sf[PVS__RASTER_MAXV], m[PVS__RASTER_MAXV];
 	float zk, za, zb, zm, zlo; /* plane at (i0, j0) less float margin zm, clamped to the farthest vertex zlo */
@@ -4614,16 +4605,16 @@ PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, 
 
 typedef struct pvs__mtri {
 	int32_t i0, i1, j0, j1; /* pixels that may meet it, clamped to the map (empty: i0 > i1 or j0 > j1) */
-	int n;                          /* polygon vertices, 3..5 */
-	int full;                       /* edges of non-zero length (the inner test needs 3) */
-	uint8_t lab[PVS__MESH_MAXV];    /* edge k (vertex k to k + 1): triangle edge 0..2 or PVS__MESH_CLIP */
-	uint8_t bnd[PVS__MESH_MAXV];    /* 1: a boundary edge */
+	int n;							/* polygon vertices, 3..5 */
+	int full;						/* edges of non-zero length (the inner test needs 3) */
+	uint8_t lab[PVS__MESH_MAXV];	/* edge k (vertex k to k + 1): triangle edge 0..2 or PVS__MESH_CLIP */
+	uint8_t bnd[PVS__MESH_MAXV];	/* 1: a boundary edge */
 	double x[PVS__MESH_MAXV], y[PVS__MESH_MAXV];
 	double a[PVS__MESH_MAXV], b[PVS__MESH_MAXV], k[PVS__MESH_MAXV], e[PVS__MESH_MAXV]; /* E = a x + b y + k >= 0
 									   inside, |a| + |b| = 1 (0, 0: zero length); |E - exact| < e */
 	double xmin, xmax, ymin, ymax, dx; /* dx bounds the vertices' error */
-	double wide;                    /* beyond the first pass's rounding: what it misses by an edge is in the strip */
-	float za, zb, zk, zclamp;       /* over pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
+	double wide;					/* beyond the first pass's rounding: what it misses by an edge is in the strip */
+	float za, zb, zk, zclamp;		/* over pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
 } pvs__mtri;
 
 /* Clips, projects and prepares clip-space triangle v of facing `orient` (+1 / -1); 0 when nothing is left. */
@@ -5272,8 +5263,8 @@ PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t t
 	uint32_t w = r->lw[l];
 	float lo = r->lmin[l][ty * w + tx], hi = r->lmax[l][ty * w + tx];
 	uint32_t cx, cy, cx0, cx1, cy0, cy1, pw, ph;
-	if (lo > d) return 0;   /* all nearer: hidden */
-	if (hi <= d) return 1;  /* all farther: visible (the texel meets the rect) */
+	if (lo > d) return 0;	/* all nearer: hidden */
+	if (hi <= d) return 1;	/* all farther: visible (the texel meets the rect) */
 	/* l > 0 here: level-0 texels have lo == hi */
 	pw = r->lw[l - 1];
 	ph = r->lh[l - 1];
@@ -6454,23 +6445,23 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 
 typedef struct pvs__otpoly {
 	int n;
-	int xsplit;                     /* already split at a crossing point X (§6.5.1 case 3) */
-	double v[PVS__OT_MAXV][3];      /* extremal lines, unit length */
-	double e[PVS__OT_MAXV][2];      /* edge i (v[i] -> v[i+1]) lies in the plane of point e[i] */
+	int xsplit;						/* already split at a crossing point X (§6.5.1 case 3) */
+	double v[PVS__OT_MAXV][3];		/* extremal lines, unit length */
+	double e[PVS__OT_MAXV][2];		/* edge i (v[i] -> v[i+1]) lies in the plane of point e[i] */
 	unsigned char mark[PVS__OT_MAXV];
 } pvs__otpoly;
 
 typedef struct pvs__otnode {
-	double p[2];        /* interior: the plane is sign * (p.x, p.y, 1) */
-	double n[3];        /* ... as a unit normal */
+	double p[2];		/* interior: the plane is sign * (p.x, p.y, 1) */
+	double n[3];		/* ... as a unit normal */
 	int32_t sign;
-	uint32_t kind;      /* 0 interior, PVS__OT_OUT, PVS__OT_IN */
-	uint32_t child[2];  /* [0] negative side, [1] positive side */
+	uint32_t kind;		/* 0 interior, PVS__OT_OUT, PVS__OT_IN */
+	uint32_t child[2];	/* [0] negative side, [1] positive side */
 	uint32_t first, count; /* in-leaf payload: occluders seq[first .. first + count) */
-	uint32_t parent;    /* PVS__OT_NONE at the root */
-	double mvd;         /* 2D: maximum visibility distance of the subtree (§6.5.5); DBL_MAX above out-leaves */
-	double mr, ms;      /* 2.5D: the subtree's hidden-height bound (pvs__ot25_bound); mr DBL_MAX: none */
-	double ml, mls;     /* 2.5D: a second one, from the member of least reach; ml DBL_MAX: none */
+	uint32_t parent;	/* PVS__OT_NONE at the root */
+	double mvd;			/* 2D: maximum visibility distance of the subtree (§6.5.5); DBL_MAX above out-leaves */
+	double mr, ms;		/* 2.5D: the subtree's hidden-height bound (pvs__ot25_bound); mr DBL_MAX: none */
+	double ml, mls;		/* 2.5D: a second one, from the member of least reach; ml DBL_MAX: none */
 } pvs__otnode;
 
 typedef struct pvs__otree {
@@ -6479,23 +6470,23 @@ typedef struct pvs__otree {
 	size_t node_count, node_cap;
 	uint32_t *seq;
 	size_t seq_count, seq_cap;
-	pvs__otpoly *stack;             /* work stack: item i is stack[stack_slot[i]] (PVS__OT_ITEM) */
-	uint32_t *stack_slot;           /* a permutation: a clip writes into a free slot, then swaps */
+	pvs__otpoly *stack;				/* work stack: item i is stack[stack_slot[i]] (PVS__OT_ITEM) */
+	uint32_t *stack_slot;			/* a permutation: a clip writes into a free slot, then swaps */
 	uint32_t *stack_node;
-	uint32_t *stack_pend;           /* read-only tests: the clip owed, (node << 1) | side, or PVS__OT_NONE */
+	uint32_t *stack_pend;			/* read-only tests: the clip owed, (node << 1) | side, or PVS__OT_NONE */
 	size_t stack_count, stack_cap;
 	int oom;
-	const double *seg;              /* occluder segments, 4 local doubles each */
-	const double *top;              /* 2.5D: occluder top heights; NULL in 2D */
-	const double *reach;            /* 2D: per occluder, its largest distance to a cell point */
-	double sa[2], sb[2];            /* the source edge (cell edge or top edge) */
-	double eye;                     /* 2.5D: height of the source edge */
-	const double *corners;          /* 2.5D: the cell's 4 ground corners (every eye position) */
-	double *jd;                     /* 2.5D: per occluder, PVS__OT25_JD doubles (pvs__ot25_prepare) */
-	double len_eps;                 /* distances below this are ties */
-	uint32_t root_in;               /* 2.5D: the node of the lines leaving through the source edge */
-	int full_tests;                 /* 2.5D: PVS__VISIBILITY_25D_FULL_TESTS (no witness lines) */
-	int nwit;                       /* 2.5D: witness lines, most recently useful first */
+	const double *seg;				/* occluder segments, 4 local doubles each */
+	const double *top;				/* 2.5D: occluder top heights; NULL in 2D */
+	const double *reach;			/* 2D: per occluder, its largest distance to a cell point */
+	double sa[2], sb[2];			/* the source edge (cell edge or top edge) */
+	double eye;						/* 2.5D: height of the source edge */
+	const double *corners;			/* 2.5D: the cell's 4 ground corners (every eye position) */
+	double *jd;						/* 2.5D: per occluder, PVS__OT25_JD doubles (pvs__ot25_prepare) */
+	double len_eps;					/* distances below this are ties */
+	uint32_t root_in;				/* 2.5D: the node of the lines leaving through the source edge */
+	int full_tests;					/* 2.5D: PVS__VISIBILITY_25D_FULL_TESTS (no witness lines) */
+	int nwit;						/* 2.5D: witness lines, most recently useful first */
 	double wit[PVS__OT25_WITNESSES][3];
 } pvs__otree;
 
@@ -6651,7 +6642,7 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 			if (in_i) { /* leaving: the new edge runs along p's plane */
 				out->e[m][0] = p[0]; out->e[m][1] = p[1];
 				out->mark[m] = (unsigned char)mark;
-			} else {    /* entering: the rest of edge i */
+			} else {	/* entering: the rest of edge i */
 				memcpy(out->e[m], in->e[i], sizeof(out->e[m]));
 				out->mark[m] = in->mark[i];
 			}
@@ -6789,7 +6780,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 			pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top + 1));
 		return 1;
 	}
-	{   /* a child whose subtree hides the query (2.5D bound) gets nothing */
+	{	/* a child whose subtree hides the query (2.5D bound) gets nothing */
 		int h0 = PVS__OT25_HIDDEN(t, t->nodes + c0, near, h), h1 = PVS__OT25_HIDDEN(t, t->nodes + c1, near, h);
 		if (h0 && h1) { t->stack_count = top; return 0; }
 		if (h0 || h1) {
@@ -7070,8 +7061,8 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 			int front, behind;
 			if (j == k) continue;
 			pvs__ot_depth(t, &q, sj, sk, &front, &behind);
-			if (!front) continue;                        /* case 1 (behind) and case 4 (collinear) */
-			if (behind && !q.xsplit) {                   /* case 3: split at the crossing X */
+			if (!front) continue;						 /* case 1 (behind) and case 4 (collinear) */
+			if (behind && !q.xsplit) {					 /* case 3: split at the crossing X */
 				double x[2];
 				if (pvs__ot_cross(sj, sk, x)) {
 					(void)pvs__ot2_xsplit(t, node, &q, x);
@@ -7194,7 +7185,7 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
 		const double *a = poly + 2 * i, *b = poly + 2 * ((i + 1) % n);
 		double ex = b[0] - a[0], ey = b[1] - a[1];
 		double f = ex * (s[1] - a[1]) - ey * (s[0] - a[0]); /* >= 0 inside */
-		double g = ex * dy - ey * dx;                        /* change of f along s */
+		double g = ex * dy - ey * dx;						 /* change of f along s */
 		if (g == 0.0) {
 			if (f < 0.0) return 0;
 		} else {
@@ -7430,7 +7421,7 @@ done:
    heights round inward, ends are vertex floats. Writes *count facades (u0 v0 u1 v1 top bottom) into a new *out
    (allocator a, *out_floats floats), *vertical the vertical triangles; OUT_OF_MEMORY leaves *out NULL. */
 #define PVS__FX_MAX_COVER 512 /* a slab covered by more triangles is left out (conservative) */
-#define PVS__OT25_LEVELS 8    /* base heights of facades the OTREE bake tells apart (pvs__otree_prepare) */
+#define PVS__OT25_LEVELS 8	  /* base heights of facades the OTREE bake tells apart (pvs__otree_prepare) */
 
 typedef struct pvs__fxopen {
 	double s0, s1, bot, top;
@@ -7480,16 +7471,16 @@ PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, d
 typedef struct pvs__fxwork {
 	const pvs_scene *sc;
 	const pvs_allocator *a;
-	int u, v, up;           /* ground axes, up axis */
+	int u, v, up;			/* ground axes, up axis */
 	double tol;
-	pvs__key_index *so;      /* 3 nv: a line's members by smallest s, then its vertices by s */
-	double *sv;             /* 14 nv: per member s[3], h[3], smin, smax, ground[3][2] */
-	double *sec;            /* 4 PVS__FX_MAX_COVER: per slab member lo(sa), lo(sb), hi(sa), hi(sb) */
-	uint32_t *ins, *act;    /* nv: members in order of smallest s; the members over the slab */
-	uint32_t *comp, *que;   /* PVS__FX_MAX_COVER + 1: connected set per slab member; its queue */
+	pvs__key_index *so;		 /* 3 nv: a line's members by smallest s, then its vertices by s */
+	double *sv;				/* 14 nv: per member s[3], h[3], smin, smax, ground[3][2] */
+	double *sec;			/* 4 PVS__FX_MAX_COVER: per slab member lo(sa), lo(sb), hi(sa), hi(sb) */
+	uint32_t *ins, *act;	/* nv: members in order of smallest s; the members over the slab */
+	uint32_t *comp, *que;	/* PVS__FX_MAX_COVER + 1: connected set per slab member; its queue */
 	pvs__fxopen *opn, *nxt; /* PVS__FX_MAX_COVER + 1: facades open at the slab's start; those it continues */
 	uint32_t nopen;
-	float **out;            /* the facades (6 floats each), cap floats allocated, *count written */
+	float **out;			/* the facades (6 floats each), cap floats allocated, *count written */
 	size_t cap;
 	uint32_t *count;
 } pvs__fxwork;
@@ -7927,8 +7918,8 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 		if (!pvs__ot25_umbra(t, jd, s0, s1, h, &um[nu][0], &um[nu][1]) || um[nu][1] <= flo || um[nu][0] >= fhi)
 			continue;
 		if (jd[5]) { /* the whole source edge on one side */
-			if (s0 >= -tol && s1 >= -tol) continue;       /* e on the source side: j is behind */
-			if (!(s0 < -tol && s1 < -tol)) {               /* e crosses j's line: vertex test */
+			if (s0 >= -tol && s1 >= -tol) continue;		  /* e on the source side: j is behind */
+			if (!(s0 < -tol && s1 < -tol)) {			   /* e crosses j's line: vertex test */
 				pvs__ot_depth(t, q, e, sj, &front, &behind);
 				if (!front || behind) continue;
 			}
@@ -8170,18 +8161,18 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 typedef struct pvs__ot25_sweep {
 	pvs__otree *t;
 	const pvs_visibility_25d_desc *desc;
-	const double *all;       /* facades, local, 4 doubles each */
-	const double *box;       /* objects, local, 5 doubles each */
-	const double *cell;      /* the grown cell, CCW */
-	unsigned char *state;    /* per facade: 1 + side once handled in this side's tree */
-	unsigned char *done;     /* objects: 0 unknown, 1 visible, 2 never, 3 + side: candidate in this tree */
+	const double *all;		 /* facades, local, 4 doubles each */
+	const double *box;		 /* objects, local, 5 doubles each */
+	const double *cell;		 /* the grown cell, CCW */
+	unsigned char *state;	 /* per facade: 1 + side once handled in this side's tree */
+	unsigned char *done;	 /* objects: 0 unknown, 1 visible, 2 never, 3 + side: candidate in this tree */
 	const double *a, *b;
 	double cx, cy;
 	uint32_t side, budget;
 	pvs_otree_stats *st;
-	const uint32_t *refs;    /* per kD node: item references in its subtree */
-	uint32_t node;           /* the node being visited */
-	uint32_t test_min;       /* inner nodes with fewer references are not tested */
+	const uint32_t *refs;	 /* per kD node: item references in its subtree */
+	uint32_t node;			 /* the node being visited */
+	uint32_t test_min;		 /* inner nodes with fewer references are not tested */
 } pvs__ot25_sweep;
 
 /* Sweep visitor (§7.7), front to back: a node meeting the cell is visible; an inner node with >= w->test_min item
@@ -8562,23 +8553,23 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 
 typedef struct pvs__svpoly {
 	int n;
-	double v[PVS__SV_MAXV][3];   /* vertices, eye at the origin */
-	double e[PVS__SV_MAXV][3];   /* edge v[i] -> v[i + 1]: unit normal of its plane through the eye */
+	double v[PVS__SV_MAXV][3];	 /* vertices, eye at the origin */
+	double e[PVS__SV_MAXV][3];	 /* edge v[i] -> v[i + 1]: unit normal of its plane through the eye */
 	unsigned char mark[PVS__SV_MAXV];
 } pvs__svpoly;
 
 typedef struct pvs__svnode {
 	double n[3];
-	uint32_t kind;      /* 0 inner, PVS__OT_OUT, PVS__OT_IN */
-	uint32_t child[2];  /* [0] negative side, [1] positive side */
-	uint32_t frag;      /* in-leaf: its fragment */
+	uint32_t kind;		/* 0 inner, PVS__OT_OUT, PVS__OT_IN */
+	uint32_t child[2];	/* [0] negative side, [1] positive side */
+	uint32_t frag;		/* in-leaf: its fragment */
 } pvs__svnode;
 
 /* A fragment: the occluder's plane (n.x + d > 0 on the eye's side), its vertices f and the inward normals m of the
    pyramid faces (0, f_i, f_i+1). */
 typedef struct pvs__svfrag {
 	double plane[4];
-	double tol;          /* depth and separation tolerance for this fragment */
+	double tol;			 /* depth and separation tolerance for this fragment */
 	uint32_t first, count;
 } pvs__svfrag;
 typedef struct pvs__svvert {
@@ -8588,7 +8579,7 @@ typedef struct pvs__svvert {
 /* An occluder candidate: score (area-angle, later distance for the order), triangle or volume face. */
 typedef struct pvs__svsel {
 	double key;
-	uint32_t a, b;       /* b == PVS__SV_TRIANGLE: triangle a; else face b of scene occluder a */
+	uint32_t a, b;		 /* b == PVS__SV_TRIANGLE: triangle a; else face b of scene occluder a */
 } pvs__svsel;
 
 struct pvs_otree {
@@ -8604,13 +8595,13 @@ struct pvs_otree {
 	uint32_t frag_count;
 	pvs__svvert *verts;
 	uint32_t vert_count;
-	pvs__svpoly *stack;            /* PVS__SV_STACK insertion work items */
+	pvs__svpoly *stack;			   /* PVS__SV_STACK insertion work items */
 	uint32_t *stack_node;
-	uint32_t *tstack;              /* node_budget + 2: the test traversal */
+	uint32_t *tstack;			   /* node_budget + 2: the test traversal */
 	/* occluder selection (§4.5) */
-	pvs__svsel *sel;               /* max_occluders: min-heap on key while selecting */
+	pvs__svsel *sel;			   /* max_occluders: min-heap on key while selecting */
 	uint32_t sel_count;
-	uint32_t *prev;                /* max_occluders triangles chosen at the end of the last frame */
+	uint32_t *prev;				   /* max_occluders triangles chosen at the end of the last frame */
 	uint32_t prev_count;
 	int have_prev;
 	void *sweep;
@@ -8622,14 +8613,14 @@ struct pvs_otree {
 	uint32_t frame;
 	const pvs_scene *last_scene;
 	const pvs_scene *ranges_scene; /* the scene obj_first / obj_tris describe */
-	uint8_t *obj_flag;             /* per object this frame: 1 in a visible leaf, 2 in a partly visible
+	uint8_t *obj_flag;			   /* per object this frame: 1 in a visible leaf, 2 in a partly visible
 									  leaf, 4 in a leaf within the selection distance */
 	uint32_t *touched;
 	uint32_t touched_count;
 	/* this frame */
 	const pvs_scene *s;
 	double eye[3], fw[3], near_d;
-	double fr[5][4];               /* frustum planes n.x + d >= 0 inside: near, then the four sides */
+	double fr[5][4];			   /* frustum planes n.x + d >= 0 inside: near, then the four sides */
 	double tol, lambda;
 	pvs_otree_frame info;
 	pvs_cull_stats st;
@@ -8737,15 +8728,15 @@ PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs_
 		for (k = 0; k < 3; ++k)
 			if (fabs(a.v[i][k]) > size) size = fabs(a.v[i][k]);
 	len = pvs__sv_unit(nrm);
-	if (!(len > 1e-12 * size * size)) return 0;                    /* no area */
+	if (!(len > 1e-12 * size * size)) return 0;					   /* no area */
 	plane[0] = nrm[0]; plane[1] = nrm[1]; plane[2] = nrm[2];
 	plane[3] = -pvs__sv_dot(nrm, c);
 	if (plane[3] < 0.0) for (k = 0; k < 4; ++k) plane[k] = -plane[k]; /* the eye on the positive side */
-	if (!(plane[3] > 1e-9 * size)) return 0;                        /* the eye (nearly) in its plane */
+	if (!(plane[3] > 1e-9 * size)) return 0;						/* the eye (nearly) in its plane */
 	for (i = 0; i < n; ++i) {
 		double *e = a.e[i];
 		pvs__sv_cross(a.v[i], a.v[(i + 1) % n], e);
-		if (!(pvs__sv_unit(e) > 1e-12 * size * size)) return 0;     /* an edge pointing at the eye */
+		if (!(pvs__sv_unit(e) > 1e-12 * size * size)) return 0;		/* an edge pointing at the eye */
 		if (pvs__sv_dot(e, c) < 0.0) { e[0] = -e[0]; e[1] = -e[1]; e[2] = -e[2]; }
 		if (!(pvs__sv_dot(e, c) > 1e-9 * size)) return 0;
 		a.mark[i] = 0;
@@ -8857,7 +8848,7 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 					if (s > smax) smax = s;
 				}
 				if (smax <= f->tol) continue;  /* behind the stored fragment (or in its plane): hidden here */
-				if (smin < -f->tol) {          /* crossing: keep the part in front */
+				if (smin < -f->tol) {		   /* crossing: keep the part in front */
 					if (pvs__sv_clip(q, f->plane, f->plane[3], NULL, 0, &part) < 3) continue;
 					use = &part;
 				}
@@ -8914,7 +8905,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 			pvs__sv_extent(v, f->count, v[i].m, &plo, &phi);
 			if (bh < -t ? bh < plo - t : pvs__sv_lo(v[i].m, lo, hi) > phi + t) return PVS__SV_I;
 		}
-		{   /* the base's plane: the pyramid spans from the eye (d) to its base (about 0) */
+		{	/* the base's plane: the pyramid spans from the eye (d) to its base (about 0) */
 			double plo = f->plane[3], phi = f->plane[3];
 			for (i = 0; i < f->count; ++i) {
 				double d = pvs__sv_dot(f->plane, v[i].f) + f->plane[3];
@@ -9460,12 +9451,12 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 typedef struct pvs__otree_bake {
 	pvs_allocator allocator;
 	uint32_t object_count;
-	uint32_t budget;           /* pvs_visibility_25d_desc.node_budget (0 = its default) */
-	float *facades;            /* facade_count x (u0 v0 u1 v1 top), by level */
+	uint32_t budget;		   /* pvs_visibility_25d_desc.node_budget (0 = its default) */
+	float *facades;			   /* facade_count x (u0 v0 u1 v1 top), by level */
 	uint32_t facade_count, facade_cap, vertical, level_count;
-	float level[PVS__OT25_LEVELS];        /* base heights, ascending */
+	float level[PVS__OT25_LEVELS];		  /* base heights, ascending */
 	uint32_t level_end[PVS__OT25_LEVELS]; /* the facades of levels <= k: [0, level_end[k]) */
-	float *objects;            /* object_count x (umin vmin umax vmax top) */
+	float *objects;			   /* object_count x (umin vmin umax vmax top) */
 	pvs_kdtree *tree[PVS__OT25_LEVELS];   /* per level, over pvs_visibility_25d_boxes */
 } pvs__otree_bake;
 
@@ -9691,7 +9682,7 @@ PVS__STATIC pvs_result pvs__otree_bake_cell(const pvs__bake_env *env, void *stat
 
 PVS__STATIC const pvs__bake_method pvs__otree_method = {
 	PVS_METHOD_OTREE, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 2, 1, pvs__otree_bake_check,
-	pvs__otree_bake_prepare, pvs__otree_bake_applies, pvs__otree_bake_cell, NULL, pvs__otree_bake_destroy};
+	pvs__otree_bake_prepare, pvs__otree_bake_applies, pvs__otree_bake_cell, NULL, pvs__otree_bake_destroy, NULL};
 
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
 	const pvs__otree_bake *ot = b ? (const pvs__otree_bake *)pvs__bake_method_state(b, PVS_METHOD_OTREE) : NULL;
@@ -9714,7 +9705,7 @@ enum {
 	PVS__VX_TOUCHED = 1,   /* a triangle within the margin */
 	PVS__VX_REACHED = 2,   /* reached by the leak flood */
 	PVS__VX_GROUND = 4,    /* layer 0, below the scene and the cells */
-	PVS__VX_SOLID = 8,     /* certainly solid: proved by a parity flood, or explicit */
+	PVS__VX_SOLID = 8,	   /* certainly solid: proved by a parity flood, or explicit */
 	PVS__VX_EXPLICIT = 16  /* inside an explicit occluder volume */
 };
 /* What stops the leak diagnostic's flood. */
@@ -9732,9 +9723,9 @@ typedef struct pvs__vx_grid {
 typedef struct pvs__vx_cols {
 	pvs__vx_grid grid;
 	uint32_t nu, nv;
-	float *solid;               /* nu * nv: top of the proved-solid runs on the ground (ground: none) */
-	float *top;                 /* nu * nv: occluder height, shrunk by eps (-FLT_MAX: none) */
-	uint32_t levels;            /* pyramid levels (>= 1) */
+	float *solid;				/* nu * nv: top of the proved-solid runs on the ground (ground: none) */
+	float *top;					/* nu * nv: occluder height, shrunk by eps (-FLT_MAX: none) */
+	uint32_t levels;			/* pyramid levels (>= 1) */
 	uint32_t lw[PVS__VX_LEVELS], lh[PVS__VX_LEVELS];
 	float *ptop[PVS__VX_LEVELS], *psolid[PVS__VX_LEVELS]; /* level 0: top, solid; others allocated */
 } pvs__vx_cols;
@@ -9742,39 +9733,39 @@ typedef struct pvs__vx_cols {
 /* A BVH with tight boxes over the drawable objects or the chains, each in one leaf. */
 typedef struct pvs__obvh_node {
 	pvs_box box;
-	uint32_t first, count;      /* leaf: items[first .. first + count); inner: count == 0, children first, first + 1 */
+	uint32_t first, count;		/* leaf: items[first .. first + count); inner: count == 0, children first, first + 1 */
 	uint32_t parent;
 } pvs__obvh_node;
 typedef struct pvs__obvh {
 	pvs__obvh_node *nodes;
 	uint32_t *items, *leaf_of; /* leaf_of: per object, its leaf (or 0xffffffff) */
-	uint32_t *count_below;     /* per node: objects under it */
+	uint32_t *count_below;	   /* per node: objects under it */
 	uint32_t node_count, item_count, object_count;
 } pvs__obvh;
 
 struct pvs_occluders {
 	pvs_allocator allocator;
-	pvs__vx_grid grid;          /* the same as origin, h, n below */
+	pvs__vx_grid grid;			/* the same as origin, h, n below */
 	const pvs_scene *scene;
 	pvs_occluders_info info;
 	double origin[3], h;
 	uint32_t n[3];
 	size_t total;
-	uint8_t *state;             /* total: PVS__VX_* flags */
-	uint8_t *eroded;            /* total: 1 where solid survives the erosion */
+	uint8_t *state;				/* total: PVS__VX_* flags */
+	uint8_t *eroded;			/* total: 1 where solid survives the erosion */
 	pvs_box *boxes;
 	uint32_t box_count;
-	pvs_facade_chain *chains;   /* the 2.5D occluders */
-	pvs_box *chain_boxes;       /* per chain: ground bounding rectangle x [base, top] */
-	float *chain_points;        /* 2 floats per point */
+	pvs_facade_chain *chains;	/* the 2.5D occluders */
+	pvs_box *chain_boxes;		/* per chain: ground bounding rectangle x [base, top] */
+	float *chain_points;		/* 2 floats per point */
 	uint32_t chain_count;
 	size_t chain_point_count;
 	float ground;
-	pvs__vx_cols cols;          /* the 2.5D column map */
-	pvs__obvh bvh;              /* drawable objects, for the 2.5D walks */
-	pvs__obvh chain_bvh;        /* the chains' boxes */
-	uint32_t *excluded;         /* info.excluded_cells: leaking cells left out, */
-	pvs_box *excluded_boxes;    /* and their boxes */
+	pvs__vx_cols cols;			/* the 2.5D column map */
+	pvs__obvh bvh;				/* drawable objects, for the 2.5D walks */
+	pvs__obvh chain_bvh;		/* the chains' boxes */
+	uint32_t *excluded;			/* info.excluded_cells: leaking cells left out, */
+	pvs_box *excluded_boxes;	/* and their boxes */
 };
 
 PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j, uint32_t k) {
@@ -9801,7 +9792,7 @@ PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const doubl
 	p = n[0] * v[0][0] + n[1] * v[0][1] + n[2] * v[0][2];
 	rad = hs[0] * pvs__dabs(n[0]) + hs[1] * pvs__dabs(n[1]) + hs[2] * pvs__dabs(n[2]);
 	if (p > rad * (1.0 + 1e-9) + 1e-300 || p < -rad * (1.0 + 1e-9) - 1e-300) return 0;
-	for (i = 0; i < 3; ++i)       /* edge i x box axis j */
+	for (i = 0; i < 3; ++i)		  /* edge i x box axis j */
 		for (j = 0; j < 3; ++j) {
 			double ax[3] = {0, 0, 0};
 			int k;
@@ -10252,11 +10243,11 @@ PVS__STATIC int pvs__vx_edge_cmp(const void *x, const void *y) {
 }
 
 typedef struct pvs__vx_topo {
-	uint32_t *tris;          /* included triangles grouped by component: comp_first[c] .. comp_first[c + 1] */
-	uint32_t *comp_first;    /* comp_count + 1 */
+	uint32_t *tris;			 /* included triangles grouped by component: comp_first[c] .. comp_first[c + 1] */
+	uint32_t *comp_first;	 /* comp_count + 1 */
 	uint32_t comp_count;
-	uint32_t *open_first;    /* comp_count + 1: ranges of open_edges per component */
-	float *open_edges;       /* 6 floats per open edge (two corners), grouped by component */
+	uint32_t *open_first;	 /* comp_count + 1: ranges of open_edges per component */
+	float *open_edges;		 /* 6 floats per open edge (two corners), grouped by component */
 	uint32_t open_count;
 } pvs__vx_topo;
 
@@ -10375,27 +10366,27 @@ done:
 
 /* Scratch of the component floods, sized for the largest box. */
 typedef struct pvs__vx_flood {
-	uint8_t *bits;           /* box voxels: PVS__G_* */
-	uint8_t *col;            /* box columns: candidate line index, 0x80 = undecided in this pass, 0xff = failed */
-	uint32_t *queue;         /* 2 nodes per box voxel */
+	uint8_t *bits;			 /* box voxels: PVS__G_* */
+	uint8_t *col;			 /* box columns: candidate line index, 0x80 = undecided in this pass, 0xff = failed */
+	uint32_t *queue;		 /* 2 nodes per box voxel */
 	size_t cap_vox, cap_col;
-	const pvs_box *cells;    /* the cells and a bucket grid over them (ground plane) */
+	const pvs_box *cells;	 /* the cells and a bucket grid over them (ground plane) */
 	uint32_t cell_count;
 	uint32_t *bucket_first;  /* bnu * bnv + 1 */
 	uint32_t *bucket_cells;
-	uint32_t *stamp;         /* per cell: 1 + the last component that looked at it */
+	uint32_t *stamp;		 /* per cell: 1 + the last component that looked at it */
 	uint32_t bnu, bnv;
-	uint32_t stamp_next;     /* the next stamp value */
+	uint32_t stamp_next;	 /* the next stamp value */
 	pvs__vx_grid bucket_grid;/* the buckets as a grid */
-	uint8_t *cellbuf;        /* per cell 7 bytes, the four arrays below */
-	uint8_t *excluded;       /* per cell: 1 = left out of the floods (leaking) */
+	uint8_t *cellbuf;		 /* per cell 7 bytes, the four arrays below */
+	uint8_t *excluded;		 /* per cell: 1 = left out of the floods (leaking) */
 	uint32_t excluded_count;
-	int keep_leaks;          /* PVS_OCCLUDERS_KEEP_LEAKS: never exclude */
-	uint32_t *near_cells;    /* per component: the cells meeting its box, */
-	signed char *near_w;     /* their w (-1: every node), */
-	uint8_t *near_flag;      /* 1 = sticks out of the box, 2 = the outside reaches its nodes */
+	int keep_leaks;			 /* PVS_OCCLUDERS_KEEP_LEAKS: never exclude */
+	uint32_t *near_cells;	 /* per component: the cells meeting its box, */
+	signed char *near_w;	 /* their w (-1: every node), */
+	uint8_t *near_flag;		 /* 1 = sticks out of the box, 2 = the outside reaches its nodes */
 } pvs__vx_flood;
-#define PVS__VX_BUCKET 8u    /* voxel columns per bucket side */
+#define PVS__VX_BUCKET 8u	 /* voxel columns per bucket side */
 
 /* Test line positions in a column, as voxel fractions (no structure on purpose). */
 static const double pvs__vx_line_u[8] = {0.4142, 0.7071, 0.2360, 0.8660, 0.5773, 0.1547, 0.6458, 0.3183};
@@ -10532,12 +10523,12 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
 
 /* pvs__vx_scan's visitor: the voxels a triangle touches (separating axes, margin toward touched). */
 typedef struct pvs__vx_touch {
-	pvs_occluders *o;          /* non-NULL: sets PVS__VX_TOUCHED (gr is its grid) */
+	pvs_occluders *o;		   /* non-NULL: sets PVS__VX_TOUCHED (gr is its grid) */
 	const pvs__vx_grid *gr;
-	uint8_t *bits;             /* non-NULL: sets PVS__G_T in a component's box; */
-	const uint32_t *lo;        /* NULL: skips the grid's touched or ground voxels */
+	uint8_t *bits;			   /* non-NULL: sets PVS__G_T in a component's box; */
+	const uint32_t *lo;		   /* NULL: skips the grid's touched or ground voxels */
 	const size_t *stride;
-	double p[3][3], hs;        /* the triangle; voxel half size plus margin */
+	double p[3][3], hs;		   /* the triangle; voxel half size plus margin */
 } pvs__vx_touch;
 PVS__STATIC void pvs__vx_touch_visit(void *user, const uint32_t idx[3]) {
 	pvs__vx_touch *tv = (pvs__vx_touch *)user;
@@ -10567,14 +10558,14 @@ PVS__STATIC void pvs__vx_tri_points(const pvs_scene *s, uint32_t tri, double p[3
 /* pvs__vx_scan's visitors of steps 2 and 3: one column of the box at a time. */
 typedef struct pvs__vx_colvisit {
 	const pvs__vx_grid *gr;
-	uint8_t *bits, *col;       /* the box's voxels from lo, its columns (rows of d[u]) */
+	uint8_t *bits, *col;	   /* the box's voxels from lo, its columns (rows of d[u]) */
 	const uint32_t *lo, *hi, *d;
 	const size_t *stride;
 	int u, v, up;
 	double m;
-	const float *e;            /* step 2: the open edge (two points) */
-	const float *tri[3];       /* step 3: the triangle's corners */
-	uint32_t pass;             /* step 3: the line's position in the column */
+	const float *e;			   /* step 2: the open edge (two points) */
+	const float *tri[3];	   /* step 3: the triangle's corners */
+	uint32_t pass;			   /* step 3: the line's position in the column */
 } pvs__vx_colvisit;
 
 /* Step 2 at column (a, b): the sheet below the part of the edge over the square grown by m. */
@@ -10635,9 +10626,9 @@ typedef struct pvs__vx_fbox {
 	const pvs_scene *s;
 	const pvs__vx_grid *gr;
 	const pvs__vx_topo *tp;
-	uint32_t comp;             /* component K */
+	uint32_t comp;			   /* component K */
 	const uint32_t *lo, *hi;   /* the box in voxels of gr (inclusive) */
-	uint32_t d[3], up;         /* its voxels per axis */
+	uint32_t d[3], up;		   /* its voxels per axis */
 	int u, v;
 	size_t stride[3], nvox, ncol; /* of fl->bits; voxel and column counts */
 	double m;
@@ -11010,11 +11001,11 @@ PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, i
 typedef struct pvs__vx_tminvisit {
 	const pvs__vx_grid *gr;
 	double p[3][3], e, margin; /* the triangle; near = within e */
-	double zlo;                /* its lowest corner's height */
-	double gu, gv, slack;      /* sloped: the plane's height gradient along u, v; rounding slack */
+	double zlo;				   /* its lowest corner's height */
+	double gu, gv, slack;	   /* sloped: the plane's height gradient along u, v; rounding slack */
 	int sloped;
 	int u, v, up;
-	float *tmin;               /* per square from (su0, sv0), rows of row */
+	float *tmin;			   /* per square from (su0, sv0), rows of row */
 	uint32_t su0, sv0, row;
 } pvs__vx_tminvisit;
 /* Lower bounds letting pvs__vx_tmin_visit skip the clip (stacked triangles meet a square many times): the lowest corner
@@ -11181,8 +11172,8 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 
 typedef struct pvs__vx_chainbuf {
 	pvs_facade_chain *chains;
-	size_t *first;           /* per chain: its first point (pointers are set at the end) */
-	float *points;           /* 2 floats per point */
+	size_t *first;			 /* per chain: its first point (pointers are set at the end) */
+	float *points;			 /* 2 floats per point */
 	size_t count, cap, cap_first, npts, cap_pts;
 } pvs__vx_chainbuf;
 
@@ -11232,7 +11223,7 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 			if (!ok) break;
 			for (k = 0; k < n && ok; ++k) { /* no other loop edge touches the chord */
 				uint32_t e0 = (start + k) % n, e1 = (start + k + 1) % n;
-				if (k >= i && k < j) continue;                  /* edges the chord replaces */
+				if (k >= i && k < j) continue;					/* edges the chord replaces */
 				if (k + 1 == i || (k == j % n && j < n) || (j == n && k == 0) || (i == 0 && k + 1 == n)) {
 					/* edges sharing an end with the chord may only touch it there */
 					const int32_t *c0 = pt + 2 * e0, *c1 = pt + 2 * e1;
@@ -11351,12 +11342,12 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
 typedef struct pvs__vx_chainwork {
 	pvs_occluders *o;
 	uint32_t *label, *queue, *members; /* per square of the map */
-	float *lev;                        /* the region's levels */
+	float *lev;						   /* the region's levels */
 	uint8_t *mask, *inl, *used; /* per frame square: sub-region, at or above the level; trace's */
-	uint32_t *sub;                     /* per frame square: its sub-region */
-	int32_t *ipts;                     /* pvs__vx_trace's points */
+	uint32_t *sub;					   /* per frame square: its sub-region */
+	int32_t *ipts;					   /* pvs__vx_trace's points */
 	size_t cap, mcap, ucap, lcap, scap, ipcap;
-	uint32_t i0, j0, bw, bh;           /* the region's frame: its rectangle plus a square around */
+	uint32_t i0, j0, bw, bh;		   /* the region's frame: its rectangle plus a square around */
 	pvs__vx_chainbuf cb;
 } pvs__vx_chainwork;
 
@@ -11734,15 +11725,15 @@ typedef struct pvs__vx_build {
 	const pvs_scene *s;
 	pvs_allocator a;
 	pvs_occluders *o;
-	pvs_box ext;               /* the scene's and the cells' bounds */
-	double g, h, m;            /* ground level, voxel size, the margin voxel tests round toward "touched" by */
+	pvs_box ext;			   /* the scene's and the cells' bounds */
+	double g, h, m;			   /* ground level, voxel size, the margin voxel tests round toward "touched" by */
 	uint32_t up;
 	int u, v;
 	size_t total, qcap, nbuckets;
 	uint32_t bucket_entries;
-	uint32_t *queue;           /* qcap: the floods' queue, then the leak flood's */
-	uint32_t *cbox;            /* step 1: per component its voxel box, lo[3] hi[3] */
-	uint8_t *tmp, *line;       /* total and 1 + n[0] + n[1] + n[2] bytes: erosion and merge scratch */
+	uint32_t *queue;		   /* qcap: the floods' queue, then the leak flood's */
+	uint32_t *cbox;			   /* step 1: per component its voxel box, lo[3] hi[3] */
+	uint8_t *tmp, *line;	   /* total and 1 + n[0] + n[1] + n[2] bytes: erosion and merge scratch */
 	pvs__vx_topo tp;
 	pvs__vx_flood fl;
 } pvs__vx_build;
@@ -12270,11 +12261,11 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, ui
    in use into the dense set ("periodically dumped", §3). */
 
 #define PVS__VO_NONE 0xffffffffu
-#define PVS__VO_MAXH 64u        /* most hull vertices of a loop blocker */
-#define PVS__VO_ATOL 1e-11      /* pseudo-angle overlap joining spans of different vertices */
-#define PVS__VO_RTOL 1e-9       /* lengths: times the context's scale */
-#define PVS__VO_MAXG 64u        /* most objects in one aggregate */
-#define PVS__VO_MAXSTEP 96u     /* most candidates examined per seed */
+#define PVS__VO_MAXH 64u		/* most hull vertices of a loop blocker */
+#define PVS__VO_ATOL 1e-11		/* pseudo-angle overlap joining spans of different vertices */
+#define PVS__VO_RTOL 1e-9		/* lengths: times the context's scale */
+#define PVS__VO_MAXG 64u		/* most objects in one aggregate */
+#define PVS__VO_MAXSTEP 96u		/* most candidates examined per seed */
 
 /* Grows *p to hold need elements (doubling). */
 PVS__STATIC int pvs__vo_reserve(const pvs_allocator *a, void **p, uint32_t *cap, size_t need, size_t elem) {
@@ -12308,24 +12299,24 @@ PVS__STATIC void pvs__vo_pangle_dir(double p, double *d, double *c) {
 typedef struct pvs__vprep {
 	pvs_allocator a;
 	uint32_t nseg;
-	double *seg;          /* nseg x (u0 v0 u1 v1) */
-	float *seg_top;       /* nseg */
-	uint32_t *seg_vid;    /* nseg x 2 vertex ids (equal ids = the same point exactly) */
-	int32_t *seg_loop;    /* the loop of the segment, -1 */
+	double *seg;		  /* nseg x (u0 v0 u1 v1) */
+	float *seg_top;		  /* nseg */
+	uint32_t *seg_vid;	  /* nseg x 2 vertex ids (equal ids = the same point exactly) */
+	int32_t *seg_loop;	  /* the loop of the segment, -1 */
 	uint32_t nloop;
 	uint32_t *loop_start; /* nloop + 1: loop l's ring in ring_seg / ring_pt */
 	uint32_t *ring_seg;   /* segments in ring order */
-	double *ring_pt;      /* the start of each ring segment */
+	double *ring_pt;	  /* the start of each ring segment */
 	uint32_t *hull_start; /* nloop + 1 into hull_pt, hull_vid (counter-clockwise) */
 	double *hull_pt;
 	uint32_t *hull_vid;
-	float *loop_top;      /* lowest top of its walls */
-	double *loop_bb;      /* 4 per loop */
-	uint32_t nobj;        /* objects: the usable loops, then the other segments */
-	uint32_t *obj_ref;    /* < nloop: a loop; else nloop + segment */
-	double *obj_bb;       /* 4 per object */
+	float *loop_top;	  /* lowest top of its walls */
+	double *loop_bb;	  /* 4 per loop */
+	uint32_t nobj;		  /* objects: the usable loops, then the other segments */
+	uint32_t *obj_ref;	  /* < nloop: a loop; else nloop + segment */
+	double *obj_bb;		  /* 4 per object */
 	float *obj_top;
-	double bb[4];         /* of everything */
+	double bb[4];		  /* of everything */
 	double g0[2], gcell;  /* bucket grid over the objects */
 	uint32_t gw, gh;
 	uint32_t *gstart, *gitem;
@@ -12396,7 +12387,7 @@ PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__key_index 
 typedef struct pvs__vprep_scratch {
 	pvs__key_index *keys;
 	uint32_t *deg, *adj, *uf, *idx, *hidx;
-	uint32_t nv;          /* distinct vertices */
+	uint32_t nv;		  /* distinct vertices */
 } pvs__vprep_scratch;
 
 /* Vertex ids (p->seg_vid): end points sorted by (x, y), equal points one id; sets w->nv. */
@@ -12669,45 +12660,45 @@ done:
 /* ---- one cell and one height slice: blockers in the cell's frame (centre at the origin) ---- */
 
 typedef struct pvs__vobj {
-	uint32_t first, n;      /* vx[first .. first + n): n = 2 a segment, else a counter-clockwise hull */
-	int32_t loop;           /* a hull's wall loop (inside test), -1 */
-	uint32_t mark, visit;   /* growth and query stamps */
-	uint32_t used;          /* in an aggregate of this slice: no seed again */
+	uint32_t first, n;		/* vx[first .. first + n): n = 2 a segment, else a counter-clockwise hull */
+	int32_t loop;			/* a hull's wall loop (inside test), -1 */
+	uint32_t mark, visit;	/* growth and query stamps */
+	uint32_t used;			/* in an aggregate of this slice: no seed again */
 	double bb[4];
-	double angle;           /* subtended from the cell's centre: seed order */
+	double angle;			/* subtended from the cell's centre: seed order */
 } pvs__vobj;
 
 typedef struct pvs__vo_span {
-	double s, e;            /* pseudo-angles */
-	uint32_t is, ie;        /* vertex ids of the ends (PVS__VO_NONE) */
+	double s, e;			/* pseudo-angles */
+	uint32_t is, ie;		/* vertex ids of the ends (PVS__VO_NONE) */
 } pvs__vo_span;
 
 /* A virtual occluder of the dense set: ends in the cell's frame exactly as checked after rounding, and as stored. */
 typedef struct pvs__vo_cand {
 	double a[2], b[2];
-	float f[4];             /* pvs_vocc_2d: the world end points */
-	uint8_t q[5];           /* the file's bytes */
+	float f[4];				/* pvs_vocc_2d: the world end points */
+	uint8_t q[5];			/* the file's bytes */
 } pvs__vo_cand;
 
 typedef struct pvs__vo_side {
-	double po[2], pd[2];    /* supporting line P: the aggregate's vertex, direction away from the cell */
-	double qo[2], qd[2];    /* separating polyline Q: its last vertex and direction */
+	double po[2], pd[2];	/* supporting line P: the aggregate's vertex, direction away from the cell */
+	double qo[2], qd[2];	/* separating polyline Q: its last vertex and direction */
 	int done;
 } pvs__vo_side;
 
 typedef struct pvs__vo_cur {
-	double p[2], d[2];      /* the line p + t d (d unit) */
-	double t0, t1;          /* the occluder's interval on it */
+	double p[2], d[2];		/* the line p + t d (d unit) */
+	double t0, t1;			/* the occluder's interval on it */
 	int valid;
 } pvs__vo_cur;
 
 typedef struct pvs__vctx {
 	const pvs_allocator *al;
 	const pvs__vprep *p;
-	double centre[2];       /* world coordinates of the frame's origin */
+	double centre[2];		/* world coordinates of the frame's origin */
 	double cmin[2], cmax[2], corner[8];
 	double scale, tol, range;
-	float h;                /* the slice height */
+	float h;				/* the slice height */
 	pvs__vobj *obj;
 	uint32_t nobj, capobj;
 	double *vx;
@@ -12715,9 +12706,9 @@ typedef struct pvs__vctx {
 	uint32_t nvx, capvx, capvid;
 	uint32_t *pfirst, *pcount; /* per prepared object: its blockers in this slice */
 	uint32_t epoch, visit;
-	uint32_t *g, ng, capg;     /* the aggregate's blockers */
-	uint32_t *k, nk, capk;     /* the objects fused into its umbra (seed, cases 1 and 3) */
-	double *lines;             /* the aggregate's event lines, 4 doubles each */
+	uint32_t *g, ng, capg;	   /* the aggregate's blockers */
+	uint32_t *k, nk, capk;	   /* the objects fused into its umbra (seed, cases 1 and 3) */
+	double *lines;			   /* the aggregate's event lines, 4 doubles each */
 	uint32_t nlines, caplines;
 	pvs__vo_span *span;
 	uint32_t capspan;
@@ -12730,7 +12721,7 @@ typedef struct pvs__vctx {
 	uint32_t caphkeys;
 	uint32_t *hidx, caphidx;
 	/* output: the dense set */
-	int quantize;              /* 0: float end points (pvs_vocc_2d); 1: the file's bytes */
+	int quantize;			   /* 0: float end points (pvs_vocc_2d); 1: the file's bytes */
 	double qscale, qground, qhstep; /* quantization (>>vocc file notes) */
 	pvs__vo_cand *out;
 	uint32_t nout, capout;
@@ -13906,12 +13897,12 @@ PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
 /* ---- the runtime test: one box against one virtual occluder (pvs_vocc_box_hidden) ---- */
 
 typedef struct pvs__vo_rt {
-	double o[2];              /* frame origin (world) */
-	double n[2], off;         /* the occluder's line n.x = off (n unit), the cell where n.x < off */
-	double h[8][3];           /* the 2D umbra's other sides: h[0..8) . (x, y, 1) >= 0 (unit normals) */
-	double dcmin, dcmax;      /* the cell's ground corners' distances from the line (> 0) */
+	double o[2];			  /* frame origin (world) */
+	double n[2], off;		  /* the occluder's line n.x = off (n unit), the cell where n.x < off */
+	double h[8][3];			  /* the 2D umbra's other sides: h[0..8) . (x, y, 1) >= 0 (unit normals) */
+	double dcmin, dcmax;	  /* the cell's ground corners' distances from the line (> 0) */
 	double base, top, cbot, ctop;
-	double m, mh;             /* margins: lengths, heights */
+	double m, mh;			  /* margins: lengths, heights */
 	int u_axis, v_axis, up, ok;
 } pvs__vo_rt;
 
@@ -14333,8 +14324,8 @@ typedef struct pvs__vbake {
 	pvs_allocator a;
 	pvs__vprep *prep;
 	uint32_t up;
-	float base, hstep;          /* the VOCC section's heights */
-	pvs_box *boxes;             /* object boxes, empty for objects never drawn */
+	float base, hstep;			/* the VOCC section's heights */
+	pvs_box *boxes;				/* object boxes, empty for objects never drawn */
 	uint32_t object_count;
 	uint32_t slices, max_keep, max_seeds;
 } pvs__vbake;
@@ -14528,7 +14519,7 @@ PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *ce
 
 /* pvs__vo_select's scratch; pvs__vo_bake_cell frees it. */
 typedef struct pvs__vo_selwork {
-	pvs__vo_rt *rt, *sel;      /* c->nout: the dense set's tests; max_keep + 1: the kept ones */
+	pvs__vo_rt *rt, *sel;	   /* c->nout: the dense set's tests; max_keep + 1: the kept ones */
 	pvs_word *hid, *covered;   /* c->nout x words: what each hides; words: hidden so far */
 } pvs__vo_selwork;
 
@@ -14689,11 +14680,11 @@ done:
 
 typedef struct pvs__vocc_bake {
 	pvs_allocator allocator;
-	pvs__vbake *vb;            /* read-only in tasks */
+	pvs__vbake *vb;			   /* read-only in tasks */
 	uint32_t task_count, keep, only;
-	uint8_t *bytes;            /* per task: keep x 5 bytes of occluders, */
+	uint8_t *bytes;			   /* per task: keep x 5 bytes of occluders, */
 	uint8_t *count, *scale;    /* their count and scale code */
-	pvs_vocc_stats *stats;     /* per task */
+	pvs_vocc_stats *stats;	   /* per task */
 } pvs__vocc_bake;
 
 PVS__STATIC pvs_result pvs__vocc_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
@@ -14800,7 +14791,8 @@ PVS__STATIC void pvs__vocc_bake_destroy(const pvs__bake_env *env, void *state) {
 /* Not in AUTO unless named (pvs_bake_desc.methods): it is for storage and the run-time rebuild, not tightness. */
 PVS__STATIC const pvs__bake_method pvs__vocc_method = {
 	PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, 1, pvs__vocc_bake_check,
-	pvs__vocc_bake_prepare, pvs__vocc_bake_applies, pvs__vocc_bake_cell, pvs__vocc_bake_file, pvs__vocc_bake_destroy};
+	pvs__vocc_bake_prepare, pvs__vocc_bake_applies, pvs__vocc_bake_cell, pvs__vocc_bake_file, pvs__vocc_bake_destroy,
+	NULL};
 
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 	const pvs__vocc_bake *vo = b ? (const pvs__vocc_bake *)pvs__bake_method_state(b, PVS_METHOD_VOCC) : NULL;
@@ -14833,15 +14825,15 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
    test). A cell keeps every object of the empty leaves it overlaps; past `budget` portal clips, every object of
    every empty leaf reachable from them (the conservative cut-off). */
 
-#define PVS__PO_MAXW 64u          /* vertices of a clipped winding */
-#define PVS__PO_MAXS 64u          /* separating planes per region */
-#define PVS__PO_MAX_FACES 256u    /* triangles of a mesh taken as a convex solid */
-#define PVS__PO_DEPTH 200u        /* BSP depth (deeper: an empty leaf, conservative) */
+#define PVS__PO_MAXW 64u		  /* vertices of a clipped winding */
+#define PVS__PO_MAXS 64u		  /* separating planes per region */
+#define PVS__PO_MAX_FACES 256u	  /* triangles of a mesh taken as a convex solid */
+#define PVS__PO_DEPTH 200u		  /* BSP depth (deeper: an empty leaf, conservative) */
 #define PVS__PO_SCRATCH (PVS__PO_MAX_FACES + PVS__PO_DEPTH + 8u) /* faces of a fragment: its solid's, one per split */
-#define PVS__PO_CANDIDATES 48u    /* splitting planes scored per node */
-#define PVS__PO_GROWS 6u          /* growths of a portal's region before it is the whole portal */
+#define PVS__PO_CANDIDATES 48u	  /* splitting planes scored per node */
+#define PVS__PO_GROWS 6u		  /* growths of a portal's region before it is the whole portal */
 #define PVS__PO_NORMAL_EPS 1e-6
-#define PVS__PO_DIST_EPS 1e-7     /* times the scene's size */
+#define PVS__PO_DIST_EPS 1e-7	  /* times the scene's size */
 #define PVS__PO_LEAF 0x80000000u  /* child id bit: a leaf */
 #define PVS__PO_NONE 0xffffffffu
 
@@ -14854,20 +14846,20 @@ typedef struct pvs__po_wind {
 /* A convex polytope: faces on plane-table planes (outward), their windings back to back. */
 typedef struct pvs__po_poly {
 	uint32_t face_count, vert_count;
-	uint32_t *plane;           /* face_count */
-	uint32_t *first;           /* face_count + 1 */
-	double (*v)[3];            /* vert_count */
+	uint32_t *plane;		   /* face_count */
+	uint32_t *first;		   /* face_count + 1 */
+	double (*v)[3];			   /* vert_count */
 } pvs__po_poly;
 
 typedef struct pvs__po_node {
-	uint32_t plane;            /* front: n.x > d */
-	uint32_t child[2];         /* front, back; PVS__PO_LEAF | leaf */
+	uint32_t plane;			   /* front: n.x > d */
+	uint32_t child[2];		   /* front, back; PVS__PO_LEAF | leaf */
 } pvs__po_node;
 
 typedef struct pvs__po_portal {
-	uint32_t from, to;         /* empty leaves */
-	uint32_t plane;            /* the face's table plane, outward from `from` */
-	uint32_t first, n;         /* vertices in portal_v */
+	uint32_t from, to;		   /* empty leaves */
+	uint32_t plane;			   /* the face's table plane, outward from `from` */
+	uint32_t first, n;		   /* vertices in portal_v */
 } pvs__po_portal;
 
 typedef struct pvs__poprep {
@@ -14878,32 +14870,34 @@ typedef struct pvs__poprep {
 	size_t plane_count, plane_cap;
 	uint32_t *hash_head, hash_size, *hash_next;
 	size_t hash_next_cap;
-	uint8_t *on_path;          /* per pair: a splitter above the node being built */
+	uint8_t *on_path;		   /* per pair: a splitter above the node being built */
 	uint32_t *stamp, stamp_now; /* per pair: a candidate of the node being scored */
-	size_t flag_cap;
-	uint32_t bound_pairs;      /* pairs 0 .. bound_pairs - 1: the root box (no portal across) */
+	uint32_t *facing;		   /* per pair: faces of the node's fragments on it (0 between nodes) */
+	double (*fbox)[6];		   /* per fragment of the node its box (min, max; scratch of the build) */
+	size_t flag_cap, fbox_cap, fbox_n; /* fbox_n: fragments boxed by pvs__po_choose (0: none) */
+	uint32_t bound_pairs;	   /* pairs 0 .. bound_pairs - 1: the root box (no portal across) */
 	/* tree */
 	pvs__po_node *nodes;
 	size_t node_count, node_cap;
-	pvs__po_poly *leaf;        /* per leaf its polytope; no faces: a solid leaf */
-	pvs_box *leaf_box;         /* per leaf its polytope's box (rounded outward) */
+	pvs__po_poly *leaf;		   /* per leaf its polytope; no faces: a solid leaf */
+	pvs_box *leaf_box;		   /* per leaf its polytope's box (rounded outward) */
 	size_t leaf_box_cap;
 	size_t leaf_count, leaf_cap;
 	uint32_t root, solids, deep_leaves;
-	int lost;                  /* a polygon of more than PVS__PO_MAXW vertices: the method cannot bake this scene */
+	int lost;				   /* a polygon of more than PVS__PO_MAXW vertices: the method cannot bake this scene */
 	/* portals */
 	pvs__po_portal *portals;
 	size_t portal_count, portal_cap;
 	double (*portal_v)[3];
 	size_t portal_v_count, portal_v_cap;
 	uint32_t *lp_first, *lp;   /* per leaf its portals out (leaf_count + 1, portal_count) */
-	uint32_t *ep_first;        /* per portal P its first step P -> Q, Q out of P's leaf `to` (portal_count + 1) */
+	uint32_t *ep_first;		   /* per portal P its first step P -> Q, Q out of P's leaf `to` (portal_count + 1) */
 	/* objects per empty leaf */
 	uint32_t *lo_first, *lo, *lo_pairs; /* lo_pairs: (leaf, object) while building */
 	size_t lo_count, lo_cap;
 	uint32_t budget, empty_leaves;
 	uint32_t *task_cut, task_count; /* per task: cells cut off (the task's own slot) */
-	pvs_box *solid_box;        /* solids: a point inside one sees the objects meeting it (its hull blocks the rest) */
+	pvs_box *solid_box;		   /* solids: a point inside one sees the objects meeting it (its hull blocks the rest) */
 	uint32_t *so_first, *so;   /* per solid the drawable objects whose box meets its box */
 	size_t so_count;
 } pvs__poprep;
@@ -15027,8 +15021,14 @@ PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double ep
 /* w clipped to the part behind pl (within eps); 1 when vertices were lost (pvs__po_split). */
 PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps) {
 	pvs__po_wind t;
-	int lost = pvs__po_split(w, pl, eps, NULL, &t);
-	*w = t;
+	uint32_t i;
+	int lost;
+	for (i = 0; i < w->n && !(pvs__po_dist(pl, w->p[i]) > eps); ++i) {
+	}
+	if (i == w->n) return 0; /* wholly behind: pvs__po_split would copy it */
+	lost = pvs__po_split(w, pl, eps, NULL, &t);
+	w->n = t.n;
+	memcpy(w->p, t.p, t.n * sizeof(t.p[0])); /* not the whole struct: the flow clips often */
 	return lost;
 }
 
@@ -15102,6 +15102,27 @@ PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes,
 }
 
 /* -1, 0, 1: polytope wholly behind, straddling, wholly in front of pl (within eps); 2: on it (degenerate). */
+/* The axis k of a plane of normal +-e_k, else -1. */
+PVS__STATIC int pvs__po_unit_axis(const double *pl) {
+	int j;
+	for (j = 0; j < 3; ++j)
+		if ((pl[j] == 1.0 || pl[j] == -1.0) && pl[(j + 1) % 3] == 0.0 && pl[(j + 2) % 3] == 0.0) return j;
+	return -1;
+}
+
+/* pvs__po_side for a plane of normal +-e_axis from q's box b (min, max): the same doubles, as x -> +-x - d is monotone
+   and exact but for its one rounding. */
+PVS__STATIC int pvs__po_side_box(const double *b, const double *pl, int axis, double eps) {
+	double lo = pl[axis] > 0.0 ? b[axis] - pl[3] : -b[axis + 3] - pl[3];
+	double hi = pl[axis] > 0.0 ? b[axis + 3] - pl[3] : -b[axis] - pl[3];
+	lo = lo < 0.0 ? lo : 0.0;
+	hi = hi > 0.0 ? hi : 0.0;
+	if (hi > eps && lo < -eps) return 0;
+	if (hi > eps) return 1;
+	if (lo < -eps) return -1;
+	return 2;
+}
+
 PVS__STATIC int pvs__po_side(const pvs__po_poly *q, const double *pl, double eps) {
 	double lo = 0.0, hi = 0.0;
 	uint32_t i;
@@ -15180,7 +15201,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 	PVS_QSORT(edges + 3 * n, 3 * (size_t)n, sizeof(edges[0]), pvs__po_edge_cmp);
 	for (i = 0; i + 1 < 3 * n; ++i)
 		if (edges[i][0] == edges[i + 1][0] && edges[i][1] == edges[i + 1][1]) return 0; /* an edge twice */
-	if (memcmp(edges, edges + 3 * n, 3 * (size_t)n * sizeof(edges[0]))) return 0;      /* an open edge */
+	if (memcmp(edges, edges + 3 * n, 3 * (size_t)n * sizeof(edges[0]))) return 0;	   /* an open edge */
 	tolc = 1e-6 * ((hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]));
 	for (i = 0; i < n; ++i) { /* the orientation: the signed volume */
 		const uint32_t *t = s->indices + 3 * (size_t)tris[i];
@@ -15284,7 +15305,7 @@ done:
 
 typedef struct pvs__po_build {
 	pvs__poprep *p;
-	pvs__po_wind *scratch;     /* PVS__PO_SCRATCH windings */
+	pvs__po_wind *scratch;	   /* PVS__PO_SCRATCH windings */
 	uint32_t *planes;
 	int oom;
 } pvs__po_build;
@@ -15318,8 +15339,20 @@ PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *reg
 PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint32_t n) {
 	uint32_t cand[PVS__PO_CANDIDATES], nc = 0, pass, i, j, best = PVS__PO_NONE, most = PVS__PO_CANDIDATES;
 	long best_score = 0;
-	int have = 0;
+	int have = 0, boxes = pvs__grow(&p->allocator, (void **)&p->fbox, &p->fbox_cap, n, sizeof(p->fbox[0]));
 	++p->stamp_now;
+	p->fbox_n = boxes ? n : 0;
+	for (i = 0; i < n; ++i) { /* faces per plane; boxes for the axial planes' side tests (pvs__po_side_box) */
+		for (j = 0; j < f[i].face_count; ++j) ++p->facing[f[i].plane[j] >> 1];
+		for (j = 0; boxes && j < 6; ++j) p->fbox[i][j] = j < 3 ? DBL_MAX : -DBL_MAX;
+		for (j = 0; boxes && j < f[i].vert_count; ++j) {
+			int k;
+			for (k = 0; k < 3; ++k) {
+				p->fbox[i][k] = pvs__dmin(p->fbox[i][k], f[i].v[j][k]);
+				p->fbox[i][k + 3] = pvs__dmax(p->fbox[i][k + 3], f[i].v[j][k]);
+			}
+		}
+	}
 	for (pass = 0; pass < 2 && nc < most; ++pass)
 		for (i = 0; i < n && nc < most; ++i)
 			for (j = 0; j < f[i].face_count && nc < most; ++j) {
@@ -15332,16 +15365,15 @@ PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint3
 			}
 	for (i = 0; i < nc; ++i) {
 		const double *pl = p->pl[2 * cand[i]];
-		long front = 0, back = 0, split = 0, facing = 0, score;
+		long front = 0, back = 0, split = 0, score;
+		int axis = boxes ? pvs__po_unit_axis(pl) : -1;
 		for (j = 0; j < n; ++j) {
-			int side = pvs__po_side(f + j, pl, p->eps);
-			uint32_t k;
+			int side = axis >= 0 ? pvs__po_side_box(p->fbox[j], pl, axis, p->eps) : pvs__po_side(f + j, pl, p->eps);
 			front += side == 1;
 			back += side == -1;
 			split += side == 0;
-			for (k = 0; k < f[j].face_count; ++k) facing += (f[j].plane[k] >> 1) == cand[i];
 		}
-		score = 5 * facing - 5 * split - (front > back ? front - back : back - front);
+		score = 5 * (long)p->facing[cand[i]] - 5 * split - (front > back ? front - back : back - front);
 		if (pl[0] == 1.0 || pl[1] == 1.0 || pl[2] == 1.0) score += 5;
 		if (!have || score > best_score) {
 			have = 1;
@@ -15349,6 +15381,8 @@ PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint3
 			best = cand[i];
 		}
 	}
+	for (i = 0; i < n; ++i)
+		for (j = 0; j < f[i].face_count; ++j) p->facing[f[i].plane[j] >> 1] = 0;
 	return best;
 }
 
@@ -15359,6 +15393,7 @@ PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint3
 	const pvs_allocator *al = &p->allocator;
 	pvs__po_poly *part[2] = {NULL, NULL}, rpart[2];
 	uint32_t count[2] = {0, 0}, pair, i, id, child[2];
+	int axis;
 	if (b->oom) goto leaf;
 	pair = depth < PVS__PO_DEPTH ? pvs__po_choose(p, f, n) : PVS__PO_NONE;
 	if (pair == PVS__PO_NONE) {
@@ -15377,8 +15412,10 @@ PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint3
 		pvs__free_array(al, part[1], n, sizeof(pvs__po_poly));
 		goto leaf;
 	}
+	axis = p->fbox_n == n ? pvs__po_unit_axis(p->pl[2 * pair]) : -1; /* pvs__po_choose boxed f */
 	for (i = 0; i < n; ++i) {
-		int side = pvs__po_side(f + i, p->pl[2 * pair], p->eps);
+		int side = axis >= 0 ? pvs__po_side_box(p->fbox[i], p->pl[2 * pair], axis, p->eps)
+							 : pvs__po_side(f + i, p->pl[2 * pair], p->eps);
 		if (side == 1) part[0][count[0]++] = f[i];
 		else if (side == -1) part[1][count[1]++] = f[i];
 		else {
@@ -15540,23 +15577,23 @@ typedef struct pvs__po_win {
    before cross q. */
 typedef struct pvs__po_region {
 	uint32_t q, n, grows;
-	uint32_t next, queued;     /* the queue, a list through the regions */
+	uint32_t next, queued;	   /* the queue, a list through the regions */
 	double v[PVS__PO_MAXW][3];
 } pvs__po_region;
 
 typedef struct pvs__po_flow {
 	const pvs__poprep *p;
 	const pvs_scene *scene;
-	double c[8][3];            /* the cell's corners */
+	double c[8][3];			   /* the cell's corners */
 	pvs_word *bits;
-	uint32_t *slot;            /* a hash table of (state, region) pairs, PVS__PO_NONE: free (states: ep_first, then
+	uint32_t *slot;			   /* a hash table of (state, region) pairs, PVS__PO_NONE: free (states: ep_first, then
 								  the start portals) */
-	size_t slot_cap;           /* pairs, a power of two */
+	size_t slot_cap;		   /* pairs, a power of two */
 	pvs__po_region *reg;
 	size_t reg_count, reg_cap;
-	uint32_t head, tail;       /* the queue's first and last region, PVS__PO_NONE: empty */
-	uint8_t *start;            /* per leaf: the cell overlaps it (2: reached by the cut-off's flood) */
-	uint32_t *leaves;          /* start leaves, then the flood's */
+	uint32_t head, tail;	   /* the queue's first and last region, PVS__PO_NONE: empty */
+	uint8_t *start;			   /* per leaf: the cell overlaps it (2: reached by the cut-off's flood) */
+	uint32_t *leaves;		   /* start leaves, then the flood's */
 	uint32_t leaf_count;
 	uint32_t clips;
 	int cut, oom;
@@ -15579,6 +15616,16 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 	len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 	if (!(len > 1e-12 * (fabs(e1[0]) + fabs(e1[1]) + fabs(e1[2])) * (fabs(e2[0]) + fabs(e2[1]) + fabs(e2[2]))))
 		return 0;
+	/* a first pass unnormalized, margin 2 eps: A off both sides by it is off by eps below, for coordinates within 10^5
+	   scene sizes of 0 (roundings); else a plane may be lost, never a wrong one made (fewer planes: more lines) */
+	d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
+	for (i = 0; i < na; ++i) {
+		double t = n[0] * A[i][0] + n[1] * A[i][1] + n[2] * A[i][2] + d;
+		lo = t < lo ? t : lo;
+		hi = t > hi ? t : hi;
+		if (lo < -2.0 * eps * len && hi > 2.0 * eps * len) return 0;
+	}
+	lo = hi = 0.0;
 	for (k = 0; k < 3; ++k) n[k] /= len;
 	d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
 	for (i = 0; i < na; ++i) {
@@ -15895,6 +15942,8 @@ PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
 	pvs__free_array(a, p->hash_next, p->hash_next_cap, sizeof(uint32_t));
 	pvs__free_array(a, p->on_path, p->flag_cap, 1);
 	pvs__free_array(a, p->stamp, p->flag_cap, sizeof(uint32_t));
+	pvs__free_array(a, p->facing, p->flag_cap, sizeof(uint32_t));
+	pvs__free_array(a, p->fbox, p->fbox_cap, sizeof(p->fbox[0]));
 	pvs__free_array(a, p->nodes, p->node_cap, sizeof(pvs__po_node));
 	for (i = 0; i < p->leaf_count; ++i) pvs__po_poly_free(a, p->leaf + i);
 	pvs__free_array(a, p->leaf, p->leaf_cap, sizeof(pvs__po_poly));
@@ -16000,9 +16049,11 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	p->flag_cap = p->plane_count / 2;
 	p->on_path = (uint8_t *)pvs__alloc_array(al, p->flag_cap, 1);
 	p->stamp = (uint32_t *)pvs__alloc_array(al, p->flag_cap, sizeof(uint32_t));
-	if (!p->on_path || !p->stamp) goto done;
+	p->facing = (uint32_t *)pvs__alloc_array(al, p->flag_cap, sizeof(uint32_t));
+	if (!p->on_path || !p->stamp || !p->facing) goto done;
 	memset(p->on_path, 0, p->flag_cap);
 	memset(p->stamp, 0, p->flag_cap * sizeof(uint32_t));
+	memset(p->facing, 0, p->flag_cap * sizeof(uint32_t));
 	if (!pvs__po_poly_from_planes(p, bound, 6, &root, b.scratch, kept) || root.face_count == 0) goto done;
 	p->root = pvs__po_build_node(&b, frags, (uint32_t)count, &root, 0);
 	frags = NULL;
@@ -16124,7 +16175,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 
 PVS__STATIC const pvs__bake_method pvs__portal_method = {
 	PVS_METHOD_PORTAL, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, 0, NULL,
-	pvs__portal_bake_prepare, pvs__portal_bake_applies, pvs__portal_bake_cell, NULL, pvs__po_destroy};
+	pvs__portal_bake_prepare, pvs__portal_bake_applies, pvs__portal_bake_cell, NULL, pvs__po_destroy, NULL};
 
 PVS_API void pvs_bake_get_portal_info(const pvs_bake *b, pvs_portal_info *info) {
 	const pvs__poprep *p = b ? (const pvs__poprep *)pvs__bake_method_state(b, PVS_METHOD_PORTAL) : NULL;
@@ -16327,7 +16378,7 @@ PVS__STATIC void pvs__sample_bake_destroy(const pvs__bake_env *env, void *state)
 
 PVS__STATIC const pvs__bake_method pvs__sample_method = {
 	PVS_METHOD_SAMPLE, PVS__METHOD_APPROXIMATE, 4, 3, NULL, pvs__sample_bake_prepare, NULL, pvs__sample_bake_cell, NULL,
-	pvs__sample_bake_destroy};
+	pvs__sample_bake_destroy, NULL};
 
 /* ---- extended projections (Durand et al. 2000) ---- */
 
@@ -16347,16 +16398,16 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
    size over the distance, so sparse small occluders (foliage) stay loose; sub-cells (extproj.sweep_subcells) win back
    part (tests/BENCHMARKS.md). */
 
-#define PVS__EP_MAXP 16                               /* vertices of one convex occluder */
+#define PVS__EP_MAXP 16								  /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
-#define PVS__EP_EXTEND 1.5                            /* planes extended beyond the cell (§6.1) */
+#define PVS__EP_EXTEND 1.5							  /* planes extended beyond the cell (§6.1) */
 #define PVS__EP_DEFAULT_RES PVS_EXTPROJ_RESOLUTION
 #define PVS__EP_DEFAULT_OCC 128
 #define PVS__EP_PLANE_CANDIDATES 16
-#define PVS__EP_PLANES 4                              /* planes per direction (§6.1) */
-#define PVS__EP_PLANE_RATIO 1.7                       /* their distance bands */
-#define PVS__EP_SAT_CACHE ((size_t)64 << 20)          /* bytes of the sweep's summed-area tables */
-#define PVS__EP_MAX_SIDE 16384u                       /* longest side of a sweep mask, in pixels */
+#define PVS__EP_PLANES 4							  /* planes per direction (§6.1) */
+#define PVS__EP_PLANE_RATIO 1.7						  /* their distance bands */
+#define PVS__EP_SAT_CACHE ((size_t)64 << 20)		  /* bytes of the sweep's summed-area tables */
+#define PVS__EP_MAX_SIDE 16384u						  /* longest side of a sweep mask, in pixels */
 
 typedef struct pvs__epframe {
 	int a, u, v;
@@ -16810,19 +16861,19 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
 /* A convex occluder: a planar convex polygon (a triangle or merged triangles) or a closed convex solid. */
 typedef struct pvs__epocc {
 	pvs_box box;
-	uint32_t first, count;   /* points */
+	uint32_t first, count;	 /* points */
 	int solid;
 	uint32_t xfirst, xcount; /* extended through a sheet (pvs__epsheet), xcount = 0 if none */
 	uint32_t sheet;
-	int xside;               /* the sheet's side it stands on */
+	int xside;				 /* the sheet's side it stands on */
 	int cap_side, cap_axis;  /* a capped convex solid (cap_side != 0): used only for cells where */
-	float cap_value;         /*   cap_side * (x[cap_axis] - cap_value) > 0 */
-	float slack;             /* how far the true shape may lie inside the hull of the points */
-	uint32_t object;         /* its object, or PVS_NO_OBJECT */
-	float area;              /* area bound: solid angle <= area / distance^2 */
+	float cap_value;		 /*   cap_side * (x[cap_axis] - cap_value) > 0 */
+	float slack;			 /* how far the true shape may lie inside the hull of the points */
+	uint32_t object;		 /* its object, or PVS_NO_OBJECT */
+	float area;				 /* area bound: solid angle <= area / distance^2 */
 	uint32_t efirst, ecount; /* concave planar (ecount > 0): edges prep->cedge[6 * efirst ...]; points: its vertices'
 								hull, for selection */
-	float pn[3], pd;         /*   its plane pn . x = pd (pn a unit normal) */
+	float pn[3], pd;		 /*   its plane pn . x = pd (pn a unit normal) */
 } pvs__epocc;
 
 /* 0 if a capped solid (cap_side != 0) cannot serve the cell: the cell is not strictly on its solid side. */
@@ -16838,7 +16889,7 @@ PVS__STATIC int pvs__ep_cap_ok(int side, int axis, float value, const pvs_box *c
 typedef struct pvs__epsheet {
 	int axis;
 	float value;
-	uint32_t first, count;   /* convex polygon prep->spoly[2 * first ...] on axes (axis + 1, axis + 2) */
+	uint32_t first, count;	 /* convex polygon prep->spoly[2 * first ...] on axes (axis + 1, axis + 2) */
 	double area;
 } pvs__epsheet;
 
@@ -16846,9 +16897,9 @@ typedef struct pvs__epsheet {
    number of times, or "capped": the odd edges in one plane, every vertex on one side (a building with no floor). */
 typedef struct pvs__epslice {
 	pvs_box box;
-	uint32_t first, count;   /* scene triangles prep->stri[first .. first + count) */
+	uint32_t first, count;	 /* scene triangles prep->stri[first .. first + count) */
 	uint32_t bfirst, bcount; /* capped: boundary edges prep->bedge[6 * bfirst ...], two points each */
-	int capped;              /* capped: the solid lies where cap_side * (x[cap_axis] - cap_value) >= 0 */
+	int capped;				 /* capped: the solid lies where cap_side * (x[cap_axis] - cap_value) >= 0 */
 	int cap_axis, cap_side;
 	float cap_value;
 } pvs__epslice;
@@ -16857,13 +16908,13 @@ typedef struct pvs__extproj_prep {
 	pvs_allocator allocator;
 	pvs__epocc *occ;
 	size_t occ_count, occ_capacity;
-	float *pts;              /* 3 floats per point */
+	float *pts;				 /* 3 floats per point */
 	size_t pt_count, pt_capacity;
 	pvs__epslice *slc;
 	size_t slc_count, slc_capacity;
 	uint32_t *stri;
 	size_t stri_count, stri_capacity;
-	float *bedge;            /* 6 floats per boundary edge */
+	float *bedge;			 /* 6 floats per boundary edge */
 	size_t bedge_count, bedge_capacity;
 	uint32_t max_slice_segments; /* the most triangles plus boundary edges of one sliced component */
 	pvs__epsheet sheet[PVS__EP_MAX_SHEETS];
@@ -16873,9 +16924,9 @@ typedef struct pvs__extproj_prep {
 	uint32_t *class_occ[PVS__EP_AREA_CLASSES]; /* tree item -> occluder */
 	uint32_t class_count[PVS__EP_AREA_CLASSES];
 	float class_area[PVS__EP_AREA_CLASSES];
-	float *spoly;            /* sheet polygons: 2 floats per vertex */
+	float *spoly;			 /* sheet polygons: 2 floats per vertex */
 	size_t spoly_count, spoly_capacity;
-	float *cedge;            /* concave occluders' boundary edges: 6 floats each */
+	float *cedge;			 /* concave occluders' boundary edges: 6 floats each */
 	size_t cedge_count, cedge_capacity;
 } pvs__extproj_prep;
 
@@ -16983,7 +17034,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 /* An edge in a sheet's plane, ends ordered. */
 typedef struct pvs__epedge2 {
 	float a[2], b[2];
-	uint32_t tri;            /* the triangle's index in its group, then its component's root */
+	uint32_t tri;			 /* the triangle's index in its group, then its component's root */
 } pvs__epedge2;
 
 
@@ -17150,25 +17201,25 @@ PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
 
 /* Scratch of the preparation, sized for the largest object. */
 typedef struct pvs__epprepwork {
-	pvs__vx_vkey *ref;    /* 3 per triangle: the corners, i = 3 t + k */
-	uint32_t *canon;      /* 3 per triangle: the vertex's id among the object's distinct positions */
+	pvs__vx_vkey *ref;	  /* 3 per triangle: the corners, i = 3 t + k */
+	uint32_t *canon;	  /* 3 per triangle: the vertex's id among the object's distinct positions */
 	const float **vpos;   /* per distinct position */
-	uint32_t *owner;      /* per distinct position: a triangle using it */
-	uint32_t *parent;     /* per triangle: union-find */
-	uint32_t *order;      /* per triangle: grouped by component */
-	uint32_t *start;      /* per triangle + 1: component starts */
-	uint64_t *edges;      /* 3 per triangle */
-	uint32_t *mark;       /* per distinct position: last component that listed it */
-	uint32_t *uv;         /* per distinct position: the component's distinct vertices */
-	pvs__epedge2 *e2;     /* 3 per triangle: a planar group's edges in its 2D frame */
-	float *q2;            /* 2 (3 per triangle + 1): the group's polygon */
+	uint32_t *owner;	  /* per distinct position: a triangle using it */
+	uint32_t *parent;	  /* per triangle: union-find */
+	uint32_t *order;	  /* per triangle: grouped by component */
+	uint32_t *start;	  /* per triangle + 1: component starts */
+	uint64_t *edges;	  /* 3 per triangle */
+	uint32_t *mark;		  /* per distinct position: last component that listed it */
+	uint32_t *uv;		  /* per distinct position: the component's distinct vertices */
+	pvs__epedge2 *e2;	  /* 3 per triangle: a planar group's edges in its 2D frame */
+	float *q2;			  /* 2 (3 per triangle + 1): the group's polygon */
 	unsigned char *keep;  /* 3 per triangle + 1 */
-	pvs__epend *ends;     /* 6 per triangle: the loop walk's scratch */
-	uint32_t *gparent;    /* per triangle of a component: planar groups (union-find) */
+	pvs__epend *ends;	  /* 6 per triangle: the loop walk's scratch */
+	uint32_t *gparent;	  /* per triangle of a component: planar groups (union-find) */
 	unsigned char *used;  /* per triangle of a component: merged into a planar polygon */
-	double *hp, *hh;      /* 2 (3 per triangle + 1): hull scratch */
-	uint64_t *bed;        /* 3 per triangle: a group's edges */
-	size_t cap;           /* triangles */
+	double *hp, *hh;	  /* 2 (3 per triangle + 1): hull scratch */
+	uint64_t *bed;		  /* 3 per triangle: a group's edges */
+	size_t cap;			  /* triangles */
 } pvs__epprepwork;
 
 PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
@@ -17712,7 +17763,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 	if (closed || capped) {
 		/* a flat closed or capped mesh bounds no volume */
 		const float **vq = (const float **)w->ref; /* ref is done with: room for 3 tn pointers */
-		uint32_t *tt = w->gparent;                 /* not in use until the polygons */
+		uint32_t *tt = w->gparent;				   /* not in use until the polygons */
 		for (j = 0; j < nuv; ++j) vq[j] = w->vpos[w->uv[j]];
 		for (j = 0; j < n; ++j) tt[j] = t0 + tl[j];
 		if (pvs__ep_flat_component(s, tt, n, vq, nuv)) closed = capped = 0;
@@ -17793,12 +17844,12 @@ PVS__STATIC int pvs__ep_flat_axis(const pvs_scene *s, uint32_t t) {
 
 /* Scratch of the sheets' search: `cap` edges (3 per triangle of one plane). */
 typedef struct pvs__epsheetwork {
-	pvs__epedge2 *e;      /* cap */
-	float *q;             /* 2 (cap + 1): a piece's polygon */
+	pvs__epedge2 *e;	  /* cap */
+	float *q;			  /* 2 (cap + 1): a piece's polygon */
 	unsigned char *keep;  /* cap + 1 */
-	pvs__epend *ends;     /* 2 cap */
-	uint32_t *uf;         /* cap: pieces (union-find over the group's triangles) */
-	double *tarea;        /* cap: area per triangle, then per piece at its root */
+	pvs__epend *ends;	  /* 2 cap */
+	uint32_t *uf;		  /* cap: pieces (union-find over the group's triangles) */
+	double *tarea;		  /* cap: area per triangle, then per piece at its root */
 	size_t cap;
 } pvs__epsheetwork;
 
@@ -18195,9 +18246,9 @@ typedef struct pvs__epslicer {
 	double *seg;
 	double *xs;
 	unsigned char *row;
-	unsigned char *cmark;    /* res * res (no map or mask is larger): the penumbra of a concave occluder's boundary */
-	size_t cap;          /* segments */
-	uint32_t width;      /* row buffer: the longest side of a map or mask */
+	unsigned char *cmark;	 /* res * res (no map or mask is larger): the penumbra of a concave occluder's boundary */
+	size_t cap;			 /* segments */
+	uint32_t width;		 /* row buffer: the longest side of a map or mask */
 } pvs__epslicer;
 
 /* Edge-end order for pvs__ep_cross: fixed by position, so both triangles of an edge get the same crossing and the
@@ -18718,7 +18769,7 @@ PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
    sweep masks (AND pyramids: open where `bit` is clear). 1 if some level-0 pixel of rect r (x0 y0 x1 y1) under texel
    (tx, ty) of level l is open. */
 typedef struct pvs__ep_pyr {
-	float *const *depth;           /* the depth map's levels, or NULL for a mask */
+	float *const *depth;		   /* the depth map's levels, or NULL for a mask */
 	unsigned char *const *mask;
 	const uint32_t *lw, *lh;
 	float d;
@@ -18864,11 +18915,11 @@ typedef struct pvs__epsel {
 } pvs__epsel;
 
 typedef struct pvs__epparams {
-	uint32_t res;        /* pixels per plane: res x res */
-	uint32_t max_occ;    /* occluders per direction on §6.1's planes */
-	uint32_t sweep;      /* occlusion sweep planes per direction (§5), 0 = no sweep */
-	uint32_t split;      /* 1: sweep masks hold the cell's 4 quarters' umbrae (pvs__epmask) */
-	uint32_t coarse;     /* 1 (PVS_BAKE_PREVIEW): object nodes decided whole (pvs__ep_visit) */
+	uint32_t res;		 /* pixels per plane: res x res */
+	uint32_t max_occ;	 /* occluders per direction on §6.1's planes */
+	uint32_t sweep;		 /* occlusion sweep planes per direction (§5), 0 = no sweep */
+	uint32_t split;		 /* 1: sweep masks hold the cell's 4 quarters' umbrae (pvs__epmask) */
+	uint32_t coarse;	 /* 1 (PVS_BAKE_PREVIEW): object nodes decided whole (pvs__ep_visit) */
 } pvs__epparams;
 
 /* The preview's coarse test (PVS_BAKE_PREVIEW): a node subtending less than PVS__EP_COARSE_ANGLE (diagonal over
@@ -18886,9 +18937,9 @@ typedef struct pvs__epcell {
 	uint32_t mask_count[6], sweep;
 	const pvs_word *candidates; /* adaptive cells (§6.1): only the parent's PVS is tested, NULL = all */
 	pvs_word *bits;
-	int coarse;                 /* pvs__epparams.coarse: */
-	double cell_diag;           /*   the cell's diagonal, */
-	uint32_t tests;             /*   the box tests so far */
+	int coarse;					/* pvs__epparams.coarse: */
+	double cell_diag;			/*   the cell's diagonal, */
+	uint32_t tests;				/*   the box tests so far */
 } pvs__epcell;
 
 /* 1 if a box between cell and plane (depths w0 > 0 .. w1 <= W) is hidden by §4's improved Projection: some point of
@@ -19206,10 +19257,10 @@ typedef struct pvs__epscratch {
 	void *sweep;
 	pvs_word *seen;
 	size_t nsel, map_floats, mask_bytes, sweep_size, nmask, seen_words;
-	size_t sat_count;    /* tables: one per plane of a direction, or 2 (pvs__ep_sat_count) */
-	size_t sat_table;    /* counts per table, enough for any mask */
+	size_t sat_count;	 /* tables: one per plane of a direction, or 2 (pvs__ep_sat_count) */
+	size_t sat_table;	 /* counts per table, enough for any mask */
 	size_t range_count;  /* int32s in `ranges`: 2 x (width + height) of any mask */
-	uint32_t *stamp;     /* the sweep: one per occluder (pvs__epslab) */
+	uint32_t *stamp;	 /* the sweep: one per occluder (pvs__epslab) */
 	size_t stamp_count;
 } pvs__epscratch;
 
@@ -19278,8 +19329,8 @@ typedef struct pvs__epselect {
 	pvs__epsel *sel;
 	uint32_t n, *nsel;
 	double centre[3];
-	pvs_word *seen;          /* occluders met in an earlier leaf */
-	int cls;                 /* the size class being swept */
+	pvs_word *seen;			 /* occluders met in an earlier leaf */
+	int cls;				 /* the size class being swept */
 } pvs__epselect;
 
 /* 1 if (score, occ) ranks before the heap entry h. */
@@ -19598,7 +19649,7 @@ typedef struct pvs__epslab {
 	const pvs_word *candidates;
 	const int *sheet_side;
 	const pvs__epmask *prev;  /* the previous plane, NULL for the first */
-	pvs__epmask *m;           /* the plane being filled */
+	pvs__epmask *m;			  /* the plane being filled */
 	unsigned char *cmark;
 	uint32_t *stamp, serial;  /* occluders met in this traversal (an item comes once per leaf) */
 	double W, Wprev, lo[2], hi[2];
@@ -19904,7 +19955,8 @@ PVS__STATIC void pvs__extproj_bake_destroy(const pvs__bake_env *env, void *state
 
 PVS__STATIC const pvs__bake_method pvs__extproj_method = {
 	PVS_METHOD_EXTPROJ, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, 2, pvs__extproj_bake_check,
-	pvs__extproj_bake_prepare, pvs__extproj_bake_applies, pvs__extproj_bake_cell, NULL, pvs__extproj_bake_destroy};
+	pvs__extproj_bake_prepare, pvs__extproj_bake_applies, pvs__extproj_bake_cell, NULL, pvs__extproj_bake_destroy,
+	NULL};
 
 /* ---- shrink (Wonka, Wimmer, Schmalstieg 2000) ---- */
 
@@ -19927,12 +19979,12 @@ PVS__STATIC const pvs__bake_method pvs__extproj_method = {
 /* Angles are pseudo-angles in [0, 4) (the "diamond angle": monotone in the true angle, a quarter turn per unit, no
    trigonometry); bin b covers [4 b / BINS, 4 (b + 1) / BINS). */
 typedef struct pvs__hz {
-	double eu, ev, H, w;                         /* the eye; bin width (pseudo-angle) */
-	double dir[PVS__HZ_BINS + 1][2];             /* ray direction at each bin boundary (unnormalized) */
-	double dlen[PVS__HZ_BINS + 1];               /* its length */
+	double eu, ev, H, w;						 /* the eye; bin width (pseudo-angle) */
+	double dir[PVS__HZ_BINS + 1][2];			 /* ray direction at each bin boundary (unnormalized) */
+	double dlen[PVS__HZ_BINS + 1];				 /* its length */
 	uint8_t nstep[PVS__HZ_BINS];
-	float step_r[PVS__HZ_BINS][PVS__HZ_STEPS];   /* ascending */
-	float step_s[PVS__HZ_BINS][PVS__HZ_STEPS];   /* ascending with r (dominated steps dropped) */
+	float step_r[PVS__HZ_BINS][PVS__HZ_STEPS];	 /* ascending */
+	float step_s[PVS__HZ_BINS][PVS__HZ_STEPS];	 /* ascending with r (dominated steps dropped) */
 	/* per chain */
 	uint32_t stamp[PVS__HZ_BINS], cur;
 	uint8_t full[PVS__HZ_BINS], npart[PVS__HZ_BINS];
@@ -20214,11 +20266,11 @@ typedef struct pvs__shrink_walk {
 	pvs__hz *hz;
 	const pvs_box *cell;
 	pvs_word *visible;
-	uint32_t *remaining;       /* per object hierarchy node: its objects not yet found */
+	uint32_t *remaining;	   /* per object hierarchy node: its objects not yet found */
 	pvs_shrink_stats *st;
 	int u, v;
 } pvs__shrink_walk;
-#define PVS__SHRINK_NEAR 0     /* objects meeting the cell or under its top face: visible unsampled */
+#define PVS__SHRINK_NEAR 0	   /* objects meeting the cell or under its top face: visible unsampled */
 #define PVS__SHRINK_SAMPLE 1   /* a sample's objects, nodes hidden from it (§3.4) or all found skipped */
 #define PVS__SHRINK_HORIZON 2  /* the sample's horizon: the chains, nearer child first, hidden ones skipped (§3.4) */
 
@@ -20398,13 +20450,13 @@ PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax
 typedef struct pvs__shrink3d {
 	const pvs_scene *s;
 	const pvs_occluders *o;
-	pvs_raster *r;            /* PVS__SHRINK_RES square; the eroded boxes as one occluder mesh */
-	float *pos;               /* 24 per eroded box: its corners */
-	uint32_t *idx;            /* 36 per eroded box: its faces' triangles */
-	uint32_t *sel;            /* 36 per eroded box: the boxes a view draws */
-	uint32_t *cand;           /* per object: the objects a view tests */
-	pvs_word *seen;           /* objects found visible (or set on entry) */
-	float nearp;              /* the views' near plane */
+	pvs_raster *r;			  /* PVS__SHRINK_RES square; the eroded boxes as one occluder mesh */
+	float *pos;				  /* 24 per eroded box: its corners */
+	uint32_t *idx;			  /* 36 per eroded box: its faces' triangles */
+	uint32_t *sel;			  /* 36 per eroded box: the boxes a view draws */
+	uint32_t *cand;			  /* per object: the objects a view tests */
+	pvs_word *seen;			  /* objects found visible (or set on entry) */
+	float nearp;			  /* the views' near plane */
 	pvs_shrink_stats *st;
 } pvs__shrink3d;
 
@@ -20751,9 +20803,26 @@ PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state)
 	pvs__free(&sh->allocator, sh, sizeof(*sh), 16);
 }
 
+/* AUTO's price of SHRINK: a depth cube per sample point on a cell's faces (pvs__shrink_face): cost class 2 for a mean
+   of 294 points (a cube of side 8 eps), one more per doubling (BSP leaves of indoor maps: 4 to 6 more). */
+PVS__STATIC int pvs__shrink_price(const pvs_bake_desc *desc) {
+	pvs_box sb = pvs_scene_bounds(desc->scene);
+	double points = 0.0, ref = 2.0 * 294.0 * desc->cell_count, n[3], eps = desc->eps;
+	if (!(eps > 0.0)) eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene), &sb);
+	uint32_t i;
+	int k, price = 2;
+	for (i = 0; i < desc->cell_count; ++i) {
+		for (k = 0; k < 3; ++k) n[k] = ceil((desc->cells[i].max[k] - (double)desc->cells[i].min[k]) / (1.4 * eps)) + 1;
+		points += 2.0 * (n[0] * n[1] + n[1] * n[2] + n[0] * n[2]);
+	}
+	for (; price < 30 && points >= ref; points *= 0.5) ++price;
+	return price;
+}
+
 PVS__STATIC const pvs__bake_method pvs__shrink_method = {
 	PVS_METHOD_SHRINK, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT | PVS__METHOD_SETS_OTHERS, 3, 2, NULL,
-	pvs__shrink_bake_prepare, pvs__shrink_bake_applies, pvs__shrink_bake_cell, NULL, pvs__shrink_bake_destroy};
+	pvs__shrink_bake_prepare, pvs__shrink_bake_applies, pvs__shrink_bake_cell, NULL, pvs__shrink_bake_destroy,
+	pvs__shrink_price};
 
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *b) {
 	const pvs__shrink_bake *sh = (const pvs__shrink_bake *)pvs__bake_method_state(b, PVS_METHOD_SHRINK);
@@ -20768,31 +20837,31 @@ PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) {
 /* ==== bake: validated cells, one task per cell, results in cell order whatever the run order ==== */
 
 struct pvs_bake {
-	pvs__bake_env env;         /* what the methods see: scene, allocator, cells, eps, flags */
-	pvs_box *cells;            /* per task: the shard's cells in id order */
-	uint32_t cell_count;       /* the shard's (task_count) */
+	pvs__bake_env env;		   /* what the methods see: scene, allocator, cells, eps, flags */
+	pvs_box *cells;			   /* per task: the shard's cells in id order */
+	uint32_t cell_count;	   /* the shard's (task_count) */
 	uint32_t total_cell_count, shard_index, shard_count;
 	uint32_t object_count;
-	size_t words;              /* per cell */
-	pvs_word *pvs;             /* cell_count * words */
-	unsigned char *done;       /* cell_count flags, each written by its task only */
+	size_t words;			   /* per cell */
+	pvs_word *pvs;			   /* cell_count * words */
+	unsigned char *done;	   /* cell_count flags, each written by its task only */
 	pvs_method method;
 	uint32_t max_chain;
 	/* considered (AUTO: all candidates, in run order) and run methods; a task's PVS intersects theirs (conservative) */
 	const pvs__bake_method *considered[PVS_METHOD_COUNT];
 	const char *reason[PVS_METHOD_COUNT];
-	float sample_gain[PVS_METHOD_COUNT]; /* by considered index: AUTO's sample (pvs__bake_auto_sample) */
+	float sample_gain[PVS_METHOD_COUNT]; /* by considered index: AUTO's sample (pvs__bake_auto_sample); -1 costly */
 	uint32_t sample_cells;
 	unsigned char ran[PVS_METHOD_COUNT];
 	uint32_t considered_count;
 	const pvs__bake_method *run[PVS_METHOD_COUNT];
 	uint32_t run_count;
 	void *state[PVS_METHOD_COUNT]; /* by pvs_method: prepared states */
-	uint32_t *stats;           /* per task: run_count own PVS sizes, then run_count sole-cull counts */
+	uint32_t *stats;		   /* per task: run_count own PVS sizes, then run_count sole-cull counts */
 	unsigned char *restored;   /* per task: restored (no stats) */
 	float max_distance;
 	unsigned char *cell_flags; /* per task, written by its task: PVS__BAKE_* */
-	uint32_t drawable;         /* objects that can appear in a PVS */
+	uint32_t drawable;		   /* objects that can appear in a PVS */
 	uint32_t adaptive_budget;  /* adaptive cells (§6.1); 0 = off */
 	float adaptive_min_size;
 	uint32_t *object_triangles;/* adaptive: triangles per object */
@@ -20803,7 +20872,7 @@ struct pvs_bake {
 typedef struct pvs__bakeleaves {
 	size_t count, capacity;
 	pvs_box *boxes;
-	pvs_word *pvs;             /* count * words */
+	pvs_word *pvs;			   /* count * words */
 } pvs__bakeleaves;
 
 /* ---- the method table ---- */
@@ -21001,10 +21070,17 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
 	return PVS_OK;
 }
 
+/* AUTO's cost class of method m for a bake of desc's cells (pvs__bake_auto_sample). */
+PVS__STATIC int pvs__bake_price(const pvs__bake_method *m, const pvs_bake_desc *desc) {
+	return m->price ? m->price(desc) : m->cost_class;
+}
+
 /* AUTO: `mask`'s methods, cheapest first (cost_rank, table order), each prepared and kept if it can cull here; PREVIEW
-   stops at the first kept; UNSUPPORTED ones are skipped, with their reason. */
-PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, uint32_t mask, pvs_error *err) {
-	int rank;
+   stops at the first kept; UNSUPPORTED ones are skipped, with their reason. `sampling`: one priced d classes above the
+   cheapest kept, PVS_AUTO_MIN_GAIN 2^d > 1, is not prepared (it would have to cull more than that one's PVS). */
+PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, uint32_t mask, int sampling,
+										pvs_error *err) {
+	int rank, cheapest = 1 << 20;
 	uint32_t k;
 	pvs_result r;
 	for (rank = 1; rank <= 4; ++rank)
@@ -21013,6 +21089,15 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 			const char *why = "preview runs only the cheapest method that applies";
 			if (!(mask & (1u << m->method)) || m->cost_rank != rank) continue;
 			b->considered[b->considered_count] = m;
+			if (b->run_count && pvs__bake_price(b->run[b->run_count - 1], desc) < cheapest)
+				cheapest = pvs__bake_price(b->run[b->run_count - 1], desc);
+			if (sampling && b->run_count &&
+				ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(m, desc) - cheapest) > 1.0) {
+				b->sample_gain[b->considered_count] = -1.0f;
+				b->reason[b->considered_count++] = "costly here: it would have to cull more than the whole PVS of a "
+												   "method 4 cost classes cheaper";
+				continue;
+			}
 			if (!((b->env.flags & PVS_BAKE_PREVIEW) && b->run_count)) {
 				r = pvs__bake_prepare(b, m, desc, err);
 				if (r == PVS_ERROR_UNSUPPORTED) {
@@ -21040,14 +21125,11 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 }
 
 /* AUTO's sample (CONCEPTS, Methods): the methods that apply are prepared for PVS_AUTO_SAMPLE_CELLS cells spread
-   evenly over all the bake's cells (a shard's too, so every shard decides alike), and each is baked alone on them.
-   Greedily, the method with the smallest PVS is kept, then, best ratio first, those that cull beyond the kept at
-   least PVS_AUTO_MIN_GAIN of the kept PVS, doubled per cost class above the first kept's, halved below (on indoor
-   maps a cell of OTREE costs 4 to 8 portal flows; of the sweep's EXTPROJ, 10 to 20). Only the kept methods are then
-   prepared for every cell (the sample's PORTAL and SHRINK prepare the whole scene too) and run. Only for the
-   default set (desc->methods 0), at least 4 times as many cells as the sample, without PREVIEW or a method that
-   stores whole cells. Counts decide, never time. The sample's PVSs only choose; the bake's come from the full
-   preparations. */
+   over all the bake's cells (a shard's too: shards decide alike) and each bakes them alone. Greedily, the smallest
+   PVS's method is kept, then, best ratio first, those culling beyond the kept PVS_AUTO_MIN_GAIN of it, doubled per
+   cost class (pvs__bake_price) above the first kept's, halved below (indoors a cell of OTREE costs 4 to 8 portal
+   flows; of the sweep's EXTPROJ, 10 to 20). The kept are then prepared for every cell. Only for the default set, 4
+   times the sample's cells or more, no PREVIEW. Counts decide, never time. */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
 }
@@ -21083,14 +21165,14 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 			}
 			for (i = 0; i < b->considered_count; ++i) /* kept: its gain when chosen; skipped: its last */
 				if (b->considered[i] == b->run[k]) b->sample_gain[i] = (float)(sum / S);
-			need = kept ? ldexp(PVS_AUTO_MIN_GAIN * base, b->run[k]->cost_class - c0) : 1.0;
+			need = kept ? ldexp(PVS_AUTO_MIN_GAIN * base, pvs__bake_price(b->run[k], sd) - c0) : 1.0;
 			if (sum / need > best_gain) {
 				best_gain = sum / need;
 				best = k;
 			}
 		}
 		if (kept && best_gain < 1.0) break;
-		if (!kept) c0 = b->run[best]->cost_class;
+		if (!kept) c0 = pvs__bake_price(b->run[best], sd);
 		keep[best] = 1;
 		for (base = 0.0, s = 0; s < S; ++s) {
 			pvs_word *cur = bits + ((size_t)s * (n + 1) + n) * words;
@@ -21132,7 +21214,7 @@ PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc
 	sd.cell_count = S;
 	b->env.cells = sample;
 	b->env.cell_count = S;
-	r = pvs__bake_choose(b, &sd, mask, err);
+	r = pvs__bake_choose(b, &sd, mask, 1, err);
 	for (k = 0; r == PVS_OK && k < b->run_count; ++k)
 		if (b->run[k]->traits & PVS__METHOD_WHOLE_CELLS) r = PVS_ERROR_UNSUPPORTED; /* not expected under AUTO */
 	if (r == PVS_OK) r = pvs__bake_auto_sample(b, &sd, err);
@@ -21211,7 +21293,7 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
 		r = pvs__bake_prepare(b, row, desc, err);
 	} else if (r == PVS_OK) {
 		r = pvs__bake_wants_sample(desc) ? pvs__bake_choose_sampled(b, desc, mask, err)
-									   : pvs__bake_choose(b, desc, mask, err);
+									   : pvs__bake_choose(b, desc, mask, 0, err);
 	}
 	b->env.cells = NULL; /* desc's: gone after this call */
 	if (r != PVS_OK) {
@@ -21450,8 +21532,8 @@ PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *b, uint32_t i, pvs_b
 	info->method = b->considered[i]->method;
 	info->ran = b->ran[i];
 	info->reason = b->reason[i] ? b->reason[i] : "";
-	info->sample_cells = b->sample_cells;
-	info->sample_gain = b->sample_gain[i];
+	info->sample_cells = b->sample_gain[i] < 0.0f ? 0u : b->sample_cells;
+	info->sample_gain = b->sample_gain[i] < 0.0f ? 0.0f : b->sample_gain[i];
 	if (!info->ran) return PVS_OK;
 	for (k = 0; k < b->run_count; ++k)
 		if (b->run[k] == b->considered[i]) slot = k;
@@ -21575,11 +21657,11 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__META_SIZE 32u
 #define PVS__CELL_HEAD 20u
 #define PVS__TREE_HEAD 8u
-#define PVS__TREE_MAX_DEPTH 24u        /* deepest look-up tree a reader accepts */
+#define PVS__TREE_MAX_DEPTH 24u		   /* deepest look-up tree a reader accepts */
 #define PVS__SHRD_SIZE 16u
-#define PVS__BLOCK 16u                  /* records per RECS offset block */
-#define PVS__CANDIDATES 8u              /* base candidates per cell: the nearest by the sweep */
-#define PVS__TREE_LEAF 4u               /* most cells per look-up leaf */
+#define PVS__BLOCK 16u					/* records per RECS offset block */
+#define PVS__CANDIDATES 8u				/* base candidates per cell: the nearest by the sweep */
+#define PVS__TREE_LEAF 4u				/* most cells per look-up leaf */
 #define PVS__RICE_MAX_K 24u
 #define PVS__TAG(a, b, c, d) ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))
 #define PVS__TAG_META PVS__TAG('M', 'E', 'T', 'A')
@@ -21701,7 +21783,7 @@ PVS__STATIC uint32_t pvs__bitset_next_clear(const pvs_word *bits, uint32_t bit_c
    ranges of spatially ordered objects; the bitset caps the worst case at n / 8 bytes. */
 typedef struct pvs__coded {
 	uint32_t coding, rice_k;
-	size_t bytes;              /* body size */
+	size_t bytes;			   /* body size */
 } pvs__coded;
 
 PVS__STATIC pvs__coded pvs__set_measure(const pvs_word *bits, uint32_t n) {
@@ -21805,9 +21887,9 @@ PVS__STATIC void pvs__set_write(const pvs_word *bits, uint32_t n, const pvs__cod
 enum { PVS__SET_CHECK = 0, PVS__SET_ADD = 1, PVS__SET_REMOVE_RANKS = 2 };
 typedef struct pvs__sink {
 	int action;
-	pvs_word *bits;            /* the PVS being built (not CHECK) */
+	pvs_word *bits;			   /* the PVS being built (not CHECK) */
 	uint32_t words;
-	pvs_change_fn fn;          /* optional change reports */
+	pvs_change_fn fn;		   /* optional change reports */
 	void *user;
 	uint32_t w, before, removed; /* REMOVE_RANKS: scan word, set bits before it, ranks removed */
 } pvs__sink;
@@ -22072,12 +22154,12 @@ typedef struct pvs__tbuild {
 	const pvs_allocator *a;
 	const pvs_box *boxes;
 	uint32_t depth;
-	uint32_t *nodes;           /* 2^D - 1 */
-	uint32_t *leaf_start;      /* 2^D + 1 offsets into items */
-	uint8_t *items;            /* per leaf: gap-coded ascending cell ids */
+	uint32_t *nodes;		   /* 2^D - 1 */
+	uint32_t *leaf_start;	   /* 2^D + 1 offsets into items */
+	uint8_t *items;			   /* per leaf: gap-coded ascending cell ids */
 	size_t item_bytes, item_capacity;
 	uint32_t leaves_done;
-	float *keys;               /* scratch: 2n floats */
+	float *keys;			   /* scratch: 2n floats */
 	const float *values[3];
 	const uint32_t *value_count;
 } pvs__tbuild;
@@ -22197,19 +22279,19 @@ typedef struct pvs__encoder {
 	const pvs_file_desc *d;
 	uint32_t n, cells;
 	size_t words;
-	pvs_box *boxes;            /* the cells as stored (-0 as +0) */
+	pvs_box *boxes;			   /* the cells as stored (-0 as +0) */
 	float *values[3];
 	uint32_t value_count[3], index_bits[6]; /* widths: min indices, then extents */
-	pvs_kdtree *tree;          /* over the cells: base candidates */
-	uint8_t *tree_stream;      /* TREE nodes */
+	pvs_kdtree *tree;		   /* over the cells: base candidates */
+	uint8_t *tree_stream;	   /* TREE nodes */
 	size_t tree_bytes;
 	uint32_t tree_depth;
 	void *sweep;
 	size_t sweep_size;
 	pvs__link *edges;
 	size_t edge_count, edge_capacity;
-	uint32_t *adj_start;       /* CSR over the symmetric candidate graph */
-	uint32_t *adj;             /* (neighbour, weight) pairs */
+	uint32_t *adj_start;	   /* CSR over the symmetric candidate graph */
+	uint32_t *adj;			   /* (neighbour, weight) pairs */
 	pvs__heapent *heap;
 	size_t heap_capacity;
 	uint32_t *base, *depth;    /* PVS_NO_CELL for keys */
@@ -22718,7 +22800,7 @@ done:
 /* A record located by the reader (files that passed pvs_file_open only). */
 typedef struct pvs__rec {
 	const uint8_t *start, *body, *end; /* body: a delta's removed ranks, else the added ids */
-	uint32_t coding, depth, base;      /* coding of the added ids */
+	uint32_t coding, depth, base;	   /* coding of the added ids */
 	uint32_t removed_coding, base_size;
 } pvs__rec;
 
@@ -23322,7 +23404,7 @@ PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bi
 		cell = r.base;
 	}
 	pvs__record_apply(f, &r, bits, NULL, NULL); /* the key */
-	while (--n) {                                /* then each delta on top of its base */
+	while (--n) {								 /* then each delta on top of its base */
 		pvs__record_at(f, chain[n - 1], &r);
 		pvs__record_apply(f, &r, bits, NULL, NULL);
 	}
@@ -23404,22 +23486,18 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
-   0.7.0 (2026-11-28) AUTO's sample weighs a method's gain by its cost class (portal, otree, then extproj and
-					  shrink: each class doubles the share of the kept PVS it must cull); PVS_AUTO_MIN_GAIN 10%.
-   0.6.0 (2026-11-28) PORTAL: a BSP on the closed convex meshes' face planes, its empty leaves as rooms and
-					  their shared faces as portals, a conservative portal flow per cell with object-level
-					  tests; AUTO runs it; kernels written once across otree, raster, extproj and vocc.
-   0.5.0 (2026-11-28) AUTO pays for what culls (a sample of cells chooses the methods it runs); shared
-					  kernels (priority queue, union-find); the header indented with tabs.
-   0.4.0 (2026-11-28) AUTO (the default), max_distance, PREVIEW, resumable bakes, virtual occluders (vocc),
-					  extproj's slices, sheets and occlusion sweep, adaptive cells; bounded memory; the
-					  method table; per-method parameter structs in pvs_bake_desc, pvs_*_get_* getters.
-   0.3.0 (2026-11-22) the raster module (conservative occluder/occludee rasterization, hierarchical
-					  depth map, cull maps, pvs_raster_cull); occlusion trees (exact 2D, c-LSS 2.5D);
-					  occluder synthesis; bake methods shrink, otree and extproj (all conservative).
-   0.2.0 (2026-11-22) delta-PVS file format 1 (keys + bounded delta chains, four set codings, compact
-					  cells and look-up tree), cursor, record info, sharded bakes and merge.
-   0.1.0 (2026-11-22) first version: scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container v1.
+   0.7.1 (2026-11-28) AUTO prices SHRINK by its sample points (pvs__shrink_price); the sample does not prepare a
+					  method priced past any gain.
+   0.7.0 (2026-11-28) AUTO prices methods by cost class (each doubles the share of the kept PVS a method must
+					  cull; PVS_AUTO_MIN_GAIN 10%).
+   0.6.0 (2026-11-28) PORTAL: BSP rooms from closed convex meshes, portal flow, object-level tests; in AUTO.
+   0.5.0 (2026-11-28) AUTO's sample of cells chooses its methods; shared kernels; tab indentation.
+   0.4.0 (2026-11-28) AUTO, max_distance, PREVIEW, resumable bakes, vocc, extproj's sweep, adaptive cells, bounded
+					  memory, the method table, per-method parameter structs, pvs_*_get_* getters.
+   0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps, per-frame culling; occlusion trees;
+					  occluder synthesis; methods shrink, otree and extproj.
+   0.2.0 (2026-11-22) delta-PVS file format 1, cursor, sharded bakes and merge.
+   0.1.0 (2026-11-22) scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

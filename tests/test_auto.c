@@ -555,6 +555,42 @@ static void check_sample_policy(void) {
     mesh_cells_free(&cells);
 }
 
+/* AUTO does not even prepare a method priced past any gain: with an eps so small that SHRINK would sample about
+   11,000 points per cell (cost class 7, pvs__shrink_price), the sample skips it as costly, unsampled, while with the
+   default eps on the same cells it is sampled like the others. */
+static void check_costly(void) {
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *s = gen_auto_scene("costly", GEN_CITY, 2, 0.15f, 4 * PVS_AUTO_SAMPLE_CELLS, &m, &cells);
+    uint32_t pass, k;
+    if (!s) return;
+    for (pass = 0; pass < 2; ++pass) {
+        pvs_bake_desc bd;
+        pvs_bake *a;
+        pvs_error e;
+        int seen = 0;
+        memset(&bd, 0, sizeof(bd));
+        bd.scene = s;
+        bd.cells = (const pvs_box *)cells.boxes;
+        bd.cell_count = cells.count;
+        bd.eps = pass ? 0.0f : 0.05f;
+        CHECK(pvs_bake_begin(&bd, &a, &e) == PVS_OK);
+        if (!a) continue;
+        for (k = 0; k < pvs_bake_method_count(a); ++k) {
+            pvs_bake_method_info mi;
+            CHECK(pvs_bake_get_method_info(a, k, &mi) == PVS_OK);
+            if (mi.method != PVS_METHOD_SHRINK) continue;
+            seen = 1;
+            CHECK(pass ? mi.sample_cells == PVS_AUTO_SAMPLE_CELLS : (!mi.ran && mi.sample_cells == 0 && strstr(mi.reason, "costly")));
+        }
+        CHECK(seen);
+        pvs_bake_destroy(a);
+    }
+    pvs_scene_destroy(s);
+    mesh_free(&m);
+    mesh_cells_free(&cells);
+}
+
 void test_auto(void) {
     check_sweep_default();
     check_mask_preview();
@@ -562,6 +598,7 @@ void test_auto(void) {
     check_max_distance();
     check_restore();
     check_sample_policy();
+    check_costly();
     check_auto(GEN_CITY, 0.15f, 1, 10, 1);
     check_auto(GEN_INDOOR, 0.3f, 2, 10, 1);
     check_auto(GEN_WALLS, 0.3f, 3, 10, 1);

@@ -50,11 +50,16 @@ static void tb_build(tb_level *t) {
         tb_putf(p + 16 * i + 4 * (i >> 1), (i & 1) ? 1.0f : -1.0f);
         tb_putf(p + 16 * i + 12, (i & 1) ? 64.0f : 0.0f);
     }
-    p = tb_lump(t, 4, 3 * 48); /* leaves: cluster, area, mins, maxs, surfaces */
-    int32_t leaves[3][12] = {{0, 0, -100, -100, 64, 0, 100, 200, 0, 2, 0, 0},
+    p = tb_lump(t, 3, 2 * 36); /* nodes: 0 splits leaf 0 from node 1, which splits leaf 1 from leaf 2 */
+    int32_t nodes[2][3] = {{0, -1, 1}, {1, -2, -3}};
+    for (int i = 0; i < 2; ++i) tb_i32s(p + 36 * i, nodes[i], 3);
+    p = tb_lump(t, 4, 4 * 48); /* leaves: cluster, area, mins, maxs, surfaces; leaf 3 outside the tree (q3map2's
+                                  inline models' leaves: cluster 0, zero bounds), never a cell */
+    int32_t leaves[4][12] = {{0, 0, -100, -100, 64, 0, 100, 200, 0, 2, 0, 0},
                              {1, 0, 0, -100, 64, 100, 100, 200, 2, 1, 0, 0},
-                             {-1, 0, 0, 0, 0, 64, 64, 64, 0, 0, 0, 0}};
-    for (int i = 0; i < 3; ++i) tb_i32s(p + 48 * i, leaves[i], 12);
+                             {-1, 0, 0, 0, 0, 64, 64, 64, 0, 0, 0, 0},
+                             {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}};
+    for (int i = 0; i < 4; ++i) tb_i32s(p + 48 * i, leaves[i], 12);
     p = tb_lump(t, 5, 3 * 4); /* leaf surfaces: leaf 0 has surfaces 0 and 1, leaf 1 has 1 */
     int32_t ls[3] = {0, 1, 1};
     tb_i32s(p, ls, 3);
@@ -232,6 +237,9 @@ static void tb_errors(void) {
     tb_bad(t.at[16], 9, "9 clusters of 1 bytes do not fit");
     tb_bad(t.at[7] + 40 + 28, 5, "models[1]: surface range 2+5");
     tb_bad(t.at[4] + 8, 500, "leafs[0]: bounds min > max");
+    tb_bad(t.at[3] + 8, 7, "nodes[0]: child 7 out of range");
+    tb_bad(t.at[3] + 36 + 8, (uint32_t)-10, "nodes[1]: leaf 9 out of range");
+    tb_bad(t.at[3] + 36 + 8, 0, "nodes[1]: child 0 reached twice");
     /* every truncated prefix fails cleanly (no crash, no leak) */
     for (uint32_t n = 0; n < t.size; n += n < 200 ? 1 : 7) {
         mesh m;

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { L_SHADERS = 1, L_PLANES = 2, L_LEAFS = 4, L_LEAFSURFACES = 5, L_MODELS = 7, L_BRUSHES = 8,
+enum { L_SHADERS = 1, L_PLANES = 2, L_NODES = 3, L_LEAFS = 4, L_LEAFSURFACES = 5, L_MODELS = 7, L_BRUSHES = 8,
        L_BRUSHSIDES = 9, L_DRAWVERTS = 10, L_DRAWINDEXES = 11, L_SURFACES = 13, L_VISIBILITY = 16, L_COUNT = 17 };
 static const char *const lump_names[L_COUNT] = {"entities", "shaders", "planes", "nodes", "leafs", "leafsurfaces",
                                                 "leafbrushes", "models", "brushes", "brushsides", "drawverts",
@@ -34,6 +34,7 @@ typedef struct bsp_reader {
     uint32_t cell_step;      /* >= 1 */
     bsp_lump l[L_COUNT];
     tool_error *err;
+    uint8_t *in_world;       /* per leaf: reached from node 0, the world's tree (all when there are no nodes) */
 } bsp_reader;
 
 static uint32_t rd_u32(const uint8_t *p) {
@@ -424,9 +425,49 @@ static void leaf_box(const uint8_t *leaf, float box[6]) {
     box[5] = -lo[1];
 }
 
-/* 1 if leaf i is a cell: it has a cluster and is the every cell_step-th such leaf (*k counts them). */
+/* Marks r->in_world: the leaves of the world's tree, walked from node 0, each node once. Leaves outside it
+   (q3map2 writes a dummy leaf 0 and the inline models' leaves, with zero bounds and cluster 0) are no place
+   a camera is ever located in. A child out of range or a node reached twice is an error. */
+static int read_tree(bsp_reader *r, tool_error *err) {
+    uint32_t nn = r->l[L_NODES].count, nl = r->l[L_LEAFS].count, top = 0;
+    uint32_t *stack = (uint32_t *)malloc(((size_t)nn + 1) * sizeof(uint32_t));
+    uint8_t *seen = (uint8_t *)calloc((size_t)nn + 1, 1);
+    int rc = -1;
+    r->in_world = (uint8_t *)calloc((size_t)nl + 1, 1);
+    if (!stack || !seen || !r->in_world) {
+        tool_error_set(err, r->path, 0, "out of memory");
+        goto done;
+    }
+    if (nn == 0) memset(r->in_world, 1, nl);
+    if (nn) stack[top++] = 0, seen[0] = 1;
+    while (top) {
+        uint32_t n = stack[--top];
+        for (int k = 0; k < 2; ++k) {
+            int32_t c = rd_i32(rec(r, L_NODES, n) + 4 + 4 * k);
+            if (c >= 0 && ((uint32_t)c >= nn || seen[c])) {
+                tool_error_set(err, r->path, 0, "nodes[%u]: child %d %s", n, c,
+                               (uint32_t)c >= nn ? "out of range" : "reached twice (not a tree)");
+                goto done;
+            }
+            if (c < 0 && (uint32_t)(-(c + 1)) >= nl) {
+                tool_error_set(err, r->path, 0, "nodes[%u]: leaf %d out of range (%u leafs)", n, -(c + 1), nl);
+                goto done;
+            }
+            if (c >= 0) seen[c] = 1, stack[top++] = (uint32_t)c;
+            else r->in_world[-(c + 1)] = 1;
+        }
+    }
+    rc = 0;
+done:
+    free(stack);
+    free(seen);
+    return rc;
+}
+
+/* 1 if leaf i is a cell: in the world's tree, it has a cluster and is the every cell_step-th such leaf (*k
+   counts them). */
 static int leaf_is_cell(const bsp_reader *r, uint32_t i, uint32_t *k) {
-    if (rd_i32(rec(r, L_LEAFS, i)) < 0) return 0;
+    if (!r->in_world[i] || rd_i32(rec(r, L_LEAFS, i)) < 0) return 0;
     return (*k)++ % r->cell_step == 0;
 }
 
@@ -434,7 +475,7 @@ static int read_cells(const bsp_reader *r, mesh_cells *cells, bsp_stats *st, too
     for (uint32_t i = 0, k = 0; i < r->l[L_LEAFS].count; ++i) {
         const uint8_t *leaf = rec(r, L_LEAFS, i);
         float box[6];
-        if (rd_i32(leaf) < 0) continue;
+        if (!r->in_world[i] || rd_i32(leaf) < 0) continue;
         ++st->leaves;
         leaf_box(leaf, box);
         if (!(box[0] <= box[3] && box[1] <= box[4] && box[2] <= box[5])) {
@@ -605,7 +646,7 @@ int bsp_parse(const char *path, const void *data, size_t size, const bsp_options
         goto done;
     }
     if (read_header(&r, (const uint8_t *)data, size) || read_surfaces(&r, level, m, &st, err) ||
-        read_brushes(&r, m, &st, err) || read_cells(&r, cells, &st, err))
+        read_brushes(&r, m, &st, err) || read_tree(&r, err) || read_cells(&r, cells, &st, err))
         goto done;
     if (pvs && read_pvs(&r, m->object_count, st.cells, pvs, &st, err)) goto done;
     if (st.leaves == 0) {
@@ -614,6 +655,7 @@ int bsp_parse(const char *path, const void *data, size_t size, const bsp_options
     }
     rc = 0;
 done:
+    free(r.in_world);
     if (m == &local) mesh_free(m);
     if (rc && pvs) bsp_pvs_free(pvs);
     if (stats) *stats = st;
