@@ -89,17 +89,17 @@
    opening meant to be seen through must be wider.
 
    Methods. AUTO, the default, runs the conservative methods that can cull in the scene, cheapest first, and
-   intersects their PVSs (conservative, and as tight as each): PORTAL when closed convex meshes bound rooms;
-   OTREE when vertical walls give facades (2.5D); EXTPROJ when there are planar occluders or convex solids (3D;
-   an object's coplanar edge-connected triangles act as one occluder); SHRINK, the costliest, last on what the
-   others kept, when closed geometry leaves volume after erosion by eps. AUTO pays only for what culls: with the
-   default set and at least 4 x PVS_AUTO_SAMPLE_CELLS cells, pvs_bake_begin bakes PVS_AUTO_SAMPLE_CELLS cells
-   spread over all cells with each method, keeps the smallest PVS's, then greedily those that cull at least
-   PVS_AUTO_MIN_GAIN of what is kept, times 2 per cost class over the first kept (PORTAL; OTREE; EXTPROJ and
-   SHRINK, one more per doubling of SHRINK's sample points over a cube cell of side 8 eps); one priced 4 classes
-   above the cheapest kept is not even prepared. pvs_bake_method_info says which and why; counts decide, so every
-   thread count and shard decides alike. A named set (pvs_bake_desc.methods) runs in full; VOCC only when named.
-   AUTO's EXTPROJ sweeps (§5).
+   intersects their PVSs (conservative, and as tight as each): PORTAL when closed convex meshes bound rooms; OTREE
+   when vertical walls give facades (2.5D); EXTPROJ when there are planar occluders or convex solids (3D; an
+   object's coplanar edge-connected triangles act as one occluder); SHRINK, the costliest, last on what the others
+   kept, when closed geometry leaves volume after erosion by eps. AUTO pays only for what culls: with the default
+   set and at least 4 x PVS_AUTO_SAMPLE_CELLS cells, pvs_bake_begin bakes PVS_AUTO_SAMPLE_CELLS cells spread over
+   all cells with each method, keeps the one culling most per price (2^-cost class), then greedily those that cull
+   PVS_AUTO_MIN_GAIN of what is kept, times 2 per class over the first kept. Classes: PORTAL 0; OTREE 2, plus log2
+   of its base levels; EXTPROJ 3; SHRINK 3, plus log2 of its sample points per cell over 294 (a cube of side 8 eps).
+   One priced 4 classes above the cheapest kept is not even prepared. pvs_bake_method_info says which and why;
+   counts decide, so every thread count and shard decides alike. A named set (pvs_bake_desc.methods) runs in full;
+   VOCC only when named. AUTO's EXTPROJ sweeps (§5).
    max_distance, a draw distance, drops objects whose box is farther from every point of the cell (box to box,
    rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake.
 
@@ -244,9 +244,9 @@
 
    RECENT HISTORY (older: FULL HISTORY at the end)
    ==============
-   0.7.1 (2026-11-28) AUTO's sample prices SHRINK by its sample points and skips methods priced past any gain.
-   0.7.0 (2026-11-28) AUTO prices its methods: cost classes, PVS_AUTO_MIN_GAIN 10%. File format unchanged.
-   0.6.0 (2026-11-28) method PORTAL (cells and portals), in AUTO's default set. File format unchanged.
+   0.7.1 (2026-11-28) AUTO's prices depend on the scene (SHRINK's sample points, OTREE's levels). Format unchanged.
+   0.7.0 (2026-11-28) AUTO prices its methods: cost classes, PVS_AUTO_MIN_GAIN 10%.
+   0.6.0 (2026-11-28) method PORTAL (cells and portals), in AUTO's default set.
 */
 // >>api
 #ifndef PVS_H
@@ -1997,8 +1997,9 @@ typedef struct pvs__bake_method {
 	void (*file)(const void *state, pvs_file_desc *fd);
 	/* Frees the state (NULL is fine). */
 	void (*destroy)(const pvs__bake_env *env, void *state);
-	/* AUTO's cost class of a bake of desc's cells when it depends on them, before preparing. NULL: cost_class. */
-	int (*price)(const pvs_bake_desc *desc);
+	/* AUTO's cost class for desc's cells when it depends on the scene (state: NULL before preparing). NULL:
+	   cost_class. */
+	int (*price)(const pvs_bake_desc *desc, const void *state);
 } pvs__bake_method;
 
 struct pvs_bake;
@@ -9680,9 +9681,20 @@ PVS__STATIC pvs_result pvs__otree_bake_cell(const pvs__bake_env *env, void *stat
 	return pvs__otree_cell((const pvs__otree_bake *)state, env->scene, box, cell, bits, flags, err);
 }
 
+/* AUTO's price of OTREE: a cell runs pvs_visibility_25d per base level: class 2, one more per doubling of levels. */
+PVS__STATIC int pvs__otree_price(const pvs_bake_desc *desc, const void *state) {
+	const pvs__otree_bake *ot = (const pvs__otree_bake *)state;
+	int price = 2;
+	uint32_t n;
+	(void)desc;
+	for (n = ot ? ot->level_count : 1; n > 1; n = (n + 1) / 2) ++price;
+	return price;
+}
+
 PVS__STATIC const pvs__bake_method pvs__otree_method = {
-	PVS_METHOD_OTREE, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 2, 1, pvs__otree_bake_check,
-	pvs__otree_bake_prepare, pvs__otree_bake_applies, pvs__otree_bake_cell, NULL, pvs__otree_bake_destroy, NULL};
+	PVS_METHOD_OTREE, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 2, 2, pvs__otree_bake_check,
+	pvs__otree_bake_prepare, pvs__otree_bake_applies, pvs__otree_bake_cell, NULL, pvs__otree_bake_destroy,
+	pvs__otree_price};
 
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *info) {
 	const pvs__otree_bake *ot = b ? (const pvs__otree_bake *)pvs__bake_method_state(b, PVS_METHOD_OTREE) : NULL;
@@ -14790,7 +14802,7 @@ PVS__STATIC void pvs__vocc_bake_destroy(const pvs__bake_env *env, void *state) {
 
 /* Not in AUTO unless named (pvs_bake_desc.methods): it is for storage and the run-time rebuild, not tightness. */
 PVS__STATIC const pvs__bake_method pvs__vocc_method = {
-	PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, 1, pvs__vocc_bake_check,
+	PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, 2, pvs__vocc_bake_check,
 	pvs__vocc_bake_prepare, pvs__vocc_bake_applies, pvs__vocc_bake_cell, pvs__vocc_bake_file, pvs__vocc_bake_destroy,
 	NULL};
 
@@ -15616,8 +15628,8 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 	len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 	if (!(len > 1e-12 * (fabs(e1[0]) + fabs(e1[1]) + fabs(e1[2])) * (fabs(e2[0]) + fabs(e2[1]) + fabs(e2[2]))))
 		return 0;
-	/* a first pass unnormalized, margin 2 eps: A off both sides by it is off by eps below, for coordinates within 10^5
-	   scene sizes of 0 (roundings); else a plane may be lost, never a wrong one made (fewer planes: more lines) */
+	/* first unnormalized, margin 2 eps: A off both sides by it is off by eps below (coordinates within 10^5 scene
+	   sizes of 0); else a plane may be lost, never a wrong one made (fewer planes: more lines) */
 	d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
 	for (i = 0; i < na; ++i) {
 		double t = n[0] * A[i][0] + n[1] * A[i][1] + n[2] * A[i][2] + d;
@@ -16377,7 +16389,7 @@ PVS__STATIC void pvs__sample_bake_destroy(const pvs__bake_env *env, void *state)
 }
 
 PVS__STATIC const pvs__bake_method pvs__sample_method = {
-	PVS_METHOD_SAMPLE, PVS__METHOD_APPROXIMATE, 4, 3, NULL, pvs__sample_bake_prepare, NULL, pvs__sample_bake_cell, NULL,
+	PVS_METHOD_SAMPLE, PVS__METHOD_APPROXIMATE, 4, 4, NULL, pvs__sample_bake_prepare, NULL, pvs__sample_bake_cell, NULL,
 	pvs__sample_bake_destroy, NULL};
 
 /* ---- extended projections (Durand et al. 2000) ---- */
@@ -19954,7 +19966,7 @@ PVS__STATIC void pvs__extproj_bake_destroy(const pvs__bake_env *env, void *state
 }
 
 PVS__STATIC const pvs__bake_method pvs__extproj_method = {
-	PVS_METHOD_EXTPROJ, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, 2, pvs__extproj_bake_check,
+	PVS_METHOD_EXTPROJ, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, 3, pvs__extproj_bake_check,
 	pvs__extproj_bake_prepare, pvs__extproj_bake_applies, pvs__extproj_bake_cell, NULL, pvs__extproj_bake_destroy,
 	NULL};
 
@@ -20803,14 +20815,15 @@ PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state)
 	pvs__free(&sh->allocator, sh, sizeof(*sh), 16);
 }
 
-/* AUTO's price of SHRINK: a depth cube per sample point on a cell's faces (pvs__shrink_face): cost class 2 for a mean
-   of 294 points (a cube of side 8 eps), one more per doubling (BSP leaves of indoor maps: 4 to 6 more). */
-PVS__STATIC int pvs__shrink_price(const pvs_bake_desc *desc) {
+/* AUTO's price of SHRINK: a depth cube per sample point on a cell's faces (pvs__shrink_face): class 3 for a mean of
+   294 points (a cube of side 8 eps), one more per doubling. */
+PVS__STATIC int pvs__shrink_price(const pvs_bake_desc *desc, const void *state) {
 	pvs_box sb = pvs_scene_bounds(desc->scene);
 	double points = 0.0, ref = 2.0 * 294.0 * desc->cell_count, n[3], eps = desc->eps;
 	if (!(eps > 0.0)) eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene), &sb);
 	uint32_t i;
-	int k, price = 2;
+	int k, price = 3;
+	(void)state;
 	for (i = 0; i < desc->cell_count; ++i) {
 		for (k = 0; k < 3; ++k) n[k] = ceil((desc->cells[i].max[k] - (double)desc->cells[i].min[k]) / (1.4 * eps)) + 1;
 		points += 2.0 * (n[0] * n[1] + n[1] * n[2] + n[0] * n[2]);
@@ -20820,7 +20833,7 @@ PVS__STATIC int pvs__shrink_price(const pvs_bake_desc *desc) {
 }
 
 PVS__STATIC const pvs__bake_method pvs__shrink_method = {
-	PVS_METHOD_SHRINK, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT | PVS__METHOD_SETS_OTHERS, 3, 2, NULL,
+	PVS_METHOD_SHRINK, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT | PVS__METHOD_SETS_OTHERS, 3, 3, NULL,
 	pvs__shrink_bake_prepare, pvs__shrink_bake_applies, pvs__shrink_bake_cell, NULL, pvs__shrink_bake_destroy,
 	pvs__shrink_price};
 
@@ -21071,8 +21084,8 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
 }
 
 /* AUTO's cost class of method m for a bake of desc's cells (pvs__bake_auto_sample). */
-PVS__STATIC int pvs__bake_price(const pvs__bake_method *m, const pvs_bake_desc *desc) {
-	return m->price ? m->price(desc) : m->cost_class;
+PVS__STATIC int pvs__bake_price(const pvs_bake *b, const pvs__bake_method *m, const pvs_bake_desc *desc) {
+	return m->price ? m->price(desc, b->state[m->method]) : m->cost_class;
 }
 
 /* AUTO: `mask`'s methods, cheapest first (cost_rank, table order), each prepared and kept if it can cull here; PREVIEW
@@ -21089,10 +21102,10 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 			const char *why = "preview runs only the cheapest method that applies";
 			if (!(mask & (1u << m->method)) || m->cost_rank != rank) continue;
 			b->considered[b->considered_count] = m;
-			if (b->run_count && pvs__bake_price(b->run[b->run_count - 1], desc) < cheapest)
-				cheapest = pvs__bake_price(b->run[b->run_count - 1], desc);
+			if (b->run_count && pvs__bake_price(b, b->run[b->run_count - 1], desc) < cheapest)
+				cheapest = pvs__bake_price(b, b->run[b->run_count - 1], desc);
 			if (sampling && b->run_count &&
-				ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(m, desc) - cheapest) > 1.0) {
+				ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(b, m, desc) - cheapest) > 1.0) {
 				b->sample_gain[b->considered_count] = -1.0f;
 				b->reason[b->considered_count++] = "costly here: it would have to cull more than the whole PVS of a "
 												   "method 4 cost classes cheaper";
@@ -21125,11 +21138,10 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 }
 
 /* AUTO's sample (CONCEPTS, Methods): the methods that apply are prepared for PVS_AUTO_SAMPLE_CELLS cells spread
-   over all the bake's cells (a shard's too: shards decide alike) and each bakes them alone. Greedily, the smallest
-   PVS's method is kept, then, best ratio first, those culling beyond the kept PVS_AUTO_MIN_GAIN of it, doubled per
-   cost class (pvs__bake_price) above the first kept's, halved below (indoors a cell of OTREE costs 4 to 8 portal
-   flows; of the sweep's EXTPROJ, 10 to 20). The kept are then prepared for every cell. Only for the default set, 4
-   times the sample's cells or more, no PREVIEW. Counts decide, never time. */
+   over all the bake's cells (a shard's too: shards decide alike) and each bakes them alone. Greedily, from nothing
+   kept, the method culling most per price is kept (2^-class), then, best ratio first, those culling beyond the kept
+   PVS_AUTO_MIN_GAIN of it, doubled per class (pvs__bake_price) above the first kept's, halved below. The kept are
+   prepared for every cell. Only for the default set, 4 times the sample's cells or more, no PREVIEW. */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
 }
@@ -21137,7 +21149,7 @@ PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 /* The greedy choice over the S sample cells of sd (prepared for them): b->run keeps the chosen methods. */
 PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *sd, pvs_error *err) {
 	uint32_t n = b->run_count, S = sd->cell_count, s, k, i, keep[PVS_METHOD_COUNT], kept = 0;
-	int c0 = 0;
+	int c0 = 0, pmin = 1 << 20;
 	size_t w, words = b->words, total = (size_t)S * (n + 1) * words;
 	double base = 0.0;
 	pvs_word *bits;
@@ -21152,9 +21164,13 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 			r = b->run[k]->cell(&b->env, b->state[b->run[k]->method], 0, s, sd->cells + s, NULL,
 								bits + ((size_t)s * (n + 1) + k) * words, &flags, err);
 		}
-	for (k = 0; k < n; ++k) keep[k] = 0;
+	for (k = 0; k < n; ++k) {
+		keep[k] = 0;
+		if (pvs__bake_price(b, b->run[k], sd) < pmin) pmin = pvs__bake_price(b, b->run[k], sd);
+	}
 	while (r == PVS_OK && kept < n) { /* the next method: the largest gain over the kept intersection, by its price */
 		uint32_t best = n;
+		int best_price = 0;
 		double best_gain = -1.0, sum, need;
 		for (k = 0; k < n; ++k) {
 			if (keep[k]) continue;
@@ -21165,14 +21181,16 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 			}
 			for (i = 0; i < b->considered_count; ++i) /* kept: its gain when chosen; skipped: its last */
 				if (b->considered[i] == b->run[k]) b->sample_gain[i] = (float)(sum / S);
-			need = kept ? ldexp(PVS_AUTO_MIN_GAIN * base, pvs__bake_price(b->run[k], sd) - c0) : 1.0;
-			if (sum / need > best_gain) {
-				best_gain = sum / need;
+			int price = pvs__bake_price(b, b->run[k], sd);
+			need = kept ? ldexp(PVS_AUTO_MIN_GAIN * base, price - c0) : ldexp(1.0, price - pmin);
+			if (sum / need > best_gain || (sum / need == best_gain && price < best_price)) {
+				best_gain = sum / need; /* ties (where nothing culls): the cheaper */
+				best_price = price;
 				best = k;
 			}
 		}
 		if (kept && best_gain < 1.0) break;
-		if (!kept) c0 = pvs__bake_price(b->run[best], sd);
+		if (!kept) c0 = best_price;
 		keep[best] = 1;
 		for (base = 0.0, s = 0; s < S; ++s) {
 			pvs_word *cur = bits + ((size_t)s * (n + 1) + n) * words;
@@ -21193,8 +21211,8 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 		for (i = 0; i < b->considered_count; ++i)
 			if (b->considered[i] == b->run[k]) {
 				b->ran[i] = 0;
-				b->reason[i] = "negligible: on the sample cells it culled under 10% of what was kept "
-							   "(PVS_AUTO_MIN_GAIN, times 2 per cost class over the first kept)";
+				b->reason[i] = "negligible: on the sample cells it culled less than its price "
+							   "(PVS_AUTO_MIN_GAIN of the kept PVS, doubled per cost class)";
 			}
 	}
 	b->run_count = kept;
@@ -23486,10 +23504,8 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
-   0.7.1 (2026-11-28) AUTO prices SHRINK by its sample points (pvs__shrink_price); the sample does not prepare a
-					  method priced past any gain.
-   0.7.0 (2026-11-28) AUTO prices methods by cost class (each doubles the share of the kept PVS a method must
-					  cull; PVS_AUTO_MIN_GAIN 10%).
+   0.7.1 (2026-11-28) AUTO's prices grow with SHRINK's sample points and OTREE's levels; first pick per price.
+   0.7.0 (2026-11-28) AUTO prices methods by cost class; PVS_AUTO_MIN_GAIN 10%.
    0.6.0 (2026-11-28) PORTAL: BSP rooms from closed convex meshes, portal flow, object-level tests; in AUTO.
    0.5.0 (2026-11-28) AUTO's sample of cells chooses its methods; shared kernels; tab indentation.
    0.4.0 (2026-11-28) AUTO, max_distance, PREVIEW, resumable bakes, vocc, extproj's sweep, adaptive cells, bounded
