@@ -95,11 +95,11 @@
    kept, when closed geometry leaves volume after erosion by eps. AUTO pays only for what culls: with the default
    set and at least 4 x PVS_AUTO_SAMPLE_CELLS cells, pvs_bake_begin bakes PVS_AUTO_SAMPLE_CELLS cells spread over
    all cells with each method, keeps the one culling most per price (2^-cost class), then greedily those that cull
-   PVS_AUTO_MIN_GAIN of what is kept, times 2 per class over the first kept. Classes: PORTAL 0; OTREE 2, plus log2
-   of its base levels; EXTPROJ 3; SHRINK 3, plus log2 of its sample points per cell over 294 (a cube of side 8 eps).
-   One priced 4 classes above the cheapest kept is not even prepared. pvs_bake_method_info says which and why;
-   counts decide, so every thread count and shard decides alike. A named set (pvs_bake_desc.methods) runs in full;
-   VOCC only when named. AUTO's EXTPROJ sweeps (§5).
+   PVS_AUTO_MIN_GAIN of what is kept, times 2 per class over the first kept. Classes: PORTAL 0; OTREE 2 + log2 of
+   its base levels; EXTPROJ 3; SHRINK 3 + log2 of its sample points a cell / 294. One priced 4 classes above the
+   cheapest kept is not run. pvs_bake_method_info says which and why; counts decide, so every thread count and shard
+   decides alike. A named set (pvs_bake_desc.methods) runs in full; VOCC only when named. AUTO's EXTPROJ sweeps
+   (§5).
    max_distance, a draw distance, drops objects whose box is farther from every point of the cell (box to box,
    rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake.
 
@@ -244,7 +244,7 @@
 
    RECENT HISTORY (older: FULL HISTORY at the end)
    ==============
-   0.7.1 (2026-11-28) AUTO's prices depend on the scene (SHRINK's sample points, OTREE's levels). Format unchanged.
+   0.7.1 (2026-11-28) AUTO's prices depend on the scene (SHRINK's sample points, OTREE's levels).
    0.7.0 (2026-11-28) AUTO prices its methods: cost classes, PVS_AUTO_MIN_GAIN 10%.
    0.6.0 (2026-11-28) method PORTAL (cells and portals), in AUTO's default set.
 */
@@ -9681,7 +9681,7 @@ PVS__STATIC pvs_result pvs__otree_bake_cell(const pvs__bake_env *env, void *stat
 	return pvs__otree_cell((const pvs__otree_bake *)state, env->scene, box, cell, bits, flags, err);
 }
 
-/* AUTO's price of OTREE: a cell runs pvs_visibility_25d per base level: class 2, one more per doubling of levels. */
+/* AUTO's price of OTREE: pvs_visibility_25d per base level and cell: class 2, +1 per doubling of levels. */
 PVS__STATIC int pvs__otree_price(const pvs_bake_desc *desc, const void *state) {
 	const pvs__otree_bake *ot = (const pvs__otree_bake *)state;
 	int price = 2;
@@ -20816,7 +20816,7 @@ PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state)
 }
 
 /* AUTO's price of SHRINK: a depth cube per sample point on a cell's faces (pvs__shrink_face): class 3 for a mean of
-   294 points (a cube of side 8 eps), one more per doubling. */
+   294 points (a cube of side 8 eps), +1 per doubling. */
 PVS__STATIC int pvs__shrink_price(const pvs_bake_desc *desc, const void *state) {
 	pvs_box sb = pvs_scene_bounds(desc->scene);
 	double points = 0.0, ref = 2.0 * 294.0 * desc->cell_count, n[3], eps = desc->eps;
@@ -21090,7 +21090,7 @@ PVS__STATIC int pvs__bake_price(const pvs_bake *b, const pvs__bake_method *m, co
 
 /* AUTO: `mask`'s methods, cheapest first (cost_rank, table order), each prepared and kept if it can cull here; PREVIEW
    stops at the first kept; UNSUPPORTED ones are skipped, with their reason. `sampling`: one priced d classes above the
-   cheapest kept, PVS_AUTO_MIN_GAIN 2^d > 1, is not prepared (it would have to cull more than that one's PVS). */
+   cheapest kept, PVS_AUTO_MIN_GAIN 2^d > 1, is not run (it would have to cull more than that one's PVS). */
 PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, uint32_t mask, int sampling,
 										pvs_error *err) {
 	int rank, cheapest = 1 << 20;
@@ -21100,31 +21100,28 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 		for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) {
 			const pvs__bake_method *m = pvs__bake_methods[k];
 			const char *why = "preview runs only the cheapest method that applies";
+			int costly = 0;
 			if (!(mask & (1u << m->method)) || m->cost_rank != rank) continue;
 			b->considered[b->considered_count] = m;
 			if (b->run_count && pvs__bake_price(b, b->run[b->run_count - 1], desc) < cheapest)
 				cheapest = pvs__bake_price(b, b->run[b->run_count - 1], desc);
-			if (sampling && b->run_count &&
-				ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(b, m, desc) - cheapest) > 1.0) {
-				b->sample_gain[b->considered_count] = -1.0f;
-				b->reason[b->considered_count++] = "costly here: it would have to cull more than the whole PVS of a "
-												   "method 4 cost classes cheaper";
-				continue;
-			}
-			if (!((b->env.flags & PVS_BAKE_PREVIEW) && b->run_count)) {
+			if (sampling && b->run_count && ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(b, m, desc) - cheapest) > 1.0) {
+				costly = 1; /* priced before preparing */
+			} else if (!((b->env.flags & PVS_BAKE_PREVIEW) && b->run_count)) {
 				r = pvs__bake_prepare(b, m, desc, err);
-				if (r == PVS_ERROR_UNSUPPORTED) {
-					why = "not available in the bake driver";
-				} else if (r != PVS_OK) {
-					return r;
-				} else if (!m->applies) {
-					why = "conservative";
-					b->ran[b->considered_count] = 1;
-					b->run[b->run_count++] = m;
-				} else if (m->applies(b->state[m->method], &why)) {
-					b->ran[b->considered_count] = 1;
-					b->run[b->run_count++] = m;
+				if (r != PVS_OK && r != PVS_ERROR_UNSUPPORTED) return r;
+				if (r == PVS_ERROR_UNSUPPORTED) why = "not available in the bake driver";
+				else if (!m->applies || m->applies(b->state[m->method], &why)) { /* priced again, with its state */
+					costly = sampling && b->run_count &&
+							 ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(b, m, desc) - cheapest) > 1.0;
+					if (!m->applies) why = "conservative";
+					b->ran[b->considered_count] = (unsigned char)!costly;
+					if (!costly) b->run[b->run_count++] = m;
 				}
+			}
+			if (costly) {
+				b->sample_gain[b->considered_count] = -1.0f;
+				why = "costly here: 4 cost classes above a kept method, it could not pay";
 			}
 			b->reason[b->considered_count++] = why;
 		}
@@ -23508,8 +23505,8 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
    0.7.0 (2026-11-28) AUTO prices methods by cost class; PVS_AUTO_MIN_GAIN 10%.
    0.6.0 (2026-11-28) PORTAL: BSP rooms from closed convex meshes, portal flow, object-level tests; in AUTO.
    0.5.0 (2026-11-28) AUTO's sample of cells chooses its methods; shared kernels; tab indentation.
-   0.4.0 (2026-11-28) AUTO, max_distance, PREVIEW, resumable bakes, vocc, extproj's sweep, adaptive cells, bounded
-					  memory, the method table, per-method parameter structs, pvs_*_get_* getters.
+   0.4.0 (2026-11-28) AUTO, max_distance, PREVIEW, resuming, vocc, extproj's sweep, adaptive cells, the method
+					  table, per-method parameter structs.
    0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps, per-frame culling; occlusion trees;
 					  occluder synthesis; methods shrink, otree and extproj.
    0.2.0 (2026-11-22) delta-PVS file format 1, cursor, sharded bakes and merge.
