@@ -94,7 +94,7 @@
    object's coplanar edge-connected triangles act as one occluder); SHRINK, the costliest, last on what the others
    kept, when closed geometry leaves volume after erosion by eps. AUTO pays only for what culls: with the default
    set and at least 4 x PVS_AUTO_SAMPLE_CELLS cells, pvs_bake_begin bakes PVS_AUTO_SAMPLE_CELLS cells spread over
-   all cells with each method, keeps the one culling most per price (2^-cost class), then greedily those that cull
+   all cells with each method, keeps the smallest PVS's (ties: the cheaper), then greedily those that cull
    PVS_AUTO_MIN_GAIN of what is kept, times 2 per class over the first kept. Classes: PORTAL 0; OTREE 2 + log2 of
    its base levels; EXTPROJ 3; SHRINK 3 + log2 of its sample points a cell / 294. One priced 4 classes above the
    cheapest kept is not run. pvs_bake_method_info says which and why; counts decide, so every thread count and shard
@@ -21135,8 +21135,8 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 }
 
 /* AUTO's sample (CONCEPTS, Methods): the methods that apply are prepared for PVS_AUTO_SAMPLE_CELLS cells spread
-   over all the bake's cells (a shard's too: shards decide alike) and each bakes them alone. Greedily, from nothing
-   kept, the method culling most per price is kept (2^-class), then, best ratio first, those culling beyond the kept
+   over all the bake's cells (a shard's too: shards decide alike) and each bakes them alone. Greedily, the smallest
+   PVS's method is kept (ties: the cheaper), then, best ratio first, those culling beyond the kept
    PVS_AUTO_MIN_GAIN of it, doubled per class (pvs__bake_price) above the first kept's, halved below. The kept are
    prepared for every cell. Only for the default set, 4 times the sample's cells or more, no PREVIEW. */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
@@ -21146,7 +21146,7 @@ PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 /* The greedy choice over the S sample cells of sd (prepared for them): b->run keeps the chosen methods. */
 PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *sd, pvs_error *err) {
 	uint32_t n = b->run_count, S = sd->cell_count, s, k, i, keep[PVS_METHOD_COUNT], kept = 0;
-	int c0 = 0, pmin = 1 << 20;
+	int c0 = 0;
 	size_t w, words = b->words, total = (size_t)S * (n + 1) * words;
 	double base = 0.0;
 	pvs_word *bits;
@@ -21161,10 +21161,7 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 			r = b->run[k]->cell(&b->env, b->state[b->run[k]->method], 0, s, sd->cells + s, NULL,
 								bits + ((size_t)s * (n + 1) + k) * words, &flags, err);
 		}
-	for (k = 0; k < n; ++k) {
-		keep[k] = 0;
-		if (pvs__bake_price(b, b->run[k], sd) < pmin) pmin = pvs__bake_price(b, b->run[k], sd);
-	}
+	for (k = 0; k < n; ++k) keep[k] = 0;
 	while (r == PVS_OK && kept < n) { /* the next method: the largest gain over the kept intersection, by its price */
 		uint32_t best = n;
 		int best_price = 0;
@@ -21179,7 +21176,7 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 			for (i = 0; i < b->considered_count; ++i) /* kept: its gain when chosen; skipped: its last */
 				if (b->considered[i] == b->run[k]) b->sample_gain[i] = (float)(sum / S);
 			int price = pvs__bake_price(b, b->run[k], sd);
-			need = kept ? ldexp(PVS_AUTO_MIN_GAIN * base, price - c0) : ldexp(1.0, price - pmin);
+			need = kept ? ldexp(PVS_AUTO_MIN_GAIN * base, price - c0) : 1.0;
 			if (sum / need > best_gain || (sum / need == best_gain && price < best_price)) {
 				best_gain = sum / need; /* ties (where nothing culls): the cheaper */
 				best_price = price;
@@ -23501,7 +23498,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
-   0.7.1 (2026-11-28) AUTO's prices grow with SHRINK's sample points and OTREE's levels; first pick per price.
+   0.7.1 (2026-11-28) AUTO's prices grow with SHRINK's sample points and OTREE's levels; costly ones not sampled.
    0.7.0 (2026-11-28) AUTO prices methods by cost class; PVS_AUTO_MIN_GAIN 10%.
    0.6.0 (2026-11-28) PORTAL: BSP rooms from closed convex meshes, portal flow, object-level tests; in AUTO.
    0.5.0 (2026-11-28) AUTO's sample of cells chooses its methods; shared kernels; tab indentation.
