@@ -54,12 +54,16 @@ $(B)/tobj/%.o: %.c tests/test.h $(TOOL_HDR)
 $(B)/pvstest: $(TEST_OBJ)
 	$(CC) $(TEST_CFLAGS) -o $@ $(TEST_OBJ) $(LDLIBS)
 
-# The README's quick start (its first ```c block) must compile and print what it claims.
+# The README's quick start (its first ```c block) must compile and print what it claims; its run-time
+# snippet (the second) must compile against the API, pedantic C99.
 readme-check: README.md pvs.h
 	@mkdir -p $(B)
 	awk '/^```c$$/ { f = 1; next } /^```$$/ { if (f) exit } f' README.md > $(B)/readme_example.c
 	$(CC) -std=c99 -Wall -Wextra -Werror -I. -o $(B)/readme_example $(B)/readme_example.c -lm
 	./$(B)/readme_example | grep -x 'object 0 visible, object 1 hidden'
+	awk '/^```c$$/ { n++; if (n == 2) { f = 1; next } } /^```$$/ { if (f) exit } f' README.md > $(B)/readme_runtime.c
+	test -s $(B)/readme_runtime.c
+	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror -I. -c -o $(B)/readme_runtime.o $(B)/readme_runtime.c
 
 # the groups run side by side, one per CPU (the output does not depend on it)
 # The house rules a compiler does not check: pvs.h lines within 120 columns, functions in pvs.h and tools/

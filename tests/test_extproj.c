@@ -4,7 +4,8 @@
    box seen from random points of the cell land inside the rectangle, no nearer than its Depth), the
    improved occludee Projection (§4, Property 2), slices of closed and capped meshes (§3.3), sheets
    and the occluders extended through them, the sweep's reprojection (§5.1), and the bake against ray
-   sampling on small generated scenes (0 misses), with and without the sweep. */
+   sampling on small generated scenes (0 misses), with and without the sweep; and PORTAL's fast kernels against
+   their plain forms (this file's private copy of the implementation reaches them). */
 /* This file holds a private copy of the implementation (PVS_STATIC) so that it can test the
    method's internals (improved Projection, slices, sheets, reprojection) against brute force. */
 #define PVS_STATIC
@@ -1816,6 +1817,103 @@ static void test_sweep_subcells(void) {
     }
 }
 
+/* PORTAL's fast kernels (>>portal) against their plain forms, here where the implementation is private: the side of
+   a polytope to an axial plane from its box (pvs__po_side_box) against the vertex loop (pvs__po_side), and
+   pvs__po_clip (which returns at once for a winding wholly behind) against pvs__po_split, on random points snapped to
+   a coarse grid so that ties and points on the plane occur; then separating planes (pvs__po_try_plane, first tested
+   unnormalized): every plane it makes has the first set within eps on its side and the second on the other (checked
+   in long double), and it finds the plane whenever both sets clear it by 4 eps. */
+static void test_portal_kernels(void) {
+    uint64_t st = 0x90a7a1ull; /* its own generator: the tests after it keep their sequences */
+    uint32_t t, mismatch = 0, wrong = 0, missed = 0, found = 0;
+    for (t = 0; t < 20000; ++t) {
+        double v[16][3], pl[4], box[6] = {DBL_MAX, DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX, -DBL_MAX};
+        double eps = t % 3 == 0 ? 0.0 : t % 3 == 1 ? 1e-9 : 0.25;
+        uint32_t n = 1 + (uint32_t)(test_rnd(&st) * 16.0), i, k;
+        int axis = (int)(test_rnd(&st) * 3.0);
+        pvs__po_poly q;
+        pvs__po_wind w, a, b;
+        for (i = 0; i < n; ++i)
+            for (k = 0; k < 3; ++k) {
+                v[i][k] = floor(test_rnd(&st) * 8.0) - 4.0;
+                box[k] = v[i][k] < box[k] ? v[i][k] : box[k];
+                box[k + 3] = v[i][k] > box[k + 3] ? v[i][k] : box[k + 3];
+            }
+        memset(&q, 0, sizeof(q));
+        q.vert_count = n;
+        q.v = v;
+        pl[0] = pl[1] = pl[2] = 0.0;
+        pl[axis] = t & 4 ? -1.0 : 1.0;
+        pl[3] = floor(test_rnd(&st) * 10.0) - 5.0;
+        mismatch += pvs__po_unit_axis(pl) != axis || pvs__po_side_box(box, pl, axis, eps) != pvs__po_side(&q, pl, eps);
+        /* a winding: the points as given (clip and split need no convexity), against an arbitrary plane */
+        w.n = n;
+        memcpy(w.p, v, n * sizeof(w.p[0]));
+        if (t & 8) {
+            double len;
+            for (k = 0; k < 3; ++k) pl[k] = test_rnd(&st) - 0.5;
+            len = sqrt(pl[0] * pl[0] + pl[1] * pl[1] + pl[2] * pl[2]);
+            for (k = 0; k < 3; ++k) pl[k] /= len > 0.0 ? len : 1.0;
+        }
+        a = w;
+        CHECK(pvs__po_clip(&a, pl, eps) == pvs__po_split(&w, pl, eps, NULL, &b));
+        mismatch += a.n != b.n || memcmp(a.p, b.p, a.n * sizeof(a.p[0])) != 0;
+    }
+    for (t = 0; t < 20000; ++t) { /* separating planes through (p0, p1, p2) between sets A and B */
+        double A[8][3], B[8][3], p[3][3], eps = 1e-6, n[3];
+        long double ln[3], ld, lo = 0, hi = 0, blo = 0, bhi = 0, len;
+        uint32_t na = 2 + (uint32_t)(test_rnd(&st) * 6.0), nb = 2 + (uint32_t)(test_rnd(&st) * 6.0), i, k;
+        pvs__po_win win;
+        int got;
+        for (i = 0; i < na; ++i)
+            for (k = 0; k < 3; ++k) A[i][k] = test_rnd(&st) * 2.0 - (k == 2 ? 3.0 : 1.0);
+        for (i = 0; i < nb; ++i)
+            for (k = 0; k < 3; ++k) B[i][k] = test_rnd(&st) * 2.0 - (k == 2 ? -1.0 : 1.0);
+        for (k = 0; k < 3; ++k) { /* an edge of B and a point of A, or random points near the gap */
+            p[0][k] = t & 1 ? B[0][k] : test_rnd(&st) * 2.0 - 1.0;
+            p[1][k] = t & 1 ? B[1][k] : test_rnd(&st) * 2.0 - 1.0;
+            p[2][k] = t & 1 ? A[0][k] : test_rnd(&st) * 2.0 - 1.0;
+        }
+        win.np = 0;
+        got = pvs__po_try_plane(&win, p[0], p[1], p[2], (const double(*)[3])A, na, (const double(*)[3])B, nb, eps);
+        for (k = 0; k < 3; ++k) n[k] = 0.0;
+        ln[0] = ((long double)p[1][1] - p[0][1]) * ((long double)p[2][2] - p[0][2]) -
+                ((long double)p[1][2] - p[0][2]) * ((long double)p[2][1] - p[0][1]);
+        ln[1] = ((long double)p[1][2] - p[0][2]) * ((long double)p[2][0] - p[0][0]) -
+                ((long double)p[1][0] - p[0][0]) * ((long double)p[2][2] - p[0][2]);
+        ln[2] = ((long double)p[1][0] - p[0][0]) * ((long double)p[2][1] - p[0][1]) -
+                ((long double)p[1][1] - p[0][1]) * ((long double)p[2][0] - p[0][0]);
+        len = sqrtl(ln[0] * ln[0] + ln[1] * ln[1] + ln[2] * ln[2]);
+        if (!(len > 1e-6L)) continue;
+        for (k = 0; k < 3; ++k) ln[k] /= len;
+        ld = -(ln[0] * p[0][0] + ln[1] * p[0][1] + ln[2] * p[0][2]);
+        for (i = 0; i < na; ++i) {
+            long double d = ln[0] * A[i][0] + ln[1] * A[i][1] + ln[2] * A[i][2] + ld;
+            lo = d < lo ? d : lo;
+            hi = d > hi ? d : hi;
+        }
+        for (i = 0; i < nb; ++i) {
+            long double d = ln[0] * B[i][0] + ln[1] * B[i][1] + ln[2] * B[i][2] + ld;
+            blo = d < blo ? d : blo;
+            bhi = d > bhi ? d : bhi;
+        }
+        (void)n;
+        if (got) { /* A within eps (and a rounding) on one side, B on the other */
+            ++found;
+            wrong += !((hi <= 1.01L * eps && blo >= -1.01L * eps) || (lo >= -1.01L * eps && bhi <= 1.01L * eps));
+        } else if ((hi <= 0 && lo < -4 * eps && blo >= 4 * eps) || (lo >= 0 && hi > 4 * eps && bhi <= -4 * eps)) {
+            ++missed; /* A on one side (the plane passes through it), B clear on the other by 4 eps */
+        }
+    }
+    CHECK(mismatch == 0);
+    CHECK(wrong == 0);
+    CHECK(missed == 0);
+    CHECK(found > 100);
+    if (mismatch || wrong || missed || found <= 100)
+        fprintf(stderr, "  portal kernels: %u mismatches, %u wrong planes, %u missed, %u found\n", mismatch, wrong,
+                missed, found);
+}
+
 /* The longest scene checks (about 20 s of make test under the sanitizer): make verify runs them
    (tests/verify_extproj.c). */
 void extproj_verify(void);
@@ -1826,6 +1924,7 @@ void extproj_verify(void) {
 }
 
 void test_extproj(void) {
+    test_portal_kernels();
     test_occluder_projection();
     test_occludee_projection();
     test_improved_projection();
