@@ -1523,6 +1523,9 @@ PVS__STATIC pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index,
 	}
 	return code;
 }
+/* pvs__fail with no index or offset: out of memory, a bad argument. */
+#define PVS__OOM(err, ...) pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, __VA_ARGS__)
+#define PVS__BAD_ARG(err, ...) pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, __VA_ARGS__)
 
 PVS__STATIC void pvs__ok(pvs_error *err) {
 	if (err) {
@@ -2268,13 +2271,13 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
 	size_t n3, i;
 	uint32_t o;
 	if (desc->object_count == 0 || !desc->objects)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the scene has no objects");
+		return PVS__BAD_ARG(err, "the scene has no objects");
 	if (desc->triangle_count && (!desc->indices || !desc->positions))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "indices and positions must not be NULL");
+		return PVS__BAD_ARG(err, "indices and positions must not be NULL");
 	if (desc->occluder_count && !desc->occluders)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "occluders must not be NULL when occluder_count > 0");
+		return PVS__BAD_ARG(err, "occluders must not be NULL when occluder_count > 0");
 	if (desc->up_axis > 2)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "up_axis %u is not 0, 1 or 2", desc->up_axis);
+		return PVS__BAD_ARG(err, "up_axis %u is not 0, 1 or 2", desc->up_axis);
 	if (desc->triangle_count > 0xfffffffeu / 3 || desc->vertex_count == 0xffffffffu ||
 		desc->object_count == 0xffffffffu)
 		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0,
@@ -2409,13 +2412,13 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
 	uint32_t t;
 	pvs_box *tri_boxes = NULL;
 	if (out) *out = NULL;
-	if (!desc || !out) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc and out_scene must not be NULL");
+	if (!desc || !out) return PVS__BAD_ARG(err, "desc and out_scene must not be NULL");
 	r = pvs__scene_check_desc(desc, &floats, err);
 	if (r != PVS_OK) return r;
 
 	a = desc->allocator;
 	s = (pvs_scene *)pvs__alloc(&a, sizeof(pvs_scene), 16);
-	if (!s) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "scene");
+	if (!s) return PVS__OOM(err, "scene");
 	memset(s, 0, sizeof(*s));
 	s->allocator = a;
 	s->up_axis = desc->up_axis == 2 ? 2 : 1;
@@ -2437,7 +2440,7 @@ PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out,
 	tri_boxes = (pvs_box *)pvs__alloc_array(&a, desc->triangle_count, sizeof(pvs_box));
 	if (!s->positions || !s->indices || !s->triangle_object || !s->object_boxes || !s->object_flags ||
 		!s->object_triangles || !s->occluders || !s->occluder_boxes || !s->occluder_data || !tri_boxes) {
-		r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "scene arrays");
+		r = PVS__OOM(err, "scene arrays");
 		goto fail;
 	}
 	if (desc->vertex_count) memcpy(s->positions, desc->positions, (size_t)desc->vertex_count * 3 * sizeof(float));
@@ -2805,8 +2808,8 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 	pvs_result r = PVS_OK;
 	uint32_t i, m = 0, lg = 0;
 	if (out) *out = NULL;
-	if (!desc || !out) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc and out_tree must not be NULL");
-	if (desc->count && !desc->boxes) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "boxes must not be NULL");
+	if (!desc || !out) return PVS__BAD_ARG(err, "desc and out_tree must not be NULL");
+	if (desc->count && !desc->boxes) return PVS__BAD_ARG(err, "boxes must not be NULL");
 	for (i = 0; i < desc->count; ++i) {
 		const pvs_box *bx = desc->boxes + i;
 		int k, empty = 0;
@@ -2820,12 +2823,12 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 	}
 	a = desc->allocator;
 	t = (pvs_kdtree *)pvs__alloc(&a, sizeof(pvs_kdtree), 16);
-	if (!t) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "kD-tree");
+	if (!t) return PVS__OOM(err, "kD-tree");
 	memset(t, 0, sizeof(*t));
 	t->allocator = a;
 	t->bounds = pvs__box_empty();
 	b = (pvs__kdbuild *)pvs__alloc(&a, sizeof(pvs__kdbuild), 16);
-	if (!b) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "kD-tree builder"); goto done; }
+	if (!b) { r = PVS__OOM(err, "kD-tree builder"); goto done; }
 	memset(b, 0, sizeof(*b));
 	b->tree = t;
 	b->err = err;
@@ -3115,7 +3118,7 @@ PVS__STATIC int pvs__point_less(const float *a, const float *b) {
 PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err) {
 	uint32_t t;
 	s->triangle_corners = (float *)pvs__alloc_array(&s->allocator, (size_t)s->triangle_count * 9, sizeof(float));
-	if (!s->triangle_corners) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "triangle corners");
+	if (!s->triangle_corners) return PVS__OOM(err, "triangle corners");
 	for (t = 0; t < s->triangle_count; ++t) {
 		const float *c[3], *x;
 		const uint32_t *tri = s->indices + 3 * (size_t)t;
@@ -5836,7 +5839,7 @@ PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene 
 	r->cm_start[0] = 0;
 	return PVS_OK;
 oom:
-	return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "raster buffers");
+	return PVS__OOM(err, "raster buffers");
 }
 
 PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **out, pvs_error *err) {
@@ -5845,7 +5848,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 	pvs_result res;
 	uint32_t l;
 	if (out) *out = NULL;
-	if (!desc || !out) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc and out_raster must not be NULL");
+	if (!desc || !out) return PVS__BAD_ARG(err, "desc and out_raster must not be NULL");
 	if (desc->width < 1 || desc->height < 1 || desc->width > 16384 || desc->height > 16384)
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "depth map size %ux%u is not in 1..16384", desc->width,
 						 desc->height);
@@ -5854,10 +5857,10 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "cull map size %ux%u is not in 1..4096 (or 0x0)",
 						 desc->cull_map_width, desc->cull_map_height);
 	if (desc->cull_map_width && !desc->scene)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "a cull map needs the scene");
+		return PVS__BAD_ARG(err, "a cull map needs the scene");
 	a = desc->allocator;
 	r = (pvs_raster *)pvs__alloc(&a, sizeof(*r), 16);
-	if (!r) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "raster context");
+	if (!r) return PVS__OOM(err, "raster context");
 	memset(r, 0, sizeof(*r));
 	r->allocator = a;
 	r->width = desc->width;
@@ -5899,7 +5902,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 	return PVS_OK;
 oom:
 	pvs_raster_destroy(r);
-	return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "raster buffers");
+	return PVS__OOM(err, "raster buffers");
 }
 
 /* ---- occluder selection (Bittner 2002 §4.5) ---- */
@@ -6003,7 +6006,7 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
 	float m[16];
 	pvs_result res;
 	if (!r || !s || !cam || !visible)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "raster, scene, camera and visible must not be NULL");
+		return PVS__BAD_ARG(err, "raster, scene, camera and visible must not be NULL");
 	if (s->object_count > r->max_objects || s->triangle_count > r->max_triangles ||
 		pvs_kdtree_sweep_scratch_size(s->object_tree) > r->sweep_size ||
 		pvs_kdtree_sweep_scratch_size(s->triangle_tree) > r->sweep_size)
@@ -6376,12 +6379,12 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 	size_t c, cells;
 	int up;
 	if (r && s && r->scene != s)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the scene is not the context's scene");
-	if (r && !r->cm) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the context has no cull map");
+		return PVS__BAD_ARG(err, "the scene is not the context's scene");
+	if (r && !r->cm) return PVS__BAD_ARG(err, "the context has no cull map");
 	res = pvs__cull_begin(r, s, cam, visible, err);
 	if (res != PVS_OK) return res;
 	if (p && p->facade_count && !p->facades)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "facades must not be NULL");
+		return PVS__BAD_ARG(err, "facades must not be NULL");
 	memset(&st, 0, sizeof(st));
 	if (cam->fov_y > 0.0f) {
 		/* facades nearer than the near plane (at the frustum's widest angle) are clipped: they hide nothing */
@@ -7350,7 +7353,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	PVS__BUF(b, nbuf, reach, (size_t)count + 1, sizeof(double));
 	PVS__BUF(b, nbuf, near, (size_t)count + 1, sizeof(double));
 	if (!pvs__bufs_alloc(&al, b, nbuf)) {
-		r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2D visibility arrays");
+		r = PVS__OOM(err, "2D visibility arrays");
 		goto done;
 	}
 	r = pvs__ot2_cell(desc->cell, n, cell, &cx, &cy, err);
@@ -7372,7 +7375,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	t.reach = reach;
 	t.seg = seg;
 	budget = desc->node_budget ? desc->node_budget : 1u << 20;
-	if (!pvs__ot_reset(&t)) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree"); goto done; }
+	if (!pvs__ot_reset(&t)) { r = PVS__OOM(err, "occlusion tree"); goto done; }
 	/* the sweep (§6.6): occluders by distance to the cell's centre, one tree for all edges (§6.5.2) */
 	for (i = 0; i < count && !t.oom; ++i) {
 		uint32_t j = order[i].index;
@@ -7384,13 +7387,13 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 		(void)pvs__ot2_segment(&t, cell, n, s, j, near[j], 0);
 		pvs__ot2_update_mvd(&t);
 	}
-	if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree nodes"); goto done; }
+	if (t.oom) { r = PVS__OOM(err, "occlusion tree nodes"); goto done; }
 	/* exact re-test of every segment against the final tree (§6.6) */
 	if (visible_segments) memset(visible_segments, 0, PVS_BITSET_WORDS(count) * sizeof(pvs_word));
 	if (visible_objects) memset(visible_objects, 0, PVS_BITSET_WORDS(desc->object_count) * sizeof(pvs_word));
 	for (i = 0; i < count; ++i) {
 		int vis = pvs__ot2_segment(&t, cell, n, seg + 4 * i, i, near[i], 1);
-		if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree test"); goto done; }
+		if (t.oom) { r = PVS__OOM(err, "occlusion tree test"); goto done; }
 		if (!vis) continue;
 		++st.visible_segments;
 		if (visible_segments) pvs_bitset_set(visible_segments, i);
@@ -8277,7 +8280,7 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
 						 "desc, facades, objects and visible_objects are required");
 	if (desc->flags & ~PVS__VISIBILITY_25D_FULL_TESTS)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown 2.5D flags 0x%x", desc->flags);
+		return PVS__BAD_ARG(err, "unknown 2.5D flags 0x%x", desc->flags);
 	nf = desc->facade_count;
 	no = desc->object_count;
 	if ((uint64_t)nf + no >= 0xffffffffu)
@@ -8392,7 +8395,7 @@ PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const
 	uint32_t nf = desc->facade_count, no = desc->object_count;
 	pvs_box *boxes = (pvs_box *)pvs__alloc_array(al, (size_t)nf + no + 1, sizeof(pvs_box));
 	pvs_result r;
-	if (!boxes) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D boxes");
+	if (!boxes) return PVS__OOM(err, "2.5D boxes");
 	pvs_visibility_25d_boxes(desc->facades, nf, desc->objects, no, boxes);
 	memset(&kd, 0, sizeof(kd));
 	kd.boxes = boxes;
@@ -8460,7 +8463,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 	PVS__BUF(b, nb, scratch, pvs_kdtree_sweep_scratch_size(tree), 1);
 	PVS__BUF(b, nb, refs, (size_t)tree->node_count + 1, sizeof(uint32_t));
 	if (!pvs__bufs_alloc(&al, b, nb)) {
-		r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "2.5D visibility arrays");
+		r = PVS__OOM(err, "2.5D visibility arrays");
 		goto done;
 	}
 	memset(state, 0, (size_t)nf + 1);
@@ -8501,7 +8504,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 	t.corners = cell;
 	for (side = 0; side < 4 && !t.oom; ++side)
 		if (!pvs__ot25_side(&w, tree, scratch, side, visible_objects)) break;
-	if (t.oom) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occlusion tree nodes"); goto done; }
+	if (t.oom) { r = PVS__OOM(err, "occlusion tree nodes"); goto done; }
 	if (stats) *stats = st;
 	pvs__ok(err);
 done:
@@ -9186,18 +9189,18 @@ PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out,
 	const pvs_scene *s;
 	if (out) *out = NULL;
 	if (!desc || !out || !desc->scene)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, desc->scene and out_otree must not be NULL");
+		return PVS__BAD_ARG(err, "desc, desc->scene and out_otree must not be NULL");
 	if (!pvs__finite(desc->aspect) || desc->aspect < 0.0f)
 		return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "aspect must be finite and >= 0");
 	if (desc->max_occluders > 65536)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_occluders %u is over 65536", desc->max_occluders);
+		return PVS__BAD_ARG(err, "max_occluders %u is over 65536", desc->max_occluders);
 	if (desc->node_budget && (desc->node_budget < 64 || desc->node_budget > (1u << 24)))
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "node_budget %u is not in 64..2^24",
 						 desc->node_budget);
 	s = desc->scene;
 	a = desc->allocator;
 	o = (pvs_otree *)pvs__alloc(&a, sizeof(*o), 16);
-	if (!o) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree context");
+	if (!o) return PVS__OOM(err, "otree context");
 	memset(o, 0, sizeof(*o));
 	o->allocator = a;
 	o->flags = desc->flags;
@@ -9215,7 +9218,7 @@ PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out,
 		pvs__buf b[16];
 		if (!pvs__bufs_alloc(&a, b, pvs__sv_bufs(o, b))) {
 			pvs_otree_destroy(o);
-			return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree buffers");
+			return PVS__OOM(err, "otree buffers");
 		}
 	}
 	memset(o->obj_flag, 0, (size_t)o->max_objects + 1);
@@ -9395,7 +9398,7 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 	uint32_t i, nocc = 0;
 	pvs_result res;
 	if (!o || !s || !cam || !visible)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree, scene, camera and visible must not be NULL");
+		return PVS__BAD_ARG(err, "otree, scene, camera and visible must not be NULL");
 	if (s->object_count > o->max_objects || s->triangle_count > o->max_triangles ||
 		s->object_tree->node_count > o->max_kd_nodes || pvs_kdtree_sweep_scratch_size(s->triangle_tree) > o->sweep_size)
 		return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "the context was created for a smaller scene");
@@ -9657,13 +9660,13 @@ PVS__STATIC pvs_result pvs__otree_bake_prepare(pvs__bake_env *env, const pvs_bak
 											   pvs_error *err) {
 	pvs__otree_bake *ot = (pvs__otree_bake *)pvs__alloc(&env->allocator, sizeof(pvs__otree_bake), 16);
 	*state = ot;
-	if (!ot) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
+	if (!ot) return PVS__OOM(err, "otree facades");
 	memset(ot, 0, sizeof(*ot));
 	ot->allocator = env->allocator;
 	ot->object_count = env->object_count;
 	ot->budget = desc->otree.node_budget;
 	if (pvs__otree_prepare(ot, env->scene, env->cells, env->cell_count) != PVS_OK)
-		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "otree facades");
+		return PVS__OOM(err, "otree facades");
 	return PVS_OK;
 }
 
@@ -11803,7 +11806,7 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 	}
 	b->h = h;
 	o = (pvs_occluders *)pvs__alloc(a, sizeof(*o), 16);
-	if (!o) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluders");
+	if (!o) return PVS__OOM(err, "occluders");
 	memset(o, 0, sizeof(*o));
 	o->allocator = *a;
 	o->scene = b->s;
@@ -11832,7 +11835,7 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 		pvs__free_array(a, b->line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
 		pvs_occluders_destroy(o);
 		b->tmp = b->line = NULL;
-		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "voxel grid %u x %u x %u", dims[0], dims[1], dims[2]);
+		return PVS__OOM(err, "voxel grid %u x %u x %u", dims[0], dims[1], dims[2]);
 	}
 	b->o = o;
 	memset(o->state, 0, total);
@@ -12153,12 +12156,12 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
 	if (out) *out = NULL;
 	memset(&b, 0, sizeof(b));
 	if (!d || !out || !d->scene || !d->cells || !d->cell_count)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene, cells and out must be given");
+		return PVS__BAD_ARG(err, "desc, scene, cells and out must be given");
 	if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
 						 "eps must be finite and > 0, voxel_size finite and >= 0");
 	if (d->flags & ~PVS_OCCLUDERS_KEEP_LEAKS)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown occluders flags 0x%x", d->flags);
+		return PVS__BAD_ARG(err, "unknown occluders flags 0x%x", d->flags);
 	for (c = 0; c < d->cell_count; ++c)
 		if (!pvs__box_valid(d->cells + c))
 			return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "cell %u is not a valid box", c);
@@ -12182,7 +12185,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
 	pvs__vx_build_free(&b); /* what is left: b.tmp, b.queue, b.line */
 	if (!o->boxes) {
 		pvs_occluders_destroy(o);
-		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder boxes");
+		return PVS__OOM(err, "occluder boxes");
 	}
 	for (kk = 0; kk < 3; ++kk) {
 		o->info.dims[kk] = o->n[kk];
@@ -12196,7 +12199,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
 oom:
 	pvs__vx_build_free(&b);
 	pvs_occluders_destroy(o);
-	return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "occluder synthesis scratch");
+	return PVS__OOM(err, "occluder synthesis scratch");
 }
 
 PVS_API void pvs_occluders_get_info(const pvs_occluders *o, pvs_occluders_info *info) { *info = o->info; }
@@ -14116,7 +14119,7 @@ PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t coun
 		   head = ((size_t)count * sizeof(pvs__vo_rt) + 15u) / 16u * 16u;
 	uint8_t *p = (uint8_t *)scratch;
 	size_t skew;
-	if (!scratch) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "scratch is NULL");
+	if (!scratch) return PVS__BAD_ARG(err, "scratch is NULL");
 	skew = (size_t)(-(intptr_t)p) & 15u;
 	if (size < need || size - skew < need - 16u)
 		return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "scratch of %llu bytes, need %llu",
@@ -14138,9 +14141,9 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
 	uint32_t i;
 	pvs_result r;
 	if (!cell || (count && !occ) || (object_count && !boxes) || !visible)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "cell, occluders, boxes and visible must not be NULL");
+		return PVS__BAD_ARG(err, "cell, occluders, boxes and visible must not be NULL");
 	if (!pvs__vo_box_ok(cell))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the cell box is empty or not finite");
+		return PVS__BAD_ARG(err, "the cell box is empty or not finite");
 	r = pvs__vo_scratch(scratch, scratch_size, count, tree, &rt, &rest, &rest_size, err);
 	if (r != PVS_OK) return r;
 	for (i = 0; i < count; ++i)
@@ -14307,9 +14310,9 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
 	size_t rest_size = 0;
 	pvs_result r;
 	if (!f || !f->data || !visible || (object_count && !boxes))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file, boxes and visible must not be NULL");
+		return PVS__BAD_ARG(err, "file, boxes and visible must not be NULL");
 	if (!(f->vocc_flags & PVS_VOCC_STORED))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "the file stores no virtual occluders");
+		return PVS__BAD_ARG(err, "the file stores no virtual occluders");
 	if (cell >= f->cell_count)
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, cell, 0, "cell %u of %u", cell, f->cell_count);
 	if (object_count != f->object_count)
@@ -14642,7 +14645,7 @@ PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t c
 	if (count) *count = 0;
 	if (stats) memset(stats, 0, sizeof(*stats));
 	if (!d || !count || (d->segment_count && !d->segments))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, count and the segments must not be NULL");
+		return PVS__BAD_ARG(err, "desc, count and the segments must not be NULL");
 	for (k = 0; k < 2; ++k) {
 		if (!pvs__finite(d->cell_min[k]) || !pvs__finite(d->cell_max[k]))
 			return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "the cell is not finite");
@@ -14650,7 +14653,7 @@ PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *d, float *occ, uint32_t c
 			return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "the cell has no area (min >= max on axis %u)", k);
 	}
 	if (!pvs__finite(d->range) || d->range < 0.0f)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "range must be finite and >= 0");
+		return PVS__BAD_ARG(err, "range must be finite and >= 0");
 	for (i = 0; i < 4 * d->segment_count; ++i)
 		if (!pvs__finite(d->segments[i]))
 			return pvs__fail(err, PVS_ERROR_NOT_FINITE, i / 4, 0, "segment %u is not finite", i / 4);
@@ -14701,7 +14704,7 @@ typedef struct pvs__vocc_bake {
 
 PVS__STATIC pvs_result pvs__vocc_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
 	if (desc->vocc.only && (desc->method != PVS_METHOD_VOCC || desc->vocc.only > 1))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "vocc.only is 0 or 1, and 1 needs PVS_METHOD_VOCC");
+		return PVS__BAD_ARG(err, "vocc.only is 0 or 1, and 1 needs PVS_METHOD_VOCC");
 	return PVS_OK;
 }
 
@@ -14718,7 +14721,7 @@ PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake
 						 "vocc: slices %u (1..16), occluders per cell %u (1..255)", slices, keep);
 	vo = (pvs__vocc_bake *)pvs__alloc(&env->allocator, sizeof(pvs__vocc_bake), 16);
 	*state = vo;
-	if (!vo) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "vocc: facades");
+	if (!vo) return PVS__OOM(err, "vocc: facades");
 	memset(vo, 0, sizeof(*vo));
 	vo->allocator = env->allocator;
 	vo->task_count = env->task_count;
@@ -14735,7 +14738,7 @@ PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake
 	vo->scale = (uint8_t *)pvs__alloc_array(&env->allocator, vo->task_count, 1);
 	vo->stats = (pvs_vocc_stats *)pvs__alloc_array(&env->allocator, vo->task_count, sizeof(pvs_vocc_stats));
 	if (!vo->bytes || !vo->count || !vo->scale || !vo->stats)
-		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "vocc: per-cell occluders");
+		return PVS__OOM(err, "vocc: per-cell occluders");
 	memset(vo->count, 0, vo->task_count);
 	memset(vo->scale, 0, vo->task_count);
 	memset(vo->stats, 0, vo->task_count * sizeof(pvs_vocc_stats));
@@ -16112,14 +16115,14 @@ PVS__STATIC pvs_result pvs__portal_bake_prepare(pvs__bake_env *env, const pvs_ba
 												pvs_error *err) {
 	pvs__poprep *p = (pvs__poprep *)pvs__alloc(&env->allocator, sizeof(pvs__poprep), 16);
 	*state = p;
-	if (!p) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "portal");
+	if (!p) return PVS__OOM(err, "portal");
 	memset(p, 0, sizeof(*p));
 	p->allocator = env->allocator;
 	p->budget = desc->portal.budget ? desc->portal.budget : PVS_PORTAL_BUDGET;
 	p->task_count = env->task_count;
 	p->task_cut = (uint32_t *)pvs__alloc_array(&p->allocator, p->task_count + 1, sizeof(uint32_t));
 	if (!p->task_cut || pvs__po_prepare(p, env) != PVS_OK)
-		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "portal: rooms and portals");
+		return PVS__OOM(err, "portal: rooms and portals");
 	if (p->lost)
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "portal: a room or portal polygon of more than %u vertices",
 						 PVS__PO_MAXW);
@@ -16362,7 +16365,7 @@ PVS__STATIC pvs_result pvs__sample_bake_prepare(pvs__bake_env *env, const pvs_ba
 												pvs_error *err) {
 	pvs__sample_bake *sb = (pvs__sample_bake *)pvs__alloc(&env->allocator, sizeof(pvs__sample_bake), 16);
 	*state = sb;
-	if (!sb) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "sample");
+	if (!sb) return PVS__OOM(err, "sample");
 	sb->allocator = env->allocator;
 	sb->points = desc->sample.points ? desc->sample.points : 32;
 	sb->rays = desc->sample.rays ? desc->sample.rays : 2048;
@@ -18212,7 +18215,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 	if (occ_cap > 0xffffffffu || pt_cap > 0xffffffffu)
 		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "extproj: too many occluders");
 	p = (pvs__extproj_prep *)pvs__alloc(a, sizeof(*p), 16);
-	if (!p) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj occluders");
+	if (!p) return PVS__OOM(err, "extproj occluders");
 	memset(p, 0, sizeof(*p));
 	p->allocator = *a;
 	p->occ_capacity = occ_cap;
@@ -18228,7 +18231,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 	if (!p->occ || !p->pts || !pvs__ep_work_alloc(a, &w, most)) {
 		pvs__ep_work_free(a, &w);
 		pvs__extproj_prep_destroy(p);
-		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj occluders (%llu)", (unsigned long long)occ_cap);
+		return PVS__OOM(err, "extproj occluders (%llu)", (unsigned long long)occ_cap);
 	}
 	r = pvs__ep_prepare_meshes(p, s, &w);
 	pvs__ep_work_free(a, &w);
@@ -19907,7 +19910,7 @@ PVS__STATIC pvs_result pvs__extproj_bake_check(const pvs_bake_desc *desc, pvs_er
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.occluders %u > 65536",
 						 desc->extproj.occluders);
 	if (desc->extproj.sweep > 256 && desc->extproj.sweep != PVS_EXTPROJ_NO_SWEEP)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep %u > 256", desc->extproj.sweep);
+		return PVS__BAD_ARG(err, "extproj.sweep %u > 256", desc->extproj.sweep);
 	if (desc->extproj.sweep_subcells > 1 && desc->extproj.sweep_subcells != 4)
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep_subcells %u is not 0, 1 or 4",
 						 desc->extproj.sweep_subcells);
@@ -19924,7 +19927,7 @@ PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_b
 	pvs__extproj_bake *x = (pvs__extproj_bake *)pvs__alloc(&env->allocator, sizeof(pvs__extproj_bake), 16);
 	int preview = (env->flags & PVS_BAKE_PREVIEW) != 0;
 	*state = x;
-	if (!x) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "extproj");
+	if (!x) return PVS__OOM(err, "extproj");
 	memset(x, 0, sizeof(*x));
 	x->allocator = env->allocator;
 	x->prm.res = desc->extproj.resolution ? desc->extproj.resolution
@@ -20382,7 +20385,7 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 	stack = (uint32_t *)pvs__alloc_array(&o->allocator, nnodes, sizeof(uint32_t));
 	cstack = (uint32_t *)pvs__alloc_array(&o->allocator, ncnodes, sizeof(uint32_t));
 	if (!hz || !remaining || !stack || !cstack) {
-		res = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink scratch");
+		res = PVS__OOM(err, "shrink scratch");
 		goto done;
 	}
 	w.o = o;
@@ -20594,7 +20597,7 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
 	w.sel = (uint32_t *)pvs__alloc_array(&o->allocator, (size_t)(nb ? nb : 1) * 36, sizeof(uint32_t));
 	w.cand = (uint32_t *)pvs__alloc_array(&o->allocator, s->object_count ? s->object_count : 1, sizeof(uint32_t));
 	if (!w.pos || !w.idx || !w.seen || !w.sel || !w.cand) {
-		res = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink 3D scratch");
+		res = PVS__OOM(err, "shrink 3D scratch");
 		goto done;
 	}
 	memset(w.seen, 0, (words ? words : 1) * sizeof(pvs_word));
@@ -20642,10 +20645,10 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 	memset(&st, 0, sizeof(st));
 	if (stats) memset(stats, 0, sizeof(*stats));
 	if (!s || !o || !cell || !visible || o->scene != s)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "NULL argument or occluders of another scene");
+		return PVS__BAD_ARG(err, "NULL argument or occluders of another scene");
 	if (!pvs__box_valid(cell)) return pvs__fail(err, PVS_ERROR_BAD_CELL, -1, 0, "cell is not a valid box");
 	if ((int)mode < 0 || mode >= PVS_SHRINK_MODE_COUNT)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown mode %d", (int)mode);
+		return PVS__BAD_ARG(err, "unknown mode %d", (int)mode);
 	if (mode == PVS_SHRINK_AUTO) mode = o->info.is_2d5 ? PVS_SHRINK_2D5 : PVS_SHRINK_3D;
 	st.mode = mode;
 	st.occluders = mode == PVS_SHRINK_2D5 ? o->chain_count : o->box_count;
@@ -20729,10 +20732,10 @@ PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_ba
 	pvs_result r;
 	*state = NULL;
 	if ((int)desc->shrink.mode < 0 || desc->shrink.mode >= PVS_SHRINK_MODE_COUNT)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown shrink mode %d", (int)desc->shrink.mode);
+		return PVS__BAD_ARG(err, "unknown shrink mode %d", (int)desc->shrink.mode);
 	sh = (pvs__shrink_bake *)pvs__alloc(&env->allocator, sizeof(pvs__shrink_bake), 16);
 	*state = sh;
-	if (!sh) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "shrink");
+	if (!sh) return PVS__OOM(err, "shrink");
 	memset(sh, 0, sizeof(*sh));
 	sh->allocator = env->allocator;
 	if (!(env->eps > 0.0f)) {
@@ -20998,24 +21001,24 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
 	uint32_t k, conservative = 0, byauto = 0;
 	size_t i;
 	*mask = 0;
-	if (!desc->cells || desc->cell_count == 0) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "no cells");
+	if (!desc->cells || desc->cell_count == 0) return PVS__BAD_ARG(err, "no cells");
 	if (desc->cell_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells");
 	if (desc->shard_count == 1 || (desc->shard_count && desc->shard_index >= desc->shard_count) ||
 		desc->shard_count > desc->cell_count)
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u for %u cells", desc->shard_index,
 						 desc->shard_count, desc->cell_count);
 	if (desc->max_chain > PVS_MAX_CHAIN)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", desc->max_chain, PVS_MAX_CHAIN);
+		return PVS__BAD_ARG(err, "max_chain %u > %u", desc->max_chain, PVS_MAX_CHAIN);
 	method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_AUTO : desc->method;
 	row = pvs__bake_method_row(method);
 	if (!row && method != PVS_METHOD_AUTO)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown method %d", (int)desc->method);
+		return PVS__BAD_ARG(err, "unknown method %d", (int)desc->method);
 	if (!pvs__finite(desc->eps) || desc->eps < 0.0f)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "eps must be finite and >= 0");
+		return PVS__BAD_ARG(err, "eps must be finite and >= 0");
 	if (!pvs__finite(desc->max_distance) || desc->max_distance < 0.0f)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_distance must be finite and >= 0");
+		return PVS__BAD_ARG(err, "max_distance must be finite and >= 0");
 	if (desc->flags & ~PVS_BAKE_PREVIEW)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "unknown bake flags 0x%x", desc->flags);
+		return PVS__BAD_ARG(err, "unknown bake flags 0x%x", desc->flags);
 	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) {
 		const pvs__bake_method *m = pvs__bake_methods[k];
 		if (m->check && (r = m->check(desc, err)) != PVS_OK) return r;
@@ -21023,7 +21026,7 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
 		if (m->traits & PVS__METHOD_AUTO_DEFAULT) byauto |= 1u << m->method;
 	}
 	if (!pvs__finite(desc->adaptive.min_size) || desc->adaptive.min_size < 0.0f)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "adaptive.min_size must be finite and >= 0");
+		return PVS__BAD_ARG(err, "adaptive.min_size must be finite and >= 0");
 	if (desc->adaptive.budget && desc->shard_count)
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0,
 						 "adaptive cells in a sharded bake (part files index whole cells)");
@@ -21038,7 +21041,7 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
 							 desc->methods);
 		*mask = desc->methods ? desc->methods : byauto;
 	} else if (desc->methods) {
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "methods is for PVS_METHOD_AUTO only");
+		return PVS__BAD_ARG(err, "methods is for PVS_METHOD_AUTO only");
 	}
 	for (i = 0; i < desc->cell_count; ++i) {
 		r = pvs__check_cell(desc->cells + i, (uint32_t)i, err);
@@ -21060,12 +21063,12 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
 	b->stats = (uint32_t *)pvs__alloc_array(a, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
 	b->cell_flags = (unsigned char *)pvs__alloc_array(a, b->cell_count, 1);
 	if (!b->cells || !b->pvs || !b->done || !b->restored || !b->stats || !b->cell_flags)
-		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake arrays for %u cells", desc->cell_count);
+		return PVS__OOM(err, "bake arrays for %u cells", desc->cell_count);
 	for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
 	if (b->adaptive_budget) {
 		b->object_triangles = (uint32_t *)pvs__alloc_array(a, (size_t)b->object_count + 1, sizeof(uint32_t));
 		b->leaves = (pvs__bakeleaves *)pvs__alloc_array(a, b->cell_count, sizeof(pvs__bakeleaves));
-		if (!b->object_triangles || !b->leaves) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "adaptive cells");
+		if (!b->object_triangles || !b->leaves) return PVS__OOM(err, "adaptive cells");
 		memset(b->object_triangles, 0, ((size_t)b->object_count + 1) * sizeof(uint32_t));
 		memset(b->leaves, 0, b->cell_count * sizeof(pvs__bakeleaves));
 		for (i = 0; i < desc->scene->triangle_count; ++i)
@@ -21153,7 +21156,7 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 	pvs_result r = PVS_OK;
 	if (n < 2) return PVS_OK;
 	bits = (pvs_word *)pvs__alloc_array(&b->env.allocator, total, sizeof(pvs_word));
-	if (!bits) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "auto: sample cells");
+	if (!bits) return PVS__OOM(err, "auto: sample cells");
 	memset(bits, 0, total * sizeof(pvs_word));
 	for (s = 0; s < S && r == PVS_OK; ++s) /* per sample cell: n methods' PVSs, then the kept intersection */
 		for (k = 0; k < n && r == PVS_OK; ++k) {
@@ -21265,11 +21268,11 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
 	uint32_t mask;
 	if (out) *out = NULL;
 	if (!desc || !out || !desc->scene)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, scene and out_bake must not be NULL");
+		return PVS__BAD_ARG(err, "desc, scene and out_bake must not be NULL");
 	r = pvs__bake_check(desc, &mask, err);
 	if (r != PVS_OK) return r;
 	b = (pvs_bake *)pvs__alloc(&desc->allocator, sizeof(pvs_bake), 16);
-	if (!b) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "bake");
+	if (!b) return PVS__OOM(err, "bake");
 	memset(b, 0, sizeof(*b));
 	b->total_cell_count = desc->cell_count;
 	b->shard_count = desc->shard_count;
@@ -21650,7 +21653,7 @@ PVS_API size_t pvs_bake_file_size(const pvs_bake *b) {
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capacity, size_t *out_size,
 									   pvs_error *err) {
 	uint32_t i;
-	if (!b) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bake is NULL");
+	if (!b) return PVS__BAD_ARG(err, "bake is NULL");
 	if (out_size) *out_size = 0;
 	for (i = 0; i < b->cell_count; ++i)
 		if (!b->done[i])
@@ -22385,7 +22388,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 	e->sweep_size = pvs_kdtree_sweep_scratch_size(e->tree);
 	e->sweep = pvs__alloc(a, e->sweep_size ? e->sweep_size : 1, 16);
 	if (!e->edges || !e->adj_start || !e->adj || !e->base || !e->depth || !e->placed || !e->sweep)
-		return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "encoder graph for %u cells", e->cells);
+		return PVS__OOM(err, "encoder graph for %u cells", e->cells);
 	for (i = 0; i < e->cells; ++i) {
 		pvs__candidates cand;
 		cand.self = i;
@@ -22425,7 +22428,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 	}
 	e->heap_capacity = (size_t)e->cells + 2 * m + 1;
 	e->heap = (pvs__heapent *)pvs__alloc_array(a, e->heap_capacity, sizeof(pvs__heapent));
-	if (!e->heap) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "encoder heap");
+	if (!e->heap) return PVS__OOM(err, "encoder heap");
 	memset(e->placed, 0, e->cells);
 	for (i = 0; i < e->cells; ++i) {
 		pvs__heapent h;
@@ -22501,16 +22504,16 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 	pvs_result r;
 	uint32_t i;
 	if (!d || !d->cells || !d->pvs || !d->cell_count || !d->object_count)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "desc, cells and pvs must not be NULL or empty");
+		return PVS__BAD_ARG(err, "desc, cells and pvs must not be NULL or empty");
 	if (d->up_axis != 1 && d->up_axis != 2)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "up_axis must be 1 or 2");
+		return PVS__BAD_ARG(err, "up_axis must be 1 or 2");
 	if ((int)d->method < 0 || d->method >= PVS_METHOD_COUNT || !pvs__finite(d->eps) || d->eps < 0.0f)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "bad method or eps");
+		return PVS__BAD_ARG(err, "bad method or eps");
 	if (d->cell_count == PVS_NO_CELL || d->object_count == 0xffffffffu || d->cell_count > 0x3fffffffu)
 		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells or objects");
 	*max_chain = d->max_chain ? d->max_chain : PVS_DEFAULT_CHAIN;
 	if (*max_chain > PVS_MAX_CHAIN)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "max_chain %u > %u", *max_chain, PVS_MAX_CHAIN);
+		return PVS__BAD_ARG(err, "max_chain %u > %u", *max_chain, PVS_MAX_CHAIN);
 	if (d->shard_count == 1 ||
 		(d->shard_count &&
 		 (d->shard_index >= d->shard_count || d->total_cell_count > 0x3fffffffu ||
@@ -22541,7 +22544,7 @@ PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_by
 	size_t index_bits_total;
 	uint32_t i, k;
 	e->boxes = (pvs_box *)pvs__alloc_array(&e->a, e->cells, sizeof(pvs_box));
-	if (!e->boxes) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell boxes");
+	if (!e->boxes) return PVS__OOM(err, "cell boxes");
 	for (i = 0; i < e->cells; ++i)
 		for (k = 0; k < 3; ++k) {
 			e->boxes[i].min[k] = d->cells[i].min[k] + 0.0f;
@@ -22550,7 +22553,7 @@ PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_by
 	for (k = 0; k < 3; ++k) {
 		float *v = (float *)pvs__alloc_array(&e->a, 2 * (size_t)e->cells, sizeof(float));
 		uint32_t n = 0, widest = 0;
-		if (!v) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell coordinate tables");
+		if (!v) return PVS__OOM(err, "cell coordinate tables");
 		e->values[k] = v;
 		for (i = 0; i < e->cells; ++i) {
 			v[2 * i] = e->boxes[i].min[k];
@@ -22587,7 +22590,7 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 	td.allocator = e->a;
 	{ /* cells over 16 times the lower-quartile extent on an axis cross many split planes */
 		float *ext = (float *)pvs__alloc_array(&e->a, e->cells, sizeof(float)), med[3];
-		if (!ext) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell extents");
+		if (!ext) return PVS__OOM(err, "cell extents");
 		for (k = 0; k < 3; ++k) {
 			for (i = 0; i < e->cells; ++i) ext[i] = e->boxes[i].max[k] - e->boxes[i].min[k];
 			PVS_QSORT(ext, e->cells, sizeof(float), pvs__float_cmp);
@@ -22606,7 +22609,7 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 		pvs_box *centres = (pvs_box *)pvs__alloc_array(&e->a, e->cells, sizeof(pvs_box));
 		pvs_kdtree_destroy(e->tree);
 		e->tree = NULL;
-		if (!centres) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "cell centres");
+		if (!centres) return PVS__OOM(err, "cell centres");
 		for (i = 0; i < e->cells; ++i)
 			for (k = 0; k < 3; ++k)
 				centres[i].min[k] = centres[i].max[k] =
@@ -22739,7 +22742,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 
 	e.tmp = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
 	e.ranks = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
-	if (!e.tmp || !e.ranks) { r = pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, "encoder bitset"); goto done; }
+	if (!e.tmp || !e.ranks) { r = PVS__OOM(err, "encoder bitset"); goto done; }
 	r = pvs__encoder_bases(&e, max_chain, err);
 	if (r != PVS_OK) goto done;
 	for (i = 0; i < e.cells; ++i) keys += e.base[i] == PVS_NO_CELL;
@@ -23226,9 +23229,9 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 	uint32_t count = 0;
 	pvs__open_sections sec;
 	pvs_result r;
-	if (!f) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file must not be NULL");
+	if (!f) return PVS__BAD_ARG(err, "file must not be NULL");
 	memset(f, 0, sizeof(*f));
-	if (!p && size) return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "data is NULL");
+	if (!p && size) return PVS__BAD_ARG(err, "data is NULL");
 	r = pvs__open_header(p, size, &count, err);
 	if (r != PVS_OK) return r;
 	memset(&sec, 0, sizeof(sec));
@@ -23425,7 +23428,7 @@ PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bi
 PVS_API pvs_result pvs_file_decode(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t word_count,
 								   pvs_error *err) {
 	if (!f || !bits || !f->data)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "file and bits must not be NULL");
+		return PVS__BAD_ARG(err, "file and bits must not be NULL");
 	if (cell >= f->cell_count)
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, cell, 0, "cell %u of %u", cell, f->cell_count);
 	if (word_count < PVS_BITSET_WORDS(f->object_count))

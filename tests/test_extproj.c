@@ -1826,7 +1826,7 @@ static void test_sweep_subcells(void) {
 static void test_portal_kernels(void) {
     uint64_t st = 0x90a7a1ull; /* its own generator: the tests after it keep their sequences */
     uint32_t t, mismatch = 0, wrong = 0, missed = 0, found = 0;
-    for (t = 0; t < 20000; ++t) {
+    for (t = 0; t < 5000; ++t) {
         double v[16][3], pl[4], box[6] = {DBL_MAX, DBL_MAX, DBL_MAX, -DBL_MAX, -DBL_MAX, -DBL_MAX};
         double eps = t % 3 == 0 ? 0.0 : t % 3 == 1 ? 1e-9 : 0.25;
         uint32_t n = 1 + (uint32_t)(test_rnd(&st) * 16.0), i, k;
@@ -1859,7 +1859,7 @@ static void test_portal_kernels(void) {
         CHECK(pvs__po_clip(&a, pl, eps) == pvs__po_split(&w, pl, eps, NULL, &b));
         mismatch += a.n != b.n || memcmp(a.p, b.p, a.n * sizeof(a.p[0])) != 0;
     }
-    for (t = 0; t < 20000; ++t) { /* separating planes through (p0, p1, p2) between sets A and B */
+    for (t = 0; t < 5000; ++t) { /* separating planes through (p0, p1, p2) between sets A and B */
         double A[8][3], B[8][3], p[3][3], eps = 1e-6, n[3];
         long double ln[3], ld, lo = 0, hi = 0, blo = 0, bhi = 0, len;
         uint32_t na = 2 + (uint32_t)(test_rnd(&st) * 6.0), nb = 2 + (uint32_t)(test_rnd(&st) * 6.0), i, k;
@@ -1908,8 +1908,8 @@ static void test_portal_kernels(void) {
     CHECK(mismatch == 0);
     CHECK(wrong == 0);
     CHECK(missed == 0);
-    CHECK(found > 100);
-    if (mismatch || wrong || missed || found <= 100)
+    CHECK(found > 25);
+    if (mismatch || wrong || missed || found <= 25)
         fprintf(stderr, "  portal kernels: %u mismatches, %u wrong planes, %u missed, %u found\n", mismatch, wrong,
                 missed, found);
 }
