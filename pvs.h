@@ -1,4 +1,4 @@
-/* pvs.h - v0.7.1 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.8.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -177,7 +177,7 @@
    section table at 32: S entries of u32 tag, offset, size, CRC-32 of the section's bytes [CHECKSUM].
 	 Sections are 8-byte aligned, inside the file, disjoint, tags unique [BAD_SECTION, TRUNCATED]; other
 	 bytes after the table are zero [BAD_SECTION]. Tags are four ASCII characters; readers skip unknown ones
-	 (room for optional sections). The writer emits META, CELL, TREE, RECS, then SHRD (part files), VOCC.
+	 (room for optional sections). The writer emits META, CELL, TREE, RECS, then SHRD (part files), VOCC, SCNE.
    "META" (required, 32 bytes, else BAD_SECTION) [BAD_HEADER; COUNT_OVERFLOW for counts past the limits]:
 	 0 u32 cell_count (1..2^30-1)   4 u32 object_count (1..2^32-2)   8 u32 method (pvs_method)
 	 12 f32 eps (finite, >= 0)      16 u32 up_axis (1 = Y, 2 = Z)    20 u32 K, the chain bound (1..64)
@@ -224,6 +224,7 @@
    "SHRD" (optional, 16 bytes, else BAD_SECTION; part files of a sharded bake) [BAD_HEADER]: u32 shard
 	 index (0-based), u32 shard count (>= 2), u32 total cell count, u32 zero. Part cell j is whole cell
 	 index + j * count; cell_count must be the number of such cells.
+   "SCNE" (optional, 8 bytes, else BAD_SECTION): u64, nonzero, the baked scene's pvs_scene_fingerprint.
    "VOCC" (optional; virtual occluders, >>vocc) [BAD_SECTION]: per cell vertical rectangles, each hidden
 	 from the whole cell, most effective first:
 	 0  u32 flags: bit 0 = the records are placeholders (--vocc-only: every drawable object); others zero
@@ -244,7 +245,7 @@
 
    RECENT HISTORY (older: FULL HISTORY at the end)
    ==============
-   0.7.1 (2026-11-28) AUTO's prices depend on the scene (SHRINK's sample points, OTREE's levels).
+   0.8.0 (2026-11-28) files record the scene's fingerprint (SCNE); AUTO's prices depend on the scene.
    0.7.0 (2026-11-28) AUTO prices its methods: cost classes, PVS_AUTO_MIN_GAIN 10%.
    0.6.0 (2026-11-28) method PORTAL (cells and portals), in AUTO's default set.
 */
@@ -256,8 +257,8 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 7
-#define PVS_VERSION_PATCH 1
+#define PVS_VERSION_MINOR 8
+#define PVS_VERSION_PATCH 0
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 /* The .pvs file format version this header writes and reads. */
 #define PVS_FORMAT_VERSION 1
@@ -426,6 +427,10 @@ PVS_API uint32_t pvs_scene_up_axis(const pvs_scene *scene);			/* 1 or 2 */
 PVS_API pvs_box pvs_scene_bounds(const pvs_scene *scene);			/* of all triangles and occluders */
 PVS_API pvs_box pvs_scene_object_box(const pvs_scene *scene, uint32_t object); /* object < count */
 PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *scene, uint32_t object);
+/* A 64-bit hash (FNV-1a) of what the bake reads: up axis, then per object in order its flags and its triangles'
+   corners, then the explicit occluders (kind, box, heights, plane and footprint values). Never 0. A bake stores it
+   in the file (pvs_file.scene_fingerprint): a file baked for another version of the level is told apart. */
+PVS_API uint64_t pvs_scene_fingerprint(const pvs_scene *scene);
 /* The object a triangle belongs to, or PVS_NO_OBJECT. */
 PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *scene, uint32_t triangle);
 #define PVS_NO_OBJECT 0xffffffffu
@@ -1296,6 +1301,7 @@ typedef struct pvs_file_desc {
 	uint32_t vocc_stride;	   /* bytes from one cell's occluders to the next; 0 = back to back */
 	float vocc_base, vocc_height_step;
 	uint32_t vocc_flags;
+	uint64_t scene_fingerprint; /* 0: none; else an SCNE section (pvs_scene_fingerprint) */
 	pvs_allocator allocator;   /* the encoder's scratch */
 } pvs_file_desc;
 
@@ -1321,6 +1327,7 @@ typedef struct pvs_file {
 	uint32_t vocc_flags;	   /* PVS_VOCC_*: 0 when the file has no virtual occluders */
 	uint32_t virtual_occluder_count;	 /* VOCC: occluders stored, all cells */
 	float vocc_base, vocc_height_step;	 /* VOCC: top = base + byte * step */
+	uint64_t scene_fingerprint;			 /* SCNE: the baked scene's pvs_scene_fingerprint; 0: not recorded */
 	struct {
 		const uint8_t *values[3];	/* CELL: per-axis coordinate tables */
 		const uint8_t *indices;		/* CELL: packed per-cell indices */
@@ -2486,6 +2493,36 @@ PVS_API pvs_box pvs_scene_bounds(const pvs_scene *s) { return s->bounds; }
 PVS_API pvs_box pvs_scene_object_box(const pvs_scene *s, uint32_t object) {
 	PVS_ASSERT(object < s->object_count);
 	return s->object_boxes[object];
+}
+/* FNV-1a over n 32-bit words, least significant byte first. */
+PVS__STATIC uint64_t pvs__fnv(uint64_t h, const void *words, size_t n) {
+	const uint8_t *p = (const uint8_t *)words;
+	size_t i;
+	int k;
+	for (i = 0; i < n; ++i) {
+		uint32_t w;
+		memcpy(&w, p + 4 * i, 4);
+		for (k = 0; k < 4; ++k) h = (h ^ ((w >> (8 * k)) & 0xffu)) * 0x100000001b3ull;
+	}
+	return h;
+}
+PVS_API uint64_t pvs_scene_fingerprint(const pvs_scene *s) {
+	uint64_t h = pvs__fnv(0xcbf29ce484222325ull, &s->up_axis, 1);
+	uint32_t o, t, k;
+	for (o = 0; o < s->object_count; ++o) {
+		h = pvs__fnv(h, s->object_flags + o, 1);
+		h = pvs__fnv(h, s->object_triangles + 2 * o + 1, 1);
+		for (t = s->object_triangles[2 * o]; t < s->object_triangles[2 * o] + s->object_triangles[2 * o + 1]; ++t)
+			for (k = 0; k < 3; ++k) h = pvs__fnv(h, s->positions + 3 * (size_t)s->indices[3 * (size_t)t + k], 3);
+	}
+	for (o = 0; o < s->occluder_count; ++o) {
+		const pvs_occluder_desc *d = s->occluders + o;
+		uint32_t kind = (uint32_t)d->kind;
+		h = pvs__fnv(pvs__fnv(pvs__fnv(h, &kind, 1), &d->box, 6), &d->base, 2);
+		h = pvs__fnv(pvs__fnv(h, d->planes, d->planes ? 4 * (size_t)d->plane_count : 0), d->footprint,
+					 d->footprint ? 2 * (size_t)d->footprint_count : 0);
+	}
+	return h ? h : 1u;
 }
 PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *s, uint32_t object) {
 	PVS_ASSERT(object < s->object_count);
@@ -21588,6 +21625,7 @@ PVS__STATIC void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
 	fd->shard_count = b->shard_count;
 	fd->total_cell_count = b->shard_count ? b->total_cell_count : 0;
 	fd->allocator = b->env.allocator;
+	fd->scene_fingerprint = pvs_scene_fingerprint(b->env.scene);
 	if (b->method != PVS_METHOD_AUTO && b->run[0]->file) /* AUTO stores PVSs only */
 		b->run[0]->file(b->state[b->method], fd);
 }
@@ -21684,6 +21722,7 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__TAG_TREE PVS__TAG('T', 'R', 'E', 'E')
 #define PVS__TAG_RECS PVS__TAG('R', 'E', 'C', 'S')
 #define PVS__TAG_SHRD PVS__TAG('S', 'H', 'R', 'D')
+#define PVS__TAG_SCNE PVS__TAG('S', 'C', 'N', 'E')
 enum { PVS__CODING_GAPS = 0, PVS__CODING_RUNS = 1, PVS__CODING_RICE = 2, PVS__CODING_BITMAP = 3 };
 
 PVS__STATIC size_t pvs__align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
@@ -22720,8 +22759,8 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	pvs__encoder e;
 	pvs_result r;
 	uint32_t i, k, max_chain = 0, sections, keys = 0;
-	size_t at[6], sz[6], total, cell_bytes = 0, recs_size, vocc_size = 0;
-	uint32_t tags[6];
+	size_t at[7], sz[7], total, cell_bytes = 0, recs_size, vocc_size = 0;
+	uint32_t tags[7];
 	uint8_t *o = (uint8_t *)out;
 	if (out_size) *out_size = 0;
 	r = pvs__encode_check(d, &max_chain, &vocc_size, err);
@@ -22758,6 +22797,10 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	if (d->vocc_counts) {
 		tags[sections] = PVS__VO_TAG;
 		sz[sections++] = vocc_size;
+	}
+	if (d->scene_fingerprint) {
+		tags[sections] = PVS__TAG_SCNE;
+		sz[sections++] = 8;
 	}
 	total = pvs__align8(PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)sections);
 	for (k = 0; k < sections; ++k) {
@@ -22799,10 +22842,14 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 		pvs__put32(s + 4, d->shard_count);
 		pvs__put32(s + 8, d->total_cell_count);
 	}
-	if (d->vocc_counts)
-		pvs__vo_section_write(o + at[sections - 1], (d->vocc_flags & PVS_VOCC_ONLY) ? 1u : 0u, d->vocc_base,
-							  d->vocc_height_step, d->cell_count, d->vocc_counts, d->vocc_scales, d->virtual_occluders,
-							  d->vocc_stride);
+	if (d->scene_fingerprint) { /* the last section */
+		pvs__put32(o + at[sections - 1], (uint32_t)d->scene_fingerprint);
+		pvs__put32(o + at[sections - 1] + 4, (uint32_t)(d->scene_fingerprint >> 32));
+	}
+	if (d->vocc_counts) /* the one before */
+		pvs__vo_section_write(o + at[sections - 1 - (d->scene_fingerprint != 0)], (d->vocc_flags & PVS_VOCC_ONLY) != 0,
+							  d->vocc_base, d->vocc_height_step, d->cell_count, d->vocc_counts, d->vocc_scales,
+							  d->virtual_occluders, d->vocc_stride);
 	pvs__encoder_write_header(o, total, d->flags, sections, tags, at, sz);
 	pvs__ok(err);
 done:
@@ -23079,8 +23126,8 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 
 /* The sections pvs_file_open knows, as the table places them (NULL: absent). */
 typedef struct pvs__open_sections {
-	const uint8_t *meta, *cells, *tree, *recs, *shrd, *vocc;
-	uint32_t meta_size, cells_size, tree_size, recs_size, shrd_size, vocc_size;
+	const uint8_t *meta, *cells, *tree, *recs, *shrd, *vocc, *scne;
+	uint32_t meta_size, cells_size, tree_size, recs_size, shrd_size, vocc_size, scne_size;
 } pvs__open_sections;
 
 /* The header, in the format table's order. *count_out: the section count. */
@@ -23144,6 +23191,7 @@ PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t c
 		else if (tag == PVS__TAG_RECS) { sec->recs = p + off; sec->recs_size = sz; }
 		else if (tag == PVS__TAG_SHRD) { sec->shrd = p + off; sec->shrd_size = sz; }
 		else if (tag == PVS__VO_TAG) { sec->vocc = p + off; sec->vocc_size = sz; }
+		else if (tag == PVS__TAG_SCNE) { sec->scne = p + off; sec->scne_size = sz; }
 	}
 	return PVS_OK;
 }
@@ -23257,6 +23305,11 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 	if (r == PVS_OK) r = pvs__open_cells(f, p, sec.cells, sec.cells_size, err);
 	if (r == PVS_OK) r = pvs__open_tree(f, p, sec.tree, sec.tree_size, err);
 	if (r == PVS_OK && sec.vocc) r = pvs__vo_open_section(f, p, sec.vocc, sec.vocc_size, err);
+	if (r == PVS_OK && sec.scne) {
+		f->scene_fingerprint = sec.scne_size == 8 ? pvs__get32(sec.scne) | (uint64_t)pvs__get32(sec.scne + 4) << 32 : 0;
+		if (!f->scene_fingerprint)
+			r = pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(sec.scne - p), "SCNE: not 8 nonzero bytes");
+	}
 	if (r != PVS_OK) {
 		memset(f, 0, sizeof(*f));
 		return r;
@@ -23501,6 +23554,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
+   0.8.0 (2026-11-28) pvs_scene_fingerprint, stored in an optional SCNE section (pvs_file.scene_fingerprint).
    0.7.1 (2026-11-28) AUTO's prices grow with SHRINK's sample points and OTREE's levels; costly ones not sampled.
    0.7.0 (2026-11-28) AUTO prices methods by cost class; PVS_AUTO_MIN_GAIN 10%.
    0.6.0 (2026-11-28) PORTAL: BSP rooms from closed convex meshes, portal flow, object-level tests; in AUTO.

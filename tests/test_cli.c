@@ -346,6 +346,21 @@ void test_cli(void) {
         write_str(DIR "/other.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
         CHECK(run("./pvscheck " DIR "/other.obj " DIR "/a.pvs", &out) == 1 && strstr(out, "not the same scene")); free(out);
     }
+    { /* the same objects, the wall half a unit taller: the file's scene fingerprint tells it is stale */
+        char edited[4096];
+        box_obj(a, sizeof(a), "left", -6, 0, -1, -4, 2, 1, 1);
+        box_obj(b, sizeof(b), "wall", -1, 0, -10, 1, 5.5f, 10, 9);
+        snprintf(edited, sizeof(edited), "%s%s", a, b);
+        box_obj(a, sizeof(a), "right", 4, 0, -1, 6, 2, 1, 17);
+        strcat(edited, a);
+        box_obj(a, sizeof(a), "occluder_hidden", 10, 0, -1, 11, 2, 1, 25);
+        strcat(edited, a);
+        write_text(DIR "/edited.obj", edited, strlen(edited));
+        CHECK(run("./pvsinfo " DIR "/a.pvs", &out) == 0 && strstr(out, "scene       fingerprint ")); free(out);
+        CHECK(run("./pvscheck " DIR "/edited.obj " DIR "/a.pvs", &out) == 1 && strstr(out, "stale: baked from another version"));
+        free(out);
+        CHECK(run("./pvsview " DIR "/edited.obj " DIR "/a.pvs -o " DIR "/e.png", &out) == 1 && strstr(out, "stale")); free(out);
+    }
     /* --grid */
     CHECK(run("./pvsbake --method sample -q " DIR "/scene.obj -o " DIR "/g.pvs --grid 4 --rays 64 --points 4", &out) == 0); free(out);
     CHECK(run("./pvsinfo --verify " DIR "/g.pvs", &out) == 0); free(out);

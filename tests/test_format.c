@@ -337,6 +337,7 @@ static uint8_t *small_file(size_t *size) {
     desc_init(&d, boxes, CELLS, OBJECTS, pvs);
     d.up_axis = 2;
     d.flags = 0;
+    d.scene_fingerprint = 0x0123456789abcdefull; /* an SCNE section */
     return encode(&d, size);
 }
 
@@ -358,6 +359,12 @@ static void test_corruptions(void) {
     CHECK(expect_open(good, size, PVS_OK));
     CHECK(m && cl && tr && rc);
 #define RESET() memcpy(b, good, size)
+    { /* SCNE: read back; 0 is BAD_SECTION */
+        uint32_t sc = section(good, "SCNE");
+        CHECK(sc && pvs_file_open(good, size, &f0, NULL) == PVS_OK && f0.scene_fingerprint == 0x0123456789abcdefull);
+        RESET(); test_wr32(b + sc, 0); test_wr32(b + sc + 4, 0); pvs_fuzz_fix_checksums(b, size);
+        CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    }
     RESET(); b[0] = 'X';                       CHECK(expect_open(b, size, PVS_ERROR_BAD_MAGIC));
     RESET(); test_wr32(b + 4, 2);                   CHECK(expect_open(b, size, PVS_ERROR_BAD_VERSION));
     RESET(); test_wr32(b + 8, (uint32_t)size - 8); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_HEADER));
@@ -463,8 +470,9 @@ static void test_corruptions(void) {
         CHECK(c < f.cell_count);
     }
     /* a non-zero padding byte */
-    if (test_rd32(b + 32 + 16 * 3 + 4) + test_rd32(b + 32 + 16 * 3 + 8) < size) {
-        RESET(); b[size - 1] = 1; CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+    if ((test_rd32(b + 32 + 16 * 3 + 4) + test_rd32(b + 32 + 16 * 3 + 8)) % 8) { /* after RECS, before SCNE */
+        RESET(); b[test_rd32(b + 32 + 16 * 3 + 4) + test_rd32(b + 32 + 16 * 3 + 8)] = 1;
+        CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
     }
     /* random corruptions with repaired checksums: never a crash, always a defined code, and an
        accepted file always decodes and walks */

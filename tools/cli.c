@@ -95,7 +95,15 @@ int cli_load_pvs_scene(const char *pvs_path, const char *scene_path, uint32_t up
         tool_error_set(err, pvs_path, 0, "%s", pe.message);
         return -1;
     }
-    return cli_load_scene(scene_path, up_axis ? up_axis : file->up_axis, m, scene, err);
+    if (cli_load_scene(scene_path, up_axis ? up_axis : file->up_axis, m, scene, err)) return -1;
+    if (file->scene_fingerprint && file->object_count == pvs_scene_object_count(*scene) && /* else: not the same */
+        file->scene_fingerprint != pvs_scene_fingerprint(*scene)) {
+        tool_error_set(err, pvs_path, 0, "stale: baked from another version of %s (scene fingerprint %016llx, "
+                       "the file's %016llx): bake it again", scene_path,
+                       (unsigned long long)pvs_scene_fingerprint(*scene), (unsigned long long)file->scene_fingerprint);
+        return -1;
+    }
+    return 0;
 }
 
 int cli_grid_cells(const pvs_scene *scene, float size, uint32_t max_cells, mesh_cells *cells, tool_error *err) {
@@ -443,9 +451,10 @@ static int cli__open_parts(const char *const *paths, int count, void **data, pvs
         if (i && (f->shard_count != f0->shard_count || f->total_cell_count != f0->total_cell_count ||
                   f->object_count != f0->object_count || f->method != f0->method || f->eps != f0->eps ||
                   f->up_axis != f0->up_axis || f->flags != f0->flags || f->max_chain != f0->max_chain || f->vocc_flags != f0->vocc_flags ||
-                  f->vocc_base != f0->vocc_base || f->vocc_height_step != f0->vocc_height_step)) {
+                  f->vocc_base != f0->vocc_base || f->vocc_height_step != f0->vocc_height_step ||
+                  f->scene_fingerprint != f0->scene_fingerprint)) {
             tool_error_set(err, paths[i], 0, "does not belong to the bake of %s (shard count, cells, objects, method, eps, "
-                                             "up axis, flags, chain bound or virtual occluders differ)", paths[0]);
+                                             "up axis, flags, chain bound, virtual occluders or scene differ)", paths[0]);
             return -1;
         }
     }
@@ -530,6 +539,7 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     d.up_axis = files[0].up_axis;
     d.flags = files[0].flags;
     d.max_chain = files[0].max_chain;
+    d.scene_fingerprint = files[0].scene_fingerprint;
     if (vcount) {
         d.vocc_counts = vcount;
         d.vocc_scales = vscale;

@@ -171,6 +171,8 @@ static void print_summary(const char *path, const pvs_file *f, size_t size, pvs_
     printf("method      %s\n", pvs_method_name(f->method));
     printf("eps         %g\n", f->eps);
     printf("up axis     %s\n", f->up_axis == 2 ? "z" : "y");
+    if (f->scene_fingerprint) printf("scene       fingerprint %016llx\n", (unsigned long long)f->scene_fingerprint);
+    else printf("scene       no fingerprint (baked before v0.8.0): a stale file cannot be told\n");
     printf("cells       %u\n", f->cell_count);
     printf("objects     %u\n", f->object_count);
     printf("pvs size    mean %.1f (%.1f%%), min %u, max %u\n", sum / f->cell_count, 100.0 * sum / f->cell_count / f->object_count, minp, maxp);
