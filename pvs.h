@@ -20860,10 +20860,10 @@ PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state)
 PVS__STATIC int pvs__shrink_price(const pvs_bake_desc *desc, const void *state) {
 	pvs_box sb = pvs_scene_bounds(desc->scene);
 	double points = 0.0, ref = 2.0 * 294.0 * desc->cell_count, n[3], eps = desc->eps;
-	if (!(eps > 0.0)) eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene), &sb);
 	uint32_t i;
 	int k, price = 3;
 	(void)state;
+	if (!(eps > 0.0)) eps = pvs__shrink_default_eps(desc->cells, desc->cell_count, pvs_scene_up_axis(desc->scene), &sb);
 	for (i = 0; i < desc->cell_count; ++i) {
 		for (k = 0; k < 3; ++k) n[k] = ceil((desc->cells[i].max[k] - (double)desc->cells[i].min[k]) / (1.4 * eps)) + 1;
 		points += 2.0 * (n[0] * n[1] + n[1] * n[2] + n[0] * n[2]);

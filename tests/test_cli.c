@@ -102,19 +102,25 @@ static void test_city_round_trip(void) {
     mesh_free(&m);
 }
 
+/* The CLI tests' scene into dst: a wall of top `wall_top` between two small boxes, and a hidden occluder-only box. */
+static void wall_scene(char *dst, size_t cap, float wall_top) {
+    char a[1024], b[1024];
+    box_obj(a, sizeof(a), "left", -6, 0, -1, -4, 2, 1, 1);
+    box_obj(b, sizeof(b), "wall", -1, 0, -10, 1, wall_top, 10, 9);
+    snprintf(dst, cap, "%s%s", a, b);
+    box_obj(a, sizeof(a), "right", 4, 0, -1, 6, 2, 1, 17);
+    strncat(dst, a, cap - strlen(dst) - 1);
+    box_obj(a, sizeof(a), "occluder_hidden", 10, 0, -1, 11, 2, 1, 25);
+    strncat(dst, a, cap - strlen(dst) - 1);
+}
+
 void test_cli(void) {
-    char scene[4096], a[1024], b[1024], *out;
+    char scene[4096], *out;
     int rc;
     system("rm -rf " DIR " && mkdir -p " DIR);
 
     /* a wall between two small boxes, three view cells */
-    box_obj(a, sizeof(a), "left", -6, 0, -1, -4, 2, 1, 1);
-    box_obj(b, sizeof(b), "wall", -1, 0, -10, 1, 5, 10, 9);
-    snprintf(scene, sizeof(scene), "%s%s", a, b);
-    box_obj(a, sizeof(a), "right", 4, 0, -1, 6, 2, 1, 17);
-    strcat(scene, a);
-    box_obj(a, sizeof(a), "occluder_hidden", 10, 0, -1, 11, 2, 1, 25);
-    strcat(scene, a);
+    wall_scene(scene, sizeof(scene), 5);
     write_text(DIR "/scene.obj", scene, strlen(scene));
     write_str(DIR "/cells.txt", "# left, right, both sides\n-3 0.5 -0.5 -2 1.5 0.5\n2 0.5 -0.5 3 1.5 0.5\n\n-3 3 -0.5 3 4 0.5  # straddles\n");
 
@@ -348,13 +354,7 @@ void test_cli(void) {
     }
     { /* the same objects, the wall half a unit taller: the file's scene fingerprint tells it is stale */
         char edited[4096];
-        box_obj(a, sizeof(a), "left", -6, 0, -1, -4, 2, 1, 1);
-        box_obj(b, sizeof(b), "wall", -1, 0, -10, 1, 5.5f, 10, 9);
-        snprintf(edited, sizeof(edited), "%s%s", a, b);
-        box_obj(a, sizeof(a), "right", 4, 0, -1, 6, 2, 1, 17);
-        strcat(edited, a);
-        box_obj(a, sizeof(a), "occluder_hidden", 10, 0, -1, 11, 2, 1, 25);
-        strcat(edited, a);
+        wall_scene(edited, sizeof(edited), 5.5f);
         write_text(DIR "/edited.obj", edited, strlen(edited));
         CHECK(run("./pvsinfo " DIR "/a.pvs", &out) == 0 && strstr(out, "scene       fingerprint ")); free(out);
         CHECK(run("./pvscheck " DIR "/edited.obj " DIR "/a.pvs", &out) == 1 && strstr(out, "stale: baked from another version"));
