@@ -10,6 +10,8 @@
 #   BENCH auto_misses_MAP             pvscheck's misses for auto (a conservative PVS has 0)
 #   BENCH portal_ms_per_cell_MAP, portal_pvs_vs_q3map2_MAP, portal_tightness_MAP, portal_misses_MAP: the same for
 #                                     the portal method alone (the building: all but the q3map2 figure)
+#   BENCH auto_whole_bake_s_MAP       the whole level (every leaf, auto_whole_cells_MAP cells) on 2 threads, wall
+#                                     seconds from loading the OBJ to the written file (q3map2's vis: 0.3 to 8 s)
 set -u
 B=${B:-build}
 T=$B/maps
@@ -55,4 +57,8 @@ for m in $maps; do
   echo "BENCH portal_pvs_vs_q3map2_$m $(awk "BEGIN { printf \"%.2f\", $p / $q }") x"
   echo "BENCH portal_tightness_$m $(echo "$cp" | sed -n 's/.*tightness \([0-9.]*\).*/\1/p') x"
   echo "BENCH portal_misses_$m $(echo "$cp" | sed -n 's/.*misses \([0-9]*\).*/\1/p') pairs"
+  # the whole level, every leaf a cell, as a user bakes it: AUTO, its sample included, 2 threads, wall time
+  out=$("$B/pvsbake" "$T/all/$m.obj" --cells "$T/all/$m.cells" -o "$T/$m.whole.pvs" -j 2 --no-state 2>&1 | tr '\r' '\n')
+  echo "BENCH auto_whole_bake_s_$m $(echo "$out" | sed -n 's/.*bake \([0-9.]*\) s wall.* \([0-9.]*\) s total.*/\2/p' | tail -1) s"
+  echo "BENCH auto_whole_cells_$m $n cells"
 done
