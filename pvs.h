@@ -21143,17 +21143,16 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 			int costly = 0;
 			if (!(mask & (1u << m->method)) || m->cost_rank != rank) continue;
 			b->considered[b->considered_count] = m;
-			if (b->run_count && pvs__bake_price(b, b->run[b->run_count - 1], desc) < cheapest)
-				cheapest = pvs__bake_price(b, b->run[b->run_count - 1], desc);
-			if (sampling && b->run_count && ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(b, m, desc) - cheapest) > 1.0) {
+			if (sampling && b->run_count && pvs__bake_price(b, b->run[b->run_count - 1], desc) < cheapest)
+				cheapest = pvs__bake_price(b, b->run[b->run_count - 1], desc); /* else 2^20: never costly */
+			if (ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(b, m, desc) - cheapest) > 1.0) {
 				costly = 1; /* priced before preparing */
 			} else if (!((b->env.flags & PVS_BAKE_PREVIEW) && b->run_count)) {
 				r = pvs__bake_prepare(b, m, desc, err);
 				if (r != PVS_OK && r != PVS_ERROR_UNSUPPORTED) return r;
 				if (r == PVS_ERROR_UNSUPPORTED) why = "not available in the bake driver";
 				else if (!m->applies || m->applies(b->state[m->method], &why)) { /* priced again, with its state */
-					costly = sampling && b->run_count &&
-							 ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(b, m, desc) - cheapest) > 1.0;
+					costly = ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(b, m, desc) - cheapest) > 1.0;
 					if (!m->applies) why = "conservative";
 					b->ran[b->considered_count] = (unsigned char)!costly;
 					if (!costly) b->run[b->run_count++] = m;

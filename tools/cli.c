@@ -96,11 +96,12 @@ int cli_load_pvs_scene(const char *pvs_path, const char *scene_path, uint32_t up
         return -1;
     }
     if (cli_load_scene(scene_path, up_axis ? up_axis : file->up_axis, m, scene, err)) return -1;
+    uint64_t fp = pvs_scene_fingerprint(*scene);
     if (file->scene_fingerprint && file->object_count == pvs_scene_object_count(*scene) && /* else: not the same */
-        file->scene_fingerprint != pvs_scene_fingerprint(*scene)) {
+        file->scene_fingerprint != fp) {
         tool_error_set(err, pvs_path, 0, "stale: baked from another version of %s (scene fingerprint %016llx, "
-                       "the file's %016llx): bake it again", scene_path,
-                       (unsigned long long)pvs_scene_fingerprint(*scene), (unsigned long long)file->scene_fingerprint);
+                       "the file's %016llx): bake it again", scene_path, (unsigned long long)fp,
+                       (unsigned long long)file->scene_fingerprint);
         return -1;
     }
     return 0;
