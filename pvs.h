@@ -39,24 +39,24 @@
    WHAT IT DOES NOT DO
    ===================
    - No rendering API: it hands you object ids; you draw.
-   - No mesh-file loading: the scene comes from your arrays (the tools/ folder has an OBJ loader).
-   - No threads of its own: a bake is split into tasks you run on your job system (see THREADS).
-   - No file I/O: it writes into and reads from memory you own.
+   - No mesh-file loading: the scene comes from your arrays (tools/ has an OBJ loader).
+   - No threads of its own: a bake is split into tasks for your job system (see Threads).
+   - No file I/O: it works in memory you own.
 
    TABLE OF CONTENTS (search for the banner, e.g. ">>kdtree")
    =================
    >>docs       this manual
-   >>api        the declarations, one block per module
-   >>core       result codes, allocator hooks, vec3/box/plane math, bitsets
-   >>scene      scene description, object bounds, triangle storage, explicit occluders
-   >>kdtree     kD-tree over boxes: build, front-to-back sweep, ray cast, point location
+   >>api        the declarations, per module
+   >>core       result codes, allocator hooks, math, bitsets
+   >>scene      scene, object bounds, triangles, explicit occluders
+   >>kdtree     kD-tree over boxes: build, sweep, ray cast, point location
    >>raster     conservative rasterizer, depth pyramid, cull map, per-frame culling
-   >>otree      occlusion trees: exact 2D and conservative 2.5D (c-LSS) region visibility, from-point culling
-   >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps, boxes / columns
-   >>vocc       virtual occluders (Koltun 2000): construction, VOCC section, PVS rebuilt on cell entry
-   >>portal     rooms and portals from the closed convex solids (a BSP), portal flow per cell (method PORTAL)
-   >>methods    region methods: `shrink` (Wonka 2000), `extproj` (Durand 2000), the estimator `sample`
-   >>bake       bake driver: tasks, AUTO, draw distance, resuming, adaptive cells, determinism
+   >>otree      occlusion trees: 2D and 2.5D (c-LSS) region visibility, from-point culling
+   >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps
+   >>vocc       virtual occluders (Koltun 2000)
+   >>portal     rooms and portals from closed convex solids, portal flow (method PORTAL)
+   >>methods    `shrink` (Wonka 2000), `extproj` (Durand 2000), the estimator `sample`
+   >>bake       bake driver: tasks, AUTO, resuming, adaptive cells
    >>format     the .pvs file: writer and validating zero-copy reader
    >>runtime    cell look-up and decoding
 
@@ -68,84 +68,75 @@
    PVS_API                 extern / static     decoration of every public function
    PVS_MALLOC(sz)          malloc(sz)          fallback allocator when a desc's allocator is zero; define both
    PVS_FREE(p)             free(p)               or neither
-   PVS_QSORT(b, n, sz, f)  qsort(b, n, sz, f)  every sort, with qsort's contract; the order of equal elements
-												 changes no result
+   PVS_QSORT(b, n, sz, f)  qsort(b, n, sz, f)  every sort (qsort's contract; stability not needed)
    PVS_ASSERT(x)           assert(x)           checks of programmer misuse only, never of input data
    PVS_NO_STDIO            undefined           error messages without snprintf (reason strings only)
    PVS_NO_SIMD             undefined           scalar code paths only (identical results)
-   PVS_TEST_HOOKS          undefined           internal, the library's own tests: declares their flags
-												 (PVS_VISIBILITY_INPUT_ORDER, PVS_VISIBILITY_25D_FULL_TESTS)
+   PVS_TEST_HOOKS          undefined           internal: declares the library tests' flags
 
    CONCEPTS
    ========
    Coordinates. Any right- or left-handed frame; the scene's `up_axis` (1 = Y, the OBJ default, or 2 = Z) is the
    2.5D methods' height axis. Cells are axis-aligned boxes in scene units.
 
-   Conservative. A PVS lists every object visible from any point of its cell (a superset of the exact set),
-   for every eps (the sampling or shrinking distance; smaller is tighter and slower). The exception, `sample`
-   (ray sampling), estimates from below: the tests' yardstick; its files carry PVS_FILE_APPROXIMATE. One
-   stated tolerance: OTREE's facade extraction closes cracks and offsets of up to eight float epsilons of the
-   scene's coordinates between pieces of one wall (real meshes' T-junction cracks, about 1 mm at 1 km); an
-   opening meant to be seen through must be wider.
+   Conservative. A PVS holds every object visible from any point of its cell (a superset of the exact set), for every
+   eps (the sampling or shrinking distance; smaller is tighter and slower). Except `sample` (ray sampling): an estimate
+   from below, the tests' yardstick; its files carry PVS_FILE_APPROXIMATE. One tolerance: OTREE's facade extraction
+   closes cracks and offsets up to eight float epsilons of the scene's coordinates between pieces of one wall
+   (T-junction cracks, about 1 mm at 1 km); an opening to be seen through must be wider.
 
-   Methods. AUTO, the default, runs the conservative methods that can cull in the scene, cheapest first, and
-   intersects their PVSs (conservative, and as tight as each): PORTAL when closed convex meshes bound rooms; OTREE
-   when vertical walls give facades (2.5D); EXTPROJ when there are planar occluders or convex solids (3D; an
-   object's coplanar edge-connected triangles act as one occluder); SHRINK, the costliest, last on what the others
-   kept, when closed geometry leaves volume after erosion by eps. AUTO pays only for what culls: with the default
-   set and at least 4 x PVS_AUTO_SAMPLE_CELLS cells, pvs_bake_begin bakes PVS_AUTO_SAMPLE_CELLS cells spread over
-   all cells with each method, keeps the smallest PVS's (ties: the cheaper), then greedily those that cull
-   PVS_AUTO_MIN_GAIN of what is kept, times 2 per class over the first kept. Classes: PORTAL 0; OTREE 2 + log2 of
-   its base levels; EXTPROJ 3; SHRINK 3 + log2 of its sample points a cell / 294. One priced 4 classes above the
-   cheapest kept is not run. pvs_bake_method_info says which and why; counts decide, so every thread count and shard
-   decides alike. A named set (pvs_bake_desc.methods) runs in full; VOCC only when named. AUTO's EXTPROJ sweeps
-   (§5).
-   max_distance, a draw distance, drops objects whose box is farther from every point of the cell (box to box,
-   rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake.
+   Methods. AUTO, the default, runs the conservative methods that can cull in the scene, cheapest first, and intersects
+   their PVSs (conservative, as tight as each): PORTAL when closed convex meshes bound rooms; OTREE when vertical walls
+   give facades (2.5D); EXTPROJ, with the sweep (§5), for planar occluders or convex solids (3D; an object's coplanar
+   edge-connected triangles act as one occluder); SHRINK, the costliest, last on what the others kept, when closed
+   geometry leaves volume after erosion by eps. With the default set and at least 4 x PVS_AUTO_SAMPLE_CELLS cells,
+   pvs_bake_begin bakes PVS_AUTO_SAMPLE_CELLS cells spread over all cells with each method, keeps the one with the
+   smallest PVS (ties: the cheaper), then greedily those culling PVS_AUTO_MIN_GAIN of what is kept, times 2 per cost
+   class above the first kept's. Classes: PORTAL 0; OTREE 2 + log2 of its base levels; EXTPROJ 3; SHRINK 3 + log2 of its
+   sample points a cell / 294. One 4 classes above the cheapest kept is not run. pvs_bake_method_info says which and
+   why; counts decide, so any thread count or shard decides alike. A named set (pvs_bake_desc.methods) runs in full;
+   VOCC only when named. max_distance, a draw distance, drops objects whose box is farther from every point of the cell
+   (box to box, rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake.
 
-   Adaptive cells (Durand 2000 §6.1). A cell whose PVS holds more than adaptive.budget triangles is split in
-   two across its longest side, recursively down to adaptive.min_size; each half is baked by the bake's
-   methods from its parent's PVS and intersected with it (EXTPROJ also drops the occluders it hides). The
-   file holds the leaf cells (pvs_bake_leaf_count) in cell order, each cell's leaves depth first;
-   pvs_bake_cell_pvs gives a whole cell's PVS. Deterministic for any thread count; not with shards, VOCC or
-   resuming.
+   Adaptive cells (Durand 2000 §6.1). A cell whose PVS holds over adaptive.budget triangles is halved across its
+   longest side, recursively down to adaptive.min_size; each half is baked from its parent's PVS and intersected with it
+   (EXTPROJ also drops the occluders it hides). The file holds the leaf cells (pvs_bake_leaf_count) in cell order, each
+   cell's leaves depth first; pvs_bake_cell_pvs gives a whole cell's PVS. Deterministic for any thread count; not with
+   shards, VOCC or resuming.
 
-   Memory. Each desc has a `pvs_allocator`; left at zero, PVS_MALLOC/PVS_FREE. Objects remember theirs. Size
-   arithmetic is overflow-checked.
+   Memory. Each desc has a `pvs_allocator` (zero: PVS_MALLOC/PVS_FREE); objects keep theirs. Sizes are
+   overflow-checked.
 
-   Threads. pvs.h starts no thread and keeps no global mutable state. Read-only objects (a created pvs_scene,
-   pvs_kdtree, an opened pvs_file) may be shared by any threads. pvs_bake_run_task may run concurrently for
-   distinct tasks (with a thread-safe allocator; malloc is); output is byte-identical for any order or
-   thread count.
+   Threads. No thread started, no global mutable state. Read-only objects (a created pvs_scene or pvs_kdtree, an opened
+   pvs_file) may be shared by threads. pvs_bake_run_task may run concurrently for distinct tasks (with a thread-safe
+   allocator, as malloc is); output is byte-identical for any order or thread count.
 
-   Errors. Functions return pvs_result (0 = PVS_OK, negative = error; pvs_result_string names it); most fill
-   an optional `pvs_error *` with the code, the offending index or byte offset, and a message. PVS_ASSERT
-   guards programmer misuse only; bad data is always a result code.
+   Errors. Functions return pvs_result (0 = PVS_OK, negative = error; pvs_result_string names it); most fill an optional
+   `pvs_error *` with the code, the offending index or byte offset, and a message. PVS_ASSERT guards programmer misuse
+   only; bad data is always a result code.
 
-   Trust. pvs_scene_create validates every index, count and coordinate. pvs_file_open is safe on untrusted
-   bytes: it checks every offset, size, count and checksum before use, never reads outside the buffer, and
-   later calls on an opened file cannot fail on its content.
+   Trust. pvs_scene_create validates every index, count and coordinate. pvs_file_open is safe on untrusted bytes: it
+   checks every offset, size, count and checksum before use, never reads outside the buffer; later calls on an opened
+   file cannot fail on its content.
 
-   Culling. Per frame, from a context allocated once, pvs_raster_cull (3D: depth pyramid), pvs_raster_cull_map
-   (2.5D: cull map) or pvs_otree_cull (an occlusion tree of a few dozen occluders) report every object seen
-   through the screen from the near plane on, whatever the rounding. Depth is reversed (larger is nearer).
-   Pass a cell's PVS as `candidates` to cull inside it.
+   Culling. Per frame, from a context allocated once, pvs_raster_cull (3D: depth pyramid), pvs_raster_cull_map (2.5D:
+   cull map) or pvs_otree_cull (occlusion tree) report every object possibly seen on screen from the near plane on,
+   whatever the rounding. Depth is reversed (larger is nearer). Pass a cell's PVS as `candidates` to cull inside it.
 
-   Virtual occluders (Koltun 2000). A vocc bake also stores a few vertical rectangles per cell (about 50
-   bytes) from which pvs_vocc_cull rebuilds the PVS on cell entry; --vocc-only keeps only them.
+   Virtual occluders (Koltun 2000). A vocc bake also stores a few vertical rectangles per cell (about 50 bytes) from
+   which pvs_vocc_cull rebuilds the PVS on cell entry; --vocc-only keeps only them.
 
    MEMORY
    ======
-   Allocates through the desc's allocator: pvs_scene_create (triangles, kD-trees: at most
-   PVS_SCENE_BYTES_PER_TRIANGLE, 2.4 KB, per triangle and per object; tests/BENCHMARKS.md, scene); pvs_bake_begin (a
-   bitset per cell: cell_count * object_count / 8 bytes, 40 of statistics per cell); pvs_bake_run_task (AUTO: a
-   bitset per method; EXTPROJ: (128 + 8 x sweep planes) x N^2 bytes of N x N depth maps and sweep masks, plus
-   summed-area tables of 4 (N^2 + N + 1 + min(16 N, 16384)) bytes per plane of a direction up to 64 MiB, at least two
-   (pvs_extproj_task_bytes): 8 MB at 256 pixels, 21 MB with 16 sweep planes, 0.7 GB at 1024 and 64, freed on return;
-   adaptive cells: a box and a bitset per leaf, kept); pvs_file_encode (about 40 bytes per cell plus a bitset);
-   pvs_raster_create (depth map, pyramid, cull map); pvs_otree_create (about 250 bytes per node of its budget, 5 per
-   kD node and object). Allocate nothing: the pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*,
-   pvs_otree_cull, pvs_vocc_cull. A .pvs file is used in place.
+   Allocates through the desc's allocator: pvs_scene_create (triangles, kD-trees: at most PVS_SCENE_BYTES_PER_TRIANGLE,
+   2.4 KB, per triangle and per object); pvs_bake_begin (a bitset per cell: cell_count * object_count / 8 bytes, 40 of
+   statistics per cell); pvs_bake_run_task (AUTO: a bitset per method; EXTPROJ: (128 + 8 x sweep planes) x N^2 bytes of
+   N x N depth maps and sweep masks, plus summed-area tables of 4 (N^2 + N + 1 + min(16 N, 16384)) bytes per plane of a
+   direction up to 64 MiB, at least two (pvs_extproj_task_bytes): 8 MB at 256 pixels, 21 MB with 16 sweep planes, 0.7 GB
+   at 1024 and 64, freed on return; adaptive cells: a box and a bitset per leaf, kept); pvs_file_encode (about 40 bytes
+   per cell plus a bitset); pvs_raster_create (depth map, pyramid, cull map); pvs_otree_create (about 250 bytes per node
+   of its budget, 5 per kD node and object). Allocate nothing: the pvs_file_* readers, pvs_cursor_*, kD-tree queries,
+   pvs_raster_cull*, pvs_otree_cull, pvs_vocc_cull. A .pvs file is used in place.
 
    PERFORMANCE
    ===========
@@ -153,18 +144,17 @@
 
    ALGORITHMS (each cited again where it is implemented)
    ==========
-   kD-tree, front-to-back sweep by priority queue, occlusion trees: Bittner 2002 (§3.2, §4.4, ch. 4, 6, 7).
-   Delta-PVS storage, extended projections, hierarchical depth map: Durand et al. 2000 (§2.4, §3, §5, §6).
-   Cull maps and occluder shadows: Wonka and Schmalstieg 1999 (§3-4). Occluder shrinking and point sampling:
-   Wonka, Wimmer and Schmalstieg 2000. Virtual occluders: Koltun, Chrysanthou and Cohen-Or 2000. Watertight
-   ray-triangle test: Woop, Benthin and Wald 2013. Masked occlusion culling (tiles of coverage masks):
-   Hasselgren, Andersson and Akenine-Moller 2016. Rice codes: Golomb 1966, Rice 1979.
+   kD-tree, front-to-back sweep, occlusion trees: Bittner 2002 (§3.2, §4.4, ch. 4, 6, 7). Delta-PVS storage, extended
+   projections, hierarchical depth map: Durand et al. 2000 (§2.4, §3, §5, §6). Cull maps, occluder shadows: Wonka
+   and Schmalstieg 1999 (§3-4). Occluder shrinking, point sampling: Wonka, Wimmer and Schmalstieg 2000. Virtual
+   occluders: Koltun, Chrysanthou and Cohen-Or 2000. Watertight ray-triangle test: Woop, Benthin and Wald 2013. Masked
+   occlusion culling: Hasselgren, Andersson and Akenine-Moller 2016. Rice codes: Golomb 1966, Rice 1979.
 
    FILE FORMAT (version 1; integers little-endian; offsets from the start of the file)
    ===========
-   The delta-PVS of Durand et al. 2000 (§6.2): a few key cells store their PVS whole, the others the objects
-   that differ from a base cell, chains bounded by K. pvs_file_open rejects a file breaking a rule below
-   with the code in brackets.
+   The delta-PVS of Durand et al. 2000 (§6.2): a few key cells store their PVS whole, the others the objects that
+   differ from a base cell, chains bounded by K. pvs_file_open rejects a file breaking a rule below with the code in
+   brackets.
    header, 32 bytes:
 	 0  u8[4]  magic "PVS\x1a"                                             [BAD_MAGIC]
 	 4  u32    format version (PVS_FORMAT_VERSION); any other is rejected     [BAD_VERSION]; it changes
@@ -175,9 +165,9 @@
 	 20 u32    CRC-32 (IEEE) of bytes 0..19 and of the section table          [CHECKSUM]
 	 24 u32[2] reserved, zero                                                 [BAD_HEADER]
    section table at 32: S entries of u32 tag, offset, size, CRC-32 of the section's bytes [CHECKSUM].
-	 Sections are 8-byte aligned, inside the file, disjoint, tags unique [BAD_SECTION, TRUNCATED]; other
-	 bytes after the table are zero [BAD_SECTION]. Tags are four ASCII characters; readers skip unknown ones
-	 (room for optional sections). The writer emits META, CELL, TREE, RECS, then SHRD (part files), VOCC, SCNE.
+	 Sections are 8-byte aligned, inside the file, disjoint, tags unique [BAD_SECTION, TRUNCATED]; other bytes after
+	 the table are zero [BAD_SECTION]. Tags are four ASCII characters; readers skip unknown ones. The writer emits
+	 META, CELL, TREE, RECS, then SHRD (part files), VOCC, SCNE.
    "META" (required, 32 bytes, else BAD_SECTION) [BAD_HEADER; COUNT_OVERFLOW for counts past the limits]:
 	 0 u32 cell_count (1..2^30-1)   4 u32 object_count (1..2^32-2)   8 u32 method (pvs_method)
 	 12 f32 eps (finite, >= 0)      16 u32 up_axis (1 = Y, 2 = Z)    20 u32 K, the chain bound (1..64)
@@ -186,62 +176,58 @@
 	 0 u32 n[3]: distinct coordinates per axis (1..2 * cell_count)
 	 12 u8 w[3]: min index widths in bits, the bits needed for n - 1 (0 when n = 1)
 	 15 u8 x[3]: extent widths in bits (<= w)      18 u8[2] zero
-	 20 f32 tables: n[0] values of axis 0, n[1] of axis 1, n[2] of axis 2; finite, strictly ascending,
-		never -0 (written as +0)
+	 20 f32 tables: n[0] values of axis 0, n[1] of axis 1, n[2] of axis 2; finite, strictly ascending, never -0
 	 then per cell, in cell order, min0 min1 min2 (widths w) and extents e0 e1 e2 (widths x; max index = min +
 		extent < n), packed least significant bit first; the last byte's unused high bits are zero; the section
 		ends there.
-   "TREE" (required): the cell look-up kD-tree, complete, depth D, implicit (node k's children 2k + 1 and
-	 2k + 2; leaf j is node 2^D - 1 + j) [BAD_TREE]:
-	 0 u32 D (0..24)   4 u32 zero   8 f32 splits[2^D - 1] (finite)   then u32 leaf offsets[2^D + 1]
-	 (offsets[0] = 0, ascending, the last = the item bytes' size)   then u8 axes[2^D - 1] (0..2; a node
-	 whose cells all go left has split FLT_MAX)   then the items: leaf j's cell ids in offsets[j] ..
-	 offsets[j + 1], ascending ids < cell_count as varints of the first and the gaps minus one; the
-	 section ends there.
-	 Look-up of p: at an inner node p[axis] < split goes left, > split right, == split both; in a leaf the
-	 lowest id whose closed box contains p. The writer puts a cell left when min < split or max <= split
-	 and right when max > split, so every cell containing p is found (pvsinfo --verify checks this).
+   "TREE" (required): the cell look-up kD-tree, complete, depth D, implicit (node k's children 2k + 1 and 2k + 2;
+	 leaf j is node 2^D - 1 + j) [BAD_TREE]:
+	 0 u32 D (0..24)   4 u32 zero   8 f32 splits[2^D - 1] (finite)   then u32 leaf offsets[2^D + 1] (offsets[0] = 0,
+	 ascending, the last = the item bytes' size)   then u8 axes[2^D - 1] (0..2; a node whose cells all go left has
+	 split FLT_MAX)   then the items: leaf j's cell ids in offsets[j] .. offsets[j + 1], ascending ids < cell_count
+	 as varints of the first and the gaps minus one; the section ends there.
+	 Look-up of p: at an inner node p[axis] < split goes left, > split right, == split both; in a leaf the lowest id
+	 whose closed box contains p. The writer puts a cell left when min < split or max <= split and right when max >
+	 split, so every cell containing p is found.
    "RECS" (required): the PVS records [BAD_SECTION, BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN]:
 	 0 u32 block offsets[B + 1], B = ceil(cell_count / 16), from the section start: offsets[0] = 4 (B + 1),
 	   ascending, offsets[B] = the section size; block b holds cells 16b .. 16b + 15's records back to back.
-	 A record: varint R, the rest's byte count; varint head: coding = head & 3 (of the added ids), depth =
-	   head >> 2 (0 = a key cell, else a delta, <= K). A key: its PVS's ids (universe object_count) so coded.
-	   A delta: varint z, the base cell = cell - (z even ? z / 2 : -(z + 1) / 2) (zigzag), of depth one less (so
-	   chains reach a key within K steps and cannot cycle); u8 coding of the removed objects (0..3); varint m, the
-	   base's PVS size (<= object_count); the removed objects as ranks in the base's PVS (universe m: rank r = the
-	   base's (r+1)-th smallest id); then the added ids (universe object_count, never in the base's PVS) in the
-	   head's coding. The sets fill the record exactly. Set codings, each self-delimiting:
+	 A record: varint R, the rest's byte count; varint head: coding = head & 3 (of the added ids), depth = head >> 2
+	   (0 = a key cell, else a delta, <= K). A key: its PVS's ids (universe object_count) so coded. A delta: varint
+	   z, the base cell = cell - (z even ? z / 2 : -(z + 1) / 2) (zigzag), of depth one less (so chains reach a key
+	   within K steps and cannot cycle); u8 coding of the removed objects (0..3); varint m, the base's PVS size (<=
+	   object_count); the removed objects as ranks in the base's PVS (universe m: rank r = the base's (r+1)-th
+	   smallest id); then the added ids (universe object_count, never in the base's PVS) in the head's coding. The
+	   sets fill the record exactly. Set codings, each self-delimiting:
 		 0 gap varints: varint count, then count varints: the first id, then the gaps minus one.
-		 1 run lengths: varint pairs, then per pair varint zeros, varint ones - 1: alternating runs from
-		   id 0 (zero runs after the first >= 1); the set ends after the last ones run.
-		 2 Rice codes: u8 k (0..24), varint count, then count codes, least significant bit first, per gap
-		   (as in 0): gap >> k 1 bits, a 0 bit, the k low bits; zero bits pad the last byte.
+		 1 run lengths: varint pairs, then per pair varint zeros, varint ones - 1: alternating runs from id 0 (zero
+		   runs after the first >= 1); the set ends after the last ones run.
+		 2 Rice codes: u8 k (0..24), varint count, then count codes, least significant bit first, per gap (as in
+		   0): gap >> k 1 bits, a 0 bit, the k low bits; zero bits pad the last byte.
 		 3 raw bitset: ceil(universe / 8) bytes, bit i of byte j = id 8j + i; bits past the universe zero.
-	   The writer picks the smallest coding, ties to the lower. A decoder applies the deltas from the
-	   chain's key (removals, then additions). Only decoding checks m against the base's PVS (pvsinfo
-	   --verify); ranks past it in a damaged file are ignored, never read out of bounds.
+	   The writer picks the smallest coding, ties to the lower. A decoder applies the deltas from the chain's key
+	   (removals, then additions). Only decoding checks m against the base's PVS (pvsinfo --verify); ranks past it
+	   in a damaged file are ignored, never read out of bounds.
 	 Varints are LEB128: at most 5 bytes, the value fits 32 bits, no needless 0x80 bytes.
-   "SHRD" (optional, 16 bytes, else BAD_SECTION; part files of a sharded bake) [BAD_HEADER]: u32 shard
-	 index (0-based), u32 shard count (>= 2), u32 total cell count, u32 zero. Part cell j is whole cell
-	 index + j * count; cell_count must be the number of such cells.
+   "SHRD" (optional, 16 bytes, else BAD_SECTION; part files of a sharded bake) [BAD_HEADER]: u32 shard index
+	 (0-based), u32 shard count (>= 2), u32 total cell count, u32 zero. Part cell j is whole cell index + j * count;
+	 cell_count must be the number of such cells.
    "SCNE" (optional, 8 bytes, else BAD_SECTION): u64, nonzero, the baked scene's pvs_scene_fingerprint.
-   "VOCC" (optional; virtual occluders, >>vocc) [BAD_SECTION]: per cell vertical rectangles, each hidden
-	 from the whole cell, most effective first:
+   "VOCC" (optional; virtual occluders, >>vocc) [BAD_SECTION]: per cell vertical rectangles, each hidden from the
+	 whole cell, most effective first:
 	 0  u32 flags: bit 0 = the records are placeholders (--vocc-only: every drawable object); others zero
 	 4  u32 N, the occluders of all cells (<= 255 * cell_count)
 	 8  f32 base, every occluder's bottom height    12 f32 step (> 0); both finite, base + 255 step too
 	 16 u32 first[B + 1], B = ceil(cell_count / 16): index of cell 16b's first occluder; first[0] = 0,
 		first[B] = N, first[b + 1] - first[b] = block b's count sum
-	 then u8 count[cell_count] (0..255), then u8 scale[cell_count]: the cell's coordinate scale
-		S = 2^((scale - 128) / 8), exactly the double nearest 2^(k / 8) for k = scale mod 8, times
-		2^(scale div 8 - 16)
-	 then N occluders of 5 bytes, cell by cell: u8 q0 q1 (end point 0), q2 q3 (end point 1), q4 (top).
-		Ground coordinate (u, v) = centre + S (q - 128) |q - 128| / 16384 in double, centre = 0.5f min +
-		0.5f max of the cell's box in float (finer steps near the cell: the perspective); top = base +
-		q4 step in double.
-	 The section is exactly 16 + 4 (B + 1) + 2 cell_count + 5 N bytes. The bake rounds each occluder
-	 smaller (end points inward and away from the cell, top down) and proves the rounded one hidden, so
-	 the stored bytes are conservative. Readers may skip VOCC; the records stay a valid PVS.
+	 then u8 count[cell_count] (0..255), then u8 scale[cell_count]: the cell's coordinate scale S = 2^((scale -
+		128) / 8), exactly the double nearest 2^(k / 8) for k = scale mod 8, times 2^(scale div 8 - 16)
+	 then N occluders of 5 bytes, cell by cell: u8 q0 q1 (end point 0), q2 q3 (end point 1), q4 (top). Ground
+		coordinate (u, v) = centre + S (q - 128) |q - 128| / 16384 in double, centre = 0.5f min + 0.5f max of the
+		cell's box in float; top = base + q4 step in double.
+	 The section is exactly 16 + 4 (B + 1) + 2 cell_count + 5 N bytes. The bake rounds each occluder smaller (end
+	 points inward and away from the cell, top down) and proves the rounded one hidden, so the stored bytes are
+	 conservative. Readers may skip VOCC; the records stay a valid PVS.
 
    RECENT HISTORY (older: FULL HISTORY at the end)
    ==============
@@ -292,31 +278,31 @@ typedef enum pvs_result {
 	PVS_ERROR_EMPTY_OBJECT = -6,	   /* an object with no triangles */
 	PVS_ERROR_DEGENERATE_OBJECT = -7,  /* an object whose triangles all have zero area */
 	PVS_ERROR_OVERLAPPING_OBJECTS = -8,/* two objects claim the same triangle */
-	PVS_ERROR_BAD_OCCLUDER = -9,	   /* an explicit occluder volume that is empty, unbounded or malformed */
+	PVS_ERROR_BAD_OCCLUDER = -9,	   /* an explicit occluder empty, unbounded or malformed */
 	PVS_ERROR_BAD_CELL = -10,		   /* a cell box with NaN or min > max */
-	PVS_ERROR_BUFFER_TOO_SMALL = -11,  /* the caller's output buffer is smaller than needed */
+	PVS_ERROR_BUFFER_TOO_SMALL = -11,  /* an output buffer is too small */
 	PVS_ERROR_BAD_MAGIC = -12,		   /* not a .pvs file */
 	PVS_ERROR_BAD_VERSION = -13,	   /* a .pvs file of another format version */
 	PVS_ERROR_TRUNCATED = -14,		   /* the buffer ends before the data it declares */
-	PVS_ERROR_BAD_SECTION = -15,	   /* a section missing, repeated, misaligned, overlapping or outside the file */
+	PVS_ERROR_BAD_SECTION = -15,	   /* a section missing, repeated, misaligned, overlapping or outside */
 	PVS_ERROR_CHECKSUM = -16,		   /* stored and computed checksums differ */
 	PVS_ERROR_BAD_RECORD = -17,		   /* a malformed PVS record (varint, order, length) */
 	PVS_ERROR_OBJECT_OUT_OF_RANGE = -18,/* a record names an object id >= object count */
 	PVS_ERROR_BAD_HEADER = -19,		   /* a header or META field with an impossible value */
 	PVS_ERROR_NOT_DONE = -20,		   /* a bake result asked for before every task ran */
-	PVS_ERROR_UNSUPPORTED = -21,	   /* the method cannot handle this input (the message says why) */
+	PVS_ERROR_UNSUPPORTED = -21,	   /* the method cannot handle this input (message says why) */
 	PVS_ERROR_BAD_CHAIN = -22,		   /* a delta record whose base chain is cyclic, too long or inconsistent */
 	PVS_ERROR_BAD_TREE = -23,		   /* a malformed cell look-up tree in a .pvs file */
-	PVS_ERROR_SHARD_MISMATCH = -24,    /* part files that do not make up one bake (missing, repeated, different) */
+	PVS_ERROR_SHARD_MISMATCH = -24,    /* part files not making up one bake (missing, repeated, different) */
 	PVS_RESULT_MIN = -25			   /* sentinel: every result is > PVS_RESULT_MIN */
 } pvs_result;
 
-/* Where and why a call failed, for calls whose last argument is a `pvs_error *` (NULL allowed). */
+/* Why a call failed, for calls taking a `pvs_error *` last (NULL allowed). */
 typedef struct pvs_error {
 	pvs_result result;	 /* same as the return value */
-	int64_t index;		 /* offending object/triangle/vertex/cell/occluder/record index, or -1 */
-	uint64_t offset;	 /* byte offset into a file for format errors, else 0 */
-	char message[200];	 /* NUL-terminated, human-readable: what and where */
+	int64_t index;		 /* offending object/triangle/vertex/cell/occluder/record, or -1 */
+	uint64_t offset;	 /* file byte offset of a format error, else 0 */
+	char message[200];	 /* NUL-terminated: what and where */
 } pvs_error;
 
 /* A constant English description ("out of memory"), never NULL. */
@@ -325,8 +311,8 @@ PVS_API const char *pvs_result_string(pvs_result result);
 /* The implementation's PVS_VERSION. */
 PVS_API uint32_t pvs_version(void);
 
-/* Allocation hooks: alloc returns memory aligned to `align` (a power of two <= 64) or NULL; free gets the
-   size given to alloc. All zero: PVS_MALLOC/PVS_FREE. Objects keep a copy. Thread-safe for parallel bakes. */
+/* Allocation hooks: alloc returns memory aligned to `align` (a power of two <= 64) or NULL; free gets the size given
+   to alloc. All zero: PVS_MALLOC/PVS_FREE. Objects keep a copy. Must be thread-safe for parallel bakes. */
 typedef struct pvs_allocator {
 	void *(*alloc)(size_t size, size_t align, void *user);
 	void (*free)(void *ptr, size_t size, void *user);
@@ -356,8 +342,8 @@ PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint3
 /* Object flags. */
 #define PVS_OBJECT_OCCLUDER_ONLY 1u /* blocks sight but is never drawn: never appears in a PVS */
 
-/* An object, the unit of visibility: a range of triangles overlapping no other object's. Triangles in no
-   range block sight only. */
+/* An object, the unit of visibility: a range of triangles disjoint from other objects'. Triangles in no range only
+   block sight. */
 typedef struct pvs_object_desc {
 	uint32_t first_triangle;
 	uint32_t triangle_count;
@@ -380,7 +366,7 @@ typedef struct pvs_occluder_desc {
 	const float *planes;		/* CONVEX: plane_count x (nx, ny, nz, d); inside is n.p + d <= 0 */
 	uint32_t plane_count;		/* CONVEX: 4..PVS_MAX_OCCLUDER_PLANES, bounded, non-empty */
 	const float *footprint;		/* EXTRUSION: footprint_count ground points (u, v), a simple polygon, */
-	uint32_t footprint_count;	/*   either winding, may be concave; 3..PVS_MAX_FOOTPRINT_POINTS */
+	uint32_t footprint_count;	/*   any winding, maybe concave; 3..PVS_MAX_FOOTPRINT_POINTS */
 	float base, top;			/* EXTRUSION: heights along the up axis, base < top */
 } pvs_occluder_desc;
 #define PVS_MAX_OCCLUDER_PLANES 64
@@ -389,8 +375,7 @@ typedef struct pvs_occluder_desc {
 /* Scene flags. */
 #define PVS_SCENE_ALLOW_EMPTY_OBJECTS 1u /* keep objects with no (or only zero-area) triangles: never visible */
 
-/* What pvs_scene_create needs; zero fields get defaults. Ground coordinates (u, v): (x, z) for up_axis 1,
-   (x, y) for 2. */
+/* Zero fields get defaults. Ground coordinates (u, v): (x, z) for up_axis 1, (x, y) for 2. */
 typedef struct pvs_scene_desc {
 	const float *positions;		 /* vertex_count x (x, y, z) */
 	uint32_t vertex_count;
@@ -409,10 +394,9 @@ typedef struct pvs_scene_desc {
 /* A validated scene with its kD-trees; immutable, so thread-safe. */
 typedef struct pvs_scene pvs_scene;
 
-/* Copies and validates the arrays, builds object bounds and kD-trees. Errors: INVALID_ARGUMENT,
-   INDEX_OUT_OF_RANGE, NOT_FINITE, EMPTY_OBJECT, DEGENERATE_OBJECT, OVERLAPPING_OBJECTS, BAD_OCCLUDER,
-   COUNT_OVERFLOW, OUT_OF_MEMORY; err->index names the element. Holds at most these bytes per triangle and
-   object, 12 per vertex and _FIXED at once, whatever the shapes (MEMORY). */
+/* Copies and validates the arrays, builds object bounds and kD-trees. Errors: INVALID_ARGUMENT, INDEX_OUT_OF_RANGE,
+   NOT_FINITE, EMPTY_OBJECT, DEGENERATE_OBJECT, OVERLAPPING_OBJECTS, BAD_OCCLUDER, COUNT_OVERFLOW, OUT_OF_MEMORY;
+   err->index names the element. Holds at most these bytes per triangle and object, 12 per vertex, plus _FIXED. */
 #define PVS_SCENE_BYTES_PER_TRIANGLE 2432
 #define PVS_SCENE_BYTES_PER_OBJECT 2400
 #define PVS_SCENE_BYTES_FIXED 16384
@@ -427,14 +411,14 @@ PVS_API uint32_t pvs_scene_up_axis(const pvs_scene *scene);			/* 1 or 2 */
 PVS_API pvs_box pvs_scene_bounds(const pvs_scene *scene);			/* of all triangles and occluders */
 PVS_API pvs_box pvs_scene_object_box(const pvs_scene *scene, uint32_t object); /* object < count */
 PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *scene, uint32_t object);
-/* A 64-bit hash (FNV-1a) of what the bake reads: up axis, then per object in order its flags and its triangles'
-   corners, then the explicit occluders (kind, box, heights, plane and footprint values). Never 0. A bake stores it
-   in the file (pvs_file.scene_fingerprint): a file baked for another version of the level is told apart. */
+/* 64-bit FNV-1a hash of what the bake reads: up axis, per object its flags and triangles' corners, then the explicit
+   occluders (kind, box, heights, planes, footprints). Never 0. Stored in the file (pvs_file.scene_fingerprint) to
+   detect a file baked for another version of the level. */
 PVS_API uint64_t pvs_scene_fingerprint(const pvs_scene *scene);
 /* The object a triangle belongs to, or PVS_NO_OBJECT. */
 PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *scene, uint32_t triangle);
 #define PVS_NO_OBJECT 0xffffffffu
-/* The scene's copy of explicit occluder i (arrays inside the scene). */
+/* The scene's copy of explicit occluder i. */
 PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *scene, uint32_t i);
 
 typedef struct pvs_hit {
@@ -443,138 +427,131 @@ typedef struct pvs_hit {
 	uint32_t object;	 /* PVS_NO_OBJECT for triangles in no object */
 } pvs_hit;
 
-/* Closest hit of origin + t dir, 0 <= t <= tmax (dir non-zero), with the two-sided triangles: 1 and *hit
-   (may be NULL), or 0. Watertight (Woop, Benthin, Wald 2013, in double): no ray slips between triangles
-   sharing an edge or corner. Zero-area triangles are never hit; ties go to the lowest triangle index.
-   Thread-safe, allocates nothing. */
+/* Closest hit of origin + t dir, 0 <= t <= tmax (dir non-zero), on two-sided triangles: 1 and *hit (may be NULL),
+   or 0. Watertight (Woop, Benthin, Wald 2013, in double): no ray slips between triangles sharing an edge or corner.
+   Zero-area triangles are never hit; ties go to the lowest triangle. Thread-safe, allocates nothing. */
 PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax,
 							  pvs_hit *hit);
-/* 1 if a triangle crosses segment a-b (ends included), 0 when a == b; as watertight, thread-safe and
-   allocation-free as pvs_scene_raycast. */
+/* 1 if a triangle crosses segment a-b (ends included), 0 when a == b; otherwise as pvs_scene_raycast. */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], const float b[3]);
 
 /* ---- kdtree ---- */
 
-/* A kD-tree over boxes (objects, triangles or cells): binned SAH, items in every leaf they overlap.
-   Immutable, so thread-safe. */
+/* A kD-tree over boxes: binned SAH, items in every leaf they overlap. Immutable, so thread-safe. */
 typedef struct pvs_kdtree pvs_kdtree;
 
 typedef struct pvs_kdtree_desc {
 	const pvs_box *boxes;	 /* count item boxes; item i is box i */
 	uint32_t count;
 	uint32_t leaf_size;		 /* stop splitting at this many items, 0 = default (4) */
-	uint32_t max_depth;		 /* 0 = automatic (about 1.3 log2 count + 8), capped at PVS_KDTREE_MAX_DEPTH */
+	uint32_t max_depth;		 /* 0 = about 1.3 log2 count + 8; capped at PVS_KDTREE_MAX_DEPTH */
 	pvs_allocator allocator;
 } pvs_kdtree_desc;
 #define PVS_KDTREE_MAX_DEPTH 48
-/* Memory bounds per box, for any boxes: item references (4 bytes each), nodes (8 bytes each), build bytes
-   (plus _BUILD_BYTES_FIXED at once). Boxes overlapping everywhere (a fan of slivers) get bigger leaves
-   instead of more memory; ordinary sets stay far below (tests/BENCHMARKS.md, kdtree). */
+/* Memory bounds per box, for any boxes: item references (4 bytes each), nodes (8 bytes each), build bytes (plus
+   _BUILD_BYTES_FIXED). Boxes overlapping everywhere get bigger leaves instead of more memory. */
 #define PVS_KDTREE_MAX_REFS_PER_BOX 64
 #define PVS_KDTREE_MAX_NODES_PER_BOX 32
 #define PVS_KDTREE_BUILD_BYTES_PER_BOX 2336
 #define PVS_KDTREE_BUILD_BYTES_FIXED 4096
 
-/* Builds the tree, deterministically. Boxes with min > max are left out; count 0 gives an empty tree.
-   Errors: INVALID_ARGUMENT, NOT_FINITE (err->index = the box), COUNT_OVERFLOW, OUT_OF_MEMORY. */
+/* Deterministic. Boxes with min > max are left out; count 0 gives an empty tree. Errors: INVALID_ARGUMENT,
+   NOT_FINITE (err->index = the box), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **out_tree, pvs_error *err);
 /* Frees through its allocator; NULL allowed. */
 PVS_API void pvs_kdtree_destroy(pvs_kdtree *tree);
 /* The union of the non-empty item boxes, or an empty box (min > max). */
 PVS_API pvs_box pvs_kdtree_bounds(const pvs_kdtree *tree);
-/* Nodes, inner (two children each) and leaves; at least 1. */
+/* Nodes (inner with two children, and leaves); >= 1. */
 PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *tree);
 
 /* What a sweep visitor tells the traversal. */
 typedef enum pvs_visit {
-	PVS_VISIT_DESCEND = 0,	 /* go on into this node's children */
-	PVS_VISIT_SKIP,			 /* cull this node's subtree */
+	PVS_VISIT_DESCEND = 0,	 /* visit the children */
+	PVS_VISIT_SKIP,			 /* cull the subtree */
 	PVS_VISIT_STOP,			 /* end the sweep */
-	PVS_VISIT_ALL,			 /* take the subtree whole (see below); only STOP is heeded below it */
+	PVS_VISIT_ALL,			 /* take the subtree whole (below); only STOP is heeded in it */
 	PVS_VISIT_COUNT
 } pvs_visit;
 
-/* Called per node reached, by increasing `distance` from the source box (0 where they meet); `node_box`:
-   the bounds cut by the splits above. Leaves pass their items (an item once per leaf it is in), other
-   nodes NULL, 0. After PVS_VISIT_ALL, each non-empty leaf below comes at once, depth first, with distance
-   -1 (unordered), before the sweep goes on. */
+/* Called per node reached, by increasing `distance` from the source box (0 where they meet); `node_box`: the bounds
+   cut by the splits above. Leaves pass their items (an item once per leaf it is in), other nodes NULL, 0. After
+   PVS_VISIT_ALL, each non-empty leaf below comes at once, depth first, distance -1, before the sweep goes on. */
 typedef pvs_visit (*pvs_kdtree_visit_fn)(void *user, const pvs_box *node_box, float distance,
 										 const uint32_t *items, uint32_t item_count);
 
 /* Scratch bytes pvs_kdtree_sweep needs: 32 per leaf ((node_count + 1) / 2). */
 PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *tree);
-/* The approximate occlusion sweep (Bittner 2002, §3.2): nodes front to back from the box `source` (a
-   point: min == max) by a priority queue on minimum distance, ties by node index (deterministic).
-   `scratch`: pvs_kdtree_sweep_scratch_size bytes, 8-aligned. Errors: BUFFER_TOO_SMALL, INVALID_ARGUMENT
-   (NULL tree, source or visit), NOT_FINITE (source). Allocates nothing. */
+/* The approximate occlusion sweep (Bittner 2002, §3.2): nodes front to back from the box `source` (a point: min ==
+   max) by a priority queue on minimum distance, ties by node index. `scratch`: pvs_kdtree_sweep_scratch_size bytes,
+   8-aligned. Errors: BUFFER_TOO_SMALL, INVALID_ARGUMENT (NULL tree, source or visit), NOT_FINITE (source).
+   Allocates nothing. */
 PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *tree, const pvs_box *source, void *scratch, size_t scratch_size,
 									pvs_kdtree_visit_fn visit, void *user);
 
-/* Called per non-empty leaf a ray passes, nearest first; [t_enter, t_exit] is widened by a relative 1e-7
-   so no touched leaf is skipped. Returns a smaller tmax to shorten the ray (larger is ignored), < 0 to stop. */
+/* Called per non-empty leaf a ray passes, nearest first; [t_enter, t_exit] widened by a relative 1e-7. Returns a
+   smaller tmax to shorten the ray (larger is ignored), < 0 to stop. */
 typedef float (*pvs_kdtree_ray_fn)(void *user, const uint32_t *items, uint32_t item_count, float t_enter, float t_exit);
-/* Walks the leaves origin + t dir, 0 <= t <= tmax, passes, front to back; dir may have 0 or -0 components
-   (not all three), the origin lie anywhere; non-finite input walks nothing. Thread-safe, no allocation. */
+/* Walks the leaves origin + t dir, 0 <= t <= tmax, passes, front to back; dir may have 0 or -0 components (not all
+   three), the origin lie anywhere; non-finite input walks nothing. Thread-safe, no allocation. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const float dir[3], float tmax,
 							pvs_kdtree_ray_fn fn, void *user);
 
-/* The items of p's leaf: all whose box contains p (also on a split plane) and maybe more, to test. NULL
-   and *count = 0 outside the bounds or in an empty leaf. No allocation. */
+/* The items of p's leaf: all whose box contains p (also on a split plane), maybe more. NULL and *count = 0 outside
+   the bounds or in an empty leaf. No allocation. */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const float p[3], uint32_t *count);
 
 /* ---- raster ---- */
 
-/* Depth (reversed Z): z_clip / w_clip, LARGER IS NEARER. pvs_camera_matrix maps the near plane to 1,
-   infinity to 0 (orthographic: 1 at near, falling linearly, negative past `far`). Points with z_clip <=
-   w_clip and w_clip > 0 are in front of the near plane, the rest is clipped; no far clipping. Pixel (i, j)
-   covers [i, i+1] x [j, j+1] for x = (x_ndc + 1) / 2 * width, y likewise (row 0 at y_ndc = -1), and holds
-   the nearest depth drawn, else PVS_DEPTH_EMPTY. */
+/* Depth (reversed Z): z_clip / w_clip, LARGER IS NEARER. pvs_camera_matrix maps the near plane to 1, infinity to 0
+   (orthographic: 1 at near, falling linearly, negative past `far`). Points with z_clip <= w_clip and w_clip > 0 are
+   kept, the rest clipped; no far clipping. Pixel (i, j) covers [i, i+1] x [j, j+1] for x = (x_ndc + 1) / 2 * width,
+   y likewise (row 0 at y_ndc = -1), and holds the nearest depth drawn, else PVS_DEPTH_EMPTY. */
 #define PVS_DEPTH_EMPTY (-3.402823466e+38f)
 
 /* How a triangle is rasterized (Durand 2000 §2.2, §3.1-3.2: occluders by intersection, occludees by union). */
 typedef enum pvs_raster_mode {
-	PVS_RASTER_OCCLUDER = 0,  /* pixels covered entirely, no nearer than the triangle's farthest over them */
-	PVS_RASTER_OCCLUDEE,	  /* pixels touched, no farther than the triangle's nearest over them */
+	PVS_RASTER_OCCLUDER = 0,  /* pixels covered entirely, at most the triangle's farthest over them */
+	PVS_RASTER_OCCLUDEE,	  /* pixels touched, at least the triangle's nearest over them */
 	PVS_RASTER_MODE_COUNT
 } pvs_raster_mode;
 
-/* A camera. `forward`, `up` need not be unit or orthogonal (up is orthogonalized); image x = forward x up. */
+/* `forward`, `up` need not be unit or orthogonal (up is orthogonalized); image x = forward x up. */
 typedef struct pvs_camera {
 	float eye[3];
 	float forward[3];
 	float up[3];
-	float fov_y;		 /* vertical field of view in radians, in (0, pi); 0 = orthographic */
-	float near_plane;	 /* distance of the near plane, > 0 */
-	float ortho_height;  /* orthographic: height of the view volume, > 0 */
+	float fov_y;		 /* vertical field of view, radians, in (0, pi); 0 = orthographic */
+	float near_plane;	 /* > 0 */
+	float ortho_height;  /* orthographic: view volume height, > 0 */
 	float far_plane;	 /* orthographic: where depth reaches 0 (not a clip plane); 0 = near + 1e4 */
 } pvs_camera;
 
-/* The row-major clip matrix (clip = m * (x, y, z, 1), m[4 * row + col]) for aspect width / height;
-   perspective depth = near / distance along forward. INVALID_ARGUMENT or NOT_FINITE for a bad camera. */
+/* Row-major clip matrix (clip = m * (x, y, z, 1), m[4 * row + col]) for aspect width / height; perspective depth =
+   near / distance along forward. INVALID_ARGUMENT or NOT_FINITE for a bad camera. */
 PVS_API pvs_result pvs_camera_matrix(const pvs_camera *camera, float aspect, float m[16]);
 
-/* Raster flags. Occluder depth is kept per pixel (the default up to 65,536 pixels) or per 32 x 4 tile as
-   a coverage mask and two depths (Masked Occlusion Culling: several times faster, a tile's depth the
-   farthest of what covers it; the default above). Both are conservative. */
-#define PVS_RASTER_SCALAR 1u	 /* use the scalar code even where SIMD is compiled in (identical results) */
+/* Raster flags. Occluder depth is kept per pixel (default up to 65,536 pixels) or per 32 x 4 tile as a coverage mask
+   and two depths (Masked Occlusion Culling: several times faster; default above). Both are conservative. */
+#define PVS_RASTER_SCALAR 1u	 /* scalar code even where SIMD is compiled in (identical results) */
 #define PVS_RASTER_PER_PIXEL 2u  /* occluders keep a depth per pixel */
 #define PVS_RASTER_TILED 4u		 /* occluders go to tiles (wins over PVS_RASTER_PER_PIXEL) */
 
 /* What pvs_raster_create needs; zero fields get defaults. */
 typedef struct pvs_raster_desc {
 	uint32_t width, height;		  /* depth map size in pixels, 1..16384 each */
-	/* Optional: sizes the culling buffers and cull map grid; pvs_raster_cull* accept a scene no larger
-	   (objects, triangles, kD-tree nodes). */
+	/* Optional: sizes the culling buffers and cull map; pvs_raster_cull* take no larger scene (objects,
+	   triangles, kD-tree nodes). */
 	const pvs_scene *scene;
-	uint32_t max_occluders;		  /* scene triangles pvs_raster_cull may select per frame, 0 = 1024 */
-	uint32_t cull_map_width;	  /* cull map cells over the scene's ground rectangle, 0 = no cull map */
+	uint32_t max_occluders;		  /* scene triangles selected per frame at most, 0 = 1024 */
+	uint32_t cull_map_width;	  /* cull map cells over the scene's ground, 0 = none */
 	uint32_t cull_map_height;	  /*   (both or neither; 1..4096; needs `scene`) */
 	uint32_t flags;				  /* PVS_RASTER_* */
-	uint32_t max_mesh_triangles;  /* pvs_raster_mesh's piece size, 0 = 4096 (about 400 bytes each) */
+	uint32_t max_mesh_triangles;  /* pvs_raster_mesh's piece size, 0 = 4096 (~400 bytes each) */
 	pvs_allocator allocator;
 } pvs_raster_desc;
 
-/* A rasterizer context holding every buffer; nothing allocates after create. One per thread. */
+/* A rasterizer context holding every buffer; no allocation after create. One per thread. */
 typedef struct pvs_raster pvs_raster;
 
 /* Errors: INVALID_ARGUMENT (sizes), COUNT_OVERFLOW, OUT_OF_MEMORY. */
@@ -584,120 +561,112 @@ PVS_API void pvs_raster_destroy(pvs_raster *raster);
 
 /* Sets every depth map pixel to PVS_DEPTH_EMPTY. */
 PVS_API void pvs_raster_clear(pvs_raster *raster);
-/* Sets the row-major projection of the next draws and box tests: any 4x4 (perspective, orthographic,
-   off-axis as Durand 2000's planes shared by a cell). NOT_FINITE for a non-finite entry. */
+/* Sets the row-major projection of the next draws and box tests: any 4x4 (also off-axis, as Durand 2000's planes
+   shared by a cell). NOT_FINITE for a non-finite entry. */
 PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *raster, const float m[16]);
-/* Draws `count` two-sided triangles (3 floats per vertex; 3 `indices` per triangle, NULL: consecutive),
-   keeping per pixel the nearer depth (tiles merge: a pixel may keep a farther depth, never one nearer than
-   its nearest occluder); conservative under rounding (>>raster). Skips triangles with a non-finite
-   coordinate or an index >= vertex_count. INVALID_ARGUMENT for NULL positions or a bad mode. */
+/* Draws `count` two-sided triangles (3 floats per vertex; 3 `indices` per triangle, NULL: consecutive), keeping per
+   pixel the nearer depth (tiles may keep a farther one, never one nearer than the nearest occluder); conservative
+   under rounding. Skips triangles with a non-finite coordinate or an index >= vertex_count. INVALID_ARGUMENT for
+   NULL positions or a bad mode. */
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positions, uint32_t vertex_count,
 										const uint32_t *indices, uint32_t count, pvs_raster_mode mode);
-/* Draws `count` triangles as one occluder (Durand 2000 §3.3: per-triangle inner coverage leaves cracks
-   along shared edges): as pvs_raster_triangles, plus every pixel a triangle touches and no boundary edge
-   does, at the farthest depth over it of the touching triangles of its facing. Boundary edges, where
-   cracks remain: edges not shared by exactly two triangles, silhouettes, edges between triangles wound
-   against each other, near-plane cuts and the edges they cut. Vertices are shared by index or equal
-   position. Longer meshes go in pieces of max_mesh_triangles, edges between pieces staying boundary.
-   INVALID_ARGUMENT for a NULL raster, or NULL positions with count > 0; skips and rounding as
-   pvs_raster_triangles; same result with or without SIMD. */
+/* Draws `count` triangles as one occluder (Durand 2000 §3.3: per-triangle inner coverage cracks along shared edges):
+   as pvs_raster_triangles, plus every pixel a triangle touches and no boundary edge does, at the farthest depth over
+   it of the touching triangles of its facing. Boundary edges (cracks remain): edges not shared by exactly two
+   triangles, silhouettes, edges between oppositely wound triangles, near-plane cuts and the edges they cut. Vertices
+   are shared by index or equal position. Longer meshes go in pieces of max_mesh_triangles, with boundary edges
+   between pieces. INVALID_ARGUMENT for a NULL raster, or NULL positions with count > 0; otherwise as
+   pvs_raster_triangles; SIMD gives the same result. */
 PVS_API pvs_result pvs_raster_mesh(pvs_raster *raster, const float *positions, uint32_t vertex_count,
 								   const uint32_t *indices, uint32_t count);
-/* The depth map, width * height floats from row 0, valid until the next raster call (tiled: built here). */
+/* The depth map, width * height floats from row 0, valid until the next raster call. */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
 
-/* The hierarchical depth map (Durand 2000 §2.4, after Greene, Kass and Miller 1993): per texel the
-   farthest and nearest depth of its 2 x 2 children (tiled: above the tiles). The tests build it when the
-   map changed. */
+/* The hierarchical depth map (Durand 2000 §2.4, after Greene, Kass and Miller 1993): per texel the farthest and
+   nearest depth of its 2 x 2 children (tiled: above the tiles). The tests build it when the map changed. */
 PVS_API void pvs_raster_build_pyramid(pvs_raster *raster);
-/* 1 if an occludee of nearest depth `depth` may be visible in pixels [x0, x1] x [y0, y1] (inclusive,
-   clamped): some pixel stores a depth <= `depth`; 0 if all are strictly nearer or the rectangle is off
-   the map. */
+/* 1 if an occludee of nearest depth `depth` may be visible in pixels [x0, x1] x [y0, y1] (inclusive, clamped): some
+   pixel stores a depth <= `depth`; 0 if all are strictly nearer or the rectangle is off the map. */
 PVS_API int pvs_raster_test_rect(pvs_raster *raster, int32_t x0, int32_t y0, int32_t x1, int32_t y1, float depth);
-/* 1 if the box may be visible under the matrix: in front of the near plane, on screen, not hidden. */
+/* 1 if the box may be visible: in front of the near plane, on screen, not hidden. */
 PVS_API int pvs_raster_test_box(pvs_raster *raster, const pvs_box *box);
 
-/* Connected facades for the cull map (Wonka 1999 §3.1, §4.1): vertical quads on consecutive ground
-   segments (u, v), from `base` to `top`. */
+/* Connected facades (Wonka 1999 §3.1, §4.1): vertical quads on consecutive ground segments (u, v), base to top. */
 typedef struct pvs_facade_chain {
 	const float *points;   /* point_count points (u, v) */
 	uint32_t point_count;  /* >= 2 */
-	uint32_t closed;	   /* 1: a closed footprint (either winding), back-face culled; 0: open, two-sided */
-	float base, top;	   /* heights, base < top; chains with base above the ground are ignored */
+	uint32_t closed;	   /* 1: closed footprint (either winding), back-face culled; 0: open, two-sided */
+	float base, top;	   /* base < top; chains with base above the ground are ignored */
 } pvs_facade_chain;
 
 /* Cull map flags. */
 #define PVS_CULL_MAP_SCENE_OCCLUDERS 1u /* also the scene's EXTRUSION and BOX occluders as closed chains */
 
-/* Builds the cull map from the eye (Wonka & Schmalstieg 1999 §3-4): front-facing facades' occluder
-   shadows, rasterized top-down over the ground rectangle, the highest per cell; a cell hides its column
-   below that height (PVS_DEPTH_EMPTY: not wholly shadowed). Facades count only when base <= min(eye
-   height, the scene's lowest point), so sight lines to hidden points cross them. Skips malformed chains.
+/* Builds the cull map from the eye (Wonka & Schmalstieg 1999 §3-4): front-facing facades' occluder shadows drawn
+   top-down on the ground rectangle, the highest per cell, which hides its column below that height (PVS_DEPTH_EMPTY:
+   none). Facades count only when base <= min(eye height, the scene's lowest point). Skips malformed chains.
    INVALID_ARGUMENT without a scene and cull map, NOT_FINITE (eye). */
 PVS_API pvs_result pvs_cull_map_build(pvs_raster *raster, const float eye[3], const pvs_facade_chain *chains,
 									  uint32_t chain_count, uint32_t flags);
-/* The cull map, width * height heights, row-major; cell (i, j) covers u in region[0] + [i, i+1] * (region[2]
-   - region[0]) / width, v likewise. NULL without a cull map. */
+/* The cull map, width * height heights, row-major; cell (i, j) covers u in region[0] + [i, i+1] * (region[2] -
+   region[0]) / width, v likewise. NULL without a cull map. */
 PVS_API const float *pvs_cull_map(const pvs_raster *raster, uint32_t *width, uint32_t *height, float region[4]);
-/* 1 if some cell the box overlaps holds a height <= its top (Wonka 1999 §4.3); outside the region: 1. */
+/* 1 if a cell the box overlaps holds a height <= its top (Wonka 1999 §4.3); outside the region: 1. */
 PVS_API int pvs_cull_map_test_box(const pvs_raster *raster, const pvs_box *box);
 
 /* Per-frame culling inputs. All zero: a frustum cull. */
 typedef struct pvs_cull_params {
-	const float *occluder_positions;  /* the caller's (dynamic) occluder triangles: 3 floats per vertex; */
-	uint32_t occluder_vertex_count;   /*   indices 3 per triangle, or NULL for consecutive vertices */
+	const float *occluder_positions;  /* the caller's occluder triangles: 3 floats per vertex; indices */
+	uint32_t occluder_vertex_count;   /*   3 per triangle, or NULL for consecutive vertices */
 	const uint32_t *occluder_indices;
 	uint32_t occluder_triangle_count;
 	uint32_t scene_occluders;		  /* also the best this many scene triangles (<= max_occluders) ... */
 	float occluder_distance;		  /*   ... within this distance (0 = 100) by area-angle (Bittner 2002 §4.5) */
 	uint32_t scene_volumes;			  /* 1: also BOX occluders and EXTRUSION walls within it (no CONVEX) */
-	const pvs_facade_chain *facades;  /* pvs_raster_cull_map only: facade chains ... */
+	const pvs_facade_chain *facades;  /* pvs_raster_cull_map only: facades ... */
 	uint32_t facade_count;
 	uint32_t cull_map_flags;		  /*   ... and PVS_CULL_MAP_* flags */
-	const pvs_word *candidates;		  /* optional, PVS_BITSET_WORDS(object_count): test only these (a cell's PVS) */
+	const pvs_word *candidates;		  /* NULL or PVS_BITSET_WORDS(object_count): test only these (a cell's PVS) */
 	uint32_t occluder_flags;		  /* PVS_CULL_* */
 } pvs_cull_params;
 
-/* pvs_raster_cull: occluders drawn as meshes (pvs_raster_mesh: no cracks, a cost per frame;
-   tests/BENCHMARKS.md, raster). */
-#define PVS_CULL_OCCLUDER_MESH 1u	   /* the caller's triangles, as connected meshes */
+/* pvs_raster_cull: occluders drawn as meshes (pvs_raster_mesh: no cracks, some cost per frame). */
+#define PVS_CULL_OCCLUDER_MESH 1u	   /* the caller's triangles */
 #define PVS_CULL_SCENE_MESH 2u		   /* the selected scene triangles, welded (tighter on many-triangle walls) */
-#define PVS_CULL_SEPARATE_TRIANGLES 4u /* scene_volumes per triangle; by default each is a mesh (small cost) */
+#define PVS_CULL_SEPARATE_TRIANGLES 4u /* scene_volumes per triangle; by default each is a mesh */
 
 /* What a culling call did. */
 typedef struct pvs_cull_stats {
-	uint32_t occluder_triangles;  /* triangles rasterized (caller + selected scene triangles) */
+	uint32_t occluder_triangles;  /* triangles rasterized (caller's + selected scene ones) */
 	uint32_t nodes_visited;		  /* kD-tree nodes reached by the sweep */
 	uint32_t boxes_tested;		  /* node and object boxes tested */
 	uint32_t visible;			  /* objects reported */
 } pvs_cull_stats;
 
-/* From-point culling with the depth pyramid: clears, sets the camera (aspect width / height), draws the
-   occluders, builds the pyramid, sweeps the object kD-tree front to back (Bittner 2002 §3.2) skipping
-   hidden subtrees. Sets in `visible` (PVS_BITSET_WORDS(object_count) words, cleared first) every object
-   whose box may be seen through the screen from the eye, never occluder-only ones. `stats` may be NULL.
-   Errors: INVALID_ARGUMENT, NOT_FINITE (camera), BUFFER_TOO_SMALL (a scene larger than the context's). */
+/* From-point culling with the depth pyramid: clears, sets the camera (aspect width / height), draws the occluders,
+   builds the pyramid, sweeps the object kD-tree front to back (Bittner 2002 §3.2) skipping hidden subtrees. Sets in
+   `visible` (PVS_BITSET_WORDS(object_count) words, cleared first) every object whose box may be seen on screen, never
+   occluder-only ones. `stats` may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE (camera), BUFFER_TOO_SMALL (a scene
+   larger than the context's). */
 PVS_API pvs_result pvs_raster_cull(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
 								   const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 								   pvs_error *err);
-/* The 2.5D twin (Wonka 1999): builds the cull map from the eye with params->facades (and, per flag, the
-   scene's occluders), scans the object grid with §4.3's two-level bounding-height test and sets every
-   object in the frustum not under the shadows; orthographic cameras (no eye point) get the frustum test.
-   `scene`: the context's. Outputs and errors as pvs_raster_cull. */
+/* The 2.5D twin (Wonka 1999): builds the cull map from the eye with params->facades (and per flag the scene's
+   occluders), scans the object grid with §4.3's two-level bounding-height test and sets every object in the frustum
+   not under the shadows; orthographic cameras only get the frustum test. `scene`: the context's. Outputs and errors
+   as pvs_raster_cull. */
 PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
 									   const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 									   pvs_error *err);
 /* ---- otree ---- */
 
-/* Occlusion trees (Bittner 2002): BSPs over line space built front to back; every floating-point
-   decision is conservative. */
+/* Occlusion trees (Bittner 2002): BSPs over line space built front to back; every float decision is conservative. */
 
-/* What an occlusion-tree computation reports. */
 typedef struct pvs_otree_stats {
-	uint32_t nodes;				 /* tree nodes at the end (the largest tree for several trees) */
+	uint32_t nodes;				 /* tree nodes at the end (of the largest tree) */
 	uint32_t occluders_inserted; /* occluders merged into the tree(s) */
 	uint32_t visible_segments;	 /* 2D: segments found visible */
-	uint32_t budget_exceeded; /* 1: node_budget stopped insertion, the rest counted as not blocking */
+	uint32_t budget_exceeded; /* 1: node_budget stopped insertion; the rest count as not blocking */
 } pvs_otree_stats;
 
 /* Segment flags for pvs_visibility_2d. */
@@ -707,177 +676,172 @@ typedef struct pvs_otree_stats {
 typedef struct pvs_visibility_2d_desc {
 	const float *cell;				 /* cell_vertex_count x (x, y): a convex polygon, either winding */
 	uint32_t cell_vertex_count;		 /* >= 3 */
-	const float *segments;			 /* segment_count x (x0, y0, x1, y1): occluders, opaque from both sides */
+	const float *segments;			 /* segment_count x (x0, y0, x1, y1): two-sided occluders */
 	uint32_t segment_count;
 	const uint8_t *segment_flags;	 /* NULL or segment_count PVS_SEGMENT_* flags */
-	const uint32_t *segment_objects; /* NULL (segment i is object i) or each segment's object or PVS_NO_OBJECT */
+	const uint32_t *segment_objects; /* NULL (segment i is object i) or per segment its object or PVS_NO_OBJECT */
 	uint32_t object_count;			 /* bits in visible_objects */
-	uint32_t node_budget;			 /* stop inserting past this many tree nodes (0 = 2^20) */
+	uint32_t node_budget;			 /* stop inserting past this many nodes (0 = 2^20) */
 	uint32_t flags;					 /* 0 (the test hook PVS_VISIBILITY_INPUT_ORDER) */
 	pvs_allocator allocator;
 } pvs_visibility_2d_desc;
 #ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
-/* insert occluders in input order, not front to back (tests order independence) */
+/* insert occluders in input order, not front to back */
 #define PVS_VISIBILITY_INPUT_ORDER 1u
 #endif
 
-/* The segments (and objects) reached from some cell point by a line segment crossing no other segment
-   (touching an end point does not block; segments crossing the cell are visible): exact, rounding toward
-   visible. visible_segments, visible_objects (PVS_BITSET_WORDS of segment_count, object_count words) are
-   cleared first; they and stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, INDEX_OUT_OF_RANGE,
-   BAD_CELL (no area, not convex), OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
+/* The segments (and objects) reached from some cell point by a line crossing no other segment (touching an end point
+   does not block; segments crossing the cell are visible): exact, rounding toward visible. visible_segments,
+   visible_objects (PVS_BITSET_WORDS of segment_count, object_count) are cleared first; they and stats may be NULL.
+   Errors: INVALID_ARGUMENT, NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex), OUT_OF_MEMORY.
+   Thread-safe; allocates through desc->allocator. */
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments,
 									 pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err);
 
-/* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7), over ground (u, v) and height.
-   Zero fields get defaults. */
+/* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7), over ground (u, v) and height. Zero fields
+   get defaults. */
 typedef struct pvs_visibility_25d_desc {
 	float cell_min[2], cell_max[2]; /* the cell's ground rectangle */
 	float cell_top;					/* the highest eye height in the cell */
-	const float *facades;			/* facade_count x (u0, v0, u1, v1, top): opaque walls standing on the */
-	uint32_t facade_count;			/*   ground, blocking every height below `top` */
-	const float *objects; /* object_count x (umin, vmin, umax, vmax, top): object bounds; umin > umax = empty */
+	const float *facades;			/* facade_count x (u0, v0, u1, v1, top): opaque walls on the ground */
+	uint32_t facade_count;
+	const float *objects; /* object_count x (umin, vmin, umax, vmax, top) bounds; umin > umax = empty */
 	uint32_t object_count;
 	uint32_t node_budget;			/* per tree (0 = PVS_OTREE_25D_BUDGET) */
-	const pvs_kdtree *tree;			/* NULL, or a kD-tree over pvs_visibility_25d_boxes (reused across cells) */
+	const pvs_kdtree *tree;			/* NULL, or a kD-tree over pvs_visibility_25d_boxes */
 	pvs_allocator allocator;
 	uint32_t flags;					/* 0; other bits INVALID_ARGUMENT but the test hook PVS_VISIBILITY_25D_FULL_TESTS */
 } pvs_visibility_25d_desc;
 
 /* The default node budget of a 2.5D occlusion tree. Once spent, the remaining facades are not inserted
-   (conservative); objects are still tested. It bounds the time per cell on maps of thousands of small
-   facades (Quake 3 brushes) at almost no cost in tightness (tests/BENCHMARKS.md, otree). */
+   (conservative); objects are still tested. Bounds the time per cell on maps of many small facades. */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
 
 #ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
-/* pvs_visibility_25d_desc.flags: box tests always walk the tree, without the witness-line shortcut (a
-   remembered out-leaf line crossing the box): its slower reference, with the same result. */
+/* pvs_visibility_25d_desc.flags: box tests walk the tree without the witness-line shortcut (same result). */
 #define PVS_VISIBILITY_25D_FULL_TESTS 1u
 #endif
 
-/* Fills boxes[facade_count + object_count] for pvs_visibility_25d_desc.tree: facade i is item i, object j
-   item facade_count + j; axes (u, v, height up to the top). Build the tree once and share it between cells. */
+/* Fills boxes[facade_count + object_count] for pvs_visibility_25d_desc.tree: facade i is item i, object j item
+   facade_count + j; axes (u, v, height up to the top). Build the tree once for all cells. */
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
 									  uint32_t object_count, pvs_box *boxes);
 
-/* The objects possibly visible from the cell (ground rectangle x heights up to cell_top), facades reaching
-   down below every cell and object; never misses one. Facades crossing the cell are ignored.
-   visible_objects: PVS_BITSET_WORDS(object_count) words, cleared first; stats may be NULL. Errors:
-   INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
+/* The objects possibly visible from the cell (ground rectangle x heights up to cell_top), facades reaching down
+   below every cell and object; never misses one. Facades crossing the cell are ignored. visible_objects:
+   PVS_BITSET_WORDS(object_count) words, cleared first; stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE,
+   OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects,
 									  pvs_otree_stats *stats, pvs_error *err);
 
-/* From-point culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), pvs_raster_cull's
-   object-space twin: each frame the occluders are merged front to back into a BSP of planes through the eye;
-   the object kD-tree is walked front to back against it (§4.10.2's conservative box test, refined at
-   in-leaves by the exact "FME" test, Table 4.1), with hierarchy updating (§4.11.4) giving exactly the result
-   of testing every node. Occluders (§4.5): the caller's triangles, the best `scene_occluders` by area-angle
-   among the triangles of objects seen within `occluder_distance` last frame (after create or reset: all
-   within it), and per `scene_volumes` BOX faces and EXTRUSION walls within it. */
+/* From-point culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), pvs_raster_cull's object-space twin:
+   each frame the occluders are merged front to back into a BSP of planes through the eye, and the object kD-tree is
+   walked front to back against it (§4.10.2's conservative box test, refined at in-leaves by the exact "FME" test,
+   Table 4.1), with hierarchy updating (§4.11.4), giving exactly the result of testing every node. Occluders (§4.5):
+   the caller's triangles, the best `scene_occluders` by area-angle among triangles of objects seen within
+   `occluder_distance` last frame (after create or reset: all within it), and per `scene_volumes` BOX faces and
+   EXTRUSION walls within it. */
 typedef struct pvs_otree_desc {
-	/* Required: sizes the per-node state; pvs_otree_cull accepts a scene no larger (objects, triangles,
-	   kD-tree nodes). */
+	/* Required: sizes the per-node state; pvs_otree_cull takes no larger scene (objects, triangles, kD nodes). */
 	const pvs_scene *scene;
-	float aspect;				  /* image width / height for the frustum's side planes, 0 = 1 */
-	uint32_t max_occluders;		  /* scene polygons inserted per frame at most, 0 = 64; <= 65536 */
+	float aspect;				  /* image width / height, 0 = 1 */
+	uint32_t max_occluders;		  /* most scene polygons inserted per frame, 0 = 64; <= 65536 */
 	uint32_t node_budget;		  /* occlusion tree nodes per frame, 0 = 8192; 64..2^24 */
 	uint32_t flags;				  /* PVS_OTREE_* */
 	pvs_allocator allocator;
 } pvs_otree_desc;
-#define PVS_OTREE_NO_COHERENCE 1u /* test every reached kD node every frame (the classical traversal, §4.11.2) */
-#define PVS_OTREE_PLANE_ONLY 2u   /* in-leaves test the fragment's plane only ("FMC"), no box / fragment test */
+#define PVS_OTREE_NO_COHERENCE 1u /* test every reached kD node every frame (§4.11.2) */
+#define PVS_OTREE_PLANE_ONLY 2u   /* in-leaves test the fragment's plane only ("FMC") */
 
-/* A from-point culling context (node pool, last frame's kD node states), allocated once. One per thread. */
+/* A from-point culling context (node pool, last frame's kD node states). One per thread. */
 typedef struct pvs_otree pvs_otree;
 
 /* What the last pvs_otree_cull did, beyond pvs_cull_stats. */
 typedef struct pvs_otree_frame {
 	uint32_t tree_nodes;		  /* occlusion tree nodes (inner and leaves) */
 	uint32_t fragments;			  /* occluder fragments stored at in-leaves */
-	uint32_t occluders;			  /* polygons offered to the tree (caller triangles + scene polygons) */
-	uint32_t node_tests;		  /* kD nodes whose visibility was tested (frustum + tree) */
+	uint32_t occluders;			  /* polygons offered to the tree (caller's + scene's) */
+	uint32_t node_tests;		  /* kD nodes tested (frustum + tree) */
 	uint32_t nodes_skipped;		  /* opened kD nodes whose test hierarchy updating skipped */
 	uint32_t object_tests;		  /* object boxes tested in partly visible leaves */
-	uint32_t budget_exceeded;	  /* 1: the budget or a polygon's size stopped an insertion (conservative) */
+	uint32_t budget_exceeded;	  /* 1: the budget or a polygon's size stopped an insertion */
 } pvs_otree_frame;
 
 /* Errors: INVALID_ARGUMENT, NOT_FINITE (aspect), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out_otree, pvs_error *err);
 /* Frees through its allocator; NULL allowed. */
 PVS_API void pvs_otree_destroy(pvs_otree *otree);
-/* Forgets the last frame (a camera cut): the next selects occluders by distance, tests every node. */
+/* Forgets the last frame (a camera cut). */
 PVS_API void pvs_otree_reset(pvs_otree *otree);
-/* Outputs as pvs_raster_cull (every plane test leans toward "visible"); `params` may be NULL, facades are
-   ignored. Errors: INVALID_ARGUMENT, NOT_FINITE (camera), UNSUPPORTED (orthographic: shadow volumes need
-   an eye point), BUFFER_TOO_SMALL (a scene larger than the context's). Allocates nothing. */
+/* Outputs as pvs_raster_cull (plane tests lean toward "visible"); `params` may be NULL, facades are ignored. Errors:
+   INVALID_ARGUMENT, NOT_FINITE (camera), UNSUPPORTED (orthographic), BUFFER_TOO_SMALL (a scene larger than the
+   context's). Allocates nothing. */
 PVS_API pvs_result pvs_otree_cull(pvs_otree *otree, const pvs_scene *scene, const pvs_camera *camera,
 								  const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 								  pvs_error *err);
-/* Fills *frame with the figures of the last pvs_otree_cull. */
+/* Fills *frame for the last pvs_otree_cull. */
 PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame);
 
 /* ---- occluders ---- */
 
 /* Occluder synthesis: certainly-solid volumes for the shrink method (Wonka 2000 §2: its appendix theorem needs
-   volumetric occluders). A voxel is solid only when crossing-parity floods from the cells prove that no viewer reaches
-   it by a path touching no triangle (>>occluders, "certified solid"), or when it lies inside an explicit occluder
-   volume. Openings narrower than a voxel stay open; a crack or T-junction (an edge used by an odd number of triangles)
-   gives no volume along the vertical sheet below it; an enclosure made only by several meshes together is not
-   recognised. The ground lies below the lowest point of scene and cells. The solid set is eroded by eps (rounding
-   toward less solid) into boxes (3D) and per-column heights on the ground (2.5D rectangles). Leaks: the few cells
-   reaching the outside of a component's box that most cells lie in (poking through a wall into a faceless void) are
-   left out of later floods, so the others keep their walls (pvs_occluders_excluded_cells). A flood of untouched voxels
-   from the grid's border reports the cells it reaches. */
+   volumetric occluders). A voxel is solid only when crossing-parity floods from the cells prove no viewer reaches it
+   without touching a triangle (>>occluders, "certified solid"), or when it lies in an explicit occluder volume.
+   Openings narrower than a voxel stay open; a crack or T-junction (an edge used by an odd number of triangles) gives
+   no volume along the vertical sheet below it; an enclosure made only by several meshes together is not recognised.
+   The solid set is eroded by eps (rounding toward less solid) into boxes (3D) and column heights (2.5D). Leaks: the
+   few cells reaching outside the box of the component most cells lie in are left out of later floods, so the others
+   keep their walls (pvs_occluders_excluded_cells). */
 typedef struct pvs_occluders_desc {
 	const pvs_scene *scene;   /* required; must outlive the occluders */
-	const pvs_box *cells;	  /* cell_count >= 1 view cells, the flood's sources (required) */
+	const pvs_box *cells;	  /* required: cell_count >= 1 view cells, the flood's sources */
 	uint32_t cell_count;
 	float eps;				  /* erosion distance, > 0 */
-	float voxel_size;		  /* 0 = derived: eps / 1.5, grown until the grid fits max_voxels */
+	float voxel_size;		  /* 0 = eps / 1.5, grown until the grid fits max_voxels */
 	uint32_t max_voxels;	  /* 0 = 1 << 24 */
 	uint32_t flags;			  /* PVS_OCCLUDERS_* */
 	pvs_allocator allocator;
 } pvs_occluders_desc;
 
-/* Flag: every cell seeds the floods, leaking ones too (a leak then costs every cell the walls it opens).
-   The bake uses it for a second synthesis that bakes the left-out cells. */
+/* Flag: leaking cells seed the floods too (a leak then opens walls for every cell). The bake uses it for a second
+   synthesis that bakes the left-out cells. */
 #define PVS_OCCLUDERS_KEEP_LEAKS 1u
 
-/* The synthesized occluders: immutable, thread-safe to read. */
+/* Immutable, thread-safe to read. */
 typedef struct pvs_occluders pvs_occluders;
 
 /* What the synthesis found. */
 typedef struct pvs_occluders_info {
-	uint32_t dims[3];		  /* voxels per axis (one voxel of padding around the scene and cells) */
+	uint32_t dims[3];		  /* voxels per axis (one voxel of padding around scene and cells) */
 	float origin[3];		  /* the grid's min corner */
 	float voxel_size;
 	float eps;
 	uint64_t touched;		  /* voxels a triangle touches */
 	uint64_t solid;			  /* solid voxels before erosion (explicit volumes included) */
 	uint64_t eroded;		  /* solid voxels after erosion */
-	uint64_t column_voxels;   /* solid voxels in runs standing on the ground (the 2.5D part) */
+	uint64_t column_voxels;   /* solid voxels in runs standing on the ground (2.5D) */
 	uint32_t box_count;		  /* eroded 3D boxes */
 	uint32_t rect_count;	  /* eroded 2.5D column rectangles */
-	int is_2d5;				  /* 1 when column runs hold >= 90% of the solid voxels: use the 2.5D path */
-	uint32_t leak_cell;		  /* lowest cell reaching the grid's border (sky or leak), or PVS_NO_CELL */
+	int is_2d5;				  /* 1 when column runs hold >= 90% of the solid voxels: 2.5D path */
+	uint32_t leak_cell;		  /* lowest cell reaching the grid's border, or PVS_NO_CELL */
 	float leak_point[3];	  /* a voxel centre of that cell on such a path */
 	uint32_t leak_cells;	  /* cells reaching the border */
 	uint32_t excluded_cells;  /* leaking cells left out, with no occluder (< half of those in a component's box) */
-	uint32_t thin_objects;	  /* drawable objects with no solid voxel in their box (thin walls, props) */
-	uint32_t components;	  /* edge-connected triangle sets flooded (3 triangles or more) */
+	uint32_t thin_objects;	  /* drawable objects with no solid voxel in their box */
+	uint32_t components;	  /* edge-connected triangle sets flooded (3+ triangles) */
 	uint32_t closed_components; /* of them, those without an open edge */
 	uint64_t open_edges;	  /* edges used by an odd number of triangles, off the ground level */
-	uint64_t undecided_columns; /* voxel columns of a component where no test ray gave a certain parity */
+	uint64_t undecided_columns; /* component voxel columns with no certain parity */
 } pvs_occluders_info;
 
-/* Voxel classes pvs_occluders_voxel returns. */
+/* Voxel classes (pvs_occluders_voxel). */
 #define PVS_VOXEL_EMPTY 0u	  /* untouched and not solid */
-#define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it (and it is not solid) */
-#define PVS_VOXEL_SOLID 2u	  /* solid (before erosion); may hold triangles of another component */
+#define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it, not solid */
+#define PVS_VOXEL_SOLID 2u	  /* solid (before erosion) */
 #define PVS_VOXEL_GROUND 3u   /* the padding layer below the ground */
 
-/* Deterministic; concurrent calls on distinct outputs are fine. Errors: INVALID_ARGUMENT (NULL, no cells,
-   eps <= 0 or not finite), BAD_CELL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
+/* Deterministic; thread-safe for distinct outputs. Errors: INVALID_ARGUMENT (NULL, no cells, eps <= 0 or not
+   finite), BAD_CELL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *desc, pvs_occluders **out_occluders, pvs_error *err);
 /* Frees through its allocator; NULL allowed. */
 PVS_API void pvs_occluders_destroy(pvs_occluders *occluders);
@@ -889,28 +853,28 @@ PVS_API uint32_t pvs_occluders_voxel(const pvs_occluders *occluders, uint32_t i,
 PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
 /* The eroded 3D boxes (*count), owned by occluders; every point within eps of one is solid. */
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *occluders, uint32_t *count);
-/* The shrunk 2.5D occluders as facade chains owned by occluders (base the ground, top lowered by eps):
-   boundaries of the column map's regions at or above a height, closed, and of their holes, open back to
-   the first point. Every point within eps of such a prism is unreachable or below the ground. */
+/* The shrunk 2.5D occluders as facade chains owned by occluders (base the ground, top lowered by eps): boundaries
+   of the column map's regions at or above a height, closed, and of their holes, open back to the first point. Every
+   point within eps of such a prism is unreachable or below the ground. */
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occluders, uint32_t *count);
-/* The column map at ground point (u, v): *solid the height below which the column is proved solid (else
-   the ground), returns the shrunk occluder height (else -FLT_MAX); outside the map the ground and
-   -FLT_MAX. On a square's edge the lower neighbour counts. */
+/* The column map at ground point (u, v): *solid the height below which the column is proved solid (else the
+   ground); returns the shrunk occluder height (else -FLT_MAX). Outside the map: the ground and -FLT_MAX. On a
+   square's edge the lower neighbour counts. */
 PVS_API float pvs_occluders_column_height(const pvs_occluders *occluders, float u, float v, float *solid);
-/* The left-out leaking cells (increasing indices into desc->cells) or NULL, owned by occluders:
-   pvs_shrink_cell sets every object for them and boxes inside them. */
+/* The left-out leaking cells (ascending indices into desc->cells) or NULL, owned by occluders; pvs_shrink_cell sets
+   every object for boxes inside them. */
 PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occluders, uint32_t *count);
 
 /* ---- vocc ---- */
 
-/* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in the
-   umbra of the real occluders from the whole cell, together standing for its aggregate occlusion; five
-   bytes each in the VOCC section, from which pvs_vocc_cull rebuilds the PVS on cell entry. */
+/* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in the umbra of
+   the real occluders from the whole cell, standing for its aggregate occlusion; five bytes each in the VOCC section,
+   from which pvs_vocc_cull rebuilds the PVS on cell entry. */
 struct pvs_file; /* >>format */
 
 /* pvs_file.vocc_flags */
 #define PVS_VOCC_STORED 1u /* the file has a VOCC section */
-#define PVS_VOCC_ONLY 2u   /* ... and its records are placeholders (every drawable object): use pvs_vocc_cull */
+#define PVS_VOCC_ONLY 2u   /* ... and the records are placeholders (every drawable object): use pvs_vocc_cull */
 
 /* The vertical rectangle over the ground segment p0-p1 (u, v as in pvs_scene_desc), from `base` to `top`. */
 typedef struct pvs_virtual_occluder {
@@ -918,22 +882,22 @@ typedef struct pvs_virtual_occluder {
 	float base, top;
 } pvs_virtual_occluder;
 
-/* What a virtual-occluder construction did (sums over cells and slices). */
+/* Sums over cells and slices. */
 typedef struct pvs_vocc_stats {
 	uint32_t slices;		/* height slices (§3.1) */
 	uint32_t seeds;			/* seed objects grown (§3) */
-	uint32_t umbra;			/* objects that augmented an aggregate umbra (cases 1 and 3 of §3) */
+	uint32_t umbra;			/* objects that grew an aggregate umbra (§3 cases 1, 3) */
 	uint32_t separating;	/* objects that only bent a separating line (case 2) */
-	uint32_t dense;			/* certified virtual occluders put into the dense set */
-	uint32_t dropped;		/* candidates that failed the final check (e.g. after quantization) */
+	uint32_t dense;			/* certified virtual occluders in the dense set */
+	uint32_t dropped;		/* candidates that failed the final check (e.g. quantized) */
 	uint32_t selected;		/* kept by the greedy selection (Fig. 6) */
 } pvs_vocc_stats;
 
 /* The 2D construction of §3 on its own. Zero fields get defaults. */
 typedef struct pvs_vocc_2d_desc {
 	float cell_min[2], cell_max[2]; /* the view cell: an axis-aligned rectangle with area */
-	/* segment_count x (x0, y0, x1, y1): opaque occluders; segments whose end points coincide exactly in a
-	   ring (every point on two) are a wall loop. */
+	/* segment_count x (x0, y0, x1, y1): opaque occluders; segments whose end points coincide exactly in a ring
+	   are a wall loop. */
 	const float *segments;
 	uint32_t segment_count;
 	uint32_t max_seeds;				/* seed objects grown, 0 = 16 */
@@ -941,53 +905,51 @@ typedef struct pvs_vocc_2d_desc {
 	pvs_allocator allocator;
 } pvs_vocc_2d_desc;
 
-/* The cell's dense set of 2D virtual occluders (§3), each kept only once checked exactly hidden from the whole cell
-   (rounding up to a relative 1e-9, toward "not hidden"). Writes up to `capacity` (x0, y0, x1, y1) to `occluders` (NULL:
-   count only), *count the number found. Segments meeting the cell are ignored; stats may be NULL. Errors:
-   INVALID_ARGUMENT, NOT_FINITE, BAD_CELL, OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
+/* The cell's dense set of 2D virtual occluders (§3), each checked exactly hidden from the whole cell (rounding up to
+   a relative 1e-9, toward "not hidden"). Writes up to `capacity` (x0, y0, x1, y1) to `occluders` (NULL: count only),
+   *count the number found. Segments meeting the cell are ignored; stats may be NULL. Errors: INVALID_ARGUMENT,
+   NOT_FINITE, BAD_CELL, OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, uint32_t capacity, uint32_t *count,
 							   pvs_vocc_stats *stats, pvs_error *err);
 
-/* 1 if `o` alone hides the box from the whole cell (the runtime's test): every segment between the
-   ground rectangles crosses p0-p1, and the heights hold at each crossing fraction t (a sight line meets
-   the occluder's plane at height (1 - t) eye + t target). Conservative under rounding; 0 for an empty box
-   or a degenerate occluder. */
+/* 1 if `o` alone hides the box from the whole cell: every segment between the ground rectangles crosses p0-p1, and
+   the heights hold at each crossing fraction t (a sight line meets the occluder's plane at height (1 - t) eye + t
+   target). Conservative under rounding; 0 for an empty box or a degenerate occluder. */
 PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
 								const pvs_box *box);
 
-/* Scratch bytes of pvs_vocc_cull* for up to max_occluders (a file stores <= 255 per cell) and the tree
-   (may be NULL). */
+/* Scratch bytes of pvs_vocc_cull* for up to max_occluders (<= 255 per cell in a file) and the tree (may be NULL). */
 PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_occluders);
 
 /* Rebuilds a PVS (Koltun 2000 §2, §4): sets in `visible` (PVS_BITSET_WORDS(object_count) words, cleared first) every
-   object with a non-empty box no single occluder hides (tried in order, most effective first). With a `tree` over the
-   same boxes (item i = object i; leaves of 16+ items keep the walk short) a subtree is skipped when one occluder hides
-   its node box, so an object whose parts lie behind different occluders may drop out too (still conservative); tree
-   NULL tests every box. scratch: pvs_vocc_cull_scratch_size bytes, any alignment. Errors: INVALID_ARGUMENT,
-   BUFFER_TOO_SMALL. Allocates nothing; thread-safe. */
+   object with a non-empty box no single occluder hides (tried in order). With a `tree` over the same boxes (item i =
+   object i; leaves of 16+ items are best) a subtree is skipped when one occluder hides its node box (an object behind
+   several occluders may drop out too; still conservative); tree NULL tests every box. scratch:
+   pvs_vocc_cull_scratch_size bytes, any alignment. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. Allocates nothing;
+   thread-safe. */
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders,
 										   uint32_t count, const pvs_box *object_boxes, uint32_t object_count,
 										   const pvs_kdtree *tree, void *scratch, size_t scratch_size,
 										   pvs_word *visible, pvs_error *err);
 
-/* pvs_vocc_cull_occluders on the file's first max_occluders (0 = all) of `cell`, with the engine's boxes
-   and tree of the scene baked. INVALID_ARGUMENT also without a VOCC section. */
+/* pvs_vocc_cull_occluders on the file's first max_occluders (0 = all) of `cell`, with the engine's boxes and tree of
+   the baked scene. INVALID_ARGUMENT also without a VOCC section. */
 PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uint32_t max_occluders,
 								 const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
 								 void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
 
 /* ---- methods ---- */
 
-/* Region methods (CONCEPTS, Methods); all but SAMPLE are conservative. 0 is the default: AUTO. */
+/* Region methods (CONCEPTS); all but SAMPLE are conservative. 0 = AUTO. */
 typedef enum pvs_method {
 	PVS_METHOD_DEFAULT = 0,
 	PVS_METHOD_SAMPLE,		 /* ray sampling: an estimate from below, NOT conservative */
-	PVS_METHOD_OTREE,		 /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7) on facades of vertical triangles */
+	PVS_METHOD_OTREE,		 /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7) on vertical facades */
 	PVS_METHOD_EXTPROJ,		 /* extended projections (Durand et al. 2000): 3D, planar occluders */
 	PVS_METHOD_SHRINK,		 /* occluder shrinking + point sampling (Wonka 2000) */
-	PVS_METHOD_AUTO,		 /* the conservative methods that apply, their PVSs intersected */
-	PVS_METHOD_VOCC,		 /* virtual occluders (Koltun 2000), 2.5D: stored, the PVS is what they rebuild */
-	PVS_METHOD_PORTAL,		 /* rooms and portals from closed convex solids, portal flow (Teller 1992): indoors */
+	PVS_METHOD_AUTO,		 /* the conservative methods that apply, PVSs intersected */
+	PVS_METHOD_VOCC,		 /* virtual occluders (Koltun 2000), 2.5D: stored; the PVS is what they rebuild */
+	PVS_METHOD_PORTAL,		 /* rooms and portals from closed convex solids, portal flow (Teller 1992) */
 	PVS_METHOD_COUNT
 } pvs_method;
 
@@ -997,53 +959,51 @@ PVS_API const char *pvs_method_name(pvs_method method);
 /* The shrink method's paths. */
 typedef enum pvs_shrink_mode {
 	PVS_SHRINK_AUTO = 0,	 /* 2.5D when the occluders are (pvs_occluders_info.is_2d5), else 3D */
-	PVS_SHRINK_2D5,			 /* Wonka 2000 §3: column occluders, samples on the cell's top face, cull maps */
-	PVS_SHRINK_3D,			 /* samples on the six faces, from-point depth maps of the eroded boxes */
+	PVS_SHRINK_2D5,			 /* Wonka 2000 §3: column occluders, samples on the cell's top, cull maps */
+	PVS_SHRINK_3D,			 /* samples on the six faces, depth maps of the eroded boxes */
 	PVS_SHRINK_MODE_COUNT
 } pvs_shrink_mode;
 
-/* What one pvs_shrink_cell call did. */
 typedef struct pvs_shrink_stats {
 	pvs_shrink_mode mode;	  /* the path that ran */
-	uint32_t occluders;		  /* occluders of that path: column prisms (2.5D) or boxes (3D) */
-	int no_occluders;		  /* 1: none survived erosion, every drawable object set without sampling */
+	uint32_t occluders;		  /* column prisms (2.5D) or boxes (3D) */
+	int no_occluders;		  /* 1: none survived erosion, every drawable object set */
 	int excluded;			  /* 1: the cell lies in a left-out leaking cell, every drawable object set */
 	uint32_t samples;		  /* sample points */
-	uint64_t occluders_drawn; /* occluders rasterized, summed over the samples (after §3.4's rejection) */
+	uint64_t occluders_drawn; /* occluders rasterized, summed over samples (after §3.4's rejection) */
 	uint32_t hidden;		  /* drawable objects left out of the PVS */
 } pvs_shrink_stats;
 
 /* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): occluders eroded by eps, sampled from the cell
-   every eps; an object is left out only when every sample sees it hidden (appendix theorem: then every point of the
-   cell does). Objects meeting the cell or under its top face stay. Sets bits in `visible`
-   (PVS_BITSET_WORDS(object_count) words, not cleared), never occluder-only ones; objects set on entry are not tested
-   (AUTO presets what the others culled). `occluders` must be this scene's; `stats` may be NULL; no occluders is no
-   error. Scratch from the occluders' allocator, freed on return: thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL,
-   UNSUPPORTED (a path this build cannot run, with the reason), OUT_OF_MEMORY. */
+   every eps; an object is left out only when every sample sees it hidden (appendix theorem: then every cell point
+   does). Objects meeting the cell or under its top face stay. Sets bits in `visible` (PVS_BITSET_WORDS(object_count)
+   words, not cleared), never occluder-only ones; objects set on entry are not tested. `occluders` must be this
+   scene's; `stats` may be NULL; no occluders is no error. Scratch from the occluders' allocator, freed on return:
+   thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (a path this build cannot run), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
 								   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
 /* The estimator: `points` stratified points in `cell` (corners and face centres, then a jittered grid),
    `rays_per_point` uniform directions each; sets the first object each ray hits in `visible`
-   (PVS_BITSET_WORDS(object_count) words, not cleared; never occluder-only ones). A lower bound, the
-   tests' and pvscheck's yardstick. Deterministic in `seed`; thread-safe, no allocation. Returns the rays. */
+   (PVS_BITSET_WORDS(object_count) words, not cleared; never occluder-only ones). A lower bound. Deterministic in
+   `seed`; thread-safe, no allocation. Returns the rays. */
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
 									   uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
 
-/* Aimed sampling, a better lower bound for small and far objects: for each object of `targets` (NULL: all) not in
-   `visible`, up to `rays_per_object` segments from a uniform point of `cell` to a point of one of its triangles
-   (uniform, pulled 1% toward the centroid) until one reaches it; each sets the first object it hits. Occluder-only
-   objects are neither set nor aimed at. Otherwise as pvs_sample_visibility. */
+/* Aimed sampling, better for small and far objects: for each object of `targets` (NULL: all) not in `visible`, up to
+   `rays_per_object` segments from a uniform point of `cell` to a uniform point of one of its triangles (pulled 1%
+   toward the centroid) until one reaches it; each sets the first object it hits. Occluder-only objects are neither
+   set nor aimed at. Otherwise as pvs_sample_visibility. */
 PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_box *cell, const pvs_word *targets,
 											  uint32_t rays_per_object, uint64_t seed, pvs_word *visible);
 
 /* ---- extended projections (Durand, Drettakis, Thollot, Puech 2000) ---- */
 
-/* A projection plane (Durand 2000 §2.4, §6.1) perpendicular to `axis`, `distance` > 0 beyond the cell's
-   face on `side` (+1: max, -1: min); Depth (§2.3) is the distance past that face. rect = (u0, v0, u1, v1)
-   over u = (axis + 1) % 3, v = (axis + 2) % 3 in width x height pixels (pixel (i, j): u0 + [i, i + 1] *
-   (u1 - u0) / width, v likewise). A depth map: width * height floats, row j first, per pixel the nearest
-   occluder Projection's Depth or PVS_EXTPROJ_EMPTY. */
+/* A projection plane (Durand 2000 §2.4, §6.1) perpendicular to `axis`, `distance` > 0 beyond the cell's face on
+   `side` (+1: max, -1: min); Depth (§2.3) is the distance past that face. rect = (u0, v0, u1, v1) over u = (axis +
+   1) % 3, v = (axis + 2) % 3 in width x height pixels (pixel (i, j): u0 + [i, i + 1] * (u1 - u0) / width, v
+   likewise). A depth map: width * height floats, row j first, per pixel the nearest occluder Projection's Depth or
+   PVS_EXTPROJ_EMPTY. */
 typedef struct pvs_extproj_plane {
 	pvs_box cell;
 	uint32_t axis;
@@ -1053,32 +1013,30 @@ typedef struct pvs_extproj_plane {
 	uint32_t width, height;   /* 1..4096 each */
 } pvs_extproj_plane;
 #define PVS_EXTPROJ_EMPTY 3.402823466e+38f
-#define PVS_EXTPROJ_SWEEP_PLANES 16u /* sweep planes per direction pvsbake --sweep asks for, and AUTO's default */
+#define PVS_EXTPROJ_SWEEP_PLANES 16u /* sweep planes per direction of pvsbake --sweep and AUTO */
 #define PVS_EXTPROJ_NO_SWEEP 0xffffffffu /* pvs_bake_desc.extproj.sweep: AUTO without the sweep */
 #define PVS_EXTPROJ_RESOLUTION 256u /* pixels per plane side when pvs_bake_desc.extproj.resolution is 0 */
 #define PVS_EXTPROJ_PREVIEW_RESOLUTION 64u /* the same with PVS_BAKE_PREVIEW */
 
-/* Adds one convex occluder's extended Projection (§3.2): `points` (1..16 x (x, y, z)), a planar convex
-   polygon or a closed convex solid (skipped if its box meets the cell: it could hold the viewer); clipped
-   to depths > 0 and split at the plane. Only pixels a part covers from every point of the cell (its views
-   from the 8 corners intersected) get min(stored, the part's greatest depth, §2.3). Returns the pixel
-   writes per part, 0 if none or on bad arguments. Thread-safe on distinct maps; no allocation. */
+/* Adds one convex occluder's extended Projection (§3.2): `points` (1..16 x (x, y, z)), a planar convex polygon or a
+   closed convex solid (skipped if its box meets the cell); clipped to depths > 0 and split at the plane. Only pixels
+   a part covers from every cell point (its views from the 8 corners intersected) get min(stored, the part's
+   greatest depth, §2.3). Returns the pixel writes per part, 0 if none or on bad arguments. Thread-safe on distinct
+   maps; no allocation. */
 PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *plane, const float *points, uint32_t count,
 									  float *depth_map);
 
-/* An occludee box's extended Projection (§3.1): the bounding rectangle of its views from the whole cell,
-   holding every pixel the box touches from any cell point, as inclusive pixel bounds rect = (i0, j0, i1, j1),
-   maybe off the map, and its least Depth. Returns 0 when the box is not wholly beyond the face (this plane
-   cannot decide it), else 1. No allocation. */
+/* An occludee box's extended Projection (§3.1): the bounding rectangle of its views from the whole cell, as
+   inclusive pixel bounds rect = (i0, j0, i1, j1), maybe off the map, and its least Depth. Returns 0 when the box is
+   not wholly beyond the face (this plane cannot decide it), else 1. No allocation. */
 PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *plane, const pvs_box *box, int32_t rect[4], float *depth);
 
 /* 1 if some pixel of the occludee's rect is off the map or stores a Depth >= depth; 0: hidden (§2.2). */
 PVS_API int pvs_extproj_test(const pvs_extproj_plane *plane, const float *depth_map, const int32_t rect[4],
 							 float depth);
 
-/* Bytes an EXTPROJ task allocates for its planes at `resolution` (0 = 256) and `sweep` planes per direction
-   (0: none; MEMORY), not counting scratch that grows with the occluders; 0 outside 16..4096 or past 256 planes. For
-   tools fitting their threads to the memory. */
+/* Bytes an EXTPROJ task allocates for its planes at `resolution` (0 = 256) and `sweep` planes per direction (0:
+   none; MEMORY), not counting scratch growing with the occluders; 0 outside 16..4096 or past 256 planes. */
 PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep);
 
 /* ---- bake ---- */
@@ -1092,22 +1050,21 @@ typedef struct pvs_bake_sample_params {
 
 /* EXTPROJ's parameters (also under AUTO). */
 typedef struct pvs_bake_extproj_params {
-	/* Pixels per plane side, 16..4096; 0 = PVS_EXTPROJ_RESOLUTION, with PREVIEW PVS_EXTPROJ_PREVIEW_RESOLUTION.
-	   Sweep planes spread them square over what cell and scene span. */
+	/* Pixels per plane side, 16..4096; 0 = PVS_EXTPROJ_RESOLUTION, PREVIEW: PVS_EXTPROJ_PREVIEW_RESOLUTION. Sweep
+	   planes spread them square over what cell and scene span. */
 	uint32_t resolution;
 	uint32_t occluders;		  /* occluders on the planes of §6.1, 0 = 128; <= 65536 (sweep planes take all) */
 	/* Occlusion sweep (Durand 2000 §5) planes per direction, <= 256, 0 = none; under AUTO 0 =
-	   PVS_EXTPROJ_SWEEP_PLANES (PREVIEW: none), PVS_EXTPROJ_NO_SWEEP = none. An object whose box is not
-	   hidden is then kept only if a part of its triangles may be seen (over 16,384 triangles: by box). */
+	   PVS_EXTPROJ_SWEEP_PLANES (PREVIEW: none), PVS_EXTPROJ_NO_SWEEP = none. An object whose box is not hidden is
+	   then kept only if part of its triangles may be seen (over 16,384 triangles: by box). */
 	uint32_t sweep;
-	/* With the sweep, 4: each plane holds the union of the umbrae of the cell's four quarters, and an object
-	   must be hidden from each (tighter on foliage, for a few times the time: tests/BENCHMARKS.md,
-	   extproj); 0 or 1: the cell's umbra. */
+	/* With the sweep, 4: each plane holds the union of the umbrae of the cell's four quarters, and an object must
+	   be hidden from each (tighter on foliage, a few times slower); 0 or 1: the cell's umbra. */
 	uint32_t sweep_subcells;
 } pvs_bake_extproj_params;
 
-/* Adaptive cells (CONCEPTS): split while a PVS holds more than `budget` triangles and the halves are at
-   least `min_size`; leaves low half first. Not with shards. */
+/* Adaptive cells (CONCEPTS): split while a PVS holds over `budget` triangles and the halves are at least
+   `min_size`; leaves low half first. Not with shards. */
 typedef struct pvs_bake_adaptive_params {
 	uint32_t budget;		  /* triangles per leaf cell's PVS; 0 = off */
 	float min_size;			  /* shortest half, 0 = an eighth of the cell's longest side */
@@ -1123,18 +1080,17 @@ typedef struct pvs_bake_shrink_params {
 typedef struct pvs_bake_vocc_params {
 	uint32_t slices;		  /* height slices per cell (§3.1), 0 = 5; 1..16 */
 	uint32_t max_occluders;   /* virtual occluders kept per cell (Fig. 6), 0 = 10; 1..255 */
-	uint32_t only;			  /* 1 = store only the occluders (PVS_VOCC_ONLY) */
+	uint32_t only;			  /* 1: store only the occluders (PVS_VOCC_ONLY) */
 } pvs_bake_vocc_params;
 
 /* OTREE's parameters (also under AUTO). */
 typedef struct pvs_bake_otree_params {
-	uint32_t node_budget;	  /* per tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24. More never hides less; with
-								 many small facades time grows faster than it */
+	uint32_t node_budget;	  /* per tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24. More never hides less */
 } pvs_bake_otree_params;
 
 /* PORTAL's parameters (>>portal). */
 typedef struct pvs_bake_portal_params {
-	uint32_t budget;		  /* portal clips per cell before the conservative cut-off, 0 = PVS_PORTAL_BUDGET */
+	uint32_t budget;		  /* portal clips per cell before a conservative cut-off, 0 = PVS_PORTAL_BUDGET */
 } pvs_bake_portal_params;
 #define PVS_PORTAL_BUDGET 200000u
 
@@ -1146,12 +1102,12 @@ typedef struct pvs_bake_desc {
 	pvs_method method;		  /* PVS_METHOD_DEFAULT = AUTO */
 	float eps;				  /* sampling / shrinking distance; 0 = derived from the cells */
 	uint32_t max_chain;		  /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
-	/* Shards (build farms), shard_count >= 2: bakes cells shard_index, shard_index + shard_count, ... into a
-	   part file; parts 0..shard_count-1 decoded and encoded whole (pvs_file_encode) give the unsharded file. */
+	/* Shards, shard_count >= 2: bakes cells shard_index, shard_index + shard_count, ... into a part file; parts
+	   0..shard_count-1 decoded and encoded whole (pvs_file_encode) give the unsharded file. */
 	uint32_t shard_index, shard_count;
 	uint32_t methods;		  /* AUTO's candidates: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC and
 								 PORTAL */
-	float max_distance;		  /* draw distance: drop objects whose box is farther from every cell point; 0: none */
+	float max_distance;		  /* draw distance (CONCEPTS); 0: none */
 	uint32_t flags;			  /* PVS_BAKE_* */
 	pvs_bake_sample_params sample;
 	pvs_bake_extproj_params extproj;
@@ -1163,16 +1119,14 @@ typedef struct pvs_bake_desc {
 	pvs_allocator allocator;
 } pvs_bake_desc;
 
-/* AUTO's sample (pvs_bake_begin): cells baked with every applicable method to choose those worth running, and the
-   least share of the kept PVS a method must cull beyond them to run on every cell (x2 per cost class over the first
-   kept's). */
+/* AUTO's sample (CONCEPTS, Methods): cells baked with every applicable method, and the least share of the kept PVS
+   a method must cull beyond those kept to run on every cell (x2 per cost class over the first kept's). */
 #define PVS_AUTO_SAMPLE_CELLS 8u
 #define PVS_AUTO_MIN_GAIN 0.10
 
 /* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only the cheapest applicable method. EXTPROJ uses 64 pixels
    and 32 occluders per plane unless set, no sweep, and decides object kD-tree nodes whole once under a quarter radian
-   or past 4,096 box tests: a few milliseconds per cell at any scene size (tests/BENCHMARKS.md, bake). SHRINK doubles
-   its derived eps. */
+   or past 4,096 box tests. SHRINK doubles its derived eps. */
 #define PVS_BAKE_PREVIEW 1u
 
 typedef struct pvs_bake pvs_bake;
@@ -1184,28 +1138,27 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out_bake
 PVS_API uint32_t pvs_bake_task_count(const pvs_bake *bake);
 /* The cell a task bakes. */
 PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *bake, uint32_t task);
-/* Runs one task. Thread-safe for distinct tasks; each has its own scratch. */
+/* Runs one task. Thread-safe for distinct tasks. */
 PVS_API pvs_result pvs_bake_run_task(pvs_bake *bake, uint32_t task, pvs_error *err);
 /* The resolved method and eps. */
 PVS_API pvs_method pvs_bake_method(const pvs_bake *bake);
 PVS_API float pvs_bake_eps(const pvs_bake *bake);
-/* The methods considered, in run order; AUTO lists those skipped (ran = 0) as unable to cull here. */
+/* The methods considered, in run order, including those AUTO skipped (ran = 0). */
 PVS_API uint32_t pvs_bake_method_count(const pvs_bake *bake);
 /* What method i did, summed over the tasks run (not restored). */
 typedef struct pvs_bake_method_info {
 	pvs_method method;
 	int ran;				  /* 1: every task runs it; 0: skipped */
-	const char *reason;		  /* why it runs or was skipped (a constant string, never NULL) */
+	const char *reason;		  /* why it runs or was skipped (constant, never NULL) */
 	uint32_t cells;			  /* tasks that ran it */
 	uint64_t pvs_sum;		  /* sum over those cells of the PVS size this method found alone */
 	/* (cell, drawable object) pairs only it left out of the intersection; one a later method did not test
 	   (kept_only) counts for those that culled it. */
 	uint64_t sole_culls;
-	/* 1: it tested only what earlier methods kept (AUTO runs SHRINK last: the same intersection, far less
-	   time); pvs_sum counts their culls as kept. */
+	/* 1: it tested only what earlier methods kept (AUTO's SHRINK); pvs_sum counts their culls as kept. */
 	int kept_only;
-	/* AUTO's sample (sample_cells > 0): objects per sample cell it culled beyond the methods kept before it (a
-	   skipped one: beyond all those kept; 0 cells: one too costly to sample) */
+	/* AUTO's sample (sample_cells > 0): objects per sample cell it culled beyond the methods kept before it (if
+	   skipped: beyond all kept; 0 cells: too costly to sample) */
 	uint32_t sample_cells;
 	float sample_gain;
 } pvs_bake_method_info;
@@ -1216,52 +1169,52 @@ PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *bake, uint32_t i, pv
 PVS_API int pvs_bake_task_done(const pvs_bake *bake, uint32_t task);
 /* Resumes: marks a task done with its PVS from an earlier run of the same scene, cells and parameters; `bits`:
    word_count >= PVS_BITSET_WORDS(object_count), zero past object_count. Thread-safe like pvs_bake_run_task. Errors:
-   INVALID_ARGUMENT (task out of range, NULL, a bit past the objects or of an occluder-only object), BUFFER_TOO_SMALL,
-   UNSUPPORTED (VOCC bakes its occluders). */
+   INVALID_ARGUMENT (task out of range, NULL, a bit past the objects or of an occluder-only object),
+   BUFFER_TOO_SMALL, UNSUPPORTED (VOCC). */
 PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pvs_word *bits, size_t word_count,
 										 pvs_error *err);
 /* SHRINK (alone or in AUTO): the synthesized occluders (the bake's) and the tasks' path; NULL /
    PVS_SHRINK_AUTO when SHRINK was not prepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
-/* The facades OTREE found: merged coplanar vertical triangles, each a wall segment with the height range [base, top] it
-   covers along its length. A cell uses a facade only toward objects whose bottom, like its own, is at or above the
-   facade's level (the lowest of at most eight base heights at or above its base): a ray could pass under it. facades ==
-   0: nothing is culled. All zero when OTREE was not prepared. */
+/* The facades OTREE found: merged coplanar vertical triangles, each a wall segment with the height range [base, top]
+   it covers along its length. A cell uses a facade only toward objects whose bottom, like its own, is at or above the
+   facade's level (the lowest of at most eight base heights at or above its base). facades == 0: nothing is culled.
+   All zero when OTREE was not prepared. */
 typedef struct pvs_otree_bake_info {
 	uint32_t prepared;			 /* 1 when the bake prepared OTREE */
-	uint32_t vertical_triangles; /* triangles of the scene standing vertical */
+	uint32_t vertical_triangles; /* vertical scene triangles */
 	uint32_t facades;			 /* facades in use (base no higher than the highest cell bottom) */
 	uint32_t levels;			 /* distinct base heights in use */
 	float lowest_level;			 /* the lowest of them (when levels > 0) */
 } pvs_otree_bake_info;
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *bake, pvs_otree_bake_info *info);
-/* What PORTAL built (zeros when the bake did not prepare it): the closed convex solids, the distinct planes of
-   their faces, the BSP's nodes and leaves, its empty leaves (rooms) and the portals between them (each way), the
-   leaves left empty at the depth limit, and the cells baked so far that hit the budget. */
+/* What PORTAL built (zeros if not prepared): closed convex solids, distinct face planes, BSP nodes and leaves, empty
+   leaves (rooms), portals between them (each way), leaves left empty at the depth limit, cells baked so far that hit
+   the budget. */
 typedef struct pvs_portal_info {
 	uint32_t solids, planes, nodes, leaves, rooms, portals, deep_leaves, cut_cells;
 } pvs_portal_info;
 PVS_API void pvs_bake_get_portal_info(const pvs_bake *bake, pvs_portal_info *info);
 /* A VOCC bake's statistics summed over the cells baked so far (zeros for other methods). */
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *bake, pvs_vocc_stats *out);
-/* Counts over the tasks run: culling nothing is conservative, not an error, but worth reporting. */
+/* Counts over the tasks run: culling nothing is not an error, but worth reporting. */
 typedef struct pvs_bake_report {
 	uint32_t cells;				 /* tasks run so far */
-	uint32_t cells_all_visible;  /* cells whose PVS holds every drawable object */
-	/* Cells without occluders: SHRINK, none survived erosion (thin walls, or eps too large); OTREE, no usable
-	   facade; AUTO, neither and nothing culled. */
+	uint32_t cells_all_visible;  /* cells whose PVS is every drawable object */
+	/* Cells without occluders: SHRINK, none survived erosion (thin walls, or eps too large); OTREE, no usable facade;
+	   AUTO, neither and nothing culled. */
 	uint32_t cells_no_occluders;
 	uint32_t cells_excluded;	 /* SHRINK: leaking cells left out, baked with a second synthesis */
-	uint32_t cells_otree_budget; /* OTREE: cells whose tree hit otree.node_budget (more may cull more) */
+	uint32_t cells_otree_budget; /* OTREE: cells whose tree hit otree.node_budget */
 } pvs_bake_report;
 /* Fills *report. Not concurrently with the tasks. */
 PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
-/* A run cell's PVS (PVS_BITSET_WORDS(object_count) words; adaptive: the whole cell's), else NULL. */
+/* A run cell's PVS (PVS_BITSET_WORDS(object_count) words; adaptive: whole cell), else NULL. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
 /* The cells the file will hold: cell_count, or the adaptive leaves of the tasks run so far. */
 PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *bake);
-/* The exact file size, 0 before every task has run or on error. It encodes to measure: keep the number. */
+/* The exact file size, 0 before every task has run or on error. Encodes to measure: keep the number. */
 PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
 /* Writes the file (a part file for a shard) into out[0..capacity); *out_size gets the size, also with
    BUFFER_TOO_SMALL. Errors: NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
@@ -1278,9 +1231,8 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 #define PVS_DEFAULT_CHAIN 8u	/* default bound K on a cell's delta chain */
 #define PVS_MAX_CHAIN 64u		/* largest K a file may declare */
 
-/* A PVS table to encode: cell_count bitsets of PVS_BITSET_WORDS(object_count) words. The encoder (Durand
-   et al. 2000, §6.2; FILE FORMAT) picks bases by a depth-bounded minimum spanning tree over nearest
-   neighbours weighted by coded delta size. */
+/* A PVS table to encode: cell_count bitsets of PVS_BITSET_WORDS(object_count) words. The encoder (Durand et al.
+   2000, §6.2) picks bases by a depth-bounded minimum spanning tree over nearest neighbours weighted by delta size. */
 typedef struct pvs_file_desc {
 	const pvs_box *cells;
 	uint32_t cell_count;
@@ -1291,12 +1243,12 @@ typedef struct pvs_file_desc {
 	uint32_t up_axis;		   /* 1 or 2 */
 	uint32_t flags;			   /* PVS_FILE_* */
 	uint32_t max_chain;		   /* K, the most deltas a decode applies: 0 = PVS_DEFAULT_CHAIN, else 1..PVS_MAX_CHAIN */
-	/* A part file (shard_count >= 2) holds cells shard_index, shard_index + shard_count, ... of
-	   total_cell_count, in order. Zero for a whole file. */
+	/* A part file (shard_count >= 2) holds cells shard_index, shard_index + shard_count, ... of total_cell_count,
+	   in order. Zero for a whole file. */
 	uint32_t shard_index, shard_count, total_cell_count;
-	/* Optional VOCC section (NULL vocc_counts: none): per cell, in table order, vocc_counts[c] five-byte
-	   occluders in virtual_occluders, scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step
-	   (finite, step > 0); vocc_flags PVS_VOCC_ONLY for a placeholder table. */
+	/* Optional VOCC section (NULL vocc_counts: none): per cell, in table order, vocc_counts[c] five-byte occluders
+	   in virtual_occluders, scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step (finite, step >
+	   0); vocc_flags PVS_VOCC_ONLY for a placeholder table. */
 	const uint8_t *vocc_counts, *vocc_scales, *virtual_occluders;
 	uint32_t vocc_stride;	   /* bytes from one cell's occluders to the next; 0 = back to back */
 	float vocc_base, vocc_height_step;
@@ -1306,13 +1258,13 @@ typedef struct pvs_file_desc {
 } pvs_file_desc;
 
 /* Encodes the table into out[0..capacity), deterministically; *out_size gets the exact size, also with
-   BUFFER_TOO_SMALL; out == NULL only measures. Scratch from desc->allocator; thread-safe for distinct
-   outputs. Errors: INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (over 4 GiB), OUT_OF_MEMORY. */
+   BUFFER_TOO_SMALL; out == NULL only measures. Scratch from desc->allocator; thread-safe for distinct outputs.
+   Errors: INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (over 4 GiB), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size,
 								   pvs_error *err);
 
-/* An opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data, copy
-   freely; read-only to the caller, `private_` the reader's. */
+/* An opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data, copy freely;
+   read-only to the caller, `private_` the reader's. */
 typedef struct pvs_file {
 	const uint8_t *data;
 	size_t size;
@@ -1342,10 +1294,9 @@ typedef struct pvs_file {
 	} private_;
 } pvs_file;
 
-/* Checks every FILE FORMAT rule (Trust; linear time, no allocation, no read outside data[0..size)), fills
-   *file. Errors: INVALID_ARGUMENT, BAD_MAGIC, BAD_VERSION, TRUNCATED, BAD_HEADER, BAD_SECTION, CHECKSUM,
-   BAD_CELL, BAD_TREE, BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN; err->offset the offending byte,
-   err->index the cell or section. */
+/* Checks every FILE FORMAT rule (linear time, no allocation, no read outside data[0..size)), fills *file. Errors:
+   INVALID_ARGUMENT, BAD_MAGIC, BAD_VERSION, TRUNCATED, BAD_HEADER, BAD_SECTION, CHECKSUM, BAD_CELL, BAD_TREE,
+   BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN; err->offset the offending byte, err->index the cell or section. */
 PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, pvs_error *err);
 
 /* How a cell's record is stored (pvsinfo prints these). */
@@ -1353,20 +1304,20 @@ typedef struct pvs_record_info {
 	uint32_t base;			   /* the cell the delta applies to, PVS_NO_CELL for a key cell */
 	uint32_t depth;			   /* deltas applied to decode this cell (0 for a key cell) */
 	uint32_t coding;		   /* of the (added) ids: 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
-	uint32_t bytes;			   /* size of the record */
-	uint32_t base_size;		   /* a delta: the size of the base's PVS its removal ranks count in */
+	uint32_t bytes;			   /* record size */
+	uint32_t base_size;		   /* a delta: the size of the base's PVS */
 } pvs_record_info;
 #define PVS_CODING_COUNT 4
 /* Fills *info for cell < cell_count. No allocation. */
 PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
 
-/* A cell's virtual occluders, most effective first: returns their number (0 without VOCC), writes up to
-   `capacity`. End points rounded to float; pvs_vocc_cull uses the exact ones. */
+/* A cell's virtual occluders, most effective first: returns their number (0 without VOCC), writes up to `capacity`.
+   End points rounded to float; pvs_vocc_cull uses the exact ones. */
 PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell, pvs_virtual_occluder *out,
 											uint32_t capacity);
 
-/* A cell's raw VOCC record: returns its occluder count (0 without VOCC), *bytes their five bytes each in
-   the file, *scale_code its scale (FILE FORMAT); either output may be NULL. For pvsbake merge. */
+/* A cell's raw VOCC record: returns its occluder count (0 without VOCC), *bytes their five bytes each in the file,
+   *scale_code its scale (FILE FORMAT); either output may be NULL. */
 PVS_API uint32_t pvs_file_vocc_record(const pvs_file *file, uint32_t cell, uint32_t *scale_code, const uint8_t **bytes);
 
 /* ---- runtime ---- */
@@ -1376,32 +1327,31 @@ PVS_API uint32_t pvs_file_vocc_record(const pvs_file *file, uint32_t cell, uint3
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *file, const float p[3]);
 /* The box of a cell (< cell_count). */
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
-/* Decodes a cell's PVS into bits[0..word_count) (>= PVS_BITSET_WORDS(object_count), cleared first): the
-   chain's key, then at most max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
+/* Decodes a cell's PVS into bits[0..word_count) (>= PVS_BITSET_WORDS(object_count), cleared first): the chain's key,
+   then at most max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
 PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word *bits, size_t word_count,
 								   pvs_error *err);
 
 /* Called per object whose visibility changes: visible = 1 added, 0 removed. */
 typedef void (*pvs_change_fn)(void *user, uint32_t object, int visible);
 
-/* Follows a viewer, reporting only the objects that change (Durand et al. 2000, §6.2): moving to a cell
-   whose base is the current one applies that delta; other moves decode into scratch and compare. Plain
-   data over caller memory; no allocation. */
+/* Follows a viewer, reporting only the objects that change (Durand et al. 2000, §6.2): moving to a cell whose base
+   is the current one applies that delta; other moves decode into scratch and compare. No allocation. */
 typedef struct pvs_cursor {
 	const pvs_file *file;
 	uint32_t cell;			   /* current cell, PVS_NO_CELL before the first move */
-	pvs_word *bits;			   /* the current PVS (read it, do not write it) */
+	pvs_word *bits;			   /* the current PVS (read only) */
 	pvs_word *scratch;
 	size_t word_count;
 	uint64_t delta_moves, full_moves; /* statistics: moves by one delta, by a full decode */
 } pvs_cursor;
 
-/* Starts with an empty set. bits, scratch: distinct, word_count >= PVS_BITSET_WORDS(object_count) words
-   each. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. */
+/* Starts with an empty set. bits, scratch: distinct, word_count >= PVS_BITSET_WORDS(object_count) words each.
+   Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. */
 PVS_API pvs_result pvs_cursor_init(pvs_cursor *cursor, const pvs_file *file, pvs_word *bits, pvs_word *scratch,
 								   size_t word_count, pvs_error *err);
-/* Moves to `cell` (PVS_NO_CELL empties the set), calling on_change (may be NULL) once per object entering
-   or leaving: ascending ids after a full decode, removals then additions (each ascending) after a delta.
+/* Moves to `cell` (PVS_NO_CELL empties the set), calling on_change (may be NULL) once per object entering or
+   leaving: ascending ids after a full decode, removals then additions (each ascending) after a delta.
    INVALID_ARGUMENT for a cell out of range. */
 PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change_fn on_change, void *user);
 
@@ -1456,17 +1406,10 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 /* core: result strings, allocator, errors, math, bitsets                                         */
 /* ---------------------------------------------------------------------------------------------- */
 
-/* The shared kernels, written once for every module:
-   - errors and checked sizes: pvs__fail, pvs__ok, pvs__mul; allocation through the hooks: pvs__alloc, pvs__free,
-	 pvs__alloc_array, pvs__free_array; growable arrays: pvs__grow_capped, pvs__grow_array, pvs__grow;
-   - math and boxes (pvs__dmin, pvs__clampi, pvs__finite, pvs__box_distance2, ...), bitsets, random numbers
-	 (pvs__splitmix64, pvs__random01);
-   - allocation-free heaps: pvs__heap_sort, pvs__topk_offer, pvs__pq_push / pvs__pq_pop, pvs__key_index_sort (big
-	 bake-time sorts use PVS_QSORT); union-find: pvs__uf_find;
-   - little-endian bytes (pvs__get32, pvs__put32, pvs__getf32, pvs__putf32) and pvs__crc32;
-   - the bake's method-table interface (pvs__bake_method; the table is in >>bake).
-   One kD-tree and its front-to-back sweep (pvs__kd_sweep) live in >>kdtree; one depth-pyramid level builder
-   (pvs__pyramid_level) in >>raster. */
+/* Shared kernels: errors and checked sizes (pvs__fail, pvs__mul), allocation (pvs__alloc*, pvs__free_array),
+   growable arrays (pvs__grow*), math and boxes, bitsets, random numbers, allocation-free heaps and sorts (big
+   bake-time sorts use PVS_QSORT), union-find, little-endian bytes, CRC-32, the bake's method-table interface. The
+   kD-tree sweep (pvs__kd_sweep) is in >>kdtree, the pyramid level builder (pvs__pyramid_level) in >>raster. */
 
 PVS_API const char *pvs_result_string(pvs_result r) {
 	switch (r) {
@@ -1501,7 +1444,7 @@ PVS_API const char *pvs_result_string(pvs_result r) {
 
 PVS_API uint32_t pvs_version(void) { return PVS_VERSION; }
 
-/* Fills *err (if any) and returns `code`. The message is "<reason>: <formatted detail>". */
+/* Fills *err (if any), returns `code`. Message: "<reason>: <formatted detail>". */
 PVS__STATIC pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index, uint64_t offset, const char *fmt,
 								 ...) {
 	if (err) {
@@ -1530,7 +1473,7 @@ PVS__STATIC pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index,
 	}
 	return code;
 }
-/* pvs__fail with no index or offset: out of memory, a bad argument. */
+/* pvs__fail without index or offset. */
 #define PVS__OOM(err, ...) pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, __VA_ARGS__)
 #define PVS__BAD_ARG(err, ...) pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, __VA_ARGS__)
 
@@ -1543,7 +1486,7 @@ PVS__STATIC void pvs__ok(pvs_error *err) {
 	}
 }
 
-/* Overflow-checked size arithmetic: return 0 on overflow. */
+/* Overflow-checked size arithmetic: 0 on overflow. */
 PVS__STATIC int pvs__mul(size_t a, size_t b, size_t *out) {
 	if (b && a > (size_t)-1 / b) return 0;
 	*out = a * b;
@@ -1555,8 +1498,8 @@ PVS__STATIC int pvs__add(size_t a, size_t b, size_t *out) {
 	return 1;
 }
 
-/* Allocation through a desc's hooks; align is a power of two <= 64. The default path over-allocates
-   for alignments above what malloc guarantees and keeps the offset in the byte before the block. */
+/* Allocation through a desc's hooks; align is a power of two <= 64. The default path over-allocates for larger
+   alignments than malloc's and keeps the offset in the byte before the block. */
 PVS__STATIC void *pvs__alloc(const pvs_allocator *a, size_t size, size_t align) {
 	if (size == 0) size = 1;
 	if (a->alloc) return a->alloc(size, align, a->user);
@@ -1585,7 +1528,7 @@ PVS__STATIC void pvs__free(const pvs_allocator *a, void *p, size_t size, size_t 
 	}
 	PVS_FREE((unsigned char *)p - ((unsigned char *)p)[-1]);
 }
-/* Array allocation with overflow check: n elements of `elem` bytes, 16-byte aligned. */
+/* n elements of `elem` bytes, overflow-checked, 16-byte aligned. */
 PVS__STATIC void *pvs__alloc_array(const pvs_allocator *a, size_t n, size_t elem) {
 	size_t bytes;
 	if (!pvs__mul(n, elem, &bytes)) return NULL;
@@ -1595,7 +1538,7 @@ PVS__STATIC void pvs__free_array(const pvs_allocator *a, void *p, size_t n, size
 	pvs__free(a, p, n * elem, 16);
 }
 
-/* ---- math (private: generic names must not leak into an engine) ---- */
+/* ---- math (private names, so none leak into an engine) ---- */
 
 typedef struct pvs__v3 {
 	float x, y, z;
@@ -1647,7 +1590,7 @@ PVS__STATIC int pvs__box_overlap(const pvs_box *a, const pvs_box *b) {
 	return a->min[0] <= b->max[0] && b->min[0] <= a->max[0] && a->min[1] <= b->max[1] && b->min[1] <= a->max[1] &&
 		   a->min[2] <= b->max[2] && b->min[2] <= a->max[2];
 }
-/* Cuts b to `by`; 1 if something (a point at least) is left. */
+/* Cuts b to `by`; 1 if something (at least a point) is left. */
 PVS__STATIC int pvs__box_clip(pvs_box *b, const pvs_box *by) {
 	int i;
 	for (i = 0; i < 3; ++i) {
@@ -1708,7 +1651,7 @@ PVS_API void pvs_bitset_clear(pvs_word *bits, uint32_t i) { bits[i >> 6] &= ~((p
 
 PVS__STATIC uint32_t pvs__popcount64(uint64_t x) {
 #if (defined(__GNUC__) || defined(__clang__)) && (defined(__POPCNT__) || defined(__ARM_NEON))
-	return (uint32_t)__builtin_popcountll(x); /* one instruction; elsewhere the builtin is a library call */
+	return (uint32_t)__builtin_popcountll(x); /* else the builtin is a library call */
 #else
 	x = x - ((x >> 1) & 0x5555555555555555ull);
 	x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
@@ -1750,7 +1693,7 @@ PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint3
 	}
 }
 
-/* splitmix64 (Steele et al. 2014): deterministic random numbers for the samplers. */
+/* splitmix64 (Steele et al. 2014): deterministic random numbers. */
 PVS__STATIC uint64_t pvs__splitmix64(uint64_t *state) {
 	uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
 	z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
@@ -1764,9 +1707,8 @@ PVS__STATIC float pvs__random01(uint64_t *state) {
 
 /* ---- growable arrays ---- */
 
-/* Grows an array of `elem`-byte elements to hold `need` (doubling), keeping the first `used`, capped at `limit`
-   when limit >= need (a bound the caller proved). Returns the array, or NULL with *r set (the old one still the
-   caller's). */
+/* Grows an array of `elem`-byte elements to hold `need` (doubling), keeping the first `used`, capped at `limit` when
+   limit >= need. Returns the array, or NULL with *r set (the old one still the caller's). */
 PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need,
 								   size_t limit, size_t elem, pvs_result *r) {
 	size_t cap = *capacity ? *capacity : 64, bytes;
@@ -1791,7 +1733,7 @@ PVS__STATIC void *pvs__grow_array(const pvs_allocator *a, void *p, size_t *capac
 	return pvs__grow_capped(a, p, capacity, used, need, 0, elem, r);
 }
 /* The same for a fully used array (*p, *capacity elements): 1 when it holds `need`, 0 on overflow or out of memory
-   (*p unchanged, still the caller's). */
+   (*p unchanged). */
 PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, size_t need, size_t elem) {
 	pvs_result r;
 	void *q;
@@ -1804,7 +1746,7 @@ PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, si
 
 /* ---- heaps: sorting and top-k, allocation-free ---- */
 
-/* 1 when a ranks before b: the order of a sort (ascending) or of a top-k selection (the best first). */
+/* 1 when a ranks before b: a sort's order (ascending) or a top-k's (best first). */
 typedef int (*pvs__before_fn)(const void *a, const void *b);
 
 /* Sifts element r of heap h (n elements of `size` <= 64 bytes) down: the root ranks last. */
@@ -1822,9 +1764,8 @@ PVS__STATIC void pvs__heap_sift(unsigned char *h, size_t size, size_t r, size_t 
 	}
 }
 
-/* Heap sort (Williams 1964) of base[0 .. n) (elements of `size` <= 64 bytes) in `before` order: no allocation and
-   no libc, so the per-frame and file paths use it too. With a total order (ties broken by an index) the result is
-   the same on every platform. */
+/* Heap sort (Williams 1964) of base[0 .. n) (elements of `size` <= 64 bytes) in `before` order, without allocation
+   or libc. With a total order the result is the same on every platform. */
 PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)base, t[64];
 	size_t i;
@@ -1840,7 +1781,7 @@ PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_f
 }
 
 /* Top-k: `heap` holds *count <= k elements of `size` <= 64 bytes, its root ranking last. e is kept when there is
-   room, or when it ranks before the root, which it replaces (an equal one does not). */
+   room, or replaces the root if it ranks before it (not if equal). */
 PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t size, const void *e,
 								 pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
@@ -1860,8 +1801,8 @@ PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t
 	memcpy(h + i * size, e, size);
 }
 
-/* Priority queue: a binary heap of *n elements of `size` <= 64 bytes with the one ranking first at the root. push adds
-   e; pop removes the root into *top. Equal elements leave in an order fixed by the pushes, the same everywhere. */
+/* Priority queue: a binary heap of *n elements of `size` <= 64 bytes, the first-ranking at the root. push adds e;
+   pop removes the root into *top. Equal elements leave in an order fixed by the pushes. */
 PVS__STATIC void pvs__pq_push(void *heap, size_t *n, size_t size, const void *e, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
 	size_t i;
@@ -1884,7 +1825,7 @@ PVS__STATIC void pvs__pq_pop(void *heap, size_t *n, size_t size, void *top, pvs_
 	memcpy(h + i * size, last, size);
 }
 
-/* Union-find: the root of x's set, halving the path on the way (Tarjan and van Leeuwen 1984). */
+/* Union-find: the root of x's set, with path halving (Tarjan and van Leeuwen 1984). */
 PVS__STATIC uint32_t pvs__uf_find(uint32_t *parent, uint32_t x) {
 	while (parent[x] != x) {
 		parent[x] = parent[parent[x]];
@@ -1899,7 +1840,7 @@ typedef struct pvs__key_index {
 	uint32_t index;
 } pvs__key_index;
 
-/* (key, index) ascending: a total order for keys that are not NaN. */
+/* (key, index) ascending: a total order for non-NaN keys. */
 PVS__STATIC int pvs__key_index_before(const void *pa, const void *pb) {
 	const pvs__key_index *a = (const pvs__key_index *)pa, *b = (const pvs__key_index *)pb;
 	return a->key < b->key || (a->key == b->key && a->index < b->index);
@@ -1928,8 +1869,7 @@ PVS__STATIC float pvs__getf32(const uint8_t *p) {
 	return f;
 }
 
-/* CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), two nibble-table steps per byte: a 64-byte table
-   keeps the code small. */
+/* CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), two nibble-table steps per byte. */
 PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
 	static const uint32_t t[16] = {0x00000000u, 0x1db71064u, 0x3b6e20c8u, 0x26d930acu, 0x76dc4190u, 0x6b6b51f4u,
 								   0x4db26158u, 0x5005713cu, 0xedb88320u, 0xf00f9344u, 0xd6d6a3e8u, 0xcb61b38cu,
@@ -1946,14 +1886,12 @@ PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
 
 /* ---- the bake's method table: what >>bake's driver knows of a method ---- */
 
-/* A bake method is one row of >>bake's table (pvs__bake_methods): functions over a per-bake state the driver holds
-   behind one pointer. The driver checks every method's parameters, prepares those the bake may run, keeps those
-   that can cull something in the scene (AUTO), runs each on every cell and intersects their PVSs (an intersection
-   of conservative sets is conservative). Adding a method is its module plus one table row. */
+/* A bake method is one row of >>bake's table (pvs__bake_methods): functions over a per-bake state. The driver checks
+   every method's parameters, prepares those the bake may run, keeps those that can cull in the scene (AUTO), runs
+   each on every cell and intersects their PVSs. Adding a method is its module plus one table row. */
 
-/* What a method sees of the bake: `cells` every cell of the bake, not only the shard's (so what prepare
-   derives agrees between shards; the caller's, set during prepare only); `task_cells` the shard's, one per
-   task. */
+/* What a method sees of the bake: `cells` every cell, not only the shard's (so prepare agrees between shards; the
+   caller's, set during prepare only); `task_cells` the shard's, one per task. */
 typedef struct pvs__bake_env {
 	const pvs_scene *scene;
 	pvs_allocator allocator;
@@ -1963,57 +1901,51 @@ typedef struct pvs__bake_env {
 	uint32_t task_count;
 	uint32_t object_count;
 	size_t words;			   /* per PVS */
-	float eps;				   /* the bake's eps (stored in the file): a method's prepare may derive it */
+	float eps;				   /* the bake's eps (stored in the file); prepare may derive it */
 	uint32_t flags;			   /* PVS_BAKE_* */
-	int is_auto;			   /* 1: AUTO (this method's PVS may be intersected with others) */
+	int is_auto;			   /* 1: AUTO (the PVS may be intersected with others) */
 } pvs__bake_env;
 
-/* What the run of a cell found (per task, for pvs_bake_report). */
+/* What a cell's run found (per task, for pvs_bake_report). */
 #define PVS__BAKE_ALL_VISIBLE 1u
 #define PVS__BAKE_NO_OCCLUDERS 2u
 #define PVS__BAKE_EXCLUDED 4u
 #define PVS__BAKE_OTREE_BUDGET 8u
 
 /* Traits of a method (pvs__bake_method.traits). */
-#define PVS__METHOD_CONSERVATIVE 1u /* AUTO may intersect it (never an estimate from below) */
+#define PVS__METHOD_CONSERVATIVE 1u /* AUTO may intersect it */
 #define PVS__METHOD_AUTO_DEFAULT 2u /* AUTO considers it when pvs_bake_desc.methods is 0 */
 #define PVS__METHOD_APPROXIMATE 4u	/* its file is flagged PVS_FILE_APPROXIMATE */
-#define PVS__METHOD_WHOLE_CELLS 8u	/* run alone, it stores data of whole cells beyond their PVSs: no
-									   adaptive cells, no resuming from PVSs */
-#define PVS__METHOD_SETS_OTHERS 16u /* it sets every object outside its candidates (pvs_bake_method_info's
-									   kept_only when it runs after others) */
+#define PVS__METHOD_WHOLE_CELLS 8u	/* alone, stores per-cell data beyond PVSs: no adaptive cells, no resuming */
+#define PVS__METHOD_SETS_OTHERS 16u /* sets every object outside its candidates (kept_only after others) */
 
 typedef struct pvs__bake_method {
 	pvs_method method;
 	uint32_t traits;			/* PVS__METHOD_* */
-	int cost_rank;				/* AUTO runs the methods cheapest first (1..4); PREVIEW keeps the first
-								   that applies */
+	int cost_rank;				/* AUTO runs cheapest first (1..4); PREVIEW keeps the first that applies */
 	int cost_class;				/* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
-	/* Checks desc's parameters of this method, whichever method the bake runs. NULL: none. */
+	/* Checks this method's parameters in desc, whatever the bake runs. NULL: none. */
 	pvs_result (*check)(const pvs_bake_desc *desc, pvs_error *err);
-	/* Makes *state, read-only in the tasks but for per-task slots. UNSUPPORTED: the method cannot
-	   run on this scene (AUTO then skips it). *state is destroyed even when this fails. */
+	/* Makes *state, read-only in the tasks but for per-task slots. UNSUPPORTED: cannot run on this scene (AUTO
+	   skips it). *state is destroyed even when this fails. */
 	pvs_result (*prepare)(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err);
-	/* 1 if the prepared method can leave anything out in this scene, with the reason in *why either
-	   way. NULL: always ("conservative"). */
+	/* 1 if the method can leave anything out in this scene; the reason in *why either way. NULL: always. */
 	int (*applies)(const void *state, const char **why);
 	/* The method's PVS of a task's box (its cell or an adaptive part) into `bits`, cleared by the caller.
-	   `candidates`, when not NULL, are the objects the caller intersects with (an adaptive sub-cell's
-	   parent PVS, earlier methods): a method may test only those. Adds PVS__BAKE_* to *flags.
-	   Thread-safe for distinct tasks. */
+	   `candidates` (may be NULL): what the caller intersects with (parent PVS, earlier methods); a method may test
+	   only those. Adds PVS__BAKE_* to *flags. Thread-safe for distinct tasks. */
 	pvs_result (*cell)(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
 					   const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err);
-	/* Fills the file's sections of the method's own when the bake runs it alone. NULL: none. */
+	/* Fills the method's own file sections when the bake runs it alone. NULL: none. */
 	void (*file)(const void *state, pvs_file_desc *fd);
 	/* Frees the state (NULL is fine). */
 	void (*destroy)(const pvs__bake_env *env, void *state);
-	/* AUTO's cost class for desc's cells when it depends on the scene (state: NULL before preparing). NULL:
-	   cost_class. */
+	/* AUTO's cost class when it depends on the scene (state: NULL before preparing). NULL: cost_class. */
 	int (*price)(const pvs_bake_desc *desc, const void *state);
 } pvs__bake_method;
 
 struct pvs_bake;
-/* The state of method m in a bake, NULL when the bake did not prepare it (>>bake). */
+/* Method m's state in a bake, NULL if not prepared (>>bake). */
 PVS__STATIC void *pvs__bake_method_state(const struct pvs_bake *b, pvs_method m);
 
 // >>scene
@@ -2029,24 +1961,24 @@ struct pvs_scene {
 	float *positions;			 /* vertex_count * 3 */
 	uint32_t *indices;			 /* triangle_count * 3 */
 	uint32_t *triangle_object;	 /* triangle_count: object id or PVS_NO_OBJECT */
-	pvs_box *object_boxes;		 /* object_count; empty box (min > max) for empty objects */
+	pvs_box *object_boxes;		 /* object_count; empty (min > max) for empty objects */
 	uint32_t *object_flags;		 /* object_count */
 	uint32_t *object_triangles;  /* object_count * 2: first triangle, triangle count */
 	pvs_box bounds;
-	pvs_occluder_desc *occluders;/* occluder_count, arrays pointing into occluder_data */
+	pvs_occluder_desc *occluders;/* occluder_count, arrays in occluder_data */
 	pvs_box *occluder_boxes;	 /* occluder_count */
 	float *occluder_data;		 /* planes and footprints of all occluders */
 	size_t occluder_data_count;  /* floats in occluder_data */
-	pvs_kdtree *triangle_tree;	 /* over triangle boxes (zero-area triangles left out) */
-	pvs_kdtree *object_tree;	 /* over object boxes (empty objects left out) */
-	float *triangle_corners;	 /* triangle_count * 9: corners sorted lexicographically, for ray casts */
-	double max_triangle_area;	 /* the largest triangle's area (occluder selection's bound) */
+	pvs_kdtree *triangle_tree;	 /* over triangle boxes (zero-area ones left out) */
+	pvs_kdtree *object_tree;	 /* over object boxes (empty ones left out) */
+	float *triangle_corners;	 /* triangle_count * 9: corners sorted lexicographically */
+	double max_triangle_area;	 /* for occluder selection's bound */
 };
 
-/* Fills s->triangle_corners and empties the boxes of zero-area triangles (>>kdtree). */
+/* Fills s->triangle_corners, empties zero-area triangles' boxes (>>kdtree). */
 PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err);
 
-/* Double-precision 3x3 solve of three planes n_i.p + d_i = 0; returns 0 when (nearly) parallel. */
+/* Solves three planes n_i.p + d_i = 0 in double; 0 when (nearly) parallel. */
 PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c, double out[3]) {
 	double n1[3], n2[3], n3[3], x[3], det;
 	int i;
@@ -2075,8 +2007,8 @@ PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c
 	return 1;
 }
 
-/* Bounds of a convex occluder by vertex enumeration, clipped to a box far larger than any vertex:
-   a vertex on that box means the half-spaces are unbounded; no vertex means empty. */
+/* Bounds of a convex occluder by vertex enumeration, clipped to a box far larger than any vertex: a vertex on that
+   box means unbounded; no vertex means empty. */
 PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_box *out, int64_t index,
 										  pvs_error *err) {
 	float all[(PVS_MAX_OCCLUDER_PLANES + 6) * 4];
@@ -2095,7 +2027,7 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
 		for (k = 0; k < 4; ++k) all[4 * i + k] = (float)(p[k] / len);
 		if (fabs(p[3] / len) + 1.0 > reach) reach = fabs(p[3] / len) + 1.0;
 	}
-	/* every vertex is some triple's intersection: reach bounds them all, generously */
+	/* every vertex is a triple's intersection: reach bounds them all */
 	for (i = 0; i + 2 < n; ++i)
 		for (j = i + 1; j + 1 < n; ++j)
 			for (k = j + 1; k < n; ++k) {
@@ -2148,7 +2080,7 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
 	return PVS_OK;
 }
 
-/* 1 if segments p1-p2 and p3-p4 (2D) intersect or touch, in double precision. */
+/* 1 if 2D segments p1-p2 and p3-p4 intersect or touch (double). */
 PVS__STATIC int pvs__segments_meet_2d(const float *p1, const float *p2, const float *p3, const float *p4) {
 	double d1x = (double)p2[0] - p1[0], d1y = (double)p2[1] - p1[1];
 	double d2x = (double)p4[0] - p3[0], d2y = (double)p4[1] - p3[1];
@@ -2272,8 +2204,7 @@ PVS_API void pvs_scene_destroy(pvs_scene *s) {
 	pvs__free(&a, s, sizeof(*s), 16);
 }
 
-/* pvs_scene_create's checks, before anything is allocated; *floats gets the floats the occluders' planes and
-   footprints need. */
+/* pvs_scene_create's checks, before allocating; *floats gets the floats the occluders' planes and footprints need. */
 PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t *floats, pvs_error *err) {
 	size_t n3, i;
 	uint32_t o;
@@ -2323,8 +2254,8 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
 	return PVS_OK;
 }
 
-/* The objects' flags, triangle ranges and boxes (empty when every triangle has zero area: never visible); each
-   triangle is claimed by one object only (s->triangle_object). */
+/* The objects' flags, triangle ranges and boxes (empty when all triangles have zero area); each triangle belongs to
+   one object at most (s->triangle_object). */
 PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
 	uint32_t o, t;
 	for (o = 0; o < desc->object_count; ++o) {
@@ -2362,8 +2293,8 @@ PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *de
 	return PVS_OK;
 }
 
-/* The explicit occluders, validated (pvs__validate_occluder) and copied with their planes and
-   footprints into s->occluder_data; their boxes grow the scene's bounds. */
+/* The explicit occluders, validated and copied with planes and footprints into s->occluder_data; their boxes grow
+   the scene's bounds. */
 PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
 	size_t floats = 0;
 	uint32_t o;
@@ -2393,7 +2324,7 @@ PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *
 	return PVS_OK;
 }
 
-/* The scene's kD-trees over the triangles' boxes (zero-area ones emptied) and the objects' boxes. */
+/* The kD-trees over triangle boxes (zero-area ones emptied) and object boxes. */
 PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, const pvs_box *tri_boxes,
 										pvs_error *err) {
 	pvs_kdtree_desc kd;
@@ -2494,7 +2425,7 @@ PVS_API pvs_box pvs_scene_object_box(const pvs_scene *s, uint32_t object) {
 	PVS_ASSERT(object < s->object_count);
 	return s->object_boxes[object];
 }
-/* FNV-1a over n 32-bit words, least significant byte first. */
+/* FNV-1a over n 32-bit words, low byte first. */
 PVS__STATIC uint64_t pvs__fnv(uint64_t h, const void *words, size_t n) {
 	const uint8_t *p = (const uint8_t *)words;
 	size_t i;
@@ -2537,11 +2468,10 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
 	return s->occluders + i;
 }
 
-/* The scene's 2.5D facades for >>vocc: pairs of consecutive triangles forming a vertical rectangle (two ground
-   positions x two heights, split along a diagonal) whose bottom is at or below the scene's lowest point, so it
-   blocks every height from the ground to its top; anything else is left out (conservative). vocc keeps this rather
-   than pvs__facades_extract (>>otree), which would change its results. Writes *count facades of 6 floats (u0 v0 u1
-   v1 top bottom), in triangle order, into a new array *out (6 count + 6 floats, allocator a; NULL on failure). */
+/* The scene's 2.5D facades for >>vocc: pairs of consecutive triangles forming a vertical rectangle whose bottom is
+   at or below the scene's lowest point; anything else is left out (conservative). (pvs__facades_extract would change
+   vocc's results.) Writes *count facades of 6 floats (u0 v0 u1 v1 top bottom), in triangle order, into a new array
+   *out (6 count + 6 floats, allocator a; NULL on failure). */
 PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocator *a, float **out, uint32_t *count) {
 	int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
 	float ground = s->bounds.min[up];
@@ -2563,7 +2493,7 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 				if (m == nh) { if (nh < 2) h[nh] = c[k][up]; ++nh; }
 			}
 			if (np != 2 || nh != 2) continue;
-			/* each triangle has three distinct corners; they share exactly two, on a diagonal */
+			/* three distinct corners each, sharing exactly two (a diagonal) */
 			for (k = 0; k < 3; ++k)
 				if (c[k] == c[(k + 1) % 3] || c[3 + k] == c[3 + (k + 1) % 3] ||
 					!memcmp(c[k], c[(k + 1) % 3], 12) || !memcmp(c[3 + k], c[3 + (k + 1) % 3], 12)) break;
@@ -2604,11 +2534,10 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 /* scene ray casts                                                                                */
 /* ---------------------------------------------------------------------------------------------- */
 
-/* Layout: a node is 8 bytes; `bits` holds the axis in its low 2 bits (3 = leaf) and above them an index: an
-   inner node's left child (the right one follows) or a leaf's item list offset in `items`; the union holds
-   the split plane or the leaf's item count. Node 0 is the root; inner nodes have two children, so N nodes
-   have (N + 1) / 2 leaves. Items are referenced from every leaf whose closed cell overlaps their closed box:
-   a point on a split plane finds every box touching it on either side. */
+/* Layout: 8-byte nodes; `bits` holds the axis in its low 2 bits (3 = leaf) and above them an inner node's left child
+   (the right one follows) or a leaf's offset in `items`; the union holds the split or the leaf's item count. Node 0
+   is the root; N nodes have (N + 1) / 2 leaves. Items are in every leaf whose closed cell overlaps their closed box,
+   so a point on a split plane finds every box touching it. */
 #define PVS__KD_BINS 32					/* SAH candidate planes per axis: PVS__KD_BINS - 1 */
 #define PVS__KD_SAMPLE 256			  /* most refs binned per node (an even stride through bigger ones) */
 #define PVS__KD_LEAF 3u					/* axis value of a leaf */
@@ -2673,17 +2602,13 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
 	return PVS_OK;
 }
 
-/* Splits node `node` (refs[base .. base + n) on top of the stack, cell `box`) or makes it a leaf. Binned SAH
-   over all three axes (Bittner 2002 §4.4 uses SAH or fewest cut objects; binning after Wald 2007): up to 31
-   planes per axis, fewer in small nodes. The counts are exact for the closed-interval distribution below (up
-   to sampling in big nodes): straddlers and boxes in a plane are costed as they will be stored.
-
-   Budgets. A straddling box goes to both sides, so boxes that overlap everywhere (a fan of slivers around
-   one vertex) would multiply references at every level: memory quadratic in the count. So the build draws
-   from two pools set by pvs_kdtree_create, the references a split adds (l + r - n) and the nodes (two per
-   split); a split the pools cannot pay for is not taken (a bigger leaf). Pools are spent in build order, so
-   a tree within them is the tree built without them: ordinary scenes use about half (tests/BENCHMARKS.md,
-   kdtree), adversarial ones get big leaves instead of more memory. */
+/* Splits node `node` (refs[base .. base + n) on top of the stack, cell `box`) or makes it a leaf. Binned SAH over
+   all three axes (Bittner 2002 §4.4; binning after Wald 2007): up to 31 planes per axis, fewer in small nodes.
+   Counts are exact for the closed-interval distribution below (up to sampling in big nodes).
+   Budgets. A straddling box goes to both sides, so boxes overlapping everywhere would make memory quadratic. The
+   build draws from two pools set by pvs_kdtree_create, the references a split adds (l + r - n) and the nodes (two
+   per split); a split they cannot pay for is not taken (a bigger leaf). Pools are spent in build order, so a tree
+   within them is the tree built without them. */
 PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box,
 									 uint32_t depth) {
 	pvs_kdtree *t = b->tree;
@@ -2695,8 +2620,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	pvs_box lbox, rbox;
 	if (n <= b->leaf_size || depth >= b->max_depth || b->nodes_left < 2) return pvs__kd_make_leaf(b, node, base, n);
 
-	/* a box's SAH measure is linear in its extent along one axis, k1[axis] * extent + k0[axis]: half the
-	   surface area, or the edge sum for boxes with no area */
+	/* a box's SAH measure, k1[axis] * extent + k0[axis]: half the surface area, or the edge sum if no area */
 	for (axis = 0; axis < 3; ++axis) ext[axis] = box->max[axis] - box->min[axis];
 	area = ext[0] * ext[1] + ext[1] * ext[2] + ext[2] * ext[0] > 0.0f;
 	for (axis = 0; axis < 3; ++axis) {
@@ -2730,8 +2654,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 			float lo = box->min[axis], mn = ref->min[axis], mx = ref->max[axis];
 			int s, e;
 			/* s = the first k in 1..nb with mn <= planes[k], e = the last k in 0..nb-1 with mx >= planes[k].
-			   The refs lie in the cell, so the estimates are in [0, nb] and off by at most one near a
-			   plane: one exact comparison each way fixes them. */
+			   The estimates are in [0, nb] and off by at most one; one exact comparison each way fixes them. */
 			s = (int)((mn - lo) * scale[axis]);
 			e = (int)((mx - lo) * scale[axis]);
 			s = s < nb - 1 ? s : nb - 1;
@@ -2780,8 +2703,8 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 		if (nl + nr > n + b->refs_left) return pvs__kd_make_leaf(b, node, base, n);
 	}
 
-	/* distribute with closed intervals: a ref touching the plane goes to both sides, clipped; left refs are
-	   compacted in place, right ones written above base + n (the loop writes one slot past them) */
+	/* closed intervals: a ref touching the plane goes to both sides, clipped; left refs are compacted in place,
+	   right ones written above base + n (the loop writes one slot past them) */
 	{
 		pvs__kdref *refs = (pvs__kdref *)pvs__grow_capped(&t->allocator, b->refs, &b->ref_capacity, base + n,
 														  base + n + nr + 1, b->ref_limit, sizeof(pvs__kdref), &r);
@@ -2792,8 +2715,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 		const pvs__kdref *src = b->refs + base + i;
 		float mn = src->min[axis], mx = src->max[axis];
 		int to_left = mn <= split, to_right = mx >= split;
-		/* both slots are free: write, then advance (no branches; the clipped coordinate is stored last,
-		   so no wide load waits on a narrow store) */
+		/* both slots are free: write, then advance, branch-free; the clipped coordinate is stored last */
 		b->refs[top] = *src;
 		b->refs[top].min[axis] = mn < split ? split : mn;
 		top += (size_t)to_right;
@@ -2874,10 +2796,9 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 	b->max_depth = desc->max_depth ? desc->max_depth : 8 + (13 * lg + 9) / 10;
 	if (b->max_depth > PVS_KDTREE_MAX_DEPTH) b->max_depth = PVS_KDTREE_MAX_DEPTH;
 
-	/* The pools: PVS_KDTREE_MAX_REFS_PER_BOX references and PVS_KDTREE_MAX_NODES_PER_BOX nodes per box (K, N). The
-	   stack holds the refs of leaves still to build, plus a node being split: its n and its right side above, at
-	   most the pool's total plus one node's count and a slot. So the build holds at most 4 K + 8 N + 28 (K + 1)
-	   bytes per box, PVS_KDTREE_BUILD_BYTES_PER_BOX. */
+	/* Pools: PVS_KDTREE_MAX_REFS_PER_BOX references and PVS_KDTREE_MAX_NODES_PER_BOX nodes per box (K, N). The
+	   stack holds the refs of leaves still to build plus a node being split (n and its right side), at most the
+	   pool plus one node's count and a slot: at most 4 K + 8 N + 28 (K + 1) bytes per box. */
 	b->refs_left = (size_t)(PVS_KDTREE_MAX_REFS_PER_BOX - 1) * m;
 	b->nodes_left = (size_t)PVS_KDTREE_MAX_NODES_PER_BOX * m;
 	b->item_limit = (size_t)PVS_KDTREE_MAX_REFS_PER_BOX * m;
@@ -2935,7 +2856,7 @@ PVS__STATIC int pvs__kdsweep_before(const void *pa, const void *pb) {
 	return a->d2 < b->d2 || (a->d2 == b->d2 && a->node < b->node);
 }
 
-/* The heap holds nodes none of which is another's ancestor (a pop pushes the children): at most the leaves. */
+/* The heap holds no node's ancestor (a pop pushes the children): at most the leaves. */
 PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *t) {
 	return ((size_t)t->node_count + 1) / 2 * sizeof(pvs__kdsweep);
 }
@@ -2976,10 +2897,9 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
 	return PVS_VISIT_DESCEND;
 }
 
-/* The approximate occlusion sweep (Bittner 2002 §3.2): a priority queue on the nodes' minimum distance to the
-   source. A child's cell lies in its parent's, so its distance is never smaller: the visit order is non-decreasing.
-   `heap` holds (node_count + 1) / 2 entries; `node`, when not NULL, receives the visited node's index during each
-   `visit` (the otree bake keeps per-node counts). */
+/* The approximate occlusion sweep (Bittner 2002 §3.2): a priority queue on the nodes' minimum distance to the source
+   (never smaller for a child). `heap` holds (node_count + 1) / 2 entries; `node` (may be NULL) receives the visited
+   node's index during each `visit`. */
 PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
 							   pvs_kdtree_visit_fn visit, void *user, uint32_t *node) {
 	size_t n = 1;
@@ -3036,9 +2956,8 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
 
 /* ---- ray walk ---- */
 
-/* Front-to-back stack traversal (the classic recursive ray traversal, Havran's TA_rec_B family) in double. Leaf
-   intervals widen by PVS__KD_RAY_TOL of the coordinates' size: a touched leaf is never skipped, at worst an extra
-   neighbour is visited. */
+/* Front-to-back stack traversal (Havran's TA_rec_B family) in double. Leaf intervals widen by PVS__KD_RAY_TOL of
+   the coordinates' size: a touched leaf is never skipped. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const float dir[3], float tmax_f,
 							pvs_kdtree_ray_fn fn, void *user) {
 	struct {
@@ -3129,8 +3048,7 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const fl
 
 /* ---- point location ---- */
 
-/* A point on a split plane goes left; that leaf holds every item whose box contains it, as the build stores a box
-   touching the plane on both sides. */
+/* A point on a split plane goes left; that leaf holds every box containing it (touching boxes go to both sides). */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *t, const float p[3], uint32_t *count) {
 	const pvs__kdnode *nd;
 	uint32_t axis;
@@ -3183,8 +3101,8 @@ PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes,
 	return PVS_OK;
 }
 
-/* A ray prepared for the watertight test of Woop, Benthin and Wald (JCGT 2013), in double: kz the axis of the
-   largest direction component, the shear taking dir to +-z. */
+/* A ray for the watertight test (Woop, Benthin, Wald, JCGT 2013) in double: kz the largest direction axis, the shear
+   taking dir to +-z. */
 typedef struct pvs__ray {
 	double o[3];
 	double sx, sy, sz;
@@ -3204,8 +3122,8 @@ PVS__STATIC int pvs__ray_setup(pvs__ray *r, const double o[3], const double d[3]
 	return 1;
 }
 
-/* 2D edge function of sheared corners p, q: its sign tells the side of p-q the ray passes. Corners are stored
-   sorted, so a shared edge is evaluated as the same (p, q), bit for bit, in both triangles: no ray slips between. */
+/* 2D edge function of sheared corners p, q: its sign tells the side of p-q the ray passes. Corners are sorted, so a
+   shared edge gives bit-identical results in both triangles. */
 PVS__STATIC double pvs__edge(const double *p, const double *q) { return p[0] * q[1] - p[1] * q[0]; }
 
 /* Two-sided watertight ray-triangle test: 1 and *t when the ray meets the triangle at 0 <= t <= tmax. */
@@ -3258,7 +3176,7 @@ PVS__STATIC float pvs__raycast_leaf(void *user, const uint32_t *items, uint32_t 
 		}
 	}
 	if (rc->any) return FLT_MAX;
-	/* shorten the walk to the closest hit, rounding up so no leaf at that distance is skipped */
+	/* shorten the walk to the closest hit, rounding up */
 	f = (float)rc->tmax;
 	if ((double)f < rc->tmax) f = nextafterf(f, FLT_MAX);
 	return f;
@@ -3307,7 +3225,7 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 	rc.tmax = 1.0;
 	rc.triangle = 0xffffffffu;
 	rc.any = 1;
-	/* the float direction may fall short of b: walk a little past; the test itself stops at 1 */
+	/* the float direction may fall short of b: walk a little past; the test stops at 1 */
 	pvs_kdtree_ray(s->triangle_tree, a, df, 1.0f + 1e-6f, pvs__raycast_leaf, &rc);
 	return rc.triangle != 0xffffffffu;
 }
@@ -3317,17 +3235,15 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
    Schmalstieg 1999 §3-4), per-frame culling (Bittner 2002 §3.2, §4.5) ==== */
 
 /* Rounding. Per polygon (a triangle clipped to the near plane) the setup is in double: edge functions E (>= 0 inside,
-   |a| + |b| = 1) at the range's corner plus their exact extreme over a pixel, min(0, a) + min(0, b) for inner coverage
-   (occluders) or max(0, a) + max(0, b) for outer (occludees): Wonka 1999 §4.4's sampling correction. Every error bound
-   is then subtracted (occluder) or added (occludee) before rounding to float: 2^-40 of the coordinates' size for setup
-   and projection, over the edge length (short edges far off screen get wide margins), and 2^-20 of the terms for the
-   float c + a i + b j (four roundings of 2^-24; i, j exact). Depth z/w is affine: the plane's extreme at the pixel
-   corners (inner) or among corners and vertices (outer), plus margin and clamped by the vertices' extreme depth, is
-   safe even for an ill-conditioned plane. Degenerate polygons cover nothing as occluders, their rectangle at the
+   |a| + |b| = 1) at the range's corner plus their exact extreme over a pixel, min(0, a) + min(0, b) for inner
+   coverage (occluders) or max(0, a) + max(0, b) for outer (occludees): Wonka 1999 §4.4's sampling correction. Error
+   bounds are subtracted (occluder) or added (occludee) before rounding to float: 2^-40 of the coordinates' size for
+   setup and projection, over the edge length, and 2^-20 of the terms for the float c + a i + b j. Depth z/w is
+   affine: the plane's extreme at the pixel corners (inner) or among corners and vertices (outer), plus margin and
+   clamped by the vertices' extreme depth. Degenerate polygons cover nothing as occluders, their rectangle at the
    nearest depth as occludees. Scalar and SIMD do the same float operations in order: bit-identical without FMA
-   contraction (GCC's -std=c99 default; the pragma below for clang), which would only remove roundings. Limit: the
-   near-plane cut has no margin (an occludee may lose a sliver about 2^-51 |b - a| / near wide, under 1e-8 pixels at 4K
-   for edges below 10^4 near distances). */
+   contraction (the pragma below for clang). Limit: the near-plane cut has no margin (an occludee may lose a sliver
+   about 2^-51 |b - a| / near wide). */
 
 #if !defined(PVS_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
 #define PVS__SSE2 1
@@ -3337,11 +3253,11 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 #include <arm_neon.h>
 #endif
 
-/* Lanes: four floats (pvs__f4), four int32 (pvs__i4) and a mask (pvs__m4: each lane all ones or zero) with the few
-   operations the SIMD kernels below are written on once, each the instruction they used before per set: min and max
-   are a < b ? a : b and a > b ? a : b (SSE2's minps and maxps; NEON compares and selects, vminq differs on NaN and
-   signed zeros); float to int truncates (NEON saturates where SSE2 gives INT_MIN: kernels keep lanes in range);
-   shl_ones is ~0 << clamp(n, 0, 32). PVS__LANES_DIV adds div, hmin2 and hmax2 (over two vectors' eight lanes). */
+/* Lanes: four floats (pvs__f4), four int32 (pvs__i4) and a mask (pvs__m4: lanes all ones or zero), the operations
+   the SIMD kernels are written on: min and max are a < b ? a : b and a > b ? a : b (SSE2 minps / maxps; NEON
+   compare and select, as vminq differs on NaN and signed zeros); float to int truncates (NEON saturates where SSE2
+   gives INT_MIN: kernels keep lanes in range); shl_ones is ~0 << clamp(n, 0, 32). PVS__LANES_DIV adds div, hmin2 and
+   hmax2 (over eight lanes). */
 #if defined(PVS__SSE2)
 #define PVS__LANES 1
 #define PVS__LANES_DIV 1
@@ -3495,9 +3411,9 @@ PVS__STATIC pvs__i4 pvs__f4_floori(pvs__f4 f) {
 #define PVS__RASTER_MAX_LEVELS 16
 #define PVS__RASTER_BIG 1e30
 
-/* A context's buffers listed once, for both its creation and its destruction: entry k's *p gets n elements of `size`
-   bytes (pvs__bufs_alloc, in order and on past a failure, as one call each would; 0 when one failed) or is freed
-   (pvs__bufs_free; NULL entries are skipped). PVS__BUF appends an entry. */
+/* A context's buffers, listed once for creation and destruction: entry k's *p gets n elements of `size` bytes
+   (pvs__bufs_alloc, going on past a failure; 0 when one failed) or is freed (pvs__bufs_free; skips NULL). PVS__BUF
+   appends an entry. */
 typedef struct pvs__buf {
 	void **p;
 	size_t n, size;
@@ -3513,8 +3429,8 @@ PVS__STATIC void pvs__bufs_free(const pvs_allocator *a, const pvs__buf *b, int k
 	for (i = 0; i < k; ++i) pvs__free_array(a, *b[i].p, b[i].n, b[i].size);
 }
 
-/* Occluder tile (Hasselgren et al. 2016), reversed Z: occluders at least as near as z0 on every pixel, z1 on `mask` (z1
-   > z0 while mask != 0). */
+/* Occluder tile (Hasselgren et al. 2016), reversed Z: occluders at least as near as z0 on every pixel, z1 on `mask`
+   (z1 > z0 while mask != 0). */
 typedef struct pvs__tile {
 	uint32_t mask[4]; /* bit k of mask[r]: pixel (32 tx + k, 4 ty + r) */
 	float z0, z1;
@@ -3598,8 +3514,8 @@ typedef struct pvs__rsetup {
 	float zclamp;		  /* occluder: max(plane, zclamp); occludee: min(plane, zclamp) */
 } pvs__rsetup;
 
-/* Reference pixel rule (scalar loop, SIMD tails): inside every edge (rk: at column i0), clamped plane depth if nearer.
-   1 when written. */
+/* Reference pixel rule (scalar loop, SIMD tails): inside every edge (rk: at column i0), clamped plane depth if
+   nearer. 1 when written. */
 PVS__STATIC int pvs__raster_pixel(const pvs__rsetup *s, const float *rk, float rz, float *row, int32_t i,
 								  int occluder) {
 	float fi = (float)(i - s->i0), d;
@@ -3658,8 +3574,8 @@ PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t
 }
 #endif
 
-/* 8 x 8 tiles keep their farthest depth: a polygon skips tiles it cannot be nearer than or lies outside (occluders come
-   roughly front to back). Skipping never changes a result. */
+/* 8 x 8 tiles keep their farthest depth: a polygon skips tiles it cannot be nearer than or lies outside. Skipping
+   never changes a result. */
 #define PVS__TILE_SHIFT 3
 #define PVS__TILE (1 << PVS__TILE_SHIFT)
 
@@ -3675,8 +3591,8 @@ PVS__STATIC void pvs__tile_update(float *buf, uint32_t W, uint32_t H, float *til
 	tile_min[ty * ((W + PVS__TILE - 1) >> PVS__TILE_SHIFT) + tx] = lo;
 }
 
-/* -1: all pixels of [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] fail an edge as the float loops see it, 1: all pass, 0:
-   undecided (in double with slack 2^-18 of the terms). */
+/* -1: all pixels of [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] fail an edge as the float loops see it, 1: all pass,
+   0: undecided (in double with slack 2^-18 of the terms). */
 PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1) {
 	int e, inside = 1;
 	for (e = 0; e < s->edges; ++e) {
@@ -3691,7 +3607,7 @@ PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a
 }
 
 /* The most (least: the least) the loops can write over pixels [a0, a1] x [b0, b1] (relative), slack included: the
-   affine depth's extreme corner (rounding is monotone, so the corner of the extreme terms). */
+   affine depth's extreme corner (rounding is monotone). */
 PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1,
 									  int occluder, int least) {
 	double pa = s->za, pb = s->zb, z,
@@ -3701,7 +3617,7 @@ PVS__STATIC double pvs__raster_zbound(const pvs__rsetup *s, int32_t a0, int32_t 
 	return occluder ? pvs__dmax(z, s->zclamp) : pvs__dmin(z, s->zclamp);
 }
 
-/* Pixel loops by 4 x 4 tile blocks, then tiles, skipping those as near as the polygon can write or outside an edge. */
+/* Pixel loops by 4 x 4 tile blocks, then tiles, skipping those as near as the polygon or outside an edge. */
 PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_t H, float *tile_min, int occluder,
 								 int simd, float zbound) {
 	uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, bx, by;
@@ -3785,9 +3701,9 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
 				pvs__tile_update(buf, W, H, tile_min, tx, ty);
 }
 
-/* The depth plane of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi, oy +
-   fj), fi <= iw, fj <= jh, from its largest fan triangle: p = za, zb, zk with z = zk + za fi + zb fj, and the bound
-   on the setup error. 0 when no fan triangle has an area. */
+/* The depth plane of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi,
+   oy + fj), fi <= iw, fj <= jh, from its largest fan triangle: p = za, zb, zk with z = zk + za fi + zb fj, and the
+   setup error bound. 0 when no fan triangle has an area. */
 PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double *z, int n, double ox, double oy,
 								  double iw, double jh, double span, double mag, double zmag, double perr, double zerr,
 								  double p[4]) {
@@ -3860,9 +3776,9 @@ PVS__STATIC int pvs__poly_usable(const pvs__polyext *e, double span) {
 		pvs__dabs(e->area2) > 1e-300;
 }
 
-/* Edge i of polygon x, y (flip: clockwise) over pixels (ox + fi, oy + fj), fi <= iw, fj <= jh, as the rounding argument
-   says: e = a, b, k, E = a fi + b fj + k. Mode 0 occludee, 1 occluder, 2 tile loops (their own float margin). 1: an
-   edge to test, 0: every pixel passes it (or no length), -1: none does. */
+/* Edge i of polygon x, y (flip: clockwise) over pixels (ox + fi, oy + fj), fi <= iw, fj <= jh, per Rounding: e = a,
+   b, k, E = a fi + b fj + k. Mode 0 occludee, 1 occluder, 2 tile loops (own float margin). 1: an edge to test, 0:
+   every pixel passes it (or no length), -1: none does. */
 PVS__STATIC int pvs__raster_edge(const double *x, const double *y, int i, int n, int flip, double ox, double oy,
 								 double iw, double jh, double mag, double perr, int mode, double e[3]) {
 	int j = i + 1 == n ? 0 : i + 1;
@@ -3947,8 +3863,8 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 }
 
 /* ---- occluder buffer: Masked Occlusion Culling (Hasselgren, Andersson and Akenine-Moller 2016), inner coverage. A
-   polygon's inner pixels in a 32 x 4 tile row are one run of columns from the edges' intercepts (the paper's scanline
-   events, as shifted masks); the working layer merges over the base by the paper's heuristic. ---- */
+   polygon's inner pixels in a 32 x 4 tile row are one run of columns from the edges' intercepts (shifted masks); the
+   working layer merges over the base by the paper's heuristic. ---- */
 
 #define PVS__TW_SHIFT 5
 #define PVS__TH_SHIFT 2
@@ -3959,8 +3875,8 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 #define PVS__U_2_44 5.684341886080802e-14	   /* 2^-44 */
 #define PVS__U_2_48 3.552713678800501e-15	   /* 2^-48 */
 
-/* Occluder polygon for the tile loops (i, j relative to (i0, j0)): pixel i of row j is inside edge e if i >= X_e(j)
-   (left) or i <= X_e(j) (right); X_e(j) = xi + s j is the double edge line with margins; m: its float error bound. */
+/* Occluder polygon for the tile loops (i, j relative to (i0, j0)): pixel i of row j is inside edge e if i >=
+   X_e(j) (left) or i <= X_e(j) (right); X_e(j) = xi + s j with margins; m: its float error bound. */
 typedef struct pvs__tpoly {
 	int32_t i0, i1, j0, j1;    /* inner pixel range (absolute) */
 	int32_t jlo, jhi;		   /* rows (relative) the near-horizontal edges leave */
@@ -4043,9 +3959,9 @@ PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t 
 }
 #endif
 
-/* Merges coverage T (as near as zt > z0) into a tile, Hasselgren et al.'s two-layer update: T covering the tile becomes
-   the base; else the layer takes the union at the farther depth, or T replaces it if T leads it by more than it leads
-   the base; a full layer becomes the base. Each step keeps every pixel a lower bound of its nearest occluder. `pad`:
+/* Merges coverage T (as near as zt > z0) into a tile, Hasselgren et al.'s two-layer update: T covering the tile
+   becomes the base; else the layer takes the union at the farther depth, or T replaces it if T leads it by more than
+   it leads the base; a full layer becomes the base. Every pixel stays a lower bound of its nearest occluder. `pad`:
    bits off the map. */
 PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, const uint32_t *pad) {
 	uint32_t full = ~0u, any = 0, m;
@@ -4078,8 +3994,8 @@ PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, con
 	}
 }
 
-/* Tile rows of a polygon: runs of its four pixel rows, then per tile its farthest depth over the run; skips tiles
-   already that near. */
+/* Tile rows of a polygon: runs of its four pixel rows, then per tile its farthest depth; skips tiles already that
+   near. */
 PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 	int32_t ty, ty0 = (t->j0 + t->jlo) >> PVS__TH_SHIFT, ty1 = (t->j0 + t->jhi) >> PVS__TH_SHIFT;
 	float xr[PVS__RASTER_MAXV];
@@ -4152,7 +4068,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 }
 
 /* Edges over t's inner range, as pvs__raster_poly: steep ones become left [0, nl) and right [nl, ne) edges,
-   near-horizontal ones narrow rows [jlo, jhi]. 0 when no pixel passes an edge. */
+   near-horizontal ones narrow rows [jlo, jhi]. 0 when no pixel passes one. */
 PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y, int n, double area2, double mag,
 								double perr) {
 	double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0);
@@ -4169,8 +4085,8 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
 		if (!r) continue;
 		a = ed[0]; b = ed[1]; k = ed[2];
 		if (pvs__dabs(a) > pvs__dabs(b) * PVS__U_2_20) {
-			/* i >= X(j) for a > 0, i <= X(j) for a < 0; X(jrow) is clamped to +-cl (beyond, all four rows fall on one
-			   side); float error at most 3 cl + 13 |s| units of 2^-24 plus 2^-51 (|xi| + |s| |jrow|), below m */
+			/* i >= X(j) for a > 0, i <= X(j) for a < 0; X(jrow) clamped to +-cl; float error at most 3 cl + 13 |s|
+			   units of 2^-24 plus 2^-51 (|xi| + |s| |jrow|), below m */
 			double xi = -k / a, sl = -b / a, sa = pvs__dabs(sl), cl = iw + 3.0 + 3.0 * sa;
 			float m = pvs__f_up(PVS__U_2_21 * cl + PVS__U_2_48 * (pvs__dabs(xi) + sa * (jh + 4.0)));
 			if (a > 0.0) {
@@ -4205,8 +4121,8 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
 	return 1;
 }
 
-/* Depth plane over t's range (as pvs__raster_zplane) less its setup error, zm the loops' float margin, zlo the clamp;
-   unusable: zk = -FLT_MAX. */
+/* Depth plane over t's range (as pvs__raster_zplane) less its setup error, zm the loops' float margin, zlo the
+   clamp; unusable: zk = -FLT_MAX. */
 PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *y, const double *z, int n, double span,
 								  double mag, double zmag, double perr, double zerr, double zlo) {
 	double iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0), p[4];
@@ -4294,8 +4210,8 @@ PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) 
 	return v;
 }
 
-/* Clip-space vertex v to pixels *x, *y (map half sizes hw, hh) and depth *z; *perr, *zerr grow to its error after the
-   division, in pixels and in depth. */
+/* Clip-space vertex v to pixels *x, *y (map half sizes hw, hh) and depth *z; *perr, *zerr grow to its error after
+   the division. */
 PVS__STATIC void pvs__raster_project(const pvs__cv *v, double hw, double hh, double *x, double *y, double *z,
 									 double *perr, double *zerr) {
 	double iw = 1.0 / v->c[3], e = v->e * iw;
@@ -4307,7 +4223,7 @@ PVS__STATIC void pvs__raster_project(const pvs__cv *v, double hw, double hh, dou
 }
 
 /* Sutherland-Hodgman against w - z >= 0 (near) or w - tiny >= 0; lout gets lin's labels (edge i: vertex i to i + 1;
-   NULL: none), PVS__MESH_CLIP along the plane. Cutting from the inside vertex keeps shared edges' cuts identical. */
+   NULL: none), PVS__MESH_CLIP along the plane. Cutting from the inside vertex makes shared edges' cuts identical. */
 #define PVS__MESH_CLIP 3
 PVS__STATIC int pvs__raster_clip(const pvs__cv *in, int n, pvs__cv *out, int plane, const uint8_t *lin, uint8_t *lout) {
 	int i, m = 0;
@@ -4381,13 +4297,13 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 	r->pyramid_valid = 0;
 }
 
-/* ---- occluder prefilter: four triangles at a time in float (as Masked Occlusion Culling fills SIMD lanes), dropping
+/* ---- occluder prefilter: four triangles at a time in float (SIMD lanes, as in Masked Occlusion Culling), dropping
    those behind the near plane, off screen, without a whole pixel or behind every tile's base; the rest go to
-   pvs__raster_tri. Dropping an occluder is conservative, so no margins; scalar and SIMD decide alike. ---- */
+   pvs__raster_tri. Dropping occluders is conservative: no margins; scalar and SIMD agree. ---- */
 
-#define PVS__PF_TILES 16 /* hidden test: tiles one by one in boxes up to this size */
+#define PVS__PF_TILES 16 /* hidden test: tile by tile in boxes up to this size */
 
-/* Lanes to draw (bit l), those in *test only if not hidden; box, zmax: their whole pixels in the map and nearest vertex
+/* Lanes to draw (bit l), those in *test only if not hidden; box, zmax: their whole pixels in the map, nearest vertex
    depth. Lanes partly behind the near or eye plane are drawn untested (clipped later) unless wholly behind one. */
 PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
 									float *zmax) {
@@ -4428,7 +4344,6 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 		if (!fin) continue;
 		xmin = xmin > 0.0f ? xmin : 0.0f; xmax = xmax < fw ? xmax : fw;
 		ymin = ymin > 0.0f ? ymin : 0.0f; ymax = ymax < fh ? ymax : fh;
-		/* ceil of the mins, floor of the maxes less one */
 		f = (float)(int32_t)xmin; i0 = (int32_t)xmin + (f < xmin);
 		f = (float)(int32_t)xmax; i1 = (int32_t)xmax - (f > xmax) - 1;
 		f = (float)(int32_t)ymin; j0 = (int32_t)ymin + (f < ymin);
@@ -4442,7 +4357,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 }
 
 #if defined(PVS__LANES_DIV)
-/* v[l][k]: 4 readable floats (the caller copies the last vertex). */
+/* v[l][k]: 4 readable floats (caller copies the last vertex). */
 PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
 								  float *zmax) {
 	const pvs__f4 zero = pvs__f4_set1(0.0f), big = pvs__f4_set1(1e30f), one = pvs__f4_set1(1.0f);
@@ -4474,7 +4389,7 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
 	}
 	all = (unsigned)pvs__m4_bits(pvs__m4_or(allb, nonpos));
 	*test = 0;
-	if (all == 15u) return 0; /* all four behind the near plane or the eye */
+	if (all == 15u) return 0;
 	if ((unsigned)pvs__m4_bits(anyb) == 15u) return all ^ 15u;
 	xmin = xmax = ymin = ymax = zm = zero;
 	for (k = 0; k < 3; ++k) {
@@ -4491,11 +4406,11 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
 		}
 	}
 #undef PVS__ROW
-	/* a NaN can drop out of min and max, dropping the triangle as the scalar loop does (conservative) */
+	/* min/max may lose a NaN: drop the triangle like the scalar loop (conservative) */
 	fin = pvs__m4_and(pvs__f4_lt(pvs__f4_abs(xmin), big), pvs__f4_lt(pvs__f4_abs(xmax), big));
 	fin = pvs__m4_and(fin, pvs__m4_and(pvs__f4_lt(pvs__f4_abs(ymin), big), pvs__f4_lt(pvs__f4_abs(ymax), big)));
 	fin = pvs__m4_and(fin, pvs__f4_lt(pvs__f4_abs(zm), big));
-	/* clamped to the map; the untested lanes zeroed to keep their conversions in range */
+	/* clamp to the map; zero untested lanes (conversions in range) */
 	t = pvs__m4_andn(fin, anyb);
 	xmin = pvs__f4_sel(t, pvs__f4_max(xmin, zero), zero);
 	xmax = pvs__f4_sel(t, pvs__f4_min(xmax, pvs__f4_set1((float)r->width)), zero);
@@ -4556,7 +4471,7 @@ PVS__STATIC int pvs__pf_hidden(pvs_raster *r, int32_t box[4][4], int l, float zm
 	return 1;
 }
 
-/* Triangle t's vertices: those of scene triangle tris[t].triangle (tris not NULL), indices[3 t ..] or 3 t ... */
+/* Triangle t's vertices: of scene triangle tris[t].triangle (tris not NULL), indices[3 t ..] or 3 t ... */
 PVS__STATIC void pvs__tri_corners(const uint32_t *indices, const pvs__occsel *tris, uint32_t t, uint32_t q[3]) {
 	const uint32_t *ix = tris ? indices + 3 * (size_t)tris[t].triangle : indices ? indices + 3 * (size_t)t : NULL;
 	q[0] = ix ? ix[0] : 3 * t;
@@ -4564,7 +4479,7 @@ PVS__STATIC void pvs__tri_corners(const uint32_t *indices, const pvs__occsel *tr
 	q[2] = ix ? ix[2] : 3 * t + 2;
 }
 
-/* Occluder triangles through the prefilter, four at a time: `count` of `positions` (indices or NULL) or scene triangles
+/* Occluder triangles via the prefilter, four at a time: `count` of `positions` (indices or NULL) or scene triangles
    tris[0 .. count). */
 PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
 									   const uint32_t *indices, const pvs__occsel *tris, uint32_t count) {
@@ -4575,7 +4490,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 	int n;
 	int32_t box[4][4];
 	if (!vertex_count) return;
-	last[0] = positions[3 * ((size_t)vertex_count - 1)]; /* SIMD loads read 4 floats: copy the last vertex */
+	last[0] = positions[3 * ((size_t)vertex_count - 1)]; /* SIMD reads 4 floats: copy the last vertex */
 	last[1] = positions[3 * ((size_t)vertex_count - 1) + 1];
 	last[2] = positions[3 * ((size_t)vertex_count - 1) + 2];
 	last[3] = 0.0f;
@@ -4605,8 +4520,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 	}
 }
 
-/* Triangles one by one (pvs__tri_corners; those with a vertex out of range are left out); tiled occluders through the
-   prefilter. */
+/* Triangles one by one (pvs__tri_corners; out-of-range vertices: skipped); tiled occluders via the prefilter. */
 PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
 								  const pvs__occsel *tris, uint32_t count, int occluder) {
 	uint32_t t, q[3];
@@ -4624,41 +4538,40 @@ PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, 
 /* ---- occluder meshes (Durand 2000 §3.3; contract: pvs_raster_mesh) ----
 
    An edge is internal when (i) exactly two triangles of the piece share it (welded by index and position), (ii) both
-   have the same certain facing (sign of det(x, y, w) in clip space) and run it in opposite directions, (iii) an end
-   is surely in front of both clip planes, neither within rounding of one; the others, and clip-plane edges, form the
-   group's boundary B. Then the boundary of the group's union U lies in B: along an internal edge the two triangles lie
-   on opposite sides (det(a, b, p) = gamma det(a, b, c), gamma > 0), each covering a half-disk by (iii); clipping
-   vertices end clip edges; at an original vertex with only internal edges the closed fans turn by positive multiples
-   of 2 pi, covering a neighbourhood by (iii). So a (connected) pixel that surely meets U and that no B edge may meet
-   (separating-axis tests with margins) lies in U, no nearer than the least plane minimum or vertex depth of the group
-   polygons that may touch it. Folds, back faces, non-manifold edges, bad winding, T-junctions and near-plane cuts
-   only add boundary edges.
+   have the same certain facing (sign of det(x, y, w) in clip space) and run it oppositely, (iii) an end is surely in
+   front of both clip planes, neither within rounding of one; other edges and clip-plane edges form the group's boundary
+   B. The boundary of the group's union U lies in B: along an internal edge the two triangles lie on opposite sides
+   (det(a, b, p) = gamma det(a, b, c), gamma > 0), each covering a half-disk by (iii); clipping vertices end clip edges;
+   at an original vertex with only internal edges the closed fans turn by positive multiples of 2 pi, covering a
+   neighbourhood by (iii). So a (connected) pixel surely meeting U that no B edge may meet (separating-axis tests with
+   margins) lies in U, no nearer than the least plane minimum or vertex depth of group polygons that may touch it.
+   Folds, back faces, non-manifold edges, bad winding, T-junctions and near-plane cuts only add boundary edges.
 
-   Two passes: the triangles through the ordinary occluder path, then the mesh pass over strips where an edge may
-   meet a pixel (wider than the first pass's float margins): a strip pixel no edge meets lies in one polygon that
-   surely meets it, else the edges split it among polygons whose strips hold it. One code path (double, the pixel
-   loops' float depth): SIMD and scalar agree. ---- */
+   Two passes: triangles by the ordinary occluder path, then the mesh pass over strips where an edge may meet a pixel
+   (wider than the first pass's float margins): a strip pixel no edge meets lies in one polygon surely meeting it, else
+   the edges split it among polygons whose strips hold it. One code path (double; float depth in pixel loops): SIMD and
+   scalar agree. ---- */
 
 #define PVS__MESH_NONE 0xffffffffu
 #define PVS__MESH_MULTI 0xfffffffeu
 #define PVS__MESH_DEFAULT 4096u
-#define PVS__MESH_MAXV 5 /* a triangle clipped by two planes */
+#define PVS__MESH_MAXV 5 /* triangle clipped by two planes */
 
 typedef struct pvs__mtri {
-	int32_t i0, i1, j0, j1; /* pixels that may meet it, clamped to the map (empty: i0 > i1 or j0 > j1) */
+	int32_t i0, i1, j0, j1; /* pixels it may meet, clamped (empty: i0 > i1 or j0 > j1) */
 	int n;							/* polygon vertices, 3..5 */
-	int full;						/* edges of non-zero length (the inner test needs 3) */
+	int full;						/* non-zero-length edges (inner test needs 3) */
 	uint8_t lab[PVS__MESH_MAXV];	/* edge k (vertex k to k + 1): triangle edge 0..2 or PVS__MESH_CLIP */
-	uint8_t bnd[PVS__MESH_MAXV];	/* 1: a boundary edge */
+	uint8_t bnd[PVS__MESH_MAXV];	/* 1: boundary edge */
 	double x[PVS__MESH_MAXV], y[PVS__MESH_MAXV];
 	double a[PVS__MESH_MAXV], b[PVS__MESH_MAXV], k[PVS__MESH_MAXV], e[PVS__MESH_MAXV]; /* E = a x + b y + k >= 0
 									   inside, |a| + |b| = 1 (0, 0: zero length); |E - exact| < e */
-	double xmin, xmax, ymin, ymax, dx; /* dx bounds the vertices' error */
+	double xmin, xmax, ymin, ymax, dx; /* vertex error bound */
 	double wide;					/* beyond the first pass's rounding: what it misses by an edge is in the strip */
-	float za, zb, zk, zclamp;		/* over pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
+	float za, zb, zk, zclamp;		/* at pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
 } pvs__mtri;
 
-/* Clips, projects and prepares clip-space triangle v of facing `orient` (+1 / -1); 0 when nothing is left. */
+/* Clips, projects, prepares clip-space triangle v of facing `orient` (+-1); 0 when nothing is left. */
 PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orient, pvs__mtri *t) {
 	pvs__cv t1[PVS__RASTER_MAXV], t2[PVS__RASTER_MAXV];
 	uint8_t l0[PVS__RASTER_MAXV] = {0, 1, 2}, l1[PVS__RASTER_MAXV], l2[PVS__RASTER_MAXV];
@@ -4750,9 +4663,9 @@ PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t 
 		for (s = 0; s < 3 && i > *lo && a * (double)(i - 1) + c >= t; ++s) --i;
 		for (s = 0; s < 3 && i <= *hi && !(a * (double)i + c >= t); ++s) ++i;
 		if (outer) {
-			if (i > *lo && !(a * (double)(i - 1) + c < t)) i = *lo; /* unsettled: keep all */
+			if (i > *lo && !(a * (double)(i - 1) + c < t)) i = *lo; /* unsettled: all */
 		} else if (i <= *hi && !(a * (double)i + c >= t)) {
-			i = *hi + 1; /* unsettled: keep none */
+			i = *hi + 1; /* unsettled: none */
 		}
 		*lo = i;
 	} else { /* keep i <= X */
@@ -4778,7 +4691,7 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
 	double dj = (double)j;
 	int32_t lo, hi, clo = 0, chi = -1, i;
 	int e;
-	/* surely meets: extents overlap the pixel and no edge separates */
+	/* surely meets: extents overlap the pixel, no edge separates */
 	if (dj + 1.0 >= t->ymin + t->dx && dj <= t->ymax - t->dx) {
 		clo = pvs__clampi(ceil(t->xmin + t->dx) - 1.0, t->i0, t->i1 + 1);
 		chi = pvs__clampi(floor(t->xmax - t->dx), t->i0 - 1, t->i1);
@@ -4787,7 +4700,7 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
 				pvs__mesh_cut(t->a[e], t->b[e] * dj + t->k[e] + pvs__dmax(0.0, t->a[e]) + pvs__dmax(0.0, t->b[e]),
 							  t->e[e], 0, &clo, &chi);
 	}
-	/* each edge: the pixels whose closed square it may meet (extents and line) */
+	/* each edge: pixels whose closed square it may meet (extents and line) */
 	for (e = 0; e < t->n; ++e) {
 		int f = e + 1 == t->n ? 0 : e + 1;
 		double sx0, sx1, sy0, sy1;
@@ -4843,7 +4756,7 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
 			float *row = r->depth + (size_t)(PVS__TH * b + (uint32_t)d) * W;
 			uint8_t *dw = r->mdirty + (size_t)d * r->tw;
 			for (i = rlo[d]; i <= rhi[d]; ++i) {
-				if (!dw[i >> PVS__TW_SHIFT]) { /* empty word: skip it */
+				if (!dw[i >> PVS__TW_SHIFT]) {
 					i |= 31;
 					continue;
 				}
@@ -4876,8 +4789,8 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
 			any |= cov[d];
 		}
 		if (!any || !(zt > tl->z0)) continue;
-		/* unlike pvs__tile_merge, spare the layer (edge pixels are few, often farther): union at the farther depth if
-		   zt is no farther, the tile fills or the layer loses at most 1/8 of its lead; a new layer if none */
+		/* unlike pvs__tile_merge, spare the layer (edge pixels: few, often farther): union at the farther depth if zt
+		   is no farther, the tile fills or the layer loses <= 1/8 of its lead; a new layer if none */
 		{
 			uint32_t full = ~0u, have = 0;
 			for (d = 0; d < PVS__TH; ++d) {
@@ -4898,7 +4811,7 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
 	}
 }
 
-/* Draws the piece's polygons of facing g by bands of four rows over an active list sorted by first band. */
+/* Draws the piece's polygons of facing g in bands of four rows, active list sorted by first band. */
 PVS__STATIC void pvs__mesh_draw(pvs_raster *r, uint32_t n, int g) {
 	uint32_t *cnt = r->mband, *order = r->morder, *act = r->mact, t, m = 0, pos = 0, na = 0, b = 0, k, keep;
 	int32_t rlo[PVS__TH], rhi[PVS__TH], j;
@@ -4960,7 +4873,7 @@ PVS__STATIC uint32_t pvs__mesh_fbits(float f) {
 	return u;
 }
 
-/* The piece's first vertex at position p, found or entered (open addressing in hs slots; 0 empty, else vertex + 1). */
+/* The piece's first vertex at position p, found or added (open addressing, hs slots; 0 empty, else vertex + 1). */
 PVS__STATIC uint32_t pvs__mesh_weld(uint32_t *tab, uint32_t hs, const float *pos, uint32_t q, const float *p) {
 	uint32_t x = pvs__mesh_fbits(p[0]), y = pvs__mesh_fbits(p[1]), z = pvs__mesh_fbits(p[2]), h;
 	h = (x * 0x9E3779B1u) ^ (y * 0x85EBCA77u) ^ (z * 0xC2B2AE3Du);
@@ -4995,7 +4908,7 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
 		}
 	}
 	if (!ok) return;
-	if (r->tiled) { /* hidden behind earlier pieces: changes nothing; its edges become boundary edges */
+	if (r->tiled) { /* hidden behind earlier pieces: no change; its edges become boundary edges */
 		const float *pv[4][3];
 		unsigned test, l;
 		int32_t box[4][4];
@@ -5020,7 +4933,7 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
 	r->mgrp[t] = (int8_t)g;
 }
 
-/* Pairs half-edges by welded end points: r->mpart[he] = partner, PVS__MESH_NONE or PVS__MESH_MULTI (3 or more). */
+/* Pairs half-edges by welded ends: r->mpart[he] = partner, PVS__MESH_NONE or PVS__MESH_MULTI (3 or more). */
 PVS__STATIC void pvs__mesh_partners(pvs_raster *r, uint32_t n, uint32_t hs) {
 	uint32_t t, k, h, *tab = r->mtab, *cid = r->mcid, *part = r->mpart;
 	for (h = 0; h < hs; ++h) tab[h] = 0;
@@ -5223,10 +5136,10 @@ PVS_API const float *pvs_raster_depth(const pvs_raster *r, uint32_t *w, uint32_t
 
 /* ---- depth pyramid (Durand 2000 §2.4; Greene et al. 1993), queried top-down until a level decides (§6.1) ---- */
 
-/* One pyramid level, the kernel of all pyramids in pvs.h: texel (x, y) gets the least smin (into dmin; both may be
-   NULL) and the greatest smax (into dmax) of texels [x << mx, (x << mx) + mx] x [y << my, (y << my) + my] of the pw x
-   ph level below, clamped (mx, my: 1 halves that axis). `simd` (SSE2, both halved) pairs in another order: equal
-   results but for ties of zeros of opposite sign (or NaN). */
+/* One pyramid level (kernel of all pyramids in pvs.h): texel (x, y) gets the min of smin (into dmin; both may be NULL)
+   and max of smax (into dmax) over texels [x << mx, (x << mx) + mx] x [y << my, (y << my) + my] of the pw x ph level
+   below, clamped; mx, my = 1 halve that axis. `simd` (SSE2, both halved) pairs differently: same results but for +0/-0
+   ties (or NaN). */
 PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32_t pw, uint32_t ph, float *dmin,
 									float *dmax, uint32_t w, uint32_t h, uint32_t mx, uint32_t my, int simd) {
 	uint32_t x, y;
@@ -5268,7 +5181,7 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 	}
 }
 
-/* Tile pyramid: level 0 per tile its base and nearest value; each level above merges 1 x 2, 2 x 1 or 2 x 2 texels
+/* Tile pyramid: level 0 holds each tile's base and nearest value; each level above merges 1 x 2, 2 x 1 or 2 x 2 texels
    (about square in pixels). */
 PVS__STATIC void pvs__tile_pyramid(pvs_raster *r) {
 	uint32_t l, n = r->tw * r->th, i;
@@ -5305,8 +5218,8 @@ PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t t
 	float lo = r->lmin[l][ty * w + tx], hi = r->lmax[l][ty * w + tx];
 	uint32_t cx, cy, cx0, cx1, cy0, cy1, pw, ph;
 	if (lo > d) return 0;	/* all nearer: hidden */
-	if (hi <= d) return 1;	/* all farther: visible (the texel meets the rect) */
-	/* l > 0 here: level-0 texels have lo == hi */
+	if (hi <= d) return 1;	/* all farther: visible (texel meets rect) */
+	/* l > 0 here (level 0 has lo == hi) */
 	pw = r->lw[l - 1];
 	ph = r->lh[l - 1];
 	cx0 = 2 * tx; cx1 = cx0 + 1 < pw ? cx0 + 1 : cx0;
@@ -5373,7 +5286,7 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
 		px[0] = x0; px[1] = y0; px[2] = x1; px[3] = y1;
 		tr[0] = (uint32_t)x0 >> PVS__TW_SHIFT; tr[1] = (uint32_t)y0 >> PVS__TH_SHIFT;
 		tr[2] = (uint32_t)x1 >> PVS__TW_SHIFT; tr[3] = (uint32_t)y1 >> PVS__TH_SHIFT;
-		/* the finest level where the rectangle spans at most 2 x 2 texels */
+		/* finest level where the rect spans <= 2 x 2 texels */
 		while (l < r->tlevels &&
 			   ((tr[2] >> r->tsx[l]) - (tr[0] >> r->tsx[l]) > 1 || (tr[3] >> r->tsy[l]) - (tr[1] >> r->tsy[l]) > 1))
 			++l;
@@ -5394,8 +5307,8 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
 /* ---- float box tests: eight corners in two SIMD registers, with error bounds. A clip coordinate c_r = m_r . (p, 1)
    errs by at most 4.01 u S_r (u = 2^-24, S_r = (|m_r0| + |m_r1| + |m_r2|) max |p| + |m_r3|); E_r = 8 u S_r also covers
    the compared differences. A corner with w > 2 E_w has true w >= 3/4 of the computed one, so x/w errs by at most 2/3
-   (E_x + |x/w| E_w) / w plus the division; the per-box maxima widen the rectangle and raise the depth. S_r > 1e30: the
-   double path. ---- */
+   (E_x + |x/w| E_w) / w plus the division; per-box maxima widen the rectangle and raise the depth. S_r > 1e30: double
+   path. ---- */
 
 /* From the corners, all in front: screen extremes, nearest depth, largest 1 / w, |x / w|, |y / w|, |z / w|. */
 typedef struct pvs__boxf {
@@ -5459,7 +5372,7 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 	const pvs__f4 Z0 = pvs__f4_set1(b->min[2]), Z1 = pvs__f4_set1(b->max[2]), zero = pvs__f4_set1(0.0f);
 	pvs__f4 c0[4], c1[4], t0, t1, q0, q1, v0, v1, rw0, rw1;
 	int k;
-	for (k = 0; k < 4; ++k) { /* mb: mf broadcast */
+	for (k = 0; k < 4; ++k) {
 		const float(*m)[4] = r->mb + 4 * k;
 		pvs__f4 a = pvs__f4_add(pvs__f4_mul(pvs__f4_load(m[0]), X), pvs__f4_mul(pvs__f4_load(m[1]), Y));
 		c0[k] = pvs__f4_add(pvs__f4_add(a, pvs__f4_mul(pvs__f4_load(m[2]), Z0)), pvs__f4_load(m[3]));
@@ -5467,7 +5380,7 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 	}
 	q0 = pvs__f4_sub(c0[3], c0[2]);
 	q1 = pvs__f4_sub(c1[3], c1[2]);
-#define PVS__ALL(m0, m1) (pvs__m4_bits(pvs__m4_and(m0, m1)) == 15) /* all eight corners */
+#define PVS__ALL(m0, m1) (pvs__m4_bits(pvs__m4_and(m0, m1)) == 15) /* all 8 corners */
 #define PVS__OUT(a0, a1) PVS__ALL(pvs__f4_gt(a0, t0), pvs__f4_gt(a1, t0))
 	t0 = pvs__f4_set1(0.0f - E->nz);
 	if (PVS__ALL(pvs__f4_lt(q0, t0), pvs__f4_lt(q1, t0))) return 0;
@@ -5489,7 +5402,7 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 	rw0 = pvs__f4_div(pvs__f4_set1(1.0f), c0[3]);
 	rw1 = pvs__f4_div(pvs__f4_set1(1.0f), c1[3]);
 	o->rmax = pvs__f4_hmax2(rw1, rw0);
-#define PVS__AXIS(k, half, n, lo, hi) /* x / w (y / w): its largest |.|, then in pixels */ \
+#define PVS__AXIS(k, half, n, lo, hi) /* x / w (y / w): largest |.|, then pixels */ \
 	do { \
 		v0 = pvs__f4_mul(c0[k], rw0); \
 		v1 = pvs__f4_mul(c1[k], rw1); \
@@ -5520,14 +5433,14 @@ PVS__STATIC float pvs__f_up_fast(double v) {
 	return f;
 }
 
-/* Float box test; -1 when the box needs the double path. */
+/* Float box test; -1: use the double path. */
 PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t rect[4], float *dnear) {
 	pvs__boxe E;
 	pvs__boxf o = {0, 0, 0, 0, 0, 0, 0, 0, 0};
 	double pm = 0.0, e[4], ex, ey, ez, hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
 	int k, res, nan = 0;
 	float pf = 0.0f;
-#if defined(PVS__SSE2) /* largest |coordinate| (exact; min and max are six floats in a row) */
+#if defined(PVS__SSE2) /* largest |coordinate| (exact; min, max: six floats in a row) */
 	{
 		__m128 a = _mm_loadu_ps(b->min), c = _mm_loadu_ps(b->min + 2);
 		nan = _mm_movemask_ps(_mm_or_ps(_mm_cmpunord_ps(a, a), _mm_cmpunord_ps(c, c)));
@@ -5584,12 +5497,12 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 	double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
 	int k, behind_near = 0, behind_w = 0, maybe_behind = 0;
 	pvs__cv v[8];
-	if (r->tiled) { /* float at the tiles' speed; per-pixel keeps the double test */
+	if (r->tiled) { /* tiled: float test first; per-pixel: double only */
 		k = pvs__raster_box_f(r, b, rect, dnear);
 		if (k >= 0) return k;
 	}
 	{
-		/* corners as the min corner plus transformed edges (the margins cover the rounding) */
+		/* corners = min corner + transformed edges (margins cover the rounding) */
 		pvs__cv base = pvs__raster_transform(r, b->min);
 		double e[3][4];
 		int ax, c;
@@ -5603,7 +5516,6 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 			for (c = 0; c < 4; ++c)
 				v[k].c[c] = base.c[c] + (k & 1 ? e[0][c] : 0.0) + (k & 2 ? e[1][c] : 0.0) + (k & 4 ? e[2][c] : 0.0);
 			v[k].e = 2.0 * base.e + 8.881784197001252e-16 * ebig;
-			/* surely behind / maybe behind */
 			if (v[k].c[3] - v[k].c[2] < -2.0 * v[k].e) ++behind_near;
 			if (v[k].c[3] < -v[k].e) ++behind_w;
 			if (v[k].c[3] - v[k].c[2] < 2.0 * v[k].e || v[k].c[3] <= v[k].e) ++maybe_behind;
@@ -5611,7 +5523,7 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 	}
 	if (behind_near == 8 || behind_w == 8) return 0;
 	{
-		/* a box wholly outside a side plane (-w <= x, y <= w) is off screen, whatever its w */
+		/* wholly outside a side plane (-w <= x, y <= w): off screen, whatever its w */
 		int side;
 		for (side = 0; side < 4; ++side) {
 			int out = 0, ax = side >> 1;
@@ -5648,15 +5560,15 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
 	int32_t rect[4] = {0, 0, 0, 0};
 	float d = 0.0f;
-	int k = pvs__raster_box(r, b, rect, &d); /* the float test first when tiled */
+	int k = pvs__raster_box(r, b, rect, &d);
 	if (k != 2) return k;
 	return pvs_raster_test_rect(r, rect[0], rect[1], rect[2], rect[3], d);
 }
 
 /* ---- context ---- */
 
-/* The context's buffers (pvs__buf) of the `groups` (bits): 1 pixels, 2 tiles, 4 occluder selection, 8 meshes, 16 scene
-   sweeps, 32 cull map, 64 its items; sized by the fields the creation sets before each group. */
+/* The context's buffers (pvs__buf) of `groups` (bits): 1 pixels, 2 tiles, 4 occluder selection, 8 meshes, 16 scene
+   sweeps, 32 cull map, 64 its items; sized by fields set before each group. */
 #define PVS__RASTER_BUFS 28
 PVS__STATIC int pvs__raster_bufs(pvs_raster *r, pvs__buf *b, unsigned groups) {
 	int k = 0;
@@ -5737,8 +5649,8 @@ PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int
 		b->max[v] <= r->region[3];
 }
 
-/* Per-pixel map, 8 x 8 tile minima, pyramid (Durand 2000 §2.4: levels halve to 1 x 1; min and max planes). 0 when out
-   of memory; pvs_raster_destroy frees the rest (also below). */
+/* Per-pixel map, 8 x 8 tile minima, pyramid (Durand 2000 §2.4: levels halve to 1 x 1; min and max planes). 0: out of
+   memory; pvs_raster_destroy frees the rest (also below). */
 PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
 	uint32_t l, w, h;
 	size_t floats = 0;
@@ -5767,7 +5679,7 @@ PVS__STATIC int pvs__raster_init_pixels(pvs_raster *r) {
 	return 1;
 }
 
-/* Tiles, their 8 x 8 blocks, the tile pyramid (levels halve x, y or both, texels about square in pixels). */
+/* Tiles, their 8 x 8 blocks, tile pyramid (levels halve x, y or both; texels about square in pixels). */
 PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
 	uint32_t l, w, h;
 	size_t floats;
@@ -5834,12 +5746,12 @@ PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene 
 	r->region[1] = s->bounds.min[v];
 	r->region[2] = s->bounds.max[u];
 	r->region[3] = s->bounds.max[v];
-	for (l = 0; l < 2; ++l) /* never a zero-size region */
+	for (l = 0; l < 2; ++l) /* no zero-size region */
 		if (!(r->region[2 + l] > r->region[l])) {
 			r->region[l] -= 0.5f;
 			r->region[2 + l] += 0.5f;
 		}
-	if (!(r->ground <= r->ground + 0.0f)) r->ground = 0.0f; /* empty scene bounds */
+	if (!(r->ground <= r->ground + 0.0f)) r->ground = 0.0f; /* empty bounds */
 	r->cm_tiles =
 		(size_t)((r->cm_w + PVS__TILE - 1) >> PVS__TILE_SHIFT) * ((r->cm_h + PVS__TILE - 1) >> PVS__TILE_SHIFT);
 	if (!pvs__raster_alloc(r, 32u)) goto oom;
@@ -5864,7 +5776,7 @@ PVS__STATIC pvs_result pvs__raster_init_cull_map(pvs_raster *r, const pvs_scene 
 	for (i = 0; i < cells; ++i) r->cm_start[i + 1] += r->cm_start[i];
 	r->cm_item_count = (uint32_t)total;
 	if (!pvs__raster_alloc(r, 64u)) goto oom;
-	for (o = 0; o < s->object_count; ++o) { /* fill with cm_start[c] as cursor, then shift back */
+	for (o = 0; o < s->object_count; ++o) { /* cm_start[c] as cursor, then shift back */
 		const pvs_box *b = s->object_boxes + o;
 		int32_t i0, j0, i1, j1, ii, jj;
 		if (b->min[0] > b->max[0]) continue;
@@ -5952,7 +5864,7 @@ typedef struct pvs__selctx {
 	uint32_t k, n;
 } pvs__selctx;
 
-/* The k best triangles (pvs__topk_offer: the root is the weakest kept). */
+/* k best triangles (pvs__topk_offer: root = weakest kept). */
 PVS__STATIC int pvs__occsel_before(const void *a, const void *b) {
 	return ((const pvs__occsel *)a)->score > ((const pvs__occsel *)b)->score;
 }
@@ -5970,11 +5882,11 @@ PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, flo
 	uint32_t i;
 	if (distance > c->max_dist) return PVS_VISIT_STOP;
 	/* heap full and nothing unseen can enter: an unseen triangle's centre lies beyond `distance` (every leaf its box
-	   overlaps lists it), so it scores at most area / distance^2 (rounded up) */
+	   overlaps lists it), so scores at most area / distance^2 (rounded up) */
 	if (c->n == c->k && distance > 0.0f &&
 		c->s->max_triangle_area * 1.0001 / ((double)distance * distance * 0.9999) < (double)c->r->occ[0].score)
 		return PVS_VISIT_STOP;
-	/* outside the view or behind drawn occluders, a node hides nothing seen */
+	/* outside the view or behind drawn occluders: hides nothing seen */
 	if (!pvs_raster_test_box(c->r, node_box)) return PVS_VISIT_SKIP;
 	for (i = 0; i < count; ++i) {
 		uint32_t t = items[i], k;
@@ -5992,7 +5904,7 @@ PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, flo
 			fr[k] = c->fwd[0] * ((double)p[k][0] - c->eye[0]) + c->fwd[1] * ((double)p[k][1] - c->eye[1]) +
 				c->fwd[2] * ((double)p[k][2] - c->eye[2]);
 		front = pvs__dmax(fr[0], pvs__dmax(fr[1], fr[2]));
-		if (front < c->near_d) continue; /* wholly behind the near plane */
+		if (front < c->near_d) continue; /* behind the near plane */
 		n[0] = e1[1] * e2[2] - e1[2] * e2[1];
 		n[1] = e1[2] * e2[0] - e1[0] * e2[2];
 		n[2] = e1[0] * e2[1] - e1[1] * e2[0];
@@ -6074,7 +5986,7 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 	for (k = 0; k < 3; ++k) { sc.eye[k] = cam->eye[k]; sc.fwd[k] = cam->forward[k]; }
 	len = sqrt(sc.fwd[0] * sc.fwd[0] + sc.fwd[1] * sc.fwd[1] + sc.fwd[2] * sc.fwd[2]);
 	for (k = 0; k < 3; ++k) sc.fwd[k] /= len;
-	if (cam->fov_y == 0.0f) sc.near_d = -DBL_MAX; /* orthographic: the matrix does the near test */
+	if (cam->fov_y == 0.0f) sc.near_d = -DBL_MAX; /* ortho: matrix does the near test */
 	memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
 	for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
 	pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
@@ -6085,7 +5997,7 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 	return sc.n;
 }
 
-/* Wall j of extrusion o (footprint edge j to j + 1, base to top) as the quad a0 b0 b1 a1 (u, v ground axes). */
+/* Wall j of extrusion o (footprint edge j to j + 1, base to top) as quad a0 b0 b1 a1 (u, v ground axes). */
 PVS__STATIC void pvs__wall_quad(const pvs_occluder_desc *o, uint32_t j, int u, int v, int up, float q[4][3]) {
 	const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
 	q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
@@ -6108,7 +6020,7 @@ PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc 
 				wp[2 * c][u] = a[0]; wp[2 * c][v] = a[1]; wp[2 * c][up] = o->base;
 				wp[2 * c + 1][u] = a[0]; wp[2 * c + 1][v] = a[1]; wp[2 * c + 1][up] = o->top;
 			}
-			for (c = 0; c < nw; ++c) { /* (a0 b0 b1) (a0 b1 a1), as drawn one by one */
+			for (c = 0; c < nw; ++c) { /* (a0 b0 b1) (a0 b1 a1), as drawn singly */
 				wi[6 * c] = 2 * c; wi[6 * c + 1] = 2 * c + 2; wi[6 * c + 2] = 2 * c + 3;
 				wi[6 * c + 3] = 2 * c; wi[6 * c + 4] = 2 * c + 3; wi[6 * c + 5] = 2 * c + 1;
 			}
@@ -6183,7 +6095,7 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
 	cc.visible = visible;
 	cc.candidates = p ? p->candidates : NULL;
 	for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
-	/* Bittner 2002 §3.2: front to back, so a hidden node culls its subtree */
+	/* Bittner 2002 §3.2: front to back; a hidden node culls its subtree */
 	pvs_kdtree_sweep(s->object_tree, &src, r->sweep, r->sweep_size, pvs__cull_visit, &cc);
 	if (stats) *stats = cc.st;
 	pvs__ok(err);
@@ -6208,9 +6120,9 @@ PVS__STATIC double pvs__cm_reach(const pvs_raster *r, double ou, double ov) {
 				  pvs__dabs(ou - r->region[0]) + pvs__dabs(ov - r->region[1]));
 }
 
-/* Shadow of facade a-b (height `top`) from eye o = (ou, ov, eh) (§3.1): ground quadrilateral a, b, b + t (b - o), a +
-   t (a - o), far edge off the map (§4.2), height the plane through eye and top edge; inner coverage at each cell's
-   lowest height (§4.4). */
+/* Shadow of facade a-b (height `top`) from eye o = (ou, ov, eh) (§3.1): ground quad a, b, b + t (b - o), a + t (a -
+   o), far edge off the map (§4.2), height the plane through eye and top edge; inner coverage at each cell's lowest
+   height (§4.4). */
 PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, const float *a, const float *b,
 								double top, int simd) {
 	double da[2], db[2], la, lb, reach, sa, sb, x[4], y[4], z[4];
@@ -6248,7 +6160,7 @@ PVS__STATIC double pvs__cm_height(const double pl[3], double ou, double ov, doub
 /* Seam at v between casting facades p-v, v-q: the sampling correction shrinks both shadows, uncovering cells along the
    shadow ray through v (Wonka 1999 §5). The wedge between the rays through a' on p-v and b' on v-q (about two cells
    from v), beyond a'-v-b', lies in the union, at height A on A's side of the ray, B on B's. A - B changes sign across
-   the ray: A bounds it from below if A >= B on A's side (a ridge), else the least corner value of concave min(A, B). */
+   the ray: A is a lower bound if A >= B on A's side (a ridge), else the least corner value of concave min(A, B). */
 PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, const float *pf, const float *vf,
 							  const float *qf, double top, int simd) {
 	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
@@ -6266,7 +6178,7 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
 	x[1] = vt[0]; y[1] = vt[1];
 	x[2] = vt[0] + (qt[0] - vt[0]) * pvs__dmin(1.0, delta / lq);
 	y[2] = vt[1] + (qt[1] - vt[1]) * pvs__dmin(1.0, delta / lq);
-	for (k = 0; k < 2; ++k) { /* far ends of the rays through b' and a' */
+	for (k = 0; k < 2; ++k) { /* far ends of the rays through b', a' */
 		int from = k == 0 ? 2 : 0;
 		double dx = x[from] - ou, dy = y[from] - ov, l = sqrt(dx * dx + dy * dy), sc;
 		if (!(l > 0.0)) return;
@@ -6296,12 +6208,12 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
 PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *b, int closed, double area2,
 							  double min_dist) {
 	if (closed) {
-		/* outward: right of a->b for a counter-clockwise footprint */
+		/* outward: right of a->b for a CCW footprint */
 		double nx = (double)b[1] - a[1], ny = -((double)b[0] - a[0]);
 		if (area2 < 0) { nx = -nx; ny = -ny; }
 		if (!((eye[0] - a[0]) * nx + (eye[1] - a[1]) * ny > 0.0)) return 0; /* back-facing */
 	}
-	if (min_dist > 0.0) { /* nearer than the near plane: the renderer clips it away */
+	if (min_dist > 0.0) { /* nearer than the near plane: clipped away */
 		double ex = eye[0] - a[0], ey = eye[1] - a[1], sx = (double)b[0] - a[0], sy = (double)b[1] - a[1];
 		double ss = sx * sx + sy * sy, t = ss > 0.0 ? (ex * sx + ey * sy) / ss : 0.0, qx, qy;
 		t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
@@ -6312,14 +6224,14 @@ PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *
 	return 1;
 }
 
-/* One chain: each casting facade's shadow and the seams between consecutive ones. */
+/* One chain: each casting facade's shadow, seams between consecutive ones. */
 PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *pts, uint32_t n, int closed, float base,
 							   float top, int simd, double min_dist) {
 	double area2 = 0.0, limit = pvs__dmin(eye[2], r->ground);
 	uint32_t i, segs;
 	int first_casts = 0, prev_casts = 0;
 	if (!pts || n < 2 || !pvs__finite(base) || !pvs__finite(top) || !(base < top)) return;
-	if ((double)base > limit) return; /* the facade does not reach down to all it would hide */
+	if ((double)base > limit) return; /* does not reach down to all it would hide */
 	for (i = 0; i < 2 * n; ++i)
 		if (!pvs__finite(pts[i])) return;
 	if (closed) {
@@ -6338,11 +6250,11 @@ PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *
 		if (i == 0) first_casts = casts;
 		prev_casts = casts;
 	}
-	if (closed && prev_casts && first_casts) /* the seam closing the loop */
+	if (closed && prev_casts && first_casts) /* loop-closing seam */
 		pvs__cm_seam(r, eye[0], eye[1], eye[2], pts + 2 * (n - 1), pts, pts + 2, top, simd);
 }
 
-/* Builds the cull map without facades nearer than min_dist to the eye (ground plane). */
+/* Builds the cull map, skipping facades nearer than min_dist to the eye (ground plane). */
 PVS__STATIC pvs_result pvs__cull_map_build(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
 										   uint32_t chain_count, uint32_t flags, double min_dist) {
 	double e[3];
@@ -6424,28 +6336,28 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 		return PVS__BAD_ARG(err, "facades must not be NULL");
 	memset(&st, 0, sizeof(st));
 	if (cam->fov_y > 0.0f) {
-		/* facades nearer than the near plane (at the frustum's widest angle) are clipped: they hide nothing */
+		/* facades nearer than the near plane (at the frustum's widest angle) are clipped: hide nothing */
 		double ty = tan(0.5 * (double)cam->fov_y), tx = ty * (double)r->width / (double)r->height;
 		pvs__cull_map_build(r, cam->eye, p ? p->facades : NULL, p ? p->facade_count : 0, p ? p->cull_map_flags : 0,
 							(double)cam->near_plane * sqrt(1.0 + tx * tx + ty * ty) * (1.0 + 1e-6));
-	} else { /* shadows are cast from a point: orthographic gets the frustum test only */
+	} else { /* shadows are cast from a point: ortho gets the frustum test only */
 		for (c = 0; c < (size_t)r->cm_w * r->cm_h; ++c) r->cm[c] = PVS_DEPTH_EMPTY;
 	}
-	pvs_raster_clear(r); /* the frustum test sees an empty depth map */
+	pvs_raster_clear(r); /* frustum test sees an empty depth map */
 	up = (int)s->up_axis;
 	cells = (size_t)r->cm_w * r->cm_h;
-	/* §4.3: the cell's bounding height first, then each object's */
+	/* §4.3: the cell's bounding height, then each object's */
 	for (c = 0; c < cells; ++c) {
 		float h = r->cm[c];
 		uint32_t k;
 		++st.nodes_visited;
-		if (r->cm_bound[c] < h) continue; /* every object here is under the shadows */
+		if (r->cm_bound[c] < h) continue; /* all objects here under the shadows */
 		for (k = r->cm_start[c]; k < r->cm_start[c + 1]; ++k) {
 			uint32_t o = r->cm_items[k];
 			int32_t rect[4];
 			float d;
 			if (pvs_bitset_test(r->obj_done, o)) continue;
-			if (s->object_boxes[o].max[up] < h) continue; /* hidden here; may show in another cell */
+			if (s->object_boxes[o].max[up] < h) continue; /* hidden here; may show elsewhere */
 			pvs_bitset_set(r->obj_done, o);
 			if (s->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY) continue;
 			if (p && p->candidates && !pvs_bitset_test(p->candidates, o)) continue;
@@ -6465,18 +6377,17 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 /* ---------------------------------------------------------------------------------------------- */
 /* otree: occlusion trees over oriented 2D line space (Bittner 2002, ch. 3, 6, 7)                 */
 /* ---------------------------------------------------------------------------------------------- */
-/* One BSP kernel (§3.3, §6.8) over oriented 2D lines: inner nodes are planes through the origin of R^3, the images
-   p* of primal points p (§6.4: l* = (u,1) x (v,1) has l*.(p,1) = orient(u, v, p), > 0 when p is left of the line);
-   leaves are out (unblocked) or in (blocked by the payload: the nearest occluder in 2D, those that may be seen over
-   in 2.5D). Line sets are convex polygons of unit vectors (vertices: extremal lines); each edge keeps the point
-   whose plane carries it and a mark when that plane is on the path (§4.10.1), so an out-leaf becomes the e-OT of
-   the unmarked edges (§3.3.3).
+/* One BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes through the origin of R^3, images p* of
+   primal points p (§6.4: l* = (u,1) x (v,1), l*.(p,1) = orient(u, v, p) > 0 when p is left of l). Leaves: out
+   (unblocked) or in (blocked by the payload: the nearest occluder in 2D; those that may be seen over in 2.5D). Line
+   sets: convex polygons of unit vectors (vertices: extremal lines); each edge keeps the point whose plane carries it,
+   marked when that plane is on the path (§4.10.1), so an out-leaf becomes the e-OT of the unmarked edges (§3.3.3).
 
-   Conservative rounding: regions are bounded by exact planes through stored points, so an in-leaf never claims
-   lines outside its blocker; insertion's tolerance can only drop blocked slivers; read-only tests split with slack
-   (both sides see a little more); ambiguous depth orders count as visible. Geometry is double, relative to the
-   cell's centre. Users: pvs_visibility_2d (exact, ch. 6), pvs_visibility_25d (c-LSS, ch. 7), the OTREE bake;
-   pvs_otree_cull (ch. 4, at the end) has its own 3D kernel. */
+   Conservative rounding: regions are bounded by exact planes through stored points (an in-leaf never claims lines
+   outside its blocker); insertion's tolerance only drops blocked slivers; read-only tests split with slack (both sides
+   see more); ambiguous depth orders count as visible. Double geometry, relative to the cell centre. Users:
+   pvs_visibility_2d (exact, ch. 6), pvs_visibility_25d (c-LSS, ch. 7), the OTREE bake; pvs_otree_cull (ch. 4, below)
+   has its own 3D kernel. */
 
 #define PVS__OT_MAXV 16
 #define PVS__OT25_WITNESSES 16
@@ -6486,23 +6397,23 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 
 typedef struct pvs__otpoly {
 	int n;
-	int xsplit;						/* already split at a crossing point X (§6.5.1 case 3) */
-	double v[PVS__OT_MAXV][3];		/* extremal lines, unit length */
-	double e[PVS__OT_MAXV][2];		/* edge i (v[i] -> v[i+1]) lies in the plane of point e[i] */
+	int xsplit;						/* split at crossing X (§6.5.1 case 3) */
+	double v[PVS__OT_MAXV][3];		/* extremal lines, unit */
+	double e[PVS__OT_MAXV][2];		/* edge v[i] -> v[i+1] lies in e[i]'s plane */
 	unsigned char mark[PVS__OT_MAXV];
 } pvs__otpoly;
 
 typedef struct pvs__otnode {
-	double p[2];		/* interior: the plane is sign * (p.x, p.y, 1) */
-	double n[3];		/* ... as a unit normal */
+	double p[2];		/* inner: plane sign * (p.x, p.y, 1) */
+	double n[3];		/* ... unit normal */
 	int32_t sign;
-	uint32_t kind;		/* 0 interior, PVS__OT_OUT, PVS__OT_IN */
-	uint32_t child[2];	/* [0] negative side, [1] positive side */
-	uint32_t first, count; /* in-leaf payload: occluders seq[first .. first + count) */
-	uint32_t parent;	/* PVS__OT_NONE at the root */
-	double mvd;			/* 2D: maximum visibility distance of the subtree (§6.5.5); DBL_MAX above out-leaves */
-	double mr, ms;		/* 2.5D: the subtree's hidden-height bound (pvs__ot25_bound); mr DBL_MAX: none */
-	double ml, mls;		/* 2.5D: a second one, from the member of least reach; ml DBL_MAX: none */
+	uint32_t kind;		/* 0 inner, PVS__OT_OUT, PVS__OT_IN */
+	uint32_t child[2];	/* [0] negative, [1] positive side */
+	uint32_t first, count; /* in-leaf payload: seq[first .. first + count) */
+	uint32_t parent;	/* PVS__OT_NONE: root */
+	double mvd;			/* 2D: subtree's max visibility distance (§6.5.5); DBL_MAX over out-leaves */
+	double mr, ms;		/* 2.5D: hidden-height bound (pvs__ot25_bound); mr DBL_MAX: none */
+	double ml, mls;		/* 2.5D: 2nd, member of least reach; ml DBL_MAX: none */
 } pvs__otnode;
 
 typedef struct pvs__otree {
@@ -6511,22 +6422,22 @@ typedef struct pvs__otree {
 	size_t node_count, node_cap;
 	uint32_t *seq;
 	size_t seq_count, seq_cap;
-	pvs__otpoly *stack;				/* work stack: item i is stack[stack_slot[i]] (PVS__OT_ITEM) */
-	uint32_t *stack_slot;			/* a permutation: a clip writes into a free slot, then swaps */
+	pvs__otpoly *stack;				/* work stack: item i = stack[stack_slot[i]] (PVS__OT_ITEM) */
+	uint32_t *stack_slot;			/* permutation: clips write a free slot, then swap */
 	uint32_t *stack_node;
-	uint32_t *stack_pend;			/* read-only tests: the clip owed, (node << 1) | side, or PVS__OT_NONE */
+	uint32_t *stack_pend;			/* read-only tests: clip owed, (node << 1) | side, or PVS__OT_NONE */
 	size_t stack_count, stack_cap;
 	int oom;
-	const double *seg;				/* occluder segments, 4 local doubles each */
-	const double *top;				/* 2.5D: occluder top heights; NULL in 2D */
-	const double *reach;			/* 2D: per occluder, its largest distance to a cell point */
-	double sa[2], sb[2];			/* the source edge (cell edge or top edge) */
-	double eye;						/* 2.5D: height of the source edge */
-	const double *corners;			/* 2.5D: the cell's 4 ground corners (every eye position) */
-	double *jd;						/* 2.5D: per occluder, PVS__OT25_JD doubles (pvs__ot25_prepare) */
-	double len_eps;					/* distances below this are ties */
-	uint32_t root_in;				/* 2.5D: the node of the lines leaving through the source edge */
-	int full_tests;					/* 2.5D: PVS__VISIBILITY_25D_FULL_TESTS (no witness lines) */
+	const double *seg;				/* occluder segments, 4 local doubles */
+	const double *top;				/* 2.5D: occluder tops; NULL in 2D */
+	const double *reach;			/* 2D: per occluder, max distance to a cell point */
+	double sa[2], sb[2];			/* source edge (cell or top edge) */
+	double eye;						/* 2.5D: source edge height */
+	const double *corners;			/* 2.5D: cell's 4 ground corners (all eye positions) */
+	double *jd;						/* 2.5D: PVS__OT25_JD doubles per occluder */
+	double len_eps;					/* smaller distances tie */
+	uint32_t root_in;				/* 2.5D: node of lines leaving via the source edge */
+	int full_tests;					/* 2.5D: PVS__VISIBILITY_25D_FULL_TESTS (no witnesses) */
 	int nwit;						/* 2.5D: witness lines, most recently useful first */
 	double wit[PVS__OT25_WITNESSES][3];
 } pvs__otree;
@@ -6542,7 +6453,7 @@ PVS__STATIC void pvs__ot_free(pvs__otree *t) {
 	t->node_cap = t->seq_cap = t->stack_cap = 0;
 }
 
-/* Resets to the whole line set: a single out-leaf (§3.3.2). */
+/* Resets to the whole line set: one out-leaf (§3.3.2). */
 PVS__STATIC int pvs__ot_reset(pvs__otree *t) {
 	t->node_count = t->seq_count = t->stack_count = 0;
 	if (!pvs__grow(t->a, (void **)&t->nodes, &t->node_cap, 1, sizeof(pvs__otnode))) { t->oom = 1; return 0; }
@@ -6571,7 +6482,7 @@ PVS__STATIC void pvs__ot_copy(pvs__otpoly *d, const pvs__otpoly *s) {
 	int n = s->n, i;
 	d->n = n;
 	d->xsplit = s->xsplit;
-	for (i = 0; i < n; ++i) { /* n is small: a loop beats a library call */
+	for (i = 0; i < n; ++i) {
 		d->v[i][0] = s->v[i][0]; d->v[i][1] = s->v[i][1]; d->v[i][2] = s->v[i][2];
 		d->e[i][0] = s->e[i][0]; d->e[i][1] = s->e[i][1];
 		d->mark[i] = s->mark[i];
@@ -6596,7 +6507,7 @@ PVS__STATIC int pvs__ot_reserve(pvs__otree *t, size_t need) {
 }
 /* Work item i's polygon. */
 #define PVS__OT_ITEM(t, i) ((t)->stack + (t)->stack_slot[i])
-/* Items i and j trade polygons (no copy). */
+/* Items i, j swap polygons (no copy). */
 PVS__STATIC void pvs__ot_swap(pvs__otree *t, size_t i, size_t j) {
 	uint32_t s = t->stack_slot[i];
 	t->stack_slot[i] = t->stack_slot[j];
@@ -6619,7 +6530,7 @@ PVS__STATIC uint32_t pvs__ot_pop(pvs__otree *t, pvs__otpoly *q) {
 
 /* ---- line-space kernel (§6.4, §6.8) ---- */
 
-/* The oriented line u -> v, (u,1) x (v,1), normalised; 0 when u == v. */
+/* Oriented line u -> v = (u,1) x (v,1), normalised; 0 when u == v. */
 PVS__STATIC double pvs__ot_line(const double u[2], const double v[2], double l[3]) {
 	double len;
 	l[0] = u[1] - v[1];
@@ -6629,14 +6540,14 @@ PVS__STATIC double pvs__ot_line(const double u[2], const double v[2], double l[3
 	if (len > 0.0) { l[0] /= len; l[1] /= len; l[2] /= len; }
 	return len;
 }
-/* Signed side of point p for line l, scaled so that unit lines give comparable values. */
+/* Signed side of p for line l, scaled so unit lines compare. */
 PVS__STATIC double pvs__ot_side(const double l[3], const double p[2]) {
 	return (l[0] * p[0] + l[1] * p[1] + l[2]) / sqrt(p[0] * p[0] + p[1] * p[1] + 1.0);
 }
 
 #define PVS__OT_EPS 1e-12
 
-/* out = normalised a + t (b - a), stored last: out may alias a or b. */
+/* out = normalised a + t (b - a), stored last: may alias a or b. */
 PVS__STATIC void pvs__ot_lerp_unit(const double *a, const double *b, double t, double *out) {
 	double x0 = a[0] + t * (b[0] - a[0]), x1 = a[1] + t * (b[1] - a[1]), x2 = a[2] + t * (b[2] - a[2]);
 	double len = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
@@ -6644,7 +6555,7 @@ PVS__STATIC void pvs__ot_lerp_unit(const double *a, const double *b, double t, d
 	out[0] = x0; out[1] = x1; out[2] = x2;
 }
 
-/* The unit normal of the plane sign * p* = sign * (p.x, p.y, 1): n . l = sign * side(l, p). */
+/* Unit normal of plane sign * p* = sign * (p.x, p.y, 1): n . l = sign * side(l, p). */
 PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
 	double f = sign / sqrt(p[0] * p[0] + p[1] * p[1] + 1.0);
 	n[0] = p[0] * f;
@@ -6652,8 +6563,8 @@ PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
 	n[2] = f;
 }
 
-/* Keeps the part of `in` where n . l >= -slack (slack 0: the exact half), n the unit normal of p's plane; new edges
-   lie in that plane, with mark `mark`. Returns the vertex count (0 empty, -1 too many). */
+/* Keeps the part of `in` where n . l >= -slack (0: the exact half), n the unit normal of p's plane; new edges lie in
+   that plane, with mark `mark`. Returns the vertex count (0 empty, -1 too many). */
 PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
 							   pvs__otpoly *out) {
 	double d[PVS__OT_MAXV + 1];
@@ -6680,10 +6591,10 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 		if (in_i != in_j) {
 			if (m >= PVS__OT_MAXV) { out->n = 0; return -1; }
 			pvs__ot_lerp_unit(in->v[i], in->v[j], d[i] / (d[i] - d[i + 1]), out->v[m]);
-			if (in_i) { /* leaving: the new edge runs along p's plane */
+			if (in_i) { /* leaving: new edge on p's plane */
 				out->e[m][0] = p[0]; out->e[m][1] = p[1];
 				out->mark[m] = (unsigned char)mark;
-			} else {	/* entering: the rest of edge i */
+			} else {	/* entering: rest of edge i */
 				memcpy(out->e[m], in->e[i], sizeof(out->e[m]));
 				out->mark[m] = in->mark[i];
 			}
@@ -6693,8 +6604,8 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 	out->n = m;
 	return m;
 }
-/* 2.5D witness lines: a read-only test reaching an out-leaf keeps a line inside its polygon there (the normalised
-   vertex sum); out-leaves only become in-leaves, so a witness later found in an in-leaf is dropped. */
+/* 2.5D witness lines: a read-only test reaching an out-leaf keeps a line inside its polygon (normalised vertex sum);
+   out-leaves only become in-leaves, so a witness later found in an in-leaf is dropped. */
 PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	double w[3] = {0, 0, 0}, len;
 	int i;
@@ -6706,15 +6617,14 @@ PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	t->wit[0][0] = w[0] / len; t->wit[0][1] = w[1] / len; t->wit[0][2] = w[2] / len;
 }
 
-/* 2.5D: 1 when nd's subtree hides every point no nearer than `near` to the cell and no higher than h
-   (pvs__ot25_bound); near < 0 (2D): 0. The macro skips the call where neither bound applies (most nodes);
-   it evaluates nd twice. */
+/* 2.5D: 1 when nd's subtree hides every point no nearer than `near` to the cell and no higher than h (pvs__ot25_bound);
+   near < 0 (2D): 0. The macro skips the call where neither bound applies; evaluates nd twice. */
 #define PVS__OT25_HIDDEN(t, nd, near, h) \
 	(((near) > (nd)->mr || (near) > (nd)->ml) && pvs__ot25_hidden_below_at(t, nd, near, h))
 PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
 	double x;
 	if (!(near >= 0.0)) return 0;
-	/* a bound of DBL_MAX fails `near > mr` by itself (near is finite) */
+	/* DBL_MAX fails `near > mr` (near finite) */
 	if (near > nd->mr) {
 		x = nd->ms * near;
 		if (h < t->eye + x - 1e-9 * (fabs(t->eye) + x + 1.0)) return 1;
@@ -6726,9 +6636,9 @@ PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode
 	return 0;
 }
 
-/* Insertion at an inner node (§3.3.3) on the top item, in place: edges on the node's plane are marked (§4.10.1),
-   the polygon goes to its child or is split; a child whose subtree hides the occluder (2.5D, near >= 0) gets
-   nothing. 2.5D goes on down one-sided nodes here, to a leaf or a hidden subtree. */
+/* Insertion at an inner node (§3.3.3) on the top item, in place: edges on the node's plane are marked (§4.10.1), the
+   polygon goes to its child or is split; a child whose subtree hides the occluder (2.5D, near >= 0) gets nothing. 2.5D
+   descends one-sided nodes here, to a leaf or a hidden subtree. */
 PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q = PVS__OT_ITEM(t, top);
 	const pvs__otnode *nd;
@@ -6740,7 +6650,7 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 		nd = t->nodes + t->stack_node[top];
 		n0 = nd->n[0]; n1 = nd->n[1]; n2 = nd->n[2]; p0 = nd->p[0]; p1 = nd->p[1];
 		c0 = nd->child[0]; c1 = nd->child[1];
-		for (i = 0; i < nv; ++i) { /* locals: the mark stores may alias everything */
+		for (i = 0; i < nv; ++i) { /* locals: mark stores may alias all */
 			const double *v = q->v[i];
 			double d = n0 * v[0] + n1 * v[1] + n2 * v[2];
 			if (d < lo) lo = d;
@@ -6759,16 +6669,15 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 		uint32_t s0, s1, s2;
 		size_t m = top;
 		if (h0 && h1) { t->stack_count = top; return; }
-		/* the parts go into the free slots above the top, which then trade places */
+		/* parts go into free slots above the top, then trade places */
 		if (!pvs__ot_reserve(t, top + 3)) { t->stack_count = top; return; }
 		q = PVS__OT_ITEM(t, top);
-		/* the positive part unless c1 hides, the negative one (the normal negated: each distance exactly so) unless c0
-		   hides */
+		/* positive part unless c1 hides, negative (normal negated: each distance exactly so) unless c0 hides */
 		for (i = 0; i < 3; ++i) nf[i] = -nd->n[i];
 		na = h1 ? 0 : pvs__ot_clip_n(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
 		nb = h0 ? 0 : pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 2));
-		/* items top.. become the positive part (c1), then the negative (c0), as two pushes would leave
-		   them; unused slots go above (the slots stay a permutation) */
+		/* items top.. become the positive part (c1), then the negative (c0), as two pushes would; unused slots go above
+		   (slots stay a permutation) */
 		s0 = t->stack_slot[top]; s1 = t->stack_slot[top + 1]; s2 = t->stack_slot[top + 2];
 		if (na >= 3) { t->stack_slot[m] = s1; t->stack_node[m] = c1; t->stack_pend[m] = PVS__OT_NONE; ++m; }
 		if (nb >= 3) { t->stack_slot[m] = s2; t->stack_node[m] = c0; t->stack_pend[m] = PVS__OT_NONE; ++m; }
@@ -6779,9 +6688,9 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 	}
 }
 
-/* Read-only test at an inner node (§3.3.4) on the top item, in place: a polygon within 1e-12 of the plane on one
-   side (an edge on it) goes to that side, else both sides get their part widened by 1e-12. 1 when the query is
-   visible for sure (2.5D: a straddled child is an out-leaf) or out of memory: the caller counts it visible. */
+/* Read-only test at an inner node (§3.3.4) on the top item, in place: a polygon within 1e-12 of the plane on one side
+   (an edge on it) goes to that side, else both sides get their part widened by 1e-12. 1 when surely visible (2.5D: a
+   straddled child is an out-leaf) or out of memory (caller counts it visible). */
 PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q;
 	const pvs__otnode *nd;
@@ -6791,7 +6700,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 	if (top + 2 > t->stack_cap && !pvs__ot_reserve(t, top + 2)) return 1;
 	q = PVS__OT_ITEM(t, top);
 	nv = q->n;
-	for (;;) { /* 2.5D: down through one-sided nodes here, as in pvs__ot_insert_inner */
+	for (;;) { /* 2.5D: descend one-sided nodes, as pvs__ot_insert_inner */
 		double lo = DBL_MAX, hi = -DBL_MAX, n0, n1, n2;
 		uint32_t c;
 		node = t->stack_node[top];
@@ -6804,7 +6713,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 			double d = n0 * v[0] + n1 * v[1] + n2 * v[2];
 			if (d < lo) lo = d;
 			if (d > hi) hi = d;
-			if (lo < -1e-12 && hi > 1e-12) break; /* straddles: the rest cannot change the answer */
+			if (lo < -1e-12 && hi > 1e-12) break; /* straddles: answer fixed */
 		}
 		if (lo >= -1e-12) c = c1;
 		else if (hi <= 1e-12) c = c0;
@@ -6812,8 +6721,8 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 		t->stack_node[top] = c;
 		if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return 0;
 	}
-	/* 2.5D (no sliver rule): both parts hold a vertex strictly off the plane, so an out-leaf child answers at
-	   once; that part's line is kept as a witness (pvs__ot25_witnessed) */
+	/* 2.5D (no sliver rule): both parts hold a vertex strictly off the plane, so an out-leaf child answers at once; its
+	   part's line becomes a witness (pvs__ot25_witnessed) */
 	if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) {
 		int out1 = t->nodes[c1].kind == PVS__OT_OUT;
 		for (i = 0; i < 3; ++i) nf[i] = out1 ? nd->n[i] : -nd->n[i];
@@ -6833,12 +6742,12 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 			return 0;
 		}
 	}
-	/* the child without a hidden-height bound (likely visible) goes first; the other keeps the polygon
-	   unclipped and clips it only if the test gets there (pvs__ot_owed) */
+	/* the child without a hidden-height bound (likely visible) first; the other keeps the polygon unclipped, clipped
+	   only if reached (pvs__ot_owed) */
 	first = t->nodes[c1].mr == DBL_MAX && t->nodes[c0].mr != DBL_MAX ? 1 : 0;
 	for (i = 0; i < 3; ++i) nf[i] = first ? nd->n[i] : -nd->n[i];
 	r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
-	if (r < 0) pvs__ot_copy(PVS__OT_ITEM(t, top + 1), q); /* too many vertices: the whole polygon (conservative) */
+	if (r < 0) pvs__ot_copy(PVS__OT_ITEM(t, top + 1), q); /* too many vertices: whole polygon (conservative) */
 	t->stack_node[top] = first ? c0 : c1;
 	t->stack_pend[top] = (node << 1) | (uint32_t)(1 - first);
 	if (r != 0) {
@@ -6849,8 +6758,8 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 	return 0;
 }
 
-/* Pays the clip owed by item `top` (pvs__ot_test_inner): its part on side `side` of the node's plane, widened by
-   1e-12. 0 when nothing is left (the caller pops it). */
+/* Pays the clip owed by item `top` (pvs__ot_test_inner): its part on side `side` of the node's plane, widened by 1e-12.
+   0 when nothing is left (caller pops it). */
 PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 	uint32_t pend = t->stack_pend[top];
 	const pvs__otnode *nd = t->nodes + (pend >> 1);
@@ -6859,7 +6768,7 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 	int i, r;
 	t->stack_pend[top] = PVS__OT_NONE;
 	for (i = 0; i < 3; ++i) nf[i] = (pend & 1u) ? nd->n[i] : -nd->n[i];
-	if (top + 2 <= t->stack_cap) { /* into the free slot above, then trade places */
+	if (top + 2 <= t->stack_cap) { /* into the free slot above, then swap */
 		r = pvs__ot_clip_n(PVS__OT_ITEM(t, top), nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
 		if (r > 0) pvs__ot_swap(t, top, top + 1);
 		return r != 0;
@@ -6870,9 +6779,9 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 	return 1;
 }
 
-/* The blocker polygon B(S, O) (§6.4.3): lines through S = a b, then O = c d; vertices a->c, a->d, b->d, b->c, each
-   edge in the plane of its lines' shared point. Coincident vertices (O's line through an end of S, O touching S)
-   merge into the triangle of Fig. 6.5. 0 when degenerate (no line set of positive measure). */
+/* Blocker polygon B(S, O) (§6.4.3): lines through S = a b, then O = c d; vertices a->c, a->d, b->d, b->c, each edge in
+   the plane of its lines' shared point. Coincident vertices (O's line through an end of S, O touching S) merge into the
+   triangle of Fig. 6.5. 0 when degenerate (no line set of positive measure). */
 PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const double c[2], const double d[2],
 								pvs__otpoly *q) {
 	const double *from[4], *to[4], *pt[4];
@@ -6887,7 +6796,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 	for (i = 0; i < 4; ++i) {
 		double dx = to[i][0] - from[i][0], dy = to[i][1] - from[i][1];
 		double scale = fabs(from[i][0]) + fabs(from[i][1]) + fabs(to[i][0]) + fabs(to[i][1]) + 1.0;
-		if (sqrt(dx * dx + dy * dy) <= 1e-12 * scale || len[i] == 0.0) continue; /* u == v: no line */
+		if (sqrt(dx * dx + dy * dy) <= 1e-12 * scale || len[i] == 0.0) continue; /* u == v */
 		if (n > 0) {
 			double *w = q->v[n - 1];
 			double dd = fabs(w[0] - v[i][0]) + fabs(w[1] - v[i][1]) + fabs(w[2] - v[i][2]);
@@ -6908,7 +6817,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 	}
 	q->n = n;
 	if (n < 3) return 0;
-	/* fix each edge's plane: the point of the candidates that lies on both end lines */
+	/* each edge's plane: the candidate point on both end lines */
 	{
 		const double *cand[4];
 		double cn[4][3], en[PVS__OT_MAXV][3], cen[3] = {0, 0, 0}, clen;
@@ -6918,7 +6827,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 			const double *v0 = q->v[i], *v1 = q->v[(i + 1) % n];
 			int best = -1;
 			double best_err = DBL_MAX;
-			if (n == 4) { /* no vertex merged: edge i lies in the plane of pt[i] (a, d, b, c = cand 0, 3, 1, 2) */
+			if (n == 4) { /* no merge: edge i in pt[i]'s plane (a, d, b, c = cand 0, 3, 1, 2) */
 				static const int pick[4] = {0, 3, 1, 2};
 				const double *c0 = cn[pick[i]];
 				double e0 = fabs(c0[0] * v0[0] + c0[1] * v0[1] + c0[2] * v0[2]);
@@ -6939,14 +6848,14 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 			q->e[i][0] = cand[best][0]; q->e[i][1] = cand[best][1];
 			memcpy(en[i], cn[best], sizeof(en[i]));
 		}
-		/* convexity: every vertex on the inner side of every edge plane */
+		/* convex: every vertex inside every edge plane */
 		for (i = 0; i < n; ++i) for (k = 0; k < 3; ++k) cen[k] += q->v[i][k];
 		clen = sqrt(cen[0] * cen[0] + cen[1] * cen[1] + cen[2] * cen[2]);
 		for (i = 0; i < n; ++i) {
 			double s = (en[i][0] * cen[0] + en[i][1] * cen[1] + en[i][2] * cen[2]) / clen;
 			int i1 = i + 1 == n ? 0 : i + 1;
 			if (!(fabs(s) > 1e-12)) return 0;
-			for (k = 0; k < n; ++k) /* the edge's own ends lie within 1e-9 of its plane (checked above) */
+			for (k = 0; k < n; ++k) /* edge's own ends: within 1e-9 (checked above) */
 				if (k != i && k != i1 &&
 					(s > 0 ? 1.0 : -1.0) * (en[i][0] * q->v[k][0] + en[i][1] * q->v[k][1] + en[i][2] * q->v[k][2]) <
 						-1e-9)
@@ -6956,15 +6865,15 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 	return 1;
 }
 
-/* The line through segment s (4 doubles) for pvs__ot_hit_m: m[0..2] = (s0, 1) x (s1, 1), m[3] = |(m0, m1)|. */
+/* Line through segment s (4 doubles) for pvs__ot_hit_m: m[0..2] = (s0, 1) x (s1, 1), m[3] = |(m0, m1)|. */
 PVS__STATIC void pvs__ot_hit_line(const double *s, double m[4]) {
 	m[0] = s[1] - s[3];
 	m[1] = s[2] - s[0];
 	m[2] = s[0] * s[3] - s[1] * s[2];
 	m[3] = sqrt(m[0] * m[0] + m[1] * m[1]);
 }
-/* Parameter along line l (unit direction (l1, -l0)) of its crossing with the line m of a segment
-   (pvs__ot_hit_line); 0 when (nearly) parallel or the same line. */
+/* Parameter along line l (unit direction (l1, -l0)) of its crossing with segment line m (pvs__ot_hit_line); 0 when
+   (nearly) parallel or the same line. */
 PVS__STATIC int pvs__ot_hit_m(const double l[3], const double m[4], double *t) {
 	double x, y, w, dx = l[1], dy = -l[0], dn = m[3];
 	x = l[1] * m[2] - l[2] * m[1];
@@ -6975,7 +6884,7 @@ PVS__STATIC int pvs__ot_hit_m(const double l[3], const double m[4], double *t) {
 	return 1;
 }
 
-/* Parameter on segment s (0 at its first end, 1 at its second) where line l crosses its line; 0 when parallel. */
+/* Parameter on segment s (0, 1 at its ends) where line l crosses its line; 0 when parallel. */
 PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
 	double dx = s[2] - s[0], dy = s[3] - s[1];
 	double a = l[0] * s[0] + l[1] * s[1] + l[2], b = l[0] * dx + l[1] * dy;
@@ -6984,7 +6893,7 @@ PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
 	return 1;
 }
 
-/* The crossing X of the supporting lines of two segments; 0 when parallel. */
+/* Crossing X of two segments' lines; 0 when parallel. */
 PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
 	double d1x = s[2] - s[0], d1y = s[3] - s[1], d2x = r[2] - r[0], d2y = r[3] - r[1];
 	double den = d1x * d2y - d1y * d2x, u;
@@ -6996,14 +6905,14 @@ PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
 }
 
 /* Depth order of occluders j, k along q's lines (§6.5.1): counts vertices where k is clearly in front of j, and
-   clearly behind. Ties (lines through X or a shared end) count as neither, as do vertex lines missing either
-   segment: they lie outside the leaf by a rounding sliver (q clipped with slack). */
+   clearly behind. Ties (lines through X or a shared end) count as neither, as do vertex lines missing either segment:
+   they lie outside the leaf by a rounding sliver (q clipped with slack). */
 PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk,
 							   int *front, int *behind) {
 	int i, have_x;
 	double x[2], mj[4], mk[4];
 	*front = *behind = 0;
-	/* after a split at the crossing X the lines through X are ties, whatever rounding says */
+	/* after a split at crossing X, lines through X tie, whatever rounding says */
 	have_x = q->xsplit && pvs__ot_cross(sj, sk, x);
 	pvs__ot_hit_line(sj, mj);
 	pvs__ot_hit_line(sk, mk);
@@ -7018,7 +6927,7 @@ PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const 
 	}
 }
 
-/* Splits leaf `node` by the plane of p; the side `sign * side(p) > 0` continues. Returns that child. */
+/* Splits leaf `node` by p's plane; side `sign * side(p) > 0` continues; returns that child. */
 PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const double p[2], double sign) {
 	uint32_t neg = pvs__ot_new_node(t), pos = pvs__ot_new_node(t);
 	pvs__otnode old;
@@ -7037,9 +6946,9 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
 	return pos;
 }
 
-/* Turns leaf `node` into the chain of q's unmarked edges (the e-OT, §3.3.3): split by each edge's plane, q's side
-   continuing; the sides away from q keep the leaf's kind and payload. Returns the node of q's region (old payload
-   still on), PVS__OT_NONE when out of memory. */
+/* Turns leaf `node` into the chain of q's unmarked edges (e-OT, §3.3.3): split by each edge's plane, q's side
+   continuing; sides away from q keep the leaf's kind and payload. Returns q's region node (old payload still on),
+   PVS__OT_NONE when out of memory. */
 PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
 	double cen[3] = {0, 0, 0};
 	int i, k;
@@ -7049,7 +6958,7 @@ PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otp
 	return node;
 }
 
-/* Gives leaf `node` the payload seq[old_first .. + old_count) followed by `add`. */
+/* Gives leaf `node` payload seq[old_first .. + old_count) followed by `add`. */
 PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_first, uint32_t old_count,
 									uint32_t add) {
 	size_t first = t->seq_count;
@@ -7066,14 +6975,14 @@ PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_f
 
 /* ---- 2D from-region (ch. 6): insertion with the four depth cases of §6.5.1 ---- */
 
-/* §6.5.1 case 3: q, split at the crossing X = x (marked so), goes back on the stack at `node` as its two halves. 0
-   when out of memory. */
+/* §6.5.1 case 3: q, split at crossing X = x (marked so), goes back on the stack at `node` as two halves. 0: out of
+   memory. */
 PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, const double x[2]) {
 	pvs__otpoly part;
 	double n[3];
 	int ok = 1, side;
 	q->xsplit = 1;
-	for (side = 0; side < 2; ++side) { /* the planes x* and -x* */
+	for (side = 0; side < 2; ++side) { /* planes x*, -x* */
 		pvs__ot_normal(x, side ? -1.0 : 1.0, n);
 		if (pvs__ot_clip_n(q, n, x, 0.0, 0, &part) >= 3) ok &= pvs__ot_push(t, node, &part);
 	}
@@ -7089,7 +6998,7 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 		pvs__otpoly q;
 		uint32_t node = t->stack_node[t->stack_count - 1];
 		pvs__otnode *nd = t->nodes + node;
-		/* §6.5.5: every line of this subtree meets a stored occluder nearer to any cell point than k is */
+		/* §6.5.5: every line here meets a stored occluder nearer to any cell point than k */
 		if (near > nd->mvd) { --t->stack_count; continue; }
 		if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1, -1.0, 0.0); continue; }
 		pvs__ot_pop(t, &q);
@@ -7102,15 +7011,15 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 			int front, behind;
 			if (j == k) continue;
 			pvs__ot_depth(t, &q, sj, sk, &front, &behind);
-			if (!front) continue;						 /* case 1 (behind) and case 4 (collinear) */
-			if (behind && !q.xsplit) {					 /* case 3: split at the crossing X */
+			if (!front) continue;						 /* cases 1 (behind), 4 (collinear) */
+			if (behind && !q.xsplit) {					 /* case 3: split at crossing X */
 				double x[2];
 				if (pvs__ot_cross(sj, sk, x)) {
 					(void)pvs__ot2_xsplit(t, node, &q, x);
 					continue;
 				}
 			}
-			/* case 2 (or an unresolved crossing, counted as in front: conservative) */
+			/* case 2 (or unresolved crossing, taken as in front: conservative) */
 			{
 				uint32_t leaf = pvs__ot_refine(t, node, &q);
 				if (leaf != PVS__OT_NONE) pvs__ot_set_payload(t, leaf, 0, 0, k);
@@ -7120,9 +7029,9 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 	t->stack_count = base;
 }
 
-/* Thickness of a line-space polygon: the least over its edges of the largest vertex distance from the edge's plane.
-   Insertion leaves slivers about 1e-12 thick where it rounded; line sets thinner than PVS__OT_SLIVER (radians at
-   unit distance) are below the method's resolution. */
+/* Thickness of a line-space polygon: least over edges of the largest vertex distance from the edge's plane. Insertion
+   leaves ~1e-12 slivers where it rounded; line sets thinner than PVS__OT_SLIVER (radians at unit distance) are below
+   the method's resolution. */
 #define PVS__OT_SLIVER 1e-10
 PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
 	double th = DBL_MAX;
@@ -7139,14 +7048,14 @@ PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
 	return th;
 }
 
-/* The read-only test (§3.3.4), after the 2.5D pieces (pvs__ot25_open). */
+/* Read-only test (§3.3.4), defined after the 2.5D pieces (pvs__ot25_open). */
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
 								const double *e, const double *box);
 
 /* ---- shared driver pieces ---- */
 
-/* Clips segment s to the open half-plane right of a -> b (outside a CCW edge). 0 when nothing is left; *on_line:
-   which end (1 first, 2 second) was moved onto the line. */
+/* Clips segment s to the open half-plane right of a -> b (outside a CCW edge). 0 when nothing is left; *on_line: which
+   end (1 first, 2 second) moved onto the line. */
 PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const double *s, double out[4],
 									 int *on_line) {
 	double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
@@ -7155,7 +7064,7 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 	*on_line = 0;
 	memcpy(out, s, 4 * sizeof(double));
 	if (f0 >= 0.0 && f1 >= 0.0) return 0;
-	if (f0 >= 0.0 || f1 >= 0.0) { /* the end outside the half-plane moves onto the line */
+	if (f0 >= 0.0 || f1 >= 0.0) { /* outside end moves onto the line */
 		int e = f0 >= 0.0 ? 0 : 2, g = 2 - e;
 		double u = e ? f1 / (f1 - f0) : f0 / (f0 - f1);
 		out[e] = s[e] + u * (s[g] - s[e]);
@@ -7165,8 +7074,8 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 	return !(out[0] == out[2] && out[1] == out[3]);
 }
 
-/* The blockers of source edge a -> b (lines leaving to its right) and clipped segment o: one, or two when o's line
-   crosses the edge at x (Fig. 6.5). Returns how many; *degenerate: a non-empty line set was not representable. */
+/* Blockers of source edge a -> b (lines leaving to its right) and clipped segment o: one, or two when o's line crosses
+   the edge at x (Fig. 6.5). Returns how many; *degenerate: a non-empty line set was not representable. */
 PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line,
 								 pvs__otpoly out[2], int *degenerate) {
 	double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
@@ -7202,7 +7111,7 @@ PVS__STATIC double pvs__ot_dist2(const double p[2], const double *s) {
 	qy = s[1] + u * dy - p[1];
 	return qx * qx + qy * qy;
 }
-/* The largest squared distance from the n points pts (2 doubles each) to an end of segment s. */
+/* Largest squared distance from n points pts (2 doubles each) to an end of segment s. */
 PVS__STATIC double pvs__ot_far2(const double *pts, uint32_t n, const double *s) {
 	double far2 = 0.0;
 	uint32_t i, m;
@@ -7213,12 +7122,12 @@ PVS__STATIC double pvs__ot_far2(const double *pts, uint32_t n, const double *s) 
 		}
 	return far2;
 }
-/* The CCW corners of rectangle b (umin vmin umax vmax) grown by g > 0 on each side. */
+/* CCW corners of rectangle b (umin vmin umax vmax) grown by g > 0. */
 PVS__STATIC void pvs__ot_rect(const double *b, double g, double c[8]) {
 	c[0] = b[0] - g; c[1] = b[1] - g; c[2] = b[2] + g; c[3] = b[1] - g;
 	c[4] = b[2] + g; c[5] = b[3] + g; c[6] = b[0] - g; c[7] = b[3] + g;
 }
-/* 1 when segment s meets the closed convex CCW polygon poly (n vertices). */
+/* 1 when segment s meets closed convex CCW polygon poly (n vertices). */
 PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *poly, uint32_t n) {
 	double t0 = 0.0, t1 = 1.0, dx = s[2] - s[0], dy = s[3] - s[1];
 	uint32_t i;
@@ -7226,7 +7135,7 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
 		const double *a = poly + 2 * i, *b = poly + 2 * ((i + 1) % n);
 		double ex = b[0] - a[0], ey = b[1] - a[1];
 		double f = ex * (s[1] - a[1]) - ey * (s[0] - a[0]); /* >= 0 inside */
-		double g = ex * dy - ey * dx;						 /* change of f along s */
+		double g = ex * dy - ey * dx;						 /* f's change along s */
 		if (g == 0.0) {
 			if (f < 0.0) return 0;
 		} else {
@@ -7239,9 +7148,9 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
 	return 1;
 }
 
-/* Maximum visibility distances (§6.5.5), bottom-up in one backward pass (children follow their parent): out-leaves
-   unbounded, in-leaves the stored occluder's largest distance to a cell point (along any line, at most that far
-   from where the line leaves the cell). */
+/* Maximum visibility distances (§6.5.5), bottom-up in one backward pass (children follow parents): out-leaves
+   unbounded, in-leaves the stored occluder's largest distance to a cell point (along any line, at most that far from
+   where it leaves the cell). */
 PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
 	size_t i;
 	for (i = t->node_count; i-- > 0;) {
@@ -7276,8 +7185,8 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 
 /* ---- 2D from-region API (ch. 6) ---- */
 
-/* The cell polygon `in` (n >= 3 vertices) centred at its vertex mean (*cx, *cy), made CCW, into `cell` (2 n
-   doubles). PVS_OK, or PVS_ERROR_BAD_CELL (in err) when it has no area or is not convex. */
+/* Cell polygon `in` (n >= 3 vertices) centred at its vertex mean (*cx, *cy), made CCW, into `cell` (2 n doubles).
+   PVS_OK, or PVS_ERROR_BAD_CELL (in err) when it has no area or is not convex. */
 PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy,
 									 pvs_error *err) {
 	double area = 0.0;
@@ -7308,8 +7217,8 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
 	return PVS_OK;
 }
 
-/* The MVD shortcut's distances (§6.5.5) of the `count` segments to the cell (n vertices), rounded outward by
-   len_eps: reach[i] the largest distance from segment i to a cell point, near[i] the least (0 when they meet). */
+/* MVD shortcut distances (§6.5.5) of `count` segments to the cell (n vertices), rounded outward by len_eps: reach[i]
+   the largest distance from segment i to a cell point, near[i] the least (0 when they meet). */
 PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps,
 									double *reach, double *near) {
 	uint32_t i, k;
@@ -7330,13 +7239,13 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 	}
 }
 
-/* Segment i (s, `near` from the cell) through the blockers of each cell edge (§6.6). test 0: inserted (an occluder
-   crossing the cell is visible anyway; its outside parts still block). test 1, the exact re-test: 1 when it meets the
-   cell, is a point, is degenerate as seen from a cell edge, or a line from an edge reaches it past the occluders. */
+/* Segment i (s, `near` from the cell) through the blockers of each cell edge (§6.6). test 0: insert (an occluder
+   crossing the cell is visible anyway; its outside parts still block). test 1, exact re-test: 1 when it meets the cell,
+   is a point, is degenerate from a cell edge, or a line from an edge reaches it past the occluders. */
 PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
 								 double near, int test) {
 	uint32_t k;
-	/* a point: no line set to test, count it visible */
+	/* a point: no line set; visible */
 	int vis = test && (pvs__ot_segment_meets_polygon(s, cell, n) || (s[0] == s[2] && s[1] == s[3]));
 	for (k = 0; k < n && !vis; ++k) {
 		double o[4];
@@ -7413,7 +7322,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	t.seg = seg;
 	budget = desc->node_budget ? desc->node_budget : 1u << 20;
 	if (!pvs__ot_reset(&t)) { r = PVS__OOM(err, "occlusion tree"); goto done; }
-	/* the sweep (§6.6): occluders by distance to the cell's centre, one tree for all edges (§6.5.2) */
+	/* sweep (§6.6): occluders by distance to the cell centre, one tree for all edges (§6.5.2) */
 	for (i = 0; i < count && !t.oom; ++i) {
 		uint32_t j = order[i].index;
 		const double *s = seg + 4 * j;
@@ -7425,7 +7334,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 		pvs__ot2_update_mvd(&t);
 	}
 	if (t.oom) { r = PVS__OOM(err, "occlusion tree nodes"); goto done; }
-	/* exact re-test of every segment against the final tree (§6.6) */
+	/* exact re-test of every segment on the final tree (§6.6) */
 	if (visible_segments) memset(visible_segments, 0, PVS_BITSET_WORDS(count) * sizeof(pvs_word));
 	if (visible_objects) memset(visible_objects, 0, PVS_BITSET_WORDS(desc->object_count) * sizeof(pvs_word));
 	for (i = 0; i < count; ++i) {
@@ -7451,22 +7360,22 @@ done:
 /* ---- facades: the scene's vertical walls as 2.5D occluders (§7.1, the input of c-LSS) ---- */
 
 /* Facade extraction, any tessellation (T-junction splits, strips, fans; floors at several heights):
-   1. vertical triangles are grouped by ground line (direction, then offset, within tolerances), dropping members
-	  farther than tol from the longest member's line;
-   2. in (s, h), s along the line, the vertices' s cut slabs with no vertex inside, where cross-section bounds are
+   1. vertical triangles are grouped by ground line (direction, then offset, within tol), dropping members farther
+	  than tol from the longest member's line;
+   2. in (s, h), s along the line, vertex s values cut slabs with no vertex inside, where cross-section bounds are
 	  linear: triangles overlapping (within tol) at both slab ends overlap across it, so a connected set covers
-	  [min_j max(lo_j), max_j min(hi_j)] (member bounds at the ends) all over the slab;
-   3. consecutive slabs with the same interval (within tol) make a facade: a segment and the heights [bottom, top]
-	  it fully covers.
+	  [min_j max(lo_j), max_j min(hi_j)] (member bounds at the ends) over the whole slab;
+   3. consecutive slabs with equal intervals (within tol) make a facade: a segment and the heights [bottom, top] it
+	  fully covers.
    Conservative up to cracks and offsets of tol (8 float epsilons of the scene's coordinates: T-junction cracks);
    heights round inward, ends are vertex floats. Writes *count facades (u0 v0 u1 v1 top bottom) into a new *out
    (allocator a, *out_floats floats), *vertical the vertical triangles; OUT_OF_MEMORY leaves *out NULL. */
-#define PVS__FX_MAX_COVER 512 /* a slab covered by more triangles is left out (conservative) */
-#define PVS__OT25_LEVELS 8	  /* base heights of facades the OTREE bake tells apart (pvs__otree_prepare) */
+#define PVS__FX_MAX_COVER 512 /* slabs under more triangles are left out (conservative) */
+#define PVS__OT25_LEVELS 8	  /* facade base heights the OTREE bake tells apart (pvs__otree_prepare) */
 
 typedef struct pvs__fxopen {
 	double s0, s1, bot, top;
-	double g0[2], g1[2]; /* the ground points of the mesh vertices at s0 and s1 */
+	double g0[2], g1[2]; /* ground points of the mesh vertices at s0, s1 */
 } pvs__fxopen;
 
 PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, uint32_t *count, const pvs__fxopen *f) {
@@ -7480,15 +7389,15 @@ PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, u
 	if (!(top > bot) || *count >= 0x7fffffffu) return 1;
 	if (!pvs__grow(a, (void **)out, cap, 6 * ((size_t)*count + 2), sizeof(float))) return 0;
 	o = *out + 6 * (size_t)*count;
-	for (k = 0; k < 2; ++k) { o[k] = (float)f->g0[k]; o[2 + k] = (float)f->g1[k]; } /* the vertices' own floats */
+	for (k = 0; k < 2; ++k) { o[k] = (float)f->g0[k]; o[2 + k] = (float)f->g1[k]; } /* vertex floats */
 	o[4] = top;
 	o[5] = bot;
 	++*count;
 	return 1;
 }
 
-/* Cross-section [lo, hi] at s of triangle (ts, th). Edges are evaluated from their smaller-s end, so both
-   triangles of a shared edge get the same values. */
+/* Cross-section [lo, hi] at s of triangle (ts, th); edges evaluated from their smaller-s end, so triangles sharing an
+   edge agree. */
 PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, double *lo, double *hi) {
 	int i;
 	*lo = DBL_MAX; *hi = -DBL_MAX;
@@ -7508,27 +7417,26 @@ PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, d
 	}
 }
 
-/* The extraction's scratch (sized for nv vertical triangles) and its output. */
+/* Extraction scratch (for nv vertical triangles) and output. */
 typedef struct pvs__fxwork {
 	const pvs_scene *sc;
 	const pvs_allocator *a;
 	int u, v, up;			/* ground axes, up axis */
 	double tol;
-	pvs__key_index *so;		 /* 3 nv: a line's members by smallest s, then its vertices by s */
+	pvs__key_index *so;		 /* 3 nv: line members by least s, then vertices by s */
 	double *sv;				/* 14 nv: per member s[3], h[3], smin, smax, ground[3][2] */
 	double *sec;			/* 4 PVS__FX_MAX_COVER: per slab member lo(sa), lo(sb), hi(sa), hi(sb) */
-	uint32_t *ins, *act;	/* nv: members in order of smallest s; the members over the slab */
+	uint32_t *ins, *act;	/* nv: members by least s; members over the slab */
 	uint32_t *comp, *que;	/* PVS__FX_MAX_COVER + 1: connected set per slab member; its queue */
-	pvs__fxopen *opn, *nxt; /* PVS__FX_MAX_COVER + 1: facades open at the slab's start; those it continues */
+	pvs__fxopen *opn, *nxt; /* PVS__FX_MAX_COVER + 1: facades open at slab start; those it continues */
 	uint32_t nopen;
-	float **out;			/* the facades (6 floats each), cap floats allocated, *count written */
+	float **out;			/* facades (6 floats), cap floats allocated, *count written */
 	size_t cap;
 	uint32_t *count;
 } pvs__fxwork;
 
-/* Step 1's test, vertical: ground points collinear within tol, ground length and height > tol. Per vertical
-   triangle a slot tl = (theta in [0, pi), offset n . g with n = (-d1, d0), d0, d1, ground length), vt = the
-   triangle. Returns the slot count. */
+/* Step 1's vertical test: ground points collinear within tol, ground length and height > tol. Per vertical triangle a
+   slot tl = (theta in [0, pi), offset n . g, n = (-d1, d0), d0, d1, ground length), vt = triangle. Returns slots. */
 PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up, double tol, double *tl, uint32_t *vt) {
 	uint32_t t, k, nv = 0;
 	for (t = 0; t < sc->triangle_count; ++t) {
@@ -7563,8 +7471,8 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 	return nv;
 }
 
-/* Step 1's group: mem's slots as (s, h) triangles into w->sv on the line of the longest member (ties: lower slot),
-   less those farther than tol from it. Returns the count kept. */
+/* Step 1's group: mem's slots as (s, h) triangles into w->sv on the longest member's line (ties: lower slot), minus
+   those farther than tol from it. Returns count kept. */
 PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__key_index *mem,
 									 uint32_t n) {
 	uint32_t ref = mem[0].index, nm = 0, i, k;
@@ -7597,9 +7505,9 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
 	return nm;
 }
 
-/* Steps 2-3 on slab [sa, sb] (ground points ga, gb) with members w->act[0..use): the connected sets (overlap within
-   tol at both ends, breadth first) and their intervals, each continuing the open facade ending at sa with the same
-   interval (within tol) or opening one; those not continued are emitted. 0 when out of memory. */
+/* Steps 2-3 on slab [sa, sb] (ground points ga, gb), members w->act[0..use): connected sets (overlap within tol at both
+   ends, BFS) and their intervals, each continuing the open facade ending at sa with the same interval (within tol) or
+   opening one; facades not continued are emitted. 0: out of memory. */
 PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2],
 							 const double gb[2]) {
 	double tol = w->tol, *sec = w->sec;
@@ -7649,7 +7557,7 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
 			++nn;
 		}
 	}
-	for (j = 0; j < w->nopen; ++j) /* not continued: done */
+	for (j = 0; j < w->nopen; ++j) /* not continued: emit */
 		if (!pvs__fx_emit(w->a, w->out, &w->cap, w->count, opn + j)) return 0;
 	w->opn = nxt;
 	w->nxt = opn;
@@ -7657,8 +7565,8 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
 	return 1;
 }
 
-/* Steps 2 and 3 along a line of nm members (w->sv): the slabs between consecutive vertex s, each with the members
-   spanning it (more than PVS__FX_MAX_COVER: left out), then the facades still open emitted. 0 when out of memory. */
+/* Steps 2-3 along a line of nm members (w->sv): slabs between consecutive vertex s, each with the members spanning it
+   (over PVS__FX_MAX_COVER: left out); then emits facades still open. 0: out of memory. */
 PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
 	pvs__key_index *so = w->so;
 	const double *sv = w->sv;
@@ -7666,10 +7574,10 @@ PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
 	w->nopen = 0;
 	for (i = 0; i < nm; ++i) { so[i].key = sv[14 * (size_t)i + 6]; so[i].index = i; }
 	pvs__key_index_sort(so, nm);
-	for (i = 0; i < nm; ++i) w->ins[i] = so[i].index; /* members in order of their smallest s */
+	for (i = 0; i < nm; ++i) w->ins[i] = so[i].index; /* members by least s */
 	for (i = 0; i < nm; ++i)
 		for (k = 0; k < 3; ++k) { so[ns].key = sv[14 * (size_t)i + k]; so[ns].index = 3 * i + k; ++ns; }
-	pvs__key_index_sort(so, ns); /* every vertex s: the slab boundaries */
+	pvs__key_index_sort(so, ns); /* vertex s: slab bounds */
 	for (slab = 0; slab + 1 < ns; ++slab) {
 		double sa = so[slab].key, sb = so[slab + 1].key, ga[2], gb[2];
 		uint32_t m = 0, j;
@@ -7679,7 +7587,7 @@ PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
 		gb[0] = sv[14 * (size_t)(so[slab + 1].index / 3) + 8 + 2 * (so[slab + 1].index % 3)];
 		gb[1] = sv[14 * (size_t)(so[slab + 1].index / 3) + 9 + 2 * (so[slab + 1].index % 3)];
 		while (next < nm && sv[14 * (size_t)w->ins[next] + 6] <= sa) w->act[na++] = w->ins[next++];
-		for (j = 0; j < na; ++j) /* members whose range ends before the slab leave */
+		for (j = 0; j < na; ++j) /* drop members ending before the slab */
 			if (sv[14 * (size_t)w->act[j] + 7] >= sb) w->act[m++] = w->act[j];
 		na = m;
 		if (!pvs__fx_slab(w, na > PVS__FX_MAX_COVER ? 0 : na, sa, sb, ga, gb)) return 0;
@@ -7759,34 +7667,33 @@ done:
 
 /* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
 
-/* Proving hidden things hidden dominates the cost; each shortcut below paid for itself (bench_otree;
-   tests/BENCHMARKS.md, otree). */
+/* Proving hidden things hidden dominates the cost (shortcuts below: tests/BENCHMARKS.md, otree). */
 
 #define PVS__OT25_MAX_UMBRAE 96
 #define PVS__OT25_JD 10 /* doubles of per-occluder data (pvs__ot25_prepare) */
 /* kD nodes with fewer item references are not tested (cf. §4.12.1: none below 50 polygons) */
 #define PVS__OT25_TEST_MIN 48
 
-/* Hidden-height bound (§6.5.5's maximum visibility distance, made valid in 2.5D where occluders are seen over):
-   each line of an in-leaf crosses every member j. A ray on it from an eye p no higher than H = t->eye passing over
-   j (top h_j > H) rises at slope >= s = (h_j - H) / reach_j (|pc| <= reach_j, c the crossing), so points no nearer
-   than n > reach_j to the cell and lower than H + s n are hidden. Leaves keep the steepest member (mr = reach, ms =
-   s), inner nodes the children's largest reach and least slope; none (DBL_MAX) above out-leaves and members no
-   taller than the eyes. */
+/* Hidden-height bound (§6.5.5's maximum visibility distance, made valid in 2.5D where occluders are seen over): each
+   line of an in-leaf crosses every member j. A ray on it from an eye p no higher than H = t->eye passing over j (top
+   h_j > H) rises at slope >= s = (h_j - H) / reach_j (|pc| <= reach_j, c the crossing): points no nearer than n >
+   reach_j to the cell and lower than H + s n are hidden. Leaves keep the steepest member (mr = reach, ms = s), inner
+   nodes the children's largest reach and least slope; none (DBL_MAX) over out-leaves and members no taller than the
+   eyes. */
 PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 	(void)t;
-	if (nd->kind == PVS__OT_IN) return; /* set as members join (pvs__ot25_join), inherited by parts */
+	if (nd->kind == PVS__OT_IN) return; /* set as members join (pvs__ot25_join); parts inherit it */
 	nd->mr = nd->ml = DBL_MAX;
 	nd->ms = nd->mls = 0.0;
 }
-/* Member k joins in-leaf `node` whose lines cross k within [f0, f1] only: its reach there (a cell corner to an end
-   of that part) is <= jd[8], its slope >= jd[9]. The leaf keeps the steepest member (mr, ms) and the one of least
-   reach (ml, mls), valid for later splits' parts too. */
+/* Member k joins in-leaf `node`, whose lines cross k within [f0, f1] only: its reach there (cell corner to an end of
+   that part) is <= jd[8], its slope >= jd[9]. The leaf keeps the steepest member (mr, ms) and the one of least reach
+   (ml, mls), valid for later splits' parts too. */
 PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double f0, double f1) {
 	const double *sg = t->seg + 4 * (size_t)k, *jd = t->jd + PVS__OT25_JD * (size_t)k;
 	pvs__otnode *nd = t->nodes + node;
 	double r = jd[8], sl = jd[9], far2, e[4];
-	if (!(sl > 0.0)) return; /* not taller than the eyes: no bound */
+	if (!(sl > 0.0)) return; /* not above the eyes: no bound */
 	f0 -= 1e-9; f1 += 1e-9;
 	if (f0 < 0.0) f0 = 0.0;
 	if (f1 > 1.0) f1 = 1.0;
@@ -7802,7 +7709,7 @@ PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double
 	if (sl > nd->ms || (sl == nd->ms && r < nd->mr)) { nd->ms = sl; nd->mr = r; }
 	if (r < nd->ml) { nd->ml = r; nd->mls = sl; }
 }
-/* The parameter hull on segment e of the lines of polygon q (its vertices), clamped to [0, 1]. */
+/* Parameter hull on segment e of polygon q's lines (its vertices), clamped to [0, 1]. */
 PVS__STATIC void pvs__ot25_funnel(const pvs__otpoly *q, const double *e, double *f0, double *f1) {
 	double lo = DBL_MAX, hi = -DBL_MAX, u;
 	int i;
@@ -7813,7 +7720,7 @@ PVS__STATIC void pvs__ot25_funnel(const pvs__otpoly *q, const double *e, double 
 	*f0 = lo < 0.0 ? 0.0 : lo;
 	*f1 = hi > 1.0 ? 1.0 : hi;
 }
-/* Inner node `node`'s bound from its children's; 0 when it did not change. */
+/* Inner node's bound from its children's; 0 when unchanged. */
 PVS__STATIC int pvs__ot25_inner_bound(pvs__otree *t, uint32_t node) {
 	pvs__otnode *nd = t->nodes + node;
 	const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
@@ -7826,8 +7733,8 @@ PVS__STATIC int pvs__ot25_inner_bound(pvs__otree *t, uint32_t node) {
 	nd->mls = mls;
 	return 1;
 }
-/* Recomputes the bound of the subtree at `node` (just rebuilt from a leaf: a short chain) and of its
-   ancestors while they change. */
+/* Recomputes the bounds of the subtree at `node` (just rebuilt from a leaf: a short chain), then of ancestors while
+   they change. */
 PVS__STATIC void pvs__ot25_bound_subtree(pvs__otree *t, uint32_t node) {
 	pvs__otnode *nd = t->nodes + node;
 	if (nd->kind) { pvs__ot25_leaf_bound(t, nd); return; }
@@ -7840,7 +7747,7 @@ PVS__STATIC void pvs__ot25_bound(pvs__otree *t, uint32_t node) {
 	pvs__ot25_bound_subtree(t, node);
 	for (p = t->nodes[node].parent; p != PVS__OT_NONE && pvs__ot25_inner_bound(t, p); p = t->nodes[p].parent) {}
 }
-/* Lower bound of the distance from the grown cell rectangle to segment e: to e's bounding box (exact when
+/* Lower bound of the distance from the grown cell rectangle to segment e (via e's bounding box; exact when
    axis-parallel), rounded down. */
 PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 	double dx = 0.0, dy = 0.0, d;
@@ -7854,18 +7761,18 @@ PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 	return d > 0.0 ? d : 0.0;
 }
 
-/* Extended umbra (§7.5.1) of occluder j on far segment e's top edge (height h), for rays over j's top edge from
-   eyes at height H = t->eye anywhere over the cell (§7.1: a falling ray is seen at least as well from where its 2D
-   line leaves the cell, a rising one from where it enters; both on top edges): the open interval (u0, u1) of
-   parameters on e where every such ray passes below j's top. For eye p, q is below when (h - H) D(p) < (h_j - H)
-   (D(p) - D(q)), D the signed distance to j's line (> 0 where the lines come from); monotone in D(p), so the
-   corners' extreme D (clamped at 0: eyes behind j's line do not look over it) cover every eye: the thesis's pi_o /
-   pi_s over the whole cell, so one tree per edge serves both kinds of rays. 0 when empty. */
+/* Extended umbra (§7.5.1) of occluder j on far segment e's top edge (height h), for rays over j's top edge from eyes
+   at height H = t->eye anywhere over the cell (§7.1: a falling ray is seen at least as well from where its 2D line
+   leaves the cell, a rising one from where it enters; both on top edges): open interval (u0, u1) of parameters on e
+   where every such ray passes below j's top. For eye p, q is below when (h - H) D(p) < (h_j - H) (D(p) - D(q)), D the
+   signed distance to j's line (> 0 on the source side); monotone in D(p), so the corners' extreme D (clamped at 0: eyes
+   behind j's line do not look over it) cover every eye (the thesis's pi_o / pi_s over the whole cell): one tree per
+   edge serves both ray kinds. 0 when empty. */
 PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0,
 								double *u1) {
 	double hj = jd[6], hn = h - t->eye, lo = -DBL_MAX, hi = DBL_MAX;
 	int i;
-	/* constraints alpha + beta u > margin; q0, q1: the distances D of e's ends */
+	/* constraints alpha + beta u > margin; q0, q1: D at e's ends */
 	for (i = 0; i < 3; ++i) {
 		double alpha, beta, margin, lim;
 		if (i < 2) {
@@ -7891,10 +7798,10 @@ PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0
 	return 1;
 }
 
-/* Occluder j's per-tree data: jd[0..2] its line D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on the source
-   edge's side); jd[3..4] the cell corners' least and largest D (clamped at 0); jd[5] 1 when the source edge lies on
-   one side; jd[6] top - eyes; jd[7] 0: no umbra (source edge midpoint on its line, or a point); jd[8] reach
-   (largest distance to a cell point, rounded up); jd[9] (top - eyes) / reach when taller than the eyes, else 0. */
+/* Occluder j's per-tree data: jd[0..2] line D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on the source edge's
+   side); jd[3..4] cell corners' min, max D (clamped at 0); jd[5] 1 when the source edge is on one side; jd[6] top -
+   eyes; jd[7] 0: no umbra (source edge midpoint on its line, or a point); jd[8] reach (max distance to a cell point,
+   rounded up); jd[9] (top - eyes) / reach if taller than the eyes, else 0. */
 PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	const double *sg = t->seg + 4 * (size_t)j;
 	double *jd = t->jd + PVS__OT25_JD * (size_t)j, dx = sg[2] - sg[0], dy = sg[3] - sg[1],
@@ -7925,9 +7832,9 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	jd[7] = 1.0;
 }
 
-/* Part of far segment e (height h) seen over the front members of payload seq[first..+count) within q's funnel: its
-   parameter hull [*v0, *v1] in the funnel range [*f0, *f1]. Members crossing `skip_box` (2D, or NULL) or not
-   clearly in front are ignored (conservative). 0 when nothing is left. */
+/* Part of far segment e (height h) seen over the front members of payload seq[first..+count) within q's funnel:
+   parameter hull [*v0, *v1] in funnel range [*f0, *f1]. Members crossing `skip_box` (2D, or NULL) or not clearly in
+   front are ignored (conservative). 0 when nothing is left. */
 PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
 							   const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0,
 							   double *v1) {
@@ -7950,16 +7857,16 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 				fmax(sj[1], sj[3]) >= poly[1] && pvs__ot_segment_meets_polygon(sj, poly, 4))
 				continue;
 		}
-		/* quick order: e wholly beyond j's line puts j in front on every line crossing both; wholly on the
-		   source side, behind */
+		/* quick order: e wholly beyond j's line: j in front on every line crossing both; wholly on the source side:
+		   behind */
 		s0 = jd[0] * e[0] + jd[1] * e[1] + jd[2];
 		s1 = jd[0] * e[2] + jd[1] * e[3] + jd[2];
-		/* the umbra first (cheap): one missing the open funnel range never moves v0 or v1, so needs no
-		   depth order; one covering it hides e here once j is found in front */
+		/* umbra first (cheap): one missing the open funnel range never moves v0, v1 (no depth order needed); one
+		   covering it hides e once j is found in front */
 		if (!pvs__ot25_umbra(t, jd, s0, s1, h, &um[nu][0], &um[nu][1]) || um[nu][1] <= flo || um[nu][0] >= fhi)
 			continue;
-		if (jd[5]) { /* the whole source edge on one side */
-			if (s0 >= -tol && s1 >= -tol) continue;		  /* e on the source side: j is behind */
+		if (jd[5]) { /* source edge on one side */
+			if (s0 >= -tol && s1 >= -tol) continue;		  /* e on source side: j behind */
 			if (!(s0 < -tol && s1 < -tol)) {			   /* e crosses j's line: vertex test */
 				pvs__ot_depth(t, q, e, sj, &front, &behind);
 				if (!front || behind) continue;
@@ -7968,12 +7875,12 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 			pvs__ot_depth(t, q, e, sj, &front, &behind);
 			if (!front || behind) continue;
 		}
-		if (um[nu][0] <= flo && um[nu][1] >= fhi) return 0; /* one umbra covers the funnel's part of e: hidden */
+		if (um[nu][0] <= flo && um[nu][1] >= fhi) return 0; /* one umbra covers the funnel's part: hidden */
 		++nu;
 	}
 	*f0 = flo; *f1 = fhi;
 	*v0 = flo; *v1 = fhi;
-	/* the first and the last parameter of [flo, fhi] outside every umbra (touching umbrae join) */
+	/* first and last parameter of [flo, fhi] outside every umbra (touching umbrae join) */
 	do {
 		changed = 0;
 		for (i = 0; i < nu; ++i)
@@ -7989,17 +7896,16 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 }
 
 #define PVS__OT25_MAX_SEQ 32
-/* Lazy funnel splitting: below this many members a leaf takes a partly visible occluder whole. Conservative: each
-   line of the leaf crosses the occluder, whose extended umbra holds there, seen or not (the thesis keeps hidden
-   occluders in S_L too, §7.5.2); the leaf answers at least as tightly, with a longer sequence. From this length
-   splitting (at most three, §7.5.2) bounds it; cheaper than splitting at once, and culls as much
-   (tests/BENCHMARKS.md, otree). */
+/* Lazy funnel splitting: below this many members a leaf takes a partly visible occluder whole. Conservative: each line
+   of the leaf crosses the occluder, whose extended umbra holds there, seen or not (the thesis keeps hidden occluders in
+   S_L too, §7.5.2); the leaf answers at least as tightly, with a longer sequence. From this length, splitting (at most
+   three, §7.5.2) bounds it (tests/BENCHMARKS.md, otree). */
 #define PVS__OT25_SPLIT_MIN 16
 
-/* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an in-leaf the funnel
-   test clips k's top edge by the front members' extended umbrae and, if a part stays visible, the leaf gets k,
-   split (from PVS__OT25_SPLIT_MIN members) into at most three: the primary funnel (rays through the visible part)
-   with members and k, the secondary ones with the members. */
+/* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an in-leaf the funnel test
+   clips k's top edge by the front members' extended umbrae; if a part stays visible the leaf gets k, split (from
+   PVS__OT25_SPLIT_MIN members) into at most three: the primary funnel (rays through the visible part) with members and
+   k, the secondary ones with the members. */
 PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
 	size_t base = t->stack_count;
 	const double *sk = t->seg + 4 * (size_t)k;
@@ -8011,7 +7917,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 		pvs__otnode *nd = t->nodes + node;
 		if (PVS__OT25_HIDDEN(t, nd, near, top)) { --t->stack_count; continue; } /* k hidden in this subtree */
 		if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1, near, top); continue; }
-		q = PVS__OT_ITEM(t, --t->stack_count); /* read in its slot: nothing is pushed before the next pop */
+		q = PVS__OT_ITEM(t, --t->stack_count); /* read in place: no push before the next pop */
 		if (nd->kind == PVS__OT_OUT) {
 			uint32_t leaf = pvs__ot_refine(t, node, q);
 			if (leaf != PVS__OT_NONE && pvs__ot_set_payload(t, leaf, 0, 0, k)) {
@@ -8024,14 +7930,14 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 			uint32_t first = nd->first, count = nd->count, leaf;
 			double f0, f1, v0, v1, cen[3] = {0, 0, 0};
 			int i, c;
-			if (count >= PVS__OT25_MAX_SEQ) continue; /* a full leaf keeps its members: conservative */
+			if (count >= PVS__OT25_MAX_SEQ) continue; /* full leaf keeps its members: conservative */
 			if (!pvs__ot25_open(t, q, first, count, k, sk, t->top[k], NULL, &f0, &f1, &v0, &v1))
 				continue; /* hidden here */
 			leaf = pvs__ot_refine(t, node, q);
 			if (leaf == PVS__OT_NONE) break;
 			for (i = 0; i < q->n; ++i) for (c = 0; c < 3; ++c) cen[c] += q->v[i][c];
-			/* lines through k before v0 (after v1) see only the old members: the primary side (lines crossing k
-			   beyond x, the point at v0) has x on the side of k's first end (at v1: of its second) */
+			/* lines through k before v0 (after v1) see only the old members: the primary side (lines crossing k beyond
+			   x, the point at v0) has x on the side of k's first end (at v1: its second) */
 			for (c = 0; c < 2 && count >= PVS__OT25_SPLIT_MIN; ++c) {
 				double x[2], u = c ? v1 : v0, sgn;
 				if (c ? !(v1 < f1 - 1e-9) : !(v0 > f0 + 1e-9)) continue;
@@ -8049,8 +7955,8 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 	t->stack_count = base;
 }
 
-/* The kind of the leaf holding line w (unit), found by descending with w alone; 0 when w lies within
-   1e-9 of a plane on its path (no answer) or outside the lines leaving through the source edge. */
+/* Kind of the leaf holding unit line w (descending with w alone); 0 when w is within 1e-9 of a plane on its path or
+   outside the lines leaving via the source edge. */
 PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 	uint32_t node = 0;
 	int in_root = 0;
@@ -8065,10 +7971,10 @@ PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 	return in_root ? t->nodes[node].kind : 0;
 }
 
-/* Early exit of pvs__ot25_box_visible (§3.3.4): 1 when a witness line still in an out-leaf crosses the interior of
-   box bx (wholly beyond source edge a -> b): it leaves through the source edge, meets no occluder, then two box
-   sides, one of which pvs__ot25_box_visible tests and would reach that out-leaf. Margins of 1e-6 of the scene size
-   keep rounding out; 0: run the full test. */
+/* Early exit of pvs__ot25_box_visible (§3.3.4): 1 when a witness line still in an out-leaf crosses the interior of box
+   bx (wholly beyond source edge a -> b): it leaves via the source edge, meets no occluder, then two box sides, one of
+   which pvs__ot25_box_visible tests and would reach that out-leaf. Margins of 1e-6 of the scene size absorb rounding;
+   0: run the full test. */
 PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const double a[2], const double b[2]) {
 	double nx = a[1] - b[1], ny = b[0] - a[0], mg = 1e3 * t->len_eps, near;
 	int i, k;
@@ -8109,9 +8015,9 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
 
 /* Read-only test (§3.3.4): 1 when a line of the blocker may get past the stored occluders (or out of memory). Splits
    with slack, stops at the first visible leaf. 2D (§6.5.3; e NULL, h unused): a line reaches occluder k before any
-   stored one; slivers (pvs__ot_thickness) do not count, so the answer does not depend on where insertion rounded,
-   i.e. on the insertion order. 2.5D (c-LSS): part of far edge e (height h) of object box `box` may be seen. near:
-   the subtree bounds' distance (§6.5.5; 2.5D pvs__ot25_near). */
+   stored one; slivers (pvs__ot_thickness) do not count, so the answer is independent of where insertion rounded
+   (insertion order). 2.5D (c-LSS): part of far edge e (height h) of object box `box` may be seen. near: distance for
+   subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
 								const double *e, const double *box) {
 	size_t base = t->stack_count, top;
@@ -8130,7 +8036,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 			continue;
 		}
 		if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, top, e ? near : -1.0, h); continue; }
-		t->stack_count = top; /* the polygon stays readable in its slot until the next push */
+		t->stack_count = top; /* polygon readable in its slot until the next push */
 		if (e) {
 			if (nd->kind == PVS__OT_OUT) pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top));
 			vis = nd->kind == PVS__OT_OUT || pvs__ot25_open(t, PVS__OT_ITEM(t, top), nd->first, nd->count, PVS__OT_NONE,
@@ -8141,7 +8047,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 		if (pvs__ot_thickness(&q) < PVS__OT_SLIVER) continue;
 		if (nd->kind == PVS__OT_OUT || (j = t->seq[nd->first]) == k) { vis = 1; break; }
 		pvs__ot_depth(t, &q, t->seg + 4 * (size_t)j, sk, &front, &behind);
-		/* the exact test splits at the crossing X (§6.5.1 case 3) */
+		/* exact test: split at crossing X (§6.5.1 case 3) */
 		if (front && behind && !q.xsplit && pvs__ot_cross(t->seg + 4 * (size_t)j, sk, x)) {
 			vis |= !pvs__ot2_xsplit(t, node, &q, x);
 			continue;
@@ -8157,9 +8063,8 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2],
 									  int *any_far) {
 	double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* the source edge's outward direction */
-	/* the bound counts every member, also those crossing the box that pvs__ot25_open ignores (a wall on a ground
-	   tile would hide the tile's far edge): with the whole box's nearness, a member of smaller reach lies wholly
-	   nearer */
+	/* the bound counts every member, also those crossing the box that pvs__ot25_open ignores (a wall on a ground tile
+	   would hide its far edge): with the whole box's nearness, a member of smaller reach lies wholly nearer */
 	double near = pvs__ot25_near(t, bx);
 	int i, vis = 0, far_edge, order[3];
 	c4[0] = c4[6] = bx[0];
@@ -8168,11 +8073,11 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 	c4[5] = c4[7] = bx[3];
 	if (any_far) *any_far = 0;
 	if (!any_far && !t->full_tests && pvs__ot25_witnessed(t, bx, a, b)) return 1;
-	/* A box taller than the eyes is seen, if at all, along a rising ray, at least as well where its 2D line enters
-	   the box; a lower one along a falling ray, where the line leaves it (a farther point at equal height is higher
-	   over every occluder in front; members crossing the box are ignored, pvs__ot25_open). No line enters through
-	   the box edge facing the source edge's way or leaves through the one facing the source (edges 0..3: -v, +u,
-	   +v, -u): test the entry (exit) edge first, the likeliest seen, then the two sides. */
+	/* A box taller than the eyes is seen, if at all, along a rising ray, at least as well where its 2D line enters the
+	   box; a lower one along a falling ray, where it leaves (a farther point at equal height is higher over every
+	   occluder in front; members crossing the box are ignored, pvs__ot25_open). No line enters via the box edge facing
+	   away from the source or leaves via the one facing it (edges 0..3: -v, +u, +v, -u): test the entry (exit) edge
+	   first, likeliest seen, then the sides. */
 	if (fabs(nx) > fabs(ny)) far_edge = nx > 0 ? 1 : 3;
 	else far_edge = ny > 0 ? 2 : 0;
 	order[0] = top > t->eye ? (far_edge + 2) & 3 : far_edge;
@@ -8182,8 +8087,8 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 		int edge = order[i], on, nb, deg, m;
 		double sg[4], o[4], pa, pb, c;
 		pvs__otpoly bl[2];
-		/* an edge no line enters (tall box) or leaves (low box) is skipped: with outward normal m and
-		   m.x = c on it, a line from p enters when m.p > c, leaves when m.p < c (exact compares) */
+		/* skip an edge no line enters (tall box) or leaves (low box): outward normal m, m.x = c on it; a line from p
+		   enters when m.p > c, leaves when m.p < c (exact compares) */
 		if (edge & 1) { pa = a[0]; pb = b[0]; c = edge == 1 ? bx[2] : bx[0]; }
 		else { pa = a[1]; pb = b[1]; c = edge == 2 ? bx[3] : bx[1]; }
 		if (edge == 0 || edge == 3) { pa = -pa; pb = -pb; c = -c; }
@@ -8202,23 +8107,23 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 typedef struct pvs__ot25_sweep {
 	pvs__otree *t;
 	const pvs_visibility_25d_desc *desc;
-	const double *all;		 /* facades, local, 4 doubles each */
-	const double *box;		 /* objects, local, 5 doubles each */
-	const double *cell;		 /* the grown cell, CCW */
-	unsigned char *state;	 /* per facade: 1 + side once handled in this side's tree */
+	const double *all;		 /* facades, local, 4 doubles */
+	const double *box;		 /* objects, local, 5 doubles */
+	const double *cell;		 /* grown cell, CCW */
+	unsigned char *state;	 /* per facade: 1 + side once in this side's tree */
 	unsigned char *done;	 /* objects: 0 unknown, 1 visible, 2 never, 3 + side: candidate in this tree */
 	const double *a, *b;
 	double cx, cy;
 	uint32_t side, budget;
 	pvs_otree_stats *st;
 	const uint32_t *refs;	 /* per kD node: item references in its subtree */
-	uint32_t node;			 /* the node being visited */
+	uint32_t node;			 /* node being visited */
 	uint32_t test_min;		 /* inner nodes with fewer references are not tested */
 } pvs__ot25_sweep;
 
 /* Sweep visitor (§7.7), front to back: a node meeting the cell is visible; an inner node with >= w->test_min item
-   references has its box (footprint edges at its top) tested like an object's and is culled when hidden; leaves
-   insert their facades and mark their objects for the test after the sweep. */
+   references has its box (footprint edges at its top) tested like an object's, culled when hidden; leaves insert their
+   facades and mark objects for the test after the sweep. */
 PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 									  uint32_t item_count) {
 	pvs__ot25_sweep *w = (pvs__ot25_sweep *)user;
@@ -8230,13 +8135,13 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 	if (t->oom) return PVS_VISIT_STOP;
 	bx[0] = (double)node_box->min[0] - w->cx; bx[1] = (double)node_box->min[1] - w->cy;
 	bx[2] = (double)node_box->max[0] - w->cx; bx[3] = (double)node_box->max[1] - w->cy;
-	{ /* a node wholly behind the source edge's line is skipped; a -> b runs clockwise: (-ey, ex) outward */
+	{ /* skip nodes wholly behind the source edge's line; a -> b is clockwise: (-ey, ex) outward */
 		double ex = w->b[0] - w->a[0], ey = w->b[1] - w->a[1], nx = -ey, ny = ex, far;
 		far = nx * (nx > 0 ? bx[2] : bx[0]) + ny * (ny > 0 ? bx[3] : bx[1]) - (nx * w->a[0] + ny * w->a[1]);
 		if (far < -t->len_eps * (fabs(nx) + fabs(ny) + 1.0)) return PVS_VISIT_SKIP;
 	}
-	/* leaves are not tested: inserting their facades and testing their objects after the sweep costs
-	   less (the thesis likewise skips small nodes, §4.12.1) */
+	/* leaves are not tested: inserting their facades and testing objects after the sweep costs less (the thesis also
+	   skips small nodes, §4.12.1) */
 	if (!items && w->refs[w->node] >= w->test_min &&
 		!(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
 		if (!pvs__ot25_box_visible(t, bx, (double)node_box->max[2], w->a, w->b, NULL)) return PVS_VISIT_SKIP;
@@ -8251,7 +8156,7 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 			if (w->state[it] == 1 + w->side) continue; /* already inserted from another leaf */
 			w->state[it] = (unsigned char)(1 + w->side);
 			if (sg[0] == sg[2] && sg[1] == sg[3]) continue;
-			if (pvs__ot_segment_meets_polygon(sg, w->cell, 4)) continue; /* facades in the cell are ignored */
+			if (pvs__ot_segment_meets_polygon(sg, w->cell, 4)) continue; /* in the cell: ignored */
 			if (!pvs__ot_clip_segment(w->b, w->a, sg, o, &on)) continue;
 			if (t->node_count >= w->budget) { w->st->budget_exceeded = 1; continue; }
 			memcpy((double *)t->seg + 4 * (size_t)it, o, sizeof(o));
@@ -8269,17 +8174,16 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 	return PVS_VISIT_DESCEND;
 }
 
-/* The approximate occlusion sweep (§3.2, pvs__kd_sweep), telling the visitor its node (w->node). */
+/* Approximate occlusion sweep (§3.2, pvs__kd_sweep), telling the visitor its node (w->node). */
 PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
 									  pvs__ot25_sweep *w) {
 	pvs__kd_sweep(t, source, heap, pvs__ot25_visit, w, &w->node);
 }
 
-/* A balanced top for a source edge's tree: front-to-back insertion carves the open region (lines down a street)
-   into a chain as deep as the occluders along it, walked by every later query. Splitting the root first by the
-   planes of PVS__OT25_PRESPLIT far points spread over the directions (exact planes like any other) leaves short
-   chains, one per direction sector (tests/BENCHMARKS.md, otree). Reorders pts[lo..hi): each point goes with the
-   child holding its line from m. */
+/* Balanced top for a source edge's tree: front-to-back insertion carves the open region (lines down a street) into a
+   chain as deep as the occluders along it, walked by every later query. Splitting the root first by the (exact) planes
+   of PVS__OT25_PRESPLIT far points spread over the directions leaves short chains, one per direction sector. Reorders
+   pts[lo..hi): each point goes with the child holding its line from m. */
 #define PVS__OT25_PRESPLIT 16
 PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m[2], double (*pts)[2], int lo, int hi) {
 	double l[3], tmp[PVS__OT25_PRESPLIT][2];
@@ -8335,9 +8239,9 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
 	return PVS_OK;
 }
 
-/* A 2.5D query's input relative to the cell centre (cx, cy): facade segments into all (4 doubles), objects into box
-   (u0 v0 u1 v1 top), the cell rectangle grown by *margin into cell (4 CCW corners; a larger cell sees more,
-   conservative, and is never degenerate). Returns the facades' largest coordinate magnitude, at least 1. */
+/* 2.5D input relative to the cell centre (cx, cy): facade segments into all (4 doubles), objects into box (u0 v0 u1 v1
+   top), the cell rectangle grown by *margin into cell (4 CCW corners; a larger cell sees more: conservative, never
+   degenerate). Returns the facades' largest |coordinate|, at least 1. */
 PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box,
 								   double cell[8], double *margin) {
 	double ext = 1.0, hx, hy;
@@ -8359,14 +8263,14 @@ PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double c
 	return ext;
 }
 
-/* Root region of a fresh tree for source edge a-b (cell centred at the origin): the lines crossing the edge,
-   bounded by its ends' planes (blockers' edges on them are then marked, §4.10.1, not re-added per branch), then
-   pvs__ot25_presplit. Lines missing the edge are never asked about. Out of memory sets t->oom. */
+/* Root region of a fresh tree for source edge a-b (cell centred at the origin): lines crossing the edge, bounded by its
+   ends' planes (blocker edges on them are then marked, §4.10.1, not re-added per branch), then pvs__ot25_presplit.
+   Lines missing the edge are never queried. Out of memory sets t->oom. */
 PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double a[2], const double b[2]) {
 	double m[2], m2[2], l[3], sa_, sb_;
 	uint32_t pos;
 	m[0] = 0.5 * (a[0] + b[0]); m[1] = 0.5 * (a[1] + b[1]);
-	m2[0] = 2.0 * m[0]; m2[1] = 2.0 * m[1]; /* the cell is centred at the origin: m points outward */
+	m2[0] = 2.0 * m[0]; m2[1] = 2.0 * m[1]; /* cell centred at origin: m points outward */
 	pvs__ot_line(m, m2, l);
 	sa_ = pvs__ot_side(l, a);
 	sb_ = pvs__ot_side(l, b);
@@ -8389,9 +8293,9 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
 	t->root_in = pos;
 }
 
-/* One tree per top edge (§7.1): the lines leaving the cell through edge `side` (corner side + 1 to corner side),
-   built by sweeping `tree` (scratch: its sweep scratch); then the candidates its visible leaves left are tested
-   (§7.7) into visible_objects. 0 when no object is left to decide or the tree stopped (t->oom on out of memory). */
+/* One tree per top edge (§7.1): lines leaving the cell via edge `side` (corner side + 1 to corner side), built by
+   sweeping `tree` (scratch: its sweep scratch); then candidates left by its visible leaves are tested (§7.7) into
+   visible_objects. 0 when no object is left to decide or the tree stopped (t->oom: out of memory). */
 PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side,
 							   pvs_word *visible_objects) {
 	pvs__otree *t = w->t;
@@ -8425,7 +8329,7 @@ PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void 
 	return 1;
 }
 
-/* The 2.5D query's kD-tree over pvs_visibility_25d_boxes, through al into *out. PVS_OK or the error (in err). */
+/* 2.5D query's kD-tree over pvs_visibility_25d_boxes, through al into *out. PVS_OK or the error (in err). */
 PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const pvs_allocator *al, pvs_kdtree **out,
 									  pvs_error *err) {
 	pvs_kdtree_desc kd;
@@ -8573,54 +8477,51 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 
 /* ---- from-point culling: the shadow-volume occlusion tree (ch. 4) ---- */
 
-/* The tree of §4.7 (Chin and Feiner's SVBSP, App. C.1.4) in eye space: inner nodes are planes through the eye (unit
-   normal, child[1] positive) from occluder edges; an in-leaf keeps the occluder fragment blocking its pyramid of
-   rays. Polygon edges carry their plane's unit normal (polygon on the positive side) and a mark (§4.10.1).
+/* §4.7 tree (Chin-Feiner SVBSP, App. C.1.4), eye space: inner nodes: occluder-edge planes through the eye (unit
+   normal, child[1] +); in-leaf: the fragment blocking its ray pyramid. Polygon edges: plane unit normal (polygon on +),
+   mark (§4.10.1).
 
-   Conservative rounding: an in-leaf's region is an intersection of exact stored planes from the occluder's edges or
-   the path, so each of its rays meets the occluder; insertion may drop slivers below its tolerance, never claim
-   more. Tests widen: a box descends every side it reaches within `tol` (1e-10 of the eye-relative scene size, far
-   above a unit-normal dot product's error), and is behind a fragment or apart from its pyramid only beyond the
-   fragment's tolerance. A box test takes each plane at the corner its normal's signs pick, with the same operations
-   for every box: monotone in the box, so a hidden node's child never tests visible and hierarchy updating is exact
-   (§4.11.4). */
+   Conservative: an in-leaf region intersects exact stored planes, so all its rays meet the occluder; insertion may drop
+   slivers below tol, never claim more. Tests widen: a box descends all sides within `tol` (1e-10 x eye-relative scene
+   size, >> unit-normal dot error); it is behind a fragment or outside its pyramid only beyond the fragment's tol. Box
+   tests take each plane at the sign-picked corner, same ops for all boxes: monotone, so a hidden node's child never
+   tests visible; hierarchy updating is exact (§4.11.4). */
 
 #define PVS__SV_MAXV 16
 #define PVS__SV_STACK 256
-#define PVS__SV_I 0u   /* visibility states (Table 3.1): invisible, visible, partly visible */
+#define PVS__SV_I 0u   /* visibility states (Table 3.1): invisible, visible, partly */
 #define PVS__SV_V 1u
 #define PVS__SV_P 2u
 #define PVS__SV_TRIANGLE 0xffffffffu
 
 typedef struct pvs__svpoly {
 	int n;
-	double v[PVS__SV_MAXV][3];	 /* vertices, eye at the origin */
-	double e[PVS__SV_MAXV][3];	 /* edge v[i] -> v[i + 1]: unit normal of its plane through the eye */
+	double v[PVS__SV_MAXV][3];	 /* vertices, eye at origin */
+	double e[PVS__SV_MAXV][3];	 /* edge v[i] -> v[i + 1]: unit normal of its eye plane */
 	unsigned char mark[PVS__SV_MAXV];
 } pvs__svpoly;
 
 typedef struct pvs__svnode {
 	double n[3];
 	uint32_t kind;		/* 0 inner, PVS__OT_OUT, PVS__OT_IN */
-	uint32_t child[2];	/* [0] negative side, [1] positive side */
-	uint32_t frag;		/* in-leaf: its fragment */
+	uint32_t child[2];	/* [0] - side, [1] + side */
+	uint32_t frag;		/* in-leaf's fragment */
 } pvs__svnode;
 
-/* A fragment: the occluder's plane (n.x + d > 0 on the eye's side), its vertices f and the inward normals m of the
-   pyramid faces (0, f_i, f_i+1). */
+/* Fragment: occluder plane (n.x + d > 0 eye side), vertices f, inward normals m of faces (0, f_i, f_i+1). */
 typedef struct pvs__svfrag {
 	double plane[4];
-	double tol;			 /* depth and separation tolerance for this fragment */
+	double tol;			 /* depth and separation tolerance */
 	uint32_t first, count;
 } pvs__svfrag;
 typedef struct pvs__svvert {
 	double f[3], m[3];
 } pvs__svvert;
 
-/* An occluder candidate: score (area-angle, later distance for the order), triangle or volume face. */
+/* Candidate: score (area-angle, later distance), triangle or volume face. */
 typedef struct pvs__svsel {
 	double key;
-	uint32_t a, b;		 /* b == PVS__SV_TRIANGLE: triangle a; else face b of scene occluder a */
+	uint32_t a, b;		 /* b == PVS__SV_TRIANGLE: triangle a; else occluder a's face b */
 } pvs__svsel;
 
 struct pvs_otree {
@@ -8629,7 +8530,6 @@ struct pvs_otree {
 	float aspect;
 	uint32_t max_objects, max_triangles, max_kd_nodes;
 	size_t sweep_size;
-	/* the tree of the current frame */
 	pvs__svnode *nodes;
 	uint32_t node_count;
 	pvs__svfrag *frags;
@@ -8638,30 +8538,28 @@ struct pvs_otree {
 	uint32_t vert_count;
 	pvs__svpoly *stack;			   /* PVS__SV_STACK insertion work items */
 	uint32_t *stack_node;
-	uint32_t *tstack;			   /* node_budget + 2: the test traversal */
+	uint32_t *tstack;			   /* node_budget + 2: test traversal */
 	/* occluder selection (§4.5) */
-	pvs__svsel *sel;			   /* max_occluders: min-heap on key while selecting */
+	pvs__svsel *sel;			   /* max_occluders: min-heap on key in selection */
 	uint32_t sel_count;
-	uint32_t *prev;				   /* max_occluders triangles chosen at the end of the last frame */
+	uint32_t *prev;				   /* max_occluders triangles chosen last frame */
 	uint32_t prev_count;
 	int have_prev;
 	void *sweep;
 	pvs_word *tri_seen;
-	uint32_t *obj_first, *obj_tris;/* each object's triangle range */
-	/* the kD nodes' visibility and frame of the last visit (§4.11.4) */
+	uint32_t *obj_first, *obj_tris;/* per-object triangle range */
+	/* kD nodes' visibility, last-visit frame (§4.11.4) */
 	uint8_t *kd_vis;
 	uint32_t *kd_frame;
 	uint32_t frame;
 	const pvs_scene *last_scene;
-	const pvs_scene *ranges_scene; /* the scene obj_first / obj_tris describe */
-	uint8_t *obj_flag;			   /* per object this frame: 1 in a visible leaf, 2 in a partly visible
-									  leaf, 4 in a leaf within the selection distance */
+	const pvs_scene *ranges_scene; /* scene of obj_first / obj_tris */
+	uint8_t *obj_flag;			   /* per object, this frame: 1 visible, 2 partly visible leaf, 4 within lambda */
 	uint32_t *touched;
 	uint32_t touched_count;
-	/* this frame */
 	const pvs_scene *s;
 	double eye[3], fw[3], near_d;
-	double fr[5][4];			   /* frustum planes n.x + d >= 0 inside: near, then the four sides */
+	double fr[5][4];			   /* frustum planes n.x + d >= 0 inside: near, 4 sides */
 	double tol, lambda;
 	pvs_otree_frame info;
 	pvs_cull_stats st;
@@ -8678,7 +8576,7 @@ PVS__STATIC double pvs__sv_unit(double v[3]) {
 	if (len > 0.0) { v[0] /= len; v[1] /= len; v[2] /= len; }
 	return len;
 }
-/* Largest / smallest n.x over box [lo, hi], at the corner the signs pick: monotone in the box. */
+/* Max / min n.x over box [lo, hi] at the sign-picked corner: monotone. */
 PVS__STATIC double pvs__sv_hi(const double n[3], const double lo[3], const double hi[3]) {
 	return (n[0] * (n[0] >= 0.0 ? hi[0] : lo[0]) + n[1] * (n[1] >= 0.0 ? hi[1] : lo[1])) +
 		n[2] * (n[2] >= 0.0 ? hi[2] : lo[2]);
@@ -8688,8 +8586,8 @@ PVS__STATIC double pvs__sv_lo(const double n[3], const double lo[3], const doubl
 		n[2] * (n[2] >= 0.0 ? lo[2] : hi[2]);
 }
 
-/* Keeps the part of `in` where n.x + d >= 0; the new edge gets plane `en` (through the eye; NULL: the
-   plane through the eye and the new edge) and `mark`. Returns the vertex count (0 empty, -1 too many). */
+/* Keeps `in` where n.x + d >= 0; new edge gets plane `en` (via eye; NULL: eye-and-new-edge plane), `mark`. Returns
+   vertex count (0 empty, -1 too many). */
 PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d, const double *en, int mark,
 							 pvs__svpoly *out) {
 	double s[PVS__SV_MAXV];
@@ -8713,7 +8611,7 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 			double t = s[i] / (s[i] - s[j]);
 			if (m >= PVS__SV_MAXV) return out->n = 0, -1;
 			for (k = 0; k < 3; ++k) out->v[m][k] = in->v[i][k] + t * (in->v[j][k] - in->v[i][k]);
-			if (ii) { /* leaving: the new edge starts here */
+			if (ii) { /* leaving: new edge starts */
 				if (en) memcpy(out->e[m], en, sizeof(out->e[m]));
 				newedge = m;
 				out->mark[m] = (unsigned char)mark;
@@ -8726,7 +8624,7 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 	}
 	out->n = m;
 	if (m < 3) return out->n = 0, 0;
-	if (!en && newedge >= 0) { /* the plane through the eye and the new edge, the polygon on its positive side */
+	if (!en && newedge >= 0) { /* eye-and-new-edge plane, polygon on + */
 		double c[3] = {0, 0, 0}, *e = out->e[newedge];
 		int k;
 		pvs__sv_cross(out->v[newedge], out->v[(newedge + 1) % m], e);
@@ -8737,8 +8635,7 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 	return m;
 }
 
-/* Points p (n <= PVS__SV_MAXV) relative to the eye into v, their mean into c, Newell's normal (twice the area
-   vector) into nrm. */
+/* Points p (n <= PVS__SV_MAXV) eye-relative into v, mean into c, Newell normal (2x area vector) into nrm. */
 PVS__STATIC void pvs__sv_eye_points(const pvs_otree *o, const float *const *p, int n, double (*v)[3], double c[3],
 									double nrm[3]) {
 	int i, k;
@@ -8757,8 +8654,8 @@ PVS__STATIC int pvs__sv_same(const double a[3], const double b[3]) {
 	return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
-/* The eye-space polygon of occluder points p (planar, convex) with its plane and edge planes, clipped to the
-   frustum (less occluder: conservative); 0 when nothing usable is left (edge-on, behind the eye, outside). */
+/* Eye-space polygon of occluder points p (planar, convex), plane, edge planes, frustum-clipped (less occluder:
+   conservative); 0 if nothing usable (edge-on, behind eye, outside). */
 PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs__svpoly *q, double plane[4]) {
 	pvs__svpoly a, b;
 	double c[3], nrm[3], len, size = 0.0;
@@ -8772,12 +8669,12 @@ PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs_
 	if (!(len > 1e-12 * size * size)) return 0;					   /* no area */
 	plane[0] = nrm[0]; plane[1] = nrm[1]; plane[2] = nrm[2];
 	plane[3] = -pvs__sv_dot(nrm, c);
-	if (plane[3] < 0.0) for (k = 0; k < 4; ++k) plane[k] = -plane[k]; /* the eye on the positive side */
-	if (!(plane[3] > 1e-9 * size)) return 0;						/* the eye (nearly) in its plane */
+	if (plane[3] < 0.0) for (k = 0; k < 4; ++k) plane[k] = -plane[k]; /* eye on + */
+	if (!(plane[3] > 1e-9 * size)) return 0;						/* eye (nearly) in plane */
 	for (i = 0; i < n; ++i) {
 		double *e = a.e[i];
 		pvs__sv_cross(a.v[i], a.v[(i + 1) % n], e);
-		if (!(pvs__sv_unit(e) > 1e-12 * size * size)) return 0;		/* an edge pointing at the eye */
+		if (!(pvs__sv_unit(e) > 1e-12 * size * size)) return 0;		/* edge points at the eye */
 		if (pvs__sv_dot(e, c) < 0.0) { e[0] = -e[0]; e[1] = -e[1]; e[2] = -e[2]; }
 		if (!(pvs__sv_dot(e, c) > 1e-9 * size)) return 0;
 		a.mark[i] = 0;
@@ -8791,7 +8688,7 @@ PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs_
 	return 1;
 }
 
-/* Stores q as a new fragment of the occluder with `plane`; PVS__OT_NONE when the pools are full. */
+/* q as a fragment with `plane`; PVS__OT_NONE if pools are full. */
 PVS__STATIC uint32_t pvs__sv_fragment(pvs_otree *o, const pvs__svpoly *q, const double plane[4]) {
 	pvs__svfrag *f;
 	double size = 0.0;
@@ -8814,8 +8711,7 @@ PVS__STATIC uint32_t pvs__sv_fragment(pvs_otree *o, const pvs__svpoly *q, const 
 	return o->frag_count++;
 }
 
-/* As pvs__ot_refine, for q's pyramid (§4.10.1). PVS__OT_NONE when the node budget is spent (the leaf
-   unchanged). */
+/* pvs__ot_refine for q's pyramid (§4.10.1). PVS__OT_NONE if node budget spent (leaf unchanged). */
 PVS__STATIC uint32_t pvs__sv_refine(pvs_otree *o, uint32_t node, const pvs__svpoly *q) {
 	uint32_t need = 0;
 	int i;
@@ -8836,9 +8732,8 @@ PVS__STATIC uint32_t pvs__sv_refine(pvs_otree *o, uint32_t node, const pvs__svpo
 	return node;
 }
 
-/* Merges occluder polygon q into the tree (§3.3.3, App. C.1.4): filtered down with splitting and edge marking;
-   out-leaves become its e-OT; at an in-leaf it replaces the stored fragment where it lies in front (the approximate
-   sweep may insert a nearer occluder late). */
+/* Merges occluder polygon q (§3.3.3, App. C.1.4): filtered down, split, edges marked; out-leaves become its e-OT; at
+   an in-leaf it replaces the stored fragment where in front (approximate sweep may insert a nearer occluder late). */
 PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const double plane[4]) {
 	uint32_t sp = 0;
 	o->stack[0] = *poly;
@@ -8856,14 +8751,14 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 				if (d < lo) lo = d;
 				if (d > hi) hi = d;
 			}
-			if (lo >= -ins || hi <= ins) { /* one side; its edges lying in this plane (same side) are marked */
+			if (lo >= -ins || hi <= ins) { /* one side; its edges in this plane (same side) marked */
 				int side = lo >= -ins ? 1 : 0;
 				for (i = 0; i < q->n; ++i)
 					if (side ? pvs__sv_same(q->e[i], nd->n)
 							 : (q->e[i][0] == -nd->n[0] && q->e[i][1] == -nd->n[1] && q->e[i][2] == -nd->n[2]))
 						q->mark[i] = 1;
 				o->stack_node[sp++] = nd->child[side]; /* q stays in place */
-			} else { /* the positive part, then the negative one */
+			} else { /* + part, then - */
 				double nf[2][3];
 				pvs__svpoly qq = *q;
 				for (i = 0; i < 3; ++i) { nf[1][i] = nd->n[i]; nf[0][i] = -nd->n[i]; }
@@ -8873,7 +8768,7 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 					if (r >= 3 && sp < PVS__SV_STACK) { o->stack[sp] = part; o->stack_node[sp++] = nd->child[i]; }
 				}
 			}
-			if (sp >= PVS__SV_STACK - 1) { /* no room for the next split: drop the deepest work (conservative) */
+			if (sp >= PVS__SV_STACK - 1) { /* no room to split: drop the deepest (conservative) */
 				o->info.budget_exceeded = 1;
 				--sp;
 			}
@@ -8888,8 +8783,8 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 					if (s < smin) smin = s;
 					if (s > smax) smax = s;
 				}
-				if (smax <= f->tol) continue;  /* behind the stored fragment (or in its plane): hidden here */
-				if (smin < -f->tol) {		   /* crossing: keep the part in front */
+				if (smax <= f->tol) continue;  /* behind stored fragment (or in its plane): hidden */
+				if (smin < -f->tol) {		   /* crossing: keep the front part */
 					if (pvs__sv_clip(q, f->plane, f->plane[3], NULL, 0, &part) < 3) continue;
 					use = &part;
 				}
@@ -8909,7 +8804,7 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 	}
 }
 
-/* The least and the largest of 0 (the eye) and n . f over the count points v. */
+/* Min, max of 0 (eye) and n . f over the count points v. */
 PVS__STATIC void pvs__sv_extent(const pvs__svvert *v, uint32_t count, const double n[3], double *plo, double *phi) {
 	uint32_t m;
 	*plo = *phi = 0.0;
@@ -8920,9 +8815,9 @@ PVS__STATIC void pvs__sv_extent(const pvs__svvert *v, uint32_t count, const doub
 	}
 }
 
-/* Box [lo, hi] (eye-relative) against in-leaf fragment f (§4.10.2): invisible when wholly behind the
-   occluder's plane or (unless PLANE_ONLY) apart from the pyramid eye + fragment, the only place it can
-   be seen through this leaf (exact test "E"); visible when wholly in front; else partly visible. */
+/* Eye-relative box [lo, hi] vs in-leaf fragment f (§4.10.2): invisible if wholly behind the occluder plane or (unless
+   PLANE_ONLY) apart from pyramid eye + fragment, its only view via this leaf (exact test "E"); visible if wholly in
+   front; else partly. */
 PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f, const double lo[3],
 									   const double hi[3]) {
 	const pvs__svvert *v = o->verts + f->first;
@@ -8932,7 +8827,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 	int k;
 	if (smax < -t) return PVS__SV_I;
 	if (!(o->flags & PVS_OTREE_PLANE_ONLY)) {
-		/* separating axes: the box's axes, the pyramid's side faces, its base, the edge pairs */
+		/* separating axes: box axes, pyramid sides, base, edge pairs */
 		for (k = 0; k < 3; ++k) {
 			double plo = 0.0, phi = 0.0;
 			for (i = 0; i < f->count; ++i) {
@@ -8941,12 +8836,12 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 			}
 			if (hi[k] < plo - t || lo[k] > phi + t) return PVS__SV_I;
 		}
-		for (i = 0; i < f->count; ++i) { /* the pyramid's extent is taken over its points: valid for any axis */
+		for (i = 0; i < f->count; ++i) { /* extent over the pyramid's points: valid for any axis */
 			double plo, phi, bh = pvs__sv_hi(v[i].m, lo, hi);
 			pvs__sv_extent(v, f->count, v[i].m, &plo, &phi);
 			if (bh < -t ? bh < plo - t : pvs__sv_lo(v[i].m, lo, hi) > phi + t) return PVS__SV_I;
 		}
-		{	/* the base's plane: the pyramid spans from the eye (d) to its base (about 0) */
+		{	/* base plane: pyramid spans eye (d) to base (~0) */
 			double plo = f->plane[3], phi = f->plane[3];
 			for (i = 0; i < f->count; ++i) {
 				double d = pvs__sv_dot(f->plane, v[i].f) + f->plane[3];
@@ -8975,8 +8870,8 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 	return smin > t ? PVS__SV_V : PVS__SV_P;
 }
 
-/* Box [lo, hi] in the tree (§4.10.2): descends, without splitting, every side it reaches; leaves
-   combine by Table 3.1, stopping at the first partly visible result. */
+/* Box [lo, hi] in the tree (§4.10.2): descends, unsplit, all sides it reaches; leaves combine by Table 3.1, stop at
+   first partly visible. */
 PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], const double hi[3]) {
 	uint32_t sp = 1, *stk = o->tstack;
 	int vis = 0, inv = 0;
@@ -8998,8 +8893,7 @@ PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], c
 	return vis ? PVS__SV_V : PVS__SV_I;
 }
 
-/* A box's visibility: the frustum first (outside a plane: invisible; crossing one: at most partly
-   visible), then the tree. */
+/* Box visibility: frustum (outside a plane: invisible; crossing: at most partly visible), then tree. */
 PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 	double lo[3], hi[3];
 	int k, cross = 0;
@@ -9018,7 +8912,7 @@ PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 
 /* ---- occluder selection (§4.5) ---- */
 
-/* Top-k by key (pvs__topk_offer: the root is the weakest kept). */
+/* Top-k by key (pvs__topk_offer: root = weakest kept). */
 PVS__STATIC int pvs__svsel_better(const void *a, const void *b) {
 	return ((const pvs__svsel *)a)->key > ((const pvs__svsel *)b)->key;
 }
@@ -9030,7 +8924,7 @@ PVS__STATIC void pvs__sv_offer(pvs_otree *o, uint32_t k, double key, uint32_t a,
 	pvs__topk_offer(o->sel, &o->sel_count, k, sizeof(e), &e, pvs__svsel_better);
 }
 
-/* The world points of candidate (a, b): a triangle or a face of a BOX / wall of an EXTRUSION occluder. */
+/* World points of candidate (a, b): triangle, BOX face or EXTRUSION wall. */
 PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float q[4][3], const float *p[4]) {
 	int k, n;
 	if (b == PVS__SV_TRIANGLE) {
@@ -9053,8 +8947,8 @@ PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float
 	}
 }
 
-/* Area-angle measure M = A |N . V| / |D|^2 (§4.5), V the unit direction from the eye to the centre D
-   (about the solid angle; the thesis uses the view direction); -1 when wholly outside the frustum. */
+/* Area-angle M = A |N . V| / |D|^2 (§4.5), V unit eye-to-centre D (~solid angle; thesis: view direction); -1 if wholly
+   outside the frustum. */
 PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int n) {
 	double v[4][3], c[3], area[3], dd;
 	int i, k;
@@ -9068,7 +8962,7 @@ PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int 
 	return 0.5 * fabs(pvs__sv_dot(area, c)) / (dd * sqrt(dd));
 }
 
-/* (key, a, b) ascending: a deterministic order whatever the heap held. */
+/* (key, a, b) ascending: deterministic whatever the heap held. */
 PVS__STATIC int pvs__sv_before(const void *pa, const void *pb) {
 	const pvs__svsel *x = (const pvs__svsel *)pa, *y = (const pvs__svsel *)pb;
 	return x->key < y->key || (x->key == y->key && (x->a < y->a || (x->a == y->a && x->b < y->b)));
@@ -9108,7 +9002,7 @@ PVS__STATIC void pvs__sv_touch(pvs_otree *o, uint32_t obj, uint8_t flag) {
 	o->obj_flag[obj] |= flag;
 }
 
-/* The boxes of kD node nd's children within its box (the split clamped to it). */
+/* Child boxes of kD node nd within its box (split clamped). */
 PVS__STATIC void pvs__sv_child_boxes(const pvs__kdnode *nd, const pvs_box *box, pvs_box c[2]) {
 	uint32_t axis = nd->bits & 3u;
 	float sp = nd->u.split;
@@ -9118,7 +9012,7 @@ PVS__STATIC void pvs__sv_child_boxes(const pvs__kdnode *nd, const pvs_box *box, 
 	c[1].min[axis] = sp > box->min[axis] ? (sp < box->max[axis] ? sp : box->max[axis]) : box->min[axis];
 }
 
-/* Marks the objects of every leaf below `node` with `flag` (a visible subtree: no tests). */
+/* Flags objects of all leaves below `node` with `flag` (visible subtree: no tests). */
 PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, uint8_t flag) {
 	const pvs_kdtree *t = o->s->object_tree;
 	const pvs__kdnode *nd = t->nodes + node;
@@ -9141,9 +9035,8 @@ PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, u
 	}
 }
 
-/* Fig. 4.5: last frame's termination nodes (leaves, nodes not partly visible or not visited last
-   frame) are tested; opened nodes are skipped and their children visited, near child first; a node
-   whose children agree takes their state (pull-up). */
+/* Fig. 4.5: last frame's termination nodes (leaves, nodes not partly visible or unvisited last frame) are tested;
+   opened nodes skipped, children visited near first; agreeing children give the node their state (pull-up). */
 PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
 	const pvs_kdtree *t = o->s->object_tree;
 	const pvs__kdnode *nd = t->nodes + node;
@@ -9181,7 +9074,7 @@ PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
 
 /* ---- context and per-frame API ---- */
 
-/* The context's buffers (pvs__buf), sized by its budgets. */
+/* Buffers (pvs__buf), sized by budgets. */
 PVS__STATIC int pvs__sv_bufs(pvs_otree *o, pvs__buf *b) {
 	int k = 0;
 	size_t no = (size_t)o->max_objects + 1, nk = (size_t)o->max_kd_nodes + 1;
@@ -9217,7 +9110,7 @@ PVS_API void pvs_otree_reset(pvs_otree *o) {
 	if (!o) return;
 	o->have_prev = 0;
 	o->prev_count = 0;
-	o->last_scene = NULL; /* every kD node's state is stale */
+	o->last_scene = NULL; /* all kD states stale */
 }
 
 PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out, pvs_error *err) {
@@ -9271,8 +9164,8 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *o, pvs_otree_frame *frame) {
 	if (o && frame) *frame = o->info;
 }
 
-/* Starts a frame on s. A new scene, or a frame counter about to wrap, makes every kD node's state
-   stale; a new scene also rebuilds the per-object triangle ranges and forgets last frame's occluders. */
+/* Starts a frame on s. New scene or near-wrap frame counter: all kD states stale; new scene: also rebuild per-object
+   triangle ranges, forget last frame's occluders. */
 PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
 	uint32_t i;
 	if (s != o->last_scene || o->frame > 0xfffffff0u) {
@@ -9295,8 +9188,7 @@ PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
 	o->s = s;
 }
 
-/* The eye frame (as pvs_camera_matrix), the frustum's planes (near, then the four sides; unit normals
-   inward) and o->tol from the eye-relative scene size. */
+/* Eye frame (as pvs_camera_matrix), frustum planes (near, 4 sides; unit normals in), o->tol from eye-relative size. */
 PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam) {
 	double u[3], r[3], len, ty, tx, size = 0.0;
 	uint32_t k;
@@ -9327,8 +9219,7 @@ PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_cam
 	o->tol = 1e-10 * (size + o->near_d + 1e-20);
 }
 
-/* Inserts the caller's triangles (p->occluder_*) in their order, skipping those with an index or a
-   coordinate out of range. Returns the triangles offered. */
+/* Inserts caller triangles (p->occluder_*) in order, skipping bad index or coordinate. Returns count offered. */
 PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_params *p) {
 	uint32_t i, nocc = 0;
 	int j;
@@ -9350,9 +9241,9 @@ PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_param
 	return nocc;
 }
 
-/* Occluder selection (§4.5) and insertion: the best polygons by area-angle among last frame's triangles (after a
-   reset: the scene's, swept from the eye) and, with p->scene_volumes, occluder-volume faces within the distance,
-   inserted nearest first (the approximate occlusion sweep, §3.2). Returns the polygons offered. */
+/* Occluder selection (§4.5), insertion: best by area-angle among last frame's triangles (after reset: the scene's,
+   swept from the eye) and, with p->scene_volumes, occluder-volume faces within the distance; inserted nearest first
+   (approximate occlusion sweep, §3.2). Returns the count offered. */
 PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam,
 											 const pvs_cull_params *p) {
 	uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
@@ -9408,15 +9299,14 @@ PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, c
 	return o->sel_count;
 }
 
-/* The next frame's occluder candidates (§4.5), into o->prev: the triangles of the objects seen within
-   the distance this frame (occluder-only objects: whose box may be seen). */
+/* Next candidates (§4.5) into o->prev: triangles of objects seen within the distance (occluder-only: box visible). */
 PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const pvs_cull_params *p,
 										const pvs_word *visible) {
 	uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
 	o->sel_count = 0;
 	for (i = 0; i < o->touched_count; ++i) {
 		uint32_t ob = o->touched[i], t;
-		if (!(o->obj_flag[ob] & 4u)) continue; /* not within the distance */
+		if (!(o->obj_flag[ob] & 4u)) continue; /* too far */
 		if (s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) {
 			if (!(o->obj_flag[ob] & 1u) && pvs__sv_box_test(o, s->object_boxes + ob) == PVS__SV_I) continue;
 		} else if (!pvs_bitset_test(visible, ob)) {
@@ -9449,7 +9339,7 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 	pvs__sv_frame_begin(o, s);
 	pvs__sv_frustum(o, s, cam);
 	o->lambda = p && p->occluder_distance > 0.0f ? p->occluder_distance : 100.0;
-	/* the tree: one out-leaf, then the occluders front to back (§4.3) */
+	/* tree: one out-leaf, then occluders front to back (§4.3) */
 	o->node_count = 1;
 	o->frag_count = 0;
 	o->vert_count = 0;
@@ -9462,10 +9352,10 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 	o->info.tree_nodes = o->node_count;
 	o->info.fragments = o->frag_count;
 	o->st.occluder_triangles = nocc;
-	/* the hierarchical visibility walk (§4.3, Fig. 4.5) */
+	/* hierarchical walk (§4.3, Fig. 4.5) */
 	o->touched_count = 0;
 	if (s->object_tree->bounds.min[0] <= s->object_tree->bounds.max[0]) pvs__sv_walk(o, 0, &s->object_tree->bounds);
-	/* objects: those of visible leaves, and those of partly visible leaves whose own box may be seen */
+	/* visible leaves' objects, and partly visible leaves' if their box may be seen */
 	for (i = 0; i < o->touched_count; ++i) {
 		uint32_t ob = o->touched[i], fl = o->obj_flag[ob];
 		if ((s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) ||
@@ -9488,11 +9378,10 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 
 /* ---- the OTREE bake method (a row of >>bake's table) ---- */
 
-/* The OTREE method's per-bake state. */
 typedef struct pvs__otree_bake {
 	pvs_allocator allocator;
 	uint32_t object_count;
-	uint32_t budget;		   /* pvs_visibility_25d_desc.node_budget (0 = its default) */
+	uint32_t budget;		   /* pvs_visibility_25d_desc.node_budget (0: default) */
 	float *facades;			   /* facade_count x (u0 v0 u1 v1 top), by level */
 	uint32_t facade_count, facade_cap, vertical, level_count;
 	float level[PVS__OT25_LEVELS];		  /* base heights, ascending */
@@ -9501,11 +9390,10 @@ typedef struct pvs__otree_bake {
 	pvs_kdtree *tree[PVS__OT25_LEVELS];   /* per level, over pvs_visibility_25d_boxes */
 } pvs__otree_bake;
 
-/* Facades for c-LSS (§7.1) from the scene's walls (pvs__facades_extract). c-LSS takes occluders as standing on the
-   ground (a ray over one's 2D line passes it only above its top); a ray's height being linear, a facade of base b
-   is one for rays whose ends are no lower than b: from a cell of bottom c to an object of bottom o, those with b <=
-   min(c, o). Bases merge into at most PVS__OT25_LEVELS levels (a facade joins the lowest at or above its base:
-   conservative); level k's kD-tree holds the objects and the facades of levels <= k. */
+/* c-LSS (§7.1) facades from scene walls (pvs__facades_extract). c-LSS occluders stand on the ground (a ray over one's
+   2D line passes only above its top); ray height being linear, a facade of base b serves rays with both ends >= b: cell
+   bottom c to object bottom o needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (a facade joins the
+   lowest at or above its base: conservative); level k's kD-tree holds the objects and facades of levels <= k. */
 PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *cells,
 										  uint32_t cell_count) {
 	int up = s->up_axis == 2 ? 2 : 1, u, v;
@@ -9524,7 +9412,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 	ot->objects = (float *)pvs__alloc_array(&ot->allocator, (size_t)ot->object_count * 5 + 5, sizeof(float));
 	ord = (pvs__key_index *)pvs__alloc_array(&ot->allocator, (size_t)n + 1, sizeof(pvs__key_index));
 	if (!ot->facades || !ot->objects || !ord) goto done;
-	/* only facades some cell can use: base <= the highest cell bottom of the whole bake (shards agree) */
+	/* usable facades: base <= top cell bottom of the whole bake (shards agree) */
 	for (i = 0; i < cell_count; ++i)
 		if (i == 0 || cells[i].min[up] > maxc) maxc = cells[i].min[up];
 	for (i = 0; i < n; ++i) {
@@ -9535,7 +9423,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 		++m;
 	}
 	pvs__key_index_sort(ord, m); /* by base, then extraction order */
-	/* the levels: the PVS__OT25_LEVELS distinct bases holding the most wall area (ties: the lower) */
+	/* levels: PVS__OT25_LEVELS distinct bases with most wall area (ties: lower) */
 	{
 		double area[PVS__OT25_LEVELS];
 		float cand[PVS__OT25_LEVELS];
@@ -9553,7 +9441,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 			for (j = 0, k = 1; k < nc; ++k) if (area[k] < area[j] || (area[k] == area[j] && cand[k] > cand[j])) j = k;
 			if (sum > area[j]) { cand[j] = base; area[j] = sum; }
 		}
-		for (i = 0; i < nc; ++i) { /* ascending */
+		for (i = 0; i < nc; ++i) {
 			for (j = i + 1; j < nc; ++j)
 				if (cand[j] < cand[i]) {
 					float tf = cand[i];
@@ -9568,7 +9456,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 		nl = nc;
 	}
 	ot->level_count = nl;
-	/* facades by level, 5 floats each; those above the highest level are left out */
+	/* facades by level, 5 floats each; above the top level dropped */
 	for (i = 0, k = 0, n = 0; i < m && k < nl; ++i) {
 		const float *f = fac + 6 * (size_t)ord[i].index;
 		while (k < nl && ot->level[k] < f[5]) ot->level_end[k++] = n;
@@ -9586,7 +9474,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 			o[2] = 0.0f;
 		} /* never visible */
 	}
-	for (k = 0; k < nl; ++k) { /* level k's tree, as pvs_visibility_25d would build it */
+	for (k = 0; k < nl; ++k) { /* level k's tree, as pvs_visibility_25d builds it */
 		pvs_visibility_25d_desc d;
 		memset(&d, 0, sizeof(d));
 		d.facades = ot->facades;
@@ -9603,9 +9491,9 @@ done:
 	return r;
 }
 
-/* A cell (or its adaptive part c): pvs_visibility_25d once per level some object needs, testing the objects with
-   min(cell bottom, object bottom) in [level k, level k + 1) against the facades of levels <= k; objects below the
-   lowest level are visible. May add PVS__BAKE_NO_OCCLUDERS and PVS__BAKE_OTREE_BUDGET to *flags. */
+/* A cell (or adaptive part c): pvs_visibility_25d per level some object needs, testing objects with min(cell bottom,
+   object bottom) in [level k, k + 1) against facades of levels <= k; objects below the lowest level are visible. May
+   add PVS__BAKE_NO_OCCLUDERS, PVS__BAKE_OTREE_BUDGET to *flags. */
 PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *c, uint32_t cell,
 									   pvs_word *bits, unsigned *flags, pvs_error *err) {
 	pvs_otree_stats st;
@@ -9625,16 +9513,16 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 	d.node_budget = ot->budget;
 	grp = (unsigned char *)pvs__alloc_array(&ot->allocator, (size_t)no + 1, 1);
 	if (!grp) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u object levels", cell);
-	for (i = 0; i < no; ++i) { /* the level of each drawable object: the highest one at or below its floor */
+	for (i = 0; i < no; ++i) { /* drawable object's level: highest <= its floor */
 		float fl = s->object_boxes[i].min[up];
 		if (c->min[up] < fl) fl = c->min[up];
 		grp[i] = 0xff;
 		if (ot->objects[5 * (size_t)i] > ot->objects[5 * (size_t)i + 2]) continue; /* never visible */
 		for (k = ot->level_count; k-- > 0;)
 			if (ot->level[k] <= fl) { grp[i] = (unsigned char)k; used |= 1u << k; break; }
-		if (grp[i] == 0xff) { pvs_bitset_set(bits, i); below = 1; } /* below every facade's base: seen under them */
+		if (grp[i] == 0xff) { pvs_bitset_set(bits, i); below = 1; } /* below all facade bases: visible */
 	}
-	if (!used) *flags |= PVS__BAKE_NO_OCCLUDERS; /* no object had a facade to be hidden by */
+	if (!used) *flags |= PVS__BAKE_NO_OCCLUDERS; /* no facade could hide any object */
 	for (k = 0; k < ot->level_count && r == PVS_OK; ++k) {
 		if (!(used & (1u << k))) continue;
 		d.facades = ot->facades;
@@ -9642,7 +9530,7 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 		d.tree = ot->tree[k];
 		d.objects = ot->objects;
 		d.object_count = no;
-		if (used != 1u << k || below) { /* other levels' objects are left out of this run */
+		if (used != 1u << k || below) { /* other levels' objects left out */
 			if (!own) {
 				own = (float *)pvs__alloc_array(&ot->allocator, (size_t)no * 5 + 5, sizeof(float));
 				part = (pvs_word *)pvs__alloc_array(&ot->allocator, PVS_BITSET_WORDS(no) + 1, sizeof(pvs_word));
@@ -9659,7 +9547,7 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 			if (r == PVS_OK)
 				for (i = 0; i < (uint32_t)PVS_BITSET_WORDS(no); ++i) bits[i] |= part[i];
 		} else {
-			r = pvs_visibility_25d(&d, bits, &st, err); /* the only run, every object: into bits directly */
+			r = pvs_visibility_25d(&d, bits, &st, err); /* sole run, all objects: into bits */
 		}
 		if (r == PVS_OK && st.budget_exceeded) *flags |= PVS__BAKE_OTREE_BUDGET;
 	}
@@ -9670,7 +9558,7 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 		if (err) err->index = cell;
 		return r;
 	}
-	for (i = 0; i < no; ++i) /* occluder-only and empty objects never appear */
+	for (i = 0; i < no; ++i) /* occluder-only, empty objects: never */
 		if (ot->objects[5 * (size_t)i] > ot->objects[5 * (size_t)i + 2]) pvs_bitset_clear(bits, i);
 	return PVS_OK;
 }
@@ -9721,7 +9609,7 @@ PVS__STATIC pvs_result pvs__otree_bake_cell(const pvs__bake_env *env, void *stat
 	return pvs__otree_cell((const pvs__otree_bake *)state, env->scene, box, cell, bits, flags, err);
 }
 
-/* AUTO's price of OTREE: pvs_visibility_25d per base level and cell: class 2, +1 per doubling of levels. */
+/* AUTO's OTREE price: pvs_visibility_25d per base level and cell: class 2, +1 per level doubling. */
 PVS__STATIC int pvs__otree_price(const pvs_bake_desc *desc, const void *state) {
 	const pvs__otree_bake *ot = (const pvs__otree_bake *)state;
 	int price = 2;
@@ -9752,69 +9640,68 @@ PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *inf
 /* occluders: synthesis of certainly-solid volumes (for Wonka 2000's shrinking, §2 and appendix)  */
 /* ---------------------------------------------------------------------------------------------- */
 
-/* Voxel state flags (pvs_occluders.state). */
+/* pvs_occluders.state flags. */
 enum {
-	PVS__VX_TOUCHED = 1,   /* a triangle within the margin */
+	PVS__VX_TOUCHED = 1,   /* triangle within margin */
 	PVS__VX_REACHED = 2,   /* reached by the leak flood */
-	PVS__VX_GROUND = 4,    /* layer 0, below the scene and the cells */
-	PVS__VX_SOLID = 8,	   /* certainly solid: proved by a parity flood, or explicit */
-	PVS__VX_EXPLICIT = 16  /* inside an explicit occluder volume */
+	PVS__VX_GROUND = 4,    /* layer 0, below scene and cells */
+	PVS__VX_SOLID = 8,	   /* certainly solid: flood-proved or explicit */
+	PVS__VX_EXPLICIT = 16  /* in an explicit occluder */
 };
-/* What stops the leak diagnostic's flood. */
+/* Stops the leak diagnostic's flood. */
 #define PVS__VX_LEAK_STOP (PVS__VX_TOUCHED | PVS__VX_REACHED | PVS__VX_GROUND | PVS__VX_EXPLICIT)
 
-/* Voxel (i, j, k) is origin + h ([i, i + 1] x [j, j + 1] x [k, k + 1]); n voxels per axis. */
+/* Voxel (i, j, k): origin + h ([i, i + 1] x [j, j + 1] x [k, k + 1]); n per axis. */
 typedef struct pvs__vx_grid {
 	double origin[3], h;
 	uint32_t n[3];
 } pvs__vx_grid;
 
-/* The 2.5D column map: squares of side grid.h on the ground (n[up] = 1) and min-pyramids (level l: squares of side
-   grid.h 2^l; level 0: the map). */
+/* 2.5D column map: ground squares, side grid.h (n[up] = 1); min-pyramids (level l: side grid.h 2^l; 0: the map). */
 #define PVS__VX_LEVELS 24
 typedef struct pvs__vx_cols {
 	pvs__vx_grid grid;
 	uint32_t nu, nv;
-	float *solid;				/* nu * nv: top of the proved-solid runs on the ground (ground: none) */
+	float *solid;				/* nu * nv: top of ground proved-solid runs (ground: none) */
 	float *top;					/* nu * nv: occluder height, shrunk by eps (-FLT_MAX: none) */
 	uint32_t levels;			/* pyramid levels (>= 1) */
 	uint32_t lw[PVS__VX_LEVELS], lh[PVS__VX_LEVELS];
 	float *ptop[PVS__VX_LEVELS], *psolid[PVS__VX_LEVELS]; /* level 0: top, solid; others allocated */
 } pvs__vx_cols;
 
-/* A BVH with tight boxes over the drawable objects or the chains, each in one leaf. */
+/* Tight-box BVH over drawable objects or chains, each in one leaf. */
 typedef struct pvs__obvh_node {
 	pvs_box box;
-	uint32_t first, count;		/* leaf: items[first .. first + count); inner: count == 0, children first, first + 1 */
+	uint32_t first, count;		/* leaf: items[first .. first + count); inner: count 0, children first, first + 1 */
 	uint32_t parent;
 } pvs__obvh_node;
 typedef struct pvs__obvh {
 	pvs__obvh_node *nodes;
-	uint32_t *items, *leaf_of; /* leaf_of: per object, its leaf (or 0xffffffff) */
-	uint32_t *count_below;	   /* per node: objects under it */
+	uint32_t *items, *leaf_of; /* leaf_of: per object, its leaf or 0xffffffff */
+	uint32_t *count_below;	   /* per node: objects below */
 	uint32_t node_count, item_count, object_count;
 } pvs__obvh;
 
 struct pvs_occluders {
 	pvs_allocator allocator;
-	pvs__vx_grid grid;			/* the same as origin, h, n below */
+	pvs__vx_grid grid;			/* = origin, h, n below */
 	const pvs_scene *scene;
 	pvs_occluders_info info;
 	double origin[3], h;
 	uint32_t n[3];
 	size_t total;
 	uint8_t *state;				/* total: PVS__VX_* flags */
-	uint8_t *eroded;			/* total: 1 where solid survives the erosion */
+	uint8_t *eroded;			/* total: 1 where solid survives erosion */
 	pvs_box *boxes;
 	uint32_t box_count;
 	pvs_facade_chain *chains;	/* the 2.5D occluders */
-	pvs_box *chain_boxes;		/* per chain: ground bounding rectangle x [base, top] */
+	pvs_box *chain_boxes;		/* per chain: ground rectangle x [base, top] */
 	float *chain_points;		/* 2 floats per point */
 	uint32_t chain_count;
 	size_t chain_point_count;
 	float ground;
 	pvs__vx_cols cols;			/* the 2.5D column map */
-	pvs__obvh bvh;				/* drawable objects, for the 2.5D walks */
+	pvs__obvh bvh;				/* drawable objects, for 2.5D walks */
 	pvs__obvh chain_bvh;		/* the chains' boxes */
 	uint32_t *excluded;			/* info.excluded_cells: leaking cells left out, */
 	pvs_box *excluded_boxes;	/* and their boxes */
@@ -9825,8 +9712,8 @@ PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j,
 }
 PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return (s & PVS__VX_SOLID) != 0; }
 
-/* Triangle-box overlap by separating axes (Akenine-Moller 2001) in double; hs includes the margin, radii are scaled up
-   a hair: rounding errs toward "touched". */
+/* Triangle-box overlap, separating axes (Akenine-Moller 2001), double; hs includes the margin, radii scaled up a hair:
+   rounding errs toward "touched". */
 PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const double *a, const double *b,
 							  const double *d) {
 	double v[3][3], e[3][3], n[3], p, q, r, lo, hi, rad;
@@ -9868,7 +9755,7 @@ PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, cons
 	return pvs__tri_aabb(c, h3, a, b, d);
 }
 
-/* 1 if point (x, y) is inside the polygon (even-odd rule). */
+/* 1 if (x, y) is in the polygon (even-odd). */
 PVS__STATIC int pvs__point_in_poly(const float *pts, uint32_t n, double x, double y) {
 	uint32_t i, j;
 	int in = 0;
@@ -9878,19 +9765,19 @@ PVS__STATIC int pvs__point_in_poly(const float *pts, uint32_t n, double x, doubl
 	}
 	return in;
 }
-/* 1 if segments a-b and c-d meet (touching counts). */
+/* 1 if segments a-b, c-d meet (touching counts). */
 PVS__STATIC int pvs__seg_meet(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
 	double d1 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax), d2 = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax);
 	double d3 = (dx - cx) * (ay - cy) - (dy - cy) * (ax - cx), d4 = (dx - cx) * (by - cy) - (dy - cy) * (bx - cx);
 	if (((d1 > 0 && d2 > 0) || (d1 < 0 && d2 < 0))) return 0;
 	if (((d3 > 0 && d4 > 0) || (d3 < 0 && d4 < 0))) return 0;
-	if (d1 == 0 && d2 == 0 && d3 == 0 && d4 == 0) /* collinear: overlap of the projections */
+	if (d1 == 0 && d2 == 0 && d3 == 0 && d4 == 0) /* collinear: projections overlap */
 		return pvs__dmax(pvs__dmin(ax, bx), pvs__dmin(cx, dx)) <= pvs__dmin(pvs__dmax(ax, bx), pvs__dmax(cx, dx)) &&
 			   pvs__dmax(pvs__dmin(ay, by), pvs__dmin(cy, dy)) <= pvs__dmin(pvs__dmax(ay, by), pvs__dmax(cy, dy));
 	return 1;
 }
 
-/* 1 if the closed voxel box lies inside the explicit occluder volume (rounding toward "not inside"). */
+/* 1 if the closed voxel box is inside the explicit occluder (rounds toward "not inside"). */
 PVS__STATIC int pvs__vx_in_occluder(const pvs_occluder_desc *oc, uint32_t up, const double lo[3], const double hi[3]) {
 	int k, u, v;
 	uint32_t i, j;
@@ -9936,8 +9823,7 @@ PVS__STATIC int pvs__obvh_key_cmp(const void *x, const void *y) {
 	return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
 }
 
-/* A hierarchy over boxes[0 .. count) (keep NULL: all, else those kept): median splits on the centres' longest axis,
-   leaves of at most 4. */
+/* Hierarchy over boxes[0 .. count) (keep NULL: all, else kept): median splits on centres' longest axis, leaves <= 4. */
 PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *boxes, uint32_t count,
 									   const uint8_t *keep, pvs__obvh *h) {
 	uint32_t i, n = 0, *stack = NULL, sp = 0;
@@ -10073,8 +9959,8 @@ PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double
 	*i1 = (uint32_t)b;
 }
 
-/* Sutherland-Hodgman: convex polygon in (n points of 3 doubles; n = 2 a segment) clipped to sign (x[k] - c) >= 0 into
-   out (n + 1 points). Returns the count. */
+/* Sutherland-Hodgman: convex polygon in (n points of 3 doubles; n = 2: segment) clipped to sign (x[k] - c) >= 0 into
+   out (n + 1 points). Returns count. */
 PVS__STATIC int pvs__vx_clip_half(const double *in, int n, int k, double c, double sign, double *out) {
 	int i, r = 0;
 	for (i = 0; i < n; ++i) {
@@ -10085,14 +9971,14 @@ PVS__STATIC int pvs__vx_clip_half(const double *in, int n, int k, double c, doub
 			double t = da / (da - db);
 			int q;
 			for (q = 0; q < 3; ++q) out[3 * r + q] = a[q] + t * (b[q] - a[q]);
-			out[3 * r + k] = c; /* exactly on the plane */
+			out[3 * r + k] = c; /* exactly on plane */
 			++r;
 		}
 	}
 	return r;
 }
 
-/* The cells along axis k within [r0, r1] whose extent grown by g meets polygon p's (n points); empty when *i0 > *i1. */
+/* Cells on axis k in [r0, r1] whose extent + g meets polygon p (n points); empty if *i0 > *i1. */
 PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int n, int k, double g, uint32_t r0,
 									uint32_t r1, uint32_t *i0, uint32_t *i1) {
 	double lo = p[k], hi = p[k], a, b;
@@ -10112,10 +9998,10 @@ PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int
 
 typedef void (*pvs__vx_visit_fn)(void *user, const uint32_t idx[3]);
 
-/* Calls visit for the cells of gr within [r0, r1] that convex polygon p (3 points, or 2: a segment) grown by m may
-   meet: clipped to slabs along k[2] (dims 2: the k[0], k[1] plane only), then rows along k[1] whose clips give the k[0]
-   ranges, so a long sliver costs its cells, not its box. Candidates only; slabs grow by 1e-3 cell beyond m, far above
-   the clips' rounding, so every cell an exact test with margin m accepts is visited. */
+/* Visits cells of gr in [r0, r1] that convex polygon p (3 points, or 2: segment) grown by m may meet: clipped to slabs
+   along k[2] (dims 2: k[0], k[1] plane only), then rows along k[1] whose clips give the k[0] ranges: a long sliver
+   costs its cells, not its box. Candidates only; slabs grow 1e-3 cell beyond m, far above clip rounding, so every cell
+   an exact test with margin m accepts is visited. */
 PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, const int k[3], int dims, double m,
 							  const uint32_t r0[3], const uint32_t r1[3], pvs__vx_visit_fn visit, void *user) {
 	double slab[3 * 8], tmp[3 * 8], row[3 * 8], g = m + 1e-3 * gr->h, h = gr->h;
@@ -10148,7 +10034,7 @@ PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, co
 	}
 }
 
-/* Min filter of radius r along axis k (outside counts as 0): Chebyshev erosion is separable. */
+/* Radius-r min filter on axis k (outside = 0): Chebyshev erosion is separable. */
 PVS__STATIC void pvs__vx_erode_axis(const pvs_occluders *o, uint8_t *g, uint8_t *line, int k, uint32_t r) {
 	uint32_t n = o->n[k], a, b, c, i;
 	size_t stride = k == 0 ? 1 : k == 1 ? o->n[0] : (size_t)o->n[0] * o->n[1];
@@ -10168,8 +10054,7 @@ PVS__STATIC void pvs__vx_erode_axis(const pvs_occluders *o, uint8_t *g, uint8_t 
 		}
 }
 
-/* Greedy merge of the set voxels of g (cleared) into boxes rounded inward to float; out NULL: count only. Returns the
-   count. */
+/* Greedy merge of g's set voxels (cleared) into boxes rounded inward to float; out NULL: count only. Returns count. */
 PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *out) {
 	uint32_t i, j, k, i1, j1, k1, a, b, count = 0;
 	for (k = 0; k < o->n[2]; ++k)
@@ -10205,37 +10090,36 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
 
 /* ---- certified solid: crossing parity floods per edge-connected component ----
 
-   Why it is conservative. For triangles K and x above the ground level g, w(x) is the parity of K's triangles that the
-   upward ray from x crosses. If K's edges have even use counts (those at up = g excepted: no sight line between points
-   above g dips below it), w is constant on each connected piece of space minus K; an odd (open) edge flips w across the
-   vertical sheet below it. A voxel is pure if no triangle of K or sheet comes within the margin m (one w), mixed if
-   only a triangle does (nodes w = 0 and 1: joining parts of equal w over-approximates connectivity), bad if a sheet
-   does (one node). Free space is open, so a path avoiding K can be moved to pass between voxels through faces only,
-   carrying the face point's w: the graph linking face neighbours' nodes of equal w (any node of a bad voxel) holds
-   every such path, and outside K's voxel box (sheets end at g, inside it) is one region of w = 0. The flood from the
-   voxels meeting a cell, and from the outside when a cell lies outside the box, reaches all a viewer can walk to
-   without touching K: a pure voxel it misses is seen from no cell, so a sight line through it meets a triangle first.
-   Solid for some triangles is solid for all, so each component is flooded alone (overlapping meshes keep their parity).
-   w is read per column on a vertical line whose orientation signs are certain (pvs__vx_cross). A slit or door narrower
-   than a voxel makes mixed or bad voxels, which keep both sides joined. */
+   Why conservative. For triangles K and x above ground level g, w(x) = parity of K's triangles the upward ray from x
+   crosses. If K's edges have even use counts (except at up = g: no sight line between points above g dips below), w is
+   constant on each connected piece of space minus K; an odd (open) edge flips w across the vertical sheet below it. A
+   voxel is pure if no K triangle or sheet is within margin m (one w), mixed if only a triangle is (nodes w = 0, 1:
+   joining equal-w parts over-approximates connectivity), bad if a sheet is (one node). Free space is open, so a path
+   avoiding K can be moved to cross voxels via faces only, carrying the face point's w: the graph linking face
+   neighbours' equal-w nodes (any node of a bad voxel) holds all such paths, and outside K's voxel box (sheets end at g,
+   inside it) is one w = 0 region. The flood from voxels meeting a cell, and from outside if a cell is outside the box,
+   reaches all a viewer can walk to without touching K: a pure voxel it misses is seen from no cell, so a sight line
+   through it meets a triangle first. Solid for some triangles is solid for all: each component floods alone
+   (overlapping meshes keep their parity). w is read per column on a vertical line with certain orientation signs
+   (pvs__vx_cross). Slits or doors narrower than a voxel give mixed or bad voxels, keeping both sides joined. */
 
-/* orient2d (b - a) x (p - a); *bound bounds its rounding (each difference and product rounded once: <=
-   4.5e-16 (|t1| + |t2|)), so its sign is certain when |value| > *bound. No underflow for floats. */
+/* orient2d (b - a) x (p - a); *bound bounds its rounding (each difference, product rounded once: <= 4.5e-16 (|t1| +
+   |t2|)): sign certain if |value| > *bound. No underflow for floats. */
 PVS__STATIC double pvs__vx_orient(double ax, double ay, double bx, double by, double px, double py, double *bound) {
 	double t1 = (bx - ax) * (py - ay), t2 = (by - ay) * (px - ax);
 	*bound = 1e-15 * (pvs__dabs(t1) + pvs__dabs(t2));
 	return t1 - t2;
 }
 
-/* The vertical line through (pu, pv) against triangle a, b, c: 0 certainly misses, 1 certainly crosses inside at height
-   *z (within *dz), -1 undecidable (near an edge or vertex, or uncertain height). */
+/* Vertical line at (pu, pv) vs triangle a, b, c: 0 certainly misses, 1 certainly crosses inside at height *z (within
+   *dz), -1 undecidable (near edge or vertex, or uncertain height). */
 PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, int u, int v, int up, double pu,
 							  double pv, double *z, double *dz) {
 	const float *p[3];
 	double o[3], bd[3], r = 0.0, zlo, zhi, w0, w1, w2;
 	int i, pos = 0, neg = 0, unsure = 0;
 	p[0] = a; p[1] = b; p[2] = c;
-	for (i = 0; i < 3; ++i) { /* zero-length projected edge: no area, a segment or a point */
+	for (i = 0; i < 3; ++i) { /* zero-length projected edge: segment or point */
 		const float *q = p[i], *s = p[(i + 1) % 3], *t = p[(i + 2) % 3];
 		if (q[u] == s[u] && q[v] == s[v]) {
 			if (t[u] == q[u] && t[v] == q[v]) return pu == (double)q[u] && pv == (double)q[v] ? -1 : 0;
@@ -10252,7 +10136,7 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
 	}
 	if (pos && neg) return 0;
 	if (unsure) return -1;
-	/* inside: barycentric weights |o| (o[1], o[2], o[0] for a, b, c), each within relative error r: the weighted mean
+	/* inside: barycentric weights |o| (o[1], o[2], o[0] for a, b, c), each within relative error r: weighted mean
 	   height errs by <= range 2r / (1 - r) */
 	for (i = 0; i < 3; ++i) r = pvs__dmax(r, bd[i] / pvs__dabs(o[i]));
 	if (r >= 0.25) return -1;
@@ -10264,17 +10148,17 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
 	return 1;
 }
 
-/* Flood voxel bits: T touched by K, B bad, F odd crossings in the layer, W w = 1 (pure), R0 / R1 node 0 / 1 reached. */
+/* Flood voxel bits: T touched by K, B bad, F odd layer crossings, W w = 1 (pure), R0 / R1 node 0 / 1 reached. */
 enum { PVS__G_T = 1, PVS__G_B = 2, PVS__G_F = 4, PVS__G_W = 8, PVS__G_R0 = 16, PVS__G_R1 = 32 };
 
-/* Points a, b of n float coordinates (finite: the scene's) in lexicographic order: -1, 0 or 1. */
+/* Points a, b (n finite floats), lexicographic: -1, 0, 1. */
 PVS__STATIC int pvs__fpoint_cmp(const float *a, const float *b, int n) {
 	int k;
 	for (k = 0; k < n; ++k)
 		if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
 	return 0;
 }
-/* A position with an index (a vertex; >>methods: a triangle corner 3 t + k), sorted by position, then index. */
+/* Position + index (vertex; >>methods: triangle corner 3 t + k), sorted by position, index. */
 typedef struct pvs__vx_vkey {
 	float p[3];
 	uint32_t i;
@@ -10295,11 +10179,11 @@ PVS__STATIC int pvs__vx_edge_cmp(const void *x, const void *y) {
 }
 
 typedef struct pvs__vx_topo {
-	uint32_t *tris;			 /* included triangles grouped by component: comp_first[c] .. comp_first[c + 1] */
+	uint32_t *tris;			 /* triangles by component: comp_first[c] .. comp_first[c + 1] */
 	uint32_t *comp_first;	 /* comp_count + 1 */
 	uint32_t comp_count;
-	uint32_t *open_first;	 /* comp_count + 1: ranges of open_edges per component */
-	float *open_edges;		 /* 6 floats per open edge (two corners), grouped by component */
+	uint32_t *open_first;	 /* comp_count + 1: open_edges range per component */
+	float *open_edges;		 /* 6 floats per open edge (2 corners), by component */
 	uint32_t open_count;
 } pvs__vx_topo;
 
@@ -10311,7 +10195,7 @@ PVS__STATIC void pvs__vx_topo_free(const pvs_allocator *a, pvs__vx_topo *t, uint
 	memset(t, 0, sizeof(*t));
 }
 
-/* 1 if the triangle lies flat on the ground level g (left out: it bounds nothing above g). */
+/* 1 if the triangle is flat at ground level g (left out: bounds nothing above g). */
 PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) {
 	uint32_t up = s->up_axis, k;
 	for (k = 0; k < 3; ++k)
@@ -10319,8 +10203,8 @@ PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) 
 	return 1;
 }
 
-/* Edge-connected components of the triangles (vertices matched by exact position) and their open edges (odd use, not
-   both corners at ground level g). */
+/* Edge-connected triangle components (vertices matched by exact position), open edges (odd use, not both corners at
+   ground level g). */
 PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_allocator *a, pvs__vx_topo *t) {
 	uint32_t nv = s->vertex_count, nt = s->triangle_count, i, k, up = s->up_axis, ne = 0, c;
 	pvs__vx_vkey *vk = NULL;
@@ -10360,10 +10244,10 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 	for (e0 = 0; e0 < ne; e0 = e1) {
 		for (e1 = e0 + 1; e1 < ne && ed[e1].key == ed[e0].key; ++e1) {
 			uint32_t ra = pvs__uf_find(parent, ed[e0].tri), rb = pvs__uf_find(parent, ed[e1].tri);
-			if (ra != rb) parent[ra > rb ? ra : rb] = ra < rb ? ra : rb; /* the smaller root wins: deterministic */
+			if (ra != rb) parent[ra > rb ? ra : rb] = ra < rb ? ra : rb; /* smaller root wins: deterministic */
 		}
 	}
-	/* components numbered by their first triangle */
+	/* components numbered by first triangle */
 	t->comp_count = 0;
 	for (i = 0; i < nt; ++i) {
 		if (parent[i] == 0xffffffffu) { cid[i] = 0xffffffffu; continue; }
@@ -10380,7 +10264,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 		for (i = 0; i < nt; ++i)
 			if (cid[i] != 0xffffffffu) t->tris[fill[cid[i]]++] = i;
 	}
-	/* open edges: odd runs; corners from vk (canon id = index into the sorted keys) */
+	/* open edges: odd runs; corners from vk (canon id = sorted index) */
 	t->open_count = 0;
 	for (e0 = 0; e0 < ne; e0 = e1) {
 		const float *p0, *p1;
@@ -10416,31 +10300,31 @@ done:
 	return res;
 }
 
-/* Scratch of the component floods, sized for the largest box. */
+/* Component flood scratch, sized for the largest box. */
 typedef struct pvs__vx_flood {
 	uint8_t *bits;			 /* box voxels: PVS__G_* */
-	uint8_t *col;			 /* box columns: candidate line index, 0x80 = undecided in this pass, 0xff = failed */
+	uint8_t *col;			 /* box columns: line index, 0x80 undecided this pass, 0xff failed */
 	uint32_t *queue;		 /* 2 nodes per box voxel */
 	size_t cap_vox, cap_col;
-	const pvs_box *cells;	 /* the cells and a bucket grid over them (ground plane) */
+	const pvs_box *cells;	 /* cells, bucketed on the ground plane */
 	uint32_t cell_count;
 	uint32_t *bucket_first;  /* bnu * bnv + 1 */
 	uint32_t *bucket_cells;
-	uint32_t *stamp;		 /* per cell: 1 + the last component that looked at it */
+	uint32_t *stamp;		 /* per cell: 1 + last component that looked */
 	uint32_t bnu, bnv;
-	uint32_t stamp_next;	 /* the next stamp value */
-	pvs__vx_grid bucket_grid;/* the buckets as a grid */
-	uint8_t *cellbuf;		 /* per cell 7 bytes, the four arrays below */
-	uint8_t *excluded;		 /* per cell: 1 = left out of the floods (leaking) */
+	uint32_t stamp_next;
+	pvs__vx_grid bucket_grid;/* buckets as a grid */
+	uint8_t *cellbuf;		 /* per cell 7 bytes: the 4 arrays below */
+	uint8_t *excluded;		 /* per cell: 1 = excluded (leaking) */
 	uint32_t excluded_count;
 	int keep_leaks;			 /* PVS_OCCLUDERS_KEEP_LEAKS: never exclude */
-	uint32_t *near_cells;	 /* per component: the cells meeting its box, */
+	uint32_t *near_cells;	 /* per component: cells meeting its box, */
 	signed char *near_w;	 /* their w (-1: every node), */
-	uint8_t *near_flag;		 /* 1 = sticks out of the box, 2 = the outside reaches its nodes */
+	uint8_t *near_flag;		 /* 1 = sticks out of the box, 2 = outside reaches its nodes */
 } pvs__vx_flood;
 #define PVS__VX_BUCKET 8u	 /* voxel columns per bucket side */
 
-/* Test line positions in a column, as voxel fractions (no structure on purpose). */
+/* Column test line positions, voxel fractions (deliberately unstructured). */
 static const double pvs__vx_line_u[8] = {0.4142, 0.7071, 0.2360, 0.8660, 0.5773, 0.1547, 0.6458, 0.3183};
 static const double pvs__vx_line_v[8] = {0.6180, 0.2679, 0.7937, 0.4472, 0.1213, 0.8944, 0.3660, 0.5403};
 
@@ -10456,14 +10340,14 @@ PVS__STATIC void pvs__vx_push_all(uint8_t *bits, uint32_t *queue, size_t *qt, si
 	else if (f & PVS__G_T) { pvs__vx_push(bits, queue, qt, vi, 0); pvs__vx_push(bits, queue, qt, vi, 1); }
 	else pvs__vx_push(bits, queue, qt, vi, (f & PVS__G_W) != 0);
 }
-/* The node of voxel vi the outside (w = 0) enters. */
+/* Voxel vi's node the outside (w = 0) enters. */
 PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, size_t vi) {
 	uint8_t f = bits[vi];
 	pvs__vx_push(bits, queue, qt, vi, (f & (PVS__G_B | PVS__G_T)) ? 0 : (f & PVS__G_W) != 0);
 }
 
-/* w of cell cb, clear of K by m (its points share it): the parity of K's crossings above a point of cb on a vertical
-   line (none within m). -1 when eight lines fail. */
+/* w of cell cb, clear of K by m (shared by its points): parity of K's crossings above a point of cb on a vertical line
+   (none within m). -1 if 8 lines fail. */
 PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
 	uint32_t up = s->up_axis, t, line;
 	int u, v;
@@ -10488,8 +10372,8 @@ PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp,
 	return -1;
 }
 
-/* Pushes cell cb's sources in a flood: for its box voxels the node of w = wc (all where wc < 0); test = 1: pushes
-   nothing, returns 1 when one is already reached. */
+/* Pushes cell cb's flood sources: its box voxels' node of w = wc (all if wc < 0); test = 1: pushes nothing, returns 1
+   if one is already reached. */
 PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const uint32_t lo[3], const uint32_t hi[3],
 							 const size_t stride[3], double m, int wc, uint8_t *bits, uint32_t *queue, size_t *qt,
 							 int test) {
@@ -10520,8 +10404,8 @@ PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const ui
 	return 0;
 }
 
-/* Floods a box's nodes from the queue, entering from the outside when ext is 1 or on reaching a box face through a node
-   joined to it. Returns 0 when the outside was never entered. */
+/* Floods a box's nodes from the queue, entering from outside if ext is 1 or on reaching a box face via a node joined to
+   it. Returns 0 if outside never entered. */
 PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io, size_t *qt_io, const uint32_t d[3],
 								  const size_t stride[3], const uint32_t lo[3], uint32_t up, int ext) {
 	size_t qh = *qh_io, qt = *qt_io;
@@ -10531,7 +10415,7 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
 		size_t a;
 		int x, dir;
 		uint8_t fa;
-		if (ext == 1) { /* enter through every box face but the ground */
+		if (ext == 1) { /* enter through all box faces but the ground */
 			for (k = 0; k < d[2]; ++k)
 				for (j = 0; j < d[1]; ++j)
 					for (i = 0; i < d[0]; ++i) {
@@ -10573,14 +10457,14 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
 	return ext;
 }
 
-/* pvs__vx_scan's visitor: the voxels a triangle touches (separating axes, margin toward touched). */
+/* pvs__vx_scan visitor: voxels a triangle touches (separating axes, margin toward touched). */
 typedef struct pvs__vx_touch {
-	pvs_occluders *o;		   /* non-NULL: sets PVS__VX_TOUCHED (gr is its grid) */
+	pvs_occluders *o;		   /* non-NULL: sets PVS__VX_TOUCHED (gr: its grid) */
 	const pvs__vx_grid *gr;
 	uint8_t *bits;			   /* non-NULL: sets PVS__G_T in a component's box; */
-	const uint32_t *lo;		   /* NULL: skips the grid's touched or ground voxels */
+	const uint32_t *lo;		   /* NULL: skips grid's touched/ground voxels */
 	const size_t *stride;
-	double p[3][3], hs;		   /* the triangle; voxel half size plus margin */
+	double p[3][3], hs;		   /* triangle; voxel half size + margin */
 } pvs__vx_touch;
 PVS__STATIC void pvs__vx_touch_visit(void *user, const uint32_t idx[3]) {
 	pvs__vx_touch *tv = (pvs__vx_touch *)user;
@@ -10607,20 +10491,20 @@ PVS__STATIC void pvs__vx_tri_points(const pvs_scene *s, uint32_t tri, double p[3
 			p[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (size_t)e] + (size_t)kk];
 }
 
-/* pvs__vx_scan's visitors of steps 2 and 3: one column of the box at a time. */
+/* pvs__vx_scan visitors, steps 2, 3: one box column at a time. */
 typedef struct pvs__vx_colvisit {
 	const pvs__vx_grid *gr;
-	uint8_t *bits, *col;	   /* the box's voxels from lo, its columns (rows of d[u]) */
+	uint8_t *bits, *col;	   /* box voxels from lo; its columns (rows of d[u]) */
 	const uint32_t *lo, *hi, *d;
 	const size_t *stride;
 	int u, v, up;
 	double m;
-	const float *e;			   /* step 2: the open edge (two points) */
-	const float *tri[3];	   /* step 3: the triangle's corners */
-	uint32_t pass;			   /* step 3: the line's position in the column */
+	const float *e;			   /* step 2: open edge (2 points) */
+	const float *tri[3];	   /* step 3: triangle corners */
+	uint32_t pass;			   /* step 3: line position in the column */
 } pvs__vx_colvisit;
 
-/* Step 2 at column (a, b): the sheet below the part of the edge over the square grown by m. */
+/* Step 2, column (a, b): sheet below the edge's part over the square + m. */
 PVS__STATIC void pvs__vx_sheet_visit(void *user, const uint32_t at[3]) {
 	const pvs__vx_colvisit *cv = (const pvs__vx_colvisit *)user;
 	const float *e = cv->e;
@@ -10651,7 +10535,7 @@ PVS__STATIC void pvs__vx_sheet_visit(void *user, const uint32_t at[3]) {
 	}
 }
 
-/* Step 3 at column (a, b): the crossing of its line (position pass) with the triangle. */
+/* Step 3, column (a, b): its line (position pass) vs the triangle. */
 PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
 	const pvs__vx_colvisit *cv = (const pvs__vx_colvisit *)user;
 	int u = cv->u, v = cv->v, up = cv->up, r;
@@ -10672,23 +10556,22 @@ PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
 	}
 }
 
-/* A component's box, shared by its flood's steps. */
+/* A component's box, shared by its flood steps. */
 typedef struct pvs__vx_fbox {
 	pvs_occluders *o;
 	const pvs_scene *s;
 	const pvs__vx_grid *gr;
 	const pvs__vx_topo *tp;
 	uint32_t comp;			   /* component K */
-	const uint32_t *lo, *hi;   /* the box in voxels of gr (inclusive) */
-	uint32_t d[3], up;		   /* its voxels per axis */
+	const uint32_t *lo, *hi;   /* box in gr voxels (inclusive) */
+	uint32_t d[3], up;		   /* voxels per axis */
 	int u, v;
-	size_t stride[3], nvox, ncol; /* of fl->bits; voxel and column counts */
+	size_t stride[3], nvox, ncol; /* of fl->bits; voxel, column counts */
 	double m;
 	pvs__vx_flood *fl;
 } pvs__vx_fbox;
 
-/* Step 1: PVS__G_T on the box voxels K touches (margin toward touched); with mark_touched also PVS__VX_TOUCHED on the
-   occluders' grid. */
+/* Step 1: PVS__G_T on box voxels K touches (margin toward touched); mark_touched: also PVS__VX_TOUCHED on o's grid. */
 PVS__STATIC void pvs__vx_flood_touched(const pvs__vx_fbox *fb, int mark_touched) {
 	static const int xyz[3] = {0, 1, 2};
 	pvs__vx_touch tv;
@@ -10724,8 +10607,8 @@ PVS__STATIC void pvs__vx_flood_colvisit(const pvs__vx_fbox *fb, pvs__vx_colvisit
 	axes[2] = (int)fb->up;
 }
 
-/* Step 2, the bad voxels: below each open edge, from it plus m to the ground, in the columns whose square grown by m
-   the projected edge meets (Liang-Barsky). */
+/* Step 2, bad voxels: below each open edge, from it + m to the ground, in columns whose square + m meets the projected
+   edge (Liang-Barsky). */
 PVS__STATIC void pvs__vx_flood_sheets(const pvs__vx_fbox *fb) {
 	const pvs__vx_topo *tp = fb->tp;
 	pvs__vx_colvisit cv;
@@ -10741,7 +10624,7 @@ PVS__STATIC void pvs__vx_flood_sheets(const pvs__vx_fbox *fb) {
 }
 
 /* Step 3, pure voxels' w: a column's crossings with one vertical line toggle PVS__G_F at their layer; all 8 line
-   positions failing make it bad (info.undecided_columns). PVS__G_W where the crossings above are odd. */
+   positions failing make it bad (info.undecided_columns). PVS__G_W where odd crossings above. */
 PVS__STATIC void pvs__vx_flood_parity(const pvs__vx_fbox *fb) {
 	const pvs_scene *s = fb->s;
 	const pvs__vx_topo *tp = fb->tp;
@@ -10788,7 +10671,7 @@ PVS__STATIC void pvs__vx_flood_parity(const pvs__vx_fbox *fb) {
 	}
 }
 
-/* 1 if cell cb grown by m meets a triangle of K. */
+/* 1 if cell cb grown by m meets K. */
 PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box *cb) {
 	const pvs_scene *s = fb->s;
 	const pvs__vx_topo *tp = fb->tp;
@@ -10813,8 +10696,8 @@ PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box
 	return touches;
 }
 
-/* Step 4's w of cell cb (box voxels r0..r1): -1 (all nodes) when cb grown by m meets K; else 0 with out_w0 (it leaves
-   the box above ground); else a pure voxel's it overlaps by over m, or its own ray's. */
+/* Step 4's w of cell cb (box voxels r0..r1): -1 (all nodes) if cb + m meets K; else 0 with out_w0 (leaves the box above
+   ground); else that of a pure voxel it overlaps by over m, or its own ray's. */
 PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, const uint32_t r0[3],
 									 const uint32_t r1[3], int out_w0) {
 	const uint8_t *bits = fb->fl->bits;
@@ -10846,9 +10729,8 @@ PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, 
 	return wc;
 }
 
-/* Step 4's cells: the unexcluded ones of the buckets under the box that meet it (grown by m), each once (fl->stamp:
-   stamp; stamp + 1 if it meets), into fl->near_cells with their w, near_flag 1 when sticking out. Returns their
-   number. */
+/* Step 4's cells: unexcluded ones of the buckets under the box meeting it (+ m), each once (fl->stamp: stamp; stamp + 1
+   if meeting), into fl->near_cells with w; near_flag 1 if sticking out. Returns the count. */
 PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) {
 	pvs__vx_flood *fl = fb->fl;
 	const pvs__vx_grid *gr = fb->gr;
@@ -10888,13 +10770,12 @@ PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) 
 	return nnear;
 }
 
-/* Step 4, the sources: the cells meeting the box (one clear of K by m is convex and free: its voxels get the node of
-   its one w; else every node), and the outside when a cell lies partly outside. Leaking cells, boxes poking through
-   a wall of a closed level into a mesh's faceless void, would join every wall's interior to the flood. So when
-   under half the cells in use lie outside the box, the outside is flooded first, and the cells outside, partly
-   outside or reached are excluded if together under half. An excluded cell seeds no later flood and gets no
-   occluder (pvs_shrink_cell sets every object for it); for the others the argument holds unchanged. Leaves the
-   sources in fl->queue; returns pvs__vx_flood_run's ext. */
+/* Step 4, sources: cells meeting the box (one clear of K by m is convex and free: its voxels get its one w's node; else
+   all nodes), and the outside if a cell is partly outside. Leaking cells (boxes poking through a closed level's wall
+   into a mesh's faceless void) would join every wall's interior to the flood. So when under half the active cells lie
+   outside the box, the outside floods first, and cells outside, partly outside or reached are excluded if together
+   under half. An excluded cell seeds no later flood and gets no occluder (pvs_shrink_cell sets every object for it);
+   for the rest the argument holds. Leaves sources in fl->queue; returns pvs__vx_flood_run's ext. */
 PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, size_t *qt_io) {
 	pvs__vx_flood *fl = fb->fl;
 	uint8_t *bits = fl->bits;
@@ -10906,7 +10787,7 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
 	stamp = fl->stamp_next - 1;
 	nnear = pvs__vx_flood_near(fb, stamp);
 	if (!fl->keep_leaks && nnear &&
-		2 * (active - nnear) < active) { /* mostly inside: which cells does the outside reach? */
+		2 * (active - nnear) < active) { /* mostly inside: which cells does outside reach? */
 		pvs__vx_flood_run(bits, queue, &qh, &qt, fb->d, fb->stride, fb->lo, fb->up, 1);
 		nout = active - nnear;
 		for (q = 0; q < nnear; ++q) {
@@ -10939,8 +10820,8 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
 	return ext;
 }
 
-/* Floods component K on grid gr, box lo..hi (inclusive, lo[up] >= 1): PVS__G_T/B/W and reached nodes into fl->bits;
-   returns 0 when the outside was never entered. mark_touched: PVS__VX_TOUCHED too (gr: the occluders' grid). */
+/* Floods component K on grid gr, box lo..hi (inclusive, lo[up] >= 1): PVS__G_T/B/W, reached nodes into fl->bits;
+   returns 0 if outside never entered. mark_touched: PVS__VX_TOUCHED too (gr: occluders' grid). */
 PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
 										const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl,
 										int mark_touched) {
@@ -10974,8 +10855,8 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
 	return pvs__vx_flood_run(fl->bits, fl->queue, &qh, &qt, fb.d, fb.stride, lo, fb.up, ext);
 }
 
-/* Certifies K on the occluders' grid: pure voxels whose node the flood missed are solid, and all outside the box (but
-   the ground) when it never entered it. */
+/* Certifies K on the occluders' grid: pure voxels whose node the flood missed are solid; all outside the box (but
+   ground) too if it never entered. */
 PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
 								 const uint32_t hi[3], double m, pvs__vx_flood *fl) {
 	uint32_t d[3], i, j, k;
@@ -11005,12 +10886,11 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
 
 /* ---- 2.5D occluders: proved-solid columns at a finer resolution, eroded by distance ----
 
-   Each component is flooded again on its own grid (voxel eps, grown within budgets). A column-map square (side
-   eps / 2, larger past PVS__VX_MAP_BUDGET) has as solid height the least top of the proved-solid runs on the ground
-   in the voxel columns it overlaps, and as occluder height (Wonka 2000 §2, appendix: shrunk by eps) that, cut to eps
-   below the component's triangles within eps of it: the eps-ball of every point below is free of the component and
-   joined to proved solid, so a sight line through it meets a triangle first. Squares grow by a margin above the
-   coordinates' float precision. */
+   Each component floods again on its own grid (voxel eps, grown within budgets). A column-map square (side eps / 2,
+   larger past PVS__VX_MAP_BUDGET) has solid height = least top of proved-solid ground runs in the voxel columns it
+   overlaps; occluder height (Wonka 2000 §2, appendix: shrunk by eps) = that, cut to eps below the component's
+   triangles within eps of it: every point below has an eps-ball free of the component and joined to proved solid, so a
+   sight line through it meets a triangle first. Squares grow by a margin above coordinate float precision. */
 
 #define PVS__VX_BOX_BUDGET (1u << 23)
 #define PVS__VX_MAP_BUDGET (1u << 22)
@@ -11020,8 +10900,8 @@ PVS__STATIC int pvs__float_cmp(const void *a, const void *b) {
 	return x < y ? -1 : x > y;
 }
 
-/* Least height of triangle p clipped to the prism over the octagon {x0 <= u <= x1, y0 <= v <= y1,
-   s0 <= u + v <= s1, d0 <= u - v <= d1}; DBL_MAX if none. */
+/* Least height of triangle p clipped to the prism over octagon {x0 <= u <= x1, y0 <= v <= y1, s0 <= u + v <= s1, d0 <=
+   u - v <= d1}; DBL_MAX if none. */
 PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, int up, const double lim[8]) {
 	static const double nu[8] = {-1, 1, 0, 0, -1, 1, -1, 1}, nv[8] = {0, 0, -1, 1, -1, 1, 1, -1};
 	double a[16][3], b[16][3], best = DBL_MAX;
@@ -11049,19 +10929,19 @@ PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, i
 	return best;
 }
 
-/* pvs__vx_scan's visitor: a triangle's least height near each square of the column map. */
+/* pvs__vx_scan visitor: a triangle's least height near each map square. */
 typedef struct pvs__vx_tminvisit {
 	const pvs__vx_grid *gr;
-	double p[3][3], e, margin; /* the triangle; near = within e */
-	double zlo;				   /* its lowest corner's height */
-	double gu, gv, slack;	   /* sloped: the plane's height gradient along u, v; rounding slack */
+	double p[3][3], e, margin; /* triangle; near = within e */
+	double zlo;				   /* lowest corner height */
+	double gu, gv, slack;	   /* sloped: plane height gradient along u, v; rounding slack */
 	int sloped;
 	int u, v, up;
 	float *tmin;			   /* per square from (su0, sv0), rows of row */
 	uint32_t su0, sv0, row;
 } pvs__vx_tminvisit;
-/* Lower bounds letting pvs__vx_tmin_visit skip the clip (stacked triangles meet a square many times): the lowest corner
-   and, unless steep, the plane, with slack for rounding. */
+/* Lower bounds letting pvs__vx_tmin_visit skip the clip (stacked triangles meet a square often): lowest corner and,
+   unless steep, the plane, with rounding slack. */
 PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
 	const double *a = tv->p[0], *b = tv->p[1], *c = tv->p[2];
 	int u = tv->u, v = tv->v, up = tv->up;
@@ -11073,7 +10953,7 @@ PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
 	n[1] = e1[2] * e2[0] - e1[0] * e2[2];
 	n[2] = e1[0] * e2[1] - e1[1] * e2[0];
 	mag = pvs__dabs(n[0]) + pvs__dabs(n[1]) + pvs__dabs(n[2]);
-	tv->sloped = pvs__dabs(n[up]) > 1e-3 * mag; /* slope below 1000: the plane's bound is useful */
+	tv->sloped = pvs__dabs(n[up]) > 1e-3 * mag; /* slope < 1000: plane bound useful */
 	if (!tv->sloped) return;
 	tv->gu = n[u] / n[up];
 	tv->gv = n[v] / n[up];
@@ -11089,10 +10969,10 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
 	size_t x = (size_t)(j - tv->sv0) * tv->row + (i - tv->su0);
 	double h = tv->gr->h, e = tv->e, x0 = tv->gr->origin[tv->u] + i * h, y0 = tv->gr->origin[tv->v] + j * h, z;
 	double lim[8], x1 = x0 + h, y1 = y0 + h, ed = e * 1.4142135623730951 * (1.0 + 1e-12);
-	/* the square grown by the octagon around the disc of radius e: holds every point within e */
+	/* square + octagon around the radius-e disc: holds all points within e */
 	lim[0] = -(x0 - e); lim[1] = x1 + e; lim[2] = -(y0 - e); lim[3] = y1 + e;
 	lim[4] = -(x0 + y0 - ed); lim[5] = x1 + y1 + ed; lim[6] = -(x0 - y1 - ed); lim[7] = x1 - y0 + ed;
-	z = tv->zlo; /* lower bound of the clip's height: the lowest corner, or the plane's least over the square */
+	z = tv->zlo; /* clip height lower bound: lowest corner or plane min over the square */
 	if (tv->sloped) {
 		double zp = tv->p[0][tv->up] - tv->gu * ((tv->gu > 0.0 ? x0 - e : x1 + e) - tv->p[0][tv->u]) -
 					tv->gv * ((tv->gv > 0.0 ? y0 - e : y1 + e) - tv->p[0][tv->v]);
@@ -11103,7 +10983,7 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
 	if (z < DBL_MAX && pvs__f_down(z - tv->margin) < tv->tmin[x]) tv->tmin[x] = pvs__f_down(z - tv->margin);
 }
 
-/* tmin, row-major over map squares sq0..sq1: the least height of K's triangles within e of each (pvs__vx_tmin_visit),
+/* tmin, row-major over map squares sq0..sq1: least height of K's triangles within e of each (pvs__vx_tmin_visit);
    FLT_MAX if none. */
 PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
 									  const uint32_t sq0[3], const uint32_t sq1[3], double e, double margin,
@@ -11137,8 +11017,7 @@ PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo
 	}
 }
 
-/* One component's pass of the column map: its flood, runs on the ground, the squares' solid and occluder heights.
-   Returns OUT_OF_MEMORY or PVS_OK. */
+/* A component's column-map pass: flood, ground runs, squares' solid, occluder heights. Returns OUT_OF_MEMORY/PVS_OK. */
 PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
 												 const pvs__vx_grid *gk, const uint32_t lo[3], const uint32_t hi[3],
 												 double m, double eps, double margin, pvs__vx_flood *fl) {
@@ -11168,7 +11047,7 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 		pvs__free_array(&o->allocator, tmin, nsub, sizeof(float));
 		return PVS_ERROR_OUT_OF_MEMORY;
 	}
-	/* runs of proved-solid voxels from the ground (layer 1 of the box) */
+	/* proved-solid runs from ground (box layer 1) */
 	for (b = 0; b < d[v]; ++b)
 		for (a = 0; a < d[u]; ++a) {
 			uint32_t idx[3], run = 0;
@@ -11189,7 +11068,7 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 			double x0 = cm->grid.origin[u] + a * cm->grid.h, y0 = cm->grid.origin[v] + b * cm->grid.h, hsub = DBL_MAX,
 				   top;
 			uint32_t c0, c1, r0, r1, cc, rr;
-			/* the voxel columns the square overlaps (genuinely: a hair inside it) */
+			/* voxel columns the square overlaps (by a hair inside) */
 			pvs__vx_grange(gk, u, x0, x0 + cm->grid.h, -1e-9 * cm->grid.h, &c0, &c1);
 			pvs__vx_grange(gk, v, y0, y0 + cm->grid.h, -1e-9 * cm->grid.h, &r0, &r1);
 			if (c0 > c1 || r0 > r1) continue;
@@ -11203,8 +11082,8 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 			top = pvs__dmin(hsub, (double)tmin[xs] - eps);
 			if (top > g && pvs__f_down(top) > cm->top[x]) cm->top[x] = pvs__f_down(top);
 		}
-	if (!ext) { /* every viewer is inside the box: all outside it is solid (to the grid's top); squares
-				   more than eps (and the margin) away from the box are occluders up there */
+	if (!ext) { /* all viewers inside the box: all outside is solid (to grid top); squares over eps (+ margin) from the
+				   box: occluders up there */
 		float sky = pvs__f_down(o->origin[up] + o->n[up] * o->h);
 		uint32_t e0, e1, f0, f1;
 		pvs__vx_grange(&cm->grid, u, gk->origin[u] + lo[u] * hk, gk->origin[u] + (hi[u] + 1) * hk, e, &e0, &e1);
@@ -11224,22 +11103,22 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 
 typedef struct pvs__vx_chainbuf {
 	pvs_facade_chain *chains;
-	size_t *first;			 /* per chain: its first point (pointers are set at the end) */
+	size_t *first;			 /* per chain: first point (pointers set last) */
 	float *points;			 /* 2 floats per point */
 	size_t count, cap, cap_first, npts, cap_pts;
 } pvs__vx_chainbuf;
 
 
-/* (b - a) x (c - a) on integer points (exact). */
+/* (b - a) x (c - a), integer points (exact). */
 PVS__STATIC int64_t pvs__vx_orient_i(const int32_t *a, const int32_t *b, const int32_t *c) {
 	return (int64_t)(b[0] - a[0]) * (c[1] - a[1]) - (int64_t)(b[1] - a[1]) * (c[0] - a[0]);
 }
-/* 1 if closed segments p-q and r-t meet (exact). */
+/* 1 if closed segments p-q, r-t meet (exact). */
 PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int32_t *r, const int32_t *t) {
 	int64_t d1 = pvs__vx_orient_i(p, q, r), d2 = pvs__vx_orient_i(p, q, t), d3 = pvs__vx_orient_i(r, t, p),
 			d4 = pvs__vx_orient_i(r, t, q);
 	if (((d1 > 0 && d2 > 0) || (d1 < 0 && d2 < 0)) || ((d3 > 0 && d4 > 0) || (d3 < 0 && d4 < 0))) return 0;
-	if (d1 == 0 && d2 == 0) /* collinear: do the projections overlap? */
+	if (d1 == 0 && d2 == 0) /* collinear: projections overlap? */
 		return (p[0] < q[0] ? p[0] : q[0]) <= (r[0] > t[0] ? r[0] : t[0]) &&
 			(r[0] < t[0] ? r[0] : t[0]) <= (p[0] > q[0] ? p[0] : q[0]) &&
 			(p[1] < q[1] ? p[1] : q[1]) <= (r[1] > t[1] ? r[1] : t[1]) &&
@@ -11247,15 +11126,15 @@ PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int
 	return 1;
 }
 
-/* Simplifies a loop of n integer points (region on the left) from the inside, in place (pt: room for 2n): from each
-   kept point to the farthest later one whose chord keeps the skipped points right of it or on it, at most a square off
-   (area lost, never added), meeting no other loop edge. A slanted wall's staircase becomes long edges, whose shadows
-   cover whole cull-map cells. Returns the count. */
+/* Simplifies a loop of n integer points (region on the left) from inside, in place (pt: room for 2n): from each kept
+   point to the farthest later one whose chord keeps skipped points right of or on it, at most a square off (area lost,
+   never added), meeting no other loop edge. Slanted-wall staircases become long edges whose shadows cover whole
+   cull-map cells. Returns count. */
 PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 	uint32_t i = 0, kept = 0, j, k, start;
 	int32_t *out;
 	if (n < 5) return n;
-	/* start at a point that stays: the lowest-leftmost is a convex corner */
+	/* start at a kept point: lowest-leftmost is convex */
 	start = 0;
 	for (k = 1; k < n; ++k)
 		if (pt[2 * k + 1] < pt[2 * start + 1] || (pt[2 * k + 1] == pt[2 * start + 1] && pt[2 * k] < pt[2 * start]))
@@ -11268,16 +11147,16 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 			const int32_t *b = pt + 2 * ((start + j) % n);
 			int ok = 1;
 			double len2 = (double)(b[0] - a[0]) * (b[0] - a[0]) + (double)(b[1] - a[1]) * (b[1] - a[1]);
-			for (k = i + 1; k < j && ok; ++k) { /* right of the chord or on it, at most a square off */
+			for (k = i + 1; k < j && ok; ++k) { /* right of or on the chord, <= a square off */
 				int64_t o = pvs__vx_orient_i(a, b, pt + 2 * ((start + k) % n));
 				ok = o <= 0 && (double)o * (double)o <= len2;
 			}
 			if (!ok) break;
 			for (k = 0; k < n && ok; ++k) { /* no other loop edge touches the chord */
 				uint32_t e0 = (start + k) % n, e1 = (start + k + 1) % n;
-				if (k >= i && k < j) continue;					/* edges the chord replaces */
+				if (k >= i && k < j) continue;					/* replaced by the chord */
 				if (k + 1 == i || (k == j % n && j < n) || (j == n && k == 0) || (i == 0 && k + 1 == n)) {
-					/* edges sharing an end with the chord may only touch it there */
+					/* edges sharing an end with the chord may touch only there */
 					const int32_t *c0 = pt + 2 * e0, *c1 = pt + 2 * e1;
 					int64_t o0 = pvs__vx_orient_i(a, b, c0), o1 = pvs__vx_orient_i(a, b, c1);
 					if (o0 == 0 && o1 == 0) ok = 0; /* collinear overlap */
@@ -11296,17 +11175,17 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 	return kept;
 }
 
-/* Traces the boundary loops of the squares set in mask (w x h, empty frame around) with the set on the left, turning
-   left where diagonal squares meet (4-connected). Each, simplified, becomes a chain of heights [base, top], point
-   (i, j) at (ox + i c, oy + j c): outer (counter-clockwise) loops closed, holes open, back to their first point (a
-   hole is not solid). used: 4 (w + 1) (h + 1) bytes. Returns 0 when out of memory. */
+/* Traces boundary loops of mask's set squares (w x h, empty frame around), set on the left, turning left where diagonal
+   squares meet (4-connected). Each, simplified, becomes a chain of heights [base, top], point (i, j) at (ox + i c, oy +
+   j c): outer (CCW) loops closed, holes open, back to their first point (a hole is not solid). used: 4 (w + 1) (h + 1)
+   bytes. Returns 0 when out of memory. */
 PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w,
 							  uint32_t h, double ox, double oy, double c, float base, float top, uint8_t *used,
 							  int32_t **ip, size_t *ipcap) {
-	/* direction d: 0 +i, 1 +j, 2 -i, 3 -j; the squares left and right of an edge leaving vertex (x, y) */
+	/* direction d: 0 +i, 1 +j, 2 -i, 3 -j; squares left, right of an edge leaving vertex (x, y) */
 	static const int di[4] = {1, 0, -1, 0}, dj[4] = {0, 1, 0, -1};
 	static const int lqi[4] = {0, -1, -1, 0}, lqj[4] = {0, 0, -1, -1}, rqi[4] = {0, 0, -1, -1}, rqj[4] = {-1, 0, 0, -1};
-	/* square (i, j)'s side toward neighbour n (below, right, above, left) leaves vertex (i, j) + v0[n] along n */
+	/* square (i, j)'s side to neighbour n (below, right, above, left) leaves vertex (i, j) + v0[n] along n */
 	static const int ni[4] = {0, 1, 0, -1}, nj[4] = {-1, 0, 1, 0}, v0i[4] = {0, 1, 1, 0}, v0j[4] = {0, 0, 1, 1};
 	uint32_t i, j;
 	memset(used, 0, (size_t)(w + 1) * (h + 1) * 4);
@@ -11343,12 +11222,12 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
 							!PVS__IN((int)vx + rqi[cand], (int)vy + rqj[cand]))
 							nd = cand;
 					}
-					if (nd < 0) return 0; /* not a boundary: cannot happen */
+					if (nd < 0) return 0; /* not a boundary: impossible */
 					d = nd;
 					e = 4 * (vy * (w + 1) + vx) + (uint32_t)d;
 					if (e == start) break;
 				}
-				/* corners only, then the simplification (the buffer holds 2n points) */
+				/* corners only, then simplify (buffer: 2n points) */
 				for (q = 0; q < n; ++q) {
 					const int32_t *pp = *ip + 2 * ((q + n - 1) % n), *pc = *ip + 2 * q, *pn = *ip + 2 * ((q + 1) % n);
 					if ((pp[0] == pc[0] && pc[0] == pn[0]) || (pp[1] == pc[1] && pc[1] == pn[1])) continue;
@@ -11368,7 +11247,7 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
 					return 0;
 				pt = cb->points + 2 * first;
 				for (q = 0; q <= kept; ++q) {
-					if (q == kept && area2 > 0) break; /* only a hole repeats its first point */
+					if (q == kept && area2 > 0) break; /* only holes repeat the first point */
 					pt[2 * q] = (float)(ox + (*ip)[2 * (q % kept)] * c);
 					pt[2 * q + 1] = (float)(oy + (*ip)[2 * (q % kept) + 1] * c);
 				}
@@ -11389,17 +11268,16 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
 	return 1;
 }
 
-/* pvs__vx_build_chains's scratch: per map square a label, queue and member list; per-region buffers over its frame; the
-   chains so far. */
+/* pvs__vx_build_chains scratch: per map square label, queue, members; per-region frame buffers; chains so far. */
 typedef struct pvs__vx_chainwork {
 	pvs_occluders *o;
-	uint32_t *label, *queue, *members; /* per square of the map */
-	float *lev;						   /* the region's levels */
-	uint8_t *mask, *inl, *used; /* per frame square: sub-region, at or above the level; trace's */
-	uint32_t *sub;					   /* per frame square: its sub-region */
+	uint32_t *label, *queue, *members; /* per map square */
+	float *lev;
+	uint8_t *mask, *inl, *used; /* per frame square: sub-region, at/above level; trace's */
+	uint32_t *sub;					   /* per frame square: sub-region */
 	int32_t *ipts;					   /* pvs__vx_trace's points */
 	size_t cap, mcap, ucap, lcap, scap, ipcap;
-	uint32_t i0, j0, bw, bh;		   /* the region's frame: its rectangle plus a square around */
+	uint32_t i0, j0, bw, bh;		   /* frame: its rectangle + 1 square */
 	pvs__vx_chainbuf cb;
 } pvs__vx_chainwork;
 
@@ -11481,7 +11359,7 @@ PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) 
 	return 1;
 }
 
-/* The region's chains: pvs__vx_chain_level for each of its distinct levels, ascending. Returns 0 when out of memory. */
+/* Region chains: pvs__vx_chain_level per distinct level, ascending. 0 when out of memory. */
 PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
 	const pvs_allocator *al = &w->o->allocator;
 	const pvs__vx_cols *cm = &w->o->cols;
@@ -11501,8 +11379,8 @@ PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
 	return 1;
 }
 
-/* Hands the chains over: o->chains (points in o->chain_points), o->chain_boxes (ground rectangle x [base, top]).
-   Returns OUT_OF_MEMORY or PVS_OK. */
+/* Hands over chains: o->chains (points in o->chain_points), o->chain_boxes (ground rectangle x [base, top]). Returns
+   OUT_OF_MEMORY or PVS_OK. */
 PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_chainbuf *cb) {
 	const pvs_allocator *al = &o->allocator;
 	size_t x;
@@ -11535,9 +11413,9 @@ PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_
 	return PVS_OK;
 }
 
-/* The 2.5D chains: occluder heights quantized down to quarter squares; per 4-connected region of squares at or above
-   one of its levels, its boundary at that level. A level-set tree: a block of several heights is one chain at its
-   lowest plus one per taller part, so no crack opens between heights. */
+/* 2.5D chains: occluder heights quantized down to quarter squares; per 4-connected region of squares at or above one of
+   its levels, its boundary there. Level-set tree: a block of several heights is one chain at its lowest plus one per
+   taller part, so no crack opens between heights. */
 PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
 	pvs__vx_cols *cm = &o->cols;
 	const pvs_allocator *al = &o->allocator;
@@ -11603,7 +11481,7 @@ PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
 				uint32_t a, b;
 				for (b = 2 * j; b < 2 * j + 2; ++b)
 					for (a = 2 * i; a < 2 * i + 2; ++a) {
-						float x = -FLT_MAX, y = o->ground; /* outside the map: no occluder, not solid */
+						float x = -FLT_MAX, y = o->ground; /* off the map: no occluder, not solid */
 						if (a < pw && b < ph) {
 							x = cm->ptop[l - 1][(size_t)b * pw + a];
 							y = cm->psolid[l - 1][(size_t)b * pw + a];
@@ -11618,8 +11496,8 @@ PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
 	return PVS_OK;
 }
 
-/* The components' grid voxel: eps, grown by 1.26 while their boxes exceed PVS__VX_TOTAL_BUDGET voxels (or
-   PVS__VX_COMPONENT_SHARE each, if more): the floods cost of the order of the scene, whatever eps. */
+/* Components' grid voxel: eps, grown by 1.26 while their boxes exceed PVS__VX_TOTAL_BUDGET voxels (or
+   PVS__VX_COMPONENT_SHARE each, if more): flood cost ~ scene size, whatever eps. */
 #define PVS__VX_TOTAL_BUDGET (1u << 26)
 #define PVS__VX_COMPONENT_SHARE (1u << 16)
 PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx_topo *tp, const pvs_allocator *al,
@@ -11650,7 +11528,7 @@ PVS__STATIC pvs_result pvs__vx_component_voxel(const pvs_scene *s, const pvs__vx
 		for (comp = 0, total = 0.0; comp < n && total <= budget; ++comp) {
 			double vol = 1.0;
 			for (k = 0; k < 3; ++k) vol *= pvs__dmin(ext[3 * (size_t)comp + k] / h + 3.0, 1e18);
-			total += pvs__dmin(vol, (double)PVS__VX_BOX_BUDGET); /* a bigger box grows its own voxels */
+			total += pvs__dmin(vol, (double)PVS__VX_BOX_BUDGET); /* bigger boxes grow own voxels */
 		}
 		if (total <= budget || !(h < 1e30)) break;
 		h *= 1.26;
@@ -11671,8 +11549,8 @@ PVS__STATIC void pvs__tri_axis_range(const pvs_scene *s, uint32_t tri, uint32_t 
 	}
 }
 
-/* Component comp's voxel box lo..hi in grid gr: the voxels within m of its triangles' extents, from layer 1 up with
-   open edges. Returns its voxel count. */
+/* Component comp's voxel box lo..hi in grid gr: voxels within m of its triangles' extents, from layer 1 up if open
+   edges. Returns voxel count. */
 PVS__STATIC size_t pvs__vx_comp_box(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs__vx_grid *gr,
 									double m, uint32_t lo[3], uint32_t hi[3]) {
 	uint32_t t, k, r0, r1, up = s->up_axis;
@@ -11695,7 +11573,7 @@ PVS__STATIC size_t pvs__vx_comp_box(const pvs_scene *s, const pvs__vx_topo *tp, 
 	return vol;
 }
 
-/* The column map, its chains and pyramids: each component of three or more triangles flooded again on its own grid. */
+/* Column map, chains, pyramids: each 3+ triangle component flooded again on its own grid. */
 PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps,
 									   double m, pvs__vx_flood *fl) {
 	const pvs_scene *s = o->scene;
@@ -11724,7 +11602,7 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 	cm->nu = cm->grid.n[u];
 	cm->nv = cm->grid.n[v];
 	nmap = (size_t)cm->nu * cm->nv;
-	/* margin: float precision of the chain points and heights, plus the voxel margin */
+	/* margin: chain points' and heights' float precision + voxel margin */
 	margin = 8.0 * FLT_EPSILON * scale + m;
 	cm->solid = (float *)pvs__alloc_array(al, nmap, sizeof(float));
 	cm->top = (float *)pvs__alloc_array(al, nmap, sizeof(float));
@@ -11770,27 +11648,27 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 	return res;
 }
 
-/* pvs_occluders_create step by step: what the steps share. A step returns PVS_OK or PVS_ERROR_OUT_OF_MEMORY;
-   pvs__vx_build_free frees the scratch left on the error path, and a step freeing a buffer sets it to NULL. */
+/* pvs_occluders_create's shared step state. Steps return PVS_OK or PVS_ERROR_OUT_OF_MEMORY; pvs__vx_build_free frees
+   what the error path leaves; a step freeing a buffer NULLs it. */
 typedef struct pvs__vx_build {
 	const pvs_occluders_desc *d;
 	const pvs_scene *s;
 	pvs_allocator a;
 	pvs_occluders *o;
-	pvs_box ext;			   /* the scene's and the cells' bounds */
-	double g, h, m;			   /* ground level, voxel size, the margin voxel tests round toward "touched" by */
+	pvs_box ext;			   /* scene and cell bounds */
+	double g, h, m;			   /* ground, voxel size, margin voxel tests round toward "touched" by */
 	uint32_t up;
 	int u, v;
 	size_t total, qcap, nbuckets;
 	uint32_t bucket_entries;
-	uint32_t *queue;		   /* qcap: the floods' queue, then the leak flood's */
-	uint32_t *cbox;			   /* step 1: per component its voxel box, lo[3] hi[3] */
-	uint8_t *tmp, *line;	   /* total and 1 + n[0] + n[1] + n[2] bytes: erosion and merge scratch */
+	uint32_t *queue;		   /* qcap: floods' queue, then leak flood's */
+	uint32_t *cbox;			   /* step 1: per component voxel box lo[3] hi[3] */
+	uint8_t *tmp, *line;	   /* total, 1 + n[0] + n[1] + n[2] bytes: erode, merge scratch */
 	pvs__vx_topo tp;
 	pvs__vx_flood fl;
 } pvs__vx_build;
 
-/* Frees the floods' scratch but the per-cell buffer, and forgets it (step 5 and the error path). */
+/* Frees, forgets flood scratch but the per-cell buffer (step 5, error path). */
 PVS__STATIC void pvs__vx_flood_free(pvs__vx_build *b) {
 	const pvs_allocator *a = &b->a;
 	pvs__vx_flood *fl = &b->fl;
@@ -11804,7 +11682,7 @@ PVS__STATIC void pvs__vx_flood_free(pvs__vx_build *b) {
 	fl->queue = fl->bucket_first = fl->bucket_cells = fl->stamp = NULL;
 }
 
-/* Frees the scratch the steps left (b->o stays: the caller destroys it). */
+/* Frees leftover step scratch (b->o stays: caller destroys it). */
 PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
 	const pvs_allocator *a = &b->a;
 	pvs__vx_flood_free(b);
@@ -11816,9 +11694,9 @@ PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
 	pvs__free_array(a, b->line, 1u + b->o->n[0] + b->o->n[1] + b->o->n[2], 1);
 }
 
-/* The voxel grid over the scene and the cells: voxels of voxel_size or eps / 1.5 (2 voxels of erosion = 1.33 eps),
-   grown by 1.08 to fit max_voxels; layer 0 below the ground. Allocates b->o, its state and eroded grids, b->tmp,
-   b->line. On failure nothing stays allocated; err says why. */
+/* Voxel grid over scene and cells: voxel_size or eps / 1.5 (2 voxels of erosion = 1.33 eps), grown by 1.08 to fit
+   max_voxels; layer 0 below ground. Allocates b->o, its state, eroded, b->tmp, b->line. On failure nothing stays
+   allocated; err says why. */
 PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 	const pvs_occluders_desc *d = b->d;
 	const pvs_allocator *a = &b->a;
@@ -11867,7 +11745,7 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 	b->line = (uint8_t *)pvs__alloc_array(a, 1u + o->n[0] + o->n[1] + o->n[2], 1);
 	if (!o->state || !o->eroded || !b->tmp || !b->line || total > 0x7fffffffu) {
 		uint32_t dims[3];
-		memcpy(dims, o->n, sizeof(dims)); /* named after o is gone */
+		memcpy(dims, o->n, sizeof(dims)); /* used after o is gone */
 		pvs__free_array(a, b->tmp, total, 1);
 		pvs__free_array(a, b->line, 1u + o->n[0] + o->n[1] + o->n[2], 1);
 		pvs_occluders_destroy(o);
@@ -11887,8 +11765,7 @@ PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 	return PVS_OK;
 }
 
-/* The floods' cells, per-cell scratch and ground-plane buckets (PVS__VX_BUCKET voxel columns a side) listing the cells
-   whose box grown by m meets them. */
+/* Cells, per-cell scratch, ground buckets (PVS__VX_BUCKET voxel columns a side) of cells whose box + m meets them. */
 PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
 	const pvs_occluders_desc *d = b->d;
 	const pvs_allocator *a = &b->a;
@@ -11914,7 +11791,7 @@ PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
 	memset(fl->bucket_first, 0, (nbuckets + 1) * sizeof(uint32_t));
 	memset(fl->stamp, 0, d->cell_count * sizeof(uint32_t));
 	memset(fl->cellbuf, 0, (size_t)d->cell_count * 7);
-	fl->near_cells = (uint32_t *)(void *)fl->cellbuf; /* the allocator aligns to 16 */
+	fl->near_cells = (uint32_t *)(void *)fl->cellbuf; /* allocator aligns to 16 */
 	fl->excluded = fl->cellbuf + 4 * (size_t)d->cell_count;
 	fl->near_w = (signed char *)(fl->excluded + d->cell_count);
 	fl->near_flag = fl->excluded + 2 * (size_t)d->cell_count;
@@ -11945,8 +11822,8 @@ PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* Step 1's component boxes (b->cbox): voxels within m of the triangles' extents, from layer 1 up with open edges; the
-   flood scratch sizes of the largest box of 3+ triangles. */
+/* Step 1's component boxes (b->cbox): voxels within m of triangle extents, from layer 1 up if open edges; flood scratch
+   sized for the largest 3+ triangle box. */
 PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
 	const pvs_scene *s = b->s;
 	const pvs__vx_topo *tp = &b->tp;
@@ -11965,8 +11842,8 @@ PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* Step 1, solid proved per component (see pvs__vx_orient): components of three or more triangles certified, the others
-   marked touched. Allocates b->queue (kept for the leak flood), frees its other scratch. */
+/* Step 1, solid proved per component (see pvs__vx_orient): 3+ triangle components certified, others marked touched.
+   Allocates b->queue (kept for the leak flood), frees other scratch. */
 PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
 	static const int xyz[3] = {0, 1, 2};
 	pvs_occluders *o = b->o;
@@ -12015,7 +11892,7 @@ PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* Step 2: voxels above the ground wholly inside an explicit occluder are PVS__VX_EXPLICIT | PVS__VX_SOLID. */
+/* Step 2: voxels above ground wholly in an explicit occluder get PVS__VX_EXPLICIT | PVS__VX_SOLID. */
 PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
 	const pvs_scene *s = o->scene;
 	double h = o->h;
@@ -12040,9 +11917,9 @@ PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
 	}
 }
 
-/* Step 3, the leak diagnostic: a 6-connected flood from the grid's border through voxels neither touched, ground nor
-   explicit, a path meeting no triangle. info.leak_cells counts the cells reached, info.leak_cell and leak_point give
-   the lowest and a reached voxel. Floods with b->queue (total entries). */
+/* Step 3, leak diagnostic: 6-connected flood from the grid border through voxels not touched, ground or explicit (a
+   path meeting no triangle). info.leak_cells counts cells reached; info.leak_cell, leak_point: the lowest, a reached
+   voxel. Uses b->queue (total entries). */
 PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
 	pvs_occluders *o = b->o;
 	const pvs_occluders_desc *d = b->d;
@@ -12093,8 +11970,8 @@ PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
 	}
 }
 
-/* After steps 1 to 3: o->eroded = the solid (eroded in step 5), info.solid, info.thin_objects (drawable objects without
-   solid voxels in their box). */
+/* After steps 1-3: o->eroded = solid (eroded in step 5), info.solid, info.thin_objects (drawable objects, no solid
+   voxel in box). */
 PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
 	const pvs_scene *s = o->scene;
 	uint32_t c, i, j, k;
@@ -12117,8 +11994,8 @@ PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
 	}
 }
 
-/* Step 4, the 2.5D occluders: solid runs on the ground (info.column_voxels; is_2d5 at 90% of the solid), column map,
-   chains, hierarchies; frees the floods' scratch but the per-cell bytes. */
+/* Step 4, 2.5D occluders: ground solid runs (info.column_voxels; is_2d5 at 90% of solid), column map, chains,
+   hierarchies; frees flood scratch but per-cell bytes. */
 PVS__STATIC pvs_result pvs__vx_build_columns(pvs__vx_build *b) {
 	pvs_occluders *o = b->o;
 	uint32_t up = b->up;
@@ -12141,7 +12018,7 @@ PVS__STATIC pvs_result pvs__vx_build_columns(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* The cells the floods left out (o->excluded, o->excluded_boxes); frees the per-cell bytes, clears b->fl. */
+/* Cells the floods left out (o->excluded, o->excluded_boxes); frees per-cell bytes, clears b->fl. */
 PVS__STATIC pvs_result pvs__vx_build_excluded(pvs__vx_build *b) {
 	pvs_occluders *o = b->o;
 	const pvs_occluders_desc *d = b->d;
@@ -12166,8 +12043,8 @@ PVS__STATIC pvs_result pvs__vx_build_excluded(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* Step 5, the occluders shrunk by eps (Wonka 2000 §2, appendix): the solid eroded by r voxels (Chebyshev; outside and
-   ground empty), merged greedily into o->boxes (NULL when out of memory). */
+/* Step 5, occluders shrunk by eps (Wonka 2000 §2, appendix): solid eroded by r voxels (Chebyshev; outside, ground
+   empty), greedily merged into o->boxes (NULL if out of memory). */
 PVS__STATIC void pvs__vx_erode_merge(pvs__vx_build *b, uint32_t r) {
 	pvs_occluders *o = b->o;
 	size_t vi, total = b->total;
@@ -12215,11 +12092,11 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
 	pvs__vx_explicit_solid(o);
 	pvs__vx_leaks(&b);
 	pvs__vx_solid_summary(o);
-	r = (uint32_t)floor(d->eps / b.h) + 1u; /* strictly more than eps: rounding toward less solid */
+	r = (uint32_t)floor(d->eps / b.h) + 1u; /* > eps: rounds toward less solid */
 	if (pvs__vx_build_columns(&b) != PVS_OK || pvs__vx_build_excluded(&b) != PVS_OK) goto oom;
 	pvs__vx_topo_free(&b.a, &b.tp, b.s->triangle_count);
 	pvs__vx_erode_merge(&b, r);
-	pvs__vx_build_free(&b); /* what is left: b.tmp, b.queue, b.line */
+	pvs__vx_build_free(&b); /* frees b.tmp, b.queue, b.line */
 	if (!o->boxes) {
 		pvs_occluders_destroy(o);
 		return PVS__OOM(err, "occluder boxes");
@@ -12293,33 +12170,30 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, ui
 /* along active supporting and separating lines (§3), 2.5D by height slices (§3.1), the greedy    */
 /* selection (Fig. 6), five quantized bytes per occluder, the PVS rebuilt on cell entry (§2, §4)  */
 /* ---------------------------------------------------------------------------------------------- */
-/* The 2D problem (§3): the view cell C is a rectangle, the occluders opaque segments. Segments whose end points
-   coincide exactly and close a ring form a wall loop. A point inside it (odd crossings) is hidden from all outside,
-   and a segment crossing its convex hull from outside to outside crosses the loop, so a loop whose hull misses the
-   cell is a solid convex blocker (its hull) for points outside the hull. The "objects" of §3 are these hulls
-   (buildings) and the other segments.
-   Conservativeness: x is hidden when every segment from C to x meets a blocker. A convex blocker disjoint from C and
-   not containing x covers an interval of the fan C subtends from x, wholly before or behind C along each ray
-   (disjoint convex sets seen from a point never swap order), so one ray decides; x is hidden when the intervals
-   before C cover the fan (pvs__vo_hidden). Along a line the answer changes only at an object's boundary or a common
-   tangent of two objects (or an object and C) through C, and the hidden set is closed, so one point per interval
-   between such events finds a line's hidden parts up to rounding (pvs__vo_line_hidden). Every virtual occluder is
-   checked so after its final rounding, against its aggregate's blockers (a subset).
-   The construction (§3): seeds by subtended angle; each aggregate grows on both sides along the active supporting
-   line P (outer common tangent of C and the aggregate) and separating polyline Q (at first the inner tangent). An
-   object B met by an active line: (1) if it meets the umbra U (a probe point of B is hidden without B), it joins U,
-   P and Q move to it, and a new virtual occluder goes behind B or (3, found on Q) the furthest one extends; (2) if
-   it meets only Q, it bends Q and joins the blockers, so later objects fuse through it. A new occluder dumps the one
-   in use into the dense set ("periodically dumped", §3). */
+/* 2D (§3): cell C is a rectangle, occluders opaque segments. Segments whose ends coincide exactly and close a ring
+   form a wall loop: a point inside (odd crossings) is hidden from all outside, and a segment crossing its hull from
+   outside to outside crosses the loop, so a loop whose hull misses C is a convex blocker (its hull) for points outside
+   it. §3's objects: these hulls (buildings) and other segments.
+   Conservative: x is hidden iff every segment C-x meets a blocker. A convex blocker disjoint from C, not containing x,
+   covers an interval of C's fan from x, wholly before or behind C per ray (disjoint convex sets seen from a point keep
+   their order): one ray decides; x is hidden if the intervals before C cover the fan (pvs__vo_hidden). Along a line the
+   answer changes only at object boundaries or common tangents of two objects (or object and C) through C; the hidden
+   set is closed, so one point per interval between events finds the hidden parts up to rounding (pvs__vo_line_hidden).
+   Each virtual occluder is so checked after final rounding, against its aggregate's blockers (a subset).
+   Growth (§3): seeds by subtended angle; an aggregate grows both sides along active supporting line P (outer tangent
+   of C and aggregate) and separating polyline Q (first the inner tangent). Object B hit by an active line: (1) meets
+   umbra U (a probe point of B hidden without B): joins U, P and Q move to it, a new occluder goes behind B or (3, found
+   on Q) the furthest one extends; (2) meets only Q: bends Q, joins the blockers so later objects fuse through it. A new
+   occluder dumps the current one into the dense set ("periodically dumped", §3). */
 
 #define PVS__VO_NONE 0xffffffffu
-#define PVS__VO_MAXH 64u		/* most hull vertices of a loop blocker */
-#define PVS__VO_ATOL 1e-11		/* pseudo-angle overlap joining spans of different vertices */
-#define PVS__VO_RTOL 1e-9		/* lengths: times the context's scale */
-#define PVS__VO_MAXG 64u		/* most objects in one aggregate */
-#define PVS__VO_MAXSTEP 96u		/* most candidates examined per seed */
+#define PVS__VO_MAXH 64u		/* max hull vertices of a loop blocker */
+#define PVS__VO_ATOL 1e-11		/* pseudo-angle overlap joining spans of other vertices */
+#define PVS__VO_RTOL 1e-9		/* lengths, times the context's scale */
+#define PVS__VO_MAXG 64u		/* max objects per aggregate */
+#define PVS__VO_MAXSTEP 96u		/* max candidates per seed */
 
-/* Grows *p to hold need elements (doubling). */
+/* *p grown to need elements (doubling). */
 PVS__STATIC int pvs__vo_reserve(const pvs_allocator *a, void **p, uint32_t *cap, size_t need, size_t elem) {
 	size_t c = *cap;
 	if (need > 0x7fffffffu || !pvs__grow(a, p, &c, need, elem)) return 0;
@@ -12332,7 +12206,7 @@ PVS__STATIC double pvs__vo_cross(const double *o, const double *a, const double 
 	return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
 
-/* Monotone pseudo-angle of direction (cos-like d, sin-like c): (-2, 2], 0 along d. */
+/* Monotone pseudo-angle of (cos-like d, sin-like c): (-2, 2], 0 along d. */
 PVS__STATIC double pvs__vo_pangle(double d, double c) {
 	double den = fabs(c) + fabs(d), p;
 	if (!(den > 0.0)) return 0.0;
@@ -12340,7 +12214,7 @@ PVS__STATIC double pvs__vo_pangle(double d, double c) {
 	if (d >= 0.0) return p;
 	return c >= 0.0 ? 2.0 - p : -2.0 - p;
 }
-/* A direction (d, c) of pseudo-angle p in [-1, 1]. */
+/* Direction of pseudo-angle p in [-1, 1]. */
 PVS__STATIC void pvs__vo_pangle_dir(double p, double *d, double *c) {
 	*d = 1.0 - fabs(p);
 	*c = p;
@@ -12353,23 +12227,23 @@ typedef struct pvs__vprep {
 	uint32_t nseg;
 	double *seg;		  /* nseg x (u0 v0 u1 v1) */
 	float *seg_top;		  /* nseg */
-	uint32_t *seg_vid;	  /* nseg x 2 vertex ids (equal ids = the same point exactly) */
-	int32_t *seg_loop;	  /* the loop of the segment, -1 */
+	uint32_t *seg_vid;	  /* nseg x 2 vertex ids (equal: same point) */
+	int32_t *seg_loop;	  /* its loop, -1 */
 	uint32_t nloop;
-	uint32_t *loop_start; /* nloop + 1: loop l's ring in ring_seg / ring_pt */
-	uint32_t *ring_seg;   /* segments in ring order */
-	double *ring_pt;	  /* the start of each ring segment */
-	uint32_t *hull_start; /* nloop + 1 into hull_pt, hull_vid (counter-clockwise) */
+	uint32_t *loop_start; /* nloop + 1: loop l in ring_seg/ring_pt */
+	uint32_t *ring_seg;   /* ring order */
+	double *ring_pt;	  /* start of each ring segment */
+	uint32_t *hull_start; /* nloop + 1 into hull_pt/vid (ccw) */
 	double *hull_pt;
 	uint32_t *hull_vid;
-	float *loop_top;	  /* lowest top of its walls */
+	float *loop_top;	  /* lowest wall top */
 	double *loop_bb;	  /* 4 per loop */
-	uint32_t nobj;		  /* objects: the usable loops, then the other segments */
-	uint32_t *obj_ref;	  /* < nloop: a loop; else nloop + segment */
+	uint32_t nobj;		  /* usable loops, then other segments */
+	uint32_t *obj_ref;	  /* < nloop: loop; else nloop + segment */
 	double *obj_bb;		  /* 4 per object */
 	float *obj_top;
-	double bb[4];		  /* of everything */
-	double g0[2], gcell;  /* bucket grid over the objects */
+	double bb[4];		  /* all */
+	double g0[2], gcell;  /* bucket grid over objects */
 	uint32_t gw, gh;
 	uint32_t *gstart, *gitem;
 	size_t gitems;
@@ -12406,12 +12280,12 @@ PVS__STATIC void pvs__vo_bb_add(double *bb, const double *p) {
 	if (p[1] > bb[3]) bb[3] = p[1];
 }
 
-/* Convex hull (Andrew's monotone chain), counter-clockwise, collinear points dropped, into idx (point indices); keys: n
-   scratch. Returns its size. */
+/* Convex hull (Andrew's monotone chain), ccw, collinear points dropped, into idx (point indices); keys: n scratch.
+   Returns its size. */
 PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__key_index *keys, uint32_t *idx) {
 	uint32_t i, k = 0, t;
 	for (i = 0; i < n; ++i) { keys[i].key = pts[2 * i]; keys[i].index = i; }
-	pvs__key_index_sort(keys, n); /* by x, then y within runs of equal x */
+	pvs__key_index_sort(keys, n); /* by x, then y */
 	for (i = 0; i < n;) {
 		uint32_t j = i, m;
 		while (j < n && keys[j].key == keys[i].key) ++j;
@@ -12435,14 +12309,14 @@ PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__key_index 
 	return k > 1 ? k - 1 : k;
 }
 
-/* pvs__vprep_create's scratch (m segments): keys, deg, uf, idx, hidx 2m + 2 entries, adj 4m + 4. */
+/* pvs__vprep_create's scratch (m segments): keys, deg, uf, idx, hidx 2m + 2, adj 4m + 4. */
 typedef struct pvs__vprep_scratch {
 	pvs__key_index *keys;
 	uint32_t *deg, *adj, *uf, *idx, *hidx;
 	uint32_t nv;		  /* distinct vertices */
 } pvs__vprep_scratch;
 
-/* Vertex ids (p->seg_vid): end points sorted by (x, y), equal points one id; sets w->nv. */
+/* Vertex ids (p->seg_vid): ends sorted by (x, y), equal points one id; sets w->nv. */
 PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
 	pvs__key_index *keys = w->keys;
 	uint32_t m = p->nseg, i, nv = 0;
@@ -12463,8 +12337,8 @@ PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
 	w->nv = nv;
 }
 
-/* The segments' graph: per vertex its degree (w->deg), first two segments (w->adj), component root (w->uf); per root
-   w->idx = 1 when not a loop (a vertex of degree other than 2). Sets p->seg_loop to -1. */
+/* Segment graph per vertex: degree (w->deg), first two segments (w->adj), component root (w->uf); per root w->idx = 1
+   if not a loop (a vertex of degree != 2). p->seg_loop = -1. */
 PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
 	uint32_t *deg = w->deg, *adj = w->adj, *uf = w->uf, *idx = w->idx, m = p->nseg, nv = w->nv, i;
 	for (i = 0; i < nv; ++i) { deg[i] = 0; uf[i] = i; }
@@ -12487,8 +12361,8 @@ PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
 		if (deg[i] != 2) idx[uf[i]] = 1;
 }
 
-/* The wall loops: components whose vertices each join two segments, walked from the lowest segment into ring order
-   (ring_seg, ring_pt, loop_start), with lowest top, box and convex hull (hull_pt, hull_vid, hull_start). */
+/* Wall loops (components of degree-2 vertices), walked from the lowest segment into ring_seg, ring_pt, loop_start;
+   lowest top, box, hull (hull_pt, hull_vid, hull_start). */
 PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 	uint32_t *adj = w->adj, *uf = w->uf, *idx = w->idx, *hidx = w->hidx, m = p->nseg, ring = 0, h = 0, i;
 	p->nloop = 0;
@@ -12510,7 +12384,7 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 			v = wv;
 			s = adj[2 * v] == s ? adj[2 * v + 1] : adj[2 * v];
 		} while (s != i && count <= m);
-		if (count < 3) { /* two segments on the same two points: no inside */
+		if (count < 3) { /* two segments, same two points: no inside */
 			for (k = 0; k < count; ++k) p->seg_loop[p->ring_seg[ring + k]] = -1;
 			idx[root] = 1;
 			continue;
@@ -12524,7 +12398,7 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 		}
 		hn = pvs__vo_hull(p->ring_pt + 2 * ring, count, w->keys, hidx);
 		p->hull_start[l] = h;
-		/* ring point q starts ring segment q: its id is the vertex it shares with segment q - 1 */
+		/* ring point q starts segment q: id of the vertex shared with segment q - 1 */
 		for (k = 0; k < hn; ++k) {
 			uint32_t q = hidx[k], sq = p->ring_seg[ring + q], sp = p->ring_seg[ring + (q + count - 1) % count];
 			uint32_t a0 = p->seg_vid[2 * sq], a1 = p->seg_vid[2 * sq + 1];
@@ -12539,8 +12413,7 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 	}
 }
 
-/* The objects of §3 (Koltun 2000): loops with a usable hull (3 to PVS__VO_MAXH vertices), then the segments of no such
-   loop; box, top. */
+/* §3's objects (Koltun 2000): loops with 3..PVS__VO_MAXH hull vertices, then segments of no such loop; box, top. */
 PVS__STATIC void pvs__vprep_objects(pvs__vprep *p) {
 	uint32_t i;
 	p->nobj = 0;
@@ -12566,8 +12439,8 @@ PVS__STATIC void pvs__vprep_objects(pvs__vprep *p) {
 	}
 }
 
-/* The bucket grid: about two objects per bucket, at most 1024 x 1024; an object in the buckets its box covers, a long
-   wall in those along it. Returns OUT_OF_MEMORY or PVS_OK. */
+/* Bucket grid: ~2 objects per bucket, <= 1024 x 1024; an object in the buckets its box covers, a long wall in those
+   along it. OUT_OF_MEMORY or PVS_OK. */
 PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 	double w, hh, cs;
 	size_t total = 0, cells;
@@ -12602,8 +12475,8 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 			if (x1 >= p->gw) x1 = p->gw - 1;
 			if (y1 >= p->gh) y1 = p->gh - 1;
 			if (p->obj_ref[i] >= p->nloop && (uint64_t)(x1 - x0 + 1) * (y1 - y0 + 1) > 16) {
-				/* a long wall: the buckets along it, sampled a quarter bucket apart (a missed bucket only hides it from
-				   the search, never from a check) */
+				/* long wall: buckets along it, 1/4 bucket apart (a missed bucket hides it from the search, not a
+				   check) */
 				const double *sg = p->seg + 4 * (size_t)(p->obj_ref[i] - p->nloop);
 				double len = sqrt((sg[2] - sg[0]) * (sg[2] - sg[0]) + (sg[3] - sg[1]) * (sg[3] - sg[1]));
 				uint32_t steps = (uint32_t)(4.0 * len / cs) + 1, t, last = 0xffffffffu;
@@ -12636,14 +12509,14 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 			for (c2 = 0; c2 < cells; ++c2) p->gstart[c2 + 1] += p->gstart[c2];
 		}
 	}
-	/* gstart[c + 1] now starts bucket c: shift down */
+	/* gstart[c + 1] starts bucket c: shift down */
 	for (i = 0; i < (uint32_t)cells; ++i) p->gstart[i] = p->gstart[i + 1];
 	p->gstart[cells] = (uint32_t)total;
 	return PVS_OK;
 }
 
-/* Prepares n segments (4 doubles, ground coordinates; zero-length ones dropped) and their tops: vertex ids by exact
-   coordinates, wall loops, hulls, objects, buckets. */
+/* Prepares n segments (4 doubles, ground; zero-length dropped) and tops: vertex ids (exact), loops, hulls, objects,
+   buckets. */
 PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *seg, const float *top, uint32_t n,
 										 pvs__vprep **out) {
 	pvs__vprep *p;
@@ -12712,45 +12585,45 @@ done:
 /* ---- one cell and one height slice: blockers in the cell's frame (centre at the origin) ---- */
 
 typedef struct pvs__vobj {
-	uint32_t first, n;		/* vx[first .. first + n): n = 2 a segment, else a counter-clockwise hull */
-	int32_t loop;			/* a hull's wall loop (inside test), -1 */
+	uint32_t first, n;		/* vx[first, +n): n = 2 segment, else ccw hull */
+	int32_t loop;			/* hull's wall loop (inside test), -1 */
 	uint32_t mark, visit;	/* growth and query stamps */
-	uint32_t used;			/* in an aggregate of this slice: no seed again */
+	uint32_t used;			/* in an aggregate of this slice: no seed */
 	double bb[4];
-	double angle;			/* subtended from the cell's centre: seed order */
+	double angle;			/* subtended from cell centre: seed order */
 } pvs__vobj;
 
 typedef struct pvs__vo_span {
 	double s, e;			/* pseudo-angles */
-	uint32_t is, ie;		/* vertex ids of the ends (PVS__VO_NONE) */
+	uint32_t is, ie;		/* ends' vertex ids (PVS__VO_NONE) */
 } pvs__vo_span;
 
-/* A virtual occluder of the dense set: ends in the cell's frame exactly as checked after rounding, and as stored. */
+/* Dense-set virtual occluder: ends in the cell frame as checked after rounding, and as stored. */
 typedef struct pvs__vo_cand {
 	double a[2], b[2];
-	float f[4];				/* pvs_vocc_2d: the world end points */
+	float f[4];				/* pvs_vocc_2d: world ends */
 	uint8_t q[5];			/* the file's bytes */
 } pvs__vo_cand;
 
 typedef struct pvs__vo_side {
-	double po[2], pd[2];	/* supporting line P: the aggregate's vertex, direction away from the cell */
-	double qo[2], qd[2];	/* separating polyline Q: its last vertex and direction */
+	double po[2], pd[2];	/* supporting line P: aggregate vertex, direction away from cell */
+	double qo[2], qd[2];	/* separating polyline Q: last vertex, direction */
 	int done;
 } pvs__vo_side;
 
 typedef struct pvs__vo_cur {
-	double p[2], d[2];		/* the line p + t d (d unit) */
-	double t0, t1;			/* the occluder's interval on it */
+	double p[2], d[2];		/* line p + t d (d unit) */
+	double t0, t1;			/* occluder's interval on it */
 	int valid;
 } pvs__vo_cur;
 
 typedef struct pvs__vctx {
 	const pvs_allocator *al;
 	const pvs__vprep *p;
-	double centre[2];		/* world coordinates of the frame's origin */
+	double centre[2];		/* frame origin (world) */
 	double cmin[2], cmax[2], corner[8];
 	double scale, tol, range;
-	float h;				/* the slice height */
+	float h;				/* slice height */
 	pvs__vobj *obj;
 	uint32_t nobj, capobj;
 	double *vx;
@@ -12758,9 +12631,9 @@ typedef struct pvs__vctx {
 	uint32_t nvx, capvx, capvid;
 	uint32_t *pfirst, *pcount; /* per prepared object: its blockers in this slice */
 	uint32_t epoch, visit;
-	uint32_t *g, ng, capg;	   /* the aggregate's blockers */
-	uint32_t *k, nk, capk;	   /* the objects fused into its umbra (seed, cases 1 and 3) */
-	double *lines;			   /* the aggregate's event lines, 4 doubles each */
+	uint32_t *g, ng, capg;	   /* aggregate's blockers */
+	uint32_t *k, nk, capk;	   /* objects fused into its umbra (seed, cases 1, 3) */
+	double *lines;			   /* aggregate's event lines, 4 doubles each */
 	uint32_t nlines, caplines;
 	pvs__vo_span *span;
 	uint32_t capspan;
@@ -12772,8 +12645,8 @@ typedef struct pvs__vctx {
 	pvs__key_index *hkeys;
 	uint32_t caphkeys;
 	uint32_t *hidx, caphidx;
-	/* output: the dense set */
-	int quantize;			   /* 0: float end points (pvs_vocc_2d); 1: the file's bytes */
+	/* output: dense set */
+	int quantize;			   /* 0: float ends (pvs_vocc_2d); 1: file bytes */
 	double qscale, qground, qhstep; /* quantization (>>vocc file notes) */
 	pvs__vo_cand *out;
 	uint32_t nout, capout;
@@ -12804,7 +12677,7 @@ PVS__STATIC void pvs__vctx_free(pvs__vctx *c) {
 	memset(c, 0, sizeof(*c));
 }
 
-/* c's cell relative to centre: cmin, cmax and the corners, counter-clockwise from cmin. */
+/* c's cell relative to centre: cmin, cmax, corners ccw from cmin. */
 PVS__STATIC void pvs__vo_cell_frame(pvs__vctx *c, const double *cmin, const double *cmax, const double *centre) {
 	int k;
 	for (k = 0; k < 2; ++k) {
@@ -12818,7 +12691,7 @@ PVS__STATIC void pvs__vo_cell_frame(pvs__vctx *c, const double *cmin, const doub
 	c->corner[6] = c->cmin[0]; c->corner[7] = c->cmax[1];
 }
 
-/* A cell's frame (ground rectangle, world coordinates) over the prepared occluders. */
+/* Cell frame (ground rectangle, world) over the prepared occluders. */
 PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs__vprep *p, const double cmin[2],
 							   const double cmax[2], double range) {
 	int k;
@@ -12843,7 +12716,7 @@ PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs_
 	return 1;
 }
 
-/* Where ray x + t w, t in [0, tmax], enters the cell grown by g: the least such t, -1 when it misses (the slabs). */
+/* Least t in [0, tmax] where ray x + t w enters the cell grown by g, -1 on a miss (slabs). */
 PVS__STATIC double pvs__vo_ray_cell(const pvs__vctx *c, const double *x, const double *w, double g, double tmax) {
 	double s0 = 0.0, s1 = tmax;
 	int k;
@@ -12861,7 +12734,7 @@ PVS__STATIC double pvs__vo_ray_cell(const pvs__vctx *c, const double *x, const d
 	return s0 <= s1 ? s0 : -1.0;
 }
 
-/* 1 if counter-clockwise convex polygon v (n >= 3) meets the cell grown by tol (separating axes). */
+/* 1 if ccw convex polygon v (n >= 3) meets the cell grown by tol (separating axes). */
 PVS__STATIC int pvs__vo_poly_meets_cell(const pvs__vctx *c, const double *v, uint32_t n) {
 	double lo[2] = {DBL_MAX, DBL_MAX}, hi[2] = {-DBL_MAX, -DBL_MAX};
 	uint32_t i, k;
@@ -12872,7 +12745,7 @@ PVS__STATIC int pvs__vo_poly_meets_cell(const pvs__vctx *c, const double *v, uin
 		}
 	for (k = 0; k < 2; ++k)
 		if (lo[k] > c->cmax[k] + c->tol || hi[k] < c->cmin[k] - c->tol) return 0;
-	for (i = 0; i < n; ++i) { /* an edge with every corner strictly outside */
+	for (i = 0; i < n; ++i) { /* edge with every corner strictly outside */
 		const double *a = v + 2 * i, *b = v + 2 * ((i + 1) % n);
 		double len = sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]));
 		int j, out = 1;
@@ -12906,7 +12779,7 @@ PVS__STATIC uint32_t pvs__vo_add_obj(pvs__vctx *c, const double *pts, const uint
 		c->vid[c->nvx + i] = ids[i];
 		pvs__vo_bb_add(o->bb, q);
 	}
-	for (i = 1; i < n; ++i) { /* tangent vertices from the centre: the subtended angle */
+	for (i = 1; i < n; ++i) { /* tangent vertices from centre: subtended angle */
 		const double *q = c->vx + 2 * ((size_t)c->nvx + i);
 		if (pvs__vo_cross(origin, c->vx + 2 * ((size_t)c->nvx + lo), q) < 0.0) lo = i;
 		if (pvs__vo_cross(origin, c->vx + 2 * ((size_t)c->nvx + hi), q) > 0.0) hi = i;
@@ -12920,7 +12793,7 @@ PVS__STATIC uint32_t pvs__vo_add_obj(pvs__vctx *c, const double *pts, const uint
 	return c->nobj++;
 }
 
-/* Wall segment s as a blocker when it reaches height h and misses the cell grown by tol. */
+/* Wall s as a blocker if it reaches h and misses the cell grown by tol. */
 PVS__STATIC void pvs__vo_add_seg(pvs__vctx *c, uint32_t s, float h) {
 	const pvs__vprep *p = c->p;
 	double a[2], d[2];
@@ -12930,8 +12803,8 @@ PVS__STATIC void pvs__vo_add_seg(pvs__vctx *c, uint32_t s, float h) {
 	if (pvs__vo_ray_cell(c, a, d, c->tol, 1.0) < 0.0) pvs__vo_add_obj(c, p->seg + 4 * s, p->seg_vid + 2 * s, 2, -1);
 }
 
-/* The blockers of slice height h: loops reaching h whose hull misses the cell as hulls, other walls reaching h as
-   segments unless they meet the cell. */
+/* Blockers at slice height h: loops reaching h whose hull misses the cell as hulls, other walls reaching h as segments
+   unless they meet the cell. */
 PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 	const pvs__vprep *p = c->p;
 	uint32_t i, j;
@@ -12965,8 +12838,7 @@ PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 
 /* ---- exact hidden tests ---- */
 
-/* 1 if x lies inside wall loop l (odd crossings), farther than tol from its walls. Only for loops whose hull misses the
-   cell. */
+/* 1 if x is inside wall loop l (odd crossings), over tol from its walls. Only loops whose hull misses the cell. */
 PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x) {
 	const pvs__vprep *p = c->p;
 	uint32_t s = p->loop_start[l], n = p->loop_start[l + 1] - s, i, odd = 0;
@@ -12985,7 +12857,7 @@ PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x)
 	return (int)odd;
 }
 
-/* Entry distance of ray x + s w into object o, -1 when it misses. */
+/* Entry distance of ray x + s w into o, -1 on a miss. */
 PVS__STATIC double pvs__vo_ray_obj(const pvs__vctx *c, const pvs__vobj *o, const double *x, const double *w) {
 	const double *v = c->vx + 2 * (size_t)o->first;
 	if (o->n == 2) {
@@ -13001,7 +12873,7 @@ PVS__STATIC double pvs__vo_ray_obj(const pvs__vctx *c, const pvs__vobj *o, const
 		uint32_t i;
 		for (i = 0; i < o->n; ++i) {
 			const double *a = v + 2 * i, *b = v + 2 * ((i + 1) % o->n);
-			double nx = b[1] - a[1], ny = a[0] - b[0]; /* outward normal (counter-clockwise edge) */
+			double nx = b[1] - a[1], ny = a[0] - b[0]; /* outward normal (ccw edge) */
 			double f = nx * (x[0] - a[0]) + ny * (x[1] - a[1]), g = nx * w[0] + ny * w[1];
 			if (g == 0.0) {
 				if (f > 0.0) return -1.0;
@@ -13015,7 +12887,7 @@ PVS__STATIC double pvs__vo_ray_obj(const pvs__vctx *c, const pvs__vobj *o, const
 	}
 }
 
-/* 1 if x is inside convex object o or within tol of it (o is then unusable from x). */
+/* 1 if x is in convex object o or within tol (o unusable from x). */
 PVS__STATIC int pvs__vo_near_obj(const pvs__vctx *c, const pvs__vobj *o, const double *x) {
 	const double *v = c->vx + 2 * (size_t)o->first;
 	uint32_t i;
@@ -13036,14 +12908,14 @@ PVS__STATIC int pvs__vo_near_obj(const pvs__vctx *c, const pvs__vobj *o, const d
 	return 1;
 }
 
-/* The cell's fan from x: extreme corners cl, ch (in a half-plane), unit bisector f, the edges' pseudo-angles aL, aR
-   about f, the box of cell and x grown by tol. */
+/* Cell's fan from x: extreme corners cl, ch (in a half-plane), unit bisector f, edge pseudo-angles aL, aR about f, box
+   of cell and x grown by tol. */
 typedef struct pvs__vo_fan {
 	const double *cl, *ch;
 	double f[2], aL, aR, bb[4];
 } pvs__vo_fan;
 
-/* The fan from x (outside the cell); 0 when it has no direction. */
+/* Fan from x (outside the cell); 0 if no direction. */
 PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fan *fn) {
 	const double *cl, *ch;
 	double tol = c->tol;
@@ -13075,8 +12947,8 @@ PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fa
 	return 1;
 }
 
-/* Blocker o's share of the from-point test: appends to c->span at *ns (room for two) the part of the fan o covers
-   before the cell, two intervals across the back direction. Returns 1 when x is inside o's wall loop (hidden). */
+/* Blocker o's part of the from-point test: appends to c->span at *ns (room for 2) the fan part o covers before the
+   cell, 2 intervals across the back direction. 1 if x is inside o's wall loop (hidden). */
 PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double *x, const pvs__vo_fan *fn,
 								  uint32_t *ns) {
 	const double *v = c->vx + 2 * (size_t)o->first, *cl = fn->cl, *ch = fn->ch, *f = fn->f;
@@ -13087,15 +12959,15 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 		pvs__vo_in_loop(c, (uint32_t)o->loop, x))
 		return 1;
 	if (o->bb[0] > fn->bb[2] || o->bb[2] < fn->bb[0] || o->bb[1] > fn->bb[3] || o->bb[3] < fn->bb[1]) return 0;
-	{ /* a box wholly outside the fan (beyond an edge line) cannot help */
-		/* cross(x, q, p) = e0 p1 - e1 p0 - e0 x1 + e1 x0 (e = q - x) is linear in p: the box's corners bound it */
+	{ /* box beyond a fan edge line cannot help */
+		/* cross(x, q, p) = e0 p1 - e1 p0 - e0 x1 + e1 x0 (e = q - x), linear in p: box corners bound it */
 		double e0 = cl[0] - x[0], e1 = cl[1] - x[1], g0 = ch[0] - x[0], g1 = ch[1] - x[1], mx, mn;
 		mx = (e0 > 0.0 ? e0 * o->bb[3] : e0 * o->bb[1]) + (e1 > 0.0 ? -e1 * o->bb[0] : -e1 * o->bb[2]) - e0 * x[1] +
 			e1 * x[0];
-		if (mx < -tol * (fabs(e0) + fabs(e1))) return 0; /* clockwise of the fan's edge x -> cl */
+		if (mx < -tol * (fabs(e0) + fabs(e1))) return 0; /* clockwise of fan edge x -> cl */
 		mn = (g0 > 0.0 ? g0 * o->bb[1] : g0 * o->bb[3]) + (g1 > 0.0 ? -g1 * o->bb[2] : -g1 * o->bb[0]) - g0 * x[1] +
 			g1 * x[0];
-		if (mn > tol * (fabs(g0) + fabs(g1))) return 0; /* counter-clockwise of x -> ch */
+		if (mn > tol * (fabs(g0) + fabs(g1))) return 0; /* ccw of x -> ch */
 	}
 	near_box = x[0] >= o->bb[0] - tol && x[0] <= o->bb[2] + tol && x[1] >= o->bb[1] - tol && x[1] <= o->bb[3] + tol;
 	if (near_box && pvs__vo_near_obj(c, o, x)) return 0;
@@ -13111,7 +12983,7 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 	if (plo <= phi) {
 		pieces = 1;
 		sp[0][0] = plo; sp[0][1] = phi;
-	} else { /* through the back direction */
+	} else { /* across the back direction */
 		pieces = 2;
 		sp[0][0] = plo; sp[0][1] = phi + 4.0;
 		sp[1][0] = plo - 4.0; sp[1][1] = phi;
@@ -13139,8 +13011,8 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 	return 0;
 }
 
-/* Returns 1 when c->span[0 .. ns) (sorted here) covers the fan [aL, aR]. Spans ending on the same vertex join exactly
-   (walls of an open chain), other joins need an overlap beyond PVS__VO_ATOL: rounding only ever says "not hidden". */
+/* 1 if c->span[0 .. ns) (sorted here) covers fan [aL, aR]. Spans ending on the same vertex join exactly (open chain
+   walls), others need overlap > PVS__VO_ATOL: rounding only says "not hidden". */
 PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double aR) {
 	double reach;
 	uint32_t i, k, rid;
@@ -13169,8 +13041,7 @@ PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double
 	return 0;
 }
 
-/* The from-point test of the header: 1 if every segment from the cell to x meets one of set[0..n). Rounding only ever
-   answers 0. */
+/* Header's from-point test: 1 if every segment from the cell to x meets one of set[0..n). Rounding only answers 0. */
 PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, const double *x) {
 	pvs__vo_fan fn;
 	double tol = c->tol;
@@ -13189,7 +13060,7 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
 
 /* ---- the aggregate: blockers, and the lines where hidden answers can change ---- */
 
-/* The least and greatest pvs__vo_cross(p, q, .) over the n points x. */
+/* Min and max pvs__vo_cross(p, q, .) over n points x. */
 PVS__STATIC void pvs__vo_sides(const double *p, const double *q, const double *x, uint32_t n, double *mn, double *mx) {
 	uint32_t k;
 	*mn = DBL_MAX;
@@ -13201,7 +13072,7 @@ PVS__STATIC void pvs__vo_sides(const double *p, const double *q, const double *x
 	}
 }
 
-/* Common tangents of two convex vertex sets through the cell (only those change a hidden answer); need_cell 0 when one
+/* Common tangents of two convex vertex sets through the cell (only those change a hidden answer); need_cell 0 if one
    set is the cell. */
 PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t na, const double *b, uint32_t nb,
 									   int need_cell) {
@@ -13233,7 +13104,7 @@ PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t n
 		}
 }
 
-/* Adds object o to the aggregate's blockers and event lines. */
+/* Adds o to the aggregate's blockers and event lines. */
 PVS__STATIC void pvs__vo_g_add(pvs__vctx *c, uint32_t o) {
 	const pvs__vobj *b = c->obj + o;
 	uint32_t i;
@@ -13261,7 +13132,7 @@ PVS__STATIC void pvs__vo_ev_push(pvs__vctx *c, uint32_t *n, double t, double t0,
 	c->ev[*n].index = *n;
 	++*n;
 }
-/* Where segment a-b (a line when `line`) crosses line p + t d. */
+/* Where segment a-b (line if `line`) crosses line p + t d. */
 PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, const double *d, const double *a,
 								const double *b, int line, double t0, double t1) {
 	double ex = b[0] - a[0], ey = b[1] - a[1], den = d[0] * ey - d[1] * ex, qx = a[0] - p[0], qy = a[1] - p[1], t, u;
@@ -13274,8 +13145,8 @@ PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, cons
 	pvs__vo_ev_push(c, n, t, t0, t1);
 }
 
-/* The hidden parts of p + t d, t in [t0, t1], for the aggregate's blockers: closed intervals into out (at most cap).
-   Returns their count. */
+/* Hidden parts of p + t d, t in [t0, t1], for the aggregate's blockers: closed intervals into out (<= cap). Returns
+   their count. */
 PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const double *d, double t0, double t1,
 										 double *out, uint32_t cap) {
 	double bb[4], a[2], b[2], span = t1 - t0, eps;
@@ -13296,14 +13167,14 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
 		c->oom = 1;
 		return 0;
 	}
-	for (i = 0; i < c->ng; ++i) { /* blockers that can stand between the cell and the segment */
+	for (i = 0; i < c->ng; ++i) { /* blockers that can be between cell and segment */
 		const pvs__vobj *o = c->obj + c->g[i];
 		if (o->bb[0] > bb[2] + c->tol || o->bb[2] < bb[0] - c->tol || o->bb[1] > bb[3] + c->tol ||
 			o->bb[3] < bb[1] - c->tol)
 			continue;
 		c->sub[nsub++] = c->g[i];
 	}
-	/* events: the cell's edges, the tangent lines, the blockers' boundaries and loops */
+	/* events: cell edges, tangent lines, blocker boundaries and loops */
 	for (i = 0; i < 4; ++i) pvs__vo_ev_seg(c, &ne, p, d, c->corner + 2 * i, c->corner + 2 * ((i + 1) % 4), 0, t0, t1);
 	for (i = 0; i < c->nlines; ++i) pvs__vo_ev_seg(c, &ne, p, d, c->lines + 4 * i, c->lines + 4 * i + 2, 1, t0, t1);
 	for (i = 0; i < nsub; ++i) {
@@ -13353,7 +13224,7 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
 	return c->oom ? 0 : nout;
 }
 
-/* 1 if all of segment a-b is hidden (checked a little past both ends). */
+/* 1 if all of a-b is hidden (checked a little past both ends). */
 PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const double *b) {
 	double d[2], iv[2], len, mu;
 	d[0] = b[0] - a[0];
@@ -13367,8 +13238,8 @@ PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const doub
 
 /* ---- growth (§3) ---- */
 
-/* The first object not in or refused by the aggregate on ray o + s w (w unit), 0 < s <= smax, walking the buckets
-   (*s_hit: its s); PVS__VO_NONE if none. */
+/* First object not in or refused by the aggregate on ray o + s w (w unit), 0 < s <= smax, via buckets (*s_hit: its s);
+   PVS__VO_NONE if none. */
 PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const double *w, double smax, double *s_hit) {
 	const pvs__vprep *p = c->p;
 	double ox = o[0] + c->centre[0] - p->g0[0], oy = o[1] + c->centre[1] - p->g0[1], cs = p->gcell, best = DBL_MAX,
@@ -13377,7 +13248,7 @@ PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const doub
 	int32_t ix, iy, sx, sy, gw = (int32_t)p->gw, gh = (int32_t)p->gh;
 	uint32_t hit = PVS__VO_NONE;
 	++c->visit;
-	{ /* clip the ray to the grid */
+	{ /* clip ray to the grid */
 		double lo[2], hi[2], org[2], dir[2];
 		int k;
 		lo[0] = 0.0; lo[1] = 0.0;
@@ -13432,7 +13303,7 @@ PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const doub
 	return hit;
 }
 
-/* How far a ray from o along w may go: the analysis radius. */
+/* Ray length from o along w within the analysis radius. */
 PVS__STATIC double pvs__vo_ray_len(const pvs__vctx *c, const double *o, const double *w) {
 	double b = o[0] * w[0] + o[1] * w[1], cc = o[0] * o[0] + o[1] * o[1] - c->range * c->range, disc = b * b - cc;
 	return disc > 0.0 ? -b + sqrt(disc) : 0.0;
@@ -13446,7 +13317,7 @@ PVS__STATIC int pvs__vo_unit(double *w) {
 	return 1;
 }
 
-/* The fused objects' vertices into c->pts (after the cell's 4 corners with with_cell). */
+/* Fused objects' vertices into c->pts (after the 4 cell corners if with_cell). */
 PVS__STATIC uint32_t pvs__vo_k_points(pvs__vctx *c, int with_cell) {
 	uint32_t i, j, n = with_cell ? 4 : 0, total = n;
 	for (i = 0; i < c->nk; ++i) total += c->obj[c->k[i]].n;
@@ -13468,27 +13339,27 @@ PVS__STATIC uint32_t pvs__vo_k_points(pvs__vctx *c, int with_cell) {
 	return n;
 }
 
-/* The active lines from the fused objects: supporting lines bridge the hull of cell and aggregate, separating lines are
-   inner common tangents; side 0 is the left seen from the cell. Bit s of which resets side s's separating line.
-   Returns 0 when the aggregate surrounds the cell. */
+/* Active lines of the fused objects: supporting lines bridge the hull of cell and aggregate, separating lines are inner
+   common tangents; side 0 is the left seen from the cell. Bit s of which resets side s's separating line. 0 if the
+   aggregate surrounds the cell. */
 PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 	uint32_t n = pvs__vo_k_points(c, 1), hn, i, found = 0, s;
 	if (!n) return 0;
 	hn = pvs__vo_hull(c->pts, n, c->hkeys, c->hidx);
 	for (i = 0; i < hn; ++i) {
 		uint32_t a = c->hidx[i], b = c->hidx[(i + 1) % hn];
-		if (a >= 4 && b < 4) { /* aggregate -> cell (counter-clockwise): the left supporting line */
+		if (a >= 4 && b < 4) { /* aggregate -> cell (ccw): left supporting line */
 			sd[0].po[0] = c->pts[2 * a]; sd[0].po[1] = c->pts[2 * a + 1];
 			sd[0].pd[0] = c->pts[2 * a] - c->pts[2 * b]; sd[0].pd[1] = c->pts[2 * a + 1] - c->pts[2 * b + 1];
 			found |= pvs__vo_unit(sd[0].pd) ? 1u : 0u;
-		} else if (a < 4 && b >= 4) { /* cell -> aggregate: the right one */
+		} else if (a < 4 && b >= 4) { /* cell -> aggregate: right one */
 			sd[1].po[0] = c->pts[2 * b]; sd[1].po[1] = c->pts[2 * b + 1];
 			sd[1].pd[0] = c->pts[2 * b] - c->pts[2 * a]; sd[1].pd[1] = c->pts[2 * b + 1] - c->pts[2 * a + 1];
 			found |= pvs__vo_unit(sd[1].pd) ? 2u : 0u;
 		}
 	}
 	if (found != 3u) return 0;
-	/* inner tangents: a cell corner and an aggregate hull vertex, the cell on one side, the aggregate on the other */
+	/* inner tangents: cell corner to aggregate hull vertex, cell on one side, aggregate on the other */
 	n = pvs__vo_k_points(c, 0);
 	hn = pvs__vo_hull(c->pts, n, c->hkeys, c->hidx);
 	for (s = 0; s < 2; ++s) {
@@ -13517,7 +13388,7 @@ PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 	return 1;
 }
 
-/* Case 2: side s's separating polyline bends around b, to b's vertex keeping all of b on the aggregate's side. */
+/* Case 2: side s's separating polyline bends to b's vertex keeping all of b on the aggregate's side. */
 PVS__STATIC void pvs__vo_bend(pvs__vctx *c, pvs__vo_side *sd, uint32_t s, uint32_t b) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first, *q = sd->qo;
@@ -13561,15 +13432,14 @@ PVS__STATIC int pvs__vo_meets_umbra(pvs__vctx *c, uint32_t b, const double *extr
 	return 0;
 }
 
-/* Angle of p + t d, t in [t0, t1], seen from the cell's centre. */
+/* Angle of p + t d, t in [t0, t1], from cell centre. */
 PVS__STATIC double pvs__vo_angle(const double *p, const double *d, double t0, double t1) {
 	double a0 = p[0] + t0 * d[0], a1 = p[1] + t0 * d[1], b0 = p[0] + t1 * d[0], b1 = p[1] + t1 * d[1];
 	return fabs(atan2(a0 * b1 - a1 * b0, a0 * b0 + a1 * b1));
 }
 
-/* The hidden parts of line p + t d (d unit) in the aggregate's wedge (supporting lines widened by a quarter, within the
-   analysis radius): *cur gets the one of largest angle (keep: the one around keep_t). Returns that angle, 0 when
-   none. */
+/* Hidden parts of line p + t d (d unit) in the aggregate's wedge (supporting lines widened by 1/4, within analysis
+   radius): *cur gets the one of largest angle (keep: the one around keep_t). Returns that angle, 0 if none. */
 PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const double *p, const double *d,
 									double keep_t, int keep, pvs__vo_cur *cur) {
 	double lo = DBL_MAX, hi = -DBL_MAX, iv[64], best = 0.0, b, cc, disc, w;
@@ -13611,10 +13481,9 @@ PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const 
 	return best;
 }
 
-/* Places a virtual occluder behind b (§3) on the best of three lines just beyond b: across the umbra (normal to the
-   supporting lines' bisector), on the silhouette chord through their contacts, across b's view from the cell's centre.
-   Keeps the hidden interval subtending the largest angle. keep (case 3): the current line, the interval around its
-   middle. */
+/* Places a virtual occluder behind b (§3) on the best of 3 lines just beyond b: across the umbra (normal to the
+   supporting lines' bisector), the silhouette chord through their contacts, across b's view from cell centre; keeps the
+   hidden interval of largest angle. keep (case 3): current line, interval around its middle. */
 PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, pvs__vo_cur *cur, int keep) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first;
@@ -13645,7 +13514,7 @@ PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, 
 		if (k == 1 && nrm[0] * sd[0].po[0] + nrm[1] * sd[0].po[1] < 0.0) {
 			nrm[0] = -nrm[0];
 			nrm[1] = -nrm[1];
-		} /* away from the cell */
+		} /* away from cell */
 		if (k == 1) {
 			depth = nrm[0] * sd[0].po[0] + nrm[1] * sd[0].po[1];
 		} else {
@@ -13674,9 +13543,8 @@ PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, 
 
 /* ---- quantization: five bytes per occluder, relative to the cell (the VOCC section) ---- */
 
-/* A cell's coordinate scale S = 2^((code - 128) / 8), code 0..255 (exact: a constant times a power of two). Byte q puts
-   a coordinate at centre + S (q - 128) |q - 128| / 16384, from -S to 0.98 S, finer near the cell where a metre matters
-   more. */
+/* Cell scale S = 2^((code - 128) / 8), code 0..255 (exact: constant x power of two). Byte q: coordinate centre + S (q -
+   128) |q - 128| / 16384, -S to 0.98 S, finer near the cell. */
 PVS__STATIC double pvs__vo_scale(uint32_t code) {
 	static const double mant[8] = {1.0, 1.0905077326652577, 1.189207115002721, 1.2968395546510096,
 								   1.4142135623730951, 1.5422108254079407, 1.681792830507429, 1.8340080864093424};
@@ -13686,7 +13554,7 @@ PVS__STATIC double pvs__vo_offset(double scale, uint32_t q) {
 	int32_t d = (int32_t)q - 128;
 	return scale * (double)(d * (d < 0 ? -d : d)) / 16384.0;
 }
-/* Largest byte whose offset is <= x (0 when none). */
+/* Largest byte with offset <= x (else 0). */
 PVS__STATIC uint32_t pvs__vo_floor_code(double scale, double x) {
 	double r = x / scale * 16384.0, d = r < 0.0 ? -sqrt(-r) : sqrt(r);
 	int32_t q = (int32_t)floor(d) + 128;
@@ -13696,12 +13564,12 @@ PVS__STATIC uint32_t pvs__vo_floor_code(double scale, double x) {
 	while (q > 0 && pvs__vo_offset(scale, (uint32_t)q) > x) --q;
 	return (uint32_t)q;
 }
-/* The frame origin as the file reader computes it: float centre of the stored float box. */
+/* Frame origin as the file reader computes it: float centre of the stored float box. */
 PVS__STATIC void pvs__vo_cell_centre(const pvs_box *cell, int u, int v, double centre[2]) {
 	centre[0] = (double)(0.5f * cell->min[u] + 0.5f * cell->max[u]);
 	centre[1] = (double)(0.5f * cell->min[v] + 0.5f * cell->max[v]);
 }
-/* Smallest scale code whose range holds every point within reach of the centre. */
+/* Smallest scale code whose range holds every point within reach of centre. */
 PVS__STATIC uint32_t pvs__vo_scale_code(double reach) {
 	uint32_t code;
 	for (code = 0; code < 255; ++code)
@@ -13710,9 +13578,8 @@ PVS__STATIC uint32_t pvs__vo_scale_code(double reach) {
 	return code;
 }
 
-/* Rounds occluder a-b (cell frame) to stored bytes, shrinking it and moving its ends away from the cell ("toward
-   smaller occluders", §4), and checks the rounded one exactly; six tries, each shrinking more. Returns 1 with *out
-   filled. */
+/* Rounds occluder a-b (cell frame) to stored bytes, shrinking it and moving ends away from the cell ("toward smaller
+   occluders", §4), then checks it exactly; 6 tries, shrinking more each. 1 with *out filled. */
 PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b0, pvs__vo_cand *out) {
 	static const double shrink[6] = {0.0, 0.03, 0.08, 0.15, 0.25, 0.38};
 	double a[2], b[2], u[2], nrm[2], len, lo = pvs__vo_offset(c->qscale, 0), hi = pvs__vo_offset(c->qscale, 255);
@@ -13743,8 +13610,8 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
 	if (nrm[0] * (a[0] + b[0]) + nrm[1] * (a[1] + b[1]) < 0.0) {
 		nrm[0] = -nrm[0];
 		nrm[1] = -nrm[1];
-	} /* away from the cell */
-	/* height: rounded down */
+	} /* away from cell */
+	/* height rounded down */
 	hq = ((double)c->h - c->qground) / c->qhstep;
 	qh = hq >= 255.0 ? 255u : hq <= 0.0 ? 0u : (uint32_t)hq;
 	while (qh > 0 && c->qground + (double)qh * c->qhstep > (double)c->h) --qh;
@@ -13756,7 +13623,7 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
 			e[0][k] = a[k] + shrink[attempt] * len * u[k];
 			e[1][k] = b[k] - shrink[attempt] * len * u[k];
 		}
-		for (end = 0; end < 2; ++end) { /* grid corner around the end: inward, then behind, then nearest */
+		for (end = 0; end < 2; ++end) { /* grid corner around the end: inward, behind, nearest */
 			double best = DBL_MAX, inward = end ? -1.0 : 1.0;
 			uint32_t f0 = pvs__vo_floor_code(c->qscale, e[end][0]), f1 = pvs__vo_floor_code(c->qscale, e[end][1]), m;
 			for (m = 0; m < 4; ++m) {
@@ -13780,7 +13647,7 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
 			if (best == DBL_MAX) return 0;
 		}
 		if (q[0][0] == q[1][0] && q[0][1] == q[1][1]) return 0;
-		/* the stored geometry, exactly as the reader decodes it */
+		/* stored geometry as the reader decodes it */
 		{
 			double ca[2], cb[2];
 			for (k = 0; k < 2; ++k) {
@@ -13815,7 +13682,7 @@ PVS__STATIC void pvs__vo_dump(pvs__vctx *c, pvs__vo_cur *cur) {
 	cur->valid = 0;
 }
 
-/* Grows one seed's aggregate umbra (§3, Fig. 3, Fig. 4: both sides at once). */
+/* Grows one seed's aggregate umbra (§3, Figs. 3, 4: both sides at once). */
 PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 	pvs__vo_side sd[2];
 	pvs__vo_cur cur;
@@ -13854,7 +13721,7 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 				hitp[1] = sd[s].po[1] + sp * sd[s].pd[1];
 				on_q = t >= 0.0;
 			}
-			{ /* probes: the hit point pushed a little into the umbra side and along the ray */
+			{ /* probes: hit point pushed a little toward the umbra and along the ray */
 				double nx = s ? sd[s].pd[1] : -sd[s].pd[1], ny = s ? -sd[s].pd[0] : sd[s].pd[0];
 				double sz = 0.02 * ((c->obj[b].bb[2] - c->obj[b].bb[0]) + (c->obj[b].bb[3] - c->obj[b].bb[1])) + c->tol;
 				const double *rd = via_q ? sd[s].qd : sd[s].pd;
@@ -13870,7 +13737,7 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 				++c->st.umbra;
 				if (!pvs__vo_tangents(c, sd, 1 << s)) break;
 				sd[0].done = sd[1].done = 0;
-				if (!via_q) { /* case 1: the old one is dumped */
+				if (!via_q) { /* case 1: old one dumped */
 					pvs__vo_cur next;
 					memset(&next, 0, sizeof(next));
 					if (pvs__vo_place(c, sd, b, &next, 0)) {
@@ -13891,11 +13758,11 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 		if (!progressed) break;
 	}
 	pvs__vo_dump(c, &cur);
-	/* the whole aggregate: one more occluder behind the seed */
+	/* whole aggregate: one more occluder behind the seed */
 	if (c->ng > 1 && pvs__vo_place(c, sd, seed, &cur, 0)) pvs__vo_dump(c, &cur);
 }
 
-/* Grows up to max_seeds seeds of the slice, largest subtended angle first. */
+/* Grows <= max_seeds seeds of the slice, largest angle first. */
 PVS__STATIC void pvs__vo_run_slice(pvs__vctx *c) {
 	pvs__key_index *order;
 	uint32_t i, n = c->nobj, grown = 0;
@@ -13918,13 +13785,13 @@ PVS__STATIC void pvs__vo_run_slice(pvs__vctx *c) {
 	pvs__free_array(c->al, order, (size_t)n + 1, sizeof(pvs__key_index));
 }
 
-/* A virtual occluder from the growth: rounded as stored, checked, kept. */
+/* Growth's virtual occluder: rounded as stored, checked, kept. */
 PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
 	pvs__vo_cand cand;
 	memset(&cand, 0, sizeof(cand));
 	if (!c->quantize) {
 		int k;
-		for (k = 0; k < 2; ++k) { /* float end points, as pvs_vocc_2d returns them */
+		for (k = 0; k < 2; ++k) { /* float ends, as pvs_vocc_2d returns */
 			cand.f[k] = (float)(a[k] + c->centre[k]);
 			cand.f[2 + k] = (float)(b[k] + c->centre[k]);
 			cand.a[k] = (double)cand.f[k] - c->centre[k];
@@ -13950,18 +13817,17 @@ PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
 
 typedef struct pvs__vo_rt {
 	double o[2];			  /* frame origin (world) */
-	double n[2], off;		  /* the occluder's line n.x = off (n unit), the cell where n.x < off */
-	double h[8][3];			  /* the 2D umbra's other sides: h[0..8) . (x, y, 1) >= 0 (unit normals) */
-	double dcmin, dcmax;	  /* the cell's ground corners' distances from the line (> 0) */
+	double n[2], off;		  /* occluder line n.x = off (n unit), cell at n.x < off */
+	double h[8][3];			  /* 2D umbra's other sides: h[0..8) . (x, y, 1) >= 0 (unit normals) */
+	double dcmin, dcmax;	  /* cell ground corners' distances from line (> 0) */
 	double base, top, cbot, ctop;
 	double m, mh;			  /* margins: lengths, heights */
 	int u_axis, v_axis, up, ok;
 } pvs__vo_rt;
 
-/* Prepares the test of occluder a-b (world ground coordinates, heights base..top) for a cell. In 2D a box is hidden
-   when it lies in the umbra (§3): beyond the line and, for each cell corner c, on b's side of line c-a and a's side of
-   c-b. Rectangles are convex: corners decide; support functions test the box's at once. Margins (1e-7 of the frame's
-   extent) make rounding answer "not hidden". */
+/* Prepares occluder a-b's test (world ground, heights base..top) for a cell. In 2D a box is hidden in the umbra (§3):
+   beyond the line and, per cell corner c, on b's side of line c-a and a's of c-b. Convex: corners decide; support
+   functions test the box at once. Margins (1e-7 of frame extent) make rounding answer "not hidden". */
 PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const double *a, const double *b,
 								 double base, double top) {
 	double la[2], lb[2], cc[4][2], u[2], len, ext = 1.0, dmin = DBL_MAX, dmax = -DBL_MAX;
@@ -13997,7 +13863,7 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
 		if (d < dmin) dmin = d;
 		if (d > dmax) dmax = d;
 	}
-	if (dmax < 0.0) { /* the cell on the other side: flip */
+	if (dmax < 0.0) { /* cell on the other side: flip */
 		double t = dmin;
 		r->n[0] = -r->n[0];
 		r->n[1] = -r->n[1];
@@ -14005,8 +13871,8 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
 		dmin = -dmax;
 		dmax = -t;
 	}
-	if (!(dmin > r->m)) return; /* the line meets the cell: hides nothing */
-	for (e = 0; e < 2; ++e) { /* through each end from each cell corner, the occluder's side kept */
+	if (!(dmin > r->m)) return; /* line meets cell: hides nothing */
+	for (e = 0; e < 2; ++e) { /* through each end from each cell corner, occluder side kept */
 		const double *p = e ? lb : la;
 		double inward[2];
 		inward[0] = e ? -u[0] : u[0];
@@ -14029,22 +13895,22 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
 	r->ok = 1;
 }
 
-/* 1 if every sight line from the cell box to box b crosses the occluder. */
+/* 1 if every sight line from cell box to box b crosses the occluder. */
 PVS__STATIC int pvs__vo_rt_hides(const pvs__vo_rt *r, const pvs_box *b) {
 	double x0 = (double)b->min[r->u_axis] - r->o[0], x1 = (double)b->max[r->u_axis] - r->o[0];
 	double y0 = (double)b->min[r->v_axis] - r->o[1], y1 = (double)b->max[r->v_axis] - r->o[1];
 	double dbmin, dbmax, tmin, tmax, btop, bbot;
 	int k;
 	if (!r->ok) return 0;
-	/* beyond the line: the least n.x - off over the box (support function) */
+	/* beyond the line: min n.x - off over the box (support function) */
 	dbmin = (r->n[0] > 0.0 ? r->n[0] * x0 : r->n[0] * x1) + (r->n[1] > 0.0 ? r->n[1] * y0 : r->n[1] * y1) - r->off;
 	if (!(dbmin > r->m)) return 0;
 	for (k = 0; k < 8; ++k) {
 		const double *h = r->h[k];
 		if (!((h[0] > 0.0 ? h[0] * x0 : h[0] * x1) + (h[1] > 0.0 ? h[1] * y0 : h[1] * y1) + h[2] > r->m)) return 0;
 	}
-	/* heights: a sight line crosses the occluder's plane at (1 - t) eye + t target, t = dc / (dc + db) (its ends'
-	   distances from the line) in [tmin, tmax]; the bounds are linear in t */
+	/* heights: a sight line meets the occluder plane at (1 - t) eye + t target, t = dc / (dc + db) (ends' line
+	   distances) in [tmin, tmax]; bounds linear in t */
 	dbmax = (r->n[0] > 0.0 ? r->n[0] * x1 : r->n[0] * x0) + (r->n[1] > 0.0 ? r->n[1] * y1 : r->n[1] * y0) - r->off;
 	tmin = r->dcmin / (r->dcmin + dbmax);
 	tmax = r->dcmax / (r->dcmax + dbmin);
@@ -14100,7 +13966,7 @@ PVS__STATIC pvs_visit pvs__vo_walk_visit(void *user, const pvs_box *node_box, fl
 	pvs__vo_walk *w = (pvs__vo_walk *)user;
 	uint32_t i;
 	(void)distance;
-	if (pvs__vo_walk_hidden(w, node_box)) return PVS_VISIT_SKIP; /* the whole subtree lies behind one occluder */
+	if (pvs__vo_walk_hidden(w, node_box)) return PVS_VISIT_SKIP; /* subtree behind one occluder */
 	for (i = 0; i < count; ++i) {
 		uint32_t id = items[i];
 		if (id >= w->object_count || pvs_bitset_test(w->visible, id) || !pvs__vo_box_ok(w->boxes + id)) continue;
@@ -14114,8 +13980,6 @@ PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_o
 	return (rt + 15u) / 16u * 16u + (tree ? pvs_kdtree_sweep_scratch_size(tree) : 0) + 16u;
 }
 
-/* The walk over prepared occluders rt[0..count) at the scratch's front. */
-/* Adds the counts of b to a. */
 PVS__STATIC void pvs__vo_stats_add(pvs_vocc_stats *a, const pvs_vocc_stats *b) {
 	a->slices += b->slices;
 	a->seeds += b->seeds;
@@ -14149,7 +14013,7 @@ PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_
 	return PVS_OK;
 }
 
-/* Splits the caller's scratch into the occluder array and the rest (16-aligned). */
+/* Splits caller scratch into the occluder array (front) and the rest (16-aligned). */
 PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t count, const pvs_kdtree *tree,
 									   pvs__vo_rt **rt, uint8_t **rest, size_t *rest_size, pvs_error *err) {
 	size_t need = pvs_vocc_cull_scratch_size(tree, count),
@@ -14194,14 +14058,14 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
 #define PVS__VO_HEAD 16u
 #define PVS__VO_BLOCK 16u
 
-/* Bytes of a VOCC section of cells cells and n occluders (0 past 32 bits). */
+/* Size of a VOCC section of cells cells, n occluders (0 past 32 bits). */
 PVS__STATIC size_t pvs__vo_section_size(uint32_t cells, uint64_t n) {
 	uint64_t blocks = ((uint64_t)cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK,
 			 size = PVS__VO_HEAD + 4 * (blocks + 1) + 2 * (uint64_t)cells + 5 * n;
 	return size > 0xfffffff0ull ? 0 : (size_t)size;
 }
 
-/* Writes the section (pvs__vo_section_size bytes) from per-cell counts, scale codes and occluder bytes in cell order
+/* Writes the section (pvs__vo_section_size bytes) from per-cell counts, scale codes, occluder bytes in cell order
    (stride 0: packed). */
 PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, float hstep, uint32_t cells,
 									   const uint8_t *counts, const uint8_t *scales, const uint8_t *bytes,
@@ -14232,8 +14096,8 @@ PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, f
 	}
 }
 
-/* Validates a VOCC section of f->cell_count cells (pvs_file_open, after META) into *f. Linear in its size; reads
-   nothing outside it. */
+/* Validates a VOCC section of f->cell_count cells (pvs_file_open, after META) into *f. Linear; reads nothing outside
+   it. */
 PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, const uint8_t *sec, uint32_t size,
 											pvs_error *err) {
 	uint64_t so = (uint64_t)(sec - file);
@@ -14278,7 +14142,7 @@ PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, co
 	return PVS_OK;
 }
 
-/* A cell's stored occluders: returns the count, *bytes their 5-byte records, *scale its code. */
+/* Cell's stored occluders: returns count, *bytes 5-byte records, *scale code. */
 PVS__STATIC uint32_t pvs__vo_file_cell(const pvs_file *f, uint32_t cell, const uint8_t **bytes, uint32_t *scale) {
 	const uint8_t *sec = f->private_.vocc;
 	uint32_t cells = f->cell_count, blocks = (cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK, b = cell / PVS__VO_BLOCK,
@@ -14291,7 +14155,7 @@ PVS__STATIC uint32_t pvs__vo_file_cell(const pvs_file *f, uint32_t cell, const u
 	return counts[cell];
 }
 
-/* One occluder's stored geometry: world ground end points, heights. */
+/* Stored occluder: world ground ends, heights. */
 PVS__STATIC void pvs__vo_decode(const pvs_box *cell, uint32_t up, uint32_t scale_code, const uint8_t *q, float base,
 								float hstep, double *a, double *b, double *vbase, double *vtop) {
 	double centre[2], sc = pvs__vo_scale(scale_code);
@@ -14371,13 +14235,13 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
 
 /* ---- 2.5D per cell (§3.1), the selection (Fig. 6), the bake's part ---- */
 
-/* What a bake's cells share: prepared facades, quantization, object boxes. */
+/* Shared by a bake's cells: prepared facades, quantization, object boxes. */
 typedef struct pvs__vbake {
 	pvs_allocator a;
 	pvs__vprep *prep;
 	uint32_t up;
-	float base, hstep;			/* the VOCC section's heights */
-	pvs_box *boxes;				/* object boxes, empty for objects never drawn */
+	float base, hstep;			/* VOCC section heights */
+	pvs_box *boxes;				/* empty for never-drawn objects */
 	uint32_t object_count;
 	uint32_t slices, max_keep, max_seeds;
 } pvs__vbake;
@@ -14391,8 +14255,7 @@ PVS__STATIC void pvs__vbake_destroy(pvs__vbake *vb) {
 	pvs__free(&a, vb, sizeof(*vb), 16);
 }
 
-/* The scene's facades (pvs__scene_facades) and the walls of its EXTRUSION and BOX occluders on the ground, prepared;
-   the object boxes. */
+/* Prepared facades (pvs__scene_facades) and ground walls of EXTRUSION and BOX occluders; object boxes. */
 PVS__STATIC pvs_result pvs__vbake_create(const pvs_scene *s, const pvs_allocator *a, uint32_t slices, uint32_t max_keep,
 										 pvs__vbake **out) {
 	pvs__vbake *vb;
@@ -14481,9 +14344,9 @@ done:
 	return PVS_OK;
 }
 
-/* The slice heights of a cell (§3.1): quantiles (i + 0.2) / (n + 0.2) of the tops of the occluders above the cell,
-   weighted by subtended angle (near walls count more), each an occluder's top (n = 1: the 1/6 quantile). Low slices
-   fuse best, high ones hide what stands behind low walls. Ascending, distinct; returns their number (<= n). */
+/* Cell slice heights (§3.1): quantiles (i + 0.2) / (n + 0.2) of tops of occluders above the cell weighted by subtended
+   angle (near walls count more), each an occluder top (n = 1: 1/6 quantile). Low slices fuse best, high ones hide what
+   is behind low walls. Ascending, distinct; returns count (<= n). */
 PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *centre, float ctop, uint32_t n, float *h,
 										   const pvs_allocator *al) {
 	const pvs__vprep *p = vb->prep;
@@ -14539,9 +14402,8 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
 	return out;
 }
 
-/* The dense set of one cell (Koltun 2000 §3, §3.1) in c->out: its slices' virtual occluders, in the file's frame.
-   Leaves c untouched when the cell can have none (below the base, no area, no occluder). Returns OUT_OF_MEMORY or
-   PVS_OK; the caller frees c. */
+/* One cell's dense set (Koltun 2000 §3, §3.1) in c->out: its slices' virtual occluders, file frame. c untouched if it
+   can have none (below base, no area, no occluder). OUT_OF_MEMORY or PVS_OK; caller frees c. */
 PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *cell, const double centre[2],
 										 double reach, uint32_t code, pvs__vctx *c) {
 	const pvs_allocator *al = &vb->a;
@@ -14554,7 +14416,7 @@ PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *ce
 	cmax[0] = cell->max[u]; cmax[1] = cell->max[v];
 	if (!(cell->min[vb->up] >= vb->base && cmax[0] > cmin[0] && cmax[1] > cmin[1] && vb->prep->nobj)) return PVS_OK;
 	if (!pvs__vctx_init(c, al, vb->prep, cmin, cmax, reach)) return PVS_ERROR_OUT_OF_MEMORY;
-	pvs__vo_cell_frame(c, cmin, cmax, centre); /* the file's frame (float centre) */
+	pvs__vo_cell_frame(c, cmin, cmax, centre); /* file frame (float centre) */
 	c->quantize = 1;
 	c->qscale = pvs__vo_scale(code);
 	c->qground = vb->base;
@@ -14569,15 +14431,15 @@ PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *ce
 	return c->oom ? PVS_ERROR_OUT_OF_MEMORY : PVS_OK;
 }
 
-/* pvs__vo_select's scratch; pvs__vo_bake_cell frees it. */
+/* pvs__vo_select scratch; pvs__vo_bake_cell frees it. */
 typedef struct pvs__vo_selwork {
-	pvs__vo_rt *rt, *sel;	   /* c->nout: the dense set's tests; max_keep + 1: the kept ones */
+	pvs__vo_rt *rt, *sel;	   /* c->nout: dense tests; max_keep + 1: kept */
 	pvs_word *hid, *covered;   /* c->nout x words: what each hides; words: hidden so far */
 } pvs__vo_selwork;
 
-/* The greedy selection (Koltun 2000, Fig. 6) from c->out: the occluder hiding most objects not yet hidden, until
-   max_keep are kept or the best adds under min_gain. Writes their 5 bytes to bytes, tests to sw->sel; returns the
-   count. *r = OUT_OF_MEMORY without scratch. */
+/* Greedy selection (Koltun 2000, Fig. 6) from c->out: the occluder hiding most not-yet-hidden objects, until max_keep
+   kept or best gain < min_gain. 5 bytes each into bytes, tests into sw->sel; returns count. *r = OUT_OF_MEMORY without
+   scratch. */
 PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, uint32_t code, const pvs__vctx *c,
 									uint32_t words, uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
 	const pvs_allocator *al = &vb->a;
@@ -14593,7 +14455,7 @@ PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, u
 		double a[2], b[2], lo, hi;
 		for (j = 0; j < i; ++j)
 			if (!memcmp(c->out[j].q, c->out[i].q, 5)) break;
-		if (j < i) { /* the same bytes twice: hides nothing more */
+		if (j < i) { /* same bytes twice: nothing more */
 			memset(sw->rt + i, 0, sizeof(pvs__vo_rt));
 			continue;
 		}
@@ -14622,8 +14484,8 @@ PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, u
 	return keep;
 }
 
-/* One cell of a bake: the dense set, the selection (Fig. 6), the PVS rebuilt as pvs_vocc_cull will (never-drawn objects
-   empty). Writes *count (<= max_keep) occluders of 5 bytes, the scale code, the PVS (cleared first). */
+/* One bake cell: dense set, selection (Fig. 6), PVS rebuilt as pvs_vocc_cull will (never-drawn objects empty). Writes
+   *count (<= max_keep) 5-byte occluders, scale code, PVS (cleared first). */
 PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *cell, uint8_t *bytes, uint8_t *count,
 										 uint8_t *scale, pvs_word *pvs, pvs_vocc_stats *stats, pvs_error *err) {
 	const pvs_allocator *al = &vb->a;
@@ -14637,7 +14499,7 @@ PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *ce
 	*scale = 128;
 	pvs__ground_axes(vb->up, &u, &v);
 	pvs__vo_cell_centre(cell, u, v, centre);
-	for (k = 0; k < 4; ++k) { /* analysis radius: every occluder */
+	for (k = 0; k < 4; ++k) { /* analysis radius: all occluders */
 		double dx = ((k & 1) ? vb->prep->bb[2] : vb->prep->bb[0]) - centre[0],
 			   dy = ((k & 2) ? vb->prep->bb[3] : vb->prep->bb[1]) - centre[1];
 		double d = sqrt(dx * dx + dy * dy);
@@ -14734,8 +14596,8 @@ typedef struct pvs__vocc_bake {
 	pvs_allocator allocator;
 	pvs__vbake *vb;			   /* read-only in tasks */
 	uint32_t task_count, keep, only;
-	uint8_t *bytes;			   /* per task: keep x 5 bytes of occluders, */
-	uint8_t *count, *scale;    /* their count and scale code */
+	uint8_t *bytes;			   /* per task: keep x 5 occluder bytes, */
+	uint8_t *count, *scale;    /* count, scale code */
 	pvs_vocc_stats *stats;	   /* per task */
 } pvs__vocc_bake;
 
@@ -14790,8 +14652,8 @@ PVS__STATIC int pvs__vocc_bake_applies(const void *state, const char **why) {
 	return any;
 }
 
-/* The task's whole cell (VOCC bakes no adaptive cells): its occluders into the task's record, the PVS they prove into
-   bits; with vocc.only, every drawable object instead (placeholder records). */
+/* Task's whole cell (VOCC bakes no adaptive cells): occluders into the task's record, the PVS they prove into bits;
+   vocc.only: every drawable object (placeholder records). */
 PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
 										   const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
 										   unsigned *flags, pvs_error *err) {
@@ -14840,7 +14702,7 @@ PVS__STATIC void pvs__vocc_bake_destroy(const pvs__bake_env *env, void *state) {
 	pvs__free(&vo->allocator, vo, sizeof(*vo), 16);
 }
 
-/* Not in AUTO unless named (pvs_bake_desc.methods): it is for storage and the run-time rebuild, not tightness. */
+/* Not in AUTO unless named (pvs_bake_desc.methods): for storage and run-time rebuild, not tightness. */
 PVS__STATIC const pvs__bake_method pvs__vocc_method = {
 	PVS_METHOD_VOCC, PVS__METHOD_CONSERVATIVE | PVS__METHOD_WHOLE_CELLS, 2, 2, pvs__vocc_bake_check,
 	pvs__vocc_bake_prepare, pvs__vocc_bake_applies, pvs__vocc_bake_cell, pvs__vocc_bake_file, pvs__vocc_bake_destroy,
@@ -14855,38 +14717,37 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 
 // >>portal
 /* ==== portal: rooms and portals from the scene's closed convex solids, conservative portal flow per cell ==== */
-/* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds its vis portals from brushes): the solids are the
-   connected closed convex meshes among the scene's triangles (triangles sharing vertex indices, each directed edge
-   matched by its reverse, every vertex behind every face plane; at most PVS__PO_MAX_FACES triangles); not explicit
-   occluder volumes (rays pass through them). A BSP on the solids' face planes (q3map2's BuildTree: a fragment is
-   split by each plane it straddles) ends in leaves wholly inside a solid or outside all: the empty ones are the
-   rooms. Planes closer than the input's float resolution are one (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS times the
-   scene's size), so touching solids leave no crack. A portal is a face of an empty leaf where another empty leaf
-   lies beyond: the face pushed down the tree, split by every plane it straddles (Teller 1992 §3.3). A segment
-   between points of two rooms that meets no solid crosses the portals of the leaves it passes, in order. Other
-   triangles do not block here; a cell point inside a solid sees the objects meeting that solid.
+/* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds vis portals from brushes): solids are the connected
+   closed convex meshes among the scene's triangles (shared vertex indices, each directed edge matched by its reverse,
+   every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles); not explicit occluder volumes (rays pass
+   through them). A BSP on the solids' face planes (q3map2's BuildTree: a fragment is split by each plane it straddles)
+   ends in leaves wholly inside a solid or outside all: the empty ones are rooms. Planes closer than the input's float
+   resolution are one (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size), so touching solids leave no crack. A portal
+   is a face of an empty leaf with another empty leaf beyond: the face pushed down the tree, split by every plane it
+   straddles (Teller 1992 §3.3). A segment between points of two rooms meeting no solid crosses the portals of the
+   leaves it passes, in order. Other triangles do not block here; a cell point inside a solid sees the objects meeting
+   that solid.
 
-   Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): a segment from a point x of view cell C through
-   portals P1 .. Pk crosses each from its leaf `from`, so x lies on that side of Pj's plane: the lines' source is
-   C_j, C clipped to that side (empty: no such line). Beyond Pj the segment stays behind every separating plane of
-   C_j and its crossing region on Pj. Each step P -> Q (or a start leaf's portal Q) keeps the convex hull R of the
-   regions found on Q that way; a region W (Q clipped by the planes of the step into P) not inside R grows R to
-   hull(R, W) and queues the step: a fixed point that grows monotonically (as q3map2's might-see pruning, a path that
-   adds nothing is not followed), and every crossing point lies in its step's R by induction. An object of a leaf
-   entered through Q is kept when its part in the leaf is not wholly beyond one plane of the step (the object-level
-   test). A cell keeps every object of the empty leaves it overlaps; past `budget` portal clips, every object of
-   every empty leaf reachable from them (the conservative cut-off). */
+   Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): a segment from x in view cell C through portals
+   P1 .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: the lines' source is C_j, C clipped
+   to that side (empty: no such line). Beyond Pj the segment stays behind every separating plane of C_j and its crossing
+   region on Pj. Each step P -> Q (or a start leaf's portal Q) keeps the convex hull R of the regions so found on Q; a
+   region W (Q clipped by the step's planes into P) not inside R grows R to hull(R, W) and queues the step: a monotone
+   fixed point (as q3map2's might-see pruning, a path adding nothing is not followed); by induction every crossing point
+   lies in its step's R. An object of a leaf entered through Q is kept unless its part in the leaf is wholly beyond one
+   plane of the step (object-level test). A cell keeps every object of the empty leaves it overlaps; past `budget`
+   portal clips, every object of every empty leaf reachable from them (conservative cut-off). */
 
-#define PVS__PO_MAXW 64u		  /* vertices of a clipped winding */
+#define PVS__PO_MAXW 64u		  /* clipped winding vertices */
 #define PVS__PO_MAXS 64u		  /* separating planes per region */
-#define PVS__PO_MAX_FACES 256u	  /* triangles of a mesh taken as a convex solid */
-#define PVS__PO_DEPTH 200u		  /* BSP depth (deeper: an empty leaf, conservative) */
-#define PVS__PO_SCRATCH (PVS__PO_MAX_FACES + PVS__PO_DEPTH + 8u) /* faces of a fragment: its solid's, one per split */
-#define PVS__PO_CANDIDATES 48u	  /* splitting planes scored per node */
-#define PVS__PO_GROWS 6u		  /* growths of a portal's region before it is the whole portal */
+#define PVS__PO_MAX_FACES 256u	  /* triangles of a convex-solid mesh */
+#define PVS__PO_DEPTH 200u		  /* BSP depth (deeper: empty leaf, conservative) */
+#define PVS__PO_SCRATCH (PVS__PO_MAX_FACES + PVS__PO_DEPTH + 8u) /* fragment faces: its solid's, 1 per split */
+#define PVS__PO_CANDIDATES 48u	  /* split planes scored per node */
+#define PVS__PO_GROWS 6u		  /* region growths before the whole portal */
 #define PVS__PO_NORMAL_EPS 1e-6
-#define PVS__PO_DIST_EPS 1e-7	  /* times the scene's size */
-#define PVS__PO_LEAF 0x80000000u  /* child id bit: a leaf */
+#define PVS__PO_DIST_EPS 1e-7	  /* x scene size */
+#define PVS__PO_LEAF 0x80000000u  /* child id bit: leaf */
 #define PVS__PO_NONE 0xffffffffu
 
 /* A convex polygon. */
@@ -14895,7 +14756,7 @@ typedef struct pvs__po_wind {
 	double p[PVS__PO_MAXW][3];
 } pvs__po_wind;
 
-/* A convex polytope: faces on plane-table planes (outward), their windings back to back. */
+/* Convex polytope: faces on plane-table planes (outward), windings back to back. */
 typedef struct pvs__po_poly {
 	uint32_t face_count, vert_count;
 	uint32_t *plane;		   /* face_count */
@@ -14910,7 +14771,7 @@ typedef struct pvs__po_node {
 
 typedef struct pvs__po_portal {
 	uint32_t from, to;		   /* empty leaves */
-	uint32_t plane;			   /* the face's table plane, outward from `from` */
+	uint32_t plane;			   /* face's table plane, outward from `from` */
 	uint32_t first, n;		   /* vertices in portal_v */
 } pvs__po_portal;
 
@@ -14922,34 +14783,34 @@ typedef struct pvs__poprep {
 	size_t plane_count, plane_cap;
 	uint32_t *hash_head, hash_size, *hash_next;
 	size_t hash_next_cap;
-	uint8_t *on_path;		   /* per pair: a splitter above the node being built */
-	uint32_t *stamp, stamp_now; /* per pair: a candidate of the node being scored */
-	uint32_t *facing;		   /* per pair: faces of the node's fragments on it (0 between nodes) */
-	double (*fbox)[6];		   /* per fragment of the node its box (min, max; scratch of the build) */
+	uint8_t *on_path;		   /* per pair: splitter above the node being built */
+	uint32_t *stamp, stamp_now; /* per pair: candidate of the node being scored */
+	uint32_t *facing;		   /* per pair: node fragment faces on it (0 between nodes) */
+	double (*fbox)[6];		   /* per node fragment its box (min, max; build scratch) */
 	size_t flag_cap, fbox_cap, fbox_n; /* fbox_n: fragments boxed by pvs__po_choose (0: none) */
-	uint32_t bound_pairs;	   /* pairs 0 .. bound_pairs - 1: the root box (no portal across) */
+	uint32_t bound_pairs;	   /* pairs < bound_pairs: root box (no portal across) */
 	/* tree */
 	pvs__po_node *nodes;
 	size_t node_count, node_cap;
-	pvs__po_poly *leaf;		   /* per leaf its polytope; no faces: a solid leaf */
-	pvs_box *leaf_box;		   /* per leaf its polytope's box (rounded outward) */
+	pvs__po_poly *leaf;		   /* per leaf its polytope; no faces: solid leaf */
+	pvs_box *leaf_box;		   /* per leaf its polytope's box (rounded out) */
 	size_t leaf_box_cap;
 	size_t leaf_count, leaf_cap;
 	uint32_t root, solids, deep_leaves;
-	int lost;				   /* a polygon of more than PVS__PO_MAXW vertices: the method cannot bake this scene */
+	int lost;				   /* polygon over PVS__PO_MAXW vertices: scene unbakeable here */
 	/* portals */
 	pvs__po_portal *portals;
 	size_t portal_count, portal_cap;
 	double (*portal_v)[3];
 	size_t portal_v_count, portal_v_cap;
 	uint32_t *lp_first, *lp;   /* per leaf its portals out (leaf_count + 1, portal_count) */
-	uint32_t *ep_first;		   /* per portal P its first step P -> Q, Q out of P's leaf `to` (portal_count + 1) */
+	uint32_t *ep_first;		   /* per portal P first step P -> Q, Q out of leaf `to` (portal_count + 1) */
 	/* objects per empty leaf */
 	uint32_t *lo_first, *lo, *lo_pairs; /* lo_pairs: (leaf, object) while building */
 	size_t lo_count, lo_cap;
 	uint32_t budget, empty_leaves;
-	uint32_t *task_cut, task_count; /* per task: cells cut off (the task's own slot) */
-	pvs_box *solid_box;		   /* solids: a point inside one sees the objects meeting it (its hull blocks the rest) */
+	uint32_t *task_cut, task_count; /* per task: cells cut off (own slot) */
+	pvs_box *solid_box;		   /* solids: a point inside sees objects meeting it (its hull blocks the rest) */
 	uint32_t *so_first, *so;   /* per solid the drawable objects whose box meets its box */
 	size_t so_count;
 } pvs__poprep;
@@ -14961,19 +14822,19 @@ PVS__STATIC int pvs__po_plane_match(const double *a, const double n[3], double d
 		   fabs(a[2] - n[2]) < PVS__PO_NORMAL_EPS && fabs(a[3] - d) < de;
 }
 
-/* The bucket of key, the plane's |d| in thousandths of the scene's size (rounded down). */
+/* Bucket of key: plane |d| in thousandths of scene size (rounded down). */
 PVS__STATIC uint32_t pvs__po_hash(const pvs__poprep *p, double key) {
 	uint64_t u = (uint64_t)(key < 1e18 ? key : 1e18);
 	return (uint32_t)((u * 0x9E3779B97F4A7C15ull) >> 40) & (p->hash_size - 1);
 }
 
-/* The dominant axis of n (the first of equal ones). */
+/* Dominant axis of n (first of equal ones). */
 PVS__STATIC int pvs__po_axis(const double *n) {
 	return fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : (fabs(n[1]) >= fabs(n[2]) ? 1 : 2);
 }
 
-/* The table id of plane n.x = d (n unit): an existing plane within the epsilons, or a new pair. PVS__PO_NONE when
-   out of memory. */
+/* Table id of plane n.x = d (n unit): an existing plane within the epsilons, or a new pair. PVS__PO_NONE if out of
+   memory. */
 PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) {
 	double de = PVS__PO_DIST_EPS * p->ext, nn[3];
 	double q = fabs(d) / (1e-3 * p->ext);
@@ -14990,7 +14851,7 @@ PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) 
 	if (!pvs__grow(&p->allocator, (void **)&p->pl, &p->plane_cap, p->plane_count + 2, sizeof(p->pl[0])) ||
 		!pvs__grow(&p->allocator, (void **)&p->hash_next, &p->hash_next_cap, p->plane_count / 2 + 1, sizeof(uint32_t)))
 		return PVS__PO_NONE;
-	/* the canonical orientation: the largest normal component positive */
+	/* canonical orientation: largest normal component positive */
 	a = (uint32_t)pvs__po_axis(n);
 	b = n[a] < 0.0;
 	for (k = 0; k < 3; ++k) nn[k] = b ? -n[k] : n[k];
@@ -15014,7 +14875,7 @@ PVS__STATIC double pvs__po_dist(const double *pl, const double *x) {
 	return pl[0] * x[0] + pl[1] * x[1] + pl[2] * x[2] - pl[3];
 }
 
-/* A square of half-size big on plane pl, centred on the point of the plane nearest the origin. */
+/* Square of half-size big on plane pl, centred on the plane point nearest the origin. */
 PVS__STATIC void pvs__po_base(const double *pl, double big, pvs__po_wind *w) {
 	int a = fabs(pl[2]) >= fabs(pl[0]) && fabs(pl[2]) >= fabs(pl[1]) ? 2 : (fabs(pl[1]) >= fabs(pl[0]) ? 1 : 0);
 	double up[3] = {0, 0, 0}, right[3], o[3], dot, len;
@@ -15037,15 +14898,15 @@ PVS__STATIC void pvs__po_base(const double *pl, double big, pvs__po_wind *w) {
 	}
 }
 
-/* Appends x as vertex *n of w; 1 when w is full (x lost). */
+/* Appends x as vertex *n of w; 1 if w is full (x lost). */
 PVS__STATIC int pvs__po_put(pvs__po_wind *w, uint32_t *n, const double *x) {
 	if (*n == PVS__PO_MAXW) return 1;
 	memcpy(w->p[(*n)++], x, sizeof(w->p[0]));
 	return 0;
 }
 
-/* Splits w by plane pl: the part with dist <= eps into *back, >= -eps into *front (either may be NULL). Points
-   within eps of the plane go to both. 1 when a part would have more than PVS__PO_MAXW vertices (it lost some). */
+/* Splits w by plane pl: dist <= eps into *back, >= -eps into *front (either may be NULL); points within eps go to both.
+   1 if a part would exceed PVS__PO_MAXW vertices (some lost). */
 PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double eps, pvs__po_wind *front,
 							   pvs__po_wind *back) {
 	double dist[PVS__PO_MAXW];
@@ -15070,7 +14931,7 @@ PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double ep
 	return lost;
 }
 
-/* w clipped to the part behind pl (within eps); 1 when vertices were lost (pvs__po_split). */
+/* w clipped to behind pl (within eps); 1 if vertices were lost (pvs__po_split). */
 PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps) {
 	pvs__po_wind t;
 	uint32_t i;
@@ -15084,8 +14945,8 @@ PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps) {
 	return lost;
 }
 
-/* The base square of table plane id clipped by planes[0..count) (those of pair `skip` left out); p->lost set when
-   vertices were lost. */
+/* Base square of table plane id clipped by planes[0..count) (pair `skip`'s left out); p->lost set if vertices were
+   lost. */
 PVS__STATIC void pvs__po_clip_base(pvs__poprep *p, uint32_t id, const uint32_t *planes, uint32_t count, uint32_t skip,
 								   pvs__po_wind *w) {
 	uint32_t j;
@@ -15100,7 +14961,7 @@ PVS__STATIC void pvs__po_poly_free(const pvs_allocator *a, pvs__po_poly *q) {
 	memset(q, 0, sizeof(*q));
 }
 
-/* Copies the faces (planes and windings) into one block. 0 when out of memory. */
+/* Copies faces (planes, windings) into one block. 0 if out of memory. */
 PVS__STATIC int pvs__po_poly_make(const pvs_allocator *a, pvs__po_poly *q, const uint32_t *planes,
 								  const pvs__po_wind *w, uint32_t faces) {
 	uint32_t i, verts = 0;
@@ -15122,7 +14983,7 @@ PVS__STATIC int pvs__po_poly_make(const pvs_allocator *a, pvs__po_poly *q, const
 	return 1;
 }
 
-/* The box of q's vertices, rounded outward to floats. */
+/* Box of q's vertices, rounded outward to floats. */
 PVS__STATIC pvs_box pvs__po_poly_box(const pvs__po_poly *q) {
 	pvs_box b = pvs__box_empty();
 	uint32_t i, k;
@@ -15139,8 +15000,8 @@ PVS__STATIC void pvs__po_face(const pvs__po_poly *q, uint32_t f, pvs__po_wind *w
 	memcpy(w->p, q->v[q->first[f]], w->n * sizeof(w->p[0]));
 }
 
-/* The polytope of planes[0..count) (outward): each face is its base square clipped by the others. Faces clipped
-   away are dropped; fewer than 4 left: an empty *q (face_count 0). 0 when out of memory. */
+/* Polytope of planes[0..count) (outward): each face its base square clipped by the others; faces clipped away dropped;
+   < 4 left: empty *q (face_count 0). 0 if out of memory. */
 PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes, uint32_t count, pvs__po_poly *q,
 										 pvs__po_wind *scratch, uint32_t *kept) {
 	uint32_t i, faces = 0;
@@ -15154,7 +15015,7 @@ PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes,
 }
 
 /* -1, 0, 1: polytope wholly behind, straddling, wholly in front of pl (within eps); 2: on it (degenerate). */
-/* The axis k of a plane of normal +-e_k, else -1. */
+/* Axis k of a plane of normal +-e_k, else -1. */
 PVS__STATIC int pvs__po_unit_axis(const double *pl) {
 	int j;
 	for (j = 0; j < 3; ++j)
@@ -15162,8 +15023,8 @@ PVS__STATIC int pvs__po_unit_axis(const double *pl) {
 	return -1;
 }
 
-/* pvs__po_side for a plane of normal +-e_axis from q's box b (min, max): the same doubles, as x -> +-x - d is monotone
-   and exact but for its one rounding. */
+/* pvs__po_side for a plane of normal +-e_axis from q's box b (min, max): same doubles, as x -> +-x - d is monotone and
+   exact but for its one rounding. */
 PVS__STATIC int pvs__po_side_box(const double *b, const double *pl, int axis, double eps) {
 	double lo = pl[axis] > 0.0 ? b[axis] - pl[3] : -b[axis + 3] - pl[3];
 	double hi = pl[axis] > 0.0 ? b[axis + 3] - pl[3] : -b[axis] - pl[3];
@@ -15189,8 +15050,8 @@ PVS__STATIC int pvs__po_side(const pvs__po_poly *q, const double *pl, double eps
 	return 2;
 }
 
-/* Splits q by table plane id into *front and *back (either empty when nothing of q lies there); q untouched. The
-   cap is the plane's base square clipped by q's faces. 0 when out of memory. */
+/* Splits q by table plane id into *front and *back (empty if no part of q there); q untouched. The cap is the plane's
+   base square clipped by q's faces. 0 if out of memory. */
 PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32_t id, pvs__po_poly *front,
 								   pvs__po_poly *back, pvs__po_wind *scratch, uint32_t *planes) {
 	const double *pl = p->pl[id];
@@ -15208,7 +15069,7 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 				planes[n++] = q->plane[f];
 			}
 		}
-		/* the cap, outward: -n for the front part, +n for the back part */
+		/* cap, outward: -n for front part, +n for back */
 		pvs__po_clip_base(p, id, q->plane, q->face_count, PVS__PO_NONE, &w);
 		if (w.n >= 3) {
 			uint32_t i;
@@ -15230,9 +15091,9 @@ PVS__STATIC int pvs__po_edge_cmp(const void *a, const void *b) {
 	return x[1] < y[1] ? -1 : (x[1] > y[1]);
 }
 
-/* The face planes of component tris[0..n) when it is a closed convex mesh (each directed edge once, its reverse
-   once; every vertex within tolc behind every triangle's plane, or every one in front: inside out): the count, 0
-   when it is not. edges: 6n scratch; planes: n entries. */
+/* Face planes of component tris[0..n) if a closed convex mesh (each directed edge and its reverse once; every vertex
+   within tolc behind every triangle plane, or all in front: inside out): their count, else 0. edges: 6n scratch;
+   planes: n. */
 PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const uint32_t *tris, uint32_t n,
 									uint32_t (*edges)[2], uint32_t *planes) {
 	uint32_t i, j, k, np = 0;
@@ -15249,13 +15110,13 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 				hi[j] = x > hi[j] ? x : hi[j];
 			}
 		}
-	PVS_QSORT(edges, 3 * (size_t)n, sizeof(edges[0]), pvs__po_edge_cmp); /* the edges, then reversed */
+	PVS_QSORT(edges, 3 * (size_t)n, sizeof(edges[0]), pvs__po_edge_cmp); /* edges, then reversed */
 	PVS_QSORT(edges + 3 * n, 3 * (size_t)n, sizeof(edges[0]), pvs__po_edge_cmp);
 	for (i = 0; i + 1 < 3 * n; ++i)
-		if (edges[i][0] == edges[i + 1][0] && edges[i][1] == edges[i + 1][1]) return 0; /* an edge twice */
-	if (memcmp(edges, edges + 3 * n, 3 * (size_t)n * sizeof(edges[0]))) return 0;	   /* an open edge */
+		if (edges[i][0] == edges[i + 1][0] && edges[i][1] == edges[i + 1][1]) return 0; /* edge twice */
+	if (memcmp(edges, edges + 3 * n, 3 * (size_t)n * sizeof(edges[0]))) return 0;	   /* open edge */
 	tolc = 1e-6 * ((hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]));
-	for (i = 0; i < n; ++i) { /* the orientation: the signed volume */
+	for (i = 0; i < n; ++i) { /* orientation: signed volume */
 		const uint32_t *t = s->indices + 3 * (size_t)tris[i];
 		const float *a = s->positions + 3 * (size_t)t[0], *b = s->positions + 3 * (size_t)t[1],
 					*c = s->positions + 3 * (size_t)t[2];
@@ -15278,7 +15139,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 		nn[1] = sign * (e1[2] * e2[0] - e1[0] * e2[2]);
 		nn[2] = sign * (e1[0] * e2[1] - e1[1] * e2[0]);
 		len = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
-		if (!(len > 1e-12 * size * size)) continue; /* a sliver: its edges still counted */
+		if (!(len > 1e-12 * size * size)) continue; /* sliver: edges still counted */
 		for (k = 0; k < 3; ++k) nn[k] /= len;
 		d = -(nn[0] * a[0] + nn[1] * a[1] + nn[2] * a[2]);
 		for (j = 0; j < n; ++j)
@@ -15295,9 +15156,8 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 	return np >= 4 ? np : 0;
 }
 
-/* The solids of scene s as fragments: the closed convex meshes among the triangles in the order of their lowest
-   triangle (explicit occluder volumes are not taken: rays pass through them, a cell may lie inside one). 0 when out
-   of memory. */
+/* Scene s's solids as fragments: closed convex meshes among the triangles, by lowest triangle (not explicit occluder
+   volumes: rays pass them, a cell may be inside one). 0 if out of memory. */
 PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly **frags, size_t *cap, size_t *count,
 							   pvs__po_wind *scratch, uint32_t *kept) {
 	const pvs_allocator *al = &p->allocator;
@@ -15320,7 +15180,7 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 			uint32_t b = pvs__uf_find(parent, s->indices[3 * (size_t)t + k]);
 			if (a != b) parent[a < b ? b : a] = a < b ? a : b;
 		}
-	/* per component (its root) the triangles, linked in decreasing order: reversed when read */
+	/* per component (root) its triangles, linked in decreasing order: reversed when read */
 	for (t = s->triangle_count; t-- > 0;) {
 		uint32_t r = pvs__uf_find(parent, s->indices[3 * (size_t)t]);
 		next[t] = head[r];
@@ -15362,7 +15222,7 @@ typedef struct pvs__po_build {
 	int oom;
 } pvs__po_build;
 
-/* A new leaf; takes region (kept when empty). */
+/* New leaf; takes region (kept if empty). */
 PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *region) {
 	pvs__poprep *p = b->p;
 	uint32_t id = (uint32_t)p->leaf_count;
@@ -15385,16 +15245,16 @@ PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *reg
 	return PVS__PO_LEAF | id;
 }
 
-/* The splitting plane for fragments f[0..n): among the unused face planes (axial ones first, at most
-   PVS__PO_CANDIDATES), the best of q3map2's score: faces it lies on, minus splits, minus imbalance, axial bonus.
-   PVS__PO_NONE when every face lies on a splitter above (the fragments fill the node: a solid leaf). */
+/* Split plane for fragments f[0..n): among unused face planes (axial first, <= PVS__PO_CANDIDATES), best q3map2 score:
+   faces on it - splits - imbalance + axial bonus. PVS__PO_NONE if every face is on a splitter above (fragments fill the
+   node: solid leaf). */
 PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint32_t n) {
 	uint32_t cand[PVS__PO_CANDIDATES], nc = 0, pass, i, j, best = PVS__PO_NONE, most = PVS__PO_CANDIDATES;
 	long best_score = 0;
 	int have = 0, boxes = pvs__grow(&p->allocator, (void **)&p->fbox, &p->fbox_cap, n, sizeof(p->fbox[0]));
 	++p->stamp_now;
 	p->fbox_n = boxes ? n : 0;
-	for (i = 0; i < n; ++i) { /* faces per plane; boxes for the axial planes' side tests (pvs__po_side_box) */
+	for (i = 0; i < n; ++i) { /* faces per plane; boxes for axial side tests (pvs__po_side_box) */
 		for (j = 0; j < f[i].face_count; ++j) ++p->facing[f[i].plane[j] >> 1];
 		for (j = 0; boxes && j < 6; ++j) p->fbox[i][j] = j < 3 ? DBL_MAX : -DBL_MAX;
 		for (j = 0; boxes && j < f[i].vert_count; ++j) {
@@ -15438,7 +15298,7 @@ PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint3
 	return best;
 }
 
-/* The subtree of fragments f[0..n) (taken and freed) in region (taken): its node or leaf id. */
+/* Subtree of fragments f[0..n) (taken, freed) in region (taken): its node or leaf id. */
 PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint32_t n, pvs__po_poly *region,
 										uint32_t depth) {
 	pvs__poprep *p = b->p;
@@ -15499,7 +15359,6 @@ leaf:
 
 /* ---- portals and objects per leaf ---- */
 
-/* Adds the portal w from leaf `from` into leaf `to`. */
 PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to, uint32_t plane,
 									const pvs__po_wind *w) {
 	pvs__poprep *p = b->p;
@@ -15520,9 +15379,9 @@ PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to
 	p->portal_v_count += w->n;
 }
 
-/* Face w of leaf `from` on table plane `plane` (outward) pushed down from `node`: a portal into every empty leaf
-   that a part of it reaches (Teller 1992 §3.3). Straddled planes split it; a coplanar node sends it to the side its
-   normal points to; a face within eps of a node plane of another pair goes both ways. */
+/* Face w of leaf `from` on table plane `plane` (outward) pushed down from `node`: a portal into every empty leaf a part
+   reaches (Teller 1992 §3.3). Straddled planes split it; a coplanar node sends it where its normal points; within eps
+   of another pair's node plane, both ways. */
 PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t plane, uint32_t node, uint32_t from) {
 	pvs__poprep *p = b->p;
 	while (!(node & PVS__PO_LEAF)) {
@@ -15547,7 +15406,7 @@ PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t 
 				return;
 			}
 			if (hi > p->eps) p->lost |= pvs__po_split(w, p->pl[nd->plane], p->eps, parts, parts + 1);
-			else parts[0] = parts[1] = *w; /* within eps of the plane: both ways */
+			else parts[0] = parts[1] = *w; /* within eps: both ways */
 			for (i = 0; i < 2; ++i)
 				if (parts[i].n >= 3) pvs__po_push(b, parts + i, plane, nd->child[i], from);
 			pvs__free_array(&p->allocator, parts, 2, sizeof(pvs__po_wind));
@@ -15558,7 +15417,7 @@ PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t 
 	if (p->leaf[node].face_count && node != from) pvs__po_add_portal(b, from, node, plane, w);
 }
 
-/* Calls leaf(ctx, l) for every empty leaf l that box b meets (within eps), b pushed down from `node`. */
+/* leaf(ctx, l) for every empty leaf l box b meets (within eps), b pushed down from `node`. */
 PVS__STATIC void pvs__po_box_down(const pvs__poprep *p, const pvs_box *b, uint32_t node,
 								  void (*leaf)(void *ctx, uint32_t l), void *ctx) {
 	while (!(node & PVS__PO_LEAF)) {
@@ -15586,7 +15445,7 @@ typedef struct pvs__po_object {
 	uint32_t o;
 } pvs__po_object;
 
-/* pvs__po_box_down's visitor: object o lies in leaf l (a pair appended to p->lo). */
+/* pvs__po_box_down visitor: object o in leaf l (pair appended to p->lo). */
 PVS__STATIC void pvs__po_object_leaf(void *ctx, uint32_t l) {
 	const pvs__po_object *x = (const pvs__po_object *)ctx;
 	pvs__poprep *p = x->b->p;
@@ -15599,7 +15458,7 @@ PVS__STATIC void pvs__po_object_leaf(void *ctx, uint32_t l) {
 	++p->lo_count;
 }
 
-/* Pairs (key, value) of count entries sorted stably by key into per-key lists: first (keys + 1) and values. */
+/* Stable sort of count (key, value) pairs into per-key lists: first (keys + 1), values. */
 PVS__STATIC int pvs__po_csr(const pvs_allocator *a, const uint32_t *pairs, size_t count, uint32_t keys,
 							uint32_t **first, uint32_t **values) {
 	size_t i;
@@ -15617,43 +15476,42 @@ PVS__STATIC int pvs__po_csr(const pvs_allocator *a, const uint32_t *pairs, size_
 
 /* ---- portal flow ---- */
 
-/* A portal's region seen from the cell and the planes bounding the lines from the cell through it (as the table's:
-   kept where pvs__po_dist <= tol). */
+/* Portal region seen from the cell; planes bounding lines from the cell through it (as table planes: kept where
+   pvs__po_dist <= tol). */
 typedef struct pvs__po_win {
 	uint32_t nv, np;
 	double v[PVS__PO_MAXW][3];
 	double pl[PVS__PO_MAXS][4];
 } pvs__po_win;
 
-/* A step's state (a portal q of a start leaf, or a step src -> q): where lines from the cell that crossed the portals
-   before cross q. */
+/* Step state (portal q of a start leaf, or step src -> q): where lines from the cell through earlier portals cross
+   q. */
 typedef struct pvs__po_region {
 	uint32_t q, n, grows;
-	uint32_t next, queued;	   /* the queue, a list through the regions */
+	uint32_t next, queued;	   /* queue: list through the regions */
 	double v[PVS__PO_MAXW][3];
 } pvs__po_region;
 
 typedef struct pvs__po_flow {
 	const pvs__poprep *p;
 	const pvs_scene *scene;
-	double c[8][3];			   /* the cell's corners */
+	double c[8][3];			   /* cell corners */
 	pvs_word *bits;
-	uint32_t *slot;			   /* a hash table of (state, region) pairs, PVS__PO_NONE: free (states: ep_first, then
-								  the start portals) */
+	uint32_t *slot;			   /* hash of (state, region), PVS__PO_NONE: free (states: ep_first, then start portals) */
 	size_t slot_cap;		   /* pairs, a power of two */
 	pvs__po_region *reg;
 	size_t reg_count, reg_cap;
-	uint32_t head, tail;	   /* the queue's first and last region, PVS__PO_NONE: empty */
-	uint8_t *start;			   /* per leaf: the cell overlaps it (2: reached by the cut-off's flood) */
+	uint32_t head, tail;	   /* queue's first and last region, PVS__PO_NONE: empty */
+	uint8_t *start;			   /* per leaf: cell overlaps it (2: cut-off flood reached it) */
 	uint32_t *leaves;		   /* start leaves, then the flood's */
 	uint32_t leaf_count;
 	uint32_t clips;
 	int cut, oom;
 } pvs__po_flow;
 
-/* The plane through a, b, c when it separates point sets A (na) and B (nb), A on one side within eps and B on the
-   other: added to w (dropped when w is full: fewer planes, more lines) keeping B's side (Teller 1992 §5.2's
-   separating planes); 1 when it does. */
+/* Plane through a, b, c if it separates point sets A (na) and B (nb), A on one side within eps, B on the other: added
+   to w keeping B's side (Teller 1992 §5.2 separating plane; dropped if w is full: fewer planes, more lines); 1 if
+   so. */
 PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double *b, const double *c,
 								   const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps) {
 	double e1[3], e2[3], n[3], d, len, lo = 0.0, hi = 0.0, sg;
@@ -15668,8 +15526,8 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 	len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 	if (!(len > 1e-12 * (fabs(e1[0]) + fabs(e1[1]) + fabs(e1[2])) * (fabs(e2[0]) + fabs(e2[1]) + fabs(e2[2]))))
 		return 0;
-	/* first unnormalized, margin 2 eps: A off both sides by it is off by eps below (coordinates within 10^5 scene
-	   sizes of 0); else a plane may be lost, never a wrong one made (fewer planes: more lines) */
+	/* first unnormalized, margin 2 eps: A off both sides by it is off by eps below (coordinates within 10^5 scene sizes
+	   of 0); else a plane may be lost, never a wrong one made */
 	d = -(n[0] * a[0] + n[1] * a[1] + n[2] * a[2]);
 	for (i = 0; i < na; ++i) {
 		double t = n[0] * A[i][0] + n[1] * A[i][1] + n[2] * A[i][2] + d;
@@ -15686,7 +15544,7 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 		hi = t > hi ? t : hi;
 		if (lo < -eps && hi > eps) return 0; /* A on both sides */
 	}
-	sg = hi > eps ? 1.0 : -1.0; /* the kept side, as the table's planes: sg (n.x + d) <= 0 */
+	sg = hi > eps ? 1.0 : -1.0; /* kept side, as table planes: sg (n.x + d) <= 0 */
 	for (i = 0; i < nb; ++i)
 		if (sg * (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d) > eps) return 0; /* B not wholly there */
 	if (w->np < PVS__PO_MAXS) {
@@ -15696,16 +15554,16 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 	return 1;
 }
 
-/* A convex source of lines: its vertices and edges (index pairs). */
+/* Convex line source: vertices, edges (index pairs). */
 typedef struct pvs__po_set {
 	uint32_t n, ne;
 	double v[PVS__PO_MAXW][3];
 	uint8_t e[PVS__PO_MAXW][2];
 } pvs__po_set;
 
-/* Appends to w->pl the separating planes of convex set c and region w->v that bound the lines from c through w:
-   through an edge of one and a vertex of the other, c wholly on one side and w on the other (Teller 1992 §5.2), one
-   an edge (the other tangent plane has both on one side). A set that meets w has none. */
+/* Appends to w->pl the separating planes of convex set c and region w->v bounding lines from c through w (Teller 1992
+   §5.2): through an edge of one and a vertex of the other, c and w on opposite sides (the other tangent plane has both
+   on one side). A set meeting w has none. */
 PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, double eps) {
 	uint32_t i, j;
 	for (i = 0; i < w->nv; ++i)
@@ -15720,8 +15578,8 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, dou
 				break;
 }
 
-/* Vertex x of set c: an existing one within eps, or a new one (PVS__PO_MAXW when c is full; pvs__po_source's sets
-   never are: a box clipped once has at most 7 faces of 5 vertices). */
+/* Vertex x of set c: an existing one within eps, or new (PVS__PO_MAXW if c is full; never for pvs__po_source's sets: a
+   once-clipped box has <= 7 faces of 5 vertices). */
 PVS__STATIC uint32_t pvs__po_set_vertex(pvs__po_set *c, const double *x, double eps) {
 	uint32_t i;
 	for (i = 0; i < c->n; ++i)
@@ -15732,9 +15590,9 @@ PVS__STATIC uint32_t pvs__po_set_vertex(pvs__po_set *c, const double *x, double 
 	return c->n++;
 }
 
-/* The source of lines that cross portal q from its leaf `from`: the cell's box clipped to the side of q's plane that
-   leaf lies on (a line crossing q that way starts there). Every vertex of the clipped box lies on a clipped face of
-   the box. 0 when the box lies wholly on the other side: no line from the cell crosses q that way. */
+/* Source of lines crossing portal q from its leaf `from`: the cell box clipped to that leaf's side of q's plane (where
+   such lines start); each vertex of it is on a clipped face. 0 if the box is wholly on the other side: no line from the
+   cell crosses q that way. */
 PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, pvs__po_set *c) {
 	static const uint8_t faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
 										{2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
@@ -15763,8 +15621,8 @@ PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, pvs__po_set *c
 	return c->n > 0;
 }
 
-/* Keeps the objects of empty leaf `leaf` whose part in it (box clipped to the leaf's) is not wholly beyond a plane
-   of w (tol; w NULL: all of them). */
+/* Keeps objects of empty leaf `leaf` whose part in it (box clipped to the leaf's) is not wholly beyond a plane of w
+   (tol; w NULL: all). */
 PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win *w) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j, k;
@@ -15775,24 +15633,24 @@ PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win 
 		if (w && pvs__box_clip(&b, p->leaf_box + leaf))
 			for (j = 0; j < w->np && keep; ++j) {
 				double x[3];
-				for (k = 0; k < 3; ++k) x[k] = w->pl[j][k] > 0.0 ? b.min[k] : b.max[k]; /* the lowest corner */
+				for (k = 0; k < 3; ++k) x[k] = w->pl[j][k] > 0.0 ? b.min[k] : b.max[k]; /* lowest corner */
 				keep = pvs__po_dist(w->pl[j], x) <= p->tol;
 			}
 		if (keep) pvs_bitset_set(f->bits, o);
 	}
 }
 
-/* The 2D coordinates of x on a plane whose normal's largest component is axis a. */
+/* 2D coordinates of x on a plane whose normal's largest component is axis a. */
 PVS__STATIC void pvs__po_uv(const double *x, int a, double *u, double *v) {
 	*u = x[a == 0 ? 1 : 0];
 	*v = x[a == 2 ? 1 : 2];
 }
 
-/* 1 if every point of w lies inside convex polygon r (tol), both on a plane of dominant axis a. */
+/* 1 if all of w is inside convex polygon r (tol), both on a plane of dominant axis a. */
 PVS__STATIC int pvs__po_inside(const pvs__po_region *r, const pvs__po_wind *w, int a, double tol) {
 	double orient = 0.0;
 	uint32_t i, j;
-	for (i = 0; i < r->n; ++i) { /* r's orientation in (u, v): the sign of its area */
+	for (i = 0; i < r->n; ++i) { /* r's orientation in (u, v): sign of its area */
 		double u0, v0, u1, v1;
 		pvs__po_uv(r->v[i], a, &u0, &v0);
 		pvs__po_uv(r->v[(i + 1) % r->n], a, &u1, &v1);
@@ -15813,8 +15671,8 @@ PVS__STATIC int pvs__po_inside(const pvs__po_region *r, const pvs__po_wind *w, i
 	return 1;
 }
 
-/* r = the convex hull of r and w in the plane's 2D coordinates (>>vocc's pvs__vo_hull); 0 when it would have more
-   than PVS__PO_MAXW vertices (r unchanged). */
+/* r = convex hull of r and w in plane 2D coordinates (>>vocc's pvs__vo_hull); 0 if over PVS__PO_MAXW vertices (r
+   unchanged). */
 PVS__STATIC int pvs__po_hull(pvs__po_region *r, const pvs__po_wind *w, int a) {
 	double all[2 * PVS__PO_MAXW][3], uv[4 * PVS__PO_MAXW];
 	pvs__key_index keys[2 * PVS__PO_MAXW];
@@ -15829,7 +15687,7 @@ PVS__STATIC int pvs__po_hull(pvs__po_region *r, const pvs__po_wind *w, int a) {
 	return 1;
 }
 
-/* pvs__po_box_down's visitor: the cell's box meets leaf l (appended to f->leaves once, marked 1 in f->start). */
+/* pvs__po_box_down visitor: cell box meets leaf l (appended to f->leaves once, f->start = 1). */
 PVS__STATIC void pvs__po_start_leaf(void *ctx, uint32_t l) {
 	pvs__po_flow *f = (pvs__po_flow *)ctx;
 	if (f->start[l]) return;
@@ -15837,8 +15695,8 @@ PVS__STATIC void pvs__po_start_leaf(void *ctx, uint32_t l) {
 	f->leaves[f->leaf_count++] = l;
 }
 
-/* r's polygon grown to hold w (on r's portal): 1 when it grew. Past PVS__PO_GROWS growths, or a hull of more than
-   PVS__PO_MAXW vertices: the whole portal (nothing grows it again). */
+/* r's polygon grown to hold w (on r's portal): 1 if it grew. Past PVS__PO_GROWS growths or PVS__PO_MAXW hull vertices:
+   the whole portal (never grows again). */
 PVS__STATIC int pvs__po_grow(const pvs__poprep *p, pvs__po_region *r, const pvs__po_wind *w) {
 	const pvs__po_portal *pt = p->portals + r->q;
 	int a = pvs__po_axis(p->pl[pt->plane]);
@@ -15851,14 +15709,14 @@ PVS__STATIC int pvs__po_grow(const pvs__poprep *p, pvs__po_region *r, const pvs_
 	return 1;
 }
 
-/* The slot of state in f's hash table: its pair, or the free pair where it goes. */
+/* Slot of state in f's hash: its pair, or the free pair for it. */
 PVS__STATIC uint32_t *pvs__po_slot(const pvs__po_flow *f, uint32_t state) {
 	size_t h = (size_t)((state * 0x9E3779B97F4A7C15ull) >> 32) & (f->slot_cap - 1);
 	while (f->slot[2 * h] != PVS__PO_NONE && f->slot[2 * h] != state) h = (h + 1) & (f->slot_cap - 1);
 	return f->slot + 2 * h;
 }
 
-/* A new region for state; PVS__PO_NONE when out of memory (the table grows at half load). */
+/* New region for state; PVS__PO_NONE if out of memory (table grows at half load). */
 PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
 	const pvs_allocator *al = &f->p->allocator;
 	uint32_t *e;
@@ -15884,8 +15742,8 @@ PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
 	return (uint32_t)f->reg_count++;
 }
 
-/* Offers state `state` (a step into portal q): lines crossing q within w. A new state, or one that grew to hold
-   them, is queued. */
+/* Offers state `state` (step into portal q): lines crossing q within w. A new state, or one grown to hold them, is
+   queued. */
 PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t q, const pvs__po_wind *w) {
 	const pvs__poprep *p = f->p;
 	pvs__po_region *r;
@@ -15913,9 +15771,9 @@ PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t q, cons
 	}
 }
 
-/* The flow from the start leaves (Teller 1992 §5 as a monotone fixed point, see the module comment): a state (a
-   step into q, region v on q) sends the lines from the cell's source for q through v into q's leaf `to`; they keep
-   that leaf's objects and offer each portal out of it, clipped by their planes, as the step (q -> next). */
+/* Flow from the start leaves (Teller 1992 §5 as a monotone fixed point, see module comment): a state (step into q,
+   region v on q) sends lines from q's source through v into q's leaf `to`, keeping its objects and offering each portal
+   out, clipped by their planes, as step q -> next. */
 PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j;
@@ -15964,11 +15822,11 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	}
 }
 
-/* The cut-off: every object of every empty leaf reachable from the start leaves through any portals. */
+/* Cut-off: every object of every empty leaf reachable from the start leaves through any portals. */
 PVS__STATIC void pvs__po_flood(pvs__po_flow *f) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j;
-	for (i = 0; i < f->leaf_count; ++i) { /* f->leaves grows as the flood goes */
+	for (i = 0; i < f->leaf_count; ++i) { /* f->leaves grows with the flood */
 		uint32_t leaf = f->leaves[i];
 		pvs__po_keep(f, leaf, NULL);
 		for (j = p->lp_first[leaf]; j < p->lp_first[leaf + 1]; ++j) {
@@ -16014,8 +15872,8 @@ PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
 	pvs__free(a, p, sizeof(*p), 16);
 }
 
-/* The solids' boxes (rounded outward) and per solid the drawable objects whose box meets it (found through a BVH
-   over the objects). 0 when out of memory. */
+/* Solid boxes (rounded outward) and per solid the drawable objects whose box meets it (via object BVH). 0 if out of
+   memory. */
 PVS__STATIC int pvs__po_solid_objects(pvs__poprep *p, const pvs_scene *s, const pvs__po_poly *frags) {
 	const pvs_allocator *al = &p->allocator;
 	uint32_t i, o, *pairs = NULL, *stack = NULL, sp;
@@ -16062,7 +15920,7 @@ done:
 	return ok;
 }
 
-/* Builds the solids' tree, its portals and the objects of every empty leaf. */
+/* Builds the solids' tree, portals and objects of every empty leaf. */
 PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env) {
 	const pvs_scene *s = env->scene;
 	const pvs_allocator *al = &p->allocator;
@@ -16078,7 +15936,7 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	b.scratch = (pvs__po_wind *)pvs__alloc_array(al, PVS__PO_SCRATCH, sizeof(pvs__po_wind));
 	b.planes = (uint32_t *)pvs__alloc_array(al, 2 * PVS__PO_SCRATCH, sizeof(uint32_t));
 	for (p->hash_size = 64; p->hash_size < (1u << 22) && p->hash_size < s->triangle_count / 2; p->hash_size *= 2) {
-	} /* about a bucket a face plane (at most one a triangle) */
+	} /* ~a face plane per bucket (<= 1 per triangle) */
 	p->hash_head = (uint32_t *)pvs__alloc_array(al, p->hash_size, sizeof(uint32_t));
 	if (!b.scratch || !b.planes || !p->hash_head) goto done;
 	kept = b.planes + PVS__PO_SCRATCH;
@@ -16088,7 +15946,7 @@ PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env)
 	if (!(p->ext > 0.0)) p->ext = 1.0;
 	p->eps = 1e-9 * p->ext;
 	p->tol = 1e-6 * p->ext;
-	for (k = 0; k < 6; ++k) { /* the root box, a hundredth of the size beyond scene and cells */
+	for (k = 0; k < 6; ++k) { /* root box: 1/100 of size beyond scene and cells */
 		double n[3] = {0, 0, 0};
 		n[k % 3] = k < 3 ? -1.0 : 1.0;
 		bound[k] = pvs__po_plane(p, n, k < 3 ? 0.01 * p->ext - box.min[k] : box.max[k - 3] + 0.01 * p->ext);
@@ -16187,7 +16045,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	pvs__po_flow f;
 	uint32_t k;
 	(void)flags;
-	(void)candidates; /* all tested: AUTO's statistics take its own PVS as its single bake's */
+	(void)candidates; /* all tested: AUTO's statistics take its PVS as its single bake's */
 	memset(&f, 0, sizeof(f));
 	f.p = p;
 	f.scene = env->scene;
@@ -16208,7 +16066,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	}
 	memset(f.slot, 0xff, 2 * f.slot_cap * sizeof(uint32_t));
 	pvs__po_box_down(p, box, p->root, pvs__po_start_leaf, &f);
-	for (k = 0; k < p->solids; ++k) /* points of the cell inside a solid */
+	for (k = 0; k < p->solids; ++k) /* cell points inside a solid */
 		if (pvs__box_overlap(box, p->solid_box + k))
 			for (i = p->so_first[k]; i < p->so_first[k + 1]; ++i) {
 				uint32_t o = p->so[i];
@@ -16263,8 +16121,7 @@ PVS_API const char *pvs_method_name(pvs_method m) {
 	}
 }
 
-/* Sample point i of `points`: the cell's 8 corners, 6 face centres, then one jittered point per stratum of a g^k grid
-   on its k non-flat axes. */
+/* Sample i of `points`: 8 corners, 6 face centres, then a jittered point per stratum of a g^k grid (k non-flat axes) */
 PVS__STATIC void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t points, uint64_t *state, float p[3]) {
 	int k;
 	if (i < 8) {
@@ -16278,7 +16135,6 @@ PVS__STATIC void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t poi
 		int axes = 0;
 		for (k = 0; k < 3; ++k) axes += cell->max[k] > cell->min[k];
 		if (axes) {
-			/* the smallest g with g^axes >= m */
 			for (;;) {
 				uint64_t total = 1;
 				for (k = 0; k < axes; ++k) total *= g;
@@ -16312,7 +16168,7 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
 		float p[3], rot[3][3], tmax, q0, q1, q2, q3, u1, u2, u3;
 		pvs_box pb;
 		pvs__sample_point(cell, i, points, &state, p);
-		/* a uniformly random rotation per point (Shoemake 1992, a random unit quaternion) ... */
+		/* uniform random rotation per point (Shoemake 1992: random unit quaternion) ... */
 		u1 = pvs__random01(&state);
 		u2 = 6.2831853f * pvs__random01(&state);
 		u3 = 6.2831853f * pvs__random01(&state);
@@ -16331,7 +16187,7 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
 		rot[2][2] = 1.0f - 2.0f * (q0 * q0 + q1 * q1);
 		for (k = 0; k < 3; ++k) pb.min[k] = pb.max[k] = p[k];
 		tmax = 2.0f * diagonal + sqrtf(pvs__box_distance2(&pb, &bounds));
-		/* ... of a spherical Fibonacci set: rays_per_point directions of equal solid angle */
+		/* ... of a spherical Fibonacci set: equal solid angle per ray */
 		for (j = 0; j < rays_per_point; ++j) {
 			float z = 1.0f - (2.0f * (float)j + 1.0f) / (float)rays_per_point, r, phi, f[3], dir[3];
 			double turns = (double)j * 0.6180339887498949;
@@ -16414,7 +16270,7 @@ PVS__STATIC pvs_result pvs__sample_bake_cell(const pvs__bake_env *env, void *sta
 											 const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
 											 unsigned *flags, pvs_error *err) {
 	const pvs__sample_bake *sb = (const pvs__sample_bake *)state;
-	uint64_t seed = sb->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull); /* per cell: independent of the run order */
+	uint64_t seed = sb->seed ^ ((uint64_t)cell * 0x9e3779b97f4a7c15ull); /* per cell: run-order independent */
 	(void)task;
 	(void)candidates;
 	(void)flags;
@@ -16434,42 +16290,41 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
 
 /* ---- extended projections (Durand et al. 2000) ---- */
 
-/* Rounding: all in double from float inputs. A plane's frame maps a point to (u, v, w), w its Depth beyond the cell's
-   face (§2.3; the cell spans w in [-extent, 0]). P's view from cell corner V on the plane w = W is V + (P - V)
-   (W - Vw) / (Pw - Vw), for Pw > Vw: occluders are clipped to w >= a small margin, occludees lie wholly at w > 0. A
-   convex occluder's Projection is the intersection of its views from the 8 corners (§3.2), a pixel kept when its worst
-   corner passes every edge by a margin above all rounding; Depth: its greatest w, rounded up (§2.3). An occludee box's
-   Projection is its views' bounding rectangle (§3.1), widened likewise; Depth: its least w, rounded down. It is hidden
-   when every pixel there holds an occluder strictly nearer (§2.2; pixels off the plane are visible).
+/* Rounding: double from float inputs. A plane's frame maps a point to (u, v, w), w its Depth beyond the cell's face
+   (§2.3; cell: w in [-extent, 0]). P's view from cell corner V on plane w = W: V + (P - V) (W - Vw) / (Pw - Vw), Pw >
+   Vw (occluders clipped to w >= a small margin; occludees wholly at w > 0). Convex occluder's Projection: its views
+   from the 8 corners intersected (§3.2), a pixel kept if its worst corner passes every edge by a margin above all
+   rounding; Depth: max w, rounded up (§2.3). Occludee box's Projection: its views' bounding rectangle (§3.1), widened
+   likewise; Depth: min w, rounded down. Hidden if every pixel there holds an occluder strictly nearer (§2.2; off-plane
+   pixels are visible).
 
-   The bake method (§6.1): occluders prepared once per bake; per cell and direction those of largest solid angle drawn
-   on PVS__EP_PLANES depth maps and, with the sweep, extproj.sweep masks out to the scene's far end (§5); then the
-   object kD-tree front to back, hidden nodes skipped. Objects meeting the cell are always visible.
+   Bake (§6.1): occluders prepared once per bake; per cell and direction the largest by solid angle go on
+   PVS__EP_PLANES depth maps and, with the sweep, extproj.sweep masks out to the scene's far end (§5); then the object
+   kD-tree front to back, hidden nodes skipped. Objects meeting the cell are always visible.
 
-   Limits: occluders fuse only through maps and slices; Depths are flat per part; a plane's umbra shrinks by the cell's
-   size over the distance, so sparse small occluders (foliage) stay loose; sub-cells (extproj.sweep_subcells) win back
-   part (tests/BENCHMARKS.md). */
+   Limits: occluders fuse only via maps and slices; Depths flat per part; umbrae shrink by cell size over distance, so
+   sparse small occluders (foliage) are loose; sub-cells (extproj.sweep_subcells) recover part (tests/BENCHMARKS.md). */
 
 #define PVS__EP_MAXP 16								  /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
-#define PVS__EP_EXTEND 1.5							  /* planes extended beyond the cell (§6.1) */
+#define PVS__EP_EXTEND 1.5							  /* planes reach beyond the cell (§6.1) */
 #define PVS__EP_DEFAULT_RES PVS_EXTPROJ_RESOLUTION
 #define PVS__EP_DEFAULT_OCC 128
 #define PVS__EP_PLANE_CANDIDATES 16
 #define PVS__EP_PLANES 4							  /* planes per direction (§6.1) */
 #define PVS__EP_PLANE_RATIO 1.7						  /* their distance bands */
-#define PVS__EP_SAT_CACHE ((size_t)64 << 20)		  /* bytes of the sweep's summed-area tables */
-#define PVS__EP_MAX_SIDE 16384u						  /* longest side of a sweep mask, in pixels */
+#define PVS__EP_SAT_CACHE ((size_t)64 << 20)		  /* sweep's summed-area table bytes */
+#define PVS__EP_MAX_SIDE 16384u						  /* longest sweep mask side, pixels */
 
 typedef struct pvs__epframe {
 	int a, u, v;
 	double s, face, W, u0, v0, su, sv;
 	double cu[2], cv[2], cw[2];
 	uint32_t width, height;
-	unsigned char bits; /* the bits a Projection sets in a sweep mask: 1, or a sub-cell's */
+	unsigned char bits; /* bits a Projection sets in a sweep mask: 1 or a sub-cell's */
 } pvs__epframe;
 
-/* The frame of a plane of sides <= max_side pixels (4096 for the public functions); 0 if the plane is bad. */
+/* Frame of a plane with sides <= max_side pixels (4096 for the public API); 0 if the plane is bad. */
 PVS__STATIC int pvs__ep_frame_max(const pvs_extproj_plane *pl, uint32_t max_side, pvs__epframe *f) {
 	int k;
 	if (!pl || pl->axis > 2 || (pl->side != 1 && pl->side != -1) || !pvs__box_valid(&pl->cell)) return 0;
@@ -16510,7 +16365,7 @@ PVS__STATIC double pvs__ep_tri_normal(const float *a, const float *b, const floa
 	return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
-/* n . (x - a) in double: the distance of x from the plane through a (times |n|). */
+/* n . (x - a) in double: x's distance from the plane through a, times |n|. */
 PVS__STATIC double pvs__ep_plane_dist(const double *n, const float *x, const float *a) {
 	return n[0] * ((double)x[0] - a[0]) + n[1] * ((double)x[1] - a[1]) + n[2] * ((double)x[2] - a[2]);
 }
@@ -16520,8 +16375,7 @@ PVS__STATIC int pvs__ep_pt2_cmp(const void *x, const void *y) {
 	if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
 	return a[1] < b[1] ? -1 : a[1] > b[1];
 }
-/* Convex hull (Andrew's monotone chain), counter-clockwise, collinear points dropped; sorts pts (n x 2), hull holds
-   n + 1 points. Returns its size. */
+/* Convex hull (Andrew's monotone chain), CCW, no collinear points; sorts pts (n x 2); hull: n + 1 room. Returns size */
 PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
 	int i, k = 0, lower;
 	if (n > 1) PVS_QSORT(pts, (size_t)n, sizeof(pts[0]), pvs__ep_pt2_cmp); /* equal points are equal values */
@@ -16538,7 +16392,7 @@ PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
 	return k - 1; /* the last point repeats the first */
 }
 
-/* ceil and floor by conversion, for |x| < 2^31 (callers clamp to the raster first). */
+/* ceil/floor by int conversion, for |x| < 2^31 (callers clamp to the raster first). */
 PVS__STATIC double pvs__ceil_small(double x) {
 	double t = (double)(int32_t)x;
 	return t < x ? t + 1.0 : t;
@@ -16548,8 +16402,8 @@ PVS__STATIC double pvs__floor_small(double x) {
 	return t > x ? t - 1.0 : t;
 }
 
-/* A Projection's edges in pixels: a x + b y + c >= 0 inside, |a| + |b| = 1, error bound e, inv = 1 / a (0 if nearly
-   horizontal); [xlo, xhi] x [ylo, yhi]: the views' common box. */
+/* Projection edges in pixels: a x + b y + c >= 0 inside, |a| + |b| = 1, error bound e, inv = 1 / a (0 if ~horizontal);
+   [xlo, xhi] x [ylo, yhi]: the views' common box. */
 typedef struct pvs__epedges {
 	double a[8 * PVS__EP_CLIPN], b[8 * PVS__EP_CLIPN], c[8 * PVS__EP_CLIPN], e[8 * PVS__EP_CLIPN],
 		inv[8 * PVS__EP_CLIPN];
@@ -16557,8 +16411,7 @@ typedef struct pvs__epedges {
 	double xlo, xhi, ylo, yhi;
 } pvs__epedges;
 
-/* Into P, the vertices of a convex occluder's part in the slab [wlo, whi]: points inside, and slab crossings of
-   segments between any two. Returns their count. */
+/* Vertices of a convex occluder's part in slab [wlo, whi] into P: points inside, point-pair crossings. Returns n. */
 PVS__STATIC int pvs__ep_clip_slab(const double (*src)[3], int count, double wlo, double whi, double (*P)[3]) {
 	int n = 0, i, j;
 	for (i = 0; i < count; ++i)
@@ -16585,8 +16438,8 @@ PVS__STATIC int pvs__ep_clip_slab(const double (*src)[3], int count, double wlo,
 	return n;
 }
 
-/* The Projection of convex point set P (shape error `slack`): the intersection of its views from the 8 corners (§3.2),
-   edges with error bounds into E. 0 if it surely covers no whole pixel. */
+/* Projection of convex point set P (shape error `slack`): its 8 corner views intersected (§3.2), edges with error
+   bounds into E. 0 if it surely covers no whole pixel. */
 PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int n, double slack, pvs__epedges *E) {
 	pvs__epframe f = *fp;
 	double pts[PVS__EP_CLIPN][2], hull[PVS__EP_CLIPN + 1][2], base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv;
@@ -16609,12 +16462,12 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 							pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) +
 								(pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
 								(pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
-			/* a point moved by slack moves its view by at most slack (t + |view - V| / (Pw - Vw)) per axis */
+			/* moving a point by slack moves its view by <= slack (t + |view - V| / (Pw - Vw)) per axis */
 			smax = pvs__dmax(smax, t + (pvs__dabs(du) + pvs__dabs(dv)) / (P[i][2] - Vw));
 		}
-		/* each projected vertex's error in pixels: a few ulps of the terms, widely, plus the slack */
+		/* vertex error in pixels: a few ulps of the terms, widely, plus the slack */
 		verr = 1e-12 * (mag + base + 1.0) + slack * smax * pvs__dmax(f.su, f.sv);
-		if (!(bx1 - bx0 < 1e15) || !(by1 - by0 < 1e15)) return 0; /* beyond any useful precision */
+		if (!(bx1 - bx0 < 1e15) || !(by1 - by0 < 1e15)) return 0; /* past useful precision */
 		E->xlo = pvs__dmax(E->xlo, bx0); E->xhi = pvs__dmin(E->xhi, bx1);
 		E->ylo = pvs__dmax(E->ylo, by0); E->yhi = pvs__dmin(E->yhi, by1);
 		if (E->xhi - E->xlo < 1.0 || E->yhi - E->ylo < 1.0) return 0; /* no whole pixel fits */
@@ -16632,8 +16485,8 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 			E->a[m] = a / len;
 			E->b[m] = b / len;
 			E->c[m] = -(E->a[m] * p[0] + E->b[m] * p[1]);
-			/* ends moved by verr move (a, b) by 2 verr each, the L1 norm by 4 verr: at L1 distance D from p the
-			   normalized function moves by at most verr (1 + 6 D / len) */
+			/* ends moved by verr move (a, b) by 2 verr each, L1 norm by 4 verr: at L1 distance D from p the normalized
+			   function moves <= verr (1 + 6 D / len) */
 			E->e[m] = verr *
 				(2.0 + 8.0 * (pvs__dabs(p[0]) + pvs__dabs(p[1]) + (double)f.width + (double)f.height + 2.0) / len);
 			++E->n;
@@ -16642,8 +16495,8 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 	return 1;
 }
 
-/* Drops edges every candidate pixel passes by more than the row loop's margins (most of the eight views' edges); kept
-   ones get that margin, less its row part, and 1 / a. */
+/* Drops edges all candidate pixels pass by more than the row loop's margins (most of the 8 views'); kept ones get that
+   margin, less its row part, and 1 / a. */
 PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
 	int e, m = 0;
 	double x0 = i0, x1 = (double)i1 + 1.0, y0 = j0, y1 = (double)j1 + 1.0;
@@ -16657,15 +16510,14 @@ PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, in
 		E->b[m] = b;
 		E->c[m] = cc;
 		E->e[m] = 1e-6 + E->e[e] + 1e-12 * pvs__dabs(cc);
-		/* a product by 1 / a is within two ulps of the quotient, far inside the 1e-9 |x| margin */
+		/* x * (1 / a) is within two ulps of x / a, far inside the 1e-9 |x| margin */
 		E->inv[m] = pvs__dabs(a) > 1e-12 ? 1.0 / a : 0.0;
 		++m;
 	}
 	E->n = m;
 }
 
-/* Pixels x0..x1 of row j get `depth` (where nearer) in map and f->bits in mask (either may be NULL). Returns their
-   count. */
+/* Pixels x0..x1 of row j: `depth` to map (where nearer), f->bits to mask (either may be NULL). Returns the count. */
 PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, int32_t x1, float depth, float *map,
 								  unsigned char *mask) {
 	size_t row = (size_t)j * f->width;
@@ -16679,8 +16531,8 @@ PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, 
 }
 
 /* Scan-converts Projection E over rows j0..j1, columns i0..i1: pixels whose worst corner passes every edge by its
-   margin get `depth` (where nearer) in map and f->bits in mask (either may be NULL). Returns the pixels covered. Not
-   pvs__raster_poly: flat-Depth spans are about 3x faster, and these edges carry their own error bounds. */
+   margin are set as by pvs__ep_span. Returns pixels covered. Not pvs__raster_poly: flat-Depth spans are faster, and
+   these edges carry error bounds. */
 PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0,
 									   int32_t j1, float depth, float *map, unsigned char *mask) {
 	int32_t row;
@@ -16690,7 +16542,7 @@ PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges
 		int e;
 		for (e = 0; e < E->n && lo <= hi; ++e) {
 			double a = E->a[e], b = E->b[e];
-			/* the pixel's worst corner: a (i + [a < 0]) + b (y + [b < 0]) + c >= err */
+			/* pixel's worst corner: a (i + [a < 0]) + b (y + [b < 0]) + c >= err */
 			double r = E->c[e] + b * y + (b < 0.0 ? b : 0.0) + (a < 0.0 ? a : 0.0);
 			r -= E->e[e] + 1e-12 * pvs__dabs(b * y);
 			if (a > 1e-12) {
@@ -16702,7 +16554,7 @@ PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges
 				x -= 1e-9 * (1.0 + pvs__dabs(x));
 				if (x < hi) hi = x < lo ? lo - 1.0 : pvs__floor_small(x);
 			} else {
-				/* nearly horizontal: test the worst of the row's two ends */
+				/* nearly horizontal: test the worse row end */
 				double worst = r + pvs__dmin(a * lo, a * hi) - pvs__dabs(a);
 				if (worst < 0.0) hi = lo - 1.0;
 			}
@@ -16712,7 +16564,7 @@ PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges
 	return written;
 }
 
-/* The Projection of the occluder's part in the slab [wlo, whi]. */
+/* Projection of the occluder's part in slab [wlo, whi]. */
 PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo,
 										   double whi, double slack, float *map, unsigned char *mask) {
 	double P[PVS__EP_CLIPN][3], dmax = 0.0;
@@ -16732,8 +16584,8 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
 	return pvs__ep_fill_rows(fp, &E, i0, i1, j0, j1, pvs__f_up(dmax + 1e-12 * dmax), map, mask);
 }
 
-/* 0 when the occluder's part in the slab [wlo, whi] surely covers no pixel: its bounding box's Projection (which holds
-   the part's) holds no whole pixel. 1: maybe. */
+/* 0 if the occluder's part in slab [wlo, whi] surely covers no pixel (its bounding box's Projection, a superset, holds
+   no whole pixel); 1: maybe. */
 PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3], int count, double wlo, double whi) {
 	double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
 	int i, k;
@@ -16762,7 +16614,7 @@ PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3
 		}
 		a = (a - k0) * sk;
 		b = (b - k0) * sk;
-		/* a margin far above the rounding of these few operations */
+		/* margin far above these few operations' rounding */
 		if (b - a < 1.0 - 1e-6 * (1.0 + pvs__dabs(a) + pvs__dabs(b)) || b < -1e-6 * (1.0 + pvs__dabs(b)) ||
 			a > size + 1e-6 * (1.0 + pvs__dabs(a)))
 			return 0;
@@ -16784,13 +16636,13 @@ PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cel
 		wmax = pvs__dmax(wmax, P[i][2]);
 	}
 	if (solid) {
-		/* a solid meeting the cell could hold the viewer, its Depth bounding no first hit: left out */
+		/* a solid meeting the cell could hold the viewer (its Depth bounds no first hit): left out */
 		pvs_box b = pvs__box_empty();
 		for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
 		if (pvs__box_overlap(&b, cell)) return 0;
 	}
-	/* clipped to w >= a small margin and split at the plane: the cell points seeing a pixel through the part on one
-	   side form a convex set, so the corners decide; across the plane not */
+	/* clipped to w >= a small margin, split at the plane: cell points seeing a pixel through one side's part form a
+	   convex set, so corners decide; not across the plane */
 	margin = 1e-4 * (f.W - f.cw[0]);
 	written = 0;
 	if (pvs__ep_box_may_cover(&f, (const double(*)[3])P, (int)count, margin, f.W))
@@ -16807,7 +16659,7 @@ PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *
 	if (!pvs__ep_frame(pl, &f) || !points || !map || count < 1 || count > PVS__EP_MAXP) return 0;
 	for (i = 0; i < count * 3; ++i)
 		if (!pvs__finite(points[i])) return 0;
-	if (count > 3) { /* planar (a polygon) or not (a solid)? */
+	if (count > 3) { /* polygon or solid? */
 		double n[3], len = 0.0, scale = 0.0;
 		pvs_box b = pvs__box_empty();
 		for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
@@ -16858,11 +16710,11 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
 	return 1;
 }
 
-/* Durand 2000 §4's improved occludee Projection on axis k, for a box between cell and plane (depths w0..w1 <= W).
-   Cones go to the cell's near face (w = 0): inside cone(P, cell), so Property 2 holds, and the 3D Projection is exactly
-   the product of the 2D ones. With [L(X), R(X)] X's views from the face, I = [a, b] works iff a <= min R and b >= max L
-   (over the box's corners): if max L <= min R one point serves (*any = 1: one column must be hidden), else
-   [min R, max L] (*any = 0: all). Indices may leave the map. */
+/* Durand 2000 §4's improved occludee Projection on axis k, box between cell and plane (depths w0..w1 <= W). Cones go
+   to the cell's near face (w = 0): inside cone(P, cell), so Property 2 holds and the 3D Projection is exactly the
+   product of the 2D ones. With [L(X), R(X)] X's views from the face, I = [a, b] works iff a <= min R and b >= max L
+   (over box corners): if max L <= min R one point serves (*any = 1: one column must be hidden), else [min R, max L]
+   (*any = 0: all). Indices may leave the map. */
 PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W,
 									   double k0, double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
 	double maxL = -DBL_MAX, minR = DBL_MAX, mag = 0.0, err, a, b;
@@ -16885,7 +16737,7 @@ PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double 
 		*any = 1;
 		*lo = pvs__clampi(floor(a), -1, (int32_t)size);
 		*hi = pvs__clampi(floor(b), -1, (int32_t)size);
-	} else { /* the whole of [min R, max L], widened */
+	} else { /* all of [min R, max L], widened */
 		*any = 0;
 		*lo = pvs__clampi(floor(minR - err), -1, (int32_t)size);
 		*hi = pvs__clampi(floor(maxL + err), -1, (int32_t)size);
@@ -16910,48 +16762,48 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
 
 /* ---- the bake method: occluders per bake, planes per cell ---- */
 
-/* A convex occluder: a planar convex polygon (a triangle or merged triangles) or a closed convex solid. */
+/* Convex occluder: a planar convex polygon (triangle or merged triangles) or a closed convex solid. */
 typedef struct pvs__epocc {
 	pvs_box box;
 	uint32_t first, count;	 /* points */
 	int solid;
-	uint32_t xfirst, xcount; /* extended through a sheet (pvs__epsheet), xcount = 0 if none */
+	uint32_t xfirst, xcount; /* extended through a sheet (pvs__epsheet); xcount 0: none */
 	uint32_t sheet;
-	int xside;				 /* the sheet's side it stands on */
-	int cap_side, cap_axis;  /* a capped convex solid (cap_side != 0): used only for cells where */
+	int xside;				 /* sheet side it stands on */
+	int cap_side, cap_axis;  /* capped convex solid (cap_side != 0): only for cells where */
 	float cap_value;		 /*   cap_side * (x[cap_axis] - cap_value) > 0 */
-	float slack;			 /* how far the true shape may lie inside the hull of the points */
+	float slack;			 /* how far the true shape may lie inside the points' hull */
 	uint32_t object;		 /* its object, or PVS_NO_OBJECT */
 	float area;				 /* area bound: solid angle <= area / distance^2 */
-	uint32_t efirst, ecount; /* concave planar (ecount > 0): edges prep->cedge[6 * efirst ...]; points: its vertices'
+	uint32_t efirst, ecount; /* concave planar (ecount > 0): edges prep->cedge[6 * efirst ...]; points: vertex
 								hull, for selection */
-	float pn[3], pd;		 /*   its plane pn . x = pd (pn a unit normal) */
+	float pn[3], pd;		 /*   its plane pn . x = pd, pn unit */
 } pvs__epocc;
 
-/* 0 if a capped solid (cap_side != 0) cannot serve the cell: the cell is not strictly on its solid side. */
+/* 0 if a capped solid (cap_side != 0) cannot serve the cell (not strictly on its solid side). */
 PVS__STATIC int pvs__ep_cap_ok(int side, int axis, float value, const pvs_box *cell) {
 	return !(side > 0 && !(cell->min[axis] > value)) && !(side < 0 && !(cell->max[axis] < value));
 }
 
-/* A sheet: coplanar triangles (any objects') in the plane x[axis] = value forming one convex polygon without holes (a
-   tiled floor). For a cell strictly on one side and over it, the space beyond, over the polygon, is solid: a segment
-   there crosses the polygon. */
+/* Sheet: coplanar triangles (any objects) in plane x[axis] = value forming one convex polygon without holes (a tiled
+   floor). For a cell strictly on one side and over it, the space beyond it over the polygon is solid: a segment there
+   crosses the polygon. */
 #define PVS__EP_MAX_SHEETS 16
 #define PVS__EP_AREA_CLASSES 8
 typedef struct pvs__epsheet {
 	int axis;
 	float value;
-	uint32_t first, count;	 /* convex polygon prep->spoly[2 * first ...] on axes (axis + 1, axis + 2) */
+	uint32_t first, count;	 /* convex polygon prep->spoly[2 * first ...] on axes axis + 1, axis + 2 */
 	double area;
 } pvs__epsheet;
 
-/* A closed non-convex component sliced by the planes (§3.3): one object's connected triangles, each edge used an even
-   number of times, or "capped": the odd edges in one plane, every vertex on one side (a building with no floor). */
+/* Closed non-convex component sliced by the planes (§3.3): one object's connected triangles, each edge used an even
+   number of times, or "capped": odd edges in one plane, all vertices on one side (a building with no floor). */
 typedef struct pvs__epslice {
 	pvs_box box;
 	uint32_t first, count;	 /* scene triangles prep->stri[first .. first + count) */
-	uint32_t bfirst, bcount; /* capped: boundary edges prep->bedge[6 * bfirst ...], two points each */
-	int capped;				 /* capped: the solid lies where cap_side * (x[cap_axis] - cap_value) >= 0 */
+	uint32_t bfirst, bcount; /* capped: boundary edges prep->bedge[6 * bfirst ...], 2 points each */
+	int capped;				 /* capped: solid where cap_side * (x[cap_axis] - cap_value) >= 0 */
 	int cap_axis, cap_side;
 	float cap_value;
 } pvs__epslice;
@@ -16968,17 +16820,17 @@ typedef struct pvs__extproj_prep {
 	size_t stri_count, stri_capacity;
 	float *bedge;			 /* 6 floats per boundary edge */
 	size_t bedge_count, bedge_capacity;
-	uint32_t max_slice_segments; /* the most triangles plus boundary edges of one sliced component */
+	uint32_t max_slice_segments; /* most triangles + boundary edges of one sliced component */
 	pvs__epsheet sheet[PVS__EP_MAX_SHEETS];
 	uint32_t sheet_count;
-	/* per size class (area bound < 4^c): a kD-tree of the boxes, a node pruned by the largest area */
+	/* per size class (area bound < 4^c): kD-tree of boxes, nodes pruned by the largest area */
 	pvs_kdtree *occ_tree[PVS__EP_AREA_CLASSES];
 	uint32_t *class_occ[PVS__EP_AREA_CLASSES]; /* tree item -> occluder */
 	uint32_t class_count[PVS__EP_AREA_CLASSES];
 	float class_area[PVS__EP_AREA_CLASSES];
 	float *spoly;			 /* sheet polygons: 2 floats per vertex */
 	size_t spoly_count, spoly_capacity;
-	float *cedge;			 /* concave occluders' boundary edges: 6 floats each */
+	float *cedge;			 /* concave occluders' boundary edges, 6 floats each */
 	size_t cedge_count, cedge_capacity;
 } pvs__extproj_prep;
 
@@ -17003,7 +16855,7 @@ PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
 	pvs__free(&a, p, sizeof(*p), 16);
 }
 
-/* Adds a convex occluder (room is reserved by the caller). */
+/* Adds a convex occluder (caller reserves room). */
 PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, int solid, double slack) {
 	pvs__epocc *o = p->occ + p->occ_count++;
 	uint32_t i;
@@ -17025,7 +16877,7 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
 		++p->pt_count;
 	}
 	{
-		/* area bound: a polygon's area; a solid's, its box's three faces */
+		/* area bound: a polygon's area; a solid's, 3 faces of its box */
 		double ex = (double)o->box.max[0] - o->box.min[0], ey = (double)o->box.max[1] - o->box.min[1],
 			   ez = (double)o->box.max[2] - o->box.min[2];
 		double f = ex * ey + ey * ez + ez * ex;
@@ -17050,8 +16902,8 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
 
 PVS__STATIC int pvs__ep_same(const float *a, const float *b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 
-/* Two edge-sharing triangles, coplanar to float precision, forming a convex quad: fills q[4] and *slack (from the
-   fourth point's distance to the first's plane); returns 1. */
+/* Two edge-sharing triangles, coplanar to float precision, forming a convex quad: fills q[4], *slack (4th point's
+   distance to the first's plane), returns 1. */
 PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q, double *slack) {
 	int i, j, k;
 	double n[3], len = pvs__ep_tri_normal(A[0], A[1], A[2], n), scale = 0.0;
@@ -17068,10 +16920,10 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 			for (k = 0; k < 3; ++k)
 				scale = pvs__dmax(scale,
 								  pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
-			/* the hull exceeds the two triangles by at most this distance: the slack */
+			/* hull exceeds the two triangles by at most this: the slack */
 			dev = pvs__dabs(pvs__ep_plane_dist(n, x, a0)) / len;
 			if (dev > 1e-6 * scale) return 0;
-			for (k = 0; k < 4; ++k) { /* strictly convex at every corner, turning like the triangle */
+			for (k = 0; k < 4; ++k) { /* strictly convex at each corner, turning like the triangle */
 				const float *p0 = q[k], *p1 = q[(k + 1) % 4], *p2 = q[(k + 2) % 4];
 				double m[3];
 				pvs__ep_tri_normal(p0, p1, p2, m);
@@ -17086,7 +16938,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 /* An edge in a sheet's plane, ends ordered. */
 typedef struct pvs__epedge2 {
 	float a[2], b[2];
-	uint32_t tri;			 /* the triangle's index in its group, then its component's root */
+	uint32_t tri;			 /* index in its group, then its component's root */
 } pvs__epedge2;
 
 
@@ -17102,7 +16954,7 @@ PVS__STATIC int pvs__ep_edge2_root_cmp(const void *x, const void *y) {
 	return pvs__ep_edge2_cmp(x, y);
 }
 
-/* 1 if (x, y) lies inside convex counter-clockwise polygon q by a margin. */
+/* 1 if (x, y) is inside convex CCW polygon q by a margin. */
 PVS__STATIC int pvs__ep_in_convex(const float *q, uint32_t n, double x, double y) {
 	uint32_t i;
 	for (i = 0; i < n; ++i) {
@@ -17114,7 +16966,7 @@ PVS__STATIC int pvs__ep_in_convex(const float *q, uint32_t n, double x, double y
 	return 1;
 }
 
-/* An end of a boundary edge (pvs__ep_sheet_polygon's walk). */
+/* Boundary edge end (pvs__ep_sheet_polygon's walk). */
 typedef struct pvs__epend {
 	float p[2];
 	uint32_t edge;
@@ -17125,8 +16977,8 @@ PVS__STATIC int pvs__ep_end_cmp(const void *x, const void *y) {
 	return c ? c : a->edge < b->edge ? -1 : a->edge > b->edge;
 }
 
-/* Walks boundary edges e[0 .. nb) as one loop from e[0].a into q; 0 if a point is on more than two edges or they form
-   several loops. ends: scratch of 2 nb. */
+/* Walks boundary edges e[0 .. nb) as one loop from e[0].a into q; 0 if a point is on > 2 edges or there are several
+   loops. ends: 2 nb scratch. */
 PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, pvs__epend *ends) {
 	uint32_t i, m, edge = 0;
 	float cur[2];
@@ -17142,7 +16994,7 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
 		uint32_t lo = 0, hi = 2 * nb, next;
 		q[2 * m] = cur[0];
 		q[2 * m + 1] = cur[1];
-		while (lo < hi) { /* the first end at cur */
+		while (lo < hi) { /* first end at cur */
 			uint32_t mid = lo + (hi - lo) / 2;
 			if (pvs__fpoint_cmp(ends[mid].p, cur, 2) < 0) lo = mid + 1;
 			else hi = mid;
@@ -17155,20 +17007,20 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
 		if (pvs__fpoint_cmp(e[edge].a, cur, 2) == 0) { cur[0] = e[edge].b[0]; cur[1] = e[edge].b[1]; }
 		else { cur[0] = e[edge].a[0]; cur[1] = e[edge].a[1]; }
 	}
-	return pvs__fpoint_cmp(cur, q, 2) == 0; /* the loop must close at its start */
+	return pvs__fpoint_cmp(cur, q, 2) == 0; /* loop must close at its start */
 }
 
-/* The union of a group's triangles as one convex polygon: boundary edges (odd use counts) in one loop turning once,
-   with the triangles' area (no overlap, no hole). Fills q (counter-clockwise, collinear points dropped), returns its
-   size or 0. tol > 0: wrong turns under tol (relative) count as straight, q is the loop's hull (hp, hh: scratch of
-   qcap + 1; 0 past max_hull points), *dent the deepest loop point inside it. ends: 2 qcap. */
+/* Union of a group's triangles as one convex polygon: boundary edges (odd use) in one loop turning once, with the
+   triangles' area (no overlap or hole). Fills q (CCW, no collinear points), returns its size or 0. tol > 0: wrong turns
+   under tol (relative) count as straight, q is the loop's hull (hp, hh: qcap + 1 scratch; 0 past max_hull points),
+   *dent the deepest loop point inside it. ends: 2 qcap. */
 PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep,
 										   uint32_t qcap, pvs__epend *ends, double tol, double (*hp)[2],
 										   double (*hh)[2], int max_hull, double *dent) {
 	uint32_t nb = 0, i, j, n = 0, m;
 	double area = 0.0, turn = 0.0;
 	PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
-	for (i = 0; i < ne;) { /* a zero-area triangle leaves a zero-length edge: a point, not a side */
+	for (i = 0; i < ne;) { /* zero-area triangle: a zero-length edge, a point, not a side */
 		j = i;
 		while (j < ne && pvs__ep_edge2_cmp(e + j, e + i) == 0) ++j;
 		if (((j - i) & 1u) && pvs__fpoint_cmp(e[i].a, e[i].b, 2) != 0) e[nb++] = e[i];
@@ -17182,7 +17034,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
 		area += (double)a[0] * b[1] - (double)b[0] * a[1];
 	}
 	area *= 0.5;
-	if (area < 0.0) { /* make it counter-clockwise */
+	if (area < 0.0) {
 		for (i = 0; i < n / 2; ++i) {
 			float t0 = q[2 * i], t1 = q[2 * i + 1];
 			q[2 * i] = q[2 * (n - 1 - i)];
@@ -17209,7 +17061,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
 		hn = pvs__ep_hull(hp, (int)n, hh);
 		if (hn < 3 || hn > max_hull) return 0;
 		*dent = 0.0;
-		for (i = 0; i < n; ++i) { /* each loop point's distance inside the hull (hp is sorted now) */
+		for (i = 0; i < n; ++i) { /* each loop point's depth inside the hull (hp now sorted) */
 			double best = DBL_MAX;
 			int h;
 			for (h = 0; h < hn; ++h) {
@@ -17251,26 +17103,26 @@ PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
 }
 
 
-/* Scratch of the preparation, sized for the largest object. */
+/* Preparation scratch, sized for the largest object (see pvs__ep_work_alloc). */
 typedef struct pvs__epprepwork {
-	pvs__vx_vkey *ref;	  /* 3 per triangle: the corners, i = 3 t + k */
-	uint32_t *canon;	  /* 3 per triangle: the vertex's id among the object's distinct positions */
-	const float **vpos;   /* per distinct position */
-	uint32_t *owner;	  /* per distinct position: a triangle using it */
-	uint32_t *parent;	  /* per triangle: union-find */
-	uint32_t *order;	  /* per triangle: grouped by component */
-	uint32_t *start;	  /* per triangle + 1: component starts */
-	uint64_t *edges;	  /* 3 per triangle */
-	uint32_t *mark;		  /* per distinct position: last component that listed it */
-	uint32_t *uv;		  /* per distinct position: the component's distinct vertices */
-	pvs__epedge2 *e2;	  /* 3 per triangle: a planar group's edges in its 2D frame */
-	float *q2;			  /* 2 (3 per triangle + 1): the group's polygon */
-	unsigned char *keep;  /* 3 per triangle + 1 */
-	pvs__epend *ends;	  /* 6 per triangle: the loop walk's scratch */
-	uint32_t *gparent;	  /* per triangle of a component: planar groups (union-find) */
-	unsigned char *used;  /* per triangle of a component: merged into a planar polygon */
-	double *hp, *hh;	  /* 2 (3 per triangle + 1): hull scratch */
-	uint64_t *bed;		  /* 3 per triangle: a group's edges */
+	pvs__vx_vkey *ref;	  /* corners, i = 3 t + k */
+	uint32_t *canon;	  /* corner -> id among the object's distinct positions */
+	const float **vpos;   /* distinct positions */
+	uint32_t *owner;	  /* per position: a triangle using it */
+	uint32_t *parent;	  /* union-find */
+	uint32_t *order;	  /* triangles grouped by component */
+	uint32_t *start;	  /* component starts */
+	uint64_t *edges;
+	uint32_t *mark;		  /* per position: last component listing it */
+	uint32_t *uv;		  /* the component's distinct vertices */
+	pvs__epedge2 *e2;	  /* a planar group's edges in its 2D frame */
+	float *q2;			  /* the group's polygon */
+	unsigned char *keep;
+	pvs__epend *ends;	  /* loop walk scratch */
+	uint32_t *gparent;	  /* planar groups in a component (union-find) */
+	unsigned char *used;  /* merged into a planar polygon */
+	double *hp, *hh;	  /* hull scratch */
+	uint64_t *bed;		  /* a group's edges */
 	size_t cap;			  /* triangles */
 } pvs__epprepwork;
 
@@ -17324,8 +17176,8 @@ PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, s
 		w->edges && w->mark && w->uv && w->e2 && w->q2 && w->keep && w->ends && w->gparent && w->used;
 }
 
-/* 1 if the component's distinct vertices (<= PVS__EP_MAXP) lie on one side of each of its triangles' planes, to float
-   precision; *slack: twice the largest violation (the hull exceeds the surface by no more). */
+/* 1 if the component's distinct vertices (<= PVS__EP_MAXP) lie on one side of each triangle's plane, to float
+   precision; *slack: twice the worst violation (the hull exceeds the surface by no more). */
 PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
 										 uint32_t n, double *slack) {
 	uint32_t t, i, k;
@@ -17351,8 +17203,8 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
 	return 1;
 }
 
-/* 1 if every vertex lies within float precision of the component's largest triangle's plane. A flat closed mesh (a
-   two-sided wall) bounds no volume: neither a solid (its hull would fill windows) nor sliced. */
+/* 1 if all vertices are within float precision of the largest triangle's plane. A flat closed mesh (two-sided wall)
+   bounds no volume: neither a solid (its hull would fill windows) nor sliced. */
 PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
 									   uint32_t n) {
 	uint32_t t, i, k, best = 0;
@@ -17382,9 +17234,8 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
 	return 1;
 }
 
-/* The cap of a component whose boundary edges (pairs in bnd) lie exactly in one axis-aligned plane x_k = c, every
-   vertex on one side: *side = +1 if the solid lies where x_k >= c, else -1. Exact, so pvs__ep_slice needs no
-   tolerance. */
+/* Cap of a component whose boundary edges (pairs in bnd) lie exactly in an axis plane x_k = c, all vertices on one
+   side: *side = +1 if the solid is where x_k >= c, else -1. Exact: pvs__ep_slice needs no tolerance. */
 PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv,
 								 uint32_t nuv, int *axis, float *c, int *side) {
 	int k;
@@ -17424,8 +17275,8 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
 #define PVS__EP_TRI(j, k) (s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + (k)])
 #define PVS__EP_CONCAVE_EDGES 256
 
-/* Edges of odd use count (sorted keys, the smaller canonical id high) of triangles tl[ids[i] & 0xffffffff] (ids NULL:
-   tl[i]), i < n, into out (not ids). Returns their count. */
+/* Odd-use edges (sorted keys, smaller canonical id high) of triangles tl[ids[i] & 0xffffffff] (ids NULL: tl[i]), i < n,
+   into out (not ids). Returns the count. */
 PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t *tl, const uint64_t *ids, uint32_t n,
 									   uint64_t *out) {
 	uint32_t i, k, ne = 0, nb = 0;
@@ -17439,15 +17290,15 @@ PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t 
 	for (i = 0; i < ne;) {
 		uint32_t m = i;
 		while (m < ne && out[m] == out[i]) ++m;
-		if ((m - i) & 1u) out[nb++] = out[i]; /* compacted in place: nb <= i */
+		if ((m - i) & 1u) out[nb++] = out[i]; /* compacted in place (nb <= i) */
 		i = m;
 	}
 	return nb;
 }
 
 /* A planar group not forming one convex polygon becomes a concave planar occluder (Durand 2000 §3.4, Fig. 7): boundary
-   edges and plane (unit normal nr / lr, vertices within dev); its points, its vertices' hull, serve selection only.
-   Past PVS__EP_CONCAVE_EDGES edges it stays in pieces. */
+   edges and plane (unit normal nr / lr, vertices within dev); its points (vertex hull) serve selection only. Past
+   PVS__EP_CONCAVE_EDGES edges it stays in pieces. */
 PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 										   pvs__epprepwork *w, uint32_t m, uint32_t cnt, const double *nr, double lr,
 										   double dev, double scale) {
@@ -17462,7 +17313,7 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
 	v = (ax + 2) % 3;
 	nb = pvs__ep_odd_edges(w, tl, w->edges + m, cnt, w->bed);
 	if (nb < 3 || nb > PVS__EP_CONCAVE_EDGES) return PVS_OK;
-	/* the hull of the boundary's vertices (interior ones lie inside) */
+	/* hull of the boundary's vertices (interior ones lie inside) */
 	for (h = 0; h < 2 * nb; ++h) {
 		const float *x = w->vpos[h & 1u ? (uint32_t)(w->bed[h >> 1] & 0xffffffffu) : (uint32_t)(w->bed[h >> 1] >> 32)];
 		w->hp[2 * h] = x[u];
@@ -17501,8 +17352,8 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
 	return PVS_OK;
 }
 
-/* Union-finds into w->gparent (smaller index roots) triangles sharing an edge, coplanar to float precision (`scale`:
-   twice the largest coordinate) and facing alike. Needs 3 n < 2^21 (21-bit packing). */
+/* Union-finds into w->gparent (smaller index roots) edge-sharing triangles coplanar to float precision (`scale`: twice
+   the largest coordinate) facing alike. Needs 3 n < 2^21 (21-bit packing). */
 PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
 									   pvs__epprepwork *w, double scale) {
 	uint32_t j, k, ne = 0, g;
@@ -17516,7 +17367,7 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
 	for (g = 0; g < ne;) {
 		uint32_t h = g + 1;
 		while (h < ne && (w->edges[h] >> 21) == (w->edges[g] >> 21)) ++h;
-		for (k = g; k + 1 < h; ++k) { /* triangles around the edge, pairwise (two-sided walls: four) */
+		for (k = g; k + 1 < h; ++k) { /* triangles around the edge, pairwise (two-sided walls: 4) */
 			uint32_t k2;
 			for (k2 = k + 1; k2 < h && k2 < k + 8; ++k2) {
 				uint32_t ja = (uint32_t)(w->edges[k] & 0x1fffffu), jb = (uint32_t)(w->edges[k2] & 0x1fffffu), m;
@@ -17536,8 +17387,8 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
 	}
 }
 
-/* A planar group's edges in (u, v) into w->e2 (ends ordered, with their triangle); *dev: the farthest vertex from the
-   plane (nr, lr) through A[0]; *area: its area in (u, v). Returns the count. */
+/* A planar group's edges in (u, v) into w->e2 (ends ordered, with their triangle); *dev: farthest vertex from plane
+   (nr, lr) through A[0]; *area: (u, v) area. Returns the count. */
 PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
 										 uint32_t m, uint32_t cnt, const float *const *A, const double *nr, double lr,
 										 uint32_t u, uint32_t v, double *dev, double *area) {
@@ -17566,14 +17417,14 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
 	return e;
 }
 
-/* Adds a planar group's convex polygon (k corners in w->q2, in the (u, v) plane of nr's dominant axis ax) as a planar
+/* Adds a planar group's convex polygon (k corners in w->q2, in the (u, v) plane of nr's dominant axis ax) as an
    occluder, marking its triangles in w->used; nothing if a corner is not a group vertex. */
 PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 									pvs__epprepwork *w, uint32_t m, uint32_t cnt, uint32_t k, const double *nr,
 									double lr, uint32_t ax, double dev, double dent, double scale) {
 	const float *q3[PVS__EP_MAXP];
 	uint32_t i, h, found = 0, u = (ax + 1) % 3, v = (ax + 2) % 3;
-	for (i = 0; i < k; ++i) { /* the corners back in 3D */
+	for (i = 0; i < k; ++i) { /* corners back in 3D */
 		const float *hit = NULL;
 		for (h = m; h < m + cnt && !hit; ++h) {
 			uint32_t t = (uint32_t)(w->edges[h] & 0xffffffffu), c;
@@ -17587,9 +17438,8 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
 	}
 	if (found != k) return;
 	{
-		/* slack: the vertices' distance from a plane through three far-apart corners (the first triangle's plane tilts
-		   with its rounding), doubled for hull and surface, again for the footprint, plus dent |n| / |n_ax| (dent in
-		   (u, v)) */
+		/* slack: vertices' distance from a plane through 3 far-apart corners (the first triangle's plane tilts with
+		   rounding), doubled for hull and surface, again for the footprint, plus dent |n| / |n_ax| (dent in (u, v)) */
 		double best = 0.0, nb[3], lb = 0.0, dev2 = 0.0;
 		uint32_t i1, i2, b1 = 1, b2 = 2;
 		for (i1 = 1; i1 < k; ++i1)
@@ -17614,9 +17464,9 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
 	for (h = m; h < m + cnt; ++h) w->used[(uint32_t)(w->edges[h] & 0xffffffffu)] = 1;
 }
 
-/* Durand 2000 §3.3-3.4: a wall of several triangles must act as one occluder, or each piece loses a strip along every
-   shared edge to its penumbra. Edge-connected, coplanar, like-facing triangles forming one convex polygon of at most
-   PVS__EP_MAXP corners become one planar occluder (marked in w->used); other groups, concave ones. */
+/* Durand 2000 §3.3-3.4: a wall of several triangles must act as one occluder, else each piece loses a strip along
+   every shared edge to its penumbra. Edge-connected, coplanar, like-facing triangles forming one convex polygon of <=
+   PVS__EP_MAXP corners become one planar occluder (marked in w->used); other groups concave ones. */
 PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 											uint32_t n, pvs__epprepwork *w) {
 	uint32_t j, k, g;
@@ -17631,7 +17481,7 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
 			for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, 2.0 * pvs__dabs((double)x[c]));
 		}
 	pvs__ep_planar_groups(s, t0, tl, n, w, scale);
-	/* groups: sorted (root, triangle) pairs, the root the group's first triangle */
+	/* groups: sorted (root, triangle) pairs, root = group's first triangle */
 	for (j = 0; j < n; ++j) w->edges[j] = ((uint64_t)pvs__uf_find(w->gparent, j) << 32) | j;
 	PVS_QSORT(w->edges, n, sizeof(uint64_t), pvs__ep_u64_cmp);
 	for (g = 0; g < n;) {
@@ -17665,9 +17515,9 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
 }
 #undef PVS__EP_TRI
 
-/* Connected components (by shared positions) of an object's triangles into w: canon (corner -> distinct vertex), vpos
-   (its position), parent (root: the smaller index, deterministic), order (by component, in order); start[root] ends as
-   the component's end. */
+/* Connected components (shared positions) of an object's triangles into w: canon (corner -> distinct vertex), vpos (its
+   position), parent (root: smaller index, deterministic), order (by component, in order); start[root] ends as the
+   component's end. */
 PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
 	uint32_t i, nv = 0, sum = 0;
 	for (i = 0; i < 3 * tn; ++i) {
@@ -17705,8 +17555,7 @@ PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn
 	for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__uf_find(w->parent, i)]++] = i;
 }
 
-/* Component `comp`'s boundary (edges of odd use count) into w->edges, returning their count; its vertices into
-   w->uv[0 .. *nuv). */
+/* Component `comp`'s boundary (odd-use edges) into w->edges, returns the count; its vertices into w->uv[0 .. *nuv) */
 PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32_t *tl, uint32_t n, uint32_t comp,
 												uint32_t *nuv) {
 	uint32_t j, k, nb = pvs__ep_odd_edges(w, tl, NULL, n, w->edges);
@@ -17720,7 +17569,7 @@ PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32
 }
 
 /* The component's triangles as planar occluders: merged groups, then consecutive coplanar pairs forming convex quads,
-   then lone triangles of non-zero area. */
+   then lone non-zero-area triangles. */
 PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 											uint32_t n, pvs__epprepwork *w) {
 	uint32_t j, k;
@@ -17746,8 +17595,7 @@ PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scen
 	return PVS_OK;
 }
 
-/* Keeps a closed or capped component for slicing (§3.3): triangles, box and, if capped, boundary edges and cap
-   plane. */
+/* Keeps a closed or capped component for slicing (§3.3): triangles, box, if capped boundary edges and cap plane. */
 PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 										 uint32_t n, const pvs__epprepwork *w, const uint32_t *bnd, uint32_t nb,
 										 int capped, int cap_axis, int cap_side, float cap_value) {
@@ -17762,7 +17610,7 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
 										  sizeof(uint32_t), &r);
 	if (!p->stri) return r;
 	if (capped) {
-		/* pvs__grow_array counts elements of 6 floats */
+		/* pvs__grow_array counts 6-float elements */
 		p->bedge = (float *)pvs__grow_array(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb,
 											6 * sizeof(float), &r);
 		if (!p->bedge) return r;
@@ -17794,12 +17642,12 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
 	return PVS_OK;
 }
 
-/* One component (triangles tl[0 .. n), root `comp`): closed and convex, a solid (capped: only for cells on the cap's
+/* One component (triangles tl[0 .. n), root `comp`): closed and convex: a solid (capped: only for cells on the cap's
    solid side); else its polygons, kept for slicing if closed or capped. */
 PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0,
 												 const uint32_t *tl, uint32_t n, uint32_t comp, uint32_t tn,
 												 pvs__epprepwork *w) {
-	uint32_t nuv, j, k, closed, *bnd = w->owner; /* owner is done with */
+	uint32_t nuv, j, k, closed, *bnd = w->owner; /* owner is free now */
 	uint32_t nb = pvs__ep_component_boundary(w, tl, n, comp, &nuv), tris_local[2 * PVS__EP_MAXP];
 	int capped = 0, cap_axis = 0, cap_side = 0;
 	float cap_value = 0.0f;
@@ -17813,16 +17661,16 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 		capped = pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side);
 	}
 	if (closed || capped) {
-		/* a flat closed or capped mesh bounds no volume */
-		const float **vq = (const float **)w->ref; /* ref is done with: room for 3 tn pointers */
-		uint32_t *tt = w->gparent;				   /* not in use until the polygons */
+		/* flat closed or capped mesh bounds no volume */
+		const float **vq = (const float **)w->ref; /* ref is free now: room for 3 tn pointers */
+		uint32_t *tt = w->gparent;				   /* unused until the polygons */
 		for (j = 0; j < nuv; ++j) vq[j] = w->vpos[w->uv[j]];
 		for (j = 0; j < n; ++j) tt[j] = t0 + tl[j];
 		if (pvs__ep_flat_component(s, tt, n, vq, nuv)) closed = capped = 0;
 	}
 	if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && n <= 2 * PVS__EP_MAXP) {
 		/* a capped solid serves only cells strictly on its side of the cap: a ray from there crosses the cap's plane
-		   once, going away, so it meets the hull (cap included) first on a real face */
+		   once, going away, so meets the hull (cap included) first on a real face */
 		const float *q[PVS__EP_MAXP];
 		double slack;
 		for (j = 0; j < n; ++j) tris_local[j] = t0 + tl[j];
@@ -17840,7 +17688,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 	}
 	r = pvs__ep_add_polygons(p, s, t0, tl, n, w);
 	if (r != PVS_OK || n < 4) return r;
-	for (j = 0; j < n; ++j) { /* a zero-area triangle blocks no ray: not sliced */
+	for (j = 0; j < n; ++j) { /* zero-area triangle blocks no ray: not sliced */
 		const float *c3[3];
 		double nrm[3];
 		for (k = 0; k < 3; ++k) c3[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t0 + tl[j]) + k];
@@ -17855,7 +17703,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_sc
 											  pvs__epprepwork *w) {
 	uint32_t comp;
 	pvs__ep_components(s, t0, tn, w);
-	/* start[root] holds the component's end; components are the roots in order */
+	/* start[root] holds the component's end; components: the roots, in order */
 	for (comp = 0; comp < tn; ++comp) {
 		uint32_t begin, end;
 		pvs_result r;
@@ -17894,7 +17742,7 @@ PVS__STATIC int pvs__ep_flat_axis(const pvs_scene *s, uint32_t t) {
 	return -1;
 }
 
-/* Scratch of the sheets' search: `cap` edges (3 per triangle of one plane). */
+/* Sheet search scratch: `cap` edges (3 per triangle of one plane). */
 typedef struct pvs__epsheetwork {
 	pvs__epedge2 *e;	  /* cap */
 	float *q;			  /* 2 (cap + 1): a piece's polygon */
@@ -17914,7 +17762,7 @@ PVS__STATIC void pvs__ep_sheetwork_free(const pvs_allocator *a, pvs__epsheetwork
 	pvs__free_array(a, w->tarea, w->cap, sizeof(double));
 }
 
-/* Grows the scratch to `cap` edges; 0 when out of memory (what was allocated stays in w). */
+/* Grows the scratch to `cap` edges; 0 if out of memory (what was allocated stays in w). */
 PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwork *w, size_t cap) {
 	if (cap <= w->cap) return 1;
 	pvs__ep_sheetwork_free(a, w);
@@ -18014,9 +17862,8 @@ PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene
 	return PVS_OK;
 }
 
-/* 1 when convex occluder oc stands on sheet S: *on vertices exactly in its plane inside its polygon, the rest on one
-   side (*above), each exactly over one of those or inside their hull; not concave, <= PVS__EP_MAXP points once
-   extended. */
+/* 1 if convex occluder oc stands on sheet S: *on vertices exactly in its plane inside its polygon, the rest on one side
+   (*above), each exactly over one of those or inside their hull; not concave; <= PVS__EP_MAXP points once extended. */
 PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *oc, const pvs__epsheet *S, uint32_t *on,
 								  int *above) {
 	const float *pts = p->pts + 3 * (size_t)oc->first, *poly = p->spoly + 2 * (size_t)S->first;
@@ -18049,8 +17896,7 @@ PVS__STATIC int pvs__ep_stands_on(const pvs__extproj_prep *p, const pvs__epocc *
 	return ok;
 }
 
-/* oc's extended point set: its points plus its `on` points in sheet sh's plane pushed through it by D, away from
-   `above`. */
+/* oc's extended point set: its points plus its `on` points (in sheet sh's plane) pushed by D away from `above`. */
 PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint32_t sh, uint32_t on, int above,
 									  double D) {
 	const pvs__epsheet *S = p->sheet + sh;
@@ -18078,9 +17924,9 @@ PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint
 	return PVS_OK;
 }
 
-/* Finds the largest sheets and extends through them, by the scene's size, the occluders standing on them: the prism
-   under the footprint keeps the occluder convex and lies in the sheet's solid half-space, so from a cell over the sheet
-   on its side it blocks nothing new, and closes the wall-ground seam the two Projections leave open. */
+/* Finds the largest sheets and extends occluders standing on them through them by the scene's size: the prism under the
+   footprint keeps the occluder convex and lies in the sheet's solid half-space, so from a cell over the sheet on its
+   side it blocks nothing new, and closes the wall-ground seam the two Projections leave open. */
 PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) {
 	const pvs_allocator *a = &p->allocator;
 	pvs__epskey *key = NULL;
@@ -18138,7 +17984,7 @@ done:
 	return r;
 }
 
-/* An occluder's size class: area bound < 4^c (the last class open-ended). */
+/* Occluder size class: area bound < 4^c (last class open-ended). */
 PVS__STATIC int pvs__ep_area_class(float area) {
 	int c = 0;
 	float lim = 1.0f;
@@ -18149,7 +17995,7 @@ PVS__STATIC int pvs__ep_area_class(float area) {
 	return c;
 }
 
-/* The occluders of the scene's triangles, object by object, tagged with it. */
+/* Occluders of the scene's triangles, object by object, tagged with it. */
 PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_scene *s, pvs__epprepwork *w) {
 	uint32_t t;
 	for (t = 0; t < s->triangle_count;) {
@@ -18165,7 +18011,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_sc
 	return PVS_OK;
 }
 
-/* The scene's volumes: a BOX is a convex solid, an EXTRUSION's walls quads; CONVEX ones are left out (conservative). */
+/* Scene volumes: a BOX is a convex solid, an EXTRUSION's walls quads; CONVEX ones are left out (conservative). */
 PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *s) {
 	uint32_t o, i;
 	for (o = 0; o < s->occluder_count; ++o) {
@@ -18199,7 +18045,7 @@ PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *
 	}
 }
 
-/* Per size class: the occluders, the largest area and a kD-tree of the boxes (§6.1's sweeps). */
+/* Per size class: the occluders, the largest area and a kD-tree of boxes (§6.1's sweeps). */
 PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err) {
 	const pvs_allocator *a = &p->allocator;
 	pvs_kdtree_desc kd;
@@ -18231,7 +18077,7 @@ PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err)
 	return r;
 }
 
-/* Builds the occluder list of a scene (§6.1 picks among it per cell). */
+/* Builds a scene's occluder list (§6.1 picks among it per cell). */
 PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out,
 											pvs_error *err) {
 	pvs__extproj_prep *p;
@@ -18240,7 +18086,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 	uint32_t t, i;
 	pvs_result r;
 	*out = NULL;
-	memset(&w, 0, sizeof(w)); /* freed below even when its allocation is never tried */
+	memset(&w, 0, sizeof(w)); /* freed below even if never allocated */
 	for (i = 0; i < s->occluder_count; ++i) {
 		const pvs_occluder_desc *d = s->occluders + i;
 		if (d->kind == PVS_OCCLUDER_BOX) { occ_cap += 1; pt_cap += 8; }
@@ -18259,7 +18105,7 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 	p->pt_capacity = pt_cap;
 	p->occ = (pvs__epocc *)pvs__alloc_array(a, occ_cap, sizeof(pvs__epocc));
 	p->pts = (float *)pvs__alloc_array(a, pt_cap * 3, sizeof(float));
-	for (t = 0; t < s->triangle_count;) { /* the largest object (or run of triangles in no object) */
+	for (t = 0; t < s->triangle_count;) { /* largest object (or run of triangles in no object) */
 		uint32_t end = t + 1;
 		while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
 		if (end - t > most) most = end - t;
@@ -18293,18 +18139,17 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 
 /* ---- slices of closed meshes (§3.3) ---- */
 
-/* The slicer's per-cell scratch: segments (x0, y0, x1, y1 in pixels), crossings, a row. */
+/* Slicer per-cell scratch: segments (x0, y0, x1, y1 in pixels), crossings, a row. */
 typedef struct pvs__epslicer {
 	double *seg;
 	double *xs;
 	unsigned char *row;
-	unsigned char *cmark;	 /* res * res (no map or mask is larger): the penumbra of a concave occluder's boundary */
+	unsigned char *cmark;	 /* res * res (no map or mask is larger): a concave occluder's boundary penumbra */
 	size_t cap;			 /* segments */
-	uint32_t width;		 /* row buffer: the longest side of a map or mask */
+	uint32_t width;		 /* row buffer: longest side of a map or mask */
 } pvs__epslicer;
 
-/* Edge-end order for pvs__ep_cross: fixed by position, so both triangles of an edge get the same crossing and the
-   section closes. */
+/* Edge-end order for pvs__ep_cross, fixed by position: both triangles of an edge get one crossing; sections close. */
 PVS__STATIC void pvs__ep_cross(const pvs__epframe *f, const float *a, const float *b, double *x, double *y,
 							   double *mag) {
 	const float *p = a, *q = b;
@@ -18359,8 +18204,8 @@ PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj
 	return nseg;
 }
 
-/* The cap's section by w = W: boundary edges crossing the plane give points on one line, paired in order into segments
-   from nseg on. Returns the new count, or 0xffffffff for an odd count (never when closed). */
+/* Cap's section by w = W: boundary edges crossing the plane give points on one line, paired in order into segments from
+   nseg on. Returns the new count, or 0xffffffff if odd (never when closed). */
 PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
 										 pvs__epslicer *sc, uint32_t nseg, double *mag) {
 	double *pts = sc->xs;
@@ -18374,9 +18219,9 @@ PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__
 		++ncap;
 	}
 	if (ncap & 1u) return 0xffffffffu;
-	/* the line runs along u or v: the cap is axis-aligned, the plane across another axis */
-	key = c->cap_axis == f->u ? 1 : 0; /* the cap fixes u: the line runs along v */
-	for (x = 1; x < ncap; ++x) /* insertion sort by the running coordinate */
+	/* line runs along u or v: cap axis-aligned, plane across another axis */
+	key = c->cap_axis == f->u ? 1 : 0; /* cap fixes u: line runs along v */
+	for (x = 1; x < ncap; ++x) /* insertion sort along the line */
 		for (y = x; y > 0 && pts[2 * y + key] < pts[2 * (y - 1) + key]; --y) {
 			double t0 = pts[2 * y], t1 = pts[2 * y + 1];
 			pts[2 * y] = pts[2 * (y - 1)];
@@ -18454,11 +18299,11 @@ PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *
 	return written;
 }
 
-/* Rasterizes the section of a closed (or capped) component by the plane w = W (Durand 2000 §3.3): pixels inside by
-   parity, at a margin from every segment, get Depth W. Conservative: a cell point V is outside the solid (the cell is
-   outside its box), a section point X inside, so V-X crosses the surface an odd number of times, never the cap (both
-   lie strictly on its solid side): it hits a triangle nearer than W. Vertices on the plane count as beyond it (symbolic
-   perturbation), so segments agree. Returns the pixels written. */
+/* Rasterizes the section of a closed (or capped) component by plane w = W (Durand 2000 §3.3): pixels inside by parity,
+   at a margin from every segment, get Depth W. Conservative: cell point V is outside the solid (the cell is outside its
+   box), section point X inside, so V-X crosses the surface an odd number of times, never the cap (both strictly on its
+   solid side): it hits a triangle nearer than W. Vertices on the plane count as beyond it (symbolic perturbation), so
+   segments agree. Returns pixels written. */
 PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
 								   const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
 	double mag = 0.0;
@@ -18478,18 +18323,17 @@ PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
 	return !c->capped || pvs__ep_cap_ok(c->cap_side, c->cap_axis, c->cap_value, cell);
 }
 
-/* The slice of a sheet's solid half-space (beyond it from the cell, over its polygon): pixels inside by a margin get
-   Depth W. */
+/* Slice of a sheet's solid half-space (beyond it from the cell, over its polygon): pixels in by a margin: Depth W. */
 PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__epsheet *S, int side,
 										 const pvs__epframe *f, float *map, unsigned char *mask) {
-	int k = S->axis, along = f->a == (k + 1) % 3 ? 0 : 1; /* along: polygon coordinate index of the plane's axis */
+	int k = S->axis, along = f->a == (k + 1) % 3 ? 0 : 1; /* polygon coordinate of the plane's axis */
 	const float *poly = p->spoly + 2 * (size_t)S->first;
 	double pos = f->face + f->s * f->W, lo = DBL_MAX, hi = -DBL_MAX, x0, x1, y0, y1, m, mag;
 	int32_t i0, i1, j0, j1, j;
 	uint32_t written = 0, e;
 	float depth = pvs__f_up(f->W);
-	if (k == f->a) return 0; /* a parallel plane would need a polygon fill; such planes gain little */
-	/* the polygon's extent along the line x[a] = pos */
+	if (k == f->a) return 0; /* a parallel plane needs a polygon fill; gains little */
+	/* polygon's extent along the line x[a] = pos */
 	for (e = 0; e < S->count; ++e) {
 		const float *A = poly + 2 * e, *B = poly + 2 * ((e + 1) % S->count);
 		double a0 = A[along], a1 = B[along], t, x;
@@ -18505,7 +18349,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__
 		hi = pvs__dmax(hi, x);
 	}
 	if (!(hi > lo)) return 0;
-	/* to pixels: the sheet's axis k is the plane's u or v, the interval on the other */
+	/* to pixels: sheet axis k is the plane's u or v, the interval on the other */
 	if (f->u == k) {
 		double c = (S->value - f->u0) * f->su;
 		x0 = side > 0 ? -DBL_MAX : c;
@@ -18562,13 +18406,13 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
 	double xs[PVS__EP_CONCAVE_EDGES][4], dir[3], best = 0.0, ea[3] = {0.0, 0.0, 0.0};
 	int c;
 	if (n > PVS__EP_CONCAVE_EDGES) return 0;
-	ea[f.a] = 1.0; /* the clipping line's direction: pn x the axis */
+	ea[f.a] = 1.0; /* clipping line direction: pn x axis */
 	dir[0] = (double)o->pn[1] * ea[2] - (double)o->pn[2] * ea[1];
 	dir[1] = (double)o->pn[2] * ea[0] - (double)o->pn[0] * ea[2];
 	dir[2] = (double)o->pn[0] * ea[1] - (double)o->pn[1] * ea[0];
 	for (c = 0; c < 3; ++c) best = pvs__dmax(best, pvs__dabs(dir[c]));
-	if (!(best > 1e-6)) return 0; /* the plane nearly parallel to the cut: nothing kept */
-	for (q = 0; q < n; ++q) { /* in place: the kept edges move down (nc <= q) */
+	if (!(best > 1e-6)) return 0; /* plane nearly parallel to the cut: nothing kept */
+	for (q = 0; q < n; ++q) { /* in place: kept edges move down (nc <= q) */
 		double A[3], B[3], wa, wb, *out = E + 6 * (size_t)nc;
 		int ia, ib;
 		for (c = 0; c < 3; ++c) { A[c] = E[6 * (size_t)q + c]; B[c] = E[6 * (size_t)q + 3 + c]; }
@@ -18589,7 +18433,7 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
 		++nc;
 	}
 	if (nx & 1u) return 0;
-	for (q = 1; q < nx; ++q) { /* the crossings along the line, then paired */
+	for (q = 1; q < nx; ++q) { /* crossings along the line, then paired */
 		double tmp[4];
 		uint32_t r2 = q;
 		memcpy(tmp, xs[q], sizeof(tmp));
@@ -18603,8 +18447,8 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
 	return nc;
 }
 
-/* Marks in cmark (rows j0..j1, columns i0..i1) the pixels edge e's penumbra may touch: the hull of its ends' 16 views
-   from the corners, widened by rounding and 1e-3 pixel. 0 (all marked) if too far to bound. */
+/* Marks in cmark (rows j0..j1, columns i0..i1) pixels edge e's penumbra may touch: hull of its ends' 16 corner views,
+   widened by rounding and 1e-3 pixel. 0 (all marked) if too far to bound. */
 PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, double base, unsigned char *cmark,
 									  int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
 	const pvs__epframe f = *fp;
@@ -18619,7 +18463,7 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
 			double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
 			pts[k][0] = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su;
 			pts[k][1] = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
-			/* rounding: a few ulps of the terms, widely (the ends are exact) */
+			/* rounding: a few ulps of the terms, widely (ends are exact) */
 			err = pvs__dmax(err,
 							1e-12 *
 								(pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
@@ -18629,7 +18473,7 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
 			++k;
 		}
 	}
-	err += 1e-3; /* to spare for the crossing test (2) */
+	err += 1e-3; /* spare for crossing test (2) */
 	for (k = 0; k < 16; ++k) { hy0 = pvs__dmin(hy0, pts[k][1]); hy1 = pvs__dmax(hy1, pts[k][1]); }
 	hn = pvs__ep_hull(pts, 16, hull);
 	if (!(hy1 - hy0 < 1e9)) { /* too far to bound */
@@ -18676,8 +18520,8 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
 	return 1;
 }
 
-/* Test (2) for pixel (xm, row): 1 when the line from the cell's centre through the pixel's centre meets o's plane
-   before (front) or behind the plane, inside the boundary by parity, farther from it than the slack. */
+/* Test (2) for pixel (xm, row): 1 if the line from the cell's centre through the pixel's centre meets o's plane before
+   (front) or behind the plane, inside the boundary by parity, farther from it than the slack. */
 PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *o, const double *E, uint32_t n,
 									   const double *world0, const double *pn, int pax, int front, double scale,
 									   int32_t xm, int32_t row) {
@@ -18693,7 +18537,7 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
 	t = ((double)o->pd - (pn[0] * world0[0] + pn[1] * world0[1] + pn[2] * world0[2])) / den;
 	if (front ? !(t > 0.0 && t <= 1.0) : !(t >= 1.0)) return 0;
 	for (c = 0; c < 3; ++c) cp[c] = world0[c] + dir[c] * t;
-	for (q = 0; q < n; ++q) { /* parity and distance against the boundary, in (pu, pv) */
+	for (q = 0; q < n; ++q) { /* parity and distance to the boundary, in (pu, pv) */
 		const double *a = E + 6 * (size_t)q, *b = a + 3;
 		double ax = a[pu], ay = a[pv], bx = b[pu], by = b[pv], ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey, s2;
 		if ((ay > cp[pv]) != (by > cp[pv]) && cp[pu] < ax + ex * (cp[pv] - ay) / ey) inside = !inside;
@@ -18702,18 +18546,18 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
 						 sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) +
 							  (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
 	}
-	/* the surface lies within slack of the plane: the line crosses that slab over slack |dir| / |den|, 1 / |n_pax|
-	   longer in (pu, pv); nearer the boundary, not trusted */
+	/* surface within slack of the plane: the line crosses that slab over slack |dir| / |den|, 1 / |n_pax| longer in
+	   (pu, pv); nearer the boundary: not trusted */
 	tol = 4.0 * slack / pvs__dabs(pn[pax]) *
 			pvs__dmax(1.0, sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]) / pvs__dabs(den)) +
 		1e-9 * scale;
 	return inside && best > tol;
 }
 
-/* The Projection of a concave planar occluder P (Durand 2000 §3.4, Fig. 7) wholly in front of the plane or, unless
+/* Projection of a concave planar occluder P (Durand 2000 §3.4, Fig. 7) wholly in front of the plane or, unless
    front_only, behind it. As the cell point moves, a line's crossing with P's plane leaves P only through its boundary,
-   so pixel X is covered when (1) it is outside every boundary edge's penumbra (cmark) and (2) the line from the cell's
-   centre through X crosses P; one test per unmarked run of a row. Depth: the farthest vertex plus the slack. */
+   so pixel X is covered if (1) it is outside every boundary edge's penumbra (cmark) and (2) the line from the cell's
+   centre through X crosses P; one test per unmarked run of a row. Depth: farthest vertex plus the slack. */
 PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o,
 									 int front_only, unsigned char *cmark, float *map, unsigned char *mask) {
 	const pvs__epframe f = *fp;
@@ -18740,7 +18584,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 	}
 	if (wmax + slack <= f.W) front = 1;
 	else if (!front_only && wmin - slack >= f.W) front = 0;
-	else if (slack == 0.0) { /* straddling the plane: its part in front */
+	else if (slack == 0.0) { /* straddling the plane: the part in front */
 		n = pvs__ep_clip_concave(&f, o, E, n, f.W, 0);
 		if (n < 3) return 0;
 		front = 1;
@@ -18800,7 +18644,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 
 /* ---- depth maps with their pyramids, sweep masks ---- */
 
-/* A depth map and its max pyramid (§2.4): a texel is the greatest Depth of its 2 x 2 children. */
+/* Depth map and its max pyramid (§2.4): a texel is the greatest Depth of its 2 x 2 children. */
 typedef struct pvs__epmap {
 	pvs_extproj_plane plane;
 	pvs__epframe frame;
@@ -18810,18 +18654,18 @@ typedef struct pvs__epmap {
 	float *lv[14];
 } pvs__epmap;
 
-/* The max pyramid by pvs__pyramid_level (positive Depths: its SIMD path matches the scalar one). */
+/* Max pyramid by pvs__pyramid_level (positive Depths: its SIMD path matches the scalar one). */
 PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
 	uint32_t l;
 	for (l = 1; l <= m->levels; ++l)
 		pvs__pyramid_level(NULL, m->lv[l - 1], m->lw[l - 1], m->lh[l - 1], NULL, m->lv[l], m->lw[l], m->lh[l], 1, 1, 1);
 }
 
-/* The top-down query of extproj's two pyramids: depth maps (max pyramids: a pixel is open where its Depth >= d) and
-   sweep masks (AND pyramids: open where `bit` is clear). 1 if some level-0 pixel of rect r (x0 y0 x1 y1) under texel
-   (tx, ty) of level l is open. */
+/* Top-down query of extproj's two pyramids: depth maps (max pyramids: a pixel is open where its Depth >= d) and sweep
+   masks (AND pyramids: open where `bit` is clear). 1 if some level-0 pixel of rect r (x0 y0 x1 y1) under texel (tx, ty)
+   of level l is open. */
 typedef struct pvs__ep_pyr {
-	float *const *depth;		   /* the depth map's levels, or NULL for a mask */
+	float *const *depth;		   /* depth map levels; NULL for a mask */
 	unsigned char *const *mask;
 	const uint32_t *lw, *lh;
 	float d;
@@ -18842,7 +18686,7 @@ PVS__STATIC int pvs__ep_open_at(const pvs__ep_pyr *p, uint32_t l, uint32_t tx, u
 	return 0;
 }
 
-/* 1 if some pixel of rect r is open or lies outside the plane: from the finest level where r spans 2 x 2 texels. */
+/* 1 if some pixel of rect r is open or off the plane: from the finest level where r spans 2 x 2 texels. */
 PVS__STATIC int pvs__ep_open(const pvs__ep_pyr *p, const pvs_extproj_plane *plane, uint32_t levels, const int32_t *r) {
 	uint32_t l = 0, tx, ty;
 	if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)plane->width || r[3] >= (int32_t)plane->height) return 1;
@@ -18855,7 +18699,7 @@ PVS__STATIC int pvs__ep_open(const pvs__ep_pyr *p, const pvs_extproj_plane *plan
 	return 0;
 }
 
-/* 1 if some pixel of rect r holds a Depth >= d, or lies outside the plane. */
+/* 1 if some pixel of rect r holds a Depth >= d or is off the plane. */
 PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) {
 	pvs__ep_pyr p;
 	p.depth = m->lv;
@@ -18867,10 +18711,10 @@ PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) 
 	return pvs__ep_open(&p, &m->plane, m->levels, r);
 }
 
-/* A sweep plane (§5): a mask (1 = every ray from the cell through the pixel is blocked before the plane) and its AND
+/* Sweep plane (§5): a mask (1 = every ray from the cell through the pixel is blocked before the plane) and its AND
    pyramid. With sub-cells (nsub = 4) bit j says so for quarter j of the cell (halved across the direction on u: bit 0,
-   v: bit 1; frame sub[j]): their umbrae together are wider than the cell's, and an object is hidden when hidden from
-   each; frame.bits is all four (slices block every ray). nsub = 0: bit 1. */
+   v: bit 1; frame sub[j]): their umbrae together are wider than the cell's; an object is hidden if hidden from each.
+   frame.bits: all four (slices block every ray). nsub = 0: bit 1. */
 #define PVS__EP_MAX_SUB 4
 typedef struct pvs__epmask {
 	pvs_extproj_plane plane;
@@ -18881,13 +18725,13 @@ typedef struct pvs__epmask {
 	pvs__epframe sub[PVS__EP_MAX_SUB];
 } pvs__epmask;
 
-/* The umbrae a mask holds (1 or 4) and the frame of the j-th. */
+/* Umbrae a mask holds (1 or 4) and the frame of the j-th. */
 PVS__STATIC uint32_t pvs__ep_nsub(const pvs__epmask *m) { return m->nsub ? m->nsub : 1u; }
 PVS__STATIC const pvs__epframe *pvs__ep_subframe(const pvs__epmask *m, uint32_t j) {
 	return m->nsub ? m->sub + j : &m->frame;
 }
 
-/* Splits a mask's cell into 4 sub-cells meeting at one midpoint, so they cover the cell. */
+/* Splits a mask's cell into 4 sub-cells meeting at one midpoint, covering the cell. */
 PVS__STATIC void pvs__ep_split_mask(pvs__epmask *m) {
 	uint32_t j;
 	double mu = 0.5 * (m->frame.cu[0] + m->frame.cu[1]), mv = 0.5 * (m->frame.cv[0] + m->frame.cv[1]);
@@ -18902,7 +18746,7 @@ PVS__STATIC void pvs__ep_split_mask(pvs__epmask *m) {
 	m->frame.bits = (unsigned char)((1u << PVS__EP_MAX_SUB) - 1u);
 }
 
-/* The mask's AND pyramid. Not pvs__pyramid_level: no min or max of values gives each sub-cell bit's AND. */
+/* Mask's AND pyramid. Not pvs__pyramid_level: no min or max of values gives each sub-cell bit's AND. */
 PVS__STATIC void pvs__ep_build_mask_pyramid(pvs__epmask *m) {
 	uint32_t l, x, y;
 	for (l = 1; l <= m->levels; ++l) {
@@ -18918,7 +18762,7 @@ PVS__STATIC void pvs__ep_build_mask_pyramid(pvs__epmask *m) {
 	}
 }
 
-/* 1 if some pixel of the rectangle does not have `bit` (or lies outside the plane). */
+/* 1 if some pixel of the rectangle lacks `bit` (or is off the plane). */
 PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r, unsigned char bit) {
 	pvs__ep_pyr p;
 	p.depth = NULL;
@@ -18930,8 +18774,8 @@ PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r, unsign
 	return pvs__ep_open(&p, &m->plane, m->levels, r);
 }
 
-/* Reprojection (§5.1): per column of `to`, the range [lo, hi] of `from`'s pixels on u (per row, on v) that rays from
-   the cell through it cross, extremes at cell corners and pixel edges; lo = -1 outside `from`. */
+/* Reprojection (§5.1): per column of `to`, range [lo, hi] of `from`'s pixels on u (per row, on v) crossed by rays from
+   the cell through it, extremes at cell corners and pixel edges; lo = -1 outside `from`. */
 PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, double W_from, double W_to, double to_k0,
 										double to_sk, uint32_t to_n, double from_k0, double from_sk, uint32_t from_n,
 										int32_t *lo, int32_t *hi) {
@@ -18967,17 +18811,16 @@ typedef struct pvs__epsel {
 } pvs__epsel;
 
 typedef struct pvs__epparams {
-	uint32_t res;		 /* pixels per plane: res x res */
+	uint32_t res;		 /* plane pixels: res x res */
 	uint32_t max_occ;	 /* occluders per direction on §6.1's planes */
-	uint32_t sweep;		 /* occlusion sweep planes per direction (§5), 0 = no sweep */
+	uint32_t sweep;		 /* sweep planes per direction (§5), 0 = none */
 	uint32_t split;		 /* 1: sweep masks hold the cell's 4 quarters' umbrae (pvs__epmask) */
 	uint32_t coarse;	 /* 1 (PVS_BAKE_PREVIEW): object nodes decided whole (pvs__ep_visit) */
 } pvs__epparams;
 
-/* The preview's coarse test (PVS_BAKE_PREVIEW): a node subtending less than PVS__EP_COARSE_ANGLE (diagonal over
-   distance plus the cell's diagonal; about 4 pixels of a 64-pixel plane) is decided whole, past PVS__EP_COARSE_TESTS
-   box tests all are kept. Such nodes number about log(scene / cell) / angle^2 at any scene size. Only hidden boxes are
-   dropped. */
+/* Preview's coarse test (PVS_BAKE_PREVIEW): a node subtending < PVS__EP_COARSE_ANGLE (diagonal over distance plus cell
+   diagonal; ~4 pixels of a 64-pixel plane) is decided whole; past PVS__EP_COARSE_TESTS box tests all are kept. Such
+   nodes number ~log(scene / cell) / angle^2 at any scene size. Only hidden boxes are dropped. */
 #define PVS__EP_COARSE_ANGLE 0.25
 #define PVS__EP_COARSE_TESTS 4096u
 
@@ -18985,9 +18828,9 @@ typedef struct pvs__epcell {
 	const pvs_scene *scene;
 	pvs_box cell;
 	pvs__epmap maps[6 * PVS__EP_PLANES];
-	pvs__epmask *masks;  /* 6 x sweep; masks of direction d: d * sweep .. + mask_count[d] */
+	pvs__epmask *masks;  /* 6 x sweep; direction d's: d * sweep .. + mask_count[d] */
 	uint32_t mask_count[6], sweep;
-	const pvs_word *candidates; /* adaptive cells (§6.1): only the parent's PVS is tested, NULL = all */
+	const pvs_word *candidates; /* adaptive cells (§6.1): test only the parent's PVS; NULL = all */
 	pvs_word *bits;
 	int coarse;					/* pvs__epparams.coarse: */
 	double cell_diag;			/*   the cell's diagonal, */
@@ -19008,7 +18851,7 @@ PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, doub
 	pvs__ep_improved_axis(cu, b->min[f->u], b->max[f->u], w0, w1, f->W, f->u0, f->su, f->width, &ru[0], &ru[1], &anyu);
 	pvs__ep_improved_axis(cv, b->min[f->v], b->max[f->v], w0, w1, f->W, f->v0, f->sv, f->height, &rv[0], &rv[1], &anyv);
 	if (ru[0] < 0 || rv[0] < 0 || ru[1] >= (int32_t)f->width || rv[1] >= (int32_t)f->height) return 0;
-	if (anyu && ru[1] - ru[0] > 8) ru[1] = ru[0] + 8; /* a few candidates are enough */
+	if (anyu && ru[1] - ru[0] > 8) ru[1] = ru[0] + 8; /* a few candidates suffice */
 	if (anyv && rv[1] - rv[0] > 8) rv[1] = rv[0] + 8;
 	for (i = ru[0]; i <= ru[1]; ++i) {
 		r[0] = anyu ? i : ru[0];
@@ -19024,7 +18867,7 @@ PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, doub
 	return 0;
 }
 
-/* A box beyond a sweep plane: §3.1's Projection (every blocked pixel's occluder is nearer); per sub-cell. */
+/* Box beyond a sweep plane: §3.1's Projection (every blocked pixel's occluder is nearer); per sub-cell. */
 PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
 	int32_t r[4];
 	float depth;
@@ -19084,17 +18927,16 @@ PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
 }
 
 /* 1 if some part of object o inside b (its box cut by a leaf) may be seen: ranges of its triangles in file order, their
-   boxes (of their points inside b) tested top-down (Durand 2000 §2.4, §6.1), hidden ones skipped, visible ones
-   halved. It pays only with the sweep (a tree's box is mostly air). Large objects or runs (PVS__EP_PARTS_TRIS,
-   PVS__EP_PARTS_TESTS) are kept. */
+   boxes (of points inside b) tested top-down (Durand 2000 §2.4, §6.1), hidden skipped, visible halved. Pays only with
+   sweeps (a tree's box is mostly air). Large objects or runs (PVS__EP_PARTS_TRIS, PVS__EP_PARTS_TESTS) are kept. */
 #define PVS__EP_PARTS_TRIS 16384u
 #define PVS__EP_PARTS_TESTS 256u
 PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box *b) {
 	const pvs_scene *s = c->scene;
-	uint32_t stack[2 * 34], top = 0, tests = 0; /* a pending half per level: at most 33 ranges */
+	uint32_t stack[2 * 34], top = 0, tests = 0; /* a pending half per level: <= 33 ranges */
 	uint32_t t0 = s->object_triangles[2 * (size_t)o], tn = s->object_triangles[2 * (size_t)o + 1];
 	if (tn < 2 || tn > PVS__EP_PARTS_TRIS) return 1; /* as its box test said */
-	stack[top++] = t0 + tn / 2; /* the whole box was tested: start with the halves */
+	stack[top++] = t0 + tn / 2; /* whole box tested: start with the halves */
 	stack[top++] = t0 + tn;
 	stack[top++] = t0;
 	stack[top++] = t0 + tn / 2;
@@ -19117,7 +18959,7 @@ PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box 
 	return 0;
 }
 
-/* A leaf's object that may be in the PVS: not occluder-only, and a candidate. */
+/* Leaf object that may be in the PVS: not occluder-only, and a candidate. */
 PVS__STATIC int pvs__ep_wanted(const pvs__epcell *c, uint32_t o) {
 	if (c->scene->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY) return 0;
 	return !c->candidates || pvs_bitset_test(c->candidates, o);
@@ -19154,14 +18996,14 @@ PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float d
 	return PVS_VISIT_DESCEND;
 }
 
-/* A box's depths w0, w1 beyond the cell's face in direction d. */
+/* Box depths w0, w1 beyond the cell's face in direction d. */
 PVS__STATIC void pvs__ep_box_w(const pvs_box *cell, const pvs_box *b, int d, double *w0, double *w1) {
 	int a = d >> 1;
 	if (d & 1) { *w0 = (double)cell->min[a] - b->max[a]; *w1 = (double)cell->min[a] - b->min[a]; }
 	else { *w0 = (double)b->min[a] - cell->max[a]; *w1 = (double)b->max[a] - cell->max[a]; }
 }
 
-/* §6.1 plane placement: the pixels an occluder's box fills on the plane at W, axis by axis. */
+/* §6.1 plane placement: pixels an occluder's box fills on the plane at W, axis by axis. */
 PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, int d, double W) {
 	int a = d >> 1, ax[2], k, i, j;
 	double w0, w1, ext = (double)cell->max[a] - cell->min[a], len[2];
@@ -19186,7 +19028,7 @@ PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, 
 		len[k] = hi - lo;
 		if (!(len[k] > 0.0)) return 0.0;
 	}
-	/* that plane's extent grows with W */
+	/* plane extent grows with W */
 	return len[0] * len[1] /
 		   (((double)cell->max[ax[0]] - cell->min[ax[0]] + 2.0 * PVS__EP_EXTEND * (W + ext)) *
 			((double)cell->max[ax[1]] - cell->min[ax[1]] + 2.0 * PVS__EP_EXTEND * (W + ext)));
@@ -19209,12 +19051,12 @@ PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32
 	pl->width = pl->height = res;
 }
 
-/* A sweep mask's longest side (its res^2 pixels spread over what matters, pvs__ep_fit_plane). */
+/* Sweep mask's longest side (its res^2 pixels spread over what matters, pvs__ep_fit_plane). */
 PVS__STATIC uint32_t pvs__ep_max_side(uint32_t res) {
 	return 16u * res < PVS__EP_MAX_SIDE ? 16u * res : PVS__EP_MAX_SIDE;
 }
 
-/* Pixels of a w x h map with `levels` pyramid levels above it. */
+/* Pixels of a w x h map plus `levels` pyramid levels. */
 PVS__STATIC size_t pvs__ep_pyramid_size(uint32_t w, uint32_t h, uint32_t levels) {
 	size_t n = 0;
 	uint32_t k;
@@ -19226,7 +19068,7 @@ PVS__STATIC size_t pvs__ep_pyramid_size(uint32_t w, uint32_t h, uint32_t levels)
 	return n;
 }
 
-/* The pyramid levels above a res x res map (down to 1 x 1, at most 13). */
+/* Pyramid levels above a res x res map (down to 1 x 1, at most 13). */
 PVS__STATIC uint32_t pvs__ep_level_count(uint32_t res) {
 	uint32_t levels = 0;
 	while (res > 1 && levels < 13) {
@@ -19236,16 +19078,16 @@ PVS__STATIC uint32_t pvs__ep_level_count(uint32_t res) {
 	return levels;
 }
 
-/* Counts in a mask's summed-area table: (w + 1) (h + 1) <= res^2 + w + h + 1, and w + h <= side + res. */
+/* Counts in a mask's summed-area table: (w + 1) (h + 1) <= res^2 + w + h + 1, w + h <= side + res. */
 PVS__STATIC size_t pvs__ep_sat_table(uint32_t res) { return (size_t)res * res + pvs__ep_max_side(res) + res + 1; }
 
-/* The sweep's summed-area tables: one per plane of a direction (each read by up to log2(sweep) + 1 later planes) within
+/* Sweep's summed-area tables: one per plane of a direction (each read by <= log2(sweep) + 1 later planes) within
    PVS__EP_SAT_CACHE bytes and sweep >= 2; else two, rebuilt per use. */
 PVS__STATIC size_t pvs__ep_sat_count(uint32_t res, uint32_t sweep) {
 	return (size_t)sweep * pvs__ep_sat_table(res) * sizeof(uint32_t) <= PVS__EP_SAT_CACHE && sweep >= 2 ? sweep : 2;
 }
 
-/* The pixel-sized part of what pvs__extproj_cell allocates (as pvs__ep_scratch_free frees). */
+/* Pixel-sized part of what pvs__extproj_cell allocates (as pvs__ep_scratch_free frees). */
 PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
 	uint32_t res = resolution ? resolution : PVS__EP_DEFAULT_RES, levels = pvs__ep_level_count(res);
 	size_t level_floats, bytes;
@@ -19260,11 +19102,11 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
 	return bytes;
 }
 
-/* Fits a sweep plane (§5) to the span of the cell and the scene's bounds per axis (plus a sliver), spreading a
-   res x res map's pixels over it as (nearly) square pixels within `room` with `levels`; pixels outside count as open.
-   Nothing that could hide is lost: masks are read only by occludees beyond them (§3.1) and by reprojection farther out
-   (§5.1), and rays from the cell to points beyond cross the plane inside the span, which holds the cell's (as
-   pvs__epslab needs). §6.1's planes are not fitted: §4 often hides by pixels outside the span. */
+/* Fits a sweep plane (§5) to the span of the cell and the scene's bounds per axis (plus a sliver), spreading a res x
+   res map's pixels over it as ~square pixels within `room` with `levels`; pixels outside count as open. Nothing that
+   could hide is lost: masks are read only by occludees beyond them (§3.1) and by reprojection farther out (§5.1), and
+   rays from the cell to points beyond cross the plane inside the span, which holds the cell's (as pvs__epslab needs).
+   §6.1's planes are not fitted: §4 often hides by pixels outside the span. */
 PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels,
 								   size_t room, pvs_extproj_plane *pl) {
 	int a = (int)pl->axis, k;
@@ -19276,7 +19118,7 @@ PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, u
 			   m = (hi - lo) / 512.0;
 		float r0 = (double)pl->rect[k] < lo - m ? pvs__f_down(lo - m) : pl->rect[k];
 		float r1 = (double)pl->rect[k + 2] > hi + m ? pvs__f_up(hi + m) : pl->rect[k + 2];
-		if (r1 > r0) { /* else (a flat cell in a flat scene) the plane stays */
+		if (r1 > r0) { /* else (flat cell, flat scene) the plane stays */
 			pl->rect[k] = r0;
 			pl->rect[k + 2] = r1;
 		}
@@ -19311,8 +19153,8 @@ typedef struct pvs__epscratch {
 	size_t nsel, map_floats, mask_bytes, sweep_size, nmask, seen_words;
 	size_t sat_count;	 /* tables: one per plane of a direction, or 2 (pvs__ep_sat_count) */
 	size_t sat_table;	 /* counts per table, enough for any mask */
-	size_t range_count;  /* int32s in `ranges`: 2 x (width + height) of any mask */
-	uint32_t *stamp;	 /* the sweep: one per occluder (pvs__epslab) */
+	size_t range_count;  /* int32s in `ranges`: 2 (width + height) of any mask */
+	uint32_t *stamp;	 /* sweep stamps, one per occluder (pvs__epslab) */
 	size_t stamp_count;
 } pvs__epscratch;
 
@@ -19346,7 +19188,7 @@ PVS__STATIC double pvs__ep_tri_solid_angle(const double *e, const float *a, cons
 	return 2.0 * pvs__dabs(atan2(num, den));
 }
 
-/* Solid angle of an occluder from e: a polygon's by a fan, a solid's by its box (at most three faces face e). */
+/* Solid angle of an occluder from e: a polygon's by a fan, a solid's by its box (<= 3 faces face e). */
 PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__epocc *o, const double *e) {
 	double sum = 0.0;
 	uint32_t i;
@@ -19371,8 +19213,8 @@ PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__ep
 }
 
 /* Selection (§6.1): per direction the n occluders of largest solid angle from the cell's centre beyond the face, by
-   (score, lower index): a total order, independent of visiting order. What cannot enter a heap by its bound
-   (area / distance^2) is skipped. */
+   (score, lower index): a total order, independent of visit order. Those that cannot enter a heap by their bound (area
+   / distance^2) are skipped. */
 typedef struct pvs__epselect {
 	const pvs_scene *scene;
 	const pvs__extproj_prep *p;
@@ -19382,15 +19224,14 @@ typedef struct pvs__epselect {
 	uint32_t n, *nsel;
 	double centre[3];
 	pvs_word *seen;			 /* occluders met in an earlier leaf */
-	int cls;				 /* the size class being swept */
+	int cls;				 /* size class being swept */
 } pvs__epselect;
 
-/* 1 if (score, occ) ranks before the heap entry h. */
 PVS__STATIC int pvs__ep_sel_better(float score, uint32_t occ, const pvs__epsel *h) {
 	return score > h->score || (score == h->score && occ < h->occ);
 }
 
-/* pvs__topk_offer's order: the larger score first, ties to the smaller occluder id. */
+/* pvs__topk_offer's order: larger score first, ties to the smaller occluder id. */
 PVS__STATIC int pvs__ep_sel_before(const void *a, const void *b) {
 	const pvs__epsel *x = (const pvs__epsel *)a;
 	return pvs__ep_sel_better(x->score, x->occ, (const pvs__epsel *)b);
@@ -19403,7 +19244,7 @@ PVS__STATIC void pvs__ep_sel_push(pvs__epsel *h, uint32_t n, uint32_t *count, fl
 	pvs__topk_offer(h, count, n, sizeof(e), &e, pvs__ep_sel_before);
 }
 
-/* 1 when an occluder of this box could, by its solid angle bound, enter a heap of a direction it reaches. */
+/* 1 if an occluder of this box could, by its solid angle bound, enter a heap of a direction it reaches. */
 PVS__STATIC int pvs__ep_sel_wanted(const pvs__epselect *w, const pvs_box *box, double bound) {
 	uint32_t d;
 	for (d = 0; d < 6; ++d) {
@@ -19434,7 +19275,7 @@ PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, flo
 		if (w->candidates && o->object != PVS_NO_OBJECT &&
 			!(w->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
 			!pvs_bitset_test(w->candidates, o->object))
-			continue; /* §6.1: hidden from the parent cell, so redundant (leaving it out is safe) */
+			continue; /* §6.1: hidden from the parent cell, so redundant (safe to leave out) */
 		for (d = 0; d < 3; ++d) {
 			double g = w->centre[d] < o->box.min[d] ? o->box.min[d] - w->centre[d]
 				: w->centre[d] > o->box.max[d]      ? w->centre[d] - o->box.max[d]
@@ -19471,7 +19312,7 @@ PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_pre
 	for (i = 0; i < 3; ++i) w.centre[i] = 0.5 * ((double)cell->min[i] + cell->max[i]);
 	for (d = 0; d < 6; ++d) nsel[d] = 0;
 	memset(seen, 0, PVS_BITSET_WORDS(p->occ_count) * sizeof(pvs_word));
-	/* largest first: the heaps fill with high scores and prune the rest early */
+	/* largest first: heaps fill with high scores, pruning the rest early */
 	for (w.cls = PVS__EP_AREA_CLASSES - 1; w.cls >= 0; --w.cls) {
 		r = pvs_kdtree_sweep(p->occ_tree[w.cls], cell, sweep, sweep_size, pvs__ep_sel_visit, &w);
 		if (r != PVS_OK) return r;
@@ -19503,9 +19344,8 @@ PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_
 	}
 }
 
-/* An occluder's points for a plane of `axis`: extended through its sheet when the cell stands over it on the occluder's
-   side and the extension crosses the axis (along it, it would only push the Depth away); NULL for a capped solid not
-   over the cell. */
+/* Occluder points for a plane of `axis`: extended through its sheet if the cell is over it on the occluder's side and
+   the extension crosses the axis (along it, it only pushes Depth away); NULL: a capped solid not over the cell. */
 PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell,
 										const int *sheet_side, int axis, uint32_t *count) {
 	if (!pvs__ep_cap_ok(o->cap_side, o->cap_axis, o->cap_value, cell)) return NULL;
@@ -19517,7 +19357,7 @@ PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__e
 	return p->pts + 3 * (size_t)o->first;
 }
 
-/* Per sheet: +1 (-1) when the cell lies strictly on its positive (negative) side over its polygon, else 0. */
+/* Per sheet: +1 (-1) if the cell is strictly on its positive (negative) side over its polygon, else 0. */
 PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *cell, int *side) {
 	uint32_t i;
 	for (i = 0; i < p->sheet_count; ++i) {
@@ -19532,10 +19372,9 @@ PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *
 	}
 }
 
-/* §6.1's planes for direction d: one just behind the farthest selected occluder (behind one occluder any plane is
-   equivalent, §7.3; in front it loses it to its penumbra), the others per distance band (far / r^q, far / r^(q-1)],
-   r = PVS__EP_PLANE_RATIO, behind the band's occluder filling most pixels, for nearer occludees and fusion
-   (Fig. 16). */
+/* §6.1's planes for direction d: one just behind the farthest selected occluder (behind an occluder any plane is
+   equivalent, §7.3; in front it loses it to its penumbra), the others per distance band (far / r^q, far / r^(q-1)], r
+   = PVS__EP_PLANE_RATIO, behind the band's occluder filling most pixels, for nearer occludees and fusion (Fig. 16). */
 PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
 									   const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
 									   float *mem, size_t map_floats, pvs__epslicer *sc, const int *sheet_side,
@@ -19590,10 +19429,9 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
 }
 
 /* §5.1 reprojection: marks in `to` (farther than `from`) the pixels whose every ray from the cell crosses blocked
-   pixels of `from`: an umbra inside that of the occluders before `from` (Appendix B), so conservative. The kernel is
-   the true cell's per row and column (pvs__ep_reproject_axis); a summed-area table of from's open pixels decides.
-   Sub-cell j: own kernel and lane of sat_split, windows of 2^16 pixels or more left open. `ranges`: 2 (width + height)
-   of `to`. */
+   pixels of `from`: an umbra inside that of the occluders before `from` (Appendix B), so conservative. Kernel: the true
+   cell's per row and column (pvs__ep_reproject_axis); a summed-area table of from's open pixels decides. Sub-cell j:
+   own kernel and sat_split lane; windows of >= 2^16 pixels left open. `ranges`: 2 (width + height) of `to`. */
 PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, const uint64_t *sat_split,
 									   pvs__epmask *to, int32_t *ranges, uint32_t j) {
 	unsigned char *mask = to->lv[0];
@@ -19629,7 +19467,7 @@ PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *
 	}
 }
 
-/* The summed-area table of a mask's pixels without `bit`: (width + 1) x (height + 1) counts. */
+/* Summed-area table of a mask's pixels without `bit`: (width + 1) x (height + 1) counts. */
 PVS__STATIC void pvs__ep_mask_sat(const pvs__epmask *from, uint32_t *sat, unsigned char bit) {
 	const unsigned char *prev = from->lv[0];
 	uint32_t fw = from->plane.width, fh = from->plane.height, x, y, W1 = fw + 1;
@@ -19644,13 +19482,13 @@ PVS__STATIC void pvs__ep_mask_sat(const pvs__epmask *from, uint32_t *sat, unsign
 	}
 }
 
-/* All sub-cells' summed-area tables at once: 16-bit lane j counts pixels without bit j, modulo 2^64. A window's sum is
-   exact modulo 2^64, so each lane is exact below 2^16 (the caller checks): carries between lanes cancel. */
+/* All sub-cells' summed-area tables at once: 16-bit lane j counts pixels without bit j, mod 2^64. A window's sum is
+   exact mod 2^64, so each lane is exact below 2^16 (caller checks): carries between lanes cancel. */
 PVS__STATIC void pvs__ep_mask_sat_split(const pvs__epmask *from, uint64_t *sat) {
 	const unsigned char *prev = from->lv[0];
 	uint32_t fw = from->plane.width, fh = from->plane.height, x, y, W1 = fw + 1, b;
 	uint64_t inc[16];
-	for (b = 0; b < 16; ++b) /* a 1 in the lanes of the bits clear in b */
+	for (b = 0; b < 16; ++b) /* 1 in the lanes of the bits clear in b */
 		inc[b] = (uint64_t)(~b & 1u) | (uint64_t)((~b >> 1) & 1u) << 16 | (uint64_t)((~b >> 2) & 1u) << 32 |
 			(uint64_t)((~b >> 3) & 1u) << 48;
 	for (x = 0; x <= fw; ++x) sat[x] = 0;
@@ -19676,11 +19514,10 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
 	for (j = 0; j < to->nsub; ++j) pvs__ep_reproject_sat(from, NULL, (const uint64_t *)(void *)sat, to, ranges, j);
 }
 
-/* §5.1 reprojection onto plane `count` from the planes 1, 2, 4, 8, ... back (Appendix B: each one's blocked pixels lie
-   in the umbra of the occluders before it). Each reprojection loses up to a pixel per side to rounding (the cell is a
-   box, not the paper's planar equivalent cell), which a step per plane would add up; the skips take log2(k - j) + 1
-   steps from j to k. `cached` (never with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for
-   one. */
+/* §5.1 reprojection onto plane `count` from planes 1, 2, 4, 8, ... back (Appendix B: each one's blocked pixels lie in
+   the umbra of the occluders before it). Each reprojection loses up to a pixel per side to rounding (the cell is a box,
+   not the paper's planar equivalent cell), which a step per plane would add up; skips take log2(k - j) + 1 steps from j
+   to k. `cached` (never with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for one. */
 PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat,
 										 size_t stride, int cached, int32_t *ranges) {
 	uint32_t back;
@@ -19691,25 +19528,24 @@ PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, 
 	}
 }
 
-/* The occluders a sweep plane takes (§5.2: "we project the occluders which lie in front of the current projection
-   plane P onto P"): those with a part since the previous plane (straddling ones go on each). Skipped: nodes outside
-   that slab, beyond the rectangle sideways (farther out from every cell point), or in the previous umbra. */
+/* Occluders a sweep plane takes (§5.2: "we project the occluders which lie in front of the current projection plane P
+   onto P"): those with a part since the previous plane (straddling ones go on each). Skipped: nodes outside that slab,
+   sideways beyond the rectangle (farther out from every cell point), or in the previous umbra. */
 typedef struct pvs__epslab {
 	const pvs_scene *scene;
 	const pvs__extproj_prep *p;
 	const pvs_box *cell;
 	const pvs_word *candidates;
 	const int *sheet_side;
-	const pvs__epmask *prev;  /* the previous plane, NULL for the first */
-	pvs__epmask *m;			  /* the plane being filled */
+	const pvs__epmask *prev;  /* previous plane, NULL for the first */
+	pvs__epmask *m;			  /* plane being filled */
 	unsigned char *cmark;
 	uint32_t *stamp, serial;  /* occluders met in this traversal (an item comes once per leaf) */
 	double W, Wprev, lo[2], hi[2];
 	int d, cls, axis[2];
 } pvs__epslab;
 
-/* 1 if an occluder or node box can add to the plane: between the planes, in the rectangle, not in the previous
-   umbra. */
+/* 1 if an occluder or node box can add to the plane: between the planes, in the rectangle, not in the last umbra. */
 PVS__STATIC int pvs__ep_slab_wanted(const pvs__epslab *sl, const pvs_box *b) {
 	double w0, w1;
 	int k;
@@ -19750,12 +19586,12 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
 }
 
 /* The occlusion sweep of §5 for direction d: planes from one cell size C ahead (or behind the nearest selected
-   occluder, if farther) to the scene's far end, each holding the reprojected earlier planes (§5.1), the Projections of
-   the occluders since the previous plane and the slices it cuts; their count to *planes. Unlike §5.2
-   (tests/BENCHMARKS.md, extproj): geometric spacing, as dD = D (K - 1) P / (C N) crowds planes near the cell, where
-   small umbrae are short, leaving few far out, where gaps between small occluders close; none nearer than C, as an
-   occluder of width s < C / 2 at w casts an umbra ending before w C / (C - s) < 2 w (nearer occluders still reach the
-   first plane); the far end is the scene's (§6.1 favours near occluders) and holds no plane. */
+   occluder, if farther) to the scene's far end, each holding the reprojected earlier planes (§5.1), Projections of the
+   occluders since the previous plane and the slices it cuts; count to *planes. Unlike §5.2 (tests/BENCHMARKS.md,
+   extproj): geometric spacing, as dD = D (K - 1) P / (C N) crowds planes near the cell, where small umbrae are short,
+   leaving few far out, where gaps between small occluders close; none nearer than C, as an occluder of width s < C / 2
+   at w casts an umbra ending before w C / (C - s) < 2 w (nearer occluders still reach the first plane); the far end is
+   the scene's (§6.1 favours near occluders) and holds no plane. */
 PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
 											const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
 											pvs__epscratch *w, const int *sheet_side, const pvs_word *candidates,
@@ -19782,7 +19618,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 	}
 	if (!(Wend > 0.0)) return PVS_OK;
 	if (!(C > 0.0)) C = pvs__dmax(ext, 1e-6);
-	/* the first plane at C or just behind the nearest occluder (only there does a flat occluder facing it lie wholly in
+	/* first plane at C or just behind the nearest occluder (only there does a flat occluder facing it lie wholly in
 	   front), then `sweep` planes up to the far end, exclusive */
 	W0 = pvs__dmax(W0 + 1e-3 * (W0 + ext), C);
 	Wend += 1e-3 * (Wend + ext);
@@ -19839,7 +19675,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 	return PVS_OK;
 }
 
-/* One cell's PVS (Durand 2000 §6.1): per direction the selected occluders on §6.1's planes and §5's sweep, then the
+/* One cell's PVS (Durand 2000 §6.1): per direction the selected occluders on §6.1's planes and §5's sweep, then
    occludees front to back. `candidates` (adaptive sub-cell): only the parent's visible objects are tested, others'
    occluders left out. */
 PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
@@ -19933,7 +19769,7 @@ done:
 
 typedef struct pvs__extproj_bake {
 	pvs_allocator allocator;
-	pvs__extproj_prep *prep;  /* the scene's occluders, read-only in tasks */
+	pvs__extproj_prep *prep;  /* scene's occluders, read-only in tasks */
 	pvs__epparams prm;
 } pvs__extproj_bake;
 
@@ -19958,7 +19794,7 @@ PVS__STATIC pvs_result pvs__extproj_bake_check(const pvs_bake_desc *desc, pvs_er
 	return PVS_OK;
 }
 
-/* The parameters: desc's, else the defaults (PREVIEW: coarse; AUTO: with the sweep). */
+/* Parameters: desc's, else the defaults (PREVIEW: coarse; AUTO: with the sweep). */
 PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
 												 pvs_error *err) {
 	pvs__extproj_bake *x = (pvs__extproj_bake *)pvs__alloc(&env->allocator, sizeof(pvs__extproj_bake), 16);
@@ -19987,7 +19823,7 @@ PVS__STATIC int pvs__extproj_bake_applies(const void *state, const char **why) {
 	return any;
 }
 
-/* Tests only the candidates (when given) and sets none of the other objects. */
+/* Tests only the candidates (if given); sets none of the other objects. */
 PVS__STATIC pvs_result pvs__extproj_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
 											  const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
 											  unsigned *flags, pvs_error *err) {
@@ -20014,29 +19850,28 @@ PVS__STATIC const pvs__bake_method pvs__extproj_method = {
 
 /* ---- the 2.5D path: per-sample occlusion horizons ----
 
-   Wonka 2000 §2.1: the cell's PVS is the union of its samples'. A sample's visibility is an occlusion horizon over
-   PVS__HZ_BINS angular bins around the eye (height H): a facade of height T at ground distance dc hides a point at
-   distance r > dc and height z when (z - H) / r < (T - H) / dc. A bin one chain of shrunk facades covers wholly
-   (shared corners: no crack) is crossed by all its rays between dmin and dmax, so beyond dmax it hides below slope
-   (T - H) / dmax (T >= H) or (T - H) / dmin (T < H); per bin a staircase of (distance, slope) steps keeps the best.
-   A box is hidden when every bin its ground rectangle touches has, at its least distance, a slope above its steepest
-   sight line. Occluders go front to back, occluded ones skipped (§3.4). Angles are bin-exact, the rest rounded
-   safe. */
+   Wonka 2000 §2.1: a cell's PVS is the union of its samples'. Per sample, an occlusion horizon over PVS__HZ_BINS
+   angular bins around the eye (height H): a facade of height T at ground distance dc hides a point at distance r > dc,
+   height z when (z - H) / r < (T - H) / dc. A bin one chain of shrunk facades covers wholly (shared corners: no crack)
+   is crossed by all its rays between dmin and dmax, so beyond dmax it hides below slope (T - H) / dmax (T >= H) or
+   (T - H) / dmin (T < H); per bin a staircase of (distance, slope) steps keeps the best. A box is hidden if every bin
+   its ground rectangle touches has, at its least distance, a slope above its steepest sight line. Occluders go front to
+   back, occluded ones skipped (§3.4). Angles are bin-exact, the rest rounded safe. */
 
-/* The horizon's angular resolution (0.23 degree at 1536); finer bins, an eps / 2 column grid, more steps and
-   per-triangle tests gained nothing (tests/BENCHMARKS.md, shrink). */
+/* Angular resolution: 0.23 degree at 1536. Finer bins, an eps / 2 column grid, more steps, per-triangle tests: no gain
+   (tests/BENCHMARKS.md, shrink). */
 #define PVS__HZ_BINS 1536
 #define PVS__HZ_STEPS 6
 
-/* Angles are pseudo-angles in [0, 4) (the "diamond angle": monotone in the true angle, a quarter turn per unit, no
-   trigonometry); bin b covers [4 b / BINS, 4 (b + 1) / BINS). */
+/* Pseudo-angles in [0, 4) ("diamond angle": monotone in the true angle, a quarter turn per unit, no trigonometry); bin
+   b covers [4 b / BINS, 4 (b + 1) / BINS). */
 typedef struct pvs__hz {
 	double eu, ev, H, w;						 /* the eye; bin width (pseudo-angle) */
-	double dir[PVS__HZ_BINS + 1][2];			 /* ray direction at each bin boundary (unnormalized) */
+	double dir[PVS__HZ_BINS + 1][2];			 /* ray direction per bin boundary (unnormalized) */
 	double dlen[PVS__HZ_BINS + 1];				 /* its length */
 	uint8_t nstep[PVS__HZ_BINS];
 	float step_r[PVS__HZ_BINS][PVS__HZ_STEPS];	 /* ascending */
-	float step_s[PVS__HZ_BINS][PVS__HZ_STEPS];	 /* ascending with r (dominated steps dropped) */
+	float step_s[PVS__HZ_BINS][PVS__HZ_STEPS];	 /* ascending with r (dominated dropped) */
 	/* per chain */
 	uint32_t stamp[PVS__HZ_BINS], cur;
 	uint8_t full[PVS__HZ_BINS], npart[PVS__HZ_BINS];
@@ -20067,8 +19902,8 @@ PVS__STATIC void pvs__hz_init(pvs__hz *z) {
 }
 PVS__STATIC double pvs__hz_lo(const pvs__hz *z, int32_t b) { return b * z->w; }
 PVS__STATIC double pvs__hz_hi(const pvs__hz *z, int32_t b) { return b + 1 == PVS__HZ_BINS ? 4.0 : (b + 1) * z->w; }
-/* The bin of pseudo-angle a, consistent with pvs__hz_lo / pvs__hz_hi (w is no power of two: floor(a / w) can put an
-   angle just below b w in bin b, so a facade ending there would claim bin b - 1). */
+/* Bin of pseudo-angle a, consistent with pvs__hz_lo / hi (w is no power of two: floor(a / w) can put an angle just
+   below b w in bin b, so a facade ending there would claim bin b - 1). */
 PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
 	int32_t b = (int32_t)floor(a / z->w);
 	b = b < 0 ? 0 : b >= PVS__HZ_BINS ? PVS__HZ_BINS - 1 : b;
@@ -20077,15 +19912,15 @@ PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
 	return b;
 }
 
-/* Distance from the eye along bin boundary k's ray to line p-q (relative ground points); -1 if parallel. */
+/* Distance along boundary ray k from the eye to line p-q (eye-relative ground points); -1 if parallel. */
 PVS__STATIC double pvs__hz_ray(const pvs__hz *z, int32_t k, const double p[2], const double q[2]) {
 	double dx = z->dir[k][0], dy = z->dir[k][1], ex = q[0] - p[0], ey = q[1] - p[1], den = dx * ey - dy * ex;
 	if (den == 0.0) return -1.0;
 	return (p[0] * ey - p[1] * ex) / den * z->dlen[k];
 }
 
-/* Bin b's part [a0, a1] a facade seen from its outer side covers, crossed at distances d0, d1, its line nearest at
-   angle afoot, distance dfoot. */
+/* Bin b's part [a0, a1] covered by a facade seen from outside, crossed at distances d0, d1, its line nearest at angle
+   afoot, distance dfoot. */
 PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot,
 							   double afoot) {
 	double lo, hi;
@@ -20106,11 +19941,11 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 		if (lo < z->dmin[b]) z->dmin[b] = lo;
 	}
 	if (a0 <= pvs__hz_lo(z, b) && a1 >= pvs__hz_hi(z, b)) z->full[b] = 1;
-	else if (!z->full[b]) { /* covered parts: up to 4 disjoint intervals, merged where they meet */
+	else if (!z->full[b]) { /* up to 4 disjoint covered intervals, merged where they meet */
 		uint32_t i, n = z->npart[b];
 		double *L = z->plo[b], *R = z->phi[b];
 		for (i = 0; i < n;) {
-			if (a0 <= R[i] && a1 >= L[i]) { /* absorb and look again */
+			if (a0 <= R[i] && a1 >= L[i]) { /* absorb, rescan */
 				a0 = pvs__dmin(a0, L[i]);
 				a1 = pvs__dmax(a1, R[i]);
 				L[i] = L[n - 1];
@@ -20119,7 +19954,7 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 			} else ++i;
 		}
 		if (n < 4) { L[n] = a0; R[n] = a1; ++n; }
-		else { /* full: keep the longest (less coverage: conservative) */
+		else { /* full: keep the longest (less coverage: safe) */
 			uint32_t sh = 0;
 			for (i = 1; i < 4; ++i)
 				if (R[i] - L[i] < R[sh] - L[sh]) sh = i;
@@ -20135,18 +19970,18 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	double p[2], q[2], cr, a, b, fx, fy, t, afoot, dfoot, len2, d1;
 	int32_t b0, b1, k;
-	/* relative to the eye, swapped (counter-clockwise from p to q if seen from outside) */
+	/* eye-relative, swapped (p to q counter-clockwise if seen from outside) */
 	q[0] = pf[0] - z->eu; q[1] = pf[1] - z->ev;
 	p[0] = qf[0] - z->eu; p[1] = qf[1] - z->ev;
 	cr = q[0] * p[1] - q[1] * p[0];
 	len2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]);
 	if (!(pvs__dabs(cr) > 1e-12 * (q[0] * q[0] + q[1] * q[1] + p[0] * p[0] + p[1] * p[1]))) return; /* seen edge-on */
-	/* the occluder lies left of pf -> qf; only facades seen from outside matter: a sight line enters through one */
+	/* occluder left of pf -> qf; only facades seen from outside matter: a sight line enters through one */
 	if (!(cr < 0.0)) return;
 	/* counter-clockwise from p (angle a) to q (angle b), under a half turn */
 	a = pvs__hz_angle(p[0], p[1]);
 	b = pvs__hz_angle(q[0], q[1]);
-	/* the line's nearest point to the eye */
+	/* the line's point nearest the eye */
 	t = -(p[0] * (q[0] - p[0]) + p[1] * (q[1] - p[1])) / len2;
 	fx = p[0] + t * (q[0] - p[0]);
 	fy = p[1] + t * (q[1] - p[1]);
@@ -20155,7 +19990,7 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	b0 = pvs__hz_bin(z, a);
 	b1 = pvs__hz_bin(z, b);
 	if (b < a) b1 += PVS__HZ_BINS; /* across angle 0 */
-	d1 = sqrt(p[0] * p[0] + p[1] * p[1]); /* the previous bin's upper crossing is this one's lower */
+	d1 = sqrt(p[0] * p[0] + p[1] * p[1]); /* previous bin's upper crossing is this one's lower */
 	for (k = b0; k <= b1; ++k) {
 		int32_t bk = k % PVS__HZ_BINS;
 		double s0 = k == b0 ? a : pvs__hz_lo(z, bk), s1 = k == b1 ? b : pvs__hz_hi(z, bk), d0 = d1;
@@ -20164,7 +19999,7 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	}
 }
 
-/* Inserts step (r, s) into bin b: from distance r on the slope is at least s. */
+/* Inserts step (r, s) into bin b: from distance r on, slope >= s. */
 PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
 	uint32_t n = z->nstep[b], i, j;
 	float *R = z->step_r[b], *S = z->step_s[b];
@@ -20173,28 +20008,28 @@ PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
 	for (i = 0, j = 0; i < n; ++i)
 		if (!(R[i] >= r && S[i] <= s)) { R[j] = R[i]; S[j] = S[i]; ++j; }
 	n = j;
-	if (n == PVS__HZ_STEPS) --n; /* full: forget the farthest (still conservative) */
+	if (n == PVS__HZ_STEPS) --n; /* full: drop the farthest (still safe) */
 	for (i = n; i > 0 && R[i - 1] > r; --i) { R[i] = R[i - 1]; S[i] = S[i - 1]; }
 	R[i] = r;
 	S[i] = s;
 	z->nstep[b] = (uint8_t)(n + 1);
 }
 
-/* The best slope of bin b for points at distance >= d (-FLT_MAX: none). */
+/* Best slope of bin b for points at distance >= d (-FLT_MAX: none). */
 PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
 	uint32_t i, n = z->nstep[b];
 	float best = -FLT_MAX;
-	/* steps ascend in distance and slope: the last one not beyond d is the best (branch-free: faster) */
+	/* steps ascend in distance and slope: the last not beyond d is best (branch-free) */
 	for (i = 0; i < n; ++i) best = (double)z->step_r[b][i] <= d ? z->step_s[b][i] : best;
 	return best;
 }
 
-/* Bins [*b0, *b1] (b1 >= BINS when wrapping) and least and greatest ground distance of rectangle u0..u1, v0..v1 from
-   the eye; 0 if the eye is inside or on it. The span runs counter-clockwise between silhouette corners. */
+/* Bins [*b0, *b1] (b1 >= BINS if wrapping), least and greatest ground distance from the eye of rectangle u0..u1,
+   v0..v1; 0 if the eye is in or on it. The span runs counter-clockwise between silhouette corners. */
 PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1,
 							 double *dmin, double *dmax) {
-	/* the corners where the rectangle starts and ends counter-clockwise, by region 3 rx + ry: bits 3, 2 (start) and
-	   1, 0 (end) pick x1 over x0, y1 over y0 */
+	/* corners where the rectangle starts and ends counter-clockwise, by region 3 rx + ry: bits 3, 2 (start) and 1, 0
+	   (end) pick x1 over x0, y1 over y0 */
 	static const unsigned char ends[9] = {9, 1, 3, 8, 0, 7, 12, 14, 6};
 	double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, as, ae, xs[2], ys[2];
 	int e, rx = x0 > 0.0 ? 0
@@ -20222,7 +20057,7 @@ PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, 
 	return 1;
 }
 
-/* Distance along boundary ray k from the eye into the rectangle (relative coordinates); DBL_MAX if none. */
+/* Distance along boundary ray k from the eye into the rectangle (eye-relative); DBL_MAX if none. */
 PVS__STATIC double pvs__hz_enter(const pvs__hz *z, int32_t k, double x0, double y0, double x1, double y1) {
 	double dx = z->dir[k][0], dy = z->dir[k][1], t0 = 0.0, t1 = DBL_MAX;
 	if (dx != 0.0) {
@@ -20238,8 +20073,8 @@ PVS__STATIC double pvs__hz_enter(const pvs__hz *z, int32_t k, double x0, double 
 	return t1 >= t0 ? t0 * z->dlen[k] : DBL_MAX;
 }
 
-/* 1 if the box may be visible: some bin its ground rectangle touches lacks, from its least distance there on, a slope
-   above the box's steepest sight line. */
+/* 1 if the box may be visible: some bin its ground rectangle touches lacks, from its least distance on, a slope above
+   the box's steepest sight line. */
 PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int v, uint32_t up) {
 	int32_t b0, b1, k;
 	double dmin, dmax, need, top = bx->max[up], x0, y0, x1, y1, ca[4], near_a;
@@ -20252,7 +20087,7 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
 			if (!((double)pvs__hz_query(z, k % PVS__HZ_BINS, dmin) > need)) return 1;
 		return 0;
 	}
-	/* wide boxes: per bin the rectangle's least distance in its wedge (at the rays, inner corners, nearest point) */
+	/* wide boxes: per bin, the rectangle's least distance in its wedge (at the rays, inner corners, nearest point) */
 	x0 = bx->min[u] - z->eu; x1 = bx->max[u] - z->eu; y0 = bx->min[v] - z->ev; y1 = bx->max[v] - z->ev;
 	ca[0] = pvs__hz_angle(x0, y0);
 	ca[1] = pvs__hz_angle(x1, y0);
@@ -20263,7 +20098,7 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
 		near_a = pvs__hz_angle(nx, ny);
 	}
 	{
-		/* bins interleaved (every 8th first): a visible box's open run is found early */
+		/* bins interleaved (every 8th first): finds a visible box's open run early */
 		static const int32_t order[8] = {0, 4, 2, 6, 1, 5, 3, 7};
 		int32_t o8;
 		for (o8 = 0; o8 < 8; ++o8)
@@ -20307,24 +20142,24 @@ PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
 			if (!(z->dmin[b] > 0.0)) continue;
 			sl = (T - z->H) / z->dmin[b];
 		}
-		/* to float toward the safe side: a margin far above float's half ulp (6e-8) */
+		/* round to float toward the safe side: margin far above float's half ulp (6e-8) */
 		pvs__hz_insert(z, b, (float)(z->dmax[b] * (1.0 + 1e-6)), (float)(sl - 1e-6 * pvs__dabs(sl) - 1e-30));
 	}
 }
 
-/* The three walks of a cell (pvs_shrink_cell checks o->scene is the cell's scene). */
+/* A cell's three walks (pvs_shrink_cell checks o->scene is the cell's scene). */
 typedef struct pvs__shrink_walk {
 	const pvs_occluders *o;
 	pvs__hz *hz;
 	const pvs_box *cell;
 	pvs_word *visible;
-	uint32_t *remaining;	   /* per object hierarchy node: its objects not yet found */
+	uint32_t *remaining;	   /* per object hierarchy node: objects not yet found */
 	pvs_shrink_stats *st;
 	int u, v;
 } pvs__shrink_walk;
 #define PVS__SHRINK_NEAR 0	   /* objects meeting the cell or under its top face: visible unsampled */
 #define PVS__SHRINK_SAMPLE 1   /* a sample's objects, nodes hidden from it (§3.4) or all found skipped */
-#define PVS__SHRINK_HORIZON 2  /* the sample's horizon: the chains, nearer child first, hidden ones skipped (§3.4) */
+#define PVS__SHRINK_HORIZON 2  /* the sample's horizon: chains, nearer child first, hidden ones skipped (§3.4) */
 
 PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int v) {
 	double du = pvs__dmax(0.0, pvs__dmax(b->min[u] - z->eu, z->eu - b->max[u])),
@@ -20380,9 +20215,9 @@ PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *
 /* §3: "sample points need only be placed on the edges of the top of the view cells". For a heightfield occluder O and
    a point P outside the cell's footprint R, say V on the top face (height H) sees P. In the vertical plane through P
    and V the ground segment crosses R's boundary at W'. If P is not above H, P-W' lies above P-V, so W' sees P; else
-   moving V away from P to the boundary point W keeps P-W above P-V up to V and above H beyond, where no column of O in
-   R reaches. O being the shrunk occluder's eps-neighbourhood (which no real sight line enters), the edges decide when
-   no column within eps of R rises above H - eps (with the appendix's theorem). */
+   moving V away from P to boundary point W keeps P-W above P-V up to V and above H beyond, where no column of O in R
+   reaches. With O the shrunk occluder's eps-neighbourhood (no real sight line enters it), the edges decide when no
+   column within eps of R rises above H - eps (with the appendix's theorem). */
 PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
 	const pvs__vx_cols *cm = &o->cols;
 	uint32_t i0, i1, j0, j1, i, j;
@@ -20396,7 +20231,7 @@ PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box 
 }
 
 /* The 2.5D path (§3): samples on the cell's top face (a 2.5D occluder hides from a point only what it hides from all
-   points above it): on its edges every 2 eps when pvs__shrink_edges_suffice allows, else a grid of spacing eps sqrt(2);
+   points above it): on its edges every 2 eps if pvs__shrink_edges_suffice allows, else a grid of spacing eps sqrt(2);
    per sample its horizon (§3.4) and the objects it may see. */
 PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
 									   pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
@@ -20469,8 +20304,8 @@ done:
 
 #define PVS__SHRINK_RES 64u
 
-/* 1 when box bx may reach into the view from p along axis dax (positive when pos): lateral offsets within 1.1 x the
-   distance ahead, a superset of the 1.6 rad square frustum with room for rounding. *dn, *df: its least and greatest
+/* 1 if box bx may reach into the view from p along axis dax (positive if pos): lateral offsets within 1.1 x the
+   distance ahead, a superset of the 1.6 rad square frustum with room for rounding. *dn, *df: least and greatest
    distance ahead. */
 PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, int pos, double *dn, double *df) {
 	int l;
@@ -20502,13 +20337,13 @@ PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax
 typedef struct pvs__shrink3d {
 	const pvs_scene *s;
 	const pvs_occluders *o;
-	pvs_raster *r;			  /* PVS__SHRINK_RES square; the eroded boxes as one occluder mesh */
-	float *pos;				  /* 24 per eroded box: its corners */
-	uint32_t *idx;			  /* 36 per eroded box: its faces' triangles */
-	uint32_t *sel;			  /* 36 per eroded box: the boxes a view draws */
-	uint32_t *cand;			  /* per object: the objects a view tests */
+	pvs_raster *r;			  /* PVS__SHRINK_RES square; eroded boxes as one occluder mesh */
+	float *pos;				  /* 24 per eroded box: corners */
+	uint32_t *idx;			  /* 36 per eroded box: faces' triangles */
+	uint32_t *sel;			  /* 36 per eroded box: boxes a view draws */
+	uint32_t *cand;			  /* per object: objects a view tests */
 	pvs_word *seen;			  /* objects found visible (or set on entry) */
-	float nearp;			  /* the views' near plane */
+	float nearp;			  /* views' near plane */
 	pvs_shrink_stats *st;
 } pvs__shrink3d;
 
@@ -20700,7 +20535,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 		}
 	}
 	if (st.occluders == 0 || st.excluded) {
-		/* nothing survived the erosion, or a left-out cell: every drawable object is set */
+		/* nothing survived erosion, or a left-out cell: every drawable object is set */
 		uint32_t i;
 		for (i = 0; i < s->object_count; ++i)
 			if (!(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i))
@@ -20726,8 +20561,8 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 /* ---- the SHRINK bake method (a row of >>bake's table) ---- */
 
 /* Default eps: an eighth of the cells' median smallest ground extent (Wonka 2000 §4.1: 1 m for cells of several
-   metres), in double (a cell 6e38 wide has no float extent), kept between a millionth of the scene's diagonal (no
-   underflow to 0) and the diagonal. Any eps > 0 is conservative. */
+   metres), in double (a cell 6e38 wide has no float extent), clamped to [a millionth of the scene's diagonal (no
+   underflow to 0), the diagonal]. Any eps > 0 is conservative. */
 PVS__STATIC double pvs__cell_ground_extent(const pvs_box *c, int u, int v) {
 	double e = (double)c->max[u] - c->min[u], f = (double)c->max[v] - c->min[v];
 	return f < e ? f : e;
@@ -20757,7 +20592,7 @@ PVS__STATIC float pvs__shrink_default_eps(const pvs_box *cells, uint32_t n, uint
 typedef struct pvs__shrink_bake {
 	pvs_allocator allocator;
 	pvs_occluders *occluders;
-	pvs_occluders *occluders_leak; /* built with every cell seeding, for the cells the first left out */
+	pvs_occluders *occluders_leak; /* built with every cell seeding, for cells the first left out */
 	pvs_shrink_mode mode;
 } pvs__shrink_bake;
 
@@ -20855,8 +20690,8 @@ PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state)
 	pvs__free(&sh->allocator, sh, sizeof(*sh), 16);
 }
 
-/* AUTO's price of SHRINK: a depth cube per sample point on a cell's faces (pvs__shrink_face): class 3 for a mean of
-   294 points (a cube of side 8 eps), +1 per doubling. */
+/* AUTO's price of SHRINK: a depth cube per sample point on a cell's faces (pvs__shrink_face): class 3 for a mean of 294
+   points (a cube of side 8 eps), +1 per doubling. */
 PVS__STATIC int pvs__shrink_price(const pvs_bake_desc *desc, const void *state) {
 	pvs_box sb = pvs_scene_bounds(desc->scene);
 	double points = 0.0, ref = 2.0 * 294.0 * desc->cell_count, n[3], eps = desc->eps;
@@ -20887,11 +20722,11 @@ PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) {
 }
 
 // >>bake
-/* ==== bake: validated cells, one task per cell, results in cell order whatever the run order ==== */
+/* ==== bake: validated cells, a task per cell, results in cell order whatever the run order ==== */
 
 struct pvs_bake {
-	pvs__bake_env env;		   /* what the methods see: scene, allocator, cells, eps, flags */
-	pvs_box *cells;			   /* per task: the shard's cells in id order */
+	pvs__bake_env env;		   /* what methods see: scene, allocator, cells, eps, flags */
+	pvs_box *cells;			   /* per task: the shard's cells, id order */
 	uint32_t cell_count;	   /* the shard's (task_count) */
 	uint32_t total_cell_count, shard_index, shard_count;
 	uint32_t object_count;
@@ -20900,7 +20735,7 @@ struct pvs_bake {
 	unsigned char *done;	   /* cell_count flags, each written by its task only */
 	pvs_method method;
 	uint32_t max_chain;
-	/* considered (AUTO: all candidates, in run order) and run methods; a task's PVS intersects theirs (conservative) */
+	/* considered (AUTO: all candidates, run order) and run methods; a task's PVS intersects theirs (conservative) */
 	const pvs__bake_method *considered[PVS_METHOD_COUNT];
 	const char *reason[PVS_METHOD_COUNT];
 	float sample_gain[PVS_METHOD_COUNT]; /* by considered index: AUTO's sample (pvs__bake_auto_sample); -1 costly */
@@ -20910,18 +20745,18 @@ struct pvs_bake {
 	const pvs__bake_method *run[PVS_METHOD_COUNT];
 	uint32_t run_count;
 	void *state[PVS_METHOD_COUNT]; /* by pvs_method: prepared states */
-	uint32_t *stats;		   /* per task: run_count own PVS sizes, then run_count sole-cull counts */
+	uint32_t *stats;		   /* per task: run_count own PVS sizes, run_count sole-cull counts */
 	unsigned char *restored;   /* per task: restored (no stats) */
 	float max_distance;
-	unsigned char *cell_flags; /* per task, written by its task: PVS__BAKE_* */
-	uint32_t drawable;		   /* objects that can appear in a PVS */
+	unsigned char *cell_flags; /* per task, written by it: PVS__BAKE_* */
+	uint32_t drawable;		   /* objects that can be in a PVS */
 	uint32_t adaptive_budget;  /* adaptive cells (§6.1); 0 = off */
 	float adaptive_min_size;
 	uint32_t *object_triangles;/* adaptive: triangles per object */
 	struct pvs__bakeleaves *leaves; /* adaptive: per task, its leaf cells */
 };
 
-/* An adaptive task's leaf cells and their PVSs. */
+/* An adaptive task's leaf cells and PVSs. */
 typedef struct pvs__bakeleaves {
 	size_t count, capacity;
 	pvs_box *boxes;
@@ -20936,7 +20771,7 @@ PVS__STATIC const pvs__bake_method *const pvs__bake_methods[] = {
 	&pvs__portal_method};
 #define PVS__BAKE_METHOD_COUNT (sizeof(pvs__bake_methods) / sizeof(pvs__bake_methods[0]))
 
-/* NULL for AUTO, DEFAULT and unknown values. */
+/* NULL for AUTO, DEFAULT, unknown values. */
 PVS__STATIC const pvs__bake_method *pvs__bake_method_row(pvs_method m) {
 	uint32_t k;
 	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k)
@@ -20948,7 +20783,7 @@ PVS__STATIC void *pvs__bake_method_state(const pvs_bake *b, pvs_method m) {
 	return b && (int)m >= 0 && m < PVS_METHOD_COUNT ? b->state[m] : NULL;
 }
 
-/* Prepares the method's per-bake state (read-only in the tasks). */
+/* Prepares the method's per-bake state (read-only in tasks). */
 PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, const pvs__bake_method *row, const pvs_bake_desc *desc,
 										 pvs_error *err) {
 	return row->prepare(&b->env, desc, &b->state[row->method], err);
@@ -21016,7 +20851,7 @@ PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *
 	return PVS_OK;
 }
 
-/* 1 only when all of a is surely farther than d from all of b: exact gaps in double, their sum within a few 1e-16
+/* 1 only if all of a is surely farther than d from all of b: exact gaps in double, their sum within a few 1e-16
    relative, under the 1e-9 margin; boxes at d or a hair beyond stay. */
 PVS__STATIC int pvs__box_beyond(const pvs_box *a, const pvs_box *b, float d) {
 	double sum = 0.0;
@@ -21030,7 +20865,7 @@ PVS__STATIC int pvs__box_beyond(const pvs_box *a, const pvs_box *b, float d) {
 	return sum > (double)d * (double)d * (1.0 + 1e-9);
 }
 
-/* Checks a bake desc: the driver's parameters, each method's, the cells. *mask: the methods AUTO considers. */
+/* Checks a bake desc: driver parameters, each method's, the cells. *mask: the methods AUTO considers. */
 PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask, pvs_error *err) {
 	const pvs__bake_method *row;
 	pvs_method method;
@@ -21151,7 +20986,7 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 				r = pvs__bake_prepare(b, m, desc, err);
 				if (r != PVS_OK && r != PVS_ERROR_UNSUPPORTED) return r;
 				if (r == PVS_ERROR_UNSUPPORTED) why = "not available in the bake driver";
-				else if (!m->applies || m->applies(b->state[m->method], &why)) { /* priced again, with its state */
+				else if (!m->applies || m->applies(b->state[m->method], &why)) { /* priced again, with state */
 					costly = ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(b, m, desc) - cheapest) > 1.0;
 					if (!m->applies) why = "conservative";
 					b->ran[b->considered_count] = (unsigned char)!costly;
@@ -21173,16 +21008,16 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 	return PVS_OK;
 }
 
-/* AUTO's sample (CONCEPTS, Methods): the methods that apply are prepared for PVS_AUTO_SAMPLE_CELLS cells spread
-   over all the bake's cells (a shard's too: shards decide alike) and each bakes them alone. Greedily, the smallest
-   PVS's method is kept (ties: the cheaper), then, best ratio first, those culling beyond the kept
-   PVS_AUTO_MIN_GAIN of it, doubled per class (pvs__bake_price) above the first kept's, halved below. The kept are
-   prepared for every cell. Only for the default set, 4 times the sample's cells or more, no PREVIEW. */
+/* AUTO's sample (CONCEPTS, Methods): the applicable methods are prepared for PVS_AUTO_SAMPLE_CELLS cells spread over
+   all the bake's cells (a shard's too: shards decide alike), each baking them alone. Greedily, the smallest PVS's
+   method is kept (ties: the cheaper), then, best ratio first, those culling beyond the kept PVS_AUTO_MIN_GAIN of it,
+   doubled per class (pvs__bake_price) above the first kept's, halved below. The kept are prepared for every cell. Only
+   for the default set, 4 x the sample's cells or more, no PREVIEW. */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
 }
 
-/* The greedy choice over the S sample cells of sd (prepared for them): b->run keeps the chosen methods. */
+/* Greedy choice over the S sample cells of sd (prepared for them): b->run keeps the chosen methods. */
 PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *sd, pvs_error *err) {
 	uint32_t n = b->run_count, S = sd->cell_count, s, k, i, keep[PVS_METHOD_COUNT], kept = 0;
 	int c0 = 0;
@@ -21201,7 +21036,7 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 								bits + ((size_t)s * (n + 1) + k) * words, &flags, err);
 		}
 	for (k = 0; k < n; ++k) keep[k] = 0;
-	while (r == PVS_OK && kept < n) { /* the next method: the largest gain over the kept intersection, by its price */
+	while (r == PVS_OK && kept < n) { /* next: largest gain over the kept intersection, by its price */
 		uint32_t best = n;
 		int best_price = 0;
 		double best_gain = -1.0, sum, need;
@@ -21212,7 +21047,7 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 				const pvs_word *own = bits + ((size_t)s * (n + 1) + k) * words;
 				for (w = 0; w < words; ++w) sum += (double)pvs__popcount64((kept ? cur[w] : ~(pvs_word)0) & ~own[w]);
 			}
-			for (i = 0; i < b->considered_count; ++i) /* kept: its gain when chosen; skipped: its last */
+			for (i = 0; i < b->considered_count; ++i) /* kept: gain when chosen; skipped: its last */
 				if (b->considered[i] == b->run[k]) b->sample_gain[i] = (float)(sum / S);
 			int price = pvs__bake_price(b, b->run[k], sd);
 			need = kept ? ldexp(PVS_AUTO_MIN_GAIN * base, price - c0) : 1.0;
@@ -21252,8 +21087,8 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 	return PVS_OK;
 }
 
-/* AUTO with the sample (pvs__bake_wants_sample): choose on the sample's preparations, then prepare the kept methods
-   for every cell. */
+/* AUTO with the sample (pvs__bake_wants_sample): choose on the sample's preparations, then prepare the kept methods for
+   every cell. */
 PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc *desc, uint32_t mask,
 												pvs_error *err) {
 	pvs_box sample[PVS_AUTO_SAMPLE_CELLS];
@@ -21278,7 +21113,7 @@ PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc
 	b->env.cell_count = desc->cell_count;
 	b->env.eps = desc->eps;
 	if (r != PVS_OK) return r;
-	for (k = 0; k < b->run_count; ++k) { /* the kept methods, for every cell */
+	for (k = 0; k < b->run_count; ++k) { /* kept methods, for every cell */
 		const char *why = "conservative";
 		const pvs__bake_method *m = b->run[k];
 		r = pvs__bake_prepare(b, m, desc, err);
@@ -21364,7 +21199,7 @@ PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *b, uint32_t task) {
 PVS_API pvs_method pvs_bake_method(const pvs_bake *b) { return b->method; }
 PVS_API float pvs_bake_eps(const pvs_bake *b) { return b->env.eps; }
 
-/* The draw distance (pvs_bake_desc.max_distance), rounded toward keeping. */
+/* Draw distance (pvs_bake_desc.max_distance), rounded toward keeping. */
 PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_word *bits) {
 	uint32_t i;
 	if (!(b->max_distance > 0.0f)) return;
@@ -21389,7 +21224,7 @@ PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, 
 	return PVS_OK;
 }
 
-/* Triangles of a PVS's objects (the polygon budget of §6.1). */
+/* Triangles of a PVS's objects (polygon budget of §6.1). */
 PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits) {
 	uint64_t n = 0;
 	uint32_t o;
@@ -21524,7 +21359,7 @@ PVS_API void pvs_bake_get_report(const pvs_bake *b, pvs_bake_report *r) {
 		if (!b->done[i] || b->restored[i]) continue;
 		++r->cells;
 		r->cells_all_visible += (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE) != 0;
-		/* AUTO: no occluders for a method (otree, shrink) means nothing when another culled */
+		/* AUTO: no occluders for one method (otree, shrink) means nothing if another culled */
 		r->cells_no_occluders += (b->cell_flags[i] & PVS__BAKE_NO_OCCLUDERS) &&
 			(b->run_count == 1 || (b->cell_flags[i] & PVS__BAKE_ALL_VISIBLE));
 		r->cells_otree_budget += (b->cell_flags[i] & PVS__BAKE_OTREE_BUDGET) != 0;
@@ -21556,7 +21391,7 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_w
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0,
 						 "restore: a %s bake cannot resume from PVSs: run task %u again", pvs_method_name(b->method),
 						 task);
-	if (b->adaptive_budget) /* the file stores the leaves, which the cell's PVS does not carry */
+	if (b->adaptive_budget) /* the file stores the leaves, which the cell's PVS lacks */
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0,
 						 "restore: an adaptive bake cannot resume from PVSs: run task %u again", task);
 	if ((b->object_count & 63u) && (bits[b->words - 1] >> (b->object_count & 63u)))
@@ -21636,7 +21471,7 @@ PVS__STATIC int pvs__bake_all_done(const pvs_bake *b) {
 	return 1;
 }
 
-/* All tasks' adaptive leaves in task order, as one table (the caller frees it with the sizes returned). */
+/* All tasks' adaptive leaves in task order, as one table (caller frees it with the sizes returned). */
 PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cells, pvs_word **pvs, size_t *count) {
 	size_t n = 0, k = 0, bytes;
 	uint32_t i;
@@ -21658,7 +21493,7 @@ PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cell
 	return PVS_OK;
 }
 
-/* Encodes the bake (measures only when out is NULL). */
+/* Encodes the bake (only measures if out is NULL). */
 PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t capacity, size_t *out_size,
 										pvs_error *err) {
 	pvs_file_desc fd;
@@ -21712,7 +21547,7 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__TREE_MAX_DEPTH 24u		   /* deepest look-up tree a reader accepts */
 #define PVS__SHRD_SIZE 16u
 #define PVS__BLOCK 16u					/* records per RECS offset block */
-#define PVS__CANDIDATES 8u				/* base candidates per cell: the nearest by the sweep */
+#define PVS__CANDIDATES 8u				/* base candidates per cell: nearest by the sweep */
 #define PVS__TREE_LEAF 4u				/* most cells per look-up leaf */
 #define PVS__RICE_MAX_K 24u
 #define PVS__TAG(a, b, c, d) ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))
@@ -21845,7 +21680,7 @@ PVS__STATIC pvs__coded pvs__set_measure(const pvs_word *bits, uint32_t n) {
 	uint32_t count = 0, pairs = 0, k, pos = 0;
 	pvs__coded best;
 	memset(shifted, 0, sizeof(shifted));
-	/* a run of L ids after z absent ones gives gaps z, 0, ..., 0: sizes are sums over runs, not ids */
+	/* a run of L ids after z absent ones gives gaps z, 0, ..., 0: sizes sum over runs, not ids */
 	while (pos < n) {
 		uint32_t one = pvs_bitset_next(bits, n, pos), zero, z, len;
 		if (one >= n) break;
@@ -21940,7 +21775,7 @@ PVS__STATIC void pvs__set_write(const pvs_word *bits, uint32_t n, const pvs__cod
 enum { PVS__SET_CHECK = 0, PVS__SET_ADD = 1, PVS__SET_REMOVE_RANKS = 2 };
 typedef struct pvs__sink {
 	int action;
-	pvs_word *bits;			   /* the PVS being built (not CHECK) */
+	pvs_word *bits;			   /* PVS being built (not CHECK) */
 	uint32_t words;
 	pvs_change_fn fn;		   /* optional change reports */
 	void *user;
@@ -21974,7 +21809,7 @@ PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t cou
 		s->bits[s->w] &= ~take;
 		s->removed += k;
 		count -= k;
-		if (count) { /* the run goes on: nothing before the next words is left to skip */
+		if (count) { /* run goes on: nothing before the next words is left to skip */
 			s->before += pvs__popcount64(s->bits[s->w]);
 			++s->w;
 			target = s->before;
@@ -22098,7 +21933,7 @@ PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint3
 	for (c = 0; c < count; ++c) {
 		uint64_t quot = 0, g, w = pvs__peek56(q, nbits, bit);
 		uint32_t ones;
-		if (~w & (((uint64_t)1 << 56) - 1u)) { /* the unary run ends in the window */
+		if (~w & (((uint64_t)1 << 56) - 1u)) { /* unary run ends in the window */
 			ones = pvs__ctz64(~w);
 			quot = ones;
 			if (bit + ones + 1u + k > nbits) goto bad;
@@ -22178,7 +22013,7 @@ PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint
 /* ---- encoder ---- */
 
 typedef struct pvs__heapent {
-	uint32_t weight, node, from; /* from: base cell + 1; 0: the virtual root (a key) */
+	uint32_t weight, node, from; /* from: base cell + 1; 0: virtual root (a key) */
 } pvs__heapent;
 
 PVS__STATIC int pvs__heap_less(const void *pa, const void *pb) {
@@ -22188,7 +22023,7 @@ PVS__STATIC int pvs__heap_less(const void *pa, const void *pb) {
 	return a->from < b->from;
 }
 
-/* How many of the ascending t[0..n) lie below v (or_equal: not above it): v's index when t holds it once. */
+/* How many of ascending t[0..n) lie below v (or_equal: not above it): v's index if t holds it once. */
 PVS__STATIC uint32_t pvs__count_below(const float *t, uint32_t n, float v, int or_equal) {
 	uint32_t lo = 0, hi = n;
 	while (lo < hi) {
@@ -22258,7 +22093,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 					}
 				}
 		}
-		if (best_axis != 3) { /* the exact counts (flat cells at the split go left) must still make progress */
+		if (best_axis != 3) { /* exact counts (flat cells at the split go left) must still make progress */
 			uint32_t left = 0, right = 0;
 			for (i = 0; i < n; ++i) {
 				const pvs_box *c = b->boxes + ids[i];
@@ -22326,7 +22161,7 @@ PVS__STATIC int pvs__edge_cmp(const void *x, const void *y) {
 PVS__STATIC uint32_t pvs__zigzag(int64_t d) { return (uint32_t)(d >= 0 ? 2 * (uint64_t)d : 2 * (uint64_t)(-d) - 1u); }
 PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z >> 1) + 1u) : (int64_t)(z >> 1); }
 
-/* Everything the encoder allocates, freed in one place. */
+/* All the encoder allocates, freed in one place. */
 typedef struct pvs__encoder {
 	pvs_allocator a;
 	const pvs_file_desc *d;
@@ -22335,7 +22170,7 @@ typedef struct pvs__encoder {
 	pvs_box *boxes;			   /* the cells as stored (-0 as +0) */
 	float *values[3];
 	uint32_t value_count[3], index_bits[6]; /* widths: min indices, then extents */
-	pvs_kdtree *tree;		   /* over the cells: base candidates */
+	pvs_kdtree *tree;		   /* over cells: base candidates */
 	uint8_t *tree_stream;	   /* TREE nodes */
 	size_t tree_bytes;
 	uint32_t tree_depth;
@@ -22408,9 +22243,9 @@ PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) 
 }
 
 /* Bases: edges from each cell to its nearest cells (kD-tree sweep), a virtual root joined to all at their key size;
-   Prim's tree from the root, an edge weighed on reach by the delta's coded size that way and taken only while its chain
-   stays within K (a greedy depth-bounded minimum arborescence); cells linked to the root are keys. Ties break by
-   (weight, cell, base): deterministic. */
+   Prim's tree from the root, an edge weighed on reach by the delta's coded size and taken only while its chain stays
+   within K (a greedy depth-bounded minimum arborescence); cells linked to the root are keys. Ties break by (weight,
+   cell, base): deterministic. */
 PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
 	const pvs_allocator *a = &e->a;
 	uint32_t i, c;
@@ -22481,7 +22316,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 		pvs__pq_pop(e->heap, &heap_n, sizeof(h), &h, pvs__heap_less);
 		v = h.node;
 		if (e->placed[v]) continue;
-		if (h.from && e->depth[h.from - 1] >= max_chain) continue; /* the chain would exceed K */
+		if (h.from && e->depth[h.from - 1] >= max_chain) continue; /* chain would exceed K */
 		e->placed[v] = 1;
 		e->base[v] = h.from ? h.from - 1 : PVS_NO_CELL;
 		e->depth[v] = h.from ? e->depth[h.from - 1] + 1 : 0;
@@ -22499,7 +22334,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 	return PVS_OK;
 }
 
-/* Writes the RECS body to `out`, or measures it when out is NULL. */
+/* Writes the RECS body to `out`, or measures it if out is NULL. */
 PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
 	uint32_t blocks = (e->cells + PVS__BLOCK - 1) / PVS__BLOCK, i;
 	size_t pos = 4 * ((size_t)blocks + 1);
@@ -22536,7 +22371,7 @@ PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
 	return pos;
 }
 
-/* pvs_file_encode's checks, each with its error; *max_chain: K; *vocc_size: the VOCC section's size (0: none). */
+/* pvs_file_encode's checks, each with its error; *max_chain: K; *vocc_size: VOCC section size (0: none). */
 PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_chain, size_t *vocc_size,
 										 pvs_error *err) {
 	pvs_result r;
@@ -22626,7 +22461,7 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 	td.boxes = e->boxes;
 	td.count = e->cells;
 	td.allocator = e->a;
-	{ /* cells over 16 times the lower-quartile extent on an axis cross many split planes */
+	{ /* cells over 16 x the lower-quartile extent on an axis cross many split planes */
 		float *ext = (float *)pvs__alloc_array(&e->a, e->cells, sizeof(float)), med[3];
 		if (!ext) return PVS__OOM(err, "cell extents");
 		for (k = 0; k < 3; ++k) {
@@ -22786,7 +22621,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	for (i = 0; i < e.cells; ++i) keys += e.base[i] == PVS_NO_CELL;
 	recs_size = pvs__encoder_records(&e, NULL);
 
-	/* sections in the manual's order, each 8-aligned */
+	/* sections in the manual's order, 8-aligned */
 	sections = d->shard_count ? 5u : 4u;
 	tags[0] = PVS__TAG_META; sz[0] = PVS__META_SIZE;
 	tags[1] = PVS__TAG_CELL; sz[1] = cell_bytes;
@@ -22970,7 +22805,7 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 	return PVS_OK;
 }
 
-/* TREE, as the manual lays it out. Splits and axes lie apart so a level costs one dependent load. */
+/* TREE, as the manual lays it out. Splits and axes lie apart: a level costs one dependent load. */
 PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const uint8_t *t, uint32_t size,
 									  pvs_error *err) {
 	uint64_t off = (uint64_t)(t - base), need;
@@ -23123,13 +22958,13 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 	return PVS_OK;
 }
 
-/* The sections pvs_file_open knows, as the table places them (NULL: absent). */
+/* Sections pvs_file_open knows, as the table places them (NULL: absent). */
 typedef struct pvs__open_sections {
 	const uint8_t *meta, *cells, *tree, *recs, *shrd, *vocc, *scne;
 	uint32_t meta_size, cells_size, tree_size, recs_size, shrd_size, vocc_size, scne_size;
 } pvs__open_sections;
 
-/* The header, in the format table's order. *count_out: the section count. */
+/* The header, in the format table's order. *count_out: section count. */
 PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t *count_out, pvs_error *err) {
 	uint32_t count, crc;
 	if (size < 4 || memcmp(p, "PVS\x1a", 4) != 0)
@@ -23160,7 +22995,7 @@ PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t 
 	return PVS_OK;
 }
 
-/* The section table, rules as in the manual; known tags into *sec. */
+/* Section table, rules as in the manual; known tags into *sec. */
 PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t count, pvs__open_sections *sec,
 									   pvs_error *err) {
 	uint32_t i, j;
@@ -23333,7 +23168,7 @@ PVS_API void pvs_file_get_record_info(const pvs_file *f, uint32_t cell, pvs_reco
 }
 
 // >>runtime
-/* ==== runtime: cell look-up through the stored kD-tree, decoding, the cursor; no allocation ==== */
+/* ==== runtime: cell look-up via the stored kD-tree, decoding, the cursor; no allocation ==== */
 
 /* Cell c's coordinate indices, min then max per axis (one 64-bit read when the six fit). */
 PVS__STATIC void pvs__cell_indices(const pvs_file *f, uint32_t c, uint32_t idx[6]) {
@@ -23368,7 +23203,7 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
 	return b;
 }
 
-/* Does cell c contain p? The look-up's inner loop, with pvs__cell_indices' fast path inlined. */
+/* Does cell c contain p? The look-up's inner loop, pvs__cell_indices' fast path inlined. */
 PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[3]) {
 	uint32_t idx[6];
 	int k;
@@ -23464,14 +23299,14 @@ PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bi
 	uint32_t chain[PVS_MAX_CHAIN + 1], n = 0;
 	pvs__rec r;
 	memset(bits, 0, word_count * sizeof(pvs_word));
-	for (;;) { /* from the cell to its key: at most max_chain + 1 records (checked by open) */
+	for (;;) { /* cell to key: at most max_chain + 1 records (checked by open) */
 		pvs__record_at(f, cell, &r);
 		chain[n++] = cell;
 		if (!r.depth) break;
 		cell = r.base;
 	}
 	pvs__record_apply(f, &r, bits, NULL, NULL); /* the key */
-	while (--n) {								 /* then each delta on top of its base */
+	while (--n) {								 /* then each delta over its base */
 		pvs__record_at(f, chain[n - 1], &r);
 		pvs__record_apply(f, &r, bits, NULL, NULL);
 	}
@@ -23520,7 +23355,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 	if (cell != PVS_NO_CELL && cell >= f->cell_count) return PVS_ERROR_INVALID_ARGUMENT;
 	if (cell == c->cell) return PVS_OK;
 	if (cell != PVS_NO_CELL && c->cell != PVS_NO_CELL) {
-		/* one delta when the new cell's base is the current cell */
+		/* one delta if the new cell's base is the current cell */
 		pvs__rec r;
 		pvs__record_at(f, cell, &r);
 		if (r.base == c->cell) {
