@@ -19,7 +19,7 @@ TOOL_OBJ := $(patsubst tools/%.c,$(B)/obj/%.o,$(TOOL_LIB))
 TOOLS    := $(B)/pvsbake $(B)/pvsinfo $(B)/pvscheck $(B)/pvsgen $(B)/pvsview $(B)/pvsimport
 TEST_SRC := tests/impl.c tests/test_extproj.c tests/test_noalloc.c tests/main.c tests/test_core.c tests/test_format.c tests/test_kdtree.c \
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c \
-            tests/test_shrink.c tests/test_auto.c tests/test_examples.c tests/test_vocc.c tests/test_bsp.c tests/test_portal.c tools/mesh.c tools/bsp.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
+            tests/test_shrink.c tests/test_auto.c tests/test_examples.c tests/test_vocc.c tests/test_bsp.c tests/test_portal.c tests/test_seethrough.c tools/mesh.c tools/bsp.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
 
 .PHONY: all tools test test-neon demo bench verify fuzz clean compile-checks readme-check examples cullmap-images lint
 all: tools
@@ -44,6 +44,8 @@ compile-checks: tests/compile_check.c pvs.h
 	$(CC) -std=c99 -Wall -Wextra -Werror -DCHECK_STATIC -fsyntax-only tests/compile_check.c
 	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror -DPVS_NO_SIMD -DCHECK_HOOKS -fsyntax-only tests/compile_check.c
 	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror -DPVS_NO_SIMD -DPVS_NO_STDIO -DCHECK_SORT -fsyntax-only tests/compile_check.c
+	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror -DPVS_RUNTIME_ONLY -fsyntax-only tests/compile_check.c
+	$(CXX) -x c++ -std=c++11 -pedantic -Wall -Wextra -Werror -DPVS_RUNTIME_ONLY -fsyntax-only tests/compile_check.c
 
 # one object per source, so that make -j compiles them side by side (the three that hold a copy of the
 # implementation first: they take longest)
@@ -71,7 +73,7 @@ readme-check: README.md pvs.h
 lint:
 	sh tests/lint.sh
 
-test: lint $(B)/pvstest compile-checks readme-check tools $(B)/pvsruntime
+test: lint $(B)/pvstest compile-checks readme-check tools $(B)/pvsruntime $(B)/pvsdoor
 	cd $(B) && ./pvstest -j 0
 
 # NEON (not part of `make test`): the test binary built for aarch64, static, its raster group run under
@@ -96,7 +98,7 @@ $(B)/pvsruntime: examples/runtime_minimal.c pvs.h
 	@mkdir -p $(B)
 	$(CC) $(CFLAGS) -o $@ examples/runtime_minimal.c -lm
 
-examples: $(B)/pvsdemo $(B)/pvscullmap $(B)/pvswalkthrough $(B)/pvsforest $(B)/pvsindoor $(B)/pvsruntime
+examples: $(B)/pvsdemo $(B)/pvscullmap $(B)/pvswalkthrough $(B)/pvsforest $(B)/pvsindoor $(B)/pvsdoor $(B)/pvsruntime
 
 cullmap-images: $(B)/pvscullmap
 	@mkdir -p $(B)/cullmap
@@ -105,7 +107,7 @@ cullmap-images: $(B)/pvscullmap
 # make demo: the city baked on 2 cores (otree: see examples/demo.c), the walkthrough with its plot and
 # frames, pvsview's map of the bake, the methods side by side on the forest and the indoor plan, and
 # the runtime on a memory buffer. Everything lands in build/demo/.
-demo: $(B)/pvsdemo $(B)/pvswalkthrough $(B)/pvsview $(B)/pvsforest $(B)/pvsindoor $(B)/pvsruntime $(B)/pvsgen
+demo: $(B)/pvsdemo $(B)/pvswalkthrough $(B)/pvsview $(B)/pvsforest $(B)/pvsindoor $(B)/pvsdoor $(B)/pvsruntime $(B)/pvsgen
 	@mkdir -p $(B)/demo
 	./$(B)/pvsdemo -j 2 -o $(B)/demo/city.pvs
 	./$(B)/pvswalkthrough --pvs $(B)/demo/city.pvs -o $(B)/demo
@@ -113,6 +115,7 @@ demo: $(B)/pvsdemo $(B)/pvswalkthrough $(B)/pvsview $(B)/pvsforest $(B)/pvsindoo
 	./$(B)/pvsview $(B)/demo/city.obj $(B)/demo/city.pvs -o $(B)/demo/view.png --cell-at 346 1.7 388 --frame 346 1.7 388 1 -0.03 0
 	./$(B)/pvsforest -o $(B)/demo
 	./$(B)/pvsindoor -o $(B)/demo
+	./$(B)/pvsdoor -o $(B)/demo
 	./$(B)/pvsruntime $(B)/demo/city.pvs
 
 # The benches: tests/bench_NAME.c -> build/bench_NAME on the tool objects, except bench_kdtree, which
@@ -130,6 +133,9 @@ bench: $(patsubst %,$(B)/bench_%,$(BENCHES)) $(B)/pvswalkthrough tools
 	@set -e; for b in $(filter-out vocc,$(BENCHES)); do echo "./$(B)/bench_$$b"; ./$(B)/bench_$$b; done
 	./$(B)/pvswalkthrough --bench
 	./$(B)/bench_vocc
+	@printf '#define PVS_RUNTIME_ONLY\n#define PVS_IMPLEMENTATION\n#include "pvs.h"\n' > $(B)/runtime_only.c
+	@$(CC) -std=c99 -O2 -I. -c -o $(B)/runtime_only.o $(B)/runtime_only.c
+	@size $(B)/runtime_only.o | awk 'NR == 2 { print "BENCH runtime_text_bytes " $$1 " bytes" }'
 	sh tests/bench_maps.sh
 
 # Fuzzing the file reader: a libFuzzer build (clang) seeded with tests/corpus, FUZZ_SECONDS long, and

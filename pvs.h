@@ -72,6 +72,8 @@
    PVS_ASSERT(x)           assert(x)           checks of programmer misuse only, never of input data
    PVS_NO_STDIO            undefined           error messages without snprintf (reason strings only)
    PVS_NO_SIMD             undefined           scalar code paths only (identical results)
+   PVS_RUNTIME_ONLY        undefined           only what a game runs: the file reader, cell look-up, decoding, the
+												 cursor, names, pvs_vocc_cull (tree NULL); no allocation, ~30 KB code
    PVS_TEST_HOOKS          undefined           internal: declares the library tests' flags
 
    CONCEPTS
@@ -167,7 +169,7 @@
    section table at 32: S entries of u32 tag, offset, size, CRC-32 of the section's bytes [CHECKSUM].
 	 Sections are 8-byte aligned, inside the file, disjoint, tags unique [BAD_SECTION, TRUNCATED]; other bytes after
 	 the table are zero [BAD_SECTION]. Tags are four ASCII characters; readers skip unknown ones. The writer emits
-	 META, CELL, TREE, RECS, then SHRD (part files), VOCC, SCNE.
+	 META, CELL, TREE, RECS, then SHRD (part files), VOCC, SCNE, NAME.
    "META" (required, 32 bytes, else BAD_SECTION) [BAD_HEADER; COUNT_OVERFLOW for counts past the limits]:
 	 0 u32 cell_count (1..2^30-1)   4 u32 object_count (1..2^32-2)   8 u32 method (pvs_method)
 	 12 f32 eps (finite, >= 0)      16 u32 up_axis (1 = Y, 2 = Z)    20 u32 K, the chain bound (1..64)
@@ -213,6 +215,9 @@
 	 (0-based), u32 shard count (>= 2), u32 total cell count, u32 zero. Part cell j is whole cell index + j * count;
 	 cell_count must be the number of such cells.
    "SCNE" (optional, 8 bytes, else BAD_SECTION): u64, nonzero, the baked scene's pvs_scene_fingerprint.
+   "NAME" (optional) [BAD_SECTION]: object names. 0 u32 object_count, then u32 end[object_count], strictly ascending,
+	 then the names: name i is bytes end[i - 1] (0 for i = 0) to end[i] of the text, its last byte the only zero; the
+	 section ends with the text.
    "VOCC" (optional; virtual occluders, >>vocc) [BAD_SECTION]: per cell vertical rectangles, each hidden from the
 	 whole cell, most effective first:
 	 0  u32 flags: bit 0 = the records are placeholders (--vocc-only: every drawable object); others zero
@@ -231,6 +236,7 @@
 
    RECENT HISTORY (older: FULL HISTORY at the end)
    ==============
+   0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH; object names (NAME); PVS_RUNTIME_ONLY.
    0.8.0 (2026-11-28) files record the scene's fingerprint (SCNE); AUTO's prices depend on the scene.
    0.7.0 (2026-11-28) AUTO prices its methods: cost classes, PVS_AUTO_MIN_GAIN 10%.
    0.6.0 (2026-11-28) method PORTAL (cells and portals), in AUTO's default set.
@@ -243,7 +249,7 @@
 #include <stdint.h>
 
 #define PVS_VERSION_MAJOR 0
-#define PVS_VERSION_MINOR 8
+#define PVS_VERSION_MINOR 9
 #define PVS_VERSION_PATCH 0
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 /* The .pvs file format version this header writes and reads. */
@@ -336,11 +342,19 @@ PVS_API void pvs_bitset_clear(pvs_word *bits, uint32_t i);
 PVS_API uint32_t pvs_bitset_count(const pvs_word *bits, uint32_t bit_count);
 /* The first set bit >= `from`, or `bit_count`: for (i = next(b,n,0); i < n; i = next(b,n,i+1)). */
 PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint32_t from);
+#define PVS_NO_OBJECT 0xffffffffu /* no object: a triangle in none, a name not found */
 
+/* The kD-tree over boxes (>>kdtree); the runtime's pvs_vocc_cull takes one (NULL under PVS_RUNTIME_ONLY). */
+typedef struct pvs_kdtree pvs_kdtree;
+
+#ifndef PVS_RUNTIME_ONLY /* the bake's modules, up to >>vocc's run-time part */
 /* ---- scene ---- */
 
 /* Object flags. */
 #define PVS_OBJECT_OCCLUDER_ONLY 1u /* blocks sight but is never drawn: never appears in a PVS */
+/* Drawn and in PVSs, but never blocks sight, in any method, in ray sampling or in per-frame culling: glass,
+   foliage, grates, doors (bake doors open; per frame, pass a closed door's triangles as occluders). */
+#define PVS_OBJECT_SEE_THROUGH 2u
 
 /* An object, the unit of visibility: a range of triangles disjoint from other objects'. Triangles in no range only
    block sight. */
@@ -417,7 +431,6 @@ PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *scene, uint32_t object)
 PVS_API uint64_t pvs_scene_fingerprint(const pvs_scene *scene);
 /* The object a triangle belongs to, or PVS_NO_OBJECT. */
 PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *scene, uint32_t triangle);
-#define PVS_NO_OBJECT 0xffffffffu
 /* The scene's copy of explicit occluder i. */
 PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *scene, uint32_t i);
 
@@ -429,7 +442,7 @@ typedef struct pvs_hit {
 
 /* Closest hit of origin + t dir, 0 <= t <= tmax (dir non-zero), on two-sided triangles: 1 and *hit (may be NULL),
    or 0. Watertight (Woop, Benthin, Wald 2013, in double): no ray slips between triangles sharing an edge or corner.
-   Zero-area triangles are never hit; ties go to the lowest triangle. Thread-safe, allocates nothing. */
+   Zero-area and see-through triangles are never hit; ties go to the lowest triangle. Thread-safe, allocates nothing. */
 PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax,
 							  pvs_hit *hit);
 /* 1 if a triangle crosses segment a-b (ends included), 0 when a == b; otherwise as pvs_scene_raycast. */
@@ -437,9 +450,8 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], 
 
 /* ---- kdtree ---- */
 
-/* A kD-tree over boxes: binned SAH, items in every leaf they overlap. Immutable, so thread-safe. */
-typedef struct pvs_kdtree pvs_kdtree;
-
+/* pvs_kdtree (declared under core): a kD-tree over boxes, binned SAH, items in every leaf they overlap. Immutable, so
+   thread-safe. */
 typedef struct pvs_kdtree_desc {
 	const pvs_box *boxes;	 /* count item boxes; item i is box i */
 	uint32_t count;
@@ -866,6 +878,7 @@ PVS_API float pvs_occluders_column_height(const pvs_occluders *occluders, float 
 PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occluders, uint32_t *count);
 
 /* ---- vocc ---- */
+#endif /* PVS_RUNTIME_ONLY */
 
 /* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in the umbra of
    the real occluders from the whole cell, standing for its aggregate occlusion; five bytes each in the VOCC section,
@@ -882,6 +895,7 @@ typedef struct pvs_virtual_occluder {
 	float base, top;
 } pvs_virtual_occluder;
 
+#ifndef PVS_RUNTIME_ONLY /* the construction */
 /* Sums over cells and slices. */
 typedef struct pvs_vocc_stats {
 	uint32_t slices;		/* height slices (§3.1) */
@@ -915,6 +929,7 @@ PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, u
 /* 1 if `o` alone hides the box from the whole cell: every segment between the ground rectangles crosses p0-p1, and
    the heights hold at each crossing fraction t (a sight line meets the occluder's plane at height (1 - t) eye + t
    target). Conservative under rounding; 0 for an empty box or a degenerate occluder. */
+#endif /* PVS_RUNTIME_ONLY */
 PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
 								const pvs_box *box);
 
@@ -956,6 +971,7 @@ typedef enum pvs_method {
 /* Name of a method ("sample"), or "unknown". */
 PVS_API const char *pvs_method_name(pvs_method method);
 
+#ifndef PVS_RUNTIME_ONLY /* the methods' parameters, the bake, the encoder */
 /* The shrink method's paths. */
 typedef enum pvs_shrink_mode {
 	PVS_SHRINK_AUTO = 0,	 /* 2.5D when the occluders are (pvs_occluders_info.is_2d5), else 3D */
@@ -1116,6 +1132,7 @@ typedef struct pvs_bake_desc {
 	pvs_bake_vocc_params vocc;
 	pvs_bake_otree_params otree;
 	pvs_bake_portal_params portal;
+	const char *const *object_names; /* optional: object_count names stored in the file (NAME); kept until written */
 	pvs_allocator allocator;
 } pvs_bake_desc;
 
@@ -1223,6 +1240,8 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *bake, void *out, size_t c
 /* Frees through its allocator; NULL allowed. */
 PVS_API void pvs_bake_destroy(pvs_bake *bake);
 
+#endif /* PVS_RUNTIME_ONLY */
+
 /* ---- format ---- */
 
 /* File flags. */
@@ -1231,6 +1250,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 #define PVS_DEFAULT_CHAIN 8u	/* default bound K on a cell's delta chain */
 #define PVS_MAX_CHAIN 64u		/* largest K a file may declare */
 
+#ifndef PVS_RUNTIME_ONLY /* the encoder */
 /* A PVS table to encode: cell_count bitsets of PVS_BITSET_WORDS(object_count) words. The encoder (Durand et al.
    2000, §6.2) picks bases by a depth-bounded minimum spanning tree over nearest neighbours weighted by delta size. */
 typedef struct pvs_file_desc {
@@ -1254,6 +1274,7 @@ typedef struct pvs_file_desc {
 	float vocc_base, vocc_height_step;
 	uint32_t vocc_flags;
 	uint64_t scene_fingerprint; /* 0: none; else an SCNE section (pvs_scene_fingerprint) */
+	const char *const *object_names; /* NULL: none; else object_count names (a NULL one: ""), a NAME section */
 	pvs_allocator allocator;   /* the encoder's scratch */
 } pvs_file_desc;
 
@@ -1262,6 +1283,7 @@ typedef struct pvs_file_desc {
    Errors: INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (over 4 GiB), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size,
 								   pvs_error *err);
+#endif /* PVS_RUNTIME_ONLY */
 
 /* An opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data, copy freely;
    read-only to the caller, `private_` the reader's. */
@@ -1291,6 +1313,7 @@ typedef struct pvs_file {
 		uint32_t records_size, block_count;
 		const uint8_t *vocc;		/* VOCC */
 		uint32_t vocc_size;
+		const uint8_t *names;		/* NAME: end offsets, then text; NULL without */
 	} private_;
 } pvs_file;
 
@@ -1321,6 +1344,12 @@ PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell,
 PVS_API uint32_t pvs_file_vocc_record(const pvs_file *file, uint32_t cell, uint32_t *scale_code, const uint8_t **bytes);
 
 /* ---- runtime ---- */
+
+/* Object `object`'s name, NUL-terminated, inside the file's bytes; NULL when the file stores no names (NAME) or
+   object >= object_count. No allocation. */
+PVS_API const char *pvs_file_object_name(const pvs_file *file, uint32_t object);
+/* The lowest object named `name`, or PVS_NO_OBJECT (also without names): a linear scan of the names. */
+PVS_API uint32_t pvs_file_find_object(const pvs_file *file, const char *name);
 
 #define PVS_NO_CELL 0xffffffffu
 /* The lowest cell whose closed box contains p, or PVS_NO_CELL (also for non-finite p). No allocation. */
@@ -1637,6 +1666,12 @@ PVS__STATIC double pvs__dabs(double v) { return v < 0 ? -v : v; }
 PVS__STATIC double pvs__dmin(double a, double b) { return a < b ? a : b; }
 PVS__STATIC double pvs__dmax(double a, double b) { return a > b ? a : b; }
 /* Clamp a double to [lo, hi] and convert (NaN gives lo). */
+/* The two ground-plane axes for an up axis. */
+PVS__STATIC void pvs__ground_axes(uint32_t up, int *u, int *v) {
+	*u = 0;
+	*v = up == 2 ? 1 : 2;
+}
+
 PVS__STATIC int32_t pvs__clampi(double v, int32_t lo, int32_t hi) {
 	if (!(v > (double)lo)) return lo;
 	if (v > (double)hi) return hi;
@@ -1884,6 +1919,7 @@ PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
 	return ~crc;
 }
 
+#ifndef PVS_RUNTIME_ONLY /* everything up to >>vocc's quantization: the bake's side */
 /* ---- the bake's method table: what >>bake's driver knows of a method ---- */
 
 /* A bake method is one row of >>bake's table (pvs__bake_methods): functions over a per-bake state. The driver checks
@@ -1969,11 +2005,18 @@ struct pvs_scene {
 	pvs_box *occluder_boxes;	 /* occluder_count */
 	float *occluder_data;		 /* planes and footprints of all occluders */
 	size_t occluder_data_count;  /* floats in occluder_data */
-	pvs_kdtree *triangle_tree;	 /* over triangle boxes (zero-area ones left out) */
+	pvs_kdtree *triangle_tree;	 /* over triangle boxes (zero-area and see-through ones left out) */
+	pvs_kdtree *see_through_tree;/* over PVS_OBJECT_SEE_THROUGH triangles; NULL when there are none */
 	pvs_kdtree *object_tree;	 /* over object boxes (empty ones left out) */
 	float *triangle_corners;	 /* triangle_count * 9: corners sorted lexicographically */
 	double max_triangle_area;	 /* for occluder selection's bound */
 };
+
+/* 1 when triangle t blocks sight: it belongs to no PVS_OBJECT_SEE_THROUGH object. Every method's occluders pass it. */
+PVS__STATIC int pvs__tri_blocks(const pvs_scene *s, uint32_t t) {
+	uint32_t o = s->triangle_object[t];
+	return o == PVS_NO_OBJECT || !(s->object_flags[o] & PVS_OBJECT_SEE_THROUGH);
+}
 
 /* Fills s->triangle_corners, empties zero-area triangles' boxes (>>kdtree). */
 PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err);
@@ -2104,12 +2147,6 @@ PVS__STATIC int pvs__segments_meet_2d(const float *p1, const float *p2, const fl
 	return 0;
 }
 
-/* The two ground-plane axes for an up axis. */
-PVS__STATIC void pvs__ground_axes(uint32_t up, int *u, int *v) {
-	*u = 0;
-	*v = up == 2 ? 1 : 2;
-}
-
 PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32_t up, int64_t index, pvs_box *box,
 											  pvs_error *err) {
 	uint32_t i, j, n;
@@ -2190,6 +2227,7 @@ PVS_API void pvs_scene_destroy(pvs_scene *s) {
 	if (!s) return;
 	a = s->allocator;
 	pvs_kdtree_destroy(s->triangle_tree);
+	pvs_kdtree_destroy(s->see_through_tree);
 	pvs_kdtree_destroy(s->object_tree);
 	pvs__free_array(&a, s->triangle_corners, (size_t)s->triangle_count * 9, sizeof(float));
 	pvs__free_array(&a, s->positions, (size_t)s->vertex_count * 3, sizeof(float));
@@ -2242,6 +2280,8 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
 							 ob->first_triangle + ob->triangle_count, desc->triangle_count);
 		if (ob->triangle_count == 0 && !(desc->flags & PVS_SCENE_ALLOW_EMPTY_OBJECTS))
 			return pvs__fail(err, PVS_ERROR_EMPTY_OBJECT, o, 0, "object %u has no triangles", o);
+		if (ob->flags & ~3u || ob->flags == 3u)
+			return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, o, 0, "object %u: flags %u not 0, 1 or 2", o, ob->flags);
 	}
 	*floats = 0;
 	for (o = 0; o < desc->occluder_count; ++o) {
@@ -2324,13 +2364,30 @@ PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *
 	return PVS_OK;
 }
 
-/* The kD-trees over triangle boxes (zero-area ones emptied) and object boxes. */
-PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, const pvs_box *tri_boxes,
+/* The kD-trees over triangle boxes (zero-area ones emptied; see-through ones in their own tree) and object boxes. */
+PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, pvs_box *tri_boxes,
 										pvs_error *err) {
 	pvs_kdtree_desc kd;
 	pvs_result r;
+	uint32_t t, see = 0;
 	memset(&kd, 0, sizeof(kd));
 	kd.allocator = s->allocator;
+	for (t = 0; t < desc->triangle_count; ++t) see += !pvs__tri_blocks(s, t);
+	if (see) {
+		pvs_box *sb = (pvs_box *)pvs__alloc_array(&s->allocator, desc->triangle_count, sizeof(pvs_box));
+		if (!sb) return PVS__OOM(err, "see-through triangle boxes");
+		for (t = 0; t < desc->triangle_count; ++t) {
+			int b = pvs__tri_blocks(s, t);
+			sb[t] = b ? pvs__box_empty() : tri_boxes[t];
+			if (!b) tri_boxes[t] = pvs__box_empty();
+		}
+		kd.boxes = sb;
+		kd.count = desc->triangle_count;
+		kd.leaf_size = desc->leaf_size;
+		r = pvs_kdtree_create(&kd, &s->see_through_tree, err);
+		pvs__free_array(&s->allocator, sb, desc->triangle_count, sizeof(pvs_box));
+		if (r != PVS_OK) return r;
+	}
 	kd.boxes = tri_boxes;
 	kd.count = desc->triangle_count;
 	kd.leaf_size = desc->leaf_size;
@@ -2484,6 +2541,7 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 			const float *c[6];
 			float pu[2], pv[2], h[2];
 			int np = 0, nh = 0, k, m, shared = 0, diag = 1;
+			if (!pvs__tri_blocks(s, t) || !pvs__tri_blocks(s, t + 1)) continue;
 			for (k = 0; k < 6; ++k)
 				c[k] = s->positions + 3 * (size_t)s->indices[3 * (size_t)(t + (uint32_t)(k / 3)) + (uint32_t)(k % 3)];
 			for (k = 0; k < 6 && np <= 2 && nh <= 2; ++k) {
@@ -3228,6 +3286,45 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 	/* the float direction may fall short of b: walk a little past; the test stops at 1 */
 	pvs_kdtree_ray(s->triangle_tree, a, df, 1.0f + 1e-6f, pvs__raycast_leaf, &rc);
 	return rc.triangle != 0xffffffffu;
+}
+
+/* What a sampled ray sees through see-through objects before it stops: sets the objects of the see-through triangles
+   origin + t dir crosses, 0 <= t <= tmax (the same watertight test). */
+typedef struct pvs__see_through {
+	pvs__ray ray;
+	const pvs_scene *scene;
+	double tmax;
+	pvs_word *visible;
+} pvs__see_through;
+
+PVS__STATIC float pvs__see_through_leaf(void *user, const uint32_t *items, uint32_t count, float t_enter,
+										 float t_exit) {
+	pvs__see_through *st = (pvs__see_through *)user;
+	uint32_t i;
+	double t;
+	(void)t_enter;
+	(void)t_exit;
+	for (i = 0; i < count; ++i)
+		if (pvs__ray_triangle(&st->ray, st->scene->triangle_corners + 9 * (size_t)items[i], st->tmax, &t))
+			pvs_bitset_set(st->visible, st->scene->triangle_object[items[i]]);
+	return FLT_MAX;
+}
+
+PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3], const float dir[3], float tmax,
+									   pvs_word *visible) {
+	pvs__see_through st;
+	double o[3], d[3];
+	int k;
+	if (!s->see_through_tree) return;
+	for (k = 0; k < 3; ++k) {
+		o[k] = origin[k];
+		d[k] = dir[k];
+	}
+	if (!pvs__ray_setup(&st.ray, o, d)) return;
+	st.scene = s;
+	st.tmax = nextafterf(tmax, FLT_MAX);
+	st.visible = visible;
+	pvs_kdtree_ray(s->see_through_tree, origin, dir, (float)st.tmax, pvs__see_through_leaf, &st);
 }
 
 // >>raster
@@ -7442,6 +7539,7 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 	for (t = 0; t < sc->triangle_count; ++t) {
 		double gx[3], gy[3], h[3], best = 0.0, dx, dy, len, hmin, hmax, *q;
 		int bi = 0, bj = 1, m;
+		if (!pvs__tri_blocks(sc, t)) continue;
 		for (k = 0; k < 3; ++k) {
 			const float *p = sc->positions + 3 * (size_t)sc->indices[3 * (size_t)t + k];
 			gx[k] = p[u]; gy[k] = p[v]; h[k] = p[up];
@@ -9306,7 +9404,7 @@ PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const 
 	o->sel_count = 0;
 	for (i = 0; i < o->touched_count; ++i) {
 		uint32_t ob = o->touched[i], t;
-		if (!(o->obj_flag[ob] & 4u)) continue; /* too far */
+		if (!(o->obj_flag[ob] & 4u) || (s->object_flags[ob] & PVS_OBJECT_SEE_THROUGH)) continue; /* far or clear */
 		if (s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) {
 			if (!(o->obj_flag[ob] & 1u) && pvs__sv_box_test(o, s->object_boxes + ob) == PVS__SV_I) continue;
 		} else if (!pvs_bitset_test(visible, ob)) {
@@ -10231,7 +10329,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 		canon[vk[i].i] = i > 0 && !pvs__fpoint_cmp(vk[i - 1].p, vk[i].p, 3) ? canon[vk[i - 1].i] : i;
 	for (i = 0; i < nt; ++i) {
 		parent[i] = i;
-		if (pvs__vx_flat_on_ground(s, i, g)) { parent[i] = 0xffffffffu; continue; }
+		if (pvs__vx_flat_on_ground(s, i, g) || !pvs__tri_blocks(s, i)) { parent[i] = 0xffffffffu; continue; }
 		for (k = 0; k < 3; ++k) {
 			uint32_t x = canon[s->indices[3 * (size_t)i + k]], y = canon[s->indices[3 * (size_t)i + (k + 1) % 3]];
 			if (x == y) continue;
@@ -13541,6 +13639,8 @@ PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, 
 	return cur->valid;
 }
 
+#endif /* PVS_RUNTIME_ONLY */
+
 /* ---- quantization: five bytes per occluder, relative to the cell (the VOCC section) ---- */
 
 /* Cell scale S = 2^((code - 128) / 8), code 0..255 (exact: constant x power of two). Byte q: coordinate centre + S (q -
@@ -13580,6 +13680,7 @@ PVS__STATIC uint32_t pvs__vo_scale_code(double reach) {
 
 /* Rounds occluder a-b (cell frame) to stored bytes, shrinking it and moving ends away from the cell ("toward smaller
    occluders", §4), then checks it exactly; 6 tries, shrinking more each. 1 with *out filled. */
+#ifndef PVS_RUNTIME_ONLY
 PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b0, pvs__vo_cand *out) {
 	static const double shrink[6] = {0.0, 0.03, 0.08, 0.15, 0.25, 0.38};
 	double a[2], b[2], u[2], nrm[2], len, lo = pvs__vo_offset(c->qscale, 0), hi = pvs__vo_offset(c->qscale, 255);
@@ -13813,6 +13914,8 @@ PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
 	++c->st.dense;
 }
 
+#endif /* PVS_RUNTIME_ONLY */
+
 /* ---- the runtime test: one box against one virtual occluder (pvs_vocc_box_hidden) ---- */
 
 typedef struct pvs__vo_rt {
@@ -13961,6 +14064,7 @@ PVS__STATIC int pvs__vo_walk_hidden(const pvs__vo_walk *w, const pvs_box *b) {
 		if (pvs__vo_rt_hides(w->rt + i, b)) return 1;
 	return 0;
 }
+#ifndef PVS_RUNTIME_ONLY
 PVS__STATIC pvs_visit pvs__vo_walk_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 										 uint32_t count) {
 	pvs__vo_walk *w = (pvs__vo_walk *)user;
@@ -13974,12 +14078,19 @@ PVS__STATIC pvs_visit pvs__vo_walk_visit(void *user, const pvs_box *node_box, fl
 	}
 	return PVS_VISIT_DESCEND;
 }
+#endif /* PVS_RUNTIME_ONLY */
 
 PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_occluders) {
 	size_t rt = (size_t)max_occluders * sizeof(pvs__vo_rt);
+#ifndef PVS_RUNTIME_ONLY
 	return (rt + 15u) / 16u * 16u + (tree ? pvs_kdtree_sweep_scratch_size(tree) : 0) + 16u;
+#else
+	(void)tree; /* no kD-trees here: pvs_vocc_cull* take NULL */
+	return (rt + 15u) / 16u * 16u + 16u;
+#endif
 }
 
+#ifndef PVS_RUNTIME_ONLY
 PVS__STATIC void pvs__vo_stats_add(pvs_vocc_stats *a, const pvs_vocc_stats *b) {
 	a->slices += b->slices;
 	a->seeds += b->seeds;
@@ -13989,6 +14100,7 @@ PVS__STATIC void pvs__vo_stats_add(pvs_vocc_stats *a, const pvs_vocc_stats *b) {
 	a->dropped += b->dropped;
 	a->selected += b->selected;
 }
+#endif /* PVS_RUNTIME_ONLY */
 
 PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_t count, const pvs_box *boxes,
 									uint32_t object_count, const pvs_kdtree *tree, uint8_t *rest, size_t rest_size,
@@ -14001,11 +14113,16 @@ PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_
 	w.boxes = boxes;
 	w.object_count = object_count;
 	w.visible = visible;
+#ifndef PVS_RUNTIME_ONLY
 	if (tree) {
 		pvs_result r = pvs_kdtree_sweep(tree, cell, rest, rest_size, pvs__vo_walk_visit, &w);
 		if (r != PVS_OK)
 			return pvs__fail(err, r, -1, 0, "object tree walk (scratch %llu bytes)", (unsigned long long)rest_size);
-	} else {
+	} else
+#else
+	(void)cell, (void)tree, (void)rest, (void)rest_size;
+#endif
+	{
 		for (i = 0; i < object_count; ++i)
 			if (pvs__vo_box_ok(boxes + i) && !pvs__vo_walk_hidden(&w, boxes + i)) pvs_bitset_set(visible, i);
 	}
@@ -14021,6 +14138,9 @@ PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t coun
 	uint8_t *p = (uint8_t *)scratch;
 	size_t skew;
 	if (!scratch) return PVS__BAD_ARG(err, "scratch is NULL");
+#ifdef PVS_RUNTIME_ONLY
+	if (tree) return PVS__BAD_ARG(err, "tree must be NULL: PVS_RUNTIME_ONLY builds no kD-trees");
+#endif
 	skew = (size_t)(-(intptr_t)p) & 15u;
 	if (size < need || size - skew < need - 16u)
 		return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "scratch of %llu bytes, need %llu",
@@ -14233,6 +14353,7 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
 	return pvs__vo_cull(&box, rt, n, boxes, object_count, tree, rest, rest_size, visible, err);
 }
 
+#ifndef PVS_RUNTIME_ONLY /* the rest of >>vocc, >>portal, >>methods and >>bake: the bake's side */
 /* ---- 2.5D per cell (§3.1), the selection (Fig. 6), the bake's part ---- */
 
 /* Shared by a bake's cells: prepared facades, quantization, object boxes. */
@@ -15175,7 +15296,7 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 		head[i] = PVS__PO_NONE;
 	}
 	for (t = 0; t < s->triangle_count; ++t)
-		for (k = 1; k < 3; ++k) {
+		for (k = 1; k < 3 && pvs__tri_blocks(s, t); ++k) {
 			uint32_t a = pvs__uf_find(parent, s->indices[3 * (size_t)t]);
 			uint32_t b = pvs__uf_find(parent, s->indices[3 * (size_t)t + k]);
 			if (a != b) parent[a < b ? b : a] = a < b ? a : b;
@@ -15183,6 +15304,7 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 	/* per component (root) its triangles, linked in decreasing order: reversed when read */
 	for (t = s->triangle_count; t-- > 0;) {
 		uint32_t r = pvs__uf_find(parent, s->indices[3 * (size_t)t]);
+		if (!pvs__tri_blocks(s, t)) continue; /* see-through: in no solid */
 		next[t] = head[r];
 		head[r] = t;
 	}
@@ -16107,6 +16229,8 @@ PVS_API void pvs_bake_get_portal_info(const pvs_bake *b, pvs_portal_info *info) 
 /* methods: region visibility: ray sampling, extended projections, shrink (bake methods)          */
 /* ---------------------------------------------------------------------------------------------- */
 
+#endif /* PVS_RUNTIME_ONLY */
+
 PVS_API const char *pvs_method_name(pvs_method m) {
 	switch (m) {
 	case PVS_METHOD_DEFAULT: return "default";
@@ -16120,6 +16244,8 @@ PVS_API const char *pvs_method_name(pvs_method m) {
 	default: return "unknown";
 	}
 }
+
+#ifndef PVS_RUNTIME_ONLY
 
 /* Sample i of `points`: 8 corners, 6 face centres, then a jittered point per stratum of a g^k grid (k non-flat axes) */
 PVS__STATIC void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t points, uint64_t *state, float p[3]) {
@@ -16199,9 +16325,11 @@ PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *ce
 			f[2] = z;
 			for (k = 0; k < 3; ++k) dir[k] = rot[k][0] * f[0] + rot[k][1] * f[1] + rot[k][2] * f[2];
 			++rays;
+			hit.t = tmax;
 			if (pvs_scene_raycast(scene, p, dir, tmax, &hit) && hit.object != PVS_NO_OBJECT &&
 				!(scene->object_flags[hit.object] & PVS_OBJECT_OCCLUDER_ONLY))
 				pvs_bitset_set(visible, hit.object);
+			pvs__see_through_mark(scene, p, dir, hit.t, visible);
 		}
 	}
 	return rays;
@@ -16236,11 +16364,12 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 			if (!(len > 0.0f)) continue;
 			for (k = 0; k < 3; ++k) dir[k] /= len;
 			++rays;
-			if (pvs_scene_raycast(scene, p, dir, len * 1.001f + 1e-6f, &hit) && hit.object != PVS_NO_OBJECT &&
-				!(scene->object_flags[hit.object] & PVS_OBJECT_OCCLUDER_ONLY)) {
+			hit.t = len * 1.001f + 1e-6f;
+			if (pvs_scene_raycast(scene, p, dir, hit.t, &hit) && hit.object != PVS_NO_OBJECT &&
+				!(scene->object_flags[hit.object] & PVS_OBJECT_OCCLUDER_ONLY))
 				pvs_bitset_set(visible, hit.object);
-				if (hit.object == o) break;
-			}
+			pvs__see_through_mark(scene, p, dir, hit.t, visible);
+			if (pvs_bitset_test(visible, o)) break;
 		}
 	}
 	return rays;
@@ -17737,7 +17866,7 @@ PVS__STATIC int pvs__ep_flat_axis(const pvs_scene *s, uint32_t t) {
 	const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1],
 				*v2 = s->positions + 3 * (size_t)ix[2];
 	int k;
-	for (k = 0; k < 3; ++k)
+	for (k = 0; k < 3 && pvs__tri_blocks(s, t); ++k)
 		if (v0[k] == v1[k] && v1[k] == v2[k]) return k;
 	return -1;
 }
@@ -18003,7 +18132,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_sc
 		size_t first = p->occ_count, q;
 		pvs_result r;
 		while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
-		r = pvs__ep_prepare_object(p, s, t, end - t, w);
+		r = pvs__tri_blocks(s, t) ? pvs__ep_prepare_object(p, s, t, end - t, w) : PVS_OK; /* a run is one object */
 		for (q = first; q < p->occ_count; ++q) p->occ[q].object = s->triangle_object[t];
 		if (r != PVS_OK) return r;
 		t = end;
@@ -20735,6 +20864,7 @@ struct pvs_bake {
 	unsigned char *done;	   /* cell_count flags, each written by its task only */
 	pvs_method method;
 	uint32_t max_chain;
+	const char *const *object_names; /* desc's, for the file */
 	/* considered (AUTO: all candidates, run order) and run methods; a task's PVS intersects theirs (conservative) */
 	const pvs__bake_method *considered[PVS_METHOD_COUNT];
 	const char *reason[PVS_METHOD_COUNT];
@@ -21152,6 +21282,7 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
 		? (desc->cell_count - desc->shard_index + desc->shard_count - 1) / desc->shard_count
 		: desc->cell_count;
 	b->max_chain = desc->max_chain;
+	b->object_names = desc->object_names;
 	b->object_count = pvs_scene_object_count(desc->scene);
 	b->words = PVS_BITSET_WORDS(b->object_count);
 	b->method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_AUTO : desc->method;
@@ -21460,6 +21591,7 @@ PVS__STATIC void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
 	fd->total_cell_count = b->shard_count ? b->total_cell_count : 0;
 	fd->allocator = b->env.allocator;
 	fd->scene_fingerprint = pvs_scene_fingerprint(b->env.scene);
+	fd->object_names = b->object_names;
 	if (b->method != PVS_METHOD_AUTO && b->run[0]->file) /* AUTO stores PVSs only */
 		b->run[0]->file(b->state[b->method], fd);
 }
@@ -21534,6 +21666,8 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 	return pvs__bake_encode(b, out, capacity, out_size, err);
 }
 
+#endif /* PVS_RUNTIME_ONLY */
+
 // >>format
 /* ==== format: the .pvs file (layout: the manual): delta-PVS encoder (Durand et al. 2000, §6.2), set codings,
    validating zero-copy reader ==== */
@@ -21557,6 +21691,7 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__TAG_RECS PVS__TAG('R', 'E', 'C', 'S')
 #define PVS__TAG_SHRD PVS__TAG('S', 'H', 'R', 'D')
 #define PVS__TAG_SCNE PVS__TAG('S', 'C', 'N', 'E')
+#define PVS__TAG_NAME PVS__TAG('N', 'A', 'M', 'E')
 enum { PVS__CODING_GAPS = 0, PVS__CODING_RUNS = 1, PVS__CODING_RICE = 2, PVS__CODING_BITMAP = 3 };
 
 PVS__STATIC size_t pvs__align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
@@ -21664,6 +21799,9 @@ PVS__STATIC uint32_t pvs__bitset_next_clear(const pvs_word *bits, uint32_t bit_c
 	w = (w << 6) + pvs__ctz64(x);
 	return w < bit_count ? w : bit_count;
 }
+
+PVS__STATIC uint32_t pvs__zigzag(int64_t d) { return (uint32_t)(d >= 0 ? 2 * (uint64_t)d : 2 * (uint64_t)(-d) - 1u); }
+PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z >> 1) + 1u) : (int64_t)(z >> 1); }
 
 /* ---- set codings ---- */
 
@@ -22010,6 +22148,7 @@ PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint
 	}
 }
 
+#ifndef PVS_RUNTIME_ONLY /* the encoder */
 /* ---- encoder ---- */
 
 typedef struct pvs__heapent {
@@ -22158,8 +22297,6 @@ PVS__STATIC int pvs__edge_cmp(const void *x, const void *y) {
 	return 0;
 }
 
-PVS__STATIC uint32_t pvs__zigzag(int64_t d) { return (uint32_t)(d >= 0 ? 2 * (uint64_t)d : 2 * (uint64_t)(-d) - 1u); }
-PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z >> 1) + 1u) : (int64_t)(z >> 1); }
 
 /* All the encoder allocates, freed in one place. */
 typedef struct pvs__encoder {
@@ -22588,17 +22725,43 @@ PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t fl
 	pvs__put32(o + 20, crc);
 }
 
+/* NAME's size (FILE FORMAT), 0 without names, SIZE_MAX when its offsets would pass 4 GiB. */
+PVS__STATIC size_t pvs__names_size(const pvs_file_desc *d) {
+	size_t n = 4 + 4 * (size_t)d->object_count, i;
+	if (!d->object_names) return 0;
+	for (i = 0; i < d->object_count; ++i) {
+		n += (d->object_names[i] ? strlen(d->object_names[i]) : 0) + 1;
+		if (n > 0xffffffffu) return (size_t)-1;
+	}
+	return n;
+}
+
+PVS__STATIC void pvs__names_write(const pvs_file_desc *d, uint8_t *o) {
+	uint8_t *text = o + 4 + 4 * (size_t)d->object_count;
+	uint32_t i, end = 0;
+	pvs__put32(o, d->object_count);
+	for (i = 0; i < d->object_count; ++i) {
+		const char *name = d->object_names[i] ? d->object_names[i] : "";
+		size_t len = strlen(name) + 1;
+		memcpy(text + end, name, len);
+		end += (uint32_t)len;
+		pvs__put32(o + 4 + 4 * (size_t)i, end);
+	}
+}
+
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t capacity, size_t *out_size,
 								   pvs_error *err) {
 	pvs__encoder e;
 	pvs_result r;
 	uint32_t i, k, max_chain = 0, sections, keys = 0;
-	size_t at[7], sz[7], total, cell_bytes = 0, recs_size, vocc_size = 0;
-	uint32_t tags[7];
+	size_t at[8], sz[8], total, cell_bytes = 0, recs_size, vocc_size = 0, names_size;
+	uint32_t tags[8], k_vocc = 0, k_scne = 0, k_name = 0;
 	uint8_t *o = (uint8_t *)out;
 	if (out_size) *out_size = 0;
 	r = pvs__encode_check(d, &max_chain, &vocc_size, err);
 	if (r != PVS_OK) return r;
+	names_size = pvs__names_size(d);
+	if (names_size == (size_t)-1) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "object names over 4 GiB");
 	memset(&e, 0, sizeof(e));
 	e.a = d->allocator;
 	e.d = d;
@@ -22629,12 +22792,16 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	tags[3] = PVS__TAG_RECS; sz[3] = recs_size;
 	tags[4] = PVS__TAG_SHRD; sz[4] = PVS__SHRD_SIZE;
 	if (d->vocc_counts) {
-		tags[sections] = PVS__VO_TAG;
+		tags[k_vocc = sections] = PVS__VO_TAG;
 		sz[sections++] = vocc_size;
 	}
 	if (d->scene_fingerprint) {
-		tags[sections] = PVS__TAG_SCNE;
+		tags[k_scne = sections] = PVS__TAG_SCNE;
 		sz[sections++] = 8;
+	}
+	if (names_size) {
+		tags[k_name = sections] = PVS__TAG_NAME;
+		sz[sections++] = names_size;
 	}
 	total = pvs__align8(PVS__HEADER_SIZE + PVS__SECTION_ENTRY * (size_t)sections);
 	for (k = 0; k < sections; ++k) {
@@ -22676,12 +22843,13 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 		pvs__put32(s + 4, d->shard_count);
 		pvs__put32(s + 8, d->total_cell_count);
 	}
-	if (d->scene_fingerprint) { /* the last section */
-		pvs__put32(o + at[sections - 1], (uint32_t)d->scene_fingerprint);
-		pvs__put32(o + at[sections - 1] + 4, (uint32_t)(d->scene_fingerprint >> 32));
+	if (d->scene_fingerprint) {
+		pvs__put32(o + at[k_scne], (uint32_t)d->scene_fingerprint);
+		pvs__put32(o + at[k_scne] + 4, (uint32_t)(d->scene_fingerprint >> 32));
 	}
-	if (d->vocc_counts) /* the one before */
-		pvs__vo_section_write(o + at[sections - 1 - (d->scene_fingerprint != 0)], (d->vocc_flags & PVS_VOCC_ONLY) != 0,
+	if (names_size) pvs__names_write(d, o + at[k_name]);
+	if (d->vocc_counts)
+		pvs__vo_section_write(o + at[k_vocc], (d->vocc_flags & PVS_VOCC_ONLY) != 0,
 							  d->vocc_base, d->vocc_height_step, d->cell_count, d->vocc_counts, d->vocc_scales,
 							  d->virtual_occluders, d->vocc_stride);
 	pvs__encoder_write_header(o, total, d->flags, sections, tags, at, sz);
@@ -22690,6 +22858,8 @@ done:
 	pvs__encoder_free(&e);
 	return r;
 }
+
+#endif /* PVS_RUNTIME_ONLY */
 
 /* ---- reader ---- */
 
@@ -22960,8 +23130,8 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 
 /* Sections pvs_file_open knows, as the table places them (NULL: absent). */
 typedef struct pvs__open_sections {
-	const uint8_t *meta, *cells, *tree, *recs, *shrd, *vocc, *scne;
-	uint32_t meta_size, cells_size, tree_size, recs_size, shrd_size, vocc_size, scne_size;
+	const uint8_t *meta, *cells, *tree, *recs, *shrd, *vocc, *scne, *name;
+	uint32_t meta_size, cells_size, tree_size, recs_size, shrd_size, vocc_size, scne_size, name_size;
 } pvs__open_sections;
 
 /* The header, in the format table's order. *count_out: section count. */
@@ -23026,6 +23196,7 @@ PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t c
 		else if (tag == PVS__TAG_SHRD) { sec->shrd = p + off; sec->shrd_size = sz; }
 		else if (tag == PVS__VO_TAG) { sec->vocc = p + off; sec->vocc_size = sz; }
 		else if (tag == PVS__TAG_SCNE) { sec->scne = p + off; sec->scne_size = sz; }
+		else if (tag == PVS__TAG_NAME) { sec->name = p + off; sec->name_size = sz; }
 	}
 	return PVS_OK;
 }
@@ -23106,6 +23277,31 @@ PVS__STATIC pvs_result pvs__open_shard(pvs_file *f, const uint8_t *p, const uint
 	return PVS_OK;
 }
 
+/* NAME (FILE FORMAT): object_count ascending end offsets, each name's last byte its only zero. Linear time. */
+PVS__STATIC pvs_result pvs__open_names(pvs_file *f, const uint8_t *p, const uint8_t *sec, uint32_t size,
+									   pvs_error *err) {
+	uint64_t at = (uint64_t)(sec - p), head = 4 + 4 * (uint64_t)f->object_count;
+	uint32_t i, j, prev = 0;
+	if (size < head || pvs__get32(sec) != f->object_count)
+		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, at, "NAME: not %u names", f->object_count);
+	for (i = 0; i < f->object_count; ++i) {
+		uint32_t end = pvs__get32(sec + 4 + 4 * (size_t)i);
+		const uint8_t *text = sec + head;
+		if (end <= prev || end > size - head)
+			return pvs__fail(err, PVS_ERROR_BAD_SECTION, i, at + 4 + 4 * (uint64_t)i, "NAME: name %u ends at %u", i,
+							 end);
+		for (j = prev; j + 1 < end && text[j]; ++j) {}
+		if (j + 1 != end || text[j])
+			return pvs__fail(err, PVS_ERROR_BAD_SECTION, i, at + head + j, "NAME: name %u is not one zero-ended string",
+							 i);
+		prev = end;
+	}
+	if (prev != size - head)
+		return pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, at + head + prev, "NAME: bytes after the last name");
+	f->private_.names = sec;
+	return PVS_OK;
+}
+
 PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs_error *err) {
 	const uint8_t *p = (const uint8_t *)data;
 	uint32_t count = 0;
@@ -23144,6 +23340,7 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 		if (!f->scene_fingerprint)
 			r = pvs__fail(err, PVS_ERROR_BAD_SECTION, -1, (uint64_t)(sec.scne - p), "SCNE: not 8 nonzero bytes");
 	}
+	if (r == PVS_OK && sec.name) r = pvs__open_names(f, p, sec.name, sec.name_size, err);
 	if (r != PVS_OK) {
 		memset(f, 0, sizeof(*f));
 		return r;
@@ -23236,6 +23433,20 @@ PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[
 }
 
 /* Point location, the manual's TREE rule (p == split: a stack no deeper than the tree); lowest containing cell wins. */
+PVS_API const char *pvs_file_object_name(const pvs_file *f, uint32_t object) {
+	const uint8_t *n = f ? f->private_.names : NULL;
+	if (!n || object >= f->object_count) return NULL;
+	return (const char *)n + 4 + 4 * (size_t)f->object_count + (object ? pvs__get32(n + 4 * (size_t)object) : 0);
+}
+
+PVS_API uint32_t pvs_file_find_object(const pvs_file *f, const char *name) {
+	uint32_t i;
+	if (!f || !name || !f->private_.names) return PVS_NO_OBJECT;
+	for (i = 0; i < f->object_count; ++i)
+		if (!strcmp(pvs_file_object_name(f, i), name)) return i;
+	return PVS_NO_OBJECT;
+}
+
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
 	uint32_t stack[PVS__TREE_MAX_DEPTH + 1], depth = 0, best = PVS_NO_CELL, k = 0, d, inner;
 	const uint8_t *nodes, *starts, *axes, *items;
@@ -23388,6 +23599,8 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
+   0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH (glass, doors); NAME section, pvs_file_object_name/find_object;
+					  PVS_RUNTIME_ONLY.
    0.8.0 (2026-11-28) pvs_scene_fingerprint, stored in an optional SCNE section (pvs_file.scene_fingerprint).
    0.7.1 (2026-11-28) AUTO's prices grow with SHRINK's sample points and OTREE's levels; costly ones not sampled.
    0.7.0 (2026-11-28) AUTO prices methods by cost class; PVS_AUTO_MIN_GAIN 10%.

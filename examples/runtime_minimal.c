@@ -20,6 +20,7 @@ static void *counting_malloc(size_t size) { ++pvs_allocations; return malloc(siz
 static void counting_free(void *p) { ++pvs_frees; free(p); }
 #define PVS_MALLOC(sz) counting_malloc(sz)
 #define PVS_FREE(p) counting_free(p)
+#define PVS_RUNTIME_ONLY /* the run-time part alone: reader, cell look-up, decoding, cursor (about 30 KB of code) */
 #define PVS_IMPLEMENTATION
 #include "../pvs.h"
 

@@ -203,7 +203,8 @@ static inline pvs_scene *test_scene(const mesh *m, uint32_t up_axis) {
     for (i = 0; i < m->object_count; ++i) {
         obs[i].first_triangle = m->objects[i].first_triangle;
         obs[i].triangle_count = m->objects[i].triangle_count;
-        obs[i].flags = (m->objects[i].flags & MESH_OBJECT_OCCLUDER) ? PVS_OBJECT_OCCLUDER_ONLY : 0u;
+        obs[i].flags = ((m->objects[i].flags & MESH_OBJECT_OCCLUDER) ? PVS_OBJECT_OCCLUDER_ONLY : 0u) |
+                       ((m->objects[i].flags & MESH_OBJECT_SEE_THROUGH) ? PVS_OBJECT_SEE_THROUGH : 0u);
     }
     s = test_scene_arrays(m->positions, m->vertex_count, m->indices, m->triangle_count, obs, m->object_count, up_axis);
     free(obs);

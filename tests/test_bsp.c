@@ -140,6 +140,12 @@ static void tb_reads(void) {
     CHECK(m.objects[2].triangle_count == 0);    /* the flare */
     CHECK(m.objects[3].flags == MESH_OBJECT_OCCLUDER && m.objects[3].triangle_count == 12); /* a box's hull */
     CHECK(st.surfaces == 3 && st.patches == 1 && st.empty_surfaces == 1 && st.translucent_surfaces == 1);
+    {   /* the translucent one is see-through, by flag and by name (the OBJ keeps it) */
+        uint32_t k, clear = 0;
+        for (k = 0; k < m.object_count; ++k)
+            if (m.objects[k].flags == MESH_OBJECT_SEE_THROUGH && !strncmp(m.objects[k].name, "see_through_s", 13)) ++clear;
+        CHECK(clear == 1);
+    }
     CHECK(st.brushes == 1 && st.occluder_brushes == 1 && st.hull_triangles == 12);
     CHECK(c.count == 2 && st.leaves == 2 && st.clusters == 2 && st.has_vis);
     /* leaf 0 box: Quake (-100,-100,64)..(0,100,200) -> Y up (-100,64,-100)..(0,200,100) */

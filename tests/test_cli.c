@@ -361,6 +361,23 @@ void test_cli(void) {
         free(out);
         CHECK(run("./pvsview " DIR "/edited.obj " DIR "/a.pvs -o " DIR "/e.png", &out) == 1 && strstr(out, "stale")); free(out);
     }
+    { /* renamed objects, same geometry (the same fingerprint): told by the names the bake stores, unless --no-names */
+        char renamed[4096], *at;
+        wall_scene(renamed, sizeof(renamed), 5);
+        at = strstr(renamed, "o right");
+        CHECK(at != NULL);
+        if (at) memcpy(at + 2, "rigid", 5);
+        write_text(DIR "/renamed.obj", renamed, strlen(renamed));
+        CHECK(run("./pvsinfo " DIR "/a.pvs", &out) == 0 && strstr(out, "named (object 0 'left')")); free(out);
+        CHECK(run("./pvscheck " DIR "/renamed.obj " DIR "/a.pvs", &out) == 1 &&
+              strstr(out, "stale: object 2 is 'right' in the file but 'rigid' in") && strstr(out, "renamed or reordered"));
+        free(out);
+        CHECK(run("./pvsbake --method sample -q --no-names --cells " DIR "/cells.txt -o " DIR "/nn.pvs -j 1 " DIR
+                  "/scene.obj --rays 256 --points 16", &out) == 0);
+        free(out);
+        CHECK(run("./pvsinfo " DIR "/nn.pvs", &out) == 0 && strstr(out, "no names stored")); free(out);
+        CHECK(run("./pvscheck -q " DIR "/renamed.obj " DIR "/nn.pvs", &out) == 0); free(out);
+    }
     /* --grid */
     CHECK(run("./pvsbake --method sample -q " DIR "/scene.obj -o " DIR "/g.pvs --grid 4 --rays 64 --points 4", &out) == 0); free(out);
     CHECK(run("./pvsinfo --verify " DIR "/g.pvs", &out) == 0); free(out);

@@ -330,6 +330,14 @@ static void test_view_runtime(void) {
     CHECK(ex_run("./pvsruntime " EDIR "/whole.pvs 3000", &out) == 0 && strstr(out, "allocations     0") && strstr(out, "equal the decoded PVS of the last cell: yes"));
     free(out);
     CHECK(ex_run("./pvsruntime " EDIR "/in.obj", &out) == 1 && strstr(out, "bad magic")); free(out);
+    /* the door recipe: baked open (see-through), culled per frame when closed; its OBJ, read back by the
+       naming rule (door..., glass...), bakes a PVS with 0 misses against pvscheck's see-through rays */
+    CHECK(ex_run("./pvsdoor -o " EDIR, &out) == 0 && strstr(out, "door closed: statue culled, plant drawn") &&
+          strstr(out, "door open:   statue drawn") && strstr(out, "glass_window statue plant\n"));
+    free(out);
+    CHECK(test_exists(EDIR "/door.png"));
+    CHECK(ex_run("./pvsbake -q " EDIR "/door.obj --cells " EDIR "/door.cells -o " EDIR "/door.pvs", &out) == 0); free(out);
+    CHECK(ex_run("./pvscheck -q " EDIR "/door.obj " EDIR "/door.pvs", &out) == 0 && strstr(out, "misses 0")); free(out);
 }
 
 void test_examples(void) {

@@ -640,6 +640,55 @@ static void test_corpus(void) {
     CHECK(files >= 10);
 }
 
+/* NAME: names read back in place (a NULL one as ""), the lookup by name, a file without names, and each
+   malformed section refused with BAD_SECTION (checksums fixed, so the NAME check itself decides). */
+static void test_names(void) {
+    enum { CELLS = 12, OBJECTS = 5 };
+    static pvs_box boxes[CELLS];
+    static pvs_word pvs[CELLS];
+    static const char *const names[OBJECTS] = {"floor", "crate_1", NULL, "crate_1", "glass window"};
+    pvs_file_desc d;
+    pvs_file f;
+    size_t size, plain_size;
+    uint8_t *good, *plain, *b;
+    uint32_t nm, i;
+    rng_state = 4242;
+    make_table(CELLS, OBJECTS, 50, 10, 0, boxes, pvs);
+    desc_init(&d, boxes, CELLS, OBJECTS, pvs);
+    plain = encode(&d, &plain_size);
+    d.object_names = names;
+    good = encode(&d, &size);
+    CHECK(plain && good && size == plain_size + 16 + 64); /* a table entry; the count, 5 ends, 36 bytes of text */
+    if (!plain || !good) return;
+    CHECK(pvs_file_open(plain, plain_size, &f, NULL) == PVS_OK && !pvs_file_object_name(&f, 0) &&
+          pvs_file_find_object(&f, "floor") == PVS_NO_OBJECT);
+    CHECK(pvs_file_open(good, size, &f, NULL) == PVS_OK);
+    CHECK(!strcmp(pvs_file_object_name(&f, 0), "floor") && !strcmp(pvs_file_object_name(&f, 2), "") &&
+          !strcmp(pvs_file_object_name(&f, 4), "glass window") && !pvs_file_object_name(&f, OBJECTS));
+    CHECK(pvs_file_find_object(&f, "crate_1") == 1 && pvs_file_find_object(&f, "") == 2 &&
+          pvs_file_find_object(&f, "crate") == PVS_NO_OBJECT && pvs_file_find_object(&f, NULL) == PVS_NO_OBJECT);
+    nm = section(good, "NAME");
+    b = (uint8_t *)malloc(size);
+    CHECK(nm && b);
+    if (nm && b) {
+        uint32_t text = nm + 4 + 4 * OBJECTS;
+        for (i = 0; i < 6; ++i) {
+            memcpy(b, good, size);
+            if (i == 0) test_wr32(b + nm, OBJECTS - 1);                         /* not one name per object */
+            if (i == 1) test_wr32(b + nm + 8, test_rd32(b + nm + 4));           /* an empty name: ends not ascending */
+            if (i == 2) b[text + 2] = 0;                                        /* a zero inside a name */
+            if (i == 3) b[text + 5] = 'x';                                      /* a name without its zero */
+            if (i == 4) test_wr32(b + nm + 4 * OBJECTS, test_rd32(b + nm + 4 * OBJECTS) - 1); /* a byte after the last */
+            if (i == 5) test_wr32(b + nm + 4, 0xfffffff0u);                     /* past the section */
+            pvs_fuzz_fix_checksums(b, size);
+            CHECK(expect_open(b, size, PVS_ERROR_BAD_SECTION));
+        }
+    }
+    free(b);
+    free(good);
+    free(plain);
+}
+
 void test_format(void) {
     test_round_trip();
     test_special_tables();
@@ -648,4 +697,5 @@ void test_format(void) {
     test_shards();
     test_golden();
     test_corpus();
+    test_names();
 }

@@ -147,6 +147,15 @@ static void tt_obj_accepts(void) {
     }
     CHECK(m.positions[3] == 1.0f && m.positions[4] == 0.0f && m.positions[7] == 1.0f);
     mesh_free(&m);
+    /* the see-through naming rule: a prefix, case as written */
+    CHECK(tt_obj_ok("v 0 0 0\nv 1 0 0\nv 0 1 0\no glass_front\nf 1 2 3\no door3\nf 1 2 3\no see_through\nf 1 2 3\n"
+                    "o Glass\nf 1 2 3\no the_door\nf 1 2 3\n", &m));
+    CHECK(m.object_count == 5);
+    if (m.object_count == 5) {
+        CHECK(m.objects[0].flags == MESH_OBJECT_SEE_THROUGH && m.objects[1].flags == MESH_OBJECT_SEE_THROUGH);
+        CHECK(m.objects[2].flags == MESH_OBJECT_SEE_THROUGH && m.objects[3].flags == 0 && m.objects[4].flags == 0);
+    }
+    mesh_free(&m);
 
     /* CR line ends (old Mac files) read as lines, mixed with LF and CRLF; lines are counted the
        same way for errors, in OBJ and cells files. */

@@ -224,12 +224,15 @@ static int read_surfaces(const bsp_reader *r, uint32_t level, mesh *m, bsp_stats
         if (check_index(r, L_SURFACES, s, "shader", shader, r->l[L_SHADERS].count)) return -1;
         const uint8_t *sh = rec(r, L_SHADERS, (uint32_t)shader);
         uint32_t surface_flags = rd_u32(sh + 64), contents = rd_u32(sh + 68);
-        snprintf(name, sizeof(name), "s%u", s);
-        if (mesh_begin_object(m, name, 0, 0)) {
+        /* a see-through shader (water, fog, glass, grates) names its surface see_through...: drawn, never
+           blocking sight, in the mesh and in the OBJ written from it */
+        int clear = (contents & CONTENTS_SEE_THROUGH) != 0;
+        snprintf(name, sizeof(name), clear ? "see_through_s%u" : "s%u", s);
+        if (mesh_begin_object(m, name, clear ? MESH_OBJECT_SEE_THROUGH : 0, 0)) {
             tool_error_set(err, r->path, 0, "out of memory");
             return -1;
         }
-        if (contents & CONTENTS_SEE_THROUGH) ++st->translucent_surfaces;
+        st->translucent_surfaces += (uint32_t)clear;
         int rc = 0;
         if (surface_flags & SURF_NODRAW || type == MST_FLARE)
             rc = 0;

@@ -20,8 +20,9 @@
      (doors, platforms) whose bounds meet such a leaf's box. A level compiled without vis sees all.
    Coordinates turn from Quake's Z-up into the tools' Y-up: (x, y, z) -> (x, z, -y).
 
-   Translucent and alpha-tested surfaces are drawn and occlude like any object (the library has no
-   see-through objects yet); `bsp_stats.translucent_surfaces` counts the ones whose shader says so.
+   Surfaces whose shader's contents say see-through (water, slime, lava, fog, translucent: glass,
+   grates, foliage) are see-through objects (MESH_OBJECT_SEE_THROUGH, named "see_through_sN" so the
+   OBJ keeps the flag): drawn, never blocking sight; `bsp_stats.translucent_surfaces` counts them.
 
    The reader trusts nothing in the file: every lump, count, index and range is checked, and a bad
    one is an error naming the lump and the record ("PATH: faces[12]: vertex range 90+12 past the 95

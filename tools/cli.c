@@ -26,7 +26,8 @@ static int cli__make_scene(const char *name, const mesh *m, uint32_t up_axis, cl
     for (i = 0; i < m->object_count; ++i) {
         obs[i].first_triangle = m->objects[i].first_triangle;
         obs[i].triangle_count = m->objects[i].triangle_count;
-        obs[i].flags = (m->objects[i].flags & MESH_OBJECT_OCCLUDER) ? PVS_OBJECT_OCCLUDER_ONLY : 0u;
+        obs[i].flags = ((m->objects[i].flags & MESH_OBJECT_OCCLUDER) ? PVS_OBJECT_OCCLUDER_ONLY : 0u) |
+                       ((m->objects[i].flags & MESH_OBJECT_SEE_THROUGH) ? PVS_OBJECT_SEE_THROUGH : 0u);
     }
     memset(&d, 0, sizeof(d));
     d.positions = m->positions;
@@ -103,6 +104,15 @@ int cli_load_pvs_scene(const char *pvs_path, const char *scene_path, uint32_t up
                        "the file's %016llx): bake it again", scene_path, (unsigned long long)fp,
                        (unsigned long long)file->scene_fingerprint);
         return -1;
+    }
+    if (pvs_file_object_name(file, 0) && file->object_count == m->object_count) { /* names stored: same order? */
+        uint32_t o;
+        for (o = 0; o < m->object_count; ++o)
+            if (strcmp(pvs_file_object_name(file, o), m->objects[o].name)) {
+                tool_error_set(err, pvs_path, 0, "stale: object %u is '%s' in the file but '%s' in %s (renamed or "
+                               "reordered): bake it again", o, pvs_file_object_name(file, o), m->objects[o].name, scene_path);
+                return -1;
+            }
     }
     return 0;
 }
@@ -434,6 +444,15 @@ int cli_write_bake(const pvs_bake *bake, const char *path, size_t *size, tool_er
 
 /* Reads and opens the part files of a merge; they must be parts (unless a single whole file) of one
    bake: the same shard count, cells, objects, method and parameters. 0, or -1 with err set. */
+/* 1 when two files store the same object names, or neither stores any. */
+static int cli__same_names(const pvs_file *a, const pvs_file *b) {
+    uint32_t o;
+    if (!pvs_file_object_name(a, 0) != !pvs_file_object_name(b, 0)) return 0;
+    for (o = 0; pvs_file_object_name(a, 0) && o < a->object_count && o < b->object_count; ++o)
+        if (strcmp(pvs_file_object_name(a, o), pvs_file_object_name(b, o))) return 0;
+    return 1;
+}
+
 static int cli__open_parts(const char *const *paths, int count, void **data, pvs_file *files, tool_error *err) {
     pvs_error pe;
     int i;
@@ -453,7 +472,7 @@ static int cli__open_parts(const char *const *paths, int count, void **data, pvs
                   f->object_count != f0->object_count || f->method != f0->method || f->eps != f0->eps ||
                   f->up_axis != f0->up_axis || f->flags != f0->flags || f->max_chain != f0->max_chain || f->vocc_flags != f0->vocc_flags ||
                   f->vocc_base != f0->vocc_base || f->vocc_height_step != f0->vocc_height_step ||
-                  f->scene_fingerprint != f0->scene_fingerprint)) {
+                  f->scene_fingerprint != f0->scene_fingerprint || !cli__same_names(f, f0))) {
             tool_error_set(err, paths[i], 0, "does not belong to the bake of %s (shard count, cells, objects, method, eps, "
                                              "up axis, flags, chain bound, virtual occluders or scene differ)", paths[0]);
             return -1;
@@ -491,6 +510,7 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     pvs_box *boxes = NULL;
     pvs_word *table = NULL;
     uint8_t *vcount = NULL, *vscale = NULL, *vbytes = NULL;
+    const char **names = NULL;
     size_t vat = 0;
     pvs_file_desc d;
     pvs_error pe;
@@ -541,6 +561,15 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     d.flags = files[0].flags;
     d.max_chain = files[0].max_chain;
     d.scene_fingerprint = files[0].scene_fingerprint;
+    if (pvs_file_object_name(files, 0)) {
+        uint32_t o;
+        if (!(names = (const char **)malloc(files[0].object_count * sizeof(char *)))) {
+            tool_error_set(err, NULL, 0, "out of memory");
+            goto done;
+        }
+        for (o = 0; o < files[0].object_count; ++o) names[o] = pvs_file_object_name(files, o);
+        d.object_names = names;
+    }
     if (vcount) {
         d.vocc_counts = vcount;
         d.vocc_scales = vscale;
@@ -558,6 +587,7 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     }
     rc = 0;
 done:
+    free(names);
     for (i = 0; data && i < count; ++i) free(data[i]);
     free(data);
     free(files);

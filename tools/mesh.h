@@ -7,7 +7,9 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#define MESH_OBJECT_OCCLUDER 1u /* blocks sight, never drawn (OBJ name begins with "occluder") */
+#define MESH_OBJECT_OCCLUDER 1u    /* blocks sight, never drawn (OBJ name begins with "occluder") */
+#define MESH_OBJECT_SEE_THROUGH 2u /* drawn, never blocks sight (OBJ name begins with "glass", "door" or
+                                      "see_through") */
 
 typedef struct mesh_object {
     char *name;              /* owned, NUL-terminated, never NULL */

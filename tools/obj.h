@@ -6,7 +6,8 @@
      (otherwise `g` lines are ignored). Objects are numbered in file order from 0. Faces before the
      first object line form object 0, named "default". An `o`/`g` without a name is named "unnamed" /
      "default". Names are the rest of the line with surrounding whitespace removed.
-   - Objects whose name begins with "occluder" get MESH_OBJECT_OCCLUDER.
+   - Objects whose name begins with "occluder" get MESH_OBJECT_OCCLUDER; those whose name begins with
+     "glass", "door" or "see_through" get MESH_OBJECT_SEE_THROUGH (drawn, never blocking sight).
    - `v x y z [w | r g b ...]`: the first 3 numbers are the position; the rest must be numbers too.
    - `f a b c ...`: polygons are fan-triangulated (a b c, a c d, ...). Each vertex is `v`, `v/vt`,
      `v//vn` or `v/vt/vn`; only the position index is used (vt/vn must be integers or empty but are

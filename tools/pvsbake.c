@@ -65,6 +65,8 @@ static const char *usage =
     "                    rerunning the same command continues from it; it is removed when the output\n"
     "                    is written\n"
     "  --no-state        no state file\n"
+    "  --no-names        leave the objects' names out of the file (stored, they let pvscheck and pvsview\n"
+    "                    tell a renamed or reordered object)\n"
     "  -q, --quiet       no progress bar and no summary\n"
     "  --help            this text\n"
     "An option for one method (shrink:, extproj:, vocc:, sample method: above) with a --method that\n"
@@ -349,7 +351,7 @@ typedef struct bake_options {
     uint32_t methods, up, threads, points, rays, seed, chain, shard_k, shard_n, state_every;
     uint32_t sweep, adaptive, resolution, otree_budget, vocc_slices, vocc_max;
     uint32_t given; /* bits over method_options: the options given */
-    int quiet, preview, no_state, vocc_only, no_sweep, subcells, state_every_given, threads_given;
+    int quiet, preview, no_state, no_names, vocc_only, no_sweep, subcells, state_every_given, threads_given;
 } bake_options;
 
 /* One option of value_options with its value v. 0, or 2 after a usage error. */
@@ -461,6 +463,8 @@ static int parse_options(int argc, char **argv, bake_options *o) {
             o->preview = 1;
         } else if (!strcmp(a, "--no-state")) {
             o->no_state = 1;
+        } else if (!strcmp(a, "--no-names")) {
+            o->no_names = 1;
         } else if (cli_is_option(a, value_options)) {
             if (!v) return tool_usage_error(TOOL, "%s needs a value", a);
             ++i;
@@ -632,6 +636,7 @@ static int bake_main(int argc, char **argv) {
     cli_bake_run run;
     double *secs = NULL, t0, t_bake;
     char *state_buf = NULL, task_what[96];
+    const char **names = NULL;
     const char *limit_source = NULL;
     size_t size = 0, limit = 0;
     cli_memory mem;
@@ -648,6 +653,15 @@ static int bake_main(int argc, char **argv) {
     if (cli_load_scene_limited(o.scene_path, o.up, &m, &mem, &scene, &te)) goto fail;
     if (o.cells_path ? cells_load(o.cells_path, &cells, &te) : cli_grid_cells(scene, o.grid, 10000000u, &cells, &te)) goto fail;
     bake_desc_init(&bd, &o, scene, &cells, &mem);
+    if (!o.no_names) { /* the OBJ's object names, for pvscheck and pvsview to tell a renamed or reordered object */
+        uint32_t i;
+        if (!(names = (const char **)malloc(m.object_count * sizeof(char *)))) {
+            tool_error_set(&te, o.scene_path, 0, "out of memory");
+            goto fail;
+        }
+        for (i = 0; i < m.object_count; ++i) names[i] = m.objects[i].name;
+        bd.object_names = names;
+    }
     if (o.adaptive) o.no_state = 1; /* a cell's PVS alone does not restore its leaves */
     if (o.shard_n > 1) {
         if (o.shard_n > cells.count) {
@@ -709,6 +723,7 @@ fail:
         fprintf(stderr, "pvsbake: %s\n", te.message);
     }
 done:
+    free(names);
     free(secs);
     free(state_buf);
     pvs_bake_destroy(bake);

@@ -126,7 +126,7 @@ int main(int argc, char **argv) {
     if (rc) fprintf(stderr, "%s: %s\n", TOOL, err.message);
     else if (!o.quiet)
         fprintf(stderr,
-                "%s: %s: %u surfaces (%u patches, %u without faces, %u translucent, drawn opaque), %u triangles; "
+                "%s: %s: %u surfaces (%u patches, %u without faces, %u see-through), %u triangles; "
                 "%u of %u world brushes solid and opaque (%u hull triangles); %u cells (of %u leaves with a cluster), "
                 "%u clusters, %s\n",
                 TOOL, o.bsp, st.surfaces, st.patches, st.empty_surfaces, st.translucent_surfaces, m.triangle_count,

@@ -174,7 +174,9 @@ static void print_summary(const char *path, const pvs_file *f, size_t size, pvs_
     if (f->scene_fingerprint) printf("scene       fingerprint %016llx\n", (unsigned long long)f->scene_fingerprint);
     else printf("scene       no fingerprint (baked before v0.8.0): a stale file cannot be told\n");
     printf("cells       %u\n", f->cell_count);
-    printf("objects     %u\n", f->object_count);
+    printf("objects     %u", f->object_count);
+    if (pvs_file_object_name(f, 0)) printf(", named (object 0 '%s')\n", pvs_file_object_name(f, 0));
+    else printf(", no names stored (a renamed or reordered object cannot be told)\n");
     printf("pvs size    mean %.1f (%.1f%%), min %u, max %u\n", sum / f->cell_count, 100.0 * sum / f->cell_count / f->object_count, minp, maxp);
     printf("bytes       %zu (%.1f per cell; raw bitsets would be %zu)\n", size, (double)size / f->cell_count,
            (size_t)f->cell_count * ((f->object_count + 7) / 8));
