@@ -1,4 +1,4 @@
-/* pvs.h - v0.8.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.9.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -25,7 +25,7 @@
 		   pvs_bake_run_task(bake, t, &err);
 	   size_t size = pvs_bake_file_size(bake);
 	   void *file_bytes = my_alloc(size);						 // your memory
-	   pvs_bake_write_file(bake, file_bytes, size, &size, &err);  // the .pvs file, ready to save
+	   pvs_bake_write_file(bake, file_bytes, size, &size, &err);  // the .pvs file
 	   pvs_bake_destroy(bake);
 
 	   // runtime: no allocation, safe on untrusted bytes
@@ -46,13 +46,13 @@
    TABLE OF CONTENTS (search for the banner, e.g. ">>kdtree")
    =================
    >>docs       this manual
-   >>api        the declarations, per module
+   >>api        declarations, per module
    >>core       result codes, allocator hooks, math, bitsets
    >>scene      scene, object bounds, triangles, explicit occluders
    >>kdtree     kD-tree over boxes: build, sweep, ray cast, point location
    >>raster     conservative rasterizer, depth pyramid, cull map, per-frame culling
    >>otree      occlusion trees: 2D and 2.5D (c-LSS) region visibility, from-point culling
-   >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps
+   >>occluders  occluder synthesis: voxelize, flood from the cells, erode by eps; walkable view cells
    >>vocc       virtual occluders (Koltun 2000)
    >>portal     rooms and portals from closed convex solids, portal flow (method PORTAL)
    >>methods    `shrink` (Wonka 2000), `extproj` (Durand 2000), the estimator `sample`
@@ -85,7 +85,7 @@
    eps (the sampling or shrinking distance; smaller is tighter and slower). Except `sample` (ray sampling): an estimate
    from below, the tests' yardstick; its files carry PVS_FILE_APPROXIMATE. One tolerance: OTREE's facade extraction
    closes cracks and offsets up to eight float epsilons of the scene's coordinates between pieces of one wall
-   (T-junction cracks, about 1 mm at 1 km); an opening to be seen through must be wider.
+   (T-junctions; about 1 mm at 1 km); openings to see through must be wider.
 
    Methods. AUTO, the default, runs the conservative methods that can cull in the scene, cheapest first, and intersects
    their PVSs (conservative, as tight as each): PORTAL when closed convex meshes bound rooms; OTREE when vertical walls
@@ -102,24 +102,20 @@
 
    Adaptive cells (Durand 2000 §6.1). A cell whose PVS holds over adaptive.budget triangles is halved across its
    longest side, recursively down to adaptive.min_size; each half is baked from its parent's PVS and intersected with it
-   (EXTPROJ also drops the occluders it hides). The file holds the leaf cells (pvs_bake_leaf_count) in cell order, each
+   (EXTPROJ also drops the occluders it hides). The file holds leaf cells (pvs_bake_leaf_count) in cell order, each
    cell's leaves depth first; pvs_bake_cell_pvs gives a whole cell's PVS. Deterministic for any thread count; not with
    shards, VOCC or resuming.
-
-   Memory. Each desc has a `pvs_allocator` (zero: PVS_MALLOC/PVS_FREE); objects keep theirs. Sizes are
-   overflow-checked.
 
    Threads. No thread started, no global mutable state. Read-only objects (a created pvs_scene or pvs_kdtree, an opened
    pvs_file) may be shared by threads. pvs_bake_run_task may run concurrently for distinct tasks (with a thread-safe
    allocator, as malloc is); output is byte-identical for any order or thread count.
 
    Errors. Functions return pvs_result (0 = PVS_OK, negative = error; pvs_result_string names it); most fill an optional
-   `pvs_error *` with the code, the offending index or byte offset, and a message. PVS_ASSERT guards programmer misuse
-   only; bad data is always a result code.
+   `pvs_error *` with the code, offending index or byte offset, and message. Bad data: a result code, never PVS_ASSERT.
 
    Trust. pvs_scene_create validates every index, count and coordinate. pvs_file_open is safe on untrusted bytes: it
    checks every offset, size, count and checksum before use, never reads outside the buffer; later calls on an opened
-   file cannot fail on its content.
+   file cannot fail on its content. Sizes are overflow-checked.
 
    Culling. Per frame, from a context allocated once, pvs_raster_cull (3D: depth pyramid), pvs_raster_cull_map (2.5D:
    cull map) or pvs_otree_cull (occlusion tree) report every object possibly seen on screen from the near plane on,
@@ -131,7 +127,7 @@
    MEMORY
    ======
    Allocates through the desc's allocator: pvs_scene_create (triangles, kD-trees: at most PVS_SCENE_BYTES_PER_TRIANGLE,
-   2.4 KB, per triangle and per object); pvs_bake_begin (a bitset per cell: cell_count * object_count / 8 bytes, 40 of
+   2.4 KB, per triangle and object); pvs_bake_begin (a bitset per cell: cell_count * object_count / 8 bytes, 40 of
    statistics per cell); pvs_bake_run_task (AUTO: a bitset per method; EXTPROJ: (128 + 8 x sweep planes) x N^2 bytes of
    N x N depth maps and sweep masks, plus summed-area tables of 4 (N^2 + N + 1 + min(16 N, 16384)) bytes per plane of a
    direction up to 64 MiB, at least two (pvs_extproj_task_bytes): 8 MB at 256 pixels, 21 MB with 16 sweep planes, 0.7 GB
@@ -144,7 +140,7 @@
    ===========
    `make bench` prints every figure; tests/BENCHMARKS.md says what each measures, with dated results.
 
-   ALGORITHMS (each cited again where it is implemented)
+   ALGORITHMS (each cited again where implemented)
    ==========
    kD-tree, front-to-back sweep, occlusion trees: Bittner 2002 (§3.2, §4.4, ch. 4, 6, 7). Delta-PVS storage, extended
    projections, hierarchical depth map: Durand et al. 2000 (§2.4, §3, §5, §6). Cull maps, occluder shadows: Wonka
@@ -152,20 +148,19 @@
    occluders: Koltun, Chrysanthou and Cohen-Or 2000. Watertight ray-triangle test: Woop, Benthin and Wald 2013. Masked
    occlusion culling: Hasselgren, Andersson and Akenine-Moller 2016. Rice codes: Golomb 1966, Rice 1979.
 
-   FILE FORMAT (version 1; integers little-endian; offsets from the start of the file)
+   FILE FORMAT (version 1; integers little-endian; offsets from the file's start)
    ===========
-   The delta-PVS of Durand et al. 2000 (§6.2): a few key cells store their PVS whole, the others the objects that
-   differ from a base cell, chains bounded by K. pvs_file_open rejects a file breaking a rule below with the code in
-   brackets.
+   The delta-PVS of Durand et al. 2000 (§6.2): a few key cells store their PVS whole, others the objects that differ
+   from a base cell, chains bounded by K. pvs_file_open rejects a file breaking a rule below with the bracketed code.
    header, 32 bytes:
-	 0  u8[4]  magic "PVS\x1a"                                             [BAD_MAGIC]
-	 4  u32    format version (PVS_FORMAT_VERSION); any other is rejected     [BAD_VERSION]; it changes
+	 0  u8[4]  magic "PVS\x1a"                                          [BAD_MAGIC]
+	 4  u32    format version (PVS_FORMAT_VERSION); any other is rejected  [BAD_VERSION]; it changes
 			   only when a version-1 reader would misread a file, not for new optional sections
-	 8  u32    file size in bytes (must equal the buffer size)                [TRUNCATED, BAD_HEADER]
-	 12 u32    section count S (1..64)                                        [BAD_HEADER]
+	 8  u32    file size in bytes (must equal the buffer size)             [TRUNCATED, BAD_HEADER]
+	 12 u32    section count S (1..64)                                     [BAD_HEADER]
 	 16 u32    flags (PVS_FILE_APPROXIMATE = 1); unknown bits are ignored
-	 20 u32    CRC-32 (IEEE) of bytes 0..19 and of the section table          [CHECKSUM]
-	 24 u32[2] reserved, zero                                                 [BAD_HEADER]
+	 20 u32    CRC-32 (IEEE) of bytes 0..19 and of the section table       [CHECKSUM]
+	 24 u32[2] reserved, zero                                              [BAD_HEADER]
    section table at 32: S entries of u32 tag, offset, size, CRC-32 of the section's bytes [CHECKSUM].
 	 Sections are 8-byte aligned, inside the file, disjoint, tags unique [BAD_SECTION, TRUNCATED]; other bytes after
 	 the table are zero [BAD_SECTION]. Tags are four ASCII characters; readers skip unknown ones. The writer emits
@@ -179,9 +174,8 @@
 	 12 u8 w[3]: min index widths in bits, the bits needed for n - 1 (0 when n = 1)
 	 15 u8 x[3]: extent widths in bits (<= w)      18 u8[2] zero
 	 20 f32 tables: n[0] values of axis 0, n[1] of axis 1, n[2] of axis 2; finite, strictly ascending, never -0
-	 then per cell, in cell order, min0 min1 min2 (widths w) and extents e0 e1 e2 (widths x; max index = min +
-		extent < n), packed least significant bit first; the last byte's unused high bits are zero; the section
-		ends there.
+	 then per cell, in cell order, min0 min1 min2 (widths w) and extents e0 e1 e2 (widths x;
+		max index = min + extent < n), packed LSB first; the last byte's unused high bits zero; the section ends there.
    "TREE" (required): the cell look-up kD-tree, complete, depth D, implicit (node k's children 2k + 1 and 2k + 2;
 	 leaf j is node 2^D - 1 + j) [BAD_TREE]:
 	 0 u32 D (0..24)   4 u32 zero   8 f32 splits[2^D - 1] (finite)   then u32 leaf offsets[2^D + 1] (offsets[0] = 0,
@@ -204,8 +198,8 @@
 		 0 gap varints: varint count, then count varints: the first id, then the gaps minus one.
 		 1 run lengths: varint pairs, then per pair varint zeros, varint ones - 1: alternating runs from id 0 (zero
 		   runs after the first >= 1); the set ends after the last ones run.
-		 2 Rice codes: u8 k (0..24), varint count, then count codes, least significant bit first, per gap (as in
-		   0): gap >> k 1 bits, a 0 bit, the k low bits; zero bits pad the last byte.
+		 2 Rice codes: u8 k (0..24), varint count, then count codes, LSB first, per gap (as in 0): gap >> k 1 bits,
+		   a 0 bit, the k low bits; zero bits pad the last byte.
 		 3 raw bitset: ceil(universe / 8) bytes, bit i of byte j = id 8j + i; bits past the universe zero.
 	   The writer picks the smallest coding, ties to the lower. A decoder applies the deltas from the chain's key
 	   (removals, then additions). Only decoding checks m against the base's PVS (pvsinfo --verify); ranks past it
@@ -213,7 +207,7 @@
 	 Varints are LEB128: at most 5 bytes, the value fits 32 bits, no needless 0x80 bytes.
    "SHRD" (optional, 16 bytes, else BAD_SECTION; part files of a sharded bake) [BAD_HEADER]: u32 shard index
 	 (0-based), u32 shard count (>= 2), u32 total cell count, u32 zero. Part cell j is whole cell index + j * count;
-	 cell_count must be the number of such cells.
+	 cell_count must be their count.
    "SCNE" (optional, 8 bytes, else BAD_SECTION): u64, nonzero, the baked scene's pvs_scene_fingerprint.
    "NAME" (optional) [BAD_SECTION]: object names. 0 u32 object_count, then u32 end[object_count], strictly ascending,
 	 then the names: name i is bytes end[i - 1] (0 for i = 0) to end[i] of the text, its last byte the only zero; the
@@ -237,9 +231,6 @@
    RECENT HISTORY (older: FULL HISTORY at the end)
    ==============
    0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH; object names (NAME); PVS_RUNTIME_ONLY.
-   0.8.0 (2026-11-28) files record the scene's fingerprint (SCNE); AUTO's prices depend on the scene.
-   0.7.0 (2026-11-28) AUTO prices its methods: cost classes, PVS_AUTO_MIN_GAIN 10%.
-   0.6.0 (2026-11-28) method PORTAL (cells and portals), in AUTO's default set.
 */
 // >>api
 #ifndef PVS_H
@@ -252,7 +243,7 @@
 #define PVS_VERSION_MINOR 9
 #define PVS_VERSION_PATCH 0
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
-/* The .pvs file format version this header writes and reads. */
+/* The .pvs format version this header writes and reads. */
 #define PVS_FORMAT_VERSION 1
 
 #ifndef PVS_API
@@ -286,7 +277,7 @@ typedef enum pvs_result {
 	PVS_ERROR_OVERLAPPING_OBJECTS = -8,/* two objects claim the same triangle */
 	PVS_ERROR_BAD_OCCLUDER = -9,	   /* an explicit occluder empty, unbounded or malformed */
 	PVS_ERROR_BAD_CELL = -10,		   /* a cell box with NaN or min > max */
-	PVS_ERROR_BUFFER_TOO_SMALL = -11,  /* an output buffer is too small */
+	PVS_ERROR_BUFFER_TOO_SMALL = -11,  /* an output buffer too small */
 	PVS_ERROR_BAD_MAGIC = -12,		   /* not a .pvs file */
 	PVS_ERROR_BAD_VERSION = -13,	   /* a .pvs file of another format version */
 	PVS_ERROR_TRUNCATED = -14,		   /* the buffer ends before the data it declares */
@@ -350,14 +341,12 @@ typedef struct pvs_kdtree pvs_kdtree;
 #ifndef PVS_RUNTIME_ONLY /* the bake's modules, up to >>vocc's run-time part */
 /* ---- scene ---- */
 
-/* Object flags. */
 #define PVS_OBJECT_OCCLUDER_ONLY 1u /* blocks sight but is never drawn: never appears in a PVS */
 /* Drawn and in PVSs, but never blocks sight, in any method, in ray sampling or in per-frame culling: glass,
    foliage, grates, doors (bake doors open; per frame, pass a closed door's triangles as occluders). */
 #define PVS_OBJECT_SEE_THROUGH 2u
 
-/* An object, the unit of visibility: a range of triangles disjoint from other objects'. Triangles in no range only
-   block sight. */
+/* An object, the unit of visibility: a triangle range disjoint from others'. Triangles in no range only block sight. */
 typedef struct pvs_object_desc {
 	uint32_t first_triangle;
 	uint32_t triangle_count;
@@ -386,7 +375,6 @@ typedef struct pvs_occluder_desc {
 #define PVS_MAX_OCCLUDER_PLANES 64
 #define PVS_MAX_FOOTPRINT_POINTS 4096
 
-/* Scene flags. */
 #define PVS_SCENE_ALLOW_EMPTY_OBJECTS 1u /* keep objects with no (or only zero-area) triangles: never visible */
 
 /* Zero fields get defaults. Ground coordinates (u, v): (x, z) for up_axis 1, (x, y) for 2. */
@@ -397,7 +385,7 @@ typedef struct pvs_scene_desc {
 	uint32_t triangle_count;
 	const pvs_object_desc *objects;
 	uint32_t object_count;		 /* >= 1 */
-	const pvs_occluder_desc *occluders; /* may be NULL when occluder_count is 0 */
+	const pvs_occluder_desc *occluders; /* NULL allowed if occluder_count is 0 */
 	uint32_t occluder_count;
 	uint32_t up_axis;			 /* 0 or 1: Y up (default); 2: Z up */
 	uint32_t flags;				 /* PVS_SCENE_* */
@@ -427,7 +415,7 @@ PVS_API pvs_box pvs_scene_object_box(const pvs_scene *scene, uint32_t object); /
 PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *scene, uint32_t object);
 /* 64-bit FNV-1a hash of what the bake reads: up axis, per object its flags and triangles' corners, then the explicit
    occluders (kind, box, heights, planes, footprints). Never 0. Stored in the file (pvs_file.scene_fingerprint) to
-   detect a file baked for another version of the level. */
+   detect one baked for another version of the level. */
 PVS_API uint64_t pvs_scene_fingerprint(const pvs_scene *scene);
 /* The object a triangle belongs to, or PVS_NO_OBJECT. */
 PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *scene, uint32_t triangle);
@@ -448,10 +436,33 @@ PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], con
 /* 1 if a triangle crosses segment a-b (ends included), 0 when a == b; otherwise as pvs_scene_raycast. */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], const float b[3]);
 
+/* View cells from walkable space (pvs_walkable_cells). Zero fields get defaults in scene units (metres). */
+typedef struct pvs_walkable_desc {
+	float cell_size;		 /* ground side of a cell, 0 = 4; floors are sampled every cell_size / 4 */
+	float eye_height;		 /* camera height over the floor, 0 = 1.8 */
+	float head_room;		 /* free height over a floor, 0 = eye_height */
+	float step_height;		 /* the most a walk climbs between samples; closer floors are one level; 0 = 0.5 */
+	float max_slope;		 /* steepest floor, radians in (0, pi / 2), 0 = pi / 4 */
+	uint32_t max_merge;		 /* cells merged per side over open floor, 0 = 2 (1: none) */
+	const float *seed;		 /* NULL: every floor; else the floors a walk reaches from the one under this point */
+	const pvs_box *volumes;	 /* NULL: anywhere; else only eyes inside these view volumes, cells clipped to them */
+	uint32_t volume_count;
+	pvs_allocator allocator; /* scratch */
+} pvs_walkable_desc;
+
+/* View cells where the camera can go: finds the floors a player stands on (surfaces no steeper than max_slope with
+   head_room free above them, on vertical ray casts through every storey), links samples a step apart with nothing
+   between them at knee height, groups the linked samples of each cell_size square, merges squares of open floor up to
+   max_merge per side, and writes per group the box over its samples' ground from a quarter eye height over its lowest
+   floor to eye height over its highest. Writes up to `capacity` boxes (cells may be NULL), *count the number found;
+   deterministic. Errors: INVALID_ARGUMENT, NOT_FINITE, COUNT_OVERFLOW (over 2^26 sample columns), OUT_OF_MEMORY.
+   Thread-safe. */
+PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable_desc *desc, pvs_box *cells,
+									  uint32_t capacity, uint32_t *count, pvs_error *err);
+
 /* ---- kdtree ---- */
 
-/* pvs_kdtree (declared under core): a kD-tree over boxes, binned SAH, items in every leaf they overlap. Immutable, so
-   thread-safe. */
+/* pvs_kdtree (see core): kD-tree over boxes, binned SAH, items in each leaf they meet. Immutable, thread-safe. */
 typedef struct pvs_kdtree_desc {
 	const pvs_box *boxes;	 /* count item boxes; item i is box i */
 	uint32_t count;
@@ -460,7 +471,7 @@ typedef struct pvs_kdtree_desc {
 	pvs_allocator allocator;
 } pvs_kdtree_desc;
 #define PVS_KDTREE_MAX_DEPTH 48
-/* Memory bounds per box, for any boxes: item references (4 bytes each), nodes (8 bytes each), build bytes (plus
+/* Memory bounds per box, any boxes: item references (4 bytes each), nodes (8 bytes each), build bytes (plus
    _BUILD_BYTES_FIXED). Boxes overlapping everywhere get bigger leaves instead of more memory. */
 #define PVS_KDTREE_MAX_REFS_PER_BOX 64
 #define PVS_KDTREE_MAX_NODES_PER_BOX 32
@@ -470,14 +481,14 @@ typedef struct pvs_kdtree_desc {
 /* Deterministic. Boxes with min > max are left out; count 0 gives an empty tree. Errors: INVALID_ARGUMENT,
    NOT_FINITE (err->index = the box), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **out_tree, pvs_error *err);
-/* Frees through its allocator; NULL allowed. */
+/* Frees via its allocator; NULL ok. */
 PVS_API void pvs_kdtree_destroy(pvs_kdtree *tree);
-/* The union of the non-empty item boxes, or an empty box (min > max). */
+/* Union of the non-empty item boxes, or an empty box (min > max). */
 PVS_API pvs_box pvs_kdtree_bounds(const pvs_kdtree *tree);
-/* Nodes (inner with two children, and leaves); >= 1. */
+/* Nodes, inner and leaves; >= 1. */
 PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *tree);
 
-/* What a sweep visitor tells the traversal. */
+/* A sweep visitor's answer. */
 typedef enum pvs_visit {
 	PVS_VISIT_DESCEND = 0,	 /* visit the children */
 	PVS_VISIT_SKIP,			 /* cull the subtree */
@@ -495,17 +506,17 @@ typedef pvs_visit (*pvs_kdtree_visit_fn)(void *user, const pvs_box *node_box, fl
 /* Scratch bytes pvs_kdtree_sweep needs: 32 per leaf ((node_count + 1) / 2). */
 PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *tree);
 /* The approximate occlusion sweep (Bittner 2002, §3.2): nodes front to back from the box `source` (a point: min ==
-   max) by a priority queue on minimum distance, ties by node index. `scratch`: pvs_kdtree_sweep_scratch_size bytes,
+   max) by a priority queue on min distance, ties by node index. `scratch`: pvs_kdtree_sweep_scratch_size bytes,
    8-aligned. Errors: BUFFER_TOO_SMALL, INVALID_ARGUMENT (NULL tree, source or visit), NOT_FINITE (source).
    Allocates nothing. */
 PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *tree, const pvs_box *source, void *scratch, size_t scratch_size,
 									pvs_kdtree_visit_fn visit, void *user);
 
 /* Called per non-empty leaf a ray passes, nearest first; [t_enter, t_exit] widened by a relative 1e-7. Returns a
-   smaller tmax to shorten the ray (larger is ignored), < 0 to stop. */
+   smaller tmax to shorten the ray (larger ignored), < 0 to stop. */
 typedef float (*pvs_kdtree_ray_fn)(void *user, const uint32_t *items, uint32_t item_count, float t_enter, float t_exit);
 /* Walks the leaves origin + t dir, 0 <= t <= tmax, passes, front to back; dir may have 0 or -0 components (not all
-   three), the origin lie anywhere; non-finite input walks nothing. Thread-safe, no allocation. */
+   three), the origin anywhere; non-finite input walks nothing. Thread-safe, no allocation. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const float dir[3], float tmax,
 							pvs_kdtree_ray_fn fn, void *user);
 
@@ -516,24 +527,24 @@ PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const floa
 /* ---- raster ---- */
 
 /* Depth (reversed Z): z_clip / w_clip, LARGER IS NEARER. pvs_camera_matrix maps the near plane to 1, infinity to 0
-   (orthographic: 1 at near, falling linearly, negative past `far`). Points with z_clip <= w_clip and w_clip > 0 are
+   (orthographic: 1 at near, linear, negative past `far`). Points with z_clip <= w_clip and w_clip > 0 are
    kept, the rest clipped; no far clipping. Pixel (i, j) covers [i, i+1] x [j, j+1] for x = (x_ndc + 1) / 2 * width,
    y likewise (row 0 at y_ndc = -1), and holds the nearest depth drawn, else PVS_DEPTH_EMPTY. */
 #define PVS_DEPTH_EMPTY (-3.402823466e+38f)
 
-/* How a triangle is rasterized (Durand 2000 §2.2, §3.1-3.2: occluders by intersection, occludees by union). */
+/* Rasterization (Durand 2000 §2.2, §3.1-3.2: occluders by intersection, occludees by union). */
 typedef enum pvs_raster_mode {
 	PVS_RASTER_OCCLUDER = 0,  /* pixels covered entirely, at most the triangle's farthest over them */
 	PVS_RASTER_OCCLUDEE,	  /* pixels touched, at least the triangle's nearest over them */
 	PVS_RASTER_MODE_COUNT
 } pvs_raster_mode;
 
-/* `forward`, `up` need not be unit or orthogonal (up is orthogonalized); image x = forward x up. */
+/* `forward`, `up` need not be unit or orthogonal (up gets orthogonalized); image x = forward x up. */
 typedef struct pvs_camera {
 	float eye[3];
 	float forward[3];
 	float up[3];
-	float fov_y;		 /* vertical field of view, radians, in (0, pi); 0 = orthographic */
+	float fov_y;		 /* vertical field of view, radians, (0, pi); 0 = orthographic */
 	float near_plane;	 /* > 0 */
 	float ortho_height;  /* orthographic: view volume height, > 0 */
 	float far_plane;	 /* orthographic: where depth reaches 0 (not a clip plane); 0 = near + 1e4 */
@@ -549,7 +560,7 @@ PVS_API pvs_result pvs_camera_matrix(const pvs_camera *camera, float aspect, flo
 #define PVS_RASTER_PER_PIXEL 2u  /* occluders keep a depth per pixel */
 #define PVS_RASTER_TILED 4u		 /* occluders go to tiles (wins over PVS_RASTER_PER_PIXEL) */
 
-/* What pvs_raster_create needs; zero fields get defaults. */
+/* Zero fields get defaults. */
 typedef struct pvs_raster_desc {
 	uint32_t width, height;		  /* depth map size in pixels, 1..16384 each */
 	/* Optional: sizes the culling buffers and cull map; pvs_raster_cull* take no larger scene (objects,
@@ -563,17 +574,17 @@ typedef struct pvs_raster_desc {
 	pvs_allocator allocator;
 } pvs_raster_desc;
 
-/* A rasterizer context holding every buffer; no allocation after create. One per thread. */
+/* Holds every buffer; no allocation after create. One per thread. */
 typedef struct pvs_raster pvs_raster;
 
 /* Errors: INVALID_ARGUMENT (sizes), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **out_raster, pvs_error *err);
-/* Frees through its allocator; NULL allowed. */
+/* Frees via its allocator; NULL ok. */
 PVS_API void pvs_raster_destroy(pvs_raster *raster);
 
-/* Sets every depth map pixel to PVS_DEPTH_EMPTY. */
+/* Sets every depth pixel to PVS_DEPTH_EMPTY. */
 PVS_API void pvs_raster_clear(pvs_raster *raster);
-/* Sets the row-major projection of the next draws and box tests: any 4x4 (also off-axis, as Durand 2000's planes
+/* Row-major projection of the next draws and box tests: any 4x4 (also off-axis, as Durand 2000's planes
    shared by a cell). NOT_FINITE for a non-finite entry. */
 PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *raster, const float m[16]);
 /* Draws `count` two-sided triangles (3 floats per vertex; 3 `indices` per triangle, NULL: consecutive), keeping per
@@ -591,7 +602,7 @@ PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positio
    pvs_raster_triangles; SIMD gives the same result. */
 PVS_API pvs_result pvs_raster_mesh(pvs_raster *raster, const float *positions, uint32_t vertex_count,
 								   const uint32_t *indices, uint32_t count);
-/* The depth map, width * height floats from row 0, valid until the next raster call. */
+/* Depth map, width * height floats from row 0, valid until the next raster call. */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
 
 /* The hierarchical depth map (Durand 2000 §2.4, after Greene, Kass and Miller 1993): per texel the farthest and
@@ -600,33 +611,32 @@ PVS_API void pvs_raster_build_pyramid(pvs_raster *raster);
 /* 1 if an occludee of nearest depth `depth` may be visible in pixels [x0, x1] x [y0, y1] (inclusive, clamped): some
    pixel stores a depth <= `depth`; 0 if all are strictly nearer or the rectangle is off the map. */
 PVS_API int pvs_raster_test_rect(pvs_raster *raster, int32_t x0, int32_t y0, int32_t x1, int32_t y1, float depth);
-/* 1 if the box may be visible: in front of the near plane, on screen, not hidden. */
+/* 1 if the box may be visible: before the near plane, on screen, not hidden. */
 PVS_API int pvs_raster_test_box(pvs_raster *raster, const pvs_box *box);
 
 /* Connected facades (Wonka 1999 §3.1, §4.1): vertical quads on consecutive ground segments (u, v), base to top. */
 typedef struct pvs_facade_chain {
-	const float *points;   /* point_count points (u, v) */
+	const float *points;   /* (u, v) each */
 	uint32_t point_count;  /* >= 2 */
 	uint32_t closed;	   /* 1: closed footprint (either winding), back-face culled; 0: open, two-sided */
 	float base, top;	   /* base < top; chains with base above the ground are ignored */
 } pvs_facade_chain;
 
-/* Cull map flags. */
-#define PVS_CULL_MAP_SCENE_OCCLUDERS 1u /* also the scene's EXTRUSION and BOX occluders as closed chains */
+#define PVS_CULL_MAP_SCENE_OCCLUDERS 1u /* cull map flag: also the scene's EXTRUSION, BOX occluders as closed chains */
 
 /* Builds the cull map from the eye (Wonka & Schmalstieg 1999 §3-4): front-facing facades' occluder shadows drawn
    top-down on the ground rectangle, the highest per cell, which hides its column below that height (PVS_DEPTH_EMPTY:
-   none). Facades count only when base <= min(eye height, the scene's lowest point). Skips malformed chains.
+   none). Facades count only if base <= min(eye height, the scene's lowest point). Skips malformed chains.
    INVALID_ARGUMENT without a scene and cull map, NOT_FINITE (eye). */
 PVS_API pvs_result pvs_cull_map_build(pvs_raster *raster, const float eye[3], const pvs_facade_chain *chains,
 									  uint32_t chain_count, uint32_t flags);
-/* The cull map, width * height heights, row-major; cell (i, j) covers u in region[0] + [i, i+1] * (region[2] -
+/* Cull map, width * height heights, row-major; cell (i, j) covers u in region[0] + [i, i+1] * (region[2] -
    region[0]) / width, v likewise. NULL without a cull map. */
 PVS_API const float *pvs_cull_map(const pvs_raster *raster, uint32_t *width, uint32_t *height, float region[4]);
 /* 1 if a cell the box overlaps holds a height <= its top (Wonka 1999 §4.3); outside the region: 1. */
 PVS_API int pvs_cull_map_test_box(const pvs_raster *raster, const pvs_box *box);
 
-/* Per-frame culling inputs. All zero: a frustum cull. */
+/* Per-frame culling inputs; all zero: a frustum cull. */
 typedef struct pvs_cull_params {
 	const float *occluder_positions;  /* the caller's occluder triangles: 3 floats per vertex; indices */
 	uint32_t occluder_vertex_count;   /*   3 per triangle, or NULL for consecutive vertices */
@@ -647,15 +657,15 @@ typedef struct pvs_cull_params {
 #define PVS_CULL_SCENE_MESH 2u		   /* the selected scene triangles, welded (tighter on many-triangle walls) */
 #define PVS_CULL_SEPARATE_TRIANGLES 4u /* scene_volumes per triangle; by default each is a mesh */
 
-/* What a culling call did. */
+/* A culling call's counts. */
 typedef struct pvs_cull_stats {
-	uint32_t occluder_triangles;  /* triangles rasterized (caller's + selected scene ones) */
+	uint32_t occluder_triangles;  /* rasterized (caller's + selected scene ones) */
 	uint32_t nodes_visited;		  /* kD-tree nodes reached by the sweep */
 	uint32_t boxes_tested;		  /* node and object boxes tested */
 	uint32_t visible;			  /* objects reported */
 } pvs_cull_stats;
 
-/* From-point culling with the depth pyramid: clears, sets the camera (aspect width / height), draws the occluders,
+/* From-point culling by depth pyramid: clears, sets the camera (aspect width / height), draws the occluders,
    builds the pyramid, sweeps the object kD-tree front to back (Bittner 2002 §3.2) skipping hidden subtrees. Sets in
    `visible` (PVS_BITSET_WORDS(object_count) words, cleared first) every object whose box may be seen on screen, never
    occluder-only ones. `stats` may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE (camera), BUFFER_TOO_SMALL (a scene
@@ -663,7 +673,7 @@ typedef struct pvs_cull_stats {
 PVS_API pvs_result pvs_raster_cull(pvs_raster *raster, const pvs_scene *scene, const pvs_camera *camera,
 								   const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 								   pvs_error *err);
-/* The 2.5D twin (Wonka 1999): builds the cull map from the eye with params->facades (and per flag the scene's
+/* 2.5D twin (Wonka 1999): builds the cull map from the eye with params->facades (and per flag the scene's
    occluders), scans the object grid with §4.3's two-level bounding-height test and sets every object in the frustum
    not under the shadows; orthographic cameras only get the frustum test. `scene`: the context's. Outputs and errors
    as pvs_raster_cull. */
@@ -675,16 +685,16 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scen
 /* Occlusion trees (Bittner 2002): BSPs over line space built front to back; every float decision is conservative. */
 
 typedef struct pvs_otree_stats {
-	uint32_t nodes;				 /* tree nodes at the end (of the largest tree) */
-	uint32_t occluders_inserted; /* occluders merged into the tree(s) */
+	uint32_t nodes;				 /* at the end (of the largest tree) */
+	uint32_t occluders_inserted; /* merged into the tree(s) */
 	uint32_t visible_segments;	 /* 2D: segments found visible */
 	uint32_t budget_exceeded; /* 1: node_budget stopped insertion; the rest count as not blocking */
 } pvs_otree_stats;
 
 /* Segment flags for pvs_visibility_2d. */
-#define PVS_SEGMENT_NO_OCCLUSION 1u /* tested for visibility but never blocks sight */
+#define PVS_SEGMENT_NO_OCCLUSION 1u /* tested but never blocks sight */
 
-/* Exact 2D from-region visibility (Bittner 2002, ch. 6). Zero fields get defaults. */
+/* Exact 2D from-region visibility (Bittner 2002, ch. 6). Zero fields: defaults. */
 typedef struct pvs_visibility_2d_desc {
 	const float *cell;				 /* cell_vertex_count x (x, y): a convex polygon, either winding */
 	uint32_t cell_vertex_count;		 /* >= 3 */
@@ -693,16 +703,16 @@ typedef struct pvs_visibility_2d_desc {
 	const uint8_t *segment_flags;	 /* NULL or segment_count PVS_SEGMENT_* flags */
 	const uint32_t *segment_objects; /* NULL (segment i is object i) or per segment its object or PVS_NO_OBJECT */
 	uint32_t object_count;			 /* bits in visible_objects */
-	uint32_t node_budget;			 /* stop inserting past this many nodes (0 = 2^20) */
+	uint32_t node_budget;			 /* stop inserting past it (0 = 2^20) */
 	uint32_t flags;					 /* 0 (the test hook PVS_VISIBILITY_INPUT_ORDER) */
 	pvs_allocator allocator;
 } pvs_visibility_2d_desc;
 #ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
-/* insert occluders in input order, not front to back */
+/* occluders in input order, not front to back */
 #define PVS_VISIBILITY_INPUT_ORDER 1u
 #endif
 
-/* The segments (and objects) reached from some cell point by a line crossing no other segment (touching an end point
+/* The segments (and objects) seen from some cell point along a line crossing no other segment (touching an end point
    does not block; segments crossing the cell are visible): exact, rounding toward visible. visible_segments,
    visible_objects (PVS_BITSET_WORDS of segment_count, object_count) are cleared first; they and stats may be NULL.
    Errors: INVALID_ARGUMENT, NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex), OUT_OF_MEMORY.
@@ -710,11 +720,10 @@ typedef struct pvs_visibility_2d_desc {
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments,
 									 pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err);
 
-/* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7), over ground (u, v) and height. Zero fields
-   get defaults. */
+/* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7), over ground (u, v) and height. */
 typedef struct pvs_visibility_25d_desc {
 	float cell_min[2], cell_max[2]; /* the cell's ground rectangle */
-	float cell_top;					/* the highest eye height in the cell */
+	float cell_top;					/* highest eye height in the cell */
 	const float *facades;			/* facade_count x (u0, v0, u1, v1, top): opaque walls on the ground */
 	uint32_t facade_count;
 	const float *objects; /* object_count x (umin, vmin, umax, vmax, top) bounds; umin > umax = empty */
@@ -725,7 +734,7 @@ typedef struct pvs_visibility_25d_desc {
 	uint32_t flags;					/* 0; other bits INVALID_ARGUMENT but the test hook PVS_VISIBILITY_25D_FULL_TESTS */
 } pvs_visibility_25d_desc;
 
-/* The default node budget of a 2.5D occlusion tree. Once spent, the remaining facades are not inserted
+/* Default 2.5D occlusion tree node budget. Once spent, the remaining facades are not inserted
    (conservative); objects are still tested. Bounds the time per cell on maps of many small facades. */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
 
@@ -735,11 +744,11 @@ typedef struct pvs_visibility_25d_desc {
 #endif
 
 /* Fills boxes[facade_count + object_count] for pvs_visibility_25d_desc.tree: facade i is item i, object j item
-   facade_count + j; axes (u, v, height up to the top). Build the tree once for all cells. */
+   facade_count + j; axes (u, v, height to top). Build the tree once for all cells. */
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
 									  uint32_t object_count, pvs_box *boxes);
 
-/* The objects possibly visible from the cell (ground rectangle x heights up to cell_top), facades reaching down
+/* The objects possibly visible from the cell (ground rectangle x heights to cell_top), facades reaching down
    below every cell and object; never misses one. Facades crossing the cell are ignored. visible_objects:
    PVS_BITSET_WORDS(object_count) words, cleared first; stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE,
    OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
@@ -747,17 +756,16 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 									  pvs_otree_stats *stats, pvs_error *err);
 
 /* From-point culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), pvs_raster_cull's object-space twin:
-   each frame the occluders are merged front to back into a BSP of planes through the eye, and the object kD-tree is
-   walked front to back against it (§4.10.2's conservative box test, refined at in-leaves by the exact "FME" test,
-   Table 4.1), with hierarchy updating (§4.11.4), giving exactly the result of testing every node. Occluders (§4.5):
-   the caller's triangles, the best `scene_occluders` by area-angle among triangles of objects seen within
-   `occluder_distance` last frame (after create or reset: all within it), and per `scene_volumes` BOX faces and
-   EXTRUSION walls within it. */
+   each frame occluders are merged front to back into a BSP of planes through the eye, and the object kD-tree is walked
+   front to back against it (§4.10.2's conservative box test, refined at in-leaves by the exact "FME" test, Table 4.1),
+   with hierarchy updating (§4.11.4), giving exactly the result of testing each node. Occluders (§4.5): the caller's
+   triangles, the best `scene_occluders` by area-angle among triangles of objects seen within `occluder_distance` last
+   frame (after create or reset: all within it), and per `scene_volumes` BOX faces and EXTRUSION walls within it. */
 typedef struct pvs_otree_desc {
 	/* Required: sizes the per-node state; pvs_otree_cull takes no larger scene (objects, triangles, kD nodes). */
 	const pvs_scene *scene;
 	float aspect;				  /* image width / height, 0 = 1 */
-	uint32_t max_occluders;		  /* most scene polygons inserted per frame, 0 = 64; <= 65536 */
+	uint32_t max_occluders;		  /* scene polygons inserted per frame, 0 = 64; <= 65536 */
 	uint32_t node_budget;		  /* occlusion tree nodes per frame, 0 = 8192; 64..2^24 */
 	uint32_t flags;				  /* PVS_OTREE_* */
 	pvs_allocator allocator;
@@ -765,25 +773,25 @@ typedef struct pvs_otree_desc {
 #define PVS_OTREE_NO_COHERENCE 1u /* test every reached kD node every frame (§4.11.2) */
 #define PVS_OTREE_PLANE_ONLY 2u   /* in-leaves test the fragment's plane only ("FMC") */
 
-/* A from-point culling context (node pool, last frame's kD node states). One per thread. */
+/* Node pool, last frame's kD node states. One per thread. */
 typedef struct pvs_otree pvs_otree;
 
-/* What the last pvs_otree_cull did, beyond pvs_cull_stats. */
+/* The last pvs_otree_cull, beyond pvs_cull_stats. */
 typedef struct pvs_otree_frame {
-	uint32_t tree_nodes;		  /* occlusion tree nodes (inner and leaves) */
-	uint32_t fragments;			  /* occluder fragments stored at in-leaves */
-	uint32_t occluders;			  /* polygons offered to the tree (caller's + scene's) */
+	uint32_t tree_nodes;		  /* inner and leaves */
+	uint32_t fragments;			  /* occluder fragments at in-leaves */
+	uint32_t occluders;			  /* offered to the tree (caller's + scene's) */
 	uint32_t node_tests;		  /* kD nodes tested (frustum + tree) */
 	uint32_t nodes_skipped;		  /* opened kD nodes whose test hierarchy updating skipped */
-	uint32_t object_tests;		  /* object boxes tested in partly visible leaves */
+	uint32_t object_tests;		  /* boxes tested in partly visible leaves */
 	uint32_t budget_exceeded;	  /* 1: the budget or a polygon's size stopped an insertion */
 } pvs_otree_frame;
 
 /* Errors: INVALID_ARGUMENT, NOT_FINITE (aspect), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out_otree, pvs_error *err);
-/* Frees through its allocator; NULL allowed. */
+/* Frees via its allocator; NULL ok. */
 PVS_API void pvs_otree_destroy(pvs_otree *otree);
-/* Forgets the last frame (a camera cut). */
+/* Forgets the last frame (camera cut). */
 PVS_API void pvs_otree_reset(pvs_otree *otree);
 /* Outputs as pvs_raster_cull (plane tests lean toward "visible"); `params` may be NULL, facades are ignored. Errors:
    INVALID_ARGUMENT, NOT_FINITE (camera), UNSUPPORTED (orthographic), BUFFER_TOO_SMALL (a scene larger than the
@@ -791,18 +799,18 @@ PVS_API void pvs_otree_reset(pvs_otree *otree);
 PVS_API pvs_result pvs_otree_cull(pvs_otree *otree, const pvs_scene *scene, const pvs_camera *camera,
 								  const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 								  pvs_error *err);
-/* Fills *frame for the last pvs_otree_cull. */
+/* Fills *frame (last pvs_otree_cull). */
 PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame);
 
 /* ---- occluders ---- */
 
 /* Occluder synthesis: certainly-solid volumes for the shrink method (Wonka 2000 §2: its appendix theorem needs
-   volumetric occluders). A voxel is solid only when crossing-parity floods from the cells prove no viewer reaches it
-   without touching a triangle (>>occluders, "certified solid"), or when it lies in an explicit occluder volume.
-   Openings narrower than a voxel stay open; a crack or T-junction (an edge used by an odd number of triangles) gives
-   no volume along the vertical sheet below it; an enclosure made only by several meshes together is not recognised.
+   volumetric occluders). A voxel is solid only if crossing-parity floods from the cells prove no viewer reaches it
+   without touching a triangle (>>occluders, "certified solid"), or it lies in an explicit occluder volume.
+   Openings narrower than a voxel stay open; a crack or T-junction (an edge used by an odd count of triangles) gives
+   no volume along the vertical sheet below it; an enclosure made only by several meshes together is missed.
    The solid set is eroded by eps (rounding toward less solid) into boxes (3D) and column heights (2.5D). Leaks: the
-   few cells reaching outside the box of the component most cells lie in are left out of later floods, so the others
+   few cells reaching outside the box of the component most cells are in are left out of later floods, so the others
    keep their walls (pvs_occluders_excluded_cells). */
 typedef struct pvs_occluders_desc {
 	const pvs_scene *scene;   /* required; must outlive the occluders */
@@ -815,16 +823,15 @@ typedef struct pvs_occluders_desc {
 	pvs_allocator allocator;
 } pvs_occluders_desc;
 
-/* Flag: leaking cells seed the floods too (a leak then opens walls for every cell). The bake uses it for a second
-   synthesis that bakes the left-out cells. */
+/* Flag: leaking cells seed the floods too (a leak then opens walls for every cell). The bake uses it in a second
+   synthesis for the left-out cells. */
 #define PVS_OCCLUDERS_KEEP_LEAKS 1u
 
 /* Immutable, thread-safe to read. */
 typedef struct pvs_occluders pvs_occluders;
 
-/* What the synthesis found. */
 typedef struct pvs_occluders_info {
-	uint32_t dims[3];		  /* voxels per axis (one voxel of padding around scene and cells) */
+	uint32_t dims[3];		  /* per axis (one voxel of padding around scene and cells) */
 	float origin[3];		  /* the grid's min corner */
 	float voxel_size;
 	float eps;
@@ -834,20 +841,20 @@ typedef struct pvs_occluders_info {
 	uint64_t column_voxels;   /* solid voxels in runs standing on the ground (2.5D) */
 	uint32_t box_count;		  /* eroded 3D boxes */
 	uint32_t rect_count;	  /* eroded 2.5D column rectangles */
-	int is_2d5;				  /* 1 when column runs hold >= 90% of the solid voxels: 2.5D path */
-	uint32_t leak_cell;		  /* lowest cell reaching the grid's border, or PVS_NO_CELL */
+	int is_2d5;				  /* 1: column runs hold >= 90% of the solid voxels: 2.5D path */
+	uint32_t leak_cell;		  /* lowest cell reaching the grid border, or PVS_NO_CELL */
 	float leak_point[3];	  /* a voxel centre of that cell on such a path */
 	uint32_t leak_cells;	  /* cells reaching the border */
 	uint32_t excluded_cells;  /* leaking cells left out, with no occluder (< half of those in a component's box) */
 	uint32_t thin_objects;	  /* drawable objects with no solid voxel in their box */
 	uint32_t components;	  /* edge-connected triangle sets flooded (3+ triangles) */
 	uint32_t closed_components; /* of them, those without an open edge */
-	uint64_t open_edges;	  /* edges used by an odd number of triangles, off the ground level */
+	uint64_t open_edges;	  /* edges used by an odd count of triangles, off the ground */
 	uint64_t undecided_columns; /* component voxel columns with no certain parity */
 } pvs_occluders_info;
 
 /* Voxel classes (pvs_occluders_voxel). */
-#define PVS_VOXEL_EMPTY 0u	  /* untouched and not solid */
+#define PVS_VOXEL_EMPTY 0u	  /* untouched, not solid */
 #define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it, not solid */
 #define PVS_VOXEL_SOLID 2u	  /* solid (before erosion) */
 #define PVS_VOXEL_GROUND 3u   /* the padding layer below the ground */
@@ -855,25 +862,25 @@ typedef struct pvs_occluders_info {
 /* Deterministic; thread-safe for distinct outputs. Errors: INVALID_ARGUMENT (NULL, no cells, eps <= 0 or not
    finite), BAD_CELL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *desc, pvs_occluders **out_occluders, pvs_error *err);
-/* Frees through its allocator; NULL allowed. */
+/* Frees via its allocator; NULL ok. */
 PVS_API void pvs_occluders_destroy(pvs_occluders *occluders);
 /* Fills *info. */
 PVS_API void pvs_occluders_get_info(const pvs_occluders *occluders, pvs_occluders_info *info);
-/* The PVS_VOXEL_* class of voxel (i, j, k) along x, y, z (each < dims). */
+/* PVS_VOXEL_* class of voxel (i, j, k) along x, y, z (each < dims). */
 PVS_API uint32_t pvs_occluders_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
 /* 1 if voxel (i, j, k) survived the erosion. */
 PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
 /* The eroded 3D boxes (*count), owned by occluders; every point within eps of one is solid. */
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *occluders, uint32_t *count);
-/* The shrunk 2.5D occluders as facade chains owned by occluders (base the ground, top lowered by eps): boundaries
+/* Shrunk 2.5D occluders as facade chains owned by occluders (base the ground, top lowered by eps): boundaries
    of the column map's regions at or above a height, closed, and of their holes, open back to the first point. Every
-   point within eps of such a prism is unreachable or below the ground. */
+   point within eps of such a prism is unreachable or underground. */
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occluders, uint32_t *count);
-/* The column map at ground point (u, v): *solid the height below which the column is proved solid (else the
+/* Column map at ground point (u, v): *solid the height below which the column is proved solid (else the
    ground); returns the shrunk occluder height (else -FLT_MAX). Outside the map: the ground and -FLT_MAX. On a
    square's edge the lower neighbour counts. */
 PVS_API float pvs_occluders_column_height(const pvs_occluders *occluders, float u, float v, float *solid);
-/* The left-out leaking cells (ascending indices into desc->cells) or NULL, owned by occluders; pvs_shrink_cell sets
+/* Left-out leaking cells (ascending indices into desc->cells) or NULL, owned by occluders; pvs_shrink_cell sets
    every object for boxes inside them. */
 PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occluders, uint32_t *count);
 
@@ -881,7 +888,7 @@ PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occlud
 #endif /* PVS_RUNTIME_ONLY */
 
 /* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in the umbra of
-   the real occluders from the whole cell, standing for its aggregate occlusion; five bytes each in the VOCC section,
+   the real occluders from the whole cell, standing for their aggregate occlusion; five bytes each in the VOCC section,
    from which pvs_vocc_cull rebuilds the PVS on cell entry. */
 struct pvs_file; /* >>format */
 
@@ -889,7 +896,7 @@ struct pvs_file; /* >>format */
 #define PVS_VOCC_STORED 1u /* the file has a VOCC section */
 #define PVS_VOCC_ONLY 2u   /* ... and the records are placeholders (every drawable object): use pvs_vocc_cull */
 
-/* The vertical rectangle over the ground segment p0-p1 (u, v as in pvs_scene_desc), from `base` to `top`. */
+/* Vertical rectangle over the ground segment p0-p1 (u, v as in pvs_scene_desc), from `base` to `top`. */
 typedef struct pvs_virtual_occluder {
 	float p0[2], p1[2];
 	float base, top;
@@ -903,25 +910,25 @@ typedef struct pvs_vocc_stats {
 	uint32_t umbra;			/* objects that grew an aggregate umbra (§3 cases 1, 3) */
 	uint32_t separating;	/* objects that only bent a separating line (case 2) */
 	uint32_t dense;			/* certified virtual occluders in the dense set */
-	uint32_t dropped;		/* candidates that failed the final check (e.g. quantized) */
+	uint32_t dropped;		/* failed the final check (e.g. quantized) */
 	uint32_t selected;		/* kept by the greedy selection (Fig. 6) */
 } pvs_vocc_stats;
 
-/* The 2D construction of §3 on its own. Zero fields get defaults. */
+/* §3's 2D construction alone. Zero fields get defaults. */
 typedef struct pvs_vocc_2d_desc {
-	float cell_min[2], cell_max[2]; /* the view cell: an axis-aligned rectangle with area */
+	float cell_min[2], cell_max[2]; /* view cell: an axis-aligned rectangle with area */
 	/* segment_count x (x0, y0, x1, y1): opaque occluders; segments whose end points coincide exactly in a ring
 	   are a wall loop. */
 	const float *segments;
 	uint32_t segment_count;
-	uint32_t max_seeds;				/* seed objects grown, 0 = 16 */
+	uint32_t max_seeds;				/* 0 = 16 */
 	float range;					/* analysis radius from the cell centre, 0 = reach every segment */
 	pvs_allocator allocator;
 } pvs_vocc_2d_desc;
 
 /* The cell's dense set of 2D virtual occluders (§3), each checked exactly hidden from the whole cell (rounding up to
    a relative 1e-9, toward "not hidden"). Writes up to `capacity` (x0, y0, x1, y1) to `occluders` (NULL: count only),
-   *count the number found. Segments meeting the cell are ignored; stats may be NULL. Errors: INVALID_ARGUMENT,
+   *count all found. Segments meeting the cell are ignored; stats may be NULL. Errors: INVALID_ARGUMENT,
    NOT_FINITE, BAD_CELL, OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, uint32_t capacity, uint32_t *count,
 							   pvs_vocc_stats *stats, pvs_error *err);
@@ -958,7 +965,7 @@ PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uin
 /* Region methods (CONCEPTS); all but SAMPLE are conservative. 0 = AUTO. */
 typedef enum pvs_method {
 	PVS_METHOD_DEFAULT = 0,
-	PVS_METHOD_SAMPLE,		 /* ray sampling: an estimate from below, NOT conservative */
+	PVS_METHOD_SAMPLE,		 /* ray sampling: estimate from below, NOT conservative */
 	PVS_METHOD_OTREE,		 /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7) on vertical facades */
 	PVS_METHOD_EXTPROJ,		 /* extended projections (Durand et al. 2000): 3D, planar occluders */
 	PVS_METHOD_SHRINK,		 /* occluder shrinking + point sampling (Wonka 2000) */
@@ -968,26 +975,26 @@ typedef enum pvs_method {
 	PVS_METHOD_COUNT
 } pvs_method;
 
-/* Name of a method ("sample"), or "unknown". */
+/* Method name ("sample"), or "unknown". */
 PVS_API const char *pvs_method_name(pvs_method method);
 
 #ifndef PVS_RUNTIME_ONLY /* the methods' parameters, the bake, the encoder */
-/* The shrink method's paths. */
+/* Shrink method paths. */
 typedef enum pvs_shrink_mode {
-	PVS_SHRINK_AUTO = 0,	 /* 2.5D when the occluders are (pvs_occluders_info.is_2d5), else 3D */
+	PVS_SHRINK_AUTO = 0,	 /* 2.5D if the occluders are (pvs_occluders_info.is_2d5), else 3D */
 	PVS_SHRINK_2D5,			 /* Wonka 2000 §3: column occluders, samples on the cell's top, cull maps */
 	PVS_SHRINK_3D,			 /* samples on the six faces, depth maps of the eroded boxes */
 	PVS_SHRINK_MODE_COUNT
 } pvs_shrink_mode;
 
 typedef struct pvs_shrink_stats {
-	pvs_shrink_mode mode;	  /* the path that ran */
+	pvs_shrink_mode mode;	  /* path that ran */
 	uint32_t occluders;		  /* column prisms (2.5D) or boxes (3D) */
 	int no_occluders;		  /* 1: none survived erosion, every drawable object set */
 	int excluded;			  /* 1: the cell lies in a left-out leaking cell, every drawable object set */
 	uint32_t samples;		  /* sample points */
 	uint64_t occluders_drawn; /* occluders rasterized, summed over samples (after §3.4's rejection) */
-	uint32_t hidden;		  /* drawable objects left out of the PVS */
+	uint32_t hidden;		  /* drawable objects left out */
 } pvs_shrink_stats;
 
 /* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): occluders eroded by eps, sampled from the cell
@@ -999,14 +1006,14 @@ typedef struct pvs_shrink_stats {
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
 								   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
-/* The estimator: `points` stratified points in `cell` (corners and face centres, then a jittered grid),
+/* Estimator: `points` stratified points in `cell` (corners and face centres, then a jittered grid),
    `rays_per_point` uniform directions each; sets the first object each ray hits in `visible`
    (PVS_BITSET_WORDS(object_count) words, not cleared; never occluder-only ones). A lower bound. Deterministic in
-   `seed`; thread-safe, no allocation. Returns the rays. */
+   `seed`; thread-safe, no allocation. Returns # rays. */
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
 									   uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
 
-/* Aimed sampling, better for small and far objects: for each object of `targets` (NULL: all) not in `visible`, up to
+/* Aimed sampling, better for small, far objects: for each object of `targets` (NULL: all) not in `visible`, up to
    `rays_per_object` segments from a uniform point of `cell` to a uniform point of one of its triangles (pulled 1%
    toward the centroid) until one reaches it; each sets the first object it hits. Occluder-only objects are neither
    set nor aimed at. Otherwise as pvs_sample_visibility. */
@@ -1029,21 +1036,21 @@ typedef struct pvs_extproj_plane {
 	uint32_t width, height;   /* 1..4096 each */
 } pvs_extproj_plane;
 #define PVS_EXTPROJ_EMPTY 3.402823466e+38f
-#define PVS_EXTPROJ_SWEEP_PLANES 16u /* sweep planes per direction of pvsbake --sweep and AUTO */
+#define PVS_EXTPROJ_SWEEP_PLANES 16u /* per direction, pvsbake --sweep and AUTO */
 #define PVS_EXTPROJ_NO_SWEEP 0xffffffffu /* pvs_bake_desc.extproj.sweep: AUTO without the sweep */
 #define PVS_EXTPROJ_RESOLUTION 256u /* pixels per plane side when pvs_bake_desc.extproj.resolution is 0 */
-#define PVS_EXTPROJ_PREVIEW_RESOLUTION 64u /* the same with PVS_BAKE_PREVIEW */
+#define PVS_EXTPROJ_PREVIEW_RESOLUTION 64u /* with PVS_BAKE_PREVIEW */
 
 /* Adds one convex occluder's extended Projection (§3.2): `points` (1..16 x (x, y, z)), a planar convex polygon or a
    closed convex solid (skipped if its box meets the cell); clipped to depths > 0 and split at the plane. Only pixels
    a part covers from every cell point (its views from the 8 corners intersected) get min(stored, the part's
-   greatest depth, §2.3). Returns the pixel writes per part, 0 if none or on bad arguments. Thread-safe on distinct
+   greatest depth, §2.3). Returns pixel writes per part, 0 if none or on bad arguments. Thread-safe on distinct
    maps; no allocation. */
 PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *plane, const float *points, uint32_t count,
 									  float *depth_map);
 
 /* An occludee box's extended Projection (§3.1): the bounding rectangle of its views from the whole cell, as
-   inclusive pixel bounds rect = (i0, j0, i1, j1), maybe off the map, and its least Depth. Returns 0 when the box is
+   inclusive pixel bounds rect = (i0, j0, i1, j1), maybe off the map, and its least Depth. 0 when the box is
    not wholly beyond the face (this plane cannot decide it), else 1. No allocation. */
 PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *plane, const pvs_box *box, int32_t rect[4], float *depth);
 
@@ -1059,9 +1066,9 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep);
 
 /* SAMPLE's parameters (pvs_bake_desc.sample). */
 typedef struct pvs_bake_sample_params {
-	uint32_t points;		  /* points per cell, 0 = 32 */
-	uint32_t rays;			  /* rays per point, 0 = 2048 */
-	uint64_t seed;			  /* random seed */
+	uint32_t points;		  /* per cell, 0 = 32 */
+	uint32_t rays;			  /* per point, 0 = 2048 */
+	uint64_t seed;
 } pvs_bake_sample_params;
 
 /* EXTPROJ's parameters (also under AUTO). */
@@ -1082,20 +1089,20 @@ typedef struct pvs_bake_extproj_params {
 /* Adaptive cells (CONCEPTS): split while a PVS holds over `budget` triangles and the halves are at least
    `min_size`; leaves low half first. Not with shards. */
 typedef struct pvs_bake_adaptive_params {
-	uint32_t budget;		  /* triangles per leaf cell's PVS; 0 = off */
+	uint32_t budget;		  /* triangles per leaf cell's PVS, 0 = off */
 	float min_size;			  /* shortest half, 0 = an eighth of the cell's longest side */
 } pvs_bake_adaptive_params;
 
 /* SHRINK's parameters (also under AUTO). */
 typedef struct pvs_bake_shrink_params {
-	pvs_shrink_mode mode;	  /* path, PVS_SHRINK_AUTO picks */
-	float voxel_size;		  /* occluder synthesis voxel size, 0 = derived */
+	pvs_shrink_mode mode;	  /* PVS_SHRINK_AUTO picks */
+	float voxel_size;		  /* for occluder synthesis, 0 = derived */
 } pvs_bake_shrink_params;
 
 /* VOCC's parameters. */
 typedef struct pvs_bake_vocc_params {
-	uint32_t slices;		  /* height slices per cell (§3.1), 0 = 5; 1..16 */
-	uint32_t max_occluders;   /* virtual occluders kept per cell (Fig. 6), 0 = 10; 1..255 */
+	uint32_t slices;		  /* per cell (§3.1), 0 = 5; 1..16 */
+	uint32_t max_occluders;   /* kept per cell (Fig. 6), 0 = 10; 1..255 */
 	uint32_t only;			  /* 1: store only the occluders (PVS_VOCC_ONLY) */
 } pvs_bake_vocc_params;
 
@@ -1110,19 +1117,18 @@ typedef struct pvs_bake_portal_params {
 } pvs_bake_portal_params;
 #define PVS_PORTAL_BUDGET 200000u
 
-/* What to bake. Zero fields and per-method parameters get defaults. */
+/* What to bake. Zero fields (also per method) get defaults. */
 typedef struct pvs_bake_desc {
 	const pvs_scene *scene;   /* must outlive the bake */
-	const pvs_box *cells;	  /* cell_count view cells, copied */
+	const pvs_box *cells;	  /* cell_count, copied */
 	uint32_t cell_count;
 	pvs_method method;		  /* PVS_METHOD_DEFAULT = AUTO */
-	float eps;				  /* sampling / shrinking distance; 0 = derived from the cells */
+	float eps;				  /* sampling / shrinking distance, 0 = from the cells */
 	uint32_t max_chain;		  /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
 	/* Shards, shard_count >= 2: bakes cells shard_index, shard_index + shard_count, ... into a part file; parts
 	   0..shard_count-1 decoded and encoded whole (pvs_file_encode) give the unsharded file. */
 	uint32_t shard_index, shard_count;
-	uint32_t methods;		  /* AUTO's candidates: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC and
-								 PORTAL */
+	uint32_t methods;		  /* for AUTO: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC, PORTAL */
 	float max_distance;		  /* draw distance (CONCEPTS); 0: none */
 	uint32_t flags;			  /* PVS_BAKE_* */
 	pvs_bake_sample_params sample;
@@ -1132,7 +1138,7 @@ typedef struct pvs_bake_desc {
 	pvs_bake_vocc_params vocc;
 	pvs_bake_otree_params otree;
 	pvs_bake_portal_params portal;
-	const char *const *object_names; /* optional: object_count names stored in the file (NAME); kept until written */
+	const char *const *object_names; /* optional: object_count names for the file (NAME); kept until written */
 	pvs_allocator allocator;
 } pvs_bake_desc;
 
@@ -1148,16 +1154,16 @@ typedef struct pvs_bake_desc {
 
 typedef struct pvs_bake pvs_bake;
 
-/* Validates the desc and prepares the tasks. Errors: INVALID_ARGUMENT, BAD_CELL (err->index = cell),
+/* Validates desc, prepares the tasks. Errors: INVALID_ARGUMENT, BAD_CELL (err->index = cell),
    NOT_FINITE, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out_bake, pvs_error *err);
 /* Tasks: today one per cell of the shard. */
 PVS_API uint32_t pvs_bake_task_count(const pvs_bake *bake);
 /* The cell a task bakes. */
 PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *bake, uint32_t task);
-/* Runs one task. Thread-safe for distinct tasks. */
+/* Thread-safe for distinct tasks. */
 PVS_API pvs_result pvs_bake_run_task(pvs_bake *bake, uint32_t task, pvs_error *err);
-/* The resolved method and eps. */
+/* Resolved method and eps. */
 PVS_API pvs_method pvs_bake_method(const pvs_bake *bake);
 PVS_API float pvs_bake_eps(const pvs_bake *bake);
 /* The methods considered, in run order, including those AUTO skipped (ran = 0). */
@@ -1166,9 +1172,9 @@ PVS_API uint32_t pvs_bake_method_count(const pvs_bake *bake);
 typedef struct pvs_bake_method_info {
 	pvs_method method;
 	int ran;				  /* 1: every task runs it; 0: skipped */
-	const char *reason;		  /* why it runs or was skipped (constant, never NULL) */
+	const char *reason;		  /* why it runs or was skipped (static, never NULL) */
 	uint32_t cells;			  /* tasks that ran it */
-	uint64_t pvs_sum;		  /* sum over those cells of the PVS size this method found alone */
+	uint64_t pvs_sum;		  /* over those cells, of the PVS sizes it found alone */
 	/* (cell, drawable object) pairs only it left out of the intersection; one a later method did not test
 	   (kept_only) counts for those that culled it. */
 	uint64_t sole_culls;
@@ -1182,7 +1188,7 @@ typedef struct pvs_bake_method_info {
 /* Fills *info for i < pvs_bake_method_count, else INVALID_ARGUMENT (also for NULL). Not concurrently with
    pvs_bake_run_task. */
 PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *bake, uint32_t i, pvs_bake_method_info *info);
-/* 1 if the task has run (or was restored). */
+/* 1 if the task ran (or was restored). */
 PVS_API int pvs_bake_task_done(const pvs_bake *bake, uint32_t task);
 /* Resumes: marks a task done with its PVS from an earlier run of the same scene, cells and parameters; `bits`:
    word_count >= PVS_BITSET_WORDS(object_count), zero past object_count. Thread-safe like pvs_bake_run_task. Errors:
@@ -1194,16 +1200,16 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pv
    PVS_SHRINK_AUTO when SHRINK was not prepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
-/* The facades OTREE found: merged coplanar vertical triangles, each a wall segment with the height range [base, top]
+/* Facades OTREE found: merged coplanar vertical triangles, each a wall segment with the height range [base, top]
    it covers along its length. A cell uses a facade only toward objects whose bottom, like its own, is at or above the
    facade's level (the lowest of at most eight base heights at or above its base). facades == 0: nothing is culled.
    All zero when OTREE was not prepared. */
 typedef struct pvs_otree_bake_info {
-	uint32_t prepared;			 /* 1 when the bake prepared OTREE */
+	uint32_t prepared;			 /* 1: the bake prepared OTREE */
 	uint32_t vertical_triangles; /* vertical scene triangles */
 	uint32_t facades;			 /* facades in use (base no higher than the highest cell bottom) */
 	uint32_t levels;			 /* distinct base heights in use */
-	float lowest_level;			 /* the lowest of them (when levels > 0) */
+	float lowest_level;			 /* lowest of them (if levels > 0) */
 } pvs_otree_bake_info;
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *bake, pvs_otree_bake_info *info);
 /* What PORTAL built (zeros if not prepared): closed convex solids, distinct face planes, BSP nodes and leaves, empty
@@ -1213,9 +1219,9 @@ typedef struct pvs_portal_info {
 	uint32_t solids, planes, nodes, leaves, rooms, portals, deep_leaves, cut_cells;
 } pvs_portal_info;
 PVS_API void pvs_bake_get_portal_info(const pvs_bake *bake, pvs_portal_info *info);
-/* A VOCC bake's statistics summed over the cells baked so far (zeros for other methods). */
+/* A VOCC bake's statistics over the cells baked so far (zeros for other methods). */
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *bake, pvs_vocc_stats *out);
-/* Counts over the tasks run: culling nothing is not an error, but worth reporting. */
+/* Over the tasks run: culling nothing is no error, but worth reporting. */
 typedef struct pvs_bake_report {
 	uint32_t cells;				 /* tasks run so far */
 	uint32_t cells_all_visible;  /* cells whose PVS is every drawable object */
@@ -1229,23 +1235,22 @@ typedef struct pvs_bake_report {
 PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
 /* A run cell's PVS (PVS_BITSET_WORDS(object_count) words; adaptive: whole cell), else NULL. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
-/* The cells the file will hold: cell_count, or the adaptive leaves of the tasks run so far. */
+/* Cells the file will hold: cell_count, or the adaptive leaves of the tasks run so far. */
 PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *bake);
-/* The exact file size, 0 before every task has run or on error. Encodes to measure: keep the number. */
+/* Exact file size, 0 before every task has run or on error. Encodes to measure: keep the number. */
 PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
 /* Writes the file (a part file for a shard) into out[0..capacity); *out_size gets the size, also with
    BUFFER_TOO_SMALL. Errors: NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *bake, void *out, size_t capacity, size_t *out_size,
 									   pvs_error *err);
-/* Frees through its allocator; NULL allowed. */
+/* Frees via its allocator; NULL ok. */
 PVS_API void pvs_bake_destroy(pvs_bake *bake);
 
 #endif /* PVS_RUNTIME_ONLY */
 
 /* ---- format ---- */
 
-/* File flags. */
-#define PVS_FILE_APPROXIMATE 1u /* baked by an estimator (SAMPLE): not conservative */
+#define PVS_FILE_APPROXIMATE 1u /* file flag: by an estimator (SAMPLE), not conservative */
 
 #define PVS_DEFAULT_CHAIN 8u	/* default bound K on a cell's delta chain */
 #define PVS_MAX_CHAIN 64u		/* largest K a file may declare */
@@ -1262,7 +1267,7 @@ typedef struct pvs_file_desc {
 	float eps;
 	uint32_t up_axis;		   /* 1 or 2 */
 	uint32_t flags;			   /* PVS_FILE_* */
-	uint32_t max_chain;		   /* K, the most deltas a decode applies: 0 = PVS_DEFAULT_CHAIN, else 1..PVS_MAX_CHAIN */
+	uint32_t max_chain;		   /* K, most deltas a decode applies: 0 = PVS_DEFAULT_CHAIN, else 1..PVS_MAX_CHAIN */
 	/* A part file (shard_count >= 2) holds cells shard_index, shard_index + shard_count, ... of total_cell_count,
 	   in order. Zero for a whole file. */
 	uint32_t shard_index, shard_count, total_cell_count;
@@ -1270,12 +1275,12 @@ typedef struct pvs_file_desc {
 	   in virtual_occluders, scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step (finite, step >
 	   0); vocc_flags PVS_VOCC_ONLY for a placeholder table. */
 	const uint8_t *vocc_counts, *vocc_scales, *virtual_occluders;
-	uint32_t vocc_stride;	   /* bytes from one cell's occluders to the next; 0 = back to back */
+	uint32_t vocc_stride;	   /* bytes from a cell's occluders to the next; 0 = back to back */
 	float vocc_base, vocc_height_step;
 	uint32_t vocc_flags;
 	uint64_t scene_fingerprint; /* 0: none; else an SCNE section (pvs_scene_fingerprint) */
 	const char *const *object_names; /* NULL: none; else object_count names (a NULL one: ""), a NAME section */
-	pvs_allocator allocator;   /* the encoder's scratch */
+	pvs_allocator allocator;   /* encoder's scratch */
 } pvs_file_desc;
 
 /* Encodes the table into out[0..capacity), deterministically; *out_size gets the exact size, also with
@@ -1324,17 +1329,17 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, 
 
 /* How a cell's record is stored (pvsinfo prints these). */
 typedef struct pvs_record_info {
-	uint32_t base;			   /* the cell the delta applies to, PVS_NO_CELL for a key cell */
-	uint32_t depth;			   /* deltas applied to decode this cell (0 for a key cell) */
+	uint32_t base;			   /* the delta's base cell, PVS_NO_CELL for a key cell */
+	uint32_t depth;			   /* deltas applied to decode it (0 for a key cell) */
 	uint32_t coding;		   /* of the (added) ids: 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
 	uint32_t bytes;			   /* record size */
-	uint32_t base_size;		   /* a delta: the size of the base's PVS */
+	uint32_t base_size;		   /* a delta: size of the base's PVS */
 } pvs_record_info;
 #define PVS_CODING_COUNT 4
 /* Fills *info for cell < cell_count. No allocation. */
 PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
 
-/* A cell's virtual occluders, most effective first: returns their number (0 without VOCC), writes up to `capacity`.
+/* A cell's virtual occluders, most effective first: returns their count (0 without VOCC), writes up to `capacity`.
    End points rounded to float; pvs_vocc_cull uses the exact ones. */
 PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell, pvs_virtual_occluder *out,
 											uint32_t capacity);
@@ -1345,7 +1350,7 @@ PVS_API uint32_t pvs_file_vocc_record(const pvs_file *file, uint32_t cell, uint3
 
 /* ---- runtime ---- */
 
-/* Object `object`'s name, NUL-terminated, inside the file's bytes; NULL when the file stores no names (NAME) or
+/* The object's name, NUL-terminated, inside the file's bytes; NULL when the file stores no names (NAME) or
    object >= object_count. No allocation. */
 PVS_API const char *pvs_file_object_name(const pvs_file *file, uint32_t object);
 /* The lowest object named `name`, or PVS_NO_OBJECT (also without names): a linear scan of the names. */
@@ -1354,25 +1359,25 @@ PVS_API uint32_t pvs_file_find_object(const pvs_file *file, const char *name);
 #define PVS_NO_CELL 0xffffffffu
 /* The lowest cell whose closed box contains p, or PVS_NO_CELL (also for non-finite p). No allocation. */
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *file, const float p[3]);
-/* The box of a cell (< cell_count). */
+/* Box of a cell (< cell_count). */
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
 /* Decodes a cell's PVS into bits[0..word_count) (>= PVS_BITSET_WORDS(object_count), cleared first): the chain's key,
    then at most max_chain deltas. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. No allocation. */
 PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word *bits, size_t word_count,
 								   pvs_error *err);
 
-/* Called per object whose visibility changes: visible = 1 added, 0 removed. */
+/* Per object whose visibility changes: visible = 1 added, 0 removed. */
 typedef void (*pvs_change_fn)(void *user, uint32_t object, int visible);
 
 /* Follows a viewer, reporting only the objects that change (Durand et al. 2000, §6.2): moving to a cell whose base
    is the current one applies that delta; other moves decode into scratch and compare. No allocation. */
 typedef struct pvs_cursor {
 	const pvs_file *file;
-	uint32_t cell;			   /* current cell, PVS_NO_CELL before the first move */
-	pvs_word *bits;			   /* the current PVS (read only) */
+	uint32_t cell;			   /* PVS_NO_CELL before the first move */
+	pvs_word *bits;			   /* current PVS (read only) */
 	pvs_word *scratch;
 	size_t word_count;
-	uint64_t delta_moves, full_moves; /* statistics: moves by one delta, by a full decode */
+	uint64_t delta_moves, full_moves; /* moves by one delta, by a full decode */
 } pvs_cursor;
 
 /* Starts with an empty set. bits, scratch: distinct, word_count >= PVS_BITSET_WORDS(object_count) words each.
@@ -1426,7 +1431,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 #define PVS__UNUSED
 #endif
 #define PVS__STATIC static PVS__UNUSED
-/* the test hooks' flags (PVS_TEST_HOOKS), under private names the implementation always knows */
+/* test hook flags (PVS_TEST_HOOKS) under private names the implementation always knows */
 #define PVS__VISIBILITY_INPUT_ORDER 1u
 #define PVS__VISIBILITY_25D_FULL_TESTS 1u
 
@@ -1527,8 +1532,8 @@ PVS__STATIC int pvs__add(size_t a, size_t b, size_t *out) {
 	return 1;
 }
 
-/* Allocation through a desc's hooks; align is a power of two <= 64. The default path over-allocates for larger
-   alignments than malloc's and keeps the offset in the byte before the block. */
+/* Allocation via a desc's hooks; align is a power of two <= 64. Without hooks, alignments above malloc's
+   over-allocate and keep the offset in the byte before the block. */
 PVS__STATIC void *pvs__alloc(const pvs_allocator *a, size_t size, size_t align) {
 	if (size == 0) size = 1;
 	if (a->alloc) return a->alloc(size, align, a->user);
@@ -1619,7 +1624,7 @@ PVS__STATIC int pvs__box_overlap(const pvs_box *a, const pvs_box *b) {
 	return a->min[0] <= b->max[0] && b->min[0] <= a->max[0] && a->min[1] <= b->max[1] && b->min[1] <= a->max[1] &&
 		   a->min[2] <= b->max[2] && b->min[2] <= a->max[2];
 }
-/* Cuts b to `by`; 1 if something (at least a point) is left. */
+/* Cuts b to `by`; 1 if not empty (a point counts). */
 PVS__STATIC int pvs__box_clip(pvs_box *b, const pvs_box *by) {
 	int i;
 	for (i = 0; i < 3; ++i) {
@@ -1632,7 +1637,7 @@ PVS__STATIC double pvs__box_diagonal(const pvs_box *b) {
 	double dx = (double)b->max[0] - b->min[0], dy = (double)b->max[1] - b->min[1], dz = (double)b->max[2] - b->min[2];
 	return sqrt(dx * dx + dy * dy + dz * dz);
 }
-/* Squared minimum distance between two boxes (0 where they meet). */
+/* Squared min distance of two boxes (0 if they meet). */
 PVS__STATIC float pvs__box_distance2(const pvs_box *a, const pvs_box *b) {
 	float d2 = 0.0f;
 	int i;
@@ -1665,8 +1670,7 @@ PVS__STATIC float pvs__f_up(double v) {
 PVS__STATIC double pvs__dabs(double v) { return v < 0 ? -v : v; }
 PVS__STATIC double pvs__dmin(double a, double b) { return a < b ? a : b; }
 PVS__STATIC double pvs__dmax(double a, double b) { return a > b ? a : b; }
-/* Clamp a double to [lo, hi] and convert (NaN gives lo). */
-/* The two ground-plane axes for an up axis. */
+/* The ground-plane axes for an up axis. */
 PVS__STATIC void pvs__ground_axes(uint32_t up, int *u, int *v) {
 	*u = 0;
 	*v = up == 2 ? 1 : 2;
@@ -1728,14 +1732,14 @@ PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint3
 	}
 }
 
-/* splitmix64 (Steele et al. 2014): deterministic random numbers. */
+/* splitmix64 (Steele et al. 2014). */
 PVS__STATIC uint64_t pvs__splitmix64(uint64_t *state) {
 	uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
 	z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
 	z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
 	return z ^ (z >> 31);
 }
-/* Uniform float in [0, 1). */
+/* Uniform in [0, 1). */
 PVS__STATIC float pvs__random01(uint64_t *state) {
 	return (float)(pvs__splitmix64(state) >> 40) * (1.0f / 16777216.0f);
 }
@@ -1762,12 +1766,12 @@ PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capa
 	*capacity = cap;
 	return q;
 }
-/* The same without a limit. */
+/* Same without a limit. */
 PVS__STATIC void *pvs__grow_array(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need,
 								  size_t elem, pvs_result *r) {
 	return pvs__grow_capped(a, p, capacity, used, need, 0, elem, r);
 }
-/* The same for a fully used array (*p, *capacity elements): 1 when it holds `need`, 0 on overflow or out of memory
+/* The same for a fully used array (*p, *capacity elements): 1 if it holds `need`, 0 on overflow or out of memory
    (*p unchanged). */
 PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, size_t need, size_t elem) {
 	pvs_result r;
@@ -1781,10 +1785,10 @@ PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, si
 
 /* ---- heaps: sorting and top-k, allocation-free ---- */
 
-/* 1 when a ranks before b: a sort's order (ascending) or a top-k's (best first). */
+/* 1 if a ranks before b: a sort's order (ascending) or a top-k's (best first). */
 typedef int (*pvs__before_fn)(const void *a, const void *b);
 
-/* Sifts element r of heap h (n elements of `size` <= 64 bytes) down: the root ranks last. */
+/* Sifts element r of heap h (n elements of `size` <= 64 bytes) down; the root ranks last. */
 PVS__STATIC void pvs__heap_sift(unsigned char *h, size_t size, size_t r, size_t n, pvs__before_fn before) {
 	unsigned char t[64];
 	for (;;) {
@@ -1815,8 +1819,8 @@ PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_f
 	}
 }
 
-/* Top-k: `heap` holds *count <= k elements of `size` <= 64 bytes, its root ranking last. e is kept when there is
-   room, or replaces the root if it ranks before it (not if equal). */
+/* Top-k: `heap` holds *count <= k elements of `size` <= 64 bytes, root ranking last. e is kept if there is room,
+   or replaces the root if it ranks before it (not if equal). */
 PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t size, const void *e,
 								 pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
@@ -1836,7 +1840,7 @@ PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t
 	memcpy(h + i * size, e, size);
 }
 
-/* Priority queue: a binary heap of *n elements of `size` <= 64 bytes, the first-ranking at the root. push adds e;
+/* Priority queue: a binary heap of *n elements of `size` <= 64 bytes, first-ranking at the root. push adds e;
    pop removes the root into *top. Equal elements leave in an order fixed by the pushes. */
 PVS__STATIC void pvs__pq_push(void *heap, size_t *n, size_t size, const void *e, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
@@ -1860,7 +1864,7 @@ PVS__STATIC void pvs__pq_pop(void *heap, size_t *n, size_t size, void *top, pvs_
 	memcpy(h + i * size, last, size);
 }
 
-/* Union-find: the root of x's set, with path halving (Tarjan and van Leeuwen 1984). */
+/* Union-find: root of x's set, path halving (Tarjan and van Leeuwen 1984). */
 PVS__STATIC uint32_t pvs__uf_find(uint32_t *parent, uint32_t x) {
 	while (parent[x] != x) {
 		parent[x] = parent[parent[x]];
@@ -1869,7 +1873,6 @@ PVS__STATIC uint32_t pvs__uf_find(uint32_t *parent, uint32_t x) {
 	return x;
 }
 
-/* A sort key and the index of what it sorts. */
 typedef struct pvs__key_index {
 	double key;
 	uint32_t index;
@@ -1937,18 +1940,17 @@ typedef struct pvs__bake_env {
 	uint32_t task_count;
 	uint32_t object_count;
 	size_t words;			   /* per PVS */
-	float eps;				   /* the bake's eps (stored in the file); prepare may derive it */
+	float eps;				   /* stored in the file; prepare may derive it */
 	uint32_t flags;			   /* PVS_BAKE_* */
-	int is_auto;			   /* 1: AUTO (the PVS may be intersected with others) */
+	int is_auto;			   /* 1: AUTO (the PVS may be intersected) */
 } pvs__bake_env;
 
-/* What a cell's run found (per task, for pvs_bake_report). */
+/* A cell run's findings (per task, for pvs_bake_report). */
 #define PVS__BAKE_ALL_VISIBLE 1u
 #define PVS__BAKE_NO_OCCLUDERS 2u
 #define PVS__BAKE_EXCLUDED 4u
 #define PVS__BAKE_OTREE_BUDGET 8u
 
-/* Traits of a method (pvs__bake_method.traits). */
 #define PVS__METHOD_CONSERVATIVE 1u /* AUTO may intersect it */
 #define PVS__METHOD_AUTO_DEFAULT 2u /* AUTO considers it when pvs_bake_desc.methods is 0 */
 #define PVS__METHOD_APPROXIMATE 4u	/* its file is flagged PVS_FILE_APPROXIMATE */
@@ -1960,7 +1962,7 @@ typedef struct pvs__bake_method {
 	uint32_t traits;			/* PVS__METHOD_* */
 	int cost_rank;				/* AUTO runs cheapest first (1..4); PREVIEW keeps the first that applies */
 	int cost_class;				/* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
-	/* Checks this method's parameters in desc, whatever the bake runs. NULL: none. */
+	/* Checks its parameters in desc, whatever the bake runs. NULL: none. */
 	pvs_result (*check)(const pvs_bake_desc *desc, pvs_error *err);
 	/* Makes *state, read-only in the tasks but for per-task slots. UNSUPPORTED: cannot run on this scene (AUTO
 	   skips it). *state is destroyed even when this fails. */
@@ -1972,16 +1974,16 @@ typedef struct pvs__bake_method {
 	   only those. Adds PVS__BAKE_* to *flags. Thread-safe for distinct tasks. */
 	pvs_result (*cell)(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
 					   const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err);
-	/* Fills the method's own file sections when the bake runs it alone. NULL: none. */
+	/* Fills its own file sections when the bake runs it alone. NULL: none. */
 	void (*file)(const void *state, pvs_file_desc *fd);
-	/* Frees the state (NULL is fine). */
+	/* NULL state is fine. */
 	void (*destroy)(const pvs__bake_env *env, void *state);
 	/* AUTO's cost class when it depends on the scene (state: NULL before preparing). NULL: cost_class. */
 	int (*price)(const pvs_bake_desc *desc, const void *state);
 } pvs__bake_method;
 
 struct pvs_bake;
-/* Method m's state in a bake, NULL if not prepared (>>bake). */
+/* Method m's state, NULL if not prepared (>>bake). */
 PVS__STATIC void *pvs__bake_method_state(const struct pvs_bake *b, pvs_method m);
 
 // >>scene
@@ -2005,14 +2007,14 @@ struct pvs_scene {
 	pvs_box *occluder_boxes;	 /* occluder_count */
 	float *occluder_data;		 /* planes and footprints of all occluders */
 	size_t occluder_data_count;  /* floats in occluder_data */
-	pvs_kdtree *triangle_tree;	 /* over triangle boxes (zero-area and see-through ones left out) */
-	pvs_kdtree *see_through_tree;/* over PVS_OBJECT_SEE_THROUGH triangles; NULL when there are none */
-	pvs_kdtree *object_tree;	 /* over object boxes (empty ones left out) */
+	pvs_kdtree *triangle_tree;	 /* triangle boxes (zero-area and see-through ones left out) */
+	pvs_kdtree *see_through_tree;/* PVS_OBJECT_SEE_THROUGH triangles; NULL if none */
+	pvs_kdtree *object_tree;	 /* object boxes (empty ones left out) */
 	float *triangle_corners;	 /* triangle_count * 9: corners sorted lexicographically */
 	double max_triangle_area;	 /* for occluder selection's bound */
 };
 
-/* 1 when triangle t blocks sight: it belongs to no PVS_OBJECT_SEE_THROUGH object. Every method's occluders pass it. */
+/* 1 if triangle t blocks sight: it belongs to no PVS_OBJECT_SEE_THROUGH object. Every method's occluders pass it. */
 PVS__STATIC int pvs__tri_blocks(const pvs_scene *s, uint32_t t) {
 	uint32_t o = s->triangle_object[t];
 	return o == PVS_NO_OBJECT || !(s->object_flags[o] & PVS_OBJECT_SEE_THROUGH);
@@ -2021,7 +2023,7 @@ PVS__STATIC int pvs__tri_blocks(const pvs_scene *s, uint32_t t) {
 /* Fills s->triangle_corners, empties zero-area triangles' boxes (>>kdtree). */
 PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err);
 
-/* Solves three planes n_i.p + d_i = 0 in double; 0 when (nearly) parallel. */
+/* Solves three planes n_i.p + d_i = 0 in double; 0 if (nearly) parallel. */
 PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c, double out[3]) {
 	double n1[3], n2[3], n3[3], x[3], det;
 	int i;
@@ -2070,7 +2072,7 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
 		for (k = 0; k < 4; ++k) all[4 * i + k] = (float)(p[k] / len);
 		if (fabs(p[3] / len) + 1.0 > reach) reach = fabs(p[3] / len) + 1.0;
 	}
-	/* every vertex is a triple's intersection: reach bounds them all */
+	/* each vertex is a triple's intersection: reach bounds all */
 	for (i = 0; i + 2 < n; ++i)
 		for (j = i + 1; j + 1 < n; ++j)
 			for (k = j + 1; k < n; ++k) {
@@ -2123,7 +2125,7 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
 	return PVS_OK;
 }
 
-/* 1 if 2D segments p1-p2 and p3-p4 intersect or touch (double). */
+/* 1 if 2D segments p1-p2 and p3-p4 meet or touch (double). */
 PVS__STATIC int pvs__segments_meet_2d(const float *p1, const float *p2, const float *p3, const float *p4) {
 	double d1x = (double)p2[0] - p1[0], d1y = (double)p2[1] - p1[1];
 	double d2x = (double)p4[0] - p3[0], d2y = (double)p4[1] - p3[1];
@@ -2133,7 +2135,7 @@ PVS__STATIC int pvs__segments_meet_2d(const float *p1, const float *p2, const fl
 	double o4 = d2x * ((double)p2[1] - p3[1]) - d2y * ((double)p2[0] - p3[0]);
 	if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) return 1;
 	if (o1 == 0 || o2 == 0 || o3 == 0 || o4 == 0) {
-		/* collinear touching: compare bounding intervals */
+		/* collinear touching: compare intervals */
 		double ax0 = p1[0] < p2[0] ? p1[0] : p2[0], ax1 = p1[0] < p2[0] ? p2[0] : p1[0];
 		double ay0 = p1[1] < p2[1] ? p1[1] : p2[1], ay1 = p1[1] < p2[1] ? p2[1] : p1[1];
 		double bx0 = p3[0] < p4[0] ? p3[0] : p4[0], bx1 = p3[0] < p4[0] ? p4[0] : p3[0];
@@ -2242,7 +2244,7 @@ PVS_API void pvs_scene_destroy(pvs_scene *s) {
 	pvs__free(&a, s, sizeof(*s), 16);
 }
 
-/* pvs_scene_create's checks, before allocating; *floats gets the floats the occluders' planes and footprints need. */
+/* pvs_scene_create's checks, before allocating; *floats: floats the occluders' planes and footprints need. */
 PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t *floats, pvs_error *err) {
 	size_t n3, i;
 	uint32_t o;
@@ -2294,8 +2296,8 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
 	return PVS_OK;
 }
 
-/* The objects' flags, triangle ranges and boxes (empty when all triangles have zero area); each triangle belongs to
-   one object at most (s->triangle_object). */
+/* Objects' flags, triangle ranges and boxes (empty if all triangles have zero area); each triangle belongs to one
+   object at most (s->triangle_object). */
 PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
 	uint32_t o, t;
 	for (o = 0; o < desc->object_count; ++o) {
@@ -2333,8 +2335,8 @@ PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *de
 	return PVS_OK;
 }
 
-/* The explicit occluders, validated and copied with planes and footprints into s->occluder_data; their boxes grow
-   the scene's bounds. */
+/* Explicit occluders, validated and copied with planes and footprints into s->occluder_data; their boxes grow the
+   scene's bounds. */
 PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
 	size_t floats = 0;
 	uint32_t o;
@@ -2364,7 +2366,7 @@ PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *
 	return PVS_OK;
 }
 
-/* The kD-trees over triangle boxes (zero-area ones emptied; see-through ones in their own tree) and object boxes. */
+/* kD-trees over triangle boxes (zero-area ones emptied; see-through ones in their own tree) and object boxes. */
 PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, pvs_box *tri_boxes,
 										pvs_error *err) {
 	pvs_kdtree_desc kd;
@@ -2482,7 +2484,7 @@ PVS_API pvs_box pvs_scene_object_box(const pvs_scene *s, uint32_t object) {
 	PVS_ASSERT(object < s->object_count);
 	return s->object_boxes[object];
 }
-/* FNV-1a over n 32-bit words, low byte first. */
+/* FNV-1a of n 32-bit words, low byte first. */
 PVS__STATIC uint64_t pvs__fnv(uint64_t h, const void *words, size_t n) {
 	const uint8_t *p = (const uint8_t *)words;
 	size_t i;
@@ -2525,7 +2527,7 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
 	return s->occluders + i;
 }
 
-/* The scene's 2.5D facades for >>vocc: pairs of consecutive triangles forming a vertical rectangle whose bottom is
+/* The scene's 2.5D facades for >>vocc: consecutive triangle pairs forming a vertical rectangle whose bottom is
    at or below the scene's lowest point; anything else is left out (conservative). (pvs__facades_extract would change
    vocc's results.) Writes *count facades of 6 floats (u0 v0 u1 v1 top bottom), in triangle order, into a new array
    *out (6 count + 6 floats, allocator a; NULL on failure). */
@@ -2551,7 +2553,7 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 				if (m == nh) { if (nh < 2) h[nh] = c[k][up]; ++nh; }
 			}
 			if (np != 2 || nh != 2) continue;
-			/* three distinct corners each, sharing exactly two (a diagonal) */
+			/* three distinct corners each, sharing just two (a diagonal) */
 			for (k = 0; k < 3; ++k)
 				if (c[k] == c[(k + 1) % 3] || c[3 + k] == c[3 + (k + 1) % 3] ||
 					!memcmp(c[k], c[(k + 1) % 3], 12) || !memcmp(c[3 + k], c[3 + (k + 1) % 3], 12)) break;
@@ -2596,33 +2598,33 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
    (the right one follows) or a leaf's offset in `items`; the union holds the split or the leaf's item count. Node 0
    is the root; N nodes have (N + 1) / 2 leaves. Items are in every leaf whose closed cell overlaps their closed box,
    so a point on a split plane finds every box touching it. */
-#define PVS__KD_BINS 32					/* SAH candidate planes per axis: PVS__KD_BINS - 1 */
+#define PVS__KD_BINS 32					/* SAH candidate planes per axis: BINS - 1 */
 #define PVS__KD_SAMPLE 256			  /* most refs binned per node (an even stride through bigger ones) */
 #define PVS__KD_LEAF 3u					/* axis value of a leaf */
 #define PVS__KD_MAX_INDEX 0x3fffffffu	/* largest child index or item offset in 30 bits */
 #define PVS__KD_COST_TRAVERSE 1.0f		/* SAH cost of one inner node ... */
 #define PVS__KD_COST_ITEM 1.5f			/* ... and of one item test */
-#define PVS__KD_EMPTY_BONUS 0.8f		/* factor for splits that cut off empty space */
+#define PVS__KD_EMPTY_BONUS 0.8f		/* factor for splits cutting off empty space */
 #define PVS__KD_RAY_TOL 1e-7			/* leaf t-intervals widen by this fraction of coordinate size */
 
 typedef struct pvs__kdnode {
 	union {
 		float split;	 /* inner node */
-		uint32_t count;  /* leaf: number of items */
+		uint32_t count;  /* leaf: item count */
 	} u;
 	uint32_t bits;		 /* (index << 2) | axis */
 } pvs__kdnode;
 
 struct pvs_kdtree {
 	pvs_allocator allocator;
-	pvs_box bounds;			 /* of the non-empty item boxes; the empty box when there are none */
+	pvs_box bounds;			 /* of non-empty item boxes; empty if there are none */
 	pvs__kdnode *nodes;
-	uint32_t *items;		 /* leaf item lists, one after another */
+	uint32_t *items;		 /* leaf item lists, back to back */
 	uint32_t node_count, item_count;
 	size_t node_capacity, item_capacity;
 };
 
-/* An item reference during the build: its box clipped to the node's cell. */
+/* An item reference in the build: its box clipped to the node's cell. */
 typedef struct pvs__kdref {
 	float min[3], max[3];
 	uint32_t item;
@@ -2630,13 +2632,13 @@ typedef struct pvs__kdref {
 
 typedef struct pvs__kdbuild {
 	pvs_kdtree *tree;
-	pvs__kdref *refs;		 /* a stack: the node being split is on top, pending left children below */
+	pvs__kdref *refs;		 /* a stack: node being split on top, pending left children below */
 	size_t ref_capacity;
 	size_t refs_left, nodes_left;	/* the pools (pvs__kd_build) */
-	size_t ref_limit, item_limit, node_limit; /* the most the arrays can need (pvs_kdtree_create) */
+	size_t ref_limit, item_limit, node_limit; /* most the arrays can need (pvs_kdtree_create) */
 	uint32_t leaf_size, max_depth;
 	pvs_error *err;
-	float planes[3][PVS__KD_BINS + 1];	  /* candidate planes of the node being split */
+	float planes[3][PVS__KD_BINS + 1];	  /* candidates of the node being split */
 	uint32_t starts[3][PVS__KD_BINS + 1]; /* [s]: refs whose min is <= planes[s] first */
 	uint32_t ends[3][PVS__KD_BINS + 1];   /* [e]: refs whose max is >= planes[e] last */
 } pvs__kdbuild;
@@ -2660,13 +2662,12 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
 	return PVS_OK;
 }
 
-/* Splits node `node` (refs[base .. base + n) on top of the stack, cell `box`) or makes it a leaf. Binned SAH over
-   all three axes (Bittner 2002 §4.4; binning after Wald 2007): up to 31 planes per axis, fewer in small nodes.
-   Counts are exact for the closed-interval distribution below (up to sampling in big nodes).
-   Budgets. A straddling box goes to both sides, so boxes overlapping everywhere would make memory quadratic. The
-   build draws from two pools set by pvs_kdtree_create, the references a split adds (l + r - n) and the nodes (two
-   per split); a split they cannot pay for is not taken (a bigger leaf). Pools are spent in build order, so a tree
-   within them is the tree built without them. */
+/* Splits `node` (refs[base .. base + n) on top of the stack, cell `box`) or makes it a leaf. Binned SAH over all three
+   axes (Bittner 2002 §4.4; binning after Wald 2007): up to 31 planes per axis, fewer in small nodes. Counts are exact
+   for the closed-interval split below (but for sampling in big nodes). Budgets: a straddling box goes to both sides,
+   boxes overlapping everywhere would make memory quadratic. The build draws from two pools set by pvs_kdtree_create,
+   the references a split adds (l + r - n) and the nodes (two per split); a split they cannot pay for is not taken (a
+   bigger leaf). Pools are spent in build order, so a tree within them is the tree built without them. */
 PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box,
 									 uint32_t depth) {
 	pvs_kdtree *t = b->tree;
@@ -2703,7 +2704,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 		b->planes[axis][0] = -INFINITY;
 		b->planes[axis][nb] = INFINITY;
 	}
-	/* big nodes bin an even stride of PVS__KD_SAMPLE refs: the plane barely changes */
+	/* big nodes bin an even stride of refs: the plane barely changes */
 	sampled = n > PVS__KD_SAMPLE ? PVS__KD_SAMPLE : n;
 	for (j = 0; j < sampled; ++j) {
 		const pvs__kdref *ref = b->refs + base + (sampled == n ? j : (size_t)((uint64_t)j * n / sampled));
@@ -2752,7 +2753,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	if (best_axis < 0) return pvs__kd_make_leaf(b, node, base, n);
 	axis = best_axis;
 	split = b->planes[axis][best_k];
-	nr = n; /* a split adds at most n references: room unless the pool is nearly spent */
+	nr = n; /* a split adds <= n references: room unless the pool is nearly spent */
 	if (n > b->refs_left) { /* then the exact sides decide */
 		for (i = 0, nl = 0, nr = 0; i < n; ++i) {
 			nl += b->refs[base + i].min[axis] <= split;
@@ -2773,7 +2774,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 		const pvs__kdref *src = b->refs + base + i;
 		float mn = src->min[axis], mx = src->max[axis];
 		int to_left = mn <= split, to_right = mx >= split;
-		/* both slots are free: write, then advance, branch-free; the clipped coordinate is stored last */
+		/* both slots are free: write, then advance, branch-free; clipped coordinate stored last */
 		b->refs[top] = *src;
 		b->refs[top].min[axis] = mn < split ? split : mn;
 		top += (size_t)to_right;
@@ -2803,7 +2804,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	nr = top - (base + n);
 	b->refs_left -= nl + nr - n;
 	b->nodes_left -= 2;
-	/* the right refs are on top of the stack: build them first */
+	/* right refs are on top of the stack: build them first */
 	r = pvs__kd_build(b, child + 1, base + n, nr, &rbox, depth + 1);
 	if (r != PVS_OK) return r;
 	return pvs__kd_build(b, child, base, nl, &lbox, depth + 1);
@@ -2862,7 +2863,7 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 	b->item_limit = (size_t)PVS_KDTREE_MAX_REFS_PER_BOX * m;
 	b->node_limit = (size_t)PVS_KDTREE_MAX_NODES_PER_BOX * m + 1;
 	b->ref_limit = (size_t)(PVS_KDTREE_MAX_REFS_PER_BOX + 1) * m + 2;
-	/* first guesses; all grow on demand, within the limits */
+	/* first guesses; all grow on demand within the limits */
 	t->nodes = (pvs__kdnode *)pvs__grow_capped(&a, NULL, &t->node_capacity, 0, 1 + (size_t)m / 2, b->node_limit,
 											   sizeof(pvs__kdnode), &r);
 	if (t->nodes)
@@ -2904,7 +2905,7 @@ PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *t) { return t->node_cou
 /* ---- sweep ---- */
 
 typedef struct pvs__kdsweep {
-	float d2;		  /* squared minimum distance from the source */
+	float d2;		  /* squared min distance from the source */
 	uint32_t node;
 	pvs_box box;	  /* the node's cell */
 } pvs__kdsweep;
@@ -2920,7 +2921,7 @@ PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *t) {
 }
 
 /* PVS_VISIT_ALL: the non-empty leaves under inner node `node` (cell `box`), depth first, distance -1.
-   PVS_VISIT_STOP when the visitor said so. */
+   PVS_VISIT_STOP if the visitor said so. */
 PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, const pvs_box *box,
 										pvs_kdtree_visit_fn visit, void *user) {
 	struct {
@@ -2943,7 +2944,7 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
 				return PVS_VISIT_STOP;
 			continue;
 		}
-		child = nd->bits >> 2; /* the right child below the left: the left is taken first */
+		child = nd->bits >> 2; /* right child below the left: left taken first */
 		stack[sp].node = child + 1;
 		stack[sp].box = b;
 		stack[sp].box.min[axis] = nd->u.split;
@@ -2955,14 +2956,14 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
 	return PVS_VISIT_DESCEND;
 }
 
-/* The approximate occlusion sweep (Bittner 2002 §3.2): a priority queue on the nodes' minimum distance to the source
+/* The approximate occlusion sweep (Bittner 2002 §3.2): a priority queue on nodes' min distance to the source
    (never smaller for a child). `heap` holds (node_count + 1) / 2 entries; `node` (may be NULL) receives the visited
    node's index during each `visit`. */
 PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
 							   pvs_kdtree_visit_fn visit, void *user, uint32_t *node) {
 	size_t n = 1;
 	int k;
-	if (t->bounds.min[0] > t->bounds.max[0]) return; /* no items: nothing to visit */
+	if (t->bounds.min[0] > t->bounds.max[0]) return; /* no items */
 	heap[0].d2 = pvs__box_distance2(source, &t->bounds);
 	heap[0].node = 0;
 	heap[0].box = t->bounds;
@@ -3014,7 +3015,7 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
 
 /* ---- ray walk ---- */
 
-/* Front-to-back stack traversal (Havran's TA_rec_B family) in double. Leaf intervals widen by PVS__KD_RAY_TOL of
+/* Front-to-back stack traversal (Havran's TA_rec_B family), double. Leaf intervals widen by PVS__KD_RAY_TOL of
    the coordinates' size: a touched leaf is never skipped. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const float dir[3], float tmax_f,
 							pvs_kdtree_ray_fn fn, void *user) {
@@ -3106,7 +3107,7 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const fl
 
 /* ---- point location ---- */
 
-/* A point on a split plane goes left; that leaf holds every box containing it (touching boxes go to both sides). */
+/* A point on a split plane goes left; that leaf holds every box containing it (touching boxes go both ways). */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *t, const float p[3], uint32_t *count) {
 	const pvs__kdnode *nd;
 	uint32_t axis;
@@ -3121,7 +3122,6 @@ PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *t, const float p
 
 /* ---- scene ray casts ---- */
 
-/* Lexicographic order of points. */
 PVS__STATIC int pvs__point_less(const float *a, const float *b) {
 	if (a[0] != b[0]) return a[0] < b[0];
 	if (a[1] != b[1]) return a[1] < b[1];
@@ -3159,7 +3159,7 @@ PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes,
 	return PVS_OK;
 }
 
-/* A ray for the watertight test (Woop, Benthin, Wald, JCGT 2013) in double: kz the largest direction axis, the shear
+/* Ray for the watertight test (Woop, Benthin, Wald, JCGT 2013) in double: kz the largest direction axis, the shear
    taking dir to +-z. */
 typedef struct pvs__ray {
 	double o[3];
@@ -3184,7 +3184,7 @@ PVS__STATIC int pvs__ray_setup(pvs__ray *r, const double o[3], const double d[3]
    shared edge gives bit-identical results in both triangles. */
 PVS__STATIC double pvs__edge(const double *p, const double *q) { return p[0] * q[1] - p[1] * q[0]; }
 
-/* Two-sided watertight ray-triangle test: 1 and *t when the ray meets the triangle at 0 <= t <= tmax. */
+/* Two-sided watertight ray-triangle test: 1 and *t if the ray meets the triangle at 0 <= t <= tmax. */
 PVS__STATIC int pvs__ray_triangle(const pvs__ray *r, const float *c, double tmax, double *t_out) {
 	double p[3][2], z[3], u, v, w, det, t;
 	int k;
@@ -3211,8 +3211,8 @@ PVS__STATIC int pvs__ray_triangle(const pvs__ray *r, const float *c, double tmax
 typedef struct pvs__raycast {
 	const pvs_scene *scene;
 	pvs__ray ray;
-	double tmax;		/* closest hit so far, or the ray's end */
-	uint32_t triangle;	/* of the closest hit, or 0xffffffff */
+	double tmax;		/* closest hit yet, or the ray's end */
+	uint32_t triangle;	/* of that hit, or 0xffffffff */
 	int any;			/* stop at the first hit */
 } pvs__raycast;
 
@@ -3226,7 +3226,7 @@ PVS__STATIC float pvs__raycast_leaf(void *user, const uint32_t *items, uint32_t 
 		uint32_t tri = items[i];
 		double t;
 		if (!pvs__ray_triangle(&rc->ray, rc->scene->triangle_corners + 9 * (size_t)tri, rc->tmax, &t)) continue;
-		/* equal distances: the lowest triangle index wins, whatever the leaf order */
+		/* equal distances: lowest triangle index wins, whatever the leaf order */
 		if (t < rc->tmax || rc->triangle == 0xffffffffu || tri < rc->triangle) {
 			rc->tmax = t;
 			rc->triangle = tri;
@@ -3234,7 +3234,7 @@ PVS__STATIC float pvs__raycast_leaf(void *user, const uint32_t *items, uint32_t 
 		}
 	}
 	if (rc->any) return FLT_MAX;
-	/* shorten the walk to the closest hit, rounding up */
+	/* shorten the walk to the closest hit, round up */
 	f = (float)rc->tmax;
 	if ((double)f < rc->tmax) f = nextafterf(f, FLT_MAX);
 	return f;
@@ -3264,7 +3264,7 @@ PVS_API int pvs_scene_raycast(const pvs_scene *s, const float origin[3], const f
 	return 1;
 }
 
-/* The segment is the ray a + t (b - a), 0 <= t <= 1, b - a in double; a zero-length one is never blocked. */
+/* The ray a + t (b - a), 0 <= t <= 1, b - a in double; a zero-length one is never blocked. */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], const float b[3]) {
 	pvs__raycast rc;
 	double o[3], d[3];
@@ -3275,7 +3275,7 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 		o[k] = a[k];
 		d[k] = (double)b[k] - (double)a[k];
 		df[k] = b[k] - a[k];
-		/* the walk's direction in float must not lose a component the exact one has */
+		/* the float walk direction must keep every component the exact one has */
 		if (df[k] == 0.0f && d[k] != 0.0) df[k] = d[k] > 0.0 ? FLT_MIN : -FLT_MIN;
 	}
 	if (!pvs__ray_setup(&rc.ray, o, d)) return 0;
@@ -3283,13 +3283,13 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 	rc.tmax = 1.0;
 	rc.triangle = 0xffffffffu;
 	rc.any = 1;
-	/* the float direction may fall short of b: walk a little past; the test stops at 1 */
+	/* the float direction may fall short of b: walk a bit past; the test stops at 1 */
 	pvs_kdtree_ray(s->triangle_tree, a, df, 1.0f + 1e-6f, pvs__raycast_leaf, &rc);
 	return rc.triangle != 0xffffffffu;
 }
 
-/* What a sampled ray sees through see-through objects before it stops: sets the objects of the see-through triangles
-   origin + t dir crosses, 0 <= t <= tmax (the same watertight test). */
+/* What a sampled ray sees through see-through objects before it stops: sets the objects of see-through triangles
+   origin + t dir crosses, 0 <= t <= tmax (same watertight test). */
 typedef struct pvs__see_through {
 	pvs__ray ray;
 	const pvs_scene *scene;
@@ -3350,11 +3350,10 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 #include <arm_neon.h>
 #endif
 
-/* Lanes: four floats (pvs__f4), four int32 (pvs__i4) and a mask (pvs__m4: lanes all ones or zero), the operations
-   the SIMD kernels are written on: min and max are a < b ? a : b and a > b ? a : b (SSE2 minps / maxps; NEON
-   compare and select, as vminq differs on NaN and signed zeros); float to int truncates (NEON saturates where SSE2
-   gives INT_MIN: kernels keep lanes in range); shl_ones is ~0 << clamp(n, 0, 32). PVS__LANES_DIV adds div, hmin2 and
-   hmax2 (over eight lanes). */
+/* Lanes: four floats (pvs__f4), four int32 (pvs__i4) and a mask (pvs__m4: lanes all ones or zero), the operations the
+   SIMD kernels use: min and max are a < b ? a : b and a > b ? a : b (SSE2 minps / maxps; NEON compare and select, as
+   vminq differs on NaN and signed zeros); float to int truncates (NEON saturates where SSE2 gives INT_MIN: kernels keep
+   lanes in range); shl_ones is ~0 << clamp(n, 0, 32). PVS__LANES_DIV adds div, hmin2 and hmax2 (over eight lanes). */
 #if defined(PVS__SSE2)
 #define PVS__LANES 1
 #define PVS__LANES_DIV 1
@@ -3417,7 +3416,7 @@ PVS__STATIC float pvs__f4_hmax2(__m128 a, __m128 b) {
 	v = _mm_max_ps(v, _mm_movehl_ps(v, v));
 	return _mm_cvtss_f32(_mm_max_ss(v, _mm_shuffle_ps(v, v, 1)));
 }
-/* four (x, y, z, -) vertices, each with 4 readable floats, to X, Y, Z lanes */
+/* four (x, y, z, -) vertices, 4 readable floats each, to X, Y, Z lanes */
 PVS__STATIC void pvs__f4_xyz(const float *a, const float *b, const float *c, const float *d, __m128 *X, __m128 *Y,
 							 __m128 *Z) {
 	__m128 va = _mm_loadu_ps(a), vb = _mm_loadu_ps(b), vc = _mm_loadu_ps(c), vd = _mm_loadu_ps(d);
@@ -3488,7 +3487,7 @@ PVS__STATIC void pvs__f4_xyz(const float *a, const float *b, const float *c, con
 #endif
 #endif
 #if defined(PVS__LANES)
-/* ceil and floor to int, as the scalar (float)(int32_t)f < f tests */
+/* ceil, floor to int as the scalar (float)(int32_t)f < f tests */
 PVS__STATIC pvs__i4 pvs__f4_ceili(pvs__f4 f) {
 	pvs__i4 i = pvs__f4_trunc(f);
 	return pvs__i4_sub(i, pvs__i4_from_m4(pvs__f4_lt(pvs__f4_from_i4(i), f)));
@@ -3502,7 +3501,7 @@ PVS__STATIC pvs__i4 pvs__f4_floori(pvs__f4 f) {
 #pragma STDC FP_CONTRACT OFF
 #endif
 
-#define PVS__RASTER_MAXV 8					 /* a clipped triangle has at most 5 */
+#define PVS__RASTER_MAXV 8					 /* a clipped triangle has <= 5 */
 #define PVS__RASTER_ERR_D 9.094947017729282e-13 /* 2^-40 */
 #define PVS__RASTER_ERR_F 9.5367431640625e-07	/* 2^-20 */
 #define PVS__RASTER_MAX_LEVELS 16
@@ -3527,7 +3526,7 @@ PVS__STATIC void pvs__bufs_free(const pvs_allocator *a, const pvs__buf *b, int k
 }
 
 /* Occluder tile (Hasselgren et al. 2016), reversed Z: occluders at least as near as z0 on every pixel, z1 on `mask`
-   (z1 > z0 while mask != 0). */
+   (z1 > z0 if mask != 0). */
 typedef struct pvs__tile {
 	uint32_t mask[4]; /* bit k of mask[r]: pixel (32 tx + k, 4 ty + r) */
 	float z0, z1;
@@ -3543,22 +3542,22 @@ struct pvs_raster {
 	pvs_allocator allocator;
 	uint32_t width, height, flags;
 	float *depth;								/* width * height */
-	float *tile_min;							/* farthest depth per 8 x 8 tile */
+	float *tile_min;							/* farthest per 8 x 8 tile */
 	size_t tiles;
 	uint32_t levels;							/* pyramid levels above `depth` */
 	uint32_t lw[PVS__RASTER_MAX_LEVELS + 1], lh[PVS__RASTER_MAX_LEVELS + 1];
 	float *lmin[PVS__RASTER_MAX_LEVELS + 1], *lmax[PVS__RASTER_MAX_LEVELS + 1];
 	float *pyramid;
 	size_t pyramid_floats;
-	int pyramid_valid;							/* 1: per-pixel pyramid current, 2: tile pyramid */
+	int pyramid_valid;							/* 1: per-pixel pyramid current, 2: tile one */
 	pvs__tile *tile;
 	uint32_t tw, th;							/* tile grid */
-	uint32_t xpad;								/* bits of the last tile column past the map */
-	uint32_t ypad;								/* rows of the last tile row in the map (1..4) */
+	uint32_t xpad;								/* last tile column's bits past the map */
+	uint32_t ypad;								/* last tile row's rows in the map (1..4) */
 	int tiled;									/* occluders go to the tiles, else to `depth` */
 	int mixed;									/* `depth` holds occludees drawn since the clear (untiled: all) */
 	float *bmin;								/* per block of 8 x 8 tiles: <= the least base z0 */
-	uint8_t *bdirty;							/* 1: a base grew since bmin was taken */
+	uint8_t *bdirty;							/* 1: a base grew since bmin */
 	uint32_t bw, bh;							/* block grid */
 	uint32_t tlevels;							/* tile pyramid levels above the tile grid */
 	uint32_t tlw[PVS__RASTER_MAX_LEVELS * 2 + 1], tlh[PVS__RASTER_MAX_LEVELS * 2 + 1];
@@ -3567,19 +3566,19 @@ struct pvs_raster {
 	float *tlmin[PVS__RASTER_MAX_LEVELS * 2 + 1], *tlmax[PVS__RASTER_MAX_LEVELS * 2 + 1];
 	float *tpyramid;
 	size_t tpyramid_floats;
-	double m[16];								/* current projection */
+	double m[16];								/* projection */
 	double mabs[2];								/* max row sum of |m| over x, y, z; max |m_r3| */
-	float mf[16], hwf, hhf;						/* the projection as given; half the map size (prefilter) */
+	float mf[16], hwf, hhf;						/* projection as given; half the map size (prefilter) */
 	float mb[16][4];							/* mf broadcast to four lanes */
 	double rowa[4], rowt[4];					/* per row of m: |m_r0| + |m_r1| + |m_r2|, |m_r3| */
 	/* occluder meshes (pvs_raster_mesh): scratch for mesh_cap triangles, four pixel rows */
 	uint32_t mesh_cap, mesh_hash;				/* triangles per piece; hash slots (a power of two) */
-	struct pvs__mtri *mt;						/* mesh_cap prepared triangles */
+	struct pvs__mtri *mt;						/* prepared triangles */
 	uint32_t *mcid, *mpart;						/* 3 mesh_cap: welded vertex per corner; partner half-edge */
 	uint8_t *mvst;								/* 3 mesh_cap: corner state against the clip planes */
 	int8_t *mgrp;								/* mesh_cap: facing +1 / -1, 0 = left out */
 	uint32_t *mtab, *morder, *mact, *mband;		/* hash slots; mesh_cap; mesh_cap; th + 1 */
-	float *mzmin;								/* 4 width: least bound of the touching triangles */
+	float *mzmin;								/* 4 width: least bound of touching triangles */
 	uint8_t *mflag; /* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
 	uint8_t *mdirty;							/* 4 tw: band words the scratch holds */
 	const pvs_scene *scene;
@@ -3599,12 +3598,12 @@ struct pvs_raster {
 	uint32_t *cm_items;
 	uint32_t cm_item_count;
 	float *cm_bound;							/* highest object top per cell (Wonka 1999 §4.3) */
-	float ground;								/* the scene's lowest point on the up axis */
+	float ground;								/* scene's lowest point on the up axis */
 };
 
 typedef struct pvs__rsetup {
 	int32_t i0, i1, j0, j1;   /* pixel range; (i0, j0) is the coefficients' origin */
-	int32_t li0, li1, lj0, lj1; /* the part a loop covers (one tile) */
+	int32_t li0, li1, lj0, lj1; /* part a loop covers (one tile) */
 	int edges;
 	float a[PVS__RASTER_MAXV], b[PVS__RASTER_MAXV], k[PVS__RASTER_MAXV];
 	float za, zb, zk;	  /* depth plane bound */
@@ -3612,7 +3611,7 @@ typedef struct pvs__rsetup {
 } pvs__rsetup;
 
 /* Reference pixel rule (scalar loop, SIMD tails): inside every edge (rk: at column i0), clamped plane depth if
-   nearer. 1 when written. */
+   nearer. 1 if written. */
 PVS__STATIC int pvs__raster_pixel(const pvs__rsetup *s, const float *rk, float rz, float *row, int32_t i,
 								  int occluder) {
 	float fi = (float)(i - s->i0), d;
@@ -3671,8 +3670,8 @@ PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t
 }
 #endif
 
-/* 8 x 8 tiles keep their farthest depth: a polygon skips tiles it cannot be nearer than or lies outside. Skipping
-   never changes a result. */
+/* 8 x 8 tiles keep their farthest depth: a polygon skips tiles it cannot be nearer than or is outside. Skipping never
+   changes a result. */
 #define PVS__TILE_SHIFT 3
 #define PVS__TILE (1 << PVS__TILE_SHIFT)
 
@@ -3688,8 +3687,8 @@ PVS__STATIC void pvs__tile_update(float *buf, uint32_t W, uint32_t H, float *til
 	tile_min[ty * ((W + PVS__TILE - 1) >> PVS__TILE_SHIFT) + tx] = lo;
 }
 
-/* -1: all pixels of [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] fail an edge as the float loops see it, 1: all pass,
-   0: undecided (in double with slack 2^-18 of the terms). */
+/* -1: all pixels of [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] fail an edge as float loops see it, 1: all pass, 0:
+   undecided (in double with slack 2^-18 of the terms). */
 PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1) {
 	int e, inside = 1;
 	for (e = 0; e < s->edges; ++e) {
@@ -3763,7 +3762,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 					inside = block ? 1 : pvs__raster_classify(s, a0, a1, b0, b1);
 					if (inside < 0) continue;
 					edges = s->edges;
-					if (inside) s->edges = 0; /* inside: the same result without edge tests */
+					if (inside) s->edges = 0; /* same result without edge tests */
 #if defined(PVS__LANES)
 					if (simd) wrote = pvs__raster_rows_simd(s, buf, W, occluder);
 					else
@@ -3772,7 +3771,7 @@ PVS__STATIC void pvs__raster_run(pvs__rsetup *s, float *buf, uint32_t W, uint32_
 					s->edges = edges;
 					if (!wrote) continue;
 					if (inside && a1 - a0 == PVS__TILE - 1 && b1 - b0 == PVS__TILE - 1) {
-						/* full tile: the least depth written, a lower bound, all skipping needs */
+						/* full tile: least depth written, a lower bound, all skipping needs */
 						double lo = pvs__raster_zbound(s, a0, a1, b0, b1, occluder, 1);
 						if (lo > tile_min[ty * tw + tx]) tile_min[ty * tw + tx] = pvs__f_down(lo);
 					} else {
@@ -3800,7 +3799,7 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
 
 /* The depth plane of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi,
    oy + fj), fi <= iw, fj <= jh, from its largest fan triangle: p = za, zb, zk with z = zk + za fi + zb fj, and the
-   setup error bound. 0 when no fan triangle has an area. */
+   setup error bound. 0 if no fan triangle has an area. */
 PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double *z, int n, double ox, double oy,
 								  double iw, double jh, double span, double mag, double zmag, double perr, double zerr,
 								  double p[4]) {
@@ -3845,7 +3844,7 @@ PVS__STATIC void pvs__raster_zplane(const double *x, const double *y, const doub
 	}
 }
 
-/* Bounds, doubled signed area, largest |x| + |y| and |z|; 0 when n < 3 or NaN. */
+/* Bounds, doubled signed area, largest |x| + |y| and |z|; 0 if n < 3 or NaN. */
 typedef struct pvs__polyext {
 	double xmin, xmax, ymin, ymax, zmin, zmax, area2, mag, zmag;
 } pvs__polyext;
@@ -3867,7 +3866,7 @@ PVS__STATIC int pvs__poly_extent(const double *x, const double *y, const double 
 	return 1;
 }
 
-/* 0 when the polygon (extent e, span its width plus height) is beyond useful precision or degenerate. */
+/* 0 if the polygon (extent e, span its width plus height) is beyond useful precision or degenerate. */
 PVS__STATIC int pvs__poly_usable(const pvs__polyext *e, double span) {
 	return e->mag < PVS__RASTER_BIG * PVS__RASTER_BIG && pvs__dabs(e->area2) > 1e-9 * span * span &&
 		pvs__dabs(e->area2) > 1e-300;
@@ -3894,10 +3893,10 @@ PVS__STATIC int pvs__raster_edge(const double *x, const double *y, int i, int n,
 	if (mode) err = -err; /* x - err == x + -err */
 	lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
 	hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
-	if (lo + err >= 0.0) return 0; /* every pixel passes this edge */
+	if (lo + err >= 0.0) return 0; /* every pixel passes */
 	if (hi + err < 0.0) return -1; /* no pixel does */
 	k += err;
-	if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return -1; /* impossible once the trivial cases are gone */
+	if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return -1; /* impossible past the trivial cases */
 	e[0] = a; e[1] = b; e[2] = k;
 	return 1;
 }
@@ -3910,10 +3909,10 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 	int i;
 	double span, dx, ox, oy, iw, jh, zlo, zhi;
 	if (!pvs__poly_extent(x, y, z, n, &e)) return;
-	dx = PVS__RASTER_ERR_D * (e.mag + 1.0) + perr; /* perr, zerr: the vertices' projection error */
+	dx = PVS__RASTER_ERR_D * (e.mag + 1.0) + perr; /* perr, zerr: vertices' projection error */
 	zlo = e.zmin - PVS__RASTER_ERR_D * e.zmag - zerr;
 	zhi = e.zmax + PVS__RASTER_ERR_D * e.zmag + zerr;
-	/* inner pixels (inside the box) or outer (touching it) */
+	/* inner pixels (inside the box) or outer (touching) */
 	if (occluder) {
 		s.i0 = pvs__clampi(ceil(e.xmin + dx), 0, (int32_t)W);
 		s.i1 = pvs__clampi(floor(e.xmax - dx) - 1.0, -1, (int32_t)W - 1);
@@ -3926,7 +3925,7 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 		s.j1 = pvs__clampi(floor(e.ymax + dx), -1, (int32_t)H - 1);
 	}
 	if (s.i0 > s.i1 || s.j0 > s.j1) return;
-	if (tile_min) { /* behind everything in every tile it overlaps */
+	if (tile_min) { /* behind all in every tile it overlaps */
 		uint32_t tw = (W + PVS__TILE - 1) >> PVS__TILE_SHIFT, tx, ty, open = 0;
 		float zb = pvs__f_up(zhi);
 		for (ty = (uint32_t)s.j0 >> PVS__TILE_SHIFT; ty <= (uint32_t)s.j1 >> PVS__TILE_SHIFT && !open; ++ty)
@@ -4013,7 +4012,7 @@ PVS__STATIC void pvs__tile_rows_scalar(const pvs__tpoly *t, int32_t jrow, const 
 	}
 }
 
-/* Mask bits of columns L .. R in the tile row starting at column x0 (bit k: column x0 + k). */
+/* Mask bits of columns L .. R in the tile row from column x0 (bit k: column x0 + k). */
 PVS__STATIC uint32_t pvs__tile_bits(int32_t L, int32_t R, int32_t x0) {
 	int32_t lo = L - x0, hi = R - x0 + 1;
 	uint32_t a, b;
@@ -4046,7 +4045,7 @@ PVS__STATIC void pvs__tile_rows_simd(const pvs__tpoly *t, int32_t jrow, const fl
 	pvs__i4_store(L, pvs__i4_add(pvs__i4_sel(bad, pvs__i4_set1(1), l), pvs__i4_set1(t->i0)));
 	pvs__i4_store(R, pvs__i4_add(pvs__i4_sel(bad, pvs__i4_set1(0), r), pvs__i4_set1(t->i0)));
 }
-/* The four rows' bits of the tile at column x0; 0 when all are empty. */
+/* The four rows' bits of the tile at column x0; 0 if all are empty. */
 PVS__STATIC int pvs__tile_mask_simd(const int32_t *L, const int32_t *R, int32_t x0, uint32_t *out) {
 	pvs__i4 vx = pvs__i4_set1(x0), m;
 	m = pvs__i4_andn(pvs__i4_shl_ones(pvs__i4_sub(pvs__i4_load(L), vx)),
@@ -4091,8 +4090,7 @@ PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, con
 	}
 }
 
-/* Tile rows of a polygon: runs of its four pixel rows, then per tile its farthest depth; skips tiles already that
-   near. */
+/* A polygon's tile rows: runs of its four pixel rows, then per tile its farthest depth; skips tiles already as near. */
 PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 	int32_t ty, ty0 = (t->j0 + t->jlo) >> PVS__TH_SHIFT, ty1 = (t->j0 + t->jhi) >> PVS__TH_SHIFT;
 	float xr[PVS__RASTER_MAXV];
@@ -4116,7 +4114,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 			pvs__tile_rows_scalar(t, jrow, xr, L, R);
 		for (d = 0; d < PVS__TH; ++d) {
 			if (L[d] > R[d]) {
-				if (jr + d < (int32_t)r->height) fr = -2; /* an empty row in the map: no tile is full */
+				if (jr + d < (int32_t)r->height) fr = -2; /* empty row in the map: no tile is full */
 				continue;
 			}
 			lmin = L[d] < lmin ? L[d] : lmin;
@@ -4141,9 +4139,9 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 			p = p + zy;
 			p = p - t->zm;
 			zt = p > t->zlo ? p : t->zlo;
-			if (!(zt > tl->z0)) continue; /* not nearer than the base */
+			if (!(zt > tl->z0)) continue; /* not nearer than base */
 			if (x0 >= fl && (x0 + 31 < (int32_t)r->width ? x0 + 31 : (int32_t)r->width - 1) <= fr) {
-				cov[0] = cov[1] = cov[2] = cov[3] = ~0u; /* covers the tile: pvs__tile_merge's first case */
+				cov[0] = cov[1] = cov[2] = cov[3] = ~0u; /* covers the tile: tile_merge's first case */
 			} else
 #if defined(PVS__LANES)
 			if (simd) {
@@ -4165,7 +4163,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 }
 
 /* Edges over t's inner range, as pvs__raster_poly: steep ones become left [0, nl) and right [nl, ne) edges,
-   near-horizontal ones narrow rows [jlo, jhi]. 0 when no pixel passes one. */
+   near-horizontal ones narrow rows [jlo, jhi]. 0 if no pixel passes one. */
 PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y, int n, double area2, double mag,
 								double perr) {
 	double ox = (double)t->i0, oy = (double)t->j0, iw = (double)(t->i1 - t->i0), jh = (double)(t->j1 - t->j0);
@@ -4194,7 +4192,7 @@ PVS__STATIC int pvs__tile_edges(pvs__tpoly *t, const double *x, const double *y,
 				++nr;
 			}
 		} else {
-			/* near-horizontal: the rows where every column of the range passes */
+			/* near-horizontal: rows where every column of the range passes */
 			double wk = k + pvs__dmin(0.0, a * iw), tq = -wk / b,
 				   pad = PVS__U_2_44 * (pvs__dabs(k) + pvs__dabs(a) * iw + 1.0);
 			if (b > 0.0) {
@@ -4239,7 +4237,7 @@ PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *
 	}
 }
 
-/* Draws an occluder polygon into the tiles; setup and margins as pvs__raster_poly's. */
+/* Draws an occluder polygon into tiles; setup and margins as pvs__raster_poly's. */
 PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y, const double *z, int n, double perr,
 								double zerr) {
 	pvs__tpoly t;
@@ -4260,7 +4258,7 @@ PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y,
 	pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR));
 }
 
-/* Occludees go to the per-pixel map, cleared on first use (see `mixed`). */
+/* Occludees go to the per-pixel map, cleared on first use (`mixed`). */
 PVS__STATIC void pvs__raster_occludee_begin(pvs_raster *r) {
 	size_t i, n = (size_t)r->width * r->height;
 	if (r->mixed) return;
@@ -4273,7 +4271,7 @@ PVS__STATIC void pvs__raster_occludee_begin(pvs_raster *r) {
 PVS__STATIC void pvs__tile_resolve(pvs_raster *r) {
 	uint32_t ty, tx, d, k;
 	if (!r->tiled) {
-		pvs__raster_occludee_begin(r); /* nothing drawn yet: the cleared map */
+		pvs__raster_occludee_begin(r); /* nothing drawn yet: cleared map */
 		return;
 	}
 	for (ty = 0; ty < r->th; ++ty)
@@ -4289,10 +4287,10 @@ PVS__STATIC void pvs__tile_resolve(pvs_raster *r) {
 		}
 }
 
-/* Clip-space vertex (double). */
+/* Clip-space vertex. */
 typedef struct pvs__cv {
 	double c[4];
-	double e;  /* bound on each coordinate's rounding error */
+	double e;  /* bound on each coordinate's rounding */
 } pvs__cv;
 
 PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) {
@@ -4337,7 +4335,7 @@ PVS__STATIC int pvs__raster_clip(const pvs__cv *in, int n, pvs__cv *out, int pla
 			int k;
 			if (lin) {
 				lout[m] = fa >= 0.0 ? (uint8_t)PVS__MESH_CLIP : lin[i];
-				if (fa < 0.0) { /* from the inside vertex b */
+				if (fa < 0.0) { /* from inside vertex b */
 					const pvs__cv *c = a;
 					a = b;
 					b = c;
@@ -4346,7 +4344,7 @@ PVS__STATIC int pvs__raster_clip(const pvs__cv *in, int n, pvs__cv *out, int pla
 			}
 			for (k = 0; k < 4; ++k) out[m].c[k] = a->c[k] + (b->c[k] - a->c[k]) * t;
 			out[m].e = 2.0 * pvs__dmax(a->e, b->e);
-			if (plane == 0) out[m].c[2] = out[m].c[3]; /* exactly on the near plane */
+			if (plane == 0) out[m].c[2] = out[m].c[3]; /* exactly on near plane */
 			else if (out[m].c[3] < 1e-30) out[m].c[3] = 1e-30;
 			++m;
 		}
@@ -4387,7 +4385,7 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 	v[0] = pvs__raster_transform(r, p0);
 	v[1] = pvs__raster_transform(r, p1);
 	v[2] = pvs__raster_transform(r, p2);
-	/* all behind the near plane, or all w <= 0 */
+	/* all behind near plane, or all w <= 0 */
 	if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) return;
 	if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
 	pvs__raster_clipped(r, v, 3, occluder);
@@ -4398,10 +4396,10 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
    those behind the near plane, off screen, without a whole pixel or behind every tile's base; the rest go to
    pvs__raster_tri. Dropping occluders is conservative: no margins; scalar and SIMD agree. ---- */
 
-#define PVS__PF_TILES 16 /* hidden test: tile by tile in boxes up to this size */
+#define PVS__PF_TILES 16 /* hidden test: per tile in boxes up to this size */
 
-/* Lanes to draw (bit l), those in *test only if not hidden; box, zmax: their whole pixels in the map, nearest vertex
-   depth. Lanes partly behind the near or eye plane are drawn untested (clipped later) unless wholly behind one. */
+/* Lanes to draw (bit l), those in *test only if not hidden; box, zmax: their whole pixels in map, nearest vertex
+   depth. Lanes partly behind near or eye plane are drawn untested (clipped later) unless wholly behind one. */
 PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
 									float *zmax) {
 	const float *m = r->mf, hw = r->hwf, hh = r->hhf, fw = (float)r->width, fh = (float)r->height;
@@ -4454,7 +4452,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 }
 
 #if defined(PVS__LANES_DIV)
-/* v[l][k]: 4 readable floats (caller copies the last vertex). */
+/* v[l][k]: 4 readable floats (caller copies last vertex). */
 PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
 								  float *zmax) {
 	const pvs__f4 zero = pvs__f4_set1(0.0f), big = pvs__f4_set1(1e30f), one = pvs__f4_set1(1.0f);
@@ -4503,11 +4501,11 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
 		}
 	}
 #undef PVS__ROW
-	/* min/max may lose a NaN: drop the triangle like the scalar loop (conservative) */
+	/* min/max may lose a NaN: drop it like scalar loop (conservative) */
 	fin = pvs__m4_and(pvs__f4_lt(pvs__f4_abs(xmin), big), pvs__f4_lt(pvs__f4_abs(xmax), big));
 	fin = pvs__m4_and(fin, pvs__m4_and(pvs__f4_lt(pvs__f4_abs(ymin), big), pvs__f4_lt(pvs__f4_abs(ymax), big)));
 	fin = pvs__m4_and(fin, pvs__f4_lt(pvs__f4_abs(zm), big));
-	/* clamp to the map; zero untested lanes (conversions in range) */
+	/* clamp to map; zero untested lanes (conversions in range) */
 	t = pvs__m4_andn(fin, anyb);
 	xmin = pvs__f4_sel(t, pvs__f4_max(xmin, zero), zero);
 	xmax = pvs__f4_sel(t, pvs__f4_min(xmax, pvs__f4_set1((float)r->width)), zero);
@@ -4536,7 +4534,7 @@ PVS__STATIC int pvs__pf_tiles(const pvs_raster *r, uint32_t tx0, uint32_t tx1, u
 	return 1;
 }
 
-/* 1 when every tile under box [i0, i1] x [j0, j1] has a base as near as zmax. Large boxes try blocks first (bases only
+/* 1 if every tile under box [i0, i1] x [j0, j1] has a base as near as zmax. Large boxes try blocks first (bases only
    grow: a stale block minimum is a lower bound, retaken on failure). */
 PVS__STATIC int pvs__pf_hidden(pvs_raster *r, int32_t box[4][4], int l, float zmax) {
 	uint32_t tx0 = (uint32_t)box[0][l] >> PVS__TW_SHIFT, tx1 = (uint32_t)box[1][l] >> PVS__TW_SHIFT;
@@ -4576,8 +4574,7 @@ PVS__STATIC void pvs__tri_corners(const uint32_t *indices, const pvs__occsel *tr
 	q[2] = ix ? ix[2] : 3 * t + 2;
 }
 
-/* Occluder triangles via the prefilter, four at a time: `count` of `positions` (indices or NULL) or scene triangles
-   tris[0 .. count). */
+/* Occluder triangles via prefilter: `count` of `positions` (indices or NULL) or scene triangles tris[0 .. count). */
 PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
 									   const uint32_t *indices, const pvs__occsel *tris, uint32_t count) {
 	uint32_t t, l, k;
@@ -4587,7 +4584,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 	int n;
 	int32_t box[4][4];
 	if (!vertex_count) return;
-	last[0] = positions[3 * ((size_t)vertex_count - 1)]; /* SIMD reads 4 floats: copy the last vertex */
+	last[0] = positions[3 * ((size_t)vertex_count - 1)]; /* for SIMD's 4-float reads */
 	last[1] = positions[3 * ((size_t)vertex_count - 1) + 1];
 	last[2] = positions[3 * ((size_t)vertex_count - 1) + 2];
 	last[3] = 0.0f;
@@ -4617,7 +4614,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 	}
 }
 
-/* Triangles one by one (pvs__tri_corners; out-of-range vertices: skipped); tiled occluders via the prefilter. */
+/* Triangles one by one (pvs__tri_corners; out-of-range vertices: skipped); tiled occluders via prefilter. */
 PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
 								  const pvs__occsel *tris, uint32_t count, int occluder) {
 	uint32_t t, q[3];
@@ -4644,9 +4641,9 @@ PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, 
    margins) lies in U, no nearer than the least plane minimum or vertex depth of group polygons that may touch it.
    Folds, back faces, non-manifold edges, bad winding, T-junctions and near-plane cuts only add boundary edges.
 
-   Two passes: triangles by the ordinary occluder path, then the mesh pass over strips where an edge may meet a pixel
-   (wider than the first pass's float margins): a strip pixel no edge meets lies in one polygon surely meeting it, else
-   the edges split it among polygons whose strips hold it. One code path (double; float depth in pixel loops): SIMD and
+   Two passes: triangles by ordinary occluder path, then mesh pass over strips where an edge may meet a pixel
+   (wider than first pass's float margins): a strip pixel no edge meets lies in one polygon surely meeting it, else
+   edges split it among polygons whose strips hold it. One code path (double; float depth in pixel loops): SIMD and
    scalar agree. ---- */
 
 #define PVS__MESH_NONE 0xffffffffu
@@ -4661,14 +4658,14 @@ typedef struct pvs__mtri {
 	uint8_t lab[PVS__MESH_MAXV];	/* edge k (vertex k to k + 1): triangle edge 0..2 or PVS__MESH_CLIP */
 	uint8_t bnd[PVS__MESH_MAXV];	/* 1: boundary edge */
 	double x[PVS__MESH_MAXV], y[PVS__MESH_MAXV];
-	double a[PVS__MESH_MAXV], b[PVS__MESH_MAXV], k[PVS__MESH_MAXV], e[PVS__MESH_MAXV]; /* E = a x + b y + k >= 0
-									   inside, |a| + |b| = 1 (0, 0: zero length); |E - exact| < e */
+	/* E = a x + b y + k >= 0 inside, |a| + |b| = 1 (0, 0: zero length); |E - exact| < e */
+	double a[PVS__MESH_MAXV], b[PVS__MESH_MAXV], k[PVS__MESH_MAXV], e[PVS__MESH_MAXV];
 	double xmin, xmax, ymin, ymax, dx; /* vertex error bound */
-	double wide;					/* beyond the first pass's rounding: what it misses by an edge is in the strip */
+	double wide;					/* beyond first pass's rounding: what it misses by an edge is in strip */
 	float za, zb, zk, zclamp;		/* at pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
 } pvs__mtri;
 
-/* Clips, projects, prepares clip-space triangle v of facing `orient` (+-1); 0 when nothing is left. */
+/* Clips, projects, prepares clip-space triangle v of facing `orient` (+-1); 0 if empty. */
 PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orient, pvs__mtri *t) {
 	pvs__cv t1[PVS__RASTER_MAXV], t2[PVS__RASTER_MAXV];
 	uint8_t l0[PVS__RASTER_MAXV] = {0, 1, 2}, l1[PVS__RASTER_MAXV], l2[PVS__RASTER_MAXV];
@@ -4706,7 +4703,7 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 	if (!(mag < PVS__RASTER_BIG * PVS__RASTER_BIG) || !(perr < PVS__RASTER_BIG) || !(zerr < PVS__RASTER_BIG)) return 0;
 	t->dx = PVS__RASTER_ERR_D * (mag + 1.0) + perr;
 	t->wide = (mag + (double)r->width + (double)r->height + 1.0) * (1.0 / 16384.0);
-	/* pixels whose closed square meets the box widened by dx */
+	/* pixels whose closed square meets box widened by dx */
 	t->i0 = pvs__clampi(ceil(t->xmin - t->dx) - 1.0, 0, (int32_t)r->width);
 	t->i1 = pvs__clampi(floor(t->xmax + t->dx), -1, (int32_t)r->width - 1);
 	t->j0 = pvs__clampi(ceil(t->ymin - t->dx) - 1.0, 0, (int32_t)r->height);
@@ -4744,7 +4741,7 @@ PVS__STATIC int pvs__mesh_setup(const pvs_raster *r, const pvs__cv *v, int orien
 }
 
 /* Narrows columns [*lo, *hi] to a i + c >= t (double). outer: may keep failing columns, never drops passing ones; else
-   the reverse. Bounds are checked against neighbours: with t's margin they hold for the exact a i + c. */
+   reverse. Bounds are checked against neighbours: with t's margin they hold for exact a i + c. */
 PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t *lo, int32_t *hi) {
 	int32_t i;
 	int s;
@@ -4779,7 +4776,7 @@ PVS__STATIC void pvs__mesh_cut(double a, double c, double t, int outer, int32_t 
 }
 
 /* Polygon t on row j of band jb, along its edges: over pixels an edge may meet, its least depth bound; flag 1: surely
-   meets the pixel, 2: a boundary edge may. rlo, rhi: touched columns per row. */
+   meets pixel, 2: a boundary edge may. rlo, rhi: touched columns per row. */
 PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int32_t jb, int32_t *rlo, int32_t *rhi) {
 	const uint32_t W = r->width;
 	float *zm = r->mzmin + (size_t)(j - jb) * W;
@@ -4788,7 +4785,7 @@ PVS__STATIC void pvs__mesh_row(pvs_raster *r, const pvs__mtri *t, int32_t j, int
 	double dj = (double)j;
 	int32_t lo, hi, clo = 0, chi = -1, i;
 	int e;
-	/* surely meets: extents overlap the pixel, no edge separates */
+	/* surely meets: extents overlap pixel, no edge separates */
 	if (dj + 1.0 >= t->ymin + t->dx && dj <= t->ymax - t->dx) {
 		clo = pvs__clampi(ceil(t->xmin + t->dx) - 1.0, t->i0, t->i1 + 1);
 		chi = pvs__clampi(floor(t->xmax - t->dx), t->i0 - 1, t->i1);
@@ -4838,7 +4835,7 @@ PVS__STATIC float pvs__mesh_take(pvs_raster *r, size_t q) {
 	return z;
 }
 
-/* Writes band b's claimed pixels to the depth map or, tiled, per tile as a mask at the least claimed depth. */
+/* Writes band b's claimed pixels to depth map or, tiled, per tile as a mask at the least claimed depth. */
 PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, const int32_t *rhi) {
 	const uint32_t W = r->width;
 	int32_t lo = INT32_MAX, hi = -1, i, d, tx;
@@ -4886,8 +4883,8 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
 			any |= cov[d];
 		}
 		if (!any || !(zt > tl->z0)) continue;
-		/* unlike pvs__tile_merge, spare the layer (edge pixels: few, often farther): union at the farther depth if zt
-		   is no farther, the tile fills or the layer loses <= 1/8 of its lead; a new layer if none */
+		/* unlike pvs__tile_merge, spare layer (edge pixels: few, often farther): union at farther depth if zt is
+		   no farther, tile fills or layer loses <= 1/8 of its lead; a new layer if none */
 		{
 			uint32_t full = ~0u, have = 0;
 			for (d = 0; d < PVS__TH; ++d) {
@@ -4908,7 +4905,7 @@ PVS__STATIC void pvs__mesh_claim(pvs_raster *r, uint32_t b, const int32_t *rlo, 
 	}
 }
 
-/* Draws the piece's polygons of facing g in bands of four rows, active list sorted by first band. */
+/* Draws piece's polygons of facing g in bands of four rows, active list sorted by first band. */
 PVS__STATIC void pvs__mesh_draw(pvs_raster *r, uint32_t n, int g) {
 	uint32_t *cnt = r->mband, *order = r->morder, *act = r->mact, t, m = 0, pos = 0, na = 0, b = 0, k, keep;
 	int32_t rlo[PVS__TH], rhi[PVS__TH], j;
@@ -4970,7 +4967,7 @@ PVS__STATIC uint32_t pvs__mesh_fbits(float f) {
 	return u;
 }
 
-/* The piece's first vertex at position p, found or added (open addressing, hs slots; 0 empty, else vertex + 1). */
+/* Piece's first vertex at position p, found or added (open addressing, hs slots; 0 empty, else vertex + 1). */
 PVS__STATIC uint32_t pvs__mesh_weld(uint32_t *tab, uint32_t hs, const float *pos, uint32_t q, const float *p) {
 	uint32_t x = pvs__mesh_fbits(p[0]), y = pvs__mesh_fbits(p[1]), z = pvs__mesh_fbits(p[2]), h;
 	h = (x * 0x9E3779B1u) ^ (y * 0x85EBCA77u) ^ (z * 0xC2B2AE3Du);
@@ -4988,8 +4985,8 @@ PVS__STATIC uint32_t pvs__mesh_weld(uint32_t *tab, uint32_t hs, const float *pos
 	}
 }
 
-/* Triangle t (q: vertex indices): welds corners (r->mcid), transforms, clips and prepares (r->mt[t]), marks corners
-   against the clip planes (r->mvst). r->mgrp[t]: facing, or 0 (bad, hidden, degenerate, clipped, unsure). */
+/* Triangle t (q: vertex indices): welds corners (r->mcid), transforms, clips, prepares (r->mt[t]), marks corners
+   against clip planes (r->mvst). r->mgrp[t]: facing, or 0 (bad, hidden, degenerate, clipped, unsure). */
 PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t q[3], uint32_t hs,
 							   uint32_t t) {
 	uint32_t k, *cid = r->mcid;
@@ -5066,7 +5063,7 @@ PVS__STATIC void pvs__mesh_partners(pvs_raster *r, uint32_t n, uint32_t hs) {
 	}
 }
 
-/* Clears the boundary flag of internal edges (conditions (i)-(iii) above). */
+/* Clears boundary flag of internal edges (conditions (i)-(iii) above). */
 PVS__STATIC void pvs__mesh_internal(pvs_raster *r, uint32_t n) {
 	uint32_t t, *cid = r->mcid, *part = r->mpart;
 	for (t = 0; t < n; ++t) {
@@ -5106,7 +5103,7 @@ PVS__STATIC void pvs__mesh_piece(pvs_raster *r, const float *pos, uint32_t vc, c
 	pvs__mesh_draw(r, n, -1);
 }
 
-/* Occluder meshes in pieces of mesh_cap triangles (`indices` NULL: consecutive vertices). */
+/* Occluder meshes in pieces of mesh_cap triangles (`indices` NULL: vertices in order). */
 PVS__STATIC void pvs__mesh(pvs_raster *r, const float *pos, uint32_t vc, const uint32_t *indices,
 						   const pvs__occsel *tris, uint32_t count) {
 	uint32_t first;
@@ -5227,14 +5224,14 @@ PVS_API pvs_result pvs_raster_mesh(pvs_raster *r, const float *positions, uint32
 PVS_API const float *pvs_raster_depth(const pvs_raster *r, uint32_t *w, uint32_t *h) {
 	if (w) *w = r->width;
 	if (h) *h = r->height;
-	pvs__tile_resolve((pvs_raster *)r); /* a cache the context owns */
+	pvs__tile_resolve((pvs_raster *)r); /* cache owned by context */
 	return r->depth;
 }
 
 /* ---- depth pyramid (Durand 2000 §2.4; Greene et al. 1993), queried top-down until a level decides (§6.1) ---- */
 
-/* One pyramid level (kernel of all pyramids in pvs.h): texel (x, y) gets the min of smin (into dmin; both may be NULL)
-   and max of smax (into dmax) over texels [x << mx, (x << mx) + mx] x [y << my, (y << my) + my] of the pw x ph level
+/* One pyramid level (kernel of all pyramids in pvs.h): texel (x, y) gets min of smin (into dmin; both may be NULL)
+   and max of smax (into dmax) over texels [x << mx, (x << mx) + mx] x [y << my, (y << my) + my] of pw x ph level
    below, clamped; mx, my = 1 halve that axis. `simd` (SSE2, both halved) pairs differently: same results but for +0/-0
    ties (or NaN). */
 PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32_t pw, uint32_t ph, float *dmin,
@@ -5249,7 +5246,7 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 		x = 0;
 #if defined(PVS__SSE2)
 		if (simd && mx && my)
-			for (; 2 * x + 8 <= pw; x += 4) { /* the two rows, then even and odd columns */
+			for (; 2 * x + 8 <= pw; x += 4) { /* two rows, then even and odd columns */
 				__m128 v0, v1;
 				if (on) {
 					v0 = _mm_min_ps(_mm_loadu_ps(n0 + 2 * x), _mm_loadu_ps(n1 + 2 * x));
@@ -5278,7 +5275,7 @@ PVS__STATIC void pvs__pyramid_level(const float *smin, const float *smax, uint32
 	}
 }
 
-/* Tile pyramid: level 0 holds each tile's base and nearest value; each level above merges 1 x 2, 2 x 1 or 2 x 2 texels
+/* Tile pyramid: level 0 holds each tile's base and nearest value; levels above merge 1 x 2, 2 x 1 or 2 x 2 texels
    (about square in pixels). */
 PVS__STATIC void pvs__tile_pyramid(pvs_raster *r) {
 	uint32_t l, n = r->tw * r->th, i;
@@ -5331,14 +5328,14 @@ PVS__STATIC int pvs__pyramid_visible(const pvs_raster *r, uint32_t l, uint32_t t
 	return 0;
 }
 
-/* pvs__pyramid_visible on the tile pyramid; at a tile the layer mask decides exactly. px: pixels, tr: their tiles. */
+/* pvs__pyramid_visible on tile pyramid; at a tile, layer mask decides exactly. px: pixels, tr: their tiles. */
 PVS__STATIC int pvs__tpyr_visible(const pvs_raster *r, uint32_t l, uint32_t tx, uint32_t ty, const int32_t *px,
 								  const uint32_t *tr, float d) {
 	uint32_t w = r->tlw[l], cx, cy, cx0, cx1, cy0, cy1;
 	float lo = r->tlmin[l][ty * w + tx], hi = r->tlmax[l][ty * w + tx];
 	if (lo > d) return 0;
 	if (hi <= d) return 1;
-	if (l == 0) { /* z0 <= d < z1: visible where the rectangle leaves the layer */
+	if (l == 0) { /* z0 <= d < z1: visible where rectangle leaves layer */
 		const pvs__tile *t = r->tile + (size_t)ty * r->tw + tx;
 		int32_t bx = (int32_t)(tx << PVS__TW_SHIFT), by = (int32_t)(ty << PVS__TH_SHIFT);
 		int32_t a0 = (px[0] > bx ? px[0] : bx) - bx, a1 = (px[2] < bx + 31 ? px[2] : bx + 31) - bx;
@@ -5383,7 +5380,7 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
 		px[0] = x0; px[1] = y0; px[2] = x1; px[3] = y1;
 		tr[0] = (uint32_t)x0 >> PVS__TW_SHIFT; tr[1] = (uint32_t)y0 >> PVS__TH_SHIFT;
 		tr[2] = (uint32_t)x1 >> PVS__TW_SHIFT; tr[3] = (uint32_t)y1 >> PVS__TH_SHIFT;
-		/* finest level where the rect spans <= 2 x 2 texels */
+		/* finest level where rect spans <= 2 x 2 texels */
 		while (l < r->tlevels &&
 			   ((tr[2] >> r->tsx[l]) - (tr[0] >> r->tsx[l]) > 1 || (tr[3] >> r->tsy[l]) - (tr[1] >> r->tsy[l]) > 1))
 			++l;
@@ -5407,7 +5404,7 @@ PVS_API int pvs_raster_test_rect(pvs_raster *r, int32_t x0, int32_t y0, int32_t 
    (E_x + |x/w| E_w) / w plus the division; per-box maxima widen the rectangle and raise the depth. S_r > 1e30: double
    path. ---- */
 
-/* From the corners, all in front: screen extremes, nearest depth, largest 1 / w, |x / w|, |y / w|, |z / w|. */
+/* From corners, all in front: screen extremes, nearest depth, largest 1 / w, |x / w|, |y / w|, |z / w|. */
 typedef struct pvs__boxf {
 	float xmin, xmax, ymin, ymax, zmax, rmax, nx, ny, nz;
 } pvs__boxf;
@@ -5417,7 +5414,7 @@ typedef struct pvs__boxe {
 	float e[4], nz, xw, yw, w2;
 } pvs__boxe;
 
-/* 0 surely invisible, 1 may reach behind the near plane (visible), 2 *o filled, -1 not finite (caller falls back). */
+/* 0 surely invisible, 1 may reach behind near plane (visible), 2 *o filled, -1 not finite (caller falls back). */
 PVS__STATIC int pvs__box_scalar(const pvs_raster *r, const pvs_box *b, const pvs__boxe *E, pvs__boxf *o) {
 	const float *m = r->mf;
 	float c[8][4];
@@ -5522,7 +5519,7 @@ PVS__STATIC int pvs__box_simd(const pvs_raster *r, const pvs_box *b, const pvs__
 #endif
 
 /* Double to a float >= it, no libm: margins (v >= 0); any finite v (rounded down: up one step; |f| 2^-23 plus the least
-   subnormal covers the gap). */
+   subnormal covers gap). */
 PVS__STATIC float pvs__f_up_pos(double v) { return (float)(v * (1.0 + 4.76837158203125e-07) + 1e-37); }
 PVS__STATIC float pvs__f_up_fast(double v) {
 	float f = (float)v;
@@ -5530,7 +5527,7 @@ PVS__STATIC float pvs__f_up_fast(double v) {
 	return f;
 }
 
-/* Float box test; -1: use the double path. */
+/* Float box test; -1: use double path. */
 PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t rect[4], float *dnear) {
 	pvs__boxe E;
 	pvs__boxf o = {0, 0, 0, 0, 0, 0, 0, 0, 0};
@@ -5586,8 +5583,7 @@ PVS__STATIC int pvs__raster_box_f(const pvs_raster *r, const pvs_box *b, int32_t
 	return 2;
 }
 
-/* Projects a box: 0 invisible, 1 maybe visible, no depth test (behind the near plane), 2 *rect (clamped pixels) and
-   *dnear (nearest depth) set. */
+/* 0 invisible, 1 maybe visible (behind near plane, untested), 2 *rect (clamped pixels), *dnear (nearest depth) set. */
 PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t rect[4], float *dnear) {
 	double xmin = DBL_MAX, xmax = -DBL_MAX, ymin = DBL_MAX, ymax = -DBL_MAX, dmax = -DBL_MAX, mag = 0.0, dx, perr = 0.0,
 		   zerr = 0.0;
@@ -5599,7 +5595,7 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 		if (k >= 0) return k;
 	}
 	{
-		/* corners = min corner + transformed edges (margins cover the rounding) */
+		/* corners = min corner + transformed edges (margins cover rounding) */
 		pvs__cv base = pvs__raster_transform(r, b->min);
 		double e[3][4];
 		int ax, c;
@@ -5664,7 +5660,7 @@ PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
 
 /* ---- context ---- */
 
-/* The context's buffers (pvs__buf) of `groups` (bits): 1 pixels, 2 tiles, 4 occluder selection, 8 meshes, 16 scene
+/* Context's buffers (pvs__buf) of `groups` (bits): 1 pixels, 2 tiles, 4 occluder selection, 8 meshes, 16 scene
    sweeps, 32 cull map, 64 its items; sized by fields set before each group. */
 #define PVS__RASTER_BUFS 28
 PVS__STATIC int pvs__raster_bufs(pvs_raster *r, pvs__buf *b, unsigned groups) {
@@ -5724,7 +5720,7 @@ PVS_API void pvs_raster_destroy(pvs_raster *r) {
 	pvs__free(&a, r, sizeof(*r), 16);
 }
 
-/* Cull map cell range of a box (clamped); 0 when the box is not wholly inside the region. */
+/* Cull map cell range of a box (clamped); 0 unless wholly inside region. */
 PVS__STATIC int pvs__cm_range(const pvs_raster *r, const pvs_box *b, int up, int32_t *i0, int32_t *j0, int32_t *i1,
 							  int32_t *j1) {
 	int u, v;
@@ -5972,18 +5968,18 @@ PVS__STATIC void pvs__occ_push(pvs__occsel *h, uint32_t *n, uint32_t k, float sc
 	pvs__topk_offer(h, n, k, sizeof(e), &e, pvs__occsel_before);
 }
 
-/* Area-angle measure A |N . V| / |D|^2 (Bittner 2002 §4.5), V the unit direction to centre D, two-sided. */
+/* Area-angle measure A |N . V| / |D|^2 (Bittner 2002 §4.5), V unit direction to centre D, two-sided. */
 PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 										uint32_t count) {
 	pvs__selctx *c = (pvs__selctx *)user;
 	uint32_t i;
 	if (distance > c->max_dist) return PVS_VISIT_STOP;
-	/* heap full and nothing unseen can enter: an unseen triangle's centre lies beyond `distance` (every leaf its box
+	/* heap full, nothing unseen can enter: an unseen triangle's centre lies beyond `distance` (every leaf its box
 	   overlaps lists it), so scores at most area / distance^2 (rounded up) */
 	if (c->n == c->k && distance > 0.0f &&
 		c->s->max_triangle_area * 1.0001 / ((double)distance * distance * 0.9999) < (double)c->r->occ[0].score)
 		return PVS_VISIT_STOP;
-	/* outside the view or behind drawn occluders: hides nothing seen */
+	/* outside view or behind drawn occluders: hides nothing seen */
 	if (!pvs_raster_test_box(c->r, node_box)) return PVS_VISIT_SKIP;
 	for (i = 0; i < count; ++i) {
 		uint32_t t = items[i], k;
@@ -6001,7 +5997,7 @@ PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, flo
 			fr[k] = c->fwd[0] * ((double)p[k][0] - c->eye[0]) + c->fwd[1] * ((double)p[k][1] - c->eye[1]) +
 				c->fwd[2] * ((double)p[k][2] - c->eye[2]);
 		front = pvs__dmax(fr[0], pvs__dmax(fr[1], fr[2]));
-		if (front < c->near_d) continue; /* behind the near plane */
+		if (front < c->near_d) continue; /* behind near plane */
 		n[0] = e1[1] * e2[2] - e1[2] * e2[1];
 		n[1] = e1[2] * e2[0] - e1[0] * e2[2];
 		n[2] = e1[0] * e2[1] - e1[1] * e2[0];
@@ -6046,7 +6042,7 @@ PVS__STATIC pvs_visit pvs__cull_visit(void *user, const pvs_box *node_box, float
 	return PVS_VISIT_DESCEND;
 }
 
-/* Checks shared by both culling calls; sets the camera matrix. */
+/* Checks shared by both culling calls; sets camera matrix. */
 PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, pvs_word *visible,
 									   pvs_error *err) {
 	float m[16];
@@ -6067,7 +6063,7 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
 }
 
 /* Draws up to p->scene_occluders triangles within p->occluder_distance, best first by Bittner 2002 §4.5's measure;
-   meshes with PVS_CULL_SCENE_MESH. Returns the count. */
+   meshes with PVS_CULL_SCENE_MESH. Returns count. */
 PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
 											   const pvs_cull_params *p) {
 	pvs__selctx sc;
@@ -6083,7 +6079,7 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 	for (k = 0; k < 3; ++k) { sc.eye[k] = cam->eye[k]; sc.fwd[k] = cam->forward[k]; }
 	len = sqrt(sc.fwd[0] * sc.fwd[0] + sc.fwd[1] * sc.fwd[1] + sc.fwd[2] * sc.fwd[2]);
 	for (k = 0; k < 3; ++k) sc.fwd[k] /= len;
-	if (cam->fov_y == 0.0f) sc.near_d = -DBL_MAX; /* ortho: matrix does the near test */
+	if (cam->fov_y == 0.0f) sc.near_d = -DBL_MAX; /* ortho: matrix does near test */
 	memset(r->tri_seen, 0, PVS_BITSET_WORDS(s->triangle_count) * sizeof(pvs_word));
 	for (k = 0; k < 3; ++k) src.min[k] = src.max[k] = cam->eye[k];
 	pvs_kdtree_sweep(s->triangle_tree, &src, r->sweep, r->sweep_size, pvs__select_visit, &sc);
@@ -6136,7 +6132,7 @@ PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc 
 	return drawn;
 }
 
-/* Occluder volumes within p->occluder_distance (meshes unless PVS_CULL_SEPARATE_TRIANGLES); returns triangles drawn. */
+/* Occluder volumes within p->occluder_distance (meshes unless PVS_CULL_SEPARATE_TRIANGLES); returns triangles. */
 PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
 									   const pvs_cull_params *p) {
 	static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
@@ -6201,7 +6197,7 @@ PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_
 
 /* ---- cull map (Wonka & Schmalstieg 1999) ---- */
 
-/* Ground polygon x, y (scene units, overwritten) at heights z into the cull map, inner coverage (§4.4). */
+/* Ground polygon x, y (scene units, overwritten) at heights z into cull map, inner coverage (§4.4). */
 PVS__STATIC void pvs__cm_draw(pvs_raster *r, double *x, double *y, const double *z, int n, int simd) {
 	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
 	int k;
@@ -6211,15 +6207,14 @@ PVS__STATIC void pvs__cm_draw(pvs_raster *r, double *x, double *y, const double 
 	}
 	pvs__raster_poly(r->cm, r->cm_w, r->cm_h, r->cm_tile_min, x, y, z, n, 1, simd, 0.0, 0.0);
 }
-/* Farther from eye (ou, ov) than any map point (§4.2). */
+/* > distance from eye (ou, ov) to any map point (§4.2). */
 PVS__STATIC double pvs__cm_reach(const pvs_raster *r, double ou, double ov) {
 	return 2.0 * ((double)r->region[2] - r->region[0] + (double)r->region[3] - r->region[1] +
 				  pvs__dabs(ou - r->region[0]) + pvs__dabs(ov - r->region[1]));
 }
 
 /* Shadow of facade a-b (height `top`) from eye o = (ou, ov, eh) (§3.1): ground quad a, b, b + t (b - o), a + t (a -
-   o), far edge off the map (§4.2), height the plane through eye and top edge; inner coverage at each cell's lowest
-   height (§4.4). */
+   o), far edge off map (§4.2), heights: plane of eye and top edge; inner coverage at cells' lowest height (§4.4). */
 PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, const float *a, const float *b,
 								double top, int simd) {
 	double da[2], db[2], la, lb, reach, sa, sb, x[4], y[4], z[4];
@@ -6238,11 +6233,11 @@ PVS__STATIC void pvs__cm_shadow(pvs_raster *r, double ou, double ov, double eh, 
 	pvs__cm_draw(r, x, y, z, 4, simd);
 }
 
-/* Plane through the eye and horizontal edge a-b at height `top`, as heights over the ground; 0 when vertical. */
+/* Plane through eye and horizontal edge a-b at height `top`, as heights over ground; 0 if vertical. */
 PVS__STATIC int pvs__cm_plane(double ou, double ov, double eh, const double *a, const double *b, double top,
 							  double pl[3]) {
 	double a0 = a[0] - ou, a1 = a[1] - ov, b0 = b[0] - ou, b1 = b[1] - ov, dh = top - eh;
-	/* n = (a - o) x (b - o), both dh above the eye */
+	/* n = (a - o) x (b - o), both dh above eye */
 	double nx = a1 * dh - dh * b1, ny = dh * b0 - a0 * dh, nz = a0 * b1 - a1 * b0;
 	if (!(pvs__dabs(nz) > 1e-12 * (pvs__dabs(a0) + pvs__dabs(a1)) * (pvs__dabs(b0) + pvs__dabs(b1)))) return 0;
 	pl[0] = -nx / nz; /* h(x, y) = eh + pl[0] (x - ou) + pl[1] (y - ov) */
@@ -6254,10 +6249,10 @@ PVS__STATIC double pvs__cm_height(const double pl[3], double ou, double ov, doub
 	return pl[2] + pl[0] * (x - ou) + pl[1] * (y - ov);
 }
 
-/* Seam at v between casting facades p-v, v-q: the sampling correction shrinks both shadows, uncovering cells along the
-   shadow ray through v (Wonka 1999 §5). The wedge between the rays through a' on p-v and b' on v-q (about two cells
-   from v), beyond a'-v-b', lies in the union, at height A on A's side of the ray, B on B's. A - B changes sign across
-   the ray: A is a lower bound if A >= B on A's side (a ridge), else the least corner value of concave min(A, B). */
+/* Seam at v between casting facades p-v, v-q: sampling correction shrinks both shadows, uncovering cells along the
+   shadow ray through v (Wonka 1999 §5). The wedge between rays through a' on p-v and b' on v-q (about two cells
+   from v), beyond a'-v-b', lies in union, at height A on A's side of ray, B on B's. A - B changes sign across
+   it: A is a lower bound if A >= B on A's side (a ridge), else the least corner value of concave min(A, B). */
 PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, const float *pf, const float *vf,
 							  const float *qf, double top, int simd) {
 	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
@@ -6275,7 +6270,7 @@ PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, co
 	x[1] = vt[0]; y[1] = vt[1];
 	x[2] = vt[0] + (qt[0] - vt[0]) * pvs__dmin(1.0, delta / lq);
 	y[2] = vt[1] + (qt[1] - vt[1]) * pvs__dmin(1.0, delta / lq);
-	for (k = 0; k < 2; ++k) { /* far ends of the rays through b', a' */
+	for (k = 0; k < 2; ++k) { /* far ends of rays through b', a' */
 		int from = k == 0 ? 2 : 0;
 		double dx = x[from] - ou, dy = y[from] - ov, l = sqrt(dx * dx + dy * dy), sc;
 		if (!(l > 0.0)) return;
@@ -6310,7 +6305,7 @@ PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *
 		if (area2 < 0) { nx = -nx; ny = -ny; }
 		if (!((eye[0] - a[0]) * nx + (eye[1] - a[1]) * ny > 0.0)) return 0; /* back-facing */
 	}
-	if (min_dist > 0.0) { /* nearer than the near plane: clipped away */
+	if (min_dist > 0.0) { /* nearer than near plane: clipped away */
 		double ex = eye[0] - a[0], ey = eye[1] - a[1], sx = (double)b[0] - a[0], sy = (double)b[1] - a[1];
 		double ss = sx * sx + sy * sy, t = ss > 0.0 ? (ex * sx + ey * sy) / ss : 0.0, qx, qy;
 		t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
@@ -6351,7 +6346,7 @@ PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *
 		pvs__cm_seam(r, eye[0], eye[1], eye[2], pts + 2 * (n - 1), pts, pts + 2, top, simd);
 }
 
-/* Builds the cull map, skipping facades nearer than min_dist to the eye (ground plane). */
+/* Builds cull map, skipping facades nearer than min_dist to eye (ground plane). */
 PVS__STATIC pvs_result pvs__cull_map_build(pvs_raster *r, const float eye[3], const pvs_facade_chain *chains,
 										   uint32_t chain_count, uint32_t flags, double min_dist) {
 	double e[3];
@@ -6433,22 +6428,22 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 		return PVS__BAD_ARG(err, "facades must not be NULL");
 	memset(&st, 0, sizeof(st));
 	if (cam->fov_y > 0.0f) {
-		/* facades nearer than the near plane (at the frustum's widest angle) are clipped: hide nothing */
+		/* facades nearer than near plane (at frustum's widest angle) are clipped: hide nothing */
 		double ty = tan(0.5 * (double)cam->fov_y), tx = ty * (double)r->width / (double)r->height;
 		pvs__cull_map_build(r, cam->eye, p ? p->facades : NULL, p ? p->facade_count : 0, p ? p->cull_map_flags : 0,
 							(double)cam->near_plane * sqrt(1.0 + tx * tx + ty * ty) * (1.0 + 1e-6));
-	} else { /* shadows are cast from a point: ortho gets the frustum test only */
+	} else { /* shadows are cast from a point: ortho gets frustum test only */
 		for (c = 0; c < (size_t)r->cm_w * r->cm_h; ++c) r->cm[c] = PVS_DEPTH_EMPTY;
 	}
-	pvs_raster_clear(r); /* frustum test sees an empty depth map */
+	pvs_raster_clear(r); /* frustum test sees empty depth map */
 	up = (int)s->up_axis;
 	cells = (size_t)r->cm_w * r->cm_h;
-	/* §4.3: the cell's bounding height, then each object's */
+	/* §4.3: cell's bounding height, then each object's */
 	for (c = 0; c < cells; ++c) {
 		float h = r->cm[c];
 		uint32_t k;
 		++st.nodes_visited;
-		if (r->cm_bound[c] < h) continue; /* all objects here under the shadows */
+		if (r->cm_bound[c] < h) continue; /* all objects here under shadows */
 		for (k = r->cm_start[c]; k < r->cm_start[c + 1]; ++k) {
 			uint32_t o = r->cm_items[k];
 			int32_t rect[4];
@@ -6459,7 +6454,7 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 			if (s->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY) continue;
 			if (p && p->candidates && !pvs_bitset_test(p->candidates, o)) continue;
 			++st.boxes_tested;
-			if (pvs__raster_box(r, s->object_boxes + o, rect, &d)) { /* in the frustum */
+			if (pvs__raster_box(r, s->object_boxes + o, rect, &d)) { /* in frustum */
 				pvs_bitset_set(visible, o);
 				++st.visible;
 			}
@@ -6474,17 +6469,16 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 /* ---------------------------------------------------------------------------------------------- */
 /* otree: occlusion trees over oriented 2D line space (Bittner 2002, ch. 3, 6, 7)                 */
 /* ---------------------------------------------------------------------------------------------- */
-/* One BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes through the origin of R^3, images p* of
-   primal points p (§6.4: l* = (u,1) x (v,1), l*.(p,1) = orient(u, v, p) > 0 when p is left of l). Leaves: out
-   (unblocked) or in (blocked by the payload: the nearest occluder in 2D; those that may be seen over in 2.5D). Line
-   sets: convex polygons of unit vectors (vertices: extremal lines); each edge keeps the point whose plane carries it,
-   marked when that plane is on the path (§4.10.1), so an out-leaf becomes the e-OT of the unmarked edges (§3.3.3).
+/* One BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes through origin of R^3, images p* of primal
+   points p (§6.4: l* = (u,1) x (v,1), l*.(p,1) = orient(u, v, p) > 0 if p is left of l). Leaves: out (unblocked) or in
+   (blocked by payload: nearest occluder in 2D; those that may be seen over in 2.5D). Line sets: convex polygons of unit
+   vectors (vertices: extremal lines); each edge keeps point whose plane carries it, marked if that plane is on path
+   (§4.10.1), so an out-leaf becomes e-OT of unmarked edges (§3.3.3).
 
    Conservative rounding: regions are bounded by exact planes through stored points (an in-leaf never claims lines
    outside its blocker); insertion's tolerance only drops blocked slivers; read-only tests split with slack (both sides
-   see more); ambiguous depth orders count as visible. Double geometry, relative to the cell centre. Users:
-   pvs_visibility_2d (exact, ch. 6), pvs_visibility_25d (c-LSS, ch. 7), the OTREE bake; pvs_otree_cull (ch. 4, below)
-   has its own 3D kernel. */
+   see more); ambiguous depth orders count as visible. Double geometry, cell-centred. Users: pvs_visibility_2d (exact,
+   ch. 6), pvs_visibility_25d (c-LSS, ch. 7), OTREE bake; pvs_otree_cull (ch. 4, below) has its own 3D kernel. */
 
 #define PVS__OT_MAXV 16
 #define PVS__OT25_WITNESSES 16
@@ -6533,7 +6527,7 @@ typedef struct pvs__otree {
 	const double *corners;			/* 2.5D: cell's 4 ground corners (all eye positions) */
 	double *jd;						/* 2.5D: PVS__OT25_JD doubles per occluder */
 	double len_eps;					/* smaller distances tie */
-	uint32_t root_in;				/* 2.5D: node of lines leaving via the source edge */
+	uint32_t root_in;				/* 2.5D: node of lines leaving via source edge */
 	int full_tests;					/* 2.5D: PVS__VISIBILITY_25D_FULL_TESTS (no witnesses) */
 	int nwit;						/* 2.5D: witness lines, most recently useful first */
 	double wit[PVS__OT25_WITNESSES][3];
@@ -6602,9 +6596,7 @@ PVS__STATIC int pvs__ot_reserve(pvs__otree *t, size_t need) {
 	if (c4 < t->stack_cap) t->stack_cap = c4;
 	return 1;
 }
-/* Work item i's polygon. */
 #define PVS__OT_ITEM(t, i) ((t)->stack + (t)->stack_slot[i])
-/* Items i, j swap polygons (no copy). */
 PVS__STATIC void pvs__ot_swap(pvs__otree *t, size_t i, size_t j) {
 	uint32_t s = t->stack_slot[i];
 	t->stack_slot[i] = t->stack_slot[j];
@@ -6618,7 +6610,6 @@ PVS__STATIC int pvs__ot_push(pvs__otree *t, uint32_t node, const pvs__otpoly *po
 	t->stack_node[t->stack_count++] = node;
 	return 1;
 }
-/* Pops the top item into *q; returns its node. */
 PVS__STATIC uint32_t pvs__ot_pop(pvs__otree *t, pvs__otpoly *q) {
 	--t->stack_count;
 	pvs__ot_copy(q, PVS__OT_ITEM(t, t->stack_count));
@@ -6627,7 +6618,7 @@ PVS__STATIC uint32_t pvs__ot_pop(pvs__otree *t, pvs__otpoly *q) {
 
 /* ---- line-space kernel (§6.4, §6.8) ---- */
 
-/* Oriented line u -> v = (u,1) x (v,1), normalised; 0 when u == v. */
+/* Oriented line u -> v = (u,1) x (v,1), normalised; 0 if u == v. */
 PVS__STATIC double pvs__ot_line(const double u[2], const double v[2], double l[3]) {
 	double len;
 	l[0] = u[1] - v[1];
@@ -6660,8 +6651,8 @@ PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
 	n[2] = f;
 }
 
-/* Keeps the part of `in` where n . l >= -slack (0: the exact half), n the unit normal of p's plane; new edges lie in
-   that plane, with mark `mark`. Returns the vertex count (0 empty, -1 too many). */
+/* Keeps part of `in` where n . l >= -slack (0: exact half), n unit normal of p's plane; new edges lie in
+   that plane, with mark `mark`. Returns vertex count (0 empty, -1 too many). */
 PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
 							   pvs__otpoly *out) {
 	double d[PVS__OT_MAXV + 1];
@@ -6714,8 +6705,8 @@ PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	t->wit[0][0] = w[0] / len; t->wit[0][1] = w[1] / len; t->wit[0][2] = w[2] / len;
 }
 
-/* 2.5D: 1 when nd's subtree hides every point no nearer than `near` to the cell and no higher than h (pvs__ot25_bound);
-   near < 0 (2D): 0. The macro skips the call where neither bound applies; evaluates nd twice. */
+/* 2.5D: 1 if nd's subtree hides every point no nearer than `near` to cell and no higher than h (pvs__ot25_bound);
+   near < 0 (2D): 0. Macro skips call where neither bound applies; evaluates nd twice. */
 #define PVS__OT25_HIDDEN(t, nd, near, h) \
 	(((near) > (nd)->mr || (near) > (nd)->ml) && pvs__ot25_hidden_below_at(t, nd, near, h))
 PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
@@ -6733,8 +6724,8 @@ PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode
 	return 0;
 }
 
-/* Insertion at an inner node (§3.3.3) on the top item, in place: edges on the node's plane are marked (§4.10.1), the
-   polygon goes to its child or is split; a child whose subtree hides the occluder (2.5D, near >= 0) gets nothing. 2.5D
+/* Insertion at an inner node (§3.3.3) on top item, in place: edges on node's plane are marked (§4.10.1), the
+   polygon goes to its child or is split; a child whose subtree hides occluder (2.5D, near >= 0) gets nothing. 2.5D
    descends one-sided nodes here, to a leaf or a hidden subtree. */
 PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q = PVS__OT_ITEM(t, top);
@@ -6766,14 +6757,14 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 		uint32_t s0, s1, s2;
 		size_t m = top;
 		if (h0 && h1) { t->stack_count = top; return; }
-		/* parts go into free slots above the top, then trade places */
+		/* parts go into free slots above top, then trade places */
 		if (!pvs__ot_reserve(t, top + 3)) { t->stack_count = top; return; }
 		q = PVS__OT_ITEM(t, top);
 		/* positive part unless c1 hides, negative (normal negated: each distance exactly so) unless c0 hides */
 		for (i = 0; i < 3; ++i) nf[i] = -nd->n[i];
 		na = h1 ? 0 : pvs__ot_clip_n(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
 		nb = h0 ? 0 : pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 2));
-		/* items top.. become the positive part (c1), then the negative (c0), as two pushes would; unused slots go above
+		/* items top.. become positive part (c1), then negative (c0), as two pushes would; unused slots go above
 		   (slots stay a permutation) */
 		s0 = t->stack_slot[top]; s1 = t->stack_slot[top + 1]; s2 = t->stack_slot[top + 2];
 		if (na >= 3) { t->stack_slot[m] = s1; t->stack_node[m] = c1; t->stack_pend[m] = PVS__OT_NONE; ++m; }
@@ -6785,8 +6776,8 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 	}
 }
 
-/* Read-only test at an inner node (§3.3.4) on the top item, in place: a polygon within 1e-12 of the plane on one side
-   (an edge on it) goes to that side, else both sides get their part widened by 1e-12. 1 when surely visible (2.5D: a
+/* Read-only test at an inner node (§3.3.4) on top item, in place: a polygon within 1e-12 of plane on one side
+   (an edge on it) goes to that side, else both sides get their part widened by 1e-12. 1 if surely visible (2.5D: a
    straddled child is an out-leaf) or out of memory (caller counts it visible). */
 PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q;
@@ -6818,7 +6809,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 		t->stack_node[top] = c;
 		if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return 0;
 	}
-	/* 2.5D (no sliver rule): both parts hold a vertex strictly off the plane, so an out-leaf child answers at once; its
+	/* 2.5D (no sliver rule): both parts hold a vertex strictly off plane, so an out-leaf child answers at once; its
 	   part's line becomes a witness (pvs__ot25_witnessed) */
 	if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) {
 		int out1 = t->nodes[c1].kind == PVS__OT_OUT;
@@ -6827,7 +6818,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 			pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top + 1));
 		return 1;
 	}
-	{	/* a child whose subtree hides the query (2.5D bound) gets nothing */
+	{	/* a child whose subtree hides query (2.5D bound) gets nothing */
 		int h0 = PVS__OT25_HIDDEN(t, t->nodes + c0, near, h), h1 = PVS__OT25_HIDDEN(t, t->nodes + c1, near, h);
 		if (h0 && h1) { t->stack_count = top; return 0; }
 		if (h0 || h1) {
@@ -6839,8 +6830,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 			return 0;
 		}
 	}
-	/* the child without a hidden-height bound (likely visible) first; the other keeps the polygon unclipped, clipped
-	   only if reached (pvs__ot_owed) */
+	/* child without a hidden-height bound (likely visible) first; the other's clip is deferred (pvs__ot_owed) */
 	first = t->nodes[c1].mr == DBL_MAX && t->nodes[c0].mr != DBL_MAX ? 1 : 0;
 	for (i = 0; i < 3; ++i) nf[i] = first ? nd->n[i] : -nd->n[i];
 	r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
@@ -6855,8 +6845,8 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 	return 0;
 }
 
-/* Pays the clip owed by item `top` (pvs__ot_test_inner): its part on side `side` of the node's plane, widened by 1e-12.
-   0 when nothing is left (caller pops it). */
+/* Pays clip owed by item `top` (pvs__ot_test_inner): its part on side `side` of node's plane, widened by 1e-12.
+   0 if empty (caller pops it). */
 PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 	uint32_t pend = t->stack_pend[top];
 	const pvs__otnode *nd = t->nodes + (pend >> 1);
@@ -6865,7 +6855,7 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 	int i, r;
 	t->stack_pend[top] = PVS__OT_NONE;
 	for (i = 0; i < 3; ++i) nf[i] = (pend & 1u) ? nd->n[i] : -nd->n[i];
-	if (top + 2 <= t->stack_cap) { /* into the free slot above, then swap */
+	if (top + 2 <= t->stack_cap) { /* into free slot above, then swap */
 		r = pvs__ot_clip_n(PVS__OT_ITEM(t, top), nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
 		if (r > 0) pvs__ot_swap(t, top, top + 1);
 		return r != 0;
@@ -6877,8 +6867,8 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 }
 
 /* Blocker polygon B(S, O) (§6.4.3): lines through S = a b, then O = c d; vertices a->c, a->d, b->d, b->c, each edge in
-   the plane of its lines' shared point. Coincident vertices (O's line through an end of S, O touching S) merge into the
-   triangle of Fig. 6.5. 0 when degenerate (no line set of positive measure). */
+   plane of its lines' shared point. Coincident vertices (O's line through an end of S, O touching S) merge into the
+   triangle of Fig. 6.5. 0 if degenerate (no line set of positive measure). */
 PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const double c[2], const double d[2],
 								pvs__otpoly *q) {
 	const double *from[4], *to[4], *pt[4];
@@ -6898,7 +6888,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 			double *w = q->v[n - 1];
 			double dd = fabs(w[0] - v[i][0]) + fabs(w[1] - v[i][1]) + fabs(w[2] - v[i][2]);
 			if (dd <= 1e-12) {
-				/* same line as the previous vertex: keep the edge plane through a point on both neighbours */
+				/* same line as previous vertex: keep edge plane through a point on both neighbours */
 				continue;
 			}
 		}
@@ -6914,7 +6904,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 	}
 	q->n = n;
 	if (n < 3) return 0;
-	/* each edge's plane: the candidate point on both end lines */
+	/* each edge's plane: candidate point on both end lines */
 	{
 		const double *cand[4];
 		double cn[4][3], en[PVS__OT_MAXV][3], cen[3] = {0, 0, 0}, clen;
@@ -6969,8 +6959,8 @@ PVS__STATIC void pvs__ot_hit_line(const double *s, double m[4]) {
 	m[2] = s[0] * s[3] - s[1] * s[2];
 	m[3] = sqrt(m[0] * m[0] + m[1] * m[1]);
 }
-/* Parameter along line l (unit direction (l1, -l0)) of its crossing with segment line m (pvs__ot_hit_line); 0 when
-   (nearly) parallel or the same line. */
+/* Parameter along line l (unit direction (l1, -l0)) of its crossing with segment line m (pvs__ot_hit_line); 0 if
+   (nearly) parallel or coincident. */
 PVS__STATIC int pvs__ot_hit_m(const double l[3], const double m[4], double *t) {
 	double x, y, w, dx = l[1], dy = -l[0], dn = m[3];
 	x = l[1] * m[2] - l[2] * m[1];
@@ -6981,7 +6971,7 @@ PVS__STATIC int pvs__ot_hit_m(const double l[3], const double m[4], double *t) {
 	return 1;
 }
 
-/* Parameter on segment s (0, 1 at its ends) where line l crosses its line; 0 when parallel. */
+/* Parameter on segment s (0, 1 at its ends) where line l crosses its line; 0 if parallel. */
 PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
 	double dx = s[2] - s[0], dy = s[3] - s[1];
 	double a = l[0] * s[0] + l[1] * s[1] + l[2], b = l[0] * dx + l[1] * dy;
@@ -6990,7 +6980,7 @@ PVS__STATIC int pvs__ot_param(const double l[3], const double *s, double *u) {
 	return 1;
 }
 
-/* Crossing X of two segments' lines; 0 when parallel. */
+/* Crossing X of two segments' lines; 0 if parallel. */
 PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
 	double d1x = s[2] - s[0], d1y = s[3] - s[1], d2x = r[2] - r[0], d2y = r[3] - r[1];
 	double den = d1x * d2y - d1y * d2x, u;
@@ -7003,7 +6993,7 @@ PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
 
 /* Depth order of occluders j, k along q's lines (§6.5.1): counts vertices where k is clearly in front of j, and
    clearly behind. Ties (lines through X or a shared end) count as neither, as do vertex lines missing either segment:
-   they lie outside the leaf by a rounding sliver (q clipped with slack). */
+   they lie outside leaf by a rounding sliver (q clipped with slack). */
 PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk,
 							   int *front, int *behind) {
 	int i, have_x;
@@ -7043,9 +7033,8 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
 	return pos;
 }
 
-/* Turns leaf `node` into the chain of q's unmarked edges (e-OT, §3.3.3): split by each edge's plane, q's side
-   continuing; sides away from q keep the leaf's kind and payload. Returns q's region node (old payload still on),
-   PVS__OT_NONE when out of memory. */
+/* Turns leaf `node` into chain of q's unmarked edges (e-OT, §3.3.3): split by each edge's plane, q's side continuing;
+   other sides keep leaf's kind and payload. Returns q's node (old payload kept), PVS__OT_NONE if out of memory. */
 PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
 	double cen[3] = {0, 0, 0};
 	int i, k;
@@ -7072,8 +7061,7 @@ PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_f
 
 /* ---- 2D from-region (ch. 6): insertion with the four depth cases of §6.5.1 ---- */
 
-/* §6.5.1 case 3: q, split at crossing X = x (marked so), goes back on the stack at `node` as two halves. 0: out of
-   memory. */
+/* §6.5.1 case 3: q, split at crossing X = x (marked so), is pushed at `node` as two halves. 0: out of memory. */
 PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, const double x[2]) {
 	pvs__otpoly part;
 	double n[3];
@@ -7086,7 +7074,7 @@ PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, co
 	return ok;
 }
 
-/* Inserts blocker polygon q of occluder k (§3.3.3 with the 2D in-leaf cases). */
+/* Inserts blocker polygon q of occluder k (§3.3.3 with 2D in-leaf cases). */
 PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
 	size_t base = t->stack_count;
 	const double *sk = t->seg + 4 * (size_t)k;
@@ -7126,9 +7114,8 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 	t->stack_count = base;
 }
 
-/* Thickness of a line-space polygon: least over edges of the largest vertex distance from the edge's plane. Insertion
-   leaves ~1e-12 slivers where it rounded; line sets thinner than PVS__OT_SLIVER (radians at unit distance) are below
-   the method's resolution. */
+/* Thickness: least over edges of largest vertex distance from edge's plane. Insertion leaves ~1e-12 slivers where it
+   rounded; line sets thinner than PVS__OT_SLIVER (radians at unit distance) are below method's resolution. */
 #define PVS__OT_SLIVER 1e-10
 PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
 	double th = DBL_MAX;
@@ -7145,14 +7132,13 @@ PVS__STATIC double pvs__ot_thickness(const pvs__otpoly *q) {
 	return th;
 }
 
-/* Read-only test (§3.3.4), defined after the 2.5D pieces (pvs__ot25_open). */
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
 								const double *e, const double *box);
 
 /* ---- shared driver pieces ---- */
 
-/* Clips segment s to the open half-plane right of a -> b (outside a CCW edge). 0 when nothing is left; *on_line: which
-   end (1 first, 2 second) moved onto the line. */
+/* Clips segment s to open half-plane right of a -> b (outside a CCW edge). 0 if empty; *on_line: end
+   moved onto line (1 first, 2 second). */
 PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const double *s, double out[4],
 									 int *on_line) {
 	double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
@@ -7161,7 +7147,7 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 	*on_line = 0;
 	memcpy(out, s, 4 * sizeof(double));
 	if (f0 >= 0.0 && f1 >= 0.0) return 0;
-	if (f0 >= 0.0 || f1 >= 0.0) { /* outside end moves onto the line */
+	if (f0 >= 0.0 || f1 >= 0.0) { /* outside end moves onto line */
 		int e = f0 >= 0.0 ? 0 : 2, g = 2 - e;
 		double u = e ? f1 / (f1 - f0) : f0 / (f0 - f1);
 		out[e] = s[e] + u * (s[g] - s[e]);
@@ -7171,8 +7157,8 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 	return !(out[0] == out[2] && out[1] == out[3]);
 }
 
-/* Blockers of source edge a -> b (lines leaving to its right) and clipped segment o: one, or two when o's line crosses
-   the edge at x (Fig. 6.5). Returns how many; *degenerate: a non-empty line set was not representable. */
+/* Blockers of source edge a -> b (lines leaving to its right) and clipped segment o: one, or two if o's line crosses
+   edge at x (Fig. 6.5). Returns how many; *degenerate: a non-empty line set was not representable. */
 PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line,
 								 pvs__otpoly out[2], int *degenerate) {
 	double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
@@ -7208,7 +7194,7 @@ PVS__STATIC double pvs__ot_dist2(const double p[2], const double *s) {
 	qy = s[1] + u * dy - p[1];
 	return qx * qx + qy * qy;
 }
-/* Largest squared distance from n points pts (2 doubles each) to an end of segment s. */
+/* Max squared distance from points pts (2 doubles each) to an end of segment s. */
 PVS__STATIC double pvs__ot_far2(const double *pts, uint32_t n, const double *s) {
 	double far2 = 0.0;
 	uint32_t i, m;
@@ -7224,7 +7210,7 @@ PVS__STATIC void pvs__ot_rect(const double *b, double g, double c[8]) {
 	c[0] = b[0] - g; c[1] = b[1] - g; c[2] = b[2] + g; c[3] = b[1] - g;
 	c[4] = b[2] + g; c[5] = b[3] + g; c[6] = b[0] - g; c[7] = b[3] + g;
 }
-/* 1 when segment s meets closed convex CCW polygon poly (n vertices). */
+/* poly: closed, convex, CCW, n vertices. */
 PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *poly, uint32_t n) {
 	double t0 = 0.0, t1 = 1.0, dx = s[2] - s[0], dy = s[3] - s[1];
 	uint32_t i;
@@ -7245,9 +7231,8 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
 	return 1;
 }
 
-/* Maximum visibility distances (§6.5.5), bottom-up in one backward pass (children follow parents): out-leaves
-   unbounded, in-leaves the stored occluder's largest distance to a cell point (along any line, at most that far from
-   where it leaves the cell). */
+/* Max visibility distances (§6.5.5), bottom-up in a backward pass (children follow parents): out-leaves unbounded,
+   in-leaves stored occluder's max distance to a cell point (on any line, at most that far from its cell exit). */
 PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
 	size_t i;
 	for (i = t->node_count; i-- > 0;) {
@@ -7283,7 +7268,7 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 /* ---- 2D from-region API (ch. 6) ---- */
 
 /* Cell polygon `in` (n >= 3 vertices) centred at its vertex mean (*cx, *cy), made CCW, into `cell` (2 n doubles).
-   PVS_OK, or PVS_ERROR_BAD_CELL (in err) when it has no area or is not convex. */
+   PVS_OK, or PVS_ERROR_BAD_CELL (in err) if it has no area or is not convex. */
 PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy,
 									 pvs_error *err) {
 	double area = 0.0;
@@ -7314,8 +7299,8 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
 	return PVS_OK;
 }
 
-/* MVD shortcut distances (§6.5.5) of `count` segments to the cell (n vertices), rounded outward by len_eps: reach[i]
-   the largest distance from segment i to a cell point, near[i] the least (0 when they meet). */
+/* MVD shortcut distances (§6.5.5) of `count` segments to cell (n vertices), rounded outward by len_eps: reach[i]
+   largest distance from segment i to a cell point, near[i] the least (0 if they meet). */
 PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps,
 									double *reach, double *near) {
 	uint32_t i, k;
@@ -7336,9 +7321,9 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 	}
 }
 
-/* Segment i (s, `near` from the cell) through the blockers of each cell edge (§6.6). test 0: insert (an occluder
-   crossing the cell is visible anyway; its outside parts still block). test 1, exact re-test: 1 when it meets the cell,
-   is a point, is degenerate from a cell edge, or a line from an edge reaches it past the occluders. */
+/* Segment i (s, `near` from cell) through blockers of each cell edge (§6.6). test 0: insert (an occluder
+   crossing cell is visible anyway; its outside parts still block). test 1, exact re-test: 1 if it meets cell,
+   is a point, is degenerate from a cell edge, or a line from an edge reaches it past occluders. */
 PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
 								 double near, int test) {
 	uint32_t k;
@@ -7419,7 +7404,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	t.seg = seg;
 	budget = desc->node_budget ? desc->node_budget : 1u << 20;
 	if (!pvs__ot_reset(&t)) { r = PVS__OOM(err, "occlusion tree"); goto done; }
-	/* sweep (§6.6): occluders by distance to the cell centre, one tree for all edges (§6.5.2) */
+	/* sweep (§6.6): occluders by distance to cell centre, one tree for all edges (§6.5.2) */
 	for (i = 0; i < count && !t.oom; ++i) {
 		uint32_t j = order[i].index;
 		const double *s = seg + 4 * j;
@@ -7431,7 +7416,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 		pvs__ot2_update_mvd(&t);
 	}
 	if (t.oom) { r = PVS__OOM(err, "occlusion tree nodes"); goto done; }
-	/* exact re-test of every segment on the final tree (§6.6) */
+	/* exact re-test of every segment on final tree (§6.6) */
 	if (visible_segments) memset(visible_segments, 0, PVS_BITSET_WORDS(count) * sizeof(pvs_word));
 	if (visible_objects) memset(visible_objects, 0, PVS_BITSET_WORDS(desc->object_count) * sizeof(pvs_word));
 	for (i = 0; i < count; ++i) {
@@ -7458,21 +7443,20 @@ done:
 
 /* Facade extraction, any tessellation (T-junction splits, strips, fans; floors at several heights):
    1. vertical triangles are grouped by ground line (direction, then offset, within tol), dropping members farther
-	  than tol from the longest member's line;
-   2. in (s, h), s along the line, vertex s values cut slabs with no vertex inside, where cross-section bounds are
+	  than tol from longest member's line;
+   2. in (s, h), s along line, vertex s values cut slabs with no vertex inside, where cross-section bounds are
 	  linear: triangles overlapping (within tol) at both slab ends overlap across it, so a connected set covers
-	  [min_j max(lo_j), max_j min(hi_j)] (member bounds at the ends) over the whole slab;
-   3. consecutive slabs with equal intervals (within tol) make a facade: a segment and the heights [bottom, top] it
-	  fully covers.
-   Conservative up to cracks and offsets of tol (8 float epsilons of the scene's coordinates: T-junction cracks);
+	  [min_j max(lo_j), max_j min(hi_j)] (member bounds at ends) over the whole slab;
+   3. adjacent slabs with equal intervals (within tol) make a facade: segment, heights [bottom, top] it fully covers.
+   Conservative up to cracks and offsets of tol (8 float epsilons of scene's coordinates: T-junction cracks);
    heights round inward, ends are vertex floats. Writes *count facades (u0 v0 u1 v1 top bottom) into a new *out
-   (allocator a, *out_floats floats), *vertical the vertical triangles; OUT_OF_MEMORY leaves *out NULL. */
+   (allocator a, *out_floats floats), *vertical: vertical triangles; OUT_OF_MEMORY leaves *out NULL. */
 #define PVS__FX_MAX_COVER 512 /* slabs under more triangles are left out (conservative) */
-#define PVS__OT25_LEVELS 8	  /* facade base heights the OTREE bake tells apart (pvs__otree_prepare) */
+#define PVS__OT25_LEVELS 8	  /* facade base heights OTREE bake tells apart (pvs__otree_prepare) */
 
 typedef struct pvs__fxopen {
 	double s0, s1, bot, top;
-	double g0[2], g1[2]; /* ground points of the mesh vertices at s0, s1 */
+	double g0[2], g1[2]; /* ground points of mesh vertices at s0, s1 */
 } pvs__fxopen;
 
 PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, uint32_t *count, const pvs__fxopen *f) {
@@ -7493,8 +7477,7 @@ PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, u
 	return 1;
 }
 
-/* Cross-section [lo, hi] at s of triangle (ts, th); edges evaluated from their smaller-s end, so triangles sharing an
-   edge agree. */
+/* Cross-section [lo, hi] at s of triangle (ts, th); edges evaluated from their smaller-s end, so shared edges agree. */
 PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, double *lo, double *hi) {
 	int i;
 	*lo = DBL_MAX; *hi = -DBL_MAX;
@@ -7518,12 +7501,12 @@ PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, d
 typedef struct pvs__fxwork {
 	const pvs_scene *sc;
 	const pvs_allocator *a;
-	int u, v, up;			/* ground axes, up axis */
+	int u, v, up;
 	double tol;
 	pvs__key_index *so;		 /* 3 nv: line members by least s, then vertices by s */
 	double *sv;				/* 14 nv: per member s[3], h[3], smin, smax, ground[3][2] */
 	double *sec;			/* 4 PVS__FX_MAX_COVER: per slab member lo(sa), lo(sb), hi(sa), hi(sb) */
-	uint32_t *ins, *act;	/* nv: members by least s; members over the slab */
+	uint32_t *ins, *act;	/* nv: members by least s; members over slab */
 	uint32_t *comp, *que;	/* PVS__FX_MAX_COVER + 1: connected set per slab member; its queue */
 	pvs__fxopen *opn, *nxt; /* PVS__FX_MAX_COVER + 1: facades open at slab start; those it continues */
 	uint32_t nopen;
@@ -7569,7 +7552,7 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 	return nv;
 }
 
-/* Step 1's group: mem's slots as (s, h) triangles into w->sv on the longest member's line (ties: lower slot), minus
+/* Step 1's group: mem's slots as (s, h) triangles into w->sv on longest member's line (ties: lower slot), minus
    those farther than tol from it. Returns count kept. */
 PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__key_index *mem,
 									 uint32_t n) {
@@ -7604,7 +7587,7 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
 }
 
 /* Steps 2-3 on slab [sa, sb] (ground points ga, gb), members w->act[0..use): connected sets (overlap within tol at both
-   ends, BFS) and their intervals, each continuing the open facade ending at sa with the same interval (within tol) or
+   ends, BFS) and their intervals, each continuing open facade ending at sa with the same interval (within tol) or
    opening one; facades not continued are emitted. 0: out of memory. */
 PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2],
 							 const double gb[2]) {
@@ -7642,7 +7625,7 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
 			uint32_t f;
 			for (f = 0; f < w->nopen; ++f)
 				if (opn[f].s1 == sa && fabs(opn[f].bot - bot) <= tol && fabs(opn[f].top - top) <= tol) break;
-			if (f < w->nopen) { /* continued: the common interval */
+			if (f < w->nopen) { /* continued: common interval */
 				nxt[nn] = opn[f];
 				bot = bot > nxt[nn].bot ? bot : nxt[nn].bot;
 				top = top < nxt[nn].top ? top : nxt[nn].top;
@@ -7663,7 +7646,7 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
 	return 1;
 }
 
-/* Steps 2-3 along a line of nm members (w->sv): slabs between consecutive vertex s, each with the members spanning it
+/* Steps 2-3 along a line of nm members (w->sv): slabs between consecutive vertex s, each with members spanning it
    (over PVS__FX_MAX_COVER: left out); then emits facades still open. 0: out of memory. */
 PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
 	pvs__key_index *so = w->so;
@@ -7685,7 +7668,7 @@ PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
 		gb[0] = sv[14 * (size_t)(so[slab + 1].index / 3) + 8 + 2 * (so[slab + 1].index % 3)];
 		gb[1] = sv[14 * (size_t)(so[slab + 1].index / 3) + 9 + 2 * (so[slab + 1].index % 3)];
 		while (next < nm && sv[14 * (size_t)w->ins[next] + 6] <= sa) w->act[na++] = w->ins[next++];
-		for (j = 0; j < na; ++j) /* drop members ending before the slab */
+		for (j = 0; j < na; ++j) /* drop members ending before slab */
 			if (sv[14 * (size_t)w->act[j] + 7] >= sb) w->act[m++] = w->act[j];
 		na = m;
 		if (!pvs__fx_slab(w, na > PVS__FX_MAX_COVER ? 0 : na, sa, sb, ga, gb)) return 0;
@@ -7765,7 +7748,7 @@ done:
 
 /* ---- 2.5D from-region, c-LSS (ch. 7) ---- */
 
-/* Proving hidden things hidden dominates the cost (shortcuts below: tests/BENCHMARKS.md, otree). */
+/* Proving hidden things hidden dominates cost (shortcuts below: tests/BENCHMARKS.md, otree). */
 
 #define PVS__OT25_MAX_UMBRAE 96
 #define PVS__OT25_JD 10 /* doubles of per-occluder data (pvs__ot25_prepare) */
@@ -7773,11 +7756,10 @@ done:
 #define PVS__OT25_TEST_MIN 48
 
 /* Hidden-height bound (§6.5.5's maximum visibility distance, made valid in 2.5D where occluders are seen over): each
-   line of an in-leaf crosses every member j. A ray on it from an eye p no higher than H = t->eye passing over j (top
-   h_j > H) rises at slope >= s = (h_j - H) / reach_j (|pc| <= reach_j, c the crossing): points no nearer than n >
-   reach_j to the cell and lower than H + s n are hidden. Leaves keep the steepest member (mr = reach, ms = s), inner
-   nodes the children's largest reach and least slope; none (DBL_MAX) over out-leaves and members no taller than the
-   eyes. */
+   line of an in-leaf crosses every member j. A ray on it from eye p no higher than H = t->eye passing over j (top h_j >
+   H) rises at slope >= s = (h_j - H) / reach_j (|pc| <= reach_j at crossing c): points no nearer than n > reach_j to
+   cell and lower than H + s n are hidden. Leaves keep steepest member (mr = reach, ms = s), inner nodes children's
+   largest reach and least slope; none (DBL_MAX) over out-leaves and members no taller than eyes. */
 PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 	(void)t;
 	if (nd->kind == PVS__OT_IN) return; /* set as members join (pvs__ot25_join); parts inherit it */
@@ -7785,13 +7767,13 @@ PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 	nd->ms = nd->mls = 0.0;
 }
 /* Member k joins in-leaf `node`, whose lines cross k within [f0, f1] only: its reach there (cell corner to an end of
-   that part) is <= jd[8], its slope >= jd[9]. The leaf keeps the steepest member (mr, ms) and the one of least reach
+   that part) <= jd[8], slope >= jd[9]. Leaf keeps steepest member (mr, ms) and the one of least reach
    (ml, mls), valid for later splits' parts too. */
 PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double f0, double f1) {
 	const double *sg = t->seg + 4 * (size_t)k, *jd = t->jd + PVS__OT25_JD * (size_t)k;
 	pvs__otnode *nd = t->nodes + node;
 	double r = jd[8], sl = jd[9], far2, e[4];
-	if (!(sl > 0.0)) return; /* not above the eyes: no bound */
+	if (!(sl > 0.0)) return; /* not above eyes: no bound */
 	f0 -= 1e-9; f1 += 1e-9;
 	if (f0 < 0.0) f0 = 0.0;
 	if (f1 > 1.0) f1 = 1.0;
@@ -7818,7 +7800,7 @@ PVS__STATIC void pvs__ot25_funnel(const pvs__otpoly *q, const double *e, double 
 	*f0 = lo < 0.0 ? 0.0 : lo;
 	*f1 = hi > 1.0 ? 1.0 : hi;
 }
-/* Inner node's bound from its children's; 0 when unchanged. */
+/* Inner node's bound from its children's; 0 if unchanged. */
 PVS__STATIC int pvs__ot25_inner_bound(pvs__otree *t, uint32_t node) {
 	pvs__otnode *nd = t->nodes + node;
 	const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
@@ -7831,8 +7813,7 @@ PVS__STATIC int pvs__ot25_inner_bound(pvs__otree *t, uint32_t node) {
 	nd->mls = mls;
 	return 1;
 }
-/* Recomputes the bounds of the subtree at `node` (just rebuilt from a leaf: a short chain), then of ancestors while
-   they change. */
+/* Recomputes bounds of subtree `node` (just rebuilt from a leaf: a short chain), then ancestors' until unchanged. */
 PVS__STATIC void pvs__ot25_bound_subtree(pvs__otree *t, uint32_t node) {
 	pvs__otnode *nd = t->nodes + node;
 	if (nd->kind) { pvs__ot25_leaf_bound(t, nd); return; }
@@ -7845,8 +7826,7 @@ PVS__STATIC void pvs__ot25_bound(pvs__otree *t, uint32_t node) {
 	pvs__ot25_bound_subtree(t, node);
 	for (p = t->nodes[node].parent; p != PVS__OT_NONE && pvs__ot25_inner_bound(t, p); p = t->nodes[p].parent) {}
 }
-/* Lower bound of the distance from the grown cell rectangle to segment e (via e's bounding box; exact when
-   axis-parallel), rounded down. */
+/* Distance from grown cell rectangle to segment e, rounded down (via e's bounding box; exact if axis-parallel). */
 PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 	double dx = 0.0, dy = 0.0, d;
 	double lx = e[0] < e[2] ? e[0] : e[2], hx = e[0] < e[2] ? e[2] : e[0];
@@ -7860,12 +7840,12 @@ PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 }
 
 /* Extended umbra (§7.5.1) of occluder j on far segment e's top edge (height h), for rays over j's top edge from eyes
-   at height H = t->eye anywhere over the cell (§7.1: a falling ray is seen at least as well from where its 2D line
-   leaves the cell, a rising one from where it enters; both on top edges): open interval (u0, u1) of parameters on e
-   where every such ray passes below j's top. For eye p, q is below when (h - H) D(p) < (h_j - H) (D(p) - D(q)), D the
-   signed distance to j's line (> 0 on the source side); monotone in D(p), so the corners' extreme D (clamped at 0: eyes
-   behind j's line do not look over it) cover every eye (the thesis's pi_o / pi_s over the whole cell): one tree per
-   edge serves both ray kinds. 0 when empty. */
+   at height H = t->eye anywhere over cell (§7.1: a falling ray is seen at least as well from where its 2D line
+   leaves cell, a rising one from where it enters; both on top edges): open parameter interval (u0, u1) on e
+   where every such ray passes below j's top. For eye p, q is below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D the
+   signed distance to j's line (> 0 on source side); monotone in D(p), so corners' extreme D (clamped at 0: eyes
+   behind j's line do not look over it) cover every eye (thesis's pi_o / pi_s over whole cell): one tree per
+   edge serves both kinds. 0 if empty. */
 PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0,
 								double *u1) {
 	double hj = jd[6], hn = h - t->eye, lo = -DBL_MAX, hi = DBL_MAX;
@@ -7896,10 +7876,10 @@ PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0
 	return 1;
 }
 
-/* Occluder j's per-tree data: jd[0..2] line D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on the source edge's
-   side); jd[3..4] cell corners' min, max D (clamped at 0); jd[5] 1 when the source edge is on one side; jd[6] top -
+/* Occluder j's per-tree data: jd[0..2] line D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on source edge's
+   side); jd[3..4] cell corners' min, max D (clamped at 0); jd[5] 1 if source edge is on one side; jd[6] top -
    eyes; jd[7] 0: no umbra (source edge midpoint on its line, or a point); jd[8] reach (max distance to a cell point,
-   rounded up); jd[9] (top - eyes) / reach if taller than the eyes, else 0. */
+   rounded up); jd[9] (top - eyes) / reach if taller than eyes, else 0. */
 PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	const double *sg = t->seg + 4 * (size_t)j;
 	double *jd = t->jd + PVS__OT25_JD * (size_t)j, dx = sg[2] - sg[0], dy = sg[3] - sg[1],
@@ -7930,9 +7910,9 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	jd[7] = 1.0;
 }
 
-/* Part of far segment e (height h) seen over the front members of payload seq[first..+count) within q's funnel:
+/* Part of far segment e (height h) seen over front members of payload seq[first..+count) in q's funnel:
    parameter hull [*v0, *v1] in funnel range [*f0, *f1]. Members crossing `skip_box` (2D, or NULL) or not clearly in
-   front are ignored (conservative). 0 when nothing is left. */
+   front ignored (conservative). 0 if none. */
 PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
 							   const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0,
 							   double *v1) {
@@ -7955,12 +7935,11 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 				fmax(sj[1], sj[3]) >= poly[1] && pvs__ot_segment_meets_polygon(sj, poly, 4))
 				continue;
 		}
-		/* quick order: e wholly beyond j's line: j in front on every line crossing both; wholly on the source side:
-		   behind */
+		/* quick order: e wholly beyond j's line: j in front on lines crossing both; wholly on source side: behind */
 		s0 = jd[0] * e[0] + jd[1] * e[1] + jd[2];
 		s1 = jd[0] * e[2] + jd[1] * e[3] + jd[2];
-		/* umbra first (cheap): one missing the open funnel range never moves v0, v1 (no depth order needed); one
-		   covering it hides e once j is found in front */
+		/* umbra first (cheap): one missing open funnel range never moves v0, v1 (no depth order needed); one
+		   covering it hides e once j is in front */
 		if (!pvs__ot25_umbra(t, jd, s0, s1, h, &um[nu][0], &um[nu][1]) || um[nu][1] <= flo || um[nu][0] >= fhi)
 			continue;
 		if (jd[5]) { /* source edge on one side */
@@ -7973,7 +7952,7 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 			pvs__ot_depth(t, q, e, sj, &front, &behind);
 			if (!front || behind) continue;
 		}
-		if (um[nu][0] <= flo && um[nu][1] >= fhi) return 0; /* one umbra covers the funnel's part: hidden */
+		if (um[nu][0] <= flo && um[nu][1] >= fhi) return 0; /* one umbra covers funnel's part: hidden */
 		++nu;
 	}
 	*f0 = flo; *f1 = fhi;
@@ -7995,15 +7974,14 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 
 #define PVS__OT25_MAX_SEQ 32
 /* Lazy funnel splitting: below this many members a leaf takes a partly visible occluder whole. Conservative: each line
-   of the leaf crosses the occluder, whose extended umbra holds there, seen or not (the thesis keeps hidden occluders in
-   S_L too, §7.5.2); the leaf answers at least as tightly, with a longer sequence. From this length, splitting (at most
-   three, §7.5.2) bounds it (tests/BENCHMARKS.md, otree). */
+   of a leaf crosses occluder, whose extended umbra holds there, seen or not (thesis keeps hidden occluders in
+   S_L too, §7.5.2); leaf answers at least as tightly, with a longer sequence. From this length, splitting (<= 3,
+   §7.5.2) bounds it (tests/BENCHMARKS.md, otree). */
 #define PVS__OT25_SPLIT_MIN 16
 
-/* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an in-leaf the funnel test
-   clips k's top edge by the front members' extended umbrae; if a part stays visible the leaf gets k, split (from
-   PVS__OT25_SPLIT_MIN members) into at most three: the primary funnel (rays through the visible part) with members and
-   k, the secondary ones with the members. */
+/* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an in-leaf funnel test clips
+   k's top edge by front members' extended umbrae; if a part stays visible leaf gets k, split (from PVS__OT25_SPLIT_MIN
+   members) into <= 3: primary funnel (rays through visible part) with members and k, secondary ones with members. */
 PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
 	size_t base = t->stack_count;
 	const double *sk = t->seg + 4 * (size_t)k;
@@ -8013,9 +7991,9 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 		const pvs__otpoly *q;
 		uint32_t node = t->stack_node[t->stack_count - 1];
 		pvs__otnode *nd = t->nodes + node;
-		if (PVS__OT25_HIDDEN(t, nd, near, top)) { --t->stack_count; continue; } /* k hidden in this subtree */
+		if (PVS__OT25_HIDDEN(t, nd, near, top)) { --t->stack_count; continue; }
 		if (nd->kind == 0) { pvs__ot_insert_inner(t, t->stack_count - 1, near, top); continue; }
-		q = PVS__OT_ITEM(t, --t->stack_count); /* read in place: no push before the next pop */
+		q = PVS__OT_ITEM(t, --t->stack_count); /* read in place: no push before next pop */
 		if (nd->kind == PVS__OT_OUT) {
 			uint32_t leaf = pvs__ot_refine(t, node, q);
 			if (leaf != PVS__OT_NONE && pvs__ot_set_payload(t, leaf, 0, 0, k)) {
@@ -8034,8 +8012,8 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 			leaf = pvs__ot_refine(t, node, q);
 			if (leaf == PVS__OT_NONE) break;
 			for (i = 0; i < q->n; ++i) for (c = 0; c < 3; ++c) cen[c] += q->v[i][c];
-			/* lines through k before v0 (after v1) see only the old members: the primary side (lines crossing k beyond
-			   x, the point at v0) has x on the side of k's first end (at v1: its second) */
+			/* lines through k before v0 (after v1) see only old members: primary side (lines crossing k beyond
+			   x, point at v0) has x on side of k's first end (at v1: its second) */
 			for (c = 0; c < 2 && count >= PVS__OT25_SPLIT_MIN; ++c) {
 				double x[2], u = c ? v1 : v0, sgn;
 				if (c ? !(v1 < f1 - 1e-9) : !(v0 > f0 + 1e-9)) continue;
@@ -8053,8 +8031,8 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 	t->stack_count = base;
 }
 
-/* Kind of the leaf holding unit line w (descending with w alone); 0 when w is within 1e-9 of a plane on its path or
-   outside the lines leaving via the source edge. */
+/* Kind of leaf holding unit line w (descending with w alone); 0 if w is within 1e-9 of a plane on its path or
+   outside lines leaving via source edge. */
 PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 	uint32_t node = 0;
 	int in_root = 0;
@@ -8069,10 +8047,9 @@ PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 	return in_root ? t->nodes[node].kind : 0;
 }
 
-/* Early exit of pvs__ot25_box_visible (§3.3.4): 1 when a witness line still in an out-leaf crosses the interior of box
-   bx (wholly beyond source edge a -> b): it leaves via the source edge, meets no occluder, then two box sides, one of
-   which pvs__ot25_box_visible tests and would reach that out-leaf. Margins of 1e-6 of the scene size absorb rounding;
-   0: run the full test. */
+/* Early exit of pvs__ot25_box_visible (§3.3.4): 1 if a witness line still in an out-leaf crosses interior of box bx
+   (wholly beyond source edge a -> b): it leaves via source edge, meets no occluder, then two box sides, one of which
+   pvs__ot25_box_visible tests, reaching that out-leaf. Margins of 1e-6 of scene size absorb rounding; 0: full test. */
 PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const double a[2], const double b[2]) {
 	double nx = a[1] - b[1], ny = b[0] - a[0], mg = 1e3 * t->len_eps, near;
 	int i, k;
@@ -8111,11 +8088,10 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
 	return 0;
 }
 
-/* Read-only test (§3.3.4): 1 when a line of the blocker may get past the stored occluders (or out of memory). Splits
-   with slack, stops at the first visible leaf. 2D (§6.5.3; e NULL, h unused): a line reaches occluder k before any
-   stored one; slivers (pvs__ot_thickness) do not count, so the answer is independent of where insertion rounded
-   (insertion order). 2.5D (c-LSS): part of far edge e (height h) of object box `box` may be seen. near: distance for
-   subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
+/* Read-only test (§3.3.4): 1 if a blocker line may pass stored occluders (or out of memory). Splits with slack, stops
+   at first visible leaf. 2D (§6.5.3; e NULL, h unused): a line reaches occluder k before any stored one; slivers
+   (pvs__ot_thickness) do not count, so where insertion rounded (insertion order) does not matter. 2.5D (c-LSS): part of
+   far edge e (height h) of box `box` may be seen. near: distance for subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
 								const double *e, const double *box) {
 	size_t base = t->stack_count, top;
@@ -8134,7 +8110,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 			continue;
 		}
 		if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, top, e ? near : -1.0, h); continue; }
-		t->stack_count = top; /* polygon readable in its slot until the next push */
+		t->stack_count = top; /* polygon readable in its slot until next push */
 		if (e) {
 			if (nd->kind == PVS__OT_OUT) pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top));
 			vis = nd->kind == PVS__OT_OUT || pvs__ot25_open(t, PVS__OT_ITEM(t, top), nd->first, nd->count, PVS__OT_NONE,
@@ -8156,12 +8132,12 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 	return vis || t->oom;
 }
 
-/* 1 when part of box bx (local umin, vmin, umax, vmax; top) beyond source edge a -> b may be seen: its top edges
+/* 1 if part of box bx (local umin, vmin, umax, vmax; top) beyond source edge a -> b may be seen: top edges
    as far segments (§7.7). */
 PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2],
 									  int *any_far) {
-	double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* the source edge's outward direction */
-	/* the bound counts every member, also those crossing the box that pvs__ot25_open ignores (a wall on a ground tile
+	double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* source edge's outward direction */
+	/* bound counts every member, also those crossing box that pvs__ot25_open ignores (a wall on a ground tile
 	   would hide its far edge): with the whole box's nearness, a member of smaller reach lies wholly nearer */
 	double near = pvs__ot25_near(t, bx);
 	int i, vis = 0, far_edge, order[3];
@@ -8171,11 +8147,10 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 	c4[5] = c4[7] = bx[3];
 	if (any_far) *any_far = 0;
 	if (!any_far && !t->full_tests && pvs__ot25_witnessed(t, bx, a, b)) return 1;
-	/* A box taller than the eyes is seen, if at all, along a rising ray, at least as well where its 2D line enters the
-	   box; a lower one along a falling ray, where it leaves (a farther point at equal height is higher over every
-	   occluder in front; members crossing the box are ignored, pvs__ot25_open). No line enters via the box edge facing
-	   away from the source or leaves via the one facing it (edges 0..3: -v, +u, +v, -u): test the entry (exit) edge
-	   first, likeliest seen, then the sides. */
+	/* A box taller than eyes is seen, if at all, along a rising ray, best where its 2D line enters it; a lower one
+	   along a falling ray, where it leaves (a farther point at equal height is higher over every occluder in front;
+	   members crossing box ignored by pvs__ot25_open). No line enters via box edge facing away from source or leaves
+	   via the one facing it (edges 0..3: -v, +u, +v, -u): test entry (exit) edge first, likeliest seen, then sides. */
 	if (fabs(nx) > fabs(ny)) far_edge = nx > 0 ? 1 : 3;
 	else far_edge = ny > 0 ? 2 : 0;
 	order[0] = top > t->eye ? (far_edge + 2) & 3 : far_edge;
@@ -8186,7 +8161,7 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 		double sg[4], o[4], pa, pb, c;
 		pvs__otpoly bl[2];
 		/* skip an edge no line enters (tall box) or leaves (low box): outward normal m, m.x = c on it; a line from p
-		   enters when m.p > c, leaves when m.p < c (exact compares) */
+		   enters if m.p > c, leaves if m.p < c (exact compares) */
 		if (edge & 1) { pa = a[0]; pb = b[0]; c = edge == 1 ? bx[2] : bx[0]; }
 		else { pa = a[1]; pb = b[1]; c = edge == 2 ? bx[3] : bx[1]; }
 		if (edge == 0 || edge == 3) { pa = -pa; pb = -pb; c = -c; }
@@ -8215,13 +8190,13 @@ typedef struct pvs__ot25_sweep {
 	uint32_t side, budget;
 	pvs_otree_stats *st;
 	const uint32_t *refs;	 /* per kD node: item references in its subtree */
-	uint32_t node;			 /* node being visited */
-	uint32_t test_min;		 /* inner nodes with fewer references are not tested */
+	uint32_t node;
+	uint32_t test_min;
 } pvs__ot25_sweep;
 
-/* Sweep visitor (§7.7), front to back: a node meeting the cell is visible; an inner node with >= w->test_min item
-   references has its box (footprint edges at its top) tested like an object's, culled when hidden; leaves insert their
-   facades and mark objects for the test after the sweep. */
+/* Sweep visitor (§7.7), front to back: a node meeting cell is visible; an inner node with >= w->test_min item
+   references has its box (footprint edges at its top) tested like an object's, culled if hidden; leaves insert their
+   facades, mark objects for testing after sweep. */
 PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 									  uint32_t item_count) {
 	pvs__ot25_sweep *w = (pvs__ot25_sweep *)user;
@@ -8233,13 +8208,12 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 	if (t->oom) return PVS_VISIT_STOP;
 	bx[0] = (double)node_box->min[0] - w->cx; bx[1] = (double)node_box->min[1] - w->cy;
 	bx[2] = (double)node_box->max[0] - w->cx; bx[3] = (double)node_box->max[1] - w->cy;
-	{ /* skip nodes wholly behind the source edge's line; a -> b is clockwise: (-ey, ex) outward */
+	{ /* skip nodes wholly behind source edge's line; a -> b is clockwise: (-ey, ex) outward */
 		double ex = w->b[0] - w->a[0], ey = w->b[1] - w->a[1], nx = -ey, ny = ex, far;
 		far = nx * (nx > 0 ? bx[2] : bx[0]) + ny * (ny > 0 ? bx[3] : bx[1]) - (nx * w->a[0] + ny * w->a[1]);
 		if (far < -t->len_eps * (fabs(nx) + fabs(ny) + 1.0)) return PVS_VISIT_SKIP;
 	}
-	/* leaves are not tested: inserting their facades and testing objects after the sweep costs less (the thesis also
-	   skips small nodes, §4.12.1) */
+	/* leaves untested: inserting facades, testing objects later costs less (thesis also skips small nodes, §4.12.1) */
 	if (!items && w->refs[w->node] >= w->test_min &&
 		!(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
 		if (!pvs__ot25_box_visible(t, bx, (double)node_box->max[2], w->a, w->b, NULL)) return PVS_VISIT_SKIP;
@@ -8254,7 +8228,7 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 			if (w->state[it] == 1 + w->side) continue; /* already inserted from another leaf */
 			w->state[it] = (unsigned char)(1 + w->side);
 			if (sg[0] == sg[2] && sg[1] == sg[3]) continue;
-			if (pvs__ot_segment_meets_polygon(sg, w->cell, 4)) continue; /* in the cell: ignored */
+			if (pvs__ot_segment_meets_polygon(sg, w->cell, 4)) continue; /* in cell: ignored */
 			if (!pvs__ot_clip_segment(w->b, w->a, sg, o, &on)) continue;
 			if (t->node_count >= w->budget) { w->st->budget_exceeded = 1; continue; }
 			memcpy((double *)t->seg + 4 * (size_t)it, o, sizeof(o));
@@ -8272,16 +8246,16 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 	return PVS_VISIT_DESCEND;
 }
 
-/* Approximate occlusion sweep (§3.2, pvs__kd_sweep), telling the visitor its node (w->node). */
+/* Approximate occlusion sweep (§3.2, pvs__kd_sweep), telling visitor its node (w->node). */
 PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
 									  pvs__ot25_sweep *w) {
 	pvs__kd_sweep(t, source, heap, pvs__ot25_visit, w, &w->node);
 }
 
-/* Balanced top for a source edge's tree: front-to-back insertion carves the open region (lines down a street) into a
-   chain as deep as the occluders along it, walked by every later query. Splitting the root first by the (exact) planes
-   of PVS__OT25_PRESPLIT far points spread over the directions leaves short chains, one per direction sector. Reorders
-   pts[lo..hi): each point goes with the child holding its line from m. */
+/* Balanced top for a source edge's tree: front-to-back insertion carves open region (lines down a street) into a
+   chain as deep as occluders along it, walked by every later query. Splitting root first by the (exact) planes
+   of PVS__OT25_PRESPLIT far points spread over directions leaves short chains, one per direction sector. Reorders
+   pts[lo..hi): each point goes with child holding its line from m. */
 #define PVS__OT25_PRESPLIT 16
 PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m[2], double (*pts)[2], int lo, int hi) {
 	double l[3], tmp[PVS__OT25_PRESPLIT][2];
@@ -8337,9 +8311,9 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
 	return PVS_OK;
 }
 
-/* 2.5D input relative to the cell centre (cx, cy): facade segments into all (4 doubles), objects into box (u0 v0 u1 v1
-   top), the cell rectangle grown by *margin into cell (4 CCW corners; a larger cell sees more: conservative, never
-   degenerate). Returns the facades' largest |coordinate|, at least 1. */
+/* 2.5D input relative to cell centre (cx, cy): facade segments into all (4 doubles), objects into box (u0 v0 u1 v1
+   top), cell rectangle grown by *margin into cell (4 CCW corners; a larger cell sees more: conservative, never
+   degenerate). Returns facades' largest |coordinate|, at least 1. */
 PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box,
 								   double cell[8], double *margin) {
 	double ext = 1.0, hx, hy;
@@ -8361,9 +8335,9 @@ PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double c
 	return ext;
 }
 
-/* Root region of a fresh tree for source edge a-b (cell centred at the origin): lines crossing the edge, bounded by its
+/* Root region of a fresh tree for source edge a-b (cell centred at origin): lines crossing edge, bounded by its
    ends' planes (blocker edges on them are then marked, §4.10.1, not re-added per branch), then pvs__ot25_presplit.
-   Lines missing the edge are never queried. Out of memory sets t->oom. */
+   Lines missing edge are never queried. Out of memory sets t->oom. */
 PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double a[2], const double b[2]) {
 	double m[2], m2[2], l[3], sa_, sb_;
 	uint32_t pos;
@@ -8391,9 +8365,9 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
 	t->root_in = pos;
 }
 
-/* One tree per top edge (§7.1): lines leaving the cell via edge `side` (corner side + 1 to corner side), built by
-   sweeping `tree` (scratch: its sweep scratch); then candidates left by its visible leaves are tested (§7.7) into
-   visible_objects. 0 when no object is left to decide or the tree stopped (t->oom: out of memory). */
+/* One tree per top edge (§7.1): lines leaving cell via edge `side` (corner side + 1 to corner side), built by
+   sweeping `tree` (its sweep scratch); then candidates left by its visible leaves are tested (§7.7) into
+   visible_objects. 0 if no object is left to decide or tree stopped (t->oom: out of memory). */
 PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side,
 							   pvs_word *visible_objects) {
 	pvs__otree *t = w->t;
@@ -8427,7 +8401,7 @@ PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void 
 	return 1;
 }
 
-/* 2.5D query's kD-tree over pvs_visibility_25d_boxes, through al into *out. PVS_OK or the error (in err). */
+/* 2.5D query's kD-tree over pvs_visibility_25d_boxes, through al into *out. PVS_OK or error (in err). */
 PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const pvs_allocator *al, pvs_kdtree **out,
 									  pvs_error *err) {
 	pvs_kdtree_desc kd;
@@ -8445,8 +8419,8 @@ PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const
 	return r;
 }
 
-/* Per kD node: item references in its subtree (0xffffffff where children do not follow their parent); the sweep
-   tests only nodes with at least PVS__OT25_TEST_MIN. */
+/* Per kD node: item references in its subtree (0xffffffff where children do not follow their parent); sweep
+   tests only nodes with >= PVS__OT25_TEST_MIN. */
 PVS__STATIC void pvs__ot25_refs(const pvs_kdtree *tree, uint32_t *refs) {
 	uint32_t i;
 	for (i = tree->node_count; i-- > 0;) { /* children follow their parent */
@@ -8515,7 +8489,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 	t.top = top;
 	t.seg = seg;
 	t.jd = jd;
-	/* objects meeting the cell's rectangle are visible; empty ones never */
+	/* objects meeting cell's rectangle are visible; empty ones never */
 	for (i = 0; i < no; ++i) {
 		const double *bb = box + 5 * i;
 		done[i] = 0;
@@ -8575,19 +8549,17 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 
 /* ---- from-point culling: the shadow-volume occlusion tree (ch. 4) ---- */
 
-/* §4.7 tree (Chin-Feiner SVBSP, App. C.1.4), eye space: inner nodes: occluder-edge planes through the eye (unit
-   normal, child[1] +); in-leaf: the fragment blocking its ray pyramid. Polygon edges: plane unit normal (polygon on +),
-   mark (§4.10.1).
-
-   Conservative: an in-leaf region intersects exact stored planes, so all its rays meet the occluder; insertion may drop
-   slivers below tol, never claim more. Tests widen: a box descends all sides within `tol` (1e-10 x eye-relative scene
-   size, >> unit-normal dot error); it is behind a fragment or outside its pyramid only beyond the fragment's tol. Box
-   tests take each plane at the sign-picked corner, same ops for all boxes: monotone, so a hidden node's child never
-   tests visible; hierarchy updating is exact (§4.11.4). */
+/* §4.7 tree (Chin-Feiner SVBSP, App. C.1.4), eye space: inner nodes: occluder-edge planes through eye (unit normal,
+   child[1] +); in-leaf: fragment blocking its ray pyramid. Edge marks: §4.10.1. Conservative: an in-leaf region
+   intersects exact stored planes, so all its rays meet the occluder; insertion may drop slivers below tol, never claim
+   more. Tests widen: a box descends all sides within `tol` (1e-10 x eye-relative scene size, >> unit-normal dot error),
+   is behind a fragment or outside its pyramid only beyond the fragment's tol. Box tests take each plane at the
+   sign-picked corner, same ops for all boxes: monotone, so a hidden node's child never tests visible; hierarchy
+   updating is exact (§4.11.4). */
 
 #define PVS__SV_MAXV 16
 #define PVS__SV_STACK 256
-#define PVS__SV_I 0u   /* visibility states (Table 3.1): invisible, visible, partly */
+#define PVS__SV_I 0u   /* Table 3.1 states: invisible, visible, partly */
 #define PVS__SV_V 1u
 #define PVS__SV_P 2u
 #define PVS__SV_TRIANGLE 0xffffffffu
@@ -8595,7 +8567,7 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 typedef struct pvs__svpoly {
 	int n;
 	double v[PVS__SV_MAXV][3];	 /* vertices, eye at origin */
-	double e[PVS__SV_MAXV][3];	 /* edge v[i] -> v[i + 1]: unit normal of its eye plane */
+	double e[PVS__SV_MAXV][3];	 /* edge v[i] -> v[i + 1]: its eye plane's unit normal (polygon on +) */
 	unsigned char mark[PVS__SV_MAXV];
 } pvs__svpoly;
 
@@ -8634,13 +8606,13 @@ struct pvs_otree {
 	uint32_t frag_count;
 	pvs__svvert *verts;
 	uint32_t vert_count;
-	pvs__svpoly *stack;			   /* PVS__SV_STACK insertion work items */
+	pvs__svpoly *stack;			   /* insertion work items */
 	uint32_t *stack_node;
 	uint32_t *tstack;			   /* node_budget + 2: test traversal */
 	/* occluder selection (§4.5) */
-	pvs__svsel *sel;			   /* max_occluders: min-heap on key in selection */
+	pvs__svsel *sel;			   /* max_occluders: min-heap on key */
 	uint32_t sel_count;
-	uint32_t *prev;				   /* max_occluders triangles chosen last frame */
+	uint32_t *prev;				   /* triangles chosen last frame */
 	uint32_t prev_count;
 	int have_prev;
 	void *sweep;
@@ -8674,7 +8646,6 @@ PVS__STATIC double pvs__sv_unit(double v[3]) {
 	if (len > 0.0) { v[0] /= len; v[1] /= len; v[2] /= len; }
 	return len;
 }
-/* Max / min n.x over box [lo, hi] at the sign-picked corner: monotone. */
 PVS__STATIC double pvs__sv_hi(const double n[3], const double lo[3], const double hi[3]) {
 	return (n[0] * (n[0] >= 0.0 ? hi[0] : lo[0]) + n[1] * (n[1] >= 0.0 ? hi[1] : lo[1])) +
 		n[2] * (n[2] >= 0.0 ? hi[2] : lo[2]);
@@ -8685,7 +8656,7 @@ PVS__STATIC double pvs__sv_lo(const double n[3], const double lo[3], const doubl
 }
 
 /* Keeps `in` where n.x + d >= 0; new edge gets plane `en` (via eye; NULL: eye-and-new-edge plane), `mark`. Returns
-   vertex count (0 empty, -1 too many). */
+   count (0 empty, -1 too many). */
 PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d, const double *en, int mark,
 							 pvs__svpoly *out) {
 	double s[PVS__SV_MAXV];
@@ -8722,7 +8693,7 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 	}
 	out->n = m;
 	if (m < 3) return out->n = 0, 0;
-	if (!en && newedge >= 0) { /* eye-and-new-edge plane, polygon on + */
+	if (!en && newedge >= 0) {
 		double c[3] = {0, 0, 0}, *e = out->e[newedge];
 		int k;
 		pvs__sv_cross(out->v[newedge], out->v[(newedge + 1) % m], e);
@@ -8733,7 +8704,7 @@ PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d,
 	return m;
 }
 
-/* Points p (n <= PVS__SV_MAXV) eye-relative into v, mean into c, Newell normal (2x area vector) into nrm. */
+/* Points p (n <= PVS__SV_MAXV) eye-relative into v; mean c, Newell normal nrm (2x area vector). */
 PVS__STATIC void pvs__sv_eye_points(const pvs_otree *o, const float *const *p, int n, double (*v)[3], double c[3],
 									double nrm[3]) {
 	int i, k;
@@ -8753,7 +8724,7 @@ PVS__STATIC int pvs__sv_same(const double a[3], const double b[3]) {
 }
 
 /* Eye-space polygon of occluder points p (planar, convex), plane, edge planes, frustum-clipped (less occluder:
-   conservative); 0 if nothing usable (edge-on, behind eye, outside). */
+   conservative); 0 if unusable (edge-on, behind eye, outside). */
 PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs__svpoly *q, double plane[4]) {
 	pvs__svpoly a, b;
 	double c[3], nrm[3], len, size = 0.0;
@@ -8772,7 +8743,7 @@ PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs_
 	for (i = 0; i < n; ++i) {
 		double *e = a.e[i];
 		pvs__sv_cross(a.v[i], a.v[(i + 1) % n], e);
-		if (!(pvs__sv_unit(e) > 1e-12 * size * size)) return 0;		/* edge points at the eye */
+		if (!(pvs__sv_unit(e) > 1e-12 * size * size)) return 0;		/* edge points at eye */
 		if (pvs__sv_dot(e, c) < 0.0) { e[0] = -e[0]; e[1] = -e[1]; e[2] = -e[2]; }
 		if (!(pvs__sv_dot(e, c) > 1e-9 * size)) return 0;
 		a.mark[i] = 0;
@@ -8786,7 +8757,7 @@ PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs_
 	return 1;
 }
 
-/* q as a fragment with `plane`; PVS__OT_NONE if pools are full. */
+/* PVS__OT_NONE if pools full. */
 PVS__STATIC uint32_t pvs__sv_fragment(pvs_otree *o, const pvs__svpoly *q, const double plane[4]) {
 	pvs__svfrag *f;
 	double size = 0.0;
@@ -8830,8 +8801,8 @@ PVS__STATIC uint32_t pvs__sv_refine(pvs_otree *o, uint32_t node, const pvs__svpo
 	return node;
 }
 
-/* Merges occluder polygon q (§3.3.3, App. C.1.4): filtered down, split, edges marked; out-leaves become its e-OT; at
-   an in-leaf it replaces the stored fragment where in front (approximate sweep may insert a nearer occluder late). */
+/* Merges occluder polygon q (§3.3.3, App. C.1.4): filtered down, split, edges marked; out-leaves become its e-OT;
+   in-leaves: replaces stored fragment where in front (approximate sweep may insert a nearer occluder late). */
 PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const double plane[4]) {
 	uint32_t sp = 0;
 	o->stack[0] = *poly;
@@ -8856,7 +8827,7 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 							 : (q->e[i][0] == -nd->n[0] && q->e[i][1] == -nd->n[1] && q->e[i][2] == -nd->n[2]))
 						q->mark[i] = 1;
 				o->stack_node[sp++] = nd->child[side]; /* q stays in place */
-			} else { /* + part, then - */
+			} else {
 				double nf[2][3];
 				pvs__svpoly qq = *q;
 				for (i = 0; i < 3; ++i) { nf[1][i] = nd->n[i]; nf[0][i] = -nd->n[i]; }
@@ -8866,7 +8837,7 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 					if (r >= 3 && sp < PVS__SV_STACK) { o->stack[sp] = part; o->stack_node[sp++] = nd->child[i]; }
 				}
 			}
-			if (sp >= PVS__SV_STACK - 1) { /* no room to split: drop the deepest (conservative) */
+			if (sp >= PVS__SV_STACK - 1) { /* no room to split: drop deepest (conservative) */
 				o->info.budget_exceeded = 1;
 				--sp;
 			}
@@ -8882,7 +8853,7 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 					if (s > smax) smax = s;
 				}
 				if (smax <= f->tol) continue;  /* behind stored fragment (or in its plane): hidden */
-				if (smin < -f->tol) {		   /* crossing: keep the front part */
+				if (smin < -f->tol) {		   /* crossing: keep front part */
 					if (pvs__sv_clip(q, f->plane, f->plane[3], NULL, 0, &part) < 3) continue;
 					use = &part;
 				}
@@ -8902,7 +8873,7 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 	}
 }
 
-/* Min, max of 0 (eye) and n . f over the count points v. */
+/* Min, max of 0 (eye) and n . f over points v. */
 PVS__STATIC void pvs__sv_extent(const pvs__svvert *v, uint32_t count, const double n[3], double *plo, double *phi) {
 	uint32_t m;
 	*plo = *phi = 0.0;
@@ -8913,7 +8884,7 @@ PVS__STATIC void pvs__sv_extent(const pvs__svvert *v, uint32_t count, const doub
 	}
 }
 
-/* Eye-relative box [lo, hi] vs in-leaf fragment f (§4.10.2): invisible if wholly behind the occluder plane or (unless
+/* Eye-relative box [lo, hi] vs in-leaf fragment f (§4.10.2): invisible if wholly behind its plane or (unless
    PLANE_ONLY) apart from pyramid eye + fragment, its only view via this leaf (exact test "E"); visible if wholly in
    front; else partly. */
 PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f, const double lo[3],
@@ -8934,7 +8905,7 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 			}
 			if (hi[k] < plo - t || lo[k] > phi + t) return PVS__SV_I;
 		}
-		for (i = 0; i < f->count; ++i) { /* extent over the pyramid's points: valid for any axis */
+		for (i = 0; i < f->count; ++i) { /* extent over pyramid's points: valid for any axis */
 			double plo, phi, bh = pvs__sv_hi(v[i].m, lo, hi);
 			pvs__sv_extent(v, f->count, v[i].m, &plo, &phi);
 			if (bh < -t ? bh < plo - t : pvs__sv_lo(v[i].m, lo, hi) > phi + t) return PVS__SV_I;
@@ -8968,8 +8939,8 @@ PVS__STATIC uint32_t pvs__sv_leaf_test(const pvs_otree *o, const pvs__svfrag *f,
 	return smin > t ? PVS__SV_V : PVS__SV_P;
 }
 
-/* Box [lo, hi] in the tree (§4.10.2): descends, unsplit, all sides it reaches; leaves combine by Table 3.1, stop at
-   first partly visible. */
+/* Box [lo, hi] in tree (§4.10.2): descends, unsplit, all sides it reaches; leaves combine by Table 3.1, stop at first
+   partly visible. */
 PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], const double hi[3]) {
 	uint32_t sp = 1, *stk = o->tstack;
 	int vis = 0, inv = 0;
@@ -8991,7 +8962,7 @@ PVS__STATIC uint32_t pvs__sv_tree_test(const pvs_otree *o, const double lo[3], c
 	return vis ? PVS__SV_V : PVS__SV_I;
 }
 
-/* Box visibility: frustum (outside a plane: invisible; crossing: at most partly visible), then tree. */
+/* Frustum (outside a plane: invisible; crossing: at most partly), then tree. */
 PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 	double lo[3], hi[3];
 	int k, cross = 0;
@@ -9010,7 +8981,7 @@ PVS__STATIC uint32_t pvs__sv_box_test(pvs_otree *o, const pvs_box *b) {
 
 /* ---- occluder selection (§4.5) ---- */
 
-/* Top-k by key (pvs__topk_offer: root = weakest kept). */
+/* pvs__topk_offer order by key: root = weakest kept. */
 PVS__STATIC int pvs__svsel_better(const void *a, const void *b) {
 	return ((const pvs__svsel *)a)->key > ((const pvs__svsel *)b)->key;
 }
@@ -9022,7 +8993,7 @@ PVS__STATIC void pvs__sv_offer(pvs_otree *o, uint32_t k, double key, uint32_t a,
 	pvs__topk_offer(o->sel, &o->sel_count, k, sizeof(e), &e, pvs__svsel_better);
 }
 
-/* World points of candidate (a, b): triangle, BOX face or EXTRUSION wall. */
+/* Candidate (a, b): triangle, BOX face or EXTRUSION wall. */
 PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float q[4][3], const float *p[4]) {
 	int k, n;
 	if (b == PVS__SV_TRIANGLE) {
@@ -9046,7 +9017,7 @@ PVS__STATIC int pvs__sv_points(const pvs_scene *s, uint32_t a, uint32_t b, float
 }
 
 /* Area-angle M = A |N . V| / |D|^2 (§4.5), V unit eye-to-centre D (~solid angle; thesis: view direction); -1 if wholly
-   outside the frustum. */
+   outside frustum. */
 PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int n) {
 	double v[4][3], c[3], area[3], dd;
 	int i, k;
@@ -9060,7 +9031,7 @@ PVS__STATIC double pvs__sv_score(const pvs_otree *o, const float *const *p, int 
 	return 0.5 * fabs(pvs__sv_dot(area, c)) / (dd * sqrt(dd));
 }
 
-/* (key, a, b) ascending: deterministic whatever the heap held. */
+/* (key, a, b) ascending: deterministic whatever heap held. */
 PVS__STATIC int pvs__sv_before(const void *pa, const void *pb) {
 	const pvs__svsel *x = (const pvs__svsel *)pa, *y = (const pvs__svsel *)pb;
 	return x->key < y->key || (x->key == y->key && (x->a < y->a || (x->a == y->a && x->b < y->b)));
@@ -9100,7 +9071,7 @@ PVS__STATIC void pvs__sv_touch(pvs_otree *o, uint32_t obj, uint8_t flag) {
 	o->obj_flag[obj] |= flag;
 }
 
-/* Child boxes of kD node nd within its box (split clamped). */
+/* Split clamped to `box`. */
 PVS__STATIC void pvs__sv_child_boxes(const pvs__kdnode *nd, const pvs_box *box, pvs_box c[2]) {
 	uint32_t axis = nd->bits & 3u;
 	float sp = nd->u.split;
@@ -9110,7 +9081,7 @@ PVS__STATIC void pvs__sv_child_boxes(const pvs__kdnode *nd, const pvs_box *box, 
 	c[1].min[axis] = sp > box->min[axis] ? (sp < box->max[axis] ? sp : box->max[axis]) : box->min[axis];
 }
 
-/* Flags objects of all leaves below `node` with `flag` (visible subtree: no tests). */
+/* Flags objects below `node` with `flag` (visible subtree: no tests). */
 PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, uint8_t flag) {
 	const pvs_kdtree *t = o->s->object_tree;
 	const pvs__kdnode *nd = t->nodes + node;
@@ -9133,8 +9104,8 @@ PVS__STATIC void pvs__sv_emit(pvs_otree *o, uint32_t node, const pvs_box *box, u
 	}
 }
 
-/* Fig. 4.5: last frame's termination nodes (leaves, nodes not partly visible or unvisited last frame) are tested;
-   opened nodes skipped, children visited near first; agreeing children give the node their state (pull-up). */
+/* Fig. 4.5: last frame's termination nodes (leaves, nodes not partly visible or unvisited last frame) tested; opened
+   nodes skipped, children visited near first; agreeing children give it their state (pull-up). */
 PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
 	const pvs_kdtree *t = o->s->object_tree;
 	const pvs__kdnode *nd = t->nodes + node;
@@ -9161,7 +9132,7 @@ PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
 			pvs_box c[2];
 			uint32_t first = o->eye[axis] < (double)nd->u.split ? 0u : 1u, ch = nd->bits >> 2, v0, v1;
 			pvs__sv_child_boxes(nd, box, c);
-			pvs__sv_walk(o, ch + first, c + first); /* front to back */
+			pvs__sv_walk(o, ch + first, c + first);
 			pvs__sv_walk(o, ch + (1u - first), c + (1u - first));
 			v0 = o->kd_vis[ch];
 			v1 = o->kd_vis[ch + 1];
@@ -9172,7 +9143,6 @@ PVS__STATIC void pvs__sv_walk(pvs_otree *o, uint32_t node, const pvs_box *box) {
 
 /* ---- context and per-frame API ---- */
 
-/* Buffers (pvs__buf), sized by budgets. */
 PVS__STATIC int pvs__sv_bufs(pvs_otree *o, pvs__buf *b) {
 	int k = 0;
 	size_t no = (size_t)o->max_objects + 1, nk = (size_t)o->max_kd_nodes + 1;
@@ -9262,8 +9232,8 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *o, pvs_otree_frame *frame) {
 	if (o && frame) *frame = o->info;
 }
 
-/* Starts a frame on s. New scene or near-wrap frame counter: all kD states stale; new scene: also rebuild per-object
-   triangle ranges, forget last frame's occluders. */
+/* New scene or near-wrap frame counter: all kD states stale; new scene: rebuilds per-object triangle ranges, forgets
+   last occluders. */
 PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
 	uint32_t i;
 	if (s != o->last_scene || o->frame > 0xfffffff0u) {
@@ -9317,7 +9287,7 @@ PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_cam
 	o->tol = 1e-10 * (size + o->near_d + 1e-20);
 }
 
-/* Inserts caller triangles (p->occluder_*) in order, skipping bad index or coordinate. Returns count offered. */
+/* Inserts caller triangles (p->occluder_*) in order, skipping bad index or coordinate; returns count. */
 PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_params *p) {
 	uint32_t i, nocc = 0;
 	int j;
@@ -9339,9 +9309,9 @@ PVS__STATIC uint32_t pvs__sv_caller_occluders(pvs_otree *o, const pvs_cull_param
 	return nocc;
 }
 
-/* Occluder selection (§4.5), insertion: best by area-angle among last frame's triangles (after reset: the scene's,
-   swept from the eye) and, with p->scene_volumes, occluder-volume faces within the distance; inserted nearest first
-   (approximate occlusion sweep, §3.2). Returns the count offered. */
+/* Occluder selection (§4.5), insertion: best by area-angle among last frame's triangles (after reset: scene's, swept
+   from eye) and, with p->scene_volumes, occluder-volume faces within lambda; inserted nearest first (approximate
+   occlusion sweep, §3.2). Returns count offered. */
 PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam,
 											 const pvs_cull_params *p) {
 	uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
@@ -9397,7 +9367,7 @@ PVS__STATIC uint32_t pvs__sv_scene_occluders(pvs_otree *o, const pvs_scene *s, c
 	return o->sel_count;
 }
 
-/* Next candidates (§4.5) into o->prev: triangles of objects seen within the distance (occluder-only: box visible). */
+/* Next candidates (§4.5) into o->prev: triangles of objects seen within lambda (occluder-only: box visible). */
 PVS__STATIC void pvs__sv_next_occluders(pvs_otree *o, const pvs_scene *s, const pvs_cull_params *p,
 										const pvs_word *visible) {
 	uint32_t i, kk = p->scene_occluders < o->max_occluders ? p->scene_occluders : o->max_occluders;
@@ -9453,7 +9423,7 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 	/* hierarchical walk (§4.3, Fig. 4.5) */
 	o->touched_count = 0;
 	if (s->object_tree->bounds.min[0] <= s->object_tree->bounds.max[0]) pvs__sv_walk(o, 0, &s->object_tree->bounds);
-	/* visible leaves' objects, and partly visible leaves' if their box may be seen */
+	/* visible leaves' objects; partly visible leaves' if their box may be seen */
 	for (i = 0; i < o->touched_count; ++i) {
 		uint32_t ob = o->touched[i], fl = o->obj_flag[ob];
 		if ((s->object_flags[ob] & PVS_OBJECT_OCCLUDER_ONLY) ||
@@ -9483,15 +9453,15 @@ typedef struct pvs__otree_bake {
 	float *facades;			   /* facade_count x (u0 v0 u1 v1 top), by level */
 	uint32_t facade_count, facade_cap, vertical, level_count;
 	float level[PVS__OT25_LEVELS];		  /* base heights, ascending */
-	uint32_t level_end[PVS__OT25_LEVELS]; /* the facades of levels <= k: [0, level_end[k]) */
+	uint32_t level_end[PVS__OT25_LEVELS]; /* facades of levels <= k: [0, level_end[k]) */
 	float *objects;			   /* object_count x (umin vmin umax vmax top) */
 	pvs_kdtree *tree[PVS__OT25_LEVELS];   /* per level, over pvs_visibility_25d_boxes */
 } pvs__otree_bake;
 
-/* c-LSS (§7.1) facades from scene walls (pvs__facades_extract). c-LSS occluders stand on the ground (a ray over one's
-   2D line passes only above its top); ray height being linear, a facade of base b serves rays with both ends >= b: cell
-   bottom c to object bottom o needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (a facade joins the
-   lowest at or above its base: conservative); level k's kD-tree holds the objects and facades of levels <= k. */
+/* c-LSS (§7.1) facades from scene walls (pvs__facades_extract), standing on ground (a ray over one's 2D line passes
+   only above its top); ray height being linear, a facade of base b serves rays with both ends >= b: cell bottom c to
+   object bottom o needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (a facade joins the lowest at or
+   above its base: conservative); level k's kD-tree holds objects and facades of levels <= k. */
 PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *cells,
 										  uint32_t cell_count) {
 	int up = s->up_axis == 2 ? 2 : 1, u, v;
@@ -9510,7 +9480,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 	ot->objects = (float *)pvs__alloc_array(&ot->allocator, (size_t)ot->object_count * 5 + 5, sizeof(float));
 	ord = (pvs__key_index *)pvs__alloc_array(&ot->allocator, (size_t)n + 1, sizeof(pvs__key_index));
 	if (!ot->facades || !ot->objects || !ord) goto done;
-	/* usable facades: base <= top cell bottom of the whole bake (shards agree) */
+	/* usable facades: base <= top cell bottom of whole bake (shards agree) */
 	for (i = 0; i < cell_count; ++i)
 		if (i == 0 || cells[i].min[up] > maxc) maxc = cells[i].min[up];
 	for (i = 0; i < n; ++i) {
@@ -9554,7 +9524,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 		nl = nc;
 	}
 	ot->level_count = nl;
-	/* facades by level, 5 floats each; above the top level dropped */
+	/* facades by level, 5 floats each; above top level dropped */
 	for (i = 0, k = 0, n = 0; i < m && k < nl; ++i) {
 		const float *f = fac + 6 * (size_t)ord[i].index;
 		while (k < nl && ot->level[k] < f[5]) ot->level_end[k++] = n;
@@ -9589,9 +9559,9 @@ done:
 	return r;
 }
 
-/* A cell (or adaptive part c): pvs_visibility_25d per level some object needs, testing objects with min(cell bottom,
-   object bottom) in [level k, k + 1) against facades of levels <= k; objects below the lowest level are visible. May
-   add PVS__BAKE_NO_OCCLUDERS, PVS__BAKE_OTREE_BUDGET to *flags. */
+/* Cell (or adaptive part c): pvs_visibility_25d per needed level, testing objects with min(cell bottom, object bottom)
+   in [level k, k + 1) against facades of levels <= k; objects below lowest level visible. May add
+   PVS__BAKE_NO_OCCLUDERS, PVS__BAKE_OTREE_BUDGET to *flags. */
 PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *c, uint32_t cell,
 									   pvs_word *bits, unsigned *flags, pvs_error *err) {
 	pvs_otree_stats st;
@@ -9615,12 +9585,12 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 		float fl = s->object_boxes[i].min[up];
 		if (c->min[up] < fl) fl = c->min[up];
 		grp[i] = 0xff;
-		if (ot->objects[5 * (size_t)i] > ot->objects[5 * (size_t)i + 2]) continue; /* never visible */
+		if (ot->objects[5 * (size_t)i] > ot->objects[5 * (size_t)i + 2]) continue;
 		for (k = ot->level_count; k-- > 0;)
 			if (ot->level[k] <= fl) { grp[i] = (unsigned char)k; used |= 1u << k; break; }
-		if (grp[i] == 0xff) { pvs_bitset_set(bits, i); below = 1; } /* below all facade bases: visible */
+		if (grp[i] == 0xff) { pvs_bitset_set(bits, i); below = 1; }
 	}
-	if (!used) *flags |= PVS__BAKE_NO_OCCLUDERS; /* no facade could hide any object */
+	if (!used) *flags |= PVS__BAKE_NO_OCCLUDERS; /* no facade could hide anything */
 	for (k = 0; k < ot->level_count && r == PVS_OK; ++k) {
 		if (!(used & (1u << k))) continue;
 		d.facades = ot->facades;
@@ -9738,15 +9708,15 @@ PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *inf
 /* occluders: synthesis of certainly-solid volumes (for Wonka 2000's shrinking, §2 and appendix)  */
 /* ---------------------------------------------------------------------------------------------- */
 
-/* pvs_occluders.state flags. */
+/* pvs_occluders.state bits. */
 enum {
 	PVS__VX_TOUCHED = 1,   /* triangle within margin */
-	PVS__VX_REACHED = 2,   /* reached by the leak flood */
+	PVS__VX_REACHED = 2,   /* reached by leak flood */
 	PVS__VX_GROUND = 4,    /* layer 0, below scene and cells */
 	PVS__VX_SOLID = 8,	   /* certainly solid: flood-proved or explicit */
 	PVS__VX_EXPLICIT = 16  /* in an explicit occluder */
 };
-/* Stops the leak diagnostic's flood. */
+/* Stops leak diagnostic's flood. */
 #define PVS__VX_LEAK_STOP (PVS__VX_TOUCHED | PVS__VX_REACHED | PVS__VX_GROUND | PVS__VX_EXPLICIT)
 
 /* Voxel (i, j, k): origin + h ([i, i + 1] x [j, j + 1] x [k, k + 1]); n per axis. */
@@ -9755,7 +9725,7 @@ typedef struct pvs__vx_grid {
 	uint32_t n[3];
 } pvs__vx_grid;
 
-/* 2.5D column map: ground squares, side grid.h (n[up] = 1); min-pyramids (level l: side grid.h 2^l; 0: the map). */
+/* 2.5D column map: ground squares, side grid.h (n[up] = 1); min-pyramids (level l: side grid.h 2^l; 0: map). */
 #define PVS__VX_LEVELS 24
 typedef struct pvs__vx_cols {
 	pvs__vx_grid grid;
@@ -9792,15 +9762,15 @@ struct pvs_occluders {
 	uint8_t *eroded;			/* total: 1 where solid survives erosion */
 	pvs_box *boxes;
 	uint32_t box_count;
-	pvs_facade_chain *chains;	/* the 2.5D occluders */
+	pvs_facade_chain *chains;	/* 2.5D occluders */
 	pvs_box *chain_boxes;		/* per chain: ground rectangle x [base, top] */
 	float *chain_points;		/* 2 floats per point */
 	uint32_t chain_count;
 	size_t chain_point_count;
 	float ground;
-	pvs__vx_cols cols;			/* the 2.5D column map */
+	pvs__vx_cols cols;			/* 2.5D column map */
 	pvs__obvh bvh;				/* drawable objects, for 2.5D walks */
-	pvs__obvh chain_bvh;		/* the chains' boxes */
+	pvs__obvh chain_bvh;		/* chains' boxes */
 	uint32_t *excluded;			/* info.excluded_cells: leaking cells left out, */
 	pvs_box *excluded_boxes;	/* and their boxes */
 };
@@ -9810,7 +9780,7 @@ PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j,
 }
 PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return (s & PVS__VX_SOLID) != 0; }
 
-/* Triangle-box overlap, separating axes (Akenine-Moller 2001), double; hs includes the margin, radii scaled up a hair:
+/* Triangle-box overlap (Akenine-Moller 2001 separating axes), double; hs includes margin, radii scaled up a hair:
    rounding errs toward "touched". */
 PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const double *a, const double *b,
 							  const double *d) {
@@ -9853,7 +9823,7 @@ PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, cons
 	return pvs__tri_aabb(c, h3, a, b, d);
 }
 
-/* 1 if (x, y) is in the polygon (even-odd). */
+/* 1 if (x, y) is in polygon (even-odd). */
 PVS__STATIC int pvs__point_in_poly(const float *pts, uint32_t n, double x, double y) {
 	uint32_t i, j;
 	int in = 0;
@@ -9875,7 +9845,7 @@ PVS__STATIC int pvs__seg_meet(double ax, double ay, double bx, double by, double
 	return 1;
 }
 
-/* 1 if the closed voxel box is inside the explicit occluder (rounds toward "not inside"). */
+/* 1 if closed voxel box is in explicit occluder (rounds toward "not inside"). */
 PVS__STATIC int pvs__vx_in_occluder(const pvs_occluder_desc *oc, uint32_t up, const double lo[3], const double hi[3]) {
 	int k, u, v;
 	uint32_t i, j;
@@ -9921,7 +9891,7 @@ PVS__STATIC int pvs__obvh_key_cmp(const void *x, const void *y) {
 	return a->d < b->d ? -1 : a->d > b->d ? 1 : a->i < b->i ? -1 : a->i > b->i;
 }
 
-/* Hierarchy over boxes[0 .. count) (keep NULL: all, else kept): median splits on centres' longest axis, leaves <= 4. */
+/* BVH of boxes[0 .. count) (keep NULL: all, else kept): median splits on centres' longest axis, leaves <= 4. */
 PVS__STATIC pvs_result pvs__obvh_build(const pvs_allocator *al, const pvs_box *boxes, uint32_t count,
 									   const uint8_t *keep, pvs__obvh *h) {
 	uint32_t i, n = 0, *stack = NULL, sp = 0;
@@ -10058,7 +10028,7 @@ PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double
 }
 
 /* Sutherland-Hodgman: convex polygon in (n points of 3 doubles; n = 2: segment) clipped to sign (x[k] - c) >= 0 into
-   out (n + 1 points). Returns count. */
+   out (n + 1 points); returns count. */
 PVS__STATIC int pvs__vx_clip_half(const double *in, int n, int k, double c, double sign, double *out) {
 	int i, r = 0;
 	for (i = 0; i < n; ++i) {
@@ -10097,9 +10067,9 @@ PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int
 typedef void (*pvs__vx_visit_fn)(void *user, const uint32_t idx[3]);
 
 /* Visits cells of gr in [r0, r1] that convex polygon p (3 points, or 2: segment) grown by m may meet: clipped to slabs
-   along k[2] (dims 2: k[0], k[1] plane only), then rows along k[1] whose clips give the k[0] ranges: a long sliver
-   costs its cells, not its box. Candidates only; slabs grow 1e-3 cell beyond m, far above clip rounding, so every cell
-   an exact test with margin m accepts is visited. */
+   along k[2] (dims 2: k[0], k[1] plane only), then rows along k[1] whose clips give k[0] ranges: a long sliver costs
+   its cells, not its box. Candidates only; slabs grow 1e-3 cell beyond m, far above clip rounding, so every cell an
+   exact test with margin m accepts is visited. */
 PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, const int k[3], int dims, double m,
 							  const uint32_t r0[3], const uint32_t r1[3], pvs__vx_visit_fn visit, void *user) {
 	double slab[3 * 8], tmp[3 * 8], row[3 * 8], g = m + 1e-3 * gr->h, h = gr->h;
@@ -10152,7 +10122,7 @@ PVS__STATIC void pvs__vx_erode_axis(const pvs_occluders *o, uint8_t *g, uint8_t 
 		}
 }
 
-/* Greedy merge of g's set voxels (cleared) into boxes rounded inward to float; out NULL: count only. Returns count. */
+/* Greedy merge of g's set voxels (cleared) into boxes rounded inward to float; returns count (out NULL: count only). */
 PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *out) {
 	uint32_t i, j, k, i1, j1, k1, a, b, count = 0;
 	for (k = 0; k < o->n[2]; ++k)
@@ -10193,13 +10163,13 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
    constant on each connected piece of space minus K; an odd (open) edge flips w across the vertical sheet below it. A
    voxel is pure if no K triangle or sheet is within margin m (one w), mixed if only a triangle is (nodes w = 0, 1:
    joining equal-w parts over-approximates connectivity), bad if a sheet is (one node). Free space is open, so a path
-   avoiding K can be moved to cross voxels via faces only, carrying the face point's w: the graph linking face
-   neighbours' equal-w nodes (any node of a bad voxel) holds all such paths, and outside K's voxel box (sheets end at g,
-   inside it) is one w = 0 region. The flood from voxels meeting a cell, and from outside if a cell is outside the box,
-   reaches all a viewer can walk to without touching K: a pure voxel it misses is seen from no cell, so a sight line
-   through it meets a triangle first. Solid for some triangles is solid for all: each component floods alone
-   (overlapping meshes keep their parity). w is read per column on a vertical line with certain orientation signs
-   (pvs__vx_cross). Slits or doors narrower than a voxel give mixed or bad voxels, keeping both sides joined. */
+   avoiding K can move to cross voxels via faces only, carrying the face point's w: the graph linking face neighbours'
+   equal-w nodes (any node of a bad voxel) holds all such paths, and outside K's voxel box (sheets end at g, inside it)
+   is one w = 0 region. Flooding from voxels meeting a cell, and from outside if a cell leaves the box, reaches all a
+   viewer can walk to without touching K: a pure voxel it misses is seen from no cell, so a sight line through it meets
+   a triangle first. Solid for some triangles is solid for all: each component floods alone (overlapping meshes keep
+   their parity). w is read per column on a vertical line with certain orientation signs (pvs__vx_cross). Slits or doors
+   narrower than a voxel give mixed or bad voxels, keeping both sides joined. */
 
 /* orient2d (b - a) x (p - a); *bound bounds its rounding (each difference, product rounded once: <= 4.5e-16 (|t1| +
    |t2|)): sign certain if |value| > *bound. No underflow for floats. */
@@ -10249,7 +10219,7 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
 /* Flood voxel bits: T touched by K, B bad, F odd layer crossings, W w = 1 (pure), R0 / R1 node 0 / 1 reached. */
 enum { PVS__G_T = 1, PVS__G_B = 2, PVS__G_F = 4, PVS__G_W = 8, PVS__G_R0 = 16, PVS__G_R1 = 32 };
 
-/* Points a, b (n finite floats), lexicographic: -1, 0, 1. */
+/* Lexicographic -1, 0, 1 of n finite floats. */
 PVS__STATIC int pvs__fpoint_cmp(const float *a, const float *b, int n) {
 	int k;
 	for (k = 0; k < n; ++k)
@@ -10293,7 +10263,7 @@ PVS__STATIC void pvs__vx_topo_free(const pvs_allocator *a, pvs__vx_topo *t, uint
 	memset(t, 0, sizeof(*t));
 }
 
-/* 1 if the triangle is flat at ground level g (left out: bounds nothing above g). */
+/* 1 if flat at ground level g (left out: bounds nothing above g). */
 PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) {
 	uint32_t up = s->up_axis, k;
 	for (k = 0; k < 3; ++k)
@@ -10398,27 +10368,27 @@ done:
 	return res;
 }
 
-/* Component flood scratch, sized for the largest box. */
+/* Component flood scratch, sized for largest box. */
 typedef struct pvs__vx_flood {
 	uint8_t *bits;			 /* box voxels: PVS__G_* */
 	uint8_t *col;			 /* box columns: line index, 0x80 undecided this pass, 0xff failed */
 	uint32_t *queue;		 /* 2 nodes per box voxel */
 	size_t cap_vox, cap_col;
-	const pvs_box *cells;	 /* cells, bucketed on the ground plane */
+	const pvs_box *cells;	 /* cells, bucketed on ground plane */
 	uint32_t cell_count;
 	uint32_t *bucket_first;  /* bnu * bnv + 1 */
 	uint32_t *bucket_cells;
 	uint32_t *stamp;		 /* per cell: 1 + last component that looked */
 	uint32_t bnu, bnv;
 	uint32_t stamp_next;
-	pvs__vx_grid bucket_grid;/* buckets as a grid */
-	uint8_t *cellbuf;		 /* per cell 7 bytes: the 4 arrays below */
+	pvs__vx_grid bucket_grid;
+	uint8_t *cellbuf;		 /* per cell 7 bytes: 4 arrays below */
 	uint8_t *excluded;		 /* per cell: 1 = excluded (leaking) */
 	uint32_t excluded_count;
 	int keep_leaks;			 /* PVS_OCCLUDERS_KEEP_LEAKS: never exclude */
 	uint32_t *near_cells;	 /* per component: cells meeting its box, */
 	signed char *near_w;	 /* their w (-1: every node), */
-	uint8_t *near_flag;		 /* 1 = sticks out of the box, 2 = outside reaches its nodes */
+	uint8_t *near_flag;		 /* 1 = sticks out of box, 2 = outside reaches its nodes */
 } pvs__vx_flood;
 #define PVS__VX_BUCKET 8u	 /* voxel columns per bucket side */
 
@@ -10445,7 +10415,7 @@ PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, 
 }
 
 /* w of cell cb, clear of K by m (shared by its points): parity of K's crossings above a point of cb on a vertical line
-   (none within m). -1 if 8 lines fail. */
+   (none within m); -1 if 8 lines fail. */
 PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
 	uint32_t up = s->up_axis, t, line;
 	int u, v;
@@ -10470,8 +10440,8 @@ PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp,
 	return -1;
 }
 
-/* Pushes cell cb's flood sources: its box voxels' node of w = wc (all if wc < 0); test = 1: pushes nothing, returns 1
-   if one is already reached. */
+/* Pushes cell cb's flood sources: its box voxels' node of w = wc (all if wc < 0); test = 1: pushes nothing, 1 if one is
+   already reached. */
 PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const uint32_t lo[3], const uint32_t hi[3],
 							 const size_t stride[3], double m, int wc, uint8_t *bits, uint32_t *queue, size_t *qt,
 							 int test) {
@@ -10502,8 +10472,8 @@ PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const ui
 	return 0;
 }
 
-/* Floods a box's nodes from the queue, entering from outside if ext is 1 or on reaching a box face via a node joined to
-   it. Returns 0 if outside never entered. */
+/* Floods a box's nodes from queue, entering from outside if ext is 1 or on reaching a box face via a node joined to it.
+   0 if outside never entered. */
 PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io, size_t *qt_io, const uint32_t d[3],
 								  const size_t stride[3], const uint32_t lo[3], uint32_t up, int ext) {
 	size_t qh = *qh_io, qt = *qt_io;
@@ -10513,7 +10483,7 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
 		size_t a;
 		int x, dir;
 		uint8_t fa;
-		if (ext == 1) { /* enter through all box faces but the ground */
+		if (ext == 1) { /* enter through all box faces but ground */
 			for (k = 0; k < d[2]; ++k)
 				for (j = 0; j < d[1]; ++j)
 					for (i = 0; i < d[0]; ++i) {
@@ -10537,8 +10507,8 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
 			size_t b;
 			uint8_t fb;
 			kk = (uint32_t)dir >> 1;
-			if (dir & 1 ? idx[kk] + 1 == d[kk] : idx[kk] == 0) { /* a face of the box */
-				if (kk == up && !(dir & 1) && lo[up] == 1) continue; /* the ground */
+			if (dir & 1 ? idx[kk] + 1 == d[kk] : idx[kk] == 0) { /* box face */
+				if (kk == up && !(dir & 1) && lo[up] == 1) continue; /* ground */
 				if (!ext && ((fa & PVS__G_B) || !(fa & PVS__G_T) || x == 0)) ext = 1;
 				continue;
 			}
@@ -10555,11 +10525,11 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
 	return ext;
 }
 
-/* pvs__vx_scan visitor: voxels a triangle touches (separating axes, margin toward touched). */
+/* pvs__vx_scan visitor: voxels a triangle touches (margin toward touched). */
 typedef struct pvs__vx_touch {
 	pvs_occluders *o;		   /* non-NULL: sets PVS__VX_TOUCHED (gr: its grid) */
 	const pvs__vx_grid *gr;
-	uint8_t *bits;			   /* non-NULL: sets PVS__G_T in a component's box; */
+	uint8_t *bits;			   /* non-NULL: sets PVS__G_T in component box; */
 	const uint32_t *lo;		   /* NULL: skips grid's touched/ground voxels */
 	const size_t *stride;
 	double p[3][3], hs;		   /* triangle; voxel half size + margin */
@@ -10599,10 +10569,10 @@ typedef struct pvs__vx_colvisit {
 	double m;
 	const float *e;			   /* step 2: open edge (2 points) */
 	const float *tri[3];	   /* step 3: triangle corners */
-	uint32_t pass;			   /* step 3: line position in the column */
+	uint32_t pass;			   /* step 3: column's line position */
 } pvs__vx_colvisit;
 
-/* Step 2, column (a, b): sheet below the edge's part over the square + m. */
+/* Step 2, column (a, b): sheet below edge's part over square + m. */
 PVS__STATIC void pvs__vx_sheet_visit(void *user, const uint32_t at[3]) {
 	const pvs__vx_colvisit *cv = (const pvs__vx_colvisit *)user;
 	const float *e = cv->e;
@@ -10633,7 +10603,7 @@ PVS__STATIC void pvs__vx_sheet_visit(void *user, const uint32_t at[3]) {
 	}
 }
 
-/* Step 3, column (a, b): its line (position pass) vs the triangle. */
+/* Step 3, column (a, b): its line (position pass) vs triangle. */
 PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
 	const pvs__vx_colvisit *cv = (const pvs__vx_colvisit *)user;
 	int u = cv->u, v = cv->v, up = cv->up, r;
@@ -10654,7 +10624,7 @@ PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
 	}
 }
 
-/* A component's box, shared by its flood steps. */
+/* Component box shared by flood steps. */
 typedef struct pvs__vx_fbox {
 	pvs_occluders *o;
 	const pvs_scene *s;
@@ -10669,7 +10639,7 @@ typedef struct pvs__vx_fbox {
 	pvs__vx_flood *fl;
 } pvs__vx_fbox;
 
-/* Step 1: PVS__G_T on box voxels K touches (margin toward touched); mark_touched: also PVS__VX_TOUCHED on o's grid. */
+/* Step 1: PVS__G_T on box voxels K touches (margin toward touched); mark_touched: PVS__VX_TOUCHED too. */
 PVS__STATIC void pvs__vx_flood_touched(const pvs__vx_fbox *fb, int mark_touched) {
 	static const int xyz[3] = {0, 1, 2};
 	pvs__vx_touch tv;
@@ -10705,8 +10675,8 @@ PVS__STATIC void pvs__vx_flood_colvisit(const pvs__vx_fbox *fb, pvs__vx_colvisit
 	axes[2] = (int)fb->up;
 }
 
-/* Step 2, bad voxels: below each open edge, from it + m to the ground, in columns whose square + m meets the projected
-   edge (Liang-Barsky). */
+/* Step 2, bad voxels: below each open edge, from it + m to ground, in columns whose square + m meets projected edge
+   (Liang-Barsky). */
 PVS__STATIC void pvs__vx_flood_sheets(const pvs__vx_fbox *fb) {
 	const pvs__vx_topo *tp = fb->tp;
 	pvs__vx_colvisit cv;
@@ -10794,7 +10764,7 @@ PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box
 	return touches;
 }
 
-/* Step 4's w of cell cb (box voxels r0..r1): -1 (all nodes) if cb + m meets K; else 0 with out_w0 (leaves the box above
+/* Step 4's w of cell cb (box voxels r0..r1): -1 (all nodes) if cb + m meets K; else 0 with out_w0 (leaves box above
    ground); else that of a pure voxel it overlaps by over m, or its own ray's. */
 PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, const uint32_t r0[3],
 									 const uint32_t r1[3], int out_w0) {
@@ -10827,8 +10797,8 @@ PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, 
 	return wc;
 }
 
-/* Step 4's cells: unexcluded ones of the buckets under the box meeting it (+ m), each once (fl->stamp: stamp; stamp + 1
-   if meeting), into fl->near_cells with w; near_flag 1 if sticking out. Returns the count. */
+/* Step 4's cells: unexcluded ones of buckets under box meeting it (+ m), each once (fl->stamp: stamp; stamp + 1 if
+   meeting), into fl->near_cells with w; near_flag 1 if sticking out. Returns count. */
 PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) {
 	pvs__vx_flood *fl = fb->fl;
 	const pvs__vx_grid *gr = fb->gr;
@@ -10869,11 +10839,11 @@ PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) 
 }
 
 /* Step 4, sources: cells meeting the box (one clear of K by m is convex and free: its voxels get its one w's node; else
-   all nodes), and the outside if a cell is partly outside. Leaking cells (boxes poking through a closed level's wall
-   into a mesh's faceless void) would join every wall's interior to the flood. So when under half the active cells lie
-   outside the box, the outside floods first, and cells outside, partly outside or reached are excluded if together
-   under half. An excluded cell seeds no later flood and gets no occluder (pvs_shrink_cell sets every object for it);
-   for the rest the argument holds. Leaves sources in fl->queue; returns pvs__vx_flood_run's ext. */
+   all nodes), and outside if a cell is partly outside. Leaking cells (poking through a closed level's wall into a
+   mesh's faceless void) would join every wall's interior to the flood, so if under half the active cells lie outside
+   the box, outside floods first, and cells outside, partly outside or reached are excluded if together under half.
+   Excluded cells seed no later flood and get no occluder (pvs_shrink_cell sets every object for them); for the rest the
+   argument holds. Leaves sources in fl->queue; returns pvs__vx_flood_run's ext. */
 PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, size_t *qt_io) {
 	pvs__vx_flood *fl = fb->fl;
 	uint8_t *bits = fl->bits;
@@ -10884,8 +10854,7 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
 	fl->stamp_next += 2;
 	stamp = fl->stamp_next - 1;
 	nnear = pvs__vx_flood_near(fb, stamp);
-	if (!fl->keep_leaks && nnear &&
-		2 * (active - nnear) < active) { /* mostly inside: which cells does outside reach? */
+	if (!fl->keep_leaks && nnear && 2 * (active - nnear) < active) {
 		pvs__vx_flood_run(bits, queue, &qh, &qt, fb->d, fb->stride, fb->lo, fb->up, 1);
 		nout = active - nnear;
 		for (q = 0; q < nnear; ++q) {
@@ -10918,8 +10887,8 @@ PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, siz
 	return ext;
 }
 
-/* Floods component K on grid gr, box lo..hi (inclusive, lo[up] >= 1): PVS__G_T/B/W, reached nodes into fl->bits;
-   returns 0 if outside never entered. mark_touched: PVS__VX_TOUCHED too (gr: occluders' grid). */
+/* Floods component K on grid gr, box lo..hi (inclusive, lo[up] >= 1): PVS__G_T/B/W, reached nodes into fl->bits; 0 if
+   outside never entered. mark_touched: PVS__VX_TOUCHED too (gr: occluders' grid). */
 PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr, const pvs__vx_topo *tp, uint32_t comp,
 										const uint32_t lo[3], const uint32_t hi[3], double m, pvs__vx_flood *fl,
 										int mark_touched) {
@@ -10953,8 +10922,8 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
 	return pvs__vx_flood_run(fl->bits, fl->queue, &qh, &qt, fb.d, fb.stride, lo, fb.up, ext);
 }
 
-/* Certifies K on the occluders' grid: pure voxels whose node the flood missed are solid; all outside the box (but
-   ground) too if it never entered. */
+/* Certifies K on occluders' grid: pure voxels whose node flood missed are solid; all outside the box (but ground) too
+   if it never entered. */
 PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
 								 const uint32_t hi[3], double m, pvs__vx_flood *fl) {
 	uint32_t d[3], i, j, k;
@@ -10985,10 +10954,10 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
 /* ---- 2.5D occluders: proved-solid columns at a finer resolution, eroded by distance ----
 
    Each component floods again on its own grid (voxel eps, grown within budgets). A column-map square (side eps / 2,
-   larger past PVS__VX_MAP_BUDGET) has solid height = least top of proved-solid ground runs in the voxel columns it
-   overlaps; occluder height (Wonka 2000 §2, appendix: shrunk by eps) = that, cut to eps below the component's
-   triangles within eps of it: every point below has an eps-ball free of the component and joined to proved solid, so a
-   sight line through it meets a triangle first. Squares grow by a margin above coordinate float precision. */
+   larger past PVS__VX_MAP_BUDGET) has solid height = least top of proved-solid ground runs in voxel columns it
+   overlaps; occluder height (Wonka 2000 §2, appendix: shrunk by eps) = that, cut to eps below component's triangles
+   within eps of it: every point below has an eps-ball free of the component and joined to proved solid, so a sight line
+   through it meets a triangle first. Squares grow by a margin above coordinate float precision. */
 
 #define PVS__VX_BOX_BUDGET (1u << 23)
 #define PVS__VX_MAP_BUDGET (1u << 22)
@@ -10998,7 +10967,7 @@ PVS__STATIC int pvs__float_cmp(const void *a, const void *b) {
 	return x < y ? -1 : x > y;
 }
 
-/* Least height of triangle p clipped to the prism over octagon {x0 <= u <= x1, y0 <= v <= y1, s0 <= u + v <= s1, d0 <=
+/* Least height of triangle p clipped to prism over octagon {x0 <= u <= x1, y0 <= v <= y1, s0 <= u + v <= s1, d0 <=
    u - v <= d1}; DBL_MAX if none. */
 PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, int up, const double lim[8]) {
 	static const double nu[8] = {-1, 1, 0, 0, -1, 1, -1, 1}, nv[8] = {0, 0, -1, 1, -1, 1, 1, -1};
@@ -11038,8 +11007,7 @@ typedef struct pvs__vx_tminvisit {
 	float *tmin;			   /* per square from (su0, sv0), rows of row */
 	uint32_t su0, sv0, row;
 } pvs__vx_tminvisit;
-/* Lower bounds letting pvs__vx_tmin_visit skip the clip (stacked triangles meet a square often): lowest corner and,
-   unless steep, the plane, with rounding slack. */
+/* Lower bounds letting pvs__vx_tmin_visit skip the clip (stacked triangles meet a square often). */
 PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
 	const double *a = tv->p[0], *b = tv->p[1], *c = tv->p[2];
 	int u = tv->u, v = tv->v, up = tv->up;
@@ -11067,10 +11035,10 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
 	size_t x = (size_t)(j - tv->sv0) * tv->row + (i - tv->su0);
 	double h = tv->gr->h, e = tv->e, x0 = tv->gr->origin[tv->u] + i * h, y0 = tv->gr->origin[tv->v] + j * h, z;
 	double lim[8], x1 = x0 + h, y1 = y0 + h, ed = e * 1.4142135623730951 * (1.0 + 1e-12);
-	/* square + octagon around the radius-e disc: holds all points within e */
+	/* square + octagon around radius-e disc: holds all points within e */
 	lim[0] = -(x0 - e); lim[1] = x1 + e; lim[2] = -(y0 - e); lim[3] = y1 + e;
 	lim[4] = -(x0 + y0 - ed); lim[5] = x1 + y1 + ed; lim[6] = -(x0 - y1 - ed); lim[7] = x1 - y0 + ed;
-	z = tv->zlo; /* clip height lower bound: lowest corner or plane min over the square */
+	z = tv->zlo; /* lower bound: lowest corner or plane min over square */
 	if (tv->sloped) {
 		double zp = tv->p[0][tv->up] - tv->gu * ((tv->gu > 0.0 ? x0 - e : x1 + e) - tv->p[0][tv->u]) -
 					tv->gv * ((tv->gv > 0.0 ? y0 - e : y1 + e) - tv->p[0][tv->v]);
@@ -11115,7 +11083,7 @@ PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo
 	}
 }
 
-/* A component's column-map pass: flood, ground runs, squares' solid, occluder heights. Returns OUT_OF_MEMORY/PVS_OK. */
+/* A component's column-map pass: flood, ground runs, squares' solid, occluder heights. */
 PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
 												 const pvs__vx_grid *gk, const uint32_t lo[3], const uint32_t hi[3],
 												 double m, double eps, double margin, pvs__vx_flood *fl) {
@@ -11166,7 +11134,7 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 			double x0 = cm->grid.origin[u] + a * cm->grid.h, y0 = cm->grid.origin[v] + b * cm->grid.h, hsub = DBL_MAX,
 				   top;
 			uint32_t c0, c1, r0, r1, cc, rr;
-			/* voxel columns the square overlaps (by a hair inside) */
+			/* voxel columns under square (a hair inside) */
 			pvs__vx_grange(gk, u, x0, x0 + cm->grid.h, -1e-9 * cm->grid.h, &c0, &c1);
 			pvs__vx_grange(gk, v, y0, y0 + cm->grid.h, -1e-9 * cm->grid.h, &r0, &r1);
 			if (c0 > c1 || r0 > r1) continue;
@@ -11180,8 +11148,7 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 			top = pvs__dmin(hsub, (double)tmin[xs] - eps);
 			if (top > g && pvs__f_down(top) > cm->top[x]) cm->top[x] = pvs__f_down(top);
 		}
-	if (!ext) { /* all viewers inside the box: all outside is solid (to grid top); squares over eps (+ margin) from the
-				   box: occluders up there */
+	if (!ext) { /* no viewer outside box: outside solid to grid top; occluders there over eps (+ margin) off it */
 		float sky = pvs__f_down(o->origin[up] + o->n[up] * o->h);
 		uint32_t e0, e1, f0, f1;
 		pvs__vx_grange(&cm->grid, u, gk->origin[u] + lo[u] * hk, gk->origin[u] + (hi[u] + 1) * hk, e, &e0, &e1);
@@ -11224,10 +11191,10 @@ PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int
 	return 1;
 }
 
-/* Simplifies a loop of n integer points (region on the left) from inside, in place (pt: room for 2n): from each kept
-   point to the farthest later one whose chord keeps skipped points right of or on it, at most a square off (area lost,
-   never added), meeting no other loop edge. Slanted-wall staircases become long edges whose shadows cover whole
-   cull-map cells. Returns count. */
+/* Simplifies a loop of n integer points (region on left) from inside, in place (pt: room for 2n): from each kept point
+   to the farthest later one whose chord keeps skipped points right of or on it, at most a square off (area lost, never
+   added), meeting no other loop edge. Slanted-wall staircases become long edges whose shadows cover whole cull-map
+   cells. Returns count. */
 PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 	uint32_t i = 0, kept = 0, j, k, start;
 	int32_t *out;
@@ -11245,16 +11212,16 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 			const int32_t *b = pt + 2 * ((start + j) % n);
 			int ok = 1;
 			double len2 = (double)(b[0] - a[0]) * (b[0] - a[0]) + (double)(b[1] - a[1]) * (b[1] - a[1]);
-			for (k = i + 1; k < j && ok; ++k) { /* right of or on the chord, <= a square off */
+			for (k = i + 1; k < j && ok; ++k) {
 				int64_t o = pvs__vx_orient_i(a, b, pt + 2 * ((start + k) % n));
 				ok = o <= 0 && (double)o * (double)o <= len2;
 			}
 			if (!ok) break;
-			for (k = 0; k < n && ok; ++k) { /* no other loop edge touches the chord */
+			for (k = 0; k < n && ok; ++k) {
 				uint32_t e0 = (start + k) % n, e1 = (start + k + 1) % n;
-				if (k >= i && k < j) continue;					/* replaced by the chord */
+				if (k >= i && k < j) continue;					/* replaced by chord */
 				if (k + 1 == i || (k == j % n && j < n) || (j == n && k == 0) || (i == 0 && k + 1 == n)) {
-					/* edges sharing an end with the chord may touch only there */
+					/* edges sharing an end with chord may touch only there */
 					const int32_t *c0 = pt + 2 * e0, *c1 = pt + 2 * e1;
 					int64_t o0 = pvs__vx_orient_i(a, b, c0), o1 = pvs__vx_orient_i(a, b, c1);
 					if (o0 == 0 && o1 == 0) ok = 0; /* collinear overlap */
@@ -11273,10 +11240,10 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 	return kept;
 }
 
-/* Traces boundary loops of mask's set squares (w x h, empty frame around), set on the left, turning left where diagonal
+/* Traces boundary loops of mask's set squares (w x h, empty frame around), set on left, turning left where diagonal
    squares meet (4-connected). Each, simplified, becomes a chain of heights [base, top], point (i, j) at (ox + i c, oy +
    j c): outer (CCW) loops closed, holes open, back to their first point (a hole is not solid). used: 4 (w + 1) (h + 1)
-   bytes. Returns 0 when out of memory. */
+   bytes. 0 if out of memory. */
 PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w,
 							  uint32_t h, double ox, double oy, double c, float base, float top, uint8_t *used,
 							  int32_t **ip, size_t *ipcap) {
@@ -11345,7 +11312,7 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
 					return 0;
 				pt = cb->points + 2 * first;
 				for (q = 0; q <= kept; ++q) {
-					if (q == kept && area2 > 0) break; /* only holes repeat the first point */
+					if (q == kept && area2 > 0) break; /* only holes repeat first point */
 					pt[2 * q] = (float)(ox + (*ip)[2 * (q % kept)] * c);
 					pt[2 * q + 1] = (float)(oy + (*ip)[2 * (q % kept) + 1] * c);
 				}
@@ -11366,7 +11333,7 @@ PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, con
 	return 1;
 }
 
-/* pvs__vx_build_chains scratch: per map square label, queue, members; per-region frame buffers; chains so far. */
+/* pvs__vx_build_chains scratch; cb: chains so far. */
 typedef struct pvs__vx_chainwork {
 	pvs_occluders *o;
 	uint32_t *label, *queue, *members; /* per map square */
@@ -11379,8 +11346,8 @@ typedef struct pvs__vx_chainwork {
 	pvs__vx_chainbuf cb;
 } pvs__vx_chainwork;
 
-/* Labels nlab the region of square x (4-connected squares with an occluder height), lists it in w->members, sets its
-   frame. Returns its size. */
+/* Labels nlab square x's region (4-connected squares with an occluder height), lists it in w->members, sets its frame;
+   returns its size. */
 PVS__STATIC uint32_t pvs__vx_chain_region(pvs__vx_chainwork *w, size_t x, uint32_t nlab) {
 	const pvs__vx_cols *cm = &w->o->cols;
 	uint32_t *label = w->label, *queue = w->queue, i0, i1, j0, j1, nm = 0;
@@ -11414,7 +11381,7 @@ PVS__STATIC uint32_t pvs__vx_chain_region(pvs__vx_chainwork *w, size_t x, uint32
 }
 
 /* Level L's chains: per 4-connected sub-region of the region's squares at or above L with a square at L, its boundary
-   at L. Returns 0 when out of memory. */
+   at L. 0 if out of memory. */
 PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) {
 	const pvs__vx_cols *cm = &w->o->cols;
 	uint32_t *queue = w->queue, *sub = w->sub, bw = w->bw, bh = w->bh, i0 = w->i0, j0 = w->j0, nsub = 0, k;
@@ -11457,7 +11424,7 @@ PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) 
 	return 1;
 }
 
-/* Region chains: pvs__vx_chain_level per distinct level, ascending. 0 when out of memory. */
+/* Region chains: pvs__vx_chain_level per distinct level, ascending. 0 if out of memory. */
 PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
 	const pvs_allocator *al = &w->o->allocator;
 	const pvs__vx_cols *cm = &w->o->cols;
@@ -11477,8 +11444,7 @@ PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
 	return 1;
 }
 
-/* Hands over chains: o->chains (points in o->chain_points), o->chain_boxes (ground rectangle x [base, top]). Returns
-   OUT_OF_MEMORY or PVS_OK. */
+/* Hands over chains to o->chains, o->chain_points, o->chain_boxes. */
 PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_chainbuf *cb) {
 	const pvs_allocator *al = &o->allocator;
 	size_t x;
@@ -11579,7 +11545,7 @@ PVS__STATIC pvs_result pvs__vx_pyramid(pvs_occluders *o) {
 				uint32_t a, b;
 				for (b = 2 * j; b < 2 * j + 2; ++b)
 					for (a = 2 * i; a < 2 * i + 2; ++a) {
-						float x = -FLT_MAX, y = o->ground; /* off the map: no occluder, not solid */
+						float x = -FLT_MAX, y = o->ground; /* off map: no occluder, not solid */
 						if (a < pw && b < ph) {
 							x = cm->ptop[l - 1][(size_t)b * pw + a];
 							y = cm->psolid[l - 1][(size_t)b * pw + a];
@@ -11671,7 +11637,7 @@ PVS__STATIC size_t pvs__vx_comp_box(const pvs_scene *s, const pvs__vx_topo *tp, 
 	return vol;
 }
 
-/* Column map, chains, pyramids: each 3+ triangle component flooded again on its own grid. */
+/* Column map, chains, pyramids (3+ triangle components). */
 PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp, const pvs_box *ext, double eps,
 									   double m, pvs__vx_flood *fl) {
 	const pvs_scene *s = o->scene;
@@ -11700,7 +11666,7 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 	cm->nu = cm->grid.n[u];
 	cm->nv = cm->grid.n[v];
 	nmap = (size_t)cm->nu * cm->nv;
-	/* margin: chain points' and heights' float precision + voxel margin */
+	/* chain points', heights' float precision + voxel margin */
 	margin = 8.0 * FLT_EPSILON * scale + m;
 	cm->solid = (float *)pvs__alloc_array(al, nmap, sizeof(float));
 	cm->top = (float *)pvs__alloc_array(al, nmap, sizeof(float));
@@ -11747,7 +11713,7 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 }
 
 /* pvs_occluders_create's shared step state. Steps return PVS_OK or PVS_ERROR_OUT_OF_MEMORY; pvs__vx_build_free frees
-   what the error path leaves; a step freeing a buffer NULLs it. */
+   what error path leaves; a step freeing a buffer NULLs it. */
 typedef struct pvs__vx_build {
 	const pvs_occluders_desc *d;
 	const pvs_scene *s;
@@ -11766,7 +11732,7 @@ typedef struct pvs__vx_build {
 	pvs__vx_flood fl;
 } pvs__vx_build;
 
-/* Frees, forgets flood scratch but the per-cell buffer (step 5, error path). */
+/* Frees, forgets flood scratch but per-cell buffer (step 5, error path). */
 PVS__STATIC void pvs__vx_flood_free(pvs__vx_build *b) {
 	const pvs_allocator *a = &b->a;
 	pvs__vx_flood *fl = &b->fl;
@@ -11792,9 +11758,8 @@ PVS__STATIC void pvs__vx_build_free(pvs__vx_build *b) {
 	pvs__free_array(a, b->line, 1u + b->o->n[0] + b->o->n[1] + b->o->n[2], 1);
 }
 
-/* Voxel grid over scene and cells: voxel_size or eps / 1.5 (2 voxels of erosion = 1.33 eps), grown by 1.08 to fit
-   max_voxels; layer 0 below ground. Allocates b->o, its state, eroded, b->tmp, b->line. On failure nothing stays
-   allocated; err says why. */
+/* Voxel grid over scene and cells: voxel_size or eps / 1.5 (erosion: 2 voxels = 1.33 eps), grown by 1.08 to fit
+   max_voxels; layer 0 below ground. Allocates b->o, its state, eroded, b->tmp, b->line; on failure none (err: why). */
 PVS__STATIC pvs_result pvs__vx_build_grid(pvs__vx_build *b, pvs_error *err) {
 	const pvs_occluders_desc *d = b->d;
 	const pvs_allocator *a = &b->a;
@@ -11915,13 +11880,12 @@ PVS__STATIC pvs_result pvs__vx_build_buckets(pvs__vx_build *b) {
 		}
 	}
 	for (vi = 0; vi < nbuckets; ++vi)
-		fl->bucket_first[vi] = fl->bucket_first[vi + 1]; /* the fill moved each end to its start */
+		fl->bucket_first[vi] = fl->bucket_first[vi + 1]; /* fill moved each end to its start */
 	fl->bucket_first[nbuckets] = b->bucket_entries;
 	return PVS_OK;
 }
 
-/* Step 1's component boxes (b->cbox): voxels within m of triangle extents, from layer 1 up if open edges; flood scratch
-   sized for the largest 3+ triangle box. */
+/* Step 1's component boxes (b->cbox, pvs__vx_comp_box); flood scratch sized for largest 3+ triangle box. */
 PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
 	const pvs_scene *s = b->s;
 	const pvs__vx_topo *tp = &b->tp;
@@ -11940,8 +11904,8 @@ PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* Step 1, solid proved per component (see pvs__vx_orient): 3+ triangle components certified, others marked touched.
-   Allocates b->queue (kept for the leak flood), frees other scratch. */
+/* Step 1, solid proved per component (see pvs__vx_orient): 3+ triangle components certified. Allocates b->queue (kept
+   for leak flood), frees other scratch. */
 PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
 	static const int xyz[3] = {0, 1, 2};
 	pvs_occluders *o = b->o;
@@ -12015,9 +11979,9 @@ PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
 	}
 }
 
-/* Step 3, leak diagnostic: 6-connected flood from the grid border through voxels not touched, ground or explicit (a
-   path meeting no triangle). info.leak_cells counts cells reached; info.leak_cell, leak_point: the lowest, a reached
-   voxel. Uses b->queue (total entries). */
+/* Step 3, leak diagnostic: 6-connected flood from grid border through voxels not touched, ground or explicit (a path
+   meeting no triangle). info.leak_cells: cells reached; info.leak_cell, leak_point: the lowest, a reached voxel. Uses
+   b->queue (total entries). */
 PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
 	pvs_occluders *o = b->o;
 	const pvs_occluders_desc *d = b->d;
@@ -12194,7 +12158,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
 	if (pvs__vx_build_columns(&b) != PVS_OK || pvs__vx_build_excluded(&b) != PVS_OK) goto oom;
 	pvs__vx_topo_free(&b.a, &b.tp, b.s->triangle_count);
 	pvs__vx_erode_merge(&b, r);
-	pvs__vx_build_free(&b); /* frees b.tmp, b.queue, b.line */
+	pvs__vx_build_free(&b);
 	if (!o->boxes) {
 		pvs_occluders_destroy(o);
 		return PVS__OOM(err, "occluder boxes");
@@ -12262,36 +12226,456 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, ui
 	return o->chains;
 }
 
+/* ---- view cells from walkable space ---- */
+
+typedef struct pvs__wsample {
+	uint32_t col;	  /* column iu + nu iv */
+	float h;		  /* floor height */
+	uint32_t next[2]; /* the first sample linked in column +u, +v; PVS__WNONE */
+} pvs__wsample;
+#define PVS__WNONE 0xffffffffu
+
+typedef struct pvs__walk {
+	const pvs_scene *s;
+	pvs_walkable_desc d;
+	int u, v, up;
+	double u0, v0, hs, eps;
+	uint32_t nu, nv, *first, *local, *global;
+	pvs__wsample *w;
+	size_t n, cap;
+	pvs__vx_topo tp;		 /* the meshes' components (>>occluders), those standing on the ground closed by it */
+	pvs_box *cbox;			 /* per component: its box if closed, else empty */
+	pvs_kdtree *solids;		 /* over cbox */
+} pvs__walk;
+
+/* 1 when p is inside a closed mesh: the parity of its crossings above p (ambiguous: not inside). */
+PVS__STATIC int pvs__walk_inside(const pvs__walk *k, const float p[3]) {
+	uint32_t n = 0, i;
+	const uint32_t *items = pvs_kdtree_leaf_items(k->solids, p, &n);
+	pvs_box b;
+	memcpy(b.min, p, sizeof(b.min));
+	memcpy(b.max, p, sizeof(b.max));
+	for (i = 0; i < n; ++i)
+		if (pvs__box_contains_point(k->cbox + items[i], p) && pvs__vx_point_parity(k->s, &k->tp, items[i], &b) == 1)
+			return 1;
+	return 0;
+}
+
+/* k->tp, k->cbox and k->solids. */
+PVS__STATIC pvs_result pvs__walk_solids(pvs__walk *k, pvs_error *err) {
+	const pvs_scene *s = k->s;
+	pvs_kdtree_desc kd;
+	uint32_t c, t;
+	if (pvs__vx_topology(s, s->bounds.min[k->up], &k->d.allocator, &k->tp) != PVS_OK) return PVS__OOM(err, "meshes");
+	k->cbox = (pvs_box *)pvs__alloc_array(&k->d.allocator, k->tp.comp_count + 1, sizeof(pvs_box));
+	if (!k->cbox) return PVS__OOM(err, "mesh boxes");
+	for (c = 0; c < k->tp.comp_count; ++c) {
+		int closed = k->tp.open_first[c] == k->tp.open_first[c + 1];
+		k->cbox[c] = pvs__box_empty();
+		for (t = k->tp.comp_first[c]; closed && t < k->tp.comp_first[c + 1]; ++t) {
+			const uint32_t *ix = s->indices + 3 * (size_t)k->tp.tris[t];
+			pvs__box_add_point(k->cbox + c, s->positions + 3 * (size_t)ix[0]);
+			pvs__box_add_point(k->cbox + c, s->positions + 3 * (size_t)ix[1]);
+			pvs__box_add_point(k->cbox + c, s->positions + 3 * (size_t)ix[2]);
+		}
+	}
+	memset(&kd, 0, sizeof(kd));
+	kd.boxes = k->cbox;
+	kd.count = k->tp.comp_count;
+	kd.allocator = k->d.allocator;
+	return pvs_kdtree_create(&kd, &k->solids, err);
+}
+
+/* A point over column col at height h (the walk's axes). */
+PVS__STATIC void pvs__walk_point(const pvs__walk *k, uint32_t col, double h, float p[3]) {
+	p[k->u] = (float)(k->u0 + (col % k->nu + 0.5) * k->hs);
+	p[k->v] = (float)(k->v0 + (col / k->nu + 0.5) * k->hs);
+	p[k->up] = (float)h;
+}
+
+/* 1 when p's eye is in a view volume (or there are none). */
+PVS__STATIC int pvs__walk_in_volumes(const pvs__walk *k, const float p[3]) {
+	float e[3];
+	uint32_t i;
+	memcpy(e, p, sizeof(e));
+	e[k->up] += k->d.eye_height;
+	for (i = 0; i < k->d.volume_count; ++i)
+		if (pvs__box_contains_point(k->d.volumes + i, e)) return 1;
+	return !k->d.volumes;
+}
+
+/* The floors of one column, top down: hits on surfaces no steeper than max_slope with head room free above. */
+PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
+	const pvs_scene *s = k->s;
+	float o[3], dir[3] = {0, 0, 0}, p[3], a[3];
+	double cmin = cos((double)k->d.max_slope), top = (double)s->bounds.max[k->up] + 4.0 * k->eps, t = 0.0;
+	double range = top - (double)s->bounds.min[k->up] + 4.0 * k->eps;
+	uint32_t hits;
+	dir[k->up] = -1.0f;
+	for (hits = 0; hits < 256; ++hits) {
+		pvs_hit hit;
+		double e1[3], e2[3], nrm[3];
+		const uint32_t *tri;
+		int j;
+		pvs__walk_point(k, col, top - t, o);
+		if (t >= range || !pvs_scene_raycast(s, o, dir, (float)(range - t), &hit)) break;
+		t += hit.t;
+		tri = s->indices + 3 * (size_t)hit.triangle;
+		for (j = 0; j < 3; ++j) {
+			e1[j] = (double)s->positions[3 * (size_t)tri[1] + j] - s->positions[3 * (size_t)tri[0] + j];
+			e2[j] = (double)s->positions[3 * (size_t)tri[2] + j] - s->positions[3 * (size_t)tri[0] + j];
+		}
+		nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
+		nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
+		nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+		pvs__walk_point(k, col, top - t, p);
+		memcpy(a, p, sizeof(a));
+		a[k->up] = (float)(top - t + k->eps);
+		p[k->up] = (float)(top - t + k->d.head_room);
+		if (pvs__dabs(nrm[k->up]) >= cmin * sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]) &&
+			!pvs_scene_segment_blocked(s, a, p) &&
+			!(p[k->up] = (float)(top - t + 0.5 * k->d.head_room), pvs__walk_inside(k, p))) { /* not in a solid */
+			p[k->up] = (float)(top - t);
+			if (pvs__walk_in_volumes(k, p)) {
+				if (!pvs__grow(&k->d.allocator, (void **)&k->w, &k->cap, k->n + 1, sizeof(pvs__wsample))) return 0;
+				k->w[k->n].col = col;
+				k->w[k->n].h = p[k->up];
+				k->w[k->n].next[0] = k->w[k->n].next[1] = PVS__WNONE;
+				++k->n;
+			}
+		}
+		t += k->eps; /* on below this surface */
+	}
+	return 1;
+}
+
+/* Links samples of neighbouring columns a step apart whose knee-high segment is free; local: only within a square. */
+PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent, int local) {
+	double climb = pvs__dmax(k->d.step_height, k->hs * tan((double)k->d.max_slope)); /* steps or a ramp, stairs */
+	size_t a, b;
+	uint32_t dirn, col;
+	for (a = 0; a < k->n; ++a) parent[a] = (uint32_t)a;
+	for (a = 0; a < k->n; ++a)
+		for (dirn = 0; dirn < 2; ++dirn) {
+			uint32_t iu = k->w[a].col % k->nu, iv = k->w[a].col / k->nu;
+			uint32_t i2 = dirn ? iv + 1 : iu + 1;
+			if (i2 >= (dirn ? k->nv : k->nu) || (local && i2 % 4 == 0)) continue; /* the grid's edge, or the square's */
+			col = k->w[a].col + (dirn ? k->nu : 1);
+			for (b = k->first[col]; b < k->first[col + 1]; ++b) {
+				float p[3], q[3];
+				if (pvs__dabs((double)k->w[a].h - k->w[b].h) > climb) continue;
+				pvs__walk_point(k, k->w[a].col, k->w[a].h + k->d.step_height + k->eps, p); /* knee to knee */
+				pvs__walk_point(k, col, k->w[b].h + k->d.step_height + k->eps, q);
+				if (pvs_scene_segment_blocked(k->s, p, q)) continue;
+				if (k->w[a].next[dirn] == PVS__WNONE) k->w[a].next[dirn] = (uint32_t)b;
+				{
+					uint32_t ra = pvs__uf_find(parent, (uint32_t)a), rb = pvs__uf_find(parent, (uint32_t)b);
+					if (ra != rb) parent[ra > rb ? ra : rb] = ra < rb ? ra : rb;
+				}
+			}
+		}
+}
+
+/* A group of linked samples in one square: its height range and column bounds. */
+typedef struct pvs__wgroup {
+	uint32_t square, root, count, lo_u, hi_u, lo_v, hi_v, used;
+	float lo, hi;
+} pvs__wgroup;
+
+PVS__STATIC int pvs__wgroup_before(const void *pa, const void *pb) {
+	const pvs__wgroup *a = (const pvs__wgroup *)pa, *b = (const pvs__wgroup *)pb;
+	if (a->square != b->square) return a->square < b->square;
+	return a->lo < b->lo || (a->lo == b->lo && a->root < b->root);
+}
+
+/* 1 when the group is one level over a rectangle of columns (all of them). */
+PVS__STATIC int pvs__wgroup_rect(const pvs__walk *k, const pvs__wgroup *g) {
+	return g->count == (g->hi_u - g->lo_u + 1) * (g->hi_v - g->lo_v + 1) && g->hi - g->lo <= k->d.step_height;
+}
+
+/* The sample of group g in column col, or PVS__WNONE. */
+PVS__STATIC uint32_t pvs__walk_sample_of(const pvs__walk *k, const pvs__wgroup *g, uint32_t col) {
+	uint32_t a;
+	for (a = k->first[col]; a < k->first[col + 1]; ++a)
+		if (pvs__uf_find(k->local, a) == g->root) return a;
+	return PVS__WNONE;
+}
+
+/* 1 when rectangle b continues rectangle a across a's square side dirn (0: +u, 1: +v): the same extent along the side,
+   every pair of samples across it linked, the heights of both and [lo, hi] within a step. */
+PVS__STATIC int pvs__walk_joins(const pvs__walk *k, const pvs__wgroup *a, const pvs__wgroup *b, uint32_t dirn, float lo,
+								float hi) {
+	uint32_t i, n = dirn ? a->hi_u - a->lo_u + 1 : a->hi_v - a->lo_v + 1;
+	if (b->used || !pvs__wgroup_rect(k, b) ||
+		(b->hi > hi ? b->hi : hi) - (b->lo < lo ? b->lo : lo) > k->d.step_height ||
+		(dirn ? a->hi_v % 4 != 3 || b->lo_v != a->hi_v + 1 || b->lo_u != a->lo_u || b->hi_u != a->hi_u
+			  : a->hi_u % 4 != 3 || b->lo_u != a->hi_u + 1 || b->lo_v != a->lo_v || b->hi_v != a->hi_v))
+		return 0;
+	for (i = 0; i < n; ++i) {
+		uint32_t ca = dirn ? a->hi_v * k->nu + a->lo_u + i : (a->lo_v + i) * k->nu + a->hi_u;
+		uint32_t sa = pvs__walk_sample_of(k, a, ca), sb = pvs__walk_sample_of(k, b, ca + (dirn ? k->nu : 1));
+		if (sa == PVS__WNONE || sb == PVS__WNONE || k->w[sa].next[dirn] != sb) return 0;
+	}
+	return 1;
+}
+
+/* The group of square (gx, gz) continuing a across side dirn within [lo, hi], or NULL. */
+PVS__STATIC pvs__wgroup *pvs__walk_find(const pvs__walk *k, pvs__wgroup *g, const uint32_t *sq_first, uint32_t gx,
+										uint32_t gz, const pvs__wgroup *a, uint32_t dirn, float lo, float hi) {
+	uint32_t gnu = (k->nu + 3) / 4, sq = gz * gnu + gx, i;
+	if (gx >= gnu || gz >= (k->nv + 3) / 4) return NULL;
+	for (i = sq_first[sq]; i < sq_first[sq + 1]; ++i)
+		if (pvs__walk_joins(k, a, g + i, dirn, lo, hi)) return g + i;
+	return NULL;
+}
+
+/* Emits the box over columns [u0, u1] and half a spacing more, from a quarter eye height over lo to eye height over
+   hi, clipped to the first view volume it meets. */
+PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, uint32_t v0, uint32_t v1, float lo,
+								float hi, pvs_box *cells, uint32_t capacity, uint32_t *n) {
+	pvs_box b;
+	uint32_t m;
+	b.min[k->u] = (float)(k->u0 + (u0 - 0.5) * k->hs); /* up to the next columns' centres: the floor up to a wall */
+	b.min[k->v] = (float)(k->v0 + (v0 - 0.5) * k->hs);
+	b.max[k->u] = (float)(k->u0 + (u1 + 1.5) * k->hs);
+	b.max[k->v] = (float)(k->v0 + (v1 + 1.5) * k->hs);
+	b.min[k->up] = lo + 0.25f * k->d.eye_height;
+	b.max[k->up] = hi + k->d.eye_height;
+	for (m = 0; m < k->d.volume_count; ++m)
+		if (pvs__box_overlap(&b, k->d.volumes + m)) {
+			pvs__box_clip(&b, k->d.volumes + m);
+			break;
+		}
+	if (cells && *n < capacity) cells[*n] = b;
+	++*n;
+}
+
+/* A rectangle group grown over neighbouring squares (up to max_merge per side, rows of equal extent), or any other
+   group as one box per run of equal sample rows. */
+PVS__STATIC void pvs__walk_merge(const pvs__walk *k, pvs__wgroup *g, const uint32_t *sq_first, pvs__wgroup *a0,
+								 pvs_box *cells, uint32_t capacity, uint32_t *n) {
+	pvs__wgroup *run[64], *row[8];
+	uint32_t nr = 1, wide = 1, tall = 1, i, j, gnu = (k->nu + 3) / 4, gx = a0->square % gnu, gz = a0->square / gnu;
+	float lo = a0->lo, hi = a0->hi;
+	run[0] = a0;
+	a0->used = 1;
+	if (!pvs__wgroup_rect(k, a0) && 4 * a0->count >= 3 * (a0->hi_u - a0->lo_u + 1) * (a0->hi_v - a0->lo_v + 1)) {
+		pvs__walk_emit(k, a0->lo_u, a0->hi_u, a0->lo_v, a0->hi_v, lo, hi, cells, capacity, n); /* mostly floor */
+		return;
+	}
+	if (!pvs__wgroup_rect(k, a0)) { /* one box per run of rows of equal extent */
+		uint32_t v, r0 = a0->lo_v, e[2] = {1, 0}, f[2];
+		for (v = a0->lo_v; v <= a0->hi_v + 1; ++v) {
+			f[0] = 1;
+			f[1] = 0;
+			for (i = a0->lo_u; v <= a0->hi_v && i <= a0->hi_u; ++i)
+				if (pvs__walk_sample_of(k, a0, v * k->nu + i) != PVS__WNONE) {
+					if (f[0] > f[1]) f[0] = i;
+					f[1] = i;
+				}
+			if (v > a0->lo_v && (f[0] != e[0] || f[1] != e[1])) {
+				if (e[0] <= e[1]) pvs__walk_emit(k, e[0], e[1], r0, v - 1, lo, hi, cells, capacity, n);
+				r0 = v;
+			}
+			e[0] = f[0];
+			e[1] = f[1];
+		}
+		return;
+	}
+	for (; wide < k->d.max_merge; ++wide, ++nr) {
+		pvs__wgroup *q = pvs__walk_find(k, g, sq_first, gx + wide, gz, run[wide - 1], 0, lo, hi);
+		if (!q) break;
+		run[wide] = q;
+		q->used = 1;
+		lo = q->lo < lo ? q->lo : lo;
+		hi = q->hi > hi ? q->hi : hi;
+	}
+	for (; tall < k->d.max_merge; ++tall) {
+		float l2 = lo, h2 = hi;
+		for (i = 0; i < wide; ++i) {
+			row[i] = pvs__walk_find(k, g, sq_first, gx + i, gz + tall, run[(tall - 1) * wide + i], 1, l2, h2);
+			if (!row[i] || (i && !pvs__walk_joins(k, row[i - 1], row[i], 0, l2, h2))) break;
+			row[i]->used = 1; /* held while the row is tried */
+			l2 = row[i]->lo < l2 ? row[i]->lo : l2;
+			h2 = row[i]->hi > h2 ? row[i]->hi : h2;
+		}
+		if (i < wide) {
+			for (j = 0; j < i; ++j) row[j]->used = 0;
+			break;
+		}
+		for (i = 0; i < wide; ++i) run[nr++] = row[i];
+		lo = l2;
+		hi = h2;
+	}
+	pvs__walk_emit(k, run[0]->lo_u, run[nr - 1]->hi_u, run[0]->lo_v, run[nr - 1]->hi_v, lo, hi, cells, capacity, n);
+}
+
+/* Groups the linked samples per square and emits the cells (see pvs_walkable_cells). */
+PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t capacity, uint32_t *count,
+									   pvs_error *err) {
+	const pvs_allocator *al = &k->d.allocator;
+	uint32_t gnu = (k->nu + 3) / 4, nsq = gnu * ((k->nv + 3) / 4), i, n = 0, *sq_first;
+	size_t ng = 0, a;
+	pvs__wgroup *g = (pvs__wgroup *)pvs__alloc_array(al, k->n ? k->n : 1, sizeof(pvs__wgroup));
+	sq_first = (uint32_t *)pvs__alloc_array(al, (size_t)nsq + 1, sizeof(uint32_t));
+	if (!g || !sq_first) {
+		pvs__free_array(al, g, k->n ? k->n : 1, sizeof(pvs__wgroup));
+		pvs__free_array(al, sq_first, (size_t)nsq + 1, sizeof(uint32_t));
+		return PVS__OOM(err, "walkable groups");
+	}
+	for (a = 0; a < k->n; ++a) { /* one group per local root (its lowest sample) */
+		uint32_t r = pvs__uf_find(k->local, (uint32_t)a), iu = k->w[a].col % k->nu, iv = k->w[a].col / k->nu;
+		pvs__wgroup *q;
+		if (r == a) {
+			q = g + ng++;
+			memset(q, 0, sizeof(*q));
+			q->square = iv / 4 * gnu + iu / 4;
+			q->root = r;
+			q->lo = q->hi = k->w[a].h;
+			q->lo_u = q->hi_u = iu;
+			q->lo_v = q->hi_v = iv;
+			k->global[a] = (uint32_t)(ng - 1); /* the root's group, for its members below */
+		}
+		q = g + k->global[r];
+		++q->count;
+		if (k->w[a].h < q->lo) q->lo = k->w[a].h;
+		if (k->w[a].h > q->hi) q->hi = k->w[a].h;
+		if (iu < q->lo_u) q->lo_u = iu;
+		if (iu > q->hi_u) q->hi_u = iu;
+		if (iv < q->lo_v) q->lo_v = iv;
+		if (iv > q->hi_v) q->hi_v = iv;
+	}
+	pvs__heap_sort(g, ng, sizeof(pvs__wgroup), pvs__wgroup_before);
+	memset(sq_first, 0, ((size_t)nsq + 1) * sizeof(uint32_t));
+	for (a = 0; a < ng; ++a) ++sq_first[g[a].square + 1];
+	for (i = 0; i < nsq; ++i) sq_first[i + 1] += sq_first[i];
+	for (a = 0; a < ng; ++a)
+		if (!g[a].used) pvs__walk_merge(k, g, sq_first, g + a, cells, capacity, &n);
+	*count = n;
+	pvs__free_array(al, g, k->n ? k->n : 1, sizeof(pvs__wgroup));
+	pvs__free_array(al, sq_first, (size_t)nsq + 1, sizeof(uint32_t));
+	return PVS_OK;
+}
+
+PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_desc *desc, pvs_box *cells,
+									  uint32_t capacity, uint32_t *count, pvs_error *err) {
+	pvs__walk k;
+	pvs_result r = PVS_OK;
+	size_t ncol, a, nlink = 0;
+	uint32_t c;
+	if (count) *count = 0;
+	if (!s || !count) return PVS__BAD_ARG(err, "scene and count must not be NULL");
+	memset(&k, 0, sizeof(k));
+	if (desc) k.d = *desc;
+	if (!pvs__finite(k.d.cell_size) || !pvs__finite(k.d.eye_height) || !pvs__finite(k.d.head_room) ||
+		!pvs__finite(k.d.step_height) || !pvs__finite(k.d.max_slope) ||
+		(k.d.seed && (!pvs__finite(k.d.seed[0]) || !pvs__finite(k.d.seed[1]) || !pvs__finite(k.d.seed[2]))))
+		return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "walkable: a size, height, slope or the seed is not finite");
+	if (k.d.cell_size < 0.0f || k.d.eye_height < 0.0f || k.d.head_room < 0.0f || k.d.step_height < 0.0f ||
+		k.d.max_slope < 0.0f || k.d.max_slope >= 1.5707963f || k.d.max_merge > 8 || (k.d.volume_count && !k.d.volumes))
+		return PVS__BAD_ARG(err, "walkable: negative size, slope not below pi / 2, max_merge over 8 or volumes NULL");
+	for (c = 0; c < k.d.volume_count; ++c)
+		if (!pvs__box_valid(k.d.volumes + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "view volume %u", c);
+	if (k.d.cell_size == 0.0f) k.d.cell_size = 4.0f;
+	if (k.d.eye_height == 0.0f) k.d.eye_height = 1.8f;
+	if (k.d.head_room == 0.0f) k.d.head_room = k.d.eye_height;
+	if (k.d.step_height == 0.0f) k.d.step_height = 0.5f;
+	if (k.d.max_slope == 0.0f) k.d.max_slope = 0.7853982f;
+	if (k.d.max_merge == 0) k.d.max_merge = 2;
+	k.s = s;
+	k.up = (int)s->up_axis;
+	pvs__ground_axes(s->up_axis, &k.u, &k.v);
+	k.hs = k.d.cell_size / 4.0;
+	k.u0 = s->bounds.min[k.u];
+	k.v0 = s->bounds.min[k.v];
+	k.eps = 1e-5 * (pvs__box_diagonal(&s->bounds) + fabs((double)s->bounds.max[k.up]) + 1.0);
+	if (!pvs__box_valid(&s->bounds)) {
+		pvs__ok(err);
+		return PVS_OK;
+	}
+	k.nu = (uint32_t)pvs__dmin(ceil(((double)s->bounds.max[k.u] - k.u0) / k.hs) + 1.0, 1e9);
+	k.nv = (uint32_t)pvs__dmin(ceil(((double)s->bounds.max[k.v] - k.v0) / k.hs) + 1.0, 1e9);
+	ncol = (size_t)k.nu * k.nv;
+	if ((double)k.nu * k.nv > (double)(1u << 26))
+		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "walkable: %.0f sample columns (a larger cell_size)",
+						 (double)k.nu * k.nv);
+	k.first = (uint32_t *)pvs__alloc_array(&k.d.allocator, ncol + 1, sizeof(uint32_t));
+	r = k.first ? pvs__walk_solids(&k, err) : PVS__OOM(err, "walkable columns");
+	for (c = 0; c < ncol && r == PVS_OK; ++c) {
+		k.first[c] = (uint32_t)k.n;
+		if (!pvs__walk_column(&k, c)) r = PVS__OOM(err, "walkable samples");
+	}
+	if (k.first) k.first[ncol] = (uint32_t)k.n;
+	if (r == PVS_OK) {
+		nlink = k.n ? k.n : 1;
+		k.local = (uint32_t *)pvs__alloc_array(&k.d.allocator, nlink, sizeof(uint32_t));
+		k.global = (uint32_t *)pvs__alloc_array(&k.d.allocator, nlink, sizeof(uint32_t));
+		if (!k.local || !k.global) r = PVS__OOM(err, "walkable links");
+	}
+	if (r == PVS_OK && k.d.seed) { /* keep the floors a walk reaches from the one under the seed */
+		uint32_t keep = PVS__WNONE;
+		float p[3];
+		pvs__walk_link(&k, k.global, 0);
+		for (a = 0; a < k.n; ++a) {
+			pvs__walk_point(&k, k.w[a].col, k.w[a].h, p);
+			if (pvs__dabs(p[k.u] - k.d.seed[k.u]) <= 0.5 * k.hs && pvs__dabs(p[k.v] - k.d.seed[k.v]) <= 0.5 * k.hs &&
+				k.w[a].h <= k.d.seed[k.up] + k.d.step_height &&
+				(keep == PVS__WNONE || k.w[a].h > k.w[keep].h))
+				keep = (uint32_t)a;
+		}
+		if (keep != PVS__WNONE) keep = pvs__uf_find(k.global, keep);
+		for (a = 0, c = 0; a < k.n; ++a) /* compacted, still in column order */
+			if (keep != PVS__WNONE && pvs__uf_find(k.global, (uint32_t)a) == keep) k.w[c++] = k.w[a];
+		k.n = c;
+		memset(k.first, 0, (ncol + 1) * sizeof(uint32_t));
+		for (a = 0; a < k.n; ++a) ++k.first[k.w[a].col + 1];
+		for (c = 0; c < ncol; ++c) k.first[c + 1] += k.first[c];
+		for (a = 0; a < k.n; ++a) k.w[a].next[0] = k.w[a].next[1] = PVS__WNONE;
+	}
+	if (r == PVS_OK) {
+		pvs__walk_link(&k, k.local, 1);
+		r = pvs__walk_cells(&k, cells, capacity, count, err);
+	}
+	pvs__free_array(&k.d.allocator, k.first, ncol + 1, sizeof(uint32_t));
+	pvs__free_array(&k.d.allocator, k.local, nlink, sizeof(uint32_t));
+	pvs__free_array(&k.d.allocator, k.global, nlink, sizeof(uint32_t));
+	pvs__free_array(&k.d.allocator, k.w, k.cap, sizeof(pvs__wsample));
+	pvs__free_array(&k.d.allocator, k.cbox, k.tp.comp_count + 1, sizeof(pvs_box));
+	pvs__vx_topo_free(&k.d.allocator, &k.tp, s->triangle_count);
+	pvs_kdtree_destroy(k.solids);
+	if (r == PVS_OK) pvs__ok(err);
+	return r;
+}
+
 // >>vocc
 /* ---------------------------------------------------------------------------------------------- */
 /* vocc: virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): aggregate umbrae grown from seeds */
 /* along active supporting and separating lines (§3), 2.5D by height slices (§3.1), the greedy    */
 /* selection (Fig. 6), five quantized bytes per occluder, the PVS rebuilt on cell entry (§2, §4)  */
 /* ---------------------------------------------------------------------------------------------- */
-/* 2D (§3): cell C is a rectangle, occluders opaque segments. Segments whose ends coincide exactly and close a ring
+/* 2D (§3): cell C is a rectangle, occluders opaque segments. Segments closing a ring with exactly equal ends
    form a wall loop: a point inside (odd crossings) is hidden from all outside, and a segment crossing its hull from
    outside to outside crosses the loop, so a loop whose hull misses C is a convex blocker (its hull) for points outside
    it. §3's objects: these hulls (buildings) and other segments.
    Conservative: x is hidden iff every segment C-x meets a blocker. A convex blocker disjoint from C, not containing x,
    covers an interval of C's fan from x, wholly before or behind C per ray (disjoint convex sets seen from a point keep
-   their order): one ray decides; x is hidden if the intervals before C cover the fan (pvs__vo_hidden). Along a line the
+   their order): one ray decides; x is hidden if intervals before C cover the fan (pvs__vo_hidden). Along a line the
    answer changes only at object boundaries or common tangents of two objects (or object and C) through C; the hidden
-   set is closed, so one point per interval between events finds the hidden parts up to rounding (pvs__vo_line_hidden).
+   set is closed, so one point per interval between events finds hidden parts up to rounding (pvs__vo_line_hidden).
    Each virtual occluder is so checked after final rounding, against its aggregate's blockers (a subset).
    Growth (§3): seeds by subtended angle; an aggregate grows both sides along active supporting line P (outer tangent
    of C and aggregate) and separating polyline Q (first the inner tangent). Object B hit by an active line: (1) meets
    umbra U (a probe point of B hidden without B): joins U, P and Q move to it, a new occluder goes behind B or (3, found
-   on Q) the furthest one extends; (2) meets only Q: bends Q, joins the blockers so later objects fuse through it. A new
+   on Q) the furthest one extends; (2) meets only Q: bends Q, joins blockers so later objects fuse through it. A new
    occluder dumps the current one into the dense set ("periodically dumped", §3). */
 
 #define PVS__VO_NONE 0xffffffffu
 #define PVS__VO_MAXH 64u		/* max hull vertices of a loop blocker */
 #define PVS__VO_ATOL 1e-11		/* pseudo-angle overlap joining spans of other vertices */
-#define PVS__VO_RTOL 1e-9		/* lengths, times the context's scale */
+#define PVS__VO_RTOL 1e-9		/* lengths, times context's scale */
 #define PVS__VO_MAXG 64u		/* max objects per aggregate */
 #define PVS__VO_MAXSTEP 96u		/* max candidates per seed */
 
-/* *p grown to need elements (doubling). */
 PVS__STATIC int pvs__vo_reserve(const pvs_allocator *a, void **p, uint32_t *cap, size_t need, size_t elem) {
 	size_t c = *cap;
 	if (need > 0x7fffffffu || !pvs__grow(a, p, &c, need, elem)) return 0;
@@ -12378,8 +12762,7 @@ PVS__STATIC void pvs__vo_bb_add(double *bb, const double *p) {
 	if (p[1] > bb[3]) bb[3] = p[1];
 }
 
-/* Convex hull (Andrew's monotone chain), ccw, collinear points dropped, into idx (point indices); keys: n scratch.
-   Returns its size. */
+/* Convex hull (Andrew's monotone chain), ccw, no collinear points: its size, point indices in idx; keys: n scratch. */
 PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__key_index *keys, uint32_t *idx) {
 	uint32_t i, k = 0, t;
 	for (i = 0; i < n; ++i) { keys[i].key = pts[2 * i]; keys[i].index = i; }
@@ -12435,8 +12818,8 @@ PVS__STATIC void pvs__vprep_vertex_ids(pvs__vprep *p, pvs__vprep_scratch *w) {
 	w->nv = nv;
 }
 
-/* Segment graph per vertex: degree (w->deg), first two segments (w->adj), component root (w->uf); per root w->idx = 1
-   if not a loop (a vertex of degree != 2). p->seg_loop = -1. */
+/* Per vertex: degree (w->deg), first two segments (w->adj), component root (w->uf); per root w->idx = 1 if not a loop
+   (a vertex of degree != 2). p->seg_loop = -1. */
 PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
 	uint32_t *deg = w->deg, *adj = w->adj, *uf = w->uf, *idx = w->idx, m = p->nseg, nv = w->nv, i;
 	for (i = 0; i < nv; ++i) { deg[i] = 0; uf[i] = i; }
@@ -12459,8 +12842,7 @@ PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
 		if (deg[i] != 2) idx[uf[i]] = 1;
 }
 
-/* Wall loops (components of degree-2 vertices), walked from the lowest segment into ring_seg, ring_pt, loop_start;
-   lowest top, box, hull (hull_pt, hull_vid, hull_start). */
+/* Wall loops (degree-2 components) from their lowest segment into ring_seg/pt, loop_start; lowest top, box, hull_*. */
 PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 	uint32_t *adj = w->adj, *uf = w->uf, *idx = w->idx, *hidx = w->hidx, m = p->nseg, ring = 0, h = 0, i;
 	p->nloop = 0;
@@ -12496,7 +12878,7 @@ PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 		}
 		hn = pvs__vo_hull(p->ring_pt + 2 * ring, count, w->keys, hidx);
 		p->hull_start[l] = h;
-		/* ring point q starts segment q: id of the vertex shared with segment q - 1 */
+		/* ring point q starts segment q: id of vertex shared with segment q - 1 */
 		for (k = 0; k < hn; ++k) {
 			uint32_t q = hidx[k], sq = p->ring_seg[ring + q], sp = p->ring_seg[ring + (q + count - 1) % count];
 			uint32_t a0 = p->seg_vid[2 * sq], a1 = p->seg_vid[2 * sq + 1];
@@ -12537,8 +12919,7 @@ PVS__STATIC void pvs__vprep_objects(pvs__vprep *p) {
 	}
 }
 
-/* Bucket grid: ~2 objects per bucket, <= 1024 x 1024; an object in the buckets its box covers, a long wall in those
-   along it. OUT_OF_MEMORY or PVS_OK. */
+/* Bucket grid (~2 objects a bucket, <= 1024^2): an object in buckets its box covers, a long wall in those along it. */
 PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 	double w, hh, cs;
 	size_t total = 0, cells;
@@ -12573,8 +12954,7 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 			if (x1 >= p->gw) x1 = p->gw - 1;
 			if (y1 >= p->gh) y1 = p->gh - 1;
 			if (p->obj_ref[i] >= p->nloop && (uint64_t)(x1 - x0 + 1) * (y1 - y0 + 1) > 16) {
-				/* long wall: buckets along it, 1/4 bucket apart (a missed bucket hides it from the search, not a
-				   check) */
+				/* long wall: buckets along it 1/4 apart (a missed one hides it from search, not a check) */
 				const double *sg = p->seg + 4 * (size_t)(p->obj_ref[i] - p->nloop);
 				double len = sqrt((sg[2] - sg[0]) * (sg[2] - sg[0]) + (sg[3] - sg[1]) * (sg[3] - sg[1]));
 				uint32_t steps = (uint32_t)(4.0 * len / cs) + 1, t, last = 0xffffffffu;
@@ -12603,7 +12983,7 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 			p->gitems = total;
 			p->gitem = (uint32_t *)pvs__alloc_array(al, total + 1, sizeof(uint32_t));
 			if (!p->gitem) return PVS_ERROR_OUT_OF_MEMORY;
-			/* prefix sums: gstart[c + 1] ends bucket c; filling moves it to the start */
+			/* prefix sums: gstart[c + 1] ends bucket c; filling moves it to start */
 			for (c2 = 0; c2 < cells; ++c2) p->gstart[c2 + 1] += p->gstart[c2];
 		}
 	}
@@ -12613,8 +12993,7 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 	return PVS_OK;
 }
 
-/* Prepares n segments (4 doubles, ground; zero-length dropped) and tops: vertex ids (exact), loops, hulls, objects,
-   buckets. */
+/* Prepares n segments (4 doubles, ground; 0-length dropped), tops: vertex ids (exact), loops, hulls, objects, grid. */
 PVS__STATIC pvs_result pvs__vprep_create(const pvs_allocator *al, const double *seg, const float *top, uint32_t n,
 										 pvs__vprep **out) {
 	pvs__vprep *p;
@@ -12672,7 +13051,7 @@ done:
 	pvs__free_array(al, w.idx, 2 * (size_t)m + 2, sizeof(uint32_t));
 	pvs__free_array(al, w.hidx, 2 * (size_t)m + 2, sizeof(uint32_t));
 	if (r != PVS_OK) {
-		p->nseg = m; /* sizes for the frees */
+		p->nseg = m; /* sizes for frees */
 		pvs__vprep_destroy(p);
 		return r;
 	}
@@ -12696,11 +13075,11 @@ typedef struct pvs__vo_span {
 	uint32_t is, ie;		/* ends' vertex ids (PVS__VO_NONE) */
 } pvs__vo_span;
 
-/* Dense-set virtual occluder: ends in the cell frame as checked after rounding, and as stored. */
+/* Dense-set virtual occluder: ends in cell frame as checked after rounding, and as stored. */
 typedef struct pvs__vo_cand {
 	double a[2], b[2];
 	float f[4];				/* pvs_vocc_2d: world ends */
-	uint8_t q[5];			/* the file's bytes */
+	uint8_t q[5];			/* file bytes */
 } pvs__vo_cand;
 
 typedef struct pvs__vo_side {
@@ -12727,7 +13106,7 @@ typedef struct pvs__vctx {
 	double *vx;
 	uint32_t *vid;
 	uint32_t nvx, capvx, capvid;
-	uint32_t *pfirst, *pcount; /* per prepared object: its blockers in this slice */
+	uint32_t *pfirst, *pcount; /* per prepared object: its blockers in slice */
 	uint32_t epoch, visit;
 	uint32_t *g, ng, capg;	   /* aggregate's blockers */
 	uint32_t *k, nk, capk;	   /* objects fused into its umbra (seed, cases 1, 3) */
@@ -12789,7 +13168,7 @@ PVS__STATIC void pvs__vo_cell_frame(pvs__vctx *c, const double *cmin, const doub
 	c->corner[6] = c->cmin[0]; c->corner[7] = c->cmax[1];
 }
 
-/* Cell frame (ground rectangle, world) over the prepared occluders. */
+/* Cell frame (ground rectangle, world) over prepared occluders. */
 PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs__vprep *p, const double cmin[2],
 							   const double cmax[2], double range) {
 	int k;
@@ -12814,7 +13193,7 @@ PVS__STATIC int pvs__vctx_init(pvs__vctx *c, const pvs_allocator *al, const pvs_
 	return 1;
 }
 
-/* Least t in [0, tmax] where ray x + t w enters the cell grown by g, -1 on a miss (slabs). */
+/* Least t in [0, tmax] where ray x + t w enters cell grown by g, -1 on miss (slabs). */
 PVS__STATIC double pvs__vo_ray_cell(const pvs__vctx *c, const double *x, const double *w, double g, double tmax) {
 	double s0 = 0.0, s1 = tmax;
 	int k;
@@ -12832,7 +13211,7 @@ PVS__STATIC double pvs__vo_ray_cell(const pvs__vctx *c, const double *x, const d
 	return s0 <= s1 ? s0 : -1.0;
 }
 
-/* 1 if ccw convex polygon v (n >= 3) meets the cell grown by tol (separating axes). */
+/* 1 if ccw convex polygon v (n >= 3) meets cell grown by tol (separating axes). */
 PVS__STATIC int pvs__vo_poly_meets_cell(const pvs__vctx *c, const double *v, uint32_t n) {
 	double lo[2] = {DBL_MAX, DBL_MAX}, hi[2] = {-DBL_MAX, -DBL_MAX};
 	uint32_t i, k;
@@ -12891,7 +13270,7 @@ PVS__STATIC uint32_t pvs__vo_add_obj(pvs__vctx *c, const double *pts, const uint
 	return c->nobj++;
 }
 
-/* Wall s as a blocker if it reaches h and misses the cell grown by tol. */
+/* Wall s as a blocker if it reaches h and misses cell grown by tol. */
 PVS__STATIC void pvs__vo_add_seg(pvs__vctx *c, uint32_t s, float h) {
 	const pvs__vprep *p = c->p;
 	double a[2], d[2];
@@ -12901,8 +13280,7 @@ PVS__STATIC void pvs__vo_add_seg(pvs__vctx *c, uint32_t s, float h) {
 	if (pvs__vo_ray_cell(c, a, d, c->tol, 1.0) < 0.0) pvs__vo_add_obj(c, p->seg + 4 * s, p->seg_vid + 2 * s, 2, -1);
 }
 
-/* Blockers at slice height h: loops reaching h whose hull misses the cell as hulls, other walls reaching h as segments
-   unless they meet the cell. */
+/* Slice h's blockers: loops reaching h whose hull misses cell (as hulls), other walls reaching h and missing it. */
 PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 	const pvs__vprep *p = c->p;
 	uint32_t i, j;
@@ -12936,7 +13314,7 @@ PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 
 /* ---- exact hidden tests ---- */
 
-/* 1 if x is inside wall loop l (odd crossings), over tol from its walls. Only loops whose hull misses the cell. */
+/* 1 if x is inside wall loop l (odd crossings), over tol from its walls. Only loops whose hull misses cell. */
 PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x) {
 	const pvs__vprep *p = c->p;
 	uint32_t s = p->loop_start[l], n = p->loop_start[l + 1] - s, i, odd = 0;
@@ -12955,7 +13333,7 @@ PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x)
 	return (int)odd;
 }
 
-/* Entry distance of ray x + s w into o, -1 on a miss. */
+/* Entry distance of ray x + s w into o, -1 on miss. */
 PVS__STATIC double pvs__vo_ray_obj(const pvs__vctx *c, const pvs__vobj *o, const double *x, const double *w) {
 	const double *v = c->vx + 2 * (size_t)o->first;
 	if (o->n == 2) {
@@ -13013,7 +13391,7 @@ typedef struct pvs__vo_fan {
 	double f[2], aL, aR, bb[4];
 } pvs__vo_fan;
 
-/* Fan from x (outside the cell); 0 if no direction. */
+/* Fan from x (outside cell); 0 if no direction. */
 PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fan *fn) {
 	const double *cl, *ch;
 	double tol = c->tol;
@@ -13045,8 +13423,8 @@ PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fa
 	return 1;
 }
 
-/* Blocker o's part of the from-point test: appends to c->span at *ns (room for 2) the fan part o covers before the
-   cell, 2 intervals across the back direction. 1 if x is inside o's wall loop (hidden). */
+/* From-point test, blocker o: appends to c->span at *ns (room for 2) the fan part o covers before cell (2 if across
+   back direction). 1 if x is in o's wall loop (hidden). */
 PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double *x, const pvs__vo_fan *fn,
 								  uint32_t *ns) {
 	const double *v = c->vx + 2 * (size_t)o->first, *cl = fn->cl, *ch = fn->ch, *f = fn->f;
@@ -13081,7 +13459,7 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 	if (plo <= phi) {
 		pieces = 1;
 		sp[0][0] = plo; sp[0][1] = phi;
-	} else { /* across the back direction */
+	} else {
 		pieces = 2;
 		sp[0][0] = plo; sp[0][1] = phi + 4.0;
 		sp[1][0] = plo - 4.0; sp[1][1] = phi;
@@ -13099,7 +13477,7 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 		w[1] /= len;
 		so = pvs__vo_ray_obj(c, o, x, w);
 		sc = pvs__vo_ray_cell(c, x, w, 0.0, DBL_MAX);
-		if (!(so >= 0.0 && sc >= 0.0 && so < sc - tol)) continue; /* behind the cell, or undecided */
+		if (!(so >= 0.0 && sc >= 0.0 && so < sc - tol)) continue; /* behind cell, or undecided */
 		c->span[*ns].s = sp[j][0];
 		c->span[*ns].e = sp[j][1];
 		c->span[*ns].is = c->vid[o->first + lo];
@@ -13109,7 +13487,7 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 	return 0;
 }
 
-/* 1 if c->span[0 .. ns) (sorted here) covers fan [aL, aR]. Spans ending on the same vertex join exactly (open chain
+/* 1 if c->span[0 .. ns) (sorted here) covers fan [aL, aR]. Spans ending on one vertex join exactly (open chain
    walls), others need overlap > PVS__VO_ATOL: rounding only says "not hidden". */
 PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double aR) {
 	double reach;
@@ -13139,7 +13517,7 @@ PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double
 	return 0;
 }
 
-/* Header's from-point test: 1 if every segment from the cell to x meets one of set[0..n). Rounding only answers 0. */
+/* Header's from-point test: 1 if every segment from cell to x meets one of set[0..n). Rounding only answers 0. */
 PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, const double *x) {
 	pvs__vo_fan fn;
 	double tol = c->tol;
@@ -13170,8 +13548,7 @@ PVS__STATIC void pvs__vo_sides(const double *p, const double *q, const double *x
 	}
 }
 
-/* Common tangents of two convex vertex sets through the cell (only those change a hidden answer); need_cell 0 if one
-   set is the cell. */
+/* Common tangents through cell of convex sets a, b (only they change hidden answers); need_cell 0: a is cell. */
 PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t na, const double *b, uint32_t nb,
 									   int need_cell) {
 	uint32_t i, j;
@@ -13202,7 +13579,7 @@ PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t n
 		}
 }
 
-/* Adds o to the aggregate's blockers and event lines. */
+/* Adds o to aggregate's blockers and event lines. */
 PVS__STATIC void pvs__vo_g_add(pvs__vctx *c, uint32_t o) {
 	const pvs__vobj *b = c->obj + o;
 	uint32_t i;
@@ -13243,8 +13620,7 @@ PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, cons
 	pvs__vo_ev_push(c, n, t, t0, t1);
 }
 
-/* Hidden parts of p + t d, t in [t0, t1], for the aggregate's blockers: closed intervals into out (<= cap). Returns
-   their count. */
+/* Hidden parts of p + t d, t in [t0, t1], by aggregate's blockers: closed intervals into out (<= cap); their count. */
 PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const double *d, double t0, double t1,
 										 double *out, uint32_t cap) {
 	double bb[4], a[2], b[2], span = t1 - t0, eps;
@@ -13265,7 +13641,7 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
 		c->oom = 1;
 		return 0;
 	}
-	for (i = 0; i < c->ng; ++i) { /* blockers that can be between cell and segment */
+	for (i = 0; i < c->ng; ++i) { /* blockers maybe between cell and segment */
 		const pvs__vobj *o = c->obj + c->g[i];
 		if (o->bb[0] > bb[2] + c->tol || o->bb[2] < bb[0] - c->tol || o->bb[1] > bb[3] + c->tol ||
 			o->bb[3] < bb[1] - c->tol)
@@ -13301,7 +13677,7 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
 	pvs__vo_ev_push(c, &ne, t1, t0 - 1.0, t1 + 1.0);
 	pvs__key_index_sort(c->ev, ne);
 	eps = 1e-12 * (span + c->scale / (fabs(d[0]) + fabs(d[1]) + 1e-300));
-	for (i = 0, j = 0; i < ne; ++i) /* merge coincident events */
+	for (i = 0, j = 0; i < ne; ++i)
 		if (!j || c->ev[i].key - c->ev[j - 1].key > eps) c->ev[j++] = c->ev[i];
 	c->ev[j - 1].key = t1;
 	c->ev[0].key = t0;
@@ -13336,8 +13712,7 @@ PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const doub
 
 /* ---- growth (§3) ---- */
 
-/* First object not in or refused by the aggregate on ray o + s w (w unit), 0 < s <= smax, via buckets (*s_hit: its s);
-   PVS__VO_NONE if none. */
+/* First object not in/refused by aggregate on ray o + s w (w unit), 0 < s <= smax (*s_hit: its s), or PVS__VO_NONE. */
 PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const double *w, double smax, double *s_hit) {
 	const pvs__vprep *p = c->p;
 	double ox = o[0] + c->centre[0] - p->g0[0], oy = o[1] + c->centre[1] - p->g0[1], cs = p->gcell, best = DBL_MAX,
@@ -13346,7 +13721,7 @@ PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const doub
 	int32_t ix, iy, sx, sy, gw = (int32_t)p->gw, gh = (int32_t)p->gh;
 	uint32_t hit = PVS__VO_NONE;
 	++c->visit;
-	{ /* clip ray to the grid */
+	{
 		double lo[2], hi[2], org[2], dir[2];
 		int k;
 		lo[0] = 0.0; lo[1] = 0.0;
@@ -13401,7 +13776,7 @@ PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const doub
 	return hit;
 }
 
-/* Ray length from o along w within the analysis radius. */
+/* Ray length from o along w within analysis radius. */
 PVS__STATIC double pvs__vo_ray_len(const pvs__vctx *c, const double *o, const double *w) {
 	double b = o[0] * w[0] + o[1] * w[1], cc = o[0] * o[0] + o[1] * o[1] - c->range * c->range, disc = b * b - cc;
 	return disc > 0.0 ? -b + sqrt(disc) : 0.0;
@@ -13415,7 +13790,7 @@ PVS__STATIC int pvs__vo_unit(double *w) {
 	return 1;
 }
 
-/* Fused objects' vertices into c->pts (after the 4 cell corners if with_cell). */
+/* Fused objects' vertices into c->pts (after 4 cell corners if with_cell). */
 PVS__STATIC uint32_t pvs__vo_k_points(pvs__vctx *c, int with_cell) {
 	uint32_t i, j, n = with_cell ? 4 : 0, total = n;
 	for (i = 0; i < c->nk; ++i) total += c->obj[c->k[i]].n;
@@ -13437,9 +13812,8 @@ PVS__STATIC uint32_t pvs__vo_k_points(pvs__vctx *c, int with_cell) {
 	return n;
 }
 
-/* Active lines of the fused objects: supporting lines bridge the hull of cell and aggregate, separating lines are inner
-   common tangents; side 0 is the left seen from the cell. Bit s of which resets side s's separating line. 0 if the
-   aggregate surrounds the cell. */
+/* Active lines of fused objects: supporting lines bridge the hull of cell and aggregate, separating ones are inner
+   common tangents; side 0: left seen from cell; bit s of `which` resets side s's separating line. 0: cell inside it. */
 PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 	uint32_t n = pvs__vo_k_points(c, 1), hn, i, found = 0, s;
 	if (!n) return 0;
@@ -13457,7 +13831,7 @@ PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 		}
 	}
 	if (found != 3u) return 0;
-	/* inner tangents: cell corner to aggregate hull vertex, cell on one side, aggregate on the other */
+	/* inner tangents: cell corner to aggregate hull vertex, cell on one side, aggregate on other */
 	n = pvs__vo_k_points(c, 0);
 	hn = pvs__vo_hull(c->pts, n, c->hkeys, c->hidx);
 	for (s = 0; s < 2; ++s) {
@@ -13478,7 +13852,7 @@ PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 					sd[s].qd[0] = kp[0] - cp[0]; sd[s].qd[1] = kp[1] - cp[1];
 				}
 			}
-		if (best < 0.0 || !pvs__vo_unit(sd[s].qd)) { /* none (degenerate): follow the supporting line */
+		if (best < 0.0 || !pvs__vo_unit(sd[s].qd)) { /* none (degenerate): follow supporting line */
 			memcpy(sd[s].qo, sd[s].po, sizeof(sd[s].qo));
 			memcpy(sd[s].qd, sd[s].pd, sizeof(sd[s].qd));
 		}
@@ -13486,7 +13860,7 @@ PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 	return 1;
 }
 
-/* Case 2: side s's separating polyline bends to b's vertex keeping all of b on the aggregate's side. */
+/* Case 2: side s's separating polyline bends to b's vertex, all of b kept on aggregate's side. */
 PVS__STATIC void pvs__vo_bend(pvs__vctx *c, pvs__vo_side *sd, uint32_t s, uint32_t b) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first, *q = sd->qo;
@@ -13509,8 +13883,7 @@ PVS__STATIC void pvs__vo_bend(pvs__vctx *c, pvs__vo_side *sd, uint32_t s, uint32
 	}
 }
 
-/* 1 if a probe point of b (vertices, edge midpoints, extra) is hidden by the aggregate without b: b meets the umbra
-   (cases 1, 3). */
+/* 1 if a probe of b (vertices, edge midpoints, extra) is hidden by aggregate sans b: b meets umbra (cases 1, 3). */
 PVS__STATIC int pvs__vo_meets_umbra(pvs__vctx *c, uint32_t b, const double *extra, int nextra) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first;
@@ -13536,8 +13909,8 @@ PVS__STATIC double pvs__vo_angle(const double *p, const double *d, double t0, do
 	return fabs(atan2(a0 * b1 - a1 * b0, a0 * b0 + a1 * b1));
 }
 
-/* Hidden parts of line p + t d (d unit) in the aggregate's wedge (supporting lines widened by 1/4, within analysis
-   radius): *cur gets the one of largest angle (keep: the one around keep_t). Returns that angle, 0 if none. */
+/* Hidden parts of p + t d (d unit) in aggregate's wedge (supporting lines widened by 1/4, within analysis radius):
+   *cur gets widest (keep: one around keep_t); returns its angle, 0 if none. */
 PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const double *p, const double *d,
 									double keep_t, int keep, pvs__vo_cur *cur) {
 	double lo = DBL_MAX, hi = -DBL_MAX, iv[64], best = 0.0, b, cc, disc, w;
@@ -13579,9 +13952,9 @@ PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const 
 	return best;
 }
 
-/* Places a virtual occluder behind b (§3) on the best of 3 lines just beyond b: across the umbra (normal to the
-   supporting lines' bisector), the silhouette chord through their contacts, across b's view from cell centre; keeps the
-   hidden interval of largest angle. keep (case 3): current line, interval around its middle. */
+/* Virtual occluder behind b (§3): widest hidden interval on 3 lines just beyond b: across umbra (normal to
+   supporting lines' bisector), silhouette chord through their contacts, across b's view from cell centre. keep
+   (case 3): current line, interval around its middle. */
 PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, pvs__vo_cur *cur, int keep) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first;
@@ -13644,7 +14017,7 @@ PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, 
 /* ---- quantization: five bytes per occluder, relative to the cell (the VOCC section) ---- */
 
 /* Cell scale S = 2^((code - 128) / 8), code 0..255 (exact: constant x power of two). Byte q: coordinate centre + S (q -
-   128) |q - 128| / 16384, -S to 0.98 S, finer near the cell. */
+   128) |q - 128| / 16384, -S to 0.98 S, finer near cell. */
 PVS__STATIC double pvs__vo_scale(uint32_t code) {
 	static const double mant[8] = {1.0, 1.0905077326652577, 1.189207115002721, 1.2968395546510096,
 								   1.4142135623730951, 1.5422108254079407, 1.681792830507429, 1.8340080864093424};
@@ -13664,7 +14037,7 @@ PVS__STATIC uint32_t pvs__vo_floor_code(double scale, double x) {
 	while (q > 0 && pvs__vo_offset(scale, (uint32_t)q) > x) --q;
 	return (uint32_t)q;
 }
-/* Frame origin as the file reader computes it: float centre of the stored float box. */
+/* Frame origin as file reader computes it: float centre of stored float box. */
 PVS__STATIC void pvs__vo_cell_centre(const pvs_box *cell, int u, int v, double centre[2]) {
 	centre[0] = (double)(0.5f * cell->min[u] + 0.5f * cell->max[u]);
 	centre[1] = (double)(0.5f * cell->min[v] + 0.5f * cell->max[v]);
@@ -13678,8 +14051,8 @@ PVS__STATIC uint32_t pvs__vo_scale_code(double reach) {
 	return code;
 }
 
-/* Rounds occluder a-b (cell frame) to stored bytes, shrinking it and moving ends away from the cell ("toward smaller
-   occluders", §4), then checks it exactly; 6 tries, shrinking more each. 1 with *out filled. */
+/* Rounds occluder a-b (cell frame) to stored bytes, shrinking it and moving ends away from cell ("toward smaller
+   occluders", §4), then checks exactly; 6 tries, shrinking more each. 1 with *out filled. */
 #ifndef PVS_RUNTIME_ONLY
 PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b0, pvs__vo_cand *out) {
 	static const double shrink[6] = {0.0, 0.03, 0.08, 0.15, 0.25, 0.38};
@@ -13689,7 +14062,7 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
 	int k;
 	d[0] = b0[0] - a0[0];
 	d[1] = b0[1] - a0[1];
-	for (k = 0; k < 2; ++k) { /* clip to the representable square */
+	for (k = 0; k < 2; ++k) { /* clip to representable square */
 		if (d[k] == 0.0) {
 			if (a0[k] < lo || a0[k] > hi) return 0;
 		} else {
@@ -13724,7 +14097,7 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
 			e[0][k] = a[k] + shrink[attempt] * len * u[k];
 			e[1][k] = b[k] - shrink[attempt] * len * u[k];
 		}
-		for (end = 0; end < 2; ++end) { /* grid corner around the end: inward, behind, nearest */
+		for (end = 0; end < 2; ++end) { /* grid corner around end: inward, behind, nearest */
 			double best = DBL_MAX, inward = end ? -1.0 : 1.0;
 			uint32_t f0 = pvs__vo_floor_code(c->qscale, e[end][0]), f1 = pvs__vo_floor_code(c->qscale, e[end][1]), m;
 			for (m = 0; m < 4; ++m) {
@@ -13748,7 +14121,7 @@ PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b
 			if (best == DBL_MAX) return 0;
 		}
 		if (q[0][0] == q[1][0] && q[0][1] == q[1][1]) return 0;
-		/* stored geometry as the reader decodes it */
+		/* stored geometry as reader decodes it */
 		{
 			double ca[2], cb[2];
 			for (k = 0; k < 2; ++k) {
@@ -13774,7 +14147,7 @@ PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b);
 PVS__STATIC void pvs__vo_dump(pvs__vctx *c, pvs__vo_cur *cur) {
 	double a[2], b[2], m;
 	if (!cur->valid) return;
-	m = 1e-6 * (cur->t1 - cur->t0); /* a little inside the hidden interval */
+	m = 1e-6 * (cur->t1 - cur->t0); /* a little inside hidden interval */
 	a[0] = cur->p[0] + (cur->t0 + m) * cur->d[0];
 	a[1] = cur->p[1] + (cur->t0 + m) * cur->d[1];
 	b[0] = cur->p[0] + (cur->t1 - m) * cur->d[0];
@@ -13822,7 +14195,7 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 				hitp[1] = sd[s].po[1] + sp * sd[s].pd[1];
 				on_q = t >= 0.0;
 			}
-			{ /* probes: hit point pushed a little toward the umbra and along the ray */
+			{ /* probes: hit point pushed a little toward umbra and along ray */
 				double nx = s ? sd[s].pd[1] : -sd[s].pd[1], ny = s ? -sd[s].pd[0] : sd[s].pd[0];
 				double sz = 0.02 * ((c->obj[b].bb[2] - c->obj[b].bb[0]) + (c->obj[b].bb[3] - c->obj[b].bb[1])) + c->tol;
 				const double *rd = via_q ? sd[s].qd : sd[s].pd;
@@ -13859,11 +14232,11 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 		if (!progressed) break;
 	}
 	pvs__vo_dump(c, &cur);
-	/* whole aggregate: one more occluder behind the seed */
+	/* whole aggregate: one more occluder behind seed */
 	if (c->ng > 1 && pvs__vo_place(c, sd, seed, &cur, 0)) pvs__vo_dump(c, &cur);
 }
 
-/* Grows <= max_seeds seeds of the slice, largest angle first. */
+/* Grows <= max_seeds seeds of slice, largest angle first. */
 PVS__STATIC void pvs__vo_run_slice(pvs__vctx *c) {
 	pvs__key_index *order;
 	uint32_t i, n = c->nobj, grown = 0;
@@ -13928,9 +14301,9 @@ typedef struct pvs__vo_rt {
 	int u_axis, v_axis, up, ok;
 } pvs__vo_rt;
 
-/* Prepares occluder a-b's test (world ground, heights base..top) for a cell. In 2D a box is hidden in the umbra (§3):
-   beyond the line and, per cell corner c, on b's side of line c-a and a's of c-b. Convex: corners decide; support
-   functions test the box at once. Margins (1e-7 of frame extent) make rounding answer "not hidden". */
+/* Occluder a-b's test (world ground, heights base..top) for a cell. In 2D a box is hidden in umbra (§3): beyond
+   the line and, per cell corner c, on b's side of line c-a and a's of c-b. Convex: corners decide; support functions
+   test box at once. Margins (1e-7 of frame extent) make rounding answer "not hidden". */
 PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const double *a, const double *b,
 								 double base, double top) {
 	double la[2], lb[2], cc[4][2], u[2], len, ext = 1.0, dmin = DBL_MAX, dmax = -DBL_MAX;
@@ -13966,7 +14339,7 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
 		if (d < dmin) dmin = d;
 		if (d > dmax) dmax = d;
 	}
-	if (dmax < 0.0) { /* cell on the other side: flip */
+	if (dmax < 0.0) { /* cell on other side: flip */
 		double t = dmin;
 		r->n[0] = -r->n[0];
 		r->n[1] = -r->n[1];
@@ -13998,22 +14371,22 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
 	r->ok = 1;
 }
 
-/* 1 if every sight line from cell box to box b crosses the occluder. */
+/* 1 if every sight line from cell box to box b crosses occluder. */
 PVS__STATIC int pvs__vo_rt_hides(const pvs__vo_rt *r, const pvs_box *b) {
 	double x0 = (double)b->min[r->u_axis] - r->o[0], x1 = (double)b->max[r->u_axis] - r->o[0];
 	double y0 = (double)b->min[r->v_axis] - r->o[1], y1 = (double)b->max[r->v_axis] - r->o[1];
 	double dbmin, dbmax, tmin, tmax, btop, bbot;
 	int k;
 	if (!r->ok) return 0;
-	/* beyond the line: min n.x - off over the box (support function) */
+	/* beyond line: min n.x - off over box (support function) */
 	dbmin = (r->n[0] > 0.0 ? r->n[0] * x0 : r->n[0] * x1) + (r->n[1] > 0.0 ? r->n[1] * y0 : r->n[1] * y1) - r->off;
 	if (!(dbmin > r->m)) return 0;
 	for (k = 0; k < 8; ++k) {
 		const double *h = r->h[k];
 		if (!((h[0] > 0.0 ? h[0] * x0 : h[0] * x1) + (h[1] > 0.0 ? h[1] * y0 : h[1] * y1) + h[2] > r->m)) return 0;
 	}
-	/* heights: a sight line meets the occluder plane at (1 - t) eye + t target, t = dc / (dc + db) (ends' line
-	   distances) in [tmin, tmax]; bounds linear in t */
+	/* heights: a sight line meets occluder plane at (1 - t) eye + t target, t = dc / (dc + db) (ends' line distances)
+	   in [tmin, tmax]; bounds linear in t */
 	dbmax = (r->n[0] > 0.0 ? r->n[0] * x1 : r->n[0] * x0) + (r->n[1] > 0.0 ? r->n[1] * y1 : r->n[1] * y0) - r->off;
 	tmin = r->dcmin / (r->dcmin + dbmax);
 	tmax = r->dcmax / (r->dcmax + dbmin);
@@ -14130,7 +14503,7 @@ PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_
 	return PVS_OK;
 }
 
-/* Splits caller scratch into the occluder array (front) and the rest (16-aligned). */
+/* Splits caller scratch into occluder array (front) and rest (16-aligned). */
 PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t count, const pvs_kdtree *tree,
 									   pvs__vo_rt **rt, uint8_t **rest, size_t *rest_size, pvs_error *err) {
 	size_t need = pvs_vocc_cull_scratch_size(tree, count),
@@ -14185,8 +14558,7 @@ PVS__STATIC size_t pvs__vo_section_size(uint32_t cells, uint64_t n) {
 	return size > 0xfffffff0ull ? 0 : (size_t)size;
 }
 
-/* Writes the section (pvs__vo_section_size bytes) from per-cell counts, scale codes, occluder bytes in cell order
-   (stride 0: packed). */
+/* Writes section (pvs__vo_section_size bytes): per-cell counts, scale codes, occluder bytes (stride 0: packed). */
 PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, float hstep, uint32_t cells,
 									   const uint8_t *counts, const uint8_t *scales, const uint8_t *bytes,
 									   uint32_t stride) {
@@ -14216,8 +14588,7 @@ PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, f
 	}
 }
 
-/* Validates a VOCC section of f->cell_count cells (pvs_file_open, after META) into *f. Linear; reads nothing outside
-   it. */
+/* Validates a VOCC section of f->cell_count cells (pvs_file_open, after META) into *f; linear, reads only inside it. */
 PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, const uint8_t *sec, uint32_t size,
 											pvs_error *err) {
 	uint64_t so = (uint64_t)(sec - file);
@@ -14262,7 +14633,7 @@ PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, co
 	return PVS_OK;
 }
 
-/* Cell's stored occluders: returns count, *bytes 5-byte records, *scale code. */
+/* Cell's stored occluders (count): *bytes 5-byte records, *scale code. */
 PVS__STATIC uint32_t pvs__vo_file_cell(const pvs_file *f, uint32_t cell, const uint8_t **bytes, uint32_t *scale) {
 	const uint8_t *sec = f->private_.vocc;
 	uint32_t cells = f->cell_count, blocks = (cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK, b = cell / PVS__VO_BLOCK,
@@ -14353,7 +14724,7 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
 	return pvs__vo_cull(&box, rt, n, boxes, object_count, tree, rest, rest_size, visible, err);
 }
 
-#ifndef PVS_RUNTIME_ONLY /* the rest of >>vocc, >>portal, >>methods and >>bake: the bake's side */
+#ifndef PVS_RUNTIME_ONLY /* rest of >>vocc, >>portal, >>methods and >>bake: the bake's side */
 /* ---- 2.5D per cell (§3.1), the selection (Fig. 6), the bake's part ---- */
 
 /* Shared by a bake's cells: prepared facades, quantization, object boxes. */
@@ -14465,9 +14836,8 @@ done:
 	return PVS_OK;
 }
 
-/* Cell slice heights (§3.1): quantiles (i + 0.2) / (n + 0.2) of tops of occluders above the cell weighted by subtended
-   angle (near walls count more), each an occluder top (n = 1: 1/6 quantile). Low slices fuse best, high ones hide what
-   is behind low walls. Ascending, distinct; returns count (<= n). */
+/* Slice heights (§3.1): occluder tops above cell at quantiles (i + 0.2) / (n + 0.2) by subtended angle (near walls
+   count more; n = 1: 1/6). Low slices fuse best, high ones hide what is behind low walls. Ascending, distinct, <= n. */
 PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *centre, float ctop, uint32_t n, float *h,
 										   const pvs_allocator *al) {
 	const pvs__vprep *p = vb->prep;
@@ -14524,7 +14894,7 @@ PVS__STATIC uint32_t pvs__vo_slice_heights(const pvs__vbake *vb, const double *c
 }
 
 /* One cell's dense set (Koltun 2000 §3, §3.1) in c->out: its slices' virtual occluders, file frame. c untouched if it
-   can have none (below base, no area, no occluder). OUT_OF_MEMORY or PVS_OK; caller frees c. */
+   can have none (below base, no area, no occluder). Caller frees c. */
 PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *cell, const double centre[2],
 										 double reach, uint32_t code, pvs__vctx *c) {
 	const pvs_allocator *al = &vb->a;
@@ -14558,9 +14928,8 @@ typedef struct pvs__vo_selwork {
 	pvs_word *hid, *covered;   /* c->nout x words: what each hides; words: hidden so far */
 } pvs__vo_selwork;
 
-/* Greedy selection (Koltun 2000, Fig. 6) from c->out: the occluder hiding most not-yet-hidden objects, until max_keep
-   kept or best gain < min_gain. 5 bytes each into bytes, tests into sw->sel; returns count. *r = OUT_OF_MEMORY without
-   scratch. */
+/* Greedy selection (Koltun 2000, Fig. 6) from c->out: occluder hiding most not-yet-hidden objects, until max_keep
+   kept or best gain < min_gain; 5 bytes each into bytes, tests into sw->sel; count. *r = OUT_OF_MEMORY: no scratch. */
 PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, uint32_t code, const pvs__vctx *c,
 									uint32_t words, uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
 	const pvs_allocator *al = &vb->a;
@@ -14605,8 +14974,8 @@ PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, u
 	return keep;
 }
 
-/* One bake cell: dense set, selection (Fig. 6), PVS rebuilt as pvs_vocc_cull will (never-drawn objects empty). Writes
-   *count (<= max_keep) 5-byte occluders, scale code, PVS (cleared first). */
+/* One bake cell: dense set, selection (Fig. 6), PVS rebuilt as pvs_vocc_cull will (never-drawn objects empty): *count
+   (<= max_keep) 5-byte occluders, scale code, PVS (cleared first). */
 PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *cell, uint8_t *bytes, uint8_t *count,
 										 uint8_t *scale, pvs_word *pvs, pvs_vocc_stats *stats, pvs_error *err) {
 	const pvs_allocator *al = &vb->a;
@@ -14773,8 +15142,8 @@ PVS__STATIC int pvs__vocc_bake_applies(const void *state, const char **why) {
 	return any;
 }
 
-/* Task's whole cell (VOCC bakes no adaptive cells): occluders into the task's record, the PVS they prove into bits;
-   vocc.only: every drawable object (placeholder records). */
+/* Task's whole cell (VOCC bakes no adaptive cells): occluders into task's record, PVS they prove into bits; vocc.only:
+   every drawable object (placeholder records). */
 PVS__STATIC pvs_result pvs__vocc_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
 										   const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
 										   unsigned *flags, pvs_error *err) {
@@ -14838,26 +15207,25 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 
 // >>portal
 /* ==== portal: rooms and portals from the scene's closed convex solids, conservative portal flow per cell ==== */
-/* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds vis portals from brushes): solids are the connected
+/* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds vis portals from brushes): solids are connected
    closed convex meshes among the scene's triangles (shared vertex indices, each directed edge matched by its reverse,
    every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles); not explicit occluder volumes (rays pass
-   through them). A BSP on the solids' face planes (q3map2's BuildTree: a fragment is split by each plane it straddles)
-   ends in leaves wholly inside a solid or outside all: the empty ones are rooms. Planes closer than the input's float
+   them). A BSP on their face planes (q3map2's BuildTree: fragments split by each plane they straddle) ends in
+   leaves wholly inside a solid or outside all: empty ones are rooms. Planes closer than input's float
    resolution are one (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size), so touching solids leave no crack. A portal
    is a face of an empty leaf with another empty leaf beyond: the face pushed down the tree, split by every plane it
-   straddles (Teller 1992 §3.3). A segment between points of two rooms meeting no solid crosses the portals of the
-   leaves it passes, in order. Other triangles do not block here; a cell point inside a solid sees the objects meeting
-   that solid.
+   straddles (Teller 1992 §3.3). A segment between points of two rooms meeting no solid crosses the portals of
+   leaves it passes, in order. Other triangles do not block here; a cell point inside a solid sees objects meeting it.
 
    Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): a segment from x in view cell C through portals
    P1 .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: the lines' source is C_j, C clipped
    to that side (empty: no such line). Beyond Pj the segment stays behind every separating plane of C_j and its crossing
-   region on Pj. Each step P -> Q (or a start leaf's portal Q) keeps the convex hull R of the regions so found on Q; a
+   region on Pj. Each step P -> Q (or a start leaf's portal Q) keeps convex hull R of regions so found on Q; a
    region W (Q clipped by the step's planes into P) not inside R grows R to hull(R, W) and queues the step: a monotone
    fixed point (as q3map2's might-see pruning, a path adding nothing is not followed); by induction every crossing point
-   lies in its step's R. An object of a leaf entered through Q is kept unless its part in the leaf is wholly beyond one
-   plane of the step (object-level test). A cell keeps every object of the empty leaves it overlaps; past `budget`
-   portal clips, every object of every empty leaf reachable from them (conservative cut-off). */
+   lies in its step's R. An object of a leaf entered through Q is kept unless its part in it is wholly beyond one
+   plane of the step. A cell keeps every object of the empty leaves it overlaps; past `budget` portal clips, every
+   object of every empty leaf reachable from them (conservative cut-off). */
 
 #define PVS__PO_MAXW 64u		  /* clipped winding vertices */
 #define PVS__PO_MAXS 64u		  /* separating planes per region */
@@ -14865,13 +15233,12 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 #define PVS__PO_DEPTH 200u		  /* BSP depth (deeper: empty leaf, conservative) */
 #define PVS__PO_SCRATCH (PVS__PO_MAX_FACES + PVS__PO_DEPTH + 8u) /* fragment faces: its solid's, 1 per split */
 #define PVS__PO_CANDIDATES 48u	  /* split planes scored per node */
-#define PVS__PO_GROWS 6u		  /* region growths before the whole portal */
+#define PVS__PO_GROWS 6u		  /* region growths before whole portal */
 #define PVS__PO_NORMAL_EPS 1e-6
 #define PVS__PO_DIST_EPS 1e-7	  /* x scene size */
 #define PVS__PO_LEAF 0x80000000u  /* child id bit: leaf */
 #define PVS__PO_NONE 0xffffffffu
 
-/* A convex polygon. */
 typedef struct pvs__po_wind {
 	uint32_t n;
 	double p[PVS__PO_MAXW][3];
@@ -14904,8 +15271,8 @@ typedef struct pvs__poprep {
 	size_t plane_count, plane_cap;
 	uint32_t *hash_head, hash_size, *hash_next;
 	size_t hash_next_cap;
-	uint8_t *on_path;		   /* per pair: splitter above the node being built */
-	uint32_t *stamp, stamp_now; /* per pair: candidate of the node being scored */
+	uint8_t *on_path;		   /* per pair: splitter above node being built */
+	uint32_t *stamp, stamp_now; /* per pair: candidate of node being scored */
 	uint32_t *facing;		   /* per pair: node fragment faces on it (0 between nodes) */
 	double (*fbox)[6];		   /* per node fragment its box (min, max; build scratch) */
 	size_t flag_cap, fbox_cap, fbox_n; /* fbox_n: fragments boxed by pvs__po_choose (0: none) */
@@ -14932,7 +15299,7 @@ typedef struct pvs__poprep {
 	uint32_t budget, empty_leaves;
 	uint32_t *task_cut, task_count; /* per task: cells cut off (own slot) */
 	pvs_box *solid_box;		   /* solids: a point inside sees objects meeting it (its hull blocks the rest) */
-	uint32_t *so_first, *so;   /* per solid the drawable objects whose box meets its box */
+	uint32_t *so_first, *so;   /* per solid drawable objects whose box meets its box */
 	size_t so_count;
 } pvs__poprep;
 
@@ -14954,8 +15321,7 @@ PVS__STATIC int pvs__po_axis(const double *n) {
 	return fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : (fabs(n[1]) >= fabs(n[2]) ? 1 : 2);
 }
 
-/* Table id of plane n.x = d (n unit): an existing plane within the epsilons, or a new pair. PVS__PO_NONE if out of
-   memory. */
+/* Table id of plane n.x = d (n unit): an existing one within epsilons, or a new pair; PVS__PO_NONE: no memory. */
 PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) {
 	double de = PVS__PO_DIST_EPS * p->ext, nn[3];
 	double q = fabs(d) / (1e-3 * p->ext);
@@ -14996,7 +15362,7 @@ PVS__STATIC double pvs__po_dist(const double *pl, const double *x) {
 	return pl[0] * x[0] + pl[1] * x[1] + pl[2] * x[2] - pl[3];
 }
 
-/* Square of half-size big on plane pl, centred on the plane point nearest the origin. */
+/* Square of half-size big on plane pl, centred on its point nearest origin. */
 PVS__STATIC void pvs__po_base(const double *pl, double big, pvs__po_wind *w) {
 	int a = fabs(pl[2]) >= fabs(pl[0]) && fabs(pl[2]) >= fabs(pl[1]) ? 2 : (fabs(pl[1]) >= fabs(pl[0]) ? 1 : 0);
 	double up[3] = {0, 0, 0}, right[3], o[3], dot, len;
@@ -15026,8 +15392,7 @@ PVS__STATIC int pvs__po_put(pvs__po_wind *w, uint32_t *n, const double *x) {
 	return 0;
 }
 
-/* Splits w by plane pl: dist <= eps into *back, >= -eps into *front (either may be NULL); points within eps go to both.
-   1 if a part would exceed PVS__PO_MAXW vertices (some lost). */
+/* Splits w by pl: dist <= eps to *back, >= -eps to *front (either may be NULL); 1 if vertices lost (> PVS__PO_MAXW). */
 PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double eps, pvs__po_wind *front,
 							   pvs__po_wind *back) {
 	double dist[PVS__PO_MAXW];
@@ -15052,7 +15417,7 @@ PVS__STATIC int pvs__po_split(const pvs__po_wind *w, const double *pl, double ep
 	return lost;
 }
 
-/* w clipped to behind pl (within eps); 1 if vertices were lost (pvs__po_split). */
+/* w clipped to behind pl (within eps); 1 if vertices lost (pvs__po_split). */
 PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps) {
 	pvs__po_wind t;
 	uint32_t i;
@@ -15062,12 +15427,11 @@ PVS__STATIC int pvs__po_clip(pvs__po_wind *w, const double *pl, double eps) {
 	if (i == w->n) return 0; /* wholly behind: pvs__po_split would copy it */
 	lost = pvs__po_split(w, pl, eps, NULL, &t);
 	w->n = t.n;
-	memcpy(w->p, t.p, t.n * sizeof(t.p[0])); /* not the whole struct: the flow clips often */
+	memcpy(w->p, t.p, t.n * sizeof(t.p[0])); /* not whole struct: flow clips often */
 	return lost;
 }
 
-/* Base square of table plane id clipped by planes[0..count) (pair `skip`'s left out); p->lost set if vertices were
-   lost. */
+/* Base square of table plane id clipped by planes[0..count) (pair `skip`'s left out); p->lost set if vertices lost. */
 PVS__STATIC void pvs__po_clip_base(pvs__poprep *p, uint32_t id, const uint32_t *planes, uint32_t count, uint32_t skip,
 								   pvs__po_wind *w) {
 	uint32_t j;
@@ -15082,7 +15446,7 @@ PVS__STATIC void pvs__po_poly_free(const pvs_allocator *a, pvs__po_poly *q) {
 	memset(q, 0, sizeof(*q));
 }
 
-/* Copies faces (planes, windings) into one block. 0 if out of memory. */
+/* Faces (planes, windings) into one block; 0 if out of memory. */
 PVS__STATIC int pvs__po_poly_make(const pvs_allocator *a, pvs__po_poly *q, const uint32_t *planes,
 								  const pvs__po_wind *w, uint32_t faces) {
 	uint32_t i, verts = 0;
@@ -15121,7 +15485,7 @@ PVS__STATIC void pvs__po_face(const pvs__po_poly *q, uint32_t f, pvs__po_wind *w
 	memcpy(w->p, q->v[q->first[f]], w->n * sizeof(w->p[0]));
 }
 
-/* Polytope of planes[0..count) (outward): each face its base square clipped by the others; faces clipped away dropped;
+/* Polytope of planes[0..count) (outward): each face its base square clipped by others (dropped if clipped away);
    < 4 left: empty *q (face_count 0). 0 if out of memory. */
 PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes, uint32_t count, pvs__po_poly *q,
 										 pvs__po_wind *scratch, uint32_t *kept) {
@@ -15144,8 +15508,7 @@ PVS__STATIC int pvs__po_unit_axis(const double *pl) {
 	return -1;
 }
 
-/* pvs__po_side for a plane of normal +-e_axis from q's box b (min, max): same doubles, as x -> +-x - d is monotone and
-   exact but for its one rounding. */
+/* pvs__po_side for normal +-e_axis from q's box b (min, max): same doubles (x -> +-x - d monotone, rounded once). */
 PVS__STATIC int pvs__po_side_box(const double *b, const double *pl, int axis, double eps) {
 	double lo = pl[axis] > 0.0 ? b[axis] - pl[3] : -b[axis + 3] - pl[3];
 	double hi = pl[axis] > 0.0 ? b[axis + 3] - pl[3] : -b[axis] - pl[3];
@@ -15171,8 +15534,8 @@ PVS__STATIC int pvs__po_side(const pvs__po_poly *q, const double *pl, double eps
 	return 2;
 }
 
-/* Splits q by table plane id into *front and *back (empty if no part of q there); q untouched. The cap is the plane's
-   base square clipped by q's faces. 0 if out of memory. */
+/* Splits q by table plane id into *front and *back (empty if no part of q there); q untouched. Cap: plane's base
+   square clipped by q's faces. 0 if out of memory. */
 PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32_t id, pvs__po_poly *front,
 								   pvs__po_poly *back, pvs__po_wind *scratch, uint32_t *planes) {
 	const double *pl = p->pl[id];
@@ -15195,7 +15558,7 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 		if (w.n >= 3) {
 			uint32_t i;
 			scratch[n] = w;
-			if (side == 0) /* reversed winding for the flipped plane */
+			if (side == 0) /* reversed winding for flipped plane */
 				for (i = 0; i < w.n; ++i) memcpy(scratch[n].p[i], w.p[w.n - 1 - i], sizeof(w.p[0]));
 			planes[n++] = side == 0 ? (id ^ 1u) : id;
 		}
@@ -15212,9 +15575,8 @@ PVS__STATIC int pvs__po_edge_cmp(const void *a, const void *b) {
 	return x[1] < y[1] ? -1 : (x[1] > y[1]);
 }
 
-/* Face planes of component tris[0..n) if a closed convex mesh (each directed edge and its reverse once; every vertex
-   within tolc behind every triangle plane, or all in front: inside out): their count, else 0. edges: 6n scratch;
-   planes: n. */
+/* Face planes of tris[0..n) if a closed convex mesh (each directed edge and its reverse once; every vertex within tolc
+   behind every triangle plane, or all in front: inside out): their count, else 0. edges: 6n scratch; planes: n. */
 PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const uint32_t *tris, uint32_t n,
 									uint32_t (*edges)[2], uint32_t *planes) {
 	uint32_t i, j, k, np = 0;
@@ -15277,7 +15639,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 	return np >= 4 ? np : 0;
 }
 
-/* Scene s's solids as fragments: closed convex meshes among the triangles, by lowest triangle (not explicit occluder
+/* Scene s's solids as fragments: closed convex meshes among triangles, by lowest triangle (not explicit occluder
    volumes: rays pass them, a cell may be inside one). 0 if out of memory. */
 PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly **frags, size_t *cap, size_t *count,
 							   pvs__po_wind *scratch, uint32_t *kept) {
@@ -15301,7 +15663,7 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 			uint32_t b = pvs__uf_find(parent, s->indices[3 * (size_t)t + k]);
 			if (a != b) parent[a < b ? b : a] = a < b ? a : b;
 		}
-	/* per component (root) its triangles, linked in decreasing order: reversed when read */
+	/* per component (root) its triangles, linked decreasing: reversed when read */
 	for (t = s->triangle_count; t-- > 0;) {
 		uint32_t r = pvs__uf_find(parent, s->indices[3 * (size_t)t]);
 		if (!pvs__tri_blocks(s, t)) continue; /* see-through: in no solid */
@@ -15312,7 +15674,7 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 		uint32_t r = pvs__uf_find(parent, s->indices[3 * (size_t)t]), n = 0, u, np;
 		uint32_t tris[PVS__PO_MAX_FACES];
 		pvs__po_poly q;
-		if (head[r] != t) continue; /* not the component's first triangle */
+		if (head[r] != t) continue; /* not component's first triangle */
 		for (u = t; u != PVS__PO_NONE && n <= PVS__PO_MAX_FACES; u = next[u])
 			if (n < PVS__PO_MAX_FACES) tris[n++] = u;
 			else ++n;
@@ -15368,8 +15730,7 @@ PVS__STATIC uint32_t pvs__po_leaf(pvs__po_build *b, int solid, pvs__po_poly *reg
 }
 
 /* Split plane for fragments f[0..n): among unused face planes (axial first, <= PVS__PO_CANDIDATES), best q3map2 score:
-   faces on it - splits - imbalance + axial bonus. PVS__PO_NONE if every face is on a splitter above (fragments fill the
-   node: solid leaf). */
+   faces on it - splits - imbalance + axial bonus. PVS__PO_NONE if every face is on a splitter above (solid leaf). */
 PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint32_t n) {
 	uint32_t cand[PVS__PO_CANDIDATES], nc = 0, pass, i, j, best = PVS__PO_NONE, most = PVS__PO_CANDIDATES;
 	long best_score = 0;
@@ -15502,7 +15863,7 @@ PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to
 }
 
 /* Face w of leaf `from` on table plane `plane` (outward) pushed down from `node`: a portal into every empty leaf a part
-   reaches (Teller 1992 §3.3). Straddled planes split it; a coplanar node sends it where its normal points; within eps
+   reaches (Teller 1992 §3.3). Straddled planes split it; a coplanar node sends it along its normal; within eps
    of another pair's node plane, both ways. */
 PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t plane, uint32_t node, uint32_t from) {
 	pvs__poprep *p = b->p;
@@ -15598,19 +15959,17 @@ PVS__STATIC int pvs__po_csr(const pvs_allocator *a, const uint32_t *pairs, size_
 
 /* ---- portal flow ---- */
 
-/* Portal region seen from the cell; planes bounding lines from the cell through it (as table planes: kept where
-   pvs__po_dist <= tol). */
+/* Portal region seen from cell; planes bounding lines from cell through it (table-like: dist <= tol kept). */
 typedef struct pvs__po_win {
 	uint32_t nv, np;
 	double v[PVS__PO_MAXW][3];
 	double pl[PVS__PO_MAXS][4];
 } pvs__po_win;
 
-/* Step state (portal q of a start leaf, or step src -> q): where lines from the cell through earlier portals cross
-   q. */
+/* Step state (start leaf's portal q, or step src -> q): where lines from cell through earlier portals cross q. */
 typedef struct pvs__po_region {
 	uint32_t q, n, grows;
-	uint32_t next, queued;	   /* queue: list through the regions */
+	uint32_t next, queued;	   /* queue: list through regions */
 	double v[PVS__PO_MAXW][3];
 } pvs__po_region;
 
@@ -15625,15 +15984,14 @@ typedef struct pvs__po_flow {
 	size_t reg_count, reg_cap;
 	uint32_t head, tail;	   /* queue's first and last region, PVS__PO_NONE: empty */
 	uint8_t *start;			   /* per leaf: cell overlaps it (2: cut-off flood reached it) */
-	uint32_t *leaves;		   /* start leaves, then the flood's */
+	uint32_t *leaves;		   /* start leaves, then flood's */
 	uint32_t leaf_count;
 	uint32_t clips;
 	int cut, oom;
 } pvs__po_flow;
 
-/* Plane through a, b, c if it separates point sets A (na) and B (nb), A on one side within eps, B on the other: added
-   to w keeping B's side (Teller 1992 §5.2 separating plane; dropped if w is full: fewer planes, more lines); 1 if
-   so. */
+/* Plane through a, b, c if it separates A (na points, one side within eps) and B (nb, the other): added to w keeping
+   B's side (Teller 1992 §5.2 separating plane; dropped if w is full: fewer planes, more lines); 1 if so. */
 PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double *b, const double *c,
 								   const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps) {
 	double e1[3], e2[3], n[3], d, len, lo = 0.0, hi = 0.0, sg;
@@ -15683,9 +16041,8 @@ typedef struct pvs__po_set {
 	uint8_t e[PVS__PO_MAXW][2];
 } pvs__po_set;
 
-/* Appends to w->pl the separating planes of convex set c and region w->v bounding lines from c through w (Teller 1992
-   §5.2): through an edge of one and a vertex of the other, c and w on opposite sides (the other tangent plane has both
-   on one side). A set meeting w has none. */
+/* Appends to w->pl planes bounding lines from convex set c through region w->v (Teller 1992 §5.2 separating ones):
+   through an edge of one and a vertex of the other, c and w on opposite sides. A set meeting w has none. */
 PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, double eps) {
 	uint32_t i, j;
 	for (i = 0; i < w->nv; ++i)
@@ -15712,9 +16069,8 @@ PVS__STATIC uint32_t pvs__po_set_vertex(pvs__po_set *c, const double *x, double 
 	return c->n++;
 }
 
-/* Source of lines crossing portal q from its leaf `from`: the cell box clipped to that leaf's side of q's plane (where
-   such lines start); each vertex of it is on a clipped face. 0 if the box is wholly on the other side: no line from the
-   cell crosses q that way. */
+/* Source of lines crossing portal q from its leaf `from`: cell box clipped to that leaf's side of q's plane, each
+   vertex on a clipped face. 0 if box is wholly on other side (no line from cell crosses q that way). */
 PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, pvs__po_set *c) {
 	static const uint8_t faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
 										{2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
@@ -15743,8 +16099,7 @@ PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, pvs__po_set *c
 	return c->n > 0;
 }
 
-/* Keeps objects of empty leaf `leaf` whose part in it (box clipped to the leaf's) is not wholly beyond a plane of w
-   (tol; w NULL: all). */
+/* Keeps objects of empty leaf `leaf` not wholly beyond a plane of w in it (box clipped to leaf's; tol; w NULL: all). */
 PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win *w) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j, k;
@@ -15762,7 +16117,7 @@ PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win 
 	}
 }
 
-/* 2D coordinates of x on a plane whose normal's largest component is axis a. */
+/* x's 2D coordinates on a plane of dominant axis a. */
 PVS__STATIC void pvs__po_uv(const double *x, int a, double *u, double *v) {
 	*u = x[a == 0 ? 1 : 0];
 	*v = x[a == 2 ? 1 : 2];
@@ -15772,7 +16127,7 @@ PVS__STATIC void pvs__po_uv(const double *x, int a, double *u, double *v) {
 PVS__STATIC int pvs__po_inside(const pvs__po_region *r, const pvs__po_wind *w, int a, double tol) {
 	double orient = 0.0;
 	uint32_t i, j;
-	for (i = 0; i < r->n; ++i) { /* r's orientation in (u, v): sign of its area */
+	for (i = 0; i < r->n; ++i) { /* r's orientation in (u, v): sign of area */
 		double u0, v0, u1, v1;
 		pvs__po_uv(r->v[i], a, &u0, &v0);
 		pvs__po_uv(r->v[(i + 1) % r->n], a, &u1, &v1);
@@ -15793,8 +16148,7 @@ PVS__STATIC int pvs__po_inside(const pvs__po_region *r, const pvs__po_wind *w, i
 	return 1;
 }
 
-/* r = convex hull of r and w in plane 2D coordinates (>>vocc's pvs__vo_hull); 0 if over PVS__PO_MAXW vertices (r
-   unchanged). */
+/* r = hull of r and w in plane 2D coordinates (pvs__vo_hull); 0 if over PVS__PO_MAXW vertices (r unchanged). */
 PVS__STATIC int pvs__po_hull(pvs__po_region *r, const pvs__po_wind *w, int a) {
 	double all[2 * PVS__PO_MAXW][3], uv[4 * PVS__PO_MAXW];
 	pvs__key_index keys[2 * PVS__PO_MAXW];
@@ -15818,7 +16172,7 @@ PVS__STATIC void pvs__po_start_leaf(void *ctx, uint32_t l) {
 }
 
 /* r's polygon grown to hold w (on r's portal): 1 if it grew. Past PVS__PO_GROWS growths or PVS__PO_MAXW hull vertices:
-   the whole portal (never grows again). */
+   whole portal (never grows again). */
 PVS__STATIC int pvs__po_grow(const pvs__poprep *p, pvs__po_region *r, const pvs__po_wind *w) {
 	const pvs__po_portal *pt = p->portals + r->q;
 	int a = pvs__po_axis(p->pl[pt->plane]);
@@ -15831,14 +16185,14 @@ PVS__STATIC int pvs__po_grow(const pvs__poprep *p, pvs__po_region *r, const pvs_
 	return 1;
 }
 
-/* Slot of state in f's hash: its pair, or the free pair for it. */
+/* Slot of state in f's hash: its pair, or free pair for it. */
 PVS__STATIC uint32_t *pvs__po_slot(const pvs__po_flow *f, uint32_t state) {
 	size_t h = (size_t)((state * 0x9E3779B97F4A7C15ull) >> 32) & (f->slot_cap - 1);
 	while (f->slot[2 * h] != PVS__PO_NONE && f->slot[2 * h] != state) h = (h + 1) & (f->slot_cap - 1);
 	return f->slot + 2 * h;
 }
 
-/* New region for state; PVS__PO_NONE if out of memory (table grows at half load). */
+/* New region for state; PVS__PO_NONE: out of memory (table grows at half load). */
 PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
 	const pvs_allocator *al = &f->p->allocator;
 	uint32_t *e;
@@ -15864,8 +16218,7 @@ PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
 	return (uint32_t)f->reg_count++;
 }
 
-/* Offers state `state` (step into portal q): lines crossing q within w. A new state, or one grown to hold them, is
-   queued. */
+/* Offers `state` (step into portal q) lines crossing q within w: queued if new or grown to hold them. */
 PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t q, const pvs__po_wind *w) {
 	const pvs__poprep *p = f->p;
 	pvs__po_region *r;
@@ -15893,9 +16246,8 @@ PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t q, cons
 	}
 }
 
-/* Flow from the start leaves (Teller 1992 §5 as a monotone fixed point, see module comment): a state (step into q,
-   region v on q) sends lines from q's source through v into q's leaf `to`, keeping its objects and offering each portal
-   out, clipped by their planes, as step q -> next. */
+/* Flow from start leaves (Teller 1992 §5, monotone fixed point: module comment): a state (step into q, region v on q)
+   sends lines from q's source via v into leaf `to`: keeps its objects, offers portals out (clipped) as q -> next. */
 PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j;
@@ -15922,7 +16274,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 		if (f->head == PVS__PO_NONE) f->tail = PVS__PO_NONE;
 		q = f->reg[id].q;
 		pt = p->portals + q;
-		if (!pvs__po_source(f, q, &src)) continue; /* no line from the cell crosses q this way */
+		if (!pvs__po_source(f, q, &src)) continue;
 		win.nv = f->reg[id].n;
 		win.np = 0;
 		memcpy(win.v, f->reg[id].v, win.nv * sizeof(win.v[0]));
@@ -15944,11 +16296,11 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	}
 }
 
-/* Cut-off: every object of every empty leaf reachable from the start leaves through any portals. */
+/* Cut-off: every object of every empty leaf reachable from start leaves through any portals. */
 PVS__STATIC void pvs__po_flood(pvs__po_flow *f) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j;
-	for (i = 0; i < f->leaf_count; ++i) { /* f->leaves grows with the flood */
+	for (i = 0; i < f->leaf_count; ++i) { /* f->leaves grows with flood */
 		uint32_t leaf = f->leaves[i];
 		pvs__po_keep(f, leaf, NULL);
 		for (j = p->lp_first[leaf]; j < p->lp_first[leaf + 1]; ++j) {
@@ -15994,8 +16346,7 @@ PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
 	pvs__free(a, p, sizeof(*p), 16);
 }
 
-/* Solid boxes (rounded outward) and per solid the drawable objects whose box meets it (via object BVH). 0 if out of
-   memory. */
+/* Solid boxes (rounded outward) and per solid drawable objects meeting its box (object BVH). 0 if out of memory. */
 PVS__STATIC int pvs__po_solid_objects(pvs__poprep *p, const pvs_scene *s, const pvs__po_poly *frags) {
 	const pvs_allocator *al = &p->allocator;
 	uint32_t i, o, *pairs = NULL, *stack = NULL, sp;
@@ -16042,7 +16393,7 @@ done:
 	return ok;
 }
 
-/* Builds the solids' tree, portals and objects of every empty leaf. */
+/* Solids' tree, portals and each empty leaf's objects. */
 PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env) {
 	const pvs_scene *s = env->scene;
 	const pvs_allocator *al = &p->allocator;
@@ -16188,7 +16539,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	}
 	memset(f.slot, 0xff, 2 * f.slot_cap * sizeof(uint32_t));
 	pvs__po_box_down(p, box, p->root, pvs__po_start_leaf, &f);
-	for (k = 0; k < p->solids; ++k) /* cell points inside a solid */
+	for (k = 0; k < p->solids; ++k) /* cell points inside solid */
 		if (pvs__box_overlap(box, p->solid_box + k))
 			for (i = p->so_first[k]; i < p->so_first[k + 1]; ++i) {
 				uint32_t o = p->so[i];
@@ -16419,24 +16770,24 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
 
 /* ---- extended projections (Durand et al. 2000) ---- */
 
-/* Rounding: double from float inputs. A plane's frame maps a point to (u, v, w), w its Depth beyond the cell's face
+/* Rounding: double from float inputs. A plane's frame maps point to (u, v, w), w its Depth beyond cell's face
    (§2.3; cell: w in [-extent, 0]). P's view from cell corner V on plane w = W: V + (P - V) (W - Vw) / (Pw - Vw), Pw >
    Vw (occluders clipped to w >= a small margin; occludees wholly at w > 0). Convex occluder's Projection: its views
-   from the 8 corners intersected (§3.2), a pixel kept if its worst corner passes every edge by a margin above all
+   from 8 corners intersected (§3.2), pixel kept if its worst corner passes every edge by margin above all
    rounding; Depth: max w, rounded up (§2.3). Occludee box's Projection: its views' bounding rectangle (§3.1), widened
    likewise; Depth: min w, rounded down. Hidden if every pixel there holds an occluder strictly nearer (§2.2; off-plane
    pixels are visible).
 
-   Bake (§6.1): occluders prepared once per bake; per cell and direction the largest by solid angle go on
-   PVS__EP_PLANES depth maps and, with the sweep, extproj.sweep masks out to the scene's far end (§5); then the object
-   kD-tree front to back, hidden nodes skipped. Objects meeting the cell are always visible.
+   Bake (§6.1): occluders prepared once per bake; per cell and direction largest by solid angle go on
+   PVS__EP_PLANES depth maps and, with sweep, extproj.sweep masks out to scene's far end (§5); then object
+   kD-tree front to back, hidden nodes skipped. Objects meeting cell are always visible.
 
    Limits: occluders fuse only via maps and slices; Depths flat per part; umbrae shrink by cell size over distance, so
    sparse small occluders (foliage) are loose; sub-cells (extproj.sweep_subcells) recover part (tests/BENCHMARKS.md). */
 
 #define PVS__EP_MAXP 16								  /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
-#define PVS__EP_EXTEND 1.5							  /* planes reach beyond the cell (§6.1) */
+#define PVS__EP_EXTEND 1.5							  /* planes reach beyond cell (§6.1) */
 #define PVS__EP_DEFAULT_RES PVS_EXTPROJ_RESOLUTION
 #define PVS__EP_DEFAULT_OCC 128
 #define PVS__EP_PLANE_CANDIDATES 16
@@ -16450,10 +16801,10 @@ typedef struct pvs__epframe {
 	double s, face, W, u0, v0, su, sv;
 	double cu[2], cv[2], cw[2];
 	uint32_t width, height;
-	unsigned char bits; /* bits a Projection sets in a sweep mask: 1 or a sub-cell's */
+	unsigned char bits; /* bits a Projection sets in sweep mask: 1 or a sub-cell's */
 } pvs__epframe;
 
-/* Frame of a plane with sides <= max_side pixels (4096 for the public API); 0 if the plane is bad. */
+/* Plane's frame, sides <= max_side pixels (public API: 4096); 0 if plane is bad. */
 PVS__STATIC int pvs__ep_frame_max(const pvs_extproj_plane *pl, uint32_t max_side, pvs__epframe *f) {
 	int k;
 	if (!pl || pl->axis > 2 || (pl->side != 1 && pl->side != -1) || !pvs__box_valid(&pl->cell)) return 0;
@@ -16494,7 +16845,7 @@ PVS__STATIC double pvs__ep_tri_normal(const float *a, const float *b, const floa
 	return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
-/* n . (x - a) in double: x's distance from the plane through a, times |n|. */
+/* n . (x - a) in double: x's distance from plane through a, times |n|. */
 PVS__STATIC double pvs__ep_plane_dist(const double *n, const float *x, const float *a) {
 	return n[0] * ((double)x[0] - a[0]) + n[1] * ((double)x[1] - a[1]) + n[2] * ((double)x[2] - a[2]);
 }
@@ -16518,10 +16869,10 @@ PVS__STATIC int pvs__ep_hull(double (*pts)[2], int n, double (*hull)[2]) {
 		while (k >= lower && pvs__vo_cross(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
 		hull[k][0] = pts[i][0]; hull[k][1] = pts[i][1]; ++k;
 	}
-	return k - 1; /* the last point repeats the first */
+	return k - 1; /* last point repeats first */
 }
 
-/* ceil/floor by int conversion, for |x| < 2^31 (callers clamp to the raster first). */
+/* ceil/floor by int conversion, for |x| < 2^31 (callers clamp to raster first). */
 PVS__STATIC double pvs__ceil_small(double x) {
 	double t = (double)(int32_t)x;
 	return t < x ? t + 1.0 : t;
@@ -16532,7 +16883,7 @@ PVS__STATIC double pvs__floor_small(double x) {
 }
 
 /* Projection edges in pixels: a x + b y + c >= 0 inside, |a| + |b| = 1, error bound e, inv = 1 / a (0 if ~horizontal);
-   [xlo, xhi] x [ylo, yhi]: the views' common box. */
+   [xlo, xhi] x [ylo, yhi]: views' common box. */
 typedef struct pvs__epedges {
 	double a[8 * PVS__EP_CLIPN], b[8 * PVS__EP_CLIPN], c[8 * PVS__EP_CLIPN], e[8 * PVS__EP_CLIPN],
 		inv[8 * PVS__EP_CLIPN];
@@ -16540,7 +16891,7 @@ typedef struct pvs__epedges {
 	double xlo, xhi, ylo, yhi;
 } pvs__epedges;
 
-/* Vertices of a convex occluder's part in slab [wlo, whi] into P: points inside, point-pair crossings. Returns n. */
+/* Vertices of convex occluder's part in slab [wlo, whi] into P: points inside, point-pair crossings. Returns n. */
 PVS__STATIC int pvs__ep_clip_slab(const double (*src)[3], int count, double wlo, double whi, double (*P)[3]) {
 	int n = 0, i, j;
 	for (i = 0; i < count; ++i)
@@ -16591,10 +16942,10 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 							pvs__dabs(pts[i][0]) + pvs__dabs(pts[i][1]) +
 								(pvs__dabs(Vu) + pvs__dabs(P[i][0])) * t * f.su +
 								(pvs__dabs(Vv) + pvs__dabs(P[i][1])) * t * f.sv);
-			/* moving a point by slack moves its view by <= slack (t + |view - V| / (Pw - Vw)) per axis */
+			/* moving point by slack moves its view by <= slack (t + |view - V| / (Pw - Vw)) per axis */
 			smax = pvs__dmax(smax, t + (pvs__dabs(du) + pvs__dabs(dv)) / (P[i][2] - Vw));
 		}
-		/* vertex error in pixels: a few ulps of the terms, widely, plus the slack */
+		/* vertex error in pixels: a few ulps of terms, widely, plus slack */
 		verr = 1e-12 * (mag + base + 1.0) + slack * smax * pvs__dmax(f.su, f.sv);
 		if (!(bx1 - bx0 < 1e15) || !(by1 - by0 < 1e15)) return 0; /* past useful precision */
 		E->xlo = pvs__dmax(E->xlo, bx0); E->xhi = pvs__dmin(E->xhi, bx1);
@@ -16614,7 +16965,7 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 			E->a[m] = a / len;
 			E->b[m] = b / len;
 			E->c[m] = -(E->a[m] * p[0] + E->b[m] * p[1]);
-			/* ends moved by verr move (a, b) by 2 verr each, L1 norm by 4 verr: at L1 distance D from p the normalized
+			/* ends moved by verr move (a, b) by 2 verr each, L1 norm by 4 verr: at L1 distance D from p normalized
 			   function moves <= verr (1 + 6 D / len) */
 			E->e[m] = verr *
 				(2.0 + 8.0 * (pvs__dabs(p[0]) + pvs__dabs(p[1]) + (double)f.width + (double)f.height + 2.0) / len);
@@ -16624,7 +16975,7 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 	return 1;
 }
 
-/* Drops edges all candidate pixels pass by more than the row loop's margins (most of the 8 views'); kept ones get that
+/* Drops edges all candidate pixels pass by more than row loop's margins (most of 8 views'); kept ones get that
    margin, less its row part, and 1 / a. */
 PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
 	int e, m = 0;
@@ -16646,7 +16997,7 @@ PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, in
 	E->n = m;
 }
 
-/* Pixels x0..x1 of row j: `depth` to map (where nearer), f->bits to mask (either may be NULL). Returns the count. */
+/* Pixels x0..x1 of row j: `depth` to map (where nearer), f->bits to mask (either may be NULL). Returns count. */
 PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, int32_t x1, float depth, float *map,
 								  unsigned char *mask) {
 	size_t row = (size_t)j * f->width;
@@ -16659,9 +17010,8 @@ PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, 
 	return (uint32_t)(x1 - x0 + 1);
 }
 
-/* Scan-converts Projection E over rows j0..j1, columns i0..i1: pixels whose worst corner passes every edge by its
-   margin are set as by pvs__ep_span. Returns pixels covered. Not pvs__raster_poly: flat-Depth spans are faster, and
-   these edges carry error bounds. */
+/* Rasterizes Projection E in rows j0..j1, columns i0..i1 as pvs__ep_span: pixels whose worst corner passes every edge
+   by its margin; returns count. Not pvs__raster_poly: flat-Depth spans are faster; edges carry error bounds. */
 PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0,
 									   int32_t j1, float depth, float *map, unsigned char *mask) {
 	int32_t row;
@@ -16693,7 +17043,6 @@ PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges
 	return written;
 }
 
-/* Projection of the occluder's part in slab [wlo, whi]. */
 PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double (*src)[3], int count, double wlo,
 										   double whi, double slack, float *map, unsigned char *mask) {
 	double P[PVS__EP_CLIPN][3], dmax = 0.0;
@@ -16713,8 +17062,7 @@ PVS__STATIC uint32_t pvs__ep_occluder_part(const pvs__epframe *fp, const double 
 	return pvs__ep_fill_rows(fp, &E, i0, i1, j0, j1, pvs__f_up(dmax + 1e-12 * dmax), map, mask);
 }
 
-/* 0 if the occluder's part in slab [wlo, whi] surely covers no pixel (its bounding box's Projection, a superset, holds
-   no whole pixel); 1: maybe. */
+/* 0 if occluder's part in slab [wlo, whi] surely covers no pixel: its box's Projection (a superset) holds none. */
 PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3], int count, double wlo, double whi) {
 	double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
 	int i, k;
@@ -16751,8 +17099,8 @@ PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3
 	return 1;
 }
 
-/* pvs_extproj_occluder with a prepared frame and finite points; solid, slack as in pvs__epocc. Depths to map (min),
-   f->bits to mask, either may be NULL; front_only: only the part before the plane. */
+/* pvs_extproj_occluder, prepared frame, finite points; solid, slack as in pvs__epocc. Depths to map (min), f->bits to
+   mask, either may be NULL; front_only: only the part before plane. */
 PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cell, const float *points, uint32_t count,
 									  int solid, double slack, int front_only, float *map, unsigned char *mask) {
 	pvs__epframe f = *fp;
@@ -16765,13 +17113,13 @@ PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cel
 		wmax = pvs__dmax(wmax, P[i][2]);
 	}
 	if (solid) {
-		/* a solid meeting the cell could hold the viewer (its Depth bounds no first hit): left out */
+		/* solid meeting cell could hold the viewer (its Depth bounds no first hit): left out */
 		pvs_box b = pvs__box_empty();
 		for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
 		if (pvs__box_overlap(&b, cell)) return 0;
 	}
-	/* clipped to w >= a small margin, split at the plane: cell points seeing a pixel through one side's part form a
-	   convex set, so corners decide; not across the plane */
+	/* clipped to w >= a small margin, split at plane: cell points seeing pixel through one side's part form a
+	   convex set, so corners decide; not across plane */
 	margin = 1e-4 * (f.W - f.cw[0]);
 	written = 0;
 	if (pvs__ep_box_may_cover(&f, (const double(*)[3])P, (int)count, margin, f.W))
@@ -16788,7 +17136,7 @@ PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *
 	if (!pvs__ep_frame(pl, &f) || !points || !map || count < 1 || count > PVS__EP_MAXP) return 0;
 	for (i = 0; i < count * 3; ++i)
 		if (!pvs__finite(points[i])) return 0;
-	if (count > 3) { /* polygon or solid? */
+	if (count > 3) {
 		double n[3], len = 0.0, scale = 0.0;
 		pvs_box b = pvs__box_empty();
 		for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
@@ -16803,7 +17151,7 @@ PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *pl, const float *
 	return pvs__ep_occluder(&f, &pl->cell, points, count, solid, 0.0, 0, map, NULL);
 }
 
-/* Pixel bounds of the box's (k, w) views from the cell's (k, w) corners; t[c][b] = (W - cw[c]) / (bw[b] - cw[c]). */
+/* Pixel bounds of box's (k, w) views from cell's (k, w) corners; t[c][b] = (W - cw[c]) / (bw[b] - cw[c]). */
 PVS__STATIC void pvs__ep_occludee_axis(const double *cell_k, double bk0, double bk1, const double t[2][2], double k0,
 									   double sk, uint32_t size, int32_t *lo, int32_t *hi) {
 	double mn = DBL_MAX, mx = -DBL_MAX, mag = 0.0, err;
@@ -16822,7 +17170,7 @@ PVS__STATIC void pvs__ep_occludee_axis(const double *cell_k, double bk0, double 
 	*hi = pvs__clampi(floor(mx + err), -1, (int32_t)size);
 }
 
-/* pvs_extproj_occludee with a prepared frame and a valid box. */
+/* pvs_extproj_occludee, prepared frame, valid box. */
 PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int32_t rect[4], float *depth) {
 	double bw[2], t[2][2];
 	int c, b;
@@ -16840,10 +17188,10 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
 }
 
 /* Durand 2000 §4's improved occludee Projection on axis k, box between cell and plane (depths w0..w1 <= W). Cones go
-   to the cell's near face (w = 0): inside cone(P, cell), so Property 2 holds and the 3D Projection is exactly the
-   product of the 2D ones. With [L(X), R(X)] X's views from the face, I = [a, b] works iff a <= min R and b >= max L
+   to cell's near face (w = 0): inside cone(P, cell), so Property 2 holds and the 3D Projection is exactly
+   the product of 2D ones. With [L(X), R(X)] X's views from face, I = [a, b] works iff a <= min R and b >= max L
    (over box corners): if max L <= min R one point serves (*any = 1: one column must be hidden), else [min R, max L]
-   (*any = 0: all). Indices may leave the map. */
+   (*any = 0: all). Indices may leave map. */
 PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W,
 									   double k0, double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
 	double maxL = -DBL_MAX, minR = DBL_MAX, mag = 0.0, err, a, b;
@@ -16891,7 +17239,7 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
 
 /* ---- the bake method: occluders per bake, planes per cell ---- */
 
-/* Convex occluder: a planar convex polygon (triangle or merged triangles) or a closed convex solid. */
+/* Convex occluder: planar convex polygon (triangle or merged triangles) or closed convex solid. */
 typedef struct pvs__epocc {
 	pvs_box box;
 	uint32_t first, count;	 /* points */
@@ -16901,22 +17249,20 @@ typedef struct pvs__epocc {
 	int xside;				 /* sheet side it stands on */
 	int cap_side, cap_axis;  /* capped convex solid (cap_side != 0): only for cells where */
 	float cap_value;		 /*   cap_side * (x[cap_axis] - cap_value) > 0 */
-	float slack;			 /* how far the true shape may lie inside the points' hull */
+	float slack;			 /* how far the true shape may lie inside points' hull */
 	uint32_t object;		 /* its object, or PVS_NO_OBJECT */
 	float area;				 /* area bound: solid angle <= area / distance^2 */
-	uint32_t efirst, ecount; /* concave planar (ecount > 0): edges prep->cedge[6 * efirst ...]; points: vertex
-								hull, for selection */
+	uint32_t efirst, ecount; /* concave (ecount > 0): edges prep->cedge[6 * efirst ...]; points: hull, for selection */
 	float pn[3], pd;		 /*   its plane pn . x = pd, pn unit */
 } pvs__epocc;
 
-/* 0 if a capped solid (cap_side != 0) cannot serve the cell (not strictly on its solid side). */
+/* 0 if capped solid (side != 0) cannot serve cell: not strictly on its solid side. */
 PVS__STATIC int pvs__ep_cap_ok(int side, int axis, float value, const pvs_box *cell) {
 	return !(side > 0 && !(cell->min[axis] > value)) && !(side < 0 && !(cell->max[axis] < value));
 }
 
-/* Sheet: coplanar triangles (any objects) in plane x[axis] = value forming one convex polygon without holes (a tiled
-   floor). For a cell strictly on one side and over it, the space beyond it over the polygon is solid: a segment there
-   crosses the polygon. */
+/* Sheet: coplanar triangles (any objects) in plane x[axis] = value forming one convex polygon, no holes (a tiled
+   floor). From cell strictly on one side and over it, space beyond over polygon is solid: segments there cross it. */
 #define PVS__EP_MAX_SHEETS 16
 #define PVS__EP_AREA_CLASSES 8
 typedef struct pvs__epsheet {
@@ -16926,8 +17272,8 @@ typedef struct pvs__epsheet {
 	double area;
 } pvs__epsheet;
 
-/* Closed non-convex component sliced by the planes (§3.3): one object's connected triangles, each edge used an even
-   number of times, or "capped": odd edges in one plane, all vertices on one side (a building with no floor). */
+/* Closed non-convex component sliced by the planes (§3.3): one object's connected triangles, all edges of even use,
+   or "capped": odd ones in one plane, all vertices on one side (a building with no floor). */
 typedef struct pvs__epslice {
 	pvs_box box;
 	uint32_t first, count;	 /* scene triangles prep->stri[first .. first + count) */
@@ -16952,7 +17298,7 @@ typedef struct pvs__extproj_prep {
 	uint32_t max_slice_segments; /* most triangles + boundary edges of one sliced component */
 	pvs__epsheet sheet[PVS__EP_MAX_SHEETS];
 	uint32_t sheet_count;
-	/* per size class (area bound < 4^c): kD-tree of boxes, nodes pruned by the largest area */
+	/* per size class (area bound < 4^c): kD-tree of boxes, nodes pruned by largest area */
 	pvs_kdtree *occ_tree[PVS__EP_AREA_CLASSES];
 	uint32_t *class_occ[PVS__EP_AREA_CLASSES]; /* tree item -> occluder */
 	uint32_t class_count[PVS__EP_AREA_CLASSES];
@@ -16984,7 +17330,7 @@ PVS__STATIC void pvs__extproj_prep_destroy(pvs__extproj_prep *p) {
 	pvs__free(&a, p, sizeof(*p), 16);
 }
 
-/* Adds a convex occluder (caller reserves room). */
+/* Adds convex occluder (caller reserves room). */
 PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint32_t n, int solid, double slack) {
 	pvs__epocc *o = p->occ + p->occ_count++;
 	uint32_t i;
@@ -17006,7 +17352,7 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
 		++p->pt_count;
 	}
 	{
-		/* area bound: a polygon's area; a solid's, 3 faces of its box */
+		/* area bound: polygon's area; solid's, 3 faces of its box */
 		double ex = (double)o->box.max[0] - o->box.min[0], ey = (double)o->box.max[1] - o->box.min[1],
 			   ez = (double)o->box.max[2] - o->box.min[2];
 		double f = ex * ey + ey * ez + ez * ex;
@@ -17031,8 +17377,7 @@ PVS__STATIC void pvs__ep_add(pvs__extproj_prep *p, const float *const *pts, uint
 
 PVS__STATIC int pvs__ep_same(const float *a, const float *b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 
-/* Two edge-sharing triangles, coplanar to float precision, forming a convex quad: fills q[4], *slack (4th point's
-   distance to the first's plane), returns 1. */
+/* 1 if edge-sharing triangles, coplanar to float precision, form convex quad q[4]; *slack: 4th point to A's plane. */
 PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const float **q, double *slack) {
 	int i, j, k;
 	double n[3], len = pvs__ep_tri_normal(A[0], A[1], A[2], n), scale = 0.0;
@@ -17049,10 +17394,10 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 			for (k = 0; k < 3; ++k)
 				scale = pvs__dmax(scale,
 								  pvs__dabs((double)x[k] - a0[k]) + pvs__dabs((double)x[k]) + pvs__dabs((double)a0[k]));
-			/* hull exceeds the two triangles by at most this: the slack */
+			/* hull exceeds the two triangles by at most this: slack */
 			dev = pvs__dabs(pvs__ep_plane_dist(n, x, a0)) / len;
 			if (dev > 1e-6 * scale) return 0;
-			for (k = 0; k < 4; ++k) { /* strictly convex at each corner, turning like the triangle */
+			for (k = 0; k < 4; ++k) { /* strictly convex at each corner, turning like triangle */
 				const float *p0 = q[k], *p1 = q[(k + 1) % 4], *p2 = q[(k + 2) % 4];
 				double m[3];
 				pvs__ep_tri_normal(p0, p1, p2, m);
@@ -17064,7 +17409,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 	return 0;
 }
 
-/* An edge in a sheet's plane, ends ordered. */
+/* Edge in sheet's plane, ends ordered. */
 typedef struct pvs__epedge2 {
 	float a[2], b[2];
 	uint32_t tri;			 /* index in its group, then its component's root */
@@ -17083,7 +17428,7 @@ PVS__STATIC int pvs__ep_edge2_root_cmp(const void *x, const void *y) {
 	return pvs__ep_edge2_cmp(x, y);
 }
 
-/* 1 if (x, y) is inside convex CCW polygon q by a margin. */
+/* 1 if (x, y) is inside convex CCW polygon q by margin. */
 PVS__STATIC int pvs__ep_in_convex(const float *q, uint32_t n, double x, double y) {
 	uint32_t i;
 	for (i = 0; i < n; ++i) {
@@ -17106,8 +17451,7 @@ PVS__STATIC int pvs__ep_end_cmp(const void *x, const void *y) {
 	return c ? c : a->edge < b->edge ? -1 : a->edge > b->edge;
 }
 
-/* Walks boundary edges e[0 .. nb) as one loop from e[0].a into q; 0 if a point is on > 2 edges or there are several
-   loops. ends: 2 nb scratch. */
+/* Walks edges e[0 .. nb) as one loop from e[0].a into q; 0 if point is on > 2 edges or if 2+ loops. ends: 2 nb */
 PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, pvs__epend *ends) {
 	uint32_t i, m, edge = 0;
 	float cur[2];
@@ -17123,26 +17467,26 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
 		uint32_t lo = 0, hi = 2 * nb, next;
 		q[2 * m] = cur[0];
 		q[2 * m + 1] = cur[1];
-		while (lo < hi) { /* first end at cur */
+		while (lo < hi) {
 			uint32_t mid = lo + (hi - lo) / 2;
 			if (pvs__fpoint_cmp(ends[mid].p, cur, 2) < 0) lo = mid + 1;
 			else hi = mid;
 		}
 		if (lo + 1 >= 2 * nb || pvs__fpoint_cmp(ends[lo + 1].p, cur, 2) != 0) return 0; /* a loose end */
-		if (lo + 2 < 2 * nb && pvs__fpoint_cmp(ends[lo + 2].p, cur, 2) == 0) return 0; /* a point on 3+ edges */
+		if (lo + 2 < 2 * nb && pvs__fpoint_cmp(ends[lo + 2].p, cur, 2) == 0) return 0; /* point on 3+ edges */
 		next = ends[lo].edge == edge ? ends[lo + 1].edge : ends[lo].edge;
 		if (next == 0 || next == edge) return 0;
 		edge = next;
 		if (pvs__fpoint_cmp(e[edge].a, cur, 2) == 0) { cur[0] = e[edge].b[0]; cur[1] = e[edge].b[1]; }
 		else { cur[0] = e[edge].a[0]; cur[1] = e[edge].a[1]; }
 	}
-	return pvs__fpoint_cmp(cur, q, 2) == 0; /* loop must close at its start */
+	return pvs__fpoint_cmp(cur, q, 2) == 0; /* closed at its start */
 }
 
-/* Union of a group's triangles as one convex polygon: boundary edges (odd use) in one loop turning once, with the
-   triangles' area (no overlap or hole). Fills q (CCW, no collinear points), returns its size or 0. tol > 0: wrong turns
-   under tol (relative) count as straight, q is the loop's hull (hp, hh: qcap + 1 scratch; 0 past max_hull points),
-   *dent the deepest loop point inside it. ends: 2 qcap. */
+/* Union of group's triangles as one convex polygon: boundary edges (odd use) in one loop turning once, with the
+   triangles' area (no overlap or hole). Fills q (CCW, no collinear points), returns size or 0. tol > 0: wrong turns
+   under tol (relative) count as straight, q is loop's hull (hp, hh: qcap + 1 scratch; 0 past max_hull points),
+   *dent deepest loop point inside it. ends: 2 qcap. */
 PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep,
 										   uint32_t qcap, pvs__epend *ends, double tol, double (*hp)[2],
 										   double (*hh)[2], int max_hull, double *dent) {
@@ -17190,7 +17534,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double 
 		hn = pvs__ep_hull(hp, (int)n, hh);
 		if (hn < 3 || hn > max_hull) return 0;
 		*dent = 0.0;
-		for (i = 0; i < n; ++i) { /* each loop point's depth inside the hull (hp now sorted) */
+		for (i = 0; i < n; ++i) { /* each loop point's depth inside hull (hp now sorted) */
 			double best = DBL_MAX;
 			int h;
 			for (h = 0; h < hn; ++h) {
@@ -17232,10 +17576,10 @@ PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
 }
 
 
-/* Preparation scratch, sized for the largest object (see pvs__ep_work_alloc). */
+/* Preparation scratch, sized for largest object (see pvs__ep_work_alloc). */
 typedef struct pvs__epprepwork {
 	pvs__vx_vkey *ref;	  /* corners, i = 3 t + k */
-	uint32_t *canon;	  /* corner -> id among the object's distinct positions */
+	uint32_t *canon;	  /* corner -> id among object's distinct positions */
 	const float **vpos;   /* distinct positions */
 	uint32_t *owner;	  /* per position: a triangle using it */
 	uint32_t *parent;	  /* union-find */
@@ -17243,15 +17587,15 @@ typedef struct pvs__epprepwork {
 	uint32_t *start;	  /* component starts */
 	uint64_t *edges;
 	uint32_t *mark;		  /* per position: last component listing it */
-	uint32_t *uv;		  /* the component's distinct vertices */
-	pvs__epedge2 *e2;	  /* a planar group's edges in its 2D frame */
-	float *q2;			  /* the group's polygon */
+	uint32_t *uv;		  /* component's distinct vertices */
+	pvs__epedge2 *e2;	  /* planar group's edges in its 2D frame */
+	float *q2;			  /* group's polygon */
 	unsigned char *keep;
 	pvs__epend *ends;	  /* loop walk scratch */
-	uint32_t *gparent;	  /* planar groups in a component (union-find) */
-	unsigned char *used;  /* merged into a planar polygon */
+	uint32_t *gparent;	  /* planar groups in component (union-find) */
+	unsigned char *used;  /* merged into planar polygon */
 	double *hp, *hh;	  /* hull scratch */
-	uint64_t *bed;		  /* a group's edges */
+	uint64_t *bed;		  /* group's edges */
 	size_t cap;			  /* triangles */
 } pvs__epprepwork;
 
@@ -17305,8 +17649,8 @@ PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, s
 		w->edges && w->mark && w->uv && w->e2 && w->q2 && w->keep && w->ends && w->gparent && w->used;
 }
 
-/* 1 if the component's distinct vertices (<= PVS__EP_MAXP) lie on one side of each triangle's plane, to float
-   precision; *slack: twice the worst violation (the hull exceeds the surface by no more). */
+/* 1 if component's distinct vertices (<= PVS__EP_MAXP) lie on one side of each triangle's plane, to float
+   precision; *slack: twice worst violation (hull exceeds surface by no more). */
 PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
 										 uint32_t n, double *slack) {
 	uint32_t t, i, k;
@@ -17332,8 +17676,8 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
 	return 1;
 }
 
-/* 1 if all vertices are within float precision of the largest triangle's plane. A flat closed mesh (two-sided wall)
-   bounds no volume: neither a solid (its hull would fill windows) nor sliced. */
+/* 1 if all vertices are within float precision of largest triangle's plane. A flat closed mesh (two-sided wall)
+   bounds no volume: neither solid (its hull would fill windows) nor sliced. */
 PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
 									   uint32_t n) {
 	uint32_t t, i, k, best = 0;
@@ -17363,8 +17707,8 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
 	return 1;
 }
 
-/* Cap of a component whose boundary edges (pairs in bnd) lie exactly in an axis plane x_k = c, all vertices on one
-   side: *side = +1 if the solid is where x_k >= c, else -1. Exact: pvs__ep_slice needs no tolerance. */
+/* Cap of component whose boundary edges (pairs in bnd) lie exactly in an axis plane x_k = c, all vertices on one
+   side: *side = +1 if solid is where x_k >= c, else -1. Exact: pvs__ep_slice needs no tolerance. */
 PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv,
 								 uint32_t nuv, int *axis, float *c, int *side) {
 	int k;
@@ -17405,7 +17749,7 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
 #define PVS__EP_CONCAVE_EDGES 256
 
 /* Odd-use edges (sorted keys, smaller canonical id high) of triangles tl[ids[i] & 0xffffffff] (ids NULL: tl[i]), i < n,
-   into out (not ids). Returns the count. */
+   into out (not ids); returns how many. */
 PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t *tl, const uint64_t *ids, uint32_t n,
 									   uint64_t *out) {
 	uint32_t i, k, ne = 0, nb = 0;
@@ -17425,7 +17769,7 @@ PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t 
 	return nb;
 }
 
-/* A planar group not forming one convex polygon becomes a concave planar occluder (Durand 2000 §3.4, Fig. 7): boundary
+/* A planar group not forming one convex polygon becomes concave planar occluder (Durand 2000 §3.4, Fig. 7): boundary
    edges and plane (unit normal nr / lr, vertices within dev); its points (vertex hull) serve selection only. Past
    PVS__EP_CONCAVE_EDGES edges it stays in pieces. */
 PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
@@ -17442,7 +17786,7 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
 	v = (ax + 2) % 3;
 	nb = pvs__ep_odd_edges(w, tl, w->edges + m, cnt, w->bed);
 	if (nb < 3 || nb > PVS__EP_CONCAVE_EDGES) return PVS_OK;
-	/* hull of the boundary's vertices (interior ones lie inside) */
+	/* hull of boundary's vertices (interior ones lie inside) */
 	for (h = 0; h < 2 * nb; ++h) {
 		const float *x = w->vpos[h & 1u ? (uint32_t)(w->bed[h >> 1] & 0xffffffffu) : (uint32_t)(w->bed[h >> 1] >> 32)];
 		w->hp[2 * h] = x[u];
@@ -17482,7 +17826,7 @@ PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene
 }
 
 /* Union-finds into w->gparent (smaller index roots) edge-sharing triangles coplanar to float precision (`scale`: twice
-   the largest coordinate) facing alike. Needs 3 n < 2^21 (21-bit packing). */
+   largest coordinate) facing alike. Needs 3 n < 2^21 (21-bit packing). */
 PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const uint32_t *tl, uint32_t n,
 									   pvs__epprepwork *w, double scale) {
 	uint32_t j, k, ne = 0, g;
@@ -17496,7 +17840,7 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
 	for (g = 0; g < ne;) {
 		uint32_t h = g + 1;
 		while (h < ne && (w->edges[h] >> 21) == (w->edges[g] >> 21)) ++h;
-		for (k = g; k + 1 < h; ++k) { /* triangles around the edge, pairwise (two-sided walls: 4) */
+		for (k = g; k + 1 < h; ++k) { /* triangles around edge, pairwise (two-sided walls: 4) */
 			uint32_t k2;
 			for (k2 = k + 1; k2 < h && k2 < k + 8; ++k2) {
 				uint32_t ja = (uint32_t)(w->edges[k] & 0x1fffffu), jb = (uint32_t)(w->edges[k2] & 0x1fffffu), m;
@@ -17517,7 +17861,7 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
 }
 
 /* A planar group's edges in (u, v) into w->e2 (ends ordered, with their triangle); *dev: farthest vertex from plane
-   (nr, lr) through A[0]; *area: (u, v) area. Returns the count. */
+   (nr, lr) through A[0]; *area: (u, v) area. Returns how many. */
 PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
 										 uint32_t m, uint32_t cnt, const float *const *A, const double *nr, double lr,
 										 uint32_t u, uint32_t v, double *dev, double *area) {
@@ -17546,7 +17890,7 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
 	return e;
 }
 
-/* Adds a planar group's convex polygon (k corners in w->q2, in the (u, v) plane of nr's dominant axis ax) as an
+/* Adds planar group's convex polygon (k corners in w->q2, in the (u, v) plane of nr's dominant axis ax) as an
    occluder, marking its triangles in w->used; nothing if a corner is not a group vertex. */
 PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 									pvs__epprepwork *w, uint32_t m, uint32_t cnt, uint32_t k, const double *nr,
@@ -17567,8 +17911,8 @@ PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, ui
 	}
 	if (found != k) return;
 	{
-		/* slack: vertices' distance from a plane through 3 far-apart corners (the first triangle's plane tilts with
-		   rounding), doubled for hull and surface, again for the footprint, plus dent |n| / |n_ax| (dent in (u, v)) */
+		/* slack: vertices' distance from plane through 3 far-apart corners (first triangle's plane tilts with
+		   rounding), doubled for hull and surface, again for footprint, plus dent |n| / |n_ax| (dent in (u, v)) */
 		double best = 0.0, nb[3], lb = 0.0, dev2 = 0.0;
 		uint32_t i1, i2, b1 = 1, b2 = 2;
 		for (i1 = 1; i1 < k; ++i1)
@@ -17644,9 +17988,8 @@ PVS__STATIC pvs_result pvs__ep_merge_planar(pvs__extproj_prep *p, const pvs_scen
 }
 #undef PVS__EP_TRI
 
-/* Connected components (shared positions) of an object's triangles into w: canon (corner -> distinct vertex), vpos (its
-   position), parent (root: smaller index, deterministic), order (by component, in order); start[root] ends as the
-   component's end. */
+/* Components (shared positions) of object triangles into w: canon (corner -> distinct vertex), vpos (its position),
+   parent (root: smaller index, deterministic), order (by component, in order); start[root] ends as component's end. */
 PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn, pvs__epprepwork *w) {
 	uint32_t i, nv = 0, sum = 0;
 	for (i = 0; i < 3 * tn; ++i) {
@@ -17684,7 +18027,7 @@ PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn
 	for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__uf_find(w->parent, i)]++] = i;
 }
 
-/* Component `comp`'s boundary (odd-use edges) into w->edges, returns the count; its vertices into w->uv[0 .. *nuv) */
+/* Component `comp`'s boundary (odd-use edges) into w->edges, returns how many; its vertices into w->uv[0 .. *nuv) */
 PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32_t *tl, uint32_t n, uint32_t comp,
 												uint32_t *nuv) {
 	uint32_t j, k, nb = pvs__ep_odd_edges(w, tl, NULL, n, w->edges);
@@ -17697,8 +18040,7 @@ PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32
 	return nb;
 }
 
-/* The component's triangles as planar occluders: merged groups, then consecutive coplanar pairs forming convex quads,
-   then lone non-zero-area triangles. */
+/* Planar occluders: merged groups, then consecutive coplanar pairs forming convex quads, then lone nonzero-area ones */
 PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 											uint32_t n, pvs__epprepwork *w) {
 	uint32_t j, k;
@@ -17771,7 +18113,7 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
 	return PVS_OK;
 }
 
-/* One component (triangles tl[0 .. n), root `comp`): closed and convex: a solid (capped: only for cells on the cap's
+/* One component (triangles tl[0 .. n), root `comp`): closed and convex: solid (capped: only for cells on cap's
    solid side); else its polygons, kept for slicing if closed or capped. */
 PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0,
 												 const uint32_t *tl, uint32_t n, uint32_t comp, uint32_t tn,
@@ -17792,14 +18134,14 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 	if (closed || capped) {
 		/* flat closed or capped mesh bounds no volume */
 		const float **vq = (const float **)w->ref; /* ref is free now: room for 3 tn pointers */
-		uint32_t *tt = w->gparent;				   /* unused until the polygons */
+		uint32_t *tt = w->gparent;				   /* unused until polygons */
 		for (j = 0; j < nuv; ++j) vq[j] = w->vpos[w->uv[j]];
 		for (j = 0; j < n; ++j) tt[j] = t0 + tl[j];
 		if (pvs__ep_flat_component(s, tt, n, vq, nuv)) closed = capped = 0;
 	}
 	if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && n <= 2 * PVS__EP_MAXP) {
-		/* a capped solid serves only cells strictly on its side of the cap: a ray from there crosses the cap's plane
-		   once, going away, so meets the hull (cap included) first on a real face */
+		/* capped solid serves only cells strictly on its side of cap: a ray from there crosses cap's plane
+		   once, going away, so meets hull (cap included) first on a real face */
 		const float *q[PVS__EP_MAXP];
 		double slack;
 		for (j = 0; j < n; ++j) tris_local[j] = t0 + tl[j];
@@ -17827,12 +18169,12 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 	return pvs__ep_add_slice(p, s, t0, tl, n, w, bnd, nb, capped, cap_axis, cap_side, cap_value);
 }
 
-/* Prepares one object's triangles t0 .. t0 + tn, component by component. */
+/* Object's triangles t0 .. t0 + tn, component by component. */
 PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn,
 											  pvs__epprepwork *w) {
 	uint32_t comp;
 	pvs__ep_components(s, t0, tn, w);
-	/* start[root] holds the component's end; components: the roots, in order */
+	/* start[root] holds component's end; components: roots, in order */
 	for (comp = 0; comp < tn; ++comp) {
 		uint32_t begin, end;
 		pvs_result r;
@@ -17860,7 +18202,7 @@ PVS__STATIC int pvs__ep_skey_cmp(const void *a, const void *b) {
 	return x->tri < y->tri ? -1 : x->tri > y->tri;
 }
 
-/* The first axis on which triangle t is flat, or -1. */
+/* First axis triangle t is flat on, or -1. */
 PVS__STATIC int pvs__ep_flat_axis(const pvs_scene *s, uint32_t t) {
 	const uint32_t *ix = s->indices + 3 * (size_t)t;
 	const float *v0 = s->positions + 3 * (size_t)ix[0], *v1 = s->positions + 3 * (size_t)ix[1],
@@ -17877,7 +18219,7 @@ typedef struct pvs__epsheetwork {
 	float *q;			  /* 2 (cap + 1): a piece's polygon */
 	unsigned char *keep;  /* cap + 1 */
 	pvs__epend *ends;	  /* 2 cap */
-	uint32_t *uf;		  /* cap: pieces (union-find over the group's triangles) */
+	uint32_t *uf;		  /* cap: pieces (union-find over group's triangles) */
 	double *tarea;		  /* cap: area per triangle, then per piece at its root */
 	size_t cap;
 } pvs__epsheetwork;
@@ -17891,7 +18233,7 @@ PVS__STATIC void pvs__ep_sheetwork_free(const pvs_allocator *a, pvs__epsheetwork
 	pvs__free_array(a, w->tarea, w->cap, sizeof(double));
 }
 
-/* Grows the scratch to `cap` edges; 0 if out of memory (what was allocated stays in w). */
+/* 0 if out of memory (what was allocated stays in w). */
 PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwork *w, size_t cap) {
 	if (cap <= w->cap) return 1;
 	pvs__ep_sheetwork_free(a, w);
@@ -17931,8 +18273,7 @@ PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float 
 	return PVS_OK;
 }
 
-/* Sheets among n >= 2 triangles in one axis-aligned plane: edge-joined pieces (a lamp's base on the ground is its own)
-   forming one convex polygon. */
+/* Sheets of n >= 2 triangles in an axis plane: edge-joined pieces (a lamp's base is its own) forming convex polygons */
 PVS__STATIC pvs_result pvs__ep_sheet_group(pvs__extproj_prep *p, const pvs_scene *s, const pvs__epskey *key, size_t n,
 										   pvs__epsheetwork *w) {
 	int k = (int)key[0].axis, u = (k + 1) % 3, v = (k + 2) % 3;
@@ -18053,8 +18394,8 @@ PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint
 	return PVS_OK;
 }
 
-/* Finds the largest sheets and extends occluders standing on them through them by the scene's size: the prism under the
-   footprint keeps the occluder convex and lies in the sheet's solid half-space, so from a cell over the sheet on its
+/* Finds largest sheets and extends occluders standing on them through them by scene's size: the prism under the
+   footprint keeps the occluder convex and lies in sheet's solid half-space, so from cell over sheet on its
    side it blocks nothing new, and closes the wall-ground seam the two Projections leave open. */
 PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) {
 	const pvs_allocator *a = &p->allocator;
@@ -18124,7 +18465,7 @@ PVS__STATIC int pvs__ep_area_class(float area) {
 	return c;
 }
 
-/* Occluders of the scene's triangles, object by object, tagged with it. */
+/* Occluders of scene's triangles, object by object, tagged with it. */
 PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_scene *s, pvs__epprepwork *w) {
 	uint32_t t;
 	for (t = 0; t < s->triangle_count;) {
@@ -18140,7 +18481,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_sc
 	return PVS_OK;
 }
 
-/* Scene volumes: a BOX is a convex solid, an EXTRUSION's walls quads; CONVEX ones are left out (conservative). */
+/* Scene volumes: a BOX is convex solid, an EXTRUSION's walls quads; CONVEX ones are left out (conservative). */
 PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *s) {
 	uint32_t o, i;
 	for (o = 0; o < s->occluder_count; ++o) {
@@ -18174,7 +18515,7 @@ PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *
 	}
 }
 
-/* Per size class: the occluders, the largest area and a kD-tree of boxes (§6.1's sweeps). */
+/* Per size class: occluders, largest area and a kD-tree of boxes (§6.1's sweeps). */
 PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err) {
 	const pvs_allocator *a = &p->allocator;
 	pvs_kdtree_desc kd;
@@ -18268,12 +18609,12 @@ PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_alloca
 
 /* ---- slices of closed meshes (§3.3) ---- */
 
-/* Slicer per-cell scratch: segments (x0, y0, x1, y1 in pixels), crossings, a row. */
+/* Slicer per-cell scratch: segments (x0, y0, x1, y1 in pixels), crossings, row. */
 typedef struct pvs__epslicer {
 	double *seg;
 	double *xs;
 	unsigned char *row;
-	unsigned char *cmark;	 /* res * res (no map or mask is larger): a concave occluder's boundary penumbra */
+	unsigned char *cmark;	 /* res * res (no map or mask is larger): concave occluder's boundary penumbra */
 	size_t cap;			 /* segments */
 	uint32_t width;		 /* row buffer: longest side of a map or mask */
 } pvs__epslicer;
@@ -18301,8 +18642,8 @@ PVS__STATIC int pvs__ep_double_cmp(const void *a, const void *b) {
 	return x < y ? -1 : x > y;
 }
 
-/* Component c's section by w = W: a segment (pixels) per crossing triangle into sc->seg from nseg on; vertices on the
-   plane count as beyond it; *mag grows to the points' size. Returns the new count. */
+/* Component c's section by w = W: segment (pixels) per crossing triangle into sc->seg from nseg on; vertices on the
+   plane count as beyond it; *mag grows to points' size. Returns new count. */
 PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
 										  const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double *mag) {
 	uint32_t i;
@@ -18333,8 +18674,8 @@ PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj
 	return nseg;
 }
 
-/* Cap's section by w = W: boundary edges crossing the plane give points on one line, paired in order into segments from
-   nseg on. Returns the new count, or 0xffffffff if odd (never when closed). */
+/* Cap's section by w = W: boundary edges crossing plane give points on one line, paired in order into segments from
+   nseg on. Returns new count, or 0xffffffff if odd (never when closed). */
 PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
 										 pvs__epslicer *sc, uint32_t nseg, double *mag) {
 	double *pts = sc->xs;
@@ -18350,7 +18691,7 @@ PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__
 	if (ncap & 1u) return 0xffffffffu;
 	/* line runs along u or v: cap axis-aligned, plane across another axis */
 	key = c->cap_axis == f->u ? 1 : 0; /* cap fixes u: line runs along v */
-	for (x = 1; x < ncap; ++x) /* insertion sort along the line */
+	for (x = 1; x < ncap; ++x) /* insertion sort along line */
 		for (y = x; y > 0 && pts[2 * y + key] < pts[2 * (y - 1) + key]; --y) {
 			double t0 = pts[2 * y], t1 = pts[2 * y + 1];
 			pts[2 * y] = pts[2 * (y - 1)];
@@ -18368,9 +18709,8 @@ PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__
 	return nseg;
 }
 
-/* Fills the section's inside: per row the parity spans of its centre line (half-open in y), less pixels a segment
-   crosses in the row's band widened by m, get `depth` (where nearer) in map, f->bits in mask (either may be NULL).
-   Returns the count. */
+/* Fills section's inside: per row parity spans of its centre line (half-open in y), less pixels a segment
+   crosses in row's band widened by m, get `depth` (where nearer) in map, f->bits in mask (either may be NULL). */
 PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double m,
 										  float depth, float *map, unsigned char *mask) {
 	double ylo = DBL_MAX, yhi = -DBL_MAX;
@@ -18428,11 +18768,10 @@ PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *
 	return written;
 }
 
-/* Rasterizes the section of a closed (or capped) component by plane w = W (Durand 2000 §3.3): pixels inside by parity,
-   at a margin from every segment, get Depth W. Conservative: cell point V is outside the solid (the cell is outside its
-   box), section point X inside, so V-X crosses the surface an odd number of times, never the cap (both strictly on its
-   solid side): it hits a triangle nearer than W. Vertices on the plane count as beyond it (symbolic perturbation), so
-   segments agree. Returns pixels written. */
+/* Section of closed (or capped) component by plane w = W (Durand 2000 §3.3): pixels inside by parity, at margin
+   from every segment, get Depth W. Conservative: cell point V is outside solid (cell outside its box), section point
+   X inside, so V-X crosses surface an odd # of times, never cap (both strictly on its solid side): it hits
+   a triangle nearer than W. Vertices on plane count as beyond it (symbolic perturbation), so segments agree. */
 PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
 								   const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
 	double mag = 0.0;
@@ -18442,27 +18781,27 @@ PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *
 		if (nseg == 0xffffffffu) return 0;
 	}
 	if (nseg < 3) return 0;
-	/* margin: the points' rounding in pixels, widely bounded */
+	/* margin: points' rounding in pixels, widely bounded */
 	return pvs__ep_fill_section(f, sc, nseg, 1e-6 + 1e-12 * mag, pvs__f_up(f->W), map, mask);
 }
 
-/* 1 if the component may be sliced for this cell: outside its box, strictly on the cap's solid side. */
+/* 1 if cell is outside c's box, strictly on cap's solid side. */
 PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
 	if (pvs__box_overlap(&c->box, cell)) return 0;
 	return !c->capped || pvs__ep_cap_ok(c->cap_side, c->cap_axis, c->cap_value, cell);
 }
 
-/* Slice of a sheet's solid half-space (beyond it from the cell, over its polygon): pixels in by a margin: Depth W. */
+/* Slice of sheet's solid half-space (beyond it from cell, over its polygon): pixels in by margin: Depth W. */
 PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__epsheet *S, int side,
 										 const pvs__epframe *f, float *map, unsigned char *mask) {
-	int k = S->axis, along = f->a == (k + 1) % 3 ? 0 : 1; /* polygon coordinate of the plane's axis */
+	int k = S->axis, along = f->a == (k + 1) % 3 ? 0 : 1; /* polygon coordinate of plane's axis */
 	const float *poly = p->spoly + 2 * (size_t)S->first;
 	double pos = f->face + f->s * f->W, lo = DBL_MAX, hi = -DBL_MAX, x0, x1, y0, y1, m, mag;
 	int32_t i0, i1, j0, j1, j;
 	uint32_t written = 0, e;
 	float depth = pvs__f_up(f->W);
-	if (k == f->a) return 0; /* a parallel plane needs a polygon fill; gains little */
-	/* polygon's extent along the line x[a] = pos */
+	if (k == f->a) return 0; /* parallel plane needs a polygon fill; gains little */
+	/* polygon's extent along line x[a] = pos */
 	for (e = 0; e < S->count; ++e) {
 		const float *A = poly + 2 * e, *B = poly + 2 * ((e + 1) % S->count);
 		double a0 = A[along], a1 = B[along], t, x;
@@ -18478,7 +18817,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__
 		hi = pvs__dmax(hi, x);
 	}
 	if (!(hi > lo)) return 0;
-	/* to pixels: sheet axis k is the plane's u or v, the interval on the other */
+	/* to pixels: sheet axis k is plane's u or v, interval on other */
 	if (f->u == k) {
 		double c = (S->value - f->u0) * f->su;
 		x0 = side > 0 ? -DBL_MAX : c;
@@ -18525,9 +18864,8 @@ PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep 
 
 /* ---- concave planar occluders (§3.4) ---- */
 
-/* Clips a concave occluder's boundary (E, n edges) to w >= c (ge) or w <= c: kept edges cut exactly at c, plus the
-   clipping line's parts inside P (crossings sorted, paired by parity). E needs room for 1.5 n + 1 edges. Returns the
-   new count. */
+/* Clips concave boundary E (n edges) to w >= c (ge) or w <= c: kept edges cut exactly at c, plus clip line's parts
+   inside P (crossings sorted, paired by parity). E: room for 1.5 n + 1 edges. Returns new count. */
 PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epocc *o, double *E, uint32_t n,
 										  double cdepth, int ge) {
 	const pvs__epframe f = *fp;
@@ -18540,7 +18878,7 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
 	dir[1] = (double)o->pn[2] * ea[0] - (double)o->pn[0] * ea[2];
 	dir[2] = (double)o->pn[0] * ea[1] - (double)o->pn[1] * ea[0];
 	for (c = 0; c < 3; ++c) best = pvs__dmax(best, pvs__dabs(dir[c]));
-	if (!(best > 1e-6)) return 0; /* plane nearly parallel to the cut: nothing kept */
+	if (!(best > 1e-6)) return 0; /* plane nearly parallel to cut: nothing kept */
 	for (q = 0; q < n; ++q) { /* in place: kept edges move down (nc <= q) */
 		double A[3], B[3], wa, wb, *out = E + 6 * (size_t)nc;
 		int ia, ib;
@@ -18562,7 +18900,7 @@ PVS__STATIC uint32_t pvs__ep_clip_concave(const pvs__epframe *fp, const pvs__epo
 		++nc;
 	}
 	if (nx & 1u) return 0;
-	for (q = 1; q < nx; ++q) { /* crossings along the line, then paired */
+	for (q = 1; q < nx; ++q) { /* crossings along line, then paired */
 		double tmp[4];
 		uint32_t r2 = q;
 		memcpy(tmp, xs[q], sizeof(tmp));
@@ -18592,7 +18930,7 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
 			double w = f.s * ((double)x[f.a] - f.face), t = (f.W - Vw) / (w - Vw);
 			pts[k][0] = (Vu + ((double)x[f.u] - Vu) * t - f.u0) * f.su;
 			pts[k][1] = (Vv + ((double)x[f.v] - Vv) * t - f.v0) * f.sv;
-			/* rounding: a few ulps of the terms, widely (ends are exact) */
+			/* rounding: a few ulps of terms, widely (ends are exact) */
 			err = pvs__dmax(err,
 							1e-12 *
 								(pvs__dabs(pts[k][0]) + pvs__dabs(pts[k][1]) + base +
@@ -18605,7 +18943,7 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
 	err += 1e-3; /* spare for crossing test (2) */
 	for (k = 0; k < 16; ++k) { hy0 = pvs__dmin(hy0, pts[k][1]); hy1 = pvs__dmax(hy1, pts[k][1]); }
 	hn = pvs__ep_hull(pts, 16, hull);
-	if (!(hy1 - hy0 < 1e9)) { /* too far to bound */
+	if (!(hy1 - hy0 < 1e9)) {
 		for (row = j0; row <= j1; ++row) memset(cmark + (size_t)row * f.width + i0, 1, (size_t)(i1 - i0 + 1));
 		return 0;
 	}
@@ -18649,8 +18987,8 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
 	return 1;
 }
 
-/* Test (2) for pixel (xm, row): 1 if the line from the cell's centre through the pixel's centre meets o's plane before
-   (front) or behind the plane, inside the boundary by parity, farther from it than the slack. */
+/* Test (2) for pixel (xm, row): 1 if line from cell's centre through pixel's centre meets o's plane before
+   (front) or behind plane, inside boundary by parity, farther from it than slack. */
 PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *o, const double *E, uint32_t n,
 									   const double *world0, const double *pn, int pax, int front, double scale,
 									   int32_t xm, int32_t row) {
@@ -18666,7 +19004,7 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
 	t = ((double)o->pd - (pn[0] * world0[0] + pn[1] * world0[1] + pn[2] * world0[2])) / den;
 	if (front ? !(t > 0.0 && t <= 1.0) : !(t >= 1.0)) return 0;
 	for (c = 0; c < 3; ++c) cp[c] = world0[c] + dir[c] * t;
-	for (q = 0; q < n; ++q) { /* parity and distance to the boundary, in (pu, pv) */
+	for (q = 0; q < n; ++q) { /* parity and distance to boundary, in (pu, pv) */
 		const double *a = E + 6 * (size_t)q, *b = a + 3;
 		double ax = a[pu], ay = a[pv], bx = b[pu], by = b[pv], ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey, s2;
 		if ((ay > cp[pv]) != (by > cp[pv]) && cp[pu] < ax + ex * (cp[pv] - ay) / ey) inside = !inside;
@@ -18675,18 +19013,18 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
 						 sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) +
 							  (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
 	}
-	/* surface within slack of the plane: the line crosses that slab over slack |dir| / |den|, 1 / |n_pax| longer in
-	   (pu, pv); nearer the boundary: not trusted */
+	/* surface within slack of plane: line crosses that slab over slack |dir| / |den|, 1 / |n_pax| longer in
+	   (pu, pv); nearer boundary: not trusted */
 	tol = 4.0 * slack / pvs__dabs(pn[pax]) *
 			pvs__dmax(1.0, sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]) / pvs__dabs(den)) +
 		1e-9 * scale;
 	return inside && best > tol;
 }
 
-/* Projection of a concave planar occluder P (Durand 2000 §3.4, Fig. 7) wholly in front of the plane or, unless
-   front_only, behind it. As the cell point moves, a line's crossing with P's plane leaves P only through its boundary,
-   so pixel X is covered if (1) it is outside every boundary edge's penumbra (cmark) and (2) the line from the cell's
-   centre through X crosses P; one test per unmarked run of a row. Depth: farthest vertex plus the slack. */
+/* Projection of concave planar occluder P (Durand 2000 §3.4, Fig. 7) wholly in front of plane or, unless
+   front_only, behind it. As cell point moves, a line's crossing with P's plane leaves P only through its boundary,
+   so pixel X is covered if (1) it is outside every boundary edge's penumbra (cmark) and (2) line from cell's
+   centre through X crosses P; one test per unmarked run of a row. Depth: farthest vertex plus slack. */
 PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o,
 									 int front_only, unsigned char *cmark, float *map, unsigned char *mask) {
 	const pvs__epframe f = *fp;
@@ -18706,14 +19044,14 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 		for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, pvs__dabs(E[3 * e + c]));
 	}
 	if (!(wmin - slack > margin)) {
-		/* reaching past the cell's face (a wall beside the cell): its part at w >= margin, exact input only */
+		/* reaching past cell's face (a wall beside cell): its part at w >= margin, exact input only */
 		if (slack > 0.0 || !(wmax > margin)) return 0;
 		n = pvs__ep_clip_concave(&f, o, E, n, margin, 1);
 		if (n < 3) return 0;
 	}
 	if (wmax + slack <= f.W) front = 1;
 	else if (!front_only && wmin - slack >= f.W) front = 0;
-	else if (slack == 0.0) { /* straddling the plane: the part in front */
+	else if (slack == 0.0) { /* straddling plane: the part in front */
 		n = pvs__ep_clip_concave(&f, o, E, n, f.W, 0);
 		if (n < 3) return 0;
 		front = 1;
@@ -18741,7 +19079,7 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 	j1 = pvs__clampi(floor(yhi - 1e-6 * (1.0 + pvs__dabs(yhi))) - 1.0, -1, (int32_t)f.height - 1);
 	if (i0 > i1 || j0 > j1) return 0;
 	for (row = j0; row <= j1; ++row) memset(cmark + (size_t)row * f.width + i0, 0, (size_t)(i1 - i0 + 1));
-	/* (1) the boundary's penumbrae */
+	/* (1) boundary's penumbrae */
 	for (e = 0; e < n; ++e)
 		if (!pvs__ep_mark_penumbra(&f, E + 6 * (size_t)e, base, cmark, i0, i1, j0, j1)) break;
 	/* (2) per run of unmarked pixels */
@@ -18790,11 +19128,10 @@ PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
 		pvs__pyramid_level(NULL, m->lv[l - 1], m->lw[l - 1], m->lh[l - 1], NULL, m->lv[l], m->lw[l], m->lh[l], 1, 1, 1);
 }
 
-/* Top-down query of extproj's two pyramids: depth maps (max pyramids: a pixel is open where its Depth >= d) and sweep
-   masks (AND pyramids: open where `bit` is clear). 1 if some level-0 pixel of rect r (x0 y0 x1 y1) under texel (tx, ty)
-   of level l is open. */
+/* Top-down query of extproj's pyramids: depth maps (max pyramids: open where Depth >= d) and sweep masks (AND pyramids:
+   open where `bit` is 0). 1 if a level-0 pixel of rect r (x0 y0 x1 y1) under texel (tx, ty) of level l is open. */
 typedef struct pvs__ep_pyr {
-	float *const *depth;		   /* depth map levels; NULL for a mask */
+	float *const *depth;		   /* depth map levels; NULL for mask */
 	unsigned char *const *mask;
 	const uint32_t *lw, *lh;
 	float d;
@@ -18815,7 +19152,7 @@ PVS__STATIC int pvs__ep_open_at(const pvs__ep_pyr *p, uint32_t l, uint32_t tx, u
 	return 0;
 }
 
-/* 1 if some pixel of rect r is open or off the plane: from the finest level where r spans 2 x 2 texels. */
+/* 1 if some pixel of rect r is open or off plane: from finest level where r spans 2 x 2 texels. */
 PVS__STATIC int pvs__ep_open(const pvs__ep_pyr *p, const pvs_extproj_plane *plane, uint32_t levels, const int32_t *r) {
 	uint32_t l = 0, tx, ty;
 	if (r[0] < 0 || r[1] < 0 || r[2] >= (int32_t)plane->width || r[3] >= (int32_t)plane->height) return 1;
@@ -18828,7 +19165,7 @@ PVS__STATIC int pvs__ep_open(const pvs__ep_pyr *p, const pvs_extproj_plane *plan
 	return 0;
 }
 
-/* 1 if some pixel of rect r holds a Depth >= d or is off the plane. */
+/* 1 if some pixel of rect r holds a Depth >= d or is off plane. */
 PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) {
 	pvs__ep_pyr p;
 	p.depth = m->lv;
@@ -18840,8 +19177,8 @@ PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) 
 	return pvs__ep_open(&p, &m->plane, m->levels, r);
 }
 
-/* Sweep plane (§5): a mask (1 = every ray from the cell through the pixel is blocked before the plane) and its AND
-   pyramid. With sub-cells (nsub = 4) bit j says so for quarter j of the cell (halved across the direction on u: bit 0,
+/* Sweep plane (§5): mask (1 = every ray from cell through pixel is blocked before plane) and its AND
+   pyramid. With sub-cells (nsub = 4) bit j says so for quarter j of cell (halved across direction on u: bit 0,
    v: bit 1; frame sub[j]): their umbrae together are wider than the cell's; an object is hidden if hidden from each.
    frame.bits: all four (slices block every ray). nsub = 0: bit 1. */
 #define PVS__EP_MAX_SUB 4
@@ -18854,13 +19191,13 @@ typedef struct pvs__epmask {
 	pvs__epframe sub[PVS__EP_MAX_SUB];
 } pvs__epmask;
 
-/* Umbrae a mask holds (1 or 4) and the frame of the j-th. */
+/* Umbrae a mask holds (1 or 4); j-th's frame. */
 PVS__STATIC uint32_t pvs__ep_nsub(const pvs__epmask *m) { return m->nsub ? m->nsub : 1u; }
 PVS__STATIC const pvs__epframe *pvs__ep_subframe(const pvs__epmask *m, uint32_t j) {
 	return m->nsub ? m->sub + j : &m->frame;
 }
 
-/* Splits a mask's cell into 4 sub-cells meeting at one midpoint, covering the cell. */
+/* Splits mask's cell into 4 sub-cells meeting at its midpoint. */
 PVS__STATIC void pvs__ep_split_mask(pvs__epmask *m) {
 	uint32_t j;
 	double mu = 0.5 * (m->frame.cu[0] + m->frame.cu[1]), mv = 0.5 * (m->frame.cv[0] + m->frame.cv[1]);
@@ -18891,7 +19228,7 @@ PVS__STATIC void pvs__ep_build_mask_pyramid(pvs__epmask *m) {
 	}
 }
 
-/* 1 if some pixel of the rectangle lacks `bit` (or is off the plane). */
+/* 1 if some pixel of r lacks `bit` (or is off plane). */
 PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r, unsigned char bit) {
 	pvs__ep_pyr p;
 	p.depth = NULL;
@@ -18904,7 +19241,7 @@ PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r, unsign
 }
 
 /* Reprojection (§5.1): per column of `to`, range [lo, hi] of `from`'s pixels on u (per row, on v) crossed by rays from
-   the cell through it, extremes at cell corners and pixel edges; lo = -1 outside `from`. */
+   cell through it, extremes at cell corners and pixel edges; lo = -1 outside `from`. */
 PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, double W_from, double W_to, double to_k0,
 										double to_sk, uint32_t to_n, double from_k0, double from_sk, uint32_t from_n,
 										int32_t *lo, int32_t *hi) {
@@ -18943,7 +19280,7 @@ typedef struct pvs__epparams {
 	uint32_t res;		 /* plane pixels: res x res */
 	uint32_t max_occ;	 /* occluders per direction on §6.1's planes */
 	uint32_t sweep;		 /* sweep planes per direction (§5), 0 = none */
-	uint32_t split;		 /* 1: sweep masks hold the cell's 4 quarters' umbrae (pvs__epmask) */
+	uint32_t split;		 /* 1: sweep masks hold cell's 4 quarters' umbrae (pvs__epmask) */
 	uint32_t coarse;	 /* 1 (PVS_BAKE_PREVIEW): object nodes decided whole (pvs__ep_visit) */
 } pvs__epparams;
 
@@ -18959,11 +19296,11 @@ typedef struct pvs__epcell {
 	pvs__epmap maps[6 * PVS__EP_PLANES];
 	pvs__epmask *masks;  /* 6 x sweep; direction d's: d * sweep .. + mask_count[d] */
 	uint32_t mask_count[6], sweep;
-	const pvs_word *candidates; /* adaptive cells (§6.1): test only the parent's PVS; NULL = all */
+	const pvs_word *candidates; /* adaptive cells (§6.1): test only parent's PVS; NULL = all */
 	pvs_word *bits;
 	int coarse;					/* pvs__epparams.coarse: */
-	double cell_diag;			/*   the cell's diagonal, */
-	uint32_t tests;				/*   the box tests so far */
+	double cell_diag;			/*   cell's diagonal, */
+	uint32_t tests;				/*   box tests so far */
 } pvs__epcell;
 
 /* 1 if a box between cell and plane (depths w0 > 0 .. w1 <= W) is hidden by §4's improved Projection: some point of
@@ -18996,7 +19333,7 @@ PVS__STATIC int pvs__ep_front_hidden(const pvs__epmap *m, const pvs_box *b, doub
 	return 0;
 }
 
-/* Box beyond a sweep plane: §3.1's Projection (every blocked pixel's occluder is nearer); per sub-cell. */
+/* Box beyond sweep plane: §3.1's Projection (every blocked pixel's occluder is nearer); per sub-cell. */
 PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
 	int32_t r[4];
 	float depth;
@@ -19008,7 +19345,7 @@ PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
 	return 1;
 }
 
-/* 1 if the box is hidden from the whole cell (never if meeting it): on §6.1's planes by §3.1 behind, §4 in front,
+/* 1 if box is hidden from the whole cell (never if meeting it): on §6.1's planes by §3.1 behind, §4 in front,
    both parts if straddling; on the sweep's by the last two planes before it. */
 PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
 	int d;
@@ -19065,7 +19402,7 @@ PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box 
 	uint32_t stack[2 * 34], top = 0, tests = 0; /* a pending half per level: <= 33 ranges */
 	uint32_t t0 = s->object_triangles[2 * (size_t)o], tn = s->object_triangles[2 * (size_t)o + 1];
 	if (tn < 2 || tn > PVS__EP_PARTS_TRIS) return 1; /* as its box test said */
-	stack[top++] = t0 + tn / 2; /* whole box tested: start with the halves */
+	stack[top++] = t0 + tn / 2; /* whole box tested: start with halves */
 	stack[top++] = t0 + tn;
 	stack[top++] = t0;
 	stack[top++] = t0 + tn / 2;
@@ -19094,7 +19431,7 @@ PVS__STATIC int pvs__ep_wanted(const pvs__epcell *c, uint32_t o) {
 	return !c->candidates || pvs_bitset_test(c->candidates, o);
 }
 
-/* §6.1: occludees top-down through the object kD-tree, hidden nodes skipped; an object is visible if its box cut by a
+/* §6.1: occludees top-down through object kD-tree, hidden nodes skipped; an object is visible if its box cut by a
    leaf is (sweep: pvs__ep_parts_visible). Coarse: PVS__EP_COARSE_ANGLE. */
 PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 									uint32_t count) {
@@ -19125,14 +19462,14 @@ PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float d
 	return PVS_VISIT_DESCEND;
 }
 
-/* Box depths w0, w1 beyond the cell's face in direction d. */
+/* Box depths w0, w1 beyond cell's face in direction d. */
 PVS__STATIC void pvs__ep_box_w(const pvs_box *cell, const pvs_box *b, int d, double *w0, double *w1) {
 	int a = d >> 1;
 	if (d & 1) { *w0 = (double)cell->min[a] - b->max[a]; *w1 = (double)cell->min[a] - b->min[a]; }
 	else { *w0 = (double)b->min[a] - cell->max[a]; *w1 = (double)b->max[a] - cell->max[a]; }
 }
 
-/* §6.1 plane placement: pixels an occluder's box fills on the plane at W, axis by axis. */
+/* §6.1 plane placement: pixels an occluder's box fills on plane at W, axis by axis. */
 PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, int d, double W) {
 	int a = d >> 1, ax[2], k, i, j;
 	double w0, w1, ext = (double)cell->max[a] - cell->min[a], len[2];
@@ -19163,8 +19500,7 @@ PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, 
 			((double)cell->max[ax[1]] - cell->min[ax[1]] + 2.0 * PVS__EP_EXTEND * (W + ext)));
 }
 
-/* Plane of direction d at W, reaching PVS__EP_EXTEND times its distance from the cell's far side sideways (§6.1: for
-   the corner directions). */
+/* Plane of direction d at W reaching sideways PVS__EP_EXTEND x its distance from the far cell side (§6.1: corners). */
 PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32_t res, pvs_extproj_plane *pl) {
 	int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3;
 	double ext = (double)cell->max[a] - cell->min[a];
@@ -19197,7 +19533,7 @@ PVS__STATIC size_t pvs__ep_pyramid_size(uint32_t w, uint32_t h, uint32_t levels)
 	return n;
 }
 
-/* Pyramid levels above a res x res map (down to 1 x 1, at most 13). */
+/* Pyramid levels above a res x res map: to 1 x 1, <= 13. */
 PVS__STATIC uint32_t pvs__ep_level_count(uint32_t res) {
 	uint32_t levels = 0;
 	while (res > 1 && levels < 13) {
@@ -19207,7 +19543,7 @@ PVS__STATIC uint32_t pvs__ep_level_count(uint32_t res) {
 	return levels;
 }
 
-/* Counts in a mask's summed-area table: (w + 1) (h + 1) <= res^2 + w + h + 1, w + h <= side + res. */
+/* Counts in mask's summed-area table: (w + 1) (h + 1) <= res^2 + w + h + 1, w + h <= side + res. */
 PVS__STATIC size_t pvs__ep_sat_table(uint32_t res) { return (size_t)res * res + pvs__ep_max_side(res) + res + 1; }
 
 /* Sweep's summed-area tables: one per plane of a direction (each read by <= log2(sweep) + 1 later planes) within
@@ -19231,11 +19567,11 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
 	return bytes;
 }
 
-/* Fits a sweep plane (§5) to the span of the cell and the scene's bounds per axis (plus a sliver), spreading a res x
+/* Fits sweep plane (§5) to span of cell and scene's bounds per axis (plus a sliver), spreading a res x
    res map's pixels over it as ~square pixels within `room` with `levels`; pixels outside count as open. Nothing that
    could hide is lost: masks are read only by occludees beyond them (§3.1) and by reprojection farther out (§5.1), and
-   rays from the cell to points beyond cross the plane inside the span, which holds the cell's (as pvs__epslab needs).
-   §6.1's planes are not fitted: §4 often hides by pixels outside the span. */
+   rays from cell to points beyond cross plane inside span, which holds the cell's (as pvs__epslab needs).
+   §6.1's planes are not fitted: §4 often hides by pixels outside span. */
 PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels,
 								   size_t room, pvs_extproj_plane *pl) {
 	int a = (int)pl->axis, k;
@@ -19247,7 +19583,7 @@ PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, u
 			   m = (hi - lo) / 512.0;
 		float r0 = (double)pl->rect[k] < lo - m ? pvs__f_down(lo - m) : pl->rect[k];
 		float r1 = (double)pl->rect[k + 2] > hi + m ? pvs__f_up(hi + m) : pl->rect[k + 2];
-		if (r1 > r0) { /* else (flat cell, flat scene) the plane stays */
+		if (r1 > r0) { /* else (flat cell, flat scene) plane stays */
 			pl->rect[k] = r0;
 			pl->rect[k + 2] = r1;
 		}
@@ -19317,7 +19653,7 @@ PVS__STATIC double pvs__ep_tri_solid_angle(const double *e, const float *a, cons
 	return 2.0 * pvs__dabs(atan2(num, den));
 }
 
-/* Solid angle of an occluder from e: a polygon's by a fan, a solid's by its box (<= 3 faces face e). */
+/* Solid angle of an occluder from e: polygon's by a fan, solid's by its box (<= 3 faces face e). */
 PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__epocc *o, const double *e) {
 	double sum = 0.0;
 	uint32_t i;
@@ -19341,9 +19677,8 @@ PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__ep
 	return sum;
 }
 
-/* Selection (§6.1): per direction the n occluders of largest solid angle from the cell's centre beyond the face, by
-   (score, lower index): a total order, independent of visit order. Those that cannot enter a heap by their bound (area
-   / distance^2) are skipped. */
+/* Selection (§6.1): per direction n occluders of largest solid angle from cell's centre beyond face, by (score, lower
+   index): a total order, visit-order free; those whose bound (area / distance^2) cannot enter heap are skipped. */
 typedef struct pvs__epselect {
 	const pvs_scene *scene;
 	const pvs__extproj_prep *p;
@@ -19360,7 +19695,7 @@ PVS__STATIC int pvs__ep_sel_better(float score, uint32_t occ, const pvs__epsel *
 	return score > h->score || (score == h->score && occ < h->occ);
 }
 
-/* pvs__topk_offer's order: larger score first, ties to the smaller occluder id. */
+/* pvs__topk_offer's order: larger score first, ties to smaller occluder id. */
 PVS__STATIC int pvs__ep_sel_before(const void *a, const void *b) {
 	const pvs__epsel *x = (const pvs__epsel *)a;
 	return pvs__ep_sel_better(x->score, x->occ, (const pvs__epsel *)b);
@@ -19373,7 +19708,7 @@ PVS__STATIC void pvs__ep_sel_push(pvs__epsel *h, uint32_t n, uint32_t *count, fl
 	pvs__topk_offer(h, count, n, sizeof(e), &e, pvs__ep_sel_before);
 }
 
-/* 1 if an occluder of this box could, by its solid angle bound, enter a heap of a direction it reaches. */
+/* 1 if an occluder of this box could, by its solid angle bound, enter heap of a direction it reaches. */
 PVS__STATIC int pvs__ep_sel_wanted(const pvs__epselect *w, const pvs_box *box, double bound) {
 	uint32_t d;
 	for (d = 0; d < 6; ++d) {
@@ -19404,7 +19739,7 @@ PVS__STATIC pvs_visit pvs__ep_sel_visit(void *user, const pvs_box *node_box, flo
 		if (w->candidates && o->object != PVS_NO_OBJECT &&
 			!(w->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
 			!pvs_bitset_test(w->candidates, o->object))
-			continue; /* §6.1: hidden from the parent cell, so redundant (safe to leave out) */
+			continue; /* §6.1: hidden from parent cell, so redundant (safe to leave out) */
 		for (d = 0; d < 3; ++d) {
 			double g = w->centre[d] < o->box.min[d] ? o->box.min[d] - w->centre[d]
 				: w->centre[d] > o->box.max[d]      ? w->centre[d] - o->box.max[d]
@@ -19458,7 +19793,6 @@ PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_pre
 	return PVS_OK;
 }
 
-/* Sets up a map's pyramid levels over `base`. */
 PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_t *lw, uint32_t *lh, size_t elem,
 								void *base, void **lv) {
 	uint32_t k;
@@ -19473,8 +19807,8 @@ PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_
 	}
 }
 
-/* Occluder points for a plane of `axis`: extended through its sheet if the cell is over it on the occluder's side and
-   the extension crosses the axis (along it, it only pushes Depth away); NULL: a capped solid not over the cell. */
+/* Occluder points for plane of `axis`: extended through its sheet if cell is over it on occluder's side and
+   extension crosses axis (along it, it only pushes Depth away); NULL: capped solid not over cell. */
 PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell,
 										const int *sheet_side, int axis, uint32_t *count) {
 	if (!pvs__ep_cap_ok(o->cap_side, o->cap_axis, o->cap_value, cell)) return NULL;
@@ -19486,7 +19820,7 @@ PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__e
 	return p->pts + 3 * (size_t)o->first;
 }
 
-/* Per sheet: +1 (-1) if the cell is strictly on its positive (negative) side over its polygon, else 0. */
+/* Per sheet: +1 (-1) if cell is strictly on its positive (negative) side over its polygon, else 0. */
 PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *cell, int *side) {
 	uint32_t i;
 	for (i = 0; i < p->sheet_count; ++i) {
@@ -19501,9 +19835,9 @@ PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *
 	}
 }
 
-/* §6.1's planes for direction d: one just behind the farthest selected occluder (behind an occluder any plane is
-   equivalent, §7.3; in front it loses it to its penumbra), the others per distance band (far / r^q, far / r^(q-1)], r
-   = PVS__EP_PLANE_RATIO, behind the band's occluder filling most pixels, for nearer occludees and fusion (Fig. 16). */
+/* §6.1's planes for direction d: one just behind farthest selected occluder (behind an occluder any plane is
+   equivalent, §7.3; in front it loses it to its penumbra), others per distance band (far / r^q, far / r^(q-1)], r
+   = PVS__EP_PLANE_RATIO, behind band's occluder filling most pixels, for nearer occludees and fusion (Fig. 16). */
 PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
 									   const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
 									   float *mem, size_t map_floats, pvs__epslicer *sc, const int *sheet_side,
@@ -19521,7 +19855,7 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
 		double W = far + 1e-3 * (far + ext), hi = far / pow(PVS__EP_PLANE_RATIO, (double)q),
 			   lo = hi / PVS__EP_PLANE_RATIO, bestFill = 0.0;
 		uint32_t tried = 0;
-		if (q > 0) { /* candidates behind the band's occluders, best solid angle first */
+		if (q > 0) { /* candidates behind band's occluders, best solid angle first */
 			W = 0.0;
 			for (k = 0; k < n && tried < PVS__EP_PLANE_CANDIDATES; ++k) {
 				double Wc, fill = 0.0;
@@ -19557,8 +19891,8 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
 	}
 }
 
-/* §5.1 reprojection: marks in `to` (farther than `from`) the pixels whose every ray from the cell crosses blocked
-   pixels of `from`: an umbra inside that of the occluders before `from` (Appendix B), so conservative. Kernel: the true
+/* §5.1 reprojection: marks in `to` (farther than `from`) pixels whose every ray from cell crosses blocked
+   pixels of `from`: an umbra inside that of occluders before `from` (Appendix B), so conservative. Kernel: the true
    cell's per row and column (pvs__ep_reproject_axis); a summed-area table of from's open pixels decides. Sub-cell j:
    own kernel and sat_split lane; windows of >= 2^16 pixels left open. `ranges`: 2 (width + height) of `to`. */
 PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, const uint64_t *sat_split,
@@ -19596,7 +19930,7 @@ PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *
 	}
 }
 
-/* Summed-area table of a mask's pixels without `bit`: (width + 1) x (height + 1) counts. */
+/* Summed-area table of mask's pixels without `bit`: (width + 1) x (height + 1) counts. */
 PVS__STATIC void pvs__ep_mask_sat(const pvs__epmask *from, uint32_t *sat, unsigned char bit) {
 	const unsigned char *prev = from->lv[0];
 	uint32_t fw = from->plane.width, fh = from->plane.height, x, y, W1 = fw + 1;
@@ -19617,7 +19951,7 @@ PVS__STATIC void pvs__ep_mask_sat_split(const pvs__epmask *from, uint64_t *sat) 
 	const unsigned char *prev = from->lv[0];
 	uint32_t fw = from->plane.width, fh = from->plane.height, x, y, W1 = fw + 1, b;
 	uint64_t inc[16];
-	for (b = 0; b < 16; ++b) /* 1 in the lanes of the bits clear in b */
+	for (b = 0; b < 16; ++b) /* 1 in lanes of bits clear in b */
 		inc[b] = (uint64_t)(~b & 1u) | (uint64_t)((~b >> 1) & 1u) << 16 | (uint64_t)((~b >> 2) & 1u) << 32 |
 			(uint64_t)((~b >> 3) & 1u) << 48;
 	for (x = 0; x <= fw; ++x) sat[x] = 0;
@@ -19631,7 +19965,7 @@ PVS__STATIC void pvs__ep_mask_sat_split(const pvs__epmask *from, uint64_t *sat) 
 	}
 }
 
-/* pvs__ep_reproject_sat building the table in `sat` ((res + 1)^2 counts; with sub-cells twice that, 8-aligned). */
+/* pvs__ep_reproject_sat building table in `sat` ((res + 1)^2 counts; with sub-cells twice that, 8-aligned). */
 PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uint32_t *sat, int32_t *ranges) {
 	uint32_t j;
 	if (!to->nsub) {
@@ -19644,7 +19978,7 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
 }
 
 /* §5.1 reprojection onto plane `count` from planes 1, 2, 4, 8, ... back (Appendix B: each one's blocked pixels lie in
-   the umbra of the occluders before it). Each reprojection loses up to a pixel per side to rounding (the cell is a box,
+   the umbra of occluders before it). Each reprojection loses up to a pixel per side to rounding (cell is a box,
    not the paper's planar equivalent cell), which a step per plane would add up; skips take log2(k - j) + 1 steps from j
    to k. `cached` (never with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for one. */
 PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat,
@@ -19666,7 +20000,7 @@ typedef struct pvs__epslab {
 	const pvs_box *cell;
 	const pvs_word *candidates;
 	const int *sheet_side;
-	const pvs__epmask *prev;  /* previous plane, NULL for the first */
+	const pvs__epmask *prev;  /* previous plane, NULL for first */
 	pvs__epmask *m;			  /* plane being filled */
 	unsigned char *cmark;
 	uint32_t *stamp, serial;  /* occluders met in this traversal (an item comes once per leaf) */
@@ -19674,7 +20008,7 @@ typedef struct pvs__epslab {
 	int d, cls, axis[2];
 } pvs__epslab;
 
-/* 1 if an occluder or node box can add to the plane: between the planes, in the rectangle, not in the last umbra. */
+/* 1 if an occluder or node box can add to plane: between planes, in rectangle, not in the last umbra. */
 PVS__STATIC int pvs__ep_slab_wanted(const pvs__epslab *sl, const pvs_box *b) {
 	double w0, w1;
 	int k;
@@ -19702,7 +20036,7 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
 		if (sl->candidates && o->object != PVS_NO_OBJECT &&
 			!(sl->scene->object_flags[o->object] & PVS_OBJECT_OCCLUDER_ONLY) &&
 			!pvs_bitset_test(sl->candidates, o->object))
-			continue; /* §6.1: hidden from the parent cell */
+			continue; /* §6.1: hidden from parent cell */
 		if (!pvs__ep_slab_wanted(sl, &o->box)) continue;
 		pts = pvs__ep_points(p, o, sl->cell, sl->sheet_side, sl->d >> 1, &cnt);
 		for (k = 0; k < pvs__ep_nsub(sl->m); ++k) {
@@ -19714,12 +20048,12 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
 	return PVS_VISIT_DESCEND;
 }
 
-/* The occlusion sweep of §5 for direction d: planes from one cell size C ahead (or behind the nearest selected
-   occluder, if farther) to the scene's far end, each holding the reprojected earlier planes (§5.1), Projections of the
-   occluders since the previous plane and the slices it cuts; count to *planes. Unlike §5.2 (tests/BENCHMARKS.md,
-   extproj): geometric spacing, as dD = D (K - 1) P / (C N) crowds planes near the cell, where small umbrae are short,
+/* The occlusion sweep of §5 for direction d: planes from one cell size C ahead (or behind nearest selected
+   occluder, if farther) to scene's far end, each holding reprojected earlier planes (§5.1), Projections of the
+   occluders since previous plane and slices it cuts; count to *planes. Unlike §5.2 (tests/BENCHMARKS.md,
+   extproj): geometric spacing, as dD = D (K - 1) P / (C N) crowds planes near cell, where small umbrae are short,
    leaving few far out, where gaps between small occluders close; none nearer than C, as an occluder of width s < C / 2
-   at w casts an umbra ending before w C / (C - s) < 2 w (nearer occluders still reach the first plane); the far end is
+   at w casts an umbra ending before w C / (C - s) < 2 w (nearer occluders still reach first plane); the far end is
    the scene's (§6.1 favours near occluders) and holds no plane. */
 PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
 											const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
@@ -19747,7 +20081,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 	}
 	if (!(Wend > 0.0)) return PVS_OK;
 	if (!(C > 0.0)) C = pvs__dmax(ext, 1e-6);
-	/* first plane at C or just behind the nearest occluder (only there does a flat occluder facing it lie wholly in
+	/* first plane at C or just behind nearest occluder (only there does a flat occluder facing it lie wholly in
 	   front), then `sweep` planes up to the far end, exclusive */
 	W0 = pvs__dmax(W0 + 1e-3 * (W0 + ext), C);
 	Wend += 1e-3 * (Wend + ext);
@@ -19804,9 +20138,8 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 	return PVS_OK;
 }
 
-/* One cell's PVS (Durand 2000 §6.1): per direction the selected occluders on §6.1's planes and §5's sweep, then
-   occludees front to back. `candidates` (adaptive sub-cell): only the parent's visible objects are tested, others'
-   occluders left out. */
+/* One cell's PVS (Durand 2000 §6.1): per direction chosen occluders on §6.1's planes and §5's sweep, then
+   occludees front to back. `candidates` (adaptive sub-cell): only these are tested, others' occluders left out. */
 PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
 										 const pvs__epparams *prm, const pvs_word *candidates, const pvs_allocator *al,
 										 pvs_word *bits, uint32_t cell_id, pvs_error *err) {
@@ -19852,7 +20185,7 @@ PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_
 	if (prm->sweep) {
 		w.masks = (unsigned char *)pvs__alloc_array(al, w.nmask * w.mask_bytes, 1);
 		w.mask_hdr = (pvs__epmask *)pvs__alloc_array(al, w.nmask, sizeof(pvs__epmask));
-		w.sat_count = pvs__ep_sat_count(prm->res, prm->sweep); /* >= 2: room for the split tables */
+		w.sat_count = pvs__ep_sat_count(prm->res, prm->sweep); /* >= 2: room for split tables */
 		w.sat_table = pvs__ep_sat_table(prm->res);
 		w.sat = (uint32_t *)pvs__alloc_array(al, w.sat_count * w.sat_table, sizeof(uint32_t));
 		w.range_count = 2 * ((size_t)pvs__ep_max_side(prm->res) + prm->res);
@@ -19923,7 +20256,7 @@ PVS__STATIC pvs_result pvs__extproj_bake_check(const pvs_bake_desc *desc, pvs_er
 	return PVS_OK;
 }
 
-/* Parameters: desc's, else the defaults (PREVIEW: coarse; AUTO: with the sweep). */
+/* desc's parameters, else defaults (PREVIEW: coarse; AUTO: with sweep). */
 PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
 												 pvs_error *err) {
 	pvs__extproj_bake *x = (pvs__extproj_bake *)pvs__alloc(&env->allocator, sizeof(pvs__extproj_bake), 16);
@@ -19937,7 +20270,7 @@ PVS__STATIC pvs_result pvs__extproj_bake_prepare(pvs__bake_env *env, const pvs_b
 										  : PVS__EP_DEFAULT_RES;
 	x->prm.max_occ = desc->extproj.occluders ? desc->extproj.occluders : preview ? 32u : PVS__EP_DEFAULT_OCC;
 	x->prm.sweep = desc->extproj.sweep == PVS_EXTPROJ_NO_SWEEP ? 0u : desc->extproj.sweep;
-	if (!desc->extproj.sweep && env->is_auto && !preview) x->prm.sweep = PVS_EXTPROJ_SWEEP_PLANES; /* AUTO's default */
+	if (!desc->extproj.sweep && env->is_auto && !preview) x->prm.sweep = PVS_EXTPROJ_SWEEP_PLANES;
 	x->prm.split = desc->extproj.sweep_subcells == 4;
 	x->prm.coarse = preview;
 	return pvs__extproj_prepare(env->scene, &env->allocator, &x->prep, err);
@@ -19952,7 +20285,7 @@ PVS__STATIC int pvs__extproj_bake_applies(const void *state, const char **why) {
 	return any;
 }
 
-/* Tests only the candidates (if given); sets none of the other objects. */
+/* Tests only candidates (if given), sets no other object. */
 PVS__STATIC pvs_result pvs__extproj_bake_cell(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell,
 											  const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
 											  unsigned *flags, pvs_error *err) {
@@ -19987,15 +20320,14 @@ PVS__STATIC const pvs__bake_method pvs__extproj_method = {
    its ground rectangle touches has, at its least distance, a slope above its steepest sight line. Occluders go front to
    back, occluded ones skipped (§3.4). Angles are bin-exact, the rest rounded safe. */
 
-/* Angular resolution: 0.23 degree at 1536. Finer bins, an eps / 2 column grid, more steps, per-triangle tests: no gain
-   (tests/BENCHMARKS.md, shrink). */
+/* 0.23 degree bins; finer, eps / 2 columns, more steps, per-triangle tests: no gain (tests/BENCHMARKS.md, shrink). */
 #define PVS__HZ_BINS 1536
 #define PVS__HZ_STEPS 6
 
-/* Pseudo-angles in [0, 4) ("diamond angle": monotone in the true angle, a quarter turn per unit, no trigonometry); bin
+/* Pseudo-angles in [0, 4) ("diamond angle": monotone in angle, a quarter turn per unit, no trigonometry); bin
    b covers [4 b / BINS, 4 (b + 1) / BINS). */
 typedef struct pvs__hz {
-	double eu, ev, H, w;						 /* the eye; bin width (pseudo-angle) */
+	double eu, ev, H, w;						 /* eye; bin width (pseudo-angle) */
 	double dir[PVS__HZ_BINS + 1][2];			 /* ray direction per bin boundary (unnormalized) */
 	double dlen[PVS__HZ_BINS + 1];				 /* its length */
 	uint8_t nstep[PVS__HZ_BINS];
@@ -20031,8 +20363,8 @@ PVS__STATIC void pvs__hz_init(pvs__hz *z) {
 }
 PVS__STATIC double pvs__hz_lo(const pvs__hz *z, int32_t b) { return b * z->w; }
 PVS__STATIC double pvs__hz_hi(const pvs__hz *z, int32_t b) { return b + 1 == PVS__HZ_BINS ? 4.0 : (b + 1) * z->w; }
-/* Bin of pseudo-angle a, consistent with pvs__hz_lo / hi (w is no power of two: floor(a / w) can put an angle just
-   below b w in bin b, so a facade ending there would claim bin b - 1). */
+/* Bin of pseudo-angle a, matching pvs__hz_lo / hi (w is no power of two: floor(a / w) can put an angle just below b w
+   in bin b, so a facade ending there would claim bin b - 1). */
 PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
 	int32_t b = (int32_t)floor(a / z->w);
 	b = b < 0 ? 0 : b >= PVS__HZ_BINS ? PVS__HZ_BINS - 1 : b;
@@ -20041,15 +20373,14 @@ PVS__STATIC int32_t pvs__hz_bin(const pvs__hz *z, double a) {
 	return b;
 }
 
-/* Distance along boundary ray k from the eye to line p-q (eye-relative ground points); -1 if parallel. */
+/* Distance along boundary ray k to line p-q (eye-relative ground points); -1 if parallel. */
 PVS__STATIC double pvs__hz_ray(const pvs__hz *z, int32_t k, const double p[2], const double q[2]) {
 	double dx = z->dir[k][0], dy = z->dir[k][1], ex = q[0] - p[0], ey = q[1] - p[1], den = dx * ey - dy * ex;
 	if (den == 0.0) return -1.0;
 	return (p[0] * ey - p[1] * ex) / den * z->dlen[k];
 }
 
-/* Bin b's part [a0, a1] covered by a facade seen from outside, crossed at distances d0, d1, its line nearest at angle
-   afoot, distance dfoot. */
+/* Bin b's part [a0, a1] covered by a facade seen from outside, crossed at d0, d1; line nearest at (afoot, dfoot). */
 PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, double d0, double d1, double dfoot,
 							   double afoot) {
 	double lo, hi;
@@ -20083,7 +20414,7 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 			} else ++i;
 		}
 		if (n < 4) { L[n] = a0; R[n] = a1; ++n; }
-		else { /* full: keep the longest (less coverage: safe) */
+		else { /* full: keep longest (less coverage: safe) */
 			uint32_t sh = 0;
 			for (i = 1; i < 4; ++i)
 				if (R[i] - L[i] < R[sh] - L[sh]) sh = i;
@@ -20095,7 +20426,7 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 	}
 }
 
-/* Adds facade p-q (world ground points) of the current chain. */
+/* Facade p-q (world ground points) of the current chain. */
 PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	double p[2], q[2], cr, a, b, fx, fy, t, afoot, dfoot, len2, d1;
 	int32_t b0, b1, k;
@@ -20110,7 +20441,6 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	/* counter-clockwise from p (angle a) to q (angle b), under a half turn */
 	a = pvs__hz_angle(p[0], p[1]);
 	b = pvs__hz_angle(q[0], q[1]);
-	/* the line's point nearest the eye */
 	t = -(p[0] * (q[0] - p[0]) + p[1] * (q[1] - p[1])) / len2;
 	fx = p[0] + t * (q[0] - p[0]);
 	fy = p[1] + t * (q[1] - p[1]);
@@ -20128,7 +20458,7 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	}
 }
 
-/* Inserts step (r, s) into bin b: from distance r on, slope >= s. */
+/* Step (r, s): from distance r on, slope >= s. */
 PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
 	uint32_t n = z->nstep[b], i, j;
 	float *R = z->step_r[b], *S = z->step_s[b];
@@ -20137,7 +20467,7 @@ PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
 	for (i = 0, j = 0; i < n; ++i)
 		if (!(R[i] >= r && S[i] <= s)) { R[j] = R[i]; S[j] = S[i]; ++j; }
 	n = j;
-	if (n == PVS__HZ_STEPS) --n; /* full: drop the farthest (still safe) */
+	if (n == PVS__HZ_STEPS) --n; /* full: drop farthest (still safe) */
 	for (i = n; i > 0 && R[i - 1] > r; --i) { R[i] = R[i - 1]; S[i] = S[i - 1]; }
 	R[i] = r;
 	S[i] = s;
@@ -20148,16 +20478,16 @@ PVS__STATIC void pvs__hz_insert(pvs__hz *z, int32_t b, float r, float s) {
 PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
 	uint32_t i, n = z->nstep[b];
 	float best = -FLT_MAX;
-	/* steps ascend in distance and slope: the last not beyond d is best (branch-free) */
+	/* steps ascend in distance and slope: last not beyond d is best (branch-free) */
 	for (i = 0; i < n; ++i) best = (double)z->step_r[b][i] <= d ? z->step_s[b][i] : best;
 	return best;
 }
 
-/* Bins [*b0, *b1] (b1 >= BINS if wrapping), least and greatest ground distance from the eye of rectangle u0..u1,
-   v0..v1; 0 if the eye is in or on it. The span runs counter-clockwise between silhouette corners. */
+/* Bins [*b0, *b1] (b1 >= BINS if wrapping) and ground distances *dmin, *dmax from eye of rectangle u0..u1, v0..v1;
+   0 if eye is in or on it. The span runs counter-clockwise between silhouette corners. */
 PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1,
 							 double *dmin, double *dmax) {
-	/* corners where the rectangle starts and ends counter-clockwise, by region 3 rx + ry: bits 3, 2 (start) and 1, 0
+	/* corners where rectangle starts and ends counter-clockwise, by region 3 rx + ry: bits 3, 2 (start) and 1, 0
 	   (end) pick x1 over x0, y1 over y0 */
 	static const unsigned char ends[9] = {9, 1, 3, 8, 0, 7, 12, 14, 6};
 	double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, as, ae, xs[2], ys[2];
@@ -20186,7 +20516,7 @@ PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, 
 	return 1;
 }
 
-/* Distance along boundary ray k from the eye into the rectangle (eye-relative); DBL_MAX if none. */
+/* Distance along boundary ray k into rectangle (eye-relative); DBL_MAX if none. */
 PVS__STATIC double pvs__hz_enter(const pvs__hz *z, int32_t k, double x0, double y0, double x1, double y1) {
 	double dx = z->dir[k][0], dy = z->dir[k][1], t0 = 0.0, t1 = DBL_MAX;
 	if (dx != 0.0) {
@@ -20202,8 +20532,7 @@ PVS__STATIC double pvs__hz_enter(const pvs__hz *z, int32_t k, double x0, double 
 	return t1 >= t0 ? t0 * z->dlen[k] : DBL_MAX;
 }
 
-/* 1 if the box may be visible: some bin its ground rectangle touches lacks, from its least distance on, a slope above
-   the box's steepest sight line. */
+/* 1 if box may be visible (2.5D path's hiding rule). */
 PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int v, uint32_t up) {
 	int32_t b0, b1, k;
 	double dmin, dmax, need, top = bx->max[up], x0, y0, x1, y1, ca[4], near_a;
@@ -20216,7 +20545,7 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
 			if (!((double)pvs__hz_query(z, k % PVS__HZ_BINS, dmin) > need)) return 1;
 		return 0;
 	}
-	/* wide boxes: per bin, the rectangle's least distance in its wedge (at the rays, inner corners, nearest point) */
+	/* wide boxes: per bin, rectangle's least distance in its wedge (at rays, inner corners, nearest point) */
 	x0 = bx->min[u] - z->eu; x1 = bx->max[u] - z->eu; y0 = bx->min[v] - z->ev; y1 = bx->max[v] - z->ev;
 	ca[0] = pvs__hz_angle(x0, y0);
 	ca[1] = pvs__hz_angle(x1, y0);
@@ -20244,7 +20573,7 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
 						d = pvs__dmin(d, sqrt(cx * cx + cy * cy));
 					}
 				if (near_a >= lo && near_a <= hi) d = dmin;
-				if (d == DBL_MAX) d = dmin; /* rounding at the span's ends */
+				if (d == DBL_MAX) d = dmin; /* rounding at span's ends */
 				d = pvs__dmax(d * (1.0 - 1e-9), dmin);
 				need_b = top >= z->H ? (top - z->H) / d : need;
 				need_b += 1e-9 * (pvs__dabs(need_b) + 1e-30);
@@ -20254,7 +20583,7 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
 	return 0;
 }
 
-/* Adds a chain of height top (closed: back to its first point). */
+/* A chain of height top (closed: back to its first point). */
 PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
 	uint32_t i, n = ch->point_count, segs = ch->closed ? n : n - 1;
 	double T = ch->top;
@@ -20271,12 +20600,12 @@ PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
 			if (!(z->dmin[b] > 0.0)) continue;
 			sl = (T - z->H) / z->dmin[b];
 		}
-		/* round to float toward the safe side: margin far above float's half ulp (6e-8) */
+		/* to float, safe side: margin far above float's half ulp (6e-8) */
 		pvs__hz_insert(z, b, (float)(z->dmax[b] * (1.0 + 1e-6)), (float)(sl - 1e-6 * pvs__dabs(sl) - 1e-30));
 	}
 }
 
-/* A cell's three walks (pvs_shrink_cell checks o->scene is the cell's scene). */
+/* A cell's three walks (pvs_shrink_cell checks o->scene is cell's). */
 typedef struct pvs__shrink_walk {
 	const pvs_occluders *o;
 	pvs__hz *hz;
@@ -20296,21 +20625,21 @@ PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int 
 	return du * du + dv * dv;
 }
 
-/* NEAR: 1 if the box's ground rectangle meets the cell's; else 1 if the sample may see it. */
+/* NEAR: 1 if box's ground rectangle meets cell's; else 1 if sample may see it. */
 PVS__STATIC int pvs__shrink_test(const pvs__shrink_walk *w, const pvs_box *b, int mode) {
 	if (mode != PVS__SHRINK_NEAR) return pvs__hz_test_box(w->hz, b, w->u, w->v, w->o->scene->up_axis);
 	return b->min[w->u] <= w->cell->max[w->u] && b->max[w->u] >= w->cell->min[w->u] &&
 		b->min[w->v] <= w->cell->max[w->v] && b->max[w->v] >= w->cell->min[w->v];
 }
 
-/* Marks ob visible, off the count of every node above it. */
+/* Marks ob visible, off count of every node above it. */
 PVS__STATIC void pvs__shrink_found(pvs__shrink_walk *w, uint32_t ob) {
 	uint32_t nd;
 	pvs_bitset_set(w->visible, ob);
 	for (nd = w->o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = w->o->bvh.nodes[nd].parent) --w->remaining[nd];
 }
 
-/* A walk (PVS__SHRINK_*) over the object hierarchy, or the chains' for HORIZON; stack: a slot per node. */
+/* A walk (PVS__SHRINK_*) over object hierarchy, or chains' for HORIZON; stack: a slot per node. */
 PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *stack) {
 	const pvs__obvh *h = mode == PVS__SHRINK_HORIZON ? &w->o->chain_bvh : &w->o->bvh;
 	uint32_t sp = 0, k;
@@ -20342,11 +20671,11 @@ PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *
 }
 
 /* §3: "sample points need only be placed on the edges of the top of the view cells". For a heightfield occluder O and
-   a point P outside the cell's footprint R, say V on the top face (height H) sees P. In the vertical plane through P
+   a point P outside cell's footprint R, say V on top face (height H) sees P. In vertical plane through P
    and V the ground segment crosses R's boundary at W'. If P is not above H, P-W' lies above P-V, so W' sees P; else
    moving V away from P to boundary point W keeps P-W above P-V up to V and above H beyond, where no column of O in R
-   reaches. With O the shrunk occluder's eps-neighbourhood (no real sight line enters it), the edges decide when no
-   column within eps of R rises above H - eps (with the appendix's theorem). */
+   reaches. With O the shrunk occluder's eps-neighbourhood (no real sight line enters it), edges decide when no
+   column within eps of R rises above H - eps (with appendix's theorem). */
 PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
 	const pvs__vx_cols *cm = &o->cols;
 	uint32_t i0, i1, j0, j1, i, j;
@@ -20359,9 +20688,9 @@ PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box 
 	return 1;
 }
 
-/* The 2.5D path (§3): samples on the cell's top face (a 2.5D occluder hides from a point only what it hides from all
+/* The 2.5D path (§3): samples on cell's top face (a 2.5D occluder hides from a point only what it hides from all
    points above it): on its edges every 2 eps if pvs__shrink_edges_suffice allows, else a grid of spacing eps sqrt(2);
-   per sample its horizon (§3.4) and the objects it may see. */
+   per sample its horizon (§3.4) and objects it may see. */
 PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
 									   pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
 	pvs__shrink_walk w;
@@ -20400,7 +20729,7 @@ PVS__STATIC pvs_result pvs__shrink_2d5(const pvs_scene *s, const pvs_occluders *
 	if (o->bvh.node_count) {
 		uint32_t ob;
 		memcpy(remaining, o->bvh.count_below, o->bvh.node_count * sizeof(uint32_t));
-		/* objects set on entry: off the counts, so nodes holding only them are skipped */
+		/* objects set on entry: off counts, so nodes holding only them are skipped */
 		for (ob = pvs_bitset_next(visible, s->object_count, 0); ob < s->object_count;
 			 ob = pvs_bitset_next(visible, s->object_count, ob + 1))
 			pvs__shrink_found(&w, ob);
@@ -20433,9 +20762,8 @@ done:
 
 #define PVS__SHRINK_RES 64u
 
-/* 1 if box bx may reach into the view from p along axis dax (positive if pos): lateral offsets within 1.1 x the
-   distance ahead, a superset of the 1.6 rad square frustum with room for rounding. *dn, *df: least and greatest
-   distance ahead. */
+/* 1 if box bx may reach into view from p along axis dax (positive if pos): lateral offsets within 1.1 x the
+   distance ahead, a superset of 1.6 rad square frustum with room for rounding. *dn, *df: least, greatest depth. */
 PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, int pos, double *dn, double *df) {
 	int l;
 	double lim;
@@ -20448,8 +20776,8 @@ PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, 
 	return 1;
 }
 
-/* Box bx's image from p along dax, lateral offset / distance ahead on the other axes: r[0..1] least, r[2..3] greatest.
-   0 if within 1e-3 of its depth of the eye plane. */
+/* Box bx's image from p along dax, lateral offset / distance ahead on other axes: r[0..1] least, r[2..3] greatest.
+   0 if within 1e-3 of its depth of eye plane. */
 PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax, double dn, double df, double r[4]) {
 	int k;
 	if (!(dn > 1e-3 * df)) return 0;
@@ -20476,8 +20804,8 @@ typedef struct pvs__shrink3d {
 	pvs_shrink_stats *st;
 } pvs__shrink3d;
 
-/* Into w->cand, the objects a view from p along dax can change (unseen, pvs__shrink_in_view); *far: their farthest
-   distance ahead; crect: their images' union while *bounded stays 1. Returns the count. */
+/* Into w->cand, objects a view from p along dax can change (unseen, pvs__shrink_in_view); *far: their farthest
+   depth; crect: their images' union while *bounded stays 1. Returns count. */
 PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, int dax, int pos, double *far,
 											double crect[4], int *bounded) {
 	const pvs_scene *s = w->s;
@@ -20500,9 +20828,9 @@ PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, in
 	return ncand;
 }
 
-/* One view of the cube at sample p (§2.3), direction dir (axis dir / 2, positive if odd): candidates tested in
-   occludee mode against the eroded boxes as one occluder mesh, only boxes nearer than the farthest candidate whose
-   image meets theirs (no other changes a test); passing ones join w->seen. */
+/* One view of cube at sample p (§2.3), direction dir (axis dir / 2, positive if odd): candidates tested in
+   occludee mode against eroded boxes nearer than farthest candidate whose image meets theirs (no other changes
+   a test); passing ones join w->seen. */
 PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir) {
 	const pvs_occluders *o = w->o;
 	uint32_t i, nb = o->box_count, nsel = 0, ncand;
@@ -20515,7 +20843,7 @@ PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir
 	for (i = 0; i < nb; ++i) {
 		double dn, df;
 		if (!pvs__shrink_in_view(o->boxes + i, p, dax, dir & 1, &dn, &df) || dn > far) continue;
-		/* a box whose image misses the candidates' (a few pixels' margin) covers no pixel they read */
+		/* a box whose image misses candidates' (a few pixels' margin) covers no pixel they read */
 		if (bounded && pvs__shrink_view_rect(o->boxes + i, p, dax, dn, df, brect) &&
 			(brect[0] > crect[2] + 0.1 || brect[2] < crect[0] - 0.1 || brect[1] > crect[3] + 0.1 ||
 			 brect[3] < crect[1] - 0.1))
@@ -20528,12 +20856,12 @@ PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir
 	for (k = 0; k < 3; ++k) cam.eye[k] = p[k];
 	cam.forward[dax] = dir & 1 ? 1.0f : -1.0f;
 	cam.up[(dax + 1) % 3] = 1.0f;
-	cam.fov_y = 1.6f; /* a little over 90 degrees: the six frusta overlap */
+	cam.fov_y = 1.6f; /* a little over 90 degrees: six frusta overlap */
 	cam.near_plane = w->nearp;
 	if (pvs_camera_matrix(&cam, 1.0f, m) != PVS_OK) return;
 	pvs_raster_clear(w->r);
 	pvs_raster_set_matrix(w->r, m);
-	if (nsel) pvs_raster_mesh(w->r, w->pos, 8 * nb, w->sel, 12 * nsel); /* no cracks along the faces' diagonals */
+	if (nsel) pvs_raster_mesh(w->r, w->pos, 8 * nb, w->sel, 12 * nsel); /* no cracks along faces' diagonals */
 	pvs_raster_build_pyramid(w->r);
 	for (i = 0; i < ncand; ++i)
 		if (pvs_raster_test_box(w->r, w->s->object_boxes + w->cand[i])) pvs_bitset_set(w->seen, w->cand[i]);
@@ -20566,9 +20894,9 @@ PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, u
 	return PVS_OK;
 }
 
-/* The 3D path (§2.1, 2.3): samples on the cell's six faces at spacing <= eps sqrt(2) (sight lines from inside leave
-   through the boundary, all within eps of a sample), each a cube of six depth maps of the eroded boxes; the PVS is
-   their union. Objects within twice the near distance are set (the cube sees nothing nearer than its near plane). */
+/* The 3D path (§2.1, 2.3): samples on cell's six faces at spacing <= eps sqrt(2) (sight lines from inside leave
+   through boundary, all within eps of a sample), each a cube of six depth maps of eroded boxes; PVS is
+   their union. Objects within twice near distance are set (cube sees nothing nearer than its near plane). */
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
 									  pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
 	pvs_raster_desc rd;
@@ -20588,7 +20916,7 @@ PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o
 	w.nearp = 0.05f * eps;
 	memset(&rd, 0, sizeof(rd));
 	rd.width = rd.height = PVS__SHRINK_RES;
-	rd.max_mesh_triangles = nb ? (nb < 4096u ? 12 * nb : 49152u) : 12u; /* the boxes as one occluder mesh */
+	rd.max_mesh_triangles = nb ? (nb < 4096u ? 12 * nb : 49152u) : 12u;
 	rd.allocator = o->allocator;
 	res = pvs_raster_create(&rd, &w.r, err);
 	if (res != PVS_OK) return res;
@@ -20654,7 +20982,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 	st.mode = mode;
 	st.occluders = mode == PVS_SHRINK_2D5 ? o->chain_count : o->box_count;
 	{
-		/* a leaking cell the synthesis left out (or a box in one): the solid is proved for the others only */
+		/* a leaking cell the synthesis left out (or a box in one): solid is proved for others only */
 		uint32_t i;
 		int k;
 		for (i = 0; i < o->info.excluded_cells && !st.excluded; ++i) {
@@ -20689,15 +21017,15 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 
 /* ---- the SHRINK bake method (a row of >>bake's table) ---- */
 
-/* Default eps: an eighth of the cells' median smallest ground extent (Wonka 2000 §4.1: 1 m for cells of several
-   metres), in double (a cell 6e38 wide has no float extent), clamped to [a millionth of the scene's diagonal (no
-   underflow to 0), the diagonal]. Any eps > 0 is conservative. */
+/* Default eps: an eighth of cells' median smallest ground extent (Wonka 2000 §4.1: 1 m for cells of several
+   metres), in double (a cell 6e38 wide has no float extent), clamped to [a millionth of scene's diagonal (no
+   underflow to 0), diagonal]. Any eps > 0 is conservative. */
 PVS__STATIC double pvs__cell_ground_extent(const pvs_box *c, int u, int v) {
 	double e = (double)c->max[u] - c->min[u], f = (double)c->max[v] - c->min[v];
 	return f < e ? f : e;
 }
 PVS__STATIC float pvs__shrink_default_eps(const pvs_box *cells, uint32_t n, uint32_t up, const pvs_box *scene_bounds) {
-	uint32_t i, j, below, equal, m = n < 2048u ? n : 2048u; /* median of the first 2048 cells, by counting */
+	uint32_t i, j, below, equal, m = n < 2048u ? n : 2048u; /* median of first 2048 cells, by counting */
 	int u, v;
 	double med = 0.0, diag = pvs__box_diagonal(scene_bounds), eps, lo, hi;
 	pvs__ground_axes(up, &u, &v);
@@ -20725,7 +21053,7 @@ typedef struct pvs__shrink_bake {
 	pvs_shrink_mode mode;
 } pvs__shrink_bake;
 
-/* Occluder synthesis over every cell of the bake, not only the shard's, so shards agree. */
+/* Occluder synthesis over every cell of bake, not only shard's, so shards agree. */
 PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_bake_desc *desc, void **state,
 												pvs_error *err) {
 	pvs__shrink_bake *sh;
@@ -20754,7 +21082,6 @@ PVS__STATIC pvs_result pvs__shrink_bake_prepare(pvs__bake_env *env, const pvs_ba
 	r = pvs_occluders_create(&od, &sh->occluders, err);
 	if (r != PVS_OK) return r;
 	if (sh->occluders->info.excluded_cells) {
-		/* leaking cells, left out of the proof, bake with occluders every cell seeded */
 		od.flags = PVS_OCCLUDERS_KEEP_LEAKS;
 		r = pvs_occluders_create(&od, &sh->occluders_leak, err);
 		if (r != PVS_OK) return r;
@@ -20775,8 +21102,8 @@ PVS__STATIC int pvs__shrink_bake_applies(const void *state, const char **why) {
 	return 1;
 }
 
-/* SHRINK tests only the candidates: the other drawable objects are set in `bits` first (the caller's intersection
-   removes them); pvs_shrink_cell skips what is set. */
+/* SHRINK tests only candidates: other drawable objects are preset in `bits` (caller's intersection removes them);
+   pvs_shrink_cell skips them. */
 PVS__STATIC void pvs__shrink_bake_preset(const pvs__bake_env *env, const pvs_word *candidates, pvs_word *bits) {
 	uint32_t i;
 	if (!candidates) return;
@@ -20854,9 +21181,9 @@ PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) {
 /* ==== bake: validated cells, a task per cell, results in cell order whatever the run order ==== */
 
 struct pvs_bake {
-	pvs__bake_env env;		   /* what methods see: scene, allocator, cells, eps, flags */
-	pvs_box *cells;			   /* per task: the shard's cells, id order */
-	uint32_t cell_count;	   /* the shard's (task_count) */
+	pvs__bake_env env;		   /* what methods see */
+	pvs_box *cells;			   /* per task: shard's cells, id order */
+	uint32_t cell_count;	   /* shard's (task_count) */
 	uint32_t total_cell_count, shard_index, shard_count;
 	uint32_t object_count;
 	size_t words;			   /* per cell */
@@ -20864,7 +21191,7 @@ struct pvs_bake {
 	unsigned char *done;	   /* cell_count flags, each written by its task only */
 	pvs_method method;
 	uint32_t max_chain;
-	const char *const *object_names; /* desc's, for the file */
+	const char *const *object_names; /* desc's, for file */
 	/* considered (AUTO: all candidates, run order) and run methods; a task's PVS intersects theirs (conservative) */
 	const pvs__bake_method *considered[PVS_METHOD_COUNT];
 	const char *reason[PVS_METHOD_COUNT];
@@ -20901,7 +21228,7 @@ PVS__STATIC const pvs__bake_method *const pvs__bake_methods[] = {
 	&pvs__portal_method};
 #define PVS__BAKE_METHOD_COUNT (sizeof(pvs__bake_methods) / sizeof(pvs__bake_methods[0]))
 
-/* NULL for AUTO, DEFAULT, unknown values. */
+/* NULL for AUTO, DEFAULT, unknown. */
 PVS__STATIC const pvs__bake_method *pvs__bake_method_row(pvs_method m) {
 	uint32_t k;
 	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k)
@@ -20913,13 +21240,13 @@ PVS__STATIC void *pvs__bake_method_state(const pvs_bake *b, pvs_method m) {
 	return b && (int)m >= 0 && m < PVS_METHOD_COUNT ? b->state[m] : NULL;
 }
 
-/* Prepares the method's per-bake state (read-only in tasks). */
+/* Per-bake state, read-only in tasks. */
 PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, const pvs__bake_method *row, const pvs_bake_desc *desc,
 										 pvs_error *err) {
 	return row->prepare(&b->env, desc, &b->state[row->method], err);
 }
 
-/* Candidates of the box's k-th method: its own (a sub-cell's parent PVS, or NULL), from the second method on narrowed
+/* Candidates of box's k-th method: its own (a sub-cell's parent PVS, or NULL), from the second on narrowed
    to what earlier ones kept (AUTO runs SHRINK last). In *scratch when computed. */
 PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const pvs_word *candidates,
 											const pvs_word *each, pvs_word *scratch) {
@@ -20934,7 +21261,7 @@ PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const
 	return scratch;
 }
 
-/* One method's PVS of a task's box into `bits` (cleared by the caller); updates the cell's flags. */
+/* One method's PVS of a task's box into `bits` (cleared by caller); updates cell's flags. */
 PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, const pvs__bake_method *row, uint32_t task, uint32_t cell,
 											 const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
 											 pvs_error *err) {
@@ -20982,7 +21309,7 @@ PVS__STATIC pvs_result pvs__check_cell(const pvs_box *c, uint32_t i, pvs_error *
 }
 
 /* 1 only if all of a is surely farther than d from all of b: exact gaps in double, their sum within a few 1e-16
-   relative, under the 1e-9 margin; boxes at d or a hair beyond stay. */
+   relative, under 1e-9 margin; boxes at d or a hair beyond stay. */
 PVS__STATIC int pvs__box_beyond(const pvs_box *a, const pvs_box *b, float d) {
 	double sum = 0.0;
 	int k;
@@ -20995,7 +21322,7 @@ PVS__STATIC int pvs__box_beyond(const pvs_box *a, const pvs_box *b, float d) {
 	return sum > (double)d * (double)d * (1.0 + 1e-9);
 }
 
-/* Checks a bake desc: driver parameters, each method's, the cells. *mask: the methods AUTO considers. */
+/* Checks driver parameters, each method's, cells; *mask: methods AUTO considers. */
 PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask, pvs_error *err) {
 	const pvs__bake_method *row;
 	pvs_method method;
@@ -21088,13 +21415,13 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
 	return PVS_OK;
 }
 
-/* AUTO's cost class of method m for a bake of desc's cells (pvs__bake_auto_sample). */
+/* AUTO's cost class of method m for desc's cells (pvs__bake_auto_sample). */
 PVS__STATIC int pvs__bake_price(const pvs_bake *b, const pvs__bake_method *m, const pvs_bake_desc *desc) {
 	return m->price ? m->price(desc, b->state[m->method]) : m->cost_class;
 }
 
 /* AUTO: `mask`'s methods, cheapest first (cost_rank, table order), each prepared and kept if it can cull here; PREVIEW
-   stops at the first kept; UNSUPPORTED ones are skipped, with their reason. `sampling`: one priced d classes above the
+   stops at first kept; UNSUPPORTED ones skipped, with their reason. `sampling`: one priced d classes above the
    cheapest kept, PVS_AUTO_MIN_GAIN 2^d > 1, is not run (it would have to cull more than that one's PVS). */
 PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, uint32_t mask, int sampling,
 										pvs_error *err) {
@@ -21138,16 +21465,16 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 	return PVS_OK;
 }
 
-/* AUTO's sample (CONCEPTS, Methods): the applicable methods are prepared for PVS_AUTO_SAMPLE_CELLS cells spread over
-   all the bake's cells (a shard's too: shards decide alike), each baking them alone. Greedily, the smallest PVS's
-   method is kept (ties: the cheaper), then, best ratio first, those culling beyond the kept PVS_AUTO_MIN_GAIN of it,
-   doubled per class (pvs__bake_price) above the first kept's, halved below. The kept are prepared for every cell. Only
-   for the default set, 4 x the sample's cells or more, no PREVIEW. */
+/* AUTO's sample (CONCEPTS, Methods): applicable methods are prepared for PVS_AUTO_SAMPLE_CELLS cells spread over all
+   the bake's (a shard's too: shards decide alike), each baking them alone. Greedily, smallest PVS's method is kept
+   (ties: cheaper), then, best ratio first, those culling beyond the kept PVS_AUTO_MIN_GAIN of it, doubled per class
+   (pvs__bake_price) above first kept's, halved below. The kept are prepared for every cell. Only for default
+   set, 4 x sample's cells or more, no PREVIEW. */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
 }
 
-/* Greedy choice over the S sample cells of sd (prepared for them): b->run keeps the chosen methods. */
+/* Greedy choice over sd's S sample cells (prepared for them): b->run keeps the chosen. */
 PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *sd, pvs_error *err) {
 	uint32_t n = b->run_count, S = sd->cell_count, s, k, i, keep[PVS_METHOD_COUNT], kept = 0;
 	int c0 = 0;
@@ -21159,14 +21486,14 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 	bits = (pvs_word *)pvs__alloc_array(&b->env.allocator, total, sizeof(pvs_word));
 	if (!bits) return PVS__OOM(err, "auto: sample cells");
 	memset(bits, 0, total * sizeof(pvs_word));
-	for (s = 0; s < S && r == PVS_OK; ++s) /* per sample cell: n methods' PVSs, then the kept intersection */
+	for (s = 0; s < S && r == PVS_OK; ++s) /* per sample cell: n methods' PVSs, then kept intersection */
 		for (k = 0; k < n && r == PVS_OK; ++k) {
 			unsigned flags = 0;
 			r = b->run[k]->cell(&b->env, b->state[b->run[k]->method], 0, s, sd->cells + s, NULL,
 								bits + ((size_t)s * (n + 1) + k) * words, &flags, err);
 		}
 	for (k = 0; k < n; ++k) keep[k] = 0;
-	while (r == PVS_OK && kept < n) { /* next: largest gain over the kept intersection, by its price */
+	while (r == PVS_OK && kept < n) { /* next: largest gain over kept intersection, by its price */
 		uint32_t best = n;
 		int best_price = 0;
 		double best_gain = -1.0, sum, need;
@@ -21182,7 +21509,7 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 			int price = pvs__bake_price(b, b->run[k], sd);
 			need = kept ? ldexp(PVS_AUTO_MIN_GAIN * base, price - c0) : 1.0;
 			if (sum / need > best_gain || (sum / need == best_gain && price < best_price)) {
-				best_gain = sum / need; /* ties (where nothing culls): the cheaper */
+				best_gain = sum / need; /* ties (where nothing culls): cheaper */
 				best_price = price;
 				best = k;
 			}
@@ -21217,8 +21544,7 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 	return PVS_OK;
 }
 
-/* AUTO with the sample (pvs__bake_wants_sample): choose on the sample's preparations, then prepare the kept methods for
-   every cell. */
+/* AUTO with sample (pvs__bake_wants_sample). */
 PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc *desc, uint32_t mask,
 												pvs_error *err) {
 	pvs_box sample[PVS_AUTO_SAMPLE_CELLS];
@@ -21234,7 +21560,7 @@ PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc
 	for (k = 0; r == PVS_OK && k < b->run_count; ++k)
 		if (b->run[k]->traits & PVS__METHOD_WHOLE_CELLS) r = PVS_ERROR_UNSUPPORTED; /* not expected under AUTO */
 	if (r == PVS_OK) r = pvs__bake_auto_sample(b, &sd, err);
-	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) { /* the sample's preparations */
+	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) { /* sample's preparations */
 		const pvs__bake_method *m = pvs__bake_methods[k];
 		if (b->state[m->method]) m->destroy(&b->env, b->state[m->method]);
 		b->state[m->method] = NULL;
@@ -21339,7 +21665,7 @@ PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_w
 		if (pvs__box_beyond(box, b->env.scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
 }
 
-/* All methods on a box, intersected, within `candidates` if given, then the draw distance. `each`: run_count + 1. */
+/* All methods on a box, intersected, within `candidates` if given, then draw distance. `each`: run_count + 1. */
 PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box,
 									 const pvs_word *candidates, pvs_word *bits, pvs_word *each, pvs_error *err) {
 	uint32_t k;
@@ -21355,7 +21681,7 @@ PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, 
 	return PVS_OK;
 }
 
-/* Triangles of a PVS's objects (polygon budget of §6.1). */
+/* A PVS's triangles (polygon budget of §6.1). */
 PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits) {
 	uint64_t n = 0;
 	uint32_t o;
@@ -21365,9 +21691,8 @@ PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits
 	return n;
 }
 
-/* Adaptive subdivision (Durand 2000 §6.1) of a box with PVS work[depth]: a leaf if the PVS fits the budget or a half
-   would be under min_size, else its halves across the longest side, low first, baked from its PVS. work: 48 bitsets;
-   each: run_count + 1. */
+/* Adaptive split (Durand 2000 §6.1) of a box with PVS work[depth]: a leaf if PVS fits budget or a half < min_size,
+   else its halves across longest side, low first, baked from its PVS. work: 48 bitsets; each: run_count + 1. */
 PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, float min_size,
 									   pvs_word *work, pvs_word *each, uint32_t depth, pvs_error *err) {
 	pvs__bakeleaves *L = b->leaves + task;
@@ -21425,7 +21750,7 @@ PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell
 	if (!work) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "adaptive cells of cell %u", cell);
 	for (k = 0; k < 3; ++k) longest = c->max[k] - c->min[k] > longest ? c->max[k] - c->min[k] : longest;
 	if (!(min_size > 0.0f)) min_size = 0.125f * longest;
-	b->leaves[task].count = 0; /* a task run again starts over */
+	b->leaves[task].count = 0;
 	memcpy(work, b->pvs + (size_t)task * b->words, b->words * sizeof(pvs_word));
 	r = pvs__bake_split(b, task, cell, c, min_size, work, work + 48 * b->words, 0, err);
 	pvs__free_array(&b->env.allocator, work, nw, sizeof(pvs_word));
@@ -21453,7 +21778,7 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
 		sole[0] = own[0] < b->drawable ? b->drawable - own[0] : 0; /* occluder-only objects are never in a PVS */
 		pvs__bake_distance(b, b->cells + task, bits);
 	} else {
-		/* AUTO: a method's contribution is what it alone leaves out of the intersection */
+		/* AUTO: sole[k], what method k alone leaves out of the intersection */
 		each = (pvs_word *)pvs__alloc_array(&b->env.allocator, (size_t)(n + 1) * b->words, sizeof(pvs_word));
 		if (!each) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u: auto scratch", cell);
 		r = pvs__bake_box(b, task, cell, b->cells + task, NULL, bits, each, err);
@@ -21522,7 +21847,7 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_w
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0,
 						 "restore: a %s bake cannot resume from PVSs: run task %u again", pvs_method_name(b->method),
 						 task);
-	if (b->adaptive_budget) /* the file stores the leaves, which the cell's PVS lacks */
+	if (b->adaptive_budget) /* the file stores leaves, not in the cell's PVS */
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0,
 						 "restore: an adaptive bake cannot resume from PVSs: run task %u again", task);
 	if ((b->object_count & 63u) && (bits[b->words - 1] >> (b->object_count & 63u)))
@@ -21603,7 +21928,7 @@ PVS__STATIC int pvs__bake_all_done(const pvs_bake *b) {
 	return 1;
 }
 
-/* All tasks' adaptive leaves in task order, as one table (caller frees it with the sizes returned). */
+/* All tasks' adaptive leaves in task order, as one table (caller frees it with sizes returned). */
 PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cells, pvs_word **pvs, size_t *count) {
 	size_t n = 0, k = 0, bytes;
 	uint32_t i;
@@ -21625,7 +21950,7 @@ PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cell
 	return PVS_OK;
 }
 
-/* Encodes the bake (only measures if out is NULL). */
+/* Encodes bake (out NULL: measures). */
 PVS__STATIC pvs_result pvs__bake_encode(const pvs_bake *b, void *out, size_t capacity, size_t *out_size,
 										pvs_error *err) {
 	pvs_file_desc fd;
@@ -21709,7 +22034,7 @@ PVS__STATIC size_t pvs__put_varint(uint8_t *p, uint32_t v) {
 PVS__STATIC size_t pvs__varint_size(uint32_t v) {
 	return v < (1u << 7) ? 1 : v < (1u << 14) ? 2 : v < (1u << 21) ? 3 : v < (1u << 28) ? 4 : 5;
 }
-/* Reads a varint from p[0..end): bytes used, 0 if overlong, over 32 bits or cut off. */
+/* Varint at p[0..end): bytes used, 0 if overlong, over 32 bits or cut off. */
 PVS__STATIC size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_t *v) {
 	uint32_t r = 0;
 	size_t n;
@@ -21747,7 +22072,7 @@ PVS__STATIC const uint8_t *pvs__skip_varint(const uint8_t *p, uint32_t *v) {
 	return p;
 }
 
-/* Bit fields, LSB first, w <= 32; the reader touches only bytes holding bits [pos, pos + w). */
+/* Bit fields, LSB first, w <= 32; reader touches only bytes holding bits [pos, pos + w). */
 PVS__STATIC void pvs__put_bits(uint8_t *s, uint64_t pos, uint32_t v, uint32_t w) {
 	uint32_t i;
 	for (i = 0; i < w; ++i)
@@ -21785,7 +22110,7 @@ PVS__STATIC uint64_t pvs__peek56(const uint8_t *s, uint64_t nbits, uint64_t bit)
 	return (v >> (bit & 7u)) & (((uint64_t)1 << 56) - 1u);
 }
 
-/* First clear bit at or after `from`, else bit_count. */
+/* bit_count if none. */
 PVS__STATIC uint32_t pvs__bitset_next_clear(const pvs_word *bits, uint32_t bit_count, uint32_t from) {
 	uint32_t w;
 	pvs_word x;
@@ -21805,8 +22130,8 @@ PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z 
 
 /* ---- set codings ---- */
 
-/* Four codings (bytes: the manual): Rice codes (Golomb codes, power-of-two divisor) suit sparse random sets, runs the
-   ranges of spatially ordered objects; the bitset caps the worst case at n / 8 bytes. */
+/* Four codings (bytes: manual): Rice codes (Golomb codes, power-of-two divisor) suit sparse random sets, runs the
+   ranges of spatially ordered objects; bitset caps worst case at n / 8 bytes. */
 typedef struct pvs__coded {
 	uint32_t coding, rice_k;
 	size_t bytes;			   /* body size */
@@ -21855,7 +22180,7 @@ PVS__STATIC pvs__coded pvs__set_measure(const pvs_word *bits, uint32_t n) {
 	return best;
 }
 
-/* Writes the body (best.bytes bytes, zeroed first). */
+/* c->bytes bytes at out, zeroed first. */
 PVS__STATIC void pvs__set_write(const pvs_word *bits, uint32_t n, const pvs__coded *c, uint8_t *out) {
 	uint8_t *o = out;
 	uint32_t i, prev = 0, count = 0, pos = 0;
@@ -21895,7 +22220,7 @@ PVS__STATIC void pvs__set_write(const pvs_word *bits, uint32_t n, const pvs__cod
 		for (i = pvs_bitset_next(bits, n, 0); i < n; i = pvs_bitset_next(bits, n, i + 1)) {
 			uint32_t g = count ? i - prev - 1 : i, q = g >> k, j;
 			for (j = 0; j < q; ++j, ++bit) o[bit >> 3] |= (uint8_t)(1u << (bit & 7u));
-			++bit; /* the terminating zero */
+			++bit; /* terminating zero */
 			pvs__put_bits(o, bit, g & (k ? (uint32_t)((((uint64_t)1) << k) - 1u) : 0u), k);
 			bit += k;
 			prev = i;
@@ -21920,7 +22245,7 @@ typedef struct pvs__sink {
 	uint32_t w, before, removed; /* REMOVE_RANKS: scan word, set bits before it, ranks removed */
 } pvs__sink;
 
-/* Removes `count` consecutive ranks from `first` (before this set) word by word: cost in words plus bits removed. */
+/* Removes `count` consecutive ranks from `first` (before this set) word by word: cost: words + bits removed. */
 PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t count) {
 	uint32_t target = first - s->removed;
 	while (s->w < s->words && s->before + pvs__popcount64(s->bits[s->w]) <= target)
@@ -21928,9 +22253,9 @@ PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t cou
 	while (count && s->w < s->words) {
 		pvs_word x = s->bits[s->w], take;
 		uint32_t skip = target - s->before, k;
-		for (k = 0; k < skip; ++k) x &= x - 1u; /* set bits from the target on */
+		for (k = 0; k < skip; ++k) x &= x - 1u; /* set bits from target on */
 		take = x;
-		if (pvs__popcount64(take) > count) { /* only the lowest `count` */
+		if (pvs__popcount64(take) > count) { /* only lowest `count` */
 			pvs_word keep = take;
 			uint64_t c;
 			for (c = 0; c < count; ++c) keep &= keep - 1u;
@@ -21947,7 +22272,7 @@ PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t cou
 		s->bits[s->w] &= ~take;
 		s->removed += k;
 		count -= k;
-		if (count) { /* run goes on: nothing before the next words is left to skip */
+		if (count) { /* run goes on: nothing before next words is left to skip */
 			s->before += pvs__popcount64(s->bits[s->w]);
 			++s->w;
 			target = s->before;
@@ -21955,7 +22280,7 @@ PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t cou
 	}
 }
 
-/* Adds id, or removes the set bit of rank id in the PVS as it was before this set (ranks ascend). */
+/* Adds id, or removes the set bit of rank id in PVS as it was before this set (ranks ascend). */
 PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
 	if (s->action == PVS__SET_ADD) {
 		pvs_word m = (pvs_word)1 << (id & 63);
@@ -21978,8 +22303,7 @@ PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
 	}
 }
 
-/* pvs__set_apply's decoders, one per coding (bytes: the manual's RECS), with its contract; on a bad byte they set
-   *bad_at and return the error. */
+/* pvs__set_apply's decoders per coding (bytes: manual's RECS), same contract; on a bad byte: *bad_at, the error. */
 
 /* Coding 0: gap varints. */
 PVS__STATIC pvs_result pvs__set_gaps(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
@@ -22040,7 +22364,7 @@ PVS__STATIC pvs_result pvs__set_runs(const uint8_t *p, const uint8_t *end, uint3
 			pvs__sink_remove_run(s, (uint32_t)pos, (uint64_t)o + 1u);
 			pos += (uint64_t)o + 1u;
 		} else {
-			if (act) /* keeps validation linear in the record's bytes */
+			if (act) /* keeps validation linear in record's bytes */
 				for (i = 0; i <= o; ++i) pvs__sink_id(s, (uint32_t)(pos + i));
 			pos += (uint64_t)o + 1u;
 		}
@@ -22071,7 +22395,7 @@ PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint3
 	for (c = 0; c < count; ++c) {
 		uint64_t quot = 0, g, w = pvs__peek56(q, nbits, bit);
 		uint32_t ones;
-		if (~w & (((uint64_t)1 << 56) - 1u)) { /* unary run ends in the window */
+		if (~w & (((uint64_t)1 << 56) - 1u)) { /* unary run ends in window */
 			ones = pvs__ctz64(~w);
 			quot = ones;
 			if (bit + ones + 1u + k > nbits) goto bad;
@@ -22101,7 +22425,7 @@ PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint3
 		if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63);
 		else if (act) pvs__sink_id(s, (uint32_t)id);
 	}
-	/* unused high bits of the last byte are zero */
+	/* unused high bits of last byte are zero */
 	bytes = (bit + 7) / 8;
 	if ((bit & 7u) && (q[bit >> 3] >> (bit & 7u))) { q += (size_t)(bit >> 3); goto bad; }
 	q += (size_t)bytes;
@@ -22135,8 +22459,8 @@ PVS__STATIC pvs_result pvs__set_bitmap(const uint8_t *p, const uint8_t *end, uin
 	return PVS_OK;
 }
 
-/* Decodes the set of ids in [0, n) coded at p (readable to end) into the sink, ascending; *used: its size. PVS_OK, or
-   BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at the offending offset. */
+/* Decodes set of ids in [0, n) coded at p (readable to end) into sink, ascending; *used: its size. PVS_OK, or
+   BAD_RECORD / OBJECT_OUT_OF_RANGE with *bad_at offending offset. */
 PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint32_t coding, uint32_t n, pvs__sink *s,
 									  size_t *used_out, size_t *bad_at) {
 	switch (coding) {
@@ -22162,7 +22486,7 @@ PVS__STATIC int pvs__heap_less(const void *pa, const void *pb) {
 	return a->from < b->from;
 }
 
-/* How many of ascending t[0..n) lie below v (or_equal: not above it): v's index if t holds it once. */
+/* # of ascending t[0..n) below v (or_equal: not above): v's index if t holds it once. */
 PVS__STATIC uint32_t pvs__count_below(const float *t, uint32_t n, float v, int or_equal) {
 	uint32_t lo = 0, hi = n;
 	while (lo < hi) {
@@ -22175,7 +22499,7 @@ PVS__STATIC uint32_t pvs__count_below(const float *t, uint32_t n, float v, int o
 
 /* ---- the stored cell look-up tree ---- */
 
-/* The file's look-up tree (the manual's TREE), implicit so a look-up reads one split per level, then one leaf; its
+/* The file's look-up tree (manual's TREE), implicit so a look-up reads one split per level, then one leaf; its
    split rule never copies touching neighbours. */
 typedef struct pvs__tbuild {
 	const pvs_allocator *a;
@@ -22205,9 +22529,8 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 		return PVS_OK;
 	}
 	if (n > 1) {
-		/* each cell edge is a candidate: binary search on sorted mins and maxes counts cells going left (min < v, flat
-		   cells at v aside) and right (max > v); the smaller larger side wins, first on ties. Unlike a median, this
-		   splits crossing cells. */
+		/* candidates: cell edges; binary search in sorted mins, maxes counts cells left (min < v, flat ones at v aside)
+		   and right (max > v); smaller larger side wins, first on ties. Unlike a median, this splits crossing cells. */
 		float *mins = b->keys, *maxs = b->keys + n;
 		for (axis = 0; axis < 3; ++axis) {
 			int side;
@@ -22232,7 +22555,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 					}
 				}
 		}
-		if (best_axis != 3) { /* exact counts (flat cells at the split go left) must still make progress */
+		if (best_axis != 3) { /* exact counts (flat cells at split go left) must still make progress */
 			uint32_t left = 0, right = 0;
 			for (i = 0; i < n; ++i) {
 				const pvs_box *c = b->boxes + ids[i];
@@ -22304,7 +22627,7 @@ typedef struct pvs__encoder {
 	const pvs_file_desc *d;
 	uint32_t n, cells;
 	size_t words;
-	pvs_box *boxes;			   /* the cells as stored (-0 as +0) */
+	pvs_box *boxes;			   /* cells as stored (-0 as +0) */
 	float *values[3];
 	uint32_t value_count[3], index_bits[6]; /* widths: min indices, then extents */
 	pvs_kdtree *tree;		   /* over cells: base candidates */
@@ -22315,7 +22638,7 @@ typedef struct pvs__encoder {
 	size_t sweep_size;
 	pvs__link *edges;
 	size_t edge_count, edge_capacity;
-	uint32_t *adj_start;	   /* CSR over the symmetric candidate graph */
+	uint32_t *adj_start;	   /* CSR over symmetric candidate graph */
 	uint32_t *adj;			   /* (neighbour, weight) pairs */
 	pvs__heapent *heap;
 	size_t heap_capacity;
@@ -22343,9 +22666,9 @@ PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
 	pvs__free_array(a, e->ranks, e->words, sizeof(pvs_word));
 }
 
-/* Cell i's record sets against base j (PVS_NO_CELL: a key): e->tmp = ids added (a key: the whole PVS); a delta's
-   e->ranks = ids removed, as ranks in the base's PVS (Durand et al. 2000, §6.2; ranks among the base's few visible
-   objects are cheaper). Returns the base's PVS size. */
+/* Cell i's record sets against base j (PVS_NO_CELL: a key): e->tmp = ids added (a key: whole PVS); a delta's
+   e->ranks = ids removed, as ranks in base's PVS (Durand et al. 2000, §6.2; ranks among base's few visible
+   objects are cheaper). Returns base's PVS size. */
 PVS__STATIC uint32_t pvs__encoder_sets(pvs__encoder *e, uint32_t i, uint32_t j) {
 	const pvs_word *x = e->d->pvs + (size_t)i * e->words;
 	pvs_word last = (e->n & 63) ? ((pvs_word)1 << (e->n & 63)) - 1u : ~(pvs_word)0;
@@ -22359,7 +22682,7 @@ PVS__STATIC uint32_t pvs__encoder_sets(pvs__encoder *e, uint32_t i, uint32_t j) 
 		for (w = 0; w < e->words; ++w) {
 			pvs_word base = y[w] & (w + 1 == e->words ? last : ~(pvs_word)0), gone = base & ~x[w];
 			e->tmp[w] = x[w] & ~y[w];
-			while (base) { /* rank m of the base's set bits */
+			while (base) { /* rank m of base's set bits */
 				pvs_word low = base & (0u - base);
 				if (gone & low) e->ranks[m >> 6] |= (pvs_word)1 << (m & 63);
 				base ^= low;
@@ -22379,10 +22702,9 @@ PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) 
 	return b > 0xffffffffu ? 0xffffffffu : (uint32_t)b;
 }
 
-/* Bases: edges from each cell to its nearest cells (kD-tree sweep), a virtual root joined to all at their key size;
-   Prim's tree from the root, an edge weighed on reach by the delta's coded size and taken only while its chain stays
-   within K (a greedy depth-bounded minimum arborescence); cells linked to the root are keys. Ties break by (weight,
-   cell, base): deterministic. */
+/* Bases: edges from each cell to its nearest (kD-tree sweep), a virtual root joined to all at their key size; Prim's
+   tree from root, an edge weighed on reach by delta's coded size, taken only while its chain stays within K (a greedy
+   depth-bounded minimum arborescence); root's children are keys. Deterministic ties: (weight, cell, base). */
 PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
 	const pvs_allocator *a = &e->a;
 	uint32_t i, c;
@@ -22471,7 +22793,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 	return PVS_OK;
 }
 
-/* Writes the RECS body to `out`, or measures it if out is NULL. */
+/* Writes RECS body (out NULL: measures it). */
 PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
 	uint32_t blocks = (e->cells + PVS__BLOCK - 1) / PVS__BLOCK, i;
 	size_t pos = 4 * ((size_t)blocks + 1);
@@ -22534,7 +22856,7 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 		r = pvs__check_cell(d->cells + i, i, err);
 		if (r != PVS_OK) return r;
 	}
-	if (d->vocc_counts) { /* the optional VOCC section (>>vocc) */
+	if (d->vocc_counts) { /* optional VOCC section (>>vocc) */
 		uint64_t n = 0;
 		for (i = 0; i < d->cell_count; ++i) n += d->vocc_counts[i];
 		*vocc_size = pvs__vo_section_size(d->cell_count, n);
@@ -22547,8 +22869,7 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 	return PVS_OK;
 }
 
-/* CELL: stored cells (-0 as +0), per axis the sorted distinct coordinates (e->values), packed field widths;
-   *cell_bytes: its size. */
+/* CELL: cells (-0 as +0), per axis sorted distinct coordinates (e->values), index widths; *cell_bytes: its size. */
 PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_bytes, pvs_error *err) {
 	const pvs_file_desc *d = e->d;
 	size_t index_bits_total;
@@ -22589,7 +22910,7 @@ PVS__STATIC pvs_result pvs__encoder_cell_tables(pvs__encoder *e, size_t *cell_by
 	return PVS_OK;
 }
 
-/* kD-tree over the cells for base candidates; over centres if big overlapping cells would fill too many leaves. */
+/* kD-tree over cells for base candidates; over centres if big overlapping cells would fill too many leaves. */
 PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 	pvs_kdtree_desc td;
 	pvs_result r = PVS_OK;
@@ -22598,7 +22919,7 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 	td.boxes = e->boxes;
 	td.count = e->cells;
 	td.allocator = e->a;
-	{ /* cells over 16 x the lower-quartile extent on an axis cross many split planes */
+	{ /* cells over 16 x lower-quartile extent on an axis cross many split planes */
 		float *ext = (float *)pvs__alloc_array(&e->a, e->cells, sizeof(float)), med[3];
 		if (!ext) return PVS__OOM(err, "cell extents");
 		for (k = 0; k < 3; ++k) {
@@ -22631,7 +22952,7 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 	return r;
 }
 
-/* TREE: D is the smallest depth giving leaves of about PVS__TREE_LEAF cells. */
+/* TREE: D is smallest depth giving leaves of about PVS__TREE_LEAF cells. */
 PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err) {
 	pvs__tbuild tb;
 	pvs_result r;
@@ -22678,7 +22999,7 @@ PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err)
 	return PVS_OK;
 }
 
-/* Writes CELL at c (layout: the manual). */
+/* Layout: manual's CELL. */
 PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
 	uint8_t *v, *bits;
 	uint64_t pos = 0;
@@ -22704,7 +23025,7 @@ PVS__STATIC void pvs__encoder_write_cells(const pvs__encoder *e, uint8_t *c) {
 	}
 }
 
-/* Header and section table for `total` bytes of written sections: section CRC-32s, then the header's. */
+/* Header and section table for `total` bytes of written sections: section CRC-32s, then header's. */
 PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t flags, uint32_t sections,
 										   const uint32_t *tags, const size_t *at, const size_t *sz) {
 	uint32_t k, crc;
@@ -22725,7 +23046,7 @@ PVS__STATIC void pvs__encoder_write_header(uint8_t *o, size_t total, uint32_t fl
 	pvs__put32(o + 20, crc);
 }
 
-/* NAME's size (FILE FORMAT), 0 without names, SIZE_MAX when its offsets would pass 4 GiB. */
+/* NAME's size (FILE FORMAT), 0 without names, SIZE_MAX if its offsets would pass 4 GiB. */
 PVS__STATIC size_t pvs__names_size(const pvs_file_desc *d) {
 	size_t n = 4 + 4 * (size_t)d->object_count, i;
 	if (!d->object_names) return 0;
@@ -22784,7 +23105,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 	for (i = 0; i < e.cells; ++i) keys += e.base[i] == PVS_NO_CELL;
 	recs_size = pvs__encoder_records(&e, NULL);
 
-	/* sections in the manual's order, 8-aligned */
+	/* sections in manual's order, 8-aligned */
 	sections = d->shard_count ? 5u : 4u;
 	tags[0] = PVS__TAG_META; sz[0] = PVS__META_SIZE;
 	tags[1] = PVS__TAG_CELL; sz[1] = cell_bytes;
@@ -22863,10 +23184,10 @@ done:
 
 /* ---- reader ---- */
 
-/* A record located by the reader (files that passed pvs_file_open only). */
+/* A located record (opened files only). */
 typedef struct pvs__rec {
-	const uint8_t *start, *body, *end; /* body: a delta's removed ranks, else the added ids */
-	uint32_t coding, depth, base;	   /* coding of the added ids */
+	const uint8_t *start, *body, *end; /* body: a delta's removed ranks, else added ids */
+	uint32_t coding, depth, base;	   /* coding of added ids */
 	uint32_t removed_coding, base_size;
 } pvs__rec;
 
@@ -22894,8 +23215,8 @@ PVS__STATIC void pvs__record_at(const pvs_file *f, uint32_t cell, pvs__rec *r) {
 	r->body = p;
 }
 
-/* Applies a record: a key adds its ids (bits start empty); a delta removes its ranks (in the base's PVS, in bits), then
-   adds. Changes go to fn. Opened files only. */
+/* A key adds its ids (bits start empty); a delta removes its ranks (in base's PVS, in bits), then adds. Changes go to
+   fn. Opened files only. */
 PVS__STATIC void pvs__record_apply(const pvs_file *f, const pvs__rec *r, pvs_word *bits, pvs_change_fn fn, void *user) {
 	pvs__sink s;
 	size_t used = 0, bad;
@@ -22975,7 +23296,7 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 	return PVS_OK;
 }
 
-/* TREE, as the manual lays it out. Splits and axes lie apart: a level costs one dependent load. */
+/* TREE, as manual lays it out. Splits and axes lie apart: a level costs one dependent load. */
 PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const uint8_t *t, uint32_t size,
 									  pvs_error *err) {
 	uint64_t off = (uint64_t)(t - base), need;
@@ -23031,8 +23352,8 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
 	return PVS_OK;
 }
 
-/* RECS: each record's structure, then the chains: depth falls by one per base, so a chain reaches a key within
-   max_chain steps and cannot cycle. Linear in the section. */
+/* RECS: each record's structure, then chains: depth falls by one per base, so a chain reaches a key within
+   max_chain steps and cannot cycle. Linear in section. */
 PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const uint8_t *rs, uint32_t size,
 										 pvs_error *err) {
 	uint64_t off = (uint64_t)(rs - base);
@@ -23128,13 +23449,13 @@ PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const
 	return PVS_OK;
 }
 
-/* Sections pvs_file_open knows, as the table places them (NULL: absent). */
+/* Sections pvs_file_open knows, as table places them (NULL: absent). */
 typedef struct pvs__open_sections {
 	const uint8_t *meta, *cells, *tree, *recs, *shrd, *vocc, *scne, *name;
 	uint32_t meta_size, cells_size, tree_size, recs_size, shrd_size, vocc_size, scne_size, name_size;
 } pvs__open_sections;
 
-/* The header, in the format table's order. *count_out: section count. */
+/* Checked in format table's order; *count_out: section count. */
 PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t *count_out, pvs_error *err) {
 	uint32_t count, crc;
 	if (size < 4 || memcmp(p, "PVS\x1a", 4) != 0)
@@ -23165,7 +23486,7 @@ PVS__STATIC pvs_result pvs__open_header(const uint8_t *p, size_t size, uint32_t 
 	return PVS_OK;
 }
 
-/* Section table, rules as in the manual; known tags into *sec. */
+/* Section table, rules as in manual; known tags into *sec. */
 PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t count, pvs__open_sections *sec,
 									   pvs_error *err) {
 	uint32_t i, j;
@@ -23225,7 +23546,7 @@ PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t
 	return PVS_OK;
 }
 
-/* META (32 bytes) into f, checked in the format table's order. */
+/* META (32 bytes) into f, checked in format table's order. */
 PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8_t *meta, uint32_t meta_size,
 									  pvs_error *err) {
 	uint64_t mo = (uint64_t)(meta - p);
@@ -23326,7 +23647,7 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 		r = pvs__open_shard(f, p, sec.shrd, sec.shrd_size, err);
 		if (r != PVS_OK) return r;
 	}
-	/* records first: 3 bytes or more each, a valid RECS bounds the cell count by the file size and the cell checks stay
+	/* records first: 3 bytes or more each, a valid RECS bounds cell count by file size and cell checks stay
 	   linear (indices can be 0 bits wide) */
 	f->private_.records = sec.recs;
 	f->private_.records_size = sec.recs_size;
@@ -23367,7 +23688,7 @@ PVS_API void pvs_file_get_record_info(const pvs_file *f, uint32_t cell, pvs_reco
 // >>runtime
 /* ==== runtime: cell look-up via the stored kD-tree, decoding, the cursor; no allocation ==== */
 
-/* Cell c's coordinate indices, min then max per axis (one 64-bit read when the six fit). */
+/* Cell c's coordinate indices, min then max per axis (one 64-bit read when six fit). */
 PVS__STATIC void pvs__cell_indices(const pvs_file *f, uint32_t c, uint32_t idx[6]) {
 	uint64_t pos = (uint64_t)c * f->private_.cell_bits;
 	int k;
@@ -23400,7 +23721,7 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
 	return b;
 }
 
-/* Does cell c contain p? The look-up's inner loop, pvs__cell_indices' fast path inlined. */
+/* The look-up's inner loop, pvs__cell_indices' fast path inlined. */
 PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[3]) {
 	uint32_t idx[6];
 	int k;
@@ -23432,7 +23753,6 @@ PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[
 	return 1;
 }
 
-/* Point location, the manual's TREE rule (p == split: a stack no deeper than the tree); lowest containing cell wins. */
 PVS_API const char *pvs_file_object_name(const pvs_file *f, uint32_t object) {
 	const uint8_t *n = f ? f->private_.names : NULL;
 	if (!n || object >= f->object_count) return NULL;
@@ -23447,6 +23767,7 @@ PVS_API uint32_t pvs_file_find_object(const pvs_file *f, const char *name) {
 	return PVS_NO_OBJECT;
 }
 
+/* Point location, manual's TREE rule (p == split: a stack no deeper than tree); lowest containing cell wins. */
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
 	uint32_t stack[PVS__TREE_MAX_DEPTH + 1], depth = 0, best = PVS_NO_CELL, k = 0, d, inner;
 	const uint8_t *nodes, *starts, *axes, *items;
@@ -23516,7 +23837,7 @@ PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bi
 		if (!r.depth) break;
 		cell = r.base;
 	}
-	pvs__record_apply(f, &r, bits, NULL, NULL); /* the key */
+	pvs__record_apply(f, &r, bits, NULL, NULL); /* key */
 	while (--n) {								 /* then each delta over its base */
 		pvs__record_at(f, chain[n - 1], &r);
 		pvs__record_apply(f, &r, bits, NULL, NULL);
@@ -23566,7 +23887,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 	if (cell != PVS_NO_CELL && cell >= f->cell_count) return PVS_ERROR_INVALID_ARGUMENT;
 	if (cell == c->cell) return PVS_OK;
 	if (cell != PVS_NO_CELL && c->cell != PVS_NO_CELL) {
-		/* one delta if the new cell's base is the current cell */
+		/* one delta if new cell's base is current cell */
 		pvs__rec r;
 		pvs__record_at(f, cell, &r);
 		if (r.base == c->cell) {

@@ -29,6 +29,7 @@ void test_examples(void);
 void test_vocc(void);
 void test_bounded(void);
 void test_seethrough(void);
+void test_walkable(void);
 
 /* seconds: about how long each group runs (the sanitizer build on one core), to start the longest first */
 static const struct {
@@ -41,7 +42,7 @@ static const struct {
     {"cli", test_cli, 7},           {"raster", test_raster, 5},     {"otree", test_otree, 14},
     {"extproj", test_extproj, 65},  {"shrink", test_shrink, 30},    {"auto", test_auto, 35},
     {"examples", test_examples, 18}, {"vocc", test_vocc, 7},        {"bounded", test_bounded, 1},
-    {"seethrough", test_seethrough, 1},
+    {"seethrough", test_seethrough, 1},     {"walkable", test_walkable, 5},
 };
 #define GROUP_COUNT (sizeof(groups) / sizeof(groups[0]))
 

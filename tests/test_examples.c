@@ -247,6 +247,22 @@ static void test_bake_options(void) {
     snprintf(cmd, sizeof(cmd), "%s --state x --no-state", base);
     CHECK(ex_run(cmd, &out) == 2); free(out);
     /* a list: auto over those methods; the summary names each with its contribution */
+    /* view cells from walkable space: baked, written beside the file, checked (0 misses); misuse refused */
+    CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells walkable:4 -o " EDIR "/walk.pvs -j 2 --method portal", &out) == 0 &&
+          strstr(out, "walkable: ") && strstr(out, "walk.walkable.cells"));
+    free(out);
+    CHECK(test_exists(EDIR "/walk.walkable.cells"));
+    CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/walk.pvs --points 8 --rays 512", &out) == 0 && strstr(out, "misses 0")); free(out);
+    CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells walkable:0 -o " EDIR "/w2.pvs", &out) == 2 && strstr(out, "walkable:SIZE")); free(out);
+    CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells walkable --walk-from 1,2 -o " EDIR "/w2.pvs", &out) == 2 && strstr(out, "X,Y,Z"));
+    free(out);
+    CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells " EDIR "/in.txt --eye-height 2 -o " EDIR "/w2.pvs", &out) == 2 &&
+          strstr(out, "need --cells walkable"));
+    free(out);
+    CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells walkable --walk-from 1e6,0,1e6 -o " EDIR "/w2.pvs", &out) == 1 &&
+          strstr(out, "no floor with head room"));
+    free(out);
+    CHECK(!test_exists(EDIR "/w2.pvs"));
     CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells " EDIR "/in.txt -o " EDIR "/opt.pvs -j 2 --method otree,extproj", &out) == 0);
     CHECK(strstr(out, "method auto") && strstr(out, "otree    ran") && strstr(out, "extproj  ran") && strstr(out, "alone culled") &&
           !strstr(out, "shrink"));

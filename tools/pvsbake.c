@@ -1,13 +1,21 @@
 /* pvsbake - bake a .pvs file from an OBJ scene and view cells. See --help and DESIGN.md. */
 #include "cli.h"
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 static const char *usage =
-    "usage: pvsbake SCENE.obj -o OUT.pvs [--cells CELLS.txt | --grid SIZE] [options]\n"
+    "usage: pvsbake SCENE.obj -o OUT.pvs [--cells CELLS.txt | --cells walkable[:SIZE] | --grid SIZE] [options]\n"
     "       pvsbake merge -o OUT.pvs PART.pvs...   combine the parts of a sharded bake\n"
     "  -o OUT.pvs        output file (written to a temporary file, then renamed)\n"
     "  --cells FILE      view cells: one 'minx miny minz maxx maxy maxz' per line ('#' comments)\n"
+    "  --cells walkable[:SIZE]  view cells where the camera can go (pvs_walkable_cells): floors with\n"
+    "                    head room, covered by cells of SIZE (default 4) up to eye height, merged over\n"
+    "                    open floor; also written to OUT.walkable.cells (OUT without .pvs)\n"
+    "  --walk-from X,Y,Z walkable: only the floors a walk reaches from the one under this point (not\n"
+    "                    roofs, ledges or closed courtyards)\n"
+    "  --eye-height H    walkable: the camera's height over the floor and the head room (default 1.8)\n"
+    "  --volumes FILE    walkable: only in these view volumes (boxes, as a cells file)\n"
     "  --grid SIZE       view cells: a 3D grid of SIZE cubes over the scene bounds\n"
     "  --up y|z          up axis of the scene (default y, the OBJ convention)\n"
     "  --method NAME     auto (the default: the conservative methods that apply to the scene, their PVSs\n"
@@ -222,7 +230,7 @@ static int parse_method(const char *v, pvs_method *method, uint32_t *mask) {
 static int cmp_str(const void *a, const void *b) { return strcmp(*(const char *const *)a, *(const char *const *)b); }
 
 /* The options that take a value (the next argument, whatever it looks like). */
-static const char *const value_options[] = {"-o", "--cells", "--grid", "--up", "--method", "--eps", "-j", "--points", "--rays",
+static const char *const value_options[] = {"-o", "--cells", "--walk-from", "--eye-height", "--volumes", "--grid", "--up", "--method", "--eps", "-j", "--points", "--rays",
                                             "--seed", "--chain", "--shard", "--voxel", "--max-distance", "--state",
                                             "--state-every", "--vocc-slices", "--vocc-max", "--adaptive", "--min-cell",
                                             "--sweep-planes", "--resolution", "--otree-budget", "--memory", NULL};
@@ -344,8 +352,9 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
 
 /* What the command line asks for. */
 typedef struct bake_options {
-    const char *scene_path, *out_path, *cells_path, *state_path, *memory_arg, *method_arg;
-    float grid, eps, voxel, max_distance, min_cell;
+    const char *scene_path, *out_path, *cells_path, *state_path, *memory_arg, *method_arg, *volumes_path;
+    float grid, eps, voxel, max_distance, min_cell, walk_size, walk_from[3], eye_height;
+    int walkable, walk_from_given;
     pvs_shrink_mode shrink_mode;
     pvs_method method;
     uint32_t methods, up, threads, points, rays, seed, chain, shard_k, shard_n, state_every;
@@ -357,7 +366,23 @@ typedef struct bake_options {
 /* One option of value_options with its value v. 0, or 2 after a usage error. */
 static int parse_value(bake_options *o, const char *a, const char *v) {
     if (!strcmp(a, "-o")) o->out_path = v;
-    else if (!strcmp(a, "--cells")) o->cells_path = v;
+    else if (!strcmp(a, "--cells") && !strncmp(v, "walkable", 8) && (!v[8] || v[8] == ':')) {
+        o->walkable = 1;
+        o->cells_path = v;
+        if (v[8] && (parse_float(v + 9, &o->walk_size) || !(o->walk_size > 0.0f)))
+            return tool_usage_error(TOOL, "--cells walkable:SIZE needs a positive size, not '%s'", v + 9);
+    } else if (!strcmp(a, "--cells")) o->cells_path = v;
+    else if (!strcmp(a, "--volumes")) o->volumes_path = v;
+    else if (!strcmp(a, "--walk-from")) {
+        char extra;
+        if (sscanf(v, "%f,%f,%f%c", o->walk_from, o->walk_from + 1, o->walk_from + 2, &extra) != 3 ||
+            !isfinite(o->walk_from[0]) || !isfinite(o->walk_from[1]) || !isfinite(o->walk_from[2]))
+            return tool_usage_error(TOOL, "--walk-from takes X,Y,Z, not '%s'", v);
+        o->walk_from_given = 1;
+    } else if (!strcmp(a, "--eye-height")) {
+        if (parse_float(v, &o->eye_height) || !(o->eye_height > 0.0f))
+            return tool_usage_error(TOOL, "--eye-height needs a positive height, not '%s'", v);
+    }
     else if (!strcmp(a, "--state")) o->state_path = v;
     else if (!strcmp(a, "--memory")) o->memory_arg = v;
     else if (!strcmp(a, "--grid")) {
@@ -416,6 +441,8 @@ static int check_options(const bake_options *o) {
     if (!o->out_path) return tool_usage_error(TOOL, "no output given (-o OUT.pvs)");
     if (!o->cells_path == !(o->grid > 0.0f)) return tool_usage_error(TOOL, "give exactly one of --cells FILE or --grid SIZE");
     if (o->vocc_only && o->method != PVS_METHOD_VOCC) return tool_usage_error(TOOL, "--vocc-only needs --method vocc");
+    if (!o->walkable && (o->walk_from_given || o->eye_height > 0.0f || o->volumes_path))
+        return tool_usage_error(TOOL, "--walk-from, --eye-height and --volumes need --cells walkable");
     if (check_method_options(o->given, o->method, o->methods, o->method_arg)) return 2;
     if (o->min_cell > 0.0f && !o->adaptive) return tool_usage_error(TOOL, "--min-cell needs --adaptive");
     if (o->no_sweep && o->sweep) return tool_usage_error(TOOL, "--no-sweep contradicts --sweep and --sweep-planes");
@@ -478,6 +505,55 @@ static int parse_options(int argc, char **argv, bake_options *o) {
         }
     }
     return check_options(o) ? 2 : -1;
+}
+
+static int write_cells(FILE *f, const void *cells) { return mesh_cells_write((const mesh_cells *)cells, f); }
+
+/* --cells walkable: the cells pvs_walkable_cells finds, also written to OUT.walkable.cells (OUT.pvs without .pvs). */
+static int walkable_cells(const bake_options *o, const pvs_scene *scene, mesh_cells *cells, tool_error *te) {
+    pvs_walkable_desc wd;
+    mesh_cells vols;
+    pvs_error pe;
+    pvs_box *boxes = NULL;
+    uint32_t n = 0, i;
+    size_t len = strlen(o->out_path);
+    char *path = (char *)malloc(len + 16);
+    int rc = -1;
+    memset(&wd, 0, sizeof(wd));
+    mesh_cells_init(&vols);
+    wd.cell_size = o->walk_size;
+    wd.eye_height = o->eye_height;
+    if (o->walk_from_given) wd.seed = o->walk_from;
+    if (o->volumes_path) {
+        if (cells_load(o->volumes_path, &vols, te)) goto done;
+        wd.volumes = (const pvs_box *)vols.boxes;
+        wd.volume_count = vols.count;
+    }
+    if (pvs_walkable_cells(scene, &wd, NULL, 0, &n, &pe) != PVS_OK || !n) {
+        tool_error_set(te, o->scene_path, 0, "--cells walkable: %s",
+                       n ? pe.message : "no floor with head room found (check --up, --eye-height and --walk-from)");
+        goto done;
+    }
+    if (!path || !(boxes = (pvs_box *)malloc(n * sizeof(pvs_box))) || pvs_walkable_cells(scene, &wd, boxes, n, &n, &pe)) {
+        tool_error_set(te, o->scene_path, 0, "--cells walkable: out of memory");
+        goto done;
+    }
+    for (i = 0; i < n; ++i)
+        if (mesh_cells_add(cells, (const float *)(boxes + i))) {
+            tool_error_set(te, o->scene_path, 0, "--cells walkable: out of memory");
+            goto done;
+        }
+    memcpy(path, o->out_path, len + 1);
+    if (len > 4 && !strcmp(path + len - 4, ".pvs")) path[len - 4] = '\0';
+    strcat(path, ".walkable.cells");
+    if (write_stream_atomic(path, write_cells, cells, te)) goto done;
+    if (!o->quiet) fprintf(stderr, "walkable: %u cells, written to %s\n", n, path);
+    rc = 0;
+done:
+    free(path);
+    free(boxes);
+    mesh_cells_free(&vols);
+    return rc;
 }
 
 /* The bake's description from the options (scene, cells and allocator given). */
@@ -651,7 +727,9 @@ static int bake_main(int argc, char **argv) {
     memset(&run, 0, sizeof(run));
     t0 = cli_seconds();
     if (cli_load_scene_limited(o.scene_path, o.up, &m, &mem, &scene, &te)) goto fail;
-    if (o.cells_path ? cells_load(o.cells_path, &cells, &te) : cli_grid_cells(scene, o.grid, 10000000u, &cells, &te)) goto fail;
+    if (o.walkable ? walkable_cells(&o, scene, &cells, &te)
+        : o.cells_path ? cells_load(o.cells_path, &cells, &te) : cli_grid_cells(scene, o.grid, 10000000u, &cells, &te))
+        goto fail;
     bake_desc_init(&bd, &o, scene, &cells, &mem);
     if (!o.no_names) { /* the OBJ's object names, for pvscheck and pvsview to tell a renamed or reordered object */
         uint32_t i;
