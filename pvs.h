@@ -436,12 +436,12 @@ PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], con
 /* 1 if a triangle crosses segment a-b (ends included), 0 when a == b; otherwise as pvs_scene_raycast. */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], const float b[3]);
 
-/* View cells from walkable space (pvs_walkable_cells). Zero fields get defaults in scene units (metres). */
+/* View cells from walkable space (pvs_walkable_cells). Zero fields get defaults: metres, or scaled by eye_height. */
 typedef struct pvs_walkable_desc {
-	float cell_size;		 /* ground side of a cell, 0 = 4; floors are sampled every cell_size / 4 */
+	float cell_size;		 /* ground side of a cell, 0 = 4 (x eye_height / 1.8); floors sampled every cell_size / 4 */
 	float eye_height;		 /* camera height over the floor, 0 = 1.8 */
 	float head_room;		 /* free height over a floor, 0 = eye_height */
-	float step_height;		 /* the most a walk climbs between samples; closer floors are one level; 0 = 0.5 */
+	float step_height;		 /* the most a walk climbs between samples, 0 = 0.5 (x eye_height / 1.8) */
 	float max_slope;		 /* steepest floor, radians in (0, pi / 2), 0 = pi / 4 */
 	uint32_t max_merge;		 /* cells merged per side over open floor, 0 = 2 (1: none) */
 	const float *seed;		 /* NULL: every floor; else the floors a walk reaches from the one under this point */
@@ -12576,10 +12576,10 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 		return PVS__BAD_ARG(err, "walkable: negative size, slope not below pi / 2, max_merge over 8 or volumes NULL");
 	for (c = 0; c < k.d.volume_count; ++c)
 		if (!pvs__box_valid(k.d.volumes + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "view volume %u", c);
-	if (k.d.cell_size == 0.0f) k.d.cell_size = 4.0f;
-	if (k.d.eye_height == 0.0f) k.d.eye_height = 1.8f;
+	if (k.d.eye_height == 0.0f) k.d.eye_height = 1.8f; /* the others scale with it: other units */
+	if (k.d.cell_size == 0.0f) k.d.cell_size = k.d.eye_height * (4.0f / 1.8f);
 	if (k.d.head_room == 0.0f) k.d.head_room = k.d.eye_height;
-	if (k.d.step_height == 0.0f) k.d.step_height = 0.5f;
+	if (k.d.step_height == 0.0f) k.d.step_height = k.d.eye_height * (0.5f / 1.8f);
 	if (k.d.max_slope == 0.0f) k.d.max_slope = 0.7853982f;
 	if (k.d.max_merge == 0) k.d.max_merge = 2;
 	k.s = s;
