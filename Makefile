@@ -137,6 +137,7 @@ bench: $(patsubst %,$(B)/bench_%,$(BENCHES)) $(B)/pvswalkthrough tools
 	@$(CC) -std=c99 -O2 -I. -c -o $(B)/runtime_only.o $(B)/runtime_only.c
 	@size $(B)/runtime_only.o | awk 'NR == 2 { print "BENCH runtime_text_bytes " $$1 " bytes" }'
 	sh tests/bench_maps.sh
+	sh tests/bench_file_ratio.sh
 
 # Fuzzing the file reader: a libFuzzer build (clang) seeded with tests/corpus, FUZZ_SECONDS long, and
 # a plain replay binary (any compiler) that runs files through the same target.

@@ -1,4 +1,4 @@
-/* pvsinfo - inspect a .pvs file: summary, --dump, --at X Y Z, --verify. See --help. */
+/* pvsinfo - inspect a .pvs file: summary, --dump, --at X Y Z, --verify, --vocc, --raw. See --help. */
 #include "cli.h"
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +10,9 @@ static const char *usage =
     "       pvsinfo --verify OUT.pvs     full validation: exit 0 if sound, 1 with the reason\n"
     "       pvsinfo --vocc OUT.pvs       virtual occluders, one line per cell:\n"
     "                                    \"CELL: u0 v0 u1 v1 top, ...\" (ground end points, top height)\n"
+    "       pvsinfo --raw OUT.pvs TABLE  the raw bit table: per cell in order, ceil(objects / 8) bytes,\n"
+    "                                    object i in bit i % 8 of byte i / 8 (what general-purpose\n"
+    "                                    compressors are compared with: make bench)\n"
     "  Files baked with --vocc-only store placeholder records (every object): --dump and --at print\n"
     "  those; the real PVS is rebuilt from the virtual occluders at run time (pvscheck checks it).\n"
     "exit status: 0 success, 1 bad input (or a point in no cell for --at), 2 usage\n";
@@ -18,8 +21,9 @@ static const char *usage =
 
 typedef struct info_options {
     const char *path;
-    int dump, verify, at, vocc; /* at most one */
+    int dump, verify, at, vocc; /* at most one, or raw_path */
     float p[3];                 /* --at */
+    const char *raw_path;       /* --raw */
 } info_options;
 
 /* -1 to go on; otherwise the exit status (0 after --help, 2 after a usage error). */
@@ -37,6 +41,12 @@ static int parse_options(int argc, char **argv, info_options *o) {
             o->verify = 1;
         } else if (!strcmp(a, "--vocc")) {
             o->vocc = 1;
+        } else if (!strcmp(a, "--raw")) {
+            if (i + 1 >= argc) return tool_usage_error(TOOL, "--raw needs OUT.pvs and a TABLE file");
+            o->raw_path = argv[argc - 1] == argv[i + 1] ? NULL : argv[argc - 1];
+            if (!o->raw_path || i + 2 != argc - 1) return tool_usage_error(TOOL, "usage: pvsinfo --raw OUT.pvs TABLE");
+            o->path = argv[i + 1];
+            i = argc;
         } else if (!strcmp(a, "--at")) {
             if (parse_floats(argv, i + 1, argc, 3, o->p)) return tool_usage_error(TOOL, "--at needs three numbers X Y Z");
             i += 3;
@@ -50,7 +60,8 @@ static int parse_options(int argc, char **argv, info_options *o) {
         }
     }
     if (!o->path) return tool_usage_error(TOOL, "no file given");
-    if (o->dump + o->verify + o->at + o->vocc > 1) return tool_usage_error(TOOL, "give at most one of --dump, --at, --verify, --vocc");
+    if (o->dump + o->verify + o->at + o->vocc + (o->raw_path != NULL) > 1)
+        return tool_usage_error(TOOL, "give at most one of --dump, --at, --verify, --vocc, --raw");
     return -1;
 }
 
@@ -61,6 +72,25 @@ static void print_cell(const pvs_file *f, uint32_t cell, pvs_word *bits, size_t 
     for (i = pvs_bitset_next(bits, f->object_count, 0); i < f->object_count; i = pvs_bitset_next(bits, f->object_count, i + 1))
         printf(" %u", i);
     printf("\n");
+}
+
+typedef struct raw_table {
+    const pvs_file *f;
+    pvs_word *bits;
+    size_t words;
+} raw_table;
+
+/* --raw: the decoded table, cell by cell, each row ceil(objects / 8) little-endian bytes. */
+static int write_raw(FILE *out, const void *ctx) {
+    const raw_table *t = (const raw_table *)ctx;
+    size_t row = ((size_t)t->f->object_count + 7) / 8, i;
+    uint32_t c;
+    for (c = 0; c < t->f->cell_count; ++c) {
+        pvs_file_decode(t->f, c, t->bits, t->words, NULL);
+        for (i = 0; i < row; ++i)
+            if (fputc((int)(uint8_t)(t->bits[i >> 3] >> (8 * (i & 7))), out) == EOF) return -1;
+    }
+    return 0;
 }
 
 /* --verify: pvs_file_open already validated every byte and chain; here decoding each cell exercises
@@ -220,6 +250,15 @@ int main(int argc, char **argv) {
         for (c = 0; c < f.cell_count; ++c) print_cell(&f, c, bits, words);
     } else if (o.vocc) {
         rc = print_vocc(o.path, &f);
+    } else if (o.raw_path) {
+        raw_table t;
+        t.f = &f;
+        t.bits = bits;
+        t.words = words;
+        if (write_stream_atomic(o.raw_path, write_raw, &t, &te)) {
+            fprintf(stderr, "pvsinfo: %s\n", te.message);
+            rc = 1;
+        }
     } else if (o.at) {
         uint32_t c = pvs_file_find_cell(&f, o.p);
         if (c == PVS_NO_CELL) {

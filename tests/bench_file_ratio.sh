@@ -1,0 +1,48 @@
+#!/bin/sh
+# make bench (issue 30): the .pvs file against general-purpose compressors applied to its own raw bit
+# table (pvsinfo --raw: cells x ceil(objects / 8) bytes), on generator scenes baked with auto and on
+# the OpenArena maps' whole-level bakes that tests/bench_maps.sh leaves in $B/maps (run it first):
+#   BENCH file_ratio_raw_SCENE    the file over the raw table
+#   BENCH file_ratio_gzip_SCENE   the file over gzip -9 of the raw table
+#   BENCH file_ratio_xz_SCENE     the file over xz -9 of the raw table
+# then the means over the scenes measured. The generator scenes are baked without object names (--no-names:
+# identity, not visibility; the raw table holds none either). A compressor not installed is skipped with a message.
+set -u
+B=${B:-build}
+T=$B/file-ratio
+mkdir -p "$T"
+have_gzip=1; command -v gzip > /dev/null || { have_gzip=0; echo "bench_file_ratio: gzip not found: file_ratio_gzip skipped"; }
+have_xz=1; command -v xz > /dev/null || { have_xz=0; echo "bench_file_ratio: xz not found: file_ratio_xz skipped"; }
+sums=$T/sums.txt
+: > "$sums"
+ratio() { # FILE.pvs LABEL
+  "$B/pvsinfo" --raw "$1" "$T/raw.bin" || return
+  f=$(wc -c < "$1"); r=$(wc -c < "$T/raw.bin")
+  echo "BENCH file_ratio_raw_$2 $(awk "BEGIN { printf \"%.3f\", $f / $r }") ratio"
+  g=0; x=0
+  if [ $have_gzip -eq 1 ]; then
+    g=$(gzip -9 -c "$T/raw.bin" | wc -c)
+    echo "BENCH file_ratio_gzip_$2 $(awk "BEGIN { printf \"%.2f\", $f / $g }") ratio"
+  fi
+  if [ $have_xz -eq 1 ]; then
+    x=$(xz -9 -c "$T/raw.bin" | wc -c)
+    echo "BENCH file_ratio_xz_$2 $(awk "BEGIN { printf \"%.2f\", $f / $x }") ratio"
+  fi
+  echo "$f $r $g $x" >> "$sums"
+}
+for s in "city 0.5" "indoor 1" "building 0.5" "walls 1" "forest 0.5" "soup 1"; do
+  set -- $s
+  "$B/pvsgen" "$1" --size "$2" -o "$T/$1.obj" --cells "$T/$1.cells" > /dev/null 2>&1 || { echo "pvsgen $1 failed"; exit 1; }
+  "$B/pvsbake" -q "$T/$1.obj" --cells "$T/$1.cells" -o "$T/$1.pvs" -j 2 --no-state --no-names ||
+    { echo "pvsbake $1 failed"; exit 1; }
+  ratio "$T/$1.pvs" "$1"
+done
+for p in "$B"/maps/*.whole.pvs; do
+  [ -f "$p" ] || { echo "bench_file_ratio: no whole-level map bakes in $B/maps (tests/bench_maps.sh): real levels skipped"; break; }
+  m=$(basename "$p" .whole.pvs)
+  ratio "$p" "$m"
+done
+awk '{ n++; if ($3 > 0) { g += $1 / $3; ng++ } if ($4 > 0) { x += $1 / $4; nx++ } r += $1 / $2 }
+     END { if (n) printf "BENCH file_ratio_raw_mean %.3f ratio\n", r / n;
+           if (ng) printf "BENCH file_ratio_gzip_mean %.2f ratio\n", g / ng;
+           if (nx) printf "BENCH file_ratio_xz_mean %.2f ratio\n", x / nx }' "$sums"
