@@ -369,6 +369,22 @@ void test_cli(void) {
         if (at) memcpy(at + 2, "rigid", 5);
         write_text(DIR "/renamed.obj", renamed, strlen(renamed));
         CHECK(run("./pvsinfo " DIR "/a.pvs", &out) == 0 && strstr(out, "named (object 0 'left')")); free(out);
+        {   /* --raw: a byte per cell for 4 objects, bit i object i, as the file decodes */
+            size_t rs = 0, fs = 0;
+            char *raw, *fb;
+            pvs_file f;
+            pvs_word bits[1];
+            uint32_t c;
+            CHECK(run("./pvsinfo --raw " DIR "/a.pvs " DIR "/a.raw", &out) == 0); free(out);
+            CHECK(run("./pvsinfo --raw " DIR "/a.pvs", &out) == 2); free(out);
+            raw = test_slurp(DIR "/a.raw", &rs);
+            fb = test_slurp(DIR "/a.pvs", &fs);
+            CHECK(raw && fb && pvs_file_open(fb, fs, &f, NULL) == PVS_OK && rs == f.cell_count);
+            for (c = 0; raw && fb && c < f.cell_count && c < rs; ++c)
+                CHECK(pvs_file_decode(&f, c, bits, 1, NULL) == PVS_OK && (uint8_t)raw[c] == (uint8_t)bits[0]);
+            free(raw);
+            free(fb);
+        }
         CHECK(run("./pvscheck " DIR "/renamed.obj " DIR "/a.pvs", &out) == 1 &&
               strstr(out, "stale: object 2 is 'right' in the file but 'rigid' in") && strstr(out, "renamed or reordered"));
         free(out);
