@@ -5892,12 +5892,11 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 	if (out) *out = NULL;
 	if (!desc || !out) return PVS__BAD_ARG(err, "desc and out_raster must not be NULL");
 	if (desc->width < 1 || desc->height < 1 || desc->width > 16384 || desc->height > 16384)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "depth map size %ux%u is not in 1..16384", desc->width,
-						 desc->height);
+		return PVS__BAD_ARG(err, "depth map size %ux%u is not in 1..16384", desc->width, desc->height);
 	if ((desc->cull_map_width == 0) != (desc->cull_map_height == 0) || desc->cull_map_width > 4096 ||
 		desc->cull_map_height > 4096)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "cull map size %ux%u is not in 1..4096 (or 0x0)",
-						 desc->cull_map_width, desc->cull_map_height);
+		return PVS__BAD_ARG(err, "cull map size %ux%u is not in 1..4096 (or 0x0)", desc->cull_map_width,
+							desc->cull_map_height);
 	if (desc->cull_map_width && !desc->scene)
 		return PVS__BAD_ARG(err, "a cull map needs the scene");
 	a = desc->allocator;
@@ -7358,8 +7357,7 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 	memset(&t, 0, sizeof(t));
 	if (stats) *stats = st;
 	if (!desc || !desc->cell || desc->cell_vertex_count < 3 || (desc->segment_count && !desc->segments))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
-						 "desc, a cell of >= 3 vertices and the segments are required");
+		return PVS__BAD_ARG(err, "desc, a cell of >= 3 vertices and the segments are required");
 	n = desc->cell_vertex_count;
 	count = desc->segment_count;
 	for (i = 0; i < 2 * n; ++i)
@@ -8290,8 +8288,7 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
 									   pvs_error *err) {
 	uint32_t nf, no, i;
 	if (!desc || !visible_objects || (desc->facade_count && !desc->facades) || (desc->object_count && !desc->objects))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
-						 "desc, facades, objects and visible_objects are required");
+		return PVS__BAD_ARG(err, "desc, facades, objects and visible_objects are required");
 	if (desc->flags & ~PVS__VISIBILITY_25D_FULL_TESTS)
 		return PVS__BAD_ARG(err, "unknown 2.5D flags 0x%x", desc->flags);
 	nf = desc->facade_count;
@@ -9193,8 +9190,7 @@ PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out,
 	if (desc->max_occluders > 65536)
 		return PVS__BAD_ARG(err, "max_occluders %u is over 65536", desc->max_occluders);
 	if (desc->node_budget && (desc->node_budget < 64 || desc->node_budget > (1u << 24)))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "node_budget %u is not in 64..2^24",
-						 desc->node_budget);
+		return PVS__BAD_ARG(err, "node_budget %u is not in 64..2^24", desc->node_budget);
 	s = desc->scene;
 	a = desc->allocator;
 	o = (pvs_otree *)pvs__alloc(&a, sizeof(*o), 16);
@@ -9644,8 +9640,7 @@ PVS__STATIC void pvs__otree_bake_destroy(const pvs__bake_env *env, void *state) 
 
 PVS__STATIC pvs_result pvs__otree_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
 	if (desc->otree.node_budget && (desc->otree.node_budget < 64 || desc->otree.node_budget > (1u << 24)))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "otree.node_budget %u is not in 64..2^24",
-						 desc->otree.node_budget);
+		return PVS__BAD_ARG(err, "otree.node_budget %u is not in 64..2^24", desc->otree.node_budget);
 	return PVS_OK;
 }
 
@@ -12134,8 +12129,7 @@ PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *d, pvs_occlude
 	if (!d || !out || !d->scene || !d->cells || !d->cell_count)
 		return PVS__BAD_ARG(err, "desc, scene, cells and out must be given");
 	if (!pvs__finite(d->eps) || !(d->eps > 0.0f) || !pvs__finite(d->voxel_size) || d->voxel_size < 0.0f)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
-						 "eps must be finite and > 0, voxel_size finite and >= 0");
+		return PVS__BAD_ARG(err, "eps must be finite and > 0, voxel_size finite and >= 0");
 	if (d->flags & ~PVS_OCCLUDERS_KEEP_LEAKS)
 		return PVS__BAD_ARG(err, "unknown occluders flags 0x%x", d->flags);
 	for (c = 0; c < d->cell_count; ++c)
@@ -14708,8 +14702,7 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
 	if (cell >= f->cell_count)
 		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, cell, 0, "cell %u of %u", cell, f->cell_count);
 	if (object_count != f->object_count)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "%u object boxes for a file of %u objects",
-						 object_count, f->object_count);
+		return PVS__BAD_ARG(err, "%u object boxes for a file of %u objects", object_count, f->object_count);
 	n = pvs__vo_file_cell(f, cell, &bytes, &scale);
 	if (max_occluders && n > max_occluders) n = max_occluders;
 	r = pvs__vo_scratch(scratch, scratch_size, n, tree, &rt, &rest, &rest_size, err);
@@ -15106,8 +15099,7 @@ PVS__STATIC pvs_result pvs__vocc_bake_prepare(pvs__bake_env *env, const pvs_bake
 	pvs_result r;
 	*state = NULL;
 	if (slices > 16 || keep > 255)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
-						 "vocc: slices %u (1..16), occluders per cell %u (1..255)", slices, keep);
+		return PVS__BAD_ARG(err, "vocc: slices %u (1..16), occluders per cell %u (1..255)", slices, keep);
 	vo = (pvs__vocc_bake *)pvs__alloc(&env->allocator, sizeof(pvs__vocc_bake), 16);
 	*state = vo;
 	if (!vo) return PVS__OOM(err, "vocc: facades");
@@ -20239,20 +20231,16 @@ PVS__STATIC pvs_result pvs__extproj_bake_check(const pvs_bake_desc *desc, pvs_er
 	int preview = (desc->flags & PVS_BAKE_PREVIEW) != 0,
 		is_auto = desc->method == PVS_METHOD_AUTO || desc->method == PVS_METHOD_DEFAULT;
 	if (desc->extproj.resolution && (desc->extproj.resolution < 16 || desc->extproj.resolution > 4096))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.resolution %u is not in 16..4096",
-						 desc->extproj.resolution);
+		return PVS__BAD_ARG(err, "extproj.resolution %u is not in 16..4096", desc->extproj.resolution);
 	if (desc->extproj.occluders > 65536)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.occluders %u > 65536",
-						 desc->extproj.occluders);
+		return PVS__BAD_ARG(err, "extproj.occluders %u > 65536", desc->extproj.occluders);
 	if (desc->extproj.sweep > 256 && desc->extproj.sweep != PVS_EXTPROJ_NO_SWEEP)
 		return PVS__BAD_ARG(err, "extproj.sweep %u > 256", desc->extproj.sweep);
 	if (desc->extproj.sweep_subcells > 1 && desc->extproj.sweep_subcells != 4)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "extproj.sweep_subcells %u is not 0, 1 or 4",
-						 desc->extproj.sweep_subcells);
+		return PVS__BAD_ARG(err, "extproj.sweep_subcells %u is not 0, 1 or 4", desc->extproj.sweep_subcells);
 	if (desc->extproj.sweep_subcells == 4 &&
 		(desc->extproj.sweep == PVS_EXTPROJ_NO_SWEEP || (!desc->extproj.sweep && (!is_auto || preview))))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
-						 "extproj.sweep_subcells 4 needs the occlusion sweep (extproj.sweep)");
+		return PVS__BAD_ARG(err, "extproj.sweep_subcells 4 needs the occlusion sweep (extproj.sweep)");
 	return PVS_OK;
 }
 
@@ -21334,8 +21322,7 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
 	if (desc->cell_count == 0xffffffffu) return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "too many cells");
 	if (desc->shard_count == 1 || (desc->shard_count && desc->shard_index >= desc->shard_count) ||
 		desc->shard_count > desc->cell_count)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u for %u cells", desc->shard_index,
-						 desc->shard_count, desc->cell_count);
+		return PVS__BAD_ARG(err, "shard %u of %u for %u cells", desc->shard_index, desc->shard_count, desc->cell_count);
 	if (desc->max_chain > PVS_MAX_CHAIN)
 		return PVS__BAD_ARG(err, "max_chain %u > %u", desc->max_chain, PVS_MAX_CHAIN);
 	method = desc->method == PVS_METHOD_DEFAULT ? PVS_METHOD_AUTO : desc->method;
@@ -22850,8 +22837,8 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 		(d->shard_count &&
 		 (d->shard_index >= d->shard_count || d->total_cell_count > 0x3fffffffu ||
 		  d->cell_count != (d->total_cell_count - d->shard_index + d->shard_count - 1) / d->shard_count)))
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, "shard %u of %u does not hold %u of %u cells",
-						 d->shard_index, d->shard_count, d->cell_count, d->total_cell_count);
+		return PVS__BAD_ARG(err, "shard %u of %u does not hold %u of %u cells", d->shard_index, d->shard_count,
+							d->cell_count, d->total_cell_count);
 	for (i = 0; i < d->cell_count; ++i) {
 		r = pvs__check_cell(d->cells + i, i, err);
 		if (r != PVS_OK) return r;
@@ -22863,8 +22850,7 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 		if (!d->vocc_scales || (n && !d->virtual_occluders) || !pvs__finite(d->vocc_base) ||
 			!pvs__finite(d->vocc_height_step) || !(d->vocc_height_step > 0.0f) || (d->vocc_flags & ~PVS_VOCC_ONLY) ||
 			!*vocc_size)
-			return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
-							 "virtual occluders: missing arrays, bad heights or flags");
+			return PVS__BAD_ARG(err, "virtual occluders: missing arrays, bad heights or flags");
 	}
 	return PVS_OK;
 }
@@ -23862,8 +23848,7 @@ PVS_API pvs_result pvs_file_decode(const pvs_file *f, uint32_t cell, pvs_word *b
 PVS_API pvs_result pvs_cursor_init(pvs_cursor *c, const pvs_file *f, pvs_word *bits, pvs_word *scratch,
 								   size_t word_count, pvs_error *err) {
 	if (!c || !f || !f->data || !bits || !scratch || bits == scratch)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0,
-						 "cursor, file, bits and scratch must be given, bits != scratch");
+		return PVS__BAD_ARG(err, "cursor, file, bits and scratch must be given, bits != scratch");
 	if (word_count < PVS_BITSET_WORDS(f->object_count))
 		return pvs__fail(err, PVS_ERROR_BUFFER_TOO_SMALL, -1, 0, "%llu words, %u objects need %llu",
 						 (unsigned long long)word_count, f->object_count,
