@@ -450,13 +450,14 @@ typedef struct pvs_walkable_desc {
 	pvs_allocator allocator; /* scratch */
 } pvs_walkable_desc;
 
-/* View cells where the camera can go: finds the floors a player stands on (surfaces no steeper than max_slope with
-   head_room free above them, on vertical ray casts through every storey), links samples a step apart with nothing
-   between them at knee height, groups the linked samples of each cell_size square, merges squares of open floor up to
-   max_merge per side, and writes per group the box over its samples' ground from a quarter eye height over its lowest
-   floor to eye height over its highest. Writes up to `capacity` boxes (cells may be NULL), *count the number found;
-   deterministic. Errors: INVALID_ARGUMENT, NOT_FINITE, COUNT_OVERFLOW (over 2^26 sample columns), OUT_OF_MEMORY.
-   Thread-safe. */
+/* View cells where the camera can go: finds the floors a player stands on (opaque surfaces no steeper than max_slope
+   with head_room free above, not inside a closed mesh or one open only at its base; vertical ray casts through every
+   storey), links samples a step apart with nothing between them knee to knee, groups the linked samples of each
+   cell_size square, merges squares of open floor up to max_merge per side, and writes per group the box over its
+   samples' ground and half a spacing more, from a quarter eye height over its lowest floor to eye height over its
+   highest. A seed keeps the floors linked to the nearest one at most a step above it. Writes up to `capacity` boxes
+   (cells may be NULL), *count the number found; deterministic. Errors: INVALID_ARGUMENT, NOT_FINITE, COUNT_OVERFLOW
+   (over 2^26 sample columns), OUT_OF_MEMORY. Thread-safe. */
 PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable_desc *desc, pvs_box *cells,
 									  uint32_t capacity, uint32_t *count, pvs_error *err);
 
@@ -932,11 +933,11 @@ typedef struct pvs_vocc_2d_desc {
    NOT_FINITE, BAD_CELL, OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, uint32_t capacity, uint32_t *count,
 							   pvs_vocc_stats *stats, pvs_error *err);
+#endif /* PVS_RUNTIME_ONLY */
 
 /* 1 if `o` alone hides the box from the whole cell: every segment between the ground rectangles crosses p0-p1, and
    the heights hold at each crossing fraction t (a sight line meets the occluder's plane at height (1 - t) eye + t
    target). Conservative under rounding; 0 for an empty box or a degenerate occluder. */
-#endif /* PVS_RUNTIME_ONLY */
 PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
 								const pvs_box *box);
 
@@ -1007,9 +1008,9 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *
 								   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
 /* Estimator: `points` stratified points in `cell` (corners and face centres, then a jittered grid),
-   `rays_per_point` uniform directions each; sets the first object each ray hits in `visible`
-   (PVS_BITSET_WORDS(object_count) words, not cleared; never occluder-only ones). A lower bound. Deterministic in
-   `seed`; thread-safe, no allocation. Returns # rays. */
+   `rays_per_point` uniform directions each; sets the first object each ray hits in `visible` and see-through ones it
+   crosses first (PVS_BITSET_WORDS(object_count) words, not cleared; never occluder-only ones). A lower bound.
+   Deterministic in `seed`; thread-safe, no allocation. Returns # rays. */
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
 									   uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
 
@@ -10410,16 +10411,17 @@ PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, 
 }
 
 /* w of cell cb, clear of K by m (shared by its points): parity of K's crossings above a point of cb on a vertical line
-   (none within m); -1 if 8 lines fail. */
-PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
+   (none within m); -1 if 8 lines fail. once: crossings at one height count once (coplanar faces of touching boxes). */
+PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb,
+									 int once) {
 	uint32_t up = s->up_axis, t, line;
 	int u, v;
 	pvs__ground_axes(up, &u, &v);
 	for (line = 0; line < 8; ++line) {
 		double pu = cb->min[u] + pvs__vx_line_u[line] * ((double)cb->max[u] - cb->min[u]);
 		double pv = cb->min[v] + pvs__vx_line_v[line] * ((double)cb->max[v] - cb->min[v]);
-		double z0 = 0.5 * ((double)cb->min[up] + cb->max[up]);
-		int w = 0, ok = 1;
+		double z0 = 0.5 * ((double)cb->min[up] + cb->max[up]), seen[8];
+		int w = 0, ok = 1, ns = 0, j;
 		for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1] && ok; ++t) {
 			uint32_t tri = tp->tris[t];
 			double z, dz;
@@ -10428,7 +10430,12 @@ PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp,
 								  s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2], u, v, (int)up, pu, pv, &z,
 								  &dz);
 			if (r < 0 || (r == 1 && pvs__dabs(z - z0) <= dz)) ok = 0;
-			else if (r == 1 && z > z0) w ^= 1;
+			else if (r == 1 && z > z0) {
+				for (j = 0; once && j < ns && seen[j] != z; ++j) {}
+				if (once && j < ns) continue; /* once: a face two touching boxes share counts once */
+				if (once && ns < 8) seen[ns++] = z;
+				w ^= 1;
+			}
 		}
 		if (ok) return w;
 	}
@@ -10787,7 +10794,7 @@ PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, 
 					uint8_t f = bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])];
 					if (!(f & (PVS__G_T | PVS__G_B))) wc = (f & PVS__G_W) != 0;
 				}
-		if (wc < 0) wc = pvs__vx_point_parity(fb->s, fb->tp, fb->comp, cb);
+		if (wc < 0) wc = pvs__vx_point_parity(fb->s, fb->tp, fb->comp, cb, 0);
 	}
 	return wc;
 }
@@ -12246,11 +12253,15 @@ typedef struct pvs__walk {
 PVS__STATIC int pvs__walk_inside(const pvs__walk *k, const float p[3]) {
 	uint32_t n = 0, i;
 	const uint32_t *items = pvs_kdtree_leaf_items(k->solids, p, &n);
-	pvs_box b;
+	pvs_box b; /* lines through a tiny square around p: one on a mesh edge is ambiguous, the others decide */
 	memcpy(b.min, p, sizeof(b.min));
 	memcpy(b.max, p, sizeof(b.max));
+	b.min[k->u] -= (float)k->eps;
+	b.max[k->u] += (float)k->eps;
+	b.min[k->v] -= (float)k->eps;
+	b.max[k->v] += (float)k->eps;
 	for (i = 0; i < n; ++i)
-		if (pvs__box_contains_point(k->cbox + items[i], p) && pvs__vx_point_parity(k->s, &k->tp, items[i], &b) == 1)
+		if (pvs__box_contains_point(k->cbox + items[i], p) && pvs__vx_point_parity(k->s, &k->tp, items[i], &b, 1) == 1)
 			return 1;
 	return 0;
 }
@@ -12263,15 +12274,19 @@ PVS__STATIC pvs_result pvs__walk_solids(pvs__walk *k, pvs_error *err) {
 	if (pvs__vx_topology(s, s->bounds.min[k->up], &k->d.allocator, &k->tp) != PVS_OK) return PVS__OOM(err, "meshes");
 	k->cbox = (pvs_box *)pvs__alloc_array(&k->d.allocator, k->tp.comp_count + 1, sizeof(pvs_box));
 	if (!k->cbox) return PVS__OOM(err, "mesh boxes");
-	for (c = 0; c < k->tp.comp_count; ++c) {
-		int closed = k->tp.open_first[c] == k->tp.open_first[c + 1];
+	for (c = 0; c < k->tp.comp_count; ++c) { /* closed, or open only around its base: standing on some floor */
+		float base;
 		k->cbox[c] = pvs__box_empty();
-		for (t = k->tp.comp_first[c]; closed && t < k->tp.comp_first[c + 1]; ++t) {
+		for (t = k->tp.comp_first[c]; t < k->tp.comp_first[c + 1]; ++t) {
 			const uint32_t *ix = s->indices + 3 * (size_t)k->tp.tris[t];
 			pvs__box_add_point(k->cbox + c, s->positions + 3 * (size_t)ix[0]);
 			pvs__box_add_point(k->cbox + c, s->positions + 3 * (size_t)ix[1]);
 			pvs__box_add_point(k->cbox + c, s->positions + 3 * (size_t)ix[2]);
 		}
+		base = k->cbox[c].min[k->up];
+		for (t = k->tp.open_first[c]; t < k->tp.open_first[c + 1]; ++t)
+			if (k->tp.open_edges[6 * (size_t)t + k->up] != base || k->tp.open_edges[6 * (size_t)t + 3 + k->up] != base)
+				k->cbox[c] = pvs__box_empty();
 	}
 	memset(&kd, 0, sizeof(kd));
 	kd.boxes = k->cbox;
@@ -12295,7 +12310,7 @@ PVS__STATIC int pvs__walk_in_volumes(const pvs__walk *k, const float p[3]) {
 	e[k->up] += k->d.eye_height;
 	for (i = 0; i < k->d.volume_count; ++i)
 		if (pvs__box_contains_point(k->d.volumes + i, e)) return 1;
-	return !k->d.volumes;
+	return !k->d.volume_count;
 }
 
 /* The floors of one column, top down: hits on surfaces no steeper than max_slope with head room free above. */
@@ -12343,7 +12358,8 @@ PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 	return 1;
 }
 
-/* Links samples of neighbouring columns a step apart whose knee-high segment is free; local: only within a square. */
+/* Links samples of neighbouring columns a step apart whose knee-high segment is free (next[]); local: joins only those
+   within a square (the merge reads next[] across its sides). */
 PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent, int local) {
 	double climb = pvs__dmax(k->d.step_height, k->hs * tan((double)k->d.max_slope)); /* steps or a ramp, stairs */
 	size_t a, b;
@@ -12353,7 +12369,8 @@ PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent, int local) {
 		for (dirn = 0; dirn < 2; ++dirn) {
 			uint32_t iu = k->w[a].col % k->nu, iv = k->w[a].col / k->nu;
 			uint32_t i2 = dirn ? iv + 1 : iu + 1;
-			if (i2 >= (dirn ? k->nv : k->nu) || (local && i2 % 4 == 0)) continue; /* the grid's edge, or the square's */
+			int side = local && i2 % 4 == 0; /* across a square's side */
+			if (i2 >= (dirn ? k->nv : k->nu)) continue;
 			col = k->w[a].col + (dirn ? k->nu : 1);
 			for (b = k->first[col]; b < k->first[col + 1]; ++b) {
 				float p[3], q[3];
@@ -12362,7 +12379,7 @@ PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent, int local) {
 				pvs__walk_point(k, col, k->w[b].h + k->d.step_height + k->eps, q);
 				if (pvs_scene_segment_blocked(k->s, p, q)) continue;
 				if (k->w[a].next[dirn] == PVS__WNONE) k->w[a].next[dirn] = (uint32_t)b;
-				{
+				if (!side) {
 					uint32_t ra = pvs__uf_find(parent, (uint32_t)a), rb = pvs__uf_find(parent, (uint32_t)b);
 					if (ra != rb) parent[ra > rb ? ra : rb] = ra < rb ? ra : rb;
 				}
@@ -12424,10 +12441,10 @@ PVS__STATIC pvs__wgroup *pvs__walk_find(const pvs__walk *k, pvs__wgroup *g, cons
 }
 
 /* Emits the box over columns [u0, u1] and half a spacing more, from a quarter eye height over lo to eye height over
-   hi, clipped to the first view volume it meets. */
+   hi, clipped to the bounds of the view volumes it meets. */
 PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, uint32_t v0, uint32_t v1, float lo,
 								float hi, pvs_box *cells, uint32_t capacity, uint32_t *n) {
-	pvs_box b;
+	pvs_box b, in = pvs__box_empty();
 	uint32_t m;
 	b.min[k->u] = (float)(k->u0 + (u0 - 0.5) * k->hs); /* up to the next columns' centres: the floor up to a wall */
 	b.min[k->v] = (float)(k->v0 + (v0 - 0.5) * k->hs);
@@ -12436,10 +12453,8 @@ PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, ui
 	b.min[k->up] = lo + 0.25f * k->d.eye_height;
 	b.max[k->up] = hi + k->d.eye_height;
 	for (m = 0; m < k->d.volume_count; ++m)
-		if (pvs__box_overlap(&b, k->d.volumes + m)) {
-			pvs__box_clip(&b, k->d.volumes + m);
-			break;
-		}
+		if (pvs__box_overlap(&b, k->d.volumes + m)) pvs__box_add_box(&in, k->d.volumes + m);
+	if (k->d.volume_count) pvs__box_clip(&b, &in); /* the union's bounds: no sliver where two volumes meet */
 	if (cells && *n < capacity) cells[*n] = b;
 	++*n;
 }
@@ -12576,6 +12591,8 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 	if (k.d.step_height == 0.0f) k.d.step_height = k.d.eye_height * (0.5f / 1.8f);
 	if (k.d.max_slope == 0.0f) k.d.max_slope = 0.7853982f;
 	if (k.d.max_merge == 0) k.d.max_merge = 2;
+	if (!pvs__finite(k.d.cell_size) || !pvs__finite(k.d.step_height))
+		return pvs__fail(err, PVS_ERROR_NOT_FINITE, -1, 0, "walkable: eye_height %g too large", k.d.eye_height);
 	k.s = s;
 	k.up = (int)s->up_axis;
 	pvs__ground_axes(s->up_axis, &k.u, &k.v);
@@ -12608,14 +12625,20 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 	}
 	if (r == PVS_OK && k.d.seed) { /* keep the floors a walk reaches from the one under the seed */
 		uint32_t keep = PVS__WNONE;
+		double best = 0.0;
 		float p[3];
 		pvs__walk_link(&k, k.global, 0);
-		for (a = 0; a < k.n; ++a) {
+		for (a = 0; a < k.n; ++a) { /* the nearest floor at most a step over the seed, the higher on a tie */
+			double du, dv;
 			pvs__walk_point(&k, k.w[a].col, k.w[a].h, p);
-			if (pvs__dabs(p[k.u] - k.d.seed[k.u]) <= 0.5 * k.hs && pvs__dabs(p[k.v] - k.d.seed[k.v]) <= 0.5 * k.hs &&
-				k.w[a].h <= k.d.seed[k.up] + k.d.step_height &&
-				(keep == PVS__WNONE || k.w[a].h > k.w[keep].h))
+			du = (double)p[k.u] - k.d.seed[k.u];
+			dv = (double)p[k.v] - k.d.seed[k.v];
+			if (k.w[a].h <= k.d.seed[k.up] + k.d.step_height &&
+				(keep == PVS__WNONE || du * du + dv * dv < best ||
+				 (du * du + dv * dv == best && k.w[a].h > k.w[keep].h))) {
 				keep = (uint32_t)a;
+				best = du * du + dv * dv;
+			}
 		}
 		if (keep != PVS__WNONE) keep = pvs__uf_find(k.global, keep);
 		for (a = 0, c = 0; a < k.n; ++a) /* compacted, still in column order */

@@ -154,7 +154,60 @@ static void wk_params(void) {
     mesh_cells_free(&hand);
 }
 
+/* A 40 x 40 floor, with a closed 4 x 10 x 4 box on it centred at the origin when `box`. */
+static pvs_scene *wk_floor(int box) {
+    static float pos[3 * 12];
+    static uint32_t idx[3 * 14];
+    const float lo[3] = {-2, 0, -2}, hi[3] = {2, 10, 2};
+    pvs_object_desc obs[2];
+    uint32_t vc = 4, tc = 2;
+    const float g[12] = {-20, 0, -20, 20, 0, -20, 20, 0, 20, -20, 0, 20};
+    memcpy(pos, g, sizeof(g));
+    idx[0] = 0; idx[1] = 1; idx[2] = 2; idx[3] = 0; idx[4] = 2; idx[5] = 3;
+    memset(obs, 0, sizeof(obs));
+    obs[0].triangle_count = 2;
+    obs[1].first_triangle = 2;
+    obs[1].triangle_count = 12;
+    if (box) test_box_arrays(pos, &vc, idx, &tc, lo, hi);
+    return test_scene_arrays(pos, vc, idx, tc, obs, box ? 2 : 1, 1);
+}
+
+/* Open floor merges (fewer cells for a larger max_merge, the same floor covered); a closed box whose edges fall on
+   sample columns holds no cell; two view volumes sharing a face leave no sliver cell at it. */
+static void wk_merge(void) {
+    pvs_scene *flat = wk_floor(0), *boxed = wk_floor(1);
+    pvs_walkable_desc wd;
+    pvs_box cells[512], vols[2] = {{{-20, -1, -20}, {0, 5, 20}}, {{0, -1, -20}, {20, 5, 20}}};
+    uint32_t n[4], i, m;
+    CHECK(flat && boxed);
+    if (!flat || !boxed) return;
+    memset(&wd, 0, sizeof(wd));
+    wd.cell_size = 4;
+    for (m = 0; m < 4; ++m) {
+        double area = 0;
+        wd.max_merge = 1u << m;
+        CHECK(pvs_walkable_cells(flat, &wd, cells, 512, n + m, NULL) == PVS_OK);
+        for (i = 0; i < n[m] && i < 512; ++i)
+            area += ((double)cells[i].max[0] - cells[i].min[0]) * ((double)cells[i].max[2] - cells[i].min[2]);
+        CHECK(area >= 40.0 * 40.0); /* the floor, covered */
+        if (m) CHECK(n[m] < n[m - 1]);
+    }
+    wd.max_merge = 0;
+    CHECK(pvs_walkable_cells(boxed, &wd, cells, 512, n, NULL) == PVS_OK && n[0] < 512);
+    for (i = 0; i < n[0] && i < 512; ++i) { /* no cell centred in the box (its roof is a floor: cells over it) */
+        float cx = 0.5f * (cells[i].min[0] + cells[i].max[0]), cz = 0.5f * (cells[i].min[2] + cells[i].max[2]);
+        CHECK(!(cx > -2 && cx < 2 && cz > -2 && cz < 2 && cells[i].min[1] < 10));
+    }
+    wd.volumes = vols;
+    wd.volume_count = 2;
+    CHECK(pvs_walkable_cells(flat, &wd, cells, 512, n, NULL) == PVS_OK && n[0] < 512);
+    for (i = 0; i < n[0] && i < 512; ++i) CHECK(cells[i].max[0] - cells[i].min[0] >= 1.0f); /* a sample spacing */
+    pvs_scene_destroy(flat);
+    pvs_scene_destroy(boxed);
+}
+
 void test_walkable(void) {
+    wk_merge();
     wk_check("building", GEN_BUILDING, 0.3f, 3.0f, 0, 1);
     wk_check("city", GEN_CITY, 0.3f, 24.0f, 1, 1);
     wk_params();
