@@ -12,8 +12,8 @@ static const char *usage =
     "  --cells walkable[:SIZE]  view cells where the camera can go (pvs_walkable_cells): floors with\n"
     "                    head room, covered by cells of SIZE (default 4) up to eye height, merged over\n"
     "                    open floor; also written to OUT.walkable.cells (OUT without .pvs)\n"
-    "  --walk-from X,Y,Z walkable: only the floors a walk reaches from the one under this point (not\n"
-    "                    roofs, ledges or closed courtyards)\n"
+    "  --walk-from X,Y,Z walkable: only the floors a walk reaches from the nearest one at most a step\n"
+    "                    above this point (not roofs, ledges or closed courtyards)\n"
     "  --eye-height H    walkable: the camera's height over the floor and the head room (default 1.8)\n"
     "  --volumes FILE    walkable: only in these view volumes (boxes, as a cells file)\n"
     "  --grid SIZE       view cells: a 3D grid of SIZE cubes over the scene bounds\n"
@@ -230,7 +230,8 @@ static int parse_method(const char *v, pvs_method *method, uint32_t *mask) {
 static int cmp_str(const void *a, const void *b) { return strcmp(*(const char *const *)a, *(const char *const *)b); }
 
 /* The options that take a value (the next argument, whatever it looks like). */
-static const char *const value_options[] = {"-o", "--cells", "--walk-from", "--eye-height", "--volumes", "--grid", "--up", "--method", "--eps", "-j", "--points", "--rays",
+static const char *const value_options[] = {"-o", "--cells", "--walk-from", "--eye-height", "--volumes", "--grid",
+                                            "--up", "--method", "--eps", "-j", "--points", "--rays",
                                             "--seed", "--chain", "--shard", "--voxel", "--max-distance", "--state",
                                             "--state-every", "--vocc-slices", "--vocc-max", "--adaptive", "--min-cell",
                                             "--sweep-planes", "--resolution", "--otree-budget", "--memory", NULL};
@@ -531,7 +532,8 @@ static int walkable_cells(const bake_options *o, const pvs_scene *scene, mesh_ce
     }
     if (pvs_walkable_cells(scene, &wd, NULL, 0, &n, &pe) != PVS_OK || !n) {
         tool_error_set(te, o->scene_path, 0, "--cells walkable: %s",
-                       n ? pe.message : "no floor with head room found (check --up, --eye-height and --walk-from)");
+                       pe.result != PVS_OK ? pe.message
+                                           : "no floor with head room found (check --up, --eye-height and --walk-from)");
         goto done;
     }
     if (!path || !(boxes = (pvs_box *)malloc(n * sizeof(pvs_box))) || pvs_walkable_cells(scene, &wd, boxes, n, &n, &pe)) {
