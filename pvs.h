@@ -10411,17 +10411,16 @@ PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, 
 }
 
 /* w of cell cb, clear of K by m (shared by its points): parity of K's crossings above a point of cb on a vertical line
-   (none within m); -1 if 8 lines fail. once: crossings at one height count once (coplanar faces of touching boxes). */
-PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb,
-									 int once) {
+   (none within m); -1 if 8 lines fail. */
+PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
 	uint32_t up = s->up_axis, t, line;
 	int u, v;
 	pvs__ground_axes(up, &u, &v);
 	for (line = 0; line < 8; ++line) {
 		double pu = cb->min[u] + pvs__vx_line_u[line] * ((double)cb->max[u] - cb->min[u]);
 		double pv = cb->min[v] + pvs__vx_line_v[line] * ((double)cb->max[v] - cb->min[v]);
-		double z0 = 0.5 * ((double)cb->min[up] + cb->max[up]), seen[8];
-		int w = 0, ok = 1, ns = 0, j;
+		double z0 = 0.5 * ((double)cb->min[up] + cb->max[up]);
+		int w = 0, ok = 1;
 		for (t = tp->comp_first[comp]; t < tp->comp_first[comp + 1] && ok; ++t) {
 			uint32_t tri = tp->tris[t];
 			double z, dz;
@@ -10430,12 +10429,7 @@ PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp,
 								  s->positions + 3 * (size_t)s->indices[3 * (size_t)tri + 2], u, v, (int)up, pu, pv, &z,
 								  &dz);
 			if (r < 0 || (r == 1 && pvs__dabs(z - z0) <= dz)) ok = 0;
-			else if (r == 1 && z > z0) {
-				for (j = 0; once && j < ns && seen[j] != z; ++j) {}
-				if (once && j < ns) continue; /* once: a face two touching boxes share counts once */
-				if (once && ns < 8) seen[ns++] = z;
-				w ^= 1;
-			}
+			else if (r == 1 && z > z0) w ^= 1;
 		}
 		if (ok) return w;
 	}
@@ -10794,7 +10788,7 @@ PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, 
 					uint8_t f = bits[(a - lo[0]) + stride[1] * (b - lo[1]) + stride[2] * (c - lo[2])];
 					if (!(f & (PVS__G_T | PVS__G_B))) wc = (f & PVS__G_W) != 0;
 				}
-		if (wc < 0) wc = pvs__vx_point_parity(fb->s, fb->tp, fb->comp, cb, 0);
+		if (wc < 0) wc = pvs__vx_point_parity(fb->s, fb->tp, fb->comp, cb);
 	}
 	return wc;
 }
@@ -12261,7 +12255,7 @@ PVS__STATIC int pvs__walk_inside(const pvs__walk *k, const float p[3]) {
 	b.min[k->v] -= (float)k->eps;
 	b.max[k->v] += (float)k->eps;
 	for (i = 0; i < n; ++i)
-		if (pvs__box_contains_point(k->cbox + items[i], p) && pvs__vx_point_parity(k->s, &k->tp, items[i], &b, 1) == 1)
+		if (pvs__box_contains_point(k->cbox + items[i], p) && pvs__vx_point_parity(k->s, &k->tp, items[i], &b) == 1)
 			return 1;
 	return 0;
 }

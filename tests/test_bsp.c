@@ -40,6 +40,9 @@ static void tb_i32s(uint8_t *p, const int32_t *v, int n) {
 static void tb_build(tb_level *t) {
     memset(t, 0, sizeof(*t));
     t->size = 8 + 8 * 17;
+    static const char ents[] = "{\n\"classname\" \"worldspawn\"\n}\n{\n\"origin\" \"10 20 30\"\n"
+                               "\"classname\" \"info_player_deathmatch\"\n}\n";
+    memcpy(tb_lump(t, 0, sizeof(ents) - 1), ents, sizeof(ents) - 1); /* entities: a player start */
     uint8_t *p = tb_lump(t, 1, 2 * 72); /* shaders: 0 solid, 1 water */
     memcpy(p, "textures/wall", 13);
     tb_put32(p + 68, 1);
@@ -148,6 +151,7 @@ static void tb_reads(void) {
     }
     CHECK(st.brushes == 1 && st.occluder_brushes == 1 && st.hull_triangles == 12);
     CHECK(c.count == 2 && st.leaves == 2 && st.clusters == 2 && st.has_vis);
+    CHECK(st.has_spawn && st.spawn[0] == 10 && st.spawn[1] == 30 && st.spawn[2] == -20); /* Quake (x, y, z): Y up */
     /* leaf 0 box: Quake (-100,-100,64)..(0,100,200) -> Y up (-100,64,-100)..(0,200,100) */
     CHECK(c.boxes[0] == -100 && c.boxes[1] == 64 && c.boxes[2] == -100 && c.boxes[3] == 0 && c.boxes[4] == 200 &&
           c.boxes[5] == 100);

@@ -628,6 +628,38 @@ void bsp_pvs_free(bsp_pvs *pvs) {
     memset(pvs, 0, sizeof(*pvs));
 }
 
+/* The first player start (an entity whose classname begins with info_player_) with an origin "x y z": the entities
+   lump is text, blocks of "key" "value" pairs in braces; anything malformed is passed over (no start found). */
+static void read_spawn(const bsp_reader *r, bsp_stats *st) {
+    const char *p = (const char *)r->l[0].p, *end = p + r->l[0].count;
+    while (p < end) {
+        const char *close = memchr(p, '}', (size_t)(end - p)), *q;
+        int player = 0, have = 0;
+        float o[3];
+        if (!close) return;
+        for (q = p; q + 14 < close; ++q) {
+            char buf[64];
+            size_t n;
+            const char *v;
+            if (!strncmp(q, "\"classname\"", 11)) {
+                for (v = q + 11; v < close && *v != '"'; ++v) {}
+                player |= close - v > 13 && !strncmp(v, "\"info_player_", 13);
+            } else if (!strncmp(q, "\"origin\"", 8)) {
+                for (v = q + 8; v < close && *v != '"'; ++v) {}
+                for (n = 0; v + 1 + n < close && v[1 + n] != '"' && n + 1 < sizeof(buf); ++n) buf[n] = v[1 + n];
+                buf[n] = '\0';
+                have = sscanf(buf, "%f %f %f", o, o + 1, o + 2) == 3 && finite3(o);
+            }
+        }
+        if (player && have) {
+            to_y_up(o, st->spawn);
+            st->has_spawn = 1;
+            return;
+        }
+        p = close + 1;
+    }
+}
+
 int bsp_parse(const char *path, const void *data, size_t size, const bsp_options *opt, mesh *m, mesh_cells *cells,
               bsp_pvs *pvs, bsp_stats *stats, tool_error *err) {
     bsp_reader r;
@@ -652,6 +684,7 @@ int bsp_parse(const char *path, const void *data, size_t size, const bsp_options
         read_brushes(&r, m, &st, err) || read_tree(&r, err) || read_cells(&r, cells, &st, err))
         goto done;
     if (pvs && read_pvs(&r, m->object_count, st.cells, pvs, &st, err)) goto done;
+    read_spawn(&r, &st);
     if (st.leaves == 0) {
         tool_error_set(err, path, 0, "no leaf with a cluster: no view cells (a level without vis leaves?)");
         goto done;

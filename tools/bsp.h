@@ -45,6 +45,8 @@ typedef struct bsp_stats {
     uint32_t leaves, clusters;  /* leaves with a cluster, clusters in the vis data */
     uint32_t cells;             /* cells made: the leaves with a cluster, every cell_step-th */
     int has_vis;                /* the level has vis data (else its PVS is everything) */
+    int has_spawn;              /* the entities name a player start (info_player_*) with an origin */
+    float spawn[3];             /* the first one's origin, Y up: a seed for pvsbake --walk-from */
 } bsp_stats;
 
 /* The level's own PVS, cell-major bitsets of `words` 64-bit words per cell (malloc'd). */

@@ -15,6 +15,7 @@ static const char *usage =
     "  --walk-from X,Y,Z walkable: only the floors a walk reaches from the nearest one at most a step\n"
     "                    above this point (not roofs, ledges or closed courtyards)\n"
     "  --eye-height H    walkable: the camera's height over the floor and the head room (default 1.8)\n"
+    "  --step-height H   walkable: the highest step a walk climbs (default 0.5, scaled with --eye-height)\n"
     "  --volumes FILE    walkable: only in these view volumes (boxes, as a cells file)\n"
     "  --grid SIZE       view cells: a 3D grid of SIZE cubes over the scene bounds\n"
     "  --up y|z          up axis of the scene (default y, the OBJ convention)\n"
@@ -230,7 +231,7 @@ static int parse_method(const char *v, pvs_method *method, uint32_t *mask) {
 static int cmp_str(const void *a, const void *b) { return strcmp(*(const char *const *)a, *(const char *const *)b); }
 
 /* The options that take a value (the next argument, whatever it looks like). */
-static const char *const value_options[] = {"-o", "--cells", "--walk-from", "--eye-height", "--volumes", "--grid",
+static const char *const value_options[] = {"-o", "--cells", "--walk-from", "--eye-height", "--step-height", "--volumes", "--grid",
                                             "--up", "--method", "--eps", "-j", "--points", "--rays",
                                             "--seed", "--chain", "--shard", "--voxel", "--max-distance", "--state",
                                             "--state-every", "--vocc-slices", "--vocc-max", "--adaptive", "--min-cell",
@@ -354,7 +355,7 @@ static void print_summary(const char *out_path, const pvs_scene *scene, const pv
 /* What the command line asks for. */
 typedef struct bake_options {
     const char *scene_path, *out_path, *cells_path, *state_path, *memory_arg, *method_arg, *volumes_path;
-    float grid, eps, voxel, max_distance, min_cell, walk_size, walk_from[3], eye_height;
+    float grid, eps, voxel, max_distance, min_cell, walk_size, walk_from[3], eye_height, step_height;
     int walkable, walk_from_given;
     pvs_shrink_mode shrink_mode;
     pvs_method method;
@@ -380,9 +381,9 @@ static int parse_value(bake_options *o, const char *a, const char *v) {
             !isfinite(o->walk_from[0]) || !isfinite(o->walk_from[1]) || !isfinite(o->walk_from[2]))
             return tool_usage_error(TOOL, "--walk-from takes X,Y,Z, not '%s'", v);
         o->walk_from_given = 1;
-    } else if (!strcmp(a, "--eye-height")) {
-        if (parse_float(v, &o->eye_height) || !(o->eye_height > 0.0f))
-            return tool_usage_error(TOOL, "--eye-height needs a positive height, not '%s'", v);
+    } else if (!strcmp(a, "--eye-height") || !strcmp(a, "--step-height")) {
+        float *h = a[2] == 'e' ? &o->eye_height : &o->step_height;
+        if (parse_float(v, h) || !(*h > 0.0f)) return tool_usage_error(TOOL, "%s needs a positive height, not '%s'", a, v);
     }
     else if (!strcmp(a, "--state")) o->state_path = v;
     else if (!strcmp(a, "--memory")) o->memory_arg = v;
@@ -442,8 +443,8 @@ static int check_options(const bake_options *o) {
     if (!o->out_path) return tool_usage_error(TOOL, "no output given (-o OUT.pvs)");
     if (!o->cells_path == !(o->grid > 0.0f)) return tool_usage_error(TOOL, "give exactly one of --cells FILE or --grid SIZE");
     if (o->vocc_only && o->method != PVS_METHOD_VOCC) return tool_usage_error(TOOL, "--vocc-only needs --method vocc");
-    if (!o->walkable && (o->walk_from_given || o->eye_height > 0.0f || o->volumes_path))
-        return tool_usage_error(TOOL, "--walk-from, --eye-height and --volumes need --cells walkable");
+    if (!o->walkable && (o->walk_from_given || o->eye_height > 0.0f || o->step_height > 0.0f || o->volumes_path))
+        return tool_usage_error(TOOL, "--walk-from, --eye-height, --step-height and --volumes need --cells walkable");
     if (check_method_options(o->given, o->method, o->methods, o->method_arg)) return 2;
     if (o->min_cell > 0.0f && !o->adaptive) return tool_usage_error(TOOL, "--min-cell needs --adaptive");
     if (o->no_sweep && o->sweep) return tool_usage_error(TOOL, "--no-sweep contradicts --sweep and --sweep-planes");
@@ -524,6 +525,7 @@ static int walkable_cells(const bake_options *o, const pvs_scene *scene, mesh_ce
     mesh_cells_init(&vols);
     wd.cell_size = o->walk_size;
     wd.eye_height = o->eye_height;
+    wd.step_height = o->step_height;
     if (o->walk_from_given) wd.seed = o->walk_from;
     if (o->volumes_path) {
         if (cells_load(o->volumes_path, &vols, te)) goto done;

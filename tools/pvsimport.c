@@ -132,6 +132,10 @@ int main(int argc, char **argv) {
                 TOOL, o.bsp, st.surfaces, st.patches, st.empty_surfaces, st.translucent_surfaces, m.triangle_count,
                 st.occluder_brushes, st.brushes, st.hull_triangles, st.cells, st.leaves, st.clusters,
                 st.has_vis ? "vis data" : "no vis data (its PVS is everything)");
+    if (!rc && !o.quiet && st.has_spawn)
+        fprintf(stderr, "%s: view cells where players stand: pvsbake --cells walkable:128 --eye-height 50 --step-height 18; "
+                "--walk-from %g,%g,%g (a player start) keeps the floors walked to from it, without jumps or drops\n", TOOL,
+                st.spawn[0], st.spawn[1], st.spawn[2]);
     mesh_free(&m);
     mesh_cells_free(&cells);
     if (o.pvs) bsp_pvs_free(&pvs);
