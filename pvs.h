@@ -230,7 +230,7 @@
 
    RECENT HISTORY (older: FULL HISTORY at the end)
    ==============
-   0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH; object names (NAME); PVS_RUNTIME_ONLY.
+   0.9.0 (2026-11-28) see-through objects, object names, PVS_RUNTIME_ONLY, walkable view cells.
 */
 // >>api
 #ifndef PVS_H
@@ -441,7 +441,7 @@ typedef struct pvs_walkable_desc {
 	float cell_size;		 /* ground side of a cell, 0 = 4 (x eye_height / 1.8); floors sampled every cell_size / 4 */
 	float eye_height;		 /* camera height over the floor, 0 = 1.8 */
 	float head_room;		 /* free height over a floor, 0 = eye_height */
-	float step_height;		 /* the most a walk climbs between samples, 0 = 0.5 (x eye_height / 1.8) */
+	float step_height;		 /* the highest step a walk climbs, 0 = 0.5 (x eye_height / 1.8) */
 	float max_slope;		 /* steepest floor, radians in (0, pi / 2), 0 = pi / 4 */
 	uint32_t max_merge;		 /* cells merged per side over open floor, 0 = 2 (1: none) */
 	const float *seed;		 /* NULL: every floor; else the floors a walk reaches from the one under this point */
@@ -450,14 +450,13 @@ typedef struct pvs_walkable_desc {
 	pvs_allocator allocator; /* scratch */
 } pvs_walkable_desc;
 
-/* View cells where the camera can go: finds the floors a player stands on (opaque surfaces no steeper than max_slope
-   with head_room free above, not inside a closed mesh or one open only at its base; vertical ray casts through every
-   storey), links samples a step apart with nothing between them knee to knee, groups the linked samples of each
-   cell_size square, merges squares of open floor up to max_merge per side, and writes per group the box over its
-   samples' ground and half a spacing more, from a quarter eye height over its lowest floor to eye height over its
-   highest. A seed keeps the floors linked to the nearest one at most a step above it. Writes up to `capacity` boxes
-   (cells may be NULL), *count the number found; deterministic. Errors: INVALID_ARGUMENT, NOT_FINITE, COUNT_OVERFLOW
-   (over 2^26 sample columns), OUT_OF_MEMORY. Thread-safe. */
+/* View cells where the camera can go: floors (opaque, no steeper than max_slope, head_room free above, not inside a
+   closed mesh or one open only at its base; vertical ray casts through every storey), samples linked a step apart
+   knee to knee, grouped per cell_size square, open floor merged up to max_merge per side; per group the box over its
+   samples and half a spacing more, from a quarter eye height over its lowest floor to eye height over its highest.
+   A seed keeps the floors a walk (up a step, or dropping) reaches from the nearest one at most a step above it.
+   Writes up to `capacity` boxes (cells may be NULL), *count all found; deterministic. Errors: INVALID_ARGUMENT,
+   NOT_FINITE, COUNT_OVERFLOW (over 2^26 sample columns), OUT_OF_MEMORY. Thread-safe. */
 PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable_desc *desc, pvs_box *cells,
 									  uint32_t capacity, uint32_t *count, pvs_error *err);
 
@@ -12238,7 +12237,7 @@ typedef struct pvs__walk {
 	uint32_t nu, nv, *first, *local, *global;
 	pvs__wsample *w;
 	size_t n, cap;
-	pvs__vx_topo tp;		 /* the meshes' components (>>occluders), those standing on the ground closed by it */
+	pvs__vx_topo tp;		 /* mesh components (>>occluders) */
 	pvs_box *cbox;			 /* per component: its box if closed, else empty */
 	pvs_kdtree *solids;		 /* over cbox */
 } pvs__walk;
@@ -12296,7 +12295,7 @@ PVS__STATIC void pvs__walk_point(const pvs__walk *k, uint32_t col, double h, flo
 	p[k->up] = (float)h;
 }
 
-/* 1 when p's eye is in a view volume (or there are none). */
+/* 1 if p's eye is in a view volume (or none given). */
 PVS__STATIC int pvs__walk_in_volumes(const pvs__walk *k, const float p[3]) {
 	float e[3];
 	uint32_t i;
@@ -12307,7 +12306,7 @@ PVS__STATIC int pvs__walk_in_volumes(const pvs__walk *k, const float p[3]) {
 	return !k->d.volume_count;
 }
 
-/* The floors of one column, top down: hits on surfaces no steeper than max_slope with head room free above. */
+/* The floors of one column, top down. */
 PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 	const pvs_scene *s = k->s;
 	float o[3], dir[3] = {0, 0, 0}, p[3], a[3];
@@ -12352,10 +12351,15 @@ PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 	return 1;
 }
 
-/* Links samples of neighbouring columns a step apart whose knee-high segment is free (next[]); local: joins only those
-   within a square (the merge reads next[] across its sides). */
-PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent, int local) {
-	double climb = pvs__dmax(k->d.step_height, k->hs * tan((double)k->d.max_slope)); /* steps or a ramp, stairs */
+/* The most a walk climbs between neighbouring columns: a step, or a ramp or stairs at max_slope. */
+PVS__STATIC double pvs__walk_climb(const pvs__walk *k) {
+	return pvs__dmax(k->d.step_height, k->hs * tan((double)k->d.max_slope));
+}
+
+/* Links samples of neighbouring columns a climb apart whose knee-high segment is free (next[]); joins only those within
+   a square (the merge reads next[] across its sides). */
+PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent) {
+	double climb = pvs__walk_climb(k);
 	size_t a, b;
 	uint32_t dirn, col;
 	for (a = 0; a < k->n; ++a) parent[a] = (uint32_t)a;
@@ -12363,7 +12367,7 @@ PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent, int local) {
 		for (dirn = 0; dirn < 2; ++dirn) {
 			uint32_t iu = k->w[a].col % k->nu, iv = k->w[a].col / k->nu;
 			uint32_t i2 = dirn ? iv + 1 : iu + 1;
-			int side = local && i2 % 4 == 0; /* across a square's side */
+			int side = i2 % 4 == 0; /* across a square's side */
 			if (i2 >= (dirn ? k->nv : k->nu)) continue;
 			col = k->w[a].col + (dirn ? k->nu : 1);
 			for (b = k->first[col]; b < k->first[col + 1]; ++b) {
@@ -12406,8 +12410,8 @@ PVS__STATIC uint32_t pvs__walk_sample_of(const pvs__walk *k, const pvs__wgroup *
 	return PVS__WNONE;
 }
 
-/* 1 when rectangle b continues rectangle a across a's square side dirn (0: +u, 1: +v): the same extent along the side,
-   every pair of samples across it linked, the heights of both and [lo, hi] within a step. */
+/* 1 if rectangle b continues rectangle a across a's square side dirn (0: +u, 1: +v): same extent, every pair across
+   linked, heights within a step with [lo, hi]. */
 PVS__STATIC int pvs__walk_joins(const pvs__walk *k, const pvs__wgroup *a, const pvs__wgroup *b, uint32_t dirn, float lo,
 								float hi) {
 	uint32_t i, n = dirn ? a->hi_u - a->lo_u + 1 : a->hi_v - a->lo_v + 1;
@@ -12440,7 +12444,7 @@ PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, ui
 								float hi, pvs_box *cells, uint32_t capacity, uint32_t *n) {
 	pvs_box b, in = pvs__box_empty();
 	uint32_t m;
-	b.min[k->u] = (float)(k->u0 + (u0 - 0.5) * k->hs); /* up to the next columns' centres: the floor up to a wall */
+	b.min[k->u] = (float)(k->u0 + (u0 - 0.5) * k->hs); /* to the next columns' centres */
 	b.min[k->v] = (float)(k->v0 + (v0 - 0.5) * k->hs);
 	b.max[k->u] = (float)(k->u0 + (u1 + 1.5) * k->hs);
 	b.max[k->v] = (float)(k->v0 + (v1 + 1.5) * k->hs);
@@ -12466,7 +12470,7 @@ PVS__STATIC void pvs__walk_merge(const pvs__walk *k, pvs__wgroup *g, const uint3
 		pvs__walk_emit(k, a0->lo_u, a0->hi_u, a0->lo_v, a0->hi_v, lo, hi, cells, capacity, n); /* mostly floor */
 		return;
 	}
-	if (!pvs__wgroup_rect(k, a0)) { /* one box per run of rows of equal extent */
+	if (!pvs__wgroup_rect(k, a0)) { /* a box per run of equal rows */
 		uint32_t v, r0 = a0->lo_v, e[2] = {1, 0}, f[2];
 		for (v = a0->lo_v; v <= a0->hi_v + 1; ++v) {
 			f[0] = 1;
@@ -12498,7 +12502,7 @@ PVS__STATIC void pvs__walk_merge(const pvs__walk *k, pvs__wgroup *g, const uint3
 		for (i = 0; i < wide; ++i) {
 			row[i] = pvs__walk_find(k, g, sq_first, gx + i, gz + tall, run[(tall - 1) * wide + i], 1, l2, h2);
 			if (!row[i] || (i && !pvs__walk_joins(k, row[i - 1], row[i], 0, l2, h2))) break;
-			row[i]->used = 1; /* held while the row is tried */
+			row[i]->used = 1; /* held while tried */
 			l2 = row[i]->lo < l2 ? row[i]->lo : l2;
 			h2 = row[i]->hi > h2 ? row[i]->hi : h2;
 		}
@@ -12537,7 +12541,7 @@ PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t ca
 			q->lo = q->hi = k->w[a].h;
 			q->lo_u = q->hi_u = iu;
 			q->lo_v = q->hi_v = iv;
-			k->global[a] = (uint32_t)(ng - 1); /* the root's group, for its members below */
+			k->global[a] = (uint32_t)(ng - 1); /* the root's group */
 		}
 		q = g + k->global[r];
 		++q->count;
@@ -12560,6 +12564,35 @@ PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t ca
 	return PVS_OK;
 }
 
+/* Breadth first from sample s0 (k->local[] zero; k->global the queue): a walk climbs pvs__walk_climb knee to knee, or
+   drops any height (across at its knee, then down). Marks k->local[] of those reached; returns how many. */
+PVS__STATIC uint32_t pvs__walk_reach(pvs__walk *k, uint32_t s0) {
+	double climb = pvs__walk_climb(k);
+	uint32_t head = 0, tail = 0, d, b;
+	k->local[s0] = 1;
+	k->global[tail++] = s0;
+	while (head < tail) {
+		uint32_t a = k->global[head++], iu = k->w[a].col % k->nu, iv = k->w[a].col / k->nu, col;
+		for (d = 0; d < 4; ++d) {
+			if (d == 0 ? iu + 1 >= k->nu : d == 1 ? !iu : d == 2 ? iv + 1 >= k->nv : !iv) continue;
+			col = k->w[a].col + (d == 0 ? 1 : 0) - (d == 1 ? 1 : 0) + (d == 2 ? k->nu : 0) - (d == 3 ? k->nu : 0);
+			for (b = k->first[col]; b < k->first[col + 1]; ++b) {
+				float p[3], q[3];
+				double top = pvs__dmax(k->w[a].h, k->w[b].h) + k->d.step_height + k->eps;
+				if (k->local[b] || k->w[b].h - k->w[a].h > climb) continue;
+				pvs__walk_point(k, k->w[a].col, k->w[a].h + k->d.step_height + k->eps, p);
+				pvs__walk_point(k, col, top, q);
+				if (pvs_scene_segment_blocked(k->s, p, q)) continue;
+				pvs__walk_point(k, col, k->w[b].h + k->d.step_height + k->eps, p);
+				if (p[k->up] != q[k->up] && pvs_scene_segment_blocked(k->s, q, p)) continue; /* the drop */
+				k->local[b] = 1;
+				k->global[tail++] = b;
+			}
+		}
+	}
+	return tail;
+}
+
 PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_desc *desc, pvs_box *cells,
 									  uint32_t capacity, uint32_t *count, pvs_error *err) {
 	pvs__walk k;
@@ -12579,7 +12612,7 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 		return PVS__BAD_ARG(err, "walkable: negative size, slope not below pi / 2, max_merge over 8 or volumes NULL");
 	for (c = 0; c < k.d.volume_count; ++c)
 		if (!pvs__box_valid(k.d.volumes + c)) return pvs__fail(err, PVS_ERROR_BAD_CELL, c, 0, "view volume %u", c);
-	if (k.d.eye_height == 0.0f) k.d.eye_height = 1.8f; /* the others scale with it: other units */
+	if (k.d.eye_height == 0.0f) k.d.eye_height = 1.8f; /* the others scale with it */
 	if (k.d.cell_size == 0.0f) k.d.cell_size = k.d.eye_height * (4.0f / 1.8f);
 	if (k.d.head_room == 0.0f) k.d.head_room = k.d.eye_height;
 	if (k.d.step_height == 0.0f) k.d.step_height = k.d.eye_height * (0.5f / 1.8f);
@@ -12618,11 +12651,10 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 		if (!k.local || !k.global) r = PVS__OOM(err, "walkable links");
 	}
 	if (r == PVS_OK && k.d.seed) { /* keep the floors a walk reaches from the one under the seed */
-		uint32_t keep = PVS__WNONE;
+		uint32_t keep = PVS__WNONE, tail = 0;
 		double best = 0.0;
 		float p[3];
-		pvs__walk_link(&k, k.global, 0);
-		for (a = 0; a < k.n; ++a) { /* the nearest floor at most a step over the seed, the higher on a tie */
+		for (a = 0; a < k.n; ++a) { /* nearest floor at most a step over the seed, higher on a tie */
 			double du, dv;
 			pvs__walk_point(&k, k.w[a].col, k.w[a].h, p);
 			du = (double)p[k.u] - k.d.seed[k.u];
@@ -12634,9 +12666,10 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 				best = du * du + dv * dv;
 			}
 		}
-		if (keep != PVS__WNONE) keep = pvs__uf_find(k.global, keep);
-		for (a = 0, c = 0; a < k.n; ++a) /* compacted, still in column order */
-			if (keep != PVS__WNONE && pvs__uf_find(k.global, (uint32_t)a) == keep) k.w[c++] = k.w[a];
+		memset(k.local, 0, nlink * sizeof(uint32_t));
+		if (keep != PVS__WNONE) tail = pvs__walk_reach(&k, keep);
+		for (a = 0, c = 0; tail && a < k.n; ++a) /* compacted, still in column order */
+			if (k.local[a]) k.w[c++] = k.w[a];
 		k.n = c;
 		memset(k.first, 0, (ncol + 1) * sizeof(uint32_t));
 		for (a = 0; a < k.n; ++a) ++k.first[k.w[a].col + 1];
@@ -12644,7 +12677,7 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 		for (a = 0; a < k.n; ++a) k.w[a].next[0] = k.w[a].next[1] = PVS__WNONE;
 	}
 	if (r == PVS_OK) {
-		pvs__walk_link(&k, k.local, 1);
+		pvs__walk_link(&k, k.local);
 		r = pvs__walk_cells(&k, cells, capacity, count, err);
 	}
 	pvs__free_array(&k.d.allocator, k.first, ncol + 1, sizeof(uint32_t));
@@ -23922,8 +23955,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
-   0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH (glass, doors); NAME section, pvs_file_object_name/find_object;
-					  PVS_RUNTIME_ONLY.
+   0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH, NAME section, PVS_RUNTIME_ONLY, pvs_walkable_cells.
    0.8.0 (2026-11-28) pvs_scene_fingerprint, stored in an optional SCNE section (pvs_file.scene_fingerprint).
    0.7.1 (2026-11-28) AUTO's prices grow with SHRINK's sample points and OTREE's levels; costly ones not sampled.
    0.7.0 (2026-11-28) AUTO prices methods by cost class; PVS_AUTO_MIN_GAIN 10%.

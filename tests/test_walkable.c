@@ -5,7 +5,8 @@
    the floor below a hand-placed cell) has its eye half a metre and 1.75 m up in a walkable cell; no
    cell lies mostly inside solid geometry (brute force: a ray from each of 16 points at the cell's
    mid-height crosses the triangles of the objects around it an even number of times for most); the
-   count stays within 2x of the hand-placed cells. Then view volumes and bad parameters. */
+   count stays within 2x of the hand-placed cells. Then merging, a walk that drops but never climbs a wall, view
+   volumes and bad parameters. */
 #include "../pvs.h"
 #include "../tools/cli.h"
 #include "test.h"
@@ -197,6 +198,22 @@ static void wk_merge(void) {
     for (i = 0; i < n[0] && i < 512; ++i) { /* no cell centred in the box (its roof is a floor: cells over it) */
         float cx = 0.5f * (cells[i].min[0] + cells[i].max[0]), cz = 0.5f * (cells[i].min[2] + cells[i].max[2]);
         CHECK(!(cx > -2 && cx < 2 && cz > -2 && cz < 2 && cells[i].min[1] < 10));
+    }
+    {   /* a walk from the ground never reaches the box's roof; one from the roof drops to the ground */
+        float ground[3] = {10, 0, 10}, roof[3] = {0, 10, 0};
+        uint32_t up = 0, down = 0;
+        wd.seed = ground;
+        CHECK(pvs_walkable_cells(boxed, &wd, cells, 512, n, NULL) == PVS_OK && n[0] > 0 && n[0] < 512);
+        for (i = 0; i < n[0] && i < 512; ++i) up += cells[i].min[1] > 5;
+        CHECK(up == 0);
+        wd.seed = roof;
+        CHECK(pvs_walkable_cells(boxed, &wd, cells, 512, n, NULL) == PVS_OK && n[0] < 512);
+        for (i = 0, up = 0; i < n[0] && i < 512; ++i) {
+            up += cells[i].min[1] > 5;
+            down += cells[i].max[1] < 5;
+        }
+        CHECK(up > 0 && down > 0);
+        wd.seed = NULL;
     }
     wd.volumes = vols;
     wd.volume_count = 2;

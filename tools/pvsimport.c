@@ -134,7 +134,7 @@ int main(int argc, char **argv) {
                 st.has_vis ? "vis data" : "no vis data (its PVS is everything)");
     if (!rc && !o.quiet && st.has_spawn)
         fprintf(stderr, "%s: view cells where players stand: pvsbake --cells walkable:128 --eye-height 50 --step-height 18; "
-                "--walk-from %g,%g,%g (a player start) keeps the floors walked to from it, without jumps or drops\n", TOOL,
+                "--walk-from %g,%g,%g (a player start) keeps the floors walked to from it (drops, no jumps)\n", TOOL,
                 st.spawn[0], st.spawn[1], st.spawn[2]);
     mesh_free(&m);
     mesh_cells_free(&cells);
