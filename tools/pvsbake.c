@@ -516,8 +516,8 @@ static int walkable_cells(const bake_options *o, const pvs_scene *scene, mesh_ce
     pvs_walkable_desc wd;
     mesh_cells vols;
     pvs_error pe;
-    pvs_box *boxes = NULL;
-    uint32_t n = 0, i;
+    uint32_t n = 0, i, cap = 1u << 16;
+    pvs_box *boxes = (pvs_box *)malloc(cap * sizeof(pvs_box));
     size_t len = strlen(o->out_path);
     char *path = (char *)malloc(len + 16);
     int rc = -1;
@@ -532,15 +532,22 @@ static int walkable_cells(const bake_options *o, const pvs_scene *scene, mesh_ce
         wd.volumes = (const pvs_box *)vols.boxes;
         wd.volume_count = vols.count;
     }
-    if (pvs_walkable_cells(scene, &wd, NULL, 0, &n, &pe) != PVS_OK || !n) {
+    if (!path || !boxes) {
+        tool_error_set(te, o->scene_path, 0, "--cells walkable: out of memory");
+        goto done;
+    }
+    if (pvs_walkable_cells(scene, &wd, boxes, cap, &n, &pe) != PVS_OK || !n) {
         tool_error_set(te, o->scene_path, 0, "--cells walkable: %s",
                        pe.result != PVS_OK ? pe.message
                                            : "no floor with head room found (check --up, --eye-height and --walk-from)");
         goto done;
     }
-    if (!path || !(boxes = (pvs_box *)malloc(n * sizeof(pvs_box))) || pvs_walkable_cells(scene, &wd, boxes, n, &n, &pe)) {
-        tool_error_set(te, o->scene_path, 0, "--cells walkable: out of memory");
-        goto done;
+    if (n > cap) { /* more cells than the first guess: once more, with room for all */
+        free(boxes);
+        if (!(boxes = (pvs_box *)malloc(n * sizeof(pvs_box))) || pvs_walkable_cells(scene, &wd, boxes, n, &n, &pe)) {
+            tool_error_set(te, o->scene_path, 0, "--cells walkable: out of memory");
+            goto done;
+        }
     }
     for (i = 0; i < n; ++i)
         if (mesh_cells_add(cells, (const float *)(boxes + i))) {
