@@ -442,8 +442,6 @@ int cli_write_bake(const pvs_bake *bake, const char *path, size_t *size, tool_er
     return rc;
 }
 
-/* Reads and opens the part files of a merge; they must be parts (unless a single whole file) of one
-   bake: the same shard count, cells, objects, method and parameters. 0, or -1 with err set. */
 /* 1 when two files store the same object names, or neither stores any. */
 static int cli__same_names(const pvs_file *a, const pvs_file *b) {
     uint32_t o;
@@ -453,6 +451,8 @@ static int cli__same_names(const pvs_file *a, const pvs_file *b) {
     return 1;
 }
 
+/* Reads and opens the part files of a merge; they must be parts (unless a single whole file) of one
+   bake: the same shard count, cells, objects, method and parameters. 0, or -1 with err set. */
 static int cli__open_parts(const char *const *paths, int count, void **data, pvs_file *files, tool_error *err) {
     pvs_error pe;
     int i;
@@ -474,7 +474,7 @@ static int cli__open_parts(const char *const *paths, int count, void **data, pvs
                   f->vocc_base != f0->vocc_base || f->vocc_height_step != f0->vocc_height_step ||
                   f->scene_fingerprint != f0->scene_fingerprint || !cli__same_names(f, f0))) {
             tool_error_set(err, paths[i], 0, "does not belong to the bake of %s (shard count, cells, objects, method, eps, "
-                                             "up axis, flags, chain bound, virtual occluders or scene differ)", paths[0]);
+                                             "up axis, flags, chain bound, virtual occluders, scene or names differ)", paths[0]);
             return -1;
         }
     }
