@@ -1,5 +1,6 @@
 /* bench_bounded.c - bounded time and memory on any input (issue 26): the kD-tree's memory on fans of
-   slivers, the resume journal's cost against a bake without one, the preview among 200,000 objects.
+   slivers, the resume journal's cost against a bake without one, the preview among 200,000 objects;
+   a bake's peak memory against the size of its answer on 100,000 cells x 100,000 objects (issue 29).
    Prints BENCH lines; asserts nothing. Runs build/pvsbake for the whole-tool figures (run it from the
    project root, after make tools). */
 #include "../tools/cli.h"
@@ -127,6 +128,62 @@ static int write_scene(const mesh *m, const mesh_cells *c, const char *obj, cons
     return ok;
 }
 
+/* Issue 29's memory figure: a bake's peak bytes on a synthetic level of n cells and n objects (a small triangle each
+   on a line), every cell's PVS restored as `visible` random objects (the bake's storage and the file's encoder, not a
+   method's), against the sum of the PVS sizes. Returns the peak; *answer gets the PVSs' bytes as 4-byte ids. */
+static double bake_peak_bytes(uint32_t n, uint32_t visible, double *answer, double *seconds) {
+    float *pos = (float *)malloc((size_t)n * 9 * sizeof(float));
+    uint32_t *idx = (uint32_t *)malloc((size_t)n * 3 * sizeof(uint32_t)), i, k;
+    pvs_object_desc *obs = (pvs_object_desc *)malloc(n * sizeof(pvs_object_desc));
+    pvs_box *cells = (pvs_box *)malloc(n * sizeof(pvs_box));
+    pvs_word *bits = (pvs_word *)calloc(PVS_BITSET_WORDS(n), sizeof(pvs_word));
+    pvs_scene *s = NULL;
+    pvs_bake *b = NULL;
+    pvs_bake_desc bd;
+    test_peak pk;
+    uint64_t rng = 5;
+    double peak = -1.0, t0 = cli_seconds();
+    void *file = NULL;
+    size_t size = 0;
+    if (!pos || !idx || !obs || !cells || !bits) goto done;
+    for (i = 0; i < n; ++i) {
+        float x = (float)i;
+        float v[9] = {x, 0, 0, x + 0.5f, 0, 0, x, 0.5f, 0};
+        memcpy(pos + 9 * (size_t)i, v, sizeof(v));
+        for (k = 0; k < 3; ++k) idx[3 * (size_t)i + k] = 3 * i + k;
+        obs[i].first_triangle = i;
+        obs[i].triangle_count = 1;
+        obs[i].flags = 0;
+        cells[i].min[0] = x; cells[i].min[1] = 1; cells[i].min[2] = 1;
+        cells[i].max[0] = x + 1; cells[i].max[1] = 2; cells[i].max[2] = 2;
+    }
+    s = test_scene_arrays(pos, 3 * n, idx, n, obs, n, 1);
+    memset(&bd, 0, sizeof(bd));
+    bd.scene = s;
+    bd.cells = cells;
+    bd.cell_count = n;
+    bd.method = PVS_METHOD_SAMPLE;
+    bd.allocator = test_peak_allocator(&pk);
+    if (!s || pvs_bake_begin(&bd, &b, NULL) != PVS_OK) goto done;
+    for (i = 0; i < n; ++i) {
+        memset(bits, 0, PVS_BITSET_WORDS(n) * sizeof(pvs_word));
+        for (k = 0; k < visible; ++k) pvs_bitset_set(bits, (i + (uint32_t)(test_splitmix64(&rng) % (4 * visible))) % n);
+        if (pvs_bake_restore_task(b, i, bits, PVS_BITSET_WORDS(n), NULL) != PVS_OK) goto done;
+    }
+    size = pvs_bake_file_size(b);
+    file = malloc(size ? size : 1);
+    if (!file || pvs_bake_write_file(b, file, size, &size, NULL) != PVS_OK) goto done;
+    peak = (double)pk.peak;
+    *answer = 4.0 * visible * n;
+    *seconds = cli_seconds() - t0;
+done:
+    free(file);
+    pvs_bake_destroy(b);
+    pvs_scene_destroy(s);
+    free(pos); free(idx); free(obs); free(cells); free(bits);
+    return peak;
+}
+
 int main(void) {
     static const uint32_t fans[4] = {5002, 10002, 20002, 40002};
     double per[4];
@@ -140,6 +197,12 @@ int main(void) {
         if (k == 3) printf("BENCH scene_bytes_per_tri_fan %.0f bytes\n", scene);
     }
     printf("BENCH kdtree_bytes_per_tri_fan %.0f bytes\n", per[3]);
+    {   /* issue 29: a bake's memory against its answer (100,000 cells x 100,000 objects, 200 visible per cell) */
+        double answer = 0, secs = 0, peak = bake_peak_bytes(100000, 200, &answer, &secs);
+        printf("BENCH bake_peak_bytes_100k_cells_100k_objects %.0f bytes\n", peak);
+        printf("BENCH bake_peak_over_answer_100k %.1f x\n", peak / answer);
+        printf("BENCH bake_restore_write_seconds_100k %.1f s\n", secs);
+    }
     printf("BENCH kdtree_fan_growth_40k_over_5k %.2f x\n", per[3] / per[0]);
     { /* the resume journal: 40,000 cells of a 17-object scene, otree, 2 threads */
         mesh m;
