@@ -243,7 +243,6 @@
 #define PVS_VERSION_MINOR 9
 #define PVS_VERSION_PATCH 0
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
-/* The .pvs format version this header writes and reads. */
 #define PVS_FORMAT_VERSION 1
 
 #ifndef PVS_API
@@ -462,7 +461,7 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable
 
 /* ---- kdtree ---- */
 
-/* pvs_kdtree (see core): kD-tree over boxes, binned SAH, items in each leaf they meet. Immutable, thread-safe. */
+/* pvs_kdtree (see core): binned SAH, items in each leaf they meet. Immutable, thread-safe. */
 typedef struct pvs_kdtree_desc {
 	const pvs_box *boxes;	 /* count item boxes; item i is box i */
 	uint32_t count;
@@ -657,7 +656,6 @@ typedef struct pvs_cull_params {
 #define PVS_CULL_SCENE_MESH 2u		   /* the selected scene triangles, welded (tighter on many-triangle walls) */
 #define PVS_CULL_SEPARATE_TRIANGLES 4u /* scene_volumes per triangle; by default each is a mesh */
 
-/* A culling call's counts. */
 typedef struct pvs_cull_stats {
 	uint32_t occluder_triangles;  /* rasterized (caller's + selected scene ones) */
 	uint32_t nodes_visited;		  /* kD-tree nodes reached by the sweep */
@@ -691,7 +689,6 @@ typedef struct pvs_otree_stats {
 	uint32_t budget_exceeded; /* 1: node_budget stopped insertion; the rest count as not blocking */
 } pvs_otree_stats;
 
-/* Segment flags for pvs_visibility_2d. */
 #define PVS_SEGMENT_NO_OCCLUSION 1u /* tested but never blocks sight */
 
 /* Exact 2D from-region visibility (Bittner 2002, ch. 6). Zero fields: defaults. */
@@ -738,7 +735,7 @@ typedef struct pvs_visibility_25d_desc {
    (conservative); objects are still tested. Bounds the time per cell on maps of many small facades. */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
 
-#ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
+#ifdef PVS_TEST_HOOKS
 /* pvs_visibility_25d_desc.flags: box tests walk the tree without the witness-line shortcut (same result). */
 #define PVS_VISIBILITY_25D_FULL_TESTS 1u
 #endif
@@ -799,7 +796,6 @@ PVS_API void pvs_otree_reset(pvs_otree *otree);
 PVS_API pvs_result pvs_otree_cull(pvs_otree *otree, const pvs_scene *scene, const pvs_camera *camera,
 								  const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
 								  pvs_error *err);
-/* Fills *frame (last pvs_otree_cull). */
 PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame);
 
 /* ---- occluders ---- */
@@ -853,7 +849,6 @@ typedef struct pvs_occluders_info {
 	uint64_t undecided_columns; /* component voxel columns with no certain parity */
 } pvs_occluders_info;
 
-/* Voxel classes (pvs_occluders_voxel). */
 #define PVS_VOXEL_EMPTY 0u	  /* untouched, not solid */
 #define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it, not solid */
 #define PVS_VOXEL_SOLID 2u	  /* solid (before erosion) */
@@ -864,7 +859,6 @@ typedef struct pvs_occluders_info {
 PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *desc, pvs_occluders **out_occluders, pvs_error *err);
 /* Frees via its allocator; NULL ok. */
 PVS_API void pvs_occluders_destroy(pvs_occluders *occluders);
-/* Fills *info. */
 PVS_API void pvs_occluders_get_info(const pvs_occluders *occluders, pvs_occluders_info *info);
 /* PVS_VOXEL_* class of voxel (i, j, k) along x, y, z (each < dims). */
 PVS_API uint32_t pvs_occluders_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
@@ -887,9 +881,8 @@ PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occlud
 /* ---- vocc ---- */
 #endif /* PVS_RUNTIME_ONLY */
 
-/* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in the umbra of
-   the real occluders from the whole cell, standing for their aggregate occlusion; five bytes each in the VOCC section,
-   from which pvs_vocc_cull rebuilds the PVS on cell entry. */
+/* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in the umbra of the
+   real occluders from the whole cell, standing for their aggregate occlusion; five bytes each in the VOCC section. */
 struct pvs_file; /* >>format */
 
 /* pvs_file.vocc_flags */
@@ -1038,7 +1031,7 @@ typedef struct pvs_extproj_plane {
 #define PVS_EXTPROJ_EMPTY 3.402823466e+38f
 #define PVS_EXTPROJ_SWEEP_PLANES 16u /* per direction, pvsbake --sweep and AUTO */
 #define PVS_EXTPROJ_NO_SWEEP 0xffffffffu /* pvs_bake_desc.extproj.sweep: AUTO without the sweep */
-#define PVS_EXTPROJ_RESOLUTION 256u /* pixels per plane side when pvs_bake_desc.extproj.resolution is 0 */
+#define PVS_EXTPROJ_RESOLUTION 256u /* default pixels per plane side */
 #define PVS_EXTPROJ_PREVIEW_RESOLUTION 64u /* with PVS_BAKE_PREVIEW */
 
 /* Adds one convex occluder's extended Projection (§3.2): `points` (1..16 x (x, y, z)), a planar convex polygon or a
@@ -1159,7 +1152,6 @@ typedef struct pvs_bake pvs_bake;
 PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out_bake, pvs_error *err);
 /* Tasks: today one per cell of the shard. */
 PVS_API uint32_t pvs_bake_task_count(const pvs_bake *bake);
-/* The cell a task bakes. */
 PVS_API uint32_t pvs_bake_task_cell(const pvs_bake *bake, uint32_t task);
 /* Thread-safe for distinct tasks. */
 PVS_API pvs_result pvs_bake_run_task(pvs_bake *bake, uint32_t task, pvs_error *err);
@@ -1478,7 +1470,6 @@ PVS_API const char *pvs_result_string(pvs_result r) {
 
 PVS_API uint32_t pvs_version(void) { return PVS_VERSION; }
 
-/* Fills *err (if any), returns `code`. Message: "<reason>: <formatted detail>". */
 PVS__STATIC pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index, uint64_t offset, const char *fmt,
 								 ...) {
 	if (err) {
@@ -1507,7 +1498,6 @@ PVS__STATIC pvs_result pvs__fail(pvs_error *err, pvs_result code, int64_t index,
 	}
 	return code;
 }
-/* pvs__fail without index or offset. */
 #define PVS__OOM(err, ...) pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, -1, 0, __VA_ARGS__)
 #define PVS__BAD_ARG(err, ...) pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, -1, 0, __VA_ARGS__)
 
@@ -1637,7 +1627,6 @@ PVS__STATIC double pvs__box_diagonal(const pvs_box *b) {
 	double dx = (double)b->max[0] - b->min[0], dy = (double)b->max[1] - b->min[1], dz = (double)b->max[2] - b->min[2];
 	return sqrt(dx * dx + dy * dy + dz * dz);
 }
-/* Squared min distance of two boxes (0 if they meet). */
 PVS__STATIC float pvs__box_distance2(const pvs_box *a, const pvs_box *b) {
 	float d2 = 0.0f;
 	int i;
@@ -1670,7 +1659,6 @@ PVS__STATIC float pvs__f_up(double v) {
 PVS__STATIC double pvs__dabs(double v) { return v < 0 ? -v : v; }
 PVS__STATIC double pvs__dmin(double a, double b) { return a < b ? a : b; }
 PVS__STATIC double pvs__dmax(double a, double b) { return a > b ? a : b; }
-/* The ground-plane axes for an up axis. */
 PVS__STATIC void pvs__ground_axes(uint32_t up, int *u, int *v) {
 	*u = 0;
 	*v = up == 2 ? 1 : 2;
@@ -1766,13 +1754,11 @@ PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capa
 	*capacity = cap;
 	return q;
 }
-/* Same without a limit. */
 PVS__STATIC void *pvs__grow_array(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need,
 								  size_t elem, pvs_result *r) {
 	return pvs__grow_capped(a, p, capacity, used, need, 0, elem, r);
 }
-/* The same for a fully used array (*p, *capacity elements): 1 if it holds `need`, 0 on overflow or out of memory
-   (*p unchanged). */
+/* The same for a fully used array (*p, *capacity elements): 1 if it holds `need`, else 0 (*p unchanged). */
 PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, size_t need, size_t elem) {
 	pvs_result r;
 	void *q;
@@ -1803,8 +1789,8 @@ PVS__STATIC void pvs__heap_sift(unsigned char *h, size_t size, size_t r, size_t 
 	}
 }
 
-/* Heap sort (Williams 1964) of base[0 .. n) (elements of `size` <= 64 bytes) in `before` order, without allocation
-   or libc. With a total order the result is the same on every platform. */
+/* Heap sort (Williams 1964) of base[0 .. n) (elements of `size` <= 64 bytes) in `before` order, without libc. With a
+   total order the result is the same on every platform. */
 PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)base, t[64];
 	size_t i;
@@ -1840,8 +1826,8 @@ PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t
 	memcpy(h + i * size, e, size);
 }
 
-/* Priority queue: a binary heap of *n elements of `size` <= 64 bytes, first-ranking at the root. push adds e;
-   pop removes the root into *top. Equal elements leave in an order fixed by the pushes. */
+/* Priority queue: a binary heap of *n elements of `size` <= 64 bytes, first-ranking at the root. pop removes the root
+   into *top. Equal elements leave in an order fixed by the pushes. */
 PVS__STATIC void pvs__pq_push(void *heap, size_t *n, size_t size, const void *e, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
 	size_t i;
@@ -1939,10 +1925,10 @@ typedef struct pvs__bake_env {
 	const pvs_box *task_cells;
 	uint32_t task_count;
 	uint32_t object_count;
-	size_t words;			   /* per PVS */
-	float eps;				   /* stored in the file; prepare may derive it */
-	uint32_t flags;			   /* PVS_BAKE_* */
-	int is_auto;			   /* 1: AUTO (the PVS may be intersected) */
+	size_t words;	/* per PVS */
+	float eps;		/* stored in the file; prepare may derive it */
+	uint32_t flags;	/* PVS_BAKE_* */
+	int is_auto;	/* 1: AUTO (the PVS may be intersected) */
 } pvs__bake_env;
 
 /* A cell run's findings (per task, for pvs_bake_report). */
@@ -1959,9 +1945,9 @@ typedef struct pvs__bake_env {
 
 typedef struct pvs__bake_method {
 	pvs_method method;
-	uint32_t traits;			/* PVS__METHOD_* */
-	int cost_rank;				/* AUTO runs cheapest first (1..4); PREVIEW keeps the first that applies */
-	int cost_class;				/* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
+	uint32_t traits;	/* PVS__METHOD_* */
+	int cost_rank;		/* AUTO runs cheapest first (1..4); PREVIEW keeps the first that applies */
+	int cost_class;		/* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
 	/* Checks its parameters in desc, whatever the bake runs. NULL: none. */
 	pvs_result (*check)(const pvs_bake_desc *desc, pvs_error *err);
 	/* Makes *state, read-only in the tasks but for per-task slots. UNSUPPORTED: cannot run on this scene (AUTO
@@ -2296,8 +2282,7 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
 	return PVS_OK;
 }
 
-/* Objects' flags, triangle ranges and boxes (empty if all triangles have zero area); each triangle belongs to one
-   object at most (s->triangle_object). */
+/* Objects' flags, triangle ranges, boxes (empty if all have zero area), s->triangle_object; no triangle is shared. */
 PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
 	uint32_t o, t;
 	for (o = 0; o < desc->object_count; ++o) {
@@ -2335,8 +2320,7 @@ PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *de
 	return PVS_OK;
 }
 
-/* Explicit occluders, validated and copied with planes and footprints into s->occluder_data; their boxes grow the
-   scene's bounds. */
+/* Validates the explicit occluders, copies their planes and footprints into s->occluder_data, grows the bounds. */
 PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
 	size_t floats = 0;
 	uint32_t o;
@@ -2600,7 +2584,7 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
    so a point on a split plane finds every box touching it. */
 #define PVS__KD_BINS 32					/* SAH candidate planes per axis: BINS - 1 */
 #define PVS__KD_SAMPLE 256			  /* most refs binned per node (an even stride through bigger ones) */
-#define PVS__KD_LEAF 3u					/* axis value of a leaf */
+#define PVS__KD_LEAF 3u
 #define PVS__KD_MAX_INDEX 0x3fffffffu	/* largest child index or item offset in 30 bits */
 #define PVS__KD_COST_TRAVERSE 1.0f		/* SAH cost of one inner node ... */
 #define PVS__KD_COST_ITEM 1.5f			/* ... and of one item test */
@@ -2609,10 +2593,10 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 
 typedef struct pvs__kdnode {
 	union {
-		float split;	 /* inner node */
-		uint32_t count;  /* leaf: item count */
+		float split;
+		uint32_t count;
 	} u;
-	uint32_t bits;		 /* (index << 2) | axis */
+	uint32_t bits;
 } pvs__kdnode;
 
 struct pvs_kdtree {
@@ -2663,11 +2647,11 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
 }
 
 /* Splits `node` (refs[base .. base + n) on top of the stack, cell `box`) or makes it a leaf. Binned SAH over all three
-   axes (Bittner 2002 §4.4; binning after Wald 2007): up to 31 planes per axis, fewer in small nodes. Counts are exact
-   for the closed-interval split below (but for sampling in big nodes). Budgets: a straddling box goes to both sides,
-   boxes overlapping everywhere would make memory quadratic. The build draws from two pools set by pvs_kdtree_create,
-   the references a split adds (l + r - n) and the nodes (two per split); a split they cannot pay for is not taken (a
-   bigger leaf). Pools are spent in build order, so a tree within them is the tree built without them. */
+   axes (Bittner 2002 §4.4; binning after Wald 2007). Counts are exact for the closed-interval split below (but for
+   sampling in big nodes). Budgets: a straddling box goes to both sides, boxes overlapping everywhere would make memory
+   quadratic. The build draws from two pools set by pvs_kdtree_create, the references a split adds (l + r - n) and the
+   nodes (two per split); a split they cannot pay for is not taken (a bigger leaf). Pools are spent in build order, so a
+   tree within them is the tree built without them. */
 PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box,
 									 uint32_t depth) {
 	pvs_kdtree *t = b->tree;
@@ -2963,7 +2947,7 @@ PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__
 							   pvs_kdtree_visit_fn visit, void *user, uint32_t *node) {
 	size_t n = 1;
 	int k;
-	if (t->bounds.min[0] > t->bounds.max[0]) return; /* no items */
+	if (t->bounds.min[0] > t->bounds.max[0]) return;
 	heap[0].d2 = pvs__box_distance2(source, &t->bounds);
 	heap[0].node = 0;
 	heap[0].box = t->bounds;
@@ -3015,8 +2999,8 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
 
 /* ---- ray walk ---- */
 
-/* Front-to-back stack traversal (Havran's TA_rec_B family), double. Leaf intervals widen by PVS__KD_RAY_TOL of
-   the coordinates' size: a touched leaf is never skipped. */
+/* Front-to-back stack traversal (Havran's TA_rec_B family), double. Leaf intervals widen by PVS__KD_RAY_TOL, so a
+   touched leaf is never skipped. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const float dir[3], float tmax_f,
 							pvs_kdtree_ray_fn fn, void *user) {
 	struct {
@@ -3508,8 +3492,7 @@ PVS__STATIC pvs__i4 pvs__f4_floori(pvs__f4 f) {
 #define PVS__RASTER_BIG 1e30
 
 /* A context's buffers, listed once for creation and destruction: entry k's *p gets n elements of `size` bytes
-   (pvs__bufs_alloc, going on past a failure; 0 when one failed) or is freed (pvs__bufs_free; skips NULL). PVS__BUF
-   appends an entry. */
+   (pvs__bufs_alloc, going on past a failure; 0 when one failed) or is freed (pvs__bufs_free; skips NULL). */
 typedef struct pvs__buf {
 	void **p;
 	size_t n, size;
@@ -3541,64 +3524,64 @@ typedef struct pvs__occsel {
 struct pvs_raster {
 	pvs_allocator allocator;
 	uint32_t width, height, flags;
-	float *depth;								/* width * height */
-	float *tile_min;							/* farthest per 8 x 8 tile */
+	float *depth;							/* width * height */
+	float *tile_min;						/* farthest per 8 x 8 tile */
 	size_t tiles;
-	uint32_t levels;							/* pyramid levels above `depth` */
+	uint32_t levels;						/* pyramid levels above `depth` */
 	uint32_t lw[PVS__RASTER_MAX_LEVELS + 1], lh[PVS__RASTER_MAX_LEVELS + 1];
 	float *lmin[PVS__RASTER_MAX_LEVELS + 1], *lmax[PVS__RASTER_MAX_LEVELS + 1];
 	float *pyramid;
 	size_t pyramid_floats;
-	int pyramid_valid;							/* 1: per-pixel pyramid current, 2: tile one */
+	int pyramid_valid;						/* 1: per-pixel pyramid current, 2: tile one */
 	pvs__tile *tile;
-	uint32_t tw, th;							/* tile grid */
-	uint32_t xpad;								/* last tile column's bits past the map */
-	uint32_t ypad;								/* last tile row's rows in the map (1..4) */
-	int tiled;									/* occluders go to the tiles, else to `depth` */
-	int mixed;									/* `depth` holds occludees drawn since the clear (untiled: all) */
-	float *bmin;								/* per block of 8 x 8 tiles: <= the least base z0 */
-	uint8_t *bdirty;							/* 1: a base grew since bmin */
-	uint32_t bw, bh;							/* block grid */
-	uint32_t tlevels;							/* tile pyramid levels above the tile grid */
+	uint32_t tw, th;						/* tile grid */
+	uint32_t xpad;							/* last tile column's bits past the map */
+	uint32_t ypad;							/* last tile row's rows in the map (1..4) */
+	int tiled;								/* occluders go to the tiles, else to `depth` */
+	int mixed;								/* `depth` holds occludees drawn since the clear (untiled: all) */
+	float *bmin;							/* per block of 8 x 8 tiles: <= the least base z0 */
+	uint8_t *bdirty;						/* 1: a base grew since bmin */
+	uint32_t bw, bh;						/* block grid */
+	uint32_t tlevels;						/* tile pyramid levels above the tile grid */
 	uint32_t tlw[PVS__RASTER_MAX_LEVELS * 2 + 1], tlh[PVS__RASTER_MAX_LEVELS * 2 + 1];
 	uint8_t tsx[PVS__RASTER_MAX_LEVELS * 2 + 1],
 		tsy[PVS__RASTER_MAX_LEVELS * 2 + 1]; /* tiles per texel: 1 << tsx by 1 << tsy */
 	float *tlmin[PVS__RASTER_MAX_LEVELS * 2 + 1], *tlmax[PVS__RASTER_MAX_LEVELS * 2 + 1];
 	float *tpyramid;
 	size_t tpyramid_floats;
-	double m[16];								/* projection */
-	double mabs[2];								/* max row sum of |m| over x, y, z; max |m_r3| */
-	float mf[16], hwf, hhf;						/* projection as given; half the map size (prefilter) */
-	float mb[16][4];							/* mf broadcast to four lanes */
-	double rowa[4], rowt[4];					/* per row of m: |m_r0| + |m_r1| + |m_r2|, |m_r3| */
+	double m[16];							/* projection */
+	double mabs[2];							/* max row sum of |m| over x, y, z; max |m_r3| */
+	float mf[16], hwf, hhf;					/* projection as given; half the map size (prefilter) */
+	float mb[16][4];						/* mf broadcast to four lanes */
+	double rowa[4], rowt[4];				/* per row of m: |m_r0| + |m_r1| + |m_r2|, |m_r3| */
 	/* occluder meshes (pvs_raster_mesh): scratch for mesh_cap triangles, four pixel rows */
-	uint32_t mesh_cap, mesh_hash;				/* triangles per piece; hash slots (a power of two) */
-	struct pvs__mtri *mt;						/* prepared triangles */
-	uint32_t *mcid, *mpart;						/* 3 mesh_cap: welded vertex per corner; partner half-edge */
-	uint8_t *mvst;								/* 3 mesh_cap: corner state against the clip planes */
-	int8_t *mgrp;								/* mesh_cap: facing +1 / -1, 0 = left out */
-	uint32_t *mtab, *morder, *mact, *mband;		/* hash slots; mesh_cap; mesh_cap; th + 1 */
-	float *mzmin;								/* 4 width: least bound of touching triangles */
-	uint8_t *mflag; /* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
-	uint8_t *mdirty;							/* 4 tw: band words the scratch holds */
+	uint32_t mesh_cap, mesh_hash;			/* triangles per piece; hash slots (a power of two) */
+	struct pvs__mtri *mt;					/* prepared triangles */
+	uint32_t *mcid, *mpart;					/* 3 mesh_cap: welded vertex per corner; partner half-edge */
+	uint8_t *mvst;							/* 3 mesh_cap: corner state against the clip planes */
+	int8_t *mgrp;							/* mesh_cap: facing +1 / -1, 0 = left out */
+	uint32_t *mtab, *morder, *mact, *mband;	/* hash slots; mesh_cap; mesh_cap; th + 1 */
+	float *mzmin;							/* 4 width: least bound of touching triangles */
+	uint8_t *mflag;							/* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
+	uint8_t *mdirty;						/* 4 tw: band words the scratch holds */
 	const pvs_scene *scene;
 	uint32_t max_objects, max_triangles;
 	void *sweep;
 	size_t sweep_size;
 	pvs__occsel *occ;
 	uint32_t max_occluders;
-	pvs_word *tri_seen;							/* max_triangles bits */
-	pvs_word *obj_done;							/* max_objects bits */
+	pvs_word *tri_seen;						/* max_triangles bits */
+	pvs_word *obj_done;						/* max_objects bits */
 	uint32_t cm_w, cm_h;
-	float *cm;									/* cm_w * cm_h heights */
-	float *cm_tile_min;							/* lowest height per 8 x 8 tile */
+	float *cm;								/* cm_w * cm_h heights */
+	float *cm_tile_min;						/* lowest height per 8 x 8 tile */
 	size_t cm_tiles;
-	float region[4];							/* u0, v0, u1, v1 */
-	uint32_t *cm_start;							/* cm_w * cm_h + 1 */
+	float region[4];						/* u0, v0, u1, v1 */
+	uint32_t *cm_start;						/* cm_w * cm_h + 1 */
 	uint32_t *cm_items;
 	uint32_t cm_item_count;
-	float *cm_bound;							/* highest object top per cell (Wonka 1999 §4.3) */
-	float ground;								/* scene's lowest point on the up axis */
+	float *cm_bound;						/* highest object top per cell (Wonka 1999 §4.3) */
+	float ground;							/* scene's lowest point on the up axis */
 };
 
 typedef struct pvs__rsetup {
@@ -3670,8 +3653,7 @@ PVS__STATIC int pvs__raster_rows_simd(const pvs__rsetup *s, float *buf, uint32_t
 }
 #endif
 
-/* 8 x 8 tiles keep their farthest depth: a polygon skips tiles it cannot be nearer than or is outside. Skipping never
-   changes a result. */
+/* 8 x 8 tiles keep their farthest depth; a polygon skips tiles it is outside or cannot be nearer than (same result). */
 #define PVS__TILE_SHIFT 3
 #define PVS__TILE (1 << PVS__TILE_SHIFT)
 
@@ -3855,7 +3837,7 @@ PVS__STATIC int pvs__poly_extent(const double *x, const double *y, const double 
 	e->area2 = e->mag = e->zmag = 0.0;
 	for (i = 0; i < n; ++i) {
 		int j = i + 1 == n ? 0 : i + 1;
-		if (!(x[i] == x[i] && y[i] == y[i] && z[i] == z[i])) return 0; /* NaN */
+		if (!(x[i] == x[i] && y[i] == y[i] && z[i] == z[i])) return 0;
 		e->xmin = pvs__dmin(e->xmin, x[i]); e->xmax = pvs__dmax(e->xmax, x[i]);
 		e->ymin = pvs__dmin(e->ymin, y[i]); e->ymax = pvs__dmax(e->ymax, y[i]);
 		e->zmin = pvs__dmin(e->zmin, z[i]); e->zmax = pvs__dmax(e->zmax, z[i]);
@@ -3893,8 +3875,8 @@ PVS__STATIC int pvs__raster_edge(const double *x, const double *y, int i, int n,
 	if (mode) err = -err; /* x - err == x + -err */
 	lo = k + pvs__dmin(0.0, a * iw) + pvs__dmin(0.0, b * jh);
 	hi = k + pvs__dmax(0.0, a * iw) + pvs__dmax(0.0, b * jh);
-	if (lo + err >= 0.0) return 0; /* every pixel passes */
-	if (hi + err < 0.0) return -1; /* no pixel does */
+	if (lo + err >= 0.0) return 0;
+	if (hi + err < 0.0) return -1;
 	k += err;
 	if (!(pvs__dabs(k) < PVS__RASTER_BIG)) return -1; /* impossible past the trivial cases */
 	e[0] = a; e[1] = b; e[2] = k;
@@ -3966,10 +3948,10 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 #define PVS__TH_SHIFT 2
 #define PVS__TH 4
 #define PVS__BLOCK_SHIFT 3 /* blocks of 8 x 8 tiles (256 x 32 pixels): prefilter's hidden test */
-#define PVS__U_2_20 9.5367431640625e-07		   /* 2^-20 */
-#define PVS__U_2_21 4.76837158203125e-07	   /* 2^-21 */
-#define PVS__U_2_44 5.684341886080802e-14	   /* 2^-44 */
-#define PVS__U_2_48 3.552713678800501e-15	   /* 2^-48 */
+#define PVS__U_2_20 9.5367431640625e-07		/* 2^-20 */
+#define PVS__U_2_21 4.76837158203125e-07	/* 2^-21 */
+#define PVS__U_2_44 5.684341886080802e-14	/* 2^-44 */
+#define PVS__U_2_48 3.552713678800501e-15	/* 2^-48 */
 
 /* Occluder polygon for the tile loops (i, j relative to (i0, j0)): pixel i of row j is inside edge e if i >=
    X_e(j) (left) or i <= X_e(j) (right); X_e(j) = xi + s j with margins; m: its float error bound. */
@@ -4305,8 +4287,7 @@ PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) 
 	return v;
 }
 
-/* Clip-space vertex v to pixels *x, *y (map half sizes hw, hh) and depth *z; *perr, *zerr grow to its error after
-   the division. */
+/* Clip-space vertex v to pixels *x, *y (map half sizes hw, hh) and depth *z; *perr, *zerr grow to cover its error. */
 PVS__STATIC void pvs__raster_project(const pvs__cv *v, double hw, double hh, double *x, double *y, double *z,
 									 double *perr, double *zerr) {
 	double iw = 1.0 / v->c[3], e = v->e * iw;
@@ -4385,7 +4366,6 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 	v[0] = pvs__raster_transform(r, p0);
 	v[1] = pvs__raster_transform(r, p1);
 	v[2] = pvs__raster_transform(r, p2);
-	/* all behind near plane, or all w <= 0 */
 	if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) return;
 	if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
 	pvs__raster_clipped(r, v, 3, occluder);
@@ -4462,7 +4442,7 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
 	pvs__i4 i0, i1, j0, j1;
 	unsigned all, tst;
 	int k;
-#define PVS__ROW(o, k) /* mf's row o on vertex k (mb: mf broadcast) */ \
+#define PVS__ROW(o, k) /* mf's row o on vertex k */ \
 	pvs__f4_add(pvs__f4_add(pvs__f4_add(pvs__f4_mul(pvs__f4_load(r->mb[o]), X[k]), \
 										pvs__f4_mul(pvs__f4_load(r->mb[o + 1]), Y[k])), \
 							pvs__f4_mul(pvs__f4_load(r->mb[o + 2]), Z[k])), \
@@ -5590,7 +5570,7 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 	double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height;
 	int k, behind_near = 0, behind_w = 0, maybe_behind = 0;
 	pvs__cv v[8];
-	if (r->tiled) { /* tiled: float test first; per-pixel: double only */
+	if (r->tiled) {
 		k = pvs__raster_box_f(r, b, rect, dnear);
 		if (k >= 0) return k;
 	}
@@ -5996,7 +5976,7 @@ PVS__STATIC pvs_visit pvs__select_visit(void *user, const pvs_box *node_box, flo
 			fr[k] = c->fwd[0] * ((double)p[k][0] - c->eye[0]) + c->fwd[1] * ((double)p[k][1] - c->eye[1]) +
 				c->fwd[2] * ((double)p[k][2] - c->eye[2]);
 		front = pvs__dmax(fr[0], pvs__dmax(fr[1], fr[2]));
-		if (front < c->near_d) continue; /* behind near plane */
+		if (front < c->near_d) continue;
 		n[0] = e1[1] * e2[2] - e1[2] * e2[1];
 		n[1] = e1[2] * e2[0] - e1[0] * e2[2];
 		n[2] = e1[0] * e2[1] - e1[1] * e2[0];
@@ -6089,7 +6069,7 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 	return sc.n;
 }
 
-/* Wall j of extrusion o (footprint edge j to j + 1, base to top) as quad a0 b0 b1 a1 (u, v ground axes). */
+/* Wall j of extrusion o as quad a0 b0 b1 a1 (u, v ground axes). */
 PVS__STATIC void pvs__wall_quad(const pvs_occluder_desc *o, uint32_t j, int u, int v, int up, float q[4][3]) {
 	const float *a = o->footprint + 2 * j, *b = o->footprint + 2 * ((j + 1) % o->footprint_count);
 	q[0][u] = a[0]; q[0][v] = a[1]; q[0][up] = o->base;
@@ -6302,9 +6282,9 @@ PVS__STATIC int pvs__cm_casts(const double eye[3], const float *a, const float *
 		/* outward: right of a->b for a CCW footprint */
 		double nx = (double)b[1] - a[1], ny = -((double)b[0] - a[0]);
 		if (area2 < 0) { nx = -nx; ny = -ny; }
-		if (!((eye[0] - a[0]) * nx + (eye[1] - a[1]) * ny > 0.0)) return 0; /* back-facing */
+		if (!((eye[0] - a[0]) * nx + (eye[1] - a[1]) * ny > 0.0)) return 0;
 	}
-	if (min_dist > 0.0) { /* nearer than near plane: clipped away */
+	if (min_dist > 0.0) {
 		double ex = eye[0] - a[0], ey = eye[1] - a[1], sx = (double)b[0] - a[0], sy = (double)b[1] - a[1];
 		double ss = sx * sx + sy * sy, t = ss > 0.0 ? (ex * sx + ey * sy) / ss : 0.0, qx, qy;
 		t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
@@ -6341,7 +6321,7 @@ PVS__STATIC void pvs__cm_chain(pvs_raster *r, const double eye[3], const float *
 		if (i == 0) first_casts = casts;
 		prev_casts = casts;
 	}
-	if (closed && prev_casts && first_casts) /* loop-closing seam */
+	if (closed && prev_casts && first_casts)
 		pvs__cm_seam(r, eye[0], eye[1], eye[2], pts + 2 * (n - 1), pts, pts + 2, top, simd);
 }
 
@@ -6756,7 +6736,6 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 		uint32_t s0, s1, s2;
 		size_t m = top;
 		if (h0 && h1) { t->stack_count = top; return; }
-		/* parts go into free slots above top, then trade places */
 		if (!pvs__ot_reserve(t, top + 3)) { t->stack_count = top; return; }
 		q = PVS__OT_ITEM(t, top);
 		/* positive part unless c1 hides, negative (normal negated: each distance exactly so) unless c0 hides */
@@ -6854,7 +6833,7 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 	int i, r;
 	t->stack_pend[top] = PVS__OT_NONE;
 	for (i = 0; i < 3; ++i) nf[i] = (pend & 1u) ? nd->n[i] : -nd->n[i];
-	if (top + 2 <= t->stack_cap) { /* into free slot above, then swap */
+	if (top + 2 <= t->stack_cap) {
 		r = pvs__ot_clip_n(PVS__OT_ITEM(t, top), nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
 		if (r > 0) pvs__ot_swap(t, top, top + 1);
 		return r != 0;
@@ -6882,7 +6861,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 	for (i = 0; i < 4; ++i) {
 		double dx = to[i][0] - from[i][0], dy = to[i][1] - from[i][1];
 		double scale = fabs(from[i][0]) + fabs(from[i][1]) + fabs(to[i][0]) + fabs(to[i][1]) + 1.0;
-		if (sqrt(dx * dx + dy * dy) <= 1e-12 * scale || len[i] == 0.0) continue; /* u == v */
+		if (sqrt(dx * dx + dy * dy) <= 1e-12 * scale || len[i] == 0.0) continue;
 		if (n > 0) {
 			double *w = q->v[n - 1];
 			double dd = fabs(w[0] - v[i][0]) + fabs(w[1] - v[i][1]) + fabs(w[2] - v[i][2]);
@@ -7146,7 +7125,7 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 	*on_line = 0;
 	memcpy(out, s, 4 * sizeof(double));
 	if (f0 >= 0.0 && f1 >= 0.0) return 0;
-	if (f0 >= 0.0 || f1 >= 0.0) { /* outside end moves onto line */
+	if (f0 >= 0.0 || f1 >= 0.0) {
 		int e = f0 >= 0.0 ? 0 : 2, g = 2 - e;
 		double u = e ? f1 / (f1 - f0) : f0 / (f0 - f1);
 		out[e] = s[e] + u * (s[g] - s[e]);
@@ -7326,7 +7305,6 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
 								 double near, int test) {
 	uint32_t k;
-	/* a point: no line set; visible */
 	int vis = test && (pvs__ot_segment_meets_polygon(s, cell, n) || (s[0] == s[2] && s[1] == s[3]));
 	for (k = 0; k < n && !vis; ++k) {
 		double o[4];
@@ -7468,7 +7446,7 @@ PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, u
 	if (!(top > bot) || *count >= 0x7fffffffu) return 1;
 	if (!pvs__grow(a, (void **)out, cap, 6 * ((size_t)*count + 2), sizeof(float))) return 0;
 	o = *out + 6 * (size_t)*count;
-	for (k = 0; k < 2; ++k) { o[k] = (float)f->g0[k]; o[2 + k] = (float)f->g1[k]; } /* vertex floats */
+	for (k = 0; k < 2; ++k) { o[k] = (float)f->g0[k]; o[2 + k] = (float)f->g1[k]; }
 	o[4] = top;
 	o[5] = bot;
 	++*count;
@@ -7534,11 +7512,11 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 		if (!(len > tol)) continue;
 		dx = (gx[bj] - gx[bi]) / len; dy = (gy[bj] - gy[bi]) / len;
 		m = 3 - bi - bj;
-		if (!(fabs(-dy * (gx[m] - gx[bi]) + dx * (gy[m] - gy[bi])) <= tol)) continue; /* not vertical */
+		if (!(fabs(-dy * (gx[m] - gx[bi]) + dx * (gy[m] - gy[bi])) <= tol)) continue;
 		hmin = pvs__dmin(pvs__dmin(h[0], h[1]), h[2]);
 		hmax = pvs__dmax(pvs__dmax(h[0], h[1]), h[2]);
 		if (!(hmax - hmin > tol)) continue;
-		if (dy < 0.0 || (dy == 0.0 && dx < 0.0)) { dx = -dx; dy = -dy; } /* one direction per line: theta in [0, pi) */
+		if (dy < 0.0 || (dy == 0.0 && dx < 0.0)) { dx = -dx; dy = -dy; } /* one direction per line */
 		q = tl + 5 * (size_t)nv;
 		q[0] = atan2(dy, dx);
 		q[1] = -dy * gx[bi] + dx * gy[bi];
@@ -7584,9 +7562,9 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
 	return nm;
 }
 
-/* Steps 2-3 on slab [sa, sb] (ground points ga, gb), members w->act[0..use): connected sets (overlap within tol at both
-   ends, BFS) and their intervals, each continuing open facade ending at sa with the same interval (within tol) or
-   opening one; facades not continued are emitted. 0: out of memory. */
+/* Steps 2-3 on slab [sa, sb] (ground points ga, gb), members w->act[0..use): connected sets (step 2, BFS) and their
+   intervals, each continuing open facade ending at sa with the same interval (within tol) or opening one; facades not
+   continued are emitted. 0: out of memory. */
 PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2],
 							 const double gb[2]) {
 	double tol = w->tol, *sec = w->sec;
@@ -7636,7 +7614,7 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
 			++nn;
 		}
 	}
-	for (j = 0; j < w->nopen; ++j) /* not continued: emit */
+	for (j = 0; j < w->nopen; ++j)
 		if (!pvs__fx_emit(w->a, w->out, &w->cap, w->count, opn + j)) return 0;
 	w->opn = nxt;
 	w->nxt = opn;
@@ -7644,8 +7622,8 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
 	return 1;
 }
 
-/* Steps 2-3 along a line of nm members (w->sv): slabs between consecutive vertex s, each with members spanning it
-   (over PVS__FX_MAX_COVER: left out); then emits facades still open. 0: out of memory. */
+/* Steps 2-3 along a line of nm members (w->sv): slabs between consecutive vertex s, each with members spanning it; then
+   emits facades still open. 0: out of memory. */
 PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
 	pvs__key_index *so = w->so;
 	const double *sv = w->sv;
@@ -7653,7 +7631,7 @@ PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
 	w->nopen = 0;
 	for (i = 0; i < nm; ++i) { so[i].key = sv[14 * (size_t)i + 6]; so[i].index = i; }
 	pvs__key_index_sort(so, nm);
-	for (i = 0; i < nm; ++i) w->ins[i] = so[i].index; /* members by least s */
+	for (i = 0; i < nm; ++i) w->ins[i] = so[i].index;
 	for (i = 0; i < nm; ++i)
 		for (k = 0; k < 3; ++k) { so[ns].key = sv[14 * (size_t)i + k]; so[ns].index = 3 * i + k; ++ns; }
 	pvs__key_index_sort(so, ns); /* vertex s: slab bounds */
@@ -7760,7 +7738,7 @@ done:
    largest reach and least slope; none (DBL_MAX) over out-leaves and members no taller than eyes. */
 PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 	(void)t;
-	if (nd->kind == PVS__OT_IN) return; /* set as members join (pvs__ot25_join); parts inherit it */
+	if (nd->kind == PVS__OT_IN) return; /* set as members join (pvs__ot25_join) */
 	nd->mr = nd->ml = DBL_MAX;
 	nd->ms = nd->mls = 0.0;
 }
@@ -7798,7 +7776,7 @@ PVS__STATIC void pvs__ot25_funnel(const pvs__otpoly *q, const double *e, double 
 	*f0 = lo < 0.0 ? 0.0 : lo;
 	*f1 = hi > 1.0 ? 1.0 : hi;
 }
-/* Inner node's bound from its children's; 0 if unchanged. */
+/* 0 if unchanged. */
 PVS__STATIC int pvs__ot25_inner_bound(pvs__otree *t, uint32_t node) {
 	pvs__otnode *nd = t->nodes + node;
 	const pvs__otnode *a = t->nodes + nd->child[0], *b = t->nodes + nd->child[1];
@@ -7940,8 +7918,8 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 		   covering it hides e once j is in front */
 		if (!pvs__ot25_umbra(t, jd, s0, s1, h, &um[nu][0], &um[nu][1]) || um[nu][1] <= flo || um[nu][0] >= fhi)
 			continue;
-		if (jd[5]) { /* source edge on one side */
-			if (s0 >= -tol && s1 >= -tol) continue;		  /* e on source side: j behind */
+		if (jd[5]) {
+			if (s0 >= -tol && s1 >= -tol) continue;
 			if (!(s0 < -tol && s1 < -tol)) {			   /* e crosses j's line: vertex test */
 				pvs__ot_depth(t, q, e, sj, &front, &behind);
 				if (!front || behind) continue;
@@ -8006,7 +7984,7 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 			int i, c;
 			if (count >= PVS__OT25_MAX_SEQ) continue; /* full leaf keeps its members: conservative */
 			if (!pvs__ot25_open(t, q, first, count, k, sk, t->top[k], NULL, &f0, &f1, &v0, &v1))
-				continue; /* hidden here */
+				continue;
 			leaf = pvs__ot_refine(t, node, q);
 			if (leaf == PVS__OT_NONE) break;
 			for (i = 0; i < q->n; ++i) for (c = 0; c < 3; ++c) cen[c] += q->v[i][c];
@@ -8077,7 +8055,7 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
 			memcpy(t->wit[0], keep, sizeof(keep));
 			return 1;
 		}
-		if (kind == PVS__OT_IN) { /* in for good */
+		if (kind == PVS__OT_IN) {
 			for (k = i; k + 1 < t->nwit; ++k) memcpy(t->wit[k], t->wit[k + 1], sizeof(t->wit[k]));
 			--t->nwit;
 			--i;
@@ -8102,7 +8080,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 		pvs__otpoly q;
 		double x[2], f0, f1, v0, v1;
 		int front, behind;
-		if ((e ? PVS__OT25_HIDDEN(t, nd, near, h) : near > nd->mvd) || /* hidden in this subtree */
+		if ((e ? PVS__OT25_HIDDEN(t, nd, near, h) : near > nd->mvd) ||
 			(t->stack_pend[top] != PVS__OT_NONE && !pvs__ot_owed(t, top))) {
 			t->stack_count = top;
 			continue;
@@ -8223,7 +8201,7 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 			int on, nb, deg, m;
 			pvs__otpoly bl[2];
 			const double *sg = w->all + 4 * (size_t)it;
-			if (w->state[it] == 1 + w->side) continue; /* already inserted from another leaf */
+			if (w->state[it] == 1 + w->side) continue;
 			w->state[it] = (unsigned char)(1 + w->side);
 			if (sg[0] == sg[2] && sg[1] == sg[3]) continue;
 			if (pvs__ot_segment_meets_polygon(sg, w->cell, 4)) continue; /* in cell: ignored */
@@ -8362,9 +8340,9 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
 	t->root_in = pos;
 }
 
-/* One tree per top edge (§7.1): lines leaving cell via edge `side` (corner side + 1 to corner side), built by
-   sweeping `tree` (its sweep scratch); then candidates left by its visible leaves are tested (§7.7) into
-   visible_objects. 0 if no object is left to decide or tree stopped (t->oom: out of memory). */
+/* One tree per top edge (§7.1): lines leaving cell via edge `side` (corner side + 1 to corner side), built by sweeping
+   `tree`; then candidates left by its visible leaves are tested (§7.7) into visible_objects. 0 if no object is left to
+   decide or tree stopped (t->oom: out of memory). */
 PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side,
 							   pvs_word *visible_objects) {
 	pvs__otree *t = w->t;
@@ -8398,7 +8376,7 @@ PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void 
 	return 1;
 }
 
-/* 2.5D query's kD-tree over pvs_visibility_25d_boxes, through al into *out. PVS_OK or error (in err). */
+/* 2.5D query's kD-tree over pvs_visibility_25d_boxes. PVS_OK or error (in err). */
 PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const pvs_allocator *al, pvs_kdtree **out,
 									  pvs_error *err) {
 	pvs_kdtree_desc kd;
@@ -8416,11 +8394,10 @@ PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const
 	return r;
 }
 
-/* Per kD node: item references in its subtree (0xffffffff where children do not follow their parent); sweep
-   tests only nodes with >= PVS__OT25_TEST_MIN. */
+/* Per kD node: item references in its subtree (0xffffffff where children do not follow their parent). */
 PVS__STATIC void pvs__ot25_refs(const pvs_kdtree *tree, uint32_t *refs) {
 	uint32_t i;
-	for (i = tree->node_count; i-- > 0;) { /* children follow their parent */
+	for (i = tree->node_count; i-- > 0;) {
 		const pvs__kdnode *kn = tree->nodes + i;
 		if ((kn->bits & 3u) == PVS__KD_LEAF) refs[i] = kn->u.count;
 		else {
@@ -8606,7 +8583,6 @@ struct pvs_otree {
 	pvs__svpoly *stack;			   /* insertion work items */
 	uint32_t *stack_node;
 	uint32_t *tstack;			   /* node_budget + 2: test traversal */
-	/* occluder selection (§4.5) */
 	pvs__svsel *sel;			   /* max_occluders: min-heap on key */
 	uint32_t sel_count;
 	uint32_t *prev;				   /* triangles chosen last frame */
@@ -8732,7 +8708,7 @@ PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs_
 		for (k = 0; k < 3; ++k)
 			if (fabs(a.v[i][k]) > size) size = fabs(a.v[i][k]);
 	len = pvs__sv_unit(nrm);
-	if (!(len > 1e-12 * size * size)) return 0;					   /* no area */
+	if (!(len > 1e-12 * size * size)) return 0;
 	plane[0] = nrm[0]; plane[1] = nrm[1]; plane[2] = nrm[2];
 	plane[3] = -pvs__sv_dot(nrm, c);
 	if (plane[3] < 0.0) for (k = 0; k < 4; ++k) plane[k] = -plane[k]; /* eye on + */
@@ -9252,7 +9228,7 @@ PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
 	o->s = s;
 }
 
-/* Eye frame (as pvs_camera_matrix), frustum planes (near, 4 sides; unit normals in), o->tol from eye-relative size. */
+/* Eye frame (as pvs_camera_matrix), frustum planes (unit normals in), o->tol from eye-relative size. */
 PVS__STATIC void pvs__sv_frustum(pvs_otree *o, const pvs_scene *s, const pvs_camera *cam) {
 	double u[3], r[3], len, ty, tx, size = 0.0;
 	uint32_t k;
@@ -9520,7 +9496,7 @@ PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *
 		nl = nc;
 	}
 	ot->level_count = nl;
-	/* facades by level, 5 floats each; above top level dropped */
+	/* facades by level; above top level dropped */
 	for (i = 0, k = 0, n = 0; i < m && k < nl; ++i) {
 		const float *f = fac + 6 * (size_t)ord[i].index;
 		while (k < nl && ot->level[k] < f[5]) ot->level_end[k++] = n;
@@ -9586,7 +9562,7 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 			if (ot->level[k] <= fl) { grp[i] = (unsigned char)k; used |= 1u << k; break; }
 		if (grp[i] == 0xff) { pvs_bitset_set(bits, i); below = 1; }
 	}
-	if (!used) *flags |= PVS__BAKE_NO_OCCLUDERS; /* no facade could hide anything */
+	if (!used) *flags |= PVS__BAKE_NO_OCCLUDERS;
 	for (k = 0; k < ot->level_count && r == PVS_OK; ++k) {
 		if (!(used & (1u << k))) continue;
 		d.facades = ot->facades;
@@ -9611,7 +9587,7 @@ PVS__STATIC pvs_result pvs__otree_cell(const pvs__otree_bake *ot, const pvs_scen
 			if (r == PVS_OK)
 				for (i = 0; i < (uint32_t)PVS_BITSET_WORDS(no); ++i) bits[i] |= part[i];
 		} else {
-			r = pvs_visibility_25d(&d, bits, &st, err); /* sole run, all objects: into bits */
+			r = pvs_visibility_25d(&d, bits, &st, err);
 		}
 		if (r == PVS_OK && st.budget_exceeded) *flags |= PVS__BAKE_OTREE_BUDGET;
 	}
@@ -9703,7 +9679,6 @@ PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *inf
 /* occluders: synthesis of certainly-solid volumes (for Wonka 2000's shrinking, §2 and appendix)  */
 /* ---------------------------------------------------------------------------------------------- */
 
-/* pvs_occluders.state bits. */
 enum {
 	PVS__VX_TOUCHED = 1,   /* triangle within margin */
 	PVS__VX_REACHED = 2,   /* reached by leak flood */
@@ -9711,7 +9686,6 @@ enum {
 	PVS__VX_SOLID = 8,	   /* certainly solid: flood-proved or explicit */
 	PVS__VX_EXPLICIT = 16  /* in an explicit occluder */
 };
-/* Stops leak diagnostic's flood. */
 #define PVS__VX_LEAK_STOP (PVS__VX_TOUCHED | PVS__VX_REACHED | PVS__VX_GROUND | PVS__VX_EXPLICIT)
 
 /* Voxel (i, j, k): origin + h ([i, i + 1] x [j, j + 1] x [k, k + 1]); n per axis. */
@@ -9741,7 +9715,7 @@ typedef struct pvs__obvh_node {
 typedef struct pvs__obvh {
 	pvs__obvh_node *nodes;
 	uint32_t *items, *leaf_of; /* leaf_of: per object, its leaf or 0xffffffff */
-	uint32_t *count_below;	   /* per node: objects below */
+	uint32_t *count_below;
 	uint32_t node_count, item_count, object_count;
 } pvs__obvh;
 
@@ -9763,9 +9737,9 @@ struct pvs_occluders {
 	uint32_t chain_count;
 	size_t chain_point_count;
 	float ground;
-	pvs__vx_cols cols;			/* 2.5D column map */
+	pvs__vx_cols cols;
 	pvs__obvh bvh;				/* drawable objects, for 2.5D walks */
-	pvs__obvh chain_bvh;		/* chains' boxes */
+	pvs__obvh chain_bvh;
 	uint32_t *excluded;			/* info.excluded_cells: leaking cells left out, */
 	pvs_box *excluded_boxes;	/* and their boxes */
 };
@@ -9818,7 +9792,6 @@ PVS__STATIC int pvs__tri_box(const double c[3], double hs, const double *a, cons
 	return pvs__tri_aabb(c, h3, a, b, d);
 }
 
-/* 1 if (x, y) is in polygon (even-odd). */
 PVS__STATIC int pvs__point_in_poly(const float *pts, uint32_t n, double x, double y) {
 	uint32_t i, j;
 	int in = 0;
@@ -10214,14 +10187,13 @@ PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, in
 /* Flood voxel bits: T touched by K, B bad, F odd layer crossings, W w = 1 (pure), R0 / R1 node 0 / 1 reached. */
 enum { PVS__G_T = 1, PVS__G_B = 2, PVS__G_F = 4, PVS__G_W = 8, PVS__G_R0 = 16, PVS__G_R1 = 32 };
 
-/* Lexicographic -1, 0, 1 of n finite floats. */
 PVS__STATIC int pvs__fpoint_cmp(const float *a, const float *b, int n) {
 	int k;
 	for (k = 0; k < n; ++k)
 		if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
 	return 0;
 }
-/* Position + index (vertex; >>methods: triangle corner 3 t + k), sorted by position, index. */
+/* Position + index (vertex; >>methods: triangle corner 3 t + k). */
 typedef struct pvs__vx_vkey {
 	float p[3];
 	uint32_t i;
@@ -10567,7 +10539,6 @@ typedef struct pvs__vx_colvisit {
 	uint32_t pass;			   /* step 3: column's line position */
 } pvs__vx_colvisit;
 
-/* Step 2, column (a, b): sheet below edge's part over square + m. */
 PVS__STATIC void pvs__vx_sheet_visit(void *user, const uint32_t at[3]) {
 	const pvs__vx_colvisit *cv = (const pvs__vx_colvisit *)user;
 	const float *e = cv->e;
@@ -10598,7 +10569,6 @@ PVS__STATIC void pvs__vx_sheet_visit(void *user, const uint32_t at[3]) {
 	}
 }
 
-/* Step 3, column (a, b): its line (position pass) vs triangle. */
 PVS__STATIC void pvs__vx_cross_visit(void *user, const uint32_t at[3]) {
 	const pvs__vx_colvisit *cv = (const pvs__vx_colvisit *)user;
 	int u = cv->u, v = cv->v, up = cv->up, r;
@@ -11164,7 +11134,7 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 typedef struct pvs__vx_chainbuf {
 	pvs_facade_chain *chains;
 	size_t *first;			 /* per chain: first point (pointers set last) */
-	float *points;			 /* 2 floats per point */
+	float *points;
 	size_t count, cap, cap_first, npts, cap_pts;
 } pvs__vx_chainbuf;
 
@@ -11178,7 +11148,7 @@ PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int
 	int64_t d1 = pvs__vx_orient_i(p, q, r), d2 = pvs__vx_orient_i(p, q, t), d3 = pvs__vx_orient_i(r, t, p),
 			d4 = pvs__vx_orient_i(r, t, q);
 	if (((d1 > 0 && d2 > 0) || (d1 < 0 && d2 < 0)) || ((d3 > 0 && d4 > 0) || (d3 < 0 && d4 < 0))) return 0;
-	if (d1 == 0 && d2 == 0) /* collinear: projections overlap? */
+	if (d1 == 0 && d2 == 0)
 		return (p[0] < q[0] ? p[0] : q[0]) <= (r[0] > t[0] ? r[0] : t[0]) &&
 			(r[0] < t[0] ? r[0] : t[0]) <= (p[0] > q[0] ? p[0] : q[0]) &&
 			(p[1] < q[1] ? p[1] : q[1]) <= (r[1] > t[1] ? r[1] : t[1]) &&
@@ -11439,7 +11409,6 @@ PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
 	return 1;
 }
 
-/* Hands over chains to o->chains, o->chain_points, o->chain_boxes. */
 PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_chainbuf *cb) {
 	const pvs_allocator *al = &o->allocator;
 	size_t x;
@@ -12259,7 +12228,6 @@ PVS__STATIC int pvs__walk_inside(const pvs__walk *k, const float p[3]) {
 	return 0;
 }
 
-/* k->tp, k->cbox and k->solids. */
 PVS__STATIC pvs_result pvs__walk_solids(pvs__walk *k, pvs_error *err) {
 	const pvs_scene *s = k->s;
 	pvs_kdtree_desc kd;
@@ -12288,7 +12256,6 @@ PVS__STATIC pvs_result pvs__walk_solids(pvs__walk *k, pvs_error *err) {
 	return pvs_kdtree_create(&kd, &k->solids, err);
 }
 
-/* A point over column col at height h (the walk's axes). */
 PVS__STATIC void pvs__walk_point(const pvs__walk *k, uint32_t col, double h, float p[3]) {
 	p[k->u] = (float)(k->u0 + (col % k->nu + 0.5) * k->hs);
 	p[k->v] = (float)(k->v0 + (col / k->nu + 0.5) * k->hs);
@@ -12336,7 +12303,7 @@ PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 		p[k->up] = (float)(top - t + k->d.head_room);
 		if (pvs__dabs(nrm[k->up]) >= cmin * sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]) &&
 			!pvs_scene_segment_blocked(s, a, p) &&
-			!(p[k->up] = (float)(top - t + 0.5 * k->d.head_room), pvs__walk_inside(k, p))) { /* not in a solid */
+			!(p[k->up] = (float)(top - t + 0.5 * k->d.head_room), pvs__walk_inside(k, p))) {
 			p[k->up] = (float)(top - t);
 			if (pvs__walk_in_volumes(k, p)) {
 				if (!pvs__grow(&k->d.allocator, (void **)&k->w, &k->cap, k->n + 1, sizeof(pvs__wsample))) return 0;
@@ -12373,7 +12340,7 @@ PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent) {
 			for (b = k->first[col]; b < k->first[col + 1]; ++b) {
 				float p[3], q[3];
 				if (pvs__dabs((double)k->w[a].h - k->w[b].h) > climb) continue;
-				pvs__walk_point(k, k->w[a].col, k->w[a].h + k->d.step_height + k->eps, p); /* knee to knee */
+				pvs__walk_point(k, k->w[a].col, k->w[a].h + k->d.step_height + k->eps, p);
 				pvs__walk_point(k, col, k->w[b].h + k->d.step_height + k->eps, q);
 				if (pvs_scene_segment_blocked(k->s, p, q)) continue;
 				if (k->w[a].next[dirn] == PVS__WNONE) k->w[a].next[dirn] = (uint32_t)b;
@@ -12385,7 +12352,7 @@ PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent) {
 		}
 }
 
-/* A group of linked samples in one square: its height range and column bounds. */
+/* A group of linked samples in one square. */
 typedef struct pvs__wgroup {
 	uint32_t square, root, count, lo_u, hi_u, lo_v, hi_v, used;
 	float lo, hi;
@@ -12402,7 +12369,6 @@ PVS__STATIC int pvs__wgroup_rect(const pvs__walk *k, const pvs__wgroup *g) {
 	return g->count == (g->hi_u - g->lo_u + 1) * (g->hi_v - g->lo_v + 1) && g->hi - g->lo <= k->d.step_height;
 }
 
-/* The sample of group g in column col, or PVS__WNONE. */
 PVS__STATIC uint32_t pvs__walk_sample_of(const pvs__walk *k, const pvs__wgroup *g, uint32_t col) {
 	uint32_t a;
 	for (a = k->first[col]; a < k->first[col + 1]; ++a)
@@ -12444,7 +12410,7 @@ PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, ui
 								float hi, pvs_box *cells, uint32_t capacity, uint32_t *n) {
 	pvs_box b, in = pvs__box_empty();
 	uint32_t m;
-	b.min[k->u] = (float)(k->u0 + (u0 - 0.5) * k->hs); /* to the next columns' centres */
+	b.min[k->u] = (float)(k->u0 + (u0 - 0.5) * k->hs);
 	b.min[k->v] = (float)(k->v0 + (v0 - 0.5) * k->hs);
 	b.max[k->u] = (float)(k->u0 + (u1 + 1.5) * k->hs);
 	b.max[k->v] = (float)(k->v0 + (v1 + 1.5) * k->hs);
@@ -12470,7 +12436,7 @@ PVS__STATIC void pvs__walk_merge(const pvs__walk *k, pvs__wgroup *g, const uint3
 		pvs__walk_emit(k, a0->lo_u, a0->hi_u, a0->lo_v, a0->hi_v, lo, hi, cells, capacity, n); /* mostly floor */
 		return;
 	}
-	if (!pvs__wgroup_rect(k, a0)) { /* a box per run of equal rows */
+	if (!pvs__wgroup_rect(k, a0)) {
 		uint32_t v, r0 = a0->lo_v, e[2] = {1, 0}, f[2];
 		for (v = a0->lo_v; v <= a0->hi_v + 1; ++v) {
 			f[0] = 1;
@@ -12541,7 +12507,7 @@ PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t ca
 			q->lo = q->hi = k->w[a].h;
 			q->lo_u = q->hi_u = iu;
 			q->lo_v = q->hi_v = iv;
-			k->global[a] = (uint32_t)(ng - 1); /* the root's group */
+			k->global[a] = (uint32_t)(ng - 1);
 		}
 		q = g + k->global[r];
 		++q->count;
@@ -13031,7 +12997,6 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 			for (c2 = 0; c2 < cells; ++c2) p->gstart[c2 + 1] += p->gstart[c2];
 		}
 	}
-	/* gstart[c + 1] starts bucket c: shift down */
 	for (i = 0; i < (uint32_t)cells; ++i) p->gstart[i] = p->gstart[i + 1];
 	p->gstart[cells] = (uint32_t)total;
 	return PVS_OK;
@@ -13166,7 +13131,6 @@ typedef struct pvs__vctx {
 	pvs__key_index *hkeys;
 	uint32_t caphkeys;
 	uint32_t *hidx, caphidx;
-	/* output: dense set */
 	int quantize;			   /* 0: float ends (pvs_vocc_2d); 1: file bytes */
 	double qscale, qground, qhstep; /* quantization (>>vocc file notes) */
 	pvs__vo_cand *out;
@@ -13692,7 +13656,6 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
 			continue;
 		c->sub[nsub++] = c->g[i];
 	}
-	/* events: cell edges, tangent lines, blocker boundaries and loops */
 	for (i = 0; i < 4; ++i) pvs__vo_ev_seg(c, &ne, p, d, c->corner + 2 * i, c->corner + 2 * ((i + 1) % 4), 0, t0, t1);
 	for (i = 0; i < c->nlines; ++i) pvs__vo_ev_seg(c, &ne, p, d, c->lines + 4 * i, c->lines + 4 * i + 2, 1, t0, t1);
 	for (i = 0; i < nsub; ++i) {
@@ -13820,7 +13783,6 @@ PVS__STATIC uint32_t pvs__vo_ray_first(pvs__vctx *c, const double *o, const doub
 	return hit;
 }
 
-/* Ray length from o along w within analysis radius. */
 PVS__STATIC double pvs__vo_ray_len(const pvs__vctx *c, const double *o, const double *w) {
 	double b = o[0] * w[0] + o[1] * w[1], cc = o[0] * o[0] + o[1] * o[1] - c->range * c->range, disc = b * b - cc;
 	return disc > 0.0 ? -b + sqrt(disc) : 0.0;
@@ -14383,7 +14345,7 @@ PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up
 		if (d < dmin) dmin = d;
 		if (d > dmax) dmax = d;
 	}
-	if (dmax < 0.0) { /* cell on other side: flip */
+	if (dmax < 0.0) {
 		double t = dmin;
 		r->n[0] = -r->n[0];
 		r->n[1] = -r->n[1];
@@ -14487,7 +14449,7 @@ PVS__STATIC pvs_visit pvs__vo_walk_visit(void *user, const pvs_box *node_box, fl
 	pvs__vo_walk *w = (pvs__vo_walk *)user;
 	uint32_t i;
 	(void)distance;
-	if (pvs__vo_walk_hidden(w, node_box)) return PVS_VISIT_SKIP; /* subtree behind one occluder */
+	if (pvs__vo_walk_hidden(w, node_box)) return PVS_VISIT_SKIP;
 	for (i = 0; i < count; ++i) {
 		uint32_t id = items[i];
 		if (id >= w->object_count || pvs_bitset_test(w->visible, id) || !pvs__vo_box_ok(w->boxes + id)) continue;
@@ -14950,7 +14912,7 @@ PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *ce
 	cmax[0] = cell->max[u]; cmax[1] = cell->max[v];
 	if (!(cell->min[vb->up] >= vb->base && cmax[0] > cmin[0] && cmax[1] > cmin[1] && vb->prep->nobj)) return PVS_OK;
 	if (!pvs__vctx_init(c, al, vb->prep, cmin, cmax, reach)) return PVS_ERROR_OUT_OF_MEMORY;
-	pvs__vo_cell_frame(c, cmin, cmax, centre); /* file frame (float centre) */
+	pvs__vo_cell_frame(c, cmin, cmax, centre);
 	c->quantize = 1;
 	c->qscale = pvs__vo_scale(code);
 	c->qground = vb->base;
@@ -15017,8 +14979,8 @@ PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, u
 	return keep;
 }
 
-/* One bake cell: dense set, selection (Fig. 6), PVS rebuilt as pvs_vocc_cull will (never-drawn objects empty): *count
-   (<= max_keep) 5-byte occluders, scale code, PVS (cleared first). */
+/* One bake cell: dense set, selection (Fig. 6), PVS rebuilt as pvs_vocc_cull will: *count (<= max_keep) 5-byte
+   occluders, scale code, PVS (cleared first). */
 PVS__STATIC pvs_result pvs__vo_bake_cell(const pvs__vbake *vb, const pvs_box *cell, uint8_t *bytes, uint8_t *count,
 										 uint8_t *scale, pvs_word *pvs, pvs_vocc_stats *stats, pvs_error *err) {
 	const pvs_allocator *al = &vb->a;
@@ -15319,7 +15281,6 @@ typedef struct pvs__poprep {
 	double (*fbox)[6];		   /* per node fragment its box (min, max; build scratch) */
 	size_t flag_cap, fbox_cap, fbox_n; /* fbox_n: fragments boxed by pvs__po_choose (0: none) */
 	uint32_t bound_pairs;	   /* pairs < bound_pairs: root box (no portal across) */
-	/* tree */
 	pvs__po_node *nodes;
 	size_t node_count, node_cap;
 	pvs__po_poly *leaf;		   /* per leaf its polytope; no faces: solid leaf */
@@ -15328,7 +15289,6 @@ typedef struct pvs__poprep {
 	size_t leaf_count, leaf_cap;
 	uint32_t root, solids, deep_leaves;
 	int lost;				   /* polygon over PVS__PO_MAXW vertices: scene unbakeable here */
-	/* portals */
 	pvs__po_portal *portals;
 	size_t portal_count, portal_cap;
 	double (*portal_v)[3];
@@ -15600,7 +15560,7 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 		if (w.n >= 3) {
 			uint32_t i;
 			scratch[n] = w;
-			if (side == 0) /* reversed winding for flipped plane */
+			if (side == 0)
 				for (i = 0; i < w.n; ++i) memcpy(scratch[n].p[i], w.p[w.n - 1 - i], sizeof(w.p[0]));
 			planes[n++] = side == 0 ? (id ^ 1u) : id;
 		}
@@ -15670,7 +15630,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 		for (j = 0; j < n; ++j)
 			for (k = 0; k < 3; ++k) {
 				const float *v = s->positions + 3 * (size_t)s->indices[3 * (size_t)tris[j] + k];
-				if (nn[0] * v[0] + nn[1] * v[1] + nn[2] * v[2] + d > tolc) return 0; /* not convex */
+				if (nn[0] * v[0] + nn[1] * v[1] + nn[2] * v[2] + d > tolc) return 0;
 			}
 		planes[np] = pvs__po_plane(p, nn, -d);
 		if (planes[np] == PVS__PO_NONE) return 0;
@@ -15681,8 +15641,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 	return np >= 4 ? np : 0;
 }
 
-/* Scene s's solids as fragments: closed convex meshes among triangles, by lowest triangle (not explicit occluder
-   volumes: rays pass them, a cell may be inside one). 0 if out of memory. */
+/* Scene s's solids as fragments: closed convex meshes among triangles, by lowest triangle. 0 if out of memory. */
 PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly **frags, size_t *cap, size_t *count,
 							   pvs__po_wind *scratch, uint32_t *kept) {
 	const pvs_allocator *al = &p->allocator;
@@ -15716,7 +15675,7 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 		uint32_t r = pvs__uf_find(parent, s->indices[3 * (size_t)t]), n = 0, u, np;
 		uint32_t tris[PVS__PO_MAX_FACES];
 		pvs__po_poly q;
-		if (head[r] != t) continue; /* not component's first triangle */
+		if (head[r] != t) continue;
 		for (u = t; u != PVS__PO_NONE && n <= PVS__PO_MAX_FACES; u = next[u])
 			if (n < PVS__PO_MAX_FACES) tris[n++] = u;
 			else ++n;
@@ -15779,7 +15738,7 @@ PVS__STATIC uint32_t pvs__po_choose(pvs__poprep *p, const pvs__po_poly *f, uint3
 	int have = 0, boxes = pvs__grow(&p->allocator, (void **)&p->fbox, &p->fbox_cap, n, sizeof(p->fbox[0]));
 	++p->stamp_now;
 	p->fbox_n = boxes ? n : 0;
-	for (i = 0; i < n; ++i) { /* faces per plane; boxes for axial side tests (pvs__po_side_box) */
+	for (i = 0; i < n; ++i) {
 		for (j = 0; j < f[i].face_count; ++j) ++p->facing[f[i].plane[j] >> 1];
 		for (j = 0; boxes && j < 6; ++j) p->fbox[i][j] = j < 3 ? DBL_MAX : -DBL_MAX;
 		for (j = 0; boxes && j < f[i].vert_count; ++j) {
@@ -15834,7 +15793,7 @@ PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint3
 	if (b->oom) goto leaf;
 	pair = depth < PVS__PO_DEPTH ? pvs__po_choose(p, f, n) : PVS__PO_NONE;
 	if (pair == PVS__PO_NONE) {
-		if (n && depth >= PVS__PO_DEPTH) { /* too deep: left empty (sight passes) */
+		if (n && depth >= PVS__PO_DEPTH) {
 			++p->deep_leaves;
 			for (i = 0; i < n; ++i) pvs__po_poly_free(al, f + i);
 			n = 0;
@@ -15849,7 +15808,7 @@ PVS__STATIC uint32_t pvs__po_build_node(pvs__po_build *b, pvs__po_poly *f, uint3
 		pvs__free_array(al, part[1], n, sizeof(pvs__po_poly));
 		goto leaf;
 	}
-	axis = p->fbox_n == n ? pvs__po_unit_axis(p->pl[2 * pair]) : -1; /* pvs__po_choose boxed f */
+	axis = p->fbox_n == n ? pvs__po_unit_axis(p->pl[2 * pair]) : -1;
 	for (i = 0; i < n; ++i) {
 		int side = axis >= 0 ? pvs__po_side_box(p->fbox[i], p->pl[2 * pair], axis, p->eps)
 							 : pvs__po_side(f + i, p->pl[2 * pair], p->eps);
@@ -15931,7 +15890,7 @@ PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t 
 				return;
 			}
 			if (hi > p->eps) p->lost |= pvs__po_split(w, p->pl[nd->plane], p->eps, parts, parts + 1);
-			else parts[0] = parts[1] = *w; /* within eps: both ways */
+			else parts[0] = parts[1] = *w;
 			for (i = 0; i < 2; ++i)
 				if (parts[i].n >= 3) pvs__po_push(b, parts + i, plane, nd->child[i], from);
 			pvs__free_array(&p->allocator, parts, 2, sizeof(pvs__po_wind));
@@ -16064,11 +16023,11 @@ PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double 
 		double t = n[0] * A[i][0] + n[1] * A[i][1] + n[2] * A[i][2] + d;
 		lo = t < lo ? t : lo;
 		hi = t > hi ? t : hi;
-		if (lo < -eps && hi > eps) return 0; /* A on both sides */
+		if (lo < -eps && hi > eps) return 0;
 	}
 	sg = hi > eps ? 1.0 : -1.0; /* kept side, as table planes: sg (n.x + d) <= 0 */
 	for (i = 0; i < nb; ++i)
-		if (sg * (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d) > eps) return 0; /* B not wholly there */
+		if (sg * (n[0] * B[i][0] + n[1] * B[i][1] + n[2] * B[i][2] + d) > eps) return 0;
 	if (w->np < PVS__PO_MAXS) {
 		for (k = 0; k < 3; ++k) w->pl[w->np][k] = sg * n[k];
 		w->pl[w->np++][3] = -sg * d;
@@ -16152,14 +16111,13 @@ PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win 
 		if (w && pvs__box_clip(&b, p->leaf_box + leaf))
 			for (j = 0; j < w->np && keep; ++j) {
 				double x[3];
-				for (k = 0; k < 3; ++k) x[k] = w->pl[j][k] > 0.0 ? b.min[k] : b.max[k]; /* lowest corner */
+				for (k = 0; k < 3; ++k) x[k] = w->pl[j][k] > 0.0 ? b.min[k] : b.max[k];
 				keep = pvs__po_dist(w->pl[j], x) <= p->tol;
 			}
 		if (keep) pvs_bitset_set(f->bits, o);
 	}
 }
 
-/* x's 2D coordinates on a plane of dominant axis a. */
 PVS__STATIC void pvs__po_uv(const double *x, int a, double *u, double *v) {
 	*u = x[a == 0 ? 1 : 0];
 	*v = x[a == 2 ? 1 : 2];
@@ -16169,7 +16127,7 @@ PVS__STATIC void pvs__po_uv(const double *x, int a, double *u, double *v) {
 PVS__STATIC int pvs__po_inside(const pvs__po_region *r, const pvs__po_wind *w, int a, double tol) {
 	double orient = 0.0;
 	uint32_t i, j;
-	for (i = 0; i < r->n; ++i) { /* r's orientation in (u, v): sign of area */
+	for (i = 0; i < r->n; ++i) {
 		double u0, v0, u1, v1;
 		pvs__po_uv(r->v[i], a, &u0, &v0);
 		pvs__po_uv(r->v[(i + 1) % r->n], a, &u1, &v1);
@@ -16581,7 +16539,7 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	}
 	memset(f.slot, 0xff, 2 * f.slot_cap * sizeof(uint32_t));
 	pvs__po_box_down(p, box, p->root, pvs__po_start_leaf, &f);
-	for (k = 0; k < p->solids; ++k) /* cell points inside solid */
+	for (k = 0; k < p->solids; ++k)
 		if (pvs__box_overlap(box, p->solid_box + k))
 			for (i = p->so_first[k]; i < p->so_first[k + 1]; ++i) {
 				uint32_t o = p->so[i];
@@ -16992,13 +16950,13 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 		if (!(bx1 - bx0 < 1e15) || !(by1 - by0 < 1e15)) return 0; /* past useful precision */
 		E->xlo = pvs__dmax(E->xlo, bx0); E->xhi = pvs__dmin(E->xhi, bx1);
 		E->ylo = pvs__dmax(E->ylo, by0); E->yhi = pvs__dmin(E->yhi, by1);
-		if (E->xhi - E->xlo < 1.0 || E->yhi - E->ylo < 1.0) return 0; /* no whole pixel fits */
+		if (E->xhi - E->xlo < 1.0 || E->yhi - E->ylo < 1.0) return 0;
 		k = pvs__ep_hull(pts, n, hull);
 		if (k < 3) return 0;
 		for (i = 0; i < k; ++i)
 			area2 += hull[i][0] * hull[i + 1 < k ? i + 1 : 0][1] - hull[i + 1 < k ? i + 1 : 0][0] * hull[i][1];
 		h = (bx1 - bx0) + (by1 - by0);
-		if (!(area2 > 1e-9 * h * h)) return 0; /* a sliver: covers no pixel */
+		if (!(area2 > 1e-9 * h * h)) return 0;
 		for (i = 0; i < k; ++i) {
 			const double *p = hull[i], *q = hull[i + 1 < k ? i + 1 : 0];
 			double a = -(q[1] - p[1]), b = q[0] - p[0], len = pvs__dabs(a) + pvs__dabs(b);
@@ -17252,11 +17210,11 @@ PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double 
 	err = 1e-6 + 1e-12 * mag;
 	a = maxL + err;
 	b = minR - err;
-	if (a <= b) { /* any point of [a, b] */
+	if (a <= b) {
 		*any = 1;
 		*lo = pvs__clampi(floor(a), -1, (int32_t)size);
 		*hi = pvs__clampi(floor(b), -1, (int32_t)size);
-	} else { /* all of [min R, max L], widened */
+	} else {
 		*any = 0;
 		*lo = pvs__clampi(floor(minR - err), -1, (int32_t)size);
 		*hi = pvs__clampi(floor(maxL + err), -1, (int32_t)size);
@@ -17335,7 +17293,7 @@ typedef struct pvs__extproj_prep {
 	size_t slc_count, slc_capacity;
 	uint32_t *stri;
 	size_t stri_count, stri_capacity;
-	float *bedge;			 /* 6 floats per boundary edge */
+	float *bedge;
 	size_t bedge_count, bedge_capacity;
 	uint32_t max_slice_segments; /* most triangles + boundary edges of one sliced component */
 	pvs__epsheet sheet[PVS__EP_MAX_SHEETS];
@@ -17515,7 +17473,7 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
 			else hi = mid;
 		}
 		if (lo + 1 >= 2 * nb || pvs__fpoint_cmp(ends[lo + 1].p, cur, 2) != 0) return 0; /* a loose end */
-		if (lo + 2 < 2 * nb && pvs__fpoint_cmp(ends[lo + 2].p, cur, 2) == 0) return 0; /* point on 3+ edges */
+		if (lo + 2 < 2 * nb && pvs__fpoint_cmp(ends[lo + 2].p, cur, 2) == 0) return 0;
 		next = ends[lo].edge == edge ? ends[lo + 1].edge : ends[lo].edge;
 		if (next == 0 || next == edge) return 0;
 		edge = next;
@@ -18123,7 +18081,6 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
 										  sizeof(uint32_t), &r);
 	if (!p->stri) return r;
 	if (capped) {
-		/* pvs__grow_array counts 6-float elements */
 		p->bedge = (float *)pvs__grow_array(a, p->bedge, &p->bedge_capacity, p->bedge_count, p->bedge_count + nb,
 											6 * sizeof(float), &r);
 		if (!p->bedge) return r;
@@ -18174,7 +18131,6 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 		capped = pvs__ep_cap_axis(w->vpos, bnd, nb, w->uv, nuv, &cap_axis, &cap_value, &cap_side);
 	}
 	if (closed || capped) {
-		/* flat closed or capped mesh bounds no volume */
 		const float **vq = (const float **)w->ref; /* ref is free now: room for 3 tn pointers */
 		uint32_t *tt = w->gparent;				   /* unused until polygons */
 		for (j = 0; j < nuv; ++j) vq[j] = w->vpos[w->uv[j]];
@@ -18211,12 +18167,10 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 	return pvs__ep_add_slice(p, s, t0, tl, n, w, bnd, nb, capped, cap_axis, cap_side, cap_value);
 }
 
-/* Object's triangles t0 .. t0 + tn, component by component. */
 PVS__STATIC pvs_result pvs__ep_prepare_object(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, uint32_t tn,
 											  pvs__epprepwork *w) {
 	uint32_t comp;
 	pvs__ep_components(s, t0, tn, w);
-	/* start[root] holds component's end; components: roots, in order */
 	for (comp = 0; comp < tn; ++comp) {
 		uint32_t begin, end;
 		pvs_result r;
@@ -18515,7 +18469,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_sc
 		size_t first = p->occ_count, q;
 		pvs_result r;
 		while (end < s->triangle_count && s->triangle_object[end] == s->triangle_object[t]) ++end;
-		r = pvs__tri_blocks(s, t) ? pvs__ep_prepare_object(p, s, t, end - t, w) : PVS_OK; /* a run is one object */
+		r = pvs__tri_blocks(s, t) ? pvs__ep_prepare_object(p, s, t, end - t, w) : PVS_OK;
 		for (q = first; q < p->occ_count; ++q) p->occ[q].object = s->triangle_object[t];
 		if (r != PVS_OK) return r;
 		t = end;
@@ -18733,7 +18687,7 @@ PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__
 	if (ncap & 1u) return 0xffffffffu;
 	/* line runs along u or v: cap axis-aligned, plane across another axis */
 	key = c->cap_axis == f->u ? 1 : 0; /* cap fixes u: line runs along v */
-	for (x = 1; x < ncap; ++x) /* insertion sort along line */
+	for (x = 1; x < ncap; ++x)
 		for (y = x; y > 0 && pts[2 * y + key] < pts[2 * (y - 1) + key]; --y) {
 			double t0 = pts[2 * y], t1 = pts[2 * y + 1];
 			pts[2 * y] = pts[2 * (y - 1)];
@@ -18827,7 +18781,6 @@ PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *
 	return pvs__ep_fill_section(f, sc, nseg, 1e-6 + 1e-12 * mag, pvs__f_up(f->W), map, mask);
 }
 
-/* 1 if cell is outside c's box, strictly on cap's solid side. */
 PVS__STATIC int pvs__ep_slice_ok(const pvs__epslice *c, const pvs_box *cell) {
 	if (pvs__box_overlap(&c->box, cell)) return 0;
 	return !c->capped || pvs__ep_cap_ok(c->cap_side, c->cap_axis, c->cap_value, cell);
@@ -19207,7 +19160,6 @@ PVS__STATIC int pvs__ep_open(const pvs__ep_pyr *p, const pvs_extproj_plane *plan
 	return 0;
 }
 
-/* 1 if some pixel of rect r holds a Depth >= d or is off plane. */
 PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) {
 	pvs__ep_pyr p;
 	p.depth = m->lv;
@@ -19239,7 +19191,6 @@ PVS__STATIC const pvs__epframe *pvs__ep_subframe(const pvs__epmask *m, uint32_t 
 	return m->nsub ? m->sub + j : &m->frame;
 }
 
-/* Splits mask's cell into 4 sub-cells meeting at its midpoint. */
 PVS__STATIC void pvs__ep_split_mask(pvs__epmask *m) {
 	uint32_t j;
 	double mu = 0.5 * (m->frame.cu[0] + m->frame.cu[1]), mv = 0.5 * (m->frame.cv[0] + m->frame.cv[1]);
@@ -19270,7 +19221,6 @@ PVS__STATIC void pvs__ep_build_mask_pyramid(pvs__epmask *m) {
 	}
 }
 
-/* 1 if some pixel of r lacks `bit` (or is off plane). */
 PVS__STATIC int pvs__ep_mask_open(const pvs__epmask *m, const int32_t *r, unsigned char bit) {
 	pvs__ep_pyr p;
 	p.depth = NULL;
@@ -19467,7 +19417,6 @@ PVS__STATIC int pvs__ep_parts_visible(pvs__epcell *c, uint32_t o, const pvs_box 
 	return 0;
 }
 
-/* Leaf object that may be in the PVS: not occluder-only, and a candidate. */
 PVS__STATIC int pvs__ep_wanted(const pvs__epcell *c, uint32_t o) {
 	if (c->scene->object_flags[o] & PVS_OBJECT_OCCLUDER_ONLY) return 0;
 	return !c->candidates || pvs_bitset_test(c->candidates, o);
@@ -19563,7 +19512,6 @@ PVS__STATIC uint32_t pvs__ep_max_side(uint32_t res) {
 	return 16u * res < PVS__EP_MAX_SIDE ? 16u * res : PVS__EP_MAX_SIDE;
 }
 
-/* Pixels of a w x h map plus `levels` pyramid levels. */
 PVS__STATIC size_t pvs__ep_pyramid_size(uint32_t w, uint32_t h, uint32_t levels) {
 	size_t n = 0;
 	uint32_t k;
@@ -19575,7 +19523,6 @@ PVS__STATIC size_t pvs__ep_pyramid_size(uint32_t w, uint32_t h, uint32_t levels)
 	return n;
 }
 
-/* Pyramid levels above a res x res map: to 1 x 1, <= 13. */
 PVS__STATIC uint32_t pvs__ep_level_count(uint32_t res) {
 	uint32_t levels = 0;
 	while (res > 1 && levels < 13) {
@@ -19658,7 +19605,7 @@ typedef struct pvs__epscratch {
 	void *sweep;
 	pvs_word *seen;
 	size_t nsel, map_floats, mask_bytes, sweep_size, nmask, seen_words;
-	size_t sat_count;	 /* tables: one per plane of a direction, or 2 (pvs__ep_sat_count) */
+	size_t sat_count;	 /* tables (pvs__ep_sat_count) */
 	size_t sat_table;	 /* counts per table, enough for any mask */
 	size_t range_count;  /* int32s in `ranges`: 2 (width + height) of any mask */
 	uint32_t *stamp;	 /* sweep stamps, one per occluder (pvs__epslab) */
@@ -20050,7 +19997,6 @@ typedef struct pvs__epslab {
 	int d, cls, axis[2];
 } pvs__epslab;
 
-/* 1 if an occluder or node box can add to plane: between planes, in rectangle, not in the last umbra. */
 PVS__STATIC int pvs__ep_slab_wanted(const pvs__epslab *sl, const pvs_box *b) {
 	double w0, w1;
 	int k;
@@ -20123,8 +20069,7 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 	}
 	if (!(Wend > 0.0)) return PVS_OK;
 	if (!(C > 0.0)) C = pvs__dmax(ext, 1e-6);
-	/* first plane at C or just behind nearest occluder (only there does a flat occluder facing it lie wholly in
-	   front), then `sweep` planes up to the far end, exclusive */
+	/* just behind nearest occluder: only there does a flat occluder facing it lie wholly in front */
 	W0 = pvs__dmax(W0 + 1e-3 * (W0 + ext), C);
 	Wend += 1e-3 * (Wend + ext);
 	if (!(W0 < Wend)) return PVS_OK;
@@ -20621,7 +20566,6 @@ PVS__STATIC int pvs__hz_test_box(const pvs__hz *z, const pvs_box *bx, int u, int
 	return 0;
 }
 
-/* A chain of height top (closed: back to its first point). */
 PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
 	uint32_t i, n = ch->point_count, segs = ch->closed ? n : n - 1;
 	double T = ch->top;
@@ -20670,7 +20614,6 @@ PVS__STATIC int pvs__shrink_test(const pvs__shrink_walk *w, const pvs_box *b, in
 		b->min[w->v] <= w->cell->max[w->v] && b->max[w->v] >= w->cell->min[w->v];
 }
 
-/* Marks ob visible, off count of every node above it. */
 PVS__STATIC void pvs__shrink_found(pvs__shrink_walk *w, uint32_t ob) {
 	uint32_t nd;
 	pvs_bitset_set(w->visible, ob);
@@ -21030,7 +20973,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 		}
 	}
 	if (st.occluders == 0 || st.excluded) {
-		/* nothing survived erosion, or a left-out cell: every drawable object is set */
+		/* nothing survived erosion, or a left-out cell */
 		uint32_t i;
 		for (i = 0; i < s->object_count; ++i)
 			if (!(s->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY) && pvs__box_valid(s->object_boxes + i))
@@ -21452,7 +21395,7 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
 	return PVS_OK;
 }
 
-/* AUTO's cost class of method m for desc's cells (pvs__bake_auto_sample). */
+/* AUTO's cost class of method m for desc's cells. */
 PVS__STATIC int pvs__bake_price(const pvs_bake *b, const pvs__bake_method *m, const pvs_bake_desc *desc) {
 	return m->price ? m->price(desc, b->state[m->method]) : m->cost_class;
 }
@@ -21505,8 +21448,7 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 /* AUTO's sample (CONCEPTS, Methods): applicable methods are prepared for PVS_AUTO_SAMPLE_CELLS cells spread over all
    the bake's (a shard's too: shards decide alike), each baking them alone. Greedily, smallest PVS's method is kept
    (ties: cheaper), then, best ratio first, those culling beyond the kept PVS_AUTO_MIN_GAIN of it, doubled per class
-   (pvs__bake_price) above first kept's, halved below. The kept are prepared for every cell. Only for default
-   set, 4 x sample's cells or more, no PREVIEW. */
+   (pvs__bake_price) above first kept's, halved below. The kept are prepared for every cell. */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
 }
@@ -21606,7 +21548,7 @@ PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc
 	b->env.cell_count = desc->cell_count;
 	b->env.eps = desc->eps;
 	if (r != PVS_OK) return r;
-	for (k = 0; k < b->run_count; ++k) { /* kept methods, for every cell */
+	for (k = 0; k < b->run_count; ++k) {
 		const char *why = "conservative";
 		const pvs__bake_method *m = b->run[k];
 		r = pvs__bake_prepare(b, m, desc, err);
@@ -22124,7 +22066,7 @@ PVS__STATIC uint32_t pvs__get_bits(const uint8_t *s, uint64_t pos, uint32_t w) {
 	for (i = 0; i < n; ++i) v |= (uint64_t)s[at + i] << (8 * i);
 	return (uint32_t)((v >> shift) & (((uint64_t)1 << w) - 1u));
 }
-PVS__STATIC uint32_t pvs__bits_for(uint32_t max_value) { /* bits to hold 0..max_value */
+PVS__STATIC uint32_t pvs__bits_for(uint32_t max_value) {
 	uint32_t w = 0;
 	while (w < 32 && (max_value >> w)) ++w;
 	return w;
@@ -22342,7 +22284,6 @@ PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
 
 /* pvs__set_apply's decoders per coding (bytes: manual's RECS), same contract; on a bad byte: *bad_at, the error. */
 
-/* Coding 0: gap varints. */
 PVS__STATIC pvs_result pvs__set_gaps(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
 									 size_t *bad_at) {
 	const uint8_t *q = p;
@@ -22370,7 +22311,6 @@ bad:
 	return PVS_ERROR_BAD_RECORD;
 }
 
-/* Coding 1: run lengths. */
 PVS__STATIC pvs_result pvs__set_runs(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
 									 size_t *bad_at) {
 	const uint8_t *q = p;
@@ -22392,7 +22332,7 @@ PVS__STATIC pvs_result pvs__set_runs(const uint8_t *p, const uint8_t *end, uint3
 		if (pos + z + o + 1u > n) { *bad_at = (size_t)(q - p); return PVS_ERROR_OBJECT_OUT_OF_RANGE; }
 		q += used;
 		pos += z;
-		if (act == PVS__SET_ADD && !s->fn) { /* whole words */
+		if (act == PVS__SET_ADD && !s->fn) {
 			uint64_t e = pos + o + 1u;
 			while (pos < e && (pos & 63)) { s->bits[pos >> 6] |= (pvs_word)1 << (pos & 63); ++pos; }
 			while (pos + 64 <= e) { s->bits[pos >> 6] = ~(pvs_word)0; pos += 64; }
@@ -22413,7 +22353,7 @@ bad:
 	return PVS_ERROR_BAD_RECORD;
 }
 
-/* Coding 2: Rice codes (Golomb 1966, Rice 1979). */
+/* Rice codes (Golomb 1966, Rice 1979). */
 PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
 									 size_t *bad_at) {
 	const uint8_t *q = p;
@@ -22473,7 +22413,6 @@ bad:
 	return PVS_ERROR_BAD_RECORD;
 }
 
-/* Coding 3: raw bitset. */
 PVS__STATIC pvs_result pvs__set_bitmap(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
 									   size_t *bad_at) {
 	size_t nb = ((size_t)n + 7) / 8, i;
@@ -23170,7 +23109,7 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 		goto done;
 	}
 	if (out_size) *out_size = total;
-	if (!o) { /* size query */
+	if (!o) {
 		pvs__ok(err);
 		goto done;
 	}
