@@ -254,6 +254,12 @@ static void test_bake_options(void) {
     CHECK(test_exists(EDIR "/walk.walkable.cells"));
     CHECK(ex_run("./pvscheck -q " EDIR "/in.obj " EDIR "/walk.pvs --points 8 --rays 512", &out) == 0 && strstr(out, "misses 0")); free(out);
     CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells walkable:0 -o " EDIR "/w2.pvs", &out) == 2 && strstr(out, "walkable:SIZE")); free(out);
+    CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells walkable --step-height 0 -o " EDIR "/w2.pvs", &out) == 2 &&
+          strstr(out, "--step-height needs a positive height"));
+    free(out);
+    CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells walkable --volumes " EDIR "/none.cells -o " EDIR "/w2.pvs", &out) == 1 &&
+          strstr(out, "none.cells"));
+    free(out);
     CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells walkable --walk-from 1,2 -o " EDIR "/w2.pvs", &out) == 2 && strstr(out, "X,Y,Z"));
     free(out);
     CHECK(ex_run("./pvsbake " EDIR "/in.obj --cells " EDIR "/in.txt --eye-height 2 -o " EDIR "/w2.pvs", &out) == 2 &&
