@@ -1144,6 +1144,13 @@ typedef struct pvs_bake_desc {
    and 32 occluders per plane unless set, no sweep, and decides object kD-tree nodes whole once under a quarter radian
    or past 4,096 box tests. SHRINK doubles its derived eps. */
 #define PVS_BAKE_PREVIEW 1u
+/* PVS_BAKE_COMPACT: each finished cell's PVS kept coded (the file's set coding) instead of a cells x objects bit
+   table, so memory grows with the PVSs' sizes; also chosen when the table would exceed PVS_BAKE_COMPACT_BYTES. Files
+   are byte-identical either way; pvs_bake_cell_pvs then decodes into one buffer of the bake. */
+#define PVS_BAKE_COMPACT 2u
+#ifndef PVS_BAKE_COMPACT_BYTES
+#define PVS_BAKE_COMPACT_BYTES ((size_t)64 << 20)
+#endif
 
 typedef struct pvs_bake pvs_bake;
 
@@ -1225,7 +1232,8 @@ typedef struct pvs_bake_report {
 } pvs_bake_report;
 /* Fills *report. Not concurrently with the tasks. */
 PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
-/* A run cell's PVS (PVS_BITSET_WORDS(object_count) words; adaptive: whole cell), else NULL. */
+/* A run cell's PVS (PVS_BITSET_WORDS(object_count) words; adaptive: whole cell), else NULL. Compact bakes: valid
+   until the next call, which must not run concurrently. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
 /* Cells the file will hold: cell_count, or the adaptive leaves of the tasks run so far. */
 PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *bake);
@@ -1255,6 +1263,9 @@ typedef struct pvs_file_desc {
 	uint32_t cell_count;
 	uint32_t object_count;
 	const pvs_word *pvs;	   /* cell-major */
+	/* Instead of pvs (NULL): cell's PVS, decoded into buffer (words) if need be; called with user. */
+	const pvs_word *(*pvs_row)(const void *user, uint32_t cell, pvs_word *buffer);
+	const void *pvs_user;
 	pvs_method method;
 	float eps;
 	uint32_t up_axis;		   /* 1 or 2 */
@@ -21168,7 +21179,10 @@ struct pvs_bake {
 	uint32_t total_cell_count, shard_index, shard_count;
 	uint32_t object_count;
 	size_t words;			   /* per cell */
-	pvs_word *pvs;			   /* cell_count * words */
+	pvs_word *pvs;			   /* cell_count * words; NULL when compact */
+	uint8_t **rec;			   /* compact: per task, coding byte then coded set (pvs__bake_keep) */
+	uint32_t *rec_size;
+	pvs_word *row;			   /* compact: pvs_bake_cell_pvs's buffer */
 	unsigned char *done;	   /* cell_count flags, each written by its task only */
 	pvs_method method;
 	uint32_t max_chain;
@@ -21193,6 +21207,10 @@ struct pvs_bake {
 	uint32_t *object_triangles;/* adaptive: triangles per object */
 	struct pvs__bakeleaves *leaves; /* adaptive: per task, its leaf cells */
 };
+
+/* Task's PVS into the bake (compact: coded; defined with the encoder); its words (compact: decoded into buffer). */
+PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word *bits, pvs_error *err);
+PVS__STATIC const pvs_word *pvs__bake_row(const pvs_bake *b, uint32_t task, pvs_word *buffer);
 
 /* An adaptive task's leaf cells and PVSs. */
 typedef struct pvs__bakeleaves {
@@ -21259,6 +21277,11 @@ PVS_API void pvs_bake_destroy(pvs_bake *b) {
 	a = b->env.allocator;
 	pvs__free_array(&a, b->cells, b->cell_count, sizeof(pvs_box));
 	pvs__free_array(&a, b->pvs, (size_t)b->cell_count * b->words, sizeof(pvs_word));
+	if (b->rec)
+		for (k = 0; k < b->cell_count; ++k) pvs__free_array(&a, b->rec[k], b->rec_size[k], 1);
+	pvs__free_array(&a, b->rec, b->cell_count, sizeof(uint8_t *));
+	pvs__free_array(&a, b->rec_size, b->cell_count, sizeof(uint32_t));
+	pvs__free_array(&a, b->row, b->words, sizeof(pvs_word));
 	pvs__free_array(&a, b->done, b->cell_count, 1);
 	pvs__free_array(&a, b->restored, b->cell_count, 1);
 	pvs__free_array(&a, b->stats, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
@@ -21326,7 +21349,7 @@ PVS__STATIC pvs_result pvs__bake_check(const pvs_bake_desc *desc, uint32_t *mask
 		return PVS__BAD_ARG(err, "eps must be finite and >= 0");
 	if (!pvs__finite(desc->max_distance) || desc->max_distance < 0.0f)
 		return PVS__BAD_ARG(err, "max_distance must be finite and >= 0");
-	if (desc->flags & ~PVS_BAKE_PREVIEW)
+	if (desc->flags & ~(PVS_BAKE_PREVIEW | PVS_BAKE_COMPACT))
 		return PVS__BAD_ARG(err, "unknown bake flags 0x%x", desc->flags);
 	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) {
 		const pvs__bake_method *m = pvs__bake_methods[k];
@@ -21366,12 +21389,21 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
 		return pvs__fail(err, PVS_ERROR_COUNT_OVERFLOW, -1, 0, "%u cells x %u objects do not fit in memory",
 						 desc->cell_count, b->object_count);
 	b->cells = (pvs_box *)pvs__alloc_array(a, b->cell_count, sizeof(pvs_box));
-	b->pvs = (pvs_word *)pvs__alloc_array(a, total, sizeof(pvs_word));
+	if ((desc->flags & PVS_BAKE_COMPACT) || bytes > PVS_BAKE_COMPACT_BYTES) {
+		b->rec = (uint8_t **)pvs__alloc_array(a, b->cell_count, sizeof(uint8_t *));
+		b->rec_size = (uint32_t *)pvs__alloc_array(a, b->cell_count, sizeof(uint32_t));
+		b->row = (pvs_word *)pvs__alloc_array(a, b->words, sizeof(pvs_word));
+		if (!b->rec || !b->rec_size || !b->row) return PVS__OOM(err, "compact bake for %u cells", desc->cell_count);
+		memset(b->rec, 0, b->cell_count * sizeof(uint8_t *));
+		memset(b->rec_size, 0, b->cell_count * sizeof(uint32_t));
+		total = 0;
+	} else if (!(b->pvs = (pvs_word *)pvs__alloc_array(a, total, sizeof(pvs_word))))
+		return PVS__OOM(err, "bake table for %u cells", desc->cell_count);
 	b->done = (unsigned char *)pvs__alloc_array(a, b->cell_count, 1);
 	b->restored = (unsigned char *)pvs__alloc_array(a, b->cell_count, 1);
 	b->stats = (uint32_t *)pvs__alloc_array(a, (size_t)b->cell_count * 2 * PVS_METHOD_COUNT, sizeof(uint32_t));
 	b->cell_flags = (unsigned char *)pvs__alloc_array(a, b->cell_count, 1);
-	if (!b->cells || !b->pvs || !b->done || !b->restored || !b->stats || !b->cell_flags)
+	if (!b->cells || !b->done || !b->restored || !b->stats || !b->cell_flags)
 		return PVS__OOM(err, "bake arrays for %u cells", desc->cell_count);
 	for (i = 0; i < b->cell_count; ++i) b->cells[i] = desc->cells[pvs_bake_task_cell(b, (uint32_t)i)];
 	if (b->adaptive_budget) {
@@ -21384,7 +21416,7 @@ PVS__STATIC pvs_result pvs__bake_arrays(pvs_bake *b, const pvs_bake_desc *desc, 
 			if (desc->scene->triangle_object[i] != PVS_NO_OBJECT)
 				++b->object_triangles[desc->scene->triangle_object[i]];
 	}
-	memset(b->pvs, 0, total * sizeof(pvs_word));
+	if (total) memset(b->pvs, 0, total * sizeof(pvs_word));
 	memset(b->done, 0, b->cell_count);
 	memset(b->restored, 0, b->cell_count);
 	memset(b->cell_flags, 0, b->cell_count);
@@ -21718,8 +21750,9 @@ PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell
 	return PVS_OK;
 }
 
-/* A done task's adaptive leaves, from scratch. */
-PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell, pvs_error *err) {
+/* A task's adaptive leaves below its PVS `bits`, from scratch. */
+PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_word *bits,
+									   pvs_error *err) {
 	const pvs_box *c = b->cells + task;
 	float min_size = b->adaptive_min_size, longest = 0.0f;
 	size_t nw = (49 + (size_t)b->run_count) * b->words;
@@ -21730,21 +21763,18 @@ PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell
 	for (k = 0; k < 3; ++k) longest = c->max[k] - c->min[k] > longest ? c->max[k] - c->min[k] : longest;
 	if (!(min_size > 0.0f)) min_size = 0.125f * longest;
 	b->leaves[task].count = 0;
-	memcpy(work, b->pvs + (size_t)task * b->words, b->words * sizeof(pvs_word));
+	memcpy(work, bits, b->words * sizeof(pvs_word));
 	r = pvs__bake_split(b, task, cell, c, min_size, work, work + 48 * b->words, 0, err);
 	pvs__free_array(&b->env.allocator, work, nw, sizeof(pvs_word));
 	return r;
 }
 
-PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err) {
-	uint32_t cell, k, i, n, *own, *sole;
-	pvs_word *bits, *each = NULL;
+/* pvs_bake_run_task's work: the task's PVS into bits, its stats and flags, its adaptive leaves. */
+PVS__STATIC pvs_result pvs__bake_task(pvs_bake *b, uint32_t task, uint32_t cell, pvs_word *bits, pvs_error *err) {
+	uint32_t k, i, n, *own, *sole;
+	pvs_word *each = NULL;
 	pvs_result r = PVS_OK;
 	size_t w;
-	if (!b || task >= b->cell_count)
-		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "task %u out of range", task);
-	cell = pvs_bake_task_cell(b, task);
-	bits = b->pvs + (size_t)task * b->words;
 	n = b->run_count;
 	own = b->stats + (size_t)task * 2 * PVS_METHOD_COUNT;
 	sole = own + PVS_METHOD_COUNT;
@@ -21778,10 +21808,23 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err)
 		if (r != PVS_OK) return r;
 	}
 	if (pvs_bitset_count(bits, b->object_count) >= b->drawable) b->cell_flags[task] |= PVS__BAKE_ALL_VISIBLE;
-	if (b->adaptive_budget) {
-		r = pvs__bake_adapt(b, task, cell, err);
-		if (r != PVS_OK) return r;
-	}
+	return b->adaptive_budget ? pvs__bake_adapt(b, task, cell, bits, err) : PVS_OK;
+}
+
+PVS_API pvs_result pvs_bake_run_task(pvs_bake *b, uint32_t task, pvs_error *err) {
+	uint32_t cell;
+	pvs_word *bits;
+	pvs_result r;
+	if (!b || task >= b->cell_count)
+		return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "task %u out of range", task);
+	cell = pvs_bake_task_cell(b, task);
+	bits = b->pvs ? b->pvs + (size_t)task * b->words
+				  : (pvs_word *)pvs__alloc_array(&b->env.allocator, b->words, sizeof(pvs_word));
+	if (!bits) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u: its PVS", cell);
+	r = pvs__bake_task(b, task, cell, bits, err);
+	if (r == PVS_OK && !b->pvs) r = pvs__bake_keep(b, task, bits, err);
+	if (!b->pvs) pvs__free_array(&b->env.allocator, bits, b->words, sizeof(pvs_word));
+	if (r != PVS_OK) return r;
 	b->done[task] = 1;
 	pvs__ok(err);
 	return PVS_OK;
@@ -21837,7 +21880,8 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_w
 		if (b->env.scene->object_flags[i] & PVS_OBJECT_OCCLUDER_ONLY)
 			return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets occluder-only object %u",
 							 task, i);
-	memcpy(b->pvs + (size_t)task * b->words, bits, b->words * sizeof(pvs_word));
+	if (b->pvs) memcpy(b->pvs + (size_t)task * b->words, bits, b->words * sizeof(pvs_word));
+	else if (pvs__bake_keep(b, task, bits, err) != PVS_OK) return err ? err->result : PVS_ERROR_OUT_OF_MEMORY;
 	b->restored[task] = 1;
 	b->done[task] = 1;
 	pvs__ok(err);
@@ -21876,7 +21920,11 @@ PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *b, uint32_t cell) {
 		task = (cell - b->shard_index) / b->shard_count;
 	}
 	if (task >= b->cell_count || !b->done[task]) return NULL;
-	return b->pvs + (size_t)task * b->words;
+	return pvs__bake_row(b, task, b->row);
+}
+
+PVS__STATIC const pvs_word *pvs__bake_file_row(const void *user, uint32_t task, pvs_word *buffer) {
+	return pvs__bake_row((const pvs_bake *)user, task, buffer);
 }
 
 PVS__STATIC void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
@@ -21885,6 +21933,8 @@ PVS__STATIC void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
 	fd->cell_count = b->cell_count;
 	fd->object_count = b->object_count;
 	fd->pvs = b->pvs;
+	fd->pvs_row = b->pvs ? NULL : pvs__bake_file_row;
+	fd->pvs_user = b;
 	fd->method = b->method;
 	fd->eps = b->env.eps;
 	fd->up_axis = pvs_scene_up_axis(b->env.scene);
@@ -22451,6 +22501,33 @@ PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint
 #ifndef PVS_RUNTIME_ONLY /* the encoder */
 /* ---- encoder ---- */
 
+/* A compact bake's task PVS: coding byte, then pvs__set_write's body (re-running a task replaces it). */
+PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word *bits, pvs_error *err) {
+	pvs__coded c = pvs__set_measure(bits, b->object_count);
+	uint8_t *p = (uint8_t *)pvs__alloc_array(&b->env.allocator, c.bytes + 1, 1);
+	if (!p) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, task, 0, "task %u: its coded PVS", task);
+	p[0] = (uint8_t)c.coding;
+	pvs__set_write(bits, b->object_count, &c, p + 1);
+	pvs__free_array(&b->env.allocator, b->rec[task], b->rec_size[task], 1);
+	b->rec[task] = p;
+	b->rec_size[task] = (uint32_t)(c.bytes + 1);
+	return PVS_OK;
+}
+
+PVS__STATIC const pvs_word *pvs__bake_row(const pvs_bake *b, uint32_t task, pvs_word *buffer) {
+	const uint8_t *p = b->rec ? b->rec[task] : NULL;
+	pvs__sink s;
+	size_t used, bad;
+	if (b->pvs) return b->pvs + (size_t)task * b->words;
+	memset(buffer, 0, b->words * sizeof(pvs_word));
+	memset(&s, 0, sizeof(s));
+	s.action = PVS__SET_ADD;
+	s.bits = buffer;
+	s.words = (uint32_t)b->words;
+	if (p) (void)pvs__set_apply(p + 1, p + b->rec_size[task], p[0], b->object_count, &s, &used, &bad);
+	return buffer;
+}
+
 typedef struct pvs__heapent {
 	uint32_t weight, node, from; /* from: base cell + 1; 0: virtual root (a key) */
 } pvs__heapent;
@@ -22621,6 +22698,9 @@ typedef struct pvs__encoder {
 	uint32_t *base, *depth;    /* PVS_NO_CELL for keys */
 	unsigned char *placed;
 	pvs_word *tmp, *ranks;
+	pvs_word *rows;			   /* pvs_row's two buffers; the rows it gave, of cells row_of */
+	const pvs_word *row[2];
+	uint32_t row_of[2];
 } pvs__encoder;
 
 PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
@@ -22640,20 +22720,31 @@ PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
 	pvs__free_array(a, e->placed, e->cells, 1);
 	pvs__free_array(a, e->tmp, e->words, sizeof(pvs_word));
 	pvs__free_array(a, e->ranks, e->words, sizeof(pvs_word));
+	pvs__free_array(a, e->rows, 2 * e->words, sizeof(pvs_word));
+}
+
+/* Cell i's PVS: desc's table, or pvs_row's into slot 0 (a record's cell) or 1 (its base), kept while it holds i. */
+PVS__STATIC const pvs_word *pvs__encoder_row(pvs__encoder *e, uint32_t i, int slot) {
+	if (e->d->pvs) return e->d->pvs + (size_t)i * e->words;
+	if (e->row_of[slot] != i) {
+		e->row_of[slot] = i;
+		e->row[slot] = e->d->pvs_row(e->d->pvs_user, i, e->rows + slot * e->words);
+	}
+	return e->row[slot];
 }
 
 /* Cell i's record sets against base j (PVS_NO_CELL: a key): e->tmp = ids added (a key: whole PVS); a delta's
    e->ranks = ids removed, as ranks in base's PVS (Durand et al. 2000, §6.2; ranks among base's few visible
    objects are cheaper). Returns base's PVS size. */
 PVS__STATIC uint32_t pvs__encoder_sets(pvs__encoder *e, uint32_t i, uint32_t j) {
-	const pvs_word *x = e->d->pvs + (size_t)i * e->words;
+	const pvs_word *x = pvs__encoder_row(e, i, 0);
 	pvs_word last = (e->n & 63) ? ((pvs_word)1 << (e->n & 63)) - 1u : ~(pvs_word)0;
 	uint32_t m = 0;
 	size_t w;
 	if (j == PVS_NO_CELL) {
 		memcpy(e->tmp, x, e->words * sizeof(pvs_word));
 	} else {
-		const pvs_word *y = e->d->pvs + (size_t)j * e->words;
+		const pvs_word *y = pvs__encoder_row(e, j, 1);
 		memset(e->ranks, 0, e->words * sizeof(pvs_word));
 		for (w = 0; w < e->words; ++w) {
 			pvs_word base = y[w] & (w + 1 == e->words ? last : ~(pvs_word)0), gone = base & ~x[w];
@@ -22811,8 +22902,8 @@ PVS__STATIC pvs_result pvs__encode_check(const pvs_file_desc *d, uint32_t *max_c
 										 pvs_error *err) {
 	pvs_result r;
 	uint32_t i;
-	if (!d || !d->cells || !d->pvs || !d->cell_count || !d->object_count)
-		return PVS__BAD_ARG(err, "desc, cells and pvs must not be NULL or empty");
+	if (!d || !d->cells || (!d->pvs && !d->pvs_row) || !d->cell_count || !d->object_count)
+		return PVS__BAD_ARG(err, "desc, cells and pvs (or pvs_row) must not be NULL or empty");
 	if (d->up_axis != 1 && d->up_axis != 2)
 		return PVS__BAD_ARG(err, "up_axis must be 1 or 2");
 	if ((int)d->method < 0 || d->method >= PVS_METHOD_COUNT || !pvs__finite(d->eps) || d->eps < 0.0f)
@@ -23074,7 +23165,9 @@ PVS_API pvs_result pvs_file_encode(const pvs_file_desc *d, void *out, size_t cap
 
 	e.tmp = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
 	e.ranks = (pvs_word *)pvs__alloc_array(&e.a, e.words, sizeof(pvs_word));
-	if (!e.tmp || !e.ranks) { r = PVS__OOM(err, "encoder bitset"); goto done; }
+	e.rows = (pvs_word *)pvs__alloc_array(&e.a, 2 * e.words, sizeof(pvs_word));
+	e.row_of[0] = e.row_of[1] = PVS_NO_CELL;
+	if (!e.tmp || !e.ranks || !e.rows) { r = PVS__OOM(err, "encoder bitset"); goto done; }
 	r = pvs__encoder_bases(&e, max_chain, err);
 	if (r != PVS_OK) goto done;
 	for (i = 0; i < e.cells; ++i) keys += e.base[i] == PVS_NO_CELL;

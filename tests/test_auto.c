@@ -591,7 +591,59 @@ static void check_costly(void) {
     mesh_cells_free(&cells);
 }
 
+/* PVS_BAKE_COMPACT (memory that grows with the PVSs): the same files and PVSs as the dense table, for AUTO, one
+   method and adaptive cells, and when half the tasks are restored from a dense bake. */
+static void check_compact(gen_kind kind, uint64_t seed, pvs_method method, uint32_t adaptive) {
+    mesh m;
+    mesh_cells cells;
+    pvs_scene *s = gen_auto_scene("compact", kind, seed, 0.15f, 8, &m, &cells);
+    pvs_bake *dense = NULL, *compact = NULL, *part = NULL;
+    pvs_bake_desc bd;
+    pvs_error e;
+    uint8_t *f[3] = {NULL, NULL, NULL};
+    size_t sz[3] = {0, 0, 0};
+    uint32_t t, k, words;
+    if (!s) return;
+    words = (uint32_t)PVS_BITSET_WORDS(pvs_scene_object_count(s));
+    memset(&bd, 0, sizeof(bd));
+    bd.method = method;
+    bd.adaptive.budget = adaptive;
+    dense = bake_all(&bd, s, &cells);
+    bd.flags = PVS_BAKE_COMPACT;
+    compact = bake_all(&bd, s, &cells);
+    CHECK(dense && compact);
+    if (dense && compact) {
+        for (t = 0; t < cells.count; ++t)
+            CHECK(memcmp(pvs_bake_cell_pvs(dense, t), pvs_bake_cell_pvs(compact, t), words * sizeof(pvs_word)) == 0);
+        CHECK(pvs_bake_leaf_count(dense) == pvs_bake_leaf_count(compact));
+        if (!adaptive) {
+            CHECK(pvs_bake_begin(&bd, &part, &e) == PVS_OK);
+            for (t = 0; part && t < pvs_bake_task_count(part); ++t)
+                CHECK((t & 1 ? pvs_bake_run_task(part, t, &e)
+                             : pvs_bake_restore_task(part, t, pvs_bake_cell_pvs(dense, t), words, &e)) == PVS_OK);
+        }
+        for (k = 0; k < 3; ++k) {
+            pvs_bake *b = k == 0 ? dense : k == 1 ? compact : part;
+            if (!b) continue;
+            sz[k] = pvs_bake_file_size(b);
+            f[k] = (uint8_t *)malloc(sz[k] + 1);
+            CHECK(sz[k] > 0 && f[k] && pvs_bake_write_file(b, f[k], sz[k], &sz[k], NULL) == PVS_OK);
+            CHECK(sz[k] == sz[0] && memcmp(f[k], f[0], sz[0]) == 0);
+        }
+    }
+    for (k = 0; k < 3; ++k) free(f[k]);
+    pvs_bake_destroy(dense);
+    pvs_bake_destroy(compact);
+    pvs_bake_destroy(part);
+    pvs_scene_destroy(s);
+    mesh_cells_free(&cells);
+    mesh_free(&m);
+}
+
 void test_auto(void) {
+    check_compact(GEN_WALLS, 4, PVS_METHOD_AUTO, 0);
+    check_compact(GEN_INDOOR, 5, PVS_METHOD_OTREE, 0);
+    check_compact(GEN_CITY, 6, PVS_METHOD_OTREE, 24);
     check_sweep_default();
     check_mask_preview();
     check_nothing_applies();

@@ -502,13 +502,26 @@ static int cli__order_parts(const char *const *paths, int count, const pvs_file 
     return 0;
 }
 
+/* The merged table's rows, decoded from the parts on demand (memory: the parts, not cells x objects). */
+typedef struct cli__merge_rows {
+    const pvs_file *files;
+    const int *by_shard;
+    uint32_t n, words;
+} cli__merge_rows;
+
+static const pvs_word *cli__merge_row(const void *user, uint32_t c, pvs_word *buffer) {
+    const cli__merge_rows *m = (const cli__merge_rows *)user;
+    pvs_file_decode(m->files + m->by_shard[c % m->n], c / m->n, buffer, m->words, NULL);
+    return buffer;
+}
+
 int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out_size, tool_error *err) {
     void **data = (void **)calloc((size_t)count, sizeof(void *));
     pvs_file *files = (pvs_file *)calloc((size_t)count, sizeof(pvs_file));
     int *by_shard = NULL, i, rc = -1;
     uint32_t n = 0, total = 0, words = 0, c;
     pvs_box *boxes = NULL;
-    pvs_word *table = NULL;
+    cli__merge_rows rows;
     uint8_t *vcount = NULL, *vscale = NULL, *vbytes = NULL;
     const char **names = NULL;
     size_t vat = 0;
@@ -526,8 +539,7 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     if (cli__order_parts(paths, count, files, n, by_shard, err)) goto done;
     words = (uint32_t)PVS_BITSET_WORDS(files[0].object_count);
     boxes = (pvs_box *)malloc((size_t)total * sizeof(pvs_box));
-    table = (pvs_word *)malloc((size_t)total * words * sizeof(pvs_word));
-    if (!boxes || !table) { tool_error_set(err, NULL, 0, "out of memory for %u cells", total); goto done; }
+    if (!boxes) { tool_error_set(err, NULL, 0, "out of memory for %u cells", total); goto done; }
     if (files[0].vocc_flags & PVS_VOCC_STORED) { /* the virtual occluders too, back to back in cell order */
         size_t occluders = 0;
         for (i = 0; i < count; ++i) occluders += files[i].virtual_occluder_count;
@@ -540,7 +552,6 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
         const pvs_file *f = files + by_shard[c % n];
         uint32_t local = c / n;
         boxes[c] = pvs_file_cell_box(f, local);
-        pvs_file_decode(f, local, table + (size_t)c * words, words, NULL);
         if (vcount) {
             const uint8_t *p = NULL;
             uint32_t sc = 0, k = pvs_file_vocc_record(f, local, &sc, &p);
@@ -554,7 +565,12 @@ int cli_merge_parts(const char *const *paths, int count, void **out, size_t *out
     d.cells = boxes;
     d.cell_count = total;
     d.object_count = files[0].object_count;
-    d.pvs = table;
+    rows.files = files;
+    rows.by_shard = by_shard;
+    rows.n = n;
+    rows.words = words;
+    d.pvs_row = cli__merge_row;
+    d.pvs_user = &rows;
     d.method = files[0].method;
     d.eps = files[0].eps;
     d.up_axis = files[0].up_axis;
@@ -593,7 +609,6 @@ done:
     free(files);
     free(by_shard);
     free(boxes);
-    free(table);
     free(vcount);
     free(vscale);
     free(vbytes);
