@@ -1,4 +1,4 @@
-/* pvs.h - v0.9.0 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.9.1 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -127,14 +127,15 @@
    MEMORY
    ======
    Allocates through the desc's allocator: pvs_scene_create (triangles, kD-trees: at most PVS_SCENE_BYTES_PER_TRIANGLE,
-   2.4 KB, per triangle and object); pvs_bake_begin (a bitset per cell: cell_count * object_count / 8 bytes, 40 of
-   statistics per cell); pvs_bake_run_task (AUTO: a bitset per method; EXTPROJ: (128 + 8 x sweep planes) x N^2 bytes of
-   N x N depth maps and sweep masks, plus summed-area tables of 4 (N^2 + N + 1 + min(16 N, 16384)) bytes per plane of a
-   direction up to 64 MiB, at least two (pvs_extproj_task_bytes): 8 MB at 256 pixels, 21 MB with 16 sweep planes, 0.7 GB
-   at 1024 and 64, freed on return; adaptive cells: a box and a bitset per leaf, kept); pvs_file_encode (about 40 bytes
-   per cell plus a bitset); pvs_raster_create (depth map, pyramid, cull map); pvs_otree_create (about 250 bytes per node
-   of its budget, 5 per kD node and object). Allocate nothing: the pvs_file_* readers, pvs_cursor_*, kD-tree queries,
-   pvs_raster_cull*, pvs_otree_cull, pvs_vocc_cull. A .pvs file is used in place.
+   2.4 KB, per triangle and object); pvs_bake_begin (a bitset per cell, cell_count * object_count / 8 bytes, or
+   PVS_BAKE_COMPACT's coded PVSs; 40 of statistics per cell); pvs_bake_run_task (AUTO: a bitset per method; EXTPROJ:
+   (128 + 8 x sweep planes) x N^2 bytes of N x N depth maps and sweep masks, plus summed-area tables of 4 (N^2 + N + 1 +
+   min(16 N, 16384)) bytes per plane of a direction up to 64 MiB, at least two (pvs_extproj_task_bytes): 8 MB at 256
+   pixels, 21 MB with 16 sweep planes, 0.7 GB at 1024 and 64, freed on return; adaptive cells: a box and a bitset per
+   leaf, kept); pvs_file_encode (about 40 bytes per cell plus a bitset); pvs_raster_create (depth map, pyramid, cull
+   map); pvs_otree_create (about 250 bytes per node of its budget, 5 per kD node and object). Allocate nothing: the
+   pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*, pvs_otree_cull, pvs_vocc_cull. A .pvs file is
+   used in place.
 
    PERFORMANCE
    ===========
@@ -230,7 +231,7 @@
 
    RECENT HISTORY (older: FULL HISTORY at the end)
    ==============
-   0.9.0 (2026-11-28) see-through objects, object names, PVS_RUNTIME_ONLY, walkable view cells.
+   0.9.1 (2026-11-28) PVS_BAKE_COMPACT: bake memory grows with the PVSs; PORTAL clips by pass planes.
 */
 // >>api
 #ifndef PVS_H
@@ -241,7 +242,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 9
-#define PVS_VERSION_PATCH 0
+#define PVS_VERSION_PATCH 1
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 1
 
@@ -15234,13 +15235,13 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 
    Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): a segment from x in view cell C through portals
    P1 .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: the lines' source is C_j, C clipped
-   to that side (empty: no such line). Beyond Pj the segment stays behind every separating plane of C_j and its crossing
-   region on Pj. Each step P -> Q (or a start leaf's portal Q) keeps convex hull R of regions so found on Q; a
-   region W (Q clipped by the step's planes into P) not inside R grows R to hull(R, W) and queues the step: a monotone
-   fixed point (as q3map2's might-see pruning, a path adding nothing is not followed); by induction every crossing point
-   lies in its step's R. An object of a leaf entered through Q is kept unless its part in it is wholly beyond one
-   plane of the step. A cell keeps every object of the empty leaves it overlaps; past `budget` portal clips, every
-   object of every empty leaf reachable from them (conservative cut-off). */
+   to that side (empty: no such line). Beyond Pj the segment stays behind every separating plane of C_j (or of P(j-1))
+   and its crossing region on Pj. Each step P -> Q (or a start leaf's portal Q) keeps convex hull R of regions so found
+   on Q; a region W (Q clipped by the step's planes into P) not inside R grows R to hull(R, W) and queues the step: a
+   monotone fixed point (as q3map2's might-see pruning, a path adding nothing is not followed); by induction every
+   crossing point lies in its step's R. An object of a leaf entered through Q is kept unless its part in it is wholly
+   beyond one plane of the step. A cell keeps every object of the empty leaves it overlaps; past `budget` portal clips,
+   every object of every empty leaf reachable from them (conservative cut-off). */
 
 #define PVS__PO_MAXW 64u		  /* clipped winding vertices */
 #define PVS__PO_MAXS 64u		  /* separating planes per region */
@@ -15980,7 +15981,7 @@ typedef struct pvs__po_win {
 
 /* Step state (start leaf's portal q, or step src -> q): where lines from cell through earlier portals cross q. */
 typedef struct pvs__po_region {
-	uint32_t q, n, grows;
+	uint32_t q, n, grows, from; /* from: portal before q (PVS__PO_NONE: q leaves a start leaf) */
 	uint32_t next, queued;	   /* queue: list through regions */
 	double v[PVS__PO_MAXW][3];
 } pvs__po_region;
@@ -16230,7 +16231,7 @@ PVS__STATIC uint32_t pvs__po_new_region(pvs__po_flow *f, uint32_t state) {
 }
 
 /* Offers `state` (step into portal q) lines crossing q within w: queued if new or grown to hold them. */
-PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t q, const pvs__po_wind *w) {
+PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t from, uint32_t q, const pvs__po_wind *w) {
 	const pvs__poprep *p = f->p;
 	pvs__po_region *r;
 	uint32_t id = pvs__po_slot(f, state)[1];
@@ -16242,6 +16243,7 @@ PVS__STATIC void pvs__po_offer(pvs__po_flow *f, uint32_t state, uint32_t q, cons
 		}
 		r = f->reg + id;
 		r->q = q;
+		r->from = from;
 		r->n = w->n;
 		r->grows = 0;
 		memcpy(r->v, w->p, w->n * sizeof(w->p[0]));
@@ -16274,7 +16276,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 			if (f->start[pt->to]) continue;
 			w.n = pt->n;
 			memcpy(w.p, p->portal_v[pt->first], pt->n * sizeof(w.p[0]));
-			pvs__po_offer(f, p->ep_first[p->portal_count] + q, q, &w);
+			pvs__po_offer(f, p->ep_first[p->portal_count] + q, PVS__PO_NONE, q, &w);
 		}
 	}
 	while (f->head != PVS__PO_NONE && !f->cut && !f->oom) {
@@ -16290,6 +16292,16 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 		win.np = 0;
 		memcpy(win.v, f->reg[id].v, win.nv * sizeof(win.v[0]));
 		pvs__po_window_planes(&win, &src, 1e-4 * p->tol);
+		if (f->reg[id].from != PVS__PO_NONE) { /* and P(j-1)'s: lines pass both portals */
+			const pvs__po_portal *pf = p->portals + f->reg[id].from;
+			src.n = src.ne = pf->n;
+			for (k = 0; k < pf->n; ++k) {
+				memcpy(src.v[k], p->portal_v[pf->first + k], sizeof(src.v[0]));
+				src.e[k][0] = (uint8_t)k;
+				src.e[k][1] = (uint8_t)((k + 1) % pf->n);
+			}
+			pvs__po_window_planes(&win, &src, 1e-4 * p->tol);
+		}
 		pvs__po_keep(f, pt->to, &win);
 		for (j = p->lp_first[pt->to]; j < p->lp_first[pt->to + 1]; ++j) {
 			uint32_t q2 = p->lp[j];
@@ -16302,7 +16314,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 			w.n = p2->n;
 			memcpy(w.p, p->portal_v[p2->first], p2->n * sizeof(w.p[0]));
 			for (k = 0; k < win.np && w.n >= 3; ++k) f->cut |= pvs__po_clip(&w, win.pl[k], p->tol);
-			if (w.n >= 3) pvs__po_offer(f, p->ep_first[q] + (j - p->lp_first[pt->to]), q2, &w);
+			if (w.n >= 3) pvs__po_offer(f, p->ep_first[q] + (j - p->lp_first[pt->to]), q, q2, &w);
 		}
 	}
 }
@@ -21208,9 +21220,9 @@ struct pvs_bake {
 	struct pvs__bakeleaves *leaves; /* adaptive: per task, its leaf cells */
 };
 
-/* Task's PVS into the bake (compact: coded; defined with the encoder); its words (compact: decoded into buffer). */
+/* Task's PVS into bake b (compact: coded; with the encoder); its words (compact: decoded into buffer). */
 PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word *bits, pvs_error *err);
-PVS__STATIC const pvs_word *pvs__bake_row(const pvs_bake *b, uint32_t task, pvs_word *buffer);
+PVS__STATIC const pvs_word *pvs__bake_row(const void *bake, uint32_t task, pvs_word *buffer);
 
 /* An adaptive task's leaf cells and PVSs. */
 typedef struct pvs__bakeleaves {
@@ -21923,17 +21935,13 @@ PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *b, uint32_t cell) {
 	return pvs__bake_row(b, task, b->row);
 }
 
-PVS__STATIC const pvs_word *pvs__bake_file_row(const void *user, uint32_t task, pvs_word *buffer) {
-	return pvs__bake_row((const pvs_bake *)user, task, buffer);
-}
-
 PVS__STATIC void pvs__bake_file_desc(const pvs_bake *b, pvs_file_desc *fd) {
 	memset(fd, 0, sizeof(*fd));
 	fd->cells = b->cells;
 	fd->cell_count = b->cell_count;
 	fd->object_count = b->object_count;
 	fd->pvs = b->pvs;
-	fd->pvs_row = b->pvs ? NULL : pvs__bake_file_row;
+	fd->pvs_row = b->pvs ? NULL : pvs__bake_row;
 	fd->pvs_user = b;
 	fd->method = b->method;
 	fd->eps = b->env.eps;
@@ -22514,7 +22522,8 @@ PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word
 	return PVS_OK;
 }
 
-PVS__STATIC const pvs_word *pvs__bake_row(const pvs_bake *b, uint32_t task, pvs_word *buffer) {
+PVS__STATIC const pvs_word *pvs__bake_row(const void *bake, uint32_t task, pvs_word *buffer) {
+	const pvs_bake *b = (const pvs_bake *)bake;
 	const uint8_t *p = b->rec ? b->rec[task] : NULL;
 	pvs__sink s;
 	size_t used, bad;
@@ -23987,6 +23996,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
+   0.9.1 (2026-11-28) PVS_BAKE_COMPACT, pvs_file_desc.pvs_row; PORTAL's pass planes.
    0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH, NAME section, PVS_RUNTIME_ONLY, pvs_walkable_cells.
    0.8.0 (2026-11-28) pvs_scene_fingerprint, stored in an optional SCNE section (pvs_file.scene_fingerprint).
    0.7.1 (2026-11-28) AUTO's prices grow with SHRINK's sample points and OTREE's levels; costly ones not sampled.
