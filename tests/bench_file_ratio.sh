@@ -5,6 +5,8 @@
 #   BENCH file_ratio_raw_SCENE    the file over the raw table
 #   BENCH file_ratio_gzip_SCENE   the file over gzip -9 of the raw table
 #   BENCH file_ratio_xz_SCENE     the file over xz -9 of the raw table
+#   BENCH file_ratio_zrl_SCENE    the file over the raw table's rows compressed as Quake's vis does (each byte
+#                                 as is, but a run of up to 255 zero bytes as a 0 and its length; rows apart)
 # then the means over the scenes measured. The generator scenes are baked without object names (--no-names:
 # identity, not visibility; the raw table holds none either). A compressor not installed is skipped with a message.
 set -u
@@ -19,6 +21,10 @@ ratio() { # FILE.pvs LABEL
   "$B/pvsinfo" --raw "$1" "$T/raw.bin" || return
   f=$(wc -c < "$1"); r=$(wc -c < "$T/raw.bin")
   echo "BENCH file_ratio_raw_$2 $(awk "BEGIN { printf \"%.3f\", $f / $r }") ratio"
+  row=$("$B/pvsinfo" "$1" | awk '/^objects/ { printf "%d", ($2 + 7) / 8 }')
+  z=$(od -An -v -tu1 -w"$row" "$T/raw.bin" | awk '{ for (i = 1; i <= NF; ) if ($i != 0) { n++; i++ }
+        else { for (c = 0; i <= NF && $i == 0 && c < 255; c++) i++; n += 2 } } END { print n + 0 }')
+  [ "$z" -gt 0 ] && echo "BENCH file_ratio_zrl_$2 $(awk "BEGIN { printf \"%.2f\", $f / $z }") ratio"
   g=0; x=0
   if [ $have_gzip -eq 1 ]; then
     g=$(gzip -9 -c "$T/raw.bin" | wc -c)
@@ -28,7 +34,7 @@ ratio() { # FILE.pvs LABEL
     x=$(xz -9 -c "$T/raw.bin" | wc -c)
     echo "BENCH file_ratio_xz_$2 $(awk "BEGIN { printf \"%.2f\", $f / $x }") ratio"
   fi
-  echo "$f $r $g $x" >> "$sums"
+  echo "$f $r $g $x $z" >> "$sums"
 }
 for s in "city 0.5" "indoor 1" "building 0.5" "walls 1" "forest 0.5" "soup 1"; do
   set -- $s
@@ -42,7 +48,9 @@ for p in "$B"/maps/*.whole.pvs; do
   m=$(basename "$p" .whole.pvs)
   ratio "$p" "$m"
 done
-awk '{ n++; if ($3 > 0) { g += $1 / $3; ng++ } if ($4 > 0) { x += $1 / $4; nx++ } r += $1 / $2 }
+awk '{ n++; if ($3 > 0) { g += $1 / $3; ng++ } if ($4 > 0) { x += $1 / $4; nx++ } if ($5 > 0) { z += $1 / $5; nz++ }
+       r += $1 / $2 }
      END { if (n) printf "BENCH file_ratio_raw_mean %.3f ratio\n", r / n;
            if (ng) printf "BENCH file_ratio_gzip_mean %.2f ratio\n", g / ng;
-           if (nx) printf "BENCH file_ratio_xz_mean %.2f ratio\n", x / nx }' "$sums"
+           if (nx) printf "BENCH file_ratio_xz_mean %.2f ratio\n", x / nx;
+           if (nz) printf "BENCH file_ratio_zrl_mean %.2f ratio\n", z / nz }' "$sums"
