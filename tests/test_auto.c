@@ -591,9 +591,9 @@ static void check_costly(void) {
     mesh_cells_free(&cells);
 }
 
-/* PVS_BAKE_COMPACT (memory that grows with the PVSs): the same files and PVSs as the dense table, for AUTO, one
-   method and adaptive cells, and when half the tasks are restored from a dense bake. */
-static void check_compact(gen_kind kind, uint64_t seed, pvs_method method, uint32_t adaptive) {
+/* PVS_BAKE_COMPACT (memory that grows with the PVSs): the same files and PVSs as the dense table, for AUTO (two
+   methods), one method and adaptive cells, and when half the tasks are restored from a dense bake. */
+static void check_compact(gen_kind kind, uint64_t seed, pvs_method method, uint32_t methods, uint32_t adaptive) {
     mesh m;
     mesh_cells cells;
     pvs_scene *s = gen_auto_scene("compact", kind, seed, 0.15f, 8, &m, &cells);
@@ -607,6 +607,7 @@ static void check_compact(gen_kind kind, uint64_t seed, pvs_method method, uint3
     words = (uint32_t)PVS_BITSET_WORDS(pvs_scene_object_count(s));
     memset(&bd, 0, sizeof(bd));
     bd.method = method;
+    bd.methods = methods;
     bd.adaptive.budget = adaptive;
     dense = bake_all(&bd, s, &cells);
     bd.flags = PVS_BAKE_COMPACT;
@@ -641,9 +642,9 @@ static void check_compact(gen_kind kind, uint64_t seed, pvs_method method, uint3
 }
 
 void test_auto(void) {
-    check_compact(GEN_WALLS, 4, PVS_METHOD_AUTO, 0);
-    check_compact(GEN_INDOOR, 5, PVS_METHOD_OTREE, 0);
-    check_compact(GEN_CITY, 6, PVS_METHOD_OTREE, 24);
+    check_compact(GEN_WALLS, 4, PVS_METHOD_AUTO, (1u << PVS_METHOD_OTREE) | (1u << PVS_METHOD_PORTAL), 0);
+    check_compact(GEN_INDOOR, 5, PVS_METHOD_OTREE, 0, 0);
+    check_compact(GEN_WALLS, 6, PVS_METHOD_OTREE, 0, 24);
     check_sweep_default();
     check_mask_preview();
     check_nothing_applies();
