@@ -21,7 +21,7 @@ TEST_SRC := tests/impl.c tests/test_extproj.c tests/test_noalloc.c tests/main.c 
             tests/test_gen.c tests/test_tools.c tests/test_cli.c tests/test_raster.c tests/test_otree.c \
             tests/test_shrink.c tests/test_auto.c tests/test_examples.c tests/test_vocc.c tests/test_bsp.c tests/test_portal.c tests/test_seethrough.c tests/test_walkable.c tools/mesh.c tools/bsp.c tools/obj.c tools/toolutil.c tools/gen.c tools/cli.c tools/render.c tests/fuzz_target.c
 
-.PHONY: all tools test test-neon demo bench verify fuzz clean compile-checks readme-check examples cullmap-images lint
+.PHONY: all tools test test-neon demo bench verify fuzz clean compile-checks readme-check examples cullmap-images lint bench-moc
 all: tools
 tools: $(TOOLS)
 
@@ -138,6 +138,23 @@ bench: $(patsubst %,$(B)/bench_%,$(BENCHES)) $(B)/pvswalkthrough tools
 	@size $(B)/runtime_only.o | awk 'NR == 2 { print "BENCH runtime_text_bytes " $$1 " bytes" }'
 	sh tests/bench_maps.sh
 	sh tests/bench_file_ratio.sh
+
+# Side by side with Intel's Masked Occlusion Culling (issue 31): tests/bench_moc.cpp built against a checkout of
+# github.com/GameTechDev/MaskedOcclusionCulling named by MOC_DIR (outside the repository; its code is never committed
+# here), every MOC path the CPU has, one process, one core. Not part of `make bench`; without MOC_DIR it says so.
+MOC_FLAGS := -O2 -std=c++11 -DUSE_AVX512=1 -include tests/bench_moc_shim.h
+bench-moc: tools
+	@if [ -z "$(MOC_DIR)" ] || [ ! -f "$(MOC_DIR)/MaskedOcclusionCulling.h" ]; then \
+	  echo "bench-moc: set MOC_DIR to a checkout of github.com/GameTechDev/MaskedOcclusionCulling"; exit 0; fi; \
+	mkdir -p $(B)/moc && \
+	$(CXX) $(MOC_FLAGS) -msse4.1 -c -o $(B)/moc/sse.o $(MOC_DIR)/MaskedOcclusionCulling.cpp && \
+	$(CXX) $(MOC_FLAGS) -mavx2 -mfma -msse4.1 -c -o $(B)/moc/avx2.o $(MOC_DIR)/MaskedOcclusionCullingAVX2.cpp && \
+	$(CXX) $(MOC_FLAGS) -mavx512f -mavx512bw -mavx512dq -mavx2 -mfma -msse4.1 -c -o $(B)/moc/avx512.o \
+	  $(MOC_DIR)/MaskedOcclusionCullingAVX512.cpp && \
+	$(CXX) $(MOC_FLAGS) -I$(MOC_DIR) -o $(B)/bench_moc tests/bench_moc.cpp $(B)/moc/sse.o $(B)/moc/avx2.o \
+	  $(B)/moc/avx512.o $(TOOL_OBJ) $(LDLIBS) && \
+	(cd $(MOC_DIR) && git log -1 --format='# MOC commit %H' 2>/dev/null || true) && \
+	grep -m1 'model name' /proc/cpuinfo | sed 's/^/# /' ; ./$(B)/bench_moc
 
 # Fuzzing the file reader: a libFuzzer build (clang) seeded with tests/corpus, FUZZ_SECONDS long, and
 # a plain replay binary (any compiler) that runs files through the same target.
