@@ -21893,7 +21893,7 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_w
 			return pvs__fail(err, PVS_ERROR_INVALID_ARGUMENT, task, 0, "restore: task %u sets occluder-only object %u",
 							 task, i);
 	if (b->pvs) memcpy(b->pvs + (size_t)task * b->words, bits, b->words * sizeof(pvs_word));
-	else if (pvs__bake_keep(b, task, bits, err) != PVS_OK) return err ? err->result : PVS_ERROR_OUT_OF_MEMORY;
+	else if (pvs__bake_keep(b, task, bits, err) != PVS_OK) return PVS_ERROR_OUT_OF_MEMORY;
 	b->restored[task] = 1;
 	b->done[task] = 1;
 	pvs__ok(err);
@@ -22524,10 +22524,11 @@ PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word
 
 PVS__STATIC const pvs_word *pvs__bake_row(const void *bake, uint32_t task, pvs_word *buffer) {
 	const pvs_bake *b = (const pvs_bake *)bake;
-	const uint8_t *p = b->rec ? b->rec[task] : NULL;
+	const uint8_t *p;
 	pvs__sink s;
 	size_t used, bad;
 	if (b->pvs) return b->pvs + (size_t)task * b->words;
+	p = b->rec[task];
 	memset(buffer, 0, b->words * sizeof(pvs_word));
 	memset(&s, 0, sizeof(s));
 	s.action = PVS__SET_ADD;
