@@ -146,6 +146,26 @@ static inline pvs_allocator test_peak_allocator(test_peak *p) {
     return a;
 }
 
+/* ---- ray casting ---- */
+
+/* Moller-Trumbore in double: ray o + t d against triangle a, b, c (float corners, subtracted in double). 0 when
+   |det| < min_det (ray parallel to the plane); else 1 and uvt = (u, v, t): inside when u, v >= 0 and u + v <= 1. The
+   tests' brute-force references share it and keep their own acceptance rules. */
+static inline int test_ray_triangle(const double o[3], const double d[3], const float *a, const float *b,
+                                    const float *c, double min_det, double uvt[3]) {
+    double e1[3], e2[3], p[3], q[3], s[3], det;
+    int k;
+    for (k = 0; k < 3; ++k) { e1[k] = (double)b[k] - a[k]; e2[k] = (double)c[k] - a[k]; s[k] = o[k] - a[k]; }
+    p[0] = d[1] * e2[2] - d[2] * e2[1]; p[1] = d[2] * e2[0] - d[0] * e2[2]; p[2] = d[0] * e2[1] - d[1] * e2[0];
+    det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+    if (fabs(det) < min_det) return 0;
+    q[0] = s[1] * e1[2] - s[2] * e1[1]; q[1] = s[2] * e1[0] - s[0] * e1[2]; q[2] = s[0] * e1[1] - s[1] * e1[0];
+    uvt[0] = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) / det;
+    uvt[1] = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
+    uvt[2] = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+    return 1;
+}
+
 /* ---- scenes ---- */
 
 /* A closed box as 12 triangles over its 8 corners, corner c at the box's max along axis k when bit k

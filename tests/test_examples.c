@@ -60,22 +60,17 @@ static void test_renderer(void) {
         r[0] = f[1] * u[2] - f[2] * u[1]; r[1] = f[2] * u[0] - f[0] * u[2]; r[2] = f[0] * u[1] - f[1] * u[0];
         for (y = 0; y < im.height; ++y)
             for (x = 0; x < im.width; ++x) {
-                double sx = ((x + 0.5) / im.width * 2.0 - 1.0) * th * asp, sy = (1.0 - (y + 0.5) / im.height * 2.0) * th, d[3], e1[3], e2[3],
-                       s[3], p[3], q[3], det, bu, bv, tt, margin;
+                double sx = ((x + 0.5) / im.width * 2.0 - 1.0) * th * asp, sy = (1.0 - (y + 0.5) / im.height * 2.0) * th, d[3],
+                       eye[3], h[3], bu, bv, tt, margin;
                 int hit, got;
                 for (k = 0; k < 3; ++k) {
                     d[k] = f[k] + sx * r[k] + sy * u[k]; /* a unit step along the view axis */
-                    e1[k] = (double)v[3 + k] - v[k];
-                    e2[k] = (double)v[6 + k] - v[k];
-                    s[k] = (double)cam.eye[k] - v[k];
+                    eye[k] = cam.eye[k];
                 }
-                p[0] = d[1] * e2[2] - d[2] * e2[1]; p[1] = d[2] * e2[0] - d[0] * e2[2]; p[2] = d[0] * e2[1] - d[1] * e2[0];
-                det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
-                if (fabs(det) < 1e-12) continue;
-                bu = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) / det;
-                q[0] = s[1] * e1[2] - s[2] * e1[1]; q[1] = s[2] * e1[0] - s[0] * e1[2]; q[2] = s[0] * e1[1] - s[1] * e1[0];
-                bv = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
-                tt = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det; /* distance along the view axis */
+                if (!test_ray_triangle(eye, d, v, v + 3, v + 6, 1e-12, h)) continue;
+                bu = h[0];
+                bv = h[1];
+                tt = h[2]; /* distance along the view axis */
                 margin = fmin(fmin(fabs(bu), fabs(bv)), fmin(fabs(1.0 - bu - bv), fabs(tt - cam.near_plane)));
                 if (margin < 1e-4) continue;
                 hit = bu > 0.0 && bv > 0.0 && bu + bv < 1.0 && tt > cam.near_plane;

@@ -53,18 +53,10 @@ static void ep_plane_point(const pvs_extproj_plane *pl, double pu, double pv, do
 
 /* Ray o + t d, t in (0, 1], against triangle (double, two-sided): returns t or -1. */
 static double ep_ray_tri(const double *o, const double *d, const float *a, const float *b, const float *c) {
-    double e1[3], e2[3], p[3], q[3], s[3], det, u, v, t;
-    int k;
-    for (k = 0; k < 3; ++k) { e1[k] = (double)b[k] - a[k]; e2[k] = (double)c[k] - a[k]; s[k] = o[k] - a[k]; }
-    p[0] = d[1] * e2[2] - d[2] * e2[1]; p[1] = d[2] * e2[0] - d[0] * e2[2]; p[2] = d[0] * e2[1] - d[1] * e2[0];
-    det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
-    if (fabs(det) < 1e-300) return -1.0;
-    u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) / det;
-    q[0] = s[1] * e1[2] - s[2] * e1[1]; q[1] = s[2] * e1[0] - s[0] * e1[2]; q[2] = s[0] * e1[1] - s[1] * e1[0];
-    v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
-    t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
-    if (u < 0.0 || v < 0.0 || u + v > 1.0 || t < 0.0) return -1.0;
-    return t;
+    double h[3];
+    if (!test_ray_triangle(o, d, a, b, c, 1e-300, h) || h[0] < 0.0 || h[1] < 0.0 || h[0] + h[1] > 1.0 || h[2] < 0.0)
+        return -1.0;
+    return h[2];
 }
 
 /* The occluder Projection: each marked pixel is covered from random points of the cell, and the

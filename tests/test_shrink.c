@@ -281,18 +281,10 @@ static double seg_first_hit(const mesh *m, const double a[3], const double b[3],
         for (t = m->objects[o].first_triangle; t < m->objects[o].first_triangle + m->objects[o].triangle_count; ++t) {
             const float *p0 = m->positions + 3 * m->indices[3 * t], *p1 = m->positions + 3 * m->indices[3 * t + 1];
             const float *p2 = m->positions + 3 * m->indices[3 * t + 2];
-            double e1[3], e2[3], pv[3], tv[3], qv[3], det, u, v, s;
-            for (k = 0; k < 3; ++k) { e1[k] = (double)p1[k] - p0[k]; e2[k] = (double)p2[k] - p0[k]; tv[k] = a[k] - p0[k]; }
-            pv[0] = d[1] * e2[2] - d[2] * e2[1]; pv[1] = d[2] * e2[0] - d[0] * e2[2]; pv[2] = d[0] * e2[1] - d[1] * e2[0];
-            det = e1[0] * pv[0] + e1[1] * pv[1] + e1[2] * pv[2];
-            if (fabs(det) < 1e-300) continue;
-            u = (tv[0] * pv[0] + tv[1] * pv[1] + tv[2] * pv[2]) / det;
-            if (u < -1e-9 || u > 1 + 1e-9) continue;
-            qv[0] = tv[1] * e1[2] - tv[2] * e1[1]; qv[1] = tv[2] * e1[0] - tv[0] * e1[2]; qv[2] = tv[0] * e1[1] - tv[1] * e1[0];
-            v = (d[0] * qv[0] + d[1] * qv[1] + d[2] * qv[2]) / det;
-            if (v < -1e-9 || u + v > 1 + 1e-9) continue;
-            s = (e2[0] * qv[0] + e2[1] * qv[1] + e2[2] * qv[2]) / det;
-            if (s >= 0.0 && s < best) { best = s; *obj = o; }
+            double h[3];
+            if (!test_ray_triangle(a, d, p0, p1, p2, 1e-300, h)) continue;
+            if (h[0] < -1e-9 || h[0] > 1 + 1e-9 || h[1] < -1e-9 || h[0] + h[1] > 1 + 1e-9) continue;
+            if (h[2] >= 0.0 && h[2] < best) { best = h[2]; *obj = o; }
         }
     return best;
 }

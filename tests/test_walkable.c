@@ -22,19 +22,10 @@ static uint32_t wk_crossings(const mesh *m, const pvs_scene *s, const double p[3
         if (p[0] < b.min[0] || p[0] > b.max[0] || p[1] < b.min[1] || p[1] > b.max[1] || p[2] < b.min[2] || p[2] > b.max[2])
             continue;
         for (t = m->objects[o].first_triangle; t < m->objects[o].first_triangle + m->objects[o].triangle_count; ++t) {
-            const float *a = m->positions + 3 * m->indices[3 * t], *b1 = m->positions + 3 * m->indices[3 * t + 1],
-                        *c = m->positions + 3 * m->indices[3 * t + 2];
-            double e1[3], e2[3], q[3], h[3], sv[3], det, u, v, w;
-            int k;
-            for (k = 0; k < 3; ++k) { e1[k] = (double)b1[k] - a[k]; e2[k] = (double)c[k] - a[k]; sv[k] = p[k] - a[k]; }
-            h[0] = d[1] * e2[2] - d[2] * e2[1]; h[1] = d[2] * e2[0] - d[0] * e2[2]; h[2] = d[0] * e2[1] - d[1] * e2[0];
-            det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
-            if (fabs(det) < 1e-12) continue;
-            u = (sv[0] * h[0] + sv[1] * h[1] + sv[2] * h[2]) / det;
-            q[0] = sv[1] * e1[2] - sv[2] * e1[1]; q[1] = sv[2] * e1[0] - sv[0] * e1[2]; q[2] = sv[0] * e1[1] - sv[1] * e1[0];
-            v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
-            w = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
-            if (u >= 0 && v >= 0 && u + v <= 1 && w > 0) ++n;
+            double h[3];
+            if (test_ray_triangle(p, d, m->positions + 3 * m->indices[3 * t], m->positions + 3 * m->indices[3 * t + 1],
+                                  m->positions + 3 * m->indices[3 * t + 2], 1e-12, h))
+                n += h[0] >= 0 && h[1] >= 0 && h[0] + h[1] <= 1 && h[2] > 0;
         }
     }
     return n;
