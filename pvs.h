@@ -1,4 +1,4 @@
-/* pvs.h - v0.9.1 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.9.2 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -92,11 +92,13 @@
    give facades (2.5D); EXTPROJ, with the sweep (§5), for planar occluders or convex solids (3D; an object's coplanar
    edge-connected triangles act as one occluder); SHRINK, the costliest, last on what the others kept, when closed
    geometry leaves volume after erosion by eps. With the default set and at least 4 x PVS_AUTO_SAMPLE_CELLS cells,
-   pvs_bake_begin bakes PVS_AUTO_SAMPLE_CELLS cells spread over all cells with each method, keeps the one with the
-   smallest PVS (ties: the cheaper), then greedily those culling PVS_AUTO_MIN_GAIN of what is kept, times 2 per cost
-   class above the first kept's. Classes: PORTAL 0; OTREE 2 + log2 of its base levels; EXTPROJ 3; SHRINK 3 + log2 of its
-   sample points a cell / 294. One 4 classes above the cheapest kept is not run. pvs_bake_method_info says which and
-   why; counts decide, so any thread count or shard decides alike. A named set (pvs_bake_desc.methods) runs in full;
+   pvs_bake_begin prepares methods by cost class and bakes PVS_AUTO_SAMPLE_CELLS cells spread over all cells with each;
+   rays aimed at what they keep prove part of it visible, and one that would have to cull more than the rest to pay
+   (PVS_AUTO_MIN_GAIN of the kept PVS, times 2 per class above the cheapest kept's) is not prepared. Of those run, the
+   smallest PVS's is kept (ties: the cheaper), then greedily those culling that price. Classes: PORTAL log2 of BSP
+   leaves a cell / 8 (before preparing: triangles / 32); OTREE 2 + log2 of its base levels; EXTPROJ 3; SHRINK 3 +
+   log2 of its sample points a cell / 294. pvs_bake_method_info says which and why; counts decide, so any thread count
+   or shard decides alike. A named set (pvs_bake_desc.methods) runs in full;
    VOCC only when named. max_distance, a draw distance, drops objects whose box is farther from every point of the cell
    (box to box, rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake.
 
@@ -231,7 +233,7 @@
 
    RECENT HISTORY (older: FULL HISTORY at the end)
    ==============
-   0.9.1 (2026-11-28) PVS_BAKE_COMPACT: bake memory grows with the PVSs; PORTAL clips by pass planes.
+   0.9.2 (2026-11-29) AUTO's sample: rays bound what a method could cull; PORTAL priced by the scene.
 */
 // >>api
 #ifndef PVS_H
@@ -242,7 +244,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 9
-#define PVS_VERSION_PATCH 1
+#define PVS_VERSION_PATCH 2
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 1
 
@@ -1450,34 +1452,13 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
    kD-tree sweep (pvs__kd_sweep) is in >>kdtree, the pyramid level builder (pvs__pyramid_level) in >>raster. */
 
 PVS_API const char *pvs_result_string(pvs_result r) {
-	switch (r) {
-	case PVS_OK: return "success";
-	case PVS_ERROR_INVALID_ARGUMENT: return "invalid argument";
-	case PVS_ERROR_OUT_OF_MEMORY: return "out of memory";
-	case PVS_ERROR_COUNT_OVERFLOW: return "count overflow";
-	case PVS_ERROR_INDEX_OUT_OF_RANGE: return "index out of range";
-	case PVS_ERROR_NOT_FINITE: return "value is not finite";
-	case PVS_ERROR_EMPTY_OBJECT: return "empty object";
-	case PVS_ERROR_DEGENERATE_OBJECT: return "degenerate object";
-	case PVS_ERROR_OVERLAPPING_OBJECTS: return "overlapping objects";
-	case PVS_ERROR_BAD_OCCLUDER: return "bad occluder";
-	case PVS_ERROR_BAD_CELL: return "bad cell";
-	case PVS_ERROR_BUFFER_TOO_SMALL: return "buffer too small";
-	case PVS_ERROR_BAD_MAGIC: return "bad magic";
-	case PVS_ERROR_BAD_VERSION: return "unknown format version";
-	case PVS_ERROR_TRUNCATED: return "truncated";
-	case PVS_ERROR_BAD_SECTION: return "bad section";
-	case PVS_ERROR_CHECKSUM: return "checksum mismatch";
-	case PVS_ERROR_BAD_RECORD: return "bad record";
-	case PVS_ERROR_OBJECT_OUT_OF_RANGE: return "object id out of range";
-	case PVS_ERROR_BAD_HEADER: return "bad header";
-	case PVS_ERROR_NOT_DONE: return "not done";
-	case PVS_ERROR_UNSUPPORTED: return "unsupported";
-	case PVS_ERROR_BAD_CHAIN: return "bad delta chain";
-	case PVS_ERROR_BAD_TREE: return "bad cell look-up tree";
-	case PVS_ERROR_SHARD_MISMATCH: return "shard mismatch";
-	default: return "unknown result";
-	}
+	static const char *const s[] = {
+		"success", "invalid argument", "out of memory", "count overflow", "index out of range", "value is not finite",
+		"empty object", "degenerate object", "overlapping objects", "bad occluder", "bad cell", "buffer too small",
+		"bad magic", "unknown format version", "truncated", "bad section", "checksum mismatch", "bad record",
+		"object id out of range", "bad header", "not done", "unsupported", "bad delta chain", "bad cell look-up tree",
+		"shard mismatch"};
+	return r <= 0 && r > PVS_RESULT_MIN ? s[-(int)r] : "unknown result";
 }
 
 PVS_API uint32_t pvs_version(void) { return PVS_VERSION; }
@@ -1938,7 +1919,7 @@ typedef struct pvs__bake_env {
 	uint32_t task_count;
 	uint32_t object_count;
 	size_t words;	/* per PVS */
-	float eps;		/* stored in the file; prepare may derive it */
+	float eps; /* stored in the file; prepare may derive it */
 	uint32_t flags;	/* PVS_BAKE_* */
 	int is_auto;	/* 1: AUTO (the PVS may be intersected) */
 } pvs__bake_env;
@@ -1958,8 +1939,8 @@ typedef struct pvs__bake_env {
 typedef struct pvs__bake_method {
 	pvs_method method;
 	uint32_t traits;	/* PVS__METHOD_* */
-	int cost_rank;		/* AUTO runs cheapest first (1..4); PREVIEW keeps the first that applies */
-	int cost_class;		/* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
+	int cost_rank; /* AUTO runs cheapest first (1..4); PREVIEW keeps the first that applies */
+	int cost_class; /* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
 	/* Checks its parameters in desc, whatever the bake runs. NULL: none. */
 	pvs_result (*check)(const pvs_bake_desc *desc, pvs_error *err);
 	/* Makes *state, read-only in the tasks but for per-task slots. UNSUPPORTED: cannot run on this scene (AUTO
@@ -1992,24 +1973,24 @@ PVS__STATIC void *pvs__bake_method_state(const struct pvs_bake *b, pvs_method m)
 struct pvs_scene {
 	pvs_allocator allocator;
 	uint32_t vertex_count, triangle_count, object_count, occluder_count;
-	uint32_t up_axis;			 /* 1 or 2 */
+	uint32_t up_axis; /* 1 or 2 */
 	uint32_t flags;
-	float *positions;			 /* vertex_count * 3 */
-	uint32_t *indices;			 /* triangle_count * 3 */
-	uint32_t *triangle_object;	 /* triangle_count: object id or PVS_NO_OBJECT */
-	pvs_box *object_boxes;		 /* object_count; empty (min > max) for empty objects */
-	uint32_t *object_flags;		 /* object_count */
-	uint32_t *object_triangles;  /* object_count * 2: first triangle, triangle count */
+	float *positions; /* vertex_count * 3 */
+	uint32_t *indices; /* triangle_count * 3 */
+	uint32_t *triangle_object; /* triangle_count: object id or PVS_NO_OBJECT */
+	pvs_box *object_boxes; /* object_count; empty (min > max) for empty objects */
+	uint32_t *object_flags; /* object_count */
+	uint32_t *object_triangles; /* object_count * 2: first triangle, triangle count */
 	pvs_box bounds;
 	pvs_occluder_desc *occluders;/* occluder_count, arrays in occluder_data */
-	pvs_box *occluder_boxes;	 /* occluder_count */
-	float *occluder_data;		 /* planes and footprints of all occluders */
-	size_t occluder_data_count;  /* floats in occluder_data */
-	pvs_kdtree *triangle_tree;	 /* triangle boxes (zero-area and see-through ones left out) */
+	pvs_box *occluder_boxes; /* occluder_count */
+	float *occluder_data; /* planes and footprints of all occluders */
+	size_t occluder_data_count; /* floats in occluder_data */
+	pvs_kdtree *triangle_tree; /* triangle boxes (zero-area and see-through ones left out) */
 	pvs_kdtree *see_through_tree;/* PVS_OBJECT_SEE_THROUGH triangles; NULL if none */
-	pvs_kdtree *object_tree;	 /* object boxes (empty ones left out) */
-	float *triangle_corners;	 /* triangle_count * 9: corners sorted lexicographically */
-	double max_triangle_area;	 /* for occluder selection's bound */
+	pvs_kdtree *object_tree; /* object boxes (empty ones left out) */
+	float *triangle_corners; /* triangle_count * 9: corners sorted lexicographically */
+	double max_triangle_area; /* for occluder selection's bound */
 };
 
 /* 1 if triangle t blocks sight: it belongs to no PVS_OBJECT_SEE_THROUGH object. Every method's occluders pass it. */
@@ -2594,14 +2575,14 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
    (the right one follows) or a leaf's offset in `items`; the union holds the split or the leaf's item count. Node 0
    is the root; N nodes have (N + 1) / 2 leaves. Items are in every leaf whose closed cell overlaps their closed box,
    so a point on a split plane finds every box touching it. */
-#define PVS__KD_BINS 32					/* SAH candidate planes per axis: BINS - 1 */
-#define PVS__KD_SAMPLE 256			  /* most refs binned per node (an even stride through bigger ones) */
+#define PVS__KD_BINS 32 /* SAH candidate planes per axis: BINS - 1 */
+#define PVS__KD_SAMPLE 256 /* most refs binned per node (an even stride through bigger ones) */
 #define PVS__KD_LEAF 3u
 #define PVS__KD_MAX_INDEX 0x3fffffffu	/* largest child index or item offset in 30 bits */
-#define PVS__KD_COST_TRAVERSE 1.0f		/* SAH cost of one inner node ... */
-#define PVS__KD_COST_ITEM 1.5f			/* ... and of one item test */
-#define PVS__KD_EMPTY_BONUS 0.8f		/* factor for splits cutting off empty space */
-#define PVS__KD_RAY_TOL 1e-7			/* leaf t-intervals widen by this fraction of coordinate size */
+#define PVS__KD_COST_TRAVERSE 1.0f /* SAH cost of one inner node ... */
+#define PVS__KD_COST_ITEM 1.5f /* ... and of one item test */
+#define PVS__KD_EMPTY_BONUS 0.8f /* factor for splits cutting off empty space */
+#define PVS__KD_RAY_TOL 1e-7 /* leaf t-intervals widen by this fraction of coordinate size */
 
 typedef struct pvs__kdnode {
 	union {
@@ -2613,9 +2594,9 @@ typedef struct pvs__kdnode {
 
 struct pvs_kdtree {
 	pvs_allocator allocator;
-	pvs_box bounds;			 /* of non-empty item boxes; empty if there are none */
+	pvs_box bounds; /* of non-empty item boxes; empty if there are none */
 	pvs__kdnode *nodes;
-	uint32_t *items;		 /* leaf item lists, back to back */
+	uint32_t *items; /* leaf item lists, back to back */
 	uint32_t node_count, item_count;
 	size_t node_capacity, item_capacity;
 };
@@ -2628,15 +2609,15 @@ typedef struct pvs__kdref {
 
 typedef struct pvs__kdbuild {
 	pvs_kdtree *tree;
-	pvs__kdref *refs;		 /* a stack: node being split on top, pending left children below */
+	pvs__kdref *refs; /* a stack: node being split on top, pending left children below */
 	size_t ref_capacity;
 	size_t refs_left, nodes_left;	/* the pools (pvs__kd_build) */
 	size_t ref_limit, item_limit, node_limit; /* most the arrays can need (pvs_kdtree_create) */
 	uint32_t leaf_size, max_depth;
 	pvs_error *err;
-	float planes[3][PVS__KD_BINS + 1];	  /* candidates of the node being split */
+	float planes[3][PVS__KD_BINS + 1]; /* candidates of the node being split */
 	uint32_t starts[3][PVS__KD_BINS + 1]; /* [s]: refs whose min is <= planes[s] first */
-	uint32_t ends[3][PVS__KD_BINS + 1];   /* [e]: refs whose max is >= planes[e] last */
+	uint32_t ends[3][PVS__KD_BINS + 1]; /* [e]: refs whose max is >= planes[e] last */
 } pvs__kdbuild;
 
 PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t base, size_t n) {
@@ -2901,9 +2882,9 @@ PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *t) { return t->node_cou
 /* ---- sweep ---- */
 
 typedef struct pvs__kdsweep {
-	float d2;		  /* squared min distance from the source */
+	float d2; /* squared min distance from the source */
 	uint32_t node;
-	pvs_box box;	  /* the node's cell */
+	pvs_box box; /* the node's cell */
 } pvs__kdsweep;
 
 PVS__STATIC int pvs__kdsweep_before(const void *pa, const void *pb) {
@@ -3207,9 +3188,9 @@ PVS__STATIC int pvs__ray_triangle(const pvs__ray *r, const float *c, double tmax
 typedef struct pvs__raycast {
 	const pvs_scene *scene;
 	pvs__ray ray;
-	double tmax;		/* closest hit yet, or the ray's end */
+	double tmax; /* closest hit yet, or the ray's end */
 	uint32_t triangle;	/* of that hit, or 0xffffffff */
-	int any;			/* stop at the first hit */
+	int any; /* stop at the first hit */
 } pvs__raycast;
 
 PVS__STATIC float pvs__raycast_leaf(void *user, const uint32_t *items, uint32_t count, float t_enter, float t_exit) {
@@ -3497,7 +3478,7 @@ PVS__STATIC pvs__i4 pvs__f4_floori(pvs__f4 f) {
 #pragma STDC FP_CONTRACT OFF
 #endif
 
-#define PVS__RASTER_MAXV 8					 /* a clipped triangle has <= 5 */
+#define PVS__RASTER_MAXV 8 /* a clipped triangle has <= 5 */
 #define PVS__RASTER_ERR_D 9.094947017729282e-13 /* 2^-40 */
 #define PVS__RASTER_ERR_F 9.5367431640625e-07	/* 2^-20 */
 #define PVS__RASTER_MAX_LEVELS 16
@@ -3536,73 +3517,73 @@ typedef struct pvs__occsel {
 struct pvs_raster {
 	pvs_allocator allocator;
 	uint32_t width, height, flags;
-	float *depth;							/* width * height */
-	float *tile_min;						/* farthest per 8 x 8 tile */
+	float *depth; /* width * height */
+	float *tile_min; /* farthest per 8 x 8 tile */
 	size_t tiles;
-	uint32_t levels;						/* pyramid levels above `depth` */
+	uint32_t levels; /* pyramid levels above `depth` */
 	uint32_t lw[PVS__RASTER_MAX_LEVELS + 1], lh[PVS__RASTER_MAX_LEVELS + 1];
 	float *lmin[PVS__RASTER_MAX_LEVELS + 1], *lmax[PVS__RASTER_MAX_LEVELS + 1];
 	float *pyramid;
 	size_t pyramid_floats;
-	int pyramid_valid;						/* 1: per-pixel pyramid current, 2: tile one */
+	int pyramid_valid; /* 1: per-pixel pyramid current, 2: tile one */
 	pvs__tile *tile;
-	uint32_t tw, th;						/* tile grid */
-	uint32_t xpad;							/* last tile column's bits past the map */
-	uint32_t ypad;							/* last tile row's rows in the map (1..4) */
-	int tiled;								/* occluders go to the tiles, else to `depth` */
-	int mixed;								/* `depth` holds occludees drawn since the clear (untiled: all) */
-	float *bmin;							/* per block of 8 x 8 tiles: <= the least base z0 */
-	uint8_t *bdirty;						/* 1: a base grew since bmin */
-	uint32_t bw, bh;						/* block grid */
-	uint32_t tlevels;						/* tile pyramid levels above the tile grid */
+	uint32_t tw, th; /* tile grid */
+	uint32_t xpad; /* last tile column's bits past the map */
+	uint32_t ypad; /* last tile row's rows in the map (1..4) */
+	int tiled; /* occluders go to the tiles, else to `depth` */
+	int mixed; /* `depth` holds occludees drawn since the clear (untiled: all) */
+	float *bmin; /* per block of 8 x 8 tiles: <= the least base z0 */
+	uint8_t *bdirty; /* 1: a base grew since bmin */
+	uint32_t bw, bh; /* block grid */
+	uint32_t tlevels; /* tile pyramid levels above the tile grid */
 	uint32_t tlw[PVS__RASTER_MAX_LEVELS * 2 + 1], tlh[PVS__RASTER_MAX_LEVELS * 2 + 1];
 	uint8_t tsx[PVS__RASTER_MAX_LEVELS * 2 + 1],
 		tsy[PVS__RASTER_MAX_LEVELS * 2 + 1]; /* tiles per texel: 1 << tsx by 1 << tsy */
 	float *tlmin[PVS__RASTER_MAX_LEVELS * 2 + 1], *tlmax[PVS__RASTER_MAX_LEVELS * 2 + 1];
 	float *tpyramid;
 	size_t tpyramid_floats;
-	double m[16];							/* projection */
-	double mabs[2];							/* max row sum of |m| over x, y, z; max |m_r3| */
-	float mf[16], hwf, hhf;					/* projection as given; half the map size (prefilter) */
-	float mb[16][4];						/* mf broadcast to four lanes */
-	double rowa[4], rowt[4];				/* per row of m: |m_r0| + |m_r1| + |m_r2|, |m_r3| */
+	double m[16]; /* projection */
+	double mabs[2]; /* max row sum of |m| over x, y, z; max |m_r3| */
+	float mf[16], hwf, hhf; /* projection as given; half the map size (prefilter) */
+	float mb[16][4]; /* mf broadcast to four lanes */
+	double rowa[4], rowt[4]; /* per row of m: |m_r0| + |m_r1| + |m_r2|, |m_r3| */
 	/* occluder meshes (pvs_raster_mesh): scratch for mesh_cap triangles, four pixel rows */
-	uint32_t mesh_cap, mesh_hash;			/* triangles per piece; hash slots (a power of two) */
-	struct pvs__mtri *mt;					/* prepared triangles */
-	uint32_t *mcid, *mpart;					/* 3 mesh_cap: welded vertex per corner; partner half-edge */
-	uint8_t *mvst;							/* 3 mesh_cap: corner state against the clip planes */
-	int8_t *mgrp;							/* mesh_cap: facing +1 / -1, 0 = left out */
+	uint32_t mesh_cap, mesh_hash; /* triangles per piece; hash slots (a power of two) */
+	struct pvs__mtri *mt; /* prepared triangles */
+	uint32_t *mcid, *mpart; /* 3 mesh_cap: welded vertex per corner; partner half-edge */
+	uint8_t *mvst; /* 3 mesh_cap: corner state against the clip planes */
+	int8_t *mgrp; /* mesh_cap: facing +1 / -1, 0 = left out */
 	uint32_t *mtab, *morder, *mact, *mband;	/* hash slots; mesh_cap; mesh_cap; th + 1 */
-	float *mzmin;							/* 4 width: least bound of touching triangles */
-	uint8_t *mflag;							/* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
-	uint8_t *mdirty;						/* 4 tw: band words the scratch holds */
+	float *mzmin; /* 4 width: least bound of touching triangles */
+	uint8_t *mflag; /* 4 width: 1 a triangle surely meets the pixel, 2 a boundary edge may */
+	uint8_t *mdirty; /* 4 tw: band words the scratch holds */
 	const pvs_scene *scene;
 	uint32_t max_objects, max_triangles;
 	void *sweep;
 	size_t sweep_size;
 	pvs__occsel *occ;
 	uint32_t max_occluders;
-	pvs_word *tri_seen;						/* max_triangles bits */
-	pvs_word *obj_done;						/* max_objects bits */
+	pvs_word *tri_seen; /* max_triangles bits */
+	pvs_word *obj_done; /* max_objects bits */
 	uint32_t cm_w, cm_h;
-	float *cm;								/* cm_w * cm_h heights */
-	float *cm_tile_min;						/* lowest height per 8 x 8 tile */
+	float *cm; /* cm_w * cm_h heights */
+	float *cm_tile_min; /* lowest height per 8 x 8 tile */
 	size_t cm_tiles;
-	float region[4];						/* u0, v0, u1, v1 */
-	uint32_t *cm_start;						/* cm_w * cm_h + 1 */
+	float region[4]; /* u0, v0, u1, v1 */
+	uint32_t *cm_start; /* cm_w * cm_h + 1 */
 	uint32_t *cm_items;
 	uint32_t cm_item_count;
-	float *cm_bound;						/* highest object top per cell (Wonka 1999 §4.3) */
-	float ground;							/* scene's lowest point on the up axis */
+	float *cm_bound; /* highest object top per cell (Wonka 1999 §4.3) */
+	float ground; /* scene's lowest point on the up axis */
 };
 
 typedef struct pvs__rsetup {
-	int32_t i0, i1, j0, j1;   /* pixel range; (i0, j0) is the coefficients' origin */
+	int32_t i0, i1, j0, j1; /* pixel range; (i0, j0) is the coefficients' origin */
 	int32_t li0, li1, lj0, lj1; /* part a loop covers (one tile) */
 	int edges;
 	float a[PVS__RASTER_MAXV], b[PVS__RASTER_MAXV], k[PVS__RASTER_MAXV];
-	float za, zb, zk;	  /* depth plane bound */
-	float zclamp;		  /* occluder: max(plane, zclamp); occludee: min(plane, zclamp) */
+	float za, zb, zk; /* depth plane bound */
+	float zclamp; /* occluder: max(plane, zclamp); occludee: min(plane, zclamp) */
 } pvs__rsetup;
 
 /* Reference pixel rule (scalar loop, SIMD tails): inside every edge (rk: at column i0), clamped plane depth if
@@ -3960,7 +3941,7 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 #define PVS__TH_SHIFT 2
 #define PVS__TH 4
 #define PVS__BLOCK_SHIFT 3 /* blocks of 8 x 8 tiles (256 x 32 pixels): prefilter's hidden test */
-#define PVS__U_2_20 9.5367431640625e-07		/* 2^-20 */
+#define PVS__U_2_20 9.5367431640625e-07 /* 2^-20 */
 #define PVS__U_2_21 4.76837158203125e-07	/* 2^-21 */
 #define PVS__U_2_44 5.684341886080802e-14	/* 2^-44 */
 #define PVS__U_2_48 3.552713678800501e-15	/* 2^-48 */
@@ -3968,9 +3949,9 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 /* Occluder polygon for the tile loops (i, j relative to (i0, j0)): pixel i of row j is inside edge e if i >=
    X_e(j) (left) or i <= X_e(j) (right); X_e(j) = xi + s j with margins; m: its float error bound. */
 typedef struct pvs__tpoly {
-	int32_t i0, i1, j0, j1;    /* inner pixel range (absolute) */
-	int32_t jlo, jhi;		   /* rows (relative) the near-horizontal edges leave */
-	int nl, ne;				   /* edges [0, nl) bound from the left, [nl, ne) from the right */
+	int32_t i0, i1, j0, j1; /* inner pixel range (absolute) */
+	int32_t jlo, jhi; /* rows (relative) the near-horizontal edges leave */
+	int nl, ne; /* edges [0, nl) bound from the left, [nl, ne) from the right */
 	double xi[PVS__RASTER_MAXV], s[PVS__RASTER_MAXV], cl[PVS__RASTER_MAXV];
 	float sf[PVS__RASTER_MAXV], m[PVS__RASTER_MAXV];
 	float zk, za, zb, zm, zlo; /* plane at (i0, j0) less float margin zm, clamped to the farthest vertex zlo */
@@ -4284,7 +4265,7 @@ PVS__STATIC void pvs__tile_resolve(pvs_raster *r) {
 /* Clip-space vertex. */
 typedef struct pvs__cv {
 	double c[4];
-	double e;  /* bound on each coordinate's rounding */
+	double e; /* bound on each coordinate's rounding */
 } pvs__cv;
 
 PVS__STATIC pvs__cv pvs__raster_transform(const pvs_raster *rs, const float *p) {
@@ -4645,16 +4626,16 @@ PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, 
 
 typedef struct pvs__mtri {
 	int32_t i0, i1, j0, j1; /* pixels it may meet, clamped (empty: i0 > i1 or j0 > j1) */
-	int n;							/* polygon vertices, 3..5 */
-	int full;						/* non-zero-length edges (inner test needs 3) */
+	int n; /* polygon vertices, 3..5 */
+	int full; /* non-zero-length edges (inner test needs 3) */
 	uint8_t lab[PVS__MESH_MAXV];	/* edge k (vertex k to k + 1): triangle edge 0..2 or PVS__MESH_CLIP */
 	uint8_t bnd[PVS__MESH_MAXV];	/* 1: boundary edge */
 	double x[PVS__MESH_MAXV], y[PVS__MESH_MAXV];
 	/* E = a x + b y + k >= 0 inside, |a| + |b| = 1 (0, 0: zero length); |E - exact| < e */
 	double a[PVS__MESH_MAXV], b[PVS__MESH_MAXV], k[PVS__MESH_MAXV], e[PVS__MESH_MAXV];
 	double xmin, xmax, ymin, ymax, dx; /* vertex error bound */
-	double wide;					/* beyond first pass's rounding: what it misses by an edge is in strip */
-	float za, zb, zk, zclamp;		/* at pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
+	double wide; /* beyond first pass's rounding: what it misses by an edge is in strip */
+	float za, zb, zk, zclamp; /* at pixel (i0 + fi, j0 + fj): max((zk + zb fj) + za fi, zclamp) */
 } pvs__mtri;
 
 /* Clips, projects, prepares clip-space triangle v of facing `orient` (+-1); 0 if empty. */
@@ -6479,23 +6460,23 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 
 typedef struct pvs__otpoly {
 	int n;
-	int xsplit;						/* split at crossing X (§6.5.1 case 3) */
-	double v[PVS__OT_MAXV][3];		/* extremal lines, unit */
-	double e[PVS__OT_MAXV][2];		/* edge v[i] -> v[i+1] lies in e[i]'s plane */
+	int xsplit; /* split at crossing X (§6.5.1 case 3) */
+	double v[PVS__OT_MAXV][3]; /* extremal lines, unit */
+	double e[PVS__OT_MAXV][2]; /* edge v[i] -> v[i+1] lies in e[i]'s plane */
 	unsigned char mark[PVS__OT_MAXV];
 } pvs__otpoly;
 
 typedef struct pvs__otnode {
-	double p[2];		/* inner: plane sign * (p.x, p.y, 1) */
-	double n[3];		/* ... unit normal */
+	double p[2]; /* inner: plane sign * (p.x, p.y, 1) */
+	double n[3]; /* ... unit normal */
 	int32_t sign;
-	uint32_t kind;		/* 0 inner, PVS__OT_OUT, PVS__OT_IN */
+	uint32_t kind; /* 0 inner, PVS__OT_OUT, PVS__OT_IN */
 	uint32_t child[2];	/* [0] negative, [1] positive side */
 	uint32_t first, count; /* in-leaf payload: seq[first .. first + count) */
 	uint32_t parent;	/* PVS__OT_NONE: root */
-	double mvd;			/* 2D: subtree's max visibility distance (§6.5.5); DBL_MAX over out-leaves */
-	double mr, ms;		/* 2.5D: hidden-height bound (pvs__ot25_bound); mr DBL_MAX: none */
-	double ml, mls;		/* 2.5D: 2nd, member of least reach; ml DBL_MAX: none */
+	double mvd; /* 2D: subtree's max visibility distance (§6.5.5); DBL_MAX over out-leaves */
+	double mr, ms; /* 2.5D: hidden-height bound (pvs__ot25_bound); mr DBL_MAX: none */
+	double ml, mls; /* 2.5D: 2nd, member of least reach; ml DBL_MAX: none */
 } pvs__otnode;
 
 typedef struct pvs__otree {
@@ -6504,23 +6485,23 @@ typedef struct pvs__otree {
 	size_t node_count, node_cap;
 	uint32_t *seq;
 	size_t seq_count, seq_cap;
-	pvs__otpoly *stack;				/* work stack: item i = stack[stack_slot[i]] (PVS__OT_ITEM) */
-	uint32_t *stack_slot;			/* permutation: clips write a free slot, then swap */
+	pvs__otpoly *stack; /* work stack: item i = stack[stack_slot[i]] (PVS__OT_ITEM) */
+	uint32_t *stack_slot; /* permutation: clips write a free slot, then swap */
 	uint32_t *stack_node;
-	uint32_t *stack_pend;			/* read-only tests: clip owed, (node << 1) | side, or PVS__OT_NONE */
+	uint32_t *stack_pend; /* read-only tests: clip owed, (node << 1) | side, or PVS__OT_NONE */
 	size_t stack_count, stack_cap;
 	int oom;
-	const double *seg;				/* occluder segments, 4 local doubles */
-	const double *top;				/* 2.5D: occluder tops; NULL in 2D */
-	const double *reach;			/* 2D: per occluder, max distance to a cell point */
-	double sa[2], sb[2];			/* source edge (cell or top edge) */
-	double eye;						/* 2.5D: source edge height */
-	const double *corners;			/* 2.5D: cell's 4 ground corners (all eye positions) */
-	double *jd;						/* 2.5D: PVS__OT25_JD doubles per occluder */
-	double len_eps;					/* smaller distances tie */
-	uint32_t root_in;				/* 2.5D: node of lines leaving via source edge */
-	int full_tests;					/* 2.5D: PVS__VISIBILITY_25D_FULL_TESTS (no witnesses) */
-	int nwit;						/* 2.5D: witness lines, most recently useful first */
+	const double *seg; /* occluder segments, 4 local doubles */
+	const double *top; /* 2.5D: occluder tops; NULL in 2D */
+	const double *reach; /* 2D: per occluder, max distance to a cell point */
+	double sa[2], sb[2]; /* source edge (cell or top edge) */
+	double eye; /* 2.5D: source edge height */
+	const double *corners; /* 2.5D: cell's 4 ground corners (all eye positions) */
+	double *jd; /* 2.5D: PVS__OT25_JD doubles per occluder */
+	double len_eps; /* smaller distances tie */
+	uint32_t root_in; /* 2.5D: node of lines leaving via source edge */
+	int full_tests; /* 2.5D: PVS__VISIBILITY_25D_FULL_TESTS (no witnesses) */
+	int nwit; /* 2.5D: witness lines, most recently useful first */
 	double wit[PVS__OT25_WITNESSES][3];
 } pvs__otree;
 
@@ -7086,8 +7067,8 @@ PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint
 			int front, behind;
 			if (j == k) continue;
 			pvs__ot_depth(t, &q, sj, sk, &front, &behind);
-			if (!front) continue;						 /* cases 1 (behind), 4 (collinear) */
-			if (behind && !q.xsplit) {					 /* case 3: split at crossing X */
+			if (!front) continue; /* cases 1 (behind), 4 (collinear) */
+			if (behind && !q.xsplit) { /* case 3: split at crossing X */
 				double x[2];
 				if (pvs__ot_cross(sj, sk, x)) {
 					(void)pvs__ot2_xsplit(t, node, &q, x);
@@ -7208,7 +7189,7 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
 		const double *a = poly + 2 * i, *b = poly + 2 * ((i + 1) % n);
 		double ex = b[0] - a[0], ey = b[1] - a[1];
 		double f = ex * (s[1] - a[1]) - ey * (s[0] - a[0]); /* >= 0 inside */
-		double g = ex * dy - ey * dx;						 /* f's change along s */
+		double g = ex * dy - ey * dx; /* f's change along s */
 		if (g == 0.0) {
 			if (f < 0.0) return 0;
 		} else {
@@ -7440,7 +7421,7 @@ done:
    heights round inward, ends are vertex floats. Writes *count facades (u0 v0 u1 v1 top bottom) into a new *out
    (allocator a, *out_floats floats), *vertical: vertical triangles; OUT_OF_MEMORY leaves *out NULL. */
 #define PVS__FX_MAX_COVER 512 /* slabs under more triangles are left out (conservative) */
-#define PVS__OT25_LEVELS 8	  /* facade base heights OTREE bake tells apart (pvs__otree_prepare) */
+#define PVS__OT25_LEVELS 8 /* facade base heights OTREE bake tells apart (pvs__otree_prepare) */
 
 typedef struct pvs__fxopen {
 	double s0, s1, bot, top;
@@ -7491,14 +7472,14 @@ typedef struct pvs__fxwork {
 	const pvs_allocator *a;
 	int u, v, up;
 	double tol;
-	pvs__key_index *so;		 /* 3 nv: line members by least s, then vertices by s */
-	double *sv;				/* 14 nv: per member s[3], h[3], smin, smax, ground[3][2] */
-	double *sec;			/* 4 PVS__FX_MAX_COVER: per slab member lo(sa), lo(sb), hi(sa), hi(sb) */
+	pvs__key_index *so; /* 3 nv: line members by least s, then vertices by s */
+	double *sv; /* 14 nv: per member s[3], h[3], smin, smax, ground[3][2] */
+	double *sec; /* 4 PVS__FX_MAX_COVER: per slab member lo(sa), lo(sb), hi(sa), hi(sb) */
 	uint32_t *ins, *act;	/* nv: members by least s; members over slab */
 	uint32_t *comp, *que;	/* PVS__FX_MAX_COVER + 1: connected set per slab member; its queue */
 	pvs__fxopen *opn, *nxt; /* PVS__FX_MAX_COVER + 1: facades open at slab start; those it continues */
 	uint32_t nopen;
-	float **out;			/* facades (6 floats), cap floats allocated, *count written */
+	float **out; /* facades (6 floats), cap floats allocated, *count written */
 	size_t cap;
 	uint32_t *count;
 } pvs__fxwork;
@@ -7932,7 +7913,7 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 			continue;
 		if (jd[5]) {
 			if (s0 >= -tol && s1 >= -tol) continue;
-			if (!(s0 < -tol && s1 < -tol)) {			   /* e crosses j's line: vertex test */
+			if (!(s0 < -tol && s1 < -tol)) { /* e crosses j's line: vertex test */
 				pvs__ot_depth(t, q, e, sj, &front, &behind);
 				if (!front || behind) continue;
 			}
@@ -8168,16 +8149,16 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 typedef struct pvs__ot25_sweep {
 	pvs__otree *t;
 	const pvs_visibility_25d_desc *desc;
-	const double *all;		 /* facades, local, 4 doubles */
-	const double *box;		 /* objects, local, 5 doubles */
-	const double *cell;		 /* grown cell, CCW */
-	unsigned char *state;	 /* per facade: 1 + side once in this side's tree */
-	unsigned char *done;	 /* objects: 0 unknown, 1 visible, 2 never, 3 + side: candidate in this tree */
+	const double *all; /* facades, local, 4 doubles */
+	const double *box; /* objects, local, 5 doubles */
+	const double *cell; /* grown cell, CCW */
+	unsigned char *state; /* per facade: 1 + side once in this side's tree */
+	unsigned char *done; /* objects: 0 unknown, 1 visible, 2 never, 3 + side: candidate in this tree */
 	const double *a, *b;
 	double cx, cy;
 	uint32_t side, budget;
 	pvs_otree_stats *st;
-	const uint32_t *refs;	 /* per kD node: item references in its subtree */
+	const uint32_t *refs; /* per kD node: item references in its subtree */
 	uint32_t node;
 	uint32_t test_min;
 } pvs__ot25_sweep;
@@ -8545,29 +8526,29 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 
 #define PVS__SV_MAXV 16
 #define PVS__SV_STACK 256
-#define PVS__SV_I 0u   /* Table 3.1 states: invisible, visible, partly */
+#define PVS__SV_I 0u /* Table 3.1 states: invisible, visible, partly */
 #define PVS__SV_V 1u
 #define PVS__SV_P 2u
 #define PVS__SV_TRIANGLE 0xffffffffu
 
 typedef struct pvs__svpoly {
 	int n;
-	double v[PVS__SV_MAXV][3];	 /* vertices, eye at origin */
-	double e[PVS__SV_MAXV][3];	 /* edge v[i] -> v[i + 1]: its eye plane's unit normal (polygon on +) */
+	double v[PVS__SV_MAXV][3]; /* vertices, eye at origin */
+	double e[PVS__SV_MAXV][3]; /* edge v[i] -> v[i + 1]: its eye plane's unit normal (polygon on +) */
 	unsigned char mark[PVS__SV_MAXV];
 } pvs__svpoly;
 
 typedef struct pvs__svnode {
 	double n[3];
-	uint32_t kind;		/* 0 inner, PVS__OT_OUT, PVS__OT_IN */
+	uint32_t kind; /* 0 inner, PVS__OT_OUT, PVS__OT_IN */
 	uint32_t child[2];	/* [0] - side, [1] + side */
-	uint32_t frag;		/* in-leaf's fragment */
+	uint32_t frag; /* in-leaf's fragment */
 } pvs__svnode;
 
 /* Fragment: occluder plane (n.x + d > 0 eye side), vertices f, inward normals m of faces (0, f_i, f_i+1). */
 typedef struct pvs__svfrag {
 	double plane[4];
-	double tol;			 /* depth and separation tolerance */
+	double tol; /* depth and separation tolerance */
 	uint32_t first, count;
 } pvs__svfrag;
 typedef struct pvs__svvert {
@@ -8577,7 +8558,7 @@ typedef struct pvs__svvert {
 /* Candidate: score (area-angle, later distance), triangle or volume face. */
 typedef struct pvs__svsel {
 	double key;
-	uint32_t a, b;		 /* b == PVS__SV_TRIANGLE: triangle a; else occluder a's face b */
+	uint32_t a, b; /* b == PVS__SV_TRIANGLE: triangle a; else occluder a's face b */
 } pvs__svsel;
 
 struct pvs_otree {
@@ -8592,12 +8573,12 @@ struct pvs_otree {
 	uint32_t frag_count;
 	pvs__svvert *verts;
 	uint32_t vert_count;
-	pvs__svpoly *stack;			   /* insertion work items */
+	pvs__svpoly *stack; /* insertion work items */
 	uint32_t *stack_node;
-	uint32_t *tstack;			   /* node_budget + 2: test traversal */
-	pvs__svsel *sel;			   /* max_occluders: min-heap on key */
+	uint32_t *tstack; /* node_budget + 2: test traversal */
+	pvs__svsel *sel; /* max_occluders: min-heap on key */
 	uint32_t sel_count;
-	uint32_t *prev;				   /* triangles chosen last frame */
+	uint32_t *prev; /* triangles chosen last frame */
 	uint32_t prev_count;
 	int have_prev;
 	void *sweep;
@@ -8609,12 +8590,12 @@ struct pvs_otree {
 	uint32_t frame;
 	const pvs_scene *last_scene;
 	const pvs_scene *ranges_scene; /* scene of obj_first / obj_tris */
-	uint8_t *obj_flag;			   /* per object, this frame: 1 visible, 2 partly visible leaf, 4 within lambda */
+	uint8_t *obj_flag; /* per object, this frame: 1 visible, 2 partly visible leaf, 4 within lambda */
 	uint32_t *touched;
 	uint32_t touched_count;
 	const pvs_scene *s;
 	double eye[3], fw[3], near_d;
-	double fr[5][4];			   /* frustum planes n.x + d >= 0 inside: near, 4 sides */
+	double fr[5][4]; /* frustum planes n.x + d >= 0 inside: near, 4 sides */
 	double tol, lambda;
 	pvs_otree_frame info;
 	pvs_cull_stats st;
@@ -8724,11 +8705,11 @@ PVS__STATIC int pvs__sv_polygon(pvs_otree *o, const float *const *p, int n, pvs_
 	plane[0] = nrm[0]; plane[1] = nrm[1]; plane[2] = nrm[2];
 	plane[3] = -pvs__sv_dot(nrm, c);
 	if (plane[3] < 0.0) for (k = 0; k < 4; ++k) plane[k] = -plane[k]; /* eye on + */
-	if (!(plane[3] > 1e-9 * size)) return 0;						/* eye (nearly) in plane */
+	if (!(plane[3] > 1e-9 * size)) return 0; /* eye (nearly) in plane */
 	for (i = 0; i < n; ++i) {
 		double *e = a.e[i];
 		pvs__sv_cross(a.v[i], a.v[(i + 1) % n], e);
-		if (!(pvs__sv_unit(e) > 1e-12 * size * size)) return 0;		/* edge points at eye */
+		if (!(pvs__sv_unit(e) > 1e-12 * size * size)) return 0; /* edge points at eye */
 		if (pvs__sv_dot(e, c) < 0.0) { e[0] = -e[0]; e[1] = -e[1]; e[2] = -e[2]; }
 		if (!(pvs__sv_dot(e, c) > 1e-9 * size)) return 0;
 		a.mark[i] = 0;
@@ -8837,8 +8818,8 @@ PVS__STATIC void pvs__sv_insert(pvs_otree *o, const pvs__svpoly *poly, const dou
 					if (s < smin) smin = s;
 					if (s > smax) smax = s;
 				}
-				if (smax <= f->tol) continue;  /* behind stored fragment (or in its plane): hidden */
-				if (smin < -f->tol) {		   /* crossing: keep front part */
+				if (smax <= f->tol) continue; /* behind stored fragment (or in its plane): hidden */
+				if (smin < -f->tol) { /* crossing: keep front part */
 					if (pvs__sv_clip(q, f->plane, f->plane[3], NULL, 0, &part) < 3) continue;
 					use = &part;
 				}
@@ -9433,13 +9414,13 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 typedef struct pvs__otree_bake {
 	pvs_allocator allocator;
 	uint32_t object_count;
-	uint32_t budget;		   /* pvs_visibility_25d_desc.node_budget (0: default) */
-	float *facades;			   /* facade_count x (u0 v0 u1 v1 top), by level */
+	uint32_t budget; /* pvs_visibility_25d_desc.node_budget (0: default) */
+	float *facades; /* facade_count x (u0 v0 u1 v1 top), by level */
 	uint32_t facade_count, facade_cap, vertical, level_count;
-	float level[PVS__OT25_LEVELS];		  /* base heights, ascending */
+	float level[PVS__OT25_LEVELS]; /* base heights, ascending */
 	uint32_t level_end[PVS__OT25_LEVELS]; /* facades of levels <= k: [0, level_end[k]) */
-	float *objects;			   /* object_count x (umin vmin umax vmax top) */
-	pvs_kdtree *tree[PVS__OT25_LEVELS];   /* per level, over pvs_visibility_25d_boxes */
+	float *objects; /* object_count x (umin vmin umax vmax top) */
+	pvs_kdtree *tree[PVS__OT25_LEVELS]; /* per level, over pvs_visibility_25d_boxes */
 } pvs__otree_bake;
 
 /* c-LSS (§7.1) facades from scene walls (pvs__facades_extract), standing on ground (a ray over one's 2D line passes
@@ -9692,11 +9673,11 @@ PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *inf
 /* ---------------------------------------------------------------------------------------------- */
 
 enum {
-	PVS__VX_TOUCHED = 1,   /* triangle within margin */
-	PVS__VX_REACHED = 2,   /* reached by leak flood */
-	PVS__VX_GROUND = 4,    /* layer 0, below scene and cells */
-	PVS__VX_SOLID = 8,	   /* certainly solid: flood-proved or explicit */
-	PVS__VX_EXPLICIT = 16  /* in an explicit occluder */
+	PVS__VX_TOUCHED = 1, /* triangle within margin */
+	PVS__VX_REACHED = 2, /* reached by leak flood */
+	PVS__VX_GROUND = 4, /* layer 0, below scene and cells */
+	PVS__VX_SOLID = 8, /* certainly solid: flood-proved or explicit */
+	PVS__VX_EXPLICIT = 16 /* in an explicit occluder */
 };
 #define PVS__VX_LEAK_STOP (PVS__VX_TOUCHED | PVS__VX_REACHED | PVS__VX_GROUND | PVS__VX_EXPLICIT)
 
@@ -9711,9 +9692,9 @@ typedef struct pvs__vx_grid {
 typedef struct pvs__vx_cols {
 	pvs__vx_grid grid;
 	uint32_t nu, nv;
-	float *solid;				/* nu * nv: top of ground proved-solid runs (ground: none) */
-	float *top;					/* nu * nv: occluder height, shrunk by eps (-FLT_MAX: none) */
-	uint32_t levels;			/* pyramid levels (>= 1) */
+	float *solid; /* nu * nv: top of ground proved-solid runs (ground: none) */
+	float *top; /* nu * nv: occluder height, shrunk by eps (-FLT_MAX: none) */
+	uint32_t levels; /* pyramid levels (>= 1) */
 	uint32_t lw[PVS__VX_LEVELS], lh[PVS__VX_LEVELS];
 	float *ptop[PVS__VX_LEVELS], *psolid[PVS__VX_LEVELS]; /* level 0: top, solid; others allocated */
 } pvs__vx_cols;
@@ -9721,7 +9702,7 @@ typedef struct pvs__vx_cols {
 /* Tight-box BVH over drawable objects or chains, each in one leaf. */
 typedef struct pvs__obvh_node {
 	pvs_box box;
-	uint32_t first, count;		/* leaf: items[first .. first + count); inner: count 0, children first, first + 1 */
+	uint32_t first, count; /* leaf: items[first .. first + count); inner: count 0, children first, first + 1 */
 	uint32_t parent;
 } pvs__obvh_node;
 typedef struct pvs__obvh {
@@ -9733,26 +9714,26 @@ typedef struct pvs__obvh {
 
 struct pvs_occluders {
 	pvs_allocator allocator;
-	pvs__vx_grid grid;			/* = origin, h, n below */
+	pvs__vx_grid grid; /* = origin, h, n below */
 	const pvs_scene *scene;
 	pvs_occluders_info info;
 	double origin[3], h;
 	uint32_t n[3];
 	size_t total;
-	uint8_t *state;				/* total: PVS__VX_* flags */
-	uint8_t *eroded;			/* total: 1 where solid survives erosion */
+	uint8_t *state; /* total: PVS__VX_* flags */
+	uint8_t *eroded; /* total: 1 where solid survives erosion */
 	pvs_box *boxes;
 	uint32_t box_count;
 	pvs_facade_chain *chains;	/* 2.5D occluders */
-	pvs_box *chain_boxes;		/* per chain: ground rectangle x [base, top] */
-	float *chain_points;		/* 2 floats per point */
+	pvs_box *chain_boxes; /* per chain: ground rectangle x [base, top] */
+	float *chain_points; /* 2 floats per point */
 	uint32_t chain_count;
 	size_t chain_point_count;
 	float ground;
 	pvs__vx_cols cols;
-	pvs__obvh bvh;				/* drawable objects, for 2.5D walks */
+	pvs__obvh bvh; /* drawable objects, for 2.5D walks */
 	pvs__obvh chain_bvh;
-	uint32_t *excluded;			/* info.excluded_cells: leaking cells left out, */
+	uint32_t *excluded; /* info.excluded_cells: leaking cells left out, */
 	pvs_box *excluded_boxes;	/* and their boxes */
 };
 
@@ -9780,7 +9761,7 @@ PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const doubl
 	p = n[0] * v[0][0] + n[1] * v[0][1] + n[2] * v[0][2];
 	rad = hs[0] * pvs__dabs(n[0]) + hs[1] * pvs__dabs(n[1]) + hs[2] * pvs__dabs(n[2]);
 	if (p > rad * (1.0 + 1e-9) + 1e-300 || p < -rad * (1.0 + 1e-9) - 1e-300) return 0;
-	for (i = 0; i < 3; ++i)		  /* edge i x box axis j */
+	for (i = 0; i < 3; ++i) /* edge i x box axis j */
 		for (j = 0; j < 3; ++j) {
 			double ax[3] = {0, 0, 0};
 			int k;
@@ -10216,7 +10197,7 @@ PVS__STATIC int pvs__vx_vkey_cmp(const void *x, const void *y) {
 	return c ? c : a->i < b->i ? -1 : a->i > b->i;
 }
 typedef struct pvs__vx_edge {
-	uint64_t key;  /* canonical vertex ids, smaller first */
+	uint64_t key; /* canonical vertex ids, smaller first */
 	uint32_t tri;
 } pvs__vx_edge;
 PVS__STATIC int pvs__vx_edge_cmp(const void *x, const void *y) {
@@ -10226,11 +10207,11 @@ PVS__STATIC int pvs__vx_edge_cmp(const void *x, const void *y) {
 }
 
 typedef struct pvs__vx_topo {
-	uint32_t *tris;			 /* triangles by component: comp_first[c] .. comp_first[c + 1] */
-	uint32_t *comp_first;	 /* comp_count + 1 */
+	uint32_t *tris; /* triangles by component: comp_first[c] .. comp_first[c + 1] */
+	uint32_t *comp_first; /* comp_count + 1 */
 	uint32_t comp_count;
-	uint32_t *open_first;	 /* comp_count + 1: open_edges range per component */
-	float *open_edges;		 /* 6 floats per open edge (2 corners), by component */
+	uint32_t *open_first; /* comp_count + 1: open_edges range per component */
+	float *open_edges; /* 6 floats per open edge (2 corners), by component */
 	uint32_t open_count;
 } pvs__vx_topo;
 
@@ -10349,27 +10330,27 @@ done:
 
 /* Component flood scratch, sized for largest box. */
 typedef struct pvs__vx_flood {
-	uint8_t *bits;			 /* box voxels: PVS__G_* */
-	uint8_t *col;			 /* box columns: line index, 0x80 undecided this pass, 0xff failed */
-	uint32_t *queue;		 /* 2 nodes per box voxel */
+	uint8_t *bits; /* box voxels: PVS__G_* */
+	uint8_t *col; /* box columns: line index, 0x80 undecided this pass, 0xff failed */
+	uint32_t *queue; /* 2 nodes per box voxel */
 	size_t cap_vox, cap_col;
-	const pvs_box *cells;	 /* cells, bucketed on ground plane */
+	const pvs_box *cells; /* cells, bucketed on ground plane */
 	uint32_t cell_count;
-	uint32_t *bucket_first;  /* bnu * bnv + 1 */
+	uint32_t *bucket_first; /* bnu * bnv + 1 */
 	uint32_t *bucket_cells;
-	uint32_t *stamp;		 /* per cell: 1 + last component that looked */
+	uint32_t *stamp; /* per cell: 1 + last component that looked */
 	uint32_t bnu, bnv;
 	uint32_t stamp_next;
 	pvs__vx_grid bucket_grid;
-	uint8_t *cellbuf;		 /* per cell 7 bytes: 4 arrays below */
-	uint8_t *excluded;		 /* per cell: 1 = excluded (leaking) */
+	uint8_t *cellbuf; /* per cell 7 bytes: 4 arrays below */
+	uint8_t *excluded; /* per cell: 1 = excluded (leaking) */
 	uint32_t excluded_count;
-	int keep_leaks;			 /* PVS_OCCLUDERS_KEEP_LEAKS: never exclude */
-	uint32_t *near_cells;	 /* per component: cells meeting its box, */
-	signed char *near_w;	 /* their w (-1: every node), */
-	uint8_t *near_flag;		 /* 1 = sticks out of box, 2 = outside reaches its nodes */
+	int keep_leaks; /* PVS_OCCLUDERS_KEEP_LEAKS: never exclude */
+	uint32_t *near_cells; /* per component: cells meeting its box, */
+	signed char *near_w; /* their w (-1: every node), */
+	uint8_t *near_flag; /* 1 = sticks out of box, 2 = outside reaches its nodes */
 } pvs__vx_flood;
-#define PVS__VX_BUCKET 8u	 /* voxel columns per bucket side */
+#define PVS__VX_BUCKET 8u /* voxel columns per bucket side */
 
 /* Column test line positions, voxel fractions (deliberately unstructured). */
 static const double pvs__vx_line_u[8] = {0.4142, 0.7071, 0.2360, 0.8660, 0.5773, 0.1547, 0.6458, 0.3183};
@@ -10506,12 +10487,12 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
 
 /* pvs__vx_scan visitor: voxels a triangle touches (margin toward touched). */
 typedef struct pvs__vx_touch {
-	pvs_occluders *o;		   /* non-NULL: sets PVS__VX_TOUCHED (gr: its grid) */
+	pvs_occluders *o; /* non-NULL: sets PVS__VX_TOUCHED (gr: its grid) */
 	const pvs__vx_grid *gr;
-	uint8_t *bits;			   /* non-NULL: sets PVS__G_T in component box; */
-	const uint32_t *lo;		   /* NULL: skips grid's touched/ground voxels */
+	uint8_t *bits; /* non-NULL: sets PVS__G_T in component box; */
+	const uint32_t *lo; /* NULL: skips grid's touched/ground voxels */
 	const size_t *stride;
-	double p[3][3], hs;		   /* triangle; voxel half size + margin */
+	double p[3][3], hs; /* triangle; voxel half size + margin */
 } pvs__vx_touch;
 PVS__STATIC void pvs__vx_touch_visit(void *user, const uint32_t idx[3]) {
 	pvs__vx_touch *tv = (pvs__vx_touch *)user;
@@ -10541,14 +10522,14 @@ PVS__STATIC void pvs__vx_tri_points(const pvs_scene *s, uint32_t tri, double p[3
 /* pvs__vx_scan visitors, steps 2, 3: one box column at a time. */
 typedef struct pvs__vx_colvisit {
 	const pvs__vx_grid *gr;
-	uint8_t *bits, *col;	   /* box voxels from lo; its columns (rows of d[u]) */
+	uint8_t *bits, *col; /* box voxels from lo; its columns (rows of d[u]) */
 	const uint32_t *lo, *hi, *d;
 	const size_t *stride;
 	int u, v, up;
 	double m;
-	const float *e;			   /* step 2: open edge (2 points) */
-	const float *tri[3];	   /* step 3: triangle corners */
-	uint32_t pass;			   /* step 3: column's line position */
+	const float *e; /* step 2: open edge (2 points) */
+	const float *tri[3]; /* step 3: triangle corners */
+	uint32_t pass; /* step 3: column's line position */
 } pvs__vx_colvisit;
 
 PVS__STATIC void pvs__vx_sheet_visit(void *user, const uint32_t at[3]) {
@@ -10607,9 +10588,9 @@ typedef struct pvs__vx_fbox {
 	const pvs_scene *s;
 	const pvs__vx_grid *gr;
 	const pvs__vx_topo *tp;
-	uint32_t comp;			   /* component K */
-	const uint32_t *lo, *hi;   /* box in gr voxels (inclusive) */
-	uint32_t d[3], up;		   /* voxels per axis */
+	uint32_t comp; /* component K */
+	const uint32_t *lo, *hi; /* box in gr voxels (inclusive) */
+	uint32_t d[3], up; /* voxels per axis */
 	int u, v;
 	size_t stride[3], nvox, ncol; /* of fl->bits; voxel, column counts */
 	double m;
@@ -10977,11 +10958,11 @@ PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, i
 typedef struct pvs__vx_tminvisit {
 	const pvs__vx_grid *gr;
 	double p[3][3], e, margin; /* triangle; near = within e */
-	double zlo;				   /* lowest corner height */
-	double gu, gv, slack;	   /* sloped: plane height gradient along u, v; rounding slack */
+	double zlo; /* lowest corner height */
+	double gu, gv, slack; /* sloped: plane height gradient along u, v; rounding slack */
 	int sloped;
 	int u, v, up;
-	float *tmin;			   /* per square from (su0, sv0), rows of row */
+	float *tmin; /* per square from (su0, sv0), rows of row */
 	uint32_t su0, sv0, row;
 } pvs__vx_tminvisit;
 /* Lower bounds letting pvs__vx_tmin_visit skip the clip (stacked triangles meet a square often). */
@@ -11145,7 +11126,7 @@ PVS__STATIC pvs_result pvs__vx_columns_component(pvs_occluders *o, const pvs__vx
 
 typedef struct pvs__vx_chainbuf {
 	pvs_facade_chain *chains;
-	size_t *first;			 /* per chain: first point (pointers set last) */
+	size_t *first; /* per chain: first point (pointers set last) */
 	float *points;
 	size_t count, cap, cap_first, npts, cap_pts;
 } pvs__vx_chainbuf;
@@ -11196,7 +11177,7 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 			if (!ok) break;
 			for (k = 0; k < n && ok; ++k) {
 				uint32_t e0 = (start + k) % n, e1 = (start + k + 1) % n;
-				if (k >= i && k < j) continue;					/* replaced by chord */
+				if (k >= i && k < j) continue; /* replaced by chord */
 				if (k + 1 == i || (k == j % n && j < n) || (j == n && k == 0) || (i == 0 && k + 1 == n)) {
 					/* edges sharing an end with chord may touch only there */
 					const int32_t *c0 = pt + 2 * e0, *c1 = pt + 2 * e1;
@@ -11316,10 +11297,10 @@ typedef struct pvs__vx_chainwork {
 	uint32_t *label, *queue, *members; /* per map square */
 	float *lev;
 	uint8_t *mask, *inl, *used; /* per frame square: sub-region, at/above level; trace's */
-	uint32_t *sub;					   /* per frame square: sub-region */
-	int32_t *ipts;					   /* pvs__vx_trace's points */
+	uint32_t *sub; /* per frame square: sub-region */
+	int32_t *ipts; /* pvs__vx_trace's points */
 	size_t cap, mcap, ucap, lcap, scap, ipcap;
-	uint32_t i0, j0, bw, bh;		   /* frame: its rectangle + 1 square */
+	uint32_t i0, j0, bw, bh; /* frame: its rectangle + 1 square */
 	pvs__vx_chainbuf cb;
 } pvs__vx_chainwork;
 
@@ -11695,15 +11676,15 @@ typedef struct pvs__vx_build {
 	const pvs_scene *s;
 	pvs_allocator a;
 	pvs_occluders *o;
-	pvs_box ext;			   /* scene and cell bounds */
-	double g, h, m;			   /* ground, voxel size, margin voxel tests round toward "touched" by */
+	pvs_box ext; /* scene and cell bounds */
+	double g, h, m; /* ground, voxel size, margin voxel tests round toward "touched" by */
 	uint32_t up;
 	int u, v;
 	size_t total, qcap, nbuckets;
 	uint32_t bucket_entries;
-	uint32_t *queue;		   /* qcap: floods' queue, then leak flood's */
-	uint32_t *cbox;			   /* step 1: per component voxel box lo[3] hi[3] */
-	uint8_t *tmp, *line;	   /* total, 1 + n[0] + n[1] + n[2] bytes: erode, merge scratch */
+	uint32_t *queue; /* qcap: floods' queue, then leak flood's */
+	uint32_t *cbox; /* step 1: per component voxel box lo[3] hi[3] */
+	uint8_t *tmp, *line; /* total, 1 + n[0] + n[1] + n[2] bytes: erode, merge scratch */
 	pvs__vx_topo tp;
 	pvs__vx_flood fl;
 } pvs__vx_build;
@@ -12204,8 +12185,8 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, ui
 /* ---- view cells from walkable space ---- */
 
 typedef struct pvs__wsample {
-	uint32_t col;	  /* column iu + nu iv */
-	float h;		  /* floor height */
+	uint32_t col; /* column iu + nu iv */
+	float h; /* floor height */
 	uint32_t next[2]; /* the first sample linked in column +u, +v; PVS__WNONE */
 } pvs__wsample;
 #define PVS__WNONE 0xffffffffu
@@ -12218,9 +12199,9 @@ typedef struct pvs__walk {
 	uint32_t nu, nv, *first, *local, *global;
 	pvs__wsample *w;
 	size_t n, cap;
-	pvs__vx_topo tp;		 /* mesh components (>>occluders) */
-	pvs_box *cbox;			 /* per component: its box if closed, else empty */
-	pvs_kdtree *solids;		 /* over cbox */
+	pvs__vx_topo tp; /* mesh components (>>occluders) */
+	pvs_box *cbox; /* per component: its box if closed, else empty */
+	pvs_kdtree *solids; /* over cbox */
 } pvs__walk;
 
 /* 1 when p is inside a closed mesh: the parity of its crossings above p (ambiguous: not inside). */
@@ -12692,11 +12673,11 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
    occluder dumps the current one into the dense set ("periodically dumped", §3). */
 
 #define PVS__VO_NONE 0xffffffffu
-#define PVS__VO_MAXH 64u		/* max hull vertices of a loop blocker */
-#define PVS__VO_ATOL 1e-11		/* pseudo-angle overlap joining spans of other vertices */
-#define PVS__VO_RTOL 1e-9		/* lengths, times context's scale */
-#define PVS__VO_MAXG 64u		/* max objects per aggregate */
-#define PVS__VO_MAXSTEP 96u		/* max candidates per seed */
+#define PVS__VO_MAXH 64u /* max hull vertices of a loop blocker */
+#define PVS__VO_ATOL 1e-11 /* pseudo-angle overlap joining spans of other vertices */
+#define PVS__VO_RTOL 1e-9 /* lengths, times context's scale */
+#define PVS__VO_MAXG 64u /* max objects per aggregate */
+#define PVS__VO_MAXSTEP 96u /* max candidates per seed */
 
 PVS__STATIC int pvs__vo_reserve(const pvs_allocator *a, void **p, uint32_t *cap, size_t need, size_t elem) {
 	size_t c = *cap;
@@ -12729,25 +12710,25 @@ PVS__STATIC void pvs__vo_pangle_dir(double p, double *d, double *c) {
 typedef struct pvs__vprep {
 	pvs_allocator a;
 	uint32_t nseg;
-	double *seg;		  /* nseg x (u0 v0 u1 v1) */
-	float *seg_top;		  /* nseg */
-	uint32_t *seg_vid;	  /* nseg x 2 vertex ids (equal: same point) */
-	int32_t *seg_loop;	  /* its loop, -1 */
+	double *seg; /* nseg x (u0 v0 u1 v1) */
+	float *seg_top; /* nseg */
+	uint32_t *seg_vid; /* nseg x 2 vertex ids (equal: same point) */
+	int32_t *seg_loop; /* its loop, -1 */
 	uint32_t nloop;
 	uint32_t *loop_start; /* nloop + 1: loop l in ring_seg/ring_pt */
-	uint32_t *ring_seg;   /* ring order */
-	double *ring_pt;	  /* start of each ring segment */
+	uint32_t *ring_seg; /* ring order */
+	double *ring_pt; /* start of each ring segment */
 	uint32_t *hull_start; /* nloop + 1 into hull_pt/vid (ccw) */
 	double *hull_pt;
 	uint32_t *hull_vid;
-	float *loop_top;	  /* lowest wall top */
-	double *loop_bb;	  /* 4 per loop */
-	uint32_t nobj;		  /* usable loops, then other segments */
-	uint32_t *obj_ref;	  /* < nloop: loop; else nloop + segment */
-	double *obj_bb;		  /* 4 per object */
+	float *loop_top; /* lowest wall top */
+	double *loop_bb; /* 4 per loop */
+	uint32_t nobj; /* usable loops, then other segments */
+	uint32_t *obj_ref; /* < nloop: loop; else nloop + segment */
+	double *obj_bb; /* 4 per object */
 	float *obj_top;
-	double bb[4];		  /* all */
-	double g0[2], gcell;  /* bucket grid over objects */
+	double bb[4]; /* all */
+	double g0[2], gcell; /* bucket grid over objects */
 	uint32_t gw, gh;
 	uint32_t *gstart, *gitem;
 	size_t gitems;
@@ -12816,7 +12797,7 @@ PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__key_index 
 typedef struct pvs__vprep_scratch {
 	pvs__key_index *keys;
 	uint32_t *deg, *adj, *uf, *idx, *hidx;
-	uint32_t nv;		  /* distinct vertices */
+	uint32_t nv; /* distinct vertices */
 } pvs__vprep_scratch;
 
 /* Vertex ids (p->seg_vid): ends sorted by (x, y), equal points one id; sets w->nv. */
@@ -13083,24 +13064,24 @@ done:
 /* ---- one cell and one height slice: blockers in the cell's frame (centre at the origin) ---- */
 
 typedef struct pvs__vobj {
-	uint32_t first, n;		/* vx[first, +n): n = 2 segment, else ccw hull */
-	int32_t loop;			/* hull's wall loop (inside test), -1 */
+	uint32_t first, n; /* vx[first, +n): n = 2 segment, else ccw hull */
+	int32_t loop; /* hull's wall loop (inside test), -1 */
 	uint32_t mark, visit;	/* growth and query stamps */
-	uint32_t used;			/* in an aggregate of this slice: no seed */
+	uint32_t used; /* in an aggregate of this slice: no seed */
 	double bb[4];
-	double angle;			/* subtended from cell centre: seed order */
+	double angle; /* subtended from cell centre: seed order */
 } pvs__vobj;
 
 typedef struct pvs__vo_span {
-	double s, e;			/* pseudo-angles */
-	uint32_t is, ie;		/* ends' vertex ids (PVS__VO_NONE) */
+	double s, e; /* pseudo-angles */
+	uint32_t is, ie; /* ends' vertex ids (PVS__VO_NONE) */
 } pvs__vo_span;
 
 /* Dense-set virtual occluder: ends in cell frame as checked after rounding, and as stored. */
 typedef struct pvs__vo_cand {
 	double a[2], b[2];
-	float f[4];				/* pvs_vocc_2d: world ends */
-	uint8_t q[5];			/* file bytes */
+	float f[4]; /* pvs_vocc_2d: world ends */
+	uint8_t q[5]; /* file bytes */
 } pvs__vo_cand;
 
 typedef struct pvs__vo_side {
@@ -13110,18 +13091,18 @@ typedef struct pvs__vo_side {
 } pvs__vo_side;
 
 typedef struct pvs__vo_cur {
-	double p[2], d[2];		/* line p + t d (d unit) */
-	double t0, t1;			/* occluder's interval on it */
+	double p[2], d[2]; /* line p + t d (d unit) */
+	double t0, t1; /* occluder's interval on it */
 	int valid;
 } pvs__vo_cur;
 
 typedef struct pvs__vctx {
 	const pvs_allocator *al;
 	const pvs__vprep *p;
-	double centre[2];		/* frame origin (world) */
+	double centre[2]; /* frame origin (world) */
 	double cmin[2], cmax[2], corner[8];
 	double scale, tol, range;
-	float h;				/* slice height */
+	float h; /* slice height */
 	pvs__vobj *obj;
 	uint32_t nobj, capobj;
 	double *vx;
@@ -13129,9 +13110,9 @@ typedef struct pvs__vctx {
 	uint32_t nvx, capvx, capvid;
 	uint32_t *pfirst, *pcount; /* per prepared object: its blockers in slice */
 	uint32_t epoch, visit;
-	uint32_t *g, ng, capg;	   /* aggregate's blockers */
-	uint32_t *k, nk, capk;	   /* objects fused into its umbra (seed, cases 1, 3) */
-	double *lines;			   /* aggregate's event lines, 4 doubles each */
+	uint32_t *g, ng, capg; /* aggregate's blockers */
+	uint32_t *k, nk, capk; /* objects fused into its umbra (seed, cases 1, 3) */
+	double *lines; /* aggregate's event lines, 4 doubles each */
 	uint32_t nlines, caplines;
 	pvs__vo_span *span;
 	uint32_t capspan;
@@ -13143,7 +13124,7 @@ typedef struct pvs__vctx {
 	pvs__key_index *hkeys;
 	uint32_t caphkeys;
 	uint32_t *hidx, caphidx;
-	int quantize;			   /* 0: float ends (pvs_vocc_2d); 1: file bytes */
+	int quantize; /* 0: float ends (pvs_vocc_2d); 1: file bytes */
 	double qscale, qground, qhstep; /* quantization (>>vocc file notes) */
 	pvs__vo_cand *out;
 	uint32_t nout, capout;
@@ -14310,12 +14291,12 @@ PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
 /* ---- the runtime test: one box against one virtual occluder (pvs_vocc_box_hidden) ---- */
 
 typedef struct pvs__vo_rt {
-	double o[2];			  /* frame origin (world) */
-	double n[2], off;		  /* occluder line n.x = off (n unit), cell at n.x < off */
-	double h[8][3];			  /* 2D umbra's other sides: h[0..8) . (x, y, 1) >= 0 (unit normals) */
-	double dcmin, dcmax;	  /* cell ground corners' distances from line (> 0) */
+	double o[2]; /* frame origin (world) */
+	double n[2], off; /* occluder line n.x = off (n unit), cell at n.x < off */
+	double h[8][3]; /* 2D umbra's other sides: h[0..8) . (x, y, 1) >= 0 (unit normals) */
+	double dcmin, dcmax; /* cell ground corners' distances from line (> 0) */
 	double base, top, cbot, ctop;
-	double m, mh;			  /* margins: lengths, heights */
+	double m, mh; /* margins: lengths, heights */
 	int u_axis, v_axis, up, ok;
 } pvs__vo_rt;
 
@@ -14749,8 +14730,8 @@ typedef struct pvs__vbake {
 	pvs_allocator a;
 	pvs__vprep *prep;
 	uint32_t up;
-	float base, hstep;			/* VOCC section heights */
-	pvs_box *boxes;				/* empty for never-drawn objects */
+	float base, hstep; /* VOCC section heights */
+	pvs_box *boxes; /* empty for never-drawn objects */
 	uint32_t object_count;
 	uint32_t slices, max_keep, max_seeds;
 } pvs__vbake;
@@ -14941,8 +14922,8 @@ PVS__STATIC pvs_result pvs__vo_dense_set(const pvs__vbake *vb, const pvs_box *ce
 
 /* pvs__vo_select scratch; pvs__vo_bake_cell frees it. */
 typedef struct pvs__vo_selwork {
-	pvs__vo_rt *rt, *sel;	   /* c->nout: dense tests; max_keep + 1: kept */
-	pvs_word *hid, *covered;   /* c->nout x words: what each hides; words: hidden so far */
+	pvs__vo_rt *rt, *sel; /* c->nout: dense tests; max_keep + 1: kept */
+	pvs_word *hid, *covered; /* c->nout x words: what each hides; words: hidden so far */
 } pvs__vo_selwork;
 
 /* Greedy selection (Koltun 2000, Fig. 6) from c->out: occluder hiding most not-yet-hidden objects, until max_keep
@@ -15101,11 +15082,11 @@ done:
 
 typedef struct pvs__vocc_bake {
 	pvs_allocator allocator;
-	pvs__vbake *vb;			   /* read-only in tasks */
+	pvs__vbake *vb; /* read-only in tasks */
 	uint32_t task_count, keep, only;
-	uint8_t *bytes;			   /* per task: keep x 5 occluder bytes, */
-	uint8_t *count, *scale;    /* count, scale code */
-	pvs_vocc_stats *stats;	   /* per task */
+	uint8_t *bytes; /* per task: keep x 5 occluder bytes, */
+	uint8_t *count, *scale; /* count, scale code */
+	pvs_vocc_stats *stats; /* per task */
 } pvs__vocc_bake;
 
 PVS__STATIC pvs_result pvs__vocc_bake_check(const pvs_bake_desc *desc, pvs_error *err) {
@@ -15243,16 +15224,16 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
    beyond one plane of the step. A cell keeps every object of the empty leaves it overlaps; past `budget` portal clips,
    every object of every empty leaf reachable from them (conservative cut-off). */
 
-#define PVS__PO_MAXW 64u		  /* clipped winding vertices */
-#define PVS__PO_MAXS 64u		  /* separating planes per region */
-#define PVS__PO_MAX_FACES 256u	  /* triangles of a convex-solid mesh */
-#define PVS__PO_DEPTH 200u		  /* BSP depth (deeper: empty leaf, conservative) */
+#define PVS__PO_MAXW 64u /* clipped winding vertices */
+#define PVS__PO_MAXS 64u /* separating planes per region */
+#define PVS__PO_MAX_FACES 256u /* triangles of a convex-solid mesh */
+#define PVS__PO_DEPTH 200u /* BSP depth (deeper: empty leaf, conservative) */
 #define PVS__PO_SCRATCH (PVS__PO_MAX_FACES + PVS__PO_DEPTH + 8u) /* fragment faces: its solid's, 1 per split */
-#define PVS__PO_CANDIDATES 48u	  /* split planes scored per node */
-#define PVS__PO_GROWS 6u		  /* region growths before whole portal */
+#define PVS__PO_CANDIDATES 48u /* split planes scored per node */
+#define PVS__PO_GROWS 6u /* region growths before whole portal */
 #define PVS__PO_NORMAL_EPS 1e-6
-#define PVS__PO_DIST_EPS 1e-7	  /* x scene size */
-#define PVS__PO_LEAF 0x80000000u  /* child id bit: leaf */
+#define PVS__PO_DIST_EPS 1e-7 /* x scene size */
+#define PVS__PO_LEAF 0x80000000u /* child id bit: leaf */
 #define PVS__PO_NONE 0xffffffffu
 
 typedef struct pvs__po_wind {
@@ -15263,20 +15244,20 @@ typedef struct pvs__po_wind {
 /* Convex polytope: faces on plane-table planes (outward), windings back to back. */
 typedef struct pvs__po_poly {
 	uint32_t face_count, vert_count;
-	uint32_t *plane;		   /* face_count */
-	uint32_t *first;		   /* face_count + 1 */
-	double (*v)[3];			   /* vert_count */
+	uint32_t *plane; /* face_count */
+	uint32_t *first; /* face_count + 1 */
+	double (*v)[3]; /* vert_count */
 } pvs__po_poly;
 
 typedef struct pvs__po_node {
-	uint32_t plane;			   /* front: n.x > d */
-	uint32_t child[2];		   /* front, back; PVS__PO_LEAF | leaf */
+	uint32_t plane; /* front: n.x > d */
+	uint32_t child[2]; /* front, back; PVS__PO_LEAF | leaf */
 } pvs__po_node;
 
 typedef struct pvs__po_portal {
-	uint32_t from, to;		   /* empty leaves */
-	uint32_t plane;			   /* face's table plane, outward from `from` */
-	uint32_t first, n;		   /* vertices in portal_v */
+	uint32_t from, to; /* empty leaves */
+	uint32_t plane; /* face's table plane, outward from `from` */
+	uint32_t first, n; /* vertices in portal_v */
 } pvs__po_portal;
 
 typedef struct pvs__poprep {
@@ -15287,33 +15268,33 @@ typedef struct pvs__poprep {
 	size_t plane_count, plane_cap;
 	uint32_t *hash_head, hash_size, *hash_next;
 	size_t hash_next_cap;
-	uint8_t *on_path;		   /* per pair: splitter above node being built */
+	uint8_t *on_path; /* per pair: splitter above node being built */
 	uint32_t *stamp, stamp_now; /* per pair: candidate of node being scored */
-	uint32_t *facing;		   /* per pair: node fragment faces on it (0 between nodes) */
-	double (*fbox)[6];		   /* per node fragment its box (min, max; build scratch) */
+	uint32_t *facing; /* per pair: node fragment faces on it (0 between nodes) */
+	double (*fbox)[6]; /* per node fragment its box (min, max; build scratch) */
 	size_t flag_cap, fbox_cap, fbox_n; /* fbox_n: fragments boxed by pvs__po_choose (0: none) */
-	uint32_t bound_pairs;	   /* pairs < bound_pairs: root box (no portal across) */
+	uint32_t bound_pairs; /* pairs < bound_pairs: root box (no portal across) */
 	pvs__po_node *nodes;
 	size_t node_count, node_cap;
-	pvs__po_poly *leaf;		   /* per leaf its polytope; no faces: solid leaf */
-	pvs_box *leaf_box;		   /* per leaf its polytope's box (rounded out) */
+	pvs__po_poly *leaf; /* per leaf its polytope; no faces: solid leaf */
+	pvs_box *leaf_box; /* per leaf its polytope's box (rounded out) */
 	size_t leaf_box_cap;
 	size_t leaf_count, leaf_cap;
 	uint32_t root, solids, deep_leaves;
-	int lost;				   /* polygon over PVS__PO_MAXW vertices: scene unbakeable here */
+	int lost; /* polygon over PVS__PO_MAXW vertices: scene unbakeable here */
 	pvs__po_portal *portals;
 	size_t portal_count, portal_cap;
 	double (*portal_v)[3];
 	size_t portal_v_count, portal_v_cap;
-	uint32_t *lp_first, *lp;   /* per leaf its portals out (leaf_count + 1, portal_count) */
-	uint32_t *ep_first;		   /* per portal P first step P -> Q, Q out of leaf `to` (portal_count + 1) */
+	uint32_t *lp_first, *lp; /* per leaf its portals out (leaf_count + 1, portal_count) */
+	uint32_t *ep_first; /* per portal P first step P -> Q, Q out of leaf `to` (portal_count + 1) */
 	/* objects per empty leaf */
 	uint32_t *lo_first, *lo, *lo_pairs; /* lo_pairs: (leaf, object) while building */
 	size_t lo_count, lo_cap;
 	uint32_t budget, empty_leaves;
 	uint32_t *task_cut, task_count; /* per task: cells cut off (own slot) */
-	pvs_box *solid_box;		   /* solids: a point inside sees objects meeting it (its hull blocks the rest) */
-	uint32_t *so_first, *so;   /* per solid drawable objects whose box meets its box */
+	pvs_box *solid_box; /* solids: a point inside sees objects meeting it (its hull blocks the rest) */
+	uint32_t *so_first, *so; /* per solid drawable objects whose box meets its box */
 	size_t so_count;
 } pvs__poprep;
 
@@ -15611,7 +15592,7 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 	PVS_QSORT(edges + 3 * n, 3 * (size_t)n, sizeof(edges[0]), pvs__po_edge_cmp);
 	for (i = 0; i + 1 < 3 * n; ++i)
 		if (edges[i][0] == edges[i + 1][0] && edges[i][1] == edges[i + 1][1]) return 0; /* edge twice */
-	if (memcmp(edges, edges + 3 * n, 3 * (size_t)n * sizeof(edges[0]))) return 0;	   /* open edge */
+	if (memcmp(edges, edges + 3 * n, 3 * (size_t)n * sizeof(edges[0]))) return 0; /* open edge */
 	tolc = 1e-6 * ((hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]));
 	for (i = 0; i < n; ++i) { /* orientation: signed volume */
 		const uint32_t *t = s->indices + 3 * (size_t)tris[i];
@@ -15714,7 +15695,7 @@ done:
 
 typedef struct pvs__po_build {
 	pvs__poprep *p;
-	pvs__po_wind *scratch;	   /* PVS__PO_SCRATCH windings */
+	pvs__po_wind *scratch; /* PVS__PO_SCRATCH windings */
 	uint32_t *planes;
 	int oom;
 } pvs__po_build;
@@ -15982,22 +15963,22 @@ typedef struct pvs__po_win {
 /* Step state (start leaf's portal q, or step src -> q): where lines from cell through earlier portals cross q. */
 typedef struct pvs__po_region {
 	uint32_t q, n, grows, from; /* from: portal before q (PVS__PO_NONE: q leaves a start leaf) */
-	uint32_t next, queued;	   /* queue: list through regions */
+	uint32_t next, queued; /* queue: list through regions */
 	double v[PVS__PO_MAXW][3];
 } pvs__po_region;
 
 typedef struct pvs__po_flow {
 	const pvs__poprep *p;
 	const pvs_scene *scene;
-	double c[8][3];			   /* cell corners */
+	double c[8][3]; /* cell corners */
 	pvs_word *bits;
-	uint32_t *slot;			   /* hash of (state, region), PVS__PO_NONE: free (states: ep_first, then start portals) */
-	size_t slot_cap;		   /* pairs, a power of two */
+	uint32_t *slot; /* hash of (state, region), PVS__PO_NONE: free (states: ep_first, then start portals) */
+	size_t slot_cap; /* pairs, a power of two */
 	pvs__po_region *reg;
 	size_t reg_count, reg_cap;
-	uint32_t head, tail;	   /* queue's first and last region, PVS__PO_NONE: empty */
-	uint8_t *start;			   /* per leaf: cell overlaps it (2: cut-off flood reached it) */
-	uint32_t *leaves;		   /* start leaves, then flood's */
+	uint32_t head, tail; /* queue's first and last region, PVS__PO_NONE: empty */
+	uint8_t *start; /* per leaf: cell overlaps it (2: cut-off flood reached it) */
+	uint32_t *leaves; /* start leaves, then flood's */
 	uint32_t leaf_count;
 	uint32_t clips;
 	int cut, oom;
@@ -16579,9 +16560,20 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	return PVS_OK;
 }
 
+/* AUTO's PORTAL price: the flow's work grows with the rooms around a cell: class 0, +1 per doubling past 16 leaves
+   per cell; before preparing, past 64 triangles per cell. */
+PVS__STATIC int pvs__portal_price(const pvs_bake_desc *desc, const void *state) {
+	const pvs__poprep *p = (const pvs__poprep *)state;
+	double x = (p ? (double)p->leaf_count / 16.0 : pvs_scene_triangle_count(desc->scene) / 64.0) / desc->cell_count;
+	int price = 0;
+	for (; x >= 1.0 && price < 30; x *= 0.5) ++price;
+	return price;
+}
+
 PVS__STATIC const pvs__bake_method pvs__portal_method = {
 	PVS_METHOD_PORTAL, PVS__METHOD_CONSERVATIVE | PVS__METHOD_AUTO_DEFAULT, 1, 0, NULL,
-	pvs__portal_bake_prepare, pvs__portal_bake_applies, pvs__portal_bake_cell, NULL, pvs__po_destroy, NULL};
+	pvs__portal_bake_prepare, pvs__portal_bake_applies, pvs__portal_bake_cell, NULL, pvs__po_destroy,
+	pvs__portal_price};
 
 PVS_API void pvs_bake_get_portal_info(const pvs_bake *b, pvs_portal_info *info) {
 	const pvs__poprep *p = b ? (const pvs__poprep *)pvs__bake_method_state(b, PVS_METHOD_PORTAL) : NULL;
@@ -16606,17 +16598,8 @@ PVS_API void pvs_bake_get_portal_info(const pvs_bake *b, pvs_portal_info *info) 
 #endif /* PVS_RUNTIME_ONLY */
 
 PVS_API const char *pvs_method_name(pvs_method m) {
-	switch (m) {
-	case PVS_METHOD_DEFAULT: return "default";
-	case PVS_METHOD_SAMPLE: return "sample";
-	case PVS_METHOD_OTREE: return "otree";
-	case PVS_METHOD_EXTPROJ: return "extproj";
-	case PVS_METHOD_SHRINK: return "shrink";
-	case PVS_METHOD_AUTO: return "auto";
-	case PVS_METHOD_VOCC: return "vocc";
-	case PVS_METHOD_PORTAL: return "portal";
-	default: return "unknown";
-	}
+	static const char *const s[] = {"default", "sample", "otree", "extproj", "shrink", "auto", "vocc", "portal"};
+	return (int)m >= 0 && m < PVS_METHOD_COUNT ? s[m] : "unknown";
 }
 
 #ifndef PVS_RUNTIME_ONLY
@@ -16808,16 +16791,16 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
    Limits: occluders fuse only via maps and slices; Depths flat per part; umbrae shrink by cell size over distance, so
    sparse small occluders (foliage) are loose; sub-cells (extproj.sweep_subcells) recover part (tests/BENCHMARKS.md). */
 
-#define PVS__EP_MAXP 16								  /* vertices of one convex occluder */
+#define PVS__EP_MAXP 16 /* vertices of one convex occluder */
 #define PVS__EP_CLIPN (PVS__EP_MAXP * PVS__EP_MAXP)
-#define PVS__EP_EXTEND 1.5							  /* planes reach beyond cell (§6.1) */
+#define PVS__EP_EXTEND 1.5 /* planes reach beyond cell (§6.1) */
 #define PVS__EP_DEFAULT_RES PVS_EXTPROJ_RESOLUTION
 #define PVS__EP_DEFAULT_OCC 128
 #define PVS__EP_PLANE_CANDIDATES 16
-#define PVS__EP_PLANES 4							  /* planes per direction (§6.1) */
-#define PVS__EP_PLANE_RATIO 1.7						  /* their distance bands */
-#define PVS__EP_SAT_CACHE ((size_t)64 << 20)		  /* sweep's summed-area table bytes */
-#define PVS__EP_MAX_SIDE 16384u						  /* longest sweep mask side, pixels */
+#define PVS__EP_PLANES 4 /* planes per direction (§6.1) */
+#define PVS__EP_PLANE_RATIO 1.7 /* their distance bands */
+#define PVS__EP_SAT_CACHE ((size_t)64 << 20) /* sweep's summed-area table bytes */
+#define PVS__EP_MAX_SIDE 16384u /* longest sweep mask side, pixels */
 
 typedef struct pvs__epframe {
 	int a, u, v;
@@ -17265,18 +17248,18 @@ PVS_API int pvs_extproj_test(const pvs_extproj_plane *pl, const float *map, cons
 /* Convex occluder: planar convex polygon (triangle or merged triangles) or closed convex solid. */
 typedef struct pvs__epocc {
 	pvs_box box;
-	uint32_t first, count;	 /* points */
+	uint32_t first, count; /* points */
 	int solid;
 	uint32_t xfirst, xcount; /* extended through a sheet (pvs__epsheet); xcount 0: none */
 	uint32_t sheet;
-	int xside;				 /* sheet side it stands on */
-	int cap_side, cap_axis;  /* capped convex solid (cap_side != 0): only for cells where */
-	float cap_value;		 /*   cap_side * (x[cap_axis] - cap_value) > 0 */
-	float slack;			 /* how far the true shape may lie inside points' hull */
-	uint32_t object;		 /* its object, or PVS_NO_OBJECT */
-	float area;				 /* area bound: solid angle <= area / distance^2 */
+	int xside; /* sheet side it stands on */
+	int cap_side, cap_axis; /* capped convex solid (cap_side != 0): only for cells where */
+	float cap_value; /*   cap_side * (x[cap_axis] - cap_value) > 0 */
+	float slack; /* how far the true shape may lie inside points' hull */
+	uint32_t object; /* its object, or PVS_NO_OBJECT */
+	float area; /* area bound: solid angle <= area / distance^2 */
 	uint32_t efirst, ecount; /* concave (ecount > 0): edges prep->cedge[6 * efirst ...]; points: hull, for selection */
-	float pn[3], pd;		 /*   its plane pn . x = pd, pn unit */
+	float pn[3], pd; /*   its plane pn . x = pd, pn unit */
 } pvs__epocc;
 
 /* 0 if capped solid (side != 0) cannot serve cell: not strictly on its solid side. */
@@ -17291,7 +17274,7 @@ PVS__STATIC int pvs__ep_cap_ok(int side, int axis, float value, const pvs_box *c
 typedef struct pvs__epsheet {
 	int axis;
 	float value;
-	uint32_t first, count;	 /* convex polygon prep->spoly[2 * first ...] on axes axis + 1, axis + 2 */
+	uint32_t first, count; /* convex polygon prep->spoly[2 * first ...] on axes axis + 1, axis + 2 */
 	double area;
 } pvs__epsheet;
 
@@ -17299,9 +17282,9 @@ typedef struct pvs__epsheet {
    or "capped": odd ones in one plane, all vertices on one side (a building with no floor). */
 typedef struct pvs__epslice {
 	pvs_box box;
-	uint32_t first, count;	 /* scene triangles prep->stri[first .. first + count) */
+	uint32_t first, count; /* scene triangles prep->stri[first .. first + count) */
 	uint32_t bfirst, bcount; /* capped: boundary edges prep->bedge[6 * bfirst ...], 2 points each */
-	int capped;				 /* capped: solid where cap_side * (x[cap_axis] - cap_value) >= 0 */
+	int capped; /* capped: solid where cap_side * (x[cap_axis] - cap_value) >= 0 */
 	int cap_axis, cap_side;
 	float cap_value;
 } pvs__epslice;
@@ -17310,7 +17293,7 @@ typedef struct pvs__extproj_prep {
 	pvs_allocator allocator;
 	pvs__epocc *occ;
 	size_t occ_count, occ_capacity;
-	float *pts;				 /* 3 floats per point */
+	float *pts; /* 3 floats per point */
 	size_t pt_count, pt_capacity;
 	pvs__epslice *slc;
 	size_t slc_count, slc_capacity;
@@ -17326,9 +17309,9 @@ typedef struct pvs__extproj_prep {
 	uint32_t *class_occ[PVS__EP_AREA_CLASSES]; /* tree item -> occluder */
 	uint32_t class_count[PVS__EP_AREA_CLASSES];
 	float class_area[PVS__EP_AREA_CLASSES];
-	float *spoly;			 /* sheet polygons: 2 floats per vertex */
+	float *spoly; /* sheet polygons: 2 floats per vertex */
 	size_t spoly_count, spoly_capacity;
-	float *cedge;			 /* concave occluders' boundary edges, 6 floats each */
+	float *cedge; /* concave occluders' boundary edges, 6 floats each */
 	size_t cedge_count, cedge_capacity;
 } pvs__extproj_prep;
 
@@ -17435,7 +17418,7 @@ PVS__STATIC int pvs__ep_quad(const float *const *A, const float *const *B, const
 /* Edge in sheet's plane, ends ordered. */
 typedef struct pvs__epedge2 {
 	float a[2], b[2];
-	uint32_t tri;			 /* index in its group, then its component's root */
+	uint32_t tri; /* index in its group, then its component's root */
 } pvs__epedge2;
 
 
@@ -17601,25 +17584,25 @@ PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
 
 /* Preparation scratch, sized for largest object (see pvs__ep_work_alloc). */
 typedef struct pvs__epprepwork {
-	pvs__vx_vkey *ref;	  /* corners, i = 3 t + k */
-	uint32_t *canon;	  /* corner -> id among object's distinct positions */
-	const float **vpos;   /* distinct positions */
-	uint32_t *owner;	  /* per position: a triangle using it */
-	uint32_t *parent;	  /* union-find */
-	uint32_t *order;	  /* triangles grouped by component */
-	uint32_t *start;	  /* component starts */
+	pvs__vx_vkey *ref; /* corners, i = 3 t + k */
+	uint32_t *canon; /* corner -> id among object's distinct positions */
+	const float **vpos; /* distinct positions */
+	uint32_t *owner; /* per position: a triangle using it */
+	uint32_t *parent; /* union-find */
+	uint32_t *order; /* triangles grouped by component */
+	uint32_t *start; /* component starts */
 	uint64_t *edges;
-	uint32_t *mark;		  /* per position: last component listing it */
-	uint32_t *uv;		  /* component's distinct vertices */
-	pvs__epedge2 *e2;	  /* planar group's edges in its 2D frame */
-	float *q2;			  /* group's polygon */
+	uint32_t *mark; /* per position: last component listing it */
+	uint32_t *uv; /* component's distinct vertices */
+	pvs__epedge2 *e2; /* planar group's edges in its 2D frame */
+	float *q2; /* group's polygon */
 	unsigned char *keep;
-	pvs__epend *ends;	  /* loop walk scratch */
-	uint32_t *gparent;	  /* planar groups in component (union-find) */
-	unsigned char *used;  /* merged into planar polygon */
-	double *hp, *hh;	  /* hull scratch */
-	uint64_t *bed;		  /* group's edges */
-	size_t cap;			  /* triangles */
+	pvs__epend *ends; /* loop walk scratch */
+	uint32_t *gparent; /* planar groups in component (union-find) */
+	unsigned char *used; /* merged into planar polygon */
+	double *hp, *hh; /* hull scratch */
+	uint64_t *bed; /* group's edges */
+	size_t cap; /* triangles */
 } pvs__epprepwork;
 
 PVS__STATIC void pvs__ep_work_free(const pvs_allocator *a, pvs__epprepwork *w) {
@@ -18155,7 +18138,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 	}
 	if (closed || capped) {
 		const float **vq = (const float **)w->ref; /* ref is free now: room for 3 tn pointers */
-		uint32_t *tt = w->gparent;				   /* unused until polygons */
+		uint32_t *tt = w->gparent; /* unused until polygons */
 		for (j = 0; j < nuv; ++j) vq[j] = w->vpos[w->uv[j]];
 		for (j = 0; j < n; ++j) tt[j] = t0 + tl[j];
 		if (pvs__ep_flat_component(s, tt, n, vq, nuv)) closed = capped = 0;
@@ -18234,12 +18217,12 @@ PVS__STATIC int pvs__ep_flat_axis(const pvs_scene *s, uint32_t t) {
 
 /* Sheet search scratch: `cap` edges (3 per triangle of one plane). */
 typedef struct pvs__epsheetwork {
-	pvs__epedge2 *e;	  /* cap */
-	float *q;			  /* 2 (cap + 1): a piece's polygon */
-	unsigned char *keep;  /* cap + 1 */
-	pvs__epend *ends;	  /* 2 cap */
-	uint32_t *uf;		  /* cap: pieces (union-find over group's triangles) */
-	double *tarea;		  /* cap: area per triangle, then per piece at its root */
+	pvs__epedge2 *e; /* cap */
+	float *q; /* 2 (cap + 1): a piece's polygon */
+	unsigned char *keep; /* cap + 1 */
+	pvs__epend *ends; /* 2 cap */
+	uint32_t *uf; /* cap: pieces (union-find over group's triangles) */
+	double *tarea; /* cap: area per triangle, then per piece at its root */
 	size_t cap;
 } pvs__epsheetwork;
 
@@ -18633,9 +18616,9 @@ typedef struct pvs__epslicer {
 	double *seg;
 	double *xs;
 	unsigned char *row;
-	unsigned char *cmark;	 /* res * res (no map or mask is larger): concave occluder's boundary penumbra */
-	size_t cap;			 /* segments */
-	uint32_t width;		 /* row buffer: longest side of a map or mask */
+	unsigned char *cmark; /* res * res (no map or mask is larger): concave occluder's boundary penumbra */
+	size_t cap; /* segments */
+	uint32_t width; /* row buffer: longest side of a map or mask */
 } pvs__epslicer;
 
 /* Edge-end order for pvs__ep_cross, fixed by position: both triangles of an edge get one crossing; sections close. */
@@ -19149,7 +19132,7 @@ PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
 /* Top-down query of extproj's pyramids: depth maps (max pyramids: open where Depth >= d) and sweep masks (AND pyramids:
    open where `bit` is 0). 1 if a level-0 pixel of rect r (x0 y0 x1 y1) under texel (tx, ty) of level l is open. */
 typedef struct pvs__ep_pyr {
-	float *const *depth;		   /* depth map levels; NULL for mask */
+	float *const *depth; /* depth map levels; NULL for mask */
 	unsigned char *const *mask;
 	const uint32_t *lw, *lh;
 	float d;
@@ -19292,11 +19275,11 @@ typedef struct pvs__epsel {
 } pvs__epsel;
 
 typedef struct pvs__epparams {
-	uint32_t res;		 /* plane pixels: res x res */
-	uint32_t max_occ;	 /* occluders per direction on §6.1's planes */
-	uint32_t sweep;		 /* sweep planes per direction (§5), 0 = none */
-	uint32_t split;		 /* 1: sweep masks hold cell's 4 quarters' umbrae (pvs__epmask) */
-	uint32_t coarse;	 /* 1 (PVS_BAKE_PREVIEW): object nodes decided whole (pvs__ep_visit) */
+	uint32_t res; /* plane pixels: res x res */
+	uint32_t max_occ; /* occluders per direction on §6.1's planes */
+	uint32_t sweep; /* sweep planes per direction (§5), 0 = none */
+	uint32_t split; /* 1: sweep masks hold cell's 4 quarters' umbrae (pvs__epmask) */
+	uint32_t coarse; /* 1 (PVS_BAKE_PREVIEW): object nodes decided whole (pvs__ep_visit) */
 } pvs__epparams;
 
 /* Preview's coarse test (PVS_BAKE_PREVIEW): a node subtending < PVS__EP_COARSE_ANGLE (diagonal over distance plus cell
@@ -19309,13 +19292,13 @@ typedef struct pvs__epcell {
 	const pvs_scene *scene;
 	pvs_box cell;
 	pvs__epmap maps[6 * PVS__EP_PLANES];
-	pvs__epmask *masks;  /* 6 x sweep; direction d's: d * sweep .. + mask_count[d] */
+	pvs__epmask *masks; /* 6 x sweep; direction d's: d * sweep .. + mask_count[d] */
 	uint32_t mask_count[6], sweep;
 	const pvs_word *candidates; /* adaptive cells (§6.1): test only parent's PVS; NULL = all */
 	pvs_word *bits;
-	int coarse;					/* pvs__epparams.coarse: */
-	double cell_diag;			/*   cell's diagonal, */
-	uint32_t tests;				/*   box tests so far */
+	int coarse; /* pvs__epparams.coarse: */
+	double cell_diag; /*   cell's diagonal, */
+	uint32_t tests; /*   box tests so far */
 } pvs__epcell;
 
 /* 1 if a box between cell and plane (depths w0 > 0 .. w1 <= W) is hidden by §4's improved Projection: some point of
@@ -19628,10 +19611,10 @@ typedef struct pvs__epscratch {
 	void *sweep;
 	pvs_word *seen;
 	size_t nsel, map_floats, mask_bytes, sweep_size, nmask, seen_words;
-	size_t sat_count;	 /* tables (pvs__ep_sat_count) */
-	size_t sat_table;	 /* counts per table, enough for any mask */
-	size_t range_count;  /* int32s in `ranges`: 2 (width + height) of any mask */
-	uint32_t *stamp;	 /* sweep stamps, one per occluder (pvs__epslab) */
+	size_t sat_count; /* tables (pvs__ep_sat_count) */
+	size_t sat_table; /* counts per table, enough for any mask */
+	size_t range_count; /* int32s in `ranges`: 2 (width + height) of any mask */
+	uint32_t *stamp; /* sweep stamps, one per occluder (pvs__epslab) */
 	size_t stamp_count;
 } pvs__epscratch;
 
@@ -19699,8 +19682,8 @@ typedef struct pvs__epselect {
 	pvs__epsel *sel;
 	uint32_t n, *nsel;
 	double centre[3];
-	pvs_word *seen;			 /* occluders met in an earlier leaf */
-	int cls;				 /* size class being swept */
+	pvs_word *seen; /* occluders met in an earlier leaf */
+	int cls; /* size class being swept */
 } pvs__epselect;
 
 PVS__STATIC int pvs__ep_sel_better(float score, uint32_t occ, const pvs__epsel *h) {
@@ -20012,10 +19995,10 @@ typedef struct pvs__epslab {
 	const pvs_box *cell;
 	const pvs_word *candidates;
 	const int *sheet_side;
-	const pvs__epmask *prev;  /* previous plane, NULL for first */
-	pvs__epmask *m;			  /* plane being filled */
+	const pvs__epmask *prev; /* previous plane, NULL for first */
+	pvs__epmask *m; /* plane being filled */
 	unsigned char *cmark;
-	uint32_t *stamp, serial;  /* occluders met in this traversal (an item comes once per leaf) */
+	uint32_t *stamp, serial; /* occluders met in this traversal (an item comes once per leaf) */
 	double W, Wprev, lo[2], hi[2];
 	int d, cls, axis[2];
 } pvs__epslab;
@@ -20241,7 +20224,7 @@ done:
 
 typedef struct pvs__extproj_bake {
 	pvs_allocator allocator;
-	pvs__extproj_prep *prep;  /* scene's occluders, read-only in tasks */
+	pvs__extproj_prep *prep; /* scene's occluders, read-only in tasks */
 	pvs__epparams prm;
 } pvs__extproj_bake;
 
@@ -20333,12 +20316,12 @@ PVS__STATIC const pvs__bake_method pvs__extproj_method = {
 /* Pseudo-angles in [0, 4) ("diamond angle": monotone in angle, a quarter turn per unit, no trigonometry); bin
    b covers [4 b / BINS, 4 (b + 1) / BINS). */
 typedef struct pvs__hz {
-	double eu, ev, H, w;						 /* eye; bin width (pseudo-angle) */
-	double dir[PVS__HZ_BINS + 1][2];			 /* ray direction per bin boundary (unnormalized) */
-	double dlen[PVS__HZ_BINS + 1];				 /* its length */
+	double eu, ev, H, w; /* eye; bin width (pseudo-angle) */
+	double dir[PVS__HZ_BINS + 1][2]; /* ray direction per bin boundary (unnormalized) */
+	double dlen[PVS__HZ_BINS + 1]; /* its length */
 	uint8_t nstep[PVS__HZ_BINS];
-	float step_r[PVS__HZ_BINS][PVS__HZ_STEPS];	 /* ascending */
-	float step_s[PVS__HZ_BINS][PVS__HZ_STEPS];	 /* ascending with r (dominated dropped) */
+	float step_r[PVS__HZ_BINS][PVS__HZ_STEPS]; /* ascending */
+	float step_s[PVS__HZ_BINS][PVS__HZ_STEPS]; /* ascending with r (dominated dropped) */
 	/* per chain */
 	uint32_t stamp[PVS__HZ_BINS], cur;
 	uint8_t full[PVS__HZ_BINS], npart[PVS__HZ_BINS];
@@ -20616,13 +20599,13 @@ typedef struct pvs__shrink_walk {
 	pvs__hz *hz;
 	const pvs_box *cell;
 	pvs_word *visible;
-	uint32_t *remaining;	   /* per object hierarchy node: objects not yet found */
+	uint32_t *remaining; /* per object hierarchy node: objects not yet found */
 	pvs_shrink_stats *st;
 	int u, v;
 } pvs__shrink_walk;
-#define PVS__SHRINK_NEAR 0	   /* objects meeting the cell or under its top face: visible unsampled */
-#define PVS__SHRINK_SAMPLE 1   /* a sample's objects, nodes hidden from it (§3.4) or all found skipped */
-#define PVS__SHRINK_HORIZON 2  /* the sample's horizon: chains, nearer child first, hidden ones skipped (§3.4) */
+#define PVS__SHRINK_NEAR 0 /* objects meeting the cell or under its top face: visible unsampled */
+#define PVS__SHRINK_SAMPLE 1 /* a sample's objects, nodes hidden from it (§3.4) or all found skipped */
+#define PVS__SHRINK_HORIZON 2 /* the sample's horizon: chains, nearer child first, hidden ones skipped (§3.4) */
 
 PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int v) {
 	double du = pvs__dmax(0.0, pvs__dmax(b->min[u] - z->eu, z->eu - b->max[u])),
@@ -20798,13 +20781,13 @@ PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax
 typedef struct pvs__shrink3d {
 	const pvs_scene *s;
 	const pvs_occluders *o;
-	pvs_raster *r;			  /* PVS__SHRINK_RES square; eroded boxes as one occluder mesh */
-	float *pos;				  /* 24 per eroded box: corners */
-	uint32_t *idx;			  /* 36 per eroded box: faces' triangles */
-	uint32_t *sel;			  /* 36 per eroded box: boxes a view draws */
-	uint32_t *cand;			  /* per object: objects a view tests */
-	pvs_word *seen;			  /* objects found visible (or set on entry) */
-	float nearp;			  /* views' near plane */
+	pvs_raster *r; /* PVS__SHRINK_RES square; eroded boxes as one occluder mesh */
+	float *pos; /* 24 per eroded box: corners */
+	uint32_t *idx; /* 36 per eroded box: faces' triangles */
+	uint32_t *sel; /* 36 per eroded box: boxes a view draws */
+	uint32_t *cand; /* per object: objects a view tests */
+	pvs_word *seen; /* objects found visible (or set on entry) */
+	float nearp; /* views' near plane */
 	pvs_shrink_stats *st;
 } pvs__shrink3d;
 
@@ -21185,17 +21168,17 @@ PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) {
 /* ==== bake: validated cells, a task per cell, results in cell order whatever the run order ==== */
 
 struct pvs_bake {
-	pvs__bake_env env;		   /* what methods see */
-	pvs_box *cells;			   /* per task: shard's cells, id order */
-	uint32_t cell_count;	   /* shard's (task_count) */
+	pvs__bake_env env; /* what methods see */
+	pvs_box *cells; /* per task: shard's cells, id order */
+	uint32_t cell_count; /* shard's (task_count) */
 	uint32_t total_cell_count, shard_index, shard_count;
 	uint32_t object_count;
-	size_t words;			   /* per cell */
-	pvs_word *pvs;			   /* cell_count * words; NULL when compact */
-	uint8_t **rec;			   /* compact: per task, coding byte then coded set (pvs__bake_keep) */
+	size_t words; /* per cell */
+	pvs_word *pvs; /* cell_count * words; NULL when compact */
+	uint8_t **rec; /* compact: per task, coding byte then coded set (pvs__bake_keep) */
 	uint32_t *rec_size;
-	pvs_word *row;			   /* compact: pvs_bake_cell_pvs's buffer */
-	unsigned char *done;	   /* cell_count flags, each written by its task only */
+	pvs_word *row; /* compact: pvs_bake_cell_pvs's buffer */
+	unsigned char *done; /* cell_count flags, each written by its task only */
 	pvs_method method;
 	uint32_t max_chain;
 	const char *const *object_names; /* desc's, for file */
@@ -21209,12 +21192,12 @@ struct pvs_bake {
 	const pvs__bake_method *run[PVS_METHOD_COUNT];
 	uint32_t run_count;
 	void *state[PVS_METHOD_COUNT]; /* by pvs_method: prepared states */
-	uint32_t *stats;		   /* per task: run_count own PVS sizes, run_count sole-cull counts */
-	unsigned char *restored;   /* per task: restored (no stats) */
+	uint32_t *stats; /* per task: run_count own PVS sizes, run_count sole-cull counts */
+	unsigned char *restored; /* per task: restored (no stats) */
 	float max_distance;
 	unsigned char *cell_flags; /* per task, written by it: PVS__BAKE_* */
-	uint32_t drawable;		   /* objects that can be in a PVS */
-	uint32_t adaptive_budget;  /* adaptive cells (§6.1); 0 = off */
+	uint32_t drawable; /* objects that can be in a PVS */
+	uint32_t adaptive_budget; /* adaptive cells (§6.1); 0 = off */
 	float adaptive_min_size;
 	uint32_t *object_triangles;/* adaptive: triangles per object */
 	struct pvs__bakeleaves *leaves; /* adaptive: per task, its leaf cells */
@@ -21228,7 +21211,7 @@ PVS__STATIC const pvs_word *pvs__bake_row(const void *bake, uint32_t task, pvs_w
 typedef struct pvs__bakeleaves {
 	size_t count, capacity;
 	pvs_box *boxes;
-	pvs_word *pvs;			   /* count * words */
+	pvs_word *pvs; /* count * words */
 } pvs__bakeleaves;
 
 /* ---- the method table ---- */
@@ -21444,42 +21427,66 @@ PVS__STATIC int pvs__bake_price(const pvs_bake *b, const pvs__bake_method *m, co
 	return m->price ? m->price(desc, b->state[m->method]) : m->cost_class;
 }
 
-/* AUTO: `mask`'s methods, cheapest first (cost_rank, table order), each prepared and kept if it can cull here; PREVIEW
-   stops at first kept; UNSUPPORTED ones skipped, with their reason. `sampling`: one priced d classes above the
-   cheapest kept, PVS_AUTO_MIN_GAIN 2^d > 1, is not run (it would have to cull more than that one's PVS). */
-PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, uint32_t mask, int sampling,
-										pvs_error *err) {
-	int rank, cheapest = 1 << 20;
-	uint32_t k;
-	pvs_result r;
-	for (rank = 1; rank <= 4; ++rank)
-		for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) {
-			const pvs__bake_method *m = pvs__bake_methods[k];
-			const char *why = "preview runs only the cheapest method that applies";
-			int costly = 0;
-			if (!(mask & (1u << m->method)) || m->cost_rank != rank) continue;
-			b->considered[b->considered_count] = m;
-			if (sampling && b->run_count && pvs__bake_price(b, b->run[b->run_count - 1], desc) < cheapest)
-				cheapest = pvs__bake_price(b, b->run[b->run_count - 1], desc); /* else 2^20: never costly */
-			if (ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(b, m, desc) - cheapest) > 1.0) {
-				costly = 1; /* priced before preparing */
-			} else if (!((b->env.flags & PVS_BAKE_PREVIEW) && b->run_count)) {
-				r = pvs__bake_prepare(b, m, desc, err);
-				if (r != PVS_OK && r != PVS_ERROR_UNSUPPORTED) return r;
-				if (r == PVS_ERROR_UNSUPPORTED) why = "not available in the bake driver";
-				else if (!m->applies || m->applies(b->state[m->method], &why)) { /* priced again, with state */
-					costly = ldexp(PVS_AUTO_MIN_GAIN, pvs__bake_price(b, m, desc) - cheapest) > 1.0;
-					if (!m->applies) why = "conservative";
-					b->ran[b->considered_count] = (unsigned char)!costly;
-					if (!costly) b->run[b->run_count++] = m;
-				}
+/* AUTO: `mask`'s methods, cheapest first, each prepared and kept if it can cull here; PREVIEW stops at the first kept;
+   UNSUPPORTED ones skipped, with their reason. Cheapest: cost_rank's order, or with a sample (sb) pvs__bake_price's.
+   There each kept method bakes sd's cells into sb (per cell slots: run[k]'s PVS, U their intersection, R what rays
+   aimed at U prove visible, the greedy choice's); one priced d classes above the cheapest kept is not prepared if
+   PVS_AUTO_MIN_GAIN 2^d of U passes U - R (no method culls R; without a sample, R is empty). */
+#define PVS__SAMPLE_SLOTS (PVS_METHOD_COUNT + 3)
+PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, const pvs_bake_desc *sd,
+										uint32_t mask, pvs_word *sb, pvs_error *err) {
+	uint32_t k, j, s, order[PVS__BAKE_METHOD_COUNT], n = b->object_count;
+	int cheapest = 1 << 20, key[PVS__BAKE_METHOD_COUNT];
+	double u = 0.0, left = 0.0; /* the sample's sums of |U|, |U - R| */
+	size_t w, words = b->words;
+	pvs_result r = PVS_OK;
+	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) { /* insertion sort by (price, rank, table) */
+		const pvs__bake_method *m = pvs__bake_methods[k];
+		key[k] = ((sb ? pvs__bake_price(b, m, desc) : 0) << 8) + (m->cost_rank << 4) + (int)k;
+		for (j = k; j && key[order[j - 1]] > key[k]; --j) order[j] = order[j - 1];
+		order[j] = k;
+	}
+	for (j = 0; j < PVS__BAKE_METHOD_COUNT; ++j) {
+		const pvs__bake_method *m = pvs__bake_methods[order[j]];
+		const char *why = "preview runs only the cheapest method that applies";
+		int costly = 0;
+		if (!(mask & (1u << m->method))) continue;
+		b->considered[b->considered_count] = m;
+		if (ldexp(PVS_AUTO_MIN_GAIN * u, pvs__bake_price(b, m, desc) - cheapest) > left) {
+			costly = 1; /* priced before preparing */
+		} else if (!((b->env.flags & PVS_BAKE_PREVIEW) && b->run_count)) {
+			r = pvs__bake_prepare(b, m, sd, err);
+			if (r != PVS_OK && r != PVS_ERROR_UNSUPPORTED) return r;
+			if (r == PVS_ERROR_UNSUPPORTED) why = "not available in the bake driver";
+			else if (!m->applies || m->applies(b->state[m->method], &why)) { /* priced again, with state */
+				costly = ldexp(PVS_AUTO_MIN_GAIN * u, pvs__bake_price(b, m, desc) - cheapest) > left;
+				if (!m->applies) why = "conservative";
+				b->ran[b->considered_count] = (unsigned char)!costly;
+				if (!costly) b->run[b->run_count++] = m;
 			}
-			if (costly) {
-				b->sample_gain[b->considered_count] = -1.0f;
-				why = "costly here: 4 cost classes above a kept method, it could not pay";
-			}
-			b->reason[b->considered_count++] = why;
 		}
+		if (costly) {
+			b->sample_gain[b->considered_count] = -1.0f;
+			why = "costly here: it could not cull its price (PVS_AUTO_MIN_GAIN of the kept PVS, doubled per class) "
+				  "beyond what rays prove visible on the sample cells";
+		}
+		b->reason[b->considered_count++] = why;
+		if (costly || !b->ran[b->considered_count - 1]) continue;
+		if (pvs__bake_price(b, m, desc) < cheapest) cheapest = pvs__bake_price(b, m, desc);
+		for (u = left = 0.0, s = 0; sb && s < sd->cell_count && r == PVS_OK; ++s) {
+			pvs_word *own = sb + ((size_t)s * PVS__SAMPLE_SLOTS + b->run_count - 1) * words,
+					 *uu = sb + ((size_t)s * PVS__SAMPLE_SLOTS + PVS_METHOD_COUNT) * words, *rr = uu + words;
+			unsigned flags = 0;
+			uint64_t seed = 0x9e3779b97f4a7c15ull * (s + 1);
+			r = m->cell(&b->env, b->state[m->method], 0, s, sd->cells + s, NULL, own, &flags, err);
+			for (w = 0; w < words; ++w) uu[w] = b->run_count > 1 ? uu[w] & own[w] : own[w];
+			pvs_sample_visibility_toward(b->env.scene, sd->cells + s, uu, 32, pvs__splitmix64(&seed), rr);
+			for (w = 0; w < words; ++w) rr[w] &= uu[w];
+			u += (double)pvs_bitset_count(uu, n);
+			left += (double)pvs_bitset_count(uu, n) - (double)pvs_bitset_count(rr, n);
+		}
+		if (r != PVS_OK) return r;
+	}
 	if (!b->run_count && b->considered_count == 1)
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, -1, 0, "auto: %s: %s", pvs_method_name(b->considered[0]->method),
 						 b->reason[0]);
@@ -21497,39 +21504,27 @@ PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
 }
 
-/* Greedy choice over sd's S sample cells (prepared for them): b->run keeps the chosen. */
-PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *sd, pvs_error *err) {
-	uint32_t n = b->run_count, S = sd->cell_count, s, k, i, keep[PVS_METHOD_COUNT], kept = 0;
+/* Greedy choice over the sample cells' PVSs in sb (pvs__bake_choose): b->run keeps the chosen. */
+PVS__STATIC void pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *desc, uint32_t S, pvs_word *sb) {
+	uint32_t n = b->run_count, s, k, i, keep[PVS_METHOD_COUNT], kept = 0;
 	int c0 = 0;
-	size_t w, words = b->words, total = (size_t)S * (n + 1) * words;
+	size_t w, words = b->words, stride = PVS__SAMPLE_SLOTS * words, last = stride - words;
 	double base = 0.0;
-	pvs_word *bits;
-	pvs_result r = PVS_OK;
-	if (n < 2) return PVS_OK;
-	bits = (pvs_word *)pvs__alloc_array(&b->env.allocator, total, sizeof(pvs_word));
-	if (!bits) return PVS__OOM(err, "auto: sample cells");
-	memset(bits, 0, total * sizeof(pvs_word));
-	for (s = 0; s < S && r == PVS_OK; ++s) /* per sample cell: n methods' PVSs, then kept intersection */
-		for (k = 0; k < n && r == PVS_OK; ++k) {
-			unsigned flags = 0;
-			r = b->run[k]->cell(&b->env, b->state[b->run[k]->method], 0, s, sd->cells + s, NULL,
-								bits + ((size_t)s * (n + 1) + k) * words, &flags, err);
-		}
+	if (n < 2) return;
 	for (k = 0; k < n; ++k) keep[k] = 0;
-	while (r == PVS_OK && kept < n) { /* next: largest gain over kept intersection, by its price */
+	while (kept < n) { /* next: largest gain over kept intersection, by its price */
 		uint32_t best = n;
 		int best_price = 0;
 		double best_gain = -1.0, sum, need;
 		for (k = 0; k < n; ++k) {
 			if (keep[k]) continue;
 			for (sum = 0.0, s = 0; s < S; ++s) {
-				const pvs_word *cur = bits + ((size_t)s * (n + 1) + n) * words;
-				const pvs_word *own = bits + ((size_t)s * (n + 1) + k) * words;
+				const pvs_word *cur = sb + s * stride + last, *own = sb + s * stride + k * words;
 				for (w = 0; w < words; ++w) sum += (double)pvs__popcount64((kept ? cur[w] : ~(pvs_word)0) & ~own[w]);
 			}
 			for (i = 0; i < b->considered_count; ++i) /* kept: gain when chosen; skipped: its last */
 				if (b->considered[i] == b->run[k]) b->sample_gain[i] = (float)(sum / S);
-			int price = pvs__bake_price(b, b->run[k], sd);
+			int price = pvs__bake_price(b, b->run[k], desc);
 			need = kept ? ldexp(PVS_AUTO_MIN_GAIN * base, price - c0) : 1.0;
 			if (sum / need > best_gain || (sum / need == best_gain && price < best_price)) {
 				best_gain = sum / need; /* ties (where nothing culls): cheaper */
@@ -21541,15 +21536,13 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 		if (!kept) c0 = best_price;
 		keep[best] = 1;
 		for (base = 0.0, s = 0; s < S; ++s) {
-			pvs_word *cur = bits + ((size_t)s * (n + 1) + n) * words;
-			const pvs_word *own = bits + ((size_t)s * (n + 1) + best) * words;
+			pvs_word *cur = sb + s * stride + last;
+			const pvs_word *own = sb + s * stride + best * words;
 			for (w = 0; w < words; ++w) cur[w] = kept ? cur[w] & own[w] : own[w];
 			base += (double)pvs_bitset_count(cur, b->object_count);
 		}
 		++kept;
 	}
-	pvs__free_array(&b->env.allocator, bits, total, sizeof(pvs_word));
-	if (r != PVS_OK) return r;
 	b->sample_cells = S;
 	for (k = 0, kept = 0; k < n; ++k) {
 		if (keep[k]) {
@@ -21564,7 +21557,6 @@ PVS__STATIC pvs_result pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *s
 			}
 	}
 	b->run_count = kept;
-	return PVS_OK;
 }
 
 /* AUTO with sample (pvs__bake_wants_sample). */
@@ -21573,16 +21565,21 @@ PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc
 	pvs_box sample[PVS_AUTO_SAMPLE_CELLS];
 	pvs_bake_desc sd = *desc;
 	uint32_t s, k, i, kept = 0, S = PVS_AUTO_SAMPLE_CELLS;
+	size_t total = S * PVS__SAMPLE_SLOTS * b->words;
+	pvs_word *sb = (pvs_word *)pvs__alloc_array(&b->env.allocator, total, sizeof(pvs_word));
 	pvs_result r;
+	if (!sb) return PVS__OOM(err, "auto: sample cells");
+	memset(sb, 0, total * sizeof(pvs_word));
 	for (s = 0; s < S; ++s) sample[s] = desc->cells[((2 * (uint64_t)s + 1) * desc->cell_count) / (2 * (uint64_t)S)];
 	sd.cells = sample;
 	sd.cell_count = S;
 	b->env.cells = sample;
 	b->env.cell_count = S;
-	r = pvs__bake_choose(b, &sd, mask, 1, err);
+	r = pvs__bake_choose(b, desc, &sd, mask, sb, err);
 	for (k = 0; r == PVS_OK && k < b->run_count; ++k)
 		if (b->run[k]->traits & PVS__METHOD_WHOLE_CELLS) r = PVS_ERROR_UNSUPPORTED; /* not expected under AUTO */
-	if (r == PVS_OK) r = pvs__bake_auto_sample(b, &sd, err);
+	if (r == PVS_OK) pvs__bake_auto_sample(b, desc, S, sb);
+	pvs__free_array(&b->env.allocator, sb, total, sizeof(pvs_word));
 	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) { /* sample's preparations */
 		const pvs__bake_method *m = pvs__bake_methods[k];
 		if (b->state[m->method]) m->destroy(&b->env, b->state[m->method]);
@@ -21659,7 +21656,7 @@ PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out, pvs
 		r = pvs__bake_prepare(b, row, desc, err);
 	} else if (r == PVS_OK) {
 		r = pvs__bake_wants_sample(desc) ? pvs__bake_choose_sampled(b, desc, mask, err)
-									   : pvs__bake_choose(b, desc, mask, 0, err);
+									   : pvs__bake_choose(b, desc, desc, mask, NULL, err);
 	}
 	b->env.cells = NULL; /* desc's: gone after this call */
 	if (r != PVS_OK) {
@@ -22040,11 +22037,11 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__META_SIZE 32u
 #define PVS__CELL_HEAD 20u
 #define PVS__TREE_HEAD 8u
-#define PVS__TREE_MAX_DEPTH 24u		   /* deepest look-up tree a reader accepts */
+#define PVS__TREE_MAX_DEPTH 24u /* deepest look-up tree a reader accepts */
 #define PVS__SHRD_SIZE 16u
-#define PVS__BLOCK 16u					/* records per RECS offset block */
-#define PVS__CANDIDATES 8u				/* base candidates per cell: nearest by the sweep */
-#define PVS__TREE_LEAF 4u				/* most cells per look-up leaf */
+#define PVS__BLOCK 16u /* records per RECS offset block */
+#define PVS__CANDIDATES 8u /* base candidates per cell: nearest by the sweep */
+#define PVS__TREE_LEAF 4u /* most cells per look-up leaf */
 #define PVS__RICE_MAX_K 24u
 #define PVS__TAG(a, b, c, d) ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))
 #define PVS__TAG_META PVS__TAG('M', 'E', 'T', 'A')
@@ -22171,7 +22168,7 @@ PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z 
    ranges of spatially ordered objects; bitset caps worst case at n / 8 bytes. */
 typedef struct pvs__coded {
 	uint32_t coding, rice_k;
-	size_t bytes;			   /* body size */
+	size_t bytes; /* body size */
 } pvs__coded;
 
 PVS__STATIC pvs__coded pvs__set_measure(const pvs_word *bits, uint32_t n) {
@@ -22275,9 +22272,9 @@ PVS__STATIC void pvs__set_write(const pvs_word *bits, uint32_t n, const pvs__cod
 enum { PVS__SET_CHECK = 0, PVS__SET_ADD = 1, PVS__SET_REMOVE_RANKS = 2 };
 typedef struct pvs__sink {
 	int action;
-	pvs_word *bits;			   /* PVS being built (not CHECK) */
+	pvs_word *bits; /* PVS being built (not CHECK) */
 	uint32_t words;
-	pvs_change_fn fn;		   /* optional change reports */
+	pvs_change_fn fn; /* optional change reports */
 	void *user;
 	uint32_t w, before, removed; /* REMOVE_RANKS: scan word, set bits before it, ranks removed */
 } pvs__sink;
@@ -22568,12 +22565,12 @@ typedef struct pvs__tbuild {
 	const pvs_allocator *a;
 	const pvs_box *boxes;
 	uint32_t depth;
-	uint32_t *nodes;		   /* 2^D - 1 */
-	uint32_t *leaf_start;	   /* 2^D + 1 offsets into items */
-	uint8_t *items;			   /* per leaf: gap-coded ascending cell ids */
+	uint32_t *nodes; /* 2^D - 1 */
+	uint32_t *leaf_start; /* 2^D + 1 offsets into items */
+	uint8_t *items; /* per leaf: gap-coded ascending cell ids */
 	size_t item_bytes, item_capacity;
 	uint32_t leaves_done;
-	float *keys;			   /* scratch: 2n floats */
+	float *keys; /* scratch: 2n floats */
 	const float *values[3];
 	const uint32_t *value_count;
 } pvs__tbuild;
@@ -22690,25 +22687,25 @@ typedef struct pvs__encoder {
 	const pvs_file_desc *d;
 	uint32_t n, cells;
 	size_t words;
-	pvs_box *boxes;			   /* cells as stored (-0 as +0) */
+	pvs_box *boxes; /* cells as stored (-0 as +0) */
 	float *values[3];
 	uint32_t value_count[3], index_bits[6]; /* widths: min indices, then extents */
-	pvs_kdtree *tree;		   /* over cells: base candidates */
-	uint8_t *tree_stream;	   /* TREE nodes */
+	pvs_kdtree *tree; /* over cells: base candidates */
+	uint8_t *tree_stream; /* TREE nodes */
 	size_t tree_bytes;
 	uint32_t tree_depth;
 	void *sweep;
 	size_t sweep_size;
 	pvs__link *edges;
 	size_t edge_count, edge_capacity;
-	uint32_t *adj_start;	   /* CSR over symmetric candidate graph */
-	uint32_t *adj;			   /* (neighbour, weight) pairs */
+	uint32_t *adj_start; /* CSR over symmetric candidate graph */
+	uint32_t *adj; /* (neighbour, weight) pairs */
 	pvs__heapent *heap;
 	size_t heap_capacity;
-	uint32_t *base, *depth;    /* PVS_NO_CELL for keys */
+	uint32_t *base, *depth; /* PVS_NO_CELL for keys */
 	unsigned char *placed;
 	pvs_word *tmp, *ranks;
-	pvs_word *rows;			   /* pvs_row's two buffers; the rows it gave, of cells row_of */
+	pvs_word *rows; /* pvs_row's two buffers; the rows it gave, of cells row_of */
 	const pvs_word *row[2];
 	uint32_t row_of[2];
 } pvs__encoder;
@@ -23265,7 +23262,7 @@ done:
 /* A located record (opened files only). */
 typedef struct pvs__rec {
 	const uint8_t *start, *body, *end; /* body: a delta's removed ranks, else added ids */
-	uint32_t coding, depth, base;	   /* coding of added ids */
+	uint32_t coding, depth, base; /* coding of added ids */
 	uint32_t removed_coding, base_size;
 } pvs__rec;
 
@@ -23916,7 +23913,7 @@ PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bi
 		cell = r.base;
 	}
 	pvs__record_apply(f, &r, bits, NULL, NULL); /* key */
-	while (--n) {								 /* then each delta over its base */
+	while (--n) { /* then each delta over its base */
 		pvs__record_at(f, chain[n - 1], &r);
 		pvs__record_apply(f, &r, bits, NULL, NULL);
 	}
@@ -23997,6 +23994,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    FULL HISTORY
    ============
+   0.9.2 (2026-11-29) AUTO's sample bounded by aimed rays; PORTAL's price.
    0.9.1 (2026-11-28) PVS_BAKE_COMPACT, pvs_file_desc.pvs_row; PORTAL's pass planes.
    0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH, NAME section, PVS_RUNTIME_ONLY, pvs_walkable_cells.
    0.8.0 (2026-11-28) pvs_scene_fingerprint, stored in an optional SCNE section (pvs_file.scene_fingerprint).
