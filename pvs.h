@@ -231,9 +231,7 @@
 	 points inward and away from the cell, top down) and proves the rounded one hidden, so the stored bytes are
 	 conservative. Readers may skip VOCC; the records stay a valid PVS.
 
-   RECENT HISTORY (older: FULL HISTORY at the end)
-   ==============
-   0.9.2 (2026-11-29) AUTO's sample: rays bound what a method could cull; PORTAL priced by the scene.
+   HISTORY: at the end.
 */
 // >>api
 #ifndef PVS_H
@@ -1763,6 +1761,12 @@ PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, si
 }
 
 /* ---- heaps: sorting and top-k, allocation-free ---- */
+
+/* qsort order of records starting with two uint32_t: the first, then the second. */
+PVS__STATIC int pvs__pair_cmp(const void *a, const void *b) {
+	const uint32_t *x = (const uint32_t *)a, *y = (const uint32_t *)b;
+	return x[0] != y[0] ? (x[0] < y[0] ? -1 : 1) : x[1] < y[1] ? -1 : x[1] > y[1];
+}
 
 /* 1 if a ranks before b: a sort's order (ascending) or a top-k's (best first). */
 typedef int (*pvs__before_fn)(const void *a, const void *b);
@@ -15208,21 +15212,21 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
    closed convex meshes among the scene's triangles (shared vertex indices, each directed edge matched by its reverse,
    every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles); not explicit occluder volumes (rays pass
    them). A BSP on their face planes (q3map2's BuildTree: fragments split by each plane they straddle) ends in
-   leaves wholly inside a solid or outside all: empty ones are rooms. Planes closer than input's float
-   resolution are one (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size), so touching solids leave no crack. A portal
-   is a face of an empty leaf with another empty leaf beyond: the face pushed down the tree, split by every plane it
-   straddles (Teller 1992 §3.3). A segment between points of two rooms meeting no solid crosses the portals of
-   leaves it passes, in order. Other triangles do not block here; a cell point inside a solid sees objects meeting it.
+   leaves wholly inside a solid or outside all: empty ones are rooms. Planes closer than input's float resolution are
+   one (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size): touching solids leave no crack. A portal is a face of an
+   empty leaf with an empty leaf beyond: the face pushed down the tree, split by every plane it straddles (Teller 1992
+   §3.3). A segment between two rooms meeting no solid crosses the portals of leaves it passes, in order. Other
+   triangles do not block here; a cell point inside a solid sees objects meeting it.
 
    Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): a segment from x in view cell C through portals
    P1 .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: the lines' source is C_j, C clipped
    to that side (empty: no such line). Beyond Pj the segment stays behind every separating plane of C_j (or of P(j-1))
    and its crossing region on Pj. Each step P -> Q (or a start leaf's portal Q) keeps convex hull R of regions so found
    on Q; a region W (Q clipped by the step's planes into P) not inside R grows R to hull(R, W) and queues the step: a
-   monotone fixed point (as q3map2's might-see pruning, a path adding nothing is not followed); by induction every
-   crossing point lies in its step's R. An object of a leaf entered through Q is kept unless its part in it is wholly
-   beyond one plane of the step. A cell keeps every object of the empty leaves it overlaps; past `budget` portal clips,
-   every object of every empty leaf reachable from them (conservative cut-off). */
+   monotone fixed point (as q3map2's might-see pruning); by induction every crossing point lies in its step's R. An
+   object of a leaf entered through Q (or overlapped by C) is kept if a triangle's part in the leaf is behind every
+   plane of the step: a visible point lies so. Past `budget` portal clips, every object of every empty leaf reachable
+   (conservative cut-off). */
 
 #define PVS__PO_MAXW 64u /* clipped winding vertices */
 #define PVS__PO_MAXS 64u /* separating planes per region */
@@ -15564,12 +15568,6 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 
 /* ---- solids ---- */
 
-PVS__STATIC int pvs__po_edge_cmp(const void *a, const void *b) {
-	const uint32_t *x = (const uint32_t *)a, *y = (const uint32_t *)b;
-	if (x[0] != y[0]) return x[0] < y[0] ? -1 : 1;
-	return x[1] < y[1] ? -1 : (x[1] > y[1]);
-}
-
 /* Face planes of tris[0..n) if a closed convex mesh (each directed edge and its reverse once; every vertex within tolc
    behind every triangle plane, or all in front: inside out): their count, else 0. edges: 6n scratch; planes: n. */
 PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const uint32_t *tris, uint32_t n,
@@ -15588,8 +15586,8 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 				hi[j] = x > hi[j] ? x : hi[j];
 			}
 		}
-	PVS_QSORT(edges, 3 * (size_t)n, sizeof(edges[0]), pvs__po_edge_cmp); /* edges, then reversed */
-	PVS_QSORT(edges + 3 * n, 3 * (size_t)n, sizeof(edges[0]), pvs__po_edge_cmp);
+	PVS_QSORT(edges, 3 * (size_t)n, sizeof(edges[0]), pvs__pair_cmp); /* edges, then reversed */
+	PVS_QSORT(edges + 3 * n, 3 * (size_t)n, sizeof(edges[0]), pvs__pair_cmp);
 	for (i = 0; i + 1 < 3 * n; ++i)
 		if (edges[i][0] == edges[i + 1][0] && edges[i][1] == edges[i + 1][1]) return 0; /* edge twice */
 	if (memcmp(edges, edges + 3 * n, 3 * (size_t)n * sizeof(edges[0]))) return 0; /* open edge */
@@ -16093,20 +16091,35 @@ PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, pvs__po_set *c
 	return c->n > 0;
 }
 
-/* Keeps objects of empty leaf `leaf` not wholly beyond a plane of w in it (box clipped to leaf's; tol; w NULL: all). */
+/* Keeps objects of empty leaf `leaf` with a part in it not beyond w's planes (w NULL: all): its box clipped to the
+   leaf's not wholly beyond one, then a triangle clipped to the leaf and by every plane not empty (within tol). */
 PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win *w) {
 	const pvs__poprep *p = f->p;
+	const pvs_scene *s = f->scene;
+	const pvs__po_poly *lp = p->leaf + leaf;
 	uint32_t i, j, k;
 	for (i = p->lo_first[leaf]; i < p->lo_first[leaf + 1]; ++i) {
-		uint32_t o = p->lo[i];
-		pvs_box b = f->scene->object_boxes[o];
+		uint32_t o = p->lo[i], *ot = s->object_triangles + 2 * (size_t)o, t = ot[0];
+		pvs_box b = s->object_boxes[o];
 		int keep = 1;
+		if (pvs_bitset_test(f->bits, o)) continue;
 		if (w && pvs__box_clip(&b, p->leaf_box + leaf))
 			for (j = 0; j < w->np && keep; ++j) {
 				double x[3];
 				for (k = 0; k < 3; ++k) x[k] = w->pl[j][k] > 0.0 ? b.min[k] : b.max[k];
 				keep = pvs__po_dist(w->pl[j], x) <= p->tol;
 			}
+		if (!keep) continue;
+		for (keep = !ot[1]; !keep && t < ot[0] + ot[1]; ++t) {
+			const uint32_t *c = s->indices + 3 * (size_t)t;
+			pvs__po_wind tw;
+			int lost = 0;
+			tw.n = 3;
+			for (k = 0; k < 9; ++k) tw.p[k / 3][k % 3] = s->positions[3 * (size_t)c[k / 3] + k % 3];
+			for (k = 0; k < lp->face_count && tw.n; ++k) lost |= pvs__po_clip(&tw, p->pl[lp->plane[k]], p->tol);
+			for (j = 0; w && j < w->np && tw.n; ++j) lost |= pvs__po_clip(&tw, w->pl[j], p->tol);
+			keep = tw.n > 0 || lost;
+		}
 		if (keep) pvs_bitset_set(f->bits, o);
 	}
 }
@@ -22673,12 +22686,6 @@ PVS__STATIC pvs_visit pvs__collect_candidates(void *user, const pvs_box *node_bo
 typedef struct pvs__link {
 	uint32_t a, b, weight;
 } pvs__link;
-PVS__STATIC int pvs__edge_cmp(const void *x, const void *y) {
-	const pvs__link *e = (const pvs__link *)x, *f = (const pvs__link *)y;
-	if (e->a != f->a) return e->a < f->a ? -1 : 1;
-	if (e->b != f->b) return e->b < f->b ? -1 : 1;
-	return 0;
-}
 
 
 /* All the encoder allocates, freed in one place. */
@@ -22809,7 +22816,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 		}
 	}
 	/* unique undirected edges */
-	PVS_QSORT(e->edges, e->edge_count, sizeof(pvs__link), pvs__edge_cmp);
+	PVS_QSORT(e->edges, e->edge_count, sizeof(pvs__link), pvs__pair_cmp);
 	for (k = 0, m = 0; k < e->edge_count; ++k)
 		if (!m || e->edges[k].a != e->edges[m - 1].a || e->edges[k].b != e->edges[m - 1].b) e->edges[m++] = e->edges[k];
 	e->edge_count = m;
@@ -23992,9 +23999,9 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 #endif /* PVS_IMPLEMENTATION */
 
 /*
-   FULL HISTORY
-   ============
-   0.9.2 (2026-11-29) AUTO's sample bounded by aimed rays; PORTAL's price.
+   HISTORY
+   =======
+   0.9.2 (2026-11-29) AUTO's sample bounded by aimed rays; PORTAL's price; PORTAL tests objects' triangles.
    0.9.1 (2026-11-28) PVS_BAKE_COMPACT, pvs_file_desc.pvs_row; PORTAL's pass planes.
    0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH, NAME section, PVS_RUNTIME_ONLY, pvs_walkable_cells.
    0.8.0 (2026-11-28) pvs_scene_fingerprint, stored in an optional SCNE section (pvs_file.scene_fingerprint).

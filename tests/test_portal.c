@@ -122,6 +122,33 @@ static void tp_rooms(void) {
     pvs_scene_destroy(s);
 }
 
+/* Objects are tested by their triangles, not their boxes: two small triangles in room 1's corners hidden from
+   cell 0 (behind the first cross wall, and beyond where lines through its door reach) make a box that meets lines
+   through that door; PORTAL leaves the object out of cell 0's PVS, with 0 misses. */
+static void tp_triangles(void) {
+    static const float tri[2][3][3] = {{{11.2f, 1, 0.5f}, {11.8f, 1, 0.5f}, {11.5f, 2, 1.5f}},
+                                       {{20.2f, 1, 9.5f}, {20.8f, 1, 9.5f}, {20.5f, 2, 8.5f}}};
+    tp_level l;
+    pvs_word pvs[4];
+    double mean;
+    pvs_scene *s;
+    uint32_t k;
+    tp_level_make(&l);
+    l.obj[l.objects].first_triangle = l.tc;
+    l.obj[l.objects++].triangle_count = 2;
+    for (k = 0; k < 6; ++k) {
+        memcpy(l.pos + 3 * l.vc, tri[k / 3][k % 3], 3 * sizeof(float));
+        l.idx[3 * l.tc + k] = l.vc++;
+    }
+    l.tc += 2;
+    s = tp_scene(&l);
+    CHECK(s != NULL);
+    if (!s) return;
+    tp_bake_check(s, l.cells, 4, "portal triangles", NULL, pvs, &mean);
+    CHECK(!pvs_bitset_test(pvs + 0, 4) && pvs_bitset_test(pvs + 1, 4));
+    pvs_scene_destroy(s);
+}
+
 /* Only closed convex meshes are solids: an open box, a dented box (concave) and a flat box are not; an inside-out
    box is. */
 static void tp_solids(void) {
@@ -297,6 +324,7 @@ static void tp_solid_objects(void) {
 
 void test_portal(void) {
     tp_rooms();
+    tp_triangles();
     tp_solids();
     tp_inside();
     tp_many_vertices();
