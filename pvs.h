@@ -95,8 +95,8 @@
    pvs_bake_begin prepares methods by cost class and bakes PVS_AUTO_SAMPLE_CELLS cells spread over all cells with each;
    rays aimed at what they keep prove part of it visible, and one that would have to cull more than the rest to pay
    (PVS_AUTO_MIN_GAIN of the kept PVS, times 2 per class above the cheapest kept's) is not prepared. Of those run, the
-   smallest PVS's is kept (ties: the cheaper), then greedily those culling that price. Classes: PORTAL log2 of BSP
-   leaves a cell / 8 (before preparing: triangles / 32); OTREE 2 + log2 of its base levels; EXTPROJ 3; SHRINK 3 +
+   smallest PVS's is kept (ties: the cheaper), then greedily those culling that price. Classes: PORTAL 0, +1 per 2 of
+   8 cells spread over all whose centre sees the sky; OTREE 2 + log2 of its base levels; EXTPROJ 3; SHRINK 3 +
    log2 of its sample points a cell / 294. pvs_bake_method_info says which and why; counts decide, so any thread count
    or shard decides alike. A named set (pvs_bake_desc.methods) runs in full;
    VOCC only when named. max_distance, a draw distance, drops objects whose box is farther from every point of the cell
@@ -267,39 +267,39 @@ extern "C" {
 /* Result of every fallible call: 0 success, errors negative. */
 typedef enum pvs_result {
 	PVS_OK = 0,
-	PVS_ERROR_INVALID_ARGUMENT = -1,   /* NULL where not allowed, impossible parameter */
-	PVS_ERROR_OUT_OF_MEMORY = -2,	   /* the allocator returned NULL */
-	PVS_ERROR_COUNT_OVERFLOW = -3,	   /* a count or size does not fit the index or size type */
+	PVS_ERROR_INVALID_ARGUMENT = -1, /* NULL where not allowed, impossible parameter */
+	PVS_ERROR_OUT_OF_MEMORY = -2, /* the allocator returned NULL */
+	PVS_ERROR_COUNT_OVERFLOW = -3, /* a count or size does not fit the index or size type */
 	PVS_ERROR_INDEX_OUT_OF_RANGE = -4, /* a vertex, triangle or object index past its array */
-	PVS_ERROR_NOT_FINITE = -5,		   /* NaN or infinity in a coordinate or parameter */
-	PVS_ERROR_EMPTY_OBJECT = -6,	   /* an object with no triangles */
-	PVS_ERROR_DEGENERATE_OBJECT = -7,  /* an object whose triangles all have zero area */
+	PVS_ERROR_NOT_FINITE = -5, /* NaN or infinity in a coordinate or parameter */
+	PVS_ERROR_EMPTY_OBJECT = -6, /* an object with no triangles */
+	PVS_ERROR_DEGENERATE_OBJECT = -7, /* an object whose triangles all have zero area */
 	PVS_ERROR_OVERLAPPING_OBJECTS = -8,/* two objects claim the same triangle */
-	PVS_ERROR_BAD_OCCLUDER = -9,	   /* an explicit occluder empty, unbounded or malformed */
-	PVS_ERROR_BAD_CELL = -10,		   /* a cell box with NaN or min > max */
-	PVS_ERROR_BUFFER_TOO_SMALL = -11,  /* an output buffer too small */
-	PVS_ERROR_BAD_MAGIC = -12,		   /* not a .pvs file */
-	PVS_ERROR_BAD_VERSION = -13,	   /* a .pvs file of another format version */
-	PVS_ERROR_TRUNCATED = -14,		   /* the buffer ends before the data it declares */
-	PVS_ERROR_BAD_SECTION = -15,	   /* a section missing, repeated, misaligned, overlapping or outside */
-	PVS_ERROR_CHECKSUM = -16,		   /* stored and computed checksums differ */
-	PVS_ERROR_BAD_RECORD = -17,		   /* a malformed PVS record (varint, order, length) */
+	PVS_ERROR_BAD_OCCLUDER = -9, /* an explicit occluder empty, unbounded or malformed */
+	PVS_ERROR_BAD_CELL = -10, /* a cell box with NaN or min > max */
+	PVS_ERROR_BUFFER_TOO_SMALL = -11, /* an output buffer too small */
+	PVS_ERROR_BAD_MAGIC = -12, /* not a .pvs file */
+	PVS_ERROR_BAD_VERSION = -13, /* a .pvs file of another format version */
+	PVS_ERROR_TRUNCATED = -14, /* the buffer ends before the data it declares */
+	PVS_ERROR_BAD_SECTION = -15, /* a section missing, repeated, misaligned, overlapping or outside */
+	PVS_ERROR_CHECKSUM = -16, /* stored and computed checksums differ */
+	PVS_ERROR_BAD_RECORD = -17, /* a malformed PVS record (varint, order, length) */
 	PVS_ERROR_OBJECT_OUT_OF_RANGE = -18,/* a record names an object id >= object count */
-	PVS_ERROR_BAD_HEADER = -19,		   /* a header or META field with an impossible value */
-	PVS_ERROR_NOT_DONE = -20,		   /* a bake result asked for before every task ran */
-	PVS_ERROR_UNSUPPORTED = -21,	   /* the method cannot handle this input (message says why) */
-	PVS_ERROR_BAD_CHAIN = -22,		   /* a delta record whose base chain is cyclic, too long or inconsistent */
-	PVS_ERROR_BAD_TREE = -23,		   /* a malformed cell look-up tree in a .pvs file */
-	PVS_ERROR_SHARD_MISMATCH = -24,    /* part files not making up one bake (missing, repeated, different) */
-	PVS_RESULT_MIN = -25			   /* sentinel: every result is > PVS_RESULT_MIN */
+	PVS_ERROR_BAD_HEADER = -19, /* a header or META field with an impossible value */
+	PVS_ERROR_NOT_DONE = -20, /* a bake result asked for before every task ran */
+	PVS_ERROR_UNSUPPORTED = -21, /* the method cannot handle this input (message says why) */
+	PVS_ERROR_BAD_CHAIN = -22, /* a delta record whose base chain is cyclic, too long or inconsistent */
+	PVS_ERROR_BAD_TREE = -23, /* a malformed cell look-up tree in a .pvs file */
+	PVS_ERROR_SHARD_MISMATCH = -24, /* part files not making up one bake (missing, repeated, different) */
+	PVS_RESULT_MIN = -25 /* sentinel: every result is > PVS_RESULT_MIN */
 } pvs_result;
 
 /* Why a call failed, for calls taking a `pvs_error *` last (NULL allowed). */
 typedef struct pvs_error {
-	pvs_result result;	 /* same as the return value */
-	int64_t index;		 /* offending object/triangle/vertex/cell/occluder/record, or -1 */
-	uint64_t offset;	 /* file byte offset of a format error, else 0 */
-	char message[200];	 /* NUL-terminated: what and where */
+	pvs_result result; /* same as the return value */
+	int64_t index; /* offending object/triangle/vertex/cell/occluder/record, or -1 */
+	uint64_t offset; /* file byte offset of a format error, else 0 */
+	char message[200]; /* NUL-terminated: what and where */
 } pvs_error;
 
 /* A constant English description ("out of memory"), never NULL. */
@@ -350,27 +350,27 @@ typedef struct pvs_kdtree pvs_kdtree;
 typedef struct pvs_object_desc {
 	uint32_t first_triangle;
 	uint32_t triangle_count;
-	uint32_t flags;			 /* PVS_OBJECT_* */
+	uint32_t flags; /* PVS_OBJECT_* */
 } pvs_object_desc;
 
 /* Kinds of explicit occluder volume (geometry known solid). */
 typedef enum pvs_occluder_kind {
 	PVS_OCCLUDER_INVALID = 0,
-	PVS_OCCLUDER_BOX,		 /* `box` */
-	PVS_OCCLUDER_CONVEX,	 /* intersection of half-spaces: `planes` */
-	PVS_OCCLUDER_EXTRUSION,  /* a simple polygon in the ground plane extruded along the up axis */
+	PVS_OCCLUDER_BOX, /* `box` */
+	PVS_OCCLUDER_CONVEX, /* intersection of half-spaces: `planes` */
+	PVS_OCCLUDER_EXTRUSION, /* a simple polygon in the ground plane extruded along the up axis */
 	PVS_OCCLUDER_KIND_COUNT
 } pvs_occluder_kind;
 
 /* An explicit occluder volume; pvs_scene_create copies the arrays. */
 typedef struct pvs_occluder_desc {
 	pvs_occluder_kind kind;
-	pvs_box box;				/* BOX: the volume */
-	const float *planes;		/* CONVEX: plane_count x (nx, ny, nz, d); inside is n.p + d <= 0 */
-	uint32_t plane_count;		/* CONVEX: 4..PVS_MAX_OCCLUDER_PLANES, bounded, non-empty */
-	const float *footprint;		/* EXTRUSION: footprint_count ground points (u, v), a simple polygon, */
+	pvs_box box; /* BOX: the volume */
+	const float *planes; /* CONVEX: plane_count x (nx, ny, nz, d); inside is n.p + d <= 0 */
+	uint32_t plane_count; /* CONVEX: 4..PVS_MAX_OCCLUDER_PLANES, bounded, non-empty */
+	const float *footprint; /* EXTRUSION: footprint_count ground points (u, v), a simple polygon, */
 	uint32_t footprint_count;	/*   any winding, maybe concave; 3..PVS_MAX_FOOTPRINT_POINTS */
-	float base, top;			/* EXTRUSION: heights along the up axis, base < top */
+	float base, top; /* EXTRUSION: heights along the up axis, base < top */
 } pvs_occluder_desc;
 #define PVS_MAX_OCCLUDER_PLANES 64
 #define PVS_MAX_FOOTPRINT_POINTS 4096
@@ -379,17 +379,17 @@ typedef struct pvs_occluder_desc {
 
 /* Zero fields get defaults. Ground coordinates (u, v): (x, z) for up_axis 1, (x, y) for 2. */
 typedef struct pvs_scene_desc {
-	const float *positions;		 /* vertex_count x (x, y, z) */
+	const float *positions; /* vertex_count x (x, y, z) */
 	uint32_t vertex_count;
-	const uint32_t *indices;	 /* triangle_count x 3 vertex indices */
+	const uint32_t *indices; /* triangle_count x 3 vertex indices */
 	uint32_t triangle_count;
 	const pvs_object_desc *objects;
-	uint32_t object_count;		 /* >= 1 */
+	uint32_t object_count; /* >= 1 */
 	const pvs_occluder_desc *occluders; /* NULL allowed if occluder_count is 0 */
 	uint32_t occluder_count;
-	uint32_t up_axis;			 /* 0 or 1: Y up (default); 2: Z up */
-	uint32_t flags;				 /* PVS_SCENE_* */
-	uint32_t leaf_size;			 /* kD-tree leaf size for triangles, 0 = default (4) */
+	uint32_t up_axis; /* 0 or 1: Y up (default); 2: Z up */
+	uint32_t flags; /* PVS_SCENE_* */
+	uint32_t leaf_size; /* kD-tree leaf size for triangles, 0 = default (4) */
 	pvs_allocator allocator;
 } pvs_scene_desc;
 
@@ -409,8 +409,8 @@ PVS_API void pvs_scene_destroy(pvs_scene *scene);
 PVS_API uint32_t pvs_scene_object_count(const pvs_scene *scene);
 PVS_API uint32_t pvs_scene_triangle_count(const pvs_scene *scene);
 PVS_API uint32_t pvs_scene_occluder_count(const pvs_scene *scene);
-PVS_API uint32_t pvs_scene_up_axis(const pvs_scene *scene);			/* 1 or 2 */
-PVS_API pvs_box pvs_scene_bounds(const pvs_scene *scene);			/* of all triangles and occluders */
+PVS_API uint32_t pvs_scene_up_axis(const pvs_scene *scene); /* 1 or 2 */
+PVS_API pvs_box pvs_scene_bounds(const pvs_scene *scene); /* of all triangles and occluders */
 PVS_API pvs_box pvs_scene_object_box(const pvs_scene *scene, uint32_t object); /* object < count */
 PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *scene, uint32_t object);
 /* 64-bit FNV-1a hash of what the bake reads: up axis, per object its flags and triangles' corners, then the explicit
@@ -423,9 +423,9 @@ PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *scene, uint32_t tria
 PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *scene, uint32_t i);
 
 typedef struct pvs_hit {
-	float t;			 /* distance along dir, in units of |dir| */
+	float t; /* distance along dir, in units of |dir| */
 	uint32_t triangle;
-	uint32_t object;	 /* PVS_NO_OBJECT for triangles in no object */
+	uint32_t object; /* PVS_NO_OBJECT for triangles in no object */
 } pvs_hit;
 
 /* Closest hit of origin + t dir, 0 <= t <= tmax (dir non-zero), on two-sided triangles: 1 and *hit (may be NULL),
@@ -438,14 +438,14 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], 
 
 /* View cells from walkable space (pvs_walkable_cells). Zero fields get defaults: metres, or scaled by eye_height. */
 typedef struct pvs_walkable_desc {
-	float cell_size;		 /* ground side of a cell, 0 = 4 (x eye_height / 1.8); floors sampled every cell_size / 4 */
-	float eye_height;		 /* camera height over the floor, 0 = 1.8 */
-	float head_room;		 /* free height over a floor, 0 = eye_height */
-	float step_height;		 /* the highest step a walk climbs, 0 = 0.5 (x eye_height / 1.8) */
-	float max_slope;		 /* steepest floor, radians in (0, pi / 2), 0 = pi / 4 */
-	uint32_t max_merge;		 /* cells merged per side over open floor, 0 = 2 (1: none) */
-	const float *seed;		 /* NULL: every floor; else the floors a walk reaches from the one under this point */
-	const pvs_box *volumes;	 /* NULL: anywhere; else only eyes inside these view volumes, cells clipped to them */
+	float cell_size; /* ground side of a cell, 0 = 4 (x eye_height / 1.8); floors sampled every cell_size / 4 */
+	float eye_height; /* camera height over the floor, 0 = 1.8 */
+	float head_room; /* free height over a floor, 0 = eye_height */
+	float step_height; /* the highest step a walk climbs, 0 = 0.5 (x eye_height / 1.8) */
+	float max_slope; /* steepest floor, radians in (0, pi / 2), 0 = pi / 4 */
+	uint32_t max_merge; /* cells merged per side over open floor, 0 = 2 (1: none) */
+	const float *seed; /* NULL: every floor; else the floors a walk reaches from the one under this point */
+	const pvs_box *volumes; /* NULL: anywhere; else only eyes inside these view volumes, cells clipped to them */
 	uint32_t volume_count;
 	pvs_allocator allocator; /* scratch */
 } pvs_walkable_desc;
@@ -464,10 +464,10 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable
 
 /* pvs_kdtree (see core): binned SAH, items in each leaf they meet. Immutable, thread-safe. */
 typedef struct pvs_kdtree_desc {
-	const pvs_box *boxes;	 /* count item boxes; item i is box i */
+	const pvs_box *boxes; /* count item boxes; item i is box i */
 	uint32_t count;
-	uint32_t leaf_size;		 /* stop splitting at this many items, 0 = default (4) */
-	uint32_t max_depth;		 /* 0 = about 1.3 log2 count + 8; capped at PVS_KDTREE_MAX_DEPTH */
+	uint32_t leaf_size; /* stop splitting at this many items, 0 = default (4) */
+	uint32_t max_depth; /* 0 = about 1.3 log2 count + 8; capped at PVS_KDTREE_MAX_DEPTH */
 	pvs_allocator allocator;
 } pvs_kdtree_desc;
 #define PVS_KDTREE_MAX_DEPTH 48
@@ -490,10 +490,10 @@ PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *tree);
 
 /* A sweep visitor's answer. */
 typedef enum pvs_visit {
-	PVS_VISIT_DESCEND = 0,	 /* visit the children */
-	PVS_VISIT_SKIP,			 /* cull the subtree */
-	PVS_VISIT_STOP,			 /* end the sweep */
-	PVS_VISIT_ALL,			 /* take the subtree whole (below); only STOP is heeded in it */
+	PVS_VISIT_DESCEND = 0, /* visit the children */
+	PVS_VISIT_SKIP, /* cull the subtree */
+	PVS_VISIT_STOP, /* end the sweep */
+	PVS_VISIT_ALL, /* take the subtree whole (below); only STOP is heeded in it */
 	PVS_VISIT_COUNT
 } pvs_visit;
 
@@ -534,8 +534,8 @@ PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const floa
 
 /* Rasterization (Durand 2000 §2.2, §3.1-3.2: occluders by intersection, occludees by union). */
 typedef enum pvs_raster_mode {
-	PVS_RASTER_OCCLUDER = 0,  /* pixels covered entirely, at most the triangle's farthest over them */
-	PVS_RASTER_OCCLUDEE,	  /* pixels touched, at least the triangle's nearest over them */
+	PVS_RASTER_OCCLUDER = 0, /* pixels covered entirely, at most the triangle's farthest over them */
+	PVS_RASTER_OCCLUDEE, /* pixels touched, at least the triangle's nearest over them */
 	PVS_RASTER_MODE_COUNT
 } pvs_raster_mode;
 
@@ -544,10 +544,10 @@ typedef struct pvs_camera {
 	float eye[3];
 	float forward[3];
 	float up[3];
-	float fov_y;		 /* vertical field of view, radians, (0, pi); 0 = orthographic */
-	float near_plane;	 /* > 0 */
-	float ortho_height;  /* orthographic: view volume height, > 0 */
-	float far_plane;	 /* orthographic: where depth reaches 0 (not a clip plane); 0 = near + 1e4 */
+	float fov_y; /* vertical field of view, radians, (0, pi); 0 = orthographic */
+	float near_plane; /* > 0 */
+	float ortho_height; /* orthographic: view volume height, > 0 */
+	float far_plane; /* orthographic: where depth reaches 0 (not a clip plane); 0 = near + 1e4 */
 } pvs_camera;
 
 /* Row-major clip matrix (clip = m * (x, y, z, 1), m[4 * row + col]) for aspect width / height; perspective depth =
@@ -556,21 +556,21 @@ PVS_API pvs_result pvs_camera_matrix(const pvs_camera *camera, float aspect, flo
 
 /* Raster flags. Occluder depth is kept per pixel (default up to 65,536 pixels) or per 32 x 4 tile as a coverage mask
    and two depths (Masked Occlusion Culling: several times faster; default above). Both are conservative. */
-#define PVS_RASTER_SCALAR 1u	 /* scalar code even where SIMD is compiled in (identical results) */
-#define PVS_RASTER_PER_PIXEL 2u  /* occluders keep a depth per pixel */
-#define PVS_RASTER_TILED 4u		 /* occluders go to tiles (wins over PVS_RASTER_PER_PIXEL) */
+#define PVS_RASTER_SCALAR 1u /* scalar code even where SIMD is compiled in (identical results) */
+#define PVS_RASTER_PER_PIXEL 2u /* occluders keep a depth per pixel */
+#define PVS_RASTER_TILED 4u /* occluders go to tiles (wins over PVS_RASTER_PER_PIXEL) */
 
 /* Zero fields get defaults. */
 typedef struct pvs_raster_desc {
-	uint32_t width, height;		  /* depth map size in pixels, 1..16384 each */
+	uint32_t width, height; /* depth map size in pixels, 1..16384 each */
 	/* Optional: sizes the culling buffers and cull map; pvs_raster_cull* take no larger scene (objects,
 	   triangles, kD-tree nodes). */
 	const pvs_scene *scene;
-	uint32_t max_occluders;		  /* scene triangles selected per frame at most, 0 = 1024 */
-	uint32_t cull_map_width;	  /* cull map cells over the scene's ground, 0 = none */
-	uint32_t cull_map_height;	  /*   (both or neither; 1..4096; needs `scene`) */
-	uint32_t flags;				  /* PVS_RASTER_* */
-	uint32_t max_mesh_triangles;  /* pvs_raster_mesh's piece size, 0 = 4096 (~400 bytes each) */
+	uint32_t max_occluders; /* scene triangles selected per frame at most, 0 = 1024 */
+	uint32_t cull_map_width; /* cull map cells over the scene's ground, 0 = none */
+	uint32_t cull_map_height; /*   (both or neither; 1..4096; needs `scene`) */
+	uint32_t flags; /* PVS_RASTER_* */
+	uint32_t max_mesh_triangles; /* pvs_raster_mesh's piece size, 0 = 4096 (~400 bytes each) */
 	pvs_allocator allocator;
 } pvs_raster_desc;
 
@@ -616,10 +616,10 @@ PVS_API int pvs_raster_test_box(pvs_raster *raster, const pvs_box *box);
 
 /* Connected facades (Wonka 1999 §3.1, §4.1): vertical quads on consecutive ground segments (u, v), base to top. */
 typedef struct pvs_facade_chain {
-	const float *points;   /* (u, v) each */
-	uint32_t point_count;  /* >= 2 */
-	uint32_t closed;	   /* 1: closed footprint (either winding), back-face culled; 0: open, two-sided */
-	float base, top;	   /* base < top; chains with base above the ground are ignored */
+	const float *points; /* (u, v) each */
+	uint32_t point_count; /* >= 2 */
+	uint32_t closed; /* 1: closed footprint (either winding), back-face culled; 0: open, two-sided */
+	float base, top; /* base < top; chains with base above the ground are ignored */
 } pvs_facade_chain;
 
 #define PVS_CULL_MAP_SCENE_OCCLUDERS 1u /* cull map flag: also the scene's EXTRUSION, BOX occluders as closed chains */
@@ -638,30 +638,30 @@ PVS_API int pvs_cull_map_test_box(const pvs_raster *raster, const pvs_box *box);
 
 /* Per-frame culling inputs; all zero: a frustum cull. */
 typedef struct pvs_cull_params {
-	const float *occluder_positions;  /* the caller's occluder triangles: 3 floats per vertex; indices */
-	uint32_t occluder_vertex_count;   /*   3 per triangle, or NULL for consecutive vertices */
+	const float *occluder_positions; /* the caller's occluder triangles: 3 floats per vertex; indices */
+	uint32_t occluder_vertex_count; /*   3 per triangle, or NULL for consecutive vertices */
 	const uint32_t *occluder_indices;
 	uint32_t occluder_triangle_count;
-	uint32_t scene_occluders;		  /* also the best this many scene triangles (<= max_occluders) ... */
-	float occluder_distance;		  /*   ... within this distance (0 = 100) by area-angle (Bittner 2002 §4.5) */
-	uint32_t scene_volumes;			  /* 1: also BOX occluders and EXTRUSION walls within it (no CONVEX) */
-	const pvs_facade_chain *facades;  /* pvs_raster_cull_map only: facades ... */
+	uint32_t scene_occluders; /* also the best this many scene triangles (<= max_occluders) ... */
+	float occluder_distance; /*   ... within this distance (0 = 100) by area-angle (Bittner 2002 §4.5) */
+	uint32_t scene_volumes; /* 1: also BOX occluders and EXTRUSION walls within it (no CONVEX) */
+	const pvs_facade_chain *facades; /* pvs_raster_cull_map only: facades ... */
 	uint32_t facade_count;
-	uint32_t cull_map_flags;		  /*   ... and PVS_CULL_MAP_* flags */
-	const pvs_word *candidates;		  /* NULL or PVS_BITSET_WORDS(object_count): test only these (a cell's PVS) */
-	uint32_t occluder_flags;		  /* PVS_CULL_* */
+	uint32_t cull_map_flags; /*   ... and PVS_CULL_MAP_* flags */
+	const pvs_word *candidates; /* NULL or PVS_BITSET_WORDS(object_count): test only these (a cell's PVS) */
+	uint32_t occluder_flags; /* PVS_CULL_* */
 } pvs_cull_params;
 
 /* pvs_raster_cull: occluders drawn as meshes (pvs_raster_mesh: no cracks, some cost per frame). */
-#define PVS_CULL_OCCLUDER_MESH 1u	   /* the caller's triangles */
-#define PVS_CULL_SCENE_MESH 2u		   /* the selected scene triangles, welded (tighter on many-triangle walls) */
+#define PVS_CULL_OCCLUDER_MESH 1u /* the caller's triangles */
+#define PVS_CULL_SCENE_MESH 2u /* the selected scene triangles, welded (tighter on many-triangle walls) */
 #define PVS_CULL_SEPARATE_TRIANGLES 4u /* scene_volumes per triangle; by default each is a mesh */
 
 typedef struct pvs_cull_stats {
-	uint32_t occluder_triangles;  /* rasterized (caller's + selected scene ones) */
-	uint32_t nodes_visited;		  /* kD-tree nodes reached by the sweep */
-	uint32_t boxes_tested;		  /* node and object boxes tested */
-	uint32_t visible;			  /* objects reported */
+	uint32_t occluder_triangles; /* rasterized (caller's + selected scene ones) */
+	uint32_t nodes_visited; /* kD-tree nodes reached by the sweep */
+	uint32_t boxes_tested; /* node and object boxes tested */
+	uint32_t visible; /* objects reported */
 } pvs_cull_stats;
 
 /* From-point culling by depth pyramid: clears, sets the camera (aspect width / height), draws the occluders,
@@ -684,9 +684,9 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scen
 /* Occlusion trees (Bittner 2002): BSPs over line space built front to back; every float decision is conservative. */
 
 typedef struct pvs_otree_stats {
-	uint32_t nodes;				 /* at the end (of the largest tree) */
+	uint32_t nodes; /* at the end (of the largest tree) */
 	uint32_t occluders_inserted; /* merged into the tree(s) */
-	uint32_t visible_segments;	 /* 2D: segments found visible */
+	uint32_t visible_segments; /* 2D: segments found visible */
 	uint32_t budget_exceeded; /* 1: node_budget stopped insertion; the rest count as not blocking */
 } pvs_otree_stats;
 
@@ -694,15 +694,15 @@ typedef struct pvs_otree_stats {
 
 /* Exact 2D from-region visibility (Bittner 2002, ch. 6). Zero fields: defaults. */
 typedef struct pvs_visibility_2d_desc {
-	const float *cell;				 /* cell_vertex_count x (x, y): a convex polygon, either winding */
-	uint32_t cell_vertex_count;		 /* >= 3 */
-	const float *segments;			 /* segment_count x (x0, y0, x1, y1): two-sided occluders */
+	const float *cell; /* cell_vertex_count x (x, y): a convex polygon, either winding */
+	uint32_t cell_vertex_count; /* >= 3 */
+	const float *segments; /* segment_count x (x0, y0, x1, y1): two-sided occluders */
 	uint32_t segment_count;
-	const uint8_t *segment_flags;	 /* NULL or segment_count PVS_SEGMENT_* flags */
+	const uint8_t *segment_flags; /* NULL or segment_count PVS_SEGMENT_* flags */
 	const uint32_t *segment_objects; /* NULL (segment i is object i) or per segment its object or PVS_NO_OBJECT */
-	uint32_t object_count;			 /* bits in visible_objects */
-	uint32_t node_budget;			 /* stop inserting past it (0 = 2^20) */
-	uint32_t flags;					 /* 0 (the test hook PVS_VISIBILITY_INPUT_ORDER) */
+	uint32_t object_count; /* bits in visible_objects */
+	uint32_t node_budget; /* stop inserting past it (0 = 2^20) */
+	uint32_t flags; /* 0 (the test hook PVS_VISIBILITY_INPUT_ORDER) */
 	pvs_allocator allocator;
 } pvs_visibility_2d_desc;
 #ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
@@ -721,15 +721,15 @@ PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_wor
 /* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7), over ground (u, v) and height. */
 typedef struct pvs_visibility_25d_desc {
 	float cell_min[2], cell_max[2]; /* the cell's ground rectangle */
-	float cell_top;					/* highest eye height in the cell */
-	const float *facades;			/* facade_count x (u0, v0, u1, v1, top): opaque walls on the ground */
+	float cell_top; /* highest eye height in the cell */
+	const float *facades; /* facade_count x (u0, v0, u1, v1, top): opaque walls on the ground */
 	uint32_t facade_count;
 	const float *objects; /* object_count x (umin, vmin, umax, vmax, top) bounds; umin > umax = empty */
 	uint32_t object_count;
-	uint32_t node_budget;			/* per tree (0 = PVS_OTREE_25D_BUDGET) */
-	const pvs_kdtree *tree;			/* NULL, or a kD-tree over pvs_visibility_25d_boxes */
+	uint32_t node_budget; /* per tree (0 = PVS_OTREE_25D_BUDGET) */
+	const pvs_kdtree *tree; /* NULL, or a kD-tree over pvs_visibility_25d_boxes */
 	pvs_allocator allocator;
-	uint32_t flags;					/* 0; other bits INVALID_ARGUMENT but the test hook PVS_VISIBILITY_25D_FULL_TESTS */
+	uint32_t flags; /* 0; other bits INVALID_ARGUMENT but the test hook PVS_VISIBILITY_25D_FULL_TESTS */
 } pvs_visibility_25d_desc;
 
 /* Default 2.5D occlusion tree node budget. Once spent, the remaining facades are not inserted
@@ -762,27 +762,27 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 typedef struct pvs_otree_desc {
 	/* Required: sizes the per-node state; pvs_otree_cull takes no larger scene (objects, triangles, kD nodes). */
 	const pvs_scene *scene;
-	float aspect;				  /* image width / height, 0 = 1 */
-	uint32_t max_occluders;		  /* scene polygons inserted per frame, 0 = 64; <= 65536 */
-	uint32_t node_budget;		  /* occlusion tree nodes per frame, 0 = 8192; 64..2^24 */
-	uint32_t flags;				  /* PVS_OTREE_* */
+	float aspect; /* image width / height, 0 = 1 */
+	uint32_t max_occluders; /* scene polygons inserted per frame, 0 = 64; <= 65536 */
+	uint32_t node_budget; /* occlusion tree nodes per frame, 0 = 8192; 64..2^24 */
+	uint32_t flags; /* PVS_OTREE_* */
 	pvs_allocator allocator;
 } pvs_otree_desc;
 #define PVS_OTREE_NO_COHERENCE 1u /* test every reached kD node every frame (§4.11.2) */
-#define PVS_OTREE_PLANE_ONLY 2u   /* in-leaves test the fragment's plane only ("FMC") */
+#define PVS_OTREE_PLANE_ONLY 2u /* in-leaves test the fragment's plane only ("FMC") */
 
 /* Node pool, last frame's kD node states. One per thread. */
 typedef struct pvs_otree pvs_otree;
 
 /* The last pvs_otree_cull, beyond pvs_cull_stats. */
 typedef struct pvs_otree_frame {
-	uint32_t tree_nodes;		  /* inner and leaves */
-	uint32_t fragments;			  /* occluder fragments at in-leaves */
-	uint32_t occluders;			  /* offered to the tree (caller's + scene's) */
-	uint32_t node_tests;		  /* kD nodes tested (frustum + tree) */
-	uint32_t nodes_skipped;		  /* opened kD nodes whose test hierarchy updating skipped */
-	uint32_t object_tests;		  /* boxes tested in partly visible leaves */
-	uint32_t budget_exceeded;	  /* 1: the budget or a polygon's size stopped an insertion */
+	uint32_t tree_nodes; /* inner and leaves */
+	uint32_t fragments; /* occluder fragments at in-leaves */
+	uint32_t occluders; /* offered to the tree (caller's + scene's) */
+	uint32_t node_tests; /* kD nodes tested (frustum + tree) */
+	uint32_t nodes_skipped; /* opened kD nodes whose test hierarchy updating skipped */
+	uint32_t object_tests; /* boxes tested in partly visible leaves */
+	uint32_t budget_exceeded; /* 1: the budget or a polygon's size stopped an insertion */
 } pvs_otree_frame;
 
 /* Errors: INVALID_ARGUMENT, NOT_FINITE (aspect), COUNT_OVERFLOW, OUT_OF_MEMORY. */
@@ -810,13 +810,13 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame)
    few cells reaching outside the box of the component most cells are in are left out of later floods, so the others
    keep their walls (pvs_occluders_excluded_cells). */
 typedef struct pvs_occluders_desc {
-	const pvs_scene *scene;   /* required; must outlive the occluders */
-	const pvs_box *cells;	  /* required: cell_count >= 1 view cells, the flood's sources */
+	const pvs_scene *scene; /* required; must outlive the occluders */
+	const pvs_box *cells; /* required: cell_count >= 1 view cells, the flood's sources */
 	uint32_t cell_count;
-	float eps;				  /* erosion distance, > 0 */
-	float voxel_size;		  /* 0 = eps / 1.5, grown until the grid fits max_voxels */
-	uint32_t max_voxels;	  /* 0 = 1 << 24 */
-	uint32_t flags;			  /* PVS_OCCLUDERS_* */
+	float eps; /* erosion distance, > 0 */
+	float voxel_size; /* 0 = eps / 1.5, grown until the grid fits max_voxels */
+	uint32_t max_voxels; /* 0 = 1 << 24 */
+	uint32_t flags; /* PVS_OCCLUDERS_* */
 	pvs_allocator allocator;
 } pvs_occluders_desc;
 
@@ -828,32 +828,32 @@ typedef struct pvs_occluders_desc {
 typedef struct pvs_occluders pvs_occluders;
 
 typedef struct pvs_occluders_info {
-	uint32_t dims[3];		  /* per axis (one voxel of padding around scene and cells) */
-	float origin[3];		  /* the grid's min corner */
+	uint32_t dims[3]; /* per axis (one voxel of padding around scene and cells) */
+	float origin[3]; /* the grid's min corner */
 	float voxel_size;
 	float eps;
-	uint64_t touched;		  /* voxels a triangle touches */
-	uint64_t solid;			  /* solid voxels before erosion (explicit volumes included) */
-	uint64_t eroded;		  /* solid voxels after erosion */
-	uint64_t column_voxels;   /* solid voxels in runs standing on the ground (2.5D) */
-	uint32_t box_count;		  /* eroded 3D boxes */
-	uint32_t rect_count;	  /* eroded 2.5D column rectangles */
-	int is_2d5;				  /* 1: column runs hold >= 90% of the solid voxels: 2.5D path */
-	uint32_t leak_cell;		  /* lowest cell reaching the grid border, or PVS_NO_CELL */
-	float leak_point[3];	  /* a voxel centre of that cell on such a path */
-	uint32_t leak_cells;	  /* cells reaching the border */
-	uint32_t excluded_cells;  /* leaking cells left out, with no occluder (< half of those in a component's box) */
-	uint32_t thin_objects;	  /* drawable objects with no solid voxel in their box */
-	uint32_t components;	  /* edge-connected triangle sets flooded (3+ triangles) */
+	uint64_t touched; /* voxels a triangle touches */
+	uint64_t solid; /* solid voxels before erosion (explicit volumes included) */
+	uint64_t eroded; /* solid voxels after erosion */
+	uint64_t column_voxels; /* solid voxels in runs standing on the ground (2.5D) */
+	uint32_t box_count; /* eroded 3D boxes */
+	uint32_t rect_count; /* eroded 2.5D column rectangles */
+	int is_2d5; /* 1: column runs hold >= 90% of the solid voxels: 2.5D path */
+	uint32_t leak_cell; /* lowest cell reaching the grid border, or PVS_NO_CELL */
+	float leak_point[3]; /* a voxel centre of that cell on such a path */
+	uint32_t leak_cells; /* cells reaching the border */
+	uint32_t excluded_cells; /* leaking cells left out, with no occluder (< half of those in a component's box) */
+	uint32_t thin_objects; /* drawable objects with no solid voxel in their box */
+	uint32_t components; /* edge-connected triangle sets flooded (3+ triangles) */
 	uint32_t closed_components; /* of them, those without an open edge */
-	uint64_t open_edges;	  /* edges used by an odd count of triangles, off the ground */
+	uint64_t open_edges; /* edges used by an odd count of triangles, off the ground */
 	uint64_t undecided_columns; /* component voxel columns with no certain parity */
 } pvs_occluders_info;
 
-#define PVS_VOXEL_EMPTY 0u	  /* untouched, not solid */
-#define PVS_VOXEL_TOUCHED 1u  /* a triangle touches it, not solid */
-#define PVS_VOXEL_SOLID 2u	  /* solid (before erosion) */
-#define PVS_VOXEL_GROUND 3u   /* the padding layer below the ground */
+#define PVS_VOXEL_EMPTY 0u /* untouched, not solid */
+#define PVS_VOXEL_TOUCHED 1u /* a triangle touches it, not solid */
+#define PVS_VOXEL_SOLID 2u /* solid (before erosion) */
+#define PVS_VOXEL_GROUND 3u /* the padding layer below the ground */
 
 /* Deterministic; thread-safe for distinct outputs. Errors: INVALID_ARGUMENT (NULL, no cells, eps <= 0 or not
    finite), BAD_CELL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
@@ -888,7 +888,7 @@ struct pvs_file; /* >>format */
 
 /* pvs_file.vocc_flags */
 #define PVS_VOCC_STORED 1u /* the file has a VOCC section */
-#define PVS_VOCC_ONLY 2u   /* ... and the records are placeholders (every drawable object): use pvs_vocc_cull */
+#define PVS_VOCC_ONLY 2u /* ... and the records are placeholders (every drawable object): use pvs_vocc_cull */
 
 /* Vertical rectangle over the ground segment p0-p1 (u, v as in pvs_scene_desc), from `base` to `top`. */
 typedef struct pvs_virtual_occluder {
@@ -899,13 +899,13 @@ typedef struct pvs_virtual_occluder {
 #ifndef PVS_RUNTIME_ONLY /* the construction */
 /* Sums over cells and slices. */
 typedef struct pvs_vocc_stats {
-	uint32_t slices;		/* height slices (§3.1) */
-	uint32_t seeds;			/* seed objects grown (§3) */
-	uint32_t umbra;			/* objects that grew an aggregate umbra (§3 cases 1, 3) */
+	uint32_t slices; /* height slices (§3.1) */
+	uint32_t seeds; /* seed objects grown (§3) */
+	uint32_t umbra; /* objects that grew an aggregate umbra (§3 cases 1, 3) */
 	uint32_t separating;	/* objects that only bent a separating line (case 2) */
-	uint32_t dense;			/* certified virtual occluders in the dense set */
-	uint32_t dropped;		/* failed the final check (e.g. quantized) */
-	uint32_t selected;		/* kept by the greedy selection (Fig. 6) */
+	uint32_t dense; /* certified virtual occluders in the dense set */
+	uint32_t dropped; /* failed the final check (e.g. quantized) */
+	uint32_t selected; /* kept by the greedy selection (Fig. 6) */
 } pvs_vocc_stats;
 
 /* §3's 2D construction alone. Zero fields get defaults. */
@@ -915,8 +915,8 @@ typedef struct pvs_vocc_2d_desc {
 	   are a wall loop. */
 	const float *segments;
 	uint32_t segment_count;
-	uint32_t max_seeds;				/* 0 = 16 */
-	float range;					/* analysis radius from the cell centre, 0 = reach every segment */
+	uint32_t max_seeds; /* 0 = 16 */
+	float range; /* analysis radius from the cell centre, 0 = reach every segment */
 	pvs_allocator allocator;
 } pvs_vocc_2d_desc;
 
@@ -959,13 +959,13 @@ PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uin
 /* Region methods (CONCEPTS); all but SAMPLE are conservative. 0 = AUTO. */
 typedef enum pvs_method {
 	PVS_METHOD_DEFAULT = 0,
-	PVS_METHOD_SAMPLE,		 /* ray sampling: estimate from below, NOT conservative */
-	PVS_METHOD_OTREE,		 /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7) on vertical facades */
-	PVS_METHOD_EXTPROJ,		 /* extended projections (Durand et al. 2000): 3D, planar occluders */
-	PVS_METHOD_SHRINK,		 /* occluder shrinking + point sampling (Wonka 2000) */
-	PVS_METHOD_AUTO,		 /* the conservative methods that apply, PVSs intersected */
-	PVS_METHOD_VOCC,		 /* virtual occluders (Koltun 2000), 2.5D: stored; the PVS is what they rebuild */
-	PVS_METHOD_PORTAL,		 /* rooms and portals from closed convex solids, portal flow (Teller 1992) */
+	PVS_METHOD_SAMPLE, /* ray sampling: estimate from below, NOT conservative */
+	PVS_METHOD_OTREE, /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7) on vertical facades */
+	PVS_METHOD_EXTPROJ, /* extended projections (Durand et al. 2000): 3D, planar occluders */
+	PVS_METHOD_SHRINK, /* occluder shrinking + point sampling (Wonka 2000) */
+	PVS_METHOD_AUTO, /* the conservative methods that apply, PVSs intersected */
+	PVS_METHOD_VOCC, /* virtual occluders (Koltun 2000), 2.5D: stored; the PVS is what they rebuild */
+	PVS_METHOD_PORTAL, /* rooms and portals from closed convex solids, portal flow (Teller 1992) */
 	PVS_METHOD_COUNT
 } pvs_method;
 
@@ -975,20 +975,20 @@ PVS_API const char *pvs_method_name(pvs_method method);
 #ifndef PVS_RUNTIME_ONLY /* the methods' parameters, the bake, the encoder */
 /* Shrink method paths. */
 typedef enum pvs_shrink_mode {
-	PVS_SHRINK_AUTO = 0,	 /* 2.5D if the occluders are (pvs_occluders_info.is_2d5), else 3D */
-	PVS_SHRINK_2D5,			 /* Wonka 2000 §3: column occluders, samples on the cell's top, cull maps */
-	PVS_SHRINK_3D,			 /* samples on the six faces, depth maps of the eroded boxes */
+	PVS_SHRINK_AUTO = 0, /* 2.5D if the occluders are (pvs_occluders_info.is_2d5), else 3D */
+	PVS_SHRINK_2D5, /* Wonka 2000 §3: column occluders, samples on the cell's top, cull maps */
+	PVS_SHRINK_3D, /* samples on the six faces, depth maps of the eroded boxes */
 	PVS_SHRINK_MODE_COUNT
 } pvs_shrink_mode;
 
 typedef struct pvs_shrink_stats {
-	pvs_shrink_mode mode;	  /* path that ran */
-	uint32_t occluders;		  /* column prisms (2.5D) or boxes (3D) */
-	int no_occluders;		  /* 1: none survived erosion, every drawable object set */
-	int excluded;			  /* 1: the cell lies in a left-out leaking cell, every drawable object set */
-	uint32_t samples;		  /* sample points */
+	pvs_shrink_mode mode; /* path that ran */
+	uint32_t occluders; /* column prisms (2.5D) or boxes (3D) */
+	int no_occluders; /* 1: none survived erosion, every drawable object set */
+	int excluded; /* 1: the cell lies in a left-out leaking cell, every drawable object set */
+	uint32_t samples; /* sample points */
 	uint64_t occluders_drawn; /* occluders rasterized, summed over samples (after §3.4's rejection) */
-	uint32_t hidden;		  /* drawable objects left out */
+	uint32_t hidden; /* drawable objects left out */
 } pvs_shrink_stats;
 
 /* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): occluders eroded by eps, sampled from the cell
@@ -1027,7 +1027,7 @@ typedef struct pvs_extproj_plane {
 	int32_t side;
 	float distance;
 	float rect[4];
-	uint32_t width, height;   /* 1..4096 each */
+	uint32_t width, height; /* 1..4096 each */
 } pvs_extproj_plane;
 #define PVS_EXTPROJ_EMPTY 3.402823466e+38f
 #define PVS_EXTPROJ_SWEEP_PLANES 16u /* per direction, pvsbake --sweep and AUTO */
@@ -1060,8 +1060,8 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep);
 
 /* SAMPLE's parameters (pvs_bake_desc.sample). */
 typedef struct pvs_bake_sample_params {
-	uint32_t points;		  /* per cell, 0 = 32 */
-	uint32_t rays;			  /* per point, 0 = 2048 */
+	uint32_t points; /* per cell, 0 = 32 */
+	uint32_t rays; /* per point, 0 = 2048 */
 	uint64_t seed;
 } pvs_bake_sample_params;
 
@@ -1070,7 +1070,7 @@ typedef struct pvs_bake_extproj_params {
 	/* Pixels per plane side, 16..4096; 0 = PVS_EXTPROJ_RESOLUTION, PREVIEW: PVS_EXTPROJ_PREVIEW_RESOLUTION. Sweep
 	   planes spread them square over what cell and scene span. */
 	uint32_t resolution;
-	uint32_t occluders;		  /* occluders on the planes of §6.1, 0 = 128; <= 65536 (sweep planes take all) */
+	uint32_t occluders; /* occluders on the planes of §6.1, 0 = 128; <= 65536 (sweep planes take all) */
 	/* Occlusion sweep (Durand 2000 §5) planes per direction, <= 256, 0 = none; under AUTO 0 =
 	   PVS_EXTPROJ_SWEEP_PLANES (PREVIEW: none), PVS_EXTPROJ_NO_SWEEP = none. An object whose box is not hidden is
 	   then kept only if part of its triangles may be seen (over 16,384 triangles: by box). */
@@ -1083,48 +1083,48 @@ typedef struct pvs_bake_extproj_params {
 /* Adaptive cells (CONCEPTS): split while a PVS holds over `budget` triangles and the halves are at least
    `min_size`; leaves low half first. Not with shards. */
 typedef struct pvs_bake_adaptive_params {
-	uint32_t budget;		  /* triangles per leaf cell's PVS, 0 = off */
-	float min_size;			  /* shortest half, 0 = an eighth of the cell's longest side */
+	uint32_t budget; /* triangles per leaf cell's PVS, 0 = off */
+	float min_size; /* shortest half, 0 = an eighth of the cell's longest side */
 } pvs_bake_adaptive_params;
 
 /* SHRINK's parameters (also under AUTO). */
 typedef struct pvs_bake_shrink_params {
-	pvs_shrink_mode mode;	  /* PVS_SHRINK_AUTO picks */
-	float voxel_size;		  /* for occluder synthesis, 0 = derived */
+	pvs_shrink_mode mode; /* PVS_SHRINK_AUTO picks */
+	float voxel_size; /* for occluder synthesis, 0 = derived */
 } pvs_bake_shrink_params;
 
 /* VOCC's parameters. */
 typedef struct pvs_bake_vocc_params {
-	uint32_t slices;		  /* per cell (§3.1), 0 = 5; 1..16 */
-	uint32_t max_occluders;   /* kept per cell (Fig. 6), 0 = 10; 1..255 */
-	uint32_t only;			  /* 1: store only the occluders (PVS_VOCC_ONLY) */
+	uint32_t slices; /* per cell (§3.1), 0 = 5; 1..16 */
+	uint32_t max_occluders; /* kept per cell (Fig. 6), 0 = 10; 1..255 */
+	uint32_t only; /* 1: store only the occluders (PVS_VOCC_ONLY) */
 } pvs_bake_vocc_params;
 
 /* OTREE's parameters (also under AUTO). */
 typedef struct pvs_bake_otree_params {
-	uint32_t node_budget;	  /* per tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24. More never hides less */
+	uint32_t node_budget; /* per tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24. More never hides less */
 } pvs_bake_otree_params;
 
 /* PORTAL's parameters (>>portal). */
 typedef struct pvs_bake_portal_params {
-	uint32_t budget;		  /* portal clips per cell before a conservative cut-off, 0 = PVS_PORTAL_BUDGET */
+	uint32_t budget; /* portal clips per cell before a conservative cut-off, 0 = PVS_PORTAL_BUDGET */
 } pvs_bake_portal_params;
 #define PVS_PORTAL_BUDGET 200000u
 
 /* What to bake. Zero fields (also per method) get defaults. */
 typedef struct pvs_bake_desc {
-	const pvs_scene *scene;   /* must outlive the bake */
-	const pvs_box *cells;	  /* cell_count, copied */
+	const pvs_scene *scene; /* must outlive the bake */
+	const pvs_box *cells; /* cell_count, copied */
 	uint32_t cell_count;
-	pvs_method method;		  /* PVS_METHOD_DEFAULT = AUTO */
-	float eps;				  /* sampling / shrinking distance, 0 = from the cells */
-	uint32_t max_chain;		  /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
+	pvs_method method; /* PVS_METHOD_DEFAULT = AUTO */
+	float eps; /* sampling / shrinking distance, 0 = from the cells */
+	uint32_t max_chain; /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
 	/* Shards, shard_count >= 2: bakes cells shard_index, shard_index + shard_count, ... into a part file; parts
 	   0..shard_count-1 decoded and encoded whole (pvs_file_encode) give the unsharded file. */
 	uint32_t shard_index, shard_count;
-	uint32_t methods;		  /* for AUTO: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC, PORTAL */
-	float max_distance;		  /* draw distance (CONCEPTS); 0: none */
-	uint32_t flags;			  /* PVS_BAKE_* */
+	uint32_t methods; /* for AUTO: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC, PORTAL */
+	float max_distance; /* draw distance (CONCEPTS); 0: none */
+	uint32_t flags; /* PVS_BAKE_* */
 	pvs_bake_sample_params sample;
 	pvs_bake_extproj_params extproj;
 	pvs_bake_adaptive_params adaptive;
@@ -1171,10 +1171,10 @@ PVS_API uint32_t pvs_bake_method_count(const pvs_bake *bake);
 /* What method i did, summed over the tasks run (not restored). */
 typedef struct pvs_bake_method_info {
 	pvs_method method;
-	int ran;				  /* 1: every task runs it; 0: skipped */
-	const char *reason;		  /* why it runs or was skipped (static, never NULL) */
-	uint32_t cells;			  /* tasks that ran it */
-	uint64_t pvs_sum;		  /* over those cells, of the PVS sizes it found alone */
+	int ran; /* 1: every task runs it; 0: skipped */
+	const char *reason; /* why it runs or was skipped (static, never NULL) */
+	uint32_t cells; /* tasks that ran it */
+	uint64_t pvs_sum; /* over those cells, of the PVS sizes it found alone */
 	/* (cell, drawable object) pairs only it left out of the intersection; one a later method did not test
 	   (kept_only) counts for those that culled it. */
 	uint64_t sole_culls;
@@ -1205,11 +1205,11 @@ PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
    facade's level (the lowest of at most eight base heights at or above its base). facades == 0: nothing is culled.
    All zero when OTREE was not prepared. */
 typedef struct pvs_otree_bake_info {
-	uint32_t prepared;			 /* 1: the bake prepared OTREE */
+	uint32_t prepared; /* 1: the bake prepared OTREE */
 	uint32_t vertical_triangles; /* vertical scene triangles */
-	uint32_t facades;			 /* facades in use (base no higher than the highest cell bottom) */
-	uint32_t levels;			 /* distinct base heights in use */
-	float lowest_level;			 /* lowest of them (if levels > 0) */
+	uint32_t facades; /* facades in use (base no higher than the highest cell bottom) */
+	uint32_t levels; /* distinct base heights in use */
+	float lowest_level; /* lowest of them (if levels > 0) */
 } pvs_otree_bake_info;
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *bake, pvs_otree_bake_info *info);
 /* What PORTAL built (zeros if not prepared): closed convex solids, distinct face planes, BSP nodes and leaves, empty
@@ -1223,12 +1223,12 @@ PVS_API void pvs_bake_get_portal_info(const pvs_bake *bake, pvs_portal_info *inf
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *bake, pvs_vocc_stats *out);
 /* Over the tasks run: culling nothing is no error, but worth reporting. */
 typedef struct pvs_bake_report {
-	uint32_t cells;				 /* tasks run so far */
-	uint32_t cells_all_visible;  /* cells whose PVS is every drawable object */
+	uint32_t cells; /* tasks run so far */
+	uint32_t cells_all_visible; /* cells whose PVS is every drawable object */
 	/* Cells without occluders: SHRINK, none survived erosion (thin walls, or eps too large); OTREE, no usable facade;
 	   AUTO, neither and nothing culled. */
 	uint32_t cells_no_occluders;
-	uint32_t cells_excluded;	 /* SHRINK: leaking cells left out, baked with a second synthesis */
+	uint32_t cells_excluded; /* SHRINK: leaking cells left out, baked with a second synthesis */
 	uint32_t cells_otree_budget; /* OTREE: cells whose tree hit otree.node_budget */
 } pvs_bake_report;
 /* Fills *report. Not concurrently with the tasks. */
@@ -1254,7 +1254,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 #define PVS_FILE_APPROXIMATE 1u /* file flag: by an estimator (SAMPLE), not conservative */
 
 #define PVS_DEFAULT_CHAIN 8u	/* default bound K on a cell's delta chain */
-#define PVS_MAX_CHAIN 64u		/* largest K a file may declare */
+#define PVS_MAX_CHAIN 64u /* largest K a file may declare */
 
 #ifndef PVS_RUNTIME_ONLY /* the encoder */
 /* A PVS table to encode: cell_count bitsets of PVS_BITSET_WORDS(object_count) words. The encoder (Durand et al.
@@ -1263,15 +1263,15 @@ typedef struct pvs_file_desc {
 	const pvs_box *cells;
 	uint32_t cell_count;
 	uint32_t object_count;
-	const pvs_word *pvs;	   /* cell-major */
+	const pvs_word *pvs; /* cell-major */
 	/* Instead of pvs (NULL): cell's PVS, decoded into buffer (words) if need be; called with user. */
 	const pvs_word *(*pvs_row)(const void *user, uint32_t cell, pvs_word *buffer);
 	const void *pvs_user;
 	pvs_method method;
 	float eps;
-	uint32_t up_axis;		   /* 1 or 2 */
-	uint32_t flags;			   /* PVS_FILE_* */
-	uint32_t max_chain;		   /* K, most deltas a decode applies: 0 = PVS_DEFAULT_CHAIN, else 1..PVS_MAX_CHAIN */
+	uint32_t up_axis; /* 1 or 2 */
+	uint32_t flags; /* PVS_FILE_* */
+	uint32_t max_chain; /* K, most deltas a decode applies: 0 = PVS_DEFAULT_CHAIN, else 1..PVS_MAX_CHAIN */
 	/* A part file (shard_count >= 2) holds cells shard_index, shard_index + shard_count, ... of total_cell_count,
 	   in order. Zero for a whole file. */
 	uint32_t shard_index, shard_count, total_cell_count;
@@ -1279,12 +1279,12 @@ typedef struct pvs_file_desc {
 	   in virtual_occluders, scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step (finite, step >
 	   0); vocc_flags PVS_VOCC_ONLY for a placeholder table. */
 	const uint8_t *vocc_counts, *vocc_scales, *virtual_occluders;
-	uint32_t vocc_stride;	   /* bytes from a cell's occluders to the next; 0 = back to back */
+	uint32_t vocc_stride; /* bytes from a cell's occluders to the next; 0 = back to back */
 	float vocc_base, vocc_height_step;
 	uint32_t vocc_flags;
 	uint64_t scene_fingerprint; /* 0: none; else an SCNE section (pvs_scene_fingerprint) */
 	const char *const *object_names; /* NULL: none; else object_count names (a NULL one: ""), a NAME section */
-	pvs_allocator allocator;   /* encoder's scratch */
+	pvs_allocator allocator; /* encoder's scratch */
 } pvs_file_desc;
 
 /* Encodes the table into out[0..capacity), deterministically; *out_size gets the exact size, also with
@@ -1304,25 +1304,25 @@ typedef struct pvs_file {
 	pvs_method method;
 	float eps;
 	uint32_t up_axis;
-	uint32_t max_chain;		   /* K: no decode applies more deltas */
-	uint32_t key_count;		   /* cells stored whole */
+	uint32_t max_chain; /* K: no decode applies more deltas */
+	uint32_t key_count; /* cells stored whole */
 	uint32_t shard_index, shard_count, total_cell_count; /* a part file when shard_count >= 2 */
-	uint32_t vocc_flags;	   /* PVS_VOCC_*: 0 when the file has no virtual occluders */
-	uint32_t virtual_occluder_count;	 /* VOCC: occluders stored, all cells */
-	float vocc_base, vocc_height_step;	 /* VOCC: top = base + byte * step */
-	uint64_t scene_fingerprint;			 /* SCNE: the baked scene's pvs_scene_fingerprint; 0: not recorded */
+	uint32_t vocc_flags; /* PVS_VOCC_*: 0 when the file has no virtual occluders */
+	uint32_t virtual_occluder_count; /* VOCC: occluders stored, all cells */
+	float vocc_base, vocc_height_step; /* VOCC: top = base + byte * step */
+	uint64_t scene_fingerprint; /* SCNE: the baked scene's pvs_scene_fingerprint; 0: not recorded */
 	struct {
 		const uint8_t *values[3];	/* CELL: per-axis coordinate tables */
-		const uint8_t *indices;		/* CELL: packed per-cell indices */
+		const uint8_t *indices; /* CELL: packed per-cell indices */
 		uint32_t value_count[3], index_bits[6], cell_bits; /* widths: min indices, then extents */
 		size_t index_bytes;
-		const uint8_t *tree;		/* TREE: nodes, leaf offsets, items */
+		const uint8_t *tree; /* TREE: nodes, leaf offsets, items */
 		uint32_t tree_depth;
-		const uint8_t *records;		/* RECS */
+		const uint8_t *records; /* RECS */
 		uint32_t records_size, block_count;
-		const uint8_t *vocc;		/* VOCC */
+		const uint8_t *vocc; /* VOCC */
 		uint32_t vocc_size;
-		const uint8_t *names;		/* NAME: end offsets, then text; NULL without */
+		const uint8_t *names; /* NAME: end offsets, then text; NULL without */
 	} private_;
 } pvs_file;
 
@@ -1333,11 +1333,11 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, 
 
 /* How a cell's record is stored (pvsinfo prints these). */
 typedef struct pvs_record_info {
-	uint32_t base;			   /* the delta's base cell, PVS_NO_CELL for a key cell */
-	uint32_t depth;			   /* deltas applied to decode it (0 for a key cell) */
-	uint32_t coding;		   /* of the (added) ids: 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
-	uint32_t bytes;			   /* record size */
-	uint32_t base_size;		   /* a delta: size of the base's PVS */
+	uint32_t base; /* the delta's base cell, PVS_NO_CELL for a key cell */
+	uint32_t depth; /* deltas applied to decode it (0 for a key cell) */
+	uint32_t coding; /* of the (added) ids: 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
+	uint32_t bytes; /* record size */
+	uint32_t base_size; /* a delta: size of the base's PVS */
 } pvs_record_info;
 #define PVS_CODING_COUNT 4
 /* Fills *info for cell < cell_count. No allocation. */
@@ -1377,8 +1377,8 @@ typedef void (*pvs_change_fn)(void *user, uint32_t object, int visible);
    is the current one applies that delta; other moves decode into scratch and compare. No allocation. */
 typedef struct pvs_cursor {
 	const pvs_file *file;
-	uint32_t cell;			   /* PVS_NO_CELL before the first move */
-	pvs_word *bits;			   /* current PVS (read only) */
+	uint32_t cell; /* PVS_NO_CELL before the first move */
+	pvs_word *bits; /* current PVS (read only) */
 	pvs_word *scratch;
 	size_t word_count;
 	uint64_t delta_moves, full_moves; /* moves by one delta, by a full decode */
@@ -16573,14 +16573,21 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	return PVS_OK;
 }
 
-/* AUTO's PORTAL price: the flow's work grows with the rooms around a cell: class 0, +1 per doubling past 16 leaves
-   per cell; before preparing, past 64 triangles per cell. */
+/* AUTO's PORTAL price: class 0, +1 per PVS_AUTO_SAMPLE_CELLS / 4 of the cells spread as AUTO's sample whose centre
+   sees the sky (a ray up meets nothing): out of doors lines pass over every wall, and the flow with them. */
 PVS__STATIC int pvs__portal_price(const pvs_bake_desc *desc, const void *state) {
-	const pvs__poprep *p = (const pvs__poprep *)state;
-	double x = (p ? (double)p->leaf_count / 16.0 : pvs_scene_triangle_count(desc->scene) / 64.0) / desc->cell_count;
+	uint32_t s, S = PVS_AUTO_SAMPLE_CELLS, k, up = pvs_scene_up_axis(desc->scene);
 	int price = 0;
-	for (; x >= 1.0 && price < 30; x *= 0.5) ++price;
-	return price;
+	(void)state;
+	for (s = 0; s < S; ++s) {
+		const pvs_box *b = desc->cells + ((2 * (uint64_t)s + 1) * desc->cell_count) / (2 * (uint64_t)S);
+		float o[3], d[3] = {0, 0, 0};
+		pvs_hit hit;
+		for (k = 0; k < 3; ++k) o[k] = 0.5f * (b->min[k] + b->max[k]);
+		d[up] = 1.0f;
+		price += !pvs_scene_raycast(desc->scene, o, d, FLT_MAX, &hit);
+	}
+	return price * 4 / (int)S;
 }
 
 PVS__STATIC const pvs__bake_method pvs__portal_method = {
@@ -21523,6 +21530,7 @@ PVS__STATIC void pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *desc, u
 	int c0 = 0;
 	size_t w, words = b->words, stride = PVS__SAMPLE_SLOTS * words, last = stride - words;
 	double base = 0.0;
+	b->sample_cells = S;
 	if (n < 2) return;
 	for (k = 0; k < n; ++k) keep[k] = 0;
 	while (kept < n) { /* next: largest gain over kept intersection, by its price */
@@ -21556,7 +21564,6 @@ PVS__STATIC void pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *desc, u
 		}
 		++kept;
 	}
-	b->sample_cells = S;
 	for (k = 0, kept = 0; k < n; ++k) {
 		if (keep[k]) {
 			b->run[kept++] = b->run[k];

@@ -1547,6 +1547,7 @@ static int gen__building_scene(gen__ctx *c, const gen_params *P) {
     gen_params fp = *P;
     const double t = gen__T, cw = 2.8, storey = gen__H + gen__SLAB;
     int storeys = (int)floor(6.0 * P->size + 0.5), ret = -1;
+    uint32_t *copy = NULL;
     if (storeys < 2) storeys = 2;
     mesh_init(&plan);
     mesh_cells_init(&fcells);
@@ -1564,17 +1565,22 @@ static int gen__building_scene(gen__ctx *c, const gen_params *P) {
     }
     /* the stair well at the north end of the west corridor, the shaft at its south end */
     gen__r2 holes[2] = {{0.0, D - 7.6, cw, D - 0.6}, {0.4, 1.0, cw - 0.4, 3.0}};
+    copy = (uint32_t *)malloc((plan.vertex_count + 1) * sizeof(uint32_t)); /* plan vertex -> this storey's */
+    if (!copy) c->err = 1;
     for (int k = 0; k < storeys && !c->err; ++k) {
         double y = k * storey;
+        for (uint32_t v = 0; v < plan.vertex_count; ++v) copy[v] = UINT32_MAX;
         for (uint32_t o = 0; o < plan.object_count; ++o) { /* the floor plan without its floor and ceiling tiles */
             const mesh_object *ob = &plan.objects[o];
             if (!strncmp(ob->name, "floor_", 6) || !strncmp(ob->name, "ceiling_", 8)) continue;
             gen__obj(c, "s%d_%s", k, ob->name);
             for (uint32_t tr = ob->first_triangle; tr < ob->first_triangle + ob->triangle_count; ++tr) {
                 uint32_t id[3];
-                for (int q = 0; q < 3; ++q) {
-                    const float *pv = plan.positions + 3 * plan.indices[3 * tr + q];
-                    id[q] = gen__v(c, pv[0], pv[1] + y, pv[2]);
+                for (int q = 0; q < 3; ++q) { /* shared as in the plan: its closed boxes stay closed meshes */
+                    uint32_t pi = plan.indices[3 * tr + q];
+                    const float *pv = plan.positions + 3 * pi;
+                    if (copy[pi] == UINT32_MAX) copy[pi] = gen__v(c, pv[0], pv[1] + y, pv[2]);
+                    id[q] = copy[pi];
                 }
                 gen__tri(c, id[0], id[1], id[2]);
             }
@@ -1601,6 +1607,7 @@ static int gen__building_scene(gen__ctx *c, const gen_params *P) {
     if (P->max_cells) gen__thin_cells(c->cells, 0, P->max_cells);
     ret = c->err ? -1 : 0;
 done:
+    free(copy);
     mesh_free(&plan);
     mesh_cells_free(&fcells);
     return ret;
