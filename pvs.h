@@ -21469,17 +21469,18 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 	for (j = 0; j < PVS__BAKE_METHOD_COUNT; ++j) {
 		const pvs__bake_method *m = pvs__bake_methods[order[j]];
 		const char *why = "preview runs only the cheapest method that applies";
-		int costly = 0;
+		int costly = 0, price = key[order[j]] >> 8;
 		if (!(mask & (1u << m->method))) continue;
 		b->considered[b->considered_count] = m;
-		if (ldexp(PVS_AUTO_MIN_GAIN * u, pvs__bake_price(b, m, desc) - cheapest) > left) {
+		if (ldexp(PVS_AUTO_MIN_GAIN * u, price - cheapest) > left) {
 			costly = 1; /* priced before preparing */
 		} else if (!((b->env.flags & PVS_BAKE_PREVIEW) && b->run_count)) {
 			r = pvs__bake_prepare(b, m, sd, err);
 			if (r != PVS_OK && r != PVS_ERROR_UNSUPPORTED) return r;
 			if (r == PVS_ERROR_UNSUPPORTED) why = "not available in the bake driver";
 			else if (!m->applies || m->applies(b->state[m->method], &why)) { /* priced again, with state */
-				costly = ldexp(PVS_AUTO_MIN_GAIN * u, pvs__bake_price(b, m, desc) - cheapest) > left;
+				price = sb ? pvs__bake_price(b, m, desc) : 0;
+				costly = ldexp(PVS_AUTO_MIN_GAIN * u, price - cheapest) > left;
 				if (!m->applies) why = "conservative";
 				b->ran[b->considered_count] = (unsigned char)!costly;
 				if (!costly) b->run[b->run_count++] = m;
@@ -21492,7 +21493,7 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 		}
 		b->reason[b->considered_count++] = why;
 		if (costly || !b->ran[b->considered_count - 1]) continue;
-		if (pvs__bake_price(b, m, desc) < cheapest) cheapest = pvs__bake_price(b, m, desc);
+		if (price < cheapest) cheapest = price;
 		for (u = left = 0.0, s = 0; sb && s < sd->cell_count && r == PVS_OK; ++s) {
 			pvs_word *own = sb + ((size_t)s * PVS__SAMPLE_SLOTS + b->run_count - 1) * words,
 					 *uu = sb + ((size_t)s * PVS__SAMPLE_SLOTS + PVS_METHOD_COUNT) * words, *rr = uu + words;
