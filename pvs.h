@@ -151,85 +151,16 @@
    occluders: Koltun, Chrysanthou and Cohen-Or 2000. Watertight ray-triangle test: Woop, Benthin and Wald 2013. Masked
    occlusion culling: Hasselgren, Andersson and Akenine-Moller 2016. Rice codes: Golomb 1966, Rice 1979.
 
-   FILE FORMAT (version 1; integers little-endian; offsets from the file's start)
+   FILE FORMAT (version 1; the byte layout, rule by rule with each rule's error code: README.md, "The file")
    ===========
    The delta-PVS of Durand et al. 2000 (§6.2): a few key cells store their PVS whole, others the objects that differ
-   from a base cell, chains bounded by K. pvs_file_open rejects a file breaking a rule below with the bracketed code.
-   header, 32 bytes:
-	 0  u8[4]  magic "PVS\x1a"                                          [BAD_MAGIC]
-	 4  u32    format version (PVS_FORMAT_VERSION); any other is rejected  [BAD_VERSION]; it changes
-			   only when a version-1 reader would misread a file, not for new optional sections
-	 8  u32    file size in bytes (must equal the buffer size)             [TRUNCATED, BAD_HEADER]
-	 12 u32    section count S (1..64)                                     [BAD_HEADER]
-	 16 u32    flags (PVS_FILE_APPROXIMATE = 1); unknown bits are ignored
-	 20 u32    CRC-32 (IEEE) of bytes 0..19 and of the section table       [CHECKSUM]
-	 24 u32[2] reserved, zero                                              [BAD_HEADER]
-   section table at 32: S entries of u32 tag, offset, size, CRC-32 of the section's bytes [CHECKSUM].
-	 Sections are 8-byte aligned, inside the file, disjoint, tags unique [BAD_SECTION, TRUNCATED]; other bytes after
-	 the table are zero [BAD_SECTION]. Tags are four ASCII characters; readers skip unknown ones. The writer emits
-	 META, CELL, TREE, RECS, then SHRD (part files), VOCC, SCNE, NAME.
-   "META" (required, 32 bytes, else BAD_SECTION) [BAD_HEADER; COUNT_OVERFLOW for counts past the limits]:
-	 0 u32 cell_count (1..2^30-1)   4 u32 object_count (1..2^32-2)   8 u32 method (pvs_method)
-	 12 f32 eps (finite, >= 0)      16 u32 up_axis (1 = Y, 2 = Z)    20 u32 K, the chain bound (1..64)
-	 24 u32 key cell count (1..cell_count, equal to the records' count)   28 u32 reserved zero
-   "CELL" (required): cell boxes as indices into per-axis coordinate tables [BAD_SECTION, BAD_CELL]:
-	 0 u32 n[3]: distinct coordinates per axis (1..2 * cell_count)
-	 12 u8 w[3]: min index widths in bits, the bits needed for n - 1 (0 when n = 1)
-	 15 u8 x[3]: extent widths in bits (<= w)      18 u8[2] zero
-	 20 f32 tables: n[0] values of axis 0, n[1] of axis 1, n[2] of axis 2; finite, strictly ascending, never -0
-	 then per cell, in cell order, min0 min1 min2 (widths w) and extents e0 e1 e2 (widths x;
-		max index = min + extent < n), packed LSB first; the last byte's unused high bits zero; the section ends there.
-   "TREE" (required): the cell look-up kD-tree, complete, depth D, implicit (node k's children 2k + 1 and 2k + 2;
-	 leaf j is node 2^D - 1 + j) [BAD_TREE]:
-	 0 u32 D (0..24)   4 u32 zero   8 f32 splits[2^D - 1] (finite)   then u32 leaf offsets[2^D + 1] (offsets[0] = 0,
-	 ascending, the last = the item bytes' size)   then u8 axes[2^D - 1] (0..2; a node whose cells all go left has
-	 split FLT_MAX)   then the items: leaf j's cell ids in offsets[j] .. offsets[j + 1], ascending ids < cell_count
-	 as varints of the first and the gaps minus one; the section ends there.
-	 Look-up of p: at an inner node p[axis] < split goes left, > split right, == split both; in a leaf the lowest id
-	 whose closed box contains p. The writer puts a cell left when min < split or max <= split and right when max >
-	 split, so every cell containing p is found.
-   "RECS" (required): the PVS records [BAD_SECTION, BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN]:
-	 0 u32 block offsets[B + 1], B = ceil(cell_count / 16), from the section start: offsets[0] = 4 (B + 1),
-	   ascending, offsets[B] = the section size; block b holds cells 16b .. 16b + 15's records back to back.
-	 A record: varint R, the rest's byte count; varint head: coding = head & 3 (of the added ids), depth = head >> 2
-	   (0 = a key cell, else a delta, <= K). A key: its PVS's ids (universe object_count) so coded. A delta: varint
-	   z, the base cell = cell - (z even ? z / 2 : -(z + 1) / 2) (zigzag), of depth one less (so chains reach a key
-	   within K steps and cannot cycle); u8 coding of the removed objects (0..3); varint m, the base's PVS size (<=
-	   object_count); the removed objects as ranks in the base's PVS (universe m: rank r = the base's (r+1)-th
-	   smallest id); then the added ids (universe object_count, never in the base's PVS) in the head's coding. The
-	   sets fill the record exactly. Set codings, each self-delimiting:
-		 0 gap varints: varint count, then count varints: the first id, then the gaps minus one.
-		 1 run lengths: varint pairs, then per pair varint zeros, varint ones - 1: alternating runs from id 0 (zero
-		   runs after the first >= 1); the set ends after the last ones run.
-		 2 Rice codes: u8 k (0..24), varint count, then count codes, LSB first, per gap (as in 0): gap >> k 1 bits,
-		   a 0 bit, the k low bits; zero bits pad the last byte.
-		 3 raw bitset: ceil(universe / 8) bytes, bit i of byte j = id 8j + i; bits past the universe zero.
-	   The writer picks the smallest coding, ties to the lower. A decoder applies the deltas from the chain's key
-	   (removals, then additions). Only decoding checks m against the base's PVS (pvsinfo --verify); ranks past it
-	   in a damaged file are ignored, never read out of bounds.
-	 Varints are LEB128: at most 5 bytes, the value fits 32 bits, no needless 0x80 bytes.
-   "SHRD" (optional, 16 bytes, else BAD_SECTION; part files of a sharded bake) [BAD_HEADER]: u32 shard index
-	 (0-based), u32 shard count (>= 2), u32 total cell count, u32 zero. Part cell j is whole cell index + j * count;
-	 cell_count must be their count.
-   "SCNE" (optional, 8 bytes, else BAD_SECTION): u64, nonzero, the baked scene's pvs_scene_fingerprint.
-   "NAME" (optional) [BAD_SECTION]: object names. 0 u32 object_count, then u32 end[object_count], strictly ascending,
-	 then the names: name i is bytes end[i - 1] (0 for i = 0) to end[i] of the text, its last byte the only zero; the
-	 section ends with the text.
-   "VOCC" (optional; virtual occluders, >>vocc) [BAD_SECTION]: per cell vertical rectangles, each hidden from the
-	 whole cell, most effective first:
-	 0  u32 flags: bit 0 = the records are placeholders (--vocc-only: every drawable object); others zero
-	 4  u32 N, the occluders of all cells (<= 255 * cell_count)
-	 8  f32 base, every occluder's bottom height    12 f32 step (> 0); both finite, base + 255 step too
-	 16 u32 first[B + 1], B = ceil(cell_count / 16): index of cell 16b's first occluder; first[0] = 0,
-		first[B] = N, first[b + 1] - first[b] = block b's count sum
-	 then u8 count[cell_count] (0..255), then u8 scale[cell_count]: the cell's coordinate scale S = 2^((scale -
-		128) / 8), exactly the double nearest 2^(k / 8) for k = scale mod 8, times 2^(scale div 8 - 16)
-	 then N occluders of 5 bytes, cell by cell: u8 q0 q1 (end point 0), q2 q3 (end point 1), q4 (top). Ground
-		coordinate (u, v) = centre + S (q - 128) |q - 128| / 16384 in double, centre = 0.5f min + 0.5f max of the
-		cell's box in float; top = base + q4 step in double.
-	 The section is exactly 16 + 4 (B + 1) + 2 cell_count + 5 N bytes. The bake rounds each occluder smaller (end
-	 points inward and away from the cell, top down) and proves the rounded one hidden, so the stored bytes are
-	 conservative. Readers may skip VOCC; the records stay a valid PVS.
+   from a base cell, chains bounded by K. Little-endian; a 32-byte header (magic "PVS\x1a", PVS_FORMAT_VERSION, file
+   size, section count, flags, CRC-32), then a table of sections (tag, offset, size, CRC-32), 8-byte aligned, disjoint:
+   META counts and parameters; CELL cell boxes as indices into per-axis coordinate tables; TREE an implicit kD-tree
+   for pvs_file_find_cell; RECS the records in blocks of 16 cells (each: a key or a delta against its base, sets as
+   gap varints, run lengths, Rice codes or a raw bitset, whichever is smallest); optional SHRD (part files), VOCC
+   (virtual occluders), SCNE (the scene's fingerprint), NAME (object names). Readers skip unknown tags.
+   pvs_file_open checks every rule in linear time, without allocating or reading outside the buffer.
 
    HISTORY: at the end.
 */
@@ -10235,6 +10166,18 @@ PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) 
 	return 1;
 }
 
+/* canon[v]: one id per exact position (-0 as +0), shared by every vertex there; vk: vertex_count scratch. */
+PVS__STATIC void pvs__weld(const pvs_scene *s, pvs__vx_vkey *vk, uint32_t *canon) {
+	uint32_t i, k;
+	for (i = 0; i < s->vertex_count; ++i) {
+		for (k = 0; k < 3; ++k) vk[i].p[k] = s->positions[3 * (size_t)i + k];
+		vk[i].i = i;
+	}
+	PVS_QSORT(vk, s->vertex_count, sizeof(pvs__vx_vkey), pvs__vx_vkey_cmp);
+	for (i = 0; i < s->vertex_count; ++i)
+		canon[vk[i].i] = i > 0 && !pvs__fpoint_cmp(vk[i - 1].p, vk[i].p, 3) ? canon[vk[i - 1].i] : i;
+}
+
 /* Edge-connected triangle components (vertices matched by exact position), open edges (odd use, not both corners at
    ground level g). */
 PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_allocator *a, pvs__vx_topo *t) {
@@ -10254,13 +10197,7 @@ PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_a
 	t->comp_first = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 2, sizeof(uint32_t));
 	t->open_first = (uint32_t *)pvs__alloc_array(a, (size_t)nt + 2, sizeof(uint32_t));
 	if (!vk || !canon || !ed || !parent || !cid || !t->tris || !t->comp_first || !t->open_first) goto done;
-	for (i = 0; i < nv; ++i) {
-		for (k = 0; k < 3; ++k) vk[i].p[k] = s->positions[3 * (size_t)i + k];
-		vk[i].i = i;
-	}
-	PVS_QSORT(vk, nv, sizeof(pvs__vx_vkey), pvs__vx_vkey_cmp);
-	for (i = 0; i < nv; ++i)
-		canon[vk[i].i] = i > 0 && !pvs__fpoint_cmp(vk[i - 1].p, vk[i].p, 3) ? canon[vk[i - 1].i] : i;
+	pvs__weld(s, vk, canon);
 	for (i = 0; i < nt; ++i) {
 		parent[i] = i;
 		if (pvs__vx_flat_on_ground(s, i, g) || !pvs__tri_blocks(s, i)) { parent[i] = 0xffffffffu; continue; }
@@ -15570,16 +15507,16 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 
 /* Face planes of tris[0..n) if a closed convex mesh (each directed edge and its reverse once; every vertex within tolc
    behind every triangle plane, or all in front: inside out): their count, else 0. edges: 6n scratch; planes: n. */
-PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const uint32_t *tris, uint32_t n,
-									uint32_t (*edges)[2], uint32_t *planes) {
+PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const uint32_t *canon, const uint32_t *tris,
+									uint32_t n, uint32_t (*edges)[2], uint32_t *planes) {
 	uint32_t i, j, k, np = 0;
 	double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX}, tolc, sign = 0.0;
 	if (n < 4) return 0;
 	for (i = 0; i < n; ++i)
 		for (k = 0; k < 3; ++k) {
 			const uint32_t *t = s->indices + 3 * (size_t)tris[i];
-			edges[3 * i + k][0] = edges[3 * (n + i) + k][1] = t[k];
-			edges[3 * i + k][1] = edges[3 * (n + i) + k][0] = t[(k + 1) % 3];
+			edges[3 * i + k][0] = edges[3 * (n + i) + k][1] = canon[t[k]];
+			edges[3 * i + k][1] = edges[3 * (n + i) + k][0] = canon[t[(k + 1) % 3]];
 			for (j = 0; j < 3; ++j) {
 				double x = s->positions[3 * (size_t)t[k] + j];
 				lo[j] = x < lo[j] ? x : lo[j];
@@ -15632,29 +15569,53 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 	return np >= 4 ? np : 0;
 }
 
-/* Scene s's solids as fragments: closed convex meshes among triangles, by lowest triangle. 0 if out of memory. */
+/* Scene s's solids as fragments: closed convex meshes among triangles, by lowest triangle. Triangles join when they
+   share a vertex, or an edge's two positions that exactly two of them use, in opposite directions (a mesh exported
+   with split vertices; touching solids use such an edge four times and stay apart). 0 if out of memory. */
 PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly **frags, size_t *cap, size_t *count,
 							   pvs__po_wind *scratch, uint32_t *kept) {
 	const pvs_allocator *al = &p->allocator;
-	uint32_t planes[PVS__PO_MAX_FACES], i, k, t;
-	uint32_t *parent = NULL, *head = NULL, *next = NULL, (*edges)[2] = NULL;
+	uint32_t planes[PVS__PO_MAX_FACES], i, k, t, nv = s->vertex_count, nt = s->triangle_count, ne = 0;
+	uint32_t *parent = NULL, *head = NULL, *next = NULL, (*edges)[2] = NULL, *canon = NULL;
+	pvs__vx_vkey *vk = NULL;
+	pvs__vx_edge *he = NULL;
 	int ok = 0;
-	if (s->triangle_count == 0) return 1;
-	parent = (uint32_t *)pvs__alloc_array(al, s->vertex_count, sizeof(uint32_t));
-	head = (uint32_t *)pvs__alloc_array(al, s->vertex_count, sizeof(uint32_t));
-	next = (uint32_t *)pvs__alloc_array(al, s->triangle_count, sizeof(uint32_t));
+	if (nt == 0) return 1;
+	parent = (uint32_t *)pvs__alloc_array(al, nv, sizeof(uint32_t));
+	head = (uint32_t *)pvs__alloc_array(al, nv, sizeof(uint32_t));
+	next = (uint32_t *)pvs__alloc_array(al, nt, sizeof(uint32_t));
 	edges = (uint32_t(*)[2])pvs__alloc_array(al, 6 * PVS__PO_MAX_FACES, sizeof(edges[0]));
-	if (!parent || !head || !next || !edges) goto done;
-	for (i = 0; i < s->vertex_count; ++i) {
+	canon = (uint32_t *)pvs__alloc_array(al, nv, sizeof(uint32_t));
+	vk = (pvs__vx_vkey *)pvs__alloc_array(al, nv, sizeof(pvs__vx_vkey));
+	he = (pvs__vx_edge *)pvs__alloc_array(al, 3 * (size_t)nt, sizeof(pvs__vx_edge));
+	if (!parent || !head || !next || !edges || !canon || !vk || !he) goto done;
+	pvs__weld(s, vk, canon);
+	for (i = 0; i < nv; ++i) {
 		parent[i] = i;
 		head[i] = PVS__PO_NONE;
 	}
-	for (t = 0; t < s->triangle_count; ++t)
-		for (k = 1; k < 3 && pvs__tri_blocks(s, t); ++k) {
-			uint32_t a = pvs__uf_find(parent, s->indices[3 * (size_t)t]);
-			uint32_t b = pvs__uf_find(parent, s->indices[3 * (size_t)t + k]);
+	for (t = 0; t < nt; ++t)
+		for (k = 0; k < 3 && pvs__tri_blocks(s, t); ++k) {
+			const uint32_t *c = s->indices + 3 * (size_t)t;
+			uint32_t a = pvs__uf_find(parent, c[0]), b = pvs__uf_find(parent, c[k]), x = canon[c[k]],
+					 y = canon[c[(k + 1) % 3]];
 			if (a != b) parent[a < b ? b : a] = a < b ? a : b;
+			if (x == y) continue;
+			he[ne].key = x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
+			he[ne++].tri = 3 * t + k; /* direction: x < y */
 		}
+	PVS_QSORT(he, ne, sizeof(pvs__vx_edge), pvs__vx_edge_cmp);
+	for (i = 0; i + 1 < ne; ++i) {
+		const uint32_t *c0 = s->indices + he[i].tri / 3 * 3, *c1 = s->indices + he[i + 1].tri / 3 * 3;
+		uint32_t k0 = he[i].tri % 3, k1 = he[i + 1].tri % 3, a, b;
+		if (he[i].key != he[i + 1].key || (i && he[i - 1].key == he[i].key) ||
+			(i + 2 < ne && he[i + 2].key == he[i].key) ||
+			(canon[c0[k0]] < canon[c0[(k0 + 1) % 3]]) == (canon[c1[k1]] < canon[c1[(k1 + 1) % 3]]))
+			continue;
+		a = pvs__uf_find(parent, c0[0]);
+		b = pvs__uf_find(parent, c1[0]);
+		if (a != b) parent[a < b ? b : a] = a < b ? a : b;
+	}
 	/* per component (root) its triangles, linked decreasing: reversed when read */
 	for (t = s->triangle_count; t-- > 0;) {
 		uint32_t r = pvs__uf_find(parent, s->indices[3 * (size_t)t]);
@@ -15671,7 +15632,7 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 			if (n < PVS__PO_MAX_FACES) tris[n++] = u;
 			else ++n;
 		if (n > PVS__PO_MAX_FACES || n < 4) continue;
-		np = pvs__po_convex(p, s, tris, n, edges, planes);
+		np = pvs__po_convex(p, s, canon, tris, n, edges, planes);
 		if (!np) continue;
 		if (!pvs__po_poly_from_planes(p, planes, np, &q, scratch, kept) ||
 			(q.face_count && !pvs__grow(al, (void **)frags, cap, *count + 1, sizeof(pvs__po_poly)))) {
@@ -15686,6 +15647,9 @@ done:
 	pvs__free_array(al, head, s->vertex_count, sizeof(uint32_t));
 	pvs__free_array(al, next, s->triangle_count, sizeof(uint32_t));
 	pvs__free_array(al, edges, 6 * PVS__PO_MAX_FACES, sizeof(edges[0]));
+	pvs__free_array(al, canon, nv, sizeof(uint32_t));
+	pvs__free_array(al, vk, nv, sizeof(pvs__vx_vkey));
+	pvs__free_array(al, he, 3 * (size_t)nt, sizeof(pvs__vx_edge));
 	return ok;
 }
 
@@ -24009,7 +23973,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY
    =======
-   0.9.2 (2026-11-29) AUTO's sample bounded by aimed rays; PORTAL's price; PORTAL tests objects' triangles.
+   0.9.2 (2026-11-29) AUTO's sample bounded by aimed rays; PORTAL's price, triangle tests, split-vertex solids.
    0.9.1 (2026-11-28) PVS_BAKE_COMPACT, pvs_file_desc.pvs_row; PORTAL's pass planes.
    0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH, NAME section, PVS_RUNTIME_ONLY, pvs_walkable_cells.
    0.8.0 (2026-11-28) pvs_scene_fingerprint, stored in an optional SCNE section (pvs_file.scene_fingerprint).

@@ -176,6 +176,52 @@ static void tp_solids(void) {
     pvs_scene_destroy(s);
 }
 
+/* The box [lo, hi] with split vertices: every triangle its own three (as exported with per-face normals). */
+static void tp_split_box(float *pos, uint32_t *vc, uint32_t *idx, uint32_t *tc, const float lo[3], const float hi[3]) {
+    float p[3 * 8];
+    uint32_t i[3 * 12], n = 0, m = 0, t, k;
+    test_box_arrays(p, &n, i, &m, lo, hi);
+    for (t = 0; t < m; ++t)
+        for (k = 0; k < 3; ++k) {
+            memcpy(pos + 3 * *vc, p + 3 * i[3 * t + k], 3 * sizeof(float));
+            idx[3 * (*tc + t) + k] = (*vc)++;
+        }
+    *tc += m;
+}
+
+/* Solids from meshes with split vertices: a box whose triangles share no vertex is a solid (its edges pair by
+   position, each used by two triangles in opposite directions); two such boxes touching face to face are not
+   joined into one (the shared face's edges are used four times), and two shared-vertex boxes touching stay two. */
+static void tp_split(void) {
+    static float pos[3 * 36 * 6];
+    static uint32_t idx[3 * 12 * 6];
+    uint32_t vc = 0, tc = 0, pass;
+    float lo[3][3] = {{0, 0, 0}, {3, 0, 0}, {4, 0, 0}}, hi[3][3] = {{1, 1, 1}, {4, 1, 1}, {5, 1, 1}};
+    pvs_object_desc obj = {0, 12, 0};
+    pvs_box cell = {{-5, 1, -5}, {-4, 2, -4}};
+    pvs_portal_info info;
+    double mean;
+    for (pass = 0; pass < 2; ++pass) {
+        pvs_scene *s;
+        vc = tc = 0;
+        if (pass == 0) {
+            tp_split_box(pos, &vc, idx, &tc, lo[0], hi[0]);
+            tp_split_box(pos, &vc, idx, &tc, lo[1], hi[1]);
+            tp_split_box(pos, &vc, idx, &tc, lo[2], hi[2]);
+        } else {
+            tp_box(pos, &vc, idx, &tc, lo[0], hi[0], 0);
+            tp_box(pos, &vc, idx, &tc, lo[1], hi[1], 0);
+            tp_box(pos, &vc, idx, &tc, lo[2], hi[2], 0);
+        }
+        s = test_scene_arrays(pos, vc, idx, tc, &obj, 1, 1);
+        CHECK(s != NULL);
+        if (!s) return;
+        tp_bake_check(s, &cell, 1, "portal split vertices", &info, NULL, &mean);
+        CHECK(pass ? info.solids == 3 : info.solids == 1);
+        pvs_scene_destroy(s);
+    }
+}
+
 /* A cell inside a solid sees an object inside the same solid (a point there sees until the hull). */
 static void tp_inside(void) {
     static float pos[3 * 8 * 4];
@@ -325,6 +371,7 @@ static void tp_solid_objects(void) {
 void test_portal(void) {
     tp_rooms();
     tp_triangles();
+    tp_split();
     tp_solids();
     tp_inside();
     tp_many_vertices();
