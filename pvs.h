@@ -1184,7 +1184,7 @@ PVS_API void pvs_bake_destroy(pvs_bake *bake);
 
 #define PVS_FILE_APPROXIMATE 1u /* file flag: by an estimator (SAMPLE), not conservative */
 
-#define PVS_DEFAULT_CHAIN 8u	/* default bound K on a cell's delta chain */
+#define PVS_DEFAULT_CHAIN 16u	/* default bound K on a cell's delta chain */
 #define PVS_MAX_CHAIN 64u /* largest K a file may declare */
 
 #ifndef PVS_RUNTIME_ONLY /* the encoder */
@@ -22756,12 +22756,17 @@ PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) 
 }
 
 /* Bases: edges from each cell to its nearest (kD-tree sweep), a virtual root joined to all at their key size; Prim's
-   tree from root, an edge weighed on reach by delta's coded size, taken only while its chain stays within K (a greedy
-   depth-bounded minimum arborescence); root's children are keys. Deterministic ties: (weight, cell, base). */
+   tree from root, an edge weighed on reach by delta's coded size plus lambda per level of its base's depth, taken only
+   while its chain stays within K (a greedy depth-bounded minimum arborescence); root's children are keys. Greedy chains
+   run deep and leave later cells without bases, the depth price keeps them short: of lambda 0, 2, 4 and 8 bytes the
+   smallest records win (ties: the lower). Coded sizes are cached on the edges. Deterministic ties: (weight, cell,
+   base). */
+PVS__STATIC void pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t lambda, const uint32_t *key_size);
+PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out);
 PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
 	const pvs_allocator *a = &e->a;
-	uint32_t i, c;
-	size_t k, m, heap_n = 0;
+	uint32_t i, c, lambda, *best;
+	size_t k, m, best_size = SIZE_MAX;
 	pvs_result r = PVS_OK;
 	e->edge_capacity = (size_t)e->cells * PVS__CANDIDATES;
 	e->edges = (pvs__link *)pvs__alloc_array(a, e->edge_capacity, sizeof(pvs__link));
@@ -22813,11 +22818,35 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 	}
 	e->heap_capacity = (size_t)e->cells + 2 * m + 1;
 	e->heap = (pvs__heapent *)pvs__alloc_array(a, e->heap_capacity, sizeof(pvs__heapent));
-	if (!e->heap) return PVS__OOM(err, "encoder heap");
+	best = (uint32_t *)pvs__alloc_array(a, 3 * (size_t)e->cells, sizeof(uint32_t)); /* key sizes, best bases, depths */
+	if (!e->heap || !best) {
+		pvs__free_array(a, best, 3 * (size_t)e->cells, sizeof(uint32_t));
+		return PVS__OOM(err, "encoder heap");
+	}
+	for (i = 0; i < e->cells; ++i) best[i] = pvs__encoder_cost(e, i, PVS_NO_CELL);
+	for (lambda = 0; lambda <= 8; lambda = lambda ? 2 * lambda : 2) {
+		size_t size;
+		pvs__encoder_prim(e, max_chain, lambda, best);
+		size = pvs__encoder_records(e, NULL);
+		if (size >= best_size) continue;
+		best_size = size;
+		memcpy(best + e->cells, e->base, e->cells * sizeof(uint32_t));
+		memcpy(best + 2 * (size_t)e->cells, e->depth, e->cells * sizeof(uint32_t));
+	}
+	memcpy(e->base, best + e->cells, e->cells * sizeof(uint32_t));
+	memcpy(e->depth, best + 2 * (size_t)e->cells, e->cells * sizeof(uint32_t));
+	pvs__free_array(a, best, 3 * (size_t)e->cells, sizeof(uint32_t));
+	return PVS_OK;
+}
+
+/* One Prim's tree of pvs__encoder_bases: lambda bytes per level; key_size: each cell's key record size. */
+PVS__STATIC void pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t lambda, const uint32_t *key_size) {
+	uint32_t i;
+	size_t heap_n = 0;
 	memset(e->placed, 0, e->cells);
 	for (i = 0; i < e->cells; ++i) {
 		pvs__heapent h;
-		h.weight = pvs__encoder_cost(e, i, PVS_NO_CELL);
+		h.weight = key_size[i];
 		h.node = i;
 		h.from = 0;
 		pvs__pq_push(e->heap, &heap_n, sizeof(h), &h, pvs__heap_less);
@@ -22836,14 +22865,14 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 			uint32_t u = e->adj[2 * (size_t)j];
 			if (!e->placed[u]) {
 				pvs__heapent g;
-				g.weight = pvs__encoder_cost(e, u, v);
+				if (!e->adj[2 * (size_t)j + 1]) e->adj[2 * (size_t)j + 1] = pvs__encoder_cost(e, u, v); /* >= 2 */
+				g.weight = e->adj[2 * (size_t)j + 1] + lambda * e->depth[v];
 				g.node = u;
 				g.from = v + 1;
 				pvs__pq_push(e->heap, &heap_n, sizeof(g), &g, pvs__heap_less);
 			}
 		}
 	}
-	return PVS_OK;
 }
 
 /* Writes RECS body (out NULL: measures it). */
@@ -23973,7 +24002,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY
    =======
-   0.9.2 (2026-11-29) AUTO's sample bounded by aimed rays; PORTAL's price, triangle tests, split-vertex solids.
+   0.9.2 (2026-11-29) AUTO's sample bounded by rays; PORTAL's price, triangle tests, split-vertex solids; K = 16.
    0.9.1 (2026-11-28) PVS_BAKE_COMPACT, pvs_file_desc.pvs_row; PORTAL's pass planes.
    0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH, NAME section, PVS_RUNTIME_ONLY, pvs_walkable_cells.
    0.8.0 (2026-11-28) pvs_scene_fingerprint, stored in an optional SCNE section (pvs_file.scene_fingerprint).

@@ -470,8 +470,8 @@ static void test_corruptions(void) {
         RESET(); test_wr32(b + rc, first + 1); pvs_fuzz_fix_checksums(b, size); CHECK(expect_open(b, size, PVS_ERROR_BAD_RECORD));
         RESET(); test_wr32(b + rc + 4, test_rd32(b + rc + 4) - 1); pvs_fuzz_fix_checksums(b, size); CHECK(pvs_file_open(b, size, &f0, NULL) < 0);
         RESET(); b[rc + first] = 0xff; pvs_fuzz_fix_checksums(b, size); CHECK(pvs_file_open(b, size, &f0, NULL) < 0);
-        /* record 0: L, head, [base], body. Make it a delta of depth 9 > K = 8 */
-        RESET(); b[rc + first + 1] = (uint8_t)((b[rc + first + 1] & 3u) | (9u << 2)); pvs_fuzz_fix_checksums(b, size);
+        /* record 0: L, head, [base], body. Make it a delta of depth K + 1 (K = PVS_DEFAULT_CHAIN, a one-byte head) */
+        RESET(); b[rc + first + 1] = (uint8_t)((b[rc + first + 1] & 3u) | ((PVS_DEFAULT_CHAIN + 1u) << 2)); pvs_fuzz_fix_checksums(b, size);
         CHECK(expect_open(b, size, PVS_ERROR_BAD_CHAIN));
     }
     {

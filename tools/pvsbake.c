@@ -62,7 +62,7 @@ static const char *usage =
     "  --points N        sample method: points per cell (default 32)\n"
     "  --rays N          sample method: rays per point (default 2048)\n"
     "  --seed N          sample method: random seed (default 1)\n"
-    "  --chain K         file: decode any cell in at most K deltas (1..64, default 8)\n"
+    "  --chain K         file: decode any cell in at most K deltas (1..64, default 16)\n"
     "  --shard K/N       bake only shard K of N (cells K-1, K-1+N, ...) into a part file for merge\n"
     "  -j THREADS        worker threads (default: all CPUs; -j2 works too); the file is identical\n"
     "                    for any count\n"
