@@ -22759,14 +22759,14 @@ PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) 
    tree from root, an edge weighed on reach by delta's coded size plus lambda per level of its base's depth, taken only
    while its chain stays within K (a greedy depth-bounded minimum arborescence); root's children are keys. Greedy chains
    run deep and leave later cells without bases, the depth price keeps them short: of lambda 0, 2, 4 and 8 bytes the
-   smallest records win (ties: the lower). Coded sizes are cached on the edges. Deterministic ties: (weight, cell,
-   base). */
-PVS__STATIC void pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t lambda, const uint32_t *key_size);
-PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out);
+   tree of the smallest coded sizes wins (ties: the lower). Coded sizes are cached on the edges. Deterministic ties:
+   (weight, cell, base). */
+PVS__STATIC uint64_t pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t lambda, const uint32_t *key_size);
 PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
 	const pvs_allocator *a = &e->a;
 	uint32_t i, c, lambda, *best;
-	size_t k, m, best_size = SIZE_MAX;
+	size_t k, m;
+	uint64_t best_size = UINT64_MAX;
 	pvs_result r = PVS_OK;
 	e->edge_capacity = (size_t)e->cells * PVS__CANDIDATES;
 	e->edges = (pvs__link *)pvs__alloc_array(a, e->edge_capacity, sizeof(pvs__link));
@@ -22825,9 +22825,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 	}
 	for (i = 0; i < e->cells; ++i) best[i] = pvs__encoder_cost(e, i, PVS_NO_CELL);
 	for (lambda = 0; lambda <= 8; lambda = lambda ? 2 * lambda : 2) {
-		size_t size;
-		pvs__encoder_prim(e, max_chain, lambda, best);
-		size = pvs__encoder_records(e, NULL);
+		uint64_t size = pvs__encoder_prim(e, max_chain, lambda, best);
 		if (size >= best_size) continue;
 		best_size = size;
 		memcpy(best + e->cells, e->base, e->cells * sizeof(uint32_t));
@@ -22839,10 +22837,12 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 	return PVS_OK;
 }
 
-/* One Prim's tree of pvs__encoder_bases: lambda bytes per level; key_size: each cell's key record size. */
-PVS__STATIC void pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t lambda, const uint32_t *key_size) {
+/* One Prim's tree of pvs__encoder_bases: lambda bytes per level; key_size: each cell's key record size. Returns the
+   tree's coded sizes. */
+PVS__STATIC uint64_t pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t lambda, const uint32_t *key_size) {
 	uint32_t i;
 	size_t heap_n = 0;
+	uint64_t total = 0;
 	memset(e->placed, 0, e->cells);
 	for (i = 0; i < e->cells; ++i) {
 		pvs__heapent h;
@@ -22861,6 +22861,7 @@ PVS__STATIC void pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t
 		e->placed[v] = 1;
 		e->base[v] = h.from ? h.from - 1 : PVS_NO_CELL;
 		e->depth[v] = h.from ? e->depth[h.from - 1] + 1 : 0;
+		total += h.weight - (h.from ? lambda * e->depth[h.from - 1] : 0u);
 		for (j = e->adj_start[v]; j < e->adj_start[v + 1]; ++j) {
 			uint32_t u = e->adj[2 * (size_t)j];
 			if (!e->placed[u]) {
@@ -22873,6 +22874,7 @@ PVS__STATIC void pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t
 			}
 		}
 	}
+	return total;
 }
 
 /* Writes RECS body (out NULL: measures it). */
