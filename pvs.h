@@ -15145,15 +15145,15 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 
 // >>portal
 /* ==== portal: rooms and portals from the scene's closed convex solids, conservative portal flow per cell ==== */
-/* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds vis portals from brushes): solids are connected
-   closed convex meshes among the scene's triangles (shared vertex indices, each directed edge matched by its reverse,
-   every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles); not explicit occluder volumes (rays pass
-   them). A BSP on their face planes (q3map2's BuildTree: fragments split by each plane they straddle) ends in
-   leaves wholly inside a solid or outside all: empty ones are rooms. Planes closer than input's float resolution are
-   one (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size): touching solids leave no crack. A portal is a face of an
-   empty leaf with an empty leaf beyond: the face pushed down the tree, split by every plane it straddles (Teller 1992
-   §3.3). A segment between two rooms meeting no solid crosses the portals of leaves it passes, in order. Other
-   triangles do not block here; a cell point inside a solid sees objects meeting it.
+/* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds vis portals from brushes): solids are connected closed
+   convex meshes among the scene's triangles (joined by shared vertices or split ones: pvs__po_solids; each directed
+   edge matched by its reverse, every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles); not explicit
+   occluder volumes (rays pass them). A BSP on their face planes (q3map2's BuildTree: fragments split by each plane they
+   straddle) ends in leaves wholly inside a solid or outside all: empty ones are rooms. Planes closer than input's float
+   resolution are one (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size): touching solids leave no crack. A portal is a
+   face of an empty leaf with an empty leaf beyond: the face pushed down the tree, split by every plane it straddles
+   (Teller 1992 §3.3). A segment between two rooms meeting no solid crosses the portals of leaves it passes, in order.
+   Other triangles do not block here; a cell point inside a solid sees objects meeting it.
 
    Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): a segment from x in view cell C through portals
    P1 .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: the lines' source is C_j, C clipped
