@@ -544,6 +544,11 @@ PVS_API void pvs_raster_build_pyramid(pvs_raster *raster);
 PVS_API int pvs_raster_test_rect(pvs_raster *raster, int32_t x0, int32_t y0, int32_t x1, int32_t y1, float depth);
 /* 1 if the box may be visible: before the near plane, on screen, not hidden. */
 PVS_API int pvs_raster_test_box(pvs_raster *raster, const pvs_box *box);
+#define PVS_BOX_OCCLUDED 0 /* on screen, hidden by what was drawn */
+#define PVS_BOX_VISIBLE 1 /* may be visible: pvs_raster_test_box's 1 */
+#define PVS_BOX_VIEW_CULLED 2 /* wholly off screen or behind the near plane: no occluder needed */
+/* pvs_raster_test_box telling why a box is not visible: PVS_BOX_*. */
+PVS_API int pvs_raster_classify_box(pvs_raster *raster, const pvs_box *box);
 
 /* Connected facades (Wonka 1999 §3.1, §4.1): vertical quads on consecutive ground segments (u, v), base to top. */
 typedef struct pvs_facade_chain {
@@ -5558,12 +5563,16 @@ PVS__STATIC int pvs__raster_box(const pvs_raster *r, const pvs_box *b, int32_t r
 	return 2;
 }
 
-PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
+PVS_API int pvs_raster_classify_box(pvs_raster *r, const pvs_box *b) {
 	int32_t rect[4] = {0, 0, 0, 0};
 	float d = 0.0f;
 	int k = pvs__raster_box(r, b, rect, &d);
-	if (k != 2) return k;
-	return pvs_raster_test_rect(r, rect[0], rect[1], rect[2], rect[3], d);
+	if (k != 2) return k ? PVS_BOX_VISIBLE : PVS_BOX_VIEW_CULLED;
+	return pvs_raster_test_rect(r, rect[0], rect[1], rect[2], rect[3], d) ? PVS_BOX_VISIBLE : PVS_BOX_OCCLUDED;
+}
+
+PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
+	return pvs_raster_classify_box(r, b) == PVS_BOX_VISIBLE;
 }
 
 /* ---- context ---- */
@@ -24004,7 +24013,8 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY
    =======
-   0.9.2 (2026-11-29) AUTO's sample bounded by rays; PORTAL's price, triangle tests, split-vertex solids; K = 16.
+   0.9.2 (2026-11-29) AUTO's sample bounded by rays; PORTAL's price, triangle tests, split-vertex solids; K = 16;
+					  pvs_raster_classify_box.
    0.9.1 (2026-11-28) PVS_BAKE_COMPACT, pvs_file_desc.pvs_row; PORTAL's pass planes.
    0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH, NAME section, PVS_RUNTIME_ONLY, pvs_walkable_cells.
    0.8.0 (2026-11-28) pvs_scene_fingerprint, stored in an optional SCNE section (pvs_file.scene_fingerprint).

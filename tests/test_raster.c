@@ -509,7 +509,7 @@ static void test_boxes(int scale) {
     pvs_raster_desc rd;
     pvs_raster *a, *b;
     pvs_error e;
-    int t, missed = 0, differ = 0, checked = 0, hidden = 0;
+    int t, missed = 0, differ = 0, checked = 0, hidden = 0, view_culled = 0, wrong_view = 0;
     const uint32_t W = 64, H = 48;
     memset(&rd, 0, sizeof(rd));
     rd.width = W; rd.height = H; rd.flags = mode_flag;
@@ -569,8 +569,9 @@ static void test_boxes(int scale) {
                 bx.max[2] = bx.min[2] + sz;
             }
             va = pvs_raster_test_box(a, &bx);
-            vb = pvs_raster_test_box(b, &bx);
-            differ += va != vb;
+            vb = pvs_raster_classify_box(b, &bx);
+            differ += va != (vb == PVS_BOX_VISIBLE) || vb != pvs_raster_classify_box(a, &bx);
+            view_culled += vb == PVS_BOX_VIEW_CULLED;
             for (k = 0; k < 8; ++k) {
                 float p[3];
                 p[0] = k & 1 ? bx.max[0] : bx.min[0];
@@ -587,6 +588,7 @@ static void test_boxes(int scale) {
                 zmax = z > zmax ? z : zmax;
             }
             if (xmax < 0 || ymax < 0 || xmin > W || ymin > H) continue;
+            wrong_view += vb == PVS_BOX_VIEW_CULLED; /* in front and on screen: not view-culled */
             for (y = ymin < 0 ? 0 : (int)floor(ymin); y <= (int)floor(ymax) && y < (int)H; ++y)
                 for (x = xmin < 0 ? 0 : (int)floor(xmin); x <= (int)floor(xmax) && x < (int)W; ++x) expect |= (double)d[y * (int)W + x] <= zmax;
             ++checked;
@@ -602,6 +604,7 @@ static void test_boxes(int scale) {
     CHECK(differ == 0);
     CHECK(checked > 100 * scale);
     CHECK(hidden > 0);
+    CHECK(view_culled > 0 && wrong_view == 0);
     pvs_raster_destroy(a);
     pvs_raster_destroy(b);
 }
