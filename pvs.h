@@ -1901,6 +1901,10 @@ typedef struct pvs__bake_method {
 	int (*price)(const pvs_bake_desc *desc, const void *state);
 } pvs__bake_method;
 
+/* AUTO's sample cell s (of PVS_AUTO_SAMPLE_CELLS) among desc's cells, spread evenly; a price may look at them too. */
+#define PVS__SAMPLE_CELL(desc, s) \
+	((desc)->cells + ((2 * (uint64_t)(s) + 1) * (desc)->cell_count) / (2 * (uint64_t)PVS_AUTO_SAMPLE_CELLS))
+
 struct pvs_bake;
 /* Method m's state, NULL if not prepared (>>bake). */
 PVS__STATIC void *pvs__bake_method_state(const struct pvs_bake *b, pvs_method m);
@@ -16553,7 +16557,7 @@ PVS__STATIC int pvs__portal_price(const pvs_bake_desc *desc, const void *state) 
 	int price = 0;
 	(void)state;
 	for (s = 0; s < S; ++s) {
-		const pvs_box *b = desc->cells + ((2 * (uint64_t)s + 1) * desc->cell_count) / (2 * (uint64_t)S);
+		const pvs_box *b = PVS__SAMPLE_CELL(desc, s);
 		float o[3], d[3] = {0, 0, 0};
 		pvs_hit hit;
 		for (k = 0; k < 3; ++k) o[k] = 0.5f * (b->min[k] + b->max[k]);
@@ -21564,7 +21568,7 @@ PVS__STATIC pvs_result pvs__bake_choose_sampled(pvs_bake *b, const pvs_bake_desc
 	pvs_result r;
 	if (!sb) return PVS__OOM(err, "auto: sample cells");
 	memset(sb, 0, total * sizeof(pvs_word));
-	for (s = 0; s < S; ++s) sample[s] = desc->cells[((2 * (uint64_t)s + 1) * desc->cell_count) / (2 * (uint64_t)S)];
+	for (s = 0; s < S; ++s) sample[s] = *PVS__SAMPLE_CELL(desc, s);
 	sd.cells = sample;
 	sd.cell_count = S;
 	b->env.cells = sample;
