@@ -21505,12 +21505,15 @@ PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 /* Greedy choice over the sample cells' PVSs in sb (pvs__bake_choose): b->run keeps the chosen. */
 PVS__STATIC void pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *desc, uint32_t S, pvs_word *sb) {
 	uint32_t n = b->run_count, s, k, i, keep[PVS_METHOD_COUNT], kept = 0;
-	int c0 = 0;
+	int c0 = 0, price[PVS_METHOD_COUNT];
 	size_t w, words = b->words, stride = PVS__SAMPLE_SLOTS * words, last = stride - words;
 	double base = 0.0;
 	b->sample_cells = S;
 	if (n < 2) return;
-	for (k = 0; k < n; ++k) keep[k] = 0;
+	for (k = 0; k < n; ++k) {
+		keep[k] = 0;
+		price[k] = pvs__bake_price(b, b->run[k], desc); /* once: PORTAL's casts rays, SHRINK's reads every cell */
+	}
 	while (kept < n) { /* next: largest gain over kept intersection, by its price */
 		uint32_t best = n;
 		int best_price = 0;
@@ -21523,11 +21526,10 @@ PVS__STATIC void pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *desc, u
 			}
 			for (i = 0; i < b->considered_count; ++i) /* kept: gain when chosen; skipped: its last */
 				if (b->considered[i] == b->run[k]) b->sample_gain[i] = (float)(sum / S);
-			int price = pvs__bake_price(b, b->run[k], desc);
-			need = kept ? ldexp(PVS_AUTO_MIN_GAIN * base, price - c0) : 1.0;
-			if (sum / need > best_gain || (sum / need == best_gain && price < best_price)) {
+			need = kept ? ldexp(PVS_AUTO_MIN_GAIN * base, price[k] - c0) : 1.0;
+			if (sum / need > best_gain || (sum / need == best_gain && price[k] < best_price)) {
 				best_gain = sum / need; /* ties (where nothing culls): cheaper */
-				best_price = price;
+				best_price = price[k];
 				best = k;
 			}
 		}
