@@ -1,4 +1,4 @@
-/* pvs.h - v0.9.2 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.9.3 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -87,20 +87,18 @@
    closes cracks and offsets up to eight float epsilons of the scene's coordinates between pieces of one wall
    (T-junctions; about 1 mm at 1 km); openings to see through must be wider.
 
-   Methods. AUTO, the default, runs the conservative methods that can cull in the scene, cheapest first, and intersects
-   their PVSs (conservative, as tight as each): PORTAL when closed convex meshes bound rooms; OTREE when vertical walls
-   give facades (2.5D); EXTPROJ, with the sweep (§5), for planar occluders or convex solids (3D; an object's coplanar
-   edge-connected triangles act as one occluder); SHRINK, the costliest, last on what the others kept, when closed
-   geometry leaves volume after erosion by eps. With the default set and at least 4 x PVS_AUTO_SAMPLE_CELLS cells,
-   pvs_bake_begin prepares methods by cost class and bakes PVS_AUTO_SAMPLE_CELLS cells spread over all cells with each;
-   rays aimed at what they keep prove part of it visible, and one that would have to cull more than the rest to pay
-   (PVS_AUTO_MIN_GAIN of the kept PVS, times 2 per class above the cheapest kept's) is not prepared. Of those run, the
-   smallest PVS's is kept (ties: the cheaper), then greedily those culling that price. Classes: PORTAL 0, +1 per 2 of
-   8 cells spread over all whose centre sees the sky; OTREE 2 + log2 of its base levels; EXTPROJ 3; SHRINK 3 +
-   log2 of its sample points a cell / 294. pvs_bake_method_info says which and why; counts decide, so any thread count
-   or shard decides alike. A named set (pvs_bake_desc.methods) runs in full;
-   VOCC only when named. max_distance, a draw distance, drops objects whose box is farther from every point of the cell
-   (box to box, rounded toward keeping). pvs_bake_restore_task resumes an interrupted bake.
+   Methods. AUTO, the default, intersects the PVSs of the conservative methods that can cull in the scene, cheapest
+   first: PORTAL when closed convex meshes bound rooms; OTREE when vertical walls give facades (2.5D); EXTPROJ, with
+   the sweep (§5), for planar occluders or convex solids; SHRINK, the costliest, last, when closed geometry leaves
+   volume after erosion by eps. With the default set and at least 4 x PVS_AUTO_SAMPLE_CELLS cells, pvs_bake_begin
+   bakes PVS_AUTO_SAMPLE_CELLS cells spread over all with each method by cost class; rays aimed at what they keep prove
+   part of it visible, and a method that would have to cull more than the rest to pay (PVS_AUTO_MIN_GAIN of the kept
+   PVS, x2 per class above the cheapest kept's) is not prepared. Of those run, the smallest PVS's is kept (ties: the
+   cheaper), then greedily those culling that price. Classes: PORTAL 0, +1 per 2 of the 8 cells whose centre sees the
+   sky; OTREE 2 + log2 of its base levels; EXTPROJ 3; SHRINK 3 + log2(sample points a cell / 294).
+   pvs_bake_method_info says which and why; counts decide, so any thread count or shard decides alike. A named set
+   (pvs_bake_desc.methods) runs in full; VOCC only when named. max_distance, a draw distance, drops objects whose box
+   is farther from every point of the cell (rounded toward keeping). pvs_bake_restore_task resumes a bake.
 
    Adaptive cells (Durand 2000 §6.1). A cell whose PVS holds over adaptive.budget triangles is halved across its
    longest side, recursively down to adaptive.min_size; each half is baked from its parent's PVS and intersected with it
@@ -116,12 +114,13 @@
    `pvs_error *` with the code, offending index or byte offset, and message. Bad data: a result code, never PVS_ASSERT.
 
    Trust. pvs_scene_create validates every index, count and coordinate. pvs_file_open is safe on untrusted bytes: it
-   checks every offset, size, count and checksum before use, never reads outside the buffer; later calls on an opened
-   file cannot fail on its content. Sizes are overflow-checked.
+   checks every offset, size, count and checksum, never reads outside the buffer; calls on an opened file cannot fail
+   on its content. Sizes are overflow-checked.
 
    Culling. Per frame, from a context allocated once, pvs_raster_cull (3D: depth pyramid), pvs_raster_cull_map (2.5D:
-   cull map) or pvs_otree_cull (occlusion tree) report every object possibly seen on screen from the near plane on,
-   whatever the rounding. Depth is reversed (larger is nearer). Pass a cell's PVS as `candidates` to cull inside it.
+   cull map) or pvs_otree_cull (occlusion tree) report every object possibly seen on screen past the near plane,
+   whatever the rounding. Depth is reversed (larger is nearer; pvs_raster_set_clip_matrix takes others). A cell's PVS
+   as `candidates` culls inside it.
 
    Virtual occluders (Koltun 2000). A vocc bake also stores a few vertical rectangles per cell (about 50 bytes) from
    which pvs_vocc_cull rebuilds the PVS on cell entry; --vocc-only keeps only them.
@@ -131,13 +130,11 @@
    Allocates through the desc's allocator: pvs_scene_create (triangles, kD-trees: at most PVS_SCENE_BYTES_PER_TRIANGLE,
    2.4 KB, per triangle and object); pvs_bake_begin (a bitset per cell, cell_count * object_count / 8 bytes, or
    PVS_BAKE_COMPACT's coded PVSs; 40 of statistics per cell); pvs_bake_run_task (AUTO: a bitset per method; EXTPROJ:
-   (128 + 8 x sweep planes) x N^2 bytes of N x N depth maps and sweep masks, plus summed-area tables of 4 (N^2 + N + 1 +
-   min(16 N, 16384)) bytes per plane of a direction up to 64 MiB, at least two (pvs_extproj_task_bytes): 8 MB at 256
-   pixels, 21 MB with 16 sweep planes, 0.7 GB at 1024 and 64, freed on return; adaptive cells: a box and a bitset per
-   leaf, kept); pvs_file_encode (about 40 bytes per cell plus a bitset); pvs_raster_create (depth map, pyramid, cull
-   map); pvs_otree_create (about 250 bytes per node of its budget, 5 per kD node and object). Allocate nothing: the
-   pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*, pvs_otree_cull, pvs_vocc_cull. A .pvs file is
-   used in place.
+   pvs_extproj_task_bytes, 8 MB at 256 pixels, 0.7 GB at 1024 and 64 sweep planes, freed on return; adaptive cells: a
+   box and a bitset per leaf, kept); pvs_file_encode (~40 bytes per cell plus a bitset); pvs_raster_create
+   (depth map, pyramid, cull map); pvs_otree_create (about 250 bytes per node of its budget, 5 per kD node and
+   object). Allocate nothing: the pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*, pvs_raster_draw,
+   pvs_otree_cull, pvs_vocc_cull. A .pvs file is used in place.
 
    PERFORMANCE
    ===========
@@ -153,14 +150,10 @@
 
    FILE FORMAT (version 1; the byte layout, rule by rule with each rule's error code: README.md, "The file")
    ===========
-   The delta-PVS of Durand et al. 2000 (§6.2): a few key cells store their PVS whole, others the objects that differ
-   from a base cell, chains bounded by K. Little-endian; a 32-byte header (magic "PVS\x1a", PVS_FORMAT_VERSION, file
-   size, section count, flags, CRC-32), then a table of sections (tag, offset, size, CRC-32), 8-byte aligned, disjoint:
-   META counts and parameters; CELL cell boxes as indices into per-axis coordinate tables; TREE an implicit kD-tree
-   for pvs_file_find_cell; RECS the records in blocks of 16 cells (each: a key or a delta against its base, sets as
-   gap varints, run lengths, Rice codes or a raw bitset, whichever is smallest); optional SHRD (part files), VOCC
-   (virtual occluders), SCNE (the scene's fingerprint), NAME (object names). Readers skip unknown tags.
-   pvs_file_open checks every rule in linear time, without allocating or reading outside the buffer.
+   The delta-PVS of Durand et al. 2000 (§6.2): key cells store their PVS whole, others what differs from a base cell,
+   chains bounded by K. Little-endian: a 32-byte header, a table of CRC-checked sections: META, CELL (boxes), TREE
+   (look-up), RECS (records, each set coded as gap varints, runs, Rice codes or a bitset); optional SHRD, VOCC, SCNE,
+   NAME. Readers skip unknown tags; pvs_file_open checks every rule in linear time.
 
    HISTORY: at the end.
 */
@@ -173,7 +166,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 9
-#define PVS_VERSION_PATCH 2
+#define PVS_VERSION_PATCH 3
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 1
 
@@ -518,21 +511,43 @@ PVS_API void pvs_raster_clear(pvs_raster *raster);
 /* Row-major projection of the next draws and box tests: any 4x4 (also off-axis, as Durand 2000's planes
    shared by a cell). NOT_FINITE for a non-finite entry. */
 PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *raster, const float m[16]);
+/* An engine's clip matrix in its convention, PVS_CLIP_* (0: row-major, z_ndc 1 at near, 0 at far or infinity, as
+   pvs_camera_matrix). Its depth row becomes w - z (zero-one) or (w - z) / 2 in float; x, y, w stay: the screen is
+   the engine's. No far clipping. Errors as pvs_raster_set_matrix; INVALID_ARGUMENT for unknown or both depths. */
+PVS_API pvs_result pvs_raster_set_clip_matrix(pvs_raster *raster, const float m[16], uint32_t flags);
+#define PVS_CLIP_COLUMN_MAJOR 1u /* m[4 * column + row] (OpenGL, glm, HLSL's default packing) */
+#define PVS_CLIP_DEPTH_ZERO_ONE 2u /* z_ndc 0 at near, 1 at far (Direct3D, Vulkan, Metal) */
+#define PVS_CLIP_DEPTH_MINUS_ONE_ONE 4u /* z_ndc -1 at near, 1 at far (OpenGL) */
 /* Draws `count` two-sided triangles (3 floats per vertex; 3 `indices` per triangle, NULL: consecutive), keeping per
    pixel the nearer depth (tiles may keep a farther one, never one nearer than the nearest occluder); conservative
-   under rounding. Skips triangles with a non-finite coordinate or an index >= vertex_count. INVALID_ARGUMENT for
-   NULL positions or a bad mode. */
+   under rounding. Skips triangles with a non-finite coordinate or index >= vertex_count. Errors: pvs_raster_draw. */
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *raster, const float *positions, uint32_t vertex_count,
 										const uint32_t *indices, uint32_t count, pvs_raster_mode mode);
 /* Draws `count` triangles as one occluder (Durand 2000 §3.3: per-triangle inner coverage cracks along shared edges):
    as pvs_raster_triangles, plus every pixel a triangle touches and no boundary edge does, at the farthest depth over
    it of the touching triangles of its facing. Boundary edges (cracks remain): edges not shared by exactly two
-   triangles, silhouettes, edges between oppositely wound triangles, near-plane cuts and the edges they cut. Vertices
-   are shared by index or equal position. Longer meshes go in pieces of max_mesh_triangles, with boundary edges
-   between pieces. INVALID_ARGUMENT for a NULL raster, or NULL positions with count > 0; otherwise as
-   pvs_raster_triangles; SIMD gives the same result. */
+   triangles (by index or position), silhouettes, edges between oppositely wound triangles, near-plane cuts and the
+   edges they cut, edges between pieces of max_mesh_triangles. Errors as pvs_raster_triangles; SIMD gives the same. */
 PVS_API pvs_result pvs_raster_mesh(pvs_raster *raster, const float *positions, uint32_t vertex_count,
 								   const uint32_t *indices, uint32_t count);
+/* A draw with Masked Occlusion Culling's per-call options: vertices in the caller's struct, back-face culling. */
+typedef struct pvs_raster_draw_desc {
+	const float *positions; /* x, y, z first in each vertex (4-byte aligned); NULL only with no triangles */
+	uint32_t stride; /* bytes from vertex to vertex, a multiple of 4, >= 12; 0 = 12 */
+	uint32_t vertex_count;
+	const uint32_t *indices; /* 3 per triangle, NULL: consecutive vertices */
+	uint32_t triangle_count;
+	pvs_raster_mode mode;
+	uint32_t flags; /* PVS_DRAW_* */
+} pvs_raster_draw_desc;
+#define PVS_DRAW_MESH 1u /* one occluder, as pvs_raster_mesh */
+/* Occluders: leave out triangles clockwise (counter-clockwise) on screen, x_ndc right, y_ndc up: det(x, y, w) of
+   the clip coordinates, exact across the near plane too. Leaving out occluders is conservative. */
+#define PVS_DRAW_CULL_CW 2u
+#define PVS_DRAW_CULL_CCW 4u
+/* pvs_raster_triangles (PVS_DRAW_MESH: pvs_raster_mesh) with those options. INVALID_ARGUMENT for NULL raster or
+   draw, NULL positions with triangles, a bad stride, mode or flag, both culls, or flags with occludees. */
+PVS_API pvs_result pvs_raster_draw(pvs_raster *raster, const pvs_raster_draw_desc *draw);
 /* Depth map, width * height floats from row 0, valid until the next raster call. */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
 
@@ -3423,6 +3438,7 @@ PVS__STATIC pvs__i4 pvs__f4_floori(pvs__f4 f) {
 #endif
 
 #define PVS__RASTER_MAXV 8 /* a clipped triangle has <= 5 */
+#define PVS__VTX(r, pos, q) ((pos) + (size_t)(q) * (r)->vstride)
 #define PVS__RASTER_ERR_D 9.094947017729282e-13 /* 2^-40 */
 #define PVS__RASTER_ERR_F 9.5367431640625e-07	/* 2^-20 */
 #define PVS__RASTER_MAX_LEVELS 16
@@ -3493,6 +3509,8 @@ struct pvs_raster {
 	double rowa[4], rowt[4]; /* per row of m: |m_r0| + |m_r1| + |m_r2|, |m_r3| */
 	/* occluder meshes (pvs_raster_mesh): scratch for mesh_cap triangles, four pixel rows */
 	uint32_t mesh_cap, mesh_hash; /* triangles per piece; hash slots (a power of two) */
+	uint32_t vstride; /* floats per vertex (pvs_raster_draw's stride) */
+	int cull; /* occluders of this pvs__mesh_facing left out; 0: none */
 	struct pvs__mtri *mt; /* prepared triangles */
 	uint32_t *mcid, *mpart; /* 3 mesh_cap: welded vertex per corner; partner half-edge */
 	uint8_t *mvst; /* 3 mesh_cap: corner state against the clip planes */
@@ -4295,6 +4313,24 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
 	}
 }
 
+/* Facing: sign of det(x, y, w) (+1: counter-clockwise on screen), 0 within rounding: entries off by e move it at
+   most 6 ((M + e)^3 - M^3), evaluation 1e-14 (M + e)^3. */
+PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
+	const double *p = v[0].c, *q = v[1].c, *s = v[2].c;
+	double d =
+		p[0] * (q[1] * s[3] - s[1] * q[3]) - p[1] * (q[0] * s[3] - s[0] * q[3]) + p[3] * (q[0] * s[1] - s[0] * q[1]);
+	double M = 0.0, e = pvs__dmax(v[0].e, pvs__dmax(v[1].e, v[2].e)), bound;
+	int i;
+	for (i = 0; i < 3; ++i)
+		M = pvs__dmax(M, pvs__dmax(pvs__dabs(v[i].c[0]), pvs__dmax(pvs__dabs(v[i].c[1]), pvs__dabs(v[i].c[3]))));
+	/* = e (3 M^2 + 3 M e + e^2): no cancellation */
+	bound =
+		6.0 * e * (3.0 * M * M + 3.0 * M * e + e * e) * (1.0 + 1e-14) + 1e-14 * (M + e) * (M + e) * (M + e) + 1e-300;
+	if (d > bound) return 1;
+	if (d < -bound) return -1;
+	return 0;
+}
+
 PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1, const float *p2, int occluder) {
 	pvs__cv v[3];
 	int k;
@@ -4305,6 +4341,7 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 	v[2] = pvs__raster_transform(r, p2);
 	if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) return;
 	if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
+	if (occluder && r->cull && pvs__mesh_facing(v) == r->cull) return; /* back-face culling */
 	pvs__raster_clipped(r, v, 3, occluder);
 	r->pyramid_valid = 0;
 }
@@ -4501,9 +4538,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 	int n;
 	int32_t box[4][4];
 	if (!vertex_count) return;
-	last[0] = positions[3 * ((size_t)vertex_count - 1)]; /* for SIMD's 4-float reads */
-	last[1] = positions[3 * ((size_t)vertex_count - 1) + 1];
-	last[2] = positions[3 * ((size_t)vertex_count - 1) + 2];
+	memcpy(last, PVS__VTX(r, positions, vertex_count - 1), 3 * sizeof(float)); /* for SIMD's 4-float reads */
 	last[3] = 0.0f;
 	for (t = 0; t < count; t += 4) {
 		n = 0;
@@ -4511,7 +4546,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 			uint32_t q[3];
 			pvs__tri_corners(indices, tris, t + l, q);
 			if (q[0] >= vertex_count || q[1] >= vertex_count || q[2] >= vertex_count) continue;
-			for (k = 0; k < 3; ++k) v[n][k] = q[k] + 1 == vertex_count ? last : positions + 3 * (size_t)q[k];
+			for (k = 0; k < 3; ++k) v[n][k] = q[k] + 1 == vertex_count ? last : PVS__VTX(r, positions, q[k]);
 			++n;
 		}
 		if (!n) continue;
@@ -4542,7 +4577,7 @@ PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, 
 	for (t = 0; t < count; ++t) {
 		pvs__tri_corners(indices, tris, t, q);
 		if (q[0] < vc && q[1] < vc && q[2] < vc)
-			pvs__raster_tri(r, pos + 3 * (size_t)q[0], pos + 3 * (size_t)q[1], pos + 3 * (size_t)q[2], occluder);
+			pvs__raster_tri(r, PVS__VTX(r, pos, q[0]), PVS__VTX(r, pos, q[1]), PVS__VTX(r, pos, q[2]), occluder);
 	}
 }
 
@@ -4859,24 +4894,6 @@ PVS__STATIC void pvs__mesh_draw(pvs_raster *r, uint32_t n, int g) {
 	}
 }
 
-/* Facing: sign of det(x, y, w), 0 within rounding: entries off by e move it at most 6 ((M + e)^3 - M^3), evaluation
-   1e-14 (M + e)^3. */
-PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
-	const double *p = v[0].c, *q = v[1].c, *s = v[2].c;
-	double d =
-		p[0] * (q[1] * s[3] - s[1] * q[3]) - p[1] * (q[0] * s[3] - s[0] * q[3]) + p[3] * (q[0] * s[1] - s[0] * q[1]);
-	double M = 0.0, e = pvs__dmax(v[0].e, pvs__dmax(v[1].e, v[2].e)), bound;
-	int i;
-	for (i = 0; i < 3; ++i)
-		M = pvs__dmax(M, pvs__dmax(pvs__dabs(v[i].c[0]), pvs__dmax(pvs__dabs(v[i].c[1]), pvs__dabs(v[i].c[3]))));
-	/* = e (3 M^2 + 3 M e + e^2): no cancellation */
-	bound =
-		6.0 * e * (3.0 * M * M + 3.0 * M * e + e * e) * (1.0 + 1e-14) + 1e-14 * (M + e) * (M + e) * (M + e) + 1e-300;
-	if (d > bound) return 1;
-	if (d < -bound) return -1;
-	return 0;
-}
-
 PVS__STATIC uint32_t pvs__mesh_fbits(float f) {
 	uint32_t u;
 	f += 0.0f; /* -0 and 0 weld */
@@ -4885,7 +4902,8 @@ PVS__STATIC uint32_t pvs__mesh_fbits(float f) {
 }
 
 /* Piece's first vertex at position p, found or added (open addressing, hs slots; 0 empty, else vertex + 1). */
-PVS__STATIC uint32_t pvs__mesh_weld(uint32_t *tab, uint32_t hs, const float *pos, uint32_t q, const float *p) {
+PVS__STATIC uint32_t pvs__mesh_weld(const pvs_raster *r, uint32_t hs, const float *pos, uint32_t q, const float *p) {
+	uint32_t *tab = r->mtab;
 	uint32_t x = pvs__mesh_fbits(p[0]), y = pvs__mesh_fbits(p[1]), z = pvs__mesh_fbits(p[2]), h;
 	h = (x * 0x9E3779B1u) ^ (y * 0x85EBCA77u) ^ (z * 0xC2B2AE3Du);
 	h = (h ^ (h >> 15)) & (hs - 1);
@@ -4895,7 +4913,7 @@ PVS__STATIC uint32_t pvs__mesh_weld(uint32_t *tab, uint32_t hs, const float *pos
 			return q;
 		}
 		{
-			const float *o = pos + 3 * (size_t)(tab[h] - 1);
+			const float *o = PVS__VTX(r, pos, tab[h] - 1);
 			if (o[0] == p[0] && o[1] == p[1] && o[2] == p[2]) return tab[h] - 1;
 		}
 		h = (h + 1) & (hs - 1);
@@ -4914,7 +4932,7 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
 	for (k = 0; k < 3 && ok; ++k) {
 		ok = q[k] < vc;
 		if (ok) {
-			p[k] = pos + 3 * (size_t)q[k];
+			p[k] = PVS__VTX(r, pos, q[k]);
 			ok = pvs__finite(p[k][0]) && pvs__finite(p[k][1]) && pvs__finite(p[k][2]);
 		}
 	}
@@ -4929,13 +4947,13 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
 			pvs__pf_hidden(r, box, 0, zmax[0]))
 			return;
 	}
-	for (k = 0; k < 3; ++k) cid[3 * t + k] = pvs__mesh_weld(r->mtab, hs, pos, q[k], p[k]);
+	for (k = 0; k < 3; ++k) cid[3 * t + k] = pvs__mesh_weld(r, hs, pos, q[k], p[k]);
 	if (cid[3 * t] == cid[3 * t + 1] || cid[3 * t + 1] == cid[3 * t + 2] || cid[3 * t + 2] == cid[3 * t]) return;
 	for (k = 0; k < 3; ++k) v[k] = pvs__raster_transform(r, p[k]);
 	if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) return;
 	if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
 	g = pvs__mesh_facing(v);
-	if (!g || !pvs__mesh_setup(r, v, g, r->mt + t)) return;
+	if (!g || g == r->cull || !pvs__mesh_setup(r, v, g, r->mt + t)) return;
 	for (k = 0; k < 3; ++k) { /* 1: surely in front of both clip planes, 2: surely behind one, 0: unsure */
 		double w = v[k].c[3], zc = v[k].c[2], e = v[k].e;
 		double m1 = 2.0 * e + 4.5e-16 * (pvs__dabs(w) + pvs__dabs(zc)), m2 = e + 4.5e-16 * pvs__dabs(w) + 1e-45;
@@ -5107,6 +5125,16 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *r, const float m[16]) {
 	return PVS_OK;
 }
 
+PVS_API pvs_result pvs_raster_set_clip_matrix(pvs_raster *r, const float m[16], uint32_t flags) {
+	float t[16];
+	uint32_t k, depth = flags & (PVS_CLIP_DEPTH_ZERO_ONE | PVS_CLIP_DEPTH_MINUS_ONE_ONE);
+	if (!r || !m || (flags & ~7u) || depth == 6u) return PVS_ERROR_INVALID_ARGUMENT;
+	for (k = 0; k < 16; ++k) t[k] = flags & PVS_CLIP_COLUMN_MAJOR ? m[4 * (k % 4) + k / 4] : m[k];
+	for (k = 8; depth && k < 12; ++k) /* w - z, or (w - z) / 2 */
+		t[k] = depth == PVS_CLIP_DEPTH_ZERO_ONE ? t[k + 4] - t[k] : 0.5f * (t[k + 4] - t[k]);
+	return pvs_raster_set_matrix(r, t);
+}
+
 PVS_API void pvs_raster_clear(pvs_raster *r) {
 	size_t i, n = r->tiled ? (size_t)r->tw * r->th : 0;
 	for (i = 0; i < n; ++i) {
@@ -5125,16 +5153,30 @@ PVS_API void pvs_raster_clear(pvs_raster *r) {
 
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, uint32_t vertex_count,
 										const uint32_t *indices, uint32_t count, pvs_raster_mode mode) {
-	if (!r || (!positions && count) || (int)mode < 0 || mode >= PVS_RASTER_MODE_COUNT)
-		return PVS_ERROR_INVALID_ARGUMENT;
-	pvs__raster_tris(r, positions, vertex_count, indices, NULL, count, mode == PVS_RASTER_OCCLUDER);
-	return PVS_OK;
+	pvs_raster_draw_desc d = {positions, 0, vertex_count, indices, count, mode, 0};
+	return pvs_raster_draw(r, &d);
 }
 
 PVS_API pvs_result pvs_raster_mesh(pvs_raster *r, const float *positions, uint32_t vertex_count,
 								   const uint32_t *indices, uint32_t count) {
-	if (!r || (!positions && count)) return PVS_ERROR_INVALID_ARGUMENT;
-	pvs__mesh(r, positions, vertex_count, indices, NULL, count);
+	pvs_raster_draw_desc d = {positions, 0, vertex_count, indices, count, PVS_RASTER_OCCLUDER, PVS_DRAW_MESH};
+	return pvs_raster_draw(r, &d);
+}
+
+PVS_API pvs_result pvs_raster_draw(pvs_raster *r, const pvs_raster_draw_desc *d) {
+	uint32_t f = d ? d->flags : 0, cull = f & (PVS_DRAW_CULL_CW | PVS_DRAW_CULL_CCW);
+	if (!r || !d || (!d->positions && d->triangle_count) || (d->stride && (d->stride < 12 || d->stride % 4)) ||
+		(int)d->mode < 0 || d->mode >= PVS_RASTER_MODE_COUNT || (f & ~7u) || cull == 6u ||
+		(f && d->mode != PVS_RASTER_OCCLUDER))
+		return PVS_ERROR_INVALID_ARGUMENT;
+	r->vstride = d->stride ? d->stride / 4 : 3;
+	r->cull = cull == PVS_DRAW_CULL_CW ? -1 : cull ? 1 : 0;
+	if (f & PVS_DRAW_MESH) pvs__mesh(r, d->positions, d->vertex_count, d->indices, NULL, d->triangle_count);
+	else
+		pvs__raster_tris(r, d->positions, d->vertex_count, d->indices, NULL, d->triangle_count,
+						 d->mode == PVS_RASTER_OCCLUDER);
+	r->vstride = 3;
+	r->cull = 0;
 	return PVS_OK;
 }
 
@@ -5735,6 +5777,7 @@ PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
 /* Mesh scratch for pieces of `max_triangles` (0: default; at most 2^24); hash load <= 1/2. */
 PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
 	size_t i;
+	r->vstride = 3;
 	r->mesh_cap = max_triangles ? (max_triangles < (1u << 24) ? max_triangles : 1u << 24) : PVS__MESH_DEFAULT;
 	for (r->mesh_hash = 16; r->mesh_hash < 6 * r->mesh_cap; r->mesh_hash <<= 1) {}
 	if (!pvs__raster_alloc(r, 8u)) return 0;
@@ -6170,9 +6213,9 @@ PVS__STATIC double pvs__cm_height(const double pl[3], double ou, double ov, doub
 }
 
 /* Seam at v between casting facades p-v, v-q: sampling correction shrinks both shadows, uncovering cells along the
-   shadow ray through v (Wonka 1999 §5). The wedge between rays through a' on p-v and b' on v-q (about two cells
-   from v), beyond a'-v-b', lies in union, at height A on A's side of ray, B on B's. A - B changes sign across
-   it: A is a lower bound if A >= B on A's side (a ridge), else the least corner value of concave min(A, B). */
+   shadow ray through v (Wonka 1999 §5). The wedge between rays through a' on p-v and b' on v-q (~2 cells from v),
+   beyond a'-v-b', lies in union, at height A on A's side of ray, B on B's. A - B changes sign across it: A is a lower
+   bound if A >= B on A's side (ridge), else the least corner value of concave min(A, B). */
 PVS__STATIC void pvs__cm_seam(pvs_raster *r, double ou, double ov, double eh, const float *pf, const float *vf,
 							  const float *qf, double top, int simd) {
 	double su = ((double)r->region[2] - r->region[0]) / r->cm_w, sv = ((double)r->region[3] - r->region[1]) / r->cm_h;
@@ -6391,7 +6434,7 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 /* ---------------------------------------------------------------------------------------------- */
 /* One BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes through origin of R^3, images p* of primal
    points p (§6.4: l* = (u,1) x (v,1), l*.(p,1) = orient(u, v, p) > 0 if p is left of l). Leaves: out (unblocked) or in
-   (blocked by payload: nearest occluder in 2D; those that may be seen over in 2.5D). Line sets: convex polygons of unit
+   (blocked by payload: 2D nearest occluder; 2.5D those that may be seen over). Line sets: convex polygons of unit
    vectors (vertices: extremal lines); each edge keeps point whose plane carries it, marked if that plane is on path
    (§4.10.1), so an out-leaf becomes e-OT of unmarked edges (§3.3.3).
 
@@ -6571,8 +6614,8 @@ PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
 	n[2] = f;
 }
 
-/* Keeps part of `in` where n . l >= -slack (0: exact half), n unit normal of p's plane; new edges lie in
-   that plane, with mark `mark`. Returns vertex count (0 empty, -1 too many). */
+/* Clips `in` to n . l >= -slack (0: exact half), n unit normal of p's plane; new edges lie in that plane, marked
+   `mark`. Returns vertex count (0 empty, -1 too many). */
 PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
 							   pvs__otpoly *out) {
 	double d[PVS__OT_MAXV + 1];
@@ -7757,12 +7800,11 @@ PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 }
 
 /* Extended umbra (§7.5.1) of occluder j on far segment e's top edge (height h), for rays over j's top edge from eyes
-   at height H = t->eye anywhere over cell (§7.1: a falling ray is seen at least as well from where its 2D line
-   leaves cell, a rising one from where it enters; both on top edges): open parameter interval (u0, u1) on e
-   where every such ray passes below j's top. For eye p, q is below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D the
-   signed distance to j's line (> 0 on source side); monotone in D(p), so corners' extreme D (clamped at 0: eyes
-   behind j's line do not look over it) cover every eye (thesis's pi_o / pi_s over whole cell): one tree per
-   edge serves both kinds. 0 if empty. */
+   at height H = t->eye anywhere over cell (§7.1: a falling ray is seen at least as well from its 2D line's cell exit,
+   a rising one from its entry; both on top edges): open parameter interval (u0, u1) on e where every such ray passes
+   below j's top. For eye p, q is below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D the signed distance to j's line
+   (> 0 on source side); monotone in D(p), so corners' extreme D (clamped at 0: eyes behind j's line do not look over
+   it) cover every eye (thesis's pi_o / pi_s over whole cell): one tree per edge serves both kinds. 0 if empty. */
 PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0,
 								double *u1) {
 	double hj = jd[6], hn = h - t->eye, lo = -DBL_MAX, hi = DBL_MAX;
@@ -7966,7 +8008,7 @@ PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 
 /* Early exit of pvs__ot25_box_visible (§3.3.4): 1 if a witness line still in an out-leaf crosses interior of box bx
    (wholly beyond source edge a -> b): it leaves via source edge, meets no occluder, then two box sides, one of which
-   pvs__ot25_box_visible tests, reaching that out-leaf. Margins of 1e-6 of scene size absorb rounding; 0: full test. */
+   box_visible tests, reaching that out-leaf. Margins of 1e-6 of scene size absorb rounding; 0: full test. */
 PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const double a[2], const double b[2]) {
 	double nx = a[1] - b[1], ny = b[0] - a[0], mg = 1e3 * t->len_eps, near;
 	int i, k;
@@ -8007,8 +8049,8 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
 
 /* Read-only test (§3.3.4): 1 if a blocker line may pass stored occluders (or out of memory). Splits with slack, stops
    at first visible leaf. 2D (§6.5.3; e NULL, h unused): a line reaches occluder k before any stored one; slivers
-   (pvs__ot_thickness) do not count, so where insertion rounded (insertion order) does not matter. 2.5D (c-LSS): part of
-   far edge e (height h) of box `box` may be seen. near: distance for subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
+   (pvs__ot_thickness) do not count, so insertion's rounding (its order) does not matter. 2.5D (c-LSS): part of far edge
+   e (height h) of box `box` may be seen. near: distance for subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
 								const double *e, const double *box) {
 	size_t base = t->stack_count, top;
@@ -8130,7 +8172,7 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 		far = nx * (nx > 0 ? bx[2] : bx[0]) + ny * (ny > 0 ? bx[3] : bx[1]) - (nx * w->a[0] + ny * w->a[1]);
 		if (far < -t->len_eps * (fabs(nx) + fabs(ny) + 1.0)) return PVS_VISIT_SKIP;
 	}
-	/* leaves untested: inserting facades, testing objects later costs less (thesis also skips small nodes, §4.12.1) */
+	/* leaves untested: inserting facades, testing objects later costs less (§4.12.1) */
 	if (!items && w->refs[w->node] >= w->test_min &&
 		!(bx[0] <= w->cell[2] && bx[2] >= w->cell[0] && bx[1] <= w->cell[5] && bx[3] >= w->cell[1])) {
 		if (!pvs__ot25_box_visible(t, bx, (double)node_box->max[2], w->a, w->b, NULL)) return PVS_VISIT_SKIP;
@@ -10067,14 +10109,14 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
 
 /* ---- certified solid: crossing parity floods per edge-connected component ----
 
-   Why conservative. For triangles K and x above ground level g, w(x) = parity of K's triangles the upward ray from x
+   Conservative: for triangles K and x above ground level g, w(x) = parity of K's triangles the upward ray from x
    crosses. If K's edges have even use counts (except at up = g: no sight line between points above g dips below), w is
    constant on each connected piece of space minus K; an odd (open) edge flips w across the vertical sheet below it. A
    voxel is pure if no K triangle or sheet is within margin m (one w), mixed if only a triangle is (nodes w = 0, 1:
    joining equal-w parts over-approximates connectivity), bad if a sheet is (one node). Free space is open, so a path
    avoiding K can move to cross voxels via faces only, carrying the face point's w: the graph linking face neighbours'
-   equal-w nodes (any node of a bad voxel) holds all such paths, and outside K's voxel box (sheets end at g, inside it)
-   is one w = 0 region. Flooding from voxels meeting a cell, and from outside if a cell leaves the box, reaches all a
+   equal-w nodes (any node of a bad voxel) holds all such paths; outside K's voxel box (sheets end at g, inside it) is
+   one w = 0 region. Flooding from voxels meeting a cell, and from outside if a cell leaves the box, reaches all a
    viewer can walk to without touching K: a pure voxel it misses is seen from no cell, so a sight line through it meets
    a triangle first. Solid for some triangles is solid for all: each component floods alone (overlapping meshes keep
    their parity). w is read per column on a vertical line with certain orientation signs (pvs__vx_cross). Slits or doors
@@ -10088,8 +10130,8 @@ PVS__STATIC double pvs__vx_orient(double ax, double ay, double bx, double by, do
 	return t1 - t2;
 }
 
-/* Vertical line at (pu, pv) vs triangle a, b, c: 0 certainly misses, 1 certainly crosses inside at height *z (within
-   *dz), -1 undecidable (near edge or vertex, or uncertain height). */
+/* Vertical line at (pu, pv) vs triangle a, b, c, certainly: 0 misses, 1 crosses inside at height *z (within *dz);
+   -1 undecidable (near edge or vertex, or uncertain height). */
 PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, int u, int v, int up, double pu,
 							  double pv, double *z, double *dz) {
 	const float *p[3];
@@ -10179,7 +10221,7 @@ PVS__STATIC int pvs__vx_flat_on_ground(const pvs_scene *s, uint32_t t, float g) 
 	return 1;
 }
 
-/* canon[v]: one id per exact position (-0 as +0), shared by every vertex there; vk: vertex_count scratch. */
+/* canon[v]: one id per exact position (-0 as +0), shared by its vertices; vk: vertex_count scratch. */
 PVS__STATIC void pvs__weld(const pvs_scene *s, pvs__vx_vkey *vk, uint32_t *canon) {
 	uint32_t i, k;
 	for (i = 0; i < s->vertex_count; ++i) {
@@ -11154,8 +11196,8 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 
 /* Traces boundary loops of mask's set squares (w x h, empty frame around), set on left, turning left where diagonal
    squares meet (4-connected). Each, simplified, becomes a chain of heights [base, top], point (i, j) at (ox + i c, oy +
-   j c): outer (CCW) loops closed, holes open, back to their first point (a hole is not solid). used: 4 (w + 1) (h + 1)
-   bytes. 0 if out of memory. */
+   j c): outer (CCW) loops closed, holes (not solid) open, repeating their first point. used: 4 (w + 1) (h + 1) bytes.
+   0 if out of memory. */
 PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w,
 							  uint32_t h, double ox, double oy, double c, float base, float top, uint8_t *used,
 							  int32_t **ip, size_t *ipcap) {
@@ -12158,7 +12200,7 @@ typedef struct pvs__walk {
 	pvs_kdtree *solids; /* over cbox */
 } pvs__walk;
 
-/* 1 when p is inside a closed mesh: the parity of its crossings above p (ambiguous: not inside). */
+/* 1 if p is inside a closed mesh: odd crossings above p (ambiguous: not inside). */
 PVS__STATIC int pvs__walk_inside(const pvs__walk *k, const float p[3]) {
 	uint32_t n = 0, i;
 	const uint32_t *items = pvs_kdtree_leaf_items(k->solids, p, &n);
@@ -12311,7 +12353,7 @@ PVS__STATIC int pvs__wgroup_before(const void *pa, const void *pb) {
 	return a->lo < b->lo || (a->lo == b->lo && a->root < b->root);
 }
 
-/* 1 when the group is one level over a rectangle of columns (all of them). */
+/* 1 if the group is one level over every column of a rectangle. */
 PVS__STATIC int pvs__wgroup_rect(const pvs__walk *k, const pvs__wgroup *g) {
 	return g->count == (g->hi_u - g->lo_u + 1) * (g->hi_v - g->lo_v + 1) && g->hi - g->lo <= k->d.step_height;
 }
@@ -16773,17 +16815,16 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
 
 /* ---- extended projections (Durand et al. 2000) ---- */
 
-/* Rounding: double from float inputs. A plane's frame maps point to (u, v, w), w its Depth beyond cell's face
-   (§2.3; cell: w in [-extent, 0]). P's view from cell corner V on plane w = W: V + (P - V) (W - Vw) / (Pw - Vw), Pw >
-   Vw (occluders clipped to w >= a small margin; occludees wholly at w > 0). Convex occluder's Projection: its views
-   from 8 corners intersected (§3.2), pixel kept if its worst corner passes every edge by margin above all
-   rounding; Depth: max w, rounded up (§2.3). Occludee box's Projection: its views' bounding rectangle (§3.1), widened
-   likewise; Depth: min w, rounded down. Hidden if every pixel there holds an occluder strictly nearer (§2.2; off-plane
-   pixels are visible).
+/* Rounding: double from float inputs. A plane's frame maps point to (u, v, w), w its Depth beyond cell's face (§2.3;
+   cell: w in [-extent, 0]). P's view from cell corner V on plane w = W: V + (P - V) (W - Vw) / (Pw - Vw), Pw > Vw
+   (occluders clipped to w >= a small margin; occludees wholly at w > 0). Convex occluder's Projection: its 8 corner
+   views intersected (§3.2), pixel kept if its worst corner passes every edge by margin above all rounding; Depth: max
+   w, rounded up (§2.3). Occludee box's Projection: its views' bounding rectangle (§3.1), widened likewise; Depth: min
+   w, rounded down. Hidden if every pixel there holds an occluder strictly nearer (§2.2; off-plane pixels are visible).
 
-   Bake (§6.1): occluders prepared once per bake; per cell and direction largest by solid angle go on
-   PVS__EP_PLANES depth maps and, with sweep, extproj.sweep masks out to scene's far end (§5); then object
-   kD-tree front to back, hidden nodes skipped. Objects meeting cell are always visible.
+   Bake (§6.1): occluders prepared once per bake; per cell and direction largest by solid angle go on PVS__EP_PLANES
+   depth maps and, with sweep, extproj.sweep masks out to scene's far end (§5); then object kD-tree front to back,
+   hidden nodes skipped. Objects meeting cell are always visible.
 
    Limits: occluders fuse only via maps and slices; Depths flat per part; umbrae shrink by cell size over distance, so
    sparse small occluders (foliage) are loose; sub-cells (extproj.sweep_subcells) recover part (tests/BENCHMARKS.md). */
@@ -17579,7 +17620,7 @@ PVS__STATIC int pvs__ep_u64_cmp(const void *a, const void *b) {
 }
 
 
-/* Preparation scratch, sized for largest object (see pvs__ep_work_alloc). */
+/* Preparation scratch, sized for largest object (pvs__ep_work_alloc). */
 typedef struct pvs__epprepwork {
 	pvs__vx_vkey *ref; /* corners, i = 3 t + k */
 	uint32_t *canon; /* corner -> id among object's distinct positions */
@@ -17893,8 +17934,8 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
 	return e;
 }
 
-/* Adds planar group's convex polygon (k corners in w->q2, in the (u, v) plane of nr's dominant axis ax) as an
-   occluder, marking its triangles in w->used; nothing if a corner is not a group vertex. */
+/* Planar group's convex polygon (k corners in w->q2, (u, v) plane of nr's dominant axis ax) as an occluder, its
+   triangles marked in w->used; nothing if a corner is not a group vertex. */
 PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 									pvs__epprepwork *w, uint32_t m, uint32_t cnt, uint32_t k, const double *nr,
 									double lr, uint32_t ax, double dev, double dent, double scale) {
@@ -24019,21 +24060,20 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY
    =======
+   0.9.3 (2026-11-29) pvs_raster_draw (vertex stride, back-face culling), pvs_raster_set_clip_matrix.
    0.9.2 (2026-11-29) AUTO's sample bounded by rays; PORTAL's price, triangle tests, split-vertex solids; K = 16;
 					  pvs_raster_classify_box.
    0.9.1 (2026-11-28) PVS_BAKE_COMPACT, pvs_file_desc.pvs_row; PORTAL's pass planes.
    0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH, NAME section, PVS_RUNTIME_ONLY, pvs_walkable_cells.
-   0.8.0 (2026-11-28) pvs_scene_fingerprint, stored in an optional SCNE section (pvs_file.scene_fingerprint).
-   0.7.1 (2026-11-28) AUTO's prices grow with SHRINK's sample points and OTREE's levels; costly ones not sampled.
-   0.7.0 (2026-11-28) AUTO prices methods by cost class; PVS_AUTO_MIN_GAIN 10%.
-   0.6.0 (2026-11-28) PORTAL: BSP rooms from closed convex meshes, portal flow, object-level tests; in AUTO.
-   0.5.0 (2026-11-28) AUTO's sample of cells chooses its methods; shared kernels; tab indentation.
-   0.4.0 (2026-11-28) AUTO, max_distance, PREVIEW, resuming, vocc, extproj's sweep, adaptive cells, the method
-					  table, per-method parameter structs.
-   0.3.0 (2026-11-22) conservative rasterizer, depth pyramid, cull maps, per-frame culling; occlusion trees;
-					  occluder synthesis; methods shrink, otree and extproj.
-   0.2.0 (2026-11-22) delta-PVS file format 1, cursor, sharded bakes and merge.
-   0.1.0 (2026-11-22) scene, kD-tree, ray-sampling estimator, bake tasks, .pvs container.
+   0.8.0 (2026-11-28) pvs_scene_fingerprint (SCNE section).
+   0.7.x (2026-11-28) AUTO prices methods by cost class (PVS_AUTO_MIN_GAIN), skips costly ones.
+   0.6.0 (2026-11-28) PORTAL: rooms from closed convex meshes, portal flow; in AUTO.
+   0.5.0 (2026-11-28) AUTO's sample of cells; shared kernels.
+   0.4.0 (2026-11-28) AUTO, max_distance, PREVIEW, resuming, vocc, extproj's sweep, adaptive cells, the method table.
+   0.3.0 (2026-11-22) rasterizer, depth pyramid, cull maps, per-frame culling, occlusion trees, occluder synthesis;
+					  shrink, otree, extproj.
+   0.2.0 (2026-11-22) delta-PVS file format 1, cursor, shards.
+   0.1.0 (2026-11-22) scene, kD-tree, ray sampling, bake tasks, .pvs container.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

@@ -1224,6 +1224,15 @@ static void test_noalloc_and_errors(void) {
         CHECK(pvs_raster_cull(rt, t.scene, &cam, &cp, vis, NULL, &e) == PVS_OK);
         CHECK(pvs_raster_test_rect(rt, 0, 0, 10, 10, 0.5f) >= 0);
         CHECK(pvs_raster_depth(rt, NULL, NULL) != NULL);
+        { /* pvs_raster_draw: culled, strided, as a mesh, with an engine's matrix */
+            float wide[24] = {-1, 0, 5, 0, 1, 0, 5, 0, 0, 2, 5, 0, 0, 0, 6, 0, 3, 1, 6, 0, 0, 4, 6, 0};
+            pvs_raster_draw_desc d = {wide, 16, 6, NULL, 2, PVS_RASTER_OCCLUDER, PVS_DRAW_MESH | PVS_DRAW_CULL_CW};
+            float gl[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1, -1, 0, 0, -0.1f, 0};
+            CHECK(pvs_raster_set_clip_matrix(rt, gl, PVS_CLIP_COLUMN_MAJOR | PVS_CLIP_DEPTH_MINUS_ONE_ONE) == PVS_OK);
+            CHECK(pvs_raster_draw(rt, &d) == PVS_OK);
+            d.flags = PVS_DRAW_CULL_CCW;
+            CHECK(pvs_raster_draw(r, &d) == PVS_OK);
+        }
     }
     CHECK(ra_allocs == before);
     pvs_raster_destroy(rt);
@@ -1286,9 +1295,173 @@ void raster_verify(int scale) {
     test_culling(scale);
 }
 
+
+/* pvs_raster_draw (issue 31): a vertex stride gives the packed draw's depth map bit for bit; back-face culling gives
+   the map of the other-facing triangles drawn alone (facing from det(x, y, w) in double, triangles of uncertain
+   facing left out of the case), as triangles and as a mesh, SIMD and scalar, per pixel and tiled; bad draws are
+   refused. pvs_raster_set_clip_matrix: engine matrices (column-major, zero-one and minus-one-one depth) made from a
+   raster matrix with exact float steps draw the same map; a real OpenGL and Direct3D projection hide a box behind a
+   wall and view-cull one behind the eye. */
+static float draw_det(const float m[16], const float *p) {
+    double c[3][4], d;
+    int k;
+    for (k = 0; k < 3; ++k) clip_of(m, p + 3 * k, c[k]);
+    d = c[0][0] * (c[1][1] * c[2][3] - c[2][1] * c[1][3]) - c[0][1] * (c[1][0] * c[2][3] - c[2][0] * c[1][3]) +
+        c[0][3] * (c[1][0] * c[2][1] - c[2][0] * c[1][1]);
+    return (float)d;
+}
+
+static void clip_wall_boxes(pvs_raster *r, const float m[16], uint32_t flags, int z_sign) {
+    /* eye at the origin looking down z_sign * z: a wall at distance 10, boxes at 20 (hidden), 5 (seen), -5 (behind) */
+    float wall[12] = {-50, -50, 0, 50, -50, 0, 50, 50, 0, -50, 50, 0};
+    uint32_t idx[6] = {0, 1, 2, 0, 2, 3}, k;
+    pvs_box far_box = {{-1, -1, 19}, {1, 1, 21}}, near_box = {{-1, -1, 4}, {1, 1, 6}}, back = {{-1, -1, -6}, {1, 1, -4}};
+    for (k = 0; k < 4; ++k) wall[3 * k + 2] = 10.0f * (float)z_sign;
+    if (z_sign < 0) {
+        float t;
+        t = far_box.min[2]; far_box.min[2] = -far_box.max[2]; far_box.max[2] = -t;
+        t = near_box.min[2]; near_box.min[2] = -near_box.max[2]; near_box.max[2] = -t;
+        t = back.min[2]; back.min[2] = -back.max[2]; back.max[2] = -t;
+    }
+    pvs_raster_clear(r);
+    CHECK(pvs_raster_set_clip_matrix(r, m, flags) == PVS_OK);
+    pvs_raster_mesh(r, wall, 4, idx, 2); /* no crack along the diagonal, through the boxes */
+    CHECK(pvs_raster_classify_box(r, &far_box) == PVS_BOX_OCCLUDED);
+    CHECK(pvs_raster_classify_box(r, &near_box) == PVS_BOX_VISIBLE);
+    CHECK(pvs_raster_classify_box(r, &back) == PVS_BOX_VIEW_CULLED);
+}
+
+static void test_draw_options(void) {
+    enum { W = 61, H = 43, N = 300 };
+    pvs_raster_desc rd;
+    pvs_raster *r, *ref;
+    pvs_raster_draw_desc d;
+    float *tris = (float *)malloc(N * 9 * sizeof(float)), *wide = (float *)malloc(N * 3 * 8 * sizeof(float));
+    float *front = (float *)malloc(N * 9 * sizeof(float)), m[16];
+    uint32_t cfg, k, t, n, nf;
+    int same = 1, culled_some = 1;
+    memset(&rd, 0, sizeof(rd));
+    rd.width = W; rd.height = H;
+    for (cfg = 0; cfg < 4; ++cfg) {
+        rd.flags = (cfg & 1 ? PVS_RASTER_TILED : PVS_RASTER_PER_PIXEL) | (cfg & 2 ? PVS_RASTER_SCALAR : 0);
+        CHECK(pvs_raster_create(&rd, &r, NULL) == PVS_OK);
+        CHECK(pvs_raster_create(&rd, &ref, NULL) == PVS_OK);
+        random_matrix(m, (float)W / H, (int)cfg % 3);
+        for (n = t = 0; t < 4 * N && n < N; ++t) { /* definite facing only */
+            float *p = tris + 9 * n, M = 0;
+            random_triangle(p, (int)t % 3 == 1 ? 4 : 0);
+            for (k = 0; k < 9; ++k) M = fabsf(p[k]) > M ? fabsf(p[k]) : M;
+            if (fabsf(draw_det(m, p)) > 1e-3f * (1.0f + M * M * M)) ++n;
+        }
+        for (k = 0; k < 3 * n; ++k) { /* stride 32: x, y, z, then five floats of the caller's */
+            memcpy(wide + 8 * k, tris + 3 * k, 3 * sizeof(float));
+            wide[8 * k + 3] = wide[8 * k + 4] = NAN;
+        }
+        pvs_raster_set_matrix(r, m); pvs_raster_set_matrix(ref, m);
+        for (k = 0; k < 6; ++k) { /* stride; cull CW, CCW; each as triangles, then as a mesh */
+            uint32_t cull = k % 3 == 1 ? PVS_DRAW_CULL_CW : k % 3 == 2 ? PVS_DRAW_CULL_CCW : 0, as_mesh = k >= 3;
+            memset(&d, 0, sizeof(d));
+            d.positions = k % 3 ? tris : wide; d.stride = k % 3 ? 0 : 32; d.vertex_count = 3 * n;
+            d.triangle_count = n; d.mode = PVS_RASTER_OCCLUDER; d.flags = cull | (as_mesh ? PVS_DRAW_MESH : 0);
+            for (nf = t = 0; t < n; ++t) {
+                float f = draw_det(m, tris + 9 * t);
+                if (!cull || (cull == PVS_DRAW_CULL_CW ? f > 0 : f < 0)) memcpy(front + 9 * nf++, tris + 9 * t, 36);
+            }
+            culled_some &= !cull || (nf > 0 && nf < n);
+            pvs_raster_clear(r); pvs_raster_clear(ref);
+            CHECK(pvs_raster_draw(r, &d) == PVS_OK);
+            if (as_mesh) pvs_raster_mesh(ref, front, 3 * nf, NULL, nf);
+            else pvs_raster_triangles(ref, front, 3 * nf, NULL, nf, PVS_RASTER_OCCLUDER);
+            same &= !memcmp(pvs_raster_depth(r, NULL, NULL), pvs_raster_depth(ref, NULL, NULL), W * H * sizeof(float));
+        }
+        for (k = 0; k < 6; ++k) { /* connected meshes (grids, flipped grids, boxes) culled, against their other-facing part */
+            static tmesh tm;
+            uint32_t fidx[3 * MESH_MAXT], ok = 1;
+            random_mesh(&tm, k % 3 == 2 ? 5 : k % 3 == 1 ? 4 : 0);
+            for (nf = t = 0; t < tm.nt; ++t) {
+                float p[9], f;
+                uint32_t c;
+                for (c = 0; c < 9; ++c) p[c] = tm.pos[3 * tm.idx[3 * t + c / 3] + c % 3];
+                f = draw_det(m, p);
+                ok &= fabsf(f) > 1e-4f;
+                if (k < 3 ? f < 0 : f > 0) memcpy(fidx + 3 * nf++, tm.idx + 3 * t, 3 * sizeof(uint32_t));
+            }
+            if (!ok) continue;
+            memset(&d, 0, sizeof(d));
+            d.positions = tm.pos; d.vertex_count = tm.nv; d.indices = tm.idx; d.triangle_count = tm.nt;
+            d.flags = PVS_DRAW_MESH | (k < 3 ? PVS_DRAW_CULL_CCW : PVS_DRAW_CULL_CW);
+            pvs_raster_clear(r); pvs_raster_clear(ref);
+            CHECK(pvs_raster_draw(r, &d) == PVS_OK);
+            pvs_raster_mesh(ref, tm.pos, tm.nv, fidx, nf);
+            same &= !memcmp(pvs_raster_depth(r, NULL, NULL), pvs_raster_depth(ref, NULL, NULL), W * H * sizeof(float));
+        }
+        /* occludees with a stride */
+        memset(&d, 0, sizeof(d));
+        d.positions = wide; d.stride = 32; d.vertex_count = 3 * n; d.triangle_count = n; d.mode = PVS_RASTER_OCCLUDEE;
+        pvs_raster_clear(r); pvs_raster_clear(ref);
+        CHECK(pvs_raster_draw(r, &d) == PVS_OK);
+        pvs_raster_triangles(ref, tris, 3 * n, NULL, n, PVS_RASTER_OCCLUDEE);
+        same &= !memcmp(pvs_raster_depth(r, NULL, NULL), pvs_raster_depth(ref, NULL, NULL), W * H * sizeof(float));
+        /* refused */
+        CHECK(pvs_raster_draw(NULL, &d) == PVS_ERROR_INVALID_ARGUMENT);
+        CHECK(pvs_raster_draw(r, NULL) == PVS_ERROR_INVALID_ARGUMENT);
+        d.flags = PVS_DRAW_CULL_CW;
+        CHECK(pvs_raster_draw(r, &d) == PVS_ERROR_INVALID_ARGUMENT); /* culling occludees */
+        d.mode = PVS_RASTER_OCCLUDER; d.flags = PVS_DRAW_CULL_CW | PVS_DRAW_CULL_CCW;
+        CHECK(pvs_raster_draw(r, &d) == PVS_ERROR_INVALID_ARGUMENT);
+        d.flags = 8;
+        CHECK(pvs_raster_draw(r, &d) == PVS_ERROR_INVALID_ARGUMENT);
+        d.flags = 0; d.stride = 14;
+        CHECK(pvs_raster_draw(r, &d) == PVS_ERROR_INVALID_ARGUMENT);
+        d.stride = 8;
+        CHECK(pvs_raster_draw(r, &d) == PVS_ERROR_INVALID_ARGUMENT);
+        d.stride = 0; d.positions = NULL;
+        CHECK(pvs_raster_draw(r, &d) == PVS_ERROR_INVALID_ARGUMENT);
+        /* clip conventions from a matrix of exact steps: entries k / 4 */
+        {
+            float nat[16], eng[16], tr[16];
+            uint32_t conv;
+            for (k = 0; k < 16; ++k) nat[k] = (float)((int)(rnd() * 17) - 8) / 4.0f;
+            nat[12] = nat[13] = 0; nat[14] = 1; nat[15] = 0.25f; /* w = z + 1/4 */
+            for (conv = 0; conv < 6; ++conv) {
+                uint32_t depth = conv % 3 == 1 ? PVS_CLIP_DEPTH_ZERO_ONE : conv % 3 == 2 ? PVS_CLIP_DEPTH_MINUS_ONE_ONE : 0;
+                memcpy(eng, nat, sizeof(eng));
+                for (t = 8; t < 12; ++t) /* z such that w - z (or (w - z) / 2) is the raster's */
+                    eng[t] = depth == PVS_CLIP_DEPTH_ZERO_ONE ? nat[t + 4] - nat[t]
+                           : depth ? nat[t + 4] - 2.0f * nat[t] : nat[t];
+                for (t = 0; t < 16; ++t) tr[t] = conv >= 3 ? eng[4 * (t % 4) + t / 4] : eng[t];
+                pvs_raster_clear(r); pvs_raster_clear(ref);
+                CHECK(pvs_raster_set_clip_matrix(r, tr, depth | (conv >= 3 ? PVS_CLIP_COLUMN_MAJOR : 0)) == PVS_OK);
+                pvs_raster_set_matrix(ref, nat);
+                pvs_raster_triangles(r, tris, 3 * n, NULL, n, PVS_RASTER_OCCLUDER);
+                pvs_raster_triangles(ref, tris, 3 * n, NULL, n, PVS_RASTER_OCCLUDER);
+                same &= !memcmp(pvs_raster_depth(r, NULL, NULL), pvs_raster_depth(ref, NULL, NULL), W * H * sizeof(float));
+            }
+            CHECK(pvs_raster_set_clip_matrix(r, nat, PVS_CLIP_DEPTH_ZERO_ONE | PVS_CLIP_DEPTH_MINUS_ONE_ONE) ==
+                  PVS_ERROR_INVALID_ARGUMENT);
+            CHECK(pvs_raster_set_clip_matrix(r, nat, 8) == PVS_ERROR_INVALID_ARGUMENT);
+        }
+        { /* OpenGL: gluPerspective(90 degrees, near 0.5, far 100), eye looking down -z, column-major */
+            float gl[16] = {0}, dx[16] = {0};
+            float nr = 0.5f, fr = 100.0f;
+            gl[0] = 1.0f; gl[5] = 1.0f; gl[10] = -(fr + nr) / (fr - nr); gl[11] = -1.0f; gl[14] = -2.0f * fr * nr / (fr - nr);
+            clip_wall_boxes(r, gl, PVS_CLIP_COLUMN_MAJOR | PVS_CLIP_DEPTH_MINUS_ONE_ONE, -1);
+            /* Direct3D: PerspectiveFovLH (looking down +z), clip = m * p row-major here */
+            dx[0] = 1.0f; dx[5] = 1.0f; dx[10] = fr / (fr - nr); dx[11] = -nr * fr / (fr - nr); dx[14] = 1.0f;
+            clip_wall_boxes(r, dx, PVS_CLIP_DEPTH_ZERO_ONE, 1);
+        }
+        pvs_raster_destroy(r);
+        pvs_raster_destroy(ref);
+    }
+    CHECK(same);
+    CHECK(culled_some);
+    free(tris); free(wide); free(front);
+}
+
 void test_raster(void);
 void test_raster(void) {
     raster_verify(1);
     test_mesh_crack();
+    test_draw_options();
     test_noalloc_and_errors();
 }
