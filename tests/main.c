@@ -37,12 +37,12 @@ static const struct {
     void (*run)(void);
     int seconds;
 } groups[] = {
-    {"core", test_core, 1},         {"format", test_format, 4},     {"noalloc", test_noalloc, 1},
-    {"kdtree", test_kdtree, 21},    {"gen", test_gen, 1},           {"tools", test_tools, 1},      {"bsp", test_bsp, 1},      {"portal", test_portal, 1},
-    {"cli", test_cli, 7},           {"raster", test_raster, 5},     {"otree", test_otree, 14},
-    {"extproj", test_extproj, 65},  {"shrink", test_shrink, 30},    {"auto", test_auto, 35},
-    {"examples", test_examples, 18}, {"vocc", test_vocc, 7},        {"bounded", test_bounded, 1},
-    {"seethrough", test_seethrough, 1},     {"walkable", test_walkable, 5},
+    {"core", test_core, 1},         {"format", test_format, 5},     {"noalloc", test_noalloc, 1},
+    {"kdtree", test_kdtree, 12},    {"gen", test_gen, 1},           {"tools", test_tools, 1},      {"bsp", test_bsp, 1},      {"portal", test_portal, 9},
+    {"cli", test_cli, 9},           {"raster", test_raster, 6},     {"otree", test_otree, 14},
+    {"extproj", test_extproj, 44},  {"shrink", test_shrink, 26},    {"auto", test_auto, 50},
+    {"examples", test_examples, 15}, {"vocc", test_vocc, 8},        {"bounded", test_bounded, 1},
+    {"seethrough", test_seethrough, 9},     {"walkable", test_walkable, 1},
 };
 #define GROUP_COUNT (sizeof(groups) / sizeof(groups[0]))
 
