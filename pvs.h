@@ -130,7 +130,7 @@
    Allocates through the desc's allocator: pvs_scene_create (triangles, kD-trees: at most PVS_SCENE_BYTES_PER_TRIANGLE,
    2.4 KB, per triangle and object); pvs_bake_begin (a bitset per cell, cell_count * object_count / 8 bytes, or
    PVS_BAKE_COMPACT's coded PVSs; 40 of statistics per cell); pvs_bake_run_task (AUTO: a bitset per method; EXTPROJ:
-   pvs_extproj_task_bytes, 8 MB at 256 pixels, 0.7 GB at 1024 and 64 sweep planes, freed on return; adaptive cells: a
+   pvs_extproj_task_bytes, 8 MB at 256 pixels, 0.7 GB at 1024 and 64 sweep planes, freed; adaptive cells: a
    box and a bitset per leaf, kept); pvs_file_encode (~40 bytes per cell plus a bitset); pvs_raster_create
    (depth map, pyramid, cull map); pvs_otree_create (about 250 bytes per node of its budget, 5 per kD node and
    object). Allocate nothing: the pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*, pvs_raster_draw,
@@ -515,7 +515,7 @@ PVS_API pvs_result pvs_raster_set_matrix(pvs_raster *raster, const float m[16]);
    pvs_camera_matrix). Its depth row becomes w - z (zero-one) or (w - z) / 2 in float; x, y, w stay: the screen is
    the engine's. No far clipping. Errors as pvs_raster_set_matrix; INVALID_ARGUMENT for unknown or both depths. */
 PVS_API pvs_result pvs_raster_set_clip_matrix(pvs_raster *raster, const float m[16], uint32_t flags);
-#define PVS_CLIP_COLUMN_MAJOR 1u /* m[4 * column + row] (OpenGL, glm, HLSL's default packing) */
+#define PVS_CLIP_COLUMN_MAJOR 1u /* m[4 * column + row] (OpenGL, glm) */
 #define PVS_CLIP_DEPTH_ZERO_ONE 2u /* z_ndc 0 at near, 1 at far (Direct3D, Vulkan, Metal) */
 #define PVS_CLIP_DEPTH_MINUS_ONE_ONE 4u /* z_ndc -1 at near, 1 at far (OpenGL) */
 /* Draws `count` two-sided triangles (3 floats per vertex; 3 `indices` per triangle, NULL: consecutive), keeping per
@@ -4351,6 +4351,7 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
    pvs__raster_tri. Dropping occluders is conservative: no margins; scalar and SIMD agree. ---- */
 
 #define PVS__PF_TILES 16 /* hidden test: per tile in boxes up to this size */
+#define PVS__FSMALL(a) (((a) < 0.0f ? 0.0f - (a) : (a)) < 1e30f)
 
 /* Lanes to draw (bit l), those in *test only if not hidden; box, zmax: their whole pixels in map, nearest vertex
    depth. Lanes partly behind near or eye plane are drawn untested (clipped later) unless wholly behind one. */
@@ -4361,7 +4362,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 	unsigned draw = 0;
 	*test = 0;
 	for (l = 0; l < 4; ++l) {
-		float cz[3], cw[3], x, y, z, xmin = 0.0f, xmax = 0.0f, ymin = 0.0f, ymax = 0.0f, zm = 0.0f, f;
+		float cz[3], cw[3], x[3], y[3], z, xmin = 0.0f, xmax = 0.0f, ymin = 0.0f, ymax = 0.0f, zm = 0.0f, f;
 		int behind = 0, nonpos = 0, fin = 1;
 		int32_t i0, i1, j0, j1;
 		for (k = 0; k < 3; ++k) {
@@ -4376,20 +4377,20 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 		if (behind || nonpos) continue;
 		for (k = 0; k < 3; ++k) {
 			float X = v[l][k][0], Y = v[l][k][1], Z = v[l][k][2], rw = 1.0f / cw[k];
-			x = (m[0] * X + m[1] * Y + m[2] * Z + m[3]) * rw * hw + hw;
-			y = (m[4] * X + m[5] * Y + m[6] * Z + m[7]) * rw * hh + hh;
+			x[k] = (m[0] * X + m[1] * Y + m[2] * Z + m[3]) * rw * hw + hw;
+			y[k] = (m[4] * X + m[5] * Y + m[6] * Z + m[7]) * rw * hh + hh;
 			z = cz[k] * rw;
 			if (k == 0) {
-				xmin = xmax = x; ymin = ymax = y; zm = z;
+				xmin = xmax = x[0]; ymin = ymax = y[0]; zm = z;
 			} else {
-				xmin = x < xmin ? x : xmin; xmax = x > xmax ? x : xmax;
-				ymin = y < ymin ? y : ymin; ymax = y > ymax ? y : ymax;
+				xmin = x[k] < xmin ? x[k] : xmin; xmax = x[k] > xmax ? x[k] : xmax;
+				ymin = y[k] < ymin ? y[k] : ymin; ymax = y[k] > ymax ? y[k] : ymax;
 				zm = z > zm ? z : zm;
 			}
 		}
-		fin = (xmin < 0.0f ? 0.0f - xmin : xmin) < 1e30f && (xmax < 0.0f ? 0.0f - xmax : xmax) < 1e30f;
-		fin &= (ymin < 0.0f ? 0.0f - ymin : ymin) < 1e30f && (ymax < 0.0f ? 0.0f - ymax : ymax) < 1e30f;
-		fin &= (zm < 0.0f ? 0.0f - zm : zm) < 1e30f;
+		f = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]); /* back faces: area's sign */
+		if (r->cull && (r->cull > 0 ? f > 0.0f : f < 0.0f)) { draw &= ~(1u << l); continue; }
+		fin = PVS__FSMALL(xmin) && PVS__FSMALL(xmax) && PVS__FSMALL(ymin) && PVS__FSMALL(ymax) && PVS__FSMALL(zm);
 		if (!fin) continue;
 		xmin = xmin > 0.0f ? xmin : 0.0f; xmax = xmax < fw ? xmax : fw;
 		ymin = ymin > 0.0f ? ymin : 0.0f; ymax = ymax < fh ? ymax : fh;
@@ -4446,6 +4447,8 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
 		x = pvs__f4_add(pvs__f4_mul(pvs__f4_mul(PVS__ROW(0, k), rw), hw), hw);
 		y = pvs__f4_add(pvs__f4_mul(pvs__f4_mul(PVS__ROW(4, k), rw), hh), hh);
 		z = pvs__f4_mul(cz[k], rw);
+		X[k] = x;
+		Y[k] = y;
 		if (k == 0) {
 			xmin = xmax = x; ymin = ymax = y; zm = z;
 		} else {
@@ -4455,6 +4458,11 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
 		}
 	}
 #undef PVS__ROW
+	if (r->cull) { /* back faces wholly in front, as pvs__pf_scalar */
+		x = pvs__f4_sub(pvs__f4_mul(pvs__f4_sub(X[1], X[0]), pvs__f4_sub(Y[2], Y[0])),
+						pvs__f4_mul(pvs__f4_sub(X[2], X[0]), pvs__f4_sub(Y[1], Y[0])));
+		all |= (unsigned)pvs__m4_bits(pvs__m4_andn(r->cull > 0 ? pvs__f4_gt(x, zero) : pvs__f4_lt(x, zero), anyb));
+	}
 	/* min/max may lose a NaN: drop it like scalar loop (conservative) */
 	fin = pvs__m4_and(pvs__f4_lt(pvs__f4_abs(xmin), big), pvs__f4_lt(pvs__f4_abs(xmax), big));
 	fin = pvs__m4_and(fin, pvs__m4_and(pvs__f4_lt(pvs__f4_abs(ymin), big), pvs__f4_lt(pvs__f4_abs(ymax), big)));
@@ -5175,8 +5183,7 @@ PVS_API pvs_result pvs_raster_draw(pvs_raster *r, const pvs_raster_draw_desc *d)
 	else
 		pvs__raster_tris(r, d->positions, d->vertex_count, d->indices, NULL, d->triangle_count,
 						 d->mode == PVS_RASTER_OCCLUDER);
-	r->vstride = 3;
-	r->cull = 0;
+	r->vstride = 3, r->cull = 0;
 	return PVS_OK;
 }
 
@@ -24061,19 +24068,12 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
    HISTORY
    =======
    0.9.3 (2026-11-29) pvs_raster_draw (vertex stride, back-face culling), pvs_raster_set_clip_matrix.
-   0.9.2 (2026-11-29) AUTO's sample bounded by rays; PORTAL's price, triangle tests, split-vertex solids; K = 16;
-					  pvs_raster_classify_box.
+   0.9.2 (2026-11-29) AUTO's sample bounded by rays; PORTAL's price, triangle tests; K = 16; pvs_raster_classify_box.
    0.9.1 (2026-11-28) PVS_BAKE_COMPACT, pvs_file_desc.pvs_row; PORTAL's pass planes.
-   0.9.0 (2026-11-28) PVS_OBJECT_SEE_THROUGH, NAME section, PVS_RUNTIME_ONLY, pvs_walkable_cells.
-   0.8.0 (2026-11-28) pvs_scene_fingerprint (SCNE section).
-   0.7.x (2026-11-28) AUTO prices methods by cost class (PVS_AUTO_MIN_GAIN), skips costly ones.
-   0.6.0 (2026-11-28) PORTAL: rooms from closed convex meshes, portal flow; in AUTO.
-   0.5.0 (2026-11-28) AUTO's sample of cells; shared kernels.
-   0.4.0 (2026-11-28) AUTO, max_distance, PREVIEW, resuming, vocc, extproj's sweep, adaptive cells, the method table.
-   0.3.0 (2026-11-22) rasterizer, depth pyramid, cull maps, per-frame culling, occlusion trees, occluder synthesis;
-					  shrink, otree, extproj.
-   0.2.0 (2026-11-22) delta-PVS file format 1, cursor, shards.
-   0.1.0 (2026-11-22) scene, kD-tree, ray sampling, bake tasks, .pvs container.
+   0.9.0 (2026-11-28) see-through objects, names, PVS_RUNTIME_ONLY, pvs_walkable_cells.
+   0.8.0 (2026-11-28) pvs_scene_fingerprint.
+   0.4.0-0.7.x (2026-11-28) AUTO and its prices, PORTAL, max_distance, PREVIEW, resuming, vocc, adaptive cells.
+   0.1.0-0.3.0 (2026-11-22) scene, kD-tree, bake tasks, format 1, rasterizer, cull maps, occlusion trees, shrink.
 
 ------------------------------------------------------------------------------
 This software is available under 2 licenses -- choose whichever you prefer.

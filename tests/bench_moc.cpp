@@ -164,12 +164,19 @@ static int moc_box(MaskedOcclusionCulling *moc, const work &w, const pvs_box &b)
     return moc->TestRect(x0, y0, x1, y1, wmin) == MaskedOcclusionCulling::VISIBLE;
 }
 
+#ifndef MOC_BACKFACE
+#define MOC_BACKFACE MaskedOcclusionCulling::BACKFACE_CW
+#endif
+#ifndef PVS_BACKFACE
+#define PVS_BACKFACE PVS_DRAW_CULL_CW
+#endif
 struct config {
     const char *name;
     MaskedOcclusionCulling *moc;         /* NULL: pvs.h */
     pvs_raster *r;
     double best;
     std::vector<unsigned char> vis;
+    int backface;                        /* 1: back faces of occluders culled (both libraries' clockwise) */
 };
 
 static double frame(config &c, const work &w) {
@@ -179,13 +186,15 @@ static double frame(config &c, const work &w) {
     if (c.moc) {
         c.moc->ClearBuffer();
         c.moc->RenderTriangles(w.occ.data(), w.idx.data(), (int)(w.idx.size() / 3), w.mt,
-                               MaskedOcclusionCulling::BACKFACE_NONE, MaskedOcclusionCulling::CLIP_PLANE_ALL,
+                               c.backface ? MOC_BACKFACE : MaskedOcclusionCulling::BACKFACE_NONE,
+                               MaskedOcclusionCulling::CLIP_PLANE_ALL,
                                MaskedOcclusionCulling::VertexLayout(12, 4, 8));
         for (size_t i = 0; i < nb; ++i) c.vis[i] = (unsigned char)moc_box(c.moc, w, w.boxes[i]);
     } else {
+        pvs_raster_draw_desc d = {w.occ.data(), 0, (uint32_t)(w.occ.size() / 3), NULL, (uint32_t)(w.idx.size() / 3),
+                                  PVS_RASTER_OCCLUDER, c.backface ? PVS_BACKFACE : 0u};
         pvs_raster_clear(c.r);
-        pvs_raster_triangles(c.r, w.occ.data(), (uint32_t)(w.occ.size() / 3), NULL, (uint32_t)(w.idx.size() / 3),
-                             PVS_RASTER_OCCLUDER);
+        pvs_raster_draw(c.r, &d);
         pvs_raster_build_pyramid(c.r);
         for (size_t i = 0; i < nb; ++i) c.vis[i] = (unsigned char)pvs_raster_test_box(c.r, &w.boxes[i]);
     }
@@ -210,7 +219,8 @@ int main() {
             }
             moc->SetResolution(1920, 1080);
             moc->SetNearClipPlane(w.near_plane);
-            cs.push_back(config{mc.name, moc, NULL, 1e30, {}});
+            cs.push_back(config{mc.name, moc, NULL, 1e30, {}, 0});
+            cs.push_back(config{mc.name, moc, NULL, 1e30, {}, 1});
         }
         for (int s = 0; s < 2; ++s) {
             pvs_raster_desc rd;
@@ -221,19 +231,33 @@ int main() {
             rd.flags = s ? PVS_RASTER_SCALAR : 0u;
             if (pvs_raster_create(&rd, &r, NULL) != PVS_OK) { printf("raster failed\n"); return 1; }
             pvs_raster_set_matrix(r, w.m);
-            cs.push_back(config{s ? "pvs_scalar" : "pvs_simd", NULL, r, 1e30, {}});
+            cs.push_back(config{s ? "pvs_scalar" : "pvs_simd", NULL, r, 1e30, {}, 0});
+            cs.push_back(config{s ? "pvs_scalar" : "pvs_simd", NULL, r, 1e30, {}, 1});
         }
         for (int rep = 0; rep < 15; ++rep)
             for (auto &c : cs) c.best = std::min(c.best, frame(c, w));
-        double avx2 = 0.0;
-        const config *moc_ref = NULL, *pvs_simd = NULL;
+        double avx2[2] = {0.0, 0.0};
+        const config *moc_ref = NULL, *pvs_simd = NULL, *moc_bf = NULL, *pvs_bf = NULL;
         for (const auto &c : cs) {
-            printf("BENCH %s_frame_ms_%s %.3f ms\n", c.name, name, c.best);
-            if (!strcmp(c.name, "moc_avx2")) avx2 = c.best, moc_ref = &c;
-            if (!strcmp(c.name, "pvs_simd")) pvs_simd = &c;
+            printf("BENCH %s%s_frame_ms_%s %.3f ms\n", c.name, c.backface ? "_backface" : "", name, c.best);
+            if (!strcmp(c.name, "moc_avx2")) avx2[c.backface] = c.best, *(c.backface ? &moc_bf : &moc_ref) = &c;
+            if (!strcmp(c.name, "pvs_simd")) *(c.backface ? &pvs_bf : &pvs_simd) = &c;
         }
         for (const auto &c : cs)
-            if (!c.moc && avx2 > 0.0) printf("BENCH %s_over_moc_avx2_%s %.2f ratio\n", c.name, name, c.best / avx2);
+            if (!c.moc && avx2[c.backface] > 0.0)
+                printf("BENCH %s%s_over_moc_avx2_%s %.2f ratio\n", c.name, c.backface ? "_backface" : "", name,
+                       c.best / avx2[c.backface]);
+        if (moc_bf && pvs_bf) {
+            size_t moc_occ = 0, pvs_occ = 0, both = 0;
+            for (size_t i = 0; i < w.boxes.size(); ++i) {
+                moc_occ += !moc_bf->vis[i];
+                pvs_occ += !pvs_bf->vis[i];
+                both += !moc_bf->vis[i] && !pvs_bf->vis[i];
+            }
+            printf("# %s, back faces culled: MOC culls %zu boxes, pvs.h %zu (%zu of them also by MOC)\n", name, moc_occ,
+                   pvs_occ, both);
+            if (moc_occ) printf("BENCH moc_culled_also_by_pvs_backface_%s %.3f ratio\n", name, (double)both / moc_occ);
+        }
         if (moc_ref && pvs_simd) {
             size_t moc_occ = 0, pvs_occ = 0, both = 0;
             for (size_t i = 0; i < w.boxes.size(); ++i) {
@@ -247,10 +271,11 @@ int main() {
                 printf("BENCH culled_pvs_over_moc_%s %.3f ratio\n", name, (double)pvs_occ / moc_occ);
             }
         }
-        for (auto &c : cs) {
-            if (c.moc) MaskedOcclusionCulling::Destroy(c.moc);
-            if (c.r) pvs_raster_destroy(c.r);
-        }
+        for (auto &c : cs) /* each library object is in two configurations, destroyed with the second */
+            if (c.backface) {
+                if (c.moc) MaskedOcclusionCulling::Destroy(c.moc);
+                if (c.r) pvs_raster_destroy(c.r);
+            }
     }
     return 0;
 }
