@@ -140,13 +140,7 @@
    ===========
    `make bench` prints every figure; tests/BENCHMARKS.md says what each measures, with dated results.
 
-   ALGORITHMS (each cited again where implemented)
-   ==========
-   kD-tree, front-to-back sweep, occlusion trees: Bittner 2002 (§3.2, §4.4, ch. 4, 6, 7). Delta-PVS storage, extended
-   projections, hierarchical depth map: Durand et al. 2000 (§2.4, §3, §5, §6). Cull maps, occluder shadows: Wonka
-   and Schmalstieg 1999 (§3-4). Occluder shrinking, point sampling: Wonka, Wimmer and Schmalstieg 2000. Virtual
-   occluders: Koltun, Chrysanthou and Cohen-Or 2000. Watertight ray-triangle test: Woop, Benthin and Wald 2013. Masked
-   occlusion culling: Hasselgren, Andersson and Akenine-Moller 2016. Rice codes: Golomb 1966, Rice 1979.
+   ALGORITHMS: README.md, "Algorithms", lists the papers; each is cited where implemented.
 
    FILE FORMAT (version 1; the byte layout, rule by rule with each rule's error code: README.md, "The file")
    ===========
@@ -594,7 +588,8 @@ typedef struct pvs_cull_params {
 	const uint32_t *occluder_indices;
 	uint32_t occluder_triangle_count;
 	uint32_t scene_occluders; /* also the best this many scene triangles (<= max_occluders) ... */
-	float occluder_distance; /*   ... within this distance (0 = 100) by area-angle (Bittner 2002 §4.5) */
+	float occluder_distance; /*   ... within this distance (0: a tenth of the scene's size) by area-angle (Bittner
+								  2002 §4.5) */
 	uint32_t scene_volumes; /* 1: also BOX occluders and EXTRUSION walls within it (no CONVEX) */
 	const pvs_facade_chain *facades; /* pvs_raster_cull_map only: facades ... */
 	uint32_t facade_count;
@@ -6034,6 +6029,13 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
 
 /* Draws up to p->scene_occluders triangles within p->occluder_distance, best first by Bittner 2002 §4.5's measure;
    meshes with PVS_CULL_SCENE_MESH. Returns count. */
+/* p->occluder_distance, or (p NULL or 0) a tenth of the scene's longest side: culling in any unit */
+PVS__STATIC float pvs__cull_distance(const pvs_scene *s, const pvs_cull_params *p) {
+	const pvs_box *b = &s->bounds;
+	double e = pvs__dmax(b->max[0] - b->min[0], pvs__dmax(b->max[1] - b->min[1], b->max[2] - b->min[2]));
+	return p && p->occluder_distance > 0.0f ? p->occluder_distance : e > 0.0 ? (float)(0.1 * e) : 1.0f;
+}
+
 PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
 											   const pvs_cull_params *p) {
 	pvs__selctx sc;
@@ -6044,7 +6046,7 @@ PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s
 	sc.s = s;
 	sc.k = p->scene_occluders < r->max_occluders ? p->scene_occluders : r->max_occluders;
 	sc.n = 0;
-	sc.max_dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
+	sc.max_dist = pvs__cull_distance(s, p);
 	sc.near_d = cam->near_plane;
 	for (k = 0; k < 3; ++k) { sc.eye[k] = cam->eye[k]; sc.fwd[k] = cam->forward[k]; }
 	len = sqrt(sc.fwd[0] * sc.fwd[0] + sc.fwd[1] * sc.fwd[1] + sc.fwd[2] * sc.fwd[2]);
@@ -6107,7 +6109,7 @@ PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const 
 									   const pvs_cull_params *p) {
 	static const uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
 									 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-	float dist = p->occluder_distance > 0.0f ? p->occluder_distance : 100.0f;
+	float dist = pvs__cull_distance(s, p);
 	int u, v, k, up = (int)s->up_axis, separate = (p->occluder_flags & PVS_CULL_SEPARATE_TRIANGLES) != 0;
 	uint32_t i, j, drawn = 0;
 	pvs_box src;
@@ -9368,7 +9370,7 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 	memset(visible, 0, PVS_BITSET_WORDS(s->object_count) * sizeof(pvs_word));
 	pvs__sv_frame_begin(o, s);
 	pvs__sv_frustum(o, s, cam);
-	o->lambda = p && p->occluder_distance > 0.0f ? p->occluder_distance : 100.0;
+	o->lambda = pvs__cull_distance(s, p);
 	/* tree: one out-leaf, then occluders front to back (§4.3) */
 	o->node_count = 1;
 	o->frag_count = 0;

@@ -1195,6 +1195,7 @@ static void sv_basic(void) {
     CHECK(pvs_otree_cull(o, sc, &cam, NULL, vis, &st, &e) == PVS_OK); /* a frustum cull */
     CHECK(vis[0] == 0xf);
     cp.scene_occluders = 8;
+    cp.occluder_distance = 100; /* the default, a tenth of this 21-unit scene, would not reach the wall */
     CHECK(pvs_otree_cull(o, sc, &cam, &cp, vis, &st, &e) == PVS_OK);
     CHECK(vis[0] == 0x5); /* the wall and the box beside it; both boxes behind the two walls hidden */
     CHECK(st.occluder_triangles == 8); /* the 8 best of the 40 scene triangles */

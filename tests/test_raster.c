@@ -1458,10 +1458,72 @@ static void test_draw_options(void) {
     free(tris); free(wide); free(front);
 }
 
+
+/* Issue 31's default: occluder_distance 0 scales with the scene. The same city in metres and in centimetres (x 100),
+   the 64 best scene occluders: about as many objects left in both (before, the default 100 units selected nothing
+   much in centimetres), fewer than the frustum alone; ray casting finds no miss (check_rays). */
+static void test_cull_units(void) {
+    tscene a, b;
+    pvs_raster_desc rd;
+    pvs_raster *ra, *rb;
+    pvs_word *va, *vb, *vf;
+    uint32_t k, cam_i, na = 0, nb = 0, nf = 0, misses = 0, hits = 0;
+    if (!tscene_gen(&a, GEN_CITY, 0.3f, 5)) { CHECK(0); return; }
+    memset(&b, 0, sizeof(b));
+    {
+        gen_params gp = test_gen_params(GEN_CITY, 5, 0.3f, 0);
+        if (test_generate(&gp, &b.m, &b.cells, NULL) != 0) { CHECK(0); tscene_free(&a); return; }
+        for (k = 0; k < 3 * b.m.vertex_count; ++k) b.m.positions[k] *= 100.0f;
+        for (k = 0; k < 6 * b.cells.count; ++k) b.cells.boxes[k] *= 100.0f;
+        if (!tscene_make(&b, 1)) { CHECK(0); tscene_free(&a); return; }
+    }
+    memset(&rd, 0, sizeof(rd));
+    rd.width = 160; rd.height = 90; rd.max_occluders = 64;
+    rd.scene = a.scene;
+    CHECK(pvs_raster_create(&rd, &ra, NULL) == PVS_OK);
+    rd.scene = b.scene;
+    CHECK(pvs_raster_create(&rd, &rb, NULL) == PVS_OK);
+    k = pvs_scene_object_count(a.scene);
+    va = (pvs_word *)calloc(PVS_BITSET_WORDS(k), sizeof(pvs_word));
+    vb = (pvs_word *)calloc(PVS_BITSET_WORDS(k), sizeof(pvs_word));
+    vf = (pvs_word *)calloc(PVS_BITSET_WORDS(k), sizeof(pvs_word));
+    for (cam_i = 0; cam_i < 12; ++cam_i) {
+        pvs_camera cm, cc;
+        pvs_cull_params cp, none;
+        uint32_t o;
+        random_camera(&a, &cm, 1);
+        cm.fov_y = 1.2f; /* perspective */
+        cc = cm;
+        for (o = 0; o < 3; ++o) cc.eye[o] *= 100.0f;
+        cc.near_plane *= 100.0f;
+        memset(&cp, 0, sizeof(cp));
+        memset(&none, 0, sizeof(none));
+        cp.scene_occluders = 64;
+        CHECK(pvs_raster_cull(ra, a.scene, &cm, &cp, va, NULL, NULL) == PVS_OK);
+        CHECK(pvs_raster_cull(rb, b.scene, &cc, &cp, vb, NULL, NULL) == PVS_OK);
+        CHECK(pvs_raster_cull(rb, b.scene, &cc, &none, vf, NULL, NULL) == PVS_OK);
+        misses += check_rays(&b, &cc, 160.0f / 90.0f, vb, NULL, 2000, &hits);
+        for (o = 0; o < k; ++o) {
+            na += pvs_bitset_test(va, o);
+            nb += pvs_bitset_test(vb, o);
+            nf += pvs_bitset_test(vf, o);
+        }
+    }
+    fprintf(stderr, "  cull units: %u objects left in metres, %u in centimetres, %u in the frustum\n", na, nb, nf);
+    CHECK(misses == 0);
+    CHECK(nb <= na + na / 10 + 12 && 10 * nb < 9 * nf);
+    free(va); free(vb); free(vf);
+    pvs_raster_destroy(ra);
+    pvs_raster_destroy(rb);
+    tscene_free(&a);
+    tscene_free(&b);
+}
+
 void test_raster(void);
 void test_raster(void) {
     raster_verify(1);
     test_mesh_crack();
     test_draw_options();
+    test_cull_units();
     test_noalloc_and_errors();
 }
