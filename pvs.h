@@ -74,7 +74,6 @@
    PVS_NO_SIMD             undefined           scalar code paths only (identical results)
    PVS_RUNTIME_ONLY        undefined           only what a game runs: the file reader, cell look-up, decoding, the
 												 cursor, names, pvs_vocc_cull (tree NULL); no allocation, ~30 KB code
-   PVS_TEST_HOOKS          undefined           internal: declares the library tests' flags
 
    CONCEPTS
    ========
@@ -581,13 +580,14 @@ PVS_API const float *pvs_cull_map(const pvs_raster *raster, uint32_t *width, uin
 /* 1 if a cell the box overlaps holds a height <= its top (Wonka 1999 §4.3); outside the region: 1. */
 PVS_API int pvs_cull_map_test_box(const pvs_raster *raster, const pvs_box *box);
 
-/* Per-frame culling inputs; all zero: a frustum cull. */
+/* Per-frame culling inputs; all zero: the 64 best scene triangles within a tenth of the scene (NULL params or
+   PVS_CULL_FRUSTUM_ONLY: a frustum cull). */
 typedef struct pvs_cull_params {
 	const float *occluder_positions; /* the caller's occluder triangles: 3 floats per vertex; indices */
 	uint32_t occluder_vertex_count; /*   3 per triangle, or NULL for consecutive vertices */
 	const uint32_t *occluder_indices;
 	uint32_t occluder_triangle_count;
-	uint32_t scene_occluders; /* also the best this many scene triangles (<= max_occluders) ... */
+	uint32_t scene_occluders; /* also the best this many scene triangles (<= max_occluders; 0: 64) ... */
 	float occluder_distance; /*   ... within this distance (0: a tenth of the scene's size) by area-angle (Bittner
 								  2002 §4.5) */
 	uint32_t scene_volumes; /* 1: also BOX occluders and EXTRUSION walls within it (no CONVEX) */
@@ -602,6 +602,7 @@ typedef struct pvs_cull_params {
 #define PVS_CULL_OCCLUDER_MESH 1u /* the caller's triangles */
 #define PVS_CULL_SCENE_MESH 2u /* the selected scene triangles, welded (tighter on many-triangle walls) */
 #define PVS_CULL_SEPARATE_TRIANGLES 4u /* scene_volumes per triangle; by default each is a mesh */
+#define PVS_CULL_FRUSTUM_ONLY 8u /* no scene triangles unless scene_occluders says how many */
 
 typedef struct pvs_cull_stats {
 	uint32_t occluder_triangles; /* rasterized (caller's + selected scene ones) */
@@ -648,13 +649,9 @@ typedef struct pvs_visibility_2d_desc {
 	const uint32_t *segment_objects; /* NULL (segment i is object i) or per segment its object or PVS_NO_OBJECT */
 	uint32_t object_count; /* bits in visible_objects */
 	uint32_t node_budget; /* stop inserting past it (0 = 2^20) */
-	uint32_t flags; /* 0 (the test hook PVS_VISIBILITY_INPUT_ORDER) */
+	uint32_t flags; /* 0 (1: the tests' occluders in input order) */
 	pvs_allocator allocator;
 } pvs_visibility_2d_desc;
-#ifdef PVS_TEST_HOOKS /* internal: the library's own tests (CONFIGURATION) */
-/* occluders in input order, not front to back */
-#define PVS_VISIBILITY_INPUT_ORDER 1u
-#endif
 
 /* The segments (and objects) seen from some cell point along a line crossing no other segment (touching an end point
    does not block; segments crossing the cell are visible): exact, rounding toward visible. visible_segments,
@@ -675,17 +672,12 @@ typedef struct pvs_visibility_25d_desc {
 	uint32_t node_budget; /* per tree (0 = PVS_OTREE_25D_BUDGET) */
 	const pvs_kdtree *tree; /* NULL, or a kD-tree over pvs_visibility_25d_boxes */
 	pvs_allocator allocator;
-	uint32_t flags; /* 0; other bits INVALID_ARGUMENT but the test hook PVS_VISIBILITY_25D_FULL_TESTS */
+	uint32_t flags; /* 0 (1: the tests' box tests without the witness-line shortcut, the same result) */
 } pvs_visibility_25d_desc;
 
 /* Default 2.5D occlusion tree node budget. Once spent, the remaining facades are not inserted
    (conservative); objects are still tested. Bounds the time per cell on maps of many small facades. */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
-
-#ifdef PVS_TEST_HOOKS
-/* pvs_visibility_25d_desc.flags: box tests walk the tree without the witness-line shortcut (same result). */
-#define PVS_VISIBILITY_25D_FULL_TESTS 1u
-#endif
 
 /* Fills boxes[facade_count + object_count] for pvs_visibility_25d_desc.tree: facade i is item i, object j item
    facade_count + j; axes (u, v, height to top). Build the tree once for all cells. */
@@ -1381,7 +1373,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 #define PVS__UNUSED
 #endif
 #define PVS__STATIC static PVS__UNUSED
-/* test hook flags (PVS_TEST_HOOKS) under private names the implementation always knows */
+/* the tests' flags (tests/test.h) */
 #define PVS__VISIBILITY_INPUT_ORDER 1u
 #define PVS__VISIBILITY_25D_FULL_TESTS 1u
 
@@ -6134,13 +6126,23 @@ PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const 
 	return drawn;
 }
 
+/* p with its defaults in q: scene_occluders 0 without PVS_CULL_FRUSTUM_ONLY is 64 */
+PVS__STATIC const pvs_cull_params *pvs__cull_defaults(const pvs_cull_params *p, pvs_cull_params *q) {
+	if (!p || p->scene_occluders || (p->occluder_flags & PVS_CULL_FRUSTUM_ONLY)) return p;
+	*q = *p;
+	q->scene_occluders = 64;
+	return q;
+}
+
 PVS_API pvs_result pvs_raster_cull(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam, const pvs_cull_params *p,
 								   pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
 	pvs__cullctx cc;
 	pvs_box src;
+	pvs_cull_params q;
 	pvs_result res = pvs__cull_begin(r, s, cam, visible, err);
 	int k;
 	if (res != PVS_OK) return res;
+	p = pvs__cull_defaults(p, &q);
 	memset(&cc, 0, sizeof(cc));
 	pvs_raster_clear(r);
 	if (p && p->occluder_triangle_count && p->occluder_positions) {
@@ -9355,7 +9357,9 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 								  pvs_word *visible, pvs_cull_stats *stats, pvs_error *err) {
 	float m[16];
 	uint32_t i, nocc = 0;
+	pvs_cull_params q;
 	pvs_result res;
+	p = pvs__cull_defaults(p, &q);
 	if (!o || !s || !cam || !visible)
 		return PVS__BAD_ARG(err, "otree, scene, camera and visible must not be NULL");
 	if (s->object_count > o->max_objects || s->triangle_count > o->max_triangles ||

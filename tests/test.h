@@ -10,9 +10,9 @@
 #ifndef TEST_H
 #define TEST_H
 #undef NDEBUG
-#ifndef PVS_TEST_HOOKS
-#define PVS_TEST_HOOKS /* the test-only flags (pvs.h, CONFIGURATION) */
-#endif
+/* the library's test-only desc flags (pvs.h: PVS__VISIBILITY_*) */
+#define PVS_VISIBILITY_INPUT_ORDER 1u    /* pvs_visibility_2d: occluders in input order, not front to back */
+#define PVS_VISIBILITY_25D_FULL_TESTS 1u /* pvs_visibility_25d: box tests walk the tree without witnesses */
 #include "../pvs.h"
 #include "../tools/gen.h"
 #include "../tools/mesh.h"

@@ -1,7 +1,6 @@
 /* test_otree.c - occlusion trees: exact 2D from-region visibility against brute-force 2D ray
    sampling, order independence, closed rings, degenerate inputs; 2.5D c-LSS against 3D ray sampling
    and the bake method. */
-#define PVS_TEST_HOOKS /* PVS_VISIBILITY_INPUT_ORDER, PVS_VISIBILITY_25D_FULL_TESTS */
 #include "../pvs.h"
 #include "test.h"
 #include "../tools/gen.h"
@@ -1115,6 +1114,7 @@ static void sv_caller_occluders(uint32_t rounds) {
         cp.occluder_positions = tri;
         cp.occluder_vertex_count = 3 * NT;
         cp.occluder_triangle_count = NT;
+        cp.occluder_flags = PVS_CULL_FRUSTUM_ONLY; /* the caller's triangles alone, as the check below */
         CHECK(pvs_otree_cull(o, t.scene, &cam, &cp, vis, NULL, NULL) == PVS_OK);
         test_camera_frame(&cam, 1.0f, f, u, r, &sx, &sy);
         for (i = 0; i < n; ++i) {

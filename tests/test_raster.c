@@ -1459,9 +1459,10 @@ static void test_draw_options(void) {
 }
 
 
-/* Issue 31's default: occluder_distance 0 scales with the scene. The same city in metres and in centimetres (x 100),
-   the 64 best scene occluders: about as many objects left in both (before, the default 100 units selected nothing
-   much in centimetres), fewer than the frustum alone; ray casting finds no miss (check_rays). */
+/* Issue 31's defaults: all-zero params cull with the 64 best scene occluders within a tenth of the scene. The same
+   city in metres and in centimetres (x 100): about as many objects left in both (before, the default 100 units
+   selected nothing much in centimetres), fewer than the frustum alone (PVS_CULL_FRUSTUM_ONLY); ray casting finds no
+   miss (check_rays). */
 static void test_cull_units(void) {
     tscene a, b;
     pvs_raster_desc rd;
@@ -1498,7 +1499,7 @@ static void test_cull_units(void) {
         cc.near_plane *= 100.0f;
         memset(&cp, 0, sizeof(cp));
         memset(&none, 0, sizeof(none));
-        cp.scene_occluders = 64;
+        none.occluder_flags = PVS_CULL_FRUSTUM_ONLY;
         CHECK(pvs_raster_cull(ra, a.scene, &cm, &cp, va, NULL, NULL) == PVS_OK);
         CHECK(pvs_raster_cull(rb, b.scene, &cc, &cp, vb, NULL, NULL) == PVS_OK);
         CHECK(pvs_raster_cull(rb, b.scene, &cc, &none, vf, NULL, NULL) == PVS_OK);
