@@ -4340,15 +4340,15 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 #define PVS__PF_TILES 16 /* hidden test: per tile in boxes up to this size */
 #define PVS__FSMALL(a) (((a) < 0.0f ? 0.0f - (a) : (a)) < 1e30f)
 
-/* Lanes to draw (bit l), those in *test only if not hidden; box, zmax: their whole pixels in map, nearest vertex
+/* Lanes < n to draw (bit l), those in *test only if not hidden; box, zmax: their whole pixels in map, nearest vertex
    depth. Lanes partly behind near or eye plane are drawn untested (clipped later) unless wholly behind one. */
 PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
-									float *zmax) {
+									float *zmax, int n) {
 	const float *m = r->mf, hw = r->hwf, hh = r->hhf, fw = (float)r->width, fh = (float)r->height;
 	int l, k;
 	unsigned draw = 0;
 	*test = 0;
-	for (l = 0; l < 4; ++l) {
+	for (l = 0; l < n; ++l) {
 		float cz[3], cw[3], x[3], y[3], z, xmin = 0.0f, xmax = 0.0f, ymin = 0.0f, ymax = 0.0f, zm = 0.0f, f;
 		int behind = 0, nonpos = 0, fin = 1;
 		int32_t i0, i1, j0, j1;
@@ -4551,7 +4551,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 		if (!(r->flags & PVS_RASTER_SCALAR)) draw = pvs__pf_simd(r, (const float *const(*)[3])v, &test, box, zmax);
 		else
 #endif
-			draw = pvs__pf_scalar(r, (const float *const(*)[3])v, &test, box, zmax);
+			draw = pvs__pf_scalar(r, (const float *const(*)[3])v, &test, box, zmax, 4);
 		draw &= (1u << n) - 1u;
 		for (l = 0; draw; ++l, draw >>= 1) {
 			if (!(draw & 1u)) continue;
@@ -4934,11 +4934,11 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
 	if (!ok) return;
 	if (r->tiled) { /* hidden behind earlier pieces: no change; its edges become boundary edges */
 		const float *pv[4][3];
-		unsigned test, l;
+		unsigned test;
 		int32_t box[4][4];
 		float zmax[4];
-		for (l = 0; l < 4; ++l) { pv[l][0] = p[0]; pv[l][1] = p[1]; pv[l][2] = p[2]; }
-		if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax) & test & 1u) &&
+		pv[0][0] = p[0], pv[0][1] = p[1], pv[0][2] = p[2];
+		if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax, 1) & test & 1u) &&
 			pvs__pf_hidden(r, box, 0, zmax[0]))
 			return;
 	}
