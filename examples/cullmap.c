@@ -121,7 +121,9 @@ int main(int argc, char **argv) {
     vis_py = (pvs_word *)calloc(PVS_BITSET_WORDS(nobj), sizeof(pvs_word));
     vis_fr = (pvs_word *)calloc(PVS_BITSET_WORDS(nobj), sizeof(pvs_word));
     memset(&cp, 0, sizeof(cp));
+    cp.occluder_flags = PVS_CULL_FRUSTUM_ONLY;
     pvs_raster_cull(r, scene, &cam, &cp, vis_fr, &st_fr, &pe); /* no occluders: the frustum alone */
+    cp.occluder_flags = 0;
     cp.scene_occluders = 2048;
     cp.occluder_distance = 150.0f;
     pvs_raster_cull(r, scene, &cam, &cp, vis_py, &st_py, &pe);

@@ -622,9 +622,11 @@ int main(int argc, char **argv) {
                 if (n & 63u) cur[words - 1] &= ((pvs_word)1 << (n & 63u)) - 1;
             }
             memset(&cp, 0, sizeof(cp));
+            cp.occluder_flags = PVS_CULL_FRUSTUM_ONLY;
             pvs_raster_cull(raster, scene, &cam, &cp, vis_f, NULL, NULL);   /* frustum only */
             cp.candidates = cur;
             pvs_raster_cull(raster, scene, &cam, &cp, vis_p, NULL, NULL);   /* PVS and frustum */
+            cp.occluder_flags = 0;
             cp.scene_occluders = occluders;
             cp.occluder_distance = occluder_distance;
             tc = cli_seconds();
