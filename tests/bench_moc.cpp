@@ -247,28 +247,21 @@ int main() {
             if (!c.moc && avx2[c.backface] > 0.0)
                 printf("BENCH %s%s_over_moc_avx2_%s %.2f ratio\n", c.name, c.backface ? "_backface" : "", name,
                        c.best / avx2[c.backface]);
-        if (moc_bf && pvs_bf) {
+        for (int bf = 0; bf < 2; ++bf) { /* culling power, drawing back faces and not */
+            const config *mc = bf ? moc_bf : moc_ref, *pc = bf ? pvs_bf : pvs_simd;
+            const char *sfx = bf ? "_backface" : "";
             size_t moc_occ = 0, pvs_occ = 0, both = 0;
+            if (!mc || !pc) continue;
             for (size_t i = 0; i < w.boxes.size(); ++i) {
-                moc_occ += !moc_bf->vis[i];
-                pvs_occ += !pvs_bf->vis[i];
-                both += !moc_bf->vis[i] && !pvs_bf->vis[i];
+                moc_occ += !mc->vis[i];
+                pvs_occ += !pc->vis[i];
+                both += !mc->vis[i] && !pc->vis[i];
             }
-            printf("# %s, back faces culled: MOC culls %zu boxes, pvs.h %zu (%zu of them also by MOC)\n", name, moc_occ,
-                   pvs_occ, both);
-            if (moc_occ) printf("BENCH moc_culled_also_by_pvs_backface_%s %.3f ratio\n", name, (double)both / moc_occ);
-        }
-        if (moc_ref && pvs_simd) {
-            size_t moc_occ = 0, pvs_occ = 0, both = 0;
-            for (size_t i = 0; i < w.boxes.size(); ++i) {
-                moc_occ += !moc_ref->vis[i];
-                pvs_occ += !pvs_simd->vis[i];
-                both += !moc_ref->vis[i] && !pvs_simd->vis[i];
-            }
-            printf("# %s: MOC culls %zu boxes, pvs.h %zu (%zu of them also by MOC)\n", name, moc_occ, pvs_occ, both);
+            printf("# %s%s: MOC culls %zu boxes, pvs.h %zu (%zu of them also by MOC)\n", name, bf ? ", back faces culled" : "",
+                   moc_occ, pvs_occ, both);
             if (moc_occ) {
-                printf("BENCH moc_culled_also_by_pvs_%s %.3f ratio\n", name, (double)both / moc_occ);
-                printf("BENCH culled_pvs_over_moc_%s %.3f ratio\n", name, (double)pvs_occ / moc_occ);
+                printf("BENCH moc_culled_also_by_pvs%s_%s %.3f ratio\n", sfx, name, (double)both / moc_occ);
+                printf("BENCH culled_pvs_over_moc%s_%s %.3f ratio\n", sfx, name, (double)pvs_occ / moc_occ);
             }
         }
         for (auto &c : cs) /* each library object is in two configurations, destroyed with the second */

@@ -1440,6 +1440,9 @@ static void test_draw_options(void) {
             CHECK(pvs_raster_set_clip_matrix(r, nat, PVS_CLIP_DEPTH_ZERO_ONE | PVS_CLIP_DEPTH_MINUS_ONE_ONE) ==
                   PVS_ERROR_INVALID_ARGUMENT);
             CHECK(pvs_raster_set_clip_matrix(r, nat, 8) == PVS_ERROR_INVALID_ARGUMENT);
+            CHECK(pvs_raster_set_clip_matrix(NULL, nat, 0) == PVS_ERROR_INVALID_ARGUMENT);
+            nat[5] = NAN;
+            CHECK(pvs_raster_set_clip_matrix(r, nat, PVS_CLIP_COLUMN_MAJOR) == PVS_ERROR_NOT_FINITE);
         }
         { /* OpenGL: gluPerspective(90 degrees, near 0.5, far 100), eye looking down -z, column-major */
             float gl[16] = {0}, dx[16] = {0};
