@@ -5771,7 +5771,6 @@ PVS__STATIC int pvs__raster_init_tiles(pvs_raster *r) {
 /* Mesh scratch for pieces of `max_triangles` (0: default; at most 2^24); hash load <= 1/2. */
 PVS__STATIC int pvs__raster_init_mesh(pvs_raster *r, uint32_t max_triangles) {
 	size_t i;
-	r->vstride = 3;
 	r->mesh_cap = max_triangles ? (max_triangles < (1u << 24) ? max_triangles : 1u << 24) : PVS__MESH_DEFAULT;
 	for (r->mesh_hash = 16; r->mesh_hash < 6 * r->mesh_cap; r->mesh_hash <<= 1) {}
 	if (!pvs__raster_alloc(r, 8u)) return 0;
@@ -5871,6 +5870,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 	}
 	r->hwf = 0.5f * (float)r->width;
 	r->hhf = 0.5f * (float)r->height;
+	r->vstride = 3;
 	for (l = 0; l < 4; ++l) {
 		r->rowa[l] = 1.0;
 		r->rowt[l] = 0.0;
