@@ -181,65 +181,66 @@ extern "C" {
 
 /* ---- core ---- */
 
-/* Result of every fallible call: 0 success, errors negative. */
+/* Fallible calls' result: 0 success, errors < 0. */
 typedef enum pvs_result {
 	PVS_OK = 0,
-	PVS_ERROR_INVALID_ARGUMENT = -1, /* NULL where not allowed, impossible parameter */
-	PVS_ERROR_OUT_OF_MEMORY = -2, /* the allocator returned NULL */
-	PVS_ERROR_COUNT_OVERFLOW = -3, /* a count or size does not fit the index or size type */
-	PVS_ERROR_INDEX_OUT_OF_RANGE = -4, /* a vertex, triangle or object index past its array */
-	PVS_ERROR_NOT_FINITE = -5, /* NaN or infinity in a coordinate or parameter */
-	PVS_ERROR_EMPTY_OBJECT = -6, /* an object with no triangles */
-	PVS_ERROR_DEGENERATE_OBJECT = -7, /* an object whose triangles all have zero area */
+	PVS_ERROR_INVALID_ARGUMENT = -1, /* disallowed NULL, impossible parameter */
+	PVS_ERROR_OUT_OF_MEMORY = -2, /* allocator returned NULL */
+	PVS_ERROR_COUNT_OVERFLOW = -3, /* count or size overflows index/size type */
+	PVS_ERROR_INDEX_OUT_OF_RANGE = -4, /* vertex/triangle/object index past its array */
+	PVS_ERROR_NOT_FINITE = -5, /* NaN/infinite coordinate or parameter */
+	PVS_ERROR_EMPTY_OBJECT = -6, /* object with no triangles */
+	PVS_ERROR_DEGENERATE_OBJECT = -7, /* object of only zero-area triangles */
 	PVS_ERROR_OVERLAPPING_OBJECTS = -8,/* two objects claim the same triangle */
-	PVS_ERROR_BAD_OCCLUDER = -9, /* an explicit occluder empty, unbounded or malformed */
-	PVS_ERROR_BAD_CELL = -10, /* a cell box with NaN or min > max */
-	PVS_ERROR_BUFFER_TOO_SMALL = -11, /* an output buffer too small */
+	PVS_ERROR_BAD_OCCLUDER = -9, /* explicit occluder empty, unbounded or malformed */
+	PVS_ERROR_BAD_CELL = -10, /* cell box with NaN or min > max */
+	PVS_ERROR_BUFFER_TOO_SMALL = -11, /* output buffer too small */
 	PVS_ERROR_BAD_MAGIC = -12, /* not a .pvs file */
-	PVS_ERROR_BAD_VERSION = -13, /* a .pvs file of another format version */
-	PVS_ERROR_TRUNCATED = -14, /* the buffer ends before the data it declares */
-	PVS_ERROR_BAD_SECTION = -15, /* a section missing, repeated, misaligned, overlapping or outside */
+	PVS_ERROR_BAD_VERSION = -13, /* other .pvs format version */
+	PVS_ERROR_TRUNCATED = -14, /* buffer ends before data it declares */
+	PVS_ERROR_BAD_SECTION = -15, /* section missing, repeated, misaligned, overlapping or outside */
 	PVS_ERROR_CHECKSUM = -16, /* stored and computed checksums differ */
-	PVS_ERROR_BAD_RECORD = -17, /* a malformed PVS record (varint, order, length) */
-	PVS_ERROR_OBJECT_OUT_OF_RANGE = -18,/* a record names an object id >= object count */
-	PVS_ERROR_BAD_HEADER = -19, /* a header or META field with an impossible value */
-	PVS_ERROR_NOT_DONE = -20, /* a bake result asked for before every task ran */
-	PVS_ERROR_UNSUPPORTED = -21, /* the method cannot handle this input (message says why) */
-	PVS_ERROR_BAD_CHAIN = -22, /* a delta record whose base chain is cyclic, too long or inconsistent */
-	PVS_ERROR_BAD_TREE = -23, /* a malformed cell look-up tree in a .pvs file */
-	PVS_ERROR_SHARD_MISMATCH = -24, /* part files not making up one bake (missing, repeated, different) */
-	PVS_RESULT_MIN = -25 /* sentinel: every result is > PVS_RESULT_MIN */
+	PVS_ERROR_BAD_RECORD = -17, /* malformed PVS record (varint, order, length) */
+	PVS_ERROR_OBJECT_OUT_OF_RANGE = -18,/* record names an object id >= object count */
+	PVS_ERROR_BAD_HEADER = -19, /* impossible header or META field value */
+	PVS_ERROR_NOT_DONE = -20, /* bake result asked before all tasks ran */
+	PVS_ERROR_UNSUPPORTED = -21, /* method cannot handle the input (message: why) */
+	PVS_ERROR_BAD_CHAIN = -22, /* delta record's base chain cyclic, too long or inconsistent */
+	PVS_ERROR_BAD_TREE = -23, /* malformed .pvs cell look-up tree */
+	PVS_ERROR_SHARD_MISMATCH = -24, /* part files not one bake (missing, repeated, different) */
+	PVS_RESULT_MIN = -25 /* sentinel: every result > PVS_RESULT_MIN */
 } pvs_result;
 
-/* Why a call failed, for calls taking a `pvs_error *` last (NULL allowed). */
+/* Why a call with a last `pvs_error *` (NULL ok) failed. */
 typedef struct pvs_error {
-	pvs_result result; /* same as the return value */
+	pvs_result result; /* the return value */
 	int64_t index; /* offending object/triangle/vertex/cell/occluder/record, or -1 */
 	uint64_t offset; /* file byte offset of a format error, else 0 */
-	char message[200]; /* NUL-terminated: what and where */
+	char message[200]; /* NUL-terminated: what, where */
 } pvs_error;
 
-/* A constant English description ("out of memory"), never NULL. */
+/* Constant English text ("out of memory"), never NULL. */
 PVS_API const char *pvs_result_string(pvs_result result);
 
-/* The implementation's PVS_VERSION. */
+/* Implementation's PVS_VERSION. */
 PVS_API uint32_t pvs_version(void);
 
-/* Allocation hooks: alloc returns memory aligned to `align` (a power of two <= 64) or NULL; free gets the size given
-   to alloc. All zero: PVS_MALLOC/PVS_FREE. Objects keep a copy. Must be thread-safe for parallel bakes. */
+/* Allocation hooks: alloc returns `align`-aligned memory (power of two <= 64) or NULL; free gets alloc's size. All
+   zero: PVS_MALLOC/PVS_FREE. Objects keep a copy (their destroy frees via it; NULL ok). Must be thread-safe for
+   parallel bakes. */
 typedef struct pvs_allocator {
 	void *(*alloc)(size_t size, size_t align, void *user);
 	void (*free)(void *ptr, size_t size, void *user);
 	void *user;
 } pvs_allocator;
 
-/* An axis-aligned box; min == max on an axis (flat) is valid. */
+/* Axis-aligned box; min == max on an axis (flat) valid. */
 typedef struct pvs_box {
 	float min[3];
 	float max[3];
 } pvs_box;
 
-/* Bitsets: bit i of word i/64 is object id i; PVS_BITSET_WORDS(object_count) words. */
+/* Object bitsets: bit i of word i/64 is object i; PVS_BITSET_WORDS(object_count) words. */
 typedef uint64_t pvs_word;
 #define PVS_BITSET_WORDS(bits) (((size_t)(bits) + 63u) / 64u)
 /* Test (1 if set), set, clear bit i; no bounds check. */
@@ -248,53 +249,53 @@ PVS_API void pvs_bitset_set(pvs_word *bits, uint32_t i);
 PVS_API void pvs_bitset_clear(pvs_word *bits, uint32_t i);
 /* Set bits among the first `bit_count`. */
 PVS_API uint32_t pvs_bitset_count(const pvs_word *bits, uint32_t bit_count);
-/* The first set bit >= `from`, or `bit_count`: for (i = next(b,n,0); i < n; i = next(b,n,i+1)). */
+/* First set bit >= `from`, or `bit_count`: for (i = next(b,n,0); i < n; i = next(b,n,i+1)). */
 PVS_API uint32_t pvs_bitset_next(const pvs_word *bits, uint32_t bit_count, uint32_t from);
 #define PVS_NO_OBJECT 0xffffffffu /* no object: a triangle in none, a name not found */
 
-/* The kD-tree over boxes (>>kdtree); the runtime's pvs_vocc_cull takes one (NULL under PVS_RUNTIME_ONLY). */
+/* kD-tree over boxes (>>kdtree); runtime pvs_vocc_cull takes one (NULL under PVS_RUNTIME_ONLY). */
 typedef struct pvs_kdtree pvs_kdtree;
 
 #ifndef PVS_RUNTIME_ONLY /* the bake's modules, up to >>vocc's run-time part */
 /* ---- scene ---- */
 
-#define PVS_OBJECT_OCCLUDER_ONLY 1u /* blocks sight but is never drawn: never appears in a PVS */
-/* Drawn and in PVSs, but never blocks sight, in any method, in ray sampling or in per-frame culling: glass,
-   foliage, grates, doors (bake doors open; per frame, pass a closed door's triangles as occluders). */
+#define PVS_OBJECT_OCCLUDER_ONLY 1u /* blocks sight, never drawn: never in a PVS */
+/* Drawn and in PVSs but never blocks sight (any method, ray sampling, per-frame culling): glass, foliage, grates,
+   doors (bake doors open; per frame, pass a closed door's triangles as occluders). */
 #define PVS_OBJECT_SEE_THROUGH 2u
 
-/* An object, the unit of visibility: a triangle range disjoint from others'. Triangles in no range only block sight. */
+/* Object, the unit of visibility: a triangle range disjoint from others'; triangles in none only block sight. */
 typedef struct pvs_object_desc {
 	uint32_t first_triangle;
 	uint32_t triangle_count;
 	uint32_t flags; /* PVS_OBJECT_* */
 } pvs_object_desc;
 
-/* Kinds of explicit occluder volume (geometry known solid). */
+/* Explicit occluder volume kinds (geometry known solid). */
 typedef enum pvs_occluder_kind {
 	PVS_OCCLUDER_INVALID = 0,
 	PVS_OCCLUDER_BOX, /* `box` */
 	PVS_OCCLUDER_CONVEX, /* intersection of half-spaces: `planes` */
-	PVS_OCCLUDER_EXTRUSION, /* a simple polygon in the ground plane extruded along the up axis */
+	PVS_OCCLUDER_EXTRUSION, /* simple ground-plane polygon extruded along the up axis */
 	PVS_OCCLUDER_KIND_COUNT
 } pvs_occluder_kind;
 
-/* An explicit occluder volume; pvs_scene_create copies the arrays. */
+/* Explicit occluder volume; pvs_scene_create copies arrays. */
 typedef struct pvs_occluder_desc {
 	pvs_occluder_kind kind;
 	pvs_box box; /* BOX: the volume */
-	const float *planes; /* CONVEX: plane_count x (nx, ny, nz, d); inside is n.p + d <= 0 */
+	const float *planes; /* CONVEX: plane_count x (nx, ny, nz, d); inside: n.p + d <= 0 */
 	uint32_t plane_count; /* CONVEX: 4..PVS_MAX_OCCLUDER_PLANES, bounded, non-empty */
-	const float *footprint; /* EXTRUSION: footprint_count ground points (u, v), a simple polygon, */
+	const float *footprint; /* EXTRUSION: footprint_count ground points (u, v): simple polygon, */
 	uint32_t footprint_count;	/*   any winding, maybe concave; 3..PVS_MAX_FOOTPRINT_POINTS */
-	float base, top; /* EXTRUSION: heights along the up axis, base < top */
+	float base, top; /* EXTRUSION: up-axis heights, base < top */
 } pvs_occluder_desc;
 #define PVS_MAX_OCCLUDER_PLANES 64
 #define PVS_MAX_FOOTPRINT_POINTS 4096
 
 #define PVS_SCENE_ALLOW_EMPTY_OBJECTS 1u /* keep objects with no (or only zero-area) triangles: never visible */
 
-/* Zero fields get defaults. Ground coordinates (u, v): (x, z) for up_axis 1, (x, y) for 2. */
+/* Zero fields: defaults. Ground (u, v): (x, z) for up_axis 1, (x, y) for 2. */
 typedef struct pvs_scene_desc {
 	const float *positions; /* vertex_count x (x, y, z) */
 	uint32_t vertex_count;
@@ -302,25 +303,25 @@ typedef struct pvs_scene_desc {
 	uint32_t triangle_count;
 	const pvs_object_desc *objects;
 	uint32_t object_count; /* >= 1 */
-	const pvs_occluder_desc *occluders; /* NULL allowed if occluder_count is 0 */
+	const pvs_occluder_desc *occluders; /* NULL ok if occluder_count is 0 */
 	uint32_t occluder_count;
 	uint32_t up_axis; /* 0 or 1: Y up (default); 2: Z up */
 	uint32_t flags; /* PVS_SCENE_* */
-	uint32_t leaf_size; /* kD-tree leaf size for triangles, 0 = default (4) */
+	uint32_t leaf_size; /* kD-tree leaf size for triangles, 0 = 4 */
 	pvs_allocator allocator;
 } pvs_scene_desc;
 
-/* A validated scene with its kD-trees; immutable, so thread-safe. */
+/* Validated scene with its kD-trees; immutable, so thread-safe. */
 typedef struct pvs_scene pvs_scene;
 
-/* Copies and validates the arrays, builds object bounds and kD-trees. Errors: INVALID_ARGUMENT, INDEX_OUT_OF_RANGE,
-   NOT_FINITE, EMPTY_OBJECT, DEGENERATE_OBJECT, OVERLAPPING_OBJECTS, BAD_OCCLUDER, COUNT_OVERFLOW, OUT_OF_MEMORY;
-   err->index names the element. Holds at most these bytes per triangle and object, 12 per vertex, plus _FIXED. */
+/* Copies, validates, builds object bounds and kD-trees. Errors (err->index: the element): INVALID_ARGUMENT,
+   INDEX_OUT_OF_RANGE, NOT_FINITE, EMPTY_OBJECT, DEGENERATE_OBJECT, OVERLAPPING_OBJECTS, BAD_OCCLUDER, COUNT_OVERFLOW,
+   OUT_OF_MEMORY. Holds at most these bytes per triangle and object, 12 per vertex, + _FIXED. */
 #define PVS_SCENE_BYTES_PER_TRIANGLE 2432
 #define PVS_SCENE_BYTES_PER_OBJECT 2400
 #define PVS_SCENE_BYTES_FIXED 16384
 PVS_API pvs_result pvs_scene_create(const pvs_scene_desc *desc, pvs_scene **out_scene, pvs_error *err);
-/* Frees through its allocator; NULL allowed. */
+/* Frees; NULL ok. */
 PVS_API void pvs_scene_destroy(pvs_scene *scene);
 
 PVS_API uint32_t pvs_scene_object_count(const pvs_scene *scene);
@@ -330,50 +331,50 @@ PVS_API uint32_t pvs_scene_up_axis(const pvs_scene *scene); /* 1 or 2 */
 PVS_API pvs_box pvs_scene_bounds(const pvs_scene *scene); /* of all triangles and occluders */
 PVS_API pvs_box pvs_scene_object_box(const pvs_scene *scene, uint32_t object); /* object < count */
 PVS_API uint32_t pvs_scene_object_flags(const pvs_scene *scene, uint32_t object);
-/* 64-bit FNV-1a hash of what the bake reads: up axis, per object its flags and triangles' corners, then the explicit
-   occluders (kind, box, heights, planes, footprints). Never 0. Stored in the file (pvs_file.scene_fingerprint) to
-   detect one baked for another version of the level. */
+/* 64-bit FNV-1a hash of what the bake reads: up axis, per object its flags and triangles' corners, then explicit
+   occluders (kind, box, heights, planes, footprints). Never 0. Stored (pvs_file.scene_fingerprint) to spot a file
+   baked for another level version. */
 PVS_API uint64_t pvs_scene_fingerprint(const pvs_scene *scene);
-/* The object a triangle belongs to, or PVS_NO_OBJECT. */
+/* A triangle's object, or PVS_NO_OBJECT. */
 PVS_API uint32_t pvs_scene_triangle_object(const pvs_scene *scene, uint32_t triangle);
-/* The scene's copy of explicit occluder i. */
+/* Scene's copy of explicit occluder i. */
 PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *scene, uint32_t i);
 
 typedef struct pvs_hit {
-	float t; /* distance along dir, in units of |dir| */
+	float t; /* distance along dir, in |dir| units */
 	uint32_t triangle;
-	uint32_t object; /* PVS_NO_OBJECT for triangles in no object */
+	uint32_t object; /* PVS_NO_OBJECT: triangle in no object */
 } pvs_hit;
 
 /* Closest hit of origin + t dir, 0 <= t <= tmax (dir non-zero), on two-sided triangles: 1 and *hit (may be NULL),
-   or 0. Watertight (Woop, Benthin, Wald 2013, in double): no ray slips between triangles sharing an edge or corner.
-   Zero-area and see-through triangles are never hit; ties go to the lowest triangle. Thread-safe, allocates nothing. */
+   or 0. Watertight (Woop, Benthin, Wald 2013, in double): no ray slips through a shared edge or corner.
+   Zero-area and see-through triangles never hit; ties to the lowest triangle. Thread-safe, allocates nothing. */
 PVS_API int pvs_scene_raycast(const pvs_scene *scene, const float origin[3], const float dir[3], float tmax,
 							  pvs_hit *hit);
-/* 1 if a triangle crosses segment a-b (ends included), 0 when a == b; otherwise as pvs_scene_raycast. */
+/* 1 if a triangle crosses segment a-b (ends included), 0 if a == b; else as pvs_scene_raycast. */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *scene, const float a[3], const float b[3]);
 
-/* View cells from walkable space (pvs_walkable_cells). Zero fields get defaults: metres, or scaled by eye_height. */
+/* View cells from walkable space (pvs_walkable_cells). Zero fields: defaults in metres or scaled by eye_height. */
 typedef struct pvs_walkable_desc {
-	float cell_size; /* ground side of a cell, 0 = 4 (x eye_height / 1.8); floors sampled every cell_size / 4 */
-	float eye_height; /* camera height over the floor, 0 = 1.8 */
-	float head_room; /* free height over a floor, 0 = eye_height */
-	float step_height; /* the highest step a walk climbs, 0 = 0.5 (x eye_height / 1.8) */
+	float cell_size; /* cell's ground side, 0 = 4 (x eye_height / 1.8); floors sampled every cell_size / 4 */
+	float eye_height; /* camera height over floor, 0 = 1.8 */
+	float head_room; /* free height over floor, 0 = eye_height */
+	float step_height; /* highest step a walk climbs, 0 = 0.5 (x eye_height / 1.8) */
 	float max_slope; /* steepest floor, radians in (0, pi / 2), 0 = pi / 4 */
 	uint32_t max_merge; /* cells merged per side over open floor, 0 = 2 (1: none) */
-	const float *seed; /* NULL: every floor; else the floors a walk reaches from the one under this point */
-	const pvs_box *volumes; /* NULL: anywhere; else only eyes inside these view volumes, cells clipped to them */
+	const float *seed; /* NULL: every floor; else floors a walk reaches from the one under this point */
+	const pvs_box *volumes; /* NULL: anywhere; else only eyes in these view volumes, cells clipped to them */
 	uint32_t volume_count;
 	pvs_allocator allocator; /* scratch */
 } pvs_walkable_desc;
 
-/* View cells where the camera can go: floors (opaque, no steeper than max_slope, head_room free above, not inside a
-   closed mesh or one open only at its base; vertical ray casts through every storey), samples linked a step apart
-   knee to knee, grouped per cell_size square, open floor merged up to max_merge per side; per group the box over its
-   samples and half a spacing more, from a quarter eye height over its lowest floor to eye height over its highest.
-   A seed keeps the floors a walk (up a step, or dropping) reaches from the nearest one at most a step above it.
-   Writes up to `capacity` boxes (cells may be NULL), *count all found; deterministic. Errors: INVALID_ARGUMENT,
-   NOT_FINITE, COUNT_OVERFLOW (over 2^26 sample columns), OUT_OF_MEMORY. Thread-safe. */
+/* View cells where the camera can go: floors (opaque, at most max_slope, head_room free above, not in a closed mesh
+   or one open only at its base; vertical ray casts through every storey), samples linked a step apart knee to knee,
+   grouped per cell_size square, open floor merged up to max_merge per side; per group its samples' box plus half a
+   spacing, from a quarter eye height over its lowest floor to eye height over its highest. A seed keeps floors a
+   walk (up a step, or dropping) reaches from the nearest one at most a step above it. Writes up to `capacity` boxes
+   (cells may be NULL), *count all found. Deterministic, thread-safe. Errors: INVALID_ARGUMENT, NOT_FINITE,
+   COUNT_OVERFLOW (over 2^26 sample columns), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable_desc *desc, pvs_box *cells,
 									  uint32_t capacity, uint32_t *count, pvs_error *err);
 
@@ -383,24 +384,24 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *scene, const pvs_walkable
 typedef struct pvs_kdtree_desc {
 	const pvs_box *boxes; /* count item boxes; item i is box i */
 	uint32_t count;
-	uint32_t leaf_size; /* stop splitting at this many items, 0 = default (4) */
-	uint32_t max_depth; /* 0 = about 1.3 log2 count + 8; capped at PVS_KDTREE_MAX_DEPTH */
+	uint32_t leaf_size; /* stop splitting at this many items, 0 = 4 */
+	uint32_t max_depth; /* 0 = ~1.3 log2 count + 8; <= PVS_KDTREE_MAX_DEPTH */
 	pvs_allocator allocator;
 } pvs_kdtree_desc;
 #define PVS_KDTREE_MAX_DEPTH 48
 /* Memory bounds per box, any boxes: item references (4 bytes each), nodes (8 bytes each), build bytes (plus
-   _BUILD_BYTES_FIXED). Boxes overlapping everywhere get bigger leaves instead of more memory. */
+   _BUILD_BYTES_FIXED). Boxes overlapping everywhere get bigger leaves, not more memory. */
 #define PVS_KDTREE_MAX_REFS_PER_BOX 64
 #define PVS_KDTREE_MAX_NODES_PER_BOX 32
 #define PVS_KDTREE_BUILD_BYTES_PER_BOX 2336
 #define PVS_KDTREE_BUILD_BYTES_FIXED 4096
 
-/* Deterministic. Boxes with min > max are left out; count 0 gives an empty tree. Errors: INVALID_ARGUMENT,
-   NOT_FINITE (err->index = the box), COUNT_OVERFLOW, OUT_OF_MEMORY. */
+/* Deterministic. Skips boxes with min > max; count 0: empty tree. Errors: INVALID_ARGUMENT, NOT_FINITE
+   (err->index = the box), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **out_tree, pvs_error *err);
-/* Frees via its allocator; NULL ok. */
+/* Frees; NULL ok. */
 PVS_API void pvs_kdtree_destroy(pvs_kdtree *tree);
-/* Union of the non-empty item boxes, or an empty box (min > max). */
+/* Union of non-empty item boxes, or an empty box (min > max). */
 PVS_API pvs_box pvs_kdtree_bounds(const pvs_kdtree *tree);
 /* Nodes, inner and leaves; >= 1. */
 PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *tree);
@@ -410,35 +411,34 @@ typedef enum pvs_visit {
 	PVS_VISIT_DESCEND = 0, /* visit the children */
 	PVS_VISIT_SKIP, /* cull the subtree */
 	PVS_VISIT_STOP, /* end the sweep */
-	PVS_VISIT_ALL, /* take the subtree whole (below); only STOP is heeded in it */
+	PVS_VISIT_ALL, /* take the subtree whole (below); only STOP heeded in it */
 	PVS_VISIT_COUNT
 } pvs_visit;
 
-/* Called per node reached, by increasing `distance` from the source box (0 where they meet); `node_box`: the bounds
-   cut by the splits above. Leaves pass their items (an item once per leaf it is in), other nodes NULL, 0. After
-   PVS_VISIT_ALL, each non-empty leaf below comes at once, depth first, distance -1, before the sweep goes on. */
+/* Per node reached, by increasing `distance` from the source box (0 where they meet); `node_box`: bounds cut by the
+   splits above. Leaves pass their items (an item once per leaf it is in), other nodes NULL, 0. After PVS_VISIT_ALL,
+   each non-empty leaf below comes at once, depth first, distance -1, before the sweep goes on. */
 typedef pvs_visit (*pvs_kdtree_visit_fn)(void *user, const pvs_box *node_box, float distance,
 										 const uint32_t *items, uint32_t item_count);
 
 /* Scratch bytes pvs_kdtree_sweep needs: 32 per leaf ((node_count + 1) / 2). */
 PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *tree);
-/* The approximate occlusion sweep (Bittner 2002, §3.2): nodes front to back from the box `source` (a point: min ==
-   max) by a priority queue on min distance, ties by node index. `scratch`: pvs_kdtree_sweep_scratch_size bytes,
-   8-aligned. Errors: BUFFER_TOO_SMALL, INVALID_ARGUMENT (NULL tree, source or visit), NOT_FINITE (source).
-   Allocates nothing. */
+/* Approximate occlusion sweep (Bittner 2002, §3.2): nodes front to back from box `source` (a point: min == max) by
+   a priority queue on min distance, ties by node index. `scratch`: pvs_kdtree_sweep_scratch_size bytes, 8-aligned.
+   Errors: BUFFER_TOO_SMALL, INVALID_ARGUMENT (NULL tree, source or visit), NOT_FINITE (source). No allocation. */
 PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *tree, const pvs_box *source, void *scratch, size_t scratch_size,
 									pvs_kdtree_visit_fn visit, void *user);
 
-/* Called per non-empty leaf a ray passes, nearest first; [t_enter, t_exit] widened by a relative 1e-7. Returns a
-   smaller tmax to shorten the ray (larger ignored), < 0 to stop. */
+/* Per non-empty leaf a ray passes, nearest first; [t_enter, t_exit] widened by a relative 1e-7. Return a smaller tmax
+   to shorten the ray (larger ignored), < 0 to stop. */
 typedef float (*pvs_kdtree_ray_fn)(void *user, const uint32_t *items, uint32_t item_count, float t_enter, float t_exit);
 /* Walks the leaves origin + t dir, 0 <= t <= tmax, passes, front to back; dir may have 0 or -0 components (not all
-   three), the origin anywhere; non-finite input walks nothing. Thread-safe, no allocation. */
+   three), origin anywhere; non-finite input walks nothing. Thread-safe, no allocation. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *tree, const float origin[3], const float dir[3], float tmax,
 							pvs_kdtree_ray_fn fn, void *user);
 
-/* The items of p's leaf: all whose box contains p (also on a split plane), maybe more. NULL and *count = 0 outside
-   the bounds or in an empty leaf. No allocation. */
+/* Items of p's leaf: all whose box contains p (also on a split plane), maybe more; NULL, *count = 0 outside the
+   bounds or in an empty leaf. No allocation. */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const float p[3], uint32_t *count);
 
 /* ---- raster ---- */
@@ -628,20 +628,20 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *raster, const pvs_scene *scen
 									   pvs_error *err);
 /* ---- otree ---- */
 
-/* Occlusion trees (Bittner 2002): BSPs over line space built front to back; every float decision is conservative. */
+/* Occlusion trees (Bittner 2002): BSPs over line space built front to back; every float decision conservative. */
 
 typedef struct pvs_otree_stats {
 	uint32_t nodes; /* at the end (of the largest tree) */
 	uint32_t occluders_inserted; /* merged into the tree(s) */
 	uint32_t visible_segments; /* 2D: segments found visible */
-	uint32_t budget_exceeded; /* 1: node_budget stopped insertion; the rest count as not blocking */
+	uint32_t budget_exceeded; /* 1: node_budget stopped insertion; the rest do not block */
 } pvs_otree_stats;
 
 #define PVS_SEGMENT_NO_OCCLUSION 1u /* tested but never blocks sight */
 
 /* Exact 2D from-region visibility (Bittner 2002, ch. 6). Zero fields: defaults. */
 typedef struct pvs_visibility_2d_desc {
-	const float *cell; /* cell_vertex_count x (x, y): a convex polygon, either winding */
+	const float *cell; /* cell_vertex_count x (x, y): convex, either winding */
 	uint32_t cell_vertex_count; /* >= 3 */
 	const float *segments; /* segment_count x (x0, y0, x1, y1): two-sided occluders */
 	uint32_t segment_count;
@@ -653,52 +653,51 @@ typedef struct pvs_visibility_2d_desc {
 	pvs_allocator allocator;
 } pvs_visibility_2d_desc;
 
-/* The segments (and objects) seen from some cell point along a line crossing no other segment (touching an end point
-   does not block; segments crossing the cell are visible): exact, rounding toward visible. visible_segments,
-   visible_objects (PVS_BITSET_WORDS of segment_count, object_count) are cleared first; they and stats may be NULL.
-   Errors: INVALID_ARGUMENT, NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex), OUT_OF_MEMORY.
-   Thread-safe; allocates through desc->allocator. */
+/* Segments (and objects) seen from a cell point along a line crossing no other segment (touching an end point does
+   not block; segments crossing the cell are visible): exact, rounding toward visible. visible_segments,
+   visible_objects (PVS_BITSET_WORDS of segment_count, object_count; may be NULL, like stats) cleared first. Errors:
+   INVALID_ARGUMENT, NOT_FINITE, INDEX_OUT_OF_RANGE, BAD_CELL (no area, not convex), OUT_OF_MEMORY. Thread-safe;
+   allocates via desc->allocator. */
 PVS_API pvs_result pvs_visibility_2d(const pvs_visibility_2d_desc *desc, pvs_word *visible_segments,
 									 pvs_word *visible_objects, pvs_otree_stats *stats, pvs_error *err);
 
 /* Conservative 2.5D from-region visibility, c-LSS (Bittner 2002, ch. 7), over ground (u, v) and height. */
 typedef struct pvs_visibility_25d_desc {
-	float cell_min[2], cell_max[2]; /* the cell's ground rectangle */
+	float cell_min[2], cell_max[2]; /* cell's ground rectangle */
 	float cell_top; /* highest eye height in the cell */
 	const float *facades; /* facade_count x (u0, v0, u1, v1, top): opaque walls on the ground */
 	uint32_t facade_count;
 	const float *objects; /* object_count x (umin, vmin, umax, vmax, top) bounds; umin > umax = empty */
 	uint32_t object_count;
 	uint32_t node_budget; /* per tree (0 = PVS_OTREE_25D_BUDGET) */
-	const pvs_kdtree *tree; /* NULL, or a kD-tree over pvs_visibility_25d_boxes */
+	const pvs_kdtree *tree; /* NULL or a kD-tree over pvs_visibility_25d_boxes */
 	pvs_allocator allocator;
-	uint32_t flags; /* 0 (1: the tests' box tests without the witness-line shortcut, the same result) */
+	uint32_t flags; /* 0 (1: the tests' box tests without the witness-line shortcut; same result) */
 } pvs_visibility_25d_desc;
 
-/* Default 2.5D occlusion tree node budget. Once spent, the remaining facades are not inserted
-   (conservative); objects are still tested. Bounds the time per cell on maps of many small facades. */
+/* Default 2.5D occlusion tree node budget; once spent, further facades are not inserted (conservative), objects
+   still tested. Bounds time per cell on maps of many small facades. */
 #define PVS_OTREE_25D_BUDGET (1u << 16)
 
 /* Fills boxes[facade_count + object_count] for pvs_visibility_25d_desc.tree: facade i is item i, object j item
-   facade_count + j; axes (u, v, height to top). Build the tree once for all cells. */
+   facade_count + j; axes (u, v, height to top). Build once for all cells. */
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
 									  uint32_t object_count, pvs_box *boxes);
 
-/* The objects possibly visible from the cell (ground rectangle x heights to cell_top), facades reaching down
-   below every cell and object; never misses one. Facades crossing the cell are ignored. visible_objects:
-   PVS_BITSET_WORDS(object_count) words, cleared first; stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE,
-   OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
+/* Objects maybe visible from the cell (ground rectangle x heights to cell_top), facades reaching below all cells and
+   objects; never misses one. Ignores facades crossing the cell. visible_objects: object bitset, cleared first; stats
+   may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE, OUT_OF_MEMORY. Thread-safe; allocates via desc->allocator. */
 PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_word *visible_objects,
 									  pvs_otree_stats *stats, pvs_error *err);
 
 /* From-point culling with a shadow-volume occlusion tree (Bittner 2002, ch. 4), pvs_raster_cull's object-space twin:
-   each frame occluders are merged front to back into a BSP of planes through the eye, and the object kD-tree is walked
-   front to back against it (§4.10.2's conservative box test, refined at in-leaves by the exact "FME" test, Table 4.1),
-   with hierarchy updating (§4.11.4), giving exactly the result of testing each node. Occluders (§4.5): the caller's
-   triangles, the best `scene_occluders` by area-angle among triangles of objects seen within `occluder_distance` last
-   frame (after create or reset: all within it), and per `scene_volumes` BOX faces and EXTRUSION walls within it. */
+   per frame, occluders merge front to back into a BSP of planes through the eye; the object kD-tree is walked front
+   to back against it (§4.10.2's conservative box test, refined at in-leaves by the exact "FME" test, Table 4.1) with
+   hierarchy updating (§4.11.4), same result as testing each node. Occluders (§4.5): caller's triangles; the best
+   `scene_occluders` by area-angle among triangles of objects seen within `occluder_distance` last frame (after
+   create or reset: all within it); per `scene_volumes`, BOX faces and EXTRUSION walls within it. */
 typedef struct pvs_otree_desc {
-	/* Required: sizes the per-node state; pvs_otree_cull takes no larger scene (objects, triangles, kD nodes). */
+	/* Required: sizes per-node state; pvs_otree_cull takes no larger scene (objects, triangles, kD nodes). */
 	const pvs_scene *scene;
 	float aspect; /* image width / height, 0 = 1 */
 	uint32_t max_occluders; /* scene polygons inserted per frame, 0 = 64; <= 65536 */
@@ -712,7 +711,7 @@ typedef struct pvs_otree_desc {
 /* Node pool, last frame's kD node states. One per thread. */
 typedef struct pvs_otree pvs_otree;
 
-/* The last pvs_otree_cull, beyond pvs_cull_stats. */
+/* Last pvs_otree_cull, beyond pvs_cull_stats. */
 typedef struct pvs_otree_frame {
 	uint32_t tree_nodes; /* inner and leaves */
 	uint32_t fragments; /* occluder fragments at in-leaves */
@@ -720,17 +719,17 @@ typedef struct pvs_otree_frame {
 	uint32_t node_tests; /* kD nodes tested (frustum + tree) */
 	uint32_t nodes_skipped; /* opened kD nodes whose test hierarchy updating skipped */
 	uint32_t object_tests; /* boxes tested in partly visible leaves */
-	uint32_t budget_exceeded; /* 1: the budget or a polygon's size stopped an insertion */
+	uint32_t budget_exceeded; /* 1: budget or a polygon's size stopped an insertion */
 } pvs_otree_frame;
 
 /* Errors: INVALID_ARGUMENT, NOT_FINITE (aspect), COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_otree_create(const pvs_otree_desc *desc, pvs_otree **out_otree, pvs_error *err);
-/* Frees via its allocator; NULL ok. */
+/* Frees; NULL ok. */
 PVS_API void pvs_otree_destroy(pvs_otree *otree);
 /* Forgets the last frame (camera cut). */
 PVS_API void pvs_otree_reset(pvs_otree *otree);
-/* Outputs as pvs_raster_cull (plane tests lean toward "visible"); `params` may be NULL, facades are ignored. Errors:
-   INVALID_ARGUMENT, NOT_FINITE (camera), UNSUPPORTED (orthographic), BUFFER_TOO_SMALL (a scene larger than the
+/* Outputs as pvs_raster_cull (plane tests lean toward "visible"); `params` may be NULL, facades ignored. Errors:
+   INVALID_ARGUMENT, NOT_FINITE (camera), UNSUPPORTED (orthographic), BUFFER_TOO_SMALL (scene larger than the
    context's). Allocates nothing. */
 PVS_API pvs_result pvs_otree_cull(pvs_otree *otree, const pvs_scene *scene, const pvs_camera *camera,
 								  const pvs_cull_params *params, pvs_word *visible, pvs_cull_stats *stats,
@@ -741,15 +740,15 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *otree, pvs_otree_frame *frame)
 
 /* Occluder synthesis: certainly-solid volumes for the shrink method (Wonka 2000 §2: its appendix theorem needs
    volumetric occluders). A voxel is solid only if crossing-parity floods from the cells prove no viewer reaches it
-   without touching a triangle (>>occluders, "certified solid"), or it lies in an explicit occluder volume.
-   Openings narrower than a voxel stay open; a crack or T-junction (an edge used by an odd count of triangles) gives
-   no volume along the vertical sheet below it; an enclosure made only by several meshes together is missed.
-   The solid set is eroded by eps (rounding toward less solid) into boxes (3D) and column heights (2.5D). Leaks: the
-   few cells reaching outside the box of the component most cells are in are left out of later floods, so the others
-   keep their walls (pvs_occluders_excluded_cells). */
+   without touching a triangle (>>occluders, "certified solid"), or it is in an explicit occluder volume. Openings
+   narrower than a voxel stay open; a crack or T-junction (edge used by an odd count of triangles) gives no volume on
+   the vertical sheet below it; enclosures made only by several meshes together are missed. Solids are eroded by eps
+   (rounding toward less solid) into boxes (3D) and column heights (2.5D). Leaks: the few cells reaching outside the
+   box of the component holding most cells are left out of later floods, so the rest keep their walls
+   (pvs_occluders_excluded_cells). */
 typedef struct pvs_occluders_desc {
 	const pvs_scene *scene; /* required; must outlive the occluders */
-	const pvs_box *cells; /* required: cell_count >= 1 view cells, the flood's sources */
+	const pvs_box *cells; /* required: cell_count >= 1 view cells, flood sources */
 	uint32_t cell_count;
 	float eps; /* erosion distance, > 0 */
 	float voxel_size; /* 0 = eps / 1.5, grown until the grid fits max_voxels */
@@ -758,77 +757,77 @@ typedef struct pvs_occluders_desc {
 	pvs_allocator allocator;
 } pvs_occluders_desc;
 
-/* Flag: leaking cells seed the floods too (a leak then opens walls for every cell). The bake uses it in a second
-   synthesis for the left-out cells. */
+/* Leaking cells seed floods too (a leak then opens walls for all cells); used by the bake's second synthesis, for
+   left-out cells. */
 #define PVS_OCCLUDERS_KEEP_LEAKS 1u
 
 /* Immutable, thread-safe to read. */
 typedef struct pvs_occluders pvs_occluders;
 
 typedef struct pvs_occluders_info {
-	uint32_t dims[3]; /* per axis (one voxel of padding around scene and cells) */
-	float origin[3]; /* the grid's min corner */
+	uint32_t dims[3]; /* per axis (a voxel of padding around scene and cells) */
+	float origin[3]; /* grid's min corner */
 	float voxel_size;
 	float eps;
 	uint64_t touched; /* voxels a triangle touches */
-	uint64_t solid; /* solid voxels before erosion (explicit volumes included) */
+	uint64_t solid; /* solid voxels before erosion (with explicit volumes) */
 	uint64_t eroded; /* solid voxels after erosion */
-	uint64_t column_voxels; /* solid voxels in runs standing on the ground (2.5D) */
+	uint64_t column_voxels; /* solid voxels in runs on the ground (2.5D) */
 	uint32_t box_count; /* eroded 3D boxes */
 	uint32_t rect_count; /* eroded 2.5D column rectangles */
-	int is_2d5; /* 1: column runs hold >= 90% of the solid voxels: 2.5D path */
+	int is_2d5; /* 1: column runs hold >= 90% of solid voxels: 2.5D path */
 	uint32_t leak_cell; /* lowest cell reaching the grid border, or PVS_NO_CELL */
 	float leak_point[3]; /* a voxel centre of that cell on such a path */
 	uint32_t leak_cells; /* cells reaching the border */
-	uint32_t excluded_cells; /* leaking cells left out, with no occluder (< half of those in a component's box) */
+	uint32_t excluded_cells; /* leaking cells left out, without occluders (< half of those in a component's box) */
 	uint32_t thin_objects; /* drawable objects with no solid voxel in their box */
 	uint32_t components; /* edge-connected triangle sets flooded (3+ triangles) */
-	uint32_t closed_components; /* of them, those without an open edge */
+	uint32_t closed_components; /* of them, those with no open edge */
 	uint64_t open_edges; /* edges used by an odd count of triangles, off the ground */
 	uint64_t undecided_columns; /* component voxel columns with no certain parity */
 } pvs_occluders_info;
 
 #define PVS_VOXEL_EMPTY 0u /* untouched, not solid */
-#define PVS_VOXEL_TOUCHED 1u /* a triangle touches it, not solid */
+#define PVS_VOXEL_TOUCHED 1u /* touched by a triangle, not solid */
 #define PVS_VOXEL_SOLID 2u /* solid (before erosion) */
-#define PVS_VOXEL_GROUND 3u /* the padding layer below the ground */
+#define PVS_VOXEL_GROUND 3u /* padding layer below the ground */
 
 /* Deterministic; thread-safe for distinct outputs. Errors: INVALID_ARGUMENT (NULL, no cells, eps <= 0 or not
    finite), BAD_CELL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_occluders_create(const pvs_occluders_desc *desc, pvs_occluders **out_occluders, pvs_error *err);
-/* Frees via its allocator; NULL ok. */
+/* Frees; NULL ok. */
 PVS_API void pvs_occluders_destroy(pvs_occluders *occluders);
 PVS_API void pvs_occluders_get_info(const pvs_occluders *occluders, pvs_occluders_info *info);
 /* PVS_VOXEL_* class of voxel (i, j, k) along x, y, z (each < dims). */
 PVS_API uint32_t pvs_occluders_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
-/* 1 if voxel (i, j, k) survived the erosion. */
+/* 1 if voxel (i, j, k) survived erosion. */
 PVS_API int pvs_occluders_eroded_voxel(const pvs_occluders *occluders, uint32_t i, uint32_t j, uint32_t k);
-/* The eroded 3D boxes (*count), owned by occluders; every point within eps of one is solid. */
+/* Eroded 3D boxes (*count), owned by occluders; every point within eps of one is solid. */
 PVS_API const pvs_box *pvs_occluders_boxes(const pvs_occluders *occluders, uint32_t *count);
-/* Shrunk 2.5D occluders as facade chains owned by occluders (base the ground, top lowered by eps): boundaries
-   of the column map's regions at or above a height, closed, and of their holes, open back to the first point. Every
-   point within eps of such a prism is unreachable or underground. */
+/* Shrunk 2.5D occluders, facade chains owned by occluders (base the ground, top lowered by eps): boundaries of the
+   column map's regions at or above a height, closed, and of their holes, open back to the first point. Points within
+   eps of such a prism are unreachable or underground. */
 PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *occluders, uint32_t *count);
-/* Column map at ground point (u, v): *solid the height below which the column is proved solid (else the
-   ground); returns the shrunk occluder height (else -FLT_MAX). Outside the map: the ground and -FLT_MAX. On a
-   square's edge the lower neighbour counts. */
+/* Column map at ground point (u, v): *solid the height below which the column is proved solid (else the ground);
+   returns shrunk occluder height (else -FLT_MAX). Outside the map: ground, -FLT_MAX. On a square's edge the lower
+   neighbour counts. */
 PVS_API float pvs_occluders_column_height(const pvs_occluders *occluders, float u, float v, float *solid);
-/* Left-out leaking cells (ascending indices into desc->cells) or NULL, owned by occluders; pvs_shrink_cell sets
-   every object for boxes inside them. */
+/* Left-out leaking cells (ascending indices into desc->cells) or NULL, owned by occluders; pvs_shrink_cell sets every
+   object for boxes inside them. */
 PVS_API const uint32_t *pvs_occluders_excluded_cells(const pvs_occluders *occluders, uint32_t *count);
 
 /* ---- vocc ---- */
 #endif /* PVS_RUNTIME_ONLY */
 
-/* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in the umbra of the
-   real occluders from the whole cell, standing for their aggregate occlusion; five bytes each in the VOCC section. */
+/* Virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): per cell a few large vertical rectangles in the real
+   occluders' umbra from the whole cell, standing for their aggregate occlusion; five bytes each in the VOCC section. */
 struct pvs_file; /* >>format */
 
 /* pvs_file.vocc_flags */
 #define PVS_VOCC_STORED 1u /* the file has a VOCC section */
-#define PVS_VOCC_ONLY 2u /* ... and the records are placeholders (every drawable object): use pvs_vocc_cull */
+#define PVS_VOCC_ONLY 2u /* ... and records are placeholders (every drawable object): use pvs_vocc_cull */
 
-/* Vertical rectangle over the ground segment p0-p1 (u, v as in pvs_scene_desc), from `base` to `top`. */
+/* Vertical rectangle over ground segment p0-p1 (u, v as in pvs_scene_desc), from `base` to `top`. */
 typedef struct pvs_virtual_occluder {
 	float p0[2], p1[2];
 	float base, top;
@@ -839,69 +838,67 @@ typedef struct pvs_virtual_occluder {
 typedef struct pvs_vocc_stats {
 	uint32_t slices; /* height slices (§3.1) */
 	uint32_t seeds; /* seed objects grown (§3) */
-	uint32_t umbra; /* objects that grew an aggregate umbra (§3 cases 1, 3) */
-	uint32_t separating;	/* objects that only bent a separating line (case 2) */
+	uint32_t umbra; /* objects growing an aggregate umbra (§3 cases 1, 3) */
+	uint32_t separating;	/* objects only bending a separating line (case 2) */
 	uint32_t dense; /* certified virtual occluders in the dense set */
 	uint32_t dropped; /* failed the final check (e.g. quantized) */
 	uint32_t selected; /* kept by the greedy selection (Fig. 6) */
 } pvs_vocc_stats;
 
-/* §3's 2D construction alone. Zero fields get defaults. */
+/* §3's 2D construction alone. Zero fields: defaults. */
 typedef struct pvs_vocc_2d_desc {
-	float cell_min[2], cell_max[2]; /* view cell: an axis-aligned rectangle with area */
-	/* segment_count x (x0, y0, x1, y1): opaque occluders; segments whose end points coincide exactly in a ring
-	   are a wall loop. */
+	float cell_min[2], cell_max[2]; /* view cell: axis-aligned rectangle with area */
+	/* segment_count x (x0, y0, x1, y1): opaque occluders; segments meeting end to end exactly in a ring: a wall loop */
 	const float *segments;
 	uint32_t segment_count;
 	uint32_t max_seeds; /* 0 = 16 */
-	float range; /* analysis radius from the cell centre, 0 = reach every segment */
+	float range; /* analysis radius from cell centre, 0 = reach every segment */
 	pvs_allocator allocator;
 } pvs_vocc_2d_desc;
 
-/* The cell's dense set of 2D virtual occluders (§3), each checked exactly hidden from the whole cell (rounding up to
-   a relative 1e-9, toward "not hidden"). Writes up to `capacity` (x0, y0, x1, y1) to `occluders` (NULL: count only),
-   *count all found. Segments meeting the cell are ignored; stats may be NULL. Errors: INVALID_ARGUMENT,
-   NOT_FINITE, BAD_CELL, OUT_OF_MEMORY. Thread-safe; allocates through desc->allocator. */
+/* Cell's dense set of 2D virtual occluders (§3), each checked exactly hidden from the whole cell (rounding up to a
+   relative 1e-9, toward "not hidden"). Writes up to `capacity` (x0, y0, x1, y1) to `occluders` (NULL: count only),
+   *count all found. Ignores segments meeting the cell; stats may be NULL. Errors: INVALID_ARGUMENT, NOT_FINITE,
+   BAD_CELL, OUT_OF_MEMORY. Thread-safe; allocates via desc->allocator. */
 PVS_API pvs_result pvs_vocc_2d(const pvs_vocc_2d_desc *desc, float *occluders, uint32_t capacity, uint32_t *count,
 							   pvs_vocc_stats *stats, pvs_error *err);
 #endif /* PVS_RUNTIME_ONLY */
 
-/* 1 if `o` alone hides the box from the whole cell: every segment between the ground rectangles crosses p0-p1, and
-   the heights hold at each crossing fraction t (a sight line meets the occluder's plane at height (1 - t) eye + t
-   target). Conservative under rounding; 0 for an empty box or a degenerate occluder. */
+/* 1 if `o` alone hides the box from the whole cell: every segment between the ground rectangles crosses p0-p1 and
+   heights hold at each crossing fraction t (a sight line meets the occluder's plane at height (1 - t) eye + t target).
+   Conservative under rounding; 0 for an empty box or degenerate occluder. */
 PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *o,
 								const pvs_box *box);
 
 /* Scratch bytes of pvs_vocc_cull* for up to max_occluders (<= 255 per cell in a file) and the tree (may be NULL). */
 PVS_API size_t pvs_vocc_cull_scratch_size(const pvs_kdtree *tree, uint32_t max_occluders);
 
-/* Rebuilds a PVS (Koltun 2000 §2, §4): sets in `visible` (PVS_BITSET_WORDS(object_count) words, cleared first) every
-   object with a non-empty box no single occluder hides (tried in order). With a `tree` over the same boxes (item i =
-   object i; leaves of 16+ items are best) a subtree is skipped when one occluder hides its node box (an object behind
-   several occluders may drop out too; still conservative); tree NULL tests every box. scratch:
-   pvs_vocc_cull_scratch_size bytes, any alignment. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. Allocates nothing;
-   thread-safe. */
+/* Rebuilds a PVS (Koltun 2000 §2, §4): sets in `visible` (object bitset, cleared first) every object with a
+   non-empty box no single occluder hides (tried in order). With a `tree` over the same boxes (item i = object i;
+   best with 16+ items a leaf) a subtree is skipped if one occluder hides its node box (an object behind several
+   occluders may drop out too; still conservative); tree NULL tests every box. scratch: pvs_vocc_cull_scratch_size
+   bytes, any alignment. Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. Allocates nothing; thread-safe. */
 PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis, const pvs_virtual_occluder *occluders,
 										   uint32_t count, const pvs_box *object_boxes, uint32_t object_count,
 										   const pvs_kdtree *tree, void *scratch, size_t scratch_size,
 										   pvs_word *visible, pvs_error *err);
 
 /* pvs_vocc_cull_occluders on the file's first max_occluders (0 = all) of `cell`, with the engine's boxes and tree of
-   the baked scene. INVALID_ARGUMENT also without a VOCC section. */
+   the baked scene. INVALID_ARGUMENT also without VOCC section. */
 PVS_API pvs_result pvs_vocc_cull(const struct pvs_file *file, uint32_t cell, uint32_t max_occluders,
 								 const pvs_box *object_boxes, uint32_t object_count, const pvs_kdtree *tree,
 								 void *scratch, size_t scratch_size, pvs_word *visible, pvs_error *err);
 
 /* ---- methods ---- */
 
-/* Region methods (CONCEPTS); all but SAMPLE are conservative. 0 = AUTO. */
+/* Region methods (CONCEPTS); all but SAMPLE conservative. 0 = AUTO. */
 typedef enum pvs_method {
 	PVS_METHOD_DEFAULT = 0,
 	PVS_METHOD_SAMPLE, /* ray sampling: estimate from below, NOT conservative */
 	PVS_METHOD_OTREE, /* 2.5D occlusion trees, c-LSS (Bittner 2002, ch. 7) on vertical facades */
 	PVS_METHOD_EXTPROJ, /* extended projections (Durand et al. 2000): 3D, planar occluders */
 	PVS_METHOD_SHRINK, /* occluder shrinking + point sampling (Wonka 2000) */
-	PVS_METHOD_AUTO, /* the conservative methods that apply, PVSs intersected */
+	PVS_METHOD_AUTO, /* conservative methods that apply, PVSs intersected */
 	PVS_METHOD_VOCC, /* virtual occluders (Koltun 2000), 2.5D: stored; the PVS is what they rebuild */
 	PVS_METHOD_PORTAL, /* rooms and portals from closed convex solids, portal flow (Teller 1992) */
 	PVS_METHOD_COUNT
@@ -913,9 +910,9 @@ PVS_API const char *pvs_method_name(pvs_method method);
 #ifndef PVS_RUNTIME_ONLY /* the methods' parameters, the bake, the encoder */
 /* Shrink method paths. */
 typedef enum pvs_shrink_mode {
-	PVS_SHRINK_AUTO = 0, /* 2.5D if the occluders are (pvs_occluders_info.is_2d5), else 3D */
+	PVS_SHRINK_AUTO = 0, /* 2.5D if occluders are (pvs_occluders_info.is_2d5), else 3D */
 	PVS_SHRINK_2D5, /* Wonka 2000 §3: column occluders, samples on the cell's top, cull maps */
-	PVS_SHRINK_3D, /* samples on the six faces, depth maps of the eroded boxes */
+	PVS_SHRINK_3D, /* samples on six faces, depth maps of eroded boxes */
 	PVS_SHRINK_MODE_COUNT
 } pvs_shrink_mode;
 
@@ -923,42 +920,41 @@ typedef struct pvs_shrink_stats {
 	pvs_shrink_mode mode; /* path that ran */
 	uint32_t occluders; /* column prisms (2.5D) or boxes (3D) */
 	int no_occluders; /* 1: none survived erosion, every drawable object set */
-	int excluded; /* 1: the cell lies in a left-out leaking cell, every drawable object set */
+	int excluded; /* 1: cell in a left-out leaking cell, every drawable object set */
 	uint32_t samples; /* sample points */
-	uint64_t occluders_drawn; /* occluders rasterized, summed over samples (after §3.4's rejection) */
+	uint64_t occluders_drawn; /* occluders rasterized, over all samples (after §3.4's rejection) */
 	uint32_t hidden; /* drawable objects left out */
 } pvs_shrink_stats;
 
-/* The shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): occluders eroded by eps, sampled from the cell
-   every eps; an object is left out only when every sample sees it hidden (appendix theorem: then every cell point
-   does). Objects meeting the cell or under its top face stay. Sets bits in `visible` (PVS_BITSET_WORDS(object_count)
-   words, not cleared), never occluder-only ones; objects set on entry are not tested. `occluders` must be this
-   scene's; `stats` may be NULL; no occluders is no error. Scratch from the occluders' allocator, freed on return:
-   thread-safe. Errors: INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (a path this build cannot run), OUT_OF_MEMORY. */
+/* Shrink method for one cell (Wonka, Wimmer, Schmalstieg 2000): occluders eroded by eps, sampled from the cell every
+   eps; an object is left out only if every sample sees it hidden (appendix theorem: then every cell point does).
+   Objects meeting the cell or under its top face stay. Sets bits in `visible` (object bitset, not cleared), never
+   occluder-only ones; objects set on entry are not tested. `occluders`: this scene's; `stats` may be NULL; no
+   occluders is no error. Scratch from the occluders' allocator, freed on return: thread-safe. Errors:
+   INVALID_ARGUMENT, BAD_CELL, UNSUPPORTED (a path this build cannot run), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_shrink_cell(const pvs_scene *scene, const pvs_occluders *occluders, const pvs_box *cell,
 								   pvs_shrink_mode mode, pvs_word *visible, pvs_shrink_stats *stats, pvs_error *err);
 
-/* Estimator: `points` stratified points in `cell` (corners and face centres, then a jittered grid),
-   `rays_per_point` uniform directions each; sets the first object each ray hits in `visible` and see-through ones it
-   crosses first (PVS_BITSET_WORDS(object_count) words, not cleared; never occluder-only ones). A lower bound.
-   Deterministic in `seed`; thread-safe, no allocation. Returns # rays. */
+/* Estimator: `points` stratified points in `cell` (corners and face centres, then a jittered grid), `rays_per_point`
+   uniform directions each; sets in `visible` (object bitset, not cleared; never occluder-only objects) the first
+   object each ray hits and see-through ones it crosses first. A lower bound. Deterministic in `seed`; thread-safe,
+   no allocation. Returns # rays. */
 PVS_API uint64_t pvs_sample_visibility(const pvs_scene *scene, const pvs_box *cell, uint32_t points,
 									   uint32_t rays_per_point, uint64_t seed, pvs_word *visible);
 
-/* Aimed sampling, better for small, far objects: for each object of `targets` (NULL: all) not in `visible`, up to
+/* Aimed sampling, better for small, far objects: per object of `targets` (NULL: all) not in `visible`, up to
    `rays_per_object` segments from a uniform point of `cell` to a uniform point of one of its triangles (pulled 1%
-   toward the centroid) until one reaches it; each sets the first object it hits. Occluder-only objects are neither
-   set nor aimed at. Otherwise as pvs_sample_visibility. */
+   toward the centroid) until one reaches it; each sets the first object it hits. Occluder-only objects neither set
+   nor aimed at. Else as pvs_sample_visibility. */
 PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_box *cell, const pvs_word *targets,
 											  uint32_t rays_per_object, uint64_t seed, pvs_word *visible);
 
 /* ---- extended projections (Durand, Drettakis, Thollot, Puech 2000) ---- */
 
-/* A projection plane (Durand 2000 §2.4, §6.1) perpendicular to `axis`, `distance` > 0 beyond the cell's face on
-   `side` (+1: max, -1: min); Depth (§2.3) is the distance past that face. rect = (u0, v0, u1, v1) over u = (axis +
-   1) % 3, v = (axis + 2) % 3 in width x height pixels (pixel (i, j): u0 + [i, i + 1] * (u1 - u0) / width, v
-   likewise). A depth map: width * height floats, row j first, per pixel the nearest occluder Projection's Depth or
-   PVS_EXTPROJ_EMPTY. */
+/* Projection plane (Durand 2000 §2.4, §6.1) perpendicular to `axis`, `distance` > 0 beyond the cell's face on `side`
+   (+1: max, -1: min); Depth (§2.3): distance past that face. rect = (u0, v0, u1, v1) over u = (axis + 1) % 3,
+   v = (axis + 2) % 3 in width x height pixels (pixel (i, j): u0 + [i, i + 1] * (u1 - u0) / width, v likewise).
+   Depth map: width * height floats, row j first, per pixel nearest occluder Projection's Depth or PVS_EXTPROJ_EMPTY. */
 typedef struct pvs_extproj_plane {
 	pvs_box cell;
 	uint32_t axis;
@@ -973,25 +969,24 @@ typedef struct pvs_extproj_plane {
 #define PVS_EXTPROJ_RESOLUTION 256u /* default pixels per plane side */
 #define PVS_EXTPROJ_PREVIEW_RESOLUTION 64u /* with PVS_BAKE_PREVIEW */
 
-/* Adds one convex occluder's extended Projection (§3.2): `points` (1..16 x (x, y, z)), a planar convex polygon or a
-   closed convex solid (skipped if its box meets the cell); clipped to depths > 0 and split at the plane. Only pixels
-   a part covers from every cell point (its views from the 8 corners intersected) get min(stored, the part's
-   greatest depth, §2.3). Returns pixel writes per part, 0 if none or on bad arguments. Thread-safe on distinct
-   maps; no allocation. */
+/* Adds a convex occluder's extended Projection (§3.2): `points` (1..16 x (x, y, z)), planar convex polygon or closed
+   convex solid (skipped if its box meets the cell); clipped to depths > 0, split at the plane. Only pixels a part
+   covers from every cell point (its views from the 8 corners intersected) get min(stored, part's greatest depth,
+   §2.3). Returns pixel writes per part, 0 if none or on bad arguments. Thread-safe on distinct maps; no allocation. */
 PVS_API uint32_t pvs_extproj_occluder(const pvs_extproj_plane *plane, const float *points, uint32_t count,
 									  float *depth_map);
 
-/* An occludee box's extended Projection (§3.1): the bounding rectangle of its views from the whole cell, as
-   inclusive pixel bounds rect = (i0, j0, i1, j1), maybe off the map, and its least Depth. 0 when the box is
-   not wholly beyond the face (this plane cannot decide it), else 1. No allocation. */
+/* Occludee box's extended Projection (§3.1): bounding rectangle of its views from the whole cell as inclusive pixel
+   bounds rect = (i0, j0, i1, j1), maybe off the map, and its least Depth. 0 if the box is not wholly beyond the face
+   (this plane cannot decide it), else 1. No allocation. */
 PVS_API int pvs_extproj_occludee(const pvs_extproj_plane *plane, const pvs_box *box, int32_t rect[4], float *depth);
 
-/* 1 if some pixel of the occludee's rect is off the map or stores a Depth >= depth; 0: hidden (§2.2). */
+/* 1 if a pixel of the occludee's rect is off the map or stores a Depth >= depth; 0: hidden (§2.2). */
 PVS_API int pvs_extproj_test(const pvs_extproj_plane *plane, const float *depth_map, const int32_t rect[4],
 							 float depth);
 
-/* Bytes an EXTPROJ task allocates for its planes at `resolution` (0 = 256) and `sweep` planes per direction (0:
-   none; MEMORY), not counting scratch growing with the occluders; 0 outside 16..4096 or past 256 planes. */
+/* Bytes an EXTPROJ task allocates for planes at `resolution` (0 = 256) and `sweep` planes per direction (0: none;
+   MEMORY), less scratch growing with occluders; 0 outside 16..4096 or past 256 planes. */
 PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep);
 
 /* ---- bake ---- */
@@ -1005,60 +1000,60 @@ typedef struct pvs_bake_sample_params {
 
 /* EXTPROJ's parameters (also under AUTO). */
 typedef struct pvs_bake_extproj_params {
-	/* Pixels per plane side, 16..4096; 0 = PVS_EXTPROJ_RESOLUTION, PREVIEW: PVS_EXTPROJ_PREVIEW_RESOLUTION. Sweep
-	   planes spread them square over what cell and scene span. */
+	/* Pixels per plane side, 16..4096; 0 = PVS_EXTPROJ_RESOLUTION (PREVIEW: _PREVIEW_RESOLUTION). Sweep planes
+	   spread them square over cell and scene's span. */
 	uint32_t resolution;
-	uint32_t occluders; /* occluders on the planes of §6.1, 0 = 128; <= 65536 (sweep planes take all) */
-	/* Occlusion sweep (Durand 2000 §5) planes per direction, <= 256, 0 = none; under AUTO 0 =
-	   PVS_EXTPROJ_SWEEP_PLANES (PREVIEW: none), PVS_EXTPROJ_NO_SWEEP = none. An object whose box is not hidden is
-	   then kept only if part of its triangles may be seen (over 16,384 triangles: by box). */
+	uint32_t occluders; /* on the planes of §6.1, 0 = 128; <= 65536 (sweep planes take all) */
+	/* Occlusion sweep (Durand 2000 §5) planes per direction, <= 256, 0 = none; AUTO: 0 = PVS_EXTPROJ_SWEEP_PLANES
+	   (PREVIEW: none), PVS_EXTPROJ_NO_SWEEP = none. An object with its box not hidden is then kept only if some
+	   of its triangles may be seen (over 16,384 triangles: by box). */
 	uint32_t sweep;
-	/* With the sweep, 4: each plane holds the union of the umbrae of the cell's four quarters, and an object must
-	   be hidden from each (tighter on foliage, a few times slower); 0 or 1: the cell's umbra. */
+	/* With the sweep, 4: each plane holds the union of umbrae of the cell's four quarters; an object must be hidden
+	   from each (tighter on foliage, a few times slower); 0 or 1: the cell's umbra. */
 	uint32_t sweep_subcells;
 } pvs_bake_extproj_params;
 
-/* Adaptive cells (CONCEPTS): split while a PVS holds over `budget` triangles and the halves are at least
-   `min_size`; leaves low half first. Not with shards. */
+/* Adaptive cells (CONCEPTS): split while a PVS holds over `budget` triangles and halves are >= `min_size`; leaves
+   low half first. Not with shards. */
 typedef struct pvs_bake_adaptive_params {
 	uint32_t budget; /* triangles per leaf cell's PVS, 0 = off */
-	float min_size; /* shortest half, 0 = an eighth of the cell's longest side */
+	float min_size; /* shortest half, 0 = 1/8 of the cell's longest side */
 } pvs_bake_adaptive_params;
 
 /* SHRINK's parameters (also under AUTO). */
 typedef struct pvs_bake_shrink_params {
 	pvs_shrink_mode mode; /* PVS_SHRINK_AUTO picks */
-	float voxel_size; /* for occluder synthesis, 0 = derived */
+	float voxel_size; /* occluder synthesis's, 0 = derived */
 } pvs_bake_shrink_params;
 
 /* VOCC's parameters. */
 typedef struct pvs_bake_vocc_params {
 	uint32_t slices; /* per cell (§3.1), 0 = 5; 1..16 */
 	uint32_t max_occluders; /* kept per cell (Fig. 6), 0 = 10; 1..255 */
-	uint32_t only; /* 1: store only the occluders (PVS_VOCC_ONLY) */
+	uint32_t only; /* 1: store only occluders (PVS_VOCC_ONLY) */
 } pvs_bake_vocc_params;
 
-/* OTREE's parameters (also under AUTO). */
+/* OTREE's (also under AUTO). */
 typedef struct pvs_bake_otree_params {
-	uint32_t node_budget; /* per tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24. More never hides less */
+	uint32_t node_budget; /* per tree, 0 = PVS_OTREE_25D_BUDGET; 64..2^24; more never hides less */
 } pvs_bake_otree_params;
 
 /* PORTAL's parameters (>>portal). */
 typedef struct pvs_bake_portal_params {
-	uint32_t budget; /* portal clips per cell before a conservative cut-off, 0 = PVS_PORTAL_BUDGET */
+	uint32_t budget; /* portal clips per cell before conservative cut-off, 0 = PVS_PORTAL_BUDGET */
 } pvs_bake_portal_params;
 #define PVS_PORTAL_BUDGET 200000u
 
-/* What to bake. Zero fields (also per method) get defaults. */
+/* What to bake. Zero fields (also per method): defaults. */
 typedef struct pvs_bake_desc {
 	const pvs_scene *scene; /* must outlive the bake */
 	const pvs_box *cells; /* cell_count, copied */
 	uint32_t cell_count;
 	pvs_method method; /* PVS_METHOD_DEFAULT = AUTO */
-	float eps; /* sampling / shrinking distance, 0 = from the cells */
+	float eps; /* sampling / shrinking distance, 0 = from cells */
 	uint32_t max_chain; /* file: bound K on delta chains, 0 = PVS_DEFAULT_CHAIN */
 	/* Shards, shard_count >= 2: bakes cells shard_index, shard_index + shard_count, ... into a part file; parts
-	   0..shard_count-1 decoded and encoded whole (pvs_file_encode) give the unsharded file. */
+	   0..shard_count-1 decoded, encoded whole (pvs_file_encode) give the unsharded file. */
 	uint32_t shard_index, shard_count;
 	uint32_t methods; /* for AUTO: 1u << PVS_METHOD_* (not SAMPLE, DEFAULT, AUTO); 0: all but VOCC, PORTAL */
 	float max_distance; /* draw distance (CONCEPTS); 0: none */
@@ -1070,22 +1065,22 @@ typedef struct pvs_bake_desc {
 	pvs_bake_vocc_params vocc;
 	pvs_bake_otree_params otree;
 	pvs_bake_portal_params portal;
-	const char *const *object_names; /* optional: object_count names for the file (NAME); kept until written */
+	const char *const *object_names; /* optional: object_count names for the file (NAME), kept until written */
 	pvs_allocator allocator;
 } pvs_bake_desc;
 
-/* AUTO's sample (CONCEPTS, Methods): cells baked with every applicable method, and the least share of the kept PVS
-   a method must cull beyond those kept to run on every cell (x2 per cost class over the first kept's). */
+/* AUTO's sample (CONCEPTS, Methods): cells baked with every applicable method; least share of the kept PVS a method
+   must cull beyond those kept to run on all cells (x2 per cost class over the first kept's). */
 #define PVS_AUTO_SAMPLE_CELLS 8u
 #define PVS_AUTO_MIN_GAIN 0.10
 
-/* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only the cheapest applicable method. EXTPROJ uses 64 pixels
-   and 32 occluders per plane unless set, no sweep, and decides object kD-tree nodes whole once under a quarter radian
-   or past 4,096 box tests. SHRINK doubles its derived eps. */
+/* PVS_BAKE_PREVIEW: fast, coarse, conservative. AUTO runs only the cheapest applicable method. EXTPROJ: 64 pixels and
+   32 occluders per plane unless set, no sweep, object kD-tree nodes decided whole under a quarter radian or past
+   4,096 box tests. SHRINK doubles its derived eps. */
 #define PVS_BAKE_PREVIEW 1u
-/* PVS_BAKE_COMPACT: each finished cell's PVS kept coded (the file's set coding) instead of a cells x objects bit
-   table, so memory grows with the PVSs' sizes; also chosen when the table would exceed PVS_BAKE_COMPACT_BYTES. Files
-   are byte-identical either way; pvs_bake_cell_pvs then decodes into one buffer of the bake. */
+/* PVS_BAKE_COMPACT: finished cells' PVSs kept coded (the file's set coding), not in a cells x objects bit table:
+   memory grows with PVS sizes; also chosen if the table would exceed PVS_BAKE_COMPACT_BYTES. Files byte-identical
+   either way; pvs_bake_cell_pvs then decodes into one buffer of the bake. */
 #define PVS_BAKE_COMPACT 2u
 #ifndef PVS_BAKE_COMPACT_BYTES
 #define PVS_BAKE_COMPACT_BYTES ((size_t)64 << 20)
@@ -1093,8 +1088,7 @@ typedef struct pvs_bake_desc {
 
 typedef struct pvs_bake pvs_bake;
 
-/* Validates desc, prepares the tasks. Errors: INVALID_ARGUMENT, BAD_CELL (err->index = cell),
-   NOT_FINITE, OUT_OF_MEMORY. */
+/* Validates desc, prepares tasks. Errors: INVALID_ARGUMENT, BAD_CELL (err->index = cell), NOT_FINITE, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_bake_begin(const pvs_bake_desc *desc, pvs_bake **out_bake, pvs_error *err);
 /* Tasks: today one per cell of the shard. */
 PVS_API uint32_t pvs_bake_task_count(const pvs_bake *bake);
@@ -1104,66 +1098,65 @@ PVS_API pvs_result pvs_bake_run_task(pvs_bake *bake, uint32_t task, pvs_error *e
 /* Resolved method and eps. */
 PVS_API pvs_method pvs_bake_method(const pvs_bake *bake);
 PVS_API float pvs_bake_eps(const pvs_bake *bake);
-/* The methods considered, in run order, including those AUTO skipped (ran = 0). */
+/* Methods considered, in run order, with those AUTO skipped (ran = 0). */
 PVS_API uint32_t pvs_bake_method_count(const pvs_bake *bake);
-/* What method i did, summed over the tasks run (not restored). */
+/* What method i did, summed over tasks run (not restored). */
 typedef struct pvs_bake_method_info {
 	pvs_method method;
 	int ran; /* 1: every task runs it; 0: skipped */
-	const char *reason; /* why it runs or was skipped (static, never NULL) */
+	const char *reason; /* why it runs or was skipped (static, non-NULL) */
 	uint32_t cells; /* tasks that ran it */
-	uint64_t pvs_sum; /* over those cells, of the PVS sizes it found alone */
+	uint64_t pvs_sum; /* over those cells, PVS sizes it found alone */
 	/* (cell, drawable object) pairs only it left out of the intersection; one a later method did not test
-	   (kept_only) counts for those that culled it. */
+	   (kept_only) counts for all that culled it. */
 	uint64_t sole_culls;
 	/* 1: it tested only what earlier methods kept (AUTO's SHRINK); pvs_sum counts their culls as kept. */
 	int kept_only;
-	/* AUTO's sample (sample_cells > 0): objects per sample cell it culled beyond the methods kept before it (if
+	/* AUTO's sample (sample_cells > 0): objects per sample cell it culled beyond methods kept before it (if
 	   skipped: beyond all kept; 0 cells: too costly to sample) */
 	uint32_t sample_cells;
 	float sample_gain;
 } pvs_bake_method_info;
-/* Fills *info for i < pvs_bake_method_count, else INVALID_ARGUMENT (also for NULL). Not concurrently with
-   pvs_bake_run_task. */
+/* Fills *info for i < pvs_bake_method_count, else (or NULL) INVALID_ARGUMENT. Not concurrent with pvs_bake_run_task. */
 PVS_API pvs_result pvs_bake_get_method_info(const pvs_bake *bake, uint32_t i, pvs_bake_method_info *info);
 /* 1 if the task ran (or was restored). */
 PVS_API int pvs_bake_task_done(const pvs_bake *bake, uint32_t task);
-/* Resumes: marks a task done with its PVS from an earlier run of the same scene, cells and parameters; `bits`:
-   word_count >= PVS_BITSET_WORDS(object_count), zero past object_count. Thread-safe like pvs_bake_run_task. Errors:
-   INVALID_ARGUMENT (task out of range, NULL, a bit past the objects or of an occluder-only object),
-   BUFFER_TOO_SMALL, UNSUPPORTED (VOCC). */
+/* Resumes: marks a task done with its PVS from an earlier run with the same scene, cells and parameters; `bits`:
+   word_count >= PVS_BITSET_WORDS(object_count), zero past object_count. Thread-safe as pvs_bake_run_task. Errors:
+   INVALID_ARGUMENT (task out of range, NULL, a bit past the objects or of an occluder-only object), BUFFER_TOO_SMALL,
+   UNSUPPORTED (VOCC). */
 PVS_API pvs_result pvs_bake_restore_task(pvs_bake *bake, uint32_t task, const pvs_word *bits, size_t word_count,
 										 pvs_error *err);
-/* SHRINK (alone or in AUTO): the synthesized occluders (the bake's) and the tasks' path; NULL /
-   PVS_SHRINK_AUTO when SHRINK was not prepared. */
+/* SHRINK (alone or in AUTO): synthesized occluders (the bake's), the tasks' path; NULL / PVS_SHRINK_AUTO if SHRINK
+   was not prepared. */
 PVS_API const pvs_occluders *pvs_bake_occluders(const pvs_bake *bake);
 PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *bake);
-/* Facades OTREE found: merged coplanar vertical triangles, each a wall segment with the height range [base, top]
-   it covers along its length. A cell uses a facade only toward objects whose bottom, like its own, is at or above the
-   facade's level (the lowest of at most eight base heights at or above its base). facades == 0: nothing is culled.
-   All zero when OTREE was not prepared. */
+/* Facades OTREE found: merged coplanar vertical triangles, each a wall segment with the height range [base, top] it
+   covers along its length. A cell uses a facade only toward objects whose bottom, like its own, is at or above the
+   facade's level (lowest of at most eight base heights >= its base). facades == 0: nothing culled. All zero if
+   OTREE was not prepared. */
 typedef struct pvs_otree_bake_info {
-	uint32_t prepared; /* 1: the bake prepared OTREE */
+	uint32_t prepared; /* 1: bake prepared OTREE */
 	uint32_t vertical_triangles; /* vertical scene triangles */
-	uint32_t facades; /* facades in use (base no higher than the highest cell bottom) */
+	uint32_t facades; /* facades in use (base at most the highest cell bottom) */
 	uint32_t levels; /* distinct base heights in use */
 	float lowest_level; /* lowest of them (if levels > 0) */
 } pvs_otree_bake_info;
 PVS_API void pvs_bake_get_otree_info(const pvs_bake *bake, pvs_otree_bake_info *info);
 /* What PORTAL built (zeros if not prepared): closed convex solids, distinct face planes, BSP nodes and leaves, empty
-   leaves (rooms), portals between them (each way), leaves left empty at the depth limit, cells baked so far that hit
-   the budget. */
+   leaves (rooms), portals between them (each way), leaves left empty at the depth limit, cells so far hitting the
+   budget. */
 typedef struct pvs_portal_info {
 	uint32_t solids, planes, nodes, leaves, rooms, portals, deep_leaves, cut_cells;
 } pvs_portal_info;
 PVS_API void pvs_bake_get_portal_info(const pvs_bake *bake, pvs_portal_info *info);
-/* A VOCC bake's statistics over the cells baked so far (zeros for other methods). */
+/* VOCC bake's statistics over cells baked so far (zeros for other methods). */
 PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *bake, pvs_vocc_stats *out);
-/* Over the tasks run: culling nothing is no error, but worth reporting. */
+/* Over tasks run: culling nothing is no error, but worth reporting. */
 typedef struct pvs_bake_report {
 	uint32_t cells; /* tasks run so far */
 	uint32_t cells_all_visible; /* cells whose PVS is every drawable object */
-	/* Cells without occluders: SHRINK, none survived erosion (thin walls, or eps too large); OTREE, no usable facade;
+	/* Cells without occluders: SHRINK, none survived erosion (thin walls or eps too large); OTREE, no usable facade;
 	   AUTO, neither and nothing culled. */
 	uint32_t cells_no_occluders;
 	uint32_t cells_excluded; /* SHRINK: leaking cells left out, baked with a second synthesis */
@@ -1171,38 +1164,38 @@ typedef struct pvs_bake_report {
 } pvs_bake_report;
 /* Fills *report. Not concurrently with the tasks. */
 PVS_API void pvs_bake_get_report(const pvs_bake *bake, pvs_bake_report *report);
-/* A run cell's PVS (PVS_BITSET_WORDS(object_count) words; adaptive: whole cell), else NULL. Compact bakes: valid
-   until the next call, which must not run concurrently. */
+/* A run cell's PVS (object bitset; adaptive: whole cell), else NULL. Compact bakes: valid until the next call, which
+   must not run concurrently. */
 PVS_API const pvs_word *pvs_bake_cell_pvs(const pvs_bake *bake, uint32_t cell);
-/* Cells the file will hold: cell_count, or the adaptive leaves of the tasks run so far. */
+/* Cells the file will hold: cell_count, or adaptive leaves of tasks run so far. */
 PVS_API uint32_t pvs_bake_leaf_count(const pvs_bake *bake);
-/* Exact file size, 0 before every task has run or on error. Encodes to measure: keep the number. */
+/* Exact file size, 0 before every task ran or on error. Encodes to measure: keep the number. */
 PVS_API size_t pvs_bake_file_size(const pvs_bake *bake);
-/* Writes the file (a part file for a shard) into out[0..capacity); *out_size gets the size, also with
+/* Writes the file (part file for a shard) into out[0..capacity); *out_size gets the size, also with
    BUFFER_TOO_SMALL. Errors: NOT_DONE, BUFFER_TOO_SMALL, COUNT_OVERFLOW, OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_bake_write_file(const pvs_bake *bake, void *out, size_t capacity, size_t *out_size,
 									   pvs_error *err);
-/* Frees via its allocator; NULL ok. */
+/* Frees; NULL ok. */
 PVS_API void pvs_bake_destroy(pvs_bake *bake);
 
 #endif /* PVS_RUNTIME_ONLY */
 
 /* ---- format ---- */
 
-#define PVS_FILE_APPROXIMATE 1u /* file flag: by an estimator (SAMPLE), not conservative */
+#define PVS_FILE_APPROXIMATE 1u /* file flag: estimated (SAMPLE), not conservative */
 
 #define PVS_DEFAULT_CHAIN 16u	/* default bound K on a cell's delta chain */
 #define PVS_MAX_CHAIN 64u /* largest K a file may declare */
 
 #ifndef PVS_RUNTIME_ONLY /* the encoder */
-/* A PVS table to encode: cell_count bitsets of PVS_BITSET_WORDS(object_count) words. The encoder (Durand et al.
-   2000, §6.2) picks bases by a depth-bounded minimum spanning tree over nearest neighbours weighted by delta size. */
+/* PVS table to encode: cell_count object bitsets. The encoder (Durand et al. 2000, §6.2) picks bases by a
+   depth-bounded minimum spanning tree over nearest neighbours weighted by delta size. */
 typedef struct pvs_file_desc {
 	const pvs_box *cells;
 	uint32_t cell_count;
 	uint32_t object_count;
 	const pvs_word *pvs; /* cell-major */
-	/* Instead of pvs (NULL): cell's PVS, decoded into buffer (words) if need be; called with user. */
+	/* Instead of pvs (NULL): cell's PVS, decoded into buffer (words) if need be; gets pvs_user. */
 	const pvs_word *(*pvs_row)(const void *user, uint32_t cell, pvs_word *buffer);
 	const void *pvs_user;
 	pvs_method method;
@@ -1211,29 +1204,29 @@ typedef struct pvs_file_desc {
 	uint32_t flags; /* PVS_FILE_* */
 	uint32_t max_chain; /* K, most deltas a decode applies: 0 = PVS_DEFAULT_CHAIN, else 1..PVS_MAX_CHAIN */
 	/* A part file (shard_count >= 2) holds cells shard_index, shard_index + shard_count, ... of total_cell_count,
-	   in order. Zero for a whole file. */
+	   in order. Zero: whole file. */
 	uint32_t shard_index, shard_count, total_cell_count;
 	/* Optional VOCC section (NULL vocc_counts: none): per cell, in table order, vocc_counts[c] five-byte occluders
-	   in virtual_occluders, scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step (finite, step >
-	   0); vocc_flags PVS_VOCC_ONLY for a placeholder table. */
+	   in virtual_occluders, scale code vocc_scales[c]; heights vocc_base + byte * vocc_height_step (finite,
+	   step > 0); vocc_flags PVS_VOCC_ONLY for a placeholder table. */
 	const uint8_t *vocc_counts, *vocc_scales, *virtual_occluders;
-	uint32_t vocc_stride; /* bytes from a cell's occluders to the next; 0 = back to back */
+	uint32_t vocc_stride; /* bytes from a cell's occluders to the next; 0: back to back */
 	float vocc_base, vocc_height_step;
 	uint32_t vocc_flags;
 	uint64_t scene_fingerprint; /* 0: none; else an SCNE section (pvs_scene_fingerprint) */
-	const char *const *object_names; /* NULL: none; else object_count names (a NULL one: ""), a NAME section */
+	const char *const *object_names; /* NULL: none; else object_count names (NULL: ""), a NAME section */
 	pvs_allocator allocator; /* encoder's scratch */
 } pvs_file_desc;
 
 /* Encodes the table into out[0..capacity), deterministically; *out_size gets the exact size, also with
-   BUFFER_TOO_SMALL; out == NULL only measures. Scratch from desc->allocator; thread-safe for distinct outputs.
-   Errors: INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (over 4 GiB), OUT_OF_MEMORY. */
+   BUFFER_TOO_SMALL; out == NULL only measures. Scratch from desc->allocator; thread-safe for distinct outputs. Errors:
+   INVALID_ARGUMENT, BAD_CELL, BUFFER_TOO_SMALL, COUNT_OVERFLOW (over 4 GiB), OUT_OF_MEMORY. */
 PVS_API pvs_result pvs_file_encode(const pvs_file_desc *desc, void *out, size_t capacity, size_t *out_size,
 								   pvs_error *err);
 #endif /* PVS_RUNTIME_ONLY */
 
-/* An opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data, copy freely;
-   read-only to the caller, `private_` the reader's. */
+/* Opened file: a view of the caller's bytes, which must stay alive and unchanged. Plain data, copy freely; read-only
+   to callers, `private_` the reader's. */
 typedef struct pvs_file {
 	const uint8_t *data;
 	size_t size;
@@ -1245,10 +1238,10 @@ typedef struct pvs_file {
 	uint32_t max_chain; /* K: no decode applies more deltas */
 	uint32_t key_count; /* cells stored whole */
 	uint32_t shard_index, shard_count, total_cell_count; /* a part file when shard_count >= 2 */
-	uint32_t vocc_flags; /* PVS_VOCC_*: 0 when the file has no virtual occluders */
+	uint32_t vocc_flags; /* PVS_VOCC_*: 0 if the file has no virtual occluders */
 	uint32_t virtual_occluder_count; /* VOCC: occluders stored, all cells */
 	float vocc_base, vocc_height_step; /* VOCC: top = base + byte * step */
-	uint64_t scene_fingerprint; /* SCNE: the baked scene's pvs_scene_fingerprint; 0: not recorded */
+	uint64_t scene_fingerprint; /* SCNE: baked scene's pvs_scene_fingerprint; 0: not recorded */
 	struct {
 		const uint8_t *values[3];	/* CELL: per-axis coordinate tables */
 		const uint8_t *indices; /* CELL: packed per-cell indices */
@@ -1266,14 +1259,14 @@ typedef struct pvs_file {
 
 /* Checks every FILE FORMAT rule (linear time, no allocation, no read outside data[0..size)), fills *file. Errors:
    INVALID_ARGUMENT, BAD_MAGIC, BAD_VERSION, TRUNCATED, BAD_HEADER, BAD_SECTION, CHECKSUM, BAD_CELL, BAD_TREE,
-   BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN; err->offset the offending byte, err->index the cell or section. */
+   BAD_RECORD, OBJECT_OUT_OF_RANGE, BAD_CHAIN; err->offset: the byte, err->index: cell or section. */
 PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *file, pvs_error *err);
 
 /* How a cell's record is stored (pvsinfo prints these). */
 typedef struct pvs_record_info {
-	uint32_t base; /* the delta's base cell, PVS_NO_CELL for a key cell */
+	uint32_t base; /* delta's base cell, PVS_NO_CELL for a key cell */
 	uint32_t depth; /* deltas applied to decode it (0 for a key cell) */
-	uint32_t coding; /* of the (added) ids: 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
+	uint32_t coding; /* of (added) ids: 0 gap varints, 1 run lengths, 2 Rice codes, 3 raw bitset */
 	uint32_t bytes; /* record size */
 	uint32_t base_size; /* a delta: size of the base's PVS */
 } pvs_record_info;
@@ -1282,7 +1275,7 @@ typedef struct pvs_record_info {
 PVS_API void pvs_file_get_record_info(const pvs_file *file, uint32_t cell, pvs_record_info *info);
 
 /* A cell's virtual occluders, most effective first: returns their count (0 without VOCC), writes up to `capacity`.
-   End points rounded to float; pvs_vocc_cull uses the exact ones. */
+   End points rounded to float; pvs_vocc_cull uses exact ones. */
 PVS_API uint32_t pvs_file_virtual_occluders(const pvs_file *file, uint32_t cell, pvs_virtual_occluder *out,
 											uint32_t capacity);
 
@@ -1292,14 +1285,14 @@ PVS_API uint32_t pvs_file_vocc_record(const pvs_file *file, uint32_t cell, uint3
 
 /* ---- runtime ---- */
 
-/* The object's name, NUL-terminated, inside the file's bytes; NULL when the file stores no names (NAME) or
-   object >= object_count. No allocation. */
+/* Object's name, NUL-terminated, in the file's bytes; NULL if the file stores no names (NAME) or object >=
+   object_count. No allocation. */
 PVS_API const char *pvs_file_object_name(const pvs_file *file, uint32_t object);
-/* The lowest object named `name`, or PVS_NO_OBJECT (also without names): a linear scan of the names. */
+/* Lowest object named `name`, or PVS_NO_OBJECT (also without names): a linear scan. */
 PVS_API uint32_t pvs_file_find_object(const pvs_file *file, const char *name);
 
 #define PVS_NO_CELL 0xffffffffu
-/* The lowest cell whose closed box contains p, or PVS_NO_CELL (also for non-finite p). No allocation. */
+/* Lowest cell whose closed box contains p, or PVS_NO_CELL (also for non-finite p). No allocation. */
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *file, const float p[3]);
 /* Box of a cell (< cell_count). */
 PVS_API pvs_box pvs_file_cell_box(const pvs_file *file, uint32_t cell);
@@ -1311,8 +1304,8 @@ PVS_API pvs_result pvs_file_decode(const pvs_file *file, uint32_t cell, pvs_word
 /* Per object whose visibility changes: visible = 1 added, 0 removed. */
 typedef void (*pvs_change_fn)(void *user, uint32_t object, int visible);
 
-/* Follows a viewer, reporting only the objects that change (Durand et al. 2000, §6.2): moving to a cell whose base
-   is the current one applies that delta; other moves decode into scratch and compare. No allocation. */
+/* Follows a viewer, reporting only objects that change (Durand et al. 2000, §6.2): a move to a cell whose base is the
+   current one applies that delta; others decode into scratch and compare. No allocation. */
 typedef struct pvs_cursor {
 	const pvs_file *file;
 	uint32_t cell; /* PVS_NO_CELL before the first move */
@@ -1322,13 +1315,13 @@ typedef struct pvs_cursor {
 	uint64_t delta_moves, full_moves; /* moves by one delta, by a full decode */
 } pvs_cursor;
 
-/* Starts with an empty set. bits, scratch: distinct, word_count >= PVS_BITSET_WORDS(object_count) words each.
-   Errors: INVALID_ARGUMENT, BUFFER_TOO_SMALL. */
+/* Starts empty. bits, scratch: distinct, word_count >= PVS_BITSET_WORDS(object_count) words each. Errors:
+   INVALID_ARGUMENT, BUFFER_TOO_SMALL. */
 PVS_API pvs_result pvs_cursor_init(pvs_cursor *cursor, const pvs_file *file, pvs_word *bits, pvs_word *scratch,
 								   size_t word_count, pvs_error *err);
-/* Moves to `cell` (PVS_NO_CELL empties the set), calling on_change (may be NULL) once per object entering or
-   leaving: ascending ids after a full decode, removals then additions (each ascending) after a delta.
-   INVALID_ARGUMENT for a cell out of range. */
+/* Moves to `cell` (PVS_NO_CELL empties the set), calling on_change (may be NULL) once per object entering or leaving:
+   ascending ids after a full decode, removals then additions (each ascending) after a delta. INVALID_ARGUMENT for a
+   cell out of range. */
 PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change_fn on_change, void *user);
 
 #ifdef __cplusplus
@@ -1378,14 +1371,12 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *cursor, uint32_t cell, pvs_change
 #define PVS__VISIBILITY_25D_FULL_TESTS 1u
 
 // >>core
-/* ---------------------------------------------------------------------------------------------- */
-/* core: result strings, allocator, errors, math, bitsets                                         */
-/* ---------------------------------------------------------------------------------------------- */
+/* ==== core: result strings, allocator, errors, math, bitsets ==== */
 
-/* Shared kernels: errors and checked sizes (pvs__fail, pvs__mul), allocation (pvs__alloc*, pvs__free_array),
-   growable arrays (pvs__grow*), math and boxes, bitsets, random numbers, allocation-free heaps and sorts (big
-   bake-time sorts use PVS_QSORT), union-find, little-endian bytes, CRC-32, the bake's method-table interface. The
-   kD-tree sweep (pvs__kd_sweep) is in >>kdtree, the pyramid level builder (pvs__pyramid_level) in >>raster. */
+/* Shared kernels: errors, checked sizes (pvs__fail, pvs__mul), allocation (pvs__alloc*, pvs__free_array), growable
+   arrays (pvs__grow*), math, boxes, bitsets, RNG, allocation-free heaps, sorts (big bake-time sorts: PVS_QSORT),
+   union-find, little-endian bytes, CRC-32, bake's method-table interface. Elsewhere: pvs__kd_sweep (>>kdtree),
+   pvs__pyramid_level (>>raster). */
 
 PVS_API const char *pvs_result_string(pvs_result r) {
 	static const char *const s[] = {
@@ -1451,8 +1442,8 @@ PVS__STATIC int pvs__add(size_t a, size_t b, size_t *out) {
 	return 1;
 }
 
-/* Allocation via a desc's hooks; align is a power of two <= 64. Without hooks, alignments above malloc's
-   over-allocate and keep the offset in the byte before the block. */
+/* Allocation via desc's hooks; align: power of two <= 64. Without hooks, alignments above malloc's over-allocate,
+   offset in byte before block. */
 PVS__STATIC void *pvs__alloc(const pvs_allocator *a, size_t size, size_t align) {
 	if (size == 0) size = 1;
 	if (a->alloc) return a->alloc(size, align, a->user);
@@ -1491,7 +1482,7 @@ PVS__STATIC void pvs__free_array(const pvs_allocator *a, void *p, size_t n, size
 	pvs__free(a, p, n * elem, 16);
 }
 
-/* ---- math (private names, so none leak into an engine) ---- */
+/* ---- math (private names: none leak into engine) ---- */
 
 typedef struct pvs__v3 {
 	float x, y, z;
@@ -1543,7 +1534,7 @@ PVS__STATIC int pvs__box_overlap(const pvs_box *a, const pvs_box *b) {
 	return a->min[0] <= b->max[0] && b->min[0] <= a->max[0] && a->min[1] <= b->max[1] && b->min[1] <= a->max[1] &&
 		   a->min[2] <= b->max[2] && b->min[2] <= a->max[2];
 }
-/* Cuts b to `by`; 1 if not empty (a point counts). */
+/* Cuts b to `by`; 1 if not empty (points count). */
 PVS__STATIC int pvs__box_clip(pvs_box *b, const pvs_box *by) {
 	int i;
 	for (i = 0; i < 3; ++i) {
@@ -1568,7 +1559,7 @@ PVS__STATIC float pvs__box_distance2(const pvs_box *a, const pvs_box *b) {
 	return d2;
 }
 
-/* Float bounds of a double from below / above (clamped to the finite floats). */
+/* Float bounds of double from below / above (clamped to finite floats). */
 PVS__STATIC float pvs__f_down(double v) {
 	float f;
 	if (!(v > -FLT_MAX)) return -FLT_MAX;
@@ -1607,7 +1598,7 @@ PVS_API void pvs_bitset_clear(pvs_word *bits, uint32_t i) { bits[i >> 6] &= ~((p
 
 PVS__STATIC uint32_t pvs__popcount64(uint64_t x) {
 #if (defined(__GNUC__) || defined(__clang__)) && (defined(__POPCNT__) || defined(__ARM_NEON))
-	return (uint32_t)__builtin_popcountll(x); /* else the builtin is a library call */
+	return (uint32_t)__builtin_popcountll(x); /* else builtin is a library call */
 #else
 	x = x - ((x >> 1) & 0x5555555555555555ull);
 	x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
@@ -1663,8 +1654,8 @@ PVS__STATIC float pvs__random01(uint64_t *state) {
 
 /* ---- growable arrays ---- */
 
-/* Grows an array of `elem`-byte elements to hold `need` (doubling), keeping the first `used`, capped at `limit` when
-   limit >= need. Returns the array, or NULL with *r set (the old one still the caller's). */
+/* Grows array of `elem`-byte elements to hold `need` (doubling), keeping first `used`; capped at `limit` if limit >=
+   need. Returns array, or NULL with *r set (old one still caller's). */
 PVS__STATIC void *pvs__grow_capped(const pvs_allocator *a, void *p, size_t *capacity, size_t used, size_t need,
 								   size_t limit, size_t elem, pvs_result *r) {
 	size_t cap = *capacity ? *capacity : 64, bytes;
@@ -1687,7 +1678,7 @@ PVS__STATIC void *pvs__grow_array(const pvs_allocator *a, void *p, size_t *capac
 								  size_t elem, pvs_result *r) {
 	return pvs__grow_capped(a, p, capacity, used, need, 0, elem, r);
 }
-/* The same for a fully used array (*p, *capacity elements): 1 if it holds `need`, else 0 (*p unchanged). */
+/* Same for fully used array (*p, *capacity elements): 1 if it holds `need`, else 0 (*p unchanged). */
 PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, size_t need, size_t elem) {
 	pvs_result r;
 	void *q;
@@ -1698,18 +1689,18 @@ PVS__STATIC int pvs__grow(const pvs_allocator *a, void **p, size_t *capacity, si
 	return 1;
 }
 
-/* ---- heaps: sorting and top-k, allocation-free ---- */
+/* ---- heaps: sort, top-k, allocation-free ---- */
 
-/* qsort order of records starting with two uint32_t: the first, then the second. */
+/* qsort order of records starting with two uint32_t: first, then second. */
 PVS__STATIC int pvs__pair_cmp(const void *a, const void *b) {
 	const uint32_t *x = (const uint32_t *)a, *y = (const uint32_t *)b;
 	return x[0] != y[0] ? (x[0] < y[0] ? -1 : 1) : x[1] < y[1] ? -1 : x[1] > y[1];
 }
 
-/* 1 if a ranks before b: a sort's order (ascending) or a top-k's (best first). */
+/* 1 if a ranks before b: sort's order (ascending) or a top-k's (best first). */
 typedef int (*pvs__before_fn)(const void *a, const void *b);
 
-/* Sifts element r of heap h (n elements of `size` <= 64 bytes) down; the root ranks last. */
+/* Sifts element r of heap h (n elements of `size` <= 64 bytes) down; root ranks last. */
 PVS__STATIC void pvs__heap_sift(unsigned char *h, size_t size, size_t r, size_t n, pvs__before_fn before) {
 	unsigned char t[64];
 	for (;;) {
@@ -1724,8 +1715,8 @@ PVS__STATIC void pvs__heap_sift(unsigned char *h, size_t size, size_t r, size_t 
 	}
 }
 
-/* Heap sort (Williams 1964) of base[0 .. n) (elements of `size` <= 64 bytes) in `before` order, without libc. With a
-   total order the result is the same on every platform. */
+/* Heap sort (Williams 1964; no libc) of base[0 .. n), `size` <= 64 bytes each, by `before`; with total order, same on
+   all platforms. */
 PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)base, t[64];
 	size_t i;
@@ -1740,8 +1731,8 @@ PVS__STATIC void pvs__heap_sort(void *base, size_t n, size_t size, pvs__before_f
 	}
 }
 
-/* Top-k: `heap` holds *count <= k elements of `size` <= 64 bytes, root ranking last. e is kept if there is room,
-   or replaces the root if it ranks before it (not if equal). */
+/* Top-k: `heap` holds *count <= k elements of `size` <= 64 bytes, root ranking last. e is kept if not full, or replaces
+   root if ranking before it (not if equal). */
 PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t size, const void *e,
 								 pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
@@ -1754,15 +1745,15 @@ PVS__STATIC void pvs__topk_offer(void *heap, uint32_t *count, uint32_t k, size_t
 	}
 	if (!k || !before(e, h)) return;
 	for (i = 0; (c = 2 * i + 1) < n; i = c) {
-		if (c + 1 < n && before(h + c * size, h + (c + 1) * size)) ++c; /* the child that ranks last */
+		if (c + 1 < n && before(h + c * size, h + (c + 1) * size)) ++c; /* child ranking last */
 		if (!before(e, h + c * size)) break;
 		memcpy(h + i * size, h + c * size, size);
 	}
 	memcpy(h + i * size, e, size);
 }
 
-/* Priority queue: a binary heap of *n elements of `size` <= 64 bytes, first-ranking at the root. pop removes the root
-   into *top. Equal elements leave in an order fixed by the pushes. */
+/* Priority queue: binary heap of *n elements of `size` <= 64 bytes, first-ranking at root; pop moves root to *top.
+   Equal elements leave in an order fixed by pushes. */
 PVS__STATIC void pvs__pq_push(void *heap, size_t *n, size_t size, const void *e, pvs__before_fn before) {
 	unsigned char *h = (unsigned char *)heap;
 	size_t i;
@@ -1785,7 +1776,7 @@ PVS__STATIC void pvs__pq_pop(void *heap, size_t *n, size_t size, void *top, pvs_
 	memcpy(h + i * size, last, size);
 }
 
-/* Union-find: root of x's set, path halving (Tarjan and van Leeuwen 1984). */
+/* Union-find: root of x's set, path halving (Tarjan, van Leeuwen 1984). */
 PVS__STATIC uint32_t pvs__uf_find(uint32_t *parent, uint32_t x) {
 	while (parent[x] != x) {
 		parent[x] = parent[parent[x]];
@@ -1799,7 +1790,7 @@ typedef struct pvs__key_index {
 	uint32_t index;
 } pvs__key_index;
 
-/* (key, index) ascending: a total order for non-NaN keys. */
+/* (key, index) ascending: total order for non-NaN keys. */
 PVS__STATIC int pvs__key_index_before(const void *pa, const void *pb) {
 	const pvs__key_index *a = (const pvs__key_index *)pa, *b = (const pvs__key_index *)pb;
 	return a->key < b->key || (a->key == b->key && a->index < b->index);
@@ -1808,7 +1799,7 @@ PVS__STATIC void pvs__key_index_sort(pvs__key_index *o, uint32_t n) {
 	pvs__heap_sort(o, n, sizeof(*o), pvs__key_index_before);
 }
 
-/* ---- little-endian bytes: the file format and the VOCC section ---- */
+/* ---- little-endian bytes: file format, VOCC section ---- */
 
 PVS__STATIC void pvs__put32(uint8_t *p, uint32_t v) {
 	p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24);
@@ -1843,15 +1834,15 @@ PVS__STATIC uint32_t pvs__crc32(uint32_t crc, const uint8_t *p, size_t n) {
 	return ~crc;
 }
 
-#ifndef PVS_RUNTIME_ONLY /* everything up to >>vocc's quantization: the bake's side */
-/* ---- the bake's method table: what >>bake's driver knows of a method ---- */
+#ifndef PVS_RUNTIME_ONLY /* up to >>vocc's quantization: bake side */
+/* ---- bake's method table (what >>bake's driver knows) ---- */
 
-/* A bake method is one row of >>bake's table (pvs__bake_methods): functions over a per-bake state. The driver checks
-   every method's parameters, prepares those the bake may run, keeps those that can cull in the scene (AUTO), runs
-   each on every cell and intersects their PVSs. Adding a method is its module plus one table row. */
+/* A bake method: row of >>bake's table (pvs__bake_methods): functions over per-bake state. Driver checks every method's
+   parameters, prepares those the bake may run, keeps those that can cull in scene (AUTO), runs each on every cell,
+   intersects their PVSs. A new method: its module + a table row. */
 
-/* What a method sees of the bake: `cells` every cell, not only the shard's (so prepare agrees between shards; the
-   caller's, set during prepare only); `task_cells` the shard's, one per task. */
+/* What a method sees of bake: `cells` every cell, not just shard's (prepare agrees between shards; the caller's, set
+   during prepare only); `task_cells` shard's, one per task. */
 typedef struct pvs__bake_env {
 	const pvs_scene *scene;
 	pvs_allocator allocator;
@@ -1861,9 +1852,9 @@ typedef struct pvs__bake_env {
 	uint32_t task_count;
 	uint32_t object_count;
 	size_t words;	/* per PVS */
-	float eps; /* stored in the file; prepare may derive it */
+	float eps; /* stored in file; prepare may derive it */
 	uint32_t flags;	/* PVS_BAKE_* */
-	int is_auto;	/* 1: AUTO (the PVS may be intersected) */
+	int is_auto;	/* 1: AUTO (PVS may be intersected) */
 } pvs__bake_env;
 
 /* A cell run's findings (per task, for pvs_bake_report). */
@@ -1873,37 +1864,37 @@ typedef struct pvs__bake_env {
 #define PVS__BAKE_OTREE_BUDGET 8u
 
 #define PVS__METHOD_CONSERVATIVE 1u /* AUTO may intersect it */
-#define PVS__METHOD_AUTO_DEFAULT 2u /* AUTO considers it when pvs_bake_desc.methods is 0 */
-#define PVS__METHOD_APPROXIMATE 4u	/* its file is flagged PVS_FILE_APPROXIMATE */
+#define PVS__METHOD_AUTO_DEFAULT 2u /* AUTO considers it if pvs_bake_desc.methods is 0 */
+#define PVS__METHOD_APPROXIMATE 4u	/* file flagged PVS_FILE_APPROXIMATE */
 #define PVS__METHOD_WHOLE_CELLS 8u	/* alone, stores per-cell data beyond PVSs: no adaptive cells, no resuming */
 #define PVS__METHOD_SETS_OTHERS 16u /* sets every object outside its candidates (kept_only after others) */
 
 typedef struct pvs__bake_method {
 	pvs_method method;
 	uint32_t traits;	/* PVS__METHOD_* */
-	int cost_rank; /* AUTO runs cheapest first (1..4); PREVIEW keeps the first that applies */
+	int cost_rank; /* AUTO runs cheapest first (1..4); PREVIEW keeps first that applies */
 	int cost_class; /* AUTO's cost per cell, in doublings (pvs__bake_auto_sample) */
-	/* Checks its parameters in desc, whatever the bake runs. NULL: none. */
+	/* Checks its parameters in desc, whatever bake runs. NULL: none. */
 	pvs_result (*check)(const pvs_bake_desc *desc, pvs_error *err);
-	/* Makes *state, read-only in the tasks but for per-task slots. UNSUPPORTED: cannot run on this scene (AUTO
-	   skips it). *state is destroyed even when this fails. */
+	/* Makes *state, read-only in tasks but for per-task slots; *state is destroyed even on failure. UNSUPPORTED: cannot
+	   run on this scene (AUTO skips it). */
 	pvs_result (*prepare)(pvs__bake_env *env, const pvs_bake_desc *desc, void **state, pvs_error *err);
-	/* 1 if the method can leave anything out in this scene; the reason in *why either way. NULL: always. */
+	/* 1 if method can leave anything out in this scene; reason in *why either way. NULL: always. */
 	int (*applies)(const void *state, const char **why);
-	/* The method's PVS of a task's box (its cell or an adaptive part) into `bits`, cleared by the caller.
-	   `candidates` (may be NULL): what the caller intersects with (parent PVS, earlier methods); a method may test
-	   only those. Adds PVS__BAKE_* to *flags. Thread-safe for distinct tasks. */
+	/* Method's PVS of task's box (cell or adaptive part) into `bits`, cleared by caller. `candidates` (may be NULL):
+	   what caller intersects with (parent PVS, earlier methods); method may test only those. Adds PVS__BAKE_* to
+	   *flags. Thread-safe for distinct tasks. */
 	pvs_result (*cell)(const pvs__bake_env *env, void *state, uint32_t task, uint32_t cell, const pvs_box *box,
 					   const pvs_word *candidates, pvs_word *bits, unsigned *flags, pvs_error *err);
-	/* Fills its own file sections when the bake runs it alone. NULL: none. */
+	/* Fills its own file sections if bake runs it alone. NULL: none. */
 	void (*file)(const void *state, pvs_file_desc *fd);
 	/* NULL state is fine. */
 	void (*destroy)(const pvs__bake_env *env, void *state);
-	/* AUTO's cost class when it depends on the scene (state: NULL before preparing). NULL: cost_class. */
+	/* AUTO's cost class if scene-dependent (state: NULL before preparing). NULL: cost_class. */
 	int (*price)(const pvs_bake_desc *desc, const void *state);
 } pvs__bake_method;
 
-/* AUTO's sample cell s (of PVS_AUTO_SAMPLE_CELLS) among desc's cells, spread evenly; a price may look at them too. */
+/* AUTO's sample cell s (of PVS_AUTO_SAMPLE_CELLS), spread evenly over desc's cells; price may read them too. */
 #define PVS__SAMPLE_CELL(desc, s) \
 	((desc)->cells + ((2 * (uint64_t)(s) + 1) * (desc)->cell_count) / (2 * (uint64_t)PVS_AUTO_SAMPLE_CELLS))
 
@@ -1912,9 +1903,7 @@ struct pvs_bake;
 PVS__STATIC void *pvs__bake_method_state(const struct pvs_bake *b, pvs_method m);
 
 // >>scene
-/* ---------------------------------------------------------------------------------------------- */
-/* scene: validated copies of the caller's arrays, object bounds, explicit occluders              */
-/* ---------------------------------------------------------------------------------------------- */
+/* ==== scene: validated copies of caller's arrays, object bounds, explicit occluders ==== */
 
 struct pvs_scene {
 	pvs_allocator allocator;
@@ -1930,16 +1919,16 @@ struct pvs_scene {
 	pvs_box bounds;
 	pvs_occluder_desc *occluders;/* occluder_count, arrays in occluder_data */
 	pvs_box *occluder_boxes; /* occluder_count */
-	float *occluder_data; /* planes and footprints of all occluders */
+	float *occluder_data; /* all occluders' planes, footprints */
 	size_t occluder_data_count; /* floats in occluder_data */
-	pvs_kdtree *triangle_tree; /* triangle boxes (zero-area and see-through ones left out) */
+	pvs_kdtree *triangle_tree; /* triangle boxes (zero-area, see-through ones left out) */
 	pvs_kdtree *see_through_tree;/* PVS_OBJECT_SEE_THROUGH triangles; NULL if none */
 	pvs_kdtree *object_tree; /* object boxes (empty ones left out) */
 	float *triangle_corners; /* triangle_count * 9: corners sorted lexicographically */
 	double max_triangle_area; /* for occluder selection's bound */
 };
 
-/* 1 if triangle t blocks sight: it belongs to no PVS_OBJECT_SEE_THROUGH object. Every method's occluders pass it. */
+/* 1 if triangle t blocks sight (in no PVS_OBJECT_SEE_THROUGH object). Every method's occluders pass it. */
 PVS__STATIC int pvs__tri_blocks(const pvs_scene *s, uint32_t t) {
 	uint32_t o = s->triangle_object[t];
 	return o == PVS_NO_OBJECT || !(s->object_flags[o] & PVS_OBJECT_SEE_THROUGH);
@@ -1948,7 +1937,7 @@ PVS__STATIC int pvs__tri_blocks(const pvs_scene *s, uint32_t t) {
 /* Fills s->triangle_corners, empties zero-area triangles' boxes (>>kdtree). */
 PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes, pvs_error *err);
 
-/* Solves three planes n_i.p + d_i = 0 in double; 0 if (nearly) parallel. */
+/* Solves three planes n_i.p + d_i = 0 in double; 0 if ~parallel. */
 PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c, double out[3]) {
 	double n1[3], n2[3], n3[3], x[3], det;
 	int i;
@@ -1977,8 +1966,7 @@ PVS__STATIC int pvs__three_planes(const float *a, const float *b, const float *c
 	return 1;
 }
 
-/* Bounds of a convex occluder by vertex enumeration, clipped to a box far larger than any vertex: a vertex on that
-   box means unbounded; no vertex means empty. */
+/* Convex occluder bounds: vertex enumeration in box far past any vertex (vertex on it: unbounded; none: empty). */
 PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_box *out, int64_t index,
 										  pvs_error *err) {
 	float all[(PVS_MAX_OCCLUDER_PLANES + 6) * 4];
@@ -2050,7 +2038,7 @@ PVS__STATIC pvs_result pvs__convex_bounds(const float *planes, uint32_t n, pvs_b
 	return PVS_OK;
 }
 
-/* 1 if 2D segments p1-p2 and p3-p4 meet or touch (double). */
+/* 1 if 2D segments p1-p2, p3-p4 meet or touch (double). */
 PVS__STATIC int pvs__segments_meet_2d(const float *p1, const float *p2, const float *p3, const float *p4) {
 	double d1x = (double)p2[0] - p1[0], d1y = (double)p2[1] - p1[1];
 	double d2x = (double)p4[0] - p3[0], d2y = (double)p4[1] - p3[1];
@@ -2124,7 +2112,7 @@ PVS__STATIC pvs_result pvs__validate_occluder(const pvs_occluder_desc *o, uint32
 							 (long long)index);
 		for (i = 0; i < n; ++i)
 			for (j = i + 2; j < n; ++j) {
-				if (i == 0 && j == n - 1) continue; /* adjacent through the wrap */
+				if (i == 0 && j == n - 1) continue; /* adjacent through wrap */
 				if (pvs__segments_meet_2d(o->footprint + 2 * i, o->footprint + 2 * ((i + 1) % n), o->footprint + 2 * j,
 										  o->footprint + 2 * ((j + 1) % n)))
 					return pvs__fail(err, PVS_ERROR_BAD_OCCLUDER, index, 0,
@@ -2169,7 +2157,7 @@ PVS_API void pvs_scene_destroy(pvs_scene *s) {
 	pvs__free(&a, s, sizeof(*s), 16);
 }
 
-/* pvs_scene_create's checks, before allocating; *floats: floats the occluders' planes and footprints need. */
+/* pvs_scene_create's checks, before allocating; *floats: floats occluders' planes and footprints need. */
 PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t *floats, pvs_error *err) {
 	size_t n3, i;
 	uint32_t o;
@@ -2221,7 +2209,7 @@ PVS__STATIC pvs_result pvs__scene_check_desc(const pvs_scene_desc *desc, size_t 
 	return PVS_OK;
 }
 
-/* Objects' flags, triangle ranges, boxes (empty if all have zero area), s->triangle_object; no triangle is shared. */
+/* Objects' flags, triangle ranges, boxes (empty if all zero-area), s->triangle_object; no triangle is shared. */
 PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
 	uint32_t o, t;
 	for (o = 0; o < desc->object_count; ++o) {
@@ -2259,7 +2247,7 @@ PVS__STATIC pvs_result pvs__scene_objects(pvs_scene *s, const pvs_scene_desc *de
 	return PVS_OK;
 }
 
-/* Validates the explicit occluders, copies their planes and footprints into s->occluder_data, grows the bounds. */
+/* Validates explicit occluders, copies planes and footprints into s->occluder_data, grows bounds. */
 PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *desc, pvs_error *err) {
 	size_t floats = 0;
 	uint32_t o;
@@ -2289,7 +2277,7 @@ PVS__STATIC pvs_result pvs__scene_occluders(pvs_scene *s, const pvs_scene_desc *
 	return PVS_OK;
 }
 
-/* kD-trees over triangle boxes (zero-area ones emptied; see-through ones in their own tree) and object boxes. */
+/* kD-trees over triangle boxes (zero-area ones emptied; see-through ones in own tree) and object boxes. */
 PVS__STATIC pvs_result pvs__scene_trees(pvs_scene *s, const pvs_scene_desc *desc, pvs_box *tri_boxes,
 										pvs_error *err) {
 	pvs_kdtree_desc kd;
@@ -2450,10 +2438,10 @@ PVS_API const pvs_occluder_desc *pvs_scene_occluder(const pvs_scene *s, uint32_t
 	return s->occluders + i;
 }
 
-/* The scene's 2.5D facades for >>vocc: consecutive triangle pairs forming a vertical rectangle whose bottom is
-   at or below the scene's lowest point; anything else is left out (conservative). (pvs__facades_extract would change
-   vocc's results.) Writes *count facades of 6 floats (u0 v0 u1 v1 top bottom), in triangle order, into a new array
-   *out (6 count + 6 floats, allocator a; NULL on failure). */
+/* Scene's 2.5D facades for >>vocc: consecutive triangle pairs forming a vertical rectangle with bottom at or below
+   scene's lowest point; all else left out (conservative). (pvs__facades_extract would change vocc's results.) Writes
+   *count 6-float facades (u0 v0 u1 v1 top bottom), in triangle order, into new *out (6 count + 6 floats, allocator a;
+   NULL on failure). */
 PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocator *a, float **out, uint32_t *count) {
 	int up = s->up_axis == 2 ? 2 : 1, u = 0, v = up == 2 ? 1 : 2;
 	float ground = s->bounds.min[up];
@@ -2500,7 +2488,7 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 				}
 			}
 			++n;
-			++t; /* the pair is used up */
+			++t; /* pair used up */
 		}
 		if (!pass) {
 			*out = (float *)pvs__alloc_array(a, (size_t)n * 6 + 6, sizeof(float));
@@ -2512,19 +2500,15 @@ PVS__STATIC pvs_result pvs__scene_facades(const pvs_scene *s, const pvs_allocato
 }
 
 // >>kdtree
-/* ---------------------------------------------------------------------------------------------- */
-/* kdtree: binned-SAH build over boxes; sweep (Bittner 2002 §3.2); ray walk; point location;     */
-/* scene ray casts                                                                                */
-/* ---------------------------------------------------------------------------------------------- */
+/* ==== kdtree: binned-SAH build over boxes; sweep (Bittner 2002 §3.2); ray walk; point location; scene rays ==== */
 
-/* Layout: 8-byte nodes; `bits` holds the axis in its low 2 bits (3 = leaf) and above them an inner node's left child
-   (the right one follows) or a leaf's offset in `items`; the union holds the split or the leaf's item count. Node 0
-   is the root; N nodes have (N + 1) / 2 leaves. Items are in every leaf whose closed cell overlaps their closed box,
-   so a point on a split plane finds every box touching it. */
+/* Layout: 8-byte nodes; `bits`: axis in low 2 bits (3 = leaf), above them an inner node's left child (right follows) or
+   leaf's offset in `items`; union: split or leaf's item count. Node 0: root; N nodes: (N + 1) / 2 leaves. Items are in
+   every leaf whose closed cell overlaps their closed box: point on split plane finds all boxes touching it. */
 #define PVS__KD_BINS 32 /* SAH candidate planes per axis: BINS - 1 */
-#define PVS__KD_SAMPLE 256 /* most refs binned per node (an even stride through bigger ones) */
+#define PVS__KD_SAMPLE 256 /* most refs binned per node (even stride through bigger ones) */
 #define PVS__KD_LEAF 3u
-#define PVS__KD_MAX_INDEX 0x3fffffffu	/* largest child index or item offset in 30 bits */
+#define PVS__KD_MAX_INDEX 0x3fffffffu	/* largest child index or item offset, 30 bits */
 #define PVS__KD_COST_TRAVERSE 1.0f /* SAH cost of one inner node ... */
 #define PVS__KD_COST_ITEM 1.5f /* ... and of one item test */
 #define PVS__KD_EMPTY_BONUS 0.8f /* factor for splits cutting off empty space */
@@ -2540,14 +2524,14 @@ typedef struct pvs__kdnode {
 
 struct pvs_kdtree {
 	pvs_allocator allocator;
-	pvs_box bounds; /* of non-empty item boxes; empty if there are none */
+	pvs_box bounds; /* of non-empty item boxes; empty if none */
 	pvs__kdnode *nodes;
 	uint32_t *items; /* leaf item lists, back to back */
 	uint32_t node_count, item_count;
 	size_t node_capacity, item_capacity;
 };
 
-/* An item reference in the build: its box clipped to the node's cell. */
+/* Build's item reference: its box clipped to node's cell. */
 typedef struct pvs__kdref {
 	float min[3], max[3];
 	uint32_t item;
@@ -2555,13 +2539,13 @@ typedef struct pvs__kdref {
 
 typedef struct pvs__kdbuild {
 	pvs_kdtree *tree;
-	pvs__kdref *refs; /* a stack: node being split on top, pending left children below */
+	pvs__kdref *refs; /* stack: node being split on top, pending left children below */
 	size_t ref_capacity;
-	size_t refs_left, nodes_left;	/* the pools (pvs__kd_build) */
-	size_t ref_limit, item_limit, node_limit; /* most the arrays can need (pvs_kdtree_create) */
+	size_t refs_left, nodes_left;	/* pools (pvs__kd_build) */
+	size_t ref_limit, item_limit, node_limit; /* most arrays can need (pvs_kdtree_create) */
 	uint32_t leaf_size, max_depth;
 	pvs_error *err;
-	float planes[3][PVS__KD_BINS + 1]; /* candidates of the node being split */
+	float planes[3][PVS__KD_BINS + 1]; /* candidates of node being split */
 	uint32_t starts[3][PVS__KD_BINS + 1]; /* [s]: refs whose min is <= planes[s] first */
 	uint32_t ends[3][PVS__KD_BINS + 1]; /* [e]: refs whose max is >= planes[e] last */
 } pvs__kdbuild;
@@ -2585,12 +2569,11 @@ PVS__STATIC pvs_result pvs__kd_make_leaf(pvs__kdbuild *b, uint32_t node, size_t 
 	return PVS_OK;
 }
 
-/* Splits `node` (refs[base .. base + n) on top of the stack, cell `box`) or makes it a leaf. Binned SAH over all three
-   axes (Bittner 2002 §4.4; binning after Wald 2007). Counts are exact for the closed-interval split below (but for
-   sampling in big nodes). Budgets: a straddling box goes to both sides, boxes overlapping everywhere would make memory
-   quadratic. The build draws from two pools set by pvs_kdtree_create, the references a split adds (l + r - n) and the
-   nodes (two per split); a split they cannot pay for is not taken (a bigger leaf). Pools are spent in build order, so a
-   tree within them is the tree built without them. */
+/* Splits `node` (refs[base .. base + n) atop stack, cell `box`) or makes it a leaf. Binned SAH, all three axes (Bittner
+   2002 §4.4; binning after Wald 2007); counts exact for closed-interval split below (but sampled in big nodes).
+   Budgets: straddling boxes go both sides: boxes overlapping everywhere would make memory quadratic. Build draws on two
+   pools set by pvs_kdtree_create, references a split adds (l + r - n) and nodes (two per split); split they cannot pay
+   is not taken (bigger leaf). Pools spent in build order: tree within them is the one built without. */
 PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base, size_t n, const pvs_box *box,
 									 uint32_t depth) {
 	pvs_kdtree *t = b->tree;
@@ -2602,7 +2585,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	pvs_box lbox, rbox;
 	if (n <= b->leaf_size || depth >= b->max_depth || b->nodes_left < 2) return pvs__kd_make_leaf(b, node, base, n);
 
-	/* a box's SAH measure, k1[axis] * extent + k0[axis]: half the surface area, or the edge sum if no area */
+	/* box's SAH measure, k1[axis] * extent + k0[axis]: half the surface area, or edge sum if no area */
 	for (axis = 0; axis < 3; ++axis) ext[axis] = box->max[axis] - box->min[axis];
 	area = ext[0] * ext[1] + ext[1] * ext[2] + ext[2] * ext[0] > 0.0f;
 	for (axis = 0; axis < 3; ++axis) {
@@ -2613,13 +2596,13 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	inv_measure = 1.0f / (k1[0] * ext[0] + k0[0]);
 	if (!(inv_measure > 0.0f && inv_measure < FLT_MAX)) return pvs__kd_make_leaf(b, node, base, n);
 
-	/* planes[a][1 .. nb-1] are the candidates; [0] = -inf and [nb] = +inf bound the searches below */
+	/* planes[a][1 .. nb-1]: candidates; [0] = -inf, [nb] = +inf bound searches below */
 	nb = n <= 16 ? 8 : n <= 64 ? 16 : PVS__KD_BINS;
 	inv_nb = 1.0f / (float)nb;
 	for (axis = 0; axis < 3; ++axis) {
 		float lo = box->min[axis], width = ext[axis];
 		int k;
-		scale[axis] = (float)nb / width; /* +inf when width is 0 or tiny: not a split axis */
+		scale[axis] = (float)nb / width; /* +inf if width is 0 or tiny: no split axis */
 		valid[axis] = scale[axis] < FLT_MAX;
 		if (!valid[axis]) scale[axis] = 0.0f;
 		for (k = 0; k <= nb; ++k) b->starts[axis][k] = b->ends[axis][k] = 0;
@@ -2627,7 +2610,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 		b->planes[axis][0] = -INFINITY;
 		b->planes[axis][nb] = INFINITY;
 	}
-	/* big nodes bin an even stride of refs: the plane barely changes */
+	/* big nodes bin an even stride of refs: plane barely changes */
 	sampled = n > PVS__KD_SAMPLE ? PVS__KD_SAMPLE : n;
 	for (j = 0; j < sampled; ++j) {
 		const pvs__kdref *ref = b->refs + base + (sampled == n ? j : (size_t)((uint64_t)j * n / sampled));
@@ -2635,8 +2618,8 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 			const float *pl = b->planes[axis];
 			float lo = box->min[axis], mn = ref->min[axis], mx = ref->max[axis];
 			int s, e;
-			/* s = the first k in 1..nb with mn <= planes[k], e = the last k in 0..nb-1 with mx >= planes[k].
-			   The estimates are in [0, nb] and off by at most one; one exact comparison each way fixes them. */
+			/* s = first k in 1..nb with mn <= planes[k], e = last k in 0..nb-1 with mx >= planes[k]. Estimates are in
+			   [0, nb], off by <= 1; one exact comparison each way fixes them. */
 			s = (int)((mn - lo) * scale[axis]);
 			e = (int)((mx - lo) * scale[axis]);
 			s = s < nb - 1 ? s : nb - 1;
@@ -2648,7 +2631,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 		}
 	}
 
-	/* cost of each inner plane; ties keep the first (lowest axis, then plane): deterministic */
+	/* each inner plane's cost; ties keep first (lowest axis, then plane): deterministic */
 	best_cost = PVS__KD_COST_ITEM * (float)n;
 	count_scale = (float)n / (float)sampled;
 	for (axis = 0; axis < 3; ++axis) {
@@ -2676,8 +2659,8 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	if (best_axis < 0) return pvs__kd_make_leaf(b, node, base, n);
 	axis = best_axis;
 	split = b->planes[axis][best_k];
-	nr = n; /* a split adds <= n references: room unless the pool is nearly spent */
-	if (n > b->refs_left) { /* then the exact sides decide */
+	nr = n; /* split adds <= n references: room unless pool is nearly spent */
+	if (n > b->refs_left) { /* then exact sides decide */
 		for (i = 0, nl = 0, nr = 0; i < n; ++i) {
 			nl += b->refs[base + i].min[axis] <= split;
 			nr += b->refs[base + i].max[axis] >= split;
@@ -2685,8 +2668,8 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 		if (nl + nr > n + b->refs_left) return pvs__kd_make_leaf(b, node, base, n);
 	}
 
-	/* closed intervals: a ref touching the plane goes to both sides, clipped; left refs are compacted in place,
-	   right ones written above base + n (the loop writes one slot past them) */
+	/* closed intervals: ref touching plane goes to both sides, clipped; left refs compacted in place, right ones
+	   written above base + n (loop writes one slot past them) */
 	{
 		pvs__kdref *refs = (pvs__kdref *)pvs__grow_capped(&t->allocator, b->refs, &b->ref_capacity, base + n,
 														  base + n + nr + 1, b->ref_limit, sizeof(pvs__kdref), &r);
@@ -2697,7 +2680,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 		const pvs__kdref *src = b->refs + base + i;
 		float mn = src->min[axis], mx = src->max[axis];
 		int to_left = mn <= split, to_right = mx >= split;
-		/* both slots are free: write, then advance, branch-free; clipped coordinate stored last */
+		/* both slots free: write, then advance, branch-free; clipped coordinate stored last */
 		b->refs[top] = *src;
 		b->refs[top].min[axis] = mn < split ? split : mn;
 		top += (size_t)to_right;
@@ -2727,7 +2710,7 @@ PVS__STATIC pvs_result pvs__kd_build(pvs__kdbuild *b, uint32_t node, size_t base
 	nr = top - (base + n);
 	b->refs_left -= nl + nr - n;
 	b->nodes_left -= 2;
-	/* right refs are on top of the stack: build them first */
+	/* right refs atop stack: built first */
 	r = pvs__kd_build(b, child + 1, base + n, nr, &rbox, depth + 1);
 	if (r != PVS_OK) return r;
 	return pvs__kd_build(b, child, base, nl, &lbox, depth + 1);
@@ -2778,15 +2761,15 @@ PVS_API pvs_result pvs_kdtree_create(const pvs_kdtree_desc *desc, pvs_kdtree **o
 	b->max_depth = desc->max_depth ? desc->max_depth : 8 + (13 * lg + 9) / 10;
 	if (b->max_depth > PVS_KDTREE_MAX_DEPTH) b->max_depth = PVS_KDTREE_MAX_DEPTH;
 
-	/* Pools: PVS_KDTREE_MAX_REFS_PER_BOX references and PVS_KDTREE_MAX_NODES_PER_BOX nodes per box (K, N). The
-	   stack holds the refs of leaves still to build plus a node being split (n and its right side), at most the
-	   pool plus one node's count and a slot: at most 4 K + 8 N + 28 (K + 1) bytes per box. */
+	/* Pools: PVS_KDTREE_MAX_REFS_PER_BOX references, PVS_KDTREE_MAX_NODES_PER_BOX nodes per box (K, N). Stack holds
+	   refs of leaves still to build plus a node being split (n and its right side): at most pool plus one node's count
+	   and a slot, so <= 4 K + 8 N + 28 (K + 1) bytes per box. */
 	b->refs_left = (size_t)(PVS_KDTREE_MAX_REFS_PER_BOX - 1) * m;
 	b->nodes_left = (size_t)PVS_KDTREE_MAX_NODES_PER_BOX * m;
 	b->item_limit = (size_t)PVS_KDTREE_MAX_REFS_PER_BOX * m;
 	b->node_limit = (size_t)PVS_KDTREE_MAX_NODES_PER_BOX * m + 1;
 	b->ref_limit = (size_t)(PVS_KDTREE_MAX_REFS_PER_BOX + 1) * m + 2;
-	/* first guesses; all grow on demand within the limits */
+	/* first guesses; all grow on demand within limits */
 	t->nodes = (pvs__kdnode *)pvs__grow_capped(&a, NULL, &t->node_capacity, 0, 1 + (size_t)m / 2, b->node_limit,
 											   sizeof(pvs__kdnode), &r);
 	if (t->nodes)
@@ -2828,9 +2811,9 @@ PVS_API uint32_t pvs_kdtree_node_count(const pvs_kdtree *t) { return t->node_cou
 /* ---- sweep ---- */
 
 typedef struct pvs__kdsweep {
-	float d2; /* squared min distance from the source */
+	float d2; /* squared min distance from source */
 	uint32_t node;
-	pvs_box box; /* the node's cell */
+	pvs_box box; /* node's cell */
 } pvs__kdsweep;
 
 PVS__STATIC int pvs__kdsweep_before(const void *pa, const void *pb) {
@@ -2838,13 +2821,12 @@ PVS__STATIC int pvs__kdsweep_before(const void *pa, const void *pb) {
 	return a->d2 < b->d2 || (a->d2 == b->d2 && a->node < b->node);
 }
 
-/* The heap holds no node's ancestor (a pop pushes the children): at most the leaves. */
+/* Heap holds no node's ancestor (a pop pushes children): at most leaves. */
 PVS_API size_t pvs_kdtree_sweep_scratch_size(const pvs_kdtree *t) {
 	return ((size_t)t->node_count + 1) / 2 * sizeof(pvs__kdsweep);
 }
 
-/* PVS_VISIT_ALL: the non-empty leaves under inner node `node` (cell `box`), depth first, distance -1.
-   PVS_VISIT_STOP if the visitor said so. */
+/* PVS_VISIT_ALL: non-empty leaves under inner node `node` (cell `box`), depth first, distance -1; STOP if told. */
 PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, const pvs_box *box,
 										pvs_kdtree_visit_fn visit, void *user) {
 	struct {
@@ -2867,7 +2849,7 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
 				return PVS_VISIT_STOP;
 			continue;
 		}
-		child = nd->bits >> 2; /* right child below the left: left taken first */
+		child = nd->bits >> 2; /* right child below left: left taken first */
 		stack[sp].node = child + 1;
 		stack[sp].box = b;
 		stack[sp].box.min[axis] = nd->u.split;
@@ -2879,9 +2861,8 @@ PVS__STATIC pvs_visit pvs__kd_visit_all(const pvs_kdtree *t, uint32_t node, cons
 	return PVS_VISIT_DESCEND;
 }
 
-/* The approximate occlusion sweep (Bittner 2002 §3.2): a priority queue on nodes' min distance to the source
-   (never smaller for a child). `heap` holds (node_count + 1) / 2 entries; `node` (may be NULL) receives the visited
-   node's index during each `visit`. */
+/* Approximate occlusion sweep (Bittner 2002 §3.2): priority queue on nodes' min distance to source (never smaller for
+   child). `heap`: (node_count + 1) / 2 entries; `node` (may be NULL) gets visited node's index in each `visit`. */
 PVS__STATIC void pvs__kd_sweep(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
 							   pvs_kdtree_visit_fn visit, void *user, uint32_t *node) {
 	size_t n = 1;
@@ -2938,8 +2919,8 @@ PVS_API pvs_result pvs_kdtree_sweep(const pvs_kdtree *t, const pvs_box *source, 
 
 /* ---- ray walk ---- */
 
-/* Front-to-back stack traversal (Havran's TA_rec_B family), double. Leaf intervals widen by PVS__KD_RAY_TOL, so a
-   touched leaf is never skipped. */
+/* Front-to-back stack walk (Havran's TA_rec_B family), double; leaf ranges widen by PVS__KD_RAY_TOL: no touched leaf
+   skipped. */
 PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const float dir[3], float tmax_f,
 							pvs_kdtree_ray_fn fn, void *user) {
 	struct {
@@ -2982,7 +2963,7 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const fl
 				double s = nd->u.split, ts, tol;
 				uint32_t left = nd->bits >> 2, near_child, far_child;
 				if (d[axis] == 0.0) {
-					/* parallel to the plane: the side of the origin, both when it lies in the plane */
+					/* parallel to plane: origin's side, both if it lies in plane */
 					if (o[axis] < s) node = left;
 					else if (o[axis] > s) node = left + 1;
 					else {
@@ -2995,7 +2976,7 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const fl
 					nd = t->nodes + node;
 					continue;
 				}
-				/* near = the side holding the origin; on the plane, the side the ray moves into */
+				/* near = side holding origin; on plane, the side the ray moves into */
 				near_child = (o[axis] < s || (o[axis] == s && d[axis] < 0.0)) ? left : left + 1;
 				far_child = near_child == left ? left + 1 : left;
 				ts = (s - o[axis]) * inv[axis];
@@ -3030,7 +3011,7 @@ PVS_API void pvs_kdtree_ray(const pvs_kdtree *t, const float origin[3], const fl
 
 /* ---- point location ---- */
 
-/* A point on a split plane goes left; that leaf holds every box containing it (touching boxes go both ways). */
+/* A point on split plane goes left; that leaf holds every box containing it (touching boxes go both ways). */
 PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *t, const float p[3], uint32_t *count) {
 	const pvs__kdnode *nd;
 	uint32_t axis;
@@ -3071,7 +3052,7 @@ PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes,
 		}
 		if (e1[1] * e2[2] - e1[2] * e2[1] == 0.0 && e1[2] * e2[0] - e1[0] * e2[2] == 0.0 &&
 			e1[0] * e2[1] - e1[1] * e2[0] == 0.0)
-			tri_boxes[t] = pvs__box_empty(); /* zero area: never hit, left out of the tree */
+			tri_boxes[t] = pvs__box_empty(); /* zero area: never hit, left out of tree */
 		else {
 			double n0 = e1[1] * e2[2] - e1[2] * e2[1], n1 = e1[2] * e2[0] - e1[0] * e2[2],
 				   n2 = e1[0] * e2[1] - e1[1] * e2[0];
@@ -3082,8 +3063,7 @@ PVS__STATIC pvs_result pvs__scene_prepare_rays(pvs_scene *s, pvs_box *tri_boxes,
 	return PVS_OK;
 }
 
-/* Ray for the watertight test (Woop, Benthin, Wald, JCGT 2013) in double: kz the largest direction axis, the shear
-   taking dir to +-z. */
+/* Watertight-test ray (Woop, Benthin, Wald, JCGT 2013), double: kz largest direction axis, shear takes dir to +-z. */
 typedef struct pvs__ray {
 	double o[3];
 	double sx, sy, sz;
@@ -3103,11 +3083,11 @@ PVS__STATIC int pvs__ray_setup(pvs__ray *r, const double o[3], const double d[3]
 	return 1;
 }
 
-/* 2D edge function of sheared corners p, q: its sign tells the side of p-q the ray passes. Corners are sorted, so a
-   shared edge gives bit-identical results in both triangles. */
+/* 2D edge function of sheared corners p, q: its sign tells side of p-q the ray passes. Corners sorted: shared edge
+   gives bit-identical results in both triangles. */
 PVS__STATIC double pvs__edge(const double *p, const double *q) { return p[0] * q[1] - p[1] * q[0]; }
 
-/* Two-sided watertight ray-triangle test: 1 and *t if the ray meets the triangle at 0 <= t <= tmax. */
+/* Two-sided watertight ray-triangle test: 1 and *t if ray meets triangle at 0 <= t <= tmax. */
 PVS__STATIC int pvs__ray_triangle(const pvs__ray *r, const float *c, double tmax, double *t_out) {
 	double p[3][2], z[3], u, v, w, det, t;
 	int k;
@@ -3124,7 +3104,7 @@ PVS__STATIC int pvs__ray_triangle(const pvs__ray *r, const float *c, double tmax
 	w = pvs__edge(p[0], p[1]);
 	if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return 0;
 	det = u + v + w;
-	if (det == 0.0) return 0; /* the ray lies in the triangle's plane */
+	if (det == 0.0) return 0; /* ray lies in triangle's plane */
 	t = (u * z[0] + v * z[1] + w * z[2]) / det;
 	if (!(t >= 0.0 && t <= tmax)) return 0;
 	*t_out = t;
@@ -3134,9 +3114,9 @@ PVS__STATIC int pvs__ray_triangle(const pvs__ray *r, const float *c, double tmax
 typedef struct pvs__raycast {
 	const pvs_scene *scene;
 	pvs__ray ray;
-	double tmax; /* closest hit yet, or the ray's end */
+	double tmax; /* closest hit yet, or ray's end */
 	uint32_t triangle;	/* of that hit, or 0xffffffff */
-	int any; /* stop at the first hit */
+	int any; /* stop at first hit */
 } pvs__raycast;
 
 PVS__STATIC float pvs__raycast_leaf(void *user, const uint32_t *items, uint32_t count, float t_enter, float t_exit) {
@@ -3149,7 +3129,7 @@ PVS__STATIC float pvs__raycast_leaf(void *user, const uint32_t *items, uint32_t 
 		uint32_t tri = items[i];
 		double t;
 		if (!pvs__ray_triangle(&rc->ray, rc->scene->triangle_corners + 9 * (size_t)tri, rc->tmax, &t)) continue;
-		/* equal distances: lowest triangle index wins, whatever the leaf order */
+		/* equal distances: lowest triangle index wins, whatever leaf order */
 		if (t < rc->tmax || rc->triangle == 0xffffffffu || tri < rc->triangle) {
 			rc->tmax = t;
 			rc->triangle = tri;
@@ -3157,7 +3137,7 @@ PVS__STATIC float pvs__raycast_leaf(void *user, const uint32_t *items, uint32_t 
 		}
 	}
 	if (rc->any) return FLT_MAX;
-	/* shorten the walk to the closest hit, round up */
+	/* shorten walk to closest hit, round up */
 	f = (float)rc->tmax;
 	if ((double)f < rc->tmax) f = nextafterf(f, FLT_MAX);
 	return f;
@@ -3187,7 +3167,7 @@ PVS_API int pvs_scene_raycast(const pvs_scene *s, const float origin[3], const f
 	return 1;
 }
 
-/* The ray a + t (b - a), 0 <= t <= 1, b - a in double; a zero-length one is never blocked. */
+/* Ray a + t (b - a), 0 <= t <= 1, b - a in double; zero-length one is never blocked. */
 PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], const float b[3]) {
 	pvs__raycast rc;
 	double o[3], d[3];
@@ -3198,7 +3178,7 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 		o[k] = a[k];
 		d[k] = (double)b[k] - (double)a[k];
 		df[k] = b[k] - a[k];
-		/* the float walk direction must keep every component the exact one has */
+		/* float walk direction must keep every component the exact one has */
 		if (df[k] == 0.0f && d[k] != 0.0) df[k] = d[k] > 0.0 ? FLT_MIN : -FLT_MIN;
 	}
 	if (!pvs__ray_setup(&rc.ray, o, d)) return 0;
@@ -3206,13 +3186,13 @@ PVS_API int pvs_scene_segment_blocked(const pvs_scene *s, const float a[3], cons
 	rc.tmax = 1.0;
 	rc.triangle = 0xffffffffu;
 	rc.any = 1;
-	/* the float direction may fall short of b: walk a bit past; the test stops at 1 */
+	/* float direction may fall short of b: walk a bit past; test stops at 1 */
 	pvs_kdtree_ray(s->triangle_tree, a, df, 1.0f + 1e-6f, pvs__raycast_leaf, &rc);
 	return rc.triangle != 0xffffffffu;
 }
 
-/* What a sampled ray sees through see-through objects before it stops: sets the objects of see-through triangles
-   origin + t dir crosses, 0 <= t <= tmax (same watertight test). */
+/* What a sampled ray sees through see-through objects before it stops: sets objects of see-through triangles origin + t
+   dir crosses, 0 <= t <= tmax (same watertight test). */
 typedef struct pvs__see_through {
 	pvs__ray ray;
 	const pvs_scene *scene;
@@ -6440,14 +6420,12 @@ PVS_API pvs_result pvs_raster_cull_map(pvs_raster *r, const pvs_scene *s, const 
 }
 
 // >>otree
-/* ---------------------------------------------------------------------------------------------- */
-/* otree: occlusion trees over oriented 2D line space (Bittner 2002, ch. 3, 6, 7)                 */
-/* ---------------------------------------------------------------------------------------------- */
-/* One BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes through origin of R^3, images p* of primal
+/* ==== otree: occlusion trees over oriented 2D line space (Bittner 2002, ch. 3, 6, 7) ==== */
+/* One BSP kernel (§3.3, §6.8) over oriented 2D lines. Inner nodes: planes through R^3's origin, images p* of primal
    points p (§6.4: l* = (u,1) x (v,1), l*.(p,1) = orient(u, v, p) > 0 if p is left of l). Leaves: out (unblocked) or in
    (blocked by payload: 2D nearest occluder; 2.5D those that may be seen over). Line sets: convex polygons of unit
    vectors (vertices: extremal lines); each edge keeps point whose plane carries it, marked if that plane is on path
-   (§4.10.1), so an out-leaf becomes e-OT of unmarked edges (§3.3.3).
+   (§4.10.1): an out-leaf becomes e-OT of unmarked edges (§3.3.3).
 
    Conservative rounding: regions are bounded by exact planes through stored points (an in-leaf never claims lines
    outside its blocker); insertion's tolerance only drops blocked slivers; read-only tests split with slack (both sides
@@ -6464,7 +6442,7 @@ typedef struct pvs__otpoly {
 	int n;
 	int xsplit; /* split at crossing X (§6.5.1 case 3) */
 	double v[PVS__OT_MAXV][3]; /* extremal lines, unit */
-	double e[PVS__OT_MAXV][2]; /* edge v[i] -> v[i+1] lies in e[i]'s plane */
+	double e[PVS__OT_MAXV][2]; /* edge v[i] -> v[i+1] in e[i]'s plane */
 	unsigned char mark[PVS__OT_MAXV];
 } pvs__otpoly;
 
@@ -6478,7 +6456,7 @@ typedef struct pvs__otnode {
 	uint32_t parent;	/* PVS__OT_NONE: root */
 	double mvd; /* 2D: subtree's max visibility distance (§6.5.5); DBL_MAX over out-leaves */
 	double mr, ms; /* 2.5D: hidden-height bound (pvs__ot25_bound); mr DBL_MAX: none */
-	double ml, mls; /* 2.5D: 2nd, member of least reach; ml DBL_MAX: none */
+	double ml, mls; /* 2.5D: 2nd, least-reach member; ml DBL_MAX: none */
 } pvs__otnode;
 
 typedef struct pvs__otree {
@@ -6488,17 +6466,17 @@ typedef struct pvs__otree {
 	uint32_t *seq;
 	size_t seq_count, seq_cap;
 	pvs__otpoly *stack; /* work stack: item i = stack[stack_slot[i]] (PVS__OT_ITEM) */
-	uint32_t *stack_slot; /* permutation: clips write a free slot, then swap */
+	uint32_t *stack_slot; /* permutation: clips write free slot, then swap */
 	uint32_t *stack_node;
 	uint32_t *stack_pend; /* read-only tests: clip owed, (node << 1) | side, or PVS__OT_NONE */
 	size_t stack_count, stack_cap;
 	int oom;
 	const double *seg; /* occluder segments, 4 local doubles */
 	const double *top; /* 2.5D: occluder tops; NULL in 2D */
-	const double *reach; /* 2D: per occluder, max distance to a cell point */
+	const double *reach; /* 2D: per occluder, max distance to cell point */
 	double sa[2], sb[2]; /* source edge (cell or top edge) */
 	double eye; /* 2.5D: source edge height */
-	const double *corners; /* 2.5D: cell's 4 ground corners (all eye positions) */
+	const double *corners; /* 2.5D: cell's 4 ground corners (all eyes) */
 	double *jd; /* 2.5D: PVS__OT25_JD doubles per occluder */
 	double len_eps; /* smaller distances tie */
 	uint32_t root_in; /* 2.5D: node of lines leaving via source edge */
@@ -6518,7 +6496,7 @@ PVS__STATIC void pvs__ot_free(pvs__otree *t) {
 	t->node_cap = t->seq_cap = t->stack_cap = 0;
 }
 
-/* Resets to the whole line set: one out-leaf (§3.3.2). */
+/* Resets to whole line set: one out-leaf (§3.3.2). */
 PVS__STATIC int pvs__ot_reset(pvs__otree *t) {
 	t->node_count = t->seq_count = t->stack_count = 0;
 	if (!pvs__grow(t->a, (void **)&t->nodes, &t->node_cap, 1, sizeof(pvs__otnode))) { t->oom = 1; return 0; }
@@ -6554,7 +6532,7 @@ PVS__STATIC void pvs__ot_copy(pvs__otpoly *d, const pvs__otpoly *s) {
 	}
 }
 
-/* Room for `need` work items (all four arrays; new items get new slots). */
+/* Room for `need` work items (all four arrays; new items, new slots). */
 PVS__STATIC int pvs__ot_reserve(pvs__otree *t, size_t need) {
 	size_t c1 = t->stack_cap, c2 = t->stack_cap, c3 = t->stack_cap, c4 = t->stack_cap, i;
 	if (need <= t->stack_cap) return 1;
@@ -6602,14 +6580,14 @@ PVS__STATIC double pvs__ot_line(const double u[2], const double v[2], double l[3
 	if (len > 0.0) { l[0] /= len; l[1] /= len; l[2] /= len; }
 	return len;
 }
-/* Signed side of p for line l, scaled so unit lines compare. */
+/* Signed side of p for line l, scaled: unit lines compare. */
 PVS__STATIC double pvs__ot_side(const double l[3], const double p[2]) {
 	return (l[0] * p[0] + l[1] * p[1] + l[2]) / sqrt(p[0] * p[0] + p[1] * p[1] + 1.0);
 }
 
 #define PVS__OT_EPS 1e-12
 
-/* out = normalised a + t (b - a), stored last: may alias a or b. */
+/* out = normalised a + t (b - a), stored last (may alias a, b). */
 PVS__STATIC void pvs__ot_lerp_unit(const double *a, const double *b, double t, double *out) {
 	double x0 = a[0] + t * (b[0] - a[0]), x1 = a[1] + t * (b[1] - a[1]), x2 = a[2] + t * (b[2] - a[2]);
 	double len = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
@@ -6625,8 +6603,8 @@ PVS__STATIC void pvs__ot_normal(const double p[2], double sign, double n[3]) {
 	n[2] = f;
 }
 
-/* Clips `in` to n . l >= -slack (0: exact half), n unit normal of p's plane; new edges lie in that plane, marked
-   `mark`. Returns vertex count (0 empty, -1 too many). */
+/* Clips `in` to n . l >= -slack (0: exact half), n: unit normal of p's plane; new edges lie in it, marked `mark`.
+   Returns vertex count (0 empty, -1 too many). */
 PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const double p[2], double slack, int mark,
 							   pvs__otpoly *out) {
 	double d[PVS__OT_MAXV + 1];
@@ -6666,8 +6644,8 @@ PVS__STATIC int pvs__ot_clip_n(const pvs__otpoly *in, const double nn[3], const 
 	out->n = m;
 	return m;
 }
-/* 2.5D witness lines: a read-only test reaching an out-leaf keeps a line inside its polygon (normalised vertex sum);
-   out-leaves only become in-leaves, so a witness later found in an in-leaf is dropped. */
+/* 2.5D witness lines: read-only test reaching an out-leaf keeps a line inside its polygon (normalised vertex sum);
+   out-leaves only become in-leaves: witness later found in an in-leaf is dropped. */
 PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	double w[3] = {0, 0, 0}, len;
 	int i;
@@ -6679,8 +6657,8 @@ PVS__STATIC void pvs__ot25_witness_add(pvs__otree *t, const pvs__otpoly *q) {
 	t->wit[0][0] = w[0] / len; t->wit[0][1] = w[1] / len; t->wit[0][2] = w[2] / len;
 }
 
-/* 2.5D: 1 if nd's subtree hides every point no nearer than `near` to cell and no higher than h (pvs__ot25_bound);
-   near < 0 (2D): 0. Macro skips call where neither bound applies; evaluates nd twice. */
+/* 2.5D: 1 if nd's subtree hides every point no nearer than `near` to cell, no higher than h (pvs__ot25_bound); near < 0
+   (2D): 0. Macro skips call where neither bound applies; evaluates nd twice. */
 #define PVS__OT25_HIDDEN(t, nd, near, h) \
 	(((near) > (nd)->mr || (near) > (nd)->ml) && pvs__ot25_hidden_below_at(t, nd, near, h))
 PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode *nd, double near, double h) {
@@ -6698,9 +6676,9 @@ PVS__STATIC int pvs__ot25_hidden_below_at(const pvs__otree *t, const pvs__otnode
 	return 0;
 }
 
-/* Insertion at an inner node (§3.3.3) on top item, in place: edges on node's plane are marked (§4.10.1), the
-   polygon goes to its child or is split; a child whose subtree hides occluder (2.5D, near >= 0) gets nothing. 2.5D
-   descends one-sided nodes here, to a leaf or a hidden subtree. */
+/* Insertion at inner node (§3.3.3) on top item, in place: edges on node's plane marked (§4.10.1), polygon goes to its
+   child or is split; child whose subtree hides occluder (2.5D, near >= 0) gets nothing. 2.5D descends one-sided nodes
+   here, to leaf or hidden subtree. */
 PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q = PVS__OT_ITEM(t, top);
 	const pvs__otnode *nd;
@@ -6737,8 +6715,7 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 		for (i = 0; i < 3; ++i) nf[i] = -nd->n[i];
 		na = h1 ? 0 : pvs__ot_clip_n(q, nd->n, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 1));
 		nb = h0 ? 0 : pvs__ot_clip_n(q, nf, nd->p, 0.0, 1, PVS__OT_ITEM(t, top + 2));
-		/* items top.. become positive part (c1), then negative (c0), as two pushes would; unused slots go above
-		   (slots stay a permutation) */
+		/* items top..: c1's part, then c0's, as two pushes would; unused slots above (slots stay a permutation) */
 		s0 = t->stack_slot[top]; s1 = t->stack_slot[top + 1]; s2 = t->stack_slot[top + 2];
 		if (na >= 3) { t->stack_slot[m] = s1; t->stack_node[m] = c1; t->stack_pend[m] = PVS__OT_NONE; ++m; }
 		if (nb >= 3) { t->stack_slot[m] = s2; t->stack_node[m] = c0; t->stack_pend[m] = PVS__OT_NONE; ++m; }
@@ -6749,9 +6726,9 @@ PVS__STATIC void pvs__ot_insert_inner(pvs__otree *t, size_t top, double near, do
 	}
 }
 
-/* Read-only test at an inner node (§3.3.4) on top item, in place: a polygon within 1e-12 of plane on one side
-   (an edge on it) goes to that side, else both sides get their part widened by 1e-12. 1 if surely visible (2.5D: a
-   straddled child is an out-leaf) or out of memory (caller counts it visible). */
+/* Read-only test at inner node (§3.3.4) on top item, in place: polygon within 1e-12 of plane on one side (an edge on
+   it) goes there, else each side gets its part widened by 1e-12. 1 if surely visible (2.5D: straddled child is an
+   out-leaf) or OOM (caller counts it visible). */
 PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, double h) {
 	pvs__otpoly *q;
 	const pvs__otnode *nd;
@@ -6782,8 +6759,8 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 		t->stack_node[top] = c;
 		if (near < 0.0 || t->nodes[c].kind != 0 || PVS__OT25_HIDDEN(t, t->nodes + c, near, h)) return 0;
 	}
-	/* 2.5D (no sliver rule): both parts hold a vertex strictly off plane, so an out-leaf child answers at once; its
-	   part's line becomes a witness (pvs__ot25_witnessed) */
+	/* 2.5D (no sliver rule): both parts hold a vertex strictly off plane: an out-leaf child answers at once; its part's
+	   line becomes a witness (pvs__ot25_witnessed) */
 	if (near >= 0.0 && (t->nodes[c0].kind == PVS__OT_OUT || t->nodes[c1].kind == PVS__OT_OUT)) {
 		int out1 = t->nodes[c1].kind == PVS__OT_OUT;
 		for (i = 0; i < 3; ++i) nf[i] = out1 ? nd->n[i] : -nd->n[i];
@@ -6791,7 +6768,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 			pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top + 1));
 		return 1;
 	}
-	{	/* a child whose subtree hides query (2.5D bound) gets nothing */
+	{	/* child whose subtree hides query (2.5D bound) gets nothing */
 		int h0 = PVS__OT25_HIDDEN(t, t->nodes + c0, near, h), h1 = PVS__OT25_HIDDEN(t, t->nodes + c1, near, h);
 		if (h0 && h1) { t->stack_count = top; return 0; }
 		if (h0 || h1) {
@@ -6803,7 +6780,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 			return 0;
 		}
 	}
-	/* child without a hidden-height bound (likely visible) first; the other's clip is deferred (pvs__ot_owed) */
+	/* child without hidden-height bound (likely visible) first; other's clip deferred (pvs__ot_owed) */
 	first = t->nodes[c1].mr == DBL_MAX && t->nodes[c0].mr != DBL_MAX ? 1 : 0;
 	for (i = 0; i < 3; ++i) nf[i] = first ? nd->n[i] : -nd->n[i];
 	r = pvs__ot_clip_n(q, nf, nd->p, 1e-12, 0, PVS__OT_ITEM(t, top + 1));
@@ -6818,8 +6795,7 @@ PVS__STATIC int pvs__ot_test_inner(pvs__otree *t, size_t top, double near, doubl
 	return 0;
 }
 
-/* Pays clip owed by item `top` (pvs__ot_test_inner): its part on side `side` of node's plane, widened by 1e-12.
-   0 if empty (caller pops it). */
+/* Pays item `top`'s owed clip (pvs__ot_test_inner): part on `side` of node's plane, widened 1e-12; 0 if empty (pop). */
 PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 	uint32_t pend = t->stack_pend[top];
 	const pvs__otnode *nd = t->nodes + (pend >> 1);
@@ -6840,8 +6816,8 @@ PVS__STATIC int pvs__ot_owed(pvs__otree *t, size_t top) {
 }
 
 /* Blocker polygon B(S, O) (§6.4.3): lines through S = a b, then O = c d; vertices a->c, a->d, b->d, b->c, each edge in
-   plane of its lines' shared point. Coincident vertices (O's line through an end of S, O touching S) merge into the
-   triangle of Fig. 6.5. 0 if degenerate (no line set of positive measure). */
+   plane of its lines' shared point. Coincident vertices (O's line through end of S, O touching S) merge into Fig. 6.5's
+   triangle. 0 if degenerate (no line set of positive measure). */
 PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const double c[2], const double d[2],
 								pvs__otpoly *q) {
 	const double *from[4], *to[4], *pt[4];
@@ -6861,7 +6837,7 @@ PVS__STATIC int pvs__ot_blocker(const double a[2], const double b[2], const doub
 			double *w = q->v[n - 1];
 			double dd = fabs(w[0] - v[i][0]) + fabs(w[1] - v[i][1]) + fabs(w[2] - v[i][2]);
 			if (dd <= 1e-12) {
-				/* same line as previous vertex: keep edge plane through a point on both neighbours */
+				/* same line as previous vertex: keep edge plane through point on both neighbours */
 				continue;
 			}
 		}
@@ -6932,8 +6908,7 @@ PVS__STATIC void pvs__ot_hit_line(const double *s, double m[4]) {
 	m[2] = s[0] * s[3] - s[1] * s[2];
 	m[3] = sqrt(m[0] * m[0] + m[1] * m[1]);
 }
-/* Parameter along line l (unit direction (l1, -l0)) of its crossing with segment line m (pvs__ot_hit_line); 0 if
-   (nearly) parallel or coincident. */
+/* Parameter on line l (unit direction (l1, -l0)) at segment line m (pvs__ot_hit_line); 0: ~parallel or coincident. */
 PVS__STATIC int pvs__ot_hit_m(const double l[3], const double m[4], double *t) {
 	double x, y, w, dx = l[1], dy = -l[0], dn = m[3];
 	x = l[1] * m[2] - l[2] * m[1];
@@ -6965,14 +6940,14 @@ PVS__STATIC int pvs__ot_cross(const double *s, const double *r, double x[2]) {
 }
 
 /* Depth order of occluders j, k along q's lines (§6.5.1): counts vertices where k is clearly in front of j, and
-   clearly behind. Ties (lines through X or a shared end) count as neither, as do vertex lines missing either segment:
-   they lie outside leaf by a rounding sliver (q clipped with slack). */
+   clearly behind. Ties (lines through X or a shared end) count as neither, as do vertex lines missing either segment
+   (outside leaf by rounding sliver: q clipped with slack). */
 PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const double *sj, const double *sk,
 							   int *front, int *behind) {
 	int i, have_x;
 	double x[2], mj[4], mk[4];
 	*front = *behind = 0;
-	/* after a split at crossing X, lines through X tie, whatever rounding says */
+	/* after split at crossing X, lines through X tie, whatever rounding says */
 	have_x = q->xsplit && pvs__ot_cross(sj, sk, x);
 	pvs__ot_hit_line(sj, mj);
 	pvs__ot_hit_line(sk, mk);
@@ -6987,7 +6962,7 @@ PVS__STATIC void pvs__ot_depth(const pvs__otree *t, const pvs__otpoly *q, const 
 	}
 }
 
-/* Splits leaf `node` by p's plane; side `sign * side(p) > 0` continues; returns that child. */
+/* Splits leaf `node` by p's plane; side `sign * side(p) > 0` continues; returns it. */
 PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const double p[2], double sign) {
 	uint32_t neg = pvs__ot_new_node(t), pos = pvs__ot_new_node(t);
 	pvs__otnode old;
@@ -7006,8 +6981,8 @@ PVS__STATIC uint32_t pvs__ot_split_leaf(pvs__otree *t, uint32_t node, const doub
 	return pos;
 }
 
-/* Turns leaf `node` into chain of q's unmarked edges (e-OT, §3.3.3): split by each edge's plane, q's side continuing;
-   other sides keep leaf's kind and payload. Returns q's node (old payload kept), PVS__OT_NONE if out of memory. */
+/* Turns leaf `node` into chain of q's unmarked edges (e-OT, §3.3.3): split by each edge's plane, q's side continuing,
+   other sides keeping leaf's kind, payload. Returns q's node (old payload kept), PVS__OT_NONE if OOM. */
 PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otpoly *q) {
 	double cen[3] = {0, 0, 0};
 	int i, k;
@@ -7017,7 +6992,7 @@ PVS__STATIC uint32_t pvs__ot_refine(pvs__otree *t, uint32_t node, const pvs__otp
 	return node;
 }
 
-/* Gives leaf `node` payload seq[old_first .. + old_count) followed by `add`. */
+/* Gives leaf `node` payload seq[old_first .. + old_count), then `add`. */
 PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_first, uint32_t old_count,
 									uint32_t add) {
 	size_t first = t->seq_count;
@@ -7032,9 +7007,9 @@ PVS__STATIC int pvs__ot_set_payload(pvs__otree *t, uint32_t node, uint32_t old_f
 	return 1;
 }
 
-/* ---- 2D from-region (ch. 6): insertion with the four depth cases of §6.5.1 ---- */
+/* ---- 2D from-region (ch. 6): insertion with §6.5.1's four depth cases ---- */
 
-/* §6.5.1 case 3: q, split at crossing X = x (marked so), is pushed at `node` as two halves. 0: out of memory. */
+/* §6.5.1 case 3: q, split at crossing X = x (marked so), pushed at `node` as two halves. 0: OOM. */
 PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, const double x[2]) {
 	pvs__otpoly part;
 	double n[3];
@@ -7047,7 +7022,7 @@ PVS__STATIC int pvs__ot2_xsplit(pvs__otree *t, uint32_t node, pvs__otpoly *q, co
 	return ok;
 }
 
-/* Inserts blocker polygon q of occluder k (§3.3.3 with 2D in-leaf cases). */
+/* Inserts occluder k's blocker polygon q (§3.3.3 with 2D in-leaf cases). */
 PVS__STATIC void pvs__ot2_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near) {
 	size_t base = t->stack_count;
 	const double *sk = t->seg + 4 * (size_t)k;
@@ -7110,8 +7085,8 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 
 /* ---- shared driver pieces ---- */
 
-/* Clips segment s to open half-plane right of a -> b (outside a CCW edge). 0 if empty; *on_line: end
-   moved onto line (1 first, 2 second). */
+/* Clips segment s to open half-plane right of a -> b (outside CCW edge); 0: empty; *on_line: end moved onto line (1
+   first, 2 second). */
 PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const double *s, double out[4],
 									 int *on_line) {
 	double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
@@ -7131,7 +7106,7 @@ PVS__STATIC int pvs__ot_clip_segment(const double a[2], const double b[2], const
 }
 
 /* Blockers of source edge a -> b (lines leaving to its right) and clipped segment o: one, or two if o's line crosses
-   edge at x (Fig. 6.5). Returns how many; *degenerate: a non-empty line set was not representable. */
+   edge at x (Fig. 6.5). Returns how many; *degenerate: non-empty line set was unrepresentable. */
 PVS__STATIC int pvs__ot_blockers(const double a[2], const double b[2], const double o[4], int on_line,
 								 pvs__otpoly out[2], int *degenerate) {
 	double x[2], ex = b[0] - a[0], ey = b[1] - a[1], u = -1.0;
@@ -7167,7 +7142,7 @@ PVS__STATIC double pvs__ot_dist2(const double p[2], const double *s) {
 	qy = s[1] + u * dy - p[1];
 	return qx * qx + qy * qy;
 }
-/* Max squared distance from points pts (2 doubles each) to an end of segment s. */
+/* Max squared distance from points pts (2 doubles each) to end of segment s. */
 PVS__STATIC double pvs__ot_far2(const double *pts, uint32_t n, const double *s) {
 	double far2 = 0.0;
 	uint32_t i, m;
@@ -7204,8 +7179,8 @@ PVS__STATIC int pvs__ot_segment_meets_polygon(const double *s, const double *pol
 	return 1;
 }
 
-/* Max visibility distances (§6.5.5), bottom-up in a backward pass (children follow parents): out-leaves unbounded,
-   in-leaves stored occluder's max distance to a cell point (on any line, at most that far from its cell exit). */
+/* Max visibility distances (§6.5.5), bottom-up, backward pass (children follow parents): out-leaves unbounded,
+   in-leaves stored occluder's max distance to cell point (on any line, at most that far from its cell exit). */
 PVS__STATIC void pvs__ot2_update_mvd(pvs__otree *t) {
 	size_t i;
 	for (i = t->node_count; i-- > 0;) {
@@ -7241,7 +7216,7 @@ PVS__STATIC double pvs__ot_seg_dist(const double *s, const double *r) {
 /* ---- 2D from-region API (ch. 6) ---- */
 
 /* Cell polygon `in` (n >= 3 vertices) centred at its vertex mean (*cx, *cy), made CCW, into `cell` (2 n doubles).
-   PVS_OK, or PVS_ERROR_BAD_CELL (in err) if it has no area or is not convex. */
+   PVS_OK, or BAD_CELL (in err) if no area or not convex. */
 PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, double *cx, double *cy,
 									 pvs_error *err) {
 	double area = 0.0;
@@ -7273,7 +7248,7 @@ PVS__STATIC pvs_result pvs__ot2_cell(const float *in, uint32_t n, double *cell, 
 }
 
 /* MVD shortcut distances (§6.5.5) of `count` segments to cell (n vertices), rounded outward by len_eps: reach[i]
-   largest distance from segment i to a cell point, near[i] the least (0 if they meet). */
+   largest distance from segment i to cell point, near[i] least (0 if they meet). */
 PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const double *cell, uint32_t n, double len_eps,
 									double *reach, double *near) {
 	uint32_t i, k;
@@ -7294,9 +7269,9 @@ PVS__STATIC void pvs__ot2_distances(const double *seg, uint32_t count, const dou
 	}
 }
 
-/* Segment i (s, `near` from cell) through blockers of each cell edge (§6.6). test 0: insert (an occluder
-   crossing cell is visible anyway; its outside parts still block). test 1, exact re-test: 1 if it meets cell,
-   is a point, is degenerate from a cell edge, or a line from an edge reaches it past occluders. */
+/* Segment i (s, `near` from cell) through blockers of each cell edge (§6.6). test 0: insert (an occluder crossing cell
+   is visible anyway; its outside parts still block). test 1, exact re-test: 1 if it meets cell, is a point, is
+   degenerate from cell edge, or a line from edge reaches it past occluders. */
 PVS__STATIC int pvs__ot2_segment(pvs__otree *t, const double *cell, uint32_t n, const double *s, uint32_t i,
 								 double near, int test) {
 	uint32_t k;
@@ -7410,19 +7385,19 @@ done:
 	return r;
 }
 
-/* ---- facades: the scene's vertical walls as 2.5D occluders (§7.1, the input of c-LSS) ---- */
+/* ---- facades: scene's vertical walls as 2.5D occluders (§7.1, c-LSS's input) ---- */
 
 /* Facade extraction, any tessellation (T-junction splits, strips, fans; floors at several heights):
-   1. vertical triangles are grouped by ground line (direction, then offset, within tol), dropping members farther
-	  than tol from longest member's line;
+   1. vertical triangles grouped by ground line (direction, then offset, within tol), minus members farther than tol
+	  from longest member's line;
    2. in (s, h), s along line, vertex s values cut slabs with no vertex inside, where cross-section bounds are
-	  linear: triangles overlapping (within tol) at both slab ends overlap across it, so a connected set covers
-	  [min_j max(lo_j), max_j min(hi_j)] (member bounds at ends) over the whole slab;
+	  linear: triangles overlapping (within tol) at both slab ends overlap across it, so connected sets cover
+	  [min_j max(lo_j), max_j min(hi_j)] (member bounds at ends) over whole slab;
    3. adjacent slabs with equal intervals (within tol) make a facade: segment, heights [bottom, top] it fully covers.
-   Conservative up to cracks and offsets of tol (8 float epsilons of scene's coordinates: T-junction cracks);
-   heights round inward, ends are vertex floats. Writes *count facades (u0 v0 u1 v1 top bottom) into a new *out
-   (allocator a, *out_floats floats), *vertical: vertical triangles; OUT_OF_MEMORY leaves *out NULL. */
-#define PVS__FX_MAX_COVER 512 /* slabs under more triangles are left out (conservative) */
+   Conservative up to cracks and offsets of tol (8 float epsilons of scene's coordinates: T-junction cracks); heights
+   round inward, ends are vertex floats. Writes *count facades (u0 v0 u1 v1 top bottom) into new *out (allocator a,
+   *out_floats floats), *vertical: vertical triangles; OOM leaves *out NULL. */
+#define PVS__FX_MAX_COVER 512 /* slabs under more triangles left out (conservative) */
 #define PVS__OT25_LEVELS 8 /* facade base heights OTREE bake tells apart (pvs__otree_prepare) */
 
 typedef struct pvs__fxopen {
@@ -7448,7 +7423,7 @@ PVS__STATIC int pvs__fx_emit(const pvs_allocator *a, float **out, size_t *cap, u
 	return 1;
 }
 
-/* Cross-section [lo, hi] at s of triangle (ts, th); edges evaluated from their smaller-s end, so shared edges agree. */
+/* Cross-section [lo, hi] at s of triangle (ts, th); edges evaluated from their smaller-s end: shared edges agree. */
 PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, double *lo, double *hi) {
 	int i;
 	*lo = DBL_MAX; *hi = -DBL_MAX;
@@ -7468,7 +7443,7 @@ PVS__STATIC void pvs__fx_section(const double *ts, const double *th, double s, d
 	}
 }
 
-/* Extraction scratch (for nv vertical triangles) and output. */
+/* Extraction scratch (for nv vertical triangles), output. */
 typedef struct pvs__fxwork {
 	const pvs_scene *sc;
 	const pvs_allocator *a;
@@ -7523,8 +7498,8 @@ PVS__STATIC uint32_t pvs__fx_vertical(const pvs_scene *sc, int u, int v, int up,
 	return nv;
 }
 
-/* Step 1's group: mem's slots as (s, h) triangles into w->sv on longest member's line (ties: lower slot), minus
-   those farther than tol from it. Returns count kept. */
+/* Step 1's group: mem's slots as (s, h) triangles into w->sv on longest member's line (ties: lower slot), minus those
+   farther than tol from it. Returns count kept. */
 PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uint32_t *vt, const pvs__key_index *mem,
 									 uint32_t n) {
 	uint32_t ref = mem[0].index, nm = 0, i, k;
@@ -7557,9 +7532,9 @@ PVS__STATIC uint32_t pvs__fx_members(pvs__fxwork *w, const double *tl, const uin
 	return nm;
 }
 
-/* Steps 2-3 on slab [sa, sb] (ground points ga, gb), members w->act[0..use): connected sets (step 2, BFS) and their
-   intervals, each continuing open facade ending at sa with the same interval (within tol) or opening one; facades not
-   continued are emitted. 0: out of memory. */
+/* Steps 2-3 on slab [sa, sb] (ground points ga, gb), members w->act[0..use): connected sets (step 2, BFS), their
+   intervals, each continuing open facade ending at sa with equal interval (within tol) or opening one; uncontinued
+   facades emitted. 0: OOM. */
 PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb, const double ga[2],
 							 const double gb[2]) {
 	double tol = w->tol, *sec = w->sec;
@@ -7617,8 +7592,8 @@ PVS__STATIC int pvs__fx_slab(pvs__fxwork *w, uint32_t use, double sa, double sb,
 	return 1;
 }
 
-/* Steps 2-3 along a line of nm members (w->sv): slabs between consecutive vertex s, each with members spanning it; then
-   emits facades still open. 0: out of memory. */
+/* Steps 2-3 along line of nm members (w->sv): slabs between consecutive vertex s, each with members spanning it; then
+   emits facades still open. 0: OOM. */
 PVS__STATIC int pvs__fx_line(pvs__fxwork *w, uint32_t nm) {
 	pvs__key_index *so = w->so;
 	const double *sv = w->sv;
@@ -7723,23 +7698,23 @@ done:
 
 #define PVS__OT25_MAX_UMBRAE 96
 #define PVS__OT25_JD 10 /* doubles of per-occluder data (pvs__ot25_prepare) */
-/* kD nodes with fewer item references are not tested (cf. §4.12.1: none below 50 polygons) */
+/* kD nodes with fewer item references go untested (cf. §4.12.1: none below 50 polygons) */
 #define PVS__OT25_TEST_MIN 48
 
-/* Hidden-height bound (§6.5.5's maximum visibility distance, made valid in 2.5D where occluders are seen over): each
-   line of an in-leaf crosses every member j. A ray on it from eye p no higher than H = t->eye passing over j (top h_j >
-   H) rises at slope >= s = (h_j - H) / reach_j (|pc| <= reach_j at crossing c): points no nearer than n > reach_j to
-   cell and lower than H + s n are hidden. Leaves keep steepest member (mr = reach, ms = s), inner nodes children's
-   largest reach and least slope; none (DBL_MAX) over out-leaves and members no taller than eyes. */
+/* Hidden-height bound (§6.5.5's max visibility distance, valid in 2.5D where occluders are seen over): an in-leaf's
+   lines cross every member j. A ray on one from eye p at most H = t->eye high passing over j (top h_j > H) rises at
+   slope >= s = (h_j - H) / reach_j (|pc| <= reach_j at crossing c): points at distance >= n > reach_j from cell, lower
+   than H + s n, are hidden. Leaves keep steepest member (mr = reach, ms = s), inner nodes children's largest reach,
+   least slope; none (DBL_MAX) over out-leaves and members no taller than eyes. */
 PVS__STATIC void pvs__ot25_leaf_bound(const pvs__otree *t, pvs__otnode *nd) {
 	(void)t;
 	if (nd->kind == PVS__OT_IN) return; /* set as members join (pvs__ot25_join) */
 	nd->mr = nd->ml = DBL_MAX;
 	nd->ms = nd->mls = 0.0;
 }
-/* Member k joins in-leaf `node`, whose lines cross k within [f0, f1] only: its reach there (cell corner to an end of
-   that part) <= jd[8], slope >= jd[9]. Leaf keeps steepest member (mr, ms) and the one of least reach
-   (ml, mls), valid for later splits' parts too. */
+/* Member k joins in-leaf `node`, whose lines cross k within [f0, f1] only: reach there (cell corner to end of that
+   part) <= jd[8], slope >= jd[9]. Leaf keeps steepest member (mr, ms), least-reach one (ml, mls), valid for later
+   splits' parts too. */
 PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double f0, double f1) {
 	const double *sg = t->seg + 4 * (size_t)k, *jd = t->jd + PVS__OT25_JD * (size_t)k;
 	pvs__otnode *nd = t->nodes + node;
@@ -7760,7 +7735,7 @@ PVS__STATIC void pvs__ot25_join(pvs__otree *t, uint32_t node, uint32_t k, double
 	if (sl > nd->ms || (sl == nd->ms && r < nd->mr)) { nd->ms = sl; nd->mr = r; }
 	if (r < nd->ml) { nd->ml = r; nd->mls = sl; }
 }
-/* Parameter hull on segment e of polygon q's lines (its vertices), clamped to [0, 1]. */
+/* Parameter hull on segment e of polygon q's lines (vertices), clamped to [0, 1]. */
 PVS__STATIC void pvs__ot25_funnel(const pvs__otpoly *q, const double *e, double *f0, double *f1) {
 	double lo = DBL_MAX, hi = -DBL_MAX, u;
 	int i;
@@ -7784,7 +7759,7 @@ PVS__STATIC int pvs__ot25_inner_bound(pvs__otree *t, uint32_t node) {
 	nd->mls = mls;
 	return 1;
 }
-/* Recomputes bounds of subtree `node` (just rebuilt from a leaf: a short chain), then ancestors' until unchanged. */
+/* Recomputes bounds of subtree `node` (just rebuilt from leaf: short chain), then ancestors' till unchanged. */
 PVS__STATIC void pvs__ot25_bound_subtree(pvs__otree *t, uint32_t node) {
 	pvs__otnode *nd = t->nodes + node;
 	if (nd->kind) { pvs__ot25_leaf_bound(t, nd); return; }
@@ -7797,7 +7772,7 @@ PVS__STATIC void pvs__ot25_bound(pvs__otree *t, uint32_t node) {
 	pvs__ot25_bound_subtree(t, node);
 	for (p = t->nodes[node].parent; p != PVS__OT_NONE && pvs__ot25_inner_bound(t, p); p = t->nodes[p].parent) {}
 }
-/* Distance from grown cell rectangle to segment e, rounded down (via e's bounding box; exact if axis-parallel). */
+/* Distance from grown cell rectangle to segment e, rounded down (via e's box; exact if axis-parallel). */
 PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 	double dx = 0.0, dy = 0.0, d;
 	double lx = e[0] < e[2] ? e[0] : e[2], hx = e[0] < e[2] ? e[2] : e[0];
@@ -7811,11 +7786,11 @@ PVS__STATIC double pvs__ot25_near(const pvs__otree *t, const double *e) {
 }
 
 /* Extended umbra (§7.5.1) of occluder j on far segment e's top edge (height h), for rays over j's top edge from eyes
-   at height H = t->eye anywhere over cell (§7.1: a falling ray is seen at least as well from its 2D line's cell exit,
-   a rising one from its entry; both on top edges): open parameter interval (u0, u1) on e where every such ray passes
-   below j's top. For eye p, q is below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D the signed distance to j's line
-   (> 0 on source side); monotone in D(p), so corners' extreme D (clamped at 0: eyes behind j's line do not look over
-   it) cover every eye (thesis's pi_o / pi_s over whole cell): one tree per edge serves both kinds. 0 if empty. */
+   at height H = t->eye anywhere over cell (§7.1: falling ray is seen at least as well from its 2D line's cell exit, a
+   rising one from its entry; both on top edges): open interval (u0, u1) on e where all such rays pass below j's top.
+   For eye p, q is below if (h - H) D(p) < (h_j - H) (D(p) - D(q)), D: signed distance to j's line (> 0 on source side);
+   monotone in D(p), so corners' extreme D (clamped at 0: eyes behind j's line do not look over it) cover every eye
+   (thesis's pi_o / pi_s over whole cell): one tree per edge serves both. 0 if empty. */
 PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0, double q1, double h, double *u0,
 								double *u1) {
 	double hj = jd[6], hn = h - t->eye, lo = -DBL_MAX, hi = DBL_MAX;
@@ -7846,10 +7821,10 @@ PVS__STATIC int pvs__ot25_umbra(const pvs__otree *t, const double *jd, double q0
 	return 1;
 }
 
-/* Occluder j's per-tree data: jd[0..2] line D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on source edge's
-   side); jd[3..4] cell corners' min, max D (clamped at 0); jd[5] 1 if source edge is on one side; jd[6] top -
-   eyes; jd[7] 0: no umbra (source edge midpoint on its line, or a point); jd[8] reach (max distance to a cell point,
-   rounded up); jd[9] (top - eyes) / reach if taller than eyes, else 0. */
+/* Occluder j's per-tree data: jd[0..2] line D(x) = jd[0] x + jd[1] y + jd[2] (unit normal, > 0 on source edge's side);
+   jd[3..4] cell corners' min, max D (clamped at 0); jd[5] 1 if source edge on one side; jd[6] top - eyes; jd[7] 0: no
+   umbra (source edge midpoint on its line, or a point); jd[8] reach (max cell-point distance, rounded up); jd[9] (top -
+   eyes) / reach if taller than eyes, else 0. */
 PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	const double *sg = t->seg + 4 * (size_t)j;
 	double *jd = t->jd + PVS__OT25_JD * (size_t)j, dx = sg[2] - sg[0], dy = sg[3] - sg[1],
@@ -7880,9 +7855,9 @@ PVS__STATIC void pvs__ot25_prepare(pvs__otree *t, uint32_t j) {
 	jd[7] = 1.0;
 }
 
-/* Part of far segment e (height h) seen over front members of payload seq[first..+count) in q's funnel:
-   parameter hull [*v0, *v1] in funnel range [*f0, *f1]. Members crossing `skip_box` (2D, or NULL) or not clearly in
-   front ignored (conservative). 0 if none. */
+/* Part of far segment e (height h) seen over front members of payload seq[first..+count) in q's funnel: parameter hull
+   [*v0, *v1] in funnel range [*f0, *f1]; members crossing `skip_box` (2D, or NULL) or not clearly in front ignored
+   (conservative). 0 if none. */
 PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32_t first, uint32_t count, uint32_t self,
 							   const double *e, double h, const double *skip_box, double *f0, double *f1, double *v0,
 							   double *v1) {
@@ -7908,8 +7883,8 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 		/* quick order: e wholly beyond j's line: j in front on lines crossing both; wholly on source side: behind */
 		s0 = jd[0] * e[0] + jd[1] * e[1] + jd[2];
 		s1 = jd[0] * e[2] + jd[1] * e[3] + jd[2];
-		/* umbra first (cheap): one missing open funnel range never moves v0, v1 (no depth order needed); one
-		   covering it hides e once j is in front */
+		/* umbra first (cheap): one missing funnel range never moves v0, v1 (no depth order); one covering it hides e if
+		   j in front */
 		if (!pvs__ot25_umbra(t, jd, s0, s1, h, &um[nu][0], &um[nu][1]) || um[nu][1] <= flo || um[nu][0] >= fhi)
 			continue;
 		if (jd[5]) {
@@ -7927,7 +7902,7 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 	}
 	*f0 = flo; *f1 = fhi;
 	*v0 = flo; *v1 = fhi;
-	/* first and last parameter of [flo, fhi] outside every umbra (touching umbrae join) */
+	/* first, last parameter of [flo, fhi] outside all umbrae (touching umbrae join) */
 	do {
 		changed = 0;
 		for (i = 0; i < nu; ++i)
@@ -7943,15 +7918,15 @@ PVS__STATIC int pvs__ot25_open(const pvs__otree *t, const pvs__otpoly *q, uint32
 }
 
 #define PVS__OT25_MAX_SEQ 32
-/* Lazy funnel splitting: below this many members a leaf takes a partly visible occluder whole. Conservative: each line
-   of a leaf crosses occluder, whose extended umbra holds there, seen or not (thesis keeps hidden occluders in
-   S_L too, §7.5.2); leaf answers at least as tightly, with a longer sequence. From this length, splitting (<= 3,
-   §7.5.2) bounds it (tests/BENCHMARKS.md, otree). */
+/* Lazy funnel splitting: under this many members a leaf takes partly visible occluders whole. Conservative: leaf's
+   lines all cross it, its extended umbra holding there, seen or not (thesis keeps hidden occluders in S_L too,
+   §7.5.2); leaf answers at least as tightly, with longer sequence. From this length splitting (<= 3, §7.5.2) bounds
+   it (tests/BENCHMARKS.md, otree). */
 #define PVS__OT25_SPLIT_MIN 16
 
 /* Inserts occluder k's blocker (c-LSS, §7.5.2): out-leaves become in-leaves holding k; at an in-leaf funnel test clips
-   k's top edge by front members' extended umbrae; if a part stays visible leaf gets k, split (from PVS__OT25_SPLIT_MIN
-   members) into <= 3: primary funnel (rays through visible part) with members and k, secondary ones with members. */
+   k's top edge by front members' extended umbrae; if part stays visible leaf gets k, split (from PVS__OT25_SPLIT_MIN
+   members) in <= 3: primary funnel (rays through visible part): members, k; others: members. */
 PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k) {
 	size_t base = t->stack_count;
 	const double *sk = t->seg + 4 * (size_t)k;
@@ -7982,8 +7957,8 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 			leaf = pvs__ot_refine(t, node, q);
 			if (leaf == PVS__OT_NONE) break;
 			for (i = 0; i < q->n; ++i) for (c = 0; c < 3; ++c) cen[c] += q->v[i][c];
-			/* lines through k before v0 (after v1) see only old members: primary side (lines crossing k beyond
-			   x, point at v0) has x on side of k's first end (at v1: its second) */
+			/* lines through k before v0 (after v1) see only old members: primary side (lines crossing k beyond x, point
+			   at v0) has x on side of k's first end (at v1: second) */
 			for (c = 0; c < 2 && count >= PVS__OT25_SPLIT_MIN; ++c) {
 				double x[2], u = c ? v1 : v0, sgn;
 				if (c ? !(v1 < f1 - 1e-9) : !(v0 > f0 + 1e-9)) continue;
@@ -8001,8 +7976,8 @@ PVS__STATIC void pvs__ot25_insert(pvs__otree *t, const pvs__otpoly *blocker, uin
 	t->stack_count = base;
 }
 
-/* Kind of leaf holding unit line w (descending with w alone); 0 if w is within 1e-9 of a plane on its path or
-   outside lines leaving via source edge. */
+/* Kind of leaf holding unit line w (descending with w alone); 0 if w is within 1e-9 of plane on its path or outside
+   lines leaving via source edge. */
 PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 	uint32_t node = 0;
 	int in_root = 0;
@@ -8017,9 +7992,9 @@ PVS__STATIC uint32_t pvs__ot25_locate(const pvs__otree *t, const double w[3]) {
 	return in_root ? t->nodes[node].kind : 0;
 }
 
-/* Early exit of pvs__ot25_box_visible (§3.3.4): 1 if a witness line still in an out-leaf crosses interior of box bx
-   (wholly beyond source edge a -> b): it leaves via source edge, meets no occluder, then two box sides, one of which
-   box_visible tests, reaching that out-leaf. Margins of 1e-6 of scene size absorb rounding; 0: full test. */
+/* Early exit of pvs__ot25_box_visible (§3.3.4): 1 if witness line still in an out-leaf crosses box bx's interior
+   (wholly beyond source edge a -> b): it leaves via source edge, meets no occluder, then two box sides, one tested by
+   box_visible, reaching that out-leaf. Margins of 1e-6 of scene size absorb rounding; 0: full test. */
 PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const double a[2], const double b[2]) {
 	double nx = a[1] - b[1], ny = b[0] - a[0], mg = 1e3 * t->len_eps, near;
 	int i, k;
@@ -8058,10 +8033,10 @@ PVS__STATIC int pvs__ot25_witnessed(pvs__otree *t, const double *bx, const doubl
 	return 0;
 }
 
-/* Read-only test (§3.3.4): 1 if a blocker line may pass stored occluders (or out of memory). Splits with slack, stops
-   at first visible leaf. 2D (§6.5.3; e NULL, h unused): a line reaches occluder k before any stored one; slivers
-   (pvs__ot_thickness) do not count, so insertion's rounding (its order) does not matter. 2.5D (c-LSS): part of far edge
-   e (height h) of box `box` may be seen. near: distance for subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
+/* Read-only test (§3.3.4): 1 if blocker line may pass stored occluders (or OOM). Splits with slack, stops at first
+   visible leaf. 2D (§6.5.3; e NULL, h unused): line reaches occluder k before any stored one; slivers
+   (pvs__ot_thickness) do not count, so insertion's rounding (order) is moot. 2.5D (c-LSS): part of far edge e (height
+   h) of box `box` may be seen. near: distance for subtree bounds (§6.5.5; 2.5D pvs__ot25_near). */
 PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint32_t k, double near, double h,
 								const double *e, const double *box) {
 	size_t base = t->stack_count, top;
@@ -8080,7 +8055,7 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 			continue;
 		}
 		if (nd->kind == 0) { vis |= pvs__ot_test_inner(t, top, e ? near : -1.0, h); continue; }
-		t->stack_count = top; /* polygon readable in its slot until next push */
+		t->stack_count = top; /* polygon readable in its slot till next push */
 		if (e) {
 			if (nd->kind == PVS__OT_OUT) pvs__ot25_witness_add(t, PVS__OT_ITEM(t, top));
 			vis = nd->kind == PVS__OT_OUT || pvs__ot25_open(t, PVS__OT_ITEM(t, top), nd->first, nd->count, PVS__OT_NONE,
@@ -8096,19 +8071,19 @@ PVS__STATIC int pvs__ot_visible(pvs__otree *t, const pvs__otpoly *blocker, uint3
 			vis |= !pvs__ot2_xsplit(t, node, &q, x);
 			continue;
 		}
-		if (front || !behind) vis = 1; /* in front somewhere, or all ties (collinear): visible */
+		if (front || !behind) vis = 1; /* in front somewhere, or all tie (collinear): visible */
 	}
 	t->stack_count = base;
 	return vis || t->oom;
 }
 
-/* 1 if part of box bx (local umin, vmin, umax, vmax; top) beyond source edge a -> b may be seen: top edges
-   as far segments (§7.7). */
+/* 1 if part of box bx (local umin vmin umax vmax; top) past source edge a -> b may be seen (§7.7: top edges far
+   segments). */
 PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double top, const double a[2], const double b[2],
 									  int *any_far) {
 	double c4[8], nx = 0.5 * (a[0] + b[0]), ny = 0.5 * (a[1] + b[1]); /* source edge's outward direction */
-	/* bound counts every member, also those crossing box that pvs__ot25_open ignores (a wall on a ground tile
-	   would hide its far edge): with the whole box's nearness, a member of smaller reach lies wholly nearer */
+	/* bound counts every member, also those crossing box that pvs__ot25_open ignores (a wall on ground tile would hide
+	   its far edge): with whole box's nearness, member of smaller reach is wholly nearer */
 	double near = pvs__ot25_near(t, bx);
 	int i, vis = 0, far_edge, order[3];
 	c4[0] = c4[6] = bx[0];
@@ -8130,14 +8105,14 @@ PVS__STATIC int pvs__ot25_box_visible(pvs__otree *t, const double *bx, double to
 		int edge = order[i], on, nb, deg, m;
 		double sg[4], o[4], pa, pb, c;
 		pvs__otpoly bl[2];
-		/* skip an edge no line enters (tall box) or leaves (low box): outward normal m, m.x = c on it; a line from p
-		   enters if m.p > c, leaves if m.p < c (exact compares) */
+		/* skip an edge no line enters (tall box) or leaves (low box): outward normal m, m.x = c on it; line from p
+		   enters if m.p > c, leaves if m.p < c (exact) */
 		if (edge & 1) { pa = a[0]; pb = b[0]; c = edge == 1 ? bx[2] : bx[0]; }
 		else { pa = a[1]; pb = b[1]; c = edge == 2 ? bx[3] : bx[1]; }
 		if (edge == 0 || edge == 3) { pa = -pa; pb = -pb; c = -c; }
 		if (top > t->eye ? !(pa > c || pb > c) : !(pa < c || pb < c)) continue;
 		sg[0] = c4[2 * edge]; sg[1] = c4[2 * edge + 1]; sg[2] = c4[(2 * edge + 2) & 7]; sg[3] = c4[(2 * edge + 3) & 7];
-		if (sg[0] == sg[2] && sg[1] == sg[3]) sg[2] += t->len_eps; /* a box flat on both axes: its corner */
+		if (sg[0] == sg[2] && sg[1] == sg[3]) sg[2] += t->len_eps; /* box flat on both axes: its corner */
 		if (!pvs__ot_clip_segment(b, a, sg, o, &on)) continue;
 		if (any_far) *any_far = 1;
 		nb = pvs__ot_blockers(a, b, o, on, bl, &deg);
@@ -8164,9 +8139,9 @@ typedef struct pvs__ot25_sweep {
 	uint32_t test_min;
 } pvs__ot25_sweep;
 
-/* Sweep visitor (§7.7), front to back: a node meeting cell is visible; an inner node with >= w->test_min item
-   references has its box (footprint edges at its top) tested like an object's, culled if hidden; leaves insert their
-   facades, mark objects for testing after sweep. */
+/* Sweep visitor (§7.7), front to back: node meeting cell visible; inner node with >= w->test_min item refs: box
+   (footprint edges at top) tested as object's, culled if hidden; leaves insert facades, mark objects to test after
+   sweep. */
 PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 									  uint32_t item_count) {
 	pvs__ot25_sweep *w = (pvs__ot25_sweep *)user;
@@ -8216,16 +8191,16 @@ PVS__STATIC pvs_visit pvs__ot25_visit(void *user, const pvs_box *node_box, float
 	return PVS_VISIT_DESCEND;
 }
 
-/* Approximate occlusion sweep (§3.2, pvs__kd_sweep), telling visitor its node (w->node). */
+/* Approximate occlusion sweep (§3.2, pvs__kd_sweep) telling visitor its node (w->node). */
 PVS__STATIC void pvs__ot25_sweep_tree(const pvs_kdtree *t, const pvs_box *source, pvs__kdsweep *heap,
 									  pvs__ot25_sweep *w) {
 	pvs__kd_sweep(t, source, heap, pvs__ot25_visit, w, &w->node);
 }
 
-/* Balanced top for a source edge's tree: front-to-back insertion carves open region (lines down a street) into a
-   chain as deep as occluders along it, walked by every later query. Splitting root first by the (exact) planes
-   of PVS__OT25_PRESPLIT far points spread over directions leaves short chains, one per direction sector. Reorders
-   pts[lo..hi): each point goes with child holding its line from m. */
+/* Balanced top of source edge's tree: front-to-back insertion carves open region (lines down a street) into a chain as
+   deep as occluders along it, walked by later queries. First splitting root by (exact) planes of PVS__OT25_PRESPLIT far
+   points over all directions leaves short chains, one per direction sector. Reorders pts[lo..hi): each goes with child
+   holding its line from m. */
 #define PVS__OT25_PRESPLIT 16
 PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m[2], double (*pts)[2], int lo, int hi) {
 	double l[3], tmp[PVS__OT25_PRESPLIT][2];
@@ -8255,7 +8230,7 @@ PVS__STATIC void pvs__ot25_presplit(pvs__otree *t, uint32_t leaf, const double m
 PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_count, const float *objects,
 									  uint32_t object_count, pvs_box *boxes);
 
-/* pvs_visibility_25d's argument checks: every error it returns but OUT_OF_MEMORY (in err). */
+/* pvs_visibility_25d's argument checks: every error it returns but OOM (in err). */
 PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, const pvs_word *visible_objects,
 									   pvs_error *err) {
 	uint32_t nf, no, i;
@@ -8281,8 +8256,8 @@ PVS__STATIC pvs_result pvs__ot25_check(const pvs_visibility_25d_desc *desc, cons
 }
 
 /* 2.5D input relative to cell centre (cx, cy): facade segments into all (4 doubles), objects into box (u0 v0 u1 v1
-   top), cell rectangle grown by *margin into cell (4 CCW corners; a larger cell sees more: conservative, never
-   degenerate). Returns facades' largest |coordinate|, at least 1. */
+   top), cell rectangle grown by *margin into cell (4 CCW corners; larger cell sees more: conservative, never
+   degenerate). Returns facades' largest |coordinate|, >= 1. */
 PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double cx, double cy, double *all, double *box,
 								   double cell[8], double *margin) {
 	double ext = 1.0, hx, hy;
@@ -8304,14 +8279,14 @@ PVS__STATIC double pvs__ot25_input(const pvs_visibility_25d_desc *desc, double c
 	return ext;
 }
 
-/* Root region of a fresh tree for source edge a-b (cell centred at origin): lines crossing edge, bounded by its
-   ends' planes (blocker edges on them are then marked, §4.10.1, not re-added per branch), then pvs__ot25_presplit.
-   Lines missing edge are never queried. Out of memory sets t->oom. */
+/* Root region of fresh tree for source edge a-b (cell centred at origin): lines crossing edge, bounded by its ends'
+   planes (blocker edges on them then marked, §4.10.1, not re-added per branch), then pvs__ot25_presplit. Lines missing
+   edge are never queried. OOM sets t->oom. */
 PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double a[2], const double b[2]) {
 	double m[2], m2[2], l[3], sa_, sb_;
 	uint32_t pos;
 	m[0] = 0.5 * (a[0] + b[0]); m[1] = 0.5 * (a[1] + b[1]);
-	m2[0] = 2.0 * m[0]; m2[1] = 2.0 * m[1]; /* cell centred at origin: m points outward */
+	m2[0] = 2.0 * m[0]; m2[1] = 2.0 * m[1]; /* cell centred at origin: m points out */
 	pvs__ot_line(m, m2, l);
 	sa_ = pvs__ot_side(l, a);
 	sb_ = pvs__ot_side(l, b);
@@ -8335,8 +8310,8 @@ PVS__STATIC void pvs__ot25_root(pvs__otree *t, const double *cell, const double 
 }
 
 /* One tree per top edge (§7.1): lines leaving cell via edge `side` (corner side + 1 to corner side), built by sweeping
-   `tree`; then candidates left by its visible leaves are tested (§7.7) into visible_objects. 0 if no object is left to
-   decide or tree stopped (t->oom: out of memory). */
+   `tree`; candidates left by its visible leaves are then tested (§7.7) into visible_objects. 0 if no object is left to
+   decide or tree stopped (t->oom: OOM). */
 PVS__STATIC int pvs__ot25_side(pvs__ot25_sweep *w, const pvs_kdtree *tree, void *scratch, uint32_t side,
 							   pvs_word *visible_objects) {
 	pvs__otree *t = w->t;
@@ -8388,7 +8363,7 @@ PVS__STATIC pvs_result pvs__ot25_tree(const pvs_visibility_25d_desc *desc, const
 	return r;
 }
 
-/* Per kD node: item references in its subtree (0xffffffff where children do not follow their parent). */
+/* Per kD node: item references in its subtree (0xffffffff where children do not follow parent). */
 PVS__STATIC void pvs__ot25_refs(const pvs_kdtree *tree, uint32_t *refs) {
 	uint32_t i;
 	for (i = tree->node_count; i-- > 0;) {
@@ -8457,7 +8432,7 @@ PVS_API pvs_result pvs_visibility_25d(const pvs_visibility_25d_desc *desc, pvs_w
 	t.top = top;
 	t.seg = seg;
 	t.jd = jd;
-	/* objects meeting cell's rectangle are visible; empty ones never */
+	/* objects meeting cell's rectangle visible; empty ones never */
 	for (i = 0; i < no; ++i) {
 		const double *bb = box + 5 * i;
 		done[i] = 0;
@@ -8515,15 +8490,14 @@ PVS_API void pvs_visibility_25d_boxes(const float *facades, uint32_t facade_coun
 	}
 }
 
-/* ---- from-point culling: the shadow-volume occlusion tree (ch. 4) ---- */
+/* ---- from-point culling: shadow-volume occlusion tree (ch. 4) ---- */
 
 /* §4.7 tree (Chin-Feiner SVBSP, App. C.1.4), eye space: inner nodes: occluder-edge planes through eye (unit normal,
-   child[1] +); in-leaf: fragment blocking its ray pyramid. Edge marks: §4.10.1. Conservative: an in-leaf region
-   intersects exact stored planes, so all its rays meet the occluder; insertion may drop slivers below tol, never claim
-   more. Tests widen: a box descends all sides within `tol` (1e-10 x eye-relative scene size, >> unit-normal dot error),
-   is behind a fragment or outside its pyramid only beyond the fragment's tol. Box tests take each plane at the
-   sign-picked corner, same ops for all boxes: monotone, so a hidden node's child never tests visible; hierarchy
-   updating is exact (§4.11.4). */
+   child[1] +); in-leaf: fragment blocking its ray pyramid. Edge marks: §4.10.1. Conservative: in-leaf region meets
+   exact stored planes, so all its rays meet occluder; insertion may drop slivers below tol, never claim more. Tests
+   widen: box descends all sides within `tol` (1e-10 x eye-relative scene size, >> unit-normal dot error), is behind a
+   fragment or outside its pyramid only beyond fragment's tol. Box tests take each plane at sign-picked corner, same ops
+   for all boxes: monotone: hidden node's child never tests visible; hierarchy updating is exact (§4.11.4). */
 
 #define PVS__SV_MAXV 16
 #define PVS__SV_STACK 256
@@ -8622,8 +8596,8 @@ PVS__STATIC double pvs__sv_lo(const double n[3], const double lo[3], const doubl
 		n[2] * (n[2] >= 0.0 ? lo[2] : hi[2]);
 }
 
-/* Keeps `in` where n.x + d >= 0; new edge gets plane `en` (via eye; NULL: eye-and-new-edge plane), `mark`. Returns
-   count (0 empty, -1 too many). */
+/* Keeps `in` where n.x + d >= 0; new edge: plane `en` (via eye; NULL: eye-and-new-edge), `mark`. Count: 0 empty, -1 too
+   many. */
 PVS__STATIC int pvs__sv_clip(const pvs__svpoly *in, const double n[3], double d, const double *en, int mark,
 							 pvs__svpoly *out) {
 	double s[PVS__SV_MAXV];
@@ -9031,7 +9005,7 @@ PVS__STATIC pvs_visit pvs__sv_boot_visit(void *user, const pvs_box *node_box, fl
 	return PVS_VISIT_DESCEND;
 }
 
-/* ---- the kD-tree walk with hierarchy updating (§4.11.4, Fig. 4.5) ---- */
+/* ---- kD-tree walk with hierarchy updating (§4.11.4, Fig. 4.5) ---- */
 
 PVS__STATIC void pvs__sv_touch(pvs_otree *o, uint32_t obj, uint8_t flag) {
 	if (!o->obj_flag[obj]) o->touched[o->touched_count++] = obj;
@@ -9198,8 +9172,8 @@ PVS_API void pvs_otree_get_frame(const pvs_otree *o, pvs_otree_frame *frame) {
 	if (o && frame) *frame = o->info;
 }
 
-/* New scene or near-wrap frame counter: all kD states stale; new scene: rebuilds per-object triangle ranges, forgets
-   last occluders. */
+/* New scene or near-wrap frame counter: all kD states stale; new scene: rebuilds object triangle ranges, forgets last
+   occluders. */
 PVS__STATIC void pvs__sv_frame_begin(pvs_otree *o, const pvs_scene *s) {
 	uint32_t i;
 	if (s != o->last_scene || o->frame > 0xfffffff0u) {
@@ -9412,7 +9386,7 @@ PVS_API pvs_result pvs_otree_cull(pvs_otree *o, const pvs_scene *s, const pvs_ca
 	return PVS_OK;
 }
 
-/* ---- the OTREE bake method (a row of >>bake's table) ---- */
+/* ---- OTREE bake method (a row of >>bake's table) ---- */
 
 typedef struct pvs__otree_bake {
 	pvs_allocator allocator;
@@ -9427,9 +9401,9 @@ typedef struct pvs__otree_bake {
 } pvs__otree_bake;
 
 /* c-LSS (§7.1) facades from scene walls (pvs__facades_extract), standing on ground (a ray over one's 2D line passes
-   only above its top); ray height being linear, a facade of base b serves rays with both ends >= b: cell bottom c to
-   object bottom o needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (a facade joins the lowest at or
-   above its base: conservative); level k's kD-tree holds objects and facades of levels <= k. */
+   only above its top); ray height being linear, facade of base b serves rays with both ends >= b: cell bottom c to
+   object bottom o needs b <= min(c, o). Bases merge into <= PVS__OT25_LEVELS levels (a facade joins lowest at or above
+   its base: conservative); level k's kD-tree holds objects and facades of levels <= k. */
 PVS__STATIC pvs_result pvs__otree_prepare(pvs__otree_bake *ot, const pvs_scene *s, const pvs_box *cells,
 										  uint32_t cell_count) {
 	int up = s->up_axis == 2 ? 2 : 1, u, v;
@@ -9671,16 +9645,14 @@ PVS_API void pvs_bake_get_otree_info(const pvs_bake *b, pvs_otree_bake_info *inf
 }
 
 // >>occluders
-/* ---------------------------------------------------------------------------------------------- */
-/* occluders: synthesis of certainly-solid volumes (for Wonka 2000's shrinking, §2 and appendix)  */
-/* ---------------------------------------------------------------------------------------------- */
+/* ==== occluders: synthesis of certainly-solid volumes (for Wonka 2000's shrinking, §2, appendix) ==== */
 
 enum {
 	PVS__VX_TOUCHED = 1, /* triangle within margin */
 	PVS__VX_REACHED = 2, /* reached by leak flood */
 	PVS__VX_GROUND = 4, /* layer 0, below scene and cells */
 	PVS__VX_SOLID = 8, /* certainly solid: flood-proved or explicit */
-	PVS__VX_EXPLICIT = 16 /* in an explicit occluder */
+	PVS__VX_EXPLICIT = 16 /* in explicit occluder */
 };
 #define PVS__VX_LEAK_STOP (PVS__VX_TOUCHED | PVS__VX_REACHED | PVS__VX_GROUND | PVS__VX_EXPLICIT)
 
@@ -9745,8 +9717,7 @@ PVS__STATIC size_t pvs__vx_index(const pvs_occluders *o, uint32_t i, uint32_t j,
 }
 PVS__STATIC int pvs__vx_solid_state(uint8_t s) { return (s & PVS__VX_SOLID) != 0; }
 
-/* Triangle-box overlap (Akenine-Moller 2001 separating axes), double; hs includes margin, radii scaled up a hair:
-   rounding errs toward "touched". */
+/* Triangle-box overlap (Akenine-Moller 2001 SAT), double; hs has margin, radii up a hair: rounding errs to touched. */
 PVS__STATIC int pvs__tri_aabb(const double c[3], const double hs[3], const double *a, const double *b,
 							  const double *d) {
 	double v[3][3], e[3][3], n[3], p, q, r, lo, hi, rad;
@@ -9991,8 +9962,8 @@ PVS__STATIC void pvs__vx_grange(const pvs__vx_grid *gr, int k, double lo, double
 	*i1 = (uint32_t)b;
 }
 
-/* Sutherland-Hodgman: convex polygon in (n points of 3 doubles; n = 2: segment) clipped to sign (x[k] - c) >= 0 into
-   out (n + 1 points); returns count. */
+/* Sutherland-Hodgman: convex polygon in (n 3-double points; n = 2: segment) clipped to sign (x[k] - c) >= 0 into out (n
+   + 1 points); returns count. */
 PVS__STATIC int pvs__vx_clip_half(const double *in, int n, int k, double c, double sign, double *out) {
 	int i, r = 0;
 	for (i = 0; i < n; ++i) {
@@ -10031,9 +10002,9 @@ PVS__STATIC void pvs__vx_poly_range(const pvs__vx_grid *gr, const double *p, int
 typedef void (*pvs__vx_visit_fn)(void *user, const uint32_t idx[3]);
 
 /* Visits cells of gr in [r0, r1] that convex polygon p (3 points, or 2: segment) grown by m may meet: clipped to slabs
-   along k[2] (dims 2: k[0], k[1] plane only), then rows along k[1] whose clips give k[0] ranges: a long sliver costs
-   its cells, not its box. Candidates only; slabs grow 1e-3 cell beyond m, far above clip rounding, so every cell an
-   exact test with margin m accepts is visited. */
+   along k[2] (dims 2: k[0], k[1] plane only), then rows along k[1] whose clips give k[0] ranges: long sliver costs its
+   cells, not its box. Candidates only; slabs grow 1e-3 cell beyond m, far above clip rounding: all cells an exact
+   margin-m test accepts are visited. */
 PVS__STATIC void pvs__vx_scan(const pvs__vx_grid *gr, const double *p, int n, const int k[3], int dims, double m,
 							  const uint32_t r0[3], const uint32_t r1[3], pvs__vx_visit_fn visit, void *user) {
 	double slab[3 * 8], tmp[3 * 8], row[3 * 8], g = m + 1e-3 * gr->h, h = gr->h;
@@ -10086,7 +10057,7 @@ PVS__STATIC void pvs__vx_erode_axis(const pvs_occluders *o, uint8_t *g, uint8_t 
 		}
 }
 
-/* Greedy merge of g's set voxels (cleared) into boxes rounded inward to float; returns count (out NULL: count only). */
+/* Greedy merge of g's set voxels (cleared) into boxes rounded inward to float; count (out NULL: count only). */
 PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *out) {
 	uint32_t i, j, k, i1, j1, k1, a, b, count = 0;
 	for (k = 0; k < o->n[2]; ++k)
@@ -10122,18 +10093,18 @@ PVS__STATIC uint32_t pvs__vx_merge(const pvs_occluders *o, uint8_t *g, pvs_box *
 
 /* ---- certified solid: crossing parity floods per edge-connected component ----
 
-   Conservative: for triangles K and x above ground level g, w(x) = parity of K's triangles the upward ray from x
-   crosses. If K's edges have even use counts (except at up = g: no sight line between points above g dips below), w is
-   constant on each connected piece of space minus K; an odd (open) edge flips w across the vertical sheet below it. A
-   voxel is pure if no K triangle or sheet is within margin m (one w), mixed if only a triangle is (nodes w = 0, 1:
-   joining equal-w parts over-approximates connectivity), bad if a sheet is (one node). Free space is open, so a path
-   avoiding K can move to cross voxels via faces only, carrying the face point's w: the graph linking face neighbours'
-   equal-w nodes (any node of a bad voxel) holds all such paths; outside K's voxel box (sheets end at g, inside it) is
-   one w = 0 region. Flooding from voxels meeting a cell, and from outside if a cell leaves the box, reaches all a
-   viewer can walk to without touching K: a pure voxel it misses is seen from no cell, so a sight line through it meets
-   a triangle first. Solid for some triangles is solid for all: each component floods alone (overlapping meshes keep
-   their parity). w is read per column on a vertical line with certain orientation signs (pvs__vx_cross). Slits or doors
-   narrower than a voxel give mixed or bad voxels, keeping both sides joined. */
+   Conservative: for triangles K and x above ground level g, w(x) = parity of K's triangles crossed by x's upward ray.
+   If K's edges have even use counts (but at up = g: no sight line between points above g dips below), w is constant on
+   each connected piece of space minus K; odd (open) edge flips w across vertical sheet below it. A voxel is pure if no
+   K triangle or sheet is within margin m (one w), mixed if only a triangle is (nodes w = 0, 1: joining equal-w parts
+   over-approximates connectivity), bad if a sheet is (one node). Free space is open, so a path avoiding K crosses
+   voxels via faces only, carrying face point's w: graph linking face neighbours' equal-w nodes (any node of a bad
+   voxel) holds all such paths; outside K's voxel box (sheets end at g, inside it) is one w = 0 region. Flooding from
+   voxels meeting a cell, and from outside if a cell leaves box, reaches all a viewer can walk to without touching K:
+   pure voxel it misses is seen from no cell, so sight lines through it meet a triangle first. Solid for some triangles
+   is solid for all: components flood alone (overlapping meshes keep their parity). w is read per column on vertical
+   line with certain orientation signs (pvs__vx_cross). Slits or doors narrower than a voxel give mixed or bad voxels,
+   joining both sides. */
 
 /* orient2d (b - a) x (p - a); *bound bounds its rounding (each difference, product rounded once: <= 4.5e-16 (|t1| +
    |t2|)): sign certain if |value| > *bound. No underflow for floats. */
@@ -10143,8 +10114,8 @@ PVS__STATIC double pvs__vx_orient(double ax, double ay, double bx, double by, do
 	return t1 - t2;
 }
 
-/* Vertical line at (pu, pv) vs triangle a, b, c, certainly: 0 misses, 1 crosses inside at height *z (within *dz);
-   -1 undecidable (near edge or vertex, or uncertain height). */
+/* Vertical line at (pu, pv) vs triangle a, b, c, certainly: 0 misses, 1 crosses inside at height *z (within *dz); -1
+   undecidable (near edge, vertex, or uncertain height). */
 PVS__STATIC int pvs__vx_cross(const float *a, const float *b, const float *c, int u, int v, int up, double pu,
 							  double pv, double *z, double *dz) {
 	const float *p[3];
@@ -10246,8 +10217,7 @@ PVS__STATIC void pvs__weld(const pvs_scene *s, pvs__vx_vkey *vk, uint32_t *canon
 		canon[vk[i].i] = i > 0 && !pvs__fpoint_cmp(vk[i - 1].p, vk[i].p, 3) ? canon[vk[i - 1].i] : i;
 }
 
-/* Edge-connected triangle components (vertices matched by exact position), open edges (odd use, not both corners at
-   ground level g). */
+/* Edge-connected components (vertices matched by exact position), open edges (odd use, not both at ground g). */
 PVS__STATIC pvs_result pvs__vx_topology(const pvs_scene *s, float g, const pvs_allocator *a, pvs__vx_topo *t) {
 	uint32_t nv = s->vertex_count, nt = s->triangle_count, i, k, up = s->up_axis, ne = 0, c;
 	pvs__vx_vkey *vk = NULL;
@@ -10383,7 +10353,7 @@ PVS__STATIC void pvs__vx_push_entry(uint8_t *bits, uint32_t *queue, size_t *qt, 
 	pvs__vx_push(bits, queue, qt, vi, (f & (PVS__G_B | PVS__G_T)) ? 0 : (f & PVS__G_W) != 0);
 }
 
-/* w of cell cb, clear of K by m (shared by its points): parity of K's crossings above a point of cb on a vertical line
+/* w of cell cb, clear of K by m (shared by its points): parity of K's crossings above a point of cb on vertical line
    (none within m); -1 if 8 lines fail. */
 PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs_box *cb) {
 	uint32_t up = s->up_axis, t, line;
@@ -10409,8 +10379,7 @@ PVS__STATIC int pvs__vx_point_parity(const pvs_scene *s, const pvs__vx_topo *tp,
 	return -1;
 }
 
-/* Pushes cell cb's flood sources: its box voxels' node of w = wc (all if wc < 0); test = 1: pushes nothing, 1 if one is
-   already reached. */
+/* Pushes cell cb's flood sources: box voxels' w = wc node (all if wc < 0); test = 1: none pushed, 1 if one reached. */
 PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const uint32_t lo[3], const uint32_t hi[3],
 							 const size_t stride[3], double m, int wc, uint8_t *bits, uint32_t *queue, size_t *qt,
 							 int test) {
@@ -10441,8 +10410,8 @@ PVS__STATIC int pvs__vx_seed(const pvs__vx_grid *gr, const pvs_box *cb, const ui
 	return 0;
 }
 
-/* Floods a box's nodes from queue, entering from outside if ext is 1 or on reaching a box face via a node joined to it.
-   0 if outside never entered. */
+/* Floods box nodes from queue, entering from outside if ext = 1 or at box face via joined node; 0 if outside never
+   entered. */
 PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io, size_t *qt_io, const uint32_t d[3],
 								  const size_t stride[3], const uint32_t lo[3], uint32_t up, int ext) {
 	size_t qh = *qh_io, qt = *qt_io;
@@ -10452,7 +10421,7 @@ PVS__STATIC int pvs__vx_flood_run(uint8_t *bits, uint32_t *queue, size_t *qh_io,
 		size_t a;
 		int x, dir;
 		uint8_t fa;
-		if (ext == 1) { /* enter through all box faces but ground */
+		if (ext == 1) { /* enter via all box faces but ground */
 			for (k = 0; k < d[2]; ++k)
 				for (j = 0; j < d[1]; ++j)
 					for (i = 0; i < d[0]; ++i) {
@@ -10528,7 +10497,7 @@ PVS__STATIC void pvs__vx_tri_points(const pvs_scene *s, uint32_t tri, double p[3
 			p[e][kk] = s->positions[3 * (size_t)s->indices[3 * (size_t)tri + (size_t)e] + (size_t)kk];
 }
 
-/* pvs__vx_scan visitors, steps 2, 3: one box column at a time. */
+/* pvs__vx_scan visitors, steps 2, 3: box column at a time. */
 typedef struct pvs__vx_colvisit {
 	const pvs__vx_grid *gr;
 	uint8_t *bits, *col; /* box voxels from lo; its columns (rows of d[u]) */
@@ -10642,8 +10611,7 @@ PVS__STATIC void pvs__vx_flood_colvisit(const pvs__vx_fbox *fb, pvs__vx_colvisit
 	axes[2] = (int)fb->up;
 }
 
-/* Step 2, bad voxels: below each open edge, from it + m to ground, in columns whose square + m meets projected edge
-   (Liang-Barsky). */
+/* Step 2, bad voxels: under each open edge, it + m to ground, in columns whose square + m meets it (Liang-Barsky). */
 PVS__STATIC void pvs__vx_flood_sheets(const pvs__vx_fbox *fb) {
 	const pvs__vx_topo *tp = fb->tp;
 	pvs__vx_colvisit cv;
@@ -10658,7 +10626,7 @@ PVS__STATIC void pvs__vx_flood_sheets(const pvs__vx_fbox *fb) {
 	}
 }
 
-/* Step 3, pure voxels' w: a column's crossings with one vertical line toggle PVS__G_F at their layer; all 8 line
+/* Step 3, pure voxels' w: column's crossings with one vertical line toggle PVS__G_F at their layer; all 8 line
    positions failing make it bad (info.undecided_columns). PVS__G_W where odd crossings above. */
 PVS__STATIC void pvs__vx_flood_parity(const pvs__vx_fbox *fb) {
 	const pvs_scene *s = fb->s;
@@ -10732,7 +10700,7 @@ PVS__STATIC int pvs__vx_flood_cell_touches(const pvs__vx_fbox *fb, const pvs_box
 }
 
 /* Step 4's w of cell cb (box voxels r0..r1): -1 (all nodes) if cb + m meets K; else 0 with out_w0 (leaves box above
-   ground); else that of a pure voxel it overlaps by over m, or its own ray's. */
+   ground); else a pure voxel's it overlaps by over m, or its own ray's. */
 PVS__STATIC int pvs__vx_flood_cell_w(const pvs__vx_fbox *fb, const pvs_box *cb, const uint32_t r0[3],
 									 const uint32_t r1[3], int out_w0) {
 	const uint8_t *bits = fb->fl->bits;
@@ -10805,12 +10773,12 @@ PVS__STATIC uint32_t pvs__vx_flood_near(const pvs__vx_fbox *fb, uint32_t stamp) 
 	return nnear;
 }
 
-/* Step 4, sources: cells meeting the box (one clear of K by m is convex and free: its voxels get its one w's node; else
-   all nodes), and outside if a cell is partly outside. Leaking cells (poking through a closed level's wall into a
-   mesh's faceless void) would join every wall's interior to the flood, so if under half the active cells lie outside
-   the box, outside floods first, and cells outside, partly outside or reached are excluded if together under half.
-   Excluded cells seed no later flood and get no occluder (pvs_shrink_cell sets every object for them); for the rest the
-   argument holds. Leaves sources in fl->queue; returns pvs__vx_flood_run's ext. */
+/* Step 4, sources: cells meeting box (one clear of K by m is convex and free: its voxels get its one w's node; else all
+   nodes), and outside if a cell is partly outside. Leaking cells (poking through closed level's wall into a mesh's
+   faceless void) would join every wall's interior to flood, so if under half the active cells lie outside box, outside
+   floods first, and cells outside, partly outside or reached are excluded if together under half. Excluded cells seed
+   no later flood, get no occluder (pvs_shrink_cell sets all objects for them); argument holds for the rest. Leaves
+   sources in fl->queue; returns pvs__vx_flood_run's ext. */
 PVS__STATIC int pvs__vx_flood_sources(const pvs__vx_fbox *fb, size_t *qh_io, size_t *qt_io) {
 	pvs__vx_flood *fl = fb->fl;
 	uint8_t *bits = fl->bits;
@@ -10889,8 +10857,7 @@ PVS__STATIC int pvs__vx_flood_component(pvs_occluders *o, const pvs__vx_grid *gr
 	return pvs__vx_flood_run(fl->bits, fl->queue, &qh, &qt, fb.d, fb.stride, lo, fb.up, ext);
 }
 
-/* Certifies K on occluders' grid: pure voxels whose node flood missed are solid; all outside the box (but ground) too
-   if it never entered. */
+/* Certifies K on occluders' grid: unflooded pure voxels are solid; if never entered, all outside box but ground too. */
 PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp, const uint32_t lo[3],
 								 const uint32_t hi[3], double m, pvs__vx_flood *fl) {
 	uint32_t d[3], i, j, k;
@@ -10918,13 +10885,13 @@ PVS__STATIC void pvs__vx_certify(pvs_occluders *o, const pvs__vx_topo *tp, uint3
 				}
 }
 
-/* ---- 2.5D occluders: proved-solid columns at a finer resolution, eroded by distance ----
+/* ---- 2.5D occluders: proved-solid columns at finer resolution, eroded by distance ----
 
    Each component floods again on its own grid (voxel eps, grown within budgets). A column-map square (side eps / 2,
    larger past PVS__VX_MAP_BUDGET) has solid height = least top of proved-solid ground runs in voxel columns it
    overlaps; occluder height (Wonka 2000 §2, appendix: shrunk by eps) = that, cut to eps below component's triangles
-   within eps of it: every point below has an eps-ball free of the component and joined to proved solid, so a sight line
-   through it meets a triangle first. Squares grow by a margin above coordinate float precision. */
+   within eps of it: every point below has an eps-ball free of component, joined to proved solid, so sight lines through
+   it meet a triangle first. Squares grow by margin above coordinate float precision. */
 
 #define PVS__VX_BOX_BUDGET (1u << 23)
 #define PVS__VX_MAP_BUDGET (1u << 22)
@@ -10934,8 +10901,8 @@ PVS__STATIC int pvs__float_cmp(const void *a, const void *b) {
 	return x < y ? -1 : x > y;
 }
 
-/* Least height of triangle p clipped to prism over octagon {x0 <= u <= x1, y0 <= v <= y1, s0 <= u + v <= s1, d0 <=
-   u - v <= d1}; DBL_MAX if none. */
+/* Least height of triangle p clipped to prism over octagon {x0 <= u <= x1, y0 <= v <= y1, s0 <= u + v <= s1, d0 <= u -
+   v <= d1} (DBL_MAX: none). */
 PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, int up, const double lim[8]) {
 	static const double nu[8] = {-1, 1, 0, 0, -1, 1, -1, 1}, nv[8] = {0, 0, -1, 1, -1, 1, 1, -1};
 	double a[16][3], b[16][3], best = DBL_MAX;
@@ -10963,7 +10930,7 @@ PVS__STATIC double pvs__vx_clip_min_height(const double p[3][3], int u, int v, i
 	return best;
 }
 
-/* pvs__vx_scan visitor: a triangle's least height near each map square. */
+/* pvs__vx_scan visitor: triangle's least height near each map square. */
 typedef struct pvs__vx_tminvisit {
 	const pvs__vx_grid *gr;
 	double p[3][3], e, margin; /* triangle; near = within e */
@@ -10974,7 +10941,7 @@ typedef struct pvs__vx_tminvisit {
 	float *tmin; /* per square from (su0, sv0), rows of row */
 	uint32_t su0, sv0, row;
 } pvs__vx_tminvisit;
-/* Lower bounds letting pvs__vx_tmin_visit skip the clip (stacked triangles meet a square often). */
+/* Lower bounds letting pvs__vx_tmin_visit skip clip (stacked triangles meet a square often). */
 PVS__STATIC void pvs__vx_tmin_plane(pvs__vx_tminvisit *tv) {
 	const double *a = tv->p[0], *b = tv->p[1], *c = tv->p[2];
 	int u = tv->u, v = tv->v, up = tv->up;
@@ -11016,8 +10983,8 @@ PVS__STATIC void pvs__vx_tmin_visit(void *user, const uint32_t at[3]) {
 	if (z < DBL_MAX && pvs__f_down(z - tv->margin) < tv->tmin[x]) tv->tmin[x] = pvs__f_down(z - tv->margin);
 }
 
-/* tmin, row-major over map squares sq0..sq1: least height of K's triangles within e of each (pvs__vx_tmin_visit);
-   FLT_MAX if none. */
+/* tmin, row-major over map squares sq0..sq1: least height of K's triangles within e of each (pvs__vx_tmin_visit;
+   FLT_MAX: none). */
 PVS__STATIC void pvs__vx_columns_tmin(const pvs_occluders *o, const pvs__vx_topo *tp, uint32_t comp,
 									  const uint32_t sq0[3], const uint32_t sq1[3], double e, double margin,
 									  float *tmin) {
@@ -11159,14 +11126,13 @@ PVS__STATIC int pvs__vx_seg_meet_i(const int32_t *p, const int32_t *q, const int
 }
 
 /* Simplifies a loop of n integer points (region on left) from inside, in place (pt: room for 2n): from each kept point
-   to the farthest later one whose chord keeps skipped points right of or on it, at most a square off (area lost, never
-   added), meeting no other loop edge. Slanted-wall staircases become long edges whose shadows cover whole cull-map
-   cells. Returns count. */
+   to farthest later one whose chord keeps skipped points right of or on it, <= a square off (area lost, never added),
+   meeting no other loop edge. Slanted-wall staircases: long edges shadowing whole cull-map cells. Returns count. */
 PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 	uint32_t i = 0, kept = 0, j, k, start;
 	int32_t *out;
 	if (n < 5) return n;
-	/* start at a kept point: lowest-leftmost is convex */
+	/* start at kept point: lowest-leftmost is convex */
 	start = 0;
 	for (k = 1; k < n; ++k)
 		if (pt[2 * k + 1] < pt[2 * start + 1] || (pt[2 * k + 1] == pt[2 * start + 1] && pt[2 * k] < pt[2 * start]))
@@ -11208,13 +11174,12 @@ PVS__STATIC uint32_t pvs__vx_simplify(int32_t *pt, uint32_t n) {
 }
 
 /* Traces boundary loops of mask's set squares (w x h, empty frame around), set on left, turning left where diagonal
-   squares meet (4-connected). Each, simplified, becomes a chain of heights [base, top], point (i, j) at (ox + i c, oy +
-   j c): outer (CCW) loops closed, holes (not solid) open, repeating their first point. used: 4 (w + 1) (h + 1) bytes.
-   0 if out of memory. */
+   squares meet (4-connected). Simplified, each is a chain of heights [base, top], point (i, j) at (ox + i c, oy + j c):
+   outer (CCW) loops closed, holes (not solid) open, repeating first point. used: 4 (w + 1) (h + 1) bytes. 0: OOM. */
 PVS__STATIC int pvs__vx_trace(const pvs_allocator *al, pvs__vx_chainbuf *cb, const uint8_t *mask, uint32_t w,
 							  uint32_t h, double ox, double oy, double c, float base, float top, uint8_t *used,
 							  int32_t **ip, size_t *ipcap) {
-	/* direction d: 0 +i, 1 +j, 2 -i, 3 -j; squares left, right of an edge leaving vertex (x, y) */
+	/* direction d: 0 +i, 1 +j, 2 -i, 3 -j; squares left, right of edge leaving vertex (x, y) */
 	static const int di[4] = {1, 0, -1, 0}, dj[4] = {0, 1, 0, -1};
 	static const int lqi[4] = {0, -1, -1, 0}, lqj[4] = {0, 0, -1, -1}, rqi[4] = {0, 0, -1, -1}, rqj[4] = {-1, 0, 0, -1};
 	/* square (i, j)'s side to neighbour n (below, right, above, left) leaves vertex (i, j) + v0[n] along n */
@@ -11313,8 +11278,7 @@ typedef struct pvs__vx_chainwork {
 	pvs__vx_chainbuf cb;
 } pvs__vx_chainwork;
 
-/* Labels nlab square x's region (4-connected squares with an occluder height), lists it in w->members, sets its frame;
-   returns its size. */
+/* Labels x's region nlab (4-connected squares with occluder height) into w->members, sets its frame; returns size. */
 PVS__STATIC uint32_t pvs__vx_chain_region(pvs__vx_chainwork *w, size_t x, uint32_t nlab) {
 	const pvs__vx_cols *cm = &w->o->cols;
 	uint32_t *label = w->label, *queue = w->queue, i0, i1, j0, j1, nm = 0;
@@ -11347,8 +11311,7 @@ PVS__STATIC uint32_t pvs__vx_chain_region(pvs__vx_chainwork *w, size_t x, uint32
 	return nm;
 }
 
-/* Level L's chains: per 4-connected sub-region of the region's squares at or above L with a square at L, its boundary
-   at L. 0 if out of memory. */
+/* Level L's chains: per 4-connected sub-region of region's squares >= L with one at L, its boundary at L. 0: OOM. */
 PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) {
 	const pvs__vx_cols *cm = &w->o->cols;
 	uint32_t *queue = w->queue, *sub = w->sub, bw = w->bw, bh = w->bh, i0 = w->i0, j0 = w->j0, nsub = 0, k;
@@ -11391,7 +11354,7 @@ PVS__STATIC int pvs__vx_chain_level(pvs__vx_chainwork *w, uint32_t nm, float L) 
 	return 1;
 }
 
-/* Region chains: pvs__vx_chain_level per distinct level, ascending. 0 if out of memory. */
+/* Region chains: pvs__vx_chain_level per distinct level, ascending. 0: OOM. */
 PVS__STATIC int pvs__vx_chain_levels(pvs__vx_chainwork *w, uint32_t nm) {
 	const pvs_allocator *al = &w->o->allocator;
 	const pvs__vx_cols *cm = &w->o->cols;
@@ -11444,8 +11407,8 @@ PVS__STATIC pvs_result pvs__vx_chains_hand_over(pvs_occluders *o, const pvs__vx_
 }
 
 /* 2.5D chains: occluder heights quantized down to quarter squares; per 4-connected region of squares at or above one of
-   its levels, its boundary there. Level-set tree: a block of several heights is one chain at its lowest plus one per
-   taller part, so no crack opens between heights. */
+   its levels, its boundary there. Level-set tree: block of several heights is one chain at its lowest plus one per
+   taller part: no crack opens between heights. */
 PVS__STATIC pvs_result pvs__vx_build_chains(pvs_occluders *o) {
 	pvs__vx_cols *cm = &o->cols;
 	const pvs_allocator *al = &o->allocator;
@@ -11579,8 +11542,7 @@ PVS__STATIC void pvs__tri_axis_range(const pvs_scene *s, uint32_t tri, uint32_t 
 	}
 }
 
-/* Component comp's voxel box lo..hi in grid gr: voxels within m of its triangles' extents, from layer 1 up if open
-   edges. Returns voxel count. */
+/* comp's voxel box lo..hi in gr: voxels within m of its triangle extents (open edges: from layer 1); count. */
 PVS__STATIC size_t pvs__vx_comp_box(const pvs_scene *s, const pvs__vx_topo *tp, uint32_t comp, const pvs__vx_grid *gr,
 									double m, uint32_t lo[3], uint32_t hi[3]) {
 	uint32_t t, k, r0, r1, up = s->up_axis;
@@ -11678,8 +11640,8 @@ PVS__STATIC pvs_result pvs__vx_columns(pvs_occluders *o, const pvs__vx_topo *tp,
 	return res;
 }
 
-/* pvs_occluders_create's shared step state. Steps return PVS_OK or PVS_ERROR_OUT_OF_MEMORY; pvs__vx_build_free frees
-   what error path leaves; a step freeing a buffer NULLs it. */
+/* pvs_occluders_create's shared step state. Steps return PVS_OK or OOM; pvs__vx_build_free frees what error paths
+   leave; step freeing a buffer NULLs it. */
 typedef struct pvs__vx_build {
 	const pvs_occluders_desc *d;
 	const pvs_scene *s;
@@ -11870,8 +11832,8 @@ PVS__STATIC pvs_result pvs__vx_build_boxes(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* Step 1, solid proved per component (see pvs__vx_orient): 3+ triangle components certified. Allocates b->queue (kept
-   for leak flood), frees other scratch. */
+/* Step 1, solid proved per component (pvs__vx_orient): 3+ triangle ones certified. Allocates b->queue (kept for leak
+   flood), frees other scratch. */
 PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
 	static const int xyz[3] = {0, 1, 2};
 	pvs_occluders *o = b->o;
@@ -11920,7 +11882,7 @@ PVS__STATIC pvs_result pvs__vx_build_certify(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* Step 2: voxels above ground wholly in an explicit occluder get PVS__VX_EXPLICIT | PVS__VX_SOLID. */
+/* Step 2: voxels above ground wholly in explicit occluder get PVS__VX_EXPLICIT | PVS__VX_SOLID. */
 PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
 	const pvs_scene *s = o->scene;
 	double h = o->h;
@@ -11946,7 +11908,7 @@ PVS__STATIC void pvs__vx_explicit_solid(pvs_occluders *o) {
 }
 
 /* Step 3, leak diagnostic: 6-connected flood from grid border through voxels not touched, ground or explicit (a path
-   meeting no triangle). info.leak_cells: cells reached; info.leak_cell, leak_point: the lowest, a reached voxel. Uses
+   meeting no triangle). info.leak_cells: cells reached; info.leak_cell, leak_point: lowest, a reached voxel. Uses
    b->queue (total entries). */
 PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
 	pvs_occluders *o = b->o;
@@ -11998,8 +11960,7 @@ PVS__STATIC void pvs__vx_leaks(pvs__vx_build *b) {
 	}
 }
 
-/* After steps 1-3: o->eroded = solid (eroded in step 5), info.solid, info.thin_objects (drawable objects, no solid
-   voxel in box). */
+/* After steps 1-3: o->eroded = solid (step 5 erodes), info.solid, info.thin_objects (drawables, no box voxel solid). */
 PVS__STATIC void pvs__vx_solid_summary(pvs_occluders *o) {
 	const pvs_scene *s = o->scene;
 	uint32_t c, i, j, k;
@@ -12046,7 +12007,7 @@ PVS__STATIC pvs_result pvs__vx_build_columns(pvs__vx_build *b) {
 	return PVS_OK;
 }
 
-/* Cells the floods left out (o->excluded, o->excluded_boxes); frees per-cell bytes, clears b->fl. */
+/* Cells left out by floods (o->excluded, o->excluded_boxes); frees per-cell bytes, clears b->fl. */
 PVS__STATIC pvs_result pvs__vx_build_excluded(pvs__vx_build *b) {
 	pvs_occluders *o = b->o;
 	const pvs_occluders_desc *d = b->d;
@@ -12072,7 +12033,7 @@ PVS__STATIC pvs_result pvs__vx_build_excluded(pvs__vx_build *b) {
 }
 
 /* Step 5, occluders shrunk by eps (Wonka 2000 §2, appendix): solid eroded by r voxels (Chebyshev; outside, ground
-   empty), greedily merged into o->boxes (NULL if out of memory). */
+   empty), greedily merged into o->boxes (NULL if OOM). */
 PVS__STATIC void pvs__vx_erode_merge(pvs__vx_build *b, uint32_t r) {
 	pvs_occluders *o = b->o;
 	size_t vi, total = b->total;
@@ -12196,7 +12157,7 @@ PVS_API const pvs_facade_chain *pvs_occluders_columns(const pvs_occluders *o, ui
 typedef struct pvs__wsample {
 	uint32_t col; /* column iu + nu iv */
 	float h; /* floor height */
-	uint32_t next[2]; /* the first sample linked in column +u, +v; PVS__WNONE */
+	uint32_t next[2]; /* first sample linked in column +u, +v; PVS__WNONE */
 } pvs__wsample;
 #define PVS__WNONE 0xffffffffu
 
@@ -12217,7 +12178,7 @@ typedef struct pvs__walk {
 PVS__STATIC int pvs__walk_inside(const pvs__walk *k, const float p[3]) {
 	uint32_t n = 0, i;
 	const uint32_t *items = pvs_kdtree_leaf_items(k->solids, p, &n);
-	pvs_box b; /* lines through a tiny square around p: one on a mesh edge is ambiguous, the others decide */
+	pvs_box b; /* lines through tiny square around p: one on mesh edge is ambiguous, others decide */
 	memcpy(b.min, p, sizeof(b.min));
 	memcpy(b.max, p, sizeof(b.max));
 	b.min[k->u] -= (float)k->eps;
@@ -12237,7 +12198,7 @@ PVS__STATIC pvs_result pvs__walk_solids(pvs__walk *k, pvs_error *err) {
 	if (pvs__vx_topology(s, s->bounds.min[k->up], &k->d.allocator, &k->tp) != PVS_OK) return PVS__OOM(err, "meshes");
 	k->cbox = (pvs_box *)pvs__alloc_array(&k->d.allocator, k->tp.comp_count + 1, sizeof(pvs_box));
 	if (!k->cbox) return PVS__OOM(err, "mesh boxes");
-	for (c = 0; c < k->tp.comp_count; ++c) { /* closed, or open only around its base: standing on some floor */
+	for (c = 0; c < k->tp.comp_count; ++c) { /* closed, or open only around its base: standing on floor */
 		float base;
 		k->cbox[c] = pvs__box_empty();
 		for (t = k->tp.comp_first[c]; t < k->tp.comp_first[c + 1]; ++t) {
@@ -12264,7 +12225,7 @@ PVS__STATIC void pvs__walk_point(const pvs__walk *k, uint32_t col, double h, flo
 	p[k->up] = (float)h;
 }
 
-/* 1 if p's eye is in a view volume (or none given). */
+/* 1 if p's eye is in view volume (or none given). */
 PVS__STATIC int pvs__walk_in_volumes(const pvs__walk *k, const float p[3]) {
 	float e[3];
 	uint32_t i;
@@ -12275,7 +12236,7 @@ PVS__STATIC int pvs__walk_in_volumes(const pvs__walk *k, const float p[3]) {
 	return !k->d.volume_count;
 }
 
-/* The floors of one column, top down. */
+/* Floors of one column, top down. */
 PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 	const pvs_scene *s = k->s;
 	float o[3], dir[3] = {0, 0, 0}, p[3], a[3];
@@ -12320,13 +12281,13 @@ PVS__STATIC int pvs__walk_column(pvs__walk *k, uint32_t col) {
 	return 1;
 }
 
-/* The most a walk climbs between neighbouring columns: a step, or a ramp or stairs at max_slope. */
+/* Most a walk climbs between neighbouring columns: a step, or a ramp or stairs at max_slope. */
 PVS__STATIC double pvs__walk_climb(const pvs__walk *k) {
 	return pvs__dmax(k->d.step_height, k->hs * tan((double)k->d.max_slope));
 }
 
 /* Links samples of neighbouring columns a climb apart whose knee-high segment is free (next[]); joins only those within
-   a square (the merge reads next[] across its sides). */
+   square (merge reads next[] across its sides). */
 PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent) {
 	double climb = pvs__walk_climb(k);
 	size_t a, b;
@@ -12354,7 +12315,7 @@ PVS__STATIC void pvs__walk_link(pvs__walk *k, uint32_t *parent) {
 		}
 }
 
-/* A group of linked samples in one square. */
+/* Group of linked samples in one square. */
 typedef struct pvs__wgroup {
 	uint32_t square, root, count, lo_u, hi_u, lo_v, hi_v, used;
 	float lo, hi;
@@ -12366,7 +12327,7 @@ PVS__STATIC int pvs__wgroup_before(const void *pa, const void *pb) {
 	return a->lo < b->lo || (a->lo == b->lo && a->root < b->root);
 }
 
-/* 1 if the group is one level over every column of a rectangle. */
+/* 1 if group is one level over every column of rectangle. */
 PVS__STATIC int pvs__wgroup_rect(const pvs__walk *k, const pvs__wgroup *g) {
 	return g->count == (g->hi_u - g->lo_u + 1) * (g->hi_v - g->lo_v + 1) && g->hi - g->lo <= k->d.step_height;
 }
@@ -12396,7 +12357,7 @@ PVS__STATIC int pvs__walk_joins(const pvs__walk *k, const pvs__wgroup *a, const 
 	return 1;
 }
 
-/* The group of square (gx, gz) continuing a across side dirn within [lo, hi], or NULL. */
+/* Group of square (gx, gz) continuing a across side dirn within [lo, hi], or NULL. */
 PVS__STATIC pvs__wgroup *pvs__walk_find(const pvs__walk *k, pvs__wgroup *g, const uint32_t *sq_first, uint32_t gx,
 										uint32_t gz, const pvs__wgroup *a, uint32_t dirn, float lo, float hi) {
 	uint32_t gnu = (k->nu + 3) / 4, sq = gz * gnu + gx, i;
@@ -12406,8 +12367,8 @@ PVS__STATIC pvs__wgroup *pvs__walk_find(const pvs__walk *k, pvs__wgroup *g, cons
 	return NULL;
 }
 
-/* Emits the box over columns [u0, u1] and half a spacing more, from a quarter eye height over lo to eye height over
-   hi, clipped to the bounds of the view volumes it meets. */
+/* Emits box over columns [u0, u1] plus half a spacing, from quarter eye height over lo to eye height over hi, clipped
+   to bounds of view volumes met. */
 PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, uint32_t v0, uint32_t v1, float lo,
 								float hi, pvs_box *cells, uint32_t capacity, uint32_t *n) {
 	pvs_box b, in = pvs__box_empty();
@@ -12420,13 +12381,13 @@ PVS__STATIC void pvs__walk_emit(const pvs__walk *k, uint32_t u0, uint32_t u1, ui
 	b.max[k->up] = hi + k->d.eye_height;
 	for (m = 0; m < k->d.volume_count; ++m)
 		if (pvs__box_overlap(&b, k->d.volumes + m)) pvs__box_add_box(&in, k->d.volumes + m);
-	if (k->d.volume_count) pvs__box_clip(&b, &in); /* the union's bounds: no sliver where two volumes meet */
+	if (k->d.volume_count) pvs__box_clip(&b, &in); /* union's bounds: no sliver where two volumes meet */
 	if (cells && *n < capacity) cells[*n] = b;
 	++*n;
 }
 
-/* A rectangle group grown over neighbouring squares (up to max_merge per side, rows of equal extent), or any other
-   group as one box per run of equal sample rows. */
+/* A rectangle group grown over neighbouring squares (<= max_merge per side, rows of equal extent), or other groups as a
+   box per run of equal sample rows. */
 PVS__STATIC void pvs__walk_merge(const pvs__walk *k, pvs__wgroup *g, const uint32_t *sq_first, pvs__wgroup *a0,
 								 pvs_box *cells, uint32_t capacity, uint32_t *n) {
 	pvs__wgroup *run[64], *row[8];
@@ -12485,7 +12446,7 @@ PVS__STATIC void pvs__walk_merge(const pvs__walk *k, pvs__wgroup *g, const uint3
 	pvs__walk_emit(k, run[0]->lo_u, run[nr - 1]->hi_u, run[0]->lo_v, run[nr - 1]->hi_v, lo, hi, cells, capacity, n);
 }
 
-/* Groups the linked samples per square and emits the cells (see pvs_walkable_cells). */
+/* Groups linked samples per square, emits cells (pvs_walkable_cells). */
 PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t capacity, uint32_t *count,
 									   pvs_error *err) {
 	const pvs_allocator *al = &k->d.allocator;
@@ -12498,7 +12459,7 @@ PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t ca
 		pvs__free_array(al, sq_first, (size_t)nsq + 1, sizeof(uint32_t));
 		return PVS__OOM(err, "walkable groups");
 	}
-	for (a = 0; a < k->n; ++a) { /* one group per local root (its lowest sample) */
+	for (a = 0; a < k->n; ++a) { /* group per local root (its lowest sample) */
 		uint32_t r = pvs__uf_find(k->local, (uint32_t)a), iu = k->w[a].col % k->nu, iv = k->w[a].col / k->nu;
 		pvs__wgroup *q;
 		if (r == a) {
@@ -12532,8 +12493,8 @@ PVS__STATIC pvs_result pvs__walk_cells(pvs__walk *k, pvs_box *cells, uint32_t ca
 	return PVS_OK;
 }
 
-/* Breadth first from sample s0 (k->local[] zero; k->global the queue): a walk climbs pvs__walk_climb knee to knee, or
-   drops any height (across at its knee, then down). Marks k->local[] of those reached; returns how many. */
+/* Breadth first from sample s0 (k->local[] zero; k->global: queue): walk climbs pvs__walk_climb knee to knee, or drops
+   any height (across at knee, then down). Marks k->local[] of those reached; returns how many. */
 PVS__STATIC uint32_t pvs__walk_reach(pvs__walk *k, uint32_t s0) {
 	double climb = pvs__walk_climb(k);
 	uint32_t head = 0, tail = 0, d, b;
@@ -12618,11 +12579,11 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 		k.global = (uint32_t *)pvs__alloc_array(&k.d.allocator, nlink, sizeof(uint32_t));
 		if (!k.local || !k.global) r = PVS__OOM(err, "walkable links");
 	}
-	if (r == PVS_OK && k.d.seed) { /* keep the floors a walk reaches from the one under the seed */
+	if (r == PVS_OK && k.d.seed) { /* keep floors a walk reaches from the one under seed */
 		uint32_t keep = PVS__WNONE, tail = 0;
 		double best = 0.0;
 		float p[3];
-		for (a = 0; a < k.n; ++a) { /* nearest floor at most a step over the seed, higher on a tie */
+		for (a = 0; a < k.n; ++a) { /* nearest floor <= a step over seed, higher on a tie */
 			double du, dv;
 			pvs__walk_point(&k, k.w[a].col, k.w[a].h, p);
 			du = (double)p[k.u] - k.d.seed[k.u];
@@ -12660,21 +12621,19 @@ PVS_API pvs_result pvs_walkable_cells(const pvs_scene *s, const pvs_walkable_des
 }
 
 // >>vocc
-/* ---------------------------------------------------------------------------------------------- */
-/* vocc: virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): aggregate umbrae grown from seeds */
-/* along active supporting and separating lines (§3), 2.5D by height slices (§3.1), the greedy    */
-/* selection (Fig. 6), five quantized bytes per occluder, the PVS rebuilt on cell entry (§2, §4)  */
-/* ---------------------------------------------------------------------------------------------- */
-/* 2D (§3): cell C is a rectangle, occluders opaque segments. Segments closing a ring with exactly equal ends
-   form a wall loop: a point inside (odd crossings) is hidden from all outside, and a segment crossing its hull from
-   outside to outside crosses the loop, so a loop whose hull misses C is a convex blocker (its hull) for points outside
-   it. §3's objects: these hulls (buildings) and other segments.
+/* ==== vocc: virtual occluders (Koltun, Chrysanthou, Cohen-Or 2000): aggregate umbrae grown from seeds along active
+   supporting and separating lines (§3), 2.5D by height slices (§3.1), the greedy selection (Fig. 6), five quantized
+   bytes per occluder, the PVS rebuilt on cell entry (§2, §4) ==== */
+/* 2D (§3): cell C a rectangle, occluders opaque segments. Segments closing a ring with exactly equal ends form a wall
+   loop: a point inside (odd crossings) is hidden from all outside, and a segment crossing its hull from outside to
+   outside crosses the loop, so a loop whose hull misses C is a convex blocker (its hull) for points outside it. §3's
+   objects: these hulls (buildings), other segments.
    Conservative: x is hidden iff every segment C-x meets a blocker. A convex blocker disjoint from C, not containing x,
    covers an interval of C's fan from x, wholly before or behind C per ray (disjoint convex sets seen from a point keep
    their order): one ray decides; x is hidden if intervals before C cover the fan (pvs__vo_hidden). Along a line the
-   answer changes only at object boundaries or common tangents of two objects (or object and C) through C; the hidden
-   set is closed, so one point per interval between events finds hidden parts up to rounding (pvs__vo_line_hidden).
-   Each virtual occluder is so checked after final rounding, against its aggregate's blockers (a subset).
+   answer changes only at object boundaries or common tangents through C of two objects (or object and C); hidden sets
+   are closed, so one point per interval between events finds hidden parts up to rounding (pvs__vo_line_hidden). Each
+   virtual occluder is so checked after final rounding, against its aggregate's blockers (a subset).
    Growth (§3): seeds by subtended angle; an aggregate grows both sides along active supporting line P (outer tangent
    of C and aggregate) and separating polyline Q (first the inner tangent). Object B hit by an active line: (1) meets
    umbra U (a probe point of B hidden without B): joins U, P and Q move to it, a new occluder goes behind B or (3, found
@@ -12714,7 +12673,7 @@ PVS__STATIC void pvs__vo_pangle_dir(double p, double *d, double *c) {
 	*c = p;
 }
 
-/* ---- the prepared occluders: segments with heights, wall loops, objects, a grid ---- */
+/* ---- prepared occluders: segments with heights, wall loops, objects, grid ---- */
 
 typedef struct pvs__vprep {
 	pvs_allocator a;
@@ -12774,7 +12733,7 @@ PVS__STATIC void pvs__vo_bb_add(double *bb, const double *p) {
 	if (p[1] > bb[3]) bb[3] = p[1];
 }
 
-/* Convex hull (Andrew's monotone chain), ccw, no collinear points: its size, point indices in idx; keys: n scratch. */
+/* Convex hull (Andrew's monotone chain), ccw, no collinear points: size, point indices in idx; keys: n scratch. */
 PVS__STATIC uint32_t pvs__vo_hull(const double *pts, uint32_t n, pvs__key_index *keys, uint32_t *idx) {
 	uint32_t i, k = 0, t;
 	for (i = 0; i < n; ++i) { keys[i].key = pts[2 * i]; keys[i].index = i; }
@@ -12854,7 +12813,7 @@ PVS__STATIC void pvs__vprep_components(pvs__vprep *p, pvs__vprep_scratch *w) {
 		if (deg[i] != 2) idx[uf[i]] = 1;
 }
 
-/* Wall loops (degree-2 components) from their lowest segment into ring_seg/pt, loop_start; lowest top, box, hull_*. */
+/* Wall loops (degree-2 components) from lowest segment into ring_seg/pt, loop_start; lowest top, box, hull_*. */
 PVS__STATIC void pvs__vprep_loops(pvs__vprep *p, pvs__vprep_scratch *w) {
 	uint32_t *adj = w->adj, *uf = w->uf, *idx = w->idx, *hidx = w->hidx, m = p->nseg, ring = 0, h = 0, i;
 	p->nloop = 0;
@@ -12931,7 +12890,7 @@ PVS__STATIC void pvs__vprep_objects(pvs__vprep *p) {
 	}
 }
 
-/* Bucket grid (~2 objects a bucket, <= 1024^2): an object in buckets its box covers, a long wall in those along it. */
+/* Bucket grid (~2 objects a bucket, <= 1024^2): object in buckets its box covers, long wall in those along it. */
 PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 	double w, hh, cs;
 	size_t total = 0, cells;
@@ -12966,7 +12925,7 @@ PVS__STATIC pvs_result pvs__vprep_grid(pvs__vprep *p, const pvs_allocator *al) {
 			if (x1 >= p->gw) x1 = p->gw - 1;
 			if (y1 >= p->gh) y1 = p->gh - 1;
 			if (p->obj_ref[i] >= p->nloop && (uint64_t)(x1 - x0 + 1) * (y1 - y0 + 1) > 16) {
-				/* long wall: buckets along it 1/4 apart (a missed one hides it from search, not a check) */
+				/* long wall: buckets along it 1/4 apart (one missed hides it from search, not a check) */
 				const double *sg = p->seg + 4 * (size_t)(p->obj_ref[i] - p->nloop);
 				double len = sqrt((sg[2] - sg[0]) * (sg[2] - sg[0]) + (sg[3] - sg[1]) * (sg[3] - sg[1]));
 				uint32_t steps = (uint32_t)(4.0 * len / cs) + 1, t, last = 0xffffffffu;
@@ -13070,13 +13029,13 @@ done:
 	return PVS_OK;
 }
 
-/* ---- one cell and one height slice: blockers in the cell's frame (centre at the origin) ---- */
+/* ---- one cell and height slice: blockers in cell's frame (centre at origin) ---- */
 
 typedef struct pvs__vobj {
 	uint32_t first, n; /* vx[first, +n): n = 2 segment, else ccw hull */
 	int32_t loop; /* hull's wall loop (inside test), -1 */
 	uint32_t mark, visit;	/* growth and query stamps */
-	uint32_t used; /* in an aggregate of this slice: no seed */
+	uint32_t used; /* in an aggregate of slice: no seed */
 	double bb[4];
 	double angle; /* subtended from cell centre: seed order */
 } pvs__vobj;
@@ -13086,7 +13045,7 @@ typedef struct pvs__vo_span {
 	uint32_t is, ie; /* ends' vertex ids (PVS__VO_NONE) */
 } pvs__vo_span;
 
-/* Dense-set virtual occluder: ends in cell frame as checked after rounding, and as stored. */
+/* Dense-set virtual occluder: ends in cell frame as checked after rounding and as stored. */
 typedef struct pvs__vo_cand {
 	double a[2], b[2];
 	float f[4]; /* pvs_vocc_2d: world ends */
@@ -13117,7 +13076,7 @@ typedef struct pvs__vctx {
 	double *vx;
 	uint32_t *vid;
 	uint32_t nvx, capvx, capvid;
-	uint32_t *pfirst, *pcount; /* per prepared object: its blockers in slice */
+	uint32_t *pfirst, *pcount; /* per prepared object: blockers in slice */
 	uint32_t epoch, visit;
 	uint32_t *g, ng, capg; /* aggregate's blockers */
 	uint32_t *k, nk, capk; /* objects fused into its umbra (seed, cases 1, 3) */
@@ -13280,7 +13239,7 @@ PVS__STATIC uint32_t pvs__vo_add_obj(pvs__vctx *c, const double *pts, const uint
 	return c->nobj++;
 }
 
-/* Wall s as a blocker if it reaches h and misses cell grown by tol. */
+/* Wall s as blocker if it reaches h and misses cell grown by tol. */
 PVS__STATIC void pvs__vo_add_seg(pvs__vctx *c, uint32_t s, float h) {
 	const pvs__vprep *p = c->p;
 	double a[2], d[2];
@@ -13290,7 +13249,7 @@ PVS__STATIC void pvs__vo_add_seg(pvs__vctx *c, uint32_t s, float h) {
 	if (pvs__vo_ray_cell(c, a, d, c->tol, 1.0) < 0.0) pvs__vo_add_obj(c, p->seg + 4 * s, p->seg_vid + 2 * s, 2, -1);
 }
 
-/* Slice h's blockers: loops reaching h whose hull misses cell (as hulls), other walls reaching h and missing it. */
+/* Slice h's blockers: loops reaching h whose hull misses cell (as hulls), other walls reaching h, missing it. */
 PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 	const pvs__vprep *p = c->p;
 	uint32_t i, j;
@@ -13324,7 +13283,7 @@ PVS__STATIC int pvs__vctx_slice(pvs__vctx *c, float h) {
 
 /* ---- exact hidden tests ---- */
 
-/* 1 if x is inside wall loop l (odd crossings), over tol from its walls. Only loops whose hull misses cell. */
+/* 1 if x is inside wall loop l (odd crossings), over tol from its walls; only loops whose hull misses cell. */
 PVS__STATIC int pvs__vo_in_loop(const pvs__vctx *c, uint32_t l, const double *x) {
 	const pvs__vprep *p = c->p;
 	uint32_t s = p->loop_start[l], n = p->loop_start[l + 1] - s, i, odd = 0;
@@ -13433,8 +13392,8 @@ PVS__STATIC int pvs__vo_fan_init(const pvs__vctx *c, const double *x, pvs__vo_fa
 	return 1;
 }
 
-/* From-point test, blocker o: appends to c->span at *ns (room for 2) the fan part o covers before cell (2 if across
-   back direction). 1 if x is in o's wall loop (hidden). */
+/* From-point test, blocker o: appends to c->span at *ns (room for 2) fan part o covers before cell (2 if across back
+   direction). 1 if x is in o's wall loop (hidden). */
 PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double *x, const pvs__vo_fan *fn,
 								  uint32_t *ns) {
 	const double *v = c->vx + 2 * (size_t)o->first, *cl = fn->cl, *ch = fn->ch, *f = fn->f;
@@ -13445,7 +13404,7 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 		pvs__vo_in_loop(c, (uint32_t)o->loop, x))
 		return 1;
 	if (o->bb[0] > fn->bb[2] || o->bb[2] < fn->bb[0] || o->bb[1] > fn->bb[3] || o->bb[3] < fn->bb[1]) return 0;
-	{ /* box beyond a fan edge line cannot help */
+	{ /* box beyond fan edge line cannot help */
 		/* cross(x, q, p) = e0 p1 - e1 p0 - e0 x1 + e1 x0 (e = q - x), linear in p: box corners bound it */
 		double e0 = cl[0] - x[0], e1 = cl[1] - x[1], g0 = ch[0] - x[0], g1 = ch[1] - x[1], mx, mn;
 		mx = (e0 > 0.0 ? e0 * o->bb[3] : e0 * o->bb[1]) + (e1 > 0.0 ? -e1 * o->bb[0] : -e1 * o->bb[2]) - e0 * x[1] +
@@ -13497,8 +13456,8 @@ PVS__STATIC int pvs__vo_obj_spans(pvs__vctx *c, const pvs__vobj *o, const double
 	return 0;
 }
 
-/* 1 if c->span[0 .. ns) (sorted here) covers fan [aL, aR]. Spans ending on one vertex join exactly (open chain
-   walls), others need overlap > PVS__VO_ATOL: rounding only says "not hidden". */
+/* 1 if c->span[0 .. ns) (sorted here) covers fan [aL, aR]. Spans ending on one vertex join exactly (open chain walls),
+   others need overlap > PVS__VO_ATOL: rounding only says "not hidden". */
 PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double aR) {
 	double reach;
 	uint32_t i, k, rid;
@@ -13527,7 +13486,7 @@ PVS__STATIC int pvs__vo_spans_cover(pvs__vctx *c, uint32_t ns, double aL, double
 	return 0;
 }
 
-/* Header's from-point test: 1 if every segment from cell to x meets one of set[0..n). Rounding only answers 0. */
+/* Header's from-point test: 1 if every segment from cell to x meets one of set[0..n); rounding only answers 0. */
 PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, const double *x) {
 	pvs__vo_fan fn;
 	double tol = c->tol;
@@ -13544,7 +13503,7 @@ PVS__STATIC int pvs__vo_hidden(pvs__vctx *c, const uint32_t *set, uint32_t n, co
 	return pvs__vo_spans_cover(c, ns, fn.aL, fn.aR);
 }
 
-/* ---- the aggregate: blockers, and the lines where hidden answers can change ---- */
+/* ---- the aggregate: blockers, lines where hidden answers can change ---- */
 
 /* Min and max pvs__vo_cross(p, q, .) over n points x. */
 PVS__STATIC void pvs__vo_sides(const double *p, const double *q, const double *x, uint32_t n, double *mn, double *mx) {
@@ -13558,7 +13517,7 @@ PVS__STATIC void pvs__vo_sides(const double *p, const double *q, const double *x
 	}
 }
 
-/* Common tangents through cell of convex sets a, b (only they change hidden answers); need_cell 0: a is cell. */
+/* Common tangents through cell of convex sets a, b (only they change answers); need_cell 0: a is cell. */
 PVS__STATIC void pvs__vo_tangent_lines(pvs__vctx *c, const double *a, uint32_t na, const double *b, uint32_t nb,
 									   int need_cell) {
 	uint32_t i, j;
@@ -13630,7 +13589,7 @@ PVS__STATIC void pvs__vo_ev_seg(pvs__vctx *c, uint32_t *n, const double *p, cons
 	pvs__vo_ev_push(c, n, t, t0, t1);
 }
 
-/* Hidden parts of p + t d, t in [t0, t1], by aggregate's blockers: closed intervals into out (<= cap); their count. */
+/* Hidden parts of p + t d, t in [t0, t1], by aggregate's blockers: closed intervals into out (<= cap), count. */
 PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const double *d, double t0, double t1,
 										 double *out, uint32_t cap) {
 	double bb[4], a[2], b[2], span = t1 - t0, eps;
@@ -13707,7 +13666,7 @@ PVS__STATIC uint32_t pvs__vo_line_hidden(pvs__vctx *c, const double *p, const do
 	return c->oom ? 0 : nout;
 }
 
-/* 1 if all of a-b is hidden (checked a little past both ends). */
+/* 1 if all of a-b is hidden (checked a little past ends). */
 PVS__STATIC int pvs__vo_segment_hidden(pvs__vctx *c, const double *a, const double *b) {
 	double d[2], iv[2], len, mu;
 	d[0] = b[0] - a[0];
@@ -13820,8 +13779,8 @@ PVS__STATIC uint32_t pvs__vo_k_points(pvs__vctx *c, int with_cell) {
 	return n;
 }
 
-/* Active lines of fused objects: supporting lines bridge the hull of cell and aggregate, separating ones are inner
-   common tangents; side 0: left seen from cell; bit s of `which` resets side s's separating line. 0: cell inside it. */
+/* Active lines of fused objects: supporting ones bridge hull of cell and aggregate, separating ones inner common
+   tangents; side 0: left seen from cell; bit s of `which` resets side s's separating line. 0: cell inside it. */
 PVS__STATIC int pvs__vo_tangents(pvs__vctx *c, pvs__vo_side *sd, int which) {
 	uint32_t n = pvs__vo_k_points(c, 1), hn, i, found = 0, s;
 	if (!n) return 0;
@@ -13917,8 +13876,8 @@ PVS__STATIC double pvs__vo_angle(const double *p, const double *d, double t0, do
 	return fabs(atan2(a0 * b1 - a1 * b0, a0 * b0 + a1 * b1));
 }
 
-/* Hidden parts of p + t d (d unit) in aggregate's wedge (supporting lines widened by 1/4, within analysis radius):
-   *cur gets widest (keep: one around keep_t); returns its angle, 0 if none. */
+/* Hidden parts of p + t d (d unit) in aggregate's wedge (supporting lines widened by 1/4, within analysis radius): *cur
+   gets widest (keep: one around keep_t); returns its angle, 0 if none. */
 PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const double *p, const double *d,
 									double keep_t, int keep, pvs__vo_cur *cur) {
 	double lo = DBL_MAX, hi = -DBL_MAX, iv[64], best = 0.0, b, cc, disc, w;
@@ -13960,9 +13919,9 @@ PVS__STATIC double pvs__vo_try_line(pvs__vctx *c, const pvs__vo_side *sd, const 
 	return best;
 }
 
-/* Virtual occluder behind b (§3): widest hidden interval on 3 lines just beyond b: across umbra (normal to
-   supporting lines' bisector), silhouette chord through their contacts, across b's view from cell centre. keep
-   (case 3): current line, interval around its middle. */
+/* Virtual occluder behind b (§3): widest hidden interval on 3 lines just beyond b: across umbra (normal to supporting
+   lines' bisector), silhouette chord through their contacts, across b's view from cell centre. keep (case 3): current
+   line, interval around its middle. */
 PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, pvs__vo_cur *cur, int keep) {
 	const pvs__vobj *o = c->obj + b;
 	const double *v = c->vx + 2 * (size_t)o->first;
@@ -14022,7 +13981,7 @@ PVS__STATIC int pvs__vo_place(pvs__vctx *c, const pvs__vo_side *sd, uint32_t b, 
 
 #endif /* PVS_RUNTIME_ONLY */
 
-/* ---- quantization: five bytes per occluder, relative to the cell (the VOCC section) ---- */
+/* ---- quantization: five bytes per occluder, relative to cell (VOCC section) ---- */
 
 /* Cell scale S = 2^((code - 128) / 8), code 0..255 (exact: constant x power of two). Byte q: coordinate centre + S (q -
    128) |q - 128| / 16384, -S to 0.98 S, finer near cell. */
@@ -14059,7 +14018,7 @@ PVS__STATIC uint32_t pvs__vo_scale_code(double reach) {
 	return code;
 }
 
-/* Rounds occluder a-b (cell frame) to stored bytes, shrinking it and moving ends away from cell ("toward smaller
+/* Rounds occluder a-b (cell frame) to stored bytes, shrinking it, moving ends away from cell ("toward smaller
    occluders", §4), then checks exactly; 6 tries, shrinking more each. 1 with *out filled. */
 #ifndef PVS_RUNTIME_ONLY
 PVS__STATIC int pvs__vo_quantize(pvs__vctx *c, const double *a0, const double *b0, pvs__vo_cand *out) {
@@ -14203,7 +14162,7 @@ PVS__STATIC void pvs__vo_grow(pvs__vctx *c, uint32_t seed) {
 				hitp[1] = sd[s].po[1] + sp * sd[s].pd[1];
 				on_q = t >= 0.0;
 			}
-			{ /* probes: hit point pushed a little toward umbra and along ray */
+			{ /* probes: hit point pushed a little toward umbra, along ray */
 				double nx = s ? sd[s].pd[1] : -sd[s].pd[1], ny = s ? -sd[s].pd[0] : sd[s].pd[0];
 				double sz = 0.02 * ((c->obj[b].bb[2] - c->obj[b].bb[0]) + (c->obj[b].bb[3] - c->obj[b].bb[1])) + c->tol;
 				const double *rd = via_q ? sd[s].qd : sd[s].pd;
@@ -14297,7 +14256,7 @@ PVS__STATIC void pvs__vo_emit(pvs__vctx *c, const double *a, const double *b) {
 
 #endif /* PVS_RUNTIME_ONLY */
 
-/* ---- the runtime test: one box against one virtual occluder (pvs_vocc_box_hidden) ---- */
+/* ---- runtime test: one box against one virtual occluder (pvs_vocc_box_hidden) ---- */
 
 typedef struct pvs__vo_rt {
 	double o[2]; /* frame origin (world) */
@@ -14309,9 +14268,9 @@ typedef struct pvs__vo_rt {
 	int u_axis, v_axis, up, ok;
 } pvs__vo_rt;
 
-/* Occluder a-b's test (world ground, heights base..top) for a cell. In 2D a box is hidden in umbra (§3): beyond
-   the line and, per cell corner c, on b's side of line c-a and a's of c-b. Convex: corners decide; support functions
-   test box at once. Margins (1e-7 of frame extent) make rounding answer "not hidden". */
+/* Occluder a-b's test (world ground, heights base..top) for a cell. In 2D a box is in umbra (§3) if beyond line and,
+   per cell corner c, on b's side of line c-a and a's of c-b. Convex: corners decide; support functions test box at
+   once. Margins (1e-7 of frame extent) make rounding answer "not hidden". */
 PVS__STATIC void pvs__vo_rt_init(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const double *a, const double *b,
 								 double base, double top) {
 	double la[2], lb[2], cc[4][2], u[2], len, ext = 1.0, dmin = DBL_MAX, dmax = -DBL_MAX;
@@ -14414,7 +14373,7 @@ PVS__STATIC int pvs__vo_box_ok(const pvs_box *b) {
 	return 1;
 }
 
-/* r from a caller's occluder; 0 (r unusable) if its ends are not finite. */
+/* r from caller's occluder; 0 (r unusable) if its ends are not finite. */
 PVS__STATIC int pvs__vo_rt_user(pvs__vo_rt *r, const pvs_box *cell, uint32_t up, const pvs_virtual_occluder *o) {
 	double a[2], b[2];
 	a[0] = o->p0[0]; a[1] = o->p0[1];
@@ -14429,7 +14388,7 @@ PVS_API int pvs_vocc_box_hidden(const pvs_box *cell, uint32_t up_axis, const pvs
 	return pvs__vo_rt_user(&r, cell, up_axis, o) && pvs__vo_rt_hides(&r, box);
 }
 
-/* ---- the rebuild: a top-down walk of the object kD-tree ---- */
+/* ---- the rebuild: top-down walk of object kD-tree ---- */
 
 typedef struct pvs__vo_walk {
 	const pvs__vo_rt *rt;
@@ -14511,7 +14470,7 @@ PVS__STATIC pvs_result pvs__vo_cull(const pvs_box *cell, pvs__vo_rt *rt, uint32_
 	return PVS_OK;
 }
 
-/* Splits caller scratch into occluder array (front) and rest (16-aligned). */
+/* Splits caller scratch into occluder array (front), rest (16-aligned). */
 PVS__STATIC pvs_result pvs__vo_scratch(void *scratch, size_t size, uint32_t count, const pvs_kdtree *tree,
 									   pvs__vo_rt **rt, uint8_t **rest, size_t *rest_size, pvs_error *err) {
 	size_t need = pvs_vocc_cull_scratch_size(tree, count),
@@ -14553,13 +14512,13 @@ PVS_API pvs_result pvs_vocc_cull_occluders(const pvs_box *cell, uint32_t up_axis
 	return pvs__vo_cull(cell, rt, count, boxes, object_count, tree, rest, rest_size, visible, err);
 }
 
-/* ---- the VOCC section of a .pvs file (layout in the manual) ---- */
+/* ---- the VOCC section of a .pvs file (layout: manual) ---- */
 
 #define PVS__VO_TAG ((uint32_t)'V' | ((uint32_t)'O' << 8) | ((uint32_t)'C' << 16) | ((uint32_t)'C' << 24))
 #define PVS__VO_HEAD 16u
 #define PVS__VO_BLOCK 16u
 
-/* Size of a VOCC section of cells cells, n occluders (0 past 32 bits). */
+/* Size of VOCC section of cells cells, n occluders (0 past 32 bits). */
 PVS__STATIC size_t pvs__vo_section_size(uint32_t cells, uint64_t n) {
 	uint64_t blocks = ((uint64_t)cells + PVS__VO_BLOCK - 1) / PVS__VO_BLOCK,
 			 size = PVS__VO_HEAD + 4 * (blocks + 1) + 2 * (uint64_t)cells + 5 * n;
@@ -14596,7 +14555,7 @@ PVS__STATIC void pvs__vo_section_write(uint8_t *o, uint32_t flags, float base, f
 	}
 }
 
-/* Validates a VOCC section of f->cell_count cells (pvs_file_open, after META) into *f; linear, reads only inside it. */
+/* Validates VOCC section of f->cell_count cells (pvs_file_open, after META) into *f; linear, reads only inside it. */
 PVS__STATIC pvs_result pvs__vo_open_section(pvs_file *f, const uint8_t *file, const uint8_t *sec, uint32_t size,
 											pvs_error *err) {
 	uint64_t so = (uint64_t)(sec - file);
@@ -14731,10 +14690,10 @@ PVS_API pvs_result pvs_vocc_cull(const pvs_file *f, uint32_t cell, uint32_t max_
 	return pvs__vo_cull(&box, rt, n, boxes, object_count, tree, rest, rest_size, visible, err);
 }
 
-#ifndef PVS_RUNTIME_ONLY /* rest of >>vocc, >>portal, >>methods and >>bake: the bake's side */
-/* ---- 2.5D per cell (§3.1), the selection (Fig. 6), the bake's part ---- */
+#ifndef PVS_RUNTIME_ONLY /* rest of >>vocc, >>portal, >>methods, >>bake: bake side */
+/* ---- 2.5D per cell (§3.1), selection (Fig. 6): bake side ---- */
 
-/* Shared by a bake's cells: prepared facades, quantization, object boxes. */
+/* Shared by bake's cells: prepared facades, quantization, object boxes. */
 typedef struct pvs__vbake {
 	pvs_allocator a;
 	pvs__vprep *prep;
@@ -14754,7 +14713,7 @@ PVS__STATIC void pvs__vbake_destroy(pvs__vbake *vb) {
 	pvs__free(&a, vb, sizeof(*vb), 16);
 }
 
-/* Prepared facades (pvs__scene_facades) and ground walls of EXTRUSION and BOX occluders; object boxes. */
+/* Prepared facades (pvs__scene_facades), ground walls of EXTRUSION and BOX occluders; object boxes. */
 PVS__STATIC pvs_result pvs__vbake_create(const pvs_scene *s, const pvs_allocator *a, uint32_t slices, uint32_t max_keep,
 										 pvs__vbake **out) {
 	pvs__vbake *vb;
@@ -14935,8 +14894,8 @@ typedef struct pvs__vo_selwork {
 	pvs_word *hid, *covered; /* c->nout x words: what each hides; words: hidden so far */
 } pvs__vo_selwork;
 
-/* Greedy selection (Koltun 2000, Fig. 6) from c->out: occluder hiding most not-yet-hidden objects, until max_keep
-   kept or best gain < min_gain; 5 bytes each into bytes, tests into sw->sel; count. *r = OUT_OF_MEMORY: no scratch. */
+/* Greedy selection (Koltun 2000, Fig. 6) from c->out: occluder hiding most not-yet-hidden objects, until max_keep kept
+   or best gain < min_gain; 5 bytes each into bytes, tests into sw->sel; count. *r = OUT_OF_MEMORY: no scratch. */
 PVS__STATIC uint32_t pvs__vo_select(const pvs__vbake *vb, const pvs_box *cell, uint32_t code, const pvs__vctx *c,
 									uint32_t words, uint8_t *bytes, pvs__vo_selwork *sw, pvs_result *r) {
 	const pvs_allocator *al = &vb->a;
@@ -15214,24 +15173,24 @@ PVS_API void pvs_bake_get_vocc_stats(const pvs_bake *b, pvs_vocc_stats *out) {
 // >>portal
 /* ==== portal: rooms and portals from the scene's closed convex solids, conservative portal flow per cell ==== */
 /* Rooms (Teller and Sequin 1991's cells, built as q3map2 builds vis portals from brushes): solids are connected closed
-   convex meshes among the scene's triangles (joined by shared vertices or split ones: pvs__po_solids; each directed
-   edge matched by its reverse, every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles); not explicit
-   occluder volumes (rays pass them). A BSP on their face planes (q3map2's BuildTree: fragments split by each plane they
+   convex meshes among scene triangles (joined by shared vertices or split ones: pvs__po_solids; each directed edge
+   matched by its reverse, every vertex behind every face plane, <= PVS__PO_MAX_FACES triangles), not explicit occluder
+   volumes (rays pass them). A BSP on their face planes (q3map2's BuildTree: fragments split by each plane they
    straddle) ends in leaves wholly inside a solid or outside all: empty ones are rooms. Planes closer than input's float
-   resolution are one (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size): touching solids leave no crack. A portal is a
-   face of an empty leaf with an empty leaf beyond: the face pushed down the tree, split by every plane it straddles
-   (Teller 1992 §3.3). A segment between two rooms meeting no solid crosses the portals of leaves it passes, in order.
-   Other triangles do not block here; a cell point inside a solid sees objects meeting it.
+   resolution are one (PVS__PO_NORMAL_EPS, PVS__PO_DIST_EPS x scene size): touching solids leave no crack. A portal:
+   face of an empty leaf with an empty leaf beyond, pushed down the tree, split by every plane it straddles
+   (Teller 1992 §3.3). A segment between two rooms meeting no solid crosses the portals of leaves it passes, in
+   order. Other triangles do not block here.
 
    Portal flow (Teller 1992 §5, conservative; Bittner's thesis §2.3): a segment from x in view cell C through portals
-   P1 .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: the lines' source is C_j, C clipped
-   to that side (empty: no such line). Beyond Pj the segment stays behind every separating plane of C_j (or of P(j-1))
-   and its crossing region on Pj. Each step P -> Q (or a start leaf's portal Q) keeps convex hull R of regions so found
-   on Q; a region W (Q clipped by the step's planes into P) not inside R grows R to hull(R, W) and queues the step: a
-   monotone fixed point (as q3map2's might-see pruning); by induction every crossing point lies in its step's R. An
-   object of a leaf entered through Q (or overlapped by C) is kept if a triangle's part in the leaf is behind every
-   plane of the step: a visible point lies so. Past `budget` portal clips, every object of every empty leaf reachable
-   (conservative cut-off). */
+   P1 .. Pk crosses each from its leaf `from`, so x is on that side of Pj's plane: lines' source is C_j, C clipped to
+   that side (empty: no such line). Beyond Pj the segment stays behind every separating plane of C_j (or of P(j-1)) and
+   its crossing region on Pj. Each step P -> Q (or a start leaf's portal Q) keeps convex hull R of regions so found on
+   Q; a region W (Q clipped by step's planes into P) not inside R grows R to hull(R, W) and queues the step: a monotone
+   fixed point (as q3map2's might-see pruning); by induction every crossing point lies in its step's R. An object of a
+   leaf entered through Q (or overlapped by C) is kept if a triangle's part in the leaf is behind every plane of the
+   step: a visible point lies so. Past `budget` portal clips: every object of every empty leaf reachable (conservative
+   cut-off). */
 
 #define PVS__PO_MAXW 64u /* clipped winding vertices */
 #define PVS__PO_MAXS 64u /* separating planes per region */
@@ -15280,7 +15239,7 @@ typedef struct pvs__poprep {
 	uint8_t *on_path; /* per pair: splitter above node being built */
 	uint32_t *stamp, stamp_now; /* per pair: candidate of node being scored */
 	uint32_t *facing; /* per pair: node fragment faces on it (0 between nodes) */
-	double (*fbox)[6]; /* per node fragment its box (min, max; build scratch) */
+	double (*fbox)[6]; /* per node fragment: box (min, max; build scratch) */
 	size_t flag_cap, fbox_cap, fbox_n; /* fbox_n: fragments boxed by pvs__po_choose (0: none) */
 	uint32_t bound_pairs; /* pairs < bound_pairs: root box (no portal across) */
 	pvs__po_node *nodes;
@@ -15302,8 +15261,8 @@ typedef struct pvs__poprep {
 	size_t lo_count, lo_cap;
 	uint32_t budget, empty_leaves;
 	uint32_t *task_cut, task_count; /* per task: cells cut off (own slot) */
-	pvs_box *solid_box; /* solids: a point inside sees objects meeting it (its hull blocks the rest) */
-	uint32_t *so_first, *so; /* per solid drawable objects whose box meets its box */
+	pvs_box *solid_box; /* solids: a point inside sees objects meeting it (hull blocks the rest) */
+	uint32_t *so_first, *so; /* per solid drawable objects meeting its box */
 	size_t so_count;
 } pvs__poprep;
 
@@ -15325,7 +15284,7 @@ PVS__STATIC int pvs__po_axis(const double *n) {
 	return fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : (fabs(n[1]) >= fabs(n[2]) ? 1 : 2);
 }
 
-/* Table id of plane n.x = d (n unit): an existing one within epsilons, or a new pair; PVS__PO_NONE: no memory. */
+/* Table id of plane n.x = d (n unit): existing one within epsilons, or new pair; PVS__PO_NONE: no memory. */
 PVS__STATIC uint32_t pvs__po_plane(pvs__poprep *p, const double n[3], double d) {
 	double de = PVS__PO_DIST_EPS * p->ext, nn[3];
 	double q = fabs(d) / (1e-3 * p->ext);
@@ -15489,8 +15448,8 @@ PVS__STATIC void pvs__po_face(const pvs__po_poly *q, uint32_t f, pvs__po_wind *w
 	memcpy(w->p, q->v[q->first[f]], w->n * sizeof(w->p[0]));
 }
 
-/* Polytope of planes[0..count) (outward): each face its base square clipped by others (dropped if clipped away);
-   < 4 left: empty *q (face_count 0). 0 if out of memory. */
+/* Polytope of planes[0..count) (outward): each face its base square clipped by others (dropped if clipped away); < 4
+   left: empty *q (face_count 0). 0 if out of memory. */
 PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes, uint32_t count, pvs__po_poly *q,
 										 pvs__po_wind *scratch, uint32_t *kept) {
 	uint32_t i, faces = 0;
@@ -15504,7 +15463,7 @@ PVS__STATIC int pvs__po_poly_from_planes(pvs__poprep *p, const uint32_t *planes,
 }
 
 /* -1, 0, 1: polytope wholly behind, straddling, wholly in front of pl (within eps); 2: on it (degenerate). */
-/* Axis k of a plane of normal +-e_k, else -1. */
+/* Axis k of plane of normal +-e_k, else -1. */
 PVS__STATIC int pvs__po_unit_axis(const double *pl) {
 	int j;
 	for (j = 0; j < 3; ++j)
@@ -15538,8 +15497,8 @@ PVS__STATIC int pvs__po_side(const pvs__po_poly *q, const double *pl, double eps
 	return 2;
 }
 
-/* Splits q by table plane id into *front and *back (empty if no part of q there); q untouched. Cap: plane's base
-   square clipped by q's faces. 0 if out of memory. */
+/* Splits q by table plane id into *front, *back (empty if no part of q there); q untouched. Cap: plane's base square
+   clipped by q's faces. 0 if out of memory. */
 PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32_t id, pvs__po_poly *front,
 								   pvs__po_poly *back, pvs__po_wind *scratch, uint32_t *planes) {
 	const double *pl = p->pl[id];
@@ -15573,7 +15532,7 @@ PVS__STATIC int pvs__po_poly_split(pvs__poprep *p, const pvs__po_poly *q, uint32
 
 /* ---- solids ---- */
 
-/* Face planes of tris[0..n) if a closed convex mesh (each directed edge and its reverse once; every vertex within tolc
+/* Face planes of tris[0..n) if closed convex mesh (each directed edge and its reverse once; every vertex within tolc
    behind every triangle plane, or all in front: inside out): their count, else 0. edges: 6n scratch; planes: n. */
 PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const uint32_t *canon, const uint32_t *tris,
 									uint32_t n, uint32_t (*edges)[2], uint32_t *planes) {
@@ -15637,9 +15596,9 @@ PVS__STATIC uint32_t pvs__po_convex(pvs__poprep *p, const pvs_scene *s, const ui
 	return np >= 4 ? np : 0;
 }
 
-/* Scene s's solids as fragments: closed convex meshes among triangles, by lowest triangle. Triangles join when they
-   share a vertex, or an edge's two positions that exactly two of them use, in opposite directions (a mesh exported
-   with split vertices; touching solids use such an edge four times and stay apart). 0 if out of memory. */
+/* Scene s's solids as fragments: closed convex meshes among triangles, by lowest triangle. Triangles join if they share
+   a vertex, or an edge's two positions that exactly two of them use, in opposite directions (mesh exported with split
+   vertices; touching solids use such an edge four times, stay apart). 0 if out of memory. */
 PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly **frags, size_t *cap, size_t *count,
 							   pvs__po_wind *scratch, uint32_t *kept) {
 	const pvs_allocator *al = &p->allocator;
@@ -15684,7 +15643,7 @@ PVS__STATIC int pvs__po_solids(pvs__poprep *p, const pvs_scene *s, pvs__po_poly 
 		b = pvs__uf_find(parent, c1[0]);
 		if (a != b) parent[a < b ? b : a] = a < b ? a : b;
 	}
-	/* per component (root) its triangles, linked decreasing: reversed when read */
+	/* per component (root): triangles, linked decreasing, reversed when read */
 	for (t = s->triangle_count; t-- > 0;) {
 		uint32_t r = pvs__uf_find(parent, s->indices[3 * (size_t)t]);
 		if (!pvs__tri_blocks(s, t)) continue; /* see-through: in no solid */
@@ -15886,9 +15845,9 @@ PVS__STATIC void pvs__po_add_portal(pvs__po_build *b, uint32_t from, uint32_t to
 	p->portal_v_count += w->n;
 }
 
-/* Face w of leaf `from` on table plane `plane` (outward) pushed down from `node`: a portal into every empty leaf a part
-   reaches (Teller 1992 §3.3). Straddled planes split it; a coplanar node sends it along its normal; within eps
-   of another pair's node plane, both ways. */
+/* Face w of leaf `from` on table plane `plane` (outward) pushed down from `node`: portal into every empty leaf a part
+   reaches (Teller 1992 §3.3). Straddled planes split it; coplanar node sends it along its normal; within eps of
+   another pair's node plane, both ways. */
 PVS__STATIC void pvs__po_push(pvs__po_build *b, const pvs__po_wind *w, uint32_t plane, uint32_t node, uint32_t from) {
 	pvs__poprep *p = b->p;
 	while (!(node & PVS__PO_LEAF)) {
@@ -16014,8 +15973,8 @@ typedef struct pvs__po_flow {
 	int cut, oom;
 } pvs__po_flow;
 
-/* Plane through a, b, c if it separates A (na points, one side within eps) and B (nb, the other): added to w keeping
-   B's side (Teller 1992 §5.2 separating plane; dropped if w is full: fewer planes, more lines); 1 if so. */
+/* Plane through a, b, c if it separates A (na points, one side within eps) and B (nb, other): added to w keeping B's
+   side (Teller 1992 §5.2 separating plane; dropped if w is full: fewer planes, more lines); 1 if so. */
 PVS__STATIC int pvs__po_try_plane(pvs__po_win *w, const double *a, const double *b, const double *c,
 								   const double (*A)[3], uint32_t na, const double (*B)[3], uint32_t nb, double eps) {
 	double e1[3], e2[3], n[3], d, len, lo = 0.0, hi = 0.0, sg;
@@ -16066,7 +16025,7 @@ typedef struct pvs__po_set {
 } pvs__po_set;
 
 /* Appends to w->pl planes bounding lines from convex set c through region w->v (Teller 1992 §5.2 separating ones):
-   through an edge of one and a vertex of the other, c and w on opposite sides. A set meeting w has none. */
+   through an edge of one and vertex of the other, c and w on opposite sides. A set meeting w has none. */
 PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, double eps) {
 	uint32_t i, j;
 	for (i = 0; i < w->nv; ++i)
@@ -16081,7 +16040,7 @@ PVS__STATIC void pvs__po_window_planes(pvs__po_win *w, const pvs__po_set *c, dou
 				break;
 }
 
-/* Vertex x of set c: an existing one within eps, or new (PVS__PO_MAXW if c is full; never for pvs__po_source's sets: a
+/* Vertex x of set c: existing one within eps, or new (PVS__PO_MAXW if c is full; never for pvs__po_source's sets:
    once-clipped box has <= 7 faces of 5 vertices). */
 PVS__STATIC uint32_t pvs__po_set_vertex(pvs__po_set *c, const double *x, double eps) {
 	uint32_t i;
@@ -16094,7 +16053,7 @@ PVS__STATIC uint32_t pvs__po_set_vertex(pvs__po_set *c, const double *x, double 
 }
 
 /* Source of lines crossing portal q from its leaf `from`: cell box clipped to that leaf's side of q's plane, each
-   vertex on a clipped face. 0 if box is wholly on other side (no line from cell crosses q that way). */
+   vertex on a clipped face. 0 if box is wholly on other side (no line from cell crosses q so). */
 PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, pvs__po_set *c) {
 	static const uint8_t faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
 										{2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
@@ -16123,8 +16082,8 @@ PVS__STATIC int pvs__po_source(const pvs__po_flow *f, uint32_t q, pvs__po_set *c
 	return c->n > 0;
 }
 
-/* Keeps objects of empty leaf `leaf` with a part in it not beyond w's planes (w NULL: all): its box clipped to the
-   leaf's not wholly beyond one, then a triangle clipped to the leaf and by every plane not empty (within tol). */
+/* Keeps objects of empty leaf `leaf` with a part in it not beyond w's planes (w NULL: all): box clipped to leaf's not
+   wholly beyond one, then a triangle clipped to leaf and by every plane not empty (within tol). */
 PVS__STATIC void pvs__po_keep(pvs__po_flow *f, uint32_t leaf, const pvs__po_win *w) {
 	const pvs__poprep *p = f->p;
 	const pvs_scene *s = f->scene;
@@ -16345,7 +16304,7 @@ PVS__STATIC void pvs__po_flow_run(pvs__po_flow *f) {
 	}
 }
 
-/* Cut-off: every object of every empty leaf reachable from start leaves through any portals. */
+/* Cut-off: objects of every empty leaf reachable from start leaves through any portals. */
 PVS__STATIC void pvs__po_flood(pvs__po_flow *f) {
 	const pvs__poprep *p = f->p;
 	uint32_t i, j;
@@ -16395,7 +16354,7 @@ PVS__STATIC void pvs__po_destroy(const pvs__bake_env *env, void *state) {
 	pvs__free(a, p, sizeof(*p), 16);
 }
 
-/* Solid boxes (rounded outward) and per solid drawable objects meeting its box (object BVH). 0 if out of memory. */
+/* Solid boxes (rounded outward), per solid drawable objects meeting its box (object BVH). 0 if out of memory. */
 PVS__STATIC int pvs__po_solid_objects(pvs__poprep *p, const pvs_scene *s, const pvs__po_poly *frags) {
 	const pvs_allocator *al = &p->allocator;
 	uint32_t i, o, *pairs = NULL, *stack = NULL, sp;
@@ -16442,7 +16401,7 @@ done:
 	return ok;
 }
 
-/* Solids' tree, portals and each empty leaf's objects. */
+/* Solids' tree, portals, each empty leaf's objects. */
 PVS__STATIC pvs_result pvs__po_prepare(pvs__poprep *p, const pvs__bake_env *env) {
 	const pvs_scene *s = env->scene;
 	const pvs_allocator *al = &p->allocator;
@@ -16605,8 +16564,8 @@ PVS__STATIC pvs_result pvs__portal_bake_cell(const pvs__bake_env *env, void *sta
 	return PVS_OK;
 }
 
-/* AUTO's PORTAL price: class 0, +1 per PVS_AUTO_SAMPLE_CELLS / 4 of the cells spread as AUTO's sample whose centre
-   sees the sky (a ray up meets nothing): out of doors lines pass over every wall, and the flow with them. */
+/* AUTO's PORTAL price: class 0, +1 per PVS_AUTO_SAMPLE_CELLS / 4 of cells spread as AUTO's sample whose centre sees sky
+   (a ray up meets nothing): out of doors lines pass over every wall, the flow with them. */
 PVS__STATIC int pvs__portal_price(const pvs_bake_desc *desc, const void *state) {
 	uint32_t s, S = PVS_AUTO_SAMPLE_CELLS, k, up = pvs_scene_up_axis(desc->scene);
 	int price = 0;
@@ -16643,9 +16602,7 @@ PVS_API void pvs_bake_get_portal_info(const pvs_bake *b, pvs_portal_info *info) 
 }
 
 // >>methods
-/* ---------------------------------------------------------------------------------------------- */
-/* methods: region visibility: ray sampling, extended projections, shrink (bake methods)          */
-/* ---------------------------------------------------------------------------------------------- */
+/* ==== methods: region visibility: ray sampling, extended projections, shrink (bake methods) ==== */
 
 #endif /* PVS_RUNTIME_ONLY */
 
@@ -16656,7 +16613,7 @@ PVS_API const char *pvs_method_name(pvs_method m) {
 
 #ifndef PVS_RUNTIME_ONLY
 
-/* Sample i of `points`: 8 corners, 6 face centres, then a jittered point per stratum of a g^k grid (k non-flat axes) */
+/* Sample i of `points`: 8 corners, 6 face centres, then a jittered point per stratum of g^k grid (k non-flat axes) */
 PVS__STATIC void pvs__sample_point(const pvs_box *cell, uint32_t i, uint32_t points, uint64_t *state, float p[3]) {
 	int k;
 	if (i < 8) {
@@ -16784,7 +16741,7 @@ PVS_API uint64_t pvs_sample_visibility_toward(const pvs_scene *scene, const pvs_
 	return rays;
 }
 
-/* ---- the SAMPLE bake method (a row of >>bake's table): an estimate from below, never intersected ---- */
+/* ---- the SAMPLE bake method (a row of >>bake's table): estimate from below, never intersected ---- */
 
 typedef struct pvs__sample_bake {
 	pvs_allocator allocator;
@@ -16830,10 +16787,10 @@ PVS__STATIC const pvs__bake_method pvs__sample_method = {
 
 /* Rounding: double from float inputs. A plane's frame maps point to (u, v, w), w its Depth beyond cell's face (§2.3;
    cell: w in [-extent, 0]). P's view from cell corner V on plane w = W: V + (P - V) (W - Vw) / (Pw - Vw), Pw > Vw
-   (occluders clipped to w >= a small margin; occludees wholly at w > 0). Convex occluder's Projection: its 8 corner
-   views intersected (§3.2), pixel kept if its worst corner passes every edge by margin above all rounding; Depth: max
-   w, rounded up (§2.3). Occludee box's Projection: its views' bounding rectangle (§3.1), widened likewise; Depth: min
-   w, rounded down. Hidden if every pixel there holds an occluder strictly nearer (§2.2; off-plane pixels are visible).
+   (occluders clipped to w >= small margin; occludees wholly at w > 0). Convex occluder's Projection: 8 corner views
+   intersected (§3.2), pixel kept if its worst corner passes every edge by margin above all rounding; Depth: max w,
+   rounded up (§2.3). Occludee box's Projection: views' bounding rectangle (§3.1), widened likewise; Depth: min w,
+   rounded down. Hidden if every pixel there holds an occluder strictly nearer (§2.2; off-plane pixels are visible).
 
    Bake (§6.1): occluders prepared once per bake; per cell and direction largest by solid angle go on PVS__EP_PLANES
    depth maps and, with sweep, extproj.sweep masks out to scene's far end (§5); then object kD-tree front to back,
@@ -16975,8 +16932,8 @@ PVS__STATIC int pvs__ep_clip_slab(const double (*src)[3], int count, double wlo,
 	return n;
 }
 
-/* Projection of convex point set P (shape error `slack`): its 8 corner views intersected (§3.2), edges with error
-   bounds into E. 0 if it surely covers no whole pixel. */
+/* Projection of convex point set P (shape error `slack`): 8 corner views intersected (§3.2), edges with error bounds
+   into E. 0 if it surely covers no whole pixel. */
 PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int n, double slack, pvs__epedges *E) {
 	pvs__epframe f = *fp;
 	double pts[PVS__EP_CLIPN][2], hull[PVS__EP_CLIPN + 1][2], base = pvs__dabs(f.u0) * f.su + pvs__dabs(f.v0) * f.sv;
@@ -17032,8 +16989,8 @@ PVS__STATIC int pvs__ep_views(const pvs__epframe *fp, const double (*P)[3], int 
 	return 1;
 }
 
-/* Drops edges all candidate pixels pass by more than row loop's margins (most of 8 views'); kept ones get that
-   margin, less its row part, and 1 / a. */
+/* Drops edges all candidate pixels pass by more than row loop's margins (most of 8 views'); kept ones get that margin,
+   less its row part, and 1 / a. */
 PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0, int32_t j1) {
 	int e, m = 0;
 	double x0 = i0, x1 = (double)i1 + 1.0, y0 = j0, y1 = (double)j1 + 1.0;
@@ -17047,7 +17004,7 @@ PVS__STATIC void pvs__ep_edges_prune(pvs__epedges *E, int32_t i0, int32_t i1, in
 		E->b[m] = b;
 		E->c[m] = cc;
 		E->e[m] = 1e-6 + E->e[e] + 1e-12 * pvs__dabs(cc);
-		/* x * (1 / a) is within two ulps of x / a, far inside the 1e-9 |x| margin */
+		/* x * (1 / a) is within two ulps of x / a, far inside 1e-9 |x| margin */
 		E->inv[m] = pvs__dabs(a) > 1e-12 ? 1.0 / a : 0.0;
 		++m;
 	}
@@ -17068,7 +17025,7 @@ PVS__STATIC uint32_t pvs__ep_span(const pvs__epframe *f, int32_t j, int32_t x0, 
 }
 
 /* Rasterizes Projection E in rows j0..j1, columns i0..i1 as pvs__ep_span: pixels whose worst corner passes every edge
-   by its margin; returns count. Not pvs__raster_poly: flat-Depth spans are faster; edges carry error bounds. */
+   by its margin; count. Not pvs__raster_poly: flat-Depth spans are faster; edges carry error bounds. */
 PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges *E, int32_t i0, int32_t i1, int32_t j0,
 									   int32_t j1, float depth, float *map, unsigned char *mask) {
 	int32_t row;
@@ -17090,7 +17047,7 @@ PVS__STATIC uint32_t pvs__ep_fill_rows(const pvs__epframe *f, const pvs__epedges
 				x -= 1e-9 * (1.0 + pvs__dabs(x));
 				if (x < hi) hi = x < lo ? lo - 1.0 : pvs__floor_small(x);
 			} else {
-				/* nearly horizontal: test the worse row end */
+				/* nearly horizontal: test worse row end */
 				double worst = r + pvs__dmin(a * lo, a * hi) - pvs__dabs(a);
 				if (worst < 0.0) hi = lo - 1.0;
 			}
@@ -17157,7 +17114,7 @@ PVS__STATIC int pvs__ep_box_may_cover(const pvs__epframe *f, const double (*P)[3
 }
 
 /* pvs_extproj_occluder, prepared frame, finite points; solid, slack as in pvs__epocc. Depths to map (min), f->bits to
-   mask, either may be NULL; front_only: only the part before plane. */
+   mask, either may be NULL; front_only: only part before plane. */
 PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cell, const float *points, uint32_t count,
 									  int solid, double slack, int front_only, float *map, unsigned char *mask) {
 	pvs__epframe f = *fp;
@@ -17170,13 +17127,13 @@ PVS__STATIC uint32_t pvs__ep_occluder(const pvs__epframe *fp, const pvs_box *cel
 		wmax = pvs__dmax(wmax, P[i][2]);
 	}
 	if (solid) {
-		/* solid meeting cell could hold the viewer (its Depth bounds no first hit): left out */
+		/* solid meeting cell could hold viewer (its Depth bounds no first hit): left out */
 		pvs_box b = pvs__box_empty();
 		for (i = 0; i < count; ++i) pvs__box_add_point(&b, points + 3 * i);
 		if (pvs__box_overlap(&b, cell)) return 0;
 	}
-	/* clipped to w >= a small margin, split at plane: cell points seeing pixel through one side's part form a
-	   convex set, so corners decide; not across plane */
+	/* clipped to w >= small margin, split at plane: cell points seeing pixel through one side's part form a convex set,
+	   so corners decide; not across plane */
 	margin = 1e-4 * (f.W - f.cw[0]);
 	written = 0;
 	if (pvs__ep_box_may_cover(&f, (const double(*)[3])P, (int)count, margin, f.W))
@@ -17245,10 +17202,10 @@ PVS__STATIC int pvs__ep_occludee(const pvs__epframe *f, const pvs_box *box, int3
 }
 
 /* Durand 2000 §4's improved occludee Projection on axis k, box between cell and plane (depths w0..w1 <= W). Cones go
-   to cell's near face (w = 0): inside cone(P, cell), so Property 2 holds and the 3D Projection is exactly
-   the product of 2D ones. With [L(X), R(X)] X's views from face, I = [a, b] works iff a <= min R and b >= max L
-   (over box corners): if max L <= min R one point serves (*any = 1: one column must be hidden), else [min R, max L]
-   (*any = 0: all). Indices may leave map. */
+   to cell's near face (w = 0): inside cone(P, cell), so Property 2 holds: the 3D Projection is exactly the product of
+   2D ones. With [L(X), R(X)] X's views from face, I = [a, b] works iff a <= min R and b >= max L (over box corners): if
+   max L <= min R one point serves (*any = 1: one column must be hidden), else [min R, max L] (*any = 0: all). Indices
+   may leave map. */
 PVS__STATIC void pvs__ep_improved_axis(const double *cell_k, double bk0, double bk1, double w0, double w1, double W,
 									   double k0, double sk, uint32_t size, int32_t *lo, int32_t *hi, int *any) {
 	double maxL = -DBL_MAX, minR = DBL_MAX, mag = 0.0, err, a, b;
@@ -17306,7 +17263,7 @@ typedef struct pvs__epocc {
 	int xside; /* sheet side it stands on */
 	int cap_side, cap_axis; /* capped convex solid (cap_side != 0): only for cells where */
 	float cap_value; /*   cap_side * (x[cap_axis] - cap_value) > 0 */
-	float slack; /* how far the true shape may lie inside points' hull */
+	float slack; /* how far true shape may lie inside points' hull */
 	uint32_t object; /* its object, or PVS_NO_OBJECT */
 	float area; /* area bound: solid angle <= area / distance^2 */
 	uint32_t efirst, ecount; /* concave (ecount > 0): edges prep->cedge[6 * efirst ...]; points: hull, for selection */
@@ -17329,8 +17286,8 @@ typedef struct pvs__epsheet {
 	double area;
 } pvs__epsheet;
 
-/* Closed non-convex component sliced by the planes (§3.3): one object's connected triangles, all edges of even use,
-   or "capped": odd ones in one plane, all vertices on one side (a building with no floor). */
+/* Closed non-convex component sliced by planes (§3.3): one object's connected triangles, all edges of even use, or
+   "capped": odd ones in one plane, all vertices on one side (a building with no floor). */
 typedef struct pvs__epslice {
 	pvs_box box;
 	uint32_t first, count; /* scene triangles prep->stri[first .. first + count) */
@@ -17540,17 +17497,17 @@ PVS__STATIC int pvs__ep_walk_loop(const pvs__epedge2 *e, uint32_t nb, float *q, 
 	return pvs__fpoint_cmp(cur, q, 2) == 0; /* closed at its start */
 }
 
-/* Union of group's triangles as one convex polygon: boundary edges (odd use) in one loop turning once, with the
-   triangles' area (no overlap or hole). Fills q (CCW, no collinear points), returns size or 0. tol > 0: wrong turns
-   under tol (relative) count as straight, q is loop's hull (hp, hh: qcap + 1 scratch; 0 past max_hull points),
-   *dent deepest loop point inside it. ends: 2 qcap. */
+/* Union of group's triangles as one convex polygon: boundary edges (odd use) in one loop turning once, with triangles'
+   area (no overlap or hole). Fills q (CCW, no collinear points), returns size or 0. tol > 0: wrong turns under tol
+   (relative) count as straight, q is loop's hull (hp, hh: qcap + 1 scratch; 0 past max_hull points), *dent deepest loop
+   point inside it. ends: 2 qcap. */
 PVS__STATIC uint32_t pvs__ep_sheet_polygon(pvs__epedge2 *e, uint32_t ne, double tri_area, float *q, unsigned char *keep,
 										   uint32_t qcap, pvs__epend *ends, double tol, double (*hp)[2],
 										   double (*hh)[2], int max_hull, double *dent) {
 	uint32_t nb = 0, i, j, n = 0, m;
 	double area = 0.0, turn = 0.0;
 	PVS_QSORT(e, ne, sizeof(pvs__epedge2), pvs__ep_edge2_cmp);
-	for (i = 0; i < ne;) { /* zero-area triangle: a zero-length edge, a point, not a side */
+	for (i = 0; i < ne;) { /* zero-area triangle: zero-length edge, a point, not a side */
 		j = i;
 		while (j < ne && pvs__ep_edge2_cmp(e + j, e + i) == 0) ++j;
 		if (((j - i) & 1u) && pvs__fpoint_cmp(e[i].a, e[i].b, 2) != 0) e[nb++] = e[i];
@@ -17706,8 +17663,8 @@ PVS__STATIC int pvs__ep_work_alloc(const pvs_allocator *a, pvs__epprepwork *w, s
 		w->edges && w->mark && w->uv && w->e2 && w->q2 && w->keep && w->ends && w->gparent && w->used;
 }
 
-/* 1 if component's distinct vertices (<= PVS__EP_MAXP) lie on one side of each triangle's plane, to float
-   precision; *slack: twice worst violation (hull exceeds surface by no more). */
+/* 1 if component's distinct vertices (<= PVS__EP_MAXP) lie on one side of each triangle's plane to float precision;
+   *slack: twice worst violation (hull exceeds surface by no more). */
 PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
 										 uint32_t n, double *slack) {
 	uint32_t t, i, k;
@@ -17733,8 +17690,8 @@ PVS__STATIC int pvs__ep_convex_component(const pvs_scene *s, const uint32_t *tri
 	return 1;
 }
 
-/* 1 if all vertices are within float precision of largest triangle's plane. A flat closed mesh (two-sided wall)
-   bounds no volume: neither solid (its hull would fill windows) nor sliced. */
+/* 1 if all vertices are within float precision of largest triangle's plane. A flat closed mesh (two-sided wall) bounds
+   no volume: neither solid (its hull would fill windows) nor sliced. */
 PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris, uint32_t tn, const float *const *pts,
 									   uint32_t n) {
 	uint32_t t, i, k, best = 0;
@@ -17764,8 +17721,8 @@ PVS__STATIC int pvs__ep_flat_component(const pvs_scene *s, const uint32_t *tris,
 	return 1;
 }
 
-/* Cap of component whose boundary edges (pairs in bnd) lie exactly in an axis plane x_k = c, all vertices on one
-   side: *side = +1 if solid is where x_k >= c, else -1. Exact: pvs__ep_slice needs no tolerance. */
+/* Cap of component whose boundary edges (pairs in bnd) lie exactly in an axis plane x_k = c, all vertices on one side:
+   *side = +1 if solid is where x_k >= c, else -1. Exact: pvs__ep_slice needs no tolerance. */
 PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, uint32_t nb, const uint32_t *uv,
 								 uint32_t nuv, int *axis, float *c, int *side) {
 	int k;
@@ -17788,7 +17745,7 @@ PVS__STATIC int pvs__ep_cap_axis(const float *const *vpos, const uint32_t *bnd, 
 	return 0;
 }
 
-/* 1 if triangle B lies in A's plane (normal na, length la) to float precision, facing the same way. */
+/* 1 if triangle B lies in A's plane (normal na, length la) to float precision, facing alike. */
 PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double la, const float *const *B,
 								 double scale) {
 	double nb[3];
@@ -17806,7 +17763,7 @@ PVS__STATIC int pvs__ep_coplanar(const float *const *A, const double *na, double
 #define PVS__EP_CONCAVE_EDGES 256
 
 /* Odd-use edges (sorted keys, smaller canonical id high) of triangles tl[ids[i] & 0xffffffff] (ids NULL: tl[i]), i < n,
-   into out (not ids); returns how many. */
+   into out (not ids); count. */
 PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t *tl, const uint64_t *ids, uint32_t n,
 									   uint64_t *out) {
 	uint32_t i, k, ne = 0, nb = 0;
@@ -17827,7 +17784,7 @@ PVS__STATIC uint32_t pvs__ep_odd_edges(const pvs__epprepwork *w, const uint32_t 
 }
 
 /* A planar group not forming one convex polygon becomes concave planar occluder (Durand 2000 §3.4, Fig. 7): boundary
-   edges and plane (unit normal nr / lr, vertices within dev); its points (vertex hull) serve selection only. Past
+   edges, plane (unit normal nr / lr, vertices within dev); its points (vertex hull) serve selection only. Past
    PVS__EP_CONCAVE_EDGES edges it stays in pieces. */
 PVS__STATIC pvs_result pvs__ep_add_concave(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 										   pvs__epprepwork *w, uint32_t m, uint32_t cnt, const double *nr, double lr,
@@ -17917,8 +17874,8 @@ PVS__STATIC void pvs__ep_planar_groups(const pvs_scene *s, uint32_t t0, const ui
 	}
 }
 
-/* A planar group's edges in (u, v) into w->e2 (ends ordered, with their triangle); *dev: farthest vertex from plane
-   (nr, lr) through A[0]; *area: (u, v) area. Returns how many. */
+/* Planar group's edges in (u, v) into w->e2 (ends ordered, with their triangle); *dev: farthest vertex from plane (nr,
+   lr) through A[0]; *area: (u, v) area. Returns count. */
 PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const uint32_t *tl, pvs__epprepwork *w,
 										 uint32_t m, uint32_t cnt, const float *const *A, const double *nr, double lr,
 										 uint32_t u, uint32_t v, double *dev, double *area) {
@@ -17947,8 +17904,8 @@ PVS__STATIC uint32_t pvs__ep_group_edges(const pvs_scene *s, uint32_t t0, const 
 	return e;
 }
 
-/* Planar group's convex polygon (k corners in w->q2, (u, v) plane of nr's dominant axis ax) as an occluder, its
-   triangles marked in w->used; nothing if a corner is not a group vertex. */
+/* Planar group's convex polygon (k corners in w->q2, (u, v) plane of nr's dominant axis ax) as occluder, its triangles
+   marked in w->used; nothing if a corner is not a group vertex. */
 PVS__STATIC void pvs__ep_add_planar(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 									pvs__epprepwork *w, uint32_t m, uint32_t cnt, uint32_t k, const double *nr,
 									double lr, uint32_t ax, double dev, double dent, double scale) {
@@ -18084,7 +18041,7 @@ PVS__STATIC void pvs__ep_components(const pvs_scene *s, uint32_t t0, uint32_t tn
 	for (i = 0; i < tn; ++i) w->order[w->start[w->parent[i] = pvs__uf_find(w->parent, i)]++] = i;
 }
 
-/* Component `comp`'s boundary (odd-use edges) into w->edges, returns how many; its vertices into w->uv[0 .. *nuv) */
+/* Component `comp`'s boundary (odd-use edges) into w->edges, returns count; its vertices into w->uv[0 .. *nuv) */
 PVS__STATIC uint32_t pvs__ep_component_boundary(pvs__epprepwork *w, const uint32_t *tl, uint32_t n, uint32_t comp,
 												uint32_t *nuv) {
 	uint32_t j, k, nb = pvs__ep_odd_edges(w, tl, NULL, n, w->edges);
@@ -18123,7 +18080,7 @@ PVS__STATIC pvs_result pvs__ep_add_polygons(pvs__extproj_prep *p, const pvs_scen
 	return PVS_OK;
 }
 
-/* Keeps a closed or capped component for slicing (§3.3): triangles, box, if capped boundary edges and cap plane. */
+/* Keeps closed or capped component for slicing (§3.3): triangles, box, if capped boundary edges and cap plane. */
 PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0, const uint32_t *tl,
 										 uint32_t n, const pvs__epprepwork *w, const uint32_t *bnd, uint32_t nb,
 										 int capped, int cap_axis, int cap_side, float cap_value) {
@@ -18169,8 +18126,8 @@ PVS__STATIC pvs_result pvs__ep_add_slice(pvs__extproj_prep *p, const pvs_scene *
 	return PVS_OK;
 }
 
-/* One component (triangles tl[0 .. n), root `comp`): closed and convex: solid (capped: only for cells on cap's
-   solid side); else its polygons, kept for slicing if closed or capped. */
+/* One component (triangles tl[0 .. n), root `comp`): closed or capped and convex: solid; else its polygons, kept for
+   slicing if closed or capped. */
 PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs_scene *s, uint32_t t0,
 												 const uint32_t *tl, uint32_t n, uint32_t comp, uint32_t tn,
 												 pvs__epprepwork *w) {
@@ -18195,8 +18152,8 @@ PVS__STATIC pvs_result pvs__ep_prepare_component(pvs__extproj_prep *p, const pvs
 		if (pvs__ep_flat_component(s, tt, n, vq, nuv)) closed = capped = 0;
 	}
 	if ((closed || capped) && nuv >= 4 && nuv <= PVS__EP_MAXP && n <= 2 * PVS__EP_MAXP) {
-		/* capped solid serves only cells strictly on its side of cap: a ray from there crosses cap's plane
-		   once, going away, so meets hull (cap included) first on a real face */
+		/* capped solid serves only cells strictly on its side of cap: a ray from there crosses cap's plane once, going
+		   away, so meets hull (cap included) first on a real face */
 		const float *q[PVS__EP_MAXP];
 		double slack;
 		for (j = 0; j < n; ++j) tris_local[j] = t0 + tl[j];
@@ -18300,7 +18257,7 @@ PVS__STATIC int pvs__ep_sheetwork_reserve(const pvs_allocator *a, pvs__epsheetwo
 	return w->e && w->q && w->keep && w->ends && w->uf && w->tarea;
 }
 
-/* Keeps sheet polygon q (m vertices, plane x_axis = value) if among the PVS__EP_MAX_SHEETS largest. */
+/* Keeps sheet polygon q (m vertices, plane x_axis = value) if among PVS__EP_MAX_SHEETS largest. */
 PVS__STATIC pvs_result pvs__ep_keep_sheet(pvs__extproj_prep *p, int axis, float value, const float *q, uint32_t m,
 										  double area) {
 	pvs_result r = PVS_OK;
@@ -18447,9 +18404,9 @@ PVS__STATIC pvs_result pvs__ep_extend(pvs__extproj_prep *p, pvs__epocc *oc, uint
 	return PVS_OK;
 }
 
-/* Finds largest sheets and extends occluders standing on them through them by scene's size: the prism under the
-   footprint keeps the occluder convex and lies in sheet's solid half-space, so from cell over sheet on its
-   side it blocks nothing new, and closes the wall-ground seam the two Projections leave open. */
+/* Finds largest sheets, extends occluders standing on them through them by scene's size: the prism under footprint
+   keeps occluder convex and lies in sheet's solid half-space, so from cell over sheet on its side it blocks nothing new
+   and closes the wall-ground seam the two Projections leave open. */
 PVS__STATIC pvs_result pvs__ep_sheets(pvs__extproj_prep *p, const pvs_scene *s) {
 	const pvs_allocator *a = &p->allocator;
 	pvs__epskey *key = NULL;
@@ -18534,7 +18491,7 @@ PVS__STATIC pvs_result pvs__ep_prepare_meshes(pvs__extproj_prep *p, const pvs_sc
 	return PVS_OK;
 }
 
-/* Scene volumes: a BOX is convex solid, an EXTRUSION's walls quads; CONVEX ones are left out (conservative). */
+/* Scene volumes: BOX is convex solid, EXTRUSION's walls quads; CONVEX ones are left out (conservative). */
 PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *s) {
 	uint32_t o, i;
 	for (o = 0; o < s->occluder_count; ++o) {
@@ -18568,7 +18525,7 @@ PVS__STATIC void pvs__ep_prepare_volumes(pvs__extproj_prep *p, const pvs_scene *
 	}
 }
 
-/* Per size class: occluders, largest area and a kD-tree of boxes (§6.1's sweeps). */
+/* Per size class: occluders, largest area, kD-tree of boxes (§6.1's sweeps). */
 PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err) {
 	const pvs_allocator *a = &p->allocator;
 	pvs_kdtree_desc kd;
@@ -18600,7 +18557,7 @@ PVS__STATIC pvs_result pvs__ep_class_trees(pvs__extproj_prep *p, pvs_error *err)
 	return r;
 }
 
-/* Builds a scene's occluder list (§6.1 picks among it per cell). */
+/* Builds scene's occluder list (§6.1 picks among it per cell). */
 PVS__STATIC pvs_result pvs__extproj_prepare(const pvs_scene *s, const pvs_allocator *a, pvs__extproj_prep **out,
 											pvs_error *err) {
 	pvs__extproj_prep *p;
@@ -18695,8 +18652,8 @@ PVS__STATIC int pvs__ep_double_cmp(const void *a, const void *b) {
 	return x < y ? -1 : x > y;
 }
 
-/* Component c's section by w = W: segment (pixels) per crossing triangle into sc->seg from nseg on; vertices on the
-   plane count as beyond it; *mag grows to points' size. Returns new count. */
+/* Component c's section by w = W: segment (pixels) per crossing triangle into sc->seg from nseg on; vertices on plane
+   count as beyond it; *mag grows to points' size. Returns new count. */
 PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
 										  const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double *mag) {
 	uint32_t i;
@@ -18728,7 +18685,7 @@ PVS__STATIC uint32_t pvs__ep_section_tris(const pvs_scene *s, const pvs__extproj
 }
 
 /* Cap's section by w = W: boundary edges crossing plane give points on one line, paired in order into segments from
-   nseg on. Returns new count, or 0xffffffff if odd (never when closed). */
+   nseg on. Returns new count, or 0xffffffff if odd (never if closed). */
 PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__epslice *c, const pvs__epframe *f,
 										 pvs__epslicer *sc, uint32_t nseg, double *mag) {
 	double *pts = sc->xs;
@@ -18762,8 +18719,8 @@ PVS__STATIC uint32_t pvs__ep_section_cap(const pvs__extproj_prep *p, const pvs__
 	return nseg;
 }
 
-/* Fills section's inside: per row parity spans of its centre line (half-open in y), less pixels a segment
-   crosses in row's band widened by m, get `depth` (where nearer) in map, f->bits in mask (either may be NULL). */
+/* Fills section's inside: per row parity spans of its centre line (half-open in y), less pixels a segment crosses in
+   row's band widened by m, get `depth` (where nearer) in map, f->bits in mask (either may be NULL). */
 PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *sc, uint32_t nseg, double m,
 										  float depth, float *map, unsigned char *mask) {
 	double ylo = DBL_MAX, yhi = -DBL_MAX;
@@ -18821,10 +18778,10 @@ PVS__STATIC uint32_t pvs__ep_fill_section(const pvs__epframe *f, pvs__epslicer *
 	return written;
 }
 
-/* Section of closed (or capped) component by plane w = W (Durand 2000 §3.3): pixels inside by parity, at margin
-   from every segment, get Depth W. Conservative: cell point V is outside solid (cell outside its box), section point
-   X inside, so V-X crosses surface an odd # of times, never cap (both strictly on its solid side): it hits
-   a triangle nearer than W. Vertices on plane count as beyond it (symbolic perturbation), so segments agree. */
+/* Section of closed (or capped) component by plane w = W (Durand 2000 §3.3): pixels inside by parity, at margin from
+   every segment, get Depth W. Conservative: cell point V is outside solid (cell outside its box), section point X
+   inside, so V-X crosses surface an odd # of times, never cap (both strictly on its solid side): it hits a triangle
+   nearer than W. Vertices on plane count as beyond it (symbolic perturbation), so segments agree. */
 PVS__STATIC uint32_t pvs__ep_slice(const pvs_scene *s, const pvs__extproj_prep *p, const pvs__epslice *c,
 								   const pvs__epframe *f, pvs__epslicer *sc, float *map, unsigned char *mask) {
 	double mag = 0.0;
@@ -18852,7 +18809,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__
 	int32_t i0, i1, j0, j1, j;
 	uint32_t written = 0, e;
 	float depth = pvs__f_up(f->W);
-	if (k == f->a) return 0; /* parallel plane needs a polygon fill; gains little */
+	if (k == f->a) return 0; /* parallel plane needs polygon fill; gains little */
 	/* polygon's extent along line x[a] = pos */
 	for (e = 0; e < S->count; ++e) {
 		const float *A = poly + 2 * e, *B = poly + 2 * ((e + 1) % S->count);
@@ -18894,7 +18851,7 @@ PVS__STATIC uint32_t pvs__ep_sheet_slice(const pvs__extproj_prep *p, const pvs__
 	return written;
 }
 
-/* Slices every component the plane cuts inside its rectangle. */
+/* Slices every component plane cuts inside its rectangle. */
 PVS__STATIC uint32_t pvs__ep_slices(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
 									const pvs_extproj_plane *pl, const pvs__epframe *f, pvs__epslicer *sc,
 									const int *sheet_side, float *map, unsigned char *mask) {
@@ -19039,8 +18996,8 @@ PVS__STATIC int pvs__ep_mark_penumbra(const pvs__epframe *fp, const double *e, d
 	return 1;
 }
 
-/* Test (2) for pixel (xm, row): 1 if line from cell's centre through pixel's centre meets o's plane before
-   (front) or behind plane, inside boundary by parity, farther from it than slack. */
+/* Test (2) for pixel (xm, row): 1 if line from cell's centre through pixel's centre meets o's plane before (front) or
+   behind plane, inside boundary by parity, farther from it than slack. */
 PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *o, const double *E, uint32_t n,
 									   const double *world0, const double *pn, int pax, int front, double scale,
 									   int32_t xm, int32_t row) {
@@ -19065,18 +19022,18 @@ PVS__STATIC int pvs__ep_crosses_inside(const pvs__epframe *f, const pvs__epocc *
 						 sqrt((cp[pu] - ax - ex * s2) * (cp[pu] - ax - ex * s2) +
 							  (cp[pv] - ay - ey * s2) * (cp[pv] - ay - ey * s2)));
 	}
-	/* surface within slack of plane: line crosses that slab over slack |dir| / |den|, 1 / |n_pax| longer in
-	   (pu, pv); nearer boundary: not trusted */
+	/* surface within slack of plane: line crosses that slab over slack |dir| / |den|, 1 / |n_pax| longer in (pu, pv);
+	   nearer boundary: not trusted */
 	tol = 4.0 * slack / pvs__dabs(pn[pax]) *
 			pvs__dmax(1.0, sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]) / pvs__dabs(den)) +
 		1e-9 * scale;
 	return inside && best > tol;
 }
 
-/* Projection of concave planar occluder P (Durand 2000 §3.4, Fig. 7) wholly in front of plane or, unless
-   front_only, behind it. As cell point moves, a line's crossing with P's plane leaves P only through its boundary,
-   so pixel X is covered if (1) it is outside every boundary edge's penumbra (cmark) and (2) line from cell's
-   centre through X crosses P; one test per unmarked run of a row. Depth: farthest vertex plus slack. */
+/* Projection of concave planar occluder P (Durand 2000 §3.4, Fig. 7) wholly in front of plane or, unless front_only,
+   behind it. As cell point moves, a line's crossing with P's plane leaves P only through its boundary, so pixel X is
+   covered if (1) it is outside every boundary edge's penumbra (cmark) and (2) line from cell's centre through X crosses
+   P; one test per unmarked run of a row. Depth: farthest vertex plus slack. */
 PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_prep *p, const pvs__epocc *o,
 									 int front_only, unsigned char *cmark, float *map, unsigned char *mask) {
 	const pvs__epframe f = *fp;
@@ -19096,14 +19053,14 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 		for (c = 0; c < 3; ++c) scale = pvs__dmax(scale, pvs__dabs(E[3 * e + c]));
 	}
 	if (!(wmin - slack > margin)) {
-		/* reaching past cell's face (a wall beside cell): its part at w >= margin, exact input only */
+		/* reaching past cell's face (wall beside cell): its part at w >= margin, exact input only */
 		if (slack > 0.0 || !(wmax > margin)) return 0;
 		n = pvs__ep_clip_concave(&f, o, E, n, margin, 1);
 		if (n < 3) return 0;
 	}
 	if (wmax + slack <= f.W) front = 1;
 	else if (!front_only && wmin - slack >= f.W) front = 0;
-	else if (slack == 0.0) { /* straddling plane: the part in front */
+	else if (slack == 0.0) { /* straddling plane: part in front */
 		n = pvs__ep_clip_concave(&f, o, E, n, f.W, 0);
 		if (n < 3) return 0;
 		front = 1;
@@ -19161,9 +19118,9 @@ PVS__STATIC uint32_t pvs__ep_concave(const pvs__epframe *fp, const pvs__extproj_
 	return written;
 }
 
-/* ---- depth maps with their pyramids, sweep masks ---- */
+/* ---- depth maps with pyramids, sweep masks ---- */
 
-/* Depth map and its max pyramid (§2.4): a texel is the greatest Depth of its 2 x 2 children. */
+/* Depth map and its max pyramid (§2.4): texel: greatest Depth of its 2 x 2 children. */
 typedef struct pvs__epmap {
 	pvs_extproj_plane plane;
 	pvs__epframe frame;
@@ -19173,7 +19130,7 @@ typedef struct pvs__epmap {
 	float *lv[14];
 } pvs__epmap;
 
-/* Max pyramid by pvs__pyramid_level (positive Depths: its SIMD path matches the scalar one). */
+/* Max pyramid by pvs__pyramid_level (positive Depths: its SIMD path matches scalar one). */
 PVS__STATIC void pvs__ep_build_pyramid(pvs__epmap *m) {
 	uint32_t l;
 	for (l = 1; l <= m->levels; ++l)
@@ -19228,10 +19185,10 @@ PVS__STATIC int pvs__ep_visible(const pvs__epmap *m, const int32_t *r, float d) 
 	return pvs__ep_open(&p, &m->plane, m->levels, r);
 }
 
-/* Sweep plane (§5): mask (1 = every ray from cell through pixel is blocked before plane) and its AND
-   pyramid. With sub-cells (nsub = 4) bit j says so for quarter j of cell (halved across direction on u: bit 0,
-   v: bit 1; frame sub[j]): their umbrae together are wider than the cell's; an object is hidden if hidden from each.
-   frame.bits: all four (slices block every ray). nsub = 0: bit 1. */
+/* Sweep plane (§5): mask (1 = every ray from cell through pixel is blocked before plane) and its AND pyramid. With
+   sub-cells (nsub = 4) bit j says so for quarter j of cell (halved across direction on u: bit 0, v: bit 1; frame
+   sub[j]): their umbrae together are wider than the cell's; an object is hidden if hidden from each. frame.bits: all
+   four (slices block every ray). nsub = 0: bit 1. */
 #define PVS__EP_MAX_SUB 4
 typedef struct pvs__epmask {
 	pvs_extproj_plane plane;
@@ -19318,7 +19275,7 @@ PVS__STATIC void pvs__ep_reproject_axis(const double *ck, const double *cw, doub
 	}
 }
 
-/* ---- per cell: occluder selection, planes, the object sweep ---- */
+/* ---- per cell: occluder selection, planes, object sweep ---- */
 
 typedef struct pvs__epsel {
 	float score;
@@ -19394,8 +19351,8 @@ PVS__STATIC int pvs__ep_mask_hidden(const pvs__epmask *m, const pvs_box *b) {
 	return 1;
 }
 
-/* 1 if box is hidden from the whole cell (never if meeting it): on §6.1's planes by §3.1 behind, §4 in front,
-   both parts if straddling; on the sweep's by the last two planes before it. */
+/* 1 if box is hidden from whole cell (never if meeting it): on §6.1's planes by §3.1 behind, §4 in front, both parts
+   if straddling; on the sweep's by last two planes before it. */
 PVS__STATIC int pvs__ep_box_hidden(pvs__epcell *c, const pvs_box *b) {
 	int d;
 	if (pvs__box_overlap(b, &c->cell)) return 0;
@@ -19479,8 +19436,8 @@ PVS__STATIC int pvs__ep_wanted(const pvs__epcell *c, uint32_t o) {
 	return !c->candidates || pvs_bitset_test(c->candidates, o);
 }
 
-/* §6.1: occludees top-down through object kD-tree, hidden nodes skipped; an object is visible if its box cut by a
-   leaf is (sweep: pvs__ep_parts_visible). Coarse: PVS__EP_COARSE_ANGLE. */
+/* §6.1: occludees top-down through object kD-tree, hidden nodes skipped; an object is visible if its box cut by a leaf
+   is (sweep: pvs__ep_parts_visible). Coarse: PVS__EP_COARSE_ANGLE. */
 PVS__STATIC pvs_visit pvs__ep_visit(void *user, const pvs_box *node_box, float distance, const uint32_t *items,
 									uint32_t count) {
 	pvs__epcell *c = (pvs__epcell *)user;
@@ -19548,7 +19505,7 @@ PVS__STATIC double pvs__ep_fill_estimate(const pvs_box *cell, const pvs_box *b, 
 			((double)cell->max[ax[1]] - cell->min[ax[1]] + 2.0 * PVS__EP_EXTEND * (W + ext)));
 }
 
-/* Plane of direction d at W reaching sideways PVS__EP_EXTEND x its distance from the far cell side (§6.1: corners). */
+/* Plane of direction d at W reaching sideways PVS__EP_EXTEND x its distance from far cell side (§6.1: corners). */
 PVS__STATIC void pvs__ep_make_plane(const pvs_box *cell, int d, double W, uint32_t res, pvs_extproj_plane *pl) {
 	int a = d >> 1, u = (a + 1) % 3, v = (a + 2) % 3;
 	double ext = (double)cell->max[a] - cell->min[a];
@@ -19613,11 +19570,11 @@ PVS_API size_t pvs_extproj_task_bytes(uint32_t resolution, uint32_t sweep) {
 	return bytes;
 }
 
-/* Fits sweep plane (§5) to span of cell and scene's bounds per axis (plus a sliver), spreading a res x
-   res map's pixels over it as ~square pixels within `room` with `levels`; pixels outside count as open. Nothing that
-   could hide is lost: masks are read only by occludees beyond them (§3.1) and by reprojection farther out (§5.1), and
-   rays from cell to points beyond cross plane inside span, which holds the cell's (as pvs__epslab needs).
-   §6.1's planes are not fitted: §4 often hides by pixels outside span. */
+/* Fits sweep plane (§5) to span of cell and scene's bounds per axis (plus a sliver), spreading a res x res map's
+   pixels over it as ~square pixels within `room` with `levels`; pixels outside count as open. Nothing that could hide
+   is lost: masks are read only by occludees beyond them (§3.1) and by reprojection farther out (§5.1), and rays from
+   cell to points beyond cross plane inside span, which holds the cell's (as pvs__epslab needs). §6.1's planes are not
+   fitted: §4 often hides by pixels outside span. */
 PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, uint32_t res, uint32_t levels,
 								   size_t room, pvs_extproj_plane *pl) {
 	int a = (int)pl->axis, k;
@@ -19644,7 +19601,7 @@ PVS__STATIC void pvs__ep_fit_plane(const pvs_box *cell, const pvs_box *bounds, u
 	w = w > side ? side : w;
 	pl->width = (uint32_t)w;
 	pl->height = (uint32_t)h;
-	/* w h <= res^2, but levels round up: a thin map may need a few more pixels than a square one */
+	/* w h <= res^2, but levels round up: a thin map may need a few more pixels than a square */
 	while (pvs__ep_pyramid_size(pl->width, pl->height, levels) > room) {
 		if (pl->width >= pl->height) --pl->width;
 		else --pl->height;
@@ -19699,7 +19656,7 @@ PVS__STATIC double pvs__ep_tri_solid_angle(const double *e, const float *a, cons
 	return 2.0 * pvs__dabs(atan2(num, den));
 }
 
-/* Solid angle of an occluder from e: polygon's by a fan, solid's by its box (<= 3 faces face e). */
+/* Solid angle of occluder from e: polygon's by a fan, solid's by its box (<= 3 faces face e). */
 PVS__STATIC double pvs__ep_solid_angle(const pvs__extproj_prep *p, const pvs__epocc *o, const double *e) {
 	double sum = 0.0;
 	uint32_t i;
@@ -19822,7 +19779,7 @@ PVS__STATIC pvs_result pvs__ep_select(const pvs_scene *s, const pvs__extproj_pre
 	for (i = 0; i < 3; ++i) w.centre[i] = 0.5 * ((double)cell->min[i] + cell->max[i]);
 	for (d = 0; d < 6; ++d) nsel[d] = 0;
 	memset(seen, 0, PVS_BITSET_WORDS(p->occ_count) * sizeof(pvs_word));
-	/* largest first: heaps fill with high scores, pruning the rest early */
+	/* largest first: heaps fill with high scores, pruning rest early */
 	for (w.cls = PVS__EP_AREA_CLASSES - 1; w.cls >= 0; --w.cls) {
 		r = pvs_kdtree_sweep(p->occ_tree[w.cls], cell, sweep, sweep_size, pvs__ep_sel_visit, &w);
 		if (r != PVS_OK) return r;
@@ -19853,8 +19810,8 @@ PVS__STATIC void pvs__ep_levels(uint32_t w, uint32_t h, uint32_t levels, uint32_
 	}
 }
 
-/* Occluder points for plane of `axis`: extended through its sheet if cell is over it on occluder's side and
-   extension crosses axis (along it, it only pushes Depth away); NULL: capped solid not over cell. */
+/* Occluder points for plane of `axis`: extended through its sheet if cell is over it on occluder's side and extension
+   crosses axis (along it, it only pushes Depth away); NULL: capped solid not over cell. */
 PVS__STATIC const float *pvs__ep_points(const pvs__extproj_prep *p, const pvs__epocc *o, const pvs_box *cell,
 										const int *sheet_side, int axis, uint32_t *count) {
 	if (!pvs__ep_cap_ok(o->cap_side, o->cap_axis, o->cap_value, cell)) return NULL;
@@ -19882,8 +19839,8 @@ PVS__STATIC void pvs__ep_sheet_sides(const pvs__extproj_prep *p, const pvs_box *
 }
 
 /* §6.1's planes for direction d: one just behind farthest selected occluder (behind an occluder any plane is
-   equivalent, §7.3; in front it loses it to its penumbra), others per distance band (far / r^q, far / r^(q-1)], r
-   = PVS__EP_PLANE_RATIO, behind band's occluder filling most pixels, for nearer occludees and fusion (Fig. 16). */
+   equivalent, §7.3; in front it loses it to its penumbra), others per distance band (far / r^q, far / r^(q-1)], r =
+   PVS__EP_PLANE_RATIO, behind band's occluder filling most pixels, for nearer occludees and fusion (Fig. 16). */
 PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
 									   const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
 									   float *mem, size_t map_floats, pvs__epslicer *sc, const int *sheet_side,
@@ -19937,10 +19894,10 @@ PVS__STATIC void pvs__ep_direct_planes(const pvs_scene *s, const pvs__extproj_pr
 	}
 }
 
-/* §5.1 reprojection: marks in `to` (farther than `from`) pixels whose every ray from cell crosses blocked
-   pixels of `from`: an umbra inside that of occluders before `from` (Appendix B), so conservative. Kernel: the true
-   cell's per row and column (pvs__ep_reproject_axis); a summed-area table of from's open pixels decides. Sub-cell j:
-   own kernel and sat_split lane; windows of >= 2^16 pixels left open. `ranges`: 2 (width + height) of `to`. */
+/* §5.1 reprojection: marks in `to` (farther than `from`) pixels whose every ray from cell crosses blocked pixels of
+   `from`: an umbra inside that of occluders before `from` (Appendix B), so conservative. Kernel: the true cell's per
+   row and column (pvs__ep_reproject_axis); a summed-area table of from's open pixels decides. Sub-cell j: own kernel
+   and sat_split lane; windows of >= 2^16 pixels left open. `ranges`: 2 (width + height) of `to`. */
 PVS__STATIC void pvs__ep_reproject_sat(const pvs__epmask *from, const uint32_t *sat, const uint64_t *sat_split,
 									   pvs__epmask *to, int32_t *ranges, uint32_t j) {
 	unsigned char *mask = to->lv[0];
@@ -20024,9 +19981,9 @@ PVS__STATIC void pvs__ep_reproject(const pvs__epmask *from, pvs__epmask *to, uin
 }
 
 /* §5.1 reprojection onto plane `count` from planes 1, 2, 4, 8, ... back (Appendix B: each one's blocked pixels lie in
-   the umbra of occluders before it). Each reprojection loses up to a pixel per side to rounding (cell is a box,
-   not the paper's planar equivalent cell), which a step per plane would add up; skips take log2(k - j) + 1 steps from j
-   to k. `cached` (never with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for one. */
+   the umbra of occluders before it). Each reprojection loses up to a pixel per side to rounding (cell is a box, not the
+   paper's planar equivalent cell), which a step per plane would add up; skips take log2(k - j) + 1 steps from j to k.
+   `cached` (never with sub-cells): sat holds ms[0 ..]'s tables, `stride` apart; else scratch for one. */
 PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, pvs__epmask *to, uint32_t *sat,
 										 size_t stride, int cached, int32_t *ranges) {
 	uint32_t back;
@@ -20038,8 +19995,8 @@ PVS__STATIC void pvs__ep_reproject_sweep(const pvs__epmask *ms, uint32_t count, 
 }
 
 /* Occluders a sweep plane takes (§5.2: "we project the occluders which lie in front of the current projection plane P
-   onto P"): those with a part since the previous plane (straddling ones go on each). Skipped: nodes outside that slab,
-   sideways beyond the rectangle (farther out from every cell point), or in the previous umbra. */
+   onto P"): those with a part since previous plane (straddling ones go on each). Skipped: nodes outside that slab,
+   sideways beyond rectangle (farther out from every cell point), or in previous umbra. */
 typedef struct pvs__epslab {
 	const pvs_scene *scene;
 	const pvs__extproj_prep *p;
@@ -20093,13 +20050,13 @@ PVS__STATIC pvs_visit pvs__ep_slab_visit(void *user, const pvs_box *node_box, fl
 	return PVS_VISIT_DESCEND;
 }
 
-/* The occlusion sweep of §5 for direction d: planes from one cell size C ahead (or behind nearest selected
-   occluder, if farther) to scene's far end, each holding reprojected earlier planes (§5.1), Projections of the
-   occluders since previous plane and slices it cuts; count to *planes. Unlike §5.2 (tests/BENCHMARKS.md,
-   extproj): geometric spacing, as dD = D (K - 1) P / (C N) crowds planes near cell, where small umbrae are short,
-   leaving few far out, where gaps between small occluders close; none nearer than C, as an occluder of width s < C / 2
-   at w casts an umbra ending before w C / (C - s) < 2 w (nearer occluders still reach first plane); the far end is
-   the scene's (§6.1 favours near occluders) and holds no plane. */
+/* §5's occlusion sweep for direction d: planes from one cell size C ahead (or behind nearest selected occluder, if
+   farther) to scene's far end, each holding reprojected earlier planes (§5.1), Projections of occluders since previous
+   plane and slices it cuts; count to *planes. Unlike §5.2 (tests/BENCHMARKS.md, extproj): geometric spacing, as dD = D
+   (K - 1) P / (C N) crowds planes near cell, where small umbrae are short, leaving few far out, where gaps between
+   small occluders close; none nearer than C: an occluder of width s < C / 2 at w casts an umbra ending before w C / (C
+   - s) < 2 w (nearer occluders still reach first plane); the far end (scene's: §6.1 favours near occluders) holds no
+   plane. */
 PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell, int d,
 											const pvs__epsel *h, uint32_t n, const pvs__epparams *prm, uint32_t levels,
 											pvs__epscratch *w, const int *sheet_side, const pvs_word *candidates,
@@ -20182,8 +20139,8 @@ PVS__STATIC pvs_result pvs__ep_sweep_planes(const pvs_scene *s, const pvs__extpr
 	return PVS_OK;
 }
 
-/* One cell's PVS (Durand 2000 §6.1): per direction chosen occluders on §6.1's planes and §5's sweep, then
-   occludees front to back. `candidates` (adaptive sub-cell): only these are tested, others' occluders left out. */
+/* One cell's PVS (Durand 2000 §6.1): per direction chosen occluders on §6.1's planes and §5's sweep, then occludees
+   front to back. `candidates` (adaptive sub-cell): only these are tested, others' occluders left out. */
 PVS__STATIC pvs_result pvs__extproj_cell(const pvs_scene *s, const pvs__extproj_prep *p, const pvs_box *cell,
 										 const pvs__epparams *prm, const pvs_word *candidates, const pvs_allocator *al,
 										 pvs_word *bits, uint32_t cell_id, pvs_error *err) {
@@ -20352,20 +20309,20 @@ PVS__STATIC const pvs__bake_method pvs__extproj_method = {
 
 /* ---- the 2.5D path: per-sample occlusion horizons ----
 
-   Wonka 2000 §2.1: a cell's PVS is the union of its samples'. Per sample, an occlusion horizon over PVS__HZ_BINS
-   angular bins around the eye (height H): a facade of height T at ground distance dc hides a point at distance r > dc,
-   height z when (z - H) / r < (T - H) / dc. A bin one chain of shrunk facades covers wholly (shared corners: no crack)
-   is crossed by all its rays between dmin and dmax, so beyond dmax it hides below slope (T - H) / dmax (T >= H) or
-   (T - H) / dmin (T < H); per bin a staircase of (distance, slope) steps keeps the best. A box is hidden if every bin
-   its ground rectangle touches has, at its least distance, a slope above its steepest sight line. Occluders go front to
-   back, occluded ones skipped (§3.4). Angles are bin-exact, the rest rounded safe. */
+Wonka 2000 §2.1: a cell's PVS is the union of its samples'. Per sample, an occlusion horizon over PVS__HZ_BINS angular
+bins around eye (height H): a facade of height T at ground distance dc hides a point at distance r > dc, height z if (z
+- H) / r < (T - H) / dc. A bin one chain of shrunk facades covers wholly (shared corners: no crack) is crossed by all
+its rays between dmin and dmax, so beyond dmax it hides below slope (T - H) / dmax (T >= H) or (T - H) / dmin (T < H);
+per bin a staircase of (distance, slope) steps keeps the best. A box is hidden if every bin its ground rectangle touches
+has, at its least distance, a slope above its steepest sight line. Occluders go front to back, occluded ones skipped
+(§3.4). Angles are bin-exact, the rest rounded safe. */
 
 /* 0.23 degree bins; finer, eps / 2 columns, more steps, per-triangle tests: no gain (tests/BENCHMARKS.md, shrink). */
 #define PVS__HZ_BINS 1536
 #define PVS__HZ_STEPS 6
 
-/* Pseudo-angles in [0, 4) ("diamond angle": monotone in angle, a quarter turn per unit, no trigonometry); bin
-   b covers [4 b / BINS, 4 (b + 1) / BINS). */
+/* Pseudo-angles in [0, 4) ("diamond angle": monotone in angle, a quarter turn per unit, no trigonometry); bin b covers
+   [4 b / BINS, 4 (b + 1) / BINS). */
 typedef struct pvs__hz {
 	double eu, ev, H, w; /* eye; bin width (pseudo-angle) */
 	double dir[PVS__HZ_BINS + 1][2]; /* ray direction per bin boundary (unnormalized) */
@@ -20466,7 +20423,7 @@ PVS__STATIC void pvs__hz_piece(pvs__hz *z, int32_t b, double a0, double a1, doub
 	}
 }
 
-/* Facade p-q (world ground points) of the current chain. */
+/* Facade p-q (world ground points) of current chain. */
 PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	double p[2], q[2], cr, a, b, fx, fy, t, afoot, dfoot, len2, d1;
 	int32_t b0, b1, k;
@@ -20476,7 +20433,7 @@ PVS__STATIC void pvs__hz_facade(pvs__hz *z, const float *pf, const float *qf) {
 	cr = q[0] * p[1] - q[1] * p[0];
 	len2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]);
 	if (!(pvs__dabs(cr) > 1e-12 * (q[0] * q[0] + q[1] * q[1] + p[0] * p[0] + p[1] * p[1]))) return; /* seen edge-on */
-	/* occluder left of pf -> qf; only facades seen from outside matter: a sight line enters through one */
+	/* occluder left of pf -> qf; only facades seen from outside matter: sight lines enter through one */
 	if (!(cr < 0.0)) return;
 	/* counter-clockwise from p (angle a) to q (angle b), under a half turn */
 	a = pvs__hz_angle(p[0], p[1]);
@@ -20523,12 +20480,12 @@ PVS__STATIC float pvs__hz_query(const pvs__hz *z, int32_t b, double d) {
 	return best;
 }
 
-/* Bins [*b0, *b1] (b1 >= BINS if wrapping) and ground distances *dmin, *dmax from eye of rectangle u0..u1, v0..v1;
-   0 if eye is in or on it. The span runs counter-clockwise between silhouette corners. */
+/* Bins [*b0, *b1] (b1 >= BINS if wrapping) and ground distances *dmin, *dmax from eye of rectangle u0..u1, v0..v1; 0 if
+   eye is in or on it. Span runs counter-clockwise between silhouette corners. */
 PVS__STATIC int pvs__hz_rect(const pvs__hz *z, double u0, double v0, double u1, double v1, int32_t *b0, int32_t *b1,
 							 double *dmin, double *dmax) {
-	/* corners where rectangle starts and ends counter-clockwise, by region 3 rx + ry: bits 3, 2 (start) and 1, 0
-	   (end) pick x1 over x0, y1 over y0 */
+	/* corners where rectangle starts and ends counter-clockwise, by region 3 rx + ry: bits 3, 2 (start) and 1, 0 (end)
+	   pick x1 over x0, y1 over y0 */
 	static const unsigned char ends[9] = {9, 1, 3, 8, 0, 7, 12, 14, 6};
 	double x0 = u0 - z->eu, x1 = u1 - z->eu, y0 = v0 - z->ev, y1 = v1 - z->ev, nx, ny, fx, fy, as, ae, xs[2], ys[2];
 	int e, rx = x0 > 0.0 ? 0
@@ -20633,7 +20590,7 @@ PVS__STATIC void pvs__hz_chain(pvs__hz *z, const pvs_facade_chain *ch) {
 		int32_t b = z->touched[i];
 		double sl;
 		if (!z->full[b]) continue;
-		if (!(z->dmax[b] > 0.0)) continue; /* cannot happen when full */
+		if (!(z->dmax[b] > 0.0)) continue; /* cannot happen if full */
 		if (T >= z->H) sl = (T - z->H) / z->dmax[b];
 		else {
 			if (!(z->dmin[b] > 0.0)) continue;
@@ -20654,9 +20611,9 @@ typedef struct pvs__shrink_walk {
 	pvs_shrink_stats *st;
 	int u, v;
 } pvs__shrink_walk;
-#define PVS__SHRINK_NEAR 0 /* objects meeting the cell or under its top face: visible unsampled */
+#define PVS__SHRINK_NEAR 0 /* objects meeting cell or under its top face: visible unsampled */
 #define PVS__SHRINK_SAMPLE 1 /* a sample's objects, nodes hidden from it (§3.4) or all found skipped */
-#define PVS__SHRINK_HORIZON 2 /* the sample's horizon: chains, nearer child first, hidden ones skipped (§3.4) */
+#define PVS__SHRINK_HORIZON 2 /* sample's horizon: chains, nearer child first, hidden ones skipped (§3.4) */
 
 PVS__STATIC double pvs__hz_dist2(const pvs__hz *z, const pvs_box *b, int u, int v) {
 	double du = pvs__dmax(0.0, pvs__dmax(b->min[u] - z->eu, z->eu - b->max[u])),
@@ -20677,7 +20634,7 @@ PVS__STATIC void pvs__shrink_found(pvs__shrink_walk *w, uint32_t ob) {
 	for (nd = w->o->bvh.leaf_of[ob]; nd != 0xffffffffu; nd = w->o->bvh.nodes[nd].parent) --w->remaining[nd];
 }
 
-/* A walk (PVS__SHRINK_*) over object hierarchy, or chains' for HORIZON; stack: a slot per node. */
+/* A walk (PVS__SHRINK_*) over object hierarchy, or chains' for HORIZON; stack: slot per node. */
 PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *stack) {
 	const pvs__obvh *h = mode == PVS__SHRINK_HORIZON ? &w->o->chain_bvh : &w->o->bvh;
 	uint32_t sp = 0, k;
@@ -20709,11 +20666,11 @@ PVS__STATIC void pvs__shrink_walk_tree(pvs__shrink_walk *w, int mode, uint32_t *
 }
 
 /* §3: "sample points need only be placed on the edges of the top of the view cells". For a heightfield occluder O and
-   a point P outside cell's footprint R, say V on top face (height H) sees P. In vertical plane through P
-   and V the ground segment crosses R's boundary at W'. If P is not above H, P-W' lies above P-V, so W' sees P; else
-   moving V away from P to boundary point W keeps P-W above P-V up to V and above H beyond, where no column of O in R
-   reaches. With O the shrunk occluder's eps-neighbourhood (no real sight line enters it), edges decide when no
-   column within eps of R rises above H - eps (with appendix's theorem). */
+   a point P outside cell's footprint R, say V on top face (height H) sees P. In vertical plane through P and V the
+   ground segment crosses R's boundary at W'. If P is not above H, P-W' lies above P-V, so W' sees P; else moving V away
+   from P to boundary point W keeps P-W above P-V up to V and above H beyond, where no column of O in R reaches. With O
+   the shrunk occluder's eps-neighbourhood (no real sight line enters it), edges decide if no column within eps of R
+   rises above H - eps (with appendix's theorem). */
 PVS__STATIC int pvs__shrink_edges_suffice(const pvs_occluders *o, const pvs_box *cell, int u, int v, uint32_t up) {
 	const pvs__vx_cols *cm = &o->cols;
 	uint32_t i0, i1, j0, j1, i, j;
@@ -20800,8 +20757,8 @@ done:
 
 #define PVS__SHRINK_RES 64u
 
-/* 1 if box bx may reach into view from p along axis dax (positive if pos): lateral offsets within 1.1 x the
-   distance ahead, a superset of 1.6 rad square frustum with room for rounding. *dn, *df: least, greatest depth. */
+/* 1 if box bx may reach into view from p along axis dax (positive if pos): lateral offsets within 1.1 x distance ahead,
+   a superset of 1.6 rad square frustum with room for rounding. *dn, *df: least, greatest depth. */
 PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, int pos, double *dn, double *df) {
 	int l;
 	double lim;
@@ -20814,8 +20771,8 @@ PVS__STATIC int pvs__shrink_in_view(const pvs_box *bx, const float *p, int dax, 
 	return 1;
 }
 
-/* Box bx's image from p along dax, lateral offset / distance ahead on other axes: r[0..1] least, r[2..3] greatest.
-   0 if within 1e-3 of its depth of eye plane. */
+/* Box bx's image from p along dax, lateral offset / distance ahead on other axes: r[0..1] least, r[2..3] greatest. 0 if
+   within 1e-3 of its depth of eye plane. */
 PVS__STATIC int pvs__shrink_view_rect(const pvs_box *bx, const float *p, int dax, double dn, double df, double r[4]) {
 	int k;
 	if (!(dn > 1e-3 * df)) return 0;
@@ -20842,8 +20799,8 @@ typedef struct pvs__shrink3d {
 	pvs_shrink_stats *st;
 } pvs__shrink3d;
 
-/* Into w->cand, objects a view from p along dax can change (unseen, pvs__shrink_in_view); *far: their farthest
-   depth; crect: their images' union while *bounded stays 1. Returns count. */
+/* Into w->cand, objects a view from p along dax can change (unseen, pvs__shrink_in_view); *far: their farthest depth;
+   crect: their images' union while *bounded stays 1. Returns count. */
 PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, int dax, int pos, double *far,
 											double crect[4], int *bounded) {
 	const pvs_scene *s = w->s;
@@ -20866,9 +20823,9 @@ PVS__STATIC uint32_t pvs__shrink_candidates(pvs__shrink3d *w, const float *p, in
 	return ncand;
 }
 
-/* One view of cube at sample p (§2.3), direction dir (axis dir / 2, positive if odd): candidates tested in
-   occludee mode against eroded boxes nearer than farthest candidate whose image meets theirs (no other changes
-   a test); passing ones join w->seen. */
+/* One view of cube at sample p (§2.3), direction dir (axis dir / 2, positive if odd): candidates tested in occludee
+   mode against eroded boxes nearer than farthest candidate whose image meets theirs (no other changes a test); passing
+   ones join w->seen. */
 PVS__STATIC void pvs__shrink_view(pvs__shrink3d *w, const float *p, uint32_t dir) {
 	const pvs_occluders *o = w->o;
 	uint32_t i, nb = o->box_count, nsel = 0, ncand;
@@ -20933,8 +20890,8 @@ PVS__STATIC pvs_result pvs__shrink_face(pvs__shrink3d *w, const pvs_box *cell, u
 }
 
 /* The 3D path (§2.1, 2.3): samples on cell's six faces at spacing <= eps sqrt(2) (sight lines from inside leave
-   through boundary, all within eps of a sample), each a cube of six depth maps of eroded boxes; PVS is
-   their union. Objects within twice near distance are set (cube sees nothing nearer than its near plane). */
+   through boundary, all within eps of a sample), each a cube of six depth maps of eroded boxes; PVS is their union.
+   Objects within twice near distance are set (cube sees nothing nearer than its near plane). */
 PVS__STATIC pvs_result pvs__shrink_3d(const pvs_scene *s, const pvs_occluders *o, const pvs_box *cell,
 									  pvs_word *visible, pvs_shrink_stats *st, pvs_error *err) {
 	pvs_raster_desc rd;
@@ -21020,7 +20977,7 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 	st.mode = mode;
 	st.occluders = mode == PVS_SHRINK_2D5 ? o->chain_count : o->box_count;
 	{
-		/* a leaking cell the synthesis left out (or a box in one): solid is proved for others only */
+		/* a leaking cell synthesis left out (or a box in one): solid is proved for others only */
 		uint32_t i;
 		int k;
 		for (i = 0; i < o->info.excluded_cells && !st.excluded; ++i) {
@@ -21055,9 +21012,9 @@ PVS_API pvs_result pvs_shrink_cell(const pvs_scene *s, const pvs_occluders *o, c
 
 /* ---- the SHRINK bake method (a row of >>bake's table) ---- */
 
-/* Default eps: an eighth of cells' median smallest ground extent (Wonka 2000 §4.1: 1 m for cells of several
-   metres), in double (a cell 6e38 wide has no float extent), clamped to [a millionth of scene's diagonal (no
-   underflow to 0), diagonal]. Any eps > 0 is conservative. */
+/* Default eps: an eighth of cells' median smallest ground extent (Wonka 2000 §4.1: 1 m for cells of several metres),
+   in double (a cell 6e38 wide has no float extent), clamped to [a millionth of scene's diagonal (no underflow to 0),
+   diagonal]. Any eps > 0 is conservative. */
 PVS__STATIC double pvs__cell_ground_extent(const pvs_box *c, int u, int v) {
 	double e = (double)c->max[u] - c->min[u], f = (double)c->max[v] - c->min[v];
 	return f < e ? f : e;
@@ -21184,7 +21141,7 @@ PVS__STATIC void pvs__shrink_bake_destroy(const pvs__bake_env *env, void *state)
 	pvs__free(&sh->allocator, sh, sizeof(*sh), 16);
 }
 
-/* AUTO's price of SHRINK: a depth cube per sample point on a cell's faces (pvs__shrink_face): class 3 for a mean of 294
+/* AUTO's price of SHRINK: a depth cube per sample point on cell's faces (pvs__shrink_face): class 3 for a mean of 294
    points (a cube of side 8 eps), +1 per doubling. */
 PVS__STATIC int pvs__shrink_price(const pvs_bake_desc *desc, const void *state) {
 	pvs_box sb = pvs_scene_bounds(desc->scene);
@@ -21216,7 +21173,7 @@ PVS_API pvs_shrink_mode pvs_bake_shrink_mode(const pvs_bake *b) {
 }
 
 // >>bake
-/* ==== bake: validated cells, a task per cell, results in cell order whatever the run order ==== */
+/* ==== bake: validated cells, a task per cell, results in cell order whatever run order ==== */
 
 struct pvs_bake {
 	pvs__bake_env env; /* what methods see */
@@ -21225,15 +21182,15 @@ struct pvs_bake {
 	uint32_t total_cell_count, shard_index, shard_count;
 	uint32_t object_count;
 	size_t words; /* per cell */
-	pvs_word *pvs; /* cell_count * words; NULL when compact */
-	uint8_t **rec; /* compact: per task, coding byte then coded set (pvs__bake_keep) */
+	pvs_word *pvs; /* cell_count * words; NULL if compact */
+	uint8_t **rec; /* compact: per task, coding byte, coded set (pvs__bake_keep) */
 	uint32_t *rec_size;
 	pvs_word *row; /* compact: pvs_bake_cell_pvs's buffer */
 	unsigned char *done; /* cell_count flags, each written by its task only */
 	pvs_method method;
 	uint32_t max_chain;
 	const char *const *object_names; /* desc's, for file */
-	/* considered (AUTO: all candidates, run order) and run methods; a task's PVS intersects theirs (conservative) */
+	/* considered (AUTO: all candidates, run order) and run methods; task's PVS intersects theirs (conservative) */
 	const pvs__bake_method *considered[PVS_METHOD_COUNT];
 	const char *reason[PVS_METHOD_COUNT];
 	float sample_gain[PVS_METHOD_COUNT]; /* by considered index: AUTO's sample (pvs__bake_auto_sample); -1 costly */
@@ -21254,20 +21211,20 @@ struct pvs_bake {
 	struct pvs__bakeleaves *leaves; /* adaptive: per task, its leaf cells */
 };
 
-/* Task's PVS into bake b (compact: coded; with the encoder); its words (compact: decoded into buffer). */
+/* Task's PVS into bake b (compact: coded, with encoder); its words (compact: decoded into buffer). */
 PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word *bits, pvs_error *err);
 PVS__STATIC const pvs_word *pvs__bake_row(const void *bake, uint32_t task, pvs_word *buffer);
 
-/* An adaptive task's leaf cells and PVSs. */
+/* Adaptive task's leaf cells, PVSs. */
 typedef struct pvs__bakeleaves {
 	size_t count, capacity;
 	pvs_box *boxes;
 	pvs_word *pvs; /* count * words */
 } pvs__bakeleaves;
 
-/* ---- the method table ---- */
+/* ---- method table ---- */
 
-/* Every method the driver runs, in pvs_method order (AUTO's order among equal costs). */
+/* Every method driver runs, in pvs_method order (AUTO's order among equal costs). */
 PVS__STATIC const pvs__bake_method *const pvs__bake_methods[] = {
 	&pvs__sample_method, &pvs__otree_method, &pvs__extproj_method, &pvs__shrink_method, &pvs__vocc_method,
 	&pvs__portal_method};
@@ -21291,8 +21248,8 @@ PVS__STATIC pvs_result pvs__bake_prepare(pvs_bake *b, const pvs__bake_method *ro
 	return row->prepare(&b->env, desc, &b->state[row->method], err);
 }
 
-/* Candidates of box's k-th method: its own (a sub-cell's parent PVS, or NULL), from the second on narrowed
-   to what earlier ones kept (AUTO runs SHRINK last). In *scratch when computed. */
+/* Candidates of box's k-th method: its own (a sub-cell's parent PVS, or NULL), from second on narrowed to what earlier
+   ones kept (AUTO runs SHRINK last). In *scratch if computed. */
 PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const pvs_word *candidates,
 											const pvs_word *each, pvs_word *scratch) {
 	size_t w;
@@ -21306,7 +21263,7 @@ PVS__STATIC const pvs_word *pvs__bake_prior(const pvs_bake *b, uint32_t k, const
 	return scratch;
 }
 
-/* One method's PVS of a task's box into `bits` (cleared by caller); updates cell's flags. */
+/* One method's PVS of task's box into `bits` (cleared by caller); updates cell's flags. */
 PVS__STATIC pvs_result pvs__bake_method_cell(pvs_bake *b, const pvs__bake_method *row, uint32_t task, uint32_t cell,
 											 const pvs_box *box, const pvs_word *candidates, pvs_word *bits,
 											 pvs_error *err) {
@@ -21478,17 +21435,17 @@ PVS__STATIC int pvs__bake_price(const pvs_bake *b, const pvs__bake_method *m, co
 	return m->price ? m->price(desc, b->state[m->method]) : m->cost_class;
 }
 
-/* AUTO: `mask`'s methods, cheapest first, each prepared and kept if it can cull here; PREVIEW stops at the first kept;
-   UNSUPPORTED ones skipped, with their reason. Cheapest: cost_rank's order, or with a sample (sb) pvs__bake_price's.
-   There each kept method bakes sd's cells into sb (per cell slots: run[k]'s PVS, U their intersection, R what rays
-   aimed at U prove visible, the greedy choice's); one priced d classes above the cheapest kept is not prepared if
-   PVS_AUTO_MIN_GAIN 2^d of U passes U - R (no method culls R; without a sample, R is empty). */
+/* AUTO: `mask`'s methods, cheapest first, each prepared, kept if it can cull here; PREVIEW stops at first kept;
+   UNSUPPORTED ones skipped (reason kept). Cheapest: cost_rank's order, or with sample (sb) pvs__bake_price's. Then each
+   kept method bakes sd's cells into sb (per cell slots: run[k]'s PVS, U their intersection, R what rays aimed at U
+   prove visible, greedy choice's); one priced d classes above cheapest kept is not prepared if PVS_AUTO_MIN_GAIN 2^d of
+   U passes U - R (no method culls R; without a sample R is empty). */
 #define PVS__SAMPLE_SLOTS (PVS_METHOD_COUNT + 3)
 PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, const pvs_bake_desc *sd,
 										uint32_t mask, pvs_word *sb, pvs_error *err) {
 	uint32_t k, j, s, order[PVS__BAKE_METHOD_COUNT], n = b->object_count;
 	int cheapest = 1 << 20, key[PVS__BAKE_METHOD_COUNT];
-	double u = 0.0, left = 0.0; /* the sample's sums of |U|, |U - R| */
+	double u = 0.0, left = 0.0; /* sample's sums of |U|, |U - R| */
 	size_t w, words = b->words;
 	pvs_result r = PVS_OK;
 	for (k = 0; k < PVS__BAKE_METHOD_COUNT; ++k) { /* insertion sort by (price, rank, table) */
@@ -21549,14 +21506,14 @@ PVS__STATIC pvs_result pvs__bake_choose(pvs_bake *b, const pvs_bake_desc *desc, 
 }
 
 /* AUTO's sample (CONCEPTS, Methods): applicable methods are prepared for PVS_AUTO_SAMPLE_CELLS cells spread over all
-   the bake's (a shard's too: shards decide alike), each baking them alone. Greedily, smallest PVS's method is kept
-   (ties: cheaper), then, best ratio first, those culling beyond the kept PVS_AUTO_MIN_GAIN of it, doubled per class
+   cells (a shard's too: shards decide alike), each baking them alone. Greedily, smallest PVS's method is kept (ties:
+   cheaper), then, best ratio first, those culling beyond the kept PVS_AUTO_MIN_GAIN of it, doubled per class
    (pvs__bake_price) above first kept's, halved below. The kept are prepared for every cell. */
 PVS__STATIC int pvs__bake_wants_sample(const pvs_bake_desc *desc) {
 	return !desc->methods && !(desc->flags & PVS_BAKE_PREVIEW) && desc->cell_count >= 4 * PVS_AUTO_SAMPLE_CELLS;
 }
 
-/* Greedy choice over the sample cells' PVSs in sb (pvs__bake_choose): b->run keeps the chosen. */
+/* Greedy choice over sample cells' PVSs in sb (pvs__bake_choose): b->run keeps the chosen. */
 PVS__STATIC void pvs__bake_auto_sample(pvs_bake *b, const pvs_bake_desc *desc, uint32_t S, pvs_word *sb) {
 	uint32_t n = b->run_count, s, k, i, keep[PVS_METHOD_COUNT], kept = 0;
 	int c0 = 0, price[PVS_METHOD_COUNT];
@@ -21739,7 +21696,7 @@ PVS__STATIC void pvs__bake_distance(const pvs_bake *b, const pvs_box *box, pvs_w
 		if (pvs__box_beyond(box, b->env.scene->object_boxes + i, b->max_distance)) pvs_bitset_clear(bits, i);
 }
 
-/* All methods on a box, intersected, within `candidates` if given, then draw distance. `each`: run_count + 1. */
+/* All methods on box, intersected, within `candidates` if given, then draw distance. `each`: run_count + 1. */
 PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box,
 									 const pvs_word *candidates, pvs_word *bits, pvs_word *each, pvs_error *err) {
 	uint32_t k;
@@ -21755,7 +21712,7 @@ PVS__STATIC pvs_result pvs__bake_box(pvs_bake *b, uint32_t task, uint32_t cell, 
 	return PVS_OK;
 }
 
-/* A PVS's triangles (polygon budget of §6.1). */
+/* A PVS's triangles (polygon budget, §6.1). */
 PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits) {
 	uint64_t n = 0;
 	uint32_t o;
@@ -21765,8 +21722,8 @@ PVS__STATIC uint64_t pvs__bake_triangles(const pvs_bake *b, const pvs_word *bits
 	return n;
 }
 
-/* Adaptive split (Durand 2000 §6.1) of a box with PVS work[depth]: a leaf if PVS fits budget or a half < min_size,
-   else its halves across longest side, low first, baked from its PVS. work: 48 bitsets; each: run_count + 1. */
+/* Adaptive split (Durand 2000 §6.1) of box with PVS work[depth]: leaf if PVS fits budget or a half < min_size, else
+   halves across longest side, low first, baked from its PVS. work: 48 bitsets; each: run_count + 1. */
 PVS__STATIC pvs_result pvs__bake_split(pvs_bake *b, uint32_t task, uint32_t cell, const pvs_box *box, float min_size,
 									   pvs_word *work, pvs_word *each, uint32_t depth, pvs_error *err) {
 	pvs__bakeleaves *L = b->leaves + task;
@@ -21832,7 +21789,7 @@ PVS__STATIC pvs_result pvs__bake_adapt(pvs_bake *b, uint32_t task, uint32_t cell
 	return r;
 }
 
-/* pvs_bake_run_task's work: the task's PVS into bits, its stats and flags, its adaptive leaves. */
+/* pvs_bake_run_task's work: task's PVS into bits, its stats, flags, adaptive leaves. */
 PVS__STATIC pvs_result pvs__bake_task(pvs_bake *b, uint32_t task, uint32_t cell, pvs_word *bits, pvs_error *err) {
 	uint32_t k, i, n, *own, *sole;
 	pvs_word *each = NULL;
@@ -21847,10 +21804,10 @@ PVS__STATIC pvs_result pvs__bake_task(pvs_bake *b, uint32_t task, uint32_t cell,
 		r = pvs__bake_method_cell(b, b->run[0], task, cell, b->cells + task, NULL, bits, err);
 		if (r != PVS_OK) return r;
 		own[0] = pvs_bitset_count(bits, b->object_count);
-		sole[0] = own[0] < b->drawable ? b->drawable - own[0] : 0; /* occluder-only objects are never in a PVS */
+		sole[0] = own[0] < b->drawable ? b->drawable - own[0] : 0; /* occluder-only objects never in a PVS */
 		pvs__bake_distance(b, b->cells + task, bits);
 	} else {
-		/* AUTO: sole[k], what method k alone leaves out of the intersection */
+		/* AUTO: sole[k], what method k alone leaves out of intersection */
 		each = (pvs_word *)pvs__alloc_array(&b->env.allocator, (size_t)(n + 1) * b->words, sizeof(pvs_word));
 		if (!each) return pvs__fail(err, PVS_ERROR_OUT_OF_MEMORY, cell, 0, "cell %u: auto scratch", cell);
 		r = pvs__bake_box(b, task, cell, b->cells + task, NULL, bits, each, err);
@@ -21932,7 +21889,7 @@ PVS_API pvs_result pvs_bake_restore_task(pvs_bake *b, uint32_t task, const pvs_w
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0,
 						 "restore: a %s bake cannot resume from PVSs: run task %u again", pvs_method_name(b->method),
 						 task);
-	if (b->adaptive_budget) /* the file stores leaves, not in the cell's PVS */
+	if (b->adaptive_budget) /* file stores leaves, not in cell's PVS */
 		return pvs__fail(err, PVS_ERROR_UNSUPPORTED, task, 0,
 						 "restore: an adaptive bake cannot resume from PVSs: run task %u again", task);
 	if ((b->object_count & 63u) && (bits[b->words - 1] >> (b->object_count & 63u)))
@@ -22016,7 +21973,7 @@ PVS__STATIC int pvs__bake_all_done(const pvs_bake *b) {
 	return 1;
 }
 
-/* All tasks' adaptive leaves in task order, as one table (caller frees it with sizes returned). */
+/* All tasks' adaptive leaves in task order, one table (caller frees it with sizes returned). */
 PVS__STATIC pvs_result pvs__bake_gather_leaves(const pvs_bake *b, pvs_box **cells, pvs_word **pvs, size_t *count) {
 	size_t n = 0, k = 0, bytes;
 	uint32_t i;
@@ -22082,8 +22039,8 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #endif /* PVS_RUNTIME_ONLY */
 
 // >>format
-/* ==== format: the .pvs file (layout: the manual): delta-PVS encoder (Durand et al. 2000, §6.2), set codings,
-   validating zero-copy reader ==== */
+/* ==== format: .pvs file (layout: manual): delta-PVS encoder (Durand et al. 2000, §6.2), set codings, validating
+   zero-copy reader ==== */
 
 #define PVS__HEADER_SIZE 32u
 #define PVS__SECTION_ENTRY 16u
@@ -22091,10 +22048,10 @@ PVS_API pvs_result pvs_bake_write_file(const pvs_bake *b, void *out, size_t capa
 #define PVS__META_SIZE 32u
 #define PVS__CELL_HEAD 20u
 #define PVS__TREE_HEAD 8u
-#define PVS__TREE_MAX_DEPTH 24u /* deepest look-up tree a reader accepts */
+#define PVS__TREE_MAX_DEPTH 24u /* deepest look-up tree readers accept */
 #define PVS__SHRD_SIZE 16u
 #define PVS__BLOCK 16u /* records per RECS offset block */
-#define PVS__CANDIDATES 8u /* base candidates per cell: nearest by the sweep */
+#define PVS__CANDIDATES 8u /* base candidates per cell: nearest by sweep */
 #define PVS__TREE_LEAF 4u /* most cells per look-up leaf */
 #define PVS__RICE_MAX_K 24u
 #define PVS__TAG(a, b, c, d) ((uint32_t)(a) | ((uint32_t)(b) << 8) | ((uint32_t)(c) << 16) | ((uint32_t)(d) << 24))
@@ -22109,7 +22066,7 @@ enum { PVS__CODING_GAPS = 0, PVS__CODING_RUNS = 1, PVS__CODING_RICE = 2, PVS__CO
 
 PVS__STATIC size_t pvs__align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
 
-/* LEB128 varint, at most 5 bytes. */
+/* LEB128 varint, <= 5 bytes. */
 PVS__STATIC size_t pvs__put_varint(uint8_t *p, uint32_t v) {
 	size_t n = 0;
 	while (v >= 0x80u) {
@@ -22140,7 +22097,7 @@ PVS__STATIC size_t pvs__get_varint(const uint8_t *p, const uint8_t *end, uint32_
 	}
 	return 0;
 }
-/* A varint validated by pvs_file_open. */
+/* Varint validated by pvs_file_open. */
 PVS__STATIC const uint8_t *pvs__skip_varint(const uint8_t *p, uint32_t *v) {
 	uint32_t r = 0;
 	int s = 0;
@@ -22186,7 +22143,7 @@ PVS__STATIC uint64_t pvs__load64(const uint8_t *s) { /* little-endian; one load 
 		   (uint64_t)s[5] << 40 | (uint64_t)s[6] << 48 | (uint64_t)s[7] << 56;
 }
 
-/* Bits [bit, bit + 56) of an nbits-bit stream, LSB first, zeros past its end. */
+/* Bits [bit, bit + 56) of nbits-bit stream, LSB first, zeros past its end. */
 PVS__STATIC uint64_t pvs__peek56(const uint8_t *s, uint64_t nbits, uint64_t bit) {
 	size_t at = (size_t)(bit >> 3), n = (size_t)((nbits + 7) >> 3), i;
 	uint64_t v = 0;
@@ -22218,8 +22175,8 @@ PVS__STATIC int64_t pvs__unzigzag(uint32_t z) { return (z & 1u) ? -(int64_t)((z 
 
 /* ---- set codings ---- */
 
-/* Four codings (bytes: manual): Rice codes (Golomb codes, power-of-two divisor) suit sparse random sets, runs the
-   ranges of spatially ordered objects; bitset caps worst case at n / 8 bytes. */
+/* Four codings (bytes: manual): Rice codes (Golomb codes, power-of-two divisor) suit sparse random sets, runs ranges of
+   spatially ordered objects; bitset caps worst case at n / 8 bytes. */
 typedef struct pvs__coded {
 	uint32_t coding, rice_k;
 	size_t bytes; /* body size */
@@ -22231,7 +22188,7 @@ PVS__STATIC pvs__coded pvs__set_measure(const pvs_word *bits, uint32_t n) {
 	uint32_t count = 0, pairs = 0, k, pos = 0;
 	pvs__coded best;
 	memset(shifted, 0, sizeof(shifted));
-	/* a run of L ids after z absent ones gives gaps z, 0, ..., 0: sizes sum over runs, not ids */
+	/* run of L ids after z absent ones gives gaps z, 0, ..., 0: sizes sum over runs, not ids */
 	while (pos < n) {
 		uint32_t one = pvs_bitset_next(bits, n, pos), zero, z, len;
 		if (one >= n) break;
@@ -22239,7 +22196,7 @@ PVS__STATIC pvs__coded pvs__set_measure(const pvs_word *bits, uint32_t n) {
 		z = one - pos;
 		len = zero - one;
 		runs += pvs__varint_size(z) + pvs__varint_size(len - 1);
-		gaps += pvs__varint_size(z) + (len - 1); /* a gap of 0 takes a byte */
+		gaps += pvs__varint_size(z) + (len - 1); /* gap of 0 takes a byte */
 		for (k = 0; k <= PVS__RICE_MAX_K; ++k) shifted[k] += z >> k;
 		count += len;
 		++pairs;
@@ -22322,7 +22279,7 @@ PVS__STATIC void pvs__set_write(const pvs_word *bits, uint32_t n, const pvs__cod
 	}
 }
 
-/* What a decoded set does to a bitset. */
+/* What a decoded set does to bitset. */
 enum { PVS__SET_CHECK = 0, PVS__SET_ADD = 1, PVS__SET_REMOVE_RANKS = 2 };
 typedef struct pvs__sink {
 	int action;
@@ -22333,7 +22290,7 @@ typedef struct pvs__sink {
 	uint32_t w, before, removed; /* REMOVE_RANKS: scan word, set bits before it, ranks removed */
 } pvs__sink;
 
-/* Removes `count` consecutive ranks from `first` (before this set) word by word: cost: words + bits removed. */
+/* Removes `count` consecutive ranks from `first` (before this set) word by word; cost: words + bits removed. */
 PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t count) {
 	uint32_t target = first - s->removed;
 	while (s->w < s->words && s->before + pvs__popcount64(s->bits[s->w]) <= target)
@@ -22360,7 +22317,7 @@ PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t cou
 		s->bits[s->w] &= ~take;
 		s->removed += k;
 		count -= k;
-		if (count) { /* run goes on: nothing before next words is left to skip */
+		if (count) { /* run goes on: nothing before next words left to skip */
 			s->before += pvs__popcount64(s->bits[s->w]);
 			++s->w;
 			target = s->before;
@@ -22368,7 +22325,7 @@ PVS__STATIC void pvs__sink_remove_run(pvs__sink *s, uint32_t first, uint64_t cou
 	}
 }
 
-/* Adds id, or removes the set bit of rank id in PVS as it was before this set (ranks ascend). */
+/* Adds id, or removes set bit of rank id in PVS as before this set (ranks ascend). */
 PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
 	if (s->action == PVS__SET_ADD) {
 		pvs_word m = (pvs_word)1 << (id & 63);
@@ -22391,7 +22348,7 @@ PVS__STATIC void pvs__sink_id(pvs__sink *s, uint32_t id) {
 	}
 }
 
-/* pvs__set_apply's decoders per coding (bytes: manual's RECS), same contract; on a bad byte: *bad_at, the error. */
+/* pvs__set_apply's decoders per coding (bytes: manual's RECS), same contract; on bad byte: *bad_at, error. */
 
 PVS__STATIC pvs_result pvs__set_gaps(const uint8_t *p, const uint8_t *end, uint32_t n, pvs__sink *s, size_t *used_out,
 									 size_t *bad_at) {
@@ -22511,7 +22468,7 @@ PVS__STATIC pvs_result pvs__set_rice(const uint8_t *p, const uint8_t *end, uint3
 		if (act == PVS__SET_ADD && !s->fn) s->bits[id >> 6] |= (pvs_word)1 << (id & 63);
 		else if (act) pvs__sink_id(s, (uint32_t)id);
 	}
-	/* unused high bits of last byte are zero */
+	/* unused high bits of last byte: zero */
 	bytes = (bit + 7) / 8;
 	if ((bit & 7u) && (q[bit >> 3] >> (bit & 7u))) { q += (size_t)(bit >> 3); goto bad; }
 	q += (size_t)bytes;
@@ -22557,10 +22514,10 @@ PVS__STATIC pvs_result pvs__set_apply(const uint8_t *p, const uint8_t *end, uint
 	}
 }
 
-#ifndef PVS_RUNTIME_ONLY /* the encoder */
+#ifndef PVS_RUNTIME_ONLY /* encoder */
 /* ---- encoder ---- */
 
-/* A compact bake's task PVS: coding byte, then pvs__set_write's body (re-running a task replaces it). */
+/* Compact bake's task PVS: coding byte, then pvs__set_write's body (re-running a task replaces it). */
 PVS__STATIC pvs_result pvs__bake_keep(pvs_bake *b, uint32_t task, const pvs_word *bits, pvs_error *err) {
 	pvs__coded c = pvs__set_measure(bits, b->object_count);
 	uint8_t *p = (uint8_t *)pvs__alloc_array(&b->env.allocator, c.bytes + 1, 1);
@@ -22611,10 +22568,10 @@ PVS__STATIC uint32_t pvs__count_below(const float *t, uint32_t n, float v, int o
 	return lo;
 }
 
-/* ---- the stored cell look-up tree ---- */
+/* ---- stored cell look-up tree ---- */
 
-/* The file's look-up tree (manual's TREE), implicit so a look-up reads one split per level, then one leaf; its
-   split rule never copies touching neighbours. */
+/* File's look-up tree (manual's TREE), implicit: look-up reads one split per level, then one leaf; its split rule never
+   copies touching neighbours. */
 typedef struct pvs__tbuild {
 	const pvs_allocator *a;
 	const pvs_box *boxes;
@@ -22644,7 +22601,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 	}
 	if (n > 1) {
 		/* candidates: cell edges; binary search in sorted mins, maxes counts cells left (min < v, flat ones at v aside)
-		   and right (max > v); smaller larger side wins, first on ties. Unlike a median, this splits crossing cells. */
+		   and right (max > v); smaller larger side wins, first on ties. Unlike medians this splits crossing cells. */
 		float *mins = b->keys, *maxs = b->keys + n;
 		for (axis = 0; axis < 3; ++axis) {
 			int side;
@@ -22669,7 +22626,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 					}
 				}
 		}
-		if (best_axis != 3) { /* exact counts (flat cells at split go left) must still make progress */
+		if (best_axis != 3) { /* exact counts (flat cells at split go left) must still progress */
 			uint32_t left = 0, right = 0;
 			for (i = 0; i < n; ++i) {
 				const pvs_box *c = b->boxes + ids[i];
@@ -22679,7 +22636,7 @@ PVS__STATIC pvs_result pvs__tree_node(pvs__tbuild *b, const uint32_t *ids, uint3
 			if (left == n || right == n) best_axis = 3;
 		}
 	}
-	if (best_axis == 3) { /* no split divides these cells: all go left */
+	if (best_axis == 3) { /* no split divides these cells: all left */
 		b->nodes[k] = 3u;
 		r = pvs__tree_node(b, ids, n, level + 1, 2 * k + 1);
 		return r == PVS_OK ? pvs__tree_node(b, ids, 0, level + 1, 2 * k + 2) : r;
@@ -22753,7 +22710,7 @@ typedef struct pvs__encoder {
 	uint32_t *base, *depth; /* PVS_NO_CELL for keys */
 	unsigned char *placed;
 	pvs_word *tmp, *ranks;
-	pvs_word *rows; /* pvs_row's two buffers; the rows it gave, of cells row_of */
+	pvs_word *rows; /* pvs_row's two buffers; rows it gave, of cells row_of */
 	const pvs_word *row[2];
 	uint32_t row_of[2];
 } pvs__encoder;
@@ -22778,7 +22735,7 @@ PVS__STATIC void pvs__encoder_free(pvs__encoder *e) {
 	pvs__free_array(a, e->rows, 2 * e->words, sizeof(pvs_word));
 }
 
-/* Cell i's PVS: desc's table, or pvs_row's into slot 0 (a record's cell) or 1 (its base), kept while it holds i. */
+/* Cell i's PVS: desc's table, or pvs_row's into slot 0 (record's cell) or 1 (its base), kept while it holds i. */
 PVS__STATIC const pvs_word *pvs__encoder_row(pvs__encoder *e, uint32_t i, int slot) {
 	if (e->d->pvs) return e->d->pvs + (size_t)i * e->words;
 	if (e->row_of[slot] != i) {
@@ -22788,9 +22745,9 @@ PVS__STATIC const pvs_word *pvs__encoder_row(pvs__encoder *e, uint32_t i, int sl
 	return e->row[slot];
 }
 
-/* Cell i's record sets against base j (PVS_NO_CELL: a key): e->tmp = ids added (a key: whole PVS); a delta's
-   e->ranks = ids removed, as ranks in base's PVS (Durand et al. 2000, §6.2; ranks among base's few visible
-   objects are cheaper). Returns base's PVS size. */
+/* Cell i's record sets against base j (PVS_NO_CELL: key): e->tmp = ids added (key: whole PVS); delta's e->ranks = ids
+   removed, as ranks in base's PVS (Durand et al. 2000, §6.2; ranks among base's few visible objects are cheaper);
+   returns base's PVS size. */
 PVS__STATIC uint32_t pvs__encoder_sets(pvs__encoder *e, uint32_t i, uint32_t j) {
 	const pvs_word *x = pvs__encoder_row(e, i, 0);
 	pvs_word last = (e->n & 63) ? ((pvs_word)1 << (e->n & 63)) - 1u : ~(pvs_word)0;
@@ -22824,12 +22781,11 @@ PVS__STATIC uint32_t pvs__encoder_cost(pvs__encoder *e, uint32_t i, uint32_t j) 
 	return b > 0xffffffffu ? 0xffffffffu : (uint32_t)b;
 }
 
-/* Bases: edges from each cell to its nearest (kD-tree sweep), a virtual root joined to all at their key size; Prim's
-   tree from root, an edge weighed on reach by delta's coded size plus lambda per level of its base's depth, taken only
-   while its chain stays within K (a greedy depth-bounded minimum arborescence); root's children are keys. Greedy chains
-   run deep and leave later cells without bases, the depth price keeps them short: of lambda 0, 2, 4 and 8 bytes the
-   tree of the smallest coded sizes wins (ties: the lower). Coded sizes are cached on the edges. Deterministic ties:
-   (weight, cell, base). */
+/* Bases: edges from each cell to its nearest (kD-tree sweep), virtual root joined to all at their key size; Prim's tree
+   from root, edge weighed on reach by delta's coded size plus lambda per level of its base's depth, taken only while
+   its chain stays within K (greedy depth-bounded minimum arborescence); root's children are keys. Greedy chains run
+   deep and leave later cells baseless; depth price keeps them short: of lambda 0, 2, 4, 8 bytes tree of smallest coded
+   sizes wins (ties: lower). Coded sizes cached on edges. Deterministic ties: (weight, cell, base). */
 PVS__STATIC uint64_t pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t lambda, const uint32_t *key_size);
 PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, pvs_error *err) {
 	const pvs_allocator *a = &e->a;
@@ -22906,8 +22862,7 @@ PVS__STATIC pvs_result pvs__encoder_bases(pvs__encoder *e, uint32_t max_chain, p
 	return PVS_OK;
 }
 
-/* One Prim's tree of pvs__encoder_bases: lambda bytes per level; key_size: each cell's key record size. Returns the
-   tree's coded sizes. */
+/* One Prim tree of pvs__encoder_bases; lambda: bytes per level; key_size: cells' key sizes. Returns coded sizes. */
 PVS__STATIC uint64_t pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint32_t lambda, const uint32_t *key_size) {
 	uint32_t i;
 	size_t heap_n = 0;
@@ -22946,7 +22901,7 @@ PVS__STATIC uint64_t pvs__encoder_prim(pvs__encoder *e, uint32_t max_chain, uint
 	return total;
 }
 
-/* Writes RECS body (out NULL: measures it). */
+/* Writes RECS body (out NULL: measures). */
 PVS__STATIC size_t pvs__encoder_records(pvs__encoder *e, uint8_t *out) {
 	uint32_t blocks = (e->cells + PVS__BLOCK - 1) / PVS__BLOCK, i;
 	size_t pos = 4 * ((size_t)blocks + 1);
@@ -23071,7 +23026,7 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 	td.boxes = e->boxes;
 	td.count = e->cells;
 	td.allocator = e->a;
-	{ /* cells over 16 x lower-quartile extent on an axis cross many split planes */
+	{ /* cells over 16 x lower-quartile extent on axis cross many split planes */
 		float *ext = (float *)pvs__alloc_array(&e->a, e->cells, sizeof(float)), med[3];
 		if (!ext) return PVS__OOM(err, "cell extents");
 		for (k = 0; k < 3; ++k) {
@@ -23104,7 +23059,7 @@ PVS__STATIC pvs_result pvs__encoder_kdtree(pvs__encoder *e, pvs_error *err) {
 	return r;
 }
 
-/* TREE: D is smallest depth giving leaves of about PVS__TREE_LEAF cells. */
+/* TREE: D = smallest depth giving leaves of about PVS__TREE_LEAF cells. */
 PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err) {
 	pvs__tbuild tb;
 	pvs_result r;
@@ -23134,7 +23089,7 @@ PVS__STATIC pvs_result pvs__encoder_lookup_tree(pvs__encoder *e, pvs_error *err)
 		if (!t) {
 			r = PVS_ERROR_OUT_OF_MEMORY;
 		} else {
-			/* splits, leaf offsets, axes; a node passing all left is axis 0 at FLT_MAX */
+			/* splits, leaf offsets, axes; node passing all left: axis 0 at FLT_MAX */
 			for (i = 0; i + 1 < leaves; ++i, t += 4)
 				pvs__putf32(t, (tb.nodes[i] & 3u) == 3u ? FLT_MAX : tb.values[tb.nodes[i] & 3u][tb.nodes[i] >> 2]);
 			for (i = 0; i <= leaves; ++i, t += 4) pvs__put32(t, tb.leaf_start[i]);
@@ -23338,9 +23293,9 @@ done:
 
 /* ---- reader ---- */
 
-/* A located record (opened files only). */
+/* Located record (opened files only). */
 typedef struct pvs__rec {
-	const uint8_t *start, *body, *end; /* body: a delta's removed ranks, else added ids */
+	const uint8_t *start, *body, *end; /* body: delta's removed ranks, else added ids */
 	uint32_t coding, depth, base; /* coding of added ids */
 	uint32_t removed_coding, base_size;
 } pvs__rec;
@@ -23369,8 +23324,8 @@ PVS__STATIC void pvs__record_at(const pvs_file *f, uint32_t cell, pvs__rec *r) {
 	r->body = p;
 }
 
-/* A key adds its ids (bits start empty); a delta removes its ranks (in base's PVS, in bits), then adds. Changes go to
-   fn. Opened files only. */
+/* Key: adds its ids (bits start empty); delta: removes its ranks (in base's PVS, in bits), then adds; changes to fn.
+   Opened files only. */
 PVS__STATIC void pvs__record_apply(const pvs_file *f, const pvs__rec *r, pvs_word *bits, pvs_change_fn fn, void *user) {
 	pvs__sink s;
 	size_t used = 0, bad;
@@ -23450,7 +23405,7 @@ PVS__STATIC pvs_result pvs__open_cells(pvs_file *f, const uint8_t *base, const u
 	return PVS_OK;
 }
 
-/* TREE, as manual lays it out. Splits and axes lie apart: a level costs one dependent load. */
+/* TREE, as manual lays it out. Splits and axes lie apart: level costs one dependent load. */
 PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const uint8_t *t, uint32_t size,
 									  pvs_error *err) {
 	uint64_t off = (uint64_t)(t - base), need;
@@ -23506,8 +23461,8 @@ PVS__STATIC pvs_result pvs__open_tree(pvs_file *f, const uint8_t *base, const ui
 	return PVS_OK;
 }
 
-/* RECS: each record's structure, then chains: depth falls by one per base, so a chain reaches a key within
-   max_chain steps and cannot cycle. Linear in section. */
+/* RECS: each record's structure, then chains: depth falls by one per base, so chains reach a key within max_chain
+   steps, cannot cycle. Linear in section. */
 PVS__STATIC pvs_result pvs__open_records(pvs_file *f, const uint8_t *base, const uint8_t *rs, uint32_t size,
 										 pvs_error *err) {
 	uint64_t off = (uint64_t)(rs - base);
@@ -23676,7 +23631,7 @@ PVS__STATIC pvs_result pvs__open_table(const uint8_t *p, size_t size, uint32_t c
 	return PVS_OK;
 }
 
-/* Bytes outside header, table and sections must be zero: each byte of a valid file is checksummed or fixed. */
+/* Bytes outside header, table, sections must be zero: each byte of valid file is checksummed or fixed. */
 PVS__STATIC pvs_result pvs__open_padding(const uint8_t *p, size_t size, uint32_t count, pvs_error *err) {
 	uint32_t order[PVS__MAX_SECTIONS], i, j, k;
 	size_t pos = PVS__HEADER_SIZE + (size_t)count * PVS__SECTION_ENTRY;
@@ -23735,7 +23690,7 @@ PVS__STATIC pvs_result pvs__open_meta(pvs_file *f, const uint8_t *p, const uint8
 	return PVS_OK;
 }
 
-/* SHRD (16 bytes) into f: a part of cell_count cells of a sharded bake. */
+/* SHRD (16 bytes) into f: part of cell_count cells of sharded bake. */
 PVS__STATIC pvs_result pvs__open_shard(pvs_file *f, const uint8_t *p, const uint8_t *shrd, uint32_t shrd_size,
 									   pvs_error *err) {
 	uint64_t so = (uint64_t)(shrd - p);
@@ -23801,8 +23756,8 @@ PVS_API pvs_result pvs_file_open(const void *data, size_t size, pvs_file *f, pvs
 		r = pvs__open_shard(f, p, sec.shrd, sec.shrd_size, err);
 		if (r != PVS_OK) return r;
 	}
-	/* records first: 3 bytes or more each, a valid RECS bounds cell count by file size and cell checks stay
-	   linear (indices can be 0 bits wide) */
+	/* records first: 3+ bytes each, so valid RECS bound cell count by file size, cell checks stay linear (indices can
+	   be 0 bits wide) */
 	f->private_.records = sec.recs;
 	f->private_.records_size = sec.recs_size;
 	f->private_.block_count = (f->cell_count + PVS__BLOCK - 1) / PVS__BLOCK;
@@ -23840,7 +23795,7 @@ PVS_API void pvs_file_get_record_info(const pvs_file *f, uint32_t cell, pvs_reco
 }
 
 // >>runtime
-/* ==== runtime: cell look-up via the stored kD-tree, decoding, the cursor; no allocation ==== */
+/* ==== runtime: cell look-up via stored kD-tree, decoding, cursor; no allocation ==== */
 
 /* Cell c's coordinate indices, min then max per axis (one 64-bit read when six fit). */
 PVS__STATIC void pvs__cell_indices(const pvs_file *f, uint32_t c, uint32_t idx[6]) {
@@ -23875,7 +23830,7 @@ PVS_API pvs_box pvs_file_cell_box(const pvs_file *f, uint32_t cell) {
 	return b;
 }
 
-/* The look-up's inner loop, pvs__cell_indices' fast path inlined. */
+/* Look-up's inner loop, pvs__cell_indices' fast path inlined. */
 PVS__STATIC int pvs__cell_contains(const pvs_file *f, uint32_t c, const float p[3]) {
 	uint32_t idx[6];
 	int k;
@@ -23921,7 +23876,7 @@ PVS_API uint32_t pvs_file_find_object(const pvs_file *f, const char *name) {
 	return PVS_NO_OBJECT;
 }
 
-/* Point location, manual's TREE rule (p == split: a stack no deeper than tree); lowest containing cell wins. */
+/* Point location, manual's TREE rule (p == split: stack no deeper than tree); lowest containing cell wins. */
 PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
 	uint32_t stack[PVS__TREE_MAX_DEPTH + 1], depth = 0, best = PVS_NO_CELL, k = 0, d, inner;
 	const uint8_t *nodes, *starts, *axes, *items;
@@ -23938,7 +23893,7 @@ PVS_API uint32_t pvs_file_find_cell(const pvs_file *f, const float p[3]) {
 	items = axes + inner;
 	for (;;) {
 		if (k < inner) {
-			/* k's children sit side by side, loaded while k compares: one load latency per level (branch-free) */
+			/* k's children side by side, loaded while k compares: one load latency per level (branch-free) */
 			float v = pvs__getf32(nodes + 4 * (size_t)k);
 			uint32_t axis = axes[k];
 			for (;;) {
@@ -23985,7 +23940,7 @@ PVS__STATIC void pvs__file_decode(const pvs_file *f, uint32_t cell, pvs_word *bi
 	uint32_t chain[PVS_MAX_CHAIN + 1], n = 0;
 	pvs__rec r;
 	memset(bits, 0, word_count * sizeof(pvs_word));
-	for (;;) { /* cell to key: at most max_chain + 1 records (checked by open) */
+	for (;;) { /* cell to key: <= max_chain + 1 records (checked by open) */
 		pvs__record_at(f, cell, &r);
 		chain[n++] = cell;
 		if (!r.depth) break;
