@@ -1,4 +1,4 @@
-/* pvs.h - v0.9.3 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
+/* pvs.h - v0.9.4 - conservative potentially visible sets: bake, store, look up, cull - public domain or MIT (see end)
 
    QUICK START
    ===========
@@ -87,17 +87,11 @@
    (T-junctions; about 1 mm at 1 km); openings to see through must be wider.
 
    Methods. AUTO, the default, intersects the PVSs of the conservative methods that can cull in the scene, cheapest
-   first: PORTAL when closed convex meshes bound rooms; OTREE when vertical walls give facades (2.5D); EXTPROJ, with
-   the sweep (§5), for planar occluders or convex solids; SHRINK, the costliest, last, when closed geometry leaves
-   volume after erosion by eps. With the default set and at least 4 x PVS_AUTO_SAMPLE_CELLS cells, pvs_bake_begin
-   bakes PVS_AUTO_SAMPLE_CELLS cells spread over all with each method by cost class; rays aimed at what they keep prove
-   part of it visible, and a method that would have to cull more than the rest to pay (PVS_AUTO_MIN_GAIN of the kept
-   PVS, x2 per class above the cheapest kept's) is not prepared. Of those run, the smallest PVS's is kept (ties: the
-   cheaper), then greedily those culling that price. Classes: PORTAL 0, +1 per 2 of the 8 cells whose centre sees the
-   sky; OTREE 2 + log2 of its base levels; EXTPROJ 3; SHRINK 3 + log2(sample points a cell / 294).
-   pvs_bake_method_info says which and why; counts decide, so any thread count or shard decides alike. A named set
-   (pvs_bake_desc.methods) runs in full; VOCC only when named. max_distance, a draw distance, drops objects whose box
-   is farther from every point of the cell (rounded toward keeping). pvs_bake_restore_task resumes a bake.
+   first: PORTAL (closed convex meshes bound rooms), OTREE (vertical walls), EXTPROJ with its sweep (§5), SHRINK
+   (closed geometry left after erosion by eps), leaving out those that do not pay on PVS_AUTO_SAMPLE_CELLS cells
+   (README.md, "Choosing a method"; pvs_bake_method_info says why). A named set (pvs_bake_desc.methods) runs in
+   full; VOCC only when named. max_distance, a draw distance, drops objects whose box is farther from every point of
+   the cell (rounded toward keeping). pvs_bake_restore_task resumes a bake.
 
    Adaptive cells (Durand 2000 §6.1). A cell whose PVS holds over adaptive.budget triangles is halved across its
    longest side, recursively down to adaptive.min_size; each half is baked from its parent's PVS and intersected with it
@@ -131,9 +125,9 @@
    PVS_BAKE_COMPACT's coded PVSs; 40 of statistics per cell); pvs_bake_run_task (AUTO: a bitset per method; EXTPROJ:
    pvs_extproj_task_bytes, 8 MB at 256 pixels, 0.7 GB at 1024 and 64 sweep planes, freed; adaptive cells: a
    box and a bitset per leaf, kept); pvs_file_encode (~40 bytes per cell plus a bitset); pvs_raster_create
-   (depth map, pyramid, cull map); pvs_otree_create (about 250 bytes per node of its budget, 5 per kD node and
+   (depth map, pyramid, cull map, bins); pvs_otree_create (about 250 bytes per node of its budget, 5 per kD node and
    object). Allocate nothing: the pvs_file_* readers, pvs_cursor_*, kD-tree queries, pvs_raster_cull*, pvs_raster_draw,
-   pvs_otree_cull, pvs_vocc_cull. A .pvs file is used in place.
+   pvs_raster_bin, _draw_band, pvs_otree_cull, pvs_vocc_cull. A .pvs file is used in place.
 
    PERFORMANCE
    ===========
@@ -159,7 +153,7 @@
 
 #define PVS_VERSION_MAJOR 0
 #define PVS_VERSION_MINOR 9
-#define PVS_VERSION_PATCH 3
+#define PVS_VERSION_PATCH 4
 #define PVS_VERSION ((PVS_VERSION_MAJOR << 16) | (PVS_VERSION_MINOR << 8) | PVS_VERSION_PATCH)
 #define PVS_FORMAT_VERSION 1
 
@@ -444,9 +438,9 @@ PVS_API const uint32_t *pvs_kdtree_leaf_items(const pvs_kdtree *tree, const floa
 /* ---- raster ---- */
 
 /* Depth (reversed Z): z_clip / w_clip, LARGER IS NEARER. pvs_camera_matrix maps the near plane to 1, infinity to 0
-   (orthographic: 1 at near, linear, negative past `far`). Points with z_clip <= w_clip and w_clip > 0 are
-   kept, the rest clipped; no far clipping. Pixel (i, j) covers [i, i+1] x [j, j+1] for x = (x_ndc + 1) / 2 * width,
-   y likewise (row 0 at y_ndc = -1), and holds the nearest depth drawn, else PVS_DEPTH_EMPTY. */
+   (orthographic: 1 at near, linear, negative past `far`). Clipping keeps points with z_clip <= w_clip and w_clip > 0;
+   no far clipping. Pixel (i, j) covers [i, i+1] x [j, j+1] for x = (x_ndc + 1) / 2 * width, y likewise (row 0 at
+   y_ndc = -1), and holds the nearest depth drawn, else PVS_DEPTH_EMPTY. */
 #define PVS_DEPTH_EMPTY (-3.402823466e+38f)
 
 /* Rasterization (Durand 2000 §2.2, §3.1-3.2: occluders by intersection, occludees by union). */
@@ -471,8 +465,8 @@ typedef struct pvs_camera {
    near / distance along forward. INVALID_ARGUMENT or NOT_FINITE for a bad camera. */
 PVS_API pvs_result pvs_camera_matrix(const pvs_camera *camera, float aspect, float m[16]);
 
-/* Raster flags. Occluder depth is kept per pixel (default up to 65,536 pixels) or per 32 x 4 tile as a coverage mask
-   and two depths (Masked Occlusion Culling: several times faster; default above). Both are conservative. */
+/* Raster flags. Occluders keep depth per pixel (default up to 65,536 pixels) or per 32 x 4 tile as a coverage mask and
+   two depths (Masked Occlusion Culling: several times faster; default above). Both are conservative. */
 #define PVS_RASTER_SCALAR 1u /* scalar code even where SIMD is compiled in (identical results) */
 #define PVS_RASTER_PER_PIXEL 2u /* occluders keep a depth per pixel */
 #define PVS_RASTER_TILED 4u /* occluders go to tiles (wins over PVS_RASTER_PER_PIXEL) */
@@ -488,10 +482,11 @@ typedef struct pvs_raster_desc {
 	uint32_t cull_map_height; /*   (both or neither; 1..4096; needs `scene`) */
 	uint32_t flags; /* PVS_RASTER_* */
 	uint32_t max_mesh_triangles; /* pvs_raster_mesh's piece size, 0 = 4096 (~400 bytes each) */
+	uint32_t bin_triangles; /* pvs_raster_bin's triangles per frame (34 bytes each), 0 = none */
 	pvs_allocator allocator;
 } pvs_raster_desc;
 
-/* Holds every buffer; no allocation after create. One per thread. */
+/* Holds every buffer; no allocation after create. One per thread (see Threads). */
 typedef struct pvs_raster pvs_raster;
 
 /* Errors: INVALID_ARGUMENT (sizes), COUNT_OVERFLOW, OUT_OF_MEMORY. */
@@ -541,11 +536,27 @@ typedef struct pvs_raster_draw_desc {
 /* pvs_raster_triangles (PVS_DRAW_MESH: pvs_raster_mesh) with those options. INVALID_ARGUMENT for NULL raster or
    draw, NULL positions with triangles, a bad stride, mode or flag, both culls, or flags with occludees. */
 PVS_API pvs_result pvs_raster_draw(pvs_raster *raster, const pvs_raster_draw_desc *draw);
+/* Threads (binning as Masked Occlusion Culling's, Hasselgren, Andersson and Akenine-Moller 2016 §4): a frame's
+   occluder draws are prefiltered in PVS_RASTER_PARTS parts, then drawn in as many bands of rows, each on any thread:
+	   pvs_raster_clear(r);
+	   parallel for p < PVS_RASTER_PARTS: pvs_raster_bin(r, draws, n, p);
+	   parallel for b < PVS_RASTER_PARTS: pvs_raster_draw_band(r, draws, n, b);  // once every bin returned
+	   pvs_raster_build_pyramid(r);  // then box tests on any threads
+   The map is pvs_raster_draw's for the draws in order, byte for byte. Keep the draws, their arrays and the matrix
+   until the bands are drawn. */
+#define PVS_RASTER_PARTS 8
+/* INVALID_ARGUMENT as pvs_raster_draw, and for occludees, PVS_DRAW_MESH, an untiled raster or a bad part;
+   BUFFER_TOO_SMALL past pvs_raster_desc.bin_triangles. */
+PVS_API pvs_result pvs_raster_bin(pvs_raster *raster, const pvs_raster_draw_desc *draws, uint32_t draw_count,
+								  uint32_t part);
+/* Draws band `band` of every part's bins. */
+PVS_API void pvs_raster_draw_band(pvs_raster *raster, const pvs_raster_draw_desc *draws, uint32_t draw_count,
+								  uint32_t band);
 /* Depth map, width * height floats from row 0, valid until the next raster call. */
 PVS_API const float *pvs_raster_depth(const pvs_raster *raster, uint32_t *width, uint32_t *height);
 
-/* The hierarchical depth map (Durand 2000 §2.4, after Greene, Kass and Miller 1993): per texel the farthest and
-   nearest depth of its 2 x 2 children (tiled: above the tiles). The tests build it when the map changed. */
+/* Hierarchical depth map (Durand 2000 §2.4, after Greene, Kass and Miller 1993): per texel the farthest and nearest
+   depth of its 2 x 2 children (tiled: above the tiles). The tests build it when the map changed. */
 PVS_API void pvs_raster_build_pyramid(pvs_raster *raster);
 /* 1 if an occludee of nearest depth `depth` may be visible in pixels [x0, x1] x [y0, y1] (inclusive, clamped): some
    pixel stores a depth <= `depth`; 0 if all are strictly nearer or the rectangle is off the map. */
@@ -3231,19 +3242,18 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 }
 
 // >>raster
-/* ==== raster: conservative rasterizer (Durand 2000 §3.1-3.2), depth pyramid (Durand 2000 §2.4), cull map (Wonka &
-   Schmalstieg 1999 §3-4), per-frame culling (Bittner 2002 §3.2, §4.5) ==== */
+/* ==== raster: conservative rasterizer (Durand 2000 §3.1-3.2), depth pyramid (§2.4), cull map (Wonka & Schmalstieg
+   1999 §3-4), per-frame culling (Bittner 2002 §3.2, §4.5) ==== */
 
-/* Rounding. Per polygon (a triangle clipped to the near plane) the setup is in double: edge functions E (>= 0 inside,
-   |a| + |b| = 1) at the range's corner plus their exact extreme over a pixel, min(0, a) + min(0, b) for inner
-   coverage (occluders) or max(0, a) + max(0, b) for outer (occludees): Wonka 1999 §4.4's sampling correction. Error
-   bounds are subtracted (occluder) or added (occludee) before rounding to float: 2^-40 of the coordinates' size for
-   setup and projection, over the edge length, and 2^-20 of the terms for the float c + a i + b j. Depth z/w is
-   affine: the plane's extreme at the pixel corners (inner) or among corners and vertices (outer), plus margin and
-   clamped by the vertices' extreme depth. Degenerate polygons cover nothing as occluders, their rectangle at the
-   nearest depth as occludees. Scalar and SIMD do the same float operations in order: bit-identical without FMA
-   contraction (the pragma below for clang). Limit: the near-plane cut has no margin (an occludee may lose a sliver
-   about 2^-51 |b - a| / near wide). */
+/* Rounding. Per polygon (a triangle clipped to the near plane) setup is in double: edge functions E (>= 0 inside,
+   |a| + |b| = 1) at the range's corner plus their exact extreme over a pixel, min(0, a) + min(0, b) for inner coverage
+   (occluders) or max(0, a) + max(0, b) for outer (occludees): Wonka 1999 §4.4's sampling correction. Error bounds are
+   subtracted (occluder) or added (occludee) before rounding to float: 2^-40 of the coordinates' size for setup and
+   projection, over the edge length, and 2^-20 of the terms for the float c + a i + b j. Depth z/w is affine: the
+   plane's extreme at pixel corners (inner) or among corners and vertices (outer), plus margin, clamped by the vertices'
+   extreme depth. Degenerate polygons cover nothing as occluders, their rectangle at the nearest depth as occludees.
+   Scalar and SIMD do the same float operations in order: bit-identical without FMA contraction (pragma below for
+   clang). Limit: the near-plane cut has no margin (an occludee may lose a sliver about 2^-51 |b - a| / near wide). */
 
 #if !defined(PVS_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
 #define PVS__SSE2 1
@@ -3253,10 +3263,10 @@ PVS__STATIC void pvs__see_through_mark(const pvs_scene *s, const float origin[3]
 #include <arm_neon.h>
 #endif
 
-/* Lanes: four floats (pvs__f4), four int32 (pvs__i4) and a mask (pvs__m4: lanes all ones or zero), the operations the
-   SIMD kernels use: min and max are a < b ? a : b and a > b ? a : b (SSE2 minps / maxps; NEON compare and select, as
-   vminq differs on NaN and signed zeros); float to int truncates (NEON saturates where SSE2 gives INT_MIN: kernels keep
-   lanes in range); shl_ones is ~0 << clamp(n, 0, 32). PVS__LANES_DIV adds div, hmin2 and hmax2 (over eight lanes). */
+/* Lanes: four floats (pvs__f4), four int32 (pvs__i4), a mask (pvs__m4: lanes all ones or zero) and the SIMD kernels'
+   operations: min, max are a < b ? a : b, a > b ? a : b (SSE2 minps / maxps; NEON compare and select, as vminq differs
+   on NaN and signed zeros); float to int truncates (NEON saturates where SSE2 gives INT_MIN: kernels keep lanes in
+   range); shl_ones is ~0 << clamp(n, 0, 32). PVS__LANES_DIV adds div, hmin2 and hmax2 (over eight lanes). */
 #if defined(PVS__SSE2)
 #define PVS__LANES 1
 #define PVS__LANES_DIV 1
@@ -3412,7 +3422,7 @@ PVS__STATIC pvs__i4 pvs__f4_floori(pvs__f4 f) {
 #define PVS__RASTER_BIG 1e30
 
 /* A context's buffers, listed once for creation and destruction: entry k's *p gets n elements of `size` bytes
-   (pvs__bufs_alloc, going on past a failure; 0 when one failed) or is freed (pvs__bufs_free; skips NULL). */
+   (pvs__bufs_alloc: goes on past a failure, 0 if one failed) or is freed (pvs__bufs_free; skips NULL). */
 typedef struct pvs__buf {
 	void **p;
 	size_t n, size;
@@ -3504,6 +3514,11 @@ struct pvs_raster {
 	uint32_t cm_item_count;
 	float *cm_bound; /* highest object top per cell (Wonka 1999 §4.3) */
 	float ground; /* scene's lowest point on the up axis */
+	uint32_t qtri_cap;
+	struct pvs__qtri *qtri; /* qtri_cap: kept triangles, part p's from PVS__QFIRST(total, p) */
+	uint16_t *qrows; /* qtri_cap: first, last band */
+	uint8_t *qband; /* bh: band of each block row */
+	uint32_t *qcount; /* per part: kept; then first */
 };
 
 typedef struct pvs__rsetup {
@@ -3591,8 +3606,8 @@ PVS__STATIC void pvs__tile_update(float *buf, uint32_t W, uint32_t H, float *til
 	tile_min[ty * ((W + PVS__TILE - 1) >> PVS__TILE_SHIFT) + tx] = lo;
 }
 
-/* -1: all pixels of [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] fail an edge as float loops see it, 1: all pass, 0:
-   undecided (in double with slack 2^-18 of the terms). */
+/* -1: every pixel of [i0 + a0, i0 + a1] x [j0 + b0, j0 + b1] fails an edge as float loops see it, 1: all pass, 0:
+   undecided (in double, slack 2^-18 of the terms). */
 PVS__STATIC int pvs__raster_classify(const pvs__rsetup *s, int32_t a0, int32_t a1, int32_t b0, int32_t b1) {
 	int e, inside = 1;
 	for (e = 0; e < s->edges; ++e) {
@@ -3701,9 +3716,9 @@ PVS__STATIC void pvs__raster_fill(float *buf, uint32_t W, uint32_t H, float *til
 				pvs__tile_update(buf, W, H, tile_min, tx, ty);
 }
 
-/* The depth plane of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi,
-   oy + fj), fi <= iw, fj <= jh, from its largest fan triangle: p = za, zb, zk with z = zk + za fi + zb fj, and the
-   setup error bound. 0 if no fan triangle has an area. */
+/* Depth plane of polygon x, y, z (span, mag, zmag: extents; perr, zerr: vertex errors) over pixels (ox + fi, oy + fj),
+   fi <= iw, fj <= jh, from its largest fan triangle: p = za, zb, zk (z = zk + za fi + zb fj) and the setup error bound;
+   0 if no fan triangle has an area. */
 PVS__STATIC int pvs__raster_plane(const double *x, const double *y, const double *z, int n, double ox, double oy,
 								  double iw, double jh, double span, double mag, double zmag, double perr, double zerr,
 								  double p[4]) {
@@ -3870,10 +3885,10 @@ PVS__STATIC void pvs__raster_poly(float *buf, uint32_t W, uint32_t H, float *til
 #define PVS__TH_SHIFT 2
 #define PVS__TH 4
 #define PVS__BLOCK_SHIFT 3 /* blocks of 8 x 8 tiles (256 x 32 pixels): prefilter's hidden test */
-#define PVS__U_2_20 9.5367431640625e-07 /* 2^-20 */
-#define PVS__U_2_21 4.76837158203125e-07	/* 2^-21 */
-#define PVS__U_2_44 5.684341886080802e-14	/* 2^-44 */
-#define PVS__U_2_48 3.552713678800501e-15	/* 2^-48 */
+#define PVS__U_2_20 9.5367431640625e-07
+#define PVS__U_2_21 4.76837158203125e-07
+#define PVS__U_2_44 5.684341886080802e-14
+#define PVS__U_2_48 3.552713678800501e-15
 
 /* Occluder polygon for the tile loops (i, j relative to (i0, j0)): pixel i of row j is inside edge e if i >=
    X_e(j) (left) or i <= X_e(j) (right); X_e(j) = xi + s j with margins; m: its float error bound. */
@@ -3885,6 +3900,14 @@ typedef struct pvs__tpoly {
 	float sf[PVS__RASTER_MAXV], m[PVS__RASTER_MAXV];
 	float zk, za, zb, zm, zlo; /* plane at (i0, j0) less float margin zm, clamped to the farthest vertex zlo */
 } pvs__tpoly;
+
+/* What a prefiltered occluder may change: tiles [tx0, tx1] x [ty0, ty1], depths up to zmax (its nearest vertex's;
+   farther: conservative). So drawing it where the prefilter finds it hidden is a no-op: bands equal a whole frame. */
+typedef struct pvs__tlim {
+	int32_t tx0, tx1, ty0, ty1;
+	float zmax;
+	int cull;
+} pvs__tlim;
 
 /* Columns L[d] .. R[d] (absolute; L > R: empty) of rows jrow + d inside every edge, from xr = X(jrow); reference for
    the SIMD versions. */
@@ -3995,12 +4018,14 @@ PVS__STATIC void pvs__tile_merge(pvs__tile *tl, const uint32_t *T, float zt, con
 }
 
 /* A polygon's tile rows: runs of its four pixel rows, then per tile its farthest depth; skips tiles already as near. */
-PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
+PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd, const pvs__tlim *lim) {
 	int32_t ty, ty0 = (t->j0 + t->jlo) >> PVS__TH_SHIFT, ty1 = (t->j0 + t->jhi) >> PVS__TH_SHIFT;
 	float xr[PVS__RASTER_MAXV];
 	(void)simd;
+	if (lim) ty0 = ty0 > lim->ty0 ? ty0 : lim->ty0, ty1 = ty1 < lim->ty1 ? ty1 : lim->ty1;
 	for (ty = ty0; ty <= ty1; ++ty) {
-		int32_t jr = ty << PVS__TH_SHIFT, jrow = jr - t->j0, L[PVS__TH], R[PVS__TH], lmin = INT32_MAX, rmax = -1, tx;
+		int32_t jr = ty << PVS__TH_SHIFT, jrow = jr - t->j0, L[PVS__TH], R[PVS__TH], lmin = INT32_MAX, rmax = -1;
+		int32_t tx, tx1;
 		int32_t fl = -1, fr = INT32_MAX; /* columns all four rows cover */
 		int d, e, da = -1, db = -1;
 		uint32_t pad[PVS__TH], cov[PVS__TH], q[PVS__TH];
@@ -4035,7 +4060,9 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 		yb = t->zb * yb;
 		zy = ya < yb ? ya : yb;
 		for (d = 0; d < PVS__TH; ++d) pad[d] = (uint32_t)ty == r->th - 1 && (uint32_t)d >= r->ypad ? ~0u : 0u;
-		for (tx = lmin >> PVS__TW_SHIFT; tx <= rmax >> PVS__TW_SHIFT; ++tx) {
+		tx = lmin >> PVS__TW_SHIFT, tx1 = rmax >> PVS__TW_SHIFT;
+		if (lim) tx = tx > lim->tx0 ? tx : lim->tx0, tx1 = tx1 < lim->tx1 ? tx1 : lim->tx1;
+		for (; tx <= tx1; ++tx) {
 			pvs__tile *tl = row + tx;
 			int32_t x0 = tx << PVS__TW_SHIFT, xa = x0 > lmin ? x0 : lmin, xb = (x0 + 31 < rmax ? x0 + 31 : rmax) + 1;
 			float fa = t->za * (float)(xa - t->i0), fb = t->za * (float)(xb - t->i0);
@@ -4043,6 +4070,7 @@ PVS__STATIC void pvs__tile_run(pvs_raster *r, const pvs__tpoly *t, int simd) {
 			p = p + zy;
 			p = p - t->zm;
 			zt = p > t->zlo ? p : t->zlo;
+			if (lim && zt > lim->zmax) zt = lim->zmax;
 			if (!(zt > tl->z0)) continue; /* not nearer than base */
 			if (x0 >= fl && (x0 + 31 < (int32_t)r->width ? x0 + 31 : (int32_t)r->width - 1) <= fr) {
 				cov[0] = cov[1] = cov[2] = cov[3] = ~0u; /* covers the tile: tile_merge's first case */
@@ -4143,7 +4171,7 @@ PVS__STATIC void pvs__tile_zplane(pvs__tpoly *t, const double *x, const double *
 
 /* Draws an occluder polygon into tiles; setup and margins as pvs__raster_poly's. */
 PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y, const double *z, int n, double perr,
-								double zerr) {
+								double zerr, const pvs__tlim *lim) {
 	pvs__tpoly t;
 	pvs__polyext e;
 	double span, dx, zlo;
@@ -4159,7 +4187,7 @@ PVS__STATIC void pvs__tile_poly(pvs_raster *r, const double *x, const double *y,
 	if (!pvs__poly_usable(&e, span)) return;
 	if (!pvs__tile_edges(&t, x, y, n, e.area2, e.mag, perr)) return;
 	pvs__tile_zplane(&t, x, y, z, n, span, e.mag, e.zmag, perr, zerr, zlo);
-	pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR));
+	pvs__tile_run(r, &t, !(r->flags & PVS_RASTER_SCALAR), lim);
 }
 
 /* Occludees go to the per-pixel map, cleared on first use (`mixed`). */
@@ -4255,7 +4283,7 @@ PVS__STATIC int pvs__raster_clip(const pvs__cv *in, int n, pvs__cv *out, int pla
 	return m;
 }
 
-PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int occluder) {
+PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int occluder, const pvs__tlim *lim) {
 	pvs__cv t1[PVS__RASTER_MAXV], t2[PVS__RASTER_MAXV];
 	double x[PVS__RASTER_MAXV], y[PVS__RASTER_MAXV], z[PVS__RASTER_MAXV];
 	double hw = 0.5 * (double)r->width, hh = 0.5 * (double)r->height, perr = 0.0, zerr = 0.0;
@@ -4272,7 +4300,7 @@ PVS__STATIC void pvs__raster_clipped(pvs_raster *r, const pvs__cv *v, int n, int
 	}
 	for (i = 0; i < n; ++i) pvs__raster_project(t + i, hw, hh, x + i, y + i, z + i, &perr, &zerr);
 	if (occluder && r->tiled) {
-		pvs__tile_poly(r, x, y, z, n, perr, zerr);
+		pvs__tile_poly(r, x, y, z, n, perr, zerr, lim);
 	} else {
 		pvs__raster_occludee_begin(r);
 		pvs__raster_poly(r->depth, r->width, r->height, r->tile_min, x, y, z, n, occluder,
@@ -4298,7 +4326,8 @@ PVS__STATIC int pvs__mesh_facing(const pvs__cv *v) {
 	return 0;
 }
 
-PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1, const float *p2, int occluder) {
+PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1, const float *p2, int occluder,
+								const pvs__tlim *lim) {
 	pvs__cv v[3];
 	int k;
 	for (k = 0; k < 3; ++k)
@@ -4308,9 +4337,10 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 	v[2] = pvs__raster_transform(r, p2);
 	if (v[0].c[3] - v[0].c[2] < 0 && v[1].c[3] - v[1].c[2] < 0 && v[2].c[3] - v[2].c[2] < 0) return;
 	if (v[0].c[3] <= 0 && v[1].c[3] <= 0 && v[2].c[3] <= 0) return;
-	if (occluder && r->cull && pvs__mesh_facing(v) == r->cull) return; /* back-face culling */
-	pvs__raster_clipped(r, v, 3, occluder);
-	r->pyramid_valid = 0;
+	k = lim ? lim->cull : r->cull;
+	if (occluder && k && pvs__mesh_facing(v) == k) return; /* back-face culling */
+	pvs__raster_clipped(r, v, 3, occluder, lim);
+	if (r->pyramid_valid) r->pyramid_valid = 0; /* bands: pvs_raster_bin set 0 */
 }
 
 /* ---- occluder prefilter: four triangles at a time in float (SIMD lanes, as in Masked Occlusion Culling), dropping
@@ -4323,7 +4353,7 @@ PVS__STATIC void pvs__raster_tri(pvs_raster *r, const float *p0, const float *p1
 /* Lanes < n to draw (bit l), those in *test only if not hidden; box, zmax: their whole pixels in map, nearest vertex
    depth. Lanes partly behind near or eye plane are drawn untested (clipped later) unless wholly behind one. */
 PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
-									float *zmax, int n) {
+									float *zmax, int n, int cull) {
 	const float *m = r->mf, hw = r->hwf, hh = r->hhf, fw = (float)r->width, fh = (float)r->height;
 	int l, k;
 	unsigned draw = 0;
@@ -4356,7 +4386,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 			}
 		}
 		f = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]); /* back faces: area's sign */
-		if (r->cull && (r->cull > 0 ? f > 0.0f : f < 0.0f)) { draw &= ~(1u << l); continue; }
+		if (cull && (cull > 0 ? f > 0.0f : f < 0.0f)) { draw &= ~(1u << l); continue; }
 		fin = PVS__FSMALL(xmin) && PVS__FSMALL(xmax) && PVS__FSMALL(ymin) && PVS__FSMALL(ymax) && PVS__FSMALL(zm);
 		if (!fin) continue;
 		xmin = xmin > 0.0f ? xmin : 0.0f; xmax = xmax < fw ? xmax : fw;
@@ -4376,7 +4406,7 @@ PVS__STATIC unsigned pvs__pf_scalar(const pvs_raster *r, const float *const v[4]
 #if defined(PVS__LANES_DIV)
 /* v[l][k]: 4 readable floats (caller copies last vertex). */
 PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3], unsigned *test, int32_t box[4][4],
-								  float *zmax) {
+								  float *zmax, int cull) {
 	const pvs__f4 zero = pvs__f4_set1(0.0f), big = pvs__f4_set1(1e30f), one = pvs__f4_set1(1.0f);
 	const pvs__f4 hw = pvs__f4_set1(r->hwf), hh = pvs__f4_set1(r->hhf);
 	pvs__f4 X[3], Y[3], Z[3], cz[3], cw[3], x, y, z, xmin, xmax, ymin, ymax, zm, rw;
@@ -4425,10 +4455,10 @@ PVS__STATIC unsigned pvs__pf_simd(const pvs_raster *r, const float *const v[4][3
 		}
 	}
 #undef PVS__ROW
-	if (r->cull) { /* back faces wholly in front, as pvs__pf_scalar */
+	if (cull) { /* back faces wholly in front, as pvs__pf_scalar */
 		x = pvs__f4_sub(pvs__f4_mul(pvs__f4_sub(X[1], X[0]), pvs__f4_sub(Y[2], Y[0])),
 						pvs__f4_mul(pvs__f4_sub(X[2], X[0]), pvs__f4_sub(Y[1], Y[0])));
-		all |= (unsigned)pvs__m4_bits(pvs__m4_andn(r->cull > 0 ? pvs__f4_gt(x, zero) : pvs__f4_lt(x, zero), anyb));
+		all |= (unsigned)pvs__m4_bits(pvs__m4_andn(cull > 0 ? pvs__f4_gt(x, zero) : pvs__f4_lt(x, zero), anyb));
 	}
 	/* min/max may lose a NaN: drop it like scalar loop (conservative) */
 	fin = pvs__m4_and(pvs__f4_lt(pvs__f4_abs(xmin), big), pvs__f4_lt(pvs__f4_abs(xmax), big));
@@ -4503,40 +4533,69 @@ PVS__STATIC void pvs__tri_corners(const uint32_t *indices, const pvs__occsel *tr
 	q[2] = ix ? ix[2] : 3 * t + 2;
 }
 
-/* Occluder triangles via prefilter: `count` of `positions` (indices or NULL) or scene triangles tris[0 .. count). */
-PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count,
-									   const uint32_t *indices, const pvs__occsel *tris, uint32_t count) {
-	uint32_t t, l, k;
+/* A triangle pvs_raster_bin kept: draw, triangle, the prefilter's box, zmax; test: bit 0 tested, bits 1-2 cull + 1. */
+typedef struct pvs__qtri {
+	uint32_t draw, tri;
+	int32_t box[4];
+	float zmax;
+	uint32_t test;
+} pvs__qtri;
+
+#define PVS__QFIRST(n, p) ((uint32_t)((uint64_t)(n) * (p) / PVS_RASTER_PARTS)) /* part p's first of n */
+#define PVS__QBAND(r, b) ((int32_t)((b) * (r)->bh / PVS_RASTER_PARTS) << PVS__BLOCK_SHIFT) /* band b's first tile row */
+
+/* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene selection tris) through the prefilter, four at a
+   time; part < PVS_RASTER_PARTS: kept for the bands (pvs_raster_bin), else drawn unless hidden. */
+PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count, uint32_t stride,
+									   const uint32_t *indices, const pvs__occsel *tris, uint32_t t0, uint32_t t1,
+									   int cull, uint32_t draw, uint32_t part) {
+	uint32_t t, l, k, id[4];
 	const float *v[4][3];
 	float last[4], zmax[4];
-	unsigned draw, test;
+	unsigned keep, test;
 	int n;
 	int32_t box[4][4];
 	if (!vertex_count) return;
-	memcpy(last, PVS__VTX(r, positions, vertex_count - 1), 3 * sizeof(float)); /* for SIMD's 4-float reads */
+	memcpy(last, positions + (size_t)(vertex_count - 1) * stride, 3 * sizeof(float)); /* for SIMD's 4-float reads */
 	last[3] = 0.0f;
-	for (t = 0; t < count; t += 4) {
+	for (t = t0; t < t1; t += 4) {
 		n = 0;
-		for (l = 0; l < 4 && t + l < count; ++l) {
+		for (l = 0; l < 4 && t + l < t1; ++l) {
 			uint32_t q[3];
 			pvs__tri_corners(indices, tris, t + l, q);
 			if (q[0] >= vertex_count || q[1] >= vertex_count || q[2] >= vertex_count) continue;
-			for (k = 0; k < 3; ++k) v[n][k] = q[k] + 1 == vertex_count ? last : PVS__VTX(r, positions, q[k]);
-			++n;
+			for (k = 0; k < 3; ++k) v[n][k] = q[k] + 1 == vertex_count ? last : positions + (size_t)q[k] * stride;
+			id[n++] = t + l;
 		}
 		if (!n) continue;
 		for (l = (uint32_t)n; l < 4; ++l)
 			for (k = 0; k < 3; ++k) v[l][k] = v[0][k];
 #if defined(PVS__LANES_DIV)
-		if (!(r->flags & PVS_RASTER_SCALAR)) draw = pvs__pf_simd(r, (const float *const(*)[3])v, &test, box, zmax);
+		if (!(r->flags & PVS_RASTER_SCALAR))
+			keep = pvs__pf_simd(r, (const float *const(*)[3])v, &test, box, zmax, cull);
 		else
 #endif
-			draw = pvs__pf_scalar(r, (const float *const(*)[3])v, &test, box, zmax, 4);
-		draw &= (1u << n) - 1u;
-		for (l = 0; draw; ++l, draw >>= 1) {
-			if (!(draw & 1u)) continue;
-			if ((test >> l) & 1u && pvs__pf_hidden(r, box, (int)l, zmax[l])) continue;
-			pvs__raster_tri(r, v[l][0], v[l][1], v[l][2], 1);
+			keep = pvs__pf_scalar(r, (const float *const(*)[3])v, &test, box, zmax, 4, cull);
+		keep &= (1u << n) - 1u;
+		for (l = 0; keep; ++l, keep >>= 1) {
+			pvs__tlim lim = {0, INT32_MAX, 0, INT32_MAX, FLT_MAX, 0};
+			if (!(keep & 1u)) continue;
+			if (part < PVS_RASTER_PARTS) { /* kept for its rows' bands (untested: all) */
+				uint32_t i = r->qcount[PVS_RASTER_PARTS + part] + r->qcount[part]++, tst = (test >> l) & 1u;
+				pvs__qtri *q = r->qtri + i;
+				q->draw = draw, q->tri = id[l], q->zmax = zmax[l], q->test = tst | (uint32_t)(cull + 1) << 1;
+				for (k = 0; k < 4; ++k) q->box[k] = box[k][l];
+				r->qrows[i] = tst ? (uint16_t)(r->qband[box[2][l] >> 5] | r->qband[box[3][l] >> 5] << 8)
+								  : (uint16_t)((PVS_RASTER_PARTS - 1) << 8);
+				continue;
+			}
+			lim.cull = cull;
+			if ((test >> l) & 1u) {
+				if (pvs__pf_hidden(r, box, (int)l, zmax[l])) continue;
+				lim.tx0 = box[0][l] >> PVS__TW_SHIFT, lim.tx1 = box[1][l] >> PVS__TW_SHIFT;
+				lim.ty0 = box[2][l] >> PVS__TH_SHIFT, lim.ty1 = box[3][l] >> PVS__TH_SHIFT, lim.zmax = zmax[l];
+			}
+			pvs__raster_tri(r, v[l][0], v[l][1], v[l][2], 1, &lim);
 		}
 	}
 }
@@ -4546,13 +4605,13 @@ PVS__STATIC void pvs__raster_tris(pvs_raster *r, const float *pos, uint32_t vc, 
 								  const pvs__occsel *tris, uint32_t count, int occluder) {
 	uint32_t t, q[3];
 	if (occluder && r->tiled) {
-		pvs__raster_occluders(r, pos, vc, indices, tris, count);
+		pvs__raster_occluders(r, pos, vc, r->vstride, indices, tris, 0, count, r->cull, 0, PVS_RASTER_PARTS);
 		return;
 	}
 	for (t = 0; t < count; ++t) {
 		pvs__tri_corners(indices, tris, t, q);
 		if (q[0] < vc && q[1] < vc && q[2] < vc)
-			pvs__raster_tri(r, PVS__VTX(r, pos, q[0]), PVS__VTX(r, pos, q[1]), PVS__VTX(r, pos, q[2]), occluder);
+			pvs__raster_tri(r, PVS__VTX(r, pos, q[0]), PVS__VTX(r, pos, q[1]), PVS__VTX(r, pos, q[2]), occluder, NULL);
 	}
 }
 
@@ -4918,7 +4977,7 @@ PVS__STATIC void pvs__mesh_tri(pvs_raster *r, const float *pos, uint32_t vc, con
 		int32_t box[4][4];
 		float zmax[4];
 		pv[0][0] = p[0], pv[0][1] = p[1], pv[0][2] = p[2];
-		if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax, 1) & test & 1u) &&
+		if ((pvs__pf_scalar(r, (const float *const(*)[3])pv, &test, box, zmax, 1, r->cull) & test & 1u) &&
 			pvs__pf_hidden(r, box, 0, zmax[0]))
 			return;
 	}
@@ -5124,6 +5183,7 @@ PVS_API void pvs_raster_clear(pvs_raster *r) {
 	}
 	r->mixed = 0;
 	r->pyramid_valid = 0;
+	if (r->qcount) memset(r->qcount, 0, 2 * PVS_RASTER_PARTS * sizeof(uint32_t));
 }
 
 PVS_API pvs_result pvs_raster_triangles(pvs_raster *r, const float *positions, uint32_t vertex_count,
@@ -5138,14 +5198,72 @@ PVS_API pvs_result pvs_raster_mesh(pvs_raster *r, const float *positions, uint32
 	return pvs_raster_draw(r, &d);
 }
 
-PVS_API pvs_result pvs_raster_draw(pvs_raster *r, const pvs_raster_draw_desc *d) {
+/* A draw's pvs_raster.cull; 2 if bad (pvs_raster_draw's errors). */
+PVS__STATIC int pvs__draw_cull(const pvs_raster *r, const pvs_raster_draw_desc *d) {
 	uint32_t f = d ? d->flags : 0, cull = f & (PVS_DRAW_CULL_CW | PVS_DRAW_CULL_CCW);
 	if (!r || !d || (!d->positions && d->triangle_count) || (d->stride && (d->stride < 12 || d->stride % 4)) ||
 		(int)d->mode < 0 || d->mode >= PVS_RASTER_MODE_COUNT || (f & ~7u) || cull == 6u ||
 		(f && d->mode != PVS_RASTER_OCCLUDER))
-		return PVS_ERROR_INVALID_ARGUMENT;
+		return 2;
+	return cull == PVS_DRAW_CULL_CW ? -1 : cull ? 1 : 0;
+}
+
+PVS_API pvs_result pvs_raster_bin(pvs_raster *r, const pvs_raster_draw_desc *draws, uint32_t n, uint32_t part) {
+	uint32_t d, f = 0, t0, t1, *cnt;
+	uint64_t total = 0;
+	if (!r || (n && !draws) || part >= PVS_RASTER_PARTS || !r->tiled) return PVS_ERROR_INVALID_ARGUMENT;
+	for (d = 0; d < n; total += draws[d++].triangle_count)
+		if (pvs__draw_cull(r, draws + d) == 2 || draws[d].mode || (draws[d].flags & PVS_DRAW_MESH))
+			return PVS_ERROR_INVALID_ARGUMENT; /* occluders only */
+	if (total > r->qtri_cap || !r->qcount) return total ? PVS_ERROR_BUFFER_TOO_SMALL : PVS_OK;
+	if (!part) r->pyramid_valid = 0; /* no part reads it */
+	t0 = PVS__QFIRST(total, part), t1 = PVS__QFIRST(total, part + 1), cnt = r->qcount;
+	cnt[part] = 0, cnt[PVS_RASTER_PARTS + part] = t0;
+	for (d = 0; d < n && f < t1; f += draws[d++].triangle_count) {
+		const pvs_raster_draw_desc *q = draws + d;
+		uint32_t a = t0 > f ? t0 - f : 0, b = t1 - f < q->triangle_count ? t1 - f : q->triangle_count;
+		if (a < b)
+			pvs__raster_occluders(r, q->positions, q->vertex_count, q->stride ? q->stride / 4 : 3, q->indices, NULL, a,
+								  b, pvs__draw_cull(r, q), d, part);
+	}
+	return PVS_OK;
+}
+
+PVS_API void pvs_raster_draw_band(pvs_raster *r, const pvs_raster_draw_desc *draws, uint32_t n, uint32_t band) {
+	int32_t y0, y1, box[4][4];
+	uint32_t p, i, e, c[3], s;
+	if (!r || band >= PVS_RASTER_PARTS || !r->qtri) return;
+	y0 = PVS__QBAND(r, band) << PVS__TH_SHIFT, y1 = (PVS__QBAND(r, band + 1) << PVS__TH_SHIFT) - 1;
+	for (p = 0; p < PVS_RASTER_PARTS; ++p)
+		for (i = r->qcount[PVS_RASTER_PARTS + p], e = i + r->qcount[p]; i < e; ++i) {
+			const pvs__qtri *q = r->qtri + i;
+			const pvs_raster_draw_desc *d = draws + q->draw;
+			pvs__tlim lim = {0, INT32_MAX, 0, 0, FLT_MAX, 0};
+			if ((r->qrows[i] & 255u) > band || r->qrows[i] >> 8 < band || q->draw >= n) continue;
+			lim.cull = (int)(q->test >> 1) - 1, lim.ty0 = y0 >> PVS__TH_SHIFT, lim.ty1 = y1 >> PVS__TH_SHIFT;
+			if (q->test & 1u) { /* its box in the band */
+				box[0][0] = q->box[0], box[1][0] = q->box[1];
+				box[2][0] = q->box[2] > y0 ? q->box[2] : y0, box[3][0] = q->box[3] < y1 ? q->box[3] : y1;
+				if (pvs__pf_hidden(r, box, 0, q->zmax)) continue;
+				lim.tx0 = box[0][0] >> PVS__TW_SHIFT, lim.tx1 = box[1][0] >> PVS__TW_SHIFT;
+				lim.ty0 = box[2][0] >> PVS__TH_SHIFT, lim.ty1 = box[3][0] >> PVS__TH_SHIFT, lim.zmax = q->zmax;
+			}
+			pvs__tri_corners(d->indices, NULL, q->tri, c);
+			s = d->stride ? d->stride / 4 : 3;
+			if (q->tri < d->triangle_count && c[0] < d->vertex_count && c[1] < d->vertex_count &&
+				c[2] < d->vertex_count)
+				pvs__raster_tri(r, d->positions + (size_t)c[0] * s, d->positions + (size_t)c[1] * s,
+								d->positions + (size_t)c[2] * s, 1, &lim);
+		}
+}
+
+PVS_API pvs_result pvs_raster_draw(pvs_raster *r, const pvs_raster_draw_desc *d) {
+	uint32_t f;
+	int cull = pvs__draw_cull(r, d);
+	if (cull == 2) return PVS_ERROR_INVALID_ARGUMENT;
+	f = d->flags;
 	r->vstride = d->stride ? d->stride / 4 : 3;
-	r->cull = cull == PVS_DRAW_CULL_CW ? -1 : cull ? 1 : 0;
+	r->cull = cull;
 	if (f & PVS_DRAW_MESH) pvs__mesh(r, d->positions, d->vertex_count, d->indices, NULL, d->triangle_count);
 	else
 		pvs__raster_tris(r, d->positions, d->vertex_count, d->indices, NULL, d->triangle_count,
@@ -5599,7 +5717,7 @@ PVS_API int pvs_raster_test_box(pvs_raster *r, const pvs_box *b) {
 
 /* Context's buffers (pvs__buf) of `groups` (bits): 1 pixels, 2 tiles, 4 occluder selection, 8 meshes, 16 scene
    sweeps, 32 cull map, 64 its items; sized by fields set before each group. */
-#define PVS__RASTER_BUFS 28
+#define PVS__RASTER_BUFS 32
 PVS__STATIC int pvs__raster_bufs(pvs_raster *r, pvs__buf *b, unsigned groups) {
 	int k = 0;
 	size_t cells = (size_t)r->cm_w * r->cm_h, mc = r->mesh_cap, band = (size_t)PVS__TH * r->width;
@@ -5641,6 +5759,12 @@ PVS__STATIC int pvs__raster_bufs(pvs_raster *r, pvs__buf *b, unsigned groups) {
 		PVS__BUF(b, k, r->cm_start, cells + 1, sizeof(uint32_t));
 	}
 	if (groups & 64u) PVS__BUF(b, k, r->cm_items, r->cm_item_count, sizeof(uint32_t));
+	if (groups & 128u) {
+		PVS__BUF(b, k, r->qtri, r->qtri_cap, sizeof(struct pvs__qtri));
+		PVS__BUF(b, k, r->qrows, r->qtri_cap, sizeof(uint16_t));
+		PVS__BUF(b, k, r->qband, r->bh, 1);
+		PVS__BUF(b, k, r->qcount, 2 * PVS_RASTER_PARTS, sizeof(uint32_t));
+	}
 	return k;
 }
 PVS__STATIC int pvs__raster_alloc(pvs_raster *r, unsigned groups) {
@@ -5653,7 +5777,7 @@ PVS_API void pvs_raster_destroy(pvs_raster *r) {
 	pvs__buf b[PVS__RASTER_BUFS];
 	if (!r) return;
 	a = r->allocator;
-	pvs__bufs_free(&a, b, pvs__raster_bufs(r, b, 127u));
+	pvs__bufs_free(&a, b, pvs__raster_bufs(r, b, 255u));
 	pvs__free(&a, r, sizeof(*r), 16);
 }
 
@@ -5860,6 +5984,12 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 	pvs_raster_clear(r);
 	r->max_occluders = desc->max_occluders ? desc->max_occluders : 1024;
 	if (!pvs__raster_alloc(r, 4u) || !pvs__raster_init_mesh(r, desc->max_mesh_triangles)) goto oom;
+	if (desc->bin_triangles) {
+		r->qtri_cap = desc->bin_triangles;
+		if (!pvs__raster_alloc(r, 128u)) goto oom;
+		memset(r->qcount, 0, 2 * PVS_RASTER_PARTS * sizeof(uint32_t));
+		for (l = 0; l < r->bh; ++l) r->qband[l] = (uint8_t)((l * PVS_RASTER_PARTS + PVS_RASTER_PARTS - 1) / r->bh);
+	}
 	if (desc->scene) {
 		const pvs_scene *s = desc->scene;
 		size_t s1 = pvs_kdtree_sweep_scratch_size(s->object_tree), s2 = pvs_kdtree_sweep_scratch_size(s->triangle_tree);
@@ -5999,8 +6129,6 @@ PVS__STATIC pvs_result pvs__cull_begin(pvs_raster *r, const pvs_scene *s, const 
 	return PVS_OK;
 }
 
-/* Draws up to p->scene_occluders triangles within p->occluder_distance, best first by Bittner 2002 §4.5's measure;
-   meshes with PVS_CULL_SCENE_MESH. Returns count. */
 /* p->occluder_distance, or (p NULL or 0) a tenth of the scene's longest side: culling in any unit */
 PVS__STATIC float pvs__cull_distance(const pvs_scene *s, const pvs_cull_params *p) {
 	const pvs_box *b = &s->bounds;
@@ -6008,6 +6136,8 @@ PVS__STATIC float pvs__cull_distance(const pvs_scene *s, const pvs_cull_params *
 	return p && p->occluder_distance > 0.0f ? p->occluder_distance : e > 0.0 ? (float)(0.1 * e) : 1.0f;
 }
 
+/* Draws up to p->scene_occluders triangles within p->occluder_distance, best first by Bittner 2002 §4.5's measure;
+   meshes with PVS_CULL_SCENE_MESH. Returns count. */
 PVS__STATIC uint32_t pvs__cull_scene_occluders(pvs_raster *r, const pvs_scene *s, const pvs_camera *cam,
 											   const pvs_cull_params *p) {
 	pvs__selctx sc;
@@ -6069,8 +6199,8 @@ PVS__STATIC uint32_t pvs__cull_extrusion(pvs_raster *r, const pvs_occluder_desc 
 	for (j = 0; j < o->footprint_count; ++j) {
 		float q[4][3];
 		pvs__wall_quad(o, j, u, v, up, q);
-		pvs__raster_tri(r, q[0], q[1], q[2], 1);
-		pvs__raster_tri(r, q[0], q[2], q[3], 1);
+		pvs__raster_tri(r, q[0], q[1], q[2], 1, NULL);
+		pvs__raster_tri(r, q[0], q[2], q[3], 1, NULL);
 		drawn += 2;
 	}
 	return drawn;
@@ -6095,7 +6225,7 @@ PVS__STATIC uint32_t pvs__cull_volumes(pvs_raster *r, const pvs_scene *s, const 
 			for (j = 0; j < 8; ++j)
 				for (k = 0; k < 3; ++k) q[j][k] = (j >> k) & 1u ? o->box.max[k] : o->box.min[k];
 			if (separate)
-				for (j = 0; j < 12; ++j) pvs__raster_tri(r, q[f[j][0]], q[f[j][1]], q[f[j][2]], 1);
+				for (j = 0; j < 12; ++j) pvs__raster_tri(r, q[f[j][0]], q[f[j][1]], q[f[j][2]], 1, NULL);
 			else
 				pvs__mesh(r, &q[0][0], 8, &f[0][0], NULL, 12);
 			drawn += 12;
@@ -24028,6 +24158,7 @@ PVS_API pvs_result pvs_cursor_move(pvs_cursor *c, uint32_t cell, pvs_change_fn f
 /*
    HISTORY
    =======
+   0.9.4 (2026-11-29) pvs_raster_bin, pvs_raster_draw_band: a frame on several threads.
    0.9.3 (2026-11-29) pvs_raster_draw (vertex stride, back-face culling), pvs_raster_set_clip_matrix.
    0.9.2 (2026-11-29) AUTO's sample bounded by rays; PORTAL's price, triangle tests; K = 16; pvs_raster_classify_box.
    0.9.1 (2026-11-28) PVS_BAKE_COMPACT, pvs_file_desc.pvs_row; PORTAL's pass planes.

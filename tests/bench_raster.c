@@ -2,6 +2,8 @@
    from a fixed street camera, SIMD and scalar (PVS_RASTER_SCALAR) in the same binary:
      raster_frame_ms_1080p  clear + 50,000 occluder triangles at 1920x1080 + pyramid + 10,000 box tests
                             (_sse2: the same, the SIMD path by name; _backface: back faces culled)
+     raster_frame_ms_1080p_2threads  the same frame on two threads: pvs_raster_bin, pvs_raster_draw_band,
+                            the box tests split (the map is checked against one thread's)
      raster_mesh_frame_ms_1080p  the same with the triangles drawn as one occluder mesh (pvs_raster_mesh:
                             welded by position, no cracks along shared edges)
      raster_tris_per_ms     the rasterization part alone
@@ -16,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <pthread.h>
 #include <time.h>
 
 static double now_ms(void) {
@@ -31,6 +34,46 @@ typedef struct keyed {
 static int by_d(const void *a, const void *b) {
     float x = ((const keyed *)a)->d, y = ((const keyed *)b)->d;
     return x < y ? -1 : x > y;
+}
+
+/* Two threads for one frame: this one and a worker, meeting at spinning barriers (a frame is about a millisecond),
+   taking parts, bands and blocks of boxes as a job system would (the faster thread takes more) */
+typedef struct frame2 {
+    pvs_raster *r;
+    const pvs_raster_draw_desc *d;
+    const pvs_box *boxes;
+    uint32_t n_box, vis[2], next; /* next: the phase's next part, band or box block (taken by either thread) */
+    int phase, go, done; /* go, done: generation counters */
+} frame2;
+static void frame2_run(frame2 *f, uint32_t w) {
+    uint32_t i, k, v = 0, blocks = f->phase == 2 ? 32u : PVS_RASTER_PARTS;
+    while ((k = __atomic_fetch_add(&f->next, 1u, __ATOMIC_RELAXED)) < blocks) {
+        if (f->phase == 0) pvs_raster_bin(f->r, f->d, 1, k);
+        else if (f->phase == 1) pvs_raster_draw_band(f->r, f->d, 1, k);
+        else
+            for (i = f->n_box * k / blocks; i < f->n_box * (k + 1) / blocks; ++i)
+                v += (uint32_t)pvs_raster_test_box(f->r, f->boxes + i);
+    }
+    f->vis[w] = v;
+}
+static void *frame2_worker(void *arg) {
+    frame2 *f = (frame2 *)arg;
+    int seen = 0, g;
+    for (;;) {
+        while ((g = __atomic_load_n(&f->go, __ATOMIC_ACQUIRE)) == seen) continue;
+        if (g < 0) return NULL;
+        seen = g;
+        frame2_run(f, 1);
+        __atomic_store_n(&f->done, g, __ATOMIC_RELEASE);
+    }
+}
+static void frame2_phase(frame2 *f, int phase) {
+    int g = __atomic_load_n(&f->go, __ATOMIC_RELAXED) + 1;
+    f->phase = phase;
+    f->next = 0;
+    __atomic_store_n(&f->go, g, __ATOMIC_RELEASE);
+    frame2_run(f, 0);
+    while (__atomic_load_n(&f->done, __ATOMIC_ACQUIRE) != g) continue;
 }
 
 int main(int argc, char **argv) {
@@ -142,6 +185,50 @@ int main(int argc, char **argv) {
 #if defined(__SSE2__) && !defined(PVS_NO_SIMD)
         if (!pass) printf("BENCH raster_frame_ms_1080p_sse2 %.3f ms\n", best_f); /* the SIMD path, by its name */
 #endif
+        if (!pass) { /* the same frame on two threads */
+            pvs_raster_desc qd = rd;
+            pvs_raster *q;
+            pvs_raster_draw_desc dd = {occ, 0, 3 * n_occ, NULL, n_occ, PVS_RASTER_OCCLUDER, 0};
+            frame2 f;
+            pthread_t th;
+            double best_2 = 1e30, best_1 = 1e30;
+            int same;
+            qd.bin_triangles = n_occ;
+            if (pvs_raster_create(&qd, &q, &err) != PVS_OK) { printf("raster: %s\n", err.message); return 1; }
+            pvs_raster_set_matrix(q, matrix);
+            memset(&f, 0, sizeof(f));
+            f.r = q; f.d = &dd; f.boxes = boxes; f.n_box = n_box;
+            pthread_create(&th, NULL, frame2_worker, &f);
+            for (rep = 0; rep < 400; ++rep) { /* alternating blocks of ten frames (the VM changes speed for seconds) */
+                double t0 = now_ms();
+                if (rep / 10 % 2 == 0) {
+                    pvs_raster_clear(q);
+                    frame2_phase(&f, 0);
+                    frame2_phase(&f, 1);
+                    pvs_raster_build_pyramid(q);
+                    frame2_phase(&f, 2);
+                } else {
+                    pvs_raster_clear(r);
+                    pvs_raster_triangles(r, occ, 3 * n_occ, NULL, n_occ, PVS_RASTER_OCCLUDER);
+                    pvs_raster_build_pyramid(r);
+                    for (i = 0; i < n_box; ++i) (void)pvs_raster_test_box(r, boxes + i);
+                }
+                t0 = now_ms() - t0;
+                if (rep % 10 == 0) continue; /* warms the caches */
+                if (rep / 10 % 2 == 0 && t0 < best_2) best_2 = t0;
+                if (rep / 10 % 2 == 1 && t0 < best_1) best_1 = t0;
+            }
+            __atomic_store_n(&f.go, -1, __ATOMIC_RELEASE);
+            pthread_join(th, NULL);
+            pvs_raster_clear(r);
+            pvs_raster_triangles(r, occ, 3 * n_occ, NULL, n_occ, PVS_RASTER_OCCLUDER);
+            same = !memcmp(pvs_raster_depth(r, NULL, NULL), pvs_raster_depth(q, NULL, NULL), 1920u * 1080u * sizeof(float));
+            printf("# two threads: the same map as one thread's: %s; %u of %u boxes visible\n", same ? "yes" : "NO",
+                   f.vis[0] + f.vis[1], n_box);
+            printf("BENCH raster_frame_ms_1080p_2threads %.3f ms\n", best_2);
+            printf("BENCH raster_frame_2threads_speedup %.2f x\n", best_1 / best_2); /* over one thread, in alternating blocks */
+            pvs_raster_destroy(q);
+        }
         { /* the same frame with back faces culled (pvs_raster_draw; the city's walls are closed, wound outward) */
             pvs_raster_draw_desc dd = {occ, 0, 3 * n_occ, NULL, n_occ, PVS_RASTER_OCCLUDER, PVS_DRAW_CULL_CW};
             double best_bf = 1e30;

@@ -8,6 +8,7 @@
 #include "../tools/mesh.h"
 #include "test.h"
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -1201,9 +1202,9 @@ static void test_noalloc_and_errors(void) {
     rd.width = 64; rd.height = 48; rd.scene = t.scene; rd.cull_map_width = 32; rd.cull_map_height = 32;
     rd.allocator.alloc = ra_alloc; rd.allocator.free = ra_free;
     CHECK(pvs_raster_create(&rd, &r, &e) == PVS_OK);
-    rd.flags = PVS_RASTER_TILED;
+    rd.flags = PVS_RASTER_TILED; rd.bin_triangles = 4;
     CHECK(pvs_raster_create(&rd, &rt, &e) == PVS_OK);
-    rd.flags = 0;
+    rd.flags = 0; rd.bin_triangles = 0;
     vis = (pvs_word *)calloc(PVS_BITSET_WORDS(pvs_scene_object_count(t.scene)), sizeof(pvs_word));
     before = ra_allocs;
     CHECK(before > 0);
@@ -1232,6 +1233,17 @@ static void test_noalloc_and_errors(void) {
             CHECK(pvs_raster_draw(rt, &d) == PVS_OK);
             d.flags = PVS_DRAW_CULL_CCW;
             CHECK(pvs_raster_draw(r, &d) == PVS_OK);
+            { /* threads' calls: bins, bands */
+                pvs_raster_draw_desc two[2];
+                uint32_t p;
+                pvs_raster_clear(rt);
+                d.flags = PVS_DRAW_CULL_CW;
+                two[0] = two[1] = d;
+                for (p = 0; p < PVS_RASTER_PARTS; ++p) CHECK(pvs_raster_bin(rt, two, 2, p) == PVS_OK);
+                for (p = 0; p < PVS_RASTER_PARTS; ++p) pvs_raster_draw_band(rt, two, 2, p);
+                two[1].triangle_count = 3;
+                CHECK(pvs_raster_bin(rt, two, 2, 0) == PVS_ERROR_BUFFER_TOO_SMALL);
+            }
         }
     }
     CHECK(ra_allocs == before);
@@ -1523,11 +1535,119 @@ static void test_cull_units(void) {
     tscene_free(&b);
 }
 
+/* Threads (pvs_raster_bin, pvs_raster_draw_band): several draws (strided, indexed, culled, with triangles across the
+   near plane) binned and drawn in bands in shuffled orders and on two threads give the map pvs_raster_draw gives,
+   byte for byte, on SIMD and scalar rasters; bad draws are refused. */
+typedef struct band_job { pvs_raster *r; const pvs_raster_draw_desc *d; uint32_t first, ok; } band_job;
+static void *band_thread(void *arg) {
+    band_job *j = (band_job *)arg;
+    uint32_t p;
+    for (p = j->first; p < PVS_RASTER_PARTS; p += 2) j->ok &= pvs_raster_bin(j->r, j->d, 3, p) == PVS_OK;
+    return NULL;
+}
+static void *band_draw_thread(void *arg) {
+    band_job *j = (band_job *)arg;
+    uint32_t p;
+    for (p = j->first; p < PVS_RASTER_PARTS; p += 2) pvs_raster_draw_band(j->r, j->d, 3, p);
+    return NULL;
+}
+static void test_threads(void) {
+    enum { N = 400 };
+    static const uint32_t sizes[3][2] = {{61, 43}, {320, 200}, {7, 300}};
+    pvs_raster_desc rd;
+    pvs_raster *r, *ref;
+    pvs_raster_draw_desc d[3];
+    float *tris = (float *)malloc(N * 9 * sizeof(float)), *wide = (float *)malloc(N * 3 * 8 * sizeof(float)), m[16];
+    uint32_t *idx = (uint32_t *)malloc(N * 3 * sizeof(uint32_t)), cfg, k, rep, order[PVS_RASTER_PARTS];
+    int same = 1, drew = 0;
+    for (cfg = 0; cfg < 6; ++cfg) {
+        memset(&rd, 0, sizeof(rd));
+        rd.width = sizes[cfg % 3][0]; rd.height = sizes[cfg % 3][1];
+        rd.flags = PVS_RASTER_TILED | (cfg >= 3 ? PVS_RASTER_SCALAR : 0);
+        CHECK(pvs_raster_create(&rd, &ref, NULL) == PVS_OK);
+        rd.bin_triangles = 3 * N;
+        CHECK(pvs_raster_create(&rd, &r, NULL) == PVS_OK);
+        for (rep = 0; rep < 8; ++rep) {
+            pthread_t th[2];
+            band_job jb[2];
+            random_matrix(m, (float)rd.width / rd.height, (int)rep % 3);
+            for (k = 0; k < N; ++k) random_triangle(tris + 9 * k, (int)(k % 5) == 4 ? 2 : (int)(k % 5) == 3 ? 4 : 0);
+            for (k = 0; k < 3 * N; ++k) {
+                memcpy(wide + 8 * k, tris + 3 * k, 3 * sizeof(float));
+                wide[8 * k + 3] = NAN;
+                idx[k] = (uint32_t)(rnd() * 3 * N) % (3 * N);
+            }
+            memset(d, 0, sizeof(d));
+            d[0].positions = tris; d[0].vertex_count = 3 * N; d[0].triangle_count = N; /* as pvs_raster_triangles */
+            d[1].positions = wide; d[1].stride = 32; d[1].vertex_count = 3 * N; d[1].indices = idx;
+            d[1].triangle_count = N / 2 + rep; d[1].flags = rep & 1 ? PVS_DRAW_CULL_CW : PVS_DRAW_CULL_CCW;
+            d[2].positions = tris + 9 * (rep % 7); d[2].vertex_count = 7 + rep; d[2].triangle_count = 3 + rep % 3;
+            pvs_raster_set_matrix(r, m); pvs_raster_set_matrix(ref, m);
+            pvs_raster_clear(ref); pvs_raster_clear(r);
+            for (k = 0; k < 3; ++k) CHECK(pvs_raster_draw(ref, d + k) == PVS_OK);
+            for (k = 0; k < PVS_RASTER_PARTS; ++k) order[k] = k;
+            for (k = PVS_RASTER_PARTS - 1; k > 0; --k) { /* shuffled */
+                uint32_t j = (uint32_t)(rnd() * (k + 1)) % (k + 1), t = order[k];
+                order[k] = order[j]; order[j] = t;
+            }
+            if (rep % 2) {
+                for (k = 0; k < PVS_RASTER_PARTS; ++k) CHECK(pvs_raster_bin(r, d, 3, order[k]) == PVS_OK);
+                for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_draw_band(r, d, 3, order[PVS_RASTER_PARTS - 1 - k]);
+            } else { /* two threads */
+                for (k = 0; k < 2; ++k) {
+                    jb[k].r = r; jb[k].d = d; jb[k].first = k; jb[k].ok = 1;
+                    pthread_create(th + k, NULL, band_thread, jb + k);
+                }
+                for (k = 0; k < 2; ++k) pthread_join(th[k], NULL);
+                CHECK(jb[0].ok && jb[1].ok);
+                for (k = 0; k < 2; ++k) pthread_create(th + k, NULL, band_draw_thread, jb + k);
+                for (k = 0; k < 2; ++k) pthread_join(th[k], NULL);
+            }
+            {
+                const float *dm = pvs_raster_depth(r, NULL, NULL);
+                same &= !memcmp(dm, pvs_raster_depth(ref, NULL, NULL), (size_t)rd.width * rd.height * sizeof(float));
+                for (k = 0; k < rd.width * rd.height; ++k) drew |= dm[k] != PVS_DEPTH_EMPTY;
+            }
+        }
+        /* refused: too many triangles, meshes, occludees, bad strides, bad parts, untiled or binless rasters */
+        pvs_raster_clear(r);
+        d[0].triangle_count = 3 * N + 1;
+        CHECK(pvs_raster_bin(r, d, 1, 0) == PVS_ERROR_BUFFER_TOO_SMALL);
+        d[0].triangle_count = N; d[0].flags = PVS_DRAW_MESH;
+        CHECK(pvs_raster_bin(r, d, 3, 1) == PVS_ERROR_INVALID_ARGUMENT);
+        d[0].flags = 0; d[0].mode = PVS_RASTER_OCCLUDEE;
+        CHECK(pvs_raster_bin(r, d, 3, 2) == PVS_ERROR_INVALID_ARGUMENT);
+        d[0].mode = PVS_RASTER_OCCLUDER; d[0].stride = 6;
+        CHECK(pvs_raster_bin(r, d, 3, 3) == PVS_ERROR_INVALID_ARGUMENT);
+        d[0].stride = 0;
+        CHECK(pvs_raster_bin(NULL, d, 3, 0) == PVS_ERROR_INVALID_ARGUMENT);
+        CHECK(pvs_raster_bin(r, NULL, 3, 0) == PVS_ERROR_INVALID_ARGUMENT);
+        CHECK(pvs_raster_bin(r, d, 3, PVS_RASTER_PARTS) == PVS_ERROR_INVALID_ARGUMENT);
+        CHECK(pvs_raster_bin(ref, d, 3, 0) == PVS_ERROR_BUFFER_TOO_SMALL);
+        CHECK(pvs_raster_bin(ref, d, 0, 0) == PVS_OK); /* nothing to bin */
+        pvs_raster_draw_band(ref, d, 3, 0); pvs_raster_draw_band(r, d, 3, PVS_RASTER_PARTS); /* nothing, no crash */
+        {
+            const float *dm = pvs_raster_depth(r, NULL, NULL);
+            for (k = 0; k < rd.width * rd.height; ++k) same &= dm[k] == PVS_DEPTH_EMPTY;
+        }
+        pvs_raster_destroy(r);
+        rd.flags = PVS_RASTER_PER_PIXEL;
+        CHECK(pvs_raster_create(&rd, &r, NULL) == PVS_OK);
+        CHECK(pvs_raster_bin(r, d, 3, 0) == PVS_ERROR_INVALID_ARGUMENT);
+        pvs_raster_destroy(r);
+        pvs_raster_destroy(ref);
+    }
+    CHECK(same);
+    CHECK(drew);
+    free(tris); free(wide); free(idx);
+}
+
 void test_raster(void);
 void test_raster(void) {
     raster_verify(1);
     test_mesh_crack();
     test_draw_options();
+    test_threads();
     test_cull_units();
     test_noalloc_and_errors();
 }
