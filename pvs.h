@@ -486,7 +486,7 @@ typedef struct pvs_raster_desc {
 	pvs_allocator allocator;
 } pvs_raster_desc;
 
-/* Holds every buffer; no allocation after create. One per thread (see Threads). */
+/* Holds every buffer; no allocation after create. One per thread (see pvs_raster_bin). */
 typedef struct pvs_raster pvs_raster;
 
 /* Errors: INVALID_ARGUMENT (sizes), COUNT_OVERFLOW, OUT_OF_MEMORY. */
@@ -494,7 +494,7 @@ PVS_API pvs_result pvs_raster_create(const pvs_raster_desc *desc, pvs_raster **o
 /* Frees via its allocator; NULL ok. */
 PVS_API void pvs_raster_destroy(pvs_raster *raster);
 
-/* Sets every depth pixel to PVS_DEPTH_EMPTY. */
+/* Sets every depth pixel to PVS_DEPTH_EMPTY, empties the bins. */
 PVS_API void pvs_raster_clear(pvs_raster *raster);
 /* Row-major projection of the next draws and box tests: any 4x4 (also off-axis, as Durand 2000's planes
    shared by a cell). NOT_FINITE for a non-finite entry. */
@@ -539,8 +539,8 @@ PVS_API pvs_result pvs_raster_draw(pvs_raster *raster, const pvs_raster_draw_des
 /* Threads (binning as Masked Occlusion Culling's, Hasselgren, Andersson and Akenine-Moller 2016 §4): a frame's
    occluder draws are prefiltered in PVS_RASTER_PARTS parts, then drawn in as many bands of rows, each on any thread:
 	   pvs_raster_clear(r);
-	   parallel for p < PVS_RASTER_PARTS: pvs_raster_bin(r, draws, n, p);
-	   parallel for b < PVS_RASTER_PARTS: pvs_raster_draw_band(r, draws, n, b);  // once every bin returned
+	   for p < PVS_RASTER_PARTS: pvs_raster_bin(r, draws, n, p);
+	   for b < PVS_RASTER_PARTS: pvs_raster_draw_band(r, draws, n, b);  // after every bin
 	   pvs_raster_build_pyramid(r);  // then box tests on any threads
    The map is pvs_raster_draw's for the draws in order, byte for byte. Keep the draws, their arrays and the matrix
    until the bands are drawn. */
@@ -3516,9 +3516,9 @@ struct pvs_raster {
 	float ground; /* scene's lowest point on the up axis */
 	uint32_t qtri_cap;
 	struct pvs__qtri *qtri; /* qtri_cap: kept triangles, part p's from PVS__QFIRST(total, p) */
-	uint16_t *qrows; /* qtri_cap: first, last band */
+	uint16_t *qrows; /* qtri_cap: bands b0, b1 */
 	uint8_t *qband; /* bh: band of each block row */
-	uint32_t *qcount; /* per part: kept; then first */
+	uint32_t *qcount; /* per part: kept, then first */
 };
 
 typedef struct pvs__rsetup {
@@ -4533,7 +4533,7 @@ PVS__STATIC void pvs__tri_corners(const uint32_t *indices, const pvs__occsel *tr
 	q[2] = ix ? ix[2] : 3 * t + 2;
 }
 
-/* A triangle pvs_raster_bin kept: draw, triangle, the prefilter's box, zmax; test: bit 0 tested, bits 1-2 cull + 1. */
+/* A triangle pvs_raster_bin kept: draw, triangle, prefilter's box, zmax; test: bit 0 tested, bits 1-2 cull + 1. */
 typedef struct pvs__qtri {
 	uint32_t draw, tri;
 	int32_t box[4];
@@ -4541,8 +4541,9 @@ typedef struct pvs__qtri {
 	uint32_t test;
 } pvs__qtri;
 
-#define PVS__QFIRST(n, p) ((uint32_t)((uint64_t)(n) * (p) / PVS_RASTER_PARTS)) /* part p's first of n */
-#define PVS__QBAND(r, b) ((int32_t)((b) * (r)->bh / PVS_RASTER_PARTS) << PVS__BLOCK_SHIFT) /* band b's first tile row */
+#define PVS__STRIDE(d) ((d)->stride ? (d)->stride / 4 : 3)
+#define PVS__QFIRST(n, p) ((uint32_t)((uint64_t)(n) * (p) / PVS_RASTER_PARTS))
+#define PVS__QBAND(r, b) ((int32_t)((b) * (r)->bh / PVS_RASTER_PARTS) << PVS__BLOCK_SHIFT) /* 1st tile row */
 
 /* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene selection tris) through the prefilter, four at a
    time; part < PVS_RASTER_PARTS: kept for the bands (pvs_raster_bin), else drawn unless hidden. */
@@ -5209,21 +5210,22 @@ PVS__STATIC int pvs__draw_cull(const pvs_raster *r, const pvs_raster_draw_desc *
 }
 
 PVS_API pvs_result pvs_raster_bin(pvs_raster *r, const pvs_raster_draw_desc *draws, uint32_t n, uint32_t part) {
-	uint32_t d, f = 0, t0, t1, *cnt;
+	uint32_t d, f = 0, t0, t1, *cnt = r && part < PVS_RASTER_PARTS ? r->qcount : NULL;
 	uint64_t total = 0;
+	if (cnt) cnt[part] = 0;
 	if (!r || (n && !draws) || part >= PVS_RASTER_PARTS || !r->tiled) return PVS_ERROR_INVALID_ARGUMENT;
 	for (d = 0; d < n; total += draws[d++].triangle_count)
 		if (pvs__draw_cull(r, draws + d) == 2 || draws[d].mode || (draws[d].flags & PVS_DRAW_MESH))
 			return PVS_ERROR_INVALID_ARGUMENT; /* occluders only */
-	if (total > r->qtri_cap || !r->qcount) return total ? PVS_ERROR_BUFFER_TOO_SMALL : PVS_OK;
+	if (total > r->qtri_cap || !cnt) return total ? PVS_ERROR_BUFFER_TOO_SMALL : PVS_OK;
 	if (!part) r->pyramid_valid = 0; /* no part reads it */
-	t0 = PVS__QFIRST(total, part), t1 = PVS__QFIRST(total, part + 1), cnt = r->qcount;
-	cnt[part] = 0, cnt[PVS_RASTER_PARTS + part] = t0;
+	t0 = PVS__QFIRST(total, part), t1 = PVS__QFIRST(total, part + 1);
+	cnt[PVS_RASTER_PARTS + part] = t0;
 	for (d = 0; d < n && f < t1; f += draws[d++].triangle_count) {
 		const pvs_raster_draw_desc *q = draws + d;
 		uint32_t a = t0 > f ? t0 - f : 0, b = t1 - f < q->triangle_count ? t1 - f : q->triangle_count;
 		if (a < b)
-			pvs__raster_occluders(r, q->positions, q->vertex_count, q->stride ? q->stride / 4 : 3, q->indices, NULL, a,
+			pvs__raster_occluders(r, q->positions, q->vertex_count, PVS__STRIDE(q), q->indices, NULL, a,
 								  b, pvs__draw_cull(r, q), d, part);
 	}
 	return PVS_OK;
@@ -5239,7 +5241,8 @@ PVS_API void pvs_raster_draw_band(pvs_raster *r, const pvs_raster_draw_desc *dra
 			const pvs__qtri *q = r->qtri + i;
 			const pvs_raster_draw_desc *d = draws + q->draw;
 			pvs__tlim lim = {0, INT32_MAX, 0, 0, FLT_MAX, 0};
-			if ((r->qrows[i] & 255u) > band || r->qrows[i] >> 8 < band || q->draw >= n) continue;
+			if ((r->qrows[i] & 255u) > band || r->qrows[i] >> 8 < band || q->draw >= n || q->tri >= d->triangle_count)
+				continue;
 			lim.cull = (int)(q->test >> 1) - 1, lim.ty0 = y0 >> PVS__TH_SHIFT, lim.ty1 = y1 >> PVS__TH_SHIFT;
 			if (q->test & 1u) { /* its box in the band */
 				box[0][0] = q->box[0], box[1][0] = q->box[1];
@@ -5249,9 +5252,8 @@ PVS_API void pvs_raster_draw_band(pvs_raster *r, const pvs_raster_draw_desc *dra
 				lim.ty0 = box[2][0] >> PVS__TH_SHIFT, lim.ty1 = box[3][0] >> PVS__TH_SHIFT, lim.zmax = q->zmax;
 			}
 			pvs__tri_corners(d->indices, NULL, q->tri, c);
-			s = d->stride ? d->stride / 4 : 3;
-			if (q->tri < d->triangle_count && c[0] < d->vertex_count && c[1] < d->vertex_count &&
-				c[2] < d->vertex_count)
+			s = PVS__STRIDE(d);
+			if (c[0] < d->vertex_count && c[1] < d->vertex_count && c[2] < d->vertex_count)
 				pvs__raster_tri(r, d->positions + (size_t)c[0] * s, d->positions + (size_t)c[1] * s,
 								d->positions + (size_t)c[2] * s, 1, &lim);
 		}
@@ -5262,7 +5264,7 @@ PVS_API pvs_result pvs_raster_draw(pvs_raster *r, const pvs_raster_draw_desc *d)
 	int cull = pvs__draw_cull(r, d);
 	if (cull == 2) return PVS_ERROR_INVALID_ARGUMENT;
 	f = d->flags;
-	r->vstride = d->stride ? d->stride / 4 : 3;
+	r->vstride = PVS__STRIDE(d);
 	r->cull = cull;
 	if (f & PVS_DRAW_MESH) pvs__mesh(r, d->positions, d->vertex_count, d->indices, NULL, d->triangle_count);
 	else

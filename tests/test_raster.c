@@ -1609,6 +1609,17 @@ static void test_threads(void) {
                 for (k = 0; k < rd.width * rd.height; ++k) drew |= dm[k] != PVS_DEPTH_EMPTY;
             }
         }
+        /* a bin that fails leaves its part empty: the bands then draw nothing of the earlier bins */
+        pvs_raster_clear(r);
+        for (k = 0; k < PVS_RASTER_PARTS; ++k) CHECK(pvs_raster_bin(r, d, 3, k) == PVS_OK);
+        d[0].flags = PVS_DRAW_MESH;
+        for (k = 0; k < PVS_RASTER_PARTS; ++k) CHECK(pvs_raster_bin(r, d, 3, k) == PVS_ERROR_INVALID_ARGUMENT);
+        d[0].flags = 0;
+        for (k = 0; k < PVS_RASTER_PARTS; ++k) pvs_raster_draw_band(r, d, 3, k);
+        {
+            const float *dm = pvs_raster_depth(r, NULL, NULL);
+            for (k = 0; k < rd.width * rd.height; ++k) same &= dm[k] == PVS_DEPTH_EMPTY;
+        }
         /* refused: too many triangles, meshes, occludees, bad strides, bad parts, untiled or binless rasters */
         pvs_raster_clear(r);
         d[0].triangle_count = 3 * N + 1;
