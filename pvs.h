@@ -4533,7 +4533,15 @@ PVS__STATIC void pvs__tri_corners(const uint32_t *indices, const pvs__occsel *tr
 	q[2] = ix ? ix[2] : 3 * t + 2;
 }
 
-/* A triangle pvs_raster_bin kept: draw, triangle, prefilter's box, zmax; test: bit 0 tested, bits 1-2 cull + 1. */
+/* Lane l's limits from its prefilter box; 0 if hidden there. */
+PVS__STATIC int pvs__tlim_box(pvs_raster *r, int32_t box[4][4], int l, float zmax, pvs__tlim *lim) {
+	if (pvs__pf_hidden(r, box, l, zmax)) return 0;
+	lim->tx0 = box[0][l] >> PVS__TW_SHIFT, lim->tx1 = box[1][l] >> PVS__TW_SHIFT;
+	lim->ty0 = box[2][l] >> PVS__TH_SHIFT, lim->ty1 = box[3][l] >> PVS__TH_SHIFT, lim->zmax = zmax;
+	return 1;
+}
+
+/* A triangle pvs_raster_bin kept: draw, triangle, prefilter's box, zmax; test: bit 0 tested, 1-2 cull + 1. */
 typedef struct pvs__qtri {
 	uint32_t draw, tri;
 	int32_t box[4];
@@ -4545,8 +4553,8 @@ typedef struct pvs__qtri {
 #define PVS__QFIRST(n, p) ((uint32_t)((uint64_t)(n) * (p) / PVS_RASTER_PARTS))
 #define PVS__QBAND(r, b) ((int32_t)((b) * (r)->bh / PVS_RASTER_PARTS) << PVS__BLOCK_SHIFT) /* 1st tile row */
 
-/* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene selection tris) through the prefilter, four at a
-   time; part < PVS_RASTER_PARTS: kept for the bands (pvs_raster_bin), else drawn unless hidden. */
+/* Occluder triangles [t0, t1) (pvs__tri_corners of indices or scene triangles tris) through the prefilter, four at
+   a time; part < PVS_RASTER_PARTS: kept for the bands, else drawn unless hidden. */
 PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, uint32_t vertex_count, uint32_t stride,
 									   const uint32_t *indices, const pvs__occsel *tris, uint32_t t0, uint32_t t1,
 									   int cull, uint32_t draw, uint32_t part) {
@@ -4591,11 +4599,7 @@ PVS__STATIC void pvs__raster_occluders(pvs_raster *r, const float *positions, ui
 				continue;
 			}
 			lim.cull = cull;
-			if ((test >> l) & 1u) {
-				if (pvs__pf_hidden(r, box, (int)l, zmax[l])) continue;
-				lim.tx0 = box[0][l] >> PVS__TW_SHIFT, lim.tx1 = box[1][l] >> PVS__TW_SHIFT;
-				lim.ty0 = box[2][l] >> PVS__TH_SHIFT, lim.ty1 = box[3][l] >> PVS__TH_SHIFT, lim.zmax = zmax[l];
-			}
+			if ((test >> l) & 1u && !pvs__tlim_box(r, box, (int)l, zmax[l], &lim)) continue;
 			pvs__raster_tri(r, v[l][0], v[l][1], v[l][2], 1, &lim);
 		}
 	}
@@ -5244,12 +5248,10 @@ PVS_API void pvs_raster_draw_band(pvs_raster *r, const pvs_raster_draw_desc *dra
 			if ((r->qrows[i] & 255u) > band || r->qrows[i] >> 8 < band || q->draw >= n || q->tri >= d->triangle_count)
 				continue;
 			lim.cull = (int)(q->test >> 1) - 1, lim.ty0 = y0 >> PVS__TH_SHIFT, lim.ty1 = y1 >> PVS__TH_SHIFT;
-			if (q->test & 1u) { /* its box in the band */
+			if (q->test & 1u) {
 				box[0][0] = q->box[0], box[1][0] = q->box[1];
 				box[2][0] = q->box[2] > y0 ? q->box[2] : y0, box[3][0] = q->box[3] < y1 ? q->box[3] : y1;
-				if (pvs__pf_hidden(r, box, 0, q->zmax)) continue;
-				lim.tx0 = box[0][0] >> PVS__TW_SHIFT, lim.tx1 = box[1][0] >> PVS__TW_SHIFT;
-				lim.ty0 = box[2][0] >> PVS__TH_SHIFT, lim.ty1 = box[3][0] >> PVS__TH_SHIFT, lim.zmax = q->zmax;
+				if (!pvs__tlim_box(r, box, 0, q->zmax, &lim)) continue;
 			}
 			pvs__tri_corners(d->indices, NULL, q->tri, c);
 			s = PVS__STRIDE(d);
